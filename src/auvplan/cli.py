@@ -1,0 +1,162 @@
+"""Command-line front end (DESIGN.md §4): argument parsing and output only, no logic.
+
+Exit codes: 0 success, 1 the plan/simulation failed (status not EXACT or
+APPROXIMATE), 2 bad input.  ``--json`` prints exactly one JSON object on
+stdout; progress and messages go to stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+from . import __version__
+from .errors import AuvplanError
+from .io import export
+from .io import scenario as scenario_io
+from .planners import PLANNERS, plan
+from .sim import planning_problem
+
+__all__ = ["main", "main_entry"]
+
+log = logging.getLogger("auvplan")
+
+
+class _Progress:
+    """A tqdm bar on stderr for iterative work (silent when stderr is not a terminal and quiet)."""
+
+    def __init__(self, total: int, desc: str, quiet: bool) -> None:
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=total, desc=desc, file=sys.stderr, disable=quiet, leave=False, mininterval=0.5)
+
+    def __call__(self, iteration: int, best: float) -> None:
+        self.bar.update(iteration - self.bar.n)
+        self.bar.set_postfix_str(f"best {best:.6g}", refresh=False)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+def _emit(record: dict, as_json: bool, human: str) -> None:
+    if as_json:
+        sys.stdout.write(json.dumps(export.jsonable(record)) + "\n")
+    else:
+        print(human)
+
+
+def _cmd_scenarios(args) -> int:
+    for name, desc in scenario_io.builtin_scenarios().items():
+        print(f"{name:18s} {desc}")
+    return 0
+
+
+def _cmd_validate(args) -> int:
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    b = world.bounds
+    print(f"{sc.source}: OK — {sc.name}")
+    print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
+    if world.terrain is not None:
+        t = world.terrain
+        print(f"  terrain {t.name}: {t.x.size} x {t.y.size} nodes, cell {t.dx:.0f} m, "
+              f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
+    print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
+          f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    return 0
+
+
+def _plan(args, quiet: bool):
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    spec = mission.planner
+    if args.planner:
+        spec = replace(spec, name=args.planner)
+    if args.budget is not None:
+        spec = replace(spec, budget=args.budget)
+    seed = sc.seed if args.seed is None else args.seed
+    bar = _Progress(spec.iterations, f"{spec.name} on {sc.name}", quiet)
+    try:
+        result = plan(planning_problem(world, mission), spec, seed, bar)
+    finally:
+        bar.close()
+    return sc, result, seed
+
+
+def _cmd_plan(args) -> int:
+    sc, result, seed = _plan(args, quiet=False)
+    record = export.plan_record(result, sc.name, seed)
+    if args.out:
+        export.write_plan(Path(args.out), result, sc.name, seed, Path(sc.source).read_text(encoding="utf-8"))
+    human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
+             f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
+             f"{result.wall_time_s:.2f} s" + (f"\n  {result.message}" if result.message else ""))
+    _emit(record, args.json, human)
+    return 0 if result.status.ok else 1
+
+
+def _cmd_demo(args) -> int:
+    args.scenario = "marcus-wake"
+    args.planner, args.budget, args.seed, args.json = None, None, None, False
+    out = Path(args.out)
+    sc, result, seed = _plan(args, quiet=False)
+    export.write_plan(out, result, sc.name, seed, Path(sc.source).read_text(encoding="utf-8"))
+    print(f"{sc.name}: {result.planner} → {result.status.value}, cost {result.cost:.6g}; results in {out}/")
+    return 0 if result.status.ok else 1
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
+    p.add_argument("--version", action="version", version=f"auvplan {__version__}")
+    p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    s = sub.add_parser("scenarios", help="list the built-in scenarios")
+    s.set_defaults(func=_cmd_scenarios)
+
+    s = sub.add_parser("validate", help="check a scenario file (exit 2 with clear messages)")
+    s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.set_defaults(func=_cmd_validate)
+
+    s = sub.add_parser("plan", help="plan a global path")
+    s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
+    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
+    s.add_argument("--budget", type=int, help="objective evaluations (equal budgets for comparisons)")
+    s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
+    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.set_defaults(func=_cmd_plan)
+
+    s = sub.add_parser("demo", help="run the built-in default scenario end to end")
+    s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
+    s.set_defaults(func=_cmd_demo)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit code."""
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
+        return int(exc.code or 0)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+                        format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return args.func(args)
+    except AuvplanError as exc:
+        print(f"auvplan: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def main_entry() -> None:
+    """Console-script entry point."""
+    sys.exit(main())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main_entry()

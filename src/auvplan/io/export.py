@@ -1,0 +1,84 @@
+"""Results to files: plan JSON (the CLI's contract, DESIGN.md §4), CSV paths."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..planners.base import PlanResult
+
+__all__ = ["plan_record", "write_plan", "write_json", "write_path_csv", "jsonable"]
+
+
+def jsonable(value):
+    """Plain JSON types for numpy scalars/arrays and non-finite floats (→ None)."""
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if hasattr(value, "value") and isinstance(value.value, str):
+        return value.value
+    return value
+
+
+def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
+    """The plan JSON object of DESIGN.md §4."""
+    t = result.cost_terms
+    return jsonable({
+        "scenario": scenario,
+        "planner": result.planner,
+        "seed": seed,
+        "status": result.status.value,
+        "message": result.message,
+        "length_m": t.get("length_m", float("nan")),
+        "energy_j": t.get("energy_j", float("nan")),
+        "duration_s": t.get("duration_s", float("nan")),
+        "min_clearance_m": t.get("min_clearance_m", float("nan")),
+        "collisions": int(t.get("collisions", 0)),
+        "cost": result.cost,
+        "cost_terms": {k: t[k] for k in ("length", "terrain", "energy") if k in t},
+        "evaluations": result.evaluations,
+        "iterations": result.iterations,
+        "wall_time_s": result.wall_time_s,
+        "history": result.history,
+        "waypoints": result.path,
+    })
+
+
+def write_json(path: Path, obj) -> Path:
+    """Write ``obj`` as indented JSON."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(jsonable(obj), indent=2) + "\n", encoding="utf-8")
+    return path
+
+
+def write_path_csv(path: Path, points, header: str = "x,y,z") -> Path:
+    """Write points ``(N, k)`` as CSV with a header line."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savetxt(path, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
+    return path
+
+
+def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> dict:
+    """Write ``metrics.json``, ``path.csv`` and the scenario source into ``out_dir``; return the record."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    record = plan_record(result, scenario, seed)
+    write_json(out / "metrics.json", record)
+    if result.path.size:
+        write_path_csv(out / "path.csv", result.path)
+    if scenario_text:
+        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+    return record

@@ -1,0 +1,569 @@
+"""Scenario files: TOML → frozen dataclasses → :class:`World` + :class:`Mission`.
+
+Every table maps onto one frozen dataclass (see :mod:`auvplan.io.tables`):
+unknown keys, wrong types and out-of-range values are :class:`ScenarioError`
+naming the file, the table, the key and the value.  :func:`build` then makes
+the World (reading the bathymetry and currents) and checks the mission's start
+and goal against it.
+
+Layout (all tables optional except ``[mission]``)::
+
+    name = "..."            description = "..."        seed = 1
+    [origin]   lat, lon                                     # geographic scenarios
+    [bounds]   x = [min, max]  y = [min, max]  z = [min, max]
+    [terrain]  builtin | file, variable, positive, box, resample_m, method, nan_policy
+    [terrain.synthetic]  kind = flat|plane|hills|ridge, depth, ...
+    [currents] uniform = [u, v, w]   vortices = [{x, y, gamma, delta}, ...]   file = "..."
+    [[obstacles]] type = sphere|ellipsoid, center, radius | semi_axes, yaw_deg, pitch_deg, roll_deg
+    [[moving]]    type, radius | semi_axes, motion = linear|circle|waypoints|random-walk, ...
+    [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
+    [vehicle] [planner] [guidance] [avoidance] [sim]   parameters of those components
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import DataError, ScenarioError
+from ..guidance.hybrid import HybridParams
+from ..guidance.local import AvoidanceParams
+from ..guidance.los import LosParams
+from ..planners.base import PlannerSpec
+from ..sim import Mission, SimSettings
+from ..vehicles import VehicleParams
+from ..world import (
+    Bounds,
+    CircleMotion,
+    Ellipsoid,
+    LambOseenVortices,
+    LinearMotion,
+    Margins,
+    MovingObstacle,
+    RandomWalkMotion,
+    Sphere,
+    Terrain,
+    UniformCurrent,
+    WaypointMotion,
+    World,
+)
+from .bathymetry import TerrainSpec, load_terrain
+from .currents import CurrentsFileSpec, read_currents
+from .geo import LocalFrame
+from .tables import build_dataclass, table_error
+
+__all__ = [
+    "Scenario",
+    "OriginSpec",
+    "BoundsSpec",
+    "SyntheticTerrainSpec",
+    "CurrentsSpec",
+    "VortexSpec",
+    "MissionSpec",
+    "GuidanceSpec",
+    "load",
+    "loads",
+    "build",
+    "builtin_scenarios",
+    "resolve",
+]
+
+
+# ---------------------------------------------------------------------- section dataclasses
+@dataclass(frozen=True)
+class OriginSpec:
+    """Geographic position of the local origin (degrees)."""
+
+    lat: float
+    lon: float
+
+    def __post_init__(self) -> None:
+        if not -90.0 <= self.lat <= 90.0:
+            raise ValueError(f"lat = {self.lat}: must lie in [-90, 90]")
+        if not -360.0 <= self.lon <= 360.0:
+            raise ValueError(f"lon = {self.lon}: must lie in [-360, 360]")
+
+
+@dataclass(frozen=True)
+class BoundsSpec:
+    """Operating box (m); empty axes are taken from the terrain."""
+
+    x: tuple[float, ...] = ()
+    y: tuple[float, ...] = ()
+    z: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        for name in ("x", "y", "z"):
+            v = getattr(self, name)
+            if v and (len(v) != 2 or not v[0] < v[1]):
+                raise ValueError(f"{name} = {list(v)}: must be [min, max] with min < max")
+
+
+@dataclass(frozen=True)
+class SyntheticTerrainSpec:
+    """Analytic seabed for laboratory scenes.
+
+    ``kind``: ``flat`` (``depth``), ``plane`` (``depth`` at the origin plus
+    ``slope = [dz/dx, dz/dy]``), ``hills`` (flat plus Gaussian hills
+    ``hills = [[x, y, height, sigma], ...]``) or ``ridge`` (flat plus a ridge of
+    ``height`` along x = ``ridge_x`` with half-width ``ridge_width``).
+    """
+
+    kind: str = "flat"
+    depth: float = 100.0
+    cell_m: float = 0.0
+    slope: tuple[float, float] = (0.0, 0.0)
+    hills: tuple[tuple[float, float, float, float], ...] = ()
+    ridge_x: float = 0.0
+    ridge_width: float = 10.0
+    height: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("flat", "plane", "hills", "ridge"):
+            raise ValueError(f"kind = {self.kind!r}: choose flat, plane, hills or ridge")
+        if self.depth <= 0:
+            raise ValueError(f"depth = {self.depth}: must be positive")
+        if self.cell_m < 0 or self.ridge_width <= 0:
+            raise ValueError("cell_m must be >= 0 and ridge_width > 0")
+
+
+@dataclass(frozen=True)
+class VortexSpec:
+    """One Lamb–Oseen vortex: centre (m), circulation ``gamma`` (m²/s), core radius ``delta`` (m)."""
+
+    x: float
+    y: float
+    gamma: float
+    delta: float
+
+    def __post_init__(self) -> None:
+        if self.delta <= 0:
+            raise ValueError(f"delta = {self.delta}: the core radius must be positive")
+
+
+@dataclass(frozen=True)
+class CurrentsSpec:
+    """Current field: uniform, a sum of Lamb–Oseen vortices, or a NetCDF file."""
+
+    uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    vortices: tuple[VortexSpec, ...] = ()
+    file: CurrentsFileSpec | None = None
+
+    def __post_init__(self) -> None:
+        kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None)
+        if kinds > 1:
+            raise ValueError("give only one of 'uniform', 'vortices' and 'file'")
+
+
+@dataclass(frozen=True)
+class MissionSpec:
+    """Start, goal, optional explicit route, and the vehicle's safety margins (m)."""
+
+    start: tuple[float, float, float]
+    goal: tuple[float, float, float]
+    route: tuple[tuple[float, float, float], ...] = ()
+    min_altitude_m: float = 10.0
+    min_depth_m: float = 0.0
+    max_depth_m: float = math.inf
+    obstacle_margin_m: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("min_altitude_m", "min_depth_m", "obstacle_margin_m"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} = {getattr(self, name)}: must be >= 0")
+        if not self.max_depth_m > self.min_depth_m:
+            raise ValueError(f"max_depth_m = {self.max_depth_m}: must exceed min_depth_m")
+        if any(not math.isfinite(v) for v in self.start + self.goal):
+            raise ValueError("start and goal must be finite")
+
+
+@dataclass(frozen=True)
+class GuidanceSpec:
+    """Which path follower drives the vehicle, with the parameters of each."""
+
+    name: str = "hybrid"
+    hybrid: HybridParams = field(default_factory=HybridParams)
+    los: LosParams = field(default_factory=LosParams)
+
+    def __post_init__(self) -> None:
+        if self.name not in ("hybrid", "los", "ilos"):
+            raise ValueError(f"name = {self.name!r}: choose hybrid, los or ilos")
+
+
+@dataclass(frozen=True, eq=False)
+class Scenario:
+    """A parsed, validated scenario (nothing read from disk yet but the TOML itself)."""
+
+    name: str
+    description: str
+    seed: int
+    source: str
+    base_dir: Path | None
+    origin: OriginSpec | None
+    bounds: BoundsSpec
+    terrain: TerrainSpec | None
+    synthetic: SyntheticTerrainSpec | None
+    currents: CurrentsSpec
+    obstacles: tuple[Any, ...]
+    moving: tuple[MovingObstacle, ...]
+    mission: MissionSpec
+    vehicle: VehicleParams
+    planner: PlannerSpec
+    guidance: GuidanceSpec
+    avoidance: AvoidanceParams
+    sim: SimSettings
+    raw: dict = field(repr=False, default_factory=dict)
+
+
+_TOP_KEYS = {
+    "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim",
+}
+
+
+# ---------------------------------------------------------------------- obstacles
+@dataclass(frozen=True)
+class _SphereSpec:
+    type: str
+    center: tuple[float, float, float]
+    radius: float
+
+
+@dataclass(frozen=True)
+class _EllipsoidSpec:
+    type: str
+    center: tuple[float, float, float]
+    semi_axes: tuple[float, float, float]
+    yaw_deg: float = 0.0
+    pitch_deg: float = 0.0
+    roll_deg: float = 0.0
+
+
+def _shape(table: dict, where: str, *, moving: bool):
+    kind = table.get("type", "sphere")
+    center = table.get("center", [0.0, 0.0, 0.0]) if moving else None
+    t = dict(table)
+    if moving:
+        t = {k: v for k, v in table.items() if k in ("type", "radius", "semi_axes", "yaw_deg", "pitch_deg", "roll_deg")}
+        t["center"] = center
+    t.setdefault("type", kind)
+    if kind == "sphere":
+        s = build_dataclass(_SphereSpec, t, where)
+        try:
+            return Sphere(s.center, s.radius)
+        except ValueError as exc:
+            raise table_error(where, "radius", s.radius, str(exc)) from exc
+    if kind == "ellipsoid":
+        s = build_dataclass(_EllipsoidSpec, t, where)
+        try:
+            return Ellipsoid(s.center, s.semi_axes, math.radians(s.yaw_deg), math.radians(s.pitch_deg),
+                             math.radians(s.roll_deg))
+        except ValueError as exc:
+            raise table_error(where, "semi_axes", list(s.semi_axes), str(exc)) from exc
+    raise table_error(where, "type", kind, "choose 'sphere' or 'ellipsoid'")
+
+
+@dataclass(frozen=True)
+class _LinearSpec:
+    start: tuple[float, float, float]
+    velocity: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class _CircleSpec:
+    center: tuple[float, float, float]
+    orbit_radius: float
+    period: float
+    phase_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class _WaypointsSpec:
+    points: tuple[tuple[float, float, float], ...]
+    speed: float
+    loop: bool = True
+
+
+@dataclass(frozen=True)
+class _RandomWalkSpec:
+    start: tuple[float, float, float]
+    speed: float
+    turn_sigma: float = 0.05
+    heading_deg: float = 0.0
+    duration: float = 7200.0
+    dt: float = 1.0
+    seed: int = 0
+
+
+_SHAPE_KEYS = ("type", "radius", "semi_axes", "yaw_deg", "pitch_deg", "roll_deg")
+_MOVING_KEYS = ("name", "motion", "appears", "disappears")
+
+
+def _moving(table: dict, where: str, bounds_xy) -> MovingObstacle:
+    shape = _shape(table, where, moving=True)
+    motion_name = table.get("motion")
+    if motion_name is None:
+        raise ScenarioError(f"{where} missing required key 'motion'")
+    rest = {k: v for k, v in table.items() if k not in _SHAPE_KEYS + _MOVING_KEYS}
+    try:
+        if motion_name == "linear":
+            s = build_dataclass(_LinearSpec, rest, where)
+            motion = LinearMotion(s.start, s.velocity)
+        elif motion_name == "circle":
+            s = build_dataclass(_CircleSpec, rest, where)
+            motion = CircleMotion(s.center, s.orbit_radius, s.period, math.radians(s.phase_deg))
+        elif motion_name == "waypoints":
+            s = build_dataclass(_WaypointsSpec, rest, where)
+            motion = WaypointMotion(np.asarray(s.points), s.speed, s.loop)
+        elif motion_name == "random-walk":
+            s = build_dataclass(_RandomWalkSpec, rest, where)
+            motion = RandomWalkMotion(s.start, s.speed, s.turn_sigma, math.radians(s.heading_deg), s.duration,
+                                      s.dt, s.seed, bounds_xy)
+        else:
+            raise table_error(where, "motion", motion_name, "choose linear, circle, waypoints or random-walk")
+    except ValueError as exc:
+        if isinstance(exc, ScenarioError):
+            raise
+        raise ScenarioError(f"{where} {exc}") from exc
+    appears = table.get("appears", 0.0)
+    disappears = table.get("disappears", math.inf)
+    for key, val in (("appears", appears), ("disappears", disappears)):
+        if isinstance(val, bool) or not isinstance(val, (int, float)):
+            raise table_error(where, key, val, "expected a number of seconds")
+    if not disappears > appears:
+        raise table_error(where, "disappears", disappears, "must be later than 'appears'")
+    name = table.get("name", "")
+    if not isinstance(name, str):
+        raise table_error(where, "name", name, "expected a string")
+    return MovingObstacle(shape, motion, name, float(appears), float(disappears))
+
+
+# ---------------------------------------------------------------------- loading
+def builtin_scenarios() -> dict[str, str]:
+    """Names of the built-in scenarios with their one-line descriptions."""
+    out = {}
+    folder = resources.files("auvplan") / "data" / "scenarios"
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".toml"):
+            with entry.open("rb") as fh:
+                data = tomllib.load(fh)
+            out[entry.name[:-5]] = str(data.get("description", "")).strip().splitlines()[0]
+    return out
+
+
+def resolve(scenario: str | Path) -> Path:
+    """Path of a scenario given as a file path or the name of a built-in scenario."""
+    p = Path(scenario)
+    if p.is_file():
+        return p
+    builtin = resources.files("auvplan") / "data" / "scenarios" / f"{scenario}.toml"
+    if builtin.is_file():
+        return Path(str(builtin))
+    names = ", ".join(builtin_scenarios())
+    raise ScenarioError(f"{scenario}: no such scenario file, and not a built-in scenario ({names})")
+
+
+def load(scenario: str | Path) -> Scenario:
+    """Parse and validate a scenario file (or built-in name) without reading its data files."""
+    path = resolve(scenario)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ScenarioError(f"{path}: cannot read ({exc})") from exc
+    return loads(text, source=str(path), base_dir=path.parent)
+
+
+def _section(data: dict, key: str, cls, src: str):
+    table = data.get(key, {})
+    return build_dataclass(cls, table, f"{src}: [{key}]")
+
+
+def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
+    """Parse and validate scenario TOML text."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{source}: invalid TOML ({exc})") from exc
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise ScenarioError(f"{source}: unknown key {key!r} (allowed: {', '.join(sorted(_TOP_KEYS))})")
+    if "mission" not in data:
+        raise ScenarioError(f"{source}: missing required table [mission]")
+    name = data.get("name", Path(source).stem)
+    description = data.get("description", "")
+    seed = data.get("seed", 0)
+    if not isinstance(name, str):
+        raise table_error(f"{source}:", "name", name, "expected a string")
+    if not isinstance(description, str):
+        raise table_error(f"{source}:", "description", description, "expected a string")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise table_error(f"{source}:", "seed", seed, "expected a non-negative integer")
+    origin = _section(data, "origin", OriginSpec, source) if "origin" in data else None
+    bounds = _section(data, "bounds", BoundsSpec, source)
+    terrain = synthetic = None
+    if "terrain" in data:
+        t = dict(data["terrain"]) if isinstance(data["terrain"], dict) else data["terrain"]
+        if isinstance(t, dict) and "synthetic" in t:
+            if len(t) > 1:
+                extra = sorted(k for k in t if k != "synthetic")
+                raise ScenarioError(f"{source}: [terrain] {extra[0]!r} cannot be combined with [terrain.synthetic]")
+            synthetic = build_dataclass(SyntheticTerrainSpec, t["synthetic"], f"{source}: [terrain.synthetic]")
+        else:
+            terrain = _section(data, "terrain", TerrainSpec, source)
+    if (terrain is not None) and origin is None:
+        raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
+    currents = _section(data, "currents", CurrentsSpec, source)
+    obstacles_raw = data.get("obstacles", [])
+    if not isinstance(obstacles_raw, list):
+        raise table_error(f"{source}:", "obstacles", obstacles_raw, "expected an array of tables [[obstacles]]")
+    obstacles = tuple(_shape(t, f"{source}: [[obstacles]] #{i + 1}", moving=False) for i, t in enumerate(obstacles_raw))
+    bxy = (bounds.x + bounds.y) if bounds.x and bounds.y else None
+    moving_raw = data.get("moving", [])
+    if not isinstance(moving_raw, list):
+        raise table_error(f"{source}:", "moving", moving_raw, "expected an array of tables [[moving]]")
+    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy) for i, t in enumerate(moving_raw))
+    mission = _section(data, "mission", MissionSpec, source)
+    return Scenario(
+        name=name,
+        description=description.strip(),
+        seed=seed,
+        source=source,
+        base_dir=base_dir,
+        origin=origin,
+        bounds=bounds,
+        terrain=terrain,
+        synthetic=synthetic,
+        currents=currents,
+        obstacles=obstacles,
+        moving=moving,
+        mission=mission,
+        vehicle=_section(data, "vehicle", VehicleParams, source),
+        planner=_section(data, "planner", PlannerSpec, source),
+        guidance=_section(data, "guidance", GuidanceSpec, source),
+        avoidance=_section(data, "avoidance", AvoidanceParams, source),
+        sim=_section(data, "sim", SimSettings, source),
+        raw=copy.deepcopy(data),
+    )
+
+
+# ---------------------------------------------------------------------- building
+def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str) -> Terrain:
+    if not (bounds.x and bounds.y):
+        raise ScenarioError(f"{src}: [bounds] x and y are required with [terrain.synthetic]")
+    (x0, x1), (y0, y1) = bounds.x, bounds.y
+    cell = spec.cell_m or max(x1 - x0, y1 - y0) / 200.0
+    x = np.linspace(x0, x1, max(int(round((x1 - x0) / cell)) + 1, 2))
+    y = np.linspace(y0, y1, max(int(round((y1 - y0) / cell)) + 1, 2))
+    gx, gy = np.meshgrid(x, y)
+    z = np.full_like(gx, -spec.depth)
+    if spec.kind == "plane":
+        z = z + spec.slope[0] * gx + spec.slope[1] * gy
+    elif spec.kind == "hills":
+        for hx, hy, h, s in spec.hills:
+            z = z + h * np.exp(-((gx - hx) ** 2 + (gy - hy) ** 2) / (2.0 * s * s))
+    elif spec.kind == "ridge":
+        z = z + spec.height * np.clip(1.0 - np.abs(gx - spec.ridge_x) / spec.ridge_width, 0.0, None)
+    return Terrain(x, y, z, name=f"synthetic:{spec.kind}")
+
+
+def _check_point(world: World, point, key: str, src: str) -> None:
+    p = np.asarray(point, dtype=float)
+    if not world.bounds.contains(p):
+        b = world.bounds
+        raise ScenarioError(
+            f"{src}: [mission] {key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
+            f"y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}]"
+        )
+    why = world.explain(p, 0.0)
+    if why:
+        seabed = float(world.seabed(p[0], p[1]))
+        extra = f" (seabed at {seabed:.1f} m)" if np.isfinite(seabed) else ""
+        raise ScenarioError(f"{src}: [mission] {key} = {list(point)}: not a free point: {why}{extra}")
+
+
+def build(scenario: Scenario) -> tuple[World, Mission]:
+    """Read the scenario's data and make its World and Mission.
+
+    Raises
+    ------
+    ScenarioError
+        When the start or goal is outside the bounds or not free, or the
+        bounds are missing.
+    DataError
+        When the bathymetry or current data are unusable or do not cover the area.
+    """
+    s = scenario
+    src = s.source
+    frame = LocalFrame(s.origin.lat, s.origin.lon) if s.origin else None
+    b = s.bounds
+    extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
+    terrain = None
+    try:
+        if s.terrain is not None:
+            terrain = load_terrain(s.terrain, frame, base_dir=s.base_dir, extent_m=extent)
+        elif s.synthetic is not None:
+            terrain = _synthetic_terrain(s.synthetic, b, src)
+    except DataError as exc:
+        raise DataError(f"{src}: [terrain] {exc}") from exc
+    if terrain is not None:
+        x0, x1, y0, y1 = terrain.extent
+        xr, yr = (b.x or (x0, x1)), (b.y or (y0, y1))
+        zr = b.z or (float(terrain.z.min()) - 1.0, 0.0)
+    else:
+        if not (b.x and b.y and b.z):
+            raise ScenarioError(f"{src}: [bounds] x, y and z are required when there is no terrain")
+        xr, yr, zr = b.x, b.y, b.z
+    bounds = Bounds(xr[0], xr[1], yr[0], yr[1], zr[0], zr[1])
+    c = s.currents
+    try:
+        if c.vortices:
+            v = c.vortices
+            currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
+        elif c.file is not None:
+            currents = read_currents(c.file, frame, base_dir=s.base_dir)
+        else:
+            currents = UniformCurrent(c.uniform)
+    except DataError as exc:
+        raise DataError(f"{src}: [currents] {exc}") from exc
+    m = s.mission
+    margins = Margins(m.min_altitude_m, m.min_depth_m, m.max_depth_m, m.obstacle_margin_m)
+    try:
+        world = World(
+            bounds=bounds,
+            terrain=terrain,
+            currents=currents,
+            obstacles=s.obstacles,
+            moving=s.moving,
+            margins=margins,
+            origin=(s.origin.lat, s.origin.lon) if s.origin else None,
+            name=s.name,
+        )
+    except DataError as exc:
+        raise DataError(f"{src}: {exc}") from exc
+    _check_point(world, m.start, "start", src)
+    _check_point(world, m.goal, "goal", src)
+    for i, wp in enumerate(m.route):
+        if not world.bounds.contains(np.asarray(wp)):
+            raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
+    mission = Mission(
+        name=s.name,
+        start=m.start,
+        goal=m.goal,
+        route=m.route,
+        seed=s.seed,
+        vehicle=s.vehicle,
+        planner=s.planner,
+        guidance=s.guidance.name,
+        hybrid=s.guidance.hybrid,
+        los=s.guidance.los,
+        avoidance=s.avoidance,
+        sim=s.sim,
+    )
+    return world, mission

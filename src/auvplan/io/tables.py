@@ -1,0 +1,115 @@
+"""Typed conversion of TOML tables into frozen parameter dataclasses.
+
+One mechanism serves every scenario section: the dataclass's field names are
+the allowed keys (unknown keys are errors), its type hints are the allowed
+types (``float``, ``int``, ``bool``, ``str``, fixed and variable tuples, nested
+dataclasses and tuples of them), and its ``__post_init__`` checks ranges.
+Every error is a :class:`ScenarioError` naming the file, the table, the key
+and the value.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import types
+import typing
+from typing import Any
+
+from ..errors import ScenarioError
+
+__all__ = ["build_dataclass", "table_error"]
+
+
+def table_error(where: str, key: str, value: Any, problem: str) -> ScenarioError:
+    """A ScenarioError of the form ``file: [table] key = value: problem``."""
+    shown = repr(value)
+    if len(shown) > 80:
+        shown = shown[:77] + "..."
+    return ScenarioError(f"{where} {key} = {shown}: {problem}")
+
+
+def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
+    origin = typing.get_origin(tp)
+    args = typing.get_args(tp)
+    if origin in (typing.Union, types.UnionType):
+        errors = []
+        for alt in args:
+            if alt is type(None):
+                continue
+            try:
+                return _convert(value, alt, where, key)
+            except ScenarioError as exc:
+                errors.append(str(exc))
+        raise errors[0] if len(errors) == 1 else table_error(where, key, value, "wrong type")
+    if tp is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise table_error(where, key, value, "expected a number")
+        if math.isnan(value):
+            raise table_error(where, key, value, "NaN is not allowed")
+        return float(value)
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise table_error(where, key, value, "expected an integer")
+        return value
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise table_error(where, key, value, "expected true or false")
+        return value
+    if tp is str:
+        if not isinstance(value, str):
+            raise table_error(where, key, value, "expected a string")
+        return value
+    if origin is tuple:
+        if not isinstance(value, (list, tuple)):
+            raise table_error(where, key, value, "expected an array")
+        if len(args) == 2 and args[1] is Ellipsis:
+            return tuple(_convert(v, args[0], where, f"{key}[{i}]") for i, v in enumerate(value))
+        if len(value) != len(args):
+            raise table_error(where, key, value, f"expected an array of {len(args)} values")
+        return tuple(_convert(v, a, where, f"{key}[{i}]") for i, (v, a) in enumerate(zip(value, args)))
+    if dataclasses.is_dataclass(tp):
+        if not isinstance(value, dict):
+            raise table_error(where, key, value, "expected a table")
+        return build_dataclass(tp, value, f"{where.rstrip(']')}.{key}]" if where.endswith("]") else where)
+    if tp is Any:
+        return value
+    raise TypeError(f"unsupported field type {tp!r} for {key}")  # a programming error, not user input
+
+
+def build_dataclass(cls: type, table: dict, where: str, *, skip: tuple[str, ...] = ()) -> Any:
+    """Instantiate the frozen dataclass ``cls`` from a TOML ``table``.
+
+    Parameters
+    ----------
+    cls : type
+        A dataclass; its non-underscore init fields are the accepted keys.
+    table : dict
+        Parsed TOML table.
+    where : str
+        Prefix for messages, e.g. ``"scenario.toml: [planner]"``.
+    skip : tuple of str
+        Keys handled by the caller (accepted, not passed on).
+    """
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: expected a table, got {table!r}")
+    hints = typing.get_type_hints(cls)
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init and not f.name.startswith("_")}
+    for key in table:
+        if key not in fields and key not in skip:
+            allowed = ", ".join(sorted(fields))
+            raise ScenarioError(f"{where} unknown key {key!r} (allowed: {allowed})")
+    kwargs = {}
+    for name in fields:
+        if name in table:
+            kwargs[name] = _convert(table[name], hints[name], where, name)
+    missing = [
+        n for n, f in fields.items()
+        if n not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    ]
+    if missing:
+        raise ScenarioError(f"{where} missing required key {missing[0]!r}")
+    try:
+        return cls(**kwargs)
+    except (ValueError, TypeError) as exc:
+        raise ScenarioError(f"{where} {exc}") from exc

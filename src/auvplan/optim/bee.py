@@ -1,0 +1,260 @@
+"""Artificial bee colony (Karaboga 2005) and the improved colony of document 002.
+
+Document 002 (IABC for 3D global path planning of a manned submersible),
+equations 18–25, as restated in METHODS.md §2:
+
+* eq. 18 — initial food sources ``g_i = L + r (U - L)`` (ABC);
+* eq. 19 — neighbour move ``g_new = g_i + φ (g_i - g_k)``, ``φ ∈ [-1, 1]``,
+  ``k ≠ i``, on one random dimension (employed and onlooker bees);
+* eq. 20 — fitness ``1 / (1 + f)`` for ``f ≥ 0``, ``1 + |f|`` otherwise;
+* eq. 21 — onlookers pick sources with probability ``fit_i / Σ fit``;
+* eq. 22 — a source not improved for ``limit`` trials is replaced by a scout;
+* eqs. 23–24 — IABC: initial sources from the logistic map
+  ``x_k = μ x_{k-1} (1 - x_{k-1})``, μ = 4;
+* eq. 25 — IABC: after every iteration, Gaussian mutation
+  ``g_new = g + N(μ_g, σ²)`` of the worst fraction of sources, kept if better.
+
+The document does not state μ_g, σ or the fraction; auvplan uses μ_g = 0,
+σ = 0.1 of the search range per dimension, decayed linearly to 0.01 of it over
+the run, and the worst 20 % (see :class:`IABCParams`).
+
+The update rules are pure functions on arrays (:func:`neighbour_move`,
+:func:`abc_fitness`, :func:`logistic_map_population`, :func:`gaussian_mutation`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._types import RngLike
+from .base import Optimizer
+
+__all__ = [
+    "ABCParams",
+    "IABCParams",
+    "ABC",
+    "IABC",
+    "abc_fitness",
+    "neighbour_move",
+    "logistic_map_population",
+    "gaussian_mutation",
+]
+
+
+@dataclass(frozen=True)
+class ABCParams:
+    """ABC settings.
+
+    ``limit``: trials without improvement before a source is abandoned (eq. 22).
+    Karaboga's rule ``SN × D`` exceeds a 100-iteration run for path problems, so
+    that no scout would ever fly; 40 trials is used instead (a source stuck
+    for ~40 % of the document's run is abandoned).  ``scouts_per_iteration``:
+    at most this many sources are abandoned per iteration (1 in Karaboga 2005).
+    """
+
+    limit: int = 40
+    scouts_per_iteration: int = 1
+
+    def __post_init__(self) -> None:
+        if self.limit < 1 or self.scouts_per_iteration < 1:
+            raise ValueError("limit and scouts_per_iteration must be >= 1")
+
+
+@dataclass(frozen=True)
+class IABCParams:
+    """IABC settings on top of ABC.
+
+    ``mu``: logistic-map parameter (4: fully chaotic).  ``mutation_fraction``:
+    share of the worst sources mutated each iteration.  ``sigma``: standard
+    deviation of the Gaussian mutation as a fraction of the search range,
+    decayed linearly to ``sigma_final`` over ``max_iterations`` (none of these
+    three is stated in document 002).
+    """
+
+    limit: int = 40
+    scouts_per_iteration: int = 1
+    mu: float = 4.0
+    mutation_fraction: float = 0.2
+    sigma: float = 0.1
+    sigma_final: float = 0.01
+    max_iterations: int = 100
+
+    def __post_init__(self) -> None:
+        if self.limit < 1 or self.scouts_per_iteration < 1 or self.max_iterations < 1:
+            raise ValueError("limit, scouts_per_iteration and max_iterations must be >= 1")
+        if not 3.57 <= self.mu <= 4.0:
+            raise ValueError(f"mu = {self.mu}: the logistic map is chaotic only for 3.57 <= mu <= 4")
+        if not 0.0 < self.mutation_fraction <= 1.0:
+            raise ValueError(f"mutation_fraction = {self.mutation_fraction}: must lie in (0, 1]")
+        if not (self.sigma > 0 and self.sigma_final >= 0):
+            raise ValueError("sigma must be > 0 and sigma_final >= 0")
+
+
+# ---------------------------------------------------------------------- pure kernels
+def abc_fitness(f: np.ndarray) -> np.ndarray:
+    """Document 002 eq. 20: ``1/(1+f)`` for ``f ≥ 0``, ``1 + |f|`` otherwise (inf → 0)."""
+    f = np.asarray(f, dtype=float)
+    with np.errstate(divide="ignore", over="ignore"):
+        fit = np.where(f >= 0, 1.0 / (1.0 + np.abs(f)), 1.0 + np.abs(f))
+    return np.where(np.isfinite(f), fit, 0.0)
+
+
+def neighbour_move(X: np.ndarray, idx: np.ndarray, partner: np.ndarray, dim: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Eq. 19 on one dimension: candidates ``X[idx]`` with ``x_j += φ (x_j - x_{partner, j})``."""
+    V = X[idx].copy()
+    rows = np.arange(idx.size)
+    V[rows, dim] = X[idx, dim] + phi * (X[idx, dim] - X[partner, dim])
+    return V
+
+
+def _partners(idx: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+    """A random partner k ≠ i for each i in ``idx``."""
+    k = rng.integers(0, n - 1, size=idx.size)
+    return k + (k >= idx)
+
+
+def logistic_map_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> np.ndarray:
+    """Eqs. 23–24: ``n`` chaotic points in ``[0, 1]^dim`` from the logistic map.
+
+    Each dimension runs its own sequence from a random seed ``x_0`` that avoids
+    the map's fixed and pre-fixed points (0, 0.25, 0.5, 0.75, 1).
+    """
+    x = rng.uniform(0.01, 0.99, size=dim)
+    bad = np.isclose(x[:, None], np.array([0.25, 0.5, 0.75]), atol=1e-3).any(axis=1)
+    x = np.where(bad, x + 0.0123, x)
+    out = np.empty((n, dim))
+    for k in range(n):  # a recurrence: each term needs the previous one
+        x = mu * x * (1.0 - x)
+        out[k] = x
+    return out
+
+
+def gaussian_mutation(X: np.ndarray, sigma: np.ndarray, rng: np.random.Generator, mean: float = 0.0) -> np.ndarray:
+    """Eq. 25: ``X + N(mean, sigma²)`` per coordinate (``sigma`` broadcast per dimension)."""
+    return X + rng.normal(mean, 1.0, size=X.shape) * sigma
+
+
+# ---------------------------------------------------------------------- optimisers
+class ABC(Optimizer):
+    """Karaboga's artificial bee colony as an ask/tell optimiser.
+
+    One iteration = employed phase (N candidates) + onlooker phase
+    (N candidates) + scouts (at most ``scouts_per_iteration`` random sources).
+    """
+
+    name = "abc"
+
+    def __init__(self, lower, upper, population: int = 50, params: ABCParams | IABCParams | None = None,
+                 rng: RngLike = None) -> None:
+        super().__init__(lower, upper, population, rng)
+        self.params = params if params is not None else ABCParams()
+        self.X = np.empty((self.n, self.dim))
+        self.f = np.full(self.n, np.inf)
+        self.trials = np.zeros(self.n, dtype=np.intp)
+        self._phase = "init"
+        self._idx = np.arange(self.n)
+
+    def _initial(self) -> np.ndarray:
+        return self.uniform(self.n)
+
+    def _greedy(self, idx: np.ndarray, V: np.ndarray, fv: np.ndarray) -> None:
+        """Greedy selection of candidates ``V`` for sources ``idx`` (duplicates allowed)."""
+        order = np.lexsort((fv, idx))  # per source, best candidate first
+        idx_s, fv_s, V_s = idx[order], fv[order], V[order]
+        first = np.r_[True, idx_s[1:] != idx_s[:-1]]
+        counts = np.diff(np.r_[np.flatnonzero(first), idx_s.size])
+        src, best_f, best_V = idx_s[first], fv_s[first], V_s[first]
+        better = best_f < self.f[src]
+        self.X[src[better]] = best_V[better]
+        self.f[src[better]] = best_f[better]
+        self.trials[src[better]] = 0
+        self.trials[src[~better]] += counts[~better]
+
+    def ask(self) -> np.ndarray:
+        rng = self.rng
+        if self._phase == "init":
+            return self._initial()
+        if self._phase == "employed":
+            self._idx = np.arange(self.n)
+        elif self._phase == "onlooker":
+            fit = abc_fitness(self.f)
+            total = fit.sum()
+            p = fit / total if total > 0 else np.full(self.n, 1.0 / self.n)
+            self._idx = rng.choice(self.n, size=self.n, p=p)
+        elif self._phase == "scout":
+            return self.uniform(self._idx.size)
+        elif self._phase == "mutation":
+            return self._mutants()
+        idx = self._idx
+        partner = _partners(idx, self.n, rng)
+        dim = rng.integers(0, self.dim, size=idx.size)
+        phi = rng.uniform(-1.0, 1.0, size=idx.size)
+        return self.clip(neighbour_move(self.X, idx, partner, dim, phi))
+
+    def _mutants(self) -> np.ndarray:  # pragma: no cover - IABC only
+        raise NotImplementedError
+
+    def _after_onlooker(self) -> str:
+        over = np.flatnonzero(self.trials > self.params.limit)
+        if over.size:
+            worst_first = over[np.argsort(-self.trials[over], kind="stable")]
+            self._idx = worst_first[: self.params.scouts_per_iteration]
+            return "scout"
+        return self._end_of_iteration()
+
+    def _end_of_iteration(self) -> str:
+        self.iteration += 1
+        return "employed"
+
+    def tell(self, X: np.ndarray, f: np.ndarray) -> bool:
+        f = np.asarray(f, dtype=float)
+        self._note(X, f)
+        before = self.iteration
+        if self._phase == "init":
+            self.X[:] = X
+            self.f[:] = f
+            self.trials[:] = 0
+            self._phase = "employed"
+            return False
+        if self._phase in ("employed", "onlooker"):
+            self._greedy(self._idx, X, f)
+            self._phase = "onlooker" if self._phase == "employed" else self._after_onlooker()
+        elif self._phase == "scout":
+            self.X[self._idx] = X
+            self.f[self._idx] = f
+            self.trials[self._idx] = 0
+            self._phase = self._end_of_iteration()
+        elif self._phase == "mutation":
+            better = f < self.f[self._idx]
+            self.X[self._idx[better]] = X[better]
+            self.f[self._idx[better]] = f[better]
+            self.trials[self._idx[better]] = 0
+            self.iteration += 1
+            self._phase = "employed"
+        return self.iteration > before
+
+
+class IABC(ABC):
+    """Document 002's improved colony: chaotic initialisation + Gaussian mutation of the worst."""
+
+    name = "iabc"
+
+    def __init__(self, lower, upper, population: int = 50, params: IABCParams | None = None,
+                 rng: RngLike = None) -> None:
+        super().__init__(lower, upper, population, params if params is not None else IABCParams(), rng)
+
+    def _initial(self) -> np.ndarray:
+        return self.lower + logistic_map_population(self.n, self.dim, self.params.mu, self.rng) * self.span
+
+    def _end_of_iteration(self) -> str:
+        return "mutation"
+
+    def _mutants(self) -> np.ndarray:
+        p = self.params
+        m = max(1, int(round(p.mutation_fraction * self.n)))
+        self._idx = np.argsort(self.f, kind="stable")[-m:]
+        frac = min(self.iteration / max(p.max_iterations - 1, 1), 1.0)
+        sigma = (p.sigma + (p.sigma_final - p.sigma) * frac) * self.span
+        return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))

@@ -1,0 +1,163 @@
+"""Planning problem, planner settings and the result every planner returns."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._types import Status
+from ..optim.bee import ABCParams, IABCParams
+from ..optim.ga import GAParams
+from ..optim.pso import PSOParams
+from ..world import World
+
+__all__ = ["PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS"]
+
+PLANNERS = ("iabc", "abc", "ga", "pso")
+
+
+@dataclass(frozen=True)
+class PlannerSpec:
+    """Settings of the global planner (the scenario's ``[planner]`` table).
+
+    Attributes
+    ----------
+    name : str
+        ``iabc``, ``abc``, ``ga`` or ``pso``.
+    population : int
+        Food sources / individuals / particles.
+    iterations : int
+        Iteration cap (document 002: IterMax = 100).
+    budget : int
+        Objective evaluations; 0 means ``population * iterations`` (the equal budget
+        every algorithm gets in a comparison).
+    control_points : int
+        Free interior B-spline control points.
+    samples : int
+        Samples per path for the cost.
+    energy : str
+        ``"physical"`` (default) or ``"document"`` (document 002 eq. 17).
+    w_length, w_terrain, w_energy : float
+        Weights of the three cost terms (document 002 eq. 9 uses 1, 1, 1).
+    terrain_penalty : float
+        Document 002's M, per sample below the seabed (m of equivalent length);
+        auvplan adds ``terrain_penalty`` per metre of violation depth as well.
+    energy_scale : float
+        Cost units per joule; 0 (default) = metres of still-water travel per joule at
+        cruise speed, so the energy term reads as equivalent metres.
+    """
+
+    name: str = "iabc"
+    population: int = 50
+    iterations: int = 100
+    budget: int = 0
+    control_points: int = 6
+    samples: int = 200
+    energy: str = "physical"
+    w_length: float = 1.0
+    w_terrain: float = 1.0
+    w_energy: float = 1.0
+    terrain_penalty: float = 1.0e4
+    energy_scale: float = 0.0
+    abc: ABCParams = field(default_factory=ABCParams)
+    iabc: IABCParams = field(default_factory=IABCParams)
+    ga: GAParams = field(default_factory=GAParams)
+    pso: PSOParams = field(default_factory=PSOParams)
+
+    def __post_init__(self) -> None:
+        if self.name not in PLANNERS:
+            raise ValueError(f"name = {self.name!r}: choose one of {', '.join(PLANNERS)}")
+        if self.population < 4:
+            raise ValueError(f"population = {self.population}: must be >= 4")
+        if self.iterations < 1 or self.budget < 0:
+            raise ValueError("iterations must be >= 1 and budget >= 0")
+        if not 1 <= self.control_points <= 50:
+            raise ValueError(f"control_points = {self.control_points}: must lie in [1, 50]")
+        if self.samples < 10:
+            raise ValueError(f"samples = {self.samples}: must be >= 10")
+        if self.energy not in ("physical", "document"):
+            raise ValueError(f"energy = {self.energy!r}: choose 'physical' or 'document'")
+        for k in ("w_length", "w_terrain", "w_energy", "terrain_penalty", "energy_scale"):
+            if getattr(self, k) < 0:
+                raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
+
+    @property
+    def evaluations(self) -> int:
+        """The evaluation budget in force."""
+        return self.budget or self.population * self.iterations
+
+
+@dataclass(frozen=True, eq=False)
+class PlanningProblem:
+    """What a global planner needs: the world, the end points and the vehicle's energy model.
+
+    Attributes
+    ----------
+    world : World
+        Environment (seabed, currents, obstacles, margins).
+    start, goal : ndarray, shape (3,)
+        End points (m).
+    speed : float
+        Through-water speed of the vehicle (m/s).
+    hotel_power : float
+        Power drawn regardless of speed (W).
+    drag_k : float
+        Propulsion power coefficient k in ``P = k V³`` (W s³/m³).
+    """
+
+    world: World
+    start: np.ndarray
+    goal: np.ndarray
+    speed: float = 1.5
+    hotel_power: float = 15.0
+    drag_k: float = 5.8
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "start", np.asarray(self.start, dtype=float).reshape(3))
+        object.__setattr__(self, "goal", np.asarray(self.goal, dtype=float).reshape(3))
+        if not self.speed > 0:
+            raise ValueError(f"speed must be positive, got {self.speed}")
+
+
+@dataclass(frozen=True, eq=False)
+class PlanResult:
+    """Outcome of a planner: a status, and a path when one was found.
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` (feasible), ``APPROXIMATE`` (best found violates a soft term),
+        ``INVALID_START``, ``INVALID_GOAL``, ``INFEASIBLE`` or ``TIMEOUT``.
+    path : ndarray, shape (N, 3)
+        Dense polyline of the planned path (empty when none).
+    cost : float
+        Total cost (``inf`` when none).
+    cost_terms : dict
+        ``length``, ``terrain``, ``energy`` (weighted cost units) and the physical
+        ``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m``, ``collisions``.
+    evaluations, iterations : int
+        Work done.
+    wall_time_s : float
+        Wall-clock time of the plan.
+    history : ndarray
+        Best cost after each iteration.
+    planner : str
+        Name of the planner.
+    control_points : ndarray or None
+        B-spline control points ``(K, 3)`` for spline planners.
+    message : str
+        Human-readable explanation of a failure.
+    """
+
+    status: Status
+    path: np.ndarray
+    cost: float
+    cost_terms: dict
+    evaluations: int
+    iterations: int
+    wall_time_s: float
+    history: np.ndarray
+    planner: str
+    control_points: np.ndarray | None = None
+    message: str = ""

@@ -1,0 +1,32 @@
+"""World model: seabed, currents, obstacles and the World that combines them."""
+
+from .currents import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent
+from .obstacles import (
+    CircleMotion,
+    Ellipsoid,
+    LinearMotion,
+    MovingObstacle,
+    RandomWalkMotion,
+    Sphere,
+    WaypointMotion,
+)
+from .terrain import Terrain
+from .world import Bounds, Margins, World
+
+__all__ = [
+    "Bounds",
+    "CircleMotion",
+    "CurrentField",
+    "Ellipsoid",
+    "GriddedCurrent",
+    "LambOseenVortices",
+    "LinearMotion",
+    "Margins",
+    "MovingObstacle",
+    "RandomWalkMotion",
+    "Sphere",
+    "Terrain",
+    "UniformCurrent",
+    "WaypointMotion",
+    "World",
+]

@@ -1,0 +1,215 @@
+"""Ocean current fields with one vectorised interface ``velocity(points, t) -> (N, 3)``.
+
+* :class:`UniformCurrent` — constant vector.
+* :class:`LambOseenVortices` — a sum of viscous Lamb–Oseen vortices, document 002
+  eqs. 1–2 (METHODS.md §2).  The document's eq. 3, ``Γ/(πδ²) exp(-r²/δ²)``, is the
+  vertical **vorticity** of the vortex (1/s), not a vertical velocity: it is
+  offered as :meth:`LambOseenVortices.vorticity` and the vertical velocity is 0.
+* :class:`GriddedCurrent` — u, v (and optionally w) on an (x, y, z[, t]) grid,
+  interpolated linearly in space and time (``scipy.interpolate.RegularGridInterpolator``).
+  Points outside the grid take the value at the nearest grid face (clamping); a
+  world checks at build time that the grid covers its horizontal bounds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from ..errors import DataError
+from ..geometry import as_points
+
+__all__ = ["CurrentField", "UniformCurrent", "LambOseenVortices", "GriddedCurrent"]
+
+
+class CurrentField:
+    """Base class: a current field returns velocities ``(N, 3)`` (m/s) at ``points (N, 3)``."""
+
+    def velocity(self, points, t: float = 0.0) -> np.ndarray:  # pragma: no cover - interface
+        """Current velocity at ``points (..., 3)`` and time ``t`` (s)."""
+        raise NotImplementedError
+
+    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
+        """Whether the field is defined over the whole horizontal box."""
+        return True
+
+    @property
+    def max_speed(self) -> float:
+        """An upper bound of the horizontal current speed (m/s)."""
+        raise NotImplementedError  # pragma: no cover - interface
+
+
+@dataclass(frozen=True)
+class UniformCurrent(CurrentField):
+    """Spatially uniform, steady current ``(u, v, w)`` in m/s (east, north, up)."""
+
+    vector: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+        p = as_points(points)
+        return np.broadcast_to(np.asarray(self.vector, dtype=float), p.shape).copy()
+
+    @property
+    def max_speed(self) -> float:
+        return float(np.hypot(self.vector[0], self.vector[1]))
+
+
+@dataclass(frozen=True, eq=False)
+class LambOseenVortices(CurrentField):
+    """Sum of Lamb–Oseen vortices (document 002 eqs. 1–2).
+
+    For one vortex at ``(x0, y0)`` with circulation ``Γ`` (m²/s, positive
+    counter-clockwise) and core radius ``δ`` (m)::
+
+        Vx = -Γ (y - y0) / (2π r²) (1 - exp(-r²/δ²))
+        Vy = +Γ (x - x0) / (2π r²) (1 - exp(-r²/δ²))
+
+    Near the centre the bracket over r² tends to 1/δ² (solid-body rotation,
+    ``|V| ≈ Γ r / (2π δ²)``); that limit is evaluated without cancellation.
+
+    Parameters
+    ----------
+    centers : array_like, shape (K, 2)
+        Vortex centres (m).
+    gamma : array_like, shape (K,)
+        Circulations Γ (m²/s).
+    delta : array_like, shape (K,)
+        Core radii δ (m), positive.
+    """
+
+    centers: np.ndarray
+    gamma: np.ndarray
+    delta: np.ndarray
+    _k: int = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        c = np.asarray(self.centers, dtype=float).reshape(-1, 2)
+        g = np.asarray(self.gamma, dtype=float).reshape(-1)
+        d = np.asarray(self.delta, dtype=float).reshape(-1)
+        if not (c.shape[0] == g.size == d.size):
+            raise ValueError("centers, gamma and delta must describe the same number of vortices")
+        if np.any(d <= 0) or not np.all(np.isfinite(c)) or not np.all(np.isfinite(g)):
+            raise ValueError("vortex core radii must be positive and all values finite")
+        object.__setattr__(self, "centers", c)
+        object.__setattr__(self, "gamma", g)
+        object.__setattr__(self, "delta", d)
+        object.__setattr__(self, "_k", g.size)
+
+    @staticmethod
+    def _shape_factor(r2, delta2):
+        """(1 - exp(-r²/δ²)) / r², with its limit 1/δ² (1 - r²/(2δ²)) near r = 0."""
+        q = r2 / delta2
+        small = q < 1e-8
+        safe = np.where(small, 1.0, r2)
+        return np.where(small, (1.0 - 0.5 * q) / delta2, -np.expm1(-q) / safe)
+
+    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+        p = as_points(points)
+        flat = p.reshape(-1, 3)
+        out = np.zeros_like(flat)
+        if self._k:
+            rx = flat[:, None, 0] - self.centers[None, :, 0]
+            ry = flat[:, None, 1] - self.centers[None, :, 1]
+            f = self._shape_factor(rx * rx + ry * ry, self.delta**2) * self.gamma / (2.0 * np.pi)
+            out[:, 0] = -(f * ry).sum(axis=1)
+            out[:, 1] = (f * rx).sum(axis=1)
+        return out.reshape(p.shape)
+
+    def vorticity(self, points) -> np.ndarray:
+        """Vertical vorticity ω_z (1/s) — the quantity of document 002's eq. 3."""
+        p = as_points(points).reshape(-1, 3)
+        rx = p[:, None, 0] - self.centers[None, :, 0]
+        ry = p[:, None, 1] - self.centers[None, :, 1]
+        d2 = self.delta**2
+        return (self.gamma / (np.pi * d2) * np.exp(-(rx * rx + ry * ry) / d2)).sum(axis=1)
+
+    @property
+    def max_speed(self) -> float:
+        # one vortex peaks at r = 1.1209 δ with |V| = 0.63817 Γ / (2π δ); the sum is bounded by the sum
+        return float(np.sum(0.63817 * np.abs(self.gamma) / (2.0 * np.pi * self.delta)))
+
+
+@dataclass(frozen=True, eq=False)
+class GriddedCurrent(CurrentField):
+    """Current on a rectilinear grid, interpolated linearly in x, y, z and t.
+
+    Parameters
+    ----------
+    x, y, z : ndarray
+        Ascending axes (m, local frame; ``z`` is elevation, negative below the surface).
+        ``z`` may have a single level (depth-independent current).
+    u, v : ndarray
+        Eastward and northward velocity (m/s), shape ``(nt, nz, ny, nx)`` (or ``(nz, ny, nx)``).
+    w : ndarray or None
+        Upward velocity, same shape; zero when ``None``.
+    t : ndarray or None
+        Ascending time axis (s); ``None`` for a steady field.
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    z: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    w: np.ndarray | None = None
+    t: np.ndarray | None = None
+    name: str = ""
+    _interp: RegularGridInterpolator = field(init=False, repr=False)
+    _lo: np.ndarray = field(init=False, repr=False)
+    _hi: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        axes = [np.asarray(a, dtype=float).reshape(-1) for a in (self.x, self.y, self.z)]
+        tax = None if self.t is None else np.asarray(self.t, dtype=float).reshape(-1)
+        comps = [np.asarray(c, dtype=float) for c in (self.u, self.v)]
+        comps.append(np.zeros_like(comps[0]) if self.w is None else np.asarray(self.w, dtype=float))
+        nt = 1 if tax is None else tax.size
+        shape = (nt, axes[2].size, axes[1].size, axes[0].size)
+        for name, c in zip("uvw", comps):
+            if c.size != int(np.prod(shape)):
+                raise DataError(f"current {self.name!r}: component {name} has shape {c.shape}, expected {shape}")
+        data = np.stack([c.reshape(shape) for c in comps], axis=-1)
+        if not np.all(np.isfinite(data)):
+            raise DataError(f"current {self.name!r}: velocity components contain NaN or infinite values")
+        for name, a in zip(("x", "y", "z"), axes):
+            if a.size > 1 and not np.all(np.diff(a) > 0):
+                raise DataError(f"current {self.name!r}: axis {name} must be strictly ascending")
+        if tax is not None and tax.size > 1 and not np.all(np.diff(tax) > 0):
+            raise DataError(f"current {self.name!r}: time axis must be strictly ascending")
+        if axes[0].size < 2 or axes[1].size < 2:
+            raise DataError(f"current {self.name!r}: the grid needs at least two x and two y nodes")
+        # singleton axes are duplicated so that the interpolator accepts them
+        grid_axes = []
+        for a in [np.zeros(1) if tax is None else tax, axes[2], axes[1], axes[0]]:
+            grid_axes.append(a if a.size > 1 else np.array([a[0], a[0] + 1.0]))
+        reps = [2 if a.size == 1 else 1 for a in [np.zeros(1) if tax is None else tax, axes[2], axes[1], axes[0]]]
+        data = np.tile(data, reps + [1])
+        interp = RegularGridInterpolator(tuple(grid_axes), data, method="linear", bounds_error=False, fill_value=None)
+        lo = np.array([a[0] for a in grid_axes])
+        hi = np.array([a[-1] for a in grid_axes])
+        object.__setattr__(self, "_interp", interp)
+        object.__setattr__(self, "_lo", lo)
+        object.__setattr__(self, "_hi", hi)
+
+    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+        p = as_points(points)
+        flat = p.reshape(-1, 3)
+        q = np.empty((flat.shape[0], 4))
+        q[:, 0] = t
+        q[:, 1] = flat[:, 2]
+        q[:, 2] = flat[:, 1]
+        q[:, 3] = flat[:, 0]
+        q = np.clip(q, self._lo, self._hi)
+        return self._interp(q).reshape(p.shape)
+
+    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
+        x = np.asarray(self.x, dtype=float)
+        y = np.asarray(self.y, dtype=float)
+        tol = 1e-6 * max(1.0, float(np.ptp(x)), float(np.ptp(y)))
+        return bool(x.min() - tol <= xmin and x.max() + tol >= xmax and y.min() - tol <= ymin and y.max() + tol >= ymax)
+
+    @property
+    def max_speed(self) -> float:
+        return float(np.sqrt(np.asarray(self.u) ** 2 + np.asarray(self.v) ** 2).max())

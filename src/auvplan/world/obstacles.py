@@ -1,0 +1,328 @@
+"""Static and moving obstacles with vectorised signed distances.
+
+* :class:`Sphere` and :class:`Ellipsoid` (semi-axes plus yaw/pitch/roll).
+  ``distance`` is the true Euclidean signed distance to the surface (negative
+  inside).  For the ellipsoid the foot point ``q_i = A_i² p_i / (A_i² + t)`` is
+  found by bisection on the root of ``Σ (A_i p_i / (A_i² + t))² = 1``
+  (METHODS.md §1.5); document 000's radial-ray distance ``|p| (1 - 1/s)``,
+  which overestimates the clearance, is :meth:`Ellipsoid.ray_distance`, and the
+  guaranteed lower bound ``(s - 1) A_min`` is :meth:`Ellipsoid.lower_bound_distance`.
+* Moving obstacles: a shape whose centre follows a motion model — linear,
+  circle, waypoint loop or a seeded random walk (document 004's "irregular"
+  motion, pre-computed so that it is deterministic and cheap to query).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..geometry import as_points, point_segment_distance, rotation_matrix
+
+__all__ = [
+    "Sphere",
+    "Ellipsoid",
+    "Shape",
+    "LinearMotion",
+    "CircleMotion",
+    "WaypointMotion",
+    "RandomWalkMotion",
+    "Motion",
+    "MovingObstacle",
+]
+
+
+@dataclass(frozen=True)
+class Sphere:
+    """Sphere of ``radius`` (m) about ``center``."""
+
+    center: tuple[float, float, float]
+    radius: float
+
+    def __post_init__(self) -> None:
+        if not self.radius > 0:
+            raise ValueError(f"sphere radius must be positive, got {self.radius}")
+        object.__setattr__(self, "center", tuple(float(c) for c in self.center))
+
+    @property
+    def bounding_radius(self) -> float:
+        """Radius of a sphere about the centre that contains the shape."""
+        return self.radius
+
+    def distance(self, points) -> np.ndarray:
+        """Signed distance from ``points (..., 3)`` to the surface (negative inside)."""
+        p = as_points(points)
+        return np.linalg.norm(p - np.asarray(self.center), axis=-1) - self.radius
+
+    def gradient(self, points) -> np.ndarray:
+        """Unit outward direction of increasing distance at ``points (..., 3)``."""
+        r = as_points(points) - np.asarray(self.center)
+        n = np.linalg.norm(r, axis=-1, keepdims=True)
+        return r / np.where(n > 0, n, 1.0)
+
+    def segments_hit(self, segments, margin: float = 0.0) -> np.ndarray:
+        """Exact: True where a segment ``(..., 2, 3)`` comes closer than ``margin`` to the surface."""
+        s = np.asarray(segments, dtype=float)
+        return point_segment_distance(np.asarray(self.center), s[..., 0, :], s[..., 1, :]) < self.radius + margin
+
+    def moved_to(self, center) -> Sphere:
+        """The same sphere about a new centre."""
+        return replace(self, center=tuple(np.asarray(center, dtype=float)))
+
+
+@dataclass(frozen=True)
+class Ellipsoid:
+    """Ellipsoid with ``semi_axes`` (m) along its body axes, oriented by yaw/pitch/roll (rad).
+
+    ``yaw`` turns the body x axis counter-clockwise from east about z, ``pitch``
+    lifts it towards +z, ``roll`` turns the body about its x axis.
+    """
+
+    center: tuple[float, float, float]
+    semi_axes: tuple[float, float, float]
+    yaw: float = 0.0
+    pitch: float = 0.0
+    roll: float = 0.0
+    _rot: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        axes = tuple(float(a) for a in self.semi_axes)
+        if len(axes) != 3 or min(axes) <= 0:
+            raise ValueError(f"ellipsoid semi_axes must be three positive lengths, got {self.semi_axes}")
+        object.__setattr__(self, "semi_axes", axes)
+        object.__setattr__(self, "center", tuple(float(c) for c in self.center))
+        object.__setattr__(self, "_rot", rotation_matrix(self.yaw, self.pitch, self.roll))
+
+    @property
+    def bounding_radius(self) -> float:
+        """Radius of a sphere about the centre that contains the shape."""
+        return max(self.semi_axes)
+
+    def to_body(self, points) -> np.ndarray:
+        """World ``points (..., 3)`` in the ellipsoid's body frame."""
+        return (as_points(points) - np.asarray(self.center)) @ self._rot
+
+    def _foot_point(self, pb: np.ndarray) -> np.ndarray:
+        """Nearest surface point (body frame) for body-frame points ``(N, 3)``."""
+        a = np.asarray(self.semi_axes)
+        sign = np.where(pb < 0, -1.0, 1.0)
+        p = np.abs(pb)
+        # a zero coordinate on the minor axis is a degenerate (non-smooth) case: nudge it
+        p = np.maximum(p, 1e-10 * a)
+        s2 = ((p / a) ** 2).sum(axis=-1)
+        outside = s2 >= 1.0
+        lo = np.where(outside, 0.0, -(a.min() ** 2))
+        hi = np.where(outside, a.max() * np.linalg.norm(p, axis=-1), 0.0)
+        a2 = a * a
+        for _ in range(110):
+            mid = 0.5 * (lo + hi)
+            f = (((a * p) / (a2 + mid[:, None])) ** 2).sum(axis=-1) - 1.0
+            pos = f > 0
+            lo = np.where(pos, mid, lo)
+            hi = np.where(pos, hi, mid)
+        t = 0.5 * (lo + hi)
+        q = a2 * p / (a2 + t[:, None])
+        return sign * q
+
+    def distance(self, points) -> np.ndarray:
+        """True signed Euclidean distance to the surface (negative inside)."""
+        pb = self.to_body(points)
+        flat = pb.reshape(-1, 3)
+        q = self._foot_point(flat)
+        d = np.linalg.norm(flat - q, axis=-1)
+        inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=-1) < 1.0
+        return np.where(inside, -d, d).reshape(pb.shape[:-1])
+
+    def gradient(self, points) -> np.ndarray:
+        """Unit direction of increasing distance (from the foot point), world frame."""
+        pb = self.to_body(points)
+        flat = pb.reshape(-1, 3)
+        q = self._foot_point(flat)
+        r = flat - q
+        n = np.linalg.norm(r, axis=-1, keepdims=True)
+        inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=-1, keepdims=True) < 1.0
+        normal = q / np.asarray(self.semi_axes) ** 2
+        normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
+        g = np.where(n > 1e-12, r / np.where(n > 0, n, 1.0) * np.where(inside, -1.0, 1.0), normal)
+        return (g @ self._rot.T).reshape(pb.shape)
+
+    def ray_distance(self, points) -> np.ndarray:
+        """Document 000's distance along the ray to the centre, ``|p| (1 - 1/s)`` (not conservative)."""
+        pb = self.to_body(points)
+        s = np.sqrt(((pb / np.asarray(self.semi_axes)) ** 2).sum(axis=-1))
+        return np.linalg.norm(pb, axis=-1) * (1.0 - 1.0 / np.where(s > 0, s, 1.0))
+
+    def lower_bound_distance(self, points) -> np.ndarray:
+        """Guaranteed lower bound of the distance outside: ``(s - 1) A_min``."""
+        pb = self.to_body(points)
+        s = np.sqrt(((pb / np.asarray(self.semi_axes)) ** 2).sum(axis=-1))
+        return (s - 1.0) * min(self.semi_axes)
+
+    def segments_hit(self, segments, margin: float = 0.0) -> np.ndarray:
+        """True where a segment may come closer than ``margin`` to the surface.
+
+        Exact for ``margin = 0``; with a margin the test uses the ellipsoid scaled by
+        ``1 + margin / A_min``, which contains every point within ``margin`` of the
+        surface (conservative: never misses a contact).
+        """
+        s = np.asarray(segments, dtype=float)
+        scale = np.asarray(self.semi_axes) * (1.0 + margin / min(self.semi_axes))
+        a = self.to_body(s[..., 0, :]) / scale
+        b = self.to_body(s[..., 1, :]) / scale
+        return point_segment_distance(np.zeros(3), a, b) < 1.0
+
+    def moved_to(self, center) -> Ellipsoid:
+        """The same ellipsoid about a new centre."""
+        return replace(self, center=tuple(np.asarray(center, dtype=float)))
+
+
+Shape = Sphere | Ellipsoid
+
+
+# ---------------------------------------------------------------------- motion models
+@dataclass(frozen=True)
+class LinearMotion:
+    """Constant velocity from ``start`` (m, m/s)."""
+
+    start: tuple[float, float, float]
+    velocity: tuple[float, float, float]
+
+    def position(self, t) -> np.ndarray:
+        """Centre at times ``t`` (scalar or ``(T,)``) → ``(3,)`` or ``(T, 3)``."""
+        t = np.asarray(t, dtype=float)
+        return np.asarray(self.start) + t[..., None] * np.asarray(self.velocity)
+
+    @property
+    def speed(self) -> float:
+        """Largest speed of the centre (m/s)."""
+        return float(np.linalg.norm(self.velocity))
+
+
+@dataclass(frozen=True)
+class CircleMotion:
+    """Horizontal circle of ``radius`` about ``center`` with ``period`` (s); counter-clockwise when ``period > 0``."""
+
+    center: tuple[float, float, float]
+    radius: float
+    period: float
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.period == 0 or self.radius <= 0:
+            raise ValueError("circle motion needs a positive radius and a non-zero period")
+
+    def position(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        ang = self.phase + 2.0 * np.pi * t / self.period
+        off = np.stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)], axis=-1) * self.radius
+        return np.asarray(self.center) + off
+
+    @property
+    def speed(self) -> float:
+        return float(2.0 * np.pi * self.radius / abs(self.period))
+
+
+@dataclass(frozen=True, eq=False)
+class WaypointMotion:
+    """Constant ``speed`` along a polyline of ``points (K, 3)``; closed into a loop when ``loop``."""
+
+    points: np.ndarray
+    speed: float
+    loop: bool = True
+    _s: np.ndarray = field(init=False, repr=False)
+    _pts: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        pts = np.asarray(self.points, dtype=float).reshape(-1, 3)
+        if pts.shape[0] < 2 or self.speed <= 0:
+            raise ValueError("waypoint motion needs at least two points and a positive speed")
+        if self.loop:
+            pts = np.vstack([pts, pts[:1]])
+        s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        object.__setattr__(self, "points", np.asarray(self.points, dtype=float).reshape(-1, 3))
+        object.__setattr__(self, "_pts", pts)
+        object.__setattr__(self, "_s", s)
+
+    def position(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        d = self.speed * t
+        d = np.mod(d, self._s[-1]) if self.loop else np.clip(d, 0.0, self._s[-1])
+        return np.stack([np.interp(d, self._s, self._pts[:, k]) for k in range(3)], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
+class RandomWalkMotion:
+    """Seeded random walk: constant speed, heading diffusing with ``turn_sigma`` (rad/√s).
+
+    The track is pre-computed at ``dt`` over ``duration`` seconds (then it
+    stays put), reflected off the horizontal box ``bounds = (xmin, xmax, ymin, ymax)``
+    when given.  The same ``seed`` gives the same track.
+    """
+
+    start: tuple[float, float, float]
+    speed: float
+    turn_sigma: float = 0.05
+    heading: float = 0.0
+    duration: float = 7200.0
+    dt: float = 1.0
+    seed: int = 0
+    bounds: tuple[float, float, float, float] | None = None
+    _track: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.speed < 0 or self.dt <= 0 or self.duration <= 0:
+            raise ValueError("random walk needs speed >= 0, dt > 0 and duration > 0")
+        rng = np.random.default_rng(self.seed)
+        n = int(np.ceil(self.duration / self.dt))
+        psi = self.heading + np.cumsum(rng.normal(0.0, self.turn_sigma * np.sqrt(self.dt), n))
+        step = self.speed * self.dt * np.stack([np.sin(psi), np.cos(psi)], axis=-1)
+        xy = np.asarray(self.start[:2], dtype=float) + np.vstack([np.zeros(2), np.cumsum(step, axis=0)])
+        if self.bounds is not None:
+            lo = np.array([self.bounds[0], self.bounds[2]])
+            hi = np.array([self.bounds[1], self.bounds[3]])
+            width = hi - lo
+            # reflect: fold the unconstrained walk into the box
+            r = np.mod(xy - lo, 2.0 * width)
+            xy = lo + np.where(r > width, 2.0 * width - r, r)
+        track = np.column_stack([xy, np.full(n + 1, float(self.start[2]))])
+        object.__setattr__(self, "_track", track)
+
+    def position(self, t) -> np.ndarray:
+        t = np.asarray(t, dtype=float)
+        k = np.clip(t / self.dt, 0.0, self._track.shape[0] - 1.0)
+        return np.stack([np.interp(k, np.arange(self._track.shape[0]), self._track[:, c]) for c in range(3)], axis=-1)
+
+
+Motion = LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
+
+
+@dataclass(frozen=True)
+class MovingObstacle:
+    """A shape whose centre follows ``motion``; the shape's own centre is ignored.
+
+    ``appears`` and ``disappears`` (s) bound the time the obstacle exists
+    (an obstacle removed mid-mission has a finite ``disappears``).
+    """
+
+    shape: Shape
+    motion: Motion
+    name: str = ""
+    appears: float = 0.0
+    disappears: float = float("inf")
+
+    def center(self, t: float) -> np.ndarray:
+        """Centre at time ``t`` (s)."""
+        return self.motion.position(t)
+
+    def velocity(self, t: float, h: float = 0.05) -> np.ndarray:
+        """Centre velocity at ``t`` by a central difference (m/s)."""
+        return (self.motion.position(t + h) - self.motion.position(max(t - h, 0.0))) / (t + h - max(t - h, 0.0))
+
+    def active(self, t: float) -> bool:
+        """Whether the obstacle exists at time ``t``."""
+        return self.appears <= t < self.disappears
+
+    def at(self, t: float) -> Shape:
+        """The obstacle's shape placed at its position at time ``t``."""
+        return self.shape.moved_to(self.center(t))

@@ -1,0 +1,229 @@
+"""The world a mission takes place in: bounds, seabed, currents, obstacles and margins.
+
+Every query is vectorised over points ``(..., 3)`` or segments ``(..., 2, 3)``.
+The *clearance* of a point is the smallest slack over all constraints (m):
+altitude above the seabed minus the minimum altitude, depth below the surface
+minus the minimum depth, maximum depth minus depth, distance to each static
+and moving obstacle surface minus the obstacle margin, and distance to the
+bounds.  A point is free when its clearance is ≥ 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import DataError
+from ..geometry import as_points
+from .currents import CurrentField, UniformCurrent
+from .obstacles import MovingObstacle, Shape
+from .terrain import Terrain
+
+__all__ = ["Bounds", "Margins", "World"]
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Axis-aligned box of the operating area (m, local frame)."""
+
+    xmin: float
+    xmax: float
+    ymin: float
+    ymax: float
+    zmin: float
+    zmax: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (self.xmin < self.xmax and self.ymin < self.ymax and self.zmin < self.zmax):
+            raise ValueError(f"bounds must have min < max on every axis, got {self}")
+
+    def slack(self, points) -> np.ndarray:
+        """Signed distance to the nearest face, positive inside (m)."""
+        p = as_points(points)
+        lo = np.array([self.xmin, self.ymin, self.zmin])
+        hi = np.array([self.xmax, self.ymax, self.zmax])
+        return np.minimum(p - lo, hi - p).min(axis=-1)
+
+    def contains(self, points) -> np.ndarray:
+        """True where points lie inside the box (faces included)."""
+        return self.slack(points) >= 0.0
+
+    @property
+    def diagonal(self) -> float:
+        """Length of the box diagonal (m)."""
+        return float(np.linalg.norm([self.xmax - self.xmin, self.ymax - self.ymin, self.zmax - self.zmin]))
+
+
+@dataclass(frozen=True)
+class Margins:
+    """Safety margins of the vehicle (m).
+
+    Attributes
+    ----------
+    min_altitude : float
+        Minimum height above the seabed.
+    min_depth : float
+        Minimum depth below the sea surface (z ≤ -min_depth).
+    max_depth : float
+        Maximum depth (z ≥ -max_depth).
+    obstacle : float
+        Minimum distance to any obstacle surface.
+    """
+
+    min_altitude: float = 0.0
+    min_depth: float = 0.0
+    max_depth: float = float("inf")
+    obstacle: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.min_altitude < 0 or self.min_depth < 0 or self.obstacle < 0:
+            raise ValueError(f"margins must be non-negative, got {self}")
+        if not self.max_depth > self.min_depth:
+            raise ValueError(f"max_depth must exceed min_depth, got {self}")
+
+
+@dataclass(frozen=True, eq=False)
+class World:
+    """Everything static or scripted about the environment.
+
+    Parameters
+    ----------
+    bounds : Bounds
+        Operating area; must lie inside the terrain's extent and the current grid.
+    terrain : Terrain or None
+        Seabed; ``None`` for open water (flow and tracking scenes).
+    currents : CurrentField
+        Ocean current.
+    obstacles : tuple of Shape
+        Static obstacles.
+    moving : tuple of MovingObstacle
+        Scripted moving obstacles.
+    margins : Margins
+        Vehicle safety margins.
+    origin : (lat, lon) or None
+        Geographic position of the local origin, for exports.
+    name : str
+        Free text.
+    """
+
+    bounds: Bounds
+    terrain: Terrain | None = None
+    currents: CurrentField = field(default_factory=UniformCurrent)
+    obstacles: tuple[Shape, ...] = ()
+    moving: tuple[MovingObstacle, ...] = ()
+    margins: Margins = field(default_factory=Margins)
+    origin: tuple[float, float] | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "obstacles", tuple(self.obstacles))
+        object.__setattr__(self, "moving", tuple(self.moving))
+        b = self.bounds
+        if self.terrain is not None:
+            x0, x1, y0, y1 = self.terrain.extent
+            tol = 1e-6 * max(x1 - x0, y1 - y0)
+            if b.xmin < x0 - tol or b.xmax > x1 + tol or b.ymin < y0 - tol or b.ymax > y1 + tol:
+                raise DataError(
+                    f"world {self.name!r}: bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] "
+                    f"are not covered by the terrain extent x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}]"
+                )
+        if not self.currents.covers(b.xmin, b.xmax, b.ymin, b.ymax):
+            raise DataError(
+                f"world {self.name!r}: the current field does not cover the bounds "
+                f"x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}]"
+            )
+
+    # ------------------------------------------------------------------ point queries
+    def seabed(self, x, y) -> np.ndarray:
+        """Seabed elevation (m); ``-inf`` where there is no terrain."""
+        if self.terrain is None:
+            return np.full(np.broadcast(np.asarray(x), np.asarray(y)).shape, -np.inf)
+        return self.terrain.elevation(x, y)
+
+    def clearances(self, points, t: float = 0.0, moving: bool = True) -> dict[str, np.ndarray]:
+        """Every constraint's slack at ``points (..., 3)`` (m; ≥ 0 is satisfied).
+
+        Keys: ``altitude``, ``surface``, ``max_depth``, ``bounds``, ``obstacles``
+        (static) and ``moving``.  Missing constraints are ``+inf``.
+        """
+        p = as_points(points)
+        shape = p.shape[:-1]
+        m = self.margins
+        out: dict[str, np.ndarray] = {}
+        if self.terrain is None:
+            out["altitude"] = np.full(shape, np.inf)
+        else:
+            out["altitude"] = self.terrain.altitude(p) - m.min_altitude
+        out["surface"] = -p[..., 2] - m.min_depth
+        out["max_depth"] = m.max_depth + p[..., 2]
+        out["bounds"] = self.bounds.slack(p)
+        out["obstacles"] = self._obstacle_slack(self.obstacles, p)
+        if moving:
+            shapes = tuple(o.at(t) for o in self.moving if o.active(t))
+            out["moving"] = self._obstacle_slack(shapes, p)
+        else:
+            out["moving"] = np.full(shape, np.inf)
+        return out
+
+    def _obstacle_slack(self, shapes, p) -> np.ndarray:
+        d = np.full(p.shape[:-1], np.inf)
+        for s in shapes:
+            d = np.minimum(d, s.distance(p) - self.margins.obstacle)
+        return d
+
+    def clearance(self, points, t: float = 0.0, moving: bool = True) -> np.ndarray:
+        """Smallest constraint slack at ``points (..., 3)`` (m)."""
+        c = self.clearances(points, t, moving)
+        return np.minimum.reduce(list(c.values()))
+
+    def is_free(self, points, t: float = 0.0, moving: bool = True) -> np.ndarray:
+        """True where every constraint holds."""
+        return self.clearance(points, t, moving) >= 0.0
+
+    def explain(self, point, t: float = 0.0) -> str:
+        """Human-readable reason why ``point`` is not free ('' when it is)."""
+        c = {k: float(v) for k, v in self.clearances(np.asarray(point, dtype=float), t).items()}
+        words = {
+            "altitude": f"closer than min_altitude {self.margins.min_altitude:g} m to the seabed",
+            "surface": f"shallower than min_depth {self.margins.min_depth:g} m",
+            "max_depth": f"deeper than max_depth {self.margins.max_depth:g} m",
+            "bounds": "outside the bounds",
+            "obstacles": f"within {self.margins.obstacle:g} m of a static obstacle",
+            "moving": f"within {self.margins.obstacle:g} m of a moving obstacle",
+        }
+        bad = [f"{words[k]} (slack {v:.2f} m)" for k, v in c.items() if v < 0]
+        return "; ".join(bad)
+
+    # ------------------------------------------------------------------ segment queries
+    def segments_free(self, segments, t: float = 0.0, moving: bool = True) -> np.ndarray:
+        """True where whole segments ``(..., 2, 3)`` satisfy every constraint.
+
+        The seabed is tested exactly (:meth:`Terrain.segment_min_altitude`); depth
+        limits and bounds are convex, so the end points decide; obstacles use their
+        exact (sphere) or conservative (ellipsoid with margin) segment tests.
+        Moving obstacles are taken frozen at time ``t``.
+        """
+        s = np.asarray(segments, dtype=float)
+        if s.shape[-2:] != (2, 3):
+            raise ValueError(f"segments must have shape (..., 2, 3), got {s.shape}")
+        m = self.margins
+        ends = s.reshape(*s.shape[:-2], 6)
+        z = ends[..., [2, 5]]
+        ok = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
+        ok &= self.bounds.contains(s).all(axis=-1)
+        if self.terrain is not None:
+            ok &= self.terrain.segment_min_altitude(s, threshold=m.min_altitude) >= m.min_altitude
+        shapes = list(self.obstacles)
+        if moving:
+            shapes += [o.at(t) for o in self.moving if o.active(t)]
+        for shape in shapes:
+            ok &= ~shape.segments_hit(s, m.obstacle)
+        return ok
+
+    def path_free(self, points, t: float = 0.0, moving: bool = False) -> bool:
+        """True when the polyline through ``points (N, 3)`` is free everywhere."""
+        p = as_points(points)
+        if p.shape[0] < 2:
+            return bool(self.is_free(p, t, moving).all())
+        return bool(self.segments_free(np.stack([p[:-1], p[1:]], axis=1), t, moving).all())
