@@ -237,6 +237,11 @@ def terrain_from_lonlat(
         la0, la1, lo0, lo1 = box
         lo0 = lon[0] + np.mod(lo0 - lon[0], 360.0)
         lo1 = lo0 + np.mod(lo1 - lo0, 360.0)
+        if la1 < lat[0] or la0 > lat[-1] or lo0 > lon[-1]:
+            raise DataError(
+                f"{name}: the box {list(box)} does not overlap the data "
+                f"(lat {lat[0]:.4f}..{lat[-1]:.4f}, lon {normalise_lon(lon[0]):.4f}..{normalise_lon(lon[-1]):.4f})"
+            )
         i0 = max(int(np.searchsorted(lon, lo0, side="right")) - 2, 0)
         i1 = min(int(np.searchsorted(lon, lo1, side="left")) + 2, lon.size)
         j0 = max(int(np.searchsorted(lat, la0, side="right")) - 2, 0)

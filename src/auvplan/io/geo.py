@@ -130,7 +130,7 @@ def regrid_lonlat(
     vals = np.asarray(values, dtype=float)
     lead = vals.shape[:-2]
     flat = vals.reshape(-1, lat.size, lon.size)
-    q = np.column_stack([qlat.ravel(), qlon.ravel()])
+    q = np.column_stack([np.clip(qlat.ravel(), lat[0], lat[-1]), np.clip(qlon.ravel(), lon[0], lon[-1])])
     out = np.empty((flat.shape[0], ny * nx))
     for k in range(flat.shape[0]):  # one interpolator per 2-D layer (time/depth/component)
         out[k] = RegularGridInterpolator((lat, lon), flat[k], method=method)(q)
