@@ -19,7 +19,7 @@ from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
 from .planners import PLANNERS, plan
-from .sim import planning_problem
+from .sim import planning_problem, simulate
 
 __all__ = ["main", "main_entry"]
 
@@ -99,6 +99,33 @@ def _cmd_plan(args) -> int:
     return 0 if result.status.ok else 1
 
 
+def _cmd_simulate(args) -> int:
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    seed = sc.seed if args.seed is None else args.seed
+    route = mission.route
+    if not route:
+        bar = _Progress(mission.planner.iterations, f"{mission.planner.name} on {sc.name}", False)
+        try:
+            planned = plan(planning_problem(world, mission), mission.planner, seed, bar)
+        finally:
+            bar.close()
+        if not planned.status.ok:
+            print(f"auvplan: the global plan failed ({planned.status.value}): {planned.message}", file=sys.stderr)
+            return 1
+        route = planned.path[:: max(len(planned.path) // 40, 1)].tolist() + [planned.path[-1].tolist()]
+    result = simulate(world, mission, route=route, guidance=args.guidance, rng=seed)
+    record = export.sim_record(result, sc.name, seed)
+    if args.out:
+        export.write_sim(Path(args.out), result, sc.name, seed)
+    m = result.metrics
+    human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
+             f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
+             f"min obstacle distance {m['min_obstacle_distance_m']:.2f} m")
+    _emit(record, args.json, human)
+    return 0 if result.status.ok else 1
+
+
 def _cmd_demo(args) -> int:
     args.scenario = "marcus-wake"
     args.planner, args.budget, args.seed, args.json = None, None, None, False
@@ -130,6 +157,14 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_plan)
+
+    s = sub.add_parser("simulate", help="simulate the vehicle following the route (or the planned path)")
+    s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
+    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
+    s.add_argument("--out", help="write sim_metrics.json and track.csv here")
+    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.set_defaults(func=_cmd_simulate)
 
     s = sub.add_parser("demo", help="run the built-in default scenario end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")

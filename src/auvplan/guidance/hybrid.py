@@ -1,10 +1,35 @@
-"""Hybrid potential-field path tracking for a single-rudder vehicle (document 001)."""
+"""Hybrid potential-field path tracking for a single-rudder vehicle (document 001).
+
+Wang et al. 2020, Ship Science and Technology 42(12); METHODS.md §3.  One commanded direction
+from three fields, for the active leg A → B with unit direction t̂ and right normal n̂:
+
+* route attraction (eqs. 3–4): magnitude k_H·|e| perpendicular to the leg, towards it
+  (e the cross-track error);
+* heading attraction (eqs. 5–6): magnitude k_X·Δ along the leg;
+  together χ = ψ_leg + atan2(−k_H e, k_X Δ) — LOS in potential-field form;
+* obstacle repulsion (eqs. 7–8, the improved field with a goal-distance factor): for an obstacle
+  whose surface is r_re < P_o away, F_rep = m_r (1/r_re − 1/P_o) (1/r_re²) ρ^n pointing from the
+  obstacle to the vehicle, where ρ = min(r_at / P_o, 1) and r_at is the distance to the active
+  waypoint (the factor vanishes as the target is reached, so a waypoint next to an obstacle stays
+  reachable; normalising by P_o keeps the field's scale independent of leg length).
+
+The resultant is the commanded direction.  Two engineering additions, both stated here and
+switchable: (1) a lateral bias ``lateral_bias``·|F_rep| along the leg normal, away from the side of
+the route the obstacle sits on (starboard for an obstacle on the route), which breaks the
+head-on symmetry where repulsion and attraction are collinear and would deadlock; two obstacles
+straddling the route cancel their biases, so the vehicle passes between them; (2) the resultant is
+a course over ground, turned into a heading with the measured current (crab angle
+β = asin(c⊥ / u)), as a DVL/ADCP-equipped vehicle does (``current_compensation``).
+"""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-__all__ = ["HybridParams"]
+from .route import RouteTracker
+
+__all__ = ["HybridParams", "hybrid_force", "crab_heading", "HybridGuidance"]
 
 
 @dataclass(frozen=True)
@@ -14,18 +39,21 @@ class HybridParams:
     Attributes
     ----------
     k_route : float
-        Route (cross-track) attraction gain k_H (1/m · force unit).
+        Route (cross-track) attraction gain k_H.
     k_heading : float
-        Heading attraction gain k_X; with ``lookahead`` Δ (m) the heading
-        attraction is k_X·Δ.
+        Heading attraction gain k_X; the heading attraction is k_X·Δ.
     lookahead : float
-        Δ (m), the along-leg distance of the heading attraction.
+        Δ (m), along-leg distance of the heading attraction.
     influence : float
-        P_o (m), obstacle influence distance measured from the obstacle surface.
+        P_o (m), obstacle influence distance from the obstacle surface.
     k_repulse : float
         m_r, repulsion gain.
     goal_power : float
-        n, exponent of the goal-distance factor r_at^n of the improved field.
+        n, exponent of the goal-distance factor.
+    lateral_bias : float
+        Lateral push as a fraction of the repulsion magnitude (0 disables).
+    current_compensation : bool
+        Turn the commanded course into a heading with the measured current.
     switch_radius : float
         Leg switching radius (m).
     """
@@ -34,13 +62,79 @@ class HybridParams:
     k_heading: float = 1.0
     lookahead: float = 15.0
     influence: float = 25.0
-    k_repulse: float = 400.0
+    k_repulse: float = 2.0e4
     goal_power: float = 1.0
+    lateral_bias: float = 2.0
+    current_compensation: bool = True
     switch_radius: float = 10.0
 
     def __post_init__(self) -> None:
         for k in ("k_route", "k_heading", "lookahead", "influence", "switch_radius"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
-        if self.k_repulse < 0 or self.goal_power < 0:
-            raise ValueError("k_repulse and goal_power must be >= 0")
+        if self.k_repulse < 0 or self.goal_power < 0 or self.lateral_bias < 0:
+            raise ValueError("k_repulse, goal_power and lateral_bias must be >= 0")
+
+
+def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
+                 obstacles, target_distance: float, leg_origin) -> tuple[float, float]:
+    """Resultant (east, north) of route attraction, heading attraction and obstacle repulsion.
+
+    ``obstacles`` is a sequence of ``(cx, cy, surface_distance)``; ``leg_origin`` the (x, y) of
+    the active leg's start (to tell which side of the route an obstacle is on).
+    """
+    s, c = math.sin(course), math.cos(course)
+    tx, ty = s, c            # along the leg
+    nx, ny = c, -s           # right normal
+    fa = params.k_heading * params.lookahead
+    fh = -params.k_route * cross
+    fx = fa * tx + fh * nx
+    fy = fa * ty + fh * ny
+    po = params.influence
+    rho = min(target_distance / po, 1.0) ** params.goal_power
+    for cx, cy, d in obstacles:
+        if d >= po:
+            continue
+        d = max(d, 1e-3)
+        mag = params.k_repulse * (1.0 / d - 1.0 / po) / (d * d) * rho
+        rx, ry = x - cx, y - cy
+        rn = math.hypot(rx, ry) or 1.0
+        fx += mag * rx / rn
+        fy += mag * ry / rn
+        if params.lateral_bias:
+            side = (cx - leg_origin[0]) * nx + (cy - leg_origin[1]) * ny
+            push = -1.0 if side > 0.5 else 1.0  # away from the obstacle's side; starboard if on the route
+            fx += push * params.lateral_bias * mag * nx
+            fy += push * params.lateral_bias * mag * ny
+    return fx, fy
+
+
+def crab_heading(course: float, current, speed: float) -> float:
+    """Heading that makes good ``course`` through a horizontal ``current`` at through-water ``speed``."""
+    c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
+    return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
+
+
+class HybridGuidance:
+    """Document 001's guidance along a route (``reset()`` to restart)."""
+
+    name = "hybrid"
+
+    def __init__(self, route: RouteTracker, params: HybridParams) -> None:
+        self.route = route
+        self.params = params
+
+    def reset(self) -> None:
+        """Restart the route."""
+        self.route.reset()
+
+    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
+        """(commanded heading, True, route point) — the course is converted with the current."""
+        rp = self.route.update(x, y)
+        k = rp.leg
+        b = self.route.w[k + 1]
+        target = math.hypot(b[0] - x, b[1] - y)
+        fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k])
+        course = math.atan2(fx, fy)
+        psi = crab_heading(course, current, speed) if self.params.current_compensation else course
+        return psi, True, rp

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from ..planners.base import PlanResult
+from ..sim import SimResult
 
-__all__ = ["plan_record", "write_plan", "write_json", "write_path_csv", "jsonable"]
+__all__ = ["plan_record", "sim_record", "write_plan", "write_sim", "write_json", "write_path_csv", "jsonable"]
 
 
 def jsonable(value):
@@ -81,4 +82,29 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
         write_path_csv(out / "path.csv", result.path)
     if scenario_text:
         (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+    return record
+
+
+def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
+    """The simulate JSON object of DESIGN.md §4."""
+    m = result.metrics
+    keys = ("arrived", "duration_s", "distance_m", "min_clearance_m", "min_obstacle_distance_m", "collisions",
+            "cross_track_rms_m", "cross_track_max_m", "escapes", "wall_time_s")
+    rec = {"scenario": scenario, "guidance": result.guidance, "avoidance": avoidance, "seed": seed,
+           "status": result.status.value}
+    rec.update({k: m[k] for k in keys})
+    rec["obstacle_min_distances_m"] = m["obstacle_min_distances_m"]
+    rec["events"] = [list(e) for e in result.events]
+    return jsonable(rec)
+
+
+def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
+    """Write ``metrics.json`` and ``track.csv`` (t, x, y, z, heading, speed, rudder, cross-track) into ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    record = sim_record(result, scenario, seed, avoidance)
+    write_json(out / "sim_metrics.json", record)
+    cols = np.column_stack([result.t, result.position, result.heading, result.speed, result.rudder,
+                            result.route_error])
+    write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m")
     return record
