@@ -97,21 +97,18 @@ def test_world_rejects_current_grid_that_does_not_cover_bounds():
 
 # ---------------------------------------------------------------- obstacles
 def _numerical_ellipsoid_distance(e: Ellipsoid, p: np.ndarray) -> float:
+    """Independent oracle: min |q - p| subject to Σ q_i²/a_i² = 1 (SLSQP from several starts)."""
     a = np.asarray(e.semi_axes)
     pb = e.to_body(p)
-
-    def d2(ang):
-        th, ph = ang
-        q = a * np.array([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)])
-        return np.sum((q - pb) ** 2)
-
+    cons = {"type": "eq", "fun": lambda q: (q / a) @ (q / a) - 1.0, "jac": lambda q: 2 * q / a**2}
+    starts = [pb / np.sqrt(((pb / a) ** 2).sum())] + [s * a * np.eye(3)[k] for k in range(3) for s in (1, -1)]
     best = np.inf
-    for th0 in np.linspace(0.1, np.pi - 0.1, 7):
-        for ph0 in np.linspace(0, 2 * np.pi, 9)[:-1]:
-            r = minimize(d2, [th0, ph0], method="Nelder-Mead", options={"xatol": 1e-12, "fatol": 1e-16,
-                                                                          "maxiter": 4000})
-            best = min(best, r.fun)
-    return float(np.sqrt(best))
+    for q0 in starts:
+        r = minimize(lambda q: (q - pb) @ (q - pb), q0, jac=lambda q: 2 * (q - pb), constraints=[cons],
+                     method="SLSQP", options={"ftol": 1e-15, "maxiter": 500})
+        if r.success and abs(cons["fun"](r.x)) < 1e-10:
+            best = min(best, np.sqrt(r.fun))
+    return float(best)
 
 
 def test_ellipsoid_distance_matches_numerical_minimisation():

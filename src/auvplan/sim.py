@@ -175,7 +175,8 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     PR = np.empty(n_rec)
     ALT = np.empty(n_rec)
     OBS = np.empty((n_rec, n_obs))
-    noise = rng.standard_normal((n_steps + 1, 2)) if (vp.wave_sigma_r or vp.wave_sigma_v) else np.zeros((n_steps + 1, 2))
+    waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
+    noise = rng.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
     goal = route[-1]
     events: list[tuple[float, str, str]] = []
     status = Status.TIMEOUT
