@@ -17,14 +17,25 @@ import numpy as np
 
 from ._types import RngLike, Status, as_rng
 from .guidance.hybrid import HybridGuidance, HybridParams
-from .guidance.local import AvoidanceParams
+from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
 from .guidance.route import RouteTracker
-from .planners.base import PlannerSpec, PlanningProblem
+from .planners import plan as global_plan
+from .planners.base import PlannerSpec, PlanningProblem, PlanResult
 from .vehicles import Vehicle, VehicleParams, VehicleState
 from .world import World
 
-__all__ = ["SimSettings", "Mission", "SimResult", "planning_problem", "make_guidance", "simulate"]
+__all__ = [
+    "SimSettings",
+    "Mission",
+    "SimResult",
+    "RunRecord",
+    "planning_problem",
+    "make_guidance",
+    "simulate",
+    "run_mission",
+    "route_from_path",
+]
 
 
 @dataclass(frozen=True)
@@ -91,6 +102,8 @@ class SimResult:
     guidance: str
     wall_time_s: float
     escapes: int = 0
+    avoidance: str = "none"
+    decision_steps: int = 0
 
     @property
     def metrics(self) -> dict:
@@ -105,7 +118,8 @@ class SimResult:
             "min_clearance_m": float(self.altitude.min()) if self.t.size else float("inf"),
             "min_obstacle_distance_m": float(per_obs.min()) if per_obs.size else float("inf"),
             "obstacle_min_distances_m": per_obs.tolist(),
-            "collisions": sum(1 for e in self.events if e[1] == "collision"),
+            "collisions": sum(1 for e in self.events if e[1] in ("collision", "unavoidable")),
+            "unavoidable": sum(1 for e in self.events if e[1] == "unavoidable"),
             "cross_track_rms_m": float(np.sqrt(np.mean(self.route_error**2))) if self.t.size else 0.0,
             "cross_track_max_m": float(self.route_error.max()) if self.t.size else 0.0,
             "escapes": self.escapes,
@@ -128,13 +142,31 @@ def make_guidance(name: str, route, mission: Mission):
     raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
 
 
+FAR = 200.0
+"""Obstacle distances beyond this (m) are recorded as the lower bound |p - c| - bounding radius."""
+
+
+def _distance(item, pos: np.ndarray) -> float:
+    """Distance to a placed shape's surface, exact within ``FAR`` (a cheap lower bound beyond)."""
+    if item is None:
+        return math.inf
+    shape, c = item
+    bound = math.dist((pos[0], pos[1], pos[2]), c) - shape.bounding_radius
+    if bound > FAR:
+        return bound
+    # the shape is defined about its own centre: move the query point instead of the shape
+    return shape.distance(pos - c + np.asarray(shape.center)).item()
+
+
 def _obstacle_shapes(world: World, t: float):
-    shapes = list(world.obstacles)
-    shapes += [o.at(t) if o.active(t) else None for o in world.moving]
-    return shapes
+    """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive)."""
+    items = [(o, o.center) for o in world.obstacles]
+    items += [(o.shape, tuple(o.center(t))) if o.active(t) else None for o in world.moving]
+    return items
 
 
-def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None) -> SimResult:
+def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None,
+             avoidance: str | None = None, keys=None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -148,7 +180,11 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     guidance : str, optional
         ``hybrid``, ``los`` or ``ilos``; the mission's choice by default.
     rng : Generator, int or None
-        Seed of the wave disturbance.
+        Seed of the wave disturbance and of the escape sub-goals.
+    avoidance : str, optional
+        ``apf`` (document 004) or ``none``; the mission's choice by default.
+    keys : array_like (K, 3), optional
+        Key waypoints for the APF; derived from the route by document 004's rule by default.
     """
     t_wall = time.perf_counter()
     rng = as_rng(mission.seed if rng is None else rng)
@@ -158,6 +194,13 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     vp = mission.vehicle
     guide = make_guidance(guidance or mission.guidance, route, mission)
     tracker = guide.route
+    av_name = avoidance or mission.avoidance.name
+    local = None
+    if av_name == "apf":
+        from dataclasses import replace as _replace
+
+        keys = key_waypoints(route, world, mission.avoidance.collision_check) if keys is None else keys
+        local = LocalAvoidance(guide, keys, world, _replace(mission.avoidance, name="apf"), vp.speed, rng)
     vehicle = Vehicle(vp, dt)
     first = route[1] - route[0]
     s = VehicleState(float(route[0, 0]), float(route[0, 1]), float(route[0, 2]),
@@ -165,7 +208,8 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     max_time = st.max_time or 3.0 * tracker.total_length / vp.speed + 120.0
     n_steps = int(math.ceil(max_time / dt))
     n_rec = n_steps // st.record_every + 2
-    n_obs = len(world.obstacles) + len(world.moving)
+    n_static = len(world.obstacles)
+    n_obs = n_static + len(world.moving)
     T = np.empty(n_rec)
     P = np.empty((n_rec, 3))
     H = np.empty(n_rec)
@@ -190,11 +234,17 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         t = k * dt
         pos = np.array([s.x, s.y, s.z])
         shapes = _obstacle_shapes(world, t)
-        dists = [sh.distance(pos).item() if sh is not None else math.inf for sh in shapes]
-        obstacles = [(sh.center[0], sh.center[1], d) for sh, d in zip(shapes, dists) if sh is not None]
+        dists = [_distance(sh, pos) for sh in shapes]
         alt = float(terrain.altitude(pos)) if terrain is not None else math.inf
         cur = currents.velocity(pos[None], t)[0]
-        psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, obstacles, dt)
+        pitch_cmd = None
+        if local is None:
+            obstacles = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
+            psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, obstacles, dt)
+        else:
+            obstacles = [(it[1][0], it[1][1], d, i >= n_static, it[1])
+                         for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
+            psi_d, pitch_cmd, rp = local.command(pos, t, cur, obstacles, dt)
         if k % st.record_every == 0:
             T[rec], P[rec], H[rec], D[rec] = t, pos, s.psi, s.delta
             V[rec] = math.hypot(vel[0], vel[1])
@@ -204,8 +254,16 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         # events
         if alt < 0.0 or any(d < 0.0 for d in dists):
             what = "the seabed" if alt < 0.0 else f"obstacle {int(np.argmin(dists))}"
-            events.append((t, "collision", f"hit {what} at {pos.round(2).tolist()}"))
             status = Status.COLLISION
+            if alt >= 0.0 and int(np.argmin(dists)) >= n_static:
+                mo = world.moving[int(np.argmin(dists)) - n_static]
+                v_o = mo.velocity(t)
+                closing = float(np.dot(v_o, pos - mo.center(t))) > 0.0
+                if np.linalg.norm(v_o) >= vp.speed and closing:
+                    status = Status.UNAVOIDABLE
+                    what += f" (moving at {np.linalg.norm(v_o):.2f} m/s, faster than the vehicle, closing in)"
+            kind = "unavoidable" if status is Status.UNAVOIDABLE else "collision"
+            events.append((t, kind, f"hit {what} at t = {t:.1f} s, position {pos.round(2).tolist()}"))
             break
         if rp.last and math.dist((s.x, s.y, s.z), goal) <= st.arrival_radius:
             events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
@@ -217,8 +275,10 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
             events.append((t, "deadlock", f"no progress along the route for {st.deadlock_time:g} s"))
             status = Status.DEADLOCK
             break
-        dz = rp.z_ref - s.z
-        theta_c = rp.gamma + math.atan(vp.depth_gain * dz)
+        if pitch_cmd is None:
+            theta_c = rp.gamma + math.atan(vp.depth_gain * (rp.z_ref - s.z))
+        else:
+            theta_c = pitch_cmd
         vel = vehicle.step(s, psi_d, theta_c, vp.speed, cur, noise[k])
     else:
         events.append((n_steps * dt, "timeout", f"not arrived after {max_time:.0f} s"))
@@ -227,8 +287,7 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         V[rec] = math.hypot(vel[0], vel[1])
         E[rec], PR[rec] = rp.cross, rp.progress
         ALT[rec] = float(terrain.altitude(P[rec])) if terrain is not None else math.inf
-        OBS[rec] = [sh.distance(P[rec]).item() if sh is not None else math.inf
-                    for sh in _obstacle_shapes(world, k * dt)]
+        OBS[rec] = [_distance(sh, P[rec]) for sh in _obstacle_shapes(world, k * dt)]
         rec += 1
     P_out = P[:rec].copy()
     return SimResult(
@@ -247,4 +306,55 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         events=tuple(events),
         guidance=guide.name,
         wall_time_s=time.perf_counter() - t_wall,
+        escapes=local.escapes if local is not None else 0,
+        avoidance=av_name,
+        decision_steps=local.decisions if local is not None else 0,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class RunRecord:
+    """Everything one mission produced: the plan, the route flown, its key waypoints, the run."""
+
+    scenario: str
+    seed: int
+    plan: PlanResult | None
+    route: np.ndarray
+    keys: np.ndarray
+    sim: SimResult | None
+
+    @property
+    def status(self) -> Status:
+        """The mission's outcome: the plan's failure if it failed, else the simulation's."""
+        if self.plan is not None and not self.plan.status.ok:
+            return self.plan.status
+        return self.sim.status if self.sim is not None else Status.INFEASIBLE
+
+
+def route_from_path(path, spacing: float) -> np.ndarray:
+    """Waypoints every ``spacing`` metres along a dense planned path (ends kept)."""
+    from .path import resample_polyline
+
+    return resample_polyline(path, spacing)
+
+
+def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
+                guidance: str | None = None, avoidance: str | None = None) -> RunRecord:
+    """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
+
+    A mission with a fixed route skips the planner.  A failed plan is returned with no
+    simulation (its status says why).
+    """
+    seed = mission.seed if rng is None else rng
+    planned = None
+    if mission.route:
+        route = np.asarray(mission.route, dtype=float)
+    else:
+        planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
+        if not planned.status.ok:
+            return RunRecord(mission.name, int(mission.seed), planned, np.empty((0, 3)), np.empty((0, 3)), None)
+        spacing = max(4.0 * mission.hybrid.switch_radius, 1.0)
+        route = route_from_path(planned.path, spacing)
+    keys = key_waypoints(route, world, mission.avoidance.collision_check)
+    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
+    return RunRecord(mission.name, int(mission.seed), planned, route, keys, result)

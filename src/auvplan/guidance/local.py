@@ -1,15 +1,55 @@
-"""Local avoidance of moving obstacles with key waypoints and an APF (document 004)."""
+"""Local avoidance of moving obstacles with key waypoints and an APF (document 004).
+
+Patent 004 (METHODS.md §4):
+
+* **Key waypoints** (step 2): walk the global path with i = first point, j = next; when the
+  straight segment (i, j) collides with the terrain, store point i and set i = j − 1; at the goal
+  store i and the goal.  The stored points alone rebuild a collision-free path.  The collision
+  test is the exact segment test (:meth:`World.segments_free`) or the document's stepping test.
+  Vectorised per stored point: all segments (i, j > i) are tested at once and the first failure
+  taken.
+* **Switching** (step 3): outside every moving obstacle's repulsion field the vehicle follows
+  the global path; inside one it runs the APF toward the first unvisited key waypoint until it is
+  within ε₁, then resumes the global path.
+* **APF**: |F_att| = k₁ d(p, g)^w₁ toward g; for d(p, o) ≤ r,
+  |F_rep| = k₂ (1/d(p, o) − 1/r) d(p, g)^w₃ / d(p, o)^w₂ away from the obstacle
+  (d(p, o) from the obstacle surface); the next point is p + l F/|F| (point model), or F is the
+  commanded direction (heading and pitch) of the vehicle.
+* **Local minimum**: the count of the vehicle's own past points within r₁ of the current point
+  reaching ε₂ means trapped; escape toward a random free sub-goal (seeded), then back to the key
+  waypoint.
+
+Failure modes are statuses: a key waypoint occupied by an obstacle is skipped (the next one
+becomes the goal); a collision with an obstacle faster than the vehicle that was closing in is
+``UNAVOIDABLE`` (reported with time and place), any other collision is ``COLLISION``.
+"""
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from dataclasses import dataclass
 
-__all__ = ["AvoidanceParams"]
+import numpy as np
+
+from .._types import RngLike, Status, as_rng
+from ..geometry import as_points
+from ..world import World
+
+__all__ = [
+    "AvoidanceParams",
+    "key_waypoints",
+    "apf_force",
+    "MinimumDetector",
+    "LocalAvoidance",
+    "PointModelResult",
+    "run_point_model",
+]
 
 
 @dataclass(frozen=True)
 class AvoidanceParams:
-    """Document 004's APF parameters (METHODS.md §4).
+    """Document 004's APF parameters (METHODS.md §4) and their vehicle-scale defaults.
 
     Attributes
     ----------
@@ -18,17 +58,22 @@ class AvoidanceParams:
     radius : float
         r, repulsion radius measured from the obstacle surface (m).
     k_att, w_att : float
-        k1 and w1 of |F_att| = k1 d(p, g)^w1.
+        k₁ and w₁ of |F_att| = k₁ d(p, g)^w₁.
     k_rep, w_obs, w_goal : float
-        k2, w2 and w3 of |F_rep| = k2 (1/d_o - 1/r) d_g^w3 / d_o^w2.
+        k₂, w₂ and w₃ of |F_rep| = k₂ (1/d_o − 1/r) d_g^w₃ / d_o^w₂.
     arrive : float
-        ε1, sub-goal arrival threshold (m).
+        ε₁, sub-goal arrival threshold (m).
     minimum_radius : float
-        r1, radius of the local-minimum count (m).
+        r₁, radius of the local-minimum count (m); larger than the turning radius for a vehicle
+        that cannot hover.
     minimum_count : int
-        ε2, number of own past points within r1 that means "trapped".
+        ε₂, number of own past points (one per ``history_dt``) within r₁ that means "trapped".
+    history_dt : float
+        Interval between remembered own positions (s).
     escape_radius : float
         Radius about the vehicle in which random escape sub-goals are drawn (m).
+    collision_check : str
+        ``"exact"`` or ``"stepping"`` (document 004's test) for key waypoints.
     """
 
     name: str = "apf"
@@ -39,14 +84,16 @@ class AvoidanceParams:
     w_obs: float = 1.0
     w_goal: float = 1.0
     arrive: float = 10.0
-    minimum_radius: float = 3.0
-    minimum_count: int = 25
-    escape_radius: float = 40.0
+    minimum_radius: float = 15.0
+    minimum_count: int = 60
+    history_dt: float = 1.0
+    escape_radius: float = 60.0
+    collision_check: str = "exact"
 
     def __post_init__(self) -> None:
         if self.name not in ("apf", "none"):
             raise ValueError(f"name = {self.name!r}: choose 'apf' or 'none'")
-        for k in ("radius", "arrive", "minimum_radius", "escape_radius"):
+        for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
         if self.minimum_count < 2:
@@ -54,3 +101,256 @@ class AvoidanceParams:
         for k in ("k_att", "k_rep"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
+        if self.collision_check not in ("exact", "stepping"):
+            raise ValueError(f"collision_check = {self.collision_check!r}: choose 'exact' or 'stepping'")
+
+
+# ---------------------------------------------------------------------- key waypoints
+def key_waypoints(points, world: World, method: str = "exact", step: float | None = None) -> np.ndarray:
+    """Document 004 step 2: the waypoints of ``points (N, 3)`` that hold the path up.
+
+    Returns the stored points ``(K, 3)`` (first and last included) such that every straight
+    segment between consecutive stored points is free (``method="exact"``: the World's exact
+    segment test, static obstacles included; ``"stepping"``: the document's probe every ``step``
+    metres against the seabed only).
+    """
+    p = as_points(points).reshape(-1, 3)
+    if p.shape[0] < 2:
+        return p.copy()
+    n = p.shape[0]
+    margin = world.margins.min_altitude
+
+    def free_from(i: int) -> np.ndarray:
+        seg = np.stack([np.broadcast_to(p[i], (n - i - 1, 3)), p[i + 1:]], axis=1)
+        if method == "stepping":
+            if world.terrain is None:
+                return np.ones(n - i - 1, dtype=bool)
+            return ~world.terrain.segments_below_stepping(seg, margin, step)
+        return world.segments_free(seg, moving=False)
+
+    keys = [0]
+    i = 0
+    while True:
+        ok = free_from(i)
+        bad = np.flatnonzero(~ok)
+        if bad.size == 0:
+            break
+        j = i + 1 + int(bad[0])  # first j whose segment (i, j) collides
+        nxt = j - 1
+        if nxt == i:  # even the next point is not reachable in a straight line: keep it anyway
+            nxt = j
+        keys.append(nxt)
+        i = nxt
+        if i >= n - 1:
+            break
+    if keys[-1] != n - 1:
+        keys.append(n - 1)
+    return p[keys].copy()
+
+
+# ---------------------------------------------------------------------- APF kernel
+def apf_force(p, goal, centers, distances, params: AvoidanceParams) -> np.ndarray:
+    """Resultant APF force at ``p (3,)`` toward ``goal`` with obstacles at ``centers (M, 3)``.
+
+    ``distances (M,)`` are from ``p`` to each obstacle surface; only those ≤ r repel.
+    """
+    p = np.asarray(p, dtype=float)
+    to_goal = np.asarray(goal, dtype=float) - p
+    dg = float(np.linalg.norm(to_goal))
+    f = params.k_att * dg**params.w_att * to_goal / dg if dg > 0 else np.zeros(3)
+    c = np.asarray(centers, dtype=float).reshape(-1, 3)
+    d = np.asarray(distances, dtype=float).reshape(-1)
+    near = d <= params.radius
+    if near.any():
+        dn = np.maximum(d[near], 1e-3)
+        away = p - c[near]
+        away /= np.maximum(np.linalg.norm(away, axis=1, keepdims=True), 1e-12)
+        mag = params.k_rep * (1.0 / dn - 1.0 / params.radius) * dg**params.w_goal / dn**params.w_obs
+        f = f + (mag[:, None] * away).sum(axis=0)
+    return f
+
+
+class MinimumDetector:
+    """Counts own past points within r₁ of the current one (document 004's local-minimum test)."""
+
+    def __init__(self, radius: float, count: int, every: float) -> None:
+        self.radius, self.count, self.every = radius, count, every
+        self.history: deque = deque(maxlen=max(4 * count, 50))
+        self._last = -math.inf
+
+    def reset(self) -> None:
+        """Forget the history (after an escape)."""
+        self.history.clear()
+        self._last = -math.inf
+
+    def update(self, p, t: float) -> bool:
+        """Remember ``p`` (every ``every`` s) and say whether the vehicle is trapped."""
+        if t - self._last >= self.every:
+            self.history.append(np.asarray(p, dtype=float)[:3].copy())
+            self._last = t
+        if len(self.history) < self.count:
+            return False
+        h = np.asarray(self.history)
+        return int((np.linalg.norm(h - np.asarray(p)[:3], axis=1) <= self.radius).sum()) >= self.count
+
+
+def _random_free_point(world: World, p, radius: float, t: float, rng: np.random.Generator,
+                       tries: int = 64) -> np.ndarray | None:
+    """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first)."""
+    ang = rng.uniform(0, 2 * np.pi, tries)
+    rad = radius * np.sqrt(rng.uniform(0.25, 1.0, tries))
+    dz = rng.uniform(-0.2, 0.2, tries) * radius
+    cand = np.asarray(p) + np.c_[rad * np.cos(ang), rad * np.sin(ang), dz]
+    ok = world.is_free(cand, t)
+    if not ok.any():
+        return None
+    return cand[int(np.flatnonzero(ok)[0])]
+
+
+# ---------------------------------------------------------------------- vehicle guidance
+class LocalAvoidance:
+    """Document 004's switching guidance wrapped around a path follower.
+
+    ``command`` returns (heading, pitch or None, route point); pitch is None while the base
+    follower drives (it then controls depth itself).
+    """
+
+    def __init__(self, base, keys: np.ndarray, world: World, params: AvoidanceParams, vehicle_speed: float,
+                 rng: RngLike = None) -> None:
+        self.base = base
+        self.keys = np.asarray(keys, dtype=float)
+        self.world = world
+        self.params = params
+        self.speed = vehicle_speed
+        self.rng = as_rng(rng)
+        self.detector = MinimumDetector(params.minimum_radius, params.minimum_count, params.history_dt)
+        self.route = base.route
+        self.name = base.name
+        self.reset()
+
+    def reset(self) -> None:
+        """Back to route following from the first key waypoint."""
+        self.base.reset()
+        self.detector.reset()
+        self.mode = "route"
+        self.goal_index = 1
+        self.subgoal: np.ndarray | None = None
+        self.escapes = 0
+        self.skipped = 0
+        self.decisions = 0
+
+    def _advance_goal(self, p, t: float) -> None:
+        """First unvisited key waypoint: ahead of the vehicle, and not occupied by an obstacle."""
+        k = self.goal_index
+        while k < len(self.keys) - 1:
+            here = self.keys[k]
+            occupied = self.world.clearances(here, t)["moving"] < 0.0
+            behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) - 1)] - self.keys[k]) < 0
+            if occupied:
+                self.skipped += 1
+            if not (occupied or behind or np.linalg.norm(here - p) <= self.params.arrive):
+                break
+            k += 1
+        self.goal_index = k
+
+    def command(self, pos, t: float, current, obstacles, dt: float):
+        """Commanded heading (compass), pitch (or None) and the base route point."""
+        x, y, z = float(pos[0]), float(pos[1]), float(pos[2])
+        near = [o for o in obstacles if o[3] and o[2] <= self.params.radius]
+        psi, _, rp = self.base.command(x, y, z, current, self.speed, [o[:3] for o in obstacles if not o[3]], dt)
+        if self.params.name == "none":
+            return psi, None, rp
+        if self.mode == "route" and near:
+            self.mode = "apf"
+            self._advance_goal(np.asarray(pos), t)
+            self.detector.reset()
+        if self.mode == "route":
+            return psi, None, rp
+        # APF mode
+        self.decisions += 1
+        p = np.asarray(pos, dtype=float)
+        goal = self.subgoal if self.subgoal is not None else self.keys[self.goal_index]
+        if np.linalg.norm(goal - p) <= self.params.arrive:
+            if self.subgoal is not None:
+                self.subgoal = None
+                self.detector.reset()
+                goal = self.keys[self.goal_index]
+            elif not near:
+                self.mode = "route"
+                return psi, None, rp
+            else:
+                self.goal_index = min(self.goal_index + 1, len(self.keys) - 1)
+                goal = self.keys[self.goal_index]
+        if self.subgoal is None and self.detector.update(p, t):
+            sub = _random_free_point(self.world, p, self.params.escape_radius, t, self.rng)
+            if sub is not None:
+                self.subgoal = sub
+                self.escapes += 1
+                self.detector.reset()
+                goal = sub
+        centers = np.array([o[4] for o in near]).reshape(-1, 3)
+        dists = np.array([o[2] for o in near])
+        f = apf_force(p, goal, centers, dists, self.params)
+        course = math.atan2(f[0], f[1])
+        pitch = math.atan2(f[2], math.hypot(f[0], f[1]))
+        # the seabed is respected while avoiding: never command a dive below the minimum altitude
+        if self.world.terrain is not None:
+            alt = float(self.world.terrain.altitude(p)) - self.world.margins.min_altitude
+            if alt < 2.0 * self.params.arrive:
+                pitch = max(pitch, math.radians(10.0) * (1.0 - alt / (2.0 * self.params.arrive)))
+        return course, pitch, rp
+
+
+# ---------------------------------------------------------------------- point model
+@dataclass(frozen=True, eq=False)
+class PointModelResult:
+    """Track of document 004's point model: status, points, escapes and local minima found."""
+
+    status: Status
+    points: np.ndarray
+    escapes: int
+    minima: int
+
+
+def run_point_model(world: World, start, goal, params: AvoidanceParams, step: float = 1.0,
+                    max_steps: int = 5000, rng: RngLike = None, escape: bool = True) -> PointModelResult:
+    """Document 004's point model among the World's static obstacles: p₁ = p + l F/|F|.
+
+    With ``escape=False`` it is plain APF, which stalls in a local minimum (status ``DEADLOCK``).
+    """
+    rng = as_rng(rng)
+    p = np.asarray(start, dtype=float)
+    g = np.asarray(goal, dtype=float)
+    det = MinimumDetector(params.minimum_radius, params.minimum_count, 1.0)
+    pts = [p.copy()]
+    sub = None
+    escapes = minima = 0
+    shapes = world.obstacles
+    centers = np.array([s.center for s in shapes]).reshape(-1, 3)
+    for k in range(max_steps):
+        target = sub if sub is not None else g
+        if np.linalg.norm(g - p) <= params.arrive:
+            return PointModelResult(Status.EXACT, np.asarray(pts), escapes, minima)
+        if sub is not None and np.linalg.norm(sub - p) <= params.arrive:
+            sub = None
+            det.reset()
+            continue
+        if det.update(p, float(k)):
+            minima += 1
+            if not escape:
+                return PointModelResult(Status.DEADLOCK, np.asarray(pts), escapes, minima)
+            sub = _random_free_point(world, p, params.escape_radius, 0.0, rng)
+            escapes += sub is not None
+            det.reset()
+            target = sub if sub is not None else g
+        d = np.array([s.distance(p).item() for s in shapes])
+        f = apf_force(p, target, centers, d, params)
+        n = np.linalg.norm(f)
+        nxt = p + step * f / n if n > 0 else p
+        if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
+            nxt = p + step * rng.normal(size=3) * np.array([1, 1, 0.2])  # never step through anything
+            if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
+                nxt = p
+        p = nxt
+        pts.append(p.copy())
+    return PointModelResult(Status.TIMEOUT, np.asarray(pts), escapes, minima)

@@ -115,7 +115,7 @@ class Ellipsoid:
         lo = np.where(outside, 0.0, -(a.min() ** 2))
         hi = np.where(outside, a.max() * np.linalg.norm(p, axis=-1), 0.0)
         a2 = a * a
-        for _ in range(110):
+        for _ in range(64):  # the bracket shrinks 2^-64: below float64 resolution of t
             mid = 0.5 * (lo + hi)
             f = (((a * p) / (a2 + mid[:, None])) ** 2).sum(axis=-1) - 1.0
             pos = f > 0
@@ -291,7 +291,9 @@ class RandomWalkMotion:
     def position(self, t) -> np.ndarray:
         t = np.asarray(t, dtype=float)
         k = np.clip(t / self.dt, 0.0, self._track.shape[0] - 1.0)
-        return np.stack([np.interp(k, np.arange(self._track.shape[0]), self._track[:, c]) for c in range(3)], axis=-1)
+        i = np.minimum(np.floor(k).astype(np.intp), self._track.shape[0] - 2)
+        f = (k - i)[..., None]
+        return self._track[i] * (1.0 - f) + self._track[i + 1] * f
 
 
 Motion = LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
