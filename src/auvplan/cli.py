@@ -19,11 +19,14 @@ from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
 from .planners import PLANNERS, plan
-from .sim import planning_problem, simulate
+from .sim import planning_problem, run_mission, simulate
 
 __all__ = ["main", "main_entry"]
 
 log = logging.getLogger("auvplan")
+
+DEMO_SCENARIO = "dynamic-terrain"
+"""The built-in default scenario: real Marcus-Wake seamount terrain with moving obstacles."""
 
 
 class _Progress:
@@ -126,14 +129,48 @@ def _cmd_simulate(args) -> int:
     return 0 if result.status.ok else 1
 
 
+def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None):
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    seed = sc.seed if seed is None else seed
+    bar = _Progress(mission.planner.iterations, f"{mission.planner.name} on {sc.name}", False)
+    try:
+        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance)
+    finally:
+        bar.close()
+    if out:
+        export.write_run(Path(out), record, Path(sc.source).read_text(encoding="utf-8"))
+    return sc, record
+
+
+def _describe_run(name: str, record) -> str:
+    lines = [f"{name}: {record.status.value}"]
+    if record.plan is not None:
+        p = record.plan
+        lines.append(f"  plan   {p.planner}: {p.status.value}, length {p.cost_terms.get('length_m', 0):.0f} m, "
+                     f"{p.evaluations} evaluations, {p.wall_time_s:.2f} s" + (f" — {p.message}" if p.message else ""))
+    if record.sim is not None:
+        m = record.sim.metrics
+        lines.append(f"  flight {record.sim.guidance}+{record.sim.avoidance}: {m['status']} after {m['duration_s']:.0f} s, "
+                     f"{m['distance_m']:.0f} m flown, min altitude {m['min_clearance_m']:.1f} m, "
+                     f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
+                     f"{len(record.keys)} key waypoints")
+    return "\n".join(lines)
+
+
+def _cmd_run(args) -> int:
+    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed)
+    _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
+    if args.out and not args.json:
+        print(f"results in {args.out}/")
+    return 0 if record.status.ok else 1
+
+
 def _cmd_demo(args) -> int:
-    args.scenario = "marcus-wake"
-    args.planner, args.budget, args.seed, args.json = None, None, None, False
-    out = Path(args.out)
-    sc, result, seed = _plan(args, quiet=False)
-    export.write_plan(out, result, sc.name, seed, Path(sc.source).read_text(encoding="utf-8"))
-    print(f"{sc.name}: {result.planner} → {result.status.value}, cost {result.cost:.6g}; results in {out}/")
-    return 0 if result.status.ok else 1
+    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None)
+    print(_describe_run(sc.name, record))
+    print(f"results in {args.out}/")
+    return 0 if record.status.ok else 1
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -166,7 +203,16 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_simulate)
 
-    s = sub.add_parser("demo", help="run the built-in default scenario end to end")
+    s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
+    s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
+    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
+    s.add_argument("--out", help="write every result file here")
+    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.set_defaults(func=_cmd_run)
+
+    s = sub.add_parser("demo", help="run the built-in default scenario (dynamic-terrain) end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
     s.set_defaults(func=_cmd_demo)
     return p

@@ -353,7 +353,8 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
         planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
         if not planned.status.ok:
             return RunRecord(mission.name, int(mission.seed), planned, np.empty((0, 3)), np.empty((0, 3)), None)
-        spacing = max(4.0 * mission.hybrid.switch_radius, 1.0)
+        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
+        spacing = max(4.0 * mission.hybrid.switch_radius, length / 200.0)
         route = route_from_path(planned.path, spacing)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)

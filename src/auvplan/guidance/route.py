@@ -78,8 +78,14 @@ class RouteTracker:
 
     def cross_track(self, points) -> np.ndarray:
         """Distance of ``points (N, 3)`` to the whole polyline, horizontally (m)."""
-        p = as_points(points)[..., :2].reshape(-1, 1, 2)
+        pts = as_points(points)[..., :2].reshape(-1, 2)
         a, b = self.w[None, :-1, :2], self.w[None, 1:, :2]
         d = b - a
-        t = np.clip(((p - a) * d).sum(-1) / np.maximum((d * d).sum(-1), 1e-12), 0.0, 1.0)
-        return np.linalg.norm(p - (a + t[..., None] * d), axis=-1).min(axis=1)
+        dd = np.maximum((d * d).sum(-1), 1e-12)
+        out = np.empty(pts.shape[0])
+        chunk = max(1, 2_000_000 // a.shape[1])  # bounded memory for long routes
+        for k in range(0, pts.shape[0], chunk):
+            p = pts[k:k + chunk, None, :]
+            t = np.clip(((p - a) * d).sum(-1) / dd, 0.0, 1.0)
+            out[k:k + chunk] = np.linalg.norm(p - (a + t[..., None] * d), axis=-1).min(axis=1)
+        return out

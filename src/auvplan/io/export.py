@@ -9,9 +9,19 @@ from pathlib import Path
 import numpy as np
 
 from ..planners.base import PlanResult
-from ..sim import SimResult
+from ..sim import RunRecord, SimResult
 
-__all__ = ["plan_record", "sim_record", "write_plan", "write_sim", "write_json", "write_path_csv", "jsonable"]
+__all__ = [
+    "plan_record",
+    "sim_record",
+    "run_record",
+    "write_plan",
+    "write_sim",
+    "write_run",
+    "write_json",
+    "write_path_csv",
+    "jsonable",
+]
 
 
 def jsonable(value):
@@ -108,3 +118,35 @@ def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoida
                             result.route_error])
     write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m")
     return record
+
+
+def run_record(record: RunRecord, avoidance: str = "") -> dict:
+    """One JSON object for a whole mission: status, the plan's and the simulation's records."""
+    sim = record.sim
+    return jsonable({
+        "scenario": record.scenario,
+        "seed": record.seed,
+        "status": record.status.value,
+        "plan": plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
+        "simulation": sim_record(sim, record.scenario, record.seed, avoidance or sim.avoidance) if sim else None,
+        "key_waypoints": record.keys,
+    })
+
+
+def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict:
+    """Write a mission's results: run.json, metrics.json (plan), path.csv, route.csv, keys.csv,
+    sim_metrics.json and track.csv."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if record.plan is not None:
+        write_plan(out, record.plan, record.scenario, record.seed)
+    if record.route.size:
+        write_path_csv(out / "route.csv", record.route)
+        write_path_csv(out / "keys.csv", record.keys)
+    if record.sim is not None:
+        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance)
+    if scenario_text:
+        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+    rec = run_record(record)
+    write_json(out / "run.json", rec)
+    return rec
