@@ -151,7 +151,8 @@ def _describe_run(name: str, record) -> str:
                      f"{p.evaluations} evaluations, {p.wall_time_s:.2f} s" + (f" — {p.message}" if p.message else ""))
     if record.sim is not None:
         m = record.sim.metrics
-        lines.append(f"  flight {record.sim.guidance}+{record.sim.avoidance}: {m['status']} after {m['duration_s']:.0f} s, "
+        kind = f"{record.sim.guidance}+{record.sim.avoidance}"
+        lines.append(f"  flight {kind}: {m['status']} after {m['duration_s']:.0f} s, "
                      f"{m['distance_m']:.0f} m flown, min altitude {m['min_clearance_m']:.1f} m, "
                      f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
                      f"{len(record.keys)} key waypoints")

@@ -104,6 +104,7 @@ class SimResult:
     escapes: int = 0
     avoidance: str = "none"
     decision_steps: int = 0
+    decision_time_s: float = 0.0
 
     @property
     def metrics(self) -> dict:
@@ -309,6 +310,7 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         escapes=local.escapes if local is not None else 0,
         avoidance=av_name,
         decision_steps=local.decisions if local is not None else 0,
+        decision_time_s=local.decision_time if local is not None else 0.0,
     )
 
 

@@ -27,7 +27,7 @@ becomes the goal); a collision with an obstacle faster than the vehicle that was
 from __future__ import annotations
 
 import math
-from collections import deque
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -171,27 +171,35 @@ def apf_force(p, goal, centers, distances, params: AvoidanceParams) -> np.ndarra
 
 
 class MinimumDetector:
-    """Counts own past points within r₁ of the current one (document 004's local-minimum test)."""
+    """Counts own past points within r₁ of the current one (document 004's local-minimum test).
+
+    Past points live in a preallocated ring buffer of ``4 ε₂`` entries (at least 50).
+    """
 
     def __init__(self, radius: float, count: int, every: float) -> None:
         self.radius, self.count, self.every = radius, count, every
-        self.history: deque = deque(maxlen=max(4 * count, 50))
-        self._last = -math.inf
+        self.buf = np.empty((max(4 * count, 50), 3))
+        self.reset()
 
     def reset(self) -> None:
         """Forget the history (after an escape)."""
-        self.history.clear()
+        self.n = 0
+        self.head = 0
         self._last = -math.inf
 
     def update(self, p, t: float) -> bool:
         """Remember ``p`` (every ``every`` s) and say whether the vehicle is trapped."""
         if t - self._last >= self.every:
-            self.history.append(np.asarray(p, dtype=float)[:3].copy())
+            self.buf[self.head] = p[:3]
+            self.head = (self.head + 1) % self.buf.shape[0]
+            self.n = min(self.n + 1, self.buf.shape[0])
             self._last = t
-        if len(self.history) < self.count:
-            return False
-        h = np.asarray(self.history)
-        return int((np.linalg.norm(h - np.asarray(p)[:3], axis=1) <= self.radius).sum()) >= self.count
+            if self.n < self.count:
+                return False
+            d = self.buf[: self.n] - p[:3]
+            self._trapped = int(np.count_nonzero(np.einsum("ij,ij->i", d, d) <= self.radius**2)) >= self.count
+            return self._trapped
+        return self.n >= self.count and self._trapped
 
 
 def _random_free_point(world: World, p, radius: float, t: float, rng: np.random.Generator,
@@ -238,6 +246,7 @@ class LocalAvoidance:
         self.escapes = 0
         self.skipped = 0
         self.decisions = 0
+        self.decision_time = 0.0
 
     def _advance_goal(self, p, t: float) -> None:
         """First unvisited key waypoint: ahead of the vehicle, and not occupied by an obstacle."""
@@ -267,7 +276,14 @@ class LocalAvoidance:
         if self.mode == "route":
             return psi, None, rp
         # APF mode
+        t0 = time.perf_counter()
         self.decisions += 1
+        try:
+            return self._apf_command(pos, t, near, psi, rp)
+        finally:
+            self.decision_time += time.perf_counter() - t0
+
+    def _apf_command(self, pos, t: float, near, psi: float, rp):
         p = np.asarray(pos, dtype=float)
         goal = self.subgoal if self.subgoal is not None else self.keys[self.goal_index]
         if np.linalg.norm(goal - p) <= self.params.arrive:
