@@ -164,7 +164,11 @@ class CurrentsSpec:
 
 @dataclass(frozen=True)
 class MissionSpec:
-    """Start, goal, optional explicit route, and the vehicle's safety margins (m)."""
+    """Start, goal, optional explicit route, and the vehicle's safety margins (m).
+
+    ``surface = false`` removes the sea-surface constraint (laboratory scenes in a document's own
+    coordinates, e.g. document 000's goal at z = +30).
+    """
 
     start: tuple[float, float, float]
     goal: tuple[float, float, float]
@@ -173,6 +177,7 @@ class MissionSpec:
     min_depth_m: float = 0.0
     max_depth_m: float = math.inf
     obstacle_margin_m: float = 0.0
+    surface: bool = True
 
     def __post_init__(self) -> None:
         for name in ("min_altitude_m", "min_depth_m", "obstacle_margin_m"):
@@ -533,7 +538,8 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
     except DataError as exc:
         raise DataError(f"{src}: [currents] {exc}") from exc
     m = s.mission
-    margins = Margins(m.min_altitude_m, m.min_depth_m, m.max_depth_m, m.obstacle_margin_m)
+    min_depth = m.min_depth_m if m.surface else -math.inf
+    margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
     try:
         world = World(
             bounds=bounds,

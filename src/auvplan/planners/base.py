@@ -11,10 +11,12 @@ from ..optim.bee import ABCParams, IABCParams
 from ..optim.ga import GAParams
 from ..optim.pso import PSOParams
 from ..world import World
+from .flow_params import FlowParams
 
 __all__ = ["PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso")
+PLANNERS = ("iabc", "abc", "ga", "pso", "flow")
+"""Planner names: the four swarm optimisers (document 002) and the streamline planner (document 000)."""
 
 
 @dataclass(frozen=True)
@@ -24,7 +26,7 @@ class PlannerSpec:
     Attributes
     ----------
     name : str
-        ``iabc``, ``abc``, ``ga`` or ``pso``.
+        ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002) or ``flow`` (streamlines, document 000).
     population : int
         Food sources / individuals / particles.
     iterations : int
@@ -64,6 +66,7 @@ class PlannerSpec:
     iabc: IABCParams = field(default_factory=IABCParams)
     ga: GAParams = field(default_factory=GAParams)
     pso: PSOParams = field(default_factory=PSOParams)
+    flow: FlowParams = field(default_factory=FlowParams)
 
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:

@@ -64,7 +64,7 @@ class Margins:
     min_altitude : float
         Minimum height above the seabed.
     min_depth : float
-        Minimum depth below the sea surface (z ≤ -min_depth).
+        Minimum depth below the sea surface (z ≤ -min_depth); ``-inf`` for a scene without a surface.
     max_depth : float
         Maximum depth (z ≥ -max_depth).
     obstacle : float
@@ -77,7 +77,7 @@ class Margins:
     obstacle: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.min_altitude < 0 or self.min_depth < 0 or self.obstacle < 0:
+        if self.min_altitude < 0 or (self.min_depth < 0 and self.min_depth != -float("inf")) or self.obstacle < 0:
             raise ValueError(f"margins must be non-negative, got {self}")
         if not self.max_depth > self.min_depth:
             raise ValueError(f"max_depth must exceed min_depth, got {self}")
