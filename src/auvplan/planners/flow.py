@@ -98,29 +98,8 @@ def sphere_exact_velocity(p, center, radius: float, target, m: float = 1.0) -> n
     return u
 
 
-def _g(ct, a, b):
-    D = a * a - 2 * a * b * ct + b * b
-    g = -(a**4 - b * a**3 * ct) / (2.0 * D**1.5)
-    gp = 0.5 * (b * a**3 * D**-1.5 - 3.0 * a * b * (a**4 - b * a**3 * ct) * D**-2.5)
-    return g, gp
-
-
-def sphere_document_potential(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
-    """Document 000's potential φ_P = (m/4π)[1/|p − T| + g(cos θ)/r²]."""
-    p = np.asarray(p, dtype=float)
-    c = np.asarray(center, dtype=float)
-    T = np.asarray(target, dtype=float)
-    b = float(np.linalg.norm(T - c))
-    e = (T - c) / b
-    q = p - c
-    r = np.linalg.norm(q, axis=-1)
-    ct = (q @ e) / r
-    g, _ = _g(ct, radius, b)
-    return m / FOUR_PI * (1.0 / np.linalg.norm(p - T, axis=-1) + g / r**2)
-
-
-def sphere_document_velocity(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
-    """Gradient of the document's potential, differentiated in full (METHODS.md §1.1)."""
+def _document_terms(p, center, radius: float, target):
+    """Shared geometry of document 000's sphere field: p, T, e, q, r (keepdims), x = q·e, g, g′."""
     p = np.asarray(p, dtype=float)
     c = np.asarray(center, dtype=float)
     T = np.asarray(target, dtype=float)
@@ -130,7 +109,22 @@ def sphere_document_velocity(p, center, radius: float, target, m: float = 1.0) -
     r = np.linalg.norm(q, axis=-1, keepdims=True)
     x = (q @ e)[..., None]
     ct = x / r
-    g, gp = _g(ct, radius, b)
+    a = float(radius)
+    D = a * a - 2 * a * b * ct + b * b
+    g = -(a**4 - b * a**3 * ct) / (2.0 * D**1.5)
+    gp = 0.5 * (b * a**3 * D**-1.5 - 3.0 * a * b * (a**4 - b * a**3 * ct) * D**-2.5)
+    return p, T, e, q, r, x, g, gp
+
+
+def sphere_document_potential(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
+    """Document 000's potential φ_P = (m/4π)[1/|p − T| + g(cos θ)/r²]."""
+    p, T, _, _, r, _, g, _ = _document_terms(p, center, radius, target)
+    return m / FOUR_PI * (1.0 / np.linalg.norm(p - T, axis=-1) + (g / r**2)[..., 0])
+
+
+def sphere_document_velocity(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
+    """Gradient of the document's potential, differentiated in full (METHODS.md §1.1)."""
+    p, T, e, q, r, x, g, gp = _document_terms(p, center, radius, target)
     u = sink_velocity(p, T, m)
     return u + m / FOUR_PI * (gp * (e / r - x * q / r**3) / r**2 - 2.0 * g * q / r**4)
 
