@@ -410,7 +410,6 @@ def integrate_streamlines(field: FlowField, starts, params: FlowParams | None = 
     active[trapped] = False
     min_d = np.full(n, np.inf)
     T = field.target
-    ref = params.strength / FOUR_PI  # sink speed at 1 m
 
     def direction(x):
         u = field.velocity(x)
@@ -428,7 +427,8 @@ def integrate_streamlines(field: FlowField, starts, params: FlowParams | None = 
         arrived = dist_goal <= params.arrive
         h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
         k1, sp = direction(x)
-        stalled = sp < params.stagnation * ref
+        # stagnation relative to the bare sink's speed here (scale-free)
+        stalled = sp < params.stagnation * params.strength / (FOUR_PI * np.maximum(dist_goal, 1e-300) ** 2)
 
         def rk4(x, k1, h):
             k2, _ = direction(x + 0.5 * h[:, None] * k1)
@@ -493,7 +493,7 @@ def plan_flow(problem, params: FlowParams) -> PlanResult:
     elif not world.path_free(path):
         status = Status.INFEASIBLE
         message = "the streamline arrives but meets the seabed or leaves the bounds (the flow knows only the obstacles)"
-    seg = np.stack([path[:-1], path[1:]], axis=1)
+    seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
     if world.terrain is not None:
         clearance = min(clearance, float(world.terrain.segment_min_altitude(seg).min()))

@@ -23,6 +23,7 @@ class FlowParams:
         Sink strength m at the target (the streamlines' shape does not depend on it for spheres).
     h_min, h_max : float
         Step bounds (m); ``h_min = 0`` means 0.05 × the smallest obstacle size (METHODS.md §1.6).
+        The step is also at most ``step_factor`` × the clearance and × the distance to the goal.
     step_factor : float
         Step as a fraction of the clearance to the nearest surface (or of the goal distance).
     arrive : float
@@ -30,7 +31,7 @@ class FlowParams:
     max_steps : int
         Step limit per streamline.
     stagnation : float
-        |u| below this (relative to the sink's speed at 1 m) is a stagnation event.
+        |u| below this fraction of the bare sink's speed at the same point is a stagnation event.
     """
 
     field: str = "exact"
@@ -38,11 +39,11 @@ class FlowParams:
     distance: str = "true"
     strength: float = 1.0
     h_min: float = 0.0
-    h_max: float = 3.0
+    h_max: float = float("inf")
     step_factor: float = 0.5
     arrive: float = 0.5
     max_steps: int = 4000
-    stagnation: float = 1e-9
+    stagnation: float = 1e-6
 
     def __post_init__(self) -> None:
         if self.field not in ("exact", "document"):
