@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -20,6 +20,7 @@ from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
 from .guidance.route import RouteTracker
+from .path import resample_polyline
 from .planners import plan as global_plan
 from .planners.base import PlannerSpec, PlanningProblem, PlanResult
 from .vehicles import Vehicle, VehicleParams, VehicleState
@@ -198,10 +199,8 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     av_name = avoidance or mission.avoidance.name
     local = None
     if av_name == "apf":
-        from dataclasses import replace as _replace
-
         keys = key_waypoints(route, world, mission.avoidance.collision_check) if keys is None else keys
-        local = LocalAvoidance(guide, keys, world, _replace(mission.avoidance, name="apf"), vp.speed, rng)
+        local = LocalAvoidance(guide, keys, world, replace(mission.avoidance, name="apf"), vp.speed, rng)
     vehicle = Vehicle(vp, dt)
     first = route[1] - route[0]
     s = VehicleState(float(route[0, 0]), float(route[0, 1]), float(route[0, 2]),
@@ -335,8 +334,6 @@ class RunRecord:
 
 def route_from_path(path, spacing: float) -> np.ndarray:
     """Waypoints every ``spacing`` metres along a dense planned path (ends kept)."""
-    from .path import resample_polyline
-
     return resample_polyline(path, spacing)
 
 
