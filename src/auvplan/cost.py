@@ -138,8 +138,9 @@ def _segment_slack(world: World, a: np.ndarray, b: np.ndarray, exact: bool) -> t
         slack = np.minimum(slack, alt - m.min_altitude)
     for shape in world.obstacles:
         d = np.minimum(shape.distance(a), shape.distance(b))
-        hit = shape.segments_hit(ends, m.obstacle)
-        clearance = np.minimum(clearance, np.where(shape.segments_hit(ends, 0.0), np.minimum(d, 0.0), d))
+        touch = shape.segments_hit(ends, 0.0)
+        hit = shape.segments_hit(ends, m.obstacle) if m.obstacle > 0 else touch
+        clearance = np.minimum(clearance, np.where(touch, np.minimum(d, 0.0), d))
         # a segment can pass through an obstacle with both ends outside: charge at least a metre
         slack = np.minimum(slack, np.where(hit, np.minimum(d - m.obstacle, -1.0), d - m.obstacle))
     return slack, clearance

@@ -252,13 +252,12 @@ class _EllipsoidSpec:
 
 
 def _shape(table: dict, where: str, *, moving: bool):
-    kind = table.get("type", "sphere")
-    center = table.get("center", [0.0, 0.0, 0.0]) if moving else None
-    t = dict(table)
-    if moving:
-        t = {k: v for k, v in table.items() if k in ("type", "radius", "semi_axes", "yaw_deg", "pitch_deg", "roll_deg")}
-        t["center"] = center
-    t.setdefault("type", kind)
+    if moving:  # a moving shape is placed by its motion; its other keys belong to the motion
+        t = {k: v for k, v in table.items() if k in _SHAPE_KEYS}
+        t["center"] = [0.0, 0.0, 0.0]
+    else:
+        t = dict(table)
+    kind = t.setdefault("type", "sphere")
     if kind == "sphere":
         s = build_dataclass(_SphereSpec, t, where)
         try:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -74,8 +75,6 @@ def make_objective(problem: PlanningProblem, spec: PlannerSpec) -> Callable[[np.
 def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng: np.random.Generator):
     """The optimiser named by ``spec.name`` over ``[lower, upper]``."""
     if spec.name == "iabc":
-        from dataclasses import replace
-
         params = replace(spec.iabc, max_iterations=spec.iterations)
         return IABC(lower, upper, spec.population, params, rng)
     if spec.name == "abc":
