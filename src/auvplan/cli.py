@@ -18,7 +18,7 @@ from . import __version__
 from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
-from .planners import PLANNERS, plan
+from .planners import PLANNERS, plan, reference, with_reference
 from .sim import planning_problem, run_mission, simulate
 
 __all__ = ["main", "main_entry"]
@@ -83,21 +83,29 @@ def _plan(args, quiet: bool):
         spec = replace(spec, budget=args.budget)
     seed = sc.seed if args.seed is None else args.seed
     bar = _Progress(spec.iterations, f"{spec.name} on {sc.name}", quiet)
+    problem = planning_problem(world, mission)
     try:
-        result = plan(planning_problem(world, mission), spec, seed, bar)
+        result = plan(problem, spec, seed, bar)
     finally:
         bar.close()
+    if getattr(args, "reference", False):
+        result = with_reference(result, problem, spec, reference(problem, spec))
     return sc, result, seed
 
 
 def _cmd_plan(args) -> int:
     sc, result, seed = _plan(args, quiet=False)
     record = export.plan_record(result, sc.name, seed)
+    if args.reference:
+        record["reference_cost"] = result.reference_cost
+        record["gap_pct"] = result.gap_pct
     if args.out:
         export.write_plan(Path(args.out), result, sc.name, seed, Path(sc.source).read_text(encoding="utf-8"))
     human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
-             f"{result.wall_time_s:.2f} s" + (f"\n  {result.message}" if result.message else ""))
+             f"{result.wall_time_s:.2f} s" + (f"\n  {result.message}" if result.message else "")
+             + (f"\n  grid reference cost {result.reference_cost:.6g}, gap {result.gap_pct:+.2f} %"
+                if args.reference else ""))
     _emit(record, args.json, human)
     return 0 if result.status.ok else 1
 
@@ -192,6 +200,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
     s.add_argument("--budget", type=int, help="objective evaluations (equal budgets for comparisons)")
+    s.add_argument("--reference", action="store_true",
+                   help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_plan)

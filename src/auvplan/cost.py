@@ -33,7 +33,7 @@ import numpy as np
 
 from .world import World
 
-__all__ = ["CostModel", "CostTerms", "evaluate_paths"]
+__all__ = ["CostModel", "CostTerms", "evaluate_paths", "segment_energy"]
 
 
 @dataclass(frozen=True)
@@ -146,6 +146,46 @@ def _segment_slack(world: World, a: np.ndarray, b: np.ndarray, exact: bool) -> t
     return slack, clearance
 
 
+def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, current=None):
+    """Energy of straight segments ``a -> b`` (..., 3) at the vehicle's speed in the current field.
+
+    The current is taken at each segment's midpoint (see the module notes for the two models),
+    or given as ``current`` (..., 3).
+
+    Returns
+    -------
+    units : ndarray
+        Energy in the model's own units (J for ``"physical"``), before ``model.scale``.
+    energy_j, duration_s : ndarray
+        Physical energy (J) and travel time (s) of each segment.
+    blocked : ndarray of bool
+        Where the current beats the vehicle (no ground speed along the segment).
+    """
+    d = b - a
+    ds = np.linalg.norm(d, axis=-1)
+    if current is None:
+        mid = 0.5 * (a + b)
+        current = world.currents.velocity(mid.reshape(-1, 3)).reshape(mid.shape)
+    c = current
+    safe_ds = np.where(ds > 0, ds, 1.0)
+    s_hat = d / safe_ds[..., None]
+    c_par = np.einsum("...i,...i->...", c, s_hat)
+    c_perp2 = np.maximum(np.einsum("...i,...i->...", c, c) - c_par**2, 0.0)
+    V = model.speed
+    disc = V * V - c_perp2
+    root = np.sqrt(np.maximum(disc, 0.0))
+    vg = c_par + root
+    blocked = ((disc < 0) | (vg <= 1e-9)) & (ds > 0)
+    vg_safe = np.where(blocked | (vg <= 0), V, vg)
+    dt = np.where(ds > 0, ds / vg_safe, 0.0)
+    energy_j = (model.hotel_power + model.drag_k * V**3) * dt
+    if model.energy == "physical":
+        return energy_j, energy_j, dt, blocked
+    vh = np.abs(root + c_par)
+    voc = np.maximum(np.sqrt(np.einsum("...i,...i->...", c, c)), 1e-3)
+    return vh**3 * ds / voc, energy_j, dt, blocked
+
+
 def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bool = False) -> CostTerms:
     """Cost terms of sampled paths ``points (P, S, 3)`` in ``world`` (static obstacles only).
 
@@ -162,30 +202,10 @@ def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bo
     slack, clearance = _segment_slack(world, a, b, exact)
     bad = slack < 0
     depth = np.where(bad, -slack, 0.0)
-    # energy
-    mid = 0.5 * (a + b)
-    c = world.currents.velocity(mid.reshape(-1, 3)).reshape(mid.shape)
-    safe_ds = np.where(ds > 0, ds, 1.0)
-    s_hat = d / safe_ds[..., None]
-    c_par = np.einsum("...i,...i->...", c, s_hat)
-    c_perp2 = np.maximum(np.einsum("...i,...i->...", c, c) - c_par**2, 0.0)
-    V = model.speed
-    disc = V * V - c_perp2
-    root = np.sqrt(np.maximum(disc, 0.0))
-    vg = c_par + root
-    blocked = (disc < 0) | (vg <= 1e-9)
-    blocked &= ds > 0
-    vg_safe = np.where(blocked | (vg <= 0), V, vg)
-    dt = np.where(ds > 0, ds / vg_safe, 0.0)
-    power = model.hotel_power + model.drag_k * V**3
-    energy_j = (power * dt).sum(axis=-1)
+    energy_units, energy_j, dt, blocked = segment_energy(world, a, b, model)
+    energy_j = energy_j.sum(axis=-1)
     duration = dt.sum(axis=-1)
-    if model.energy == "physical":
-        energy_units = energy_j
-    else:
-        vh = np.abs(root + c_par)
-        voc = np.maximum(np.sqrt(np.einsum("...i,...i->...", c, c)), 1e-3)
-        energy_units = (vh**3 * ds / voc).sum(axis=-1)
+    energy_units = energy_units.sum(axis=-1)
     bad_any = bad | blocked
     violations = bad_any.sum(axis=-1)
     terrain = model.terrain_penalty * violations + model.violation_slope * depth.sum(axis=-1)

@@ -1,14 +1,23 @@
 """Global planners: swarm optimisers over B-splines (document 002) and streamlines (document 000)."""
 
-from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult
+from .base import PLANNERS, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .flow import plan_flow
+from .grid import GridReference, plan_grid, with_reference
 from .swarm import plan_swarm
 
-__all__ = ["PLANNERS", "PlanResult", "PlannerSpec", "PlanningProblem", "plan", "plan_flow", "plan_swarm"]
+__all__ = ["PLANNERS", "GridParams", "GridReference", "PlanResult", "PlannerSpec", "PlanningProblem", "plan",
+           "plan_flow", "plan_grid", "plan_swarm", "reference", "with_reference"]
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
     """Plan with the planner named by ``spec.name`` (see ``PLANNERS``)."""
     if spec.name == "flow":
         return plan_flow(problem, spec.flow)
+    if spec.name == "grid":
+        return plan_grid(problem, spec)
     return plan_swarm(problem, spec, rng, progress)
+
+
+def reference(problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
+    """The grid reference plan of ``problem`` on the cost function of ``spec``."""
+    return plan_grid(problem, spec)

@@ -13,10 +13,58 @@ from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
 
-__all__ = ["PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS"]
+__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "flow")
-"""Planner names: the four swarm optimisers (document 002) and the streamline planner (document 000)."""
+PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid")
+"""Planner names: the four swarm optimisers (document 002), the streamline planner (document 000)
+and the lattice reference planner."""
+
+
+@dataclass(frozen=True)
+class GridParams:
+    """Settings of the lattice reference planner (``[planner.grid]``).
+
+    Attributes
+    ----------
+    cell : float
+        Horizontal cell size (m); 0 = ``max(terrain spacing, (volume / target_nodes)^(1/3))``.
+    cell_z : float
+        Vertical cell size (m); 0 = ``cell``, or finer where the depth band would hold fewer
+        than ``levels`` levels.
+    levels : int
+        Fewest depth levels of an automatic vertical cell.
+    target_nodes : int
+        Node count the automatic cell size aims at.
+    max_nodes : int
+        Refuse lattices larger than this (memory guard: about 1 kB per node at worst).
+    objective : str
+        ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
+    relax_iterations : int
+        Elastic-band sweeps after the key-waypoint shortening (0 = none).
+    smooth : bool
+        Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
+    """
+
+    cell: float = 0.0
+    cell_z: float = 0.0
+    levels: int = 10
+    target_nodes: int = 500_000
+    max_nodes: int = 4_000_000
+    objective: str = "cost"
+    relax_iterations: int = 200
+    smooth: bool = True
+
+    def __post_init__(self) -> None:
+        if self.cell < 0 or self.cell_z < 0:
+            raise ValueError("cell and cell_z must be >= 0 (0 = automatic)")
+        if self.levels < 2:
+            raise ValueError(f"levels = {self.levels}: must be >= 2")
+        if self.target_nodes < 8 or self.max_nodes < self.target_nodes:
+            raise ValueError("need target_nodes >= 8 and max_nodes >= target_nodes")
+        if self.objective not in ("cost", "length"):
+            raise ValueError(f"objective = {self.objective!r}: choose 'cost' or 'length'")
+        if self.relax_iterations < 0:
+            raise ValueError("relax_iterations must be >= 0")
 
 
 @dataclass(frozen=True)
@@ -26,7 +74,8 @@ class PlannerSpec:
     Attributes
     ----------
     name : str
-        ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002) or ``flow`` (streamlines, document 000).
+        ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002), ``flow`` (streamlines,
+        document 000) or ``grid`` (lattice reference).
     population : int
         Food sources / individuals / particles.
     iterations : int
@@ -67,6 +116,7 @@ class PlannerSpec:
     ga: GAParams = field(default_factory=GAParams)
     pso: PSOParams = field(default_factory=PSOParams)
     flow: FlowParams = field(default_factory=FlowParams)
+    grid: GridParams = field(default_factory=GridParams)
 
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:
@@ -151,6 +201,8 @@ class PlanResult:
         B-spline control points ``(K, 3)`` for spline planners.
     message : str
         Human-readable explanation of a failure.
+    reference_cost : float
+        Cost of the grid reference plan on the same cost function (``nan`` when not computed).
     """
 
     status: Status
@@ -164,3 +216,14 @@ class PlanResult:
     planner: str
     control_points: np.ndarray | None = None
     message: str = ""
+    reference_cost: float = float("nan")
+
+    @property
+    def gap(self) -> float:
+        """Cost minus the grid reference's cost (``nan`` without a reference)."""
+        return self.cost - self.reference_cost
+
+    @property
+    def gap_pct(self) -> float:
+        """:attr:`gap` as a percentage of the reference cost."""
+        return 100.0 * self.gap / self.reference_cost

@@ -157,7 +157,14 @@ class Terrain:
         """Largest slope |∇zb| of the bilinear surface (its Lipschitz constant)."""
         return self._lipschitz
 
-    def segment_min_altitude(self, segments, threshold: float = np.inf) -> np.ndarray:
+    def altitude_lower_bound(self, ga, gb, dz, lh) -> np.ndarray:
+        """Provable lower bound ``min(g_a, g_b, (g_a + g_b - |Δz| - G L_h) / 2)`` of the minimum
+        altitude along segments with end altitudes ``g_a, g_b``, rise ``Δz`` and horizontal
+        length ``L_h`` (G the steepest slope: the seabed cannot rise faster)."""
+        bound = 0.5 * (ga + gb - np.abs(dz) - self._lipschitz * lh)
+        return np.minimum(bound, np.minimum(ga, gb))
+
+    def segment_min_altitude(self, segments, threshold: float = np.inf, end_altitudes=None) -> np.ndarray:
         """Minimum of ``z - zb`` along each segment, exact wherever it is below ``threshold``.
 
         With the default ``threshold = inf`` every value is exact.  With a finite
@@ -173,6 +180,8 @@ class Terrain:
             Start and end points.
         threshold : float
             Altitude below which the result must be exact.
+        end_altitudes : tuple of ndarray, optional
+            The altitudes ``(g_a, g_b)`` of the end points when the caller already has them.
 
         Returns
         -------
@@ -187,11 +196,13 @@ class Terrain:
         if seg.shape[0] == 0:
             return np.zeros(lead)
         if np.isfinite(threshold):
-            ga = seg[:, 0, 2] - self.elevation(seg[:, 0, 0], seg[:, 0, 1])
-            gb = seg[:, 1, 2] - self.elevation(seg[:, 1, 0], seg[:, 1, 1])
+            if end_altitudes is None:
+                ga = seg[:, 0, 2] - self.elevation(seg[:, 0, 0], seg[:, 0, 1])
+                gb = seg[:, 1, 2] - self.elevation(seg[:, 1, 0], seg[:, 1, 1])
+            else:
+                ga, gb = (np.asarray(g, dtype=float).reshape(-1) for g in end_altitudes)
             d = seg[:, 1] - seg[:, 0]
-            bound = 0.5 * (ga + gb - np.abs(d[:, 2]) - self._lipschitz * np.hypot(d[:, 0], d[:, 1]))
-            bound = np.minimum(bound, np.minimum(ga, gb))
+            bound = self.altitude_lower_bound(ga, gb, d[:, 2], np.hypot(d[:, 0], d[:, 1]))
             near = bound < threshold
             if near.any():
                 bound[near] = self._exact_min_altitude(seg[near])

@@ -196,24 +196,30 @@ class World:
         return "; ".join(bad)
 
     # ------------------------------------------------------------------ segment queries
-    def segments_free(self, segments, t: float = 0.0, moving: bool = True) -> np.ndarray:
+    def segments_free(self, segments, t: float = 0.0, moving: bool = True, *,
+                      ends_free: bool = False, end_altitudes=None) -> np.ndarray:
         """True where whole segments ``(..., 2, 3)`` satisfy every constraint.
 
         The seabed is tested exactly (:meth:`Terrain.segment_min_altitude`); depth
         limits and bounds are convex, so the end points decide; obstacles use their
         exact (sphere) or conservative (ellipsoid with margin) segment tests.
-        Moving obstacles are taken frozen at time ``t``.
+        Moving obstacles are taken frozen at time ``t``.  ``ends_free=True`` says the
+        caller knows both ends are free points (the convex tests are skipped);
+        ``end_altitudes = (g_a, g_b)`` passes the ends' altitudes above the seabed on.
         """
         s = np.asarray(segments, dtype=float)
         if s.shape[-2:] != (2, 3):
             raise ValueError(f"segments must have shape (..., 2, 3), got {s.shape}")
         m = self.margins
-        ends = s.reshape(*s.shape[:-2], 6)
-        z = ends[..., [2, 5]]
-        ok = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
-        ok &= self.bounds.contains(s).all(axis=-1)
+        if ends_free:
+            ok = np.ones(s.shape[:-2], dtype=bool)
+        else:
+            z = s[..., 2]
+            ok = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
+            ok &= self.bounds.contains(s).all(axis=-1)
         if self.terrain is not None:
-            ok &= self.terrain.segment_min_altitude(s, threshold=m.min_altitude) >= m.min_altitude
+            alt = self.terrain.segment_min_altitude(s, threshold=m.min_altitude, end_altitudes=end_altitudes)
+            ok &= alt >= m.min_altitude
         shapes = list(self.obstacles)
         if moving:
             shapes += [o.at(t) for o in self.moving if o.active(t)]

@@ -1,0 +1,427 @@
+"""Deterministic reference planner on a 3D lattice: the yardstick of every other planner.
+
+1. A lattice over the search box (the World's bounds and depth band); a node is free
+   when :meth:`World.is_free` holds there (static constraints only).
+2. 26-connected edges between free nodes whose straight segment passes the World's
+   exact segment test; each edge is weighted by the planner's own cost function
+   (``w_L`` length + ``w_E`` energy in the current field, :func:`auvplan.cost.segment_energy`)
+   in its own direction, or by length alone.
+3. One Dijkstra search (``scipy.sparse.csgraph``) from the goal on the reversed graph gives
+   the cost-to-go of every node; any start is then answered without searching again
+   (:class:`GridReference`, "plan once, query many").
+4. For the ``"length"`` objective the lattice path is shortened by document 004's
+   key-waypoint rule (keep a waypoint only where the straight segment to the next would
+   collide, exact test), pulled taut by an elastic band whose moves must lower the cost and
+   keep both segments free, and shortened again.  For the ``"cost"`` objective the
+   shortcuts would throw away detours that ride a current, so the lattice path goes straight
+   to the elastic band (which removes the lattice's zig-zags only where that pays).  The band
+   works coarse to fine (:func:`_refine`) and also tries sideways moves, so that it can
+   shift whole stretches of path into a better current.  The
+   straight segment, when free and cheaper, wins; a clamped cubic B-spline over the result
+   is tried last and kept only when it is free and cheaper.
+
+Statuses: ``EXACT``; ``INVALID_START`` / ``INVALID_GOAL`` for end points that are not free;
+``INFEASIBLE`` with a message when no free lattice path joins them.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from .._types import Status
+from ..cost import CostModel, evaluate_paths, segment_energy
+from ..guidance.local import key_waypoints
+from ..path import polyline_length, resample_polyline, sample_population
+from ..world import World
+from .base import GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .swarm import check_endpoints, cost_model_for, search_box
+
+__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "path_cost", "with_reference"]
+
+_HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                  if (i, j, k) > (0, 0, 0)])
+"""The 13 lattice offsets with a positive first non-zero component (the other 13 are their reverses)."""
+
+
+def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
+    """Horizontal and vertical cell sizes (m).
+
+    ``params.cell`` / ``params.cell_z`` when given.  Otherwise cubes of
+    ``(volume / target_nodes)^(1/3)``, the vertical cell shrunk where needed so that the depth
+    band holds at least ``params.levels`` levels (the horizontal cell grows to keep the node
+    count), and the horizontal cell never finer than the terrain grid.
+    """
+    ext = np.maximum(upper - lower, 1e-9)
+    cell = params.cell
+    if cell <= 0:
+        cell = float(np.cbrt(np.prod(ext) / params.target_nodes))
+        if ext[2] / cell < params.levels:
+            cell = float(np.sqrt(ext[0] * ext[1] * params.levels / params.target_nodes))
+        if world.terrain is not None:
+            t = world.terrain
+            cell = max(cell, float(min(t.dx, t.dy)))
+    cell_z = params.cell_z if params.cell_z > 0 else min(cell, float(ext[2]) / params.levels)
+    if params.cell_z <= 0 and params.cell > 0:
+        cell_z = min(params.cell, float(ext[2]) / params.levels)
+    return cell, cell_z
+
+
+def edge_cost(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, objective: str,
+              current=None) -> np.ndarray:
+    """Cost of travelling the straight segments ``a -> b`` (..., 3): length, or the cost
+    function's ``w_L`` length + ``w_E`` energy; ``inf`` where the current beats the vehicle.
+    ``current`` (..., 3) is the current at the midpoints when the caller has it."""
+    length = np.linalg.norm(b - a, axis=-1)
+    if objective == "length":
+        return length
+    units, _, _, blocked = segment_energy(world, a, b, model, current)
+    cost = model.w_length * length + model.w_energy * model.scale * units
+    return np.where(blocked, np.inf, cost)
+
+
+def densify(points, spacing: float) -> np.ndarray:
+    """The polyline ``points (N, 3)`` with extra points so that no segment exceeds ``spacing``
+    (every original vertex kept)."""
+    p = np.asarray(points, dtype=float)
+    if p.shape[0] < 2:
+        return p.copy()
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
+    t = np.concatenate([np.arange(k) / k for k in n])
+    i = np.repeat(np.arange(len(n)), n)
+    out = p[i] + t[:, None] * (p[i + 1] - p[i])
+    return np.vstack([out, p[-1]])
+
+
+class GridReference:
+    """Cost-to-go field to one goal over a 3D lattice; answers :meth:`query` for any start.
+
+    Parameters
+    ----------
+    world : World
+        Environment (static constraints only).
+    goal : array_like, shape (3,)
+        Goal point (must be free).
+    model : CostModel
+        The cost function whose length and energy terms weigh the edges.
+    lower, upper : ndarray, shape (3,)
+        Search box.
+    params : GridParams
+        Cell sizes, node cap and objective.
+
+    Attributes
+    ----------
+    axes : tuple of ndarray
+        Node coordinates along x, y and z.
+    free : ndarray of bool, shape (nx, ny, nz)
+        Free nodes.
+    cost_to_go : ndarray, shape (nx, ny, nz)
+        Cost from each node to the goal (``inf`` where unreachable or not free).
+    edges : int
+        Directed edges in the graph.
+    """
+
+    def __init__(self, world: World, goal, model: CostModel, lower, upper, params: GridParams) -> None:
+        self.world, self.model, self.params = world, model, params
+        self.goal = np.asarray(goal, dtype=float).reshape(3)
+        lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+        cell, cell_z = auto_cell(world, lower, upper, params)
+        steps = np.array([cell, cell, cell_z])
+        n = np.floor((upper - lower) / steps + 1e-9).astype(int) + 1
+        if np.prod(n) > params.max_nodes:
+            raise ValueError(f"a lattice of {n.tolist()} nodes at {cell:g} m x {cell_z:g} m cells exceeds "
+                             f"max_nodes = {params.max_nodes}; raise [planner.grid] cell")
+        offset = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
+        self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
+        self.axes = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
+        self._xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        slack = world.clearances(self._xyz, moving=False)
+        self.free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(self.shape)
+        self._altitude = slack["altitude"] + world.margins.min_altitude
+        self._obstacle = slack["obstacles"]
+        self._current = world.currents.velocity(self._xyz) if params.objective == "cost" else None
+        weight, column = self._lattice_edges()
+        goal_id = self.nodes
+        near, w_goal = self._connect(self.goal, towards=True)
+        # reversed graph, 26 slots a row: row v holds the edges u -> v with their cost, so that
+        # one search from the goal (the extra last row) yields every node's cost *to* the goal
+        # and its next hop; empty slots (weight 0) are dropped
+        indptr = np.append(np.arange(0, 26 * goal_id + 1, 26, dtype=column.dtype), 26 * goal_id + near.size)
+        data = np.concatenate([weight.T.ravel(), np.maximum(w_goal, 1e-12)])
+        data[~np.isfinite(data)] = 0.0
+        indices = np.concatenate([column.T.ravel(), near.astype(column.dtype)])
+        graph = csr_matrix((data, indices, indptr), shape=(goal_id + 1,) * 2)
+        graph.eliminate_zeros()
+        self.edges = int(graph.nnz)
+        dist, pred = dijkstra(graph, directed=True, indices=goal_id, return_predecessors=True)
+        self._goal_id, self._dist, self._next = goal_id, dist, pred
+        self.cost_to_go = dist[:goal_id].reshape(self.shape)
+
+    # ------------------------------------------------------------------ lattice
+    def _coords(self, ids: np.ndarray) -> np.ndarray:
+        return self._xyz[ids]
+
+    def _lattice_edges(self) -> tuple[np.ndarray, np.ndarray]:
+        """Costs ``(26, N)`` of the free edges *into* each node and the nodes they come from.
+
+        Each offset has one length and direction, so the edges of one offset are tested as
+        3D array slices: the seabed's Lipschitz bound and the obstacles' 1-Lipschitz distance
+        clear most edges from the node values alone, and only the others go through the
+        World's exact segment test.  Missing edges have weight 0.
+        """
+        w, m = self.world, self.world.margins
+        itype = np.int32 if self.nodes < 2**31 else np.int64
+        ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
+        steps = np.array([self.cell, self.cell, self.cell_z])
+        alt = self._altitude.reshape(self.shape)
+        obs = self._obstacle.reshape(self.shape)
+        cur = None if self._current is None else self._current.reshape(*self.shape, 3)
+        weight = np.zeros((26, self.nodes))
+        column = np.zeros((26, self.nodes), dtype=itype)
+        for slot, off in enumerate(_HALF):
+            a = tuple(slice(max(0, -d), s - max(0, d)) for d, s in zip(off, self.shape))
+            b = tuple(slice(max(0, d), s - max(0, -d)) for d, s in zip(off, self.shape))
+            both = self.free[a] & self.free[b]
+            src, dst = ids[a][both], ids[b][both]
+            d = off * steps
+            length = float(np.linalg.norm(d))
+            sure = np.minimum(obs[a][both], obs[b][both]) >= 0.5 * length
+            if w.terrain is not None:
+                lb = w.terrain.altitude_lower_bound(alt[a][both], alt[b][both], d[2], np.hypot(d[0], d[1]))
+                sure &= lb >= m.min_altitude
+            unsure = np.flatnonzero(~sure)
+            if unsure.size:
+                seg = np.stack([self._xyz[src[unsure]], self._xyz[dst[unsure]]], axis=1)
+                sure[unsure] = w.segments_free(seg, moving=False, ends_free=True)
+            src, dst = src[sure], dst[sure]
+            if cur is None:
+                w_fwd = w_bwd = np.full(src.size, length)
+            else:  # midpoint current as the mean of the two nodes' (second order)
+                c = 0.5 * (cur[a][both][sure] + cur[b][both][sure])
+                zero = np.zeros((1, 3))
+                w_fwd = edge_cost(w, zero, d[None], self.model, "cost", c)
+                w_bwd = edge_cost(w, zero, -d[None], self.model, "cost", c)
+            weight[slot, dst], column[slot, dst] = np.maximum(w_fwd, 1e-12), src
+            weight[13 + slot, src], column[13 + slot, src] = np.maximum(w_bwd, 1e-12), dst
+        return weight, column
+
+    def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Free nodes within two cells of ``point`` joined to it by a free segment, and the
+        cost of that segment (node -> point when ``towards``, else point -> node)."""
+        lo = [max(0, int(np.searchsorted(ax, point[d] - 2.01 * s))) for d, (ax, s) in
+              enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
+        hi = [int(np.searchsorted(ax, point[d] + 2.01 * s)) for d, (ax, s) in
+              enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
+        block = np.zeros(self.shape, dtype=bool)
+        block[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]] = True
+        ids = np.flatnonzero(block & self.free)
+        q = self._coords(ids)
+        p = np.broadcast_to(point, q.shape)
+        ok = self.world.segments_free(np.stack([p, q], axis=1), moving=False)
+        ids, q, p = ids[ok], q[ok], p[ok]
+        w = edge_cost(self.world, q, p, self.model, self.params.objective) if towards else \
+            edge_cost(self.world, p, q, self.model, self.params.objective)
+        return ids, w
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def nodes(self) -> int:
+        """Lattice nodes."""
+        return int(np.prod(self.shape))
+
+    def query(self, start) -> np.ndarray:
+        """The cheapest lattice path ``(N, 3)`` from ``start`` to the goal (start and goal
+        included), the straight segment when only that is free, or an empty ``(0, 3)``
+        array when the goal cannot be reached."""
+        start = np.asarray(start, dtype=float).reshape(3)
+        ids, w = self._connect(start, towards=False)
+        total = w + self._dist[ids] if ids.size else np.empty(0)
+        best = int(np.argmin(total)) if total.size else -1
+        if best < 0 or not np.isfinite(total[best]):
+            straight = np.stack([start, self.goal])
+            return straight if self.world.path_free(straight) else np.empty((0, 3))
+        chain = [int(ids[best])]
+        while chain[-1] != self._goal_id:
+            chain.append(int(self._next[chain[-1]]))
+        return np.vstack([start, self._coords(np.array(chain[:-1])), self.goal])
+
+
+def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
+    t = p[i + 1] - p[i - 1]
+    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-12)
+    ref = np.where(np.abs(t[:, 2:3]) < 0.9, np.array([[0.0, 0.0, 1.0]]), np.array([[1.0, 0.0, 0.0]]))
+    n1 = np.cross(t, ref)
+    n1 /= np.linalg.norm(n1, axis=1, keepdims=True)
+    return n1, np.cross(t, n1)
+
+
+def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterations: int,
+           step: float) -> np.ndarray:
+    """Elastic band with pattern search: each interior point tries a pull towards its
+    neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
+    best move that lowers the cost of its two segments and keeps both free (odd and even
+    points in turn, so that the moves are independent).  Failed points halve their steps."""
+    p = p.copy()
+    n = p.shape[0]
+    if n < 3 or iterations == 0:
+        return p
+    alpha = np.full(n, 0.5)
+    delta = np.full(n, 0.5 * step)
+    tol = 1e-3 * step
+
+    def cost(a, b):
+        return edge_cost(world, a, b, model, objective)
+
+    for _ in range(iterations):
+        for parity in (1, 2):
+            i = np.arange(parity, n - 1, 2)
+            i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
+            if i.size == 0:
+                continue
+            a, b, c = p[i - 1], p[i], p[i + 1]
+            n1, n2 = _normals(p, i)
+            d = delta[i, None]
+            cand = np.stack([b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2, b - d * n2])
+            old = cost(a, b) + cost(b, c)
+            new = cost(a, cand) + cost(cand, c)
+            seg = np.stack([np.stack(np.broadcast_arrays(a, cand), axis=-2),
+                            np.stack(np.broadcast_arrays(cand, c), axis=-2)], axis=-3)
+            better = new < old - 1e-9 * np.abs(old)
+            better &= world.segments_free(seg, moving=False).all(axis=-1) | ~better
+            new = np.where(better, new, np.inf)
+            k = np.argmin(new, axis=0)
+            ok = np.isfinite(new[k, np.arange(i.size)])
+            p[i[ok]] = cand[k[ok], np.flatnonzero(ok)]
+            pulled = ok & (k == 0)
+            alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
+            pushed = ok & (k > 0)
+            delta[i[pushed]] = np.minimum(delta[i[pushed]] * 1.5, step)
+            alpha[i[~pulled]] *= 0.5
+            delta[i[~pushed]] *= 0.5
+        if np.all(alpha[1:-1] <= 1e-3) and np.all(delta[1:-1] <= tol):
+            break
+    return p
+
+
+def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cell: float,
+            iterations: int) -> np.ndarray:
+    """Coarse-to-fine elastic band: the path is resampled every 16, 8, 4, 2, 1 and 1/2 cells
+    (levels longer than a quarter of the path are skipped, as are resamplings that would cut
+    into an obstacle) and relaxed at each level with steps of that spacing, so that whole
+    stretches move together before the detail is settled."""
+    path = raw
+    total = float(polyline_length(raw))
+    for level in (16.0, 8.0, 4.0, 2.0, 1.0, 0.5):
+        spacing = level * cell
+        if spacing > 0.25 * total and level > 0.5:
+            continue
+        coarse = resample_polyline(path, spacing)
+        if not world.path_free(coarse):
+            coarse = densify(path, spacing)
+        path = _relax(world, coarse, model, objective, iterations, spacing)
+    return path
+
+
+def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> dict:
+    """Cost terms of a polyline under the planner's cost function (segments no longer than
+    1/``spec.samples`` of the path, vertices kept), as in :class:`PlanResult.cost_terms`."""
+    path = np.asarray(path, dtype=float)
+    spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
+    terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
+    row = terms.row(0)
+    return {
+        "total": row["total"],
+        "length": row["length"] * spec.w_length,
+        "terrain": row["terrain"] * spec.w_terrain,
+        "energy": row["energy"] * spec.w_energy,
+        "length_m": row["length"],
+        "energy_j": row["energy_j"],
+        "duration_s": row["duration_s"],
+        "min_clearance_m": row["min_clearance_m"],
+        "collisions": row["violations"],
+    }
+
+
+def _failure(status: Status, message: str, t0: float) -> PlanResult:
+    return PlanResult(status, np.empty((0, 3)), float("inf"), {}, 0, 0, time.perf_counter() - t0, np.empty(0),
+                      "grid", None, message)
+
+
+def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridReference | None = None) -> PlanResult:
+    """Plan on the lattice (see the module notes); ``reference`` re-uses a cost-to-go field
+    built for the same goal, world and cost function.
+
+    ``evaluations`` counts lattice edges (the work of the search); ``iterations`` is 1.
+    """
+    t0 = time.perf_counter()
+    bad = check_endpoints(problem)
+    if bad is not None:
+        return _failure(bad[0], bad[1], t0)
+    params = spec.grid
+    model = cost_model_for(problem, spec)
+    if reference is None:
+        lower, upper = search_box(problem)
+        try:
+            reference = GridReference(problem.world, problem.goal, model, lower, upper, params)
+        except ValueError as exc:
+            return _failure(Status.INFEASIBLE, str(exc), t0)
+    raw = reference.query(problem.start)
+    if raw.shape[0] == 0:
+        msg = (f"the goal cannot be reached from the start: no free path on the {reference.shape} lattice "
+               f"at {reference.cell:g} m x {reference.cell_z:g} m cells ({int(reference.free.sum())} of "
+               f"{reference.nodes} nodes free); the goal may be enclosed by the seabed or obstacles, "
+               "or a smaller [planner.grid] cell may find a passage")
+        return _failure(Status.INFEASIBLE, msg, t0)
+    w = problem.world
+    length_only = params.objective == "length"
+    path = key_waypoints(raw, w) if length_only else raw
+    path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
+    if length_only:
+        path = key_waypoints(path, w)
+    terms = path_cost(problem, spec, path)
+    straight = np.stack([problem.start, problem.goal])
+    if path.shape[0] > 2 and w.path_free(straight):
+        sterms = path_cost(problem, spec, straight)
+        if sterms["total"] <= terms["total"]:
+            path, terms = straight, sterms
+    ctrl = None
+    if params.smooth and path.shape[0] >= 4:
+        smooth = sample_population(path[None], spec.samples)[0]
+        if w.path_free(smooth):
+            sterms = path_cost(problem, spec, smooth)
+            if sterms["total"] < terms["total"]:
+                path, terms, ctrl = smooth, sterms, path
+    total = terms.pop("total")
+    free = w.path_free(path)
+    status = Status.EXACT if free else Status.INFEASIBLE
+    message = "" if free else "the shortened lattice path failed the exact segment test"
+    return PlanResult(
+        status=status,
+        path=path,
+        cost=total,
+        cost_terms=terms,
+        evaluations=reference.edges,
+        iterations=1,
+        wall_time_s=time.perf_counter() - t0,
+        history=np.array([total]),
+        planner="grid",
+        control_points=ctrl,
+        message=message,
+    )
+
+
+def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec,
+                   reference: PlanResult) -> PlanResult:
+    """``result`` with ``reference_cost`` set: the grid reference's cost, and the result's own
+    path re-costed on the same cost function (so streamline plans compare too)."""
+    if not reference.status.ok or result.path.shape[0] < 2:
+        return replace(result, reference_cost=reference.cost)
+    swarm = result.planner in ("iabc", "abc", "ga", "pso")
+    own = result.cost if swarm else path_cost(problem, spec, result.path)["total"]
+    return replace(result, cost=float(own), reference_cost=float(reference.cost))

@@ -1,0 +1,134 @@
+"""Lattice reference planner: analytic distances, the sphere geodesic, exactness, plan once / query many."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from auvplan._types import Status
+from auvplan.planners import GridParams, GridReference, PlannerSpec, PlanningProblem, plan, plan_grid, with_reference
+from auvplan.planners.grid import edge_cost, path_cost
+from auvplan.planners.swarm import cost_model_for, search_box
+from auvplan.sim import planning_problem
+from auvplan.world import Bounds, Margins, Sphere, Terrain, World
+from helpers import flat_world
+
+
+def grid_spec(**kw) -> PlannerSpec:
+    return PlannerSpec(name="grid", grid=GridParams(**kw))
+
+
+@pytest.mark.parametrize("objective", ["length", "cost"])
+def test_empty_world_gives_the_straight_line(objective):
+    world = flat_world(depth=200.0, size=1000.0)
+    start, goal = np.array([37.0, 81.0, -150.0]), np.array([913.0, 777.0, -40.0])
+    r = plan(PlanningProblem(world, start, goal, 1.5), grid_spec(objective=objective, cell=40.0))
+    assert r.status is Status.EXACT
+    np.testing.assert_allclose(r.path, np.stack([start, goal]))
+    assert r.cost_terms["length_m"] == pytest.approx(np.linalg.norm(goal - start), rel=1e-12)
+
+
+def test_cost_to_go_is_the_26_connected_lattice_distance():
+    """Oracle: with no obstacle, the cost-to-go of a node is the best, over the nodes k within
+    two cells of the goal (which the goal links to directly), of |k - goal| plus the 3D octile
+    distance ``(a - b) + √2 (b - c) + √3 c`` (cell counts sorted a ≥ b ≥ c) from the node to k."""
+    world = World(Bounds(0, 200, 0, 200, -200, 0), margins=Margins(min_altitude=0.0, min_depth=-np.inf))
+    prob = PlanningProblem(world, [10.0, 10.0, -190.0], [100.0, 100.0, -100.0], 1.5)
+    spec = grid_spec(objective="length", cell=20.0, cell_z=20.0)
+    lo, hi = search_box(prob)
+    ref = GridReference(world, prob.goal, cost_model_for(prob, spec), lo, hi, spec.grid)
+    assert ref.shape == (11, 11, 11) and np.allclose([ax[5] for ax in ref.axes], prob.goal)
+    idx = np.stack(np.meshgrid(*(np.arange(11),) * 3, indexing="ij"), axis=-1)
+    best = np.full((11, 11, 11), np.inf)
+    for k in np.ndindex(5, 5, 5):
+        k = np.array(k) + 3
+        d = np.sort(np.abs(idx - k), axis=-1)[..., ::-1].astype(float)
+        octile = (d[..., 0] - d[..., 1]) + np.sqrt(2) * (d[..., 1] - d[..., 2]) + np.sqrt(3) * d[..., 2]
+        best = np.minimum(best, 20.0 * (octile + np.linalg.norm(k - 5)))
+    np.testing.assert_allclose(ref.cost_to_go, best, atol=1e-9)
+    assert ref.edges == 2 * (3 * 11 * 11 * 10 + 6 * 11 * 10 * 10 + 4 * 10 * 10 * 10) + 5**3  # lattice + goal links
+
+
+def sphere_geodesic(s, g, c, r):
+    """Shortest path from s to g around a ball (centre c, radius r): tangent, arc, tangent."""
+    ds, dg = np.linalg.norm(s - c), np.linalg.norm(g - c)
+    theta = np.arccos(np.dot(s - c, g - c) / (ds * dg))
+    a_s, a_g = np.arccos(r / ds), np.arccos(r / dg)
+    assert theta > a_s + a_g  # the straight line is blocked
+    return np.sqrt(ds**2 - r**2) + np.sqrt(dg**2 - r**2) + r * (theta - a_s - a_g)
+
+
+@pytest.mark.parametrize("objective", ["length", "cost"])
+def test_path_around_a_sphere_is_within_one_percent_of_the_geodesic(objective):
+    c = np.array([500.0, 500.0, -150.0])
+    world = flat_world(depth=300.0, size=1000.0, obstacles=(Sphere(c, 100.0),), obstacle=10.0, min_depth=20.0)
+    s, g = np.array([100.0, 440.0, -150.0]), np.array([900.0, 500.0, -150.0])
+    r = plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective=objective, cell=25.0))
+    assert r.status is Status.EXACT and world.path_free(r.path)
+    exact = sphere_geodesic(s, g, c, 110.0)
+    assert exact <= r.cost_terms["length_m"] <= 1.01 * exact
+
+
+def test_plan_once_query_many_on_real_terrain(salish):
+    """One cost-to-go field answers many starts; every answer passes the exact segment test,
+    and the lattice path's edge costs add up to the field's value (the search's invariant)."""
+    _, world, mission = salish
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, name="grid")
+    model = cost_model_for(prob, spec)
+    lo, hi = search_box(prob)
+    ref = GridReference(world, prob.goal, model, lo, hi, spec.grid)
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(lo, hi, size=(400, 3))
+    starts = pts[world.is_free(pts, moving=False)][:8]
+    assert len(starts) == 8
+    for s in starts:
+        raw = ref.query(s)
+        if raw.shape[0] == 0:
+            continue
+        along = edge_cost(world, raw[:-1], raw[1:], model, "cost").sum()
+        ids, w = ref._connect(s, towards=False)
+        assert along == pytest.approx((w + ref._dist[ids]).min(), rel=1e-3)  # node-mean vs midpoint current
+        r = plan_grid(replace(prob, start=s), spec, reference=ref)
+        assert r.status is Status.EXACT and world.path_free(r.path) and r.cost_terms["collisions"] == 0
+        assert r.cost <= path_cost(prob, spec, raw)["total"] + 1e-6  # refining never makes it worse
+
+
+def test_goal_enclosed_by_terrain_is_infeasible_with_a_message():
+    x = np.arange(0.0, 1001.0, 10.0)
+    gx, gy = np.meshgrid(x, x)
+    rr = np.hypot(gx - 500.0, gy - 500.0)
+    z = np.where((rr > 150.0) & (rr < 220.0), -1.0, -100.0)
+    world = World(Bounds(0, 1000, 0, 1000, -100, 0), Terrain(x, x, z), margins=Margins(min_altitude=5.0, min_depth=2.0))
+    r = plan(PlanningProblem(world, [50.0, 50.0, -50.0], [500.0, 500.0, -50.0], 1.5), grid_spec(cell=20.0))
+    assert r.status is Status.INFEASIBLE and "enclosed" in r.message and r.path.shape == (0, 3)
+    assert not np.isfinite(r.cost)
+
+
+def test_invalid_end_points_and_oversized_lattice_are_statuses():
+    world = flat_world(depth=100.0)
+    r = plan(PlanningProblem(world, [50.0, 50.0, -99.0], [900.0, 900.0, -50.0], 1.5), grid_spec())
+    assert r.status is Status.INVALID_START
+    r = plan(PlanningProblem(world, [50.0, 50.0, -50.0], [900.0, 900.0, -50.0], 1.5),
+             grid_spec(cell=1.0, target_nodes=10, max_nodes=1000))
+    assert r.status is Status.INFEASIBLE and "max_nodes" in r.message
+
+
+def test_marcus_wake_reference_and_the_gap_of_a_swarm_plan(marcus):
+    """The reference rides the vortices: cheaper than the straight line on the same cost, and
+    the gap of a swarm plan is its cost minus the reference's on that same cost."""
+    _, world, mission = marcus
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, grid=GridParams(cell=1000.0))
+    ref = plan(prob, replace(spec, name="grid"))
+    assert ref.status is Status.EXACT and world.path_free(ref.path)
+    straight = plan_grid(prob, replace(spec, name="grid", grid=GridParams(cell=1000.0, relax_iterations=0)))
+    line = path_cost(prob, spec, np.stack([prob.start, prob.goal]))["total"]
+    assert ref.cost < line - 1000.0  # ≥ 0.4 % cheaper: the detour pays
+    assert straight.cost >= ref.cost
+    swarm = plan(prob, replace(spec, name="pso", population=20, iterations=20), rng=0)
+    g = with_reference(swarm, prob, spec, ref)
+    assert g.reference_cost == ref.cost and g.gap == pytest.approx(swarm.cost - ref.cost)
+    assert g.gap_pct == pytest.approx(100 * (swarm.cost - ref.cost) / ref.cost)
