@@ -18,6 +18,7 @@ demo: $(STAMP)
 	$(BIN)/auvplan demo --out results/demo
 
 test: $(STAMP)
+	@bash tools/install-chromium.sh
 	$(BIN)/python -m pytest
 
 lint: $(STAMP)

@@ -18,6 +18,7 @@ from . import __version__
 from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
+from .io.geo import LocalFrame
 from .planners import PLANNERS, plan, reference, with_reference
 from .sim import planning_problem, run_mission, simulate
 
@@ -148,7 +149,52 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         bar.close()
     if out:
         export.write_run(Path(out), record, Path(sc.source).read_text(encoding="utf-8"))
+        export.write_json(Path(out) / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
+        _write_report(Path(out), world, mission, record, Path(sc.source).read_text(encoding="utf-8"))
     return sc, record
+
+
+def _write_report(out: Path, world, mission, record, text: str, figures: bool = False) -> Path:
+    """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
+    from .viz.report import build_report
+
+    frame = LocalFrame(*world.origin) if world.origin is not None else None
+    formats = export.EXPORT_FORMATS if frame is not None else ("csv", "moos")
+    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats)
+    page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
+    path = out / "report.html"
+    path.write_text(page, encoding="utf-8")
+    if figures:
+        from .viz import plots
+
+        plots.write_mission_figures(out / "figures", world, record)
+    return path
+
+
+def _load_results(directory: str):
+    out = Path(directory)
+    record, text = export.read_run(out)
+    if not text:
+        raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
+    src = out / "source.json"
+    base = Path(json.loads(src.read_text())["scenario_source"]).parent if src.is_file() else out
+    sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=base)
+    world, mission = scenario_io.build(sc)
+    return out, record, text, world, mission
+
+
+def _cmd_report(args) -> int:
+    out, record, text, world, mission = _load_results(args.dir)
+    path = _write_report(out, world, mission, record, text, figures=args.figures)
+    print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
+    return 0
+
+
+def _cmd_export(args) -> int:
+    out, record, _, world, mission = _load_results(args.dir)
+    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format):
+        print(p)
+    return 0
 
 
 def _describe_run(name: str, record) -> str:
@@ -222,6 +268,16 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="write every result file here")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_run)
+
+    s = sub.add_parser("report", help="write report.html (and the exports) for a results directory of `run --out`")
+    s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
+    s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
+    s.set_defaults(func=_cmd_report)
+
+    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP) for a results directory")
+    s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
+    s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
+    s.set_defaults(func=_cmd_export)
 
     s = sub.add_parser("demo", help="run the built-in default scenario (dynamic-terrain) end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")

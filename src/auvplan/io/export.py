@@ -1,15 +1,21 @@
-"""Results to files: plan JSON (the CLI's contract, DESIGN.md §4), CSV paths."""
+"""Results to files: plan JSON (the CLI's contract, DESIGN.md §4), CSV paths, the RunRecord
+as JSON + NPZ (and back), and mission exports: GeoJSON (RFC 7946), KML, CSV, MOOS-IvP."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 
+from .._types import Status
+from ..errors import DataError
 from ..planners.base import PlanResult
 from ..sim import RunRecord, SimResult
+from .geo import LocalFrame
 
 __all__ = [
     "plan_record",
@@ -21,7 +27,22 @@ __all__ = [
     "write_json",
     "write_path_csv",
     "jsonable",
+    "read_run",
+    "EXPORT_FORMATS",
+    "to_geojson",
+    "to_kml",
+    "to_csv",
+    "to_moos",
+    "parse_moos",
+    "write_exports",
+    "summary_metrics",
 ]
+
+EXPORT_FORMATS = ("geojson", "kml", "csv", "moos")
+"""Mission export formats of :func:`write_exports`."""
+
+_SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
+               "obstacle_distance")
 
 
 def jsonable(value):
@@ -149,4 +170,204 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
         (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
     rec = run_record(record)
     write_json(out / "run.json", rec)
+    arrays = {"route": record.route, "keys": record.keys}
+    if record.plan is not None:
+        arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
+    if record.sim is not None:
+        arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
+    np.savez_compressed(out / "run.npz", **arrays)
     return rec
+
+
+def read_run(out_dir: Path) -> tuple[RunRecord, str]:
+    """The :class:`RunRecord` written by :func:`write_run` into ``out_dir``, and the scenario text.
+
+    Raises :class:`DataError` naming the missing or unreadable file.
+    """
+    out = Path(out_dir)
+    files = {n: out / n for n in ("run.json", "run.npz")}
+    for p in files.values():
+        if not p.is_file():
+            raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
+    try:
+        rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
+        arr = dict(np.load(files["run.npz"]))
+    except (ValueError, OSError) as exc:
+        raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+    plan = None
+    p = rec.get("plan")
+    if p is not None:
+        terms = {k: _num(p.get(k)) for k in ("length_m", "energy_j", "duration_s", "min_clearance_m")}
+        terms.update({k: _num(v) for k, v in (p.get("cost_terms") or {}).items()})
+        terms["collisions"] = int(p.get("collisions") or 0)
+        plan = PlanResult(Status(p["status"]), arr.get("plan_path", np.empty((0, 3))), _num(p.get("cost")), terms,
+                          int(p.get("evaluations") or 0), int(p.get("iterations") or 0),
+                          _num(p.get("wall_time_s")), arr.get("plan_history", np.empty(0)), p["planner"],
+                          None, p.get("message") or "")
+    sim = None
+    s = rec.get("simulation")
+    if s is not None:
+        sim = SimResult(status=Status(s["status"]), arrived=bool(s["arrived"]),
+                        **{k: arr[f"sim_{k}"] for k in _SIM_ARRAYS},
+                        events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
+                        wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
+                        avoidance=s.get("avoidance", "none"))
+    scenario_file = out / "scenario.toml"
+    text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+    record = RunRecord(rec["scenario"], int(rec["seed"]), plan, arr["route"], arr["keys"], sim)
+    return record, text
+
+
+def _num(v) -> float:
+    return float("nan") if v is None else float(v)
+
+
+# ---------------------------------------------------------------------------------------- exports
+def _frame(origin) -> LocalFrame:
+    if origin is None:
+        raise DataError("this scenario has no [origin] lat/lon, so it cannot be exported in geographic "
+                        "coordinates (GeoJSON, KML); add an [origin] table or use --format csv/moos")
+    return LocalFrame(*origin)
+
+
+def _track(record: RunRecord) -> tuple[np.ndarray, np.ndarray]:
+    """The flown track (or the plan when there is no flight) and its times (s)."""
+    if record.sim is not None and record.sim.t.size:
+        return record.sim.position, record.sim.t
+    path = record.plan.path if record.plan is not None else record.route
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))]
+    dur = record.plan.cost_terms.get("duration_s", np.nan) if record.plan is not None else np.nan
+    return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)
+
+
+def summary_metrics(record: RunRecord) -> dict:
+    """Flat table of a mission's headline figures (report and GeoJSON properties)."""
+    rec = run_record(record)
+    out = {"scenario": record.scenario, "seed": record.seed, "status": rec["status"]}
+    if rec["plan"]:
+        out.update({f"plan_{k}": rec["plan"][k] for k in ("planner", "cost", "length_m", "energy_j", "duration_s")})
+    if rec["simulation"]:
+        out.update({f"sim_{k}": rec["simulation"][k] for k in ("arrived", "duration_s", "distance_m",
+                                                               "min_clearance_m", "min_obstacle_distance_m",
+                                                               "collisions", "cross_track_rms_m")})
+    return out
+
+
+def to_geojson(record: RunRecord, origin) -> dict:
+    """RFC 7946 FeatureCollection: the flown track, the planned path and the key waypoints as
+    LineStrings / MultiPoint with ``[lon, lat, z]`` (z the elevation: negative below the surface)."""
+    frame = _frame(origin)
+    track, _ = _track(record)
+
+    def coords(p):
+        lon, lat = frame.inverse(p[:, 0], p[:, 1])
+        return [[round(float(a), 9), round(float(b), 9), round(float(z), 3)] for a, b, z in zip(lon, lat, p[:, 2])]
+
+    props = {"name": "track" if record.sim is not None else "plan", **jsonable(summary_metrics(record))}
+    feats = [{"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(track)}, "properties": props}]
+    if record.plan is not None and record.plan.path.shape[0] >= 2 and record.sim is not None:
+        feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(record.plan.path)},
+                      "properties": {"name": "global plan", "planner": record.plan.planner}})
+    if record.keys.size:
+        feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
+                      "properties": {"name": "key waypoints"}})
+    return {"type": "FeatureCollection", "features": feats}
+
+
+def to_kml(record: RunRecord, origin) -> str:
+    """KML document: the track (and plan) as LineStrings with absolute altitude (m, negative
+    below sea level) and the key waypoints as placemarks."""
+    frame = _frame(origin)
+    ns = "http://www.opengis.net/kml/2.2"
+    ET.register_namespace("", ns)
+    root = ET.Element(f"{{{ns}}}kml")
+    doc = ET.SubElement(root, f"{{{ns}}}Document")
+    ET.SubElement(doc, f"{{{ns}}}name").text = f"auvplan {record.scenario} seed {record.seed}"
+
+    def text(p):
+        lon, lat = frame.inverse(p[:, 0], p[:, 1])
+        return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in zip(lon, lat, p[:, 2]))
+
+    def line(name, p):
+        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+        ET.SubElement(pm, f"{{{ns}}}name").text = name
+        ls = ET.SubElement(pm, f"{{{ns}}}LineString")
+        ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
+        ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(p)
+
+    track, _ = _track(record)
+    line("track" if record.sim is not None else "plan", track)
+    if record.plan is not None and record.sim is not None and record.plan.path.shape[0] >= 2:
+        line("global plan", record.plan.path)
+    for i, k in enumerate(record.keys):
+        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+        ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
+        pt = ET.SubElement(pm, f"{{{ns}}}Point")
+        ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
+        ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(k[None])
+    return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def to_csv(record: RunRecord, origin) -> str:
+    """CSV of the track: ``x, y, z, lat, lon, depth, time`` (lat/lon empty without an origin)."""
+    track, t = _track(record)
+    if origin is not None:
+        lon, lat = LocalFrame(*origin).inverse(track[:, 0], track[:, 1])
+    else:
+        lon = lat = np.full(len(track), np.nan)
+    rows = ["x,y,z,lat,lon,depth,time"]
+    for (x, y, z), la, lo, tt in zip(track, lat, lon, t):
+        rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
+                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", "" if np.isnan(tt) else f"{tt:.2f}"]))
+    return "\n".join(rows) + "\n"
+
+
+def to_moos(points, speed: float, name: str = "auvplan") -> str:
+    """MOOS-IvP behaviour blocks: one ``BHV_Waypoint`` through the points (local x, y) and the
+    depth schedule as one ``BHV_ConstantDepth`` per leg, active while ``WPT_INDEX`` is that leg."""
+    p = np.asarray(points, dtype=float)
+    pts = ":".join(f"{x:.2f},{y:.2f}" for x, y in p[1:, :2])
+    lines = ["// auvplan: waypoints in the local frame (x east, y north, m); depth schedule per leg",
+             "Behavior = BHV_Waypoint", "{", f"  name      = {name}_waypoints", "  pwt       = 100",
+             f"  speed     = {speed:g}", "  capture_radius = 5", "  slip_radius    = 15",
+             f"  points    = {pts}", "}"]
+    for i, z in enumerate(p[1:, 2]):
+        lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_depth_{i}", "  pwt       = 100",
+                  f"  condition = WPT_INDEX = {i}", f"  depth     = {-z:.2f}", "}"]
+    return "\n".join(lines) + "\n"
+
+
+def parse_moos(text: str) -> np.ndarray:
+    """Waypoints ``(N, 3)`` (x, y, z) of a block written by :func:`to_moos`."""
+    m = re.search(r"points\s*=\s*([^\n]+)", text)
+    if m is None:
+        raise DataError("no 'points =' line in the MOOS block")
+    xy = np.array([[float(v) for v in pair.split(",")] for pair in m.group(1).strip().split(":")])
+    depth = {int(i): float(d) for i, d in re.findall(r"WPT_INDEX\s*=\s*(\d+)\s*\n\s*depth\s*=\s*([-\d.]+)", text)}
+    z = np.array([-depth[i] for i in range(len(xy))])
+    return np.column_stack([xy, z])
+
+
+def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, formats=EXPORT_FORMATS) -> list[Path]:
+    """Write the chosen mission exports into ``out_dir``: ``mission.geojson``, ``mission.kml``,
+    ``mission.csv`` and ``mission.moos`` (the key waypoints, or the route without them)."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for fmt in formats:
+        if fmt not in EXPORT_FORMATS:
+            raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
+        path = out / f"mission.{fmt}"
+        if fmt == "geojson":
+            path.write_text(json.dumps(to_geojson(record, origin)) + "\n", encoding="utf-8")
+        elif fmt == "kml":
+            path.write_text(to_kml(record, origin), encoding="utf-8")
+        elif fmt == "csv":
+            path.write_text(to_csv(record, origin), encoding="utf-8")
+        else:
+            pts = record.keys if record.keys.size else record.route
+            if not pts.size and record.plan is not None:
+                pts = record.plan.path
+            path.write_text(to_moos(pts, speed), encoding="utf-8")
+        written.append(path)
+    return written

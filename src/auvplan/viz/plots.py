@@ -1,0 +1,164 @@
+"""Static matplotlib figures for papers (PNG/SVG): data in, Figure out.
+
+* :func:`plan_view` — seabed contours, obstacles, route vs flown track, key waypoints
+  (document 001's "route and track with obstacles" figure).
+* :func:`profiles` — depth, altitude, cross-track error and speed against time.
+* :func:`convergence` — best cost per iteration of one or several optimisers (document 002).
+* :func:`algorithm_paths` — the paths of several planners over the seabed (document 002's
+  comparison of IABC, ABC, GA and PSO).
+* :func:`streamlines` — streamlines from many starts around the obstacles (document 000).
+
+:func:`write_mission_figures` writes the mission figures of a run into a folder.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from ..sim import RunRecord  # noqa: E402
+from ..world import World  # noqa: E402
+from .report import shape_surface  # noqa: E402
+
+__all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures"]
+
+
+def _seabed(ax, world: World) -> None:
+    if world.terrain is None:
+        return
+    t = world.terrain
+    cs = ax.contourf(t.x, t.y, t.z, levels=20, cmap="gist_earth", alpha=0.85)
+    ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)")
+
+
+def _obstacles(ax, world: World, t: float | None = None) -> None:
+    for s in world.obstacles:
+        x, y, _ = shape_surface(s, 60)
+        ax.fill(x[30], y[30], color="firebrick", alpha=0.6, lw=0)
+    if t is not None:
+        for o in world.moving:
+            if o.active(t):
+                c = o.center(t)
+                ax.add_patch(plt.Circle(c[:2], o.shape.bounding_radius, color="purple", alpha=0.4))
+
+
+def plan_view(world: World, record: RunRecord):
+    """Route (global path) against the flown track, with obstacles and key waypoints."""
+    fig, ax = plt.subplots(figsize=(7.5, 6.5))
+    _seabed(ax, world)
+    _obstacles(ax, world)
+    if record.route.size:
+        ax.plot(record.route[:, 0], record.route[:, 1], "--", color="orange", lw=1.5, label="route")
+    if record.keys.size:
+        ax.plot(record.keys[:, 0], record.keys[:, 1], "D", color="gold", mec="k", ms=5, label="key waypoints")
+    if record.sim is not None and record.sim.t.size:
+        p = record.sim.position
+        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        for o in world.moving:
+            c = np.array([o.center(t) for t in record.sim.t[:: max(1, record.sim.t.size // 200)]])
+            ax.plot(c[:, 0], c[:, 1], ":", color="purple", lw=0.8)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x east (m)")
+    ax.set_ylabel("y north (m)")
+    ax.set_title(f"{record.scenario}: {record.status.value}")
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def profiles(record: RunRecord):
+    """Depth, altitude above the seabed, cross-track error and speed against time."""
+    fig, axes = plt.subplots(4, 1, figsize=(7.5, 8), sharex=True)
+    sim = record.sim
+    if sim is not None and sim.t.size:
+        series = ((-sim.position[:, 2], "depth (m)"), (sim.altitude, "altitude (m)"),
+                  (sim.route_error, "cross-track (m)"), (sim.speed, "speed (m/s)"))
+        for ax, (y, label) in zip(axes, series):
+            ax.plot(sim.t, y, lw=1)
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+        axes[0].invert_yaxis()
+    axes[-1].set_xlabel("time (s)")
+    fig.tight_layout()
+    return fig
+
+
+def convergence(histories: dict[str, np.ndarray]):
+    """Best cost per iteration, one line per optimiser (``{name: history}``)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for name, h in histories.items():
+        h = np.asarray(h, dtype=float)
+        if h.size:
+            ax.plot(np.arange(1, h.size + 1), h, label=name)
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("best cost")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
+    """Plan view and depth profile of several planners' paths (``{name: (N, 3)}``)."""
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw=dict(width_ratios=[1.2, 1]))
+    _seabed(ax, world)
+    _obstacles(ax, world)
+    for name, p in paths.items():
+        p = np.asarray(p)
+        if p.size:
+            ax.plot(p[:, 0], p[:, 1], lw=1.5, label=name)
+            s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+            bx.plot(s / 1000, p[:, 2], lw=1.2, label=name)
+            if world.terrain is not None:
+                bx.plot(s / 1000, world.terrain.elevation(p[:, 0], p[:, 1]), color="k", lw=0.5, alpha=0.3)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x east (m)")
+    ax.set_ylabel("y north (m)")
+    ax.legend(fontsize=8)
+    bx.set_xlabel("distance along path (km)")
+    bx.set_ylabel("z (m) — thin black: seabed under each path")
+    bx.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def streamlines(world: World, paths, goal, status=None):
+    """Streamlines from many starts (document 000): plan (x–y) and side (x–z) views."""
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
+    for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
+        for s in world.obstacles:
+            x, y, z = shape_surface(s, 60)
+            grid = (x, y, z)
+            ax.fill(grid[i][30], grid[j][30], color="firebrick", alpha=0.5, lw=0)
+            ax.fill(grid[i][:, 15], grid[j][:, 15], color="firebrick", alpha=0.3, lw=0)
+        for k, p in enumerate(paths):
+            ok = status is None or str(getattr(status[k], "value", status[k])) == "EXACT"
+            ax.plot(p[:, i], p[:, j], lw=0.6, color="steelblue" if ok else "red", alpha=0.8)
+        ax.plot(goal[i], goal[j], "*", color="gold", mec="k", ms=14)
+        ax.set_aspect("equal")
+        ax.set_xlabel(labels[0])
+        ax.set_ylabel(labels[1])
+    fig.tight_layout()
+    return fig
+
+
+def write_mission_figures(folder: Path, world: World, record: RunRecord, formats=("png", "svg")) -> list[Path]:
+    """Plan view, profiles and convergence of a run as PNG and SVG files in ``folder``."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    figs = {"plan_view": plan_view(world, record), "profiles": profiles(record)}
+    if record.plan is not None and record.plan.history.size:
+        figs["convergence"] = convergence({record.plan.planner: record.plan.history})
+    written = []
+    for name, fig in figs.items():
+        for fmt in formats:
+            path = folder / f"{name}.{fmt}"
+            fig.savefig(path, dpi=150)
+            written.append(path)
+        plt.close(fig)
+    return written

@@ -1,0 +1,205 @@
+"""Report, figures and exports of a real run (dynamic-terrain): round trips through independent
+parsers, the RunRecord on disk, the report's size and offline-ness, and a headless browser."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from auvplan.cli import main
+from auvplan.io import export
+from auvplan.io import scenario as sc
+from auvplan.io.geo import LocalFrame
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "dt"
+    assert main(["run", "dynamic-terrain", "--out", str(out)]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def world_mission():
+    return sc.build(sc.load("dynamic-terrain"))
+
+
+def test_run_writes_the_report_and_every_export(run_dir):
+    for name in ("report.html", "mission.geojson", "mission.kml", "mission.csv", "mission.moos", "run.json",
+                 "run.npz"):
+        assert (run_dir / name).is_file(), name
+
+
+def test_run_record_round_trips_through_json_and_npz(run_dir):
+    record, text = export.read_run(run_dir)
+    rec = json.loads((run_dir / "run.json").read_text())
+    assert record.status.value == rec["status"] == "EXACT"
+    assert text == sc.resolve("dynamic-terrain").read_text()
+    np.testing.assert_allclose(record.keys, np.asarray(rec["key_waypoints"]))
+    again = export.run_record(record)
+    assert again["simulation"]["distance_m"] == pytest.approx(rec["simulation"]["distance_m"], rel=1e-12)
+    assert again["plan"]["cost"] == pytest.approx(rec["plan"]["cost"], rel=1e-12)
+    np.testing.assert_allclose(np.loadtxt(run_dir / "track.csv", delimiter=",", skiprows=1)[:, 1:4],
+                               record.sim.position, atol=1e-3)
+
+
+def test_read_run_names_the_missing_file(tmp_path):
+    from auvplan.errors import DataError
+
+    with pytest.raises(DataError, match="run.json"):
+        export.read_run(tmp_path)
+    assert main(["report", str(tmp_path)]) == 2
+
+
+def test_geojson_is_valid_and_round_trips_to_the_local_frame(run_dir, world_mission):
+    shapely = pytest.importorskip("shapely.geometry")
+    world, _ = world_mission
+    record, _ = export.read_run(run_dir)
+    doc = json.loads((run_dir / "mission.geojson").read_text())
+    assert doc["type"] == "FeatureCollection"
+    track = doc["features"][0]
+    geom = shapely.shape(track["geometry"])
+    assert geom.geom_type == "LineString" and geom.is_valid and geom.has_z
+    c = np.asarray(track["geometry"]["coordinates"])
+    assert np.all(np.abs(c[:, 0]) <= 180) and np.all(np.abs(c[:, 1]) <= 90)  # RFC 7946: lon, lat order
+    x, y = LocalFrame(*world.origin).forward(c[:, 0], c[:, 1])
+    assert np.abs(np.column_stack([x, y]) - record.sim.position[:, :2]).max() < 0.01
+    np.testing.assert_allclose(c[:, 2], record.sim.position[:, 2], atol=1e-3)  # elevation, negative below
+    assert track["properties"]["status"] == "EXACT" and track["properties"]["sim_arrived"] is True
+    keys = [f for f in doc["features"] if f["properties"]["name"] == "key waypoints"][0]
+    assert shapely.shape(keys["geometry"]).geom_type == "MultiPoint"
+
+
+def test_kml_parses_back_to_the_track(run_dir, world_mission):
+    world, _ = world_mission
+    record, _ = export.read_run(run_dir)
+    root = ET.parse(run_dir / "mission.kml").getroot()
+    ns = {"k": "http://www.opengis.net/kml/2.2"}
+    ls = root.find("k:Document/k:Placemark/k:LineString", ns)
+    assert ls.find("k:altitudeMode", ns).text == "absolute"
+    c = np.array([[float(v) for v in p.split(",")] for p in ls.find("k:coordinates", ns).text.split()])
+    x, y = LocalFrame(*world.origin).forward(c[:, 0], c[:, 1])
+    assert np.abs(np.column_stack([x, y, c[:, 2]]) - record.sim.position).max() < 0.01
+
+
+def test_moos_block_parses_back_to_the_key_waypoints(run_dir):
+    record, _ = export.read_run(run_dir)
+    text = (run_dir / "mission.moos").read_text()
+    assert text.count("Behavior = BHV_Waypoint") == 1
+    np.testing.assert_allclose(export.parse_moos(text), record.keys[1:], atol=0.01)
+
+
+def test_csv_has_local_geographic_depth_and_time_columns(run_dir, world_mission):
+    world, _ = world_mission
+    record, _ = export.read_run(run_dir)
+    rows = np.genfromtxt(run_dir / "mission.csv", delimiter=",", names=True)
+    assert rows.dtype.names == ("x", "y", "z", "lat", "lon", "depth", "time")
+    np.testing.assert_allclose(rows["depth"], -rows["z"])
+    np.testing.assert_allclose(rows["time"], record.sim.t, atol=0.01)
+    lon, lat = LocalFrame(*world.origin).inverse(rows["x"], rows["y"])
+    np.testing.assert_allclose(rows["lat"], lat, atol=1e-8)
+
+
+def test_export_command_and_the_local_only_scenario(tmp_path):
+    out = tmp_path / "single"
+    assert main(["run", "track-single", "--out", str(out)]) in (0, 1)
+    assert not (out / "mission.geojson").exists()  # no [origin]: geographic formats left out
+    assert main(["export", str(out), "--format", "geojson"]) == 2
+    assert main(["export", str(out), "--format", "moos", "csv"]) == 0
+    assert (out / "mission.moos").is_file() and (out / "report.html").is_file()
+
+
+def test_report_is_small_offline_and_has_every_section(run_dir):
+    page = (run_dir / "report.html").read_text()
+    assert len(page.encode()) < 10_000_000
+    from html.parser import HTMLParser
+
+    class Sources(HTMLParser):
+        found: list = []
+
+        def handle_starttag(self, tag, attrs):
+            self.found += [v for k, v in attrs if k in ("src", "href")]
+
+    parser = Sources()
+    parser.feed(page)
+    assert parser.found == []  # nothing loaded from anywhere: plotly.js is inlined
+    assert page.count("<script") >= 5 and "Plotly.newPlot" in page
+    for div in ("view3d", "planview", "profiles", "convergence"):
+        assert f'id="{div}"' in page
+    assert '<table id="metrics">' in page and "<pre id='scenario'>" in page
+
+
+def test_report_command_rebuilds_it_with_figures(run_dir, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(run_dir, copy)
+    (copy / "report.html").unlink()
+    assert main(["report", str(copy), "--figures"]) == 0
+    assert (copy / "report.html").stat().st_size > 1_000_000
+    for name in ("plan_view", "profiles", "convergence"):
+        png = copy / "figures" / f"{name}.png"
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+        assert (copy / "figures" / f"{name}.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_paper_figures_draw_every_path(world_mission):
+    from auvplan.viz import plots
+
+    world, _ = world_mission
+    paths = {n: np.array([[37000.0 + i, 57000.0, -2500.0], [43000.0, 63000.0 - i, -2400.0]])
+             for i, n in enumerate(("iabc", "abc", "ga", "pso"))}
+    fig = plots.algorithm_paths(world, paths)
+    assert [ln.get_label() for ln in fig.axes[0].lines] == list(paths)
+    fig = plots.convergence({n: np.linspace(10, 1, 5) for n in paths})
+    assert len(fig.axes[0].lines) == 4
+    from auvplan.world import Bounds, Sphere, World
+
+    w = World(Bounds(-20, 20, -20, 20, -20, 20), obstacles=(Sphere((0.0, 0.0, 0.0), 3.0),))
+    lines = [np.array([[-10.0, k, 0.0], [10.0, k, 0.0]]) for k in (-5.0, 5.0)]
+    fig = plots.streamlines(w, lines, np.array([12.0, 0.0, 0.0]))
+    assert sum(len(ax.lines) for ax in fig.axes) == 2 * (len(lines) + 1)
+
+
+def _chromium() -> str | None:
+    return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def test_report_in_a_headless_browser(run_dir, tmp_path):
+    """Chromium opens the report offline: no console error, the 3D plot and the metrics table
+    render, and the time slider moves the vehicle."""
+    browser = _chromium()
+    if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("Chromium is not installed on CI (tools/install-chromium.sh should have installed it)")
+        pytest.skip("Chromium is not installed (Debian package 'chromium'; tools/install-chromium.sh)")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=browser,
+                              args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"])
+        page = b.new_page(viewport={"width": 1300, "height": 900})
+        errors, requests = [], []
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.on("request", lambda r: requests.append(r.url) if not r.url.startswith(("file:", "data:", "blob:"))
+                else None)
+        page.goto((run_dir / "report.html").as_uri())
+        page.wait_for_selector("#view3d canvas", state="attached", timeout=30_000)
+        page.wait_for_timeout(1500)
+        assert page.evaluate("() => document.getElementById('view3d').layout.scene !== undefined")
+        assert page.locator("#metrics tr").count() >= 10
+        vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
+        x0 = page.evaluate(vehicle)
+        rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
+        page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
+        page.wait_for_timeout(1500)
+        x1 = page.evaluate(vehicle)
+        page.screenshot(path=str(tmp_path / "report.png"))
+        b.close()
+    assert errors == [] and requests == []
+    record, _ = export.read_run(run_dir)
+    assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
+    assert (tmp_path / "report.png").stat().st_size > 50_000
