@@ -45,6 +45,20 @@ def row(name, world, goal, params, n, seed=0):
             f"{ratio:.4f} | {len(p) / wall:.0f} |")
 
 
+def figure(path: Path, n: int = 60) -> None:
+    """Document 000's figure: streamlines from ``n`` starts on a plane upstream of the spheres."""
+    from auvplan.viz.plots import streamlines
+
+    w, m = sc.build(sc.load("flow-spheres"))
+    goal = np.asarray(m.goal)
+    field = FlowField(w.obstacles, goal, FlowParams(), w.margins.obstacle)
+    g = np.linspace(-12.0, 12.0, int(np.sqrt(n)))
+    p = np.array([[-15.0, a, b] for a in g for b in g])
+    p = p[~field.inside_body(p) & (field.distances(p).min(axis=1) > 0.2)]
+    sl = integrate_streamlines(field, p)
+    streamlines(w, sl.paths, goal, sl.status).savefig(path, dpi=150)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--starts", type=int, default=500)
@@ -61,6 +75,7 @@ def main(argv=None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)
+    figure(out / "streamlines.png")
     print(text)
     return 0
 

@@ -147,6 +147,16 @@ def throughput(world, mission, budget: int) -> dict:
     return out
 
 
+def paths_figure(world, mission, path: Path) -> None:
+    """Document 002's figure: the seed-0 path of each algorithm over the seamounts, and its profile."""
+    from auvplan.viz.plots import algorithm_paths
+
+    prob = planning_problem(world, mission)
+    paths = {n: plan(prob, replace(mission.planner, name=n), rng=0).path for n in ("iabc", "abc", "ga", "pso")}
+    paths["grid reference"] = plan(prob, replace(mission.planner, name="grid")).path
+    algorithm_paths(world, paths).savefig(path, dpi=150)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=10)
@@ -173,6 +183,7 @@ def main(argv=None) -> int:
     (out / "summary.md").write_text(text)
     (out / "rows.json").write_text(json.dumps(rows))
     convergence_figure(rows, out / "convergence.png")
+    paths_figure(world, mission, out / "paths.png")
     print(text)
     return 0
 

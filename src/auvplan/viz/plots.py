@@ -127,17 +127,24 @@ def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
     return fig
 
 
+def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
+    """Fill the projection of a sphere or ellipsoid on axes ``(i, j)`` (convex: its hull)."""
+    from scipy.spatial import ConvexHull
+
+    p = np.stack([g.ravel() for g in shape_surface(shape, 40)], axis=1)[:, [i, j]]
+    hull = p[ConvexHull(p).vertices]
+    ax.fill(hull[:, 0], hull[:, 1], **kw)
+
+
 def streamlines(world: World, paths, goal, status=None):
-    """Streamlines from many starts (document 000): plan (x–y) and side (x–z) views."""
+    """Streamlines from many starts (document 000): plan (x–y) and side (x–z) views; those that
+    did not arrive (``status`` other than ``"arrived"``) in red."""
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
     for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
         for s in world.obstacles:
-            x, y, z = shape_surface(s, 60)
-            grid = (x, y, z)
-            ax.fill(grid[i][30], grid[j][30], color="firebrick", alpha=0.5, lw=0)
-            ax.fill(grid[i][:, 15], grid[j][:, 15], color="firebrick", alpha=0.3, lw=0)
+            _silhouette(ax, s, i, j, color="firebrick", alpha=0.45, lw=0)
         for k, p in enumerate(paths):
-            ok = status is None or str(getattr(status[k], "value", status[k])) == "EXACT"
+            ok = status is None or str(status[k]) in ("arrived", "EXACT")
             ax.plot(p[:, i], p[:, j], lw=0.6, color="steelblue" if ok else "red", alpha=0.8)
         ax.plot(goal[i], goal[j], "*", color="gold", mec="k", ms=14)
         ax.set_aspect("equal")
