@@ -23,48 +23,18 @@ from pathlib import Path
 
 import numpy as np
 
+from auvplan.bench import perturb_moving
 from auvplan.guidance.local import key_waypoints
 from auvplan.io import scenario as sc
 from auvplan.planners import PlanningProblem, plan
 from auvplan.sim import planning_problem, route_from_path, simulate
-from auvplan.world import LinearMotion, MovingObstacle, RandomWalkMotion, Sphere, World
-
-
-def randomised(world: World, seed: int) -> World:
-    rng = np.random.default_rng(10_000 + seed)
-    moving = []
-    for o in world.moving:
-        m = o.motion
-        if isinstance(m, LinearMotion):
-            v = np.asarray(m.velocity) * rng.uniform(0.6, 1.2)
-            along = v / max(np.linalg.norm(v), 1e-9)
-            across = np.array([-along[1], along[0], 0.0])
-            start = np.asarray(m.start) + rng.uniform(-150, 150) * along + rng.uniform(-150, 150) * across
-            m = LinearMotion(tuple(start), tuple(v))
-        elif isinstance(m, RandomWalkMotion):
-            m = replace(m, seed=int(rng.integers(1 << 30)), speed=m.speed * rng.uniform(0.6, 1.2),
-                        start=tuple(np.asarray(m.start) + np.r_[rng.uniform(-150, 150, 2), 0.0]))
-        else:  # circle and waypoint loops: a random phase along the same track
-            m = _shifted(m, rng)
-        moving.append(MovingObstacle(o.shape, m, o.name, o.appears, o.disappears))
-    return replace(world, moving=tuple(moving))
-
-
-def _shifted(m, rng):
-    from auvplan.world import CircleMotion, WaypointMotion
-
-    if isinstance(m, CircleMotion):
-        return replace(m, phase=float(rng.uniform(0, 2 * np.pi)))
-    if isinstance(m, WaypointMotion):
-        k = int(rng.integers(len(m.points)))
-        return WaypointMotion(np.roll(m.points, k, axis=0), m.speed * rng.uniform(0.6, 1.2), m.loop)
-    return m
+from auvplan.world import Sphere
 
 
 def one(args) -> dict:
     seed, route, keys, path_length = args
     world, mission = sc.build(sc.load("dynamic-terrain"))
-    w = randomised(world, seed)
+    w = perturb_moving(world, seed)
     r = simulate(w, mission, route=route, rng=seed, avoidance="apf", keys=keys)
     kinds = [e[1] for e in r.events]
     terrain_hit = any(k == "collision" and "seabed" in e[2] for k, e in zip(kinds, r.events))

@@ -228,6 +228,31 @@ def _cmd_demo(args) -> int:
     return 0 if record.status.ok else 1
 
 
+def _cmd_bench(args) -> int:
+    from .bench import SweepSpec, summarise, sweep
+
+    spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
+                     args.reference, args.randomise, args.plan_once, args.chunk)
+    out = Path(args.out)
+    rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
+    table = summarise(rows)
+    cols = list(table[0]) if table else []
+    with (out / "summary.csv").open("w") as fh:
+        fh.write(",".join(cols) + "\n")
+        fh.writelines(",".join(str(r[c]) for c in cols) + "\n" for r in table)
+    lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    lines += ["| " + " | ".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |"
+              for r in table]
+    text = "\n".join(lines)
+    (out / "summary.md").write_text(f"# auvplan bench: {len(rows)} runs\n\n{text}\n")
+    from .viz.plots import bench_figures
+
+    bench_figures(rows, out)
+    print(text)
+    print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
@@ -278,6 +303,23 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
     s.set_defaults(func=_cmd_export)
+
+    s = sub.add_parser("bench", help="sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)")
+    s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
+    s.add_argument("--planners", nargs="+", default=["scenario"], help="planner names, or 'scenario'")
+    s.add_argument("--guidance", nargs="+", default=["scenario"], help="hybrid, los, ilos, or 'scenario'")
+    s.add_argument("--seeds", type=int, default=10, help="seeds 0..N-1 per cell")
+    s.add_argument("--budget", type=int, default=0, help="objective evaluations per plan (0: the scenario's)")
+    s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
+    s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
+    s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
+    s.add_argument("--chunk", type=int, default=10, help="seeds per dask task")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, default=2, help="local worker processes (a LocalCluster)")
+    g.add_argument("--scheduler", help="address of an existing dask scheduler, e.g. tcp://host:8786")
+    s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
+    s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
+    s.set_defaults(func=_cmd_bench)
 
     s = sub.add_parser("demo", help="run the built-in default scenario (dynamic-terrain) end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")

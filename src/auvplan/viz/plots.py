@@ -25,7 +25,8 @@ from ..sim import RunRecord  # noqa: E402
 from ..world import World  # noqa: E402
 from .report import shape_surface  # noqa: E402
 
-__all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures"]
+__all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
+           "bench_figures"]
 
 
 def _seabed(ax, world: World) -> None:
@@ -169,3 +170,36 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord, formats
             written.append(path)
         plt.close(fig)
     return written
+
+
+def bench_figures(rows: list[dict], folder: Path) -> list[Path]:
+    """Box plots of the cost per planner and success rates per cell of a sweep's rows."""
+    folder = Path(folder)
+    cells: dict[str, list[dict]] = {}
+    for r in rows:
+        cells.setdefault(f"{r['scenario']}\n{r['planner']}/{r['guidance']}", []).append(r)
+    if not cells:
+        return []
+    names = sorted(cells)
+
+    def num(v):
+        try:
+            return float(v)
+        except (TypeError, ValueError):
+            return np.nan
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(max(8, 2.2 * len(names)), 4.5))
+    costs = [np.array([num(r["cost"]) for r in cells[n]]) for n in names]
+    ax.boxplot([c[np.isfinite(c)] for c in costs], tick_labels=names)
+    ax.set_ylabel("plan cost")
+    ax.tick_params(axis="x", labelsize=7)
+    ok = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
+    bx.bar(range(len(names)), ok, color="seagreen")
+    bx.set_xticks(range(len(names)), names, fontsize=7)
+    bx.set_ylim(0, 1.05)
+    bx.set_ylabel("success rate")
+    fig.tight_layout()
+    path = folder / "bench.png"
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return [path]

@@ -1,0 +1,310 @@
+"""Sweeps of scenario × planner × guidance × seed on dask.distributed (``auvplan bench``).
+
+Every run goes through :func:`auvplan.sim.run_mission` and yields one flat row (status, every
+cost term and metric, evaluations, CPU and wall time, optionally the gap to the grid reference).
+Rows are appended to ``rows.csv`` as they arrive, so an interrupted sweep keeps what it
+finished; ``resume=True`` skips the runs already in the file (and drops a line cut short by the
+interruption).  Tasks are chunks of seeds of one cell, so the scheduling overhead stays small;
+each run is seeded by its own seed, so the rows do not depend on the worker count or order.
+
+With ``randomise=True`` each seed also re-draws every moving obstacle's track (start shifted
+±150 m along and across its motion, speed × [0.6, 1.2], new random-walk seeds, a random phase
+on loops) — the Monte Carlo an operator certifies a mission with; ``plan_once=True`` then plans
+once per cell (with the scenario's seed) and flies that plan in every seed's world.
+"""
+
+from __future__ import annotations
+
+import csv
+import logging
+import math
+import sys
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from .errors import AuvplanError
+from .guidance.local import key_waypoints
+from .io import scenario as scenario_io
+from .planners import PLANNERS, plan, reference, with_reference
+from .sim import planning_problem, route_from_path, run_mission, simulate
+from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
+
+__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows"]
+
+KEY = ("scenario", "planner", "guidance", "seed")
+"""Columns that identify a run."""
+
+COLUMNS = KEY + (
+    "status", "plan_status", "arrived", "cost", "length", "terrain", "energy", "length_m", "energy_j",
+    "plan_duration_s", "plan_min_clearance_m", "plan_collisions", "evaluations", "iterations", "reference_cost",
+    "gap_pct", "sim_duration_s", "distance_m", "min_clearance_m", "min_obstacle_distance_m", "collisions",
+    "cross_track_rms_m", "cross_track_max_m", "escapes", "cpu_s", "wall_s",
+)
+"""Columns of ``rows.csv``."""
+
+TIMING = ("cpu_s", "wall_s")
+"""Columns that vary from run to run of the same sweep."""
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """What a sweep runs.
+
+    Attributes
+    ----------
+    scenarios : tuple of str
+        Built-in names or TOML files.
+    planners : tuple of str
+        Planner names (``"scenario"`` = each scenario's own).
+    guidance : tuple of str
+        ``hybrid``, ``los``, ``ilos`` (``"scenario"`` = each scenario's own).
+    seeds : int
+        Seeds 0 .. seeds-1 per cell.
+    budget : int
+        Objective evaluations per plan (0 = the scenario's).
+    reference : bool
+        Also compute the grid reference once per cell and each run's gap to it.
+    randomise : bool
+        Re-draw the moving obstacles' tracks per seed (Monte Carlo).
+    plan_once : bool
+        Plan once per cell and fly that plan in every seed (with ``randomise``).
+    chunk : int
+        Seeds per task.
+    """
+
+    scenarios: tuple[str, ...] = ("dynamic-terrain",)
+    planners: tuple[str, ...] = ("scenario",)
+    guidance: tuple[str, ...] = ("scenario",)
+    seeds: int = 10
+    budget: int = 0
+    reference: bool = False
+    randomise: bool = False
+    plan_once: bool = False
+    chunk: int = 10
+
+    def __post_init__(self) -> None:
+        for p in self.planners:
+            if p != "scenario" and p not in PLANNERS:
+                raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(PLANNERS)}")
+        for g in self.guidance:
+            if g not in ("scenario", "hybrid", "los", "ilos"):
+                raise AuvplanError(f"unknown guidance {g!r}; choose from scenario, hybrid, los, ilos")
+        if self.seeds < 1 or self.chunk < 1 or self.budget < 0:
+            raise AuvplanError("need seeds >= 1, chunk >= 1 and budget >= 0")
+
+    def tasks(self) -> list[tuple[str, str, str, tuple[int, ...]]]:
+        """``(scenario, planner, guidance, seeds)`` chunks in a fixed order, with ``"scenario"``
+        resolved to each scenario's own planner and guidance (planner ``"route"`` for a
+        scenario that flies a fixed route)."""
+        out = []
+        for s in self.scenarios:
+            sc = scenario_io.load(s)
+            own_planner = "route" if sc.mission.route else sc.planner.name
+            for p in self.planners:
+                p = own_planner if p == "scenario" or own_planner == "route" else p
+                for g in self.guidance:
+                    g = sc.guidance.name if g == "scenario" else g
+                    for lo in range(0, self.seeds, self.chunk):
+                        cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
+                        if cell not in out:
+                            out.append(cell)
+        return out
+
+
+def perturb_moving(world: World, seed: int) -> World:
+    """``world`` with every moving obstacle's track re-drawn from ``seed`` (see the module notes)."""
+    rng = np.random.default_rng(10_000 + seed)
+    moving = []
+    for o in world.moving:
+        m = o.motion
+        if isinstance(m, LinearMotion):
+            v = np.asarray(m.velocity) * rng.uniform(0.6, 1.2)
+            along = v / max(np.linalg.norm(v), 1e-9)
+            across = np.array([-along[1], along[0], 0.0])
+            start = np.asarray(m.start) + rng.uniform(-150, 150) * along + rng.uniform(-150, 150) * across
+            m = LinearMotion(tuple(start), tuple(v))
+        elif isinstance(m, RandomWalkMotion):
+            m = replace(m, seed=int(rng.integers(1 << 30)), speed=m.speed * rng.uniform(0.6, 1.2),
+                        start=tuple(np.asarray(m.start) + np.r_[rng.uniform(-150, 150, 2), 0.0]))
+        elif isinstance(m, CircleMotion):
+            m = replace(m, phase=float(rng.uniform(0, 2 * np.pi)))
+        elif isinstance(m, WaypointMotion):
+            k = int(rng.integers(len(m.points)))
+            m = WaypointMotion(np.roll(m.points, k, axis=0), m.speed * rng.uniform(0.6, 1.2), m.loop)
+        moving.append(MovingObstacle(o.shape, m, o.name, o.appears, o.disappears))
+    return replace(world, moving=tuple(moving))
+
+
+def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu: float, wall: float) -> dict:
+    row = dict.fromkeys(COLUMNS, "")
+    row.update(scenario=scenario, planner=planner, guidance=guidance, seed=seed, status=record.status.value,
+               cpu_s=round(cpu, 4), wall_s=round(wall, 4))
+    p = record.plan
+    if p is not None:
+        t = p.cost_terms
+        row.update(plan_status=p.status.value, cost=p.cost, length=t.get("length", ""),
+                   terrain=t.get("terrain", ""), energy=t.get("energy", ""), length_m=t.get("length_m", ""),
+                   energy_j=t.get("energy_j", ""), plan_duration_s=t.get("duration_s", ""),
+                   plan_min_clearance_m=t.get("min_clearance_m", ""), plan_collisions=t.get("collisions", ""),
+                   evaluations=p.evaluations, iterations=p.iterations)
+        if ref is not None and math.isfinite(p.reference_cost):
+            row.update(reference_cost=p.reference_cost, gap_pct=p.gap_pct)
+    s = record.sim
+    if s is not None:
+        m = s.metrics
+        row.update(arrived=m["arrived"], sim_duration_s=m["duration_s"], distance_m=m["distance_m"],
+                   min_clearance_m=m["min_clearance_m"], min_obstacle_distance_m=m["min_obstacle_distance_m"],
+                   collisions=m["collisions"], cross_track_rms_m=m["cross_track_rms_m"],
+                   cross_track_max_m=m["cross_track_max_m"], escapes=m["escapes"])
+    else:
+        row["arrived"] = False
+    return {k: (round(v, 6) if isinstance(v, float) and math.isfinite(v) else v) for k, v in row.items()}
+
+
+def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[dict]:
+    """Run one chunk of seeds of one cell; the rows in seed order."""
+    from .sim import RunRecord
+
+    scenario, planner, guidance, seeds = task
+    world, mission = scenario_io.build(scenario_io.load(scenario))
+    pspec = mission.planner
+    if planner != "route":
+        pspec = replace(pspec, name=planner, budget=spec.budget or pspec.budget)
+    mission = replace(mission, planner=pspec, guidance=guidance)
+    problem = planning_problem(world, mission)
+    ref = reference(problem, pspec) if spec.reference and not mission.route else None
+    fixed = None
+    if spec.plan_once and not mission.route:
+        planned = plan(problem, pspec, mission.seed)
+        if ref is not None:
+            planned = with_reference(planned, problem, pspec, ref)
+        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum()) if planned.status.ok else 0.0
+        route = route_from_path(planned.path, max(4.0 * mission.hybrid.switch_radius, length / 200.0)) \
+            if planned.status.ok else np.empty((0, 3))
+        fixed = (planned, route, key_waypoints(route, world, mission.avoidance.collision_check)
+                 if route.size else route)
+    rows = []
+    for seed in seeds:
+        w = perturb_moving(world, seed) if spec.randomise else world
+        c0, t0 = time.process_time(), time.perf_counter()
+        if fixed is not None:
+            planned, route, keys = fixed
+            sim = simulate(w, mission, route=route, rng=seed, keys=keys) if planned.status.ok else None
+            record = RunRecord(mission.name, seed, planned, route, keys, sim)
+        else:
+            record = run_mission(w, mission, seed)
+            if ref is not None and record.plan is not None:
+                record = replace(record, plan=with_reference(record.plan, problem, pspec, ref))
+        rows.append(_row(scenario, planner, guidance, seed, record, ref, time.process_time() - c0,
+                         time.perf_counter() - t0))
+    return rows
+
+
+def read_rows(path: Path) -> list[dict]:
+    """Complete rows of a ``rows.csv`` (a line cut short by an interruption is left out)."""
+    path = Path(path)
+    if not path.is_file():
+        return []
+    with path.open(newline="") as fh:
+        rows = [r for r in csv.DictReader(fh) if None not in r.values() and r.get("wall_s") not in (None, "")]
+    return rows
+
+
+def _key(row: dict) -> tuple:
+    return tuple(str(row[k]) for k in KEY)
+
+
+def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = None, resume: bool = False,
+          progress: bool = True) -> list[dict]:
+    """Run the sweep on dask.distributed and return every row (string values, sorted by key).
+
+    Parameters
+    ----------
+    spec : SweepSpec
+        The matrix.
+    out : Path
+        Folder of ``rows.csv`` (appended as rows arrive).
+    workers : int
+        Local worker processes (a ``LocalCluster``), when no ``scheduler`` is given.
+    scheduler : str, optional
+        Address of an existing dask scheduler (``tcp://host:port``).
+    resume : bool
+        Keep the rows already in ``rows.csv`` and run only the missing ones; without it an
+        existing ``rows.csv`` is an error (nothing is overwritten).
+    """
+    from dask.distributed import Client, LocalCluster, as_completed
+    from tqdm import tqdm
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "rows.csv"
+    done = read_rows(path)
+    if path.exists() and not resume:
+        raise AuvplanError(f"{path} exists: pass --resume to complete that sweep, or choose another --out")
+    have = {_key(r) for r in done}
+    todo = []
+    for scenario, planner, guidance, seeds in spec.tasks():
+        left = tuple(x for x in seeds if (scenario, planner, guidance, str(x)) not in have)
+        if left:
+            todo.append((scenario, planner, guidance, left))
+    with path.open("w", newline="") as fh:  # rewrite the complete rows (drops a cut-short line)
+        writer = csv.DictWriter(fh, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerows(done)
+    cluster = None
+    if scheduler:
+        client = Client(scheduler)
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.WARNING)
+        client = Client(cluster)
+    total = sum(len(t[3]) for t in todo)
+    bar = tqdm(total=total, desc="bench", file=sys.stderr, disable=not progress, mininterval=0.5)
+    try:
+        futures = [client.submit(run_chunk, t, spec, pure=False) for t in todo]
+        with path.open("a", newline="") as fh:
+            writer = csv.DictWriter(fh, fieldnames=COLUMNS)
+            for fut in as_completed(futures):
+                for row in fut.result():
+                    writer.writerow(row)
+                    fh.flush()
+                    bar.update(1)
+    finally:
+        bar.close()
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    return sorted(read_rows(path), key=lambda r: (r["scenario"], r["planner"], r["guidance"], int(r["seed"])))
+
+
+def _f(v) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def summarise(rows: Iterable[dict]) -> list[dict]:
+    """Per cell (scenario, planner, guidance): runs, success rate, cost median / IQR / best /
+    worst, median gap to the reference, median CPU time."""
+    cells: dict[tuple, list[dict]] = {}
+    for r in rows:
+        cells.setdefault((r["scenario"], r["planner"], r["guidance"]), []).append(r)
+    out = []
+    for (s, p, g), rs in sorted(cells.items()):
+        cost = np.array([_f(r["cost"]) for r in rs])
+        cost = cost[np.isfinite(cost)]
+        ok = [r["status"] in ("EXACT", "APPROXIMATE") for r in rs]
+        q = np.percentile(cost, [25, 50, 75]) if cost.size else [np.nan] * 3
+        gap = np.array([_f(r["gap_pct"]) for r in rs])
+        out.append({"scenario": s, "planner": p, "guidance": g, "runs": len(rs),
+                    "success_rate": float(np.mean(ok)), "cost_median": float(q[1]), "cost_iqr": float(q[2] - q[0]),
+                    "cost_best": float(cost.min()) if cost.size else np.nan,
+                    "cost_worst": float(cost.max()) if cost.size else np.nan,
+                    "gap_pct_median": float(np.nanmedian(gap)) if np.isfinite(gap).any() else np.nan,
+                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs]))})
+    return out
