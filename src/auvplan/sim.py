@@ -144,7 +144,7 @@ def make_guidance(name: str, route, mission: Mission):
     raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
 
 
-FAR = 200.0
+FAR = 100.0
 """Obstacle distances beyond this (m) are recorded as the lower bound |p - c| - bounding radius."""
 
 
@@ -235,7 +235,7 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         pos = np.array([s.x, s.y, s.z])
         shapes = _obstacle_shapes(world, t)
         dists = [_distance(sh, pos) for sh in shapes]
-        alt = float(terrain.altitude(pos)) if terrain is not None else math.inf
+        alt = s.z - terrain.elevation_at(s.x, s.y) if terrain is not None else math.inf
         cur = currents.velocity(pos[None], t)[0]
         pitch_cmd = None
         if local is None:

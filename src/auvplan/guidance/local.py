@@ -311,7 +311,8 @@ class LocalAvoidance:
         pitch = math.atan2(f[2], math.hypot(f[0], f[1]))
         # the seabed is respected while avoiding: never command a dive below the minimum altitude
         if self.world.terrain is not None:
-            alt = float(self.world.terrain.altitude(p)) - self.world.margins.min_altitude
+            alt = float(p[2]) - self.world.terrain.elevation_at(float(p[0]), float(p[1])) \
+                - self.world.margins.min_altitude
             if alt < 2.0 * self.params.arrive:
                 pitch = max(pitch, math.radians(10.0) * (1.0 - alt / (2.0 * self.params.arrive)))
         return course, pitch, rp

@@ -19,6 +19,7 @@ Two segment-versus-terrain tests are provided:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +49,9 @@ class Terrain:
     name: str = ""
     _coef: np.ndarray = field(init=False, repr=False)
     _lipschitz: float = field(init=False, repr=False)
+    _coef_list: list = field(init=False, repr=False, compare=False)
+    _x0: float = field(init=False, repr=False, compare=False)
+    _y0: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.x, dtype=float)
@@ -85,6 +89,9 @@ class Terrain:
         gx = np.maximum(np.abs(coef[..., 1]), np.abs(coef[..., 1] + coef[..., 3])) / (x[1] - x[0])
         gy = np.maximum(np.abs(coef[..., 2]), np.abs(coef[..., 2] + coef[..., 3])) / (y[1] - y[0])
         object.__setattr__(self, "_lipschitz", float(np.sqrt(gx**2 + gy**2).max()))
+        object.__setattr__(self, "_coef_list", self._coef.tolist())
+        object.__setattr__(self, "_x0", float(x[0]))
+        object.__setattr__(self, "_y0", float(y[0]))
 
     # ------------------------------------------------------------------ grid facts
     @property
@@ -116,6 +123,17 @@ class Terrain:
         """Bilinear seabed elevation at ``(x, y)`` (broadcasting arrays, m)."""
         i, j, u, v = self._locate(x, y)
         a, b, c, e = np.moveaxis(self._coef[j, i], -1, 0)
+        return a + b * u + c * v + e * u * v
+
+    def elevation_at(self, x: float, y: float) -> float:
+        """:meth:`elevation` of one point with plain floats (the simulator's per-step query)."""
+        fx = (x - self._x0) / self.dx
+        fy = (y - self._y0) / self.dy
+        i = min(max(math.floor(fx), 0), self.x.size - 2)
+        j = min(max(math.floor(fy), 0), self.y.size - 2)
+        u = min(max(fx - i, 0.0), 1.0)
+        v = min(max(fy - j, 0.0), 1.0)
+        a, b, c, e = self._coef_list[j][i]
         return a + b * u + c * v + e * u * v
 
     def gradient(self, x, y) -> tuple[np.ndarray, np.ndarray]:
