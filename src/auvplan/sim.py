@@ -144,26 +144,30 @@ def make_guidance(name: str, route, mission: Mission):
     raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
 
 
-FAR = 100.0
-"""Obstacle distances beyond this (m) are recorded as the lower bound |p - c| - bounding radius."""
+FAR = 60.0
+"""Obstacle distances beyond this (m) are recorded as the lower bound |p - c| - bounding radius
+(beyond the reach of every guidance law: APF radius 30 m, hybrid influence 25 m by default)."""
 
 
-def _distance(item, pos: np.ndarray) -> float:
-    """Distance to a placed shape's surface, exact within ``FAR`` (a cheap lower bound beyond)."""
+def _distance(item, pos: np.ndarray, far: float = FAR) -> float:
+    """Distance to a placed shape's surface, exact within ``far`` (a cheap lower bound beyond)."""
     if item is None:
         return math.inf
     shape, c = item
     bound = math.dist((pos[0], pos[1], pos[2]), c) - shape.bounding_radius
-    if bound > FAR:
+    if bound > far:
         return bound
     # the shape is defined about its own centre: move the query point instead of the shape
     return shape.distance(pos - c + np.asarray(shape.center)).item()
 
 
-def _obstacle_shapes(world: World, t: float):
-    """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive)."""
+def _obstacle_shapes(world: World, t: float, centres=None):
+    """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive);
+    ``centres`` are the moving obstacles' centres at ``t`` when the caller has them."""
     items = [(o, o.center) for o in world.obstacles]
-    items += [(o.shape, tuple(o.center(t))) if o.active(t) else None for o in world.moving]
+    if centres is None:
+        centres = [o.center(t) for o in world.moving]
+    items += [(o.shape, tuple(c)) if o.active(t) else None for o, c in zip(world.moving, centres)]
     return items
 
 
@@ -230,11 +234,16 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     rec = 0
     vel = (0.0, 0.0, 0.0)
     k = 0
+    # the moving obstacles' centres at every step time, one vectorised call per obstacle
+    steps_t = np.arange(n_steps + 1) * dt
+    far = max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0)
+    tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
+        if world.moving else np.empty((n_steps + 1, 0, 3))
     for k in range(n_steps + 1):
         t = k * dt
         pos = np.array([s.x, s.y, s.z])
-        shapes = _obstacle_shapes(world, t)
-        dists = [_distance(sh, pos) for sh in shapes]
+        shapes = _obstacle_shapes(world, t, tracks[k].tolist())
+        dists = [_distance(sh, pos, far) for sh in shapes]
         alt = s.z - terrain.elevation_at(s.x, s.y) if terrain is not None else math.inf
         cur = currents.velocity(pos[None], t)[0]
         pitch_cmd = None
