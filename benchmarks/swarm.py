@@ -103,8 +103,9 @@ def throughput(world, mission, budget: int) -> dict:
         n += X.shape[0]
     out["auvplan_evals_per_cpu_s"] = n / (time.process_time() - c0)
     c0 = time.process_time()
-    plan(prob, replace(spec, name="abc", iterations=10_000, budget=budget), rng=0)
+    mine = plan(prob, replace(spec, name="abc", iterations=10_000, budget=budget), rng=0)
     out["auvplan_abc_run_cpu_s"] = time.process_time() - c0
+    out["auvplan_abc_best"] = mine.cost
     try:
         from mealpy import ABC, FloatVar
 
@@ -142,8 +143,38 @@ def throughput(world, mission, budget: int) -> dict:
         out["pymoo_pso_evaluations"] = int(res.algorithm.evaluator.n_eval)
         out["pymoo_pso_evals_per_cpu_s"] = res.algorithm.evaluator.n_eval / cpu
         out["pymoo_pso_best"] = float(res.F[0])
+        from pymoo.algorithms.soo.nonconvex.ga import GA as PymooGA
+
+        c0 = time.process_time()
+        res = pymoo_minimize(PathProblem(), PymooGA(pop_size=spec.population), ("n_evals", budget), seed=0,
+                             verbose=False)
+        cpu = time.process_time() - c0
+        out["pymoo_ga_run_cpu_s"] = cpu
+        out["pymoo_ga_evaluations"] = int(res.algorithm.evaluator.n_eval)
+        out["pymoo_ga_evals_per_cpu_s"] = res.algorithm.evaluator.n_eval / cpu
+        out["pymoo_ga_best"] = float(res.F[0])
     except ImportError:
         out["pymoo"] = "not installed"
+    # scipy's differential evolution, vectorised, on the same cost and budget
+    from scipy.optimize import differential_evolution
+
+    dim = lower.size
+    popsize = max(int(np.ceil(spec.population / dim)), 1)
+    evals = [0]
+
+    def f_de(x):  # scipy passes (D, S) with vectorized=True
+        evals[0] += x.shape[1]
+        return f(x.T)
+
+    c0 = time.process_time()
+    res = differential_evolution(f_de, list(zip(lower, upper)), popsize=popsize, seed=0, polish=False,
+                                 vectorized=True, updating="deferred", tol=0,
+                                 maxiter=max(budget // (popsize * dim) - 1, 1))
+    cpu = time.process_time() - c0
+    out["scipy_de_run_cpu_s"] = cpu
+    out["scipy_de_evaluations"] = evals[0]
+    out["scipy_de_evals_per_cpu_s"] = evals[0] / cpu
+    out["scipy_de_best"] = float(res.fun)
     return out
 
 
@@ -175,7 +206,7 @@ def main(argv=None) -> int:
     if args.peers:
         tp = throughput(world, mission, args.budget)
         text += "\n## Same cost through peers (same process)\n\n" + "\n".join(f"- {k}: {v}" for k, v in tp.items())
-        for peer in ("mealpy_abc", "pymoo_pso"):
+        for peer in ("mealpy_abc", "pymoo_pso", "pymoo_ga", "scipy_de"):
             if f"{peer}_evals_per_cpu_s" in tp:
                 ratio = tp["auvplan_evals_per_cpu_s"] / tp[f"{peer}_evals_per_cpu_s"]
                 text += f"\n- auvplan / {peer} evaluation throughput: {ratio:.1f}x"
