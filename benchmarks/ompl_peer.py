@@ -79,7 +79,8 @@ def main(argv=None) -> int:
         t0 = time.perf_counter()
         iabc = plan(prob, spec, rng=0)
         rows.append({"scenario": name, "planner": "iabc (seed 0)", "wall_s": time.perf_counter() - t0,
-                     "length_m": iabc.cost_terms["length_m"], "cost": iabc.cost, "exact_free": world.path_free(iabc.path)})
+                     "length_m": iabc.cost_terms["length_m"], "cost": iabc.cost,
+                     "exact_free": world.path_free(iabc.path)})
         for seconds in args.times:
             t0 = time.perf_counter()
             path, calls = informed_rrt_star(world, prob, seconds)
@@ -92,8 +93,9 @@ def main(argv=None) -> int:
     lines = ["| scenario | planner | wall (s) | length (m) | cost (same function) | passes the exact test |",
              "|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['scenario']} | {r['planner']} | {r['wall_s']:.2f} | {r.get('length_m', float('nan')):.0f} | "
-                     f"{r.get('cost', float('nan')):.0f} | {r.get('exact_free', '-')} |")
+        lines.append(f"| {r['scenario']} | {r['planner']} | {r['wall_s']:.2f} | "
+                     f"{r.get('length_m', float('nan')):.0f} | {r.get('cost', float('nan')):.0f} | "
+                     f"{r.get('exact_free', '-')} |")
     text = "\n".join(lines)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
