@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from auvplan.bench import COLUMNS, KEY, TIMING, SweepSpec, read_rows, summarise, sweep
+from auvplan.bench import COLUMNS, KEY, TIMING, SweepSpec, read_histories, read_rows, summarise, sweep
 from auvplan.errors import AuvplanError
 
 SPEC = SweepSpec(scenarios=("track-single", "track-double"), planners=("scenario",), guidance=("hybrid", "los"),
@@ -58,6 +58,8 @@ def test_killed_sweep_resumes_without_duplicates(one_worker, tmp_path):
     assert stable(rows) == stable(one_worker)
     with open(out / "rows.csv") as fh:
         assert sum(1 for _ in fh) == 1 + 12  # header + each run once
+    keys = [tuple(h["key"]) for h in read_histories(out / "histories.jsonl")]
+    assert sorted(keys) == sorted(tuple(r[k] for k in KEY) for r in rows)  # one history per row, no duplicate
 
 
 def test_summary_matches_the_rows(one_worker):
@@ -77,3 +79,15 @@ def test_bad_sweep_names_are_errors():
         SweepSpec(planners=("nope",))
     with pytest.raises(AuvplanError, match="guidance"):
         SweepSpec(guidance=("nope",))
+
+
+def test_bench_command_writes_the_summary_and_an_offline_report(tmp_path):
+    from auvplan.cli import main
+
+    out = tmp_path / "cli"
+    assert main(["bench", "--scenarios", "track-single", "--guidance", "hybrid", "ilos", "--seeds", "2",
+                 "--workers", "1", "--out", str(out)]) == 0
+    page = (out / "bench.html").read_text()
+    assert 'id="costs"' in page and 'id="success"' in page and '<table id="summary">' in page
+    lines = (out / "summary.csv").read_text().splitlines()
+    assert lines[0].startswith("scenario,planner,guidance,runs,success_rate") and len(lines) == 3

@@ -16,6 +16,7 @@ once per cell (with the scenario's seed) and flies that plan in every seed's wor
 from __future__ import annotations
 
 import csv
+import json
 import logging
 import math
 import sys
@@ -33,7 +34,8 @@ from .planners import PLANNERS, plan, reference, with_reference
 from .sim import planning_problem, route_from_path, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
-__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows"]
+__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
+           "read_histories"]
 
 KEY = ("scenario", "planner", "guidance", "seed")
 """Columns that identify a run."""
@@ -162,7 +164,9 @@ def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu
                    cross_track_max_m=m["cross_track_max_m"], escapes=m["escapes"])
     else:
         row["arrived"] = False
-    return {k: (round(v, 6) if isinstance(v, float) and math.isfinite(v) else v) for k, v in row.items()}
+    out = {k: (round(v, 6) if isinstance(v, float) and math.isfinite(v) else v) for k, v in row.items()}
+    out["_history"] = [] if p is None else [float(h) for h in p.history]
+    return out
 
 
 def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[dict]:
@@ -214,6 +218,21 @@ def read_rows(path: Path) -> list[dict]:
     return rows
 
 
+def read_histories(path: Path) -> list[dict]:
+    """``{"key": [scenario, planner, guidance, seed], "history": [...]}`` records of a sweep's
+    ``histories.jsonl`` (a line cut short by an interruption is left out)."""
+    path = Path(path)
+    if not path.is_file():
+        return []
+    out = []
+    for line in path.read_text().splitlines():
+        try:
+            out.append(json.loads(line))
+        except ValueError:
+            continue
+    return out
+
+
 def _key(row: dict) -> tuple:
     return tuple(str(row[k]) for k in KEY)
 
@@ -255,6 +274,9 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         writer = csv.DictWriter(fh, fieldnames=COLUMNS)
         writer.writeheader()
         writer.writerows(done)
+    hpath = out / "histories.jsonl"
+    kept = [h for h in read_histories(hpath) if tuple(h["key"]) in have]
+    hpath.write_text("".join(json.dumps(h) + "\n" for h in kept))
     cluster = None
     if scheduler:
         client = Client(scheduler)
@@ -266,10 +288,12 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
     bar = tqdm(total=total, desc="bench", file=sys.stderr, disable=not progress, mininterval=0.5)
     try:
         futures = [client.submit(run_chunk, t, spec, pure=False) for t in todo]
-        with path.open("a", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=COLUMNS)
+        with path.open("a", newline="") as fh, hpath.open("a") as hf:
+            writer = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
             for fut in as_completed(futures):
                 for row in fut.result():
+                    hf.write(json.dumps({"key": list(_key(row)), "history": row["_history"]}) + "\n")
+                    hf.flush()
                     writer.writerow(row)
                     fh.flush()
                     bar.update(1)

@@ -245,11 +245,15 @@ def _cmd_bench(args) -> int:
               for r in table]
     text = "\n".join(lines)
     (out / "summary.md").write_text(f"# auvplan bench: {len(rows)} runs\n\n{text}\n")
+    from .bench import read_histories
     from .viz.plots import bench_figures
+    from .viz.report import build_bench_report
 
     bench_figures(rows, out)
+    page = build_bench_report(rows, table, read_histories(out / "histories.jsonl"))
+    (out / "bench.html").write_text(page, encoding="utf-8")
     print(text)
-    print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}")
+    print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}, report {out / 'bench.html'}")
     return 0
 
 

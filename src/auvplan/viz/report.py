@@ -23,7 +23,8 @@ from plotly.subplots import make_subplots
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
 
-__all__ = ["build_report", "figure_3d", "figure_plan_view", "figure_profiles", "figure_convergence", "shape_surface"]
+__all__ = ["build_report", "build_bench_report", "figure_3d", "figure_plan_view", "figure_profiles",
+           "figure_convergence", "shape_surface"]
 
 FRAMES = 60
 """Time-slider frames."""
@@ -246,3 +247,57 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: d
             + parts[0] + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
+
+
+def _num(v) -> float:
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def build_bench_report(rows: list[dict], summary: list[dict], histories: list[dict]) -> str:
+    """One offline HTML page for a sweep: cost box plots per cell, success rates, the median
+    convergence curve per cell (with the 25–75 % band), and the summary table."""
+    cells: dict[str, list[dict]] = {}
+    for r in rows:
+        cells.setdefault(f"{r['scenario']} {r['planner']}/{r['guidance']}", []).append(r)
+    box = go.Figure()
+    for name, rs in sorted(cells.items()):
+        c = np.array([_num(r["cost"]) for r in rs])
+        box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers"))
+    box.update_layout(title="plan cost per cell", yaxis_title="cost", height=450)
+    names = sorted(cells)
+    rate = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
+    bars = go.Figure(go.Bar(x=names, y=rate, marker_color="seagreen"))
+    bars.update_layout(title="success rate", yaxis=dict(range=[0, 1.05]), height=380)
+    conv = go.Figure()
+    by_cell: dict[str, list[np.ndarray]] = {}
+    for h in histories:
+        s, p, g, _ = h["key"]
+        if h["history"]:
+            by_cell.setdefault(f"{s} {p}/{g}", []).append(np.asarray(h["history"], dtype=float))
+    for name, hs in sorted(by_cell.items()):
+        n = max(len(h) for h in hs)
+        m = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hs])
+        q25, q50, q75 = np.percentile(m, [25, 50, 75], axis=0)
+        it = np.arange(1, n + 1)
+        conv.add_trace(go.Scatter(x=np.r_[it, it[::-1]], y=np.r_[q75, q25[::-1]], fill="toself", opacity=0.2,
+                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name))
+        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})"))
+    conv.update_layout(title="convergence (best cost per iteration)", xaxis_title="iteration",
+                       yaxis_title="best cost", height=450)
+    parts = [pio.to_html(f, include_plotlyjs=(i == 0), full_html=False, div_id=d, config=dict(displaylogo=False))
+             for i, (d, f) in enumerate((("costs", box), ("success", bars), ("convergence", conv)))]
+    table = ""
+    if summary:
+        cols = list(summary[0])
+        head = "".join(f"<th>{html.escape(c)}</th>" for c in cols)
+        def cell(v):
+            return f"<td>{v:.6g}</td>" if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
+
+        body = "".join("<tr>" + "".join(cell(r[c]) for c in cols) + "</tr>" for r in summary)
+        table = f'<table id="summary"><tr>{head}</tr>{body}</table>'
+    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>auvplan bench</title><style>{_CSS}</style>"
+            f"</head><body><h1>auvplan bench: {len(rows)} runs</h1>" + "".join(parts)
+            + "<h2>Summary</h2>" + table + "</body></html>")
