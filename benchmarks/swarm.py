@@ -135,24 +135,17 @@ def throughput(world, mission, budget: int) -> dict:
             def _evaluate(self, x, out_, *args, **kwargs):
                 out_["F"] = f(x)[:, None]
 
-        c0 = time.process_time()
-        res = pymoo_minimize(PathProblem(), PymooPSO(pop_size=spec.population), ("n_evals", budget), seed=0,
-                             verbose=False)
-        cpu = time.process_time() - c0
-        out["pymoo_pso_run_cpu_s"] = cpu
-        out["pymoo_pso_evaluations"] = int(res.algorithm.evaluator.n_eval)
-        out["pymoo_pso_evals_per_cpu_s"] = res.algorithm.evaluator.n_eval / cpu
-        out["pymoo_pso_best"] = float(res.F[0])
         from pymoo.algorithms.soo.nonconvex.ga import GA as PymooGA
 
-        c0 = time.process_time()
-        res = pymoo_minimize(PathProblem(), PymooGA(pop_size=spec.population), ("n_evals", budget), seed=0,
-                             verbose=False)
-        cpu = time.process_time() - c0
-        out["pymoo_ga_run_cpu_s"] = cpu
-        out["pymoo_ga_evaluations"] = int(res.algorithm.evaluator.n_eval)
-        out["pymoo_ga_evals_per_cpu_s"] = res.algorithm.evaluator.n_eval / cpu
-        out["pymoo_ga_best"] = float(res.F[0])
+        for key, algo in (("pymoo_pso", PymooPSO), ("pymoo_ga", PymooGA)):
+            c0 = time.process_time()
+            res = pymoo_minimize(PathProblem(), algo(pop_size=spec.population), ("n_evals", budget), seed=0,
+                                 verbose=False)
+            cpu = time.process_time() - c0
+            out[f"{key}_run_cpu_s"] = cpu
+            out[f"{key}_evaluations"] = int(res.algorithm.evaluator.n_eval)
+            out[f"{key}_evals_per_cpu_s"] = res.algorithm.evaluator.n_eval / cpu
+            out[f"{key}_best"] = float(res.F[0])
     except ImportError:
         out["pymoo"] = "not installed"
     # scipy's differential evolution, vectorised, on the same cost and budget

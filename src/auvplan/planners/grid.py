@@ -39,7 +39,7 @@ from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
 from .base import GridParams, PlannerSpec, PlanningProblem, PlanResult
-from .swarm import check_endpoints, cost_model_for, search_box
+from .swarm import check_endpoints, cost_model_for, plan_terms, search_box
 
 __all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "path_cost", "with_reference"]
 
@@ -335,17 +335,7 @@ def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> 
     spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
     terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
     row = terms.row(0)
-    return {
-        "total": row["total"],
-        "length": row["length"] * spec.w_length,
-        "terrain": row["terrain"] * spec.w_terrain,
-        "energy": row["energy"] * spec.w_energy,
-        "length_m": row["length"],
-        "energy_j": row["energy_j"],
-        "duration_s": row["duration_s"],
-        "min_clearance_m": row["min_clearance_m"],
-        "collisions": row["violations"],
-    }
+    return {"total": row["total"], **plan_terms(row, spec)}
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:

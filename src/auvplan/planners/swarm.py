@@ -27,7 +27,7 @@ from ..optim import ABC, GA, IABC, PSO, Termination, minimize
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult
 
-__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "check_endpoints"]
+__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "check_endpoints", "plan_terms"]
 
 
 def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
@@ -86,6 +86,21 @@ def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng:
     raise ValueError(f"unknown swarm planner {spec.name!r}")
 
 
+def plan_terms(row: dict, spec: PlannerSpec) -> dict:
+    """:attr:`PlanResult.cost_terms` from one :meth:`CostTerms.row`: the weighted terms and the
+    physical figures."""
+    return {
+        "length": row["length"] * spec.w_length,
+        "terrain": row["terrain"] * spec.w_terrain,
+        "energy": row["energy"] * spec.w_energy,
+        "length_m": row["length"],
+        "energy_j": row["energy_j"],
+        "duration_s": row["duration_s"],
+        "min_clearance_m": row["min_clearance_m"],
+        "collisions": row["violations"],
+    }
+
+
 def check_endpoints(problem: PlanningProblem) -> tuple[Status, str] | None:
     """``(status, message)`` when the start or goal is not a free point, else None."""
     w = problem.world
@@ -140,16 +155,7 @@ def plan_swarm(
         f"the best path found still violates {row['violations']} segment constraint(s) "
         f"(deepest violation {-row['min_clearance_m']:.1f} m); raise the budget or relax the margins"
     )
-    cost_terms = {
-        "length": row["length"] * spec.w_length,
-        "terrain": row["terrain"] * spec.w_terrain,
-        "energy": row["energy"] * spec.w_energy,
-        "length_m": row["length"],
-        "energy_j": row["energy_j"],
-        "duration_s": row["duration_s"],
-        "min_clearance_m": row["min_clearance_m"],
-        "collisions": row["violations"],
-    }
+    cost_terms = plan_terms(row, spec)
     return PlanResult(
         status=status,
         path=path,
