@@ -31,7 +31,7 @@ from .errors import AuvplanError
 from .guidance.local import key_waypoints
 from .io import scenario as scenario_io
 from .planners import PLANNERS, plan, reference, with_reference
-from .sim import planning_problem, route_from_path, run_mission, simulate
+from .sim import RunRecord, planning_problem, route_from_path, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
 __all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
@@ -171,8 +171,6 @@ def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu
 
 def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[dict]:
     """Run one chunk of seeds of one cell; the rows in seed order."""
-    from .sim import RunRecord
-
     scenario, planner, guidance, seeds = task
     world, mission = scenario_io.build(scenario_io.load(scenario))
     pspec = mission.planner

@@ -217,9 +217,8 @@ class GridReference:
               enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
         hi = [int(np.searchsorted(ax, point[d] + 2.01 * s)) for d, (ax, s) in
               enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
-        block = np.zeros(self.shape, dtype=bool)
-        block[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]] = True
-        ids = np.flatnonzero(block & self.free)
+        box = np.s_[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]]
+        ids = np.arange(self.nodes).reshape(self.shape)[box][self.free[box]]
         q = self._coords(ids)
         p = np.broadcast_to(point, q.shape)
         ok = self.world.segments_free(np.stack([p, q], axis=1), moving=False)

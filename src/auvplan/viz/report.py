@@ -73,9 +73,14 @@ def _times(record: RunRecord) -> np.ndarray:
     return np.linspace(record.sim.t[0], record.sim.t[-1], min(FRAMES, record.sim.t.size))
 
 
-def _moving_at(world: World, t: float) -> np.ndarray:
-    pts = [o.center(t) if o.active(t) else (np.nan, np.nan, np.nan) for o in world.moving]
-    return np.asarray(pts, dtype=float).reshape(-1, 3)
+def _moving_tracks(world: World, times: np.ndarray) -> np.ndarray:
+    """Centres ``(T, M, 3)`` of the moving obstacles at ``times`` (NaN while inactive), one
+    vectorised call per obstacle."""
+    if not world.moving:
+        return np.empty((times.size, 0, 3))
+    pts = np.stack([np.asarray(o.motion.position(times), dtype=float) for o in world.moving], axis=1)
+    active = np.array([[o.appears <= t < o.disappears for o in world.moving] for t in times])
+    return np.where(active[..., None], pts, np.nan)
 
 
 def figure_3d(world: World, record: RunRecord) -> go.Figure:
@@ -113,7 +118,7 @@ def figure_3d(world: World, record: RunRecord) -> go.Figure:
     if times.size:
         fig.add_trace(_line(record.sim.position[_thin(record.sim.t.size)], "track", "crimson", 3))
         pos = _positions(record, times)
-        mov = [_moving_at(world, t) for t in times]
+        mov = _moving_tracks(world, times)
         fig.add_trace(go.Scatter3d(x=[pos[0, 0]], y=[pos[0, 1]], z=[pos[0, 2]], mode="markers", name="vehicle",
                                    marker=dict(size=7, color="black")))
         iv = len(fig.data) - 1
