@@ -11,7 +11,8 @@ Two segment-versus-terrain tests are provided:
   cell; along a piece the bilinear surface is a quadratic in the segment
   parameter, so the altitude ``z(t) - zb(t)`` is a quadratic whose minimum is at
   a piece end or at its vertex (METHODS.md §4, the exact collision model).  All
-  pieces of all segments are processed as flat arrays.
+  pieces are walked in one compiled loop per segment (numba), after a provable
+  lower bound has cleared the segments that are far above the seabed.
 * :meth:`Terrain.segments_below_stepping` — document 004's test: probes every
   ``step`` metres along the dominant axis.  It can miss features thinner than
   the step; it is kept so the two can be compared.
@@ -23,6 +24,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..errors import DataError
 
@@ -121,9 +123,10 @@ class Terrain:
 
     def elevation(self, x, y) -> np.ndarray:
         """Bilinear seabed elevation at ``(x, y)`` (broadcasting arrays, m)."""
-        i, j, u, v = self._locate(x, y)
-        a, b, c, e = np.moveaxis(self._coef[j, i], -1, 0)
-        return a + b * u + c * v + e * u * v
+        bx, by = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        out = np.empty(bx.shape)
+        _elevations(self._coef, self._x0, self._y0, self.dx, self.dy, bx.ravel(), by.ravel(), out.reshape(-1))
+        return out[()]
 
     def elevation_at(self, x: float, y: float) -> float:
         """:meth:`elevation` of one point with plain floats (the simulator's per-step query)."""
@@ -154,22 +157,6 @@ class Terrain:
         return p[..., 2] - self.elevation(p[..., 0], p[..., 1])
 
     # ------------------------------------------------------------------ exact segment test
-    def _line_crossings(self, a, b, origin, step, n):
-        """Parameters t in (0, 1) where coordinate ``a + t (b - a)`` crosses grid lines 0..n-1."""
-        ka = (a - origin) / step
-        kb = (b - origin) / step
-        lo_f = np.minimum(ka, kb)
-        hi_f = np.maximum(ka, kb)
-        lo = np.maximum(np.floor(lo_f) + 1, 0)
-        hi = np.minimum(np.ceil(hi_f) - 1, n - 1)
-        count = np.maximum(hi - lo + 1, 0).astype(np.intp)
-        seg = np.repeat(np.arange(a.size), count)
-        first = np.repeat(lo, count)
-        offs = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        k = first + offs
-        t = (k - ka[seg]) / (kb[seg] - ka[seg])
-        return seg, t
-
     @property
     def max_slope(self) -> float:
         """Largest slope |∇zb| of the bilinear surface (its Lipschitz constant)."""
@@ -209,75 +196,25 @@ class Terrain:
         seg = np.asarray(segments, dtype=float)
         if seg.shape[-2:] != (2, 3):
             raise ValueError(f"segments must have shape (..., 2, 3), got {seg.shape}")
-        lead = seg.shape[:-2]
-        seg = seg.reshape(-1, 2, 3)
-        if seg.shape[0] == 0:
-            return np.zeros(lead)
-        if np.isfinite(threshold):
-            if end_altitudes is None:
-                ga = seg[:, 0, 2] - self.elevation(seg[:, 0, 0], seg[:, 0, 1])
-                gb = seg[:, 1, 2] - self.elevation(seg[:, 1, 0], seg[:, 1, 1])
-            else:
-                ga, gb = (np.asarray(g, dtype=float).reshape(-1) for g in end_altitudes)
-            d = seg[:, 1] - seg[:, 0]
-            bound = self.altitude_lower_bound(ga, gb, d[:, 2], np.hypot(d[:, 0], d[:, 1]))
-            near = bound < threshold
-            if near.any():
-                bound[near] = self._exact_min_altitude(seg[near])
-            return bound.reshape(lead)
-        return self._exact_min_altitude(seg).reshape(lead)
+        return self.min_altitude_between(seg[..., 0, :], seg[..., 1, :], threshold, end_altitudes)
 
-    def _exact_min_altitude(self, seg: np.ndarray) -> np.ndarray:
-        """Exact minimum altitude along segments ``(n, 2, 3)``."""
-        n = seg.shape[0]
-        p0, p1 = seg[:, 0], seg[:, 1]
-        d = p1 - p0
-        sx, tx = self._line_crossings(p0[:, 0], p1[:, 0], self.x[0], self.dx, self.x.size)
-        sy, ty = self._line_crossings(p0[:, 1], p1[:, 1], self.y[0], self.dy, self.y.size)
-        ids = np.concatenate([np.arange(n), np.arange(n), sx, sy])
-        ts = np.concatenate([np.zeros(n), np.ones(n), tx, ty])
-        order = np.lexsort((ts, ids))
-        ids, ts = ids[order], ts[order]
-        same = ids[:-1] == ids[1:]
-        sid = ids[:-1][same]
-        ta, tb = ts[:-1][same], ts[1:][same]
-        tm = 0.5 * (ta + tb)
-        # cell of each piece and the local coordinates u(t) = u0 + du t, v(t) = v0 + dv t
-        xm = p0[sid, 0] + tm * d[sid, 0]
-        ym = p0[sid, 1] + tm * d[sid, 1]
-        fx = (xm - self.x[0]) / self.dx
-        fy = (ym - self.y[0]) / self.dy
-        i = np.clip(np.floor(fx), 0, self.x.size - 2).astype(np.intp)
-        j = np.clip(np.floor(fy), 0, self.y.size - 2).astype(np.intp)
-        u0 = (p0[sid, 0] - self.x[i]) / self.dx
-        v0 = (p0[sid, 1] - self.y[j]) / self.dy
-        du = d[sid, 0] / self.dx
-        dv = d[sid, 1] / self.dy
-        # outside the extent the surface is the clamped edge: u constant there
-        out_lo_x, out_hi_x = fx < 0, fx > self.x.size - 1
-        out_lo_y, out_hi_y = fy < 0, fy > self.y.size - 1
-        u0 = np.where(out_lo_x, 0.0, np.where(out_hi_x, 1.0, u0))
-        du = np.where(out_lo_x | out_hi_x, 0.0, du)
-        v0 = np.where(out_lo_y, 0.0, np.where(out_hi_y, 1.0, v0))
-        dv = np.where(out_lo_y | out_hi_y, 0.0, dv)
-        a, b, c, e = np.moveaxis(self._coef[j, i], -1, 0)
-        h0 = a + b * u0 + c * v0 + e * u0 * v0
-        h1 = b * du + c * dv + e * (u0 * dv + v0 * du)
-        h2 = e * du * dv
-        # g(t) = z(t) - h(t) = g0 + g1 t + g2 t^2
-        g0 = p0[sid, 2] - h0
-        g1 = d[sid, 2] - h1
-        g2 = -h2
-        ga = g0 + g1 * ta + g2 * ta * ta
-        gb = g0 + g1 * tb + g2 * tb * tb
-        gmin = np.minimum(ga, gb)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tv = -g1 / (2.0 * g2)
-        inner = (g2 > 0) & (tv > ta) & (tv < tb)
-        gv = np.where(inner, g0 - g1 * g1 / (4.0 * np.where(inner, g2, 1.0)), np.inf)
-        gmin = np.minimum(gmin, gv)
-        starts = np.flatnonzero(np.r_[True, sid[1:] != sid[:-1]])
-        return np.minimum.reduceat(gmin, starts)
+    def min_altitude_between(self, a, b, threshold: float = np.inf, end_altitudes=None) -> np.ndarray:
+        """:meth:`segment_min_altitude` of the segments ``a -> b`` given as two arrays ``(..., 3)``."""
+        a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+        lead = a.shape[:-1]
+        a = np.ascontiguousarray(a.reshape(-1, 3))
+        b = np.ascontiguousarray(b.reshape(-1, 3))
+        out = np.empty(a.shape[0])
+        if end_altitudes is None:
+            ga = gb = out  # not read: the kernel computes the end altitudes itself
+            known = False
+        else:
+            ga, gb = (np.ascontiguousarray(np.broadcast_to(np.asarray(g, dtype=float), lead).reshape(-1))
+                      for g in end_altitudes)
+            known = True
+        _min_altitudes(self._coef, self._x0, self._y0, self.dx, self.dy, self._lipschitz,
+                       a, b, ga, gb, known, float(threshold), out)
+        return out.reshape(lead)
 
     def segments_below(self, segments, altitude: float = 0.0) -> np.ndarray:
         """True where a segment passes below ``zb + altitude`` anywhere (exact)."""
@@ -311,3 +248,111 @@ class Terrain:
         below = self.altitude(pts) < altitude
         starts = np.cumsum(count) - count
         return np.logical_or.reduceat(below, starts).reshape(lead)
+
+
+# ---------------------------------------------------------------------- compiled kernels
+@njit(cache=True, nogil=True, inline="always")
+def _cell(f: float, cells: int) -> int:
+    """Index of the cell holding grid coordinate ``f``, clamped to ``[0, cells - 1]``."""
+    i = math.floor(f)
+    return 0 if i < 0 else (cells - 1 if i > cells - 1 else int(i))
+
+
+@njit(cache=True, nogil=True)
+def _elevation(coef, x0, y0, dx, dy, x, y):
+    """Bilinear elevation of one point (coordinates clamped to the grid)."""
+    if not (x == x and y == y):
+        return math.nan
+    fx = (x - x0) / dx
+    fy = (y - y0) / dy
+    i = _cell(fx, coef.shape[1])
+    j = _cell(fy, coef.shape[0])
+    u = min(max(fx - i, 0.0), 1.0)
+    v = min(max(fy - j, 0.0), 1.0)
+    return coef[j, i, 0] + coef[j, i, 1] * u + coef[j, i, 2] * v + coef[j, i, 3] * u * v
+
+
+@njit(cache=True, nogil=True)
+def _elevations(coef, x0, y0, dx, dy, x, y, out):
+    for k in range(x.size):
+        out[k] = _elevation(coef, x0, y0, dx, dy, x[k], y[k])
+
+
+@njit(cache=True, nogil=True)
+def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
+    """Minimum altitude over ``p + t e``, ``t in [ta, tb]``, a piece inside one cell: the bilinear
+    surface is a quadratic in t there, so the minimum is at an end or at the vertex."""
+    nxc, nyc = coef.shape[1], coef.shape[0]
+    tm = 0.5 * (ta + tb)
+    fx = (px + tm * ex - x0) / dx
+    fy = (py + tm * ey - y0) / dy
+    i = _cell(fx, nxc)
+    j = _cell(fy, nyc)
+    # local coordinates u(t) = u0 + du t, v(t) = v0 + dv t; beyond the extent the edge is held
+    u0, du = (px - x0) / dx - i, ex / dx
+    v0, dv = (py - y0) / dy - j, ey / dy
+    if fx < 0.0 or fx > nxc:
+        u0, du = (0.0 if fx < 0.0 else 1.0), 0.0
+    if fy < 0.0 or fy > nyc:
+        v0, dv = (0.0 if fy < 0.0 else 1.0), 0.0
+    a, b, c, e = coef[j, i, 0], coef[j, i, 1], coef[j, i, 2], coef[j, i, 3]
+    g0 = pz - (a + b * u0 + c * v0 + e * u0 * v0)
+    g1 = ez - (b * du + c * dv + e * (u0 * dv + v0 * du))
+    g2 = -e * du * dv
+    best = min(g0 + (g1 + g2 * ta) * ta, g0 + (g1 + g2 * tb) * tb)
+    if g2 > 0.0:
+        tv = -g1 / (2.0 * g2)
+        if ta < tv < tb:
+            best = min(best, g0 - g1 * g1 / (4.0 * g2))
+    return best
+
+
+@njit(cache=True, nogil=True)
+def _crossings(pa, pb, origin, step, lines):
+    """First grid line crossed from ``pa`` to ``pb``, the last one and the direction (+1/-1), and
+    the ends in grid units; lines ``0 .. lines`` exist.  ``first`` past ``last`` means none."""
+    ka = (pa - origin) / step
+    kb = (pb - origin) / step
+    if kb > ka:
+        return max(math.floor(ka) + 1.0, 0.0), min(math.ceil(kb) - 1.0, float(lines)), 1.0, ka, kb
+    if kb < ka:
+        return min(math.ceil(ka) - 1.0, float(lines)), max(math.floor(kb) + 1.0, 0.0), -1.0, ka, kb
+    return 1.0, 0.0, 1.0, ka, kb
+
+
+@njit(cache=True, nogil=True)
+def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
+    """Exact minimum altitude along the segment ``p -> q``: split at every grid line it crosses,
+    in order of the segment parameter, and take the least piece minimum."""
+    ex, ey, ez = qx - px, qy - py, qz - pz
+    kx, kx_end, sx, kxa, kxb = _crossings(px, qx, x0, dx, coef.shape[1])
+    ky, ky_end, sy, kya, kyb = _crossings(py, qy, y0, dy, coef.shape[0])
+    best = math.inf
+    ta = 0.0
+    while True:
+        tx = (kx - kxa) / (kxb - kxa) if (kx_end - kx) * sx >= 0.0 else 2.0
+        ty = (ky - kya) / (kyb - kya) if (ky_end - ky) * sy >= 0.0 else 2.0
+        tb = min(tx, ty, 1.0)
+        best = min(best, _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb))
+        if tb >= 1.0:
+            return best
+        if tx <= tb:
+            kx += sx
+        if ty <= tb:
+            ky += sy
+        ta = tb
+
+
+@njit(cache=True, nogil=True)
+def _min_altitudes(coef, x0, y0, dx, dy, lipschitz, a, b, ga, gb, known, threshold, out):
+    """Minimum altitude of segments ``a[k] -> b[k]``: the lower bound where it already clears
+    ``threshold``, the exact walk elsewhere."""
+    for k in range(a.shape[0]):
+        px, py, pz, qx, qy, qz = a[k, 0], a[k, 1], a[k, 2], b[k, 0], b[k, 1], b[k, 2]
+        if known:
+            g_a, g_b = ga[k], gb[k]
+        else:
+            g_a = pz - _elevation(coef, x0, y0, dx, dy, px, py)
+            g_b = qz - _elevation(coef, x0, y0, dx, dy, qx, qy)
+        bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.hypot(qx - px, qy - py)))
+        out[k] = bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
