@@ -27,11 +27,14 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from .world import World
+from .world.terrain import elevation_kernel, min_altitude_kernel
 
 __all__ = ["CostModel", "CostTerms", "evaluate_paths", "segment_energy"]
 
@@ -118,24 +121,13 @@ class CostTerms:
         }
 
 
-def _segment_slack(world: World, a: np.ndarray, b: np.ndarray, exact: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Minimum slack of every constraint along segments ``a -> b`` (..., 3), and the geometric
-    clearance (altitude above the seabed, distance to static obstacles).
-
-    Values below zero are always exact; with ``exact=False`` positive terrain slack may be a
-    provable lower bound instead of the exact value.
-    """
+def _obstacle_slack(world: World, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least slack (m, margin included) and geometric clearance of the segments ``a -> b``
+    ``(P, S - 1, 3)`` to the static obstacles."""
     m = world.margins
+    slack = np.full(a.shape[:-1], np.inf)
+    clearance = np.full(a.shape[:-1], np.inf)
     ends = np.stack([a, b], axis=-2)
-    # convex constraints (depth band, bounds): the end points decide
-    z = np.stack([a[..., 2], b[..., 2]], axis=-1)
-    slack = np.minimum((-z - m.min_depth).min(axis=-1), (m.max_depth + z).min(axis=-1))
-    slack = np.minimum(slack, world.bounds.slack(ends).min(axis=-1))
-    clearance = np.full(slack.shape, np.inf)
-    if world.terrain is not None:
-        alt = world.terrain.segment_min_altitude(ends, threshold=np.inf if exact else m.min_altitude)
-        clearance = alt
-        slack = np.minimum(slack, alt - m.min_altitude)
     for shape in world.obstacles:
         d = np.minimum(shape.distance(a), shape.distance(b))
         touch = shape.segments_hit(ends, 0.0)
@@ -161,29 +153,97 @@ def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel,
     blocked : ndarray of bool
         Where the current beats the vehicle (no ground speed along the segment).
     """
-    d = b - a
-    ds = np.linalg.norm(d, axis=-1)
-    if current is None:
-        mid = 0.5 * (a + b)
-        current = world.currents.velocity(mid.reshape(-1, 3)).reshape(mid.shape)
-    c = current
-    safe_ds = np.where(ds > 0, ds, 1.0)
-    s_hat = d / safe_ds[..., None]
-    c_par = np.einsum("...i,...i->...", c, s_hat)
-    c_perp2 = np.maximum(np.einsum("...i,...i->...", c, c) - c_par**2, 0.0)
-    V = model.speed
-    disc = V * V - c_perp2
-    root = np.sqrt(np.maximum(disc, 0.0))
+    arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
+    lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
+    a, b, *c = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
+    c = world.currents.velocity(0.5 * (a + b)) if current is None else c[0]
+    units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
+    blocked = np.empty(a.shape[0], dtype=bool)
+    _segment_energies(a, b, c, model.speed, _power(model), model.energy == "document", units, energy_j, dt, blocked)
+    return units.reshape(lead), energy_j.reshape(lead), dt.reshape(lead), blocked.reshape(lead)
+
+
+def _power(model: CostModel) -> float:
+    return model.hotel_power + model.drag_k * model.speed**3
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _energy_kernel(ex, ey, ez, cx, cy, cz, speed, power, document):
+    """One segment ``e`` in the current ``c``: track tangent ŝ, c∥ = c·ŝ, c⊥² = |c|² - c∥², ground
+    speed c∥ + √(V² - c⊥²), time, energy (module notes).  Returns ``(units, joules, seconds,
+    blocked)``; blocked where V < c⊥ or the ground speed is not positive."""
+    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+    c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0
+    c2 = cx * cx + cy * cy + cz * cz
+    disc = speed * speed - max(c2 - c_par * c_par, 0.0)
+    root = math.sqrt(max(disc, 0.0))
     vg = c_par + root
-    blocked = ((disc < 0) | (vg <= 1e-9)) & (ds > 0)
-    vg_safe = np.where(blocked | (vg <= 0), V, vg)
-    dt = np.where(ds > 0, ds / vg_safe, 0.0)
-    energy_j = (model.hotel_power + model.drag_k * V**3) * dt
-    if model.energy == "physical":
-        return energy_j, energy_j, dt, blocked
-    vh = np.abs(root + c_par)
-    voc = np.maximum(np.sqrt(np.einsum("...i,...i->...", c, c)), 1e-3)
-    return vh**3 * ds / voc, energy_j, dt, blocked
+    blocked = (disc < 0.0 or vg <= 1e-9) and ds > 0.0
+    t = ds / (speed if (blocked or vg <= 0.0) else vg) if ds > 0.0 else 0.0
+    units = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3) if document else power * t
+    return units, power * t, t, blocked
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _segment_energies(a, b, c, speed, power, document, units, energy_j, dt, blocked):
+    for k in range(a.shape[0]):
+        units[k], energy_j[k], dt[k], blocked[k] = _energy_kernel(
+            b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2], c[k, 0], c[k, 1], c[k, 2], speed, power, document
+        )
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _point_slack(x, y, z, box, min_depth, max_depth):
+    """Slack of the convex constraints at one point: depth band and bounds ``box (6,)``."""
+    return min(-z - min_depth, max_depth + z, x - box[0], box[1] - x, y - box[2], box[3] - y,
+               z - box[4], box[5] - z)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_terrain, min_altitude, threshold,
+                box, min_depth, max_depth, speed, power, document, out):
+    """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
+
+    ``out (7, P)`` receives length, violations, violation depth, energy units, joules, seconds and
+    the least clearance.  The convex constraints are decided by the end points (each point is
+    visited once), the seabed by the terrain's compiled segment test, the obstacles come in as
+    ``other_slack`` / ``other_clear`` (P, S - 1).
+    """
+    coef, x0, y0, dx, dy, lipschitz = terrain
+    for i in range(p.shape[0]):
+        length = viol = depth = units = joules = seconds = 0.0
+        clear = math.inf
+        px, py, pz = p[i, 0, 0], p[i, 0, 1], p[i, 0, 2]
+        s_p = _point_slack(px, py, pz, box, min_depth, max_depth)
+        g_p = pz - elevation_kernel(coef, x0, y0, dx, dy, px, py) if has_terrain else math.inf
+        for s in range(p.shape[1] - 1):
+            qx, qy, qz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
+            s_q = _point_slack(qx, qy, qz, box, min_depth, max_depth)
+            slack = min(s_p, s_q)
+            c = math.inf
+            if has_terrain:
+                g_q = qz - elevation_kernel(coef, x0, y0, dx, dy, qx, qy)
+                c = min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_p, g_q, threshold)
+                slack = min(slack, c - min_altitude)
+                g_p = g_q
+            if has_other:
+                slack = min(slack, other_slack[i, s])
+                c = min(c, other_clear[i, s])
+            ex, ey, ez = qx - px, qy - py, qz - pz
+            u, j, t, blocked = _energy_kernel(ex, ey, ez, current[i, s, 0], current[i, s, 1], current[i, s, 2],
+                                              speed, power, document)
+            length += math.sqrt(ex * ex + ey * ey + ez * ez)
+            units += u
+            joules += j
+            seconds += t
+            clear = min(clear, c)
+            if slack < 0.0:
+                depth -= slack
+            if slack < 0.0 or blocked:
+                viol += 1.0
+            px, py, pz, s_p = qx, qy, qz, s_q
+        out[0, i], out[1, i], out[2, i], out[3, i] = length, viol, depth, units
+        out[4, i], out[5, i], out[6, i] = joules, seconds, clear
 
 
 def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bool = False) -> CostTerms:
@@ -195,29 +255,39 @@ def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bo
     p = np.asarray(points, dtype=float)
     if p.ndim == 2:
         p = p[None]
+    p = np.ascontiguousarray(p)
     a, b = p[:, :-1], p[:, 1:]
-    d = b - a
-    ds = np.linalg.norm(d, axis=-1)
-    length = ds.sum(axis=-1)
-    slack, clearance = _segment_slack(world, a, b, exact)
-    bad = slack < 0
-    depth = np.where(bad, -slack, 0.0)
-    energy_units, energy_j, dt, blocked = segment_energy(world, a, b, model)
-    energy_j = energy_j.sum(axis=-1)
-    duration = dt.sum(axis=-1)
-    energy_units = energy_units.sum(axis=-1)
-    bad_any = bad | blocked
-    violations = bad_any.sum(axis=-1)
-    terrain = model.terrain_penalty * violations + model.violation_slope * depth.sum(axis=-1)
-    energy = model.scale * energy_units
-    total = model.w_length * length + model.w_terrain * terrain + model.w_energy * energy
+    current = np.ascontiguousarray(world.currents.velocity(0.5 * (a + b)))
+    if world.obstacles:
+        other_slack, other_clear = _obstacle_slack(world, a, b)
+    else:
+        other_slack = other_clear = np.empty((0, 0))
+    m, bd = world.margins, world.bounds
+    terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
+    out = np.empty((7, p.shape[0]))
+    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, world.terrain is not None,
+                m.min_altitude, np.inf if exact else m.min_altitude,
+                np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
+                model.speed, _power(model), model.energy == "document", out)
+    length, violations, depth, units, energy_j, duration, clearance = out
+    violations = violations.astype(np.intp)
+    terrain_cost = model.terrain_penalty * violations + model.violation_slope * depth
+    energy = model.scale * units
+    total = model.w_length * length + model.w_terrain * terrain_cost + model.w_energy * energy
     return CostTerms(
         total=total,
         length=length,
-        terrain=terrain,
+        terrain=terrain_cost,
         energy=energy,
         energy_j=energy_j,
         duration_s=duration,
         violations=violations,
-        min_clearance=clearance.min(axis=-1),
+        min_clearance=clearance,
     )
+
+
+def _no_terrain() -> tuple:
+    """The kernel's terrain argument for a world without a seabed (typed like a real one, never read)."""
+    coef = np.zeros((1, 1, 4))
+    coef.setflags(write=False)
+    return coef, 0.0, 0.0, 1.0, 1.0, 0.0

@@ -70,7 +70,12 @@ def basis_matrix(n_control: int, n_samples: int, order: int = 0) -> np.ndarray:
 def sample_population(control: np.ndarray, n_samples: int, order: int = 0) -> np.ndarray:
     """Sample clamped cubic B-splines of many paths at once: ``(P, K, 3) -> (P, S, 3)``."""
     c = np.asarray(control, dtype=float)
-    return np.einsum("sk,...kd->...sd", basis_matrix(c.shape[-2], n_samples, order), c)
+    lead, k = c.shape[:-2], c.shape[-2]
+    basis = basis_matrix(k, n_samples, order)
+    # one matrix product for the whole population: (S, K) @ (K, P·3)
+    flat = np.moveaxis(c.reshape((-1, k, 3)), 1, 0).reshape(k, -1)
+    out = (basis @ flat).reshape(n_samples, -1, 3)
+    return np.ascontiguousarray(np.moveaxis(out, 0, 1)).reshape(lead + (n_samples, 3))
 
 
 def polyline_length(points) -> np.ndarray:

@@ -28,7 +28,7 @@ from numba import njit
 
 from ..errors import DataError
 
-__all__ = ["Terrain"]
+__all__ = ["Terrain", "elevation_kernel", "min_altitude_kernel"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,6 +107,12 @@ class Terrain:
         return float(self.y[1] - self.y[0])
 
     @property
+    def kernel_data(self) -> tuple:
+        """``(coef, x0, y0, dx, dy, max_slope)``: the leading arguments of the compiled
+        :func:`elevation_kernel` (first five) and :func:`min_altitude_kernel` (all six)."""
+        return self._coef, self._x0, self._y0, self.dx, self.dy, self._lipschitz
+
+    @property
     def extent(self) -> tuple[float, float, float, float]:
         """``(xmin, xmax, ymin, ymax)`` of the grid (m)."""
         return float(self.x[0]), float(self.x[-1]), float(self.y[0]), float(self.y[-1])
@@ -125,7 +131,7 @@ class Terrain:
         """Bilinear seabed elevation at ``(x, y)`` (broadcasting arrays, m)."""
         bx, by = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         out = np.empty(bx.shape)
-        _elevations(self._coef, self._x0, self._y0, self.dx, self.dy, bx.ravel(), by.ravel(), out.reshape(-1))
+        _elevations(*self.kernel_data[:5], bx.ravel(), by.ravel(), out.reshape(-1))
         return out[()]
 
     def elevation_at(self, x: float, y: float) -> float:
@@ -212,8 +218,7 @@ class Terrain:
             ga, gb = (np.ascontiguousarray(np.broadcast_to(np.asarray(g, dtype=float), lead).reshape(-1))
                       for g in end_altitudes)
             known = True
-        _min_altitudes(self._coef, self._x0, self._y0, self.dx, self.dy, self._lipschitz,
-                       a, b, ga, gb, known, float(threshold), out)
+        _min_altitudes(*self.kernel_data, a, b, ga, gb, known, float(threshold), out)
         return out.reshape(lead)
 
     def segments_below(self, segments, altitude: float = 0.0) -> np.ndarray:
@@ -251,16 +256,17 @@ class Terrain:
 
 
 # ---------------------------------------------------------------------- compiled kernels
-@njit(cache=True, nogil=True, inline="always")
+@njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _cell(f: float, cells: int) -> int:
     """Index of the cell holding grid coordinate ``f``, clamped to ``[0, cells - 1]``."""
     i = math.floor(f)
     return 0 if i < 0 else (cells - 1 if i > cells - 1 else int(i))
 
 
-@njit(cache=True, nogil=True)
-def _elevation(coef, x0, y0, dx, dy, x, y):
-    """Bilinear elevation of one point (coordinates clamped to the grid)."""
+@njit(cache=True, nogil=True, error_model="numpy")
+def elevation_kernel(coef, x0, y0, dx, dy, x, y):
+    """Compiled :meth:`Terrain.elevation` of one point (the arguments before ``x`` are
+    :attr:`Terrain.kernel_data`)."""
     if not (x == x and y == y):
         return math.nan
     fx = (x - x0) / dx
@@ -272,13 +278,13 @@ def _elevation(coef, x0, y0, dx, dy, x, y):
     return coef[j, i, 0] + coef[j, i, 1] * u + coef[j, i, 2] * v + coef[j, i, 3] * u * v
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _elevations(coef, x0, y0, dx, dy, x, y, out):
     for k in range(x.size):
-        out[k] = _elevation(coef, x0, y0, dx, dy, x[k], y[k])
+        out[k] = elevation_kernel(coef, x0, y0, dx, dy, x[k], y[k])
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
     """Minimum altitude over ``p + t e``, ``t in [ta, tb]``, a piece inside one cell: the bilinear
     surface is a quadratic in t there, so the minimum is at an end or at the vertex."""
@@ -307,7 +313,7 @@ def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
     return best
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _crossings(pa, pb, origin, step, lines):
     """First grid line crossed from ``pa`` to ``pb``, the last one and the direction (+1/-1), and
     the ends in grid units; lines ``0 .. lines`` exist.  ``first`` past ``last`` means none."""
@@ -320,7 +326,7 @@ def _crossings(pa, pb, origin, step, lines):
     return 1.0, 0.0, 1.0, ka, kb
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
     """Exact minimum altitude along the segment ``p -> q``: split at every grid line it crosses,
     in order of the segment parameter, and take the least piece minimum."""
@@ -343,16 +349,22 @@ def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
         ta = tb
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
+def min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_a, g_b, threshold):
+    """Compiled :meth:`Terrain.segment_min_altitude` of one segment ``p -> q`` with end altitudes
+    ``g_a, g_b`` (the arguments before ``px`` are :attr:`Terrain.kernel_data`): the lower bound
+    where it already clears ``threshold``, the exact walk elsewhere."""
+    bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.hypot(qx - px, qy - py)))
+    return bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
 def _min_altitudes(coef, x0, y0, dx, dy, lipschitz, a, b, ga, gb, known, threshold, out):
-    """Minimum altitude of segments ``a[k] -> b[k]``: the lower bound where it already clears
-    ``threshold``, the exact walk elsewhere."""
     for k in range(a.shape[0]):
         px, py, pz, qx, qy, qz = a[k, 0], a[k, 1], a[k, 2], b[k, 0], b[k, 1], b[k, 2]
         if known:
             g_a, g_b = ga[k], gb[k]
         else:
-            g_a = pz - _elevation(coef, x0, y0, dx, dy, px, py)
-            g_b = qz - _elevation(coef, x0, y0, dx, dy, qx, qy)
-        bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.hypot(qx - px, qy - py)))
-        out[k] = bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
+            g_a = pz - elevation_kernel(coef, x0, y0, dx, dy, px, py)
+            g_b = qz - elevation_kernel(coef, x0, y0, dx, dy, qx, qy)
+        out[k] = min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_a, g_b, threshold)

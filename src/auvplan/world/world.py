@@ -41,9 +41,10 @@ class Bounds:
     def slack(self, points) -> np.ndarray:
         """Signed distance to the nearest face, positive inside (m)."""
         p = as_points(points)
-        lo = np.array([self.xmin, self.ymin, self.zmin])
-        hi = np.array([self.xmax, self.ymax, self.zmax])
-        return np.minimum(p - lo, hi - p).min(axis=-1)
+        x, y, z = p[..., 0], p[..., 1], p[..., 2]
+        return np.minimum.reduce(
+            [x - self.xmin, self.xmax - x, y - self.ymin, self.ymax - y, z - self.zmin, self.zmax - z]
+        )
 
     def contains(self, points) -> np.ndarray:
         """True where points lie inside the box (faces included)."""
