@@ -31,8 +31,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from ._jit import kernel
 from .world import World
 from .world.terrain import elevation_kernel, min_altitude_kernel
 
@@ -167,12 +167,11 @@ def _power(model: CostModel) -> float:
     return model.hotel_power + model.drag_k * model.speed**3
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
-def _energy_kernel(ex, ey, ez, cx, cy, cz, speed, power, document):
-    """One segment ``e`` in the current ``c``: track tangent ŝ, c∥ = c·ŝ, c⊥² = |c|² - c∥², ground
-    speed c∥ + √(V² - c⊥²), time, energy (module notes).  Returns ``(units, joules, seconds,
-    blocked)``; blocked where V < c⊥ or the ground speed is not positive."""
-    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+@kernel
+def _energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document):
+    """One segment ``e`` of length ``ds`` in the current ``c``: track tangent ŝ, c∥ = c·ŝ,
+    c⊥² = |c|² - c∥², ground speed c∥ + √(V² - c⊥²), time, energy (module notes).  Returns
+    ``(units, joules, seconds, blocked)``; blocked where V < c⊥ or the ground speed is not positive."""
     c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0
     c2 = cx * cx + cy * cy + cz * cz
     disc = speed * speed - max(c2 - c_par * c_par, 0.0)
@@ -184,22 +183,23 @@ def _energy_kernel(ex, ey, ez, cx, cy, cz, speed, power, document):
     return units, power * t, t, blocked
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _segment_energies(a, b, c, speed, power, document, units, energy_j, dt, blocked):
     for k in range(a.shape[0]):
-        units[k], energy_j[k], dt[k], blocked[k] = _energy_kernel(
-            b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2], c[k, 0], c[k, 1], c[k, 2], speed, power, document
-        )
+        ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
+        ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+        units[k], energy_j[k], dt[k], blocked[k] = _energy_kernel(ex, ey, ez, ds, c[k, 0], c[k, 1], c[k, 2],
+                                                                  speed, power, document)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _point_slack(x, y, z, box, min_depth, max_depth):
     """Slack of the convex constraints at one point: depth band and bounds ``box (6,)``."""
     return min(-z - min_depth, max_depth + z, x - box[0], box[1] - x, y - box[2], box[3] - y,
                z - box[4], box[5] - z)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_terrain, min_altitude, threshold,
                 box, min_depth, max_depth, speed, power, document, out):
     """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
@@ -230,9 +230,10 @@ def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_te
                 slack = min(slack, other_slack[i, s])
                 c = min(c, other_clear[i, s])
             ex, ey, ez = qx - px, qy - py, qz - pz
-            u, j, t, blocked = _energy_kernel(ex, ey, ez, current[i, s, 0], current[i, s, 1], current[i, s, 2],
+            ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+            u, j, t, blocked = _energy_kernel(ex, ey, ez, ds, current[i, s, 0], current[i, s, 1], current[i, s, 2],
                                               speed, power, document)
-            length += math.sqrt(ex * ex + ey * ey + ez * ez)
+            length += ds
             units += u
             joules += j
             seconds += t

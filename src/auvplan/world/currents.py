@@ -17,9 +17,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 from scipy.interpolate import RegularGridInterpolator
 
+from .._jit import kernel
 from ..errors import DataError
 from ..geometry import as_points
 
@@ -208,7 +208,7 @@ class GriddedCurrent(CurrentField):
         return float(np.sqrt(np.asarray(self.u) ** 2 + np.asarray(self.v) ** 2).max())
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _vortex_q(points, centers, delta, q):
     """q[k, m] = r²/δ² of point k from vortex m."""
     for k in range(points.shape[0]):
@@ -218,7 +218,7 @@ def _vortex_q(points, centers, delta, q):
             q[k, m] = (rx * rx + ry * ry) / (delta[m] * delta[m])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _vortex_sum(points, centers, gamma, delta, q, e, out):
     """Sum of the vortex velocities into ``out (N, 3)`` from q = r²/δ² and e = exp(-q).
 

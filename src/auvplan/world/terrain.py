@@ -24,8 +24,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
+from .._jit import kernel
 from ..errors import DataError
 
 __all__ = ["Terrain", "elevation_kernel", "min_altitude_kernel"]
@@ -256,14 +256,14 @@ class Terrain:
 
 
 # ---------------------------------------------------------------------- compiled kernels
-@njit(cache=True, nogil=True, error_model="numpy", inline="always")
+@kernel(inline="always")
 def _cell(f: float, cells: int) -> int:
     """Index of the cell holding grid coordinate ``f``, clamped to ``[0, cells - 1]``."""
     i = math.floor(f)
     return 0 if i < 0 else (cells - 1 if i > cells - 1 else int(i))
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def elevation_kernel(coef, x0, y0, dx, dy, x, y):
     """Compiled :meth:`Terrain.elevation` of one point (the arguments before ``x`` are
     :attr:`Terrain.kernel_data`)."""
@@ -278,13 +278,13 @@ def elevation_kernel(coef, x0, y0, dx, dy, x, y):
     return coef[j, i, 0] + coef[j, i, 1] * u + coef[j, i, 2] * v + coef[j, i, 3] * u * v
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _elevations(coef, x0, y0, dx, dy, x, y, out):
     for k in range(x.size):
         out[k] = elevation_kernel(coef, x0, y0, dx, dy, x[k], y[k])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
     """Minimum altitude over ``p + t e``, ``t in [ta, tb]``, a piece inside one cell: the bilinear
     surface is a quadratic in t there, so the minimum is at an end or at the vertex."""
@@ -313,7 +313,7 @@ def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
     return best
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _crossings(pa, pb, origin, step, lines):
     """First grid line crossed from ``pa`` to ``pb``, the last one and the direction (+1/-1), and
     the ends in grid units; lines ``0 .. lines`` exist.  ``first`` past ``last`` means none."""
@@ -326,7 +326,7 @@ def _crossings(pa, pb, origin, step, lines):
     return 1.0, 0.0, 1.0, ka, kb
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
     """Exact minimum altitude along the segment ``p -> q``: split at every grid line it crosses,
     in order of the segment parameter, and take the least piece minimum."""
@@ -349,16 +349,16 @@ def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
         ta = tb
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_a, g_b, threshold):
     """Compiled :meth:`Terrain.segment_min_altitude` of one segment ``p -> q`` with end altitudes
     ``g_a, g_b`` (the arguments before ``px`` are :attr:`Terrain.kernel_data`): the lower bound
     where it already clears ``threshold``, the exact walk elsewhere."""
-    bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.hypot(qx - px, qy - py)))
+    bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.sqrt((qx - px) ** 2 + (qy - py) ** 2)))
     return bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _min_altitudes(coef, x0, y0, dx, dy, lipschitz, a, b, ga, gb, known, threshold, out):
     for k in range(a.shape[0]):
         px, py, pz, qx, qy, qz = a[k, 0], a[k, 1], a[k, 2], b[k, 0], b[k, 1], b[k, 2]
