@@ -155,9 +155,10 @@ def test_dynamic_terrain_pipeline():
 
 
 def test_run_cli_json_and_files(tmp_path, capsys):
-    code = main(["run", "track-double", "--json", "--out", str(tmp_path / "o")])
+    code = main(["run", "track-double", "--seed", "7", "--json", "--out", str(tmp_path / "o")])
     rec = json.loads(capsys.readouterr().out)
     assert code == 0 and rec["status"] == "EXACT" and rec["plan"] is None
+    assert rec["seed"] == 7  # the seed the run used, not the scenario's
     assert rec["simulation"]["arrived"] is True
     for f in ("run.json", "sim_metrics.json", "track.csv", "route.csv", "keys.csv", "scenario.toml"):
         assert (tmp_path / "o" / f).is_file()

@@ -324,7 +324,11 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
 
 @dataclass(frozen=True, eq=False)
 class RunRecord:
-    """Everything one mission produced: the plan, the route flown, its key waypoints, the run."""
+    """Everything one mission produced: the plan, the route flown, its key waypoints, the run.
+
+    ``seed`` is the integer seed the run used (the mission's unless another was given; -1 when a
+    ``numpy.random.Generator`` was passed instead of a seed).
+    """
 
     scenario: str
     seed: int
@@ -354,16 +358,17 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
     simulation (its status says why).
     """
     seed = mission.seed if rng is None else rng
+    recorded = int(seed) if isinstance(seed, int | np.integer) else -1
     planned = None
     if mission.route:
         route = np.asarray(mission.route, dtype=float)
     else:
         planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
         if not planned.status.ok:
-            return RunRecord(mission.name, int(mission.seed), planned, np.empty((0, 3)), np.empty((0, 3)), None)
+            return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
         length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
         spacing = max(4.0 * mission.hybrid.switch_radius, length / 200.0)
         route = route_from_path(planned.path, spacing)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
-    return RunRecord(mission.name, int(mission.seed), planned, route, keys, result)
+    return RunRecord(mission.name, recorded, planned, route, keys, result)
