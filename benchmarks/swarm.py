@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.io import scenario as sc
-from auvplan.planners import PLANNERS, plan
+from auvplan.planners import PLANNERS, SWARM, plan
 from auvplan.planners.swarm import make_objective, search_box
 from auvplan.sim import planning_problem
 
@@ -183,7 +183,7 @@ def paths_figure(world, mission, path: Path) -> None:
     from auvplan.viz.plots import algorithm_paths
 
     prob = planning_problem(world, mission)
-    paths = {n: plan(prob, replace(mission.planner, name=n), rng=0).path for n in ("iabc", "abc", "ga", "pso")}
+    paths = {n: plan(prob, replace(mission.planner, name=n), rng=0).path for n in SWARM}
     paths["grid reference"] = plan(prob, replace(mission.planner, name="grid")).path
     algorithm_paths(world, paths).savefig(path, dpi=150)
 

@@ -54,3 +54,15 @@ def test_plan_budget_is_respected(tmp_path, capsys):
 
 def test_unknown_planner_is_usage_error(capsys):
     assert main(["plan", "marcus-wake", "--planner", "dijkstra"]) == 2
+
+
+def test_progress_bar_only_for_iterating_planners():
+    """The swarm optimisers report iterations; grid and flow would show a bar stuck at 0 — none is shown."""
+    from auvplan.cli import _Progress
+    from auvplan.planners import PlannerSpec
+
+    for name, shown in (("iabc", True), ("pso", True), ("grid", False), ("flow", False)):
+        bar = _Progress(PlannerSpec(name=name), "scene", quiet=False)
+        assert bar.bar.disable is not shown
+        bar.close()
+    assert _Progress(PlannerSpec(name="iabc"), "scene", quiet=True).bar.disable

@@ -19,7 +19,7 @@ from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
-from .planners import PLANNERS, plan, reference, with_reference
+from .planners import PLANNERS, SWARM, plan, reference, with_reference
 from .sim import planning_problem, run_mission, simulate
 
 __all__ = ["main", "main_entry"]
@@ -33,10 +33,12 @@ DEMO_SCENARIO = "dynamic-terrain"
 class _Progress:
     """A tqdm bar on stderr for iterative work (silent when stderr is not a terminal and quiet)."""
 
-    def __init__(self, total: int, desc: str, quiet: bool) -> None:
+    def __init__(self, spec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        self.bar = tqdm(total=total, desc=desc, file=sys.stderr, disable=quiet, leave=False, mininterval=0.5)
+        # only the swarm optimisers iterate; the grid and flow planners would show a bar stuck at 0
+        self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
+                        disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
 
     def __call__(self, iteration: int, best: float) -> None:
         self.bar.update(iteration - self.bar.n)
@@ -83,7 +85,7 @@ def _plan(args, quiet: bool):
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(spec.iterations, f"{spec.name} on {sc.name}", quiet)
+    bar = _Progress(spec, sc.name, quiet)
     problem = planning_problem(world, mission)
     try:
         result = plan(problem, spec, seed, bar)
@@ -117,7 +119,7 @@ def _cmd_simulate(args) -> int:
     seed = sc.seed if args.seed is None else args.seed
     route = mission.route
     if not route:
-        bar = _Progress(mission.planner.iterations, f"{mission.planner.name} on {sc.name}", False)
+        bar = _Progress(mission.planner, sc.name, False)
         try:
             planned = plan(planning_problem(world, mission), mission.planner, seed, bar)
         finally:
@@ -142,7 +144,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if seed is None else seed
-    bar = _Progress(mission.planner.iterations, f"{mission.planner.name} on {sc.name}", False)
+    bar = _Progress(mission.planner, sc.name, False)
     try:
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance)
     finally:

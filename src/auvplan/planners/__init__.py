@@ -1,11 +1,11 @@
 """Global planners: swarm optimisers over B-splines (document 002) and streamlines (document 000)."""
 
-from .base import PLANNERS, GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .base import PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .flow import plan_flow
 from .grid import GridReference, plan_grid, with_reference
 from .swarm import plan_swarm
 
-__all__ = ["PLANNERS", "GridParams", "GridReference", "PlanResult", "PlannerSpec", "PlanningProblem", "plan",
+__all__ = ["PLANNERS", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerSpec", "PlanningProblem", "plan",
            "plan_flow", "plan_grid", "plan_swarm", "reference", "with_reference"]
 
 

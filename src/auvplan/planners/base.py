@@ -13,9 +13,11 @@ from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
 
-__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS"]
+__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS", "SWARM"]
 
 PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid")
+SWARM = ("iabc", "abc", "ga", "pso")
+"""The planners that iterate (and call ``progress(iteration, best)``)."""
 """Planner names: the four swarm optimisers (document 002), the streamline planner (document 000)
 and the lattice reference planner."""
 

@@ -38,7 +38,7 @@ from ..cost import CostModel, evaluate_paths, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
-from .base import GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .swarm import check_endpoints, cost_model_for, plan_terms, search_box
 
 __all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "path_cost", "with_reference"]
@@ -411,6 +411,5 @@ def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSp
     path re-costed on the same cost function (so streamline plans compare too)."""
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
-    swarm = result.planner in ("iabc", "abc", "ga", "pso")
-    own = result.cost if swarm else path_cost(problem, spec, result.path)["total"]
+    own = result.cost if result.planner in SWARM else path_cost(problem, spec, result.path)["total"]
     return replace(result, cost=float(own), reference_cost=float(reference.cost))
