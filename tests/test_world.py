@@ -88,6 +88,31 @@ def test_gridded_current_is_linear_in_space_and_time():
     assert np.allclose(g.velocity([[123.0, 321.0, -500.0]], 0.0)[0, 0], 0.001 * 123 + 0.002 * 321 - 0.3)
 
 
+@pytest.mark.parametrize("levels, times", [(4, 3), (1, 1), (3, 1)])
+def test_gridded_current_matches_scipy_on_uneven_axes(levels, times):
+    """Independent oracle: scipy's RegularGridInterpolator on random data and uneven axes, with
+    points and times outside the grid clamped to its faces."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    rng = np.random.default_rng(levels * 10 + times)
+    x = np.cumsum(rng.uniform(50, 400, 9))
+    y = np.cumsum(rng.uniform(50, 400, 7))
+    z = -np.cumsum(rng.uniform(10, 300, levels))[::-1]
+    t = np.cumsum(rng.uniform(100, 900, times))
+    u, v, w = (rng.normal(size=(times, levels, y.size, x.size)) for _ in range(3))
+    g = GriddedCurrent(x, y, z, u, v, w, t if times > 1 else None)
+    p = rng.uniform([x[0] - 300, y[0] - 300, z[0] - 100], [x[-1] + 300, y[-1] + 300, z[-1] + 100], (2000, 3))
+    for when in (t[0] - 50.0, t[0] + 0.37 * (t[-1] - t[0]), t[-1] + 50.0):
+        got = g.velocity(p, when if times > 1 else 0.0)
+        axes = [a if a.size > 1 else np.r_[a, a + 1.0] for a in (t, z, y, x)]
+        data = np.stack([u, v, w], axis=-1)
+        data = np.tile(data, [2 if a.size == 1 else 1 for a in (t, z, y, x)] + [1])
+        lo, hi = [a[0] for a in axes], [a[-1] for a in axes]
+        q = np.clip(np.c_[np.full(len(p), when), p[:, 2], p[:, 1], p[:, 0]], lo, hi)
+        want = RegularGridInterpolator(axes, data)(q)
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12)
+
+
 def test_world_rejects_current_grid_that_does_not_cover_bounds():
     x = np.linspace(0, 500, 3)
     g = GriddedCurrent(x, x, np.zeros(1), np.zeros((1, 3, 3)), np.zeros((1, 3, 3)), name="small")

@@ -6,7 +6,8 @@
   vertical **vorticity** of the vortex (1/s), not a vertical velocity: it is
   offered as :meth:`LambOseenVortices.vorticity` and the vertical velocity is 0.
 * :class:`GriddedCurrent` — u, v (and optionally w) on an (x, y, z[, t]) grid,
-  interpolated linearly in space and time (``scipy.interpolate.RegularGridInterpolator``).
+  interpolated linearly in space and time (a compiled loop; checked against
+  ``scipy.interpolate.RegularGridInterpolator`` in the tests).
   Points outside the grid take the value at the nearest grid face (clamping); a
   world checks at build time that the grid covers its horizontal bounds.
 """
@@ -17,7 +18,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import RegularGridInterpolator
 
 from .._jit import kernel
 from ..errors import DataError
@@ -131,14 +131,18 @@ class GriddedCurrent(CurrentField):
     Parameters
     ----------
     x, y, z : ndarray
-        Ascending axes (m, local frame; ``z`` is elevation, negative below the surface).
-        ``z`` may have a single level (depth-independent current).
+        Ascending axes (m, local frame; ``z`` is elevation, negative below the surface);
+        they need not be uniform.  ``z`` may have a single level (depth-independent current).
     u, v : ndarray
         Eastward and northward velocity (m/s), shape ``(nt, nz, ny, nx)`` (or ``(nz, ny, nx)``).
     w : ndarray or None
         Upward velocity, same shape; zero when ``None``.
     t : ndarray or None
         Ascending time axis (s); ``None`` for a steady field.
+
+    Points and times outside the grid take the value at the nearest grid face (clamping); a
+    world checks at build time that the grid covers its horizontal bounds.  The interpolation
+    is one compiled loop over the points (bisection on each axis, 16-corner weights).
     """
 
     x: np.ndarray
@@ -149,53 +153,36 @@ class GriddedCurrent(CurrentField):
     w: np.ndarray | None = None
     t: np.ndarray | None = None
     name: str = ""
-    _interp: RegularGridInterpolator = field(init=False, repr=False)
-    _lo: np.ndarray = field(init=False, repr=False)
-    _hi: np.ndarray = field(init=False, repr=False)
+    _axes: tuple = field(init=False, repr=False)
+    _data: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         axes = [np.asarray(a, dtype=float).reshape(-1) for a in (self.x, self.y, self.z)]
-        tax = None if self.t is None else np.asarray(self.t, dtype=float).reshape(-1)
+        tax = np.zeros(1) if self.t is None else np.asarray(self.t, dtype=float).reshape(-1)
         comps = [np.asarray(c, dtype=float) for c in (self.u, self.v)]
         comps.append(np.zeros_like(comps[0]) if self.w is None else np.asarray(self.w, dtype=float))
-        nt = 1 if tax is None else tax.size
-        shape = (nt, axes[2].size, axes[1].size, axes[0].size)
+        shape = (tax.size, axes[2].size, axes[1].size, axes[0].size)
         for name, c in zip("uvw", comps):
             if c.size != int(np.prod(shape)):
                 raise DataError(f"current {self.name!r}: component {name} has shape {c.shape}, expected {shape}")
-        data = np.stack([c.reshape(shape) for c in comps], axis=-1)
+        data = np.ascontiguousarray(np.stack([c.reshape(shape) for c in comps], axis=-1))
         if not np.all(np.isfinite(data)):
             raise DataError(f"current {self.name!r}: velocity components contain NaN or infinite values")
-        for name, a in zip(("x", "y", "z"), axes):
-            if a.size > 1 and not np.all(np.diff(a) > 0):
-                raise DataError(f"current {self.name!r}: axis {name} must be strictly ascending")
-        if tax is not None and tax.size > 1 and not np.all(np.diff(tax) > 0):
-            raise DataError(f"current {self.name!r}: time axis must be strictly ascending")
+        for name, a in zip(("x", "y", "z", "time"), (*axes, tax)):
+            if not np.all(np.isfinite(a)) or (a.size > 1 and not np.all(np.diff(a) > 0)):
+                raise DataError(f"current {self.name!r}: axis {name} must be finite and strictly ascending")
         if axes[0].size < 2 or axes[1].size < 2:
             raise DataError(f"current {self.name!r}: the grid needs at least two x and two y nodes")
-        # singleton axes are duplicated so that the interpolator accepts them
-        grid_axes = []
-        for a in [np.zeros(1) if tax is None else tax, axes[2], axes[1], axes[0]]:
-            grid_axes.append(a if a.size > 1 else np.array([a[0], a[0] + 1.0]))
-        reps = [2 if a.size == 1 else 1 for a in [np.zeros(1) if tax is None else tax, axes[2], axes[1], axes[0]]]
-        data = np.tile(data, reps + [1])
-        interp = RegularGridInterpolator(tuple(grid_axes), data, method="linear", bounds_error=False, fill_value=None)
-        lo = np.array([a[0] for a in grid_axes])
-        hi = np.array([a[-1] for a in grid_axes])
-        object.__setattr__(self, "_interp", interp)
-        object.__setattr__(self, "_lo", lo)
-        object.__setattr__(self, "_hi", hi)
+        data.setflags(write=False)
+        object.__setattr__(self, "_axes", (tax, axes[2], axes[1], axes[0]))
+        object.__setattr__(self, "_data", data)
 
     def velocity(self, points, t: float = 0.0) -> np.ndarray:
         p = as_points(points)
-        flat = p.reshape(-1, 3)
-        q = np.empty((flat.shape[0], 4))
-        q[:, 0] = t
-        q[:, 1] = flat[:, 2]
-        q[:, 2] = flat[:, 1]
-        q[:, 3] = flat[:, 0]
-        q = np.clip(q, self._lo, self._hi)
-        return self._interp(q).reshape(p.shape)
+        flat = np.ascontiguousarray(p.reshape(-1, 3))
+        out = np.empty_like(flat)
+        _interpolate(self._data, *self._axes, flat, float(t), out)
+        return out.reshape(p.shape)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         x = np.asarray(self.x, dtype=float)
@@ -206,6 +193,48 @@ class GriddedCurrent(CurrentField):
     @property
     def max_speed(self) -> float:
         return float(np.sqrt(np.asarray(self.u) ** 2 + np.asarray(self.v) ** 2).max())
+
+
+@kernel
+def _locate(axis, value):
+    """``(i, w)`` with ``value`` between ``axis[i]`` and ``axis[i + 1]`` at weight ``w`` in [0, 1],
+    clamped to the ends; a single-node axis gives ``(0, 0)``.  The first guess assumes even
+    spacing, then the index walks to the right cell (one step on an even axis)."""
+    n = axis.size
+    if n == 1 or value <= axis[0]:
+        return 0, 0.0
+    if value >= axis[n - 1]:
+        return n - 2, 1.0
+    i = int((value - axis[0]) / (axis[n - 1] - axis[0]) * (n - 1))
+    i = min(max(i, 0), n - 2)
+    while value < axis[i]:
+        i -= 1
+    while value > axis[i + 1]:
+        i += 1
+    return i, (value - axis[i]) / (axis[i + 1] - axis[i])
+
+
+@kernel
+def _interpolate(data, taxis, zaxis, yaxis, xaxis, points, t, out):
+    """Quadrilinear interpolation of ``data (nt, nz, ny, nx, 3)`` at ``points (N, 3)``, time ``t``
+    (corners of zero weight, as on a single-node axis, are skipped)."""
+    it, wt = _locate(taxis, t)
+    for k in range(points.shape[0]):
+        iz, wz = _locate(zaxis, points[k, 2])
+        iy, wy = _locate(yaxis, points[k, 1])
+        ix, wx = _locate(xaxis, points[k, 0])
+        w00, w01, w10, w11 = (1.0 - wy) * (1.0 - wx), (1.0 - wy) * wx, wy * (1.0 - wx), wy * wx
+        out[k, 0] = out[k, 1] = out[k, 2] = 0.0
+        for dt in range(2):
+            a = wt if dt else 1.0 - wt
+            for dz in range(2):
+                ab = a * (wz if dz else 1.0 - wz)
+                if ab == 0.0:
+                    continue
+                ti, zi = it + dt, iz + dz
+                for c in range(3):
+                    out[k, c] += ab * (w00 * data[ti, zi, iy, ix, c] + w01 * data[ti, zi, iy, ix + 1, c]
+                                       + w10 * data[ti, zi, iy + 1, ix, c] + w11 * data[ti, zi, iy + 1, ix + 1, c])
 
 
 @kernel
