@@ -51,9 +51,7 @@ class Terrain:
     name: str = ""
     _coef: np.ndarray = field(init=False, repr=False)
     _lipschitz: float = field(init=False, repr=False)
-    _coef_list: list = field(init=False, repr=False, compare=False)
-    _x0: float = field(init=False, repr=False, compare=False)
-    _y0: float = field(init=False, repr=False, compare=False)
+    _kernel: tuple = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.x, dtype=float)
@@ -91,9 +89,8 @@ class Terrain:
         gx = np.maximum(np.abs(coef[..., 1]), np.abs(coef[..., 1] + coef[..., 3])) / (x[1] - x[0])
         gy = np.maximum(np.abs(coef[..., 2]), np.abs(coef[..., 2] + coef[..., 3])) / (y[1] - y[0])
         object.__setattr__(self, "_lipschitz", float(np.sqrt(gx**2 + gy**2).max()))
-        object.__setattr__(self, "_coef_list", self._coef.tolist())
-        object.__setattr__(self, "_x0", float(x[0]))
-        object.__setattr__(self, "_y0", float(y[0]))
+        kernel_data = (coef, float(x[0]), float(y[0]), float(x[1] - x[0]), float(y[1] - y[0]), self._lipschitz)
+        object.__setattr__(self, "_kernel", kernel_data)
 
     # ------------------------------------------------------------------ grid facts
     @property
@@ -110,7 +107,7 @@ class Terrain:
     def kernel_data(self) -> tuple:
         """``(coef, x0, y0, dx, dy, max_slope)``: the leading arguments of the compiled
         :func:`elevation_kernel` (first five) and :func:`min_altitude_kernel` (all six)."""
-        return self._coef, self._x0, self._y0, self.dx, self.dy, self._lipschitz
+        return self._kernel
 
     @property
     def extent(self) -> tuple[float, float, float, float]:
@@ -136,14 +133,7 @@ class Terrain:
 
     def elevation_at(self, x: float, y: float) -> float:
         """:meth:`elevation` of one point with plain floats (the simulator's per-step query)."""
-        fx = (x - self._x0) / self.dx
-        fy = (y - self._y0) / self.dy
-        i = min(max(math.floor(fx), 0), self.x.size - 2)
-        j = min(max(math.floor(fy), 0), self.y.size - 2)
-        u = min(max(fx - i, 0.0), 1.0)
-        v = min(max(fy - j, 0.0), 1.0)
-        a, b, c, e = self._coef_list[j][i]
-        return a + b * u + c * v + e * u * v
+        return elevation_kernel(*self._kernel[:5], x, y)
 
     def gradient(self, x, y) -> tuple[np.ndarray, np.ndarray]:
         """``(dzb/dx, dzb/dy)`` of the bilinear surface (zero slope across a clamped edge)."""
