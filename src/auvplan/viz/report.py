@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import html
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 import plotly.graph_objects as go
 import plotly.io as pio
 from plotly.subplots import make_subplots
 
-from ..sim import RunRecord
+from ..sim import RunRecord, decimate
 from ..world import Ellipsoid, Sphere, World
 
 __all__ = ["build_report", "build_bench_report", "figure_3d", "figure_plan_view", "figure_profiles",
@@ -239,7 +240,12 @@ th{background:#f3f3f3}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size
 
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: dict,
                  to_lonlat: Callable | None = None) -> str:
-    """The whole report as one HTML page that needs no network (plotly.js is inlined once)."""
+    """The whole report as one HTML page that needs no network (plotly.js is inlined once).
+
+    The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
+    or 30 s, with the extremes of altitude and obstacle distance)."""
+    if record.sim is not None:
+        record = replace(record, sim=decimate(record.sim))
     figs = [("view3d", figure_3d(world, record)), ("planview", figure_plan_view(world, record, to_lonlat)),
             ("profiles", figure_profiles(record)), ("convergence", figure_convergence(record))]
     parts = []
