@@ -20,7 +20,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
 from matplotlib.collections import LineCollection  # noqa: E402
 
 from ..sim import RunRecord  # noqa: E402

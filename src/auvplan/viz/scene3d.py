@@ -252,7 +252,8 @@ def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
         sliders=[dict(active=0, steps=steps, currentvalue=dict(prefix="t = ", font=dict(size=13)), x=0.06, len=0.9,
                       y=0.02, pad=dict(t=30, b=10), font=dict(size=9))],
         updatemenus=[dict(type="buttons", showactive=False, x=0.05, y=0.02, xanchor="right", yanchor="top", buttons=[
-            dict(label="▶", method="animate", args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True)]),
+            dict(label="▶", method="animate",
+                 args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True)]),
             dict(label="❚❚", method="animate",
                  args=[[None], dict(mode="immediate", frame=dict(duration=0, redraw=False))])])])
 
