@@ -101,7 +101,7 @@ def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return p[..., 0], p[..., 1], p[..., 2]
 
 
-def shape_mesh(shape, n: int = 12) -> tuple[np.ndarray, np.ndarray]:
+def shape_mesh(shape, n: int = 11) -> tuple[np.ndarray, np.ndarray]:
     """Vertices ``(V, 3)`` and triangles ``(F, 3)`` of a shape's surface (a closed mesh).
 
     Parameters
@@ -109,7 +109,8 @@ def shape_mesh(shape, n: int = 12) -> tuple[np.ndarray, np.ndarray]:
     shape : Sphere or Ellipsoid
         The shape, at its own centre.
     n : int
-        Grid size of :func:`shape_surface`.
+        Grid size of :func:`shape_surface`; odd, so that every vertex has its antipode and the
+        poles and the equator are vertices (the mesh's box is the shape's).
 
     Returns
     -------
@@ -212,7 +213,7 @@ def _labels(record: RunRecord) -> list:
     return traces
 
 
-def _moving_meshes(world: World, times: np.ndarray, n: int = 10) -> tuple[list, list]:
+def _moving_meshes(world: World, times: np.ndarray, n: int = 11) -> tuple[list, list]:
     """One mesh trace per moving obstacle at ``times[0]`` and its vertices at every time
     (empty while the obstacle does not exist)."""
     traces, frames = [], []
@@ -286,7 +287,7 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
     for t in _currents(world, path):
         fig.add_trace(t)
     for i, s in enumerate(world.obstacles):
-        trace = _mesh(*shape_mesh(s, 20), f"obstacle {i}", "firebrick", 0.7)
+        trace = _mesh(*shape_mesh(s, 21), f"obstacle {i}", "firebrick", 0.7)
         trace.update(meta=dict(kind="static", radius=float(s.bounding_radius)))
         fig.add_trace(trace)
     if record.plan is not None and record.plan.path.size:
