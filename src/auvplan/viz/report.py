@@ -16,6 +16,7 @@ import html
 from collections.abc import Callable
 
 import numpy as np
+import plotly.colors as pc
 import plotly.graph_objects as go
 import plotly.io as pio
 from plotly.subplots import make_subplots
@@ -110,14 +111,16 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
     cells: dict[str, list[dict]] = {}
     for r in rows:
         cells.setdefault(f"{r['scenario']} {r['planner']}/{r['guidance']}", []).append(r)
+    palette = pc.qualitative.Plotly + pc.qualitative.D3
+    colour = {name: palette[i % len(palette)] for i, name in enumerate(sorted(cells))}
     box = go.Figure()
     for name, rs in sorted(cells.items()):
         c = np.array([_num(r["cost"]) for r in rs])
-        box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers"))
+        box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers", marker_color=colour[name]))
     box.update_layout(title="plan cost per cell", yaxis_title="cost", height=450)
     names = sorted(cells)
     rate = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
-    bars = go.Figure(go.Bar(x=names, y=rate, marker_color="seagreen"))
+    bars = go.Figure(go.Bar(x=names, y=rate, marker_color=[colour[n] for n in names]))
     bars.update_layout(title="success rate", yaxis=dict(range=[0, 1.05]), height=380)
     conv = go.Figure()
     by_cell: dict[str, list[np.ndarray]] = {}
@@ -130,9 +133,11 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
         m = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hs])
         q25, q50, q75 = np.percentile(m, [25, 50, 75], axis=0)
         it = np.arange(1, n + 1)
+        c = colour.get(name, "gray")
         conv.add_trace(go.Scatter(x=np.r_[it, it[::-1]], y=np.r_[q75, q25[::-1]], fill="toself", opacity=0.2,
-                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name))
-        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})"))
+                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name, fillcolor=c))
+        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})",
+                                  line=dict(color=c)))
     conv.update_layout(title="convergence (best cost per iteration)", xaxis_title="iteration",
                        yaxis_title="best cost", height=450)
     parts = [pio.to_html(f, include_plotlyjs=(i == 0), full_html=False, div_id=d, config=dict(displaylogo=False))
