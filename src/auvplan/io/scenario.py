@@ -55,7 +55,7 @@ from ..world import (
     World,
 )
 from .bathymetry import TerrainSpec, load_terrain
-from .currents import CurrentsFileSpec, read_currents
+from .currents import CurrentsFileSpec, parse_time, read_currents
 from .geo import LocalFrame
 from .tables import build_dataclass, table_error
 
@@ -154,9 +154,11 @@ class CurrentsSpec:
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
-    file: CurrentsFileSpec | None = None
+    file: str | CurrentsFileSpec | None = None
 
     def __post_init__(self) -> None:
+        if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
+            object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None)
         if kinds > 1:
             raise ValueError("give only one of 'uniform', 'vortices' and 'file'")
@@ -178,8 +180,14 @@ class MissionSpec:
     max_depth_m: float = math.inf
     obstacle_margin_m: float = 0.0
     surface: bool = True
+    start_time: str = ""
 
     def __post_init__(self) -> None:
+        if self.start_time:  # ISO 8601, matched to the current file's CF time
+            try:
+                parse_time(self.start_time)
+            except ValueError as exc:
+                raise ValueError(f"start_time = {self.start_time!r}: {exc}") from exc
         for name in ("min_altitude_m", "min_depth_m", "obstacle_margin_m"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} = {getattr(self, name)}: must be >= 0")
@@ -531,7 +539,8 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
             v = c.vortices
             currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
         elif c.file is not None:
-            currents = read_currents(c.file, frame, base_dir=s.base_dir)
+            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=(xr[0], xr[1], yr[0], yr[1]),
+                                     start_time=s.mission.start_time)
         else:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
