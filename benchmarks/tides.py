@@ -31,6 +31,22 @@ from auvplan.planners.timeplan import departure_sweep, plan_timeopt, setup, swee
 from auvplan.sim import planning_problem
 
 
+def _slice(problem, spec, out: Path) -> dict:
+    """Our planner on the peer's problem — one level at the start's depth, departure 0 — and that
+    problem (current table, free mask, ends) written to ``slice.npz`` for ``tides_hj.py``."""
+    flat = replace(spec, timeopt=replace(spec.timeopt, levels=1))
+    c0 = time.process_time()
+    ts = setup(problem, flat, 0.0, 0.0)
+    r = plan_timeopt(problem, flat, ts)
+    cpu = time.process_time() - c0
+    lat = ts.lattice
+    np.savez(out / "slice.npz", origin=lat.origin, step=lat.step, shape=np.array(lat.shape),
+             free=lat.free.reshape(lat.shape)[:, :, 0], cur=ts.table.cur[:, :, :, 0, :2], t0=ts.table.t0,
+             dt=ts.table.dt, start=problem.start, goal=problem.goal, speed=problem.speed)
+    return {"duration_s": r.cost_terms["duration_s"], "cpu_s": cpu, "status": r.status.value,
+            "nodes": int(lat.free.sum()), "shape": lat.shape}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--hours", type=float, default=25.0)
@@ -60,9 +76,12 @@ def main() -> None:
     sweep = {"departures": len(rows), "cpu_s": time.process_time() - c3, "wall_s": time.perf_counter() - w3}
     summary = sweep_summary(rows)
     print("sweep:", json.dumps(sweep))
+    slice2d = _slice(problem, spec, out)
+    print("2D slice (peer's problem):", json.dumps(slice2d))
     print("summary:", json.dumps(summary, indent=1))
     peer = out / "hj_reachability.json"
-    result_doc = {"one_plan": one, "sweep": sweep, "summary": summary, "rows": [asdict(r) for r in rows]}
+    result_doc = {"one_plan": one, "sweep": sweep, "summary": summary, "slice_2d": slice2d,
+                  "rows": [asdict(r) for r in rows]}
     if peer.is_file():
         result_doc["hj_reachability"] = json.loads(peer.read_text())
         print("hj_reachability:", peer.read_text())

@@ -83,10 +83,11 @@ def test_interpolation_reproduces_a_site_and_is_linear_in_depth(field):
 
 def test_sample_equals_velocity_and_respects_max_speed(field):
     p = np.random.default_rng(2).uniform([0, 8000, -150], [68000, 36000, -5], (40, 3))
-    times = np.arange(0.0, 86400.0, 3600.0)
+    times = np.arange(0.0, 86400.0, 3600.0) + 17.3
     s = field.sample(p, times)
     v = np.stack([field.velocity(p, t) for t in times])
-    assert np.allclose(s, v, atol=1e-12)
+    # velocity() interpolates the stations linearly between predictions a minute apart
+    assert np.allclose(s, v, atol=1e-5)
     assert np.all(s[..., 2] == 0.0)
     assert np.hypot(s[..., 0], s[..., 1]).max() <= field.max_speed
 

@@ -16,8 +16,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._types import Status
+from ..cost import evaluate_paths
 from .base import PlannerSpec, PlanningProblem, PlanResult
-from .swarm import check_endpoints, search_box
+from .swarm import check_endpoints, cost_model_for, search_box
 from .timeopt import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
 
 __all__ = ["TimeSetup", "SweepRow", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]
@@ -71,16 +72,18 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
     length = float(np.linalg.norm(np.diff(tp.points, axis=0), axis=1).sum())
     energy = _power(problem, tp.speed) * tp.duration
-    clearance = problem.world.clearances(tp.points, moving=False)
+    # geometric clearance (seabed along every segment, exactly; static obstacles), as the other planners
+    exact = evaluate_paths(problem.world, tp.points[None], cost_model_for(problem, spec), exact=True)
+    seg_ok = problem.world.segments_free(np.stack([tp.points[:-1], tp.points[1:]], axis=1), moving=False)
     terms = {
         "length": length, "terrain": 0.0, "energy": energy,
         "length_m": length, "energy_j": energy, "duration_s": tp.duration,
         "depart_s": float(tp.times[0]), "arrive_s": float(tp.times[-1]), "speed_m_s": tp.speed,
-        "min_clearance_m": float(np.min(clearance["altitude"])), "collisions": 0,
+        "min_clearance_m": float(exact.min_clearance[0]), "collisions": int((~seg_ok).sum()),
         "lattice_nodes": int(ts.lattice.free.sum()), "lattice_legs": ts.lattice.legs,
     }
     cost = tp.duration if spec.timeopt.objective == "time" else energy
-    free = problem.world.path_free(tp.points)
+    free = bool(seg_ok.all())
     return PlanResult(Status.EXACT if free else Status.INFEASIBLE, tp.points, cost, terms, ts.lattice.legs, 1,
                       time.perf_counter() - t0, np.array([cost]), "timeopt", None,
                       "" if free else "the refined path failed the exact segment test", times=tp.times)

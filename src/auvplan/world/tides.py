@@ -23,10 +23,12 @@ velocities ``(S, 2)``: :meth:`TidalCurrent.sample` predicts the stations once pe
 from __future__ import annotations
 
 import datetime as _dt
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._jit import kernel
 from ..errors import DataError
 from ..geometry import as_points
 from .currents import CurrentField
@@ -160,11 +162,14 @@ class TidalCurrent(CurrentField):
             raise DataError("tidal current: station arrays disagree in shape")
         if s == 0 or self.site.min() < 0 or self.site.max() >= self.site_xy.shape[0] or self.r0 <= 0:
             raise DataError("tidal current: needs at least one station, valid site indices and r0 > 0")
-        bins = []
-        for k in range(self.site_xy.shape[0]):
-            idx = np.flatnonzero(self.site == k)
-            bins.append(idx[np.argsort(self.depth[idx])])
-        object.__setattr__(self, "_bins", tuple(bins))
+        # each site's bins sorted by depth, padded to a common length by repeating the deepest
+        bins = [np.flatnonzero(self.site == k) for k in range(self.site_xy.shape[0])]
+        bins = [b[np.argsort(self.depth[b])] for b in bins]
+        width = max(max(b.size for b in bins), 2)
+        idx = np.array([np.r_[b, np.full(width - b.size, b[-1])] if b.size else np.zeros(width, int) for b in bins])
+        if any(b.size == 0 for b in bins):
+            raise DataError("tidal current: a site without stations")
+        object.__setattr__(self, "_bins", (idx, self.depth[idx]))
         object.__setattr__(self, "_cache", {})
 
     # ------------------------------------------------------------------ stations
@@ -176,34 +181,30 @@ class TidalCurrent(CurrentField):
 
     def weights(self, points) -> np.ndarray:
         """The linear map ``W (N, S)`` from station velocities to the field at ``points (N, 3)``."""
-        p = as_points(points).reshape(-1, 3)
-        d2 = (p[:, None, 0] - self.site_xy[None, :, 0]) ** 2 + (p[:, None, 1] - self.site_xy[None, :, 1]) ** 2
-        w_site = 1.0 / (d2 + self.r0**2)
-        w_site /= w_site.sum(axis=1, keepdims=True)
+        p = np.ascontiguousarray(as_points(points).reshape(-1, 3))
         out = np.zeros((p.shape[0], self.depth.size))
-        depth = -p[:, 2]
-        rows = np.arange(p.shape[0])
-        for k, idx in enumerate(self._bins):
-            zs = self.depth[idx]
-            if idx.size == 1:
-                out[:, idx[0]] += w_site[:, k]
-                continue
-            j = np.clip(np.searchsorted(zs, depth) - 1, 0, idx.size - 2)
-            a = np.clip((depth - zs[j]) / (zs[j + 1] - zs[j]), 0.0, 1.0)
-            np.add.at(out, (rows, idx[j]), w_site[:, k] * (1.0 - a))
-            np.add.at(out, (rows, idx[j + 1]), w_site[:, k] * a)
+        idx, zs = self._bins
+        _weights(p, self.site_xy, float(self.r0), idx, zs, out)
         return out
+
+    def _station_at(self, t: float) -> np.ndarray:
+        """Station velocities ``(S, 2)`` at ``t``: linear between predictions every minute, made a day
+        at a time (interpolation error below 1e-5 of the M2 amplitude, 6e-4 of M8's)."""
+        day = math.floor(t / 86400.0)
+        table = self._cache.get(day)
+        if table is None:
+            if len(self._cache) > 8:
+                self._cache.clear()
+            table = self._cache[day] = self.station_velocity(day * 86400.0 + 60.0 * np.arange(1442))
+        f = (t - day * 86400.0) / 60.0
+        i = min(int(f), 1440)
+        a = f - i
+        return (1.0 - a) * table[i] + a * table[i + 1]
 
     # ------------------------------------------------------------------ CurrentField
     def velocity(self, points, t: float = 0.0) -> np.ndarray:
         p = as_points(points)
-        key = float(t)
-        vs = self._cache.get(key)
-        if vs is None:
-            if len(self._cache) > 64:
-                self._cache.clear()
-            vs = self._cache[key] = self.station_velocity(key)[0]
-        uv = self.weights(p) @ vs
+        uv = self.weights(p) @ self._station_at(float(t))
         out = np.zeros(p.reshape(-1, 3).shape)
         out[:, :2] = uv
         return out.reshape(p.shape)
@@ -224,3 +225,30 @@ class TidalCurrent(CurrentField):
         # the field is a convex combination of stations, each bounded by |s0| + Σ A max_y f
         fmax = self.tables.node_factor.max(axis=1)
         return float((np.abs(self.mean) + self.amplitude @ fmax).max())
+
+
+@kernel
+def _weights(points, site_xy, r0, idx, zs, out):
+    """Rows of ``W``: inverse-distance-squared site weights times each site's linear depth weights
+    (clamped at its shallowest and deepest bins); ``idx``/``zs (K, B)`` the sites' bins by depth."""
+    nk, nb = zs.shape
+    for n in range(points.shape[0]):
+        total = 0.0
+        for k in range(nk):
+            dx = points[n, 0] - site_xy[k, 0]
+            dy = points[n, 1] - site_xy[k, 1]
+            total += 1.0 / (dx * dx + dy * dy + r0 * r0)
+        depth = -points[n, 2]
+        for k in range(nk):
+            dx = points[n, 0] - site_xy[k, 0]
+            dy = points[n, 1] - site_xy[k, 1]
+            w = 1.0 / (dx * dx + dy * dy + r0 * r0) / total
+            j = 1
+            while j < nb - 1 and zs[k, j] < depth:
+                j += 1
+            lo, hi = zs[k, j - 1], zs[k, j]
+            a = 0.0
+            if hi > lo:
+                a = min(max((depth - lo) / (hi - lo), 0.0), 1.0)
+            out[n, idx[k, j - 1]] += w * (1.0 - a)
+            out[n, idx[k, j]] += w * a
