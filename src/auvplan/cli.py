@@ -8,11 +8,14 @@ stdout; progress and messages go to stderr.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import logging
 import sys
 from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
 
 from . import __version__
 from .errors import AuvplanError
@@ -96,7 +99,83 @@ def _plan(args, quiet: bool):
     return sc, result, seed
 
 
+def _duration(text: str, what: str) -> float:
+    """Seconds of '15min', '900s', '2h', '1.5h' or a bare number of seconds."""
+    units = {"s": 1.0, "sec": 1.0, "min": 60.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
+    t = text.strip().lower().lstrip("+")
+    for unit in sorted(units, key=len, reverse=True):
+        if t.endswith(unit):
+            t, scale = t[: -len(unit)], units[unit]
+            break
+    else:
+        scale = 1.0
+    try:
+        return float(t) * scale
+    except ValueError:
+        raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
+
+
+def _instant(text: str, start_time: str, what: str) -> float:
+    """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
+    from .io.tides import parse_start_time
+
+    if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
+        return _duration(text, what)
+    if not start_time:
+        raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
+    try:
+        return parse_start_time(text) - parse_start_time(start_time)
+    except ValueError as exc:
+        raise AuvplanError(f"{what} {exc}") from None
+
+
+def _cmd_sweep(args) -> int:
+    from .planners.timeplan import departure_sweep, sweep_summary
+
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    spec = replace(mission.planner, name="timeopt")
+    if args.objective:
+        spec = replace(spec, timeopt=replace(spec.timeopt, objective=args.objective))
+    t0, t1 = (_instant(v, sc.mission.start_time, "--depart-between") for v in args.depart_between)
+    step = _duration(args.step, "--step")
+    if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
+        raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
+                           "500 departures")
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
+    summary = sweep_summary(rows)
+    table = [dataclasses.asdict(r) for r in rows]
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        with (out / "sweep.csv").open("w") as fh:
+            fh.write(",".join(table[0]) + "\n")
+            fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
+        export.write_json(out / "sweep_summary.json", summary)
+        from .viz.timeplots import sweep_figure
+
+        sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
+    lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
+             f"(after {sc.mission.start_time or 't = 0'})",
+             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
+    lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
+              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f}" for r in rows]
+    if summary.get("feasible_departures"):
+        lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
+                     f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
+                     "against the worst departure, "
+                     f"{summary['saved_vs_steady_pct']:.1f} % against the steady-current plan and "
+                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line")
+    _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
+    return 0 if summary.get("feasible_departures") else 1
+
+
 def _cmd_plan(args) -> int:
+    if args.depart_between:
+        return _cmd_sweep(args)
+    if args.objective:
+        raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
+                           "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed = _plan(args, quiet=False)
     record = export.plan_record(result, sc.name, seed)
     if args.reference:
@@ -301,6 +380,11 @@ def _parser() -> argparse.ArgumentParser:
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"),
+                   help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
+                        "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
+    s.add_argument("--step", default="15min", help="departure step of the sweep (default 15min)")
+    s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
     s.set_defaults(func=_cmd_plan)
 
     s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
