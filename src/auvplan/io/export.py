@@ -3,9 +3,11 @@ as JSON + NPZ (and back), and mission exports: GeoJSON (RFC 7946), KML, CSV, MOO
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import re
+import zipfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -16,6 +18,7 @@ from ..errors import DataError
 from ..planners.base import PlanResult
 from ..sim import RunRecord, SimResult
 from .geo import LocalFrame
+from .safeio import atomic_write
 
 __all__ = [
     "plan_record",
@@ -89,18 +92,14 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
 
 def write_json(path: Path, obj) -> Path:
     """Write ``obj`` as indented JSON."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(jsonable(obj), indent=2) + "\n", encoding="utf-8")
-    return path
+    return atomic_write(Path(path), json.dumps(jsonable(obj), indent=2) + "\n")
 
 
 def write_path_csv(path: Path, points, header: str = "x,y,z") -> Path:
     """Write points ``(N, k)`` as CSV with a header line."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savetxt(path, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
-    return path
+    buf = io.StringIO()
+    np.savetxt(buf, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
+    return atomic_write(Path(path), buf.getvalue())
 
 
 def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> dict:
@@ -112,7 +111,7 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     if result.path.size:
         write_path_csv(out / "path.csv", result.path)
     if scenario_text:
-        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+        atomic_write(out / "scenario.toml", scenario_text)
     return record
 
 
@@ -167,7 +166,7 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
     if record.sim is not None:
         write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance)
     if scenario_text:
-        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+        atomic_write(out / "scenario.toml", scenario_text)
     rec = run_record(record)
     write_json(out / "run.json", rec)
     arrays = {"route": record.route, "keys": record.keys}
@@ -175,7 +174,9 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
         arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
     if record.sim is not None:
         arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
-    np.savez_compressed(out / "run.npz", **arrays)
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)
+    atomic_write(out / "run.npz", buf.getvalue())
     return rec
 
 
@@ -191,9 +192,19 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
             raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
     try:
         rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
-        arr = dict(np.load(files["run.npz"]))
-    except (ValueError, OSError) as exc:
+        with np.load(files["run.npz"], allow_pickle=False) as npz:
+            arr = {k: npz[k] for k in npz.files}
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+    try:
+        scenario_file = out / "scenario.toml"
+        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+        return _record_from(rec, arr), text
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError) as exc:
+        raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+def _record_from(rec: dict, arr: dict):
     plan = None
     p = rec.get("plan")
     if p is not None:
@@ -212,10 +223,8 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
                         events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
                         wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
                         avoidance=s.get("avoidance", "none"))
-    scenario_file = out / "scenario.toml"
-    text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
-    record = RunRecord(rec["scenario"], int(rec["seed"]), plan, arr["route"], arr["keys"], sim)
-    return record, text
+    route = arr.get("route", np.empty((0, 3)))
+    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
 
 
 def _num(v) -> float:
@@ -359,15 +368,15 @@ def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, format
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
         path = out / f"mission.{fmt}"
         if fmt == "geojson":
-            path.write_text(json.dumps(to_geojson(record, origin)) + "\n", encoding="utf-8")
+            atomic_write(path, json.dumps(to_geojson(record, origin)) + "\n")
         elif fmt == "kml":
-            path.write_text(to_kml(record, origin), encoding="utf-8")
+            atomic_write(path, to_kml(record, origin))
         elif fmt == "csv":
-            path.write_text(to_csv(record, origin), encoding="utf-8")
+            atomic_write(path, to_csv(record, origin))
         else:
             pts = record.keys if record.keys.size else record.route
             if not pts.size and record.plan is not None:
                 pts = record.plan.path
-            path.write_text(to_moos(pts, speed), encoding="utf-8")
+            atomic_write(path, to_moos(pts, speed))
         written.append(path)
     return written

@@ -492,8 +492,11 @@ def _check_point(world: World, point, key: str, src: str) -> None:
         raise ScenarioError(f"{src}: [mission] {key} = {list(point)}: not a free point: {why}{extra}")
 
 
-def build(scenario: Scenario) -> tuple[World, Mission]:
+def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mission]:
     """Read the scenario's data and make its World and Mission.
+
+    ``terrain``, when given, replaces the scenario's terrain source (a results folder's saved
+    cut-out: the grid the run used, so a moved folder needs no data file).
 
     Raises
     ------
@@ -508,9 +511,10 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
     frame = LocalFrame(s.origin.lat, s.origin.lon) if s.origin else None
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
-    terrain = None
     try:
-        if s.terrain is not None:
+        if terrain is not None:
+            pass
+        elif s.terrain is not None:
             terrain = load_terrain(s.terrain, frame, base_dir=s.base_dir, extent_m=extent)
         elif s.synthetic is not None:
             terrain = _synthetic_terrain(s.synthetic, b, src)
