@@ -16,11 +16,10 @@ from pathlib import Path
 
 from . import __version__
 from .errors import AuvplanError
-from .io import export
+from .io import export, results
 from .io import scenario as scenario_io
-from .io import results
 from .io.geo import LocalFrame
-from .io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import PLANNERS, SWARM, plan, reference, with_reference
 from .sim import planning_problem, run_mission, simulate
 
@@ -102,6 +101,25 @@ def _cmd_validate(args) -> int:
               f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    return 0
+
+
+def _cmd_scenario_new(args) -> int:
+    from .io.schema import template
+
+    text = template(Path(args.file).stem if args.file else "my-mission")
+    if not args.file:
+        sys.stdout.write(text)
+        return 0
+    path = write_new(Path(args.file), text, force=args.force)
+    print(f"wrote {path}; check it with: auvplan validate {path}", file=sys.stderr)
+    return 0
+
+
+def _cmd_scenario_schema(args) -> int:
+    from .io.schema import scenario_schema
+
+    sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
     return 0
 
 
@@ -333,6 +351,15 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("validate", help="check a scenario file (exit 2 with clear messages)")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.set_defaults(func=_cmd_validate)
+
+    s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
+    ssub = s.add_subparsers(dest="scenario_command", required=True)
+    t = ssub.add_parser("new", help="write a commented scenario template (to FILE, or stdout)")
+    t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
+    t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
+    t.set_defaults(func=_cmd_scenario_new)
+    t = ssub.add_parser("schema", help="print the scenario format's versioned JSON Schema")
+    t.set_defaults(func=_cmd_scenario_schema)
 
     s = sub.add_parser("plan", help="plan a global path")
     s.add_argument("scenario", help="TOML file or built-in scenario name")

@@ -7,8 +7,8 @@ import io
 import json
 import math
 import re
-import zipfile
 import xml.etree.ElementTree as ET
+import zipfile
 from pathlib import Path
 
 import numpy as np

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ..errors import AuvplanError
 
-__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "prepare_out", "written"]
+__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -76,6 +76,29 @@ def _record(folder: Path, names: Iterable[str]) -> None:
     new = have | set(names)
     if new != have:
         _replace(folder / MANIFEST, (json.dumps({"files": sorted(new)}, indent=1) + "\n").encode())
+
+
+def write_new(path: Path, data: str, *, force: bool = False) -> Path:
+    """Write a file the user will edit (no manifest): refused when it exists unless ``force``;
+    never through a symbolic link; atomically."""
+    path = Path(path)
+    if path.is_symlink() and not force:
+        raise OutputError(f"{path}: is a symbolic link; not followed (pass --force to replace the link)")
+    if path.exists() and not force:
+        raise OutputError(f"{path}: exists; not overwritten (pass --force to replace it)")
+    if path.is_dir():
+        raise OutputError(f"{path}: is a folder")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        _replace(path, data.encode("utf-8"))
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from exc
+    return path
+
+
+def claim(folder: Path, names: Iterable[str]) -> None:
+    """Record files auvplan writes in ``folder`` by other means (append-only logs) in its manifest."""
+    _record(Path(folder), names)
 
 
 def atomic_write(path: Path, data: bytes | str) -> Path:
