@@ -16,6 +16,7 @@ from pathlib import Path
 
 from . import __version__
 from .errors import AuvplanError
+from .guidance.local import AVOIDANCE
 from .io import export
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
@@ -294,7 +295,7 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
