@@ -235,7 +235,7 @@ def _cmd_bench(args) -> int:
     from .bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
-                     args.reference, args.randomise, args.plan_once, args.chunk)
+                     args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
     out = Path(args.out)
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
@@ -320,6 +320,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
     s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
+    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=("scenario", *AVOIDANCE),
+                   help="local avoidance variants (an axis; 'scenario' = the scenario's own)")
     s.add_argument("--chunk", type=int, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, default=2, help="local worker processes (a LocalCluster)")

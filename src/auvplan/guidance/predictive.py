@@ -17,8 +17,8 @@ be*:
    the vehicle's pitch limit, where the depth band and the altitude margin allow) and speed
    (cruise, ``max_speed``, 60 % of cruise) commands, each flown with the vehicle's real turn
    rate; the one closest to the preferred direction among those that keep ``margin`` from
-   every obstacle over ``horizon`` s is commanded.  When the path follower's own command is
-   safe with twice the margin, it keeps control (depth included).
+   every obstacle over ``horizon`` s is commanded.  While the path follower's own command
+   keeps twice the margin over twice the horizon, it keeps control (depth included).
 4. **Escapes**: document 004's local-minimum count and random free sub-goal, plus the
    simulation's stall hook (:meth:`.local.LocalAvoidance.stalled`).
 """
@@ -94,6 +94,7 @@ class PredictiveAvoidance(LocalAvoidance):
         self.speeds = np.array([vehicle.speed, vehicle.max_speed, 0.6 * vehicle.speed]) if params.speed_change \
             else np.array([vehicle.speed])
         self.offsets = np.radians(np.arange(-180.0, 180.0, 10.0))
+        self.pitch_offsets = np.array([0.0, -0.5, 0.5, -1.0, 1.0]) * self.theta_max
         m, b = world.margins, world.bounds
         self.z_hi = min(b.zmax, -m.min_depth) - VERTICAL_BUFFER
         self.z_lo = max(b.zmin, -m.max_depth) + VERTICAL_BUFFER
@@ -138,10 +139,10 @@ class PredictiveAvoidance(LocalAvoidance):
 
     def _sensed(self, t: float, sensed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles."""
-        C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
+        C = np.array([o[4] for o in sensed], dtype=float)
         R = np.array([o[7] for o in sensed], dtype=float) + self.world.margins.obstacle
         if self.params.velocity == "known":
-            V = np.array([o[6] for o in sensed], dtype=float).reshape(-1, 3)
+            V = np.vstack([o[6] for o in sensed])
         else:
             for o, c in zip(sensed, C):
                 self.estimator.update(o[5], t, c)
@@ -158,14 +159,15 @@ class PredictiveAvoidance(LocalAvoidance):
         if self.subgoal is not None:
             a = self.subgoal - p
             a /= max(np.linalg.norm(a), 1e-9)
-            return a, float(np.clip(math.asin(a[2]), -self.theta_max, self.theta_max))
+            return a, min(max(math.asin(a[2]), -self.theta_max), self.theta_max)
         th = rp.gamma + math.atan(self.vehicle.depth_gain * (rp.z_ref - float(p[2])))
-        th = float(np.clip(th, -self.theta_max, self.theta_max))
+        th = min(max(th, -self.theta_max), self.theta_max)
         return np.array([math.cos(th) * math.sin(psi_b), math.cos(th) * math.cos(psi_b), math.sin(th)]), th
 
-    def _solve(self, p, v_now, cur, C, V, R, headings, pitches, speeds, pref, theta_pref):
+    def _solve(self, p, v_now, cur, C, V, R, headings, pitches, speeds, pref, theta_pref, horizon):
         water = v_now - cur
         cfg = self.cfg
+        cfg[7] = horizon
         cfg[0] = math.atan2(water[0], water[1])
         cfg[1] = max(math.hypot(water[0], water[1]), 0.1)
         cfg[2], cfg[3] = theta_pref, self.speed
@@ -178,7 +180,7 @@ class PredictiveAvoidance(LocalAvoidance):
         psi_a = math.atan2(a[0], a[1])
         if self.subgoal is None:  # the follower keeps control while its own command stays clear
             _, _, _, clear, safe = self._solve(p, v_now, cur, C, V, R, np.array([psi_b]), np.array([theta_pref]),
-                                               self.speeds[:1], a, theta_pref)
+                                               self.speeds[:1], a, theta_pref, 2.0 * self.params.horizon)
             if safe and clear >= 2.0 * self.params.margin:
                 self.mode = "route"
                 self._psi_last = psi_b
@@ -192,10 +194,11 @@ class PredictiveAvoidance(LocalAvoidance):
         pref = predicted_preference(p, v_now, C, V, R, a, pr.horizon, pr.k_rep, pr.w_obs, pr.radius)
         headings = math.atan2(pref[0], pref[1]) + self.offsets
         if math.isfinite(self._psi_last):
-            headings = np.append(headings, [self._psi_last, psi_a])
-        pitches = np.clip(theta_pref + np.array([0.0, -0.5, 0.5, -1.0, 1.0]) * self.theta_max, -self.theta_max,
-                          self.theta_max) if self.params.vertical else np.array([theta_pref])
-        i, j, k, _, _ = self._solve(p, v_now, cur, C, V, R, headings, pitches, self.speeds, pref, theta_pref)
+            headings = np.concatenate((headings, (self._psi_last, psi_a)))
+        pitches = np.clip(theta_pref + self.pitch_offsets, -self.theta_max, self.theta_max) if self.params.vertical \
+            else np.array([theta_pref])
+        i, j, k, _, _ = self._solve(p, v_now, cur, C, V, R, headings, pitches, self.speeds, pref, theta_pref,
+                                    self.params.horizon)
         self.solves += 1
         self.solve_time += time.perf_counter() - t0
         self._psi_last = float(headings[i])
