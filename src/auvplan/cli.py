@@ -19,6 +19,7 @@ import numpy as np
 
 from . import __version__
 from .errors import AuvplanError
+from .guidance.local import AVOIDANCE
 from .io import export, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
@@ -414,7 +415,7 @@ def _cmd_bench(args) -> int:
     from .bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
-                     args.reference, args.randomise, args.plan_once, args.chunk)
+                     args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
     out = prepare_out(args.out, _BENCH_NAMES, force=args.force)
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
@@ -480,7 +481,7 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
     s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
@@ -491,7 +492,7 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
     s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
@@ -531,6 +532,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
     s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
+    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=("scenario", *AVOIDANCE),
+                   help="local avoidance variants (an axis; 'scenario' = the scenario's own)")
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")
