@@ -236,7 +236,7 @@ def _describe_run(name: str, record) -> str:
 
 
 def _cmd_run(args) -> int:
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed)
+    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, args.full)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
