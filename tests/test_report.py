@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import xml.etree.ElementTree as ET
 
@@ -173,7 +174,7 @@ def _chromium() -> str | None:
     return shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def test_report_in_a_headless_browser(run_dir, tmp_path):
+def test_report_in_a_headless_browser(run_dir, world_mission, tmp_path):
     """Chromium opens the report offline: no console error, the 3D plot and the metrics table
     render, and the time slider moves the vehicle."""
     browser = _chromium()
@@ -198,6 +199,21 @@ def test_report_in_a_headless_browser(run_dir, tmp_path):
         assert page.locator("#metrics tr").count() >= 10
         vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
         x0 = page.evaluate(vehicle)
+        look = page.evaluate("""() => {
+            const v = document.getElementById('view3d'), m = document.getElementById('planview');
+            const seabed = v.data.find(t => t.name === 'seabed'), chart = m.data.find(t => t.name === 'seabed');
+            const meshes = v._fullData.filter(t => t.type === 'mesh3d' && t.x.length).map(t => {
+                const n = t.x.length, c = [t.x, t.y, t.z].map(a => (Math.max(...a) + Math.min(...a)) / 2);
+                let r = 0;
+                for (let i = 0; i < n; i++) r = Math.max(r, Math.hypot(t.x[i] - c[0], t.y[i] - c[1], t.z[i] - c[2]));
+                return {name: t.name, radius: r, stated: t.meta.radius};
+            });
+            return {seabed: JSON.stringify([seabed.colorscale, seabed.cmin, seabed.cmax]),
+                    chart: JSON.stringify([chart.colorscale, chart.zmin, chart.zmax]),
+                    zrange: v.layout.scene.zaxis.range, meshes: meshes,
+                    labels: v.layout.sliders[0].steps.map(s => s.label),
+                    graticule: m.layout.annotations.map(a => a.text)};
+        }""")
         rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
         page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
         page.wait_for_timeout(1500)
@@ -205,6 +221,18 @@ def test_report_in_a_headless_browser(run_dir, tmp_path):
         page.screenshot(path=str(tmp_path / "report.png"))
         b.close()
     assert errors == [] and requests == []
+    world, _ = world_mission
+    # One colour scale for the seabed: the 3D surface and the chart share its definition and range.
+    assert look["seabed"] == look["chart"]
+    b = world.bounds
+    assert b.zmin <= look["zrange"][0] < look["zrange"][1] <= b.zmax
+    radii = {o.name: o.shape.bounding_radius for o in world.moving}
+    drawn = {m["name"]: m for m in look["meshes"] if m["name"] in radii}
+    assert set(drawn) == set(radii)
+    for name, m in drawn.items():
+        assert m["stated"] == pytest.approx(radii[name]) and m["radius"] == pytest.approx(radii[name], rel=1e-3)
+    assert len(look["labels"]) > 10 and all(re.fullmatch(r"\d+:\d\d:\d\d", s) for s in look["labels"])
+    assert any(t.endswith("°E") for t in look["graticule"]) and any(t.endswith("°N") for t in look["graticule"])
     record, _ = export.read_run(run_dir)
     assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
     assert (tmp_path / "report.png").stat().st_size > 50_000
