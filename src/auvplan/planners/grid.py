@@ -430,9 +430,10 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
 def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel, cell: float,
               iterations: int, tol: float) -> tuple[np.ndarray, float, int]:
     """Refine until the cost stops improving: resample the path at half the last spacing (or
-    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax it with steps of that spacing (and, for the length objective, drop the
-    vertices that hold nothing up), and keep it only when cheaper; stop when two levels in a row
-    improve the cost by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
+    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
+    it with steps of that spacing (and, for the length objective, drop the vertices that hold
+    nothing up), and keep it only when cheaper; stop when two levels in a row improve the cost
+    by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
 
     Returns the path, its cost and the number of levels run.
     """
