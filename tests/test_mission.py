@@ -89,12 +89,16 @@ def test_mission_is_safe_with_depth_held_or_ramped_over_a_rising_seabed(ridge):
         assert fly_check(world, w, sem).min_altitude_m >= MIN_ALT
     # independent oracle: a vehicle holding each leg's end depth, changing depth at a finite pitch
     for pitch in (15.0, 30.0, 90.0):
-        assert _held_executor(world, w, pitch) >= MIN_ALT - 1e-9
+        sampled = _held_executor(world, w, pitch)
+        exact = fly_check(world, w, "held", pitch).executor_min_altitude_m  # held_track + exact segment test
+        assert sampled >= MIN_ALT - 1e-9 and exact >= MIN_ALT - 1e-9
+        assert exact <= sampled + 1e-9 and sampled - exact < 0.2  # 1 m samples on slopes <= 0.075
     # the old export (end depth held from the start of each leg, few waypoints) runs into the ridge
     naive = route_from_path(path, 2500.0)
     assert world.path_free(naive)  # fine as a 3D polyline ...
     assert fly_check(world, naive, "held").min_altitude_m < 0  # ... below the seabed when depth is held
     assert _held_executor(world, naive, 30.0) < 0
+    assert fly_check(world, naive, "held", 30.0).executor_min_altitude_m < 0
 
 
 def test_every_format_round_trips_and_rechecks_safe(ridge, tmp_path):
@@ -241,3 +245,14 @@ def test_decimate_keeps_the_extremes():
     d = decimate(sim)
     assert d.altitude.min() == 3.0 and d.t[0] == 0.0 and d.t[-1] == t[-1]
     assert replace(sim).t.size == n
+
+
+def test_held_track_changes_depth_at_the_pitch_and_carries_the_lag_over():
+    from auvplan.guidance.mission import held_track
+
+    w = np.array([[0.0, 0.0, -100.0], [100.0, 0.0, -50.0], [200.0, 0.0, -50.0]])
+    np.testing.assert_allclose(held_track(w, 45.0), [[0, 0, -100], [50, 0, -50], [100, 0, -50], [200, 0, -50]],
+                               atol=1e-9)
+    t = math.tan(math.radians(10.0))
+    np.testing.assert_allclose(held_track(w, 10.0), [[0, 0, -100], [100, 0, -100 + 100 * t],
+                                                     [200, 0, -100 + 200 * t]], atol=1e-9)

@@ -383,15 +383,17 @@ def _cmd_mission_check(args) -> int:
     worst = 0
     records = []
     for name in args.files:
-        check, fmt = check_mission_file(Path(name), world)
+        check, fmt = check_mission_file(Path(name), world, args.pitch)
         rec = {"file": name, "format": fmt, **check.as_dict()}
         records.append(rec)
         worst = max(worst, 0 if check.ok else 1)
         if not args.json:
+            held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
+                    if check.semantics == "held" else "")
             print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
                   f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
                   f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
-                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle")
+                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
     if args.json:
         print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
     return worst
@@ -543,6 +545,8 @@ def _parser() -> argparse.ArgumentParser:
                                       "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--pitch", type=float, default=15.0,
+                   help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
     c.set_defaults(func=_cmd_mission_check)
 
