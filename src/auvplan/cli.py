@@ -23,7 +23,7 @@ from .io import export
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .planners import PLANNERS, SWARM, plan, reference, with_reference
-from .sim import planning_problem, run_mission, simulate
+from .sim import planning_problem, run_mission
 
 __all__ = ["main", "main_entry"]
 
@@ -196,21 +196,18 @@ def _cmd_simulate(args) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if args.seed is None else args.seed
-    route = mission.route
-    if not route:
-        bar = _Progress(mission.planner, sc.name, False)
-        try:
-            planned = plan(planning_problem(world, mission), mission.planner, seed, bar)
-        finally:
-            bar.close()
-        if not planned.status.ok:
-            print(f"auvplan: the global plan failed ({planned.status.value}): {planned.message}", file=sys.stderr)
-            return 1
-        route = planned.path[:: max(len(planned.path) // 40, 1)].tolist() + [planned.path[-1].tolist()]
-    result = simulate(world, mission, route=route, guidance=args.guidance, rng=seed)
-    record = export.sim_record(result, sc.name, seed)
+    bar = _Progress(mission.planner, sc.name, False)
+    try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
+        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance)
+    finally:
+        bar.close()
+    if run.sim is None:
+        print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
+        return 1
+    result = run.sim
+    record = export.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        export.write_sim(Path(args.out), result, sc.name, seed)
+        export.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -219,7 +216,8 @@ def _cmd_simulate(args) -> int:
     return 0 if result.status.ok else 1
 
 
-def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None):
+def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
+         full: bool = False):
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if seed is None else seed
@@ -229,19 +227,19 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     finally:
         bar.close()
     if out:
-        export.write_run(Path(out), record, Path(sc.source).read_text(encoding="utf-8"))
+        export.write_run(Path(out), record, Path(sc.source).read_text(encoding="utf-8"), full)
         export.write_json(Path(out) / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
-        _write_report(Path(out), world, mission, record, Path(sc.source).read_text(encoding="utf-8"))
+        _write_report(Path(out), world, mission, record, Path(sc.source).read_text(encoding="utf-8"), full=full)
     return sc, record
 
 
-def _write_report(out: Path, world, mission, record, text: str, figures: bool = False) -> Path:
+def _write_report(out: Path, world, mission, record, text: str, figures: bool = False, full: bool = False) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
-    formats = export.EXPORT_FORMATS if frame is not None else ("csv", "moos")
-    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats)
+    formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
+    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
     page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
     path = out / "report.html"
     path.write_text(page, encoding="utf-8")
@@ -273,9 +271,31 @@ def _cmd_report(args) -> int:
 
 def _cmd_export(args) -> int:
     out, record, _, world, mission = _load_results(args.dir)
-    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format):
+    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
         print(p)
     return 0
+
+
+def _cmd_mission_check(args) -> int:
+    from .io.formats import check_mission_file
+
+    sc = scenario_io.load(args.scenario)
+    world, _ = scenario_io.build(sc)
+    worst = 0
+    records = []
+    for name in args.files:
+        check, fmt = check_mission_file(Path(name), world)
+        rec = {"file": name, "format": fmt, **check.as_dict()}
+        records.append(rec)
+        worst = max(worst, 0 if check.ok else 1)
+        if not args.json:
+            print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
+                  f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
+                  f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
+                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle")
+    if args.json:
+        print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
+    return worst
 
 
 def _describe_run(name: str, record) -> str:
@@ -367,11 +387,13 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
     s.set_defaults(func=_cmd_plan)
 
-    s = sub.add_parser("simulate", help="simulate the vehicle following the route (or the planned path)")
+    s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
+    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
     s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
+    s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_simulate)
 
@@ -381,6 +403,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
     s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_run)
 
@@ -389,10 +412,21 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
     s.set_defaults(func=_cmd_report)
 
-    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP) for a results directory")
+    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
+                                      "nav_msgs/Path YAML) for a results directory")
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
     s.set_defaults(func=_cmd_export)
+
+    s = sub.add_parser("mission", help="work with exported mission files")
+    msub = s.add_subparsers(dest="mission_command", required=True)
+    c = msub.add_parser("check", help="re-fly mission files under their format's depth semantics against the "
+                                      "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
+    c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
+    c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
+    c.set_defaults(func=_cmd_mission_check)
 
     s = sub.add_parser("bench", help="sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)")
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
