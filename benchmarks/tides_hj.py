@@ -59,7 +59,7 @@ def main(folder: str) -> None:
     origin, step, shape = d["origin"][:2], d["step"][:2], tuple(int(v) for v in d["shape"][:2])
     lo, hi = origin, origin + step * (np.array(shape) - 1)
     grid = hj.Grid.from_lattice_parameters_and_boundary_conditions(hj.sets.Box(jnp.array(lo), jnp.array(hi)), shape)
-    assert np.allclose(np.asarray(grid.states[:, 0, 0]), lo + 0 * step)
+    assert np.allclose(np.asarray(grid.states[0, 0]), lo) and np.allclose(np.asarray(grid.states[-1, -1]), hi)
     dyn = Drift(jnp.asarray(d["cur"]), jnp.asarray(origin), jnp.asarray(step), float(d["t0"]), float(d["dt"]),
                 float(d["speed"]))
     start, goal, speed = d["start"][:2], d["goal"][:2], float(d["speed"])

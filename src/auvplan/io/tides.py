@@ -20,7 +20,7 @@ from ..errors import DataError
 from ..world.tides import HarmonicTables, TidalCurrent, unix_time
 from .geo import LocalFrame
 
-__all__ = ["BUILTIN_TIDES", "parse_start_time", "read_tide_file", "load_tidal_current"]
+__all__ = ["BUILTIN_TIDES", "parse_start_time", "utc_iso", "read_tide_file", "load_tidal_current"]
 
 BUILTIN_TIDES = {
     "juan-de-fuca": "tides_salish.json",
@@ -36,6 +36,12 @@ def parse_start_time(text: str) -> float:
     if when.tzinfo is None:
         when = when.replace(tzinfo=_dt.UTC)
     return unix_time(when)
+
+
+def utc_iso(unix_seconds: float) -> str:
+    """ISO 8601 UTC text (``...Z``, whole seconds) of seconds since 1970."""
+    when = _dt.datetime.fromtimestamp(round(float(unix_seconds)), tz=_dt.UTC)
+    return when.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def read_tide_file(source: str, base_dir: Path | None = None) -> dict:
