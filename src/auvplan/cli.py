@@ -143,7 +143,7 @@ def _cmd_sweep(args) -> int:
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
-    summary = sweep_summary(rows)
+    summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
         from .io.tides import parse_start_time, utc_iso
 
