@@ -212,7 +212,11 @@ def _cmd_sweep(args) -> int:
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
-    summary = sweep_summary(rows)
+    summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
+    if sc.mission.start_time and summary.get("feasible_departures"):
+        from .io.tides import parse_start_time, utc_iso
+
+        summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [dataclasses.asdict(r) for r in rows]
     if args.out:
         out = Path(args.out)
@@ -234,7 +238,9 @@ def _cmd_sweep(args) -> int:
                      f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
                      "against the worst departure, "
                      f"{summary['saved_vs_steady_pct']:.1f} % against the steady-current plan and "
-                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line")
+                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line"
+                     + (f"\n  fly it: [mission] start_time = \"{summary['best_depart_utc']}\""
+                        if "best_depart_utc" in summary else ""))
     _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
     return 0 if summary.get("feasible_departures") else 1
 

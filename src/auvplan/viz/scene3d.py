@@ -229,6 +229,20 @@ def _moving_meshes(world: World, times: np.ndarray, n: int = 11) -> tuple[list, 
     return traces, frames
 
 
+def _current_frames(fig: go.Figure, world: World, times: np.ndarray):
+    """``(trace index, velocities (T, N, 3))`` of the current cones at the slider's times when the
+    current changes with time (tides), else None; the colour scale spans every frame."""
+    cone = next((i for i, d in enumerate(fig.data) if d.type == "cone"), None)
+    if cone is None:
+        return None
+    c = fig.data[cone]
+    v = np.asarray(world.currents.sample(np.column_stack([c.x, c.y, c.z]), times), dtype=float)
+    if not np.isfinite(v).all() or np.ptp(v, axis=0).max() <= 1e-9:
+        return None
+    c.update(cmax=float(np.linalg.norm(v, axis=2).max()))
+    return cone, v
+
+
 def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     sim = record.sim
     times = np.linspace(sim.t[0], sim.t[-1], min(FRAMES, sim.t.size))
@@ -240,10 +254,16 @@ def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     for t in moving:
         fig.add_trace(t)
     ids = [first - 1] + list(range(first, first + len(moving)))
+    flow = _current_frames(fig, world, times)
+    if flow is not None:
+        ids.append(flow[0])
     frames, steps = [], []
     for j, t in enumerate(times):
         data = [go.Scatter3d(x=[pos[j, 0]], y=[pos[j, 1]], z=[pos[j, 2]])]
         data += [go.Mesh3d(x=v[j][:, 0], y=v[j][:, 1], z=v[j][:, 2]) for v in verts]
+        if flow is not None:
+            vj = flow[1][j]
+            data.append(go.Cone(u=vj[:, 0], v=vj[:, 1], w=vj[:, 2], customdata=np.linalg.norm(vj, axis=1)))
         frames.append(go.Frame(name=f"t{j}", traces=ids, data=data))
         steps.append(dict(method="animate", label=hms(t),
                           args=[[f"t{j}"], dict(mode="immediate", frame=dict(duration=0, redraw=True),
