@@ -52,8 +52,8 @@ def hms(t: float) -> str:
 
 
 def vertical_exaggeration(world: World, target: float = 0.35, z_range: tuple[float, float] | None = None) -> float:
-    """A round vertical exaggeration (1, 2, 5, 10, 20 …) that makes the scene's height about
-    ``target`` of its larger horizontal side.
+    """The round vertical exaggeration (1, 2, 5, 10, 20 …) nearest (in ratio) to the one that
+    makes the scene's height ``target`` of its larger horizontal side.
 
     Parameters
     ----------
@@ -75,7 +75,7 @@ def vertical_exaggeration(world: World, target: float = 0.35, z_range: tuple[flo
     if ratio <= 1.0:
         return 1.0
     decade = 10.0 ** np.floor(np.log10(ratio))
-    return float(max(n * decade for n in _NICE if n * decade <= ratio))
+    return float(min((n * decade for n in (*_NICE, 10.0)), key=lambda v: abs(np.log(v / ratio))))
 
 
 def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
