@@ -91,7 +91,8 @@ def main(argv=None) -> int:
                               "--scenarios", scenario], capture_output=True, text=True, check=True)
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
         r = rows[-1]
-        print(f"{scenario} {cell:6.0f} m  cost lattice-bound {r['cost_lattice_bound']:.6g} → converged {r['cost']:.6g}  "
+        print(f"{scenario} {cell:6.0f} m  cost lattice-bound {r['cost_lattice_bound']:.6g} → "
+              f"converged {r['cost']:.6g}  "
               f"nodes {r['nodes']:>9d}  edges {r['edges']:>10d}  plan {r['plan_s']:6.2f} s  "
               f"peak {r['peak_rss_mib']:6.0f} MiB  cost {r['cost']:.6g}  "
               f"skfmm {r.get('skfmm_s', float('nan')):.2f} s  "
