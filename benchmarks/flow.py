@@ -63,7 +63,10 @@ def variant(p: FlowParams) -> str:
 def row(name, obstacles, goal, params, n):
     direction = goal - np.array([5.0, 5.0, 5.0]) if params.field == "uniform" else None
     t0 = time.perf_counter()
-    field = FlowField(obstacles, goal, params, MARGIN, direction=direction)
+    try:
+        field = FlowField(obstacles, goal, params, MARGIN, direction=direction)
+    except ValueError as err:
+        return f"| {name} | {variant(params)} | — | not runnable: {err} | | | | | | |"
     design = time.perf_counter() - t0
     p = _starts(field, n)
     inside = int(field.inside_body(p).sum()) if field.contained else 0
@@ -78,6 +81,31 @@ def row(name, obstacles, goal, params, n):
             f"{design:.2f} |")
 
 
+def peer(name, obstacles, goal, n: int = 40) -> str:
+    """The same field integrated one start at a time by scipy's adaptive RK45 (solve_ivp, arrival event)."""
+    from scipy.integrate import solve_ivp
+
+    field = FlowField(obstacles, goal, FlowParams(), MARGIN)
+    p = _starts(field, n, seed=7)
+
+    def rhs(_, y):
+        u = field.velocity(y[None])[0]
+        return u / np.linalg.norm(u)
+
+    def arrive(_, y):
+        return np.linalg.norm(y - goal) - 0.5
+
+    arrive.terminal = True
+    integrate_streamlines(field, p[:2])  # compiled kernels warm
+    rhs(0.0, p[0])
+    t0 = time.perf_counter()
+    ok = sum(solve_ivp(rhs, (0.0, 500.0), q, events=arrive, rtol=1e-6, atol=1e-6).status == 1 for q in p)
+    peer_rate = n / (time.perf_counter() - t0)
+    ours = integrate_streamlines(field, p)
+    return (f"| {name} | {n} | {len(p) / ours.wall_time_s:.0f} ({int(ours.arrived.sum())} arrive) | "
+            f"{peer_rate:.0f} ({ok} arrive) | {len(p) / ours.wall_time_s / peer_rate:.1f}× |")
+
+
 def volumes() -> list[str]:
     lines = ["| obstacle | goal | body | volume (m³) | / inflated ellipsoid | contains the inflated obstacle |",
              "|---|---|---|---|---|---|"]
@@ -90,7 +118,11 @@ def volumes() -> list[str]:
         v_in = 4.0 / 3.0 * np.pi * np.prod(np.asarray(ob.semi_axes) + MARGIN)
         dense = offset_surface(ob, MARGIN, 150)
         for sizing in ("line", "pair", "document"):
-            b = design_body(ob, goal, sizing, 1.0, MARGIN, 0.002 * max(ob.semi_axes))
+            try:
+                b = design_body(ob, goal, sizing, 1.0, MARGIN, 0.002 * max(ob.semi_axes))
+            except ValueError as err:
+                lines.append(f"| {label} | {tuple(np.round(goal, 1).tolist())} | {sizing} | {err} | | |")
+                continue
             lines.append(f"| {label} | {tuple(np.round(goal, 1).tolist())} | {b.kind} | {b.volume:.0f} | "
                          f"{b.volume / v_in:.2f} | {100 * b.inside(dense).mean():.2f} % of {len(dense)} points |")
     return lines
@@ -124,9 +156,15 @@ def main(argv=None) -> int:
         for params in variants:
             lines.append(row(name, obstacles, goal, params, args.starts))
             print(lines[-1], flush=True)
+    peers = ["| scene | starts | auvplan (streamlines/s) | scipy solve_ivp RK45 per start | ratio |",
+             "|---|---|---|---|---|"]
+    for name, obstacles, goal, _ in list(scenes())[:2]:
+        peers.append(peer(name, obstacles, goal))
+        print(peers[-1], flush=True)
     text = (f"# Streamlines from {args.starts} random starts (0.5 m safety margin)\n\n"
-            f"Load average at start {load[0]:.1f} (shared 2-core machine).\n\n" + "\n".join(lines) + "\n\n"
-            + "## Bodies round the ellipsoids\n\n" + "\n".join(volumes()) + "\n")
+            f"Load average at start {load[0]:.1f}, at end {os.getloadavg()[0]:.1f} (shared 2-core machine).\n\n"
+            + "\n".join(lines) + "\n\n## Throughput against a peer (same field, same run)\n\n" + "\n".join(peers)
+            + "\n\n## Bodies round the ellipsoids\n\n" + "\n".join(volumes()) + "\n")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)

@@ -417,10 +417,11 @@ def seabed_plane(world: World, start, goal, buffer: float) -> tuple[float | None
 def plan_flow(problem, params: FlowParams) -> PlanResult:
     """Streamline from the problem's start to its goal in the world's obstacle field.
 
-    With a seabed in the way of the obstacle flow, the flow sees it as a flat mirror plane
-    (:func:`seabed_plane`).  ``EXACT`` when the
-    streamline arrives without touching an obstacle (inflated by the World's obstacle margin) and
-    passes the World's exact segment tests (seabed included); ``INFEASIBLE`` otherwise, with the reason.
+    When the seabed is in the way of the obstacle flow, the flow sees it as a flat mirror plane
+    (:func:`seabed_plane`), or, when the seabed is not flat enough for that, the plan is
+    ``INFEASIBLE`` with that reason.  ``EXACT`` when the streamline arrives without touching an
+    obstacle (inflated by the World's obstacle margin) and passes the World's exact segment tests
+    (seabed included); ``INFEASIBLE`` otherwise, with the reason.
     """
     t0 = time.perf_counter()
     world: World = problem.world
@@ -430,21 +431,19 @@ def plan_flow(problem, params: FlowParams) -> PlanResult:
     if bad is None and params.field == "uniform":
         bad = (Status.INFEASIBLE,
                "field = 'uniform' has no sink at the goal (document 000 Fig. 5 baseline): use it in benchmarks")
-    sizes = [ob.bounding_radius for ob in world.obstacles]
-    buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
-    plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
-    if bad is None and why:
-        bad = Status.INFEASIBLE, why
     if bad is not None:
         return PlanResult(bad[0], np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), "flow", None, bad[1])
     field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
     sl = integrate_streamlines(field, problem.start[None], params)
-    if plane is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
-        # the seabed is in the way: the flow with the seabed as a mirror plane
-        field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
-        sl = integrate_streamlines(field, problem.start[None], params)
-    else:
-        plane = None
+    plane, why = None, ""
+    if world.terrain is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
+        # the seabed may be in the way: the flow with the seabed as a mirror plane, if it is flat enough
+        sizes = [ob.bounding_radius for ob in world.obstacles]
+        buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
+        plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
+        if plane is not None:
+            field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
+            sl = integrate_streamlines(field, problem.start[None], params)
     path = sl.paths[0]
     length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
     st = sl.status[0]
@@ -457,7 +456,9 @@ def plan_flow(problem, params: FlowParams) -> PlanResult:
         seg = np.stack([path[:-1], path[1:]], axis=1)
         bad_seg = int(np.flatnonzero(~world.segments_free(seg, moving=False))[0])
         message = (f"the streamline arrives but its leg {bad_seg} near {np.round(path[bad_seg], 1).tolist()} meets the "
-                   f"seabed, an obstacle margin or the bounds (the flow sees the seabed as a plane at z = {plane})")
+                   f"seabed, an obstacle margin or the bounds")
+        message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
+                                             if plane is not None else "")
     seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
     if world.terrain is not None:

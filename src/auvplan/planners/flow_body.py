@@ -447,7 +447,7 @@ def design_document_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, 
         m = m_for(a2)
         return Q / (xs + a1) ** 2 - m / (a2 - xs) ** 2 + m / (xs + a2) ** 2
 
-    grid = xs * np.linspace(0.01, 0.99, 99)
+    grid = xs * np.geomspace(1e-4, 0.999, 200)
     vals = np.array([front(g) for g in grid])
     k = np.flatnonzero(np.diff(np.sign(vals)) != 0)
     if k.size == 0:

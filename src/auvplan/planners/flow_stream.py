@@ -187,7 +187,7 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
                 continue
         x = p[idx]
         d = dall.min(axis=-1) if dall.shape[-1] else np.full(idx.size, np.inf)
-        min_d[idx] = np.minimum(min_d[idx], field.clearance(x))
+        min_d[idx] = np.minimum(min_d[idx], _clearance_below(field, x, d, min_d[idx]))
         dist_goal = np.linalg.norm(x - T, axis=1)
         arrived = dist_goal <= params.arrive
         h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
@@ -212,7 +212,7 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
             nxt[g] = field.push_out(nxt[g])
             d_next[g] = _flow_distance(field, nxt[g])
             corrections[idx[g]] += 1
-        clear_next = field.clearance(nxt)
+        clear_next = _clearance_below(field, nxt, d_next, min_d[idx])  # +inf: not below the current minimum
         contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next < 0)
         stop = arrived | stalled | missed
         move = ~stop
@@ -227,6 +227,20 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
         status[idx[contact & move]] = "contact"
         active[idx[stop | (contact & move)]] = False
     return _collect(track, count, prefix, starts, status, min_d, corrections, deflections, exits, T, t0)
+
+
+def _clearance_below(field, x, d, current):
+    """Clearance where it may fall below ``current``, +inf elsewhere.
+
+    Every flow surface contains its inflated obstacle, so outside the surfaces the clearance is at
+    least the flow distance ``d``: it needs computing only where ``d < current`` (for the document's
+    body, which does not contain its obstacle, everywhere).
+    """
+    need = (d < current) | (not field.contained)
+    out = np.full(x.shape[0], np.inf)
+    if need.any():
+        out[need] = field.clearance(x[need])
+    return out
 
 
 def _flow_distance(field, x):
