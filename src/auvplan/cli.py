@@ -294,11 +294,13 @@ def _cmd_simulate(args) -> int:
 
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-         full: bool = False, force: bool = False, quiet: bool = False):
+         full: bool = False, force: bool = False, quiet: bool = False, planner: str | None = None):
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
+    if planner:
+        mission = replace(mission, planner=replace(mission.planner, name=planner))
     seed = sc.seed if seed is None else seed
     bar = _Progress(mission.planner, sc.name, quiet)
     try:
@@ -423,7 +425,7 @@ def _describe_run(name: str, record) -> str:
 
 def _cmd_run(args) -> int:
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
-                      force=args.force, quiet=args.quiet or args.json)
+                      force=args.force, quiet=args.quiet or args.json, planner=args.planner)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
@@ -522,6 +524,7 @@ def _parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
     s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
