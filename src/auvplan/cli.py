@@ -19,7 +19,7 @@ from .errors import AuvplanError
 from .io import export
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
-from .planners import PLANNERS, SWARM, plan, reference, with_reference
+from .planners import PIPELINES, PLANNERS, SWARM, plan, reference, with_reference
 from .sim import planning_problem, run_mission, simulate
 
 __all__ = ["main", "main_entry"]
@@ -84,6 +84,8 @@ def _plan(args, quiet: bool):
         spec = replace(spec, name=args.planner)
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
+    if getattr(args, "pipeline", None):
+        spec = replace(spec, pipeline=args.pipeline)
     seed = sc.seed if args.seed is None else args.seed
     bar = _Progress(spec, sc.name, quiet)
     problem = planning_problem(world, mission)
@@ -276,7 +278,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
-    s.add_argument("--budget", type=int, help="objective evaluations (equal budgets for comparisons)")
+    s.add_argument("--budget", type=int, help="objective evaluations, spent exactly by every optimiser")
+    s.add_argument("--pipeline", choices=PIPELINES,
+                   help="seeded (lattice seeds + refinement + fallback, default) or document (the algorithm alone)")
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")

@@ -16,7 +16,8 @@ What the reader handles, each covered by a round-trip test:
   (cubic by default: the 0.1° ETOPO1 cut-out is ~11 km per cell).
 
 Built-in real terrains: ``etopo1-marcus-wake``, ``etopo1-ninetyeast``, ``etopo1-new-england``
-and ``etopo1-chagos`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and ``matplotlib-topobathy`` (``topobathy.npz`` read through
+and ``etopo1-chagos`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and
+``matplotlib-topobathy`` (``topobathy.npz`` read through
 ``matplotlib.cbook.get_sample_data``; its value −1 marks shore water with no
 depth and is treated as no-go).
 """
