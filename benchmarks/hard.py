@@ -85,7 +85,7 @@ def _peer_rows(prob, spec, seeds: int, budget: int) -> list[dict]:
             problem = {"obj_func": lambda x, p=p: float(p.evaluate(np.asarray(x)[None])[0]),
                        "bounds": FloatVar(lb=p.lower.tolist(), ub=p.upper.tolist()), "minmax": "min",
                        "log_to": None}
-            model = ABC.OriginalABC(epoch=10**6, pop_size=spec.population)
+            model = ABC.OriginalABC(epoch=100_000, pop_size=spec.population)
             c0 = time.process_time()
             model.solve(problem, seed=seed, termination={"max_fe": budget})
             finish("mealpy-abc", seed, p.best_x, time.process_time() - c0, p.evaluations)
@@ -173,6 +173,8 @@ def main() -> None:
         results.append(res)
         text += table(res)
         print("\n".join(table(res)), flush=True)
+        (out / "rows.json").write_text(json.dumps(results))
+        (out / "summary.md").write_text("\n".join(text) + "\n")
         if name == args.scenarios[0]:
             convergence_figure(res, args.budget, Path(args.figure))
     load = os.getloadavg()

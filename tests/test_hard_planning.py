@@ -12,10 +12,9 @@ from auvplan._types import Status
 from auvplan.io import scenario
 from auvplan.optim import IABC, IABCParams, Problem, Termination, differential_evolution, minimize, pattern_search
 from auvplan.optim.bee import chaotic_uniform_population, logistic_map_population
-from auvplan.planners import PLANNERS, REGISTRY, SWARM, PlannerSpec, PlanningProblem, plan, register
-from auvplan.planners import swarm_problem
-from auvplan.planners.seeding import fit_control_points
 from auvplan.path import sample_population
+from auvplan.planners import PLANNERS, REGISTRY, SWARM, PlannerSpec, PlanningProblem, plan, register, swarm_problem
+from auvplan.planners.seeding import fit_control_points
 from auvplan.sim import planning_problem
 from auvplan.world import Sphere
 from helpers import flat_world
