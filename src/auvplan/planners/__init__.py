@@ -6,10 +6,11 @@ from .flow import plan_flow
 from .grid import GridReference, plan_grid, with_reference
 from .registry import REGISTRY, PlannerEntry, get, register
 from .swarm import plan_swarm
+from .timeplan import plan_timeopt
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
-           "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "reference",
-           "register", "with_reference"]
+           "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
+           "reference", "register", "with_reference"]
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:

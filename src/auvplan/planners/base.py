@@ -14,12 +14,14 @@ from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
+from .timeopt_params import TimeoptParams
 
 __all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "de", "flow", "grid")
+PLANNERS = ("iabc", "abc", "ga", "pso", "de", "flow", "grid", "timeopt")
 """Planner names: the four swarm optimisers (document 002), scipy's differential evolution, the
-streamline planner (document 000) and the lattice reference planner (see ``planners.registry``)."""
+streamline planner (document 000), the lattice reference planner and the time-optimal planner in
+tidal currents (see ``planners.registry``)."""
 SWARM = ("iabc", "abc", "ga", "pso", "de")
 """The population optimisers over B-spline control points (they iterate and call
 ``progress(iteration, best)``)."""
@@ -141,6 +143,7 @@ class PlannerSpec:
     refine: PatternParams = field(default_factory=PatternParams)
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
+    timeopt: TimeoptParams = field(default_factory=TimeoptParams)
 
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:
@@ -238,6 +241,8 @@ class PlanResult:
         Human-readable explanation of a failure.
     reference_cost : float
         Cost of the grid reference plan on the same cost function (``nan`` when not computed).
+    times : ndarray or None
+        Time (s after the mission's start time) at each vertex of ``path``, for timed plans.
     """
 
     status: Status
@@ -253,6 +258,7 @@ class PlanResult:
     message: str = ""
     reference_cost: float = float("nan")
     trace: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    times: np.ndarray | None = None
 
     @property
     def gap(self) -> float:

@@ -18,6 +18,7 @@ from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult
 from .flow import plan_flow
 from .grid import plan_grid
 from .swarm import plan_swarm
+from .timeplan import plan_timeopt
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get"]
 
@@ -76,6 +77,11 @@ def _flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, prog
 @register("grid", iterative=False, description="lattice reference: Dijkstra cost-to-go, elastic band, B-spline")
 def _grid(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, progress=None) -> PlanResult:
     return plan_grid(problem, spec)
+
+
+@register("timeopt", iterative=False, description="time-optimal path in tidal currents, departure time given")
+def _timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, progress=None) -> PlanResult:
+    return plan_timeopt(problem, spec)
 
 
 if tuple(REGISTRY) != PLANNERS:  # pragma: no cover - a programming error
