@@ -1,13 +1,15 @@
 """Document 002's comparison on real seamounts, and the same cost through peer libraries.
 
-Runs IABC, ABC, GA and PSO on ``marcus-wake`` over N seeds, twice:
+Runs IABC, ABC, GA, PSO (and DE, flow, grid) on ``marcus-wake`` over N seeds, the algorithms alone
+(``pipeline = "document"``), twice:
 
 * ``document``: population 50 × 100 iterations for every algorithm (document 002's IterMax = 100;
   the algorithms then spend different numbers of evaluations per iteration);
 * ``equal``: the same budget of objective evaluations for every algorithm.
 
 Writes ``summary.md`` (tables), ``rows.json`` (every run) and ``convergence.png`` (median best cost
-per iteration) to ``--out``.  With ``--peers`` it also runs mealpy's ``OriginalABC`` (which calls
+against objective evaluations, equal-budget mode) to ``--out``.  The hard scenarios and the seeded
+pipeline: ``benchmarks/hard.py``.  With ``--peers`` it also runs mealpy's ``OriginalABC`` (which calls
 the objective one solution at a time) and pymoo's ``PSO`` (vectorised problem) on the identical
 cost function and reports the evaluation throughput beside ours, measured in the same process.
 
@@ -34,16 +36,16 @@ from auvplan.sim import planning_problem
 def run_matrix(world, mission, seeds: int, mode: str, budget: int) -> list[dict]:
     rows = []
     for name in PLANNERS:
-        spec = replace(mission.planner, name=name)
+        spec = replace(mission.planner, name=name, pipeline="document")  # the algorithms alone
         if mode == "equal":
-            spec = replace(spec, iterations=10_000, budget=budget)
+            spec = replace(spec, budget=budget)
         for seed in range(seeds):
             c0 = time.process_time()
             r = plan(planning_problem(world, mission), spec, rng=seed)
             rows.append({
                 "mode": mode, "planner": name, "seed": seed, "status": r.status.value, "cost": r.cost,
                 "length_m": r.cost_terms.get("length_m"), "evaluations": r.evaluations, "iterations": r.iterations,
-                "cpu_s": time.process_time() - c0, "history": r.history.tolist(),
+                "cpu_s": time.process_time() - c0, "history": r.history.tolist(), "trace": r.trace.tolist(),
             })
     return rows
 
@@ -71,12 +73,14 @@ def convergence_figure(rows: list[dict], path: Path) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name in PLANNERS:
-        hist = [r["history"] for r in rows if r["mode"] == "document" and r["planner"] == name]
-        n = min(len(h) for h in hist)
-        med = np.median(np.array([h[:n] for h in hist]), axis=0)
-        ax.plot(np.arange(1, n + 1), med, label=name.upper())
-    ax.set_xlabel("iteration")
+    for name in SWARM:
+        traces = [np.asarray(r["trace"]) for r in rows if r["mode"] == "equal" and r["planner"] == name]
+        if not traces or any(t.size == 0 for t in traces):
+            continue
+        x = np.linspace(0.0, min(t[-1, 0] for t in traces), 200)[1:]
+        med = np.median([t[np.maximum(np.searchsorted(t[:, 0], x, side="right") - 1, 0), 1] for t in traces], axis=0)
+        ax.plot(x, med, label=name.upper())
+    ax.set_xlabel("objective evaluations (equal budget)")
     ax.set_ylabel("median best cost (equivalent m)")
     ax.set_yscale("log")
     ax.set_title("marcus-wake: convergence (document 002 Fig. 9 style)")

@@ -219,7 +219,8 @@ def test_one_iabc_iteration_mutates_the_worst_and_keeps_only_improvements():
     decayed sigma, drawn from the optimiser's own generator; worse mutants are rejected, better
     ones replace their source, and the iteration counter advances once."""
     n, dim = 10, 3
-    params = IABCParams(mutation_fraction=0.3, sigma=0.1, sigma_final=0.01, max_iterations=11, limit=1000)
+    params = IABCParams(variant="document", mutation_fraction=0.3, sigma=0.1, sigma_final=0.01, max_iterations=11,
+                        limit=1000)
     opt = IABC(np.full(dim, -1.0), np.full(dim, 1.0), n, params, rng=5)
     X0 = opt.ask()
     f0 = np.arange(n, dtype=float)[::-1] * 1.0  # source 0 is the worst, source 9 the best

@@ -15,7 +15,7 @@ from auvplan.world import LambOseenVortices, Sphere, World
 from helpers import flat_world
 
 SMALL = dict(population=20, iterations=40)
-SWARM = ("iabc", "abc", "ga", "pso")
+SWARM = ("iabc", "abc", "ga", "pso", "de")
 
 
 @pytest.mark.parametrize("name", PLANNERS)
@@ -112,7 +112,8 @@ def test_physical_energy_head_and_tail_current():
 
 def test_marcus_wake_plan_is_feasible(marcus):
     _, world, mission = marcus
-    r = plan(planning_problem(world, mission), mission.planner, rng=1)  # the document's 50 x 100
+    spec = replace(mission.planner, pipeline="document")
+    r = plan(planning_problem(world, mission), spec, rng=1)  # the document's 50 x 100
     assert r.status is Status.EXACT and r.iterations == 100
     straight = np.linalg.norm(np.subtract(mission.goal, mission.start))
     assert straight <= r.cost_terms["length_m"] < 1.02 * straight

@@ -176,6 +176,7 @@ def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu
         row["arrived"] = False
     out = {k: (round(v, 6) if isinstance(v, float) and math.isfinite(v) else v) for k, v in row.items()}
     out["_history"] = [] if p is None else [float(h) for h in p.history]
+    out["_trace"] = [] if p is None else np.asarray(p.trace, dtype=float).tolist()
     return out
 
 
@@ -228,7 +229,8 @@ def read_rows(path: Path) -> list[dict]:
 
 
 def read_histories(path: Path) -> list[dict]:
-    """``{"key": [scenario, planner, guidance, seed], "history": [...]}`` records of a sweep's
+    """``{"key": [scenario, planner, guidance, seed], "history": [...], "trace": [[evaluations, best], ...]}``
+    records of a sweep's
     ``histories.jsonl`` (a line cut short by an interruption is left out)."""
     path = Path(path)
     if not path.is_file():
@@ -324,7 +326,8 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
             writer = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
             for fut in as_completed(futures):
                 for row in fut.result():
-                    hf.write(json.dumps({"key": list(_key(row)), "history": row["_history"]}) + "\n")
+                    hf.write(json.dumps({"key": list(_key(row)), "history": row["_history"],
+                                         "trace": row.get("_trace", [])}) + "\n")
                     hf.flush()
                     writer.writerow(row)
                     fh.flush()

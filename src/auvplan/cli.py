@@ -24,7 +24,7 @@ from .io import export, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
-from .planners import PLANNERS, SWARM, plan, reference, with_reference
+from .planners import PIPELINES, PLANNERS, SWARM, plan, reference, with_reference
 from .sim import planning_problem, run_mission
 
 __all__ = ["main", "main_entry"]
@@ -156,6 +156,8 @@ def _plan(args, quiet: bool):
         spec = replace(spec, name=args.planner)
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
+    if getattr(args, "pipeline", None):
+        spec = replace(spec, pipeline=args.pipeline)
     seed = sc.seed if args.seed is None else args.seed
     bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
@@ -498,7 +500,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
-    s.add_argument("--budget", type=_POSITIVE, help="objective evaluations (equal budgets for comparisons)")
+    s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
+    s.add_argument("--pipeline", choices=PIPELINES,
+                   help="seeded (lattice seeds + refinement + fallback, default) or document (the algorithm alone)")
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")

@@ -16,8 +16,9 @@ What the reader handles, each covered by a round-trip test (file layouts: :mod:`
 * a crop to a lat/lon box and a smooth resampling to a target cell size
   (cubic by default: the 0.1° ETOPO1 cut-out is ~11 km per cell).
 
-Built-in real terrains: ``etopo1-marcus-wake`` (the ETOPO1 cut-out shipped in
-``auvplan/data``) and ``matplotlib-topobathy`` (``topobathy.npz`` read through
+Built-in real terrains: ``etopo1-marcus-wake``, ``etopo1-ninetyeast``, ``etopo1-new-england``
+and ``etopo1-chagos`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and
+``matplotlib-topobathy`` (``topobathy.npz`` read through
 ``matplotlib.cbook.get_sample_data``; its value −1 marks shore water with no
 depth and is treated as no-go).
 """
@@ -56,6 +57,15 @@ log = logging.getLogger(__name__)
 BUILTIN_TERRAINS = {
     "etopo1-marcus-wake": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 14.2-16.3 N, 157.9-160.0 E (seamounts)",
     "matplotlib-topobathy": "matplotlib sample topobathy.npz, 48-50 N, 126-122 W, ~2.4 km (Juan de Fuca, Georgia)",
+    "etopo1-ninetyeast": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 12.0-9.2 S, 87.6-90.8 E (Ninetyeast Ridge)",
+    "etopo1-new-england": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 37.4-39.5 N, 63.3-60.4 W (New England Seamounts)",
+    "etopo1-chagos": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 7.4-4.6 S, 70.4-73.3 E (Chagos banks and atolls)",
+}
+_BUILTIN_FILES = {
+    "etopo1-marcus-wake": "etopo1_seed_marcus_wake.nc",
+    "etopo1-ninetyeast": "etopo1_ninetyeast.nc",
+    "etopo1-new-england": "etopo1_new_england.nc",
+    "etopo1-chagos": "etopo1_chagos.nc",
 }
 
 @dataclass(frozen=True)
@@ -112,9 +122,9 @@ class TerrainSpec:
 
 def builtin_terrain_path(name: str) -> Path:
     """Path of a built-in NetCDF terrain shipped with the package."""
-    if name != "etopo1-marcus-wake":
+    if name not in _BUILTIN_FILES:
         raise DataError(f"built-in terrain {name!r} is not a NetCDF file")
-    return Path(str(resources.files("auvplan") / "data" / "etopo1_seed_marcus_wake.nc"))
+    return Path(str(resources.files("auvplan") / "data" / _BUILTIN_FILES[name]))
 
 
 # ---------------------------------------------------------------------- grid → Terrain

@@ -14,12 +14,25 @@ equations 18–25, as restated in METHODS.md §2:
 * eq. 25 — IABC: after every iteration, Gaussian mutation
   ``g_new = g + N(μ_g, σ²)`` of the worst fraction of sources, kept if better.
 
-The document does not state μ_g, σ or the fraction; auvplan uses μ_g = 0,
-σ = 0.1 of the search range per dimension, decayed linearly to 0.01 of it over
-the run, and the worst 20 % (see :class:`IABCParams`).
+The document does not state μ_g, σ or the fraction.  Two variants (``IABCParams.variant``):
 
-The update rules are pure functions on arrays (:func:`neighbour_move`,
-:func:`abc_fitness`, :func:`logistic_map_population`, :func:`gaussian_mutation`).
+* ``"document"`` — the literal reading: logistic-map coordinates used as they are (their
+  marginal is the arcsine law, which piles 29 % of them within 5 % of the box edges), one-dimension
+  neighbour moves, and mutation ``g + N(0, σ²)`` of the worst 20 % with σ = 0.1 of the range
+  decayed linearly to 0.01 of it over ``max_iterations``;
+* ``"improved"`` (default) — the same two ideas done well: the chaotic sequence is mapped
+  through the map's invariant distribution, ``y = (2/π) asin(√x)`` (:func:`chaotic_uniform_population`:
+  uniform marginals, still ergodic and non-repeating); the mutation's mean is the shift to the best
+  source, ``μ_g = g_best − g``, and its σ is ``sigma_spread`` times the population's current
+  standard deviation per dimension, so the step shrinks with the colony instead of with an
+  iteration count that an evaluation budget does not fix; neighbour moves change each dimension
+  with probability ``modification_rate`` (at least one; Akay & Karaboga 2012), since the
+  coordinates of neighbouring B-spline control points are strongly correlated, and are pulled
+  towards the best source by ``ψ (g_best − g)``, ψ ∈ U(0, ``guided``) (Zhu & Kwong 2010).
+
+The update rules are pure functions on arrays (:func:`neighbour_move`, :func:`guided_move`,
+:func:`abc_fitness`, :func:`logistic_map_population`, :func:`chaotic_uniform_population`,
+:func:`gaussian_mutation`).
 """
 
 from __future__ import annotations
@@ -39,7 +52,9 @@ __all__ = [
     "abc_fitness",
     "neighbour_move",
     "logistic_map_population",
+    "chaotic_uniform_population",
     "gaussian_mutation",
+    "guided_move",
 ]
 
 
@@ -64,32 +79,43 @@ class ABCParams:
 
 @dataclass(frozen=True)
 class IABCParams:
-    """IABC settings on top of ABC.
+    """IABC settings on top of ABC (see the module notes for the two variants).
 
-    ``mu``: logistic-map parameter (4: fully chaotic).  ``mutation_fraction``:
-    share of the worst sources mutated each iteration.  ``sigma``: standard
-    deviation of the Gaussian mutation as a fraction of the search range,
-    decayed linearly to ``sigma_final`` over ``max_iterations`` (none of these
-    three is stated in document 002).
+    ``variant``: ``"improved"`` or ``"document"``.  ``mu``: logistic-map parameter (4: fully
+    chaotic).  ``mutation_fraction``: share of the worst sources mutated each iteration.
+    Document variant: ``sigma`` (fraction of the search range) decayed linearly to
+    ``sigma_final`` over ``max_iterations``.  Improved variant: ``sigma_spread`` (times the
+    population's standard deviation per dimension), ``modification_rate`` (probability that a
+    neighbour move changes a dimension) and ``guided`` (largest pull towards the best source).
     """
 
     limit: int = 40
     scouts_per_iteration: int = 1
+    variant: str = "improved"
     mu: float = 4.0
     mutation_fraction: float = 0.2
     sigma: float = 0.1
     sigma_final: float = 0.01
     max_iterations: int = 100
+    sigma_spread: float = 0.5
+    modification_rate: float = 0.2
+    guided: float = 1.5
 
     def __post_init__(self) -> None:
         if self.limit < 1 or self.scouts_per_iteration < 1 or self.max_iterations < 1:
             raise ValueError("limit, scouts_per_iteration and max_iterations must be >= 1")
+        if self.variant not in ("improved", "document"):
+            raise ValueError(f"variant = {self.variant!r}: choose 'improved' or 'document'")
         if not 3.57 <= self.mu <= 4.0:
             raise ValueError(f"mu = {self.mu}: the logistic map is chaotic only for 3.57 <= mu <= 4")
         if not 0.0 < self.mutation_fraction <= 1.0:
             raise ValueError(f"mutation_fraction = {self.mutation_fraction}: must lie in (0, 1]")
-        if not (self.sigma > 0 and self.sigma_final >= 0):
-            raise ValueError("sigma must be > 0 and sigma_final >= 0")
+        if not (self.sigma > 0 and self.sigma_final >= 0 and self.sigma_spread > 0):
+            raise ValueError("sigma and sigma_spread must be > 0 and sigma_final >= 0")
+        if not 0.0 < self.modification_rate <= 1.0:
+            raise ValueError(f"modification_rate = {self.modification_rate}: must lie in (0, 1]")
+        if self.guided < 0:
+            raise ValueError(f"guided = {self.guided}: must be >= 0")
 
 
 # ---------------------------------------------------------------------- pure kernels
@@ -129,6 +155,24 @@ def logistic_map_population(n: int, dim: int, mu: float, rng: np.random.Generato
         x = mu * x * (1.0 - x)
         out[k] = x
     return out
+
+
+def chaotic_uniform_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> np.ndarray:
+    """Logistic-map points (eqs. 23–24) mapped through the μ = 4 map's invariant distribution,
+    ``y = (2/π) asin(√x)``: the arcsine law becomes uniform on ``[0, 1]`` (the sequence
+    ``y_k`` is the tent map's orbit, still chaotic and non-repeating)."""
+    x = logistic_map_population(n, dim, mu, rng)
+    return (2.0 / np.pi) * np.arcsin(np.sqrt(np.clip(x, 0.0, 1.0)))
+
+
+def guided_move(X: np.ndarray, idx: np.ndarray, partner: np.ndarray, mask: np.ndarray, phi: np.ndarray,
+                psi: np.ndarray, best: np.ndarray) -> np.ndarray:
+    """Eq. 19 on the dimensions in ``mask (B, D)`` plus a pull to the best source:
+    ``x_j += φ_j (x_j - x_{partner, j}) + ψ_j (best_j - x_j)`` where ``mask`` holds."""
+    V = X[idx].copy()
+    step = phi * (X[idx] - X[partner]) + psi * (best[None, :] - X[idx])
+    V[mask] += step[mask]
+    return V
 
 
 def gaussian_mutation(X: np.ndarray, sigma: np.ndarray, rng: np.random.Generator, mean: float = 0.0) -> np.ndarray:
@@ -175,7 +219,7 @@ class ABC(Optimizer):
     def ask(self) -> np.ndarray:
         rng = self.rng
         if self._phase == "init":
-            return self._initial()
+            return self.seeded(self._initial())
         if self._phase == "employed":
             self._idx = np.arange(self.n)
         elif self._phase == "onlooker":
@@ -187,11 +231,15 @@ class ABC(Optimizer):
             return self.uniform(self._idx.size)
         elif self._phase == "mutation":
             return self._mutants()
-        idx = self._idx
+        return self.clip(self._move(self._idx))
+
+    def _move(self, idx: np.ndarray) -> np.ndarray:
+        """Eq. 19 candidates for the sources ``idx``."""
+        rng = self.rng
         partner = _partners(idx, self.n, rng)
         dim = rng.integers(0, self.dim, size=idx.size)
         phi = rng.uniform(-1.0, 1.0, size=idx.size)
-        return self.clip(neighbour_move(self.X, idx, partner, dim, phi))
+        return neighbour_move(self.X, idx, partner, dim, phi)
 
     def _mutants(self) -> np.ndarray:  # pragma: no cover - IABC only
         raise NotImplementedError
@@ -237,7 +285,8 @@ class ABC(Optimizer):
 
 
 class IABC(ABC):
-    """Document 002's improved colony: chaotic initialisation + Gaussian mutation of the worst."""
+    """Document 002's improved colony: chaotic initialisation + Gaussian mutation of the worst
+    (``params.variant``: ``"improved"`` or the literal ``"document"``; see the module notes)."""
 
     name = "iabc"
 
@@ -245,8 +294,25 @@ class IABC(ABC):
                  rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, params if params is not None else IABCParams(), rng)
 
+    @property
+    def literal(self) -> bool:
+        """True for the document's literal variant."""
+        return self.params.variant == "document"
+
     def _initial(self) -> np.ndarray:
-        return self.lower + logistic_map_population(self.n, self.dim, self.params.mu, self.rng) * self.span
+        chaos = logistic_map_population if self.literal else chaotic_uniform_population
+        return self.lower + chaos(self.n, self.dim, self.params.mu, self.rng) * self.span
+
+    def _move(self, idx: np.ndarray) -> np.ndarray:
+        if self.literal:
+            return super()._move(idx)
+        rng, p = self.rng, self.params
+        partner = _partners(idx, self.n, rng)
+        mask = rng.random((idx.size, self.dim)) < p.modification_rate
+        mask[np.arange(idx.size), rng.integers(0, self.dim, size=idx.size)] = True
+        phi = rng.uniform(-1.0, 1.0, size=mask.shape)
+        psi = rng.uniform(0.0, p.guided, size=mask.shape)
+        return guided_move(self.X, idx, partner, mask, phi, psi, self.X[int(np.argmin(self.f))])
 
     def _end_of_iteration(self) -> str:
         return "mutation"
@@ -255,6 +321,10 @@ class IABC(ABC):
         p = self.params
         m = max(1, int(round(p.mutation_fraction * self.n)))
         self._idx = np.argsort(self.f, kind="stable")[-m:]
-        frac = min(self.iteration / max(p.max_iterations - 1, 1), 1.0)
-        sigma = (p.sigma + (p.sigma_final - p.sigma) * frac) * self.span
-        return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))
+        if self.literal:
+            frac = min(self.iteration / max(p.max_iterations - 1, 1), 1.0)
+            sigma = (p.sigma + (p.sigma_final - p.sigma) * frac) * self.span
+            return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))
+        best = self.X[int(np.argmin(self.f))]
+        sigma = p.sigma_spread * self.X.std(axis=0)
+        return self.clip(gaussian_mutation(np.broadcast_to(best, (m, self.dim)), sigma, self.rng))

@@ -82,7 +82,7 @@ class GA(Optimizer):
 
     def ask(self) -> np.ndarray:
         if self._init:
-            return self.uniform(self.n)
+            return self.seeded(self.uniform(self.n))
         p = self.params
         m = self.n - p.elites
         pairs = (m + 1) // 2

@@ -55,6 +55,7 @@ class PSO(Optimizer):
 
     def ask(self) -> np.ndarray:
         if self._init:
+            self.X = self.seeded(self.X)
             return self.X.copy()
         p = self.params
         r1 = self.rng.random(self.X.shape)

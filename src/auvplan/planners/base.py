@@ -8,19 +8,24 @@ import numpy as np
 
 from .._types import Status
 from ..optim.bee import ABCParams, IABCParams
+from ..optim.de import DEParams
 from ..optim.ga import GAParams
+from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
 from .timeopt_params import TimeoptParams
 
-__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS", "SWARM"]
+__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid", "timeopt")
-SWARM = ("iabc", "abc", "ga", "pso")
-"""The planners that iterate (and call ``progress(iteration, best)``)."""
-"""Planner names: the four swarm optimisers (document 002), the streamline planner (document 000)
-and the lattice reference planner."""
+PLANNERS = ("iabc", "abc", "ga", "pso", "de", "flow", "grid", "timeopt")
+"""Planner names: the four swarm optimisers (document 002), scipy's differential evolution, the
+streamline planner (document 000), the lattice reference planner and the time-optimal planner in
+tidal currents (see ``planners.registry``)."""
+SWARM = ("iabc", "abc", "ga", "pso", "de")
+"""The population optimisers over B-spline control points (they iterate and call
+``progress(iteration, best)``)."""
+PIPELINES = ("seeded", "document")
 
 
 @dataclass(frozen=True)
@@ -86,15 +91,27 @@ class PlannerSpec:
     Attributes
     ----------
     name : str
-        ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002), ``flow`` (streamlines,
-        document 000) or ``grid`` (lattice reference).
+        ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002), ``de`` (scipy's differential
+        evolution), ``flow`` (streamlines, document 000) or ``grid`` (lattice reference).
+    pipeline : str
+        For the population optimisers: ``"seeded"`` (default: a coarse lattice path, fitted as
+        control points, seeds part of the first population; the best plan is refined by a
+        pattern search that keeps the exact test; the lattice path is returned when the
+        optimiser found no feasible one) or ``"document"`` (the algorithm alone).
+    seed_fraction : float
+        Share of the first population seeded from the lattice path (the fit and jittered copies).
+    refine_fraction : float
+        Share of the evaluation budget kept for the refinement.
+    seed_nodes : int
+        Node count of the coarse seeding lattice.
     population : int
         Food sources / individuals / particles.
     iterations : int
-        Iteration cap (document 002: IterMax = 100).
+        Iteration cap of the ``"document"`` pipeline without a budget (document 002: IterMax = 100).
     budget : int
-        Objective evaluations; 0 means ``population * iterations`` (the equal budget
-        every algorithm gets in a comparison).
+        Objective evaluations, spent exactly by every optimiser (the last batch truncated);
+        0 means ``population * iterations`` in the seeded pipeline, and the iteration cap
+        alone (as in document 002) in the document pipeline.
     control_points : int
         Free interior B-spline control points.
     samples : int
@@ -112,6 +129,10 @@ class PlannerSpec:
     """
 
     name: str = "iabc"
+    pipeline: str = "seeded"
+    seed_fraction: float = 0.1
+    refine_fraction: float = 0.2
+    seed_nodes: int = 20_000
     population: int = 50
     iterations: int = 100
     budget: int = 0
@@ -127,6 +148,8 @@ class PlannerSpec:
     iabc: IABCParams = field(default_factory=IABCParams)
     ga: GAParams = field(default_factory=GAParams)
     pso: PSOParams = field(default_factory=PSOParams)
+    de: DEParams = field(default_factory=DEParams)
+    refine: PatternParams = field(default_factory=PatternParams)
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
     timeopt: TimeoptParams = field(default_factory=TimeoptParams)
@@ -134,6 +157,14 @@ class PlannerSpec:
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:
             raise ValueError(f"name = {self.name!r}: choose one of {', '.join(PLANNERS)}")
+        if self.pipeline not in PIPELINES:
+            raise ValueError(f"pipeline = {self.pipeline!r}: choose one of {', '.join(PIPELINES)}")
+        if not 0.0 <= self.seed_fraction <= 0.5:
+            raise ValueError(f"seed_fraction = {self.seed_fraction}: must lie in [0, 0.5]")
+        if not 0.0 <= self.refine_fraction < 1.0:
+            raise ValueError(f"refine_fraction = {self.refine_fraction}: must lie in [0, 1)")
+        if self.seed_nodes < 1000:
+            raise ValueError(f"seed_nodes = {self.seed_nodes}: must be >= 1000")
         if self.population < 4:
             raise ValueError(f"population = {self.population}: must be >= 4")
         if self.iterations < 1 or self.budget < 0:
@@ -208,6 +239,9 @@ class PlanResult:
         Wall-clock time of the plan.
     history : ndarray
         Best cost after each iteration.
+    trace : ndarray, shape (M, 2)
+        ``(evaluations, best cost)`` after every batch of objective evaluations (the convergence
+        against evaluations, comparable between optimisers).
     planner : str
         Name of the planner.
     control_points : ndarray or None
@@ -232,6 +266,7 @@ class PlanResult:
     control_points: np.ndarray | None = None
     message: str = ""
     reference_cost: float = float("nan")
+    trace: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
     times: np.ndarray | None = None
 
     @property

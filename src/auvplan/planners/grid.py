@@ -41,7 +41,7 @@ from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
 from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
-from .swarm import check_endpoints, cost_model_for, plan_terms, search_box
+from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
 __all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "path_cost", "with_reference"]
 

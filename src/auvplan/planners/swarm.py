@@ -1,16 +1,27 @@
-"""Global planning with swarm optimisers over B-spline control points (document 002).
+"""Global planning with population optimisers over B-spline control points (document 002).
 
-The decision vector is the ``K`` free interior control points of a clamped
-cubic B-spline from the start to the goal (``D = 3K``), bounded by the world's
-box (and the surface margin).  Every candidate is sampled at ``S`` points in
-one matrix product and costed with :func:`auvplan.cost.evaluate_paths`; the
-optimiser is IABC (document 002's improvement), ABC, GA or PSO, all with the
-same evaluation budget when a budget is given.
+The problem (:mod:`auvplan.planners.swarm_problem`): the ``K`` interior control points of a
+clamped cubic B-spline from the start to the goal, costed by :func:`auvplan.cost.evaluate_paths`.
+The optimiser is IABC (document 002's improvement), ABC, GA, PSO or scipy's differential
+evolution.  Two pipelines (``PlannerSpec.pipeline``):
 
-Status: ``EXACT`` when the best path passes every exact constraint test,
-``INFEASIBLE`` when even the best path violates one (the path is still
-returned, with the number of violating segments in the message),
-``INVALID_START`` / ``INVALID_GOAL`` when an end point is not free.
+* ``"seeded"`` (default): a coarse lattice path (:mod:`auvplan.planners.seeding`), fitted as
+  control points, seeds ``seed_fraction`` of the first population; the optimiser spends
+  ``(1 - refine_fraction)`` of the budget; a pattern search (:func:`auvplan.optim.pattern_search`)
+  spends the rest refining the best plan, accepting only paths that pass the exact test when the
+  optimiser's plan did (so the refined plan is never worse and never less safe); when the
+  optimiser found no feasible path, the lattice path (shortened and relaxed by the grid planner)
+  is returned instead, so that a plan is INFEASIBLE only when the lattice found none either;
+* ``"document"``: the algorithm alone, as in document 002 (IterMax iterations when no budget is
+  given).
+
+``--budget N`` (``PlannerSpec.budget``) makes every optimiser, and the seeded pipeline as a whole,
+spend exactly N objective evaluations (the last batch truncated).
+
+Status: ``EXACT`` when the returned path passes every exact constraint test, ``INFEASIBLE``
+when even the best path violates one (the path is still returned, with the number of
+violating segments in the message), ``INVALID_START`` / ``INVALID_GOAL`` when an end point is
+not free.
 """
 
 from __future__ import annotations
@@ -22,58 +33,39 @@ from dataclasses import replace
 import numpy as np
 
 from .._types import RngLike, Status, as_rng
-from ..cost import CostModel, evaluate_paths
-from ..optim import ABC, GA, IABC, PSO, Termination, minimize
+from ..cost import evaluate_paths
+from ..optim import (
+    ABC,
+    GA,
+    IABC,
+    PSO,
+    OptimizeResult,
+    Problem,
+    Termination,
+    differential_evolution,
+    minimize,
+    pattern_search,
+)
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult
+from .grid import plan_grid
+from .seeding import coarse_reference, fit_control_points, seed_candidates
+from .swarm_problem import (
+    check_endpoints,
+    control_polygon,
+    cost_model_for,
+    make_objective,
+    plan_terms,
+    search_box,
+    spline_problem,
+)
 
-__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "check_endpoints", "plan_terms"]
-
-
-def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
-    """The cost model of a planning problem under planner settings."""
-    return CostModel(
-        speed=problem.speed,
-        hotel_power=problem.hotel_power,
-        drag_k=problem.drag_k,
-        energy=spec.energy,
-        w_length=spec.w_length,
-        w_terrain=spec.w_terrain,
-        w_energy=spec.w_energy,
-        terrain_penalty=spec.terrain_penalty,
-        energy_scale=spec.energy_scale,
-    )
-
-
-def search_box(problem: PlanningProblem) -> tuple[np.ndarray, np.ndarray]:
-    """Per-coordinate bounds ``(3,)`` of the interior control points."""
-    b = problem.world.bounds
-    m = problem.world.margins
-    ztop = min(b.zmax, -m.min_depth)
-    zlow = max(b.zmin, -m.max_depth) if np.isfinite(m.max_depth) else b.zmin
-    if problem.world.terrain is not None:
-        zlow = max(zlow, float(problem.world.terrain.z.min()))
-    return np.array([b.xmin, b.ymin, zlow]), np.array([b.xmax, b.ymax, ztop])
-
-
-def make_objective(problem: PlanningProblem, spec: PlannerSpec) -> Callable[[np.ndarray], np.ndarray]:
-    """Vectorised objective ``(P, 3K) -> (P,)`` of the planning problem."""
-    model = cost_model_for(problem, spec)
-    start, goal = problem.start, problem.goal
-    k = spec.control_points
-
-    def objective(X: np.ndarray) -> np.ndarray:
-        ctrl = np.empty((X.shape[0], k + 2, 3))
-        ctrl[:, 0] = start
-        ctrl[:, -1] = goal
-        ctrl[:, 1:-1] = X.reshape(-1, k, 3)
-        return evaluate_paths(problem.world, sample_population(ctrl, spec.samples), model).total
-
-    return objective
+__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "run_optimizer", "check_endpoints",
+           "plan_terms", "search_box", "spline_problem"]
 
 
 def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng: np.random.Generator):
-    """The optimiser named by ``spec.name`` over ``[lower, upper]``."""
+    """The ask/tell optimiser named by ``spec.name`` over ``[lower, upper]``."""
     if spec.name == "iabc":
         params = replace(spec.iabc, max_iterations=spec.iterations)
         return IABC(lower, upper, spec.population, params, rng)
@@ -86,34 +78,29 @@ def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng:
     raise ValueError(f"unknown swarm planner {spec.name!r}")
 
 
-def plan_terms(row: dict, spec: PlannerSpec) -> dict:
-    """:attr:`PlanResult.cost_terms` from one :meth:`CostTerms.row`: the weighted terms and the
-    physical figures."""
-    return {
-        "length": row["length"] * spec.w_length,
-        "terrain": row["terrain"] * spec.w_terrain,
-        "energy": row["energy"] * spec.w_energy,
-        "length_m": row["length"],
-        "energy_j": row["energy_j"],
-        "duration_s": row["duration_s"],
-        "min_clearance_m": row["min_clearance_m"],
-        "collisions": row["violations"],
-    }
+def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
+                  progress: Callable[[int, float], None] | None = None) -> OptimizeResult:
+    """Run the optimiser of ``spec`` on ``problem`` until its budget is spent (or, without a
+    budget, for ``spec.iterations`` iterations)."""
+    if spec.name == "de":
+        return differential_evolution(problem, spec.population, spec.de, rng, progress)
+    optimizer = make_optimizer(spec, problem.lower, problem.upper, rng)
+    termination = (Termination(max_iterations=spec.iterations) if problem.budget is None
+                   else Termination(max_iterations=None, max_evaluations=problem.budget))
+    return minimize(problem, optimizer, termination, progress)
 
 
-def check_endpoints(problem: PlanningProblem) -> tuple[Status, str] | None:
-    """``(status, message)`` when the start or goal is not a free point, else None."""
-    w = problem.world
-    ends = ((Status.INVALID_START, "start", problem.start), (Status.INVALID_GOAL, "goal", problem.goal))
-    for status, name, p in ends:
-        why = w.explain(p) if w.bounds.contains(p) else "outside the bounds"
-        if why:
-            return status, f"{name} {p.tolist()} is not free: {why}"
-    return None
-
-
-def _failure(problem: PlanningProblem, status: Status, message: str, name: str) -> PlanResult:
+def _failure(status: Status, message: str, name: str) -> PlanResult:
     return PlanResult(status, np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), name, None, message)
+
+
+def _budgets(spec: PlannerSpec) -> tuple[int | None, int]:
+    """Evaluations of the optimiser (None: iteration cap only) and of the refinement."""
+    if spec.pipeline == "document":
+        return (spec.budget or (spec.evaluations if spec.name == "de" else None)), 0
+    total = spec.evaluations
+    refine = int(round(spec.refine_fraction * total)) if total > 2 * 3 * spec.control_points else 0
+    return total - refine, refine
 
 
 def plan_swarm(
@@ -122,14 +109,14 @@ def plan_swarm(
     rng: RngLike = None,
     progress: Callable[[int, float], None] | None = None,
 ) -> PlanResult:
-    """Plan with the swarm optimiser named by ``spec.name``.
+    """Plan with the population optimiser named by ``spec.name`` (see the module notes).
 
     Parameters
     ----------
     problem : PlanningProblem
         World, end points, vehicle energy figures.
     spec : PlannerSpec
-        Optimiser, population, iterations, evaluation budget, cost settings.
+        Optimiser, pipeline, population, evaluation budget, cost settings.
     rng : Generator, int or None
         Seed of the run (same seed → same result).
     progress : callable, optional
@@ -138,14 +125,46 @@ def plan_swarm(
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
     if bad is not None:
-        return _failure(problem, bad[0], bad[1], spec.name)
-    lo3, hi3 = search_box(problem)
-    k = spec.control_points
-    lower, upper = np.tile(lo3, k), np.tile(hi3, k)
-    optimizer = make_optimizer(spec, lower, upper, as_rng(rng))
-    termination = Termination(max_iterations=spec.iterations, max_evaluations=spec.budget or None)
-    result = minimize(make_objective(problem, spec), optimizer, termination, progress)
-    ctrl = np.vstack([problem.start, result.x.reshape(k, 3), problem.goal])
+        return _failure(bad[0], bad[1], spec.name)
+    gen = as_rng(rng)
+    budget, refine = _budgets(spec)
+    lattice, x0 = None, None
+    if spec.pipeline == "seeded":
+        ref, lattice = coarse_reference(problem, spec)
+        if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
+            lo3, hi3 = search_box(problem)
+            k = spec.control_points
+            count = max(1, int(round(spec.seed_fraction * spec.population)))
+            x0 = seed_candidates(fit_control_points(lattice, k, spec.samples), count, np.tile(lo3, k),
+                                 np.tile(hi3, k), gen)
+    opt = run_optimizer(spec, spline_problem(problem, spec, budget, x0), gen, progress)
+    x, f, evals = opt.x, opt.f, opt.evaluations
+    history, trace = opt.history, opt.trace
+    if refine > 0:
+        feasible = _feasible(problem, spec, x)
+        polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
+        if polished.f <= f:
+            x, f = polished.x, polished.f
+        trace = np.vstack([trace, polished.trace + np.array([evals, 0.0])])
+        history = np.r_[history, f]
+        evals += polished.evaluations
+    result = _result(problem, spec, x, f, evals, opt.iterations, history, trace)
+    if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
+        result = _fallback(problem, spec, ref, result)
+    return replace(result, wall_time_s=time.perf_counter() - t0)
+
+
+def _feasible(problem: PlanningProblem, spec: PlannerSpec, x: np.ndarray) -> bool:
+    """Whether decision vector ``x`` passes every constraint (a check of the optimiser's answer,
+    not a search step: it does not count against the budget)."""
+    path = sample_population(control_polygon(problem, x), spec.samples)
+    return bool(evaluate_paths(problem.world, path, cost_model_for(problem, spec)).feasible[0])
+
+
+def _result(problem: PlanningProblem, spec: PlannerSpec, x: np.ndarray, f: float, evals: int, iterations: int,
+            history: np.ndarray, trace: np.ndarray) -> PlanResult:
+    """The plan of decision vector ``x`` with its exact status."""
+    ctrl = control_polygon(problem, x)[0]
     path = sample_population(ctrl, spec.samples)
     terms = evaluate_paths(problem.world, path[None], cost_model_for(problem, spec), exact=True)
     row = terms.row(0)
@@ -155,17 +174,17 @@ def plan_swarm(
         f"the best path found still violates {row['violations']} segment constraint(s) "
         f"(deepest violation {-row['min_clearance_m']:.1f} m); raise the budget or relax the margins"
     )
-    cost_terms = plan_terms(row, spec)
-    return PlanResult(
-        status=status,
-        path=path,
-        cost=float(result.f),
-        cost_terms=cost_terms,
-        evaluations=result.evaluations,
-        iterations=result.iterations,
-        wall_time_s=time.perf_counter() - t0,
-        history=result.history,
-        planner=spec.name,
-        control_points=ctrl,
-        message=message,
-    )
+    return PlanResult(status=status, path=path, cost=float(f), cost_terms=plan_terms(row, spec), evaluations=evals,
+                      iterations=iterations, wall_time_s=0.0, history=history, planner=spec.name, control_points=ctrl,
+                      message=message, trace=trace)
+
+
+def _fallback(problem: PlanningProblem, spec: PlannerSpec, ref, failed: PlanResult) -> PlanResult:
+    """The coarse lattice path (shortened and relaxed by the grid planner) in place of a failed plan."""
+    grid = plan_grid(problem, spec, reference=ref)
+    if not grid.status.ok:
+        return failed
+    note = (f"the {spec.name} optimiser found no feasible path ({failed.message}); returned the lattice path "
+            f"of the seeding lattice instead")
+    return replace(grid, planner=spec.name, evaluations=failed.evaluations, iterations=failed.iterations,
+                   history=np.r_[failed.history, grid.cost], trace=failed.trace, message=note)

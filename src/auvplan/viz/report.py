@@ -128,24 +128,7 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
     rate = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
     bars = go.Figure(go.Bar(x=names, y=rate, marker_color=[colour[n] for n in names]))
     bars.update_layout(title="success rate", yaxis=dict(range=[0, 1.05]), height=380)
-    conv = go.Figure()
-    by_cell: dict[str, list[np.ndarray]] = {}
-    for h in histories:
-        s, p, g, _ = h["key"]
-        if h["history"]:
-            by_cell.setdefault(f"{s} {p}/{g}", []).append(np.asarray(h["history"], dtype=float))
-    for name, hs in sorted(by_cell.items()):
-        n = max(len(h) for h in hs)
-        m = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hs])
-        q25, q50, q75 = np.percentile(m, [25, 50, 75], axis=0)
-        it = np.arange(1, n + 1)
-        c = colour.get(name, "gray")
-        conv.add_trace(go.Scatter(x=np.r_[it, it[::-1]], y=np.r_[q75, q25[::-1]], fill="toself", opacity=0.2,
-                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name, fillcolor=c))
-        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})",
-                                  line=dict(color=c)))
-    conv.update_layout(title="convergence (best cost per iteration)", xaxis_title="iteration",
-                       yaxis_title="best cost", height=450)
+    conv = _convergence_figure(histories, colour)
     parts = [pio.to_html(f, include_plotlyjs=(i == 0), full_html=False, div_id=d, config=dict(displaylogo=False))
              for i, (d, f) in enumerate((("costs", box), ("success", bars), ("convergence", conv)))]
     table = ""
@@ -160,3 +143,34 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>auvplan bench</title><style>{_CSS}</style>"
             f"</head><body><h1>auvplan bench: {len(rows)} runs</h1>" + "".join(parts)
             + "<h2>Summary</h2>" + table + "</body></html>")
+
+
+def _convergence_figure(histories: list[dict], colour: dict):
+    """Median and interquartile band of the best cost per cell, against objective evaluations
+    when the records carry a trace (comparable between optimisers), else against iterations."""
+    conv = go.Figure()
+    by_cell: dict[str, list[np.ndarray]] = {}
+    traced = all(h.get("trace") for h in histories if h["history"])
+    for h in histories:
+        s, p, g, _ = h["key"]
+        if h["history"]:
+            curve = np.asarray(h["trace"], dtype=float) if traced else np.asarray(h["history"], dtype=float)
+            by_cell.setdefault(f"{s} {p}/{g}", []).append(curve)
+    for name, hs in sorted(by_cell.items()):
+        if traced:
+            x = np.linspace(0.0, max(t[-1, 0] for t in hs), 200)[1:]
+            m = np.array([t[np.maximum(np.searchsorted(t[:, 0], x, side="right") - 1, 0), 1] for t in hs])
+        else:
+            n = max(len(h) for h in hs)
+            m = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hs])
+            x = np.arange(1, n + 1)
+        q25, q50, q75 = np.percentile(m, [25, 50, 75], axis=0)
+        c = colour.get(name, "gray")
+        conv.add_trace(go.Scatter(x=np.r_[x, x[::-1]], y=np.r_[q75, q25[::-1]], fill="toself", opacity=0.2,
+                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name, fillcolor=c))
+        conv.add_trace(go.Scatter(x=x, y=q50, mode="lines", name=f"{name} (median of {len(hs)})",
+                                  line=dict(color=c)))
+    what = "objective evaluations" if traced else "iteration"
+    conv.update_layout(title=f"convergence (best cost against {what})", xaxis_title=what, yaxis_title="best cost",
+                       height=450)
+    return conv

@@ -1,0 +1,198 @@
+"""Planners on the hard built-in scenarios at truly equal budgets, beside peer libraries.
+
+Every method gets exactly ``--budget`` objective evaluations of the same cost (auvplan counts
+them; peers are wrapped so that evaluations past the budget return ``inf``), ``--seeds`` seeds
+per scenario.  Methods: each auvplan optimiser in the default ``seeded`` pipeline and alone
+(``document`` pipeline), IABC's literal document variant, and the peers mealpy ``OriginalABC``
+and pymoo ``PSO`` / ``GA`` when installed (scipy's differential evolution is ``de``).  For each
+scenario: the gap of each method's median and worst cost to the best cost any method found (the
+grid reference included), the seeds ending INFEASIBLE and the median CPU time per plan.  Also
+the median convergence (best cost against evaluations) of the four document algorithms.
+
+    .venv/bin/pip install mealpy pymoo      # optional peers
+    .venv/bin/python benchmarks/hard.py --seeds 10 --budget 10000 --out results/bench-hard
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from auvplan.io import scenario as sc
+from auvplan.optim import Problem
+from auvplan.planners import plan, reference
+from auvplan.planners.swarm_problem import path_terms, spline_problem
+from auvplan.sim import planning_problem
+
+SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")
+OURS = [(f"{n}", n, "seeded", "improved") for n in ("iabc", "abc", "ga", "pso", "de")] + \
+       [(f"{n}/document", n, "document", "improved") for n in ("iabc", "abc", "ga", "pso", "de")] + \
+       [("iabc-literal/document", "iabc", "document", "document")]
+
+
+def _ours(prob, spec, label, name, pipeline, variant, seed):
+    s = replace(spec, name=name, pipeline=pipeline, iabc=replace(spec.iabc, variant=variant))
+    c0 = time.process_time()
+    r = plan(prob, s, rng=seed)
+    return {"method": label, "seed": seed, "status": r.status.value, "cost": r.cost, "evaluations": r.evaluations,
+            "cpu_s": time.process_time() - c0, "trace": r.trace.tolist()}
+
+
+def _peer_rows(prob, spec, seeds: int, budget: int) -> list[dict]:
+    rows = []
+
+    def finish(label, seed, x, cpu, evals):
+        t = path_terms(prob, spec, np.asarray(x)[None], exact=True)
+        ok = bool(t.feasible[0])
+        rows.append({"method": label, "seed": seed, "status": "EXACT" if ok else "INFEASIBLE",
+                     "cost": float(t.total[0]), "evaluations": evals, "cpu_s": cpu, "trace": []})
+
+    try:
+        from pymoo.algorithms.soo.nonconvex.ga import GA as PymooGA
+        from pymoo.algorithms.soo.nonconvex.pso import PSO as PymooPSO
+        from pymoo.core.problem import Problem as PymooProblem
+        from pymoo.optimize import minimize as pymoo_minimize
+
+        for label, algo in (("pymoo-pso", PymooPSO), ("pymoo-ga", PymooGA)):
+            for seed in range(seeds):
+                p = spline_problem(prob, spec, budget)
+
+                class PathProblem(PymooProblem):
+                    def __init__(self, p: Problem):
+                        super().__init__(n_var=p.dim, n_obj=1, xl=p.lower, xu=p.upper)
+                        self.p = p
+
+                    def _evaluate(self, x, out, *args, **kwargs):
+                        out["F"] = self.p.evaluate(x)[:, None]
+
+                c0 = time.process_time()
+                pymoo_minimize(PathProblem(p), algo(pop_size=spec.population), ("n_evals", budget), seed=seed,
+                               verbose=False)
+                finish(label, seed, p.best_x, time.process_time() - c0, p.evaluations)
+    except ImportError:
+        pass
+    try:
+        from mealpy import ABC, FloatVar
+
+        for seed in range(seeds):
+            p = spline_problem(prob, spec, budget)
+            problem = {"obj_func": lambda x, p=p: float(p.evaluate(np.asarray(x)[None])[0]),
+                       "bounds": FloatVar(lb=p.lower.tolist(), ub=p.upper.tolist()), "minmax": "min",
+                       "log_to": None}
+            model = ABC.OriginalABC(epoch=100_000, pop_size=spec.population)
+            c0 = time.process_time()
+            model.solve(problem, seed=seed, termination={"max_fe": budget})
+            finish("mealpy-abc", seed, p.best_x, time.process_time() - c0, p.evaluations)
+    except ImportError:
+        pass
+    return rows
+
+
+def run(name: str, seeds: int, budget: int, peers: bool) -> dict:
+    world, mission = sc.build(sc.load(name))
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, budget=budget)
+    rows = [_ours(prob, spec, *m, seed) for m in OURS for seed in range(seeds)]
+    if peers:
+        rows += _peer_rows(prob, spec, seeds, budget)
+    ref = reference(prob, spec)
+    return {"scenario": name, "rows": rows, "reference_cost": ref.cost, "reference_status": ref.status.value}
+
+
+def table(result: dict) -> list[str]:
+    rows = result["rows"]
+    feasible = [r["cost"] for r in rows if r["status"] == "EXACT"]
+    best = min(feasible + ([result["reference_cost"]] if result["reference_status"] == "EXACT" else []))
+    lines = [f"\n**{result['scenario']}** (best cost found {best:.0f}; grid reference {result['reference_cost']:.0f}, "
+             f"{100 * (result['reference_cost'] / best - 1):+.2f} %)\n",
+             "| method | median gap | worst gap | infeasible | median evaluations | median CPU s |",
+             "|---|---|---|---|---|---|"]
+    for method in dict.fromkeys(r["method"] for r in rows):
+        sel = [r for r in rows if r["method"] == method]
+        c = np.array([r["cost"] for r in sel])
+        bad = sum(r["status"] != "EXACT" for r in sel)
+        lines.append(f"| {method} | {100 * (np.median(c) / best - 1):+.2f} % | {100 * (c.max() / best - 1):+.2f} % | "
+                     f"{bad}/{len(sel)} | {int(np.median([r['evaluations'] for r in sel]))} | "
+                     f"{np.median([r['cpu_s'] for r in sel]):.3f} |")
+    return lines
+
+
+def convergence_figure(result: dict, budget: int, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    grid = np.linspace(0, budget, 201)[1:]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    methods = ("iabc-literal/document", "iabc/document", "abc/document", "ga/document", "pso/document")
+    best = min(r["cost"] for r in result["rows"] if r["status"] == "EXACT")
+    finals = []
+    for method in methods:
+        curves = []
+        for r in result["rows"]:
+            if r["method"] == method and r["trace"]:
+                t = np.asarray(r["trace"])
+                idx = np.searchsorted(t[:, 0], grid, side="right") - 1
+                curves.append(np.where(idx >= 0, t[np.maximum(idx, 0), 1], np.nan))
+        med = np.nanmedian(np.array(curves), axis=0)
+        finals.append(med[-1])
+        name = method.replace("/document", "").upper().replace("-LITERAL", " (document variant)")
+        label = "IABC (improved)" if method == "iabc/document" else name
+        ax.plot(grid, med, label=f"{label}: {100 * (med[-1] / best - 1):+.1f} % at the end")
+    ax.set_ylim(best * 0.99, best * min(max(1.1, 1.05 * max(finals) / best), 1.6))
+    ax.set_xlabel("objective evaluations")
+    ax.set_ylabel("median best cost over seeds (equivalent m)")
+    ax.axhline(best, color="k", lw=0.8, ls=":")
+    ax.set_title(f"{result['scenario']}: equal budget, algorithms alone (document pipeline)")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def replot(rows_json: str, budget: int, figure: str) -> None:
+    """Redraw the convergence figure of the first scenario from a run's ``rows.json``."""
+    convergence_figure(json.loads(Path(rows_json).read_text())[0], budget, Path(figure))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--budget", type=int, default=10_000)
+    ap.add_argument("--scenarios", nargs="+", default=list(SCENARIOS))
+    ap.add_argument("--no-peers", action="store_true")
+    ap.add_argument("--figure", default="docs/convergence_hard.png")
+    ap.add_argument("--out", default="results/bench-hard")
+    args = ap.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    load = os.getloadavg()
+    text = [f"# Planners on the hard scenarios: {args.budget} evaluations, {args.seeds} seeds",
+            f"\nload average at start {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} on {os.cpu_count()} cores "
+            "(shared machine: CPU times are inflated)"]
+    results = []
+    for name in args.scenarios:
+        res = run(name, args.seeds, args.budget, not args.no_peers)
+        results.append(res)
+        text += table(res)
+        print("\n".join(table(res)), flush=True)
+        (out / "rows.json").write_text(json.dumps(results))
+        (out / "summary.md").write_text("\n".join(text) + "\n")
+        if name == args.scenarios[0]:
+            convergence_figure(res, args.budget, Path(args.figure))
+    load = os.getloadavg()
+    text.append(f"\nload average at end {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}")
+    (out / "summary.md").write_text("\n".join(text) + "\n")
+    (out / "rows.json").write_text(json.dumps(results))
+    print(f"wrote {out / 'summary.md'}, {args.figure}")
+
+
+if __name__ == "__main__":
+    main()
