@@ -256,3 +256,16 @@ def test_held_track_changes_depth_at_the_pitch_and_carries_the_lag_over():
     t = math.tan(math.radians(10.0))
     np.testing.assert_allclose(held_track(w, 10.0), [[0, 0, -100], [100, 0, -100 + 100 * t],
                                                      [200, 0, -100 + 200 * t]], atol=1e-9)
+
+
+def test_a_plan_without_flight_exports_its_executable_mission(tmp_path):
+    out = tmp_path / "p"
+    assert main(["plan", "dynamic-terrain", "--out", str(out)]) == 0
+    assert main(["export", str(out), "--format", "moos", "plan"]) == 0
+    world, mission = sc.build(sc.load("dynamic-terrain"))
+    record, _ = export.read_run(out)
+    expected = mission_route(world, mission, record.plan.path)
+    np.testing.assert_allclose(formats.parse_moos((out / "mission.moos").read_text()), expected, atol=1e-3)
+    for name in ("mission.moos", "mission.plan"):
+        check, _ = formats.check_mission_file(out / name, world)
+        assert check.ok and check.min_altitude_m >= world.margins.min_altitude

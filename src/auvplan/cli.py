@@ -25,7 +25,7 @@ from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import PIPELINES, PLANNERS, SWARM, plan, reference, with_reference
-from .sim import planning_problem, run_mission
+from .sim import mission_route, planning_problem, run_mission
 
 __all__ = ["main", "main_entry"]
 
@@ -368,6 +368,9 @@ def _load_results(args):
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
     world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
+    if not record.route.size and record.plan is not None and record.plan.path.size:
+        # a plan without a flight: export the executable mission, not the raw planned curve
+        record = replace(record, route=mission_route(world, mission, record.plan.path))
     return out, record, text, world, mission
 
 
