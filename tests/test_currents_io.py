@@ -275,3 +275,12 @@ def test_string_file_form_and_bad_time_units(tmp_path):
     ds.to_netcdf(tmp_path / "tu.nc")
     with pytest.raises(DataError, match="'time'.*fortnights"):
         read_currents(CurrentsFileSpec(str(tmp_path / "tu.nc")), FRAME, extent_m=BOUNDS)
+
+
+def test_data_inspect_currents(tmp_path, capsys):
+    p, *_ = cmems(tmp_path, units="cm s-1", scale=100.0)
+    assert cli.main(["data", "inspect", str(p)]) == 0
+    out = capsys.readouterr().out
+    for w in ("as currents: u 'uo', v 'vo'", "units cm s-1 → × 0.01 to m/s", "54 missing value(s)",
+              "time 'time': 2 steps, 2024-03-01T00:00:00 .. 2024-03-01T06:00:00", "depth 'depth': 3 levels"):
+        assert w in out, (w, out)

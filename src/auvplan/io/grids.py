@@ -359,12 +359,10 @@ def to_local(
     if grid.kind == "curvilinear":
         sx, sy = frame.forward(grid.cols, grid.rows)
         pts = np.column_stack([np.ravel(sx), np.ravel(sy)])
-        tri = LinearNDInterpolator(pts, np.zeros(pts.shape[0]))  # the triangulation, built once
         q = np.column_stack([gx.ravel(), gy.ravel()])
-        for k in range(flat.shape[0]):
-            tri.values = np.ascontiguousarray(flat[k].reshape(-1, 1))
-            out[k] = tri(q)[:, 0]
-        if np.isnan(out[:, :]).all(axis=0).any():
+        # one triangulation for every layer: values (npoints, layers)
+        out = LinearNDInterpolator(pts, flat.reshape(flat.shape[0], -1).T)(q).T
+        if np.isnan(out).any():
             raise DataError(f"{what}: the curvilinear data ({data_span(grid)}) do not cover the requested extent "
                             f"x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m")
         return x, y, out.reshape(*lead, ny, nx)
@@ -383,8 +381,15 @@ def to_local(
     if method in ("cubic", "quintic", "pchip") and min(grid.rows.size, grid.cols.size) < 4:
         method = "linear"
     q = np.column_stack([np.clip(qr, grid.rows[0], grid.rows[-1]), np.clip(qc, grid.cols[0], grid.cols[-1])])
+    # only the source nodes around the target (splines are solved over the whole grid they get)
+    pad = 6
+    j0 = max(int(np.searchsorted(grid.rows, q[:, 0].min())) - pad, 0)
+    j1 = min(int(np.searchsorted(grid.rows, q[:, 0].max())) + pad, grid.rows.size)
+    i0 = max(int(np.searchsorted(grid.cols, q[:, 1].min())) - pad, 0)
+    i1 = min(int(np.searchsorted(grid.cols, q[:, 1].max())) + pad, grid.cols.size)
+    axes = (grid.rows[j0:j1], grid.cols[i0:i1])
     for k in range(flat.shape[0]):  # one interpolator per 2-D layer (time/depth/component)
-        out[k] = RegularGridInterpolator((grid.rows, grid.cols), flat[k], method=method)(q)
+        out[k] = RegularGridInterpolator(axes, flat[k, j0:j1, i0:i1], method=method)(q)
     return x, y, out.reshape(*lead, ny, nx)
 
 

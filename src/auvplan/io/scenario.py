@@ -14,6 +14,7 @@ Layout (all tables optional except ``[mission]``)::
     [terrain]  builtin | file, variable, positive, box, resample_m, method, nan_policy
     [terrain.synthetic]  kind = flat|plane|hills|ridge, depth, ...
     [currents] uniform = [u, v, w]   vortices = [{x, y, gamma, delta}, ...]   file = "..."
+    [land]     builtin = "gshhg-juan-de-fuca" | file = "coast.gpkg", layer   # coastlines: no-go
     [[obstacles]] type = sphere|ellipsoid, center, radius | semi_axes, yaw_deg, pitch_deg, roll_deg
     [[moving]]    type, radius | semi_axes, motion = linear|circle|waypoints|random-walk, ...
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
@@ -55,6 +56,7 @@ from ..world import (
     World,
 )
 from .bathymetry import TerrainSpec, load_terrain
+from .coast import LandSpec, read_land
 from .currents import CurrentsFileSpec, parse_time, read_currents
 from .geo import LocalFrame
 from .tables import build_dataclass, table_error
@@ -233,11 +235,12 @@ class Scenario:
     avoidance: AvoidanceParams
     sim: SimSettings
     raw: dict = field(repr=False, default_factory=dict)
+    land: LandSpec | None = None
 
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
-    "mission", "vehicle", "planner", "guidance", "avoidance", "sim",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "land",
 }
 
 
@@ -432,6 +435,9 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
     if (terrain is not None) and origin is None:
         raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
     currents = _section(data, "currents", CurrentsSpec, source)
+    land = _section(data, "land", LandSpec, source) if "land" in data else None
+    if land is not None and (origin is None or terrain is None and synthetic is None):
+        raise ScenarioError(f"{source}: [land] needs [origin] lat/lon and a [terrain] to burn the land into")
     obstacles_raw = data.get("obstacles", [])
     if not isinstance(obstacles_raw, list):
         raise table_error(f"{source}:", "obstacles", obstacles_raw, "expected an array of tables [[obstacles]]")
@@ -462,6 +468,7 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
         avoidance=_section(data, "avoidance", AvoidanceParams, source),
         sim=_section(data, "sim", SimSettings, source),
         raw=copy.deepcopy(data),
+        land=land,
     )
 
 
@@ -545,6 +552,12 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
         raise DataError(f"{src}: [currents] {exc}") from exc
+    land = None
+    if s.land is not None:
+        try:
+            land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
+        except DataError as exc:
+            raise DataError(f"{src}: [land] {exc}") from exc
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
@@ -558,6 +571,7 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
             margins=margins,
             origin=(s.origin.lat, s.origin.lon) if s.origin else None,
             name=s.name,
+            land=land,
         )
     except DataError as exc:
         raise DataError(f"{src}: {exc}") from exc
