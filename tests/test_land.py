@@ -157,3 +157,4 @@ def test_plans_never_cross_gshhg_land(admiralty, planner, seed):
     lines = shapely.linestrings(segs[..., :2])
     assert not shapely.intersects(lines, gshhg).any()  # exact, on the unclipped GSHHG polygons
     assert world.segments_free(segs, moving=False).all()
+

@@ -381,15 +381,8 @@ def to_local(
     if method in ("cubic", "quintic", "pchip") and min(grid.rows.size, grid.cols.size) < 4:
         method = "linear"
     q = np.column_stack([np.clip(qr, grid.rows[0], grid.rows[-1]), np.clip(qc, grid.cols[0], grid.cols[-1])])
-    # only the source nodes around the target (splines are solved over the whole grid they get)
-    pad = 6
-    j0 = max(int(np.searchsorted(grid.rows, q[:, 0].min())) - pad, 0)
-    j1 = min(int(np.searchsorted(grid.rows, q[:, 0].max())) + pad, grid.rows.size)
-    i0 = max(int(np.searchsorted(grid.cols, q[:, 1].min())) - pad, 0)
-    i1 = min(int(np.searchsorted(grid.cols, q[:, 1].max())) + pad, grid.cols.size)
-    axes = (grid.rows[j0:j1], grid.cols[i0:i1])
     for k in range(flat.shape[0]):  # one interpolator per 2-D layer (time/depth/component)
-        out[k] = RegularGridInterpolator(axes, flat[k, j0:j1, i0:i1], method=method)(q)
+        out[k] = RegularGridInterpolator((grid.rows, grid.cols), flat[k], method=method)(q)
     return x, y, out.reshape(*lead, ny, nx)
 
 
