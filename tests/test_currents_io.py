@@ -190,8 +190,9 @@ x = [0.0, 20000.0]
 y = [0.0, 20000.0]
 z = [-120.0, 0.0]
 [terrain.synthetic]
-kind = "flat"
+kind = "plane"
 depth = 100.0
+slope = [0.0005, 0.0]
 cell_m = 250.0
 [currents]
 file = "{file}"

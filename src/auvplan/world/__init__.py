@@ -12,6 +12,7 @@ from .obstacles import (
     WaypointMotion,
 )
 from .terrain import Terrain
+from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World
 
 __all__ = [
@@ -28,6 +29,8 @@ __all__ = [
     "RandomWalkMotion",
     "Sphere",
     "Terrain",
+    "HarmonicTables",
+    "TidalCurrent",
     "UniformCurrent",
     "WaypointMotion",
     "World",
