@@ -285,3 +285,17 @@ def test_data_inspect_currents(tmp_path, capsys):
     for w in ("as currents: u 'uo', v 'vo'", "units cm s-1 → × 0.01 to m/s", "54 missing value(s)",
               "time 'time': 2 steps, 2024-03-01T00:00:00 .. 2024-03-01T06:00:00", "depth 'depth': 3 levels"):
         assert w in out, (w, out)
+
+
+def test_non_standard_calendar_decoded_with_cftime(tmp_path):
+    """A climate-model 360-day calendar: days since 2000-01-01; start_time on day 2.5 of that calendar."""
+    p = hycom(tmp_path, "c360.nc")
+    ds = xr.open_dataset(p, decode_times=False)
+    ds["time"] = ("time", np.array([0.0, 1.0, 2.0, 3.0]), {"units": "days since 2000-01-01", "calendar": "360_day"})
+    ds.to_netcdf(tmp_path / "c360b.nc")
+    g = read_currents(CurrentsFileSpec(str(tmp_path / "c360b.nc")), FRAME, extent_m=BOUNDS,
+                      start_time="2000-01-03T12:00:00")
+    assert np.allclose(g.t, (np.arange(4) - 2.5) * 86400.0)
+    with pytest.raises(DataError, match=r"'time' covers 2000-01-01T00:00:00 .. 2000-01-04T00:00:00"):
+        read_currents(CurrentsFileSpec(str(tmp_path / "c360b.nc")), FRAME, extent_m=BOUNDS,
+                      start_time="2001-01-01T00:00:00")
