@@ -198,14 +198,14 @@ cell_m = 250.0
 file = "{file}"
 [mission]
 start = [1000.0, 1000.0, -40.0]
-goal = [12000.0, 15000.0, -40.0]
+goal = [4000.0, 5000.0, -40.0]
 min_altitude_m = 10.0
 min_depth_m = 5.0
 start_time = "{start}"
+[vehicle]
+speed = 1.5
 [planner]
-name = "iabc"
-population = 12
-iterations = 8
+name = "grid"
 """
 
 
@@ -223,7 +223,7 @@ def test_exactly_covering_latlon_file_plans_and_flies(tmp_path, capsys):
     s = scenario_file(tmp_path, p)
     world, _ = sc.build(sc.load(s))
     assert world.currents.covers(0.0, 20_000.0, 0.0, 20_000.0)
-    assert cli.main(["run", str(s), "--out", str(tmp_path / "out"), "--json"]) == 0
+    assert cli.main(["run", str(s), "--json"]) == 0
     import json
 
     rec = json.loads(capsys.readouterr().out)
