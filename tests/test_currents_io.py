@@ -190,21 +190,22 @@ x = [0.0, 20000.0]
 y = [0.0, 20000.0]
 z = [-120.0, 0.0]
 [terrain.synthetic]
-kind = "flat"
+kind = "plane"
 depth = 100.0
+slope = [0.0005, 0.0]
 cell_m = 250.0
 [currents]
 file = "{file}"
 [mission]
 start = [1000.0, 1000.0, -40.0]
-goal = [12000.0, 15000.0, -40.0]
+goal = [4000.0, 5000.0, -40.0]
 min_altitude_m = 10.0
 min_depth_m = 5.0
 start_time = "{start}"
+[vehicle]
+speed = 1.5
 [planner]
-name = "iabc"
-population = 12
-iterations = 8
+name = "grid"
 """
 
 
@@ -222,7 +223,7 @@ def test_exactly_covering_latlon_file_plans_and_flies(tmp_path, capsys):
     s = scenario_file(tmp_path, p)
     world, _ = sc.build(sc.load(s))
     assert world.currents.covers(0.0, 20_000.0, 0.0, 20_000.0)
-    assert cli.main(["run", str(s), "--out", str(tmp_path / "out"), "--json"]) == 0
+    assert cli.main(["run", str(s), "--json"]) == 0
     import json
 
     rec = json.loads(capsys.readouterr().out)
@@ -275,3 +276,26 @@ def test_string_file_form_and_bad_time_units(tmp_path):
     ds.to_netcdf(tmp_path / "tu.nc")
     with pytest.raises(DataError, match="'time'.*fortnights"):
         read_currents(CurrentsFileSpec(str(tmp_path / "tu.nc")), FRAME, extent_m=BOUNDS)
+
+
+def test_data_inspect_currents(tmp_path, capsys):
+    p, *_ = cmems(tmp_path, units="cm s-1", scale=100.0)
+    assert cli.main(["data", "inspect", str(p)]) == 0
+    out = capsys.readouterr().out
+    for w in ("as currents: u 'uo', v 'vo'", "units cm s-1 → × 0.01 to m/s", "54 missing value(s)",
+              "time 'time': 2 steps, 2024-03-01T00:00:00 .. 2024-03-01T06:00:00", "depth 'depth': 3 levels"):
+        assert w in out, (w, out)
+
+
+def test_non_standard_calendar_decoded_with_cftime(tmp_path):
+    """A climate-model 360-day calendar: days since 2000-01-01; start_time on day 2.5 of that calendar."""
+    p = hycom(tmp_path, "c360.nc")
+    ds = xr.open_dataset(p, decode_times=False)
+    ds["time"] = ("time", np.array([0.0, 1.0, 2.0, 3.0]), {"units": "days since 2000-01-01", "calendar": "360_day"})
+    ds.to_netcdf(tmp_path / "c360b.nc")
+    g = read_currents(CurrentsFileSpec(str(tmp_path / "c360b.nc")), FRAME, extent_m=BOUNDS,
+                      start_time="2000-01-03T12:00:00")
+    assert np.allclose(g.t, (np.arange(4) - 2.5) * 86400.0)
+    with pytest.raises(DataError, match=r"'time' covers 2000-01-01T00:00:00 .. 2000-01-04T00:00:00"):
+        read_currents(CurrentsFileSpec(str(tmp_path / "c360b.nc")), FRAME, extent_m=BOUNDS,
+                      start_time="2001-01-01T00:00:00")

@@ -113,6 +113,13 @@ def _cmd_scenarios(args) -> int:
     return 0
 
 
+def _cmd_data_inspect(args) -> int:
+    from .io.inspect import inspect_file
+
+    print(inspect_file(args.file))
+    return 0
+
+
 def _cmd_validate(args) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -489,6 +496,12 @@ def _parser() -> argparse.ArgumentParser:
     s = sub.add_parser("validate", help="check a scenario file (exit 2 with clear messages)")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.set_defaults(func=_cmd_validate)
+
+    s = sub.add_parser("data", help="inspect bathymetry and current files (NetCDF, GeoTIFF)")
+    dsub = s.add_subparsers(dest="data_command", required=True)
+    d = dsub.add_parser("inspect", help="print the layout, variables, units and axes auvplan detects in FILE")
+    d.add_argument("file", help="NetCDF or GeoTIFF file")
+    d.set_defaults(func=_cmd_data_inspect)
 
     s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
     ssub = s.add_subparsers(dest="scenario_command", required=True)

@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError
-from .grids import HorizontalGrid, horizontal_grid
+from .grids import HorizontalGrid, axis_kind, horizontal_grid
 
 __all__ = ["ElevationGrid", "read_elevation", "is_geotiff"]
 
@@ -39,7 +39,7 @@ _UP_STANDARD = {
 }
 _DOWN_STANDARD = {"sea_floor_depth_below_sea_surface", "sea_floor_depth_below_geoid", "sea_floor_depth", "depth"}
 _UP_NAMES = ("elevation", "elev", "z", "topo", "topography", "height", "bathymetry", "band1", "altitude")
-_DOWN_NAMES = ("depth", "deptho", "bathy_depth", "sea_floor_depth")
+_DOWN_NAMES = ("depth", "deptho", "bathy_depth", "sea_floor_depth", "h")  # h: ROMS
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,7 +92,7 @@ def _find_elevation(ds: xr.Dataset, variable: str, src: str) -> str:
         if variable not in ds.data_vars:
             raise DataError(f"{src}: variable {variable!r} not found; it has {sorted(map(str, ds.data_vars))}")
         return variable
-    two_d = [str(k) for k, v in ds.data_vars.items() if v.ndim >= 2]
+    two_d = [str(k) for k, v in ds.data_vars.items() if v.ndim >= 2 and axis_kind(v, str(k)) not in ("lat", "lon")]
     for k in two_d:
         if _attr(ds[k], "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
             return k
@@ -186,7 +186,7 @@ def _read_gmt3(ds: xr.Dataset, path: Path, positive: str) -> ElevationGrid:
     if nx < 2 or ny < 2 or z.size != nx * ny:
         raise DataError(f"{src}: variable 'z' has {z.size} values, but dimension says {nx} x {ny}")
     offset = int(ds["z"].attrs.get("node_offset", ds.attrs.get("node_offset", 0)))
-    dx, dy = (xr_[1] - xr_[0]) / (nx - offset), (yr_[1] - yr_[0]) / (ny - offset)
+    dx, dy = (xr_[1] - xr_[0]) / (nx - 1 + offset), (yr_[1] - yr_[0]) / (ny - 1 + offset)
     half = 0.5 if offset else 0.0
     x = xr_[0] + (np.arange(nx) + half) * dx
     y = yr_[1] - (np.arange(ny) + half) * dy

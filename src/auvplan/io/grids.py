@@ -359,12 +359,10 @@ def to_local(
     if grid.kind == "curvilinear":
         sx, sy = frame.forward(grid.cols, grid.rows)
         pts = np.column_stack([np.ravel(sx), np.ravel(sy)])
-        tri = LinearNDInterpolator(pts, np.zeros(pts.shape[0]))  # the triangulation, built once
         q = np.column_stack([gx.ravel(), gy.ravel()])
-        for k in range(flat.shape[0]):
-            tri.values = np.ascontiguousarray(flat[k].reshape(-1, 1))
-            out[k] = tri(q)[:, 0]
-        if np.isnan(out[:, :]).all(axis=0).any():
+        # one triangulation for every layer: values (npoints, layers)
+        out = LinearNDInterpolator(pts, flat.reshape(flat.shape[0], -1).T)(q).T
+        if np.isnan(out).any():
             raise DataError(f"{what}: the curvilinear data ({data_span(grid)}) do not cover the requested extent "
                             f"x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m")
         return x, y, out.reshape(*lead, ny, nx)

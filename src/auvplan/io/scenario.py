@@ -14,6 +14,7 @@ Layout (all tables optional except ``[mission]``)::
     [terrain]  builtin | file, variable, positive, box, resample_m, method, nan_policy
     [terrain.synthetic]  kind = flat|plane|hills|ridge, depth, ...
     [currents] uniform = [u, v, w]   vortices = [{x, y, gamma, delta}, ...]   file = "..."
+    [land]     builtin = "gshhg-juan-de-fuca" | file = "coast.gpkg", layer   # coastlines: no-go
     [[obstacles]] type = sphere|ellipsoid, center, radius | semi_axes, yaw_deg, pitch_deg, roll_deg
     [[moving]]    type, radius | semi_axes, motion = linear|circle|waypoints|random-walk, ...
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
@@ -56,6 +57,7 @@ from ..world import (
 )
 from . import limits as _limits
 from .bathymetry import TerrainSpec, load_terrain
+from .coast import LandSpec, read_land
 from .currents import CurrentsFileSpec, parse_time, read_currents
 from .geo import LocalFrame
 from .limits import Limits
@@ -255,18 +257,19 @@ class Scenario:
     sim: SimSettings
     raw: dict = field(repr=False, default_factory=dict)
     limits: Limits = field(default_factory=Limits)
+    land: LandSpec | None = None
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
-    "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits,
+    "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
-    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land",
 }
 
 
@@ -491,6 +494,9 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
     if (terrain is not None) and origin is None:
         raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
     currents = _section(data, "currents", source)
+    land = _section(data, "land", source) if "land" in data else None
+    if land is not None and (origin is None or terrain is None and synthetic is None):
+        raise ScenarioError(f"{source}: [land] needs [origin] lat/lon and a [terrain] to burn the land into")
     obstacles_raw = data.get("obstacles", [])
     if not isinstance(obstacles_raw, list):
         raise table_error(f"{source}:", "obstacles", obstacles_raw, "expected an array of tables [[obstacles]]")
@@ -526,6 +532,7 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
         sim=sim,
         raw=copy.deepcopy(data),
         limits=limits,
+        land=land,
     )
 
 
@@ -695,6 +702,12 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         what = f"file {c.file.path!r}" if c.file is not None else "field"
         raise DataError(f"{src}: [currents] the current {what} does not cover the bounds x [{bounds.xmin:.0f}, "
                         f"{bounds.xmax:.0f}] y [{bounds.ymin:.0f}, {bounds.ymax:.0f}] m")
+    land = None
+    if s.land is not None:
+        try:
+            land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
+        except DataError as exc:
+            raise DataError(f"{src}: [land] {exc}") from exc
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
@@ -708,6 +721,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             margins=margins,
             origin=(s.origin.lat, s.origin.lon) if s.origin else None,
             name=s.name,
+            land=land,
         )
     except DataError as exc:
         raise DataError(f"{src}: {exc}") from exc

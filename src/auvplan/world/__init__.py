@@ -1,6 +1,7 @@
 """World model: seabed, currents, obstacles and the World that combines them."""
 
 from .currents import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent
+from .land import Land
 from .obstacles import (
     CircleMotion,
     Ellipsoid,
@@ -20,6 +21,7 @@ __all__ = [
     "CurrentField",
     "Ellipsoid",
     "GriddedCurrent",
+    "Land",
     "LambOseenVortices",
     "LinearMotion",
     "Margins",

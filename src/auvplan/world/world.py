@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import DataError
 from ..geometry import as_points
 from .currents import CurrentField, UniformCurrent
+from .land import Land
 from .obstacles import MovingObstacle, Shape
 from .terrain import Terrain
 
@@ -106,6 +107,10 @@ class World:
         Geographic position of the local origin, for exports.
     name : str
         Free text.
+    land : Land or None
+        Land polygons (coastlines).  The terrain is raised above the surface on every cell that
+        touches land (:meth:`Land.burn`), so the cost, the planners and the simulator keep off it;
+        :meth:`is_free` and :meth:`segments_free` also test the polygons exactly.
     """
 
     bounds: Bounds
@@ -116,8 +121,14 @@ class World:
     margins: Margins = field(default_factory=Margins)
     origin: tuple[float, float] | None = None
     name: str = ""
+    land: Land | None = None
 
     def __post_init__(self) -> None:
+        if self.land is not None:
+            if self.terrain is None:
+                raise DataError(f"world {self.name!r}: land polygons need a terrain grid to be burnt into")
+            if not self.land.is_empty:
+                object.__setattr__(self, "terrain", self.land.burn(self.terrain))
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
         object.__setattr__(self, "moving", tuple(self.moving))
         b = self.bounds
@@ -146,7 +157,8 @@ class World:
         """Every constraint's slack at ``points (..., 3)`` (m; ≥ 0 is satisfied).
 
         Keys: ``altitude``, ``surface``, ``max_depth``, ``bounds``, ``obstacles``
-        (static) and ``moving``.  Missing constraints are ``+inf``.
+        (static), ``moving`` and ``land`` (horizontal distance to the shoreline, negative on
+        land).  Missing constraints are ``+inf``.
         """
         p = as_points(points)
         shape = p.shape[:-1]
@@ -165,6 +177,7 @@ class World:
             out["moving"] = self._obstacle_slack(shapes, p)
         else:
             out["moving"] = np.full(shape, np.inf)
+        out["land"] = np.full(shape, np.inf) if self.land is None else self.land.signed_distance(p)
         return out
 
     def _obstacle_slack(self, shapes, p) -> np.ndarray:
@@ -192,6 +205,7 @@ class World:
             "bounds": "outside the bounds",
             "obstacles": f"within {self.margins.obstacle:g} m of a static obstacle",
             "moving": f"within {self.margins.obstacle:g} m of a moving obstacle",
+            "land": "on land" + (f" ({self.land.name})" if self.land is not None and self.land.name else ""),
         }
         bad = [f"{words[k]} (slack {v:.2f} m)" for k, v in c.items() if v < 0]
         return "; ".join(bad)
@@ -226,6 +240,11 @@ class World:
             shapes += [o.at(t) for o in self.moving if o.active(t)]
         for shape in shapes:
             ok &= ~shape.segments_hit(s, m.obstacle)
+        if self.land is not None and ok.any():  # exact polygon test (implied by the burnt terrain)
+            flat = np.array(ok, dtype=bool).reshape(-1)
+            idx = np.flatnonzero(flat)
+            flat[idx] = ~self.land.segments_hit(s.reshape(-1, 2, 3)[idx])
+            ok = flat.reshape(np.shape(ok))
         return ok
 
     def path_free(self, points, t: float = 0.0, moving: bool = False) -> bool:
