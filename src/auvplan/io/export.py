@@ -8,6 +8,7 @@ import io
 import json
 import math
 import xml.etree.ElementTree as ET
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +19,7 @@ from ..planners.base import PlanResult
 from ..sim import RunRecord, SimResult, decimate
 from . import formats as mfmt
 from .geo import LocalFrame
+from .safeio import atomic_write
 
 __all__ = [
     "plan_record",
@@ -93,11 +95,12 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
 
 
 def write_text(path: Path, text: str | bytes) -> Path:
-    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through here."""
+    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through
+    here, and here through :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never
+    through a symlink)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
-    return path
+    return atomic_write(path, text)
 
 
 def write_json(path: Path, obj) -> Path:
@@ -207,9 +210,19 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
             raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
     try:
         rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
-        arr = dict(np.load(files["run.npz"]))
-    except (ValueError, OSError) as exc:
+        with np.load(files["run.npz"], allow_pickle=False) as npz:
+            arr = {k: npz[k] for k in npz.files}
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+    try:
+        scenario_file = out / "scenario.toml"
+        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+        return _record_from(rec, arr), text
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError) as exc:
+        raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+def _record_from(rec: dict, arr: dict):
     plan = None
     p = rec.get("plan")
     if p is not None:
@@ -228,10 +241,8 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
                         events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
                         wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
                         avoidance=s.get("avoidance", "none"))
-    scenario_file = out / "scenario.toml"
-    text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
-    record = RunRecord(rec["scenario"], int(rec["seed"]), plan, arr["route"], arr["keys"], sim)
-    return record, text
+    route = arr.get("route", np.empty((0, 3)))
+    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
 
 
 def _num(v) -> float:

@@ -8,7 +8,6 @@ see ``data/PROVENANCE.md``.
 
 from __future__ import annotations
 
-import datetime as _dt
 import json
 from importlib import resources
 from pathlib import Path
@@ -17,7 +16,8 @@ import numpy as np
 from pyproj import Geod
 
 from ..errors import DataError
-from ..world.tides import HarmonicTables, TidalCurrent, unix_time
+from ..world.tides import HarmonicTables, TidalCurrent
+from .currents import parse_time
 from .geo import LocalFrame
 
 __all__ = ["BUILTIN_TIDES", "parse_start_time", "utc_iso", "read_tide_file", "load_tidal_current"]
@@ -29,13 +29,7 @@ BUILTIN_TIDES = {
 
 def parse_start_time(text: str) -> float:
     """UTC seconds since 1970 of an ISO 8601 time (``Z`` or an offset; a time without one is UTC)."""
-    try:
-        when = _dt.datetime.fromisoformat(str(text))
-    except ValueError as exc:
-        raise ValueError(f"{text!r}: not an ISO 8601 date-time (e.g. 2026-06-15T08:00:00Z)") from exc
-    if when.tzinfo is None:
-        when = when.replace(tzinfo=_dt.UTC)
-    return unix_time(when)
+    return float(parse_time(str(text)).astype("datetime64[ns]").astype(np.int64)) / 1e9
 
 
 def utc_iso(unix_seconds: float) -> str:
