@@ -169,6 +169,7 @@ def test_cli_departure_sweep(tmp_path, capsys):
     assert [r["depart_s"] for r in doc["rows"]] == [0.0, 21600.0]
     s = doc["summary"]
     assert s["best_duration_s"] <= s["worst_duration_s"] and s["feasible_departures"] == 2
+    assert s["best_depart_utc"] in ("2026-06-15T00:00:00Z", "2026-06-15T06:00:00Z")
     for r in doc["rows"]:
         assert r["duration_s"] <= r["steady_duration_s"] * (1 + 1e-6)
     assert {p.name for p in tmp_path.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}

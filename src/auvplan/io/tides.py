@@ -35,8 +35,7 @@ def parse_start_time(text: str) -> float:
 
 def utc_iso(unix_seconds: float) -> str:
     """ISO 8601 UTC text (``...Z``, whole seconds) of seconds since 1970."""
-    when = _dt.datetime.fromtimestamp(round(float(unix_seconds)), tz=_dt.UTC)
-    return when.strftime("%Y-%m-%dT%H:%M:%SZ")
+    return f"{np.datetime64(round(float(unix_seconds)), 's')}Z"
 
 
 def read_tide_file(source: str, base_dir: Path | None = None) -> dict:
