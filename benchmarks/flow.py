@@ -8,6 +8,8 @@ Starts are uniform in the box [-15, 25]³, outside every obstacle inflated by th
 "Penetrating" counts streamlines with a leg closer than the margin to a real obstacle (exact segment
 tests); "pushed back" those the integrator had to push back onto a surface the field drove them into.
 The uniform-flow baseline (Fig. 5) has no sink: its streamlines end when they pass the goal's plane.
+Figures: ``streamlines.png`` (Fig. 8 scene), ``fig5_sink.png`` beside ``fig5_uniform.png`` (Fig. 5;
+streamlines that miss the goal in red).
 """
 
 from __future__ import annotations
@@ -143,6 +145,21 @@ def figure(path: Path, n: int = 64) -> None:
     streamlines(w, sl.paths, goal, sl.status).savefig(path, dpi=150)
 
 
+def figure_fig5(folder: Path, n: int = 49) -> None:
+    """Document 000 Fig. 5: the sink field beside the uniform flow + dipole baseline on flow-spheres."""
+    from auvplan.viz.plots import streamlines
+
+    w, m = sc.build(sc.load("flow-spheres"))
+    goal = np.asarray(m.goal)
+    g = np.linspace(-12.0, 12.0, int(np.sqrt(n)))
+    p = np.array([[-15.0, a, b] for a in g for b in g])
+    for name, params in (("fig5_sink.png", FlowParams()), ("fig5_uniform.png", FlowParams(field="uniform"))):
+        field = FlowField(w.obstacles, goal, params, MARGIN, direction=goal - np.array([-15.0, 0.0, 0.0]))
+        q = p[field.clearance(p) > 0]
+        sl = integrate_streamlines(field, q)
+        streamlines(w, sl.paths, goal, sl.status).savefig(folder / name, dpi=150)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--starts", type=int, default=500)
@@ -169,6 +186,7 @@ def main(argv=None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)
     figure(out / "streamlines.png")
+    figure_fig5(out)
     print(text)
     return 0
 
