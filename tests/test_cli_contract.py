@@ -45,6 +45,13 @@ def test_out_naming_a_file_is_refused_before_the_mission(capsys, tmp_path, monke
     assert target.read_text() == "mine"
 
 
+def test_an_out_below_a_file_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
+    (tmp_path / "afile").write_text("x")
+    monkeypatch.setattr(cli, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
+    code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "afile" / "sub")
+    assert code == 2 and "cannot create the output folder" in err and "afile/sub" in err
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root can write anywhere")
 def test_unwritable_out_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
     locked = tmp_path / "locked"

@@ -34,6 +34,7 @@ from scipy import ndimage
 from ..errors import DataError
 from ..world.terrain import Terrain
 from .geo import LocalFrame, normalise_lon, regrid_lonlat
+from .ncfile import check_dims, open_dataset, variable_values
 
 __all__ = [
     "TerrainSpec",
@@ -145,6 +146,10 @@ def _find_elevation(ds: xr.Dataset, variable: str, src: str) -> str:
                 return k
     if len(two_d) == 1:
         return two_d[0]
+    if not two_d:  # an elevation variable with the wrong dimensionality: say so, naming it
+        for k, v in ds.data_vars.items():
+            if str(k).lower() in _UP_NAMES + _DOWN_NAMES or _attr(v, "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
+                check_dims(v, 2, src, "elevation")
     raise DataError(
         f"{src}: cannot tell which variable is the elevation among {two_d or sorted(map(str, ds.data_vars))}; "
         "name it with 'variable'"
@@ -306,29 +311,24 @@ def read_bathymetry(
     """
     path = Path(path)
     src = str(path)
-    if not path.is_file():
-        raise DataError(f"{src}: bathymetry file not found")
-    try:
-        ds = xr.open_dataset(path, mask_and_scale=True)
-    except Exception as exc:  # xarray raises many types for unreadable files
-        raise DataError(f"{src}: cannot read as NetCDF ({exc})") from exc
+    ds = open_dataset(path, "bathymetry", mask_and_scale=True)
     with ds:
         var = _find_elevation(ds, variable, src)
         da = ds[var]
-        if da.ndim != 2:
-            raise DataError(f"{src}: variable {var!r} must be 2-D, has dims {da.dims}")
+        check_dims(da, 2, src, "elevation")
         kinds = [_axis_kind(ds, str(d)) for d in da.dims]
         if sorted(kinds) not in (["lat", "lon"], ["x", "y"]):
             raise DataError(f"{src}: variable {var!r} has axes {dict(zip(da.dims, kinds))}; need lat/lon or x/y")
         order = ["lat", "lon"] if "lat" in kinds else ["y", "x"]
         da = da.transpose(*[da.dims[kinds.index(k)] for k in order])
-        z = np.asarray(da.values, dtype=float)
+        z = variable_values(da, src)
         if _is_down(da, positive):
             z = -z
-        a0 = np.asarray(ds[da.dims[0]].values, dtype=float) if da.dims[0] in ds.variables else None
-        a1 = np.asarray(ds[da.dims[1]].values, dtype=float) if da.dims[1] in ds.variables else None
-        if a0 is None or a1 is None:
-            raise DataError(f"{src}: variable {var!r} has a dimension without coordinate values")
+        for d in da.dims:
+            if d not in ds.variables:
+                raise DataError(f"{src}: variable {var!r}: dimension {str(d)!r} has no coordinate values (no "
+                                f"variable {str(d)!r} in the file)")
+        a0, a1 = variable_values(ds[da.dims[0]], src), variable_values(ds[da.dims[1]], src)
         if order[1] == "x" and _attr(ds[da.dims[1]], "units") == "km":
             a0, a1 = a0 * 1000.0, a1 * 1000.0
     name = f"{path.name}:{var}"

@@ -20,6 +20,7 @@ import xarray as xr
 from ..errors import DataError
 from ..world.currents import GriddedCurrent
 from .geo import LocalFrame, regrid_lonlat
+from .ncfile import open_dataset
 
 __all__ = ["CurrentsFileSpec", "read_currents"]
 
@@ -88,12 +89,7 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
     src = str(path)
-    if not path.is_file():
-        raise DataError(f"{src}: current file not found")
-    try:
-        ds = xr.open_dataset(path)
-    except Exception as exc:  # xarray raises many types for unreadable files
-        raise DataError(f"{src}: cannot read as NetCDF ({exc})") from exc
+    ds = open_dataset(path, "current")
     with ds:
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
         da_u = ds[names["u"]]
