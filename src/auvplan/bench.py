@@ -32,7 +32,7 @@ from .guidance.local import key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
 from .planners import PLANNERS, plan, reference, with_reference
-from .sim import RunRecord, planning_problem, route_from_path, run_mission, simulate
+from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
 __all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
@@ -185,9 +185,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
         planned = plan(problem, pspec, mission.seed)
         if ref is not None:
             planned = with_reference(planned, problem, pspec, ref)
-        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum()) if planned.status.ok else 0.0
-        route = route_from_path(planned.path, max(4.0 * mission.hybrid.switch_radius, length / 200.0)) \
-            if planned.status.ok else np.empty((0, 3))
+        route = mission_route(world, mission, planned.path) if planned.status.ok else np.empty((0, 3))
         fixed = (planned, route, key_waypoints(route, world, mission.avoidance.collision_check)
                  if route.size else route)
     rows = []

@@ -21,7 +21,7 @@ from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import PLANNERS, SWARM, plan, reference, with_reference
-from .sim import planning_problem, run_mission, simulate
+from .sim import planning_problem, run_mission
 
 __all__ = ["main", "main_entry"]
 
@@ -166,21 +166,18 @@ def _cmd_simulate(args) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if args.seed is None else args.seed
-    route = mission.route
-    if not route:
-        bar = _Progress(mission.planner, sc.name, False)
-        try:
-            planned = plan(planning_problem(world, mission), mission.planner, seed, bar)
-        finally:
-            bar.close()
-        if not planned.status.ok:
-            print(f"auvplan: the global plan failed ({planned.status.value}): {planned.message}", file=sys.stderr)
-            return 1
-        route = planned.path[:: max(len(planned.path) // 40, 1)].tolist() + [planned.path[-1].tolist()]
-    result = simulate(world, mission, route=route, guidance=args.guidance, rng=seed)
-    record = export.sim_record(result, sc.name, seed)
+    bar = _Progress(mission.planner, sc.name, False)
+    try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
+        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance)
+    finally:
+        bar.close()
+    if run.sim is None:
+        print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
+        return 1
+    result = run.sim
+    record = export.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        export.write_sim(Path(args.out), result, sc.name, seed)
+        export.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -190,7 +187,7 @@ def _cmd_simulate(args) -> int:
 
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-         force: bool = False):
+         full: bool = False, force: bool = False):
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
@@ -203,9 +200,9 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         bar.close()
     if out:
         text = _scenario_text(sc)
-        export.write_run(Path(out), record, text)
+        export.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
-        _write_report(Path(out), world, mission, record, text)
+        _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
 
 
@@ -232,13 +229,13 @@ def _save_plan(out: Path, sc, world, result, seed: int) -> None:
     _save_context(out, sc, world)
 
 
-def _write_report(out: Path, world, mission, record, text: str, figures: bool = False) -> Path:
+def _write_report(out: Path, world, mission, record, text: str, figures: bool = False, full: bool = False) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
-    formats = export.EXPORT_FORMATS if frame is not None else ("csv", "moos")
-    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats)
+    formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
+    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
     page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
     path = atomic_write(out / "report.html", page)
     if figures:
@@ -271,9 +268,31 @@ def _cmd_report(args) -> int:
 
 def _cmd_export(args) -> int:
     out, record, _, world, mission = _load_results(args)
-    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format):
+    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
         print(p)
     return 0
+
+
+def _cmd_mission_check(args) -> int:
+    from .io.formats import check_mission_file
+
+    sc = scenario_io.load(args.scenario)
+    world, _ = scenario_io.build(sc)
+    worst = 0
+    records = []
+    for name in args.files:
+        check, fmt = check_mission_file(Path(name), world)
+        rec = {"file": name, "format": fmt, **check.as_dict()}
+        records.append(rec)
+        worst = max(worst, 0 if check.ok else 1)
+        if not args.json:
+            print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
+                  f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
+                  f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
+                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle")
+    if args.json:
+        print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
+    return worst
 
 
 def _describe_run(name: str, record) -> str:
@@ -293,7 +312,7 @@ def _describe_run(name: str, record) -> str:
 
 
 def _cmd_run(args) -> int:
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, args.force)
+    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, args.full, args.force)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
@@ -301,7 +320,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, args.force)
+    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force)
     print(_describe_run(sc.name, record))
     print(f"results in {args.out}/")
     return 0 if record.status.ok else 1
@@ -373,12 +392,14 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_plan)
 
-    s = sub.add_parser("simulate", help="simulate the vehicle following the route (or the planned path)")
+    s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
+    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
+    s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_simulate)
 
@@ -389,6 +410,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_run)
 
@@ -398,11 +420,22 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_report)
 
-    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP) for a results directory")
+    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
+                                      "nav_msgs/Path YAML) for a results directory")
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
     s.set_defaults(func=_cmd_export)
+
+    s = sub.add_parser("mission", help="work with exported mission files")
+    msub = s.add_subparsers(dest="mission_command", required=True)
+    c = msub.add_parser("check", help="re-fly mission files under their format's depth semantics against the "
+                                      "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
+    c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
+    c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
+    c.set_defaults(func=_cmd_mission_check)
 
     s = sub.add_parser("bench", help="sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)")
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
