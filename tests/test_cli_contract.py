@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from auvplan import cli
+from auvplan._types import Status
 from auvplan.bench import COLUMNS, SweepSpec, sweep
 from auvplan.io.safeio import MANIFEST, OutputError, atomic_write, prepare_out, written
 
@@ -112,6 +113,20 @@ def test_a_planted_symlink_is_not_followed(capsys, tmp_path):
     assert not (out / "mission.csv").is_symlink() and "x,y,z" in (out / "mission.csv").read_text()
 
 
+def test_atomic_write_refuses_files_it_did_not_write_and_links(tmp_path):
+    user = tmp_path / "mission.csv"
+    user.write_text("mine")
+    with pytest.raises(OutputError, match="not written by auvplan"):
+        atomic_write(user, "theirs")
+    (tmp_path / "link.json").symlink_to(user)
+    with pytest.raises(OutputError, match="symbolic link"):
+        atomic_write(tmp_path / "link.json", "theirs")
+    assert user.read_text() == "mine"
+    atomic_write(tmp_path / "new.json", "1")
+    atomic_write(tmp_path / "new.json", "2")  # its own file: replaced
+    assert (tmp_path / "new.json").read_text() == "2"
+
+
 def test_atomic_write_never_leaves_half_a_file(tmp_path, monkeypatch):
     path = atomic_write(tmp_path / "a.json", "old")
 
@@ -197,4 +212,7 @@ def test_resume_appends_and_never_rewrites(tmp_path):
     after = rows.read_bytes()
     assert after.startswith(before)
     assert after.count(b"\n") == before.count(b"\n") + 1
-    assert len(done) == 3 and after.splitlines()[0].decode() == ",".join(COLUMNS)
+    lines = after.decode().splitlines()
+    assert len(done) == 3 and lines[0] == ",".join(COLUMNS)
+    assert all(len(ln.split(",")) == len(COLUMNS) for ln in lines)  # the cut line trimmed, not run into
+    assert [r["seed"] for r in done] == ["0", "1", "2"] and done[2]["status"] in {s.value for s in Status}

@@ -56,7 +56,8 @@ def test_the_base_scenario_is_valid():
 @pytest.mark.parametrize("table, key", [("vehicle", "speed"), ("sim", "dt"), ("planner", "w_length"),
                                         ("avoidance", "radius")])
 def test_non_finite_and_huge_numbers_are_refused(table, key, value):
-    rejects(f"[{table}]\n{key} = {value}\n", f"[{table}]", key)
+    why = {"inf": "must be finite", "-inf": "must be finite", "nan": "NaN", "1e300": "out of range"}[value]
+    rejects(f"[{table}]\n{key} = {value}\n", f"[{table}]", key, why)
 
 
 def test_an_infinite_bound_or_velocity_or_vortex_core_is_refused():
