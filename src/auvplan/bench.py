@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import AuvplanError
-from .guidance.local import key_waypoints
+from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
 from .planners import PLANNERS, plan, reference, with_reference
@@ -77,6 +77,9 @@ class SweepSpec:
         Plan once per cell and fly that plan in every seed (with ``randomise``).
     chunk : int
         Seeds per task.
+    avoidance : tuple of str
+        Local avoidance variants (``"scenario"`` = each scenario's own); any other is a further
+        axis, written into the guidance column as ``guidance+avoidance``.
     """
 
     scenarios: tuple[str, ...] = ("dynamic-terrain",)
@@ -88,8 +91,12 @@ class SweepSpec:
     randomise: bool = False
     plan_once: bool = False
     chunk: int = 10
+    avoidance: tuple[str, ...] = ("scenario",)
 
     def __post_init__(self) -> None:
+        for a in self.avoidance:
+            if a != "scenario" and a not in AVOIDANCE:
+                raise AuvplanError(f"unknown avoidance {a!r}; choose from scenario, {', '.join(AVOIDANCE)}")
         for p in self.planners:
             if p != "scenario" and p not in PLANNERS:
                 raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(PLANNERS)}")
@@ -109,12 +116,14 @@ class SweepSpec:
             own_planner = "route" if sc.mission.route else sc.planner.name
             for p in self.planners:
                 p = own_planner if p == "scenario" or own_planner == "route" else p
-                for g in self.guidance:
-                    g = sc.guidance.name if g == "scenario" else g
-                    for lo in range(0, self.seeds, self.chunk):
-                        cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
-                        if cell not in out:
-                            out.append(cell)
+                for g0 in self.guidance:
+                    for a in self.avoidance:
+                        g = sc.guidance.name if g0 == "scenario" else g0
+                        g = g if a == "scenario" else f"{g}+{a}"
+                        for lo in range(0, self.seeds, self.chunk):
+                            cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
+                            if cell not in out:
+                                out.append(cell)
         return out
 
 
@@ -177,7 +186,10 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     pspec = mission.planner
     if planner != "route":
         pspec = replace(pspec, name=planner, budget=spec.budget or pspec.budget)
+    guidance, _, avoidance = guidance.partition("+")
     mission = replace(mission, planner=pspec, guidance=guidance)
+    if avoidance:
+        mission = replace(mission, avoidance=replace(mission.avoidance, name=avoidance))
     problem = planning_problem(world, mission)
     ref = reference(problem, pspec) if spec.reference and not mission.route else None
     fixed = None
@@ -200,7 +212,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
             record = run_mission(w, mission, seed)
             if ref is not None and record.plan is not None:
                 record = replace(record, plan=with_reference(record.plan, problem, pspec, ref))
-        rows.append(_row(scenario, planner, guidance, seed, record, ref, time.process_time() - c0,
+        rows.append(_row(scenario, planner, task[2], seed, record, ref, time.process_time() - c0,
                          time.perf_counter() - t0))
     return rows
 
@@ -333,9 +345,15 @@ def _f(v) -> float:
         return float("nan")
 
 
+def _nanmin(values) -> float:
+    v = np.asarray(values, dtype=float)
+    return float(np.nanmin(v)) if np.isfinite(v).any() else float("nan")
+
+
 def summarise(rows: Iterable[dict]) -> list[dict]:
     """Per cell (scenario, planner, guidance): runs, success rate, cost median / IQR / best /
-    worst, median gap to the reference, median CPU time."""
+    worst, median gap to the reference, median CPU time, then the flights' collisions (all
+    kinds), deadlocks, escapes (total) and smallest obstacle distance."""
     cells: dict[tuple, list[dict]] = {}
     for r in rows:
         cells.setdefault((r["scenario"], r["planner"], r["guidance"]), []).append(r)
@@ -351,5 +369,9 @@ def summarise(rows: Iterable[dict]) -> list[dict]:
                     "cost_best": float(cost.min()) if cost.size else np.nan,
                     "cost_worst": float(cost.max()) if cost.size else np.nan,
                     "gap_pct_median": float(np.nanmedian(gap)) if np.isfinite(gap).any() else np.nan,
-                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs]))})
+                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs])),
+                    "collisions": int(np.nansum([_f(r["collisions"]) for r in rs])),
+                    "deadlocks": sum(r["status"] == "DEADLOCK" for r in rs),
+                    "escapes": int(np.nansum([_f(r["escapes"]) for r in rs])),
+                    "min_obstacle_distance_m": _nanmin([_f(r["min_obstacle_distance_m"]) for r in rs])})
     return out

@@ -8,14 +8,18 @@ stdout; progress and messages go to stderr.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import logging
 import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from . import __version__
 from .errors import AuvplanError
+from .guidance.local import AVOIDANCE
 from .io import export, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
@@ -32,21 +36,41 @@ DEMO_SCENARIO = "dynamic-terrain"
 
 
 class _Progress:
-    """A tqdm bar on stderr for iterative work (silent when stderr is not a terminal and quiet)."""
+    """Progress of the long stages on stderr: a tqdm bar for the swarm planners' iterations and one
+    for the flight (simulated time against the route's expected duration), a line for the other
+    stages; all silent with ``quiet`` (``-q`` or ``--json``)."""
 
     def __init__(self, spec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        # only the swarm optimisers iterate; the grid and flow planners would show a bar stuck at 0
+        self._tqdm, self.quiet, self.scenario, self.flight_bar = tqdm, quiet, scenario, None
+        # only the swarm optimisers iterate; the other planners get a line, not a bar stuck at 0
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
                         disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
+        if spec.name not in SWARM:
+            self.stage(f"planning with {spec.name}")
 
     def __call__(self, iteration: int, best: float) -> None:
         self.bar.update(iteration - self.bar.n)
         self.bar.set_postfix_str(f"best {best:.6g}", refresh=False)
 
+    def flight(self, t: float, expected: float) -> None:
+        """The simulation's callback: simulated seconds flown of about ``expected``."""
+        if self.flight_bar is None:
+            self.bar.close()
+            self.flight_bar = self._tqdm(total=max(1, round(expected)), desc=f"flight on {self.scenario}", unit="s",
+                                         file=sys.stderr, disable=self.quiet, leave=False, mininterval=0.5)
+        self.flight_bar.update(min(round(t), self.flight_bar.total) - self.flight_bar.n)
+
+    def stage(self, text: str) -> None:
+        """One line on stderr for a stage without a bar (the report, a lattice plan)."""
+        if not self.quiet:
+            self._tqdm.write(f"auvplan: {text} …", file=sys.stderr)
+
     def close(self) -> None:
         self.bar.close()
+        if self.flight_bar is not None:
+            self.flight_bar.close()
 
 
 def _int_at_least(low: int):
@@ -134,7 +158,7 @@ def _plan(args, quiet: bool):
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(spec, sc.name, quiet)
+    bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
     try:
         result = plan(problem, spec, seed, bar)
@@ -145,7 +169,83 @@ def _plan(args, quiet: bool):
     return sc, result, seed, world
 
 
+def _duration(text: str, what: str) -> float:
+    """Seconds of '15min', '900s', '2h', '1.5h' or a bare number of seconds."""
+    units = {"s": 1.0, "sec": 1.0, "min": 60.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
+    t = text.strip().lower().lstrip("+")
+    for unit in sorted(units, key=len, reverse=True):
+        if t.endswith(unit):
+            t, scale = t[: -len(unit)], units[unit]
+            break
+    else:
+        scale = 1.0
+    try:
+        return float(t) * scale
+    except ValueError:
+        raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
+
+
+def _instant(text: str, start_time: str, what: str) -> float:
+    """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
+    from .io.tides import parse_start_time
+
+    if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
+        return _duration(text, what)
+    if not start_time:
+        raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
+    try:
+        return parse_start_time(text) - parse_start_time(start_time)
+    except ValueError as exc:
+        raise AuvplanError(f"{what} {exc}") from None
+
+
+def _cmd_sweep(args) -> int:
+    from .planners.timeplan import departure_sweep, sweep_summary
+
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    spec = replace(mission.planner, name="timeopt")
+    if args.objective:
+        spec = replace(spec, timeopt=replace(spec.timeopt, objective=args.objective))
+    t0, t1 = (_instant(v, sc.mission.start_time, "--depart-between") for v in args.depart_between)
+    step = _duration(args.step, "--step")
+    if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
+        raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
+                           "500 departures")
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
+    summary = sweep_summary(rows)
+    table = [dataclasses.asdict(r) for r in rows]
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        with (out / "sweep.csv").open("w") as fh:
+            fh.write(",".join(table[0]) + "\n")
+            fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
+        export.write_json(out / "sweep_summary.json", summary)
+        from .viz.timeplots import sweep_figure
+
+        sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
+    lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
+             f"(after {sc.mission.start_time or 't = 0'})",
+             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
+    lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
+              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f}" for r in rows]
+    if summary.get("feasible_departures"):
+        lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
+                     f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
+                     "against the worst departure, "
+                     f"{summary['saved_vs_steady_pct']:.1f} % against the steady-current plan and "
+                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line")
+    _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
+    return 0 if summary.get("feasible_departures") else 1
+
+
 def _cmd_plan(args) -> int:
+    if args.depart_between:
+        return _cmd_sweep(args)
+    if args.objective:
+        raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
+                           "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed, world = _plan(args, quiet=False)
     record = export.plan_record(result, sc.name, seed)
     if args.reference:
@@ -167,9 +267,10 @@ def _cmd_simulate(args) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(mission.planner, sc.name, False)
+    bar = _Progress(mission.planner, sc.name, args.quiet or args.json)
     try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
-        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance)
+        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance,
+                          flight=bar.flight)
     finally:
         bar.close()
     if run.sim is None:
@@ -188,18 +289,19 @@ def _cmd_simulate(args) -> int:
 
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-         full: bool = False, force: bool = False):
+         full: bool = False, force: bool = False, quiet: bool = False):
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if seed is None else seed
-    bar = _Progress(mission.planner, sc.name, False)
+    bar = _Progress(mission.planner, sc.name, quiet)
     try:
-        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance)
+        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
     if out:
+        bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
         export.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
@@ -313,7 +415,8 @@ def _describe_run(name: str, record) -> str:
 
 
 def _cmd_run(args) -> int:
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, args.full, args.force)
+    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
+                      force=args.force, quiet=args.quiet or args.json)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
@@ -321,7 +424,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force)
+    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
     print(_describe_run(sc.name, record))
     print(f"results in {args.out}/")
     return 0 if record.status.ok else 1
@@ -335,7 +438,7 @@ def _cmd_bench(args) -> int:
     from .bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
-                     args.reference, args.randomise, args.plan_once, args.chunk)
+                     args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
     out = prepare_out(args.out, _BENCH_NAMES, force=args.force)
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
@@ -363,6 +466,7 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
     p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("scenarios", help="list the built-in scenarios")
@@ -391,27 +495,32 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"),
+                   help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
+                        "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
+    s.add_argument("--step", default="15min", help="departure step of the sweep (default 15min)")
+    s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
     s.set_defaults(func=_cmd_plan)
 
     s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_simulate)
 
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=("apf", "none"), help="override the scenario's avoidance")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_run)
 
@@ -425,8 +534,8 @@ def _parser() -> argparse.ArgumentParser:
                                       "nav_msgs/Path YAML) for a results directory")
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_export)
 
     s = sub.add_parser("mission", help="work with exported mission files")
@@ -447,6 +556,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
     s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
+    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=("scenario", *AVOIDANCE),
+                   help="local avoidance variants (an axis; 'scenario' = the scenario's own)")
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")

@@ -20,6 +20,7 @@ from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
 from .guidance.mission import build_waypoints
+from .guidance.predictive import PredictiveAvoidance
 from .guidance.route import RouteTracker
 from .path import resample_polyline
 from .planners import plan as global_plan
@@ -175,7 +176,7 @@ def _obstacle_shapes(world: World, t: float, centres=None):
 
 
 def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None,
-             avoidance: str | None = None, keys=None) -> SimResult:
+             avoidance: str | None = None, keys=None, progress=None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -191,9 +192,14 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     rng : Generator, int or None
         Seed of the wave disturbance and of the escape sub-goals.
     avoidance : str, optional
-        ``apf`` (document 004) or ``none``; the mission's choice by default.
+        ``predictive`` (prediction + velocity obstacles), ``apf`` (document 004) or ``none``; the
+        mission's choice by default.  With avoidance, a stalled route progress first runs
+        document 004's escapes for ``escape_time`` s before ``DEADLOCK`` is declared.
     keys : array_like (K, 3), optional
         Key waypoints for the APF; derived from the route by document 004's rule by default.
+    progress : callable, optional
+        ``progress(t, expected)`` every simulated minute: the time flown and the time the route
+        should take at the vehicle's speed (s), for a progress bar.
     """
     t_wall = time.perf_counter()
     rng = as_rng(mission.seed if rng is None else rng)
@@ -205,9 +211,11 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     tracker = guide.route
     av_name = avoidance or mission.avoidance.name
     local = None
-    if av_name == "apf":
+    if av_name in ("apf", "predictive"):
         keys = key_waypoints(route, world, mission.avoidance.collision_check) if keys is None else keys
-        local = LocalAvoidance(guide, keys, world, replace(mission.avoidance, name="apf"), vp.speed, rng)
+        av = replace(mission.avoidance, name=av_name)
+        local = LocalAvoidance(guide, keys, world, av, vp.speed, rng) if av_name == "apf" \
+            else PredictiveAvoidance(guide, keys, world, av, vp, rng)
     vehicle = Vehicle(vp, dt)
     first = route[1] - route[0]
     s = VehicleState(float(route[0, 0]), float(route[0, 1]), float(route[0, 2]),
@@ -242,8 +250,15 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     far = max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0)
     tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
         if world.moving else np.empty((n_steps + 1, 0, 3))
+    # their velocities (what the scenario knows; predictive avoidance may estimate them instead)
+    velocities = np.gradient(tracks, dt, axis=0) if n_steps > 0 else np.zeros_like(tracks)
+    radii = [o.shape.bounding_radius for o in world.moving]
+    every = max(1, int(round(60.0 / dt)))
+    expected = tracker.total_length / vp.speed
     for k in range(n_steps + 1):
         t = k * dt
+        if progress is not None and k % every == 0:
+            progress(t, expected)
         pos = np.array([s.x, s.y, s.z])
         shapes = _obstacle_shapes(world, t, tracks[k].tolist())
         dists = [_distance(sh, pos, far) for sh in shapes]
@@ -254,7 +269,8 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
             obstacles = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
             psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, obstacles, dt)
         else:
-            obstacles = [(it[1][0], it[1][1], d, i >= n_static, it[1])
+            obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
+                         (it[1][0], it[1][1], d, True, it[1], i, velocities[k, i - n_static], radii[i - n_static])
                          for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
             psi_d, pitch_cmd, rp = local.command(pos, t, cur, obstacles, dt)
         if k % st.record_every == 0:
@@ -283,15 +299,16 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
             break
         if rp.progress > best_progress + 1.0:
             best_progress, best_time = rp.progress, t
-        elif t - best_time > st.deadlock_time:
-            events.append((t, "deadlock", f"no progress along the route for {st.deadlock_time:g} s"))
+        elif t - best_time > st.deadlock_time and (local is None or not local.stalled(pos, t, best_time)):
+            tried = f" ({local.escapes} escapes tried)" if local is not None else ""
+            events.append((t, "deadlock", f"no progress along the route for {t - best_time:.0f} s{tried}"))
             status = Status.DEADLOCK
             break
         if pitch_cmd is None:
             theta_c = rp.gamma + math.atan(vp.depth_gain * (rp.z_ref - s.z))
         else:
             theta_c = pitch_cmd
-        vel = vehicle.step(s, psi_d, theta_c, vp.speed, cur, noise[k])
+        vel = vehicle.step(s, psi_d, theta_c, vp.speed if local is None else local.speed_command, cur, noise[k])
     else:
         events.append((n_steps * dt, "timeout", f"not arrived after {max_time:.0f} s"))
     if k % st.record_every != 0 or rec == 0:  # always keep the final state
@@ -381,11 +398,12 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
-                guidance: str | None = None, avoidance: str | None = None) -> RunRecord:
+                guidance: str | None = None, avoidance: str | None = None, flight=None) -> RunRecord:
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no
-    simulation (its status says why).
+    simulation (its status says why).  ``progress`` is the planner's progress callback,
+    ``flight`` the simulation's (see :func:`simulate`).
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
@@ -398,5 +416,6 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
             return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
         route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
-    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
+    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
+                      progress=flight)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

@@ -90,13 +90,17 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
         "wall_time_s": result.wall_time_s,
         "history": result.history,
         "waypoints": result.path,
+        **({"times": result.times} if result.times is not None else {}),
     })
 
 
 def write_text(path: Path, text: str | bytes) -> Path:
-    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through here
-    (atomically, never through a link, never over a file auvplan did not write: :mod:`.safeio`)."""
-    return atomic_write(Path(path), text)
+    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through
+    here, and here through :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never
+    through a symlink)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return atomic_write(path, text)
 
 
 def write_json(path: Path, obj) -> Path:
@@ -117,7 +121,9 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     out.mkdir(parents=True, exist_ok=True)
     record = plan_record(result, scenario, seed)
     write_json(out / "metrics.json", record)
-    if result.path.size:
+    if result.path.size and result.times is not None:  # timed plans: the time at each vertex (s after start_time)
+        write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time")
+    elif result.path.size:
         write_path_csv(out / "path.csv", result.path)
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
@@ -257,6 +263,8 @@ def _track(record: RunRecord, full: bool = False) -> tuple[np.ndarray, np.ndarra
         sim = record.sim if full else decimate(record.sim)
         return sim.position, sim.t
     path = record.plan.path if record.plan is not None else record.route
+    if record.plan is not None and record.plan.times is not None and len(record.plan.times) == len(path):
+        return path, record.plan.times
     s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))]
     dur = record.plan.cost_terms.get("duration_s", np.nan) if record.plan is not None else np.nan
     return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)

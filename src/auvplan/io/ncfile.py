@@ -82,8 +82,8 @@ def open_dataset(path: Path, what: str, **kwargs) -> xr.Dataset:
     if size == 0:
         raise DataError(f"{path}: the {what} file is empty (0 bytes)")
     if head[:4] not in _CDF and head[:8] != _HDF5:
-        raise DataError(f"{path}: not a NetCDF file (it starts with {head!r}; NetCDF-3 starts with b'CDF', "
-                        "NetCDF-4 with the HDF5 signature)")
+        raise DataError(f"{path}: cannot read the {what} file: not a NetCDF file (it starts with {head[:8]!r}; "
+                        "NetCDF-3 starts with b'CDF', NetCDF-4 with the HDF5 signature)")
     if head[:4] in _CDF[:2]:
         _check_classic(path, size)
     declared = _hdf5_declared_size(head)

@@ -56,10 +56,11 @@ from ..world import (
 )
 from . import limits as _limits
 from .bathymetry import TerrainSpec, load_terrain
-from .currents import CurrentsFileSpec, read_currents
+from .currents import CurrentsFileSpec, parse_time, read_currents
 from .geo import LocalFrame
 from .limits import Limits
 from .tables import build_dataclass, table_error
+from .tides import load_tidal_current, parse_start_time
 
 __all__ = [
     "Scenario",
@@ -154,16 +155,21 @@ class VortexSpec:
 
 @dataclass(frozen=True)
 class CurrentsSpec:
-    """Current field: uniform, a sum of Lamb–Oseen vortices, or a NetCDF file."""
+    """Current field: uniform, a sum of Lamb–Oseen vortices, a NetCDF file, or tidal stations
+    (``tides`` = a built-in name such as ``"juan-de-fuca"`` or a station JSON file; needs [origin]
+    and [mission] start_time)."""
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
-    file: CurrentsFileSpec | None = None
+    file: str | CurrentsFileSpec | None = None
+    tides: str = ""
 
     def __post_init__(self) -> None:
-        kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None)
+        if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
+            object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
+        kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
         if kinds > 1:
-            raise ValueError("give only one of 'uniform', 'vortices' and 'file'")
+            raise ValueError("give only one of 'uniform', 'vortices', 'file' and 'tides'")
 
 
 @dataclass(frozen=True)
@@ -195,8 +201,14 @@ class MissionSpec:
     max_depth_m: float = math.inf
     obstacle_margin_m: float = 0.0
     surface: bool = True
+    start_time: str = ""
 
     def __post_init__(self) -> None:
+        if self.start_time:  # ISO 8601, matched to the current file's CF time or the tides
+            try:
+                parse_time(self.start_time)
+            except ValueError as exc:
+                raise ValueError(f"start_time = {self.start_time!r}: {exc}") from exc
         for name in ("min_altitude_m", "min_depth_m", "obstacle_margin_m"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} = {getattr(self, name)}: must be >= 0")
@@ -671,7 +683,14 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             v = c.vortices
             currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
         elif c.file is not None:
-            currents = read_currents(c.file, frame, base_dir=s.base_dir)
+            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=(xr[0], xr[1], yr[0], yr[1]),
+                                     start_time=s.mission.start_time)
+        elif c.tides:
+            if frame is None or not s.mission.start_time:
+                raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "
+                                    "[mission] start_time (ISO 8601, UTC)")
+            currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
+                                          base_dir=s.base_dir)
         else:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
