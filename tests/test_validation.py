@@ -170,14 +170,16 @@ def test_wrong_dimensionality_names_the_variable(tmp_path, grid):
 def test_missing_coordinate_values_name_the_dimension(tmp_path, grid):
     p = tmp_path / "nocoords.nc"
     grid.drop_vars(["lat", "lon"]).to_netcdf(p)
-    with pytest.raises(DataError, match=r"nocoords.nc: variable 'elevation' has dimensions \('lat', 'lon'\) without coordinate values"):
+    with pytest.raises(DataError, match=r"nocoords.nc: variable 'elevation' has dimensions "
+                                        r"\('lat', 'lon'\) without coordinate values"):
         read_bathymetry(p, frame=FRAME)
 
 
 def test_not_a_netcdf_file(tmp_path):
     p = tmp_path / "notes.nc"
     p.write_text("hello")
-    with pytest.raises(DataError, match=r"notes.nc: cannot read the bathymetry file: not a NetCDF file \(it starts with b'hello'"):
+    with pytest.raises(DataError, match=r"notes.nc: cannot read the bathymetry file: not a NetCDF file \(it starts "
+                                        r"with b'hello'"):
         read_bathymetry(p, frame=FRAME)
 
 
