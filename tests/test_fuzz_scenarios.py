@@ -31,7 +31,7 @@ from scenario_mutations import BUILTINS, documents
 SOURCE = "generated.toml"
 BASE = Path(str(resources.files("auvplan") / "data" / "scenarios"))
 EXAMPLES = int(os.environ.get("AUVPLAN_FUZZ_EXAMPLES", "2000"))
-MAX_SECONDS_PER_DOCUMENT = 60.0  # a bound, not a speed target: a resource bomb runs for minutes (measured under load 23)
+MAX_SECONDS_PER_DOCUMENT = 60.0  # a bound, not a speed target: a resource bomb runs for minutes
 MAX_RSS_GIB = 2.0  # the default [limits] memory_mb
 
 
