@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test lint bench clean fuzz
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -20,6 +20,10 @@ demo: $(STAMP)
 test: $(STAMP)
 	@bash tools/install-chromium.sh
 	$(BIN)/python -m pytest
+
+# the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
+fuzz: $(STAMP)
+	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/test_fuzz_scenarios.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

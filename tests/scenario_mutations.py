@@ -94,6 +94,37 @@ def _numeric_leaves(doc) -> list:
     return out
 
 
+def _known_keys() -> list[tuple[str, ...]]:
+    """Every key the loader knows, as a path (section, key) or (section, sub-table, key): a mutation
+    can then set keys the built-ins leave at their defaults (``[currents] file``, ``[planner.grid]``)."""
+    import dataclasses
+
+    from auvplan.io.scenario import SECTIONS
+
+    out = []
+    for section, cls in SECTIONS.items():
+        for f in dataclasses.fields(cls):
+            if not f.init or f.name.startswith("_"):
+                continue
+            out.append((section, f.name))
+            sub = f.default_factory() if f.default_factory is not dataclasses.MISSING else None
+            if dataclasses.is_dataclass(sub):
+                out += [(section, f.name, g.name) for g in dataclasses.fields(sub) if g.init]
+    return out
+
+
+KNOWN_KEYS = _known_keys()
+
+
+def _set_known(doc, path, value) -> None:
+    node = doc
+    for k in path[:-1]:
+        if not isinstance(node.get(k), dict):
+            node[k] = {}
+        node = node[k]
+    node[path[-1]] = value
+
+
 @st.composite
 def documents(draw, max_mutations: int = 3, numeric: bool = False):
     """``(name, document, paths mutated)``: a built-in scenario with 1..max_mutations mutations.
@@ -110,7 +141,7 @@ def documents(draw, max_mutations: int = 3, numeric: bool = False):
         path = draw(st.sampled_from(places))
         kind = "scale" if numeric else draw(st.sampled_from(
             ["replace", "replace", "replace", "delete", "wrap-array", "wrap-table", "unwrap", "extra-key", "scale",
-             "scale"]))
+             "scale", "known-key", "known-key"]))
         if numeric:
             value = draw(st.sampled_from([0, -1, 0.5, 0.9, 1.1, 2, 10, 100, 1e4]))
         elif kind == "scale":
@@ -119,6 +150,10 @@ def documents(draw, max_mutations: int = 3, numeric: bool = False):
             value = draw(st.one_of(st.sampled_from(NUMBERS), st.sampled_from(OTHERS),
                                    st.floats(allow_nan=True, allow_infinity=True),
                                    st.integers(-(2**70), 2**70), st.text(max_size=5)))
-        _mutate(doc, path, kind, copy.deepcopy(value))
+        if kind == "known-key":
+            path = draw(st.sampled_from(KNOWN_KEYS))
+            _set_known(doc, path, copy.deepcopy(value))
+        else:
+            _mutate(doc, path, kind, copy.deepcopy(value))
         touched.append(path)
     return name, doc, touched

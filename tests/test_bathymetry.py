@@ -146,7 +146,7 @@ def test_missing_and_unreadable_files(tmp_path):
         read_bathymetry(tmp_path / "nope.nc")
     junk = tmp_path / "junk.nc"
     junk.write_text("not a netcdf file")
-    with pytest.raises(DataError, match="cannot read"):
+    with pytest.raises(DataError, match="not a NetCDF file"):
         read_bathymetry(junk)
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from auvplan import cli
+from auvplan._types import Status
 from auvplan.bench import COLUMNS, SweepSpec, sweep
 from auvplan.io.safeio import MANIFEST, OutputError, atomic_write, prepare_out, written
 
@@ -43,6 +44,13 @@ def test_out_naming_a_file_is_refused_before_the_mission(capsys, tmp_path, monke
     code, _, err = run_cli(capsys, "run", "track-single", "--out", target)
     assert code == 2 and "--out names an existing file" in err and str(target) in err
     assert target.read_text() == "mine"
+
+
+def test_an_out_below_a_file_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
+    (tmp_path / "afile").write_text("x")
+    monkeypatch.setattr(cli, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
+    code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "afile" / "sub")
+    assert code == 2 and "cannot create the output folder" in err and "afile/sub" in err
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root can write anywhere")
@@ -103,6 +111,20 @@ def test_a_planted_symlink_is_not_followed(capsys, tmp_path):
     assert code == 0
     assert victim.read_text() == "precious"
     assert not (out / "mission.csv").is_symlink() and "x,y,z" in (out / "mission.csv").read_text()
+
+
+def test_atomic_write_refuses_files_it_did_not_write_and_links(tmp_path):
+    user = tmp_path / "mission.csv"
+    user.write_text("mine")
+    with pytest.raises(OutputError, match="not written by auvplan"):
+        atomic_write(user, "theirs")
+    (tmp_path / "link.json").symlink_to(user)
+    with pytest.raises(OutputError, match="symbolic link"):
+        atomic_write(tmp_path / "link.json", "theirs")
+    assert user.read_text() == "mine"
+    atomic_write(tmp_path / "new.json", "1")
+    atomic_write(tmp_path / "new.json", "2")  # its own file: replaced
+    assert (tmp_path / "new.json").read_text() == "2"
 
 
 def test_atomic_write_never_leaves_half_a_file(tmp_path, monkeypatch):
@@ -190,4 +212,7 @@ def test_resume_appends_and_never_rewrites(tmp_path):
     after = rows.read_bytes()
     assert after.startswith(before)
     assert after.count(b"\n") == before.count(b"\n") + 1
-    assert len(done) == 3 and after.splitlines()[0].decode() == ",".join(COLUMNS)
+    lines = after.decode().splitlines()
+    assert len(done) == 3 and lines[0] == ",".join(COLUMNS)
+    assert all(len(ln.split(",")) == len(COLUMNS) for ln in lines)  # the cut line trimmed, not run into
+    assert [r["seed"] for r in done] == ["0", "1", "2"] and done[2]["status"] in {s.value for s in Status}

@@ -224,7 +224,8 @@ def read_rows(path: Path) -> list[dict]:
     if not path.is_file():
         return []
     with path.open(newline="") as fh:
-        rows = [r for r in csv.DictReader(fh) if None not in r.values() and r.get("wall_s") not in (None, "")]
+        rows = [r for r in csv.DictReader(fh)  # short or over-long (two lines run together) rows are dropped
+                if None not in r and None not in r.values() and r.get("wall_s") not in (None, "")]
     return rows
 
 

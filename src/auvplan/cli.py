@@ -122,7 +122,8 @@ def _cmd_data_inspect(args) -> int:
 
 def _cmd_validate(args) -> int:
     sc = scenario_io.load(args.scenario)
-    world, mission = scenario_io.build(sc)
+    world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
+    planning_problem(world, mission)
     b = world.bounds
     print(f"{sc.source}: OK — {sc.name}")
     print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")

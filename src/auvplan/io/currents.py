@@ -33,6 +33,7 @@ from ..errors import DataError
 from ..world.currents import GriddedCurrent
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
+from .ncfile import open_dataset
 
 __all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
 
@@ -104,8 +105,7 @@ def _find(ds: xr.Dataset, comp: str, explicit: str, src: str, required: bool) ->
 
 
 def _open(path: Path, src: str) -> xr.Dataset:
-    if not path.is_file():
-        raise DataError(f"{src}: current file not found")
+    open_dataset(path, "current").close()  # missing, not NetCDF, truncated: diagnosed and named
     try:
         return xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None))
     except Exception as exc:  # xarray raises many types for unreadable files or undecodable times

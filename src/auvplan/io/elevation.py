@@ -25,6 +25,7 @@ import xarray as xr
 
 from ..errors import DataError
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
+from .ncfile import check_dims, open_dataset, variable_values
 
 __all__ = ["ElevationGrid", "read_elevation", "is_geotiff"]
 
@@ -102,6 +103,10 @@ def _find_elevation(ds: xr.Dataset, variable: str, src: str) -> str:
                 return k
     if len(two_d) == 1:
         return two_d[0]
+    if not two_d:  # an elevation variable with the wrong dimensionality: say so, naming it
+        for k, v in ds.data_vars.items():
+            if str(k).lower() in _UP_NAMES + _DOWN_NAMES or _attr(v, "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
+                check_dims(v, 2, src, "elevation")
     raise DataError(
         f"{src}: cannot tell which variable is the elevation among {two_d or sorted(map(str, ds.data_vars))}; "
         "name it with 'variable'"
@@ -126,12 +131,7 @@ def _positive(da: xr.DataArray, positive: str) -> tuple[bool, str]:
 
 
 def _open(path: Path, src: str) -> xr.Dataset:
-    if not path.is_file():
-        raise DataError(f"{src}: bathymetry file not found")
-    try:
-        return xr.open_dataset(path, mask_and_scale=True, decode_times=False)
-    except Exception as exc:  # xarray raises many types for unreadable files
-        raise DataError(f"{src}: cannot read as NetCDF or GeoTIFF ({exc})") from exc
+    return open_dataset(path, "bathymetry", mask_and_scale=True, decode_times=False)  # faults diagnosed
 
 
 def read_elevation(path, *, variable: str = "", positive: str = "") -> ElevationGrid:
@@ -158,7 +158,7 @@ def read_elevation(path, *, variable: str = "", positive: str = "") -> Elevation
             if da.sizes[d] != 1:
                 raise DataError(f"{src}: variable {var!r} must be 2-D; dimension {d!r} has {da.sizes[d]} values")
         da = da.isel({d: 0 for d in extra}).transpose(rdim, cdim)
-        z = np.asarray(da.values, dtype=float)
+        z = variable_values(da, src)
         down, why = _positive(da, positive)
     return _finish(grid, z, flip_r, flip_c, down, why, f"{path.name}:{var}", var, "NetCDF")
 

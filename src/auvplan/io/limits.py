@@ -74,7 +74,8 @@ def check(limits: Limits, where: str, what: str, nbytes: float) -> None:
     """
     if nbytes <= limits.memory_mb * _MIB:  # nan compares False: refused
         return
-    shown = f"{nbytes / _MIB:,.0f} MiB" if math.isfinite(nbytes) else "unbounded memory"
+    mib = nbytes / _MIB
+    shown = ("unbounded memory" if not math.isfinite(mib) else f"{mib:,.0f} MiB" if mib < 1e9 else f"{mib:.3g} MiB")
     raise ScenarioError(f"{where} {what} needs ~{shown}, over the limit of {limits.memory_mb:g} MiB; "
                         f"make it smaller, or raise [limits] memory_mb")
 

@@ -369,6 +369,10 @@ def _moving(table: dict, where: str, bounds_xy, limits: Limits) -> MovingObstacl
             motion = CircleMotion(s.center, s.orbit_radius, s.period, math.radians(s.phase_deg))
         elif motion_name == "waypoints":
             s = build_dataclass(_WaypointsSpec, rest, where)
+            for i in range(1, len(s.points)):
+                if math.dist(s.points[i - 1], s.points[i]) <= 1e-9:
+                    raise table_error(where, f"points[{i}]", list(s.points[i]), f"repeats points[{i - 1}]: a "
+                                      "zero-length leg")
             motion = WaypointMotion(np.asarray(s.points), s.speed, s.loop)
         elif motion_name == "random-walk":
             s = build_dataclass(_RandomWalkSpec, rest, where)
