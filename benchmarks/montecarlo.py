@@ -1,6 +1,11 @@
-"""Monte Carlo of document 004's local avoidance on ``dynamic-terrain`` with randomised obstacle tracks.
+"""Monte Carlo of local avoidance on ``dynamic-terrain`` (or another scenario) with randomised obstacle tracks.
 
     .venv/bin/python benchmarks/montecarlo.py --seeds 1000 --workers 2 --out results/bench-mc
+    .venv/bin/python benchmarks/montecarlo.py --scenario avoidance-gauntlet --avoidance predictive apf --seeds 12
+
+Each avoidance variant (``--avoidance``, default the scenario's own) flies the same seeds in the
+same run, so their decision-step times are measured under the same machine load (``uptime`` is
+recorded in the summary).
 
 The global plan is made once (seed of the scenario); each seed then re-draws every moving
 obstacle's track (start shifted ±150 m along and across its motion, speed ×[0.6, 1.2], new
@@ -16,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
@@ -32,10 +38,10 @@ from auvplan.world import Sphere
 
 
 def one(args) -> dict:
-    seed, route, keys, path_length = args
-    world, mission = sc.build(sc.load("dynamic-terrain"))
+    seed, route, keys, path_length, scenario, avoidance = args
+    world, mission = sc.build(sc.load(scenario))
     w = perturb_moving(world, seed)
-    r = simulate(w, mission, route=route, rng=seed, avoidance="apf", keys=keys)
+    r = simulate(w, mission, route=route, rng=seed, avoidance=avoidance, keys=keys)
     kinds = [e[1] for e in r.events]
     terrain_hit = any(k == "collision" and "seabed" in e[2] for k, e in zip(kinds, r.events))
     obstacle_hit = any(k == "collision" and "obstacle" in e[2] for k, e in zip(kinds, r.events))
@@ -53,7 +59,8 @@ def one(args) -> dict:
         plan(prob, mission.planner, rng=seed)
         replan_s = time.perf_counter() - t0
     return {
-        "seed": seed, "status": r.status.value, "arrived": r.arrived, "terrain_collision": terrain_hit,
+        "avoidance": avoidance, "seed": seed, "status": r.status.value, "arrived": r.arrived,
+        "terrain_collision": terrain_hit,
         "obstacle_collision_unflagged": obstacle_hit, "unavoidable": "unavoidable" in kinds,
         "escapes": r.escapes, "overhead": r.metrics["distance_m"] / path_length - 1.0,
         "decisions": r.decision_steps, "decision_time_s": r.decision_time_s, "replan_s": replan_s,
@@ -61,44 +68,58 @@ def one(args) -> dict:
     }
 
 
+def _summary(rows: list[dict], args, avoidance: str, wall: float) -> str:
+    n = len(rows)
+    dec = sum(r["decisions"] for r in rows)
+    dec_t = sum(r["decision_time_s"] for r in rows)
+    replans = [r["replan_s"] for r in rows if r["replan_s"] is not None]
+    replan = f"median {np.median(replans):.3f} s ({len(replans)} encounters)" if replans else "no encounter"
+    return (
+        f"# {args.scenario} Monte Carlo, {avoidance}: {n} seeds, {args.workers} workers, {wall:.0f} s wall\n\n"
+        f"- arrival: {sum(r['arrived'] for r in rows)}/{n} ({100 * np.mean([r['arrived'] for r in rows]):.1f} %)\n"
+        f"- terrain collisions: {sum(r['terrain_collision'] for r in rows)}\n"
+        f"- obstacle collisions not flagged UNAVOIDABLE: {sum(r['obstacle_collision_unflagged'] for r in rows)}\n"
+        f"- flagged UNAVOIDABLE: {sum(r['unavoidable'] for r in rows)}\n"
+        f"- deadlocks: {sum(r['status'] == 'DEADLOCK' for r in rows)}\n"
+        f"- escapes: {sum(r['escapes'] for r in rows)} in total\n"
+        f"- smallest obstacle distance: {min(r['min_obstacle_distance_m'] for r in rows):.2f} m\n"
+        f"- path-length overhead over the global path: median {100 * np.median([r['overhead'] for r in rows]):.2f} %, "
+        f"max {100 * max(r['overhead'] for r in rows):.2f} %\n"
+        f"- decision step: {1e6 * dec_t / max(dec, 1):.1f} µs mean over {dec} steps\n"
+        f"- re-plan strategy, one re-plan of the remaining path: {replan}\n"
+    )
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=1000)
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out", default="results/bench-mc")
+    ap.add_argument("--scenario", default="dynamic-terrain")
+    ap.add_argument("--avoidance", nargs="+", default=None, help="variants (default: the scenario's own)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    world, mission = sc.build(sc.load("dynamic-terrain"))
+    world, mission = sc.build(sc.load(args.scenario))
+    variants = args.avoidance or [mission.avoidance.name]
     planned = plan(planning_problem(world, mission), mission.planner, rng=mission.seed)
     length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
     route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world)
-    t0 = time.perf_counter()
-    rows = []
+    load = os.getloadavg()
+    texts = []
     with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "w") as fh:
-        for row in pool.map(one, [(s, route, keys, length) for s in range(args.seeds)], chunksize=4):
-            rows.append(row)
-            fh.write(json.dumps(row) + "\n")
-            fh.flush()
-    wall = time.perf_counter() - t0
-    n = len(rows)
-    dec = sum(r["decisions"] for r in rows)
-    dec_t = sum(r["decision_time_s"] for r in rows)
-    replans = [r["replan_s"] for r in rows if r["replan_s"] is not None]
-    text = (
-        f"# dynamic-terrain Monte Carlo: {n} seeds, {args.workers} workers, {wall:.0f} s wall\n\n"
-        f"- arrival: {sum(r['arrived'] for r in rows)}/{n} ({100 * np.mean([r['arrived'] for r in rows]):.1f} %)\n"
-        f"- terrain collisions: {sum(r['terrain_collision'] for r in rows)}\n"
-        f"- obstacle collisions not flagged UNAVOIDABLE: {sum(r['obstacle_collision_unflagged'] for r in rows)}\n"
-        f"- flagged UNAVOIDABLE: {sum(r['unavoidable'] for r in rows)}\n"
-        f"- escapes: {sum(r['escapes'] for r in rows)} in total\n"
-        f"- path-length overhead over the global path: median {100 * np.median([r['overhead'] for r in rows]):.2f} %, "
-        f"max {100 * max(r['overhead'] for r in rows):.2f} %\n"
-        f"- APF decision step: {1e6 * dec_t / max(dec, 1):.1f} µs mean over {dec} steps\n"
-        f"- re-plan strategy, one re-plan of the remaining path: median {np.median(replans):.3f} s "
-        f"({len(replans)} encounters) — {np.median(replans) / max(dec_t / max(dec, 1), 1e-9):.0f}x an APF step\n"
-    )
+        for avoidance in variants:
+            t0 = time.perf_counter()
+            rows = []
+            tasks = [(s, route, keys, length, args.scenario, avoidance) for s in range(args.seeds)]
+            for row in pool.map(one, tasks, chunksize=4):
+                rows.append(row)
+                fh.write(json.dumps(row) + "\n")
+                fh.flush()
+            texts.append(_summary(rows, args, avoidance, time.perf_counter() - t0))
+    text = "\n".join(texts) + "\nmachine load (1, 5, 15 min) at the start: " + ", ".join(f"{v:.1f}" for v in load)
+    text += "\n"
     (out / "summary.md").write_text(text)
     print(text)
     return 0

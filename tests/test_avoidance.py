@@ -197,3 +197,54 @@ def test_deadlock_only_after_the_escapes_have_had_their_time():
     stalled = float(msg.split(" for ")[1].split(" s")[0])
     assert kind == "deadlock" and stalled >= 120.0 + 200.0 and f"{r.escapes} escapes tried" in msg
     assert r.obstacle_distance.min() > 0.0
+
+
+# ---------------------------------------------------------------------- vertical avoidance
+def _vertical_choice(seabed: float | None, z_hi: float = -5.0):
+    """Straight-ahead heading only, pitch -24°/0/+24°, 100 s horizon: a 20 m sphere 250 m ahead, closing at 2 m/s."""
+    p, v = np.array([0.0, 0.0, -100.0]), np.array([1.5, 0.0, 0.0])
+    C, V, R = np.array([[250.0, 0.0, -100.0]]), np.array([[-2.0, 0.0, 0.0]]), np.array([20.0])
+    pitches = np.radians([0.0, -24.0, 24.0])
+    if seabed is None:
+        coef, extra = np.zeros((1, 1, 4)), dict(terrain=0.0)
+    else:
+        x = np.linspace(-500.0, 500.0, 11)
+        coef, x0, y0, dx, dy = Terrain(x, x, np.full((11, 11), seabed)).kernel_data[:5]
+        extra = dict(terrain=1.0, x0=x0, y0=y0, dx=dx, dy=dy, altitude=10.0)
+    i, j, k, clear, safe = vo_choose(p, v, np.zeros(3), C, V, R, np.array([np.pi / 2]), pitches, np.array([1.5]),
+                                     np.array([1.0, 0.0, 0.0]), coef, _cfg(z_hi=z_hi, horizon=100.0, **extra),
+                                     np.array([0.5, 0.3, 0.15, 0.3, 0.6]))
+    return np.degrees(pitches[j]), clear, safe
+
+
+def test_vertical_avoidance_respects_the_seabed_and_the_surface():
+    """Level flight is in the collision cone; in deep water a dive or climb clears it; 25 m above the seabed
+    (altitude margin 10 m) only the climb is allowed; under a 10 m ceiling nothing is safe."""
+    pitch, clear, safe = _vertical_choice(None)
+    assert safe and abs(pitch) == pytest.approx(24.0) and clear >= 10.0
+    pitch, clear, safe = _vertical_choice(seabed=-125.0)
+    assert safe and pitch == pytest.approx(24.0)
+    pitch, clear, safe = _vertical_choice(seabed=-125.0, z_hi=-90.0)
+    assert not safe
+
+
+def test_predictive_flight_stays_inside_the_depth_band_and_altitude_margin():
+    """Head-on 30 m sphere over a flat seabed 30 m below the route (min altitude 5 m): avoided, and the
+    vehicle never comes closer to the seabed than the margin."""
+    w = _open(HEAD_ON, depth=130.0, terrain=True, min_altitude=5.0)
+    r = simulate(w, _straight(), rng=0)
+    assert r.status is Status.EXACT and r.obstacle_distance.min() >= 9.0 and r.altitude.min() >= 5.0
+    assert r.position[:, 2].max() <= -5.0
+
+
+def test_avoidance_gauntlet_predictive_arrives_where_the_document_apf_is_hit():
+    """The built-in hard scenario on the pinned global path: document 004's APF is run down by a fast
+    obstacle; the predictive avoidance arrives keeping ≥ 5 m from every obstacle."""
+    w, m = sc.build(sc.load("avoidance-gauntlet"))
+    assert len(w.moving) == 12 and sum(o.motion.speed >= 1.5 for o in w.moving if hasattr(o.motion, "velocity")) >= 4
+    route, keys = np.array(PIN["route"]), np.array(PIN["keys"])
+    apf = simulate(w, m, route=route, keys=keys, avoidance="apf")
+    assert apf.metrics["collisions"] == 1
+    r = simulate(w, m, route=route, keys=keys)
+    assert r.avoidance == "predictive" and r.arrived and r.metrics["min_obstacle_distance_m"] >= 5.0
+    assert r.altitude.min() >= w.margins.min_altitude

@@ -8,7 +8,6 @@ see ``data/PROVENANCE.md``.
 
 from __future__ import annotations
 
-import datetime as _dt
 import json
 from importlib import resources
 from pathlib import Path
