@@ -156,5 +156,9 @@ def test_deadlock_is_detected():
     w = World(Bounds(-5000, 5000, -500, 500, -100, 0), currents=UniformCurrent((-2.0, 0.0, 0.0)))
     m = Mission("dl", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
                 sim=SimSettings(deadlock_time=60.0))
-    r = simulate(w, m, guidance="hybrid", rng=0)
+    r = simulate(w, m, guidance="hybrid", rng=0, avoidance="none")
     assert r.status is Status.DEADLOCK and r.t[-1] < 200
+    # with local avoidance, document 004's escapes run first; DEADLOCK only after escape_time more
+    r = simulate(w, m, guidance="hybrid", rng=0)
+    wait = 60.0 + m.avoidance.escape_time
+    assert r.status is Status.DEADLOCK and r.escapes >= 1 and wait <= r.t[-1] < wait + 30.0

@@ -161,6 +161,8 @@ def _raise_to_floors(world: World, p: np.ndarray) -> np.ndarray:
             break
         mids = 0.5 * (p[bad] + p[bad + 1])
         p = np.insert(p, bad + 1, mids, axis=0)
+    if f.size != p.shape[0] - 1:  # the loop ran out after a split: the floors of the final legs
+        f = leg_floors(world, p[:-1], p[1:])
     need = np.maximum(np.r_[f, -np.inf], np.r_[-np.inf, f])
     q = p.copy()
     q[1:-1, 2] = np.maximum(p[1:-1, 2], need[1:-1])
