@@ -6,12 +6,12 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test test-nojit mutants typecheck lint bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[all,test]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -20,6 +20,20 @@ demo: $(STAMP)
 test: $(STAMP)
 	@bash tools/install-chromium.sh
 	$(BIN)/python -m pytest
+
+# the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
+# coverage and tracebacks see their lines (slower: the kernel tests only)
+test-nojit: $(STAMP)
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
+		tests/test_world.py tests/test_oracles.py tests/test_jit.py \
+		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling
+
+typecheck: $(STAMP)
+	$(BIN)/mypy
+
+# the catalogue of hand-planted mutants (docs/mutants.md): each must be killed by the suite
+mutants: $(STAMP)
+	$(BIN)/python tools/oracle_mutants.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,24 @@ class SimSettings:
 
 @dataclass(frozen=True)
 class Mission:
-    """What to do in a World: end points, an optional fixed route, and every component's settings."""
+    """What to do in a World: end points, an optional fixed route, and every component's settings.
+
+    Attributes
+    ----------
+    name : str
+        Mission (scenario) name.
+    start, goal : tuple of float
+        End points ``(x, y, z)`` (m).
+    route : tuple of (x, y, z)
+        A fixed route to follow instead of planning one (empty: plan).
+    seed : int
+        Default seed of the planner and of the simulation's disturbances.
+    vehicle, planner, hybrid, los, avoidance, sim
+        Settings of the vehicle, the global planner, the two path followers, the local
+        avoidance and the closed loop.
+    guidance : str
+        ``"hybrid"``, ``"los"`` or ``"ilos"``.
+    """
 
     name: str
     start: tuple[float, float, float]
@@ -85,6 +103,23 @@ class SimResult:
     (signed, to the active leg, m), ``route_error (N,)`` (distance to the whole route, m),
     ``progress (N,)`` (m along the route), ``altitude (N,)`` (m above the seabed; inf without
     terrain), ``obstacle_distance (N, M)`` (m to each static then moving obstacle surface).
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` on arrival, else ``COLLISION``, ``UNAVOIDABLE``, ``DEADLOCK`` or ``TIMEOUT``.
+    arrived : bool
+        Whether the vehicle reached the last waypoint.
+    t, position, heading, speed, rudder, cross_track, route_error, progress, altitude, obstacle_distance : ndarray
+        The recorded time series (see above).
+    events : tuple of (float, str, str)
+        ``(time, kind, message)`` of arrival, collision, unavoidable, deadlock or timeout.
+    guidance, avoidance : str
+        The path follower and the local avoidance used.
+    wall_time_s : float
+        Wall-clock time of the run.
+    escapes, decision_steps, decision_time_s
+        Local-minimum escapes, APF decision steps and their total time (s).
     """
 
     status: Status
@@ -130,9 +165,22 @@ class SimResult:
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
-    """The global planning problem of a mission in a world."""
+    """The global planning problem of a mission in a world.
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        End points and vehicle figures (speed, hotel power, drag).
+
+    Returns
+    -------
+    PlanningProblem
+    """
     v = mission.vehicle
-    return PlanningProblem(world, mission.start, mission.goal, v.speed, v.hotel_power, v.drag_k)
+    return PlanningProblem(world, np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float),
+                           v.speed, v.hotel_power, v.drag_k)
 
 
 def make_guidance(name: str, route, mission: Mission):
@@ -164,7 +212,7 @@ def _distance(item, pos: np.ndarray, far: float = FAR) -> float:
 def _obstacle_shapes(world: World, t: float, centres=None):
     """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive);
     ``centres`` are the moving obstacles' centres at ``t`` when the caller has them."""
-    items = [(o, o.center) for o in world.obstacles]
+    items: list[tuple[Any, tuple[float, ...]] | None] = [(o, o.center) for o in world.obstacles]
     if centres is None:
         centres = [o.center(t) for o in world.moving]
     items += [(o.shape, tuple(c)) if o.active(t) else None for o, c in zip(world.moving, centres)]
@@ -248,12 +296,12 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         cur = currents.velocity(pos[None], t)[0]
         pitch_cmd = None
         if local is None:
-            obstacles = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
-            psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, obstacles, dt)
+            near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
+            psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
         else:
-            obstacles = [(it[1][0], it[1][1], d, i >= n_static, it[1])
-                         for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
-            psi_d, pitch_cmd, rp = local.command(pos, t, cur, obstacles, dt)
+            tagged = [(it[1][0], it[1][1], d, i >= n_static, it[1])
+                      for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
+            psi_d, pitch_cmd, rp = local.command(pos, t, cur, tagged, dt)
         if k % st.record_every == 0:
             T[rec], P[rec], H[rec], D[rec] = t, pos, s.psi, s.delta
             V[rec] = math.hypot(vel[0], vel[1])
@@ -328,6 +376,19 @@ class RunRecord:
 
     ``seed`` is the integer seed the run used (the mission's unless another was given; -1 when a
     ``numpy.random.Generator`` was passed instead of a seed).
+
+    Attributes
+    ----------
+    scenario : str
+        Scenario name.
+    seed : int
+        Seed of the run (-1 for a generator).
+    plan : PlanResult or None
+        The global plan (None for a mission with a fixed route).
+    route, keys : ndarray, shape (N, 3) and (K, 3)
+        Waypoints flown and their key waypoints (document 004).
+    sim : SimResult or None
+        The closed-loop run (None when the plan failed).
     """
 
     scenario: str
@@ -356,6 +417,24 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no
     simulation (its status says why).
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    rng : Generator, int or None
+        Seed of the planner and of the simulation (the mission's seed by default).
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+    guidance, avoidance : str, optional
+        Override the mission's path follower and local avoidance.
+
+    Returns
+    -------
+    RunRecord
+        Plan, route, key waypoints and simulation.
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1

@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -363,8 +364,8 @@ def load_terrain(
     extent_m: tuple[float, float, float, float] | None = None,
 ) -> Terrain:
     """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``."""
-    common = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
-                  nan_policy=spec.nan_policy)
+    common: dict[str, Any] = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
+                                  nan_policy=spec.nan_policy)
     if spec.builtin == "matplotlib-topobathy":
         lon, lat, topo = _topobathy()
         if frame is None:

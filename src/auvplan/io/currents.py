@@ -103,7 +103,7 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         if not set(horiz) <= set(kinds.values()):
             raise DataError(f"{src}: variable {names['u']!r} needs lat/lon or x/y axes, has {kinds}")
         dims = [next(d for d, k in kinds.items() if k == want) for want in order + horiz]
-        comps = []
+        comps: list[np.ndarray | None] = []
         for c in "uvw":
             if names[c] is None:
                 comps.append(None)

@@ -175,7 +175,7 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
         arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
     if record.sim is not None:
         arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
-    np.savez_compressed(out / "run.npz", **arrays)
+    np.savez_compressed(out / "run.npz", **arrays)  # type: ignore[arg-type]
     return rec
 
 

@@ -42,6 +42,7 @@ from ..vehicles import VehicleParams
 from ..world import (
     Bounds,
     CircleMotion,
+    CurrentField,
     Ellipsoid,
     LambOseenVortices,
     LinearMotion,
@@ -316,6 +317,7 @@ def _moving(table: dict, where: str, bounds_xy) -> MovingObstacle:
     if motion_name is None:
         raise ScenarioError(f"{where} missing required key 'motion'")
     rest = {k: v for k, v in table.items() if k not in _SHAPE_KEYS + _MOVING_KEYS}
+    motion: LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
     try:
         if motion_name == "linear":
             s = build_dataclass(_LinearSpec, rest, where)
@@ -526,10 +528,12 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
         xr, yr, zr = b.x, b.y, b.z
     bounds = Bounds(xr[0], xr[1], yr[0], yr[1], zr[0], zr[1])
     c = s.currents
+    currents: CurrentField
     try:
         if c.vortices:
             v = c.vortices
-            currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
+            currents = LambOseenVortices(np.array([(q.x, q.y) for q in v]), np.array([q.gamma for q in v]),
+                                         np.array([q.delta for q in v]))
         elif c.file is not None:
             currents = read_currents(c.file, frame, base_dir=s.base_dir)
         else:

@@ -33,14 +33,14 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     origin = typing.get_origin(tp)
     args = typing.get_args(tp)
     if origin in (typing.Union, types.UnionType):
-        errors = []
+        errors: list[ScenarioError] = []
         for alt in args:
             if alt is type(None):
                 continue
             try:
                 return _convert(value, alt, where, key)
             except ScenarioError as exc:
-                errors.append(str(exc))
+                errors.append(exc)
         raise errors[0] if len(errors) == 1 else table_error(where, key, value, "wrong type")
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -71,7 +71,8 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     if dataclasses.is_dataclass(tp):
         if not isinstance(value, dict):
             raise table_error(where, key, value, "expected a table")
-        return build_dataclass(tp, value, f"{where.rstrip(']')}.{key}]" if where.endswith("]") else where)
+        sub = f"{where.rstrip(']')}.{key}]" if where.endswith("]") else where
+        return build_dataclass(typing.cast(type, tp), value, sub)
     if tp is Any:
         return value
     raise TypeError(f"unsupported field type {tp!r} for {key}")  # a programming error, not user input

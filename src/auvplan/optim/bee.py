@@ -245,6 +245,8 @@ class IABC(ABC):
                  rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, params if params is not None else IABCParams(), rng)
 
+    params: IABCParams
+
     def _initial(self) -> np.ndarray:
         return self.lower + logistic_map_population(self.n, self.dim, self.params.mu, self.rng) * self.span
 

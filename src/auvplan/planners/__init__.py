@@ -10,7 +10,24 @@ __all__ = ["PLANNERS", "SWARM", "GridParams", "GridReference", "PlanResult", "Pl
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
-    """Plan with the planner named by ``spec.name`` (see ``PLANNERS``)."""
+    """Plan with the planner named by ``spec.name`` (see ``PLANNERS``).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        Planner name and settings (the scenario's ``[planner]`` table).
+    rng : Generator, int or None
+        Seed of the swarm planners (the flow and grid planners are deterministic).
+    progress : callable, optional
+        ``progress(iteration, best)`` after each iteration of a swarm planner.
+
+    Returns
+    -------
+    PlanResult
+        Status, path, cost terms and history; a failure is a status, never an exception.
+    """
     if spec.name == "flow":
         return plan_flow(problem, spec.flow)
     if spec.name == "grid":

@@ -337,10 +337,10 @@ class FlowField:
         m = self.params.strength
         if not self.items:
             return sink_velocity(p, self.target, m).reshape(shape)
-        parts = [self._sphere_parts(p)] if self.spheres else []
+        fields = [self._sphere_parts(p)] if self.spheres else []
         for c, ms, a2, a1, basis in self.rankine:
-            parts.append((rankine_velocity((p - c) @ basis, ms, a2, m, a1) @ basis.T)[:, None, :])
-        parts = np.concatenate(parts, axis=1)
+            fields.append((rankine_velocity((p - c) @ basis, ms, a2, m, a1) @ basis.T)[:, None, :])
+        parts = np.concatenate(fields, axis=1)
         if parts.shape[1] == 1:
             return parts[:, 0].reshape(shape)
         w = blend_weights(self.distances(p), self.params.weights)

@@ -22,7 +22,6 @@ from matplotlib.patches import Circle
 
 from ..sim import RunRecord
 from ..world import World
-from .report import shape_surface
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures"]
@@ -44,6 +43,8 @@ def _seabed(ax, world: World) -> None:
 
 
 def _obstacles(ax, world: World, t: float | None = None) -> None:
+    from .report import shape_surface  # (the report module needs plotly: imported only when drawn)
+
     for s in world.obstacles:
         x, y, _ = shape_surface(s, 60)
         ax.fill(x[30], y[30], color="firebrick", alpha=0.6, lw=0)
@@ -51,7 +52,7 @@ def _obstacles(ax, world: World, t: float | None = None) -> None:
         for o in world.moving:
             if o.active(t):
                 c = o.center(t)
-                ax.add_patch(Circle(c[:2], o.shape.bounding_radius, color="purple", alpha=0.4))
+                ax.add_patch(Circle((float(c[0]), float(c[1])), o.shape.bounding_radius, color="purple", alpha=0.4))
 
 
 def plan_view(world: World, record: RunRecord):
@@ -137,6 +138,8 @@ def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
 def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
     """Fill the projection of a sphere or ellipsoid on axes ``(i, j)`` (convex: its hull)."""
     from scipy.spatial import ConvexHull
+
+    from .report import shape_surface
 
     p = np.stack([g.ravel() for g in shape_surface(shape, 40)], axis=1)[:, [i, j]]
     hull = p[ConvexHull(p).vertices]

@@ -16,12 +16,16 @@ import html
 from collections.abc import Callable
 
 import numpy as np
-import plotly.graph_objects as go
-import plotly.io as pio
-from plotly.subplots import make_subplots
 
-from ..sim import RunRecord
-from ..world import Ellipsoid, Sphere, World
+from ..errors import require
+
+require("plotly", "report")
+import plotly.graph_objects as go  # noqa: E402
+import plotly.io as pio  # noqa: E402
+from plotly.subplots import make_subplots  # noqa: E402
+
+from ..sim import RunRecord  # noqa: E402
+from ..world import Ellipsoid, Sphere, World  # noqa: E402
 
 __all__ = ["build_report", "build_bench_report", "figure_3d", "figure_plan_view", "figure_profiles",
            "figure_convergence", "shape_surface"]
@@ -59,6 +63,7 @@ def _line(p: np.ndarray, name: str, color: str, width: float = 4, dash: str | No
 
 def _terrain_grid(world: World, max_nodes: int = 120):
     t = world.terrain
+    assert t is not None
     b = world.bounds
     ix = np.flatnonzero((t.x >= b.xmin - t.dx) & (t.x <= b.xmax + t.dx))
     iy = np.flatnonzero((t.y >= b.ymin - t.dy) & (t.y <= b.ymax + t.dy))
@@ -95,11 +100,11 @@ def figure_3d(world: World, record: RunRecord) -> go.Figure:
     path = record.plan.path if record.plan is not None and record.plan.path.size else record.route
     zs = path[:, 2] if path.size else np.array([b.zmin, b.zmax])
     gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 7), np.linspace(b.ymin, b.ymax, 7))
-    cone = []
+    cones = []
     for z in np.linspace(zs.min(), zs.max(), 3) if np.ptp(zs) > 0 else [zs[0]]:
         p = np.column_stack([gx.ravel(), gy.ravel(), np.full(gx.size, z)])
-        cone.append(np.column_stack([p, world.currents.velocity(p, 0.0)]))
-    cone = np.vstack(cone)
+        cones.append(np.column_stack([p, world.currents.velocity(p, 0.0)]))
+    cone = np.vstack(cones)
     if np.abs(cone[:, 3:]).max() > 0:
         fig.add_trace(go.Cone(x=cone[:, 0], y=cone[:, 1], z=cone[:, 2], u=cone[:, 3], v=cone[:, 4], w=cone[:, 5],
                               name="current", sizemode="scaled", sizeref=0.6, colorscale="Blues", showscale=False,
@@ -115,7 +120,7 @@ def figure_3d(world: World, record: RunRecord) -> go.Figure:
         fig.add_trace(go.Scatter3d(x=k[:, 0], y=k[:, 1], z=k[:, 2], mode="markers", name="key waypoints",
                                    marker=dict(size=4, color="gold", symbol="diamond")))
     times = _times(record)
-    if times.size:
+    if times.size and record.sim is not None:
         fig.add_trace(_line(record.sim.position[_thin(record.sim.t.size)], "track", "crimson", 3))
         pos = _positions(record, times)
         mov = _moving_tracks(world, times)
@@ -153,6 +158,7 @@ def figure_3d(world: World, record: RunRecord) -> go.Figure:
 
 def _positions(record: RunRecord, times: np.ndarray) -> np.ndarray:
     sim = record.sim
+    assert sim is not None
     return np.column_stack([np.interp(times, sim.t, sim.position[:, k]) for k in range(3)])
 
 
