@@ -29,10 +29,11 @@ from typing import Any
 import numpy as np
 
 from .errors import AuvplanError, require
-from .guidance.local import key_waypoints
+from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
+from .io.safeio import claim
 from .planners import PLANNERS, plan, reference, with_reference
-from .sim import RunRecord, planning_problem, route_from_path, run_mission, simulate
+from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
 __all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
@@ -77,6 +78,9 @@ class SweepSpec:
         Plan once per cell and fly that plan in every seed (with ``randomise``).
     chunk : int
         Seeds per task.
+    avoidance : tuple of str
+        Local avoidance variants (``"scenario"`` = each scenario's own); any other is a further
+        axis, written into the guidance column as ``guidance+avoidance``.
     """
 
     scenarios: tuple[str, ...] = ("dynamic-terrain",)
@@ -88,8 +92,12 @@ class SweepSpec:
     randomise: bool = False
     plan_once: bool = False
     chunk: int = 10
+    avoidance: tuple[str, ...] = ("scenario",)
 
     def __post_init__(self) -> None:
+        for a in self.avoidance:
+            if a != "scenario" and a not in AVOIDANCE:
+                raise AuvplanError(f"unknown avoidance {a!r}; choose from scenario, {', '.join(AVOIDANCE)}")
         for p in self.planners:
             if p != "scenario" and p not in PLANNERS:
                 raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(PLANNERS)}")
@@ -109,12 +117,14 @@ class SweepSpec:
             own_planner = "route" if sc.mission.route else sc.planner.name
             for p in self.planners:
                 p = own_planner if p == "scenario" or own_planner == "route" else p
-                for g in self.guidance:
-                    g = sc.guidance.name if g == "scenario" else g
-                    for lo in range(0, self.seeds, self.chunk):
-                        cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
-                        if cell not in out:
-                            out.append(cell)
+                for g0 in self.guidance:
+                    for a in self.avoidance:
+                        g = sc.guidance.name if g0 == "scenario" else g0
+                        g = g if a == "scenario" else f"{g}+{a}"
+                        for lo in range(0, self.seeds, self.chunk):
+                            cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
+                            if cell not in out:
+                                out.append(cell)
         return out
 
 
@@ -177,7 +187,10 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     pspec = mission.planner
     if planner != "route":
         pspec = replace(pspec, name=planner, budget=spec.budget or pspec.budget)
+    guidance, _, avoidance = guidance.partition("+")
     mission = replace(mission, planner=pspec, guidance=guidance)
+    if avoidance:
+        mission = replace(mission, avoidance=replace(mission.avoidance, name=avoidance))
     problem = planning_problem(world, mission)
     ref = reference(problem, pspec) if spec.reference and not mission.route else None
     fixed = None
@@ -185,9 +198,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
         planned = plan(problem, pspec, mission.seed)
         if ref is not None:
             planned = with_reference(planned, problem, pspec, ref)
-        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum()) if planned.status.ok else 0.0
-        route = route_from_path(planned.path, max(4.0 * mission.hybrid.switch_radius, length / 200.0)) \
-            if planned.status.ok else np.empty((0, 3))
+        route = mission_route(world, mission, planned.path) if planned.status.ok else np.empty((0, 3))
         fixed = (planned, route, key_waypoints(route, world, mission.avoidance.collision_check)
                  if route.size else route)
     rows = []
@@ -202,7 +213,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
             record = run_mission(w, mission, seed)
             if ref is not None and record.plan is not None:
                 record = replace(record, plan=with_reference(record.plan, problem, pspec, ref))
-        rows.append(_row(scenario, planner, guidance, seed, record, ref, time.process_time() - c0,
+        rows.append(_row(scenario, planner, task[2], seed, record, ref, time.process_time() - c0,
                          time.perf_counter() - t0))
     return rows
 
@@ -223,13 +234,36 @@ def read_histories(path: Path) -> list[dict]:
     path = Path(path)
     if not path.is_file():
         return []
-    out = []
+    out: dict[tuple, dict] = {}
     for line in path.read_text().splitlines():
         try:
-            out.append(json.loads(line))
-        except ValueError:
+            h = json.loads(line)
+            out[tuple(h["key"])] = h  # a run re-done after a kill between its two lines: the last wins
+        except (ValueError, KeyError, TypeError):
             continue
-    return out
+    return list(out.values())
+
+
+def _cut_partial_line(path: Path) -> None:
+    """Truncate ``path`` after its last newline (drops a line an interruption cut short); the
+    complete lines before it are never rewritten."""
+    if not path.is_file():
+        return
+    with path.open("rb+") as fh:
+        size = fh.seek(0, 2)
+        if size == 0:
+            return
+        back = min(size, 1 << 16)
+        while True:
+            fh.seek(size - back)
+            tail = fh.read(back)
+            cut = tail.rfind(b"\n")
+            if cut >= 0 or back == size:
+                break
+            back = min(size, back * 2)
+        keep = size - back + cut + 1 if cut >= 0 else 0
+        if keep < size:
+            fh.truncate(keep)
 
 
 def _key(row: dict) -> tuple:
@@ -270,13 +304,13 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         left = tuple(x for x in seeds if (scenario, planner, guidance, str(x)) not in have)
         if left:
             todo.append((scenario, planner, guidance, left))
-    with path.open("w", newline="") as fh:  # rewrite the complete rows (drops a cut-short line)
-        writer = csv.DictWriter(fh, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(done)
     hpath = out / "histories.jsonl"
-    kept = [h for h in read_histories(hpath) if tuple(h["key"]) in have]
-    hpath.write_text("".join(json.dumps(h) + "\n" for h in kept))
+    _cut_partial_line(path)  # append-only: a line cut short by a kill is trimmed, nothing else rewritten
+    _cut_partial_line(hpath)
+    if not path.is_file() or path.stat().st_size == 0:
+        with path.open("w", newline="") as fh:
+            csv.DictWriter(fh, fieldnames=COLUMNS).writeheader()
+    claim(out, ["rows.csv", "histories.jsonl"])
     cluster = None
     if scheduler:
         client = Client(scheduler)
@@ -312,9 +346,15 @@ def _f(v) -> float:
         return float("nan")
 
 
+def _nanmin(values) -> float:
+    v = np.asarray(values, dtype=float)
+    return float(np.nanmin(v)) if np.isfinite(v).any() else float("nan")
+
+
 def summarise(rows: Iterable[dict]) -> list[dict]:
     """Per cell (scenario, planner, guidance): runs, success rate, cost median / IQR / best /
-    worst, median gap to the reference, median CPU time."""
+    worst, median gap to the reference, median CPU time, then the flights' collisions (all
+    kinds), deadlocks, escapes (total) and smallest obstacle distance."""
     cells: dict[tuple, list[dict]] = {}
     for r in rows:
         cells.setdefault((r["scenario"], r["planner"], r["guidance"]), []).append(r)
@@ -330,5 +370,9 @@ def summarise(rows: Iterable[dict]) -> list[dict]:
                     "cost_best": float(cost.min()) if cost.size else np.nan,
                     "cost_worst": float(cost.max()) if cost.size else np.nan,
                     "gap_pct_median": float(np.nanmedian(gap)) if np.isfinite(gap).any() else np.nan,
-                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs]))})
+                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs])),
+                    "collisions": int(np.nansum([_f(r["collisions"]) for r in rs])),
+                    "deadlocks": sum(r["status"] == "DEADLOCK" for r in rs),
+                    "escapes": int(np.nansum([_f(r["escapes"]) for r in rs])),
+                    "min_obstacle_distance_m": _nanmin([_f(r["min_obstacle_distance_m"]) for r in rs])})
     return out

@@ -20,6 +20,8 @@ from ._types import RngLike, Status, as_rng
 from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
+from .guidance.mission import build_waypoints
+from .guidance.predictive import PredictiveAvoidance
 from .guidance.route import RouteTracker
 from .path import resample_polyline
 from .planners import plan as global_plan
@@ -37,6 +39,8 @@ __all__ = [
     "simulate",
     "run_mission",
     "route_from_path",
+    "mission_route",
+    "decimate",
 ]
 
 
@@ -144,16 +148,25 @@ class SimResult:
 
     @property
     def metrics(self) -> dict:
-        """Summary figures of the run (DESIGN.md §4 simulate JSON fields)."""
+        """Summary figures of the run (DESIGN.md §4 simulate JSON fields).
+
+        ``min_altitude_m`` is the least height above the seabed, ``min_obstacle_distance_m`` the
+        least distance to an obstacle surface (static or moving), ``min_clearance_m`` the smaller
+        of the two (the geometric clearance, as in a plan's cost terms; margins not subtracted),
+        ``collisions`` the contacts (``collision`` and ``unavoidable`` events).
+        """
         d = np.linalg.norm(np.diff(self.position, axis=0), axis=1).sum() if self.t.size > 1 else 0.0
         per_obs = self.obstacle_distance.min(axis=0) if self.obstacle_distance.size else np.empty(0)
+        altitude = float(self.altitude.min()) if self.t.size else float("inf")
+        obstacle = float(per_obs.min()) if per_obs.size else float("inf")
         return {
             "status": self.status.value,
             "arrived": self.arrived,
             "duration_s": float(self.t[-1]) if self.t.size else 0.0,
             "distance_m": float(d),
-            "min_clearance_m": float(self.altitude.min()) if self.t.size else float("inf"),
-            "min_obstacle_distance_m": float(per_obs.min()) if per_obs.size else float("inf"),
+            "min_altitude_m": altitude,
+            "min_clearance_m": min(altitude, obstacle),
+            "min_obstacle_distance_m": obstacle,
             "obstacle_min_distances_m": per_obs.tolist(),
             "collisions": sum(1 for e in self.events if e[1] in ("collision", "unavoidable")),
             "unavoidable": sum(1 for e in self.events if e[1] == "unavoidable"),
@@ -236,7 +249,9 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     rng : Generator, int or None
         Seed of the wave disturbance and of the escape sub-goals.
     avoidance : str, optional
-        ``apf`` (document 004) or ``none``; the mission's choice by default.
+        ``predictive`` (prediction + velocity obstacles), ``apf`` (document 004) or ``none``; the
+        mission's choice by default.  With avoidance, a stalled route progress first runs
+        document 004's escapes for ``escape_time`` s before ``DEADLOCK`` is declared.
     keys : array_like (K, 3), optional
         Key waypoints for the APF; derived from the route by document 004's rule by default.
     """
@@ -250,9 +265,11 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     tracker = guide.route
     av_name = avoidance or mission.avoidance.name
     local = None
-    if av_name == "apf":
+    if av_name in ("apf", "predictive"):
         keys = key_waypoints(route, world, mission.avoidance.collision_check) if keys is None else keys
-        local = LocalAvoidance(guide, keys, world, replace(mission.avoidance, name="apf"), vp.speed, rng)
+        av = replace(mission.avoidance, name=av_name)
+        local = LocalAvoidance(guide, keys, world, av, vp.speed, rng) if av_name == "apf" \
+            else PredictiveAvoidance(guide, keys, world, av, vp, rng)
     vehicle = Vehicle(vp, dt)
     first = route[1] - route[0]
     s = VehicleState(float(route[0, 0]), float(route[0, 1]), float(route[0, 2]),
@@ -287,6 +304,9 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     far = max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0)
     tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
         if world.moving else np.empty((n_steps + 1, 0, 3))
+    # their velocities (what the scenario knows; predictive avoidance may estimate them instead)
+    velocities = np.asarray(np.gradient(tracks, dt, axis=0)) if n_steps > 0 else np.zeros_like(tracks)
+    radii = [o.shape.bounding_radius for o in world.moving]
     for k in range(n_steps + 1):
         t = k * dt
         pos = np.array([s.x, s.y, s.z])
@@ -299,9 +319,10 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
             near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
             psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
         else:
-            tagged = [(it[1][0], it[1][1], d, i >= n_static, it[1])
-                      for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
-            psi_d, pitch_cmd, rp = local.command(pos, t, cur, tagged, dt)
+            obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
+                         (it[1][0], it[1][1], d, True, it[1], i, velocities[k, i - n_static], radii[i - n_static])
+                         for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
+            psi_d, pitch_cmd, rp = local.command(pos, t, cur, obstacles, dt)
         if k % st.record_every == 0:
             T[rec], P[rec], H[rec], D[rec] = t, pos, s.psi, s.delta
             V[rec] = math.hypot(vel[0], vel[1])
@@ -328,15 +349,16 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
             break
         if rp.progress > best_progress + 1.0:
             best_progress, best_time = rp.progress, t
-        elif t - best_time > st.deadlock_time:
-            events.append((t, "deadlock", f"no progress along the route for {st.deadlock_time:g} s"))
+        elif t - best_time > st.deadlock_time and (local is None or not local.stalled(pos, t, best_time)):
+            tried = f" ({local.escapes} escapes tried)" if local is not None else ""
+            events.append((t, "deadlock", f"no progress along the route for {t - best_time:.0f} s{tried}"))
             status = Status.DEADLOCK
             break
         if pitch_cmd is None:
             theta_c = rp.gamma + math.atan(vp.depth_gain * (rp.z_ref - s.z))
         else:
             theta_c = pitch_cmd
-        vel = vehicle.step(s, psi_d, theta_c, vp.speed, cur, noise[k])
+        vel = vehicle.step(s, psi_d, theta_c, vp.speed if local is None else local.speed_command, cur, noise[k])
     else:
         events.append((n_steps * dt, "timeout", f"not arrived after {max_time:.0f} s"))
     if k % st.record_every != 0 or rec == 0:  # always keep the final state
@@ -407,8 +429,35 @@ class RunRecord:
 
 
 def route_from_path(path, spacing: float) -> np.ndarray:
-    """Waypoints every ``spacing`` metres along a dense planned path (ends kept)."""
+    """Waypoints every ``spacing`` metres along a dense planned path (ends kept; not checked:
+    use :func:`mission_route` for the mission a vehicle flies)."""
     return resample_polyline(path, spacing)
+
+
+def mission_route(world: World, mission: Mission, path) -> np.ndarray:
+    """The executable mission of a planned ``path``: the waypoints the simulation flies and every
+    export carries (:func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed,
+    3D Douglas–Peucker where the exact envelope test decides what may be dropped)."""
+    return build_waypoints(path, world)
+
+
+def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) -> SimResult:
+    """The run with one recorded sample every ``every_m`` metres or ``every_s`` seconds (whichever
+    comes first), plus the first and last samples and those of least altitude and least obstacle
+    distance (exports and reports; the full-resolution result stays in ``run.npz``)."""
+    n = result.t.size
+    if n <= 2:
+        return result
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(result.position, axis=0), axis=1))]
+    keep = np.zeros(n, dtype=bool)
+    keep[np.unique(np.searchsorted(s, np.arange(0.0, s[-1], every_m)))] = True
+    keep[np.unique(np.searchsorted(result.t, np.arange(0.0, result.t[-1], every_s)))] = True
+    keep[[0, n - 1, int(np.argmin(result.altitude))]] = True
+    if result.obstacle_distance.size:
+        keep[int(np.argmin(result.obstacle_distance.min(axis=1)))] = True
+    arrays = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
+              "obstacle_distance")
+    return replace(result, **{k: getattr(result, k)[keep] for k in arrays})
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
@@ -445,9 +494,7 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
         planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
         if not planned.status.ok:
             return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
-        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
-        spacing = max(4.0 * mission.hybrid.switch_radius, length / 200.0)
-        route = route_from_path(planned.path, spacing)
+        route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

@@ -37,6 +37,7 @@ from ..geometry import as_points
 from ..world import World
 
 __all__ = [
+    "AVOIDANCE",
     "AvoidanceParams",
     "key_waypoints",
     "apf_force",
@@ -47,6 +48,10 @@ __all__ = [
 ]
 
 
+AVOIDANCE = ("predictive", "apf", "none")
+"""Local avoidance variants: issue #21's predictive one, document 004's APF, none."""
+
+
 @dataclass(frozen=True)
 class AvoidanceParams:
     """Document 004's APF parameters (METHODS.md §4) and their vehicle-scale defaults.
@@ -54,7 +59,8 @@ class AvoidanceParams:
     Attributes
     ----------
     name : str
-        ``"apf"`` (document 004) or ``"none"`` (follow the global path blindly).
+        ``"predictive"`` (the default: prediction + velocity obstacles, :mod:`.predictive`), ``"apf"``
+        (document 004 as written) or ``"none"`` (follow the global path blindly).
     radius : float
         r, repulsion radius measured from the obstacle surface (m).
     k_att, w_att : float
@@ -74,9 +80,26 @@ class AvoidanceParams:
         Radius about the vehicle in which random escape sub-goals are drawn (m).
     collision_check : str
         ``"exact"`` or ``"stepping"`` (document 004's test) for key waypoints.
+    escape_time : float
+        After the route progress has stalled for ``[sim] deadlock_time``, escapes (random
+        sub-goals) are tried for this long before ``DEADLOCK`` is declared (s).
+    sensor_range : float
+        ``predictive``: moving obstacles are seen within this distance of their surface (m).
+    horizon : float
+        ``predictive``: prediction horizon of the closest approach and the velocity obstacles (s).
+    margin : float
+        ``predictive``: clearance from every obstacle surface a manoeuvre must keep over the horizon (m).
+    velocity : str
+        ``predictive``: obstacle velocities ``"known"`` (from the scenario) or ``"track"``
+        (least-squares slope of the centres sensed over the last ``track_window`` s).
+    track_window : float
+        ``predictive``: length of the sensed track the velocity is estimated from (s).
+    vertical, speed_change : bool
+        ``predictive``: also consider pitch (dive / climb within the depth band and the altitude
+        margin) and speed (slow down / sprint to the vehicle's ``max_speed``) changes.
     """
 
-    name: str = "apf"
+    name: str = "predictive"
     radius: float = 30.0
     k_att: float = 1.0
     w_att: float = 0.0
@@ -89,11 +112,24 @@ class AvoidanceParams:
     history_dt: float = 1.0
     escape_radius: float = 60.0
     collision_check: str = "exact"
+    escape_time: float = 300.0
+    sensor_range: float = 200.0
+    horizon: float = 60.0
+    margin: float = 10.0
+    velocity: str = "known"
+    track_window: float = 5.0
+    vertical: bool = True
+    speed_change: bool = True
 
     def __post_init__(self) -> None:
-        if self.name not in ("apf", "none"):
-            raise ValueError(f"name = {self.name!r}: choose 'apf' or 'none'")
-        for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt"):
+        if self.name not in AVOIDANCE:
+            raise ValueError(f"name = {self.name!r}: choose {', '.join(repr(a) for a in AVOIDANCE)}")
+        if self.velocity not in ("known", "track"):
+            raise ValueError(f"velocity = {self.velocity!r}: choose 'known' or 'track'")
+        if self.escape_time < 0:
+            raise ValueError(f"escape_time = {self.escape_time}: must be >= 0")
+        for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt", "sensor_range", "horizon",
+                  "margin", "track_window"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
         if self.minimum_count < 2:
@@ -247,6 +283,36 @@ class LocalAvoidance:
         self.skipped = 0
         self.decisions = 0
         self.decision_time = 0.0
+        self.speed_command = self.speed
+        self._stall = (math.nan, math.nan)
+
+    def _escape(self, p: np.ndarray, t: float) -> bool:
+        """Document 004's escape: head for a random free sub-goal within ``escape_radius``."""
+        sub = _random_free_point(self.world, p, self.params.escape_radius, t, self.rng)
+        if sub is None:
+            return False
+        self.detector.reset()
+        self.subgoal = sub
+        self.escapes += 1
+        if self.mode == "route":
+            self.mode = "apf"
+            self._advance_goal(p, t)
+        return True
+
+    def stalled(self, pos, t: float, since: float) -> bool:
+        """The route progress has not advanced since ``since`` (s): escape before any deadlock.
+
+        Runs document 004's escape (a random free sub-goal) whenever no sub-goal is being
+        followed; returns True while the escapes still have time (``escape_time`` s from the
+        first escape of this stall), False once a deadlock should be declared.
+        """
+        if self._stall[0] != since:
+            self._stall = (since, t)
+        if t - self._stall[1] >= self.params.escape_time:
+            return False
+        if self.subgoal is None:
+            self._escape(np.asarray(pos, dtype=float), t)
+        return True
 
     def _advance_goal(self, p, t: float) -> None:
         """First unvisited key waypoint: ahead of the vehicle, and not occupied by an obstacle."""
@@ -297,13 +363,8 @@ class LocalAvoidance:
             else:
                 self.goal_index = min(self.goal_index + 1, len(self.keys) - 1)
                 goal = self.keys[self.goal_index]
-        if self.subgoal is None and self.detector.update(p, t):
-            sub = _random_free_point(self.world, p, self.params.escape_radius, t, self.rng)
-            if sub is not None:
-                self.subgoal = sub
-                self.escapes += 1
-                self.detector.reset()
-                goal = sub
+        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t):
+            goal = self.subgoal
         centers = np.array([o[4] for o in near]).reshape(-1, 3)
         dists = np.array([o[2] for o in near])
         f = apf_force(p, goal, centers, dists, self.params)

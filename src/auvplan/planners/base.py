@@ -12,10 +12,11 @@ from ..optim.ga import GAParams
 from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
+from .timeopt_params import TimeoptParams
 
 __all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS", "SWARM"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid")
+PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid", "timeopt")
 SWARM = ("iabc", "abc", "ga", "pso")
 """The planners that iterate (and call ``progress(iteration, best)``)."""
 """Planner names: the four swarm optimisers (document 002), the streamline planner (document 000)
@@ -119,6 +120,7 @@ class PlannerSpec:
     pso: PSOParams = field(default_factory=PSOParams)
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
+    timeopt: TimeoptParams = field(default_factory=TimeoptParams)
 
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:
@@ -190,7 +192,9 @@ class PlanResult:
         Total cost (``inf`` when none).
     cost_terms : dict
         ``length``, ``terrain``, ``energy`` (weighted cost units) and the physical
-        ``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m``, ``collisions``.
+        ``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m`` (least geometric
+        clearance to the seabed or a static obstacle, margins not subtracted) and ``violations``
+        (segments that break a constraint, margins included; ``collisions`` is a deprecated alias).
     evaluations, iterations : int
         Work done.
     wall_time_s : float
@@ -205,6 +209,8 @@ class PlanResult:
         Human-readable explanation of a failure.
     reference_cost : float
         Cost of the grid reference plan on the same cost function (``nan`` when not computed).
+    times : ndarray or None
+        Time (s after the mission's start time) at each vertex of ``path``, for timed plans.
     """
 
     status: Status
@@ -219,6 +225,7 @@ class PlanResult:
     control_points: np.ndarray | None = None
     message: str = ""
     reference_cost: float = float("nan")
+    times: np.ndarray | None = None
 
     @property
     def gap(self) -> float:

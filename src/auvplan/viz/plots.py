@@ -17,14 +17,23 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
 from ..sim import RunRecord
 from ..world import World
+from .scene3d import elevation_range, shape_surface
+from .style import bathymetry_cmap
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures"]
+
+
+STRIP = 4.0
+"""Plan views whose data extent is more elongated than this are drawn with the short axis
+exaggerated to this ratio (and say so), instead of as an unreadable strip."""
 
 
 def _subplots(*grid: int, figsize: tuple[float, float], **kw: Any) -> tuple[Figure, Any]:
@@ -35,16 +44,33 @@ def _subplots(*grid: int, figsize: tuple[float, float], **kw: Any) -> tuple[Figu
 
 
 def _seabed(ax, world: World) -> None:
+    """Filled seabed in the shared bathymetry colours, isobaths labelled in metres."""
     if world.terrain is None:
         return
     t = world.terrain
-    cs = ax.contourf(t.x, t.y, t.z, levels=20, cmap="gist_earth", alpha=0.85)
+    lo, hi = elevation_range(world)
+    cmap, norm = bathymetry_cmap(lo, hi)
+    levels = np.linspace(lo, hi, 21)
+    cs = ax.contourf(t.x, t.y, t.z, levels=levels, cmap=cmap, norm=norm, extend="both")
+    lines = ax.contour(t.x, t.y, t.z, levels=levels[::4], colors="k", linewidths=0.4, alpha=0.5)
+    ax.clabel(lines, fmt="%.0f m", fontsize=6)
     ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)")
 
 
-def _obstacles(ax, world: World, t: float | None = None) -> None:
-    from .report import shape_surface  # (the report module needs plotly: imported only when drawn)
+def _fit_aspect(ax, points: np.ndarray) -> None:
+    """Equal scales unless the drawn extent is a strip; then exaggerate the short axis."""
+    span = np.ptp(points[:, :2], axis=0) if len(points) else np.ones(2)
+    span = np.maximum(span, 1e-9)
+    ratio = span.max() / span.min()
+    if ratio <= STRIP:
+        ax.set_aspect("equal")
+        return
+    factor = ratio / STRIP
+    ax.set_aspect(factor if span[1] < span[0] else 1.0 / factor)
+    ax.set_title(f"{ax.get_title()}\n({'y' if span[1] < span[0] else 'x'} exaggerated ×{factor:.3g})", fontsize=9)
 
+
+def _obstacles(ax, world: World, t: float | None = None) -> None:
     for s in world.obstacles:
         x, y, _ = shape_surface(s, 60)
         ax.fill(x[30], y[30], color="firebrick", alpha=0.6, lw=0)
@@ -64,19 +90,38 @@ def plan_view(world: World, record: RunRecord):
         ax.plot(record.route[:, 0], record.route[:, 1], "--", color="orange", lw=1.5, label="route")
     if record.keys.size:
         ax.plot(record.keys[:, 0], record.keys[:, 1], "D", color="gold", mec="k", ms=5, label="key waypoints")
+    drawn = [record.route] if record.route.size else []
     if record.sim is not None and record.sim.t.size:
         p = record.sim.position
-        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        drawn.append(p)
+        _track_by_altitude(ax, p, record.sim.altitude)
         for o in world.moving:
             c = np.array([o.center(t) for t in record.sim.t[:: max(1, record.sim.t.size // 200)]])
             ax.plot(c[:, 0], c[:, 1], ":", color="purple", lw=0.8)
-    ax.set_aspect("equal")
     ax.set_xlabel("x east (m)")
     ax.set_ylabel("y north (m)")
     ax.set_title(f"{record.scenario}: {record.status.value}")
-    ax.legend(loc="best", fontsize=8)
+    if drawn:
+        _fit_aspect(ax, np.vstack(drawn))
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=3, fontsize=8, frameon=False)
     fig.tight_layout()
     return fig
+
+
+def _track_by_altitude(ax, p: np.ndarray, altitude: np.ndarray) -> None:
+    """The flown track coloured by its altitude above the seabed (red low, green high)."""
+    alt = np.where(np.isfinite(altitude), altitude, np.nan)
+    segments = np.stack([p[:-1, :2], p[1:, :2]], axis=1)
+    finite = alt[np.isfinite(alt)]
+    if finite.size == 0:
+        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        return
+    top = max(float(np.percentile(finite, 95)), 1.0)
+    lc = LineCollection(list(segments), cmap="RdYlGn", norm=Normalize(0.0, top), linewidths=1.8, label="track")
+    lc.set_array(np.nan_to_num(0.5 * (alt[:-1] + alt[1:]), nan=top))
+    ax.add_collection(lc)
+    ax.autoscale_view()
+    ax.figure.colorbar(lc, ax=ax, label="track altitude above seabed (m)", pad=0.01)
 
 
 def profiles(record: RunRecord):
@@ -138,8 +183,6 @@ def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
 def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
     """Fill the projection of a sphere or ellipsoid on axes ``(i, j)`` (convex: its hull)."""
     from scipy.spatial import ConvexHull
-
-    from .report import shape_surface
 
     p = np.stack([g.ravel() for g in shape_surface(shape, 40)], axis=1)[:, [i, j]]
     hull = p[ConvexHull(p).vertices]
