@@ -22,24 +22,28 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src" / "auvplan"
 
-# module: (file, functions to mutate ("Class.method" or "function"), tests that guard them)
-MODULES: dict[str, tuple[str, tuple[str, ...], tuple[str, ...]]] = {
+# module: (file, functions to mutate ("Class.method" or "function"), the pytest selection that guards
+# them: the module's fast oracle and unit tests, not the whole suite, so the kill rate is a lower bound)
+MODULES: dict[str, tuple[str, tuple[str, ...], str]] = {
+    "route": ("guidance/route.py", ("RouteTracker.update", "RouteTracker._locate"),
+              "tests/test_oracles.py::test_route_switches_leg_at_the_switch_radius tests/test_tracking.py "
+              "-k 'closed_form or converges'"),
+    "local": ("guidance/local.py", ("apf_force", "key_waypoints", "MinimumDetector.update"),
+              "tests/test_oracles.py::test_apf_force_with_distinct_exponents tests/test_local.py "
+              "-k 'key_waypoints or apf_force or symmetric or distinct'"),
+    "flow": ("planners/flow.py", ("FlowField._sphere_parts", "sphere_exact_velocity", "sink_velocity"),
+             "tests/test_oracles.py tests/test_flow.py -k 'sphere_field or exact_field'"),
+    "world": ("world/world.py", ("World.segments_free", "World.clearances", "World.path_free"),
+              "tests/test_world.py tests/test_oracles.py::test_every_edge_of_the_cost_to_go_tree_is_free"),
+    "sim": ("sim.py", ("simulate",),
+            "tests/test_oracles.py tests/test_tracking.py -k 'seabed or collision or deadlock or same_seed'"),
     "terrain": ("world/terrain.py", ("Terrain.altitude_lower_bound", "_piece_min", "_crossings", "_walk_min",
                                      "min_altitude_kernel"),
-                ("tests/test_oracles.py", "tests/test_terrain.py")),
-    "world": ("world/world.py", ("World.segments_free", "World.clearances", "World.path_free"),
-              ("tests/test_oracles.py", "tests/test_world.py")),
+                "tests/test_oracles.py tests/test_terrain.py -k 'ridge or slope or lower_bound or outside or planes'"),
     "cost": ("cost.py", ("_energy_kernel", "_point_slack", "_obstacle_slack"),
-             ("tests/test_oracles.py", "tests/test_cost.py")),
-    "grid": ("planners/grid.py", ("GridReference._lattice_edges", "GridReference.query", "edge_cost"),
-             ("tests/test_oracles.py", "tests/test_grid.py")),
-    "sim": ("sim.py", ("simulate",), ("tests/test_oracles.py", "tests/test_tracking.py")),
-    "local": ("guidance/local.py", ("apf_force", "key_waypoints", "MinimumDetector.update"),
-              ("tests/test_oracles.py", "tests/test_local.py")),
-    "route": ("guidance/route.py", ("RouteTracker.update", "RouteTracker._locate"),
-              ("tests/test_oracles.py", "tests/test_tracking.py")),
-    "flow": ("planners/flow.py", ("FlowField._sphere_parts", "sphere_exact_velocity", "sink_velocity"),
-             ("tests/test_oracles.py", "tests/test_flow.py")),
+             "tests/test_oracles.py tests/test_cost.py -k 'energy or cost or slack or obstacle'"),
+    "grid": ("planners/grid.py", ("GridReference._lattice_edges", "GridReference.query", "_edge_weight"),
+             "tests/test_oracles.py tests/test_grid.py -k 'edge or grid or cost_to_go or empty'"),
 }
 
 
@@ -79,7 +83,7 @@ def run(module: str) -> int:
     patch = _patch(rel, _line_ranges(SRC / rel, names))
     with tempfile.NamedTemporaryFile("w", suffix=".patch", delete=False) as fh:
         fh.write(patch)
-    runner = f"{sys.executable} -m pytest -x -q -p no:cacheprovider " + " ".join(tests)
+    runner = f"{sys.executable} -m pytest -x -q -p no:cacheprovider {tests}"
     cmd = [str(Path(sys.executable).with_name("mutmut")), "run", "--paths-to-mutate", f"src/auvplan/{rel}",
            "--use-patch-file", fh.name, "--runner", runner, "--no-progress"]
     print(f"== {module}: {', '.join(names)}", flush=True)
