@@ -34,6 +34,9 @@ typecheck: $(STAMP)
 # the catalogue of hand-planted mutants (docs/mutants.md): each must be killed by the suite
 mutants: $(STAMP)
 	$(BIN)/python tools/oracle_mutants.py
+	$(BIN)/python -m pip install --quiet -e '.[all,test,mutation]'
+	$(BIN)/python tools/mutmut_run.py
+	$(BIN)/mutmut results
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

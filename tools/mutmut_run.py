@@ -40,7 +40,7 @@ MODULES: dict[str, tuple[str, tuple[str, ...], str]] = {
     "terrain": ("world/terrain.py", ("Terrain.altitude_lower_bound", "_piece_min", "_crossings", "_walk_min",
                                      "min_altitude_kernel"),
                 "tests/test_oracles.py tests/test_terrain.py -k 'ridge or slope or lower_bound or outside or planes'"),
-    "cost": ("cost.py", ("_energy_kernel", "_point_slack", "_obstacle_slack"),
+    "cost": ("cost.py", ("energy_kernel", "_point_slack", "_obstacle_slack"),
              "tests/test_oracles.py tests/test_cost.py -k 'energy or cost or slack or obstacle'"),
     "grid": ("planners/grid.py", ("GridReference._lattice_edges", "GridReference.query", "_edge_weight"),
              "tests/test_oracles.py tests/test_grid.py -k 'edge or grid or cost_to_go or empty'"),
