@@ -297,6 +297,7 @@ def _uncovered(grid: HorizontalGrid, qr, qc, tol_r, tol_c) -> list[str]:
 
 
 def data_span(grid: HorizontalGrid) -> str:
+    """The grid's extent as text for messages (lat/lon ranges, or x/y ranges in metres)."""
     if grid.kind in ("lonlat", "curvilinear"):
         r, c = np.asarray(grid.rows), np.asarray(grid.cols)
         return (f"lat {np.min(r):.4f}..{np.max(r):.4f}, lon {normalise_lon(np.min(c)):.4f}.."
