@@ -296,6 +296,18 @@ def test_apf_force_with_distinct_exponents():
     np.testing.assert_allclose(apf_force([0, 0, 0], [0, 0, -4.0], [[5, 0, 0]], [10.0], p), [0, 0, -6.0], atol=1e-12)
 
 
+def test_apf_force_at_and_near_the_goal_and_with_two_obstacles():
+    """At the goal the attraction is zero (not 0/0); 0.5 m from it it is k₁ 0.5^w₁; two obstacles'
+    repulsions add (mutmut survivors of apf_force, docs/mutants.md)."""
+    p = AvoidanceParams(k_att=3.0, w_att=0.5, k_rep=7.0, w_obs=1.5, w_goal=2.0, radius=10.0)
+    f = apf_force([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], np.empty((0, 3)), np.empty(0), p)
+    assert f.shape == (3,) and np.all(f == 0.0)
+    np.testing.assert_allclose(apf_force([0, 0, 0], [0.5, 0, 0], np.empty((0, 3)), [], p), [3.0 * 0.5**0.5, 0, 0])
+    two = apf_force([0, 0, 0], [16.0, 0, 0], [[0, 4.0, 0], [0, -8.0, 0]], [2.0, 5.0], p)
+    rep = [7.0 * (1 / d - 1 / 10.0) * 16.0**2 / d**1.5 for d in (2.0, 5.0)]
+    np.testing.assert_allclose(two, [3.0 * 4.0, -rep[0] + rep[1], 0.0], rtol=1e-12)
+
+
 # ---------------------------------------------------------------------- hybrid guidance: the lateral bias
 @pytest.mark.parametrize("obstacle_y, side", [(0.0, +1.0), (8.0, +1.0), (-8.0, -1.0)])
 def test_hybrid_lateral_bias_pushes_away_from_the_obstacle_side(obstacle_y, side):
