@@ -6,12 +6,12 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint bench clean fuzz
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[all,test]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -24,6 +24,23 @@ test: $(STAMP)
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
 	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/test_fuzz_scenarios.py
+
+# the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
+# coverage and tracebacks see their lines (slower: the kernel tests only)
+test-nojit: $(STAMP)
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
+		tests/test_world.py tests/test_oracles.py tests/test_jit.py \
+		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling
+
+typecheck: $(STAMP)
+	$(BIN)/mypy
+
+# the catalogue of hand-planted mutants (docs/mutants.md): each must be killed by the suite
+mutants: $(STAMP)
+	$(BIN)/python tools/oracle_mutants.py
+	$(BIN)/python -m pip install --quiet -e '.[all,test,mutation]'
+	$(BIN)/python tools/mutmut_run.py
+	$(BIN)/mutmut results
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

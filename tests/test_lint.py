@@ -24,3 +24,10 @@ def test_import_layers_kept():
     r = subprocess.run([_tool("lint-imports"), "--no-cache"], cwd=ROOT, capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
     assert "broken" in r.stdout and "0 broken" in r.stdout
+
+
+def test_mypy_clean():
+    """``mypy`` with the configuration of pyproject.toml ([tool.mypy]): the whole of src/ checked,
+    the core modules with mypy --strict's options."""
+    r = subprocess.run([_tool("mypy")], cwd=ROOT, capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr

@@ -38,7 +38,7 @@ def thin_ridge() -> Terrain:
     return Terrain(x, y, z, name="thin ridge")
 
 
-def _dense_min_altitude(t: Terrain, seg: np.ndarray, n: int = 20001) -> np.ndarray:
+def _dense_min_altitude(t: Terrain, seg: np.ndarray, n: int = 8001) -> np.ndarray:
     s = np.linspace(0.0, 1.0, n)[None, :, None]
     pts = seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])
     return t.altitude(pts).min(axis=1)
@@ -65,7 +65,7 @@ def test_bounded_altitude_never_exceeds_the_sampled_minimum_over_a_ridge():
     a lower bound of the dense-sampled minimum everywhere and the exact value below it."""
     t = thin_ridge()
     rng = np.random.default_rng(11)
-    n = 400
+    n = 200
     xa, xb = rng.uniform(60, 100, n), rng.uniform(100, 140, n)
     ya, yb = rng.uniform(20, 80, n), rng.uniform(20, 80, n)
     za, zb = rng.uniform(-90, 60, n), rng.uniform(-90, 60, n)
@@ -74,11 +74,11 @@ def test_bounded_altitude_never_exceeds_the_sampled_minimum_over_a_ridge():
     for threshold in (5.0, 20.0, 50.0):
         bounded = t.segment_min_altitude(seg, threshold=threshold)
         assert np.all(bounded <= dense + 1e-6)
-        below = dense < threshold - 0.01
-        assert below.sum() > 30 and (~below).sum() > 30
-        np.testing.assert_allclose(bounded[below], dense[below], atol=0.01)
-        assert np.array_equal(t.segments_below(seg, threshold)[below | (dense > threshold + 0.01)],
-                              below[below | (dense > threshold + 0.01)])
+        below = dense < threshold - 0.05
+        assert below.sum() > 20 and (~below).sum() > 20
+        np.testing.assert_allclose(bounded[below], dense[below], atol=0.05)
+        assert np.array_equal(t.segments_below(seg, threshold)[below | (dense > threshold + 0.05)],
+                              below[below | (dense > threshold + 0.05)])
 
 
 def test_max_slope_of_a_twisted_surface():
@@ -297,6 +297,18 @@ def test_apf_force_with_distinct_exponents():
     np.testing.assert_allclose(apf_force([0, 0, 0], [0, 0, -4.0], [[5, 0, 0]], [10.0], p), [0, 0, -6.0], atol=1e-12)
 
 
+def test_apf_force_at_and_near_the_goal_and_with_two_obstacles():
+    """At the goal the attraction is zero (not 0/0); 0.5 m from it it is k₁ 0.5^w₁; two obstacles'
+    repulsions add (mutmut survivors of apf_force, docs/mutants.md)."""
+    p = AvoidanceParams(k_att=3.0, w_att=0.5, k_rep=7.0, w_obs=1.5, w_goal=2.0, radius=10.0)
+    f = apf_force([1.0, 2.0, 3.0], [1.0, 2.0, 3.0], np.empty((0, 3)), np.empty(0), p)
+    assert f.shape == (3,) and np.all(f == 0.0)
+    np.testing.assert_allclose(apf_force([0, 0, 0], [0.5, 0, 0], np.empty((0, 3)), [], p), [3.0 * 0.5**0.5, 0, 0])
+    two = apf_force([0, 0, 0], [16.0, 0, 0], [[0, 4.0, 0], [0, -8.0, 0]], [2.0, 5.0], p)
+    rep = [7.0 * (1 / d - 1 / 10.0) * 16.0**2 / d**1.5 for d in (2.0, 5.0)]
+    np.testing.assert_allclose(two, [3.0 * 4.0, -rep[0] + rep[1], 0.0], rtol=1e-12)
+
+
 # ---------------------------------------------------------------------- hybrid guidance: the lateral bias
 @pytest.mark.parametrize("obstacle_y, side", [(0.0, +1.0), (8.0, +1.0), (-8.0, -1.0)])
 def test_hybrid_lateral_bias_pushes_away_from_the_obstacle_side(obstacle_y, side):
@@ -328,3 +340,21 @@ def test_route_switches_leg_at_the_switch_radius():
     assert rp.progress == pytest.approx(100.0 + 1.0)
     route.reset()
     assert route.update(50.0, 0.0).leg == 0 and RouteTracker(route.w, 0.5).update(99.6, 0.0).leg == 1
+
+
+# ---------------------------------------------------------------------- io.tables: the optional-field error
+def test_optional_field_of_the_wrong_type_is_a_scenario_error():
+    """``x: float | None`` given a string: a ScenarioError naming the key (was ``raise "<str>"``,
+    a TypeError traceback; found by mypy)."""
+    from dataclasses import dataclass
+
+    from auvplan.errors import ScenarioError
+    from auvplan.io.tables import build_dataclass
+
+    @dataclass(frozen=True)
+    class Spec:
+        x: float | None = None
+
+    with pytest.raises(ScenarioError, match="x"):
+        build_dataclass(Spec, {"x": "deep"}, "s.toml: [t]")
+    assert build_dataclass(Spec, {"x": 2}, "s.toml: [t]").x == 2.0

@@ -43,8 +43,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "grid-backward-edge-costed-forward": (
         "planners/grid.py",
-        "w_bwd = edge_cost(w, zero, -d[None], self.model, \"cost\", c)",
-        "w_bwd = edge_cost(w, zero, d[None], self.model, \"cost\", c)",
+        "ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]",
+        "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
     "sim-no-seabed-event": (
         "sim.py",

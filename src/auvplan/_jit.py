@@ -56,7 +56,7 @@ def source_stamp(root: str) -> str:
 
 def _package_root(py_func: Callable[..., Any]) -> str:
     top = sys.modules[py_func.__module__.split(".")[0]]
-    file = getattr(top, "__file__", None) or sys.modules[py_func.__module__].__file__
+    file = getattr(top, "__file__", None) or sys.modules[py_func.__module__].__file__ or "."
     return str(Path(file).resolve().parent)
 
 
@@ -66,17 +66,17 @@ def _stamped_cache(dispatcher: Any) -> Any:
 
     root = _package_root(dispatcher.py_func)
 
-    def stamped(base: type) -> type:
+    def stamped(base: Any) -> Any:
         return type("Stamped" + base.__name__, (base,), {"get_source_stamp": lambda self: source_stamp(root)})
 
-    class KernelCacheImpl(caching.CompileResultCacheImpl):  # type: ignore[misc]
+    class KernelCacheImpl(caching.CompileResultCacheImpl):
         _locator_classes = [stamped(c) for c in (caching.UserProvidedCacheLocator, caching.InTreeCacheLocator,
                                                   caching.UserWideCacheLocator)]
 
-    class KernelCache(caching.FunctionCache):  # type: ignore[misc]
+    class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
 
-    return KernelCache(dispatcher.py_func)
+    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:

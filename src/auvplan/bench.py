@@ -24,10 +24,11 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from .errors import AuvplanError
+from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
@@ -135,7 +136,7 @@ def perturb_moving(world: World, seed: int) -> World:
         m = o.motion
         if isinstance(m, LinearMotion):
             v = np.asarray(m.velocity) * rng.uniform(0.6, 1.2)
-            along = v / max(np.linalg.norm(v), 1e-9)
+            along = v / max(float(np.linalg.norm(v)), 1e-9)
             across = np.array([-along[1], along[0], 0.0])
             start = np.asarray(m.start) + rng.uniform(-150, 150) * along + rng.uniform(-150, 150) * across
             m = LinearMotion(tuple(start), tuple(v))
@@ -152,7 +153,7 @@ def perturb_moving(world: World, seed: int) -> World:
 
 
 def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu: float, wall: float) -> dict:
-    row = dict.fromkeys(COLUMNS, "")
+    row: dict[str, Any] = dict.fromkeys(COLUMNS, "")
     row.update(scenario=scenario, planner=planner, guidance=guidance, seed=seed, status=record.status.value,
                cpu_s=round(cpu, 4), wall_s=round(wall, 4))
     p = record.plan
@@ -290,6 +291,7 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         Keep the rows already in ``rows.csv`` and run only the missing ones; without it an
         existing ``rows.csv`` is an error (nothing is overwritten).
     """
+    require("dask", "bench")
     from dask.distributed import Client, LocalCluster, as_completed
     from tqdm import tqdm
 

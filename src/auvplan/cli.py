@@ -14,6 +14,7 @@ import logging
 import sys
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -43,7 +44,8 @@ class _Progress:
     def __init__(self, spec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        self._tqdm, self.quiet, self.scenario, self.flight_bar = tqdm, quiet, scenario, None
+        self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
+        self.flight_bar: Any = None
         # only the swarm optimisers iterate; the other planners get a line, not a bar stuck at 0
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
                         disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
@@ -289,6 +291,7 @@ def _cmd_simulate(args) -> int:
     finally:
         bar.close()
     if run.sim is None:
+        assert run.plan is not None  # no flight without a route: the plan failed
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
     result = run.sim
@@ -430,7 +433,7 @@ def _describe_run(name: str, record) -> str:
         m = record.sim.metrics
         kind = f"{record.sim.guidance}+{record.sim.avoidance}"
         lines.append(f"  flight {kind}: {m['status']} after {m['duration_s']:.0f} s, "
-                     f"{m['distance_m']:.0f} m flown, min altitude {m['min_clearance_m']:.1f} m, "
+                     f"{m['distance_m']:.0f} m flown, min altitude {m['min_altitude_m']:.1f} m, "
                      f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
                      f"{len(record.keys)} key waypoints")
     return "\n".join(lines)

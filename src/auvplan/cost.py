@@ -159,8 +159,8 @@ def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel,
     """
     arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
     lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
-    a, b, *c = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
-    c = world.currents.velocity(0.5 * (a + b)) if current is None else c[0]
+    a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
+    c = world.currents.velocity(0.5 * (a + b)) if current is None else given[0]
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
     _segment_energies(a, b, c, model.speed, propulsion_power(model), model.energy == "document", units, energy_j, dt,

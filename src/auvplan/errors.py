@@ -4,7 +4,7 @@ Invalid *input* raises one of these; a planner or simulation that cannot reach
 its goal returns a result with a :class:`~auvplan._types.Status` instead.
 """
 
-__all__ = ["AuvplanError", "ScenarioError", "DataError"]
+__all__ = ["AuvplanError", "ScenarioError", "DataError", "MissingExtraError", "require"]
 
 
 class AuvplanError(Exception):
@@ -17,3 +17,23 @@ class ScenarioError(AuvplanError, ValueError):
 
 class DataError(AuvplanError, ValueError):
     """Gridded input data (bathymetry, currents) is unusable (names the file and variable)."""
+
+
+class MissingExtraError(AuvplanError, ImportError):
+    """An optional dependency is not installed (names the package and the extra that brings it)."""
+
+
+def require(module: str, extra: str) -> None:
+    """Raise :class:`MissingExtraError` unless ``module`` can be imported.
+
+    Parameters
+    ----------
+    module : str
+        Top-level module name (``"plotly"``, ``"dask"``).
+    extra : str
+        The ``pip install 'auvplan[extra]'`` that installs it.
+    """
+    import importlib.util
+
+    if importlib.util.find_spec(module) is None:
+        raise MissingExtraError(f"this feature needs {module}, which is not installed: pip install 'auvplan[{extra}]'")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -64,7 +65,24 @@ class SimSettings:
 
 @dataclass(frozen=True)
 class Mission:
-    """What to do in a World: end points, an optional fixed route, and every component's settings."""
+    """What to do in a World: end points, an optional fixed route, and every component's settings.
+
+    Attributes
+    ----------
+    name : str
+        Mission (scenario) name.
+    start, goal : tuple of float
+        End points ``(x, y, z)`` (m).
+    route : tuple of (x, y, z)
+        A fixed route to follow instead of planning one (empty: plan).
+    seed : int
+        Default seed of the planner and of the simulation's disturbances.
+    vehicle, planner, hybrid, los, avoidance, sim
+        Settings of the vehicle, the global planner, the two path followers, the local
+        avoidance and the closed loop.
+    guidance : str
+        ``"hybrid"``, ``"los"`` or ``"ilos"``.
+    """
 
     name: str
     start: tuple[float, float, float]
@@ -89,6 +107,23 @@ class SimResult:
     (signed, to the active leg, m), ``route_error (N,)`` (distance to the whole route, m),
     ``progress (N,)`` (m along the route), ``altitude (N,)`` (m above the seabed; inf without
     terrain), ``obstacle_distance (N, M)`` (m to each static then moving obstacle surface).
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` on arrival, else ``COLLISION``, ``UNAVOIDABLE``, ``DEADLOCK`` or ``TIMEOUT``.
+    arrived : bool
+        Whether the vehicle reached the last waypoint.
+    t, position, heading, speed, rudder, cross_track, route_error, progress, altitude, obstacle_distance : ndarray
+        The recorded time series (see above).
+    events : tuple of (float, str, str)
+        ``(time, kind, message)`` of arrival, collision, unavoidable, deadlock or timeout.
+    guidance, avoidance : str
+        The path follower and the local avoidance used.
+    wall_time_s : float
+        Wall-clock time of the run.
+    escapes, decision_steps, decision_time_s
+        Local-minimum escapes, APF decision steps and their total time (s).
     """
 
     status: Status
@@ -113,16 +148,25 @@ class SimResult:
 
     @property
     def metrics(self) -> dict:
-        """Summary figures of the run (DESIGN.md §4 simulate JSON fields)."""
+        """Summary figures of the run (DESIGN.md §4 simulate JSON fields).
+
+        ``min_altitude_m`` is the least height above the seabed, ``min_obstacle_distance_m`` the
+        least distance to an obstacle surface (static or moving), ``min_clearance_m`` the smaller
+        of the two (the geometric clearance, as in a plan's cost terms; margins not subtracted),
+        ``collisions`` the contacts (``collision`` and ``unavoidable`` events).
+        """
         d = np.linalg.norm(np.diff(self.position, axis=0), axis=1).sum() if self.t.size > 1 else 0.0
         per_obs = self.obstacle_distance.min(axis=0) if self.obstacle_distance.size else np.empty(0)
+        altitude = float(self.altitude.min()) if self.t.size else float("inf")
+        obstacle = float(per_obs.min()) if per_obs.size else float("inf")
         return {
             "status": self.status.value,
             "arrived": self.arrived,
             "duration_s": float(self.t[-1]) if self.t.size else 0.0,
             "distance_m": float(d),
-            "min_clearance_m": float(self.altitude.min()) if self.t.size else float("inf"),
-            "min_obstacle_distance_m": float(per_obs.min()) if per_obs.size else float("inf"),
+            "min_altitude_m": altitude,
+            "min_clearance_m": min(altitude, obstacle),
+            "min_obstacle_distance_m": obstacle,
             "obstacle_min_distances_m": per_obs.tolist(),
             "collisions": sum(1 for e in self.events if e[1] in ("collision", "unavoidable")),
             "unavoidable": sum(1 for e in self.events if e[1] == "unavoidable"),
@@ -134,9 +178,22 @@ class SimResult:
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
-    """The global planning problem of a mission in a world."""
+    """The global planning problem of a mission in a world.
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        End points and vehicle figures (speed, hotel power, drag).
+
+    Returns
+    -------
+    PlanningProblem
+    """
     v = mission.vehicle
-    return PlanningProblem(world, mission.start, mission.goal, v.speed, v.hotel_power, v.drag_k)
+    return PlanningProblem(world, np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float),
+                           v.speed, v.hotel_power, v.drag_k)
 
 
 def make_guidance(name: str, route, mission: Mission):
@@ -168,7 +225,7 @@ def _distance(item, pos: np.ndarray, far: float = FAR) -> float:
 def _obstacle_shapes(world: World, t: float, centres=None):
     """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive);
     ``centres`` are the moving obstacles' centres at ``t`` when the caller has them."""
-    items = [(o, o.center) for o in world.obstacles]
+    items: list[tuple[Any, tuple[float, ...]] | None] = [(o, o.center) for o in world.obstacles]
     if centres is None:
         centres = [o.center(t) for o in world.moving]
     items += [(o.shape, tuple(c)) if o.active(t) else None for o, c in zip(world.moving, centres)]
@@ -251,7 +308,7 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
         if world.moving else np.empty((n_steps + 1, 0, 3))
     # their velocities (what the scenario knows; predictive avoidance may estimate them instead)
-    velocities = np.gradient(tracks, dt, axis=0) if n_steps > 0 else np.zeros_like(tracks)
+    velocities = np.asarray(np.gradient(tracks, dt, axis=0)) if n_steps > 0 else np.zeros_like(tracks)
     radii = [o.shape.bounding_radius for o in world.moving]
     every = max(1, int(round(60.0 / dt)))
     expected = tracker.total_length / vp.speed
@@ -266,8 +323,8 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         cur = currents.velocity(pos[None], t)[0]
         pitch_cmd = None
         if local is None:
-            obstacles = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
-            psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, obstacles, dt)
+            near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
+            psi_d, _, rp = guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
         else:
             obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
                          (it[1][0], it[1][1], d, True, it[1], i, velocities[k, i - n_static], radii[i - n_static])
@@ -348,6 +405,19 @@ class RunRecord:
 
     ``seed`` is the integer seed the run used (the mission's unless another was given; -1 when a
     ``numpy.random.Generator`` was passed instead of a seed).
+
+    Attributes
+    ----------
+    scenario : str
+        Scenario name.
+    seed : int
+        Seed of the run (-1 for a generator).
+    plan : PlanResult or None
+        The global plan (None for a mission with a fixed route).
+    route, keys : ndarray, shape (N, 3) and (K, 3)
+        Waypoints flown and their key waypoints (document 004).
+    sim : SimResult or None
+        The closed-loop run (None when the plan failed).
     """
 
     scenario: str
@@ -402,8 +472,27 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no
-    simulation (its status says why).  ``progress`` is the planner's progress callback,
-    ``flight`` the simulation's (see :func:`simulate`).
+    simulation (its status says why).
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    rng : Generator, int or None
+        Seed of the planner and of the simulation (the mission's seed by default).
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+    flight : callable, optional
+        The simulation's progress callback (see :func:`simulate`).
+    guidance, avoidance : str, optional
+        Override the mission's path follower and local avoidance.
+
+    Returns
+    -------
+    RunRecord
+        Plan, route, key waypoints and simulation.
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1

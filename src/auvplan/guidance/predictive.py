@@ -100,7 +100,7 @@ class PredictiveAvoidance(LocalAvoidance):
         self.z_lo = max(b.zmin, -m.max_depth) + VERTICAL_BUFFER
         self.altitude = m.min_altitude + VERTICAL_BUFFER
         self.terrain = world.terrain is not None
-        tk = world.terrain.kernel_data[:5] if self.terrain else (np.zeros((1, 1, 4)), 0.0, 0.0, 1.0, 1.0)
+        tk = world.terrain.kernel_data[:5] if world.terrain is not None else (np.zeros((1, 1, 4)), 0.0, 0.0, 1.0, 1.0)
         self.coef = tk[0]
         self.cfg = np.zeros(len(CFG))
         self.cfg[5:] = (self.r_max, self.lag, params.horizon, params.margin, self.z_lo, self.z_hi, float(self.terrain),

@@ -1,0 +1,1 @@
+"""Input and output: scenario files, bathymetry and current grids, result files and exports."""

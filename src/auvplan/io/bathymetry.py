@@ -29,6 +29,7 @@ import logging
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -293,7 +294,7 @@ def read_bathymetry(
         else:
             lon, lat = _centre_lonlat(grid)
             frame = LocalFrame(lat, lon)
-    return terrain_from_grid(grid, eg.z, frame=frame, box=box, extent_m=extent_m, resample_m=resample_m,
+    return terrain_from_grid(grid, eg.z, frame=frame, box=box, extent_m=extent_m, resample_m=resample_m,  # type: ignore[arg-type]
                              method=method, nan_policy=nan_policy, name=eg.name)
 
 
@@ -325,8 +326,8 @@ def load_terrain(
     extent_m: tuple[float, float, float, float] | None = None,
 ) -> Terrain:
     """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``."""
-    common = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
-                  nan_policy=spec.nan_policy)
+    common: dict[str, Any] = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
+                                  nan_policy=spec.nan_policy)
     if spec.builtin == "matplotlib-topobathy":
         lon, lat, topo = _topobathy()
         if frame is None:

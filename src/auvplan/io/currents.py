@@ -247,12 +247,12 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         flips = ([flip_t] if t is not None else []) + ([flip_z] if "z" in lead else []) + [flip_r, flip_c]
         comps = {c: _component(ds, n, dims, flips, src) for c, n in names.items() if n is not None}
         grid_relative = str(da_u.attrs.get("standard_name", "")).lower() == "sea_water_x_velocity"
-    t = t[::-1] if flip_t else t
+    t = t[::-1] if flip_t and t is not None else t
     z = z[::-1] if flip_z else z
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
     land = 0
     for c in comps:
-        comps[c], n = _fill_land(comps[c].reshape(shape), "z" in lead, src, names[c])
+        comps[c], n = _fill_land(comps[c].reshape(shape), "z" in lead, src, str(names[c]))
         land = max(land, n)
     if land:
         log.info("%s: %d horizontal cells without a value (land): zero current there", src, land)

@@ -204,7 +204,7 @@ def _read_geotiff(path: Path, positive: str) -> ElevationGrid:
     try:
         import rioxarray  # noqa: F401  (registers the .rio accessor)
 
-        da = rioxarray.open_rasterio(path, masked=True)
+        da: xr.DataArray = rioxarray.open_rasterio(path, masked=True)  # type: ignore[assignment]  # one raster
     except Exception as exc:  # rasterio raises many types for broken files
         raise DataError(f"{src}: cannot read as GeoTIFF ({exc})") from exc
     with da:

@@ -82,7 +82,8 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
         "energy_j": t.get("energy_j", float("nan")),
         "duration_s": t.get("duration_s", float("nan")),
         "min_clearance_m": t.get("min_clearance_m", float("nan")),
-        "collisions": int(t.get("collisions", 0)),
+        "violations": int(t.get("violations", t.get("collisions", 0))),
+        "collisions": int(t.get("collisions", 0)),  # deprecated alias of "violations"
         "cost": result.cost,
         "cost_terms": {k: t[k] for k in ("length", "terrain", "energy") if k in t},
         "evaluations": result.evaluations,
@@ -133,7 +134,8 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
 def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
     """The simulate JSON object of DESIGN.md §4."""
     m = result.metrics
-    keys = ("arrived", "duration_s", "distance_m", "min_clearance_m", "min_obstacle_distance_m", "collisions",
+    keys = ("arrived", "duration_s", "distance_m", "min_altitude_m", "min_clearance_m", "min_obstacle_distance_m",
+            "collisions",
             "cross_track_rms_m", "cross_track_max_m", "escapes", "wall_time_s")
     rec = {"scenario": scenario, "guidance": result.guidance, "avoidance": avoidance, "seed": seed,
            "status": result.status.value}
@@ -193,7 +195,7 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     if record.sim is not None:
         arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
     buf = io.BytesIO()
-    np.savez_compressed(buf, **arrays)
+    np.savez_compressed(buf, **arrays)  # type: ignore[arg-type]
     write_text(out / "run.npz", buf.getvalue())
     return rec
 

@@ -126,8 +126,8 @@ def parse_moos(text: str) -> np.ndarray:
         if t != "BHV_ConstantDepth":
             continue
         d = dict(pairs)
-        idx = [re.fullmatch(r"WPT_INDEX\s*==?\s*(\d+)", v) for k, v in pairs if k == "condition"]
-        idx = [int(m.group(1)) for m in idx if m]
+        found = [re.fullmatch(r"WPT_INDEX\s*==?\s*(\d+)", v) for k, v in pairs if k == "condition"]
+        idx = [int(m.group(1)) for m in found if m]
         if idx and "depth" in d:
             depth[idx[0]] = float(d["depth"])
     missing = [i for i in range(len(xy)) if i not in depth]
@@ -217,7 +217,8 @@ def parse_gpx(text: str, frame: LocalFrame) -> np.ndarray:
     if not pts:
         raise DataError("GPX: no rte/rtept route points")
     try:
-        a = np.array([(float(p.get("lon")), float(p.get("lat")), float(p.find(f"{{{_GPX}}}ele").text)) for p in pts])
+        a = np.array([(float(p.get("lon")), float(p.get("lat")),  # type: ignore[arg-type]
+                       float(p.find(f"{{{_GPX}}}ele").text)) for p in pts])  # type: ignore[union-attr, arg-type]
     except (TypeError, ValueError, AttributeError) as exc:
         raise DataError(f"GPX: a route point lacks lat, lon or ele ({exc})") from exc
     x, y = frame.forward(a[:, 0], a[:, 1])
@@ -294,7 +295,7 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
     for pm in _xml(text, "KML").iter(f"{{{_KML}}}Placemark"):
         if (pm.findtext("k:name", namespaces=ns) or "") == "mission":
             c = np.array([[float(v) for v in s.split(",")]
-                          for s in pm.find("k:LineString/k:coordinates", ns).text.split()])
+                          for s in pm.find("k:LineString/k:coordinates", ns).text.split()])  # type: ignore[union-attr]
             x, y = frame.forward(c[:, 0], c[:, 1])
             return np.column_stack([x, y, c[:, 2]])
     raise DataError("KML: no Placemark named 'mission'")
@@ -324,13 +325,14 @@ def read_mission(path, origin=None) -> tuple[np.ndarray, str, str]:
             return parse_moos(text), "held", fmt
         if fmt == "ros":
             return parse_ros_path(text), "ramp", fmt
+        if fmt == "csv":
+            rows = np.genfromtxt(path, delimiter=",", names=True)
+            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp", fmt
+        assert frame is not None  # the geographic formats need an origin (checked above)
         if fmt == "gpx":
             return parse_gpx(text, frame), "ramp", fmt
         if fmt == "kml":
             return _kml_mission(text, frame), "ramp", fmt
-        if fmt == "csv":
-            rows = np.genfromtxt(path, delimiter=",", names=True)
-            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp", fmt
         doc = json.loads(text)
         return (parse_qgc_plan(doc, frame) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
     except DataError as exc:

@@ -110,7 +110,7 @@ def _candidates(ds: xr.Dataset, dim: str) -> list[tuple[str, xr.DataArray]]:
     out = [(dim, ds[dim])] if dim in ds.variables else []
     for name, var in ds.variables.items():
         if str(name) != dim and var.dims == (dim,):
-            out.append((str(name), var))
+            out.append((str(name), var))  # type: ignore[arg-type]  # a Variable: values, attrs and dims
     return out
 
 
@@ -143,7 +143,7 @@ def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str]):
     found = {}
     for name, var in ds.variables.items():
         if var.ndim == 2 and set(var.dims) == set(dims):
-            kind = axis_kind(var, str(name))
+            kind = axis_kind(var, str(name))  # type: ignore[arg-type]  # a Variable quacks like a DataArray here
             if kind in ("lat", "lon") and kind not in found:
                 found[kind] = np.asarray(var.transpose(*dims).values, dtype=float)
     return (found["lat"], found["lon"]) if len(found) == 2 else None
@@ -297,6 +297,7 @@ def _uncovered(grid: HorizontalGrid, qr, qc, tol_r, tol_c) -> list[str]:
 
 
 def data_span(grid: HorizontalGrid) -> str:
+    """The grid's extent as text for messages (lat/lon ranges, or x/y ranges in metres)."""
     if grid.kind in ("lonlat", "curvilinear"):
         r, c = np.asarray(grid.rows), np.asarray(grid.cols)
         return (f"lat {np.min(r):.4f}..{np.max(r):.4f}, lon {normalise_lon(np.min(c)):.4f}.."

@@ -43,6 +43,7 @@ from ..vehicles import VehicleParams
 from ..world import (
     Bounds,
     CircleMotion,
+    CurrentField,
     Ellipsoid,
     LambOseenVortices,
     LinearMotion,
@@ -360,6 +361,7 @@ def _moving(table: dict, where: str, bounds_xy, limits: Limits) -> MovingObstacl
     if motion_name is None:
         raise ScenarioError(f"{where} missing required key 'motion'")
     rest = {k: v for k, v in table.items() if k not in _SHAPE_KEYS + _MOVING_KEYS}
+    motion: LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
     try:
         if motion_name == "linear":
             s = build_dataclass(_LinearSpec, rest, where)
@@ -685,12 +687,14 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         xr, yr, zr = b.x, b.y, b.z
     bounds = Bounds(xr[0], xr[1], yr[0], yr[1], zr[0], zr[1])
     c = s.currents
+    currents: CurrentField
     try:
         if c.vortices:
             v = c.vortices
-            currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
+            currents = LambOseenVortices(np.array([(q.x, q.y) for q in v]), np.array([q.gamma for q in v]),
+                                         np.array([q.delta for q in v]))
         elif c.file is not None:
-            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=(xr[0], xr[1], yr[0], yr[1]),
+            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=(xr[0], xr[1], yr[0], yr[1]),  # type: ignore[arg-type]
                                      start_time=s.mission.start_time)
         elif c.tides:
             if frame is None or not s.mission.start_time:
@@ -703,7 +707,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     except DataError as exc:
         raise DataError(f"{src}: [currents] {exc}") from exc
     if not currents.covers(bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax):
-        what = f"file {c.file.path!r}" if c.file is not None else "field"
+        what = f"file {c.file.path!r}" if c.file is not None else "field"  # type: ignore[union-attr]
         raise DataError(f"{src}: [currents] the current {what} does not cover the bounds x [{bounds.xmin:.0f}, "
                         f"{bounds.xmax:.0f}] y [{bounds.ymin:.0f}, {bounds.ymax:.0f}] m")
     land = None

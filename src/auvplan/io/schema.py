@@ -74,7 +74,7 @@ def _type_schema(tp: Any) -> dict:
         return {"type": "array", "prefixItems": [_type_schema(a) for a in args], "items": False,
                 "minItems": len(args), "maxItems": len(args)}
     if dataclasses.is_dataclass(tp):
-        return table_schema(tp)
+        return table_schema(typing.cast(type, tp))
     return {}
 
 
@@ -92,7 +92,7 @@ def _fields(cls: type):
         if f.init and not f.name.startswith("_"):
             required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
             default = None if required else (f.default if f.default is not dataclasses.MISSING
-                                             else f.default_factory())
+                                             else f.default_factory())  # type: ignore[operator]
             yield f.name, hints[f.name], required, default
 
 

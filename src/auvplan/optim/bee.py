@@ -294,6 +294,8 @@ class IABC(ABC):
                  rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, params if params is not None else IABCParams(), rng)
 
+    params: IABCParams
+
     @property
     def literal(self) -> bool:
         """True for the document's literal variant."""

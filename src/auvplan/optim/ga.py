@@ -46,7 +46,8 @@ def sbx(p1: np.ndarray, p2: np.ndarray, eta: float, prob: float, lower, upper, r
     """Simulated binary crossover of parent pairs ``(M, D)`` → two children ``(M, D)`` each."""
     u = rng.random(p1.shape)
     beta = np.where(u <= 0.5, (2.0 * u) ** (1.0 / (eta + 1.0)), (1.0 / (2.0 * (1.0 - u))) ** (1.0 / (eta + 1.0)))
-    cross = (rng.random(p1.shape[0]) < prob)[:, None] & (rng.random(p1.shape) < 0.5)
+    pair = np.asarray(rng.random(p1.shape[0]) < prob)
+    cross = pair[:, None] & (rng.random(p1.shape) < 0.5)
     c1 = np.where(cross, 0.5 * ((1 + beta) * p1 + (1 - beta) * p2), p1)
     c2 = np.where(cross, 0.5 * ((1 - beta) * p1 + (1 + beta) * p2), p2)
     return np.clip(c1, lower, upper), np.clip(c2, lower, upper)

@@ -14,7 +14,24 @@ __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridRefe
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
-    """Plan with the planner registered as ``spec.name`` (see ``REGISTRY``)."""
+    """Plan with the planner registered as ``spec.name`` (see ``REGISTRY``).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        Planner name and settings (the scenario's ``[planner]`` table).
+    rng : Generator, int or None
+        Seed of the swarm planners (the flow and grid planners are deterministic).
+    progress : callable, optional
+        ``progress(iteration, best)`` after each iteration of a swarm planner.
+
+    Returns
+    -------
+    PlanResult
+        Status, path, cost terms and history; a failure is a status, never an exception.
+    """
     return get(spec.name).run(problem, spec, rng, progress)
 
 

@@ -232,7 +232,9 @@ class PlanResult:
         Total cost (``inf`` when none).
     cost_terms : dict
         ``length``, ``terrain``, ``energy`` (weighted cost units) and the physical
-        ``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m``, ``collisions``.
+        ``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m`` (least geometric
+        clearance to the seabed or a static obstacle, margins not subtracted) and ``violations``
+        (segments that break a constraint, margins included; ``collisions`` is a deprecated alias).
     evaluations, iterations : int
         Work done.
     wall_time_s : float

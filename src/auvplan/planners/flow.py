@@ -465,6 +465,7 @@ def plan_flow(problem, params: FlowParams) -> PlanResult:
         clearance = min(clearance, float(world.terrain.segment_min_altitude(seg).min()))
     terms = {"length": length, "terrain": 0.0, "energy": 0.0, "length_m": length, "energy_j": float("nan"),
              "duration_s": length / problem.speed, "min_clearance_m": clearance,
-             "collisions": int(np.count_nonzero(~world.segments_free(seg, moving=False)))}
+             "violations": int(np.count_nonzero(~world.segments_free(seg, moving=False)))}
+    terms["collisions"] = terms["violations"]  # deprecated alias (CHANGELOG 0.2.0)
     return PlanResult(status, path, length, terms, int(sl.steps[0]) * 4, int(sl.steps[0]),
                       time.perf_counter() - t0, np.empty(0), "flow", None, message)

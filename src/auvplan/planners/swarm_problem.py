@@ -97,7 +97,8 @@ def plan_terms(row: dict, spec: PlannerSpec) -> dict:
         "energy_j": row["energy_j"],
         "duration_s": row["duration_s"],
         "min_clearance_m": row["min_clearance_m"],
-        "collisions": row["violations"],
+        "violations": row["violations"],
+        "collisions": row["violations"],  # deprecated alias of "violations" (CHANGELOG 0.2.0)
     }
 
 

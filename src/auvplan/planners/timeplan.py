@@ -89,7 +89,8 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
         "length": length, "terrain": 0.0, "energy": energy,
         "length_m": length, "energy_j": energy, "duration_s": tp.duration,
         "depart_s": float(tp.times[0]), "arrive_s": float(tp.times[-1]), "speed_m_s": tp.speed,
-        "min_clearance_m": float(exact.min_clearance[0]), "collisions": int((~seg_ok).sum()),
+        "min_clearance_m": float(exact.min_clearance[0]), "violations": int((~seg_ok).sum()),
+        "collisions": int((~seg_ok).sum()),  # deprecated alias of "violations" (CHANGELOG 0.2.0)
         "lattice_nodes": int(ts.lattice.free.sum()), "lattice_legs": ts.lattice.legs,
     }
     cost = tp.duration if spec.timeopt.objective == "time" else energy
@@ -107,14 +108,14 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
         return _failure(bad[0], bad[1], t0)
     p = spec.timeopt
     depart = p.depart_s
-    for _ in range(3):  # the horizon doubles when a plan runs past the end of the table
+    for attempt in range(3):  # the horizon doubles when a plan runs past the end of the table
         ts = ts or setup(problem, spec, depart, depart)
         best = _fly(problem, spec, ts, depart)
         if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
                             f"within {ts.table.t1 - depart:.0f} s (the current blocks it, or the seabed encloses "
                             "the goal; try a smaller [planner.timeopt] cell or another departure)", t0)
-        if best.times[-1] < ts.table.t1:
+        if best.times[-1] < ts.table.t1 or attempt == 2:  # (the last attempt keeps its own table)
             break
         spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
         p, ts = spec.timeopt, None

@@ -1,0 +1,1 @@
+"""Figures: static matplotlib plots (``plots``) and the offline plotly report (``report``)."""

@@ -66,7 +66,7 @@ def degree_label(value: float, axis: str, step: float) -> str:
     return f"{abs(value):.{decimals}f}°{hemi[0] if value >= 0 else hemi[1]}"
 
 
-def graticule(world: World, to_lonlat: Callable, n: int = 80) -> list[tuple[str, float, np.ndarray]]:
+def graticule(world: World, to_lonlat: Callable, n: int = 80) -> list[tuple[str, float, np.ndarray, float]]:
     """Lines of constant longitude and latitude across the bounds.
 
     Parameters
@@ -177,8 +177,8 @@ def _mission(fig: go.Figure, world: World, record: RunRecord) -> None:
         fig.add_trace(go.Scatter(x=record.keys[:, 0], y=record.keys[:, 1], mode="markers", name="key waypoints",
                                  marker=dict(color="gold", symbol="diamond", size=9, line=dict(width=1))))
     if record.sim is not None and record.sim.t.size:
-        i = thin(record.sim.t.size)
-        p, alt = record.sim.position[i], record.sim.altitude[i]
+        kept = thin(record.sim.t.size)
+        p, alt = record.sim.position[kept], record.sim.altitude[kept]
         shown = alt[np.isfinite(alt)]
         top = float(np.percentile(shown, 95)) if shown.size else 1.0
         fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", line=dict(color="rgba(40,40,40,0.5)", width=1),

@@ -78,7 +78,7 @@ def _obstacles(ax, world: World, t: float | None = None) -> None:
         for o in world.moving:
             if o.active(t):
                 c = o.center(t)
-                ax.add_patch(Circle(c[:2], o.shape.bounding_radius, color="purple", alpha=0.4))
+                ax.add_patch(Circle((float(c[0]), float(c[1])), o.shape.bounding_radius, color="purple", alpha=0.4))
 
 
 def plan_view(world: World, record: RunRecord):
@@ -117,7 +117,7 @@ def _track_by_altitude(ax, p: np.ndarray, altitude: np.ndarray) -> None:
         ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
         return
     top = max(float(np.percentile(finite, 95)), 1.0)
-    lc = LineCollection(segments, cmap="RdYlGn", norm=Normalize(0.0, top), linewidths=1.8, label="track")
+    lc = LineCollection(list(segments), cmap="RdYlGn", norm=Normalize(0.0, top), linewidths=1.8, label="track")
     lc.set_array(np.nan_to_num(0.5 * (alt[:-1] + alt[1:]), nan=top))
     ax.add_collection(lc)
     ax.autoscale_view()

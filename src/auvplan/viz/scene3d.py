@@ -138,6 +138,7 @@ def _mesh(vertices: np.ndarray, tri: np.ndarray, name: str, color: str, opacity:
 
 def _terrain_grid(world: World, max_nodes: int = 120):
     t = world.terrain
+    assert t is not None
     b = world.bounds
     ix = np.flatnonzero((t.x >= b.xmin - t.dx) & (t.x <= b.xmax + t.dx))
     iy = np.flatnonzero((t.y >= b.ymin - t.dy) & (t.y <= b.ymax + t.dy))
@@ -284,6 +285,7 @@ def _current_frames(fig: go.Figure, world: World, times: np.ndarray):
 
 def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     sim = record.sim
+    assert sim is not None
     times = np.linspace(sim.t[0], sim.t[-1], min(FRAMES, sim.t.size))
     pos = np.column_stack([np.interp(times, sim.t, sim.position[:, k]) for k in range(3)])
     fig.add_trace(go.Scatter3d(x=[pos[0, 0]], y=[pos[0, 1]], z=[pos[0, 2]], mode="markers", name="vehicle",

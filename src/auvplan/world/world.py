@@ -26,7 +26,15 @@ __all__ = ["Bounds", "Margins", "World"]
 
 @dataclass(frozen=True)
 class Bounds:
-    """Axis-aligned box of the operating area (m, local frame)."""
+    """Axis-aligned box of the operating area (m, local frame).
+
+    Attributes
+    ----------
+    xmin, xmax, ymin, ymax : float
+        Horizontal extent (x east, y north).
+    zmin, zmax : float
+        Vertical extent (z up; ``zmax = 0`` is the sea surface).
+    """
 
     xmin: float
     xmax: float
