@@ -398,7 +398,7 @@ def fly_check(world: World, waypoints, semantics: str = "held", pitch_deg: float
             d = _sampled_rect_distance(shape, o[near], e1[near], e2[near], 0.25)
         dist = min(dist, float(d.min()))
     k = int(np.argmin(alt)) if np.isfinite(alt).any() else -1
-    extra = {}
+    extra: dict[str, float | int] = {}
     if semantics == "held":
         trk = held_track(w, pitch_deg)
         seg = np.stack([trk[:-1], trk[1:]], axis=1)
@@ -406,4 +406,4 @@ def fly_check(world: World, waypoints, semantics: str = "held", pitch_deg: float
         ex_hits = sum(int(sh.segments_hit(seg, m.obstacle).sum()) for sh in world.obstacles)
         extra = {"pitch_deg": float(pitch_deg), "executor_min_altitude_m": ex_alt, "executor_obstacle_hits": ex_hits}
     return MissionCheck(semantics, float(alt.min()), k, float(dist), int(hits.sum()), alt, m.min_altitude, m.obstacle,
-                        **extra)
+                        **extra)  # type: ignore[arg-type]

@@ -104,9 +104,10 @@ def _find_elevation(ds: xr.Dataset, variable: str, src: str) -> str:
     if len(two_d) == 1:
         return two_d[0]
     if not two_d:  # an elevation variable with the wrong dimensionality: say so, naming it
-        for k, v in ds.data_vars.items():
-            if str(k).lower() in _UP_NAMES + _DOWN_NAMES or _attr(v, "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
-                check_dims(v, 2, src, "elevation")
+        for key, var in ds.data_vars.items():
+            named = str(key).lower() in _UP_NAMES + _DOWN_NAMES
+            if named or _attr(var, "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
+                check_dims(var, 2, src, "elevation")
     raise DataError(
         f"{src}: cannot tell which variable is the elevation among {two_d or sorted(map(str, ds.data_vars))}; "
         "name it with 'variable'"

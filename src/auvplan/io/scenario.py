@@ -712,6 +712,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
                         f"{bounds.xmax:.0f}] y [{bounds.ymin:.0f}, {bounds.ymax:.0f}] m")
     land = None
     if s.land is not None:
+        if frame is None:
+            raise ScenarioError(f"{src}: [land] needs [origin] lat/lon (the polygons are geographic)")
         try:
             land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
         except DataError as exc:

@@ -77,6 +77,13 @@ class Problem:
         """Evaluations left (None without a budget)."""
         return None if self.budget is None else self.budget - self.evaluations
 
+    @property
+    def left(self) -> int:
+        """Evaluations left, for the optimisers that need a budget (ValueError without one)."""
+        if self.budget is None:
+            raise ValueError("this optimiser needs an evaluation budget (Problem.budget)")
+        return self.budget - self.evaluations
+
     def evaluate(self, X: np.ndarray) -> np.ndarray:
         """Values of the batch ``X (B, D)``; rows beyond the budget are not evaluated (``+inf``)."""
         X = np.asarray(X, dtype=float)

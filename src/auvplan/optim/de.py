@@ -74,10 +74,10 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
     history: list[float] = []
 
     def func(xt: np.ndarray) -> np.ndarray:  # scipy passes (D, S)
-        if problem.remaining <= 0:
+        if problem.left <= 0:
             raise _Spent
         f = problem.evaluate(np.atleast_2d(xt.T))
-        if problem.remaining <= 0:
+        if problem.left <= 0:
             raise _Spent
         return f
 
@@ -86,11 +86,11 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
         if callback is not None:
             callback(len(history), problem.best_f)
 
-    mutation = tuple(p.mutation) if isinstance(p.mutation, list | tuple) else p.mutation
+    mutation: float | tuple[float, ...] = tuple(p.mutation) if isinstance(p.mutation, list | tuple) else p.mutation
     if isinstance(mutation, tuple) and len(mutation) == 1:
         mutation = mutation[0]
     reason = "max_evaluations"
-    while problem.remaining > 0:  # a restart (best kept) only if the population collapsed early
+    while problem.left > 0:  # a restart (best kept) only if the population collapsed early
         try:
             _scipy_de(func, list(zip(problem.lower, problem.upper)), strategy=p.strategy, maxiter=10**9,
                       popsize=1, init=init, tol=0.0, atol=0.0, mutation=mutation, recombination=p.recombination,

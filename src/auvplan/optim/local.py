@@ -62,7 +62,7 @@ def pattern_search(problem: Problem, x0, f0: float, params: PatternParams | None
     h = h0
     first, trace0 = problem.evaluations, len(problem.trace)
     history: list[float] = []
-    while problem.remaining > 0:
+    while problem.left > 0:
         q = random_rotation(problem.dim, gen) * (h * span)[:, None]
         polls = np.clip(np.vstack([x + q.T, x - q.T]), problem.lower, problem.upper)
         fp = problem.evaluate(polls)

@@ -270,14 +270,16 @@ class FlowField:
         self.bodies = [_cached_body(ob, tuple(self.target), params.rankine, params.strength, self.margin,
                                     SAG_PAD * max(ob.semi_axes)) for ob in self.ellipsoids]
         self.plane = plane
-        self.axes, self.sides, self.radii = [], [], []
+        self.axes: list[np.ndarray] = []
+        self.sides: list[np.ndarray] = []
+        radii: list[float] = []
         for i, ob in enumerate(self.items):
             c = np.asarray(ob.center)
             e = self.direction if self.direction is not None else (self.target - c) / np.linalg.norm(self.target - c)
             self.axes.append(e)
             self.sides.append(_side(ob, e))
-            self.radii.append(self.A[i] if i < len(self.spheres) else self.bodies[i - len(self.spheres)].radius)
-        self.radii = np.asarray(self.radii)
+            radii.append(self.A[i] if i < len(self.spheres) else self.bodies[i - len(self.spheres)].radius)
+        self.radii = np.asarray(radii)
 
     @property
     def contained(self) -> bool:
@@ -319,7 +321,7 @@ class FlowField:
     def inside_body(self, p) -> np.ndarray:
         """True where points lie inside a surface the field flows round (a body, sphere or below the plane)."""
         d = self.distances(np.asarray(p, dtype=float), "true")
-        return (d < 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], dtype=bool)
+        return np.asarray((d < 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], dtype=bool))
 
     def push_out(self, p: np.ndarray, eps: float = 1e-9) -> np.ndarray:
         """Points moved just outside the nearest flow surface along its outward normal."""
@@ -377,12 +379,12 @@ class FlowField:
         p = p.reshape(-1, 3)
         if not self.items:
             return self._free(p).reshape(shape)
-        parts = [self._sphere_parts(p)] if self.spheres else []
+        fields = [self._sphere_parts(p)] if self.spheres else []
         for body in self.bodies:
-            parts.append(body.velocity(p)[:, None, :])
+            fields.append(body.velocity(p)[:, None, :])
         if self.plane is not None:
-            parts.append(self._free(p)[:, None, :])
-        parts = np.concatenate(parts, axis=1)
+            fields.append(self._free(p)[:, None, :])
+        parts = np.concatenate(fields, axis=1)
         if parts.shape[1] == 1:
             return parts[:, 0].reshape(shape)
         w = blend_weights(self.distances(p), self.params.weights)

@@ -72,7 +72,7 @@ def _segment_clear(field, a: np.ndarray, b: np.ndarray, n: int = 17) -> bool:
 
 def _exit_body(field, p: np.ndarray) -> list:
     """Exit rule for one start inside a flow surface: the points it passes on its way out (may be empty)."""
-    out = []
+    out: list[np.ndarray] = []
     ns = len(field.spheres)
     for _ in range(4):
         d = field.distances(p[None], "true")[0]
@@ -141,7 +141,7 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
     blocked = field.clearance(p) < 0
     status[blocked] = "inside_obstacle"
     active[blocked] = False
-    prefix = [[] for _ in range(n)]
+    prefix: list[list[np.ndarray]] = [[] for _ in range(n)]
     exits = np.zeros(n, dtype=bool)
     for i in np.flatnonzero(field.inside_body(p) & active):
         prefix[i] = _exit_body(field, p[i].copy())

@@ -119,6 +119,7 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
             break
         spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
         p, ts = spec.timeopt, None
+    assert best is not None and ts is not None  # the loop breaks on its last attempt at the latest
     return _result(problem, spec, best, ts, t0)
 
 
