@@ -33,7 +33,7 @@ from auvplan.bench import perturb_moving
 from auvplan.guidance.local import key_waypoints
 from auvplan.io import scenario as sc
 from auvplan.planners import PlanningProblem, plan
-from auvplan.sim import planning_problem, route_from_path, simulate
+from auvplan.sim import mission_route, planning_problem, simulate
 from auvplan.world import Sphere
 
 
@@ -104,7 +104,7 @@ def main(argv=None) -> int:
     variants = args.avoidance or [mission.avoidance.name]
     planned = plan(planning_problem(world, mission), mission.planner, rng=mission.seed)
     length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
-    route = route_from_path(planned.path, max(4 * mission.hybrid.switch_radius, length / 200))
+    route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world)
     load = os.getloadavg()
     texts = []

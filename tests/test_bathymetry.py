@@ -130,7 +130,7 @@ def test_cubic_resampling_is_smooth_and_honours_nodes(tmp_path):
         (lambda: xr.Dataset({"elevation": (("lat", "lon"), _grid())}, coords={"lat": LAT, "lon": LON}),
          {"box": (40.0, 41.0, 10.0, 11.0)}, "does not overlap"),
         (lambda: xr.Dataset({"elevation": (("time", "lon"), _grid())}, coords={"time": LAT, "lon": LON}),
-         {}, "axis 'time'"),
+         {}, "'elevation': cannot find latitude/longitude"),
         (lambda: xr.Dataset({"elevation": (("lat", "lon"), np.zeros((0, 0)))},
                             coords={"lat": np.zeros(0), "lon": np.zeros(0)}), {}, "empty grid"),
     ],

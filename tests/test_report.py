@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import xml.etree.ElementTree as ET
 
@@ -14,7 +15,9 @@ import pytest
 from auvplan.cli import main
 from auvplan.io import export
 from auvplan.io import scenario as sc
+from auvplan.io.formats import parse_moos
 from auvplan.io.geo import LocalFrame
+from auvplan.sim import decimate
 
 
 @pytest.fixture(scope="module")
@@ -45,7 +48,7 @@ def test_run_record_round_trips_through_json_and_npz(run_dir):
     assert again["simulation"]["distance_m"] == pytest.approx(rec["simulation"]["distance_m"], rel=1e-12)
     assert again["plan"]["cost"] == pytest.approx(rec["plan"]["cost"], rel=1e-12)
     np.testing.assert_allclose(np.loadtxt(run_dir / "track.csv", delimiter=",", skiprows=1)[:, 1:4],
-                               record.sim.position, atol=1e-3)
+                               decimate(record.sim).position, atol=1e-3)  # decimated; run.npz keeps all
 
 
 def test_read_run_names_the_missing_file(tmp_path):
@@ -68,8 +71,9 @@ def test_geojson_is_valid_and_round_trips_to_the_local_frame(run_dir, world_miss
     c = np.asarray(track["geometry"]["coordinates"])
     assert np.all(np.abs(c[:, 0]) <= 180) and np.all(np.abs(c[:, 1]) <= 90)  # RFC 7946: lon, lat order
     x, y = LocalFrame(*world.origin).forward(c[:, 0], c[:, 1])
-    assert np.abs(np.column_stack([x, y]) - record.sim.position[:, :2]).max() < 0.01
-    np.testing.assert_allclose(c[:, 2], record.sim.position[:, 2], atol=1e-3)  # elevation, negative below
+    flown = decimate(record.sim).position
+    assert np.abs(np.column_stack([x, y]) - flown[:, :2]).max() < 0.01
+    np.testing.assert_allclose(c[:, 2], flown[:, 2], atol=1e-3)  # elevation, negative below
     assert track["properties"]["status"] == "EXACT" and track["properties"]["sim_arrived"] is True
     keys = [f for f in doc["features"] if f["properties"]["name"] == "key waypoints"][0]
     assert shapely.shape(keys["geometry"]).geom_type == "MultiPoint"
@@ -84,23 +88,25 @@ def test_kml_parses_back_to_the_track(run_dir, world_mission):
     assert ls.find("k:altitudeMode", ns).text == "absolute"
     c = np.array([[float(v) for v in p.split(",")] for p in ls.find("k:coordinates", ns).text.split()])
     x, y = LocalFrame(*world.origin).forward(c[:, 0], c[:, 1])
-    assert np.abs(np.column_stack([x, y, c[:, 2]]) - record.sim.position).max() < 0.01
+    assert np.abs(np.column_stack([x, y, c[:, 2]]) - decimate(record.sim).position).max() < 0.01
 
 
-def test_moos_block_parses_back_to_the_key_waypoints(run_dir):
+def test_moos_block_parses_back_to_the_mission(run_dir):
     record, _ = export.read_run(run_dir)
     text = (run_dir / "mission.moos").read_text()
     assert text.count("Behavior = BHV_Waypoint") == 1
-    np.testing.assert_allclose(export.parse_moos(text), record.keys[1:], atol=0.01)
+    np.testing.assert_allclose(parse_moos(text), record.route, atol=0.001)
 
 
 def test_csv_has_local_geographic_depth_and_time_columns(run_dir, world_mission):
-    world, _ = world_mission
+    world, mission = world_mission
     record, _ = export.read_run(run_dir)
     rows = np.genfromtxt(run_dir / "mission.csv", delimiter=",", names=True)
     assert rows.dtype.names == ("x", "y", "z", "lat", "lon", "depth", "time")
+    np.testing.assert_allclose(np.column_stack([rows["x"], rows["y"], rows["z"]]), record.route, atol=1e-3)
     np.testing.assert_allclose(rows["depth"], -rows["z"])
-    np.testing.assert_allclose(rows["time"], record.sim.t, atol=0.01)
+    legs = np.linalg.norm(np.diff(record.route, axis=0), axis=1)
+    np.testing.assert_allclose(np.diff(rows["time"]), legs / mission.vehicle.speed, atol=0.011)
     lon, lat = LocalFrame(*world.origin).inverse(rows["x"], rows["y"])
     np.testing.assert_allclose(rows["lat"], lat, atol=1e-8)
 
@@ -168,7 +174,7 @@ def _chromium() -> str | None:
     return shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def test_report_in_a_headless_browser(run_dir, tmp_path):
+def test_report_in_a_headless_browser(run_dir, world_mission, tmp_path):
     """Chromium opens the report offline: no console error, the 3D plot and the metrics table
     render, and the time slider moves the vehicle."""
     browser = _chromium()
@@ -193,6 +199,21 @@ def test_report_in_a_headless_browser(run_dir, tmp_path):
         assert page.locator("#metrics tr").count() >= 10
         vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
         x0 = page.evaluate(vehicle)
+        look = page.evaluate("""() => {
+            const v = document.getElementById('view3d'), m = document.getElementById('planview');
+            const seabed = v.data.find(t => t.name === 'seabed'), chart = m.data.find(t => t.name === 'seabed');
+            const meshes = v._fullData.filter(t => t.type === 'mesh3d' && t.x.length).map(t => {
+                const n = t.x.length, c = [t.x, t.y, t.z].map(a => (Math.max(...a) + Math.min(...a)) / 2);
+                let r = 0;
+                for (let i = 0; i < n; i++) r = Math.max(r, Math.hypot(t.x[i] - c[0], t.y[i] - c[1], t.z[i] - c[2]));
+                return {name: t.name, radius: r, stated: t.meta.radius};
+            });
+            return {seabed: JSON.stringify([seabed.colorscale, seabed.cmin, seabed.cmax]),
+                    chart: JSON.stringify([chart.colorscale, chart.zmin, chart.zmax]),
+                    zrange: v.layout.scene.zaxis.range, meshes: meshes,
+                    labels: v.layout.sliders[0].steps.map(s => s.label),
+                    graticule: m.layout.annotations.map(a => a.text)};
+        }""")
         rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
         page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
         page.wait_for_timeout(1500)
@@ -200,6 +221,18 @@ def test_report_in_a_headless_browser(run_dir, tmp_path):
         page.screenshot(path=str(tmp_path / "report.png"))
         b.close()
     assert errors == [] and requests == []
+    world, _ = world_mission
+    # One colour scale for the seabed: the 3D surface and the chart share its definition and range.
+    assert look["seabed"] == look["chart"]
+    b = world.bounds
+    assert b.zmin <= look["zrange"][0] < look["zrange"][1] <= b.zmax
+    radii = {o.name: o.shape.bounding_radius for o in world.moving}
+    drawn = {m["name"]: m for m in look["meshes"] if m["name"] in radii}
+    assert set(drawn) == set(radii)
+    for name, m in drawn.items():
+        assert m["stated"] == pytest.approx(radii[name]) and m["radius"] == pytest.approx(radii[name], rel=1e-3)
+    assert len(look["labels"]) > 10 and all(re.fullmatch(r"\d+:\d\d:\d\d", s) for s in look["labels"])
+    assert any(t.endswith("°E") for t in look["graticule"]) and any(t.endswith("°N") for t in look["graticule"])
     record, _ = export.read_run(run_dir)
     assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
     assert (tmp_path / "report.png").stat().st_size > 50_000

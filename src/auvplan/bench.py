@@ -30,8 +30,9 @@ import numpy as np
 from .errors import AuvplanError
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
+from .io.safeio import claim
 from .planners import PLANNERS, plan, reference, with_reference
-from .sim import RunRecord, planning_problem, route_from_path, run_mission, simulate
+from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
 __all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
@@ -196,9 +197,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
         planned = plan(problem, pspec, mission.seed)
         if ref is not None:
             planned = with_reference(planned, problem, pspec, ref)
-        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum()) if planned.status.ok else 0.0
-        route = route_from_path(planned.path, max(4.0 * mission.hybrid.switch_radius, length / 200.0)) \
-            if planned.status.ok else np.empty((0, 3))
+        route = mission_route(world, mission, planned.path) if planned.status.ok else np.empty((0, 3))
         fixed = (planned, route, key_waypoints(route, world, mission.avoidance.collision_check)
                  if route.size else route)
     rows = []
@@ -234,13 +233,36 @@ def read_histories(path: Path) -> list[dict]:
     path = Path(path)
     if not path.is_file():
         return []
-    out = []
+    out: dict[tuple, dict] = {}
     for line in path.read_text().splitlines():
         try:
-            out.append(json.loads(line))
-        except ValueError:
+            h = json.loads(line)
+            out[tuple(h["key"])] = h  # a run re-done after a kill between its two lines: the last wins
+        except (ValueError, KeyError, TypeError):
             continue
-    return out
+    return list(out.values())
+
+
+def _cut_partial_line(path: Path) -> None:
+    """Truncate ``path`` after its last newline (drops a line an interruption cut short); the
+    complete lines before it are never rewritten."""
+    if not path.is_file():
+        return
+    with path.open("rb+") as fh:
+        size = fh.seek(0, 2)
+        if size == 0:
+            return
+        back = min(size, 1 << 16)
+        while True:
+            fh.seek(size - back)
+            tail = fh.read(back)
+            cut = tail.rfind(b"\n")
+            if cut >= 0 or back == size:
+                break
+            back = min(size, back * 2)
+        keep = size - back + cut + 1 if cut >= 0 else 0
+        if keep < size:
+            fh.truncate(keep)
 
 
 def _key(row: dict) -> tuple:
@@ -280,13 +302,13 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         left = tuple(x for x in seeds if (scenario, planner, guidance, str(x)) not in have)
         if left:
             todo.append((scenario, planner, guidance, left))
-    with path.open("w", newline="") as fh:  # rewrite the complete rows (drops a cut-short line)
-        writer = csv.DictWriter(fh, fieldnames=COLUMNS)
-        writer.writeheader()
-        writer.writerows(done)
     hpath = out / "histories.jsonl"
-    kept = [h for h in read_histories(hpath) if tuple(h["key"]) in have]
-    hpath.write_text("".join(json.dumps(h) + "\n" for h in kept))
+    _cut_partial_line(path)  # append-only: a line cut short by a kill is trimmed, nothing else rewritten
+    _cut_partial_line(hpath)
+    if not path.is_file() or path.stat().st_size == 0:
+        with path.open("w", newline="") as fh:
+            csv.DictWriter(fh, fieldnames=COLUMNS).writeheader()
+    claim(out, ["rows.csv", "histories.jsonl"])
     cluster = None
     if scheduler:
         client = Client(scheduler)

@@ -8,20 +8,24 @@ stdout; progress and messages go to stderr.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import logging
 import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from . import __version__
 from .errors import AuvplanError
 from .guidance.local import AVOIDANCE
-from .io import export
+from .io import export, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
+from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import PLANNERS, SWARM, plan, reference, with_reference
-from .sim import planning_problem, run_mission, simulate
+from .sim import planning_problem, run_mission
 
 __all__ = ["main", "main_entry"]
 
@@ -32,21 +36,68 @@ DEMO_SCENARIO = "dynamic-terrain"
 
 
 class _Progress:
-    """A tqdm bar on stderr for iterative work (silent when stderr is not a terminal and quiet)."""
+    """Progress of the long stages on stderr: a tqdm bar for the swarm planners' iterations and one
+    for the flight (simulated time against the route's expected duration), a line for the other
+    stages; all silent with ``quiet`` (``-q`` or ``--json``)."""
 
     def __init__(self, spec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        # only the swarm optimisers iterate; the grid and flow planners would show a bar stuck at 0
+        self._tqdm, self.quiet, self.scenario, self.flight_bar = tqdm, quiet, scenario, None
+        # only the swarm optimisers iterate; the other planners get a line, not a bar stuck at 0
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
                         disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
+        if spec.name not in SWARM:
+            self.stage(f"planning with {spec.name}")
 
     def __call__(self, iteration: int, best: float) -> None:
         self.bar.update(iteration - self.bar.n)
         self.bar.set_postfix_str(f"best {best:.6g}", refresh=False)
 
+    def flight(self, t: float, expected: float) -> None:
+        """The simulation's callback: simulated seconds flown of about ``expected``."""
+        if self.flight_bar is None:
+            self.bar.close()
+            self.flight_bar = self._tqdm(total=max(1, round(expected)), desc=f"flight on {self.scenario}", unit="s",
+                                         file=sys.stderr, disable=self.quiet, leave=False, mininterval=0.5)
+        self.flight_bar.update(min(round(t), self.flight_bar.total) - self.flight_bar.n)
+
+    def stage(self, text: str) -> None:
+        """One line on stderr for a stage without a bar (the report, a lattice plan)."""
+        if not self.quiet:
+            self._tqdm.write(f"auvplan: {text} …", file=sys.stderr)
+
     def close(self) -> None:
         self.bar.close()
+        if self.flight_bar is not None:
+            self.flight_bar.close()
+
+
+def _int_at_least(low: int):
+    """An argparse type: an integer >= ``low`` (a clear usage error otherwise, before any work)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
+        return value
+
+    parse.__name__ = f"integer >= {low}"
+    return parse
+
+
+_SEED = _int_at_least(0)
+_POSITIVE = _int_at_least(1)
+
+
+def _out(args, names=RESULT_NAMES) -> Path | None:
+    """Check ``--out`` before any work (creatable, writable, no user file or link in the way)."""
+    if getattr(args, "out", None) is None:
+        return None
+    return prepare_out(args.out, names, force=getattr(args, "force", False))
 
 
 def _emit(record: dict, as_json: bool, human: str) -> None:
@@ -77,7 +128,27 @@ def _cmd_validate(args) -> int:
     return 0
 
 
+def _cmd_scenario_new(args) -> int:
+    from .io.schema import template
+
+    text = template(Path(args.file).stem if args.file else "my-mission")
+    if not args.file:
+        sys.stdout.write(text)
+        return 0
+    path = write_new(Path(args.file), text, force=args.force)
+    print(f"wrote {path}; check it with: auvplan validate {path}", file=sys.stderr)
+    return 0
+
+
+def _cmd_scenario_schema(args) -> int:
+    from .io.schema import scenario_schema
+
+    sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
+    return 0
+
+
 def _plan(args, quiet: bool):
+    _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     spec = mission.planner
@@ -86,7 +157,7 @@ def _plan(args, quiet: bool):
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(spec, sc.name, quiet)
+    bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
     try:
         result = plan(problem, spec, seed, bar)
@@ -94,17 +165,99 @@ def _plan(args, quiet: bool):
         bar.close()
     if getattr(args, "reference", False):
         result = with_reference(result, problem, spec, reference(problem, spec))
-    return sc, result, seed
+    return sc, result, seed, world
+
+
+def _duration(text: str, what: str) -> float:
+    """Seconds of '15min', '900s', '2h', '1.5h' or a bare number of seconds."""
+    units = {"s": 1.0, "sec": 1.0, "min": 60.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
+    t = text.strip().lower().lstrip("+")
+    for unit in sorted(units, key=len, reverse=True):
+        if t.endswith(unit):
+            t, scale = t[: -len(unit)], units[unit]
+            break
+    else:
+        scale = 1.0
+    try:
+        return float(t) * scale
+    except ValueError:
+        raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
+
+
+def _instant(text: str, start_time: str, what: str) -> float:
+    """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
+    from .io.tides import parse_start_time
+
+    if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
+        return _duration(text, what)
+    if not start_time:
+        raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
+    try:
+        return parse_start_time(text) - parse_start_time(start_time)
+    except ValueError as exc:
+        raise AuvplanError(f"{what} {exc}") from None
+
+
+def _cmd_sweep(args) -> int:
+    from .planners.timeplan import departure_sweep, sweep_summary
+
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)
+    spec = replace(mission.planner, name="timeopt")
+    if args.objective:
+        spec = replace(spec, timeopt=replace(spec.timeopt, objective=args.objective))
+    t0, t1 = (_instant(v, sc.mission.start_time, "--depart-between") for v in args.depart_between)
+    step = _duration(args.step, "--step")
+    if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
+        raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
+                           "500 departures")
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
+    summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
+    if sc.mission.start_time and summary.get("feasible_departures"):
+        from .io.tides import parse_start_time, utc_iso
+
+        summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
+    table = [dataclasses.asdict(r) for r in rows]
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        with (out / "sweep.csv").open("w") as fh:
+            fh.write(",".join(table[0]) + "\n")
+            fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
+        export.write_json(out / "sweep_summary.json", summary)
+        from .viz.timeplots import sweep_figure
+
+        sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
+    lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
+             f"(after {sc.mission.start_time or 't = 0'})",
+             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
+    lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
+              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f}" for r in rows]
+    if summary.get("feasible_departures"):
+        lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
+                     f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
+                     "against the worst departure, "
+                     f"{summary['saved_vs_steady_pct']:.1f} % against the steady-current plan and "
+                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line"
+                     + (f"\n  fly it: [mission] start_time = \"{summary['best_depart_utc']}\""
+                        if "best_depart_utc" in summary else ""))
+    _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
+    return 0 if summary.get("feasible_departures") else 1
 
 
 def _cmd_plan(args) -> int:
-    sc, result, seed = _plan(args, quiet=False)
+    if args.depart_between:
+        return _cmd_sweep(args)
+    if args.objective:
+        raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
+                           "[planner.timeopt] objective in the scenario for one plan")
+    sc, result, seed, world = _plan(args, quiet=False)
     record = export.plan_record(result, sc.name, seed)
     if args.reference:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
     if args.out:
-        export.write_plan(Path(args.out), result, sc.name, seed, Path(sc.source).read_text(encoding="utf-8"))
+        _save_plan(Path(args.out), sc, world, result, seed)
     human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
              f"{result.wall_time_s:.2f} s" + (f"\n  {result.message}" if result.message else "")
@@ -115,24 +268,23 @@ def _cmd_plan(args) -> int:
 
 
 def _cmd_simulate(args) -> int:
+    _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if args.seed is None else args.seed
-    route = mission.route
-    if not route:
-        bar = _Progress(mission.planner, sc.name, False)
-        try:
-            planned = plan(planning_problem(world, mission), mission.planner, seed, bar)
-        finally:
-            bar.close()
-        if not planned.status.ok:
-            print(f"auvplan: the global plan failed ({planned.status.value}): {planned.message}", file=sys.stderr)
-            return 1
-        route = planned.path[:: max(len(planned.path) // 40, 1)].tolist() + [planned.path[-1].tolist()]
-    result = simulate(world, mission, route=route, guidance=args.guidance, rng=seed)
-    record = export.sim_record(result, sc.name, seed)
+    bar = _Progress(mission.planner, sc.name, args.quiet or args.json)
+    try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
+        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance,
+                          flight=bar.flight)
+    finally:
+        bar.close()
+    if run.sim is None:
+        print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
+        return 1
+    result = run.sim
+    record = export.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        export.write_sim(Path(args.out), result, sc.name, seed)
+        export.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -141,32 +293,61 @@ def _cmd_simulate(args) -> int:
     return 0 if result.status.ok else 1
 
 
-def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None):
+def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
+         full: bool = False, force: bool = False, quiet: bool = False, planner: str | None = None):
+    if out:
+        prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
+    if planner:
+        mission = replace(mission, planner=replace(mission.planner, name=planner))
     seed = sc.seed if seed is None else seed
-    bar = _Progress(mission.planner, sc.name, False)
+    bar = _Progress(mission.planner, sc.name, quiet)
     try:
-        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance)
+        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
     if out:
-        export.write_run(Path(out), record, Path(sc.source).read_text(encoding="utf-8"))
-        export.write_json(Path(out) / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
-        _write_report(Path(out), world, mission, record, Path(sc.source).read_text(encoding="utf-8"))
+        bar.stage(f"writing results, report and exports into {out}")
+        text = _scenario_text(sc)
+        export.write_run(Path(out), record, text, full)
+        _save_context(Path(out), sc, world)
+        _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
 
 
-def _write_report(out: Path, world, mission, record, text: str, figures: bool = False) -> Path:
+def _scenario_text(sc) -> str:
+    try:
+        return Path(sc.source).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return ""
+
+
+def _save_context(out: Path, sc, world) -> None:
+    """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
+    export.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
+    results.save_terrain(out, world.terrain)
+
+
+def _save_plan(out: Path, sc, world, result, seed: int) -> None:
+    """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
+    from .sim import RunRecord
+
+    text = _scenario_text(sc)
+    empty = result.path[:0].reshape(0, 3)
+    export.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
+    _save_context(out, sc, world)
+
+
+def _write_report(out: Path, world, mission, record, text: str, figures: bool = False, full: bool = False) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
-    formats = export.EXPORT_FORMATS if frame is not None else ("csv", "moos")
-    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats)
+    formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
+    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
     page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
-    path = out / "report.html"
-    path.write_text(page, encoding="utf-8")
+    path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
 
@@ -174,30 +355,56 @@ def _write_report(out: Path, world, mission, record, text: str, figures: bool = 
     return path
 
 
-def _load_results(directory: str):
-    out = Path(directory)
+def _load_results(args):
+    out = Path(args.dir)
+    if not out.is_dir():
+        raise AuvplanError(f"{out}: no such results folder")
+    prepare_out(out, RESULT_NAMES if args.command == "report" else [f"mission.{f}" for f in args.format],
+                force=args.force)
     record, text = export.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
-    src = out / "source.json"
-    base = Path(json.loads(src.read_text())["scenario_source"]).parent if src.is_file() else out
-    sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=base)
-    world, mission = scenario_io.build(sc)
+    sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
+    world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
     return out, record, text, world, mission
 
 
 def _cmd_report(args) -> int:
-    out, record, text, world, mission = _load_results(args.dir)
+    out, record, text, world, mission = _load_results(args)
     path = _write_report(out, world, mission, record, text, figures=args.figures)
     print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
     return 0
 
 
 def _cmd_export(args) -> int:
-    out, record, _, world, mission = _load_results(args.dir)
-    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format):
+    out, record, _, world, mission = _load_results(args)
+    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
         print(p)
     return 0
+
+
+def _cmd_mission_check(args) -> int:
+    from .io.formats import check_mission_file
+
+    sc = scenario_io.load(args.scenario)
+    world, _ = scenario_io.build(sc)
+    worst = 0
+    records = []
+    for name in args.files:
+        check, fmt = check_mission_file(Path(name), world, args.pitch)
+        rec = {"file": name, "format": fmt, **check.as_dict()}
+        records.append(rec)
+        worst = max(worst, 0 if check.ok else 1)
+        if not args.json:
+            held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
+                    if check.semantics == "held" else "")
+            print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
+                  f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
+                  f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
+                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
+    if args.json:
+        print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
+    return worst
 
 
 def _describe_run(name: str, record) -> str:
@@ -217,7 +424,8 @@ def _describe_run(name: str, record) -> str:
 
 
 def _cmd_run(args) -> int:
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed)
+    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
+                      force=args.force, quiet=args.quiet or args.json, planner=args.planner)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
@@ -225,10 +433,14 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None)
+    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
     print(_describe_run(sc.name, record))
     print(f"results in {args.out}/")
     return 0 if record.status.ok else 1
+
+
+_BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")
+"""Files of ``bench --out`` besides rows.csv and histories.jsonl (which ``--resume`` appends to)."""
 
 
 def _cmd_bench(args) -> int:
@@ -236,25 +448,24 @@ def _cmd_bench(args) -> int:
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
-    out = Path(args.out)
+    out = prepare_out(args.out, _BENCH_NAMES, force=args.force)
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
     cols = list(table[0]) if table else []
-    with (out / "summary.csv").open("w") as fh:
-        fh.write(",".join(cols) + "\n")
-        fh.writelines(",".join(str(r[c]) for c in cols) + "\n" for r in table)
+    atomic_write(out / "summary.csv", "".join(",".join(str(v) for v in r) + "\n"
+                                              for r in [cols] + [[r[c] for c in cols] for r in table]))
     lines = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     lines += ["| " + " | ".join(f"{r[c]:.6g}" if isinstance(r[c], float) else str(r[c]) for c in cols) + " |"
               for r in table]
     text = "\n".join(lines)
-    (out / "summary.md").write_text(f"# auvplan bench: {len(rows)} runs\n\n{text}\n")
+    atomic_write(out / "summary.md", f"# auvplan bench: {len(rows)} runs\n\n{text}\n")
     from .bench import read_histories
     from .viz.plots import bench_figures
     from .viz.report import build_bench_report
 
     bench_figures(rows, out)
     page = build_bench_report(rows, table, read_histories(out / "histories.jsonl"))
-    (out / "bench.html").write_text(page, encoding="utf-8")
+    atomic_write(out / "bench.html", page)
     print(text)
     print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}, report {out / 'bench.html'}")
     return 0
@@ -264,6 +475,7 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
     p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("scenarios", help="list the built-in scenarios")
@@ -273,65 +485,103 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.set_defaults(func=_cmd_validate)
 
+    s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
+    ssub = s.add_subparsers(dest="scenario_command", required=True)
+    t = ssub.add_parser("new", help="write a commented scenario template (to FILE, or stdout)")
+    t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
+    t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
+    t.set_defaults(func=_cmd_scenario_new)
+    t = ssub.add_parser("schema", help="print the scenario format's versioned JSON Schema")
+    t.set_defaults(func=_cmd_scenario_schema)
+
     s = sub.add_parser("plan", help="plan a global path")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
-    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
-    s.add_argument("--budget", type=int, help="objective evaluations (equal budgets for comparisons)")
+    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
+    s.add_argument("--budget", type=_POSITIVE, help="objective evaluations (equal budgets for comparisons)")
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"),
+                   help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
+                        "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
+    s.add_argument("--step", default="15min", help="departure step of the sweep (default 15min)")
+    s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
     s.set_defaults(func=_cmd_plan)
 
-    s = sub.add_parser("simulate", help="simulate the vehicle following the route (or the planned path)")
+    s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
+    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
+    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
+    s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_simulate)
 
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
     s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
-    s.add_argument("--seed", type=int, help="random seed (default: the scenario's)")
+    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
     s.add_argument("--out", help="write every result file here")
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     s.set_defaults(func=_cmd_run)
 
     s = sub.add_parser("report", help="write report.html (and the exports) for a results directory of `run --out`")
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_report)
 
-    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP) for a results directory")
+    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
+                                      "nav_msgs/Path YAML) for a results directory")
     s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
+    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_export)
+
+    s = sub.add_parser("mission", help="work with exported mission files")
+    msub = s.add_subparsers(dest="mission_command", required=True)
+    c = msub.add_parser("check", help="re-fly mission files under their format's depth semantics against the "
+                                      "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
+    c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
+    c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--pitch", type=float, default=15.0,
+                   help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
+    c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
+    c.set_defaults(func=_cmd_mission_check)
 
     s = sub.add_parser("bench", help="sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)")
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
     s.add_argument("--planners", nargs="+", default=["scenario"], help="planner names, or 'scenario'")
     s.add_argument("--guidance", nargs="+", default=["scenario"], help="hybrid, los, ilos, or 'scenario'")
-    s.add_argument("--seeds", type=int, default=10, help="seeds 0..N-1 per cell")
-    s.add_argument("--budget", type=int, default=0, help="objective evaluations per plan (0: the scenario's)")
+    s.add_argument("--seeds", type=_POSITIVE, default=10, help="seeds 0..N-1 per cell")
+    s.add_argument("--budget", type=_SEED, default=0, help="objective evaluations per plan (0: the scenario's)")
     s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
     s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
     s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=("scenario", *AVOIDANCE),
                    help="local avoidance variants (an axis; 'scenario' = the scenario's own)")
-    s.add_argument("--chunk", type=int, default=10, help="seeds per dask task")
+    s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=2, help="local worker processes (a LocalCluster)")
+    g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")
     g.add_argument("--scheduler", help="address of an existing dask scheduler, e.g. tcp://host:8786")
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
     s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_bench)
 
     s = sub.add_parser("demo", help="run the built-in default scenario (dynamic-terrain) end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
+    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_demo)
     return p
 
@@ -347,9 +597,24 @@ def main(argv: list[str] | None = None) -> int:
                         format="%(levelname)s %(name)s: %(message)s")
     try:
         return args.func(args)
-    except AuvplanError as exc:
-        print(f"auvplan: error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        out = getattr(args, "out", None)
+        print(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing written",
+              file=sys.stderr)
+        return 130
+    except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
+        print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+
+
+def _one_line(exc: BaseException) -> str:
+    """The exception as one line (multi-line library messages folded); the type when it has no text."""
+    text = " ".join(str(exc).split())
+    if isinstance(exc, MemoryError):
+        return f"out of memory ({text or 'MemoryError'}); lower the sizes, or check [limits] memory_mb"
+    if isinstance(exc, AuvplanError) and text:
+        return text
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
 def main_entry() -> None:

@@ -40,7 +40,7 @@ from ._jit import kernel
 from .world import World
 from .world.terrain import elevation_kernel, min_altitude_kernel
 
-__all__ = ["CostModel", "CostTerms", "evaluate_paths", "segment_energy"]
+__all__ = ["CostModel", "CostTerms", "evaluate_paths", "segment_energy", "energy_kernel", "propulsion_power"]
 
 
 @dataclass(frozen=True)
@@ -163,16 +163,18 @@ def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel,
     c = world.currents.velocity(0.5 * (a + b)) if current is None else c[0]
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
-    _segment_energies(a, b, c, model.speed, _power(model), model.energy == "document", units, energy_j, dt, blocked)
+    _segment_energies(a, b, c, model.speed, propulsion_power(model), model.energy == "document", units, energy_j, dt,
+                      blocked)
     return units.reshape(lead), energy_j.reshape(lead), dt.reshape(lead), blocked.reshape(lead)
 
 
-def _power(model: CostModel) -> float:
+def propulsion_power(model: CostModel) -> float:
+    """Electrical power at the model's speed: hotel load + drag_k · V³ (W)."""
     return model.hotel_power + model.drag_k * model.speed**3
 
 
 @kernel
-def _energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document):
+def energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document):
     """One segment ``e`` of length ``ds`` in the current ``c``: track tangent ŝ, c∥ = c·ŝ,
     c⊥² = |c|² - c∥², ground speed c∥ + √(V² - c⊥²), time, energy (module notes).  Returns
     ``(units, joules, seconds, blocked)``; blocked where V < c⊥ or the ground speed is not positive."""
@@ -192,7 +194,7 @@ def _segment_energies(a, b, c, speed, power, document, units, energy_j, dt, bloc
     for k in range(a.shape[0]):
         ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
         ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-        units[k], energy_j[k], dt[k], blocked[k] = _energy_kernel(ex, ey, ez, ds, c[k, 0], c[k, 1], c[k, 2],
+        units[k], energy_j[k], dt[k], blocked[k] = energy_kernel(ex, ey, ez, ds, c[k, 0], c[k, 1], c[k, 2],
                                                                   speed, power, document)
 
 
@@ -235,7 +237,7 @@ def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_te
                 c = min(c, other_clear[i, s])
             ex, ey, ez = qx - px, qy - py, qz - pz
             ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-            u, j, t, blocked = _energy_kernel(ex, ey, ez, ds, current[i, s, 0], current[i, s, 1], current[i, s, 2],
+            u, j, t, blocked = energy_kernel(ex, ey, ez, ds, current[i, s, 0], current[i, s, 1], current[i, s, 2],
                                               speed, power, document)
             length += ds
             units += u
@@ -273,7 +275,7 @@ def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bo
     _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
-                model.speed, _power(model), model.energy == "document", out)
+                model.speed, propulsion_power(model), model.energy == "document", out)
     length, violations, depth, units, energy_j, duration, clearance = out
     violations = violations.astype(np.intp)
     terrain_cost = model.terrain_penalty * violations + model.violation_slope * depth

@@ -19,6 +19,7 @@ from ._types import RngLike, Status, as_rng
 from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
+from .guidance.mission import build_waypoints
 from .guidance.predictive import PredictiveAvoidance
 from .guidance.route import RouteTracker
 from .path import resample_polyline
@@ -37,6 +38,8 @@ __all__ = [
     "simulate",
     "run_mission",
     "route_from_path",
+    "mission_route",
+    "decimate",
 ]
 
 
@@ -173,7 +176,7 @@ def _obstacle_shapes(world: World, t: float, centres=None):
 
 
 def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None,
-             avoidance: str | None = None, keys=None) -> SimResult:
+             avoidance: str | None = None, keys=None, progress=None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -194,6 +197,9 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         document 004's escapes for ``escape_time`` s before ``DEADLOCK`` is declared.
     keys : array_like (K, 3), optional
         Key waypoints for the APF; derived from the route by document 004's rule by default.
+    progress : callable, optional
+        ``progress(t, expected)`` every simulated minute: the time flown and the time the route
+        should take at the vehicle's speed (s), for a progress bar.
     """
     t_wall = time.perf_counter()
     rng = as_rng(mission.seed if rng is None else rng)
@@ -247,8 +253,12 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     # their velocities (what the scenario knows; predictive avoidance may estimate them instead)
     velocities = np.gradient(tracks, dt, axis=0) if n_steps > 0 else np.zeros_like(tracks)
     radii = [o.shape.bounding_radius for o in world.moving]
+    every = max(1, int(round(60.0 / dt)))
+    expected = tracker.total_length / vp.speed
     for k in range(n_steps + 1):
         t = k * dt
+        if progress is not None and k % every == 0:
+            progress(t, expected)
         pos = np.array([s.x, s.y, s.z])
         shapes = _obstacle_shapes(world, t, tracks[k].tolist())
         dists = [_distance(sh, pos, far) for sh in shapes]
@@ -356,16 +366,44 @@ class RunRecord:
 
 
 def route_from_path(path, spacing: float) -> np.ndarray:
-    """Waypoints every ``spacing`` metres along a dense planned path (ends kept)."""
+    """Waypoints every ``spacing`` metres along a dense planned path (ends kept; not checked:
+    use :func:`mission_route` for the mission a vehicle flies)."""
     return resample_polyline(path, spacing)
 
 
+def mission_route(world: World, mission: Mission, path) -> np.ndarray:
+    """The executable mission of a planned ``path``: the waypoints the simulation flies and every
+    export carries (:func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed,
+    3D Douglas–Peucker where the exact envelope test decides what may be dropped)."""
+    return build_waypoints(path, world)
+
+
+def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) -> SimResult:
+    """The run with one recorded sample every ``every_m`` metres or ``every_s`` seconds (whichever
+    comes first), plus the first and last samples and those of least altitude and least obstacle
+    distance (exports and reports; the full-resolution result stays in ``run.npz``)."""
+    n = result.t.size
+    if n <= 2:
+        return result
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(result.position, axis=0), axis=1))]
+    keep = np.zeros(n, dtype=bool)
+    keep[np.unique(np.searchsorted(s, np.arange(0.0, s[-1], every_m)))] = True
+    keep[np.unique(np.searchsorted(result.t, np.arange(0.0, result.t[-1], every_s)))] = True
+    keep[[0, n - 1, int(np.argmin(result.altitude))]] = True
+    if result.obstacle_distance.size:
+        keep[int(np.argmin(result.obstacle_distance.min(axis=1)))] = True
+    arrays = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
+              "obstacle_distance")
+    return replace(result, **{k: getattr(result, k)[keep] for k in arrays})
+
+
 def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
-                guidance: str | None = None, avoidance: str | None = None) -> RunRecord:
+                guidance: str | None = None, avoidance: str | None = None, flight=None) -> RunRecord:
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no
-    simulation (its status says why).
+    simulation (its status says why).  ``progress`` is the planner's progress callback,
+    ``flight`` the simulation's (see :func:`simulate`).
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
@@ -376,9 +414,8 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
         planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
         if not planned.status.ok:
             return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
-        length = float(np.linalg.norm(np.diff(planned.path, axis=0), axis=1).sum())
-        spacing = max(4.0 * mission.hybrid.switch_radius, length / 200.0)
-        route = route_from_path(planned.path, spacing)
+        route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
-    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
+    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
+                      progress=flight)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

@@ -1,14 +1,15 @@
-"""Read seabed elevation grids (GEBCO, ETOPO, GMT, generic CF NetCDF) into a :class:`Terrain`.
+"""Read seabed elevation grids (GEBCO, ETOPO, EMODnet, GMT, Ferret NetCDF, GeoTIFF) into a :class:`Terrain`.
 
-What the reader handles, each covered by a round-trip test:
+What the reader handles, each covered by a round-trip test (file layouts: :mod:`auvplan.io.elevation`):
 
 * the elevation variable found by CF ``standard_name``, common names
   (``elevation``, ``z``, ``topo``, ``depth``, ``Band1`` …) or given explicitly;
 * elevation positive up or depth positive down (``positive`` attribute,
   ``standard_name``, the variable's name, or the ``positive`` option);
-* geographic axes (lat/lon, by ``standard_name``, ``units`` or name; 0–360
-  longitudes; descending axes) projected about the scenario origin with
-  pyproj, or metric x/y axes used as they are;
+* geographic axes (1-D or 2-D lat/lon, coordinate-less dimensions with 1-D lat/lon
+  variables, 0–360 longitudes, descending axes), CF ``grid_mapping`` and GeoTIFF
+  projections (e.g. UTM), all projected about the scenario origin with pyproj;
+  metric x/y axes without a CRS are used as they are;
 * fill values / NaN: ``nan_policy="error"`` (default, a clear error naming the
   count and the first location), ``"land"`` (no-go: elevation +1 m) or
   ``"nearest"`` (nearest valid value);
@@ -23,48 +24,39 @@ depth and is treated as no-go).
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from pyproj import Transformer
 from scipy import ndimage
 
 from ..errors import DataError
 from ..world.terrain import Terrain
-from .geo import LocalFrame, normalise_lon, regrid_lonlat
+from .elevation import read_elevation
+from .geo import LocalFrame, normalise_lon
+from .grids import HorizontalGrid, data_span, horizontal_grid, to_local
 
 __all__ = [
     "TerrainSpec",
     "read_bathymetry",
     "terrain_from_lonlat",
     "terrain_from_xy",
+    "terrain_from_grid",
     "load_terrain",
     "BUILTIN_TERRAINS",
     "builtin_terrain_path",
 ]
 
+log = logging.getLogger(__name__)
+
 BUILTIN_TERRAINS = {
     "etopo1-marcus-wake": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 14.2-16.3 N, 157.9-160.0 E (seamounts)",
     "matplotlib-topobathy": "matplotlib sample topobathy.npz, 48-50 N, 126-122 W, ~2.4 km (Juan de Fuca, Georgia)",
 }
-
-_UP_STANDARD = {
-    "height_above_mean_sea_level",
-    "height_above_reference_ellipsoid",
-    "height_above_geoid",
-    "altitude",
-    "surface_altitude",
-    "height",
-    "sea_floor_elevation",
-}
-_DOWN_STANDARD = {"sea_floor_depth_below_sea_surface", "sea_floor_depth_below_geoid", "sea_floor_depth", "depth"}
-_UP_NAMES = ("elevation", "elev", "z", "topo", "topography", "height", "bathymetry", "band1", "altitude")
-_DOWN_NAMES = ("depth", "deptho", "bathy_depth", "sea_floor_depth")
-_LON_UNITS = {"degrees_east", "degree_east", "degree_e", "degrees_e", "degreee", "degreese"}
-_LAT_UNITS = {"degrees_north", "degree_north", "degree_n", "degrees_n", "degreen", "degreesn"}
-
 
 @dataclass(frozen=True)
 class TerrainSpec:
@@ -125,61 +117,7 @@ def builtin_terrain_path(name: str) -> Path:
     return Path(str(resources.files("auvplan") / "data" / "etopo1_seed_marcus_wake.nc"))
 
 
-# ---------------------------------------------------------------------- variable detection
-def _attr(obj, name: str) -> str:
-    return str(obj.attrs.get(name, "")).strip().lower()
-
-
-def _find_elevation(ds: xr.Dataset, variable: str, src: str) -> str:
-    if variable:
-        if variable not in ds.data_vars:
-            raise DataError(f"{src}: variable {variable!r} not found; it has {sorted(map(str, ds.data_vars))}")
-        return variable
-    two_d = [str(k) for k, v in ds.data_vars.items() if v.ndim == 2]
-    for k in two_d:
-        if _attr(ds[k], "standard_name") in _UP_STANDARD | _DOWN_STANDARD:
-            return k
-    for names in (_UP_NAMES, _DOWN_NAMES):
-        for k in two_d:
-            if k.lower() in names:
-                return k
-    if len(two_d) == 1:
-        return two_d[0]
-    raise DataError(
-        f"{src}: cannot tell which variable is the elevation among {two_d or sorted(map(str, ds.data_vars))}; "
-        "name it with 'variable'"
-    )
-
-
-def _is_down(da: xr.DataArray, positive: str) -> bool:
-    if positive:
-        return positive == "down"
-    pos = _attr(da, "positive")
-    if pos in ("up", "down"):
-        return pos == "down"
-    if _attr(da, "standard_name") in _DOWN_STANDARD:
-        return True
-    return str(da.name).lower() in _DOWN_NAMES
-
-
-def _axis_kind(ds: xr.Dataset, dim: str) -> str:
-    """'lon', 'lat', 'x' or 'y' for a dimension, from CF attributes or its name."""
-    coord = ds[dim] if dim in ds.variables else None
-    std = _attr(coord, "standard_name") if coord is not None else ""
-    units = _attr(coord, "units").replace(" ", "") if coord is not None else ""
-    long_name = _attr(coord, "long_name") if coord is not None else ""
-    name = dim.lower()
-    if std == "longitude" or units in _LON_UNITS or name in ("lon", "longitude", "long") or long_name == "longitude":
-        return "lon"
-    if std == "latitude" or units in _LAT_UNITS or name in ("lat", "latitude") or long_name == "latitude":
-        return "lat"
-    if std == "projection_x_coordinate" or name in ("x", "easting", "east"):
-        return "x" if units in ("m", "metre", "meter", "metres", "meters", "km", "") else "lon"
-    if std == "projection_y_coordinate" or name in ("y", "northing", "north"):
-        return "y" if units in ("m", "metre", "meter", "metres", "meters", "km", "") else "lat"
-    raise DataError(f"axis {dim!r}: cannot tell whether it is longitude, latitude, x or y (units {units!r})")
-
-
+# ---------------------------------------------------------------------- grid → Terrain
 def _fill_nan(z: np.ndarray, policy: str, src: str, where) -> np.ndarray:
     bad = ~np.isfinite(z)
     if not bad.any():
@@ -198,10 +136,47 @@ def _fill_nan(z: np.ndarray, policy: str, src: str, where) -> np.ndarray:
     return z[tuple(idx)]
 
 
-# ---------------------------------------------------------------------- grid → Terrain
-def terrain_from_lonlat(
-    lon,
-    lat,
+def _crop_axis(axis: np.ndarray, lo: float, hi: float, side_lo: str, side_hi: str, name: str, clipped: list):
+    """Index range of ``axis`` covering ``[lo, hi]`` plus one node of margin; a request beyond the data
+    is clipped to the data's edge (noted in ``clipped``)."""
+    if lo < axis[0]:
+        clipped.append(f"{side_lo} edge {lo:.5f} → {axis[0]:.5f}")
+    if hi > axis[-1]:
+        clipped.append(f"{side_hi} edge {hi:.5f} → {axis[-1]:.5f}")
+    i0 = max(int(np.searchsorted(axis, lo, side="right")) - 2, 0)
+    i1 = min(int(np.searchsorted(axis, hi, side="left")) + 2, axis.size)
+    return i0, i1
+
+
+def _crop(grid: HorizontalGrid, z: np.ndarray, box: tuple[float, ...], name: str):
+    """Crop a lon/lat or projected grid to a lat/lon ``box``; parts of the box beyond the data are clipped
+    with a warning (the projection step then reports any side the scenario bounds still miss)."""
+    la0, la1, lo0, lo1 = box
+    if grid.kind == "lonlat":
+        lon = grid.cols
+        lo0 = lon[0] + np.mod(lo0 - lon[0], 360.0)
+        lo1 = lo0 + np.mod(lo1 - lo0, 360.0)
+        if lo0 > lon[-1] and lo0 - 360.0 < lon[0] <= lo1 - 360.0:  # box starts west of a data edge at 0/360
+            lo0, lo1 = lo0 - 360.0, lo1 - 360.0
+        r_lo, r_hi, c_lo, c_hi = la0, la1, lo0, lo1
+    else:
+        tr = Transformer.from_crs("EPSG:4326", grid.crs, always_xy=True)
+        c_lo, r_lo, c_hi, r_hi = tr.transform_bounds(lo0, la0, lo1, la1, densify_pts=101)
+    if r_hi < grid.rows[0] or r_lo > grid.rows[-1] or c_hi < grid.cols[0] or c_lo > grid.cols[-1]:
+        raise DataError(f"{name}: the box {list(box)} does not overlap the data ({data_span(grid)})")
+    clipped: list[str] = []
+    j0, j1 = _crop_axis(grid.rows, r_lo, r_hi, "south", "north", name, clipped)
+    i0, i1 = _crop_axis(grid.cols, c_lo, c_hi, "west", "east", name, clipped)
+    if clipped:
+        log.warning("%s: the box %s reaches beyond the data; clipped (%s)", name, list(box), "; ".join(clipped))
+    if i1 - i0 < 2 or j1 - j0 < 2:
+        raise DataError(f"{name}: the box {list(box)} leaves fewer than 2 x 2 grid nodes")
+    cropped = HorizontalGrid(grid.kind, grid.rows[j0:j1], grid.cols[i0:i1], grid.crs, grid.layout)
+    return cropped, z[j0:j1, i0:i1]
+
+
+def terrain_from_grid(
+    grid: HorizontalGrid,
     elevation,
     *,
     frame: LocalFrame,
@@ -212,12 +187,34 @@ def terrain_from_lonlat(
     nan_policy: str = "error",
     name: str = "",
 ) -> Terrain:
-    """Build a Terrain from elevation (positive up) on a lat/lon grid ``(nlat, nlon)``.
+    """Project elevation (positive up) on any :class:`HorizontalGrid` into ``frame`` as a Terrain.
 
-    Axes may be descending and longitudes 0–360 or ±180; ``box`` crops
-    (keeping one node of margin), then the grid is projected into ``frame`` and
-    resampled onto a regular metric grid.
+    ``box`` crops (keeping one node of margin; a box beyond the data is clipped with a warning),
+    then the grid is projected and resampled onto a regular metric grid covering ``extent_m``
+    (default: the largest rectangle inside the data); an extent the data miss is an error naming
+    the uncovered side.
     """
+    z = np.asarray(elevation, dtype=float)
+    if z.size == 0:
+        raise DataError(f"{name}: empty grid")
+    if box and grid.kind in ("lonlat", "projected"):
+        grid, z = _crop(grid, z, box, name)
+    if grid.kind == "lonlat":
+        where = lambda j, i: f"lat {grid.rows[j]:.4f}, lon {normalise_lon(grid.cols[i]):.4f}"  # noqa: E731
+    elif grid.kind == "curvilinear":
+        where = lambda j, i: f"lat {grid.rows[j, i]:.4f}, lon {normalise_lon(grid.cols[j, i]):.4f}"  # noqa: E731
+    else:
+        where = lambda j, i: f"x {grid.cols[i]:.1f}, y {grid.rows[j]:.1f}"  # noqa: E731
+    if grid.kind == "local":
+        return terrain_from_xy(grid.cols, grid.rows, z, resample_m=resample_m, nan_policy=nan_policy, name=name)
+    z = _fill_nan(z, nan_policy, name, where)
+    x, y, zz = to_local(grid, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method, what=name)
+    return Terrain(x, y, zz, name=name)
+
+
+def terrain_from_lonlat(lon, lat, elevation, *, frame: LocalFrame, name: str = "", **kw) -> Terrain:
+    """Build a Terrain from elevation (positive up) on 1-D lat/lon axes ``(nlat, nlon)`` (any order,
+    0–360 or ±180); the keywords are those of :func:`terrain_from_grid`."""
     lon = np.asarray(lon, dtype=float).reshape(-1)
     lat = np.asarray(lat, dtype=float).reshape(-1)
     z = np.asarray(elevation, dtype=float)
@@ -225,37 +222,11 @@ def terrain_from_lonlat(
         raise DataError(f"{name}: empty grid (lat {lat.size}, lon {lon.size})")
     if z.shape != (lat.size, lon.size):
         raise DataError(f"{name}: elevation shape {z.shape} does not match (lat, lon) = ({lat.size}, {lon.size})")
-    # ascending axes; longitudes made monotonic on one branch
-    if lat.size > 1 and lat[0] > lat[-1]:
-        lat, z = lat[::-1], z[::-1]
-    if lon.size > 1 and lon[0] > lon[-1]:
-        lon, z = lon[::-1], z[:, ::-1]
-    lon = lon[0] + np.mod(lon - lon[0], 360.0)
-    if np.any(np.diff(lon) <= 0) or np.any(np.diff(lat) <= 0):
-        raise DataError(f"{name}: latitude and longitude axes must be strictly monotonic")
-    if box:
-        la0, la1, lo0, lo1 = box
-        lo0 = lon[0] + np.mod(lo0 - lon[0], 360.0)
-        lo1 = lo0 + np.mod(lo1 - lo0, 360.0)
-        if la1 < lat[0] or la0 > lat[-1] or lo0 > lon[-1]:
-            raise DataError(
-                f"{name}: the box {list(box)} does not overlap the data "
-                f"(lat {lat[0]:.4f}..{lat[-1]:.4f}, lon {normalise_lon(lon[0]):.4f}..{normalise_lon(lon[-1]):.4f})"
-            )
-        i0 = max(int(np.searchsorted(lon, lo0, side="right")) - 2, 0)
-        i1 = min(int(np.searchsorted(lon, lo1, side="left")) + 2, lon.size)
-        j0 = max(int(np.searchsorted(lat, la0, side="right")) - 2, 0)
-        j1 = min(int(np.searchsorted(lat, la1, side="left")) + 2, lat.size)
-        lon, lat, z = lon[i0:i1], lat[j0:j1], z[j0:j1, i0:i1]
-        if lon.size < 2 or lat.size < 2:
-            raise DataError(f"{name}: the box {list(box)} leaves fewer than 2 x 2 grid nodes")
-    if lon.size < 2 or lat.size < 2:
-        raise DataError(f"{name}: the grid needs at least 2 x 2 nodes, got {lat.size} x {lon.size}")
-    z = _fill_nan(z, nan_policy, name, lambda j, i: f"lat {lat[j]:.4f}, lon {normalise_lon(lon[i]):.4f}")
-    x, y, zz = regrid_lonlat(
-        lon, lat, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method, what=name
-    )
-    return Terrain(x, y, zz, name=name)
+    ds = xr.Dataset({"z": (("lat", "lon"), z)}, coords={"lat": lat, "lon": lon})
+    _, _, grid, flip_r, flip_c = horizontal_grid(ds, ds["z"], name)
+    z = z[::-1] if flip_r else z
+    z = z[:, ::-1] if flip_c else z
+    return terrain_from_grid(grid, z, frame=frame, name=name, **kw)
 
 
 def terrain_from_xy(x, y, elevation, *, resample_m: float = 0.0, nan_policy: str = "error", name: str = "") -> Terrain:
@@ -299,48 +270,29 @@ def read_bathymetry(
     method: str = "cubic",
     nan_policy: str = "error",
 ) -> Terrain:
-    """Read a NetCDF bathymetry/topography grid into a Terrain.
+    """Read a bathymetry/topography grid (NetCDF in any supported layout, or GeoTIFF) into a Terrain.
 
-    Geographic grids need ``frame`` (the local frame about the scenario origin);
-    without one, the frame is centred on the (cropped) grid.
+    Geographic and projected grids need ``frame`` (the local frame about the scenario origin);
+    without one, the frame is centred on the box or on the data.
     """
-    path = Path(path)
-    src = str(path)
-    if not path.is_file():
-        raise DataError(f"{src}: bathymetry file not found")
-    try:
-        ds = xr.open_dataset(path, mask_and_scale=True)
-    except Exception as exc:  # xarray raises many types for unreadable files
-        raise DataError(f"{src}: cannot read as NetCDF ({exc})") from exc
-    with ds:
-        var = _find_elevation(ds, variable, src)
-        da = ds[var]
-        if da.ndim != 2:
-            raise DataError(f"{src}: variable {var!r} must be 2-D, has dims {da.dims}")
-        kinds = [_axis_kind(ds, str(d)) for d in da.dims]
-        if sorted(kinds) not in (["lat", "lon"], ["x", "y"]):
-            raise DataError(f"{src}: variable {var!r} has axes {dict(zip(da.dims, kinds))}; need lat/lon or x/y")
-        order = ["lat", "lon"] if "lat" in kinds else ["y", "x"]
-        da = da.transpose(*[da.dims[kinds.index(k)] for k in order])
-        z = np.asarray(da.values, dtype=float)
-        if _is_down(da, positive):
-            z = -z
-        a0 = np.asarray(ds[da.dims[0]].values, dtype=float) if da.dims[0] in ds.variables else None
-        a1 = np.asarray(ds[da.dims[1]].values, dtype=float) if da.dims[1] in ds.variables else None
-        if a0 is None or a1 is None:
-            raise DataError(f"{src}: variable {var!r} has a dimension without coordinate values")
-        if order[1] == "x" and _attr(ds[da.dims[1]], "units") == "km":
-            a0, a1 = a0 * 1000.0, a1 * 1000.0
-    name = f"{path.name}:{var}"
-    if order[0] == "lat":
-        if frame is None:
-            lat0 = float(np.mean(box[:2]) if box else a0.mean())
-            frame = LocalFrame(lat0, float(np.mean(box[2:]) if box else a1.mean()))
-        return terrain_from_lonlat(
-            a1, a0, z, frame=frame, box=box, extent_m=extent_m, resample_m=resample_m,
-            method=method, nan_policy=nan_policy, name=name,
-        )
-    return terrain_from_xy(a1, a0, z, resample_m=resample_m, nan_policy=nan_policy, name=name)
+    eg = read_elevation(path, variable=variable, positive=positive)
+    grid = eg.grid
+    if frame is None and grid.kind != "local":
+        if box:
+            frame = LocalFrame(0.5 * (box[0] + box[1]), 0.5 * (box[2] + box[3]))
+        else:
+            lon, lat = _centre_lonlat(grid)
+            frame = LocalFrame(lat, lon)
+    return terrain_from_grid(grid, eg.z, frame=frame, box=box, extent_m=extent_m, resample_m=resample_m,
+                             method=method, nan_policy=nan_policy, name=eg.name)
+
+
+def _centre_lonlat(grid: HorizontalGrid) -> tuple[float, float]:
+    if grid.kind == "projected":
+        tr = Transformer.from_crs(grid.crs, "EPSG:4326", always_xy=True)
+        lon, lat = tr.transform(float(np.mean(grid.cols)), float(np.mean(grid.rows)))
+        return float(lon), float(lat)
+    return float(np.mean(grid.cols)), float(np.mean(grid.rows))
 
 
 def _topobathy():

@@ -1,17 +1,29 @@
-"""Read gridded ocean currents from CF NetCDF into a :class:`GriddedCurrent`.
+"""Read gridded ocean currents from CF NetCDF (CMEMS, HYCOM, ROMS, …) into a :class:`GriddedCurrent`.
 
-Variables are found by CF ``standard_name`` (``eastward_sea_water_velocity``,
-``northward_sea_water_velocity``, optional ``upward_sea_water_velocity``) or
-common names (``u``/``v``/``w``, ``uo``/``vo``/``wo``, ``water_u``/``water_v``),
-or named explicitly.  Axes: longitude/latitude (projected about the scenario
-origin and resampled linearly onto a metric grid) or metric x/y; an optional
-depth axis (positive down, or elevation positive up); an optional time axis
-(seconds from its first value, or decoded datetimes measured from the first).
+* Variables by CF ``standard_name`` (``eastward_sea_water_velocity``,
+  ``northward_sea_water_velocity``, optional ``upward_sea_water_velocity``; or the
+  grid-relative ``sea_water_x_velocity``/``sea_water_y_velocity``), common names
+  (``u``/``v``/``w``, ``uo``/``vo``/``wo``, ``water_u``/``water_v``) or named explicitly.
+* Horizontal grids: every layout of :mod:`auvplan.io.grids` (lat/lon, Ferret
+  coordinate-less, 2-D lat/lon, CF ``grid_mapping`` projections, local metres),
+  resampled linearly onto the scenario's bounds in the local frame; the vectors
+  are turned from east/north (or the source grid's axes) into the local x/y axes.
+* ``units`` converted to m/s with pint (cf_xarray's CF unit registry: ``m s-1``,
+  ``cm s-1``, ``knots`` …); a variable without units is taken as m/s with a warning.
+* Land masks: missing values (NaN or ``_FillValue``) below the deepest valid
+  level of a column take that level's value; columns with no valid value (land)
+  get zero current.  Land itself is no-go through the bathymetry (and ``[land]``).
+* Depth axis positive down (``positive``, ``standard_name``) or elevation up;
+  time axis decoded from CF units (xarray/cftime, any calendar) and measured in
+  seconds from the scenario's ``[mission] start_time`` (ISO 8601), which must lie
+  inside the file's time span; without a start time, from the file's first time.
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
@@ -19,14 +31,19 @@ import xarray as xr
 
 from ..errors import DataError
 from ..world.currents import GriddedCurrent
-from .geo import LocalFrame, regrid_lonlat
+from .geo import LocalFrame
+from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
 
-__all__ = ["CurrentsFileSpec", "read_currents"]
+__all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
+
+log = logging.getLogger(__name__)
 
 _NAMES = {
-    "u": ("eastward_sea_water_velocity", ("u", "uo", "water_u", "east_vel", "ucur")),
-    "v": ("northward_sea_water_velocity", ("v", "vo", "water_v", "north_vel", "vcur")),
-    "w": ("upward_sea_water_velocity", ("w", "wo", "water_w", "up_vel", "wcur")),
+    "u": (("eastward_sea_water_velocity", "sea_water_x_velocity", "eastward_sea_water_velocity_assuming_no_tide",
+           "surface_eastward_sea_water_velocity"), ("u", "uo", "water_u", "east_vel", "ucur", "uvel")),
+    "v": (("northward_sea_water_velocity", "sea_water_y_velocity", "northward_sea_water_velocity_assuming_no_tide",
+           "surface_northward_sea_water_velocity"), ("v", "vo", "water_v", "north_vel", "vcur", "vvel")),
+    "w": (("upward_sea_water_velocity",), ("w", "wo", "water_w", "up_vel", "wcur")),
 }
 
 
@@ -44,122 +61,212 @@ class CurrentsFileSpec:
             raise ValueError("path: the current file name is empty")
 
 
+def parse_time(text: str) -> np.datetime64:
+    """An ISO 8601 date-time (``2024-03-01T06:00:00Z``, offsets allowed) as UTC ``datetime64[ns]``."""
+    try:
+        t = datetime.fromisoformat(text.strip())
+    except ValueError as exc:
+        raise ValueError(f"{text!r} is not an ISO 8601 date-time (e.g. 2024-03-01T06:00:00Z)") from exc
+    if t.tzinfo is not None:
+        t = t.astimezone(UTC).replace(tzinfo=None)
+    return np.datetime64(t, "ns")
+
+
+def velocity_factor(units: str, where: str) -> float:
+    """Factor from ``units`` (CF/UDUNITS text) to m/s, through pint's CF registry."""
+    from cf_xarray.units import units as ureg  # pint registry with CF/UDUNITS syntax
+
+    try:
+        q = ureg.Quantity(1.0, units)
+    except Exception as exc:  # pint raises several types for unparsable units
+        raise DataError(f"{where}: units {units!r} cannot be parsed ({exc})") from exc
+    if not q.check("[length] / [time]"):
+        raise DataError(f"{where}: units {units!r} are not a velocity (dimension {q.dimensionality})")
+    return float(q.to("m/s").magnitude)
+
+
 def _find(ds: xr.Dataset, comp: str, explicit: str, src: str, required: bool) -> str | None:
     if explicit:
         if explicit not in ds.data_vars:
             raise DataError(f"{src}: variable {explicit!r} not found; it has {sorted(map(str, ds.data_vars))}")
         return explicit
-    std, names = _NAMES[comp]
-    for k, v in ds.data_vars.items():
-        if str(v.attrs.get("standard_name", "")).lower() == std:
-            return str(k)
+    stds, names = _NAMES[comp]
+    for std in stds:
+        for k, v in ds.data_vars.items():
+            if str(v.attrs.get("standard_name", "")).lower() == std:
+                return str(k)
     for k in ds.data_vars:
         if str(k).lower() in names:
             return str(k)
     if required:
-        raise DataError(f"{src}: no {std} variable (standard_name or a common name such as {names[0]!r})")
+        raise DataError(f"{src}: no {stds[0]} variable (standard_name or a common name such as {names[1]!r})")
     return None
 
 
-def _classify(ds: xr.Dataset, dim: str) -> str:
-    c = ds[dim] if dim in ds.variables else None
-    attrs = {} if c is None else {k: str(v).lower() for k, v in c.attrs.items()}
-    std, units, name = attrs.get("standard_name", ""), attrs.get("units", ""), dim.lower()
-    if c is not None and np.issubdtype(c.dtype, np.datetime64):
-        return "t"
-    if std == "time" or name in ("time", "t") or " since " in units:
-        return "t"
-    if std == "longitude" or units.startswith("degrees_e") or name in ("lon", "longitude"):
-        return "lon"
-    if std == "latitude" or units.startswith("degrees_n") or name in ("lat", "latitude"):
-        return "lat"
-    if std == "depth" or name in ("depth", "z", "lev", "level", "height", "elevation"):
-        return "z"
-    if name in ("x", "easting") or std == "projection_x_coordinate":
-        return "x"
-    if name in ("y", "northing") or std == "projection_y_coordinate":
-        return "y"
-    raise DataError(f"axis {dim!r}: cannot tell whether it is time, depth, latitude/longitude or x/y")
+def _open(path: Path, src: str) -> xr.Dataset:
+    if not path.is_file():
+        raise DataError(f"{src}: current file not found")
+    try:
+        return xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None))
+    except Exception as exc:  # xarray raises many types for unreadable files or undecodable times
+        raise DataError(f"{src}: cannot read as CF NetCDF ({exc})") from exc
 
 
-def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir: Path | None = None) -> GriddedCurrent:
-    """Read a current file described by ``spec`` into the local frame."""
+def _component(ds, name, dims, flips, src) -> np.ndarray:
+    da = ds[name]
+    if set(map(str, da.dims)) != set(dims):
+        raise DataError(f"{src}: variable {name!r} has dims {da.dims}, expected {tuple(dims)}")
+    arr = np.array(da.transpose(*dims).values, dtype=float)
+    for axis, flip in enumerate(flips):
+        if flip:
+            arr = np.flip(arr, axis=axis)
+    units = str(da.attrs.get("units", "")).strip()
+    if units:
+        arr = arr * velocity_factor(units, f"{src}: variable {name!r}")
+    else:
+        log.warning("%s: variable %r has no units; taken as m/s", src, name)
+    return arr
+
+
+def _fill_land(arr: np.ndarray, has_z: bool, src: str, name: str) -> tuple[np.ndarray, int]:
+    """Missing values → the deepest valid value above them in the column, else zero (land).
+    ``arr`` is ``(nt, nz, ny, nx)`` with z ascending (deepest first)."""
+    bad = ~np.isfinite(arr)
+    if bad.all():
+        raise DataError(f"{src}: variable {name!r}: every value is missing (fill/NaN)")
+    if has_z:
+        for k in range(arr.shape[1] - 2, -1, -1):  # from just below the surface downwards
+            arr[:, k] = np.where(np.isfinite(arr[:, k]), arr[:, k], arr[:, k + 1])
+    land = int(np.count_nonzero(~np.isfinite(arr[:, -1]).any(axis=0)))
+    return np.where(np.isfinite(arr), arr, 0.0), land
+
+
+def _time_axis(ds, tdim, start_time: str, src: str) -> np.ndarray:
+    """Seconds of the time axis from ``start_time`` (or from the first time)."""
+    var = ds[tdim] if tdim in ds.variables else None
+    if var is None:
+        raise DataError(f"{src}: time dimension {tdim!r} has no coordinate values")
+    vals = np.asarray(var.values)
+    if np.issubdtype(vals.dtype, np.datetime64):
+        ref = parse_time(start_time) if start_time else vals.min()
+        secs = (vals - ref).astype("timedelta64[ns]").astype(float) / 1e9
+        shown = (str(vals.min())[:19], str(vals.max())[:19])
+    elif vals.dtype == object:  # cftime dates of a non-standard calendar
+        import cftime
+
+        cal = vals[0].calendar
+        ref = str(parse_time(start_time))[:19] if start_time else vals.min().isoformat()
+        secs = np.asarray(cftime.date2num(list(vals), f"seconds since {ref}", calendar=cal), dtype=float)
+        shown = (vals.min().isoformat(), vals.max().isoformat())
+    else:
+        units = str(var.attrs.get("units", "")).lower()
+        if start_time:
+            raise DataError(f"{src}: time variable {tdim!r} has units {units!r}, not a CF 'UNITS since DATE' "
+                            "time; [mission] start_time cannot be matched to it")
+        factor = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "h": 3600.0, "hours": 3600.0,
+                  "hour": 3600.0, "": 1.0}.get(units)
+        if factor is None:
+            raise DataError(f"{src}: time variable {tdim!r} has units {units!r}; use CF 'seconds since DATE'")
+        secs = (vals.astype(float) - float(vals.min())) * factor
+        return secs
+    if start_time and vals.size > 1 and not (secs.min() <= 0.0 <= secs.max()):
+        raise DataError(f"{src}: time variable {tdim!r} covers {shown[0]} .. {shown[1]}; "
+                        f"[mission] start_time {start_time} is outside it")
+    return secs
+
+
+def _z_axis(ds, zdim, src) -> np.ndarray:
+    var = ds[zdim] if zdim in ds.variables else None
+    if var is None:
+        raise DataError(f"{src}: depth dimension {zdim!r} has no coordinate values")
+    zv = np.asarray(var.values, dtype=float)
+    attrs = {k: str(v).lower() for k, v in var.attrs.items()}
+    pos = attrs.get("positive", "")
+    std = attrs.get("standard_name", "")
+    down = pos == "down" or (pos != "up" and (std == "depth" or zdim.lower().startswith("depth")
+                                              or (std == "" and np.all(zv >= 0))))
+    return -zv if down else zv
+
+
+def _directions(grid: HorizontalGrid, frame: LocalFrame, x, y, grid_relative: bool):
+    """Unit vectors (local x/y) of the components' directions at the local nodes ``(x, y)``:
+    east/north, or the source projection's x/y axes for grid-relative components."""
+    gx, gy = np.meshgrid(x, y)
+    lon, lat = frame.inverse(gx, gy)
+    if grid.kind == "projected" and grid_relative:
+        from pyproj import Transformer
+
+        to_src = Transformer.from_crs("EPSG:4326", grid.crs, always_xy=True)
+        to_geo = Transformer.from_crs(grid.crs, "EPSG:4326", always_xy=True)
+        cx, cy = to_src.transform(lon, lat)
+        h = 1.0
+        moves = [to_geo.transform(cx + h, cy), to_geo.transform(cx, cy + h)]
+    else:
+        d = 1e-5
+        moves = [(lon + d, lat), (lon, lat + d)]
+    out = []
+    for mlon, mlat in moves:
+        mx, my = frame.forward(mlon, mlat)
+        vx, vy = mx - gx, my - gy
+        n = np.hypot(vx, vy)
+        out.append((vx / n, vy / n))
+    return out
+
+
+def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir: Path | None = None,
+                  extent_m: tuple[float, float, float, float] | None = None, start_time: str = "") -> GriddedCurrent:
+    """Read the current file of ``spec`` into the local frame over ``extent_m`` (default: the data's own).
+
+    Raises
+    ------
+    DataError
+        Naming the file, the variable and the fault (missing variable, units, uncovered area or time).
+    """
     path = Path(spec.path)
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
     src = str(path)
-    if not path.is_file():
-        raise DataError(f"{src}: current file not found")
-    try:
-        ds = xr.open_dataset(path)
-    except Exception as exc:  # xarray raises many types for unreadable files
-        raise DataError(f"{src}: cannot read as NetCDF ({exc})") from exc
-    with ds:
+    with _open(path, src) as ds:
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
         da_u = ds[names["u"]]
-        kinds = {str(d): _classify(ds, str(d)) for d in da_u.dims}
-        order = [k for k in ("t", "z") if k in kinds.values()]
-        horiz = ["lat", "lon"] if "lat" in kinds.values() else ["y", "x"]
-        if not set(horiz) <= set(kinds.values()):
-            raise DataError(f"{src}: variable {names['u']!r} needs lat/lon or x/y axes, has {kinds}")
-        dims = [next(d for d, k in kinds.items() if k == want) for want in order + horiz]
-        comps = []
-        for c in "uvw":
-            if names[c] is None:
-                comps.append(None)
+        rdim, cdim, grid, flip_r, flip_c = horizontal_grid(ds, da_u, src)
+        lead = {}
+        for d in map(str, da_u.dims):
+            if d in (rdim, cdim):
                 continue
-            da = ds[names[c]]
-            if set(map(str, da.dims)) != set(dims):
-                raise DataError(f"{src}: variable {names[c]!r} has dims {da.dims}, expected {tuple(dims)}")
-            arr = np.asarray(da.transpose(*dims).values, dtype=float)
-            if not np.all(np.isfinite(arr)):
-                raise DataError(f"{src}: variable {names[c]!r} has missing values; currents must be complete")
-            comps.append(arr)
-        axes = {k: np.asarray(ds[d].values) for d, k in kinds.items() if d in ds.variables}
-        z_attrs = {}
-        if "z" in kinds.values():
-            zdim = next(d for d, k in kinds.items() if k == "z")
-            z_attrs = {k: str(v).lower() for k, v in ds[zdim].attrs.items()} if zdim in ds.variables else {}
-    # time axis in seconds from its first value
-    t = None
-    if "t" in axes:
-        ta = axes["t"]
-        t = (ta - ta[0]).astype("timedelta64[ns]").astype(float) / 1e9 if np.issubdtype(ta.dtype, np.datetime64) \
-            else ta.astype(float) - float(ta[0])
-    z = np.zeros(1)
-    if "z" in axes:
-        zv = axes["z"].astype(float)
-        down = z_attrs.get("positive") == "down" or (z_attrs.get("positive") != "up" and np.all(zv >= 0)
-                                                    and z_attrs.get("standard_name", "depth") == "depth")
-        z = -zv if down else zv
-    # sort every axis ascending
-    arrays = [a for a in comps if a is not None]
-    lead_axes = [("t", t)] if t is not None else []
-    lead_axes += [("z", z)] if "z" in axes else []
-    for i, (_, ax) in enumerate(lead_axes):
-        if ax.size > 1 and ax[0] > ax[-1]:
-            arrays = [np.flip(a, axis=i) for a in arrays]
-            lead_axes[i] = (lead_axes[i][0], ax[::-1])
-    lead = dict(lead_axes)
-    t = lead.get("t", t)
-    z = lead.get("z", z)
-    h0 = axes[horiz[0]].astype(float)
-    h1 = axes[horiz[1]].astype(float)
-    nlead = len(lead_axes)
-    if h0[0] > h0[-1]:
-        arrays, h0 = [np.flip(a, axis=nlead) for a in arrays], h0[::-1]
-    if h1[0] > h1[-1]:
-        arrays, h1 = [np.flip(a, axis=nlead + 1) for a in arrays], h1[::-1]
-    if horiz[0] == "lat":
-        if frame is None:
-            frame = LocalFrame(float(h0.mean()), float(h1.mean()))
-        lon = h1[0] + np.mod(h1 - h1[0], 360.0)
-        regridded = [regrid_lonlat(lon, h0, a, frame, method="linear", what=src) for a in arrays]
-        x, y = regridded[0][0], regridded[0][1]
-        arrays = [r[2] for r in regridded]
+            kind = axis_kind(ds[d] if d in ds.variables else None, d)
+            if kind not in ("t", "z") or kind in lead:
+                raise DataError(f"{src}: variable {names['u']!r}: dimension {d!r} is neither one time nor one "
+                                "depth axis")
+            lead[kind] = d
+        t = _time_axis(ds, lead["t"], start_time, src) if "t" in lead else None
+        z = _z_axis(ds, lead["z"], src) if "z" in lead else np.zeros(1)
+        dims = [lead[k] for k in ("t", "z") if k in lead] + [rdim, cdim]
+        flip_t = t is not None and t.size > 1 and bool(t[0] > t[-1])
+        flip_z = z.size > 1 and bool(z[0] > z[-1])
+        flips = ([flip_t] if t is not None else []) + ([flip_z] if "z" in lead else []) + [flip_r, flip_c]
+        comps = {c: _component(ds, n, dims, flips, src) for c, n in names.items() if n is not None}
+        grid_relative = str(da_u.attrs.get("standard_name", "")).lower() == "sea_water_x_velocity"
+    t = t[::-1] if flip_t else t
+    z = z[::-1] if flip_z else z
+    shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
+    land = 0
+    for c in comps:
+        comps[c], n = _fill_land(comps[c].reshape(shape), "z" in lead, src, names[c])
+        land = max(land, n)
+    if land:
+        log.info("%s: %d horizontal cells without a value (land): zero current there", src, land)
+    if grid.kind == "local":
+        x, y = grid.cols, grid.rows
     else:
-        x, y = h1, h0
-    shape = (1 if t is None else t.size, z.size, y.size, x.size)
-    arrays = [a.reshape(shape) for a in arrays]
-    w = arrays[2] if len(arrays) == 3 else None
-    return GriddedCurrent(x, y, z, arrays[0], arrays[1], w, t, name=path.name)
+        if frame is None:
+            lon, lat = np.mean(grid.cols), np.mean(grid.rows)
+            frame = LocalFrame(float(lat), float(lon))
+        regridded = {c: to_local(grid, a, frame, extent_m=extent_m, method="linear",
+                                 what=f"{src}: variable {names[c]!r}") for c, a in comps.items()}
+        x, y = regridded["u"][0], regridded["u"][1]
+        comps = {c: r[2] for c, r in regridded.items()}
+        (ex, ey), (nx, ny) = _directions(grid, frame, x, y, grid_relative)
+        u, v = comps["u"], comps["v"]
+        comps["u"], comps["v"] = u * ex + v * nx, u * ey + v * ny
+    return GriddedCurrent(x, y, z, comps["u"], comps["v"], comps.get("w"), t, name=path.name)

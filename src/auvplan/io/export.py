@@ -1,12 +1,14 @@
 """Results to files: plan JSON (the CLI's contract, DESIGN.md §4), CSV paths, the RunRecord
-as JSON + NPZ (and back), and mission exports: GeoJSON (RFC 7946), KML, CSV, MOOS-IvP."""
+as JSON + NPZ (and back), and mission exports: GeoJSON (RFC 7946), KML, CSV, MOOS-IvP,
+QGroundControl ``.plan``, GPX 1.1, ROS 2 ``nav_msgs/Path`` (:mod:`auvplan.io.formats`)."""
 
 from __future__ import annotations
 
+import io
 import json
 import math
-import re
 import xml.etree.ElementTree as ET
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -14,8 +16,10 @@ import numpy as np
 from .._types import Status
 from ..errors import DataError
 from ..planners.base import PlanResult
-from ..sim import RunRecord, SimResult
+from ..sim import RunRecord, SimResult, decimate
+from . import formats as mfmt
 from .geo import LocalFrame
+from .safeio import atomic_write
 
 __all__ = [
     "plan_record",
@@ -31,15 +35,17 @@ __all__ = [
     "EXPORT_FORMATS",
     "to_geojson",
     "to_kml",
-    "to_csv",
-    "to_moos",
-    "parse_moos",
+    "GEOGRAPHIC",
+    "mission_waypoints",
     "write_exports",
+    "write_text",
     "summary_metrics",
 ]
 
-EXPORT_FORMATS = ("geojson", "kml", "csv", "moos")
-"""Mission export formats of :func:`write_exports`."""
+EXPORT_FORMATS = ("geojson", "kml", "csv", "moos", "plan", "gpx", "yaml")
+"""Mission export formats of :func:`write_exports` (file suffixes: ``mission.<format>``)."""
+GEOGRAPHIC = ("geojson", "kml", "plan", "gpx")
+"""Formats that need the scenario's ``[origin]``."""
 
 _SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
                "obstacle_distance")
@@ -84,23 +90,29 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
         "wall_time_s": result.wall_time_s,
         "history": result.history,
         "waypoints": result.path,
+        **({"times": result.times} if result.times is not None else {}),
     })
+
+
+def write_text(path: Path, text: str | bytes) -> Path:
+    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through
+    here, and here through :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never
+    through a symlink)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return atomic_write(path, text)
 
 
 def write_json(path: Path, obj) -> Path:
     """Write ``obj`` as indented JSON."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(jsonable(obj), indent=2) + "\n", encoding="utf-8")
-    return path
+    return write_text(path, json.dumps(jsonable(obj), indent=2) + "\n")
 
 
 def write_path_csv(path: Path, points, header: str = "x,y,z") -> Path:
     """Write points ``(N, k)`` as CSV with a header line."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savetxt(path, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
-    return path
+    buf = io.StringIO()
+    np.savetxt(buf, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
+    return write_text(path, buf.getvalue())
 
 
 def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> dict:
@@ -109,10 +121,12 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     out.mkdir(parents=True, exist_ok=True)
     record = plan_record(result, scenario, seed)
     write_json(out / "metrics.json", record)
-    if result.path.size:
+    if result.path.size and result.times is not None:  # timed plans: the time at each vertex (s after start_time)
+        write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time")
+    elif result.path.size:
         write_path_csv(out / "path.csv", result.path)
     if scenario_text:
-        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+        write_text(out / "scenario.toml", scenario_text)
     return record
 
 
@@ -129,12 +143,15 @@ def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "no
     return jsonable(rec)
 
 
-def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
-    """Write ``metrics.json`` and ``track.csv`` (t, x, y, z, heading, speed, rudder, cross-track) into ``out_dir``."""
+def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none",
+              full: bool = False) -> dict:
+    """Write ``sim_metrics.json`` and ``track.csv`` (t, x, y, z, heading, speed, rudder, cross-track;
+    decimated by :func:`auvplan.sim.decimate` unless ``full``) into ``out_dir``."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     record = sim_record(result, scenario, seed, avoidance)
     write_json(out / "sim_metrics.json", record)
+    result = result if full else decimate(result)
     cols = np.column_stack([result.t, result.position, result.heading, result.speed, result.rudder,
                             result.route_error])
     write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m")
@@ -154,9 +171,9 @@ def run_record(record: RunRecord, avoidance: str = "") -> dict:
     })
 
 
-def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict:
-    """Write a mission's results: run.json, metrics.json (plan), path.csv, route.csv, keys.csv,
-    sim_metrics.json and track.csv."""
+def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False) -> dict:
+    """Write a mission's results: run.json, metrics.json (plan), path.csv, route.csv (the mission),
+    keys.csv, sim_metrics.json and track.csv (decimated unless ``full``; run.npz keeps every sample)."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if record.plan is not None:
@@ -165,9 +182,9 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
         write_path_csv(out / "route.csv", record.route)
         write_path_csv(out / "keys.csv", record.keys)
     if record.sim is not None:
-        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance)
+        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full)
     if scenario_text:
-        (out / "scenario.toml").write_text(scenario_text, encoding="utf-8")
+        write_text(out / "scenario.toml", scenario_text)
     rec = run_record(record)
     write_json(out / "run.json", rec)
     arrays = {"route": record.route, "keys": record.keys}
@@ -175,7 +192,9 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "") -> dict
         arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
     if record.sim is not None:
         arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
-    np.savez_compressed(out / "run.npz", **arrays)
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)
+    write_text(out / "run.npz", buf.getvalue())
     return rec
 
 
@@ -191,9 +210,19 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
             raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
     try:
         rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
-        arr = dict(np.load(files["run.npz"]))
-    except (ValueError, OSError) as exc:
+        with np.load(files["run.npz"], allow_pickle=False) as npz:
+            arr = {k: npz[k] for k in npz.files}
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+    try:
+        scenario_file = out / "scenario.toml"
+        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+        return _record_from(rec, arr), text
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError) as exc:
+        raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+def _record_from(rec: dict, arr: dict):
     plan = None
     p = rec.get("plan")
     if p is not None:
@@ -212,10 +241,8 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
                         events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
                         wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
                         avoidance=s.get("avoidance", "none"))
-    scenario_file = out / "scenario.toml"
-    text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
-    record = RunRecord(rec["scenario"], int(rec["seed"]), plan, arr["route"], arr["keys"], sim)
-    return record, text
+    route = arr.get("route", np.empty((0, 3)))
+    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
 
 
 def _num(v) -> float:
@@ -230,14 +257,26 @@ def _frame(origin) -> LocalFrame:
     return LocalFrame(*origin)
 
 
-def _track(record: RunRecord) -> tuple[np.ndarray, np.ndarray]:
-    """The flown track (or the plan when there is no flight) and its times (s)."""
+def _track(record: RunRecord, full: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The flown track (decimated unless ``full``; or the plan when there is no flight) and its times (s)."""
     if record.sim is not None and record.sim.t.size:
-        return record.sim.position, record.sim.t
+        sim = record.sim if full else decimate(record.sim)
+        return sim.position, sim.t
     path = record.plan.path if record.plan is not None else record.route
+    if record.plan is not None and record.plan.times is not None and len(record.plan.times) == len(path):
+        return path, record.plan.times
     s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))]
     dur = record.plan.cost_terms.get("duration_s", np.nan) if record.plan is not None else np.nan
     return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)
+
+
+def mission_waypoints(record: RunRecord) -> np.ndarray:
+    """The executable mission of a run: the route it flew (the plan's path without one)."""
+    if record.route.size:
+        return record.route
+    if record.plan is not None and record.plan.path.size:
+        return record.plan.path
+    raise DataError("this run has neither a route nor a planned path to export")
 
 
 def summary_metrics(record: RunRecord) -> dict:
@@ -253,11 +292,12 @@ def summary_metrics(record: RunRecord) -> dict:
     return out
 
 
-def to_geojson(record: RunRecord, origin) -> dict:
-    """RFC 7946 FeatureCollection: the flown track, the planned path and the key waypoints as
-    LineStrings / MultiPoint with ``[lon, lat, z]`` (z the elevation: negative below the surface)."""
+def to_geojson(record: RunRecord, origin, full: bool = False) -> dict:
+    """RFC 7946 FeatureCollection: the flown track (decimated unless ``full``), the planned path,
+    the key waypoints and the executable mission (``name = "mission"``) as LineStrings /
+    MultiPoint with ``[lon, lat, z]`` (z the elevation: negative below the surface)."""
     frame = _frame(origin)
-    track, _ = _track(record)
+    track, _ = _track(record, full)
 
     def coords(p):
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
@@ -271,12 +311,16 @@ def to_geojson(record: RunRecord, origin) -> dict:
     if record.keys.size:
         feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
                       "properties": {"name": "key waypoints"}})
+    mission = coords(mission_waypoints(record))
+    feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission},
+                  "properties": {"name": "mission", "depth_semantics": "linear along each leg"}})
     return {"type": "FeatureCollection", "features": feats}
 
 
-def to_kml(record: RunRecord, origin) -> str:
-    """KML document: the track (and plan) as LineStrings with absolute altitude (m, negative
-    below sea level) and the key waypoints as placemarks."""
+def to_kml(record: RunRecord, origin, full: bool = False) -> str:
+    """KML document: the track (decimated unless ``full``), the plan and the executable mission
+    (placemark ``mission``) as LineStrings with absolute altitude (m, negative below sea level)
+    and the key waypoints as placemarks."""
     frame = _frame(origin)
     ns = "http://www.opengis.net/kml/2.2"
     ET.register_namespace("", ns)
@@ -295,10 +339,11 @@ def to_kml(record: RunRecord, origin) -> str:
         ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
         ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(p)
 
-    track, _ = _track(record)
+    track, _ = _track(record, full)
     line("track" if record.sim is not None else "plan", track)
     if record.plan is not None and record.sim is not None and record.plan.path.shape[0] >= 2:
         line("global plan", record.plan.path)
+    line("mission", mission_waypoints(record))
     for i, k in enumerate(record.keys):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
@@ -308,66 +353,32 @@ def to_kml(record: RunRecord, origin) -> str:
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
-def to_csv(record: RunRecord, origin) -> str:
-    """CSV of the track: ``x, y, z, lat, lon, depth, time`` (lat/lon empty without an origin)."""
-    track, t = _track(record)
-    if origin is not None:
-        lon, lat = LocalFrame(*origin).inverse(track[:, 0], track[:, 1])
-    else:
-        lon = lat = np.full(len(track), np.nan)
-    rows = ["x,y,z,lat,lon,depth,time"]
-    for (x, y, z), la, lo, tt in zip(track, lat, lon, t):
-        rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
-                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", "" if np.isnan(tt) else f"{tt:.2f}"]))
-    return "\n".join(rows) + "\n"
-
-
-def to_moos(points, speed: float, name: str = "auvplan") -> str:
-    """MOOS-IvP behaviour blocks: one ``BHV_Waypoint`` through the points (local x, y) and the
-    depth schedule as one ``BHV_ConstantDepth`` per leg, active while ``WPT_INDEX`` is that leg."""
-    p = np.asarray(points, dtype=float)
-    pts = ":".join(f"{x:.2f},{y:.2f}" for x, y in p[1:, :2])
-    lines = ["// auvplan: waypoints in the local frame (x east, y north, m); depth schedule per leg",
-             "Behavior = BHV_Waypoint", "{", f"  name      = {name}_waypoints", "  pwt       = 100",
-             f"  speed     = {speed:g}", "  capture_radius = 5", "  slip_radius    = 15",
-             f"  points    = {pts}", "}"]
-    for i, z in enumerate(p[1:, 2]):
-        lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_depth_{i}", "  pwt       = 100",
-                  f"  condition = WPT_INDEX = {i}", f"  depth     = {-z:.2f}", "}"]
-    return "\n".join(lines) + "\n"
-
-
-def parse_moos(text: str) -> np.ndarray:
-    """Waypoints ``(N, 3)`` (x, y, z) of a block written by :func:`to_moos`."""
-    m = re.search(r"points\s*=\s*([^\n]+)", text)
-    if m is None:
-        raise DataError("no 'points =' line in the MOOS block")
-    xy = np.array([[float(v) for v in pair.split(",")] for pair in m.group(1).strip().split(":")])
-    depth = {int(i): float(d) for i, d in re.findall(r"WPT_INDEX\s*=\s*(\d+)\s*\n\s*depth\s*=\s*([-\d.]+)", text)}
-    z = np.array([-depth[i] for i in range(len(xy))])
-    return np.column_stack([xy, z])
-
-
-def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, formats=EXPORT_FORMATS) -> list[Path]:
-    """Write the chosen mission exports into ``out_dir``: ``mission.geojson``, ``mission.kml``,
-    ``mission.csv`` and ``mission.moos`` (the key waypoints, or the route without them)."""
+def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, formats=EXPORT_FORMATS,
+                  full: bool = False) -> list[Path]:
+    """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
+    :mod:`auvplan.io.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
+    also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``."""
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     written = []
+    waypoints = mission_waypoints(record)
     for fmt in formats:
         if fmt not in EXPORT_FORMATS:
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
-        path = out / f"mission.{fmt}"
+        if fmt in GEOGRAPHIC:
+            _frame(origin)
         if fmt == "geojson":
-            path.write_text(json.dumps(to_geojson(record, origin)) + "\n", encoding="utf-8")
+            text = json.dumps(to_geojson(record, origin, full)) + "\n"
         elif fmt == "kml":
-            path.write_text(to_kml(record, origin), encoding="utf-8")
+            text = to_kml(record, origin, full)
         elif fmt == "csv":
-            path.write_text(to_csv(record, origin), encoding="utf-8")
+            text = mfmt.mission_csv(waypoints, origin, speed)
+        elif fmt == "moos":
+            text = mfmt.to_moos(waypoints, speed)
+        elif fmt == "plan":
+            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed), indent=1) + "\n"
+        elif fmt == "gpx":
+            text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
-            pts = record.keys if record.keys.size else record.route
-            if not pts.size and record.plan is not None:
-                pts = record.plan.path
-            path.write_text(to_moos(pts, speed), encoding="utf-8")
-        written.append(path)
+            text = mfmt.to_ros_path(waypoints, speed)
+        written.append(write_text(out / f"mission.{fmt}", text))
     return written

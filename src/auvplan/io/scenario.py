@@ -54,10 +54,13 @@ from ..world import (
     WaypointMotion,
     World,
 )
+from . import limits as _limits
 from .bathymetry import TerrainSpec, load_terrain
-from .currents import CurrentsFileSpec, read_currents
+from .currents import CurrentsFileSpec, parse_time, read_currents
 from .geo import LocalFrame
+from .limits import Limits
 from .tables import build_dataclass, table_error
+from .tides import load_tidal_current, parse_start_time
 
 __all__ = [
     "Scenario",
@@ -73,6 +76,8 @@ __all__ = [
     "build",
     "builtin_scenarios",
     "resolve",
+    "from_dict",
+    "SECTIONS",
 ]
 
 
@@ -150,24 +155,42 @@ class VortexSpec:
 
 @dataclass(frozen=True)
 class CurrentsSpec:
-    """Current field: uniform, a sum of Lamb–Oseen vortices, or a NetCDF file."""
+    """Current field: uniform, a sum of Lamb–Oseen vortices, a NetCDF file, or tidal stations
+    (``tides`` = a built-in name such as ``"juan-de-fuca"`` or a station JSON file; needs [origin]
+    and [mission] start_time)."""
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
-    file: CurrentsFileSpec | None = None
+    file: str | CurrentsFileSpec | None = None
+    tides: str = ""
 
     def __post_init__(self) -> None:
-        kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None)
+        if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
+            object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
+        kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
         if kinds > 1:
-            raise ValueError("give only one of 'uniform', 'vortices' and 'file'")
+            raise ValueError("give only one of 'uniform', 'vortices', 'file' and 'tides'")
 
 
 @dataclass(frozen=True)
 class MissionSpec:
     """Start, goal, optional explicit route, and the vehicle's safety margins (m).
 
-    ``surface = false`` removes the sea-surface constraint (laboratory scenes in a document's own
-    coordinates, e.g. document 000's goal at z = +30).
+    Attributes
+    ----------
+    start, goal : tuple of 3 float
+        End points (x, y, z) in the local frame (m, z up); must be free and in the bounds.
+    route : tuple of points
+        A fixed route to fly instead of planning (at least two points, no zero-length leg).
+    min_altitude_m : float
+        Least height above the seabed.
+    min_depth_m, max_depth_m : float
+        Depth band (m below the surface).
+    obstacle_margin_m : float
+        Extra clearance around every obstacle.
+    surface : bool
+        ``false`` removes the sea-surface constraint (laboratory scenes in a document's own
+        coordinates, e.g. document 000's goal at z = +30).
     """
 
     start: tuple[float, float, float]
@@ -178,8 +201,14 @@ class MissionSpec:
     max_depth_m: float = math.inf
     obstacle_margin_m: float = 0.0
     surface: bool = True
+    start_time: str = ""
 
     def __post_init__(self) -> None:
+        if self.start_time:  # ISO 8601, matched to the current file's CF time or the tides
+            try:
+                parse_time(self.start_time)
+            except ValueError as exc:
+                raise ValueError(f"start_time = {self.start_time!r}: {exc}") from exc
         for name in ("min_altitude_m", "min_depth_m", "obstacle_margin_m"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} = {getattr(self, name)}: must be >= 0")
@@ -225,11 +254,19 @@ class Scenario:
     avoidance: AvoidanceParams
     sim: SimSettings
     raw: dict = field(repr=False, default_factory=dict)
+    limits: Limits = field(default_factory=Limits)
 
+
+SECTIONS: dict[str, type] = {
+    "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
+    "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
+    "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits,
+}
+"""The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
-    "mission", "vehicle", "planner", "guidance", "avoidance", "sim",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits",
 }
 
 
@@ -252,6 +289,8 @@ class _EllipsoidSpec:
 
 
 def _shape(table: dict, where: str, *, moving: bool):
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: expected a table (type, center, radius, ...), got {table!r:.80}")
     if moving:  # a moving shape is placed by its motion; its other keys belong to the motion
         t = {k: v for k, v in table.items() if k in _SHAPE_KEYS}
         t["center"] = [0.0, 0.0, 0.0]
@@ -310,7 +349,9 @@ _SHAPE_KEYS = ("type", "radius", "semi_axes", "yaw_deg", "pitch_deg", "roll_deg"
 _MOVING_KEYS = ("name", "motion", "appears", "disappears")
 
 
-def _moving(table: dict, where: str, bounds_xy) -> MovingObstacle:
+def _moving(table: dict, where: str, bounds_xy, limits: Limits) -> MovingObstacle:
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: expected a table, got {table!r:.80}")
     shape = _shape(table, where, moving=True)
     motion_name = table.get("motion")
     if motion_name is None:
@@ -328,6 +369,9 @@ def _moving(table: dict, where: str, bounds_xy) -> MovingObstacle:
             motion = WaypointMotion(np.asarray(s.points), s.speed, s.loop)
         elif motion_name == "random-walk":
             s = build_dataclass(_RandomWalkSpec, rest, where)
+            if s.dt > 0 and s.duration > 0:  # the track is precomputed: check its size first
+                _limits.check(limits, where, f"duration / dt = {s.duration:g} / {s.dt:g} (a precomputed track)",
+                              s.duration / s.dt * _limits.BYTES_PER_WALK_STEP)
             motion = RandomWalkMotion(s.start, s.speed, s.turn_sigma, math.radians(s.heading_deg), s.duration,
                                       s.dt, s.seed, bounds_xy)
         else:
@@ -341,6 +385,8 @@ def _moving(table: dict, where: str, bounds_xy) -> MovingObstacle:
     for key, val in (("appears", appears), ("disappears", disappears)):
         if isinstance(val, bool) or not isinstance(val, (int, float)):
             raise table_error(where, key, val, "expected a number of seconds")
+        if key in table and not math.isfinite(val):
+            raise table_error(where, key, val, "must be finite (omit 'disappears' for never)")
     if not disappears > appears:
         raise table_error(where, "disappears", disappears, "must be later than 'appears'")
     name = table.get("name", "")
@@ -378,15 +424,21 @@ def load(scenario: str | Path) -> Scenario:
     """Parse and validate a scenario file (or built-in name) without reading its data files."""
     path = resolve(scenario)
     try:
-        text = path.read_text(encoding="utf-8")
+        data = path.read_bytes()
     except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc})") from exc
+        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from exc
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise ScenarioError(f"{path}: line {line}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset "
+                            f"{exc.start}); save the scenario as UTF-8") from exc
     return loads(text, source=str(path), base_dir=path.parent)
 
 
-def _section(data: dict, key: str, cls, src: str):
+def _section(data: dict, key: str, src: str):
     table = data.get(key, {})
-    return build_dataclass(cls, table, f"{src}: [{key}]")
+    return build_dataclass(SECTIONS[key], table, f"{src}: [{key}]")
 
 
 def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
@@ -395,6 +447,18 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{source}: invalid TOML ({exc})") from exc
+    except RecursionError as exc:
+        raise ScenarioError(f"{source}: invalid TOML (arrays or tables nested too deeply)") from exc
+    try:
+        return from_dict(data, source, base_dir)
+    except RecursionError as exc:
+        raise ScenarioError(f"{source}: a value is nested too deeply") from exc
+
+
+def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
+    """Validate a parsed scenario document (the dict ``tomllib`` returns) into a :class:`Scenario`."""
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{source}: expected a table of sections, got {type(data).__name__}")
     for key in data:
         if key not in _TOP_KEYS:
             raise ScenarioError(f"{source}: unknown key {key!r} (allowed: {', '.join(sorted(_TOP_KEYS))})")
@@ -409,8 +473,11 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
         raise table_error(f"{source}:", "description", description, "expected a string")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise table_error(f"{source}:", "seed", seed, "expected a non-negative integer")
-    origin = _section(data, "origin", OriginSpec, source) if "origin" in data else None
-    bounds = _section(data, "bounds", BoundsSpec, source)
+    if seed >= 2**63:
+        raise table_error(f"{source}:", "seed", seed, "must be < 2^63")
+    limits = _section(data, "limits", source)
+    origin = _section(data, "origin", source) if "origin" in data else None
+    bounds = _section(data, "bounds", source)
     terrain = synthetic = None
     if "terrain" in data:
         t = dict(data["terrain"]) if isinstance(data["terrain"], dict) else data["terrain"]
@@ -420,10 +487,10 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
                 raise ScenarioError(f"{source}: [terrain] {extra[0]!r} cannot be combined with [terrain.synthetic]")
             synthetic = build_dataclass(SyntheticTerrainSpec, t["synthetic"], f"{source}: [terrain.synthetic]")
         else:
-            terrain = _section(data, "terrain", TerrainSpec, source)
+            terrain = _section(data, "terrain", source)
     if (terrain is not None) and origin is None:
         raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
-    currents = _section(data, "currents", CurrentsSpec, source)
+    currents = _section(data, "currents", source)
     obstacles_raw = data.get("obstacles", [])
     if not isinstance(obstacles_raw, list):
         raise table_error(f"{source}:", "obstacles", obstacles_raw, "expected an array of tables [[obstacles]]")
@@ -432,8 +499,12 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
     moving_raw = data.get("moving", [])
     if not isinstance(moving_raw, list):
         raise table_error(f"{source}:", "moving", moving_raw, "expected an array of tables [[moving]]")
-    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy) for i, t in enumerate(moving_raw))
-    mission = _section(data, "mission", MissionSpec, source)
+    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits) for i, t in enumerate(moving_raw))
+    mission = _section(data, "mission", source)
+    planner = _section(data, "planner", source)
+    sim = _section(data, "sim", source)
+    _check_sizes(source, limits, bounds, synthetic, planner)
+    _check_geometry(source, mission, sim)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -448,13 +519,53 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
         obstacles=obstacles,
         moving=moving,
         mission=mission,
-        vehicle=_section(data, "vehicle", VehicleParams, source),
-        planner=_section(data, "planner", PlannerSpec, source),
-        guidance=_section(data, "guidance", GuidanceSpec, source),
-        avoidance=_section(data, "avoidance", AvoidanceParams, source),
-        sim=_section(data, "sim", SimSettings, source),
+        vehicle=_section(data, "vehicle", source),
+        planner=planner,
+        guidance=_section(data, "guidance", source),
+        avoidance=_section(data, "avoidance", source),
+        sim=sim,
         raw=copy.deepcopy(data),
+        limits=limits,
     )
+
+
+def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic, planner: PlannerSpec) -> None:
+    """Sizes known from the document alone, against the budget (before anything is allocated)."""
+    if synthetic is not None and bounds.x and bounds.y:
+        (x0, x1), (y0, y1) = bounds.x, bounds.y
+        cell = synthetic.cell_m or max(x1 - x0, y1 - y0) / 200.0
+        nodes = _limits.grid_nodes(x1 - x0, y1 - y0, cell)
+        _limits.check(limits, f"{src}: [terrain.synthetic]", f"cell_m = {cell:g} over the bounds ({nodes:.3g} nodes)",
+                      nodes * _limits.BYTES_PER_TERRAIN_NODE)
+    pts = float(planner.population) * float(planner.samples)
+    _limits.check(limits, f"{src}: [planner]", f"population × samples = {planner.population} × {planner.samples}",
+                  pts * _limits.BYTES_PER_SAMPLE)
+    grid = planner.grid
+    if grid.cell > 0 and bounds.x and bounds.y and bounds.z:
+        nodes = min(_limits.grid_nodes(bounds.x[1] - bounds.x[0], bounds.y[1] - bounds.y[0], grid.cell)
+                    * ((bounds.z[1] - bounds.z[0]) / (grid.cell_z or grid.cell) + 1.0), grid.max_nodes)
+    else:
+        nodes = grid.target_nodes
+    _limits.check(limits, f"{src}: [planner.grid]", f"a reference lattice of ~{nodes:.3g} nodes",
+                  nodes * _limits.BYTES_PER_LATTICE_NODE)
+
+
+def _check_geometry(src: str, m: MissionSpec, sim: SimSettings) -> None:
+    """Zero-length and degenerate missions: start on the goal, repeated or too few route points."""
+    where = f"{src}: [mission]"
+    if not m.route:
+        gap = math.dist(m.start, m.goal)
+        if gap <= sim.arrival_radius:
+            raise table_error(where, "goal", list(m.goal), f"is {gap:.3g} m from start, within [sim] arrival_radius "
+                              f"({sim.arrival_radius:g} m): nothing to plan")
+        return
+    if len(m.route) < 2:
+        raise table_error(where, "route", [list(p) for p in m.route], "needs at least two points")
+    for i in range(1, len(m.route)):
+        a, b = m.route[i - 1], m.route[i]
+        if math.hypot(b[0] - a[0], b[1] - a[1]) <= 1e-6:
+            raise table_error(where, f"route[{i}]", list(b), f"no horizontal distance from route[{i - 1}] "
+                              f"({list(a)}): a leg the vehicle cannot steer along")
 
 
 # ---------------------------------------------------------------------- building
@@ -492,8 +603,43 @@ def _check_point(world: World, point, key: str, src: str) -> None:
         raise ScenarioError(f"{src}: [mission] {key} = {list(point)}: not a free point: {why}{extra}")
 
 
-def build(scenario: Scenario) -> tuple[World, Mission]:
+def _check_terrain_size(s: Scenario, extent) -> None:
+    """A resampled data grid's node count from the bounds (or the crop box), before reading it."""
+    t = s.terrain
+    if t is None or not t.resample_m > 0:
+        return
+    if extent is not None:
+        span_x, span_y = extent[1] - extent[0], extent[3] - extent[2]
+    elif t.box:
+        lat = math.radians(0.5 * (t.box[0] + t.box[1]))
+        span_y = (t.box[1] - t.box[0]) * 111_320.0
+        span_x = abs(t.box[3] - t.box[2]) * 111_320.0 * max(math.cos(lat), 1e-3)
+    else:
+        return  # the data's own extent: bounded by the file itself
+    nodes = _limits.grid_nodes(span_x, span_y, t.resample_m)
+    _limits.check(s.limits, f"{s.source}: [terrain]", f"resample_m = {t.resample_m:g} ({nodes:.3g} nodes)",
+                  nodes * _limits.BYTES_PER_TERRAIN_NODE)
+
+
+def _check_sim_size(s: Scenario) -> None:
+    """The simulation preallocates its record for the time limit: check it before any flight."""
+    m = s.mission
+    pts = [m.start, *m.route, m.goal] if m.route else [m.start, m.goal]
+    length = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
+    if not m.route:
+        length *= 1.5  # a planned path is longer than the straight line
+    nbytes = _limits.sim_bytes(length, s.vehicle.speed, s.sim.max_time, s.sim.dt, s.sim.record_every,
+                               len(s.obstacles) + len(s.moving))
+    _limits.check(s.limits, f"{s.source}: [sim]", f"a record at dt = {s.sim.dt:g} s, record_every = "
+                  f"{s.sim.record_every}, for a ~{length:.3g} m mission at [vehicle] speed = {s.vehicle.speed:g}",
+                  nbytes)
+
+
+def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mission]:
     """Read the scenario's data and make its World and Mission.
+
+    ``terrain``, when given, replaces the scenario's terrain source (a results folder's saved
+    cut-out: the grid the run used, so a moved folder needs no data file).
 
     Raises
     ------
@@ -508,9 +654,11 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
     frame = LocalFrame(s.origin.lat, s.origin.lon) if s.origin else None
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
-    terrain = None
+    _check_terrain_size(s, extent)
     try:
-        if s.terrain is not None:
+        if terrain is not None:
+            pass
+        elif s.terrain is not None:
             terrain = load_terrain(s.terrain, frame, base_dir=s.base_dir, extent_m=extent)
         elif s.synthetic is not None:
             terrain = _synthetic_terrain(s.synthetic, b, src)
@@ -531,11 +679,22 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
             v = c.vortices
             currents = LambOseenVortices([(q.x, q.y) for q in v], [q.gamma for q in v], [q.delta for q in v])
         elif c.file is not None:
-            currents = read_currents(c.file, frame, base_dir=s.base_dir)
+            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=(xr[0], xr[1], yr[0], yr[1]),
+                                     start_time=s.mission.start_time)
+        elif c.tides:
+            if frame is None or not s.mission.start_time:
+                raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "
+                                    "[mission] start_time (ISO 8601, UTC)")
+            currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
+                                          base_dir=s.base_dir)
         else:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
         raise DataError(f"{src}: [currents] {exc}") from exc
+    if not currents.covers(bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax):
+        what = f"file {c.file.path!r}" if c.file is not None else "field"
+        raise DataError(f"{src}: [currents] the current {what} does not cover the bounds x [{bounds.xmin:.0f}, "
+                        f"{bounds.xmax:.0f}] y [{bounds.ymin:.0f}, {bounds.ymax:.0f}] m")
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
@@ -554,6 +713,7 @@ def build(scenario: Scenario) -> tuple[World, Mission]:
         raise DataError(f"{src}: {exc}") from exc
     _check_point(world, m.start, "start", src)
     _check_point(world, m.goal, "goal", src)
+    _check_sim_size(s)
     for i, wp in enumerate(m.route):
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")

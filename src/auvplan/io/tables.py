@@ -18,7 +18,11 @@ from typing import Any
 
 from ..errors import ScenarioError
 
-__all__ = ["build_dataclass", "table_error"]
+__all__ = ["build_dataclass", "table_error", "MAX_MAGNITUDE"]
+
+MAX_MAGNITUDE = 1.0e15
+"""Largest magnitude of any number in a scenario: beyond it products and squares of scenario
+values overflow or lose every significant digit (coordinates of the whole Earth are ~4e7 m)."""
 
 
 def table_error(where: str, key: str, value: Any, problem: str) -> ScenarioError:
@@ -33,24 +37,31 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     origin = typing.get_origin(tp)
     args = typing.get_args(tp)
     if origin in (typing.Union, types.UnionType):
-        errors = []
-        for alt in args:
-            if alt is type(None):
-                continue
+        errors: list[ScenarioError] = []
+        alts = [a for a in args if a is not type(None)]
+        for alt in alts:
             try:
                 return _convert(value, alt, where, key)
             except ScenarioError as exc:
-                errors.append(str(exc))
-        raise errors[0] if len(errors) == 1 else table_error(where, key, value, "wrong type")
+                errors.append(exc)
+        if len(errors) == 1:
+            raise errors[0]
+        return _raise(table_error(where, key, value, "expected " + " or ".join(_type_name(a) for a in alts)))
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise table_error(where, key, value, "expected a number")
         if math.isnan(value):
             raise table_error(where, key, value, "NaN is not allowed")
+        if math.isinf(value):
+            raise table_error(where, key, value, "must be finite (omit the key for its default)")
+        if abs(value) > MAX_MAGNITUDE:
+            raise table_error(where, key, value, f"out of range (|value| <= {MAX_MAGNITUDE:g})")
         return float(value)
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise table_error(where, key, value, "expected an integer")
+        if abs(value) > MAX_MAGNITUDE:
+            raise table_error(where, key, value, f"out of range (|value| <= {MAX_MAGNITUDE:g})")
         return value
     if tp is bool:
         if not isinstance(value, bool):
@@ -75,6 +86,18 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     if tp is Any:
         return value
     raise TypeError(f"unsupported field type {tp!r} for {key}")  # a programming error, not user input
+
+
+def _raise(exc: Exception):
+    raise exc
+
+
+def _type_name(tp: Any) -> str:
+    if dataclasses.is_dataclass(tp):
+        return "a table"
+    if typing.get_origin(tp) is tuple:
+        return "an array"
+    return {float: "a number", int: "an integer", bool: "true or false", str: "a string"}.get(tp, str(tp))
 
 
 def build_dataclass(cls: type, table: dict, where: str, *, skip: tuple[str, ...] = ()) -> Any:

@@ -4,9 +4,10 @@ from .base import PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, Pla
 from .flow import plan_flow
 from .grid import GridReference, plan_grid, with_reference
 from .swarm import plan_swarm
+from .timeplan import plan_timeopt
 
 __all__ = ["PLANNERS", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerSpec", "PlanningProblem", "plan",
-           "plan_flow", "plan_grid", "plan_swarm", "reference", "with_reference"]
+           "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt", "reference", "with_reference"]
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
@@ -15,6 +16,8 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -
         return plan_flow(problem, spec.flow)
     if spec.name == "grid":
         return plan_grid(problem, spec)
+    if spec.name == "timeopt":
+        return plan_timeopt(problem, spec)
     return plan_swarm(problem, spec, rng, progress)
 
 

@@ -12,10 +12,11 @@ from ..optim.ga import GAParams
 from ..optim.pso import PSOParams
 from ..world import World
 from .flow_params import FlowParams
+from .timeopt_params import TimeoptParams
 
 __all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PLANNERS", "SWARM"]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid")
+PLANNERS = ("iabc", "abc", "ga", "pso", "flow", "grid", "timeopt")
 SWARM = ("iabc", "abc", "ga", "pso")
 """The planners that iterate (and call ``progress(iteration, best)``)."""
 """Planner names: the four swarm optimisers (document 002), the streamline planner (document 000)
@@ -45,6 +46,11 @@ class GridParams:
         Elastic-band sweeps after the key-waypoint shortening (0 = none).
     smooth : bool
         Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
+    converge : bool
+        Refine the path to convergence after the band (halving spacings until a level gains less
+        than ``converge_tol``): the reference becomes the best known plan, not a lattice bound.
+    converge_tol : float
+        Relative cost gain below which the refinement stops.
     """
 
     cell: float = 0.0
@@ -55,8 +61,12 @@ class GridParams:
     objective: str = "cost"
     relax_iterations: int = 200
     smooth: bool = True
+    converge: bool = True
+    converge_tol: float = 1e-5
 
     def __post_init__(self) -> None:
+        if not 0.0 < self.converge_tol < 1.0:
+            raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
         if self.cell < 0 or self.cell_z < 0:
             raise ValueError("cell and cell_z must be >= 0 (0 = automatic)")
         if self.levels < 2:
@@ -119,6 +129,7 @@ class PlannerSpec:
     pso: PSOParams = field(default_factory=PSOParams)
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
+    timeopt: TimeoptParams = field(default_factory=TimeoptParams)
 
     def __post_init__(self) -> None:
         if self.name not in PLANNERS:
@@ -205,6 +216,8 @@ class PlanResult:
         Human-readable explanation of a failure.
     reference_cost : float
         Cost of the grid reference plan on the same cost function (``nan`` when not computed).
+    times : ndarray or None
+        Time (s after the mission's start time) at each vertex of ``path``, for timed plans.
     """
 
     status: Status
@@ -219,6 +232,7 @@ class PlanResult:
     control_points: np.ndarray | None = None
     message: str = ""
     reference_cost: float = float("nan")
+    times: np.ndarray | None = None
 
     @property
     def gap(self) -> float:

@@ -6,9 +6,11 @@
    exact segment test; each edge is weighted by the planner's own cost function
    (``w_L`` length + ``w_E`` energy in the current field, :func:`auvplan.cost.segment_energy`)
    in its own direction, or by length alone.
-3. One Dijkstra search (``scipy.sparse.csgraph``) from the goal on the reversed graph gives
-   the cost-to-go of every node; any start is then answered without searching again
-   (:class:`GridReference`, "plan once, query many").
+3. One Dijkstra search from the goal on the reversed graph gives the cost-to-go of every node;
+   any start is then answered without searching again (:class:`GridReference`, "plan once,
+   query many").  The search is compiled and generates the edges on the fly from one bit per
+   direction and node (which edges are free) and the node currents, so the lattice needs a
+   few words per node instead of 26 stored edges.
 4. For the ``"length"`` objective the lattice path is shortened by document 004's
    key-waypoint rule (keep a waypoint only where the straight segment to the next would
    collide, exact test), pulled taut by an elastic band whose moves must lower the cost and
@@ -26,15 +28,15 @@ Statuses: ``EXACT``; ``INVALID_START`` / ``INVALID_GOAL`` for end points that ar
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import replace
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
 
+from .._jit import kernel
 from .._types import Status
-from ..cost import CostModel, evaluate_paths, segment_energy
+from ..cost import CostModel, energy_kernel, evaluate_paths, propulsion_power, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
@@ -46,6 +48,114 @@ __all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "p
 _HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                   if (i, j, k) > (0, 0, 0)])
 """The 13 lattice offsets with a positive first non-zero component (the other 13 are their reverses)."""
+
+_OFFSETS = np.concatenate([_HALF, -_HALF]).astype(np.int64)
+"""The 26 lattice directions; bit ``s`` of a node's edge mask is the edge along ``_OFFSETS[s]``."""
+
+
+@kernel
+def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power, document):
+    """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
+    ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
+    (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
+    ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]
+    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if not use_cost:
+        return ds
+    cx = 0.5 * (current[u, 0] + current[v, 0])
+    cy = 0.5 * (current[u, 1] + current[v, 1])
+    cz = 0.5 * (current[u, 2] + current[v, 2])
+    units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
+    if blocked:
+        return np.inf
+    return max(w_length * ds + w_energy * units, 1e-12)
+
+
+@kernel
+def _sift_up(heap, pos, key, i):
+    node = heap[i]
+    while i > 0:
+        parent = (i - 1) >> 1
+        if key[heap[parent]] <= key[node]:
+            break
+        heap[i] = heap[parent]
+        pos[heap[i]] = i
+        i = parent
+    heap[i] = node
+    pos[node] = i
+
+
+@kernel
+def _sift_down(heap, pos, key, i, size):
+    node = heap[i]
+    while True:
+        c = 2 * i + 1
+        if c >= size:
+            break
+        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
+            c += 1
+        if key[heap[c]] >= key[node]:
+            break
+        heap[i] = heap[c]
+        pos[heap[i]] = i
+        i = c
+    heap[i] = node
+    pos[node] = i
+
+
+@kernel
+def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, speed, power, document,
+            near, w_goal, goal, dist, nxt):
+    """Dijkstra from the goal over the reversed lattice, edges generated on the fly.
+
+    ``dist[u]`` becomes the cheapest cost from node ``u`` to the goal and ``nxt[u]`` the next
+    node on that path (``goal`` for the nodes linked to it directly).  An indexed binary heap
+    with decrease-key keeps the memory at a few words per node.
+    """
+    n = goal
+    nx, ny, nz = shape[0], shape[1], shape[2]
+    pos = np.full(n, -1, dtype=np.int64)  # -1 never queued, -2 settled
+    heap = np.empty(n, dtype=np.int64)
+    size = 0
+    for k in range(near.size):
+        u = near[k]
+        if w_goal[k] < dist[u]:
+            dist[u] = w_goal[k]
+            nxt[u] = goal
+            if pos[u] == -1:
+                heap[size] = u
+                pos[u] = size
+                size += 1
+            _sift_up(heap, pos, dist, pos[u])
+    while size > 0:
+        v = heap[0]
+        pos[v] = -2
+        size -= 1
+        if size > 0:
+            heap[0] = heap[size]
+            pos[heap[0]] = 0
+            _sift_down(heap, pos, dist, 0, size)
+        k = v % nz
+        j = (v // nz) % ny
+        i = v // (nz * ny)
+        for s in range(26):
+            # the edge u -> v along direction s starts at u = v - offsets[s]
+            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
+            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
+                continue
+            u = (ui * ny + uj) * nz + uk
+            if pos[u] == -2 or not (bits[u] >> s) & 1:
+                continue
+            alt = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
+                                         document)
+            if alt < dist[u]:
+                dist[u] = alt
+                nxt[u] = v
+                if pos[u] == -1:
+                    heap[size] = u
+                    pos[u] = size
+                    size += 1
+                _sift_up(heap, pos, dist, pos[u])
 
 
 def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
@@ -139,50 +249,48 @@ class GridReference:
         offset = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
         self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
         self.axes = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
-        self._xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
-        slack = world.clearances(self._xyz, moving=False)
+        xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        slack = world.clearances(xyz, moving=False)
         self.free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(self.shape)
-        self._altitude = slack["altitude"] + world.margins.min_altitude
-        self._obstacle = slack["obstacles"]
-        self._current = world.currents.velocity(self._xyz) if params.objective == "cost" else None
-        weight, column = self._lattice_edges()
-        goal_id = self.nodes
+        current = world.currents.velocity(xyz) if params.objective == "cost" else np.zeros((0, 3))
+        bits = self._lattice_edges(xyz, slack["altitude"] + world.margins.min_altitude, slack["obstacles"])
+        del xyz, slack
         near, w_goal = self._connect(self.goal, towards=True)
-        # reversed graph, 26 slots a row: row v holds the edges u -> v with their cost, so that
-        # one search from the goal (the extra last row) yields every node's cost *to* the goal
-        # and its next hop; empty slots (weight 0) are dropped
-        indptr = np.append(np.arange(0, 26 * goal_id + 1, 26, dtype=column.dtype), 26 * goal_id + near.size)
-        data = np.concatenate([weight.T.ravel(), np.maximum(w_goal, 1e-12)])
-        data[~np.isfinite(data)] = 0.0
-        indices = np.concatenate([column.T.ravel(), near.astype(column.dtype)])
-        graph = csr_matrix((data, indices, indptr), shape=(goal_id + 1,) * 2)
-        graph.eliminate_zeros()
-        self.edges = int(graph.nnz)
-        dist, pred = dijkstra(graph, directed=True, indices=goal_id, return_predecessors=True)
-        self._goal_id, self._dist, self._next = goal_id, dist, pred
-        self.cost_to_go = dist[:goal_id].reshape(self.shape)
+        keep = np.isfinite(w_goal)
+        near, w_goal = near[keep], np.maximum(w_goal[keep], 1e-12)
+        self.edges = int(np.bitwise_count(bits).sum()) + int(near.size)
+        self._goal_id = self.nodes
+        self._dist, self._next = np.full(self.nodes + 1, np.inf), np.full(self.nodes + 1, -9999, dtype=np.int64)
+        self._dist[self._goal_id] = 0.0
+        steps = np.array([cell, cell, cell_z])
+        _search(np.array(self.shape, dtype=np.int64), bits, _OFFSETS, _OFFSETS * steps, current,
+                params.objective == "cost", model.w_length, model.w_energy * model.scale, model.speed,
+                propulsion_power(model), model.energy == "document",
+                near.astype(np.int64), w_goal, self._goal_id, self._dist, self._next)
+        self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
     # ------------------------------------------------------------------ lattice
     def _coords(self, ids: np.ndarray) -> np.ndarray:
-        return self._xyz[ids]
+        i, j, k = np.unravel_index(np.asarray(ids), self.shape)
+        return np.stack([self.axes[0][i], self.axes[1][j], self.axes[2][k]], axis=-1)
 
-    def _lattice_edges(self) -> tuple[np.ndarray, np.ndarray]:
-        """Costs ``(26, N)`` of the free edges *into* each node and the nodes they come from.
+    def _lattice_edges(self, xyz: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
+        """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of
+        node ``u`` set when the edge ``u -> u + _OFFSETS[s]`` is free).
 
         Each offset has one length and direction, so the edges of one offset are tested as
         3D array slices: the seabed's Lipschitz bound and the obstacles' 1-Lipschitz distance
         clear most edges from the node values alone, and only the others go through the
-        World's exact segment test.  Missing edges have weight 0.
+        World's exact segment test.  Costs are not stored: the search computes each edge's
+        cost when it relaxes it, so memory grows with the nodes, not with 26 × the nodes.
         """
         w, m = self.world, self.world.margins
         itype = np.int32 if self.nodes < 2**31 else np.int64
         ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
         steps = np.array([self.cell, self.cell, self.cell_z])
-        alt = self._altitude.reshape(self.shape)
-        obs = self._obstacle.reshape(self.shape)
-        cur = None if self._current is None else self._current.reshape(*self.shape, 3)
-        weight = np.zeros((26, self.nodes))
-        column = np.zeros((26, self.nodes), dtype=itype)
+        alt = altitude.reshape(self.shape)
+        obs = obstacle.reshape(self.shape)
+        bits = np.zeros(self.nodes, dtype=np.uint32)
         for slot, off in enumerate(_HALF):
             a = tuple(slice(max(0, -d), s - max(0, d)) for d, s in zip(off, self.shape))
             b = tuple(slice(max(0, d), s - max(0, -d)) for d, s in zip(off, self.shape))
@@ -196,19 +304,11 @@ class GridReference:
                 sure &= lb >= m.min_altitude
             unsure = np.flatnonzero(~sure)
             if unsure.size:
-                seg = np.stack([self._xyz[src[unsure]], self._xyz[dst[unsure]]], axis=1)
+                seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
                 sure[unsure] = w.segments_free(seg, moving=False, ends_free=True)
-            src, dst = src[sure], dst[sure]
-            if cur is None:
-                w_fwd = w_bwd = np.full(src.size, length)
-            else:  # midpoint current as the mean of the two nodes' (second order)
-                c = 0.5 * (cur[a][both][sure] + cur[b][both][sure])
-                zero = np.zeros((1, 3))
-                w_fwd = edge_cost(w, zero, d[None], self.model, "cost", c)
-                w_bwd = edge_cost(w, zero, -d[None], self.model, "cost", c)
-            weight[slot, dst], column[slot, dst] = np.maximum(w_fwd, 1e-12), src
-            weight[13 + slot, src], column[13 + slot, src] = np.maximum(w_bwd, 1e-12), dst
-        return weight, column
+            bits[src[sure]] |= np.uint32(1 << slot)
+            bits[dst[sure]] |= np.uint32(1 << (13 + slot))
+        return bits
 
     def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:
         """Free nodes within two cells of ``point`` joined to it by a free segment, and the
@@ -327,6 +427,37 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
     return path
 
 
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel, cell: float,
+              iterations: int, tol: float) -> tuple[np.ndarray, float, int]:
+    """Refine until the cost stops improving: resample the path at half the last spacing (or
+    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
+    it with steps of that spacing (and, for the length objective, drop the vertices that hold
+    nothing up), and keep it only when cheaper; stop when two levels in a row improve the cost
+    by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
+
+    Returns the path, its cost and the number of levels run.
+    """
+    world, objective = problem.world, spec.grid.objective
+    best, best_cost = path, path_cost(problem, spec, path)["total"]
+    floor = float(polyline_length(path)) / 2000.0
+    spacing, levels, small = 0.5 * cell, 0, 0
+    while spacing >= floor and small < 2:
+        levels += 1
+        start = resample_polyline(best, spacing)  # even spacing lets points slide along the path
+        if not world.path_free(start):
+            start = densify(best, spacing)
+        cand = _relax(world, start, model, objective, iterations, spacing)
+        if objective == "length":
+            cand = key_waypoints(cand, world)
+        cost = path_cost(problem, spec, cand)["total"]
+        gain = (best_cost - cost) / max(abs(best_cost), 1e-12)
+        if cost < best_cost and world.path_free(cand):
+            best, best_cost = cand, cost
+        small = small + 1 if gain < tol else 0
+        spacing *= 0.5
+    return best, best_cost, levels
+
+
 def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> dict:
     """Cost terms of a polyline under the planner's cost function (segments no longer than
     1/``spec.samples`` of the path, vertices kept), as in :class:`PlanResult.cost_terms`."""
@@ -373,6 +504,10 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
     if length_only:
         path = key_waypoints(path, w)
+    levels = 0
+    if params.converge:
+        path, _, levels = _converge(problem, spec, path, model, reference.cell, params.relax_iterations,
+                                    params.converge_tol)
     terms = path_cost(problem, spec, path)
     straight = np.stack([problem.start, problem.goal])
     if path.shape[0] > 2 and w.path_free(straight):
@@ -390,6 +525,10 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     free = w.path_free(path)
     status = Status.EXACT if free else Status.INFEASIBLE
     message = "" if free else "the shortened lattice path failed the exact segment test"
+    if free:
+        message = (f"reference: lattice {reference.shape} at {reference.cell:g} m x {reference.cell_z:g} m, "
+                   + (f"refined to convergence ({levels} levels, tol {params.converge_tol:g})" if params.converge
+                      else "elastic band only (lattice-bound reference)"))
     return PlanResult(
         status=status,
         path=path,

@@ -14,27 +14,60 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
-import matplotlib
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.colors import Normalize
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from ..sim import RunRecord  # noqa: E402
-from ..world import World  # noqa: E402
-from .report import shape_surface  # noqa: E402
+from ..sim import RunRecord
+from ..world import World
+from .scene3d import elevation_range, shape_surface
+from .style import bathymetry_cmap
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures"]
 
 
+STRIP = 4.0
+"""Plan views whose data extent is more elongated than this are drawn with the short axis
+exaggerated to this ratio (and say so), instead of as an unreadable strip."""
+
+
+def _subplots(*grid: int, figsize: tuple[float, float], **kw: Any) -> tuple[Figure, Any]:
+    """``pyplot.subplots`` without pyplot: a bare :class:`~matplotlib.figure.Figure` (rendered by
+    Agg on ``savefig``), so that drawing never selects or switches the user's backend."""
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(*grid, **kw)
+
+
 def _seabed(ax, world: World) -> None:
+    """Filled seabed in the shared bathymetry colours, isobaths labelled in metres."""
     if world.terrain is None:
         return
     t = world.terrain
-    cs = ax.contourf(t.x, t.y, t.z, levels=20, cmap="gist_earth", alpha=0.85)
+    lo, hi = elevation_range(world)
+    cmap, norm = bathymetry_cmap(lo, hi)
+    levels = np.linspace(lo, hi, 21)
+    cs = ax.contourf(t.x, t.y, t.z, levels=levels, cmap=cmap, norm=norm, extend="both")
+    lines = ax.contour(t.x, t.y, t.z, levels=levels[::4], colors="k", linewidths=0.4, alpha=0.5)
+    ax.clabel(lines, fmt="%.0f m", fontsize=6)
     ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)")
+
+
+def _fit_aspect(ax, points: np.ndarray) -> None:
+    """Equal scales unless the drawn extent is a strip; then exaggerate the short axis."""
+    span = np.ptp(points[:, :2], axis=0) if len(points) else np.ones(2)
+    span = np.maximum(span, 1e-9)
+    ratio = span.max() / span.min()
+    if ratio <= STRIP:
+        ax.set_aspect("equal")
+        return
+    factor = ratio / STRIP
+    ax.set_aspect(factor if span[1] < span[0] else 1.0 / factor)
+    ax.set_title(f"{ax.get_title()}\n({'y' if span[1] < span[0] else 'x'} exaggerated ×{factor:.3g})", fontsize=9)
 
 
 def _obstacles(ax, world: World, t: float | None = None) -> None:
@@ -45,36 +78,55 @@ def _obstacles(ax, world: World, t: float | None = None) -> None:
         for o in world.moving:
             if o.active(t):
                 c = o.center(t)
-                ax.add_patch(plt.Circle(c[:2], o.shape.bounding_radius, color="purple", alpha=0.4))
+                ax.add_patch(Circle(c[:2], o.shape.bounding_radius, color="purple", alpha=0.4))
 
 
 def plan_view(world: World, record: RunRecord):
     """Route (global path) against the flown track, with obstacles and key waypoints."""
-    fig, ax = plt.subplots(figsize=(7.5, 6.5))
+    fig, ax = _subplots(figsize=(7.5, 6.5))
     _seabed(ax, world)
     _obstacles(ax, world)
     if record.route.size:
         ax.plot(record.route[:, 0], record.route[:, 1], "--", color="orange", lw=1.5, label="route")
     if record.keys.size:
         ax.plot(record.keys[:, 0], record.keys[:, 1], "D", color="gold", mec="k", ms=5, label="key waypoints")
+    drawn = [record.route] if record.route.size else []
     if record.sim is not None and record.sim.t.size:
         p = record.sim.position
-        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        drawn.append(p)
+        _track_by_altitude(ax, p, record.sim.altitude)
         for o in world.moving:
             c = np.array([o.center(t) for t in record.sim.t[:: max(1, record.sim.t.size // 200)]])
             ax.plot(c[:, 0], c[:, 1], ":", color="purple", lw=0.8)
-    ax.set_aspect("equal")
     ax.set_xlabel("x east (m)")
     ax.set_ylabel("y north (m)")
     ax.set_title(f"{record.scenario}: {record.status.value}")
-    ax.legend(loc="best", fontsize=8)
+    if drawn:
+        _fit_aspect(ax, np.vstack(drawn))
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=3, fontsize=8, frameon=False)
     fig.tight_layout()
     return fig
 
 
+def _track_by_altitude(ax, p: np.ndarray, altitude: np.ndarray) -> None:
+    """The flown track coloured by its altitude above the seabed (red low, green high)."""
+    alt = np.where(np.isfinite(altitude), altitude, np.nan)
+    segments = np.stack([p[:-1, :2], p[1:, :2]], axis=1)
+    finite = alt[np.isfinite(alt)]
+    if finite.size == 0:
+        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        return
+    top = max(float(np.percentile(finite, 95)), 1.0)
+    lc = LineCollection(segments, cmap="RdYlGn", norm=Normalize(0.0, top), linewidths=1.8, label="track")
+    lc.set_array(np.nan_to_num(0.5 * (alt[:-1] + alt[1:]), nan=top))
+    ax.add_collection(lc)
+    ax.autoscale_view()
+    ax.figure.colorbar(lc, ax=ax, label="track altitude above seabed (m)", pad=0.01)
+
+
 def profiles(record: RunRecord):
     """Depth, altitude above the seabed, cross-track error and speed against time."""
-    fig, axes = plt.subplots(4, 1, figsize=(7.5, 8), sharex=True)
+    fig, axes = _subplots(4, 1, figsize=(7.5, 8), sharex=True)
     sim = record.sim
     if sim is not None and sim.t.size:
         series = ((-sim.position[:, 2], "depth (m)"), (sim.altitude, "altitude (m)"),
@@ -91,7 +143,7 @@ def profiles(record: RunRecord):
 
 def convergence(histories: dict[str, np.ndarray]):
     """Best cost per iteration, one line per optimiser (``{name: history}``)."""
-    fig, ax = plt.subplots(figsize=(6.5, 4))
+    fig, ax = _subplots(figsize=(6.5, 4))
     for name, h in histories.items():
         h = np.asarray(h, dtype=float)
         if h.size:
@@ -106,7 +158,7 @@ def convergence(histories: dict[str, np.ndarray]):
 
 def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
     """Plan view and depth profile of several planners' paths (``{name: (N, 3)}``)."""
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5), gridspec_kw=dict(width_ratios=[1.2, 1]))
+    fig, (ax, bx) = _subplots(1, 2, figsize=(12, 5), gridspec_kw=dict(width_ratios=[1.2, 1]))
     _seabed(ax, world)
     _obstacles(ax, world)
     for name, p in paths.items():
@@ -140,7 +192,7 @@ def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
 def streamlines(world: World, paths, goal, status=None):
     """Streamlines from many starts (document 000): plan (x–y) and side (x–z) views; those that
     did not arrive (``status`` other than ``"arrived"``) in red."""
-    fig, axes = plt.subplots(1, 2, figsize=(12, 5.5))
+    fig, axes = _subplots(1, 2, figsize=(12, 5.5))
     for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
         for s in world.obstacles:
             _silhouette(ax, s, i, j, color="firebrick", alpha=0.45, lw=0)
@@ -168,7 +220,6 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord, formats
             path = folder / f"{name}.{fmt}"
             fig.savefig(path, dpi=150)
             written.append(path)
-        plt.close(fig)
     return written
 
 
@@ -188,7 +239,7 @@ def bench_figures(rows: list[dict], folder: Path) -> list[Path]:
         except (TypeError, ValueError):
             return np.nan
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(max(8, 2.2 * len(names)), 4.5))
+    fig, (ax, bx) = _subplots(1, 2, figsize=(max(8, 2.2 * len(names)), 4.5))
     costs = [np.array([num(r["cost"]) for r in cells[n]]) for n in names]
     ax.boxplot([c[np.isfinite(c)] for c in costs], tick_labels=names)
     ax.set_ylabel("plan cost")
@@ -201,5 +252,4 @@ def bench_figures(rows: list[dict], folder: Path) -> list[Path]:
     fig.tight_layout()
     path = folder / "bench.png"
     fig.savefig(path, dpi=130)
-    plt.close(fig)
     return [path]

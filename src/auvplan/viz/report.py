@@ -14,182 +14,25 @@ from __future__ import annotations
 
 import html
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
+import plotly.colors as pc
 import plotly.graph_objects as go
 import plotly.io as pio
 from plotly.subplots import make_subplots
 
-from ..sim import RunRecord
-from ..world import Ellipsoid, Sphere, World
+from ..sim import RunRecord, decimate
+from ..world import World
+from .chart import figure_plan_view
+from .scene3d import figure_3d, thin
 
-__all__ = ["build_report", "build_bench_report", "figure_3d", "figure_plan_view", "figure_profiles",
-           "figure_convergence", "shape_surface"]
-
-FRAMES = 60
-"""Time-slider frames."""
-
-MAX_POINTS = 3000
-"""Longest line drawn (longer tracks are thinned evenly; the ends are kept)."""
+__all__ = ["build_report", "build_bench_report", "figure_profiles", "figure_convergence"]
 
 
-def _thin(n: int) -> np.ndarray:
-    """Indices of at most ``MAX_POINTS`` evenly spread samples of ``n`` (first and last kept)."""
-    return np.unique(np.linspace(0, n - 1, min(n, MAX_POINTS)).round().astype(int))
-
-
-def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(x, y, z)`` grids ``(n, n)`` of a sphere's or ellipsoid's surface."""
-    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, n), np.linspace(0, np.pi, n))
-    unit = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], axis=-1)
-    c = np.asarray(shape.center, dtype=float)
-    if isinstance(shape, Ellipsoid):
-        p = c + (unit * np.asarray(shape.semi_axes)) @ shape._rot.T
-    elif isinstance(shape, Sphere):
-        p = c + shape.radius * unit
-    else:
-        p = c + shape.bounding_radius * unit
-    return p[..., 0], p[..., 1], p[..., 2]
-
-
-def _line(p: np.ndarray, name: str, color: str, width: float = 4, dash: str | None = None) -> go.Scatter3d:
-    return go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines", name=name,
-                        line=dict(color=color, width=width, dash=dash))
-
-
-def _terrain_grid(world: World, max_nodes: int = 120):
-    t = world.terrain
-    b = world.bounds
-    ix = np.flatnonzero((t.x >= b.xmin - t.dx) & (t.x <= b.xmax + t.dx))
-    iy = np.flatnonzero((t.y >= b.ymin - t.dy) & (t.y <= b.ymax + t.dy))
-    ix = ix[:: max(1, int(np.ceil(ix.size / max_nodes)))]
-    iy = iy[:: max(1, int(np.ceil(iy.size / max_nodes)))]
-    return t.x[ix], t.y[iy], t.z[np.ix_(iy, ix)]  # z is (ny, nx)
-
-
-def _times(record: RunRecord) -> np.ndarray:
-    if record.sim is None or record.sim.t.size == 0:
-        return np.empty(0)
-    return np.linspace(record.sim.t[0], record.sim.t[-1], min(FRAMES, record.sim.t.size))
-
-
-def _moving_tracks(world: World, times: np.ndarray) -> np.ndarray:
-    """Centres ``(T, M, 3)`` of the moving obstacles at ``times`` (NaN while inactive), one
-    vectorised call per obstacle."""
-    if not world.moving:
-        return np.empty((times.size, 0, 3))
-    pts = np.stack([np.asarray(o.motion.position(times), dtype=float) for o in world.moving], axis=1)
-    active = np.array([[o.appears <= t < o.disappears for o in world.moving] for t in times])
-    return np.where(active[..., None], pts, np.nan)
-
-
-def figure_3d(world: World, record: RunRecord) -> go.Figure:
-    """The 3D scene with the time slider (see the module notes)."""
-    fig = go.Figure()
-    b = world.bounds
-    if world.terrain is not None:
-        x, y, z = _terrain_grid(world)
-        fig.add_trace(go.Surface(x=x, y=y, z=z, colorscale="Earth", reversescale=True, name="seabed", showscale=True,
-                                 colorbar=dict(title="elevation (m)", x=1.02, len=0.7), opacity=0.95,
-                                 hovertemplate="x %{x:.0f} m<br>y %{y:.0f} m<br>seabed %{z:.0f} m<extra></extra>"))
-    path = record.plan.path if record.plan is not None and record.plan.path.size else record.route
-    zs = path[:, 2] if path.size else np.array([b.zmin, b.zmax])
-    gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 7), np.linspace(b.ymin, b.ymax, 7))
-    cone = []
-    for z in np.linspace(zs.min(), zs.max(), 3) if np.ptp(zs) > 0 else [zs[0]]:
-        p = np.column_stack([gx.ravel(), gy.ravel(), np.full(gx.size, z)])
-        cone.append(np.column_stack([p, world.currents.velocity(p, 0.0)]))
-    cone = np.vstack(cone)
-    if np.abs(cone[:, 3:]).max() > 0:
-        fig.add_trace(go.Cone(x=cone[:, 0], y=cone[:, 1], z=cone[:, 2], u=cone[:, 3], v=cone[:, 4], w=cone[:, 5],
-                              name="current", sizemode="scaled", sizeref=0.6, colorscale="Blues", showscale=False,
-                              hovertemplate="current %{u:.2f}, %{v:.2f} m/s<extra></extra>"))
-    for i, s in enumerate(world.obstacles):
-        x, y, z = shape_surface(s)
-        fig.add_trace(go.Surface(x=x, y=y, z=z, showscale=False, colorscale=[[0, "firebrick"], [1, "firebrick"]],
-                                 opacity=0.6, name=f"obstacle {i}", hoverinfo="name"))
-    if record.plan is not None and record.plan.path.size:
-        fig.add_trace(_line(record.plan.path, f"global path ({record.plan.planner})", "orange", 5))
-    if record.keys.size:
-        k = record.keys
-        fig.add_trace(go.Scatter3d(x=k[:, 0], y=k[:, 1], z=k[:, 2], mode="markers", name="key waypoints",
-                                   marker=dict(size=4, color="gold", symbol="diamond")))
-    times = _times(record)
-    if times.size:
-        fig.add_trace(_line(record.sim.position[_thin(record.sim.t.size)], "track", "crimson", 3))
-        pos = _positions(record, times)
-        mov = _moving_tracks(world, times)
-        fig.add_trace(go.Scatter3d(x=[pos[0, 0]], y=[pos[0, 1]], z=[pos[0, 2]], mode="markers", name="vehicle",
-                                   marker=dict(size=7, color="black")))
-        iv = len(fig.data) - 1
-        fig.add_trace(go.Scatter3d(x=mov[0][:, 0], y=mov[0][:, 1], z=mov[0][:, 2], mode="markers",
-                                   name="moving obstacles", marker=dict(size=6, color="purple")))
-        im = len(fig.data) - 1
-        frames, steps = [], []
-        for j, t in enumerate(times):
-            name = f"t{j}"
-            frames.append(go.Frame(name=name, traces=[iv, im], data=[
-                go.Scatter3d(x=[pos[j, 0]], y=[pos[j, 1]], z=[pos[j, 2]]),
-                go.Scatter3d(x=mov[j][:, 0], y=mov[j][:, 1], z=mov[j][:, 2])]))
-            steps.append(dict(method="animate", label=f"{t:.0f}",
-                              args=[[name], dict(mode="immediate", frame=dict(duration=0, redraw=True),
-                                                 transition=dict(duration=0))]))
-        fig.frames = frames
-        fig.update_layout(
-            sliders=[dict(active=0, steps=steps, currentvalue=dict(prefix="t = ", suffix=" s"), x=0.05, len=0.9)],
-            updatemenus=[dict(type="buttons", showactive=False, x=0.0, y=0.0, xanchor="right", buttons=[
-                dict(label="▶", method="animate",
-                     args=[None, dict(frame=dict(duration=120, redraw=True), fromcurrent=True)]),
-                dict(label="❚❚", method="animate",
-                     args=[[None], dict(mode="immediate", frame=dict(duration=0, redraw=False))])])])
-    span = np.array([b.xmax - b.xmin, b.ymax - b.ymin])
-    fig.update_layout(
-        scene=dict(xaxis_title="x east (m)", yaxis_title="y north (m)", zaxis_title="z (m)", aspectmode="manual",
-                   aspectratio=dict(x=1.0, y=float(span[1] / span[0]), z=0.45)),
-        height=720, margin=dict(l=0, r=0, t=30, b=0), legend=dict(x=0.0, y=1.0),
-        title=f"{record.scenario} — seed {record.seed}: {record.status.value}")
-    return fig
-
-
-def _positions(record: RunRecord, times: np.ndarray) -> np.ndarray:
-    sim = record.sim
-    return np.column_stack([np.interp(times, sim.t, sim.position[:, k]) for k in range(3)])
-
-
-def figure_plan_view(world: World, record: RunRecord, to_lonlat: Callable | None = None) -> go.Figure:
-    """Map of the mission: seabed contours, obstacles, path, key waypoints, track, and a lon/lat
-    graticule (contours of longitude and latitude) when ``to_lonlat`` is given."""
-    fig = go.Figure()
-    b = world.bounds
-    if world.terrain is not None:
-        x, y, z = _terrain_grid(world, 200)
-        fig.add_trace(go.Contour(x=x, y=y, z=z, colorscale="Earth", name="seabed", ncontours=25,
-                                 colorbar=dict(title="elevation (m)"), line=dict(width=0.5)))
-    if to_lonlat is not None:
-        gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 60), np.linspace(b.ymin, b.ymax, 60))
-        lon, lat = to_lonlat(gx, gy)
-        for field, label in ((lon, "lon"), (lat, "lat")):
-            fig.add_trace(go.Contour(x=gx[0], y=gy[:, 0], z=field, showscale=False, name=f"{label} graticule",
-                                     contours=dict(coloring="none", showlabels=True,
-                                                   labelfont=dict(size=10, color="dimgray")),
-                                     line=dict(color="dimgray", width=0.8, dash="dot"), ncontours=8,
-                                     hoverinfo="skip"))
-    for i, s in enumerate(world.obstacles):
-        x, y, _ = shape_surface(s, 40)
-        fig.add_trace(go.Scatter(x=x[len(x) // 2], y=y[len(y) // 2], mode="lines", fill="toself",
-                                 name=f"obstacle {i}", line=dict(color="firebrick")))
-    if record.plan is not None and record.plan.path.size:
-        p = record.plan.path
-        fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", name="global path", line=dict(color="orange")))
-    if record.keys.size:
-        fig.add_trace(go.Scatter(x=record.keys[:, 0], y=record.keys[:, 1], mode="markers", name="key waypoints",
-                                 marker=dict(color="gold", symbol="diamond", size=9, line=dict(width=1))))
-    if record.sim is not None and record.sim.t.size:
-        p = record.sim.position[_thin(record.sim.t.size)]
-        fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", name="track", line=dict(color="crimson")))
-    fig.update_layout(xaxis_title="x east (m)", yaxis_title="y north (m)", height=600, title="plan view",
-                      yaxis=dict(scaleanchor="x", scaleratio=1))
-    return fig
+def _clock(t: np.ndarray) -> np.ndarray:
+    """Elapsed seconds as datetimes from midnight, so that plotly labels the axis hh:mm:ss."""
+    return np.datetime64("2000-01-01T00:00:00") + np.round(np.asarray(t) * 1000).astype("timedelta64[ms]")
 
 
 def figure_profiles(record: RunRecord) -> go.Figure:
@@ -199,13 +42,15 @@ def figure_profiles(record: RunRecord) -> go.Figure:
                                         "speed over ground (m/s)"))
     sim = record.sim
     if sim is not None and sim.t.size:
-        i = _thin(sim.t.size)
+        i = thin(sim.t.size)
         alt = np.where(np.isfinite(sim.altitude), sim.altitude, np.nan)
         for row, (y, name) in enumerate(((-sim.position[:, 2], "depth"), (alt, "altitude"),
                                          (sim.route_error, "cross-track"), (sim.speed, "speed")), start=1):
-            fig.add_trace(go.Scatter(x=sim.t[i], y=y[i], mode="lines", name=name, showlegend=False), row=row, col=1)
+            fig.add_trace(go.Scatter(x=_clock(sim.t[i]), y=y[i], mode="lines", name=name, showlegend=False),
+                          row=row, col=1)
         fig.update_yaxes(autorange="reversed", row=1, col=1)
-    fig.update_xaxes(title_text="time (s)", row=4, col=1)
+        fig.update_xaxes(tickformat="%H:%M:%S", hoverformat="%H:%M:%S")
+    fig.update_xaxes(title_text="elapsed time (h:mm:ss)", row=4, col=1)
     fig.update_layout(height=760, title="profiles along the track", margin=dict(t=60))
     return fig
 
@@ -239,7 +84,12 @@ th{background:#f3f3f3}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size
 
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: dict,
                  to_lonlat: Callable | None = None) -> str:
-    """The whole report as one HTML page that needs no network (plotly.js is inlined once)."""
+    """The whole report as one HTML page that needs no network (plotly.js is inlined once).
+
+    The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
+    or 30 s, with the extremes of altitude and obstacle distance)."""
+    if record.sim is not None:
+        record = replace(record, sim=decimate(record.sim))
     figs = [("view3d", figure_3d(world, record)), ("planview", figure_plan_view(world, record, to_lonlat)),
             ("profiles", figure_profiles(record)), ("convergence", figure_convergence(record))]
     parts = []
@@ -267,14 +117,16 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
     cells: dict[str, list[dict]] = {}
     for r in rows:
         cells.setdefault(f"{r['scenario']} {r['planner']}/{r['guidance']}", []).append(r)
+    palette = pc.qualitative.Plotly + pc.qualitative.D3
+    colour = {name: palette[i % len(palette)] for i, name in enumerate(sorted(cells))}
     box = go.Figure()
     for name, rs in sorted(cells.items()):
         c = np.array([_num(r["cost"]) for r in rs])
-        box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers"))
+        box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers", marker_color=colour[name]))
     box.update_layout(title="plan cost per cell", yaxis_title="cost", height=450)
     names = sorted(cells)
     rate = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
-    bars = go.Figure(go.Bar(x=names, y=rate, marker_color="seagreen"))
+    bars = go.Figure(go.Bar(x=names, y=rate, marker_color=[colour[n] for n in names]))
     bars.update_layout(title="success rate", yaxis=dict(range=[0, 1.05]), height=380)
     conv = go.Figure()
     by_cell: dict[str, list[np.ndarray]] = {}
@@ -287,9 +139,11 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
         m = np.array([np.pad(h, (0, n - len(h)), mode="edge") for h in hs])
         q25, q50, q75 = np.percentile(m, [25, 50, 75], axis=0)
         it = np.arange(1, n + 1)
+        c = colour.get(name, "gray")
         conv.add_trace(go.Scatter(x=np.r_[it, it[::-1]], y=np.r_[q75, q25[::-1]], fill="toself", opacity=0.2,
-                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name))
-        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})"))
+                                  line=dict(width=0), showlegend=False, hoverinfo="skip", name=name, fillcolor=c))
+        conv.add_trace(go.Scatter(x=it, y=q50, mode="lines", name=f"{name} (median of {len(hs)})",
+                                  line=dict(color=c)))
     conv.update_layout(title="convergence (best cost per iteration)", xaxis_title="iteration",
                        yaxis_title="best cost", height=450)
     parts = [pio.to_html(f, include_plotlyjs=(i == 0), full_html=False, div_id=d, config=dict(displaylogo=False))

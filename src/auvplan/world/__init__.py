@@ -11,6 +11,7 @@ from .obstacles import (
     WaypointMotion,
 )
 from .terrain import Terrain
+from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World
 
 __all__ = [
@@ -26,6 +27,8 @@ __all__ = [
     "RandomWalkMotion",
     "Sphere",
     "Terrain",
+    "HarmonicTables",
+    "TidalCurrent",
     "UniformCurrent",
     "WaypointMotion",
     "World",

@@ -33,6 +33,11 @@ class CurrentField:
         """Current velocity at ``points (..., 3)`` and time ``t`` (s)."""
         raise NotImplementedError
 
+    def sample(self, points, times) -> np.ndarray:
+        """The field at ``points (N, 3)`` for every time in ``times (T,)``: shape ``(T, N, 3)``."""
+        p = as_points(points).reshape(-1, 3)
+        return np.stack([self.velocity(p, float(t)) for t in np.atleast_1d(times)])
+
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box."""
         return True

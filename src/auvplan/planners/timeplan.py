@@ -1,0 +1,187 @@
+"""The time-dependent planner as a planner (``[planner] name = "timeopt"``) and the departure sweep.
+
+:func:`plan_timeopt` plans one departure (lattice search + time-aware refinement,
+:mod:`.timeopt`).  :func:`departure_sweep` plans every departure of a window on one lattice and
+one current table, and beside each flies the straight line and the *steady-current plan* (the
+time-optimal plan for the current frozen at the departure time, as a planner without time would
+make it) through the real, changing current — the "percent saved" of planning with time.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._types import Status
+from ..cost import evaluate_paths
+from .base import PlannerSpec, PlanningProblem, PlanResult
+from .swarm import check_endpoints, cost_model_for, search_box
+from .timeopt import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
+
+__all__ = ["TimeSetup", "SweepRow", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]
+
+
+@dataclass(frozen=True, eq=False)
+class TimeSetup:
+    """A lattice and a current table shared by the plans of one problem."""
+
+    lattice: Lattice
+    table: CurrentTable
+    cell: float
+    ds: float
+    build_s: float
+
+
+def _power(problem: PlanningProblem, speed: float) -> float:
+    return problem.hotel_power + problem.drag_k * speed**3
+
+
+def setup(problem: PlanningProblem, spec: PlannerSpec, t0: float, t1: float) -> TimeSetup:
+    """Lattice over the search box and the current table from ``t0`` to ``t1`` + the horizon."""
+    clock = time.process_time()
+    p = spec.timeopt
+    lower, upper = search_box(problem)
+    cell = p.cell or max(upper[0] - lower[0], upper[1] - lower[1]) / 100.0
+    lattice = build_lattice(problem.world, lower, upper, cell, p.levels, float(problem.start[2]))
+    dist = float(np.linalg.norm(problem.goal - problem.start))
+    slowest = problem.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
+    horizon = p.horizon_s or 1.5 * dist / slowest + 7200.0
+    table = build_table(problem.world, lattice, t0, t1 + horizon, p.dt)
+    return TimeSetup(lattice, table, cell, p.substep or 0.5 * cell, time.process_time() - clock)
+
+
+def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: float, speed: float | None = None,
+         table: CurrentTable | None = None) -> TimedPath | None:
+    """Search then refine one departure (on ``table``, default the real one) at ``speed``, or by
+    ``spec.timeopt.objective`` over the speeds it allows (the least duration, or the least energy)."""
+    tab = ts.table if table is None else table
+    p = spec.timeopt
+    if speed is not None:
+        speeds = [speed]
+    else:
+        speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
+    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds)
+            for v in speeds]
+    scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
+              for r in raws if r is not None and np.isfinite(r.duration)]
+    if not scored:
+        return None
+    raw = min(scored, key=lambda s: s[0])[1]
+    vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
+    return refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
+
+
+def _failure(status: Status, message: str, t0: float) -> PlanResult:
+    return PlanResult(status, np.empty((0, 3)), math.inf, {}, 0, 0, time.perf_counter() - t0, np.empty(0),
+                      "timeopt", None, message)
+
+
+def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
+    length = float(np.linalg.norm(np.diff(tp.points, axis=0), axis=1).sum())
+    energy = _power(problem, tp.speed) * tp.duration
+    # geometric clearance (seabed along every segment, exactly; static obstacles), as the other planners
+    exact = evaluate_paths(problem.world, tp.points[None], cost_model_for(problem, spec), exact=True)
+    seg_ok = problem.world.segments_free(np.stack([tp.points[:-1], tp.points[1:]], axis=1), moving=False)
+    terms = {
+        "length": length, "terrain": 0.0, "energy": energy,
+        "length_m": length, "energy_j": energy, "duration_s": tp.duration,
+        "depart_s": float(tp.times[0]), "arrive_s": float(tp.times[-1]), "speed_m_s": tp.speed,
+        "min_clearance_m": float(exact.min_clearance[0]), "collisions": int((~seg_ok).sum()),
+        "lattice_nodes": int(ts.lattice.free.sum()), "lattice_legs": ts.lattice.legs,
+    }
+    cost = tp.duration if spec.timeopt.objective == "time" else energy
+    free = bool(seg_ok.all())
+    return PlanResult(Status.EXACT if free else Status.INFEASIBLE, tp.points, cost, terms, ts.lattice.legs, 1,
+                      time.perf_counter() - t0, np.array([cost]), "timeopt", None,
+                      "" if free else "the refined path failed the exact segment test", times=tp.times)
+
+
+def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | None = None) -> PlanResult:
+    """Plan the departure ``spec.timeopt.depart_s`` (module notes of :mod:`.timeopt`)."""
+    t0 = time.perf_counter()
+    bad = check_endpoints(problem)
+    if bad is not None:
+        return _failure(bad[0], bad[1], t0)
+    p = spec.timeopt
+    depart = p.depart_s
+    for _ in range(3):  # the horizon doubles when a plan runs past the end of the table
+        ts = ts or setup(problem, spec, depart, depart)
+        best = _fly(problem, spec, ts, depart)
+        if best is None:
+            return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
+                            f"within {ts.table.t1 - depart:.0f} s (the current blocks it, or the seabed encloses "
+                            "the goal; try a smaller [planner.timeopt] cell or another departure)", t0)
+        if best.times[-1] < ts.table.t1:
+            break
+        spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
+        p, ts = spec.timeopt, None
+    return _result(problem, spec, best, ts, t0)
+
+
+@dataclass(frozen=True)
+class SweepRow:
+    """One departure of a sweep: durations (s) and energies (J) of the three ways to fly it."""
+
+    depart_s: float
+    duration_s: float
+    energy_j: float
+    straight_duration_s: float
+    straight_energy_j: float
+    steady_duration_s: float
+    steady_energy_j: float
+    cpu_s: float
+
+
+def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs) -> tuple[list[SweepRow], TimeSetup]:
+    """Plan every departure time of ``departs`` (s) on one lattice and table (module notes)."""
+    departs = np.asarray(departs, dtype=float)
+    ts = setup(problem, spec, float(departs.min()), float(departs.max()))
+    v = problem.speed
+    power = _power(problem, v)
+    straight_ok = problem.world.path_free(np.stack([problem.start, problem.goal]))
+    rows = []
+    for d in departs:
+        clock = time.process_time()
+        tp = _fly(problem, spec, ts, d)
+        dur = tp.duration if tp is not None else math.inf
+        energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
+        cpu = time.process_time() - clock
+        sl = timed_traverse(ts.table, [problem.start, problem.goal], d, v, ts.ds).duration if straight_ok else math.nan
+        it = int(round((d - ts.table.t0) / ts.table.dt))
+        frozen = replace(ts.table, cur=ts.table.cur[it:it + 1], t0=float(d))
+        steady = _fly(problem, spec, ts, d, v, table=frozen)
+        sd = timed_traverse(ts.table, steady.points, d, v, ts.ds).duration if steady is not None else math.inf
+        rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
+    return rows, ts
+
+
+def sweep_summary(rows: list[SweepRow], energy: bool = False) -> dict:
+    """Best and worst departures (by duration, or by energy with ``energy``) and the percent saved by
+    the best timed plan against the worst departure, and against the straight line and the
+    steady-current plan (both at cruise speed) flown at the best departure."""
+    ok = [r for r in rows if np.isfinite(r.duration_s)]
+    if not ok:
+        return {"feasible_departures": 0}
+    key = (lambda r: r.energy_j) if energy else (lambda r: r.duration_s)
+    best, worst = min(ok, key=key), max(ok, key=key)
+
+    def saved(a: float, b: float) -> float:
+        return 100.0 * (b - a) / b if np.isfinite(b) and b > 0 else math.nan
+
+    return {
+        "feasible_departures": len(ok),
+        "best_depart_s": best.depart_s, "best_duration_s": best.duration_s, "best_energy_j": best.energy_j,
+        "worst_depart_s": worst.depart_s, "worst_duration_s": worst.duration_s, "worst_energy_j": worst.energy_j,
+        "saved_vs_worst_pct": saved(best.duration_s, worst.duration_s),
+        "saved_vs_straight_pct": saved(best.duration_s, best.straight_duration_s),
+        "saved_vs_steady_pct": saved(best.duration_s, best.steady_duration_s),
+        "energy_saved_vs_worst_pct": saved(best.energy_j, worst.energy_j),
+        "energy_saved_vs_straight_pct": saved(best.energy_j, best.straight_energy_j),
+        "energy_saved_vs_steady_pct": saved(best.energy_j, best.steady_energy_j),
+        "mean_saved_vs_steady_pct": float(np.nanmean([saved(r.duration_s, r.steady_duration_s) for r in ok])),
+        "mean_saved_vs_straight_pct": float(np.nanmean([saved(r.duration_s, r.straight_duration_s) for r in ok])),
+        "cpu_per_departure_s": float(np.mean([r.cpu_s for r in rows])),
+    }

@@ -1,0 +1,133 @@
+"""One colour convention for every figure, interactive or static.
+
+Bathymetry uses cmocean's ``topo`` map (Thyng et al. 2016), whose lower half is made for the sea
+floor and whose upper half for land, split at 0 m the GMT way: the water part of the map is
+stretched over the seabed shown (up to 0 m) and the land part over ``[0, zmax]``, so that a depth
+has one colour in the 3D view, the plan view and the PNG figures of a mission, land is never a
+shade of water, and the break sits exactly at the coastline. Scenes that stay offshore stop short
+of the palest (coastal) water colours. Current speed uses cmocean's ``speed``.
+
+:func:`bathymetry_stops` is the one definition; :func:`bathymetry_colorscale` (plotly) and
+:func:`bathymetry_cmap` (matplotlib) are two views of it.
+"""
+
+from __future__ import annotations
+
+import cmocean
+import numpy as np
+from matplotlib.colors import LinearSegmentedColormap, Normalize
+
+__all__ = ["BATHY_CMAP", "SPEED_CMAP", "bathymetry_stops", "bathymetry_colorscale", "bathymetry_cmap",
+           "speed_colorscale", "SEA_LEVEL_M"]
+
+BATHY_CMAP = cmocean.cm.topo
+"""Colour map of seabed and land elevation: lower half water, upper half land."""
+
+SPEED_CMAP = cmocean.cm.speed
+"""Colour map of current speed."""
+
+SEA_LEVEL_M = 0.0
+"""Elevation of the break between water and land colours."""
+
+_N = 24
+"""Stops on each side of the break."""
+
+_WATER_TOP = 0.5 - 1e-6
+_WATER_OFFSHORE = 0.4
+
+
+def _hex(rgba: np.ndarray) -> list[str]:
+    c = np.clip(np.round(np.asarray(rgba)[:, :3] * 255), 0, 255).astype(int)
+    return [f"#{r:02x}{g:02x}{b:02x}" for r, g, b in c]
+
+
+def bathymetry_stops(zmin: float, zmax: float) -> tuple[np.ndarray, list[str]]:
+    """Positions in ``[0, 1]`` over ``[zmin, zmax]`` and colours of the bathymetry scale.
+
+    Parameters
+    ----------
+    zmin, zmax : float
+        Elevation range shown (m, up positive); ``zmin < zmax``.
+
+    Returns
+    -------
+    positions : numpy.ndarray
+        Increasing stop positions, ``0`` at ``zmin`` and ``1`` at ``zmax``.
+    colors : list of str
+        ``#rrggbb`` colour at each stop. Where the range spans sea level, two stops share the
+        position of 0 m: the shallowest water colour and the lowest land colour (a hard break).
+    """
+    zmin, zmax = float(zmin), float(zmax)
+    if not zmax > zmin:
+        zmax = zmin + 1.0
+    span = zmax - zmin
+    pos: list[np.ndarray] = []
+    frac: list[np.ndarray] = []
+    if zmin < SEA_LEVEL_M:
+        top = min(zmax, SEA_LEVEL_M)
+        z = np.linspace(zmin, top, _N)
+        pos.append((z - zmin) / span)
+        # The water half spans the seabed shown; the palest, coastal colours are kept for
+        # scenes that reach the coast, so deep water never looks shallow.
+        lightest = _WATER_TOP if zmax >= SEA_LEVEL_M else _WATER_OFFSHORE
+        frac.append(lightest * (z - zmin) / (top - zmin))
+    if zmax > SEA_LEVEL_M:
+        bottom = max(zmin, SEA_LEVEL_M)
+        z = np.linspace(bottom, zmax, _N)
+        pos.append((z - zmin) / span)
+        frac.append(0.5 + 0.5 * (z - SEA_LEVEL_M) / (zmax - SEA_LEVEL_M))
+    p = np.concatenate(pos)
+    p[0], p[-1] = 0.0, 1.0
+    return p, _hex(BATHY_CMAP(np.concatenate(frac)))
+
+
+def bathymetry_colorscale(zmin: float, zmax: float) -> list[list]:
+    """Plotly colourscale of :func:`bathymetry_stops`; use it with ``cmin=zmin, cmax=zmax``.
+
+    Parameters
+    ----------
+    zmin, zmax : float
+        Elevation range (m).
+
+    Returns
+    -------
+    list of [float, str]
+        ``[[position, colour], ...]``.
+    """
+    p, c = bathymetry_stops(zmin, zmax)
+    return [[float(a), b] for a, b in zip(p, c)]
+
+
+def bathymetry_cmap(zmin: float, zmax: float) -> tuple[LinearSegmentedColormap, Normalize]:
+    """Matplotlib colour map and norm of :func:`bathymetry_stops`.
+
+    Parameters
+    ----------
+    zmin, zmax : float
+        Elevation range (m).
+
+    Returns
+    -------
+    cmap : matplotlib.colors.LinearSegmentedColormap
+    norm : matplotlib.colors.Normalize
+        Linear over ``[zmin, zmax]``.
+    """
+    p, c = bathymetry_stops(zmin, zmax)
+    cmap = LinearSegmentedColormap.from_list("auvplan-bathymetry", list(zip(p, c)), N=512)
+    return cmap, Normalize(vmin=float(zmin), vmax=float(max(zmax, zmin + 1.0)))
+
+
+def speed_colorscale(n: int = 16) -> list[list]:
+    """Plotly colourscale of current speed (cmocean ``speed``).
+
+    Parameters
+    ----------
+    n : int
+        Number of stops.
+
+    Returns
+    -------
+    list of [float, str]
+    """
+    p = np.linspace(0.0, 1.0, n)
+    return [[float(a), b] for a, b in zip(p, _hex(SPEED_CMAP(p)))]

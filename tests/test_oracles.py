@@ -1,0 +1,329 @@
+"""Oracle tests aimed at the bugs that matter (issue #23, docs/mutants.md).
+
+Each test is a small independent computation -- a hand-derived number, an exact solution or a
+brute-force check -- written so that a specific, plausible one-line bug in a safety-relevant
+function makes it fail.  docs/mutants.md lists the planted bug each test was checked against.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from auvplan._types import Status
+from auvplan.cost import CostModel, evaluate_paths, segment_energy
+from auvplan.guidance.hybrid import HybridParams, hybrid_force
+from auvplan.guidance.local import AvoidanceParams, apf_force
+from auvplan.guidance.route import RouteTracker
+from auvplan.optim.bee import IABC, IABCParams
+from auvplan.optim.ga import polynomial_mutation, sbx
+from auvplan.planners import GridParams, GridReference
+from auvplan.planners.flow import SAG_PAD, FlowField, FlowParams, sphere_exact_velocity
+from auvplan.sim import Mission, simulate
+from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
+from helpers import flat_world
+
+
+# ---------------------------------------------------------------------- terrain: the Lipschitz shortcut
+def thin_ridge() -> Terrain:
+    """Flat seabed at -100 m with a one-node ridge rising to -60 m at x = 100 (10 m cells)."""
+    x = np.arange(0.0, 301.0, 10.0)
+    y = np.arange(0.0, 101.0, 10.0)
+    z = np.full((y.size, x.size), -100.0)
+    z[:, x == 100.0] = -60.0
+    return Terrain(x, y, z, name="thin ridge")
+
+
+def _dense_min_altitude(t: Terrain, seg: np.ndarray, n: int = 20001) -> np.ndarray:
+    s = np.linspace(0.0, 1.0, n)[None, :, None]
+    pts = seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])
+    return t.altitude(pts).min(axis=1)
+
+
+def test_descending_segment_over_a_thin_ridge_is_caught_below_the_threshold():
+    """From (90, 50, -30) down to (110, 50, -70): the ends are 70 m and 30 m above the flat
+    seabed, the crest at x = 100 is passed at z = -50, 10 m above it.  The shortcut's bound
+    (g_a + g_b - |Δz| - G L_h) / 2 = (70 + 30 - 40 - 4 * 20) / 2 = -10 m is below a 20 m
+    threshold, so the exact walk must run and report 10 m."""
+    t = thin_ridge()
+    assert t.max_slope == pytest.approx(4.0)  # 40 m over one 10 m cell
+    down = np.array([[[90.0, 50.0, -30.0], [110.0, 50.0, -70.0]]])
+    up = down[:, ::-1]
+    for seg in (down, up):
+        assert t.segment_min_altitude(seg, threshold=20.0)[0] == pytest.approx(10.0, abs=1e-9)
+        assert t.segments_below(seg, altitude=20.0)[0]
+    lb = t.altitude_lower_bound(np.array([70.0]), np.array([30.0]), -40.0, 20.0)
+    assert lb[0] == pytest.approx(-10.0)
+
+
+def test_bounded_altitude_never_exceeds_the_sampled_minimum_over_a_ridge():
+    """Random ascending and descending segments across the ridge: with a threshold the result is
+    a lower bound of the dense-sampled minimum everywhere and the exact value below it."""
+    t = thin_ridge()
+    rng = np.random.default_rng(11)
+    n = 400
+    xa, xb = rng.uniform(60, 100, n), rng.uniform(100, 140, n)
+    ya, yb = rng.uniform(20, 80, n), rng.uniform(20, 80, n)
+    za, zb = rng.uniform(-90, 60, n), rng.uniform(-90, 60, n)
+    seg = np.stack([np.c_[xa, ya, za], np.c_[xb, yb, zb]], axis=1)
+    dense = _dense_min_altitude(t, seg)
+    for threshold in (5.0, 20.0, 50.0):
+        bounded = t.segment_min_altitude(seg, threshold=threshold)
+        assert np.all(bounded <= dense + 1e-6)
+        below = dense < threshold - 0.01
+        assert below.sum() > 30 and (~below).sum() > 30
+        np.testing.assert_allclose(bounded[below], dense[below], atol=0.01)
+        assert np.array_equal(t.segments_below(seg, threshold)[below | (dense > threshold + 0.01)],
+                              below[below | (dense > threshold + 0.01)])
+
+
+def test_max_slope_of_a_twisted_surface():
+    """z = x y / 100 on [0, 100]²: bilinear, so represented exactly; |∇z| = |(y, x)| / 100 is
+    largest at the corner (100, 100): √2."""
+    x = np.linspace(0.0, 100.0, 11)
+    gx, gy = np.meshgrid(x, x)
+    t = Terrain(x, x, gx * gy / 100.0)
+    assert t.max_slope == pytest.approx(math.sqrt(2.0), rel=1e-12)
+
+
+# ---------------------------------------------------------------------- grid: edges and their direction
+def _wall_world() -> World:
+    """Seabed at -200 m with a one-node wall up to -100 m along x = 110 (10 m terrain cells)."""
+    x = np.arange(0.0, 201.0, 10.0)
+    z = np.full((x.size, x.size), -200.0)
+    z[:, x == 110.0] = -100.0
+    return World(Bounds(0, 200, 0, 200, -200, 0), Terrain(x, x, z),
+                 margins=Margins(min_altitude=5.0, min_depth=0.0))
+
+
+def test_every_edge_of_the_cost_to_go_tree_is_free():
+    """The lattice nodes at x = 100 and 120 are 20 m apart on both sides of a 10 m wide wall: the
+    nodes are free, the edges between them below the crest are not.  Every hop of every node's
+    cheapest path (the Dijkstra predecessor tree) must pass the World's exact segment test."""
+    world = _wall_world()
+    goal = np.array([180.0, 100.0, -160.0])
+    params = GridParams(cell=20.0, cell_z=20.0, objective="length")
+    ref = GridReference(world, goal, CostModel(), np.array([0.0, 0.0, -200.0]), np.array([200.0, 200.0, 0.0]),
+                        params)
+    assert np.allclose(ref.axes[0], np.arange(0.0, 201.0, 20.0))
+    ids = np.flatnonzero(np.isfinite(ref._dist[:-1]))
+    assert ids.size > 500
+    nxt = ref._next[ids]
+    end = np.where(nxt[:, None] == ref._goal_id, goal, ref._coords(np.minimum(nxt, ref.nodes - 1)))
+    seg = np.stack([ref._coords(ids), end], axis=1)
+    assert world.segments_free(seg, moving=False).all()
+    # a start beyond the wall at the wall's foot has to climb over the crest
+    path = ref.query([20.0, 100.0, -160.0])
+    assert world.path_free(path) and path[:, 2].max() >= -100.0 + 5.0
+    crest = np.interp(110.0, path[:, 0], path[:, 2]) if np.all(np.diff(path[:, 0]) > 0) else path[:, 2].max()
+    assert crest >= -95.0
+
+
+def test_grid_costs_each_edge_in_its_own_direction():
+    """Uniform current of 0.5 m/s along +x, vehicle at 1.5 m/s, cost = length + still-water-metre
+    energy: per metre 1 + V / (V ± c), i.e. 1.75 with the current and 2.5 against it (the straight
+    line is both the shortest and the fastest path in a uniform current, so it is optimal).  Starts
+    on both sides of the goal along x."""
+    world = World(Bounds(0, 400, 0, 400, -400, 0), currents=UniformCurrent((0.5, 0.0, 0.0)),
+                  margins=Margins(min_depth=0.0))
+    goal = np.array([200.0, 200.0, -200.0])
+    ref = GridReference(world, goal, CostModel(speed=1.5), np.array([0.0, 0.0, -400.0]),
+                        np.array([400.0, 400.0, 0.0]), GridParams(cell=40.0, cell_z=40.0, objective="cost"))
+    ix = {float(v): i for i, v in enumerate(ref.axes[0])}
+    j, k = int(np.argmin(np.abs(ref.axes[1] - 200.0))), int(np.argmin(np.abs(ref.axes[2] + 200.0)))
+    for d in (40.0, 120.0, 200.0):
+        upstream = ref.cost_to_go[ix[200.0 - d], j, k]  # travels +x, with the current
+        downstream = ref.cost_to_go[ix[200.0 + d], j, k]  # travels -x, against it
+        assert upstream == pytest.approx(1.75 * d, rel=1e-9)
+        assert downstream == pytest.approx(2.5 * d, rel=1e-9)
+    # the same holds across the y axis, where the current is a pure cross current:
+    # ground speed √(V² - c²) = √2 m/s each way
+    iy = {float(v): i for i, v in enumerate(ref.axes[1])}
+    i = ix[200.0]
+    for d in (40.0, 160.0):
+        for y in (200.0 - d, 200.0 + d):
+            assert ref.cost_to_go[i, iy[y], k] == pytest.approx(d * (1.0 + 1.5 / math.sqrt(2.0)), rel=1e-9)
+
+
+# ---------------------------------------------------------------------- energy with a vertical current
+def _ground_speed(e: np.ndarray, c: np.ndarray, speed: float) -> float:
+    """Independent solution: the ground speed g > 0 along ŝ with |g ŝ - c| = V (root finding)."""
+    s = e / np.linalg.norm(e)
+    return brentq(lambda g: np.linalg.norm(g * s - c) - speed, 1e-9, speed + np.linalg.norm(c) + 1.0)
+
+
+@pytest.mark.parametrize("c", [(0.0, 0.0, -0.5), (0.0, 0.0, 0.4), (0.2, -0.3, 0.35), (-0.1, 0.25, -0.6)])
+def test_energy_and_duration_with_a_vertical_current(c):
+    """A dive of 100 m down and 60 m east, and a climb: the vertical current speeds up or slows
+    the vehicle along the track (e.g. a straight dive of 100 m in a 0.5 m/s down-welling at
+    1.5 m/s takes 50 s, not 66.7 s)."""
+    c = np.asarray(c)
+    world = World(Bounds(-500, 500, -500, 500, -500, 0), currents=UniformCurrent(tuple(c)))
+    model = CostModel(speed=1.5)
+    power = model.hotel_power + model.drag_k * model.speed**3
+    for b in ([60.0, 0.0, -300.0], [0.0, 0.0, -300.0], [-40.0, 30.0, -150.0]):
+        a, b = np.array([0.0, 0.0, -200.0]), np.array(b)
+        e = b - a
+        t = np.linalg.norm(e) / _ground_speed(e, c, 1.5)
+        _, joules, seconds, blocked = segment_energy(world, a, b, model)
+        assert not blocked and seconds == pytest.approx(t, rel=1e-9) and joules == pytest.approx(power * t, rel=1e-9)
+        terms = evaluate_paths(world, np.stack([a, b])[None], model)
+        assert terms.duration_s[0] == pytest.approx(t, rel=1e-9)
+        assert terms.energy[0] == pytest.approx(model.scale * power * t, rel=1e-9)
+    if c[0] == c[1] == 0.0:
+        _, _, seconds, _ = segment_energy(world, np.array([0.0, 0.0, -200.0]), np.array([0.0, 0.0, -300.0]), model)
+        assert seconds == pytest.approx(100.0 / (1.5 - c[2]))
+
+
+# ---------------------------------------------------------------------- the simulator's seabed event
+def test_a_dive_into_the_seabed_ends_in_collision():
+    """The route goes down to 150 m over a 100 m deep flat seabed: the run must stop at the
+    seabed with a collision event, not fly on underground."""
+    world = flat_world(depth=100.0, size=1000.0)
+    route = ((100.0, 500.0, -20.0), (400.0, 500.0, -150.0), (900.0, 500.0, -150.0))
+    r = simulate(world, Mission("dive", route[0], route[-1], route=route), guidance="los", rng=0)
+    assert r.status is Status.COLLISION and not r.arrived
+    assert r.events[-1][1] == "collision" and "seabed" in r.events[-1][2]
+    assert r.altitude[-1] < 0.0 and r.altitude[-1] > -1.0  # stopped within one step of contact
+    assert r.position[-1, 2] == pytest.approx(-100.0, abs=1.0)
+    assert np.all(r.altitude[:-1] >= 0.0)
+    assert r.metrics["collisions"] == 1
+
+
+# ---------------------------------------------------------------------- the flow planner's sphere field
+def test_planner_sphere_field_is_the_exact_image_solution():
+    """The FlowField of one sphere is the sink plus its exact image in the (inflated) sphere: it
+    matches :func:`sphere_exact_velocity` everywhere and has no normal flux on the surface."""
+    c, a, target, margin = np.array([5.0, -3.0, 2.0]), 6.0, np.array([40.0, 30.0, -20.0]), 1.5
+    field = FlowField([Sphere(tuple(c), a)], target, FlowParams(), margin=margin)
+    inflated = a * (1.0 + SAG_PAD) + margin
+    rng = np.random.default_rng(4)
+    p = c + rng.normal(size=(500, 3)) * 15.0
+    p = p[(np.linalg.norm(p - c, axis=1) > inflated + 0.1) & (np.linalg.norm(p - target, axis=1) > 0.5)]
+    np.testing.assert_allclose(field.velocity(p), sphere_exact_velocity(p, c, inflated, target), rtol=1e-10,
+                               atol=1e-15)
+    n = rng.normal(size=(1000, 3))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    u = field.velocity(c + inflated * n)
+    assert np.max(np.abs((u * n).sum(axis=1)) / np.linalg.norm(u, axis=1)) < 1e-9
+
+
+# ---------------------------------------------------------------------- IABC: one iteration with fixed draws
+def test_one_iabc_iteration_mutates_the_worst_and_keeps_only_improvements():
+    """Drive IABC by hand: after the employed and onlooker phases (no candidate improves), the
+    mutation phase must ask for Gaussian moves of the worst ``mutation_fraction`` sources with the
+    decayed sigma, drawn from the optimiser's own generator; worse mutants are rejected, better
+    ones replace their source, and the iteration counter advances once."""
+    n, dim = 10, 3
+    params = IABCParams(mutation_fraction=0.3, sigma=0.1, sigma_final=0.01, max_iterations=11, limit=1000)
+    opt = IABC(np.full(dim, -1.0), np.full(dim, 1.0), n, params, rng=5)
+    X0 = opt.ask()
+    f0 = np.arange(n, dtype=float)[::-1] * 1.0  # source 0 is the worst, source 9 the best
+    opt.tell(X0, f0)
+    for _ in range(2):  # employed, onlooker: every candidate is worse
+        V = opt.ask()
+        assert V.shape == (n, dim)
+        opt.tell(V, np.full(n, 1e9))
+    assert opt.iteration == 0
+    draws = copy.deepcopy(opt.rng).normal(0.0, 1.0, size=(3, dim))
+    M = opt.ask()
+    worst = np.array([2, 1, 0])  # ascending f order, last three: f = 7, 8, 9
+    assert M.shape == (3, dim)
+    expected = np.clip(X0[worst] + draws * 0.1 * 2.0, -1.0, 1.0)  # iteration 0: sigma = 0.1 of the span 2
+    np.testing.assert_allclose(M, expected, rtol=1e-12)
+    # the worst source's mutant improves, the other two do not
+    opt.tell(M, np.array([7.5, 8.5, 3.0]))
+    assert opt.iteration == 1
+    np.testing.assert_array_equal(opt.X[[2, 1]], X0[[2, 1]])
+    np.testing.assert_array_equal(opt.f[[2, 1]], [7.0, 8.0])
+    np.testing.assert_array_equal(opt.X[0], M[2])
+    assert opt.f[0] == 3.0 and opt.trials[0] == 0
+    np.testing.assert_array_equal(opt.X[3:], X0[3:])
+    # the next ask is the next iteration's employed phase, with sigma decayed to 0.1 - 0.09 / 10
+    assert opt.ask().shape == (n, dim)
+
+
+# ---------------------------------------------------------------------- GA operators with fixed draws
+class FixedDraws:
+    """A stand-in generator whose ``random`` returns prescribed arrays in turn."""
+
+    def __init__(self, *arrays):
+        self.arrays = list(arrays)
+
+    def random(self, size):
+        out = np.broadcast_to(np.asarray(self.arrays.pop(0), dtype=float), size)
+        return np.array(out)
+
+
+def test_sbx_spread_factor_with_fixed_draws():
+    """Deb's SBX: β = (2u)^(1/(η+1)) for u ≤ 1/2, (1/(2(1-u)))^(1/(η+1)) otherwise, and
+    |c1 - c2| = β |p1 - p2| about the parents' mean.  η = 1: u = 1/4 → β = √½, u = 3/4 → β = √2."""
+    p1, p2 = np.array([[0.2, 0.2]]), np.array([[0.6, 0.6]])
+    rng = FixedDraws([[0.25, 0.75]], [0.0], [[0.0, 0.0]])  # u, crossover per pair, per coordinate
+    c1, c2 = sbx(p1, p2, 1.0, 1.0, 0.0, 1.0, rng)
+    beta = np.array([math.sqrt(0.5), math.sqrt(2.0)])
+    np.testing.assert_allclose(c1[0], 0.4 - 0.5 * beta * 0.4, rtol=1e-12)
+    np.testing.assert_allclose(c2[0], 0.4 + 0.5 * beta * 0.4, rtol=1e-12)
+    # no crossover where the per-coordinate coin says so
+    c1, c2 = sbx(p1, p2, 1.0, 1.0, 0.0, 1.0, FixedDraws([[0.25, 0.75]], [0.0], [[0.9, 0.0]]))
+    assert c1[0, 0] == 0.2 and c2[0, 0] == 0.6
+
+
+def test_polynomial_mutation_with_fixed_draws():
+    """Deb's polynomial mutation, η = 1, x = 0.2 in [0, 1] (δ₁ = 0.2, δ₂ = 0.8):
+    u = 1/4: δ = (2u + (1 - 2u)(1 - δ₁)²)^½ - 1 = √0.82 - 1;
+    u = 3/4: δ = 1 - (2(1 - u) + 2(u - ½)(1 - δ₂)²)^½ = 1 - √0.52."""
+    X = np.full((1, 3), 0.2)
+    out = polynomial_mutation(X, 1.0, 0.5, 0.0, 1.0, FixedDraws([[0.25, 0.75, 0.25]], [[0.0, 0.0, 0.9]]))
+    np.testing.assert_allclose(out[0], [0.2 + math.sqrt(0.82) - 1.0, 0.2 + 1.0 - math.sqrt(0.52), 0.2], rtol=1e-12)
+
+
+# ---------------------------------------------------------------------- APF with distinct exponents
+def test_apf_force_with_distinct_exponents():
+    """|F_att| = k₁ d_g^w₁, |F_rep| = k₂ (1/d_o - 1/r) d_g^w₃ / d_o^w₂ with w₁ = 0.5, w₂ = 1.5,
+    w₃ = 2: goal 16 m east, obstacle 4 m north (surface 2 m away), r = 10 m."""
+    p = AvoidanceParams(k_att=3.0, w_att=0.5, k_rep=7.0, w_obs=1.5, w_goal=2.0, radius=10.0)
+    f = apf_force([1.0, 2.0, -5.0], [17.0, 2.0, -5.0], [[1.0, 6.0, -5.0]], [2.0], p)
+    att = 3.0 * 16.0**0.5
+    rep = 7.0 * (1 / 2.0 - 1 / 10.0) * 16.0**2 / 2.0**1.5
+    np.testing.assert_allclose(f, [att, -rep, 0.0], rtol=1e-12)
+    # beyond r only the attraction is left; a distance exactly r repels with zero force
+    np.testing.assert_allclose(apf_force([0, 0, 0], [0, 0, -4.0], [[5, 0, 0]], [10.5], p), [0, 0, -6.0])
+    np.testing.assert_allclose(apf_force([0, 0, 0], [0, 0, -4.0], [[5, 0, 0]], [10.0], p), [0, 0, -6.0], atol=1e-12)
+
+
+# ---------------------------------------------------------------------- hybrid guidance: the lateral bias
+@pytest.mark.parametrize("obstacle_y, side", [(0.0, +1.0), (8.0, +1.0), (-8.0, -1.0)])
+def test_hybrid_lateral_bias_pushes_away_from_the_obstacle_side(obstacle_y, side):
+    """Leg due east from the origin (right normal = south, (0, -1)); vehicle on the route at
+    (0, 0).  An obstacle ahead (on the route) or on the port side (north) gets a push to starboard
+    (south); one on the starboard side a push to port.  Expected forces by hand:
+    attraction (k_X Δ, 0); repulsion mag (1/d - 1/P_o) / d² m_r ρ from the obstacle; bias
+    ±b mag along the normal."""
+    p = HybridParams(lateral_bias=1.5, current_compensation=False, goal_power=1.0, influence=25.0,
+                     k_repulse=100.0, lookahead=15.0, k_heading=1.0)
+    ox, d, target = 10.0, 5.0, 12.5
+    f = hybrid_force(math.pi / 2, 0.0, p, 0.0, 0.0, [(ox, obstacle_y, d)], target, (-50.0, 0.0))
+    mag = 100.0 * (1 / d - 1 / 25.0) / d**2 * (target / 25.0)
+    r = np.array([-ox, -obstacle_y]) / math.hypot(ox, obstacle_y)
+    expected = np.array([15.0, 0.0]) + mag * r + side * 1.5 * mag * np.array([0.0, -1.0])
+    np.testing.assert_allclose(f, expected, rtol=1e-12, atol=1e-12)
+
+
+# ---------------------------------------------------------------------- route: leg switching at the radius
+def test_route_switches_leg_at_the_switch_radius():
+    """Legs (0,0) → (100,0) → (100,100), switch radius 12 m: the second leg becomes active at
+    88 m along the first, not before and not only at its end."""
+    route = RouteTracker([[0, 0, -10], [100, 0, -10], [100, 100, -30]], 12.0)
+    rp = route.update(87.9, 1.0)
+    assert rp.leg == 0 and rp.progress == pytest.approx(87.9) and not rp.last
+    rp = route.update(88.1, 1.0)
+    assert rp.leg == 1 and rp.last and rp.course == pytest.approx(0.0)
+    assert rp.cross == pytest.approx(-11.9)  # 11.9 m to port (west) of the northbound leg
+    assert rp.progress == pytest.approx(100.0 + 1.0)
+    route.reset()
+    assert route.update(50.0, 0.0).leg == 0 and RouteTracker(route.w, 0.5).update(99.6, 0.0).leg == 1

@@ -1,0 +1,164 @@
+"""Plant the hand-written mutants of docs/mutants.md one at a time and check a test kills each.
+
+Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/test_oracles.py] [NAME ...]``
+
+Each mutant is one textual replacement in one source file.  The file is restored afterwards
+(also on Ctrl-C).  Numba's on-disk cache is pointed at a fresh directory per mutant, so a
+mutated kernel is always recompiled.  Exit status 1 when a mutant survives.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "auvplan"
+
+# name: (file, original text, mutated text)
+MUTANTS: dict[str, tuple[str, str, str]] = {
+    "terrain-bound-signed-dz": (
+        "world/terrain.py",
+        "0.5 * (g_a + g_b - abs(qz - pz) - lipschitz",
+        "0.5 * (g_a + g_b - (qz - pz) - lipschitz",
+    ),
+    "terrain-bound-half-slope": (
+        "world/terrain.py",
+        "- lipschitz * math.sqrt((qx - px) ** 2",
+        "- 0.5 * lipschitz * math.sqrt((qx - px) ** 2",
+    ),
+    "terrain-lipschitz-no-twist": (
+        "world/terrain.py",
+        "gx = np.maximum(np.abs(coef[..., 1]), np.abs(coef[..., 1] + coef[..., 3]))",
+        "gx = np.abs(coef[..., 1])",
+    ),
+    "grid-edges-skip-collision-test": (
+        "planners/grid.py",
+        "sure[unsure] = w.segments_free(seg, moving=False, ends_free=True)",
+        "sure[unsure] = True",
+    ),
+    "grid-backward-edge-costed-forward": (
+        "planners/grid.py",
+        "w_bwd = edge_cost(w, zero, -d[None], self.model, \"cost\", c)",
+        "w_bwd = edge_cost(w, zero, d[None], self.model, \"cost\", c)",
+    ),
+    "sim-no-seabed-event": (
+        "sim.py",
+        "if alt < 0.0 or any(d < 0.0 for d in dists):",
+        "if any(d < 0.0 for d in dists):",
+    ),
+    "flow-sphere-leaky-line-image": (
+        "planners/flow.py",
+        "line = (m / (FOUR_PI * self.A) * 2.0 * L)",
+        "line = (m / (FOUR_PI * self.A) * 1.0 * L)",
+    ),
+    "flow-sphere-image-strength": (
+        "planners/flow.py",
+        "image = -(m * self.A / (FOUR_PI * b))",
+        "image = -(m / (FOUR_PI * b))",
+    ),
+    "cost-vertical-current-ignored": (
+        "cost.py",
+        "c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy + cz * cz",
+        "c_par = (cx * ex + cy * ey) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy",
+    ),
+    "cost-vertical-current-not-along-track": (
+        "cost.py",
+        "c_par = (cx * ex + cy * ey + cz * ez) / ds",
+        "c_par = (cx * ex + cy * ey) / ds",
+    ),
+    "route-ignores-switch-radius": (
+        "guidance/route.py",
+        "if along >= self.length[self.k] - self.switch_radius:",
+        "if along >= self.length[self.k]:",
+    ),
+    "iabc-accepts-every-mutation": (
+        "optim/bee.py",
+        "better = f < self.f[self._idx]",
+        "better = np.ones(f.shape, dtype=bool)",
+    ),
+    "iabc-mutates-the-best": (
+        "optim/bee.py",
+        "self._idx = np.argsort(self.f, kind=\"stable\")[-m:]",
+        "self._idx = np.argsort(self.f, kind=\"stable\")[:m]",
+    ),
+    "iabc-no-mutation-step": (
+        "optim/bee.py",
+        "    def _end_of_iteration(self) -> str:\n        return \"mutation\"",
+        "    def _end_of_iteration(self) -> str:\n        return super()._end_of_iteration()",
+    ),
+    "iabc-sigma-not-scaled": (
+        "optim/bee.py",
+        "sigma = (p.sigma + (p.sigma_final - p.sigma) * frac) * self.span",
+        "sigma = (p.sigma + (p.sigma_final - p.sigma) * frac)",
+    ),
+    "apf-goal-exponent-swapped": (
+        "guidance/local.py",
+        "f = params.k_att * dg**params.w_att * to_goal / dg",
+        "f = params.k_att * dg**params.w_goal * to_goal / dg",
+    ),
+    "apf-repulsion-goal-exponent-swapped": (
+        "guidance/local.py",
+        "* dg**params.w_goal / dn**params.w_obs",
+        "* dg**params.w_att / dn**params.w_obs",
+    ),
+    "ga-sbx-spread-exponent": (
+        "optim/ga.py",
+        "beta = np.where(u <= 0.5, (2.0 * u) ** (1.0 / (eta + 1.0))",
+        "beta = np.where(u <= 0.5, (2.0 * u) ** (1.0 / eta)",
+    ),
+    "ga-polynomial-mutation-exponent": (
+        "optim/ga.py",
+        "lo = (2 * u + (1 - 2 * u) * (1 - d1) ** (eta + 1)) ** mpow - 1.0",
+        "lo = (2 * u + (1 - 2 * u) * (1 - d1) ** eta) ** mpow - 1.0",
+    ),
+    "hybrid-bias-always-starboard": (
+        "guidance/hybrid.py",
+        "push = -1.0 if side > 0.5 else 1.0",
+        "push = 1.0",
+    ),
+    "hybrid-bias-towards-obstacle": (
+        "guidance/hybrid.py",
+        "push = -1.0 if side > 0.5 else 1.0",
+        "push = 1.0 if side > 0.5 else -1.0",
+    ),
+}
+
+
+def run_one(name: str, tests: list[str]) -> bool:
+    """Plant mutant ``name``, run ``tests``; True when the tests fail (the mutant is killed)."""
+    rel, old, new = MUTANTS[name]
+    path = SRC / rel
+    text = path.read_text()
+    if text.count(old) != 1:
+        raise SystemExit(f"{name}: the original text occurs {text.count(old)} times in {rel}")
+    try:
+        path.write_text(text.replace(old, new))
+        with tempfile.TemporaryDirectory(prefix="auvplan-mutant-") as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+            r = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
+                               cwd=ROOT, env=env, capture_output=True, text=True)
+    finally:
+        path.write_text(text)
+    failed = [ln.split(" - ")[0] for ln in r.stdout.splitlines() if ln.startswith("FAILED")]
+    print(f"{name:40s} {'killed by ' + failed[0].split('::')[-1] if r.returncode else 'SURVIVED'}", flush=True)
+    return r.returncode != 0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("names", nargs="*", help="mutants to plant (default: all)")
+    ap.add_argument("--tests", nargs="+", default=["tests/test_oracles.py"])
+    args = ap.parse_args()
+    names = args.names or list(MUTANTS)
+    survivors = [n for n in names if not run_one(n, args.tests)]
+    print(f"{len(names) - len(survivors)} of {len(names)} killed")
+    return 1 if survivors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
