@@ -24,25 +24,28 @@ from pathlib import Path
 import numpy as np
 
 
-def measure(cell: float, repeats: int) -> dict:
-    """Plan marcus-wake on ``cell`` m cells (cost objective, then length) and run scikit-fmm."""
+def measure(cell: float, repeats: int, scenario: str = "marcus-wake") -> dict:
+    """Plan ``scenario`` on ``cell`` m cells (cost objective, then length) and run scikit-fmm."""
     from auvplan.io import scenario as sc
     from auvplan.planners import GridParams, GridReference, plan_grid
     from auvplan.planners.swarm import cost_model_for, search_box
     from auvplan.sim import planning_problem
 
-    world, mission = sc.build(sc.load("marcus-wake"))
+    world, mission = sc.build(sc.load(scenario))
     prob = planning_problem(world, mission)
-    spec = replace(mission.planner, name="grid", grid=GridParams(cell=cell))
+    spec = replace(mission.planner, name="grid", grid=GridParams(cell=cell, max_nodes=8_000_000))
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
         r = plan_grid(prob, spec)
         times.append(time.perf_counter() - t0)
-    row = {"cell_m": cell, "plan_s": float(np.median(times)), "plan_s_all": times, "status": r.status.value,
-           "cost": r.cost, "length_m": r.cost_terms.get("length_m"), "edges": r.evaluations}
+    row = {"scenario": scenario, "cell_m": cell, "plan_s": float(np.median(times)), "plan_s_all": times,
+           "status": r.status.value, "cost": r.cost, "length_m": r.cost_terms.get("length_m"), "edges": r.evaluations,
+           "reference": r.message}
+    lattice_only = plan_grid(prob, replace(spec, grid=replace(spec.grid, converge=False)))
+    row["cost_lattice_bound"] = lattice_only.cost
     # length objective: the lattice distance, the shortened path, and the peer on the same lattice
-    lspec = replace(spec, grid=GridParams(cell=cell, objective="length"))
+    lspec = replace(spec, grid=GridParams(cell=cell, objective="length", max_nodes=8_000_000))
     lo, hi = search_box(prob)
     t0 = time.perf_counter()
     ref = GridReference(world, prob.goal, cost_model_for(prob, lspec), lo, hi, lspec.grid)
@@ -73,21 +76,24 @@ def measure(cell: float, repeats: int) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cells", type=float, nargs="+", default=[1000, 750, 500, 350, 250])
+    ap.add_argument("--scenarios", nargs="+", default=["marcus-wake"])
     ap.add_argument("--repeats", type=int, default=3, help="plans per cell size (median reported)")
     ap.add_argument("--out", default="results/bench-grid")
     ap.add_argument("--one", type=float, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
-        print(json.dumps(measure(args.one, args.repeats)))
+        print(json.dumps(measure(args.one, args.repeats, args.scenarios[0])))
         return 0
     rows = []
-    for cell in args.cells:
+    for scenario, cell in ((s, c) for s in args.scenarios for c in args.cells):
         reps = args.repeats if cell >= 400 else 1
-        out = subprocess.run([sys.executable, __file__, "--one", str(cell), "--repeats", str(reps)],
-                             capture_output=True, text=True, check=True)
+        out = subprocess.run([sys.executable, __file__, "--one", str(cell), "--repeats", str(reps),
+                              "--scenarios", scenario], capture_output=True, text=True, check=True)
         rows.append(json.loads(out.stdout.strip().splitlines()[-1]))
         r = rows[-1]
-        print(f"{cell:6.0f} m  nodes {r['nodes']:>9d}  edges {r['edges']:>10d}  plan {r['plan_s']:6.2f} s  "
+        print(f"{scenario} {cell:6.0f} m  cost lattice-bound {r['cost_lattice_bound']:.6g} → "
+              f"converged {r['cost']:.6g}  "
+              f"nodes {r['nodes']:>9d}  edges {r['edges']:>10d}  plan {r['plan_s']:6.2f} s  "
               f"peak {r['peak_rss_mib']:6.0f} MiB  cost {r['cost']:.6g}  "
               f"skfmm {r.get('skfmm_s', float('nan')):.2f} s  "
               f"dist at start: dijkstra {r.get('dijkstra_distance_same_node_m', float('nan')):.0f} m, "

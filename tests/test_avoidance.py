@@ -10,7 +10,7 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.bench import perturb_moving
-from auvplan.guidance.local import AvoidanceParams, apf_force
+from auvplan.guidance.local import AvoidanceParams, apf_force, run_point_model
 from auvplan.guidance.predictive import TrackEstimator
 from auvplan.guidance.vo import CFG, closest_approach, predicted_preference, vo_choose
 from auvplan.io import scenario as sc
@@ -150,3 +150,50 @@ def test_crossing_obstacle_faster_than_the_vehicle_is_passed_behind():
         d, pos, c = _closest(r, cross)
         assert r.status is Status.EXACT and d >= 5.0
         assert np.dot(pos - c, [0.0, 1.0, 0.0]) < 0.0  # behind the obstacle
+
+
+# ---------------------------------------------------------------------- traps and escapes
+def test_u_trap_is_escaped_by_document_004s_escape():
+    """Point model (document 004): plain APF stalls inside a U of static spheres; the escape frees it."""
+    spheres = [Sphere((x, y, -50.0), 6.0) for x in np.arange(40.0, 81.0, 8.0) for y in (-32.0, 32.0)]
+    spheres += [Sphere((80.0, y, -50.0), 6.0) for y in np.arange(-24.0, 25.0, 8.0)]
+    w = World(Bounds(-100, 250, -150, 150, -100, 0), obstacles=tuple(spheres))
+    params = AvoidanceParams(k_att=1.0, w_att=0.0, k_rep=50.0, w_obs=1.0, w_goal=0.0, radius=10.0, arrive=2.0,
+                             minimum_radius=3.0, minimum_count=15, escape_radius=80.0)
+    start, goal = [0.0, 0.0, -50.0], [150.0, 0.0, -50.0]
+    plain = run_point_model(w, start, goal, params, rng=0, escape=False, max_steps=20000)
+    assert plain.status is Status.DEADLOCK
+    stuck = plain.points[-1]
+    assert 40.0 < stuck[0] < 80.0 and abs(stuck[1]) < 32.0  # inside the pocket of the U
+    free = run_point_model(w, start, goal, params, rng=0, escape=True, max_steps=20000)
+    assert free.status is Status.EXACT and free.escapes >= 1
+    assert min(s.distance(free.points).min() for s in spheres) > 0.0
+
+
+def _parked(x: float, y: float, r: float = 8.0) -> MovingObstacle:
+    return MovingObstacle(Sphere((0, 0, 0), r), LinearMotion((x, y, -100.0), (0.0, 0.0, 0.0)))
+
+
+U_TRAP = tuple(_parked(x, y) for x in np.arange(400.0, 481.0, 16.0) for y in (-48.0, 48.0)) + \
+    tuple(_parked(480.0, y) for y in np.arange(-32.0, 33.0, 16.0))
+
+
+@pytest.mark.parametrize("avoidance", ["apf", "predictive"])
+def test_closed_loop_u_trap_is_left_by_escapes_before_any_deadlock(avoidance):
+    """The route runs into an 80 m deep U of parked obstacles: the stalled vehicle escapes (document 004's
+    random sub-goals, growing with each try) and arrives; no deadlock is declared."""
+    r = simulate(_open(*U_TRAP), _straight(), avoidance=avoidance, rng=0)
+    assert r.status is Status.EXACT and r.escapes >= 1 and r.obstacle_distance.min() > 0.0
+
+
+def test_deadlock_only_after_the_escapes_have_had_their_time():
+    """A cage of parked obstacles around the goal: no escape can arrive, and DEADLOCK comes only after
+    ``deadlock_time`` + ``escape_time`` without route progress, with the escapes counted."""
+    cage = tuple(_parked(1000.0 + 40.0 * np.cos(a), 40.0 * np.sin(a)) for a in np.radians(np.arange(0, 360, 15)))
+    params = AvoidanceParams(escape_time=200.0)
+    r = simulate(_open(*cage), _straight(avoidance=params), rng=0)
+    assert r.status is Status.DEADLOCK and r.escapes >= 1
+    t, kind, msg = r.events[-1]
+    stalled = float(msg.split(" for ")[1].split(" s")[0])
+    assert kind == "deadlock" and stalled >= 120.0 + 200.0 and f"{r.escapes} escapes tried" in msg
+    assert r.obstacle_distance.min() > 0.0

@@ -66,3 +66,16 @@ def test_progress_bar_only_for_iterating_planners():
         assert bar.bar.disable is not shown
         bar.close()
     assert _Progress(PlannerSpec(name="iabc"), "scene", quiet=True).bar.disable
+
+
+def test_long_stages_report_progress_on_stderr_unless_quiet(tmp_path, capsys):
+    """The flight gets a bar (simulated seconds of the expected duration), the results a stage
+    line; ``-q`` silences both and stdout keeps only the summary."""
+    assert main(["simulate", "track-arc", "--seed", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "flight on track-arc" in err and "s/s" in err
+    assert main(["-q", "run", "track-arc", "--out", str(tmp_path / "r")]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == "" and "track-arc: EXACT" in captured.out
+    assert main(["run", "track-arc", "--out", str(tmp_path / "r2")]) == 0
+    assert "auvplan: writing results, report and exports" in capsys.readouterr().err

@@ -62,13 +62,58 @@ def sphere_geodesic(s, g, c, r):
 
 @pytest.mark.parametrize("objective", ["length", "cost"])
 def test_path_around_a_sphere_is_within_one_percent_of_the_geodesic(objective):
+    """The lattice-bound reference (no convergence) stays within 1 % of the geodesic."""
     c = np.array([500.0, 500.0, -150.0])
     world = flat_world(depth=300.0, size=1000.0, obstacles=(Sphere(c, 100.0),), obstacle=10.0, min_depth=20.0)
     s, g = np.array([100.0, 440.0, -150.0]), np.array([900.0, 500.0, -150.0])
-    r = plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective=objective, cell=25.0))
+    r = plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective=objective, cell=25.0, converge=False))
     assert r.status is Status.EXACT and world.path_free(r.path)
     exact = sphere_geodesic(s, g, c, 110.0)
     assert exact <= r.cost_terms["length_m"] <= 1.01 * exact
+    assert "lattice-bound" in r.message
+
+
+def _sphere_scene():
+    c = np.array([500.0, 500.0, -150.0])
+    world = flat_world(depth=300.0, size=1000.0, obstacles=(Sphere(c, 100.0),), obstacle=10.0, min_depth=20.0)
+    s, g = np.array([100.0, 440.0, -150.0]), np.array([900.0, 500.0, -150.0])
+    return world, s, g, sphere_geodesic(s, g, c, 110.0)
+
+
+def _ridge_scene():
+    """A horizontal cylinder of radius 120 m lying on a flat seabed at -300 m along y (x0 = 500 m),
+    on a 2 m grid; start and goal on the seabed floor on both sides, 10 m altitude required.
+    The constraint surface is the cylinder raised by 10 m, so the geodesic in the x–z plane is
+    tangent, arc over a circle of radius 120 m centred at (500, -290), tangent."""
+    x = np.arange(0.0, 1000.0 + 1e-9, 2.0)
+    r, zc = 120.0, -300.0
+    X, _ = np.meshgrid(x, x)
+    z = zc + np.sqrt(np.maximum(r**2 - (X - 500.0) ** 2, 0.0))
+    world = World(Bounds(0, 1000, 0, 1000, -400, 0), Terrain(x, x, z),
+                  margins=Margins(min_altitude=10.0, min_depth=20.0))
+    s, g = np.array([150.0, 500.0, -290.0]), np.array([850.0, 500.0, -290.0])
+    c2 = np.array([500.0, -290.0])
+    d = np.linalg.norm(np.array([150.0, -290.0]) - c2)  # start at the circle centre's height
+    tangent = np.sqrt(d**2 - r**2)
+    arc = r * (np.pi - 2 * np.arccos(r / d))
+    return world, s, g, 2 * tangent + arc
+
+
+@pytest.mark.parametrize("scene", [_sphere_scene, _ridge_scene])
+def test_converged_reference_is_within_five_hundredths_of_a_percent_of_the_geodesic(scene):
+    world, s, g, exact = scene()
+    r = plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective="length", cell=25.0))
+    assert r.status is Status.EXACT and world.path_free(r.path)
+    assert "refined to convergence" in r.message
+    # the bilinear seabed sags below the cylinder by up to dx² / 8r = 0.004 m between grid nodes
+    assert exact * (1 - 2e-5) <= r.cost_terms["length_m"] <= 1.0005 * exact
+
+
+def test_a_finer_cell_never_gives_a_worse_converged_reference():
+    world, s, g, _ = _sphere_scene()
+    got = [plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective="length", cell=c)).cost
+           for c in (50.0, 25.0)]
+    assert got[1] <= got[0] * (1 + 1e-5)
 
 
 def test_plan_once_query_many_on_real_terrain(salish):

@@ -113,8 +113,8 @@ def test_every_edge_of_the_cost_to_go_tree_is_free():
     ids = np.flatnonzero(np.isfinite(ref._dist[:-1]))
     assert ids.size > 500
     nxt = ref._next[ids]
-    end = np.where(nxt[:, None] == ref._goal_id, goal, ref._xyz[np.minimum(nxt, ref.nodes - 1)])
-    seg = np.stack([ref._xyz[ids], end], axis=1)
+    end = np.where(nxt[:, None] == ref._goal_id, goal, ref._coords(np.minimum(nxt, ref.nodes - 1)))
+    seg = np.stack([ref._coords(ids), end], axis=1)
     assert world.segments_free(seg, moving=False).all()
     # a start beyond the wall at the wall's foot has to climb over the crest
     path = ref.query([20.0, 100.0, -160.0])

@@ -115,3 +115,19 @@ def test_tidal_scenario_builds_and_needs_a_start_time():
         scenario.build(scenario.loads(text.replace('start_time = "2026-06-15T00:00:00Z"\n', "")))
     with pytest.raises(AuvplanError, match=r"\[mission\].*start_time"):
         scenario.loads(text.replace("2026-06-15T00:00:00Z", "soon"))
+
+
+def test_report_animates_a_tidal_current_and_not_a_steady_one():
+    import plotly.graph_objects as go
+
+    from auvplan.viz.scene3d import _current_frames, _currents
+
+    world, mission = scenario.build(scenario.load("juan-de-fuca-tides"))
+    path = np.stack([mission.start, mission.goal])
+    fig = go.Figure(_currents(world, path))
+    times = np.linspace(0.0, 6 * 3600.0, 7)
+    idx, v = _current_frames(fig, world, times)
+    assert v.shape == (7, len(fig.data[idx].x), 3) and not np.allclose(v[0], v[3])
+    assert fig.data[idx].cmax == pytest.approx(np.linalg.norm(v, axis=2).max())
+    steady, _ = scenario.build(scenario.load("salish-shelf"))
+    assert _current_frames(go.Figure(_currents(steady, path)), steady, times) is None

@@ -174,3 +174,14 @@ def test_cli_departure_sweep(tmp_path, capsys):
     assert {p.name for p in tmp_path.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}
     assert main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+1h", "--step", "soon"]) == 2
     assert "--step 'soon'" in capsys.readouterr().err
+
+
+def test_energy_sweep_picks_least_energy_per_departure():
+    world, _, _ = uniform_world(CASES["reversing"], tmax=80000.0)
+    problem = PlanningProblem(world, START, GOAL, speed=V, hotel_power=5.0, drag_k=20.0)
+    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy"))
+    rows, _ = departure_sweep(problem, spec, [0.0, 20000.0])
+    for r in rows:
+        assert r.energy_j <= min(r.straight_energy_j, r.steady_energy_j) * (1 + 1e-6)
+    # against the tide (second departure) a slower, cheaper speed wins over cruise speed
+    assert rows[1].energy_j < 0.95 * rows[1].straight_energy_j

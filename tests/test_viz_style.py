@@ -69,6 +69,7 @@ def test_clock_labels_scale_steps_and_degree_labels():
     assert [hms(t) for t in (0, 59.6, 3599, 3600, 4850, 90061)] == [
         "0:00:00", "0:01:00", "0:59:59", "1:00:00", "1:20:50", "25:01:01"]
     assert [nice_step(s) for s in (6000.0, 1.04, 100_000.0, 37.0)] == [1000.0, 0.2, 20_000.0, 5.0]
+    assert nice_step(0.0) == 1.0  # a flat seabed still gets isobaths
     assert degree_label(158.75, "lon", 0.25) == "158.75°E"
     assert degree_label(-122.5, "lon", 0.5) == "122.5°W"
     assert degree_label(14.0, "lat", 1.0) == "14°N" and degree_label(-3.2, "lat", 0.2) == "3.2°S"

@@ -228,3 +228,24 @@ def test_uniform_current_shape():
     u = UniformCurrent((0.1, -0.2, 0.0))
     assert u.velocity(np.zeros((4, 7, 3))).shape == (4, 7, 3)
     assert u.max_speed == pytest.approx(np.hypot(0.1, 0.2))
+
+
+def test_ellipsoid_segment_test_with_a_margin_is_exact():
+    """Against a brute-force minimum of the true distance along each segment."""
+    e = Ellipsoid((1.0, -2.0, 0.5), (4.0, 1.5, 1.0), yaw=0.5, pitch=0.3)
+    rng = np.random.default_rng(12)
+    a = rng.uniform(-7, 7, (400, 3))
+    b = a + rng.normal(size=(400, 3)) * 3
+    seg = np.stack([a, b], axis=1)
+    s = np.linspace(0, 1, 4001)
+    dmin = np.array([e.distance(a[k] + s[:, None] * (b[k] - a[k])).min() for k in range(len(a))])
+    hit = e.segments_hit(seg, margin=0.5)
+    clear = np.abs(dmin - 0.5) > 1e-4
+    assert np.array_equal(hit[clear], (dmin < 0.5)[clear])
+    assert (hit[clear] != e.segments_hit(seg, margin=0.0)[clear]).sum() >= 5  # the margin band is exercised
+    from auvplan.geometry import point_segment_distance
+
+    k = 1.0 + 0.5 / 1.0  # the scaled ellipsoid a conservative test would use
+    scaled = point_segment_distance(np.zeros(3), e.to_body(a) / (np.array(e.semi_axes) * k),
+                                    e.to_body(b) / (np.array(e.semi_axes) * k)) < 1.0
+    assert (scaled & ~hit).sum() >= 5  # segments it would have rejected although they keep the margin

@@ -36,21 +36,41 @@ DEMO_SCENARIO = "dynamic-terrain"
 
 
 class _Progress:
-    """A tqdm bar on stderr for iterative work (silent when stderr is not a terminal and quiet)."""
+    """Progress of the long stages on stderr: a tqdm bar for the swarm planners' iterations and one
+    for the flight (simulated time against the route's expected duration), a line for the other
+    stages; all silent with ``quiet`` (``-q`` or ``--json``)."""
 
     def __init__(self, spec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        # only the swarm optimisers iterate; the grid and flow planners would show a bar stuck at 0
+        self._tqdm, self.quiet, self.scenario, self.flight_bar = tqdm, quiet, scenario, None
+        # only the swarm optimisers iterate; the other planners get a line, not a bar stuck at 0
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
                         disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
+        if spec.name not in SWARM:
+            self.stage(f"planning with {spec.name}")
 
     def __call__(self, iteration: int, best: float) -> None:
         self.bar.update(iteration - self.bar.n)
         self.bar.set_postfix_str(f"best {best:.6g}", refresh=False)
 
+    def flight(self, t: float, expected: float) -> None:
+        """The simulation's callback: simulated seconds flown of about ``expected``."""
+        if self.flight_bar is None:
+            self.bar.close()
+            self.flight_bar = self._tqdm(total=max(1, round(expected)), desc=f"flight on {self.scenario}", unit="s",
+                                         file=sys.stderr, disable=self.quiet, leave=False, mininterval=0.5)
+        self.flight_bar.update(min(round(t), self.flight_bar.total) - self.flight_bar.n)
+
+    def stage(self, text: str) -> None:
+        """One line on stderr for a stage without a bar (the report, a lattice plan)."""
+        if not self.quiet:
+            self._tqdm.write(f"auvplan: {text} …", file=sys.stderr)
+
     def close(self) -> None:
         self.bar.close()
+        if self.flight_bar is not None:
+            self.flight_bar.close()
 
 
 def _int_at_least(low: int):
@@ -144,7 +164,7 @@ def _plan(args, quiet: bool):
     if args.budget is not None:
         spec = replace(spec, budget=args.budget)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(spec, sc.name, quiet)
+    bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
     try:
         result = plan(problem, spec, seed, bar)
@@ -199,7 +219,11 @@ def _cmd_sweep(args) -> int:
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
-    summary = sweep_summary(rows)
+    summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
+    if sc.mission.start_time and summary.get("feasible_departures"):
+        from .io.tides import parse_start_time, utc_iso
+
+        summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [dataclasses.asdict(r) for r in rows]
     if args.out:
         out = Path(args.out)
@@ -221,7 +245,9 @@ def _cmd_sweep(args) -> int:
                      f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
                      "against the worst departure, "
                      f"{summary['saved_vs_steady_pct']:.1f} % against the steady-current plan and "
-                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line")
+                     f"{summary['saved_vs_straight_pct']:.1f} % against the straight line"
+                     + (f"\n  fly it: [mission] start_time = \"{summary['best_depart_utc']}\""
+                        if "best_depart_utc" in summary else ""))
     _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
     return 0 if summary.get("feasible_departures") else 1
 
@@ -253,9 +279,10 @@ def _cmd_simulate(args) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if args.seed is None else args.seed
-    bar = _Progress(mission.planner, sc.name, False)
+    bar = _Progress(mission.planner, sc.name, args.quiet or args.json)
     try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
-        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance)
+        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance,
+                          flight=bar.flight)
     finally:
         bar.close()
     if run.sim is None:
@@ -274,18 +301,21 @@ def _cmd_simulate(args) -> int:
 
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-         full: bool = False, force: bool = False):
+         full: bool = False, force: bool = False, quiet: bool = False, planner: str | None = None):
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
+    if planner:
+        mission = replace(mission, planner=replace(mission.planner, name=planner))
     seed = sc.seed if seed is None else seed
-    bar = _Progress(mission.planner, sc.name, False)
+    bar = _Progress(mission.planner, sc.name, quiet)
     try:
-        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance)
+        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
     if out:
+        bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
         export.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
@@ -368,15 +398,17 @@ def _cmd_mission_check(args) -> int:
     worst = 0
     records = []
     for name in args.files:
-        check, fmt = check_mission_file(Path(name), world)
+        check, fmt = check_mission_file(Path(name), world, args.pitch)
         rec = {"file": name, "format": fmt, **check.as_dict()}
         records.append(rec)
         worst = max(worst, 0 if check.ok else 1)
         if not args.json:
+            held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
+                    if check.semantics == "held" else "")
             print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
                   f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
                   f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
-                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle")
+                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
     if args.json:
         print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
     return worst
@@ -400,7 +432,7 @@ def _describe_run(name: str, record) -> str:
 
 def _cmd_run(args) -> int:
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
-                      force=args.force)
+                      force=args.force, quiet=args.quiet or args.json, planner=args.planner)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
@@ -408,7 +440,7 @@ def _cmd_run(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force)
+    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
     print(_describe_run(sc.name, record))
     print(f"results in {args.out}/")
     return 0 if record.status.ok else 1
@@ -450,6 +482,7 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
     p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("scenarios", help="list the built-in scenarios")
@@ -504,6 +537,7 @@ def _parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
     s.add_argument("scenario", help="TOML file or built-in scenario name")
+    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
     s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
     s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
     s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
@@ -533,6 +567,8 @@ def _parser() -> argparse.ArgumentParser:
                                       "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--pitch", type=float, default=15.0,
+                   help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
     c.set_defaults(func=_cmd_mission_check)
 

@@ -176,7 +176,7 @@ def _obstacle_shapes(world: World, t: float, centres=None):
 
 
 def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None,
-             avoidance: str | None = None, keys=None) -> SimResult:
+             avoidance: str | None = None, keys=None, progress=None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -197,6 +197,9 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
         document 004's escapes for ``escape_time`` s before ``DEADLOCK`` is declared.
     keys : array_like (K, 3), optional
         Key waypoints for the APF; derived from the route by document 004's rule by default.
+    progress : callable, optional
+        ``progress(t, expected)`` every simulated minute: the time flown and the time the route
+        should take at the vehicle's speed (s), for a progress bar.
     """
     t_wall = time.perf_counter()
     rng = as_rng(mission.seed if rng is None else rng)
@@ -250,8 +253,12 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     # their velocities (what the scenario knows; predictive avoidance may estimate them instead)
     velocities = np.gradient(tracks, dt, axis=0) if n_steps > 0 else np.zeros_like(tracks)
     radii = [o.shape.bounding_radius for o in world.moving]
+    every = max(1, int(round(60.0 / dt)))
+    expected = tracker.total_length / vp.speed
     for k in range(n_steps + 1):
         t = k * dt
+        if progress is not None and k % every == 0:
+            progress(t, expected)
         pos = np.array([s.x, s.y, s.z])
         shapes = _obstacle_shapes(world, t, tracks[k].tolist())
         dists = [_distance(sh, pos, far) for sh in shapes]
@@ -391,11 +398,12 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
-                guidance: str | None = None, avoidance: str | None = None) -> RunRecord:
+                guidance: str | None = None, avoidance: str | None = None, flight=None) -> RunRecord:
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no
-    simulation (its status says why).
+    simulation (its status says why).  ``progress`` is the planner's progress callback,
+    ``flight`` the simulation's (see :func:`simulate`).
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
@@ -408,5 +416,6 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=No
             return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
         route = mission_route(world, mission, planned.path)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
-    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys)
+    result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
+                      progress=flight)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

@@ -284,11 +284,11 @@ class LocalAvoidance:
         self.decisions = 0
         self.decision_time = 0.0
         self.speed_command = self.speed
-        self._stall = (math.nan, math.nan)
+        self._stall = (math.nan, math.nan, 0)
 
-    def _escape(self, p: np.ndarray, t: float) -> bool:
-        """Document 004's escape: head for a random free sub-goal within ``escape_radius``."""
-        sub = _random_free_point(self.world, p, self.params.escape_radius, t, self.rng)
+    def _escape(self, p: np.ndarray, t: float, scale: float = 1.0) -> bool:
+        """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``."""
+        sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng)
         if sub is None:
             return False
         self.detector.reset()
@@ -303,15 +303,17 @@ class LocalAvoidance:
         """The route progress has not advanced since ``since`` (s): escape before any deadlock.
 
         Runs document 004's escape (a random free sub-goal) whenever no sub-goal is being
-        followed; returns True while the escapes still have time (``escape_time`` s from the
-        first escape of this stall), False once a deadlock should be declared.
+        followed, the k-th of one stall within k × ``escape_radius`` (a trap deeper than the
+        radius is left in a few tries); returns True while the escapes still have time
+        (``escape_time`` s from the first escape of this stall), False once a deadlock should be
+        declared.
         """
         if self._stall[0] != since:
-            self._stall = (since, t)
+            self._stall = (since, t, self.escapes)
         if t - self._stall[1] >= self.params.escape_time:
             return False
         if self.subgoal is None:
-            self._escape(np.asarray(pos, dtype=float), t)
+            self._escape(np.asarray(pos, dtype=float), t, 1.0 + self.escapes - self._stall[2])
         return True
 
     def _advance_goal(self, p, t: float) -> None:

@@ -28,6 +28,7 @@ semantics and reports the least altitude and the least obstacle distance.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -45,6 +46,7 @@ __all__ = [
     "build_waypoints",
     "default_tolerance",
     "fly_check",
+    "held_track",
 ]
 
 SEMANTICS = ("held", "ramp")
@@ -275,6 +277,14 @@ class MissionCheck:
         Least altitude per leg.
     required_altitude_m, obstacle_margin_m : float
         The world's margins.
+    pitch_deg : float
+        Pitch of the depth changes of the executor model (``"held"``; ``nan`` when not flown).
+    executor_min_altitude_m : float
+        ``"held"``: least altitude of a vehicle that steers towards each leg's depth at
+        ``pitch_deg`` from wherever the previous leg left it (exact, on its polyline track);
+        ``inf`` when not flown.
+    executor_obstacle_hits : int
+        Segments of that track within the obstacle margin of an obstacle.
     """
 
     semantics: str
@@ -285,18 +295,25 @@ class MissionCheck:
     leg_altitude_m: np.ndarray
     required_altitude_m: float
     obstacle_margin_m: float
+    pitch_deg: float = float("nan")
+    executor_min_altitude_m: float = float("inf")
+    executor_obstacle_hits: int = 0
 
     @property
     def ok(self) -> bool:
-        """True when the least altitude is at least the required one and no leg meets an obstacle."""
-        return self.min_altitude_m >= self.required_altitude_m - 1e-6 and self.obstacle_hits == 0
+        """True when the least altitude (envelope and executor) is at least the required one and no
+        leg meets an obstacle."""
+        alt = min(self.min_altitude_m, self.executor_min_altitude_m)
+        return alt >= self.required_altitude_m - 1e-6 and self.obstacle_hits == 0 and self.executor_obstacle_hits == 0
 
     def as_dict(self) -> dict:
         """Plain-JSON summary."""
         return {"semantics": self.semantics, "ok": self.ok, "min_altitude_m": self.min_altitude_m,
                 "min_altitude_leg": self.min_altitude_leg, "required_altitude_m": self.required_altitude_m,
                 "min_obstacle_distance_m": self.min_obstacle_distance_m, "obstacle_hits": self.obstacle_hits,
-                "obstacle_margin_m": self.obstacle_margin_m, "legs": int(self.leg_altitude_m.size)}
+                "obstacle_margin_m": self.obstacle_margin_m, "legs": int(self.leg_altitude_m.size),
+                "pitch_deg": self.pitch_deg, "executor_min_altitude_m": self.executor_min_altitude_m,
+                "executor_obstacle_hits": self.executor_obstacle_hits}
 
 
 def _sphere_rect_distance(shape: Sphere, o, e1, e2) -> np.ndarray:
@@ -317,11 +334,34 @@ def _sampled_rect_distance(shape, o, e1, e2, step: float) -> np.ndarray:
     return out
 
 
-def fly_check(world: World, waypoints, semantics: str = "held") -> MissionCheck:
+def held_track(waypoints, pitch_deg: float) -> np.ndarray:
+    """Track ``(M, 3)`` of a vehicle flying ``waypoints`` with depth held per leg (MOOS-IvP): on leg
+    i it changes depth towards that of point i + 1 at ``pitch_deg`` (a straight climb or dive) and
+    then holds it; a change not finished at the end of a leg carries on into the next."""
+    w = as_points(waypoints).reshape(-1, 3)
+    slope = math.tan(math.radians(min(float(pitch_deg), 89.99)))
+    out = [w[0]]
+    z = float(w[0, 2])
+    for a, b in zip(w[:-1], w[1:]):
+        length = float(np.hypot(*(b[:2] - a[:2])))
+        need = abs(float(b[2]) - z) / slope
+        if 0.0 < need < length:  # the change ends inside the leg: a corner there
+            f = need / length
+            out.append(np.r_[a[:2] + f * (b[:2] - a[:2]), b[2]])
+            z = float(b[2])
+        elif need > 0.0:
+            z += math.copysign(length * slope, float(b[2]) - z)
+        out.append(np.r_[b[:2], z])
+    return np.vstack(out)
+
+
+def fly_check(world: World, waypoints, semantics: str = "held", pitch_deg: float = 15.0) -> MissionCheck:
     """Re-fly ``waypoints (N, 3)`` under ``semantics`` against the seabed and static obstacles.
 
     ``"held"``: on each leg the vehicle lies anywhere between the depths of its two ends (the
-    envelope; altitude of the flat leg at the deeper end).  ``"ramp"``: on the straight 3D leg.
+    envelope; altitude of the flat leg at the deeper end), and the executor model
+    (:func:`held_track` at ``pitch_deg``) is flown too, since a vehicle still changing depth when
+    a leg ends is outside the next leg's envelope.  ``"ramp"``: on the straight 3D leg.
     Altitudes are exact (:meth:`Terrain.segment_min_altitude`); obstacle contact is the exact
     rectangle / segment test; obstacle distances are exact for spheres and sampled every 0.25 m
     near ellipsoids.
@@ -356,4 +396,12 @@ def fly_check(world: World, waypoints, semantics: str = "held") -> MissionCheck:
             d = _sampled_rect_distance(shape, o[near], e1[near], e2[near], 0.25)
         dist = min(dist, float(d.min()))
     k = int(np.argmin(alt)) if np.isfinite(alt).any() else -1
-    return MissionCheck(semantics, float(alt.min()), k, float(dist), int(hits.sum()), alt, m.min_altitude, m.obstacle)
+    extra = {}
+    if semantics == "held":
+        trk = held_track(w, pitch_deg)
+        seg = np.stack([trk[:-1], trk[1:]], axis=1)
+        ex_alt = float(world.terrain.segment_min_altitude(seg).min()) if world.terrain is not None else np.inf
+        ex_hits = sum(int(sh.segments_hit(seg, m.obstacle).sum()) for sh in world.obstacles)
+        extra = {"pitch_deg": float(pitch_deg), "executor_min_altitude_m": ex_alt, "executor_obstacle_hits": ex_hits}
+    return MissionCheck(semantics, float(alt.min()), k, float(dist), int(hits.sum()), alt, m.min_altitude, m.obstacle,
+                        **extra)

@@ -139,10 +139,10 @@ class PredictiveAvoidance(LocalAvoidance):
 
     def _sensed(self, t: float, sensed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles."""
-        C = np.array([o[4] for o in sensed], dtype=float)
+        C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
         R = np.array([o[7] for o in sensed], dtype=float) + self.world.margins.obstacle
         if self.params.velocity == "known":
-            V = np.vstack([o[6] for o in sensed])
+            V = np.array([o[6] for o in sensed], dtype=float).reshape(-1, 3)
         else:
             for o, c in zip(sensed, C):
                 self.estimator.update(o[5], t, c)

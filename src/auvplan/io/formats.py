@@ -339,10 +339,11 @@ def read_mission(path, origin=None) -> tuple[np.ndarray, str, str]:
         raise DataError(f"{path}: not a readable {fmt} mission ({exc})") from exc
 
 
-def check_mission_file(path, world: World) -> tuple[MissionCheck, str]:
+def check_mission_file(path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
     """Re-fly the mission file ``path`` under its format's depth semantics in ``world``
-    (:func:`auvplan.guidance.mission.fly_check`); returns the check and the format."""
+    (:func:`auvplan.guidance.mission.fly_check`; held depths change at ``pitch_deg``); returns the
+    check and the format."""
     waypoints, semantics, fmt = read_mission(path, world.origin)
     if not np.isfinite(waypoints).all() or len(waypoints) < 1:
         raise DataError(f"{path}: the mission has no finite waypoints")
-    return fly_check(world, waypoints, semantics), fmt
+    return fly_check(world, waypoints, semantics, pitch_deg), fmt

@@ -8,6 +8,7 @@ see ``data/PROVENANCE.md``.
 
 from __future__ import annotations
 
+import datetime as _dt
 import json
 from importlib import resources
 from pathlib import Path
@@ -20,7 +21,7 @@ from ..world.tides import HarmonicTables, TidalCurrent
 from .currents import parse_time
 from .geo import LocalFrame
 
-__all__ = ["BUILTIN_TIDES", "parse_start_time", "read_tide_file", "load_tidal_current"]
+__all__ = ["BUILTIN_TIDES", "parse_start_time", "utc_iso", "read_tide_file", "load_tidal_current"]
 
 BUILTIN_TIDES = {
     "juan-de-fuca": "tides_salish.json",
@@ -30,6 +31,12 @@ BUILTIN_TIDES = {
 def parse_start_time(text: str) -> float:
     """UTC seconds since 1970 of an ISO 8601 time (``Z`` or an offset; a time without one is UTC)."""
     return float(parse_time(str(text)).astype("datetime64[ns]").astype(np.int64)) / 1e9
+
+
+def utc_iso(unix_seconds: float) -> str:
+    """ISO 8601 UTC text (``...Z``, whole seconds) of seconds since 1970."""
+    when = _dt.datetime.fromtimestamp(round(float(unix_seconds)), tz=_dt.UTC)
+    return when.strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def read_tide_file(source: str, base_dir: Path | None = None) -> dict:

@@ -46,6 +46,11 @@ class GridParams:
         Elastic-band sweeps after the key-waypoint shortening (0 = none).
     smooth : bool
         Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
+    converge : bool
+        Refine the path to convergence after the band (halving spacings until a level gains less
+        than ``converge_tol``): the reference becomes the best known plan, not a lattice bound.
+    converge_tol : float
+        Relative cost gain below which the refinement stops.
     """
 
     cell: float = 0.0
@@ -56,8 +61,12 @@ class GridParams:
     objective: str = "cost"
     relax_iterations: int = 200
     smooth: bool = True
+    converge: bool = True
+    converge_tol: float = 1e-5
 
     def __post_init__(self) -> None:
+        if not 0.0 < self.converge_tol < 1.0:
+            raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
         if self.cell < 0 or self.cell_z < 0:
             raise ValueError("cell and cell_z must be >= 0 (0 = automatic)")
         if self.levels < 2:

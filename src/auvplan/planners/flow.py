@@ -12,28 +12,29 @@ Fields (all vectorised over points ``(..., 3)``):
   at round-off level and the field is harmonic.
 * :func:`sphere_document_velocity` — the document's sink + θ-dependent dipole
   φ_P = (m/4π)[1/|p − T| + g(cos θ)/r²], differentiated in full (never the constant-moment dipole).
-* :func:`rankine_velocity` — ellipsoid-like obstacles: source m at (−a₂, 0, 0), sink m at
-  (a₂, 0, 0) and the target sink Q at (a₁, 0, 0) along the axis from the obstacle to the target;
-  :func:`design_rankine_body` grows m until the real ellipsoid lies inside the dividing stream
-  surface (Stokes stream function), since the document's ellipsoid sticks out of the body.
+* :func:`rankine_velocity` — document 000's body: source m at (−a₂, 0, 0), sink m at (a₂, 0, 0) and the
+  target sink Q at (a₁, 0, 0) (closed forms of §4.1, corrected).  For obstacles the field uses the
+  bodies of :mod:`.flow_body`: by default a line distribution of sources and sinks on the axis from the
+  ellipsoid to the target, fitted so the body contains the ellipsoid inflated by the margin with little
+  excess volume (≤ 1.4× the inflated ellipsoid's on the (8, 4, 3) case, against 12× for a pair grown
+  with a₂ fixed); the pair with m and a₂ both free, and the document's own sizing, are options.
 * :func:`uniform_dipole_velocity` — the document's reference [15]: uniform flow + dipole, which
   passes every obstacle but cannot reach a fixed goal (the baseline of its Fig. 5).
 * several obstacles: u = Σ w_k u_k with normalised weights w_k = (1/d_k)/Σ(1/d_j) (**default**, they
   sum to 1) or the document's w_k = Π_{i≠k} d_i/(d_k + d_i); d_k the true distance to surface k
-  (the document's ray distance to an ellipsoid as a variant).
+  (the document's ray distance to an ellipsoid as a variant); d_k is the distance to the body the field
+  actually flows round, so the blended field is tangent to every body.
 
-:func:`integrate_streamlines` integrates many starts at once with classical RK4 in arc length,
-the step adapted to the geometry (h ≤ ½ of the clearance, within [h_min, h_max]), with events:
-arrival, obstacle contact, stagnation (|u| < ε), step limit.  Obstacles are inflated by the
-vehicle's safety margin (clearance ≥ margin); starts collinear with an obstacle and the goal are
-nudged sideways (they would stall at the rear stagnation point).  The flow knows nothing of the
-seabed: a streamline that meets it is reported with status ``INFEASIBLE``.
+:func:`integrate_streamlines` (:mod:`.flow_stream`) integrates many starts at once (RK4 in arc length, the
+step tied to the distance to the surface the field flows round), from any start outside the inflated
+obstacles: starts inside a body leave along its outward normal; on-axis starts are deflected by a
+documented rule.  A flat seabed enters as a mirror plane (:func:`plan_flow`).
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
@@ -41,7 +42,9 @@ from scipy.optimize import brentq
 from .._types import Status
 from ..world import Ellipsoid, Sphere, World
 from .base import PlanResult
+from .flow_body import AxialBody, design_body, frame
 from .flow_params import FlowParams
+from .flow_stream import Streamlines, integrate_streamlines
 
 __all__ = [
     "FlowParams",
@@ -53,7 +56,8 @@ __all__ = [
     "rankine_indicator",
     "rankine_stagnation_points",
     "rankine_radius",
-    "design_rankine_body",
+    "AxialBody",
+    "design_body",
     "uniform_dipole_velocity",
     "blend_weights",
     "FlowField",
@@ -63,8 +67,6 @@ __all__ = [
 ]
 
 FOUR_PI = 4.0 * np.pi
-MAX_CORRECTIONS = 50
-"""A streamline pushed back onto a surface more often than this is stuck against it: ``contact``."""
 SAG_PAD = 0.002
 """Relative inflation that keeps the chords between integration nodes outside the safety margin."""
 
@@ -189,57 +191,6 @@ def rankine_radius(m: float, a2: float, Q: float, a1: float) -> float:
     return brentq(f, 1e-12 * a2, 1e6 * max(a1, a2), xtol=1e-13 * a2, rtol=1e-14)
 
 
-def _ellipsoid_surface(e: Ellipsoid, n: int = 24) -> np.ndarray:
-    th = np.linspace(0, np.pi, n)
-    ph = np.linspace(0, 2 * np.pi, 2 * n, endpoint=False)
-    TH, PH = np.meshgrid(th, ph)
-    a = np.asarray(e.semi_axes)
-    local = np.stack([a[0] * np.sin(TH) * np.cos(PH), a[1] * np.sin(TH) * np.sin(PH), a[2] * np.cos(TH)], -1)
-    return local.reshape(-1, 3) @ e._rot.T + np.asarray(e.center)
-
-
-def design_rankine_body(e: Ellipsoid, target, Q: float = 1.0, margin: float = 0.0) -> tuple[float, float, np.ndarray]:
-    """Source strength m and half-spacing a₂ whose Rankine body contains the (inflated) ellipsoid.
-
-    The body axis runs from the ellipsoid's centre towards ``target``.  Starting from a₂ at half
-    the ellipsoid's extent along the axis and a small m, m grows by 25 % until every surface point
-    of the ellipsoid inflated by ``margin`` (scaled by 1 + margin/A_min, which contains the offset
-    surface) has F < 0, then once more for a gap.  Returns ``(m, a2, axis)``; raises ValueError
-    when the body would swallow the target.
-    """
-    c = np.asarray(e.center)
-    T = np.asarray(target, dtype=float)
-    a1 = float(np.linalg.norm(T - c))
-    axis = (T - c) / a1
-    grown = Ellipsoid(e.center, tuple(np.asarray(e.semi_axes) * (1 + margin / min(e.semi_axes))), e.yaw, e.pitch,
-                      e.roll)
-    pts = _ellipsoid_surface(grown, 48)
-    basis = _frame(axis)
-    local = (pts - c) @ basis
-    extent = float(np.abs(local[:, 0]).max())
-    a2 = 0.5 * extent
-    m = 0.05 * Q
-    for _ in range(200):
-        if np.all(rankine_indicator(local, m, a2, Q, a1) < 0):
-            m *= 1.25  # one more growth step: a gap between the body and the sampled surface
-            xf, xr = rankine_stagnation_points(m, a2, Q, a1)
-            if xr >= a1 * 0.999:
-                break
-            return m, a2, basis
-        m *= 1.25
-    raise ValueError(f"the target is too close to the ellipsoid at {e.center}: no Rankine body contains it")
-
-
-def _frame(axis: np.ndarray) -> np.ndarray:
-    """Orthonormal basis (columns) whose first column is ``axis``."""
-    x = axis / np.linalg.norm(axis)
-    helper = np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    y = np.cross(helper, x)
-    y /= np.linalg.norm(y)
-    z = np.cross(x, y)
-    return np.column_stack([x, y, z])
-
-
 # ---------------------------------------------------------------------- several obstacles
 def blend_weights(d: np.ndarray, kind: str = "normalised") -> np.ndarray:
     """Weights ``(..., K)`` from surface distances ``d (..., K)``."""
@@ -256,67 +207,147 @@ def blend_weights(d: np.ndarray, kind: str = "normalised") -> np.ndarray:
     return w
 
 
-class FlowField:
-    """The blended flow toward ``target`` around a World's spheres and ellipsoids (inflated by ``margin``).
+@lru_cache(maxsize=128)
+def _cached_body(ob: Ellipsoid, target: tuple, sizing: str, Q: float, margin: float, pad: float) -> AxialBody:
+    return design_body(ob, np.array(target), sizing, Q, margin, pad)
 
-    Spheres are evaluated together as arrays ``(N, K, 3)``; each ellipsoid gets its Rankine body.
+
+def _side(ob, axis: np.ndarray) -> np.ndarray:
+    """Deflection side for on-axis streamlines: across ``axis``, where the obstacle is thinnest.
+
+    The unit vector s ⊥ axis minimising the obstacle's half-width sᵀ M s (M = R diag(a²) Rᵀ for an
+    ellipsoid): the shortest way round.  Ties (spheres, or equal widths) go to the direction closest
+    to +z (over the obstacle, away from the seabed); a vertical axis then takes +x.
+    """
+    basis = frame(axis)
+    up = np.array([0.0, 0.0, 1.0]) if abs(axis[2]) < 0.999 else np.array([1.0, 0.0, 0.0])
+    default = up - (up @ axis) * axis
+    default /= np.linalg.norm(default)
+    if not isinstance(ob, Ellipsoid):
+        return default
+    M = ob._rot @ np.diag(np.asarray(ob.semi_axes) ** 2) @ ob._rot.T
+    P = basis[:, 1:]
+    w, v = np.linalg.eigh(P.T @ M @ P)
+    if w[1] - w[0] <= 1e-9 * w[1]:
+        return default
+    s = P @ v[:, 0]
+    return s if s @ default >= 0 else -s
+
+
+class FlowField:
+    """The blended flow toward ``target`` around spheres and ellipsoids inflated by ``margin``.
+
+    Spheres take the exact image field (or the document's, or uniform flow + dipole); each ellipsoid
+    the axisymmetric body of :mod:`.flow_body` sized by ``params.rankine``.  ``plane`` (a height) adds
+    a flat seabed as a mirror image of the target sink: the plane is then a stream surface.
+    ``direction`` is the uniform flow's direction for ``field = "uniform"``.
+
+    Two distances per obstacle: :meth:`distances`, to the surface the field actually flows round
+    (sphere or body; the blend weights and step control use it), and :meth:`clearance`, to the
+    real obstacle inflated by the margin (safety).
     """
 
-    def __init__(self, obstacles, target, params: FlowParams, margin: float = 0.0) -> None:
+    def __init__(self, obstacles, target, params: FlowParams, margin: float = 0.0, direction=None,
+                 plane: float | None = None) -> None:
         self.target = np.asarray(target, dtype=float)
         self.params = params
         self.margin = float(margin)
-        spheres = [ob for ob in obstacles if isinstance(ob, Sphere)]
+        self.spheres = [ob for ob in obstacles if isinstance(ob, Sphere)]
         self.ellipsoids = [ob for ob in obstacles if isinstance(ob, Ellipsoid)]
-        if len(spheres) + len(self.ellipsoids) != len(obstacles):
+        if len(self.spheres) + len(self.ellipsoids) != len(obstacles):
             raise TypeError("the flow planner handles spheres and ellipsoids only")
-        self.spheres = spheres
-        self.C = np.array([s.center for s in spheres]).reshape(-1, 3)
-        # the pad 0.002 a covers the chord sag h²/(8a) of RK steps up to 0.05 a along a surface
-        self.A = np.array([s.radius * (1.0 + SAG_PAD) + margin for s in spheres])
-        self.rankine = []
-        for ob in self.ellipsoids:
-            m, a2, basis = design_rankine_body(ob, self.target, params.strength, margin + SAG_PAD * max(ob.semi_axes))
-            a1 = float(np.linalg.norm(self.target - np.asarray(ob.center)))
-            self.rankine.append((np.asarray(ob.center), m, a2, a1, basis))
-        self.items = spheres + self.ellipsoids  # obstacle order of every (..., K) array
+        if params.field == "uniform" and self.ellipsoids:
+            raise ValueError("field = 'uniform' (uniform flow + dipole, document 000 Fig. 5) takes spheres only")
+        self.items = self.spheres + self.ellipsoids  # obstacle order of every (..., K) array
+        self.C = np.array([s.center for s in self.spheres]).reshape(-1, 3)
+        # the pad covers the chord sag h²/(8a) of steps up to 0.05 a along a surface
+        self.R = np.array([s.radius + margin for s in self.spheres])
+        self.A = self.R + SAG_PAD * np.array([s.radius for s in self.spheres])
+        self.direction = None
+        if params.field == "uniform":
+            d = np.asarray(direction if direction is not None else self.target, dtype=float)
+            self.direction = d / np.linalg.norm(d)
+        self.bodies = [_cached_body(ob, tuple(self.target), params.rankine, params.strength, self.margin,
+                                    SAG_PAD * max(ob.semi_axes)) for ob in self.ellipsoids]
+        self.plane = plane
+        self.axes, self.sides, self.radii = [], [], []
+        for i, ob in enumerate(self.items):
+            c = np.asarray(ob.center)
+            e = self.direction if self.direction is not None else (self.target - c) / np.linalg.norm(self.target - c)
+            self.axes.append(e)
+            self.sides.append(_side(ob, e))
+            self.radii.append(self.A[i] if i < len(self.spheres) else self.bodies[i - len(self.spheres)].radius)
+        self.radii = np.asarray(self.radii)
 
-    def push_out(self, p: np.ndarray) -> np.ndarray:
-        """Points moved just outside the nearest (inflated) surface along its normal."""
-        p = np.array(p, dtype=float)
-        d = self.distances(p, "true")
-        k = d.argmin(axis=-1)
-        for i in range(p.shape[0]):
-            ob = self.items[k[i]]
-            grad = ob.gradient(p[i])
-            p[i] = p[i] + (-d[i, k[i]] + 1e-9) * grad
-        return p
+    @property
+    def contained(self) -> bool:
+        """True when every body contains its obstacle (not for the document's sizing)."""
+        return self.params.rankine != "document"
 
-    def inside_body(self, p) -> np.ndarray:
-        """True where points lie inside a Rankine body (fed by its own source: no streamline to the goal)."""
-        p = np.asarray(p, dtype=float)
-        out = np.zeros(p.shape[:-1], dtype=bool)
-        for c, ms, a2, a1, basis in self.rankine:
-            out |= rankine_indicator((p - c) @ basis, ms, a2, self.params.strength, a1) < 0
-        return out
-
+    # ------------------------------------------------------------------ distances
     def distances(self, p: np.ndarray, kind: str | None = None) -> np.ndarray:
-        """Distance ``(..., K)`` of points to each (inflated) obstacle surface: spheres, then ellipsoids."""
+        """Distance ``(..., K[+1])`` to each surface the field flows round (spheres, bodies[, plane])."""
         kind = kind or self.params.distance
         p = np.asarray(p, dtype=float)
         out = [np.linalg.norm(p[..., None, :] - self.C, axis=-1) - self.A] if self.spheres else []
-        for ob in self.ellipsoids:
-            d = ob.ray_distance(p) if kind == "ray" else ob.distance(p)
-            out.append((d - self.margin - SAG_PAD * max(ob.semi_axes))[..., None])
+        for ob, body in zip(self.ellipsoids, self.bodies):
+            if self.contained:
+                d = body.distance(p)
+            else:  # the document's body: its ellipsoid stands for it
+                d = (ob.ray_distance(p) if kind == "ray" else ob.distance(p)) - self.margin
+            out.append(d[..., None])
+        if self.plane is not None:
+            out.append((p[..., 2] - self.plane)[..., None])
         return np.concatenate(out, axis=-1) if out else np.zeros(p.shape[:-1] + (0,))
 
+    def clearance(self, p: np.ndarray) -> np.ndarray:
+        """Distance to the nearest real obstacle (or the plane) minus the margin: negative = penetration."""
+        p = np.asarray(p, dtype=float)
+        d = np.full(p.shape[:-1], np.inf)
+        if self.spheres:
+            d = np.minimum(d, (np.linalg.norm(p[..., None, :] - self.C, axis=-1) - self.R).min(axis=-1))
+        for ob in self.ellipsoids:
+            lb = ob.lower_bound_distance(p) - self.margin
+            near = lb < max(ob.semi_axes)  # the exact distance where it matters, the cheap lower bound elsewhere
+            if near.any():
+                lb[near] = ob.distance(p[near]) - self.margin
+            d = np.minimum(d, lb)
+        if self.plane is not None:
+            d = np.minimum(d, p[..., 2] - self.plane)
+        return d
+
+    def inside_body(self, p) -> np.ndarray:
+        """True where points lie inside a surface the field flows round (a body, sphere or below the plane)."""
+        d = self.distances(np.asarray(p, dtype=float), "true")
+        return (d < 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], dtype=bool)
+
+    def push_out(self, p: np.ndarray, eps: float = 1e-9) -> np.ndarray:
+        """Points moved just outside the nearest flow surface along its outward normal."""
+        p = np.array(p, dtype=float).reshape(-1, 3)
+        d = self.distances(p, "true")
+        k = d.argmin(axis=-1)
+        ns = len(self.spheres)
+        for i in range(p.shape[0]):
+            j = k[i]
+            if j < ns:
+                n = (p[i] - self.C[j]) / max(np.linalg.norm(p[i] - self.C[j]), 1e-300)
+            elif j < len(self.items):
+                n = (self.bodies[j - ns].normal(p[i:i + 1])[0] if self.contained
+                     else self.items[j].gradient(p[i]))
+            else:
+                n = np.array([0.0, 0.0, 1.0])
+            p[i] = p[i] + (-d[i, j] + eps * max(self.radii.max(initial=1.0), 1.0)) * n
+        return p
+
+    # ------------------------------------------------------------------ velocity
     def _sphere_parts(self, p: np.ndarray) -> np.ndarray:
         """Single-sphere fields of every sphere at once, ``(N, K, 3)``."""
-        q = p[:, None, :] - self.C
-        if self.params.field == "document":
-            return np.stack([sphere_document_velocity(p, c, a, self.target, self.params.strength)
-                             for c, a in zip(self.C, self.A)], axis=1)
         m = self.params.strength
+        if self.params.field == "document":
+            return np.stack([sphere_document_velocity(p, c, a, self.target, m) for c, a in zip(self.C, self.A)], 1)
+        if self.params.field == "uniform":
+            return np.stack([uniform_dipole_velocity(p, c, a, self.direction) for c, a in zip(self.C, self.A)], 1)
+        q = p[:, None, :] - self.C
         Tc = self.target - self.C
         b = np.linalg.norm(Tc, axis=-1)
         e = Tc / b[:, None]
@@ -329,160 +360,90 @@ class FlowField:
         line = (m / (FOUR_PI * self.A) * 2.0 * L)[:, None] / (S * S - L[:, None] ** 2) * (q / R0 + q1 / R1)
         return sink_velocity(p, self.target, m)[:, None, :] + image + line
 
+    def _free(self, p: np.ndarray) -> np.ndarray:
+        """The field without obstacles: the target sink (with its mirror in the plane), or the uniform flow."""
+        if self.direction is not None:
+            return np.broadcast_to(self.direction, p.shape).copy()
+        u = sink_velocity(p, self.target, self.params.strength)
+        if self.plane is not None:
+            mirror = self.target * np.array([1.0, 1.0, -1.0]) + np.array([0.0, 0.0, 2.0 * self.plane])
+            u = u + sink_velocity(p, mirror, self.params.strength)
+        return u
+
     def velocity(self, p) -> np.ndarray:
         """Blended velocity at points ``(..., 3)``."""
         p = np.asarray(p, dtype=float)
         shape = p.shape
         p = p.reshape(-1, 3)
-        m = self.params.strength
         if not self.items:
-            return sink_velocity(p, self.target, m).reshape(shape)
+            return self._free(p).reshape(shape)
         parts = [self._sphere_parts(p)] if self.spheres else []
-        for c, ms, a2, a1, basis in self.rankine:
-            parts.append((rankine_velocity((p - c) @ basis, ms, a2, m, a1) @ basis.T)[:, None, :])
+        for body in self.bodies:
+            parts.append(body.velocity(p)[:, None, :])
+        if self.plane is not None:
+            parts.append(self._free(p)[:, None, :])
         parts = np.concatenate(parts, axis=1)
         if parts.shape[1] == 1:
             return parts[:, 0].reshape(shape)
         w = blend_weights(self.distances(p), self.params.weights)
         return np.einsum("nk,nki->ni", w, parts).reshape(shape)
 
+def seabed_plane(world: World, start, goal, buffer: float) -> tuple[float | None, str]:
+    """The flat seabed the flow can model: ``(height, "")``, or ``(None, reason)`` when it is not flat enough.
 
-# ---------------------------------------------------------------------- integration
-@dataclass(frozen=True, eq=False)
-class Streamlines:
-    """Many integrated streamlines: one polyline and one status per start."""
-
-    paths: list
-    status: np.ndarray
-    min_distance: np.ndarray
-    steps: np.ndarray
-    wall_time_s: float
-    corrections: np.ndarray
-
-    @property
-    def arrived(self) -> np.ndarray:
-        """True where the streamline reached the goal."""
-        return self.status == "arrived"
-
-
-def _nudge(starts: np.ndarray, field: FlowField) -> np.ndarray:
-    """Move starts that lie on an obstacle-goal axis (behind the obstacle) slightly sideways."""
-    s = starts.copy()
-    for ob in field.items:
-        c = np.asarray(ob.center)
-        axis = field.target - c
-        axis /= np.linalg.norm(axis)
-        q = s - c
-        along = q @ axis
-        perp = q - along[:, None] * axis
-        off = np.linalg.norm(perp, axis=1)
-        size = ob.bounding_radius
-        on_axis = (off < 1e-6 * size) & (along < 0)
-        if on_axis.any():
-            side = _frame(axis)[:, 1]
-            s[on_axis] += 1e-3 * size * side
-    return s
-
-
-def integrate_streamlines(field: FlowField, starts, params: FlowParams | None = None) -> Streamlines:
-    """Integrate dp/ds = u/|u| from every start at once (RK4, step ≤ ``step_factor`` × clearance).
-
-    Statuses: ``arrived``, ``contact`` (a surface was crossed even with the step cut 4096-fold:
-    the streamline stops there; a graze of at most 10⁻³ a is instead pushed back onto the surface
-    and counted in ``corrections``), ``stagnation``, ``max_steps``, ``inside_body`` (the start lies
-    inside a Rankine body, whose streamlines run from its source to its sink).
+    The plane lies at the highest seabed elevation within ``buffer`` of the straight start–goal line
+    (sampled every ~1/200 of its length on five parallel lines) plus the minimum altitude: a mirror
+    image of the target sink in it makes it a stream surface.  Start and goal must lie above it.
     """
-    t0 = time.perf_counter()
-    params = params or field.params
-    sizes = [ob.radius for ob in field.spheres] + [min(ob.semi_axes) for ob in field.ellipsoids]
-    h_min = params.h_min or (0.05 * (min(sizes) + field.margin) if sizes else 0.01)
-    p = _nudge(np.asarray(starts, dtype=float).reshape(-1, 3), field)
-    n = p.shape[0]
-    cap = params.max_steps + 1
-    track = np.full((cap, n, 3), np.nan)
-    track[0] = p
-    count = np.ones(n, dtype=np.intp)
-    status = np.array(["max_steps"] * n, dtype=object)
-    active = np.ones(n, dtype=bool)
-    corrections = np.zeros(n, dtype=np.intp)
-    trapped = field.inside_body(p)
-    status[trapped] = "inside_body"
-    active[trapped] = False
-    min_d = np.full(n, np.inf)
-    T = field.target
-
-    def direction(x):
-        u = field.velocity(x)
-        sp = np.linalg.norm(u, axis=-1, keepdims=True)
-        return u / np.maximum(sp, 1e-300), sp[..., 0]
-
-    for k in range(1, cap):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            break
-        x = p[idx]
-        d = field.distances(x, "true").min(axis=-1) if field.items else np.full(idx.size, np.inf)
-        min_d[idx] = np.minimum(min_d[idx], d)
-        dist_goal = np.linalg.norm(x - T, axis=1)
-        arrived = dist_goal <= params.arrive
-        h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
-        k1, sp = direction(x)
-        # stagnation relative to the bare sink's speed here (scale-free)
-        stalled = sp < params.stagnation * params.strength / (FOUR_PI * np.maximum(dist_goal, 1e-300) ** 2)
-
-        def rk4(x, k1, h):
-            k2, _ = direction(x + 0.5 * h[:, None] * k1)
-            k3, _ = direction(x + 0.5 * h[:, None] * k2)
-            k4, _ = direction(x + h[:, None] * k3)
-            nxt = x + h[:, None] / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            return nxt, (field.distances(nxt, "true").min(axis=-1) if field.items else np.full(len(x), np.inf))
-
-        nxt, d_next = rk4(x, k1, h)
-        for _ in range(6):  # event: a step that would enter a surface is retried at a quarter of its size
-            retry = d_next < 0
-            if not retry.any():
-                break
-            h[retry] *= 0.25
-            nxt[retry], d_next[retry] = rk4(x[retry], k1[retry], h[retry])
-        graze = (d_next < 0) & (d_next > -1e-3 * h_min / 0.05)
-        if graze.any():  # a graze of at most 1e-3 a after every retry: back onto the surface, counted
-            g = np.flatnonzero(graze)
-            nxt[g] = field.push_out(nxt[g])
-            d_next[g] = field.distances(nxt[g], "true").min(axis=-1)
-            corrections[idx[g]] += 1
-        contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS)
-        move = ~(arrived | stalled)
-        p[idx[move]] = nxt[move]
-        track[k, idx[move]] = nxt[move]
-        count[idx[move]] += 1
-        min_d[idx[move]] = np.minimum(min_d[idx[move]], d_next[move])
-        status[idx[arrived]] = "arrived"
-        status[idx[stalled & ~arrived]] = "stagnation"
-        status[idx[contact & move]] = "contact"
-        active[idx[arrived | stalled | (contact & move)]] = False
-    paths = [track[: count[i], i].copy() for i in range(n)]
-    for i in np.flatnonzero(status == "arrived"):
-        if np.linalg.norm(paths[i][-1] - T) > 0:
-            paths[i] = np.vstack([paths[i], T])
-    return Streamlines(paths, status, min_d, count, time.perf_counter() - t0, corrections)
+    if world.terrain is None:
+        return None, ""
+    a, b = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    d = b[:2] - a[:2]
+    n = np.array([-d[1], d[0]]) / max(np.linalg.norm(d), 1e-9)
+    t = np.linspace(0.0, 1.0, 201)[:, None]
+    xy = np.concatenate([a[:2] + t * d + o * buffer * n for o in (-1.0, -0.5, 0.0, 0.5, 1.0)])
+    top = float(np.nanmax(world.seabed(xy[:, 0], xy[:, 1])))
+    plane = top + world.margins.min_altitude
+    low = min(a[2], b[2])
+    if low <= plane:
+        which = "start" if a[2] <= b[2] else "goal"
+        return None, (f"the seabed is not locally flat: it rises to {top:.1f} m within {buffer:.0f} m of the "
+                      f"start-goal line, so its mirror plane (+ min altitude {world.margins.min_altitude:g} m) lies "
+                      f"above the {which} (z = {low:.1f} m); the flow planner models the seabed as one flat plane "
+                      f"- plan with iabc or grid")
+    return plane, ""
 
 
 def plan_flow(problem, params: FlowParams) -> PlanResult:
     """Streamline from the problem's start to its goal in the world's obstacle field.
 
-    ``EXACT`` when the streamline arrives without touching an obstacle (inflated by the World's
-    obstacle margin) and passes the World's exact segment tests (seabed included);
-    ``INFEASIBLE`` otherwise, with the reason.
+    When the seabed is in the way of the obstacle flow, the flow sees it as a flat mirror plane
+    (:func:`seabed_plane`), or, when the seabed is not flat enough for that, the plan is
+    ``INFEASIBLE`` with that reason.  ``EXACT`` when the streamline arrives without touching an
+    obstacle (inflated by the World's obstacle margin) and passes the World's exact segment tests
+    (seabed included); ``INFEASIBLE`` otherwise, with the reason.
     """
     t0 = time.perf_counter()
     world: World = problem.world
     from .swarm import check_endpoints
 
     bad = check_endpoints(problem)
+    if bad is None and params.field == "uniform":
+        bad = (Status.INFEASIBLE,
+               "field = 'uniform' has no sink at the goal (document 000 Fig. 5 baseline): use it in benchmarks")
     if bad is not None:
         return PlanResult(bad[0], np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), "flow", None, bad[1])
     field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
     sl = integrate_streamlines(field, problem.start[None], params)
+    plane, why = None, ""
+    if world.terrain is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
+        # the seabed may be in the way: the flow with the seabed as a mirror plane, if it is flat enough
+        sizes = [ob.bounding_radius for ob in world.obstacles]
+        buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
+        plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
+        if plane is not None:
+            field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
+            sl = integrate_streamlines(field, problem.start[None], params)
     path = sl.paths[0]
     length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
     st = sl.status[0]
@@ -492,7 +453,12 @@ def plan_flow(problem, params: FlowParams) -> PlanResult:
         status, message = Status.INFEASIBLE, f"the streamline ended by {st} after {sl.steps[0]} steps"
     elif not world.path_free(path):
         status = Status.INFEASIBLE
-        message = "the streamline arrives but meets the seabed or leaves the bounds (the flow knows only the obstacles)"
+        seg = np.stack([path[:-1], path[1:]], axis=1)
+        bad_seg = int(np.flatnonzero(~world.segments_free(seg, moving=False))[0])
+        message = (f"the streamline arrives but its leg {bad_seg} near {np.round(path[bad_seg], 1).tolist()} meets the "
+                   f"seabed, an obstacle margin or the bounds")
+        message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
+                                             if plane is not None else "")
     seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
     if world.terrain is not None:

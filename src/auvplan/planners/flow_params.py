@@ -14,7 +14,13 @@ class FlowParams:
     Attributes
     ----------
     field : str
-        ``"exact"`` (Weiss image, default) or ``"document"`` (sink + θ-dependent dipole).
+        ``"exact"`` (Weiss image, default), ``"document"`` (sink + θ-dependent dipole) or ``"uniform"``
+        (uniform flow + dipole, the baseline of document 000's Fig. 5: spheres only, no fixed goal).
+    rankine : str
+        How the body round an ellipsoid is sized: ``"line"`` (default: a fitted line distribution of
+        sources and sinks, the smallest containing body found), ``"pair"`` (source/sink pair, strength
+        and half-spacing both free) or ``"document"`` (document 000's: stagnation point and mid-radius
+        equal to the semi-axes; the ellipsoid is not contained).
     weights : str
         ``"normalised"`` (default) or ``"document"`` (product weights).
     distance : str
@@ -35,6 +41,7 @@ class FlowParams:
     """
 
     field: str = "exact"
+    rankine: str = "line"
     weights: str = "normalised"
     distance: str = "true"
     strength: float = 1.0
@@ -46,8 +53,10 @@ class FlowParams:
     stagnation: float = 1e-6
 
     def __post_init__(self) -> None:
-        if self.field not in ("exact", "document"):
-            raise ValueError(f"field = {self.field!r}: choose 'exact' or 'document'")
+        if self.field not in ("exact", "document", "uniform"):
+            raise ValueError(f"field = {self.field!r}: choose 'exact', 'document' or 'uniform'")
+        if self.rankine not in ("line", "pair", "document"):
+            raise ValueError(f"rankine = {self.rankine!r}: choose 'line', 'pair' or 'document'")
         if self.weights not in ("normalised", "document"):
             raise ValueError(f"weights = {self.weights!r}: choose 'normalised' or 'document'")
         if self.distance not in ("true", "ray"):

@@ -427,6 +427,37 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
     return path
 
 
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel, cell: float,
+              iterations: int, tol: float) -> tuple[np.ndarray, float, int]:
+    """Refine until the cost stops improving: resample the path at half the last spacing (or
+    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
+    it with steps of that spacing (and, for the length objective, drop the vertices that hold
+    nothing up), and keep it only when cheaper; stop when two levels in a row improve the cost
+    by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
+
+    Returns the path, its cost and the number of levels run.
+    """
+    world, objective = problem.world, spec.grid.objective
+    best, best_cost = path, path_cost(problem, spec, path)["total"]
+    floor = float(polyline_length(path)) / 2000.0
+    spacing, levels, small = 0.5 * cell, 0, 0
+    while spacing >= floor and small < 2:
+        levels += 1
+        start = resample_polyline(best, spacing)  # even spacing lets points slide along the path
+        if not world.path_free(start):
+            start = densify(best, spacing)
+        cand = _relax(world, start, model, objective, iterations, spacing)
+        if objective == "length":
+            cand = key_waypoints(cand, world)
+        cost = path_cost(problem, spec, cand)["total"]
+        gain = (best_cost - cost) / max(abs(best_cost), 1e-12)
+        if cost < best_cost and world.path_free(cand):
+            best, best_cost = cand, cost
+        small = small + 1 if gain < tol else 0
+        spacing *= 0.5
+    return best, best_cost, levels
+
+
 def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> dict:
     """Cost terms of a polyline under the planner's cost function (segments no longer than
     1/``spec.samples`` of the path, vertices kept), as in :class:`PlanResult.cost_terms`."""
@@ -473,6 +504,10 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
     if length_only:
         path = key_waypoints(path, w)
+    levels = 0
+    if params.converge:
+        path, _, levels = _converge(problem, spec, path, model, reference.cell, params.relax_iterations,
+                                    params.converge_tol)
     terms = path_cost(problem, spec, path)
     straight = np.stack([problem.start, problem.goal])
     if path.shape[0] > 2 and w.path_free(straight):
@@ -490,6 +525,10 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     free = w.path_free(path)
     status = Status.EXACT if free else Status.INFEASIBLE
     message = "" if free else "the shortened lattice path failed the exact segment test"
+    if free:
+        message = (f"reference: lattice {reference.shape} at {reference.cell:g} m x {reference.cell_z:g} m, "
+                   + (f"refined to convergence ({levels} levels, tol {params.converge_tol:g})" if params.converge
+                      else "elastic band only (lattice-bound reference)"))
     return PlanResult(
         status=status,
         path=path,

@@ -53,15 +53,25 @@ def setup(problem: PlanningProblem, spec: PlannerSpec, t0: float, t1: float) -> 
     return TimeSetup(lattice, table, cell, p.substep or 0.5 * cell, time.process_time() - clock)
 
 
-def _fly(problem: PlanningProblem, ts: TimeSetup, depart: float, speed: float, iterations: int,
+def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: float, speed: float | None = None,
          table: CurrentTable | None = None) -> TimedPath | None:
-    """Search then refine one departure at one speed (on ``table``, default the real one)."""
+    """Search then refine one departure (on ``table``, default the real one) at ``speed``, or by
+    ``spec.timeopt.objective`` over the speeds it allows (the least duration, or the least energy)."""
     tab = ts.table if table is None else table
-    raw = time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, speed, ts.ds)
-    if raw is None:
+    p = spec.timeopt
+    if speed is not None:
+        speeds = [speed]
+    else:
+        speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
+    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds)
+            for v in speeds]
+    scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
+              for r in raws if r is not None and np.isfinite(r.duration)]
+    if not scored:
         return None
+    raw = min(scored, key=lambda s: s[0])[1]
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
-    return refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, iterations)
+    return refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
@@ -99,22 +109,15 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
     depart = p.depart_s
     for _ in range(3):  # the horizon doubles when a plan runs past the end of the table
         ts = ts or setup(problem, spec, depart, depart)
-        speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
-        raws = [time_search(problem.world, ts.lattice, ts.table, problem.start, problem.goal, depart, v, ts.ds)
-                for v in speeds]
-        scored = [(r.duration * _power(problem, r.speed) if p.objective == "energy" else r.duration, r)
-                  for r in raws if r is not None and np.isfinite(r.duration)]
-        if not scored:
+        best = _fly(problem, spec, ts, depart)
+        if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
                             f"within {ts.table.t1 - depart:.0f} s (the current blocks it, or the seabed encloses "
                             "the goal; try a smaller [planner.timeopt] cell or another departure)", t0)
-        raw = min(scored, key=lambda s: s[0])[1]
-        if raw.times[-1] < ts.table.t1:
+        if best.times[-1] < ts.table.t1:
             break
         spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
         p, ts = spec.timeopt, None
-    vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
-    best = refine(problem.world, ts.table, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
     return _result(problem, spec, best, ts, t0)
 
 
@@ -139,30 +142,31 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs) -> tup
     v = problem.speed
     power = _power(problem, v)
     straight_ok = problem.world.path_free(np.stack([problem.start, problem.goal]))
-    iters = spec.timeopt.relax_iterations
     rows = []
     for d in departs:
         clock = time.process_time()
-        tp = _fly(problem, ts, d, v, iters)
+        tp = _fly(problem, spec, ts, d)
         dur = tp.duration if tp is not None else math.inf
+        energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
         cpu = time.process_time() - clock
         sl = timed_traverse(ts.table, [problem.start, problem.goal], d, v, ts.ds).duration if straight_ok else math.nan
         it = int(round((d - ts.table.t0) / ts.table.dt))
         frozen = replace(ts.table, cur=ts.table.cur[it:it + 1], t0=float(d))
-        steady = _fly(problem, ts, d, v, iters, table=frozen)
+        steady = _fly(problem, spec, ts, d, v, table=frozen)
         sd = timed_traverse(ts.table, steady.points, d, v, ts.ds).duration if steady is not None else math.inf
-        rows.append(SweepRow(float(d), dur, dur * power, sl, sl * power, sd, sd * power, cpu))
+        rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
     return rows, ts
 
 
-def sweep_summary(rows: list[SweepRow]) -> dict:
-    """Best and worst departures and the percent saved by the best timed plan against the worst
-    departure, and against the straight line and the steady-current plan flown at the best departure."""
+def sweep_summary(rows: list[SweepRow], energy: bool = False) -> dict:
+    """Best and worst departures (by duration, or by energy with ``energy``) and the percent saved by
+    the best timed plan against the worst departure, and against the straight line and the
+    steady-current plan (both at cruise speed) flown at the best departure."""
     ok = [r for r in rows if np.isfinite(r.duration_s)]
     if not ok:
         return {"feasible_departures": 0}
-    best = min(ok, key=lambda r: r.duration_s)
-    worst = max(ok, key=lambda r: r.duration_s)
+    key = (lambda r: r.energy_j) if energy else (lambda r: r.duration_s)
+    best, worst = min(ok, key=key), max(ok, key=key)
 
     def saved(a: float, b: float) -> float:
         return 100.0 * (b - a) / b if np.isfinite(b) and b > 0 else math.nan
@@ -174,6 +178,9 @@ def sweep_summary(rows: list[SweepRow]) -> dict:
         "saved_vs_worst_pct": saved(best.duration_s, worst.duration_s),
         "saved_vs_straight_pct": saved(best.duration_s, best.straight_duration_s),
         "saved_vs_steady_pct": saved(best.duration_s, best.steady_duration_s),
+        "energy_saved_vs_worst_pct": saved(best.energy_j, worst.energy_j),
+        "energy_saved_vs_straight_pct": saved(best.energy_j, best.straight_energy_j),
+        "energy_saved_vs_steady_pct": saved(best.energy_j, best.steady_energy_j),
         "mean_saved_vs_steady_pct": float(np.nanmean([saved(r.duration_s, r.steady_duration_s) for r in ok])),
         "mean_saved_vs_straight_pct": float(np.nanmean([saved(r.duration_s, r.straight_duration_s) for r in ok])),
         "cpu_per_departure_s": float(np.mean([r.cpu_s for r in rows])),

@@ -38,6 +38,8 @@ def nice_step(span: float, count: float = 5.0) -> float:
     float
     """
     raw = span / count
+    if not (np.isfinite(raw) and raw > 0):
+        return 1.0
     decade = 10.0 ** np.floor(np.log10(raw))
     return float(min((n * decade for n in (1.0, 2.0, 2.5, 5.0, 10.0)), key=lambda s: abs(s - raw)))
 

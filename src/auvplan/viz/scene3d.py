@@ -17,7 +17,8 @@ from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
 from .style import bathymetry_colorscale, speed_colorscale
 
-__all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "hms", "FRAMES", "MAX_POINTS"]
+__all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "z_range", "hms", "FRAMES",
+           "MAX_POINTS"]
 
 FRAMES = 60
 """Time-slider frames."""
@@ -50,9 +51,9 @@ def hms(t: float) -> str:
     return f"{sign}{s // 3600:d}:{s // 60 % 60:02d}:{s % 60:02d}"
 
 
-def vertical_exaggeration(world: World, target: float = 0.35) -> float:
-    """A round vertical exaggeration (1, 2, 5, 10, 20 …) that makes the scene's height about
-    ``target`` of its larger horizontal side.
+def vertical_exaggeration(world: World, target: float = 0.35, z_range: tuple[float, float] | None = None) -> float:
+    """The round vertical exaggeration (1, 2, 5, 10, 20 …) nearest (in ratio) to the one that
+    makes the scene's height ``target`` of its larger horizontal side.
 
     Parameters
     ----------
@@ -60,6 +61,8 @@ def vertical_exaggeration(world: World, target: float = 0.35) -> float:
         Its bounds set the box.
     target : float
         Wanted height / width ratio of the drawn box.
+    z_range : (float, float), optional
+        The vertical range drawn; the bounds' by default.
 
     Returns
     -------
@@ -67,11 +70,12 @@ def vertical_exaggeration(world: World, target: float = 0.35) -> float:
         At least 1.
     """
     b = world.bounds
-    ratio = target * max(b.xmax - b.xmin, b.ymax - b.ymin) / (b.zmax - b.zmin)
+    lo, hi = (b.zmin, b.zmax) if z_range is None else z_range
+    ratio = target * max(b.xmax - b.xmin, b.ymax - b.ymin) / (hi - lo)
     if ratio <= 1.0:
         return 1.0
     decade = 10.0 ** np.floor(np.log10(ratio))
-    return float(max(n * decade for n in _NICE if n * decade <= ratio))
+    return float(min((n * decade for n in (*_NICE, 10.0)), key=lambda v: abs(np.log(v / ratio))))
 
 
 def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -159,11 +163,46 @@ def elevation_range(world: World) -> tuple[float, float]:
     return float(np.nanmin(z)), float(np.nanmax(z))
 
 
-def _seabed(world: World) -> list:
-    x, y, z = _terrain_grid(world)
+def z_range(world: World, record: RunRecord) -> tuple[float, float]:
+    """The vertical range worth drawing: the seabed, the path, the track and the obstacles with a
+    tenth of their span around them, clipped to the scenario's bounds (never beyond them).
+
+    Parameters
+    ----------
+    world : World
+    record : RunRecord
+
+    Returns
+    -------
+    zmin, zmax : float
+    """
     b = world.bounds
+    zs = [np.array([np.nan])]
+    if world.terrain is not None:
+        zs.append(np.array(elevation_range(world)))
+    for p in (record.route, record.plan.path if record.plan is not None else np.empty((0, 3)),
+              record.sim.position if record.sim is not None else np.empty((0, 3))):
+        if p.size:
+            zs.append(p[:, 2])
+    for o in world.obstacles:
+        zs.append(np.array([o.center[2] - o.bounding_radius, o.center[2] + o.bounding_radius]))
+    z = np.concatenate(zs)
+    z = z[np.isfinite(z)]
+    if z.size == 0:
+        return b.zmin, b.zmax
+    pad = max(0.1 * float(np.ptp(z)), 1.0)
+    lo, hi = max(b.zmin, float(z.min()) - pad), min(b.zmax, float(z.max()) + pad)
+    if hi - lo < 1e-6:
+        return b.zmin, b.zmax
+    if b.zmax - hi < 0.15 * (hi - lo):  # close to the surface: show it
+        hi = b.zmax
+    return lo, hi
+
+
+def _seabed(world: World, zlo: float, zhi: float) -> list:
+    x, y, z = _terrain_grid(world)
     lo, hi = elevation_range(world)
-    seabed = go.Surface(x=x, y=y, z=np.clip(z, b.zmin, b.zmax), surfacecolor=z, cmin=lo, cmax=hi,
+    seabed = go.Surface(x=x, y=y, z=np.clip(z, zlo, zhi), surfacecolor=z, cmin=lo, cmax=hi,
                         colorscale=bathymetry_colorscale(lo, hi), name="seabed", showscale=True,
                         colorbar=dict(title="elevation (m)", x=1.0, len=0.6, y=0.45),
                         hovertemplate="x %{x:.0f} m<br>y %{y:.0f} m<br>seabed %{surfacecolor:.0f} m<extra></extra>")
@@ -229,6 +268,20 @@ def _moving_meshes(world: World, times: np.ndarray, n: int = 11) -> tuple[list, 
     return traces, frames
 
 
+def _current_frames(fig: go.Figure, world: World, times: np.ndarray):
+    """``(trace index, velocities (T, N, 3))`` of the current cones at the slider's times when the
+    current changes with time (tides), else None; the colour scale spans every frame."""
+    cone = next((i for i, d in enumerate(fig.data) if d.type == "cone"), None)
+    if cone is None:
+        return None
+    c = fig.data[cone]
+    v = np.asarray(world.currents.sample(np.column_stack([c.x, c.y, c.z]), times), dtype=float)
+    if not np.isfinite(v).all() or np.ptp(v, axis=0).max() <= 1e-9:
+        return None
+    c.update(cmax=float(np.linalg.norm(v, axis=2).max()))
+    return cone, v
+
+
 def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     sim = record.sim
     times = np.linspace(sim.t[0], sim.t[-1], min(FRAMES, sim.t.size))
@@ -240,10 +293,16 @@ def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     for t in moving:
         fig.add_trace(t)
     ids = [first - 1] + list(range(first, first + len(moving)))
+    flow = _current_frames(fig, world, times)
+    if flow is not None:
+        ids.append(flow[0])
     frames, steps = [], []
     for j, t in enumerate(times):
         data = [go.Scatter3d(x=[pos[j, 0]], y=[pos[j, 1]], z=[pos[j, 2]])]
         data += [go.Mesh3d(x=v[j][:, 0], y=v[j][:, 1], z=v[j][:, 2]) for v in verts]
+        if flow is not None:
+            vj = flow[1][j]
+            data.append(go.Cone(u=vj[:, 0], v=vj[:, 1], w=vj[:, 2], customdata=np.linalg.norm(vj, axis=1)))
         frames.append(go.Frame(name=f"t{j}", traces=ids, data=data))
         steps.append(dict(method="animate", label=hms(t),
                           args=[[f"t{j}"], dict(mode="immediate", frame=dict(duration=0, redraw=True),
@@ -276,12 +335,13 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
     plotly.graph_objects.Figure
     """
     b = world.bounds
-    ve = vertical_exaggeration(world) if exaggeration is None else float(exaggeration)
+    zlo, zhi = z_range(world, record)
+    ve = vertical_exaggeration(world, z_range=(zlo, zhi)) if exaggeration is None else float(exaggeration)
     fig = go.Figure()
     if world.terrain is not None:
-        for t in _seabed(world):
+        for t in _seabed(world, zlo, zhi):
             fig.add_trace(t)
-    if b.zmax >= 0.0:
+    if b.zmax >= 0.0 and zhi >= min(0.0, b.zmax):
         fig.add_trace(_sea_surface(world))
     path = record.plan.path if record.plan is not None and record.plan.path.size else record.route
     for t in _currents(world, path):
@@ -301,12 +361,12 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
         fig.add_trace(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines", name="track",
                                    line=dict(color="crimson", width=3)))
         _slider(fig, record, world)
-    sx, sy, sz = b.xmax - b.xmin, b.ymax - b.ymin, b.zmax - b.zmin
+    sx, sy, sz = b.xmax - b.xmin, b.ymax - b.ymin, zhi - zlo
     big = max(sx, sy)
     fig.update_layout(
         scene=dict(xaxis=dict(title="x east (m)", range=[b.xmin, b.xmax]),
                    yaxis=dict(title="y north (m)", range=[b.ymin, b.ymax]),
-                   zaxis=dict(title=f"z (m), vertical ×{ve:g}", range=[b.zmin, b.zmax]),
+                   zaxis=dict(title=f"z (m), vertical ×{ve:g}", range=[zlo, zhi]),
                    aspectmode="manual", aspectratio=dict(x=sx / big, y=sy / big, z=sz * ve / big)),
         meta=dict(vertical_exaggeration=ve),
         height=760, margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=1.0, bgcolor="rgba(255,255,255,0.7)"),
