@@ -121,7 +121,7 @@ def test_two_d_latlon_rectilinear_and_curvilinear(tmp_path):
     check(t, relief, margin=0.0)
 
 
-def _tif(tmp_path, name, values, x, y, crs, nodata=None):
+def _tif(tmp_path, name, values, x, y, crs, nodata=None, driver="GTiff"):
     import rioxarray  # noqa: F401
 
     da = xr.DataArray(values.astype("float32"), dims=("y", "x"), coords={"y": y, "x": x})
@@ -129,7 +129,7 @@ def _tif(tmp_path, name, values, x, y, crs, nodata=None):
     if nodata is not None:
         da = da.rio.write_nodata(nodata, encoded=False)
     p = tmp_path / name
-    da.rio.to_raster(p)
+    da.rio.to_raster(p, driver=driver)
     return p
 
 
@@ -137,6 +137,8 @@ def test_geotiff_epsg4326_with_nodata(tmp_path):
     z = grid()[::-1].copy()  # GeoTIFF rows from the north
     p = _tif(tmp_path, "gebco.tif", z, LON, LAT[::-1], "EPSG:4326")
     check(read_bathymetry(p, frame=FRAME, method="linear"), relief)
+    cog = _tif(tmp_path, "gebco_cog.tif", z, LON, LAT[::-1], "EPSG:4326", driver="COG")  # cloud-optimised
+    check(read_bathymetry(cog, frame=FRAME, method="linear"), relief)
     z[10, 12] = -32768.0
     q = _tif(tmp_path, "hole.tif", z, LON, LAT[::-1], "EPSG:4326", nodata=-32768.0)
     with pytest.raises(DataError, match=r"hole.tif.*1 missing"):
