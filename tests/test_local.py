@@ -167,7 +167,7 @@ def test_run_cli_json_and_files(tmp_path, capsys):
 def test_demo_writes_results(tmp_path):
     assert main(["demo", "--out", str(tmp_path / "demo")]) == 0
     rec = json.loads((tmp_path / "demo" / "run.json").read_text())
-    assert rec["scenario"] == "dynamic-terrain" and rec["status"] == "EXACT"
+    assert rec["scenario"] == "showcase" and rec["status"] == "EXACT"
     assert rec["simulation"]["min_obstacle_distance_m"] > 0
 
 

@@ -32,8 +32,8 @@ __all__ = ["main", "main_entry"]
 
 log = logging.getLogger("auvplan")
 
-DEMO_SCENARIO = "dynamic-terrain"
-"""The built-in default scenario: real Marcus-Wake seamount terrain with moving obstacles."""
+DEMO_SCENARIO = "showcase"
+"""The built-in default scenario: a real seamount flank, two eddies and twelve fast moving obstacles."""
 
 
 class _Progress:
@@ -603,7 +603,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_bench)
 
-    s = sub.add_parser("demo", help="run the built-in default scenario (dynamic-terrain) end to end")
+    s = sub.add_parser("demo", help="run the built-in default scenario (showcase) end to end")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
     s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
     s.set_defaults(func=_cmd_demo)
