@@ -43,7 +43,8 @@ from ..world import World
 from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
-__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "path_cost", "with_reference"]
+__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "path_cost",
+           "with_reference"]
 
 _HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                   if (i, j, k) > (0, 0, 0)])
@@ -208,6 +209,34 @@ def densify(points, spacing: float) -> np.ndarray:
     return np.vstack([out, p[-1]])
 
 
+def free_edges(world: World, ids: np.ndarray, free: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray,
+               xyz: np.ndarray, steps: np.ndarray, off) -> tuple[np.ndarray, np.ndarray]:
+    """The free lattice edges ``src -> src + off`` between free nodes, as node ids ``(src, dst)``.
+
+    One offset has one length and direction, so its edges are tested as 3D array slices: the
+    seabed's Lipschitz bound (``altitude``: node altitudes, margin included) and the obstacles'
+    1-Lipschitz distance (``obstacle``) clear most edges from the node values alone, and only
+    the others go through the World's exact segment test.  ``ids``, ``free``, ``altitude`` and
+    ``obstacle`` have the lattice's shape; ``xyz (N, 3)`` are the node coordinates.
+    """
+    shape = free.shape
+    a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
+    b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
+    both = free[a] & free[b]
+    src, dst = ids[a][both], ids[b][both]
+    d = np.asarray(off) * steps
+    length = float(np.linalg.norm(d))
+    sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length
+    if world.terrain is not None:
+        lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], np.hypot(d[0], d[1]))
+        sure &= lb >= world.margins.min_altitude
+    unsure = np.flatnonzero(~sure)
+    if unsure.size:
+        seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
+        sure[unsure] = world.segments_free(seg, moving=False, ends_free=True)
+    return src[sure], dst[sure]
+
+
 class GridReference:
     """Cost-to-go field to one goal over a 3D lattice; answers :meth:`query` for any start.
 
@@ -278,13 +307,11 @@ class GridReference:
         """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of
         node ``u`` set when the edge ``u -> u + _OFFSETS[s]`` is free).
 
-        Each offset has one length and direction, so the edges of one offset are tested as
-        3D array slices: the seabed's Lipschitz bound and the obstacles' 1-Lipschitz distance
-        clear most edges from the node values alone, and only the others go through the
-        World's exact segment test.  Costs are not stored: the search computes each edge's
-        cost when it relaxes it, so memory grows with the nodes, not with 26 × the nodes.
+        The edges of each offset come from :func:`free_edges`.  Costs are not stored: the search
+        computes each edge's cost when it relaxes it, so memory grows with the nodes, not with
+        26 × the nodes.
         """
-        w, m = self.world, self.world.margins
+        w = self.world
         itype = np.int32 if self.nodes < 2**31 else np.int64
         ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
         steps = np.array([self.cell, self.cell, self.cell_z])
@@ -292,22 +319,9 @@ class GridReference:
         obs = obstacle.reshape(self.shape)
         bits = np.zeros(self.nodes, dtype=np.uint32)
         for slot, off in enumerate(_HALF):
-            a = tuple(slice(max(0, -d), s - max(0, d)) for d, s in zip(off, self.shape))
-            b = tuple(slice(max(0, d), s - max(0, -d)) for d, s in zip(off, self.shape))
-            both = self.free[a] & self.free[b]
-            src, dst = ids[a][both], ids[b][both]
-            d = off * steps
-            length = float(np.linalg.norm(d))
-            sure = np.minimum(obs[a][both], obs[b][both]) >= 0.5 * length
-            if w.terrain is not None:
-                lb = w.terrain.altitude_lower_bound(alt[a][both], alt[b][both], d[2], np.hypot(d[0], d[1]))
-                sure &= lb >= m.min_altitude
-            unsure = np.flatnonzero(~sure)
-            if unsure.size:
-                seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
-                sure[unsure] = w.segments_free(seg, moving=False, ends_free=True)
-            bits[src[sure]] |= np.uint32(1 << slot)
-            bits[dst[sure]] |= np.uint32(1 << (13 + slot))
+            src, dst = free_edges(w, ids, self.free, alt, obs, xyz, steps, off)
+            bits[src] |= np.uint32(1 << slot)
+            bits[dst] |= np.uint32(1 << (13 + slot))
         return bits
 
     def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..path import resample_polyline
 from ..world import World
-from .grid import densify
+from .grid import densify, free_edges
 from .timeopt_kernels import polyline_times, search, two_legs
 
 __all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "build_lattice", "build_table",
@@ -120,25 +120,11 @@ def _legs(world: World, xyz, free3, alt, obs, step) -> np.ndarray:
     shape = free3.shape
     ids = np.arange(free3.size).reshape(shape)
     ok = np.zeros((len(_OFFSETS), free3.size), dtype=bool)
-    m = world.margins
     for slot, off in enumerate(_OFFSETS):
         if shape[2] == 1 and off[2] != 0:
             continue
-        a = tuple(slice(max(0, -d), s - max(0, d)) for d, s in zip(off, shape))
-        b = tuple(slice(max(0, d), s - max(0, -d)) for d, s in zip(off, shape))
-        both = free3[a] & free3[b]
-        src, dst = ids[a][both], ids[b][both]
-        d = off * step
-        length = float(np.linalg.norm(d))
-        sure = np.minimum(obs[a][both], obs[b][both]) >= 0.5 * length
-        if world.terrain is not None:
-            lb = world.terrain.altitude_lower_bound(alt[a][both], alt[b][both], d[2], np.hypot(d[0], d[1]))
-            sure &= lb >= m.min_altitude
-        unsure = np.flatnonzero(~sure)
-        if unsure.size:
-            seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
-            sure[unsure] = world.segments_free(seg, moving=False, ends_free=True)
-        ok[slot, src[sure]] = True
+        src, _ = free_edges(world, ids, free3, alt, obs, xyz, step, off)
+        ok[slot, src] = True
     return ok
 
 
