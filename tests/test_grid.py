@@ -190,3 +190,21 @@ def test_lattice_memory_grows_with_nodes_not_edges():
     held = sum(v.nbytes for v in vars(ref).values() if isinstance(v, np.ndarray))
     assert ref.edges > 20 * ref.nodes
     assert held / ref.nodes < 40
+
+
+def test_streamline_plans_are_recosted_on_the_planners_cost_function():
+    """A flow plan reports its length only; on the cost function it gains the energy term, and
+    a swarm plan is left as it is (bench and reference gaps compare like with like)."""
+    from auvplan.io import scenario as sc
+    from auvplan.planners.grid import on_cost_function
+
+    world, mission = sc.build(sc.load("flow-spheres"))
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, name="flow")
+    r = plan(prob, spec)
+    assert r.status is Status.EXACT and r.cost_terms["energy"] == 0.0
+    c = on_cost_function(r, prob, spec)
+    assert c.cost == pytest.approx(path_cost(prob, spec, r.path)["total"], rel=1e-12)
+    assert c.cost_terms["energy"] > 0 and c.cost > r.cost
+    swarm = replace(r, planner="iabc")
+    assert on_cost_function(swarm, prob, spec) is swarm

@@ -33,6 +33,7 @@ from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
 from .planners import PLANNERS, plan, reference, with_reference
+from .planners.grid import on_cost_function
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
@@ -196,7 +197,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     ref = reference(problem, pspec) if spec.reference and not mission.route else None
     fixed = None
     if spec.plan_once and not mission.route:
-        planned = plan(problem, pspec, mission.seed)
+        planned = on_cost_function(plan(problem, pspec, mission.seed), problem, pspec)
         if ref is not None:
             planned = with_reference(planned, problem, pspec, ref)
         route = mission_route(world, mission, planned.path) if planned.status.ok else np.empty((0, 3))
@@ -212,6 +213,8 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
             record = RunRecord(mission.name, seed, planned, route, keys, sim)
         else:
             record = run_mission(w, mission, seed)
+            if record.plan is not None:  # every planner's cost on the one cost function
+                record = replace(record, plan=on_cost_function(record.plan, problem, pspec))
             if ref is not None and record.plan is not None:
                 record = replace(record, plan=with_reference(record.plan, problem, pspec, ref))
         rows.append(_row(scenario, planner, task[2], seed, record, ref, time.process_time() - c0,

@@ -43,8 +43,8 @@ from ..world import World
 from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
-__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "path_cost",
-           "with_reference"]
+__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "on_cost_function",
+           "path_cost", "with_reference"]
 
 _HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                   if (i, j, k) > (0, 0, 0)])
@@ -558,11 +558,34 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     )
 
 
+def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
+    """``result`` with its cost and cost terms on the planner's cost function of ``spec``.
+
+    Swarm and lattice plans are costed on it already; a streamline (length only) or a timed plan
+    is re-costed, so that tables and sweeps compare every planner like with like.
+
+    Parameters
+    ----------
+    result : PlanResult
+    problem : PlanningProblem
+    spec : PlannerSpec
+        The cost function's weights and sampling.
+
+    Returns
+    -------
+    PlanResult
+    """
+    if result.planner in SWARM or result.planner == "grid" or result.path.shape[0] < 2:
+        return result
+    terms = path_cost(problem, spec, result.path)
+    total = terms.pop("total")
+    return replace(result, cost=float(total), cost_terms={**result.cost_terms, **terms})
+
+
 def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec,
                    reference: PlanResult) -> PlanResult:
-    """``result`` with ``reference_cost`` set: the grid reference's cost, and the result's own
-    path re-costed on the same cost function (so streamline plans compare too)."""
+    """``result`` on the planner's cost function (:func:`on_cost_function`) with
+    ``reference_cost`` set to the grid reference's cost."""
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
-    own = result.cost if result.planner in SWARM else path_cost(problem, spec, result.path)["total"]
-    return replace(result, cost=float(own), reference_cost=float(reference.cost))
+    return replace(on_cost_function(result, problem, spec), reference_cost=float(reference.cost))
