@@ -1,6 +1,8 @@
 """Global planners: swarm optimisers over B-splines (document 002), streamlines (document 000) and
 the lattice reference, behind one interface (:mod:`auvplan.planners.registry`)."""
 
+from dataclasses import replace
+
 from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .flow import plan_flow
 from .grid import GridReference, plan_grid, with_reference
@@ -10,7 +12,7 @@ from .timeplan import plan_timeopt
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
-           "reference", "register", "with_reference"]
+           "REFERENCE_SWARMS", "reference", "register", "with_reference"]
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
@@ -35,6 +37,39 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -
     return get(spec.name).run(problem, spec, rng, progress)
 
 
-def reference(problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
-    """The grid reference plan of ``problem`` on the cost function of ``spec``."""
-    return plan_grid(problem, spec)
+REFERENCE_SWARMS = ("iabc", "pso", "de")
+"""The seeded planners whose best plan, at twice the budget, joins the reference (best of N)."""
+
+
+def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ...] = REFERENCE_SWARMS,
+              seed: int = 2**31 - 1) -> PlanResult:
+    """The best known plan of ``problem`` on the cost function of ``spec``: the lattice plan
+    refined to convergence (:func:`plan_grid`) and the seeded pipeline of each planner in
+    ``swarms`` at twice ``spec``'s evaluation budget (seed ``seed``, apart from the seeds users
+    run), the cheapest feasible one; its ``message`` says which (best of N).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+    spec : PlannerSpec
+        The cost function and the budget the compared planners spend.
+    swarms : tuple of str
+        Planners that join the lattice plan (empty: the lattice plan alone).
+    seed : int
+        Seed of their runs.
+
+    Returns
+    -------
+    PlanResult
+        Named ``grid`` whichever plan won, with that plan's path and cost.
+    """
+    grid = plan_grid(problem, spec)
+    if not grid.status.ok or not swarms:
+        return grid
+    best, label = grid, "the refined lattice plan"
+    for name in swarms:
+        run = plan(problem, replace(spec, name=name, pipeline="seeded", budget=2 * spec.evaluations), seed)
+        if run.status.ok and run.cost < best.cost:
+            best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations)"
+    return replace(best, planner="grid", message=f"{grid.message}; best of {1 + len(swarms)} (lattice, "
+                   f"{', '.join(swarms)} at twice the budget): {label}")
