@@ -79,3 +79,5 @@ def test_long_stages_report_progress_on_stderr_unless_quiet(tmp_path, capsys):
     assert captured.err == "" and "track-arc: EXACT" in captured.out
     assert main(["run", "track-arc", "--out", str(tmp_path / "r2")]) == 0
     assert "auvplan: writing results, report and exports" in capsys.readouterr().err
+    assert main(["plan", "track-single", "--planner", "grid", "--reference"]) in (0, 1)
+    assert "auvplan: planning with grid" in (err := capsys.readouterr().err) and "auvplan: reference:" in err

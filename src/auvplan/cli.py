@@ -176,6 +176,7 @@ def _plan(args, quiet: bool):
     finally:
         bar.close()
     if getattr(args, "reference", False):
+        bar.stage("reference: the converged lattice plan and the seeded iabc, pso, de at twice the budget")
         result = with_reference(result, problem, spec, reference(problem, spec))
     return sc, result, seed, world
 
