@@ -25,7 +25,6 @@ import numpy as np
 from ._types import RngLike, Status, as_rng
 from .guidance.formation import FormationParams, formation_command
 from .guidance.formation_plan import FormationPlan, plan_formation
-from .guidance.route import RouteTracker
 from .planners import plan as global_plan
 from .planners.base import PlanResult
 from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, mission_route, planning_problem
@@ -39,8 +38,8 @@ __all__ = ["FormationResult", "FormationRecord", "simulate_formation", "run_form
 class FormationResult:
     """The closed loop of a formation: one :class:`SimResult` per vehicle and the formation's figures.
 
-    In each vehicle's SimResult ``cross_track`` is the signed cross error to its slot's course and
-    ``route_error`` the horizontal distance to its slot's swept track.
+    In each vehicle's SimResult ``cross_track`` is the signed cross error to the line through its
+    slot along the slot's course (the error its route attraction nulls) and ``route_error`` its size.
 
     Attributes
     ----------
@@ -160,12 +159,12 @@ class _Recorder:
             cross, progress, alt, err, slot, dists
         self.k += 1
 
-    def result(self, status: Status, track, events, wall: float) -> SimResult:
+    def result(self, status: Status, events, wall: float) -> SimResult:
         n = self.k
         p = self.p[:n].copy()
         return SimResult(status=status, arrived=status is Status.EXACT, t=self.t[:n].copy(), position=p,
                          heading=self.h[:n].copy(), speed=self.v[:n].copy(), rudder=self.d[:n].copy(),
-                         cross_track=self.e[:n].copy(), route_error=RouteTracker(track, 1.0).cross_track(p),
+                         cross_track=self.e[:n].copy(), route_error=np.abs(self.e[:n]),
                          progress=self.pr[:n].copy(), altitude=self.alt[:n].copy(),
                          obstacle_distance=self.obs[:n].copy(), events=tuple(events), guidance="formation",
                          wall_time_s=wall)
@@ -217,6 +216,7 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
     fp, hp, vp, st = form.params, mission.hybrid, mission.vehicle, mission.sim
     rng = as_rng(mission.seed if rng is None else rng)
     n, dt, fr = form.n, st.dt, fplan.structure
+    names = form.names
     states = _initial_states(mission, fplan)
     models = [Vehicle(vp, dt) for _ in range(n)]
     L = fr.length
@@ -235,7 +235,9 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
     tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
         if world.moving else np.empty((n_steps + 1, 0, 3))
     far = max(FAR, hp.influence + 10.0)
-    final, _ = fr.slots(np.array(L))
+    velocities = np.asarray(np.gradient(tracks, dt, axis=0)) if n_steps > 0 else np.zeros_like(tracks)
+    radii = [o.shape.bounding_radius for o in world.moving]
+    final, _ = fr.slots_at(L)
     active, arrived = [True] * n, [False] * n
     events: list[tuple[float, str, str]] = []
     ends: list[Status] = [Status.TIMEOUT] * n
@@ -243,7 +245,7 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
     s_ref, best, best_t = 0.0, np.full(n, -np.inf), np.zeros(n)
     every, expected = max(1, int(round(60.0 / dt))), (L + tail) / vp.speed
     u_lead = vp.speed
-    vel = [(0.0, 0.0, 0.0)] * n
+    vel = [(s.u * math.sin(s.psi), s.u * math.cos(s.psi), 0.0) for s in states]
     stop = False
     k = 0
     for k in range(n_steps + 1):
@@ -257,10 +259,10 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
         shapes = _obstacle_shapes(world, t, tracks[k].tolist())
         if active[0]:
             s_ref = fr.project(pos[0, 0], pos[0, 1], s_ref)
-        sl, courses = fr.slots(np.array([s_ref, s_ref - 1.0, s_ref + 1.0]))
-        ahead = sl[2] - sl[1]
-        stretch = np.hypot(ahead[:, 0], ahead[:, 1]) / 2.0
-        gamma = np.arctan2(ahead[:, 2], np.maximum(2.0 * stretch, 1e-9))
+        sl, courses = fr.slots_at(s_ref)
+        ahead_, _ = fr.slots_at(s_ref + 1.0)  # the slots' own motion per metre of reference progress
+        stretch = [math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(sl, ahead_)]
+        gamma = [math.atan2(b[2] - a[2], max(h, 1e-9)) for a, b, h in zip(sl, ahead_, stretch)]
         cmds: list = [None] * n
         lag = 0.0
         for i in range(n):
@@ -268,21 +270,25 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
                 continue
             dists = [_distance(sh, pos[i], far) for sh in shapes]
             others = {j: math.dist(pos[i], pos[j]) for j in range(n) if j != i and active[j]}
-            near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
-            peers = [(pos[j, 0], pos[j, 1], d) for j, d in others.items()]
+            near = [(it[1][0], it[1][1], d) for it, d in zip(shapes[:n_static], dists) if it is not None]
+            peers = [(pos[j, 0], pos[j, 1], vel[j][0], vel[j][1], fp.separation_m) for j in others]
+            peers += [(it[1][0], it[1][1], v[0], v[1], r + 0.5 * fp.separation_m)
+                      for it, d, v, r in zip(shapes[n_static:], dists[n_static:], velocities[k], radii)
+                      if it is not None and d < far]
             u_ff = (u_lead if i else vp.speed) * stretch[i]
-            c = formation_command(sl[0, i], courses[0, i], gamma[i], pos[i], cur[i], states[i].u, hp, fp, near,
-                                  peers, math.dist(pos[i], final[i]), u_ff, vp.speed, vp.max_speed)
+            c = formation_command(sl[i], courses[i], gamma[i], pos[i], vel[i], cur[i], states[i].u, hp, fp, near,
+                                  peers, math.dist(pos[i], final[i]), u_ff, vp.speed, vp.max_speed,
+                                  [(pos[j, 0], pos[j, 1]) for j in others if j < i])
             cmds[i] = c
             if i:
                 lag = max(lag, c.along)
             prog = s_ref - c.along
             if k % st.record_every == 0:
                 rec[i].add(t, states[i], math.hypot(vel[i][0], vel[i][1]), c.cross, prog, float(alt[i]), c.error,
-                           sl[0, i], dists)
-            what = _contact(i, dists, float(alt[i]), others, form.names, fp)
+                           sl[i], dists)
+            what = _contact(i, dists, float(alt[i]), others, names, fp)
             if what:
-                events.append((t, "collision", f"{form.names[i]} hit {what} at t = {t:.1f} s, "
+                events.append((t, "collision", f"{names[i]} hit {what} at t = {t:.1f} s, "
                                               f"position {pos[i].round(2).tolist()}"))
                 ends[i] = status = Status.COLLISION
                 stop = True
@@ -290,13 +296,13 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
             lead_done = arrived[0] or i == 0
             if lead_done and s_ref >= L - st.arrival_radius and c.error <= st.arrival_radius and \
                     (i or math.dist(pos[0], fr.w[-1]) <= st.arrival_radius):
-                events.append((t, "arrival", f"{form.names[i]} within {st.arrival_radius:g} m of its final slot"))
+                events.append((t, "arrival", f"{names[i]} within {st.arrival_radius:g} m of its final slot"))
                 arrived[i], active[i], ends[i] = True, False, Status.EXACT
                 continue
             if prog > best[i] + 1.0:
                 best[i], best_t[i] = prog, t
             elif t - best_t[i] > st.deadlock_time:
-                events.append((t, "deadlock", f"{form.names[i]}: no progress for {t - best_t[i]:.0f} s"))
+                events.append((t, "deadlock", f"{names[i]}: no progress for {t - best_t[i]:.0f} s"))
                 ends[i] = status = Status.DEADLOCK
                 stop = True
         if k % st.record_every == 0:
@@ -321,7 +327,7 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
     else:
         events.append((n_steps * dt, "timeout", f"not every vehicle arrived after {max_time:.0f} s"))
     wall = time.perf_counter() - t_wall
-    runs = tuple(rec[i].result(ends[i], fplan.tracks[i], [e for e in events if form.names[i] in e[2]], wall)
+    runs = tuple(rec[i].result(ends[i], [e for e in events if form.names[i] in e[2]], wall)
                  for i in range(n))
     m = len(fleet_shape)
     return FormationResult(status, form.names, runs, tuple(r.slot[:r.k].copy() for r in rec),

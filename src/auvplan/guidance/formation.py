@@ -13,9 +13,11 @@ builds the formation from the same terms, one heading command per vehicle:
   the slot's course (``e`` the follower's cross error to it); **heading attraction** (eqs. 5–6):
   ``k_X·Δ`` along that course; **repulsion from obstacles** (eqs. 7–8) — all three through
   :func:`auvplan.guidance.hybrid.hybrid_force`, the single-vehicle field itself;
-* **repulsion from the other vehicles**: the same eqs. 7–8 term (:func:`vehicle_repulsion`, again
-  ``hybrid_force``) with its own gain ``k_vehicle`` and influence ``vehicle_influence_m`` beyond the
-  separation ``separation_m`` (no goal factor: the other vehicles move with the formation);
+* **repulsion from the other vehicles**: the same eqs. 7–8 term (:func:`vehicle_repulsion`) with its
+  own gain ``k_vehicle`` and influence ``vehicle_influence_m`` beyond the separation ``separation_m``,
+  acting from the *predicted* relative position at closest approach (the vehicles share positions and
+  velocities), so two vehicles on crossing courses open their miss distance early and the same way
+  round (no goal factor: the other vehicles move with the formation);
 * the resultant is the course; the current turns it into a heading (crab angle) as in
   :class:`~auvplan.guidance.hybrid.HybridGuidance`;
 * **speed adjustment** holds the along-track spacing: ``u = u_slot + k_s ε`` (``ε`` the along
@@ -37,8 +39,9 @@ position blends the offsets over ``transition_m`` metres (smoothstep).
 
 from __future__ import annotations
 
+import bisect
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -99,9 +102,12 @@ class FormationParams:
     separation_m : float
         Centre distance the vehicle repulsion keeps (its zero of distance).
     vehicle_influence_m : float
-        Influence of the vehicle repulsion beyond ``separation_m``.
+        Influence of the vehicle repulsion beyond ``separation_m`` (below ``spacing_m −
+        separation_m``: a settled formation feels none).
     k_vehicle : float
         Gain of the vehicle repulsion (eqs. 7–8 form).
+    horizon_s : float
+        Look-ahead of the predicted closest approach between vehicles (s).
     contact_m : float
         Centre distance at which two hulls touch (a collision).
     k_speed : float
@@ -111,7 +117,8 @@ class FormationParams:
     min_speed_ratio : float
         Least speed command as a fraction of the cruise speed.
     course_window_m : float
-        Half-window of the route course smoothing that orients the slots (m).
+        Half-window of the route course smoothing that orients the slots (m; 0: ``spacing_m``, so the
+        slots of a wide formation turn smoothly round a corner).
     sample_m : float
         Spacing of the slot-track samples tested against the seabed (m).
     """
@@ -123,26 +130,30 @@ class FormationParams:
     auto_column: bool = True
     separation_m: float = 6.0
     vehicle_influence_m: float = 12.0
-    k_vehicle: float = 4.0e3
+    k_vehicle: float = 2.0e4
+    horizon_s: float = 30.0
     contact_m: float = 2.0
     k_speed: float = 0.05
     k_wait: float = 0.01
     min_speed_ratio: float = 0.5
-    course_window_m: float = 40.0
+    course_window_m: float = 0.0
     sample_m: float = 10.0
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
             raise ValueError(f"shape = {self.shape!r}: choose {', '.join(SHAPES)}")
-        for k in ("spacing_m", "transition_m", "separation_m", "vehicle_influence_m", "contact_m",
-                  "course_window_m", "sample_m"):
+        for k in ("spacing_m", "transition_m", "separation_m", "vehicle_influence_m", "contact_m", "sample_m",
+                  "horizon_s"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
-        for k in ("k_vehicle", "k_speed", "k_wait"):
+        for k in ("k_vehicle", "k_speed", "k_wait", "course_window_m"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
         if not 0 < self.min_speed_ratio <= 1:
             raise ValueError(f"min_speed_ratio = {self.min_speed_ratio}: must lie in (0, 1]")
+        if self.spacing_m <= self.separation_m + self.vehicle_influence_m:
+            raise ValueError(f"spacing_m = {self.spacing_m}: must exceed separation_m + vehicle_influence_m = "
+                             f"{self.separation_m + self.vehicle_influence_m} (or a settled formation repels itself)")
         if self.separation_m < self.contact_m:
             raise ValueError(f"separation_m = {self.separation_m}: must be >= contact_m = {self.contact_m}")
 
@@ -288,6 +299,11 @@ class FormationRoute:
         first, last = self.w[1] - self.w[0], self.w[-1] - self.w[-2]
         self._t0 = first[:2] / np.hypot(*first[:2])
         self._t1 = last[:2] / np.hypot(*last[:2])
+        # plain-float copies for the closed loop's scalar queries (one vehicle step = a few of them)
+        self._cum = self.cum.tolist()
+        self._w = self.w.tolist()
+        self._breaks = [(b, shape_offsets(sh, schedule.n, schedule.spacing, schedule.depth).tolist())
+                        for b, sh in schedule.breaks]
 
     def point(self, s) -> np.ndarray:
         """Route points ``(..., 3)`` at arc length ``s`` (straight extensions beyond the ends)."""
@@ -327,22 +343,58 @@ class FormationRoute:
         pos, _ = self.slots(s)
         return s, np.swapaxes(pos, 0, 1)
 
+    def point_at(self, s: float) -> tuple[float, float, float]:
+        """:meth:`point` for one position, in plain floats (the closed loop's fast path)."""
+        L = self.length
+        if s <= 0.0 or s >= L:
+            p, e, t = (self._w[0], s, self._t0) if s <= 0.0 else (self._w[-1], s - L, self._t1)
+            return p[0] + e * t[0], p[1] + e * t[1], p[2]
+        k = bisect.bisect_right(self._cum, s) - 1
+        a, b = self._w[k], self._w[k + 1]
+        f = (s - self._cum[k]) / (self._cum[k + 1] - self._cum[k])
+        return a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])
+
+    def slots_at(self, s: float) -> tuple[list[tuple[float, float, float]], list[float]]:
+        """:meth:`slots` for one reference position, in plain floats (the closed loop's fast path)."""
+        off = [list(o) for o in self._breaks[0][1]]
+        tr = self.schedule.transition
+        for (b, new), (_, prev) in zip(self._breaks[1:], self._breaks[:-1]):
+            x = min(max((s - b) / tr, 0.0), 1.0)
+            w = x * x * (3.0 - 2.0 * x)
+            if w:
+                for o, p, q in zip(off, prev, new):
+                    o[0] += w * (q[0] - p[0])
+                    o[1] += w * (q[1] - p[1])
+                    o[2] += w * (q[2] - p[2])
+        pts, psis = [], []
+        h = self.window
+        for a, c, up in off:
+            sa = s + a
+            x, y, z = self.point_at(sa)
+            x0, y0, _ = self.point_at(sa - h)
+            x1, y1, _ = self.point_at(sa + h)
+            psi = math.atan2(x1 - x0, y1 - y0)
+            pts.append((x + c * math.cos(psi), y - c * math.sin(psi), z + up))
+            psis.append(psi)
+        return pts, psis
+
     def project(self, x: float, y: float, s_prev: float, behind: float = 30.0, ahead: float = 120.0) -> float:
         """Arc length of the nearest route point to ``(x, y)`` within ``[s_prev − behind, s_prev + ahead]``
         (continuous: no jumps at leg switches, no short-cuts to a distant part of the route)."""
         lo, hi = max(s_prev - behind, 0.0), min(s_prev + ahead, self.length)
-        i0 = max(int(np.searchsorted(self.cum, lo, side="right")) - 1, 0)
-        i1 = min(int(np.searchsorted(self.cum, hi, side="left")), self.cum.size - 1)
-        a = self.w[i0:i1, :2]
-        b = self.w[i0 + 1:i1 + 1, :2]
-        if a.shape[0] == 0:
-            return min(max(s_prev, 0.0), self.length)
-        d = b - a
-        dd = np.maximum((d * d).sum(-1), 1e-12)
-        t = np.clip(((np.array([x, y]) - a) * d).sum(-1) / dd, 0.0, 1.0)
-        dist = np.hypot(*(a + t[:, None] * d - np.array([x, y])).T)
-        j = int(np.argmin(dist))
-        return float(min(max(self.cum[i0 + j] + t[j] * math.sqrt(dd[j]), lo), hi))
+        cum, w = self._cum, self._w
+        k = max(bisect.bisect_right(cum, lo) - 1, 0)
+        best, s_best = math.inf, min(max(s_prev, lo), hi)
+        while k < len(cum) - 1 and cum[k] <= hi:
+            ax, ay = w[k][0], w[k][1]
+            dx, dy = w[k + 1][0] - ax, w[k + 1][1] - ay
+            dd = dx * dx + dy * dy
+            f = min(max(((x - ax) * dx + (y - ay) * dy) / dd, 0.0), 1.0) if dd > 0 else 0.0
+            d = math.hypot(ax + f * dx - x, ay + f * dy - y)
+            if d < best:
+                best, s_best = d, cum[k] + f * (cum[k + 1] - cum[k])
+            k += 1
+        return min(max(s_best, lo), hi)
 
     def stretch(self, i: int, s: float, h: float = 1.0) -> float:
         """Horizontal distance slot ``i`` moves per metre of reference progress at ``s``."""
@@ -350,18 +402,53 @@ class FormationRoute:
         return float(np.hypot(*(p[1, i, :2] - p[0, i, :2])) / (2.0 * h))
 
 
-def vehicle_repulsion(course: float, cross: float, params: HybridParams, fp: FormationParams, x: float, y: float,
-                      others, origin) -> tuple[float, float]:
-    """Repulsion ``(east, north)`` from the other vehicles ``(x, y, centre distance)``: document 001's
-    eqs. 7–8 (with its lateral bias) at distance ``centre − separation_m`` with gain ``k_vehicle``
-    and influence ``vehicle_influence_m`` — :func:`hybrid_force` with and without them."""
-    near = [(ox, oy, d - fp.separation_m) for ox, oy, d in others if d - fp.separation_m < fp.vehicle_influence_m]
-    if not near:
+def vehicle_repulsion(course: float, fp: FormationParams, pos, vel, others) -> tuple[float, float]:
+    """Repulsion ``(east, north)`` from the other vehicles, document 001's eqs. 7–8 on the predicted geometry.
+
+    For each other vehicle ``(x, y, vx, vy, keep)`` (ground velocities shared over the acoustic link;
+    ``keep`` the centre distance to hold: ``separation_m`` for a vehicle, radius + half of it for a
+    moving obstacle) the closest approach within ``horizon_s``
+    (:func:`auvplan.guidance.vo.closest_approach`, both keeping their velocities) gives the predicted
+    relative position ``r_c`` and distance ``d = |r_c| − keep``; for ``d < vehicle_influence_m`` the
+    push ``k_vehicle (1/d − 1/P_v)(1/d²)`` points away
+    from ``r_c`` — opposite for the two vehicles, so each opens the miss distance the same way round —
+    and, on a dead head-on course (``|r_c|`` below a metre), to starboard of ``course`` (both turn
+    starboard, as the rule of the road says).
+    """
+    if not others:
         return 0.0, 0.0
-    hp = replace(params, influence=fp.vehicle_influence_m, k_repulse=fp.k_vehicle)
-    fx, fy = hybrid_force(course, cross, hp, x, y, near, hp.influence, origin)
-    ax, ay = hybrid_force(course, cross, hp, x, y, (), hp.influence, origin)
-    return fx - ax, fy - ay
+    fx = fy = 0.0
+    po, horizon = fp.vehicle_influence_m, fp.horizon_s
+    for ox, oy, ovx, ovy, keep in others:
+        # closest approach (the horizontal, scalar form of vo.closest_approach)
+        rx, ry, wx, wy = ox - pos[0], oy - pos[1], ovx - vel[0], ovy - vel[1]
+        ww = wx * wx + wy * wy
+        tc = min(max(-(rx * wx + ry * wy) / ww, 0.0), horizon) if ww > 1e-12 else 0.0
+        cx, cy = rx + wx * tc, ry + wy * tc
+        dc = math.hypot(cx, cy)
+        d = max(dc - keep, 1e-3)
+        if d >= po:
+            continue
+        mag = fp.k_vehicle * (1.0 / d - 1.0 / po) / (d * d)
+        if dc < 1.0:
+            ux, uy = math.cos(course), -math.sin(course)  # starboard
+        else:
+            ux, uy = -cx / dc, -cy / dc
+        fx += mag * ux
+        fy += mag * uy
+    return fx, fy
+
+
+def _crosses(pos, slot, points, radius: float) -> bool:
+    """True when the horizontal segment ``pos → slot`` passes within ``radius`` of one of ``points``."""
+    ax, ay = pos[0], pos[1]
+    dx, dy = slot[0] - ax, slot[1] - ay
+    dd = dx * dx + dy * dy
+    for px, py in points:
+        f = min(max(((px - ax) * dx + (py - ay) * dy) / dd, 0.0), 1.0) if dd > 1e-12 else 0.0
+        if math.hypot(ax + f * dx - px, ay + f * dy - py) < radius:
+            return True
+    return False
 
 
 @dataclass
@@ -377,29 +464,35 @@ class FormationCommand:
     error: float
 
 
-def formation_command(slot, slot_course: float, slot_gamma: float, pos, current, speed: float,
+def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, current, speed: float,
                       params: HybridParams, fp: FormationParams, obstacles, others, target_distance: float,
-                      speed_ff: float, cruise: float, max_speed: float) -> FormationCommand:
+                      speed_ff: float, cruise: float, max_speed: float, give_way=()) -> FormationCommand:
     """Heading, speed and depth commands of one vehicle towards its ``slot (3,)``.
 
     Parameters
     ----------
     slot, slot_course, slot_gamma
         The slot's position, compass course and the route's flight-path angle there.
-    pos, current, speed
-        The vehicle's position ``(3,)``, the current at it and its speed through the water.
+    pos, vel, current, speed
+        The vehicle's position ``(3,)``, its ground velocity, the current at it and its speed through
+        the water.
     params, fp
         Hybrid-field gains and formation parameters.
     obstacles : sequence of (x, y, surface distance)
-        Obstacles near the vehicle (repulsion, eqs. 7–8, with the hybrid goal factor).
-    others : sequence of (x, y, centre distance)
-        The other vehicles.
+        Static obstacles near the vehicle (repulsion, eqs. 7–8, with the hybrid goal factor).
+    others : sequence of (x, y, vx, vy, keep)
+        The other vehicles' (and the moving obstacles') positions, ground velocities and the centre
+        distance to keep (:func:`vehicle_repulsion`).
     target_distance : float
         Distance to the vehicle's final slot (the goal-distance factor's r_at).
     speed_ff : float
         The slot's own speed (m/s): the feed-forward of the speed adjustment.
     cruise, max_speed : float
         Cruise and largest speed (m/s); the command lies in [min_speed_ratio·cruise, max_speed].
+    give_way : sequence of (x, y)
+        Vehicles of higher priority (a lower slot: the leader first); while the straight way to the
+        slot passes within ``separation_m + vehicle_influence_m`` of one, the vehicle slows to its
+        least speed and so crosses astern of it instead of racing it to the crossing.
     """
     s, c = math.sin(slot_course), math.cos(slot_course)
     dx, dy = pos[0] - slot[0], pos[1] - slot[1]
@@ -407,10 +500,12 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, current,
     along = -(dx * s + dy * c)            # positive when the vehicle is behind its slot
     fx, fy = hybrid_force(slot_course, cross, params, pos[0], pos[1], obstacles, target_distance,
                           (slot[0], slot[1]))
-    rx, ry = vehicle_repulsion(slot_course, cross, params, fp, pos[0], pos[1], others, (slot[0], slot[1]))
+    rx, ry = vehicle_repulsion(slot_course, fp, pos, vel, others)
     course = math.atan2(fx + rx, fy + ry)
     psi = crab_heading(course, current, speed) if params.current_compensation else course
     u = min(max(speed_ff + fp.k_speed * along, fp.min_speed_ratio * cruise), max_speed)
+    if give_way and _crosses(pos, slot, give_way, fp.separation_m + fp.vehicle_influence_m):
+        u = fp.min_speed_ratio * cruise
     err = math.dist((pos[0], pos[1], pos[2]), (slot[0], slot[1], slot[2]))
     return FormationCommand(psi, u, float(slot[2]), slot_gamma, cross, along, err)
 

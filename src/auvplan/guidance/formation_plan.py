@@ -169,7 +169,7 @@ def plan_formation(world: World, route, formation: Formation, max_rounds: int = 
     breaks = list(requested)
     windows: list[tuple[float, float]] = []
     reasons: list[tuple[float, float, str]] = []
-    structure = FormationRoute(route, _schedule(formation, breaks), fp.course_window_m)
+    structure = FormationRoute(route, _schedule(formation, breaks), fp.course_window_m or fp.spacing_m)
     s, tracks, free = check_tracks(world, structure, fp.sample_m)
     for _ in range(max_rounds):
         if free.all() or not fp.auto_column:
@@ -177,14 +177,16 @@ def plan_formation(world: World, route, formation: Formation, max_rounds: int = 
         veh, seg = np.nonzero(~free)
         off = structure.schedule.offsets(s[seg])[np.arange(seg.size), veh]
         route_pos = np.clip(s[seg] + off[:, 0], 0.0, structure.length)
-        new = _windows(route_pos, formation.n, fp.spacing_m, fp.transition_m)
+        new = [w for w in _windows(route_pos, formation.n, fp.spacing_m, fp.transition_m) if w not in windows]
+        if not new:  # the column itself fails there: nothing left to reshape
+            break
         for (c0, c1) in new:
             who = sorted({formation.names[v] for v, p in zip(veh, route_pos) if c0 <= p <= c1})
             reasons.append((max(c0 - fp.transition_m, 0.0), min(c1, structure.length),
                             f"slot track of {', '.join(who)} not free"))
         windows += new
         breaks = _with_columns(requested, windows, fp.transition_m, structure.length)
-        structure = FormationRoute(route, _schedule(formation, breaks), fp.course_window_m)
+        structure = FormationRoute(route, _schedule(formation, breaks), fp.course_window_m or fp.spacing_m)
         s, tracks, free = check_tracks(world, structure, fp.sample_m)
     if free.all():
         status = Status.EXACT
