@@ -242,6 +242,10 @@ class LambOseenVortices(CurrentField):
 class GriddedCurrent(CurrentField):
     """Current on a rectilinear grid, interpolated linearly in x, y, z and t.
 
+    Points and times outside the grid take the value at the nearest grid face (clamping); a
+    world checks at build time that the grid covers its horizontal bounds.  The interpolation
+    is one compiled loop over the points (bisection on each axis, 16-corner weights).
+
     Parameters
     ----------
     x, y, z : ndarray
@@ -255,10 +259,6 @@ class GriddedCurrent(CurrentField):
         Ascending time axis (s); ``None`` for a steady field.
     name : str
         Source of the data, for messages.
-
-    Points and times outside the grid take the value at the nearest grid face (clamping); a
-    world checks at build time that the grid covers its horizontal bounds.  The interpolation
-    is one compiled loop over the points (bisection on each axis, 16-corner weights).
 
     Raises
     ------
