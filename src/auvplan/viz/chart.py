@@ -14,11 +14,16 @@ from typing import Any
 
 import contourpy
 import numpy as np
-import plotly.graph_objects as go
 from numpy.typing import ArrayLike, NDArray
 
 from ..sim import RunRecord
 from ..world import World
+from . import PLOTLY_MISSING
+
+try:
+    import plotly.graph_objects as go
+except ImportError as exc:  # plotly is the optional `report` extra
+    raise ImportError(PLOTLY_MISSING) from exc
 from .scene3d import _terrain_grid, elevation_range, shape_surface, thin
 from .style import bathymetry_colorscale
 

@@ -18,14 +18,19 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import plotly.colors as pc
-import plotly.graph_objects as go
-import plotly.io as pio
 from numpy.typing import ArrayLike, NDArray
-from plotly.subplots import make_subplots
 
 from ..sim import RunRecord, decimate
 from ..world import World
+from . import PLOTLY_MISSING
+
+try:
+    import plotly.colors as pc
+    import plotly.graph_objects as go
+    import plotly.io as pio
+    from plotly.subplots import make_subplots
+except ImportError as exc:  # plotly is the optional `report` extra
+    raise ImportError(PLOTLY_MISSING) from exc
 from .chart import ToLonLat, figure_plan_view
 from .scene3d import figure_3d, thin
 

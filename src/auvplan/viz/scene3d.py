@@ -10,12 +10,22 @@ so nothing drawn can stretch the scene beyond the operating box.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import plotly.graph_objects as go
 from numpy.typing import NDArray
 
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
+from . import MissingPlotly
+
+if TYPE_CHECKING:
+    import plotly.graph_objects as go
+else:
+    try:
+        import plotly.graph_objects as go
+    except ImportError:  # plotly is the optional `report` extra; the geometry helpers here work without it
+        go = MissingPlotly()
 from .style import bathymetry_colorscale, speed_colorscale
 
 __all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "z_range", "hms", "FRAMES",
