@@ -5,7 +5,8 @@
 On the four document scenarios (``track-arc``, ``track-single``, ``track-double``, ``track-multi``)
 every law is flown with and without crab-angle current compensation: the document's hybrid field
 as written (``[guidance.hybrid] variant = "document"``: eqs. 3–8, goal-distance factor uncapped, no
-lateral bias), the corrected field (capped factor, lateral bias), LOS and ILOS
+lateral bias), the corrected field (capped factor, lateral bias), the corrected field without its
+lateral bias (an ablation: which addition matters), LOS and ILOS
 (``[guidance.los] current_compensation``).  Everything else is the scenario's own (vehicle, waves,
 current, ``dt``).  Writes ``summary.md`` (one table per scenario: arrivals, runs with a collision
 and where, cross-track RMS / max median and worst, least obstacle distance, flight time, CPU per
@@ -31,14 +32,17 @@ from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World
 
 SCENES = ("track-arc", "track-single", "track-double", "track-multi")
-LAWS = ("document", "corrected", "los", "ilos")
-LABEL = {"document": "hybrid, document field", "corrected": "hybrid, corrected field", "los": "LOS", "ilos": "ILOS"}
+LAWS = ("document", "corrected", "capped", "los", "ilos")
+LABEL = {"document": "hybrid, document field", "corrected": "hybrid, corrected field",
+         "capped": "hybrid, capped factor, no bias (ablation)", "los": "LOS", "ilos": "ILOS"}
 
 
 def configure(mission: Mission, law: str, compensate: bool) -> tuple[Mission, str]:
     """The mission flown by ``law`` with or without current compensation, and the guidance name."""
-    if law in ("document", "corrected"):
-        return replace(mission, hybrid=replace(mission.hybrid, variant=law, current_compensation=compensate)), "hybrid"
+    if law in ("document", "corrected", "capped"):
+        hp = replace(mission.hybrid, variant="corrected" if law == "capped" else law, current_compensation=compensate,
+                     lateral_bias=0.0 if law == "capped" else mission.hybrid.lateral_bias)
+        return replace(mission, hybrid=hp), "hybrid"
     return replace(mission, los=replace(mission.los, current_compensation=compensate)), law
 
 
@@ -73,7 +77,8 @@ def cell(rows: list[dict]) -> str:
     arrived = [r for r in rows if r["arrived"]]
     dur = np.median([r["duration_s"] for r in arrived]) if arrived else float("nan")
     hit = [r["seed"] for r in rows if r["collisions"]]
-    other = sorted({r["status"] for r in rows if not r["arrived"] and not r["collisions"]})
+    left = [r["status"] for r in rows if not r["arrived"] and not r["collisions"]]
+    other = [f"{left.count(s)} {s}" for s in sorted(set(left))]
     r0 = rows[0]
     return (f"| {LABEL[r0['law']]} | {'yes' if r0['compensation'] else 'no'} | {len(arrived)}/{n} | "
             f"{len(hit)}/{n}{' (seeds ' + ', '.join(map(str, hit)) + ')' if hit else ''}"
@@ -97,7 +102,7 @@ def comparison(seeds: int, scenes=SCENES) -> tuple[str, list[dict]]:
                 rows = fly(name, law, compensate, seeds)
                 every += rows
                 lines.append(cell(rows))
-        hits = [r for r in every if r["scenario"] == name and r["collision"] and r["law"] in ("document", "corrected")]
+        hits = [r for r in every if r["scenario"] == name and r["collision"] and r["law"] not in ("los", "ilos")]
         if hits:
             lines.append("\nHybrid-field collisions: " + "; ".join(
                 f"{r['law']}{' + crab' if r['compensation'] else ''} seed {r['seed']}: {r['collision']}" for r in hits))
