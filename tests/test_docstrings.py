@@ -117,7 +117,7 @@ class _Validator(numpydoc_validate.Validator):
     def signature_parameters(self) -> tuple[str, ...]:
         obj = self.obj
         if inspect.isclass(obj) and (issubclass(obj, enum.Enum | BaseException) or typing.is_typeddict(obj)
-                                     or not _own_constructor(obj)):
+                                     or getattr(obj, "_is_protocol", False) or not _own_constructor(obj)):
             return ()
         return tuple(super().signature_parameters)
 

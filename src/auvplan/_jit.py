@@ -23,7 +23,7 @@ import hashlib
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, cast, overload
 
 from numba import njit
 
@@ -89,6 +89,14 @@ def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
     return dispatcher
 
 
+@overload
+def kernel(fn: Callable[..., Any], **options: Any) -> Any: ...
+
+
+@overload
+def kernel(fn: None = None, **options: Any) -> Callable[[Callable[..., Any]], Any]: ...
+
+
 def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     """Decorator: ``numba.njit`` with auvplan's settings and a cache that cannot go stale.
 
@@ -102,10 +110,11 @@ def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     Returns
     -------
     numba dispatcher or decorator
-        The compiled kernel, or a decorator that makes one.
+        The compiled kernel, or a decorator that makes one (typed: ``@kernel(**options)`` is a
+        typed decorator for mypy --strict; the dispatcher itself is ``Any``).
     """
     if "cache" in options:
         raise TypeError("kernel() manages numba's cache itself; do not pass cache=")
     if fn is None:
-        return functools.partial(_compile, options=options)
+        return cast(Callable[[Callable[..., Any]], Any], functools.partial(_compile, options=options))
     return _compile(fn, options)

@@ -25,9 +25,13 @@ a course over ground, turned into a heading with the measured current (crab angl
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .route import RouteTracker
+import numpy as np
+from numpy.typing import NDArray
+
+from .route import RoutePoint, RouteTracker
 
 __all__ = ["HybridParams", "hybrid_force", "crab_heading", "HybridGuidance"]
 
@@ -77,11 +81,31 @@ class HybridParams:
 
 
 def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
-                 obstacles, target_distance: float, leg_origin) -> tuple[float, float]:
-    """Resultant (east, north) of route attraction, heading attraction and obstacle repulsion.
+                 obstacles: Sequence[Sequence[float]], target_distance: float,
+                 leg_origin: Sequence[float] | NDArray[np.float64]) -> tuple[float, float]:
+    """Compute the resultant of route attraction, heading attraction and obstacle repulsion.
 
-    ``obstacles`` is a sequence of ``(cx, cy, surface_distance)``; ``leg_origin`` the (x, y) of
-    the active leg's start (to tell which side of the route an obstacle is on).
+    Parameters
+    ----------
+    course : float
+        Compass course of the active leg (rad).
+    cross : float
+        Cross-track error e, positive to starboard (m).
+    params : HybridParams
+        The field's gains.
+    x, y : float
+        Vehicle position east and north (m).
+    obstacles : sequence of (float, float, float)
+        ``(cx, cy, surface_distance)`` of each obstacle (m).
+    target_distance : float
+        Horizontal distance to the active waypoint r_at (m).
+    leg_origin : sequence of float
+        ``(x, y)`` of the active leg's start (m), to tell which side of the route an obstacle is on.
+
+    Returns
+    -------
+    tuple of float
+        The resultant's east and north components (the field's units; only its direction is used).
     """
     s, c = math.sin(course), math.cos(course)
     tx, ty = s, c            # along the leg
@@ -109,14 +133,37 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
     return fx, fy
 
 
-def crab_heading(course: float, current, speed: float) -> float:
-    """Heading that makes good ``course`` through a horizontal ``current`` at through-water ``speed``."""
+def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], speed: float) -> float:
+    """Return the heading that makes good ``course`` through a horizontal current.
+
+    Parameters
+    ----------
+    course : float
+        Wanted compass course over ground (rad).
+    current : sequence of float
+        Current velocity east, north (, up) (m/s).
+    speed : float
+        Speed through the water (m/s).
+
+    Returns
+    -------
+    float
+        Compass heading (rad): the course minus the crab angle asin(c⊥ / u), clipped at ±90°.
+    """
     c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
     return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
 
 
 class HybridGuidance:
-    """Document 001's guidance along a route (``reset()`` to restart)."""
+    """Document 001's guidance along a route (``reset()`` to restart).
+
+    Parameters
+    ----------
+    route : RouteTracker
+        The route to follow.
+    params : HybridParams
+        The field's gains.
+    """
 
     name = "hybrid"
 
@@ -128,8 +175,32 @@ class HybridGuidance:
         """Restart the route."""
         self.route.reset()
 
-    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
-        """(commanded heading, True, route point) — the course is converted with the current."""
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the heading command for one step; the field's course is converted with the current.
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current at the vehicle, east, north, up (m/s).
+        speed : float
+            Speed through the water (m/s).
+        obstacles : sequence of (float, float, float)
+            ``(cx, cy, surface_distance)`` of the nearby obstacles (m).
+        dt : float
+            Time step (s); unused (the field has no state).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            Always True.
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
         rp = self.route.update(x, y)
         k = rp.leg
         b = self.route.w[k + 1]

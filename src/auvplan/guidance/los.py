@@ -10,16 +10,30 @@ offset a cross current causes under plain LOS.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .route import RouteTracker
+import numpy as np
+from numpy.typing import NDArray
+
+from .route import RoutePoint, RouteTracker
 
 __all__ = ["LosParams", "los_heading", "LosGuidance"]
 
 
 @dataclass(frozen=True)
 class LosParams:
-    """LOS settings: ``lookahead`` Δ (m), ILOS integral gain ``sigma`` (-), leg switch radius (m)."""
+    """LOS settings: ``lookahead`` Δ (m), ILOS integral gain ``sigma`` (-), leg switch radius (m).
+
+    Attributes
+    ----------
+    lookahead : float
+        Lookahead distance Δ (m), positive.
+    sigma : float
+        ILOS integral gain σ (dimensionless), ≥ 0.
+    switch_radius : float
+        Leg switching radius (m), positive.
+    """
 
     lookahead: float = 15.0
     sigma: float = 0.4
@@ -31,12 +45,41 @@ class LosParams:
 
 
 def los_heading(course: float, cross: float, lookahead: float, integral: float = 0.0, sigma: float = 0.0) -> float:
-    """Pure LOS/ILOS law: commanded compass heading (rad)."""
+    """Apply the pure LOS/ILOS law.
+
+    Parameters
+    ----------
+    course : float
+        Compass course of the active leg ψ_leg (rad).
+    cross : float
+        Cross-track error e, positive to starboard (m).
+    lookahead : float
+        Lookahead distance Δ (m).
+    integral : float, optional
+        ILOS integral state y_int (m).
+    sigma : float, optional
+        ILOS integral gain σ; 0 gives plain LOS.
+
+    Returns
+    -------
+    float
+        Commanded compass heading ψ_d (rad).
+    """
     return course - math.atan((cross + sigma * integral) / lookahead)
 
 
 class LosGuidance:
-    """LOS (``integral=False``) or ILOS path following along a route."""
+    """LOS (``integral=False``) or ILOS path following along a route.
+
+    Parameters
+    ----------
+    route : RouteTracker
+        The route to follow.
+    params : LosParams
+        Lookahead, integral gain, switch radius.
+    integral : bool, optional
+        ILOS (True) or plain LOS (False).
+    """
 
     def __init__(self, route: RouteTracker, params: LosParams, integral: bool = False) -> None:
         self.route = route
@@ -50,8 +93,32 @@ class LosGuidance:
         self.y_int = 0.0
         self.route.reset()
 
-    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
-        """(course or heading command, is_heading, route point)."""
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the heading command for one step (obstacles and current are ignored by LOS).
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current at the vehicle (m/s); unused.
+        speed : float
+            Speed through the water (m/s); unused.
+        obstacles : sequence of (float, float, float)
+            Nearby obstacles; unused (LOS knows nothing of obstacles).
+        dt : float
+            Time step of the ILOS integral (s).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            Always True.
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
         rp = self.route.update(x, y)
         p = self.params
         sigma = p.sigma if self.integral else 0.0
