@@ -31,9 +31,12 @@ from ..world.terrain import elevation_kernel
 
 __all__ = ["CFG", "closest_approach", "predicted_preference", "vo_choose"]
 
+_F64 = NDArray[np.float64]
+"""Array of float64 (units as documented per parameter)."""
+
 
 def closest_approach(rel_pos: ArrayLike, rel_vel: ArrayLike, radii: ArrayLike,
-                     horizon: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+                     horizon: float) -> tuple[_F64, _F64]:
     """Return the time and surface distance of closest approach, both keeping their velocities.
 
     Parameters
@@ -76,9 +79,9 @@ def _segment_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: floa
 
 
 @kernel
-def predicted_preference(p: NDArray[np.float64], v_now: NDArray[np.float64], C: NDArray[np.float64], V: NDArray[np.float64], R: NDArray[np.float64],
-                         attraction: NDArray[np.float64], horizon: float, k_rep: float, w_obs: float,
-                         radius: float) -> NDArray[np.float64]:
+def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
+                         attraction: _F64, horizon: float, k_rep: float, w_obs: float,
+                         radius: float) -> _F64:
     """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
 
     Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
@@ -147,9 +150,9 @@ CFG = ("psi0", "u_now", "theta_pref", "u_cruise", "psi_last", "r_max", "lag", "h
 
 
 @kernel
-def vo_choose(p: NDArray[np.float64], v_now: NDArray[np.float64], cur: NDArray[np.float64], C: NDArray[np.float64], V: NDArray[np.float64], R: NDArray[np.float64],
-              headings: NDArray[np.float64], pitches: NDArray[np.float64], speeds: NDArray[np.float64], pref: NDArray[np.float64],
-              coef: NDArray[np.float64], cfg: NDArray[np.float64], weights: NDArray[np.float64]) -> tuple[int, int, int, float, bool]:
+def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
+              headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
+              coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
     """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
 
     Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
