@@ -3,8 +3,13 @@
 LOS:  ψ_d = ψ_leg − atan(e / Δ)                        (e cross-track, right positive; Δ lookahead)
 ILOS: ψ_d = ψ_leg − atan((e + σ y_int) / Δ),  ẏ_int = Δ e / ((e + σ y_int)² + Δ²)
 
-Both command a heading and know nothing of obstacles; ILOS's integral removes the steady
-offset a cross current causes under plain LOS.
+Both know nothing of obstacles.  Without current compensation (the default) ψ_d is flown as a
+heading: a current c⊥ across the leg (positive to starboard) then holds plain LOS at the steady
+cross-track error e_ss = Δ·tan(asin(c⊥/U)) (U the through-water speed), which ILOS's integral
+removes.  With ``current_compensation`` the law's angle is a course over ground, turned into a
+heading with the measured current (crab angle β = asin(c⊥/U), :func:`crab_heading`) — the same
+conversion the hybrid field of document 001 uses, so the two can be compared like with like;
+LOS then holds the line with no steady error.
 """
 
 from __future__ import annotations
@@ -16,28 +21,32 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from .route import RoutePoint, RouteTracker
+from .route import RoutePoint, RouteTracker, crab_heading
 
 __all__ = ["LosParams", "los_heading", "LosGuidance"]
 
 
 @dataclass(frozen=True)
 class LosParams:
-    """LOS settings: ``lookahead`` Δ (m), ILOS integral gain ``sigma`` (-), leg switch radius (m).
+    """LOS and ILOS settings.
 
     Attributes
     ----------
     lookahead : float
-        Lookahead distance Δ (m), positive.
+        Δ (m), the look-ahead distance along the leg.
     sigma : float
-        ILOS integral gain σ (dimensionless), ≥ 0.
+        ILOS integral gain σ (-).
     switch_radius : float
-        Leg switching radius (m), positive.
+        Leg switching radius (m).
+    current_compensation : bool
+        Turn the commanded course into a heading with the measured current (crab angle), as the
+        corrected hybrid field does; false flies the law's angle as a heading (Fossen's LOS).
     """
 
     lookahead: float = 15.0
     sigma: float = 0.4
     switch_radius: float = 10.0
+    current_compensation: bool = False
 
     def __post_init__(self) -> None:
         if not self.lookahead > 0 or self.sigma < 0 or not self.switch_radius > 0:
@@ -95,16 +104,19 @@ class LosGuidance:
 
     def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
                 obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
-        """Compute the heading command for one step (obstacles and current are ignored by LOS).
+        """Compute the heading command for one step (LOS knows nothing of obstacles).
+
+        With ``current_compensation`` the law's angle is a course made good through ``current`` at
+        the through-water ``speed``.
 
         Parameters
         ----------
         x, y, z : float
             Vehicle position (m).
         current : sequence of float
-            Current at the vehicle (m/s); unused.
+            Current at the vehicle, east, north, up (m/s); used with ``current_compensation``.
         speed : float
-            Speed through the water (m/s); unused.
+            Speed through the water (m/s); used with ``current_compensation``.
         obstacles : sequence of (float, float, float)
             Nearby obstacles; unused (LOS knows nothing of obstacles).
         dt : float
@@ -123,6 +135,8 @@ class LosGuidance:
         p = self.params
         sigma = p.sigma if self.integral else 0.0
         psi_d = los_heading(rp.course, rp.cross, p.lookahead, self.y_int, sigma)
+        if p.current_compensation:
+            psi_d = crab_heading(psi_d, current, speed)
         if self.integral:
             e = rp.cross
             self.y_int += dt * p.lookahead * e / ((e + sigma * self.y_int) ** 2 + p.lookahead**2)

@@ -16,7 +16,32 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..geometry import as_points
 
-__all__ = ["RouteTracker", "RoutePoint", "PathFollower"]
+__all__ = ["RouteTracker", "RoutePoint", "PathFollower", "crab_heading"]
+
+
+def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], speed: float) -> float:
+    """Heading that makes good ``course`` over ground through a horizontal ``current``.
+
+    The crab angle β = asin(c⊥ / u) turns the bow into the current component c⊥ across the
+    course (positive to starboard) so that the through-water velocity at ``speed`` u cancels it;
+    |c⊥| ≥ u is clipped to a 90° crab (the course cannot be made good).
+
+    Parameters
+    ----------
+    course : float
+        Desired course over ground (compass, rad).
+    current : sequence of float
+        Current (east, north, ...) at the vehicle (m/s); only the horizontal part is used.
+    speed : float
+        Through-water speed (m/s).
+
+    Returns
+    -------
+    float
+        Commanded heading (compass, rad), ``course − β``.
+    """
+    c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
+    return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
 
 
 class RoutePoint:
