@@ -199,6 +199,8 @@ def _commented_table(header: str, cls: type, given: dict | None = None) -> list[
             lines.append(f"{name} = {_toml(given[name])}")
         elif isinstance(default, float) and not math.isfinite(default):
             lines.append(f"# {name} = (no limit when omitted)")
+        elif default is None:  # resolved from another key when omitted (see its description)
+            lines.append(f"# {name} (omitted: see above)")
         else:
             lines.append(f"# {name} = {_toml(default)}")
     for sub, subcls in nested:
