@@ -208,6 +208,11 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
         Seed of the wave disturbances (the mission's seed by default).
     progress : callable, optional
         ``progress(t, expected)`` every simulated minute.
+
+    Returns
+    -------
+    FormationResult
+        Every vehicle's time series, the formation errors and the events.
     """
     t_wall = time.perf_counter()
     form = mission.formation

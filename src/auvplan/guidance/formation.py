@@ -67,9 +67,16 @@ SHAPES = ("line", "column", "wedge")
 
 @dataclass(frozen=True)
 class ShapeChange:
-    """A shape change starting at ``at_m`` metres along the route, or at route waypoint ``waypoint``.
+    """A shape change starting at a route position or at a route waypoint.
 
-    Exactly one of ``at_m`` (≥ 0) and ``waypoint`` (≥ 0, an index into the route flown) is given.
+    Attributes
+    ----------
+    shape : str
+        The new shape: ``line``, ``column`` or ``wedge``.
+    at_m : float
+        Route position (m along the route) where the blend starts; -1 when ``waypoint`` is given.
+    waypoint : int
+        Index of the route waypoint where the blend starts; -1 when ``at_m`` is given.
     """
 
     shape: str
@@ -160,9 +167,20 @@ class FormationParams:
 
 @dataclass(frozen=True)
 class VehicleSpec:
-    """One vehicle of the formation: its name, role (``leader`` or ``follower``), optional start
-    ``(x, y, z)`` (default: its slot at the route's start) and depth offset below the formation's
-    reference in the abreast shapes (m, positive deeper; column flies at the route's depth)."""
+    """One vehicle of the formation.
+
+    Attributes
+    ----------
+    name : str
+        Its name (a folder name in the results: no spaces or slashes).
+    role : str
+        ``leader`` (exactly one) or ``follower``.
+    start : tuple of float
+        Start ``(x, y, z)`` (m); empty: its slot at the route's start.
+    depth_offset_m : float
+        Depth below the formation's reference in the abreast shapes (m, positive deeper; a column
+        flies at the route's depth).
+    """
 
     name: str
     role: str = "follower"
@@ -180,7 +198,15 @@ class VehicleSpec:
 
 @dataclass(frozen=True)
 class Formation:
-    """The vehicles (leader first, then the followers in slot order) and the formation parameters."""
+    """The vehicles and the formation parameters.
+
+    Attributes
+    ----------
+    params : FormationParams
+        Geometry and gains.
+    vehicles : tuple of VehicleSpec
+        The vehicles, reordered leader first, then the followers in slot order.
+    """
 
     params: FormationParams
     vehicles: tuple[VehicleSpec, ...]
@@ -212,11 +238,27 @@ class Formation:
 
 
 def shape_offsets(shape: str, n: int, spacing: float, depth_offsets=None) -> np.ndarray:
-    """Slot offsets ``(n, 3)`` = (along ahead, to starboard, up) in metres; slot 0 is the leader's.
+    """Slot offsets of a shape; slot 0 is the leader's.
 
     ``line``: abreast, port then starboard in rising ranks; ``column``: ``k·spacing`` behind;
-    ``wedge``: rank ``r`` is ``r·spacing`` behind and ``r·spacing`` out.  ``depth_offsets (n,)``
-    (m, positive deeper) apply to the abreast shapes; a column flies on the route.
+    ``wedge``: rank ``r`` is ``r·spacing`` behind and ``r·spacing`` out.
+
+    Parameters
+    ----------
+    shape : str
+        ``line``, ``column`` or ``wedge``.
+    n : int
+        Number of slots.
+    spacing : float
+        Distance between neighbouring slots (m).
+    depth_offsets : array_like (n,), optional
+        Depths below the reference (m, positive deeper), for the abreast shapes (a column flies on
+        the route).
+
+    Returns
+    -------
+    ndarray (n, 3)
+        (along ahead, to starboard, up) in metres.
     """
     if shape not in SHAPES:
         raise ValueError(f"shape = {shape!r}: choose {', '.join(SHAPES)}")
@@ -241,8 +283,21 @@ def _smoothstep(x):
 
 
 class Schedule:
-    """Shapes along the route: ``(start, shape)`` breakpoints (m along the route, sorted), each
-    blended in over ``transition`` metres from the shape before it."""
+    """Shapes along the route, each blended in over ``transition`` metres from the shape before it.
+
+    Parameters
+    ----------
+    breaks : sequence of (float, str)
+        ``(route position, shape)`` breakpoints; the first at 0 m.
+    n : int
+        Number of vehicles.
+    spacing : float
+        Slot spacing (m).
+    transition : float
+        Blend length (m).
+    depth_offsets : array_like (n,), optional
+        The vehicles' depth offsets (m, positive deeper).
+    """
 
     def __init__(self, breaks, n: int, spacing: float, transition: float, depth_offsets=None) -> None:
         self.breaks = sorted((float(s), str(sh)) for s, sh in breaks)
@@ -253,7 +308,18 @@ class Schedule:
         self._offsets = [shape_offsets(sh, n, spacing, self.depth) for _, sh in self.breaks]
 
     def shape_at(self, s: float) -> str:
-        """The shape in force (or being formed) at route position ``s``."""
+        """The shape in force (or being formed) at a route position.
+
+        Parameters
+        ----------
+        s : float
+            Route position (m).
+
+        Returns
+        -------
+        str
+            The shape.
+        """
         name = self.breaks[0][1]
         for b, sh in self.breaks:
             if s >= b:
@@ -261,17 +327,24 @@ class Schedule:
         return name
 
     def offsets(self, s) -> np.ndarray:
-        """Slot offsets ``(..., n, 3)`` at route positions ``s (...)``."""
+        """Slot offsets at route positions.
+
+        Parameters
+        ----------
+        s : array_like (...)
+            Route positions (m).
+
+        Returns
+        -------
+        ndarray (..., n, 3)
+            (along ahead, to starboard, up) of every slot.
+        """
         s = np.asarray(s, dtype=float)
         out = np.broadcast_to(self._offsets[0], s.shape + (self.n, 3)).copy()
         for (b, _), prev, new in zip(self.breaks[1:], self._offsets[:-1], self._offsets[1:]):
             w = _smoothstep((s - b) / self.transition)[..., None, None]
             out = out + w * (new - prev)
         return out
-
-    def settled(self, s: float) -> bool:
-        """True when no shape change is under way at ``s``."""
-        return all(not (b <= s < b + self.transition) for b, _ in self.breaks[1:])
 
 
 class FormationRoute:
@@ -306,7 +379,18 @@ class FormationRoute:
                         for b, sh in schedule.breaks]
 
     def point(self, s) -> np.ndarray:
-        """Route points ``(..., 3)`` at arc length ``s`` (straight extensions beyond the ends)."""
+        """Route points at arc lengths (straight extensions beyond the ends).
+
+        Parameters
+        ----------
+        s : array_like (...)
+            Arc lengths (m).
+
+        Returns
+        -------
+        ndarray (..., 3)
+            The points.
+        """
         s = np.asarray(s, dtype=float)
         sc = np.clip(s, 0.0, self.length)
         out = np.stack([np.interp(sc, self.cum, self.w[:, j]) for j in range(3)], axis=-1)
@@ -316,13 +400,37 @@ class FormationRoute:
         return out
 
     def course(self, s) -> np.ndarray:
-        """Smoothed compass course at ``s``: the chord from ``s − window`` to ``s + window``."""
+        """Smoothed compass course: the chord from ``s − window`` to ``s + window``.
+
+        Parameters
+        ----------
+        s : array_like (...)
+            Arc lengths (m).
+
+        Returns
+        -------
+        ndarray (...)
+            Courses (rad, compass).
+        """
         s = np.asarray(s, dtype=float)
         d = self.point(s + self.window) - self.point(s - self.window)
         return np.arctan2(d[..., 0], d[..., 1])
 
     def slots(self, s) -> tuple[np.ndarray, np.ndarray]:
-        """Slot positions ``(..., n, 3)`` and courses ``(..., n)`` with the reference at ``s (...)``."""
+        """Every slot with the formation's reference at ``s``.
+
+        Parameters
+        ----------
+        s : array_like (...)
+            Reference positions (m along the route).
+
+        Returns
+        -------
+        positions : ndarray (..., n, 3)
+            Slot positions.
+        courses : ndarray (..., n)
+            The slots' courses (rad, compass).
+        """
         s = np.asarray(s, dtype=float)
         off = self.schedule.offsets(s)
         sa = s[..., None] + off[..., 0]
@@ -335,8 +443,21 @@ class FormationRoute:
         return base, psi
 
     def tracks(self, step: float) -> tuple[np.ndarray, np.ndarray]:
-        """Reference positions ``(M,)`` every ≤ ``step`` metres (route vertices and shape-change ends
-        included) and every slot's swept track ``(n, M, 3)`` over the whole route."""
+        """Every slot's swept track over the whole route.
+
+        Parameters
+        ----------
+        step : float
+            Largest spacing of the reference positions (m); route vertices and shape-change ends are
+            included.
+
+        Returns
+        -------
+        s : ndarray (M,)
+            Reference positions.
+        tracks : ndarray (n, M, 3)
+            The slots at each of them.
+        """
         extra = [b for b, _ in self.schedule.breaks] + [b + self.schedule.transition for b, _ in self.schedule.breaks]
         s = np.unique(np.r_[np.linspace(0.0, self.length, max(2, int(math.ceil(self.length / step)) + 1)),
                             self.cum, [e for e in extra if 0 <= e <= self.length]])
@@ -344,7 +465,18 @@ class FormationRoute:
         return s, np.swapaxes(pos, 0, 1)
 
     def point_at(self, s: float) -> tuple[float, float, float]:
-        """:meth:`point` for one position, in plain floats (the closed loop's fast path)."""
+        """:meth:`point` for one arc length, in plain floats (the closed loop's fast path).
+
+        Parameters
+        ----------
+        s : float
+            Arc length (m).
+
+        Returns
+        -------
+        tuple of 3 float
+            The point.
+        """
         L = self.length
         if s <= 0.0 or s >= L:
             p, e, t = (self._w[0], s, self._t0) if s <= 0.0 else (self._w[-1], s - L, self._t1)
@@ -355,7 +487,20 @@ class FormationRoute:
         return a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])
 
     def slots_at(self, s: float) -> tuple[list[tuple[float, float, float]], list[float]]:
-        """:meth:`slots` for one reference position, in plain floats (the closed loop's fast path)."""
+        """:meth:`slots` for one reference position, in plain floats (the closed loop's fast path).
+
+        Parameters
+        ----------
+        s : float
+            Reference position (m).
+
+        Returns
+        -------
+        positions : list of (float, float, float)
+            Slot positions.
+        courses : list of float
+            The slots' courses (rad).
+        """
         off = [list(o) for o in self._breaks[0][1]]
         tr = self.schedule.transition
         for (b, new), (_, prev) in zip(self._breaks[1:], self._breaks[:-1]):
@@ -379,8 +524,24 @@ class FormationRoute:
         return pts, psis
 
     def project(self, x: float, y: float, s_prev: float, behind: float = 30.0, ahead: float = 120.0) -> float:
-        """Arc length of the nearest route point to ``(x, y)`` within ``[s_prev − behind, s_prev + ahead]``
-        (continuous: no jumps at leg switches, no short-cuts to a distant part of the route)."""
+        """Arc length of the nearest route point within a window about the previous one.
+
+        Continuous: no jumps at leg switches, no short-cuts to a distant part of the route.
+
+        Parameters
+        ----------
+        x, y : float
+            Horizontal position (m).
+        s_prev : float
+            The previous arc length (m).
+        behind, ahead : float
+            The window ``[s_prev − behind, s_prev + ahead]`` (m).
+
+        Returns
+        -------
+        float
+            Arc length (m).
+        """
         lo, hi = max(s_prev - behind, 0.0), min(s_prev + ahead, self.length)
         cum, w = self._cum, self._w
         k = max(bisect.bisect_right(cum, lo) - 1, 0)
@@ -396,11 +557,6 @@ class FormationRoute:
             k += 1
         return min(max(s_best, lo), hi)
 
-    def stretch(self, i: int, s: float, h: float = 1.0) -> float:
-        """Horizontal distance slot ``i`` moves per metre of reference progress at ``s``."""
-        p, _ = self.slots(np.array([s - h, s + h]))
-        return float(np.hypot(*(p[1, i, :2] - p[0, i, :2])) / (2.0 * h))
-
 
 def vehicle_repulsion(course: float, fp: FormationParams, pos, vel, others) -> tuple[float, float]:
     """Repulsion ``(east, north)`` from the other vehicles, document 001's eqs. 7–8 on the predicted geometry.
@@ -414,6 +570,22 @@ def vehicle_repulsion(course: float, fp: FormationParams, pos, vel, others) -> t
     from ``r_c`` — opposite for the two vehicles, so each opens the miss distance the same way round —
     and, on a dead head-on course (``|r_c|`` below a metre), to starboard of ``course`` (both turn
     starboard, as the rule of the road says).
+
+    Parameters
+    ----------
+    course : float
+        The vehicle's slot course (rad, compass): starboard of it on a dead head-on course.
+    fp : FormationParams
+        Gains, influence, separation and look-ahead.
+    pos, vel : sequence of float
+        The vehicle's position and ground velocity (x, y first).
+    others : sequence of (x, y, vx, vy, keep)
+        The other vehicles and moving obstacles.
+
+    Returns
+    -------
+    tuple of 2 float
+        The push (east, north).
     """
     if not others:
         return 0.0, 0.0
@@ -453,7 +625,25 @@ def _crosses(pos, slot, points, radius: float) -> bool:
 
 @dataclass
 class FormationCommand:
-    """One vehicle's commands and where it stands relative to its slot (plain record)."""
+    """One vehicle's commands and where it stands relative to its slot (plain record).
+
+    Attributes
+    ----------
+    psi : float
+        Heading command (rad, compass).
+    speed : float
+        Speed command through the water (m/s).
+    z_ref : float
+        The slot's z (m).
+    gamma : float
+        The route's flight-path angle at the slot (rad).
+    cross : float
+        Cross error to the slot's course line, positive to starboard (m).
+    along : float
+        Along error, positive when behind the slot (m).
+    error : float
+        Distance to the slot (m).
+    """
 
     psi: float
     speed: float
@@ -471,13 +661,18 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, cur
 
     Parameters
     ----------
-    slot, slot_course, slot_gamma
-        The slot's position, compass course and the route's flight-path angle there.
-    pos, vel, current, speed
-        The vehicle's position ``(3,)``, its ground velocity, the current at it and its speed through
-        the water.
-    params, fp
-        Hybrid-field gains and formation parameters.
+    slot : sequence of 3 float
+        The slot's position.
+    slot_course, slot_gamma : float
+        The slot's compass course and the route's flight-path angle there (rad).
+    pos, vel, current : sequence of float
+        The vehicle's position ``(3,)``, its ground velocity and the current at it.
+    speed : float
+        Its speed through the water (m/s).
+    params : HybridParams
+        Hybrid-field gains.
+    fp : FormationParams
+        Formation parameters.
     obstacles : sequence of (x, y, surface distance)
         Static obstacles near the vehicle (repulsion, eqs. 7–8, with the hybrid goal factor).
     others : sequence of (x, y, vx, vy, keep)
@@ -493,6 +688,11 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, cur
         Vehicles of higher priority (a lower slot: the leader first); while the straight way to the
         slot passes within ``separation_m + vehicle_influence_m`` of one, the vehicle slows to its
         least speed and so crosses astern of it instead of racing it to the crossing.
+
+    Returns
+    -------
+    FormationCommand
+        Heading, speed and depth commands and the slot errors.
     """
     s, c = math.sin(slot_course), math.cos(slot_course)
     dx, dy = pos[0] - slot[0], pos[1] - slot[1]
@@ -502,7 +702,7 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, cur
                           (slot[0], slot[1]))
     rx, ry = vehicle_repulsion(slot_course, fp, pos, vel, others)
     course = math.atan2(fx + rx, fy + ry)
-    psi = crab_heading(course, current, speed) if params.current_compensation else course
+    psi = crab_heading(course, current, speed) if params.compensates else course
     u = min(max(speed_ff + fp.k_speed * along, fp.min_speed_ratio * cruise), max_speed)
     if give_way and _crosses(pos, slot, give_way, fp.separation_m + fp.vehicle_influence_m):
         u = fp.min_speed_ratio * cruise
@@ -514,8 +714,24 @@ def dominant_pole(speed: float, params: HybridParams, fp: FormationParams, headi
                   surge_time_constant: float) -> dict:
     """Poles of the formation loop linearised on a straight route (see the module docstring).
 
-    Returns the cross-error poles (3), the along-error poles (2) and ``dominant``, the real part
-    closest to zero (1/s).
+    Parameters
+    ----------
+    speed : float
+        Ground speed U (m/s).
+    params : HybridParams
+        k_H, k_X and Δ.
+    fp : FormationParams
+        k_s.
+    heading_wn, heading_zeta : float
+        The heading autopilot's natural frequency (rad/s) and damping.
+    surge_time_constant : float
+        T_u (s).
+
+    Returns
+    -------
+    dict
+        ``cross`` the cross-error poles (3), ``along`` the along-error poles (2) and ``dominant``
+        the real part closest to zero (1/s).
     """
     gain = speed * params.k_route / (params.k_heading * params.lookahead)
     wn2 = heading_wn * heading_wn

@@ -69,8 +69,20 @@ class FormationPlan:
 
 
 def requested_breaks(formation: Formation, route) -> list[tuple[float, str]]:
-    """The scenario's shape schedule as ``(route position, shape)``: the initial shape at 0 and each
-    change at its ``at_m`` or at the route position of its ``waypoint``."""
+    """The scenario's shape schedule: the initial shape at 0 and each change at its place.
+
+    Parameters
+    ----------
+    formation : Formation
+        The initial shape and the changes (``at_m`` or ``waypoint``).
+    route : array_like (N, 3)
+        The route (a waypoint's route position is its arc length).
+
+    Returns
+    -------
+    list of (float, str)
+        ``(route position, shape)`` breakpoints.
+    """
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     cum = np.r_[0.0, np.cumsum(np.hypot(*np.diff(w[:, :2], axis=0).T))]
     out = [(0.0, formation.params.shape)]
@@ -91,8 +103,26 @@ def _schedule(formation: Formation, breaks) -> Schedule:
 
 
 def check_tracks(world: World, structure: FormationRoute, step: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Reference positions ``(M,)``, slot tracks ``(n, M, 3)`` and the exact test of each segment
-    ``(n, M − 1)`` (static world: seabed, obstacles, depth band, bounds, land)."""
+    """Every slot track and the exact test of each of its segments (static world).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, depth band, bounds, land.
+    structure : FormationRoute
+        The route with its shapes.
+    step : float
+        Largest spacing of the track samples (m of reference progress).
+
+    Returns
+    -------
+    s : ndarray (M,)
+        Reference positions.
+    tracks : ndarray (n, M, 3)
+        The slot tracks.
+    free : ndarray (n, M - 1) of bool
+        :meth:`World.segments_free` of every segment.
+    """
     s, tracks = structure.tracks(step)
     segs = np.stack([tracks[:, :-1], tracks[:, 1:]], axis=2)
     return s, tracks, np.asarray(world.segments_free(segs, moving=False), dtype=bool)

@@ -28,7 +28,22 @@ FORMATION_NAMES = ("formation.json", "slots.csv", "scenario.toml", "report.html"
 
 
 def vehicle_records(world: World, mission: Mission, record: FormationRecord) -> list[tuple[str, RunRecord]]:
-    """One single-vehicle :class:`RunRecord` per vehicle: its mission (checked waypoints) and its flight."""
+    """One single-vehicle :class:`RunRecord` per vehicle: its mission (checked waypoints) and its flight.
+
+    Parameters
+    ----------
+    world : World
+        Seabed and obstacles (a follower's mission is built against them).
+    mission : Mission
+        The mission with its formation.
+    record : FormationRecord
+        The formation run.
+
+    Returns
+    -------
+    list of (str, RunRecord)
+        ``(vehicle name, record)``, leader first; empty without a formation plan.
+    """
     if record.formation is None or mission.formation is None:
         return []
     out = []
@@ -43,7 +58,18 @@ def vehicle_records(world: World, mission: Mission, record: FormationRecord) -> 
 
 
 def formation_record(record: FormationRecord) -> dict:
-    """The fleet's JSON object: status, metrics, shapes along the route, reshapes, events."""
+    """The fleet's JSON object: status, metrics, shapes along the route, reshapes, events.
+
+    Parameters
+    ----------
+    record : FormationRecord
+        The formation run.
+
+    Returns
+    -------
+    dict
+        JSON-ready.
+    """
     f = record.formation
     return export.jsonable({
         "scenario": record.scenario,
@@ -62,7 +88,28 @@ def formation_record(record: FormationRecord) -> dict:
 
 def write_formation(out_dir: Path, world: World, mission: Mission, record: FormationRecord, scenario_text: str = "",
                     full: bool = False) -> dict:
-    """Write the fleet's files and one folder per vehicle (run files and every mission export)."""
+    """Write the fleet's files and one folder per vehicle (run files and every mission export).
+
+    Parameters
+    ----------
+    out_dir : Path
+        The results folder (checked by the caller).
+    world : World
+        Environment (origin for the geographic formats).
+    mission : Mission
+        The mission with its formation.
+    record : FormationRecord
+        The formation run.
+    scenario_text : str
+        The scenario file, copied as ``scenario.toml``.
+    full : bool
+        Every sample in the tracks instead of the decimated ones.
+
+    Returns
+    -------
+    dict
+        The fleet's record (:func:`formation_record`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rec = formation_record(record)
