@@ -42,13 +42,6 @@ PENDING = frozenset({
     "auvplan",
     "auvplan.bench",
     "auvplan.cli",
-    "auvplan.guidance.hybrid",
-    "auvplan.guidance.local",
-    "auvplan.guidance.los",
-    "auvplan.guidance.mission",
-    "auvplan.guidance.predictive",
-    "auvplan.guidance.route",
-    "auvplan.guidance.vo",
     "auvplan.io.bathymetry",
     "auvplan.io.coast",
     "auvplan.io.currents",
@@ -92,7 +85,7 @@ class _Validator(numpydoc_validate.Validator):
     def signature_parameters(self) -> tuple[str, ...]:
         obj = self.obj
         if inspect.isclass(obj) and (issubclass(obj, enum.Enum | BaseException) or typing.is_typeddict(obj)
-                                     or not _own_constructor(obj)):
+                                     or getattr(obj, "_is_protocol", False) or not _own_constructor(obj)):
             return ()
         return tuple(super().signature_parameters)
 

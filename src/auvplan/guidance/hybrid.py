@@ -38,9 +38,13 @@ the field commands exactly LOS's heading (:func:`auvplan.guidance.los.los_headin
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .route import RouteTracker, crab_heading
+import numpy as np
+from numpy.typing import NDArray
+
+from .route import RoutePoint, RouteTracker, crab_heading
 
 __all__ = ["VARIANTS", "HybridParams", "goal_factor", "hybrid_force", "crab_heading", "HybridGuidance"]
 
@@ -63,7 +67,7 @@ class HybridParams:
     influence : float
         P_o (m), obstacle influence distance from the obstacle surface.
     k_repulse : float
-        m_r, repulsion gain.
+        m_r, repulsion gain (eq. 8's gain m times P_o^n: the factor is normalised by P_o).
     goal_power : float
         n, exponent of the goal-distance factor.
     lateral_bias : float, optional
@@ -138,13 +142,36 @@ def goal_factor(target_distance: float, params: HybridParams) -> float:
 
 
 def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
-                 obstacles, target_distance: float, leg_origin) -> tuple[float, float]:
-    """Resultant (east, north) of route attraction, heading attraction and obstacle repulsion.
+                 obstacles: Sequence[Sequence[float]], target_distance: float,
+                 leg_origin: Sequence[float] | NDArray[np.float64]) -> tuple[float, float]:
+    """Compute the resultant of route attraction, heading attraction and obstacle repulsion.
 
-    ``obstacles`` is a sequence of ``(cx, cy, surface_distance)``; ``leg_origin`` the (x, y) of
-    the active leg's start (to tell which side of the route an obstacle is on).  Route and heading
-    attraction: eqs. 3–6; repulsion: eqs. 7–8 with :func:`goal_factor`; the lateral bias
-    (``params.bias``) is not the document's.
+    Parameters
+    ----------
+    course : float
+        Compass course of the active leg (rad).
+    cross : float
+        Cross-track error e, positive to starboard (m).
+    params : HybridParams
+        The field's gains.
+    x, y : float
+        Vehicle position east and north (m).
+    obstacles : sequence of (float, float, float)
+        ``(cx, cy, surface_distance)`` of each obstacle (m).
+    target_distance : float
+        Horizontal distance to the active waypoint r_at (m).
+    leg_origin : sequence of float
+        ``(x, y)`` of the active leg's start (m), to tell which side of the route an obstacle is on.
+
+    Returns
+    -------
+    tuple of float
+        The resultant's east and north components (the field's units; only its direction is used).
+
+    Notes
+    -----
+    Route and heading attraction: eqs. 3–6; repulsion: eqs. 7–8 with :func:`goal_factor`; the
+    lateral bias (``params.bias``) is not the document's.
     """
     s, c = math.sin(course), math.cos(course)
     tx, ty = s, c            # along the leg
@@ -174,7 +201,15 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
 
 
 class HybridGuidance:
-    """Document 001's guidance along a route (``reset()`` to restart)."""
+    """Document 001's guidance along a route (``reset()`` to restart).
+
+    Parameters
+    ----------
+    route : RouteTracker
+        The route to follow.
+    params : HybridParams
+        The field's gains.
+    """
 
     name = "hybrid"
 
@@ -186,9 +221,34 @@ class HybridGuidance:
         """Restart the route."""
         self.route.reset()
 
-    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
-        """(commanded heading, True, route point) — the course is converted with the current
-        when ``params.compensates``."""
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the heading command for one step.
+
+        The field's course is converted into a heading with the current when ``params.compensates``.
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current at the vehicle, east, north, up (m/s).
+        speed : float
+            Speed through the water (m/s).
+        obstacles : sequence of (float, float, float)
+            ``(cx, cy, surface_distance)`` of the nearby obstacles (m).
+        dt : float
+            Time step (s); unused (the field has no state).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            Always True.
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
         rp = self.route.update(x, y)
         k = rp.leg
         b = self.route.w[k + 1]

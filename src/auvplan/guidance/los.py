@@ -15,9 +15,13 @@ LOS then holds the line with no steady error.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .route import RouteTracker, crab_heading
+import numpy as np
+from numpy.typing import NDArray
+
+from .route import RoutePoint, RouteTracker, crab_heading
 
 __all__ = ["LosParams", "los_heading", "LosGuidance"]
 
@@ -50,12 +54,41 @@ class LosParams:
 
 
 def los_heading(course: float, cross: float, lookahead: float, integral: float = 0.0, sigma: float = 0.0) -> float:
-    """Pure LOS/ILOS law: commanded compass heading (rad)."""
+    """Apply the pure LOS/ILOS law.
+
+    Parameters
+    ----------
+    course : float
+        Compass course of the active leg ψ_leg (rad).
+    cross : float
+        Cross-track error e, positive to starboard (m).
+    lookahead : float
+        Lookahead distance Δ (m).
+    integral : float, optional
+        ILOS integral state y_int (m).
+    sigma : float, optional
+        ILOS integral gain σ; 0 gives plain LOS.
+
+    Returns
+    -------
+    float
+        Commanded compass heading ψ_d (rad).
+    """
     return course - math.atan((cross + sigma * integral) / lookahead)
 
 
 class LosGuidance:
-    """LOS (``integral=False``) or ILOS path following along a route."""
+    """LOS (``integral=False``) or ILOS path following along a route.
+
+    Parameters
+    ----------
+    route : RouteTracker
+        The route to follow.
+    params : LosParams
+        Lookahead, integral gain, switch radius.
+    integral : bool, optional
+        ILOS (True) or plain LOS (False).
+    """
 
     def __init__(self, route: RouteTracker, params: LosParams, integral: bool = False) -> None:
         self.route = route
@@ -69,9 +102,35 @@ class LosGuidance:
         self.y_int = 0.0
         self.route.reset()
 
-    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
-        """(heading command, True, route point); with ``current_compensation`` the law's angle is a
-        course made good through ``current`` at the through-water ``speed``."""
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the heading command for one step (LOS knows nothing of obstacles).
+
+        With ``current_compensation`` the law's angle is a course made good through ``current`` at
+        the through-water ``speed``.
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current at the vehicle, east, north, up (m/s); used with ``current_compensation``.
+        speed : float
+            Speed through the water (m/s); used with ``current_compensation``.
+        obstacles : sequence of (float, float, float)
+            Nearby obstacles; unused (LOS knows nothing of obstacles).
+        dt : float
+            Time step of the ILOS integral (s).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            Always True.
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
         rp = self.route.update(x, y)
         p = self.params
         sigma = p.sigma if self.integral else 0.0

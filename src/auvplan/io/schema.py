@@ -159,6 +159,8 @@ def scenario_schema() -> dict:
         "terrain": terrain,
         "obstacles": {"type": "array", "items": _obstacle_schema(), "description": "Static obstacles."},
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
+        "vehicles": {"type": "array", "items": table_schema(sc.VehicleSpec), "minItems": 2,
+                     "description": "Several vehicles flying the route in [formation]."},
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
