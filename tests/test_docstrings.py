@@ -59,12 +59,6 @@ PENDING = frozenset({
     "auvplan.io.schema",
     "auvplan.io.tables",
     "auvplan.io.tides",
-    "auvplan.optim",
-    "auvplan.optim.bee",
-    "auvplan.optim.local",
-    "auvplan.planners",
-    "auvplan.planners.grid",
-    "auvplan.planners.seeding",
     "auvplan.sim",
 })
 
