@@ -41,6 +41,9 @@ CHECKS = frozenset({"GL08", "GL06", "GL07", "SS01", "SS02", "SS03", "PR01", "PR0
 PENDING = frozenset({
     "auvplan",
     "auvplan.bench",
+    "auvplan.guidance.formation",  # #24 formation (new): numpydoc to complete
+    "auvplan.guidance.formation_plan",
+    "auvplan.sim_formation",
     "auvplan.cli",
     "auvplan.io.bathymetry",
     "auvplan.io.coast",
