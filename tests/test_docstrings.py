@@ -62,15 +62,6 @@ PENDING = frozenset({
     "auvplan.io.schema",
     "auvplan.io.tables",
     "auvplan.io.tides",
-    "auvplan.optim",
-    "auvplan.optim.bee",
-    "auvplan.optim.local",
-    "auvplan.planners",
-    "auvplan.planners.flow",
-    "auvplan.planners.flow_body",
-    "auvplan.planners.flow_stream",
-    "auvplan.planners.grid",
-    "auvplan.planners.seeding",
     "auvplan.sim",
 })
 
