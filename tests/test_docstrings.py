@@ -83,7 +83,6 @@ PENDING = frozenset({
     "auvplan.planners.timeopt",
     "auvplan.planners.timeopt_kernels",
     "auvplan.planners.timeplan",
-    "auvplan.sim",
     "auvplan.world",
     "auvplan.world.currents",
     "auvplan.world.land",

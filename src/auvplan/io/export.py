@@ -9,6 +9,7 @@ import json
 import math
 import xml.etree.ElementTree as ET
 import zipfile
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -133,7 +134,7 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
 
 def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
     """The simulate JSON object of DESIGN.md §4."""
-    m = result.metrics
+    m: Mapping[str, object] = result.metrics
     keys = ("arrived", "duration_s", "distance_m", "min_altitude_m", "min_clearance_m", "min_obstacle_distance_m",
             "collisions",
             "cross_track_rms_m", "cross_track_max_m", "escapes", "wall_time_s")
