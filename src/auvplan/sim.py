@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._types import RngLike, Status, as_rng
+from .guidance.formation import Formation
 from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
@@ -27,7 +28,7 @@ from .guidance.predictive import PredictiveAvoidance
 from .guidance.route import PathFollower, RouteTracker
 from .path import resample_polyline
 from .planners import plan as global_plan
-from .planners.base import PlannerSpec, PlanningProblem, PlanResult
+from .planners.base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .vehicles import Vehicle, VehicleParams, VehicleState
 from .world import World
 from .world.obstacles import Shape
@@ -98,6 +99,9 @@ class Mission:
         avoidance and the closed loop.
     guidance : str
         ``"hybrid"``, ``"los"`` or ``"ilos"``.
+    formation : Formation or None
+        Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
+        :mod:`auvplan.sim_formation` flies them.
     """
 
     name: str
@@ -112,6 +116,7 @@ class Mission:
     los: LosParams = field(default_factory=LosParams)
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimSettings = field(default_factory=SimSettings)
+    formation: Formation | None = None
 
 
 class SimMetrics(TypedDict):
@@ -604,7 +609,7 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
-                progress: Callable[[int, float], object] | None = None, guidance: str | None = None,
+                progress: Progress | None = None, guidance: str | None = None,
                 avoidance: str | None = None, flight: Callable[[float, float], object] | None = None) -> RunRecord:
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 

@@ -67,7 +67,7 @@ class HybridParams:
     influence : float
         P_o (m), obstacle influence distance from the obstacle surface.
     k_repulse : float
-        m_r, repulsion gain.
+        m_r, repulsion gain (eq. 8's gain m times P_o^n: the factor is normalised by P_o).
     goal_power : float
         n, exponent of the goal-distance factor.
     lateral_bias : float, optional

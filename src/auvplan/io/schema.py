@@ -190,6 +190,8 @@ def scenario_schema() -> dict[str, Any]:
         "terrain": terrain,
         "obstacles": {"type": "array", "items": _obstacle_schema(), "description": "Static obstacles."},
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
+        "vehicles": {"type": "array", "items": table_schema(sc.VehicleSpec), "minItems": 2,
+                     "description": "Several vehicles flying the route in [formation]."},
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
