@@ -19,6 +19,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from .. import __version__
+from ..guidance.formation import VehicleSpec
 from . import scenario as sc
 from .tables import MAX_MAGNITUDE
 
@@ -190,7 +191,7 @@ def scenario_schema() -> dict[str, Any]:
         "terrain": terrain,
         "obstacles": {"type": "array", "items": _obstacle_schema(), "description": "Static obstacles."},
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
-        "vehicles": {"type": "array", "items": table_schema(sc.VehicleSpec), "minItems": 2,
+        "vehicles": {"type": "array", "items": table_schema(VehicleSpec), "minItems": 2,
                      "description": "Several vehicles flying the route in [formation]."},
     }
     return {
