@@ -45,7 +45,6 @@ PENDING = frozenset({
     "auvplan.sim_formation",
     "auvplan.cli",
     "auvplan.io.export",
-    "auvplan.io.formats",
     "auvplan.io.scenario",
     "auvplan.optim",
     "auvplan.optim.bee",
