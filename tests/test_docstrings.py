@@ -44,7 +44,6 @@ PENDING = frozenset({
     "auvplan.guidance.formation_plan",
     "auvplan.sim_formation",
     "auvplan.cli",
-    "auvplan.io.scenario",
     "auvplan.optim",
     "auvplan.optim.bee",
     "auvplan.optim.local",
