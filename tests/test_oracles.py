@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq
 
 from auvplan._types import Status
@@ -39,9 +40,12 @@ def thin_ridge() -> Terrain:
 
 
 def _dense_min_altitude(t: Terrain, seg: np.ndarray, n: int = 8001) -> np.ndarray:
+    """Dense-sampled minimum altitude, the seabed interpolated independently of ``Terrain``
+    (scipy's bilinear ``RegularGridInterpolator`` on the same nodes; segments inside the grid)."""
     s = np.linspace(0.0, 1.0, n)[None, :, None]
     pts = seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])
-    return t.altitude(pts).min(axis=1)
+    seabed = RegularGridInterpolator((t.y, t.x), t.z, method="linear")(pts[..., [1, 0]])
+    return (pts[..., 2] - seabed).min(axis=1)
 
 
 def test_descending_segment_over_a_thin_ridge_is_caught_below_the_threshold():
@@ -88,6 +92,72 @@ def test_max_slope_of_a_twisted_surface():
     gx, gy = np.meshgrid(x, x)
     t = Terrain(x, x, gx * gy / 100.0)
     assert t.max_slope == pytest.approx(math.sqrt(2.0), rel=1e-12)
+
+
+def _offset_terrain() -> Terrain:
+    """Random bilinear seabed on a grid whose origin is far from (0, 0): 20 m x 25 m cells,
+    x in [1000, 1400], y in [-700, -400]."""
+    rng = np.random.default_rng(23)
+    x, y = np.arange(1000.0, 1401.0, 20.0), np.arange(-700.0, -399.0, 25.0)
+    return Terrain(x, y, -100.0 + rng.normal(0.0, 15.0, (y.size, x.size)), name="offset")
+
+
+def _scipy_altitude(t: Terrain, pts: np.ndarray) -> np.ndarray:
+    """Altitude above the bilinear seabed, independently: scipy's interpolator on the nodes, the
+    surface held at its edge values beyond the extent (clamped coordinates)."""
+    q = np.stack([np.clip(pts[..., 1], t.y[0], t.y[-1]), np.clip(pts[..., 0], t.x[0], t.x[-1])], axis=-1)
+    return pts[..., 2] - RegularGridInterpolator((t.y, t.x), t.z, method="linear")(q)
+
+
+def test_exact_segment_minimum_on_an_offset_grid_and_beyond_its_extent():
+    """Segments over a grid far from the origin, some leaving the extent: the exact minimum equals
+    the dense-sampled one (scipy) to within the sampling's reach (slope x spacing); with a threshold
+    it is a lower bound everywhere and exact below the threshold; passing the true end altitudes
+    changes nothing."""
+    t = _offset_terrain()
+    rng = np.random.default_rng(7)
+    n = 60
+    a = np.c_[rng.uniform(950, 1450, n), rng.uniform(-750, -350, n), rng.uniform(-110, -40, n)]
+    b = a + np.c_[rng.uniform(-150, 150, n), rng.uniform(-150, 150, n), rng.uniform(-30, 30, n)]
+    seg = np.stack([a, b], axis=1)
+    s = np.linspace(0.0, 1.0, 6001)[None, :, None]
+    dense = _scipy_altitude(t, seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])).min(axis=1)
+    tol = (t.max_slope + 1.0) * np.linalg.norm(b - a, axis=1) / 6000
+    exact = t.segment_min_altitude(seg)
+    assert np.all(exact <= dense + 1e-9) and np.all(exact >= dense - tol)
+    ends = (_scipy_altitude(t, a), _scipy_altitude(t, b))
+    np.testing.assert_allclose(t.segment_min_altitude(seg, end_altitudes=ends), exact, atol=1e-9)
+    threshold = float(np.median(dense))
+    bounded = t.segment_min_altitude(seg, threshold=threshold, end_altitudes=ends)
+    assert np.all(bounded <= dense + 1e-9)
+    below = dense < threshold - 1.0
+    assert below.sum() >= 20
+    np.testing.assert_allclose(bounded[below], exact[below], atol=1e-9)
+    np.testing.assert_array_equal(t.segments_below(seg, threshold)[below], True)
+    np.testing.assert_allclose(t.altitude(a), ends[0], atol=1e-9)
+
+
+def test_a_segment_exactly_at_the_altitude_limit_is_not_below_it():
+    """Over the flat part of the ridge terrain (seabed -100 m) a level segment at -80 m is exactly
+    20 m up: not below a 20 m limit (the World calls it free: altitude >= min_altitude), but below
+    a limit a hair higher."""
+    t = thin_ridge()
+    seg = np.array([[[150.0, 20.0, -80.0], [290.0, 80.0, -80.0]]])
+    assert t.segment_min_altitude(seg, threshold=20.0)[0] == 20.0
+    assert not t.segments_below(seg, altitude=20.0)[0]
+    assert t.segments_below(seg, altitude=20.0 + 1e-9)[0]
+
+
+def test_elevation_of_a_point_off_the_grid_or_undefined():
+    """Beyond the extent the surface is held at its edge (the corner node's value off a corner);
+    a NaN coordinate gives NaN, not a value of some cell."""
+    t = _offset_terrain()
+    assert t.elevation_at(900.0, -800.0) == pytest.approx(t.z[0, 0], abs=1e-12)
+    assert t.elevation_at(1500.0, -300.0) == pytest.approx(t.z[-1, -1], abs=1e-12)
+    assert t.elevation_at(1500.0, t.y[3]) == pytest.approx(t.z[3, -1], abs=1e-12)
+    assert t.elevation_at(t.x[0] + 1e-9, t.y[0] + 1e-9) == pytest.approx(t.z[0, 0], abs=1e-6)
+    assert t.elevation_at(t.x[-1], t.y[-1]) == pytest.approx(t.z[-1, -1], abs=1e-12)
+    assert math.isnan(t.elevation_at(math.nan, -500.0)) and math.isnan(t.elevation_at(1200.0, math.nan))
 
 
 # ---------------------------------------------------------------------- grid: edges and their direction
@@ -358,3 +428,53 @@ def test_optional_field_of_the_wrong_type_is_a_scenario_error():
     with pytest.raises(ScenarioError, match="x"):
         build_dataclass(Spec, {"x": "deep"}, "s.toml: [t]")
     assert build_dataclass(Spec, {"x": 2}, "s.toml: [t]").x == 2.0
+
+
+# ---------------------------------------------------------------------- the simulator's other events
+def _open_water(current=(0.0, 0.0, 0.0)) -> World:
+    return World(Bounds(-5000, 5000, -500, 500, -100, 0), currents=UniformCurrent(current))
+
+
+def test_deadlock_is_declared_one_step_after_the_deadlock_time():
+    """A 2 m/s current head on against a 1.5 m/s vehicle: the route progress never gains 1 m, so
+    without avoidance the run ends in DEADLOCK at the first step after ``deadlock_time`` (60 s):
+    t = 60.1 s with dt = 0.1 s; the vehicle has been pushed back, never forward."""
+    from auvplan.sim import SimSettings
+
+    m = Mission("dl", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
+                sim=SimSettings(deadlock_time=60.0))
+    r = simulate(_open_water((-2.0, 0.0, 0.0)), m, guidance="hybrid", rng=0, avoidance="none")
+    assert r.status is Status.DEADLOCK and r.events[-1][1] == "deadlock" and len(r.events) == 1
+    assert r.t[-1] == pytest.approx(60.1, abs=1e-9)
+    assert r.position[-1, 0] < 0.0 and r.metrics["collisions"] == 0
+
+
+def test_arrival_at_the_radius_and_timeout_at_max_time():
+    """A 300 m straight leg at 1.5 m/s in still open water: arrival is declared at the first step
+    within 10 m of the goal (x ≥ 290 m, not before: ~193 s after the start); with
+    ``max_time = 50`` s the same run ends in TIMEOUT after 500 steps, 75 m out."""
+    from auvplan.sim import SimSettings
+
+    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
+    m = Mission("arrive", route[0], route[-1], route=route)
+    r = simulate(_open_water(), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.EXACT and r.arrived and r.events[-1][1] == "arrival" and len(r.events) == 1
+    d = np.linalg.norm(r.position - np.array(route[-1]), axis=1)
+    assert d[-1] <= 10.0 < d[-2]  # stopped at the first recorded step inside the radius
+    assert 290.0 / 1.5 < r.t[-1] < 290.0 / 1.5 + 10.0
+    m = Mission("late", route[0], route[-1], route=route, sim=SimSettings(max_time=50.0))
+    r = simulate(_open_water(), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.TIMEOUT and not r.arrived and r.events[-1][1] == "timeout"
+    assert r.t[-1] == pytest.approx(50.0) and 60.0 < r.position[-1, 0] < 76.0
+
+
+def test_collision_names_the_obstacle_that_was_hit():
+    """Two spheres: the first well off the route, the second on it; LOS flies straight into the
+    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step)."""
+    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
+    w = World(Bounds(-500, 500, -500, 500, -100, 0),
+              obstacles=(Sphere((100.0, 200.0, -20.0), 10.0), Sphere((150.0, 0.0, -20.0), 10.0)))
+    r = simulate(w, Mission("hit", route[0], route[-1], route=route), guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.COLLISION and "obstacle 1" in r.events[-1][2]
+    assert r.position[-1, 0] == pytest.approx(140.0, abs=1.0)
+    assert -1.0 < r.obstacle_distance[-1, 1] < 0.0 and np.all(r.obstacle_distance[:-1] >= 0.0)
