@@ -17,6 +17,7 @@ from scipy.optimize import brentq
 
 from auvplan._types import Status
 from auvplan.cost import CostModel, evaluate_paths, segment_energy
+from auvplan.errors import DataError
 from auvplan.guidance.hybrid import HybridParams, hybrid_force
 from auvplan.guidance.local import AvoidanceParams, apf_force
 from auvplan.guidance.route import RouteTracker
@@ -135,6 +136,10 @@ def test_exact_segment_minimum_on_an_offset_grid_and_beyond_its_extent():
     np.testing.assert_allclose(bounded[below], exact[below], atol=1e-9)
     np.testing.assert_array_equal(t.segments_below(seg, threshold)[below], True)
     np.testing.assert_allclose(t.altitude(a), ends[0], atol=1e-9)
+    # the same segments as a (3, 20) batch, end altitudes and threshold included
+    batch = t.segment_min_altitude(seg.reshape(3, 20, 2, 3), threshold, tuple(e.reshape(3, 20) for e in ends))
+    assert batch.shape == (3, 20)
+    np.testing.assert_allclose(batch.reshape(-1), bounded, atol=1e-9)
 
 
 def test_a_segment_exactly_at_the_altitude_limit_is_not_below_it():
@@ -146,6 +151,25 @@ def test_a_segment_exactly_at_the_altitude_limit_is_not_below_it():
     assert t.segment_min_altitude(seg, threshold=20.0)[0] == 20.0
     assert not t.segments_below(seg, altitude=20.0)[0]
     assert t.segments_below(seg, altitude=20.0 + 1e-9)[0]
+
+
+def test_plane_on_an_offset_grid_has_its_exact_slope_and_a_read_only_surface():
+    """z = -80 + 0.01 x + 0.05 y on a grid far from the origin (dx = 20 m, dy = 25 m): the
+    bilinear surface is the plane, its steepest slope hypot(0.01, 0.05) exactly; the smallest grid
+    (2 x 2 nodes) is a valid terrain; the surface arrays cannot be written (the kernels and the
+    cached slope rely on it); an axis that does not advance is rejected."""
+    x, y = np.arange(1000.0, 1401.0, 20.0), np.arange(-700.0, -399.0, 25.0)
+    gx, gy = np.meshgrid(x, y)
+    t = Terrain(x, y, -80.0 + 0.01 * gx + 0.05 * gy)
+    assert t.max_slope == pytest.approx(math.hypot(0.01, 0.05), rel=1e-9)
+    assert t.elevation_at(1234.5, -567.8) == pytest.approx(-80.0 + 12.345 - 28.39, abs=1e-9)
+    small = Terrain(x[:2], y[:2], -80.0 + 0.01 * gx[:2, :2] + 0.05 * gy[:2, :2])
+    assert small.max_slope == pytest.approx(math.hypot(0.01, 0.05), rel=1e-9)
+    assert small.elevation_at(1010.0, -690.0) == pytest.approx(-80.0 + 10.1 - 34.5, abs=1e-9)
+    for array in (t.x, t.y, t.z, t.kernel_data[0]):
+        assert not array.flags.writeable
+    with pytest.raises(DataError, match="ascending"):
+        Terrain(np.zeros(3), y[:2], np.zeros((2, 3)))
 
 
 def test_elevation_of_a_point_off_the_grid_or_undefined():

@@ -52,6 +52,7 @@ import copy  # noqa: E402
 import importlib  # noqa: E402
 import inspect  # noqa: E402
 import json  # noqa: E402
+import random  # noqa: E402
 import resource  # noqa: E402
 import signal  # noqa: E402
 import subprocess  # noqa: E402
@@ -376,6 +377,8 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     # a mutant is hung when it has used this much CPU (not wall time: the machine may be loaded)
     timeout = args.timeout or max(10.0, 3.0 * baseline_cpu)
     only = {int(k) for k in args.only.split(",")} if args.only else None
+    if args.sample and only is None and args.sample < len(mutants):  # a seeded uniform sample of the mutants
+        only = set(random.Random(args.seed).sample([m.id for m, _i, _j in mutants], args.sample))
     fns = {(mod, n): _function_node(trees[mod], n) for mod, n in target.functions}
     todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
     running: dict[int, tuple[Mutant, float]] = {}
@@ -411,7 +414,8 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     return {"module": name, "functions": [f"{mod}.{n}" for mod, n in target.functions],
             "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
             "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout,
-            "jobs": args.jobs, "jit": os.environ.get("NUMBA_DISABLE_JIT") != "1", "load": os.getloadavg(),
+            "jobs": args.jobs, "sample": args.sample, "seed": args.seed,
+            "jit": os.environ.get("NUMBA_DISABLE_JIT") != "1", "load": os.getloadavg(),
             "mutants": [asdict(m) for m, _i, _j in mutants]}
 
 
@@ -424,6 +428,13 @@ def summary(record: dict) -> dict:
     score = (killed + timeout) / len(tested) if tested else float("nan")
     return {"generated": len(ms), "tested": len(tested), "killed": killed, "timeout": timeout,
             "survived": len(survived), "score": score, "survivors": survived}
+
+
+def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """Wilson score interval of a proportion k / n."""
+    p = k / n
+    centre, half = p + z * z / (2 * n), z * (p * (1 - p) / n + z * z / (4 * n * n)) ** 0.5
+    return (centre - half) / (1 + z * z / n), (centre + half) / (1 + z * z / n)
 
 
 def _key(m: dict) -> str:
@@ -445,8 +456,12 @@ def report(out: Path, names: list[str]) -> str:
         s = summary(record)
         for k in total:
             total[k] += s[k]
+        score = f"{100 * s['score']:.1f} %"
+        if s["tested"] < s["generated"]:  # a sample: Wilson 95 % interval of the module's score
+            lo, hi = _wilson(s["killed"] + s["timeout"], s["tested"])
+            score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
         rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
-                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {100 * s['score']:.1f} % |")
+                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {score} |")
         for m in s["survivors"]:
             reason = REASONS.get(_key(m), "**no reason recorded yet**")
             lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{m['before']}` → `{m['after']}` | {reason} |")
@@ -466,6 +481,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=0.0,
                     help="per-mutant CPU seconds (default 3x the baseline's, >= 10)")
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once")
+    ap.add_argument("--sample", type=int, default=0, help="run a seeded uniform sample of this many mutants")
+    ap.add_argument("--seed", type=int, default=23, help="seed of --sample")
     ap.add_argument("--out", default=str(ROOT / "build" / "mutants"))
     ap.add_argument("--verbose", action="store_true", help="show pytest's output")
     args = ap.parse_args(argv)

@@ -83,7 +83,7 @@ MODULES: dict[str, Target] = {
              "FlowField.push_out", "FlowField._sphere_parts", "FlowField._free", "FlowField.velocity")
         + _fns(STREAM, "_segment_clear", "_exit_body", "_deflect", "integrate_streamlines"),
         ("tests/test_oracles.py", "tests/test_flow.py", "-k",
-         "sphere or exact_field or inside or arrive or flat_seabed or plan_flow_status"),
+         "sphere_field or exact_field or tip_and_axis or on_axis_sphere or inside_the_inflated or plan_flow_status"),
     ),
 }
 
