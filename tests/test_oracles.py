@@ -273,6 +273,34 @@ def test_energy_and_duration_with_a_vertical_current(c):
         assert seconds == pytest.approx(100.0 / (1.5 - c[2]))
 
 
+def test_path_cost_counts_each_violating_segment_by_hand():
+    """Four 3-point paths in a box far from the origin (x in [1000, 2000]), min depth 5 m, a 10 m
+    sphere with a 5 m margin: a clean path; one whose last point is 3 m deep (1 violating segment,
+    2 m deep); one starting 10 m west of the box (1 segment, 10 m); one whose first leg passes
+    2 m from the sphere with both ends ~90 m away (1 segment, charged the 1 m minimum).  A repeated
+    point (zero-length leg) costs nothing, with either energy model; a 0.5 m leg along a 0.5 m/s
+    current takes 0.5 / (1.5 + 0.5) s."""
+    world = World(Bounds(1000, 2000, -500, 500, -300, 0), obstacles=(Sphere((1500.0, 0.0, -100.0), 10.0),),
+                  margins=Margins(min_depth=5.0, max_depth=250.0, obstacle=5.0))
+    paths = np.array([
+        [[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -50.0]],
+        [[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -3.0]],
+        [[990.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -50.0]],
+        [[1410.0, 12.0, -100.0], [1590.0, 12.0, -100.0], [1590.0, 200.0, -100.0]],
+    ])
+    terms = evaluate_paths(world, paths, CostModel())
+    np.testing.assert_array_equal(terms.violations, [0, 1, 1, 1])
+    np.testing.assert_allclose(terms.terrain, [0.0, 1e4 + 100.0 * 2.0, 1e4 + 100.0 * 10.0, 1e4 + 100.0 * 1.0])
+    for energy in ("physical", "document"):
+        still = np.array([[[1100.0, 0.0, -50.0], [1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0]]])
+        t = evaluate_paths(world, still, CostModel(energy=energy))
+        assert t.length[0] == 100.0 and t.duration_s[0] == pytest.approx(100.0 / 1.5)
+        assert np.isfinite(t.energy[0]) and t.violations[0] == 0
+    flowing = World(Bounds(1000, 2000, -500, 500, -300, 0), currents=UniformCurrent((0.5, 0.0, 0.0)))
+    t = evaluate_paths(flowing, np.array([[[1100.0, 0.0, -50.0], [1100.5, 0.0, -50.0]]]), CostModel())
+    assert t.duration_s[0] == pytest.approx(0.25, rel=1e-12)
+
+
 # ---------------------------------------------------------------------- the simulator's seabed event
 def test_a_dive_into_the_seabed_ends_in_collision():
     """The route goes down to 150 m over a 100 m deep flat seabed: the run must stop at the
@@ -502,3 +530,25 @@ def test_collision_names_the_obstacle_that_was_hit():
     assert r.status is Status.COLLISION and "obstacle 1" in r.events[-1][2]
     assert r.position[-1, 0] == pytest.approx(140.0, abs=1.0)
     assert -1.0 < r.obstacle_distance[-1, 1] < 0.0 and np.all(r.obstacle_distance[:-1] >= 0.0)
+
+
+# ---------------------------------------------------------------------- local avoidance: the trap detector
+def test_minimum_detector_counts_only_the_points_it_has_seen():
+    """Document 004's local-minimum test by hand: r₁ = 2 m, ε₂ = 3 points, one point a second.
+    Points are remembered once per second only; the vehicle is trapped when 3 remembered points
+    lie within 2 m of the current one, and no longer once it has moved away; the ring buffer
+    (50 entries) never counts more points than it holds."""
+    from auvplan.guidance.local import MinimumDetector
+
+    det = MinimumDetector(radius=2.0, count=3, every=1.0)
+    assert not det.update(np.zeros(3), 0.0) and det.n == 1
+    assert not det.update(np.zeros(3), 0.5) and det.n == 1  # too soon: not remembered
+    assert not det.update(np.array([1.0, 0.0, 0.0]), 1.0) and det.n == 2
+    assert det.update(np.array([0.0, 1.5, 0.0]), 2.0) and det.n == 3  # 3 points within 2 m of (0, 1.5, 0)
+    assert det.update(np.array([0.0, 1.5, 0.0]), 2.5)  # between records the last answer holds
+    assert not det.update(np.array([10.0, 0.0, 0.0]), 3.0) and det.n == 4
+    for k in range(60):
+        det.update(np.array([100.0 + 10.0 * k, 0.0, 0.0]), 4.0 + k)
+    assert det.n == 50
+    det.reset()
+    assert det.n == 0 and not det.update(np.zeros(3), 100.0)

@@ -437,8 +437,31 @@ def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
     return (centre - half) / (1 + z * z / n), (centre + half) / (1 + z * z / n)
 
 
+def changed_lines(name: str) -> dict[int, tuple[str, str]]:
+    """Mutant id -> (original, mutated) line of the unparsed function (stable across edits elsewhere)."""
+    import difflib
+    import importlib.util
+
+    target = MODULES[name]
+    trees = {}
+    for mod, _f in target.functions:
+        spec = importlib.util.find_spec(mod)
+        assert spec is not None and spec.origin is not None
+        trees[mod] = ast.parse(Path(spec.origin).read_text())
+    out = {}
+    for m, i, j in generate(trees, target.functions):
+        fn = _function_node(trees[m.module], m.function)
+        a, b = ast.unparse(fn).splitlines(), ast.unparse(_mutated(fn, i, j)[0]).splitlines()
+        diff = [ln for ln in difflib.unified_diff(a, b, lineterm="", n=0)
+                if ln[:1] in "+-" and ln[:3] not in ("+++", "---")]
+        old = next((ln[1:].strip() for ln in diff if ln.startswith("-")), "")
+        new = next((ln[1:].strip() for ln in diff if ln.startswith("+")), "")
+        out[m.id] = (old, new)
+    return out
+
+
 def _key(m: dict) -> str:
-    return f"{m['function']} | {m['before']} -> {m['after']}"
+    return f"{m['function']} | {m['change'][1]}"
 
 
 def report(out: Path, names: list[str]) -> str:
@@ -453,6 +476,9 @@ def report(out: Path, names: list[str]) -> str:
             rows.append(f"| {name} | not run | | | | | | | |")
             continue
         record = json.loads(path.read_text())
+        lines_of = changed_lines(name)
+        for m in record["mutants"]:
+            m["change"] = lines_of.get(m["id"], ("", ""))
         s = summary(record)
         for k in total:
             total[k] += s[k]
@@ -464,11 +490,12 @@ def report(out: Path, names: list[str]) -> str:
                     f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {score} |")
         for m in s["survivors"]:
             reason = REASONS.get(_key(m), "**no reason recorded yet**")
-            lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{m['before']}` → `{m['after']}` | {reason} |")
+            old, new = m["change"]
+            lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{old}` → `{new}` | {reason} |")
     score = (total["killed"] + total["timeout"]) / total["tested"] if total["tested"] else float("nan")
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
                 f"{total['timeout']} | {total['survived']} | {100 * score:.1f} % |")
-    head = ["| module | function:line | mutant | why it survives |", "| --- | --- | --- | --- |"]
+    head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
     return "\n".join(rows) + "\n\nSurvivors:\n\n" + "\n".join(head + lines) + "\n"
 
 

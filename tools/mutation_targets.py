@@ -89,5 +89,50 @@ MODULES: dict[str, Target] = {
 
 # Why each surviving mutant survives, keyed ``"function | before -> after"`` (the text ``mutate.py``
 # prints): an equivalent mutant (no input can tell it apart) or one the tests cannot observe.
+_NEG = "equivalent: numpy infers the length of any negative dimension, -2 as -1"
+_KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, which the kernel would compute "
+          "itself (only World.segments_free passes them on)")
+_CELL = "equivalent: at the boundary both branches give the same cell index"
+_EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
+         "answers the same")
 REASONS: dict[str, str] = {
+    # terrain
+    "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
+        "equivalent: steps that pass the uniform-spacing test all have one sign (unless all are below the "
+        "1e-9 m tolerance), so any = all",
+    "Terrain.altitude_lower_bound | return np.minimum(bound, np.maximum(ga, gb))":
+        "equivalent: with true end altitudes and the true slope, |g_a - g_b| <= |Δz| + G L_h, so the bound "
+        "(g_a + g_b - |Δz| - G L_h)/2 is already <= min(g_a, g_b): the outer minimum never decides",
+    "Terrain.min_altitude_between | a = np.ascontiguousarray(a.reshape(-2, 3))": _NEG,
+    "Terrain.min_altitude_between | b = np.ascontiguousarray(b.reshape(-2, 3))": _NEG,
+    "Terrain.min_altitude_between | ga, gb = (np.ascontiguousarray(np.broadcast_to(np.asarray(g, dtype=float), "
+    "lead).reshape(-2)) for g in end_altitudes)": _NEG,
+    "Terrain.min_altitude_between | known = False": _KNOWN,
+    "_cell | return 0 if i <= 0 else cells - 1 if i > cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 1 else cells - 1 if i > cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 0 else cells - 1 if i >= cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 0 else cells - 1 if i > cells - 2 else int(i)": _CELL,
+    "_piece_min | u0, du = (0.0 if fx <= 0.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | v0, dv = (0.0 if fy <= 0.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | v0, dv = (0.0 if fy < 1.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | if fy < 0.0 or fy >= nyc:":
+        "equivalent: a piece whose midpoint lies exactly on the last grid line runs along it (dv = 0) "
+        "with v = 1 either way",
+    # cost
+    "_obstacle_slack | ends = np.stack([a, b], axis=2)":
+        "equivalent: the segment arrays are always (P, S - 1, 3), where axis 2 is axis -2",
+    "energy_kernel | t = ds / (speed if blocked or vg <= 0.0 else vg) if ds >= 0.0 else 0.0":
+        "equivalent: a zero-length segment takes 0 / (a positive speed) = 0 s either way",
+    "_path_terms | if slack <= 0.0:": "equivalent: at slack = 0 the violation depth grows by 0",
+    # local
+    "key_waypoints | if p.shape[0] <= 2:":
+        "equivalent: with two points the loop keeps both as well (first and last are always kept)",
+    "key_waypoints | if p.shape[0] < 3:":
+        "equivalent: with two points the loop keeps both as well (first and last are always kept)",
+    "key_waypoints | if p.shape[1] < 2:":
+        "equivalent: p.shape[1] is 3; a single point then goes through the loop, which returns it alone",
+    "apf_force | c = np.asarray(centers, dtype=float).reshape(-2, 3)": _NEG,
+    "_crossings | if kb >= ka:":
+        "equivalent: with kb = ka the first crossing comes after the last one, i.e. none, as in the "
+        "no-movement branch",
 }
