@@ -552,3 +552,87 @@ def test_minimum_detector_counts_only_the_points_it_has_seen():
     assert det.n == 50
     det.reset()
     assert det.n == 0 and not det.update(np.zeros(3), 100.0)
+
+
+# ---------------------------------------------------------------------- local avoidance: document 004's logic by hand
+def _local(world: World, keys, base: str = "los", **params):
+    from auvplan.guidance.local import LocalAvoidance
+    from auvplan.sim import make_guidance
+
+    route = np.asarray(keys, dtype=float)
+    m = Mission("local", tuple(route[0]), tuple(route[-1]), route=tuple(map(tuple, route)))
+    return LocalAvoidance(make_guidance(base, route, m), route, world, AvoidanceParams(name="apf", **params), 1.5,
+                          rng=0)
+
+
+_KEYS = [(0.0, 0.0, -50.0), (100.0, 0.0, -50.0), (200.0, 0.0, -50.0), (300.0, 0.0, -50.0)]
+
+
+def test_apf_goal_skips_key_waypoints_behind_reached_or_occupied():
+    """Keys every 100 m along x (arrive radius 10 m): from x = 150 the next goal is key 2 (key 1 is
+    behind); from x = 195 key 3 (key 2 reached); the last key is never skipped, even when reached;
+    from x = -50 key 1 stays; a parked moving obstacle on key 2 makes the goal skip it."""
+    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+
+    world = _open_water()
+    la = _local(world, _KEYS)
+    for x, want in ((150.0, 2), (195.0, 3), (295.0, 3), (-50.0, 1), (95.0, 2)):
+        la.goal_index = 1
+        la._advance_goal(np.array([x, 0.0, -50.0]), 0.0)
+        assert la.goal_index == want, x
+    parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((200.0, 0.0, -50.0), (0.0, 0.0, 0.0)))
+    la = _local(World(world.bounds, moving=(parked,)), _KEYS)
+    la._advance_goal(np.array([50.0, 0.0, -50.0]), 0.0)
+    assert la.goal_index == 1 and la.skipped == 0
+    la._advance_goal(np.array([105.0, 0.0, -50.0]), 0.0)
+    assert la.goal_index == 3 and la.skipped == 1
+
+
+def test_apf_command_heading_pitch_and_the_seabed_floor():
+    """In APF mode the command is the APF force's course atan2(Fx, Fy) and pitch
+    atan2(Fz, |F_h|); within 2 x arrive (20 m) of the altitude margin a dive is floored at
+    10° x (1 - alt / 20 m) nose-up: at 5 m above the margin, 7.5°."""
+    world = flat_world(depth=100.0, size=1000.0, min_altitude=5.0)
+    keys = [(400.0, 400.0, -40.0), (600.0, 700.0, -94.0), (900.0, 900.0, -60.0)]
+    la = _local(world, keys)
+    la.mode = "apf"
+    p = np.array([500.0, 520.0, -40.0])
+    f = apf_force(p, np.array(keys[1]), np.empty((0, 3)), np.empty(0), la.params)
+    course, pitch, _ = la._apf_command(p, 0.0, [], 0.0, None)
+    assert course == pytest.approx(math.atan2(f[0], f[1]), abs=1e-12)
+    assert pitch == pytest.approx(math.atan2(f[2], math.hypot(f[0], f[1])), abs=1e-12) and pitch < 0.0
+    low = np.array([500.0, 520.0, -90.0])  # 10 m above the seabed, 5 m above the margin
+    course, pitch, _ = la._apf_command(low, 1.0, [], 0.0, None)
+    assert pitch == pytest.approx(math.radians(10.0) * (1.0 - 5.0 / 20.0), abs=1e-12)
+
+
+def test_only_moving_obstacles_within_the_radius_switch_to_apf():
+    """Document 004 avoids moving obstacles: a static one nearby leaves the base follower in
+    charge (pitch None), a moving one within r = 30 m switches to the APF (a pitch command)."""
+    la = _local(_open_water(), _KEYS, base="hybrid")
+    static = (60.0, 5.0, 8.0, False, (60.0, 5.0, -50.0))
+    psi, pitch, _ = la.command(np.array([50.0, 0.0, -50.0]), 0.0, np.zeros(3), [static], 0.1)
+    assert pitch is None and la.mode == "route"
+    moving = (60.0, 5.0, 8.0, True, (60.0, 5.0, -50.0), 0, np.zeros(3), 5.0)
+    psi, pitch, _ = la.command(np.array([50.0, 0.0, -50.0]), 0.1, np.zeros(3), [moving], 0.1)
+    assert pitch is not None and la.mode == "apf"
+
+
+def test_escape_sub_goal_with_the_generators_draws_and_its_time_limit():
+    """A stall runs document 004's escape: the sub-goal is the first free candidate of the
+    draws angle ~ U(0, 2π), radius r √U(¼, 1), dz ~ U(-0.2, 0.2) r (copied from a generator with the
+    same seed; r = 60 m, open water: the first candidate); the mode switches to APF; after
+    ``escape_time`` (300 s) of one stall the escapes give up (a deadlock may be declared)."""
+    from auvplan._types import as_rng
+
+    la = _local(_open_water(), _KEYS)
+    rng = as_rng(0)
+    ang, rad = rng.uniform(0, 2 * np.pi, 64), 60.0 * np.sqrt(rng.uniform(0.25, 1.0, 64))
+    dz = rng.uniform(-0.2, 0.2, 64) * 60.0
+    p = np.array([50.0, 0.0, -50.0])
+    assert la.stalled(p, 10.0, since=0.0)
+    want = p + np.array([rad[0] * math.cos(ang[0]), rad[0] * math.sin(ang[0]), dz[0]])
+    np.testing.assert_allclose(la.subgoal, want, rtol=0, atol=1e-9)
+    assert la.escapes == 1 and la.mode == "apf"
+    assert la.stalled(p, 309.9, since=0.0)
+    assert not la.stalled(p, 310.0, since=0.0)
