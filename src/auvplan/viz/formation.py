@@ -11,7 +11,6 @@ time; the fleet's and each vehicle's metrics, and the scenario.
 from __future__ import annotations
 
 import html
-from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
@@ -22,7 +21,7 @@ from plotly.subplots import make_subplots
 from ..sim import RunRecord, decimate
 from ..sim_formation import FormationRecord
 from ..world import World
-from .chart import figure_plan_view
+from .chart import ToLonLat, figure_plan_view
 from .report import _CSS, _clock, _table
 from .scene3d import figure_3d, thin
 
@@ -81,7 +80,7 @@ def figure_formation_profiles(record: FormationRecord) -> go.Figure:
 
 
 def build_formation_report(world: World, record: FormationRecord, runs: list[RunRecord], scenario_text: str,
-                           to_lonlat: Callable | None = None) -> str:
+                           to_lonlat: ToLonLat | None = None) -> str:
     """The whole formation report as one offline HTML page.
 
     Parameters
@@ -114,8 +113,9 @@ def build_formation_report(world: World, record: FormationRecord, runs: list[Run
     shapes = "" if f is None else "<p>" + html.escape(
         " → ".join(f"{s} from {b:.0f} m" for b, s in f.breaks) + f"; {f.message}") + "</p>"
     title = html.escape(f"auvplan — {record.scenario} (formation), seed {record.seed}")
-    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
+    page: str = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
             f"</head><body><h1>{title}</h1><p>status <b>{html.escape(record.status.value)}</b></p>{shapes}"
             + parts[0] + "<h2>Plan view</h2>" + parts[1] + "<h2>Formation</h2>" + parts[2]
             + "<h2>Metrics</h2>" + _table(fleet) + per
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
+    return page
