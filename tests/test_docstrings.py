@@ -42,15 +42,6 @@ PENDING = frozenset({
     "auvplan.guidance.formation",  # #24 formation (new): numpydoc to complete
     "auvplan.guidance.formation_plan",
     "auvplan.sim_formation",
-    "auvplan.optim",
-    "auvplan.optim.bee",
-    "auvplan.optim.local",
-    "auvplan.planners",
-    "auvplan.planners.flow",
-    "auvplan.planners.flow_body",
-    "auvplan.planners.flow_stream",
-    "auvplan.planners.grid",
-    "auvplan.planners.seeding",
 })
 
 

@@ -449,7 +449,55 @@ def _describe_run(name: str, record: RunRecord) -> str:
     return "\n".join(lines)
 
 
+def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
+    """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
+    from .io.formation_export import FORMATION_NAMES, formation_record, vehicle_records, write_formation
+    from .sim_formation import run_formation
+
+    assert mission.formation is not None  # _cmd_run calls this only for a scenario with [[vehicles]]
+    if args.guidance or args.avoidance:
+        raise AuvplanError(f"{sc.source}: --guidance/--avoidance do not apply to a formation (each vehicle flies "
+                           "the formation field of [formation])")
+    if args.out:
+        names = [*FORMATION_NAMES, *(f"{v.name}/{f}" for v in mission.formation.vehicles for f in RESULT_NAMES)]
+        prepare_out(args.out, names, force=args.force)
+    if args.planner:
+        mission = replace(mission, planner=replace(mission.planner, name=args.planner))
+    seed = sc.seed if args.seed is None else args.seed
+    bar = _Progress(mission.planner, sc.name, args.quiet or args.json)
+    try:
+        record = run_formation(world, mission, seed, bar, flight=bar.flight)
+    finally:
+        bar.close()
+    if args.out:
+        from .viz.formation import build_formation_report
+
+        bar.stage(f"writing results, report and exports into {args.out}")
+        out, text = Path(args.out), _scenario_text(sc)
+        write_formation(out, world, mission, record, text, args.full)
+        _save_context(out, sc, world)
+        frame = LocalFrame(*world.origin) if world.origin is not None else None
+        page = build_formation_report(world, record, [r for _, r in vehicle_records(world, mission, record)], text,
+                                      frame.inverse if frame else None)
+        atomic_write(out / "report.html", page)
+    rec = formation_record(record)
+    m = rec["metrics"] or {}
+    human = f"{sc.name}: {record.status.value}" + (
+        f" — {m['arrivals']}/{m['vehicles']} vehicles arrived, {m['collisions']} collisions, least vehicle "
+        f"distance {m['min_vehicle_distance_m']:.1f} m, formation error RMS {m['formation_error_rms_m']:.2f} m "
+        f"(max {m['formation_error_max_m']:.2f} m); shapes: "
+        + " → ".join(f"{s} from {b:.0f} m" for b, s in record.formation.breaks) if m and record.formation else "")
+    _emit(rec, args.json, human)
+    if args.out and not args.json:
+        print(f"results in {args.out}/ (one folder per vehicle)")
+    return 0 if record.status.ok else 1
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
+    sc = scenario_io.load(args.scenario)
+    if sc.formation is not None:
+        world, mission = scenario_io.build(sc)
+        return _run_formation(args, sc, world, mission)
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
                       force=args.force, quiet=args.quiet or args.json, planner=args.planner)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
