@@ -42,8 +42,6 @@ PENDING = frozenset({
     "auvplan.guidance.formation",  # #24 formation (new): numpydoc to complete
     "auvplan.guidance.formation_plan",
     "auvplan.sim_formation",
-    "auvplan.io.formation_export",
-    "auvplan.viz.formation",
 })
 
 
