@@ -12,6 +12,7 @@ the route and the reshaped stretches; ``DIR/slots.csv`` every slot's track.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
@@ -28,21 +29,21 @@ FORMATION_NAMES = ("formation.json", "slots.csv", "scenario.toml", "report.html"
 
 
 def vehicle_records(world: World, mission: Mission, record: FormationRecord) -> list[tuple[str, RunRecord]]:
-    """One single-vehicle :class:`RunRecord` per vehicle: its mission (checked waypoints) and its flight.
+    """Split a fleet's run into one single-vehicle :class:`RunRecord` per vehicle.
 
     Parameters
     ----------
     world : World
-        Seabed and obstacles (a follower's mission is built against them).
+        The mission's world.
     mission : Mission
-        The mission with its formation.
+        The formation mission.
     record : FormationRecord
-        The formation run.
+        The plans and the fleet's run.
 
     Returns
     -------
     list of (str, RunRecord)
-        ``(vehicle name, record)``, leader first; empty without a formation plan.
+        Vehicle name and its record: its mission (checked waypoints, m) and its flight; leader first.
     """
     if record.formation is None or mission.formation is None:
         return []
@@ -57,21 +58,21 @@ def vehicle_records(world: World, mission: Mission, record: FormationRecord) -> 
     return out
 
 
-def formation_record(record: FormationRecord) -> dict:
-    """The fleet's JSON object: status, metrics, shapes along the route, reshapes, events.
+def formation_record(record: FormationRecord) -> dict[str, Any]:
+    """Make the fleet's JSON object: status, metrics, shapes along the route, reshapes, events.
 
     Parameters
     ----------
     record : FormationRecord
-        The formation run.
+        The plans and the fleet's run.
 
     Returns
     -------
     dict
-        JSON-ready.
+        The JSON object (distances in m, times in s).
     """
     f = record.formation
-    return export.jsonable({
+    return cast(dict[str, Any], export.jsonable({
         "scenario": record.scenario,
         "seed": record.seed,
         "status": record.status.value,
@@ -83,27 +84,27 @@ def formation_record(record: FormationRecord) -> dict:
             "route_length_m": f.structure.length},
         "metrics": record.result.metrics if record.result is not None else None,
         "events": [list(e) for e in record.result.events] if record.result is not None else [],
-    })
+    }))
 
 
 def write_formation(out_dir: Path, world: World, mission: Mission, record: FormationRecord, scenario_text: str = "",
-                    full: bool = False) -> dict:
+                    full: bool = False) -> dict[str, Any]:
     """Write the fleet's files and one folder per vehicle (run files and every mission export).
 
     Parameters
     ----------
-    out_dir : Path
-        The results folder (checked by the caller).
+    out_dir : pathlib.Path
+        Results folder.
     world : World
-        Environment (origin for the geographic formats).
+        The mission's world.
     mission : Mission
-        The mission with its formation.
+        The formation mission.
     record : FormationRecord
-        The formation run.
-    scenario_text : str
-        The scenario file, copied as ``scenario.toml``.
-    full : bool
-        Every sample in the tracks instead of the decimated ones.
+        The plans and the fleet's run.
+    scenario_text : str, optional
+        The scenario's TOML source, copied as ``scenario.toml``.
+    full : bool, optional
+        Every recorded sample instead of the decimated tracks.
 
     Returns
     -------

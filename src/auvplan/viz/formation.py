@@ -57,17 +57,18 @@ def _add_vehicles(fig: go.Figure, record: FormationRecord, runs: list[RunRecord]
 
 
 def figure_formation_profiles(record: FormationRecord) -> go.Figure:
-    """Formation error of every vehicle, least vehicle distance and the shape, against time.
+    """Draw the formation error of every vehicle, the least vehicle distance and the shape against time.
 
     Parameters
     ----------
     record : FormationRecord
-        The formation run.
+        The plans and the fleet's run.
 
     Returns
     -------
     plotly.graph_objects.Figure
-        Three rows sharing the time axis.
+        Formation error (m), least distance between two vehicles (m) and the shape, against the
+        elapsed time (h:mm:ss).
     """
     fig = make_subplots(rows=3, cols=1, shared_xaxes=True, vertical_spacing=0.06, row_heights=[0.5, 0.3, 0.2],
                         subplot_titles=("formation error: distance to the slot (m)",
@@ -111,7 +112,7 @@ def build_formation_report(world: World, record: FormationRecord, runs: list[Run
     Returns
     -------
     str
-        The page.
+        The HTML page (plotly.js inlined once).
     """
     runs = [replace(r, sim=decimate(r.sim)) if r.sim is not None else r for r in runs]
     lead = runs[0]
