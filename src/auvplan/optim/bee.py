@@ -100,6 +100,9 @@ class IABCParams:
     sigma_spread: float = 0.5
     modification_rate: float = 0.2
     guided: float = 1.5
+    elite: float = 0.0
+    sigma_floor: float = 0.0
+    covariance: bool = False
 
     def __post_init__(self) -> None:
         if self.limit < 1 or self.scouts_per_iteration < 1 or self.max_iterations < 1:
@@ -170,7 +173,7 @@ def guided_move(X: np.ndarray, idx: np.ndarray, partner: np.ndarray, mask: np.nd
     """Eq. 19 on the dimensions in ``mask (B, D)`` plus a pull to the best source:
     ``x_j += φ_j (x_j - x_{partner, j}) + ψ_j (best_j - x_j)`` where ``mask`` holds."""
     V = X[idx].copy()
-    step = phi * (X[idx] - X[partner]) + psi * (best[None, :] - X[idx])
+    step = phi * (X[idx] - X[partner]) + psi * (np.atleast_2d(best) - X[idx])
     V[mask] += step[mask]
     return V
 
@@ -314,7 +317,7 @@ class IABC(ABC):
         mask[np.arange(idx.size), rng.integers(0, self.dim, size=idx.size)] = True
         phi = rng.uniform(-1.0, 1.0, size=mask.shape)
         psi = rng.uniform(0.0, p.guided, size=mask.shape)
-        return guided_move(self.X, idx, partner, mask, phi, psi, self.X[int(np.argmin(self.f))])
+        return guided_move(self.X, idx, partner, mask, phi, psi, self._centres(idx.size))
 
     def _end_of_iteration(self) -> str:
         return "mutation"
@@ -327,6 +330,22 @@ class IABC(ABC):
             frac = min(self.iteration / max(p.max_iterations - 1, 1), 1.0)
             sigma = (p.sigma + (p.sigma_final - p.sigma) * frac) * self.span
             return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))
-        best = self.X[int(np.argmin(self.f))]
-        sigma = p.sigma_spread * self.X.std(axis=0)
-        return self.clip(gaussian_mutation(np.broadcast_to(best, (m, self.dim)), sigma, self.rng))
+        if p.covariance:
+            e = max(2, int(round(max(p.elite, 0.2) * self.n)))
+            top = self.X[np.argsort(self.f, kind="stable")[:e]]
+            cov = np.cov(top, rowvar=False) + np.diag((p.sigma_floor * self.span) ** 2 + 1e-12 * self.span ** 2)
+            L = np.linalg.cholesky(cov)
+            z = self.rng.standard_normal((m, self.dim)) @ L.T * p.sigma_spread
+            return self.clip(self._centres(m, True) + z)
+        sigma = np.maximum(p.sigma_spread * self.X.std(axis=0), p.sigma_floor * self.span)
+        return self.clip(gaussian_mutation(self._centres(m, True), sigma, self.rng))
+
+    def _centres(self, m: int, mutation: bool = False) -> np.ndarray:
+        p = self.params
+        if p.elite < 0 and mutation:
+            return self.X[self._idx]
+        e = max(1, int(round(abs(p.elite) * self.n)))
+        if e == 1:
+            return np.broadcast_to(self.X[int(np.argmin(self.f))], (m, self.dim))
+        top = np.argsort(self.f, kind="stable")[:e]
+        return self.X[top[self.rng.integers(0, e, size=m)]]

@@ -14,12 +14,14 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..guidance.local import key_waypoints
 from ..path import basis_matrix, polyline_length, resample_polyline
+from ..world import World
 from .base import PlannerSpec, PlanningProblem
 from .grid import GridReference
 from .swarm_problem import cost_model_for, search_box
 
-__all__ = ["coarse_reference", "fit_control_points", "seed_candidates"]
+__all__ = ["coarse_reference", "corner_control_points", "fit_control_points", "lattice_seeds", "seed_candidates"]
 
 
 def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, np.ndarray]:
@@ -51,13 +53,53 @@ def fit_control_points(path: np.ndarray, k: int, samples: int = 200) -> np.ndarr
     return ctrl
 
 
-def seed_candidates(ctrl: np.ndarray, count: int, lower: np.ndarray, upper: np.ndarray,
+def seed_candidates(ctrl, count: int, lower: np.ndarray, upper: np.ndarray,
                     rng: np.random.Generator, jitter: float = 0.02) -> np.ndarray:
-    """``count`` decision vectors: the fitted control points, then copies jittered by
-    ``N(0, (jitter · range)²)`` per coordinate, all clipped to the box ``(lower, upper)`` of
-    the decision vector."""
-    x = np.clip(np.asarray(ctrl, dtype=float).reshape(-1), lower, upper)
-    out = np.repeat(x[None], max(count, 1), axis=0)
-    if count > 1:
-        out[1:] += rng.normal(0.0, 1.0, size=out[1:].shape) * jitter * (upper - lower)
+    """``count`` decision vectors from the seed control points ``ctrl`` (one ``(k, 3)`` array or a
+    list of them): each seed once, then copies of the seeds in turn jittered by
+    ``N(0, (jitter · range)²)`` per coordinate, all clipped to the box ``(lower, upper)`` of the
+    decision vector."""
+    base = [np.asarray(c, dtype=float).reshape(-1) for c in (ctrl if isinstance(ctrl, list) else [ctrl])]
+    count = max(count, 1)
+    out = np.array([base[i % len(base)] for i in range(count)])
+    if count > len(base):
+        out[len(base):] += rng.normal(0.0, 1.0, size=out[len(base):].shape) * jitter * (upper - lower)
     return np.clip(out, lower, upper)
+
+
+def corner_control_points(corners: np.ndarray, k: int, variants: int = 3) -> list[np.ndarray]:
+    """Control points ``(k, 3)`` that place the spline's bends at ``corners (m, 3)`` (``1 <= m <= k``):
+    each corner repeated, so that the clamped cubic B-spline turns close to it (through it when
+    repeated three times).  The ``k - m`` spare repeats go first to the sharpest turns, then, for
+    the other ``variants - 1`` arrangements, to the next corners in turn, so that the seeds also
+    differ in how the control points are spread along the path (each arrangement is a different
+    local optimum of the spline's parametrisation)."""
+    corners = np.asarray(corners, dtype=float).reshape(-1, 3)
+    m = corners.shape[0]
+    if not 1 <= m <= k:
+        raise ValueError(f"need 1 <= corners <= k, got {m} corners for k = {k}")
+    out: list[np.ndarray] = []
+    for v in range(max(variants, 1)):
+        mult = np.full(m, k // m)
+        spare = k - mult.sum()
+        mult[(np.arange(spare) + v) % m] += 1
+        arr = np.repeat(corners, mult, axis=0)
+        if not any(np.array_equal(arr, o) for o in out):
+            out.append(arr)
+    return out
+
+
+def lattice_seeds(path: np.ndarray, world: World, k: int, samples: int = 200) -> list[np.ndarray]:
+    """Seed control points ``(k, 3)`` from a lattice path ``(N, 3)``: the least-squares fit of the
+    path, the least-squares fit of its taut polygon (document 004's key waypoints: the waypoints
+    that hold the path up, exact segment test) and, when the taut polygon has at most ``k``
+    corners, control points repeated at its corners (:func:`corner_control_points`), which put
+    the spline's bends where the path bends instead of spreading them evenly."""
+    path = np.asarray(path, dtype=float)
+    seeds = [fit_control_points(path, k, samples)]
+    taut = key_waypoints(path, world)
+    if taut.shape[0] > 2:
+        seeds.append(fit_control_points(taut, k, samples))
+        if taut.shape[0] - 2 <= k:
+            seeds += corner_control_points(taut[1:-1], k)
+    return seeds

@@ -49,7 +49,7 @@ from ..optim import (
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult
 from .grid import plan_grid
-from .seeding import coarse_reference, fit_control_points, seed_candidates
+from .seeding import coarse_reference, lattice_seeds, seed_candidates
 from .swarm_problem import (
     check_endpoints,
     control_polygon,
@@ -135,7 +135,7 @@ def plan_swarm(
             lo3, hi3 = search_box(problem)
             k = spec.control_points
             count = max(1, int(round(spec.seed_fraction * spec.population)))
-            x0 = seed_candidates(fit_control_points(lattice, k, spec.samples), count, np.tile(lo3, k),
+            x0 = seed_candidates(lattice_seeds(lattice, problem.world, k, spec.samples), count, np.tile(lo3, k),
                                  np.tile(hi3, k), gen)
     opt = run_optimizer(spec, spline_problem(problem, spec, budget, x0), gen, progress)
     x, f, evals = opt.x, opt.f, opt.evaluations
