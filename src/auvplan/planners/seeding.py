@@ -2,10 +2,14 @@
 
 A coarse :class:`~auvplan.planners.grid.GridReference` (``spec.seed_nodes`` nodes, the planner's
 own cost on its edges) tells which side of each seamount or bank the cheap path takes.  Its
-path is fitted by least squares as the ``K`` interior control points of the clamped cubic
-B-spline from the start to the goal (samples at uniform arc length matched to uniform spline
-parameters), and the fit plus jittered copies seed part of the first population.  The same
-lattice path is the fallback plan when the optimiser ends with no feasible path.
+path gives candidate ``K`` interior control points of the clamped cubic B-spline from the start
+to the goal: the least-squares fit of the path (samples at uniform arc length matched to uniform
+spline parameters), the fit of its taut polygon (document 004's key waypoints), and every
+arrangement of the ``K`` control points as repeats of the taut polygon's corners, which puts the
+spline's bends where the path bends (the even spread of a least-squares fit is one local optimum
+of the spline's parametrisation among many; on chagos-banks not the best one).  The planner
+screens the candidates by its objective and seeds part of the first population with the best.
+The same lattice path is the fallback plan when the optimiser ends with no feasible path.
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from .base import PlannerSpec, PlanningProblem
 from .grid import GridReference
 from .swarm_problem import cost_model_for, search_box
 
-__all__ = ["coarse_reference", "corner_control_points", "fit_control_points", "lattice_seeds", "seed_candidates"]
+__all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_control_points", "lattice_seeds", "seed_candidates"]
 
 
 def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, np.ndarray]:
@@ -67,26 +71,28 @@ def seed_candidates(ctrl, count: int, lower: np.ndarray, upper: np.ndarray,
     return np.clip(out, lower, upper)
 
 
-def corner_control_points(corners: np.ndarray, k: int, variants: int = 3) -> list[np.ndarray]:
-    """Control points ``(k, 3)`` that place the spline's bends at ``corners (m, 3)`` (``1 <= m <= k``):
-    each corner repeated, so that the clamped cubic B-spline turns close to it (through it when
-    repeated three times).  The ``k - m`` spare repeats go first to the sharpest turns, then, for
-    the other ``variants - 1`` arrangements, to the next corners in turn, so that the seeds also
-    differ in how the control points are spread along the path (each arrangement is a different
-    local optimum of the spline's parametrisation)."""
-    corners = np.asarray(corners, dtype=float).reshape(-1, 3)
+def compositions(k: int, m: int) -> np.ndarray:
+    """Every way ``(C, m)`` of writing ``k`` as an ordered sum of ``m`` non-negative integers."""
+    if m == 1:
+        return np.array([[k]])
+    rows = [np.c_[np.full((len(rest), 1), first), rest] for first in range(k, -1, -1)
+            for rest in [compositions(k - first, m - 1)]]
+    return np.vstack(rows)
+
+
+def corner_control_points(polygon: np.ndarray, k: int) -> list[np.ndarray]:
+    """Control points ``(k, 3)`` that put the spline's bends at the corners of ``polygon (m + 2, 3)``
+    (its end points are the start and the goal; ``1 <= m <= k``): every arrangement of the ``k``
+    control points as repeats of the corners (a corner may get none: a coarse lattice path turns
+    where the best path need not), so that the clamped cubic B-spline turns close to the repeated
+    corners (through a corner repeated three times).  The arrangements are the local optima of
+    the spline's parametrisation that the smooth least-squares fit does not reach."""
+    polygon = np.asarray(polygon, dtype=float).reshape(-1, 3)
+    corners = polygon[1:-1]
     m = corners.shape[0]
     if not 1 <= m <= k:
         raise ValueError(f"need 1 <= corners <= k, got {m} corners for k = {k}")
-    out: list[np.ndarray] = []
-    for v in range(max(variants, 1)):
-        mult = np.full(m, k // m)
-        spare = k - mult.sum()
-        mult[(np.arange(spare) + v) % m] += 1
-        arr = np.repeat(corners, mult, axis=0)
-        if not any(np.array_equal(arr, o) for o in out):
-            out.append(arr)
-    return out
+    return [np.repeat(corners, mult, axis=0) for mult in compositions(k, m)]
 
 
 def lattice_seeds(path: np.ndarray, world: World, k: int, samples: int = 200) -> list[np.ndarray]:
@@ -101,5 +107,5 @@ def lattice_seeds(path: np.ndarray, world: World, k: int, samples: int = 200) ->
     if taut.shape[0] > 2:
         seeds.append(fit_control_points(taut, k, samples))
         if taut.shape[0] - 2 <= k:
-            seeds += corner_control_points(taut[1:-1], k)
+            seeds += corner_control_points(taut, k)
     return seeds
