@@ -25,7 +25,8 @@ from .base import PlannerSpec, PlanningProblem
 from .grid import GridReference
 from .swarm_problem import cost_model_for, search_box
 
-__all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_control_points", "lattice_seeds", "seed_candidates"]
+__all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_control_points", "lattice_seeds",
+           "seed_candidates"]
 
 
 def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, np.ndarray]:
