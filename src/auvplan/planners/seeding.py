@@ -18,6 +18,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .._types import ArrayLike, FloatArray, IntArray
 from ..guidance.local import key_waypoints
 from ..path import basis_matrix, polyline_length, resample_polyline
 from ..world import World
@@ -29,9 +30,23 @@ __all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_con
            "seed_candidates"]
 
 
-def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, np.ndarray]:
-    """The coarse lattice (None when it cannot be built) and its path ``(N, 3)`` from the start
-    (empty when the lattice finds none)."""
+def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, FloatArray]:
+    """The coarse lattice and its path from the start.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        ``spec.seed_nodes`` and the cost function.
+
+    Returns
+    -------
+    reference : GridReference or None
+        The coarse lattice (None when it cannot be built).
+    path : numpy.ndarray
+        Its path ``(N, 3)`` (m) from the start (empty when the lattice finds none).
+    """
     lower, upper = search_box(problem)
     params = replace(spec.grid, cell=0.0, cell_z=0.0, target_nodes=spec.seed_nodes,
                      max_nodes=max(spec.grid.max_nodes, spec.seed_nodes), objective="cost")
@@ -42,9 +57,26 @@ def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridR
     return ref, ref.query(problem.start)
 
 
-def fit_control_points(path: np.ndarray, k: int, samples: int = 200) -> np.ndarray:
-    """Interior control points ``(k, 3)`` of the clamped cubic B-spline through ``path[0]`` and
-    ``path[-1]`` closest (least squares) to the polyline ``path`` sampled at uniform arc length."""
+def fit_control_points(path: ArrayLike, k: int, samples: int = 200) -> FloatArray:
+    """Least-squares fit of a clamped cubic B-spline to a polyline.
+
+    The spline runs through ``path[0]`` and ``path[-1]``; its interior control points minimise the
+    squared distance to the polyline sampled at uniform arc length.
+
+    Parameters
+    ----------
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+    k : int
+        Number of interior control points.
+    samples : int, default 200
+        Samples of the polyline and the spline matched in the fit.
+
+    Returns
+    -------
+    numpy.ndarray
+        Interior control points ``(k, 3)`` (m).
+    """
     path = np.asarray(path, dtype=float)
     length = float(polyline_length(path))
     pts = resample_polyline(path, max(length / (samples - 1), 1e-9))
@@ -55,53 +87,123 @@ def fit_control_points(path: np.ndarray, k: int, samples: int = 200) -> np.ndarr
     B = basis_matrix(k + 2, samples)
     rhs = pts - np.outer(B[:, 0], path[0]) - np.outer(B[:, -1], path[-1])
     ctrl, *_ = np.linalg.lstsq(B[:, 1:-1], rhs, rcond=None)
-    return ctrl
+    return np.asarray(ctrl, dtype=np.float64)  # numpy types lstsq as floating[Any]: float64 in, float64 out
 
 
-def seed_candidates(ctrl, count: int, lower: np.ndarray, upper: np.ndarray,
-                    rng: np.random.Generator, jitter: float = 0.02) -> np.ndarray:
-    """``count`` decision vectors from the seed control points ``ctrl`` (one ``(k, 3)`` array or a
-    list of them): each seed once, then copies of the seeds in turn jittered by
-    ``N(0, (jitter · range)²)`` per coordinate, all clipped to the box ``(lower, upper)`` of the
-    decision vector."""
+def seed_candidates(ctrl: ArrayLike | list[FloatArray], count: int, lower: FloatArray, upper: FloatArray,
+                    rng: np.random.Generator, jitter: float = 0.02) -> FloatArray:
+    """Decision vectors seeding a population: the seed control points and jittered copies.
+
+    Parameters
+    ----------
+    ctrl : array_like or list of numpy.ndarray
+        Seed interior control points ``(k, 3)`` (m), one array or a list of them, each flattened
+        into a decision vector.
+    count : int
+        Number of vectors (at least 1 is returned).
+    lower, upper : numpy.ndarray
+        Box of the decision vector ``(3k,)`` (m).
+    rng : numpy.random.Generator
+        Source of the jitter.
+    jitter : float, default 0.02
+        Standard deviation of the jitter as a fraction of the box width per coordinate.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(max(count, 1), 3k)``: each seed once, then copies of the seeds in turn jittered by
+        ``N(0, (jitter · range)²)``, all clipped to the box.
+    """
     base = [np.asarray(c, dtype=float).reshape(-1) for c in (ctrl if isinstance(ctrl, list) else [ctrl])]
     count = max(count, 1)
     out = np.array([base[i % len(base)] for i in range(count)])
     if count > len(base):
         out[len(base):] += rng.normal(0.0, 1.0, size=out[len(base):].shape) * jitter * (upper - lower)
-    return np.clip(out, lower, upper)
+    seeds: FloatArray = np.clip(out, lower, upper)
+    return seeds
 
 
-def compositions(k: int, m: int) -> np.ndarray:
-    """Every way ``(C, m)`` of writing ``k`` as an ordered sum of ``m`` non-negative integers."""
+def compositions(k: int, m: int) -> IntArray:
+    """Every way of writing ``k`` as an ordered sum of ``m`` non-negative integers.
+
+    Parameters
+    ----------
+    k : int
+        The total (>= 0).
+    m : int
+        Number of parts (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C(k + m - 1, m - 1), m)`` integer rows, the first part in decreasing order.
+    """
     if m == 1:
         return np.array([[k]])
     rows = [np.c_[np.full((len(rest), 1), first), rest] for first in range(k, -1, -1)
             for rest in [compositions(k - first, m - 1)]]
-    return np.vstack(rows)
+    out: IntArray = np.vstack(rows)
+    return out
 
 
-def corner_control_points(polygon: np.ndarray, k: int) -> list[np.ndarray]:
-    """Control points ``(k, 3)`` that put the spline's bends at the corners of ``polygon (m + 2, 3)``
-    (its end points are the start and the goal; ``1 <= m <= k``): every arrangement of the ``k``
-    control points as repeats of the corners (a corner may get none: a coarse lattice path turns
-    where the best path need not), so that the clamped cubic B-spline turns close to the repeated
-    corners (through a corner repeated three times).  The arrangements are the local optima of
-    the spline's parametrisation that the smooth least-squares fit does not reach."""
-    polygon = np.asarray(polygon, dtype=float).reshape(-1, 3)
-    corners = polygon[1:-1]
+def corner_control_points(polygon: ArrayLike, k: int) -> list[FloatArray]:
+    """Control points that put the spline's bends at the corners of a polygon.
+
+    Every arrangement of the ``k`` control points as repeats of the corners (a corner may get none:
+    a coarse lattice path turns where the best path need not), so that the clamped cubic B-spline
+    turns close to the repeated corners (through a corner repeated three times).  The
+    arrangements are local optima of the spline's parametrisation that the smooth least-squares
+    fit does not reach.
+
+    Parameters
+    ----------
+    polygon : array_like
+        Vertices ``(m + 2, 3)`` (m): the start, ``1 <= m <= k`` corners, the goal.
+    k : int
+        Number of interior control points.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One ``(k, 3)`` array per composition of ``k`` into ``m`` parts (:func:`compositions`).
+
+    Raises
+    ------
+    ValueError
+        If the polygon has no corner or more than ``k``.
+    """
+    corners = np.asarray(polygon, dtype=float).reshape(-1, 3)[1:-1]
     m = corners.shape[0]
     if not 1 <= m <= k:
         raise ValueError(f"need 1 <= corners <= k, got {m} corners for k = {k}")
     return [np.repeat(corners, mult, axis=0) for mult in compositions(k, m)]
 
 
-def lattice_seeds(path: np.ndarray, world: World, k: int, samples: int = 200) -> list[np.ndarray]:
-    """Seed control points ``(k, 3)`` from a lattice path ``(N, 3)``: the least-squares fit of the
-    path, the least-squares fit of its taut polygon (document 004's key waypoints: the waypoints
-    that hold the path up, exact segment test) and, when the taut polygon has at most ``k``
-    corners, control points repeated at its corners (:func:`corner_control_points`), which put
-    the spline's bends where the path bends instead of spreading them evenly."""
+def lattice_seeds(path: ArrayLike, world: World, k: int, samples: int = 200) -> list[FloatArray]:
+    """Seed control points from a lattice path.
+
+    The least-squares fit of the path, the least-squares fit of its taut polygon (document 004's
+    key waypoints: the waypoints that hold the path up, exact segment test) and, when the taut
+    polygon has at most ``k`` corners, the control points repeated at its corners
+    (:func:`corner_control_points`), which put the spline's bends where the path bends instead of
+    spreading them evenly.
+
+    Parameters
+    ----------
+    path : array_like
+        Lattice path ``(N, 3)`` (m) from the start to the goal.
+    world : World
+        The world (its exact segment test picks the taut polygon).
+    k : int
+        Number of interior control points.
+    samples : int, default 200
+        Samples matched in the least-squares fits.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Candidate interior control points, each ``(k, 3)`` (m); the path's fit first.
+    """
     path = np.asarray(path, dtype=float)
     seeds = [fit_control_points(path, k, samples)]
     taut = key_waypoints(path, world)
