@@ -30,8 +30,8 @@ SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcu
 class Mixed(IABC):
     """IABC with each of the four changes switched on or off separately."""
 
-    def __init__(self, lower, upper, n, rng, *, init, mutation, mr, guided):
-        p = IABCParams(modification_rate=mr if mr else 1e-9, guided=guided)
+    def __init__(self, lower, upper, n, rng, *, init, mutation, mr, guided, elite=0.0, fraction=0.2):
+        p = IABCParams(modification_rate=mr if mr else 1e-9, guided=guided, elite=elite, mutation_fraction=fraction)
         super().__init__(lower, upper, n, p, rng)
         self.flags = (init, mutation, mr)
 
@@ -55,7 +55,7 @@ class Mixed(IABC):
         return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))
 
 
-VARIANTS = {  # init, mutation, multi-dimension moves, guided pull
+VARIANTS = {  # init, mutation, multi-dimension moves, guided pull[, elite share, mutated share]
     "document (literal)": (False, False, 0.0, 0.0),
     "+ uniform chaotic init": (True, False, 0.0, 0.0),
     "+ mutation to best, spread sigma": (False, True, 0.0, 0.0),
@@ -66,6 +66,9 @@ VARIANTS = {  # init, mutation, multi-dimension moves, guided pull
     "improved - multi-dimension": (True, True, 0.0, 1.5),
     "improved - pull": (True, True, 0.2, 0.0),
     "improved (all four)": (True, True, 0.2, 1.5),
+    "improved, aim at a random elite (20 %)": (True, True, 0.2, 1.5, 0.2),
+    "improved, mutate the worst 10 %": (True, True, 0.2, 1.5, 0.0, 0.1),
+    "improved, elite 20 % + mutate 10 % (iabc-elite)": (True, True, 0.2, 1.5, 0.2, 0.1),
 }
 
 
@@ -82,11 +85,12 @@ def main() -> None:
         prob = planning_problem(world, mission)
         spec = replace(mission.planner, name="iabc", budget=args.budget)
         costs = {}
-        for label, (init, mut, mr, guided) in VARIANTS.items():
+        for label, (init, mut, mr, guided, *extra) in VARIANTS.items():
             out = []
             for seed in range(args.seeds):
                 p = spline_problem(prob, spec, args.budget)
-                opt = Mixed(p.lower, p.upper, spec.population, seed, init=init, mutation=mut, mr=mr, guided=guided)
+                opt = Mixed(p.lower, p.upper, spec.population, seed, init=init, mutation=mut, mr=mr, guided=guided,
+                            **dict(zip(("elite", "fraction"), extra)))
                 out.append(minimize(p, opt, Termination(max_iterations=None, max_evaluations=args.budget)).f)
             costs[label] = np.array(out)
         best = min(c.min() for c in costs.values())

@@ -12,9 +12,10 @@ from auvplan._types import Status
 from auvplan.io import scenario
 from auvplan.optim import IABC, IABCParams, Problem, Termination, differential_evolution, minimize, pattern_search
 from auvplan.optim.bee import chaotic_uniform_population, logistic_map_population
+from auvplan.optim.local import poll_points
 from auvplan.path import sample_population
 from auvplan.planners import PLANNERS, REGISTRY, SWARM, PlannerSpec, PlanningProblem, plan, register, swarm_problem
-from auvplan.planners.seeding import fit_control_points
+from auvplan.planners.seeding import compositions, corner_control_points, fit_control_points, lattice_seeds
 from auvplan.sim import planning_problem
 from auvplan.world import Sphere
 from helpers import flat_world
@@ -197,6 +198,66 @@ def test_pattern_search_never_worse_and_respects_strictness():
     r = pattern_search(p, x0, float(f(x0[None])[0]), rng=0)
     assert p.evaluations == 500 and r.f <= 25.0 and r.f == pytest.approx(1.0, abs=1e-3)
     assert ((r.x - [2.0, 0.0]) ** 2).sum() >= 1.0
+
+
+def test_corner_seeds_are_every_arrangement_of_the_corners():
+    """k = 6 control points over m = 4 corners: C(9, 3) = 84 distinct arrangements, each made of
+    corners only with the counts of its composition; a corner repeated three times lies on the
+    spline (a clamped cubic B-spline passes through a triple control point)."""
+    comp = compositions(6, 4)
+    assert comp.shape == (84, 4) and np.all(comp.sum(axis=1) == 6) and np.all(comp >= 0)
+    assert len({tuple(r) for r in comp}) == 84
+    poly = np.array([[0.0, 0, -50], [300, 200, -50], [500, 0, -60], [700, 300, -40], [900, 100, -50], [1000, 0, -50]])
+    seeds = corner_control_points(poly, 6)
+    assert len(seeds) == 84
+    for ctrl, mult in zip(seeds, comp):
+        counts = [int(np.all(ctrl == c, axis=1).sum()) for c in poly[1:-1]]
+        assert counts == mult.tolist()
+    ctrl = np.repeat(poly[[2]], 3, axis=0)  # corner (500, 0, -60) three times, k = 3
+    pts = sample_population(np.vstack([poly[0], ctrl, poly[-1]]), 2001)
+    assert np.linalg.norm(pts - poly[2], axis=1).min() < 1e-6 * 1000
+    with pytest.raises(ValueError):
+        corner_control_points(poly, 3)
+
+
+def test_lattice_seeds_on_chagos_reach_a_better_basin_than_the_fit():
+    """On chagos-banks the coarse lattice path's least-squares fit cuts the bank's corners (cost
+    2.76e6, penalised); the best corner arrangement is cheaper (the seeds the planner keeps)."""
+    world, mission = scenario.build(scenario.load("chagos-banks"))
+    prob = planning_problem(world, mission)
+    from auvplan.planners.seeding import coarse_reference
+
+    _, lattice = coarse_reference(prob, mission.planner)
+    seeds = lattice_seeds(lattice, world, 6)
+    f = swarm_problem.spline_problem(prob, mission.planner, None).evaluate(np.array([c.reshape(-1) for c in seeds]))
+    assert len(seeds) > 10 and f.min() < 0.9 * f[0]
+
+
+def test_poll_points_move_along_the_faces_of_the_box():
+    """D = 4, x on the lower face in dimension 0 and the upper face in dimension 3: 2 x 2 rotated
+    polls in the free plane (x ± h q, q orthonormal there) plus one inward step per bound coordinate."""
+    lo, hi = np.zeros(4), np.full(4, 10.0)
+    x, h = np.array([0.0, 5.0, 5.0, 10.0]), np.full(4, 0.5)
+    P = poll_points(x, h, lo, hi, np.random.default_rng(0))
+    assert P.shape == (2 * 2 + 2, 4)
+    rot = P[:4] - x
+    assert np.allclose(rot[:, [0, 3]], 0.0) and np.allclose(np.linalg.norm(rot, axis=1), 0.5)
+    assert np.allclose(rot[:2] @ rot[:2].T, 0.25 * np.eye(2))
+    assert np.allclose(P[4:] - x, [[0.5, 0, 0, 0], [0, 0, 0, -0.5]])
+    assert np.all((P >= lo) & (P <= hi))
+
+
+def test_elite_centres_are_drawn_among_the_best_sources():
+    """elite = 0: every mutation/pull centre is the best source; elite = 0.3 of 10 sources: the
+    centres are the 3 best sources, each of them drawn."""
+    opt = IABC(np.zeros(2), np.ones(2), 10, IABCParams(elite=0.3), rng=1)
+    opt.X = np.random.default_rng(0).random((10, 2))
+    opt.f = np.arange(10.0)[::-1].copy()  # source 9 is the best, then 8, 7
+    centres = opt._centres(300)
+    rows = {int(np.flatnonzero(np.all(opt.X == c, axis=1))[0]) for c in centres}
+    assert rows == {7, 8, 9}
+    opt.params = IABCParams(elite=0.0)
+    assert np.all(opt._centres(5) == opt.X[9])
 
 
 @pytest.fixture(scope="module")

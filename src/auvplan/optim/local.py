@@ -21,7 +21,7 @@ import numpy as np
 from .._types import ArrayLike, FloatArray, RngLike, as_rng
 from .base import OptimizeResult, Problem
 
-__all__ = ["PatternParams", "pattern_search", "random_rotation"]
+__all__ = ["PatternParams", "pattern_search", "poll_points", "random_rotation"]
 
 
 @dataclass(frozen=True)
@@ -75,6 +75,48 @@ def random_rotation(dim: int, rng: np.random.Generator) -> FloatArray:
     return rotation
 
 
+def poll_points(x: FloatArray, step: FloatArray, lower: FloatArray, upper: FloatArray,
+                rng: np.random.Generator) -> FloatArray:
+    """The poll set around ``x``.
+
+    ``x ± step ⊙ q_j`` for the columns ``q_j`` of a random rotation of the coordinates that are
+    not at a bound, and one inward step ``step_i e_i`` for each coordinate at its bound, so that an
+    incumbent lying on a face of the box moves along the face instead of wasting the polls that
+    the box would clip back onto it.
+
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Incumbent ``(D,)``.
+    step : numpy.ndarray
+        Step per dimension ``(D,)`` (units of ``x``).
+    lower, upper : numpy.ndarray
+        Box ``(D,)``.
+    rng : numpy.random.Generator
+        Source of the rotation.
+
+    Returns
+    -------
+    numpy.ndarray
+        Poll points ``(2 F + B, D)`` for ``F`` free and ``B`` bound coordinates.
+    """
+    tol = 1e-9 * (upper - lower)
+    at_low, at_high = x <= lower + tol, x >= upper - tol
+    free = np.flatnonzero(~(at_low | at_high))
+    rows: list[FloatArray] = []
+    if free.size:
+        q = np.zeros((x.size, free.size))
+        q[free] = random_rotation(free.size, rng) * step[free][:, None]
+        rows += [x + q.T, x - q.T]
+    bound = np.flatnonzero(at_low | at_high)
+    if bound.size:
+        e = np.zeros((bound.size, x.size))
+        e[np.arange(bound.size), bound] = np.where(at_low[bound], 1.0, -1.0) * step[bound]
+        rows.append(x + e)
+    points: FloatArray = np.vstack(rows)
+    return points
+
+
 def pattern_search(problem: Problem, x0: ArrayLike, f0: float, params: PatternParams | None = None,
                    rng: RngLike = None) -> OptimizeResult:
     """Refine ``x0`` (value ``f0``) until ``problem``'s budget is spent.
@@ -115,8 +157,7 @@ def pattern_search(problem: Problem, x0: ArrayLike, f0: float, params: PatternPa
     first, trace0 = problem.evaluations, len(problem.trace)
     history: list[float] = []
     while problem.left > 0:
-        q = random_rotation(problem.dim, gen) * (h * span)[:, None]
-        polls = np.clip(np.vstack([x + q.T, x - q.T]), problem.lower, problem.upper)
+        polls = np.clip(poll_points(x, h * span, problem.lower, problem.upper, gen), problem.lower, problem.upper)
         fp = problem.evaluate(polls)
         k = int(np.argmin(fp))
         if np.isfinite(fp[k]) and fp[k] < f:

@@ -109,7 +109,9 @@ class PlannerSpec:
         pattern search that keeps the exact test; the lattice path is returned when the
         optimiser found no feasible one) or ``"document"`` (the algorithm alone).
     seed_fraction : float
-        Share of the first population seeded from the lattice path (the fit and jittered copies).
+        Share of the first population seeded from the lattice path: the best, by the objective
+        (evaluations counted), of the path's least-squares fits and of the control points repeated
+        at the corners of its taut polygon (:func:`auvplan.planners.seeding.lattice_seeds`).
     refine_fraction : float
         Share of the evaluation budget kept for the refinement.
     seed_nodes : int
@@ -155,7 +157,7 @@ class PlannerSpec:
 
     name: str = "iabc"
     pipeline: str = "seeded"
-    seed_fraction: float = 0.1
+    seed_fraction: float = 0.2
     refine_fraction: float = 0.2
     seed_nodes: int = 20_000
     population: int = 50

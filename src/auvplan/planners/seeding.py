@@ -2,10 +2,14 @@
 
 A coarse :class:`~auvplan.planners.grid.GridReference` (``spec.seed_nodes`` nodes, the planner's
 own cost on its edges) tells which side of each seamount or bank the cheap path takes.  Its
-path is fitted by least squares as the ``K`` interior control points of the clamped cubic
-B-spline from the start to the goal (samples at uniform arc length matched to uniform spline
-parameters), and the fit plus jittered copies seed part of the first population.  The same
-lattice path is the fallback plan when the optimiser ends with no feasible path.
+path gives candidate ``K`` interior control points of the clamped cubic B-spline from the start
+to the goal: the least-squares fit of the path (samples at uniform arc length matched to uniform
+spline parameters), the fit of its taut polygon (document 004's key waypoints), and every
+arrangement of the ``K`` control points as repeats of the taut polygon's corners, which puts the
+spline's bends where the path bends (the even spread of a least-squares fit is one local optimum
+of the spline's parametrisation among many; on chagos-banks not the best one).  The planner
+screens the candidates by its objective and seeds part of the first population with the best.
+The same lattice path is the fallback plan when the optimiser ends with no feasible path.
 """
 
 from __future__ import annotations
@@ -14,13 +18,16 @@ from dataclasses import replace
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray
+from .._types import ArrayLike, FloatArray, IntArray
+from ..guidance.local import key_waypoints
 from ..path import basis_matrix, polyline_length, resample_polyline
+from ..world import World
 from .base import PlannerSpec, PlanningProblem
 from .grid import GridReference
 from .swarm_problem import cost_model_for, search_box
 
-__all__ = ["coarse_reference", "fit_control_points", "seed_candidates"]
+__all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_control_points", "lattice_seeds",
+           "seed_candidates"]
 
 
 def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, FloatArray]:
@@ -83,14 +90,15 @@ def fit_control_points(path: ArrayLike, k: int, samples: int = 200) -> FloatArra
     return np.asarray(ctrl, dtype=np.float64)  # numpy types lstsq as floating[Any]: float64 in, float64 out
 
 
-def seed_candidates(ctrl: ArrayLike, count: int, lower: FloatArray, upper: FloatArray,
+def seed_candidates(ctrl: ArrayLike | list[FloatArray], count: int, lower: FloatArray, upper: FloatArray,
                     rng: np.random.Generator, jitter: float = 0.02) -> FloatArray:
-    """Decision vectors seeding a population: the fitted control points and jittered copies.
+    """Decision vectors seeding a population: the seed control points and jittered copies.
 
     Parameters
     ----------
-    ctrl : array_like
-        Fitted interior control points ``(k, 3)`` (m), flattened into the decision vector.
+    ctrl : array_like or list of numpy.ndarray
+        Seed interior control points ``(k, 3)`` (m), one array or a list of them, each flattened
+        into a decision vector.
     count : int
         Number of vectors (at least 1 is returned).
     lower, upper : numpy.ndarray
@@ -103,12 +111,104 @@ def seed_candidates(ctrl: ArrayLike, count: int, lower: FloatArray, upper: Float
     Returns
     -------
     numpy.ndarray
-        ``(max(count, 1), 3k)``: the fit first, then copies jittered by ``N(0, (jitter · range)²)``,
-        all clipped to the box.
+        ``(max(count, 1), 3k)``: each seed once, then copies of the seeds in turn jittered by
+        ``N(0, (jitter · range)²)``, all clipped to the box.
     """
-    x = np.clip(np.asarray(ctrl, dtype=float).reshape(-1), lower, upper)
-    out = np.repeat(x[None], max(count, 1), axis=0)
-    if count > 1:
-        out[1:] += rng.normal(0.0, 1.0, size=out[1:].shape) * jitter * (upper - lower)
+    base = [np.asarray(c, dtype=float).reshape(-1) for c in (ctrl if isinstance(ctrl, list) else [ctrl])]
+    count = max(count, 1)
+    out = np.array([base[i % len(base)] for i in range(count)])
+    if count > len(base):
+        out[len(base):] += rng.normal(0.0, 1.0, size=out[len(base):].shape) * jitter * (upper - lower)
     seeds: FloatArray = np.clip(out, lower, upper)
+    return seeds
+
+
+def compositions(k: int, m: int) -> IntArray:
+    """Every way of writing ``k`` as an ordered sum of ``m`` non-negative integers.
+
+    Parameters
+    ----------
+    k : int
+        The total (>= 0).
+    m : int
+        Number of parts (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C(k + m - 1, m - 1), m)`` integer rows, the first part in decreasing order.
+    """
+    if m == 1:
+        return np.array([[k]])
+    rows = [np.c_[np.full((len(rest), 1), first), rest] for first in range(k, -1, -1)
+            for rest in [compositions(k - first, m - 1)]]
+    out: IntArray = np.vstack(rows)
+    return out
+
+
+def corner_control_points(polygon: ArrayLike, k: int) -> list[FloatArray]:
+    """Control points that put the spline's bends at the corners of a polygon.
+
+    Every arrangement of the ``k`` control points as repeats of the corners (a corner may get none:
+    a coarse lattice path turns where the best path need not), so that the clamped cubic B-spline
+    turns close to the repeated corners (through a corner repeated three times).  The
+    arrangements are local optima of the spline's parametrisation that the smooth least-squares
+    fit does not reach.
+
+    Parameters
+    ----------
+    polygon : array_like
+        Vertices ``(m + 2, 3)`` (m): the start, ``1 <= m <= k`` corners, the goal.
+    k : int
+        Number of interior control points.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One ``(k, 3)`` array per composition of ``k`` into ``m`` parts (:func:`compositions`).
+
+    Raises
+    ------
+    ValueError
+        If the polygon has no corner or more than ``k``.
+    """
+    corners = np.asarray(polygon, dtype=float).reshape(-1, 3)[1:-1]
+    m = corners.shape[0]
+    if not 1 <= m <= k:
+        raise ValueError(f"need 1 <= corners <= k, got {m} corners for k = {k}")
+    return [np.repeat(corners, mult, axis=0) for mult in compositions(k, m)]
+
+
+def lattice_seeds(path: ArrayLike, world: World, k: int, samples: int = 200) -> list[FloatArray]:
+    """Seed control points from a lattice path.
+
+    The least-squares fit of the path, the least-squares fit of its taut polygon (document 004's
+    key waypoints: the waypoints that hold the path up, exact segment test) and, when the taut
+    polygon has at most ``k`` corners, the control points repeated at its corners
+    (:func:`corner_control_points`), which put the spline's bends where the path bends instead of
+    spreading them evenly.
+
+    Parameters
+    ----------
+    path : array_like
+        Lattice path ``(N, 3)`` (m) from the start to the goal.
+    world : World
+        The world (its exact segment test picks the taut polygon).
+    k : int
+        Number of interior control points.
+    samples : int, default 200
+        Samples matched in the least-squares fits.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Candidate interior control points, each ``(k, 3)`` (m); the path's fit first.
+    """
+    path = np.asarray(path, dtype=float)
+    seeds = [fit_control_points(path, k, samples)]
+    taut = key_waypoints(path, world)
+    if taut.shape[0] > 2:
+        seeds.append(fit_control_points(taut, k, samples))
+        if taut.shape[0] - 2 <= k:
+            seeds += corner_control_points(taut, k)
     return seeds

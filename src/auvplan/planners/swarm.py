@@ -5,8 +5,10 @@ clamped cubic B-spline from the start to the goal, costed by :func:`auvplan.cost
 The optimiser is IABC (document 002's improvement), ABC, GA, PSO or scipy's differential
 evolution.  Two pipelines (``PlannerSpec.pipeline``):
 
-* ``"seeded"`` (default): a coarse lattice path (:mod:`auvplan.planners.seeding`), fitted as
-  control points, seeds ``seed_fraction`` of the first population; the optimiser spends
+* ``"seeded"`` (default): a coarse lattice path (:mod:`auvplan.planners.seeding`) gives candidate
+  control points (least-squares fits, control points repeated at the corners of its taut
+  polygon); the best of them, screened by the objective (evaluations counted), seed
+  ``seed_fraction`` of the first population; the optimiser spends
   ``(1 - refine_fraction)`` of the budget; a pattern search (:func:`auvplan.optim.pattern_search`)
   spends the rest refining the best plan, accepting only paths that pass the exact test when the
   optimiser's plan did (so the refined plan is never worse and never less safe); when the
@@ -49,7 +51,7 @@ from ..optim import (
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .grid import GridReference, plan_grid
-from .seeding import coarse_reference, fit_control_points, seed_candidates
+from .seeding import coarse_reference, lattice_seeds, seed_candidates
 from .swarm_problem import (
     check_endpoints,
     control_polygon,
@@ -171,24 +173,28 @@ def plan_swarm(
         return _failure(bad[0], bad[1], spec.name)
     gen = as_rng(rng)
     budget, refine = _budgets(spec)
-    lattice, x0 = None, None
+    lattice, x0, count = None, None, 0
     if spec.pipeline == "seeded":
         ref, lattice = coarse_reference(problem, spec)
         if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
             lo3, hi3 = search_box(problem)
             k = spec.control_points
             count = max(1, int(round(spec.seed_fraction * spec.population)))
-            x0 = seed_candidates(fit_control_points(lattice, k, spec.samples), count, np.tile(lo3, k),
-                                 np.tile(hi3, k), gen)
-    opt = run_optimizer(spec, spline_problem(problem, spec, budget, x0), gen, progress)
-    x, f, evals = opt.x, opt.f, opt.evaluations
-    history, trace = opt.history, opt.trace
+            bases = lattice_seeds(lattice, problem.world, k, spec.samples)
+            x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
+    task = spline_problem(problem, spec, budget, x0)
+    if x0 is not None and x0.shape[0] > count:  # screen the candidates (counted evaluations), keep the best
+        task.x0 = x0[np.argsort(task.evaluate(x0), kind="stable")[:count]]
+    opt = run_optimizer(spec, task, gen, progress)
+    x, f, evals = opt.x, opt.f, task.evaluations  # the screening included
+    history, trace = opt.history, np.asarray(task.trace, dtype=float).reshape(-1, 2)
     if refine > 0:
         feasible = _feasible(problem, spec, x)
         polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
         if polished.f <= f:
             x, f = polished.x, polished.f
         trace = np.vstack([trace, polished.trace + np.array([evals, 0.0])])
+        trace[:, 1] = np.minimum.accumulate(trace[:, 1])  # the polls' best against the incumbent
         history = np.r_[history, f]
         evals += polished.evaluations
     result = _result(problem, spec, x, f, evals, opt.iterations, history, trace)
