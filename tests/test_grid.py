@@ -179,19 +179,6 @@ def test_marcus_wake_reference_and_the_gap_of_a_swarm_plan(marcus):
     assert g.gap_pct == pytest.approx(100 * (swarm.cost - ref.cost) / ref.cost)
 
 
-def test_lattice_memory_grows_with_nodes_not_edges():
-    """The reference keeps a few words per node (no stored edge list): every array it holds,
-    over the nodes, is under 40 bytes a node although each node has up to 26 edges."""
-    world = World(Bounds(0, 1000, 0, 1000, -200, 0), margins=Margins(min_altitude=0.0, min_depth=-np.inf))
-    prob = PlanningProblem(world, [50.0, 50.0, -150.0], [900.0, 900.0, -100.0], 1.5)
-    spec = grid_spec(objective="length", cell=25.0, cell_z=25.0)
-    lo, hi = search_box(prob)
-    ref = GridReference(world, prob.goal, cost_model_for(prob, spec), lo, hi, spec.grid)
-    held = sum(v.nbytes for v in vars(ref).values() if isinstance(v, np.ndarray))
-    assert ref.edges > 20 * ref.nodes
-    assert held / ref.nodes < 40
-
-
 def test_streamline_plans_are_recosted_on_the_planners_cost_function():
     """A flow plan reports its length only; on the cost function it gains the energy term, and
     a swarm plan is left as it is (bench and reference gaps compare like with like)."""

@@ -34,130 +34,17 @@ from dataclasses import replace
 
 import numpy as np
 
-from .._jit import kernel
 from .._types import Status
-from ..cost import CostModel, energy_kernel, evaluate_paths, propulsion_power, segment_energy
+from ..cost import CostModel, evaluate_paths, propulsion_power, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
 from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .lattice import edge_bits, edge_states, node_fields, search
 from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
 __all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "on_cost_function",
            "path_cost", "with_reference"]
-
-_HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
-                  if (i, j, k) > (0, 0, 0)])
-"""The 13 lattice offsets with a positive first non-zero component (the other 13 are their reverses)."""
-
-_OFFSETS = np.concatenate([_HALF, -_HALF]).astype(np.int64)
-"""The 26 lattice directions; bit ``s`` of a node's edge mask is the edge along ``_OFFSETS[s]``."""
-
-
-@kernel
-def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power, document):
-    """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
-    ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
-    (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
-    ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]
-    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-    if not use_cost:
-        return ds
-    cx = 0.5 * (current[u, 0] + current[v, 0])
-    cy = 0.5 * (current[u, 1] + current[v, 1])
-    cz = 0.5 * (current[u, 2] + current[v, 2])
-    units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
-    if blocked:
-        return np.inf
-    return max(w_length * ds + w_energy * units, 1e-12)
-
-
-@kernel
-def _sift_up(heap, pos, key, i):
-    node = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        if key[heap[parent]] <= key[node]:
-            break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
-        i = parent
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _sift_down(heap, pos, key, i, size):
-    node = heap[i]
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
-            c += 1
-        if key[heap[c]] >= key[node]:
-            break
-        heap[i] = heap[c]
-        pos[heap[i]] = i
-        i = c
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, speed, power, document,
-            near, w_goal, goal, dist, nxt):
-    """Dijkstra from the goal over the reversed lattice, edges generated on the fly.
-
-    ``dist[u]`` becomes the cheapest cost from node ``u`` to the goal and ``nxt[u]`` the next
-    node on that path (``goal`` for the nodes linked to it directly).  An indexed binary heap
-    with decrease-key keeps the memory at a few words per node.
-    """
-    n = goal
-    nx, ny, nz = shape[0], shape[1], shape[2]
-    pos = np.full(n, -1, dtype=np.int64)  # -1 never queued, -2 settled
-    heap = np.empty(n, dtype=np.int64)
-    size = 0
-    for k in range(near.size):
-        u = near[k]
-        if w_goal[k] < dist[u]:
-            dist[u] = w_goal[k]
-            nxt[u] = goal
-            if pos[u] == -1:
-                heap[size] = u
-                pos[u] = size
-                size += 1
-            _sift_up(heap, pos, dist, pos[u])
-    while size > 0:
-        v = heap[0]
-        pos[v] = -2
-        size -= 1
-        if size > 0:
-            heap[0] = heap[size]
-            pos[heap[0]] = 0
-            _sift_down(heap, pos, dist, 0, size)
-        k = v % nz
-        j = (v // nz) % ny
-        i = v // (nz * ny)
-        for s in range(26):
-            # the edge u -> v along direction s starts at u = v - offsets[s]
-            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
-            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
-                continue
-            u = (ui * ny + uj) * nz + uk
-            if pos[u] == -2 or not (bits[u] >> s) & 1:
-                continue
-            alt = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
-                                         document)
-            if alt < dist[u]:
-                dist[u] = alt
-                nxt[u] = v
-                if pos[u] == -1:
-                    heap[size] = u
-                    pos[u] = size
-                    size += 1
-                _sift_up(heap, pos, dist, pos[u])
-
 
 def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
     """Horizontal and vertical cell sizes (m).
@@ -209,32 +96,19 @@ def densify(points, spacing: float) -> np.ndarray:
     return np.vstack([out, p[-1]])
 
 
-def free_edges(world: World, ids: np.ndarray, free: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray,
-               xyz: np.ndarray, steps: np.ndarray, off) -> tuple[np.ndarray, np.ndarray]:
-    """The free lattice edges ``src -> src + off`` between free nodes, as node ids ``(src, dst)``.
+def free_edges(world: World, free: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray, steps: np.ndarray,
+               off, coords) -> tuple[np.ndarray, np.ndarray]:
+    """The free lattice edges ``src -> src + off`` between free nodes, as flat node ids ``(src, dst)``.
 
-    One offset has one length and direction, so its edges are tested as 3D array slices: the
-    seabed's Lipschitz bound (``altitude``: node altitudes, margin included) and the obstacles'
-    1-Lipschitz distance (``obstacle``) clear most edges from the node values alone, and only
-    the others go through the World's exact segment test.  ``ids``, ``free``, ``altitude`` and
-    ``obstacle`` have the lattice's shape; ``xyz (N, 3)`` are the node coordinates.
+    The seabed's Lipschitz bound (``altitude``: node altitudes above the seabed) and the
+    obstacles' 1-Lipschitz distance (``obstacle``: slack beyond the margin) clear most edges from
+    the node values alone in one compiled pass; only the others go through the World's exact
+    segment test (:func:`auvplan.planners.lattice.edge_states`).  ``free``, ``altitude`` and
+    ``obstacle`` have the lattice's shape; ``coords(ids)`` gives node coordinates ``(n, 3)``.
     """
-    shape = free.shape
-    a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
-    b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
-    both = free[a] & free[b]
-    src, dst = ids[a][both], ids[b][both]
-    d = np.asarray(off) * steps
-    length = float(np.linalg.norm(d))
-    sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length
-    if world.terrain is not None:
-        lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], np.hypot(d[0], d[1]))
-        sure &= lb >= world.margins.min_altitude
-    unsure = np.flatnonzero(~sure)
-    if unsure.size:
-        seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
-        sure[unsure] = world.segments_free(seg, moving=False, ends_free=True)
-    return src[sure], dst[sure]
+    off = np.asarray(off, dtype=np.int64)
+    src = np.flatnonzero(edge_states(world, free, altitude, obstacle, steps, off, coords))
+    return src, src + int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
 
 
 class GridReference:
@@ -252,6 +126,10 @@ class GridReference:
         Search box.
     params : GridParams
         Cell sizes, node cap and objective.
+    start : array_like, shape (3,), optional
+        The one start that will be queried: the search becomes A* towards it and stops when its
+        cheapest path is known (:func:`auvplan.planners.lattice.search`).  Other starts are then
+        answered by real but not necessarily cheapest lattice paths.
 
     Attributes
     ----------
@@ -260,12 +138,16 @@ class GridReference:
     free : ndarray of bool, shape (nx, ny, nz)
         Free nodes.
     cost_to_go : ndarray, shape (nx, ny, nz)
-        Cost from each node to the goal (``inf`` where unreachable or not free).
+        Cost from each node to the goal (``inf`` where unreachable or not free; with ``start``,
+        exact on the settled nodes and an upper bound on the others).
     edges : int
         Directed edges in the graph.
+    settled : int
+        Nodes the search settled.
     """
 
-    def __init__(self, world: World, goal, model: CostModel, lower, upper, params: GridParams) -> None:
+    def __init__(self, world: World, goal, model: CostModel, lower, upper, params: GridParams,
+                 start=None) -> None:
         self.world, self.model, self.params = world, model, params
         self.goal = np.asarray(goal, dtype=float).reshape(3)
         lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
@@ -275,54 +157,48 @@ class GridReference:
         if np.prod(n) > params.max_nodes:
             raise ValueError(f"a lattice of {n.tolist()} nodes at {cell:g} m x {cell_z:g} m cells exceeds "
                              f"max_nodes = {params.max_nodes}; raise [planner.grid] cell")
-        offset = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
+        origin = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
         self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
-        self.axes = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
-        xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
-        slack = world.clearances(xyz, moving=False)
-        self.free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(self.shape)
-        current = world.currents.velocity(xyz) if params.objective == "cost" else np.zeros((0, 3))
-        bits = self._lattice_edges(xyz, slack["altitude"] + world.margins.min_altitude, slack["obstacles"])
-        del xyz, slack
+        self.axes = tuple(origin[d] + steps[d] * np.arange(n[d]) for d in range(3))
+        use_cost = params.objective == "cost"
+        self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
+        bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        del alt, obs
         near, w_goal = self._connect(self.goal, towards=True)
         keep = np.isfinite(w_goal)
         near, w_goal = near[keep], np.maximum(w_goal[keep], 1e-12)
         self.edges = int(np.bitwise_count(bits).sum()) + int(near.size)
         self._goal_id = self.nodes
-        self._dist, self._next = np.full(self.nodes + 1, np.inf), np.full(self.nodes + 1, -9999, dtype=np.int64)
-        self._dist[self._goal_id] = 0.0
-        steps = np.array([cell, cell, cell_z])
-        _search(np.array(self.shape, dtype=np.int64), bits, _OFFSETS, _OFFSETS * steps, current,
-                params.objective == "cost", model.w_length, model.w_energy * model.scale, model.speed,
-                propulsion_power(model), model.energy == "document",
-                near.astype(np.int64), w_goal, self._goal_id, self._dist, self._next)
+        cost = (model.w_length, model.w_energy * model.scale, model.speed, propulsion_power(model),
+                model.energy == "document") if use_cost else None
+        start_near, c_min = None, 0.0
+        if start is not None:
+            start = np.asarray(start, dtype=float).reshape(3)
+            ids, w = self._connect(start, towards=False)
+            start_near, c_min = (ids[np.isfinite(w)], w[np.isfinite(w)]), self._cost_per_metre(current)
+        self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
+                                                      start_near, start, c_min)
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
+
+    def _cost_per_metre(self, current: np.ndarray) -> float:
+        """A lower bound of any edge's cost per metre (A*'s heuristic): 1 for the length; the
+        length weight plus the energy of the still-water speed plus the strongest node current
+        (with a quarter more for the currents between nodes) for the physical energy model; the
+        length weight alone for the document's energy (which can be near zero)."""
+        m = self.model
+        if self.params.objective == "length":
+            return 1.0
+        if m.energy == "document" or current.shape[0] == 0:
+            return float(m.w_length)
+        c2 = max((float(np.einsum("ij,ij->i", c, c).max()) for c in np.array_split(current, 16) if c.size),
+                 default=0.0)
+        vmax = m.speed + 1.25 * math.sqrt(c2)
+        return float(m.w_length + m.w_energy * m.scale * propulsion_power(m) / vmax)
 
     # ------------------------------------------------------------------ lattice
     def _coords(self, ids: np.ndarray) -> np.ndarray:
         i, j, k = np.unravel_index(np.asarray(ids), self.shape)
         return np.stack([self.axes[0][i], self.axes[1][j], self.axes[2][k]], axis=-1)
-
-    def _lattice_edges(self, xyz: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
-        """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of
-        node ``u`` set when the edge ``u -> u + _OFFSETS[s]`` is free).
-
-        The edges of each offset come from :func:`free_edges`.  Costs are not stored: the search
-        computes each edge's cost when it relaxes it, so memory grows with the nodes, not with
-        26 × the nodes.
-        """
-        w = self.world
-        itype = np.int32 if self.nodes < 2**31 else np.int64
-        ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
-        steps = np.array([self.cell, self.cell, self.cell_z])
-        alt = altitude.reshape(self.shape)
-        obs = obstacle.reshape(self.shape)
-        bits = np.zeros(self.nodes, dtype=np.uint32)
-        for slot, off in enumerate(_HALF):
-            src, dst = free_edges(w, ids, self.free, alt, obs, xyz, steps, off)
-            bits[src] |= np.uint32(1 << slot)
-            bits[dst] |= np.uint32(1 << (13 + slot))
-        return bits
 
     def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:
         """Free nodes within two cells of ``point`` joined to it by a free segment, and the
@@ -332,7 +208,8 @@ class GridReference:
         hi = [int(np.searchsorted(ax, point[d] + 2.01 * s)) for d, (ax, s) in
               enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
         box = np.s_[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]]
-        ids = np.arange(self.nodes).reshape(self.shape)[box][self.free[box]]
+        ijk = np.nonzero(self.free[box])
+        ids = np.ravel_multi_index(tuple(v + lo[d] for d, v in enumerate(ijk)), self.shape)
         q = self._coords(ids)
         p = np.broadcast_to(point, q.shape)
         ok = self.world.segments_free(np.stack([p, q], axis=1), moving=False)
@@ -502,7 +379,7 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     if reference is None:
         lower, upper = search_box(problem)
         try:
-            reference = GridReference(problem.world, problem.goal, model, lower, upper, params)
+            reference = GridReference(problem.world, problem.goal, model, lower, upper, params, problem.start)
         except ValueError as exc:
             return _failure(Status.INFEASIBLE, str(exc), t0)
     raw = reference.query(problem.start)
