@@ -175,16 +175,21 @@ class GridReference:
         if start is not None:
             start = np.asarray(start, dtype=float).reshape(3)
             ids, w = self._connect(start, towards=False)
-            start_near, c_min = (ids[np.isfinite(w)], w[np.isfinite(w)]), self._cost_per_metre(current)
+            ids, w = ids[np.isfinite(w)], w[np.isfinite(w)]
+            start_near, c_min = (ids, w), self._cost_per_metre(current)
+            span = np.linalg.norm(self._coords(ids) - start, axis=1)  # the start's links obey the bound too
+            if np.any(span > 0):
+                c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
         self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
                                                       start_near, start, c_min)
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
     def _cost_per_metre(self, current: np.ndarray) -> float:
-        """A lower bound of any edge's cost per metre (A*'s heuristic): 1 for the length; the
-        length weight plus the energy of the still-water speed plus the strongest node current
-        (with a quarter more for the currents between nodes) for the physical energy model; the
-        length weight alone for the document's energy (which can be near zero)."""
+        """A lower bound of any lattice edge's cost per metre (A*'s heuristic): 1 for the length;
+        the length weight plus the energy at the ground speed of the still-water speed plus the
+        strongest node current (an edge takes the mean of its two nodes' currents) for the
+        physical energy model; the length weight alone for the document's energy (which can be
+        near zero)."""
         m = self.model
         if self.params.objective == "length":
             return 1.0
@@ -192,7 +197,7 @@ class GridReference:
             return float(m.w_length)
         c2 = max((float(np.einsum("ij,ij->i", c, c).max()) for c in np.array_split(current, 16) if c.size),
                  default=0.0)
-        vmax = m.speed + 1.25 * math.sqrt(c2)
+        vmax = m.speed + math.sqrt(c2)
         return float(m.w_length + m.w_energy * m.scale * propulsion_power(m) / vmax)
 
     # ------------------------------------------------------------------ lattice
@@ -241,14 +246,49 @@ class GridReference:
         return np.vstack([start, self._coords(np.array(chain[:-1])), self.goal])
 
 
+def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
+    """Points every ``spacing`` metres along the free polyline ``path (N, 3)``, except where a
+    resampled segment would cut a corner into the seabed or an obstacle: there the original
+    vertices between its two ends are kept, so that stretch follows ``path`` and stays free.
+
+    Parameters
+    ----------
+    world : World
+    path : ndarray, shape (N, 3)
+        A polyline that passes the exact segment test.
+    spacing : float
+        Arc-length spacing (m).
+
+    Returns
+    -------
+    ndarray, shape (M, 3)
+        A free polyline through the same end points.
+    """
+    p = np.asarray(path, dtype=float)
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    r = resample_polyline(p, spacing)
+    q = np.linspace(0.0, s[-1], r.shape[0])
+    bad = np.flatnonzero(~world.segments_free(np.stack([r[:-1], r[1:]], axis=1), moving=False))
+    if bad.size == 0:
+        return r
+    pieces, last = [], 0
+    for i in bad:
+        pieces += [r[last:i + 1], p[(s > q[i]) & (s < q[i + 1])]]
+        last = int(i) + 1
+    return np.vstack([*pieces, r[last:]])
+
+
 def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
     t = p[i + 1] - p[i - 1]
-    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-12)
-    ref = np.where(np.abs(t[:, 2:3]) < 0.9, np.array([[0.0, 0.0, 1.0]]), np.array([[1.0, 0.0, 0.0]]))
-    n1 = np.cross(t, ref)
-    n1 /= np.linalg.norm(n1, axis=1, keepdims=True)
-    return n1, np.cross(t, n1)
+    t /= np.maximum(np.sqrt(np.einsum("ij,ij->i", t, t)), 1e-12)[:, None]
+    tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
+    steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
+    n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
+                  np.stack([ty, -tx, np.zeros_like(tx)], axis=1))
+    n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
+    n2 = np.stack([ty * n1[:, 2] - tz * n1[:, 1], tz * n1[:, 0] - tx * n1[:, 2], tx * n1[:, 1] - ty * n1[:, 0]], axis=1)
+    return n1, n2
 
 
 def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterations: int,
@@ -256,7 +296,8 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     """Elastic band with pattern search: each interior point tries a pull towards its
     neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
     best move that lowers the cost of its two segments and keeps both free (odd and even
-    points in turn, so that the moves are independent).  Failed points halve their steps."""
+    points in turn, so that the moves are independent).  Failed points halve their steps.
+    Only the moves that lower the cost go through the exact segment test."""
     p = p.copy()
     n = p.shape[0]
     if n < 3 or iterations == 0:
@@ -264,30 +305,32 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     alpha = np.full(n, 0.5)
     delta = np.full(n, 0.5 * step)
     tol = 1e-3 * step
-
-    def cost(a, b):
-        return edge_cost(world, a, b, model, objective)
-
     for _ in range(iterations):
         for parity in (1, 2):
             i = np.arange(parity, n - 1, 2)
             i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
             if i.size == 0:
                 continue
+            m = i.size
             a, b, c = p[i - 1], p[i], p[i + 1]
             n1, n2 = _normals(p, i)
             d = delta[i, None]
-            cand = np.stack([b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2, b - d * n2])
-            old = cost(a, b) + cost(b, c)
-            new = cost(a, cand) + cost(cand, c)
-            seg = np.stack([np.stack(np.broadcast_arrays(a, cand), axis=-2),
-                            np.stack(np.broadcast_arrays(cand, c), axis=-2)], axis=-3)
+            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
+                            b - d * n2])  # (6, m, 3): the point, then its five moves
+            ends = np.concatenate([np.broadcast_to(a, pts.shape), pts])
+            cost = edge_cost(world, ends, np.concatenate([pts, np.broadcast_to(c, pts.shape)]), model, objective)
+            both = cost[:6] + cost[6:]
+            old, new = both[0], both[1:]
             better = new < old - 1e-9 * np.abs(old)
-            better &= world.segments_free(seg, moving=False).all(axis=-1) | ~better
+            kk, jj = np.nonzero(better)
+            if kk.size:
+                q = pts[kk + 1, jj]
+                seg = np.stack([np.stack([a[jj], q], axis=1), np.stack([q, c[jj]], axis=1)], axis=1)
+                better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
             new = np.where(better, new, np.inf)
             k = np.argmin(new, axis=0)
-            ok = np.isfinite(new[k, np.arange(i.size)])
-            p[i[ok]] = cand[k[ok], np.flatnonzero(ok)]
+            ok = np.isfinite(new[k, np.arange(m)])
+            p[i[ok]] = pts[k[ok] + 1, np.flatnonzero(ok)]
             pulled = ok & (k == 0)
             alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
             pushed = ok & (k > 0)
@@ -301,51 +344,49 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
 
 def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cell: float,
             iterations: int) -> np.ndarray:
-    """Coarse-to-fine elastic band: the path is resampled every 16, 8, 4, 2, 1 and 1/2 cells
-    (levels longer than a quarter of the path are skipped, as are resamplings that would cut
-    into an obstacle) and relaxed at each level with steps of that spacing, so that whole
-    stretches move together before the detail is settled."""
+    """Coarse-to-fine elastic band: the path is resampled at 1/8, 1/16, … of its length down to
+    half a cell (a ladder of spacings fixed by the path, not by the cell, so that every lattice
+    hands the band the same coarse levels; resamplings that would cut into an obstacle densify
+    instead) and relaxed at each level with steps of that spacing, so that whole stretches move
+    together before the detail is settled."""
     path = raw
-    total = float(polyline_length(raw))
-    for level in (16.0, 8.0, 4.0, 2.0, 1.0, 0.5):
-        spacing = level * cell
-        if spacing > 0.25 * total and level > 0.5:
-            continue
-        coarse = resample_polyline(path, spacing)
-        if not world.path_free(coarse):
-            coarse = densify(path, spacing)
-        path = _relax(world, coarse, model, objective, iterations, spacing)
-    return path
+    spacing = float(polyline_length(raw)) / 8.0
+    while True:
+        spacing = max(spacing, 0.5 * cell)
+        path = _relax(world, resample_free(world, path, spacing), model, objective, iterations, spacing)
+        if spacing <= 0.5 * cell:
+            return path
+        spacing *= 0.5
 
 
-def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel, cell: float,
-              iterations: int, tol: float) -> tuple[np.ndarray, float, int]:
-    """Refine until the cost stops improving: resample the path at half the last spacing (or
-    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
-    it with steps of that spacing (and, for the length objective, drop the vertices that hold
-    nothing up), and keep it only when cheaper; stop when two levels in a row improve the cost
-    by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
+              iterations: int, tol: float, cycles: int = 6) -> tuple[np.ndarray, float, int]:
+    """Refine until the cost stops improving, the same way whatever the lattice: cycles of
+    levels, each level resampling the best path so far every 1/8, 1/16, … 1/2048 of its length
+    (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
+    objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
+    free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
 
     Returns the path, its cost and the number of levels run.
     """
     world, objective = problem.world, spec.grid.objective
     best, best_cost = path, path_cost(problem, spec, path)["total"]
-    floor = float(polyline_length(path)) / 2000.0
-    spacing, levels, small = 0.5 * cell, 0, 0
-    while spacing >= floor and small < 2:
-        levels += 1
-        start = resample_polyline(best, spacing)  # even spacing lets points slide along the path
-        if not world.path_free(start):
-            start = densify(best, spacing)
-        cand = _relax(world, start, model, objective, iterations, spacing)
-        if objective == "length":
-            cand = key_waypoints(cand, world)
-        cost = path_cost(problem, spec, cand)["total"]
-        gain = (best_cost - cost) / max(abs(best_cost), 1e-12)
-        if cost < best_cost and world.path_free(cand):
-            best, best_cost = cand, cost
-        small = small + 1 if gain < tol else 0
-        spacing *= 0.5
+    length = float(polyline_length(path))
+    levels = 0
+    for _ in range(cycles):
+        before = best_cost
+        spacing = length / 8.0
+        while spacing >= length / 2048.0:
+            levels += 1
+            cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
+            if objective == "length":
+                cand = key_waypoints(cand, world)
+            cost = path_cost(problem, spec, cand)["total"]
+            if cost < best_cost and world.path_free(cand):
+                best, best_cost = cand, cost
+            spacing *= 0.5
+        if before - best_cost < tol * max(abs(before), 1e-12):
+            break
     return best, best_cost, levels
 
 
@@ -368,12 +409,40 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     """Plan on the lattice (see the module notes); ``reference`` re-uses a cost-to-go field
     built for the same goal, world and cost function.
 
-    ``evaluations`` counts lattice edges (the work of the search); ``iterations`` is 1.
+    With ``converge`` and ``ladder`` (the defaults) the lattices 2, 4, … times coarser, up to
+    the first at least 1/25 of the search box's narrower side, are planned and refined the same
+    way and the cheapest plan wins: the candidates of a cell include those of the cell twice as
+    coarse, so halving the cell never gives a worse reference.
+
+    ``evaluations`` counts lattice edges (the work of the searches); ``iterations`` is 1.
     """
+    t0 = time.perf_counter()
+    best, cell = _plan_lattice(problem, spec, reference)
+    params = spec.grid
+    if not (params.converge and params.ladder and best.status.ok):
+        return best
+    lower, upper = search_box(problem)
+    top = float(np.min(upper[:2] - lower[:2])) / 25.0
+    cells, won, edges, coarse = [cell], cell, best.evaluations, cell
+    while coarse < top:
+        coarse *= 2.0
+        run, _ = _plan_lattice(problem, replace(spec, grid=replace(params, cell=coarse)))
+        cells.append(coarse)
+        edges += run.evaluations
+        if run.status.ok and run.cost < best.cost:
+            best, won = run, coarse
+    return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
+                   message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
+                   f"{won:g} m")
+
+
+def _plan_lattice(problem: PlanningProblem, spec: PlannerSpec,
+                  reference: GridReference | None = None) -> tuple[PlanResult, float]:
+    """:func:`plan_grid` on one lattice; also returns its horizontal cell."""
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
     if bad is not None:
-        return _failure(bad[0], bad[1], t0)
+        return _failure(bad[0], bad[1], t0), 0.0
     params = spec.grid
     model = cost_model_for(problem, spec)
     if reference is None:
@@ -381,24 +450,24 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
         try:
             reference = GridReference(problem.world, problem.goal, model, lower, upper, params, problem.start)
         except ValueError as exc:
-            return _failure(Status.INFEASIBLE, str(exc), t0)
+            return _failure(Status.INFEASIBLE, str(exc), t0), 0.0
     raw = reference.query(problem.start)
     if raw.shape[0] == 0:
         msg = (f"the goal cannot be reached from the start: no free path on the {reference.shape} lattice "
                f"at {reference.cell:g} m x {reference.cell_z:g} m cells ({int(reference.free.sum())} of "
                f"{reference.nodes} nodes free); the goal may be enclosed by the seabed or obstacles, "
                "or a smaller [planner.grid] cell may find a passage")
-        return _failure(Status.INFEASIBLE, msg, t0)
+        return _failure(Status.INFEASIBLE, msg, t0), reference.cell
     w = problem.world
     length_only = params.objective == "length"
     path = key_waypoints(raw, w) if length_only else raw
-    path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
-    if length_only:
-        path = key_waypoints(path, w)
     levels = 0
     if params.converge:
-        path, _, levels = _converge(problem, spec, path, model, reference.cell, params.relax_iterations,
-                                    params.converge_tol)
+        path, _, levels = _converge(problem, spec, path, model, params.relax_iterations, params.converge_tol)
+    else:
+        path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
+        if length_only:
+            path = key_waypoints(path, w)
     terms = path_cost(problem, spec, path)
     straight = np.stack([problem.start, problem.goal])
     if path.shape[0] > 2 and w.path_free(straight):
@@ -432,7 +501,7 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
         planner="grid",
         control_points=ctrl,
         message=message,
-    )
+    ), reference.cell
 
 
 def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
