@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
-from .errors import AuvplanError
+from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
 from .io import export, results
 from .io import scenario as scenario_io
@@ -621,6 +621,8 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
                         format="%(levelname)s %(name)s: %(message)s")
     try:
+        if _writes_html(args):  # checked before any work is done
+            require("plotly", "report")
         return args.func(args)
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
@@ -630,6 +632,11 @@ def main(argv: list[str] | None = None) -> int:
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+
+
+def _writes_html(args: argparse.Namespace) -> bool:
+    """Whether the command writes an HTML report (plotly, the ``report`` extra)."""
+    return args.command in ("demo", "report", "bench") or (args.command == "run" and bool(args.out))
 
 
 def _one_line(exc: BaseException) -> str:

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ._types import RngLike, Status, as_rng
+from .guidance.formation import Formation
 from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
@@ -82,6 +83,9 @@ class Mission:
         avoidance and the closed loop.
     guidance : str
         ``"hybrid"``, ``"los"`` or ``"ilos"``.
+    formation : Formation or None
+        Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
+        :mod:`auvplan.sim_formation` flies them.
     """
 
     name: str
@@ -96,6 +100,7 @@ class Mission:
     los: LosParams = field(default_factory=LosParams)
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimSettings = field(default_factory=SimSettings)
+    formation: Formation | None = None
 
 
 @dataclass(frozen=True, eq=False)

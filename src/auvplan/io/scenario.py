@@ -18,6 +18,8 @@ Layout (all tables optional except ``[mission]``)::
     [[obstacles]] type = sphere|ellipsoid, center, radius | semi_axes, yaw_deg, pitch_deg, roll_deg
     [[moving]]    type, radius | semi_axes, motion = linear|circle|waypoints|random-walk, ...
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
+    [[vehicles]]  name, role = leader|follower, start, depth_offset_m     # several vehicles ...
+    [formation]   shape = line|column|wedge, spacing_m, changes, ...    # ... flying in formation
     [vehicle] [planner] [guidance] [avoidance] [sim]   parameters of those components
 """
 
@@ -34,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DataError, ScenarioError
+from ..guidance.formation import Formation, FormationParams, VehicleSpec
 from ..guidance.hybrid import HybridParams
 from ..guidance.local import AvoidanceParams
 from ..guidance.los import LosParams
@@ -259,18 +262,20 @@ class Scenario:
     raw: dict = field(repr=False, default_factory=dict)
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
+    formation: Formation | None = None
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
+    "formation": FormationParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
-    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
 }
 
 
@@ -517,6 +522,7 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
     _check_geometry(source, mission, sim)
+    formation = _formation(data, source, mission)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -539,7 +545,28 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
         raw=copy.deepcopy(data),
         limits=limits,
         land=land,
+        formation=formation,
     )
+
+
+def _formation(data: dict, src: str, mission: MissionSpec) -> Formation | None:
+    """``[[vehicles]]`` and ``[formation]``: both or neither."""
+    if "vehicles" not in data and "formation" not in data:
+        return None
+    raw = data.get("vehicles", [])
+    if not isinstance(raw, list) or not raw:
+        raise table_error(f"{src}:", "vehicles", raw, "expected an array of tables [[vehicles]] (name, role, ...)")
+    vehicles = tuple(build_dataclass(VehicleSpec, v, f"{src}: [[vehicles]] #{i + 1}") for i, v in enumerate(raw))
+    params = _section(data, "formation", src)
+    for i, ch in enumerate(params.changes):
+        if ch.waypoint >= 0 and ch.waypoint >= max(len(mission.route), 1):
+            raise table_error(f"{src}: [formation]", f"changes[{i}].waypoint", ch.waypoint,
+                              f"the [mission] route has {len(mission.route)} waypoints" if mission.route else
+                              "a waypoint needs a [mission] route (use at_m with a planned route)")
+    try:
+        return Formation(params, vehicles)
+    except ValueError as exc:
+        raise ScenarioError(f"{src}: [[vehicles]] {exc}") from exc
 
 
 def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic, planner: PlannerSpec) -> None:
@@ -603,17 +630,18 @@ def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str)
 
 def _check_point(world: World, point, key: str, src: str) -> None:
     p = np.asarray(point, dtype=float)
+    table = "" if key.startswith("[[") else "[mission] "
     if not world.bounds.contains(p):
         b = world.bounds
         raise ScenarioError(
-            f"{src}: [mission] {key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
+            f"{src}: {table}{key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
             f"y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}]"
         )
     why = world.explain(p, 0.0)
     if why:
         seabed = float(world.seabed(p[0], p[1]))
         extra = f" (seabed at {seabed:.1f} m)" if np.isfinite(seabed) else ""
-        raise ScenarioError(f"{src}: [mission] {key} = {list(point)}: not a free point: {why}{extra}")
+        raise ScenarioError(f"{src}: {table}{key} = {list(point)}: not a free point: {why}{extra}")
 
 
 def _check_terrain_size(s: Scenario, extent) -> None:
@@ -741,6 +769,9 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     for i, wp in enumerate(m.route):
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
+    for spec in s.formation.vehicles if s.formation is not None else ():
+        if spec.start:
+            _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     mission = Mission(
         name=s.name,
         start=m.start,
@@ -754,5 +785,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         los=s.guidance.los,
         avoidance=s.avoidance,
         sim=s.sim,
+        formation=s.formation,
     )
     return world, mission

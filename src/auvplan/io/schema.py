@@ -159,6 +159,8 @@ def scenario_schema() -> dict:
         "terrain": terrain,
         "obstacles": {"type": "array", "items": _obstacle_schema(), "description": "Static obstacles."},
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
+        "vehicles": {"type": "array", "items": table_schema(sc.VehicleSpec), "minItems": 2,
+                     "description": "Several vehicles flying the route in [formation]."},
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
@@ -197,6 +199,8 @@ def _commented_table(header: str, cls: type, given: dict | None = None) -> list[
             lines.append(f"{name} = {_toml(given[name])}")
         elif isinstance(default, float) and not math.isfinite(default):
             lines.append(f"# {name} = (no limit when omitted)")
+        elif default is None:  # resolved from another key when omitted (see its description)
+            lines.append(f"# {name} (omitted: see above)")
         else:
             lines.append(f"# {name} = {_toml(default)}")
     for sub, subcls in nested:
