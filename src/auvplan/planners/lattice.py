@@ -43,7 +43,18 @@ _SLAB = 100_000
 
 
 def down32(a: np.ndarray) -> np.ndarray:
-    """``a`` in single precision, rounded down (never above the double value: a safe clearance)."""
+    """``a`` in single precision, rounded down (never above the double value: a safe clearance).
+
+    Parameters
+    ----------
+    a : ndarray
+        Double-precision values.
+
+    Returns
+    -------
+    ndarray of float32
+        The largest single-precision values not above ``a``.
+    """
     b = a.astype(np.float32)
     return np.where(b > a, np.nextafter(b, np.float32(-np.inf)), b)
 
@@ -69,6 +80,7 @@ def node_fields(world: World, axes, currents: bool) -> tuple[np.ndarray, np.ndar
     obstacle : ndarray of float32, shape (nx, ny, nz)
         Static-obstacle slack (distance minus margin), rounded down.
     current : ndarray of float32, shape (N, 3) or (0, 3)
+        Current at the nodes in flat C order (m/s).
     """
     ax, ay, az = (np.asarray(a, dtype=float) for a in axes)
     shape = (ax.size, ay.size, az.size)
@@ -126,10 +138,34 @@ def _offset_states(free, alt, obs, off, half_length, dz, lh, lipschitz, min_alt,
 
 
 def edge_states(world: World, free, altitude, obstacle, steps, off, coords) -> np.ndarray:
-    """Which edges ``u -> u + off`` are free: ``int8 (N,)`` over the source nodes (flat C order),
-    1 free, 0 not (an end outside the lattice or not free, or the segment fails the World's exact
-    test).  Most edges are cleared by the node values (:func:`_offset_states`); the rest go
-    through :meth:`World.segments_free`.  ``coords(ids)`` gives the coordinates ``(n, 3)``."""
+    """Which edges ``u -> u + off`` are free.
+
+    Most edges are cleared by the node values in one compiled pass (the seabed's Lipschitz bound
+    on the end altitudes, the obstacles' 1-Lipschitz distance); the rest go through
+    :meth:`World.segments_free`.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : ndarray of bool, shape (nx, ny, nz)
+        Free nodes.
+    altitude, obstacle : ndarray, shape (nx, ny, nz)
+        Node heights above the seabed and static-obstacle slack (:func:`node_fields`), never above
+        the true values.
+    steps : array_like, shape (3,)
+        Cell sizes (m).
+    off : array_like of int, shape (3,)
+        The lattice offset of the edges.
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    ndarray of int8, shape (N,)
+        Over the source nodes (flat C order): 1 where the edge is free, 0 where it is not (an end
+        outside the lattice or not free, or the segment fails the exact test).
+    """
     off = np.asarray(off, dtype=np.int64)
     d = off * np.asarray(steps, dtype=float)
     state = np.empty(free.size, dtype=np.int8)
@@ -156,8 +192,26 @@ def _set_bits(state, delta, bits, fwd, rev):
 
 
 def edge_bits(world: World, free, altitude, obstacle, steps, coords) -> np.ndarray:
-    """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of node
-    ``u`` set when the edge ``u -> u + OFFSETS[s]`` is free), from :func:`edge_states`."""
+    """Free edges as one bit per lattice direction and node, from :func:`edge_states`.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : ndarray of bool, shape (nx, ny, nz)
+        Free nodes.
+    altitude, obstacle : ndarray, shape (nx, ny, nz)
+        Node heights above the seabed and static-obstacle slack (:func:`node_fields`).
+    steps : array_like, shape (3,)
+        Cell sizes (m).
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    ndarray of uint32, shape (N,)
+        Bit ``s`` of node ``u`` is set when the edge ``u -> u + OFFSETS[s]`` is free.
+    """
     shape = free.shape
     bits = np.zeros(free.size, dtype=np.uint32)
     for slot, off in enumerate(HALF):
@@ -314,6 +368,7 @@ def search(shape, bits, steps, origin, current, cost, goal_near, start_near=None
         Nodes joined to the start and the cost of the segment from it; with ``start`` and
         ``c_min > 0`` the search is A* and stops once the start's best link is settled.
     start : ndarray, shape (3,), optional
+        The start point (A*'s target).
     c_min : float
         Lower bound of any edge's cost per metre (0: plain Dijkstra over the whole lattice).
 
