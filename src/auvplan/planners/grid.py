@@ -43,8 +43,8 @@ from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
 from .lattice import edge_bits, edge_states, node_fields, search
 from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
-__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "on_cost_function",
-           "path_cost", "with_reference"]
+__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "densify", "edge_cost", "free_edges",
+           "on_cost_function", "path_cost", "resample_free", "with_reference"]
 
 def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
     """Horizontal and vertical cell sizes (m).
@@ -502,6 +502,37 @@ def _plan_lattice(problem: PlanningProblem, spec: PlannerSpec,
         control_points=ctrl,
         message=message,
     ), reference.cell
+
+
+def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult) -> PlanResult:
+    """``result`` with its path refined to convergence on the planner's cost function (the lattice
+    reference's own refinement) when that is cheaper and free, else ``result`` unchanged.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The cost function and the refinement settings (``spec.grid``).
+    result : PlanResult
+        A plan of any planner.
+
+    Returns
+    -------
+    PlanResult
+        The refined polyline (no control points) with its cost terms, or ``result``.
+    """
+    if not result.status.ok or result.path.shape[0] < 2:
+        return result
+    params = spec.grid
+    path, cost, levels = _converge(problem, spec, np.asarray(result.path, dtype=float), cost_model_for(problem, spec),
+                                   params.relax_iterations, params.converge_tol)
+    if not cost < result.cost or not problem.world.path_free(path):
+        return result
+    terms = path_cost(problem, spec, path)
+    total = float(terms.pop("total"))
+    return replace(result, path=path, cost=total, cost_terms={**result.cost_terms, **terms}, control_points=None,
+                   message=f"{result.message}; refined to convergence ({levels} levels)".lstrip("; "))
 
 
 def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
