@@ -170,3 +170,22 @@ def test_los_steady_state_in_a_uniform_cross_current(c_north):
 
     ilos = simulate(world, m, guidance="ilos", rng=0, avoidance="none")
     assert abs(ilos.cross_track[-100]) < 0.05 * abs(e_ss)
+
+
+def test_uncapped_factor_closes_the_track_double_gap():
+    """Why the document's field fails on ``track-double`` (README): 15 m before the gap between the
+    obstacles at (300, ±10) (surfaces 14.53 m away, r_at = 315 m of a 600 m leg), the uncapped factor
+    (12.6) makes the two repulsions' backward pull 2·m_r(1/d − 1/P_o)/d²·ρ·15/18.03 = 57.3 exceed the
+    heading attraction k_X Δ = 15: the field points back (a local minimum before the gap).  Capped
+    (ρ = 1) the pull is 4.5 and the field points on through; the two lateral biases cancel."""
+    world, m = sc.build(sc.load("track-double"))
+    obstacles = [(float(o.center[0]), float(o.center[1]), math.hypot(300.0 - 285.0, 10.0) - o.radius)
+                 for o in world.obstacles]
+    pull = [2 * 2.0e4 * (1 / obstacles[0][2] - 1 / P_O) / obstacles[0][2] ** 2 * rho * 15.0 / math.hypot(15.0, 10.0)
+            for rho in (315.0 / P_O, 1.0)]
+    for variant, expected in zip(("document", "corrected"), pull):
+        p = HybridParams(variant=variant, current_compensation=False)
+        fx, fy = hybrid_force(math.pi / 2, 0.0, p, 285.0, 0.0, obstacles, 315.0, (0.0, 0.0))
+        assert fx == pytest.approx(15.0 - expected, rel=1e-12) and fy == pytest.approx(0.0, abs=1e-9)
+    assert 15.0 - pull[0] < 0 < 15.0 - pull[1]
+    assert pull[0] == pytest.approx(57.3, abs=0.05) and pull[1] == pytest.approx(4.55, abs=0.01)

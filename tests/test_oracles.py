@@ -12,10 +12,12 @@ import math
 
 import numpy as np
 import pytest
+from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq
 
 from auvplan._types import Status
 from auvplan.cost import CostModel, evaluate_paths, segment_energy
+from auvplan.errors import DataError
 from auvplan.guidance.hybrid import HybridParams, hybrid_force
 from auvplan.guidance.local import AvoidanceParams, apf_force
 from auvplan.guidance.route import RouteTracker
@@ -39,9 +41,12 @@ def thin_ridge() -> Terrain:
 
 
 def _dense_min_altitude(t: Terrain, seg: np.ndarray, n: int = 8001) -> np.ndarray:
+    """Dense-sampled minimum altitude, the seabed interpolated independently of ``Terrain``
+    (scipy's bilinear ``RegularGridInterpolator`` on the same nodes; segments inside the grid)."""
     s = np.linspace(0.0, 1.0, n)[None, :, None]
     pts = seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])
-    return t.altitude(pts).min(axis=1)
+    seabed = RegularGridInterpolator((t.y, t.x), t.z, method="linear")(pts[..., [1, 0]])
+    return (pts[..., 2] - seabed).min(axis=1)
 
 
 def test_descending_segment_over_a_thin_ridge_is_caught_below_the_threshold():
@@ -88,6 +93,95 @@ def test_max_slope_of_a_twisted_surface():
     gx, gy = np.meshgrid(x, x)
     t = Terrain(x, x, gx * gy / 100.0)
     assert t.max_slope == pytest.approx(math.sqrt(2.0), rel=1e-12)
+
+
+def _offset_terrain() -> Terrain:
+    """Random bilinear seabed on a grid whose origin is far from (0, 0): 20 m x 25 m cells,
+    x in [1000, 1400], y in [-700, -400]."""
+    rng = np.random.default_rng(23)
+    x, y = np.arange(1000.0, 1401.0, 20.0), np.arange(-700.0, -399.0, 25.0)
+    return Terrain(x, y, -100.0 + rng.normal(0.0, 15.0, (y.size, x.size)), name="offset")
+
+
+def _scipy_altitude(t: Terrain, pts: np.ndarray) -> np.ndarray:
+    """Altitude above the bilinear seabed, independently: scipy's interpolator on the nodes, the
+    surface held at its edge values beyond the extent (clamped coordinates)."""
+    q = np.stack([np.clip(pts[..., 1], t.y[0], t.y[-1]), np.clip(pts[..., 0], t.x[0], t.x[-1])], axis=-1)
+    return pts[..., 2] - RegularGridInterpolator((t.y, t.x), t.z, method="linear")(q)
+
+
+def test_exact_segment_minimum_on_an_offset_grid_and_beyond_its_extent():
+    """Segments over a grid far from the origin, some leaving the extent: the exact minimum equals
+    the dense-sampled one (scipy) to within the sampling's reach (slope x spacing); with a threshold
+    it is a lower bound everywhere and exact below the threshold; passing the true end altitudes
+    changes nothing."""
+    t = _offset_terrain()
+    rng = np.random.default_rng(7)
+    n = 60
+    a = np.c_[rng.uniform(950, 1450, n), rng.uniform(-750, -350, n), rng.uniform(-110, -40, n)]
+    b = a + np.c_[rng.uniform(-150, 150, n), rng.uniform(-150, 150, n), rng.uniform(-30, 30, n)]
+    seg = np.stack([a, b], axis=1)
+    s = np.linspace(0.0, 1.0, 6001)[None, :, None]
+    dense = _scipy_altitude(t, seg[:, None, 0] + s * (seg[:, None, 1] - seg[:, None, 0])).min(axis=1)
+    tol = (t.max_slope + 1.0) * np.linalg.norm(b - a, axis=1) / 6000
+    exact = t.segment_min_altitude(seg)
+    assert np.all(exact <= dense + 1e-9) and np.all(exact >= dense - tol)
+    ends = (_scipy_altitude(t, a), _scipy_altitude(t, b))
+    np.testing.assert_allclose(t.segment_min_altitude(seg, end_altitudes=ends), exact, atol=1e-9)
+    threshold = float(np.median(dense))
+    bounded = t.segment_min_altitude(seg, threshold=threshold, end_altitudes=ends)
+    assert np.all(bounded <= dense + 1e-9)
+    below = dense < threshold - 1.0
+    assert below.sum() >= 20
+    np.testing.assert_allclose(bounded[below], exact[below], atol=1e-9)
+    np.testing.assert_array_equal(t.segments_below(seg, threshold)[below], True)
+    np.testing.assert_allclose(t.altitude(a), ends[0], atol=1e-9)
+    # the same segments as a (3, 20) batch, end altitudes and threshold included
+    batch = t.segment_min_altitude(seg.reshape(3, 20, 2, 3), threshold, tuple(e.reshape(3, 20) for e in ends))
+    assert batch.shape == (3, 20)
+    np.testing.assert_allclose(batch.reshape(-1), bounded, atol=1e-9)
+
+
+def test_a_segment_exactly_at_the_altitude_limit_is_not_below_it():
+    """Over the flat part of the ridge terrain (seabed -100 m) a level segment at -80 m is exactly
+    20 m up: not below a 20 m limit (the World calls it free: altitude >= min_altitude), but below
+    a limit a hair higher."""
+    t = thin_ridge()
+    seg = np.array([[[150.0, 20.0, -80.0], [290.0, 80.0, -80.0]]])
+    assert t.segment_min_altitude(seg, threshold=20.0)[0] == 20.0
+    assert not t.segments_below(seg, altitude=20.0)[0]
+    assert t.segments_below(seg, altitude=20.0 + 1e-9)[0]
+
+
+def test_plane_on_an_offset_grid_has_its_exact_slope_and_a_read_only_surface():
+    """z = -80 + 0.01 x + 0.05 y on a grid far from the origin (dx = 20 m, dy = 25 m): the
+    bilinear surface is the plane, its steepest slope hypot(0.01, 0.05) exactly; the smallest grid
+    (2 x 2 nodes) is a valid terrain; the surface arrays cannot be written (the kernels and the
+    cached slope rely on it); an axis that does not advance is rejected."""
+    x, y = np.arange(1000.0, 1401.0, 20.0), np.arange(-700.0, -399.0, 25.0)
+    gx, gy = np.meshgrid(x, y)
+    t = Terrain(x, y, -80.0 + 0.01 * gx + 0.05 * gy)
+    assert t.max_slope == pytest.approx(math.hypot(0.01, 0.05), rel=1e-9)
+    assert t.elevation_at(1234.5, -567.8) == pytest.approx(-80.0 + 12.345 - 28.39, abs=1e-9)
+    small = Terrain(x[:2], y[:2], -80.0 + 0.01 * gx[:2, :2] + 0.05 * gy[:2, :2])
+    assert small.max_slope == pytest.approx(math.hypot(0.01, 0.05), rel=1e-9)
+    assert small.elevation_at(1010.0, -690.0) == pytest.approx(-80.0 + 10.1 - 34.5, abs=1e-9)
+    for array in (t.x, t.y, t.z, t.kernel_data[0]):
+        assert not array.flags.writeable
+    with pytest.raises(DataError, match="ascending"):
+        Terrain(np.zeros(3), y[:2], np.zeros((2, 3)))
+
+
+def test_elevation_of_a_point_off_the_grid_or_undefined():
+    """Beyond the extent the surface is held at its edge (the corner node's value off a corner);
+    a NaN coordinate gives NaN, not a value of some cell."""
+    t = _offset_terrain()
+    assert t.elevation_at(900.0, -800.0) == pytest.approx(t.z[0, 0], abs=1e-12)
+    assert t.elevation_at(1500.0, -300.0) == pytest.approx(t.z[-1, -1], abs=1e-12)
+    assert t.elevation_at(1500.0, t.y[3]) == pytest.approx(t.z[3, -1], abs=1e-12)
+    assert t.elevation_at(t.x[0] + 1e-9, t.y[0] + 1e-9) == pytest.approx(t.z[0, 0], abs=1e-6)
+    assert t.elevation_at(t.x[-1], t.y[-1]) == pytest.approx(t.z[-1, -1], abs=1e-12)
+    assert math.isnan(t.elevation_at(math.nan, -500.0)) and math.isnan(t.elevation_at(1200.0, math.nan))
 
 
 # ---------------------------------------------------------------------- grid: edges and their direction
@@ -177,6 +271,34 @@ def test_energy_and_duration_with_a_vertical_current(c):
     if c[0] == c[1] == 0.0:
         _, _, seconds, _ = segment_energy(world, np.array([0.0, 0.0, -200.0]), np.array([0.0, 0.0, -300.0]), model)
         assert seconds == pytest.approx(100.0 / (1.5 - c[2]))
+
+
+def test_path_cost_counts_each_violating_segment_by_hand():
+    """Four 3-point paths in a box far from the origin (x in [1000, 2000]), min depth 5 m, a 10 m
+    sphere with a 5 m margin: a clean path; one whose last point is 3 m deep (1 violating segment,
+    2 m deep); one starting 10 m west of the box (1 segment, 10 m); one whose first leg passes
+    2 m from the sphere with both ends ~90 m away (1 segment, charged the 1 m minimum).  A repeated
+    point (zero-length leg) costs nothing, with either energy model; a 0.5 m leg along a 0.5 m/s
+    current takes 0.5 / (1.5 + 0.5) s."""
+    world = World(Bounds(1000, 2000, -500, 500, -300, 0), obstacles=(Sphere((1500.0, 0.0, -100.0), 10.0),),
+                  margins=Margins(min_depth=5.0, max_depth=250.0, obstacle=5.0))
+    paths = np.array([
+        [[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -50.0]],
+        [[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -3.0]],
+        [[990.0, 0.0, -50.0], [1200.0, 0.0, -50.0], [1300.0, 0.0, -50.0]],
+        [[1410.0, 12.0, -100.0], [1590.0, 12.0, -100.0], [1590.0, 200.0, -100.0]],
+    ])
+    terms = evaluate_paths(world, paths, CostModel())
+    np.testing.assert_array_equal(terms.violations, [0, 1, 1, 1])
+    np.testing.assert_allclose(terms.terrain, [0.0, 1e4 + 100.0 * 2.0, 1e4 + 100.0 * 10.0, 1e4 + 100.0 * 1.0])
+    for energy in ("physical", "document"):
+        still = np.array([[[1100.0, 0.0, -50.0], [1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0]]])
+        t = evaluate_paths(world, still, CostModel(energy=energy))
+        assert t.length[0] == 100.0 and t.duration_s[0] == pytest.approx(100.0 / 1.5)
+        assert np.isfinite(t.energy[0]) and t.violations[0] == 0
+    flowing = World(Bounds(1000, 2000, -500, 500, -300, 0), currents=UniformCurrent((0.5, 0.0, 0.0)))
+    t = evaluate_paths(flowing, np.array([[[1100.0, 0.0, -50.0], [1100.5, 0.0, -50.0]]]), CostModel())
+    assert t.duration_s[0] == pytest.approx(0.25, rel=1e-12)
 
 
 # ---------------------------------------------------------------------- the simulator's seabed event
@@ -358,3 +480,159 @@ def test_optional_field_of_the_wrong_type_is_a_scenario_error():
     with pytest.raises(ScenarioError, match="x"):
         build_dataclass(Spec, {"x": "deep"}, "s.toml: [t]")
     assert build_dataclass(Spec, {"x": 2}, "s.toml: [t]").x == 2.0
+
+
+# ---------------------------------------------------------------------- the simulator's other events
+def _open_water(current=(0.0, 0.0, 0.0)) -> World:
+    return World(Bounds(-5000, 5000, -500, 500, -100, 0), currents=UniformCurrent(current))
+
+
+def test_deadlock_is_declared_one_step_after_the_deadlock_time():
+    """A 2 m/s current head on against a 1.5 m/s vehicle: the route progress never gains 1 m, so
+    without avoidance the run ends in DEADLOCK at the first step after ``deadlock_time`` (60 s):
+    t = 60.1 s with dt = 0.1 s; the vehicle has been pushed back, never forward."""
+    from auvplan.sim import SimSettings
+
+    m = Mission("dl", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
+                sim=SimSettings(deadlock_time=60.0))
+    r = simulate(_open_water((-2.0, 0.0, 0.0)), m, guidance="hybrid", rng=0, avoidance="none")
+    assert r.status is Status.DEADLOCK and r.events[-1][1] == "deadlock" and len(r.events) == 1
+    assert r.t[-1] == pytest.approx(60.1, abs=1e-9)
+    assert r.position[-1, 0] < 0.0 and r.metrics["collisions"] == 0
+
+
+def test_arrival_at_the_radius_and_timeout_at_max_time():
+    """A 300 m straight leg at 1.5 m/s in still open water: arrival is declared at the first step
+    within 10 m of the goal (x ≥ 290 m, not before: ~193 s after the start); with
+    ``max_time = 50`` s the same run ends in TIMEOUT after 500 steps, 75 m out."""
+    from auvplan.sim import SimSettings
+
+    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
+    m = Mission("arrive", route[0], route[-1], route=route)
+    r = simulate(_open_water(), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.EXACT and r.arrived and r.events[-1][1] == "arrival" and len(r.events) == 1
+    d = np.linalg.norm(r.position - np.array(route[-1]), axis=1)
+    assert d[-1] <= 10.0 < d[-2]  # stopped at the first recorded step inside the radius
+    assert 290.0 / 1.5 < r.t[-1] < 290.0 / 1.5 + 10.0
+    m = Mission("late", route[0], route[-1], route=route, sim=SimSettings(max_time=50.0))
+    r = simulate(_open_water(), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.TIMEOUT and not r.arrived and r.events[-1][1] == "timeout"
+    assert r.t[-1] == pytest.approx(50.0) and 60.0 < r.position[-1, 0] < 76.0
+
+
+def test_collision_names_the_obstacle_that_was_hit():
+    """Two spheres: the first well off the route, the second on it; LOS flies straight into the
+    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step)."""
+    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
+    w = World(Bounds(-500, 500, -500, 500, -100, 0),
+              obstacles=(Sphere((100.0, 200.0, -20.0), 10.0), Sphere((150.0, 0.0, -20.0), 10.0)))
+    r = simulate(w, Mission("hit", route[0], route[-1], route=route), guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.COLLISION and "obstacle 1" in r.events[-1][2]
+    assert r.position[-1, 0] == pytest.approx(140.0, abs=1.0)
+    assert -1.0 < r.obstacle_distance[-1, 1] < 0.0 and np.all(r.obstacle_distance[:-1] >= 0.0)
+
+
+# ---------------------------------------------------------------------- local avoidance: the trap detector
+def test_minimum_detector_counts_only_the_points_it_has_seen():
+    """Document 004's local-minimum test by hand: r₁ = 2 m, ε₂ = 3 points, one point a second.
+    Points are remembered once per second only; the vehicle is trapped when 3 remembered points
+    lie within 2 m of the current one, and no longer once it has moved away; the ring buffer
+    (50 entries) never counts more points than it holds."""
+    from auvplan.guidance.local import MinimumDetector
+
+    det = MinimumDetector(radius=2.0, count=3, every=1.0)
+    assert not det.update(np.zeros(3), 0.0) and det.n == 1
+    assert not det.update(np.zeros(3), 0.5) and det.n == 1  # too soon: not remembered
+    assert not det.update(np.array([1.0, 0.0, 0.0]), 1.0) and det.n == 2
+    assert det.update(np.array([0.0, 1.5, 0.0]), 2.0) and det.n == 3  # 3 points within 2 m of (0, 1.5, 0)
+    assert det.update(np.array([0.0, 1.5, 0.0]), 2.5)  # between records the last answer holds
+    assert not det.update(np.array([10.0, 0.0, 0.0]), 3.0) and det.n == 4
+    for k in range(60):
+        det.update(np.array([100.0 + 10.0 * k, 0.0, 0.0]), 4.0 + k)
+    assert det.n == 50
+    det.reset()
+    assert det.n == 0 and not det.update(np.zeros(3), 100.0)
+
+
+# ---------------------------------------------------------------------- local avoidance: document 004's logic by hand
+def _local(world: World, keys, base: str = "los", **params):
+    from auvplan.guidance.local import LocalAvoidance
+    from auvplan.sim import make_guidance
+
+    route = np.asarray(keys, dtype=float)
+    m = Mission("local", tuple(route[0]), tuple(route[-1]), route=tuple(map(tuple, route)))
+    return LocalAvoidance(make_guidance(base, route, m), route, world, AvoidanceParams(name="apf", **params), 1.5,
+                          rng=0)
+
+
+_KEYS = [(0.0, 0.0, -50.0), (100.0, 0.0, -50.0), (200.0, 0.0, -50.0), (300.0, 0.0, -50.0)]
+
+
+def test_apf_goal_skips_key_waypoints_behind_reached_or_occupied():
+    """Keys every 100 m along x (arrive radius 10 m): from x = 150 the next goal is key 2 (key 1 is
+    behind); from x = 195 key 3 (key 2 reached); the last key is never skipped, even when reached;
+    from x = -50 key 1 stays; a parked moving obstacle on key 2 makes the goal skip it."""
+    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+
+    world = _open_water()
+    la = _local(world, _KEYS)
+    for x, want in ((150.0, 2), (195.0, 3), (295.0, 3), (-50.0, 1), (95.0, 2)):
+        la.goal_index = 1
+        la._advance_goal(np.array([x, 0.0, -50.0]), 0.0)
+        assert la.goal_index == want, x
+    parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((200.0, 0.0, -50.0), (0.0, 0.0, 0.0)))
+    la = _local(World(world.bounds, moving=(parked,)), _KEYS)
+    la._advance_goal(np.array([50.0, 0.0, -50.0]), 0.0)
+    assert la.goal_index == 1 and la.skipped == 0
+    la._advance_goal(np.array([105.0, 0.0, -50.0]), 0.0)
+    assert la.goal_index == 3 and la.skipped == 1
+
+
+def test_apf_command_heading_pitch_and_the_seabed_floor():
+    """In APF mode the command is the APF force's course atan2(Fx, Fy) and pitch
+    atan2(Fz, |F_h|); within 2 x arrive (20 m) of the altitude margin a dive is floored at
+    10° x (1 - alt / 20 m) nose-up: at 5 m above the margin, 7.5°."""
+    world = flat_world(depth=100.0, size=1000.0, min_altitude=5.0)
+    keys = [(400.0, 400.0, -40.0), (600.0, 700.0, -94.0), (900.0, 900.0, -60.0)]
+    la = _local(world, keys)
+    la.mode = "apf"
+    p = np.array([500.0, 520.0, -40.0])
+    f = apf_force(p, np.array(keys[1]), np.empty((0, 3)), np.empty(0), la.params)
+    course, pitch, _ = la._apf_command(p, 0.0, [], 0.0, None)
+    assert course == pytest.approx(math.atan2(f[0], f[1]), abs=1e-12)
+    assert pitch == pytest.approx(math.atan2(f[2], math.hypot(f[0], f[1])), abs=1e-12) and pitch < 0.0
+    low = np.array([500.0, 520.0, -90.0])  # 10 m above the seabed, 5 m above the margin
+    course, pitch, _ = la._apf_command(low, 1.0, [], 0.0, None)
+    assert pitch == pytest.approx(math.radians(10.0) * (1.0 - 5.0 / 20.0), abs=1e-12)
+
+
+def test_only_moving_obstacles_within_the_radius_switch_to_apf():
+    """Document 004 avoids moving obstacles: a static one nearby leaves the base follower in
+    charge (pitch None), a moving one within r = 30 m switches to the APF (a pitch command)."""
+    la = _local(_open_water(), _KEYS, base="hybrid")
+    static = (60.0, 5.0, 8.0, False, (60.0, 5.0, -50.0))
+    psi, pitch, _ = la.command(np.array([50.0, 0.0, -50.0]), 0.0, np.zeros(3), [static], 0.1)
+    assert pitch is None and la.mode == "route"
+    moving = (60.0, 5.0, 8.0, True, (60.0, 5.0, -50.0), 0, np.zeros(3), 5.0)
+    psi, pitch, _ = la.command(np.array([50.0, 0.0, -50.0]), 0.1, np.zeros(3), [moving], 0.1)
+    assert pitch is not None and la.mode == "apf"
+
+
+def test_escape_sub_goal_with_the_generators_draws_and_its_time_limit():
+    """A stall runs document 004's escape: the sub-goal is the first free candidate of the
+    draws angle ~ U(0, 2π), radius r √U(¼, 1), dz ~ U(-0.2, 0.2) r (copied from a generator with the
+    same seed; r = 60 m, open water: the first candidate); the mode switches to APF; after
+    ``escape_time`` (300 s) of one stall the escapes give up (a deadlock may be declared)."""
+    from auvplan._types import as_rng
+
+    la = _local(_open_water(), _KEYS)
+    rng = as_rng(0)
+    ang, rad = rng.uniform(0, 2 * np.pi, 64), 60.0 * np.sqrt(rng.uniform(0.25, 1.0, 64))
+    dz = rng.uniform(-0.2, 0.2, 64) * 60.0
+    p = np.array([50.0, 0.0, -50.0])
+    assert la.stalled(p, 10.0, since=0.0)
+    want = p + np.array([rad[0] * math.cos(ang[0]), rad[0] * math.sin(ang[0]), dz[0]])
+    np.testing.assert_allclose(la.subgoal, want, rtol=0, atol=1e-9)
+    assert la.escapes == 1 and la.mode == "apf"
+    assert la.stalled(p, 309.9, since=0.0)
+    assert not la.stalled(p, 310.0, since=0.0)

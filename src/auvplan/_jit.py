@@ -79,7 +79,7 @@ def _stamped_cache(dispatcher: Any) -> Any:
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
 
-    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]
+    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]  # numba.core.caching is untyped
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -79,7 +80,7 @@ class FormationResult:
     @property
     def metrics(self) -> dict:
         """Fleet figures and one entry per vehicle (formation error RMS/max, arrivals, clearances)."""
-        per = {}
+        per: dict[str, dict[str, Any]] = {}
         for name, run, err in zip(self.names, self.runs, self.error):
             m = run.metrics
             per[name] = {

@@ -502,7 +502,7 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, cur
                           (slot[0], slot[1]))
     rx, ry = vehicle_repulsion(slot_course, fp, pos, vel, others)
     course = math.atan2(fx + rx, fy + ry)
-    psi = crab_heading(course, current, speed) if params.current_compensation else course
+    psi = crab_heading(course, current, speed) if params.compensates else course
     u = min(max(speed_ff + fp.k_speed * along, fp.min_speed_ratio * cruise), max_speed)
     if give_way and _crosses(pos, slot, give_way, fp.separation_m + fp.vehicle_influence_m):
         u = fp.min_speed_ratio * cruise

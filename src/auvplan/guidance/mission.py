@@ -88,7 +88,8 @@ def leg_floors(world: World, a: ArrayLike, b: ArrayLike) -> _F64:
 def _unit_frame(shape: Shape, p: _F64, margin: float) -> _F64:
     """Points in the frame where the shape inflated by ``margin`` is the unit ball (affine map)."""
     if isinstance(shape, Sphere):
-        return (p - np.asarray(shape.center)) / (shape.radius + margin)
+        unit: _F64 = (p - np.asarray(shape.center)) / (shape.radius + margin)
+        return unit
     if isinstance(shape, Ellipsoid):  # the same conservative inflation as Ellipsoid.segments_hit
         return shape.to_body(p) / (np.asarray(shape.semi_axes) * (1.0 + margin / min(shape.semi_axes)))
     raise TypeError(f"unknown obstacle shape {type(shape).__name__}")
@@ -111,7 +112,8 @@ def _parallelogram_distance(o: _F64, e1: _F64, e2: _F64) -> _F64:
     zero = np.zeros(3)
     edges = [(o, o + e1), (o, o + e2), (o + e1, o + e1 + e2), (o + e2, o + e1 + e2)]
     d = np.minimum.reduce([point_segment_distance(zero, p, q) for p, q in edges])
-    return np.where(inside, np.minimum(plane, d), d)
+    dist: _F64 = np.where(inside, np.minimum(plane, d), d)
+    return dist
 
 
 def _corners(a: _F64, b: _F64) -> tuple[_F64, _F64, _F64]:
@@ -313,7 +315,8 @@ def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = Non
         step = min(world.terrain.dx, world.terrain.dy) if spacing is None else float(spacing)
         p = _raise_to_floors(world, _densify(p, step))
     p = _refine(world, p)
-    return p[_douglas_peucker(world, p, tol)].copy()
+    kept: _F64 = p[_douglas_peucker(world, p, tol)].copy()
+    return kept
 
 
 # ---------------------------------------------------------------------- re-flying a mission

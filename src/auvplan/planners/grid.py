@@ -30,11 +30,13 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
-from .._types import Status
+from .._types import ArrayLike, FloatArray, IntArray, Status
 from ..cost import CostModel, evaluate_paths, propulsion_power, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
@@ -46,13 +48,27 @@ from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_b
 __all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "densify", "edge_cost", "free_edges",
            "on_cost_function", "path_cost", "resample_free", "with_reference"]
 
-def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
-    """Horizontal and vertical cell sizes (m).
+def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
+    """Horizontal and vertical cell sizes.
 
     ``params.cell`` / ``params.cell_z`` when given.  Otherwise cubes of
     ``(volume / target_nodes)^(1/3)``, the vertical cell shrunk where needed so that the depth
     band holds at least ``params.levels`` levels (the horizontal cell grows to keep the node
     count), and the horizontal cell never finer than the terrain grid.
+
+    Parameters
+    ----------
+    world : World
+        Its terrain spacing bounds the horizontal cell from below.
+    lower, upper : numpy.ndarray
+        Search box ``(3,)`` (m).
+    params : GridParams
+        Cell settings, node target and levels.
+
+    Returns
+    -------
+    tuple of float
+        ``(cell, cell_z)`` (m).
     """
     ext = np.maximum(upper - lower, 1e-9)
     cell = params.cell
@@ -69,12 +85,29 @@ def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridPa
     return cell, cell_z
 
 
-def edge_cost(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, objective: str,
-              current=None) -> np.ndarray:
-    """Cost of travelling the straight segments ``a -> b`` (..., 3): length, or the cost
-    function's ``w_L`` length + ``w_E`` energy; ``inf`` where the current beats the vehicle.
-    ``current`` (..., 3) is the current at the midpoints when the caller has it."""
-    length = np.linalg.norm(b - a, axis=-1)
+def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
+              current: ArrayLike | None = None) -> FloatArray:
+    """Cost of travelling straight segments.
+
+    Parameters
+    ----------
+    world : World
+        Source of the current field.
+    a, b : numpy.ndarray
+        Segment starts and ends ``(..., 3)`` (m).
+    model : CostModel
+        Weights and vehicle figures.
+    objective : str
+        ``"length"`` (the length in m) or ``"cost"`` (the cost function's ``w_L`` length + ``w_E`` energy).
+    current : array_like, optional
+        The current at the midpoints ``(..., 3)`` (m/s) when the caller has it.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(...)``; ``inf`` where the current beats the vehicle.
+    """
+    length: FloatArray = np.linalg.norm(b - a, axis=-1)
     if objective == "length":
         return length
     units, _, _, blocked = segment_energy(world, a, b, model, current)
@@ -82,9 +115,21 @@ def edge_cost(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, obje
     return np.where(blocked, np.inf, cost)
 
 
-def densify(points, spacing: float) -> np.ndarray:
-    """The polyline ``points (N, 3)`` with extra points so that no segment exceeds ``spacing``
-    (every original vertex kept)."""
+def densify(points: ArrayLike, spacing: float) -> FloatArray:
+    """The polyline with extra points so that no segment exceeds ``spacing`` (every vertex kept).
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    spacing : float
+        Longest segment allowed (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Vertices ``(M, 3)``, ``M >= N`` (m).
+    """
     p = np.asarray(points, dtype=float)
     if p.shape[0] < 2:
         return p.copy()
@@ -96,15 +141,34 @@ def densify(points, spacing: float) -> np.ndarray:
     return np.vstack([out, p[-1]])
 
 
-def free_edges(world: World, free: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray, steps: np.ndarray,
-               off, coords) -> tuple[np.ndarray, np.ndarray]:
-    """The free lattice edges ``src -> src + off`` between free nodes, as flat node ids ``(src, dst)``.
+def free_edges(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
+               coords: Callable[[Any], FloatArray]) -> tuple[IntArray, IntArray]:
+    """The free lattice edges ``src -> src + off`` between free nodes.
 
     The seabed's Lipschitz bound (``altitude``: node altitudes above the seabed) and the
     obstacles' 1-Lipschitz distance (``obstacle``: slack beyond the margin) clear most edges from
     the node values alone in one compiled pass; only the others go through the World's exact
-    segment test (:func:`auvplan.planners.lattice.edge_states`).  ``free``, ``altitude`` and
-    ``obstacle`` have the lattice's shape; ``coords(ids)`` gives node coordinates ``(n, 3)``.
+    segment test (:func:`auvplan.planners.lattice.edge_states`).
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : numpy.ndarray
+        Free nodes, the lattice's shape ``(nx, ny, nz)``.
+    altitude, obstacle : numpy.ndarray
+        Node heights above the seabed and static-obstacle slack (m), the lattice's shape.
+    steps : array_like
+        Cell sizes ``(3,)`` (m).
+    off : array_like
+        The lattice offset ``(3,)`` of the edges.
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Flat node ids ``(src, dst)`` of the free edges.
     """
     off = np.asarray(off, dtype=np.int64)
     src = np.flatnonzero(edge_states(world, free, altitude, obstacle, steps, off, coords))
@@ -146,8 +210,8 @@ class GridReference:
         Nodes the search settled.
     """
 
-    def __init__(self, world: World, goal, model: CostModel, lower, upper, params: GridParams,
-                 start=None) -> None:
+    def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
+                 params: GridParams, start: ArrayLike | None = None) -> None:
         self.world, self.model, self.params = world, model, params
         self.goal = np.asarray(goal, dtype=float).reshape(3)
         lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
@@ -226,13 +290,29 @@ class GridReference:
     # ------------------------------------------------------------------ queries
     @property
     def nodes(self) -> int:
-        """Lattice nodes."""
+        """Lattice nodes.
+
+        Returns
+        -------
+        int
+            ``nx * ny * nz``.
+        """
         return int(np.prod(self.shape))
 
-    def query(self, start) -> np.ndarray:
-        """The cheapest lattice path ``(N, 3)`` from ``start`` to the goal (start and goal
-        included), the straight segment when only that is free, or an empty ``(0, 3)``
-        array when the goal cannot be reached."""
+    def query(self, start: ArrayLike) -> FloatArray:
+        """The cheapest lattice path from a start to the goal.
+
+        Parameters
+        ----------
+        start : array_like
+            Start point ``(3,)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` (m), start and goal included; the straight segment when only that is free,
+            or an empty ``(0, 3)`` array when the goal cannot be reached.
+        """
         start = np.asarray(start, dtype=float).reshape(3)
         ids, w = self._connect(start, towards=False)
         total = w + self._dist[ids] if ids.size else np.empty(0)
@@ -254,6 +334,7 @@ def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
     Parameters
     ----------
     world : World
+        Static constraints.
     path : ndarray, shape (N, 3)
         A polyline that passes the exact segment test.
     spacing : float
@@ -390,9 +471,25 @@ def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, mod
     return best, best_cost, levels
 
 
-def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> dict:
-    """Cost terms of a polyline under the planner's cost function (segments no longer than
-    1/``spec.samples`` of the path, vertices kept), as in :class:`PlanResult.cost_terms`."""
+def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:
+    """Cost terms of a polyline under the planner's cost function, as in :class:`PlanResult.cost_terms`.
+
+    Segments no longer than 1/``spec.samples`` of the path, vertices kept.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        Cost settings and samples per path.
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+
+    Returns
+    -------
+    dict of str to float
+        ``total`` and the terms of :func:`~auvplan.planners.swarm_problem.plan_terms`.
+    """
     path = np.asarray(path, dtype=float)
     spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
     terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
@@ -414,7 +511,20 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     way and the cheapest plan wins: the candidates of a cell include those of the cell twice as
     coarse, so halving the cell never gives a worse reference.
 
-    ``evaluations`` counts lattice edges (the work of the searches); ``iterations`` is 1.
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The cost function and ``spec.grid``'s lattice and refinement settings.
+    reference : GridReference, optional
+        A cost-to-go field to re-use for the finest lattice.
+
+    Returns
+    -------
+    PlanResult
+        ``evaluations`` counts lattice edges (the work of the searches); ``iterations`` is 1; the
+        message says what the reference is (lattice, convergence, which lattice of the ladder won).
     """
     t0 = time.perf_counter()
     best, cell = _plan_lattice(problem, spec, reference)
@@ -544,13 +654,16 @@ def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: Planner
     Parameters
     ----------
     result : PlanResult
+        Any planner's result.
     problem : PlanningProblem
+        World and vehicle figures.
     spec : PlannerSpec
         The cost function's weights and sampling.
 
     Returns
     -------
     PlanResult
+        ``result`` itself for swarm and lattice plans and empty paths, else a copy re-costed.
     """
     if result.planner in SWARM or result.planner == "grid" or result.path.shape[0] < 2:
         return result
@@ -561,8 +674,24 @@ def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: Planner
 
 def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec,
                    reference: PlanResult) -> PlanResult:
-    """``result`` on the planner's cost function (:func:`on_cost_function`) with
-    ``reference_cost`` set to the grid reference's cost."""
+    """``result`` on the planner's cost function (:func:`on_cost_function`) with the reference's cost.
+
+    Parameters
+    ----------
+    result : PlanResult
+        Any planner's result.
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        The cost function.
+    reference : PlanResult
+        The grid reference plan.
+
+    Returns
+    -------
+    PlanResult
+        A copy with ``reference_cost`` set (``inf``/its cost as is when the reference failed).
+    """
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
     return replace(on_cost_function(result, problem, spec), reference_cost=float(reference.cost))

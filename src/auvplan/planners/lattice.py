@@ -21,11 +21,14 @@ lattice is held twice:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
 from .._jit import kernel
+from .._types import ArrayLike, FloatArray, IntArray
 from ..cost import energy_kernel
 from ..world import World
 
@@ -42,7 +45,7 @@ _SLAB = 100_000
 """Points per slab of the node-field evaluation (bounds the temporaries to a few tens of MB)."""
 
 
-def down32(a: np.ndarray) -> np.ndarray:
+def down32(a: FloatArray) -> Any:
     """``a`` in single precision, rounded down (never above the double value: a safe clearance).
 
     Parameters
@@ -59,7 +62,7 @@ def down32(a: np.ndarray) -> np.ndarray:
     return np.where(b > a, np.nextafter(b, np.float32(-np.inf)), b)
 
 
-def node_fields(world: World, axes, currents: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def node_fields(world: World, axes: tuple[FloatArray, ...], currents: bool) -> tuple[Any, Any, Any, Any]:
     """Free nodes, altitudes, obstacle clearances and currents of the lattice ``axes``.
 
     Parameters
@@ -116,7 +119,8 @@ def node_fields(world: World, axes, currents: bool) -> tuple[np.ndarray, np.ndar
 
 
 @kernel
-def _offset_states(free, alt, obs, off, half_length, dz, lh, lipschitz, min_alt, has_terrain, state):
+def _offset_states(free: Any, alt: Any, obs: Any, off: IntArray, half_length: float, dz: float, lh: float,
+                   lipschitz: float, min_alt: float, has_terrain: bool, state: Any) -> None:
     """``state[u]`` for the edge ``u -> u + off`` of each node (flat C order): 0 no edge (an end
     outside the lattice or not free), 1 free by the node values alone, 2 to be tested exactly."""
     nx, ny, nz = free.shape
@@ -137,7 +141,8 @@ def _offset_states(free, alt, obs, off, half_length, dz, lh, lipschitz, min_alt,
                 state[u] = 1 if sure else 2
 
 
-def edge_states(world: World, free, altitude, obstacle, steps, off, coords) -> np.ndarray:
+def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
+                coords: Callable[[Any], FloatArray]) -> Any:
     """Which edges ``u -> u + off`` are free.
 
     Most edges are cleared by the node values in one compiled pass (the seabed's Lipschitz bound
@@ -184,14 +189,15 @@ def edge_states(world: World, free, altitude, obstacle, steps, off, coords) -> n
 
 
 @kernel
-def _set_bits(state, delta, bits, fwd, rev):
+def _set_bits(state: Any, delta: int, bits: Any, fwd: Any, rev: Any) -> None:
     for u in range(state.size):
         if state[u] == 1:
             bits[u] |= fwd
             bits[u + delta] |= rev
 
 
-def edge_bits(world: World, free, altitude, obstacle, steps, coords) -> np.ndarray:
+def edge_bits(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike,
+              coords: Callable[[Any], FloatArray]) -> Any:
     """Free edges as one bit per lattice direction and node, from :func:`edge_states`.
 
     Parameters
@@ -222,7 +228,8 @@ def edge_bits(world: World, free, altitude, obstacle, steps, coords) -> np.ndarr
 
 
 @kernel
-def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power, document):
+def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost: bool, w_length: float,
+                 w_energy: float, speed: float, power: float, document: bool) -> float:
     """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
     ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
     (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
@@ -240,7 +247,7 @@ def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, pow
 
 
 @kernel
-def _sift_up(heap, pos, key, i):
+def _sift_up(heap: Any, pos: Any, key: FloatArray, i: int) -> None:
     node = heap[i]
     while i > 0:
         parent = (i - 1) >> 1
@@ -254,7 +261,7 @@ def _sift_up(heap, pos, key, i):
 
 
 @kernel
-def _sift_down(heap, pos, key, i, size):
+def _sift_down(heap: Any, pos: Any, key: FloatArray, i: int, size: int) -> None:
     node = heap[i]
     while True:
         c = 2 * i + 1
@@ -272,7 +279,7 @@ def _sift_down(heap, pos, key, i, size):
 
 
 @kernel
-def _push(heap, pos, key, size, u):
+def _push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
     """Queue ``u`` (or move it up after its key fell); returns the new heap size."""
     if pos[u] == -1:
         heap[size] = u
@@ -283,7 +290,8 @@ def _push(heap, pos, key, size, u):
 
 
 @kernel
-def _heuristic(u, ny, nz, origin, steps, start, c_min):
+def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, start: FloatArray,
+               c_min: float) -> float:
     if c_min <= 0.0:
         return 0.0
     k = u % nz
@@ -296,8 +304,11 @@ def _heuristic(u, ny, nz, origin, steps, start, c_min):
 
 
 @kernel
-def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, speed, power, document,
-            near, w_goal, goal, dist, nxt, key, origin, steps, start, c_min, start_near, w_start, box, heap, pos):
+def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any, use_cost: bool,
+            w_length: float, w_energy: float, speed: float, power: float, document: bool, near: IntArray,
+            w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, key: FloatArray, origin: FloatArray,
+            steps: FloatArray, start: FloatArray, c_min: float, start_near: IntArray, w_start: FloatArray,
+            box: IntArray, heap: Any, pos: Any) -> int:
     """Dijkstra (``c_min = 0``) or A* towards ``start`` from the goal over the reversed lattice;
     see :func:`search`.  Returns the nodes settled."""
     nx, ny, nz = shape[0], shape[1], shape[2]
@@ -347,7 +358,10 @@ def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, sp
     return settled
 
 
-def search(shape, bits, steps, origin, current, cost, goal_near, start_near=None, start=None, c_min=0.0):
+def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLike, current: Any,
+           cost: tuple[float, float, float, float, bool] | None, goal_near: tuple[Any, Any],
+           start_near: tuple[Any, Any] | None = None, start: ArrayLike | None = None,
+           c_min: float = 0.0) -> tuple[FloatArray, Any, int]:
     """Cost-to-go from every node to the goal over the lattice (reversed Dijkstra), or A* for one start.
 
     Parameters
@@ -389,7 +403,7 @@ def search(shape, bits, steps, origin, current, cost, goal_near, start_near=None
     astar = start is not None and start_near is not None and c_min > 0.0
     key = np.full(n + 1, np.inf) if astar else dist
     vec = OFFSETS * np.asarray(steps, dtype=float)
-    sn, ws = start_near if astar else (np.zeros(0, np.int64), np.zeros(0))
+    sn, ws = start_near if astar and start_near is not None else (np.zeros(0, np.int64), np.zeros(0))
     box = np.zeros(6, dtype=np.int64)
     if astar and sn.size:
         ijk = np.stack(np.unravel_index(sn, shape))

@@ -1,0 +1,555 @@
+"""Mutation testing of the safety-relevant functions: a small AST mutation driver.
+
+Usage::
+
+    .venv/bin/python tools/mutate.py [MODULE ...] [--list] [--only N,M] [--timeout S] [--out DIR]
+
+(``make mutants`` runs every module).  For each module the named functions are parsed, every
+mutation site in their bodies is enumerated (operators below), and each mutant is run against that
+module's oracle and unit tests; a JSON record per module goes to ``build/mutants/`` and a summary
+table to stdout.
+
+Why not mutmut: mutmut 2 starts a fresh Python per mutant (importing numpy, scipy, numba, xarray:
+~5-10 s on a loaded machine) and, for the kernel modules, recompiled every numba kernel per
+mutant, so only 19 mutants ran in half an hour.  Here:
+
+* where the mutated functions are numba kernels (terrain, cost, grid) the kernels run as plain
+  Python (``NUMBA_DISABLE_JIT=1``, set before numba is imported): no compilation at all, and the
+  selected tests use small inputs; elsewhere the kernels are compiled (or loaded from the cache)
+  once, by the unmutated run in the parent, and every child inherits them;
+* the parent imports auvplan and the tests once, then **forks** one child per mutant; the child
+  swaps the mutated function's code object into the live function (``f.__code__ = ...``: every
+  reference, including ``from module import kernel`` elsewhere, sees the mutant), runs
+  ``pytest -x`` on the selection and exits.  Nothing is written to the source tree.
+* a child that has used more CPU time than the timeout (3x the unmutated run's; CPU, not wall time, as
+  the machine may be loaded) is killed and counted as ``timeout``, separately.
+
+Operators (one change per mutant, AST level, in function bodies only; docstrings, annotations,
+default values, ``raise``/``assert`` statements and f-strings are left alone):
+
+``arith``   ``+ ↔ -``, ``* ↔ /``, ``// → /``, ``% → /``, ``** → *`` (also in ``x op= y``)
+``cmp``     ``< ↔ <=``, ``> ↔ >=``, ``== ↔ !=`` (boundary) and ``< → >=``, ``<= → >``, ``> → <=``,
+            ``>= → <`` (negation); ``is ↔ is not``, ``in ↔ not in``
+``bool``    ``and ↔ or``; ``not x → x``; ``True ↔ False``
+``unary``   ``-x → x``
+``number``  ``n → n + 1`` (ints and floats; ``0.5 → 1.5``, ``1e-9 → 1.000000001``)
+``call``    ``min ↔ max``, ``np.minimum ↔ np.maximum``, ``np.min ↔ np.max``, ``np.any ↔ np.all``,
+            ``argmin ↔ argmax``, ``abs(x) → x``
+``flow``    ``break ↔ continue``
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+import argparse  # noqa: E402
+import ast  # noqa: E402
+import copy  # noqa: E402
+import importlib  # noqa: E402
+import inspect  # noqa: E402
+import json  # noqa: E402
+import random  # noqa: E402
+import resource  # noqa: E402
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import textwrap  # noqa: E402
+import time  # noqa: E402
+from dataclasses import asdict, dataclass  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(ROOT / "tools"))
+
+from mutation_targets import MODULES, REASONS  # noqa: E402
+
+# ---------------------------------------------------------------------------------------- operators
+_ARITH: dict[type, tuple[type, ...]] = {
+    ast.Add: (ast.Sub,), ast.Sub: (ast.Add,), ast.Mult: (ast.Div,), ast.Div: (ast.Mult,),
+    ast.FloorDiv: (ast.Div,), ast.Mod: (ast.Div,), ast.Pow: (ast.Mult,),
+}
+_CMP: dict[type, tuple[type, ...]] = {
+    ast.Lt: (ast.LtE, ast.GtE), ast.LtE: (ast.Lt, ast.Gt), ast.Gt: (ast.GtE, ast.LtE), ast.GtE: (ast.Gt, ast.Lt),
+    ast.Eq: (ast.NotEq,), ast.NotEq: (ast.Eq,), ast.Is: (ast.IsNot,), ast.IsNot: (ast.Is,),
+    ast.In: (ast.NotIn,), ast.NotIn: (ast.In,),
+}
+_NAMES = {"min": "max", "max": "min", "minimum": "maximum", "maximum": "minimum", "amin": "amax", "amax": "amin",
+          "any": "all", "all": "any", "argmin": "argmax", "argmax": "argmin", "nanmin": "nanmax", "nanmax": "nanmin"}
+_SKIP = (ast.Raise, ast.Assert, ast.JoinedStr, ast.arguments)
+
+
+def _walk(node: ast.AST) -> list[ast.AST]:
+    """Nodes of a function body in a fixed order, leaving out what is not mutated."""
+    out: list[ast.AST] = []
+
+    def visit(n: ast.AST) -> None:
+        if isinstance(n, _SKIP):
+            return
+        out.append(n)
+        for field, value in ast.iter_fields(n):
+            if field in ("decorator_list", "returns", "annotation", "type_comment"):
+                continue
+            items = value if isinstance(value, list) else [value]
+            for i, item in enumerate(items):
+                if not isinstance(item, ast.AST):
+                    continue
+                if field == "body" and i == 0 and isinstance(n, (ast.FunctionDef, ast.ClassDef)) \
+                        and isinstance(item, ast.Expr) and isinstance(item.value, ast.Constant) \
+                        and isinstance(item.value.value, str):
+                    continue  # docstring
+                visit(item)
+
+    visit(node)
+    return out
+
+
+def _ops(node: ast.AST) -> list[tuple[str, object]]:
+    """The mutations of one node: (operator family, payload)."""
+    out: list[tuple[str, object]] = []
+    if isinstance(node, (ast.BinOp, ast.AugAssign)):
+        out += [("arith", new) for new in _ARITH.get(type(node.op), ())]
+    elif isinstance(node, ast.Compare):
+        for k, op in enumerate(node.ops):
+            out += [("cmp", (k, new)) for new in _CMP.get(type(op), ())]
+    elif isinstance(node, ast.BoolOp):
+        out.append(("bool", ast.Or if isinstance(node.op, ast.And) else ast.And))
+    elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.Not, ast.USub)):
+        out.append(("unary", None))
+    elif isinstance(node, ast.Constant):
+        if isinstance(node.value, bool):
+            out.append(("bool", not node.value))
+        elif isinstance(node.value, (int, float)):
+            out.append(("number", node.value + 1))
+    elif isinstance(node, ast.Call):
+        f = node.func
+        name = f.id if isinstance(f, ast.Name) else f.attr if isinstance(f, ast.Attribute) else None
+        if name in _NAMES:
+            out.append(("call", _NAMES[name]))
+        if isinstance(f, ast.Name) and f.id == "abs" and len(node.args) == 1:
+            out.append(("call", None))
+    elif isinstance(node, ast.Break):
+        out.append(("flow", ast.Continue))
+    elif isinstance(node, ast.Continue):
+        out.append(("flow", ast.Break))
+    return out
+
+
+def _apply(node: ast.AST, kind: str, payload: object) -> ast.AST | None:
+    """Mutate ``node`` in place; return a replacement node when the node itself is replaced."""
+    if kind == "arith":
+        node.op = payload()  # type: ignore[attr-defined,operator]
+    elif kind == "cmp":
+        k, new = payload  # type: ignore[misc]
+        node.ops[k] = new()  # type: ignore[attr-defined]
+    elif kind == "bool" and isinstance(node, ast.BoolOp):
+        node.op = payload()  # type: ignore[operator]
+    elif kind in ("bool", "number"):
+        node.value = payload  # type: ignore[attr-defined]
+    elif kind == "unary":
+        return node.operand  # type: ignore[attr-defined]
+    elif kind == "call":
+        if payload is None:
+            return node.args[0]  # type: ignore[attr-defined]
+        f = node.func  # type: ignore[attr-defined]
+        if isinstance(f, ast.Name):
+            f.id = payload
+        else:
+            f.attr = payload
+    elif kind == "flow":
+        return payload()  # type: ignore[operator]
+    return None
+
+
+# ---------------------------------------------------------------------------------------- mutants
+@dataclass
+class Mutant:
+    """One single-site change of one function."""
+
+    id: int
+    module: str
+    function: str
+    line: int
+    kind: str
+    before: str
+    after: str
+    status: str = "not run"
+    seconds: float = 0.0
+
+
+def _function_node(tree: ast.Module, qualname: str) -> ast.FunctionDef:
+    node: ast.AST = tree
+    for part in qualname.split("."):
+        node = next(c for c in ast.iter_child_nodes(node)
+                    if isinstance(c, (ast.FunctionDef, ast.ClassDef)) and c.name == part)
+    assert isinstance(node, ast.FunctionDef)
+    return node
+
+
+def _live_function(module: object, qualname: str):
+    """The function object whose ``__code__`` runs for ``qualname`` (through property, staticmethod,
+    functools wrappers and numba dispatchers)."""
+    obj: object = module
+    parts = qualname.split(".")
+    for part in parts[:-1]:
+        obj = getattr(obj, part)
+    f = obj.__dict__[parts[-1]] if isinstance(obj, type) else getattr(obj, parts[-1])
+    for attr in ("fget", "__func__", "py_func", "__wrapped__"):
+        while hasattr(f, attr) and not inspect.isfunction(f):
+            f = getattr(f, attr)
+    f = inspect.unwrap(f)
+    assert inspect.isfunction(f), qualname
+    return f
+
+
+def _snippet(node: ast.AST) -> str:
+    text = ast.unparse(node)
+    return text if len(text) <= 90 else text[:87] + "..."
+
+
+def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, str], ...]) -> list[tuple[Mutant, int, int]]:
+    """Every mutant of the named functions: (record, node index, operation index)."""
+    out = []
+    seen: set[tuple[str, str]] = set()
+    for modname, name in functions:
+        fn = _function_node(trees[modname], name)
+        original = ast.unparse(fn)
+        for i, node in enumerate(_walk(fn)):
+            for j, (kind, _payload) in enumerate(_ops(node)):
+                new_fn, new_node = _mutated(fn, i, j)
+                source = ast.unparse(new_fn)
+                if source == original or (name, source) in seen:
+                    continue  # no change, or a duplicate of an earlier mutant
+                seen.add((name, source))
+                m = Mutant(len(out) + 1, modname, name, getattr(node, "lineno", fn.lineno), kind, _snippet(node),
+                           _snippet(new_node))
+                out.append((m, i, j))
+    return out
+
+
+def _mutated(fn: ast.FunctionDef, i: int, j: int) -> tuple[ast.FunctionDef, ast.AST]:
+    """A copy of ``fn`` with operation ``j`` of its ``i``-th node applied, and the changed node."""
+    new_fn = copy.deepcopy(fn)
+    nodes = _walk(new_fn)
+    node = nodes[i]
+    kind, payload = _ops(node)[j]
+    replacement = _apply(node, kind, payload)
+    if replacement is not None:
+        _replace(new_fn, node, replacement)
+        return new_fn, replacement
+    return new_fn, node
+
+
+def _replace(root: ast.AST, old: ast.AST, new: ast.AST) -> None:
+    for parent in ast.walk(root):
+        for field, value in ast.iter_fields(parent):
+            if value is old:
+                setattr(parent, field, new)
+                return
+            if isinstance(value, list):
+                for k, item in enumerate(value):
+                    if item is old:
+                        value[k] = new
+                        return
+    raise AssertionError("node not found")
+
+
+def _install(module: object, fn_node: ast.FunctionDef, qualname: str) -> None:
+    """Compile ``fn_node`` in ``module``'s namespace and swap its code into the live function."""
+    live = _live_function(module, qualname)
+    node = copy.deepcopy(fn_node)
+    node.decorator_list = []
+    freevars = live.__code__.co_freevars
+    if freevars:  # e.g. ``__class__`` of zero-argument super(): compile inside a closure with those cells
+        outer = ast.parse(f"def __mutant_outer__({', '.join(freevars)}):\n    pass\n").body[0]
+        assert isinstance(outer, ast.FunctionDef)
+        outer.body = [node, ast.Return(ast.Name(node.name, ast.Load()))]
+        tree = ast.Module([outer], [])
+    else:
+        tree = ast.Module([node], [])
+    ast.fix_missing_locations(tree)
+    namespace: dict[str, object] = {}
+    exec(compile(tree, inspect.getfile(live), "exec"), vars(module), namespace)  # noqa: S102
+    new = namespace[node.name] if not freevars else namespace["__mutant_outer__"](*[None] * len(freevars))
+    live.__code__ = new.__code__  # type: ignore[attr-defined]
+
+
+# ---------------------------------------------------------------------------------------- runner
+def _run_items(items: list, record: str | None = None) -> int:
+    """Run the collected test ``items`` in order: 0 when all pass, 1 at the first failure.  With
+    ``record``, write each test's duration there."""
+    from _pytest.runner import runtestprotocol
+
+    code, durations = 0, {}
+    for k, item in enumerate(items):
+        t0 = time.perf_counter()
+        reports = runtestprotocol(item, nextitem=items[k + 1] if k + 1 < len(items) else None, log=False)
+        durations[item.nodeid] = time.perf_counter() - t0
+        if any(r.failed for r in reports):
+            code = 1
+            break
+    if record:
+        Path(record).write_text(json.dumps(durations))
+    return code
+
+
+def _fork(items: list, setup=None, quiet: bool = True) -> int:
+    """Fork; the child applies ``setup`` (the mutant), runs the test ``items`` and exits 0 when all
+    pass, 1 at the first failure (also when the mutant cannot even be installed)."""
+    pid = os.fork()
+    if pid:
+        return pid
+    code = 1
+    try:
+        if quiet:
+            fd = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(fd, 1)
+            os.dup2(fd, 2)
+        if setup is not None:
+            setup()
+        code = _run_items(items)
+    except BaseException:  # noqa: BLE001 - a mutant that breaks the test machinery is killed
+        code = 1
+    finally:
+        os._exit(code)
+
+
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a running child (Linux /proc), 0 when unknown."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError):
+        return 0.0
+
+
+def _outcome(status: int) -> tuple[str, int]:
+    code = os.waitstatus_to_exitcode(status)
+    return ("survived" if code == 0 else "killed"), code
+
+
+class _Driver:
+    """pytest plugin: collect the module's tests once, then run every mutant in a forked child
+    (``pytest_runtestloop`` replaced)."""
+
+    def __init__(self, name: str, args: argparse.Namespace) -> None:
+        self.name, self.args, self.record = name, args, {}  # type: dict
+
+    def pytest_runtestloop(self, session) -> bool:
+        self.record = run_mutants(self.name, list(session.items), self.args)
+        return True
+
+
+def run_module(name: str, args: argparse.Namespace) -> dict:
+    import pytest
+
+    driver = _Driver(name, args)
+    pytest.main(["-qq", "-p", "no:cacheprovider", *MODULES[name].tests], plugins=[driver])
+    return driver.record
+
+
+def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
+    target = MODULES[name]
+    modules = {mod: importlib.import_module(mod) for mod, _f in target.functions}
+    trees = {mod: ast.parse(Path(inspect.getfile(m)).read_text()) for mod, m in modules.items()}
+    mutants = generate(trees, target.functions)
+    print(f"\n== {name}: {len(target.functions)} functions, {len(mutants)} mutants, {len(items)} tests", flush=True)
+    if args.list:
+        for m, _i, _j in mutants:
+            print(f"  {m.id:4d} {m.function}:{m.line} [{m.kind}] {m.before}  ->  {m.after}")
+        return {}
+    record_file = Path(args.out) / f"{name}.durations.json"
+    # the unmutated run, in this process: with the JIT on, its compiled kernels are inherited by every child
+    t0, cpu0 = time.monotonic(), resource.getrusage(resource.RUSAGE_SELF)
+    code = _run_items(items, record=str(record_file))
+    cpu1 = resource.getrusage(resource.RUSAGE_SELF)
+    baseline, baseline_cpu = time.monotonic() - t0, cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
+    print(f"   baseline: exit {code} in {baseline:.1f} s ({baseline_cpu:.1f} s CPU), JIT "
+          f"{'off' if os.environ.get('NUMBA_DISABLE_JIT') == '1' else 'on'}", flush=True)
+    if code != 0:
+        raise SystemExit(f"{name}: the unmutated tests fail (exit {code})")
+    durations = json.loads(record_file.read_text())
+    items.sort(key=lambda item: durations.get(item.nodeid, 0.0))  # fastest first: -x stops killed mutants early
+    # a mutant is hung when it has used this much CPU (not wall time: the machine may be loaded)
+    timeout = args.timeout or max(10.0, 3.0 * baseline_cpu)
+    only = {int(k) for k in args.only.split(",")} if args.only else None
+    if args.sample and only is None and args.sample < len(mutants):  # a seeded uniform sample of the mutants
+        only = set(random.Random(args.seed).sample([m.id for m, _i, _j in mutants], args.sample))
+    fns = {(mod, n): _function_node(trees[mod], n) for mod, n in target.functions}
+    todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
+    running: dict[int, tuple[Mutant, float]] = {}
+    done = 0
+    while todo or running:
+        while todo and len(running) < args.jobs:
+            m, i, j = todo.pop(0)
+            new_fn, _ = _mutated(fns[(m.module, m.function)], i, j)
+
+            def setup(new_fn=new_fn, mod=modules[m.module], qualname=m.function) -> None:
+                _install(mod, new_fn, qualname)
+
+            running[_fork(items, setup, quiet=not args.verbose)] = (m, time.monotonic())
+        time.sleep(0.01)
+        for pid, (m, t1) in list(running.items()):
+            finished, status = os.waitpid(pid, os.WNOHANG)
+            if finished:
+                m.status, code = _outcome(status)
+            elif _cpu_seconds(pid) > timeout or time.monotonic() - t1 > 20 * timeout:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                m.status, code = "timeout", -9
+            else:
+                continue
+            del running[pid]
+            m.seconds = round(time.monotonic() - t1, 2)
+            done += 1
+            print({"killed": ".", "survived": "S", "timeout": "T"}[m.status], end="\n" if done % 60 == 0 else "",
+                  flush=True)
+            if done % 20 == 0:  # progress for the impatient: the mutants so far
+                (Path(args.out) / f"{name}.partial.json").write_text(json.dumps([asdict(m) for m, _i, _j in mutants]))
+    print(flush=True)
+    return {"module": name, "functions": [f"{mod}.{n}" for mod, n in target.functions],
+            "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
+            "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout,
+            "jobs": args.jobs, "sample": args.sample, "seed": args.seed,
+            "jit": os.environ.get("NUMBA_DISABLE_JIT") != "1", "load": os.getloadavg(),
+            "mutants": [asdict(m) for m, _i, _j in mutants]}
+
+
+def summary(record: dict) -> dict:
+    ms = record["mutants"]
+    tested = [m for m in ms if m["status"] != "not run"]
+    killed = sum(m["status"] == "killed" for m in tested)
+    timeout = sum(m["status"] == "timeout" for m in tested)
+    survived = [m for m in tested if m["status"] == "survived"]
+    score = (killed + timeout) / len(tested) if tested else float("nan")
+    return {"generated": len(ms), "tested": len(tested), "killed": killed, "timeout": timeout,
+            "survived": len(survived), "score": score, "survivors": survived}
+
+
+def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """Wilson score interval of a proportion k / n."""
+    p = k / n
+    centre, half = p + z * z / (2 * n), z * (p * (1 - p) / n + z * z / (4 * n * n)) ** 0.5
+    return (centre - half) / (1 + z * z / n), (centre + half) / (1 + z * z / n)
+
+
+def changed_lines(name: str) -> dict[int, tuple[str, str]]:
+    """Mutant id -> (original, mutated) line of the unparsed function (stable across edits elsewhere)."""
+    import difflib
+    import importlib.util
+
+    target = MODULES[name]
+    trees = {}
+    for mod, _f in target.functions:
+        spec = importlib.util.find_spec(mod)
+        assert spec is not None and spec.origin is not None
+        trees[mod] = ast.parse(Path(spec.origin).read_text())
+    out = {}
+    for m, i, j in generate(trees, target.functions):
+        fn = _function_node(trees[m.module], m.function)
+        a, b = ast.unparse(fn).splitlines(), ast.unparse(_mutated(fn, i, j)[0]).splitlines()
+        diff = [ln for ln in difflib.unified_diff(a, b, lineterm="", n=0)
+                if ln[:1] in "+-" and ln[:3] not in ("+++", "---")]
+        old = next((ln[1:].strip() for ln in diff if ln.startswith("-")), "")
+        new = next((ln[1:].strip() for ln in diff if ln.startswith("+")), "")
+        out[m.id] = (old, new)
+    return out
+
+
+def _key(m: dict) -> str:
+    return f"{m['function']} | {m['change'][1]}"
+
+
+def report(out: Path, names: list[str]) -> str:
+    """Markdown: the per-module table and every survivor with its reason (``REASONS``)."""
+    rows = ["| module | functions | tests | generated | tested | killed | timeout | survived | score |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    lines: list[str] = []
+    total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
+    for name in names:
+        path = out / f"{name}.json"
+        if not path.exists():
+            rows.append(f"| {name} | not run | | | | | | | |")
+            continue
+        record = json.loads(path.read_text())
+        lines_of = changed_lines(name)
+        for m in record["mutants"]:
+            m["change"] = lines_of.get(m["id"], ("", ""))
+        s = summary(record)
+        for k in total:
+            total[k] += s[k]
+        score = f"{100 * s['score']:.1f} %"
+        if s["tested"] < s["generated"]:  # a sample: Wilson 95 % interval of the module's score
+            lo, hi = _wilson(s["killed"] + s["timeout"], s["tested"])
+            score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
+        rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
+                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {score} |")
+        for m in s["survivors"]:
+            reason = REASONS.get(_key(m), "**no reason recorded yet**")
+            old, new = m["change"]
+            lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{old}` → `{new}` | {reason} |")
+    score = (total["killed"] + total["timeout"]) / total["tested"] if total["tested"] else float("nan")
+    rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
+                f"{total['timeout']} | {total['survived']} | {100 * score:.1f} % |")
+    head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
+    return "\n".join(rows) + "\n\nSurvivors:\n\n" + "\n".join(head + lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("modules", nargs="*", default=list(MODULES))
+    ap.add_argument("--list", action="store_true", help="list the mutants, run nothing")
+    ap.add_argument("--report", action="store_true", help="print the markdown summary of the last runs")
+    ap.add_argument("--only", help="comma-separated mutant ids")
+    ap.add_argument("--timeout", type=float, default=0.0,
+                    help="per-mutant CPU seconds (default 3x the baseline's, >= 10)")
+    ap.add_argument("--jobs", type=int, default=1, help="mutants run at once")
+    ap.add_argument("--sample", type=int, default=0, help="run a seeded uniform sample of this many mutants")
+    ap.add_argument("--seed", type=int, default=23, help="seed of --sample")
+    ap.add_argument("--out", default=str(ROOT / "build" / "mutants"))
+    ap.add_argument("--verbose", action="store_true", help="show pytest's output")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.report:
+        print(report(out, args.modules))
+        return 0
+    if len(args.modules) > 1:  # one process per module: each decides whether numba compiles
+        rest = [a for a in (argv if argv is not None else sys.argv[1:]) if a not in args.modules]
+        codes = [subprocess.run([sys.executable, __file__, name, *rest]).returncode for name in args.modules]
+        print(report(out, args.modules))
+        return max(codes)
+    if not MODULES[args.modules[0]].jit:
+        os.environ["NUMBA_DISABLE_JIT"] = "1"  # the mutated functions are kernels: run them as Python
+    worst = 0
+    for name in args.modules:
+        t0 = time.monotonic()
+        record = run_module(name, args)
+        if not record:
+            continue
+        record["wall_s"] = round(time.monotonic() - t0, 1)
+        path = out / f"{name}.json"
+        if args.only and path.exists():  # a partial re-run: update those mutants in the last record
+            old = json.loads(path.read_text())
+            fresh = {m["id"]: m for m in record["mutants"] if m["status"] != "not run"}
+            old["mutants"] = [fresh.get(m["id"], m) for m in old["mutants"]]
+            record = old
+        path.write_text(json.dumps(record, indent=1))
+        s = summary(record)
+        print(f"   {name}: generated {s['generated']}, tested {s['tested']}, killed {s['killed']}, "
+              f"timeout {s['timeout']}, survived {s['survived']}, score {100 * s['score']:.1f} % "
+              f"({record['wall_s']:.0f} s)", flush=True)
+        for m in s["survivors"]:
+            print(textwrap.indent(f"S {m['id']} {m['function']}:{m['line']} [{m['kind']}] "
+                                  f"{m['before']}  ->  {m['after']}", "   "))
+        if s["score"] < 0.9:
+            worst = 1
+    return worst
+
+
+if __name__ == "__main__":
+    sys.exit(main())

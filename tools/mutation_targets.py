@@ -1,0 +1,138 @@
+"""What ``tools/mutate.py`` mutates: per safety-relevant module, the functions that decide safety and
+the tests that guard them (the module's oracle and fast unit tests, run with ``NUMBA_DISABLE_JIT=1``;
+not the whole suite, so a module's score is a lower bound of the whole suite's)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Target:
+    """Functions ``(python module, "function" or "Class.method")`` and the pytest arguments that guard them."""
+
+    functions: tuple[tuple[str, str], ...]
+    tests: tuple[str, ...]
+    jit: bool = True  # False where the mutated functions are numba kernels (they then run as Python)
+
+
+def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
+    return tuple((module, n) for n in names)
+
+
+TERRAIN = "auvplan.world.terrain"
+WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
+COST = "auvplan.cost"
+GRID = "auvplan.planners.grid"
+SIM = "auvplan.sim"
+LOCAL = "auvplan.guidance.local"
+FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
+
+MODULES: dict[str, Target] = {
+    # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
+    "terrain": Target(
+        _fns(TERRAIN, "Terrain.__post_init__", "Terrain.altitude", "Terrain.altitude_lower_bound",
+             "Terrain.min_altitude_between", "Terrain.segments_below", "_cell", "elevation_kernel", "_piece_min",
+             "_crossings", "_walk_min", "min_altitude_kernel", "_min_altitudes"),
+        ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
+         "ridge or slope or terrain or bilinear or gradient or outside or lower_bound",
+         "--deselect", "tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
+        jit=False,
+    ),
+    # the World's point and segment tests and the obstacles' exact distances and segment tests
+    "world": Target(
+        _fns(WORLD, "Bounds.slack", "Bounds.contains", "World.clearances", "World._obstacle_slack",
+             "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
+        + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
+               "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
+        ("tests/test_world.py", "tests/test_oracles.py", "-k",
+         "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"),
+    ),
+    # the energy/duration kernel and the path terms (violations, clearance)
+    "cost": Target(
+        _fns(COST, "_obstacle_slack", "segment_energy", "energy_kernel", "_segment_energies", "_point_slack",
+             "_path_terms", "evaluate_paths"),
+        ("tests/test_cost.py", "tests/test_oracles.py", "-k", "cost or energy or seabed"),
+        jit=False,
+    ),
+    # lattice edge generation (collision tests), edge weights and the Dijkstra search
+    "grid": Target(
+        _fns(GRID, "_edge_weight", "_sift_up", "_sift_down", "_search", "free_edges",
+             "GridReference._lattice_edges", "GridReference._connect"),
+        ("tests/test_oracles.py", "tests/test_grid.py", "-k",
+         "edge or cost_to_go or empty or enclosed"),
+        jit=False,
+    ),
+    # the simulation's event detection (collision, arrival, deadlock, timeout)
+    "sim": Target(
+        _fns(SIM, "_distance", "_obstacle_shapes", "simulate"),
+        ("tests/test_oracles.py", "tests/test_tracking.py", "-k",
+         "seabed or collision or converges or deadlock_is_declared or arrival_at"),
+    ),
+    # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
+    "local": Target(
+        _fns(LOCAL, "key_waypoints", "apf_force", "MinimumDetector.update", "_random_free_point",
+             "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
+             "LocalAvoidance.command", "LocalAvoidance._apf_command"),
+        ("tests/test_oracles.py", "tests/test_local.py", "-k",
+         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"),
+    ),
+    # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
+    "flow": Target(
+        _fns(FLOW, "sink_velocity", "sphere_exact_velocity", "FlowField.clearance", "FlowField.inside_body",
+             "FlowField.push_out", "FlowField._sphere_parts", "FlowField._free", "FlowField.velocity")
+        + _fns(STREAM, "_segment_clear", "_exit_body", "_deflect", "integrate_streamlines"),
+        ("tests/test_oracles.py", "tests/test_flow.py", "-k",
+         "sphere_field or exact_field or tip_and_axis or on_axis_sphere or inside_the_inflated or plan_flow_status"),
+    ),
+}
+
+# Why each surviving mutant survives, keyed ``"function | before -> after"`` (the text ``mutate.py``
+# prints): an equivalent mutant (no input can tell it apart) or one the tests cannot observe.
+_NEG = "equivalent: numpy infers the length of any negative dimension, -2 as -1"
+_KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, which the kernel would compute "
+          "itself (only World.segments_free passes them on)")
+_CELL = "equivalent: at the boundary both branches give the same cell index"
+_EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
+         "answers the same")
+REASONS: dict[str, str] = {
+    # terrain
+    "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
+        "equivalent: steps that pass the uniform-spacing test all have one sign (unless all are below the "
+        "1e-9 m tolerance), so any = all",
+    "Terrain.altitude_lower_bound | return np.minimum(bound, np.maximum(ga, gb))":
+        "equivalent: with true end altitudes and the true slope, |g_a - g_b| <= |Δz| + G L_h, so the bound "
+        "(g_a + g_b - |Δz| - G L_h)/2 is already <= min(g_a, g_b): the outer minimum never decides",
+    "Terrain.min_altitude_between | a = np.ascontiguousarray(a.reshape(-2, 3))": _NEG,
+    "Terrain.min_altitude_between | b = np.ascontiguousarray(b.reshape(-2, 3))": _NEG,
+    "Terrain.min_altitude_between | ga, gb = (np.ascontiguousarray(np.broadcast_to(np.asarray(g, dtype=float), "
+    "lead).reshape(-2)) for g in end_altitudes)": _NEG,
+    "Terrain.min_altitude_between | known = False": _KNOWN,
+    "_cell | return 0 if i <= 0 else cells - 1 if i > cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 1 else cells - 1 if i > cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 0 else cells - 1 if i >= cells - 1 else int(i)": _CELL,
+    "_cell | return 0 if i < 0 else cells - 1 if i > cells - 2 else int(i)": _CELL,
+    "_piece_min | u0, du = (0.0 if fx <= 0.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | v0, dv = (0.0 if fy <= 0.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | v0, dv = (0.0 if fy < 1.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | if fy < 0.0 or fy >= nyc:":
+        "equivalent: a piece whose midpoint lies exactly on the last grid line runs along it (dv = 0) "
+        "with v = 1 either way",
+    # cost
+    "_obstacle_slack | ends = np.stack([a, b], axis=2)":
+        "equivalent: the segment arrays are always (P, S - 1, 3), where axis 2 is axis -2",
+    "energy_kernel | t = ds / (speed if blocked or vg <= 0.0 else vg) if ds >= 0.0 else 0.0":
+        "equivalent: a zero-length segment takes 0 / (a positive speed) = 0 s either way",
+    "_path_terms | if slack <= 0.0:": "equivalent: at slack = 0 the violation depth grows by 0",
+    # local
+    "key_waypoints | if p.shape[0] <= 2:":
+        "equivalent: with two points the loop keeps both as well (first and last are always kept)",
+    "key_waypoints | if p.shape[0] < 3:":
+        "equivalent: with two points the loop keeps both as well (first and last are always kept)",
+    "key_waypoints | if p.shape[1] < 2:":
+        "equivalent: p.shape[1] is 3; a single point then goes through the loop, which returns it alone",
+    "apf_force | c = np.asarray(centers, dtype=float).reshape(-2, 3)": _NEG,
+    "_crossings | if kb >= ka:":
+        "equivalent: with kb = ka the first crossing comes after the last one, i.e. none, as in the "
+        "no-movement branch",
+}
