@@ -109,11 +109,14 @@ def test_converged_reference_is_within_five_hundredths_of_a_percent_of_the_geode
     assert exact * (1 - 2e-5) <= r.cost_terms["length_m"] <= 1.0005 * exact
 
 
-def test_a_finer_cell_never_gives_a_worse_converged_reference():
-    world, s, g, _ = _sphere_scene()
-    got = [plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective="length", cell=c)).cost
-           for c in (50.0, 25.0)]
-    assert got[1] <= got[0] * (1 + 1e-5)
+@pytest.mark.parametrize("scene", [_sphere_scene, _ridge_scene])
+def test_a_finer_cell_never_gives_a_worse_converged_reference(scene):
+    """Halving the cell never raises the converged reference's cost (the finer reference's
+    candidates include the coarser one's lattice), on either scene, and says so."""
+    world, s, g, _ = scene()
+    got = [plan(PlanningProblem(world, s, g, 1.5), grid_spec(objective="length", cell=c)) for c in (50.0, 25.0)]
+    assert got[1].cost <= got[0].cost
+    assert "best of the lattices at 25, 50 m" in got[1].message
 
 
 def test_plan_once_query_many_on_real_terrain(salish):
@@ -179,19 +182,6 @@ def test_marcus_wake_reference_and_the_gap_of_a_swarm_plan(marcus):
     assert g.gap_pct == pytest.approx(100 * (swarm.cost - ref.cost) / ref.cost)
 
 
-def test_lattice_memory_grows_with_nodes_not_edges():
-    """The reference keeps a few words per node (no stored edge list): every array it holds,
-    over the nodes, is under 40 bytes a node although each node has up to 26 edges."""
-    world = World(Bounds(0, 1000, 0, 1000, -200, 0), margins=Margins(min_altitude=0.0, min_depth=-np.inf))
-    prob = PlanningProblem(world, [50.0, 50.0, -150.0], [900.0, 900.0, -100.0], 1.5)
-    spec = grid_spec(objective="length", cell=25.0, cell_z=25.0)
-    lo, hi = search_box(prob)
-    ref = GridReference(world, prob.goal, cost_model_for(prob, spec), lo, hi, spec.grid)
-    held = sum(v.nbytes for v in vars(ref).values() if isinstance(v, np.ndarray))
-    assert ref.edges > 20 * ref.nodes
-    assert held / ref.nodes < 40
-
-
 def test_streamline_plans_are_recosted_on_the_planners_cost_function():
     """A flow plan reports its length only; on the cost function it gains the energy term, and
     a swarm plan is left as it is (bench and reference gaps compare like with like)."""
@@ -224,3 +214,34 @@ def test_reference_is_the_best_known_plan_on_salish_shelf(salish):
     assert ref.status is Status.EXACT and "best of 4" in ref.message
     assert ref.cost <= min(runs) * (1 + 5e-4)
     assert ref.cost < plan_grid(prob, replace(spec, name="grid")).cost
+
+
+def test_halving_the_cell_on_marcus_wake_never_raises_the_reference(marcus):
+    """On marcus-wake the 1 km lattice alone converges to a plan slightly dearer than the 2 km one
+    (a different local optimum of the band); with the ladder of coarser lattices the 1 km
+    reference is never dearer than the 2 km one, nor than its own lattice alone."""
+    _, world, mission = marcus
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, name="grid")
+    fine, coarse = (plan_grid(prob, replace(spec, grid=GridParams(cell=c))) for c in (1000.0, 2000.0))
+    alone = plan_grid(prob, replace(spec, grid=GridParams(cell=1000.0, ladder=False)))
+    assert alone.cost > coarse.cost  # the case the ladder is for
+    assert fine.cost <= coarse.cost and fine.cost <= alone.cost
+    assert fine.status is Status.EXACT and world.path_free(fine.path) and "1000, 2000, 4000 m" in fine.message
+
+
+def test_reference_is_never_beaten_by_more_than_five_hundredths_on_a_hard_case():
+    """new-england-seamounts (real ETOPO1, abyssal plain among seamounts) at a small budget: every
+    planner's seeded run costs at least the reference minus 0.05 % (the gap study's property,
+    benchmarks/gap.py, on one case), and the reference says which plan won."""
+    from auvplan.io import scenario as sc
+    from auvplan.planners import reference
+
+    world, mission = sc.build(sc.load("new-england-seamounts"))
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, budget=2000, population=20, grid=GridParams(cell=2000.0))
+    ref = reference(prob, spec)
+    runs = [plan(prob, replace(spec, name=n), seed) for n in ("iabc", "abc", "ga", "pso", "de") for seed in (0, 1)]
+    best = min(r.cost for r in runs if r.status is Status.EXACT)
+    assert ref.status is Status.EXACT and world.path_free(ref.path) and "best of 4" in ref.message
+    assert ref.cost <= best * (1 + 5e-4)

@@ -6,7 +6,7 @@ from dataclasses import replace
 from .._types import RngLike
 from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult, Progress
 from .flow import plan_flow
-from .grid import GridReference, plan_grid, with_reference
+from .grid import GridReference, plan_grid, refine_plan, with_reference
 from .registry import REGISTRY, PlannerEntry, get, register
 from .swarm import plan_swarm
 from .timeplan import plan_timeopt
@@ -48,7 +48,9 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
     """The best known plan of ``problem`` on the cost function of ``spec``: the lattice plan
     refined to convergence (:func:`plan_grid`) and the seeded pipeline of each planner in
     ``swarms`` at twice ``spec``'s evaluation budget (seed ``seed``, apart from the seeds users
-    run), the cheapest feasible one; its ``message`` says which (best of N).
+    run), each of those then refined to convergence as a polyline by the lattice plan's own
+    refinement (:func:`auvplan.planners.grid.refine_plan`), the cheapest feasible one; its
+    ``message`` says which (best of N).
 
     Parameters
     ----------
@@ -71,8 +73,9 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
         return grid
     best, label = grid, "the refined lattice plan"
     for name in swarms:
-        run = plan(problem, replace(spec, name=name, pipeline="seeded", budget=2 * spec.evaluations), seed)
+        run = refine_plan(problem, spec, plan(problem, replace(spec, name=name, pipeline="seeded",
+                                                               budget=2 * spec.evaluations), seed))
         if run.status.ok and run.cost < best.cost:
-            best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations)"
+            best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations, refined)"
     return replace(best, planner="grid", message=f"{grid.message}; best of {1 + len(swarms)} (lattice, "
-                   f"{', '.join(swarms)} at twice the budget): {label}")
+                   f"{', '.join(swarms)} at twice the budget, each refined): {label}")

@@ -49,18 +49,23 @@ class GridParams:
     target_nodes : int
         Node count the automatic cell size aims at.
     max_nodes : int
-        Refuse lattices larger than this (memory guard: about 1 kB per node at worst).
+        Refuse lattices larger than this (memory guard: the reference needs about 45 bytes a node).
     objective : str
         ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
     relax_iterations : int
-        Elastic-band sweeps after the key-waypoint shortening (0 = none).
+        Most elastic-band sweeps per refinement level (0 = none).
     smooth : bool
         Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
     converge : bool
-        Refine the path to convergence after the band (halving spacings until a level gains less
-        than ``converge_tol``): the reference becomes the best known plan, not a lattice bound.
+        Refine the lattice path to convergence (cycles of elastic-band levels from 1/8 to 1/2048
+        of the path, until a cycle gains less than ``converge_tol``) instead of the band alone:
+        the reference becomes the best known plan, not a lattice bound.
     converge_tol : float
         Relative cost gain below which the refinement stops.
+    ladder : bool
+        With ``converge``: also plan on the lattices 2, 4, … times coarser (up to 1/25 of the
+        search box's narrower side) and keep the cheapest, so that halving the cell never gives
+        a worse reference.
 
     Raises
     ------
@@ -78,6 +83,7 @@ class GridParams:
     smooth: bool = True
     converge: bool = True
     converge_tol: float = 1e-5
+    ladder: bool = True
 
     def __post_init__(self) -> None:
         if not 0.0 < self.converge_tol < 1.0:

@@ -30,139 +30,23 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import numpy.typing as npt
 
-from .._jit import kernel
-from .._types import ArrayLike, BoolArray, FloatArray, IntArray, Status
-from ..cost import CostModel, energy_kernel, evaluate_paths, propulsion_power, segment_energy
+from .._types import ArrayLike, FloatArray, IntArray, Status
+from ..cost import CostModel, evaluate_paths, propulsion_power, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
 from ..world import World
 from .base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .lattice import edge_bits, edge_states, node_fields, search
 from .swarm_problem import check_endpoints, cost_model_for, plan_terms, search_box
 
-__all__ = ["GridReference", "plan_grid", "auto_cell", "densify", "edge_cost", "free_edges", "on_cost_function",
-           "path_cost", "with_reference"]
-
-_HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
-                  if (i, j, k) > (0, 0, 0)])
-"""The 13 lattice offsets with a positive first non-zero component (the other 13 are their reverses)."""
-
-_OFFSETS = np.concatenate([_HALF, -_HALF]).astype(np.int64)
-"""The 26 lattice directions; bit ``s`` of a node's edge mask is the edge along ``_OFFSETS[s]``."""
-
-
-@kernel
-def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: FloatArray, use_cost: bool, w_length: float,
-                 w_energy: float, speed: float, power: float, document: bool) -> float:
-    """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
-    ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
-    (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
-    ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]
-    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-    if not use_cost:
-        return ds
-    cx = 0.5 * (current[u, 0] + current[v, 0])
-    cy = 0.5 * (current[u, 1] + current[v, 1])
-    cz = 0.5 * (current[u, 2] + current[v, 2])
-    units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
-    if blocked:
-        return np.inf
-    weight: float = max(w_length * ds + w_energy * units, 1e-12)
-    return weight
-
-
-@kernel
-def _sift_up(heap: IntArray, pos: IntArray, key: FloatArray, i: int) -> None:
-    node = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        if key[heap[parent]] <= key[node]:
-            break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
-        i = parent
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _sift_down(heap: IntArray, pos: IntArray, key: FloatArray, i: int, size: int) -> None:
-    node = heap[i]
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
-            c += 1
-        if key[heap[c]] >= key[node]:
-            break
-        heap[i] = heap[c]
-        pos[heap[i]] = i
-        i = c
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _search(shape: IntArray, bits: npt.NDArray[np.uint32], offsets: IntArray, vec: FloatArray, current: FloatArray,
-            use_cost: bool, w_length: float, w_energy: float, speed: float, power: float, document: bool,
-            near: IntArray, w_goal: FloatArray, goal: int, dist: FloatArray, nxt: IntArray) -> None:
-    """Dijkstra from the goal over the reversed lattice, edges generated on the fly.
-
-    ``dist[u]`` becomes the cheapest cost from node ``u`` to the goal and ``nxt[u]`` the next
-    node on that path (``goal`` for the nodes linked to it directly).  An indexed binary heap
-    with decrease-key keeps the memory at a few words per node.
-    """
-    n = goal
-    nx, ny, nz = shape[0], shape[1], shape[2]
-    pos = np.full(n, -1, dtype=np.int64)  # -1 never queued, -2 settled
-    heap = np.empty(n, dtype=np.int64)
-    size = 0
-    for k in range(near.size):
-        u = near[k]
-        if w_goal[k] < dist[u]:
-            dist[u] = w_goal[k]
-            nxt[u] = goal
-            if pos[u] == -1:
-                heap[size] = u
-                pos[u] = size
-                size += 1
-            _sift_up(heap, pos, dist, pos[u])
-    while size > 0:
-        v = heap[0]
-        pos[v] = -2
-        size -= 1
-        if size > 0:
-            heap[0] = heap[size]
-            pos[heap[0]] = 0
-            _sift_down(heap, pos, dist, 0, size)
-        k = v % nz
-        j = (v // nz) % ny
-        i = v // (nz * ny)
-        for s in range(26):
-            # the edge u -> v along direction s starts at u = v - offsets[s]
-            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
-            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
-                continue
-            u = (ui * ny + uj) * nz + uk
-            if pos[u] == -2 or not (bits[u] >> s) & 1:
-                continue
-            alt = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
-                                         document)
-            if alt < dist[u]:
-                dist[u] = alt
-                nxt[u] = v
-                if pos[u] == -1:
-                    heap[size] = u
-                    pos[u] = size
-                    size += 1
-                _sift_up(heap, pos, dist, pos[u])
-
+__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "densify", "edge_cost", "free_edges",
+           "on_cost_function", "path_cost", "resample_free", "with_reference"]
 
 def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
     """Horizontal and vertical cell sizes.
@@ -257,55 +141,38 @@ def densify(points: ArrayLike, spacing: float) -> FloatArray:
     return np.vstack([out, p[-1]])
 
 
-def free_edges(world: World, ids: npt.NDArray[np.integer[Any]], free: BoolArray, altitude: FloatArray,
-               obstacle: FloatArray, xyz: FloatArray, steps: FloatArray,
-               off: IntArray) -> tuple[npt.NDArray[np.integer[Any]], npt.NDArray[np.integer[Any]]]:
-    """The free lattice edges ``src -> src + off`` between free nodes, as node ids ``(src, dst)``.
+def free_edges(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
+               coords: Callable[[Any], FloatArray]) -> tuple[IntArray, IntArray]:
+    """The free lattice edges ``src -> src + off`` between free nodes.
 
-    One offset has one length and direction, so its edges are tested as 3D array slices: the
-    seabed's Lipschitz bound and the obstacles' 1-Lipschitz distance clear most edges from the
-    node values alone, and only the others go through the World's exact segment test.
+    The seabed's Lipschitz bound (``altitude``: node altitudes above the seabed) and the
+    obstacles' 1-Lipschitz distance (``obstacle``: slack beyond the margin) clear most edges from
+    the node values alone in one compiled pass; only the others go through the World's exact
+    segment test (:func:`auvplan.planners.lattice.edge_states`).
 
     Parameters
     ----------
     world : World
-        The world of the exact segment test (static constraints).
-    ids : numpy.ndarray
-        Node ids (int32 or int64) in the lattice's shape.
-    free : numpy.ndarray of bool
-        Free nodes, lattice shape.
-    altitude : numpy.ndarray
-        Node altitudes above the seabed (m), lattice shape.
-    obstacle : numpy.ndarray
-        Node distances to the static obstacles minus the margin (m), lattice shape.
-    xyz : numpy.ndarray
-        Node coordinates ``(N, 3)`` (m).
-    steps : numpy.ndarray
-        Node spacing along x, y, z ``(3,)`` (m).
-    off : numpy.ndarray
-        The offset in nodes ``(3,)``.
+        Static constraints.
+    free : numpy.ndarray
+        Free nodes, the lattice's shape ``(nx, ny, nz)``.
+    altitude, obstacle : numpy.ndarray
+        Node heights above the seabed and static-obstacle slack (m), the lattice's shape.
+    steps : array_like
+        Cell sizes ``(3,)`` (m).
+    off : array_like
+        The lattice offset ``(3,)`` of the edges.
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
 
     Returns
     -------
-    src, dst : numpy.ndarray
-        Node ids of the free edges' ends.
+    tuple of numpy.ndarray
+        Flat node ids ``(src, dst)`` of the free edges.
     """
-    shape = free.shape
-    a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
-    b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
-    both = free[a] & free[b]
-    src, dst = ids[a][both], ids[b][both]
-    d = np.asarray(off) * steps
-    length = float(np.linalg.norm(d))
-    sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length
-    if world.terrain is not None:
-        lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], np.hypot(d[0], d[1]))
-        sure &= lb >= world.margins.min_altitude
-    unsure = np.flatnonzero(~sure)
-    if unsure.size:
-        seg = np.stack([xyz[src[unsure]], xyz[dst[unsure]]], axis=1)
-        sure[unsure] = world.segments_free(seg, moving=False, ends_free=True)
-    return src[sure], dst[sure]
+    off = np.asarray(off, dtype=np.int64)
+    src = np.flatnonzero(edge_states(world, free, altitude, obstacle, steps, off, coords))
+    return src, src + int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
 
 
 class GridReference:
@@ -323,6 +190,10 @@ class GridReference:
         Search box.
     params : GridParams
         Cell sizes, node cap and objective.
+    start : array_like, shape (3,), optional
+        The one start that will be queried: the search becomes A* towards it and stops when its
+        cheapest path is known (:func:`auvplan.planners.lattice.search`).  Other starts are then
+        answered by real but not necessarily cheapest lattice paths.
 
     Attributes
     ----------
@@ -331,18 +202,16 @@ class GridReference:
     free : ndarray of bool, shape (nx, ny, nz)
         Free nodes.
     cost_to_go : ndarray, shape (nx, ny, nz)
-        Cost from each node to the goal (``inf`` where unreachable or not free).
+        Cost from each node to the goal (``inf`` where unreachable or not free; with ``start``,
+        exact on the settled nodes and an upper bound on the others).
     edges : int
         Directed edges in the graph.
-
-    Raises
-    ------
-    ValueError
-        If the lattice would exceed ``params.max_nodes``.
+    settled : int
+        Nodes the search settled.
     """
 
     def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
-                 params: GridParams) -> None:
+                 params: GridParams, start: ArrayLike | None = None) -> None:
         self.world, self.model, self.params = world, model, params
         self.goal = np.asarray(goal, dtype=float).reshape(3)
         lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
@@ -352,56 +221,55 @@ class GridReference:
         if np.prod(n) > params.max_nodes:
             raise ValueError(f"a lattice of {n.tolist()} nodes at {cell:g} m x {cell_z:g} m cells exceeds "
                              f"max_nodes = {params.max_nodes}; raise [planner.grid] cell")
-        offset = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
+        origin = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
         self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
-        self.axes: tuple[FloatArray, ...] = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
-        xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
-        slack = world.clearances(xyz, moving=False)
-        self.free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(self.shape)
-        current = world.currents.velocity(xyz) if params.objective == "cost" else np.zeros((0, 3))
-        bits = self._lattice_edges(xyz, slack["altitude"] + world.margins.min_altitude, slack["obstacles"])
-        del xyz, slack
+        self.axes = tuple(origin[d] + steps[d] * np.arange(n[d]) for d in range(3))
+        use_cost = params.objective == "cost"
+        self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
+        bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        del alt, obs
         near, w_goal = self._connect(self.goal, towards=True)
         keep = np.isfinite(w_goal)
         near, w_goal = near[keep], np.maximum(w_goal[keep], 1e-12)
         self.edges = int(np.bitwise_count(bits).sum()) + int(near.size)
         self._goal_id = self.nodes
-        self._dist, self._next = np.full(self.nodes + 1, np.inf), np.full(self.nodes + 1, -9999, dtype=np.int64)
-        self._dist[self._goal_id] = 0.0
-        steps = np.array([cell, cell, cell_z])
-        _search(np.array(self.shape, dtype=np.int64), bits, _OFFSETS, _OFFSETS * steps, current,
-                params.objective == "cost", model.w_length, model.w_energy * model.scale, model.speed,
-                propulsion_power(model), model.energy == "document",
-                near.astype(np.int64), w_goal, self._goal_id, self._dist, self._next)
+        cost = (model.w_length, model.w_energy * model.scale, model.speed, propulsion_power(model),
+                model.energy == "document") if use_cost else None
+        start_near, c_min = None, 0.0
+        if start is not None:
+            start = np.asarray(start, dtype=float).reshape(3)
+            ids, w = self._connect(start, towards=False)
+            ids, w = ids[np.isfinite(w)], w[np.isfinite(w)]
+            start_near, c_min = (ids, w), self._cost_per_metre(current)
+            span = np.linalg.norm(self._coords(ids) - start, axis=1)  # the start's links obey the bound too
+            if np.any(span > 0):
+                c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
+        self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
+                                                      start_near, start, c_min)
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
+    def _cost_per_metre(self, current: np.ndarray) -> float:
+        """A lower bound of any lattice edge's cost per metre (A*'s heuristic): 1 for the length;
+        the length weight plus the energy at the ground speed of the still-water speed plus the
+        strongest node current (an edge takes the mean of its two nodes' currents) for the
+        physical energy model; the length weight alone for the document's energy (which can be
+        near zero)."""
+        m = self.model
+        if self.params.objective == "length":
+            return 1.0
+        if m.energy == "document" or current.shape[0] == 0:
+            return float(m.w_length)
+        c2 = max((float(np.einsum("ij,ij->i", c, c).max()) for c in np.array_split(current, 16) if c.size),
+                 default=0.0)
+        vmax = m.speed + math.sqrt(c2)
+        return float(m.w_length + m.w_energy * m.scale * propulsion_power(m) / vmax)
+
     # ------------------------------------------------------------------ lattice
-    def _coords(self, ids: IntArray) -> FloatArray:
+    def _coords(self, ids: np.ndarray) -> np.ndarray:
         i, j, k = np.unravel_index(np.asarray(ids), self.shape)
         return np.stack([self.axes[0][i], self.axes[1][j], self.axes[2][k]], axis=-1)
 
-    def _lattice_edges(self, xyz: FloatArray, altitude: FloatArray, obstacle: FloatArray) -> npt.NDArray[np.uint32]:
-        """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of
-        node ``u`` set when the edge ``u -> u + _OFFSETS[s]`` is free).
-
-        The edges of each offset come from :func:`free_edges`.  Costs are not stored: the search
-        computes each edge's cost when it relaxes it, so memory grows with the nodes, not with
-        26 × the nodes.
-        """
-        w = self.world
-        itype: type[np.signedinteger[Any]] = np.int32 if self.nodes < 2**31 else np.int64
-        ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
-        steps = np.array([self.cell, self.cell, self.cell_z])
-        alt = altitude.reshape(self.shape)
-        obs = obstacle.reshape(self.shape)
-        bits = np.zeros(self.nodes, dtype=np.uint32)
-        for slot, off in enumerate(_HALF):
-            src, dst = free_edges(w, ids, self.free, alt, obs, xyz, steps, off)
-            bits[src] |= np.uint32(1 << slot)
-            bits[dst] |= np.uint32(1 << (13 + slot))
-        return bits
-
-    def _connect(self, point: FloatArray, towards: bool) -> tuple[IntArray, FloatArray]:
+    def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:
         """Free nodes within two cells of ``point`` joined to it by a free segment, and the
         cost of that segment (node -> point when ``towards``, else point -> node)."""
         lo = [max(0, int(np.searchsorted(ax, point[d] - 2.01 * s))) for d, (ax, s) in
@@ -409,7 +277,8 @@ class GridReference:
         hi = [int(np.searchsorted(ax, point[d] + 2.01 * s)) for d, (ax, s) in
               enumerate(zip(self.axes, (self.cell, self.cell, self.cell_z)))]
         box = np.s_[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]]
-        ids = np.arange(self.nodes).reshape(self.shape)[box][self.free[box]]
+        ijk = np.nonzero(self.free[box])
+        ids = np.ravel_multi_index(tuple(v + lo[d] for d, v in enumerate(ijk)), self.shape)
         q = self._coords(ids)
         p = np.broadcast_to(point, q.shape)
         ok = self.world.segments_free(np.stack([p, q], axis=1), moving=False)
@@ -457,22 +326,59 @@ class GridReference:
         return np.vstack([start, self._coords(np.array(chain[:-1])), self.goal])
 
 
-def _normals(p: FloatArray, i: IntArray) -> tuple[FloatArray, FloatArray]:
+def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
+    """Points every ``spacing`` metres along the free polyline ``path (N, 3)``, except where a
+    resampled segment would cut a corner into the seabed or an obstacle: there the original
+    vertices between its two ends are kept, so that stretch follows ``path`` and stays free.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    path : ndarray, shape (N, 3)
+        A polyline that passes the exact segment test.
+    spacing : float
+        Arc-length spacing (m).
+
+    Returns
+    -------
+    ndarray, shape (M, 3)
+        A free polyline through the same end points.
+    """
+    p = np.asarray(path, dtype=float)
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    r = resample_polyline(p, spacing)
+    q = np.linspace(0.0, s[-1], r.shape[0])
+    bad = np.flatnonzero(~world.segments_free(np.stack([r[:-1], r[1:]], axis=1), moving=False))
+    if bad.size == 0:
+        return r
+    pieces, last = [], 0
+    for i in bad:
+        pieces += [r[last:i + 1], p[(s > q[i]) & (s < q[i + 1])]]
+        last = int(i) + 1
+    return np.vstack([*pieces, r[last:]])
+
+
+def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
     t = p[i + 1] - p[i - 1]
-    t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-12)
-    ref = np.where(np.abs(t[:, 2:3]) < 0.9, np.array([[0.0, 0.0, 1.0]]), np.array([[1.0, 0.0, 0.0]]))
-    n1 = np.cross(t, ref)
-    n1 /= np.linalg.norm(n1, axis=1, keepdims=True)
-    return n1, np.cross(t, n1)
+    t /= np.maximum(np.sqrt(np.einsum("ij,ij->i", t, t)), 1e-12)[:, None]
+    tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
+    steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
+    n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
+                  np.stack([ty, -tx, np.zeros_like(tx)], axis=1))
+    n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
+    n2 = np.stack([ty * n1[:, 2] - tz * n1[:, 1], tz * n1[:, 0] - tx * n1[:, 2], tx * n1[:, 1] - ty * n1[:, 0]], axis=1)
+    return n1, n2
 
 
-def _relax(world: World, p: FloatArray, model: CostModel, objective: str, iterations: int,
-           step: float) -> FloatArray:
+def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterations: int,
+           step: float) -> np.ndarray:
     """Elastic band with pattern search: each interior point tries a pull towards its
     neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
     best move that lowers the cost of its two segments and keeps both free (odd and even
-    points in turn, so that the moves are independent).  Failed points halve their steps."""
+    points in turn, so that the moves are independent).  Failed points halve their steps.
+    Only the moves that lower the cost go through the exact segment test."""
     p = p.copy()
     n = p.shape[0]
     if n < 3 or iterations == 0:
@@ -480,30 +386,32 @@ def _relax(world: World, p: FloatArray, model: CostModel, objective: str, iterat
     alpha = np.full(n, 0.5)
     delta = np.full(n, 0.5 * step)
     tol = 1e-3 * step
-
-    def cost(a: FloatArray, b: FloatArray) -> FloatArray:
-        return edge_cost(world, a, b, model, objective)
-
     for _ in range(iterations):
         for parity in (1, 2):
             i = np.arange(parity, n - 1, 2)
             i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
             if i.size == 0:
                 continue
+            m = i.size
             a, b, c = p[i - 1], p[i], p[i + 1]
             n1, n2 = _normals(p, i)
             d = delta[i, None]
-            cand = np.stack([b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2, b - d * n2])
-            old = cost(a, b) + cost(b, c)
-            new = cost(a, cand) + cost(cand, c)
-            seg = np.stack([np.stack(np.broadcast_arrays(a, cand), axis=-2),
-                            np.stack(np.broadcast_arrays(cand, c), axis=-2)], axis=-3)
+            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
+                            b - d * n2])  # (6, m, 3): the point, then its five moves
+            ends = np.concatenate([np.broadcast_to(a, pts.shape), pts])
+            cost = edge_cost(world, ends, np.concatenate([pts, np.broadcast_to(c, pts.shape)]), model, objective)
+            both = cost[:6] + cost[6:]
+            old, new = both[0], both[1:]
             better = new < old - 1e-9 * np.abs(old)
-            better &= world.segments_free(seg, moving=False).all(axis=-1) | ~better
+            kk, jj = np.nonzero(better)
+            if kk.size:
+                q = pts[kk + 1, jj]
+                seg = np.stack([np.stack([a[jj], q], axis=1), np.stack([q, c[jj]], axis=1)], axis=1)
+                better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
             new = np.where(better, new, np.inf)
             k = np.argmin(new, axis=0)
-            ok = np.isfinite(new[k, np.arange(i.size)])
-            p[i[ok]] = cand[k[ok], np.flatnonzero(ok)]
+            ok = np.isfinite(new[k, np.arange(m)])
+            p[i[ok]] = pts[k[ok] + 1, np.flatnonzero(ok)]
             pulled = ok & (k == 0)
             alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
             pushed = ok & (k > 0)
@@ -515,53 +423,51 @@ def _relax(world: World, p: FloatArray, model: CostModel, objective: str, iterat
     return p
 
 
-def _refine(world: World, raw: FloatArray, model: CostModel, objective: str, cell: float,
-            iterations: int) -> FloatArray:
-    """Coarse-to-fine elastic band: the path is resampled every 16, 8, 4, 2, 1 and 1/2 cells
-    (levels longer than a quarter of the path are skipped, as are resamplings that would cut
-    into an obstacle) and relaxed at each level with steps of that spacing, so that whole
-    stretches move together before the detail is settled."""
+def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cell: float,
+            iterations: int) -> np.ndarray:
+    """Coarse-to-fine elastic band: the path is resampled at 1/8, 1/16, … of its length down to
+    half a cell (a ladder of spacings fixed by the path, not by the cell, so that every lattice
+    hands the band the same coarse levels; resamplings that would cut into an obstacle densify
+    instead) and relaxed at each level with steps of that spacing, so that whole stretches move
+    together before the detail is settled."""
     path = raw
-    total = float(polyline_length(raw))
-    for level in (16.0, 8.0, 4.0, 2.0, 1.0, 0.5):
-        spacing = level * cell
-        if spacing > 0.25 * total and level > 0.5:
-            continue
-        coarse = resample_polyline(path, spacing)
-        if not world.path_free(coarse):
-            coarse = densify(path, spacing)
-        path = _relax(world, coarse, model, objective, iterations, spacing)
-    return path
+    spacing = float(polyline_length(raw)) / 8.0
+    while True:
+        spacing = max(spacing, 0.5 * cell)
+        path = _relax(world, resample_free(world, path, spacing), model, objective, iterations, spacing)
+        if spacing <= 0.5 * cell:
+            return path
+        spacing *= 0.5
 
 
-def _converge(problem: PlanningProblem, spec: PlannerSpec, path: FloatArray, model: CostModel, cell: float,
-              iterations: int, tol: float) -> tuple[FloatArray, float, int]:
-    """Refine until the cost stops improving: resample the path at half the last spacing (or
-    densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
-    it with steps of that spacing (and, for the length objective, drop the vertices that hold
-    nothing up), and keep it only when cheaper; stop when two levels in a row improve the cost
-    by less than ``tol`` (relative) or the spacing falls below 1/2000 of the path.
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
+              iterations: int, tol: float, cycles: int = 6) -> tuple[np.ndarray, float, int]:
+    """Refine until the cost stops improving, the same way whatever the lattice: cycles of
+    levels, each level resampling the best path so far every 1/8, 1/16, … 1/2048 of its length
+    (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
+    objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
+    free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
 
     Returns the path, its cost and the number of levels run.
     """
     world, objective = problem.world, spec.grid.objective
     best, best_cost = path, path_cost(problem, spec, path)["total"]
-    floor = float(polyline_length(path)) / 2000.0
-    spacing, levels, small = 0.5 * cell, 0, 0
-    while spacing >= floor and small < 2:
-        levels += 1
-        start = resample_polyline(best, spacing)  # even spacing lets points slide along the path
-        if not world.path_free(start):
-            start = densify(best, spacing)
-        cand = _relax(world, start, model, objective, iterations, spacing)
-        if objective == "length":
-            cand = key_waypoints(cand, world)
-        cost = path_cost(problem, spec, cand)["total"]
-        gain = (best_cost - cost) / max(abs(best_cost), 1e-12)
-        if cost < best_cost and world.path_free(cand):
-            best, best_cost = cand, cost
-        small = small + 1 if gain < tol else 0
-        spacing *= 0.5
+    length = float(polyline_length(path))
+    levels = 0
+    for _ in range(cycles):
+        before = best_cost
+        spacing = length / 8.0
+        while spacing >= length / 2048.0:
+            levels += 1
+            cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
+            if objective == "length":
+                cand = key_waypoints(cand, world)
+            cost = path_cost(problem, spec, cand)["total"]
+            if cost < best_cost and world.path_free(cand):
+                best, best_cost = cand, cost
+            spacing *= 0.5
+        if before - best_cost < tol * max(abs(before), 1e-12):
+            break
     return best, best_cost, levels
 
 
@@ -597,51 +503,81 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 
 
 def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridReference | None = None) -> PlanResult:
-    """Plan on the lattice (see the module notes).
+    """Plan on the lattice (see the module notes); ``reference`` re-uses a cost-to-go field
+    built for the same goal, world and cost function.
+
+    With ``converge`` and ``ladder`` (the defaults) the lattices 2, 4, … times coarser, up to
+    the first at least 1/25 of the search box's narrower side, are planned and refined the same
+    way and the cheapest plan wins: the candidates of a cell include those of the cell twice as
+    coarse, so halving the cell never gives a worse reference.
 
     Parameters
     ----------
     problem : PlanningProblem
         World, start, goal and vehicle figures.
     spec : PlannerSpec
-        ``spec.grid`` settings and the cost function.
+        The cost function and ``spec.grid``'s lattice and refinement settings.
     reference : GridReference, optional
-        A cost-to-go field built for the same goal, world and cost function, re-used.
+        A cost-to-go field to re-use for the finest lattice.
 
     Returns
     -------
     PlanResult
-        The plan; ``evaluations`` counts lattice edges (the work of the search), ``iterations`` is 1.
+        ``evaluations`` counts lattice edges (the work of the searches); ``iterations`` is 1; the
+        message says what the reference is (lattice, convergence, which lattice of the ladder won).
     """
+    t0 = time.perf_counter()
+    best, cell = _plan_lattice(problem, spec, reference)
+    params = spec.grid
+    if not (params.converge and params.ladder and best.status.ok):
+        return best
+    lower, upper = search_box(problem)
+    top = float(np.min(upper[:2] - lower[:2])) / 25.0
+    cells, won, edges, coarse = [cell], cell, best.evaluations, cell
+    while coarse < top:
+        coarse *= 2.0
+        run, _ = _plan_lattice(problem, replace(spec, grid=replace(params, cell=coarse)))
+        cells.append(coarse)
+        edges += run.evaluations
+        if run.status.ok and run.cost < best.cost:
+            best, won = run, coarse
+    return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
+                   message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
+                   f"{won:g} m")
+
+
+def _plan_lattice(problem: PlanningProblem, spec: PlannerSpec,
+                  reference: GridReference | None = None) -> tuple[PlanResult, float]:
+    """:func:`plan_grid` on one lattice; also returns its horizontal cell."""
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
     if bad is not None:
-        return _failure(bad[0], bad[1], t0)
+        return _failure(bad[0], bad[1], t0), 0.0
     params = spec.grid
     model = cost_model_for(problem, spec)
     if reference is None:
         lower, upper = search_box(problem)
         try:
-            reference = GridReference(problem.world, problem.goal, model, lower, upper, params)
+            reference = GridReference(problem.world, problem.goal, model, lower, upper, params, problem.start)
         except ValueError as exc:
-            return _failure(Status.INFEASIBLE, str(exc), t0)
+            return _failure(Status.INFEASIBLE, str(exc), t0), 0.0
     raw = reference.query(problem.start)
     if raw.shape[0] == 0:
         msg = (f"the goal cannot be reached from the start: no free path on the {reference.shape} lattice "
                f"at {reference.cell:g} m x {reference.cell_z:g} m cells ({int(reference.free.sum())} of "
                f"{reference.nodes} nodes free); the goal may be enclosed by the seabed or obstacles, "
                "or a smaller [planner.grid] cell may find a passage")
-        return _failure(Status.INFEASIBLE, msg, t0)
+        return _failure(Status.INFEASIBLE, msg, t0), reference.cell
     w = problem.world
     length_only = params.objective == "length"
     path = key_waypoints(raw, w) if length_only else raw
-    path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
-    if length_only:
-        path = key_waypoints(path, w)
     levels = 0
     if params.converge:
-        path, _, levels = _converge(problem, spec, path, model, reference.cell, params.relax_iterations,
-                                    params.converge_tol)
+        path, _, levels = _converge(problem, spec, path, model, params.relax_iterations, params.converge_tol)
+    else:
+        path = _refine(w, path, model, params.objective, reference.cell, params.relax_iterations)
+        if length_only:
+            path = key_waypoints(path, w)
     terms = path_cost(problem, spec, path)
     straight = np.stack([problem.start, problem.goal])
     if path.shape[0] > 2 and w.path_free(straight):
@@ -675,7 +611,38 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
         planner="grid",
         control_points=ctrl,
         message=message,
-    )
+    ), reference.cell
+
+
+def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult) -> PlanResult:
+    """``result`` with its path refined to convergence on the planner's cost function (the lattice
+    reference's own refinement) when that is cheaper and free, else ``result`` unchanged.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The cost function and the refinement settings (``spec.grid``).
+    result : PlanResult
+        A plan of any planner.
+
+    Returns
+    -------
+    PlanResult
+        The refined polyline (no control points) with its cost terms, or ``result``.
+    """
+    if not result.status.ok or result.path.shape[0] < 2:
+        return result
+    params = spec.grid
+    path, cost, levels = _converge(problem, spec, np.asarray(result.path, dtype=float), cost_model_for(problem, spec),
+                                   params.relax_iterations, params.converge_tol)
+    if not cost < result.cost or not problem.world.path_free(path):
+        return result
+    terms = path_cost(problem, spec, path)
+    total = float(terms.pop("total"))
+    return replace(result, path=path, cost=total, cost_terms={**result.cost_terms, **terms}, control_points=None,
+                   message=f"{result.message}; refined to convergence ({levels} levels)".lstrip("; "))
 
 
 def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:

@@ -152,12 +152,11 @@ def _legs(world: World, xyz: FloatArray, free3: BoolArray, alt: FloatArray, obs:
     """``edge_ok (50, N)``: each offset's legs tested as array slices (bounds, then a provable
     clearance from the node values, then the exact segment test for the rest)."""
     shape = free3.shape
-    ids = np.arange(free3.size).reshape(shape)
     ok = np.zeros((len(_OFFSETS), free3.size), dtype=bool)
     for slot, off in enumerate(_OFFSETS):
         if shape[2] == 1 and off[2] != 0:
             continue
-        src, _ = free_edges(world, ids, free3, alt, obs, xyz, step, off)
+        src, _ = free_edges(world, free3, alt, obs, step, off, xyz.__getitem__)
         ok[slot, src] = True
     return ok
 

@@ -1,0 +1,90 @@
+"""The lean lattice of the reference: node fields, the compiled free-edge test, A*, memory per node."""
+
+from __future__ import annotations
+
+import tracemalloc
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from auvplan.cost import CostModel
+from auvplan.planners import GridParams, GridReference
+from auvplan.planners.lattice import HALF, edge_states, node_fields
+from auvplan.planners.swarm import cost_model_for, search_box
+from auvplan.sim import planning_problem
+from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
+
+
+def _ridge_world() -> World:
+    """A steep one-cell ridge (40 m over 10 m) across a flat seabed and a sphere above it: many
+    lattice edges between free nodes dip under the seabed's margin or into the sphere's."""
+    x = np.arange(0.0, 301.0, 10.0)
+    z = np.full((x.size, x.size), -100.0)
+    z[:, x == 150.0] = -60.0
+    return World(Bounds(0, 300, 0, 300, -100, 0), Terrain(x, x, z), obstacles=(Sphere((150.0, 150.0, -30.0), 25.0),),
+                 margins=Margins(min_altitude=8.0, min_depth=2.0, obstacle=5.0))
+
+
+def test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge():
+    """Each of the 13 directions on a lattice straddling a steep ridge and a sphere: an edge is free
+    exactly when both nodes are free and the World's exact segment test passes (brute force)."""
+    world = _ridge_world()
+    axes = (np.arange(5.0, 300.0, 13.0), np.arange(5.0, 300.0, 17.0), np.arange(-95.0, -1.0, 9.0))
+    free, alt, obs, _ = node_fields(world, axes, currents=False)
+    xyz = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    assert np.array_equal(free, world.is_free(xyz, moving=False))
+    flat = xyz.reshape(-1, 3)
+    steps = np.array([13.0, 17.0, 9.0])
+    rejected = 0
+    for off in HALF:
+        got = edge_states(world, free, alt, obs, steps, off, flat.__getitem__).reshape(free.shape)
+        sl_a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, free.shape))
+        sl_b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, free.shape))
+        seg = np.stack([xyz[sl_a], xyz[sl_b]], axis=-2)
+        want = free[sl_a] & free[sl_b] & world.segments_free(seg, moving=False)
+        assert np.array_equal(got[sl_a].astype(bool), want), off
+        assert not got[tuple(slice(n - max(0, d), n) if d > 0 else slice(0, 0) for d, n in zip(off, free.shape))].any()
+        rejected += int((free[sl_a] & free[sl_b] & ~want).sum())
+    assert rejected > 50  # the scene does cut edges between free nodes
+
+
+def test_astar_finds_the_full_searchs_cost_and_settles_fewer_nodes(salish):
+    """With the start given the search is A* (consistent straight-line heuristic): the start's
+    best lattice cost is the full Dijkstra's to the last bit of rounding, on fewer settled nodes."""
+    _, world, mission = salish
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, name="grid")
+    model, (lo, hi) = cost_model_for(prob, spec), search_box(prob)
+    full = GridReference(world, prob.goal, model, lo, hi, spec.grid)
+    aimed = GridReference(world, prob.goal, model, lo, hi, spec.grid, start=prob.start)
+    ids, w = full._connect(prob.start, towards=False)
+    assert (w + aimed._dist[ids]).min() == pytest.approx((w + full._dist[ids]).min(), rel=1e-12)
+    assert aimed.settled < 0.8 * full.settled
+    chain = [int(ids[np.argmin(w + aimed._dist[ids])])]
+    while chain[-1] != aimed._goal_id:
+        chain.append(int(aimed._next[chain[-1]]))
+    assert np.allclose(aimed._dist[chain], full._dist[chain], rtol=1e-12)  # every node on the path is settled
+    assert world.path_free(aimed.query(prob.start))
+
+
+def test_lattice_memory_grows_with_nodes_not_edges():
+    """About a million nodes with up to 26 edges each, a current on the cost objective: what the
+    reference keeps is 13 bytes a node, and the peak of every numpy buffer while it is built
+    (node fields by slabs, one bit per edge, the search) stays under 60 bytes a node."""
+    world = World(Bounds(0, 4000, 0, 4000, -500, 0), currents=UniformCurrent((0.3, -0.2, 0.0)),
+                  margins=Margins(min_altitude=0.0, min_depth=10.0))
+    params = GridParams(cell=20.0, cell_z=20.0, objective="cost")
+    GridReference(world, [3800.0, 3500.0, -100.0], CostModel(), np.array([0.0, 0.0, -500.0]),
+                  np.array([4000.0, 4000.0, 0.0]), replace(params, cell=400.0))  # compiled code loaded first
+    tracemalloc.start()
+    try:
+        ref = GridReference(world, [3800.0, 3500.0, -100.0], CostModel(), np.array([0.0, 0.0, -500.0]),
+                            np.array([4000.0, 4000.0, 0.0]), params)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    held = sum(v.nbytes for v in vars(ref).values() if isinstance(v, np.ndarray) and v.base is None)
+    assert ref.nodes > 900_000 and ref.edges > 20 * ref.nodes
+    assert held / ref.nodes <= 13.1
+    assert peak / ref.nodes < 60
