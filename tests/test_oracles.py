@@ -243,6 +243,74 @@ def test_grid_costs_each_edge_in_its_own_direction():
             assert ref.cost_to_go[i, iy[y], k] == pytest.approx(d * (1.0 + 1.5 / math.sqrt(2.0)), rel=1e-9)
 
 
+def test_cost_to_go_equals_scipys_dijkstra_over_the_free_lattice():
+    """Independent graph: every pair of free lattice nodes one step apart (26-neighbourhood) whose
+    segment the World calls free, weighed by its length, plus the goal linked to the free nodes
+    within two cells by a free segment; scipy's Dijkstra from the goal over the reversed edges must
+    give the cost-to-go of every node (seabed ridge and three spheres in the way; the boundary
+    nodes included)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    x = np.arange(0.0, 201.0, 10.0)
+    z = np.full((x.size, x.size), -200.0)
+    z[:, (x >= 90.0) & (x <= 110.0)] = -130.0
+    world = World(Bounds(0, 200, 0, 200, -200, 0), Terrain(x, x, z),
+                  obstacles=(Sphere((60.0, 60.0, -150.0), 25.0), Sphere((150.0, 140.0, -120.0), 30.0),
+                             Sphere((100.0, 180.0, -170.0), 15.0)),
+                  margins=Margins(min_altitude=5.0, min_depth=0.0, obstacle=2.0))
+    goal = np.array([180.0, 30.0, -150.0])
+    ref = GridReference(world, goal, CostModel(), np.array([0.0, 0.0, -200.0]), np.array([200.0, 200.0, -60.0]),
+                        GridParams(cell=25.0, cell_z=20.0, objective="length"))
+    xyz = np.stack(np.meshgrid(*ref.axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    free = ref.free.reshape(-1)
+    n = xyz.shape[0]
+    idx = np.arange(n).reshape(ref.shape)
+    src, dst = [], []
+    for off in [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if (i, j, k) != (0, 0, 0)]:
+        a = tuple(slice(max(0, -d), m - max(0, d)) for d, m in zip(off, ref.shape))
+        b = tuple(slice(max(0, d), m - max(0, -d)) for d, m in zip(off, ref.shape))
+        src.append(idx[a].reshape(-1))
+        dst.append(idx[b].reshape(-1))
+    src, dst = np.concatenate(src), np.concatenate(dst)
+    keep = free[src] & free[dst]
+    src, dst = src[keep], dst[keep]
+    ok = world.segments_free(np.stack([xyz[src], xyz[dst]], axis=1), moving=False)
+    src, dst = src[ok], dst[ok]
+    w = np.linalg.norm(xyz[dst] - xyz[src], axis=1)
+    steps = np.array([ref.cell, ref.cell, ref.cell_z])
+    near = np.flatnonzero(free & np.all((xyz >= goal - 2.01 * steps) & (xyz < goal + 2.01 * steps), axis=1))
+    near = near[world.segments_free(np.stack([xyz[near], np.broadcast_to(goal, (near.size, 3))], axis=1),
+                                    moving=False)]
+    # reversed graph: an edge u -> v becomes v -> u, the goal (node n) the source
+    rows = np.concatenate([dst, np.full(near.size, n)])
+    cols = np.concatenate([src, near])
+    data = np.concatenate([w, np.maximum(np.linalg.norm(xyz[near] - goal, axis=1), 1e-12)])
+    graph = coo_matrix((data, (rows, cols)), shape=(n + 1, n + 1)).tocsr()
+    want = dijkstra(graph, indices=n)[:n]
+    assert np.isfinite(want).sum() > 0.8 * free.sum() and (~free).sum() > 50
+    np.testing.assert_allclose(ref.cost_to_go.reshape(-1), want, rtol=1e-12)
+
+
+def test_grid_costs_with_a_weaker_current_with_a_vertical_part():
+    """Uniform current c = (0.3, 0, 0.2) m/s, V = 1.5 m/s, cost = length + V x time: along ±x the
+    ground speed is ±0.3 + √(V² - 0.2²), along ±z ±0.2 + √(V² - 0.3²); straight lines are the
+    cheapest lattice paths in a uniform current."""
+    world = World(Bounds(0, 400, 0, 400, -400, 0), currents=UniformCurrent((0.3, 0.0, 0.2)),
+                  margins=Margins(min_depth=0.0))
+    goal = np.array([200.0, 200.0, -200.0])
+    ref = GridReference(world, goal, CostModel(speed=1.5), np.array([0.0, 0.0, -400.0]),
+                        np.array([400.0, 400.0, 0.0]), GridParams(cell=40.0, cell_z=40.0, objective="cost"))
+    i, j, k = (int(np.argmin(np.abs(ax - g))) for ax, g in zip(ref.axes, goal))
+    gx, gz = math.sqrt(1.5**2 - 0.2**2), math.sqrt(1.5**2 - 0.3**2)
+    for d in (40.0, 120.0):
+        s = int(round(d / 40.0))
+        assert ref.cost_to_go[i - s, j, k] == pytest.approx(d * (1 + 1.5 / (gx + 0.3)), rel=1e-9)  # with the current
+        assert ref.cost_to_go[i + s, j, k] == pytest.approx(d * (1 + 1.5 / (gx - 0.3)), rel=1e-9)  # against it
+        assert ref.cost_to_go[i, j, k - s] == pytest.approx(d * (1 + 1.5 / (gz + 0.2)), rel=1e-9)  # rising with it
+        assert ref.cost_to_go[i, j, k + s] == pytest.approx(d * (1 + 1.5 / (gz - 0.2)), rel=1e-9)  # sinking
+
+
 # ---------------------------------------------------------------------- energy with a vertical current
 def _ground_speed(e: np.ndarray, c: np.ndarray, speed: float) -> float:
     """Independent solution: the ground speed g > 0 along ŝ with |g ŝ - c| = V (root finding)."""

@@ -9,9 +9,11 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Target:
-    """Functions ``(python module, "function" or "Class.method")`` and the pytest arguments that guard them."""
+    """Functions ``(python module, "function" or "Class.method"[, first marker, end marker])`` and the
+    pytest arguments that guard them; with markers, only the lines from the one holding the first
+    marker up to the one holding the end marker are mutated."""
 
-    functions: tuple[tuple[str, str], ...]
+    functions: tuple[tuple[str, ...], ...]
     tests: tuple[str, ...]
     jit: bool = True  # False where the mutated functions are numba kernels (they then run as Python)
 
@@ -35,7 +37,8 @@ MODULES: dict[str, Target] = {
              "Terrain.min_altitude_between", "Terrain.segments_below", "_cell", "elevation_kernel", "_piece_min",
              "_crossings", "_walk_min", "min_altitude_kernel", "_min_altitudes"),
         ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
-         "ridge or slope or terrain or bilinear or gradient or outside or lower_bound",
+         "ridge or slope or terrain or bilinear or gradient or outside or lower_bound or offset_grid or off_the_grid"
+         " or altitude_limit",
          "--deselect", "tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
         jit=False,
     ),
@@ -60,14 +63,16 @@ MODULES: dict[str, Target] = {
         _fns(GRID, "_edge_weight", "_sift_up", "_sift_down", "_search", "free_edges",
              "GridReference._lattice_edges", "GridReference._connect"),
         ("tests/test_oracles.py", "tests/test_grid.py", "-k",
-         "edge or cost_to_go or empty or enclosed"),
+         "edge or cost_to_go or empty or enclosed or current"),
         jit=False,
     ),
-    # the simulation's event detection (collision, arrival, deadlock, timeout)
+    # the simulation's event detection (collision, arrival, deadlock, timeout): the events block of
+    # simulate's loop (the rest of it records the run and steps the vehicle)
     "sim": Target(
-        _fns(SIM, "_distance", "_obstacle_shapes", "simulate"),
-        ("tests/test_oracles.py", "tests/test_tracking.py", "-k",
-         "seabed or collision or converges or deadlock_is_declared or arrival_at"),
+        _fns(SIM, "_distance", "_obstacle_shapes") + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
+        ("tests/test_oracles.py", "tests/test_tracking.py", "tests/test_local.py", "-k",
+         "seabed or collision_is_reported or names_the or converges or deadlock_is_declared or arrival_at"
+         " or fast_obstacle"),
     ),
     # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
     "local": Target(
@@ -75,7 +80,8 @@ MODULES: dict[str, Target] = {
              "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
              "LocalAvoidance.command", "LocalAvoidance._apf_command"),
         ("tests/test_oracles.py", "tests/test_local.py", "-k",
-         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"),
+         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
+         " or escape_sub_goal or minimum_detector"),
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
