@@ -426,9 +426,14 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             done += 1
             print({"killed": ".", "survived": "S", "timeout": "T"}[m.status], end="\n" if done % 60 == 0 else "",
                   flush=True)
-            if done % 20 == 0:  # progress for the impatient: the mutants so far
-                (Path(args.out) / f"{name}.partial.json").write_text(json.dumps([asdict(m) for m, _i, _j in mutants]))
+            if done % 10 == 0:  # the mutants so far (an interrupted run still leaves a record)
+                partial = _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
+                (Path(args.out) / f"{name}.partial.json").write_text(json.dumps(partial))
     print(flush=True)
+    return _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
+
+
+def _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants) -> dict:
     return {"module": name, "functions": [".".join(spec[:2]) + (f" [{spec[2]!r}..{spec[3]!r}]" if len(spec) > 2 else "")
                                           for spec in target.functions],
             "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
@@ -492,6 +497,8 @@ def report(out: Path, names: list[str]) -> str:
     total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
     for name in names:
         path = out / f"{name}.json"
+        if not path.exists():
+            path = out / f"{name}.partial.json"  # an interrupted run
         if not path.exists():
             rows.append(f"| {name} | not run | | | | | | | |")
             continue
