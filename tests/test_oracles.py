@@ -590,14 +590,25 @@ def test_arrival_at_the_radius_and_timeout_at_max_time():
 
 def test_collision_names_the_obstacle_that_was_hit():
     """Two spheres: the first well off the route, the second on it; LOS flies straight into the
-    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step)."""
-    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
-    w = World(Bounds(-500, 500, -500, 500, -100, 0),
-              obstacles=(Sphere((100.0, 200.0, -20.0), 10.0), Sphere((150.0, 0.0, -20.0), 10.0)))
-    r = simulate(w, Mission("hit", route[0], route[-1], route=route), guidance="los", rng=0, avoidance="none")
+    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step).
+    An ellipsoid thin along the track (semi-axes 5, 30, 5 m) is hit at its surface x = 145 m, not
+    where a bounding-sphere bound would put it (x = 120 m).  The scene lies at y = 500 m, z = -20 m
+    (so that a mixed-up coordinate cannot go unnoticed)."""
+    from auvplan.world.obstacles import Ellipsoid
+
+    route = ((0.0, 500.0, -20.0), (300.0, 500.0, -20.0))
+    mission = Mission("hit", route[0], route[-1], route=route)
+    w = World(Bounds(-500, 500, 0, 1000, -100, 0),
+              obstacles=(Sphere((100.0, 700.0, -20.0), 10.0), Sphere((150.0, 500.0, -20.0), 10.0)))
+    r = simulate(w, mission, guidance="los", rng=0, avoidance="none")
     assert r.status is Status.COLLISION and "obstacle 1" in r.events[-1][2]
     assert r.position[-1, 0] == pytest.approx(140.0, abs=1.0)
     assert -1.0 < r.obstacle_distance[-1, 1] < 0.0 and np.all(r.obstacle_distance[:-1] >= 0.0)
+    w = World(Bounds(-500, 500, 0, 1000, -100, 0), obstacles=(Ellipsoid((150.0, 500.0, -20.0), (5.0, 30.0, 5.0)),))
+    r = simulate(w, mission, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.COLLISION and "obstacle 0" in r.events[-1][2]
+    assert r.position[-1, 0] == pytest.approx(145.0, abs=1.0)
+    assert -1.0 < r.obstacle_distance[-1, 0] < 0.0
 
 
 # ---------------------------------------------------------------------- local avoidance: the trap detector
