@@ -715,3 +715,45 @@ def test_escape_sub_goal_with_the_generators_draws_and_its_time_limit():
     assert la.escapes == 1 and la.mode == "apf"
     assert la.stalled(p, 309.9, since=0.0)
     assert not la.stalled(p, 310.0, since=0.0)
+
+
+def test_the_moving_obstacle_that_hits_decides_unavoidable():
+    """Scene at y = 500 m: a static sphere far off (index 0), a slow moving sphere far off (1) and one
+    more (2) coming head on down the route.  At 3 m/s (twice the vehicle's speed) the hit is
+    UNAVOIDABLE and names obstacle 2; at 0.5 m/s it is a plain COLLISION (the vehicle could have
+    avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
+    recorded at the lower bound |p - c| - r (exact for spheres)."""
+    from auvplan.sim import SimSettings
+    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+
+    route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
+    for speed, status in ((3.0, Status.UNAVOIDABLE), (0.5, Status.COLLISION)):
+        moving = (MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((100.0, 900.0, -20.0), (0.2, 0.0, 0.0))),
+                  MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 500.0, -20.0), (-speed, 0.0, 0.0))))
+        w = World(Bounds(-500, 1000, 0, 1000, -100, 0), obstacles=(Sphere((300.0, 100.0, -20.0), 10.0),), moving=moving)
+        m = Mission("hit", route[0], route[-1], route=route, sim=SimSettings(record_every=7))
+        r = simulate(w, m, guidance="los", rng=0, avoidance="none")
+        assert r.status is status and "obstacle 2" in r.events[-1][2], (speed, r.events[-1])
+        assert r.t[-1] == pytest.approx(r.events[-1][0]) and r.obstacle_distance[-1, 2] < 0.0
+        far = np.linalg.norm(r.position - np.array([300.0, 100.0, -20.0]), axis=1) - 10.0
+        np.testing.assert_allclose(r.obstacle_distance[:, 0], far, rtol=1e-9)
+
+
+def test_world_bounds_depth_band_and_two_point_paths_by_hand():
+    """Box x in [1000, 2000], y in [-500, 500], z in [-300, 0], depth band 5-250 m: the slack of a
+    point is its least distance to a face (by hand); a segment with one end outside the box is not
+    free; one exactly at the maximum depth is; a two-point path through a sphere is not free
+    although both of its points are."""
+    w = World(Bounds(1000, 2000, -500, 500, -300, 0), obstacles=(Sphere((1500.0, 0.0, -100.0), 10.0),),
+              margins=Margins(min_depth=5.0, max_depth=250.0, obstacle=0.0))
+    pts = np.array([[1010.0, 0.0, -100.0], [1950.0, 0.0, -100.0], [1500.0, -480.0, -100.0],
+                    [1500.0, 470.0, -100.0], [1500.0, 0.0, -290.0], [1500.0, 0.0, -8.0]])
+    np.testing.assert_allclose(w.bounds.slack(pts), [10.0, 50.0, 20.0, 30.0, 10.0, 8.0])
+    seg = np.array([[[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0]],
+                    [[1100.0, 0.0, -50.0], [990.0, 0.0, -50.0]],
+                    [[1100.0, 0.0, -250.0], [1200.0, 0.0, -250.0]],
+                    [[1100.0, 0.0, -50.0], [1200.0, 0.0, -251.0]]])
+    np.testing.assert_array_equal(w.segments_free(seg), [True, False, True, False])
+    through = np.array([[1400.0, 0.0, -100.0], [1600.0, 0.0, -100.0]])
+    assert w.is_free(through).all() and not w.path_free(through)
+    assert w.path_free(through[:1]) and w.path_free(np.array([[1400.0, 0.0, -100.0], [1400.0, 50.0, -100.0]]))

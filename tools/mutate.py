@@ -503,6 +503,8 @@ def report(out: Path, names: list[str]) -> str:
             rows.append(f"| {name} | not run | | | | | | | |")
             continue
         record = json.loads(path.read_text())
+        if isinstance(record, list):  # an older partial record: the mutants only
+            record = {"mutants": record, "functions": MODULES[name].functions, "tests": []}
         lines_of = changed_lines(name)
         for m in record["mutants"]:
             m["change"] = lines_of.get(m["id"], ("", ""))

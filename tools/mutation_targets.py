@@ -72,7 +72,7 @@ MODULES: dict[str, Target] = {
         _fns(SIM, "_distance", "_obstacle_shapes") + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
         ("tests/test_oracles.py", "tests/test_tracking.py", "tests/test_local.py", "-k",
          "seabed or collision_is_reported or names_the or converges or deadlock_is_declared or arrival_at"
-         " or fast_obstacle"),
+         " or fast_obstacle or decides_unavoidable"),
     ),
     # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
     "local": Target(
@@ -138,6 +138,38 @@ REASONS: dict[str, str] = {
     "key_waypoints | if p.shape[1] < 2:":
         "equivalent: p.shape[1] is 3; a single point then goes through the loop, which returns it alone",
     "apf_force | c = np.asarray(centers, dtype=float).reshape(-2, 3)": _NEG,
+    # grid
+    "_search | pos[v] = -3":
+        "equivalent: a settled node is never improved again (positive weights: dist[v] + w >= dist[u]), so "
+        "marking it -3 instead of -2 only costs needless relaxations",
+    "free_edges | sure &= lb > world.margins.min_altitude":
+        "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
+        "runs and agrees",
+    # sim (events block)
+    "_distance | if bound >= far:":
+        "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
+    "simulate | if alt <= 0.0 or any((d < 0.0 for d in dists)):": "boundary: differs only at an altitude of exactly "
+        "0 m, which a continuous trajectory sampled every 0.1 s does not hit",
+    "simulate | if alt < 0.0 or any((d <= 0.0 for d in dists)):": "boundary: differs only at a distance of exactly "
+        "0 m from an obstacle",
+    "simulate | what = 'the seabed' if alt <= 0.0 else f'obstacle {int(np.argmin(dists))}'":
+        "boundary: differs only at an altitude of exactly 0 m during an obstacle collision",
+    "simulate | if alt > 0.0 and int(np.argmin(dists)) >= n_static:": "boundary: altitude exactly 0 m",
+    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) >= 0.0":
+        "boundary: an obstacle moving exactly tangentially at the moment of contact",
+    "simulate | if np.linalg.norm(v_o) > vp.speed and closing:":
+        "boundary: an obstacle exactly as fast as the vehicle (its speed is a finite difference: equality "
+        "cannot be set up reliably)",
+    "simulate | if rp.last and math.dist((s.x, s.y, s.z), goal) < st.arrival_radius:":
+        "boundary: exactly at the arrival radius",
+    "simulate | if rp.progress >= best_progress + 1.0:": "boundary: a progress gain of exactly 1 m",
+    # local
+    "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
+        "boundary: a key waypoint exactly on a moving obstacle's margin",
+    "LocalAvoidance._advance_goal | behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) + 1)] - "
+    "self.keys[k]) < 0": "equivalent: inside the loop k < len - 1, so min(k + 1, ...) is k + 1 either way",
+    "LocalAvoidance._apf_command | if alt <= 2.0 * self.params.arrive:":
+        "boundary: at exactly 2 x arrive above the margin the floor is 0°; differs only there",
     "_crossings | if kb >= ka:":
         "equivalent: with kb = ka the first crossing comes after the last one, i.e. none, as in the "
         "no-movement branch",
