@@ -757,3 +757,16 @@ def test_world_bounds_depth_band_and_two_point_paths_by_hand():
     through = np.array([[1400.0, 0.0, -100.0], [1600.0, 0.0, -100.0]])
     assert w.is_free(through).all() and not w.path_free(through)
     assert w.path_free(through[:1]) and w.path_free(np.array([[1400.0, 0.0, -100.0], [1400.0, 50.0, -100.0]]))
+
+
+def test_apf_mode_at_a_key_waypoint_returns_to_the_route_or_heads_for_the_next():
+    """Reaching a key waypoint in APF mode: with no moving obstacle near, the base follower takes
+    over again (no pitch command); with one near, the goal moves on to the next key."""
+    la = _local(_open_water(), _KEYS)
+    la.mode, la.goal_index = "apf", 1
+    _, pitch, _ = la._apf_command(np.array([98.0, 0.0, -50.0]), 0.0, [], 0.3, None)
+    assert pitch is None and la.mode == "route" and la.goal_index == 1
+    la.mode = "apf"
+    near = [(120.0, 20.0, 25.0, True, (120.0, 20.0, -50.0))]
+    _, pitch, _ = la._apf_command(np.array([98.0, 0.0, -50.0]), 1.0, near, 0.3, None)
+    assert pitch is not None and la.mode == "apf" and la.goal_index == 2
