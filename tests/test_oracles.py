@@ -770,3 +770,18 @@ def test_apf_mode_at_a_key_waypoint_returns_to_the_route_or_heads_for_the_next()
     near = [(120.0, 20.0, 25.0, True, (120.0, 20.0, -50.0))]
     _, pitch, _ = la._apf_command(np.array([98.0, 0.0, -50.0]), 1.0, near, 0.3, None)
     assert pitch is not None and la.mode == "apf" and la.goal_index == 2
+
+
+def test_planner_sphere_field_clearance_and_the_sink_by_hand():
+    """Two spheres (radii 6 and 3 m, margin 1.5 m): the field's clearance is the distance to the
+    nearest sphere minus its radius and the margin (negative inside); the target sink's velocity is
+    -m r / (4π |r|³) also within a metre of the target (0.5 m: 4 m / (4π 0.25) = 1.27 m/s)."""
+    from auvplan.planners.flow import sink_velocity
+
+    field = FlowField([Sphere((0.0, 0.0, -50.0), 6.0), Sphere((40.0, 0.0, -50.0), 3.0)],
+                      np.array([100.0, 0.0, -50.0]), FlowParams(), margin=1.5)
+    p = np.array([[0.0, 10.0, -50.0], [30.0, 0.0, -50.0], [40.0, 0.0, -47.0], [0.0, 0.0, -53.0]])
+    np.testing.assert_allclose(field.clearance(p), [10.0 - 7.5, 10.0 - 4.5, 3.0 - 4.5, 3.0 - 7.5], atol=1e-12)
+    target = np.array([100.0, 0.0, -50.0])
+    u = sink_velocity(target + np.array([0.0, 0.5, 0.0]), target, m=4.0)
+    np.testing.assert_allclose(u, [0.0, -4.0 / (4 * math.pi * 0.25), 0.0], rtol=1e-12)

@@ -146,6 +146,16 @@ REASONS: dict[str, str] = {
         "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
         "runs and agrees",
     # sim (events block)
+    "simulate | what = 'the seabed' if alt < 1.0 else f'obstacle {int(np.argmin(dists))}'":
+        "not observed: needs an obstacle hit within 1 m of the seabed (only the event's wording changes)",
+    "simulate | if alt >= 1.0 and int(np.argmin(dists)) >= n_static:":
+        "not observed: needs a fast moving obstacle hit within 1 m of the seabed",
+    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) > 1.0":
+        "boundary-like: differs only when v_o . (p - c) lies in (0, 1] m²/s at contact (an obstacle passing "
+        "almost tangentially)",
+    "simulate | if rp.progress > best_progress + 2.0:":
+        "not observed by the fast tests: needs a vehicle gaining between 1 and 2 m of route progress per "
+        "deadlock window",
     "_distance | if bound >= far:":
         "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
     "simulate | if alt <= 0.0 or any((d < 0.0 for d in dists)):": "boundary: differs only at an altitude of exactly "
