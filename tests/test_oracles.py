@@ -63,6 +63,9 @@ def test_descending_segment_over_a_thin_ridge_is_caught_below_the_threshold():
         assert t.segments_below(seg, altitude=20.0)[0]
     lb = t.altitude_lower_bound(np.array([70.0]), np.array([30.0]), -40.0, 20.0)
     assert lb[0] == pytest.approx(-10.0)
+    # where the bound clears the threshold it is what the segment test returns (at equality too)
+    for threshold in (-50.0, -10.0):
+        assert t.segment_min_altitude(down, threshold=threshold)[0] == pytest.approx(-10.0, abs=1e-12)
 
 
 def test_bounded_altitude_never_exceeds_the_sampled_minimum_over_a_ridge():
