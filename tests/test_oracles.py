@@ -173,6 +173,9 @@ def test_plane_on_an_offset_grid_has_its_exact_slope_and_a_read_only_surface():
         assert not array.flags.writeable
     with pytest.raises(DataError, match="ascending"):
         Terrain(np.zeros(3), y[:2], np.zeros((2, 3)))
+    # one twisted 1 m cell z = 2 v - u v: ∇z = (-v, 2 - u), steepest √5 at the corner u = 0, v = 1
+    assert Terrain(np.arange(2.0), np.arange(2.0), np.array([[0.0, 0.0], [2.0, 1.0]])).max_slope == \
+        pytest.approx(math.sqrt(5.0), rel=1e-12)
 
 
 def test_elevation_of_a_point_off_the_grid_or_undefined():
@@ -789,3 +792,34 @@ def test_planner_sphere_field_clearance_and_the_sink_by_hand():
     target = np.array([100.0, 0.0, -50.0])
     u = sink_velocity(target + np.array([0.0, 0.5, 0.0]), target, m=4.0)
     np.testing.assert_allclose(u, [0.0, -4.0 / (4 * math.pi * 0.25), 0.0], rtol=1e-12)
+
+
+def test_free_edges_are_exactly_the_free_lattice_segments():
+    """A 3 x 3 x 2 lattice (10 m) with two 2 m spheres sitting on lattice edges, 2.5 m from one end
+    (both end nodes free: 0.5 m and 5.5 m from the surface): the edges :func:`free_edges` returns for
+    each of the 13 offsets are exactly the pairs of free nodes whose segment the World's exact test
+    calls free (the obstacle shortcut may only skip the exact test where it cannot matter)."""
+    from auvplan.planners.grid import _HALF, free_edges
+
+    world = World(Bounds(-1, 21, -1, 21, -21, 0),
+                  obstacles=(Sphere((2.5, 0.0, -10.0), 2.0), Sphere((10.0, 17.5, -20.0), 2.0)),
+                  margins=Margins(min_depth=0.0, obstacle=0.0))
+    axes = (np.array([0.0, 10.0, 20.0]), np.array([0.0, 10.0, 20.0]), np.array([-20.0, -10.0]))
+    shape = (3, 3, 2)
+    xyz = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    slack = world.clearances(xyz, moving=False)
+    free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(shape)
+    assert free.all()
+    ids = np.arange(xyz.shape[0]).reshape(shape)
+    steps = np.array([10.0, 10.0, 10.0])
+    blocked = 0
+    for off in _HALF:
+        src, dst = free_edges(world, ids, free, slack["altitude"].reshape(shape), slack["obstacles"].reshape(shape),
+                              xyz, steps, off)
+        a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
+        b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
+        s, d = ids[a].reshape(-1), ids[b].reshape(-1)
+        ok = world.segments_free(np.stack([xyz[s], xyz[d]], axis=1), moving=False)
+        blocked += int((~ok).sum())
+        assert sorted(zip(src.tolist(), dst.tolist())) == sorted(zip(s[ok].tolist(), d[ok].tolist())), off
+    assert blocked >= 2
