@@ -491,8 +491,9 @@ def _key(m: dict) -> str:
 
 def report(out: Path, names: list[str]) -> str:
     """Markdown: the per-module table and every survivor with its reason (``REASONS``)."""
-    rows = ["| module | functions | tests | generated | tested | killed | timeout | survived | score |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    rows = ["| module | functions | tests | generated | tested | killed | timeout | survived (of which equivalent) "
+            "| score | score without the equivalent |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     lines: list[str] = []
     total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
     for name in names:
@@ -500,7 +501,7 @@ def report(out: Path, names: list[str]) -> str:
         if not path.exists():
             path = out / f"{name}.partial.json"  # an interrupted run
         if not path.exists():
-            rows.append(f"| {name} | not run | | | | | | | |")
+            rows.append(f"| {name} | not run | | | | | | | | |")
             continue
         record = json.loads(path.read_text())
         if isinstance(record, list):  # an older partial record: the mutants only
@@ -509,21 +510,27 @@ def report(out: Path, names: list[str]) -> str:
         for m in record["mutants"]:
             m["change"] = lines_of.get(m["id"], ("", ""))
         s = summary(record)
-        for k in total:
+        for k in ("generated", "tested", "killed", "timeout", "survived"):
             total[k] += s[k]
+        eq = sum(REASONS.get(_key(m), "").startswith("equivalent") for m in s["survivors"])
         score = f"{100 * s['score']:.1f} %"
         if s["tested"] < s["generated"]:  # a sample: Wilson 95 % interval of the module's score
             lo, hi = _wilson(s["killed"] + s["timeout"], s["tested"])
             score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
+        adjusted = (s["killed"] + s["timeout"]) / max(s["tested"] - eq, 1)
         rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
-                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {score} |")
+                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} ({eq}) | {score} | "
+                    f"{100 * adjusted:.1f} % |")
+        total["equivalent"] = total.get("equivalent", 0) + eq
         for m in s["survivors"]:
-            reason = REASONS.get(_key(m), "**no reason recorded yet**")
+            reason = REASONS.get(_key(m), "**not analysed yet**")
             old, new = m["change"]
             lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{old}` → `{new}` | {reason} |")
     score = (total["killed"] + total["timeout"]) / total["tested"] if total["tested"] else float("nan")
+    eq = total.get("equivalent", 0)
+    adjusted = (total["killed"] + total["timeout"]) / max(total["tested"] - eq, 1)
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
-                f"{total['timeout']} | {total['survived']} | {100 * score:.1f} % |")
+                f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.1f} % | {100 * adjusted:.1f} % |")
     head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
     return "\n".join(rows) + "\n\nSurvivors:\n\n" + "\n".join(head + lines) + "\n"
 
