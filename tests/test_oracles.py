@@ -63,6 +63,9 @@ def test_descending_segment_over_a_thin_ridge_is_caught_below_the_threshold():
         assert t.segments_below(seg, altitude=20.0)[0]
     lb = t.altitude_lower_bound(np.array([70.0]), np.array([30.0]), -40.0, 20.0)
     assert lb[0] == pytest.approx(-10.0)
+    # where the bound clears the threshold it is what the segment test returns (at equality too)
+    for threshold in (-50.0, -10.0):
+        assert t.segment_min_altitude(down, threshold=threshold)[0] == pytest.approx(-10.0, abs=1e-12)
 
 
 def test_bounded_altitude_never_exceeds_the_sampled_minimum_over_a_ridge():
@@ -170,6 +173,9 @@ def test_plane_on_an_offset_grid_has_its_exact_slope_and_a_read_only_surface():
         assert not array.flags.writeable
     with pytest.raises(DataError, match="ascending"):
         Terrain(np.zeros(3), y[:2], np.zeros((2, 3)))
+    # one twisted 1 m cell z = 2 v - u v: ∇z = (-v, 2 - u), steepest √5 at the corner u = 0, v = 1
+    assert Terrain(np.arange(2.0), np.arange(2.0), np.array([[0.0, 0.0], [2.0, 1.0]])).max_slope == \
+        pytest.approx(math.sqrt(5.0), rel=1e-12)
 
 
 def test_elevation_of_a_point_off_the_grid_or_undefined():
@@ -241,6 +247,74 @@ def test_grid_costs_each_edge_in_its_own_direction():
     for d in (40.0, 160.0):
         for y in (200.0 - d, 200.0 + d):
             assert ref.cost_to_go[i, iy[y], k] == pytest.approx(d * (1.0 + 1.5 / math.sqrt(2.0)), rel=1e-9)
+
+
+def test_cost_to_go_equals_scipys_dijkstra_over_the_free_lattice():
+    """Independent graph: every pair of free lattice nodes one step apart (26-neighbourhood) whose
+    segment the World calls free, weighed by its length, plus the goal linked to the free nodes
+    within two cells by a free segment; scipy's Dijkstra from the goal over the reversed edges must
+    give the cost-to-go of every node (seabed ridge and three spheres in the way; the boundary
+    nodes included)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    x = np.arange(0.0, 201.0, 10.0)
+    z = np.full((x.size, x.size), -200.0)
+    z[:, (x >= 90.0) & (x <= 110.0)] = -130.0
+    world = World(Bounds(0, 200, 0, 200, -200, 0), Terrain(x, x, z),
+                  obstacles=(Sphere((60.0, 60.0, -150.0), 25.0), Sphere((150.0, 140.0, -120.0), 30.0),
+                             Sphere((100.0, 180.0, -170.0), 15.0)),
+                  margins=Margins(min_altitude=5.0, min_depth=0.0, obstacle=2.0))
+    goal = np.array([180.0, 30.0, -150.0])
+    ref = GridReference(world, goal, CostModel(), np.array([0.0, 0.0, -200.0]), np.array([200.0, 200.0, -60.0]),
+                        GridParams(cell=25.0, cell_z=20.0, objective="length"))
+    xyz = np.stack(np.meshgrid(*ref.axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    free = ref.free.reshape(-1)
+    n = xyz.shape[0]
+    idx = np.arange(n).reshape(ref.shape)
+    src, dst = [], []
+    for off in [(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1) if (i, j, k) != (0, 0, 0)]:
+        a = tuple(slice(max(0, -d), m - max(0, d)) for d, m in zip(off, ref.shape))
+        b = tuple(slice(max(0, d), m - max(0, -d)) for d, m in zip(off, ref.shape))
+        src.append(idx[a].reshape(-1))
+        dst.append(idx[b].reshape(-1))
+    src, dst = np.concatenate(src), np.concatenate(dst)
+    keep = free[src] & free[dst]
+    src, dst = src[keep], dst[keep]
+    ok = world.segments_free(np.stack([xyz[src], xyz[dst]], axis=1), moving=False)
+    src, dst = src[ok], dst[ok]
+    w = np.linalg.norm(xyz[dst] - xyz[src], axis=1)
+    steps = np.array([ref.cell, ref.cell, ref.cell_z])
+    near = np.flatnonzero(free & np.all((xyz >= goal - 2.01 * steps) & (xyz < goal + 2.01 * steps), axis=1))
+    near = near[world.segments_free(np.stack([xyz[near], np.broadcast_to(goal, (near.size, 3))], axis=1),
+                                    moving=False)]
+    # reversed graph: an edge u -> v becomes v -> u, the goal (node n) the source
+    rows = np.concatenate([dst, np.full(near.size, n)])
+    cols = np.concatenate([src, near])
+    data = np.concatenate([w, np.maximum(np.linalg.norm(xyz[near] - goal, axis=1), 1e-12)])
+    graph = coo_matrix((data, (rows, cols)), shape=(n + 1, n + 1)).tocsr()
+    want = dijkstra(graph, indices=n)[:n]
+    assert np.isfinite(want).sum() > 0.8 * free.sum() and (~free).sum() > 50
+    np.testing.assert_allclose(ref.cost_to_go.reshape(-1), want, rtol=1e-12)
+
+
+def test_grid_costs_with_a_weaker_current_with_a_vertical_part():
+    """Uniform current c = (0.3, 0, 0.2) m/s, V = 1.5 m/s, cost = length + V x time: along ±x the
+    ground speed is ±0.3 + √(V² - 0.2²), along ±z ±0.2 + √(V² - 0.3²); straight lines are the
+    cheapest lattice paths in a uniform current."""
+    world = World(Bounds(0, 400, 0, 400, -400, 0), currents=UniformCurrent((0.3, 0.0, 0.2)),
+                  margins=Margins(min_depth=0.0))
+    goal = np.array([200.0, 200.0, -200.0])
+    ref = GridReference(world, goal, CostModel(speed=1.5), np.array([0.0, 0.0, -400.0]),
+                        np.array([400.0, 400.0, 0.0]), GridParams(cell=40.0, cell_z=40.0, objective="cost"))
+    i, j, k = (int(np.argmin(np.abs(ax - g))) for ax, g in zip(ref.axes, goal))
+    gx, gz = math.sqrt(1.5**2 - 0.2**2), math.sqrt(1.5**2 - 0.3**2)
+    for d in (40.0, 120.0):
+        s = int(round(d / 40.0))
+        assert ref.cost_to_go[i - s, j, k] == pytest.approx(d * (1 + 1.5 / (gx + 0.3)), rel=1e-9)  # with the current
+        assert ref.cost_to_go[i + s, j, k] == pytest.approx(d * (1 + 1.5 / (gx - 0.3)), rel=1e-9)  # against it
+        assert ref.cost_to_go[i, j, k - s] == pytest.approx(d * (1 + 1.5 / (gz + 0.2)), rel=1e-9)  # rising with it
+        assert ref.cost_to_go[i, j, k + s] == pytest.approx(d * (1 + 1.5 / (gz - 0.2)), rel=1e-9)  # sinking
 
 
 # ---------------------------------------------------------------------- energy with a vertical current
@@ -522,14 +596,25 @@ def test_arrival_at_the_radius_and_timeout_at_max_time():
 
 def test_collision_names_the_obstacle_that_was_hit():
     """Two spheres: the first well off the route, the second on it; LOS flies straight into the
-    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step)."""
-    route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
-    w = World(Bounds(-500, 500, -500, 500, -100, 0),
-              obstacles=(Sphere((100.0, 200.0, -20.0), 10.0), Sphere((150.0, 0.0, -20.0), 10.0)))
-    r = simulate(w, Mission("hit", route[0], route[-1], route=route), guidance="los", rng=0, avoidance="none")
+    second, which the event must name (index 1) at its surface: distance 0 to -1.5 m (one step).
+    An ellipsoid thin along the track (semi-axes 5, 30, 5 m) is hit at its surface x = 145 m, not
+    where a bounding-sphere bound would put it (x = 120 m).  The scene lies at y = 500 m, z = -20 m
+    (so that a mixed-up coordinate cannot go unnoticed)."""
+    from auvplan.world.obstacles import Ellipsoid
+
+    route = ((0.0, 500.0, -20.0), (300.0, 500.0, -20.0))
+    mission = Mission("hit", route[0], route[-1], route=route)
+    w = World(Bounds(-500, 500, 0, 1000, -100, 0),
+              obstacles=(Sphere((100.0, 700.0, -20.0), 10.0), Sphere((150.0, 500.0, -20.0), 10.0)))
+    r = simulate(w, mission, guidance="los", rng=0, avoidance="none")
     assert r.status is Status.COLLISION and "obstacle 1" in r.events[-1][2]
     assert r.position[-1, 0] == pytest.approx(140.0, abs=1.0)
     assert -1.0 < r.obstacle_distance[-1, 1] < 0.0 and np.all(r.obstacle_distance[:-1] >= 0.0)
+    w = World(Bounds(-500, 500, 0, 1000, -100, 0), obstacles=(Ellipsoid((150.0, 500.0, -20.0), (5.0, 30.0, 5.0)),))
+    r = simulate(w, mission, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.COLLISION and "obstacle 0" in r.events[-1][2]
+    assert r.position[-1, 0] == pytest.approx(145.0, abs=1.0)
+    assert -1.0 < r.obstacle_distance[-1, 0] < 0.0
 
 
 # ---------------------------------------------------------------------- local avoidance: the trap detector
@@ -636,3 +721,105 @@ def test_escape_sub_goal_with_the_generators_draws_and_its_time_limit():
     assert la.escapes == 1 and la.mode == "apf"
     assert la.stalled(p, 309.9, since=0.0)
     assert not la.stalled(p, 310.0, since=0.0)
+
+
+def test_the_moving_obstacle_that_hits_decides_unavoidable():
+    """Scene at y = 500 m: a static sphere far off (index 0, the farthest), a moving sphere coming head
+    on down the route (1) and a slow one far off (2).  At 3 m/s (twice the vehicle's speed) the hit
+    is UNAVOIDABLE and names obstacle 1; at 0.5 m/s it is a plain COLLISION (the vehicle could have
+    avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
+    recorded at the lower bound |p - c| - r (exact for spheres)."""
+    from auvplan.sim import SimSettings
+    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+
+    route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
+    for speed, status in ((3.0, Status.UNAVOIDABLE), (0.5, Status.COLLISION)):
+        moving = (MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 500.0, -20.0), (-speed, 0.0, 0.0))),
+                  MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((100.0, 900.0, -20.0), (0.2, 0.0, 0.0))))
+        w = World(Bounds(-500, 1000, 0, 1000, -100, 0), obstacles=(Sphere((300.0, 20.0, -20.0), 10.0),), moving=moving)
+        m = Mission("hit", route[0], route[-1], route=route, sim=SimSettings(record_every=7))
+        r = simulate(w, m, guidance="los", rng=0, avoidance="none")
+        assert r.status is status and "obstacle 1" in r.events[-1][2], (speed, r.events[-1])
+        assert r.t[-1] == pytest.approx(r.events[-1][0]) and r.obstacle_distance[-1, 1] < 0.0
+        assert r.obstacle_distance[-1, 0] > r.obstacle_distance[-1, 2] > 0.0
+        far = np.linalg.norm(r.position - np.array([300.0, 20.0, -20.0]), axis=1) - 10.0
+        np.testing.assert_allclose(r.obstacle_distance[:, 0], far, rtol=1e-9)
+
+
+def test_world_bounds_depth_band_and_two_point_paths_by_hand():
+    """Box x in [1000, 2000], y in [-500, 500], z in [-300, 0], depth band 5-250 m: the slack of a
+    point is its least distance to a face (by hand); a segment with one end outside the box is not
+    free; one exactly at the maximum depth is; a two-point path through a sphere is not free
+    although both of its points are."""
+    w = World(Bounds(1000, 2000, -500, 500, -300, 0), obstacles=(Sphere((1500.0, 0.0, -100.0), 10.0),),
+              margins=Margins(min_depth=5.0, max_depth=250.0, obstacle=0.0))
+    pts = np.array([[1010.0, 0.0, -100.0], [1950.0, 0.0, -100.0], [1500.0, -480.0, -100.0],
+                    [1500.0, 470.0, -100.0], [1500.0, 0.0, -290.0], [1500.0, 0.0, -8.0]])
+    np.testing.assert_allclose(w.bounds.slack(pts), [10.0, 50.0, 20.0, 30.0, 10.0, 8.0])
+    seg = np.array([[[1100.0, 0.0, -50.0], [1200.0, 0.0, -50.0]],
+                    [[1100.0, 0.0, -50.0], [990.0, 0.0, -50.0]],
+                    [[1100.0, 0.0, -250.0], [1200.0, 0.0, -250.0]],
+                    [[1100.0, 0.0, -50.0], [1200.0, 0.0, -251.0]]])
+    np.testing.assert_array_equal(w.segments_free(seg), [True, False, True, False])
+    through = np.array([[1400.0, 0.0, -100.0], [1600.0, 0.0, -100.0]])
+    assert w.is_free(through).all() and not w.path_free(through)
+    assert w.path_free(through[:1]) and w.path_free(np.array([[1400.0, 0.0, -100.0], [1400.0, 50.0, -100.0]]))
+
+
+def test_apf_mode_at_a_key_waypoint_returns_to_the_route_or_heads_for_the_next():
+    """Reaching a key waypoint in APF mode: with no moving obstacle near, the base follower takes
+    over again (no pitch command); with one near, the goal moves on to the next key."""
+    la = _local(_open_water(), _KEYS)
+    la.mode, la.goal_index = "apf", 1
+    _, pitch, _ = la._apf_command(np.array([98.0, 0.0, -50.0]), 0.0, [], 0.3, None)
+    assert pitch is None and la.mode == "route" and la.goal_index == 1
+    la.mode = "apf"
+    near = [(120.0, 20.0, 25.0, True, (120.0, 20.0, -50.0))]
+    _, pitch, _ = la._apf_command(np.array([98.0, 0.0, -50.0]), 1.0, near, 0.3, None)
+    assert pitch is not None and la.mode == "apf" and la.goal_index == 2
+
+
+def test_planner_sphere_field_clearance_and_the_sink_by_hand():
+    """Two spheres (radii 6 and 3 m, margin 1.5 m): the field's clearance is the distance to the
+    nearest sphere minus its radius and the margin (negative inside); the target sink's velocity is
+    -m r / (4π |r|³) also within a metre of the target (0.5 m: 4 m / (4π 0.25) = 1.27 m/s)."""
+    from auvplan.planners.flow import sink_velocity
+
+    field = FlowField([Sphere((0.0, 0.0, -50.0), 6.0), Sphere((40.0, 0.0, -50.0), 3.0)],
+                      np.array([100.0, 0.0, -50.0]), FlowParams(), margin=1.5)
+    p = np.array([[0.0, 10.0, -50.0], [30.0, 0.0, -50.0], [40.0, 0.0, -47.0], [0.0, 0.0, -53.0]])
+    np.testing.assert_allclose(field.clearance(p), [10.0 - 7.5, 10.0 - 4.5, 3.0 - 4.5, 3.0 - 7.5], atol=1e-12)
+    target = np.array([100.0, 0.0, -50.0])
+    u = sink_velocity(target + np.array([0.0, 0.5, 0.0]), target, m=4.0)
+    np.testing.assert_allclose(u, [0.0, -4.0 / (4 * math.pi * 0.25), 0.0], rtol=1e-12)
+
+
+def test_free_edges_are_exactly_the_free_lattice_segments():
+    """A 3 x 3 x 2 lattice (10 m) with two 2 m spheres sitting on lattice edges, 2.5 m from one end
+    (both end nodes free: 0.5 m and 5.5 m from the surface): the edges :func:`free_edges` returns for
+    each of the 13 offsets are exactly the pairs of free nodes whose segment the World's exact test
+    calls free (the obstacle shortcut may only skip the exact test where it cannot matter)."""
+    from auvplan.planners.grid import _HALF, free_edges
+
+    world = World(Bounds(-1, 21, -1, 21, -21, 0),
+                  obstacles=(Sphere((2.5, 0.0, -10.0), 2.0), Sphere((10.0, 17.5, -20.0), 2.0)),
+                  margins=Margins(min_depth=0.0, obstacle=0.0))
+    axes = (np.array([0.0, 10.0, 20.0]), np.array([0.0, 10.0, 20.0]), np.array([-20.0, -10.0]))
+    shape = (3, 3, 2)
+    xyz = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    slack = world.clearances(xyz, moving=False)
+    free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(shape)
+    assert free.all()
+    ids = np.arange(xyz.shape[0]).reshape(shape)
+    steps = np.array([10.0, 10.0, 10.0])
+    blocked = 0
+    for off in _HALF:
+        src, dst = free_edges(world, ids, free, slack["altitude"].reshape(shape), slack["obstacles"].reshape(shape),
+                              xyz, steps, off)
+        a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
+        b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
+        s, d = ids[a].reshape(-1), ids[b].reshape(-1)
+        ok = world.segments_free(np.stack([xyz[s], xyz[d]], axis=1), moving=False)
+        blocked += int((~ok).sum())
+        assert sorted(zip(src.tolist(), dst.tolist())) == sorted(zip(s[ok].tolist(), d[ok].tolist())), off
+    assert blocked >= 2

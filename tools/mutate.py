@@ -211,22 +211,39 @@ def _snippet(node: ast.AST) -> str:
     return text if len(text) <= 90 else text[:87] + "..."
 
 
-def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, str], ...]) -> list[tuple[Mutant, int, int]]:
-    """Every mutant of the named functions: (record, node index, operation index)."""
+def _span(fn: ast.FunctionDef, source: str, spec: tuple[str, ...]) -> tuple[int, int]:
+    """Lines of ``fn`` to mutate: all of it, or from the line holding marker ``spec[2]`` up to (not
+    including) the line holding ``spec[3]``."""
+    if len(spec) < 4:
+        return fn.lineno, fn.end_lineno or fn.lineno
+    lines = source.splitlines()
+    inside = range(fn.lineno - 1, fn.end_lineno or len(lines))
+    start = next(i for i in inside if spec[2] in lines[i]) + 1
+    end = next(i for i in inside if i >= start and spec[3] in lines[i]) + 1
+    return start, end - 1
+
+
+def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, ...], ...],
+             sources: dict[str, str] | None = None) -> list[tuple[Mutant, int, int]]:
+    """Every mutant of the named functions (or of their marked parts): (record, node index, operation index)."""
     out = []
     seen: set[tuple[str, str]] = set()
-    for modname, name in functions:
+    for spec in functions:
+        modname, name = spec[0], spec[1]
         fn = _function_node(trees[modname], name)
+        lo, hi = _span(fn, (sources or {}).get(modname, ""), spec)
         original = ast.unparse(fn)
         for i, node in enumerate(_walk(fn)):
+            line = getattr(node, "lineno", fn.lineno)
+            if not lo <= line <= hi:
+                continue
             for j, (kind, _payload) in enumerate(_ops(node)):
                 new_fn, new_node = _mutated(fn, i, j)
                 source = ast.unparse(new_fn)
                 if source == original or (name, source) in seen:
                     continue  # no change, or a duplicate of an earlier mutant
                 seen.add((name, source))
-                m = Mutant(len(out) + 1, modname, name, getattr(node, "lineno", fn.lineno), kind, _snippet(node),
-                           _snippet(new_node))
+                m = Mutant(len(out) + 1, modname, name, line, kind, _snippet(node), _snippet(new_node))
                 out.append((m, i, j))
     return out
 
@@ -354,9 +371,10 @@ def run_module(name: str, args: argparse.Namespace) -> dict:
 
 def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     target = MODULES[name]
-    modules = {mod: importlib.import_module(mod) for mod, _f in target.functions}
-    trees = {mod: ast.parse(Path(inspect.getfile(m)).read_text()) for mod, m in modules.items()}
-    mutants = generate(trees, target.functions)
+    modules = {spec[0]: importlib.import_module(spec[0]) for spec in target.functions}
+    sources = {mod: Path(inspect.getfile(m)).read_text() for mod, m in modules.items()}
+    trees = {mod: ast.parse(text) for mod, text in sources.items()}
+    mutants = generate(trees, target.functions, sources)
     print(f"\n== {name}: {len(target.functions)} functions, {len(mutants)} mutants, {len(items)} tests", flush=True)
     if args.list:
         for m, _i, _j in mutants:
@@ -379,7 +397,7 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     only = {int(k) for k in args.only.split(",")} if args.only else None
     if args.sample and only is None and args.sample < len(mutants):  # a seeded uniform sample of the mutants
         only = set(random.Random(args.seed).sample([m.id for m, _i, _j in mutants], args.sample))
-    fns = {(mod, n): _function_node(trees[mod], n) for mod, n in target.functions}
+    fns = {(spec[0], spec[1]): _function_node(trees[spec[0]], spec[1]) for spec in target.functions}
     todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
     running: dict[int, tuple[Mutant, float]] = {}
     done = 0
@@ -397,7 +415,7 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             finished, status = os.waitpid(pid, os.WNOHANG)
             if finished:
                 m.status, code = _outcome(status)
-            elif _cpu_seconds(pid) > timeout or time.monotonic() - t1 > 20 * timeout:
+            elif _cpu_seconds(pid) > timeout or time.monotonic() - t1 > 100 * timeout:
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
                 m.status, code = "timeout", -9
@@ -408,10 +426,16 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             done += 1
             print({"killed": ".", "survived": "S", "timeout": "T"}[m.status], end="\n" if done % 60 == 0 else "",
                   flush=True)
-            if done % 20 == 0:  # progress for the impatient: the mutants so far
-                (Path(args.out) / f"{name}.partial.json").write_text(json.dumps([asdict(m) for m, _i, _j in mutants]))
+            if done % 10 == 0:  # the mutants so far (an interrupted run still leaves a record)
+                partial = _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
+                (Path(args.out) / f"{name}.partial.json").write_text(json.dumps(partial))
     print(flush=True)
-    return {"module": name, "functions": [f"{mod}.{n}" for mod, n in target.functions],
+    return _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
+
+
+def _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants) -> dict:
+    return {"module": name, "functions": [".".join(spec[:2]) + (f" [{spec[2]!r}..{spec[3]!r}]" if len(spec) > 2 else "")
+                                          for spec in target.functions],
             "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
             "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout,
             "jobs": args.jobs, "sample": args.sample, "seed": args.seed,
@@ -443,13 +467,14 @@ def changed_lines(name: str) -> dict[int, tuple[str, str]]:
     import importlib.util
 
     target = MODULES[name]
-    trees = {}
-    for mod, _f in target.functions:
-        spec = importlib.util.find_spec(mod)
+    sources = {}
+    for fspec in target.functions:
+        spec = importlib.util.find_spec(fspec[0])
         assert spec is not None and spec.origin is not None
-        trees[mod] = ast.parse(Path(spec.origin).read_text())
+        sources[fspec[0]] = Path(spec.origin).read_text()
+    trees = {mod: ast.parse(text) for mod, text in sources.items()}
     out = {}
-    for m, i, j in generate(trees, target.functions):
+    for m, i, j in generate(trees, target.functions, sources):
         fn = _function_node(trees[m.module], m.function)
         a, b = ast.unparse(fn).splitlines(), ast.unparse(_mutated(fn, i, j)[0]).splitlines()
         diff = [ln for ln in difflib.unified_diff(a, b, lineterm="", n=0)
@@ -466,35 +491,46 @@ def _key(m: dict) -> str:
 
 def report(out: Path, names: list[str]) -> str:
     """Markdown: the per-module table and every survivor with its reason (``REASONS``)."""
-    rows = ["| module | functions | tests | generated | tested | killed | timeout | survived | score |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+    rows = ["| module | functions | tests | generated | tested | killed | timeout | survived (of which equivalent) "
+            "| score | score without the equivalent |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     lines: list[str] = []
     total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
     for name in names:
         path = out / f"{name}.json"
         if not path.exists():
-            rows.append(f"| {name} | not run | | | | | | | |")
+            path = out / f"{name}.partial.json"  # an interrupted run
+        if not path.exists():
+            rows.append(f"| {name} | not run | | | | | | | | |")
             continue
         record = json.loads(path.read_text())
+        if isinstance(record, list):  # an older partial record: the mutants only
+            record = {"mutants": record, "functions": MODULES[name].functions, "tests": []}
         lines_of = changed_lines(name)
         for m in record["mutants"]:
             m["change"] = lines_of.get(m["id"], ("", ""))
         s = summary(record)
-        for k in total:
+        for k in ("generated", "tested", "killed", "timeout", "survived"):
             total[k] += s[k]
+        eq = sum(REASONS.get(_key(m), "").startswith("equivalent") for m in s["survivors"])
         score = f"{100 * s['score']:.1f} %"
         if s["tested"] < s["generated"]:  # a sample: Wilson 95 % interval of the module's score
             lo, hi = _wilson(s["killed"] + s["timeout"], s["tested"])
             score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
+        adjusted = (s["killed"] + s["timeout"]) / max(s["tested"] - eq, 1)
         rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
-                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} | {score} |")
+                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} ({eq}) | {score} | "
+                    f"{100 * adjusted:.1f} % |")
+        total["equivalent"] = total.get("equivalent", 0) + eq
         for m in s["survivors"]:
-            reason = REASONS.get(_key(m), "**no reason recorded yet**")
+            reason = REASONS.get(_key(m), "**not analysed yet**")
             old, new = m["change"]
             lines.append(f"| {name} | `{m['function']}`:{m['line']} | `{old}` → `{new}` | {reason} |")
     score = (total["killed"] + total["timeout"]) / total["tested"] if total["tested"] else float("nan")
+    eq = total.get("equivalent", 0)
+    adjusted = (total["killed"] + total["timeout"]) / max(total["tested"] - eq, 1)
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
-                f"{total['timeout']} | {total['survived']} | {100 * score:.1f} % |")
+                f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.1f} % | {100 * adjusted:.1f} % |")
     head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
     return "\n".join(rows) + "\n\nSurvivors:\n\n" + "\n".join(head + lines) + "\n"
 

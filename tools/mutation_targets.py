@@ -9,9 +9,11 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Target:
-    """Functions ``(python module, "function" or "Class.method")`` and the pytest arguments that guard them."""
+    """Functions ``(python module, "function" or "Class.method"[, first marker, end marker])`` and the
+    pytest arguments that guard them; with markers, only the lines from the one holding the first
+    marker up to the one holding the end marker are mutated."""
 
-    functions: tuple[tuple[str, str], ...]
+    functions: tuple[tuple[str, ...], ...]
     tests: tuple[str, ...]
     jit: bool = True  # False where the mutated functions are numba kernels (they then run as Python)
 
@@ -35,7 +37,8 @@ MODULES: dict[str, Target] = {
              "Terrain.min_altitude_between", "Terrain.segments_below", "_cell", "elevation_kernel", "_piece_min",
              "_crossings", "_walk_min", "min_altitude_kernel", "_min_altitudes"),
         ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
-         "ridge or slope or terrain or bilinear or gradient or outside or lower_bound",
+         "ridge or slope or terrain or bilinear or gradient or outside or lower_bound or offset_grid or off_the_grid"
+         " or altitude_limit",
          "--deselect", "tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
         jit=False,
     ),
@@ -60,14 +63,16 @@ MODULES: dict[str, Target] = {
         _fns(GRID, "_edge_weight", "_sift_up", "_sift_down", "_search", "free_edges",
              "GridReference._lattice_edges", "GridReference._connect"),
         ("tests/test_oracles.py", "tests/test_grid.py", "-k",
-         "edge or cost_to_go or empty or enclosed"),
+         "edge or cost_to_go or empty or enclosed or current"),
         jit=False,
     ),
-    # the simulation's event detection (collision, arrival, deadlock, timeout)
+    # the simulation's event detection (collision, arrival, deadlock, timeout): the events block of
+    # simulate's loop (the rest of it records the run and steps the vehicle)
     "sim": Target(
-        _fns(SIM, "_distance", "_obstacle_shapes", "simulate"),
-        ("tests/test_oracles.py", "tests/test_tracking.py", "-k",
-         "seabed or collision or converges or deadlock_is_declared or arrival_at"),
+        _fns(SIM, "_distance", "_obstacle_shapes") + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
+        ("tests/test_oracles.py", "tests/test_tracking.py", "tests/test_local.py", "-k",
+         "seabed or collision_is_reported or names_the or converges or deadlock_is_declared or arrival_at"
+         " or fast_obstacle or decides_unavoidable"),
     ),
     # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
     "local": Target(
@@ -75,7 +80,8 @@ MODULES: dict[str, Target] = {
              "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
              "LocalAvoidance.command", "LocalAvoidance._apf_command"),
         ("tests/test_oracles.py", "tests/test_local.py", "-k",
-         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"),
+         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
+         " or escape_sub_goal or minimum_detector"),
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
@@ -95,6 +101,8 @@ _KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, whic
 _CELL = "equivalent: at the boundary both branches give the same cell index"
 _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
          "answers the same")
+_SHORTCUT = ("**not killed** (no oracle yet): the obstacle shortcut made unsound, edges near an obstacle "
+             "skip the exact test; in the test worlds no edge between two free nodes clips an obstacle")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -118,6 +126,38 @@ REASONS: dict[str, str] = {
     "_piece_min | if fy < 0.0 or fy >= nyc:":
         "equivalent: a piece whose midpoint lies exactly on the last grid line runs along it (dv = 0) "
         "with v = 1 either way",
+    "_piece_min | if fx <= 0.0 or fx > nxc:": _EDGE,
+    "_piece_min | if fx < 0.0 or fx >= nxc:": _EDGE,
+    "_piece_min | u0, du = (0.0 if fx < 1.0 else 1.0, 0.0)": _EDGE,
+    "_piece_min | if fy <= 0.0 or fy > nyc:": _EDGE,
+    "_piece_min | if g2 >= 0.0:": "equivalent: with g2 = 0 the vertex -g1 / (2 g2) is ±inf or NaN (numpy floats), "
+        "never inside (ta, tb)",
+    "_piece_min | if g2 > 1.0:": "**not killed** (no oracle yet): a twisted cell whose altitude along the segment is "
+        "a parabola of curvature g2 in (0, 1] m has its interior minimum skipped (unsafe)",
+    "_piece_min | if ta <= tv < tb:": "equivalent: at tv = ta the vertex value is the end value already taken",
+    "_piece_min | if ta < tv <= tb:": "equivalent: at tv = tb the vertex value is the end value already taken",
+    "_crossings | return (max(math.floor(ka) + 1.0, 0.0), max(math.ceil(kb) - 1.0, float(lines)), 1.0, ka, kb)":
+        "equivalent: extra split points beyond the last grid line only cut pieces whose minima are exact anyway",
+    "_crossings | return (max(math.floor(ka) + 1.0, 0.0), min(math.ceil(kb) + 1.0, float(lines)), 1.0, ka, kb)":
+        "equivalent: the extra crossings lie beyond the segment's end (t > 1), where the walk stops",
+    "_crossings | return (min(math.ceil(ka) - 1.0, float(lines)), min(math.floor(kb) + 1.0, 0.0), -1.0, ka, kb)":
+        "equivalent: extra split points below the first grid line only cut pieces whose minima are exact anyway",
+    "_crossings | return (min(math.ceil(ka) - 1.0, float(lines)), max(math.floor(kb) - 1.0, 0.0), -1.0, ka, kb)":
+        "equivalent: the extra crossing lies beyond the segment's end (t > 1), where the walk stops",
+    "_crossings | if kb <= ka:": "equivalent: with kb = ka the descending branch also yields no crossing",
+    "_crossings | return (2.0, 0.0, 1.0, ka, kb)": "equivalent: first > last still means no crossing",
+    "_crossings | return (1.0, 0.0, 2.0, ka, kb)": "equivalent: (last - first) x 2 < 0 still means no crossing",
+    "_walk_min | tx = (kx - kxa) / (kxb - kxa) if (kx_end - kx) / sx >= 0.0 else 2.0":
+        "equivalent: sx is ±1, so / sx = * sx",
+    "_walk_min | ty = (ky - kya) / (kyb - kya) if (ky_end - ky) / sy >= 0.0 else 2.0":
+        "equivalent: sy is ±1, so / sy = * sy",
+    "_walk_min | tx = (kx - kxa) / (kxb - kxa) if (kx_end - kx) * sx >= 0.0 else 3.0":
+        "equivalent: any value > 1 means 'no more crossings' (tb = min(tx, ty, 1))",
+    "_walk_min | ty = (ky - kya) / (kyb - kya) if (ky_end - ky) * sy >= 0.0 else 3.0":
+        "equivalent: any value > 1 means 'no more crossings' (tb = min(tx, ty, 1))",
+    "_walk_min | ky, ky_end, sy, kya, kyb = _crossings(py, qy, y0, dy, coef.shape[1])":
+        "**not killed** (no oracle yet): caps the y crossings at the number of x cells; the oracle grids have "
+        "more x than y cells, where it only adds split points; a grid with more y cells would lose splits",
     # cost
     "_obstacle_slack | ends = np.stack([a, b], axis=2)":
         "equivalent: the segment arrays are always (P, S - 1, 3), where axis 2 is axis -2",
@@ -132,6 +172,89 @@ REASONS: dict[str, str] = {
     "key_waypoints | if p.shape[1] < 2:":
         "equivalent: p.shape[1] is 3; a single point then goes through the loop, which returns it alone",
     "apf_force | c = np.asarray(centers, dtype=float).reshape(-2, 3)": _NEG,
+    # flow
+    "_exit_body | for _ in range(61):":
+        "equivalent: a 61st halving moves the exit point by 2^-61 of the body's diameter, below float resolution",
+    "_exit_body | for _ in range(5):":
+        "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
+        "start nested in several bodies)",
+    # grid
+    "_search | pos[v] = -3":
+        "equivalent: a settled node is never improved again (positive weights: dist[v] + w >= dist[u]), so "
+        "marking it -3 instead of -2 only costs needless relaxations",
+    "free_edges | sure &= lb > world.margins.min_altitude":
+        "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
+        "runs and agrees",
+    "_sift_down | if c - 1 < size and key[heap[c + 1]] < key[heap[c]]:":
+        "**not killed** (not analysed): may compare with the stale entry just past the heap's end",
+    "_search | if pos[u] == 2 or not bits[u] >> s & 1:":
+        "**not killed** (not analysed): settled nodes are relaxed again (harmless) but the node at heap "
+        "position 2 is skipped",
+    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) < 0.5 * length": _SHORTCUT,
+    "free_edges | sure = np.maximum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length": _SHORTCUT,
+    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 / length": _SHORTCUT,
+    "free_edges | lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], "
+    "np.hypot(d[0], d[2]))": _SHORTCUT.replace("obstacle", "seabed"),
+    # world
+    "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
+        "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
+    "Ellipsoid._foot_point | hi = np.where(outside, a.max() * np.linalg.norm(p, axis=1), 0.0)":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "Ellipsoid._foot_point | hi = np.where(outside, a.max() * np.linalg.norm(p, axis=-1), 1.0)":
+        "equivalent: a wider bracket for inside points still holds the root; 64 halvings reach float resolution",
+    "Ellipsoid.distance | inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=1) < 1.0":
+        "equivalent: flat is (N, 3), axis 1 is axis -1",
+    "Ellipsoid.distance | return np.where(inside, -d, d).reshape(pb.shape[:1])":
+        "not killed: differs only for batched (M, K, 3) query points, which no caller passes to an ellipsoid",
+    "Ellipsoid.segments_hit | if margin < 0:":
+        "equivalent: with margin 0 the scaled test finds no 'near' segment beyond 'touch'",
+    "Ellipsoid.segments_hit | near = (point_segment_distance(np.zeros(3), a / scale, b / scale) < 2.0) & ~touch":
+        "equivalent: more segments go through the exact golden-section test, which decides the same",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g * (hi - lo), lo + g * (hi + lo))":
+        "equivalent: lo = 0 at that point, so hi + lo = hi - lo",
+    "Ellipsoid._segment_min_distance | left = f1 <= f2": "equivalent: a tie keeps the minimum in either half",
+    "Ellipsoid._segment_min_distance | ends = np.minimum(self.distance(seg[:, 1]), self.distance(seg[:, 1]))":
+        "equivalent to 1e-9 of the length: the golden section already converges onto the start when the minimum "
+        "is there",
+    # sim (events block)
+    "simulate | what = 'the seabed' if alt < 1.0 else f'obstacle {int(np.argmin(dists))}'":
+        "not observed: needs an obstacle hit within 1 m of the seabed (only the event's wording changes)",
+    "simulate | if alt >= 1.0 and int(np.argmin(dists)) >= n_static:":
+        "not observed: needs a fast moving obstacle hit within 1 m of the seabed",
+    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) > 1.0":
+        "boundary-like: differs only when v_o . (p - c) lies in (0, 1] m²/s at contact (an obstacle passing "
+        "almost tangentially)",
+    "simulate | elif t - best_time > st.deadlock_time and (local is None or local.stalled(pos, t, best_time)):":
+        "not in the fast selection: only runs with local avoidance reach it; test_tracking's "
+        "test_deadlock_is_detected (escapes, then DEADLOCK after escape_time; ~60 s) covers it, not run per "
+        "mutant",
+    "simulate | if rp.progress > best_progress + 2.0:":
+        "not observed by the fast tests: needs a vehicle gaining between 1 and 2 m of route progress per "
+        "deadlock window",
+    "_distance | if bound >= far:":
+        "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
+    "simulate | if alt <= 0.0 or any((d < 0.0 for d in dists)):": "boundary: differs only at an altitude of exactly "
+        "0 m, which a continuous trajectory sampled every 0.1 s does not hit",
+    "simulate | if alt < 0.0 or any((d <= 0.0 for d in dists)):": "boundary: differs only at a distance of exactly "
+        "0 m from an obstacle",
+    "simulate | what = 'the seabed' if alt <= 0.0 else f'obstacle {int(np.argmin(dists))}'":
+        "boundary: differs only at an altitude of exactly 0 m during an obstacle collision",
+    "simulate | if alt > 0.0 and int(np.argmin(dists)) >= n_static:": "boundary: altitude exactly 0 m",
+    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) >= 0.0":
+        "boundary: an obstacle moving exactly tangentially at the moment of contact",
+    "simulate | if np.linalg.norm(v_o) > vp.speed and closing:":
+        "boundary: an obstacle exactly as fast as the vehicle (its speed is a finite difference: equality "
+        "cannot be set up reliably)",
+    "simulate | if rp.last and math.dist((s.x, s.y, s.z), goal) < st.arrival_radius:":
+        "boundary: exactly at the arrival radius",
+    "simulate | if rp.progress >= best_progress + 1.0:": "boundary: a progress gain of exactly 1 m",
+    # local
+    "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
+        "boundary: a key waypoint exactly on a moving obstacle's margin",
+    "LocalAvoidance._advance_goal | behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) + 1)] - "
+    "self.keys[k]) < 0": "equivalent: inside the loop k < len - 1, so min(k + 1, ...) is k + 1 either way",
+    "LocalAvoidance._apf_command | if alt <= 2.0 * self.params.arrive:":
+        "boundary: at exactly 2 x arrive above the margin the floor is 0°; differs only there",
     "_crossings | if kb >= ka:":
         "equivalent: with kb = ka the first crossing comes after the last one, i.e. none, as in the "
         "no-movement branch",
