@@ -18,16 +18,17 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from ._types import RngLike, Status, as_rng
-from .guidance.formation import FormationParams, formation_command
+from ._types import ArrayLike, RngLike, Status, as_rng
+from .guidance.formation import FormationCommand, FormationParams, formation_command
 from .guidance.formation_plan import FormationPlan, plan_formation
 from .planners import plan as global_plan
-from .planners.base import PlanResult
+from .planners.base import PlanResult, Progress
 from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, mission_route, planning_problem
 from .vehicles import Vehicle, VehicleState
 from .world import World
@@ -78,7 +79,7 @@ class FormationResult:
     wall_time_s: float
 
     @property
-    def metrics(self) -> dict:
+    def metrics(self) -> dict[str, Any]:
         """Fleet figures and one entry per vehicle (formation error RMS/max, arrivals, clearances)."""
         per: dict[str, dict[str, Any]] = {}
         for name, run, err in zip(self.names, self.runs, self.error):
@@ -153,14 +154,15 @@ class _Recorder:
         self.slot = np.empty((n, 3))
         self.obs = np.empty((n, n_obs))
 
-    def add(self, t, s: VehicleState, speed, cross, progress, alt, err, slot, dists) -> None:
+    def add(self, t: float, s: VehicleState, speed: float, cross: float, progress: float, alt: float, err: float,
+            slot: ArrayLike, dists: ArrayLike) -> None:
         k = self.k
         self.t[k], self.p[k], self.h[k], self.v[k], self.d[k] = t, (s.x, s.y, s.z), s.psi, speed, s.delta
         self.e[k], self.pr[k], self.alt[k], self.err[k], self.slot[k], self.obs[k] = \
             cross, progress, alt, err, slot, dists
         self.k += 1
 
-    def result(self, status: Status, events, wall: float) -> SimResult:
+    def result(self, status: Status, events: Sequence[tuple[float, str, str]], wall: float) -> SimResult:
         n = self.k
         p = self.p[:n].copy()
         return SimResult(status=status, arrived=status is Status.EXACT, t=self.t[:n].copy(), position=p,
@@ -181,7 +183,8 @@ def _initial_states(mission: Mission, fplan: FormationPlan) -> list[VehicleState
     return out
 
 
-def _contact(i: int, dists, alt: float, vdist, names, fp: FormationParams) -> str:
+def _contact(i: int, dists: Sequence[float], alt: float, vdist: dict[int, float], names: Sequence[str],
+             fp: FormationParams) -> str:
     """What vehicle ``i`` touches ('' when nothing)."""
     if alt < 0.0:
         return "the seabed"
@@ -194,7 +197,7 @@ def _contact(i: int, dists, alt: float, vdist, names, fp: FormationParams) -> st
 
 
 def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng: RngLike = None,
-                       progress=None) -> FormationResult:
+                       progress: Callable[[float, float], object] | None = None) -> FormationResult:
     """Fly every vehicle of ``mission.formation`` along the formation plan ``fplan`` in ``world``.
 
     Parameters
@@ -269,7 +272,7 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
         ahead_, _ = fr.slots_at(s_ref + 1.0)  # the slots' own motion per metre of reference progress
         stretch = [math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(sl, ahead_)]
         gamma = [math.atan2(b[2] - a[2], max(h, 1e-9)) for a, b, h in zip(sl, ahead_, stretch)]
-        cmds: list = [None] * n
+        cmds: list[FormationCommand | None] = [None] * n
         lag = 0.0
         for i in range(n):
             if not active[i]:
@@ -326,7 +329,9 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
         for i in range(n):
             if not active[i]:
                 continue
-            c = cmds[i]
+            cmd = cmds[i]
+            assert cmd is not None  # every active vehicle got its command above
+            c = cmd
             u_c = u_lead if i == 0 else c.speed
             theta_c = c.gamma + math.atan(vp.depth_gain * (c.z_ref - states[i].z))
             vel[i] = models[i].step(states[i], c.psi, theta_c, u_c, cur[i], noise[k, i])
@@ -341,8 +346,8 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
                            tuple(fleet_shape), tuple(events), wall)
 
 
-def run_formation(world: World, mission: Mission, rng: RngLike = None, progress=None,
-                  flight=None) -> FormationRecord:
+def run_formation(world: World, mission: Mission, rng: RngLike = None, progress: Progress | None = None,
+                  flight: Callable[[float, float], object] | None = None) -> FormationRecord:
     """A formation mission end to end: leader's plan → mission → formation plan → closed loop.
 
     Parameters

@@ -41,11 +41,17 @@ from __future__ import annotations
 
 import bisect
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any, TypeAlias
 
 import numpy as np
 
+from .._types import ArrayLike, FloatArray
 from .hybrid import HybridParams, crab_heading, hybrid_force
+
+Vec: TypeAlias = "Sequence[float] | FloatArray"
+"""A point or vector ``(x, y[, z])`` (m or m/s) as a sequence or an array."""
 
 __all__ = [
     "SHAPES",
@@ -237,7 +243,7 @@ class Formation:
         return tuple(v.name for v in self.vehicles)
 
 
-def shape_offsets(shape: str, n: int, spacing: float, depth_offsets=None) -> np.ndarray:
+def shape_offsets(shape: str, n: int, spacing: float, depth_offsets: ArrayLike | None = None) -> FloatArray:
     """Slot offsets of a shape; slot 0 is the leader's.
 
     ``line``: abreast, port then starboard in rising ranks; ``column``: ``k·spacing`` behind;
@@ -277,9 +283,10 @@ def shape_offsets(shape: str, n: int, spacing: float, depth_offsets=None) -> np.
     return out
 
 
-def _smoothstep(x):
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * (3.0 - 2.0 * x)
+def _smoothstep(x: ArrayLike) -> FloatArray:
+    c = np.clip(np.asarray(x, dtype=float), 0.0, 1.0)
+    out: FloatArray = c * c * (3.0 - 2.0 * c)
+    return out
 
 
 class Schedule:
@@ -299,7 +306,8 @@ class Schedule:
         The vehicles' depth offsets (m, positive deeper).
     """
 
-    def __init__(self, breaks, n: int, spacing: float, transition: float, depth_offsets=None) -> None:
+    def __init__(self, breaks: Sequence[tuple[float, str]], n: int, spacing: float, transition: float,
+                 depth_offsets: ArrayLike | None = None) -> None:
         self.breaks = sorted((float(s), str(sh)) for s, sh in breaks)
         if not self.breaks or self.breaks[0][0] > 0:
             raise ValueError("a schedule starts with the shape at 0 m")
@@ -326,7 +334,7 @@ class Schedule:
                 name = sh
         return name
 
-    def offsets(self, s) -> np.ndarray:
+    def offsets(self, s: ArrayLike) -> FloatArray:
         """Slot offsets at route positions.
 
         Parameters
@@ -360,7 +368,7 @@ class FormationRoute:
         Half-window (m) of the chord that gives the slots' orientation (smooths corners).
     """
 
-    def __init__(self, route, schedule: Schedule, course_window: float) -> None:
+    def __init__(self, route: ArrayLike, schedule: Schedule, course_window: float) -> None:
         w = np.asarray(route, dtype=float).reshape(-1, 3)
         d = np.hypot(*np.diff(w[:, :2], axis=0).T)
         keep = np.r_[True, d > 1e-9]
@@ -378,7 +386,7 @@ class FormationRoute:
         self._breaks = [(b, shape_offsets(sh, schedule.n, schedule.spacing, schedule.depth).tolist())
                         for b, sh in schedule.breaks]
 
-    def point(self, s) -> np.ndarray:
+    def point(self, s: ArrayLike) -> FloatArray:
         """Route points at arc lengths (straight extensions beyond the ends).
 
         Parameters
@@ -399,7 +407,7 @@ class FormationRoute:
         out[..., 1] += before * self._t0[1] + after * self._t1[1]
         return out
 
-    def course(self, s) -> np.ndarray:
+    def course(self, s: ArrayLike) -> FloatArray:
         """Smoothed compass course: the chord from ``s − window`` to ``s + window``.
 
         Parameters
@@ -414,9 +422,10 @@ class FormationRoute:
         """
         s = np.asarray(s, dtype=float)
         d = self.point(s + self.window) - self.point(s - self.window)
-        return np.arctan2(d[..., 0], d[..., 1])
+        course: FloatArray = np.arctan2(d[..., 0], d[..., 1])
+        return course
 
-    def slots(self, s) -> tuple[np.ndarray, np.ndarray]:
+    def slots(self, s: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Every slot with the formation's reference at ``s``.
 
         Parameters
@@ -558,7 +567,8 @@ class FormationRoute:
         return min(max(s_best, lo), hi)
 
 
-def vehicle_repulsion(course: float, fp: FormationParams, pos, vel, others) -> tuple[float, float]:
+def vehicle_repulsion(course: float, fp: FormationParams, pos: Vec, vel: Vec,
+                      others: Sequence[Sequence[float]]) -> tuple[float, float]:
     """Repulsion ``(east, north)`` from the other vehicles, document 001's eqs. 7–8 on the predicted geometry.
 
     For each other vehicle ``(x, y, vx, vy, keep)`` (ground velocities shared over the acoustic link;
@@ -611,7 +621,7 @@ def vehicle_repulsion(course: float, fp: FormationParams, pos, vel, others) -> t
     return fx, fy
 
 
-def _crosses(pos, slot, points, radius: float) -> bool:
+def _crosses(pos: Vec, slot: Vec, points: Sequence[Sequence[float]], radius: float) -> bool:
     """True when the horizontal segment ``pos → slot`` passes within ``radius`` of one of ``points``."""
     ax, ay = pos[0], pos[1]
     dx, dy = slot[0] - ax, slot[1] - ay
@@ -654,9 +664,11 @@ class FormationCommand:
     error: float
 
 
-def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, current, speed: float,
-                      params: HybridParams, fp: FormationParams, obstacles, others, target_distance: float,
-                      speed_ff: float, cruise: float, max_speed: float, give_way=()) -> FormationCommand:
+def formation_command(slot: Vec, slot_course: float, slot_gamma: float, pos: Vec, vel: Vec,
+                      current: Vec, speed: float, params: HybridParams, fp: FormationParams,
+                      obstacles: Sequence[Sequence[float]], others: Sequence[Sequence[float]],
+                      target_distance: float, speed_ff: float, cruise: float, max_speed: float,
+                      give_way: Sequence[Sequence[float]] = ()) -> FormationCommand:
     """Heading, speed and depth commands of one vehicle towards its ``slot (3,)``.
 
     Parameters
@@ -711,7 +723,7 @@ def formation_command(slot, slot_course: float, slot_gamma: float, pos, vel, cur
 
 
 def dominant_pole(speed: float, params: HybridParams, fp: FormationParams, heading_wn: float, heading_zeta: float,
-                  surge_time_constant: float) -> dict:
+                  surge_time_constant: float) -> dict[str, Any]:
     """Poles of the formation loop linearised on a straight route (see the module docstring).
 
     Parameters

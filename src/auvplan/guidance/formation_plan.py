@@ -18,11 +18,12 @@ result says which stretches were reshaped and why.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import Status
+from .._types import ArrayLike, Status
 from ..world import World
 from .formation import Formation, FormationRoute, Schedule
 
@@ -68,7 +69,7 @@ class FormationPlan:
         return self.structure.w
 
 
-def requested_breaks(formation: Formation, route) -> list[tuple[float, str]]:
+def requested_breaks(formation: Formation, route: ArrayLike) -> list[tuple[float, str]]:
     """The scenario's shape schedule: the initial shape at 0 and each change at its place.
 
     Parameters
@@ -96,7 +97,7 @@ def requested_breaks(formation: Formation, route) -> list[tuple[float, str]]:
     return out
 
 
-def _schedule(formation: Formation, breaks) -> Schedule:
+def _schedule(formation: Formation, breaks: Sequence[tuple[float, str]]) -> Schedule:
     fp = formation.params
     return Schedule(breaks, formation.n, fp.spacing_m, fp.transition_m,
                     [v.depth_offset_m for v in formation.vehicles])
@@ -141,7 +142,8 @@ def _windows(bad_route_pos: np.ndarray, n: int, spacing: float, transition: floa
     return [(g0 - spacing, g1 + tail + spacing) for g0, g1 in groups]
 
 
-def _with_columns(requested, windows, transition: float, length: float) -> list[tuple[float, str]]:
+def _with_columns(requested: Sequence[tuple[float, str]], windows: Sequence[tuple[float, float]],
+                  transition: float, length: float) -> list[tuple[float, str]]:
     """The requested breaks with column windows ``[c0, c1]`` imposed (column from ``c0 − transition``)."""
     merged: list[list[float]] = []
     for c0, c1 in sorted(windows):
@@ -174,7 +176,7 @@ def _with_columns(requested, windows, transition: float, length: float) -> list[
     return clean
 
 
-def plan_formation(world: World, route, formation: Formation, max_rounds: int = 6) -> FormationPlan:
+def plan_formation(world: World, route: ArrayLike, formation: Formation, max_rounds: int = 6) -> FormationPlan:
     """Shapes and checked slot tracks of ``formation`` along ``route (N, 3)`` in ``world``.
 
     Parameters
