@@ -79,13 +79,18 @@ def measure(cell: float, scenario: str) -> dict:
         row["skfmm"] = "not installed"
         return row
     free = node_fields(world, ref.axes, currents=False)[0]
-    gi = tuple(int(np.argmin(np.abs(ax - g))) for ax, g in zip(ref.axes, prob.goal))
+    def nearest_free(p):  # the free node nearest to p (the node nearest to a seabed-hugging end may be in the seabed)
+        ids = np.flatnonzero(free)
+        xyz = np.stack([ref.axes[d][i] for d, i in enumerate(np.unravel_index(ids, ref.shape))], axis=1)
+        return np.unravel_index(ids[int(np.argmin(np.linalg.norm(xyz - p, axis=1)))], ref.shape)
+
+    gi = nearest_free(prob.goal)
     phi = np.ones(ref.shape)
     phi[gi] = -1.0
     t0, c0 = time.perf_counter(), time.process_time()
     tt = skfmm.distance(np.ma.MaskedArray(phi, ~free), dx=[ref.cell, ref.cell, ref.cell_z])
     row["skfmm_s"], row["skfmm_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
-    si = tuple(int(np.argmin(np.abs(ax - s))) for ax, s in zip(ref.axes, prob.start))
+    si = nearest_free(prob.start)
     row["skfmm_distance_m"] = float(tt[si])
     row["dijkstra_distance_m"] = float(ref.cost_to_go[si])
     return row
@@ -116,7 +121,10 @@ def main(argv=None) -> int:
     for cell, scenario in ((c, s) for c in args.cells for s in args.scenarios):  # coarse cells first
         load = os.getloadavg()[0]
         out = subprocess.run([sys.executable, __file__, "--one", str(cell), "--scenarios", scenario],
-                             capture_output=True, text=True, check=True)
+                             capture_output=True, text=True)
+        if out.returncode:
+            print(f"{scenario} {cell:g} m failed: {out.stderr.strip().splitlines()[-1]}", flush=True)
+            continue
         rows.append({**json.loads(out.stdout.strip().splitlines()[-1]), "load_1min": load})
         _print(rows[-1])
         (Path(args.out) / "grid.json").write_text(json.dumps(rows, indent=2) + "\n")
