@@ -23,11 +23,14 @@ import hashlib
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar, overload
 
 from numba import njit
 
 __all__ = ["kernel", "source_stamp"]
+
+#: A function compiled by :func:`kernel`; the dispatcher is called with the same arguments.
+F = TypeVar("F", bound=Callable[..., Any])
 
 _SETTINGS: dict[str, Any] = dict(nogil=True, error_model="numpy", fastmath={"nsz", "arcp", "contract"})
 
@@ -76,7 +79,7 @@ def _stamped_cache(dispatcher: Any) -> Any:
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
 
-    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]
+    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]  # numba.core.caching is untyped
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
@@ -87,6 +90,14 @@ def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
         except (AttributeError, ImportError, TypeError, RuntimeError):  # pragma: no cover - numba changed
             pass  # no on-disk cache: always correct, only slower to start
     return dispatcher
+
+
+@overload
+def kernel(fn: F, **options: Any) -> F: ...
+
+
+@overload
+def kernel(fn: None = None, **options: Any) -> Callable[[F], F]: ...
 
 
 def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
@@ -102,7 +113,13 @@ def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     Returns
     -------
     numba dispatcher or decorator
-        The compiled kernel, or a decorator that makes one.
+        The compiled kernel, or a decorator that makes one.  For the type checker the kernel has
+        the signature of ``fn`` (a numba dispatcher is called like the function it compiles).
+
+    Raises
+    ------
+    TypeError
+        If ``cache=`` is passed (the cache is managed here).
     """
     if "cache" in options:
         raise TypeError("kernel() manages numba's cache itself; do not pass cache=")

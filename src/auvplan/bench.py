@@ -21,7 +21,7 @@ import logging
 import math
 import sys
 import time
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -32,13 +32,16 @@ from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
-from .planners import PLANNERS, plan, reference, with_reference
+from .planners import PLANNERS, PlanResult, plan, reference, with_reference
 from .planners.grid import on_cost_function
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
 __all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
            "read_histories"]
+
+Row = dict[str, Any]
+"""One row of ``rows.csv`` (or of the summary, or one convergence record)."""
 
 KEY = ("scenario", "planner", "guidance", "seed")
 """Columns that identify a run."""
@@ -109,9 +112,16 @@ class SweepSpec:
             raise AuvplanError("need seeds >= 1, chunk >= 1 and budget >= 0")
 
     def tasks(self) -> list[tuple[str, str, str, tuple[int, ...]]]:
-        """``(scenario, planner, guidance, seeds)`` chunks in a fixed order, with ``"scenario"``
-        resolved to each scenario's own planner and guidance (planner ``"route"`` for a
-        scenario that flies a fixed route)."""
+        """List the sweep's tasks: chunks of seeds of one cell, in a fixed order.
+
+        ``"scenario"`` is resolved to each scenario's own planner and guidance (planner
+        ``"route"`` for a scenario that flies a fixed route).
+
+        Returns
+        -------
+        list of (str, str, str, tuple of int)
+            ``(scenario, planner, guidance, seeds)`` chunks.
+        """
         out = []
         for s in self.scenarios:
             sc = scenario_io.load(s)
@@ -130,7 +140,21 @@ class SweepSpec:
 
 
 def perturb_moving(world: World, seed: int) -> World:
-    """``world`` with every moving obstacle's track re-drawn from ``seed`` (see the module notes)."""
+    """Re-draw every moving obstacle's track from ``seed`` (see the module notes).
+
+    Parameters
+    ----------
+    world : World
+        The scenario's world.
+    seed : int
+        Seed of the draws.
+
+    Returns
+    -------
+    World
+        The same world with the moving obstacles' tracks re-drawn (start shifted ±150 m, speed ×
+        [0.6, 1.2], new random-walk seeds, a random phase on loops).
+    """
     rng = np.random.default_rng(10_000 + seed)
     moving = []
     for o in world.moving:
@@ -153,7 +177,8 @@ def perturb_moving(world: World, seed: int) -> World:
     return replace(world, moving=tuple(moving))
 
 
-def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu: float, wall: float) -> dict:
+def _row(scenario: str, planner: str, guidance: str, seed: int, record: RunRecord, ref: PlanResult | None, cpu: float,
+         wall: float) -> Row:
     row: dict[str, Any] = dict.fromkeys(COLUMNS, "")
     row.update(scenario=scenario, planner=planner, guidance=guidance, seed=seed, status=record.status.value,
                cpu_s=round(cpu, 4), wall_s=round(wall, 4))
@@ -182,8 +207,21 @@ def _row(scenario: str, planner: str, guidance: str, seed: int, record, ref, cpu
     return out
 
 
-def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[dict]:
-    """Run one chunk of seeds of one cell; the rows in seed order."""
+def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[Row]:
+    """Run one chunk of seeds of one cell.
+
+    Parameters
+    ----------
+    task : tuple of (str, str, str, tuple of int)
+        ``(scenario, planner, guidance, seeds)`` (:meth:`SweepSpec.tasks`).
+    spec : SweepSpec
+        The sweep (budget, reference, randomisation).
+
+    Returns
+    -------
+    list of dict
+        One row (:data:`COLUMNS`; m, J, s) per seed, in seed order.
+    """
     scenario, planner, guidance, seeds = task
     world, mission = scenario_io.build(scenario_io.load(scenario))
     pspec = mission.planner
@@ -222,8 +260,19 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     return rows
 
 
-def read_rows(path: Path) -> list[dict]:
-    """Complete rows of a ``rows.csv`` (a line cut short by an interruption is left out)."""
+def read_rows(path: Path) -> list[Row]:
+    """Read the complete rows of a ``rows.csv`` (a line cut short by an interruption is left out).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The CSV file.
+
+    Returns
+    -------
+    list of dict
+        The rows, values as strings.
+    """
     path = Path(path)
     if not path.is_file():
         return []
@@ -233,14 +282,25 @@ def read_rows(path: Path) -> list[dict]:
     return rows
 
 
-def read_histories(path: Path) -> list[dict]:
-    """``{"key": [scenario, planner, guidance, seed], "history": [...], "trace": [[evaluations, best], ...]}``
-    records of a sweep's
-    ``histories.jsonl`` (a line cut short by an interruption is left out)."""
+def read_histories(path: Path) -> list[Row]:
+    """Read the convergence records of a sweep's ``histories.jsonl``.
+
+    A line cut short by an interruption is left out.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The JSON-lines file.
+
+    Returns
+    -------
+    list of dict
+        ``{"key": [scenario, planner, guidance, seed], "history": [...], "trace": [[evaluations, best], ...]}``.
+    """
     path = Path(path)
     if not path.is_file():
         return []
-    out: dict[tuple, dict] = {}
+    out: dict[tuple[Any, ...], Row] = {}
     for line in path.read_text().splitlines():
         try:
             h = json.loads(line)
@@ -272,12 +332,12 @@ def _cut_partial_line(path: Path) -> None:
             fh.truncate(keep)
 
 
-def _key(row: dict) -> tuple:
+def _key(row: Mapping[str, Any]) -> tuple[str, ...]:
     return tuple(str(row[k]) for k in KEY)
 
 
 def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = None, resume: bool = False,
-          progress: bool = True) -> list[dict]:
+          progress: bool = True) -> list[Row]:
     """Run the sweep on dask.distributed and return every row (string values, sorted by key).
 
     Parameters
@@ -293,6 +353,13 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
     resume : bool
         Keep the rows already in ``rows.csv`` and run only the missing ones; without it an
         existing ``rows.csv`` is an error (nothing is overwritten).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    list of dict
+        Every row (:data:`COLUMNS`), string values, sorted by key.
     """
     require("dask", "bench")
     from dask.distributed import Client, LocalCluster, as_completed
@@ -346,23 +413,36 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
     return sorted(read_rows(path), key=lambda r: (r["scenario"], r["planner"], r["guidance"], int(r["seed"])))
 
 
-def _f(v) -> float:
+def _f(v: Any) -> float:
     try:
         return float(v)
     except (TypeError, ValueError):
         return float("nan")
 
 
-def _nanmin(values) -> float:
+def _nanmin(values: Iterable[Any]) -> float:
     v = np.asarray(values, dtype=float)
     return float(np.nanmin(v)) if np.isfinite(v).any() else float("nan")
 
 
-def summarise(rows: Iterable[dict]) -> list[dict]:
-    """Per cell (scenario, planner, guidance): runs, success rate, cost median / IQR / best /
-    worst, median gap to the reference, median CPU time, then the flights' collisions (all
-    kinds), deadlocks, escapes (total) and smallest obstacle distance."""
-    cells: dict[tuple, list[dict]] = {}
+def summarise(rows: Iterable[Mapping[str, Any]]) -> list[Row]:
+    """Summarise a sweep per cell (scenario, planner, guidance).
+
+    Runs, success rate, cost median / IQR / best / worst, median gap to the reference, median CPU
+    time, then the flights' collisions (all kinds), deadlocks, escapes (total) and smallest
+    obstacle distance.
+
+    Parameters
+    ----------
+    rows : iterable of mapping
+        Rows of ``rows.csv``.
+
+    Returns
+    -------
+    list of dict
+        One row per cell (costs in the objective's unit, times in s, distances in m).
+    """
+    cells: dict[tuple[str, str, str], list[Mapping[str, Any]]] = {}
     for r in rows:
         cells.setdefault((r["scenario"], r["planner"], r["guidance"]), []).append(r)
     out = []

@@ -12,14 +12,15 @@ import dataclasses
 import json
 import logging
 import sys
+from collections.abc import Callable, Iterable
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import __version__
-from .errors import AuvplanError
+from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
 from .io import export, results
 from .io import scenario as scenario_io
@@ -27,6 +28,12 @@ from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import PIPELINES, PLANNERS, SWARM, plan, reference, with_reference
 from .sim import mission_route, planning_problem, run_mission
+
+if TYPE_CHECKING:
+    from .io.scenario import Scenario
+    from .planners import PlannerSpec, PlanResult
+    from .sim import Mission, RunRecord
+    from .world import World
 
 __all__ = ["main", "main_entry"]
 
@@ -41,7 +48,7 @@ class _Progress:
     for the flight (simulated time against the route's expected duration), a line for the other
     stages; all silent with ``quiet`` (``-q`` or ``--json``)."""
 
-    def __init__(self, spec, scenario: str, quiet: bool) -> None:
+    def __init__(self, spec: PlannerSpec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
         self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
@@ -75,7 +82,7 @@ class _Progress:
             self.flight_bar.close()
 
 
-def _int_at_least(low: int):
+def _int_at_least(low: int) -> Callable[[str], int]:
     """An argparse type: an integer >= ``low`` (a clear usage error otherwise, before any work)."""
 
     def parse(text: str) -> int:
@@ -95,34 +102,34 @@ _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
 
 
-def _out(args, names=RESULT_NAMES) -> Path | None:
+def _out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path | None:
     """Check ``--out`` before any work (creatable, writable, no user file or link in the way)."""
     if getattr(args, "out", None) is None:
         return None
     return prepare_out(args.out, names, force=getattr(args, "force", False))
 
 
-def _emit(record: dict, as_json: bool, human: str) -> None:
+def _emit(record: dict[str, Any], as_json: bool, human: str) -> None:
     if as_json:
         sys.stdout.write(json.dumps(export.jsonable(record)) + "\n")
     else:
         print(human)
 
 
-def _cmd_scenarios(args) -> int:
+def _cmd_scenarios(args: argparse.Namespace) -> int:
     for name, desc in scenario_io.builtin_scenarios().items():
         print(f"{name:18s} {desc}")
     return 0
 
 
-def _cmd_data_inspect(args) -> int:
+def _cmd_data_inspect(args: argparse.Namespace) -> int:
     from .io.inspect import inspect_file
 
     print(inspect_file(args.file))
     return 0
 
 
-def _cmd_validate(args) -> int:
+def _cmd_validate(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
@@ -138,7 +145,7 @@ def _cmd_validate(args) -> int:
     return 0
 
 
-def _cmd_scenario_new(args) -> int:
+def _cmd_scenario_new(args: argparse.Namespace) -> int:
     from .io.schema import template
 
     text = template(Path(args.file).stem if args.file else "my-mission")
@@ -150,14 +157,14 @@ def _cmd_scenario_new(args) -> int:
     return 0
 
 
-def _cmd_scenario_schema(args) -> int:
+def _cmd_scenario_schema(args: argparse.Namespace) -> int:
     from .io.schema import scenario_schema
 
     sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
     return 0
 
 
-def _plan(args, quiet: bool):
+def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World]:
     _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -211,7 +218,7 @@ def _instant(text: str, start_time: str, what: str) -> float:
         raise AuvplanError(f"{what} {exc}") from None
 
 
-def _cmd_sweep(args) -> int:
+def _cmd_sweep(args: argparse.Namespace) -> int:
     from .planners.timeplan import departure_sweep, sweep_summary
 
     sc = scenario_io.load(args.scenario)
@@ -258,7 +265,7 @@ def _cmd_sweep(args) -> int:
     return 0 if summary.get("feasible_departures") else 1
 
 
-def _cmd_plan(args) -> int:
+def _cmd_plan(args: argparse.Namespace) -> int:
     if args.depart_between:
         return _cmd_sweep(args)
     if args.objective:
@@ -280,7 +287,7 @@ def _cmd_plan(args) -> int:
     return 0 if result.status.ok else 1
 
 
-def _cmd_simulate(args) -> int:
+def _cmd_simulate(args: argparse.Namespace) -> int:
     _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -308,7 +315,8 @@ def _cmd_simulate(args) -> int:
 
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-         full: bool = False, force: bool = False, quiet: bool = False, planner: str | None = None):
+         full: bool = False, force: bool = False, quiet: bool = False,
+         planner: str | None = None) -> tuple[Scenario, RunRecord]:
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
@@ -330,20 +338,20 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     return sc, record
 
 
-def _scenario_text(sc) -> str:
+def _scenario_text(sc: Scenario) -> str:
     try:
         return Path(sc.source).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return ""
 
 
-def _save_context(out: Path, sc, world) -> None:
+def _save_context(out: Path, sc: Scenario, world: World) -> None:
     """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
     export.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
     results.save_terrain(out, world.terrain)
 
 
-def _save_plan(out: Path, sc, world, result, seed: int) -> None:
+def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int) -> None:
     """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
     from .sim import RunRecord
 
@@ -353,7 +361,8 @@ def _save_plan(out: Path, sc, world, result, seed: int) -> None:
     _save_context(out, sc, world)
 
 
-def _write_report(out: Path, world, mission, record, text: str, figures: bool = False, full: bool = False) -> Path:
+def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
+                  full: bool = False) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .viz.report import build_report
 
@@ -369,7 +378,7 @@ def _write_report(out: Path, world, mission, record, text: str, figures: bool = 
     return path
 
 
-def _load_results(args):
+def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
     out = Path(args.dir)
     if not out.is_dir():
         raise AuvplanError(f"{out}: no such results folder")
@@ -386,21 +395,21 @@ def _load_results(args):
     return out, record, text, world, mission
 
 
-def _cmd_report(args) -> int:
+def _cmd_report(args: argparse.Namespace) -> int:
     out, record, text, world, mission = _load_results(args)
     path = _write_report(out, world, mission, record, text, figures=args.figures)
     print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
     return 0
 
 
-def _cmd_export(args) -> int:
+def _cmd_export(args: argparse.Namespace) -> int:
     out, record, _, world, mission = _load_results(args)
     for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
         print(p)
     return 0
 
 
-def _cmd_mission_check(args) -> int:
+def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .io.formats import check_mission_file
 
     sc = scenario_io.load(args.scenario)
@@ -424,7 +433,7 @@ def _cmd_mission_check(args) -> int:
     return worst
 
 
-def _describe_run(name: str, record) -> str:
+def _describe_run(name: str, record: RunRecord) -> str:
     lines = [f"{name}: {record.status.value}"]
     if record.plan is not None:
         p = record.plan
@@ -440,7 +449,55 @@ def _describe_run(name: str, record) -> str:
     return "\n".join(lines)
 
 
-def _cmd_run(args) -> int:
+def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
+    """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
+    from .io.formation_export import FORMATION_NAMES, formation_record, vehicle_records, write_formation
+    from .sim_formation import run_formation
+
+    assert mission.formation is not None  # _cmd_run calls this only for a scenario with [[vehicles]]
+    if args.guidance or args.avoidance:
+        raise AuvplanError(f"{sc.source}: --guidance/--avoidance do not apply to a formation (each vehicle flies "
+                           "the formation field of [formation])")
+    if args.out:
+        names = [*FORMATION_NAMES, *(f"{v.name}/{f}" for v in mission.formation.vehicles for f in RESULT_NAMES)]
+        prepare_out(args.out, names, force=args.force)
+    if args.planner:
+        mission = replace(mission, planner=replace(mission.planner, name=args.planner))
+    seed = sc.seed if args.seed is None else args.seed
+    bar = _Progress(mission.planner, sc.name, args.quiet or args.json)
+    try:
+        record = run_formation(world, mission, seed, bar, flight=bar.flight)
+    finally:
+        bar.close()
+    if args.out:
+        from .viz.formation import build_formation_report
+
+        bar.stage(f"writing results, report and exports into {args.out}")
+        out, text = Path(args.out), _scenario_text(sc)
+        write_formation(out, world, mission, record, text, args.full)
+        _save_context(out, sc, world)
+        frame = LocalFrame(*world.origin) if world.origin is not None else None
+        page = build_formation_report(world, record, [r for _, r in vehicle_records(world, mission, record)], text,
+                                      frame.inverse if frame else None)
+        atomic_write(out / "report.html", page)
+    rec = formation_record(record)
+    m = rec["metrics"] or {}
+    human = f"{sc.name}: {record.status.value}" + (
+        f" — {m['arrivals']}/{m['vehicles']} vehicles arrived, {m['collisions']} collisions, least vehicle "
+        f"distance {m['min_vehicle_distance_m']:.1f} m, formation error RMS {m['formation_error_rms_m']:.2f} m "
+        f"(max {m['formation_error_max_m']:.2f} m); shapes: "
+        + " → ".join(f"{s} from {b:.0f} m" for b, s in record.formation.breaks) if m and record.formation else "")
+    _emit(rec, args.json, human)
+    if args.out and not args.json:
+        print(f"results in {args.out}/ (one folder per vehicle)")
+    return 0 if record.status.ok else 1
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    sc = scenario_io.load(args.scenario)
+    if sc.formation is not None:
+        world, mission = scenario_io.build(sc)
+        return _run_formation(args, sc, world, mission)
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
                       force=args.force, quiet=args.quiet or args.json, planner=args.planner)
     _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
@@ -449,7 +506,7 @@ def _cmd_run(args) -> int:
     return 0 if record.status.ok else 1
 
 
-def _cmd_demo(args) -> int:
+def _cmd_demo(args: argparse.Namespace) -> int:
     sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
     print(_describe_run(sc.name, record))
     print(f"results in {args.out}/")
@@ -460,7 +517,7 @@ _BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")
 """Files of ``bench --out`` besides rows.csv and histories.jsonl (which ``--resume`` appends to)."""
 
 
-def _cmd_bench(args) -> int:
+def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
@@ -612,7 +669,19 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (``sys.argv[1:]`` by default).
+
+    Returns
+    -------
+    int
+        The exit code: 0 success, 1 a mission or plan that failed (a status), 2 bad input or a
+        missing optional dependency (one line on stderr), 130 interrupted.
+    """
     parser = _parser()
     try:
         args = parser.parse_args(argv)
@@ -621,7 +690,10 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
                         format="%(levelname)s %(name)s: %(message)s")
     try:
-        return args.func(args)
+        if _writes_html(args):  # checked before any work is done
+            require("plotly", "report")
+        code: int = args.func(args)
+        return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
         print(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing written",
@@ -630,6 +702,11 @@ def main(argv: list[str] | None = None) -> int:
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+
+
+def _writes_html(args: argparse.Namespace) -> bool:
+    """Whether the command writes an HTML report (plotly, the ``report`` extra)."""
+    return args.command in ("demo", "report", "bench") or (args.command == "run" and bool(args.out))
 
 
 def _one_line(exc: BaseException) -> str:

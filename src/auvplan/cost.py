@@ -33,14 +33,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
 from ._jit import kernel
+from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .world import World
-from .world.terrain import elevation_kernel, min_altitude_kernel
+from .world.terrain import TerrainKernelData, elevation_kernel, min_altitude_kernel
 
-__all__ = ["CostModel", "CostTerms", "evaluate_paths", "segment_energy", "energy_kernel", "propulsion_power"]
+__all__ = ["CostModel", "CostTerms", "CostRow", "evaluate_paths", "segment_energy", "energy_kernel",
+           "propulsion_power"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +66,11 @@ class CostModel:
         Cost per metre of violation depth.
     energy_scale : float
         Cost units per joule (physical) or per unit of the document's energy; 0 = auto.
+
+    Raises
+    ------
+    ValueError
+        If the speed is not positive or ``energy`` is not one of the two models.
     """
 
     speed: float = 1.5
@@ -84,7 +92,14 @@ class CostModel:
 
     @property
     def scale(self) -> float:
-        """Energy-to-cost conversion in force."""
+        """Energy-to-cost conversion in force.
+
+        Returns
+        -------
+        float
+            ``energy_scale`` when set, else V / (P_hotel + k V³) (cost units per joule, physical) or
+            1 / V² (document).
+        """
         if self.energy_scale > 0:
             return self.energy_scale
         if self.energy == "physical":
@@ -92,27 +107,79 @@ class CostModel:
         return 1.0 / self.speed**2  # document: |V_h|³/V_oc ~ V² per metre in a 1 m/s current
 
 
+class CostRow(TypedDict):
+    """The cost terms of one path as plain numbers (:meth:`CostTerms.row`); units as in :class:`CostTerms`."""
+
+    total: float
+    length: float
+    terrain: float
+    energy: float
+    energy_j: float
+    duration_s: float
+    violations: int
+    min_clearance_m: float
+
+
 @dataclass(frozen=True, eq=False)
 class CostTerms:
-    """Per-path cost terms (arrays of shape ``(P,)``)."""
+    """Per-path cost terms (arrays of shape ``(P,)``).
 
-    total: np.ndarray
-    length: np.ndarray
-    terrain: np.ndarray
-    energy: np.ndarray
-    energy_j: np.ndarray
-    duration_s: np.ndarray
-    violations: np.ndarray
-    min_clearance: np.ndarray
+    Parameters
+    ----------
+    total : numpy.ndarray
+        Weighted cost ``W = w_L Pc + w_S Sc + w_E Ec`` (cost units).
+    length : numpy.ndarray
+        Path length Pc (m).
+    terrain : numpy.ndarray
+        Constraint cost Sc: ``M`` per violating segment plus ``violation_slope`` per metre of violation.
+    energy : numpy.ndarray
+        Energy term Ec in cost units (``energy_j`` or the document's energy times :attr:`CostModel.scale`).
+    energy_j : numpy.ndarray
+        Physical propulsion and hotel energy (J).
+    duration_s : numpy.ndarray
+        Travel time (s).
+    violations : numpy.ndarray
+        Violating segments per path (int).
+    min_clearance : numpy.ndarray
+        Smallest geometric clearance: altitude above the seabed or distance to a static obstacle (m).
+    """
+
+    total: FloatArray
+    length: FloatArray
+    terrain: FloatArray
+    energy: FloatArray
+    energy_j: FloatArray
+    duration_s: FloatArray
+    violations: IntArray
+    min_clearance: FloatArray
     """Smallest geometric clearance: altitude above the seabed or distance to a static obstacle (m)."""
 
     @property
-    def feasible(self) -> np.ndarray:
-        """True where no segment violates a constraint and the current never beats the vehicle."""
-        return self.violations == 0
+    def feasible(self) -> BoolArray:
+        """Where no segment violates a constraint and the current never beats the vehicle.
 
-    def row(self, i: int) -> dict:
-        """The terms of path ``i`` as plain floats."""
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(P,)``.
+        """
+        feasible: BoolArray = self.violations == 0
+        return feasible
+
+    def row(self, i: int) -> CostRow:
+        """The terms of one path as plain numbers.
+
+        Parameters
+        ----------
+        i : int
+            Path index.
+
+        Returns
+        -------
+        CostRow
+            ``total``, ``length``, ``terrain``, ``energy``, ``energy_j``, ``duration_s``,
+            ``violations`` and ``min_clearance_m``.
+        """
         return {
             "total": float(self.total[i]),
             "length": float(self.length[i]),
@@ -125,7 +192,7 @@ class CostTerms:
         }
 
 
-def _obstacle_slack(world: World, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _obstacle_slack(world: World, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Least slack (m, margin included) and geometric clearance of the segments ``a -> b``
     ``(P, S - 1, 3)`` to the static obstacles."""
     m = world.margins
@@ -142,11 +209,23 @@ def _obstacle_slack(world: World, a: np.ndarray, b: np.ndarray) -> tuple[np.ndar
     return slack, clearance
 
 
-def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, current=None):
-    """Energy of straight segments ``a -> b`` (..., 3) at the vehicle's speed in the current field.
+def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
+                   current: ArrayLike | None = None) -> tuple[FloatArray, FloatArray, FloatArray, BoolArray]:
+    """Energy of straight segments at the vehicle's speed in the current field.
 
     The current is taken at each segment's midpoint (see the module notes for the two models),
-    or given as ``current`` (..., 3).
+    or given as ``current``.
+
+    Parameters
+    ----------
+    world : World
+        Source of the current field.
+    a, b : array_like
+        Segment starts and ends ``(..., 3)`` (m); broadcast together.
+    model : CostModel
+        Speed, power model and energy model.
+    current : array_like, optional
+        Current per segment ``(..., 3)`` (m/s) instead of the field at the midpoints.
 
     Returns
     -------
@@ -169,15 +248,49 @@ def segment_energy(world: World, a: np.ndarray, b: np.ndarray, model: CostModel,
 
 
 def propulsion_power(model: CostModel) -> float:
-    """Electrical power at the model's speed: hotel load + drag_k · V³ (W)."""
+    """Electrical power at the model's speed.
+
+    Parameters
+    ----------
+    model : CostModel
+        Speed and power model.
+
+    Returns
+    -------
+    float
+        Hotel load + drag_k · V³ (W).
+    """
     return model.hotel_power + model.drag_k * model.speed**3
 
 
 @kernel
-def energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document):
-    """One segment ``e`` of length ``ds`` in the current ``c``: track tangent ŝ, c∥ = c·ŝ,
-    c⊥² = |c|² - c∥², ground speed c∥ + √(V² - c⊥²), time, energy (module notes).  Returns
-    ``(units, joules, seconds, blocked)``; blocked where V < c⊥ or the ground speed is not positive."""
+def energy_kernel(ex: float, ey: float, ez: float, ds: float, cx: float, cy: float, cz: float, speed: float,
+                  power: float, document: bool) -> tuple[float, float, float, bool]:
+    """Energy of one segment in a current (compiled; module notes).
+
+    Track tangent ŝ, c∥ = c·ŝ, c⊥² = |c|² - c∥², ground speed c∥ + √(V² - c⊥²), time, energy.
+
+    Parameters
+    ----------
+    ex, ey, ez : float
+        Segment vector (m).
+    ds : float
+        Its length (m).
+    cx, cy, cz : float
+        Current on the segment (m/s).
+    speed : float
+        Through-water speed V (m/s).
+    power : float
+        Electrical power at that speed (W).
+    document : bool
+        Use document 002's energy (eqs. 16–17) for ``units`` instead of joules.
+
+    Returns
+    -------
+    tuple
+        ``(units, joules, seconds, blocked)``; blocked where V < c⊥ or the ground speed is not
+        positive (the time then assumes the still-water speed).
+    """
     c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0
     c2 = cx * cx + cy * cy + cz * cz
     disc = speed * speed - max(c2 - c_par * c_par, 0.0)
@@ -185,12 +298,13 @@ def energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document):
     vg = c_par + root
     blocked = (disc < 0.0 or vg <= 1e-9) and ds > 0.0
     t = ds / (speed if (blocked or vg <= 0.0) else vg) if ds > 0.0 else 0.0
-    units = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3) if document else power * t
+    units: float = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3) if document else power * t
     return units, power * t, t, blocked
 
 
 @kernel
-def _segment_energies(a, b, c, speed, power, document, units, energy_j, dt, blocked):
+def _segment_energies(a: FloatArray, b: FloatArray, c: FloatArray, speed: float, power: float, document: bool,
+                      units: FloatArray, energy_j: FloatArray, dt: FloatArray, blocked: BoolArray) -> None:
     for k in range(a.shape[0]):
         ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
         ds = math.sqrt(ex * ex + ey * ey + ez * ez)
@@ -199,15 +313,18 @@ def _segment_energies(a, b, c, speed, power, document, units, energy_j, dt, bloc
 
 
 @kernel
-def _point_slack(x, y, z, box, min_depth, max_depth):
+def _point_slack(x: float, y: float, z: float, box: FloatArray, min_depth: float, max_depth: float) -> float:
     """Slack of the convex constraints at one point: depth band and bounds ``box (6,)``."""
-    return min(-z - min_depth, max_depth + z, x - box[0], box[1] - x, y - box[2], box[3] - y,
-               z - box[4], box[5] - z)
+    slack: float = min(-z - min_depth, max_depth + z, x - box[0], box[1] - x, y - box[2], box[3] - y,
+                       z - box[4], box[5] - z)
+    return slack
 
 
 @kernel
-def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_terrain, min_altitude, threshold,
-                box, min_depth, max_depth, speed, power, document, out):
+def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, other_clear: FloatArray,
+                has_other: bool, terrain: TerrainKernelData, has_terrain: bool, min_altitude: float, threshold: float,
+                box: FloatArray, min_depth: float, max_depth: float, speed: float, power: float, document: bool,
+                out: FloatArray) -> None:
     """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
 
     ``out (7, P)`` receives length, violations, violation depth, energy units, joules, seconds and
@@ -253,11 +370,27 @@ def _path_terms(p, current, other_slack, other_clear, has_other, terrain, has_te
         out[4, i], out[5, i], out[6, i] = joules, seconds, clear
 
 
-def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bool = False) -> CostTerms:
-    """Cost terms of sampled paths ``points (P, S, 3)`` in ``world`` (static obstacles only).
+def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: bool = False) -> CostTerms:
+    """Cost terms of sampled paths in a world (static obstacles only).
 
-    Violations are always detected exactly; ``exact=True`` also makes the reported
-    ``min_clearance`` exact (otherwise it may be a lower bound where it is large).
+    Violations are always detected exactly.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, currents, static obstacles, bounds and margins.
+    points : array_like
+        Sampled paths ``(P, S, 3)`` (m), or one path ``(S, 3)``.
+    model : CostModel
+        Weights and vehicle figures.
+    exact : bool, default False
+        Also make the reported ``min_clearance`` exact (otherwise it may be a lower bound where
+        it is large).
+
+    Returns
+    -------
+    CostTerms
+        Per-path terms ``(P,)``.
     """
     p = np.asarray(points, dtype=float)
     if p.ndim == 2:
@@ -277,8 +410,8 @@ def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bo
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
                 model.speed, propulsion_power(model), model.energy == "document", out)
     length, violations, depth, units, energy_j, duration, clearance = out
-    violations = violations.astype(np.intp)
-    terrain_cost = model.terrain_penalty * violations + model.violation_slope * depth
+    counts = violations.astype(np.intp)
+    terrain_cost = model.terrain_penalty * counts + model.violation_slope * depth
     energy = model.scale * units
     total = model.w_length * length + model.w_terrain * terrain_cost + model.w_energy * energy
     return CostTerms(
@@ -288,12 +421,12 @@ def evaluate_paths(world: World, points: np.ndarray, model: CostModel, exact: bo
         energy=energy,
         energy_j=energy_j,
         duration_s=duration,
-        violations=violations,
+        violations=counts,
         min_clearance=clearance,
     )
 
 
-def _no_terrain() -> tuple:
+def _no_terrain() -> TerrainKernelData:
     """The kernel's terrain argument for a world without a seabed (typed like a real one, never read)."""
     coef = np.zeros((1, 1, 4))
     coef.setflags(write=False)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._types import ArrayLike, FloatArray
+
 __all__ = [
     "wrap_angle",
     "heading_of",
@@ -18,39 +20,106 @@ __all__ = [
 ]
 
 
-def as_points(points, name: str = "points") -> np.ndarray:
-    """Return ``points`` as a float array of shape ``(..., 3)``; raise ``ValueError`` otherwise."""
-    arr = np.asarray(points, dtype=float)
+def as_points(points: ArrayLike, name: str = "points") -> FloatArray:
+    """Return ``points`` as a float array of shape ``(..., 3)``.
+
+    Parameters
+    ----------
+    points : array_like
+        Points ``(..., 3)`` (x east, y north, z up; m).
+    name : str, default "points"
+        Name used in the error message.
+
+    Returns
+    -------
+    numpy.ndarray
+        Float64 array ``(..., 3)`` (a view when ``points`` already is one).
+
+    Raises
+    ------
+    ValueError
+        If the last axis does not have length 3.
+    """
+    arr: FloatArray = np.asarray(points, dtype=np.float64)
     if arr.shape[-1:] != (3,):
         raise ValueError(f"{name} must have shape (..., 3), got {arr.shape}")
     return arr
 
 
-def wrap_angle(a):
-    """Wrap angles to ``[-pi, pi)``."""
-    return (np.asarray(a) + np.pi) % (2.0 * np.pi) - np.pi
+def wrap_angle(a: ArrayLike) -> FloatArray:
+    """Wrap angles to ``[-pi, pi)``.
+
+    Parameters
+    ----------
+    a : array_like
+        Angles (rad), any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        The same angles wrapped to ``[-pi, pi)`` (rad), same shape.
+    """
+    wrapped: FloatArray = (np.asarray(a) + np.pi) % (2.0 * np.pi) - np.pi
+    return wrapped
 
 
-def heading_of(vectors) -> np.ndarray:
-    """Compass heading (clockwise from north) of the horizontal part of ``vectors`` ``(..., >=2)``."""
-    v = np.asarray(vectors, dtype=float)
-    return np.arctan2(v[..., 0], v[..., 1])
+def heading_of(vectors: ArrayLike) -> FloatArray:
+    """Compass heading (clockwise from north) of the horizontal part of vectors.
+
+    Parameters
+    ----------
+    vectors : array_like
+        Vectors ``(..., >=2)``; only the east and north components are used.
+
+    Returns
+    -------
+    numpy.ndarray
+        Headings ``(...)`` (rad, clockwise from north, in ``[-pi, pi]``).
+    """
+    v = np.asarray(vectors, dtype=np.float64)
+    heading: FloatArray = np.arctan2(v[..., 0], v[..., 1])
+    return heading
 
 
-def unit_from_heading_pitch(heading, pitch) -> np.ndarray:
-    """Unit vectors ``(..., 3)`` for compass heading and nose-up pitch (radians)."""
+def unit_from_heading_pitch(heading: ArrayLike, pitch: ArrayLike) -> FloatArray:
+    """Unit vectors for compass heading and nose-up pitch.
+
+    Parameters
+    ----------
+    heading : array_like
+        Compass heading (rad, clockwise from north).
+    pitch : array_like
+        Pitch (rad, positive nose-up); broadcasts with ``heading``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors ``(..., 3)`` (east, north, up).
+    """
     heading = np.asarray(heading, dtype=float)
     pitch = np.asarray(pitch, dtype=float)
     cp = np.cos(pitch)
     return np.stack([cp * np.sin(heading), cp * np.cos(heading), np.sin(pitch)], axis=-1)
 
 
-def rotation_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> np.ndarray:
+def rotation_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> FloatArray:
     """Body-to-world rotation for a body whose x axis points along (yaw, pitch).
 
-    ``yaw`` is measured counter-clockwise from the world x (east) axis about z,
-    ``pitch`` rotates the body x axis up out of the horizontal plane and ``roll``
-    turns the body about its own x axis (intrinsic z-y-x order, all radians).
+    Intrinsic z-y-x order.
+
+    Parameters
+    ----------
+    yaw : float, default 0.0
+        Rotation about the world z axis, counter-clockwise from the world x (east) axis (rad).
+    pitch : float, default 0.0
+        Rotation lifting the body x axis up out of the horizontal plane (rad).
+    roll : float, default 0.0
+        Rotation of the body about its own x axis (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        Rotation matrix ``(3, 3)``; ``R @ v_body`` is ``v`` in the world frame.
     """
     cy, sy = np.cos(yaw), np.sin(yaw)
     cp, sp = np.cos(pitch), np.sin(pitch)
@@ -59,17 +128,32 @@ def rotation_matrix(yaw: float = 0.0, pitch: float = 0.0, roll: float = 0.0) -> 
     # positive pitch lifts the body x axis towards +z
     ry = np.array([[cp, 0.0, -sp], [0.0, 1.0, 0.0], [sp, 0.0, cp]])
     rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
-    return rz @ ry @ rx
+    r: FloatArray = rz @ ry @ rx
+    return r
 
 
-def point_segment_distance(points, a, b) -> np.ndarray:
-    """Distance from ``points (..., 3)`` to segments ``a -> b`` (broadcasting ``(..., 3)``)."""
-    p = np.asarray(points, dtype=float)
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
+def point_segment_distance(points: ArrayLike, a: ArrayLike, b: ArrayLike) -> FloatArray:
+    """Distance from points to segments ``a -> b``.
+
+    Parameters
+    ----------
+    points : array_like
+        Points ``(..., 3)`` (m).
+    a, b : array_like
+        Segment ends ``(..., 3)`` (m); broadcast with ``points``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Euclidean distances ``(...)`` (m) to the closest point of each segment.
+    """
+    p = np.asarray(points, dtype=np.float64)
+    a = np.asarray(a, dtype=np.float64)
+    b = np.asarray(b, dtype=np.float64)
     d = b - a
     dd = np.einsum("...i,...i->...", d, d)
     t = np.einsum("...i,...i->...", p - a, d) / np.where(dd > 0.0, dd, 1.0)
     t = np.clip(t, 0.0, 1.0)
     closest = a + t[..., None] * d
-    return np.linalg.norm(p - closest, axis=-1)
+    dist: FloatArray = np.linalg.norm(p - closest, axis=-1)
+    return dist

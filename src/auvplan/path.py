@@ -21,6 +21,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.interpolate import BSpline
 
+from ._types import ArrayLike, FloatArray
 from .geometry import as_points
 
 __all__ = [
@@ -34,58 +35,144 @@ __all__ = [
 ]
 
 
-def uniform_cubic_basis(u) -> np.ndarray:
-    """Document 002 eq. 6 (corrected): the four uniform cubic basis functions, shape ``(..., 4)``."""
-    u = np.asarray(u, dtype=float)
+def uniform_cubic_basis(u: ArrayLike) -> FloatArray:
+    """Document 002 eq. 6 (corrected): the four uniform cubic basis functions.
+
+    Parameters
+    ----------
+    u : array_like
+        Local parameter within a span, in ``[0, 1]`` (any shape).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``B0 … B3`` at ``u``, shape ``(..., 4)``; they sum to 1.
+    """
+    u = np.asarray(u, dtype=np.float64)
     return np.stack(
         [(1 - u) ** 3 / 6, (3 * u**3 - 6 * u**2 + 4) / 6, (-3 * u**3 + 3 * u**2 + 3 * u + 1) / 6, u**3 / 6], axis=-1
     )
 
 
-def clamped_knots(n_control: int, degree: int = 3) -> np.ndarray:
-    """Open-uniform knot vector on [0, 1] for ``n_control`` control points."""
+def clamped_knots(n_control: int, degree: int = 3) -> FloatArray:
+    """Open-uniform knot vector on [0, 1] for ``n_control`` control points.
+
+    Parameters
+    ----------
+    n_control : int
+        Number of control points (at least ``degree + 1``).
+    degree : int, default 3
+        Spline degree.
+
+    Returns
+    -------
+    numpy.ndarray
+        Knots ``(n_control + degree + 1,)``: ``degree + 1`` zeros, uniform interior knots, ``degree + 1`` ones.
+
+    Raises
+    ------
+    ValueError
+        If there are fewer than ``degree + 1`` control points.
+    """
     if n_control < degree + 1:
         raise ValueError(f"need at least {degree + 1} control points for degree {degree}, got {n_control}")
     inner = np.linspace(0.0, 1.0, n_control - degree + 1)
-    return np.r_[np.zeros(degree), inner, np.ones(degree)]
+    knots: FloatArray = np.r_[np.zeros(degree), inner, np.ones(degree)]
+    return knots
 
 
 @lru_cache(maxsize=64)
-def _basis(n_control: int, n_samples: int, order: int) -> np.ndarray:
+def _basis(n_control: int, n_samples: int, order: int) -> FloatArray:
     knots = clamped_knots(n_control)
     u = np.linspace(0.0, 1.0, n_samples)
     spline = BSpline(knots, np.eye(n_control), 3)
     if order:
         spline = spline.derivative(order)
-    m = np.ascontiguousarray(spline(u))
+    m: FloatArray = np.ascontiguousarray(spline(u))
     m.setflags(write=False)
     return m
 
 
-def basis_matrix(n_control: int, n_samples: int, order: int = 0) -> np.ndarray:
-    """Basis matrix ``(S, K)`` (or of its ``order``-th derivative) at ``S`` uniform parameters in [0, 1]."""
+def basis_matrix(n_control: int, n_samples: int, order: int = 0) -> FloatArray:
+    """Basis matrix ``(S, K)`` (or of its ``order``-th derivative) at ``S`` uniform parameters in [0, 1].
+
+    Parameters
+    ----------
+    n_control : int
+        Number of control points ``K``.
+    n_samples : int
+        Number of uniform parameter values ``S`` (ends included).
+    order : int, default 0
+        Derivative order with respect to the parameter (0 = positions).
+
+    Returns
+    -------
+    numpy.ndarray
+        Read-only ``(S, K)`` matrix (cached): ``basis @ control`` samples the curve.
+    """
     return _basis(int(n_control), int(n_samples), int(order))
 
 
-def sample_population(control: np.ndarray, n_samples: int, order: int = 0) -> np.ndarray:
-    """Sample clamped cubic B-splines of many paths at once: ``(P, K, 3) -> (P, S, 3)``."""
+def sample_population(control: ArrayLike, n_samples: int, order: int = 0) -> FloatArray:
+    """Sample clamped cubic B-splines of many paths at once: ``(P, K, 3) -> (P, S, 3)``.
+
+    Parameters
+    ----------
+    control : array_like
+        Control points ``(..., K, 3)`` (m), any number of leading axes.
+    n_samples : int
+        Number of samples ``S`` per path, at uniform parameter values in [0, 1].
+    order : int, default 0
+        Derivative order with respect to the parameter (0 = positions in m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Samples ``(..., S, 3)``.
+    """
     c = np.asarray(control, dtype=float)
     lead, k = c.shape[:-2], c.shape[-2]
     basis = basis_matrix(k, n_samples, order)
     # one matrix product for the whole population: (S, K) @ (K, P·3)
     flat = np.moveaxis(c.reshape((-1, k, 3)), 1, 0).reshape(k, -1)
     out = (basis @ flat).reshape(n_samples, -1, 3)
-    return np.ascontiguousarray(np.moveaxis(out, 0, 1)).reshape(lead + (n_samples, 3))
+    samples: FloatArray = np.ascontiguousarray(np.moveaxis(out, 0, 1)).reshape(lead + (n_samples, 3))
+    return samples
 
 
-def polyline_length(points) -> np.ndarray:
-    """Length of polylines ``(..., N, 3)``."""
+def polyline_length(points: ArrayLike) -> FloatArray:
+    """Length of polylines.
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(..., N, 3)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Lengths ``(...)`` (m); a 0-d array for one polyline.
+    """
     p = as_points(points)
-    return np.linalg.norm(np.diff(p, axis=-2), axis=-1).sum(axis=-1)
+    length: FloatArray = np.linalg.norm(np.diff(p, axis=-2), axis=-1).sum(axis=-1)
+    return length
 
 
-def resample_polyline(points, spacing: float) -> np.ndarray:
-    """Points every ``spacing`` metres of arc length along a polyline ``(N, 3)`` (ends kept)."""
+def resample_polyline(points: ArrayLike, spacing: float) -> FloatArray:
+    """Points every ``spacing`` metres of arc length along a polyline (ends kept).
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    spacing : float
+        Largest arc-length step between output points (m); the steps are equal.
+
+    Returns
+    -------
+    numpy.ndarray
+        Points ``(M, 3)`` (m), ``M >= 2``, the first and last vertex included.
+    """
     p = as_points(points)
     s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
     n = max(int(np.ceil(s[-1] / spacing)), 1) + 1
@@ -100,9 +187,14 @@ class BSplinePath:
     ``path(u, order)`` returns positions (order 0) or derivatives with respect
     to the parameter ``u ∈ [0, 1]`` with shape ``(N, 3)`` (after toppra's
     interpolator interface).
+
+    Parameters
+    ----------
+    control : array_like
+        Control points ``(K, 3)`` (m), ``K >= 4``; stored as a float array.
     """
 
-    control: np.ndarray
+    control: FloatArray
     _spline: BSpline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -110,30 +202,103 @@ class BSplinePath:
         object.__setattr__(self, "control", c)
         object.__setattr__(self, "_spline", BSpline(clamped_knots(c.shape[0]), c, 3))
 
-    def __call__(self, u, order: int = 0) -> np.ndarray:
-        u = np.clip(np.asarray(u, dtype=float), 0.0, 1.0)
-        s = self._spline if order == 0 else self._spline.derivative(order)
-        return s(u)
+    def __call__(self, u: ArrayLike, order: int = 0) -> FloatArray:
+        """Positions or parameter derivatives at ``u``.
 
-    def sample(self, n: int) -> np.ndarray:
-        """``n`` points at uniform parameter values ``(n, 3)``."""
+        Parameters
+        ----------
+        u : array_like
+            Curve parameter, clipped to [0, 1] (any shape).
+        order : int, default 0
+            Derivative order with respect to ``u`` (0 = positions in m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., 3)`` for ``u`` of shape ``(...)``.
+        """
+        u = np.clip(np.asarray(u, dtype=np.float64), 0.0, 1.0)
+        s = self._spline if order == 0 else self._spline.derivative(order)
+        out: FloatArray = s(u)
+        return out
+
+    def sample(self, n: int) -> FloatArray:
+        """Points at uniform parameter values.
+
+        Parameters
+        ----------
+        n : int
+            Number of points (ends included).
+
+        Returns
+        -------
+        numpy.ndarray
+            Positions ``(n, 3)`` (m).
+        """
         return self(np.linspace(0.0, 1.0, n))
 
     def length(self, n: int = 2000) -> float:
-        """Arc length by dense polyline (converges as n²)."""
+        """Arc length by dense polyline (converges as n²).
+
+        Parameters
+        ----------
+        n : int, default 2000
+            Number of polyline vertices.
+
+        Returns
+        -------
+        float
+            Length (m).
+        """
         return float(polyline_length(self.sample(n)))
 
-    def tangent(self, u) -> np.ndarray:
-        """Unit tangents ``(N, 3)``."""
-        d = self(u, 1)
-        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+    def tangent(self, u: ArrayLike) -> FloatArray:
+        """Unit tangents.
 
-    def curvature(self, u) -> np.ndarray:
-        """Curvature |r' × r''| / |r'|³ (1/m)."""
+        Parameters
+        ----------
+        u : array_like
+            Curve parameter in [0, 1], shape ``(N,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Unit tangent vectors ``(N, 3)``.
+        """
+        d = self(u, 1)
+        unit: FloatArray = d / np.linalg.norm(d, axis=-1, keepdims=True)
+        return unit
+
+    def curvature(self, u: ArrayLike) -> FloatArray:
+        """Curvature ``|r' × r''| / |r'|³``.
+
+        Parameters
+        ----------
+        u : array_like
+            Curve parameter in [0, 1], shape ``(N,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Curvature ``(N,)`` (1/m).
+        """
         d1, d2 = self(u, 1), self(u, 2)
-        return np.linalg.norm(np.cross(d1, d2), axis=-1) / np.linalg.norm(d1, axis=-1) ** 3
+        kappa: FloatArray = np.linalg.norm(np.cross(d1, d2), axis=-1) / np.linalg.norm(d1, axis=-1) ** 3
+        return kappa
 
-    def pitch(self, u) -> np.ndarray:
-        """Path angle above the horizontal (rad, positive climbing)."""
+    def pitch(self, u: ArrayLike) -> FloatArray:
+        """Path angle above the horizontal.
+
+        Parameters
+        ----------
+        u : array_like
+            Curve parameter in [0, 1], shape ``(N,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Path angle ``(N,)`` (rad, positive climbing).
+        """
         d = self(u, 1)
-        return np.arctan2(d[..., 2], np.hypot(d[..., 0], d[..., 1]))
+        angle: FloatArray = np.arctan2(d[..., 2], np.hypot(d[..., 0], d[..., 1]))
+        return angle

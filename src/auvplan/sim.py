@@ -11,28 +11,33 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._types import RngLike, Status, as_rng
+from .guidance.formation import Formation
 from .guidance.hybrid import HybridGuidance, HybridParams
 from .guidance.local import AvoidanceParams, LocalAvoidance, key_waypoints
 from .guidance.los import LosGuidance, LosParams
 from .guidance.mission import build_waypoints
 from .guidance.predictive import PredictiveAvoidance
-from .guidance.route import RouteTracker
+from .guidance.route import PathFollower, RouteTracker
 from .path import resample_polyline
 from .planners import plan as global_plan
-from .planners.base import PlannerSpec, PlanningProblem, PlanResult
+from .planners.base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .vehicles import Vehicle, VehicleParams, VehicleState
 from .world import World
+from .world.obstacles import Shape
 
 __all__ = [
     "SimSettings",
     "Mission",
     "SimResult",
+    "SimMetrics",
     "RunRecord",
     "planning_problem",
     "make_guidance",
@@ -46,9 +51,21 @@ __all__ = [
 
 @dataclass(frozen=True)
 class SimSettings:
-    """Closed-loop settings: step ``dt`` (s), time limit (s; 0 = 3 × nominal + 120 s), arrival
-    radius (m), deadlock window (s without 1 m of progress along the route), and the recording
-    decimation ``record_every`` (steps)."""
+    """Closed-loop settings: time step, time limit, arrival, deadlock and recording.
+
+    Attributes
+    ----------
+    dt : float
+        Time step (s).
+    max_time : float
+        Time limit (s); 0 = 3 × the nominal duration + 120 s.
+    arrival_radius : float
+        Distance from the last waypoint that counts as arrival (m).
+    deadlock_time : float
+        Deadlock window: time without 1 m of progress along the route (s).
+    record_every : int
+        Record every this many steps.
+    """
 
     dt: float = 0.1
     max_time: float = 0.0
@@ -82,6 +99,9 @@ class Mission:
         avoidance and the closed loop.
     guidance : str
         ``"hybrid"``, ``"los"`` or ``"ilos"``.
+    formation : Formation or None
+        Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
+        :mod:`auvplan.sim_formation` flies them.
     """
 
     name: str
@@ -96,6 +116,56 @@ class Mission:
     los: LosParams = field(default_factory=LosParams)
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimSettings = field(default_factory=SimSettings)
+    formation: Formation | None = None
+
+
+class SimMetrics(TypedDict):
+    """Summary figures of a run (:attr:`SimResult.metrics`; DESIGN.md §4 simulate JSON fields).
+
+    Attributes
+    ----------
+    status : str
+        The run's :class:`~auvplan._types.Status` value.
+    arrived : bool
+        Whether the vehicle reached the last waypoint.
+    duration_s : float
+        Time flown (s).
+    distance_m : float
+        Distance flown (m).
+    min_altitude_m : float
+        Least height above the seabed (m).
+    min_clearance_m : float
+        Smaller of ``min_altitude_m`` and ``min_obstacle_distance_m`` (m; margins not subtracted).
+    min_obstacle_distance_m : float
+        Least distance to an obstacle surface, static or moving (m).
+    obstacle_min_distances_m : list of float
+        Least distance to each obstacle, static then moving (m).
+    collisions : int
+        Contacts (``collision`` and ``unavoidable`` events).
+    unavoidable : int
+        Contacts with an obstacle faster than the vehicle that was closing in.
+    cross_track_rms_m, cross_track_max_m : float
+        RMS and largest distance to the route (m).
+    escapes : int
+        Local-minimum escapes.
+    wall_time_s : float
+        Wall-clock time of the run (s).
+    """
+
+    status: str
+    arrived: bool
+    duration_s: float
+    distance_m: float
+    min_altitude_m: float
+    min_clearance_m: float
+    min_obstacle_distance_m: float
+    obstacle_min_distances_m: list[float]
+    collisions: int
+    unavoidable: int
+    cross_track_rms_m: float
+    cross_track_max_m: float
+    escapes: int
+    wall_time_s: float
 
 
 @dataclass(frozen=True, eq=False)
@@ -128,16 +198,16 @@ class SimResult:
 
     status: Status
     arrived: bool
-    t: np.ndarray
-    position: np.ndarray
-    heading: np.ndarray
-    speed: np.ndarray
-    rudder: np.ndarray
-    cross_track: np.ndarray
-    route_error: np.ndarray
-    progress: np.ndarray
-    altitude: np.ndarray
-    obstacle_distance: np.ndarray
+    t: NDArray[np.float64]
+    position: NDArray[np.float64]
+    heading: NDArray[np.float64]
+    speed: NDArray[np.float64]
+    rudder: NDArray[np.float64]
+    cross_track: NDArray[np.float64]
+    route_error: NDArray[np.float64]
+    progress: NDArray[np.float64]
+    altitude: NDArray[np.float64]
+    obstacle_distance: NDArray[np.float64]
     events: tuple[tuple[float, str, str], ...]
     guidance: str
     wall_time_s: float
@@ -147,7 +217,7 @@ class SimResult:
     decision_time_s: float = 0.0
 
     @property
-    def metrics(self) -> dict:
+    def metrics(self) -> SimMetrics:
         """Summary figures of the run (DESIGN.md §4 simulate JSON fields).
 
         ``min_altitude_m`` is the least height above the seabed, ``min_obstacle_distance_m`` the
@@ -178,7 +248,7 @@ class SimResult:
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
-    """The global planning problem of a mission in a world.
+    """Build the global planning problem of a mission in a world.
 
     Parameters
     ----------
@@ -190,14 +260,30 @@ def planning_problem(world: World, mission: Mission) -> PlanningProblem:
     Returns
     -------
     PlanningProblem
+        Start, goal (m), speed (m/s), hotel power (W) and drag factor (W s³/m³) in the world.
     """
     v = mission.vehicle
     return PlanningProblem(world, np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float),
                            v.speed, v.hotel_power, v.drag_k)
 
 
-def make_guidance(name: str, route, mission: Mission):
-    """A path follower by name (``hybrid``, ``los`` or ``ilos``) over ``route (N, 3)``."""
+def make_guidance(name: str, route: ArrayLike, mission: Mission) -> PathFollower:
+    """Make a path follower by name.
+
+    Parameters
+    ----------
+    name : {'hybrid', 'los', 'ilos'}
+        The path follower.
+    route : array_like
+        ``(N, 3)`` waypoints to follow (m).
+    mission : Mission
+        Its ``hybrid`` and ``los`` settings.
+
+    Returns
+    -------
+    PathFollower
+        :class:`~auvplan.guidance.hybrid.HybridGuidance` or :class:`~auvplan.guidance.los.LosGuidance`.
+    """
     if name == "hybrid":
         return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius), mission.hybrid)
     if name in ("los", "ilos"):
@@ -210,7 +296,7 @@ FAR = 60.0
 (beyond the reach of every guidance law: APF radius 30 m, hybrid influence 25 m by default)."""
 
 
-def _distance(item, pos: np.ndarray, far: float = FAR) -> float:
+def _distance(item: tuple[Shape, tuple[float, ...]] | None, pos: NDArray[np.float64], far: float = FAR) -> float:
     """Distance to a placed shape's surface, exact within ``far`` (a cheap lower bound beyond)."""
     if item is None:
         return math.inf
@@ -222,7 +308,8 @@ def _distance(item, pos: np.ndarray, far: float = FAR) -> float:
     return shape.distance(pos - c + np.asarray(shape.center)).item()
 
 
-def _obstacle_shapes(world: World, t: float, centres=None):
+def _obstacle_shapes(world: World, t: float, centres: Sequence[Sequence[float] | NDArray[np.float64]] | None = None
+                     ) -> list[tuple[Any, tuple[float, ...]] | None]:
     """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive);
     ``centres`` are the moving obstacles' centres at ``t`` when the caller has them."""
     items: list[tuple[Any, tuple[float, ...]] | None] = [(o, o.center) for o in world.obstacles]
@@ -232,8 +319,9 @@ def _obstacle_shapes(world: World, t: float, centres=None):
     return items
 
 
-def simulate(world: World, mission: Mission, route=None, guidance: str | None = None, rng: RngLike = None,
-             avoidance: str | None = None, keys=None, progress=None) -> SimResult:
+def simulate(world: World, mission: Mission, route: ArrayLike | None = None, guidance: str | None = None,
+             rng: RngLike = None, avoidance: str | None = None, keys: ArrayLike | None = None,
+             progress: Callable[[float, float], object] | None = None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -257,6 +345,11 @@ def simulate(world: World, mission: Mission, route=None, guidance: str | None = 
     progress : callable, optional
         ``progress(t, expected)`` every simulated minute: the time flown and the time the route
         should take at the vehicle's speed (s), for a progress bar.
+
+    Returns
+    -------
+    SimResult
+        Status, recorded time series and events of the run.
     """
     t_wall = time.perf_counter()
     rng = as_rng(mission.seed if rng is None else rng)
@@ -423,8 +516,8 @@ class RunRecord:
     scenario: str
     seed: int
     plan: PlanResult | None
-    route: np.ndarray
-    keys: np.ndarray
+    route: NDArray[np.float64]
+    keys: NDArray[np.float64]
     sim: SimResult | None
 
     @property
@@ -435,23 +528,71 @@ class RunRecord:
         return self.sim.status if self.sim is not None else Status.INFEASIBLE
 
 
-def route_from_path(path, spacing: float) -> np.ndarray:
-    """Waypoints every ``spacing`` metres along a dense planned path (ends kept; not checked:
-    use :func:`mission_route` for the mission a vehicle flies)."""
+def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
+    """Resample a dense planned path into waypoints every ``spacing`` metres.
+
+    The ends are kept; the result is not checked: use :func:`mission_route` for the mission a
+    vehicle flies.
+
+    Parameters
+    ----------
+    path : array_like
+        ``(M, 3)`` dense path (m).
+    spacing : float
+        Distance between waypoints along the path (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    """
     return resample_polyline(path, spacing)
 
 
-def mission_route(world: World, mission: Mission, path) -> np.ndarray:
-    """The executable mission of a planned ``path``: the waypoints the simulation flies and every
-    export carries (:func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed,
-    3D Douglas–Peucker where the exact envelope test decides what may be dropped)."""
+def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np.float64]:
+    """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
+
+    :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
+    Douglas–Peucker where the exact envelope test decides what may be dropped.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    mission : Mission
+        The mission (unused today; kept for mission-specific settings).
+    path : array_like
+        ``(M, 3)`` dense planned path (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m), safe under held and ramped depth semantics.
+    """
     return build_waypoints(path, world)
 
 
 def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) -> SimResult:
-    """The run with one recorded sample every ``every_m`` metres or ``every_s`` seconds (whichever
-    comes first), plus the first and last samples and those of least altitude and least obstacle
-    distance (exports and reports; the full-resolution result stays in ``run.npz``)."""
+    """Thin a run's recorded samples for exports and reports.
+
+    One sample every ``every_m`` metres or ``every_s`` seconds (whichever comes first), plus the
+    first and last samples and those of least altitude and least obstacle distance (the
+    full-resolution result stays in ``run.npz``).
+
+    Parameters
+    ----------
+    result : SimResult
+        The run.
+    every_m : float, optional
+        Distance between kept samples along the track (m).
+    every_s : float, optional
+        Time between kept samples (s).
+
+    Returns
+    -------
+    SimResult
+        The same run with fewer samples (``result`` itself when it has two or fewer).
+    """
     n = result.t.size
     if n <= 2:
         return result
@@ -467,8 +608,9 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
     return replace(result, **{k: getattr(result, k)[keep] for k in arrays})
 
 
-def run_mission(world: World, mission: Mission, rng: RngLike = None, progress=None,
-                guidance: str | None = None, avoidance: str | None = None, flight=None) -> RunRecord:
+def run_mission(world: World, mission: Mission, rng: RngLike = None,
+                progress: Progress | None = None, guidance: str | None = None,
+                avoidance: str | None = None, flight: Callable[[float, float], object] | None = None) -> RunRecord:
     """Scenario pipeline: global plan → key waypoints → closed-loop simulation (DESIGN.md §1).
 
     A mission with a fixed route skips the planner.  A failed plan is returned with no

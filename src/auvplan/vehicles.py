@@ -18,6 +18,7 @@ K_p = ω_n² T / K and K_d = (2 ζ ω_n T − 1) / K.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 __all__ = ["VehicleParams", "VehicleState", "Vehicle"]
@@ -33,6 +34,49 @@ class VehicleParams:
     (R = U / (K δ_max)); hull drag from Prestero (C_D ≈ 0.2 on the 0.19 m
     diameter frontal area) with 50 % propulsive efficiency; hotel load 15 W.
     Wave disturbance off by default (``wave_sigma_*`` = 0).
+
+    Attributes
+    ----------
+    speed : float
+        Cruise speed through the water (m/s).
+    max_speed : float
+        Largest surge speed the vehicle can be commanded (m/s); at least ``speed``.
+    surge_time_constant : float
+        Time constant T_u of the first-order surge response (s).
+    nomoto_T : float
+        Nomoto time constant T of the yaw response (s).
+    nomoto_K : float
+        Nomoto gain K: steady yaw rate per rudder angle (1/s).
+    rudder_max_deg : float
+        Rudder angle limit δ_max (degrees, below 90).
+    rudder_rate_deg_s : float
+        Rudder rate limit (degrees/s).
+    heading_wn : float
+        Natural frequency ω_n of the closed heading loop (rad/s).
+    heading_zeta : float
+        Damping ratio ζ of the closed heading loop.
+    pitch_max_deg : float
+        Pitch limit θ_max (degrees, below 90).
+    pitch_time_constant : float
+        Time constant T_θ of the first-order pitch response (s).
+    depth_gain : float
+        Proportional depth-to-pitch gain (rad/m).
+    hotel_power : float
+        Hotel load: electronics and sensors (W).
+    drag_coefficient : float
+        Hull drag coefficient C_D on the frontal area.
+    frontal_area : float
+        Frontal area A (m²).
+    propulsive_efficiency : float
+        Propulsive efficiency η, in (0, 1].
+    water_density : float
+        Sea-water density ρ (kg/m³).
+    wave_sigma_r : float
+        Standard deviation of the wave yaw-rate disturbance r_w (rad/s); 0 switches it off.
+    wave_sigma_v : float
+        Standard deviation of the wave sway disturbance v_w (m/s); 0 switches it off.
+    wave_tau : float
+        Correlation time of the Gauss–Markov wave disturbances (s).
     """
 
     speed: float = 1.5
@@ -76,7 +120,7 @@ class VehicleParams:
 
     @property
     def drag_k(self) -> float:
-        """k in P_propulsion = k V³ (W s³/m³): ½ ρ C_D A / η."""
+        """Drag factor k in P_propulsion = k V³ (W s³/m³): ½ ρ C_D A / η."""
         return 0.5 * self.water_density * self.drag_coefficient * self.frontal_area / self.propulsive_efficiency
 
     @property
@@ -93,7 +137,27 @@ class VehicleParams:
 
 @dataclass
 class VehicleState:
-    """Mutable state of the vehicle (SI units, radians)."""
+    """Mutable state of the vehicle (SI units, radians).
+
+    Attributes
+    ----------
+    x, y, z : float
+        Position η in the local frame: east, north, up (m).
+    psi : float
+        Compass heading ψ, clockwise from north (rad).
+    u : float
+        Surge speed through the water (m/s).
+    r : float
+        Yaw rate (rad/s).
+    delta : float
+        Rudder angle δ (rad).
+    theta : float
+        Pitch θ, positive nose up (rad).
+    v_wave : float
+        Wave sway-velocity disturbance v_w (m/s).
+    r_wave : float
+        Wave yaw-rate disturbance r_w (rad/s).
+    """
 
     x: float
     y: float
@@ -108,7 +172,15 @@ class VehicleState:
 
 
 class Vehicle:
-    """Discrete-time vehicle model with a heading autopilot (small stateful class, ``reset()``)."""
+    """Discrete-time vehicle model with a heading autopilot (small stateful class, ``reset()``).
+
+    Parameters
+    ----------
+    params : VehicleParams
+        The vehicle's parameters.
+    dt : float
+        Time step (s), positive.
+    """
 
     def __init__(self, params: VehicleParams, dt: float) -> None:
         if not dt > 0:
@@ -126,12 +198,25 @@ class Vehicle:
         self._thmax = math.radians(params.pitch_max_deg)
 
     def rudder_command(self, s: VehicleState, psi_d: float) -> float:
-        """PD heading autopilot: rudder angle command (rad, before limits)."""
+        """PD heading autopilot: rudder angle command before the rudder limits.
+
+        Parameters
+        ----------
+        s : VehicleState
+            Current state (heading and yaw rate are used).
+        psi_d : float
+            Desired compass heading (rad).
+
+        Returns
+        -------
+        float
+            Rudder angle command (rad).
+        """
         e = (psi_d - s.psi + math.pi) % (2.0 * math.pi) - math.pi
         return self.kp * e - self.kd * s.r
 
-    def step(self, s: VehicleState, psi_d: float, theta_c: float, u_c: float, current, noise) -> tuple[float, float,
-                                                                                                         float]:
+    def step(self, s: VehicleState, psi_d: float, theta_c: float, u_c: float, current: Sequence[float],
+             noise: Sequence[float]) -> tuple[float, float, float]:
         """Advance ``s`` by one step in place; returns the ground velocity (m/s).
 
         Parameters
@@ -140,10 +225,15 @@ class Vehicle:
             State, updated in place.
         psi_d, theta_c, u_c : float
             Heading (compass, rad), pitch (rad) and speed (m/s) commands.
-        current : (float, float, float)
+        current : sequence of 3 float
             Current velocity at the vehicle (m/s).
-        noise : (float, float)
+        noise : sequence of 2 float
             Two standard normal draws for the wave disturbances.
+
+        Returns
+        -------
+        tuple of 3 float
+            Ground velocity (vx, vy, vz) over the step (m/s).
         """
         p = self.p
         d_c = self.rudder_command(s, psi_d)

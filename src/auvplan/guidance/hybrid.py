@@ -3,33 +3,53 @@
 Wang et al. 2020, Ship Science and Technology 42(12); METHODS.md §3.  One commanded direction
 from three fields, for the active leg A → B with unit direction t̂ and right normal n̂:
 
-* route attraction (eqs. 3–4): magnitude k_H·|e| perpendicular to the leg, towards it
+* route attraction (eq. 3): magnitude k_H·|e| perpendicular to the leg, towards it
   (e the cross-track error);
-* heading attraction (eqs. 5–6): magnitude k_X·Δ along the leg;
-  together χ = ψ_leg + atan2(−k_H e, k_X Δ) — LOS in potential-field form;
+* heading attraction (eq. 4): magnitude k_X·Δ along the leg;
+  together (eqs. 5–6) χ = ψ_leg + atan2(−k_H e, k_X Δ) — LOS in potential-field form;
 * obstacle repulsion (eqs. 7–8, the improved field with a goal-distance factor): for an obstacle
-  whose surface is r_re < P_o away, F_rep = m_r (1/r_re − 1/P_o) (1/r_re²) ρ^n pointing from the
-  obstacle to the vehicle, where ρ = min(r_at / P_o, 1) and r_at is the distance to the active
-  waypoint (the factor vanishes as the target is reached, so a waypoint next to an obstacle stays
-  reachable; normalising by P_o keeps the field's scale independent of leg length).
+  whose surface is r_re < P_o away, F_rep = m_r (1/r_re − 1/P_o) (1/r_re²) ρ pointing from the
+  obstacle to the vehicle, with the goal-distance factor ρ of r_at, the distance to the active
+  waypoint (:func:`goal_factor`).
 
-The resultant is the commanded direction.  Two engineering additions, both stated here and
-switchable: (1) a lateral bias ``lateral_bias``·|F_rep| along the leg normal, away from the side of
-the route the obstacle sits on (starboard for an obstacle on the route), which breaks the
-head-on symmetry where repulsion and attraction are collinear and would deadlock; two obstacles
-straddling the route cancel their biases, so the vehicle passes between them; (2) the resultant is
-a course over ground, turned into a heading with the measured current (crab angle
-β = asin(c⊥ / u)), as a DVL/ADCP-equipped vehicle does (``current_compensation``).
+The resultant is the commanded direction.  Two variants (``HybridParams.variant``):
+
+``"document"`` — the field of eqs. 3–8 as written: ρ = (r_at / P_o)^n, uncapped.  Eq. 8 writes
+    m·r_at^n; ``k_repulse`` = m·P_o^n only sets the gain's units, so that ρ = 1 at r_at = P_o.  The
+    factor grows with the distance to the target (ρ = 12 on a 600 m leg's midpoint with P_o = 25 m)
+    and vanishes at the target.  No lateral bias and no current compensation by default: the
+    resultant is flown as a heading.
+``"corrected"`` (default) — three engineering additions, each switchable:
+    (1) ρ = min(r_at / P_o, 1)^n: the factor only fades the repulsion within P_o of the target
+    (so a waypoint next to an obstacle stays reachable) and leaves its scale independent of the
+    leg's length; (2) a lateral bias ``lateral_bias``·|F_rep| along the leg normal, away from the
+    side of the route the obstacle sits on (starboard for an obstacle on the route), which breaks
+    the head-on symmetry where repulsion and attraction are collinear and would deadlock; two
+    obstacles straddling the route cancel their biases, so the vehicle passes between them;
+    (3) the resultant is a course over ground, turned into a heading with the measured current
+    (crab angle β = asin(c⊥ / u), :func:`crab_heading`), as a DVL/ADCP-equipped vehicle does.
+
+``lateral_bias`` and ``current_compensation`` left unset take the variant's choice; set, they
+apply to either variant (LOS and ILOS take the same ``current_compensation``, so the laws can be
+compared with and without it).  With no obstacle within P_o, k_H = k_X and the same compensation,
+the field commands exactly LOS's heading (:func:`auvplan.guidance.los.los_heading`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
-from .route import RouteTracker
+import numpy as np
+from numpy.typing import NDArray
 
-__all__ = ["HybridParams", "hybrid_force", "crab_heading", "HybridGuidance"]
+from .route import RoutePoint, RouteTracker, crab_heading
+
+__all__ = ["VARIANTS", "HybridParams", "goal_factor", "hybrid_force", "crab_heading", "HybridGuidance"]
+
+VARIANTS = ("corrected", "document")
+"""The field's variants: the corrected default and document 001's eqs. 3–8 as written."""
 
 
 @dataclass(frozen=True)
@@ -47,15 +67,20 @@ class HybridParams:
     influence : float
         P_o (m), obstacle influence distance from the obstacle surface.
     k_repulse : float
-        m_r, repulsion gain.
+        m_r, repulsion gain (eq. 8's gain m times P_o^n: the factor is normalised by P_o).
     goal_power : float
         n, exponent of the goal-distance factor.
-    lateral_bias : float
-        Lateral push as a fraction of the repulsion magnitude (0 disables).
-    current_compensation : bool
-        Turn the commanded course into a heading with the measured current.
+    lateral_bias : float, optional
+        Lateral push as a fraction of the repulsion magnitude (0 disables); omitted: 2 for the
+        corrected variant, 0 for the document's.
+    current_compensation : bool, optional
+        Turn the commanded course into a heading with the measured current (crab angle); omitted:
+        true for the corrected variant, false for the document's.
     switch_radius : float
         Leg switching radius (m).
+    variant : str
+        "corrected" (goal-distance factor capped at 1, lateral bias, crab angle) or "document"
+        (document 001's eqs. 7–8 as written: the factor uncapped, no bias, no crab angle).
     """
 
     k_route: float = 1.0
@@ -64,24 +89,89 @@ class HybridParams:
     influence: float = 25.0
     k_repulse: float = 2.0e4
     goal_power: float = 1.0
-    lateral_bias: float = 2.0
-    current_compensation: bool = True
+    lateral_bias: float | None = None
+    current_compensation: bool | None = None
     switch_radius: float = 10.0
+    variant: str = "corrected"
 
     def __post_init__(self) -> None:
+        if self.variant not in VARIANTS:
+            raise ValueError(f"variant = {self.variant!r}: choose 'corrected' or 'document'")
         for k in ("k_route", "k_heading", "lookahead", "influence", "switch_radius"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
-        if self.k_repulse < 0 or self.goal_power < 0 or self.lateral_bias < 0:
+        if self.k_repulse < 0 or self.goal_power < 0 or self.bias < 0:
             raise ValueError("k_repulse, goal_power and lateral_bias must be >= 0")
+
+    @property
+    def bias(self) -> float:
+        """The lateral bias in effect (``lateral_bias``, or the variant's: corrected 2, document 0)."""
+        if self.lateral_bias is not None:
+            return float(self.lateral_bias)
+        return 2.0 if self.variant == "corrected" else 0.0
+
+    @property
+    def compensates(self) -> bool:
+        """Whether the course is turned into a heading with the current (``current_compensation``,
+        or the variant's: corrected yes, document no)."""
+        if self.current_compensation is not None:
+            return bool(self.current_compensation)
+        return self.variant == "corrected"
+
+
+def goal_factor(target_distance: float, params: HybridParams) -> float:
+    """Goal-distance factor ρ of the repulsion (document 001, eqs. 7–8).
+
+    Parameters
+    ----------
+    target_distance : float
+        r_at, distance from the vehicle to the attraction target (the active waypoint), m.
+    params : HybridParams
+        ``influence`` P_o, ``goal_power`` n and ``variant``.
+
+    Returns
+    -------
+    float
+        ``"document"``: (r_at / P_o)^n, eq. 8's r_at^n with the gain m = m_r P_o^(−n) — uncapped;
+        ``"corrected"``: min(r_at / P_o, 1)^n.
+    """
+    ratio = target_distance / params.influence
+    if params.variant == "corrected":
+        ratio = min(ratio, 1.0)
+    return float(ratio ** params.goal_power)
 
 
 def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
-                 obstacles, target_distance: float, leg_origin) -> tuple[float, float]:
-    """Resultant (east, north) of route attraction, heading attraction and obstacle repulsion.
+                 obstacles: Sequence[Sequence[float]], target_distance: float,
+                 leg_origin: Sequence[float] | NDArray[np.float64]) -> tuple[float, float]:
+    """Compute the resultant of route attraction, heading attraction and obstacle repulsion.
 
-    ``obstacles`` is a sequence of ``(cx, cy, surface_distance)``; ``leg_origin`` the (x, y) of
-    the active leg's start (to tell which side of the route an obstacle is on).
+    Parameters
+    ----------
+    course : float
+        Compass course of the active leg (rad).
+    cross : float
+        Cross-track error e, positive to starboard (m).
+    params : HybridParams
+        The field's gains.
+    x, y : float
+        Vehicle position east and north (m).
+    obstacles : sequence of (float, float, float)
+        ``(cx, cy, surface_distance)`` of each obstacle (m).
+    target_distance : float
+        Horizontal distance to the active waypoint r_at (m).
+    leg_origin : sequence of float
+        ``(x, y)`` of the active leg's start (m), to tell which side of the route an obstacle is on.
+
+    Returns
+    -------
+    tuple of float
+        The resultant's east and north components (the field's units; only its direction is used).
+
+    Notes
+    -----
+    Route and heading attraction: eqs. 3–6; repulsion: eqs. 7–8 with :func:`goal_factor`; the
+    lateral bias (``params.bias``) is not the document's.
     """
     s, c = math.sin(course), math.cos(course)
     tx, ty = s, c            # along the leg
@@ -91,7 +181,8 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
     fx = fa * tx + fh * nx
     fy = fa * ty + fh * ny
     po = params.influence
-    rho = min(target_distance / po, 1.0) ** params.goal_power
+    rho = goal_factor(target_distance, params)
+    bias = params.bias
     for cx, cy, d in obstacles:
         if d >= po:
             continue
@@ -101,22 +192,24 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
         rn = math.hypot(rx, ry) or 1.0
         fx += mag * rx / rn
         fy += mag * ry / rn
-        if params.lateral_bias:
+        if bias:
             side = (cx - leg_origin[0]) * nx + (cy - leg_origin[1]) * ny
             push = -1.0 if side > 0.5 else 1.0  # away from the obstacle's side; starboard if on the route
-            fx += push * params.lateral_bias * mag * nx
-            fy += push * params.lateral_bias * mag * ny
+            fx += push * bias * mag * nx
+            fy += push * bias * mag * ny
     return fx, fy
 
 
-def crab_heading(course: float, current, speed: float) -> float:
-    """Heading that makes good ``course`` through a horizontal ``current`` at through-water ``speed``."""
-    c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
-    return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
-
-
 class HybridGuidance:
-    """Document 001's guidance along a route (``reset()`` to restart)."""
+    """Document 001's guidance along a route (``reset()`` to restart).
+
+    Parameters
+    ----------
+    route : RouteTracker
+        The route to follow.
+    params : HybridParams
+        The field's gains.
+    """
 
     name = "hybrid"
 
@@ -128,13 +221,39 @@ class HybridGuidance:
         """Restart the route."""
         self.route.reset()
 
-    def command(self, x: float, y: float, z: float, current, speed: float, obstacles, dt: float):
-        """(commanded heading, True, route point) — the course is converted with the current."""
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the heading command for one step.
+
+        The field's course is converted into a heading with the current when ``params.compensates``.
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current at the vehicle, east, north, up (m/s).
+        speed : float
+            Speed through the water (m/s).
+        obstacles : sequence of (float, float, float)
+            ``(cx, cy, surface_distance)`` of the nearby obstacles (m).
+        dt : float
+            Time step (s); unused (the field has no state).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            Always True.
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
         rp = self.route.update(x, y)
         k = rp.leg
         b = self.route.w[k + 1]
         target = math.hypot(b[0] - x, b[1] - y)
         fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k])
         course = math.atan2(fx, fy)
-        psi = crab_heading(course, current, speed) if self.params.current_compensation else course
+        psi = crab_heading(course, current, speed) if self.params.compensates else course
         return psi, True, rp

@@ -28,13 +28,17 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status, as_rng
 from ..geometry import as_points
 from ..world import World
+from .route import PathFollower, RoutePoint
 
 __all__ = [
     "AVOIDANCE",
@@ -46,6 +50,9 @@ __all__ = [
     "PointModelResult",
     "run_point_model",
 ]
+
+_F64 = NDArray[np.float64]
+"""Array of float64 (units as documented per parameter)."""
 
 
 AVOIDANCE = ("predictive", "apf", "none")
@@ -142,13 +149,26 @@ class AvoidanceParams:
 
 
 # ---------------------------------------------------------------------- key waypoints
-def key_waypoints(points, world: World, method: str = "exact", step: float | None = None) -> np.ndarray:
-    """Document 004 step 2: the waypoints of ``points (N, 3)`` that hold the path up.
+def key_waypoints(points: ArrayLike, world: World, method: str = "exact", step: float | None = None) -> _F64:
+    """Select the waypoints of a path that hold it up (document 004 step 2).
 
-    Returns the stored points ``(K, 3)`` (first and last included) such that every straight
-    segment between consecutive stored points is free (``method="exact"``: the World's exact
-    segment test, static obstacles included; ``"stepping"``: the document's probe every ``step``
-    metres against the seabed only).
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` global path (m).
+    world : World
+        Seabed and static obstacles.
+    method : {'exact', 'stepping'}, optional
+        ``"exact"``: the World's exact segment test, static obstacles included; ``"stepping"``: the
+        document's probe every ``step`` metres against the seabed only.
+    step : float, optional
+        Probe spacing of ``"stepping"`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K, 3)`` stored points (first and last included) such that every straight segment between
+        consecutive stored points is free.
     """
     p = as_points(points).reshape(-1, 3)
     if p.shape[0] < 2:
@@ -156,7 +176,7 @@ def key_waypoints(points, world: World, method: str = "exact", step: float | Non
     n = p.shape[0]
     margin = world.margins.min_altitude
 
-    def free_from(i: int) -> np.ndarray:
+    def free_from(i: int) -> NDArray[np.bool_]:
         seg = np.stack([np.broadcast_to(p[i], (n - i - 1, 3)), p[i + 1:]], axis=1)
         if method == "stepping":
             if world.terrain is None:
@@ -185,10 +205,27 @@ def key_waypoints(points, world: World, method: str = "exact", step: float | Non
 
 
 # ---------------------------------------------------------------------- APF kernel
-def apf_force(p, goal, centers, distances, params: AvoidanceParams) -> np.ndarray:
-    """Resultant APF force at ``p (3,)`` toward ``goal`` with obstacles at ``centers (M, 3)``.
+def apf_force(p: ArrayLike, goal: ArrayLike, centers: ArrayLike, distances: ArrayLike,
+              params: AvoidanceParams) -> _F64:
+    """Return the resultant APF force at ``p`` toward ``goal`` among obstacles.
 
-    ``distances (M,)`` are from ``p`` to each obstacle surface; only those ≤ r repel.
+    Parameters
+    ----------
+    p : array_like
+        ``(3,)`` position (m).
+    goal : array_like
+        ``(3,)`` goal (m).
+    centers : array_like
+        ``(M, 3)`` obstacle centres (m).
+    distances : array_like
+        ``(M,)`` distances from ``p`` to each obstacle surface (m); only those ≤ r repel.
+    params : AvoidanceParams
+        Gains and exponents.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` force (the field's units; its direction is commanded).
     """
     p = np.asarray(p, dtype=float)
     to_goal = np.asarray(goal, dtype=float) - p
@@ -210,6 +247,15 @@ class MinimumDetector:
     """Counts own past points within r₁ of the current one (document 004's local-minimum test).
 
     Past points live in a preallocated ring buffer of ``4 ε₂`` entries (at least 50).
+
+    Parameters
+    ----------
+    radius : float
+        r₁ (m).
+    count : int
+        ε₂: that many past points within r₁ means trapped.
+    every : float
+        Time between remembered points (s).
     """
 
     def __init__(self, radius: float, count: int, every: float) -> None:
@@ -223,8 +269,21 @@ class MinimumDetector:
         self.head = 0
         self._last = -math.inf
 
-    def update(self, p, t: float) -> bool:
-        """Remember ``p`` (every ``every`` s) and say whether the vehicle is trapped."""
+    def update(self, p: _F64, t: float) -> bool:
+        """Remember ``p`` (every ``every`` s) and say whether the vehicle is trapped.
+
+        Parameters
+        ----------
+        p : numpy.ndarray
+            Current position (m); its first three entries are used.
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        bool
+            True when at least ε₂ remembered points lie within r₁ of ``p``.
+        """
         if t - self._last >= self.every:
             self.buf[self.head] = p[:3]
             self.head = (self.head + 1) % self.buf.shape[0]
@@ -238,8 +297,8 @@ class MinimumDetector:
         return self.n >= self.count and self._trapped
 
 
-def _random_free_point(world: World, p, radius: float, t: float, rng: np.random.Generator,
-                       tries: int = 64) -> np.ndarray | None:
+def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng: np.random.Generator,
+                       tries: int = 64) -> _F64 | None:
     """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first)."""
     ang = rng.uniform(0, 2 * np.pi, tries)
     rad = radius * np.sqrt(rng.uniform(0.25, 1.0, tries))
@@ -248,7 +307,8 @@ def _random_free_point(world: World, p, radius: float, t: float, rng: np.random.
     ok = world.is_free(cand, t)
     if not ok.any():
         return None
-    return cand[int(np.flatnonzero(ok)[0])]
+    point: _F64 = cand[int(np.flatnonzero(ok)[0])]
+    return point
 
 
 # ---------------------------------------------------------------------- vehicle guidance
@@ -257,10 +317,25 @@ class LocalAvoidance:
 
     ``command`` returns (heading, pitch or None, route point); pitch is None while the base
     follower drives (it then controls depth itself).
+
+    Parameters
+    ----------
+    base : PathFollower
+        The path follower (LOS, ILOS, hybrid) driving outside the obstacles' fields.
+    keys : array_like
+        ``(K, 3)`` key waypoints (:func:`key_waypoints`, m).
+    world : World
+        Seabed, obstacles and margins.
+    params : AvoidanceParams
+        The APF's parameters.
+    vehicle_speed : float
+        Cruise speed through the water (m/s).
+    rng : RngLike, optional
+        Seed or generator of the escapes' random sub-goals.
     """
 
-    def __init__(self, base, keys: np.ndarray, world: World, params: AvoidanceParams, vehicle_speed: float,
-                 rng: RngLike = None) -> None:
+    def __init__(self, base: PathFollower, keys: ArrayLike, world: World, params: AvoidanceParams,
+                 vehicle_speed: float, rng: RngLike = None) -> None:
         self.base = base
         self.keys = np.asarray(keys, dtype=float)
         self.world = world
@@ -286,7 +361,7 @@ class LocalAvoidance:
         self.speed_command = self.speed
         self._stall = (math.nan, math.nan, 0)
 
-    def _escape(self, p: np.ndarray, t: float, scale: float = 1.0) -> bool:
+    def _escape(self, p: _F64, t: float, scale: float = 1.0) -> bool:
         """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``."""
         sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng)
         if sub is None:
@@ -299,7 +374,7 @@ class LocalAvoidance:
             self._advance_goal(p, t)
         return True
 
-    def stalled(self, pos, t: float, since: float) -> bool:
+    def stalled(self, pos: ArrayLike, t: float, since: float) -> bool:
         """The route progress has not advanced since ``since`` (s): escape before any deadlock.
 
         Runs document 004's escape (a random free sub-goal) whenever no sub-goal is being
@@ -307,6 +382,20 @@ class LocalAvoidance:
         radius is left in a few tries); returns True while the escapes still have time
         (``escape_time`` s from the first escape of this stall), False once a deadlock should be
         declared.
+
+        Parameters
+        ----------
+        pos : array_like
+            ``(3,)`` vehicle position (m).
+        t : float
+            Time (s).
+        since : float
+            Time the route progress last advanced (s).
+
+        Returns
+        -------
+        bool
+            True while escapes still have time, False when a deadlock should be declared.
         """
         if self._stall[0] != since:
             self._stall = (since, t, self.escapes)
@@ -316,7 +405,7 @@ class LocalAvoidance:
             self._escape(np.asarray(pos, dtype=float), t, 1.0 + self.escapes - self._stall[2])
         return True
 
-    def _advance_goal(self, p, t: float) -> None:
+    def _advance_goal(self, p: _F64, t: float) -> None:
         """First unvisited key waypoint: ahead of the vehicle, and not occupied by an obstacle."""
         k = self.goal_index
         while k < len(self.keys) - 1:
@@ -330,8 +419,34 @@ class LocalAvoidance:
             k += 1
         self.goal_index = k
 
-    def command(self, pos, t: float, current, obstacles, dt: float):
-        """Commanded heading (compass), pitch (or None) and the base route point."""
+    def command(self, pos: _F64, t: float, current: _F64, obstacles: Sequence[tuple[Any, ...]],
+                dt: float) -> tuple[float, float | None, RoutePoint]:
+        """Compute the commanded heading, pitch (or None) and the base follower's route point.
+
+        Parameters
+        ----------
+        pos : numpy.ndarray
+            ``(3,)`` vehicle position (m).
+        t : float
+            Time (s).
+        current : numpy.ndarray
+            ``(3,)`` current at the vehicle (m/s).
+        obstacles : sequence of tuple
+            Obstacles near the vehicle: ``(cx, cy, surface distance, moving, centre)`` for a static one,
+            ``(cx, cy, surface distance, True, centre, index, velocity, radius)`` for a moving one
+            (m, m/s).
+        dt : float
+            Time step (s).
+
+        Returns
+        -------
+        heading : float
+            Commanded compass heading (rad).
+        pitch : float or None
+            Commanded pitch (rad, up positive); None while the base follower drives (it controls depth).
+        point : RoutePoint
+            The base follower's route point.
+        """
         x, y, z = float(pos[0]), float(pos[1]), float(pos[2])
         near = [o for o in obstacles if o[3] and o[2] <= self.params.radius]
         psi, _, rp = self.base.command(x, y, z, current, self.speed, [o[:3] for o in obstacles if not o[3]], dt)
@@ -351,7 +466,8 @@ class LocalAvoidance:
         finally:
             self.decision_time += time.perf_counter() - t0
 
-    def _apf_command(self, pos, t: float, near, psi: float, rp):
+    def _apf_command(self, pos: _F64, t: float, near: Sequence[tuple[Any, ...]], psi: float,
+                     rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
         p = np.asarray(pos, dtype=float)
         goal = self.subgoal if self.subgoal is not None else self.keys[self.goal_index]
         if np.linalg.norm(goal - p) <= self.params.arrive:
@@ -384,19 +500,53 @@ class LocalAvoidance:
 # ---------------------------------------------------------------------- point model
 @dataclass(frozen=True, eq=False)
 class PointModelResult:
-    """Track of document 004's point model: status, points, escapes and local minima found."""
+    """Track of document 004's point model: status, points, escapes and local minima found.
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` at the goal, ``DEADLOCK`` trapped without escapes, ``TIMEOUT`` out of steps.
+    points : numpy.ndarray
+        ``(N, 3)`` the points visited (m).
+    escapes : int
+        Escapes toward random sub-goals.
+    minima : int
+        Local minima detected.
+    """
 
     status: Status
-    points: np.ndarray
+    points: _F64
     escapes: int
     minima: int
 
 
-def run_point_model(world: World, start, goal, params: AvoidanceParams, step: float = 1.0,
+def run_point_model(world: World, start: ArrayLike, goal: ArrayLike, params: AvoidanceParams, step: float = 1.0,
                     max_steps: int = 5000, rng: RngLike = None, escape: bool = True) -> PointModelResult:
-    """Document 004's point model among the World's static obstacles: p₁ = p + l F/|F|.
+    """Run document 004's point model among the World's static obstacles: p₁ = p + l F/|F|.
 
     With ``escape=False`` it is plain APF, which stalls in a local minimum (status ``DEADLOCK``).
+
+    Parameters
+    ----------
+    world : World
+        Static obstacles (and seabed, for the step's collision test).
+    start, goal : array_like
+        ``(3,)`` start and goal (m).
+    params : AvoidanceParams
+        The APF's parameters.
+    step : float, optional
+        Step length l (m).
+    max_steps : int, optional
+        Steps before ``TIMEOUT``.
+    rng : RngLike, optional
+        Seed or generator of the escapes.
+    escape : bool, optional
+        Escape local minima toward random sub-goals (document 004); False: plain APF.
+
+    Returns
+    -------
+    PointModelResult
+        Status, visited points, escapes and minima.
     """
     rng = as_rng(rng)
     p = np.asarray(start, dtype=float)

@@ -30,16 +30,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..geometry import as_points, point_segment_distance
 from ..world import World
-from ..world.obstacles import Ellipsoid, Sphere
+from ..world.obstacles import Ellipsoid, Shape, Sphere
 
 __all__ = [
     "SEMANTICS",
     "MissionCheck",
+    "MissionCheckDict",
     "leg_floors",
     "envelope_hits",
     "envelopes_free",
@@ -49,14 +52,30 @@ __all__ = [
     "held_track",
 ]
 
+_F64 = NDArray[np.float64]
+"""Array of float64 (units as documented per parameter)."""
+
 SEMANTICS = ("held", "ramp")
 """Depth semantics of a waypoint executor: depth held per leg (MOOS-IvP) or ramped along it."""
 
 
 # ---------------------------------------------------------------------- envelope tests
-def leg_floors(world: World, a, b) -> np.ndarray:
-    """Lowest safe z over each horizontal leg ``a -> b`` ``(K, 3)``: the highest seabed under the
-    leg (exact, bilinear) plus ``min_altitude``; ``-inf`` without terrain."""
+def leg_floors(world: World, a: ArrayLike, b: ArrayLike) -> _F64:
+    """Return the lowest safe z over each horizontal leg ``a -> b``.
+
+    Parameters
+    ----------
+    world : World
+        Seabed and margins.
+    a, b : array_like
+        ``(K, 3)`` leg starts and ends (m); only their horizontal positions matter.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` the highest seabed under each leg (exact, bilinear) plus ``min_altitude`` (m, up
+        positive); ``-inf`` without terrain.
+    """
     a, b = as_points(a).reshape(-1, 3), as_points(b).reshape(-1, 3)
     if world.terrain is None:
         return np.full(a.shape[0], -np.inf)
@@ -66,16 +85,17 @@ def leg_floors(world: World, a, b) -> np.ndarray:
     return -world.terrain.min_altitude_between(flat_a, flat_b) + world.margins.min_altitude
 
 
-def _unit_frame(shape, p: np.ndarray, margin: float) -> np.ndarray:
+def _unit_frame(shape: Shape, p: _F64, margin: float) -> _F64:
     """Points in the frame where the shape inflated by ``margin`` is the unit ball (affine map)."""
     if isinstance(shape, Sphere):
-        return (p - np.asarray(shape.center)) / (shape.radius + margin)
+        unit: _F64 = (p - np.asarray(shape.center)) / (shape.radius + margin)
+        return unit
     if isinstance(shape, Ellipsoid):  # the same conservative inflation as Ellipsoid.segments_hit
         return shape.to_body(p) / (np.asarray(shape.semi_axes) * (1.0 + margin / min(shape.semi_axes)))
     raise TypeError(f"unknown obstacle shape {type(shape).__name__}")
 
 
-def _parallelogram_distance(o: np.ndarray, e1: np.ndarray, e2: np.ndarray) -> np.ndarray:
+def _parallelogram_distance(o: _F64, e1: _F64, e2: _F64) -> _F64:
     """Distance from the origin to the parallelograms ``o + s e1 + t e2``, ``s, t in [0, 1]``
     (``(K, 3)`` each; degenerate ones are segments)."""
     a11 = (e1 * e1).sum(-1)
@@ -92,10 +112,11 @@ def _parallelogram_distance(o: np.ndarray, e1: np.ndarray, e2: np.ndarray) -> np
     zero = np.zeros(3)
     edges = [(o, o + e1), (o, o + e2), (o + e1, o + e1 + e2), (o + e2, o + e1 + e2)]
     d = np.minimum.reduce([point_segment_distance(zero, p, q) for p, q in edges])
-    return np.where(inside, np.minimum(plane, d), d)
+    dist: _F64 = np.where(inside, np.minimum(plane, d), d)
+    return dist
 
 
-def _corners(a: np.ndarray, b: np.ndarray):
+def _corners(a: _F64, b: _F64) -> tuple[_F64, _F64, _F64]:
     """The envelope rectangle of legs ``a -> b``: origin (a's xy at the lower depth) and edges."""
     lo = np.minimum(a[:, 2], b[:, 2])
     hi = np.maximum(a[:, 2], b[:, 2])
@@ -106,9 +127,23 @@ def _corners(a: np.ndarray, b: np.ndarray):
     return o, e1, e2
 
 
-def envelope_hits(shape, a, b, margin: float = 0.0) -> np.ndarray:
-    """Exact: True where the envelope rectangle of a leg ``a -> b`` comes within ``margin`` of
-    ``shape`` (a sphere; an ellipsoid uses its conservative inflated test, exact at margin 0)."""
+def envelope_hits(shape: Shape, a: ArrayLike, b: ArrayLike, margin: float = 0.0) -> NDArray[np.bool_]:
+    """Test exactly where the envelope rectangle of a leg ``a -> b`` comes within ``margin`` of a shape.
+
+    Parameters
+    ----------
+    shape : Sphere or Ellipsoid
+        The obstacle (an ellipsoid uses its conservative inflated test, exact at margin 0).
+    a, b : array_like
+        ``(K, 3)`` leg starts and ends (m).
+    margin : float, optional
+        Clearance required from the shape's surface (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` bool, True where the leg's envelope is within ``margin``.
+    """
     a, b = as_points(a).reshape(-1, 3), as_points(b).reshape(-1, 3)
     o, e1, e2 = _corners(a, b)
     uo = _unit_frame(shape, o, margin)
@@ -117,14 +152,28 @@ def envelope_hits(shape, a, b, margin: float = 0.0) -> np.ndarray:
     return _parallelogram_distance(uo, ue1, ue2) < 1.0
 
 
-def envelopes_free(world: World, a, b) -> np.ndarray:
-    """True where the envelope of each leg ``a -> b`` ``(K, 3)`` satisfies every static constraint:
-    seabed (exact, flat leg at the deeper end), depth limits and bounds (at the ends: the envelope's
-    corners), static obstacles (exact rectangle test with the obstacle margin)."""
+def envelopes_free(world: World, a: ArrayLike, b: ArrayLike) -> NDArray[np.bool_]:
+    """Test where the envelope of each leg ``a -> b`` satisfies every static constraint.
+
+    Seabed (exact, flat leg at the deeper end), depth limits and bounds (at the ends: the envelope's
+    corners), static obstacles (exact rectangle test with the obstacle margin).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles, bounds and margins.
+    a, b : array_like
+        ``(K, 3)`` leg starts and ends (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` bool, True where the leg's envelope is free.
+    """
     a, b = as_points(a).reshape(-1, 3), as_points(b).reshape(-1, 3)
     m = world.margins
     ends = np.stack([a, b], axis=1)
-    ok = np.all((-ends[..., 2] >= m.min_depth) & (-ends[..., 2] <= m.max_depth), axis=-1)
+    ok: NDArray[np.bool_] = np.all((-ends[..., 2] >= m.min_depth) & (-ends[..., 2] <= m.max_depth), axis=-1)
     ok &= world.bounds.contains(ends).all(axis=-1)
     if world.terrain is not None:
         ok &= np.minimum(a[:, 2], b[:, 2]) >= leg_floors(world, a, b)
@@ -134,8 +183,19 @@ def envelopes_free(world: World, a, b) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- building a mission
-def default_tolerance(path) -> float:
-    """Douglas–Peucker tolerance (m) for a path: 0.2 % of its length, within [0.5, 50] m."""
+def default_tolerance(path: ArrayLike) -> float:
+    """Return the Douglas–Peucker tolerance for a path: 0.2 % of its length, within [0.5, 50] m.
+
+    Parameters
+    ----------
+    path : array_like
+        ``(M, 3)`` path (m).
+
+    Returns
+    -------
+    float
+        Tolerance (m).
+    """
     p = as_points(path).reshape(-1, 3)
     length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
     return float(np.clip(0.002 * length, 0.5, 50.0))
@@ -183,10 +243,10 @@ def _refine(world: World, p: np.ndarray, rounds: int = 10) -> np.ndarray:
         bad = ~envelopes_free(world, p[:-1], p[1:])
         if bad.any():  # halving cannot help a leg that is itself blocked
             bad &= world.segments_free(np.stack([p[:-1], p[1:]], axis=1), moving=False)
-        bad = np.flatnonzero(bad)
-        if bad.size == 0:
+        split = np.flatnonzero(bad)
+        if split.size == 0:
             break
-        p = np.insert(p, bad + 1, 0.5 * (p[bad] + p[bad + 1]), axis=0)
+        p = np.insert(p, split + 1, 0.5 * (p[split] + p[split + 1]), axis=0)
     return p
 
 
@@ -218,9 +278,9 @@ def _douglas_peucker(world: World, p: np.ndarray, tolerance: float) -> np.ndarra
     return np.flatnonzero(keep)
 
 
-def build_waypoints(path, world: World, tolerance: float | None = None, spacing: float | None = None,
-                    slack: float = 0.05) -> np.ndarray:
-    """The executable mission ``(N, 3)`` for a planned ``path (M, 3)``.
+def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = None, spacing: float | None = None,
+                    slack: float = 0.05) -> _F64:
+    """Build the executable mission ``(N, 3)`` for a planned ``path (M, 3)``.
 
     Parameters
     ----------
@@ -255,10 +315,42 @@ def build_waypoints(path, world: World, tolerance: float | None = None, spacing:
         step = min(world.terrain.dx, world.terrain.dy) if spacing is None else float(spacing)
         p = _raise_to_floors(world, _densify(p, step))
     p = _refine(world, p)
-    return p[_douglas_peucker(world, p, tol)].copy()
+    kept: _F64 = p[_douglas_peucker(world, p, tol)].copy()
+    return kept
 
 
 # ---------------------------------------------------------------------- re-flying a mission
+class MissionCheckDict(TypedDict):
+    """JSON form of a :class:`MissionCheck` (:meth:`MissionCheck.as_dict`); lengths in m, angles in degrees.
+
+    Attributes
+    ----------
+    semantics : str
+        ``"held"`` or ``"ramp"``.
+    ok : bool
+        Whether the mission keeps the altitude and obstacle margins.
+    min_altitude_m, required_altitude_m, min_obstacle_distance_m, obstacle_margin_m : float
+        As in :class:`MissionCheck`.
+    min_altitude_leg, obstacle_hits, legs, executor_obstacle_hits : int
+        As in :class:`MissionCheck`; ``legs`` the number of legs.
+    pitch_deg, executor_min_altitude_m : float
+        The executor model's pitch and least altitude.
+    """
+
+    semantics: str
+    ok: bool
+    min_altitude_m: float
+    min_altitude_leg: int
+    required_altitude_m: float
+    min_obstacle_distance_m: float
+    obstacle_hits: int
+    obstacle_margin_m: float
+    legs: int
+    pitch_deg: float
+    executor_min_altitude_m: float
+    executor_obstacle_hits: int
+
+
 @dataclass(frozen=True, eq=False)
 class MissionCheck:
     """A waypoint mission re-flown under an executor's depth semantics (static world only).
@@ -294,7 +386,7 @@ class MissionCheck:
     min_altitude_leg: int
     min_obstacle_distance_m: float
     obstacle_hits: int
-    leg_altitude_m: np.ndarray
+    leg_altitude_m: _F64
     required_altitude_m: float
     obstacle_margin_m: float
     pitch_deg: float = float("nan")
@@ -308,8 +400,14 @@ class MissionCheck:
         alt = min(self.min_altitude_m, self.executor_min_altitude_m)
         return alt >= self.required_altitude_m - 1e-6 and self.obstacle_hits == 0 and self.executor_obstacle_hits == 0
 
-    def as_dict(self) -> dict:
-        """Plain-JSON summary."""
+    def as_dict(self) -> MissionCheckDict:
+        """Summarise the check as plain JSON.
+
+        Returns
+        -------
+        MissionCheckDict
+            The scalar attributes, ``ok`` and the number of legs.
+        """
         return {"semantics": self.semantics, "ok": self.ok, "min_altitude_m": self.min_altitude_m,
                 "min_altitude_leg": self.min_altitude_leg, "required_altitude_m": self.required_altitude_m,
                 "min_obstacle_distance_m": self.min_obstacle_distance_m, "obstacle_hits": self.obstacle_hits,
@@ -318,13 +416,13 @@ class MissionCheck:
                 "executor_obstacle_hits": self.executor_obstacle_hits}
 
 
-def _sphere_rect_distance(shape: Sphere, o, e1, e2) -> np.ndarray:
+def _sphere_rect_distance(shape: Sphere, o: _F64, e1: _F64, e2: _F64) -> _F64:
     """Exact distance from a sphere's surface to the envelope rectangles."""
     d = _parallelogram_distance(o - np.asarray(shape.center), e1, e2)
     return d - shape.radius
 
 
-def _sampled_rect_distance(shape, o, e1, e2, step: float) -> np.ndarray:
+def _sampled_rect_distance(shape: Shape, o: _F64, e1: _F64, e2: _F64, step: float) -> _F64:
     """Least distance to the shape's surface over a grid of points ``step`` apart on each rectangle."""
     out = np.empty(len(o))
     for k in range(len(o)):
@@ -336,10 +434,24 @@ def _sampled_rect_distance(shape, o, e1, e2, step: float) -> np.ndarray:
     return out
 
 
-def held_track(waypoints, pitch_deg: float) -> np.ndarray:
-    """Track ``(M, 3)`` of a vehicle flying ``waypoints`` with depth held per leg (MOOS-IvP): on leg
-    i it changes depth towards that of point i + 1 at ``pitch_deg`` (a straight climb or dive) and
-    then holds it; a change not finished at the end of a leg carries on into the next."""
+def held_track(waypoints: ArrayLike, pitch_deg: float) -> _F64:
+    """Return the track of a vehicle flying ``waypoints`` with depth held per leg (MOOS-IvP).
+
+    On leg i it changes depth towards that of point i + 1 at ``pitch_deg`` (a straight climb or
+    dive) and then holds it; a change not finished at the end of a leg carries on into the next.
+
+    Parameters
+    ----------
+    waypoints : array_like
+        ``(N, 3)`` waypoints (m).
+    pitch_deg : float
+        Pitch angle of the depth changes (degrees).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 3)`` polyline track (m), with a corner where each depth change ends.
+    """
     w = as_points(waypoints).reshape(-1, 3)
     slope = math.tan(math.radians(min(float(pitch_deg), 89.99)))
     out = [w[0]]
@@ -357,7 +469,7 @@ def held_track(waypoints, pitch_deg: float) -> np.ndarray:
     return np.vstack(out)
 
 
-def fly_check(world: World, waypoints, semantics: str = "held", pitch_deg: float = 15.0) -> MissionCheck:
+def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch_deg: float = 15.0) -> MissionCheck:
     """Re-fly ``waypoints (N, 3)`` under ``semantics`` against the seabed and static obstacles.
 
     ``"held"``: on each leg the vehicle lies anywhere between the depths of its two ends (the
@@ -367,6 +479,22 @@ def fly_check(world: World, waypoints, semantics: str = "held", pitch_deg: float
     Altitudes are exact (:meth:`Terrain.segment_min_altitude`); obstacle contact is the exact
     rectangle / segment test; obstacle distances are exact for spheres and sampled every 0.25 m
     near ellipsoids.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    semantics : {'held', 'ramp'}, optional
+        The executor's depth semantics.
+    pitch_deg : float, optional
+        Pitch of the executor model's depth changes (degrees; ``"held"`` only).
+
+    Returns
+    -------
+    MissionCheck
+        Least altitudes, obstacle distance and hits.
     """
     if semantics not in SEMANTICS:
         raise ValueError(f"semantics = {semantics!r}: choose one of {SEMANTICS}")

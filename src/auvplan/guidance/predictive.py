@@ -27,15 +27,23 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
+from .._types import RngLike
 from ..vehicles import VehicleParams
 from ..world import World
 from .local import AvoidanceParams, LocalAvoidance
+from .route import PathFollower, RoutePoint
 from .vo import CFG, predicted_preference, vo_choose
 
 __all__ = ["TrackEstimator", "PredictiveAvoidance"]
+
+_F64 = NDArray[np.float64]
+"""Array of float64 (units as documented per parameter)."""
 
 WEIGHTS = np.array([0.5, 0.3, 0.15, 0.3, 0.6])
 """Costs of a safe candidate beyond its angle to the preferred direction (rad per unit):
@@ -52,14 +60,29 @@ class TrackEstimator:
 
     ``update(i, t, centre)`` records a sighting of obstacle ``i``; ``velocity(i)`` fits a
     straight line to the sightings of the last ``window`` seconds (zero with fewer than two).
+
+    Parameters
+    ----------
+    window : float
+        Length of the sighting history used (s).
     """
 
     def __init__(self, window: float) -> None:
         self.window = window
-        self.tracks: dict[int, list[tuple[float, np.ndarray]]] = {}
+        self.tracks: dict[int, list[tuple[float, _F64]]] = {}
 
-    def update(self, i: int, t: float, centre) -> None:
-        """Record obstacle ``i`` at ``centre`` at time ``t`` and forget sightings older than the window."""
+    def update(self, i: int, t: float, centre: ArrayLike) -> None:
+        """Record obstacle ``i`` at ``centre`` at time ``t`` and forget sightings older than the window.
+
+        Parameters
+        ----------
+        i : int
+            Obstacle identifier.
+        t : float
+            Time of the sighting (s).
+        centre : array_like
+            ``(3,)`` sensed centre (m).
+        """
         track = self.tracks.setdefault(i, [])
         if track and t - track[-1][0] > self.window:  # lost and found again: start a new track
             track.clear()
@@ -67,15 +90,27 @@ class TrackEstimator:
         while t - track[0][0] > self.window:
             track.pop(0)
 
-    def velocity(self, i: int) -> np.ndarray:
-        """Least-squares velocity (m/s) of obstacle ``i`` over its recent sightings."""
+    def velocity(self, i: int) -> _F64:
+        """Estimate the velocity of obstacle ``i`` by least squares over its recent sightings.
+
+        Parameters
+        ----------
+        i : int
+            Obstacle identifier.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` velocity (m/s); zero with fewer than two sightings.
+        """
         track = self.tracks.get(i, ())
         if len(track) < 2:
             return np.zeros(3)
         ts = np.array([s[0] for s in track])
         cs = np.array([s[1] for s in track])
         tm = ts - ts.mean()
-        return tm @ (cs - cs.mean(axis=0)) / (tm @ tm)
+        v: _F64 = tm @ (cs - cs.mean(axis=0)) / (tm @ tm)
+        return v
 
 
 class PredictiveAvoidance(LocalAvoidance):
@@ -83,10 +118,25 @@ class PredictiveAvoidance(LocalAvoidance):
 
     ``command`` returns (heading, pitch or None, route point) like :class:`.LocalAvoidance`;
     ``speed_command`` holds the commanded speed through the water.
+
+    Parameters
+    ----------
+    base : PathFollower
+        The path follower (LOS, ILOS, hybrid) driving while its own command stays clear.
+    keys : array_like
+        ``(K, 3)`` key waypoints (m).
+    world : World
+        Seabed, obstacles, bounds and margins.
+    params : AvoidanceParams
+        Avoidance parameters (horizon, margin, sensor range …).
+    vehicle : VehicleParams
+        The vehicle: its turn-rate, pitch and speed limits bound the candidates.
+    rng : RngLike, optional
+        Seed or generator of the escapes' random sub-goals.
     """
 
-    def __init__(self, base, keys: np.ndarray, world: World, params: AvoidanceParams, vehicle: VehicleParams,
-                 rng=None) -> None:
+    def __init__(self, base: PathFollower, keys: ArrayLike, world: World, params: AvoidanceParams,
+                 vehicle: VehicleParams, rng: RngLike = None) -> None:
         self.vehicle = vehicle
         self.r_max = vehicle.nomoto_K * math.radians(vehicle.rudder_max_deg)
         self.lag = vehicle.nomoto_T + 1.0 / vehicle.heading_wn
@@ -116,8 +166,32 @@ class PredictiveAvoidance(LocalAvoidance):
         self.solves = 0
         self.solve_time = 0.0
 
-    def command(self, pos, t: float, current, obstacles, dt: float):
-        """Commanded heading (compass), pitch (or None) and the base route point; sets ``speed_command``."""
+    def command(self, pos: _F64, t: float, current: _F64, obstacles: Sequence[tuple[Any, ...]],
+                dt: float) -> tuple[float, float | None, RoutePoint]:
+        """Compute the commanded heading, pitch (or None) and the base route point; set ``speed_command``.
+
+        Parameters
+        ----------
+        pos : numpy.ndarray
+            ``(3,)`` vehicle position (m).
+        t : float
+            Time (s).
+        current : numpy.ndarray
+            ``(3,)`` current at the vehicle (m/s).
+        obstacles : sequence of tuple
+            Obstacles near the vehicle, as for :meth:`LocalAvoidance.command`.
+        dt : float
+            Time step (s).
+
+        Returns
+        -------
+        heading : float
+            Commanded compass heading (rad).
+        pitch : float or None
+            Commanded pitch (rad); None while the base follower drives.
+        point : RoutePoint
+            The base follower's route point.
+        """
         p = np.asarray(pos, dtype=float)
         statics = [o[:3] for o in obstacles if not o[3]]
         psi_b, _, rp = self.base.command(float(p[0]), float(p[1]), float(p[2]), current, self.speed, statics, dt)
@@ -137,7 +211,7 @@ class PredictiveAvoidance(LocalAvoidance):
         finally:
             self.decision_time += time.perf_counter() - t0
 
-    def _sensed(self, t: float, sensed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]]) -> tuple[_F64, _F64, _F64]:
         """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles."""
         C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
         R = np.array([o[7] for o in sensed], dtype=float) + self.world.margins.obstacle
@@ -149,7 +223,7 @@ class PredictiveAvoidance(LocalAvoidance):
             V = np.array([self.estimator.velocity(o[5]) for o in sensed]).reshape(-1, 3)
         return C, V, R
 
-    def _preferred(self, p, t: float, psi_b: float, rp) -> tuple[np.ndarray, float]:
+    def _preferred(self, p: _F64, t: float, psi_b: float, rp: RoutePoint) -> tuple[_F64, float]:
         """Unit attraction (follower's command or escape sub-goal) and the undisturbed pitch."""
         if self.subgoal is not None and np.linalg.norm(self.subgoal - p) <= self.params.arrive:
             self.subgoal = None
@@ -158,13 +232,15 @@ class PredictiveAvoidance(LocalAvoidance):
             self._escape(p, t)
         if self.subgoal is not None:
             a = self.subgoal - p
-            a /= max(np.linalg.norm(a), 1e-9)
+            a /= max(float(np.linalg.norm(a)), 1e-9)
             return a, min(max(math.asin(a[2]), -self.theta_max), self.theta_max)
         th = rp.gamma + math.atan(self.vehicle.depth_gain * (rp.z_ref - float(p[2])))
         th = min(max(th, -self.theta_max), self.theta_max)
         return np.array([math.cos(th) * math.sin(psi_b), math.cos(th) * math.cos(psi_b), math.sin(th)]), th
 
-    def _solve(self, p, v_now, cur, C, V, R, headings, pitches, speeds, pref, theta_pref, horizon):
+    def _solve(self, p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64, headings: _F64,
+               pitches: _F64, speeds: _F64, pref: _F64, theta_pref: float,
+               horizon: float) -> tuple[int, int, int, float, bool]:
         water = v_now - cur
         cfg = self.cfg
         cfg[7] = horizon
@@ -172,9 +248,12 @@ class PredictiveAvoidance(LocalAvoidance):
         cfg[1] = max(math.hypot(water[0], water[1]), 0.1)
         cfg[2], cfg[3] = theta_pref, self.speed
         cfg[4] = self._psi_last if math.isfinite(self._psi_last) else cfg[0]
-        return vo_choose(p, v_now, cur, C, V, R, headings, pitches, speeds, pref, self.coef, cfg, WEIGHTS)
+        choice: tuple[int, int, int, float, bool] = vo_choose(p, v_now, cur, C, V, R, headings, pitches, speeds, pref,
+                                                              self.coef, cfg, WEIGHTS)
+        return choice
 
-    def _decide(self, p, t: float, v_now, cur, sensed, psi_b: float, rp):
+    def _decide(self, p: _F64, t: float, v_now: _F64, cur: _F64, sensed: Sequence[tuple[Any, ...]], psi_b: float,
+                rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
         C, V, R = self._sensed(t, sensed)
         a, theta_pref = self._preferred(p, t, psi_b, rp)
         psi_a = math.atan2(a[0], a[1])

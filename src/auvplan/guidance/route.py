@@ -8,28 +8,85 @@ of its end, or past it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..geometry import as_points
 
-__all__ = ["RouteTracker", "RoutePoint"]
+__all__ = ["RouteTracker", "RoutePoint", "PathFollower", "crab_heading"]
+
+
+def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], speed: float) -> float:
+    """Heading that makes good ``course`` over ground through a horizontal ``current``.
+
+    The crab angle β = asin(c⊥ / u) turns the bow into the current component c⊥ across the
+    course (positive to starboard) so that the through-water velocity at ``speed`` u cancels it;
+    |c⊥| ≥ u is clipped to a 90° crab (the course cannot be made good).
+
+    Parameters
+    ----------
+    course : float
+        Desired course over ground (compass, rad).
+    current : sequence of float
+        Current (east, north, ...) at the vehicle (m/s); only the horizontal part is used.
+    speed : float
+        Through-water speed (m/s).
+
+    Returns
+    -------
+    float
+        Commanded heading (compass, rad), ``course − β``.
+    """
+    c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
+    return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
 
 
 class RoutePoint:
-    """Where the vehicle stands relative to its route (plain attributes, no logic)."""
+    """Where the vehicle stands relative to its route (plain attributes, no logic).
+
+    Parameters
+    ----------
+    leg : int
+        Index of the active leg (waypoint ``leg`` to ``leg + 1``).
+    along : float
+        Along-track distance from the leg's start (m).
+    cross : float
+        Cross-track error, positive to starboard of the leg direction (m).
+    course : float
+        Compass course of the leg (rad).
+    progress : float
+        Horizontal distance made good along the whole route (m).
+    z_ref : float
+        Route elevation at the along-track position (m, up positive).
+    gamma : float
+        Flight-path angle of the leg (rad, up positive).
+    last : bool
+        Whether the active leg is the last one.
+    """
 
     __slots__ = ("leg", "along", "cross", "course", "progress", "z_ref", "gamma", "last")
 
-    def __init__(self, leg, along, cross, course, progress, z_ref, gamma, last):
+    def __init__(self, leg: int, along: float, cross: float, course: float, progress: float, z_ref: float,
+                 gamma: float, last: bool) -> None:
         self.leg, self.along, self.cross, self.course = leg, along, cross, course
         self.progress, self.z_ref, self.gamma, self.last = progress, z_ref, gamma, last
 
 
 class RouteTracker:
-    """Tracks progress along waypoints ``(N, 3)`` (``reset()`` to start again)."""
+    """Track progress along a polyline of waypoints (``reset()`` to start again).
 
-    def __init__(self, waypoints, switch_radius: float) -> None:
+    Parameters
+    ----------
+    waypoints : array_like
+        ``(N, 3)`` waypoints in the local frame (m), N ≥ 2; repeated points are dropped.
+    switch_radius : float
+        The active leg advances when the vehicle is this close to its end along the track (m).
+    """
+
+    def __init__(self, waypoints: ArrayLike, switch_radius: float) -> None:
         w = as_points(waypoints, "waypoints").reshape(-1, 3)
         if w.shape[0] < 2:
             raise ValueError("a route needs at least two waypoints")
@@ -52,7 +109,7 @@ class RouteTracker:
         """Back to the first leg."""
         self.k = 0
 
-    def _locate(self, x: float, y: float, k: int):
+    def _locate(self, x: float, y: float, k: int) -> tuple[float, float]:
         a = self.w[k]
         c, s = math.cos(self.course[k]), math.sin(self.course[k])
         dx, dy = x - a[0], y - a[1]
@@ -61,7 +118,18 @@ class RouteTracker:
         return along, cross
 
     def update(self, x: float, y: float) -> RoutePoint:
-        """Advance the active leg if due and return the vehicle's route coordinates."""
+        """Advance the active leg if due and return the vehicle's route coordinates.
+
+        Parameters
+        ----------
+        x, y : float
+            Vehicle position east and north (m).
+
+        Returns
+        -------
+        RoutePoint
+            Active leg, along- and cross-track position, progress and reference depth.
+        """
         last = self.length.size - 1
         while self.k < last:
             along, _ = self._locate(x, y, self.k)
@@ -76,8 +144,19 @@ class RouteTracker:
         progress = float(self.cum[k] + min(max(along, 0.0), self.length[k]))
         return RoutePoint(k, along, cross, float(self.course[k]), progress, z_ref, float(self.gamma[k]), k == last)
 
-    def cross_track(self, points) -> np.ndarray:
-        """Distance of ``points (N, 3)`` to the whole polyline, horizontally (m)."""
+    def cross_track(self, points: ArrayLike) -> NDArray[np.float64]:
+        """Horizontal distance of points to the whole polyline.
+
+        Parameters
+        ----------
+        points : array_like
+            ``(N, 3)`` points (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` distances (m), whatever the active leg.
+        """
         pts = as_points(points)[..., :2].reshape(-1, 2)
         a, b = self.w[None, :-1, :2], self.w[None, 1:, :2]
         d = b - a
@@ -89,3 +168,49 @@ class RouteTracker:
             t = np.clip(((p - a) * d).sum(-1) / dd, 0.0, 1.0)
             out[k:k + chunk] = np.linalg.norm(p - (a + t[..., None] * d), axis=-1).min(axis=1)
         return out
+
+
+class PathFollower(Protocol):
+    """What the simulator and the local avoidance need of a path follower (LOS, ILOS, hybrid).
+
+    Attributes
+    ----------
+    name : str
+        Short name (``los``, ``ilos``, ``hybrid``).
+    route : RouteTracker
+        The route followed.
+    """
+
+    name: str
+    route: RouteTracker
+
+    def reset(self) -> None:
+        """Restart the route and forget any internal state."""
+
+    def command(self, x: float, y: float, z: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                obstacles: Sequence[Sequence[float]], dt: float) -> tuple[float, bool, RoutePoint]:
+        """Compute the command for one time step.
+
+        Parameters
+        ----------
+        x, y, z : float
+            Vehicle position (m).
+        current : sequence of float
+            Current velocity at the vehicle, east, north, up (m/s).
+        speed : float
+            Speed through the water (m/s).
+        obstacles : sequence of (float, float, float)
+            Nearby obstacles as ``(cx, cy, surface distance)`` (m).
+        dt : float
+            Time step (s).
+
+        Returns
+        -------
+        command : float
+            Commanded compass heading (rad).
+        is_heading : bool
+            True: the command is a heading (any crab angle already applied).
+        point : RoutePoint
+            The vehicle's position relative to the route.
+        """
+        ...

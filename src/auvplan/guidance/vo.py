@@ -24,18 +24,38 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .._jit import kernel
 from ..world.terrain import elevation_kernel
 
 __all__ = ["CFG", "closest_approach", "predicted_preference", "vo_choose"]
 
+_F64 = NDArray[np.float64]
+"""Array of float64 (units as documented per parameter)."""
 
-def closest_approach(rel_pos, rel_vel, radii, horizon: float) -> tuple[np.ndarray, np.ndarray]:
-    """Time ``(M,)`` (s, within ``[0, horizon]``) and surface distance ``(M,)`` (m) of closest approach.
 
-    ``rel_pos (M, 3)`` = obstacle centre − vehicle, ``rel_vel (M, 3)`` = obstacle velocity −
-    vehicle velocity, ``radii (M,)`` the obstacles' radii; both keep their velocities.
+def closest_approach(rel_pos: ArrayLike, rel_vel: ArrayLike, radii: ArrayLike,
+                     horizon: float) -> tuple[_F64, _F64]:
+    """Return the time and surface distance of closest approach, both keeping their velocities.
+
+    Parameters
+    ----------
+    rel_pos : array_like
+        ``(M, 3)`` obstacle centre − vehicle position (m).
+    rel_vel : array_like
+        ``(M, 3)`` obstacle velocity − vehicle velocity (m/s).
+    radii : array_like
+        ``(M,)`` obstacle radii (m).
+    horizon : float
+        Look-ahead time T (s).
+
+    Returns
+    -------
+    t : numpy.ndarray
+        ``(M,)`` time of closest approach (s), within ``[0, horizon]``.
+    distance : numpy.ndarray
+        ``(M,)`` distance from the obstacle's surface then (m); negative inside.
     """
     r = np.asarray(rel_pos, dtype=float).reshape(-1, 3)
     w = np.asarray(rel_vel, dtype=float).reshape(-1, 3)
@@ -47,7 +67,8 @@ def closest_approach(rel_pos, rel_vel, radii, horizon: float) -> tuple[np.ndarra
 
 
 @kernel(inline="always")
-def _segment_min(rx, ry, rz, wx, wy, wz, span):
+def _segment_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: float,
+                 span: float) -> tuple[float, float]:
     """min over s ∈ [0, span] of |r + w s|, and that s."""
     ww = wx * wx + wy * wy + wz * wz
     s = 0.0
@@ -58,10 +79,43 @@ def _segment_min(rx, ry, rz, wx, wy, wz, span):
 
 
 @kernel
-def predicted_preference(p, v_now, C, V, R, attraction, horizon, k_rep, w_obs, radius):
-    """Unit direction: ``attraction (3,)`` (unit) plus document 004's repulsion k₂ (1/d − 1/r) / d^w₂
-    from each obstacle's predicted position at closest approach (``d`` its predicted surface
-    distance, only ≤ r repels), the vehicle keeping its velocity ``v_now``."""
+def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
+                         attraction: _F64, horizon: float, k_rep: float, w_obs: float,
+                         radius: float) -> _F64:
+    """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
+
+    Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
+    approach (``d`` its predicted surface distance, only ≤ r repels), the vehicle keeping its
+    velocity ``v_now``.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    attraction : numpy.ndarray
+        ``(3,)`` unit attraction direction.
+    horizon : float
+        Prediction horizon T (s).
+    k_rep : float
+        Repulsion gain k₂ (m^(w₂+1)).
+    w_obs : float
+        Distance exponent w₂.
+    radius : float
+        Influence radius r from the obstacle's surface (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` unit direction; ``attraction`` when the sum vanishes.
+    """
     f = attraction.copy()
     for m in range(C.shape[0]):
         rx, ry, rz = C[m, 0] - p[0], C[m, 1] - p[1], C[m, 2] - p[2]
@@ -79,13 +133,13 @@ def predicted_preference(p, v_now, C, V, R, attraction, horizon, k_rep, w_obs, r
 
 
 @kernel(inline="always")
-def _wrap(a):
+def _wrap(a: float) -> float:
     """Angle wrapped to [-π, π)."""
     return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
 
 
 @kernel(inline="always")
-def _outside(z, lo, hi):
+def _outside(z: float, lo: float, hi: float) -> float:
     """How far (m) ``z`` is outside ``[lo, hi]``."""
     return max(0.0, lo - z, z - hi)
 
@@ -96,15 +150,51 @@ CFG = ("psi0", "u_now", "theta_pref", "u_cruise", "psi_last", "r_max", "lag", "h
 
 
 @kernel
-def vo_choose(p, v_now, cur, C, V, R, headings, pitches, speeds, pref, coef, cfg, weights):
-    """Best candidate ``(i, j, k)`` of ``headings × pitches × speeds``, its clearance and whether it is safe.
+def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
+              headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
+              coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
+    """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
 
-    ``p (3,)`` vehicle position, ``v_now (3,)`` its ground velocity (its vertical part is kept
-    through the turn), ``cur (3,)`` current; ``C, V (M, 3)`` obstacle centres and velocities,
-    ``R (M,)`` radii; ``pref (3,)`` unit preferred direction; ``coef`` the seabed's bilinear
-    coefficients; ``cfg`` the scalars named by :data:`CFG`; ``weights`` = (speed, pitch,
-    hysteresis, clearance, crossing ahead).  Loops are flat (no array passed to a helper
-    inside them): 500+ candidates must cost microseconds.
+    Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
+    microseconds.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s); its vertical part is kept through the turn.
+    cur : numpy.ndarray
+        ``(3,)`` current velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    headings : numpy.ndarray
+        Candidate compass headings (rad).
+    pitches : numpy.ndarray
+        Candidate pitch angles (rad, up positive).
+    speeds : numpy.ndarray
+        Candidate speeds through the water (m/s).
+    pref : numpy.ndarray
+        ``(3,)`` unit preferred direction.
+    coef : numpy.ndarray
+        The seabed's bilinear coefficients (unused unless ``cfg``'s ``terrain`` is 1).
+    cfg : numpy.ndarray
+        The scalars named by :data:`CFG` (angles in rad, speeds in m/s, times in s, lengths in m).
+    weights : numpy.ndarray
+        Cost weights (speed, pitch, hysteresis, clearance, crossing ahead).
+
+    Returns
+    -------
+    i, j, k : int
+        Indices of the chosen heading, pitch and speed.
+    clearance : float
+        Its smallest predicted distance from an obstacle's surface over the horizon (m).
+    safe : bool
+        Whether it keeps the margin and the depth band; False: the least bad candidate.
     """
     psi0, u_now, theta_pref, u_cruise, psi_last = cfg[0], cfg[1], cfg[2], cfg[3], cfg[4]
     r_max, lag, horizon, margin, z_lo, z_hi = cfg[5], cfg[6], cfg[7], cfg[8], cfg[9], cfg[10]

@@ -26,6 +26,7 @@ depth and is treated as no-go).
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -33,6 +34,7 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike, NDArray
 from pyproj import Transformer
 from scipy import ndimage
 
@@ -52,6 +54,9 @@ __all__ = [
     "BUILTIN_TERRAINS",
     "builtin_terrain_path",
 ]
+
+_F64 = NDArray[np.float64]
+"""Array of float64."""
 
 log = logging.getLogger(__name__)
 
@@ -122,14 +127,25 @@ class TerrainSpec:
 
 
 def builtin_terrain_path(name: str) -> Path:
-    """Path of a built-in NetCDF terrain shipped with the package."""
+    """Return the path of a built-in NetCDF terrain shipped with the package.
+
+    Parameters
+    ----------
+    name : str
+        Built-in terrain name.
+
+    Returns
+    -------
+    pathlib.Path
+        The NetCDF file.
+    """
     if name not in _BUILTIN_FILES:
         raise DataError(f"built-in terrain {name!r} is not a NetCDF file")
     return Path(str(resources.files("auvplan") / "data" / _BUILTIN_FILES[name]))
 
 
 # ---------------------------------------------------------------------- grid → Terrain
-def _fill_nan(z: np.ndarray, policy: str, src: str, where) -> np.ndarray:
+def _fill_nan(z: _F64, policy: str, src: str, where: Callable[[int, int], str]) -> _F64:
     bad = ~np.isfinite(z)
     if not bad.any():
         return z
@@ -144,10 +160,12 @@ def _fill_nan(z: np.ndarray, policy: str, src: str, where) -> np.ndarray:
     if bad.all():
         raise DataError(f"{src}: every elevation value is missing")
     idx = ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True)
-    return z[tuple(idx)]
+    filled: _F64 = z[tuple(idx)]
+    return filled
 
 
-def _crop_axis(axis: np.ndarray, lo: float, hi: float, side_lo: str, side_hi: str, name: str, clipped: list):
+def _crop_axis(axis: _F64, lo: float, hi: float, side_lo: str, side_hi: str, name: str,
+               clipped: list[str]) -> tuple[int, int]:
     """Index range of ``axis`` covering ``[lo, hi]`` plus one node of margin; a request beyond the data
     is clipped to the data's edge (noted in ``clipped``)."""
     if lo < axis[0]:
@@ -159,7 +177,7 @@ def _crop_axis(axis: np.ndarray, lo: float, hi: float, side_lo: str, side_hi: st
     return i0, i1
 
 
-def _crop(grid: HorizontalGrid, z: np.ndarray, box: tuple[float, ...], name: str):
+def _crop(grid: HorizontalGrid, z: _F64, box: tuple[float, ...], name: str) -> tuple[HorizontalGrid, _F64]:
     """Crop a lon/lat or projected grid to a lat/lon ``box``; parts of the box beyond the data are clipped
     with a warning (the projection step then reports any side the scenario bounds still miss)."""
     la0, la1, lo0, lo1 = box
@@ -188,7 +206,7 @@ def _crop(grid: HorizontalGrid, z: np.ndarray, box: tuple[float, ...], name: str
 
 def terrain_from_grid(
     grid: HorizontalGrid,
-    elevation,
+    elevation: ArrayLike,
     *,
     frame: LocalFrame,
     box: tuple[float, ...] = (),
@@ -204,6 +222,32 @@ def terrain_from_grid(
     then the grid is projected and resampled onto a regular metric grid covering ``extent_m``
     (default: the largest rectangle inside the data); an extent the data miss is an error naming
     the uncovered side.
+
+    Parameters
+    ----------
+    grid : HorizontalGrid
+        The data's nodes.
+    elevation : array_like
+        ``(nrow, ncol)`` elevation, positive up (m).
+    frame : LocalFrame
+        The local frame.
+    box : tuple of 4 float, optional
+        ``(lat_min, lat_max, lon_min, lon_max)`` crop (degrees); empty: no crop.
+    extent_m : tuple of 4 float, optional
+        ``(xmin, xmax, ymin, ymax)`` to cover (m).
+    resample_m : float, optional
+        Cell of the regular metric grid (m); 0: the data's own spacing.
+    nan_policy : {'error', 'land', 'nearest'}, optional
+        Missing values: an error, no-go land, or the nearest valid value.
+    method : str, optional
+        Resampling method (``"cubic"``, ``"linear"`` …).
+    name : str, optional
+        Name of the terrain (file:variable), for messages.
+
+    Returns
+    -------
+    Terrain
+        The seabed on a regular metric grid (m, up positive).
     """
     z = np.asarray(elevation, dtype=float)
     if z.size == 0:
@@ -223,9 +267,28 @@ def terrain_from_grid(
     return Terrain(x, y, zz, name=name)
 
 
-def terrain_from_lonlat(lon, lat, elevation, *, frame: LocalFrame, name: str = "", **kw) -> Terrain:
-    """Build a Terrain from elevation (positive up) on 1-D lat/lon axes ``(nlat, nlon)`` (any order,
-    0–360 or ±180); the keywords are those of :func:`terrain_from_grid`."""
+def terrain_from_lonlat(lon: ArrayLike, lat: ArrayLike, elevation: ArrayLike, *, frame: LocalFrame, name: str = "",
+                        **kw: Any) -> Terrain:
+    """Build a Terrain from elevation (positive up) on 1-D lat/lon axes.
+
+    Parameters
+    ----------
+    lon, lat : array_like
+        1-D axes (degrees; any order, 0–360 or ±180).
+    elevation : array_like
+        ``(nlat, nlon)`` elevation, positive up (m).
+    frame : LocalFrame
+        The local frame.
+    name : str, optional
+        Name of the terrain, for messages.
+    **kw
+        Further keywords of :func:`terrain_from_grid`.
+
+    Returns
+    -------
+    Terrain
+        The seabed on a regular metric grid (m).
+    """
     lon = np.asarray(lon, dtype=float).reshape(-1)
     lat = np.asarray(lat, dtype=float).reshape(-1)
     z = np.asarray(elevation, dtype=float)
@@ -240,8 +303,28 @@ def terrain_from_lonlat(lon, lat, elevation, *, frame: LocalFrame, name: str = "
     return terrain_from_grid(grid, z, frame=frame, name=name, **kw)
 
 
-def terrain_from_xy(x, y, elevation, *, resample_m: float = 0.0, nan_policy: str = "error", name: str = "") -> Terrain:
-    """Build a Terrain from elevation on metric axes (any order, possibly non-uniform)."""
+def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resample_m: float = 0.0,
+                    nan_policy: str = "error", name: str = "") -> Terrain:
+    """Build a Terrain from elevation on metric axes (any order, possibly non-uniform).
+
+    Parameters
+    ----------
+    x, y : array_like
+        1-D axes in the local frame (m).
+    elevation : array_like
+        ``(ny, nx)`` elevation, positive up (m).
+    resample_m : float, optional
+        Cell of the regular metric grid (m); 0: the data's own spacing.
+    nan_policy : {'error', 'land', 'nearest'}, optional
+        Missing values: an error, no-go land, or the nearest valid value.
+    name : str, optional
+        Name of the terrain (file:variable), for messages.
+
+    Returns
+    -------
+    Terrain
+        The seabed on a regular metric grid (m).
+    """
     x = np.asarray(x, dtype=float).reshape(-1)
     y = np.asarray(y, dtype=float).reshape(-1)
     z = np.asarray(elevation, dtype=float)
@@ -253,7 +336,8 @@ def terrain_from_xy(x, y, elevation, *, resample_m: float = 0.0, nan_policy: str
         y, z = y[::-1], z[::-1]
     if x.size > 1 and x[0] > x[-1]:
         x, z = x[::-1], z[:, ::-1]
-    z = _fill_nan(z, nan_policy, name, lambda j, i: f"x {x[i]:.1f}, y {y[j]:.1f}")
+    xs, ys = x, y  # the axes as arrays, for the message
+    z = _fill_nan(z, nan_policy, name, lambda j, i: f"x {xs[i]:.1f}, y {ys[j]:.1f}")
     step_x, step_y = np.diff(x), np.diff(y)
     uniform = x.size > 1 and y.size > 1 and np.allclose(step_x, step_x[0]) and np.allclose(step_y, step_y[0])
     if resample_m or not uniform:
@@ -270,7 +354,7 @@ def terrain_from_xy(x, y, elevation, *, resample_m: float = 0.0, nan_policy: str
 
 
 def read_bathymetry(
-    path,
+    path: str | Path,
     *,
     frame: LocalFrame | None = None,
     variable: str = "",
@@ -285,6 +369,32 @@ def read_bathymetry(
 
     Geographic and projected grids need ``frame`` (the local frame about the scenario origin);
     without one, the frame is centred on the box or on the data.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    frame : LocalFrame, optional
+        The local frame.
+    variable : str, optional
+        Elevation variable; detected when empty.
+    positive : {'', 'up', 'down'}, optional
+        Sign convention of the stored values; detected when empty.
+    box : tuple of 4 float, optional
+        ``(lat_min, lat_max, lon_min, lon_max)`` crop (degrees).
+    extent_m : tuple of 4 float, optional
+        ``(xmin, xmax, ymin, ymax)`` to cover (m).
+    resample_m : float, optional
+        Cell of the regular metric grid (m); 0: the data's own spacing.
+    method : str, optional
+        Resampling method.
+    nan_policy : {'error', 'land', 'nearest'}, optional
+        Missing values: an error, no-go land, or the nearest valid value.
+
+    Returns
+    -------
+    Terrain
+        The seabed in the local frame (m, up positive).
     """
     eg = read_elevation(path, variable=variable, positive=positive)
     grid = eg.grid
@@ -306,10 +416,10 @@ def _centre_lonlat(grid: HorizontalGrid) -> tuple[float, float]:
     return float(np.mean(grid.cols)), float(np.mean(grid.rows))
 
 
-def _topobathy():
+def _topobathy() -> tuple[_F64, _F64, _F64]:
     from matplotlib import cbook
 
-    data = cbook.get_sample_data("topobathy.npz")
+    data: Any = cbook.get_sample_data("topobathy.npz")  # an NpzFile (typed as ndarray | IO by matplotlib)
     lon = np.asarray(data["longitude"], dtype=float)
     lat = np.asarray(data["latitude"], dtype=float)
     topo = np.asarray(data["topo"], dtype=float)
@@ -325,7 +435,24 @@ def load_terrain(
     base_dir: Path | None = None,
     extent_m: tuple[float, float, float, float] | None = None,
 ) -> Terrain:
-    """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``."""
+    """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``.
+
+    Parameters
+    ----------
+    spec : TerrainSpec
+        The ``[terrain]`` table.
+    frame : LocalFrame or None
+        The scenario's local frame.
+    base_dir : pathlib.Path, optional
+        Folder that relative file names resolve against.
+    extent_m : tuple of 4 float, optional
+        ``(xmin, xmax, ymin, ymax)`` to cover (m).
+
+    Returns
+    -------
+    Terrain
+        The seabed in the local frame (m, up positive).
+    """
     common: dict[str, Any] = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
                                   nan_policy=spec.nan_policy)
     if spec.builtin == "matplotlib-topobathy":

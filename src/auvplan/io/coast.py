@@ -14,6 +14,7 @@ import logging
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import shapely
@@ -59,11 +60,22 @@ class LandSpec:
 
 
 def builtin_land_path(name: str) -> Path:
-    """Path of a built-in coastline file shipped with the package."""
+    """Return the path of a built-in coastline file shipped with the package.
+
+    Parameters
+    ----------
+    name : str
+        A key of ``BUILTIN_LAND``.
+
+    Returns
+    -------
+    pathlib.Path
+        The GeoJSON file.
+    """
     return Path(str(resources.files("auvplan") / "data" / BUILTIN_LAND[name][0]))
 
 
-def _read_polygons(path: Path, layer: str, src: str):
+def _read_polygons(path: Path, layer: str, src: str) -> tuple[Any, Any]:
     import pyogrio
 
     if not path.is_file():
@@ -94,7 +106,26 @@ def _read_polygons(path: Path, layer: str, src: str):
 
 def read_land(spec: LandSpec, frame: LocalFrame, extent_m: tuple[float, float, float, float], *,
               base_dir: Path | None = None, margin_m: float = 2000.0) -> Land:
-    """Land polygons of ``spec`` in ``frame``, clipped to ``extent_m`` widened by ``margin_m``."""
+    """Read the land polygons of ``spec`` into ``frame``, clipped to ``extent_m`` widened by ``margin_m``.
+
+    Parameters
+    ----------
+    spec : LandSpec
+        The ``[land]`` table.
+    frame : LocalFrame
+        The scenario's local frame.
+    extent_m : tuple of 4 float
+        ``(xmin, xmax, ymin, ymax)`` of the scenario (m).
+    base_dir : pathlib.Path, optional
+        Folder that relative file paths resolve against.
+    margin_m : float, optional
+        Widening of the clip box (m).
+
+    Returns
+    -------
+    Land
+        The land polygons in local coordinates (m).
+    """
     if spec.builtin:
         path = builtin_land_path(spec.builtin)
     else:

@@ -22,12 +22,14 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from numpy.typing import NDArray
 
 from ..errors import DataError
 from ..world.currents import GriddedCurrent
@@ -50,7 +52,16 @@ _NAMES = {
 
 @dataclass(frozen=True)
 class CurrentsFileSpec:
-    """A NetCDF current file and, optionally, the names of its variables."""
+    """A NetCDF current file and, optionally, the names of its variables.
+
+    Attributes
+    ----------
+    path : str
+        The file (relative paths resolve against the scenario's folder).
+    u, v, w : str
+        Names of the eastward (or grid-x), northward (or grid-y) and upward velocity variables;
+        detected from CF standard names when empty (``w`` optional).
+    """
 
     path: str
     u: str = ""
@@ -63,7 +74,18 @@ class CurrentsFileSpec:
 
 
 def parse_time(text: str) -> np.datetime64:
-    """An ISO 8601 date-time (``2024-03-01T06:00:00Z``, offsets allowed) as UTC ``datetime64[ns]``."""
+    """Parse an ISO 8601 date-time as UTC ``datetime64[ns]``.
+
+    Parameters
+    ----------
+    text : str
+        ``2024-03-01T06:00:00Z``; offsets allowed, no offset means UTC.
+
+    Returns
+    -------
+    numpy.datetime64
+        The time in UTC, nanosecond resolution.
+    """
     try:
         t = datetime.fromisoformat(text.strip())
     except ValueError as exc:
@@ -74,7 +96,20 @@ def parse_time(text: str) -> np.datetime64:
 
 
 def velocity_factor(units: str, where: str) -> float:
-    """Factor from ``units`` (CF/UDUNITS text) to m/s, through pint's CF registry."""
+    """Return the factor from ``units`` to m/s, through pint's CF registry.
+
+    Parameters
+    ----------
+    units : str
+        CF/UDUNITS units text (``"m s-1"``, ``"cm/s"``, ``"knots"`` …).
+    where : str
+        File and variable, for messages.
+
+    Returns
+    -------
+    float
+        Multiply values in ``units`` by this to get m/s.
+    """
     from cf_xarray.units import units as ureg  # pint registry with CF/UDUNITS syntax
 
     try:
@@ -112,7 +147,7 @@ def _open(path: Path, src: str) -> xr.Dataset:
         raise DataError(f"{src}: cannot read as CF NetCDF ({exc})") from exc
 
 
-def _component(ds, name, dims, flips, src) -> np.ndarray:
+def _component(ds: xr.Dataset, name: str, dims: Sequence[str], flips: Sequence[bool], src: str) -> NDArray[np.float64]:
     da = ds[name]
     if set(map(str, da.dims)) != set(dims):
         raise DataError(f"{src}: variable {name!r} has dims {da.dims}, expected {tuple(dims)}")
@@ -141,7 +176,7 @@ def _fill_land(arr: np.ndarray, has_z: bool, src: str, name: str) -> tuple[np.nd
     return np.where(np.isfinite(arr), arr, 0.0), land
 
 
-def _time_axis(ds, tdim, start_time: str, src: str) -> np.ndarray:
+def _time_axis(ds: xr.Dataset, tdim: str, start_time: str, src: str) -> NDArray[np.float64]:
     """Seconds of the time axis from ``start_time`` (or from the first time)."""
     var = ds[tdim] if tdim in ds.variables else None
     if var is None:
@@ -175,7 +210,7 @@ def _time_axis(ds, tdim, start_time: str, src: str) -> np.ndarray:
     return secs
 
 
-def _z_axis(ds, zdim, src) -> np.ndarray:
+def _z_axis(ds: xr.Dataset, zdim: str, src: str) -> NDArray[np.float64]:
     var = ds[zdim] if zdim in ds.variables else None
     if var is None:
         raise DataError(f"{src}: depth dimension {zdim!r} has no coordinate values")
@@ -188,7 +223,8 @@ def _z_axis(ds, zdim, src) -> np.ndarray:
     return -zv if down else zv
 
 
-def _directions(grid: HorizontalGrid, frame: LocalFrame, x, y, grid_relative: bool):
+def _directions(grid: HorizontalGrid, frame: LocalFrame, x: NDArray[np.float64], y: NDArray[np.float64],
+                grid_relative: bool) -> list[tuple[NDArray[np.float64], NDArray[np.float64]]]:
     """Unit vectors (local x/y) of the components' directions at the local nodes ``(x, y)``:
     east/north, or the source projection's x/y axes for grid-relative components."""
     gx, gy = np.meshgrid(x, y)
@@ -216,6 +252,24 @@ def _directions(grid: HorizontalGrid, frame: LocalFrame, x, y, grid_relative: bo
 def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir: Path | None = None,
                   extent_m: tuple[float, float, float, float] | None = None, start_time: str = "") -> GriddedCurrent:
     """Read the current file of ``spec`` into the local frame over ``extent_m`` (default: the data's own).
+
+    Parameters
+    ----------
+    spec : CurrentsFileSpec
+        The file and its variable names.
+    frame : LocalFrame or None
+        The scenario's local frame; None for a file already in local metres.
+    base_dir : pathlib.Path, optional
+        Folder that a relative file name resolves against.
+    extent_m : tuple of 4 float, optional
+        ``(xmin, xmax, ymin, ymax)`` to cover (m).
+    start_time : str, optional
+        ISO 8601 UTC time of simulation ``t = 0``; the file's first time when empty.
+
+    Returns
+    -------
+    GriddedCurrent
+        The current on a local grid (m/s), in time and depth when the file has them.
 
     Raises
     ------

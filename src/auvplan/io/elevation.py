@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from numpy.typing import NDArray
 
 from ..errors import DataError
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
@@ -74,12 +75,23 @@ class ElevationGrid:
     missing: int
 
 
-def _attr(obj, name: str) -> str:
+def _attr(obj: xr.Dataset | xr.DataArray, name: str) -> str:
     return str(obj.attrs.get(name, "")).strip().lower()
 
 
 def is_geotiff(path: Path) -> bool:
-    """True for a TIFF file (by its magic number), whatever its suffix."""
+    """Tell a TIFF file by its magic number, whatever its suffix.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+
+    Returns
+    -------
+    bool
+        True for a (Geo)TIFF file.
+    """
     try:
         with open(path, "rb") as fh:
             head = fh.read(4)
@@ -135,8 +147,22 @@ def _open(path: Path, src: str) -> xr.Dataset:
     return open_dataset(path, "bathymetry", mask_and_scale=True, decode_times=False)  # faults diagnosed
 
 
-def read_elevation(path, *, variable: str = "", positive: str = "") -> ElevationGrid:
+def read_elevation(path: str | Path, *, variable: str = "", positive: str = "") -> ElevationGrid:
     """Read an elevation grid (NetCDF in any supported layout, or GeoTIFF).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    variable : str, optional
+        Variable to read; detected when empty.
+    positive : {'', 'up', 'down'}, optional
+        Sign convention of the stored values; detected from the attributes when empty.
+
+    Returns
+    -------
+    ElevationGrid
+        The grid, elevation positive up (m).
 
     Raises
     ------
@@ -164,7 +190,8 @@ def read_elevation(path, *, variable: str = "", positive: str = "") -> Elevation
     return _finish(grid, z, flip_r, flip_c, down, why, f"{path.name}:{var}", var, "NetCDF")
 
 
-def _finish(grid, z, flip_r, flip_c, down, why, name, var, fmt) -> ElevationGrid:
+def _finish(grid: HorizontalGrid, z: NDArray[np.float64], flip_r: bool, flip_c: bool, down: bool, why: str, name: str,
+            var: str, fmt: str) -> ElevationGrid:
     if flip_r:
         z = z[::-1]
     if flip_c:

@@ -9,9 +9,12 @@ import json
 import math
 import xml.etree.ElementTree as ET
 import zipfile
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
 from ..errors import DataError
@@ -42,6 +45,9 @@ __all__ = [
     "summary_metrics",
 ]
 
+JsonDict = dict[str, Any]
+"""A JSON object."""
+
 EXPORT_FORMATS = ("geojson", "kml", "csv", "moos", "plan", "gpx", "yaml")
 """Mission export formats of :func:`write_exports` (file suffixes: ``mission.<format>``)."""
 GEOGRAPHIC = ("geojson", "kml", "plan", "gpx")
@@ -51,8 +57,19 @@ _SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "ro
                "obstacle_distance")
 
 
-def jsonable(value):
-    """Plain JSON types for numpy scalars/arrays and non-finite floats (→ None)."""
+def jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays and non-finite floats (→ None) to plain JSON types, recursively.
+
+    Parameters
+    ----------
+    value : object
+        A value, possibly nested in dicts, lists and tuples.
+
+    Returns
+    -------
+    object
+        The same value with only JSON types (dict keys as str, enums as their value).
+    """
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -69,10 +86,25 @@ def jsonable(value):
     return value
 
 
-def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
-    """The plan JSON object of DESIGN.md §4."""
+def plan_record(result: PlanResult, scenario: str, seed: int) -> JsonDict:
+    """Make the plan JSON object of DESIGN.md §4.
+
+    Parameters
+    ----------
+    result : PlanResult
+        The plan.
+    scenario : str
+        Scenario name.
+    seed : int
+        The planner's seed.
+
+    Returns
+    -------
+    dict
+        Status, cost and its terms (m, J, s), evaluations, timing and message.
+    """
     t = result.cost_terms
-    return jsonable({
+    return cast(JsonDict, jsonable({
         "scenario": scenario,
         "planner": result.planner,
         "seed": seed,
@@ -92,32 +124,93 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> dict:
         "history": result.history,
         "waypoints": result.path,
         **({"times": result.times} if result.times is not None else {}),
-    })
+    }))
 
 
 def write_text(path: Path, text: str | bytes) -> Path:
-    """Write one result file, text (UTF-8) or bytes: every writer of this module goes through
-    here, and here through :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never
-    through a symlink)."""
+    """Write one result file, text (UTF-8) or bytes.
+
+    Every writer of this module goes through here, and here through
+    :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never through a symlink).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    text : str or bytes
+        Its content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     return atomic_write(path, text)
 
 
-def write_json(path: Path, obj) -> Path:
-    """Write ``obj`` as indented JSON."""
+def write_json(path: Path, obj: Any) -> Path:
+    """Write ``obj`` as indented JSON (through :func:`jsonable`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    obj : object
+        A JSON-able value.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     return write_text(path, json.dumps(jsonable(obj), indent=2) + "\n")
 
 
-def write_path_csv(path: Path, points, header: str = "x,y,z") -> Path:
-    """Write points ``(N, k)`` as CSV with a header line."""
+def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z") -> Path:
+    """Write points ``(N, k)`` as CSV with a header line.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    points : array_like
+        ``(N, k)`` rows (units as the header says; m for x, y, z).
+    header : str, optional
+        The header line.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     buf = io.StringIO()
     np.savetxt(buf, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
     return write_text(path, buf.getvalue())
 
 
-def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> dict:
-    """Write ``metrics.json``, ``path.csv`` and the scenario source into ``out_dir``; return the record."""
+def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> JsonDict:
+    """Write ``metrics.json``, ``path.csv`` and the scenario source into ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    result : PlanResult
+        The plan.
+    scenario : str
+        Scenario name.
+    seed : int
+        The planner's seed.
+    scenario_text : str, optional
+        The scenario's TOML source, copied as ``scenario.toml``.
+
+    Returns
+    -------
+    dict
+        The plan record (:func:`plan_record`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     record = plan_record(result, scenario, seed)
@@ -131,9 +224,26 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     return record
 
 
-def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> dict:
-    """The simulate JSON object of DESIGN.md §4."""
-    m = result.metrics
+def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> JsonDict:
+    """Make the simulate JSON object of DESIGN.md §4.
+
+    Parameters
+    ----------
+    result : SimResult
+        The closed-loop run.
+    scenario : str
+        Scenario name.
+    seed : int
+        The run's seed.
+    avoidance : str, optional
+        The local avoidance used.
+
+    Returns
+    -------
+    dict
+        Status, metrics (m, s) and events.
+    """
+    m: Mapping[str, object] = result.metrics
     keys = ("arrived", "duration_s", "distance_m", "min_altitude_m", "min_clearance_m", "min_obstacle_distance_m",
             "collisions",
             "cross_track_rms_m", "cross_track_max_m", "escapes", "wall_time_s")
@@ -142,13 +252,36 @@ def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "no
     rec.update({k: m[k] for k in keys})
     rec["obstacle_min_distances_m"] = m["obstacle_min_distances_m"]
     rec["events"] = [list(e) for e in result.events]
-    return jsonable(rec)
+    return cast(JsonDict, jsonable(rec))
 
 
 def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none",
-              full: bool = False) -> dict:
-    """Write ``sim_metrics.json`` and ``track.csv`` (t, x, y, z, heading, speed, rudder, cross-track;
-    decimated by :func:`auvplan.sim.decimate` unless ``full``) into ``out_dir``."""
+              full: bool = False) -> JsonDict:
+    """Write ``sim_metrics.json`` and ``track.csv`` into ``out_dir``.
+
+    ``track.csv``: t, x, y, z, heading, speed, rudder, cross-track (s, m, rad, m/s); decimated by
+    :func:`auvplan.sim.decimate` unless ``full``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    result : SimResult
+        The closed-loop run.
+    scenario : str
+        Scenario name.
+    seed : int
+        The run's seed.
+    avoidance : str, optional
+        The local avoidance used.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The simulate record (:func:`sim_record`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     record = sim_record(result, scenario, seed, avoidance)
@@ -160,22 +293,54 @@ def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoida
     return record
 
 
-def run_record(record: RunRecord, avoidance: str = "") -> dict:
-    """One JSON object for a whole mission: status, the plan's and the simulation's records."""
+def run_record(record: RunRecord, avoidance: str = "") -> JsonDict:
+    """Make one JSON object for a whole mission: status, the plan's and the simulation's records.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    avoidance : str, optional
+        The local avoidance used.
+
+    Returns
+    -------
+    dict
+        ``scenario``, ``seed``, ``status``, ``plan`` and ``simulation``.
+    """
     sim = record.sim
-    return jsonable({
+    return cast(JsonDict, jsonable({
         "scenario": record.scenario,
         "seed": record.seed,
         "status": record.status.value,
         "plan": plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
         "simulation": sim_record(sim, record.scenario, record.seed, avoidance or sim.avoidance) if sim else None,
         "key_waypoints": record.keys,
-    })
+    }))
 
 
-def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False) -> dict:
-    """Write a mission's results: run.json, metrics.json (plan), path.csv, route.csv (the mission),
-    keys.csv, sim_metrics.json and track.csv (decimated unless ``full``; run.npz keeps every sample)."""
+def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False) -> JsonDict:
+    """Write a mission's results into ``out_dir``.
+
+    run.json, metrics.json (plan), path.csv, route.csv (the mission), keys.csv, sim_metrics.json
+    and track.csv (decimated unless ``full``; run.npz keeps every sample).
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    scenario_text : str, optional
+        The scenario's TOML source, copied as ``scenario.toml``.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The run record (:func:`run_record`).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if record.plan is not None:
@@ -201,9 +366,24 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
 
 
 def read_run(out_dir: Path) -> tuple[RunRecord, str]:
-    """The :class:`RunRecord` written by :func:`write_run` into ``out_dir``, and the scenario text.
+    """Read back the :class:`RunRecord` written by :func:`write_run` into ``out_dir``.
 
-    Raises :class:`DataError` naming the missing or unreadable file.
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+
+    Returns
+    -------
+    record : RunRecord
+        The run.
+    scenario_text : str
+        The stored scenario (empty when missing).
+
+    Raises
+    ------
+    DataError
+        Naming the missing or unreadable file.
     """
     out = Path(out_dir)
     files = {n: out / n for n in ("run.json", "run.npz")}
@@ -224,7 +404,7 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
         raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
 
 
-def _record_from(rec: dict, arr: dict):
+def _record_from(rec: JsonDict, arr: Mapping[str, Any]) -> RunRecord:
     plan = None
     p = rec.get("plan")
     if p is not None:
@@ -247,19 +427,19 @@ def _record_from(rec: dict, arr: dict):
     return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
 
 
-def _num(v) -> float:
+def _num(v: Any) -> float:
     return float("nan") if v is None else float(v)
 
 
 # ---------------------------------------------------------------------------------------- exports
-def _frame(origin) -> LocalFrame:
+def _frame(origin: tuple[float, float] | None) -> LocalFrame:
     if origin is None:
         raise DataError("this scenario has no [origin] lat/lon, so it cannot be exported in geographic "
                         "coordinates (GeoJSON, KML); add an [origin] table or use --format csv/moos")
     return LocalFrame(*origin)
 
 
-def _track(record: RunRecord, full: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def _track(record: RunRecord, full: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The flown track (decimated unless ``full``; or the plan when there is no flight) and its times (s)."""
     if record.sim is not None and record.sim.t.size:
         sim = record.sim if full else decimate(record.sim)
@@ -272,8 +452,19 @@ def _track(record: RunRecord, full: bool = False) -> tuple[np.ndarray, np.ndarra
     return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)
 
 
-def mission_waypoints(record: RunRecord) -> np.ndarray:
-    """The executable mission of a run: the route it flew (the plan's path without one)."""
+def mission_waypoints(record: RunRecord) -> NDArray[np.float64]:
+    """Return the executable mission of a run: the route it flew (the plan's path without one).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    """
     if record.route.size:
         return record.route
     if record.plan is not None and record.plan.path.size:
@@ -281,8 +472,19 @@ def mission_waypoints(record: RunRecord) -> np.ndarray:
     raise DataError("this run has neither a route nor a planned path to export")
 
 
-def summary_metrics(record: RunRecord) -> dict:
-    """Flat table of a mission's headline figures (report and GeoJSON properties)."""
+def summary_metrics(record: RunRecord) -> JsonDict:
+    """Make a flat table of a mission's headline figures (report and GeoJSON properties).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+
+    Returns
+    -------
+    dict
+        Figure name (unit in the name) → value.
+    """
     rec = run_record(record)
     out = {"scenario": record.scenario, "seed": record.seed, "status": rec["status"]}
     if rec["plan"]:
@@ -294,14 +496,31 @@ def summary_metrics(record: RunRecord) -> dict:
     return out
 
 
-def to_geojson(record: RunRecord, origin, full: bool = False) -> dict:
-    """RFC 7946 FeatureCollection: the flown track (decimated unless ``full``), the planned path,
-    the key waypoints and the executable mission (``name = "mission"``) as LineStrings /
-    MultiPoint with ``[lon, lat, z]`` (z the elevation: negative below the surface)."""
+def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> JsonDict:
+    """Make an RFC 7946 FeatureCollection of a run.
+
+    The flown track (decimated unless ``full``), the planned path, the key waypoints and the
+    executable mission (``name = "mission"``) as LineStrings / MultiPoint with ``[lon, lat, z]``
+    (z the elevation: negative below the surface).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The GeoJSON document.
+    """
     frame = _frame(origin)
     track, _ = _track(record, full)
 
-    def coords(p):
+    def coords(p: NDArray[np.float64]) -> list[list[float]]:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
         return [[round(float(a), 9), round(float(b), 9), round(float(z), 3)] for a, b, z in zip(lon, lat, p[:, 2])]
 
@@ -319,10 +538,27 @@ def to_geojson(record: RunRecord, origin, full: bool = False) -> dict:
     return {"type": "FeatureCollection", "features": feats}
 
 
-def to_kml(record: RunRecord, origin, full: bool = False) -> str:
-    """KML document: the track (decimated unless ``full``), the plan and the executable mission
-    (placemark ``mission``) as LineStrings with absolute altitude (m, negative below sea level)
-    and the key waypoints as placemarks."""
+def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> str:
+    """Make a KML document of a run.
+
+    The track (decimated unless ``full``), the plan and the executable mission (placemark
+    ``mission``) as LineStrings with absolute altitude (m, negative below sea level) and the key
+    waypoints as placemarks.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    str
+        The KML XML text.
+    """
     frame = _frame(origin)
     ns = "http://www.opengis.net/kml/2.2"
     ET.register_namespace("", ns)
@@ -330,11 +566,11 @@ def to_kml(record: RunRecord, origin, full: bool = False) -> str:
     doc = ET.SubElement(root, f"{{{ns}}}Document")
     ET.SubElement(doc, f"{{{ns}}}name").text = f"auvplan {record.scenario} seed {record.seed}"
 
-    def text(p):
+    def text(p: NDArray[np.float64]) -> str:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
         return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in zip(lon, lat, p[:, 2]))
 
-    def line(name, p):
+    def line(name: str, p: NDArray[np.float64]) -> None:
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = name
         ls = ET.SubElement(pm, f"{{{ns}}}LineString")
@@ -355,11 +591,32 @@ def to_kml(record: RunRecord, origin, full: bool = False) -> str:
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
-def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, formats=EXPORT_FORMATS,
-                  full: bool = False) -> list[Path]:
+def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float,
+                  formats: Iterable[str] = EXPORT_FORMATS, full: bool = False) -> list[Path]:
     """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
     :mod:`auvplan.io.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
-    also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``."""
+    also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    speed : float
+        Planned speed (m/s), for the formats' arrival times.
+    formats : iterable of str, optional
+        Format names (``EXPORT_FORMATS``).
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     out = Path(out_dir)
     written = []
     waypoints = mission_waypoints(record)
@@ -377,8 +634,10 @@ def write_exports(out_dir: Path, record: RunRecord, origin, speed: float, format
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed)
         elif fmt == "plan":
+            assert origin is not None  # _frame(origin) raised otherwise
             text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed), indent=1) + "\n"
         elif fmt == "gpx":
+            assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
             text = mfmt.to_ros_path(waypoints, speed)

@@ -31,8 +31,10 @@ import math
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ..errors import DataError
 from ..guidance.mission import MissionCheck, fly_check
@@ -63,20 +65,48 @@ _GPX = "http://www.topografix.com/GPX/1/1"
 _KML = "http://www.opengis.net/kml/2.2"
 
 
-def planned_times(waypoints, speed: float) -> np.ndarray:
-    """Planned arrival time (s) at each waypoint at ``speed`` along the 3D legs."""
+def planned_times(waypoints: ArrayLike, speed: float) -> NDArray[np.float64]:
+    """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs.
+
+    Parameters
+    ----------
+    waypoints : array_like
+        ``(N, 3)`` waypoints (m).
+    speed : float
+        Planned speed (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` times (s), 0 at the first point.
+    """
     w = np.asarray(waypoints, dtype=float)
-    return np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))] / speed
+    times: NDArray[np.float64] = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))] / speed
+    return times
 
 
 # ---------------------------------------------------------------------- MOOS-IvP
-def to_moos(points, speed: float, name: str = "auvplan") -> str:
-    """MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
+def to_moos(points: ArrayLike, speed: float, name: str = "auvplan") -> str:
+    """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
 
     ``BHV_Waypoint`` posts ``WPT_INDEX`` = index (from 0) of the point it heads to, so leg i, from
     point i to point i + 1, runs while ``WPT_INDEX = i``; its ``BHV_ConstantDepth`` holds the depth
     of point i + 1.  :func:`auvplan.guidance.mission.build_waypoints` chose the depths so that the
     vehicle stays clear of the seabed whatever depth it holds between a leg's two end depths.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` mission waypoints in the local frame (m).
+    speed : float
+        Planned speed (m/s).
+    name : str, optional
+        Mission name, in the file's comments.
+
+    Returns
+    -------
+    str
+        The ``.bhv`` text.
     """
     p = np.asarray(points, dtype=float)
     x0, y0, z0 = p[0]
@@ -110,9 +140,20 @@ def _moos_blocks(text: str) -> list[tuple[str, list[tuple[str, str]]]]:
     return out
 
 
-def parse_moos(text: str) -> np.ndarray:
-    """Waypoints ``(N, 3)`` (x, y, z) of a file written by :func:`to_moos`: the start (from its
-    ``// start:`` line, when present) and every point with the depth its leg holds."""
+def parse_moos(text: str) -> NDArray[np.float64]:
+    """Read the waypoints of a file written by :func:`to_moos`.
+
+    Parameters
+    ----------
+    text : str
+        The ``.bhv`` text.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` x, y, z (m): the start (from its ``// start:`` line, when present) and every
+        point with the depth its leg holds.
+    """
     blocks = _moos_blocks(text)
     wpt = [dict(p) for t, p in blocks if t == "BHV_Waypoint"]
     if not wpt or "points" not in wpt[0]:
@@ -141,9 +182,29 @@ def parse_moos(text: str) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
-def to_qgc_plan(points, origin, speed: float, acceptance_radius: float = 5.0) -> dict:
-    """QGroundControl ``.plan`` (JSON) for ArduSub: home on the surface above the first point,
-    one ``MAV_CMD_NAV_WAYPOINT`` per point with altitude = z (negative: depth) relative to home."""
+def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float,
+                acceptance_radius: float = 5.0) -> dict[str, Any]:
+    """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
+
+    Home on the surface above the first point, one ``MAV_CMD_NAV_WAYPOINT`` per point with
+    altitude = z (negative: depth) relative to home.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` mission waypoints in the local frame (m).
+    origin : tuple of float
+        ``(lat, lon)`` of the local frame's origin (degrees).
+    speed : float
+        Planned speed (m/s).
+    acceptance_radius : float, optional
+        Waypoint acceptance radius (m).
+
+    Returns
+    -------
+    dict
+        The plan document (write it with ``json.dump``).
+    """
     p = np.asarray(points, dtype=float)
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
@@ -160,9 +221,22 @@ def to_qgc_plan(points, origin, speed: float, acceptance_radius: float = 5.0) ->
                         "items": items}}
 
 
-def parse_qgc_plan(doc: dict, frame: LocalFrame) -> np.ndarray:
-    """Local waypoints ``(N + 1, 3)`` of a QGC plan: home (on the surface) then every
-    ``MAV_CMD_NAV_WAYPOINT`` item (relative-altitude frames only)."""
+def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
+    """Read the local waypoints of a QGC plan.
+
+    Parameters
+    ----------
+    doc : dict
+        The parsed ``.plan`` JSON.
+    frame : LocalFrame
+        The local frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N + 1, 3)`` (m): home (on the surface) then every ``MAV_CMD_NAV_WAYPOINT`` item
+        (relative-altitude frames only).
+    """
     try:
         mission = doc["mission"]
         home = mission["plannedHomePosition"]
@@ -182,9 +256,28 @@ def parse_qgc_plan(doc: dict, frame: LocalFrame) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- GPX 1.1
-def to_gpx(points, origin, track=None, name: str = "auvplan") -> str:
-    """GPX 1.1 document: the mission as a route, the flown ``track (M, 3)`` (local) as a track;
-    ``ele`` is the elevation z (m, negative below sea level)."""
+def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | None = None,
+           name: str = "auvplan") -> str:
+    """Write a GPX 1.1 document: the mission as a route, the flown track as a track.
+
+    ``ele`` is the elevation z (m, negative below sea level).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` mission waypoints in the local frame (m).
+    origin : tuple of float
+        ``(lat, lon)`` of the local frame's origin (degrees).
+    track : array_like, optional
+        ``(M, 3)`` flown track in the local frame (m).
+    name : str, optional
+        Mission name.
+
+    Returns
+    -------
+    str
+        The GPX XML text.
+    """
     frame = LocalFrame(*origin)
     ET.register_namespace("", _GPX)
     root = ET.Element(f"{{{_GPX}}}gpx", {"version": "1.1", "creator": "auvplan"})
@@ -192,7 +285,7 @@ def to_gpx(points, origin, track=None, name: str = "auvplan") -> str:
     ET.SubElement(meta, f"{{{_GPX}}}name").text = name
     ET.SubElement(meta, f"{{{_GPX}}}desc").text = "ele is the elevation (m): negative below sea level (depth = -ele)"
 
-    def put(parent, tag, p, label=None):
+    def put(parent: ET.Element, tag: str, p: NDArray[np.float64], label: str | None = None) -> None:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
         for k, (lo, la, z) in enumerate(zip(lon, lat, p[:, 2])):
             e = ET.SubElement(parent, f"{{{_GPX}}}{tag}", {"lat": f"{la:.9f}", "lon": f"{lo:.9f}"})
@@ -203,15 +296,28 @@ def to_gpx(points, origin, track=None, name: str = "auvplan") -> str:
     rte = ET.SubElement(root, f"{{{_GPX}}}rte")
     ET.SubElement(rte, f"{{{_GPX}}}name").text = f"{name} mission"
     put(rte, "rtept", np.asarray(points, dtype=float), "WP")
-    if track is not None and len(track):
+    if track is not None and np.size(track):
         trk = ET.SubElement(root, f"{{{_GPX}}}trk")
         ET.SubElement(trk, f"{{{_GPX}}}name").text = f"{name} flown track"
         put(ET.SubElement(trk, f"{{{_GPX}}}trkseg"), "trkpt", np.asarray(track, dtype=float))
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
-def parse_gpx(text: str, frame: LocalFrame) -> np.ndarray:
-    """Local waypoints of the first route of a GPX 1.1 document."""
+def parse_gpx(text: str, frame: LocalFrame) -> NDArray[np.float64]:
+    """Read the local waypoints of the first route of a GPX 1.1 document.
+
+    Parameters
+    ----------
+    text : str
+        The GPX XML text.
+    frame : LocalFrame
+        The local frame.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    """
     root = _xml(text, "GPX")
     pts = root.findall(f"{{{_GPX}}}rte/{{{_GPX}}}rtept")
     if not pts:
@@ -233,8 +339,23 @@ def _xml(text: str, what: str) -> ET.Element:
 
 
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
-def to_ros_path(points, speed: float, frame_id: str = "map") -> str:
-    """``nav_msgs/msg/Path`` as YAML (ENU local frame ``frame_id``; stamps = planned times)."""
+def to_ros_path(points: ArrayLike, speed: float, frame_id: str = "map") -> str:
+    """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` mission waypoints in the local frame (m).
+    speed : float
+        Planned speed (m/s).
+    frame_id : str, optional
+        The ROS frame of the poses (ENU, m).
+
+    Returns
+    -------
+    str
+        The YAML text.
+    """
     p = np.asarray(points, dtype=float)
     t = planned_times(p, speed)
     d = np.diff(p, axis=0)
@@ -255,8 +376,19 @@ def to_ros_path(points, speed: float, frame_id: str = "map") -> str:
     return "\n".join(lines) + "\n"
 
 
-def parse_ros_path(text: str) -> np.ndarray:
-    """Waypoints ``(N, 3)`` of a ``nav_msgs/Path`` YAML document (PyYAML)."""
+def parse_ros_path(text: str) -> NDArray[np.float64]:
+    """Read the waypoints of a ``nav_msgs/Path`` YAML document (PyYAML).
+
+    Parameters
+    ----------
+    text : str
+        The YAML text.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    """
     import yaml
 
     try:
@@ -267,8 +399,23 @@ def parse_ros_path(text: str) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- CSV, GeoJSON, KML
-def mission_csv(points, origin, speed: float) -> str:
-    """CSV of the mission waypoints: ``x, y, z, lat, lon, depth, time`` (planned arrival, s)."""
+def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float) -> str:
+    """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` mission waypoints in the local frame (m).
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame's origin (degrees); None leaves lat/lon empty.
+    speed : float
+        Planned speed (m/s).
+
+    Returns
+    -------
+    str
+        The CSV text (m, degrees, s).
+    """
     p = np.asarray(points, dtype=float)
     if origin is not None:
         lon, lat = LocalFrame(*origin).inverse(p[:, 0], p[:, 1])
@@ -281,7 +428,7 @@ def mission_csv(points, origin, speed: float) -> str:
     return "\n".join(rows) + "\n"
 
 
-def _geojson_mission(doc: dict, frame: LocalFrame) -> np.ndarray:
+def _geojson_mission(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
     for f in doc.get("features", []):
         if (f.get("properties") or {}).get("name") == "mission":
             c = np.asarray(f["geometry"]["coordinates"], dtype=float)
@@ -302,11 +449,29 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- reading and checking
-def read_mission(path, origin=None) -> tuple[np.ndarray, str, str]:
-    """``(waypoints (N, 3), semantics, format)`` of a mission file (format from the suffix).
+def read_mission(path: str | Path, origin: tuple[float, float] | None = None) -> tuple[NDArray[np.float64], str, str]:
+    """Read a mission file (format from the suffix).
 
-    Geographic formats need ``origin`` (lat, lon) of the local frame.  Raises
-    :class:`DataError` naming the file when it cannot be read.
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+    origin : tuple of float, optional
+        ``(lat, lon)`` of the local frame (degrees); needed by the geographic formats.
+
+    Returns
+    -------
+    waypoints : numpy.ndarray
+        ``(N, 3)`` waypoints in the local frame (m).
+    semantics : str
+        The format's depth semantics, ``"held"`` or ``"ramp"``.
+    format : str
+        The format's name.
+
+    Raises
+    ------
+    DataError
+        Naming the file when it cannot be read.
     """
     path = Path(path)
     fmt = MISSION_SUFFIXES.get(path.suffix.lower())
@@ -341,10 +506,25 @@ def read_mission(path, origin=None) -> tuple[np.ndarray, str, str]:
         raise DataError(f"{path}: not a readable {fmt} mission ({exc})") from exc
 
 
-def check_mission_file(path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
-    """Re-fly the mission file ``path`` under its format's depth semantics in ``world``
-    (:func:`auvplan.guidance.mission.fly_check`; held depths change at ``pitch_deg``); returns the
-    check and the format."""
+def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
+    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.fly_check`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    world : World
+        Seabed, static obstacles and margins (its origin for geographic formats).
+    pitch_deg : float, optional
+        Pitch at which held depths change (degrees).
+
+    Returns
+    -------
+    check : MissionCheck
+        Least altitudes, obstacle distance and hits.
+    format : str
+        The file's format.
+    """
     waypoints, semantics, fmt = read_mission(path, world.origin)
     if not np.isfinite(waypoints).all() or len(waypoints) < 1:
         raise DataError(f"{path}: the mission has no finite waypoints")

@@ -20,10 +20,13 @@ extent is reported with the side (north, south, east, west) that is missing.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Transformer
 from scipy.interpolate import LinearNDInterpolator, RegularGridInterpolator
 from scipy.optimize import minimize_scalar
@@ -33,18 +36,33 @@ from .geo import LocalFrame, normalise_lon
 
 __all__ = ["HorizontalGrid", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
 
+_F64 = NDArray[np.float64]
+"""Array of float64."""
+
 _LON_UNITS = {"degrees_east", "degree_east", "degree_e", "degrees_e", "degreee", "degreese"}
 _LAT_UNITS = {"degrees_north", "degree_north", "degree_n", "degrees_n", "degreen", "degreesn"}
 _METRES = {"m": 1.0, "metre": 1.0, "meter": 1.0, "metres": 1.0, "meters": 1.0, "km": 1000.0, "": 1.0}
 
 
-def _attr(obj, name: str) -> str:
+def _attr(obj: xr.Dataset | xr.DataArray | xr.Variable | None, name: str) -> str:
     return str(obj.attrs.get(name, "")).strip().lower() if obj is not None else ""
 
 
 def axis_kind(var: xr.DataArray | None, name: str) -> str:
-    """``'lon'``, ``'lat'``, ``'x'``, ``'y'``, ``'t'``, ``'z'`` or ``''`` for a coordinate variable
-    (or a bare dimension ``name`` when ``var`` is None), from CF attributes, then its name."""
+    """Classify a coordinate variable from its CF attributes, then its name.
+
+    Parameters
+    ----------
+    var : xarray.DataArray or None
+        The coordinate variable; None for a bare dimension.
+    name : str
+        The variable's or dimension's name.
+
+    Returns
+    -------
+    str
+        ``'lon'``, ``'lat'``, ``'x'``, ``'y'``, ``'t'``, ``'z'`` or ``''`` (unknown).
+    """
     std = _attr(var, "standard_name")
     units = _attr(var, "units").replace(" ", "")
     long_name = _attr(var, "long_name")
@@ -93,7 +111,13 @@ class HorizontalGrid:
     layout: str = ""
 
     def describe(self) -> str:
-        """One line: kind, axes ranges and sizes."""
+        """Describe the grid in one line: kind, axes ranges and sizes.
+
+        Returns
+        -------
+        str
+            The description.
+        """
         r, c = np.asarray(self.rows), np.asarray(self.cols)
         if self.kind in ("lonlat", "curvilinear"):
             span = (f"lat {np.nanmin(r):.5f}..{np.nanmax(r):.5f}, lon {normalise_lon(np.nanmin(c)):.5f}.."
@@ -138,7 +162,7 @@ def _crs_of(ds: xr.Dataset, da: xr.DataArray, src: str) -> CRS | None:
         raise DataError(f"{src}: grid_mapping {gm!r} is not a usable CRS ({exc})") from exc
 
 
-def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str]):
+def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str]) -> tuple[_F64, _F64] | None:
     """2-D latitude and longitude variables on ``dims`` (any order), or None."""
     found = {}
     for name, var in ds.variables.items():
@@ -151,6 +175,15 @@ def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str]):
 
 def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, str, HorizontalGrid, bool, bool]:
     """Find the horizontal axes of ``da`` in ``ds``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The open file.
+    da : xarray.DataArray
+        The data variable.
+    src : str
+        The file, for messages.
 
     Returns
     -------
@@ -198,7 +231,8 @@ def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, st
                     f"dimensions {shown}; give them CF standard_name/units attributes")
 
 
-def _ascending(kind, rows, cols, crs, layout, rdim, cdim, src, name):
+def _ascending(kind: str, rows: _F64, cols: _F64, crs: CRS | None, layout: str, rdim: str, cdim: str, src: str,
+               name: Hashable) -> tuple[str, str, HorizontalGrid, bool, bool]:
     rows = np.asarray(rows, dtype=float).reshape(-1)
     cols = np.asarray(cols, dtype=float).reshape(-1)
     if rows.size == 0 or cols.size == 0:
@@ -217,7 +251,8 @@ def _ascending(kind, rows, cols, crs, layout, rdim, cdim, src, name):
     return rdim, cdim, HorizontalGrid(kind, rows, cols, crs, layout), flip_r, flip_c
 
 
-def _from_two_d(two, rdim, cdim, src, name):
+def _from_two_d(two: tuple[_F64, _F64], rdim: str, cdim: str, src: str,
+                name: Hashable) -> tuple[str, str, HorizontalGrid, bool, bool]:
     lat2, lon2 = two
     # rectilinear after all: latitude constant along rows, longitude constant along columns
     if np.allclose(lat2, lat2[:, :1], atol=1e-9) and np.allclose(lon2, lon2[:1, :], atol=1e-9):
@@ -230,7 +265,7 @@ def _from_two_d(two, rdim, cdim, src, name):
 
 
 # ---------------------------------------------------------------------- local frame
-def _to_source(grid: HorizontalGrid, frame: LocalFrame, x, y) -> tuple[np.ndarray, np.ndarray]:
+def _to_source(grid: HorizontalGrid, frame: LocalFrame, x: ArrayLike, y: ArrayLike) -> tuple[_F64, _F64]:
     """Local x, y → (row, col) coordinates of the source grid (lat/lon or projected y/x)."""
     lon, lat = frame.inverse(x, y)
     if grid.kind == "projected":
@@ -241,7 +276,7 @@ def _to_source(grid: HorizontalGrid, frame: LocalFrame, x, y) -> tuple[np.ndarra
     return np.asarray(lat), c0 + np.mod(np.asarray(lon) - c0, 360.0)
 
 
-def _from_source(grid: HorizontalGrid, frame: LocalFrame, r, c) -> tuple[np.ndarray, np.ndarray]:
+def _from_source(grid: HorizontalGrid, frame: LocalFrame, r: ArrayLike, c: ArrayLike) -> tuple[_F64, _F64]:
     if grid.kind == "projected":
         tr = Transformer.from_crs(grid.crs, "EPSG:4326", always_xy=True)
         lon, lat = tr.transform(np.asarray(c, dtype=float), np.asarray(r, dtype=float))
@@ -256,6 +291,18 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
 
     Each side is the extreme of the projected edge found by sampling and then refined by a
     bounded scalar minimisation, and moved 1 mm inwards; curvilinear grids use their outer node rows.
+
+    Parameters
+    ----------
+    grid : HorizontalGrid
+        The data's nodes.
+    frame : LocalFrame
+        The local frame.
+
+    Returns
+    -------
+    tuple of 4 float
+        ``(xmin, xmax, ymin, ymax)`` in the local frame (m).
     """
     if grid.kind == "local":
         return float(grid.cols[0]), float(grid.cols[-1]), float(grid.rows[0]), float(grid.rows[-1])
@@ -271,7 +318,8 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
     }
     out = {}
     for side, (edge, comp, sign) in edges.items():
-        def f(s, edge=edge, comp=comp, sign=sign):
+        def f(s: ArrayLike, edge: Callable[[_F64], tuple[Any, Any]] = edge, comp: int = comp,
+              sign: float = sign) -> _F64:
             r, c = np.broadcast_arrays(*edge(np.asarray(s, dtype=float)))
             return -sign * _from_source(grid, frame, r, c)[comp]
         s = np.linspace(0.0, 1.0, 201)
@@ -285,7 +333,7 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
     return out["west"], out["east"], out["south"], out["north"]
 
 
-def _uncovered(grid: HorizontalGrid, qr, qc, tol_r, tol_c) -> list[str]:
+def _uncovered(grid: HorizontalGrid, qr: _F64, qc: _F64, tol_r: float, tol_c: float) -> list[str]:
     sides = []
     names = ("south", "north", "west", "east")
     tests = (qr < grid.rows[0] - tol_r, qr > grid.rows[-1] + tol_r, qc < grid.cols[0] - tol_c,
@@ -297,7 +345,18 @@ def _uncovered(grid: HorizontalGrid, qr, qc, tol_r, tol_c) -> list[str]:
 
 
 def data_span(grid: HorizontalGrid) -> str:
-    """The grid's extent as text for messages (lat/lon ranges, or x/y ranges in metres)."""
+    """Describe the grid's extent for messages.
+
+    Parameters
+    ----------
+    grid : HorizontalGrid
+        The data's nodes.
+
+    Returns
+    -------
+    str
+        Latitude/longitude ranges (degrees), or x/y ranges (m).
+    """
     if grid.kind in ("lonlat", "curvilinear"):
         r, c = np.asarray(grid.rows), np.asarray(grid.cols)
         return (f"lat {np.min(r):.4f}..{np.max(r):.4f}, lon {normalise_lon(np.min(c)):.4f}.."
@@ -307,14 +366,14 @@ def data_span(grid: HorizontalGrid) -> str:
 
 def to_local(
     grid: HorizontalGrid,
-    values,
+    values: ArrayLike,
     frame: LocalFrame,
     *,
     extent_m: tuple[float, float, float, float] | None = None,
     cell_m: float | None = None,
     method: str = "linear",
     what: str = "grid",
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[_F64, _F64, _F64]:
     """Resample ``values (..., nrow, ncol)`` on ``grid`` onto a rectilinear grid in ``frame``.
 
     Parameters
@@ -399,5 +458,5 @@ def _native_cell(grid: HorizontalGrid) -> float:
     mid_lat = np.deg2rad(0.5 * (lat[0] + lat[-1]))
     dlat = float(np.median(np.diff(lat))) * 111_320.0
     dlon = float(np.median(np.diff(lon))) * 111_320.0 * np.cos(mid_lat)
-    return min(dlat, dlon)
+    return float(min(dlat, dlon))
 

@@ -83,8 +83,19 @@ def _currents(path: Path) -> list[str]:
     return lines
 
 
-def inspect_file(path) -> str:
-    """A human-readable report of what auvplan detects in ``path`` (NetCDF or GeoTIFF)."""
+def inspect_file(path: str | Path) -> str:
+    """Report what auvplan detects in a data file (NetCDF or GeoTIFF).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    str
+        A human-readable report: variables, and the file read as bathymetry and as currents.
+    """
     path = Path(path)
     if not path.is_file():
         raise DataError(f"{path}: file not found")

@@ -81,14 +81,48 @@ def check(limits: Limits, where: str, what: str, nbytes: float) -> None:
 
 
 def grid_nodes(span_x: float, span_y: float, cell: float) -> float:
-    """Nodes of a regular grid of ``cell`` over ``span_x × span_y`` (as the resamplers count them)."""
+    """Count the nodes of a regular grid of ``cell`` over ``span_x × span_y`` (as the resamplers count them).
+
+    Parameters
+    ----------
+    span_x, span_y : float
+        Extent of the grid (m).
+    cell : float
+        Grid spacing (m).
+
+    Returns
+    -------
+    float
+        Number of nodes (a float: may be huge or inf for a tiny cell).
+    """
     if not cell > 0:
         return math.inf
     return (math.floor(span_x / cell + 0.5) + 1.0) * (math.floor(span_y / cell + 0.5) + 1.0)
 
 
 def sim_bytes(length_m: float, speed: float, max_time: float, dt: float, record_every: int, n_obstacles: int) -> float:
-    """Memory of the closed-loop simulation's record (its arrays are preallocated for the time limit)."""
+    """Estimate the memory of the closed-loop simulation's record (preallocated for the time limit).
+
+    Parameters
+    ----------
+    length_m : float
+        Route length (m).
+    speed : float
+        Cruise speed (m/s).
+    max_time : float
+        Time limit (s); 0 = 3 × nominal + 120 s.
+    dt : float
+        Time step (s).
+    record_every : int
+        Record every this many steps.
+    n_obstacles : int
+        Static and moving obstacles (one distance column each).
+
+    Returns
+    -------
+    float
+        Bytes.
+    """
     t = max_time or 3.0 * length_m / speed + 120.0
     steps = t / dt / record_every + 2.0
     return steps * (96.0 + 8.0 * n_obstacles)

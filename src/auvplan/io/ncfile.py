@@ -10,9 +10,11 @@ checks here tell the faults apart, each naming the file: missing, not a NetCDF/H
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
+from numpy.typing import NDArray
 
 from ..errors import DataError
 
@@ -53,7 +55,7 @@ def _hdf5_declared_size(head: bytes) -> int | None:
     return int.from_bytes(head[at:at + size_o], "little")
 
 
-def open_dataset(path: Path, what: str, **kwargs) -> xr.Dataset:
+def open_dataset(path: Path, what: str, **kwargs: Any) -> xr.Dataset:
     """``xarray.open_dataset(path)`` after checking the file is there, is NetCDF/HDF5, and is whole.
 
     Parameters
@@ -64,6 +66,11 @@ def open_dataset(path: Path, what: str, **kwargs) -> xr.Dataset:
         What it should hold ("bathymetry", "current"), for the messages.
     **kwargs
         Passed to :func:`xarray.open_dataset`.
+
+    Returns
+    -------
+    xarray.Dataset
+        The open dataset (close it, or use it as a context manager).
 
     Raises
     ------
@@ -97,8 +104,21 @@ def open_dataset(path: Path, what: str, **kwargs) -> xr.Dataset:
         raise DataError(f"{path}: {fault} NetCDF file ({text[:200]})") from exc
 
 
-def variable_values(da: xr.DataArray, src: str) -> np.ndarray:
-    """The values of a variable (or coordinate) as floats, naming the file and variable on failure."""
+def variable_values(da: xr.DataArray, src: str) -> NDArray[np.float64]:
+    """Read the values of a variable (or coordinate) as floats, naming the file and variable on failure.
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        The variable.
+    src : str
+        The file, for messages.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values as float64, in the variable's own units.
+    """
     try:
         return np.asarray(da.values, dtype=float)
     except Exception as exc:  # HDF5/netCDF read errors surface only here, lazily
@@ -107,7 +127,19 @@ def variable_values(da: xr.DataArray, src: str) -> np.ndarray:
 
 
 def check_dims(da: xr.DataArray, want: int, src: str, role: str) -> None:
-    """Raise a DataError naming the variable when ``da`` does not have ``want`` dimensions."""
+    """Raise a DataError naming the variable when ``da`` does not have ``want`` dimensions.
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        The variable.
+    want : int
+        Number of dimensions required.
+    src : str
+        The file, for messages.
+    role : str
+        What the variable is used as ("elevation", "eastward current" …), for messages.
+    """
     if da.ndim != want:
         dims = ", ".join(f"{d} = {n}" for d, n in da.sizes.items()) or "none"
         raise DataError(f"{src}: variable {da.name!r} has {da.ndim} dimension(s) ({dims}); the {role} must be "

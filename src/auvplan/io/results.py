@@ -27,7 +27,20 @@ TERRAIN_FILE = "terrain.npz"
 
 
 def save_terrain(out: Path, terrain: Terrain | None) -> Path | None:
-    """Save ``terrain`` (axes, elevation, name) as ``out/terrain.npz``; nothing without a terrain."""
+    """Save ``terrain`` (axes, elevation, name) as ``out/terrain.npz``; nothing without a terrain.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Results folder.
+    terrain : Terrain or None
+        The terrain the run used.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The file written, or None without a terrain.
+    """
     if terrain is None:
         return None
     buf = io.BytesIO()
@@ -36,7 +49,17 @@ def save_terrain(out: Path, terrain: Terrain | None) -> Path | None:
 
 
 def load_terrain(out: Path) -> Terrain | None:
-    """The terrain saved by :func:`save_terrain` in ``out`` (None when there is none).
+    """Load the terrain saved by :func:`save_terrain` in ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Results folder.
+
+    Returns
+    -------
+    Terrain or None
+        The terrain, or None when the folder has none.
 
     Raises
     ------
@@ -54,8 +77,18 @@ def load_terrain(out: Path) -> Terrain | None:
 
 
 def scenario_base(out: Path) -> Path:
-    """Folder against which the stored scenario's relative data paths resolve: the original
-    scenario's folder recorded in ``source.json``, or ``out`` itself."""
+    """Return the folder against which the stored scenario's relative data paths resolve.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        Results folder.
+
+    Returns
+    -------
+    pathlib.Path
+        The original scenario's folder recorded in ``source.json``, or ``out`` itself.
+    """
     out = Path(out)
     src = out / "source.json"
     if not src.is_file():

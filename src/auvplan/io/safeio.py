@@ -39,7 +39,18 @@ class OutputError(AuvplanError, OSError):
 
 
 def written(folder: Path) -> set[str]:
-    """Names of the files auvplan wrote into ``folder`` (its manifest; empty when none or unreadable)."""
+    """Return the names of the files auvplan wrote into ``folder`` (its manifest).
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        An output folder.
+
+    Returns
+    -------
+    set of str
+        File names; empty when there is no manifest or it is unreadable.
+    """
     p = Path(folder) / MANIFEST
     if p.is_symlink() or not p.is_file():
         return set()
@@ -79,8 +90,24 @@ def _record(folder: Path, names: Iterable[str]) -> None:
 
 
 def write_new(path: Path, data: str, *, force: bool = False) -> Path:
-    """Write a file the user will edit (no manifest): refused when it exists unless ``force``;
-    never through a symbolic link; atomically."""
+    """Write a file the user will edit (no manifest), atomically.
+
+    Refused when it exists unless ``force``; never through a symbolic link.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    data : str
+        Its text.
+    force : bool, optional
+        Overwrite an existing file.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     if path.is_symlink() and not force:
         raise OutputError(f"{path}: is a symbolic link; not followed (pass --force to replace the link)")
@@ -97,12 +124,32 @@ def write_new(path: Path, data: str, *, force: bool = False) -> Path:
 
 
 def claim(folder: Path, names: Iterable[str]) -> None:
-    """Record files auvplan writes in ``folder`` by other means (append-only logs) in its manifest."""
+    """Record files auvplan writes in ``folder`` by other means (append-only logs) in its manifest.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The output folder.
+    names : iterable of str
+        File names to record.
+    """
     _record(Path(folder), names)
 
 
 def atomic_write(path: Path, data: bytes | str) -> Path:
     """Write ``data`` to ``path`` atomically (temp file + rename) and record it in the folder's manifest.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    data : bytes or str
+        Its content (text is written as UTF-8).
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
 
     Raises
     ------
@@ -145,6 +192,11 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
     force : bool
         Adopt existing files of those names (they will be overwritten) and remove symbolic
         links of those names (the link, not its target).
+
+    Returns
+    -------
+    pathlib.Path
+        The folder, created.
 
     Raises
     ------

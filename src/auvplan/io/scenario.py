@@ -18,6 +18,8 @@ Layout (all tables optional except ``[mission]``)::
     [[obstacles]] type = sphere|ellipsoid, center, radius | semi_axes, yaw_deg, pitch_deg, roll_deg
     [[moving]]    type, radius | semi_axes, motion = linear|circle|waypoints|random-walk, ...
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
+    [[vehicles]]  name, role = leader|follower, start, depth_offset_m     # several vehicles ...
+    [formation]   shape = line|column|wedge, spacing_m, changes, ...    # ... flying in formation
     [vehicle] [planner] [guidance] [avoidance] [sim]   parameters of those components
 """
 
@@ -34,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DataError, ScenarioError
+from ..guidance.formation import Formation, FormationParams, VehicleSpec
 from ..guidance.hybrid import HybridParams
 from ..guidance.local import AvoidanceParams
 from ..guidance.los import LosParams
@@ -87,7 +90,15 @@ __all__ = [
 # ---------------------------------------------------------------------- section dataclasses
 @dataclass(frozen=True)
 class OriginSpec:
-    """Geographic position of the local origin (degrees)."""
+    """Geographic position of the local origin (degrees).
+
+    Attributes
+    ----------
+    lat : float
+        Latitude of the origin (degrees, WGS84), in [-90, 90].
+    lon : float
+        Longitude of the origin (degrees, WGS84), in [-360, 360].
+    """
 
     lat: float
     lon: float
@@ -101,7 +112,13 @@ class OriginSpec:
 
 @dataclass(frozen=True)
 class BoundsSpec:
-    """Operating box (m); empty axes are taken from the terrain."""
+    """Operating box (m); empty axes are taken from the terrain.
+
+    Attributes
+    ----------
+    x, y, z : tuple of float
+        ``[min, max]`` of each axis in the local frame (m, z up); empty: from the terrain.
+    """
 
     x: tuple[float, ...] = ()
     y: tuple[float, ...] = ()
@@ -122,6 +139,25 @@ class SyntheticTerrainSpec:
     ``slope = [dz/dx, dz/dy]``), ``hills`` (flat plus Gaussian hills
     ``hills = [[x, y, height, sigma], ...]``) or ``ridge`` (flat plus a ridge of
     ``height`` along x = ``ridge_x`` with half-width ``ridge_width``).
+
+    Attributes
+    ----------
+    kind : str
+        ``flat``, ``plane``, ``hills`` or ``ridge``.
+    depth : float
+        Water depth at the origin (m, positive).
+    cell_m : float
+        Grid cell (m); 0 chooses one from the bounds.
+    slope : tuple of 2 float
+        ``[dz/dx, dz/dy]`` of a ``plane`` (m/m).
+    hills : tuple of (x, y, height, sigma)
+        Gaussian hills: centre (m), height (m) and width σ (m).
+    ridge_x : float
+        x of the ridge's crest (m).
+    ridge_width : float
+        Half-width of the ridge (m).
+    height : float
+        Height of the ridge above the flat seabed (m).
     """
 
     kind: str = "flat"
@@ -144,7 +180,17 @@ class SyntheticTerrainSpec:
 
 @dataclass(frozen=True)
 class VortexSpec:
-    """One Lamb–Oseen vortex: centre (m), circulation ``gamma`` (m²/s), core radius ``delta`` (m)."""
+    """One Lamb–Oseen vortex: centre (m), circulation ``gamma`` (m²/s), core radius ``delta`` (m).
+
+    Attributes
+    ----------
+    x, y : float
+        Centre (m).
+    gamma : float
+        Circulation Γ (m²/s), positive anticlockwise.
+    delta : float
+        Core radius δ (m), positive.
+    """
 
     x: float
     y: float
@@ -160,7 +206,19 @@ class VortexSpec:
 class CurrentsSpec:
     """Current field: uniform, a sum of Lamb–Oseen vortices, a NetCDF file, or tidal stations
     (``tides`` = a built-in name such as ``"juan-de-fuca"`` or a station JSON file; needs [origin]
-    and [mission] start_time)."""
+    and [mission] start_time).
+
+    Attributes
+    ----------
+    uniform : tuple of 3 float
+        Uniform current east, north, up (m/s).
+    vortices : tuple of VortexSpec
+        Lamb–Oseen vortices.
+    file : str or CurrentsFileSpec or None
+        A NetCDF current file (``file = "x.nc"`` or a table with its variable names).
+    tides : str
+        A built-in tidal station set or a station JSON file.
+    """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
@@ -194,6 +252,9 @@ class MissionSpec:
     surface : bool
         ``false`` removes the sea-surface constraint (laboratory scenes in a document's own
         coordinates, e.g. document 000's goal at z = +30).
+    start_time : str
+        ISO 8601 UTC time of the start, matched to the current file's time axis or the tides
+        (empty: the file's first time).
     """
 
     start: tuple[float, float, float]
@@ -223,7 +284,17 @@ class MissionSpec:
 
 @dataclass(frozen=True)
 class GuidanceSpec:
-    """Which path follower drives the vehicle, with the parameters of each."""
+    """Which path follower drives the vehicle, with the parameters of each.
+
+    Attributes
+    ----------
+    name : str
+        ``hybrid``, ``los`` or ``ilos``.
+    hybrid : HybridParams
+        Document 001's hybrid field.
+    los : LosParams
+        LOS and ILOS.
+    """
 
     name: str = "hybrid"
     hybrid: HybridParams = field(default_factory=HybridParams)
@@ -236,7 +307,53 @@ class GuidanceSpec:
 
 @dataclass(frozen=True, eq=False)
 class Scenario:
-    """A parsed, validated scenario (nothing read from disk yet but the TOML itself)."""
+    """A parsed, validated scenario (nothing read from disk yet but the TOML itself).
+
+    Attributes
+    ----------
+    name, description : str
+        Scenario name and one-line description.
+    seed : int
+        Default random seed.
+    source : str
+        The file (or ``<string>``).
+    base_dir : pathlib.Path or None
+        Folder that relative data paths resolve against.
+    origin : OriginSpec or None
+        Geographic origin of the local frame.
+    bounds : BoundsSpec
+        Operating box (m).
+    terrain : TerrainSpec or None
+        Bathymetry source (file or built-in).
+    synthetic : SyntheticTerrainSpec or None
+        Analytic seabed instead.
+    currents : CurrentsSpec
+        Current field.
+    obstacles : tuple
+        Static obstacles (spheres, ellipsoids).
+    moving : tuple of MovingObstacle
+        Moving obstacles.
+    mission : MissionSpec
+        Start, goal, route and margins.
+    vehicle : VehicleParams
+        Vehicle parameters.
+    planner : PlannerSpec
+        Global planner and its settings.
+    guidance : GuidanceSpec
+        Path follower.
+    avoidance : AvoidanceParams
+        Local avoidance.
+    sim : SimSettings
+        Closed-loop settings.
+    raw : dict
+        The parsed TOML document.
+    limits : Limits
+        Resource budget.
+    land : LandSpec or None
+        Coastline source.
+    formation : Formation or None
+        Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
+    """
 
     name: str
     description: str
@@ -256,21 +373,23 @@ class Scenario:
     guidance: GuidanceSpec
     avoidance: AvoidanceParams
     sim: SimSettings
-    raw: dict = field(repr=False, default_factory=dict)
+    raw: dict[str, Any] = field(repr=False, default_factory=dict)
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
+    formation: Formation | None = None
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
+    "formation": FormationParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
-    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land",
+    "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
 }
 
 
@@ -292,7 +411,7 @@ class _EllipsoidSpec:
     roll_deg: float = 0.0
 
 
-def _shape(table: dict, where: str, *, moving: bool):
+def _shape(table: dict[str, Any], where: str, *, moving: bool) -> Any:
     if not isinstance(table, dict):
         raise ScenarioError(f"{where}: expected a table (type, center, radius, ...), got {table!r:.80}")
     if moving:  # a moving shape is placed by its motion; its other keys belong to the motion
@@ -353,7 +472,8 @@ _SHAPE_KEYS = ("type", "radius", "semi_axes", "yaw_deg", "pitch_deg", "roll_deg"
 _MOVING_KEYS = ("name", "motion", "appears", "disappears")
 
 
-def _moving(table: dict, where: str, bounds_xy, limits: Limits) -> MovingObstacle:
+def _moving(table: dict[str, Any], where: str, bounds_xy: tuple[float, float, float, float] | None,
+            limits: Limits) -> MovingObstacle:
     if not isinstance(table, dict):
         raise ScenarioError(f"{where}: expected a table, got {table!r:.80}")
     shape = _shape(table, where, moving=True)
@@ -406,7 +526,13 @@ def _moving(table: dict, where: str, bounds_xy, limits: Limits) -> MovingObstacl
 
 # ---------------------------------------------------------------------- loading
 def builtin_scenarios() -> dict[str, str]:
-    """Names of the built-in scenarios with their one-line descriptions."""
+    """List the built-in scenarios with their one-line descriptions.
+
+    Returns
+    -------
+    dict of str to str
+        Name → description.
+    """
     out = {}
     folder = resources.files("auvplan") / "data" / "scenarios"
     for entry in sorted(folder.iterdir(), key=lambda e: e.name):
@@ -418,7 +544,18 @@ def builtin_scenarios() -> dict[str, str]:
 
 
 def resolve(scenario: str | Path) -> Path:
-    """Path of a scenario given as a file path or the name of a built-in scenario."""
+    """Return the path of a scenario given as a file path or the name of a built-in scenario.
+
+    Parameters
+    ----------
+    scenario : str or pathlib.Path
+        A TOML file or a built-in name.
+
+    Returns
+    -------
+    pathlib.Path
+        The TOML file.
+    """
     p = Path(scenario)
     if p.is_file():
         return p
@@ -430,7 +567,18 @@ def resolve(scenario: str | Path) -> Path:
 
 
 def load(scenario: str | Path) -> Scenario:
-    """Parse and validate a scenario file (or built-in name) without reading its data files."""
+    """Parse and validate a scenario file (or built-in name) without reading its data files.
+
+    Parameters
+    ----------
+    scenario : str or pathlib.Path
+        A TOML file or a built-in name.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+    """
     path = resolve(scenario)
     try:
         data = path.read_bytes()
@@ -445,13 +593,28 @@ def load(scenario: str | Path) -> Scenario:
     return loads(text, source=str(path), base_dir=path.parent)
 
 
-def _section(data: dict, key: str, src: str):
+def _section(data: dict[str, Any], key: str, src: str) -> Any:
     table = data.get(key, {})
     return build_dataclass(SECTIONS[key], table, f"{src}: [{key}]")
 
 
 def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
-    """Parse and validate scenario TOML text."""
+    """Parse and validate scenario TOML text.
+
+    Parameters
+    ----------
+    text : str
+        The TOML.
+    source : str, optional
+        Its name, for messages.
+    base_dir : pathlib.Path, optional
+        Folder that relative data paths resolve against.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+    """
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -464,8 +627,23 @@ def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> 
         raise ScenarioError(f"{source}: a value is nested too deeply") from exc
 
 
-def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
-    """Validate a parsed scenario document (the dict ``tomllib`` returns) into a :class:`Scenario`."""
+def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | None = None) -> Scenario:
+    """Validate a parsed scenario document (the dict ``tomllib`` returns) into a :class:`Scenario`.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed TOML document.
+    source : str, optional
+        Its name, for messages.
+    base_dir : pathlib.Path, optional
+        Folder that relative data paths resolve against.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+    """
     if not isinstance(data, dict):
         raise ScenarioError(f"{source}: expected a table of sections, got {type(data).__name__}")
     for key in data:
@@ -517,6 +695,7 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
     _check_geometry(source, mission, sim)
+    formation = _formation(data, source, mission)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -539,10 +718,32 @@ def from_dict(data: dict, source: str = "<string>", base_dir: Path | None = None
         raw=copy.deepcopy(data),
         limits=limits,
         land=land,
+        formation=formation,
     )
 
 
-def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic, planner: PlannerSpec) -> None:
+def _formation(data: dict[str, Any], src: str, mission: MissionSpec) -> Formation | None:
+    """``[[vehicles]]`` and ``[formation]``: both or neither."""
+    if "vehicles" not in data and "formation" not in data:
+        return None
+    raw = data.get("vehicles", [])
+    if not isinstance(raw, list) or not raw:
+        raise table_error(f"{src}:", "vehicles", raw, "expected an array of tables [[vehicles]] (name, role, ...)")
+    vehicles = tuple(build_dataclass(VehicleSpec, v, f"{src}: [[vehicles]] #{i + 1}") for i, v in enumerate(raw))
+    params = _section(data, "formation", src)
+    for i, ch in enumerate(params.changes):
+        if ch.waypoint >= 0 and ch.waypoint >= max(len(mission.route), 1):
+            raise table_error(f"{src}: [formation]", f"changes[{i}].waypoint", ch.waypoint,
+                              f"the [mission] route has {len(mission.route)} waypoints" if mission.route else
+                              "a waypoint needs a [mission] route (use at_m with a planned route)")
+    try:
+        return Formation(params, vehicles)
+    except ValueError as exc:
+        raise ScenarioError(f"{src}: [[vehicles]] {exc}") from exc
+
+
+def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: SyntheticTerrainSpec | None,
+                 planner: PlannerSpec) -> None:
     """Sizes known from the document alone, against the budget (before anything is allocated)."""
     if synthetic is not None and bounds.x and bounds.y:
         (x0, x1), (y0, y1) = bounds.x, bounds.y
@@ -601,22 +802,23 @@ def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str)
     return Terrain(x, y, z, name=f"synthetic:{spec.kind}")
 
 
-def _check_point(world: World, point, key: str, src: str) -> None:
+def _check_point(world: World, point: tuple[float, ...], key: str, src: str) -> None:
     p = np.asarray(point, dtype=float)
+    table = "" if key.startswith("[[") else "[mission] "
     if not world.bounds.contains(p):
         b = world.bounds
         raise ScenarioError(
-            f"{src}: [mission] {key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
+            f"{src}: {table}{key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
             f"y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}]"
         )
     why = world.explain(p, 0.0)
     if why:
         seabed = float(world.seabed(p[0], p[1]))
         extra = f" (seabed at {seabed:.1f} m)" if np.isfinite(seabed) else ""
-        raise ScenarioError(f"{src}: [mission] {key} = {list(point)}: not a free point: {why}{extra}")
+        raise ScenarioError(f"{src}: {table}{key} = {list(point)}: not a free point: {why}{extra}")
 
 
-def _check_terrain_size(s: Scenario, extent) -> None:
+def _check_terrain_size(s: Scenario, extent: tuple[float, float, float, float] | None) -> None:
     """A resampled data grid's node count from the bounds (or the crop box), before reading it."""
     t = s.terrain
     if t is None or not t.resample_m > 0:
@@ -653,6 +855,20 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
 
     ``terrain``, when given, replaces the scenario's terrain source (a results folder's saved
     cut-out: the grid the run used, so a moved folder needs no data file).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The validated scenario.
+    terrain : Terrain, optional
+        A terrain replacing the scenario's source.
+
+    Returns
+    -------
+    world : World
+        Seabed, currents, obstacles, bounds and margins.
+    mission : Mission
+        End points, route and every component's settings.
 
     Raises
     ------
@@ -741,6 +957,9 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     for i, wp in enumerate(m.route):
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
+    for spec in s.formation.vehicles if s.formation is not None else ():
+        if spec.start:
+            _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     mission = Mission(
         name=s.name,
         start=m.start,
@@ -754,5 +973,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         los=s.guidance.los,
         avoidance=s.avoidance,
         sim=s.sim,
+        formation=s.formation,
     )
     return world, mission

@@ -15,9 +15,11 @@ import re
 import textwrap
 import types
 import typing
+from collections.abc import Iterator
 from typing import Any
 
 from .. import __version__
+from ..guidance.formation import VehicleSpec
 from . import scenario as sc
 from .tables import MAX_MAGNITUDE
 
@@ -32,7 +34,18 @@ _MOTIONS = {"linear": sc._LinearSpec, "circle": sc._CircleSpec, "waypoints": sc.
 
 
 def field_docs(cls: type) -> dict[str, str]:
-    """Key → one-line description from a dataclass's numpydoc ``Attributes`` section."""
+    """Read each key's one-line description from a dataclass's numpydoc ``Attributes`` section.
+
+    Parameters
+    ----------
+    cls : type
+        A documented dataclass.
+
+    Returns
+    -------
+    dict of str to str
+        Key → description (empty when the class has no Attributes section).
+    """
     doc = cls.__doc__ or ""
     m = re.search(r"\n\s*Attributes\n\s*-+\n(.*?)(\n\s*\n\s*[A-Z][a-z]+\n\s*-+\n|\Z)", doc, re.S)
     if not m:
@@ -51,11 +64,11 @@ def field_docs(cls: type) -> dict[str, str]:
     return {k: " ".join(v.split()) for k, v in out.items()}
 
 
-def _number(integer: bool) -> dict:
+def _number(integer: bool) -> dict[str, Any]:
     return {"type": "integer" if integer else "number", "minimum": -MAX_MAGNITUDE, "maximum": MAX_MAGNITUDE}
 
 
-def _type_schema(tp: Any) -> dict:
+def _type_schema(tp: Any) -> dict[str, Any]:
     origin, args = typing.get_origin(tp), typing.get_args(tp)
     if origin in (typing.Union, types.UnionType):
         alts = [_type_schema(a) for a in args if a is not type(None)]
@@ -86,7 +99,7 @@ def _json_default(value: Any) -> Any:
     return value
 
 
-def _fields(cls: type):
+def _fields(cls: type) -> Iterator[tuple[str, Any, bool, Any]]:
     hints = typing.get_type_hints(cls)
     for f in dataclasses.fields(cls):
         if f.init and not f.name.startswith("_"):
@@ -96,8 +109,21 @@ def _fields(cls: type):
             yield f.name, hints[f.name], required, default
 
 
-def table_schema(cls: type, skip: tuple[str, ...] = ()) -> dict:
-    """JSON Schema of one TOML table made from the dataclass ``cls`` (unknown keys rejected)."""
+def table_schema(cls: type, skip: tuple[str, ...] = ()) -> dict[str, Any]:
+    """Make the JSON Schema of one TOML table from the dataclass ``cls`` (unknown keys rejected).
+
+    Parameters
+    ----------
+    cls : type
+        The table's dataclass.
+    skip : tuple of str, optional
+        Fields left out (handled by the caller).
+
+    Returns
+    -------
+    dict
+        The table's schema: properties with types, defaults and descriptions.
+    """
     docs = field_docs(cls)
     props, required = {}, []
     for name, tp, req, default in _fields(cls):
@@ -119,7 +145,7 @@ def table_schema(cls: type, skip: tuple[str, ...] = ()) -> dict:
     return out
 
 
-def _obstacle_schema() -> dict:
+def _obstacle_schema() -> dict[str, Any]:
     alts = []
     for kind, cls in _SHAPES.items():
         t = table_schema(cls)
@@ -130,7 +156,7 @@ def _obstacle_schema() -> dict:
     return {"oneOf": alts}
 
 
-def _moving_schema() -> dict:
+def _moving_schema() -> dict[str, Any]:
     alts = []
     for shape, scls in _SHAPES.items():
         for motion, mcls in _MOTIONS.items():
@@ -145,8 +171,14 @@ def _moving_schema() -> dict:
     return {"oneOf": alts}
 
 
-def scenario_schema() -> dict:
-    """The versioned JSON Schema (draft 2020-12) of a scenario document."""
+def scenario_schema() -> dict[str, Any]:
+    """Make the versioned JSON Schema (draft 2020-12) of a scenario document.
+
+    Returns
+    -------
+    dict
+        The schema, generated from the loader's tables (never stricter than the loader).
+    """
     sections = {key: table_schema(cls) for key, cls in sc.SECTIONS.items()}
     terrain = {"anyOf": [sections.pop("terrain"), {
         "type": "object", "properties": {"synthetic": table_schema(sc.SyntheticTerrainSpec)},
@@ -159,6 +191,8 @@ def scenario_schema() -> dict:
         "terrain": terrain,
         "obstacles": {"type": "array", "items": _obstacle_schema(), "description": "Static obstacles."},
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
+        "vehicles": {"type": "array", "items": table_schema(VehicleSpec), "minItems": 2,
+                     "description": "Several vehicles flying the route in [formation]."},
     }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
@@ -184,7 +218,7 @@ def _toml(value: Any) -> str:
     return repr(value)
 
 
-def _commented_table(header: str, cls: type, given: dict | None = None) -> list[str]:
+def _commented_table(header: str, cls: type, given: dict[str, Any] | None = None) -> list[str]:
     docs, given = field_docs(cls), given or {}
     lines, nested = [f"[{header}]"], []
     for name, _, _, default in _fields(cls):
@@ -197,6 +231,8 @@ def _commented_table(header: str, cls: type, given: dict | None = None) -> list[
             lines.append(f"{name} = {_toml(given[name])}")
         elif isinstance(default, float) and not math.isfinite(default):
             lines.append(f"# {name} = (no limit when omitted)")
+        elif default is None:  # resolved from another key when omitted (see its description)
+            lines.append(f"# {name} (omitted: see above)")
         else:
             lines.append(f"# {name} = {_toml(default)}")
     for sub, subcls in nested:
@@ -206,8 +242,21 @@ def _commented_table(header: str, cls: type, given: dict | None = None) -> list[
 
 
 def template(name: str = "my-mission") -> str:
-    """A commented scenario that validates as it is: a synthetic seabed, a start and a goal, and
-    every other key of every table commented out at its default, with its description."""
+    """Write a commented scenario that validates as it is.
+
+    A synthetic seabed, a start and a goal, and every other key of every table commented out at
+    its default, with its description.
+
+    Parameters
+    ----------
+    name : str, optional
+        The scenario's name.
+
+    Returns
+    -------
+    str
+        The TOML text.
+    """
     head = [
         f"# auvplan scenario (format {SCHEMA_VERSION}). Check it with `auvplan validate FILE`;",
         "# the JSON Schema: `auvplan scenario schema`. Uncomment a key to change it from its default.",

@@ -14,7 +14,7 @@ import dataclasses
 import math
 import types
 import typing
-from typing import Any
+from typing import Any, NoReturn
 
 from ..errors import ScenarioError
 
@@ -26,7 +26,24 @@ values overflow or lose every significant digit (coordinates of the whole Earth 
 
 
 def table_error(where: str, key: str, value: Any, problem: str) -> ScenarioError:
-    """A ScenarioError of the form ``file: [table] key = value: problem``."""
+    """Make a ScenarioError of the form ``file: [table] key = value: problem``.
+
+    Parameters
+    ----------
+    where : str
+        ``file: [table]``.
+    key : str
+        The key.
+    value : object
+        Its value (shown with ``repr``-like TOML formatting).
+    problem : str
+        What is wrong.
+
+    Returns
+    -------
+    ScenarioError
+        The error, to be raised.
+    """
     shown = repr(value)
     if len(shown) > 80:
         shown = shown[:77] + "..."
@@ -89,7 +106,7 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     raise TypeError(f"unsupported field type {tp!r} for {key}")  # a programming error, not user input
 
 
-def _raise(exc: Exception):
+def _raise(exc: Exception) -> NoReturn:
     raise exc
 
 
@@ -101,7 +118,7 @@ def _type_name(tp: Any) -> str:
     return {float: "a number", int: "an integer", bool: "true or false", str: "a string"}.get(tp, str(tp))
 
 
-def build_dataclass(cls: type, table: dict, where: str, *, skip: tuple[str, ...] = ()) -> Any:
+def build_dataclass(cls: type, table: dict[str, Any], where: str, *, skip: tuple[str, ...] = ()) -> Any:
     """Instantiate the frozen dataclass ``cls`` from a TOML ``table``.
 
     Parameters
@@ -114,6 +131,11 @@ def build_dataclass(cls: type, table: dict, where: str, *, skip: tuple[str, ...]
         Prefix for messages, e.g. ``"scenario.toml: [planner]"``.
     skip : tuple of str
         Keys handled by the caller (accepted, not passed on).
+
+    Returns
+    -------
+    object
+        The instance of ``cls``.
     """
     if not isinstance(table, dict):
         raise ScenarioError(f"{where}: expected a table, got {table!r}")

@@ -11,8 +11,10 @@ from __future__ import annotations
 import json
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from pyproj import Geod
 
 from ..errors import DataError
@@ -28,17 +30,53 @@ BUILTIN_TIDES = {
 
 
 def parse_start_time(text: str) -> float:
-    """UTC seconds since 1970 of an ISO 8601 time (``Z`` or an offset; a time without one is UTC)."""
+    """Parse an ISO 8601 time into UTC seconds since 1970.
+
+    Parameters
+    ----------
+    text : str
+        ISO 8601 time, with ``Z`` or an offset; a time without one is UTC.
+
+    Returns
+    -------
+    float
+        Seconds since 1970-01-01T00:00:00Z.
+    """
     return float(parse_time(str(text)).astype("datetime64[ns]").astype(np.int64)) / 1e9
 
 
 def utc_iso(unix_seconds: float) -> str:
-    """ISO 8601 UTC text (``...Z``, whole seconds) of seconds since 1970."""
+    """Format seconds since 1970 as ISO 8601 UTC text.
+
+    Parameters
+    ----------
+    unix_seconds : float
+        Seconds since 1970-01-01T00:00:00Z.
+
+    Returns
+    -------
+    str
+        ``YYYY-MM-DDTHH:MM:SSZ`` (whole seconds).
+    """
     return f"{np.datetime64(round(float(unix_seconds)), 's')}Z"
 
 
-def read_tide_file(source: str, base_dir: Path | None = None) -> dict:
-    """The station document of a built-in name or a JSON file (relative to ``base_dir``)."""
+def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
+    """Read the tidal station document of a built-in name or a JSON file.
+
+    Parameters
+    ----------
+    source : str
+        A built-in name (``BUILTIN_TIDES``) or a JSON file.
+    base_dir : pathlib.Path, optional
+        Folder that a relative file name resolves against.
+
+    Returns
+    -------
+    dict
+        The document: constituents, their speeds (degrees/hour), equilibrium arguments and node
+        factors per year, and the stations' harmonic constants.
+    """
     if source in BUILTIN_TIDES:
         text = resources.files("auvplan.data").joinpath(BUILTIN_TIDES[source]).read_text(encoding="utf-8")
         where = f"built-in tides {source!r}"
@@ -58,22 +96,44 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict:
             doc[key]  # noqa: B018 - presence check
     except (ValueError, KeyError, TypeError) as exc:
         raise DataError(f"{where}: not a tidal station file ({exc})") from exc
+    if not isinstance(doc, dict):
+        raise DataError(f"{where}: not a tidal station file (not a JSON object)")
     return doc
 
 
-def _local_directions(frame: LocalFrame, lon, lat, bearing_deg) -> np.ndarray:
+def _local_directions(frame: LocalFrame, lon: ArrayLike, lat: ArrayLike, bearing_deg: ArrayLike) -> NDArray[np.float64]:
     """Unit vectors in the local frame of compass bearings at geographic points (1 km along the
     geodesic, so the frame's meridian convergence is accounted for)."""
     lon2, lat2, _ = Geod(ellps="WGS84").fwd(lon, lat, bearing_deg, np.full(np.shape(lon), 1000.0))
     x0, y0 = frame.forward(lon, lat)
     x1, y1 = frame.forward(lon2, lat2)
     d = np.column_stack([x1 - x0, y1 - y0])
-    return d / np.linalg.norm(d, axis=1, keepdims=True)
+    unit: NDArray[np.float64] = d / np.linalg.norm(d, axis=1, keepdims=True)
+    return unit
 
 
 def load_tidal_current(source: str, frame: LocalFrame, start_time: float, *, base_dir: Path | None = None,
                        r0: float = 1000.0) -> TidalCurrent:
-    """The :class:`TidalCurrent` of a station file in ``frame``, with ``t = 0`` at ``start_time`` (UTC s)."""
+    """Build the :class:`TidalCurrent` of a station file in ``frame``.
+
+    Parameters
+    ----------
+    source : str
+        A built-in name or a JSON station file.
+    frame : LocalFrame
+        The scenario's local frame.
+    start_time : float
+        UTC seconds since 1970 at simulation time ``t = 0``.
+    base_dir : pathlib.Path, optional
+        Folder that a relative file name resolves against.
+    r0 : float, optional
+        Interpolation length between stations (m).
+
+    Returns
+    -------
+    TidalCurrent
+        The predicted current in the local frame (m/s).
+    """
     doc = read_tide_file(source, base_dir)
     names = tuple(doc["constituents"])
     tables = HarmonicTables(names, doc["speed_deg_per_hour"], int(doc["first_year"]), doc["equilibrium_deg"],

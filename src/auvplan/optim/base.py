@@ -17,12 +17,16 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 
-from .._types import RngLike, as_rng
+from .._types import ArrayLike, FloatArray, RngLike, as_rng
 
-__all__ = ["Optimizer", "Problem", "Termination", "OptimizeResult", "minimize"]
+__all__ = ["Optimizer", "Problem", "Termination", "OptimizeResult", "minimize", "Objective"]
+
+#: A vectorised objective: candidates ``(P, D)`` to values ``(P,)``.
+Objective: TypeAlias = Callable[[FloatArray], FloatArray]
 
 
 class Problem:
@@ -48,9 +52,14 @@ class Problem:
         Best point seen and its value.
     trace : list of (int, float)
         ``(evaluations, best value)`` after every batch.
+
+    Raises
+    ------
+    ValueError
+        If the box is empty or mis-shaped, or ``budget < 1``.
     """
 
-    def __init__(self, objective: Callable[[np.ndarray], np.ndarray], lower, upper, x0=None,
+    def __init__(self, objective: Objective, lower: ArrayLike, upper: ArrayLike, x0: ArrayLike | None = None,
                  budget: int | None = None) -> None:
         self.objective = objective
         self.lower = np.asarray(lower, dtype=float).reshape(-1)
@@ -63,29 +72,63 @@ class Problem:
             raise ValueError(f"budget must be >= 1, got {budget}")
         self.budget = budget
         self.evaluations = 0
-        self.best_x = np.full(self.lower.size, np.nan)
+        self.best_x: FloatArray = np.full(self.lower.size, np.nan)
         self.best_f = np.inf
         self.trace: list[tuple[int, float]] = []
 
     @property
     def dim(self) -> int:
-        """Number of variables."""
+        """Number of variables.
+
+        Returns
+        -------
+        int
+            D.
+        """
         return self.lower.size
 
     @property
     def remaining(self) -> int | None:
-        """Evaluations left (None without a budget)."""
+        """Evaluations left.
+
+        Returns
+        -------
+        int or None
+            ``budget - evaluations``; None without a budget.
+        """
         return None if self.budget is None else self.budget - self.evaluations
 
     @property
     def left(self) -> int:
-        """Evaluations left, for the optimisers that need a budget (ValueError without one)."""
+        """Evaluations left, for the optimisers that need a budget.
+
+        Returns
+        -------
+        int
+            ``budget - evaluations``.
+
+        Raises
+        ------
+        ValueError
+            Without a budget.
+        """
         if self.budget is None:
             raise ValueError("this optimiser needs an evaluation budget (Problem.budget)")
         return self.budget - self.evaluations
 
-    def evaluate(self, X: np.ndarray) -> np.ndarray:
-        """Values of the batch ``X (B, D)``; rows beyond the budget are not evaluated (``+inf``)."""
+    def evaluate(self, X: ArrayLike) -> FloatArray:
+        """Values of a batch, counted; rows beyond the budget are not evaluated.
+
+        Parameters
+        ----------
+        X : array_like
+            Candidates ``(B, D)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            Values ``(B,)``; ``+inf`` for the rows beyond the budget.
+        """
         X = np.asarray(X, dtype=float)
         f = np.full(X.shape[0], np.inf)
         take = X.shape[0] if self.budget is None else max(min(X.shape[0], self.budget - self.evaluations), 0)
@@ -100,11 +143,26 @@ class Problem:
 
 
 class Optimizer:
-    """Base class of ask/tell optimisers over the box ``[lower, upper]``."""
+    """Base class of ask/tell optimisers over the box ``[lower, upper]``.
+
+    Parameters
+    ----------
+    lower, upper : array_like
+        Search box ``(D,)``.
+    population : int
+        Population size (at least 2).
+    rng : numpy.random.Generator or int or None
+        The run's generator or its seed.
+
+    Raises
+    ------
+    ValueError
+        If the box is empty or mis-shaped, or the population is below 2.
+    """
 
     name = "optimizer"
 
-    def __init__(self, lower, upper, population: int, rng: RngLike = None) -> None:
+    def __init__(self, lower: ArrayLike, upper: ArrayLike, population: int, rng: RngLike = None) -> None:
         self.lower = np.asarray(lower, dtype=float).reshape(-1)
         self.upper = np.asarray(upper, dtype=float).reshape(-1)
         if self.lower.shape != self.upper.shape or np.any(self.upper <= self.lower):
@@ -114,26 +172,68 @@ class Optimizer:
         self.n = int(population)
         self.dim = self.lower.size
         self.rng = as_rng(rng)
-        self.best_x = np.full(self.dim, np.nan)
+        self.best_x: FloatArray = np.full(self.dim, np.nan)
         self.best_f = np.inf
         self.iteration = 0
 
     @property
-    def span(self) -> np.ndarray:
-        """Width of the search box per dimension."""
-        return self.upper - self.lower
+    def span(self) -> FloatArray:
+        """Width of the search box per dimension.
 
-    def clip(self, X: np.ndarray) -> np.ndarray:
-        """Project candidates onto the search box."""
-        return np.clip(X, self.lower, self.upper)
+        Returns
+        -------
+        numpy.ndarray
+            ``upper - lower`` ``(D,)``.
+        """
+        span: FloatArray = self.upper - self.lower
+        return span
 
-    def uniform(self, n: int) -> np.ndarray:
-        """``n`` points drawn uniformly in the box (eq. 18 of document 002)."""
-        return self.lower + self.rng.random((n, self.dim)) * self.span
+    def clip(self, X: FloatArray) -> FloatArray:
+        """Project candidates onto the search box.
 
-    def seeded(self, X: np.ndarray) -> np.ndarray:
-        """The initial population ``X`` with its first rows replaced by the seeds given to
-        :meth:`seed` (at most half of the population)."""
+        Parameters
+        ----------
+        X : numpy.ndarray
+            Candidates ``(B, D)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The candidates clipped to ``[lower, upper]``.
+        """
+        clipped: FloatArray = np.clip(X, self.lower, self.upper)
+        return clipped
+
+    def uniform(self, n: int) -> FloatArray:
+        """Points drawn uniformly in the box (eq. 18 of document 002).
+
+        Parameters
+        ----------
+        n : int
+            Number of points.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, D)``.
+        """
+        drawn: FloatArray = self.lower + self.rng.random((n, self.dim)) * self.span
+        return drawn
+
+    def seeded(self, X: FloatArray) -> FloatArray:
+        """The initial population with its first rows replaced by the seeds of :meth:`seed`.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            Initial population ``(P, D)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``X`` with at most half of its rows replaced by the (clipped) seeds; ``X`` itself
+            without seeds.
+        """
         x0 = getattr(self, "_x0", None)
         if x0 is None or x0.shape[0] == 0:
             return X
@@ -142,28 +242,72 @@ class Optimizer:
         X[:m] = self.clip(x0[:m])
         return X
 
-    def seed(self, x0: np.ndarray) -> None:
-        """Candidates ``(M, D)`` to place in the initial population."""
+    def seed(self, x0: ArrayLike) -> None:
+        """Candidates to place in the initial population.
+
+        Parameters
+        ----------
+        x0 : array_like
+            Candidates ``(M, D)``.
+        """
         self._x0 = np.asarray(x0, dtype=float).reshape(-1, self.dim)
 
-    def _note(self, X: np.ndarray, f: np.ndarray) -> None:
+    def _note(self, X: FloatArray, f: FloatArray) -> None:
         k = int(np.argmin(f))
         if f[k] < self.best_f:
             self.best_f = float(f[k])
             self.best_x = X[k].copy()
 
-    def ask(self) -> np.ndarray:  # pragma: no cover - interface
-        """Next batch of candidates ``(B, D)``."""
+    def ask(self) -> FloatArray:  # pragma: no cover - interface
+        """Next batch of candidates.
+
+        Returns
+        -------
+        numpy.ndarray
+            Candidates ``(B, D)``.
+        """
         raise NotImplementedError
 
-    def tell(self, X: np.ndarray, f: np.ndarray) -> bool:  # pragma: no cover - interface
-        """Values of the last batch; True when an iteration has completed."""
+    def tell(self, X: FloatArray, f: FloatArray) -> bool:  # pragma: no cover - interface
+        """Learn the values of the last batch.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            The batch ``(B, D)`` returned by :meth:`ask`.
+        f : numpy.ndarray
+            Its values ``(B,)`` (``+inf`` for rows not evaluated).
+
+        Returns
+        -------
+        bool
+            True when an iteration of the algorithm has completed.
+        """
         raise NotImplementedError
 
 
 @dataclass(frozen=True)
 class Termination:
-    """Stop criteria; any that is reached stops the run (``None`` disables one)."""
+    """Stop criteria; any that is reached stops the run (``None`` disables one).
+
+    Parameters
+    ----------
+    max_iterations : int or None, default 100
+        Completed iterations of the algorithm.
+    max_evaluations : int or None
+        Objective evaluations of this run.
+    max_time_s : float or None
+        Wall-clock time (s).
+    stall_iterations : int or None
+        Iterations without an improvement of more than ``stall_tolerance``.
+    stall_tolerance : float, default 0.0
+        Least improvement of the best value that resets the stall count.
+
+    Raises
+    ------
+    ValueError
+        If none of the iteration, evaluation and time limits is set.
+    """
 
     max_iterations: int | None = 100
     max_evaluations: int | None = None
@@ -178,21 +322,41 @@ class Termination:
 
 @dataclass(frozen=True, eq=False)
 class OptimizeResult:
-    """Best point, its value, the work done and the convergence history."""
+    """Best point, its value, the work done and the convergence history.
 
-    x: np.ndarray
+    Parameters
+    ----------
+    x : numpy.ndarray
+        Best point ``(D,)``.
+    f : float
+        Its value.
+    evaluations : int
+        Objective evaluations of the run.
+    iterations : int
+        Completed iterations.
+    history : numpy.ndarray
+        Best value after each iteration.
+    wall_time_s : float
+        Run time (s).
+    reason : str
+        Why the run stopped: ``max_iterations``, ``max_evaluations``, ``stall`` or ``max_time``.
+    trace : numpy.ndarray
+        ``(evaluations, best value)`` after every batch, shape ``(M, 2)``.
+    """
+
+    x: FloatArray
     f: float
     evaluations: int
     iterations: int
-    history: np.ndarray
+    history: FloatArray
     wall_time_s: float
     reason: str
-    trace: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
+    trace: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
     """``(evaluations, best value)`` after every batch, shape ``(M, 2)``."""
 
 
 def minimize(
-    problem: Problem | Callable[[np.ndarray], np.ndarray],
+    problem: Problem | Objective,
     optimizer: Optimizer,
     termination: Termination,
     callback: Callable[[int, float], None] | None = None,
@@ -211,6 +375,11 @@ def minimize(
         Stop criteria.
     callback : callable, optional
         ``callback(iteration, best_f)`` after each iteration (progress reporting).
+
+    Returns
+    -------
+    OptimizeResult
+        The optimiser's best point and the run's record.
     """
     t0 = time.perf_counter()
     if not isinstance(problem, Problem):

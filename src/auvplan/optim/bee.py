@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import RngLike
+from .._types import ArrayLike, BoolArray, FloatArray, IntArray, RngLike
 from .base import Optimizer
 
 __all__ = [
@@ -62,11 +62,19 @@ __all__ = [
 class ABCParams:
     """ABC settings.
 
-    ``limit``: trials without improvement before a source is abandoned (eq. 22).
-    Karaboga's rule ``SN × D`` exceeds a 100-iteration run for path problems, so
-    that no scout would ever fly; 40 trials is used instead (a source stuck
-    for ~40 % of the document's run is abandoned).  ``scouts_per_iteration``:
-    at most this many sources are abandoned per iteration (1 in Karaboga 2005).
+    Attributes
+    ----------
+    limit : int
+        Trials without improvement before a source is abandoned (eq. 22).  Karaboga's rule
+        ``SN × D`` exceeds a 100-iteration run for path problems, so that no scout would ever fly;
+        40 trials is used instead (a source stuck for ~40 % of the document's run is abandoned).
+    scouts_per_iteration : int
+        At most this many sources are abandoned per iteration (1 in Karaboga 2005).
+
+    Raises
+    ------
+    ValueError
+        If either is below 1.
     """
 
     limit: int = 40
@@ -81,12 +89,33 @@ class ABCParams:
 class IABCParams:
     """IABC settings on top of ABC (see the module notes for the two variants).
 
-    ``variant``: ``"improved"`` or ``"document"``.  ``mu``: logistic-map parameter (4: fully
-    chaotic).  ``mutation_fraction``: share of the worst sources mutated each iteration.
-    Document variant: ``sigma`` (fraction of the search range) decayed linearly to
-    ``sigma_final`` over ``max_iterations``.  Improved variant: ``sigma_spread`` (times the
-    population's standard deviation per dimension), ``modification_rate`` (probability that a
-    neighbour move changes a dimension) and ``guided`` (largest pull towards the best source).
+    Attributes
+    ----------
+    limit, scouts_per_iteration : int
+        As in :class:`ABCParams`.
+    variant : str
+        ``"improved"`` or ``"document"``.
+    mu : float
+        Logistic-map parameter (4: fully chaotic).
+    mutation_fraction : float
+        Share of the worst sources mutated each iteration.
+    sigma : float
+        Document variant: mutation σ as a fraction of the search range, decayed linearly ...
+    sigma_final : float
+        ... to this fraction over ``max_iterations``.
+    max_iterations : int
+        Iterations of the document variant's σ decay.
+    sigma_spread : float
+        Improved variant: mutation σ in units of the population's standard deviation per dimension.
+    modification_rate : float
+        Improved variant: probability that a neighbour move changes a dimension.
+    guided : float
+        Improved variant: largest pull ψ towards the best source.
+
+    Raises
+    ------
+    ValueError
+        If a setting is outside its range.
     """
 
     limit: int = 40
@@ -119,33 +148,81 @@ class IABCParams:
 
 
 # ---------------------------------------------------------------------- pure kernels
-def abc_fitness(f: np.ndarray) -> np.ndarray:
-    """Document 002 eq. 20: ``1/(1+f)`` for ``f ≥ 0``, ``1 + |f|`` otherwise (inf → 0)."""
+def abc_fitness(f: ArrayLike) -> FloatArray:
+    """Document 002 eq. 20: ``1/(1+f)`` for ``f ≥ 0``, ``1 + |f|`` otherwise (inf → 0).
+
+    Parameters
+    ----------
+    f : array_like
+        Objective values.
+
+    Returns
+    -------
+    numpy.ndarray
+        Fitness, same shape (0 where ``f`` is not finite).
+    """
     f = np.asarray(f, dtype=float)
     with np.errstate(divide="ignore", over="ignore"):
         fit = np.where(f >= 0, 1.0 / (1.0 + np.abs(f)), 1.0 + np.abs(f))
-    return np.where(np.isfinite(f), fit, 0.0)
+    fitness: FloatArray = np.where(np.isfinite(f), fit, 0.0)
+    return fitness
 
 
-def neighbour_move(X: np.ndarray, idx: np.ndarray, partner: np.ndarray, dim: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """Eq. 19 on one dimension: candidates ``X[idx]`` with ``x_j += φ (x_j - x_{partner, j})``."""
+def neighbour_move(X: FloatArray, idx: IntArray, partner: IntArray, dim: IntArray, phi: FloatArray) -> FloatArray:
+    """Eq. 19 on one dimension: candidates ``X[idx]`` with ``x_j += φ (x_j - x_{partner, j})``.
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        Food sources ``(N, D)``.
+    idx : numpy.ndarray
+        Sources to move ``(B,)``.
+    partner : numpy.ndarray
+        A partner source k ≠ i for each ``(B,)``.
+    dim : numpy.ndarray
+        The dimension j changed in each ``(B,)``.
+    phi : numpy.ndarray
+        φ ∈ [-1, 1] for each ``(B,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Candidates ``(B, D)`` (not clipped).
+    """
     V = X[idx].copy()
     rows = np.arange(idx.size)
     V[rows, dim] = X[idx, dim] + phi * (X[idx, dim] - X[partner, dim])
     return V
 
 
-def _partners(idx: np.ndarray, n: int, rng: np.random.Generator) -> np.ndarray:
+def _partners(idx: IntArray, n: int, rng: np.random.Generator) -> IntArray:
     """A random partner k ≠ i for each i in ``idx``."""
     k = rng.integers(0, n - 1, size=idx.size)
-    return k + (k >= idx)
+    partners: IntArray = k + (k >= idx)
+    return partners
 
 
-def logistic_map_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> np.ndarray:
+def logistic_map_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> FloatArray:
     """Eqs. 23–24: ``n`` chaotic points in ``[0, 1]^dim`` from the logistic map.
 
     Each dimension runs its own sequence from a random seed ``x_0`` that avoids
     the map's fixed and pre-fixed points (0, 0.25, 0.5, 0.75, 1).
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+    dim : int
+        Dimension D.
+    mu : float
+        Logistic-map parameter μ.
+    rng : numpy.random.Generator
+        Source of the seeds ``x_0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, dim)`` in [0, 1].
     """
     x = rng.uniform(0.01, 0.99, size=dim)
     bad = np.isclose(x[:, None], np.array([0.25, 0.5, 0.75]), atol=1e-3).any(axis=1)
@@ -157,27 +234,89 @@ def logistic_map_population(n: int, dim: int, mu: float, rng: np.random.Generato
     return out
 
 
-def chaotic_uniform_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> np.ndarray:
-    """Logistic-map points (eqs. 23–24) mapped through the μ = 4 map's invariant distribution,
+def chaotic_uniform_population(n: int, dim: int, mu: float, rng: np.random.Generator) -> FloatArray:
+    """Logistic-map points (eqs. 23–24) mapped through the μ = 4 map's invariant distribution.
+
     ``y = (2/π) asin(√x)``: the arcsine law becomes uniform on ``[0, 1]`` (the sequence
-    ``y_k`` is the tent map's orbit, still chaotic and non-repeating)."""
+    ``y_k`` is the tent map's orbit, still chaotic and non-repeating).
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+    dim : int
+        Dimension D.
+    mu : float
+        Logistic-map parameter μ.
+    rng : numpy.random.Generator
+        Source of the seeds ``x_0``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, dim)`` in [0, 1].
+    """
     x = logistic_map_population(n, dim, mu, rng)
-    return (2.0 / np.pi) * np.arcsin(np.sqrt(np.clip(x, 0.0, 1.0)))
+    y: FloatArray = (2.0 / np.pi) * np.arcsin(np.sqrt(np.clip(x, 0.0, 1.0)))
+    return y
 
 
-def guided_move(X: np.ndarray, idx: np.ndarray, partner: np.ndarray, mask: np.ndarray, phi: np.ndarray,
-                psi: np.ndarray, best: np.ndarray) -> np.ndarray:
-    """Eq. 19 on the dimensions in ``mask (B, D)`` plus a pull to the best source:
-    ``x_j += φ_j (x_j - x_{partner, j}) + ψ_j (best_j - x_j)`` where ``mask`` holds."""
+def guided_move(X: FloatArray, idx: IntArray, partner: IntArray, mask: BoolArray, phi: FloatArray,
+                psi: FloatArray, best: FloatArray) -> FloatArray:
+    """Eq. 19 on the dimensions in ``mask`` plus a pull to the best source.
+
+    ``x_j += φ_j (x_j - x_{partner, j}) + ψ_j (best_j - x_j)`` where ``mask`` holds.
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        Food sources ``(N, D)``.
+    idx : numpy.ndarray
+        Sources to move ``(B,)``.
+    partner : numpy.ndarray
+        A partner source k ≠ i for each ``(B,)``.
+    mask : numpy.ndarray of bool
+        Dimensions changed ``(B, D)``.
+    phi : numpy.ndarray
+        φ ∈ [-1, 1] ``(B, D)``.
+    psi : numpy.ndarray
+        ψ ≥ 0 ``(B, D)``.
+    best : numpy.ndarray
+        The best source ``(D,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Candidates ``(B, D)`` (not clipped).
+    """
     V = X[idx].copy()
     step = phi * (X[idx] - X[partner]) + psi * (best[None, :] - X[idx])
     V[mask] += step[mask]
     return V
 
 
-def gaussian_mutation(X: np.ndarray, sigma: np.ndarray, rng: np.random.Generator, mean: float = 0.0) -> np.ndarray:
-    """Eq. 25: ``X + N(mean, sigma²)`` per coordinate (``sigma`` broadcast per dimension)."""
-    return X + rng.normal(mean, 1.0, size=X.shape) * sigma
+def gaussian_mutation(X: FloatArray, sigma: FloatArray | float, rng: np.random.Generator,
+                      mean: float = 0.0) -> FloatArray:
+    """Eq. 25: ``X + N(mean, sigma²)`` per coordinate (``sigma`` broadcast per dimension).
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        Sources ``(M, D)``.
+    sigma : float or numpy.ndarray
+        Standard deviation, a scalar or per dimension ``(D,)``.
+    rng : numpy.random.Generator
+        Source of the draws.
+    mean : float, default 0.0
+        Mean of the unit normal draws before scaling by ``sigma``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Mutants ``(M, D)`` (not clipped).
+    """
+    mutants: FloatArray = X + rng.normal(mean, 1.0, size=X.shape) * sigma
+    return mutants
 
 
 # ---------------------------------------------------------------------- optimisers
@@ -186,12 +325,23 @@ class ABC(Optimizer):
 
     One iteration = employed phase (N candidates) + onlooker phase
     (N candidates) + scouts (at most ``scouts_per_iteration`` random sources).
+
+    Parameters
+    ----------
+    lower, upper : array_like
+        Search box ``(D,)``.
+    population : int, default 50
+        Number of food sources SN.
+    params : ABCParams or IABCParams, optional
+        Settings (defaults when omitted).
+    rng : numpy.random.Generator or int or None
+        The run's generator or its seed.
     """
 
     name = "abc"
 
-    def __init__(self, lower, upper, population: int = 50, params: ABCParams | IABCParams | None = None,
-                 rng: RngLike = None) -> None:
+    def __init__(self, lower: ArrayLike, upper: ArrayLike, population: int = 50,
+                 params: ABCParams | IABCParams | None = None, rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, rng)
         self.params = params if params is not None else ABCParams()
         self.X = np.empty((self.n, self.dim))
@@ -200,10 +350,10 @@ class ABC(Optimizer):
         self._phase = "init"
         self._idx = np.arange(self.n)
 
-    def _initial(self) -> np.ndarray:
+    def _initial(self) -> FloatArray:
         return self.uniform(self.n)
 
-    def _greedy(self, idx: np.ndarray, V: np.ndarray, fv: np.ndarray) -> None:
+    def _greedy(self, idx: IntArray, V: FloatArray, fv: FloatArray) -> None:
         """Greedy selection of candidates ``V`` for sources ``idx`` (duplicates allowed)."""
         order = np.lexsort((fv, idx))  # per source, best candidate first
         idx_s, fv_s, V_s = idx[order], fv[order], V[order]
@@ -216,7 +366,14 @@ class ABC(Optimizer):
         self.trials[src[better]] = 0
         self.trials[src[~better]] += counts[~better]
 
-    def ask(self) -> np.ndarray:
+    def ask(self) -> FloatArray:
+        """Next batch of candidates (the phase's sources, scouts or mutants).
+
+        Returns
+        -------
+        numpy.ndarray
+            Candidates ``(B, D)``.
+        """
         rng = self.rng
         if self._phase == "init":
             return self.seeded(self._initial())
@@ -233,7 +390,7 @@ class ABC(Optimizer):
             return self._mutants()
         return self.clip(self._move(self._idx))
 
-    def _move(self, idx: np.ndarray) -> np.ndarray:
+    def _move(self, idx: IntArray) -> FloatArray:
         """Eq. 19 candidates for the sources ``idx``."""
         rng = self.rng
         partner = _partners(idx, self.n, rng)
@@ -241,7 +398,7 @@ class ABC(Optimizer):
         phi = rng.uniform(-1.0, 1.0, size=idx.size)
         return neighbour_move(self.X, idx, partner, dim, phi)
 
-    def _mutants(self) -> np.ndarray:  # pragma: no cover - IABC only
+    def _mutants(self) -> FloatArray:  # pragma: no cover - IABC only
         raise NotImplementedError
 
     def _after_onlooker(self) -> str:
@@ -256,7 +413,21 @@ class ABC(Optimizer):
         self.iteration += 1
         return "employed"
 
-    def tell(self, X: np.ndarray, f: np.ndarray) -> bool:
+    def tell(self, X: FloatArray, f: FloatArray) -> bool:
+        """Learn the values of the last batch (greedy selection, scouts, mutants).
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            The batch ``(B, D)`` returned by :meth:`ask`.
+        f : numpy.ndarray
+            Its values ``(B,)`` (``+inf`` for rows not evaluated).
+
+        Returns
+        -------
+        bool
+            True when an iteration of the colony has completed.
+        """
         f = np.asarray(f, dtype=float)
         self._note(X, f)
         before = self.iteration
@@ -286,11 +457,23 @@ class ABC(Optimizer):
 
 class IABC(ABC):
     """Document 002's improved colony: chaotic initialisation + Gaussian mutation of the worst
-    (``params.variant``: ``"improved"`` or the literal ``"document"``; see the module notes)."""
+    (``params.variant``: ``"improved"`` or the literal ``"document"``; see the module notes).
+
+    Parameters
+    ----------
+    lower, upper : array_like
+        Search box ``(D,)``.
+    population : int, default 50
+        Number of food sources SN.
+    params : IABCParams, optional
+        Settings (defaults when omitted).
+    rng : numpy.random.Generator or int or None
+        The run's generator or its seed.
+    """
 
     name = "iabc"
 
-    def __init__(self, lower, upper, population: int = 50, params: IABCParams | None = None,
+    def __init__(self, lower: ArrayLike, upper: ArrayLike, population: int = 50, params: IABCParams | None = None,
                  rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, params if params is not None else IABCParams(), rng)
 
@@ -298,14 +481,20 @@ class IABC(ABC):
 
     @property
     def literal(self) -> bool:
-        """True for the document's literal variant."""
+        """Whether this is the document's literal variant.
+
+        Returns
+        -------
+        bool
+            ``params.variant == "document"``.
+        """
         return self.params.variant == "document"
 
-    def _initial(self) -> np.ndarray:
+    def _initial(self) -> FloatArray:
         chaos = logistic_map_population if self.literal else chaotic_uniform_population
         return self.lower + chaos(self.n, self.dim, self.params.mu, self.rng) * self.span
 
-    def _move(self, idx: np.ndarray) -> np.ndarray:
+    def _move(self, idx: IntArray) -> FloatArray:
         if self.literal:
             return super()._move(idx)
         rng, p = self.rng, self.params
@@ -319,7 +508,7 @@ class IABC(ABC):
     def _end_of_iteration(self) -> str:
         return "mutation"
 
-    def _mutants(self) -> np.ndarray:
+    def _mutants(self) -> FloatArray:
         p = self.params
         m = max(1, int(round(p.mutation_fraction * self.n)))
         self._idx = np.argsort(self.f, kind="stable")[-m:]

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import differential_evolution as _scipy_de
 
-from .._types import RngLike, as_rng
+from .._types import FloatArray, RngLike, as_rng
 from .base import OptimizeResult, Problem
 
 __all__ = ["DEParams", "differential_evolution"]
@@ -26,7 +26,22 @@ __all__ = ["DEParams", "differential_evolution"]
 
 @dataclass(frozen=True)
 class DEParams:
-    """scipy's ``strategy``, ``mutation`` (F, or a dithering range) and ``recombination`` (CR)."""
+    """Settings of scipy's DE: ``strategy``, ``mutation`` (F, or a dithering range) and ``recombination`` (CR).
+
+    Parameters
+    ----------
+    strategy : str, default "best1bin"
+        scipy's DE strategy name.
+    mutation : tuple of float, default (0.5, 1.0)
+        Differential weight F, or a dithering range ``(min, max)`` within [0, 2].
+    recombination : float, default 0.7
+        Crossover probability CR in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If ``mutation`` or ``recombination`` is out of range.
+    """
 
     strategy: str = "best1bin"
     mutation: tuple[float, float] = (0.5, 1.0)
@@ -60,6 +75,16 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
         Seed of the run.
     callback : callable, optional
         ``callback(generation, best_f)`` after each generation.
+
+    Returns
+    -------
+    OptimizeResult
+        The problem's best point and the run's record (``reason = "max_evaluations"``).
+
+    Raises
+    ------
+    ValueError
+        If the problem has no evaluation budget.
     """
     if problem.budget is None:
         raise ValueError("differential_evolution needs a problem with an evaluation budget")
@@ -73,7 +98,7 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
     first, trace0 = problem.evaluations, len(problem.trace)
     history: list[float] = []
 
-    def func(xt: np.ndarray) -> np.ndarray:  # scipy passes (D, S)
+    def func(xt: FloatArray) -> FloatArray:  # scipy passes (D, S)
         if problem.left <= 0:
             raise _Spent
         f = problem.evaluate(np.atleast_2d(xt.T))
@@ -81,7 +106,7 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
             raise _Spent
         return f
 
-    def each_generation(intermediate_result) -> None:
+    def each_generation(intermediate_result: object) -> None:  # scipy's OptimizeResult, unused
         history.append(problem.best_f)
         if callback is not None:
             callback(len(history), problem.best_f)

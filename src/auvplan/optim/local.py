@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import RngLike, as_rng
+from .._types import ArrayLike, FloatArray, RngLike, as_rng
 from .base import OptimizeResult, Problem
 
 __all__ = ["PatternParams", "pattern_search", "random_rotation"]
@@ -26,7 +26,24 @@ __all__ = ["PatternParams", "pattern_search", "random_rotation"]
 
 @dataclass(frozen=True)
 class PatternParams:
-    """Initial step (fraction of the box per dimension), step growth and shrink, restart tolerance."""
+    """Initial step (fraction of the box per dimension), step growth and shrink, restart tolerance.
+
+    Attributes
+    ----------
+    step : float
+        Initial poll step as a fraction of the box width per dimension, in (0, 1].
+    expand : float
+        Step growth after an improving poll (≥ 1; the step is capped at 0.25).
+    contract : float
+        Step shrink after a failed poll, in (0, 1).
+    tolerance : float
+        Step below which the search restarts from the incumbent at a quarter of the initial step.
+
+    Raises
+    ------
+    ValueError
+        If a setting is outside its range.
+    """
 
     step: float = 0.02
     expand: float = 1.5
@@ -38,18 +55,53 @@ class PatternParams:
             raise ValueError("need 0 < step <= 1, expand >= 1, 0 < contract < 1 and tolerance > 0")
 
 
-def random_rotation(dim: int, rng: np.random.Generator) -> np.ndarray:
-    """A random orthogonal matrix ``(D, D)`` (QR of a Gaussian matrix, signs fixed)."""
+def random_rotation(dim: int, rng: np.random.Generator) -> FloatArray:
+    """A random orthogonal matrix (QR of a Gaussian matrix, signs fixed).
+
+    Parameters
+    ----------
+    dim : int
+        Dimension D.
+    rng : numpy.random.Generator
+        Source of the Gaussian matrix.
+
+    Returns
+    -------
+    numpy.ndarray
+        Orthogonal ``(D, D)``.
+    """
     q, r = np.linalg.qr(rng.standard_normal((dim, dim)))
-    return q * np.sign(np.diag(r))
+    rotation: FloatArray = q * np.sign(np.diag(r))
+    return rotation
 
 
-def pattern_search(problem: Problem, x0, f0: float, params: PatternParams | None = None,
+def pattern_search(problem: Problem, x0: ArrayLike, f0: float, params: PatternParams | None = None,
                    rng: RngLike = None) -> OptimizeResult:
     """Refine ``x0`` (value ``f0``) until ``problem``'s budget is spent.
 
-    Returns the best point (``x0`` itself when nothing better was found), its value and the
-    evaluations spent; ``history`` holds the incumbent's value after each poll.
+    Parameters
+    ----------
+    problem : Problem
+        Objective, box and budget (required).
+    x0 : array_like
+        Starting point ``(D,)`` (clipped to the box).
+    f0 : float
+        Its known value (not re-evaluated).
+    params : PatternParams, optional
+        Step settings.
+    rng : numpy.random.Generator or int or None
+        Source of the poll rotations.
+
+    Returns
+    -------
+    OptimizeResult
+        The best point (``x0`` itself when nothing better was found), its value and the
+        evaluations spent; ``history`` holds the incumbent's value after each poll.
+
+    Raises
+    ------
+    ValueError
+        If the problem has no evaluation budget.
     """
     if problem.budget is None:
         raise ValueError("pattern_search needs a problem with an evaluation budget")

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import RngLike
+from .._types import ArrayLike, FloatArray, RngLike
 from .base import Optimizer
 
 __all__ = ["PSOParams", "PSO", "pso_step"]
@@ -19,7 +19,24 @@ __all__ = ["PSOParams", "PSO", "pso_step"]
 
 @dataclass(frozen=True)
 class PSOParams:
-    """Inertia ``w``, cognitive ``c1``, social ``c2`` and velocity clamp ``vmax`` (fraction of the range)."""
+    """Inertia ``w``, cognitive ``c1``, social ``c2`` and velocity clamp ``vmax`` (fraction of the range).
+
+    Parameters
+    ----------
+    w : float, default 0.7298
+        Inertia weight.
+    c1 : float, default 1.49618
+        Cognitive (personal best) coefficient.
+    c2 : float, default 1.49618
+        Social (global best) coefficient.
+    vmax : float, default 0.2
+        Velocity clamp as a fraction of the box width per dimension.
+
+    Raises
+    ------
+    ValueError
+        If a coefficient is negative or ``vmax`` is not positive.
+    """
 
     w: float = 0.7298
     c1: float = 1.49618
@@ -31,19 +48,54 @@ class PSOParams:
             raise ValueError("w, c1, c2 must be >= 0 and vmax > 0")
 
 
-def pso_step(X, V, pbest, gbest, w, c1, c2, r1, r2, vmax):
-    """Pure PSO update: returns the new positions and velocities (velocities clamped to ±vmax)."""
+def pso_step(X: FloatArray, V: FloatArray, pbest: FloatArray, gbest: FloatArray, w: float, c1: float, c2: float,
+             r1: FloatArray, r2: FloatArray, vmax: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Pure PSO update with the random draws given.
+
+    Parameters
+    ----------
+    X, V : numpy.ndarray
+        Positions and velocities ``(P, D)``.
+    pbest : numpy.ndarray
+        Personal bests ``(P, D)``.
+    gbest : numpy.ndarray
+        Global best ``(D,)``.
+    w, c1, c2 : float
+        Inertia, cognitive and social coefficients.
+    r1, r2 : numpy.ndarray
+        Uniform draws in [0, 1) ``(P, D)``.
+    vmax : numpy.ndarray
+        Velocity clamp per dimension ``(D,)``.
+
+    Returns
+    -------
+    X_new, V_new : numpy.ndarray
+        New positions (not clipped to the box) and velocities (clamped to ±vmax).
+    """
     V = w * V + c1 * r1 * (pbest - X) + c2 * r2 * (gbest - X)
     V = np.clip(V, -vmax, vmax)
     return X + V, V
 
 
 class PSO(Optimizer):
-    """Global-best PSO; one iteration evaluates the whole swarm once."""
+    """Global-best PSO; one iteration evaluates the whole swarm once.
+
+    Parameters
+    ----------
+    lower, upper : array_like
+        Search box ``(D,)``.
+    population : int, default 50
+        Swarm size.
+    params : PSOParams, optional
+        Settings (defaults when omitted).
+    rng : numpy.random.Generator or int or None
+        The run's generator or its seed.
+    """
 
     name = "pso"
 
-    def __init__(self, lower, upper, population: int = 50, params: PSOParams | None = None, rng: RngLike = None):
+    def __init__(self, lower: ArrayLike, upper: ArrayLike, population: int = 50, params: PSOParams | None = None,
+                 rng: RngLike = None) -> None:
         super().__init__(lower, upper, population, rng)
         self.params = params if params is not None else PSOParams()
         self.X = self.uniform(self.n)
@@ -53,7 +105,14 @@ class PSO(Optimizer):
         self.pbest_f = np.full(self.n, np.inf)
         self._init = True
 
-    def ask(self) -> np.ndarray:
+    def ask(self) -> FloatArray:
+        """Next batch of candidates.
+
+        Returns
+        -------
+        numpy.ndarray
+            Candidates ``(B, D)``.
+        """
         if self._init:
             self.X = self.seeded(self.X)
             return self.X.copy()
@@ -66,7 +125,21 @@ class PSO(Optimizer):
         self.X = clipped
         return self.X.copy()
 
-    def tell(self, X: np.ndarray, f: np.ndarray) -> bool:
+    def tell(self, X: FloatArray, f: FloatArray) -> bool:
+        """Learn the values of the last batch.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            The batch ``(B, D)`` returned by :meth:`ask`.
+        f : numpy.ndarray
+            Its values ``(B,)`` (``+inf`` for rows not evaluated).
+
+        Returns
+        -------
+        bool
+            True when an iteration of the algorithm has completed.
+        """
         f = np.asarray(f, dtype=float)
         self._note(X, f)
         better = f < self.pbest_f

@@ -3,7 +3,8 @@ the lattice reference, behind one interface (:mod:`auvplan.planners.registry`)."
 
 from dataclasses import replace
 
-from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
+from .._types import RngLike
+from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult, Progress
 from .flow import plan_flow
 from .grid import GridReference, plan_grid, with_reference
 from .registry import REGISTRY, PlannerEntry, get, register
@@ -15,7 +16,8 @@ __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridRefe
            "REFERENCE_SWARMS", "reference", "register", "with_reference"]
 
 
-def plan(problem: PlanningProblem, spec: PlannerSpec, rng=None, progress=None) -> PlanResult:
+def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+         progress: Progress | None = None) -> PlanResult:
     """Plan with the planner registered as ``spec.name`` (see ``REGISTRY``).
 
     Parameters
@@ -51,6 +53,7 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
     Parameters
     ----------
     problem : PlanningProblem
+        World, start, goal and vehicle figures.
     spec : PlannerSpec
         The cost function and the budget the compared planners spend.
     swarms : tuple of str

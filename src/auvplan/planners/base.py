@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 
-from .._types import Status
+from .._types import FloatArray, Status
 from ..optim.bee import ABCParams, IABCParams
 from ..optim.de import DEParams
 from ..optim.ga import GAParams
@@ -16,7 +18,10 @@ from ..world import World
 from .flow_params import FlowParams
 from .timeopt_params import TimeoptParams
 
-__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM"]
+__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM", "Progress"]
+
+#: ``progress(iteration, best_cost)``, called by the iterating planners after each iteration.
+Progress: TypeAlias = Callable[[int, float], None]
 
 PLANNERS = ("iabc", "abc", "ga", "pso", "de", "flow", "grid", "timeopt")
 """Planner names: the four swarm optimisers (document 002), scipy's differential evolution, the
@@ -56,6 +61,11 @@ class GridParams:
         than ``converge_tol``): the reference becomes the best known plan, not a lattice bound.
     converge_tol : float
         Relative cost gain below which the refinement stops.
+
+    Raises
+    ------
+    ValueError
+        If a setting is outside its range.
     """
 
     cell: float = 0.0
@@ -126,6 +136,21 @@ class PlannerSpec:
     energy_scale : float
         Cost units per joule; 0 (default) = metres of still-water travel per joule at
         cruise speed, so the energy term reads as equivalent metres.
+    abc, iabc, ga, pso, de : ABCParams, IABCParams, GAParams, PSOParams, DEParams
+        Settings of each population optimiser.
+    refine : PatternParams
+        Settings of the seeded pipeline's pattern search.
+    flow : FlowParams
+        Settings of the streamline planner.
+    grid : GridParams
+        Settings of the lattice reference planner.
+    timeopt : TimeoptParams
+        Settings of the time-optimal planner.
+
+    Raises
+    ------
+    ValueError
+        If a setting is outside its range or names an unknown planner or pipeline.
     """
 
     name: str = "iabc"
@@ -181,7 +206,13 @@ class PlannerSpec:
 
     @property
     def evaluations(self) -> int:
-        """The evaluation budget in force."""
+        """The evaluation budget in force.
+
+        Returns
+        -------
+        int
+            ``budget``, or ``population * iterations`` when it is 0.
+        """
         return self.budget or self.population * self.iterations
 
 
@@ -201,11 +232,16 @@ class PlanningProblem:
         Power drawn regardless of speed (W).
     drag_k : float
         Propulsion power coefficient k in ``P = k V³`` (W s³/m³).
+
+    Raises
+    ------
+    ValueError
+        If the speed is not positive.
     """
 
     world: World
-    start: np.ndarray
-    goal: np.ndarray
+    start: FloatArray
+    goal: FloatArray
     speed: float = 1.5
     hotel_power: float = 15.0
     drag_k: float = 5.8
@@ -259,24 +295,36 @@ class PlanResult:
     status: Status
     path: np.ndarray
     cost: float
-    cost_terms: dict
+    cost_terms: dict[str, float]
     evaluations: int
     iterations: int
     wall_time_s: float
-    history: np.ndarray
+    history: FloatArray
     planner: str
-    control_points: np.ndarray | None = None
+    control_points: FloatArray | None = None
     message: str = ""
     reference_cost: float = float("nan")
-    trace: np.ndarray = field(default_factory=lambda: np.empty((0, 2)))
-    times: np.ndarray | None = None
+    trace: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
+    times: FloatArray | None = None
 
     @property
     def gap(self) -> float:
-        """Cost minus the grid reference's cost (``nan`` without a reference)."""
+        """Cost minus the grid reference's cost.
+
+        Returns
+        -------
+        float
+            ``cost - reference_cost`` (cost units; ``nan`` without a reference).
+        """
         return self.cost - self.reference_cost
 
     @property
     def gap_pct(self) -> float:
-        """:attr:`gap` as a percentage of the reference cost."""
+        """:attr:`gap` as a percentage of the reference cost.
+
+        Returns
+        -------
+        float
+            Percent (``nan`` without a reference).
+        """
         return 100.0 * self.gap / self.reference_cost

@@ -34,14 +34,16 @@ documented rule.  A flat seabed enters as a mirror plane (:func:`plan_flow`).
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
 
-from .._types import Status
+from .._types import ArrayLike, BoolArray, FloatArray, Status
 from ..world import Ellipsoid, Sphere, World
-from .base import PlanResult
+from ..world.obstacles import Shape
+from .base import PlanningProblem, PlanResult
 from .flow_body import AxialBody, design_body, frame
 from .flow_params import FlowParams
 from .flow_stream import Streamlines, integrate_streamlines
@@ -72,15 +74,51 @@ SAG_PAD = 0.002
 
 
 # ---------------------------------------------------------------------- single-element kernels
-def sink_velocity(p, target, m: float = 1.0) -> np.ndarray:
-    """Velocity of a point sink of strength m at ``target``: −m (p − T) / (4π|p − T|³)."""
+def sink_velocity(p: ArrayLike, target: ArrayLike, m: float = 1.0) -> FloatArray:
+    """Velocity of a point sink of strength m at ``target``: −m (p − T) / (4π|p − T|³).
+
+    Parameters
+    ----------
+    p : array_like
+        Points ``(..., 3)`` (m).
+    target : array_like
+        Sink position ``(3,)`` (m).
+    m : float, default 1.0
+        Sink strength (m³/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity ``(..., 3)`` (m/s).
+    """
     r = np.asarray(p, dtype=float) - np.asarray(target, dtype=float)
     n = np.linalg.norm(r, axis=-1, keepdims=True)
-    return -m * r / (FOUR_PI * np.maximum(n, 1e-300) ** 3)
+    u: FloatArray = -m * r / (FOUR_PI * np.maximum(n, 1e-300) ** 3)
+    return u
 
 
-def sphere_exact_velocity(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
-    """Sink at ``target`` plus its exact image in the sphere (Weiss's sphere theorem)."""
+def sphere_exact_velocity(p: ArrayLike, center: ArrayLike, radius: float, target: ArrayLike,
+                          m: float = 1.0) -> FloatArray:
+    """Sink at ``target`` plus its exact image in the sphere (Weiss's sphere theorem).
+
+    Parameters
+    ----------
+    p : array_like
+        Points ``(..., 3)`` (m).
+    center : array_like
+        Sphere centre ``(3,)`` (m).
+    radius : float
+        Sphere radius a (m).
+    target : array_like
+        Target sink T ``(3,)`` (m).
+    m : float, default 1.0
+        Sink strength (m³/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity ``(..., 3)`` (m/s); tangent to the sphere on its surface.
+    """
     p = np.asarray(p, dtype=float)
     c = np.asarray(center, dtype=float)
     T = np.asarray(target, dtype=float)
@@ -96,11 +134,12 @@ def sphere_exact_velocity(p, center, radius: float, target, m: float = 1.0) -> n
     S = R0 + R1
     u = sink_velocity(p, T, m)
     u = u - (m * a / (FOUR_PI * b)) * q1 / R1**3
-    u = u + (m / (FOUR_PI * a)) * (2.0 * L / (S * S - L * L)) * (q0 / R0 + q1 / R1)
-    return u
+    out: FloatArray = u + (m / (FOUR_PI * a)) * (2.0 * L / (S * S - L * L)) * (q0 / R0 + q1 / R1)
+    return out
 
 
-def _document_terms(p, center, radius: float, target):
+def _document_terms(p: ArrayLike, center: ArrayLike, radius: float,
+                    target: ArrayLike) -> tuple[FloatArray, ...]:
     """Shared geometry of document 000's sphere field: p, T, e, q, r (keepdims), x = q·e, g, g′."""
     p = np.asarray(p, dtype=float)
     c = np.asarray(center, dtype=float)
@@ -118,21 +157,82 @@ def _document_terms(p, center, radius: float, target):
     return p, T, e, q, r, x, g, gp
 
 
-def sphere_document_potential(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
-    """Document 000's potential φ_P = (m/4π)[1/|p − T| + g(cos θ)/r²]."""
+def sphere_document_potential(p: ArrayLike, center: ArrayLike, radius: float, target: ArrayLike,
+                              m: float = 1.0) -> FloatArray:
+    """Document 000's potential φ_P = (m/4π)[1/|p − T| + g(cos θ)/r²].
+
+    Parameters
+    ----------
+    p : array_like
+        Points ``(..., 3)`` (m).
+    center : array_like
+        Sphere centre ``(3,)`` (m).
+    radius : float
+        Sphere radius a (m).
+    target : array_like
+        Target sink T ``(3,)`` (m).
+    m : float, default 1.0
+        Sink strength (m³/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Potential ``(...)`` (m²/s).
+    """
     p, T, _, _, r, _, g, _ = _document_terms(p, center, radius, target)
-    return m / FOUR_PI * (1.0 / np.linalg.norm(p - T, axis=-1) + (g / r**2)[..., 0])
+    phi: FloatArray = m / FOUR_PI * (1.0 / np.linalg.norm(p - T, axis=-1) + (g / r**2)[..., 0])
+    return phi
 
 
-def sphere_document_velocity(p, center, radius: float, target, m: float = 1.0) -> np.ndarray:
-    """Gradient of the document's potential, differentiated in full (METHODS.md §1.1)."""
+def sphere_document_velocity(p: ArrayLike, center: ArrayLike, radius: float, target: ArrayLike,
+                             m: float = 1.0) -> FloatArray:
+    """Gradient of the document's potential, differentiated in full (METHODS.md §1.1).
+
+    Parameters
+    ----------
+    p : array_like
+        Points ``(..., 3)`` (m).
+    center : array_like
+        Sphere centre ``(3,)`` (m).
+    radius : float
+        Sphere radius a (m).
+    target : array_like
+        Target sink T ``(3,)`` (m).
+    m : float, default 1.0
+        Sink strength (m³/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity ``(..., 3)`` (m/s).
+    """
     p, T, e, q, r, x, g, gp = _document_terms(p, center, radius, target)
     u = sink_velocity(p, T, m)
     return u + m / FOUR_PI * (gp * (e / r - x * q / r**3) / r**2 - 2.0 * g * q / r**4)
 
 
-def uniform_dipole_velocity(p, center, radius: float, direction, speed: float = 1.0) -> np.ndarray:
-    """Uniform flow U ê past a sphere (its dipole): the document's reference [15] baseline."""
+def uniform_dipole_velocity(p: ArrayLike, center: ArrayLike, radius: float, direction: ArrayLike,
+                            speed: float = 1.0) -> FloatArray:
+    """Uniform flow U ê past a sphere (its dipole): the document's reference [15] baseline.
+
+    Parameters
+    ----------
+    p : array_like
+        Points ``(..., 3)`` (m).
+    center : array_like
+        Sphere centre ``(3,)`` (m).
+    radius : float
+        Sphere radius (m).
+    direction : array_like
+        Direction ê of the uniform flow ``(3,)``.
+    speed : float, default 1.0
+        Free-stream speed U (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity ``(..., 3)`` (m/s).
+    """
     p = np.asarray(p, dtype=float)
     e = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     q = p - np.asarray(center, dtype=float)
@@ -140,12 +240,32 @@ def uniform_dipole_velocity(p, center, radius: float, direction, speed: float = 
     # φ = U (x + a³ x / (2 r³)), x = q·e
     x = q @ e
     a3 = radius**3
-    return speed * (e + a3 / 2.0 * (e / r**3 - 3.0 * x[..., None] * q / r**5))
+    u: FloatArray = speed * (e + a3 / 2.0 * (e / r**3 - 3.0 * x[..., None] * q / r**5))
+    return u
 
 
 # ---------------------------------------------------------------------- Rankine body
-def rankine_velocity(p, m: float, a2: float, Q: float, a1: float) -> np.ndarray:
-    """Body-frame velocity of source m at (−a₂,0,0), sink m at (a₂,0,0), target sink Q at (a₁,0,0)."""
+def rankine_velocity(p: ArrayLike, m: float, a2: float, Q: float, a1: float) -> FloatArray:
+    """Body-frame velocity of source m at (−a₂,0,0), sink m at (a₂,0,0), target sink Q at (a₁,0,0).
+
+    Parameters
+    ----------
+    p : array_like
+        Body-frame points ``(..., 3)`` (m).
+    m : float
+        Source and sink strength (m³/s).
+    a2 : float
+        Half-spacing of the source/sink pair (m).
+    Q : float
+        Target sink strength (m³/s).
+    a1 : float
+        Target position on the axis (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Velocity ``(..., 3)`` (m/s).
+    """
     p = np.asarray(p, dtype=float)
     C = np.array([-a2, 0.0, 0.0])
     B = np.array([a2, 0.0, 0.0])
@@ -153,51 +273,120 @@ def rankine_velocity(p, m: float, a2: float, Q: float, a1: float) -> np.ndarray:
     return sink_velocity(p, A, Q) - sink_velocity(p, C, m) + sink_velocity(p, B, m)
 
 
-def rankine_indicator(p, m: float, a2: float, Q: float, a1: float) -> np.ndarray:
+def rankine_indicator(p: ArrayLike, m: float, a2: float, Q: float, a1: float) -> FloatArray:
     """Stokes stream-function indicator: negative inside the body, zero on the dividing surface.
 
     F = m (cos α_B − cos α_C) + Q (1 + cos α_A), α_X the angle between +x and p − X.
+
+    Parameters
+    ----------
+    p : array_like
+        Body-frame points ``(..., 3)`` (m).
+    m : float
+        Source and sink strength (m³/s).
+    a2 : float
+        Half-spacing of the source/sink pair (m).
+    Q : float
+        Target sink strength (m³/s).
+    a1 : float
+        Target position on the axis (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        F ``(...)`` (m³/s).
     """
     p = np.asarray(p, dtype=float)
 
-    def cos_alpha(x0):
+    def cos_alpha(x0: float) -> FloatArray:
         d = p - np.array([x0, 0.0, 0.0])
-        return d[..., 0] / np.maximum(np.linalg.norm(d, axis=-1), 1e-300)
+        cos: FloatArray = d[..., 0] / np.maximum(np.linalg.norm(d, axis=-1), 1e-300)
+        return cos
 
     return m * (cos_alpha(a2) - cos_alpha(-a2)) + Q * (1.0 + cos_alpha(a1))
 
 
 def rankine_stagnation_points(m: float, a2: float, Q: float, a1: float) -> tuple[float, float]:
-    """Front and rear stagnation points on the axis (METHODS.md §1.4 equations)."""
+    """Front and rear stagnation points on the axis (METHODS.md §1.4 equations).
 
-    def front(x):
+    Parameters
+    ----------
+    m : float
+        Source and sink strength (m³/s).
+    a2 : float
+        Half-spacing of the source/sink pair (m).
+    Q : float
+        Target sink strength (m³/s).
+    a1 : float
+        Target position on the axis (m).
+
+    Returns
+    -------
+    tuple of float
+        Body-frame x of the front and rear stagnation points (m).
+    """
+
+    def front(x: float) -> float:
         return Q / (x - a1) ** 2 - m / (x + a2) ** 2 + m / (x - a2) ** 2
 
-    def rear(x):
+    def rear(x: float) -> float:
         return Q / (x - a1) ** 2 - m / (x - a2) ** 2 + m / (x + a2) ** 2
 
     lo = -a2 - 1e-9 * a2
     far = -a2 - 1e6 * max(a2, 1.0)
     xf = brentq(front, far, lo, xtol=1e-14 * a2, rtol=1e-14)
     xr = brentq(rear, a2 * (1 + 1e-9), a1 * (1 - 1e-12), xtol=1e-14 * a2, rtol=1e-14)
-    return xf, xr
+    return float(xf), float(xr)
 
 
 def rankine_radius(m: float, a2: float, Q: float, a1: float) -> float:
-    """Body radius R₀ at x = 0: (Q/2)(1 − a₁/√(a₁² + R²)) = m a₂/√(a₂² + R²)."""
-    def f(R):
-        return 0.5 * Q * (1.0 - a1 / np.hypot(a1, R)) - m * a2 / np.hypot(a2, R)
+    """Body radius R₀ at x = 0: (Q/2)(1 − a₁/√(a₁² + R²)) = m a₂/√(a₂² + R²).
 
-    return brentq(f, 1e-12 * a2, 1e6 * max(a1, a2), xtol=1e-13 * a2, rtol=1e-14)
+    Parameters
+    ----------
+    m : float
+        Source and sink strength (m³/s).
+    a2 : float
+        Half-spacing of the source/sink pair (m).
+    Q : float
+        Target sink strength (m³/s).
+    a1 : float
+        Target position on the axis (m).
+
+    Returns
+    -------
+    float
+        R₀ (m).
+    """
+    def f(R: float) -> float:
+        value: float = 0.5 * Q * (1.0 - a1 / np.hypot(a1, R)) - m * a2 / np.hypot(a2, R)
+        return value
+
+    return float(brentq(f, 1e-12 * a2, 1e6 * max(a1, a2), xtol=1e-13 * a2, rtol=1e-14))
 
 
 # ---------------------------------------------------------------------- several obstacles
-def blend_weights(d: np.ndarray, kind: str = "normalised") -> np.ndarray:
-    """Weights ``(..., K)`` from surface distances ``d (..., K)``."""
+def blend_weights(d: FloatArray, kind: str = "normalised") -> FloatArray:
+    """Blend weights of the obstacles' fields from their surface distances.
+
+    Parameters
+    ----------
+    d : numpy.ndarray
+        Distances to the K surfaces ``(..., K)`` (m; floored at 10⁻¹² m).
+    kind : str, default "normalised"
+        ``"normalised"`` (w_k = (1/d_k)/Σ(1/d_j), summing to 1) or ``"document"``
+        (w_k = Π_{i≠k} d_i/(d_k + d_i)).
+
+    Returns
+    -------
+    numpy.ndarray
+        Weights ``(..., K)``.
+    """
     d = np.maximum(np.asarray(d, dtype=float), 1e-12)
     if kind == "normalised":
         inv = 1.0 / d
-        return inv / inv.sum(axis=-1, keepdims=True)
+        weights: FloatArray = inv / inv.sum(axis=-1, keepdims=True)
+        return weights
     K = d.shape[-1]
     w = np.ones_like(d)
     for k in range(K):
@@ -208,11 +397,12 @@ def blend_weights(d: np.ndarray, kind: str = "normalised") -> np.ndarray:
 
 
 @lru_cache(maxsize=128)
-def _cached_body(ob: Ellipsoid, target: tuple, sizing: str, Q: float, margin: float, pad: float) -> AxialBody:
+def _cached_body(ob: Ellipsoid, target: tuple[float, ...], sizing: str, Q: float, margin: float,
+                 pad: float) -> AxialBody:
     return design_body(ob, np.array(target), sizing, Q, margin, pad)
 
 
-def _side(ob, axis: np.ndarray) -> np.ndarray:
+def _side(ob: Shape, axis: FloatArray) -> FloatArray:
     """Deflection side for on-axis streamlines: across ``axis``, where the obstacle is thinnest.
 
     The unit vector s ⊥ axis minimising the obstacle's half-width sᵀ M s (M = R diag(a²) Rᵀ for an
@@ -230,7 +420,7 @@ def _side(ob, axis: np.ndarray) -> np.ndarray:
     w, v = np.linalg.eigh(P.T @ M @ P)
     if w[1] - w[0] <= 1e-9 * w[1]:
         return default
-    s = P @ v[:, 0]
+    s: FloatArray = P @ v[:, 0]
     return s if s @ default >= 0 else -s
 
 
@@ -245,10 +435,32 @@ class FlowField:
     Two distances per obstacle: :meth:`distances`, to the surface the field actually flows round
     (sphere or body; the blend weights and step control use it), and :meth:`clearance`, to the
     real obstacle inflated by the margin (safety).
+
+    Parameters
+    ----------
+    obstacles : sequence of Sphere or Ellipsoid
+        The static obstacles.
+    target : array_like
+        The goal, where the sink sits ``(3,)`` (m).
+    params : FlowParams
+        Field, body sizing, weights, distances and integration settings.
+    margin : float, default 0.0
+        Obstacle safety margin (m).
+    direction : array_like, optional
+        Direction of the uniform flow for ``params.field == "uniform"`` (default: towards ``target``).
+    plane : float, optional
+        Height of a flat seabed modelled as a mirror plane (m).
+
+    Raises
+    ------
+    TypeError
+        If an obstacle is neither a sphere nor an ellipsoid.
+    ValueError
+        If the uniform field is asked for with ellipsoids.
     """
 
-    def __init__(self, obstacles, target, params: FlowParams, margin: float = 0.0, direction=None,
-                 plane: float | None = None) -> None:
+    def __init__(self, obstacles: Sequence[Shape], target: ArrayLike, params: FlowParams, margin: float = 0.0,
+                 direction: ArrayLike | None = None, plane: float | None = None) -> None:
         self.target = np.asarray(target, dtype=float)
         self.params = params
         self.margin = float(margin)
@@ -263,7 +475,7 @@ class FlowField:
         # the pad covers the chord sag h²/(8a) of steps up to 0.05 a along a surface
         self.R = np.array([s.radius + margin for s in self.spheres])
         self.A = self.R + SAG_PAD * np.array([s.radius for s in self.spheres])
-        self.direction = None
+        self.direction: FloatArray | None = None
         if params.field == "uniform":
             d = np.asarray(direction if direction is not None else self.target, dtype=float)
             self.direction = d / np.linalg.norm(d)
@@ -283,12 +495,31 @@ class FlowField:
 
     @property
     def contained(self) -> bool:
-        """True when every body contains its obstacle (not for the document's sizing)."""
+        """Whether every body contains its obstacle (not for the document's sizing).
+
+        Returns
+        -------
+        bool
+            False for ``params.rankine == "document"``.
+        """
         return self.params.rankine != "document"
 
     # ------------------------------------------------------------------ distances
-    def distances(self, p: np.ndarray, kind: str | None = None) -> np.ndarray:
-        """Distance ``(..., K[+1])`` to each surface the field flows round (spheres, bodies[, plane])."""
+    def distances(self, p: ArrayLike, kind: str | None = None) -> FloatArray:
+        """Distance to each surface the field flows round (spheres, bodies[, plane]).
+
+        Parameters
+        ----------
+        p : array_like
+            Points ``(..., 3)`` (m).
+        kind : str, optional
+            ``"true"`` or ``"ray"`` (for the document's bodies); ``params.distance`` when omitted.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., K)``, or ``(..., K + 1)`` with the plane (m; negative inside).
+        """
         kind = kind or self.params.distance
         p = np.asarray(p, dtype=float)
         out = [np.linalg.norm(p[..., None, :] - self.C, axis=-1) - self.A] if self.spheres else []
@@ -300,10 +531,22 @@ class FlowField:
             out.append(d[..., None])
         if self.plane is not None:
             out.append((p[..., 2] - self.plane)[..., None])
-        return np.concatenate(out, axis=-1) if out else np.zeros(p.shape[:-1] + (0,))
+        dist: FloatArray = np.concatenate(out, axis=-1) if out else np.zeros(p.shape[:-1] + (0,))
+        return dist
 
-    def clearance(self, p: np.ndarray) -> np.ndarray:
-        """Distance to the nearest real obstacle (or the plane) minus the margin: negative = penetration."""
+    def clearance(self, p: ArrayLike) -> FloatArray:
+        """Distance to the nearest real obstacle (or the plane) minus the margin.
+
+        Parameters
+        ----------
+        p : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m); negative = penetration.
+        """
         p = np.asarray(p, dtype=float)
         d = np.full(p.shape[:-1], np.inf)
         if self.spheres:
@@ -318,13 +561,37 @@ class FlowField:
             d = np.minimum(d, p[..., 2] - self.plane)
         return d
 
-    def inside_body(self, p) -> np.ndarray:
-        """True where points lie inside a surface the field flows round (a body, sphere or below the plane)."""
+    def inside_body(self, p: ArrayLike) -> BoolArray:
+        """Where points lie inside a surface the field flows round (a body, sphere or below the plane).
+
+        Parameters
+        ----------
+        p : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``.
+        """
         d = self.distances(np.asarray(p, dtype=float), "true")
         return np.asarray((d < 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], dtype=bool))
 
-    def push_out(self, p: np.ndarray, eps: float = 1e-9) -> np.ndarray:
-        """Points moved just outside the nearest flow surface along its outward normal."""
+    def push_out(self, p: ArrayLike, eps: float = 1e-9) -> FloatArray:
+        """Points moved just outside the nearest flow surface along its outward normal.
+
+        Parameters
+        ----------
+        p : array_like
+            Points ``(N, 3)`` (m).
+        eps : float, default 1e-9
+            Distance left outside, relative to the largest body radius (at least 1 m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Moved points ``(N, 3)`` (m).
+        """
         p = np.array(p, dtype=float).reshape(-1, 3)
         d = self.distances(p, "true")
         k = d.argmin(axis=-1)
@@ -342,12 +609,13 @@ class FlowField:
         return p
 
     # ------------------------------------------------------------------ velocity
-    def _sphere_parts(self, p: np.ndarray) -> np.ndarray:
+    def _sphere_parts(self, p: FloatArray) -> FloatArray:
         """Single-sphere fields of every sphere at once, ``(N, K, 3)``."""
         m = self.params.strength
         if self.params.field == "document":
             return np.stack([sphere_document_velocity(p, c, a, self.target, m) for c, a in zip(self.C, self.A)], 1)
         if self.params.field == "uniform":
+            assert self.direction is not None  # set by the constructor for the uniform field
             return np.stack([uniform_dipole_velocity(p, c, a, self.direction) for c, a in zip(self.C, self.A)], 1)
         q = p[:, None, :] - self.C
         Tc = self.target - self.C
@@ -360,9 +628,10 @@ class FlowField:
         S = R0 + R1
         image = -(m * self.A / (FOUR_PI * b))[:, None] * q1 / R1**3
         line = (m / (FOUR_PI * self.A) * 2.0 * L)[:, None] / (S * S - L[:, None] ** 2) * (q / R0 + q1 / R1)
-        return sink_velocity(p, self.target, m)[:, None, :] + image + line
+        parts: FloatArray = sink_velocity(p, self.target, m)[:, None, :] + image + line
+        return parts
 
-    def _free(self, p: np.ndarray) -> np.ndarray:
+    def _free(self, p: FloatArray) -> FloatArray:
         """The field without obstacles: the target sink (with its mirror in the plane), or the uniform flow."""
         if self.direction is not None:
             return np.broadcast_to(self.direction, p.shape).copy()
@@ -372,8 +641,19 @@ class FlowField:
             u = u + sink_velocity(p, mirror, self.params.strength)
         return u
 
-    def velocity(self, p) -> np.ndarray:
-        """Blended velocity at points ``(..., 3)``."""
+    def velocity(self, p: ArrayLike) -> FloatArray:
+        """Blended velocity at points.
+
+        Parameters
+        ----------
+        p : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocity ``(..., 3)`` (m/s).
+        """
         p = np.asarray(p, dtype=float)
         shape = p.shape
         p = p.reshape(-1, 3)
@@ -388,9 +668,10 @@ class FlowField:
         if parts.shape[1] == 1:
             return parts[:, 0].reshape(shape)
         w = blend_weights(self.distances(p), self.params.weights)
-        return np.einsum("nk,nki->ni", w, parts).reshape(shape)
+        blended: FloatArray = np.einsum("nk,nki->ni", w, parts).reshape(shape)
+        return blended
 
-def seabed_plane(world: World, start, goal, buffer: float) -> tuple[float | None, str]:
+def seabed_plane(world: World, start: ArrayLike, goal: ArrayLike, buffer: float) -> tuple[float | None, str]:
     """The flat seabed the flow can model: ``(height, "")``, or ``(None, reason)`` when it is not flat enough.
 
     The plane lies at the highest seabed elevation within ``buffer`` of the straight start–goal line
@@ -416,14 +697,26 @@ def seabed_plane(world: World, start, goal, buffer: float) -> tuple[float | None
     return plane, ""
 
 
-def plan_flow(problem, params: FlowParams) -> PlanResult:
+def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
     """Streamline from the problem's start to its goal in the world's obstacle field.
 
     When the seabed is in the way of the obstacle flow, the flow sees it as a flat mirror plane
     (:func:`seabed_plane`), or, when the seabed is not flat enough for that, the plan is
-    ``INFEASIBLE`` with that reason.  ``EXACT`` when the streamline arrives without touching an
-    obstacle (inflated by the World's obstacle margin) and passes the World's exact segment tests
-    (seabed included); ``INFEASIBLE`` otherwise, with the reason.
+    ``INFEASIBLE`` with that reason.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World (spheres and ellipsoids, seabed, margins), start, goal and speed.
+    params : FlowParams
+        Field, body sizing and integration settings.
+
+    Returns
+    -------
+    PlanResult
+        ``EXACT`` when the streamline arrives without touching an obstacle (inflated by the World's
+        obstacle margin) and passes the World's exact segment tests (seabed included);
+        ``INFEASIBLE`` otherwise, with the reason.
     """
     t0 = time.perf_counter()
     world: World = problem.world

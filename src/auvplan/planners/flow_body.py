@@ -35,6 +35,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .._jit import kernel
+from .._types import ArrayLike, BoolArray, FloatArray
+from ..world.obstacles import Ellipsoid, Shape
 
 __all__ = [
     "AxialBody",
@@ -50,8 +52,19 @@ FOUR_PI = 4.0 * np.pi
 PROFILE_RAYS = 721
 
 
-def frame(axis) -> np.ndarray:
-    """Orthonormal basis (columns) whose first column is ``axis``."""
+def frame(axis: ArrayLike) -> FloatArray:
+    """Orthonormal basis (columns) whose first column is ``axis``.
+
+    Parameters
+    ----------
+    axis : array_like
+        Direction ``(3,)`` (any length but zero).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3, 3)``: the unit axis and two unit normals, right-handed.
+    """
     x = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
     helper = np.array([0.0, 0.0, 1.0]) if abs(x[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
     y = np.cross(helper, x)
@@ -60,7 +73,8 @@ def frame(axis) -> np.ndarray:
 
 
 @kernel
-def _polyline_distance(x, rho, px, pr):  # pragma: no cover - compiled
+def _polyline_distance(x: FloatArray, rho: FloatArray, px: FloatArray,
+                       pr: FloatArray) -> FloatArray:  # pragma: no cover - compiled
     """Distance of meridian points (x, ρ) to the polyline (px, pr)."""
     n = x.size
     out = np.empty(n)
@@ -81,7 +95,8 @@ def _polyline_distance(x, rho, px, pr):  # pragma: no cover - compiled
     return out
 
 
-def _line_terms(x, rho, lo, hi):
+def _line_terms(x: FloatArray, rho: FloatArray, lo: FloatArray,
+                hi: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Per-segment stream-function and velocity kernels of unit density on [lo, hi] (broadcast)."""
     X0, X1 = x - lo, x - hi
     r0, r1 = np.hypot(X0, rho), np.hypot(X1, rho)
@@ -91,7 +106,7 @@ def _line_terms(x, rho, lo, hi):
         ux = (1.0 / r1 - 1.0 / r0) / FOUR_PI
         same = s1 * (1.0 / (r1 * (r1 + np.abs(X1)))) - s0 * (1.0 / (r0 * (r0 + np.abs(X0))))
         direct = (X0 / r0 - X1 / r1) / (rho * rho)
-    k = np.where(s0 == s1, same, direct) / FOUR_PI  # u_ρ / ρ, stable near the axis
+    k: FloatArray = np.where(s0 == s1, same, direct) / FOUR_PI  # u_ρ / ρ, stable near the axis
     return psi, ux, k
 
 
@@ -102,34 +117,59 @@ class AxialBody:
     Attributes
     ----------
     center, basis : ndarray
-        Body-frame origin (world) and basis (columns: axis to the target, two normals).
+        Body-frame origin (world, m) and basis (columns: axis to the target, two normals).
     a1, Q : float
-        Target distance along the axis and target sink strength.
+        Target distance along the axis (m) and target sink strength (m³/s).
     points, strengths : ndarray
-        Point sources (σ > 0) and sinks (σ < 0) on the axis.
+        Point sources (σ > 0) and sinks (σ < 0) on the axis: body-frame x (m) and strengths (m³/s).
     knots, density : ndarray
-        Segment ends ``(K + 1,)`` and source densities ``(K,)`` per metre (negative: sinks).
+        Segment ends ``(K + 1,)`` (m) and source densities ``(K,)`` per metre (m²/s; negative: sinks).
     kind : str
         How it was sized (``"line"``, ``"pair"``, ``"document"``).
     """
 
-    center: np.ndarray
-    basis: np.ndarray
+    center: FloatArray
+    basis: FloatArray
     a1: float
     Q: float
-    points: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    strengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    knots: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    density: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    points: FloatArray = field(default_factory=lambda: np.zeros(0))
+    strengths: FloatArray = field(default_factory=lambda: np.zeros(0))
+    knots: FloatArray = field(default_factory=lambda: np.zeros(0))
+    density: FloatArray = field(default_factory=lambda: np.zeros(0))
     kind: str = "line"
 
     # ------------------------------------------------------------------ flow
-    def local(self, p) -> np.ndarray:
-        """World points ``(..., 3)`` in the body frame."""
-        return (np.asarray(p, dtype=float) - self.center) @ self.basis
+    def local(self, p: ArrayLike) -> FloatArray:
+        """World points in the body frame.
 
-    def stream(self, x, rho) -> np.ndarray:
-        """Stokes stream function F(x, ρ) (negative inside the body)."""
+        Parameters
+        ----------
+        p : array_like
+            World points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Body-frame coordinates ``(..., 3)`` (m; x along the axis).
+        """
+        q: FloatArray = (np.asarray(p, dtype=float) - self.center) @ self.basis
+        return q
+
+    def stream(self, x: FloatArray, rho: FloatArray) -> FloatArray:
+        """Stokes stream function F(x, ρ) (negative inside the body).
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            Body-frame coordinate along the axis (m).
+        rho : numpy.ndarray
+            Distance from the axis (m); broadcasts with ``x``.
+
+        Returns
+        -------
+        numpy.ndarray
+            F (m³/s), the broadcast shape.
+        """
         x = np.asarray(x, dtype=float)[..., None]
         rho = np.abs(np.asarray(rho, dtype=float))[..., None]
         dA = x[..., 0] - self.a1
@@ -140,15 +180,38 @@ class AxialBody:
         if self.density.size:
             psi, _, _ = _line_terms(x, rho, self.knots[:-1], self.knots[1:])
             F = F + (self.density * psi).sum(-1)
-        return F
+        stream: FloatArray = F
+        return stream
 
-    def stream_at(self, p) -> np.ndarray:
-        """F at world points ``(..., 3)``."""
+    def stream_at(self, p: ArrayLike) -> FloatArray:
+        """F at world points.
+
+        Parameters
+        ----------
+        p : array_like
+            World points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            F ``(...)`` (m³/s), negative inside the body.
+        """
         q = self.local(p)
         return self.stream(q[..., 0], np.hypot(q[..., 1], q[..., 2]))
 
-    def velocity_local(self, q) -> np.ndarray:
-        """Velocity at body-frame points ``(N, 3)`` (target sink + axis singularities)."""
+    def velocity_local(self, q: ArrayLike) -> FloatArray:
+        """Velocity at body-frame points (target sink + axis singularities).
+
+        Parameters
+        ----------
+        q : array_like
+            Body-frame points ``(N, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Body-frame velocity ``(N, 3)`` (m/s).
+        """
         q = np.asarray(q, dtype=float)
         A = np.array([self.a1, 0.0, 0.0])
         r = q - A
@@ -161,11 +224,24 @@ class AxialBody:
             _, ux, k = _line_terms(q[:, :1], rho, self.knots[:-1], self.knots[1:])
             u[:, 0] += ux @ self.density
             u[:, 1:] += (k @ self.density)[:, None] * q[:, 1:]
-        return u
+        velocity: FloatArray = u
+        return velocity
 
-    def velocity(self, p) -> np.ndarray:
-        """Velocity at world points ``(N, 3)``."""
-        return self.velocity_local(self.local(p)) @ self.basis.T
+    def velocity(self, p: ArrayLike) -> FloatArray:
+        """Velocity at world points.
+
+        Parameters
+        ----------
+        p : array_like
+            World points ``(N, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            World-frame velocity ``(N, 3)`` (m/s).
+        """
+        u: FloatArray = self.velocity_local(self.local(p)) @ self.basis.T
+        return u
 
     def _axial_speed(self, x: float) -> float:
         return float(self.velocity_local(np.array([[x, 0.0, 0.0]]))[0, 0])
@@ -173,13 +249,25 @@ class AxialBody:
     # ------------------------------------------------------------------ geometry
     @cached_property
     def singular_range(self) -> tuple[float, float]:
-        """Axial extent of the singularities."""
+        """Axial extent of the singularities.
+
+        Returns
+        -------
+        tuple of float
+            Smallest and largest body-frame x of the points and knots (m).
+        """
         xs = np.concatenate([self.points, self.knots])
         return float(xs.min()), float(xs.max())
 
     @cached_property
     def stagnation(self) -> tuple[float, float]:
-        """Front and rear stagnation points on the axis (body frame x)."""
+        """Front and rear stagnation points on the axis.
+
+        Returns
+        -------
+        tuple of float
+            Body-frame x of the front and rear stagnation points (m).
+        """
         lo, hi = self.singular_range
         span = max(hi - lo, 1e-9 * self.a1)
         xf = brentq(self._axial_speed, lo - 1e4 * max(span, 1.0), lo - 1e-9 * span, xtol=1e-13 * span)
@@ -196,6 +284,11 @@ class AxialBody:
         On each ray from the body's mid-point the outermost F = 0 crossing: a scan from outside
         inwards, then bisection.  (Alternating sources and sinks can leave closed regions with F > 0
         inside the body; they are inside it all the same.)
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(PROFILE_RAYS, 2)`` body-frame (x, ρ) (m).
         """
         xf, xr = self.stagnation
         xm = 0.5 * (xf + xr)
@@ -220,19 +313,41 @@ class AxialBody:
 
     @cached_property
     def volume(self) -> float:
-        """Volume of the body (m³), from the profile (π ∫ ρ² dx over the polyline, exact for cones)."""
+        """Volume of the body, from the profile (π ∫ ρ² dx over the polyline, exact for cones).
+
+        Returns
+        -------
+        float
+            Volume (m³).
+        """
         x, r = self.profile[:, 0], self.profile[:, 1]
         return float(abs(np.sum(np.pi / 3.0 * np.diff(x) * (r[:-1] ** 2 + r[:-1] * r[1:] + r[1:] ** 2))))
 
     @cached_property
     def radius(self) -> float:
-        """Largest radius of the body."""
+        """Largest radius of the body.
+
+        Returns
+        -------
+        float
+            Largest ρ of the profile (m).
+        """
         return float(self.profile[:, 1].max())
 
-    def inside(self, p) -> np.ndarray:
-        """True where world points lie inside the body's outer surface.
+    def inside(self, p: ArrayLike) -> BoolArray:
+        """Where world points lie inside the body's outer surface.
 
         Well inside the profile (by 1 % of the radius) is inside; near it, the sign of F decides.
+
+        Parameters
+        ----------
+        p : array_like
+            World points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True inside.
         """
         q = self.local(p)
         xf, xr = self.stagnation
@@ -243,20 +358,44 @@ class AxialBody:
         between = (q[..., 0] > xf) & (q[..., 0] < xr)
         near = self.stream(q[..., 0], rho) < 0
         # on the axis F vanishes between the end singularities and the stagnation points: use x there
-        return between & ((rho < R - tol) | ((near | (rho < 1e-9 * (xr - xf))) & (rho < R + tol)))
+        within: BoolArray = between & ((rho < R - tol) | ((near | (rho < 1e-9 * (xr - xf))) & (rho < R + tol)))
+        return within
 
-    def distance(self, p) -> np.ndarray:
-        """Signed distance of world points ``(..., 3)`` to the body surface (negative inside)."""
+    def distance(self, p: ArrayLike) -> FloatArray:
+        """Signed distance of world points to the body surface.
+
+        Parameters
+        ----------
+        p : array_like
+            World points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), negative inside.
+        """
         p = np.asarray(p, dtype=float)
         q = self.local(p).reshape(-1, 3)
         rho = np.hypot(q[:, 1], q[:, 2])
         prof = self.profile
         d = _polyline_distance(np.ascontiguousarray(q[:, 0]), rho, np.ascontiguousarray(prof[:, 0]),
                                np.ascontiguousarray(prof[:, 1]))
-        return np.where(self.inside(p.reshape(-1, 3)), -d, d).reshape(p.shape[:-1])
+        signed: FloatArray = np.where(self.inside(p.reshape(-1, 3)), -d, d).reshape(p.shape[:-1])
+        return signed
 
-    def normal(self, p) -> np.ndarray:
-        """Unit outward normal at the body point nearest to each world point ``(N, 3)``."""
+    def normal(self, p: ArrayLike) -> FloatArray:
+        """Unit outward normal at the body point nearest to each world point.
+
+        Parameters
+        ----------
+        p : array_like
+            World points ``(N, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Unit normals ``(N, 3)`` (world frame).
+        """
         q = self.local(p).reshape(-1, 3)
         rho = np.hypot(q[:, 1], q[:, 2])
         prof = self.profile
@@ -268,32 +407,49 @@ class AxialBody:
         er = q[:, 1:] / np.where(rho > 0, rho, 1.0)[:, None]
         er[rho == 0] = (0.0, 1.0)
         n = np.column_stack([n2[:, 0], n2[:, 1:2] * er])
-        return n @ self.basis.T
+        world: FloatArray = n @ self.basis.T
+        return world
 
 
 # ---------------------------------------------------------------------- design
-def offset_surface(obstacle, margin: float, n: int = 60) -> np.ndarray:
-    """Points of the obstacle's surface moved out by ``margin`` along the normal (world frame)."""
+def offset_surface(obstacle: Shape, margin: float, n: int = 60) -> FloatArray:
+    """Points of the obstacle's surface moved out by ``margin`` along the normal (world frame).
+
+    Parameters
+    ----------
+    obstacle : Sphere or Ellipsoid
+        The obstacle.
+    margin : float
+        Offset along the outward normal (m).
+    n : int, default 60
+        Polar steps (``2 n`` azimuth steps).
+
+    Returns
+    -------
+    numpy.ndarray
+        Points ``(2 n (n + 1), 3)`` (m).
+    """
     th = np.linspace(0.0, np.pi, n + 1)
     ph = np.linspace(0.0, 2 * np.pi, 2 * n, endpoint=False)
     TH, PH = np.meshgrid(th, ph)
     dirs = np.stack([np.sin(TH) * np.cos(PH), np.sin(TH) * np.sin(PH), np.cos(TH)], -1).reshape(-1, 3)
-    if hasattr(obstacle, "semi_axes"):
+    if isinstance(obstacle, Ellipsoid):
         a = np.asarray(obstacle.semi_axes)
         local = dirs * a
         normal = local / a**2
         normal /= np.linalg.norm(normal, axis=1, keepdims=True)
         rot = obstacle._rot
-        return (local + margin * normal) @ rot.T + np.asarray(obstacle.center)
+        moved: FloatArray = (local + margin * normal) @ rot.T + np.asarray(obstacle.center)
+        return moved
     return np.asarray(obstacle.center) + (obstacle.radius + margin) * dirs
 
 
-def _meridian(points, center, basis):
+def _meridian(points: FloatArray, center: FloatArray, basis: FloatArray) -> tuple[FloatArray, FloatArray]:
     q = (points - center) @ basis
     return q[:, 0], np.hypot(q[:, 1], q[:, 2])
 
 
-def _contains(body: AxialBody, x, rho, outer: bool = False) -> bool:
+def _contains(body: AxialBody, x: FloatArray, rho: FloatArray, outer: bool = False) -> bool:
     """Whether the body contains the meridian points: F < 0 at all of them (and, with ``outer``, the
     outer-profile test of :meth:`AxialBody.inside`, which needs the profile)."""
     try:
@@ -310,7 +466,8 @@ def _contains(body: AxialBody, x, rho, outer: bool = False) -> bool:
     return bool(body.inside(np.column_stack([x, rho, np.zeros_like(x)]) @ body.basis.T + body.center).all())
 
 
-def _fit_line(x, rho, a1, Q, knots, delta, xc):
+def _fit_line(x: FloatArray, rho: FloatArray, a1: float, Q: float, knots: FloatArray, delta: float,
+              xc: float) -> FloatArray:
     """Least-squares densities whose dividing surface passes ``delta`` outside the shadow (x, ρ)."""
     th = np.arctan2(rho, x - xc)
     r = np.hypot(x - xc, rho)
@@ -338,11 +495,37 @@ def _fit_line(x, rho, a1, Q, knots, delta, xc):
     # closure Σ λ L = 0 (a closed body), by the KKT system
     M = np.block([[A.T @ A + D.T @ D, L[:, None]], [L[None, :], np.zeros((1, 1))]])
     sol = np.linalg.lstsq(M, np.concatenate([A.T @ b, [0.0]]), rcond=None)[0]
-    return sol[:K]
+    density: FloatArray = sol[:K]
+    return density
 
 
-def design_line_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad: float = 0.0) -> AxialBody:
-    """The smallest line-distribution body found that contains the obstacle inflated by ``margin + pad``."""
+def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin: float = 0.0,
+                     pad: float = 0.0) -> AxialBody:
+    """The smallest line-distribution body found that contains the obstacle inflated by ``margin + pad``.
+
+    Parameters
+    ----------
+    obstacle : Sphere or Ellipsoid
+        The obstacle to wrap.
+    target : array_like
+        The target sink's position ``(3,)`` (m); the body's axis points at it.
+    Q : float, default 1.0
+        Target sink strength (m³/s).
+    margin : float, default 0.0
+        Safety margin the body must contain around the obstacle (m).
+    pad : float, default 0.0
+        Extra inflation covering the chord sag of integration steps (m).
+
+    Returns
+    -------
+    AxialBody
+        The body (its ``kind`` says how it was sized).
+
+    Raises
+    ------
+    ValueError
+        If no fitted distribution contains the obstacle (the target too close to it).
+    """
     c = np.asarray(obstacle.center, dtype=float)
     T = np.asarray(target, dtype=float)
     a1 = float(np.linalg.norm(T - c))
@@ -352,12 +535,12 @@ def design_line_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad:
     x, rho = _envelope(x_all, rho_all)
     xc = 0.5 * (x.min() + x.max())
     size = float(rho.max())
-    best = None
+    best: AxialBody | None = None
     for K, frac in ((8, 0.8), (12, 0.85), (16, 0.9), (12, 0.7)):
         half = 0.5 * (x.max() - x.min())
         knots = np.linspace(xc - frac * half, xc + frac * half, K + 1)
 
-        def build(delta, knots=knots):
+        def build(delta: float, knots: FloatArray = knots) -> AxialBody:
             lam = _fit_line(x, rho, a1, Q, knots, delta, xc)
             return AxialBody(c, basis, a1, Q, knots=knots, density=lam, kind="line")
 
@@ -382,7 +565,7 @@ def design_line_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad:
     return best
 
 
-def _envelope(x, rho, bins: int = 160):
+def _envelope(x: FloatArray, rho: FloatArray, bins: int = 160) -> tuple[FloatArray, FloatArray]:
     """Staircase upper envelope of meridian points: the largest ρ of each x bin at both bin edges.
 
     A body whose radius is concave in x contains every point when it contains these.
@@ -395,19 +578,45 @@ def _envelope(x, rho, bins: int = 160):
     return ex, np.concatenate([top, top, [0.0, 0.0]])
 
 
-def _pair(c, basis, a1, Q, m, a2, kind="pair") -> AxialBody:
+def _pair(c: FloatArray, basis: FloatArray, a1: float, Q: float, m: float, a2: float,
+          kind: str = "pair") -> AxialBody:
     return AxialBody(c, basis, a1, Q, points=np.array([-a2, a2]), strengths=np.array([m, -m]), kind=kind)
 
 
-def design_pair_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad: float = 0.0) -> AxialBody:
-    """The document's source/sink pair with m and a₂ both free: the smallest containing body on a search."""
+def design_pair_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin: float = 0.0,
+                     pad: float = 0.0) -> AxialBody:
+    """The document's source/sink pair with m and a₂ both free: the smallest containing body on a search.
+
+    Parameters
+    ----------
+    obstacle : Sphere or Ellipsoid
+        The obstacle to wrap.
+    target : array_like
+        The target sink's position ``(3,)`` (m); the body's axis points at it.
+    Q : float, default 1.0
+        Target sink strength (m³/s).
+    margin : float, default 0.0
+        Safety margin the body must contain around the obstacle (m).
+    pad : float, default 0.0
+        Extra inflation covering the chord sag of integration steps (m).
+
+    Returns
+    -------
+    AxialBody
+        The body (its ``kind`` says how it was sized).
+
+    Raises
+    ------
+    ValueError
+        If no pair contains the obstacle (the target too close to it).
+    """
     c = np.asarray(obstacle.center, dtype=float)
     T = np.asarray(target, dtype=float)
     a1 = float(np.linalg.norm(T - c))
     basis = frame(T - c)
     x, rho = _envelope(*_meridian(offset_surface(obstacle, margin + pad + 1e-3 * obstacle.bounding_radius), c, basis))
     half = 0.5 * (x.max() - x.min())
-    best = None
+    best: AxialBody | None = None
     for a2 in half * np.linspace(0.1, 0.95, 10):
         lo, hi = 1e-6 * Q, 1e-6 * Q
         while not _contains(_pair(c, basis, a1, Q, hi, a2), x, rho):
@@ -426,12 +635,36 @@ def design_pair_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad:
     return best
 
 
-def design_document_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, pad: float = 0.0) -> AxialBody:
+def design_document_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin: float = 0.0,
+                         pad: float = 0.0) -> AxialBody:
     """Document 000's sizing: front stagnation point and mid-radius R₀ equal to the inflated semi-axes.
 
     Along the axis the semi-axis is the inflated obstacle's extent; across it the largest radius of
     the meridian shadow.  Solves for (m, a₂) with the corrected flux equation (METHODS.md §1.4); the
     obstacle generally sticks out of this body.
+
+    Parameters
+    ----------
+    obstacle : Sphere or Ellipsoid
+        The obstacle to wrap.
+    target : array_like
+        The target sink's position ``(3,)`` (m); the body's axis points at it.
+    Q : float, default 1.0
+        Target sink strength (m³/s).
+    margin : float, default 0.0
+        Safety margin the body must contain around the obstacle (m).
+    pad : float, default 0.0
+        Extra inflation covering the chord sag of integration steps (m).
+
+    Returns
+    -------
+    AxialBody
+        The body (its ``kind`` says how it was sized).
+
+    Raises
+    ------
+    ValueError
+        If no (m, a₂) meets the two conditions.
     """
     c = np.asarray(obstacle.center, dtype=float)
     T = np.asarray(target, dtype=float)
@@ -440,10 +673,11 @@ def design_document_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, 
     x, rho = _meridian(offset_surface(obstacle, margin + pad, 40), c, basis)
     xs, R0 = float(-x.min()), float(rho.max())
 
-    def m_for(a2):  # flux through the x = 0 disc of radius R0
-        return 0.5 * Q * (1.0 - a1 / np.hypot(a1, R0)) * np.hypot(a2, R0) / a2
+    def m_for(a2: float) -> float:  # flux through the x = 0 disc of radius R0
+        m: float = 0.5 * Q * (1.0 - a1 / np.hypot(a1, R0)) * np.hypot(a2, R0) / a2
+        return m
 
-    def front(a2):
+    def front(a2: float) -> float:
         m = m_for(a2)
         return Q / (xs + a1) ** 2 - m / (a2 - xs) ** 2 + m / (xs + a2) ** 2
 
@@ -456,8 +690,31 @@ def design_document_body(obstacle, target, Q: float = 1.0, margin: float = 0.0, 
     return _pair(c, basis, a1, Q, m_for(a2), a2, kind="document")
 
 
-def design_body(obstacle, target, sizing: str, Q: float = 1.0, margin: float = 0.0, pad: float = 0.0) -> AxialBody:
-    """Dispatch on ``sizing``: ``"line"`` (default), ``"pair"`` or ``"document"``."""
+def design_body(obstacle: Shape, target: ArrayLike, sizing: str, Q: float = 1.0, margin: float = 0.0,
+                pad: float = 0.0) -> AxialBody:
+    """Dispatch on ``sizing``: ``"line"`` (default), ``"pair"`` or ``"document"``.
+
+    Parameters
+    ----------
+    obstacle : Sphere or Ellipsoid
+        The obstacle to wrap.
+    target : array_like
+        The target sink's position ``(3,)`` (m).
+    sizing : str
+        ``"line"`` (falls back to ``"pair"`` when no line distribution contains the obstacle),
+        ``"pair"`` or ``"document"``.
+    Q : float, default 1.0
+        Target sink strength (m³/s).
+    margin : float, default 0.0
+        Safety margin the body must contain around the obstacle (m).
+    pad : float, default 0.0
+        Extra inflation covering the chord sag of integration steps (m).
+
+    Returns
+    -------
+    AxialBody
+        The designed body.
+    """
     if sizing == "line":
         try:
             return design_line_body(obstacle, target, Q, margin, pad)

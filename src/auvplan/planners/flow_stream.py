@@ -29,8 +29,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
+
+from .._types import ArrayLike, BoolArray, FloatArray, IntArray
+from .flow_params import FlowParams
+
+if TYPE_CHECKING:  # flow.py imports this module
+    from .flow import FlowField
 
 __all__ = ["Streamlines", "integrate_streamlines"]
 
@@ -48,29 +56,55 @@ class Streamlines:
     the streamline passed the goal's plane without reaching it), ``inside_obstacle`` (the start lies
     within the margin of an obstacle).  ``min_distance`` is the smallest clearance to the real
     obstacles minus the margin along the nodes.
+
+    Parameters
+    ----------
+    paths : list of numpy.ndarray
+        One polyline ``(N_i, 3)`` (m) per start.
+    status : numpy.ndarray of str
+        How each streamline ended (see above).
+    min_distance : numpy.ndarray
+        Least clearance to the real obstacles minus the margin (m).
+    steps : numpy.ndarray
+        Integration nodes per streamline.
+    wall_time_s : float
+        Time of the integration (s).
+    corrections : numpy.ndarray
+        Push-backs onto a flow surface per streamline.
+    deflections : numpy.ndarray
+        Sideways steps of the front stagnation rule per streamline.
+    exits : numpy.ndarray of bool
+        Streamlines that started inside a body and left it by the exit rule.
     """
 
-    paths: list
-    status: np.ndarray
-    min_distance: np.ndarray
-    steps: np.ndarray
+    paths: list[FloatArray]
+    status: npt.NDArray[np.object_]
+    min_distance: FloatArray
+    steps: IntArray
     wall_time_s: float
-    corrections: np.ndarray
-    deflections: np.ndarray
-    exits: np.ndarray
+    corrections: IntArray
+    deflections: IntArray
+    exits: BoolArray
 
     @property
-    def arrived(self) -> np.ndarray:
-        """True where the streamline reached the goal."""
-        return self.status == "arrived"
+    def arrived(self) -> BoolArray:
+        """Where the streamline reached the goal.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            One per start.
+        """
+        arrived: BoolArray = self.status == "arrived"
+        return arrived
 
 
-def _segment_clear(field, a: np.ndarray, b: np.ndarray, n: int = 17) -> bool:
+def _segment_clear(field: FlowField, a: FloatArray, b: FloatArray, n: int = 17) -> bool:
     t = np.linspace(0.0, 1.0, n)[:, None]
     return bool(np.all(field.clearance(a + t * (b - a)) >= 0.0))
 
 
-def _exit_body(field, p: np.ndarray) -> list:
+def _exit_body(field: FlowField, p: FloatArray) -> list[FloatArray]:
     """Exit rule for one start inside a flow surface: the points it passes on its way out (may be empty)."""
     out: list[np.ndarray] = []
     ns = len(field.spheres)
@@ -96,7 +130,7 @@ def _exit_body(field, p: np.ndarray) -> list:
     return out
 
 
-def _deflect(field, x: np.ndarray, d: np.ndarray, h_min: float) -> tuple[np.ndarray, np.ndarray]:
+def _deflect(field: FlowField, x: FloatArray, d: FloatArray, h_min: float) -> tuple[BoolArray, FloatArray]:
     """Front stagnation rule: ``(mask, moved points)`` for points ``x`` with flow distances ``d (N, K)``."""
     n = x.shape[0]
     moved = x.copy()
@@ -127,8 +161,23 @@ def _deflect(field, x: np.ndarray, d: np.ndarray, h_min: float) -> tuple[np.ndar
     return mask, moved
 
 
-def integrate_streamlines(field, starts, params=None) -> Streamlines:
-    """Integrate dp/ds = u/|u| from every start at once (RK4, step ≤ ``step_factor`` × distance)."""
+def integrate_streamlines(field: FlowField, starts: ArrayLike, params: FlowParams | None = None) -> Streamlines:
+    """Integrate dp/ds = u/|u| from every start at once (RK4, step ≤ ``step_factor`` × distance).
+
+    Parameters
+    ----------
+    field : FlowField
+        The blended flow toward the target.
+    starts : array_like
+        Start points ``(N, 3)`` or one ``(3,)`` (m).
+    params : FlowParams, optional
+        Integration settings; the field's own when omitted.
+
+    Returns
+    -------
+    Streamlines
+        One polyline and one status per start.
+    """
     t0 = time.perf_counter()
     params = params or field.params
     sizes = [ob.radius for ob in field.spheres] + [min(ob.semi_axes) for ob in field.ellipsoids]
@@ -156,12 +205,12 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
     deflections = np.zeros(n, dtype=np.intp)
     min_d = np.where(blocked, field.clearance(p), np.inf)
 
-    def direction(x):
+    def direction(x: FloatArray) -> tuple[FloatArray, FloatArray]:
         u = field.velocity(x)
         sp = np.linalg.norm(u, axis=-1, keepdims=True)
         return u / np.maximum(sp, 1e-300), sp[..., 0]
 
-    def rk4(x, k1, h):
+    def rk4(x: FloatArray, k1: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
         k2, _ = direction(x + 0.5 * h[:, None] * k1)
         k3, _ = direction(x + 0.5 * h[:, None] * k2)
         k4, _ = direction(x + h[:, None] * k3)
@@ -229,7 +278,7 @@ def integrate_streamlines(field, starts, params=None) -> Streamlines:
     return _collect(track, count, prefix, starts, status, min_d, corrections, deflections, exits, T, t0)
 
 
-def _clearance_below(field, x, d, current):
+def _clearance_below(field: FlowField, x: FloatArray, d: FloatArray, current: FloatArray) -> FloatArray:
     """Clearance where it may fall below ``current``, +inf elsewhere.
 
     Every flow surface contains its inflated obstacle, so outside the surfaces the clearance is at
@@ -243,12 +292,15 @@ def _clearance_below(field, x, d, current):
     return out
 
 
-def _flow_distance(field, x):
+def _flow_distance(field: FlowField, x: FloatArray) -> FloatArray:
     d = field.distances(x, "true")
-    return d.min(axis=-1) if d.shape[-1] else np.full(x.shape[0], np.inf)
+    least: FloatArray = d.min(axis=-1) if d.shape[-1] else np.full(x.shape[0], np.inf)
+    return least
 
 
-def _collect(track, count, prefix, starts, status, min_d, corrections, deflections, exits, T, t0):
+def _collect(track: FloatArray, count: IntArray, prefix: list[list[FloatArray]], starts: ArrayLike,
+             status: npt.NDArray[np.object_], min_d: FloatArray, corrections: IntArray, deflections: IntArray,
+             exits: BoolArray, T: FloatArray, t0: float) -> Streamlines:
     starts = np.asarray(starts, dtype=float).reshape(-1, 3)
     paths = []
     for i in range(len(count)):

@@ -31,11 +31,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from .._jit import kernel
-from .._types import Status
+from .._types import ArrayLike, BoolArray, FloatArray, IntArray, Status
 from ..cost import CostModel, energy_kernel, evaluate_paths, propulsion_power, segment_energy
 from ..guidance.local import key_waypoints
 from ..path import polyline_length, resample_polyline, sample_population
@@ -55,7 +57,8 @@ _OFFSETS = np.concatenate([_HALF, -_HALF]).astype(np.int64)
 
 
 @kernel
-def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power, document):
+def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: FloatArray, use_cost: bool, w_length: float,
+                 w_energy: float, speed: float, power: float, document: bool) -> float:
     """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
     ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
     (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
@@ -69,11 +72,12 @@ def _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, pow
     units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
     if blocked:
         return np.inf
-    return max(w_length * ds + w_energy * units, 1e-12)
+    weight: float = max(w_length * ds + w_energy * units, 1e-12)
+    return weight
 
 
 @kernel
-def _sift_up(heap, pos, key, i):
+def _sift_up(heap: IntArray, pos: IntArray, key: FloatArray, i: int) -> None:
     node = heap[i]
     while i > 0:
         parent = (i - 1) >> 1
@@ -87,7 +91,7 @@ def _sift_up(heap, pos, key, i):
 
 
 @kernel
-def _sift_down(heap, pos, key, i, size):
+def _sift_down(heap: IntArray, pos: IntArray, key: FloatArray, i: int, size: int) -> None:
     node = heap[i]
     while True:
         c = 2 * i + 1
@@ -105,8 +109,9 @@ def _sift_down(heap, pos, key, i, size):
 
 
 @kernel
-def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, speed, power, document,
-            near, w_goal, goal, dist, nxt):
+def _search(shape: IntArray, bits: npt.NDArray[np.uint32], offsets: IntArray, vec: FloatArray, current: FloatArray,
+            use_cost: bool, w_length: float, w_energy: float, speed: float, power: float, document: bool,
+            near: IntArray, w_goal: FloatArray, goal: int, dist: FloatArray, nxt: IntArray) -> None:
     """Dijkstra from the goal over the reversed lattice, edges generated on the fly.
 
     ``dist[u]`` becomes the cheapest cost from node ``u`` to the goal and ``nxt[u]`` the next
@@ -159,13 +164,27 @@ def _search(shape, bits, offsets, vec, current, use_cost, w_length, w_energy, sp
                 _sift_up(heap, pos, dist, pos[u])
 
 
-def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridParams) -> tuple[float, float]:
-    """Horizontal and vertical cell sizes (m).
+def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
+    """Horizontal and vertical cell sizes.
 
     ``params.cell`` / ``params.cell_z`` when given.  Otherwise cubes of
     ``(volume / target_nodes)^(1/3)``, the vertical cell shrunk where needed so that the depth
     band holds at least ``params.levels`` levels (the horizontal cell grows to keep the node
     count), and the horizontal cell never finer than the terrain grid.
+
+    Parameters
+    ----------
+    world : World
+        Its terrain spacing bounds the horizontal cell from below.
+    lower, upper : numpy.ndarray
+        Search box ``(3,)`` (m).
+    params : GridParams
+        Cell settings, node target and levels.
+
+    Returns
+    -------
+    tuple of float
+        ``(cell, cell_z)`` (m).
     """
     ext = np.maximum(upper - lower, 1e-9)
     cell = params.cell
@@ -182,12 +201,29 @@ def auto_cell(world: World, lower: np.ndarray, upper: np.ndarray, params: GridPa
     return cell, cell_z
 
 
-def edge_cost(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, objective: str,
-              current=None) -> np.ndarray:
-    """Cost of travelling the straight segments ``a -> b`` (..., 3): length, or the cost
-    function's ``w_L`` length + ``w_E`` energy; ``inf`` where the current beats the vehicle.
-    ``current`` (..., 3) is the current at the midpoints when the caller has it."""
-    length = np.linalg.norm(b - a, axis=-1)
+def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
+              current: ArrayLike | None = None) -> FloatArray:
+    """Cost of travelling straight segments.
+
+    Parameters
+    ----------
+    world : World
+        Source of the current field.
+    a, b : numpy.ndarray
+        Segment starts and ends ``(..., 3)`` (m).
+    model : CostModel
+        Weights and vehicle figures.
+    objective : str
+        ``"length"`` (the length in m) or ``"cost"`` (the cost function's ``w_L`` length + ``w_E`` energy).
+    current : array_like, optional
+        The current at the midpoints ``(..., 3)`` (m/s) when the caller has it.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(...)``; ``inf`` where the current beats the vehicle.
+    """
+    length: FloatArray = np.linalg.norm(b - a, axis=-1)
     if objective == "length":
         return length
     units, _, _, blocked = segment_energy(world, a, b, model, current)
@@ -195,9 +231,21 @@ def edge_cost(world: World, a: np.ndarray, b: np.ndarray, model: CostModel, obje
     return np.where(blocked, np.inf, cost)
 
 
-def densify(points, spacing: float) -> np.ndarray:
-    """The polyline ``points (N, 3)`` with extra points so that no segment exceeds ``spacing``
-    (every original vertex kept)."""
+def densify(points: ArrayLike, spacing: float) -> FloatArray:
+    """The polyline with extra points so that no segment exceeds ``spacing`` (every vertex kept).
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    spacing : float
+        Longest segment allowed (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Vertices ``(M, 3)``, ``M >= N`` (m).
+    """
     p = np.asarray(points, dtype=float)
     if p.shape[0] < 2:
         return p.copy()
@@ -209,15 +257,38 @@ def densify(points, spacing: float) -> np.ndarray:
     return np.vstack([out, p[-1]])
 
 
-def free_edges(world: World, ids: np.ndarray, free: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray,
-               xyz: np.ndarray, steps: np.ndarray, off) -> tuple[np.ndarray, np.ndarray]:
+def free_edges(world: World, ids: npt.NDArray[np.integer[Any]], free: BoolArray, altitude: FloatArray,
+               obstacle: FloatArray, xyz: FloatArray, steps: FloatArray,
+               off: IntArray) -> tuple[npt.NDArray[np.integer[Any]], npt.NDArray[np.integer[Any]]]:
     """The free lattice edges ``src -> src + off`` between free nodes, as node ids ``(src, dst)``.
 
     One offset has one length and direction, so its edges are tested as 3D array slices: the
-    seabed's Lipschitz bound (``altitude``: node altitudes, margin included) and the obstacles'
-    1-Lipschitz distance (``obstacle``) clear most edges from the node values alone, and only
-    the others go through the World's exact segment test.  ``ids``, ``free``, ``altitude`` and
-    ``obstacle`` have the lattice's shape; ``xyz (N, 3)`` are the node coordinates.
+    seabed's Lipschitz bound and the obstacles' 1-Lipschitz distance clear most edges from the
+    node values alone, and only the others go through the World's exact segment test.
+
+    Parameters
+    ----------
+    world : World
+        The world of the exact segment test (static constraints).
+    ids : numpy.ndarray
+        Node ids (int32 or int64) in the lattice's shape.
+    free : numpy.ndarray of bool
+        Free nodes, lattice shape.
+    altitude : numpy.ndarray
+        Node altitudes above the seabed (m), lattice shape.
+    obstacle : numpy.ndarray
+        Node distances to the static obstacles minus the margin (m), lattice shape.
+    xyz : numpy.ndarray
+        Node coordinates ``(N, 3)`` (m).
+    steps : numpy.ndarray
+        Node spacing along x, y, z ``(3,)`` (m).
+    off : numpy.ndarray
+        The offset in nodes ``(3,)``.
+
+    Returns
+    -------
+    src, dst : numpy.ndarray
+        Node ids of the free edges' ends.
     """
     shape = free.shape
     a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
@@ -263,9 +334,15 @@ class GridReference:
         Cost from each node to the goal (``inf`` where unreachable or not free).
     edges : int
         Directed edges in the graph.
+
+    Raises
+    ------
+    ValueError
+        If the lattice would exceed ``params.max_nodes``.
     """
 
-    def __init__(self, world: World, goal, model: CostModel, lower, upper, params: GridParams) -> None:
+    def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
+                 params: GridParams) -> None:
         self.world, self.model, self.params = world, model, params
         self.goal = np.asarray(goal, dtype=float).reshape(3)
         lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
@@ -277,7 +354,7 @@ class GridReference:
                              f"max_nodes = {params.max_nodes}; raise [planner.grid] cell")
         offset = lower + 0.5 * ((upper - lower) - (n - 1) * steps)
         self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
-        self.axes = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
+        self.axes: tuple[FloatArray, ...] = tuple(offset[d] + steps[d] * np.arange(n[d]) for d in range(3))
         xyz = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, 3)
         slack = world.clearances(xyz, moving=False)
         self.free = (np.minimum.reduce(list(slack.values())) >= 0.0).reshape(self.shape)
@@ -299,11 +376,11 @@ class GridReference:
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
     # ------------------------------------------------------------------ lattice
-    def _coords(self, ids: np.ndarray) -> np.ndarray:
+    def _coords(self, ids: IntArray) -> FloatArray:
         i, j, k = np.unravel_index(np.asarray(ids), self.shape)
         return np.stack([self.axes[0][i], self.axes[1][j], self.axes[2][k]], axis=-1)
 
-    def _lattice_edges(self, xyz: np.ndarray, altitude: np.ndarray, obstacle: np.ndarray) -> np.ndarray:
+    def _lattice_edges(self, xyz: FloatArray, altitude: FloatArray, obstacle: FloatArray) -> npt.NDArray[np.uint32]:
         """Free edges as one bit per lattice direction and node (``uint32 (N,)``; bit ``s`` of
         node ``u`` set when the edge ``u -> u + _OFFSETS[s]`` is free).
 
@@ -312,7 +389,7 @@ class GridReference:
         26 × the nodes.
         """
         w = self.world
-        itype = np.int32 if self.nodes < 2**31 else np.int64
+        itype: type[np.signedinteger[Any]] = np.int32 if self.nodes < 2**31 else np.int64
         ids = np.arange(self.nodes, dtype=itype).reshape(self.shape)
         steps = np.array([self.cell, self.cell, self.cell_z])
         alt = altitude.reshape(self.shape)
@@ -324,7 +401,7 @@ class GridReference:
             bits[dst] |= np.uint32(1 << (13 + slot))
         return bits
 
-    def _connect(self, point: np.ndarray, towards: bool) -> tuple[np.ndarray, np.ndarray]:
+    def _connect(self, point: FloatArray, towards: bool) -> tuple[IntArray, FloatArray]:
         """Free nodes within two cells of ``point`` joined to it by a free segment, and the
         cost of that segment (node -> point when ``towards``, else point -> node)."""
         lo = [max(0, int(np.searchsorted(ax, point[d] - 2.01 * s))) for d, (ax, s) in
@@ -344,13 +421,29 @@ class GridReference:
     # ------------------------------------------------------------------ queries
     @property
     def nodes(self) -> int:
-        """Lattice nodes."""
+        """Lattice nodes.
+
+        Returns
+        -------
+        int
+            ``nx * ny * nz``.
+        """
         return int(np.prod(self.shape))
 
-    def query(self, start) -> np.ndarray:
-        """The cheapest lattice path ``(N, 3)`` from ``start`` to the goal (start and goal
-        included), the straight segment when only that is free, or an empty ``(0, 3)``
-        array when the goal cannot be reached."""
+    def query(self, start: ArrayLike) -> FloatArray:
+        """The cheapest lattice path from a start to the goal.
+
+        Parameters
+        ----------
+        start : array_like
+            Start point ``(3,)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` (m), start and goal included; the straight segment when only that is free,
+            or an empty ``(0, 3)`` array when the goal cannot be reached.
+        """
         start = np.asarray(start, dtype=float).reshape(3)
         ids, w = self._connect(start, towards=False)
         total = w + self._dist[ids] if ids.size else np.empty(0)
@@ -364,7 +457,7 @@ class GridReference:
         return np.vstack([start, self._coords(np.array(chain[:-1])), self.goal])
 
 
-def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _normals(p: FloatArray, i: IntArray) -> tuple[FloatArray, FloatArray]:
     """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
     t = p[i + 1] - p[i - 1]
     t /= np.maximum(np.linalg.norm(t, axis=1, keepdims=True), 1e-12)
@@ -374,8 +467,8 @@ def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return n1, np.cross(t, n1)
 
 
-def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterations: int,
-           step: float) -> np.ndarray:
+def _relax(world: World, p: FloatArray, model: CostModel, objective: str, iterations: int,
+           step: float) -> FloatArray:
     """Elastic band with pattern search: each interior point tries a pull towards its
     neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
     best move that lowers the cost of its two segments and keeps both free (odd and even
@@ -388,7 +481,7 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     delta = np.full(n, 0.5 * step)
     tol = 1e-3 * step
 
-    def cost(a, b):
+    def cost(a: FloatArray, b: FloatArray) -> FloatArray:
         return edge_cost(world, a, b, model, objective)
 
     for _ in range(iterations):
@@ -422,8 +515,8 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     return p
 
 
-def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cell: float,
-            iterations: int) -> np.ndarray:
+def _refine(world: World, raw: FloatArray, model: CostModel, objective: str, cell: float,
+            iterations: int) -> FloatArray:
     """Coarse-to-fine elastic band: the path is resampled every 16, 8, 4, 2, 1 and 1/2 cells
     (levels longer than a quarter of the path are skipped, as are resamplings that would cut
     into an obstacle) and relaxed at each level with steps of that spacing, so that whole
@@ -441,8 +534,8 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
     return path
 
 
-def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel, cell: float,
-              iterations: int, tol: float) -> tuple[np.ndarray, float, int]:
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: FloatArray, model: CostModel, cell: float,
+              iterations: int, tol: float) -> tuple[FloatArray, float, int]:
     """Refine until the cost stops improving: resample the path at half the last spacing (or
     densify it, every vertex kept, where resampling would cut a corner into an obstacle), relax
     it with steps of that spacing (and, for the length objective, drop the vertices that hold
@@ -472,9 +565,25 @@ def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, mod
     return best, best_cost, levels
 
 
-def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray) -> dict:
-    """Cost terms of a polyline under the planner's cost function (segments no longer than
-    1/``spec.samples`` of the path, vertices kept), as in :class:`PlanResult.cost_terms`."""
+def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:
+    """Cost terms of a polyline under the planner's cost function, as in :class:`PlanResult.cost_terms`.
+
+    Segments no longer than 1/``spec.samples`` of the path, vertices kept.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        Cost settings and samples per path.
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+
+    Returns
+    -------
+    dict of str to float
+        ``total`` and the terms of :func:`~auvplan.planners.swarm_problem.plan_terms`.
+    """
     path = np.asarray(path, dtype=float)
     spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
     terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
@@ -488,10 +597,21 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 
 
 def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridReference | None = None) -> PlanResult:
-    """Plan on the lattice (see the module notes); ``reference`` re-uses a cost-to-go field
-    built for the same goal, world and cost function.
+    """Plan on the lattice (see the module notes).
 
-    ``evaluations`` counts lattice edges (the work of the search); ``iterations`` is 1.
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        ``spec.grid`` settings and the cost function.
+    reference : GridReference, optional
+        A cost-to-go field built for the same goal, world and cost function, re-used.
+
+    Returns
+    -------
+    PlanResult
+        The plan; ``evaluations`` counts lattice edges (the work of the search), ``iterations`` is 1.
     """
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
@@ -567,13 +687,16 @@ def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: Planner
     Parameters
     ----------
     result : PlanResult
+        Any planner's result.
     problem : PlanningProblem
+        World and vehicle figures.
     spec : PlannerSpec
         The cost function's weights and sampling.
 
     Returns
     -------
     PlanResult
+        ``result`` itself for swarm and lattice plans and empty paths, else a copy re-costed.
     """
     if result.planner in SWARM or result.planner == "grid" or result.path.shape[0] < 2:
         return result
@@ -584,8 +707,24 @@ def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: Planner
 
 def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSpec,
                    reference: PlanResult) -> PlanResult:
-    """``result`` on the planner's cost function (:func:`on_cost_function`) with
-    ``reference_cost`` set to the grid reference's cost."""
+    """``result`` on the planner's cost function (:func:`on_cost_function`) with the reference's cost.
+
+    Parameters
+    ----------
+    result : PlanResult
+        Any planner's result.
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        The cost function.
+    reference : PlanResult
+        The grid reference plan.
+
+    Returns
+    -------
+    PlanResult
+        A copy with ``reference_cost`` set (``inf``/its cost as is when the reference failed).
+    """
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
     return replace(on_cost_function(result, problem, spec), reference_cost=float(reference.cost))

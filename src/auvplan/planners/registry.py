@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from .._types import RngLike
-from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult
+from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult, Progress
 from .flow import plan_flow
 from .grid import plan_grid
 from .swarm import plan_swarm
@@ -22,12 +22,24 @@ from .timeplan import plan_timeopt
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get"]
 
-PlannerFn = Callable[[PlanningProblem, PlannerSpec, RngLike, "Callable[[int, float], None] | None"], PlanResult]
+PlannerFn = Callable[[PlanningProblem, PlannerSpec, RngLike, "Progress | None"], PlanResult]
 
 
 @dataclass(frozen=True)
 class PlannerEntry:
-    """A registered planner: its function, whether it iterates (reports progress) and a description."""
+    """A registered planner: its function, whether it iterates (reports progress) and a description.
+
+    Parameters
+    ----------
+    name : str
+        Registered name (``spec.name``).
+    run : callable
+        ``run(problem, spec, rng, progress) -> PlanResult``.
+    iterative : bool
+        Whether it iterates and calls ``progress``.
+    description : str
+        One line for ``auvplan planners`` and the docs.
+    """
 
     name: str
     run: PlannerFn
@@ -39,7 +51,27 @@ REGISTRY: dict[str, PlannerEntry] = {}
 
 
 def register(name: str, *, iterative: bool, description: str) -> Callable[[PlannerFn], PlannerFn]:
-    """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name``."""
+    """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name``.
+
+    Parameters
+    ----------
+    name : str
+        Planner name (must be new).
+    iterative : bool
+        Whether the planner iterates and calls ``progress``.
+    description : str
+        One line describing it.
+
+    Returns
+    -------
+    callable
+        The decorator; it returns the function unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``name`` is already registered (when the decorator is applied).
+    """
 
     def add(run: PlannerFn) -> PlannerFn:
         if name in REGISTRY:
@@ -51,7 +83,23 @@ def register(name: str, *, iterative: bool, description: str) -> Callable[[Plann
 
 
 def get(name: str) -> PlannerEntry:
-    """The planner registered as ``name``."""
+    """The planner registered as ``name``.
+
+    Parameters
+    ----------
+    name : str
+        Planner name.
+
+    Returns
+    -------
+    PlannerEntry
+        Its registry entry.
+
+    Raises
+    ------
+    ValueError
+        If no planner has that name.
+    """
     try:
         return REGISTRY[name]
     except KeyError:
@@ -70,17 +118,20 @@ for _name, _text in _SWARM_TEXT.items():
 
 
 @register("flow", iterative=False, description="potential-flow streamline from the start (document 000)")
-def _flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, progress=None) -> PlanResult:
+def _flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+          progress: Progress | None = None) -> PlanResult:
     return plan_flow(problem, spec.flow)
 
 
 @register("grid", iterative=False, description="lattice reference: Dijkstra cost-to-go, elastic band, B-spline")
-def _grid(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, progress=None) -> PlanResult:
+def _grid(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+          progress: Progress | None = None) -> PlanResult:
     return plan_grid(problem, spec)
 
 
 @register("timeopt", iterative=False, description="time-optimal path in tidal currents, departure time given")
-def _timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None, progress=None) -> PlanResult:
+def _timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+             progress: Progress | None = None) -> PlanResult:
     return plan_timeopt(problem, spec)
 
 

@@ -27,18 +27,18 @@ not free.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
 from dataclasses import replace
 
 import numpy as np
 
-from .._types import RngLike, Status, as_rng
+from .._types import FloatArray, RngLike, Status, as_rng
 from ..cost import evaluate_paths
 from ..optim import (
     ABC,
     GA,
     IABC,
     PSO,
+    Optimizer,
     OptimizeResult,
     Problem,
     Termination,
@@ -47,8 +47,8 @@ from ..optim import (
     pattern_search,
 )
 from ..path import sample_population
-from .base import PlannerSpec, PlanningProblem, PlanResult
-from .grid import plan_grid
+from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from .grid import GridReference, plan_grid
 from .seeding import coarse_reference, fit_control_points, seed_candidates
 from .swarm_problem import (
     check_endpoints,
@@ -64,8 +64,28 @@ __all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "
            "plan_terms", "search_box", "spline_problem"]
 
 
-def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng: np.random.Generator):
-    """The ask/tell optimiser named by ``spec.name`` over ``[lower, upper]``."""
+def make_optimizer(spec: PlannerSpec, lower: FloatArray, upper: FloatArray, rng: np.random.Generator) -> Optimizer:
+    """The ask/tell optimiser named by ``spec.name`` over a box.
+
+    Parameters
+    ----------
+    spec : PlannerSpec
+        Optimiser name (``iabc``, ``abc``, ``ga`` or ``pso``), population and settings.
+    lower, upper : numpy.ndarray
+        Search box ``(D,)``.
+    rng : numpy.random.Generator
+        The run's generator.
+
+    Returns
+    -------
+    Optimizer
+        A fresh optimiser.
+
+    Raises
+    ------
+    ValueError
+        For any other name.
+    """
     if spec.name == "iabc":
         params = replace(spec.iabc, max_iterations=spec.iterations)
         return IABC(lower, upper, spec.population, params, rng)
@@ -79,9 +99,27 @@ def make_optimizer(spec: PlannerSpec, lower: np.ndarray, upper: np.ndarray, rng:
 
 
 def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
-                  progress: Callable[[int, float], None] | None = None) -> OptimizeResult:
-    """Run the optimiser of ``spec`` on ``problem`` until its budget is spent (or, without a
-    budget, for ``spec.iterations`` iterations)."""
+                  progress: Progress | None = None) -> OptimizeResult:
+    """Run the optimiser of ``spec`` on ``problem`` until its budget is spent.
+
+    Without a budget, for ``spec.iterations`` iterations.
+
+    Parameters
+    ----------
+    spec : PlannerSpec
+        Optimiser name, population, settings and iteration cap.
+    problem : Problem
+        Objective, box, seeds and budget.
+    rng : numpy.random.Generator
+        The run's generator.
+    progress : callable, optional
+        ``progress(iteration, best_cost)`` after each iteration.
+
+    Returns
+    -------
+    OptimizeResult
+        The optimiser's best decision vector and its record.
+    """
     if spec.name == "de":
         return differential_evolution(problem, spec.population, spec.de, rng, progress)
     optimizer = make_optimizer(spec, problem.lower, problem.upper, rng)
@@ -107,7 +145,7 @@ def plan_swarm(
     problem: PlanningProblem,
     spec: PlannerSpec,
     rng: RngLike = None,
-    progress: Callable[[int, float], None] | None = None,
+    progress: Progress | None = None,
 ) -> PlanResult:
     """Plan with the population optimiser named by ``spec.name`` (see the module notes).
 
@@ -121,6 +159,11 @@ def plan_swarm(
         Seed of the run (same seed → same result).
     progress : callable, optional
         ``progress(iteration, best_cost)`` after each iteration.
+
+    Returns
+    -------
+    PlanResult
+        Status, path, control points, cost terms and history; a failure is a status.
     """
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
@@ -154,15 +197,15 @@ def plan_swarm(
     return replace(result, wall_time_s=time.perf_counter() - t0)
 
 
-def _feasible(problem: PlanningProblem, spec: PlannerSpec, x: np.ndarray) -> bool:
+def _feasible(problem: PlanningProblem, spec: PlannerSpec, x: FloatArray) -> bool:
     """Whether decision vector ``x`` passes every constraint (a check of the optimiser's answer,
     not a search step: it does not count against the budget)."""
     path = sample_population(control_polygon(problem, x), spec.samples)
     return bool(evaluate_paths(problem.world, path, cost_model_for(problem, spec)).feasible[0])
 
 
-def _result(problem: PlanningProblem, spec: PlannerSpec, x: np.ndarray, f: float, evals: int, iterations: int,
-            history: np.ndarray, trace: np.ndarray) -> PlanResult:
+def _result(problem: PlanningProblem, spec: PlannerSpec, x: FloatArray, f: float, evals: int, iterations: int,
+            history: FloatArray, trace: FloatArray) -> PlanResult:
     """The plan of decision vector ``x`` with its exact status."""
     ctrl = control_polygon(problem, x)[0]
     path = sample_population(ctrl, spec.samples)
@@ -179,7 +222,8 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, x: np.ndarray, f: float
                       message=message, trace=trace)
 
 
-def _fallback(problem: PlanningProblem, spec: PlannerSpec, ref, failed: PlanResult) -> PlanResult:
+def _fallback(problem: PlanningProblem, spec: PlannerSpec, ref: GridReference | None,
+              failed: PlanResult) -> PlanResult:
     """The coarse lattice path (shortened and relaxed by the grid planner) in place of a failed plan."""
     grid = plan_grid(problem, spec, reference=ref)
     if not grid.status.ok:

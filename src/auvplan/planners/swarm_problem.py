@@ -8,13 +8,12 @@ candidate is sampled at ``S`` points in one matrix product and costed with
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
-from .._types import Status
-from ..cost import CostModel, CostTerms, evaluate_paths
+from .._types import ArrayLike, FloatArray, Status
+from ..cost import CostModel, CostRow, CostTerms, evaluate_paths
 from ..optim import Problem
+from ..optim.base import Objective
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem
 
@@ -23,7 +22,20 @@ __all__ = ["cost_model_for", "search_box", "make_objective", "spline_problem", "
 
 
 def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
-    """The cost model of a planning problem under planner settings."""
+    """The cost model of a planning problem under planner settings.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        Vehicle speed and power figures.
+    spec : PlannerSpec
+        Energy model, weights, penalty and energy scale.
+
+    Returns
+    -------
+    CostModel
+        The cost function every planner is scored on.
+    """
     return CostModel(
         speed=problem.speed,
         hotel_power=problem.hotel_power,
@@ -37,8 +49,20 @@ def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
     )
 
 
-def search_box(problem: PlanningProblem) -> tuple[np.ndarray, np.ndarray]:
-    """Per-coordinate bounds ``(3,)`` of the interior control points."""
+def search_box(problem: PlanningProblem) -> tuple[FloatArray, FloatArray]:
+    """Per-coordinate bounds of the interior control points.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        The world's bounds, depth band and seabed.
+
+    Returns
+    -------
+    lower, upper : numpy.ndarray
+        ``(3,)`` (m): the bounds, with z between the deepest of (bounds, max depth, lowest seabed)
+        and the shallowest of (bounds, min depth).
+    """
     b = problem.world.bounds
     m = problem.world.margins
     ztop = min(b.zmax, -m.min_depth)
@@ -48,8 +72,21 @@ def search_box(problem: PlanningProblem) -> tuple[np.ndarray, np.ndarray]:
     return np.array([b.xmin, b.ymin, zlow]), np.array([b.xmax, b.ymax, ztop])
 
 
-def control_polygon(problem: PlanningProblem, X: np.ndarray) -> np.ndarray:
-    """Control points ``(P, K + 2, 3)`` of decision vectors ``X (P, 3K)`` (start and goal added)."""
+def control_polygon(problem: PlanningProblem, X: ArrayLike) -> FloatArray:
+    """Control points of decision vectors (start and goal added).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        Start and goal.
+    X : array_like
+        Decision vectors ``(P, 3K)`` or one ``(3K,)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(P, K + 2, 3)`` (m).
+    """
     X = np.atleast_2d(X)
     k = X.shape[1] // 3
     ctrl = np.empty((X.shape[0], k + 2, 3))
@@ -59,36 +96,83 @@ def control_polygon(problem: PlanningProblem, X: np.ndarray) -> np.ndarray:
     return ctrl
 
 
-def path_terms(problem: PlanningProblem, spec: PlannerSpec, X: np.ndarray, exact: bool = False) -> CostTerms:
+def path_terms(problem: PlanningProblem, spec: PlannerSpec, X: FloatArray, exact: bool = False) -> CostTerms:
     """Cost terms of decision vectors ``X (P, 3K)``."""
     return evaluate_paths(problem.world, sample_population(control_polygon(problem, X), spec.samples),
                           cost_model_for(problem, spec), exact=exact)
 
 
-def make_objective(problem: PlanningProblem, spec: PlannerSpec,
-                   strict: bool = False) -> Callable[[np.ndarray], np.ndarray]:
-    """Vectorised objective ``(P, 3K) -> (P,)`` of the planning problem; ``strict`` scores a
-    path that fails a constraint (the exact segment test included) ``+inf``."""
+def make_objective(problem: PlanningProblem, spec: PlannerSpec, strict: bool = False) -> Objective:
+    """Vectorised objective ``(P, 3K) -> (P,)`` of the planning problem.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, vehicle figures.
+    spec : PlannerSpec
+        Cost settings, number of samples per path.
+    strict : bool, default False
+        Score a path that fails a constraint (the exact segment test included) ``+inf``.
+
+    Returns
+    -------
+    callable
+        ``objective(X (P, 3K)) -> (P,)`` (cost units).
+    """
     model = cost_model_for(problem, spec)
 
-    def objective(X: np.ndarray) -> np.ndarray:
+    def objective(X: FloatArray) -> FloatArray:
         terms = evaluate_paths(problem.world, sample_population(control_polygon(problem, X), spec.samples), model)
-        return np.where(terms.violations > 0, np.inf, terms.total) if strict else terms.total
+        values: FloatArray = np.where(terms.violations > 0, np.inf, terms.total) if strict else terms.total
+        return values
 
     return objective
 
 
-def spline_problem(problem: PlanningProblem, spec: PlannerSpec, budget: int | None, x0=None,
+def spline_problem(problem: PlanningProblem, spec: PlannerSpec, budget: int | None, x0: ArrayLike | None = None,
                    strict: bool = False) -> Problem:
-    """The optimisation :class:`~auvplan.optim.Problem` (objective, box, seeds, budget) of a plan."""
+    """The optimisation :class:`~auvplan.optim.Problem` (objective, box, seeds, budget) of a plan.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, vehicle figures.
+    spec : PlannerSpec
+        Number of control points and cost settings.
+    budget : int or None
+        Objective evaluations allowed (None: no budget).
+    x0 : array_like, optional
+        Seed decision vectors ``(M, 3K)``.
+    strict : bool, default False
+        Score infeasible paths ``+inf`` (:func:`make_objective`).
+
+    Returns
+    -------
+    Problem
+        Box-bounded problem over the ``3K`` control-point coordinates.
+    """
     lo3, hi3 = search_box(problem)
     k = spec.control_points
     return Problem(make_objective(problem, spec, strict), np.tile(lo3, k), np.tile(hi3, k), x0=x0, budget=budget)
 
 
-def plan_terms(row: dict, spec: PlannerSpec) -> dict:
-    """:attr:`PlanResult.cost_terms` from one :meth:`CostTerms.row`: the weighted terms and the
-    physical figures."""
+def plan_terms(row: CostRow, spec: PlannerSpec) -> dict[str, float]:
+    """:attr:`PlanResult.cost_terms` from one :meth:`CostTerms.row`.
+
+    Parameters
+    ----------
+    row : CostRow
+        One path's cost terms.
+    spec : PlannerSpec
+        The weights.
+
+    Returns
+    -------
+    dict of str to float
+        The weighted terms (``length``, ``terrain``, ``energy``) and the physical figures
+        (``length_m``, ``energy_j``, ``duration_s``, ``min_clearance_m``, ``violations`` and its
+        deprecated alias ``collisions``).
+    """
     return {
         "length": row["length"] * spec.w_length,
         "terrain": row["terrain"] * spec.w_terrain,
@@ -103,7 +187,19 @@ def plan_terms(row: dict, spec: PlannerSpec) -> dict:
 
 
 def check_endpoints(problem: PlanningProblem) -> tuple[Status, str] | None:
-    """``(status, message)`` when the start or goal is not a free point, else None."""
+    """Whether the start and the goal are free points.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start and goal.
+
+    Returns
+    -------
+    tuple of (Status, str) or None
+        ``(INVALID_START or INVALID_GOAL, message)`` for the first end point that is not free,
+        else None.
+    """
     w = problem.world
     ends = ((Status.INVALID_START, "start", problem.start), (Status.INVALID_GOAL, "goal", problem.goal))
     for status, name, p in ends:

@@ -38,16 +38,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..path import resample_polyline
 from ..world import World
 from .grid import densify, free_edges
-from .timeopt_kernels import polyline_times, search, two_legs
+from .timeopt_kernels import Float32Array, polyline_times, search, two_legs
 
 __all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "build_lattice", "build_table",
            "refine"]
 
 
-def _stencil() -> np.ndarray:
+def _stencil() -> IntArray:
     """The 50 leg offsets: 16 horizontal directions (5 × 5 stencil) on three levels, and up/down."""
     hor = [(i, j) for i in range(-2, 3) for j in range(-2, 3) if (i, j) != (0, 0) and math.gcd(abs(i), abs(j)) == 1]
     off = [(i, j, k) for (i, j) in hor for k in (-1, 0, 1)] + [(0, 0, -1), (0, 0, 1)]
@@ -73,26 +74,58 @@ class Lattice:
         Free legs from each node along each offset.
     """
 
-    origin: np.ndarray
-    step: np.ndarray
+    origin: FloatArray
+    step: FloatArray
     shape: tuple[int, int, int]
-    free: np.ndarray
-    edge_ok: np.ndarray
+    free: BoolArray
+    edge_ok: BoolArray
 
     @property
-    def xyz(self) -> np.ndarray:
-        """Node coordinates ``(N, 3)``."""
+    def xyz(self) -> FloatArray:
+        """Node coordinates.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3)`` (m), in the flattened node order.
+        """
         axes = [self.origin[d] + self.step[d] * np.arange(self.shape[d]) for d in range(3)]
         return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
 
     @property
     def legs(self) -> int:
-        """Free directed legs."""
+        """Number of free directed legs.
+
+        Returns
+        -------
+        int
+            Count of True entries of ``edge_ok``.
+        """
         return int(self.edge_ok.sum())
 
 
-def build_lattice(world: World, lower, upper, cell: float, levels: int, z_single: float) -> Lattice:
-    """The lattice over the box ``lower``–``upper`` (``levels == 1``: one level at ``z_single``)."""
+def build_lattice(world: World, lower: ArrayLike, upper: ArrayLike, cell: float, levels: int,
+                  z_single: float) -> Lattice:
+    """The lattice over a box, its free nodes and free legs.
+
+    Parameters
+    ----------
+    world : World
+        The world whose exact tests decide the free nodes and legs (moving obstacles ignored).
+    lower, upper : array_like
+        Corners of the search box ``(3,)`` (m).
+    cell : float
+        Horizontal node spacing (m).
+    levels : int
+        Depth levels over the box's height; 1 for a single level.
+    z_single : float
+        Elevation of the single level when ``levels == 1`` (m).
+
+    Returns
+    -------
+    Lattice
+        Nodes centred in the box, with their free flags and free legs.
+    """
     lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
     n_xy = np.floor((upper[:2] - lower[:2]) / cell + 1e-9).astype(int) + 1
     origin = np.r_[lower[:2] + 0.5 * ((upper[:2] - lower[:2]) - (n_xy - 1) * cell), z_single]
@@ -114,7 +147,8 @@ def build_lattice(world: World, lower, upper, cell: float, levels: int, z_single
     return Lattice(origin, step, shape, free, _legs(world, xyz, free.reshape(shape), alt, obs, step))
 
 
-def _legs(world: World, xyz, free3, alt, obs, step) -> np.ndarray:
+def _legs(world: World, xyz: FloatArray, free3: BoolArray, alt: FloatArray, obs: FloatArray,
+          step: FloatArray) -> BoolArray:
     """``edge_ok (50, N)``: each offset's legs tested as array slices (bounds, then a provable
     clearance from the node values, then the exact segment test for the rest)."""
     shape = free3.shape
@@ -131,26 +165,68 @@ def _legs(world: World, xyz, free3, alt, obs, step) -> np.ndarray:
 @dataclass(frozen=True, eq=False)
 class CurrentTable:
     """The field at the lattice nodes every ``dt`` seconds from ``t0``: ``cur (nt, nx, ny, nz, 3)``
-    (single precision: a tidal table of a 50 km strait over a day is tens of megabytes)."""
+    (single precision: a tidal table of a 50 km strait over a day is tens of megabytes).
 
-    cur: np.ndarray
-    origin: np.ndarray
-    step: np.ndarray
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    origin, step : numpy.ndarray
+        First node and node spacing of the lattice ``(3,)`` (m).
+    t0 : float
+        Time of the first slice (s).
+    dt : float
+        Time between slices (s).
+    """
+
+    cur: Float32Array
+    origin: FloatArray
+    step: FloatArray
     t0: float
     dt: float
 
     @property
     def t1(self) -> float:
-        """Last time of the table (s)."""
-        return self.t0 + self.dt * (self.cur.shape[0] - 1)
+        """Last time of the table.
 
-    def args(self) -> tuple:
-        """The leading arguments of the kernels."""
+        Returns
+        -------
+        float
+            ``t0 + dt (nt - 1)`` (s).
+        """
+        t1: float = self.t0 + self.dt * (self.cur.shape[0] - 1)
+        return t1
+
+    def args(self) -> tuple[Float32Array, FloatArray, FloatArray, float, float]:
+        """The leading arguments of the kernels.
+
+        Returns
+        -------
+        tuple
+            ``(cur, origin, step, t0, dt)``.
+        """
         return self.cur, self.origin, self.step, self.t0, self.dt
 
 
 def build_table(world: World, lattice: Lattice, t0: float, t1: float, dt: float) -> CurrentTable:
-    """Sample the World's current at the lattice nodes from ``t0`` to at least ``t1``."""
+    """Sample the World's current at the lattice nodes from ``t0`` to at least ``t1``.
+
+    Parameters
+    ----------
+    world : World
+        Source of the current field.
+    lattice : Lattice
+        The nodes to sample at.
+    t0, t1 : float
+        First and last time to cover (s).
+    dt : float
+        Time step (s).
+
+    Returns
+    -------
+    CurrentTable
+        The field at every node every ``dt`` seconds, float32.
+    """
     nt = max(int(math.ceil((t1 - t0) / dt)), 1) + 1
     times = t0 + dt * np.arange(nt)
     cur = world.currents.sample(lattice.xyz, times).astype(np.float32)
@@ -160,39 +236,99 @@ def build_table(world: World, lattice: Lattice, t0: float, t1: float, dt: float)
 
 @dataclass(frozen=True, eq=False)
 class TimedPath:
-    """A path with the time the vehicle reaches each vertex (s after the mission's start time)."""
+    """A path with the time the vehicle reaches each vertex.
 
-    points: np.ndarray
-    times: np.ndarray
+    Parameters
+    ----------
+    points : numpy.ndarray
+        Vertices ``(N, 3)`` (m).
+    times : numpy.ndarray
+        Arrival at each vertex ``(N,)`` (s after the mission's start time).
+    speed : float
+        Through-water speed (m/s).
+    """
+
+    points: FloatArray
+    times: FloatArray
     speed: float
 
     @property
     def duration(self) -> float:
-        """Travel time (s; ``inf`` when the current blocks the path somewhere)."""
+        """Travel time.
+
+        Returns
+        -------
+        float
+            Last minus first time (s); ``inf`` when the current blocks the path somewhere.
+        """
         return float(self.times[-1] - self.times[0]) if self.times.size else math.inf
 
 
-def timed_traverse(table: CurrentTable, points, depart: float, speed: float, ds: float) -> TimedPath:
-    """Times along a polyline flown at through-water ``speed`` from ``depart`` (holding the track)."""
+def timed_traverse(table: CurrentTable, points: ArrayLike, depart: float, speed: float, ds: float) -> TimedPath:
+    """Times along a polyline flown at a through-water speed (holding the track).
+
+    Parameters
+    ----------
+    table : CurrentTable
+        The time-varying current.
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    depart : float
+        Departure time from the first vertex (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+
+    Returns
+    -------
+    TimedPath
+        The polyline with its arrival times (``inf`` after a blocked leg).
+    """
     p = np.ascontiguousarray(np.asarray(points, dtype=float))
     out = np.empty(p.shape[0])
     polyline_times(*table.args(), p, float(depart), float(speed), float(ds), out)
     return TimedPath(p, out, float(speed))
 
 
-def _links(world: World, lattice: Lattice, point: np.ndarray, reach: float) -> np.ndarray:
+def _links(world: World, lattice: Lattice, point: FloatArray, reach: float) -> IntArray:
     """Free nodes within ``reach`` of ``point`` joined to it by a free straight segment."""
     xyz = lattice.xyz
     near = np.flatnonzero(lattice.free & (np.linalg.norm((xyz - point)[:, :2], axis=1) <= reach))
     if near.size == 0:
         return near
     seg = np.stack([np.broadcast_to(point, (near.size, 3)), xyz[near]], axis=1)
-    return near[world.segments_free(seg, moving=False)]
+    linked: IntArray = near[world.segments_free(seg, moving=False)]
+    return linked
 
 
-def time_search(world: World, lattice: Lattice, table: CurrentTable, start, goal, depart: float, speed: float,
-                ds: float) -> TimedPath | None:
-    """Earliest-arrival lattice path from ``start`` (left at ``depart``) to ``goal``, or None."""
+def time_search(world: World, lattice: Lattice, table: CurrentTable, start: ArrayLike, goal: ArrayLike,
+                depart: float, speed: float, ds: float) -> TimedPath | None:
+    """Earliest-arrival lattice path from start to goal.
+
+    Parameters
+    ----------
+    world : World
+        The world of the exact segment tests.
+    lattice : Lattice
+        Nodes and free legs.
+    table : CurrentTable
+        The time-varying current.
+    start, goal : array_like
+        End points ``(3,)`` (m).
+    depart : float
+        Departure time (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+
+    Returns
+    -------
+    TimedPath or None
+        The earliest-arrival path (the straight leg when it is free and no later), ``None`` when
+        the goal cannot be reached.
+    """
     start, goal = np.asarray(start, float), np.asarray(goal, float)
     reach = 2.01 * lattice.step[0]
     xyz = lattice.xyz
@@ -220,7 +356,7 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start, goal
     return TimedPath(pts, times, float(speed))
 
 
-def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _normals(p: FloatArray, i: IntArray) -> tuple[FloatArray, FloatArray]:
     """Unit horizontal normal of the chord ``p[i+1] - p[i-1]`` and the vertical."""
     t = p[i + 1] - p[i - 1]
     n1 = np.column_stack([-t[:, 1], t[:, 0], np.zeros(len(i))])
@@ -230,10 +366,34 @@ def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def refine(world: World, table: CurrentTable, path: TimedPath, cell: float, vstep: float, ds: float,
            iterations: int) -> TimedPath:
-    """The time-aware elastic band of the module notes, coarse to fine: the path is resampled every
-    16, 8, 4, 2, 1 and 1/2 cells (levels longer than a quarter of the path skipped) and relaxed at
-    each level with steps of that spacing, so that whole stretches move before the detail settles.
-    Never returns a later arrival than ``path``."""
+    """The time-aware elastic band of the module notes, coarse to fine.
+
+    The path is resampled every 16, 8, 4, 2, 1 and 1/2 cells (levels longer than a quarter of the
+    path skipped) and relaxed at each level with steps of that spacing, so that whole stretches
+    move before the detail settles.
+
+    Parameters
+    ----------
+    world : World
+        The world of the exact segment tests.
+    table : CurrentTable
+        The time-varying current.
+    path : TimedPath
+        The path to improve.
+    cell : float
+        Lattice spacing (m).
+    vstep : float
+        Largest vertical move (m).
+    ds : float
+        Largest integration sub-step (m).
+    iterations : int
+        Sweeps per level (0 returns ``path``).
+
+    Returns
+    -------
+    TimedPath
+        A free path never arriving later than ``path``.
+    """
     best = path
     total = float(np.linalg.norm(np.diff(path.points, axis=0), axis=1).sum())
     if iterations == 0 or not np.isfinite(path.duration):

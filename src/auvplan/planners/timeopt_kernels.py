@@ -17,16 +17,22 @@ from __future__ import annotations
 
 import heapq
 import math
+from typing import TypeAlias
 
 import numpy as np
+import numpy.typing as npt
 
 from .._jit import kernel
+from .._types import BoolArray, FloatArray, IntArray
 
-__all__ = ["current_at", "ground_speed", "leg_time", "polyline_times", "search"]
+__all__ = ["current_at", "ground_speed", "leg_time", "polyline_times", "search", "Float32Array"]
+
+#: The current table's precision: ``cur (nt, nx, ny, nz, 3)`` in m/s as float32.
+Float32Array: TypeAlias = npt.NDArray[np.float32]
 
 
 @kernel
-def _axis(value, origin, step, n):
+def _axis(value: float, origin: float, step: float, n: int) -> tuple[int, float]:
     """Index and weight of ``value`` on a uniform axis, clamped (a single-node axis gives (0, 0))."""
     if n == 1:
         return 0, 0.0
@@ -40,8 +46,28 @@ def _axis(value, origin, step, n):
 
 
 @kernel
-def current_at(cur, org, step, t0, dt, x, y, z, t):
-    """Current ``(u, v, w)`` at ``(x, y, z)`` and time ``t`` from the table (module notes)."""
+def current_at(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, x: float, y: float, z: float,
+               t: float) -> tuple[float, float, float]:
+    """Current at a point and time from the table (module notes).
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    x, y, z : float
+        The point (m).
+    t : float
+        Time (s).
+
+    Returns
+    -------
+    tuple of float
+        ``(u, v, w)`` (m/s), trilinear in space and linear in time, clamped at the ends.
+    """
     nt, nx, ny, nz = cur.shape[0], cur.shape[1], cur.shape[2], cur.shape[3]
     it, wt = _axis(t, t0, dt, nt)
     ix, wx = _axis(x, org[0], step[0], nx)
@@ -71,9 +97,24 @@ def current_at(cur, org, step, t0, dt, x, y, z, t):
 
 
 @kernel
-def ground_speed(u, v, w, ex, ey, ez, speed):
-    """Ground speed along the unit tangent ``e`` at through-water ``speed`` in the current
-    ``(u, v, w)``; ``-1`` where the current beats the vehicle."""
+def ground_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, speed: float) -> float:
+    """Ground speed along a unit tangent at a through-water speed in a current.
+
+    Parameters
+    ----------
+    u, v, w : float
+        Current (m/s; east, north, up).
+    ex, ey, ez : float
+        Unit tangent of the track.
+    speed : float
+        Through-water speed V (m/s).
+
+    Returns
+    -------
+    float
+        ``c·ŝ + √(V² - |c⊥|²)`` (m/s); ``-1`` where the current beats the vehicle (or the ground
+        speed is at most 1 µm/s).
+    """
     c_par = u * ex + v * ey + w * ez
     disc = speed * speed - max(u * u + v * v + w * w - c_par * c_par, 0.0)
     if disc < 0.0:
@@ -83,8 +124,35 @@ def ground_speed(u, v, w, ex, ey, ez, speed):
 
 
 @kernel
-def leg_time(cur, org, step, t0, dt, ax, ay, az, bx, by, bz, t, speed, ds):
-    """Arrival time at ``b`` of a leg ``a -> b`` started at ``t`` (``inf`` when blocked)."""
+def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+             ax: float, ay: float, az: float,
+             bx: float, by: float, bz: float, t: float, speed: float, ds: float) -> float:
+    """Arrival time at the end of a straight leg through the time-varying current.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    ax, ay, az : float
+        Start of the leg (m).
+    bx, by, bz : float
+        End of the leg (m).
+    t : float
+        Departure time (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+
+    Returns
+    -------
+    float
+        Arrival time at the end (s); ``inf`` when the current blocks the leg.
+    """
     ex, ey, ez = bx - ax, by - ay, bz - az
     length = math.sqrt(ex * ex + ey * ey + ez * ez)
     if length == 0.0:
@@ -108,8 +176,30 @@ def leg_time(cur, org, step, t0, dt, ax, ay, az, bx, by, bz, t, speed, ds):
 
 
 @kernel
-def polyline_times(cur, org, step, t0, dt, p, t_start, speed, ds, out):
-    """Arrival time at every vertex of the polyline ``p (N, 3)`` departing at ``t_start``."""
+def polyline_times(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+                   p: FloatArray, t_start: float,
+                   speed: float, ds: float, out: FloatArray) -> None:
+    """Arrival time at every vertex of a polyline.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    p : numpy.ndarray
+        Vertices ``(N, 3)`` (m).
+    t_start : float
+        Departure time from the first vertex (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+    out : numpy.ndarray
+        Receives the arrival times ``(N,)`` (s; ``inf`` after a blocked leg).
+    """
     out[0] = t_start
     for i in range(1, p.shape[0]):
         out[i] = leg_time(cur, org, step, t0, dt, p[i - 1, 0], p[i - 1, 1], p[i - 1, 2],
@@ -117,7 +207,9 @@ def polyline_times(cur, org, step, t0, dt, p, t_start, speed, ds, out):
 
 
 @kernel
-def two_legs(cur, org, step, t0, dt, a, cand, c, t_a, speed, ds, out):
+def two_legs(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+             a: FloatArray, cand: FloatArray,
+             c: FloatArray, t_a: FloatArray, speed: float, ds: float, out: FloatArray) -> None:
     """Arrival at ``c[i]`` through each candidate ``cand[i, j]`` from ``a[i]`` left at ``t_a[i]``."""
     for i in range(cand.shape[0]):
         for j in range(cand.shape[1]):
@@ -131,14 +223,52 @@ def two_legs(cur, org, step, t0, dt, a, cand, c, t_a, speed, ds, out):
 
 
 @kernel
-def search(cur, org, step, t0, dt, shape, offsets, edge_ok, start_ids, start_arr, goal_link, goal, speed, ds,
-           arrival, pred):
+def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, shape: IntArray,
+           offsets: IntArray, edge_ok: BoolArray, start_ids: IntArray, start_arr: FloatArray,
+           goal_link: BoolArray, goal: FloatArray, speed: float, ds: float, arrival: FloatArray,
+           pred: IntArray) -> tuple[float, np.int64]:
     """Label-setting search on arrival times (time-dependent Dijkstra, FIFO legs).
 
-    Nodes are ``(ix * ny + iy) * nz + iz``; ``edge_ok[m, n]`` says the leg from node ``n`` along
-    ``offsets[m]`` is free; ``start_ids`` are reached at ``start_arr``; nodes with ``goal_link`` have a
-    free leg to ``goal``.  Fills ``arrival`` and ``pred`` (``-1`` for start-linked nodes) and returns
-    ``(arrival at the goal, last node)``; stops when no open label can beat the goal's arrival.
+    Nodes are ``(ix * ny + iy) * nz + iz``; the search stops when no open label can beat the
+    goal's arrival.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    shape : numpy.ndarray
+        Nodes along x, y, z ``(3,)``.
+    offsets : numpy.ndarray
+        Leg offsets ``(M, 3)`` in nodes.
+    edge_ok : numpy.ndarray of bool
+        ``(M, N)``: ``edge_ok[m, n]`` says the leg from node ``n`` along ``offsets[m]`` is free.
+    start_ids : numpy.ndarray
+        Nodes linked to the start.
+    start_arr : numpy.ndarray
+        Their arrival times (s).
+    goal_link : numpy.ndarray of bool
+        ``(N,)``, nodes with a free leg to the goal.
+    goal : numpy.ndarray
+        The goal ``(3,)`` (m).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+    arrival : numpy.ndarray
+        ``(N,)``, filled with the earliest arrival at each node (s); pass it filled with ``inf``.
+    pred : numpy.ndarray
+        ``(N,)``, filled with each node's predecessor (``-1`` for start-linked nodes).
+
+    Returns
+    -------
+    best : float
+        Arrival at the goal (s); ``inf`` when unreachable.
+    last : int
+        The node the goal is reached from (``-1`` when unreachable).
     """
     ny, nz = shape[1], shape[2]
     heap = [(0.0, np.int64(0))]

@@ -12,21 +12,36 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, replace
+from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from .._types import Status
+from .._types import ArrayLike, Status
 from ..cost import evaluate_paths
 from .base import PlannerSpec, PlanningProblem, PlanResult
 from .swarm import check_endpoints, cost_model_for, search_box
 from .timeopt import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
 
-__all__ = ["TimeSetup", "SweepRow", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]
 
 
 @dataclass(frozen=True, eq=False)
 class TimeSetup:
-    """A lattice and a current table shared by the plans of one problem."""
+    """A lattice and a current table shared by the plans of one problem.
+
+    Parameters
+    ----------
+    lattice : Lattice
+        Nodes and free legs over the search box.
+    table : CurrentTable
+        The current at the nodes over the departures and the horizon.
+    cell : float
+        Lattice spacing (m).
+    ds : float
+        Largest integration sub-step of a leg (m).
+    build_s : float
+        CPU time of building both (s).
+    """
 
     lattice: Lattice
     table: CurrentTable
@@ -40,7 +55,22 @@ def _power(problem: PlanningProblem, speed: float) -> float:
 
 
 def setup(problem: PlanningProblem, spec: PlannerSpec, t0: float, t1: float) -> TimeSetup:
-    """Lattice over the search box and the current table from ``t0`` to ``t1`` + the horizon."""
+    """Lattice over the search box and the current table from ``t0`` to ``t1`` + the horizon.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points and speed.
+    spec : PlannerSpec
+        ``spec.timeopt``: cell, levels, time step, horizon, sub-step.
+    t0, t1 : float
+        First and last departure to cover (s after the mission's start time).
+
+    Returns
+    -------
+    TimeSetup
+        The shared lattice and table.
+    """
     clock = time.process_time()
     p = spec.timeopt
     lower, upper = search_box(problem)
@@ -101,7 +131,23 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
 
 
 def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | None = None) -> PlanResult:
-    """Plan the departure ``spec.timeopt.depart_s`` (module notes of :mod:`.timeopt`)."""
+    """Plan the departure ``spec.timeopt.depart_s`` (module notes of :mod:`.timeopt`).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, speed and power figures.
+    spec : PlannerSpec
+        ``spec.timeopt``: departure, objective, lattice and refinement settings.
+    ts : TimeSetup, optional
+        A lattice and table to reuse (built when omitted; rebuilt with a longer horizon when the
+        plan runs past its end).
+
+    Returns
+    -------
+    PlanResult
+        The timed plan (``times`` per vertex) or a failure status.
+    """
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
     if bad is not None:
@@ -125,7 +171,21 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
 
 @dataclass(frozen=True)
 class SweepRow:
-    """One departure of a sweep: durations (s) and energies (J) of the three ways to fly it."""
+    """One departure of a sweep: durations (s) and energies (J) of the three ways to fly it.
+
+    Parameters
+    ----------
+    depart_s : float
+        Departure (s after the mission's start time).
+    duration_s, energy_j : float
+        The timed plan's travel time (s) and energy (J); ``inf`` when none.
+    straight_duration_s, straight_energy_j : float
+        The straight line at cruise speed through the changing current (``nan`` when not free).
+    steady_duration_s, steady_energy_j : float
+        The steady-current plan flown through the changing current.
+    cpu_s : float
+        CPU time of planning this departure (s).
+    """
 
     depart_s: float
     duration_s: float
@@ -137,8 +197,26 @@ class SweepRow:
     cpu_s: float
 
 
-def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs) -> tuple[list[SweepRow], TimeSetup]:
-    """Plan every departure time of ``departs`` (s) on one lattice and table (module notes)."""
+def departure_sweep(problem: PlanningProblem, spec: PlannerSpec,
+                    departs: ArrayLike) -> tuple[list[SweepRow], TimeSetup]:
+    """Plan every departure time on one lattice and table (module notes).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, speed and power figures.
+    spec : PlannerSpec
+        ``spec.timeopt`` settings.
+    departs : array_like
+        Departure times (s after the mission's start time).
+
+    Returns
+    -------
+    rows : list of SweepRow
+        One row per departure.
+    setup : TimeSetup
+        The lattice and table they share.
+    """
     departs = np.asarray(departs, dtype=float)
     ts = setup(problem, spec, float(departs.min()), float(departs.max()))
     v = problem.speed
@@ -160,10 +238,49 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs) -> tup
     return rows, ts
 
 
-def sweep_summary(rows: list[SweepRow], energy: bool = False) -> dict:
-    """Best and worst departures (by duration, or by energy with ``energy``) and the percent saved by
-    the best timed plan against the worst departure, and against the straight line and the
-    steady-current plan (both at cruise speed) flown at the best departure."""
+class SweepSummary(TypedDict):
+    """:func:`sweep_summary`'s figures: departures (s after the start time), durations (s), energies (J),
+    percentages saved (%), CPU time (s); only ``feasible_departures`` when no departure is feasible."""
+
+    feasible_departures: int
+    best_depart_s: NotRequired[float]
+    best_duration_s: NotRequired[float]
+    best_energy_j: NotRequired[float]
+    worst_depart_s: NotRequired[float]
+    worst_duration_s: NotRequired[float]
+    worst_energy_j: NotRequired[float]
+    saved_vs_worst_pct: NotRequired[float]
+    saved_vs_straight_pct: NotRequired[float]
+    saved_vs_steady_pct: NotRequired[float]
+    energy_saved_vs_worst_pct: NotRequired[float]
+    energy_saved_vs_straight_pct: NotRequired[float]
+    energy_saved_vs_steady_pct: NotRequired[float]
+    mean_saved_vs_steady_pct: NotRequired[float]
+    mean_saved_vs_straight_pct: NotRequired[float]
+    cpu_per_departure_s: NotRequired[float]
+    best_depart_utc: NotRequired[str]
+    """The best departure as UTC ISO text (added by the CLI when the mission has a start time)."""
+
+
+def sweep_summary(rows: list[SweepRow], energy: bool = False) -> SweepSummary:
+    """Best and worst departures and the percent saved by planning with time.
+
+    The percent saved by the best timed plan against the worst departure, and against the
+    straight line and the steady-current plan (both at cruise speed) flown at the best departure.
+
+    Parameters
+    ----------
+    rows : list of SweepRow
+        The sweep.
+    energy : bool, default False
+        Rank departures by energy instead of duration.
+
+    Returns
+    -------
+    SweepSummary
+        ``feasible_departures`` (only that key when none is), the best and worst departures with
+        their durations (s) and energies (J), the percentages saved, and the CPU time per departure (s).
+    """
     ok = [r for r in rows if np.isfinite(r.duration_s)]
     if not ok:
         return {"feasible_departures": 0}

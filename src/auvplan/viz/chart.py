@@ -10,17 +10,27 @@ the data.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import contourpy
 import numpy as np
-import plotly.graph_objects as go
+from numpy.typing import ArrayLike, NDArray
 
 from ..sim import RunRecord
 from ..world import World
+from . import PLOTLY_MISSING
+
+try:
+    import plotly.graph_objects as go
+except ImportError as exc:  # plotly is the optional `report` extra
+    raise ImportError(PLOTLY_MISSING) from exc
 from .scene3d import _terrain_grid, elevation_range, shape_surface, thin
 from .style import bathymetry_colorscale
 
-__all__ = ["figure_plan_view", "nice_step", "graticule", "degree_label"]
+__all__ = ["figure_plan_view", "nice_step", "graticule", "degree_label", "ToLonLat"]
+
+ToLonLat = Callable[[Any, Any], tuple[ArrayLike, ArrayLike]]
+"""Map from local ``(x, y)`` (m, arrays) to ``(lon, lat)`` (degrees): a pyproj transform."""
 
 
 def nice_step(span: float, count: float = 5.0) -> float:
@@ -36,6 +46,7 @@ def nice_step(span: float, count: float = 5.0) -> float:
     Returns
     -------
     float
+        The step, in the unit of ``span``.
     """
     raw = span / count
     if not (np.isfinite(raw) and raw > 0):
@@ -52,12 +63,14 @@ def degree_label(value: float, axis: str, step: float) -> str:
     value : float
         Degrees.
     axis : {'lon', 'lat'}
+        Which coordinate ``value`` is.
     step : float
         Graticule step, sets the number of decimals.
 
     Returns
     -------
     str
+        The label, hemisphere letter after the absolute value.
     """
     decimals = max(0, int(np.ceil(-np.log10(step) - 1e-9))) if step < 1 else 0
     if step < 1 and abs(step * 10 ** decimals - round(step * 10 ** decimals)) > 1e-9:
@@ -66,7 +79,7 @@ def degree_label(value: float, axis: str, step: float) -> str:
     return f"{abs(value):.{decimals}f}°{hemi[0] if value >= 0 else hemi[1]}"
 
 
-def graticule(world: World, to_lonlat: Callable, n: int = 80) -> list[tuple[str, float, np.ndarray, float]]:
+def graticule(world: World, to_lonlat: ToLonLat, n: int = 80) -> list[tuple[str, float, NDArray[np.float64], float]]:
     """Lines of constant longitude and latitude across the bounds.
 
     Parameters
@@ -80,8 +93,9 @@ def graticule(world: World, to_lonlat: Callable, n: int = 80) -> list[tuple[str,
 
     Returns
     -------
-    list of (axis, value, polyline)
-        ``axis`` is ``'lon'`` or ``'lat'``, ``polyline`` ``(M, 2)`` local x, y.
+    list of (axis, value, polyline, step)
+        ``axis`` is ``'lon'`` or ``'lat'``, ``value`` its degrees, ``polyline`` ``(M, 2)`` local x, y (m),
+        ``step`` the graticule step (degrees).
     """
     b = world.bounds
     gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, n), np.linspace(b.ymin, b.ymax, n))
@@ -97,7 +111,7 @@ def graticule(world: World, to_lonlat: Callable, n: int = 80) -> list[tuple[str,
     return lines
 
 
-def _graticule_traces(fig: go.Figure, world: World, to_lonlat: Callable) -> None:
+def _graticule_traces(fig: go.Figure, world: World, to_lonlat: ToLonLat) -> None:
     b = world.bounds
     first = True
     for axis, v, seg, step in graticule(world, to_lonlat):
@@ -116,7 +130,7 @@ def _graticule_traces(fig: go.Figure, world: World, to_lonlat: Callable) -> None
                            name=f"graticule-{axis}")
 
 
-def _scale_bar_and_north(fig: go.Figure, world: World, to_lonlat: Callable | None) -> None:
+def _scale_bar_and_north(fig: go.Figure, world: World, to_lonlat: ToLonLat | None) -> None:
     b = world.bounds
     w, h = b.xmax - b.xmin, b.ymax - b.ymin
     length = nice_step(w / 5.0, 1.0)
@@ -197,7 +211,7 @@ def _mission(fig: go.Figure, world: World, record: RunRecord) -> None:
                                              line=dict(width=1, color="white"))))
 
 
-def figure_plan_view(world: World, record: RunRecord, to_lonlat: Callable | None = None) -> go.Figure:
+def figure_plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None) -> go.Figure:
     """The mission as a chart (see the module notes).
 
     Parameters
@@ -212,6 +226,7 @@ def figure_plan_view(world: World, record: RunRecord, to_lonlat: Callable | None
     Returns
     -------
     plotly.graph_objects.Figure
+        The plan view, x east and y north in metres at equal scale.
     """
     fig = go.Figure()
     b = world.bounds

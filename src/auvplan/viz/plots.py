@@ -13,17 +13,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
+from numpy.typing import ArrayLike, NDArray
 
 from ..sim import RunRecord
-from ..world import World
+from ..world import Ellipsoid, Sphere, World
 from .scene3d import elevation_range, shape_surface
 from .style import bathymetry_cmap
 
@@ -43,7 +46,7 @@ def _subplots(*grid: int, figsize: tuple[float, float], **kw: Any) -> tuple[Figu
     return fig, fig.subplots(*grid, **kw)
 
 
-def _seabed(ax, world: World) -> None:
+def _seabed(ax: Axes, world: World) -> None:
     """Filled seabed in the shared bathymetry colours, isobaths labelled in metres."""
     if world.terrain is None:
         return
@@ -57,7 +60,7 @@ def _seabed(ax, world: World) -> None:
     ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)")
 
 
-def _fit_aspect(ax, points: np.ndarray) -> None:
+def _fit_aspect(ax: Axes, points: NDArray[np.float64]) -> None:
     """Equal scales unless the drawn extent is a strip; then exaggerate the short axis."""
     span = np.ptp(points[:, :2], axis=0) if len(points) else np.ones(2)
     span = np.maximum(span, 1e-9)
@@ -70,7 +73,7 @@ def _fit_aspect(ax, points: np.ndarray) -> None:
     ax.set_title(f"{ax.get_title()}\n({'y' if span[1] < span[0] else 'x'} exaggerated ×{factor:.3g})", fontsize=9)
 
 
-def _obstacles(ax, world: World, t: float | None = None) -> None:
+def _obstacles(ax: Axes, world: World, t: float | None = None) -> None:
     for s in world.obstacles:
         x, y, _ = shape_surface(s, 60)
         ax.fill(x[30], y[30], color="firebrick", alpha=0.6, lw=0)
@@ -81,8 +84,21 @@ def _obstacles(ax, world: World, t: float | None = None) -> None:
                 ax.add_patch(Circle((float(c[0]), float(c[1])), o.shape.bounding_radius, color="purple", alpha=0.4))
 
 
-def plan_view(world: World, record: RunRecord):
-    """Route (global path) against the flown track, with obstacles and key waypoints."""
+def plan_view(world: World, record: RunRecord) -> Figure:
+    """Draw the route (global path) against the flown track, with obstacles and key waypoints.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static and moving obstacles.
+    record : RunRecord
+        Route, key waypoints and the flight (track coloured by altitude above the seabed, m).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Plan view, x east and y north in metres.
+    """
     fig, ax = _subplots(figsize=(7.5, 6.5))
     _seabed(ax, world)
     _obstacles(ax, world)
@@ -108,7 +124,7 @@ def plan_view(world: World, record: RunRecord):
     return fig
 
 
-def _track_by_altitude(ax, p: np.ndarray, altitude: np.ndarray) -> None:
+def _track_by_altitude(ax: Axes, p: NDArray[np.float64], altitude: NDArray[np.float64]) -> None:
     """The flown track coloured by its altitude above the seabed (red low, green high)."""
     alt = np.where(np.isfinite(altitude), altitude, np.nan)
     segments = np.stack([p[:-1, :2], p[1:, :2]], axis=1)
@@ -124,8 +140,19 @@ def _track_by_altitude(ax, p: np.ndarray, altitude: np.ndarray) -> None:
     ax.figure.colorbar(lc, ax=ax, label="track altitude above seabed (m)", pad=0.01)
 
 
-def profiles(record: RunRecord):
-    """Depth, altitude above the seabed, cross-track error and speed against time."""
+def profiles(record: RunRecord) -> Figure:
+    """Draw depth, altitude above the seabed, cross-track error and speed against time.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The flight (its ``sim``); empty panels without one.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four panels: depth (m), altitude (m), cross-track error (m), speed (m/s) against time (s).
+    """
     fig, axes = _subplots(4, 1, figsize=(7.5, 8), sharex=True)
     sim = record.sim
     if sim is not None and sim.t.size:
@@ -141,8 +168,19 @@ def profiles(record: RunRecord):
     return fig
 
 
-def convergence(histories: dict[str, np.ndarray]):
-    """Best cost per iteration, one line per optimiser (``{name: history}``)."""
+def convergence(histories: Mapping[str, ArrayLike]) -> Figure:
+    """Draw the best cost per iteration, one line per optimiser.
+
+    Parameters
+    ----------
+    histories : mapping of str to array_like
+        ``{name: best cost after each iteration}``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Best cost (the objective's unit) against the iteration.
+    """
     fig, ax = _subplots(figsize=(6.5, 4))
     for name, h in histories.items():
         h = np.asarray(h, dtype=float)
@@ -156,8 +194,21 @@ def convergence(histories: dict[str, np.ndarray]):
     return fig
 
 
-def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
-    """Plan view and depth profile of several planners' paths (``{name: (N, 3)}``)."""
+def algorithm_paths(world: World, paths: Mapping[str, ArrayLike]) -> Figure:
+    """Draw the plan view and depth profile of several planners' paths.
+
+    Parameters
+    ----------
+    world : World
+        Seabed and static obstacles.
+    paths : mapping of str to array_like
+        ``{planner name: (N, 3) path}`` in the local frame (m).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Plan view (m) and elevation (m) against the distance along each path (km).
+    """
     fig, (ax, bx) = _subplots(1, 2, figsize=(12, 5), gridspec_kw=dict(width_ratios=[1.2, 1]))
     _seabed(ax, world)
     _obstacles(ax, world)
@@ -180,7 +231,7 @@ def algorithm_paths(world: World, paths: dict[str, np.ndarray]):
     return fig
 
 
-def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
+def _silhouette(ax: Axes, shape: Sphere | Ellipsoid, i: int, j: int, **kw: Any) -> None:
     """Fill the projection of a sphere or ellipsoid on axes ``(i, j)`` (convex: its hull)."""
     from scipy.spatial import ConvexHull
 
@@ -189,9 +240,26 @@ def _silhouette(ax, shape, i: int, j: int, **kw) -> None:
     ax.fill(hull[:, 0], hull[:, 1], **kw)
 
 
-def streamlines(world: World, paths, goal, status=None):
-    """Streamlines from many starts (document 000): plan (x–y) and side (x–z) views; those that
-    did not arrive (``status`` other than ``"arrived"``) in red."""
+def streamlines(world: World, paths: Iterable[NDArray[np.float64]], goal: Sequence[float] | NDArray[np.float64],
+                status: Sequence[object] | None = None) -> Figure:
+    """Draw streamlines from many starts (document 000) in plan (x–y) and side (x–z) views.
+
+    Parameters
+    ----------
+    world : World
+        Its static obstacles are drawn as silhouettes.
+    paths : iterable of numpy.ndarray
+        ``(N, 3)`` streamlines in the local frame (m).
+    goal : sequence of 3 float
+        Goal point (m).
+    status : sequence, optional
+        One status per streamline; those other than ``"arrived"`` / ``"EXACT"`` are drawn in red.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels at equal scale (m).
+    """
     fig, axes = _subplots(1, 2, figsize=(12, 5.5))
     for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
         for s in world.obstacles:
@@ -207,8 +275,26 @@ def streamlines(world: World, paths, goal, status=None):
     return fig
 
 
-def write_mission_figures(folder: Path, world: World, record: RunRecord, formats=("png", "svg")) -> list[Path]:
-    """Plan view, profiles and convergence of a run as PNG and SVG files in ``folder``."""
+def write_mission_figures(folder: Path, world: World, record: RunRecord,
+                          formats: Sequence[str] = ("png", "svg")) -> list[Path]:
+    """Write the plan view, profiles and convergence of a run as image files into ``folder``.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        Output folder, created if missing.
+    world : World
+        The mission's world.
+    record : RunRecord
+        The run.
+    formats : sequence of str, optional
+        File formats matplotlib can write (``png``, ``svg``, ``pdf`` …).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     figs = {"plan_view": plan_view(world, record), "profiles": profiles(record)}
@@ -223,17 +309,30 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord, formats
     return written
 
 
-def bench_figures(rows: list[dict], folder: Path) -> list[Path]:
-    """Box plots of the cost per planner and success rates per cell of a sweep's rows."""
+def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path) -> list[Path]:
+    """Write box plots of the cost per planner and success rates per cell of a sweep's rows.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of ``rows.csv`` (:data:`auvplan.bench.COLUMNS`), values as read from the file.
+    folder : pathlib.Path
+        Output folder (exists).
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``[folder / "bench.png"]``, or empty without rows.
+    """
     folder = Path(folder)
-    cells: dict[str, list[dict]] = {}
+    cells: dict[str, list[Mapping[str, Any]]] = {}
     for r in rows:
         cells.setdefault(f"{r['scenario']}\n{r['planner']}/{r['guidance']}", []).append(r)
     if not cells:
         return []
     names = sorted(cells)
 
-    def num(v):
+    def num(v: Any) -> float:
         try:
             return float(v)
         except (TypeError, ValueError):

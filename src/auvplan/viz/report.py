@@ -13,30 +13,48 @@ and the resolved scenario.
 from __future__ import annotations
 
 import html
-from collections.abc import Callable
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
-import plotly.colors as pc
-import plotly.graph_objects as go
-import plotly.io as pio
-from plotly.subplots import make_subplots
+from numpy.typing import ArrayLike, NDArray
 
 from ..sim import RunRecord, decimate
 from ..world import World
-from .chart import figure_plan_view
+from . import PLOTLY_MISSING
+
+try:
+    import plotly.colors as pc
+    import plotly.graph_objects as go
+    import plotly.io as pio
+    from plotly.subplots import make_subplots
+except ImportError as exc:  # plotly is the optional `report` extra
+    raise ImportError(PLOTLY_MISSING) from exc
+from .chart import ToLonLat, figure_plan_view
 from .scene3d import figure_3d, thin
 
 __all__ = ["build_report", "build_bench_report", "figure_profiles", "figure_convergence"]
 
 
-def _clock(t: np.ndarray) -> np.ndarray:
+def _clock(t: ArrayLike) -> NDArray[np.datetime64]:
     """Elapsed seconds as datetimes from midnight, so that plotly labels the axis hh:mm:ss."""
     return np.datetime64("2000-01-01T00:00:00") + np.round(np.asarray(t) * 1000).astype("timedelta64[ms]")
 
 
 def figure_profiles(record: RunRecord) -> go.Figure:
-    """Depth, altitude above the seabed, cross-track error and speed against time."""
+    """Draw depth, altitude above the seabed, cross-track error and speed against time.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The flight (its ``sim``); empty panels without one.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Four panels (m, m, m, m/s) against the elapsed time (h:mm:ss).
+    """
     fig = make_subplots(rows=4, cols=1, shared_xaxes=True, vertical_spacing=0.04,
                         subplot_titles=("depth (m)", "altitude above seabed (m)", "cross-track error (m)",
                                         "speed over ground (m/s)"))
@@ -56,7 +74,18 @@ def figure_profiles(record: RunRecord) -> go.Figure:
 
 
 def figure_convergence(record: RunRecord) -> go.Figure:
-    """Best cost after each optimiser iteration."""
+    """Draw the best cost after each optimiser iteration.
+
+    Parameters
+    ----------
+    record : RunRecord
+        Its plan's ``history``; an empty figure without one.
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+        Best cost (the objective's unit) against the iteration.
+    """
     fig = go.Figure()
     if record.plan is not None and record.plan.history.size:
         h = record.plan.history
@@ -65,8 +94,8 @@ def figure_convergence(record: RunRecord) -> go.Figure:
     return fig
 
 
-def _table(metrics: dict) -> str:
-    def fmt(v):
+def _table(metrics: Mapping[str, Any]) -> str:
+    def fmt(v: Any) -> str:
         if isinstance(v, float):
             return f"{v:.6g}"
         if isinstance(v, (list, tuple)):
@@ -82,17 +111,36 @@ table{border-collapse:collapse}th,td{border:1px solid #ccc;padding:3px 8px;text-
 th{background:#f3f3f3}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:0.85em}"""
 
 
-def build_report(world: World, record: RunRecord, scenario_text: str, metrics: dict,
-                 to_lonlat: Callable | None = None) -> str:
-    """The whole report as one HTML page that needs no network (plotly.js is inlined once).
+def build_report(world: World, record: RunRecord, scenario_text: str, metrics: Mapping[str, Any],
+                 to_lonlat: ToLonLat | None = None) -> str:
+    """Build the whole report as one HTML page that needs no network (plotly.js is inlined once).
 
     The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
-    or 30 s, with the extremes of altitude and obstacle distance)."""
+    or 30 s, with the extremes of altitude and obstacle distance).
+
+    Parameters
+    ----------
+    world : World
+        The mission's world.
+    record : RunRecord
+        The run: plan, key waypoints and flight.
+    scenario_text : str
+        The resolved scenario, shown verbatim.
+    metrics : mapping of str to object
+        Metric name → value (units in the names), shown as a table.
+    to_lonlat : callable, optional
+        ``(x, y) -> (lon, lat)`` (m → degrees); with it the plan view has a graticule.
+
+    Returns
+    -------
+    str
+        The HTML page.
+    """
     if record.sim is not None:
         record = replace(record, sim=decimate(record.sim))
     figs = [("view3d", figure_3d(world, record)), ("planview", figure_plan_view(world, record, to_lonlat)),
             ("profiles", figure_profiles(record)), ("convergence", figure_convergence(record))]
-    parts = []
+    parts: list[str] = []
     for i, (div, fig) in enumerate(figs):
         parts.append(pio.to_html(fig, include_plotlyjs=(i == 0), full_html=False, div_id=div,
                                  config=dict(displaylogo=False), auto_play=False))
@@ -104,17 +152,36 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: d
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
 
 
-def _num(v) -> float:
+def _num(v: Any) -> float:
     try:
         return float(v)
     except (TypeError, ValueError):
         return float("nan")
 
 
-def build_bench_report(rows: list[dict], summary: list[dict], histories: list[dict]) -> str:
-    """One offline HTML page for a sweep: cost box plots per cell, success rates, the median
-    convergence curve per cell (with the 25–75 % band), and the summary table."""
-    cells: dict[str, list[dict]] = {}
+def build_bench_report(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapping[str, Any]],
+                       histories: Sequence[Mapping[str, Any]]) -> str:
+    """Build one offline HTML page for a sweep.
+
+    Cost box plots per cell, success rates, the median convergence curve per cell (with the
+    25–75 % band), and the summary table.
+
+    Parameters
+    ----------
+    rows : sequence of mapping
+        Rows of ``rows.csv`` (:data:`auvplan.bench.COLUMNS`).
+    summary : sequence of mapping
+        One row per cell (:func:`auvplan.bench.summarise`).
+    histories : sequence of mapping
+        Convergence records (:func:`auvplan.bench.read_histories`): ``key``, ``history`` and
+        optionally ``trace`` (evaluations, best cost).
+
+    Returns
+    -------
+    str
+        The HTML page.
+    """
+    cells: dict[str, list[Mapping[str, Any]]] = {}
     for r in rows:
         cells.setdefault(f"{r['scenario']} {r['planner']}/{r['guidance']}", []).append(r)
     palette = pc.qualitative.Plotly + pc.qualitative.D3
@@ -135,7 +202,7 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
     if summary:
         cols = list(summary[0])
         head = "".join(f"<th>{html.escape(c)}</th>" for c in cols)
-        def cell(v):
+        def cell(v: Any) -> str:
             return f"<td>{v:.6g}</td>" if isinstance(v, float) else f"<td>{html.escape(str(v))}</td>"
 
         body = "".join("<tr>" + "".join(cell(r[c]) for c in cols) + "</tr>" for r in summary)
@@ -145,11 +212,11 @@ def build_bench_report(rows: list[dict], summary: list[dict], histories: list[di
             + "<h2>Summary</h2>" + table + "</body></html>")
 
 
-def _convergence_figure(histories: list[dict], colour: dict):
+def _convergence_figure(histories: Sequence[Mapping[str, Any]], colour: Mapping[str, str]) -> go.Figure:
     """Median and interquartile band of the best cost per cell, against objective evaluations
     when the records carry a trace (comparable between optimisers), else against iterations."""
     conv = go.Figure()
-    by_cell: dict[str, list[np.ndarray]] = {}
+    by_cell: dict[str, list[NDArray[np.float64]]] = {}
     traced = all(h.get("trace") for h in histories if h["history"])
     for h in histories:
         s, p, g, _ = h["key"]

@@ -10,11 +10,22 @@ so nothing drawn can stretch the scene beyond the operating box.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import plotly.graph_objects as go
+from numpy.typing import NDArray
 
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
+from . import MissingPlotly
+
+if TYPE_CHECKING:
+    import plotly.graph_objects as go
+else:
+    try:
+        import plotly.graph_objects as go
+    except ImportError:  # plotly is the optional `report` extra; the geometry helpers here work without it
+        go = MissingPlotly()
 from .style import bathymetry_colorscale, speed_colorscale
 
 __all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "z_range", "hms", "FRAMES",
@@ -29,7 +40,7 @@ MAX_POINTS = 3000
 _NICE = (1.0, 2.0, 5.0)
 
 
-def thin(n: int, most: int = MAX_POINTS) -> np.ndarray:
+def thin(n: int, most: int = MAX_POINTS) -> NDArray[np.intp]:
     """Indices of at most ``most`` evenly spread samples of ``n`` (first and last kept)."""
     return np.unique(np.linspace(0, n - 1, min(n, most)).round().astype(int))
 
@@ -45,6 +56,7 @@ def hms(t: float) -> str:
     Returns
     -------
     str
+        The time as hours, minutes and seconds.
     """
     sign = "-" if t < 0 else ""
     s = int(round(abs(float(t))))
@@ -78,7 +90,8 @@ def vertical_exaggeration(world: World, target: float = 0.35, z_range: tuple[flo
     return float(min((n * decade for n in (*_NICE, 10.0)), key=lambda v: abs(np.log(v / ratio))))
 
 
-def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def shape_surface(shape: Sphere | Ellipsoid, n: int = 16) -> tuple[NDArray[np.float64], NDArray[np.float64],
+                                                                  NDArray[np.float64]]:
     """``(x, y, z)`` grids ``(n, n)`` of a sphere's or ellipsoid's surface.
 
     Parameters
@@ -91,7 +104,7 @@ def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarra
     Returns
     -------
     x, y, z : numpy.ndarray
-        ``(n, n)`` each.
+        ``(n, n)`` each, in the shape's frame (m).
     """
     u, v = np.meshgrid(np.linspace(0, 2 * np.pi, n), np.linspace(0, np.pi, n))
     unit = np.stack([np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v)], axis=-1)
@@ -105,7 +118,7 @@ def shape_surface(shape, n: int = 16) -> tuple[np.ndarray, np.ndarray, np.ndarra
     return p[..., 0], p[..., 1], p[..., 2]
 
 
-def shape_mesh(shape, n: int = 11) -> tuple[np.ndarray, np.ndarray]:
+def shape_mesh(shape: Sphere | Ellipsoid, n: int = 11) -> tuple[NDArray[np.float64], NDArray[np.int_]]:
     """Vertices ``(V, 3)`` and triangles ``(F, 3)`` of a shape's surface (a closed mesh).
 
     Parameters
@@ -119,8 +132,9 @@ def shape_mesh(shape, n: int = 11) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     vertices : numpy.ndarray
+        ``(V, 3)`` vertex positions (m).
     triangles : numpy.ndarray
-        Vertex indices, int.
+        ``(F, 3)`` vertex indices, int.
     """
     x, y, z = shape_surface(shape, n)
     vertices = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
@@ -130,13 +144,14 @@ def shape_mesh(shape, n: int = 11) -> tuple[np.ndarray, np.ndarray]:
     return vertices, tri
 
 
-def _mesh(vertices: np.ndarray, tri: np.ndarray, name: str, color: str, opacity: float) -> go.Mesh3d:
+def _mesh(vertices: NDArray[np.float64], tri: NDArray[np.int_], name: str, color: str, opacity: float) -> go.Mesh3d:
     return go.Mesh3d(x=vertices[:, 0], y=vertices[:, 1], z=vertices[:, 2], i=tri[:, 0], j=tri[:, 1], k=tri[:, 2],
                      color=color, opacity=opacity, name=name, showlegend=True, flatshading=True,
                      hoverinfo="name")
 
 
-def _terrain_grid(world: World, max_nodes: int = 120):
+def _terrain_grid(world: World, max_nodes: int = 120) -> tuple[NDArray[np.float64], NDArray[np.float64],
+                                                              NDArray[np.float64]]:
     t = world.terrain
     assert t is not None
     b = world.bounds
@@ -153,10 +168,12 @@ def elevation_range(world: World) -> tuple[float, float]:
     Parameters
     ----------
     world : World
+        Its terrain and bounds.
 
     Returns
     -------
     zmin, zmax : float
+        Lowest and highest seabed elevation (m); the bounds' vertical range without a terrain.
     """
     if world.terrain is None:
         return world.bounds.zmin, world.bounds.zmax
@@ -171,11 +188,14 @@ def z_range(world: World, record: RunRecord) -> tuple[float, float]:
     Parameters
     ----------
     world : World
+        Seabed, obstacles and bounds.
     record : RunRecord
+        Route, plan and flight.
 
     Returns
     -------
     zmin, zmax : float
+        Vertical range (m), inside the bounds.
     """
     b = world.bounds
     zs = [np.array([np.nan])]
@@ -200,7 +220,7 @@ def z_range(world: World, record: RunRecord) -> tuple[float, float]:
     return lo, hi
 
 
-def _seabed(world: World, zlo: float, zhi: float) -> list:
+def _seabed(world: World, zlo: float, zhi: float) -> list[go.Surface]:
     x, y, z = _terrain_grid(world)
     lo, hi = elevation_range(world)
     seabed = go.Surface(x=x, y=y, z=np.clip(z, zlo, zhi), surfacecolor=z, cmin=lo, cmax=hi,
@@ -218,7 +238,7 @@ def _sea_surface(world: World) -> go.Surface:
                       hoverinfo="name", showlegend=True)
 
 
-def _currents(world: World, path: np.ndarray) -> list:
+def _currents(world: World, path: NDArray[np.float64]) -> list[go.Cone]:
     b = world.bounds
     zs = path[:, 2] if path.size else np.array([b.zmin, b.zmax])
     gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 8)[1:-1], np.linspace(b.ymin, b.ymax, 8)[1:-1])
@@ -237,7 +257,7 @@ def _currents(world: World, path: np.ndarray) -> list:
                     hovertemplate="current %{customdata:.2f} m/s<extra></extra>")]
 
 
-def _labels(record: RunRecord) -> list:
+def _labels(record: RunRecord) -> list[go.Scatter3d]:
     route = record.plan.path if record.plan is not None and record.plan.path.size else record.route
     traces = []
     if route.size:
@@ -253,7 +273,8 @@ def _labels(record: RunRecord) -> list:
     return traces
 
 
-def _moving_meshes(world: World, times: np.ndarray, n: int = 11) -> tuple[list, list]:
+def _moving_meshes(world: World, times: NDArray[np.float64], n: int = 11) -> tuple[list[go.Mesh3d],
+                                                                                    list[list[NDArray[np.float64]]]]:
     """One mesh trace per moving obstacle at ``times[0]`` and its vertices at every time
     (empty while the obstacle does not exist)."""
     traces, frames = [], []
@@ -269,7 +290,8 @@ def _moving_meshes(world: World, times: np.ndarray, n: int = 11) -> tuple[list, 
     return traces, frames
 
 
-def _current_frames(fig: go.Figure, world: World, times: np.ndarray):
+def _current_frames(fig: go.Figure, world: World,
+                    times: NDArray[np.float64]) -> tuple[int, NDArray[np.float64]] | None:
     """``(trace index, velocities (T, N, 3))`` of the current cones at the slider's times when the
     current changes with time (tides), else None; the colour scale spans every frame."""
     cone = next((i for i, d in enumerate(fig.data) if d.type == "cone"), None)
@@ -335,6 +357,7 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
     Returns
     -------
     plotly.graph_objects.Figure
+        The scene: x east, y north, z up (m), vertical exaggeration in ``layout.meta``.
     """
     b = world.bounds
     zlo, zhi = z_range(world, record)

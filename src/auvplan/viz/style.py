@@ -81,7 +81,7 @@ def bathymetry_stops(zmin: float, zmax: float) -> tuple[np.ndarray, list[str]]:
     return p, _hex(BATHY_CMAP(np.concatenate(frac)))
 
 
-def bathymetry_colorscale(zmin: float, zmax: float) -> list[list]:
+def bathymetry_colorscale(zmin: float, zmax: float) -> list[list[float | str]]:
     """Plotly colourscale of :func:`bathymetry_stops`; use it with ``cmin=zmin, cmax=zmax``.
 
     Parameters
@@ -109,6 +109,7 @@ def bathymetry_cmap(zmin: float, zmax: float) -> tuple[LinearSegmentedColormap, 
     Returns
     -------
     cmap : matplotlib.colors.LinearSegmentedColormap
+        The colours of :func:`bathymetry_stops` over ``[0, 1]``.
     norm : matplotlib.colors.Normalize
         Linear over ``[zmin, zmax]``.
     """
@@ -117,7 +118,7 @@ def bathymetry_cmap(zmin: float, zmax: float) -> tuple[LinearSegmentedColormap, 
     return cmap, Normalize(vmin=float(zmin), vmax=float(max(zmax, zmin + 1.0)))
 
 
-def speed_colorscale(n: int = 16) -> list[list]:
+def speed_colorscale(n: int = 16) -> list[list[float | str]]:
     """Plotly colourscale of current speed (cmocean ``speed``).
 
     Parameters
@@ -128,6 +129,7 @@ def speed_colorscale(n: int = 16) -> list[list]:
     Returns
     -------
     list of [float, str]
+        ``[[position, colour], ...]`` over speeds scaled to ``[0, 1]``.
     """
     p = np.linspace(0.0, 1.0, n)
     return [[float(a), b] for a, b in zip(p, _hex(SPEED_CMAP(p)))]

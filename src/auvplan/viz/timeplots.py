@@ -3,14 +3,35 @@ and the steady-current plan flown through the same changing current."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..planners.timeplan import SweepRow
 
 __all__ = ["sweep_figure"]
 
 
-def sweep_figure(rows, title: str = ""):
-    """Two panels (duration in hours, energy in kJ) versus the departure (hours after the start time);
-    returns the matplotlib figure (never shown)."""
+def sweep_figure(rows: Sequence[SweepRow], title: str = "") -> Figure:
+    """Draw duration (h) and energy (kJ) versus the departure (h after the start time) in two panels.
+
+    Parameters
+    ----------
+    rows : sequence of SweepRow
+        One row per departure time, with the timed plan's, the steady-current plan's and the straight
+        line's duration (s) and energy (J).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (never shown).
+    """
     from matplotlib.figure import Figure
 
     d = np.array([r.depart_s for r in rows]) / 3600.0

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._jit import kernel
+from .._types import ArrayLike, FloatArray
 from ..errors import DataError
 from ..geometry import as_points
 
@@ -29,37 +30,107 @@ __all__ = ["CurrentField", "UniformCurrent", "LambOseenVortices", "GriddedCurren
 class CurrentField:
     """Base class: a current field returns velocities ``(N, 3)`` (m/s) at ``points (N, 3)``."""
 
-    def velocity(self, points, t: float = 0.0) -> np.ndarray:  # pragma: no cover - interface
-        """Current velocity at ``points (..., 3)`` and time ``t`` (s)."""
+    def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:  # pragma: no cover - interface
+        """Current velocity at points and a time.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(..., 3)`` (m/s; east, north, up).
+        """
         raise NotImplementedError
 
-    def sample(self, points, times) -> np.ndarray:
-        """The field at ``points (N, 3)`` for every time in ``times (T,)``: shape ``(T, N, 3)``."""
+    def sample(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points for every time of a series.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(T,)`` (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(T, N, 3)`` (m/s).
+        """
         p = as_points(points).reshape(-1, 3)
         return np.stack([self.velocity(p, float(t)) for t in np.atleast_1d(times)])
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the field is defined over the whole horizontal box."""
+        """Whether the field is defined over the whole horizontal box.
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            True when every point of the box is inside the field's domain.
+        """
         return True
 
     @property
     def max_speed(self) -> float:
-        """An upper bound of the horizontal current speed (m/s)."""
+        """An upper bound of the horizontal current speed.
+
+        Returns
+        -------
+        float
+            Speed bound (m/s).
+        """
         raise NotImplementedError  # pragma: no cover - interface
 
 
 @dataclass(frozen=True)
 class UniformCurrent(CurrentField):
-    """Spatially uniform, steady current ``(u, v, w)`` in m/s (east, north, up)."""
+    """Spatially uniform, steady current.
+
+    Parameters
+    ----------
+    vector : tuple of float, default (0, 0, 0)
+        ``(u, v, w)`` (m/s; east, north, up).
+    """
 
     vector: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
-    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+    def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:
+        """Current velocity at points and a time.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(..., 3)`` (m/s; east, north, up).
+        """
         p = as_points(points)
         return np.broadcast_to(np.asarray(self.vector, dtype=float), p.shape).copy()
 
     @property
     def max_speed(self) -> float:
+        """An upper bound of the horizontal current speed.
+
+        Returns
+        -------
+        float
+            Speed bound (m/s).
+        """
         return float(np.hypot(self.vector[0], self.vector[1]))
 
 
@@ -84,11 +155,16 @@ class LambOseenVortices(CurrentField):
         Circulations Γ (m²/s).
     delta : array_like, shape (K,)
         Core radii δ (m), positive.
+
+    Raises
+    ------
+    ValueError
+        If the three arrays disagree in length, a core radius is not positive or a value is not finite.
     """
 
-    centers: np.ndarray
-    gamma: np.ndarray
-    delta: np.ndarray
+    centers: FloatArray
+    gamma: FloatArray
+    delta: FloatArray
     _k: int = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -104,7 +180,21 @@ class LambOseenVortices(CurrentField):
         object.__setattr__(self, "delta", d)
         object.__setattr__(self, "_k", g.size)
 
-    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+    def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:
+        """Current velocity at points and a time.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(..., 3)`` (m/s; east, north, up).
+        """
         p = as_points(points)
         flat = np.ascontiguousarray(p.reshape(-1, 3))
         out = np.zeros_like(flat)
@@ -115,16 +205,35 @@ class LambOseenVortices(CurrentField):
             _vortex_sum(flat, self.centers, self.gamma, self.delta, q, np.exp(-q), out)
         return out.reshape(p.shape)
 
-    def vorticity(self, points) -> np.ndarray:
-        """Vertical vorticity ω_z (1/s) — the quantity of document 002's eq. 3."""
+    def vorticity(self, points: ArrayLike) -> FloatArray:
+        """Vertical vorticity ω_z — the quantity of document 002's eq. 3.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ω_z ``(N,)`` (1/s) at the flattened points.
+        """
         p = as_points(points).reshape(-1, 3)
         rx = p[:, None, 0] - self.centers[None, :, 0]
         ry = p[:, None, 1] - self.centers[None, :, 1]
         d2 = self.delta**2
-        return (self.gamma / (np.pi * d2) * np.exp(-(rx * rx + ry * ry) / d2)).sum(axis=1)
+        omega: FloatArray = (self.gamma / (np.pi * d2) * np.exp(-(rx * rx + ry * ry) / d2)).sum(axis=1)
+        return omega
 
     @property
     def max_speed(self) -> float:
+        """An upper bound of the horizontal current speed.
+
+        Returns
+        -------
+        float
+            Speed bound (m/s).
+        """
         # one vortex peaks at r = 1.1209 δ with |V| = 0.63817 Γ / (2π δ); the sum is bounded by the sum
         return float(np.sum(0.63817 * np.abs(self.gamma) / (2.0 * np.pi * self.delta)))
 
@@ -132,6 +241,10 @@ class LambOseenVortices(CurrentField):
 @dataclass(frozen=True, eq=False)
 class GriddedCurrent(CurrentField):
     """Current on a rectilinear grid, interpolated linearly in x, y, z and t.
+
+    Points and times outside the grid take the value at the nearest grid face (clamping); a
+    world checks at build time that the grid covers its horizontal bounds.  The interpolation
+    is one compiled loop over the points (bisection on each axis, 16-corner weights).
 
     Parameters
     ----------
@@ -144,22 +257,25 @@ class GriddedCurrent(CurrentField):
         Upward velocity, same shape; zero when ``None``.
     t : ndarray or None
         Ascending time axis (s); ``None`` for a steady field.
+    name : str
+        Source of the data, for messages.
 
-    Points and times outside the grid take the value at the nearest grid face (clamping); a
-    world checks at build time that the grid covers its horizontal bounds.  The interpolation
-    is one compiled loop over the points (bisection on each axis, 16-corner weights).
+    Raises
+    ------
+    DataError
+        If a component is mis-shaped or not finite, or an axis is not strictly ascending.
     """
 
-    x: np.ndarray
-    y: np.ndarray
-    z: np.ndarray
-    u: np.ndarray
-    v: np.ndarray
-    w: np.ndarray | None = None
-    t: np.ndarray | None = None
+    x: FloatArray
+    y: FloatArray
+    z: FloatArray
+    u: FloatArray
+    v: FloatArray
+    w: FloatArray | None = None
+    t: FloatArray | None = None
     name: str = ""
-    _axes: tuple = field(init=False, repr=False)
-    _data: np.ndarray = field(init=False, repr=False)
+    _axes: tuple[FloatArray, FloatArray, FloatArray, FloatArray] = field(init=False, repr=False)
+    _data: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         axes = [np.asarray(a, dtype=float).reshape(-1) for a in (self.x, self.y, self.z)]
@@ -182,7 +298,21 @@ class GriddedCurrent(CurrentField):
         object.__setattr__(self, "_axes", (tax, axes[2], axes[1], axes[0]))
         object.__setattr__(self, "_data", data)
 
-    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+    def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:
+        """Current velocity at points and a time.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(..., 3)`` (m/s; east, north, up).
+        """
         p = as_points(points)
         flat = np.ascontiguousarray(p.reshape(-1, 3))
         out = np.empty_like(flat)
@@ -190,6 +320,18 @@ class GriddedCurrent(CurrentField):
         return out.reshape(p.shape)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
+        """Whether the field is defined over the whole horizontal box.
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            True when every point of the box is inside the field's domain.
+        """
         x = np.asarray(self.x, dtype=float)
         y = np.asarray(self.y, dtype=float)
         tol = 1e-6 * max(1.0, float(np.ptp(x)), float(np.ptp(y)))
@@ -197,11 +339,18 @@ class GriddedCurrent(CurrentField):
 
     @property
     def max_speed(self) -> float:
+        """An upper bound of the horizontal current speed.
+
+        Returns
+        -------
+        float
+            Speed bound (m/s).
+        """
         return float(np.sqrt(np.asarray(self.u) ** 2 + np.asarray(self.v) ** 2).max())
 
 
 @kernel
-def _locate(axis, value):
+def _locate(axis: FloatArray, value: float) -> tuple[int, float]:
     """``(i, w)`` with ``value`` between ``axis[i]`` and ``axis[i + 1]`` at weight ``w`` in [0, 1],
     clamped to the ends; a single-node axis gives ``(0, 0)``.  The first guess assumes even
     spacing, then the index walks to the right cell (one step on an even axis)."""
@@ -220,7 +369,8 @@ def _locate(axis, value):
 
 
 @kernel
-def _interpolate(data, taxis, zaxis, yaxis, xaxis, points, t, out):
+def _interpolate(data: FloatArray, taxis: FloatArray, zaxis: FloatArray, yaxis: FloatArray, xaxis: FloatArray,
+                 points: FloatArray, t: float, out: FloatArray) -> None:
     """Quadrilinear interpolation of ``data (nt, nz, ny, nx, 3)`` at ``points (N, 3)``, time ``t``
     (corners of zero weight, as on a single-node axis, are skipped)."""
     it, wt = _locate(taxis, t)
@@ -243,7 +393,7 @@ def _interpolate(data, taxis, zaxis, yaxis, xaxis, points, t, out):
 
 
 @kernel
-def _vortex_q(points, centers, delta, q):
+def _vortex_q(points: FloatArray, centers: FloatArray, delta: FloatArray, q: FloatArray) -> None:
     """q[k, m] = r²/δ² of point k from vortex m."""
     for k in range(points.shape[0]):
         for m in range(delta.size):
@@ -253,7 +403,8 @@ def _vortex_q(points, centers, delta, q):
 
 
 @kernel
-def _vortex_sum(points, centers, gamma, delta, q, e, out):
+def _vortex_sum(points: FloatArray, centers: FloatArray, gamma: FloatArray, delta: FloatArray, q: FloatArray,
+                e: FloatArray, out: FloatArray) -> None:
     """Sum of the vortex velocities into ``out (N, 3)`` from q = r²/δ² and e = exp(-q).
 
     The factor (1 - e) / r² is evaluated by its series (1 - q/2 + q²/6) / δ² for q < 1e-4

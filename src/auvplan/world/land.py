@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
+from .._types import ArrayLike, BoolArray, FloatArray
 from ..errors import DataError
 from .terrain import Terrain
 
@@ -40,6 +41,11 @@ class Land:
         if the source says so).
     name : str
         Source, for messages.
+
+    Raises
+    ------
+    DataError
+        If ``geometry`` is not polygonal.
     """
 
     geometry: shapely.Geometry
@@ -61,27 +67,68 @@ class Land:
 
     @property
     def is_empty(self) -> bool:
-        """True when no land lies in the area."""
+        """Whether no land lies in the area.
+
+        Returns
+        -------
+        bool
+            True without any polygon.
+        """
         return bool(self.geometry.is_empty)
 
-    def contains(self, points) -> np.ndarray:
-        """True where the horizontal position of ``points (..., 2 or 3)`` is on land (boundary included)."""
+    def contains(self, points: ArrayLike) -> BoolArray:
+        """Where the horizontal position of points is on land (boundary included).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 2)`` or ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True on land.
+        """
         p = np.asarray(points, dtype=float)
         if self.is_empty:
             return np.zeros(p.shape[:-1], dtype=bool)
-        return shapely.intersects_xy(self._prepared, p[..., 0], p[..., 1])
+        on_land: BoolArray = shapely.intersects_xy(self._prepared, p[..., 0], p[..., 1])
+        return on_land
 
-    def signed_distance(self, points) -> np.ndarray:
-        """Horizontal distance (m) from ``points (..., 2 or 3)`` to the shoreline; negative on land."""
+    def signed_distance(self, points: ArrayLike) -> FloatArray:
+        """Horizontal distance from points to the shoreline.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 2)`` or ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Distance ``(...)`` (m), negative on land, ``+inf`` without land.
+        """
         p = np.asarray(points, dtype=float)
         if self.is_empty:
             return np.full(p.shape[:-1], np.inf)
         pts = shapely.points(p[..., 0], p[..., 1])
         d = shapely.distance(self._boundary, pts)
-        return np.where(self.contains(p), -d, d)
+        signed: FloatArray = np.where(self.contains(p), -d, d)
+        return signed
 
-    def segments_hit(self, segments) -> np.ndarray:
-        """Exact test: True where the horizontal trace of a segment ``(..., 2, 3)`` meets land."""
+    def segments_hit(self, segments: ArrayLike) -> BoolArray:
+        """Exact test: where the horizontal trace of a segment meets land.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True for segments that touch land.
+        """
         s = np.asarray(segments, dtype=float)
         lead = s.shape[:-2]
         if self.is_empty or s.size == 0:
@@ -96,7 +143,20 @@ class Land:
         return hit.reshape(lead)
 
     def burn(self, terrain: Terrain, height: float = 1.0) -> Terrain:
-        """``terrain`` with every node of every cell that touches land raised to at least ``height`` (m)."""
+        """The terrain with every node of every cell that touches land raised.
+
+        Parameters
+        ----------
+        terrain : Terrain
+            Seabed to raise.
+        height : float, default 1.0
+            Least elevation of the raised nodes (m, above the sea surface).
+
+        Returns
+        -------
+        Terrain
+            A new terrain (``terrain`` itself when no cell touches land).
+        """
         if self.is_empty:
             return terrain
         x, y = np.asarray(terrain.x), np.asarray(terrain.y)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._types import ArrayLike, BoolArray, FloatArray
 from ..geometry import as_points, point_segment_distance, rotation_matrix
 
 __all__ = [
@@ -35,7 +36,20 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Sphere:
-    """Sphere of ``radius`` (m) about ``center``."""
+    """Sphere of ``radius`` (m) about ``center``.
+
+    Parameters
+    ----------
+    center : tuple of float
+        Centre ``(x, y, z)`` (m).
+    radius : float
+        Radius (m), positive.
+
+    Raises
+    ------
+    ValueError
+        If the radius is not positive.
+    """
 
     center: tuple[float, float, float]
     radius: float
@@ -47,27 +61,81 @@ class Sphere:
 
     @property
     def bounding_radius(self) -> float:
-        """Radius of a sphere about the centre that contains the shape."""
+        """Radius of a sphere about the centre that contains the shape.
+
+        Returns
+        -------
+        float
+            Radius (m).
+        """
         return self.radius
 
-    def distance(self, points) -> np.ndarray:
-        """Signed distance from ``points (..., 3)`` to the surface (negative inside)."""
-        p = as_points(points)
-        return np.linalg.norm(p - np.asarray(self.center), axis=-1) - self.radius
+    def distance(self, points: ArrayLike) -> FloatArray:
+        """Signed distance from points to the surface.
 
-    def gradient(self, points) -> np.ndarray:
-        """Unit outward direction of increasing distance at ``points (..., 3)``."""
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), negative inside.
+        """
+        p = as_points(points)
+        d: FloatArray = np.linalg.norm(p - np.asarray(self.center), axis=-1) - self.radius
+        return d
+
+    def gradient(self, points: ArrayLike) -> FloatArray:
+        """Unit outward direction of increasing distance.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Unit vectors ``(..., 3)`` (zero at the centre).
+        """
         r = as_points(points) - np.asarray(self.center)
         n = np.linalg.norm(r, axis=-1, keepdims=True)
-        return r / np.where(n > 0, n, 1.0)
+        g: FloatArray = r / np.where(n > 0, n, 1.0)
+        return g
 
-    def segments_hit(self, segments, margin: float = 0.0) -> np.ndarray:
-        """Exact: True where a segment ``(..., 2, 3)`` comes closer than ``margin`` to the surface."""
+    def segments_hit(self, segments: ArrayLike, margin: float = 0.0) -> BoolArray:
+        """Exact test: where a segment comes closer than ``margin`` to the surface.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+        margin : float, default 0.0
+            Required distance from the surface (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True for segments that come closer than ``margin``.
+        """
         s = np.asarray(segments, dtype=float)
         return point_segment_distance(np.asarray(self.center), s[..., 0, :], s[..., 1, :]) < self.radius + margin
 
-    def moved_to(self, center) -> Sphere:
-        """The same sphere about a new centre."""
+    def moved_to(self, center: ArrayLike) -> Sphere:
+        """The same sphere about a new centre.
+
+        Parameters
+        ----------
+        center : array_like
+            New centre ``(3,)`` (m).
+
+        Returns
+        -------
+        Sphere
+            A copy with the new centre.
+        """
         return replace(self, center=tuple(np.asarray(center, dtype=float)))
 
 
@@ -75,8 +143,23 @@ class Sphere:
 class Ellipsoid:
     """Ellipsoid with ``semi_axes`` (m) along its body axes, oriented by yaw/pitch/roll (rad).
 
-    ``yaw`` turns the body x axis counter-clockwise from east about z, ``pitch``
-    lifts it towards +z, ``roll`` turns the body about its x axis.
+    Parameters
+    ----------
+    center : tuple of float
+        Centre ``(x, y, z)`` (m).
+    semi_axes : tuple of float
+        Semi-axes along the body x, y, z axes (m), positive.
+    yaw : float, default 0.0
+        Turns the body x axis counter-clockwise from east about z (rad).
+    pitch : float, default 0.0
+        Lifts the body x axis towards +z (rad).
+    roll : float, default 0.0
+        Turns the body about its x axis (rad).
+
+    Raises
+    ------
+    ValueError
+        If ``semi_axes`` are not three positive lengths.
     """
 
     center: tuple[float, float, float]
@@ -84,7 +167,7 @@ class Ellipsoid:
     yaw: float = 0.0
     pitch: float = 0.0
     roll: float = 0.0
-    _rot: np.ndarray = field(init=False, repr=False, compare=False)
+    _rot: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         axes = tuple(float(a) for a in self.semi_axes)
@@ -96,14 +179,32 @@ class Ellipsoid:
 
     @property
     def bounding_radius(self) -> float:
-        """Radius of a sphere about the centre that contains the shape."""
+        """Radius of a sphere about the centre that contains the shape.
+
+        Returns
+        -------
+        float
+            Radius (m).
+        """
         return max(self.semi_axes)
 
-    def to_body(self, points) -> np.ndarray:
-        """World ``points (..., 3)`` in the ellipsoid's body frame."""
-        return (as_points(points) - np.asarray(self.center)) @ self._rot
+    def to_body(self, points: ArrayLike) -> FloatArray:
+        """World points in the ellipsoid's body frame.
 
-    def _foot_point(self, pb: np.ndarray) -> np.ndarray:
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Body-frame coordinates ``(..., 3)`` (m, origin at the centre).
+        """
+        pb: FloatArray = (as_points(points) - np.asarray(self.center)) @ self._rot
+        return pb
+
+    def _foot_point(self, pb: FloatArray) -> FloatArray:
         """Nearest surface point (body frame) for body-frame points ``(N, 3)``."""
         a = np.asarray(self.semi_axes)
         sign = np.where(pb < 0, -1.0, 1.0)
@@ -123,19 +224,43 @@ class Ellipsoid:
             hi = np.where(pos, hi, mid)
         t = 0.5 * (lo + hi)
         q = a2 * p / (a2 + t[:, None])
-        return sign * q
+        foot: FloatArray = sign * q
+        return foot
 
-    def distance(self, points) -> np.ndarray:
-        """True signed Euclidean distance to the surface (negative inside)."""
+    def distance(self, points: ArrayLike) -> FloatArray:
+        """True signed Euclidean distance to the surface.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), negative inside.
+        """
         pb = self.to_body(points)
         flat = pb.reshape(-1, 3)
         q = self._foot_point(flat)
         d = np.linalg.norm(flat - q, axis=-1)
         inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=-1) < 1.0
-        return np.where(inside, -d, d).reshape(pb.shape[:-1])
+        signed: FloatArray = np.where(inside, -d, d).reshape(pb.shape[:-1])
+        return signed
 
-    def gradient(self, points) -> np.ndarray:
-        """Unit direction of increasing distance (from the foot point), world frame."""
+    def gradient(self, points: ArrayLike) -> FloatArray:
+        """Unit direction of increasing distance (from the foot point), world frame.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Unit vectors ``(..., 3)``.
+        """
         pb = self.to_body(points)
         flat = pb.reshape(-1, 3)
         q = self._foot_point(flat)
@@ -145,28 +270,65 @@ class Ellipsoid:
         normal = q / np.asarray(self.semi_axes) ** 2
         normal /= np.linalg.norm(normal, axis=-1, keepdims=True)
         g = np.where(n > 1e-12, r / np.where(n > 0, n, 1.0) * np.where(inside, -1.0, 1.0), normal)
-        return (g @ self._rot.T).reshape(pb.shape)
+        world: FloatArray = (g @ self._rot.T).reshape(pb.shape)
+        return world
 
-    def ray_distance(self, points) -> np.ndarray:
-        """Document 000's distance along the ray to the centre, ``|p| (1 - 1/s)`` (not conservative)."""
+    def ray_distance(self, points: ArrayLike) -> FloatArray:
+        """Document 000's distance along the ray to the centre, ``|p| (1 - 1/s)`` (not conservative).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), negative inside; overestimates the true clearance.
+        """
         pb = self.to_body(points)
         s = np.sqrt(((pb / np.asarray(self.semi_axes)) ** 2).sum(axis=-1))
-        return np.linalg.norm(pb, axis=-1) * (1.0 - 1.0 / np.where(s > 0, s, 1.0))
+        ray: FloatArray = np.linalg.norm(pb, axis=-1) * (1.0 - 1.0 / np.where(s > 0, s, 1.0))
+        return ray
 
-    def lower_bound_distance(self, points) -> np.ndarray:
-        """Guaranteed lower bound of the distance outside: ``(s - 1) A_min``."""
+    def lower_bound_distance(self, points: ArrayLike) -> FloatArray:
+        """Guaranteed lower bound of the distance outside: ``(s - 1) A_min``.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), never above the true distance outside.
+        """
         pb = self.to_body(points)
         s = np.sqrt(((pb / np.asarray(self.semi_axes)) ** 2).sum(axis=-1))
-        return (s - 1.0) * min(self.semi_axes)
+        bound: FloatArray = (s - 1.0) * min(self.semi_axes)
+        return bound
 
-    def segments_hit(self, segments, margin: float = 0.0) -> np.ndarray:
-        """Exact: True where a segment ``(..., 2, 3)`` comes closer than ``margin`` to the surface.
+    def segments_hit(self, segments: ArrayLike, margin: float = 0.0) -> BoolArray:
+        """Exact test: where a segment comes closer than ``margin`` to the surface.
 
         Without a margin, the segment against the unit sphere in scaled coordinates.  With one, the
         ellipsoid scaled by ``1 + margin / A_min`` (which contains every point within ``margin``)
         rules out the clear segments; for the rest, the signed distance along the segment is convex
         in the segment parameter, so a golden-section search finds its minimum (to 10⁻⁹ of the
         segment's length) and decides.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+        margin : float, default 0.0
+            Required distance from the surface (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True for segments that come closer than ``margin``.
         """
         s = np.asarray(segments, dtype=float)
         a = self.to_body(s[..., 0, :]) / np.asarray(self.semi_axes)
@@ -181,7 +343,7 @@ class Ellipsoid:
             hit[near] = self._segment_min_distance(s[near]) < margin
         return hit
 
-    def _segment_min_distance(self, seg: np.ndarray) -> np.ndarray:
+    def _segment_min_distance(self, seg: FloatArray) -> FloatArray:
         """Smallest signed distance to the surface along segments ``(N, 2, 3)`` (golden section)."""
         p0, d = seg[:, 0], seg[:, 1] - seg[:, 0]
         g = 0.5 * (np.sqrt(5.0) - 1.0)
@@ -205,10 +367,22 @@ class Ellipsoid:
                 f2n[todo2] = self.distance(p0[todo2] + t2[todo2, None] * d[todo2])
             f1, f2 = f1n, f2n
         ends = np.minimum(self.distance(seg[:, 0]), self.distance(seg[:, 1]))
-        return np.minimum(np.minimum(f1, f2), ends)
+        least: FloatArray = np.minimum(np.minimum(f1, f2), ends)
+        return least
 
-    def moved_to(self, center) -> Ellipsoid:
-        """The same ellipsoid about a new centre."""
+    def moved_to(self, center: ArrayLike) -> Ellipsoid:
+        """The same ellipsoid about a new centre.
+
+        Parameters
+        ----------
+        center : array_like
+            New centre ``(3,)`` (m).
+
+        Returns
+        -------
+        Ellipsoid
+            A copy with the new centre (same axes and orientation).
+        """
         return replace(self, center=tuple(np.asarray(center, dtype=float)))
 
 
@@ -218,25 +392,68 @@ Shape = Sphere | Ellipsoid
 # ---------------------------------------------------------------------- motion models
 @dataclass(frozen=True)
 class LinearMotion:
-    """Constant velocity from ``start`` (m, m/s)."""
+    """Constant velocity from a start point.
+
+    Parameters
+    ----------
+    start : tuple of float
+        Position at t = 0 (m).
+    velocity : tuple of float
+        Velocity (m/s).
+    """
 
     start: tuple[float, float, float]
     velocity: tuple[float, float, float]
 
-    def position(self, t) -> np.ndarray:
-        """Centre at times ``t`` (scalar or ``(T,)``) → ``(3,)`` or ``(T, 3)``."""
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Centre at times.
+
+        Parameters
+        ----------
+        t : array_like
+            Time (s), scalar or ``(T,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` or ``(T, 3)`` (m).
+        """
         t = np.asarray(t, dtype=float)
-        return np.asarray(self.start) + t[..., None] * np.asarray(self.velocity)
+        centre: FloatArray = np.asarray(self.start) + t[..., None] * np.asarray(self.velocity)
+        return centre
 
     @property
     def speed(self) -> float:
-        """Largest speed of the centre (m/s)."""
+        """Largest speed of the centre.
+
+        Returns
+        -------
+        float
+            Speed (m/s).
+        """
         return float(np.linalg.norm(self.velocity))
 
 
 @dataclass(frozen=True)
 class CircleMotion:
-    """Horizontal circle of ``radius`` about ``center`` with ``period`` (s); counter-clockwise when ``period > 0``."""
+    """Horizontal circle of ``radius`` about ``center`` with ``period`` (s); counter-clockwise when ``period > 0``.
+
+    Parameters
+    ----------
+    center : tuple of float
+        Centre of the circle (m).
+    radius : float
+        Radius (m), positive.
+    period : float
+        Time of one turn (s), non-zero; negative turns clockwise.
+    phase : float, default 0.0
+        Angle at t = 0, counter-clockwise from east (rad).
+
+    Raises
+    ------
+    ValueError
+        If the radius is not positive or the period is zero.
+    """
 
     center: tuple[float, float, float]
     radius: float
@@ -247,7 +464,19 @@ class CircleMotion:
         if self.period == 0 or self.radius <= 0:
             raise ValueError("circle motion needs a positive radius and a non-zero period")
 
-    def position(self, t) -> np.ndarray:
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Centre at times.
+
+        Parameters
+        ----------
+        t : array_like
+            Time (s), scalar or ``(T,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` or ``(T, 3)`` (m).
+        """
         t = np.asarray(t, dtype=float)
         ang = self.phase + 2.0 * np.pi * t / self.period
         off = np.stack([np.cos(ang), np.sin(ang), np.zeros_like(ang)], axis=-1) * self.radius
@@ -255,18 +484,40 @@ class CircleMotion:
 
     @property
     def speed(self) -> float:
+        """Largest speed of the centre.
+
+        Returns
+        -------
+        float
+            Speed (m/s).
+        """
         return float(2.0 * np.pi * self.radius / abs(self.period))
 
 
 @dataclass(frozen=True, eq=False)
 class WaypointMotion:
-    """Constant ``speed`` along a polyline of ``points (K, 3)``; closed into a loop when ``loop``."""
+    """Constant speed along a polyline.
 
-    points: np.ndarray
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(K, 3)`` (m), ``K >= 2``.
+    speed : float
+        Speed of the centre (m/s), positive.
+    loop : bool, default True
+        Close the polyline into a loop (else stop at the last vertex).
+
+    Raises
+    ------
+    ValueError
+        With fewer than two points or a speed that is not positive.
+    """
+
+    points: FloatArray
     speed: float
     loop: bool = True
-    _s: np.ndarray = field(init=False, repr=False)
-    _pts: np.ndarray = field(init=False, repr=False)
+    _s: FloatArray = field(init=False, repr=False)
+    _pts: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         pts = np.asarray(self.points, dtype=float).reshape(-1, 3)
@@ -279,7 +530,19 @@ class WaypointMotion:
         object.__setattr__(self, "_pts", pts)
         object.__setattr__(self, "_s", s)
 
-    def position(self, t) -> np.ndarray:
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Centre at times.
+
+        Parameters
+        ----------
+        t : array_like
+            Time (s), scalar or ``(T,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` or ``(T, 3)`` (m).
+        """
         t = np.asarray(t, dtype=float)
         d = self.speed * t
         d = np.mod(d, self._s[-1]) if self.loop else np.clip(d, 0.0, self._s[-1])
@@ -293,6 +556,30 @@ class RandomWalkMotion:
     The track is pre-computed at ``dt`` over ``duration`` seconds (then it
     stays put), reflected off the horizontal box ``bounds = (xmin, xmax, ymin, ymax)``
     when given.  The same ``seed`` gives the same track.
+
+    Parameters
+    ----------
+    start : tuple of float
+        Position at t = 0 (m); the depth stays.
+    speed : float
+        Speed (m/s), non-negative.
+    turn_sigma : float, default 0.05
+        Heading diffusion (rad/√s).
+    heading : float, default 0.0
+        Initial compass heading (rad).
+    duration : float, default 7200.0
+        Length of the pre-computed track (s).
+    dt : float, default 1.0
+        Track step (s).
+    seed : int, default 0
+        Seed of the track's generator.
+    bounds : tuple of float, optional
+        ``(xmin, xmax, ymin, ymax)`` (m) to reflect the walk off.
+
+    Raises
+    ------
+    ValueError
+        If speed < 0, dt <= 0 or duration <= 0.
     """
 
     start: tuple[float, float, float]
@@ -303,7 +590,7 @@ class RandomWalkMotion:
     dt: float = 1.0
     seed: int = 0
     bounds: tuple[float, float, float, float] | None = None
-    _track: np.ndarray = field(init=False, repr=False)
+    _track: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.speed < 0 or self.dt <= 0 or self.duration <= 0:
@@ -323,12 +610,25 @@ class RandomWalkMotion:
         track = np.column_stack([xy, np.full(n + 1, float(self.start[2]))])
         object.__setattr__(self, "_track", track)
 
-    def position(self, t) -> np.ndarray:
+    def position(self, t: ArrayLike) -> FloatArray:
+        """Centre at times.
+
+        Parameters
+        ----------
+        t : array_like
+            Time (s), scalar or ``(T,)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` or ``(T, 3)`` (m).
+        """
         t = np.asarray(t, dtype=float)
         k = np.clip(t / self.dt, 0.0, self._track.shape[0] - 1.0)
         i = np.minimum(np.floor(k).astype(np.intp), self._track.shape[0] - 2)
         f = (k - i)[..., None]
-        return self._track[i] * (1.0 - f) + self._track[i + 1] * f
+        centre: FloatArray = self._track[i] * (1.0 - f) + self._track[i + 1] * f
+        return centre
 
 
 Motion = LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
@@ -338,8 +638,18 @@ Motion = LinearMotion | CircleMotion | WaypointMotion | RandomWalkMotion
 class MovingObstacle:
     """A shape whose centre follows ``motion``; the shape's own centre is ignored.
 
-    ``appears`` and ``disappears`` (s) bound the time the obstacle exists
-    (an obstacle removed mid-mission has a finite ``disappears``).
+    Parameters
+    ----------
+    shape : Sphere or Ellipsoid
+        The body; its own centre is ignored.
+    motion : LinearMotion or CircleMotion or WaypointMotion or RandomWalkMotion
+        Path of the centre.
+    name : str
+        Free text.
+    appears : float, default 0.0
+        Time the obstacle starts to exist (s).
+    disappears : float, default inf
+        Time it stops existing (s; finite for an obstacle removed mid-mission).
     """
 
     shape: Shape
@@ -348,18 +658,64 @@ class MovingObstacle:
     appears: float = 0.0
     disappears: float = float("inf")
 
-    def center(self, t: float) -> np.ndarray:
-        """Centre at time ``t`` (s)."""
+    def center(self, t: float) -> FloatArray:
+        """Centre at a time.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` (m).
+        """
         return self.motion.position(t)
 
-    def velocity(self, t: float, h: float = 0.05) -> np.ndarray:
-        """Centre velocity at ``t`` by a central difference (m/s)."""
+    def velocity(self, t: float, h: float = 0.05) -> FloatArray:
+        """Centre velocity by a central difference (one-sided at t = 0).
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+        h : float, default 0.05
+            Half step of the difference (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(3,)`` (m/s).
+        """
         return (self.motion.position(t + h) - self.motion.position(max(t - h, 0.0))) / (t + h - max(t - h, 0.0))
 
     def active(self, t: float) -> bool:
-        """Whether the obstacle exists at time ``t``."""
+        """Whether the obstacle exists at a time.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        bool
+            ``appears <= t < disappears``.
+        """
         return self.appears <= t < self.disappears
 
     def at(self, t: float) -> Shape:
-        """The obstacle's shape placed at its position at time ``t``."""
+        """The obstacle's shape placed at its position at a time.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        Sphere or Ellipsoid
+            The shape about :meth:`center` ``(t)``.
+        """
         return self.shape.moved_to(self.center(t))

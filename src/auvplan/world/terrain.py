@@ -22,13 +22,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 
 from .._jit import kernel
+from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 
-__all__ = ["Terrain", "elevation_kernel", "min_altitude_kernel"]
+__all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel"]
+
+#: ``(coef, x0, y0, dx, dy, max_slope)``: bilinear coefficients ``(ny - 1, nx - 1, 4)`` (m), grid origin (m),
+#: cell sizes (m) and the surface's steepest slope; the leading arguments of the compiled kernels.
+TerrainKernelData: TypeAlias = tuple[FloatArray, float, float, float, float, float]
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,15 +49,20 @@ class Terrain:
         Seabed elevation (m, positive up), shape ``(ny, nx)``; must be finite.
     name : str
         Free text (source of the data).
+
+    Raises
+    ------
+    DataError
+        If the grid is smaller than 2 x 2, not uniform and ascending, mis-shaped or not finite.
     """
 
-    x: np.ndarray
-    y: np.ndarray
-    z: np.ndarray
+    x: FloatArray
+    y: FloatArray
+    z: FloatArray
     name: str = ""
-    _coef: np.ndarray = field(init=False, repr=False)
+    _coef: FloatArray = field(init=False, repr=False)
     _lipschitz: float = field(init=False, repr=False)
-    _kernel: tuple = field(init=False, repr=False, compare=False)
+    _kernel: TerrainKernelData = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.x, dtype=float)
@@ -89,7 +100,8 @@ class Terrain:
         gx = np.maximum(np.abs(coef[..., 1]), np.abs(coef[..., 1] + coef[..., 3])) / (x[1] - x[0])
         gy = np.maximum(np.abs(coef[..., 2]), np.abs(coef[..., 2] + coef[..., 3])) / (y[1] - y[0])
         object.__setattr__(self, "_lipschitz", float(np.sqrt(gx**2 + gy**2).max()))
-        kernel_data = (coef, float(x[0]), float(y[0]), float(x[1] - x[0]), float(y[1] - y[0]), self._lipschitz)
+        kernel_data: TerrainKernelData = (coef, float(x[0]), float(y[0]), float(x[1] - x[0]), float(y[1] - y[0]),
+                                          self._lipschitz)
         object.__setattr__(self, "_kernel", kernel_data)
 
     # ------------------------------------------------------------------ grid facts
@@ -104,7 +116,7 @@ class Terrain:
         return float(self.y[1] - self.y[0])
 
     @property
-    def kernel_data(self) -> tuple:
+    def kernel_data(self) -> TerrainKernelData:
         """``(coef, x0, y0, dx, dy, max_slope)``: the leading arguments of the compiled
         :func:`elevation_kernel` (first five) and :func:`min_altitude_kernel` (all six)."""
         return self._kernel
@@ -115,7 +127,7 @@ class Terrain:
         return float(self.x[0]), float(self.x[-1]), float(self.y[0]), float(self.y[-1])
 
     # ------------------------------------------------------------------ evaluation
-    def _locate(self, x, y):
+    def _locate(self, x: ArrayLike, y: ArrayLike) -> tuple[IntArray, IntArray, FloatArray, FloatArray]:
         fx = (np.asarray(x, dtype=float) - self.x[0]) / self.dx
         fy = (np.asarray(y, dtype=float) - self.y[0]) / self.dy
         i = np.clip(np.floor(fx), 0, self.x.size - 2).astype(np.intp)
@@ -124,19 +136,53 @@ class Terrain:
         v = np.clip(fy - j, 0.0, 1.0)
         return i, j, u, v
 
-    def elevation(self, x, y) -> np.ndarray:
-        """Bilinear seabed elevation at ``(x, y)`` (broadcasting arrays, m)."""
+    def elevation(self, x: ArrayLike, y: ArrayLike) -> FloatArray:
+        """Bilinear seabed elevation.
+
+        Parameters
+        ----------
+        x, y : array_like
+            Easting and northing (m); broadcast together.  Outside the grid the edge values hold.
+
+        Returns
+        -------
+        numpy.ndarray
+            Seabed elevation ``zb`` (m, positive up), the broadcast shape (0-d for scalars).
+        """
         bx, by = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         out = np.empty(bx.shape)
         _elevations(*self.kernel_data[:5], bx.ravel(), by.ravel(), out.reshape(-1))
-        return out[()]
+        zb: FloatArray = out[()]
+        return zb
 
     def elevation_at(self, x: float, y: float) -> float:
-        """:meth:`elevation` of one point with plain floats (the simulator's per-step query)."""
+        """:meth:`elevation` of one point with plain floats (the simulator's per-step query).
+
+        Parameters
+        ----------
+        x, y : float
+            Easting and northing (m).
+
+        Returns
+        -------
+        float
+            Seabed elevation (m, positive up).
+        """
         return elevation_kernel(*self._kernel[:5], x, y)
 
-    def gradient(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """``(dzb/dx, dzb/dy)`` of the bilinear surface (zero slope across a clamped edge)."""
+    def gradient(self, x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """Slope of the bilinear surface (zero across a clamped edge).
+
+        Parameters
+        ----------
+        x, y : array_like
+            Easting and northing (m); broadcast together.
+
+        Returns
+        -------
+        gx, gy : numpy.ndarray
+            ``dzb/dx`` and ``dzb/dy`` (m/m).
+        """
         fx = (np.asarray(x, dtype=float) - self.x[0]) / self.dx
         fy = (np.asarray(y, dtype=float) - self.y[0]) / self.dy
         i, j, u, v = self._locate(x, y)
@@ -147,10 +193,22 @@ class Terrain:
         gy = np.where(inside_y, (c + e * u) / self.dy, 0.0)
         return gx, gy
 
-    def altitude(self, points) -> np.ndarray:
-        """Height of ``points (..., 3)`` above the seabed (negative below it)."""
+    def altitude(self, points: ArrayLike) -> FloatArray:
+        """Height of points above the seabed.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Altitude ``z - zb`` ``(...)`` (m, negative below the seabed).
+        """
         p = np.asarray(points, dtype=float)
-        return p[..., 2] - self.elevation(p[..., 0], p[..., 1])
+        altitude: FloatArray = p[..., 2] - self.elevation(p[..., 0], p[..., 1])
+        return altitude
 
     # ------------------------------------------------------------------ exact segment test
     @property
@@ -158,14 +216,32 @@ class Terrain:
         """Largest slope |∇zb| of the bilinear surface (its Lipschitz constant)."""
         return self._lipschitz
 
-    def altitude_lower_bound(self, ga, gb, dz, lh) -> np.ndarray:
-        """Provable lower bound ``min(g_a, g_b, (g_a + g_b - |Δz| - G L_h) / 2)`` of the minimum
-        altitude along segments with end altitudes ``g_a, g_b``, rise ``Δz`` and horizontal
-        length ``L_h`` (G the steepest slope: the seabed cannot rise faster)."""
-        bound = 0.5 * (ga + gb - np.abs(dz) - self._lipschitz * lh)
-        return np.minimum(bound, np.minimum(ga, gb))
+    def altitude_lower_bound(self, ga: FloatArray, gb: FloatArray, dz: FloatArray, lh: FloatArray) -> FloatArray:
+        """Provable lower bound of the minimum altitude along segments.
 
-    def segment_min_altitude(self, segments, threshold: float = np.inf, end_altitudes=None) -> np.ndarray:
+        ``min(g_a, g_b, (g_a + g_b - |Δz| - G L_h) / 2)``, G the steepest slope: the seabed
+        cannot rise faster.
+
+        Parameters
+        ----------
+        ga, gb : numpy.ndarray
+            Altitudes of the segments' end points (m).
+        dz : numpy.ndarray
+            Rise of each segment (m).
+        lh : numpy.ndarray
+            Horizontal length of each segment (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Lower bound of the minimum altitude (m), broadcast shape of the inputs.
+        """
+        bound = 0.5 * (ga + gb - np.abs(dz) - self._lipschitz * lh)
+        lower: FloatArray = np.minimum(bound, np.minimum(ga, gb))
+        return lower
+
+    def segment_min_altitude(self, segments: ArrayLike, threshold: float = np.inf,
+                             end_altitudes: tuple[ArrayLike, ArrayLike] | None = None) -> FloatArray:
         """Minimum of ``z - zb`` along each segment, exact wherever it is below ``threshold``.
 
         With the default ``threshold = inf`` every value is exact.  With a finite
@@ -178,24 +254,45 @@ class Terrain:
         Parameters
         ----------
         segments : array_like, shape ``(..., 2, 3)``
-            Start and end points.
+            Start and end points (m).
         threshold : float
-            Altitude below which the result must be exact.
-        end_altitudes : tuple of ndarray, optional
-            The altitudes ``(g_a, g_b)`` of the end points when the caller already has them.
+            Altitude below which the result must be exact (m).
+        end_altitudes : tuple of array_like, optional
+            The altitudes ``(g_a, g_b)`` of the end points (m) when the caller already has them.
 
         Returns
         -------
         ndarray, shape ``(...)``
-            Minimum altitude above the bilinear seabed over the whole segment.
+            Minimum altitude above the bilinear seabed over the whole segment (m).
+
+        Raises
+        ------
+        ValueError
+            If ``segments`` is not of shape ``(..., 2, 3)``.
         """
         seg = np.asarray(segments, dtype=float)
         if seg.shape[-2:] != (2, 3):
             raise ValueError(f"segments must have shape (..., 2, 3), got {seg.shape}")
         return self.min_altitude_between(seg[..., 0, :], seg[..., 1, :], threshold, end_altitudes)
 
-    def min_altitude_between(self, a, b, threshold: float = np.inf, end_altitudes=None) -> np.ndarray:
-        """:meth:`segment_min_altitude` of the segments ``a -> b`` given as two arrays ``(..., 3)``."""
+    def min_altitude_between(self, a: ArrayLike, b: ArrayLike, threshold: float = np.inf,
+                             end_altitudes: tuple[ArrayLike, ArrayLike] | None = None) -> FloatArray:
+        """:meth:`segment_min_altitude` of the segments ``a -> b`` given as two arrays.
+
+        Parameters
+        ----------
+        a, b : array_like
+            Segment starts and ends ``(..., 3)`` (m); broadcast together.
+        threshold : float
+            Altitude below which the result must be exact (m).
+        end_altitudes : tuple of array_like, optional
+            The altitudes ``(g_a, g_b)`` of the end points (m) when the caller already has them.
+
+        Returns
+        -------
+        numpy.ndarray
+            Minimum altitude over each segment ``(...)`` (m).
+        """
         a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
         lead = a.shape[:-1]
         a = np.ascontiguousarray(a.reshape(-1, 3))
@@ -211,18 +308,51 @@ class Terrain:
         _min_altitudes(*self.kernel_data, a, b, ga, gb, known, float(threshold), out)
         return out.reshape(lead)
 
-    def segments_below(self, segments, altitude: float = 0.0) -> np.ndarray:
-        """True where a segment passes below ``zb + altitude`` anywhere (exact)."""
-        return self.segment_min_altitude(segments, threshold=altitude) < altitude
+    def segments_below(self, segments: ArrayLike, altitude: float = 0.0) -> BoolArray:
+        """Where a segment passes below ``zb + altitude`` anywhere (exact).
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+        altitude : float, default 0.0
+            Required height above the seabed (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True for segments that dip below.
+        """
+        below: BoolArray = self.segment_min_altitude(segments, threshold=altitude) < altitude
+        return below
 
     # ------------------------------------------------------------------ document 004 variant
-    def segments_below_stepping(self, segments, altitude: float = 0.0, step: float | None = None) -> np.ndarray:
+    def segments_below_stepping(self, segments: ArrayLike, altitude: float = 0.0,
+                                step: float | None = None) -> BoolArray:
         """Document 004's collision test: probe every ``step`` metres along the dominant axis.
 
         The probe count of a segment is ``ceil(span / step)`` where ``span`` is its
         largest coordinate extent; each probe is compared with the bilinear seabed.
-        ``step`` defaults to the smaller cell size.  Features thinner than ``step``
-        can be missed.
+        Features thinner than ``step`` can be missed.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+        altitude : float, default 0.0
+            Required height above the seabed (m).
+        step : float, optional
+            Probe spacing (m); defaults to the smaller cell size.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True where a probe is below ``zb + altitude``.
+
+        Raises
+        ------
+        ValueError
+            If ``step`` is not positive.
         """
         seg = np.asarray(segments, dtype=float)
         lead = seg.shape[:-2]
@@ -242,7 +372,8 @@ class Terrain:
         pts = seg[sid, 0] + t[:, None] * d[sid]
         below = self.altitude(pts) < altitude
         starts = np.cumsum(count) - count
-        return np.logical_or.reduceat(below, starts).reshape(lead)
+        hits: BoolArray = np.logical_or.reduceat(below, starts).reshape(lead)
+        return hits
 
 
 # ---------------------------------------------------------------------- compiled kernels
@@ -254,9 +385,29 @@ def _cell(f: float, cells: int) -> int:
 
 
 @kernel
-def elevation_kernel(coef, x0, y0, dx, dy, x, y):
-    """Compiled :meth:`Terrain.elevation` of one point (the arguments before ``x`` are
-    :attr:`Terrain.kernel_data`)."""
+def elevation_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, x: float, y: float) -> float:
+    """Compiled :meth:`Terrain.elevation` of one point.
+
+    Parameters
+    ----------
+    coef : numpy.ndarray
+        Bilinear coefficients per cell ``(ny - 1, nx - 1, 4)`` (m).
+    x0, y0 : float
+        Grid origin (m).
+    dx, dy : float
+        Cell sizes (m).
+    x, y : float
+        The point (m).
+
+    Returns
+    -------
+    float
+        Seabed elevation (m); NaN for a NaN coordinate.
+
+    Notes
+    -----
+    The arguments before ``x`` are the first five of :attr:`Terrain.kernel_data`.
+    """
     if not (x == x and y == y):
         return math.nan
     fx = (x - x0) / dx
@@ -265,17 +416,20 @@ def elevation_kernel(coef, x0, y0, dx, dy, x, y):
     j = _cell(fy, coef.shape[0])
     u = min(max(fx - i, 0.0), 1.0)
     v = min(max(fy - j, 0.0), 1.0)
-    return coef[j, i, 0] + coef[j, i, 1] * u + coef[j, i, 2] * v + coef[j, i, 3] * u * v
+    zb: float = coef[j, i, 0] + coef[j, i, 1] * u + coef[j, i, 2] * v + coef[j, i, 3] * u * v
+    return zb
 
 
 @kernel
-def _elevations(coef, x0, y0, dx, dy, x, y, out):
+def _elevations(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, x: FloatArray, y: FloatArray,
+                out: FloatArray) -> None:
     for k in range(x.size):
         out[k] = elevation_kernel(coef, x0, y0, dx, dy, x[k], y[k])
 
 
 @kernel
-def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
+def _piece_min(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, px: float, py: float, pz: float,
+               ex: float, ey: float, ez: float, ta: float, tb: float) -> float:
     """Minimum altitude over ``p + t e``, ``t in [ta, tb]``, a piece inside one cell: the bilinear
     surface is a quadratic in t there, so the minimum is at an end or at the vertex."""
     nxc, nyc = coef.shape[1], coef.shape[0]
@@ -295,7 +449,7 @@ def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
     g0 = pz - (a + b * u0 + c * v0 + e * u0 * v0)
     g1 = ez - (b * du + c * dv + e * (u0 * dv + v0 * du))
     g2 = -e * du * dv
-    best = min(g0 + (g1 + g2 * ta) * ta, g0 + (g1 + g2 * tb) * tb)
+    best: float = min(g0 + (g1 + g2 * ta) * ta, g0 + (g1 + g2 * tb) * tb)
     if g2 > 0.0:
         tv = -g1 / (2.0 * g2)
         if ta < tv < tb:
@@ -304,7 +458,8 @@ def _piece_min(coef, x0, y0, dx, dy, px, py, pz, ex, ey, ez, ta, tb):
 
 
 @kernel
-def _crossings(pa, pb, origin, step, lines):
+def _crossings(pa: float, pb: float, origin: float, step: float,
+               lines: int) -> tuple[float, float, float, float, float]:
     """First grid line crossed from ``pa`` to ``pb``, the last one and the direction (+1/-1), and
     the ends in grid units; lines ``0 .. lines`` exist.  ``first`` past ``last`` means none."""
     ka = (pa - origin) / step
@@ -317,7 +472,8 @@ def _crossings(pa, pb, origin, step, lines):
 
 
 @kernel
-def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
+def _walk_min(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, px: float, py: float, pz: float,
+              qx: float, qy: float, qz: float) -> float:
     """Exact minimum altitude along the segment ``p -> q``: split at every grid line it crosses,
     in order of the segment parameter, and take the least piece minimum."""
     ex, ey, ez = qx - px, qy - py, qz - pz
@@ -340,16 +496,49 @@ def _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz):
 
 
 @kernel
-def min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_a, g_b, threshold):
-    """Compiled :meth:`Terrain.segment_min_altitude` of one segment ``p -> q`` with end altitudes
-    ``g_a, g_b`` (the arguments before ``px`` are :attr:`Terrain.kernel_data`): the lower bound
-    where it already clears ``threshold``, the exact walk elsewhere."""
+def min_altitude_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, lipschitz: float,
+                        px: float, py: float, pz: float, qx: float, qy: float, qz: float,
+                        g_a: float, g_b: float, threshold: float) -> float:
+    """Compiled :meth:`Terrain.segment_min_altitude` of one segment ``p -> q``.
+
+    The lower bound where it already clears ``threshold``, the exact walk elsewhere.
+
+    Parameters
+    ----------
+    coef : numpy.ndarray
+        Bilinear coefficients per cell ``(ny - 1, nx - 1, 4)`` (m).
+    x0, y0 : float
+        Grid origin (m).
+    dx, dy : float
+        Cell sizes (m).
+    lipschitz : float
+        Steepest slope of the surface (m/m).
+    px, py, pz : float
+        Segment start (m).
+    qx, qy, qz : float
+        Segment end (m).
+    g_a, g_b : float
+        Altitudes of the start and the end above the seabed (m).
+    threshold : float
+        Altitude below which the result is exact (m).
+
+    Returns
+    -------
+    float
+        Minimum altitude along the segment (m), or a lower bound of it that is ``>= threshold``.
+
+    Notes
+    -----
+    The arguments before ``px`` are :attr:`Terrain.kernel_data`.
+    """
     bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.sqrt((qx - px) ** 2 + (qy - py) ** 2)))
     return bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
 
 
 @kernel
-def _min_altitudes(coef, x0, y0, dx, dy, lipschitz, a, b, ga, gb, known, threshold, out):
+def _min_altitudes(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, lipschitz: float, a: FloatArray,
+                   b: FloatArray, ga: FloatArray, gb: FloatArray, known: bool, threshold: float,
+                   out: FloatArray) -> None:
     for k in range(a.shape[0]):
         px, py, pz, qx, qy, qz = a[k, 0], a[k, 1], a[k, 2], b[k, 0], b[k, 1], b[k, 2]
         if known:

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._jit import kernel
+from .._types import ArrayLike, FloatArray, IntArray
 from ..errors import DataError
 from ..geometry import as_points
 from .currents import CurrentField
@@ -39,7 +40,23 @@ _EPOCH = _dt.datetime(1970, 1, 1, tzinfo=_dt.UTC)
 
 
 def unix_time(when: _dt.datetime) -> float:
-    """Seconds since 1970-01-01 00:00 UTC of an aware datetime."""
+    """Seconds since 1970-01-01 00:00 UTC of an aware datetime.
+
+    Parameters
+    ----------
+    when : datetime.datetime
+        A time with a time zone.
+
+    Returns
+    -------
+    float
+        Unix time (s).
+
+    Raises
+    ------
+    ValueError
+        If ``when`` has no time zone.
+    """
     if when.tzinfo is None:
         raise ValueError(f"{when.isoformat()}: a time zone is required (e.g. 'Z' for UTC)")
     return (when - _EPOCH).total_seconds()
@@ -61,13 +78,18 @@ class HarmonicTables:
         ``V0 + u`` at 1 January 00:00 UTC of each year (degrees, Greenwich).
     node_factor : ndarray, shape (C, Y)
         Node factor ``f`` for the middle of each year.
+
+    Raises
+    ------
+    DataError
+        If the arrays disagree in shape.
     """
 
     names: tuple[str, ...]
-    speed: np.ndarray
+    speed: FloatArray
     first_year: int
-    equilibrium: np.ndarray
-    node_factor: np.ndarray
+    equilibrium: FloatArray
+    node_factor: FloatArray
 
     def __post_init__(self) -> None:
         c = len(self.names)
@@ -79,11 +101,37 @@ class HarmonicTables:
 
     @property
     def years(self) -> tuple[int, int]:
-        """First and last year the tables cover."""
+        """First and last year the tables cover.
+
+        Returns
+        -------
+        tuple of int
+            ``(first, last)``, both included.
+        """
         return self.first_year, self.first_year + self.equilibrium.shape[1] - 1
 
-    def arguments(self, unix_seconds) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Hours since the start of each time's UTC year ``(N,)``, ``V0 + u`` (degrees) and ``f``, ``(N, C)``."""
+    def arguments(self, unix_seconds: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """The astronomical arguments at UTC times.
+
+        Parameters
+        ----------
+        unix_seconds : array_like
+            Times ``(N,)`` (s since 1970-01-01 00:00 UTC).
+
+        Returns
+        -------
+        hours : numpy.ndarray
+            Hours since the start of each time's UTC year ``(N,)``.
+        v0u : numpy.ndarray
+            ``V0 + u`` of that year ``(N, C)`` (degrees).
+        f : numpy.ndarray
+            Node factors of that year ``(N, C)``.
+
+        Raises
+        ------
+        DataError
+            If a time falls outside the years of the tables.
+        """
         t = np.atleast_1d(np.asarray(unix_seconds, dtype=float))
         years = (t.astype("datetime64[s]").astype("datetime64[Y]").astype(int) + 1970).astype(int)
         y0, y1 = self.years
@@ -94,19 +142,36 @@ class HarmonicTables:
         return (t - start) / 3600.0, self.equilibrium[:, col].T, self.node_factor[:, col].T
 
 
-def predict_speed(tables: HarmonicTables, amplitude, greenwich_phase, mean, unix_seconds) -> np.ndarray:
-    """Signed speeds along the flood axis ``(N, S)`` (m/s) of ``S`` stations at ``N`` UTC times.
+def predict_speed(tables: HarmonicTables, amplitude: ArrayLike, greenwich_phase: ArrayLike, mean: ArrayLike,
+                  unix_seconds: ArrayLike) -> FloatArray:
+    """Signed speeds along the flood axis of ``S`` stations at ``N`` UTC times (module notes).
 
-    ``amplitude`` and ``greenwich_phase`` (degrees, ``G = κ - ω z``) have shape ``(S, C)``; ``mean``
-    ``(S,)`` is the mean current (see the module notes).
+    Parameters
+    ----------
+    tables : HarmonicTables
+        Constituents and their yearly tables.
+    amplitude : array_like
+        Amplitudes ``(S, C)`` (m/s).
+    greenwich_phase : array_like
+        Greenwich phases ``G = κ - ω z`` ``(S, C)`` (degrees).
+    mean : array_like
+        Mean current along the flood axis ``(S,)`` (m/s).
+    unix_seconds : array_like
+        Times ``(N,)`` (s since 1970-01-01 00:00 UTC).
+
+    Returns
+    -------
+    numpy.ndarray
+        Signed speeds ``(N, S)`` (m/s; positive towards the flood).
     """
     hours, v0u, f = tables.arguments(unix_seconds)
     arg = np.radians(hours[:, None] * tables.speed[None, :] + v0u)  # (N, C)
     g = np.radians(np.asarray(greenwich_phase, dtype=float))  # (S, C)
     a = np.asarray(amplitude, dtype=float)
     # cos(arg - g) = cos(arg) cos(g) + sin(arg) sin(g): two (N, C) @ (C, S) products
-    return np.asarray(mean, dtype=float)[None, :] + (f * np.cos(arg)) @ (a * np.cos(g)).T + \
+    speed: FloatArray = np.asarray(mean, dtype=float)[None, :] + (f * np.cos(arg)) @ (a * np.cos(g)).T + \
         (f * np.sin(arg)) @ (a * np.sin(g)).T
+    return speed
 
 
 @dataclass(frozen=True, eq=False)
@@ -135,22 +200,27 @@ class TidalCurrent(CurrentField):
         Smoothing distance of the inverse-distance weights (m).
     names : tuple of str
         Station names, for reports.
+
+    Raises
+    ------
+    DataError
+        If the station arrays disagree in shape, there is no station, a site has none, or r0 <= 0.
     """
 
     tables: HarmonicTables
-    site_xy: np.ndarray
-    site: np.ndarray
-    depth: np.ndarray
-    flood: np.ndarray
-    ebb: np.ndarray
-    amplitude: np.ndarray
-    greenwich_phase: np.ndarray
-    mean: np.ndarray
+    site_xy: FloatArray
+    site: IntArray
+    depth: FloatArray
+    flood: FloatArray
+    ebb: FloatArray
+    amplitude: FloatArray
+    greenwich_phase: FloatArray
+    mean: FloatArray
     epoch: float
     r0: float = 1000.0
     names: tuple[str, ...] = ()
-    _bins: tuple = field(init=False, repr=False)
-    _cache: dict = field(init=False, repr=False)
+    _bins: tuple[IntArray, FloatArray] = field(init=False, repr=False)
+    _cache: dict[int, FloatArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         for key in ("site_xy", "depth", "flood", "ebb", "amplitude", "greenwich_phase", "mean"):
@@ -173,21 +243,44 @@ class TidalCurrent(CurrentField):
         object.__setattr__(self, "_cache", {})
 
     # ------------------------------------------------------------------ stations
-    def station_velocity(self, t) -> np.ndarray:
-        """Velocities ``(T, S, 2)`` (east, north; m/s) of every station at times ``t (T,)`` (s after epoch)."""
+    def station_velocity(self, t: ArrayLike) -> FloatArray:
+        """Velocities of every station at times.
+
+        Parameters
+        ----------
+        t : array_like
+            Times ``(T,)`` (s after ``epoch``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(T, S, 2)`` (east, north; m/s).
+        """
         tt = np.atleast_1d(np.asarray(t, dtype=float))
         s = predict_speed(self.tables, self.amplitude, self.greenwich_phase, self.mean, self.epoch + tt)
-        return np.where(s[..., None] >= 0.0, s[..., None] * self.flood, -s[..., None] * self.ebb)
+        velocity: FloatArray = np.where(s[..., None] >= 0.0, s[..., None] * self.flood, -s[..., None] * self.ebb)
+        return velocity
 
-    def weights(self, points) -> np.ndarray:
-        """The linear map ``W (N, S)`` from station velocities to the field at ``points (N, 3)``."""
+    def weights(self, points: ArrayLike) -> FloatArray:
+        """The linear map from station velocities to the field at points.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``W (N, S)``: each row sums to 1.
+        """
         p = np.ascontiguousarray(as_points(points).reshape(-1, 3))
         out = np.zeros((p.shape[0], self.depth.size))
         idx, zs = self._bins
         _weights(p, self.site_xy, float(self.r0), idx, zs, out)
         return out
 
-    def _station_at(self, t: float) -> np.ndarray:
+    def _station_at(self, t: float) -> FloatArray:
         """Station velocities ``(S, 2)`` at ``t``: linear between predictions every minute, made a day
         at a time (interpolation error below 1e-5 of the M2 amplitude, 6e-4 of M8's)."""
         day = math.floor(t / 86400.0)
@@ -199,18 +292,46 @@ class TidalCurrent(CurrentField):
         f = (t - day * 86400.0) / 60.0
         i = min(int(f), 1440)
         a = f - i
-        return (1.0 - a) * table[i] + a * table[i + 1]
+        velocity: FloatArray = (1.0 - a) * table[i] + a * table[i + 1]
+        return velocity
 
     # ------------------------------------------------------------------ CurrentField
-    def velocity(self, points, t: float = 0.0) -> np.ndarray:
+    def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:
+        """Current velocity at points and a time.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time (s after ``epoch``).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(..., 3)`` (m/s; east, north, and 0 up).
+        """
         p = as_points(points)
         uv = self.weights(p) @ self._station_at(float(t))
         out = np.zeros(p.reshape(-1, 3).shape)
         out[:, :2] = uv
         return out.reshape(p.shape)
 
-    def sample(self, points, times) -> np.ndarray:
-        """The field at ``points (N, 3)`` for every time in ``times (T,)``: ``(T, N, 3)``."""
+    def sample(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points for every time of a series (one matrix product).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(T,)`` (s after ``epoch``).
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(T, N, 3)`` (m/s).
+        """
         p = as_points(points).reshape(-1, 3)
         w = self.weights(p)
         vs = self.station_velocity(times)  # (T, S, 2)
@@ -222,13 +343,21 @@ class TidalCurrent(CurrentField):
 
     @property
     def max_speed(self) -> float:
+        """An upper bound of the current speed.
+
+        Returns
+        -------
+        float
+            Speed bound (m/s).
+        """
         # the field is a convex combination of stations, each bounded by |s0| + Σ A max_y f
         fmax = self.tables.node_factor.max(axis=1)
         return float((np.abs(self.mean) + self.amplitude @ fmax).max())
 
 
 @kernel
-def _weights(points, site_xy, r0, idx, zs, out):
+def _weights(points: FloatArray, site_xy: FloatArray, r0: float, idx: IntArray, zs: FloatArray,
+             out: FloatArray) -> None:
     """Rows of ``W``: inverse-distance-squared site weights times each site's linear depth weights
     (clamped at its shallowest and deepest bins); ``idx``/``zs (K, B)`` the sites' bins by depth."""
     nk, nb = zs.shape

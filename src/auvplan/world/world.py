@@ -10,10 +10,12 @@ bounds.  A point is free when its clearance is ≥ 0.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._types import ArrayLike, BoolArray, FloatArray
 from ..errors import DataError
 from ..geometry import as_points
 from .currents import CurrentField, UniformCurrent
@@ -34,6 +36,11 @@ class Bounds:
         Horizontal extent (x east, y north).
     zmin, zmax : float
         Vertical extent (z up; ``zmax = 0`` is the sea surface).
+
+    Raises
+    ------
+    ValueError
+        If a minimum is not below its maximum.
     """
 
     xmin: float
@@ -47,16 +54,39 @@ class Bounds:
         if not (self.xmin < self.xmax and self.ymin < self.ymax and self.zmin < self.zmax):
             raise ValueError(f"bounds must have min < max on every axis, got {self}")
 
-    def slack(self, points) -> np.ndarray:
-        """Signed distance to the nearest face, positive inside (m)."""
+    def slack(self, points: ArrayLike) -> FloatArray:
+        """Signed distance to the nearest face.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` (m), positive inside.
+        """
         p = as_points(points)
         x, y, z = p[..., 0], p[..., 1], p[..., 2]
-        return np.minimum.reduce(
+        slack: FloatArray = np.minimum.reduce(
             [x - self.xmin, self.xmax - x, y - self.ymin, self.ymax - y, z - self.zmin, self.zmax - z]
         )
+        return slack
 
-    def contains(self, points) -> np.ndarray:
-        """True where points lie inside the box (faces included)."""
+    def contains(self, points: ArrayLike) -> BoolArray:
+        """Where points lie inside the box (faces included).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True inside.
+        """
         return self.slack(points) >= 0.0
 
     @property
@@ -79,6 +109,11 @@ class Margins:
         Maximum depth (z ≥ -max_depth).
     obstacle : float
         Minimum distance to any obstacle surface.
+
+    Raises
+    ------
+    ValueError
+        If a margin is negative or ``max_depth`` does not exceed ``min_depth``.
     """
 
     min_altitude: float = 0.0
@@ -119,6 +154,11 @@ class World:
         Land polygons (coastlines).  The terrain is raised above the surface on every cell that
         touches land (:meth:`Land.burn`), so the cost, the planners and the simulator keep off it;
         :meth:`is_free` and :meth:`segments_free` also test the polygons exactly.
+
+    Raises
+    ------
+    DataError
+        If the terrain or the current field does not cover the bounds, or land comes without terrain.
     """
 
     bounds: Bounds
@@ -155,23 +195,46 @@ class World:
             )
 
     # ------------------------------------------------------------------ point queries
-    def seabed(self, x, y) -> np.ndarray:
-        """Seabed elevation (m); ``-inf`` where there is no terrain."""
+    def seabed(self, x: ArrayLike, y: ArrayLike) -> FloatArray:
+        """Seabed elevation.
+
+        Parameters
+        ----------
+        x, y : array_like
+            Easting and northing (m); broadcast together.
+
+        Returns
+        -------
+        numpy.ndarray
+            Elevation (m, positive up); ``-inf`` where there is no terrain.
+        """
         if self.terrain is None:
             return np.full(np.broadcast(np.asarray(x), np.asarray(y)).shape, -np.inf)
         return self.terrain.elevation(x, y)
 
-    def clearances(self, points, t: float = 0.0, moving: bool = True) -> dict[str, np.ndarray]:
-        """Every constraint's slack at ``points (..., 3)`` (m; ≥ 0 is satisfied).
+    def clearances(self, points: ArrayLike, t: float = 0.0, moving: bool = True) -> dict[str, FloatArray]:
+        """Every constraint's slack at points (m; ≥ 0 is satisfied).
 
-        Keys: ``altitude``, ``surface``, ``max_depth``, ``bounds``, ``obstacles``
-        (static), ``moving`` and ``land`` (horizontal distance to the shoreline, negative on
-        land).  Missing constraints are ``+inf``.
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+        moving : bool, default True
+            Whether to include the moving obstacles.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Keys ``altitude``, ``surface``, ``max_depth``, ``bounds``, ``obstacles`` (static),
+            ``moving`` and ``land`` (horizontal distance to the shoreline, negative on land), each
+            ``(...)`` (m).  Missing constraints are ``+inf``.
         """
         p = as_points(points)
         shape = p.shape[:-1]
         m = self.margins
-        out: dict[str, np.ndarray] = {}
+        out: dict[str, FloatArray] = {}
         if self.terrain is None:
             out["altitude"] = np.full(shape, np.inf)
         else:
@@ -188,23 +251,67 @@ class World:
         out["land"] = np.full(shape, np.inf) if self.land is None else self.land.signed_distance(p)
         return out
 
-    def _obstacle_slack(self, shapes, p) -> np.ndarray:
+    def _obstacle_slack(self, shapes: Iterable[Shape], p: FloatArray) -> FloatArray:
         d = np.full(p.shape[:-1], np.inf)
         for s in shapes:
             d = np.minimum(d, s.distance(p) - self.margins.obstacle)
         return d
 
-    def clearance(self, points, t: float = 0.0, moving: bool = True) -> np.ndarray:
-        """Smallest constraint slack at ``points (..., 3)`` (m)."""
-        c = self.clearances(points, t, moving)
-        return np.minimum.reduce(list(c.values()))
+    def clearance(self, points: ArrayLike, t: float = 0.0, moving: bool = True) -> FloatArray:
+        """Smallest constraint slack at points.
 
-    def is_free(self, points, t: float = 0.0, moving: bool = True) -> np.ndarray:
-        """True where every constraint holds."""
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+        moving : bool, default True
+            Whether to include the moving obstacles.
+
+        Returns
+        -------
+        numpy.ndarray
+            Least slack over :meth:`clearances` ``(...)`` (m); free where ≥ 0.
+        """
+        c = self.clearances(points, t, moving)
+        least: FloatArray = np.minimum.reduce(list(c.values()))
+        return least
+
+    def is_free(self, points: ArrayLike, t: float = 0.0, moving: bool = True) -> BoolArray:
+        """Where every constraint holds.
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(..., 3)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+        moving : bool, default True
+            Whether to include the moving obstacles.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True where the clearance is ≥ 0.
+        """
         return self.clearance(points, t, moving) >= 0.0
 
-    def explain(self, point, t: float = 0.0) -> str:
-        """Human-readable reason why ``point`` is not free ('' when it is)."""
+    def explain(self, point: ArrayLike, t: float = 0.0) -> str:
+        """Human-readable reason why a point is not free.
+
+        Parameters
+        ----------
+        point : array_like
+            One point ``(3,)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+
+        Returns
+        -------
+        str
+            The violated constraints with their slack, ``"; "``-separated; ``""`` when the point is free.
+        """
         c = {k: float(v) for k, v in self.clearances(np.asarray(point, dtype=float), t).items()}
         words = {
             "altitude": f"closer than min_altitude {self.margins.min_altitude:g} m to the seabed",
@@ -219,16 +326,37 @@ class World:
         return "; ".join(bad)
 
     # ------------------------------------------------------------------ segment queries
-    def segments_free(self, segments, t: float = 0.0, moving: bool = True, *,
-                      ends_free: bool = False, end_altitudes=None) -> np.ndarray:
-        """True where whole segments ``(..., 2, 3)`` satisfy every constraint.
+    def segments_free(self, segments: ArrayLike, t: float = 0.0, moving: bool = True, *,
+                      ends_free: bool = False,
+                      end_altitudes: tuple[ArrayLike, ArrayLike] | None = None) -> BoolArray:
+        """Where whole segments satisfy every constraint.
 
         The seabed is tested exactly (:meth:`Terrain.segment_min_altitude`); depth
         limits and bounds are convex, so the end points decide; obstacles use their
         exact (sphere) or conservative (ellipsoid with margin) segment tests.
-        Moving obstacles are taken frozen at time ``t``.  ``ends_free=True`` says the
-        caller knows both ends are free points (the convex tests are skipped);
-        ``end_altitudes = (g_a, g_b)`` passes the ends' altitudes above the seabed on.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(..., 2, 3)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are frozen (s).
+        moving : bool, default True
+            Whether to include the moving obstacles.
+        ends_free : bool, default False
+            The caller knows both ends are free points (the convex tests are skipped).
+        end_altitudes : tuple of array_like, optional
+            ``(g_a, g_b)``, the ends' altitudes above the seabed (m) when already known.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(...)``, True for free segments.
+
+        Raises
+        ------
+        ValueError
+            If ``segments`` is not of shape ``(..., 2, 3)``.
         """
         s = np.asarray(segments, dtype=float)
         if s.shape[-2:] != (2, 3):
@@ -255,8 +383,23 @@ class World:
             ok = flat.reshape(np.shape(ok))
         return ok
 
-    def path_free(self, points, t: float = 0.0, moving: bool = False) -> bool:
-        """True when the polyline through ``points (N, 3)`` is free everywhere."""
+    def path_free(self, points: ArrayLike, t: float = 0.0, moving: bool = False) -> bool:
+        """Whether the polyline through the points is free everywhere.
+
+        Parameters
+        ----------
+        points : array_like
+            Vertices ``(N, 3)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are frozen (s).
+        moving : bool, default False
+            Whether to include the moving obstacles.
+
+        Returns
+        -------
+        bool
+            True when every segment (or the single point) is free.
+        """
         p = as_points(points)
         if p.shape[0] < 2:
             return bool(self.is_free(p, t, moving).all())
