@@ -309,12 +309,13 @@ def test_grid_costs_with_a_weaker_current_with_a_vertical_part():
                         np.array([400.0, 400.0, 0.0]), GridParams(cell=40.0, cell_z=40.0, objective="cost"))
     i, j, k = (int(np.argmin(np.abs(ax - g))) for ax, g in zip(ref.axes, goal))
     gx, gz = math.sqrt(1.5**2 - 0.2**2), math.sqrt(1.5**2 - 0.3**2)
+    # rel 1e-6: the lattice keeps node currents in float32 (0.3 and 0.2 stored to ~1e-8)
     for d in (40.0, 120.0):
         s = int(round(d / 40.0))
-        assert ref.cost_to_go[i - s, j, k] == pytest.approx(d * (1 + 1.5 / (gx + 0.3)), rel=1e-9)  # with the current
-        assert ref.cost_to_go[i + s, j, k] == pytest.approx(d * (1 + 1.5 / (gx - 0.3)), rel=1e-9)  # against it
-        assert ref.cost_to_go[i, j, k - s] == pytest.approx(d * (1 + 1.5 / (gz + 0.2)), rel=1e-9)  # rising with it
-        assert ref.cost_to_go[i, j, k + s] == pytest.approx(d * (1 + 1.5 / (gz - 0.2)), rel=1e-9)  # sinking
+        assert ref.cost_to_go[i - s, j, k] == pytest.approx(d * (1 + 1.5 / (gx + 0.3)), rel=1e-6)  # with the current
+        assert ref.cost_to_go[i + s, j, k] == pytest.approx(d * (1 + 1.5 / (gx - 0.3)), rel=1e-6)  # against it
+        assert ref.cost_to_go[i, j, k - s] == pytest.approx(d * (1 + 1.5 / (gz + 0.2)), rel=1e-6)  # rising with it
+        assert ref.cost_to_go[i, j, k + s] == pytest.approx(d * (1 + 1.5 / (gz - 0.2)), rel=1e-6)  # sinking
 
 
 # ---------------------------------------------------------------------- energy with a vertical current
@@ -799,7 +800,8 @@ def test_free_edges_are_exactly_the_free_lattice_segments():
     (both end nodes free: 0.5 m and 5.5 m from the surface): the edges :func:`free_edges` returns for
     each of the 13 offsets are exactly the pairs of free nodes whose segment the World's exact test
     calls free (the obstacle shortcut may only skip the exact test where it cannot matter)."""
-    from auvplan.planners.grid import _HALF, free_edges
+    from auvplan.planners.grid import free_edges
+    from auvplan.planners.lattice import HALF
 
     world = World(Bounds(-1, 21, -1, 21, -21, 0),
                   obstacles=(Sphere((2.5, 0.0, -10.0), 2.0), Sphere((10.0, 17.5, -20.0), 2.0)),
@@ -813,9 +815,9 @@ def test_free_edges_are_exactly_the_free_lattice_segments():
     ids = np.arange(xyz.shape[0]).reshape(shape)
     steps = np.array([10.0, 10.0, 10.0])
     blocked = 0
-    for off in _HALF:
-        src, dst = free_edges(world, ids, free, slack["altitude"].reshape(shape), slack["obstacles"].reshape(shape),
-                              xyz, steps, off)
+    for off in HALF:
+        src, dst = free_edges(world, free, slack["altitude"].reshape(shape), slack["obstacles"].reshape(shape),
+                              steps, off, xyz.__getitem__)
         a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, shape))
         b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, shape))
         s, d = ids[a].reshape(-1), ids[b].reshape(-1)

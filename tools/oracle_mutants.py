@@ -37,12 +37,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "gx = np.abs(coef[..., 1])",
     ),
     "grid-edges-skip-collision-test": (
-        "planners/grid.py",
-        "sure[unsure] = w.segments_free(seg, moving=False, ends_free=True)",
-        "sure[unsure] = True",
+        "planners/lattice.py",
+        "state[u] = world.segments_free(seg, moving=False, ends_free=True)",
+        "state[u] = True",
     ),
     "grid-backward-edge-costed-forward": (
-        "planners/grid.py",
+        "planners/lattice.py",
         "ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]",
         "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
