@@ -874,3 +874,35 @@ def test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface():
         assert out, p
         d = float(field.distances(out[-1][None], "true").min())
         assert 0.0 <= d <= 1e-4 * radius, (p, d)
+
+
+@pytest.mark.parametrize("twist", [1e-5, 5e-5, 3e-4])
+def test_shallow_interior_minimum_of_a_twisted_cell_is_found(twist):
+    """One bilinear cell z = −200 + k·x·y (k small: the altitude along the anti-diagonal at −150 m is the
+    shallow parabola 50 − 10⁴ k t(1 − t)): the exact segment test returns its interior minimum
+    50 − 2 500 k, below both ends (50 m), however small the curvature."""
+    x = y = np.array([0.0, 100.0])
+    gx, gy = np.meshgrid(x, y)
+    terrain = Terrain(x, y, -200.0 + twist * gx * gy)
+    got = terrain.min_altitude_between(np.array([[0.0, 100.0, -150.0]]), np.array([[100.0, 0.0, -150.0]]))
+    assert got[0] == pytest.approx(50.0 - 2500.0 * twist, abs=1e-9)
+
+
+def test_segment_test_on_a_grid_with_more_rows_than_columns():
+    """A grid of 2 columns × 11 rows (10 m), its seabed a zigzag in y with peaks at odd rows: a level
+    segment along y crosses all ten rows of cells, and its exact minimum altitude is the dense-sampled
+    bilinear one (scipy's interpolator at the row crossings and 2 001 points), at a peak — every row crossing must split."""
+    x = np.array([0.0, 10.0])
+    y = np.arange(11) * 10.0
+    ridge = np.where(np.arange(11) % 2 == 1, -80.0, -100.0) - 0.5 * np.arange(11)
+    z = np.repeat(ridge[:, None], 2, axis=1) + np.array([0.0, 3.0])
+    terrain = Terrain(x, y, z)
+    a, b = np.array([[4.0, 1.0, -60.0]]), np.array([[6.0, 99.0, -60.0]])
+    # the seabed has no twist here (its x-slope is the same in every row), so along the segment it is
+    # piecewise linear with kinks at the row crossings: samples there and in between give the exact minimum
+    kinks = (y[1:-1] - a[0, 1]) / (b[0, 1] - a[0, 1])
+    s = np.sort(np.r_[np.linspace(0.0, 1.0, 2001), kinks])[:, None]
+    pts = a + s * (b - a)
+    zb = RegularGridInterpolator((y, x), z)(np.c_[pts[:, 1], pts[:, 0]])
+    expected = float((pts[:, 2] - zb).min())
+    assert terrain.min_altitude_between(a, b)[0] == pytest.approx(expected, abs=1e-9)

@@ -38,7 +38,7 @@ MODULES: dict[str, Target] = {
              "_crossings", "_walk_min", "min_altitude_kernel", "_min_altitudes"),
         ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
          "ridge or slope or terrain or bilinear or gradient or outside or lower_bound or offset_grid or off_the_grid"
-         " or altitude_limit",
+         " or altitude_limit or twisted_cell or more_rows_than_columns",
          "--deselect", "tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
         jit=False,
     ),
