@@ -891,7 +891,8 @@ def test_shallow_interior_minimum_of_a_twisted_cell_is_found(twist):
 def test_segment_test_on_a_grid_with_more_rows_than_columns():
     """A grid of 2 columns × 11 rows (10 m), its seabed a zigzag in y with peaks at odd rows: a level
     segment along y crosses all ten rows of cells, and its exact minimum altitude is the dense-sampled
-    bilinear one (scipy's interpolator at the row crossings and 2 001 points), at a peak — every row crossing must split."""
+    bilinear one (scipy's interpolator at the row crossings and 2 001 points), at a peak — every row
+    crossing must split."""
     x = np.array([0.0, 10.0])
     y = np.arange(11) * 10.0
     ridge = np.where(np.arange(11) % 2 == 1, -80.0, -100.0) - 0.5 * np.arange(11)
