@@ -45,6 +45,7 @@ __all__ = [
     "run_mission",
     "route_from_path",
     "mission_route",
+    "planned_route",
     "decimate",
 ]
 
@@ -608,6 +609,34 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
     return replace(result, **{k: getattr(result, k)[keep] for k in arrays})
 
 
+def planned_route(world: World, mission: Mission, seed: RngLike,
+                  progress: Progress | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+    """The route a mission flies: its fixed route, or the global plan's (:func:`mission_route`).
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    seed : Generator, int or None
+        Seed of the planner.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+
+    Returns
+    -------
+    tuple
+        The plan (None for a fixed route) and the route ``(N, 3)`` (m), None when the plan failed.
+    """
+    if mission.route:
+        return None, np.asarray(mission.route, dtype=float)
+    planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
+    if not planned.status.ok:
+        return planned, None
+    return planned, mission_route(world, mission, planned.path)
+
+
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
                 progress: Progress | None = None, guidance: str | None = None,
                 avoidance: str | None = None, flight: Callable[[float, float], object] | None = None) -> RunRecord:
@@ -638,14 +667,9 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned = None
-    if mission.route:
-        route = np.asarray(mission.route, dtype=float)
-    else:
-        planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
-        if not planned.status.ok:
-            return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
-        route = mission_route(world, mission, planned.path)
+    planned, route = planned_route(world, mission, seed, progress)
+    if route is None:
+        return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight)

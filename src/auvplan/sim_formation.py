@@ -27,9 +27,8 @@ import numpy as np
 from ._types import ArrayLike, RngLike, Status, as_rng
 from .guidance.formation import FormationCommand, FormationParams, formation_command
 from .guidance.formation_plan import FormationPlan, plan_formation
-from .planners import plan as global_plan
 from .planners.base import PlanResult, Progress
-from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, mission_route, planning_problem
+from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, planned_route
 from .vehicles import Vehicle, VehicleState
 from .world import World
 
@@ -370,14 +369,9 @@ def run_formation(world: World, mission: Mission, rng: RngLike = None, progress:
         raise ValueError("the mission has no [formation]")
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned = None
-    if mission.route:
-        route = np.asarray(mission.route, dtype=float)
-    else:
-        planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
-        if not planned.status.ok:
-            return FormationRecord(mission.name, recorded, planned, None, None)
-        route = mission_route(world, mission, planned.path)
+    planned, route = planned_route(world, mission, seed, progress)
+    if route is None:
+        return FormationRecord(mission.name, recorded, planned, None, None)
     fplan = plan_formation(world, route, mission.formation)
     if not fplan.status.ok:
         return FormationRecord(mission.name, recorded, planned, fplan, None)
