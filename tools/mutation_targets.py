@@ -25,7 +25,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 TERRAIN = "auvplan.world.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
-GRID = "auvplan.planners.grid"
+GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
 SIM = "auvplan.sim"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
@@ -58,12 +58,27 @@ MODULES: dict[str, Target] = {
         ("tests/test_cost.py", "tests/test_oracles.py", "-k", "cost or energy or seabed"),
         jit=False,
     ),
-    # lattice edge generation (collision tests), edge weights and the Dijkstra search
+    # the lattice (planners/lattice.py): free nodes and their safe single-precision fields, the edge
+    # test's shortcut (seabed Lipschitz bound, obstacle distance) and its exact fallback, edge bits,
+    # edge weights, the indexed binary heap and the Dijkstra/A* search; grid.py's free-edge list and
+    # the links of the goal and starts to the lattice
     "grid": Target(
-        _fns(GRID, "_edge_weight", "_sift_up", "_sift_down", "_search", "free_edges",
-             "GridReference._lattice_edges", "GridReference._connect"),
-        ("tests/test_oracles.py", "tests/test_grid.py", "-k",
-         "edge or cost_to_go or empty or enclosed or current"),
+        _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
+             "_edge_weight", "_sift_up", "_sift_down", "_push", "_heuristic", "_search", "search")
+        + _fns(GRID, "free_edges", "GridReference._connect"),
+        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+            "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
+            "cost_to_go_equals_scipys_dijkstra_over_the_free_lattice",
+            "grid_costs_with_a_weaker_current_with_a_vertical_part",
+            "free_edges_are_exactly_the_free_lattice_segments"))
+        + tuple(f"tests/test_grid.py::test_{t}" for t in (
+            "empty_world_gives_the_straight_line", "cost_to_go_is_the_26_connected_lattice_distance",
+            "goal_enclosed_by_terrain_is_infeasible_with_a_message"))
+        + ("tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge",)
+        + tuple(f"tests/test_oracles_sim.py::test_lattice_{t}" for t in (
+            "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
+            "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
+            "search_by_length_on_a_line")),
         jit=False,
     ),
     # the simulation's event detection (collision, arrival, deadlock, timeout): the events block of

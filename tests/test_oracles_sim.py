@@ -1,0 +1,235 @@
+"""Oracle tests for the mutation targets sim, grid (the lattice), world and local (issue #23,
+docs/mutants.md section 2).
+
+Each test is an independent computation (Python's ``heapq``, scipy's Dijkstra, the World's exact
+segment test, numbers by hand) aimed at mutants of ``tools/mutate.py`` that survived the older tests;
+the docstrings name the bug each one catches.
+"""
+
+from __future__ import annotations
+
+import heapq
+
+import numpy as np
+import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from auvplan.planners.lattice import HALF, OFFSETS, _push, _sift_down, edge_states, node_fields, search
+from auvplan.world import Bounds, Margins, Terrain, World
+
+
+# ---------------------------------------------------------------------- grid: the lattice's seabed shortcut
+def _ridge(along: str) -> World:
+    """Flat seabed at -100 m with a one-cell ridge (to -60 m, 5 m cells: slope 8) along x at y = 50 m
+    (``along="x"``) or along y at x = 50 m; 5 m minimum altitude."""
+    g = np.arange(0.0, 101.0, 5.0)
+    z = np.full((g.size, g.size), -100.0)  # (ny, nx)
+    if along == "x":
+        z[g == 50.0, :] = -60.0
+    else:
+        z[:, g == 50.0] = -60.0
+    return World(Bounds(0, 100, 0, 100, -100, 0), Terrain(g, g, z), margins=Margins(min_altitude=5.0, min_depth=0.0))
+
+
+@pytest.mark.parametrize("along", ["x", "y"])
+def test_lattice_edges_across_a_seabed_ridge_are_exactly_the_free_segments(along):
+    """Lattice nodes 5 m either side of a thin ridge (10 m steps in x and y, 7 m in z, from 45 m): the
+    nodes 25 m above the flat seabed are free, but the edges between them that cross the ridge pass
+    up to 15 m under its crest.  For each of the 13 directions, the edges the lattice accepts are
+    exactly the pairs of free nodes the World's exact segment test calls free: the Lipschitz shortcut
+    (the bound uses the edge's *horizontal* length) may only skip the exact test where it cannot
+    matter.  A shortcut fed the wrong length (say |(dx, dz)| for an edge along y) accepts edges
+    through the ridge."""
+    world = _ridge(along)
+    axes = (np.arange(5.0, 100.0, 10.0), np.arange(5.0, 100.0, 10.0), np.array([-89.0, -82.0, -75.0, -68.0]))
+    steps = np.array([10.0, 10.0, 7.0])
+    free, alt, obs, _ = node_fields(world, axes, currents=False)
+    xyz = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    flat = xyz.reshape(-1, 3)
+    assert free[:, :, 1:].all()  # 18 m and more above the flat seabed, 8 m above the ridge's flanks' lowest nodes
+    cut = 0
+    for off in HALF:
+        got = edge_states(world, free, alt, obs, steps, off, flat.__getitem__).reshape(free.shape)
+        a = tuple(slice(max(0, -d), n - max(0, d)) for d, n in zip(off, free.shape))
+        b = tuple(slice(max(0, d), n - max(0, -d)) for d, n in zip(off, free.shape))
+        seg = np.stack([xyz[a], xyz[b]], axis=-2)
+        want = free[a] & free[b] & world.segments_free(seg, moving=False)
+        np.testing.assert_array_equal(got[a].astype(bool), want, err_msg=str(off))
+        cut += int((free[a] & free[b] & ~want).sum())
+        # and independently of the World: the dense-sampled seabed under each accepted edge
+        s = np.linspace(0.0, 1.0, 201)[:, None]
+        pts = seg[want][:, None, 0] + s * (seg[want][:, None, 1] - seg[want][:, None, 0])
+        assert (pts[..., 2] - world.terrain.elevation(pts[..., 0], pts[..., 1]) >= 5.0 - 1e-9).all(), off
+    assert cut >= 40  # the ridge does cut edges between free nodes (along the axis across it and diagonals)
+
+
+# ---------------------------------------------------------------------- grid: the indexed binary heap
+def _check_heap(heap: np.ndarray, pos: np.ndarray, key: np.ndarray, size: int, members: set[int]) -> None:
+    assert set(heap[:size].tolist()) == members
+    for i in range(size):
+        assert pos[heap[i]] == i
+        if i:
+            assert key[heap[(i - 1) >> 1]] <= key[heap[i]]
+
+
+def test_lattice_heap_pops_in_heapq_order_with_decrease_key():
+    """The search's indexed heap (``_push`` with decrease-key, the pop of ``_search``: last entry to
+    the root, ``_sift_down``) against Python's ``heapq`` with lazy deletion, on 3 000 seeded random
+    operations over 200 nodes; after every operation the heap property holds and ``pos`` indexes the
+    heap.  The heap array is pre-filled with other node ids, so a sift that reads past the heap's end
+    takes in a node that was never queued."""
+    rng = np.random.default_rng(23)
+    n = 200
+    heap = rng.permutation(n).astype(np.int32)  # garbage beyond the heap's end
+    pos = np.full(n, -1, dtype=np.int32)
+    key = rng.uniform(-1.0, 0.0, n)  # stale keys of nodes not queued: smaller than any queued one
+    ref: list[tuple[float, int]] = []
+    members: set[int] = set()
+    size, popped = 0, 0
+    for _ in range(3000):
+        u = int(rng.integers(n))
+        if rng.random() < 0.6 and u not in members:
+            key[u] = rng.uniform(1.0, 100.0)
+            size = _push(heap, pos, key, size, u)
+            members.add(u)
+            heapq.heappush(ref, (key[u], u))
+        elif rng.random() < 0.5 and u in members:  # decrease-key
+            key[u] = key[u] - rng.uniform(0.0, key[u] - 0.5)
+            size = _push(heap, pos, key, size, u)
+            heapq.heappush(ref, (key[u], u))
+        elif size:
+            v = int(heap[0])
+            while ref[0][0] != key[ref[0][1]] or ref[0][1] not in members:  # lazy deletion
+                heapq.heappop(ref)
+            assert v == heapq.heappop(ref)[1]
+            members.remove(v)
+            pos[v] = -1  # may be queued again
+            size -= 1
+            popped += 1
+            if size > 0:
+                heap[0] = heap[size]
+                pos[heap[0]] = 0
+                _sift_down(heap, pos, key, 0, size)
+        _check_heap(heap, pos, key, size, members)
+    assert popped > 500
+
+
+def test_lattice_sift_down_reads_nothing_past_the_heap_end():
+    """``_sift_down(heap, pos, key, i, size)`` restores a heap whose root key grew: with 2 to 30 of 40
+    nodes queued and every node past the end a smaller key, the result is a heap of the same nodes
+    (a sift that compares with ``heap[size]`` would take one of those in)."""
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        n, size = 40, int(rng.integers(2, 31))
+        heap = rng.permutation(n).astype(np.int32)
+        key = rng.uniform(10.0, 20.0, n)
+        key[heap[size:]] = rng.uniform(0.0, 1.0, n - size)
+        pos = np.full(n, -1, dtype=np.int32)
+        members = heap[:size].tolist()
+        s = 0
+        for u in members:
+            s = _push(heap, pos, key, s, u)
+        key[heap[0]] += rng.uniform(0.0, 15.0)
+        _sift_down(heap, pos, key, 0, size)
+        _check_heap(heap, pos, key, size, set(members))
+
+
+# ---------------------------------------------------------------------- grid: the search against scipy
+def _edge_costs(u: np.ndarray, v: np.ndarray, vec: np.ndarray, current: np.ndarray, w_length: float,
+                w_energy: float, speed: float, power: float) -> np.ndarray:
+    """Independent edge cost: length weight x length + energy weight x power x time, the ground speed
+    along the edge c∥ + √(V² − c⊥²) in the mean of the two nodes' currents; ``inf`` where blocked."""
+    c = (0.5 * (current[u].astype(float) + current[v].astype(float)))
+    ds = np.linalg.norm(vec, axis=1)
+    c_par = (c * vec).sum(axis=1) / ds
+    c_perp2 = (c * c).sum(axis=1) - c_par**2
+    ok = speed**2 > c_perp2
+    vg = np.where(ok, c_par + np.sqrt(np.where(ok, speed**2 - c_perp2, 0.0)), 0.0)
+    return np.where(ok & (vg > 0), w_length * ds + w_energy * power * ds / np.where(vg > 0, vg, 1.0), np.inf)
+
+
+def test_lattice_search_is_scipys_dijkstra_with_random_currents_and_edges():
+    """A 9 × 8 × 6 lattice (steps 10, 12, 7 m) with 70 % of its directed edges free at random and a
+    random current at every node (up to 1.3 m/s against a 1 m/s vehicle: some edges blocked), cost =
+    length + energy: the search's cost-to-go is scipy's Dijkstra over the reversed graph whose edges
+    are costed independently (:func:`_edge_costs`), the goal linked to 5 nodes; every next-node hop
+    realises the cost; A* towards a start (with a valid lower bound per metre) settles fewer nodes
+    and finds the same cost for that start."""
+    rng = np.random.default_rng(23)
+    shape = (9, 8, 6)
+    n = int(np.prod(shape))
+    steps, origin = np.array([10.0, 12.0, 7.0]), np.array([100.0, -50.0, -80.0])
+    bits = np.zeros(n, dtype=np.uint32)
+    idx = np.arange(n).reshape(shape)
+    ijk = np.stack(np.unravel_index(np.arange(n), shape), axis=1)
+    src, dst, s_of = [], [], []
+    for s, off in enumerate(OFFSETS):
+        v = ijk + off
+        inside = np.all((v >= 0) & (v < shape), axis=1)
+        take = inside & (rng.random(n) < 0.7)
+        bits[take] |= np.uint32(1 << s)
+        src.append(np.flatnonzero(take))
+        dst.append(idx[tuple(v[take].T)])
+        s_of.append(np.full(take.sum(), s))
+    src, dst, s_of = np.concatenate(src), np.concatenate(dst), np.concatenate(s_of)
+    current = (rng.uniform(-1.0, 1.0, (n, 3)) * [1.3, 1.3, 0.4]).astype(np.float32)
+    cost = (1.0, 0.8, 1.0, 2.0, False)
+    vec = OFFSETS[s_of] * steps
+    w = _edge_costs(src, dst, vec, current, *cost[:4])
+    assert np.isinf(w).sum() > 20 and np.isfinite(w).sum() > 3000
+    near = np.array([idx[7, 6, 4], idx[8, 6, 4], idx[7, 7, 4], idx[7, 6, 5], idx[8, 7, 5]])
+    w_goal = rng.uniform(5.0, 15.0, near.size)
+    dist, nxt, settled = search(shape, bits, steps, origin, current, cost, (near, w_goal))
+    keep = np.isfinite(w)
+    graph = coo_matrix((np.r_[w[keep], w_goal], (np.r_[dst[keep], np.full(near.size, n)], np.r_[src[keep], near])),
+                       shape=(n + 1, n + 1)).tocsr()
+    want = dijkstra(graph, indices=n)
+    assert settled == np.isfinite(want).sum() - 1 and settled > 0.9 * n
+    # rtol 1e-9: rounding, amplified where c∥ + √(V² − c⊥²) cancels (edges the current nearly blocks)
+    np.testing.assert_allclose(dist, want, rtol=1e-9)
+    # every hop realises the cost-to-go
+    reached = np.flatnonzero(np.isfinite(dist[:n]))
+    hop = {(int(a), int(b)): c for a, b, c in zip(src[keep], dst[keep], w[keep])}
+    hop.update({(int(a), n): c for a, c in zip(near, w_goal)})
+    for u in reached:
+        assert dist[u] == pytest.approx(hop[(int(u), int(nxt[u]))] + dist[nxt[u]], rel=1e-9)
+    # A*: the start at the lattice's other corner, linked to 3 nodes
+    start = origin + np.array([0.5, 0.5, 0.5]) * steps
+    sn = np.array([idx[0, 0, 0], idx[1, 0, 0], idx[0, 1, 1]])
+    ws = rng.uniform(2.0, 6.0, sn.size)
+    xyz = origin + ijk * steps
+    per_metre = min(float(np.min(w[keep] / np.linalg.norm(vec[keep], axis=1))),
+                    float(np.min(ws / np.linalg.norm(xyz[sn] - start, axis=1))))
+    d2, _, settled2 = search(shape, bits, steps, origin, current, cost, (near, w_goal), (sn, ws), start,
+                             0.9 * per_metre)
+    assert (ws + d2[sn]).min() == pytest.approx((ws + want[sn]).min(), rel=1e-9)
+    assert settled2 < settled
+
+
+def test_lattice_search_by_length_on_a_line():
+    """Length objective on a 5 × 1 × 1 lattice (steps 3 m) with only the +x edges free: the cost-to-go
+    to the goal linked to the last node (2 m) is 2 + 3 (4 - i); the -x edges are not there, so the goal
+    at the first node leaves the others unreached.  On a 6-node line (1 m steps, both ways) with the
+    goal linked to nodes 2, 5, 3 and 0 at costs 1, 2, 100 and 3, node 3 (queued third, at heap
+    position 2 when node 2 is settled) costs 2 through node 2: a search that skips the node at some
+    heap position when relaxing finds 4 (through nodes 5 and 4) or 100."""
+    shape = (5, 1, 1)
+    bits = np.zeros(5, dtype=np.uint32)
+    plus = int(np.flatnonzero((OFFSETS == [1, 0, 0]).all(axis=1))[0])
+    bits[:4] = np.uint32(1 << plus)
+    dist, nxt, _ = search(shape, bits, np.array([3.0, 1.0, 1.0]), np.zeros(3), np.zeros((0, 3), np.float32), None,
+                          (np.array([4]), np.array([2.0])))
+    np.testing.assert_allclose(dist, [14.0, 11.0, 8.0, 5.0, 2.0, 0.0])
+    np.testing.assert_array_equal(nxt, [1, 2, 3, 4, 5, -1])
+    dist, _, _ = search(shape, bits, np.array([3.0, 1.0, 1.0]), np.zeros(3), np.zeros((0, 3), np.float32), None,
+                        (np.array([0]), np.array([2.0])))
+    np.testing.assert_allclose(dist, [2.0, np.inf, np.inf, np.inf, np.inf, 0.0])
+    line = np.zeros(6, dtype=np.uint32)
+    minus = int(np.flatnonzero((OFFSETS == [-1, 0, 0]).all(axis=1))[0])
+    line[:5] |= np.uint32(1 << plus)
+    line[1:] |= np.uint32(1 << minus)
+    dist, _, settled = search((6, 1, 1), line, np.ones(3), np.zeros(3), np.zeros((0, 3), np.float32), None,
+                              (np.array([2, 5, 3, 0]), np.array([1.0, 2.0, 100.0, 3.0])))
+    np.testing.assert_allclose(dist, [3.0, 2.0, 1.0, 2.0, 3.0, 2.0, 0.0])
+    assert settled == 6
