@@ -9,14 +9,19 @@ the docstrings name the bug each one catches.
 from __future__ import annotations
 
 import heapq
+import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from auvplan._types import Status
 from auvplan.planners.lattice import HALF, OFFSETS, _push, _sift_down, edge_states, node_fields, search
-from auvplan.world import Bounds, Margins, Terrain, World
+from auvplan.sim import Mission, simulate
+from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
+from helpers import flat_world
 
 
 # ---------------------------------------------------------------------- grid: the lattice's seabed shortcut
@@ -62,6 +67,21 @@ def test_lattice_edges_across_a_seabed_ridge_are_exactly_the_free_segments(along
         pts = seg[want][:, None, 0] + s * (seg[want][:, None, 1] - seg[want][:, None, 0])
         assert (pts[..., 2] - world.terrain.elevation(pts[..., 0], pts[..., 1]) >= 5.0 - 1e-9).all(), off
     assert cut >= 40  # the ridge does cut edges between free nodes (along the axis across it and diagonals)
+
+
+def test_lattice_fields_round_down_to_the_nearest_single():
+    """``down32``: the largest single-precision value not above each double (the lattice keeps
+    altitudes and clearances that way, so they are never optimistic): doubles exactly representable
+    in single precision are kept, the others go to the float32 just below."""
+    from auvplan.planners.lattice import down32
+
+    rng = np.random.default_rng(3)
+    a = np.r_[rng.normal(0.0, 100.0, 2000), 0.5, -3.25, 0.0, 1e-3, -1e-3, 16777217.0]
+    b = down32(a)
+    assert b.dtype == np.float32
+    assert (b.astype(float) <= a).all()
+    assert (np.nextafter(b, np.float32(np.inf)).astype(float) > a).all()
+    np.testing.assert_array_equal(b[-6:-3], [0.5, -3.25, 0.0])
 
 
 # ---------------------------------------------------------------------- grid: the indexed binary heap
@@ -233,3 +253,122 @@ def test_lattice_search_by_length_on_a_line():
                               (np.array([2, 5, 3, 0]), np.array([1.0, 2.0, 100.0, 3.0])))
     np.testing.assert_allclose(dist, [3.0, 2.0, 1.0, 2.0, 3.0, 2.0, 0.0])
     assert settled == 6
+
+
+# ---------------------------------------------------------------------- sim: the events of simulate
+class _Mover:
+    """A moving obstacle with an exact centre and velocity (MovingObstacle's velocity is a finite
+    difference, which cannot set up an exact tie)."""
+
+    def __init__(self, centre, velocity) -> None:
+        self.c, self.v = np.asarray(centre, dtype=float), np.asarray(velocity, dtype=float)
+
+    def center(self, t: float) -> np.ndarray:
+        return self.c + t * self.v
+
+    def velocity(self, t: float) -> np.ndarray:
+        return self.v
+
+
+def test_sim_contact_is_penetration_and_names_what_was_hit():
+    """Touching at exactly 0 m (the seabed or an obstacle's surface) is not a collision; any depth below
+    it is.  The seabed is named first, even with an obstacle penetrated too; at an altitude of 0 to 1 m
+    the obstacle the vehicle is deepest in is named (index into the static, then the moving ones)."""
+    from auvplan.sim import _contact_event
+
+    p = np.array([10.0, 20.0, -30.0])
+    assert _contact_event(0.0, [0.0, 5.0], p, 0.0, (), 1.5) is None
+    assert _contact_event(math.inf, [], p, 0.0, (), 1.5) is None
+    assert _contact_event(-1e-9, [3.0], p, 0.0, (), 1.5) == (Status.COLLISION, "the seabed")
+    assert _contact_event(-0.5, [-2.0, 4.0], p, 0.0, (), 1.5) == (Status.COLLISION, "the seabed")
+    assert _contact_event(0.0, [3.0, -1e-9], p, 0.0, (), 1.5) == (Status.COLLISION, "obstacle 1")
+    assert _contact_event(0.5, [-0.1, 2.0, -0.3], p, 0.0, (), 1.5) == (Status.COLLISION, "obstacle 2")
+    # two static obstacles, then two moving ones (the second hit, slower than the vehicle)
+    movers = (_Mover((0.0, 0.0, 0.0), (9.0, 0.0, 0.0)), _Mover(p - (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)))
+    assert _contact_event(0.5, [1.0, 2.0, 7.0, -0.2], p, 0.0, movers, 1.5) == (Status.COLLISION, "obstacle 3")
+
+
+@pytest.mark.parametrize(("velocity", "offset", "alt", "status"), [
+    ((1.5, 0.0, 0.0), (1.0, 0.0, 0.0), 0.0, Status.UNAVOIDABLE),  # exactly as fast as the vehicle, head on
+    ((1.4999, 0.0, 0.0), (1.0, 0.0, 0.0), 5.0, Status.COLLISION),  # slower
+    ((0.0, 2.0, 0.0), (1.0, 0.0, 0.0), 5.0, Status.COLLISION),  # fast but tangential: v_o · (p - c) = 0
+    ((2.0, 0.0, 0.0), (0.25, 0.0, 0.0), 0.5, Status.UNAVOIDABLE),  # closing, v_o · (p - c) = 0.5 m²/s
+    ((-2.0, 0.0, 0.0), (1.0, 0.0, 0.0), 5.0, Status.COLLISION),  # fast but receding
+    ((1.2, 0.0, -0.9), (0.0, 0.0, -1.0), 0.2, Status.UNAVOIDABLE),  # |v_o| = 1.5, rising into the vehicle
+])
+def test_sim_moving_hit_is_unavoidable_when_at_least_as_fast_and_closing_in(velocity, offset, alt, status):
+    """A moving obstacle (index 1 after one static) hit with its centre ``offset`` behind the vehicle:
+    UNAVOIDABLE exactly when |v_o| >= V (1.5 m/s) and v_o · (p - c) > 0; also within a metre of the
+    seabed (0 to 1 m altitude), where the seabed is not the one hit."""
+    from auvplan.sim import _contact_event
+
+    p = np.array([100.0, -40.0, -60.0])
+    mover = _Mover(p - np.asarray(offset), velocity)
+    got = _contact_event(alt, [12.0, -0.3], p, 0.0, (mover,), 1.5)
+    assert got is not None and got[0] is status and got[1].startswith("obstacle 1")
+    assert ("faster than the vehicle" in got[1]) is (status is Status.UNAVOIDABLE)
+
+
+def test_sim_arrival_progress_and_deadlock_rules_at_their_boundaries():
+    """Arrival at exactly the radius (3-4-5 triangle) counts, only on the last leg; progress must beat
+    the best by more than 1 m (exactly 1 m is not progress, 1.5 m is); deadlock after more than
+    ``deadlock_time`` without progress and only once the avoidance's escapes have given up (asked only
+    when the time is up)."""
+    from auvplan.sim import PROGRESS_STEP, _arrived, _deadlocked, _progressed
+
+    assert _arrived(True, (3.0, 4.0, 0.0), (0.0, 0.0, 0.0), 5.0)
+    assert not _arrived(True, (3.0, 4.0, 0.0), (0.0, 0.0, 0.0), 4.999)
+    assert not _arrived(False, (3.0, 4.0, 0.0), (0.0, 0.0, 0.0), 5.0)
+    assert PROGRESS_STEP == 1.0
+    assert not _progressed(11.0, 10.0) and _progressed(11.5, 10.0) and _progressed(0.5, -1.0)
+    assert not _progressed(10.5, 10.0) and not _progressed(9.0, 10.0)
+    asked = []
+
+    def stalled(answer: bool):
+        return lambda: asked.append(answer) or answer
+
+    assert not _deadlocked(70.0, 10.0, 60.0, None) and _deadlocked(70.1, 10.0, 60.0, None)
+    assert not _deadlocked(70.0, 10.0, 60.0, stalled(False)) and asked == []
+    assert _deadlocked(70.1, 10.0, 60.0, stalled(False)) and asked == [False]
+    assert not _deadlocked(70.1, 10.0, 60.0, stalled(True)) and asked == [False, True]
+
+
+def _head_current(ground_speed: float) -> World:
+    """Open water with a current along -x of V - ``ground_speed`` (V = 1.5 m/s)."""
+    return World(Bounds(-5000, 5000, -500, 500, -100, 0), currents=UniformCurrent((ground_speed - 1.5, 0.0, 0.0)))
+
+
+def test_sim_a_creeping_vehicle_is_not_deadlocked():
+    """Against a current that leaves 0.025 m/s of ground speed, the vehicle gains 1.5 m of route
+    progress a minute, so every 60 s window beats the best by more than 1 m: no deadlock, TIMEOUT at
+    max_time (300 s) 7.5 m along.  At 0.015 m/s (0.9 m a minute) the run is deadlocked at the first
+    step more than 60 s after its last progress, the first step (t = 0.1 s: 1.5 mm beat the initial best
+    of -1 m by more than 1 m), i.e. at t = 60.2 s."""
+    from auvplan.sim import SimSettings
+
+    m = Mission("creep", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
+                sim=SimSettings(deadlock_time=60.0, max_time=300.0))
+    r = simulate(_head_current(0.025), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.TIMEOUT and [e[1] for e in r.events] == ["timeout"]
+    assert r.position[-1, 0] == pytest.approx(7.5, abs=0.05)
+    r = simulate(_head_current(0.015), m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.DEADLOCK and r.t[-1] == pytest.approx(60.2, abs=1e-9)
+
+
+def test_sim_an_obstacle_on_the_seabed_hit_half_a_metre_above_it():
+    """Level flight 0.5 m above a flat seabed (100 m) into a sphere (5 m) resting there, then into a
+    sphere moving head on at 3 m/s (twice the vehicle's speed): the events name the obstacle, not the
+    seabed (the vehicle is above it), a COLLISION and an UNAVOIDABLE hit."""
+    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+
+    route = ((100.0, 500.0, -99.5), (600.0, 500.0, -99.5))
+    m = Mission("low", route[0], route[-1], route=route)
+    world = flat_world(depth=100.0, size=1000.0, obstacles=(Sphere((300.0, 500.0, -99.5), 5.0),))
+    r = simulate(world, m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.COLLISION and "hit obstacle 0" in r.events[-1][2]
+    assert 0.0 < r.altitude[-1] < 1.0 and r.position[-1, 0] == pytest.approx(295.0, abs=1.0)
+    moving = MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((500.0, 500.0, -99.5), (-3.0, 0.0, 0.0)))
+    world = replace(flat_world(depth=100.0, size=1000.0), moving=(moving,))
+    r = simulate(world, m, guidance="los", rng=0, avoidance="none")
+    assert r.status is Status.UNAVOIDABLE and "hit obstacle 0 (moving" in r.events[-1][2]
+    assert 0.0 < r.altitude[-1] < 1.0

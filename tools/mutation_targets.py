@@ -78,16 +78,26 @@ MODULES: dict[str, Target] = {
         + tuple(f"tests/test_oracles_sim.py::test_lattice_{t}" for t in (
             "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
             "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
-            "search_by_length_on_a_line")),
+            "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single")),
         jit=False,
     ),
-    # the simulation's event detection (collision, arrival, deadlock, timeout): the events block of
-    # simulate's loop (the rest of it records the run and steps the vehicle)
+    # the simulation's event detection (collision, arrival, deadlock, timeout): the pure event rules
+    # and the events block of simulate's loop (the rest of it records the run and steps the vehicle)
     "sim": Target(
-        _fns(SIM, "_distance", "_obstacle_shapes") + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
-        ("tests/test_oracles.py", "tests/test_tracking.py", "tests/test_local.py", "-k",
-         "seabed or collision_is_reported or names_the or converges or deadlock_is_declared or arrival_at"
-         " or fast_obstacle or decides_unavoidable"),
+        _fns(SIM, "_distance", "_obstacle_shapes", "_contact_event", "_arrived", "_progressed", "_deadlocked")
+        + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
+        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+            "a_dive_into_the_seabed_ends_in_collision", "deadlock_is_declared_one_step_after_the_deadlock_time",
+            "arrival_at_the_radius_and_timeout_at_max_time", "collision_names_the_obstacle_that_was_hit",
+            "the_moving_obstacle_that_hits_decides_unavoidable"))
+        + ("tests/test_tracking.py::test_converges_to_the_route_exponentially",
+           "tests/test_tracking.py::test_collision_is_reported_as_a_status",
+           "tests/test_local.py::test_fast_obstacle_aimed_at_the_vehicle_is_unavoidable")
+        + tuple(f"tests/test_oracles_sim.py::test_sim_{t}" for t in (
+            "contact_is_penetration_and_names_what_was_hit",
+            "moving_hit_is_unavoidable_when_at_least_as_fast_and_closing_in",
+            "arrival_progress_and_deadlock_rules_at_their_boundaries", "a_creeping_vehicle_is_not_deadlocked",
+            "an_obstacle_on_the_seabed_hit_half_a_metre_above_it")),
     ),
     # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
     "local": Target(
