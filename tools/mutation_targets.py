@@ -48,8 +48,9 @@ MODULES: dict[str, Target] = {
              "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
         + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
                "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
-        ("tests/test_world.py", "tests/test_oracles.py", "-k",
-         "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"),
+        ("tests/test_world.py", "tests/test_oracles.py", "tests/test_oracles_sim.py", "-k",
+         "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"
+         " and (not oracles_sim or world_)"),
     ),
     # the energy/duration kernel and the path terms (violations, clearance)
     "cost": Target(
@@ -78,7 +79,8 @@ MODULES: dict[str, Target] = {
         + tuple(f"tests/test_oracles_sim.py::test_lattice_{t}" for t in (
             "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
             "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
-            "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single")),
+            "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single",
+            "node_fields_are_the_worlds_static_clearances")),
         jit=False,
     ),
     # the simulation's event detection (collision, arrival, deadlock, timeout): the pure event rules
@@ -132,8 +134,6 @@ _KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, whic
 _CELL = "equivalent: at the boundary both branches give the same cell index"
 _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
          "answers the same")
-_SHORTCUT = ("**not killed** (no oracle yet): the obstacle shortcut made unsound, edges near an obstacle "
-             "skip the exact test; in the test worlds no edge between two free nodes clips an obstacle")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -210,22 +210,6 @@ REASONS: dict[str, str] = {
         "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
         "start nested in several bodies)",
     # grid
-    "_search | pos[v] = -3":
-        "equivalent: a settled node is never improved again (positive weights: dist[v] + w >= dist[u]), so "
-        "marking it -3 instead of -2 only costs needless relaxations",
-    "free_edges | sure &= lb > world.margins.min_altitude":
-        "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
-        "runs and agrees",
-    "_sift_down | if c - 1 < size and key[heap[c + 1]] < key[heap[c]]:":
-        "**not killed** (not analysed): may compare with the stale entry just past the heap's end",
-    "_search | if pos[u] == 2 or not bits[u] >> s & 1:":
-        "**not killed** (not analysed): settled nodes are relaxed again (harmless) but the node at heap "
-        "position 2 is skipped",
-    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) < 0.5 * length": _SHORTCUT,
-    "free_edges | sure = np.maximum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length": _SHORTCUT,
-    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 / length": _SHORTCUT,
-    "free_edges | lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], "
-    "np.hypot(d[0], d[2]))": _SHORTCUT.replace("obstacle", "seabed"),
     # world
     "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
         "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
@@ -247,38 +231,9 @@ REASONS: dict[str, str] = {
     "Ellipsoid._segment_min_distance | ends = np.minimum(self.distance(seg[:, 1]), self.distance(seg[:, 1]))":
         "equivalent to 1e-9 of the length: the golden section already converges onto the start when the minimum "
         "is there",
-    # sim (events block)
-    "simulate | what = 'the seabed' if alt < 1.0 else f'obstacle {int(np.argmin(dists))}'":
-        "not observed: needs an obstacle hit within 1 m of the seabed (only the event's wording changes)",
-    "simulate | if alt >= 1.0 and int(np.argmin(dists)) >= n_static:":
-        "not observed: needs a fast moving obstacle hit within 1 m of the seabed",
-    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) > 1.0":
-        "boundary-like: differs only when v_o . (p - c) lies in (0, 1] m²/s at contact (an obstacle passing "
-        "almost tangentially)",
-    "simulate | elif t - best_time > st.deadlock_time and (local is None or local.stalled(pos, t, best_time)):":
-        "not in the fast selection: only runs with local avoidance reach it; test_tracking's "
-        "test_deadlock_is_detected (escapes, then DEADLOCK after escape_time; ~60 s) covers it, not run per "
-        "mutant",
-    "simulate | if rp.progress > best_progress + 2.0:":
-        "not observed by the fast tests: needs a vehicle gaining between 1 and 2 m of route progress per "
-        "deadlock window",
+    # sim
     "_distance | if bound >= far:":
         "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
-    "simulate | if alt <= 0.0 or any((d < 0.0 for d in dists)):": "boundary: differs only at an altitude of exactly "
-        "0 m, which a continuous trajectory sampled every 0.1 s does not hit",
-    "simulate | if alt < 0.0 or any((d <= 0.0 for d in dists)):": "boundary: differs only at a distance of exactly "
-        "0 m from an obstacle",
-    "simulate | what = 'the seabed' if alt <= 0.0 else f'obstacle {int(np.argmin(dists))}'":
-        "boundary: differs only at an altitude of exactly 0 m during an obstacle collision",
-    "simulate | if alt > 0.0 and int(np.argmin(dists)) >= n_static:": "boundary: altitude exactly 0 m",
-    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) >= 0.0":
-        "boundary: an obstacle moving exactly tangentially at the moment of contact",
-    "simulate | if np.linalg.norm(v_o) > vp.speed and closing:":
-        "boundary: an obstacle exactly as fast as the vehicle (its speed is a finite difference: equality "
-        "cannot be set up reliably)",
-    "simulate | if rp.last and math.dist((s.x, s.y, s.z), goal) < st.arrival_radius:":
-        "boundary: exactly at the arrival radius",
-    "simulate | if rp.progress >= best_progress + 1.0:": "boundary: a progress gain of exactly 1 m",
     # local
     "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
         "boundary: a key waypoint exactly on a moving obstacle's margin",
