@@ -604,6 +604,10 @@ def test_local_key_waypoints_hold_up_a_path_over_two_ridges_and_ignore_moving_ob
         assert len(keys) >= 4 and (keys[0] == path[0]).all() and (keys[-1] == path[-1]).all()
         assert not (keys[-1] == keys[-2]).all()
         assert world.segments_free(np.stack([keys[:-1], keys[1:]], axis=1), moving=False).all()
+    # a path whose last leg is blocked (through a sphere): every point is kept, the last one once
+    blocked = World(Bounds(0, 1000, 0, 1000, -100, 0), obstacles=(Sphere((150.0, 500.0, -50.0), 10.0),))
+    three = np.array([[0.0, 500.0, -50.0], [100.0, 500.0, -50.0], [200.0, 500.0, -50.0]])
+    np.testing.assert_array_equal(key_waypoints(three, blocked), three)
     level = np.c_[x, np.full(x.size, 500.0), np.full(x.size, -70.0)]
     open_world = World(Bounds(0, 1000, 0, 1000, -100, 0), moving=(
         MovingObstacle(Sphere((0.0, 0.0, 0.0), 20.0), LinearMotion((500.0, 500.0, -70.0), (0.0, 0.0, 0.0))),))
@@ -704,6 +708,7 @@ def test_local_escapes_draw_a_free_sub_goal_and_widen_within_one_stall():
                   [(0.0, 0.0, -2000.0), (100.0, 0.0, -2000.0)])
     assert trapped._escape(np.array([0.0, 0.0, -2000.0]), 0.0) is False and trapped.escapes == 0
     assert trapped.mode == "route" and trapped.subgoal is None
+    assert _la(half, [(0.0, 0.0, -50.0), (-100.0, 0.0, -50.0)])._escape(p, 0.0) is True
     from test_oracles import _KEYS, _open_water
 
     la = _la(_open_water(), _KEYS)
@@ -761,7 +766,8 @@ def test_local_apf_command_goals_sub_goals_distances_and_the_sloped_seabed_floor
     penultimate key the goal moves on to the last key, and stays there when that is reached too; the
     command's course is the APF force's with the obstacles' *distances*; while a sub-goal is followed a
     trapped detector does not start another escape; over a seabed sloping in x (z = -150 + 0.05 x) the
-    dive floor uses the altitude under the vehicle (5 m above the margin at x = 100, y = 600: 7.5°)."""
+    dive floor uses the altitude under the vehicle (5 m above the margin at x = 100, y = 600: 7.5°; the
+    seabed also slopes in y, 0.02), and does not apply 25 m above the margin."""
     world = World(Bounds(-5000, 5000, -500, 500, -100, 0))
     la = _la(world, _BENT)
     la.mode, la.goal_index = "apf", 3
@@ -779,9 +785,13 @@ def test_local_apf_command_goals_sub_goals_distances_and_the_sloped_seabed_floor
         la._apf_command(np.array([100.0, 0.0, -50.0]), float(t), [], 0.3, None)
     assert la.escapes == 0 and (la.subgoal == [150.0, 50.0, -50.0]).all()
     g = np.arange(-100.0, 1101.0, 100.0)
-    plane = np.broadcast_to(-150.0 + 0.05 * g, (g.size, g.size))
+    plane = -150.0 + 0.05 * g[None, :] + 0.02 * (g[:, None] - 600.0)  # (ny, nx): sloping in x and y
     slope = World(Bounds(0, 1000, 0, 1000, -200, 0), Terrain(g, g, plane), margins=Margins(min_altitude=5.0))
     la = _la(slope, [(0.0, 600.0, -100.0), (300.0, 600.0, -200.0), (600.0, 600.0, -100.0)])
     la.mode = "apf"
     _, pitch, _ = la._apf_command(np.array([100.0, 600.0, -135.0]), 0.0, [], 0.3, None)
     assert pitch == pytest.approx(math.radians(10.0) * (1.0 - 5.0 / 20.0), abs=1e-12)
+    p = np.array([100.0, 600.0, -115.0])  # 25 m above the margin: beyond 2 x arrive, the dive is not floored
+    f = apf_force(p, np.array([300.0, 600.0, -200.0]), np.empty((0, 3)), np.empty(0), la.params)
+    _, pitch, _ = la._apf_command(p, 1.0, [], 0.3, None)
+    assert pitch == pytest.approx(math.atan2(f[2], math.hypot(f[0], f[1])), abs=1e-12) and pitch < -0.3

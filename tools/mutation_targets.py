@@ -134,6 +134,9 @@ _KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, whic
 _CELL = "equivalent: at the boundary both branches give the same cell index"
 _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
          "answers the same")
+_ONES = "equivalent: an all-True answer has no blocked index, whatever its length"
+_LAST = ("equivalent: i never exceeds n - 1, and at i = n - 1 the next pass has no segment left and stops "
+         "with the same keys")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -293,6 +296,19 @@ REASONS: dict[str, str] = {
     "_distance | if bound >= far:":
         "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
     # local
+    "key_waypoints | p = as_points(points).reshape(-2, 3)": _NEG,
+    "key_waypoints | return np.ones(n - i + 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n + i - 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n - i - 2, dtype=bool)": _ONES,
+    "key_waypoints | if i > n - 1:": _LAST,
+    "key_waypoints | if i >= n + 1:": _LAST,
+    "key_waypoints | if i >= n - 2:":
+        "equivalent for a free path (the caller's plan): the penultimate point's segment to the last one is a "
+        "segment of the path itself",
+    "key_waypoints | continue": _LAST,
+    "apf_force | d = np.asarray(distances, dtype=float).reshape(-2)": _NEG,
+    "apf_force | near = d < params.radius": "equivalent: at d = r the repulsion k (1/d - 1/r) ... is 0",
+    "LocalAvoidance._apf_command | centers = np.array([o[4] for o in near]).reshape(-2, 3)": _NEG,
     "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
         "boundary: a key waypoint exactly on a moving obstacle's margin",
     "LocalAvoidance._advance_goal | behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) + 1)] - "
