@@ -210,7 +210,8 @@ def test_lattice_search_is_scipys_dijkstra_with_random_currents_and_edges():
     length + energy: the search's cost-to-go is scipy's Dijkstra over the reversed graph whose edges
     are costed independently (:func:`_edge_costs`), the goal linked to 5 nodes; every next-node hop
     realises the cost; A* towards a start (with a valid lower bound per metre) settles fewer nodes
-    and finds the same cost for that start."""
+    and finds the same cost for that start, and for a start exactly on a node; a goal-linked node
+    whose own link is dear (200) gets its cheaper cost through its neighbours in both searches."""
     rng = np.random.default_rng(23)
     shape = (9, 8, 6)
     n = int(np.prod(shape))
@@ -235,6 +236,7 @@ def test_lattice_search_is_scipys_dijkstra_with_random_currents_and_edges():
     assert np.isinf(w).sum() > 20 and np.isfinite(w).sum() > 3000
     near = np.array([idx[7, 6, 4], idx[8, 6, 4], idx[7, 7, 4], idx[7, 6, 5], idx[8, 7, 5]])
     w_goal = rng.uniform(5.0, 15.0, near.size)
+    w_goal[4] = 200.0  # cheaper through its neighbours
     dist, nxt, settled = search(shape, bits, steps, origin, current, cost, (near, w_goal))
     keep = np.isfinite(w)
     graph = coo_matrix((np.r_[w[keep], w_goal], (np.r_[dst[keep], np.full(near.size, n)], np.r_[src[keep], near])),
@@ -260,6 +262,13 @@ def test_lattice_search_is_scipys_dijkstra_with_random_currents_and_edges():
                              0.9 * per_metre)
     assert (ws + d2[sn]).min() == pytest.approx((ws + want[sn]).min(), rel=1e-9)
     assert settled2 < settled
+    assert want[near[4]] < 100.0 and d2[near[4]] == pytest.approx(want[near[4]], rel=1e-9)
+    # a start exactly on a node (the heuristic is 0 there, the node linked at cost ~0)
+    on = idx[1, 1, 1]
+    d3, _, _ = search(shape, bits, steps, origin, current, cost, (near, w_goal),
+                      (np.array([on, idx[2, 1, 1]]), np.array([1e-12, 25.0])), xyz[on], 0.9 * per_metre)
+    assert min(1e-12 + d3[on], 25.0 + d3[idx[2, 1, 1]]) == pytest.approx(
+        min(want[on], 25.0 + want[idx[2, 1, 1]]), rel=1e-9)
 
 
 def test_lattice_search_by_length_on_a_line():
@@ -288,6 +297,15 @@ def test_lattice_search_by_length_on_a_line():
                               (np.array([2, 5, 3, 0]), np.array([1.0, 2.0, 100.0, 3.0])))
     np.testing.assert_allclose(dist, [3.0, 2.0, 1.0, 2.0, 3.0, 2.0, 0.0])
     assert settled == 6
+    # a 7-node line linked to the goal at both ends: after the first pop one node is left in the heap,
+    # which must be moved to the root (else it is lost, and the far half is costed through the near one)
+    line = np.zeros(7, dtype=np.uint32)
+    line[:6] |= np.uint32(1 << plus)
+    line[1:] |= np.uint32(1 << minus)
+    dist, _, settled = search((7, 1, 1), line, np.ones(3), np.zeros(3), np.zeros((0, 3), np.float32), None,
+                              (np.array([0, 6]), np.array([1.0, 1.0])))
+    np.testing.assert_allclose(dist, [1.0, 2.0, 3.0, 4.0, 3.0, 2.0, 1.0, 0.0])
+    assert settled == 7
 
 
 # ---------------------------------------------------------------------- sim: the events of simulate

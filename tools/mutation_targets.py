@@ -226,6 +226,31 @@ REASONS: dict[str, str] = {
     "_offset_states | lb = min(ga, gb, 0.5 * (ga - gb - abs(dz) - lipschitz * lh))":
         "equivalent: free nodes have g_b >= 0, so the mutated bound is never above the true one; more edges "
         "go to the exact test, which decides the same",
+    "_search | if w_goal[k] <= dist[u]:": "equivalent: only a node linked to the goal twice at the same cost "
+        "differs, and it is queued once either way",
+    "_search | if key[v] > best:":
+        "equivalent: at a tie the node settled next cannot lead to a cheaper start (keys never fall below "
+        "the cost of a path through them)",
+    "_search | pos[v] = 2": "equivalent: a settled node is never improved again (consistent keys), so its "
+        "marker only spares needless relaxations",
+    "_search | pos[v] = -3": "equivalent: a settled node is never improved again (consistent keys), so "
+        "marking it -3 instead of -2 only costs needless relaxations",
+    "_search | if size >= 0:": "equivalent: with the heap empty the entry moved to the root is the settled "
+        "node itself; un-marking it is harmless, as it is never improved",
+    "_search | key[u] = dist[u] - _heuristic(u, ny, nz, origin, steps, start, c_min)":
+        "**not killed**: A*'s initial keys of the goal's links lowered by the heuristic; they are then popped "
+        "first, which in the test lattices still relaxes each through its neighbours before it is settled",
+    "_offset_states | sure = lb > min_alt": "equivalent: the shortcut only decides which edges skip the exact "
+        "test; at equality the exact test runs and agrees",
+    "_offset_states | state[u] = 2 if sure else 2": "equivalent: every edge goes to the exact test, which "
+        "decides the same (the shortcut only saves time)",
+    "edge_states | _offset_states(free, altitude, obstacle, off, 1.5 * float(np.linalg.norm(d)), float(d[2]), "
+    "float(np.hypot(d[0], d[1])), terrain.max_slope if terrain is not None else 0.0, world.margins.min_altitude, "
+    "has_terrain, state)": "equivalent: a stricter obstacle shortcut sends more edges to the exact test, which "
+        "decides the same",
+    "edge_states | _offset_states(free, altitude, obstacle, off, 0.5 * float(np.linalg.norm(d)), float(d[2]), "
+    "float(np.hypot(d[0], d[1])), terrain.max_slope if terrain is not None else 1.0, world.margins.min_altitude, "
+    "has_terrain, state)": "equivalent: without terrain the slope is never read (has_terrain is False)",
     # world
     "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
         "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
