@@ -137,6 +137,9 @@ _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, w
 _ONES = "equivalent: an all-True answer has no blocked index, whatever its length"
 _LAST = ("equivalent: i never exceeds n - 1, and at i = n - 1 the next pass has no segment left and stops "
          "with the same keys")
+_BOX = ("equivalent in outcome: the box only narrows which settled nodes are compared with the start's links; "
+        "a wider box costs needless comparisons, a narrower one only delays A*'s stop (same costs, more nodes "
+        "settled)")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -251,6 +254,41 @@ REASONS: dict[str, str] = {
     "edge_states | _offset_states(free, altitude, obstacle, off, 0.5 * float(np.linalg.norm(d)), float(d[2]), "
     "float(np.hypot(d[0], d[1])), terrain.max_slope if terrain is not None else 1.0, world.margins.min_altitude, "
     "has_terrain, state)": "equivalent: without terrain the slope is never read (has_terrain is False)",
+    # grid: A*'s box of the start's links
+    "_search | if c_min > 0.0 or box[0] <= i <= box[1] or box[2] <= j <= box[3] or (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min >= 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k <= box[5]):":
+        _BOX,
+    "_search | if c_min > 0.0 and box[0] < i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i < box[1] and (box[2] <= j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[1] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[2] and (box[2] <= j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] < j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j < box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[3] <= j <= box[3]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[4]) and (box[4] <= k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] < k <= box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k < box[5]):": _BOX,
+    "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[5] <= k <= box[5]):": _BOX,
+    "_search | pos[heap[0]] = 1": "equivalent: _sift_down always sets the position of the node it sifts",
+    "_search | pos[heap[1]] = 0": "**not killed**: the root's position is set by _sift_down anyway, but the "
+        "second entry's is then wrong when it does not move; a later decrease-key of that node would sift from 0 "
+        "(no test lattice relaxes that node again)",
+    "edge_states | for c0 in range(0, unsure.size, 200001):": "equivalent: the chunk size of the exact test",
+    "edge_states | u = unsure[c0:c0 + 200001]": "equivalent: overlapping chunks test some edges twice",
+    "edge_states | state[u] = world.segments_free(seg, moving=True, ends_free=True)":
+        "**not killed** (conservative): a moving obstacle's position at t = 0 would block the unsure edges "
+        "through it; no oracle parks a mover across an unsure edge",
+    "edge_states | state[u] = world.segments_free(seg, moving=False, ends_free=False)":
+        "equivalent: both ends are free nodes, so the convex end-point tests pass",
+    "_edge_weight | return max(w_length * ds + w_energy * units, 1.000000000001)":
+        "**not killed**: an edge cheaper than 1 would be costed 1; every test lattice's edges cost more",
+    "_sift_up | if key[heap[parent]] < key[node]:": "equivalent: only the order of equal keys changes",
+    "_sift_down | if c + 1 < size and key[heap[c + 1]] <= key[heap[c]]:":
+        "equivalent: only the order of equal keys changes",
+    "_sift_down | if key[heap[c]] > key[node]:": "equivalent: only the order of equal keys changes",
+    "_heuristic | if c_min < 0.0:": "equivalent: with c_min = 0 the heuristic c_min |x - start| is 0 anyway",
+    "_heuristic | if c_min > 0.0:": "equivalent in outcome: a zero heuristic makes A* Dijkstra with the same "
+        "stop rule (same costs, more nodes settled)",
     # world
     "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
         "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
