@@ -184,8 +184,16 @@ REASONS: dict[str, str] = {
     "_exit_body | for _ in range(61):":
         "equivalent: a 61st halving moves the exit point by 2^-61 of the body's diameter, below float resolution",
     "_exit_body | for _ in range(5):":
-        "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
-        "start nested in several bodies)",
+        "not killed: a 5th push matters only for a start whose exit lands in a second, third and fourth flow "
+        "surface in a row; a start left inside a surface then stops by the step-retry/contact rule (not unsafe)",
+    "_deflect | if field.distances(cand[ok][None], 'true').max() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:":
+        "not killed (no oracle): needs a sideways step (0.06 R) ending inside a second flow surface with its "
+        "midpoint outside all, i.e. an obstacle under ~0.1 R at the front stagnation point of a larger one; "
+        "the step is recorded in min_distance and plan_flow's exact segment test would reject the path",
+    "_deflect | near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho <= 0.05 * R)":
+        "boundary: a streamline exactly 0.05 R off the axis",
+    "integrate_streamlines | p = np.array(starts, dtype=float).reshape(-2, 3)": _NEG,
     "FlowField.clearance | near = lb <= max(ob.semi_axes)":
         "boundary: differs only where the lower bound equals the largest semi-axis exactly; the exact distance "
         "(>= the bound) is then returned instead of the bound",
