@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 
 from ._types import ArrayLike, RngLike, Status, as_rng
-from .guidance.formation import FormationCommand, FormationParams, formation_command
+from .guidance.formation import FormationParams
 from .guidance.formation_plan import FormationPlan, plan_formation
+from .guidance.formation_steer import FormationCommand, formation_command
 from .planners.base import PlanResult, Progress
 from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, planned_route
 from .vehicles import Vehicle, VehicleState
