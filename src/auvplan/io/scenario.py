@@ -50,6 +50,7 @@ from ..world import (
     WaypointMotion,
 )
 from . import limits as _limits
+from .bathymetry import TerrainSpec
 from .build import build
 from .limits import Limits
 from .specs import (
@@ -341,52 +342,22 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     Scenario
         The validated scenario.
     """
-    if not isinstance(data, dict):
-        raise ScenarioError(f"{source}: expected a table of sections, got {type(data).__name__}")
-    for key in data:
-        if key not in _TOP_KEYS:
-            raise ScenarioError(f"{source}: unknown key {key!r} (allowed: {', '.join(sorted(_TOP_KEYS))})")
-    if "mission" not in data:
-        raise ScenarioError(f"{source}: missing required table [mission]")
-    name = data.get("name", Path(source).stem)
-    description = data.get("description", "")
-    seed = data.get("seed", 0)
-    if not isinstance(name, str):
-        raise table_error(f"{source}:", "name", name, "expected a string")
-    if not isinstance(description, str):
-        raise table_error(f"{source}:", "description", description, "expected a string")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise table_error(f"{source}:", "seed", seed, "expected a non-negative integer")
-    if seed >= 2**63:
-        raise table_error(f"{source}:", "seed", seed, "must be < 2^63")
+    name, description, seed = _header(data, source)
     limits = _section(data, "limits", source)
     origin = _section(data, "origin", source) if "origin" in data else None
     bounds = _section(data, "bounds", source)
-    terrain = synthetic = None
-    if "terrain" in data:
-        t = dict(data["terrain"]) if isinstance(data["terrain"], dict) else data["terrain"]
-        if isinstance(t, dict) and "synthetic" in t:
-            if len(t) > 1:
-                extra = sorted(k for k in t if k != "synthetic")
-                raise ScenarioError(f"{source}: [terrain] {extra[0]!r} cannot be combined with [terrain.synthetic]")
-            synthetic = build_dataclass(SyntheticTerrainSpec, t["synthetic"], f"{source}: [terrain.synthetic]")
-        else:
-            terrain = _section(data, "terrain", source)
+    terrain, synthetic = _terrain(data, source)
     if (terrain is not None) and origin is None:
         raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
     currents = _section(data, "currents", source)
     land = _section(data, "land", source) if "land" in data else None
     if land is not None and (origin is None or terrain is None and synthetic is None):
         raise ScenarioError(f"{source}: [land] needs [origin] lat/lon and a [terrain] to burn the land into")
-    obstacles_raw = data.get("obstacles", [])
-    if not isinstance(obstacles_raw, list):
-        raise table_error(f"{source}:", "obstacles", obstacles_raw, "expected an array of tables [[obstacles]]")
-    obstacles = tuple(_shape(t, f"{source}: [[obstacles]] #{i + 1}", moving=False) for i, t in enumerate(obstacles_raw))
+    obstacles = tuple(_shape(t, f"{source}: [[obstacles]] #{i + 1}", moving=False)
+                      for i, t in enumerate(_array(data, "obstacles", source)))
     bxy = (bounds.x + bounds.y) if bounds.x and bounds.y else None
-    moving_raw = data.get("moving", [])
-    if not isinstance(moving_raw, list):
-        raise table_error(f"{source}:", "moving", moving_raw, "expected an array of tables [[moving]]")
-    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits) for i, t in enumerate(moving_raw))
+    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits)
+                   for i, t in enumerate(_array(data, "moving", source)))
     mission = _section(data, "mission", source)
     planner = _section(data, "planner", source)
     sim = _section(data, "sim", source)
@@ -417,6 +388,50 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         land=land,
         formation=formation,
     )
+
+
+def _header(data: Any, source: str) -> tuple[str, str, int]:
+    """The document's top level: a table of known sections with ``[mission]``; name, description, seed."""
+    if not isinstance(data, dict):
+        raise ScenarioError(f"{source}: expected a table of sections, got {type(data).__name__}")
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise ScenarioError(f"{source}: unknown key {key!r} (allowed: {', '.join(sorted(_TOP_KEYS))})")
+    if "mission" not in data:
+        raise ScenarioError(f"{source}: missing required table [mission]")
+    name = data.get("name", Path(source).stem)
+    description = data.get("description", "")
+    seed = data.get("seed", 0)
+    if not isinstance(name, str):
+        raise table_error(f"{source}:", "name", name, "expected a string")
+    if not isinstance(description, str):
+        raise table_error(f"{source}:", "description", description, "expected a string")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise table_error(f"{source}:", "seed", seed, "expected a non-negative integer")
+    if seed >= 2**63:
+        raise table_error(f"{source}:", "seed", seed, "must be < 2^63")
+    return name, description, seed
+
+
+def _terrain(data: dict[str, Any], source: str) -> tuple[TerrainSpec | None, SyntheticTerrainSpec | None]:
+    """``[terrain]`` (a data source) or ``[terrain.synthetic]`` (an analytic seabed), not both."""
+    if "terrain" not in data:
+        return None, None
+    t = dict(data["terrain"]) if isinstance(data["terrain"], dict) else data["terrain"]
+    if isinstance(t, dict) and "synthetic" in t:
+        if len(t) > 1:
+            extra = sorted(k for k in t if k != "synthetic")
+            raise ScenarioError(f"{source}: [terrain] {extra[0]!r} cannot be combined with [terrain.synthetic]")
+        return None, build_dataclass(SyntheticTerrainSpec, t["synthetic"], f"{source}: [terrain.synthetic]")
+    return _section(data, "terrain", source), None
+
+
+def _array(data: dict[str, Any], key: str, source: str) -> list[Any]:
+    """An array of tables (``[[obstacles]]``, ``[[moving]]``), empty when absent."""
+    raw = data.get(key, [])
+    if not isinstance(raw, list):
+        raise table_error(f"{source}:", key, raw, f"expected an array of tables [[{key}]]")
+    return raw
 
 
 def _formation(data: dict[str, Any], src: str, mission: MissionSpec) -> Formation | None:
