@@ -53,36 +53,10 @@ from . import limits as _limits
 from .bathymetry import TerrainSpec
 from .build import build
 from .limits import Limits
-from .specs import (
-    SECTIONS,
-    BoundsSpec,
-    CurrentsSpec,
-    GuidanceSpec,
-    MissionSpec,
-    OriginSpec,
-    Scenario,
-    SyntheticTerrainSpec,
-    VortexSpec,
-)
+from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
 
-__all__ = [
-    "Scenario",
-    "OriginSpec",
-    "BoundsSpec",
-    "SyntheticTerrainSpec",
-    "CurrentsSpec",
-    "VortexSpec",
-    "MissionSpec",
-    "GuidanceSpec",
-    "load",
-    "loads",
-    "build",
-    "builtin_scenarios",
-    "resolve",
-    "from_dict",
-    "SECTIONS",
-]
+__all__ = ["Scenario", "load", "loads", "build", "builtin_scenarios", "resolve", "from_dict"]
 
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
