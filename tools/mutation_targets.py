@@ -111,6 +111,10 @@ _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, w
          "answers the same")
 _SHORTCUT = ("**not killed** (no oracle yet): the obstacle shortcut made unsound, edges near an obstacle "
              "skip the exact test; in the test worlds no edge between two free nodes clips an obstacle")
+_GRAZE = ("equivalent: a step still entering a surface after six quarterings starts at a node outside (d >= 0, "
+          "only such nodes are kept) and is at most h_min / 4096 long, so it ends at most h_min / 4096 inside "
+          "(d is 1-Lipschitz, up to a body profile's chord sag); every graze window at least that wide (0.02 h_min "
+          "here) corrects the same grazes")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -199,6 +203,13 @@ REASONS: dict[str, str] = {
         "(>= the bound) is then returned instead of the bound",
     "FlowField.push_out | k = d.argmin(axis=1)": "equivalent: d is (N, K) here (p is reshaped to (N, 3)), axis 1 "
         "is axis -1",
+    "integrate_streamlines | for _ in range(7):":
+        "not killed: a seventh quartering (h / 16384) only lets a streamline creeping into a leaky surface take "
+        "one more tiny step before the graze correction; its nodes stay outside either way",
+    "integrate_streamlines | graze = (d_next < 0) & (d_next >= -0.001 * h_min / 0.05)": _GRAZE,
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -1.001 * h_min / 0.05)": _GRAZE,
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 / h_min / 0.05)":
+        _GRAZE + " (here 0.02 / h_min >= h_min / 4096 for h_min <= 9 m, i.e. obstacles up to ~180 m)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
