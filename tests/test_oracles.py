@@ -708,7 +708,7 @@ def test_apf_goal_skips_key_waypoints_behind_reached_or_occupied():
     """Keys every 100 m along x (arrive radius 10 m): from x = 150 the next goal is key 2 (key 1 is
     behind); from x = 195 key 3 (key 2 reached); the last key is never skipped, even when reached;
     from x = -50 key 1 stays; a parked moving obstacle on key 2 makes the goal skip it."""
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     world = _open_water()
     la = _local(world, _KEYS)
@@ -781,7 +781,7 @@ def test_the_moving_obstacle_that_hits_decides_unavoidable():
     avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
     recorded at the lower bound |p - c| - r (exact for spheres)."""
     from auvplan.sim import SimSettings
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
     for speed, status in ((3.0, Status.UNAVOIDABLE), (0.5, Status.COLLISION)):

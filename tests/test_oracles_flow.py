@@ -1,0 +1,145 @@
+"""Oracle tests of document 000's flow planner: the field's parts and the streamlines' stop rules.
+
+The survivors of the mutation run on ``flow`` (docs/mutants.md §2) each met one of these: a small
+independent computation (an image by hand, an analytic speed, a rule's threshold read off the path)
+that a one-line bug in ``planners/flow.py`` or ``planners/flow_stream.py`` breaks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from auvplan.planners.flow import FlowField, FlowParams, integrate_streamlines, sink_velocity
+from auvplan.planners.flow_stream import MAX_CORRECTIONS
+from auvplan.world import Ellipsoid, Sphere
+
+GOAL = np.array([30.0, 0.0, 0.0])
+ELLIPSOID = Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0))
+
+
+# ---------------------------------------------------------------------- the field
+def test_mirror_sink_is_the_image_of_the_target_in_the_plane():
+    """A plane at z = −50 m and the target T = (12, −7, −42) (m = 2): the field is the sink plus a sink
+    of the same strength at T's mirror image (12, −7, −58), by hand, and no flow crosses the plane."""
+    target = np.array([12.0, -7.0, -42.0])
+    field = FlowField((), target, FlowParams(strength=2.0), plane=-50.0)
+    rng = np.random.default_rng(11)
+    p = rng.uniform(-40.0, 40.0, (50, 3)) + (0.0, 0.0, -20.0)
+    p[:, 2] = np.abs(p[:, 2] + 50.0) - 50.0  # above the plane
+    expected = sink_velocity(p, target, 2.0) + sink_velocity(p, [12.0, -7.0, -58.0], 2.0)
+    np.testing.assert_allclose(field.velocity(p), expected, rtol=1e-12)
+    on_plane = np.column_stack([p[:, :2], np.full(len(p), -50.0)])
+    u = field.velocity(on_plane)
+    assert np.abs(u[:, 2]).max() <= 1e-12 * np.linalg.norm(u, axis=1).max()
+
+
+def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface():
+    """Points δ = 10⁻³ R inside the flow body of the (8, 4, 3) ellipsoid, built by hand from its meridian
+    profile (the middle of a segment, moved in along the segment's left-hand normal, turned about the
+    axis): ``push_out`` moves each back out along that normal by δ + eps·R (eps = 10⁻⁶), onto the profile
+    to within 2·10⁻⁶ R (the graze correction's move); the body's own ``normal`` there is the same outward
+    unit vector (it was the inward one: the correction pushed grazing points deeper in)."""
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    body = field.bodies[0]
+    radius = float(field.radii[0])
+    prof = body.profile
+    j = np.arange(5, prof.shape[0] - 6, 7)
+    mid, t = 0.5 * (prof[j] + prof[j + 1]), prof[j + 1] - prof[j]
+    n2 = np.column_stack([-t[:, 1], t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]  # (x, ρ): outward
+    phi = np.linspace(0.0, 2.0 * math.pi, j.size, endpoint=False)
+    turn = np.column_stack([np.zeros(j.size), np.cos(phi), np.sin(phi)])
+    outward = (np.column_stack([n2[:, 0], np.zeros(j.size), np.zeros(j.size)]) + n2[:, 1:2] * turn) @ body.basis.T
+    delta = 1e-3 * radius
+    inner = mid - delta * n2
+    points = body.center + (np.column_stack([inner[:, 0], np.zeros(j.size), np.zeros(j.size)])
+                            + inner[:, 1:2] * turn) @ body.basis.T
+    assert (field.distances(points, "true")[:, 0] < -0.9 * delta).all()
+    np.testing.assert_allclose(body.normal(points), outward, atol=1e-12)
+    moved = field.push_out(points, 1e-6)
+    np.testing.assert_allclose(moved - points, (delta + 1e-6 * radius) * outward, rtol=0, atol=1e-3 * delta)
+    assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
+
+
+# ---------------------------------------------------------------------- the streamlines' rules
+def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
+    """A sphere (r = 5, margin 0.5: inflated 5.5 m, flow sphere A = 5.51 m) and a start 5.505 m from its
+    centre, outside the inflated obstacle but inside the flow sphere: the exit rule's point is on the
+    ray from the centre at A (1 + 10⁻⁶), then the streamline arrives without touching the obstacle."""
+    field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0),), GOAL, FlowParams(), 0.5)
+    a = float(field.radii[0])
+    assert a == pytest.approx(5.51)
+    ray = np.array([2.0, -3.0, 6.0]) / 7.0
+    start = np.array([1.0, 2.0, -3.0]) + 5.505 * ray
+    sl = integrate_streamlines(field, start)
+    assert sl.exits[0] and sl.arrived[0] and sl.min_distance[0] >= 0
+    np.testing.assert_allclose(sl.paths[0][0], start, atol=1e-12)
+    np.testing.assert_allclose(sl.paths[0][1], np.array([1.0, 2.0, -3.0]) + a * (1 + 1e-6) * ray, atol=1e-9)
+
+
+def test_streamline_stops_at_the_step_cap():
+    """``max_steps = 7`` and a start 30 m from the goal: exactly 7 steps (8 nodes), status ``max_steps``."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=7), 0.5)
+    sl = integrate_streamlines(field, np.array([[-30.0, 3.0, 1.0], [-25.0, -4.0, 2.0]]))
+    assert list(sl.status) == ["max_steps", "max_steps"]
+    assert list(sl.steps) == [8, 8] and [len(p) for p in sl.paths] == [8, 8]
+
+
+@pytest.mark.parametrize("height", [5.0, 0.4])
+def test_stagnation_is_the_speed_against_the_bare_sinks(height):
+    """The target h above a plane (the seabed's mirror): on the plane, ρ from the foot of the target, the
+    sink and its image give |u| = 2 m ρ / (4π (ρ² + h²)^{3/2}), i.e. |u| / (m / 4π r²) = 2 ρ / r (r the
+    distance to the target).  A start where that ratio is half the ``stagnation`` fraction stops there as
+    ``stagnation`` (after 0 steps); one where it is twice the fraction moves on (h = 5 m and 0.4 m, inside
+    the 1 m under which a floor on r would change the sink's speed; arrival radius 0.1 m)."""
+    params = FlowParams(arrive=0.1, max_steps=3)
+    target = np.array([3.0, -2.0, -50.0 + height])
+    field = FlowField((), target, params, plane=-50.0)
+    starts = []
+    for ratio in (0.5, 2.0):
+        # 2 ρ / √(ρ² + h²) = ratio × stagnation, solved for ρ
+        k = 0.5 * ratio * params.stagnation
+        rho = k * height / math.sqrt(1.0 - k * k)
+        starts.append([3.0 + rho, -2.0, -50.0])
+    starts = np.array(starts)
+    r = np.linalg.norm(starts - target, axis=1)
+    speed = np.linalg.norm(field.velocity(starts), axis=1)
+    np.testing.assert_allclose(speed / (1.0 / (4 * math.pi * r**2)) / params.stagnation, [0.5, 2.0], rtol=1e-6)
+    sl = integrate_streamlines(field, starts)
+    assert list(sl.status) == ["stagnation", "max_steps"]
+    assert list(sl.steps) == [1, 4]
+
+
+def test_front_stagnation_rule_steps_aside_at_the_first_node_within_2_percent_of_the_radius():
+    """A sphere (flow radius R = 5.51 m) and an on-axis start with h_min = 0.01 m, so the rule's threshold
+    max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m: the sideways step (to 0.06 R off the axis, over the
+    sphere) is taken from the first node nearer the flow sphere than 0.02 R, the node before it being
+    farther; then the streamline arrives."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=0.01), 0.5)
+    big = float(field.radii[0])
+    sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0]]))
+    assert sl.arrived[0] and sl.deflections[0] == 1
+    path = sl.paths[0]
+    off = np.linalg.norm(path[:, 1:], axis=1)
+    k = int(np.flatnonzero(off > 1e-9)[0])  # the first node off the axis: the sideways step's end
+    assert off[k] == pytest.approx(0.06 * big, rel=1e-9) and path[k, 2] > 0
+    assert path[k, 0] == path[k - 1, 0]
+    d = np.linalg.norm(path[:k], axis=1) - big
+    assert d[-1] < 0.02 * big <= d[-2]
+
+
+def test_grazing_streamlines_are_pushed_back_onto_the_surface_until_the_correction_limit():
+    """The document's own body sizing leaves the (8, 4, 3) ellipsoid sticking out of the body, so the field
+    flows into it: streamlines near the axis run onto the inflated ellipsoid, where each graze is pushed
+    back outside, MAX_CORRECTIONS times, then the streamline stops as ``contact``; never a node inside.
+    A start far off the axis, integrated in the same batch, arrives untouched."""
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="document"), 0.5)
+    near_axis = [[-30.0, 0.2 * math.cos(a), 0.2 * math.sin(a)] for a in (0.0, 2.0, 4.0)]
+    sl = integrate_streamlines(field, np.array(near_axis + [[-30.0, 0.0, 25.0]]))
+    assert list(sl.status) == ["contact"] * 3 + ["arrived"]
+    assert list(sl.corrections) == [MAX_CORRECTIONS + 1] * 3 + [0]
+    for path in sl.paths:
+        assert field.distances(path, "true").min() >= 0.0
+        assert (ELLIPSOID.distance(path) >= 0.5).all()
