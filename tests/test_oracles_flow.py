@@ -83,6 +83,33 @@ def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     for p, c, i in zip(rows, by_hand, inside):
         assert np.shape(field.clearance(p)) == () and float(field.clearance(p)) == pytest.approx(c, abs=1e-12)
         assert np.shape(field.inside_body(p)) == () and bool(field.inside_body(p)) == i
+    empty = FlowField((), np.array([100.0, 0.0, -50.0]), FlowParams())  # no surface at all: never inside
+    assert np.shape(empty.inside_body(rows[0])) == () and not empty.inside_body(rows[0])
+    assert empty.inside_body(batch).shape == (2, 3) and not empty.inside_body(batch).any()
+
+
+def test_ellipsoid_clearance_is_exact_near_and_the_scaled_lower_bound_far():
+    """The (8, 4, 3) ellipsoid, margin 0.5 m, points on its axes in one batch: near it (the bound (s − 1)·3
+    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5 and
+    1 − 0.5 m; far from it the cheap bound, by hand (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [100.0, 0.0, 0.0]])
+    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 34.0], atol=1e-9)
+
+
+def test_sphere_image_field_takes_one_point_or_any_batch_of_points():
+    """``sphere_exact_velocity`` of one point ``(3,)`` and of a ``(2, 3, 3)`` batch: the velocities of the same
+    points in a row (shape ``(..., 3)`` in, ``(..., 3)`` out)."""
+    from auvplan.planners.flow import sphere_exact_velocity
+
+    rng = np.random.default_rng(4)
+    p = rng.uniform(-20.0, 20.0, (6, 3))
+    p = p[np.linalg.norm(p - [1.0, 2.0, 3.0], axis=1) > 5.0]
+    rows = sphere_exact_velocity(p, (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0))
+    batch = sphere_exact_velocity(np.stack([p, p[::-1]]), (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0))
+    np.testing.assert_allclose(batch, np.stack([rows, rows[::-1]]), rtol=1e-14)
+    for q, u in zip(p, rows):
+        np.testing.assert_allclose(sphere_exact_velocity(q, (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0)), u, rtol=1e-14)
 
 
 def test_push_out_of_a_small_sphere_and_below_the_plane():

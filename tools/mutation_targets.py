@@ -210,6 +210,12 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -1.001 * h_min / 0.05)": _GRAZE,
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 / h_min / 0.05)":
         _GRAZE + " (here 0.02 / h_min >= h_min / 4096 for h_min <= 9 m, i.e. obstacles up to ~180 m)",
+    "FlowField.inside_body | return np.asarray((d <= 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], "
+    "dtype=bool))":
+        "boundary: a point exactly on a flow surface (distance 0.0), which the exit rule then leaves as it is",
+    "FlowField.push_out | n = self.bodies[j - ns].normal(p[i:i + 2])[0] if self.contained else "
+    "self.items[j].gradient(p[i])": "equivalent: row 0 of the normals of p[i:i + 2] is the normal at p[i]",
+    "FlowField._sphere_parts | b = np.linalg.norm(Tc, axis=1)": "equivalent: Tc is (S, 3), axis 1 is axis -1",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
