@@ -216,6 +216,22 @@ REASONS: dict[str, str] = {
     "FlowField.push_out | n = self.bodies[j - ns].normal(p[i:i + 2])[0] if self.contained else "
     "self.items[j].gradient(p[i])": "equivalent: row 0 of the normals of p[i:i + 2] is the normal at p[i]",
     "FlowField._sphere_parts | b = np.linalg.norm(Tc, axis=1)": "equivalent: Tc is (S, 3), axis 1 is axis -1",
+    "FlowField._free | mirror = self.target / np.array([1.0, 1.0, -1.0]) + np.array([0.0, 0.0, 2.0 * self.plane])":
+        "equivalent: dividing by ±1 is multiplying by ±1",
+    "FlowField.velocity | p = p.reshape(-2, 3)": _NEG,
+    "_deflect | near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along <= 0) & (rho < 0.05 * R)":
+        "boundary: a streamline exactly in the plane through the obstacle's centre square to the axis",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() >= 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:": "boundary: a sideways step ending exactly on a flow surface",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() >= 0:": "boundary: a sideways step whose midpoint lies exactly on a flow surface",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').max() > 0:":
+        "not killed (no oracle): needs a sideways step whose midpoint lies inside a second flow surface while its "
+        "end is outside all (an obstacle under ~0.1 R at the front stagnation point of a larger one); the "
+        "planner's exact segment test would still reject the path",
+    "integrate_streamlines | sp = np.linalg.norm(u, axis=1, keepdims=True)":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
