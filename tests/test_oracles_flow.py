@@ -188,6 +188,41 @@ def test_streamline_stops_at_the_step_cap():
     assert np.abs(sl.paths[0][:, 2]).max() > 0.3  # the sideways step is in the path
 
 
+def test_free_sink_streamline_halves_the_goal_distance_each_step():
+    """No obstacle: the field is the bare sink, its streamlines straight lines to the target, and each RK4
+    step is step_factor × the goal distance (h_min 0.01 m): the distance to the target halves exactly at
+    every node, 40 m → 20 → 10 → … until within the arrival radius (0.5 m after 7 steps)."""
+    field = FlowField((), GOAL, FlowParams())
+    start = GOAL + 40.0 * np.array([-2.0, 3.0, 6.0]) / 7.0
+    sl = integrate_streamlines(field, start)
+    nodes = sl.paths[0][:-1]
+    assert sl.arrived[0] and len(nodes) == 8
+    np.testing.assert_allclose(np.linalg.norm(nodes - GOAL, axis=1), 40.0 / 2.0 ** np.arange(8), rtol=1e-12)
+
+
+def test_arrival_takes_precedence_over_the_front_stagnation_rule():
+    """A start on the axis 0.048 m in front of a 1 m sphere (inside the rule's 2 h_min = 0.1 m) but within the
+    arrival radius (3.5 m) of the target 2 m behind the sphere's centre: it arrives at once, no sideways
+    step (the scene 100 m from the origin)."""
+    field = FlowField((Sphere((100.0, 0.0, 0.0), 1.0),), np.array([102.0, 0.0, 0.0]), FlowParams(arrive=3.5))
+    sl = integrate_streamlines(field, np.array([98.95, 0.0, 0.0]))
+    assert sl.status[0] == "arrived" and sl.deflections[0] == 0 and sl.steps[0] == 1
+
+
+def test_min_distance_counts_the_node_before_a_sideways_step():
+    """An on-axis start stopped by the step cap right at its sideways step (a first run finds that step):
+    ``min_distance`` is the least clearance of the nodes, the node before the step (nearest the sphere)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=30), 0.5)
+    first = integrate_streamlines(field, np.array([-30.0, 0.0, 0.0])).paths[0]
+    k = int(np.flatnonzero(np.abs(first[:, 2]) > 0.1)[0])
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=k), 0.5)
+    sl = integrate_streamlines(field, np.array([-30.0, 0.0, 0.0]))
+    path = sl.paths[0]
+    assert sl.status[0] == "max_steps" and sl.deflections[0] == 1 and len(path) == k + 1
+    assert field.clearance(path[-2]) < field.clearance(path[-1])
+    assert sl.min_distance[0] == pytest.approx(field.clearance(path).min(), abs=1e-12)
+
+
 def test_min_distance_is_the_least_clearance_of_the_nodes_and_the_last_node_is_within_the_arrival_radius():
     """Three spheres and 40 seeded starts: each streamline's ``min_distance`` is the least clearance of its
     integration nodes, recomputed from the path; an arrived streamline's last node before the goal lies

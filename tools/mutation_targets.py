@@ -232,6 +232,10 @@ REASONS: dict[str, str] = {
         "planner's exact segment test would still reject the path",
     "integrate_streamlines | sp = np.linalg.norm(u, axis=1, keepdims=True)":
         "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "integrate_streamlines | d = dall.min(axis=-1) if dall.shape[1] else np.full(idx.size, np.inf)":
+        "equivalent: dall is (N, K) here, axis 1 is axis -1",
+    "integrate_streamlines | stalled = sp <= params.stagnation * ref":
+        "boundary: a speed exactly at the stagnation fraction of the bare sink's",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
