@@ -41,10 +41,11 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     profile (the middle of a segment, moved in along the segment's left-hand normal, turned about the
     axis): ``push_out`` moves each back out along that normal by δ + eps·R (eps = 10⁻⁶), onto the profile
     to within 2·10⁻⁶ R (the graze correction's move); the body's own ``normal`` there is the same outward
-    unit vector (it was the inward one: the correction pushed grazing points deeper in)."""
-    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    unit vector (it was the inward one: the correction pushed grazing points deeper in).  A sphere 40 m away
+    comes first in the field's surfaces."""
+    field = FlowField((ELLIPSOID, Sphere((0.0, 40.0, 0.0), 2.0)), GOAL, FlowParams(), 0.5)
     body = field.bodies[0]
-    radius = float(field.radii[0])
+    radius = float(body.radius)
     prof = body.profile
     j = np.arange(5, prof.shape[0] - 6, 7)
     mid, t = 0.5 * (prof[j] + prof[j + 1]), prof[j + 1] - prof[j]
@@ -56,8 +57,9 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     inner = mid - delta * n2
     points = body.center + (np.column_stack([inner[:, 0], np.zeros(j.size), np.zeros(j.size)])
                             + inner[:, 1:2] * turn) @ body.basis.T
-    assert (field.distances(points, "true")[:, 0] < -0.9 * delta).all()
+    assert (field.distances(points, "true")[:, 1] < -0.9 * delta).all()
     np.testing.assert_allclose(body.normal(points), outward, atol=1e-12)
+    assert field.radii.max() == radius
     moved = field.push_out(points, 1e-6)
     np.testing.assert_allclose(moved - points, (delta + 1e-6 * radius) * outward, rtol=0, atol=1e-3 * delta)
     assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
@@ -120,11 +122,12 @@ def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
 
 def test_ellipsoid_clearance_is_exact_near_and_the_scaled_lower_bound_far():
     """The (8, 4, 3) ellipsoid, margin 0.5 m, points on its axes in one batch: near it (the bound (s − 1)·3
-    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5 and
-    1 − 0.5 m; far from it the cheap bound, by hand (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
+    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5,
+    1 − 0.5 and (at (0, 9, 0), bound 3.25 m) 5 − 0.5 m; far from it the cheap bound, by hand
+    (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
-    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [100.0, 0.0, 0.0]])
-    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 34.0], atol=1e-9)
+    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [0.0, 9.0, 0.0], [100.0, 0.0, 0.0]])
+    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 4.5, 34.0], atol=1e-9)
 
 
 def test_sphere_image_field_takes_one_point_or_any_batch_of_points():
@@ -171,6 +174,21 @@ def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
     assert sl.exits[0] and sl.arrived[0] and sl.min_distance[0] >= 0
     np.testing.assert_allclose(sl.paths[0][0], start, atol=1e-12)
     np.testing.assert_allclose(sl.paths[0][1], np.array([1.0, 2.0, -3.0]) + a * (1 + 1e-6) * ray, atol=1e-9)
+
+
+def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
+    """A sphere (r = 5 m, margin 0.5 m, flow radius A = 5.51 m) whose flow shell reaches below the plane
+    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, above the plane.  The exit rule's first
+    point is on the ray from the centre, at A (1 + 10⁻⁶) (below the plane), its second straight up onto
+    the plane, 10⁻⁶ × 5.51 m above it (the plane's normal is +z)."""
+    from auvplan.planners.flow_stream import _exit_body
+
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
+    start = np.array([0.0, 0.0, -5.505])
+    assert field.clearance(start) > 0 and field.inside_body(start)
+    out = _exit_body(field, start.copy())
+    np.testing.assert_allclose(out[0], [0.0, 0.0, -5.51 * (1 + 1e-6)], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out[1], [0.0, 0.0, -5.507 + 5.51e-6], rtol=0, atol=1e-12)
 
 
 def test_streamline_stops_at_the_step_cap():

@@ -236,6 +236,7 @@ REASONS: dict[str, str] = {
         "equivalent: dall is (N, K) here, axis 1 is axis -1",
     "integrate_streamlines | stalled = sp <= params.stagnation * ref":
         "boundary: a speed exactly at the stagnation fraction of the bare sink's",
+    "FlowField.push_out | p = np.array(p, dtype=float).reshape(-2, 3)": _NEG,
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
