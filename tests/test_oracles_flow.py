@@ -95,6 +95,22 @@ def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outs
         np.testing.assert_allclose(_exit_body(field, starts[i].copy())[0], expected[i], rtol=0, atol=1e-9)
 
 
+def test_exit_rule_leaves_a_body_in_one_move():
+    """40 seeded starts inside the flow body of the (8, 4, 3) ellipsoid (outside the inflated obstacle): the
+    exit rule's first point (straight along the normal, or by bisection along the obstacle's normal, then
+    10⁻⁶ R on) is already outside every flow surface: one move."""
+    from auvplan.planners.flow_stream import _exit_body
+
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    rng = np.random.default_rng(6)
+    p = rng.uniform(-1.0, 1.0, (4000, 3)) * (9.5, 5.0, 4.0)
+    p = p[field.inside_body(p) & (field.clearance(p) > 0)][:40]
+    assert len(p) == 40
+    for start in p:
+        out = _exit_body(field, start.copy())
+        assert len(out) == 1 and not field.inside_body(out[0]), start
+
+
 def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     """Two spheres (r 6 and 3 m, margin 1.5 m: flow radii 7.512 and 4.506 m) and a plane at z = −60 m:
     the clearance and the inside-body test of one point ``(3,)`` and of a ``(2, 3, 3)`` batch are those of
@@ -331,23 +347,40 @@ def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshol
 
 def test_front_stagnation_rule_on_an_oblique_axis_among_several_streamlines_and_spheres():
     """The same rule on a generic axis e = (2, −3, 6)/7 through a sphere at (1, 2, 3), with a second sphere
-    on the axis 20 m beyond the goal and a second start 8 m off the axis in the same batch: the on-axis
-    streamline steps 0.06 R square to the axis from the first node within 0.02 R of the nearest flow
-    sphere (not the farthest one; while the other streamline is not near), and both arrive."""
+    (listed first) on the axis 20 m beyond the goal, a second start 8 m off the axis and a third one 20 m
+    behind the second sphere, all in one batch: the on-axis streamline steps 0.06 R square to the axis
+    from the first node within 0.02 R of its nearest flow sphere (not the farthest one; while the other
+    streamlines are on their way, one nearest the other sphere), and all arrive."""
     c = np.array([1.0, 2.0, 3.0])
     e = np.array([2.0, -3.0, 6.0]) / 7.0
     goal = c + 35.0 * e
-    field = FlowField((Sphere(tuple(c), 5.0), Sphere(tuple(c + 55.0 * e), 2.0)), goal, FlowParams(h_min=0.01), 0.5)
-    big = float(field.radii[0])
+    field = FlowField((Sphere(tuple(c + 55.0 * e), 2.0), Sphere(tuple(c), 5.0)), goal, FlowParams(h_min=0.01), 0.5)
+    big = float(field.radii[1])
     across = np.cross(e, [1.0, 0.0, 0.0])
     across /= np.linalg.norm(across)
-    sl = integrate_streamlines(field, np.array([c - 35.0 * e, c - 35.0 * e + 8.0 * across]))
-    assert sl.arrived.all() and list(sl.deflections) == [1, 0]
+    starts = np.array([c - 35.0 * e, c - 35.0 * e + 8.0 * across, c + 75.0 * e + 3.0 * across])
+    sl = integrate_streamlines(field, starts)
+    assert sl.arrived.all() and list(sl.deflections) == [1, 0, 0]
     path = sl.paths[0]
     k = _deflection(path, c, e, big)
     d = np.linalg.norm(path[:k] - c, axis=1) - big
     assert d[-1] < 0.02 * big <= d[-2]
-    assert k < len(sl.paths[1])  # the other streamline was still on its way
+    assert k < min(len(sl.paths[1]), len(sl.paths[2]))  # the other streamlines were still on their way
+    third = sl.paths[2][k - 1]
+    assert np.argmin(field.distances(third, "true")) == 0  # ... one of them nearest the other sphere
+
+
+def test_front_stagnation_rule_steps_aside_in_the_streamline_s_own_meridian_plane():
+    """A start 0.1 m off the axis on the −y side, level with the sphere's centre (its streamline stays in
+    z = 0): the sideways step puts it 0.06 R off the axis on the −y side, in its own meridian plane (not
+    over the sphere, the side an exactly on-axis start takes)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5)
+    big = float(field.radii[0])
+    sl = integrate_streamlines(field, np.array([-30.0, -0.1, 0.0]))
+    assert sl.arrived[0] and sl.deflections[0] == 1
+    path = sl.paths[0]
+    k = int(np.flatnonzero(np.hypot(path[:, 1], path[:, 2]) > 0.05 * big)[0])
+    assert path[k, 1] == pytest.approx(-0.06 * big, rel=1e-9) and path[k, 2] == 0.0 and path[k, 0] == path[k - 1, 0]
 
 
 def test_grazing_streamlines_are_pushed_back_onto_the_surface_until_the_correction_limit():

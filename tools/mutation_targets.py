@@ -237,6 +237,8 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | stalled = sp <= params.stagnation * ref":
         "boundary: a speed exactly at the stagnation fraction of the bare sink's",
     "FlowField.push_out | p = np.array(p, dtype=float).reshape(-2, 3)": _NEG,
+    "_deflect | s = np.where((rho >= 1e-09 * R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
+        "boundary: a streamline exactly 1e-9 R off the axis",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
