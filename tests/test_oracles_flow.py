@@ -257,6 +257,28 @@ def test_min_distance_counts_the_node_before_a_sideways_step():
     assert sl.min_distance[0] == pytest.approx(field.clearance(path).min(), abs=1e-12)
 
 
+def test_the_smallest_step_is_h_min_from_the_smallest_obstacle():
+    """A sphere (r = 5 m) and the (8, 4, 3) ellipsoid, margin 0.5 m: h_min = 0.05 × (3 + 0.5) = 0.175 m (the
+    smallest semi-axis of all).  A start 0.1 m from the sphere's flow surface would step 0.5 × 0.1 m; its
+    first step is h_min (to 1 %: the streamline bends a little)."""
+    field = FlowField((Sphere((0.0, 30.0, 0.0), 5.0), ELLIPSOID), GOAL, FlowParams(), 0.5)
+    a = float(field.radii[0])
+    start = np.array([0.0, 30.0, a + 0.1])
+    sl = integrate_streamlines(field, start)
+    assert np.linalg.norm(sl.paths[0][1] - start) == pytest.approx(0.05 * 3.5, rel=1e-2)
+
+
+def test_uniform_flow_stops_at_the_first_node_past_the_goal_plane():
+    """Uniform flow along +x, no obstacle, the target at the origin and a start 0.8 m off its line (outside
+    the 0.5 m arrival radius): the streamline runs straight, every node but the last before the goal's
+    plane x = 0 and the last past it (``missed``)."""
+    field = FlowField((), np.zeros(3), FlowParams(field="uniform"), direction=(1.0, 0.0, 0.0))
+    sl = integrate_streamlines(field, np.array([-20.0, 0.8, 0.0]))
+    x = sl.paths[0][:, 0]
+    assert sl.status[0] == "missed" and (x[:-1] <= 0).all() and x[-1] > 0
+    np.testing.assert_allclose(sl.paths[0][:, 1:], np.tile([0.8, 0.0], (len(x), 1)), atol=1e-12)
+
+
 def test_min_distance_is_the_least_clearance_of_the_nodes_and_the_last_node_is_within_the_arrival_radius():
     """Three spheres and 40 seeded starts: each streamline's ``min_distance`` is the least clearance of its
     integration nodes, recomputed from the path; an arrived streamline's last node before the goal lies
@@ -326,22 +348,23 @@ def _deflection(path, center, axis, radius):
     return k
 
 
-@pytest.mark.parametrize("h_min", [0.01, 0.0])
-def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshold(h_min):
+@pytest.mark.parametrize(("h_min", "shift"), [(0.01, 0.0), (0.0, 0.0), (0.01, 8.4)])
+def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshold(h_min, shift):
     """A sphere (r = 5 m, margin 0.5 m: flow radius R = 5.51 m) and an on-axis start.  The rule's threshold
     max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m with h_min = 0.01 m, and 2 h_min = 0.55 m with the default
     h_min = 0.05 (5 + 0.5) m: the sideways step (to 0.06 R off the axis, over the sphere, +z) is taken
     from the first node nearer the flow sphere than the threshold, the node before it being farther; then
-    the streamline arrives."""
-    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=h_min), 0.5)
+    the streamline arrives.  The same with the whole scene moved 8.4 m along x."""
+    c = np.array([shift, 0.0, 0.0])
+    field = FlowField((Sphere(tuple(c), 5.0),), GOAL + c, FlowParams(h_min=h_min), 0.5)
     big = float(field.radii[0])
     threshold = 0.02 * big if h_min else 2.0 * 0.05 * 5.5
-    sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0]]))
+    sl = integrate_streamlines(field, np.array([[-30.0 + shift, 0.0, 0.0]]))
     assert sl.arrived[0] and sl.deflections[0] == 1
     path = sl.paths[0]
-    k = _deflection(path, np.zeros(3), np.array([1.0, 0.0, 0.0]), big)
+    k = _deflection(path, c, np.array([1.0, 0.0, 0.0]), big)
     assert path[k, 2] == pytest.approx(0.06 * big, rel=1e-9)
-    d = np.linalg.norm(path[:k], axis=1) - big
+    d = np.linalg.norm(path[:k] - c, axis=1) - big
     assert d[-1] < threshold <= d[-2]
 
 

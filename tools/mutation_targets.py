@@ -239,6 +239,13 @@ REASONS: dict[str, str] = {
     "FlowField.push_out | p = np.array(p, dtype=float).reshape(-2, 3)": _NEG,
     "_deflect | s = np.where((rho >= 1e-09 * R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
         "boundary: a streamline exactly 1e-9 R off the axis",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 or field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:":
+        "not killed (no oracle): differs only when one of the sideways step's end and midpoint lies inside a flow "
+        "surface and the other not (a second obstacle under ~0.1 R at the front of a larger one; see above)",
+    "integrate_streamlines | arrived = dist_goal < params.arrive": "boundary: a node exactly at the arrival radius",
+    "integrate_streamlines | missed = ((x - T) @ field.direction >= 0) & ~arrived":
+        "boundary: a node exactly in the goal's plane (uniform field)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
