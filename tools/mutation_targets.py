@@ -246,6 +246,9 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | arrived = dist_goal < params.arrive": "boundary: a node exactly at the arrival radius",
     "integrate_streamlines | missed = ((x - T) @ field.direction >= 0) & ~arrived":
         "boundary: a node exactly in the goal's plane (uniform field)",
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 * h_min / 1.05)": _GRAZE,
+    "integrate_streamlines | contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
+        "boundary: a node whose clearance is exactly 0.0",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
