@@ -111,6 +111,61 @@ def test_exit_rule_leaves_a_body_in_one_move():
         assert len(out) == 1 and not field.inside_body(out[0]), start
 
 
+def test_exit_rule_bisection_lands_just_past_the_body_along_the_obstacle_normal():
+    """Seeded starts inside the (8, 4, 3) ellipsoid's flow body whose straight move fails: the exit point q is
+    on the obstacle's outward normal g at the start (q − p ∥ g) and 10⁻⁶ R past the body's surface:
+    q − 1.01·10⁻⁶ R g is inside the body, q − 0.99·10⁻⁶ R g outside."""
+    from auvplan.planners.flow_stream import _exit_body, _segment_clear
+
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    body = field.bodies[0]
+    radius = float(body.radius)
+    rng = np.random.default_rng(7)
+    p = rng.uniform(-1.0, 1.0, (4000, 3)) * (9.5, 5.0, 4.0)
+    p = p[field.inside_body(p) & (field.clearance(p) > 0)][:60]
+    bisected = 0
+    for start in p:
+        straight = start + (-body.distance(start) + 1e-6 * radius) * body.normal(start[None])[0]
+        if _segment_clear(field, start, straight) and not body.inside(straight[None])[0]:
+            continue
+        q = _exit_body(field, start.copy())[0]
+        g = ELLIPSOID.gradient(start)
+        step = q - start
+        np.testing.assert_allclose(step / np.linalg.norm(step), g, atol=1e-9)
+        assert body.inside((q - 1.01e-6 * radius * g)[None])[0] and not body.inside((q - 0.99e-6 * radius * g)[None])[0]
+        bisected += 1
+    assert bisected >= 10
+
+
+def test_document_sphere_field_in_the_flow_field_is_the_blend_of_the_single_fields():
+    """``field = "document"`` with two spheres (flow radii A = r + margin + 0.002 r): the field's velocity is
+    Σ w_k u_k with u_k the document's single-sphere field and w_k = (1/d_k) / Σ (1/d_j), d_k = |p − c_k| − A_k,
+    all by hand; with one sphere, its single field."""
+    from auvplan.planners.flow import sphere_document_velocity
+
+    c = np.array([[0.0, 0.0, 0.0], [15.0, 6.0, -2.0]])
+    r = np.array([5.0, 3.0])
+    a = r + 0.5 + 0.002 * r
+    rng = np.random.default_rng(9)
+    p = rng.uniform(-20.0, 25.0, (80, 3))
+    p = p[(np.linalg.norm(p[:, None] - c, axis=2) > a + 0.2).all(axis=1)]
+    field = FlowField([Sphere(tuple(c[0]), 5.0), Sphere(tuple(c[1]), 3.0)], GOAL, FlowParams(field="document"), 0.5)
+    u = np.stack([sphere_document_velocity(p, c[k], a[k], GOAL) for k in range(2)], axis=1)
+    inv = 1.0 / (np.linalg.norm(p[:, None] - c, axis=2) - a)
+    w = inv / inv.sum(axis=1, keepdims=True)
+    np.testing.assert_allclose(field.velocity(p), (w[:, :, None] * u).sum(axis=1), rtol=1e-10)
+    one = FlowField([Sphere(tuple(c[0]), 5.0)], GOAL, FlowParams(field="document"), 0.5)
+    np.testing.assert_allclose(one.velocity(p), u[:, 0], rtol=1e-12)
+
+
+def test_front_stagnation_rule_does_not_act_behind_a_small_obstacle():
+    """A small sphere (r = 0.3 m, margin 0.1 m: flow radius 0.4006 m, h_min 0.02 m) and a start on its
+    downstream axis 0.0094 m behind it (within 2 h_min, but downstream): no sideways step, it arrives."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 0.3),), GOAL, FlowParams(), 0.1)
+    sl = integrate_streamlines(field, np.array([0.41, 0.0, 0.0]))
+    assert sl.arrived[0] and sl.deflections[0] == 0
+
+
 def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     """Two spheres (r 6 and 3 m, margin 1.5 m: flow radii 7.512 and 4.506 m) and a plane at z = −60 m:
     the clearance and the inside-body test of one point ``(3,)`` and of a ``(2, 3, 3)`` batch are those of

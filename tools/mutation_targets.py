@@ -249,6 +249,17 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 * h_min / 1.05)": _GRAZE,
     "integrate_streamlines | contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
         "boundary: a node whose clearance is exactly 0.0",
+    "FlowField.velocity | if parts.shape[1] == 1:".replace("[1]", "[2]"):
+        "equivalent: a single field then goes through the blend, whose one weight is exactly 1.0 (both weight "
+        "kinds; distances floored at 1e-12)",
+    "_exit_body | if d[j] > 0:": "boundary: a start exactly on a flow surface (distance 0.0)",
+    "_exit_body | lo, hi = (0.0, 3.0 * body.radius)":
+        "equivalent to float resolution: the bisection converges on the same crossing (the ray from inside leaves "
+        "the body within its diameter), to 3 R / 2^60 instead of 2 R / 2^60",
+    "_deflect | near = (d[sel, k] <= max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho < 0.05 * R)":
+        "boundary: a node exactly at the rule's distance threshold",
+    "_deflect | s = np.where((rho > 1e-09 / R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
+        "boundary: differs only for a streamline between 1e-9 / R and 1e-9 R off the axis (nanometres)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
