@@ -249,7 +249,7 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 * h_min / 1.05)": _GRAZE,
     "integrate_streamlines | contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
         "boundary: a node whose clearance is exactly 0.0",
-    "FlowField.velocity | if parts.shape[1] == 1:".replace("[1]", "[2]"):
+    "FlowField.velocity | if parts.shape[2] == 1:":
         "equivalent: a single field then goes through the blend, whose one weight is exactly 1.0 (both weight "
         "kinds; distances floored at 1e-12)",
     "_exit_body | if d[j] > 0:": "boundary: a start exactly on a flow surface (distance 0.0)",
