@@ -260,6 +260,10 @@ REASONS: dict[str, str] = {
         "boundary: a node exactly at the rule's distance threshold",
     "_deflect | s = np.where((rho > 1e-09 / R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
         "boundary: differs only for a streamline between 1e-9 / R and 1e-9 R off the axis (nanometres)",
+    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) >= params.arrive) & (deflections[idx] < "
+    "MAX_DEFLECTIONS)": "boundary: a node exactly at the arrival radius",
+    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) > params.arrive) & (deflections[idx] <= "
+    "MAX_DEFLECTIONS)": "not killed: needs a streamline sent sideways 20 times (bouncing between obstacles' fronts)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
