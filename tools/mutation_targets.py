@@ -264,6 +264,8 @@ REASONS: dict[str, str] = {
     "MAX_DEFLECTIONS)": "boundary: a node exactly at the arrival radius",
     "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) > params.arrive) & (deflections[idx] <= "
     "MAX_DEFLECTIONS)": "not killed: needs a streamline sent sideways 20 times (bouncing between obstacles' fronts)",
+    "integrate_streamlines | d = dall.min(axis=1) if dall.shape[-1] else np.full(idx.size, np.inf)":
+        "equivalent: dall is (N, K) here, axis 1 is axis -1",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
