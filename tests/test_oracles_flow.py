@@ -116,11 +116,50 @@ def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
 
 
 def test_streamline_stops_at_the_step_cap():
-    """``max_steps = 7`` and a start 30 m from the goal: exactly 7 steps (8 nodes), status ``max_steps``."""
+    """``max_steps = 7`` and two starts 30 m from the goal: exactly 7 steps (8 nodes), status ``max_steps``.
+    With ``max_steps = 30``, an on-axis start (its 6th or so step the front rule's sideways step) and an
+    off-axis one integrated together: both stop after exactly 30 steps, the sideways step counted as one."""
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=7), 0.5)
     sl = integrate_streamlines(field, np.array([[-30.0, 3.0, 1.0], [-25.0, -4.0, 2.0]]))
     assert list(sl.status) == ["max_steps", "max_steps"]
     assert list(sl.steps) == [8, 8] and [len(p) for p in sl.paths] == [8, 8]
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=30), 0.5)
+    sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0], [-25.0, -4.0, 2.0]]))
+    assert list(sl.status) == ["max_steps", "max_steps"] and list(sl.deflections) == [1, 0]
+    assert list(sl.steps) == [31, 31] and [len(p) for p in sl.paths] == [31, 31]
+    assert np.abs(sl.paths[0][:, 2]).max() > 0.3  # the sideways step is in the path
+
+
+def test_min_distance_is_the_least_clearance_of_the_nodes_and_the_last_node_is_within_the_arrival_radius():
+    """Three spheres and 40 seeded starts: each streamline's ``min_distance`` is the least clearance of its
+    integration nodes, recomputed from the path; an arrived streamline's last node before the goal lies
+    within the arrival radius (the goal is then appended); on-axis starts included (sideways steps)."""
+    spheres = (Sphere((0.0, 0.0, 0.0), 5.0), Sphere((12.0, 9.0, -2.0), 3.0), Sphere((14.0, -8.0, 3.0), 2.0))
+    field = FlowField(spheres, GOAL, FlowParams(), 0.5)
+    rng = np.random.default_rng(8)
+    starts = rng.uniform(-30.0, 25.0, (200, 3))
+    starts = np.vstack([[[-30.0, 0.0, 0.0], [-20.0, 0.0, 0.0]], starts[field.clearance(starts) > 0.5][:38]])
+    sl = integrate_streamlines(field, starts)
+    assert sl.arrived.all() and sl.deflections[:2].tolist() == [1, 1]
+    for path, least in zip(sl.paths, sl.min_distance):
+        nodes = path[:-1]  # the goal appended on arrival is not a node
+        assert least == pytest.approx(field.clearance(nodes).min(), abs=1e-12)
+        assert np.linalg.norm(nodes[-1] - GOAL) <= field.params.arrive
+        np.testing.assert_array_equal(path[-1], GOAL)
+
+
+def test_stagnation_in_the_uniform_field_is_the_speed_against_the_free_stream():
+    """Uniform flow U = 1 past a sphere (flow radius A): on the downstream axis |u| = U (1 − A³/r³).  A start
+    where that is 0.5·10⁻⁶ (half the ``stagnation`` fraction of U) stops as ``stagnation``; one where it is
+    1.5·10⁻⁶ moves on (3 steps allowed)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), np.array([60.0, 0.0, 0.0]),
+                      FlowParams(field="uniform", max_steps=3), 0.5, direction=(1.0, 0.0, 0.0))
+    a = float(field.radii[0])
+    speeds = np.array([0.5e-6, 1.5e-6])
+    starts = np.column_stack([a / (1.0 - speeds) ** (1.0 / 3.0), np.zeros(2), np.zeros(2)])
+    np.testing.assert_allclose(np.linalg.norm(field.velocity(starts), axis=1), speeds, rtol=1e-6)
+    sl = integrate_streamlines(field, starts)
+    assert list(sl.status) == ["stagnation", "max_steps"] and list(sl.steps) == [1, 4]
 
 
 @pytest.mark.parametrize("height", [5.0, 0.4])

@@ -111,6 +111,10 @@ _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, w
          "answers the same")
 _SHORTCUT = ("**not killed** (no oracle yet): the obstacle shortcut made unsound, edges near an obstacle "
              "skip the exact test; in the test worlds no edge between two free nodes clips an obstacle")
+_GRAZE = ("equivalent: a step still entering a surface after six quarterings starts at a node outside (d >= 0, "
+          "only such nodes are kept) and is at most h_min / 4096 long, so it ends at most h_min / 4096 inside "
+          "(d is 1-Lipschitz, up to a body profile's chord sag); every graze window at least that wide (0.02 h_min "
+          "here) corrects the same grazes")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -184,13 +188,28 @@ REASONS: dict[str, str] = {
     "_exit_body | for _ in range(61):":
         "equivalent: a 61st halving moves the exit point by 2^-61 of the body's diameter, below float resolution",
     "_exit_body | for _ in range(5):":
-        "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
-        "start nested in several bodies)",
+        "not killed: a 5th push matters only for a start whose exit lands in a second, third and fourth flow "
+        "surface in a row; a start left inside a surface then stops by the step-retry/contact rule (not unsafe)",
+    "_deflect | if field.distances(cand[ok][None], 'true').max() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:":
+        "not killed (no oracle): needs a sideways step (0.06 R) ending inside a second flow surface with its "
+        "midpoint outside all, i.e. an obstacle under ~0.1 R at the front stagnation point of a larger one; "
+        "the step is recorded in min_distance and plan_flow's exact segment test would reject the path",
+    "_deflect | near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho <= 0.05 * R)":
+        "boundary: a streamline exactly 0.05 R off the axis",
+    "integrate_streamlines | p = np.array(starts, dtype=float).reshape(-2, 3)": _NEG,
     "FlowField.clearance | near = lb <= max(ob.semi_axes)":
         "boundary: differs only where the lower bound equals the largest semi-axis exactly; the exact distance "
         "(>= the bound) is then returned instead of the bound",
     "FlowField.push_out | k = d.argmin(axis=1)": "equivalent: d is (N, K) here (p is reshaped to (N, 3)), axis 1 "
         "is axis -1",
+    "integrate_streamlines | for _ in range(7):":
+        "not killed: a seventh quartering (h / 16384) only lets a streamline creeping into a leaky surface take "
+        "one more tiny step before the graze correction; its nodes stay outside either way",
+    "integrate_streamlines | graze = (d_next < 0) & (d_next >= -0.001 * h_min / 0.05)": _GRAZE,
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -1.001 * h_min / 0.05)": _GRAZE,
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 / h_min / 0.05)":
+        _GRAZE + " (here 0.02 / h_min >= h_min / 4096 for h_min <= 9 m, i.e. obstacles up to ~180 m)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
