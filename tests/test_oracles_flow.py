@@ -63,6 +63,42 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
 
 
+def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
+    """Two spheres (r 6 and 3 m, margin 1.5 m: flow radii 7.512 and 4.506 m) and a plane at z = −60 m:
+    the clearance and the inside-body test of one point ``(3,)`` and of a ``(2, 3, 3)`` batch are those of
+    the same points in a row, and by hand: |p − c| − (r + 1.5) or z + 60, whichever is least; inside a
+    flow surface only where |p − c| < A (a point 0.5 m outside a flow sphere is not inside)."""
+    field = FlowField([Sphere((0.0, 0.0, -50.0), 6.0), Sphere((40.0, 0.0, -50.0), 3.0)],
+                      np.array([100.0, 0.0, -50.0]), FlowParams(), margin=1.5, plane=-60.0)
+    a0, a1 = field.radii
+    rows = np.array([[0.0, 10.0, -50.0], [40.0, 0.0, -45.0], [40.0, 0.0, -50.0 + a1 - 0.05],
+                     [0.0, 0.0, -50.0 + a0 + 0.5], [20.0, 0.0, -59.0], [0.0, 7.51, -50.0]])
+    by_hand = [10.0 - 7.5, 5.0 - 4.5, a1 - 0.05 - 4.5, a0 + 0.5 - 7.5, 1.0, 7.51 - 7.5]
+    inside = [False, False, True, False, False, True]
+    np.testing.assert_allclose(field.clearance(rows), by_hand, atol=1e-12)
+    assert list(field.inside_body(rows)) == inside
+    batch = rows.reshape(2, 3, 3)
+    np.testing.assert_allclose(field.clearance(batch), np.reshape(by_hand, (2, 3)), atol=1e-12)
+    assert field.inside_body(batch).tolist() == np.reshape(inside, (2, 3)).tolist()
+    for p, c, i in zip(rows, by_hand, inside):
+        assert np.shape(field.clearance(p)) == () and float(field.clearance(p)) == pytest.approx(c, abs=1e-12)
+        assert np.shape(field.inside_body(p)) == () and bool(field.inside_body(p)) == i
+
+
+def test_push_out_of_a_small_sphere_and_below_the_plane():
+    """``push_out``'s margin is eps × the largest flow radius, or × 1 m when that is smaller than 1 m or
+    there is no obstacle: a sphere r = 1 m, margin 0.2 m (A = 1.202 m), eps = 10⁻³: (0, 0.5, −50) goes to
+    (0, 1.202 (1 + 10⁻³), −50); with the plane z = −50 m alone, (3, 4, −50.3) goes to (3, 4, −50 + 10⁻³)."""
+    field = FlowField([Sphere((0.0, 0.0, -50.0), 1.0)], np.array([30.0, 0.0, -50.0]), FlowParams(), margin=0.2)
+    a = float(field.radii[0])
+    assert a == pytest.approx(1.202)
+    moved = field.push_out(np.array([[0.0, 0.5, -50.0]]), 1e-3)
+    np.testing.assert_allclose(moved, [[0.0, a * (1 + 1e-3), -50.0]], rtol=0, atol=1e-12)
+    plane = FlowField((), np.array([30.0, 0.0, -40.0]), FlowParams(), plane=-50.0)
+    np.testing.assert_allclose(plane.push_out(np.array([[3.0, 4.0, -50.3]]), 1e-3), [[3.0, 4.0, -50.0 + 1e-3]],
+                               rtol=0, atol=1e-12)
+
+
 # ---------------------------------------------------------------------- the streamlines' rules
 def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
     """A sphere (r = 5, margin 0.5: inflated 5.5 m, flow sphere A = 5.51 m) and a start 5.505 m from its
@@ -112,22 +148,53 @@ def test_stagnation_is_the_speed_against_the_bare_sinks(height):
     assert list(sl.steps) == [1, 4]
 
 
+def _deflection(path, center, axis, radius):
+    """Index of the front stagnation rule's sideways step in ``path`` (the first jump of ≥ 0.05 R across the
+    axis through ``center``), checked to be a step of 0.06 R square to the axis from a point on it."""
+    q = path - center
+    off = np.linalg.norm(q - np.outer(q @ axis, axis), axis=1)
+    k = int(np.flatnonzero(off > 0.05 * radius)[0])
+    step = path[k] - path[k - 1]
+    assert off[k - 1] < 1e-6 * radius and np.linalg.norm(step) == pytest.approx(0.06 * radius, rel=1e-6)
+    assert abs(step @ axis) <= 1e-9 * radius
+    return k
+
+
 def test_front_stagnation_rule_steps_aside_at_the_first_node_within_2_percent_of_the_radius():
     """A sphere (flow radius R = 5.51 m) and an on-axis start with h_min = 0.01 m, so the rule's threshold
     max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m: the sideways step (to 0.06 R off the axis, over the
-    sphere) is taken from the first node nearer the flow sphere than 0.02 R, the node before it being
+    sphere, +z) is taken from the first node nearer the flow sphere than 0.02 R, the node before it being
     farther; then the streamline arrives."""
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=0.01), 0.5)
     big = float(field.radii[0])
     sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0]]))
     assert sl.arrived[0] and sl.deflections[0] == 1
     path = sl.paths[0]
-    off = np.linalg.norm(path[:, 1:], axis=1)
-    k = int(np.flatnonzero(off > 1e-9)[0])  # the first node off the axis: the sideways step's end
-    assert off[k] == pytest.approx(0.06 * big, rel=1e-9) and path[k, 2] > 0
-    assert path[k, 0] == path[k - 1, 0]
+    k = _deflection(path, np.zeros(3), np.array([1.0, 0.0, 0.0]), big)
+    assert path[k, 2] == pytest.approx(0.06 * big, rel=1e-9)
     d = np.linalg.norm(path[:k], axis=1) - big
     assert d[-1] < 0.02 * big <= d[-2]
+
+
+def test_front_stagnation_rule_on_an_oblique_axis_among_several_streamlines_and_spheres():
+    """The same rule on a generic axis e = (2, −3, 6)/7 through a sphere at (1, 2, 3), with a second sphere
+    on the axis 20 m beyond the goal and a second start 8 m off the axis in the same batch: the on-axis
+    streamline steps 0.06 R square to the axis from the first node within 0.02 R of the nearest flow
+    sphere (not the farthest one; while the other streamline is not near), and both arrive."""
+    c = np.array([1.0, 2.0, 3.0])
+    e = np.array([2.0, -3.0, 6.0]) / 7.0
+    goal = c + 35.0 * e
+    field = FlowField((Sphere(tuple(c), 5.0), Sphere(tuple(c + 55.0 * e), 2.0)), goal, FlowParams(h_min=0.01), 0.5)
+    big = float(field.radii[0])
+    across = np.cross(e, [1.0, 0.0, 0.0])
+    across /= np.linalg.norm(across)
+    sl = integrate_streamlines(field, np.array([c - 35.0 * e, c - 35.0 * e + 8.0 * across]))
+    assert sl.arrived.all() and list(sl.deflections) == [1, 0]
+    path = sl.paths[0]
+    k = _deflection(path, c, e, big)
+    d = np.linalg.norm(path[:k] - c, axis=1) - big
+    assert d[-1] < 0.02 * big <= d[-2]
+    assert k < len(sl.paths[1])  # the other streamline was still on its way
 
 
 def test_grazing_streamlines_are_pushed_back_onto_the_surface_until_the_correction_limit():

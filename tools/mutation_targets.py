@@ -186,6 +186,11 @@ REASONS: dict[str, str] = {
     "_exit_body | for _ in range(5):":
         "equivalent in the tests: every start leaves its body within 4 pushes (a 5th try only matters for a "
         "start nested in several bodies)",
+    "FlowField.clearance | near = lb <= max(ob.semi_axes)":
+        "boundary: differs only where the lower bound equals the largest semi-axis exactly; the exact distance "
+        "(>= the bound) is then returned instead of the bound",
+    "FlowField.push_out | k = d.argmin(axis=1)": "equivalent: d is (N, K) here (p is reshaped to (N, 3)), axis 1 "
+        "is axis -1",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
