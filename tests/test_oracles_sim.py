@@ -93,7 +93,7 @@ def test_lattice_node_fields_are_the_worlds_static_clearances():
     A second lattice of 6 × 2 × 10 000 nodes (no seabed) is evaluated in two slabs of x (100 000 points
     a slab): every slab, the last one too, is filled."""
     from auvplan.planners.lattice import down32
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 40.0), LinearMotion((200.0, 200.0, -60.0), (0.0, 0.0, 0.0)))
     world = replace(_plane_world(land=True), moving=(parked,))
@@ -393,7 +393,7 @@ def test_sim_an_obstacle_on_the_seabed_hit_half_a_metre_above_it():
     """Level flight 0.5 m above a flat seabed (100 m) into a sphere (5 m) resting there, then into a
     sphere moving head on at 3 m/s (twice the vehicle's speed): the events name the obstacle, not the
     seabed (the vehicle is above it), a COLLISION and an UNAVOIDABLE hit."""
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((100.0, 500.0, -99.5), (600.0, 500.0, -99.5))
     m = Mission("low", route[0], route[-1], route=route)
