@@ -63,6 +63,36 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
 
 
+def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outside():
+    """Starts 10⁻³ R inside the flow body of the (8, 4, 3) ellipsoid, built by hand from its meridian profile
+    (a tenth, half and nine tenths along a segment, in along the segment's left-hand normal n, turned about
+    the axis): where the straight move to p + (depth + 10⁻⁶ R) n lands outside the body, clear of the
+    obstacle, that is the exit rule's point (by hand, n independent of the body's own ``normal``)."""
+    from auvplan.planners.flow_stream import _exit_body, _segment_clear
+
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    body = field.bodies[0]
+    radius = float(body.radius)
+    prof = body.profile
+    j = np.repeat(np.arange(4, prof.shape[0] - 5, 9), 3)
+    frac = np.tile([0.1, 0.5, 0.9], j.size // 3)[:, None]
+    on, t = prof[j] + frac * (prof[j + 1] - prof[j]), prof[j + 1] - prof[j]
+    n2 = np.column_stack([-t[:, 1], t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]
+    phi = np.linspace(0.0, 2.0 * math.pi, j.size, endpoint=False)
+    turn = np.column_stack([np.zeros(j.size), np.cos(phi), np.sin(phi)])
+    outward = (np.column_stack([n2[:, 0], np.zeros((j.size, 2))]) + n2[:, 1:2] * turn) @ body.basis.T
+    inner = on - 1e-3 * radius * n2
+    starts = body.center + (np.column_stack([inner[:, 0], np.zeros((j.size, 2))]) + inner[:, 1:2] * turn) @ body.basis.T
+    depth = -body.distance(starts)
+    assert (depth > 0.5e-3 * radius).all()
+    expected = starts + (depth + 1e-6 * radius)[:, None] * outward
+    straight = [i for i in range(j.size) if not body.inside(expected[i][None])[0]
+                and _segment_clear(field, starts[i], expected[i])]
+    assert len(straight) >= 5
+    for i in straight:
+        np.testing.assert_allclose(_exit_body(field, starts[i].copy())[0], expected[i], rtol=0, atol=1e-9)
+
+
 def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     """Two spheres (r 6 and 3 m, margin 1.5 m: flow radii 7.512 and 4.506 m) and a plane at z = −60 m:
     the clearance and the inside-body test of one point ``(3,)`` and of a ``(2, 3, 3)`` batch are those of
@@ -83,6 +113,33 @@ def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     for p, c, i in zip(rows, by_hand, inside):
         assert np.shape(field.clearance(p)) == () and float(field.clearance(p)) == pytest.approx(c, abs=1e-12)
         assert np.shape(field.inside_body(p)) == () and bool(field.inside_body(p)) == i
+    empty = FlowField((), np.array([100.0, 0.0, -50.0]), FlowParams())  # no surface at all: never inside
+    assert np.shape(empty.inside_body(rows[0])) == () and not empty.inside_body(rows[0])
+    assert empty.inside_body(batch).shape == (2, 3) and not empty.inside_body(batch).any()
+
+
+def test_ellipsoid_clearance_is_exact_near_and_the_scaled_lower_bound_far():
+    """The (8, 4, 3) ellipsoid, margin 0.5 m, points on its axes in one batch: near it (the bound (s − 1)·3
+    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5 and
+    1 − 0.5 m; far from it the cheap bound, by hand (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [100.0, 0.0, 0.0]])
+    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 34.0], atol=1e-9)
+
+
+def test_sphere_image_field_takes_one_point_or_any_batch_of_points():
+    """``sphere_exact_velocity`` of one point ``(3,)`` and of a ``(2, 3, 3)`` batch: the velocities of the same
+    points in a row (shape ``(..., 3)`` in, ``(..., 3)`` out)."""
+    from auvplan.planners.flow import sphere_exact_velocity
+
+    rng = np.random.default_rng(4)
+    p = rng.uniform(-20.0, 20.0, (6, 3))
+    p = p[np.linalg.norm(p - [1.0, 2.0, 3.0], axis=1) > 5.0]
+    rows = sphere_exact_velocity(p, (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0))
+    batch = sphere_exact_velocity(np.stack([p, p[::-1]]), (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0))
+    np.testing.assert_allclose(batch, np.stack([rows, rows[::-1]]), rtol=1e-14)
+    for q, u in zip(p, rows):
+        np.testing.assert_allclose(sphere_exact_velocity(q, (1.0, 2.0, 3.0), 4.0, (20.0, 25.0, 30.0)), u, rtol=1e-14)
 
 
 def test_push_out_of_a_small_sphere_and_below_the_plane():
@@ -103,8 +160,9 @@ def test_push_out_of_a_small_sphere_and_below_the_plane():
 def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
     """A sphere (r = 5, margin 0.5: inflated 5.5 m, flow sphere A = 5.51 m) and a start 5.505 m from its
     centre, outside the inflated obstacle but inside the flow sphere: the exit rule's point is on the
-    ray from the centre at A (1 + 10⁻⁶), then the streamline arrives without touching the obstacle."""
-    field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0),), GOAL, FlowParams(), 0.5)
+    ray from the centre at A (1 + 10⁻⁶), then the streamline arrives without touching the obstacle (a second
+    sphere 30 m away: the exit is from the surface the start is inside, the nearest one)."""
+    field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
     a = float(field.radii[0])
     assert a == pytest.approx(5.51)
     ray = np.array([2.0, -3.0, 6.0]) / 7.0
@@ -199,20 +257,23 @@ def _deflection(path, center, axis, radius):
     return k
 
 
-def test_front_stagnation_rule_steps_aside_at_the_first_node_within_2_percent_of_the_radius():
-    """A sphere (flow radius R = 5.51 m) and an on-axis start with h_min = 0.01 m, so the rule's threshold
-    max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m: the sideways step (to 0.06 R off the axis, over the
-    sphere, +z) is taken from the first node nearer the flow sphere than 0.02 R, the node before it being
-    farther; then the streamline arrives."""
-    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=0.01), 0.5)
+@pytest.mark.parametrize("h_min", [0.01, 0.0])
+def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshold(h_min):
+    """A sphere (r = 5 m, margin 0.5 m: flow radius R = 5.51 m) and an on-axis start.  The rule's threshold
+    max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m with h_min = 0.01 m, and 2 h_min = 0.55 m with the default
+    h_min = 0.05 (5 + 0.5) m: the sideways step (to 0.06 R off the axis, over the sphere, +z) is taken
+    from the first node nearer the flow sphere than the threshold, the node before it being farther; then
+    the streamline arrives."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=h_min), 0.5)
     big = float(field.radii[0])
+    threshold = 0.02 * big if h_min else 2.0 * 0.05 * 5.5
     sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0]]))
     assert sl.arrived[0] and sl.deflections[0] == 1
     path = sl.paths[0]
     k = _deflection(path, np.zeros(3), np.array([1.0, 0.0, 0.0]), big)
     assert path[k, 2] == pytest.approx(0.06 * big, rel=1e-9)
     d = np.linalg.norm(path[:k], axis=1) - big
-    assert d[-1] < 0.02 * big <= d[-2]
+    assert d[-1] < threshold <= d[-2]
 
 
 def test_front_stagnation_rule_on_an_oblique_axis_among_several_streamlines_and_spheres():

@@ -235,6 +235,28 @@ REASONS: dict[str, str] = {
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -1.001 * h_min / 0.05)": _GRAZE,
     "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 / h_min / 0.05)":
         _GRAZE + " (here 0.02 / h_min >= h_min / 4096 for h_min <= 9 m, i.e. obstacles up to ~180 m)",
+    "FlowField.inside_body | return np.asarray((d <= 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], "
+    "dtype=bool))":
+        "boundary: a point exactly on a flow surface (distance 0.0), which the exit rule then leaves as it is",
+    "FlowField.push_out | n = self.bodies[j - ns].normal(p[i:i + 2])[0] if self.contained else "
+    "self.items[j].gradient(p[i])": "equivalent: row 0 of the normals of p[i:i + 2] is the normal at p[i]",
+    "FlowField._sphere_parts | b = np.linalg.norm(Tc, axis=1)": "equivalent: Tc is (S, 3), axis 1 is axis -1",
+    "FlowField._free | mirror = self.target / np.array([1.0, 1.0, -1.0]) + np.array([0.0, 0.0, 2.0 * self.plane])":
+        "equivalent: dividing by ±1 is multiplying by ±1",
+    "FlowField.velocity | p = p.reshape(-2, 3)": _NEG,
+    "_deflect | near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along <= 0) & (rho < 0.05 * R)":
+        "boundary: a streamline exactly in the plane through the obstacle's centre square to the axis",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() >= 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:": "boundary: a sideways step ending exactly on a flow surface",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() >= 0:": "boundary: a sideways step whose midpoint lies exactly on a flow surface",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 and field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').max() > 0:":
+        "not killed (no oracle): needs a sideways step whose midpoint lies inside a second flow surface while its "
+        "end is outside all (an obstacle under ~0.1 R at the front stagnation point of a larger one); the "
+        "planner's exact segment test would still reject the path",
+    "integrate_streamlines | sp = np.linalg.norm(u, axis=1, keepdims=True)":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
