@@ -41,10 +41,11 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     profile (the middle of a segment, moved in along the segment's left-hand normal, turned about the
     axis): ``push_out`` moves each back out along that normal by δ + eps·R (eps = 10⁻⁶), onto the profile
     to within 2·10⁻⁶ R (the graze correction's move); the body's own ``normal`` there is the same outward
-    unit vector (it was the inward one: the correction pushed grazing points deeper in)."""
-    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    unit vector (it was the inward one: the correction pushed grazing points deeper in).  A sphere 40 m away
+    comes first in the field's surfaces."""
+    field = FlowField((ELLIPSOID, Sphere((0.0, 40.0, 0.0), 2.0)), GOAL, FlowParams(), 0.5)
     body = field.bodies[0]
-    radius = float(field.radii[0])
+    radius = float(body.radius)
     prof = body.profile
     j = np.arange(5, prof.shape[0] - 6, 7)
     mid, t = 0.5 * (prof[j] + prof[j + 1]), prof[j + 1] - prof[j]
@@ -56,8 +57,9 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     inner = mid - delta * n2
     points = body.center + (np.column_stack([inner[:, 0], np.zeros(j.size), np.zeros(j.size)])
                             + inner[:, 1:2] * turn) @ body.basis.T
-    assert (field.distances(points, "true")[:, 0] < -0.9 * delta).all()
+    assert (field.distances(points, "true")[:, 1] < -0.9 * delta).all()
     np.testing.assert_allclose(body.normal(points), outward, atol=1e-12)
+    assert field.radii.max() == radius
     moved = field.push_out(points, 1e-6)
     np.testing.assert_allclose(moved - points, (delta + 1e-6 * radius) * outward, rtol=0, atol=1e-3 * delta)
     assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
@@ -93,6 +95,77 @@ def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outs
         np.testing.assert_allclose(_exit_body(field, starts[i].copy())[0], expected[i], rtol=0, atol=1e-9)
 
 
+def test_exit_rule_leaves_a_body_in_one_move():
+    """40 seeded starts inside the flow body of the (8, 4, 3) ellipsoid (outside the inflated obstacle): the
+    exit rule's first point (straight along the normal, or by bisection along the obstacle's normal, then
+    10⁻⁶ R on) is already outside every flow surface: one move."""
+    from auvplan.planners.flow_stream import _exit_body
+
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    rng = np.random.default_rng(6)
+    p = rng.uniform(-1.0, 1.0, (4000, 3)) * (9.5, 5.0, 4.0)
+    p = p[field.inside_body(p) & (field.clearance(p) > 0)][:40]
+    assert len(p) == 40
+    for start in p:
+        out = _exit_body(field, start.copy())
+        assert len(out) == 1 and not field.inside_body(out[0]), start
+
+
+def test_exit_rule_bisection_lands_just_past_the_body_along_the_obstacle_normal():
+    """Seeded starts inside the (8, 4, 3) ellipsoid's flow body whose straight move fails: the exit point q is
+    on the obstacle's outward normal g at the start (q − p ∥ g) and 10⁻⁶ R past the body's surface:
+    q − 1.01·10⁻⁶ R g is inside the body, q − 0.99·10⁻⁶ R g outside."""
+    from auvplan.planners.flow_stream import _exit_body, _segment_clear
+
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    body = field.bodies[0]
+    radius = float(body.radius)
+    rng = np.random.default_rng(7)
+    p = rng.uniform(-1.0, 1.0, (4000, 3)) * (9.5, 5.0, 4.0)
+    p = p[field.inside_body(p) & (field.clearance(p) > 0)][:60]
+    bisected = 0
+    for start in p:
+        straight = start + (-body.distance(start) + 1e-6 * radius) * body.normal(start[None])[0]
+        if _segment_clear(field, start, straight) and not body.inside(straight[None])[0]:
+            continue
+        q = _exit_body(field, start.copy())[0]
+        g = ELLIPSOID.gradient(start)
+        step = q - start
+        np.testing.assert_allclose(step / np.linalg.norm(step), g, atol=1e-9)
+        assert body.inside((q - 1.01e-6 * radius * g)[None])[0] and not body.inside((q - 0.99e-6 * radius * g)[None])[0]
+        bisected += 1
+    assert bisected >= 10
+
+
+def test_document_sphere_field_in_the_flow_field_is_the_blend_of_the_single_fields():
+    """``field = "document"`` with two spheres (flow radii A = r + margin + 0.002 r): the field's velocity is
+    Σ w_k u_k with u_k the document's single-sphere field and w_k = (1/d_k) / Σ (1/d_j), d_k = |p − c_k| − A_k,
+    all by hand; with one sphere, its single field."""
+    from auvplan.planners.flow import sphere_document_velocity
+
+    c = np.array([[0.0, 0.0, 0.0], [15.0, 6.0, -2.0]])
+    r = np.array([5.0, 3.0])
+    a = r + 0.5 + 0.002 * r
+    rng = np.random.default_rng(9)
+    p = rng.uniform(-20.0, 25.0, (80, 3))
+    p = p[(np.linalg.norm(p[:, None] - c, axis=2) > a + 0.2).all(axis=1)]
+    field = FlowField([Sphere(tuple(c[0]), 5.0), Sphere(tuple(c[1]), 3.0)], GOAL, FlowParams(field="document"), 0.5)
+    u = np.stack([sphere_document_velocity(p, c[k], a[k], GOAL) for k in range(2)], axis=1)
+    inv = 1.0 / (np.linalg.norm(p[:, None] - c, axis=2) - a)
+    w = inv / inv.sum(axis=1, keepdims=True)
+    np.testing.assert_allclose(field.velocity(p), (w[:, :, None] * u).sum(axis=1), rtol=1e-10)
+    one = FlowField([Sphere(tuple(c[0]), 5.0)], GOAL, FlowParams(field="document"), 0.5)
+    np.testing.assert_allclose(one.velocity(p), u[:, 0], rtol=1e-12)
+
+
+def test_front_stagnation_rule_does_not_act_behind_a_small_obstacle():
+    """A small sphere (r = 0.3 m, margin 0.1 m: flow radius 0.4006 m, h_min 0.02 m) and a start on its
+    downstream axis 0.0094 m behind it (within 2 h_min, but downstream): no sideways step, it arrives."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 0.3),), GOAL, FlowParams(), 0.1)
+    sl = integrate_streamlines(field, np.array([0.41, 0.0, 0.0]))
+    assert sl.arrived[0] and sl.deflections[0] == 0
+
+
 def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
     """Two spheres (r 6 and 3 m, margin 1.5 m: flow radii 7.512 and 4.506 m) and a plane at z = −60 m:
     the clearance and the inside-body test of one point ``(3,)`` and of a ``(2, 3, 3)`` batch are those of
@@ -120,11 +193,12 @@ def test_clearance_and_inside_body_take_one_point_or_any_batch_of_points():
 
 def test_ellipsoid_clearance_is_exact_near_and_the_scaled_lower_bound_far():
     """The (8, 4, 3) ellipsoid, margin 0.5 m, points on its axes in one batch: near it (the bound (s − 1)·3
-    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5 and
-    1 − 0.5 m; far from it the cheap bound, by hand (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
+    under the largest semi-axis 8 m) the exact distance minus the margin, by hand 2 − 0.5, 2 − 0.5,
+    1 − 0.5 and (at (0, 9, 0), bound 3.25 m) 5 − 0.5 m; far from it the cheap bound, by hand
+    (100/8 − 1)·3 − 0.5 = 34 m (the exact one is 91.5 m)."""
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
-    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [100.0, 0.0, 0.0]])
-    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 34.0], atol=1e-9)
+    p = np.array([[10.0, 0.0, 0.0], [0.0, -6.0, 0.0], [0.0, 0.0, 4.0], [0.0, 9.0, 0.0], [100.0, 0.0, 0.0]])
+    np.testing.assert_allclose(field.clearance(p), [1.5, 1.5, 0.5, 4.5, 34.0], atol=1e-9)
 
 
 def test_sphere_image_field_takes_one_point_or_any_batch_of_points():
@@ -173,6 +247,21 @@ def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
     np.testing.assert_allclose(sl.paths[0][1], np.array([1.0, 2.0, -3.0]) + a * (1 + 1e-6) * ray, atol=1e-9)
 
 
+def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
+    """A sphere (r = 5 m, margin 0.5 m, flow radius A = 5.51 m) whose flow shell reaches below the plane
+    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, above the plane.  The exit rule's first
+    point is on the ray from the centre, at A (1 + 10⁻⁶) (below the plane), its second straight up onto
+    the plane, 10⁻⁶ × 5.51 m above it (the plane's normal is +z)."""
+    from auvplan.planners.flow_stream import _exit_body
+
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
+    start = np.array([0.0, 0.0, -5.505])
+    assert field.clearance(start) > 0 and field.inside_body(start)
+    out = _exit_body(field, start.copy())
+    np.testing.assert_allclose(out[0], [0.0, 0.0, -5.51 * (1 + 1e-6)], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out[1], [0.0, 0.0, -5.507 + 5.51e-6], rtol=0, atol=1e-12)
+
+
 def test_streamline_stops_at_the_step_cap():
     """``max_steps = 7`` and two starts 30 m from the goal: exactly 7 steps (8 nodes), status ``max_steps``.
     With ``max_steps = 30``, an on-axis start (its 6th or so step the front rule's sideways step) and an
@@ -186,6 +275,77 @@ def test_streamline_stops_at_the_step_cap():
     assert list(sl.status) == ["max_steps", "max_steps"] and list(sl.deflections) == [1, 0]
     assert list(sl.steps) == [31, 31] and [len(p) for p in sl.paths] == [31, 31]
     assert np.abs(sl.paths[0][:, 2]).max() > 0.3  # the sideways step is in the path
+
+
+def test_free_sink_streamline_halves_the_goal_distance_each_step():
+    """No obstacle: the field is the bare sink, its streamlines straight lines to the target, and each RK4
+    step is step_factor × the goal distance (h_min 0.01 m): the distance to the target halves exactly at
+    every node, 40 m → 20 → 10 → … until within the arrival radius (0.5 m after 7 steps)."""
+    field = FlowField((), GOAL, FlowParams())
+    start = GOAL + 40.0 * np.array([-2.0, 3.0, 6.0]) / 7.0
+    sl = integrate_streamlines(field, start)
+    nodes = sl.paths[0][:-1]
+    assert sl.arrived[0] and len(nodes) == 8
+    np.testing.assert_allclose(np.linalg.norm(nodes - GOAL, axis=1), 40.0 / 2.0 ** np.arange(8), rtol=1e-12)
+
+
+def test_arrival_takes_precedence_over_the_front_stagnation_rule():
+    """A start on the axis 0.048 m in front of a 1 m sphere (inside the rule's 2 h_min = 0.1 m) but within the
+    arrival radius (3.5 m) of the target 2 m behind the sphere's centre: it arrives at once, no sideways
+    step (the scene 100 m from the origin)."""
+    field = FlowField((Sphere((100.0, 0.0, 0.0), 1.0),), np.array([102.0, 0.0, 0.0]), FlowParams(arrive=3.5))
+    sl = integrate_streamlines(field, np.array([98.95, 0.0, 0.0]))
+    assert sl.status[0] == "arrived" and sl.deflections[0] == 0 and sl.steps[0] == 1
+
+
+def test_min_distance_counts_the_node_before_a_sideways_step():
+    """An on-axis start stopped by the step cap right at its sideways step (a first run finds that step):
+    ``min_distance`` is the least clearance of the nodes, the node before the step (nearest the sphere)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=30), 0.5)
+    first = integrate_streamlines(field, np.array([-30.0, 0.0, 0.0])).paths[0]
+    k = int(np.flatnonzero(np.abs(first[:, 2]) > 0.1)[0])
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(max_steps=k), 0.5)
+    sl = integrate_streamlines(field, np.array([-30.0, 0.0, 0.0]))
+    path = sl.paths[0]
+    assert sl.status[0] == "max_steps" and sl.deflections[0] == 1 and len(path) == k + 1
+    assert field.clearance(path[-2]) < field.clearance(path[-1])
+    assert sl.min_distance[0] == pytest.approx(field.clearance(path).min(), abs=1e-12)
+
+
+def test_the_smallest_step_is_h_min_from_the_smallest_obstacle():
+    """A sphere (r = 5 m) and the (8, 4, 3) ellipsoid, margin 0.5 m: h_min = 0.05 × (3 + 0.5) = 0.175 m (the
+    smallest semi-axis of all).  A start 0.1 m from the sphere's flow surface would step 0.5 × 0.1 m; its
+    first step is h_min (to 1 %: the streamline bends a little)."""
+    field = FlowField((Sphere((0.0, 30.0, 0.0), 5.0), ELLIPSOID), GOAL, FlowParams(), 0.5)
+    a = float(field.radii[0])
+    start = np.array([0.0, 30.0, a + 0.1])
+    sl = integrate_streamlines(field, start)
+    assert np.linalg.norm(sl.paths[0][1] - start) == pytest.approx(0.05 * 3.5, rel=1e-2)
+
+
+def test_uniform_flow_stops_at_the_first_node_past_the_goal_plane():
+    """Uniform flow along +x, no obstacle, the target at the origin and a start 0.8 m off its line (outside
+    the 0.5 m arrival radius): the streamline runs straight, every node but the last before the goal's
+    plane x = 0 and the last past it (``missed``)."""
+    field = FlowField((), np.zeros(3), FlowParams(field="uniform"), direction=(1.0, 0.0, 0.0))
+    sl = integrate_streamlines(field, np.array([-20.0, 0.8, 0.0]))
+    x = sl.paths[0][:, 0]
+    assert sl.status[0] == "missed" and (x[:-1] <= 0).all() and x[-1] > 0
+    np.testing.assert_allclose(sl.paths[0][:, 1:], np.tile([0.8, 0.0], (len(x), 1)), atol=1e-12)
+
+
+def test_uniform_flow_streamlines_keep_their_stokes_stream_function():
+    """Uniform flow U = 1 along x past a sphere (flow radius A): Stokes' stream function
+    ψ = ½ ρ² (1 − A³/r³) is constant along each streamline, by hand; three starts round the sphere keep it
+    to 1 % (RK4 keeps it to 0.3 %; an integrator of lower order drifts)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), np.array([60.0, 0.0, 0.0]), FlowParams(field="uniform"), 0.5,
+                      direction=(1.0, 0.0, 0.0))
+    a = float(field.radii[0])
+    sl = integrate_streamlines(field, np.array([[-30.0, 1.0, 0.5], [-30.0, 3.0, -2.0], [-25.0, 0.0, 6.0]]))
+    for path in sl.paths:
+        assert path[:, 0].max() > 60.0  # past the sphere and the goal's plane
+        psi = 0.5 * (path[:, 1] ** 2 + path[:, 2] ** 2) * (1.0 - a**3 / np.linalg.norm(path, axis=1) ** 3)
+        assert np.abs(psi / psi[0] - 1.0).max() < 1e-2
 
 
 def test_min_distance_is_the_least_clearance_of_the_nodes_and_the_last_node_is_within_the_arrival_radius():
@@ -257,44 +417,62 @@ def _deflection(path, center, axis, radius):
     return k
 
 
-@pytest.mark.parametrize("h_min", [0.01, 0.0])
-def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshold(h_min):
+@pytest.mark.parametrize(("h_min", "shift"), [(0.01, 0.0), (0.0, 0.0), (0.01, 8.4)])
+def test_front_stagnation_rule_steps_aside_at_the_first_node_within_its_threshold(h_min, shift):
     """A sphere (r = 5 m, margin 0.5 m: flow radius R = 5.51 m) and an on-axis start.  The rule's threshold
     max(2 h_min, 0.02 R) is 0.02 R = 0.1102 m with h_min = 0.01 m, and 2 h_min = 0.55 m with the default
     h_min = 0.05 (5 + 0.5) m: the sideways step (to 0.06 R off the axis, over the sphere, +z) is taken
     from the first node nearer the flow sphere than the threshold, the node before it being farther; then
-    the streamline arrives."""
-    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(h_min=h_min), 0.5)
+    the streamline arrives.  The same with the whole scene moved 8.4 m along x."""
+    c = np.array([shift, 0.0, 0.0])
+    field = FlowField((Sphere(tuple(c), 5.0),), GOAL + c, FlowParams(h_min=h_min), 0.5)
     big = float(field.radii[0])
     threshold = 0.02 * big if h_min else 2.0 * 0.05 * 5.5
-    sl = integrate_streamlines(field, np.array([[-30.0, 0.0, 0.0]]))
+    sl = integrate_streamlines(field, np.array([[-30.0 + shift, 0.0, 0.0]]))
     assert sl.arrived[0] and sl.deflections[0] == 1
     path = sl.paths[0]
-    k = _deflection(path, np.zeros(3), np.array([1.0, 0.0, 0.0]), big)
+    k = _deflection(path, c, np.array([1.0, 0.0, 0.0]), big)
     assert path[k, 2] == pytest.approx(0.06 * big, rel=1e-9)
-    d = np.linalg.norm(path[:k], axis=1) - big
+    d = np.linalg.norm(path[:k] - c, axis=1) - big
     assert d[-1] < threshold <= d[-2]
 
 
 def test_front_stagnation_rule_on_an_oblique_axis_among_several_streamlines_and_spheres():
     """The same rule on a generic axis e = (2, −3, 6)/7 through a sphere at (1, 2, 3), with a second sphere
-    on the axis 20 m beyond the goal and a second start 8 m off the axis in the same batch: the on-axis
-    streamline steps 0.06 R square to the axis from the first node within 0.02 R of the nearest flow
-    sphere (not the farthest one; while the other streamline is not near), and both arrive."""
+    (listed first) on the axis 20 m beyond the goal, a second start 8 m off the axis and a third one 20 m
+    behind the second sphere, all in one batch: the on-axis streamline steps 0.06 R square to the axis
+    from the first node within 0.02 R of its nearest flow sphere (not the farthest one; while the other
+    streamlines are on their way, one nearest the other sphere), and all arrive."""
     c = np.array([1.0, 2.0, 3.0])
     e = np.array([2.0, -3.0, 6.0]) / 7.0
     goal = c + 35.0 * e
-    field = FlowField((Sphere(tuple(c), 5.0), Sphere(tuple(c + 55.0 * e), 2.0)), goal, FlowParams(h_min=0.01), 0.5)
-    big = float(field.radii[0])
+    field = FlowField((Sphere(tuple(c + 55.0 * e), 2.0), Sphere(tuple(c), 5.0)), goal, FlowParams(h_min=0.01), 0.5)
+    big = float(field.radii[1])
     across = np.cross(e, [1.0, 0.0, 0.0])
     across /= np.linalg.norm(across)
-    sl = integrate_streamlines(field, np.array([c - 35.0 * e, c - 35.0 * e + 8.0 * across]))
-    assert sl.arrived.all() and list(sl.deflections) == [1, 0]
+    starts = np.array([c - 35.0 * e, c - 35.0 * e + 8.0 * across, c + 75.0 * e + 3.0 * across])
+    sl = integrate_streamlines(field, starts)
+    assert sl.arrived.all() and list(sl.deflections) == [1, 0, 0]
     path = sl.paths[0]
     k = _deflection(path, c, e, big)
     d = np.linalg.norm(path[:k] - c, axis=1) - big
     assert d[-1] < 0.02 * big <= d[-2]
-    assert k < len(sl.paths[1])  # the other streamline was still on its way
+    assert k < min(len(sl.paths[1]), len(sl.paths[2]))  # the other streamlines were still on their way
+    third = sl.paths[2][k - 1]
+    assert np.argmin(field.distances(third, "true")) == 0  # ... one of them nearest the other sphere
+
+
+def test_front_stagnation_rule_steps_aside_in_the_streamline_s_own_meridian_plane():
+    """A start 0.1 m off the axis on the −y side, level with the sphere's centre (its streamline stays in
+    z = 0): the sideways step puts it 0.06 R off the axis on the −y side, in its own meridian plane (not
+    over the sphere, the side an exactly on-axis start takes)."""
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5)
+    big = float(field.radii[0])
+    sl = integrate_streamlines(field, np.array([-30.0, -0.1, 0.0]))
+    assert sl.arrived[0] and sl.deflections[0] == 1
+    path = sl.paths[0]
+    k = int(np.flatnonzero(np.hypot(path[:, 1], path[:, 2]) > 0.05 * big)[0])
+    assert path[k, 1] == pytest.approx(-0.06 * big, rel=1e-9) and path[k, 2] == 0.0 and path[k, 0] == path[k - 1, 0]
 
 
 def test_grazing_streamlines_are_pushed_back_onto_the_surface_until_the_correction_limit():

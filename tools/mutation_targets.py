@@ -257,6 +257,38 @@ REASONS: dict[str, str] = {
         "planner's exact segment test would still reject the path",
     "integrate_streamlines | sp = np.linalg.norm(u, axis=1, keepdims=True)":
         "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "integrate_streamlines | d = dall.min(axis=-1) if dall.shape[1] else np.full(idx.size, np.inf)":
+        "equivalent: dall is (N, K) here, axis 1 is axis -1",
+    "integrate_streamlines | stalled = sp <= params.stagnation * ref":
+        "boundary: a speed exactly at the stagnation fraction of the bare sink's",
+    "FlowField.push_out | p = np.array(p, dtype=float).reshape(-2, 3)": _NEG,
+    "_deflect | s = np.where((rho >= 1e-09 * R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
+        "boundary: a streamline exactly 1e-9 R off the axis",
+    "_deflect | if field.distances(cand[ok][None], 'true').min() > 0 or field.distances(0.5 * (x[i] + "
+    "cand[ok])[None], 'true').min() > 0:":
+        "not killed (no oracle): differs only when one of the sideways step's end and midpoint lies inside a flow "
+        "surface and the other not (a second obstacle under ~0.1 R at the front of a larger one; see above)",
+    "integrate_streamlines | arrived = dist_goal < params.arrive": "boundary: a node exactly at the arrival radius",
+    "integrate_streamlines | missed = ((x - T) @ field.direction >= 0) & ~arrived":
+        "boundary: a node exactly in the goal's plane (uniform field)",
+    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 * h_min / 1.05)": _GRAZE,
+    "integrate_streamlines | contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
+        "boundary: a node whose clearance is exactly 0.0",
+    "FlowField.velocity | if parts.shape[2] == 1:":
+        "equivalent: a single field then goes through the blend, whose one weight is exactly 1.0 (both weight "
+        "kinds; distances floored at 1e-12)",
+    "_exit_body | if d[j] > 0:": "boundary: a start exactly on a flow surface (distance 0.0)",
+    "_exit_body | lo, hi = (0.0, 3.0 * body.radius)":
+        "equivalent to float resolution: the bisection converges on the same crossing (the ray from inside leaves "
+        "the body within its diameter), to 3 R / 2^60 instead of 2 R / 2^60",
+    "_deflect | near = (d[sel, k] <= max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho < 0.05 * R)":
+        "boundary: a node exactly at the rule's distance threshold",
+    "_deflect | s = np.where((rho > 1e-09 / R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
+        "boundary: differs only for a streamline between 1e-9 / R and 1e-9 R off the axis (nanometres)",
+    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) >= params.arrive) & (deflections[idx] < "
+    "MAX_DEFLECTIONS)": "boundary: a node exactly at the arrival radius",
+    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) > params.arrive) & (deflections[idx] <= "
+    "MAX_DEFLECTIONS)": "not killed: needs a streamline sent sideways 20 times (bouncing between obstacles' fronts)",
     "integrate_streamlines | continue":
         "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
         "iterations would do nothing",
