@@ -18,6 +18,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from auvplan._types import Status
+from auvplan.guidance.local import AvoidanceParams, apf_force
 from auvplan.planners.lattice import HALF, OFFSETS, _push, _sift_down, edge_states, node_fields, search
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
@@ -579,3 +580,218 @@ def test_world_thin_ellipsoid_segment_test_with_a_margin():
     flat = Ellipsoid((0.0, 0.0, 0.0), (4.0, 2.0, 1.0))
     seg = np.array([[[-6.0, 2.0, 0.0], [6.0, 2.0, 0.0]], [[-6.0, 1.999, 0.0], [6.0, 1.999, 0.0]]])
     np.testing.assert_array_equal(flat.segments_hit(seg), [False, True])
+
+
+# ---------------------------------------------------------------------- local: document 004's avoidance
+def test_local_key_waypoints_hold_up_a_path_over_two_ridges_and_ignore_moving_obstacles():
+    """A path 8 m above a seabed with two ridges (crests -60 m at x = 300 and 700 m, flat -100 m), a
+    point every 10 m: the key waypoints keep every stored segment free, the first and last point once
+    each, and more than the ends (the straight line clips the ridges); the same with the document's
+    seabed stepping.  A level path in open water with only a moving obstacle parked on it keeps its
+    ends alone (key waypoints are about the static world), with either method."""
+    from auvplan.guidance.local import key_waypoints
+    from auvplan.world.moving import LinearMotion, MovingObstacle
+
+    g = np.arange(0.0, 1001.0, 50.0)
+    z = np.full((g.size, g.size), -100.0)
+    z[:, (g == 300.0) | (g == 700.0)] = -60.0
+    world = World(Bounds(0, 1000, 0, 1000, -100, 0), Terrain(g, g, z), margins=Margins(min_altitude=5.0))
+    x = np.arange(0.0, 1001.0, 10.0)
+    path = np.c_[x, np.full(x.size, 500.0), world.terrain.elevation(x, np.full(x.size, 500.0)) + 8.0]
+    assert world.path_free(path)
+    for method in ("exact", "stepping"):
+        keys = key_waypoints(path, world, method, step=1.0)
+        assert len(keys) >= 4 and (keys[0] == path[0]).all() and (keys[-1] == path[-1]).all()
+        assert not (keys[-1] == keys[-2]).all()
+        assert world.segments_free(np.stack([keys[:-1], keys[1:]], axis=1), moving=False).all()
+    # a path whose last leg is blocked (through a sphere): every point is kept, the last one once
+    blocked = World(Bounds(0, 1000, 0, 1000, -100, 0), obstacles=(Sphere((150.0, 500.0, -50.0), 10.0),))
+    three = np.array([[0.0, 500.0, -50.0], [100.0, 500.0, -50.0], [200.0, 500.0, -50.0]])
+    np.testing.assert_array_equal(key_waypoints(three, blocked), three)
+    level = np.c_[x, np.full(x.size, 500.0), np.full(x.size, -70.0)]
+    open_world = World(Bounds(0, 1000, 0, 1000, -100, 0), moving=(
+        MovingObstacle(Sphere((0.0, 0.0, 0.0), 20.0), LinearMotion((500.0, 500.0, -70.0), (0.0, 0.0, 0.0))),))
+    np.testing.assert_array_equal(key_waypoints(level, open_world), level[[0, -1]])
+    np.testing.assert_array_equal(key_waypoints(level, open_world, "stepping", step=1.0), level[[0, -1]])
+
+
+def test_local_apf_force_with_one_obstacle_beyond_the_radius_and_one_very_close():
+    """Obstacles at 0.5 m (centre 0.7 m away, closer than a metre) and 12 m (beyond r = 10 m): only the
+    first repels, with |F_rep| = k₂ (1/0.5 - 1/10) d_g^w₃ / 0.5^w₂ along the unit vector from its centre."""
+    p = AvoidanceParams(k_att=3.0, w_att=0.5, k_rep=7.0, w_obs=1.5, w_goal=2.0, radius=10.0)
+    f = apf_force([0.0, 0.0, 0.0], [16.0, 0.0, 0.0], [[0.0, 0.7, 0.0], [0.0, -20.0, 0.0]], [0.5, 12.0], p)
+    rep = 7.0 * (1 / 0.5 - 1 / 10.0) * 16.0**2 / 0.5**1.5
+    np.testing.assert_allclose(f, [3.0 * 4.0, -rep, 0.0], rtol=1e-12)
+
+
+def test_local_minimum_detector_radius_ring_and_extra_coordinates():
+    """r₁ = 3 m, ε₂ = 3, a point a second; positions may carry more than three entries (only x, y, z
+    count).  Points exactly 3 m away count, 2.5 m too (6.25 <= 9), 4 m not; after 3 points near the origin
+    and 25 far ones the ring (50 entries) still holds the first three: back at the origin, trapped."""
+    from auvplan.guidance.local import MinimumDetector
+
+    det = MinimumDetector(3.0, 3, 1.0)
+    det.buf[:] = np.inf  # unwritten entries count as far away
+    assert not det.update(np.array([0.0, 0.0, 0.0, 99.0]), 0.0)
+    assert not det.update(np.array([3.0, 0.0, 0.0, -99.0]), 1.0)
+    assert det.update(np.array([0.0, 0.0, 0.0, 5.0]), 2.0)  # 0, 3 and 0 m: three within r₁
+    det = MinimumDetector(3.0, 3, 1.0)
+    det.buf[:] = np.inf
+    got = [det.update(np.array([x, 0.0, 0.0]), float(t)) for t, x in enumerate((0.0, 2.5, 0.0))]
+    assert got == [False, False, True]
+    det = MinimumDetector(3.0, 3, 1.0)
+    det.buf[:] = np.inf
+    for t, x in enumerate((0.0, 3.5, 4.0)):
+        assert not det.update(np.array([x, 0.0, 0.0]), float(t))  # 4 m from 0 m: r₁³ = 27 would count it
+    det = MinimumDetector(3.0, 3, 1.0)
+    det.buf[:] = np.inf
+    for t in range(3):
+        det.update(np.array([0.1 * t, 0.0, 0.0]), float(t))
+    for t in range(3, 28):
+        assert not det.update(np.array([100.0 * t, 0.0, 0.0]), float(t))
+    assert det.update(np.zeros(3), 28.0)
+
+
+def _la(world: World, keys, **params):
+    from test_oracles import _local
+
+    return _local(world, keys, **params)
+
+
+_BENT = [(0.0, 0.0, -50.0), (100.0, 0.0, -50.0), (200.0, 0.0, -50.0), (200.0, 100.0, -50.0), (200.0, 200.0, -50.0)]
+
+
+def test_local_goal_advance_at_its_boundaries():
+    """Document 004's next goal (arrive 10 m): a key abeam of the vehicle (dot product exactly 0) or
+    0.5 m² ahead is not behind; a key exactly 10 m away is reached; "behind" is measured along the
+    *next* leg (keys bent at 90°, offset far from the origin); a moving obstacle whose margin is 0.5 m
+    short of a key does not occupy it."""
+    from auvplan.world.moving import LinearMotion, MovingObstacle
+
+    world = World(Bounds(-5000, 5000, -500, 500, -100, 0))
+    la = _la(world, _BENT)
+    for p, want in (((100.0, 30.0, -50.0), 1), ((99.995, 30.0, -50.0), 1), ((100.0, 0.0, -40.0), 2),
+                    ((100.0, 0.0, -39.999), 1), ((120.0, -50.0, -50.0), 2)):
+        la.goal_index = 1
+        la._advance_goal(np.array(p), 0.0)
+        assert la.goal_index == want, p
+    far = [(x - 1000.0, y, z) for x, y, z in _BENT]
+    la = _la(world, far)
+    la._advance_goal(np.array([-950.0, 0.0, -50.0]), 0.0)  # before key 1: (50, 0, 0) . (100, 0, 0) > 0
+    assert la.goal_index == 1
+    parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((200.0, 7.5, -50.0), (0.0, 0.0, 0.0)))
+    la = _la(World(world.bounds, moving=(parked,), margins=Margins(obstacle=2.0)), _BENT)
+    la._advance_goal(np.array([105.0, 0.0, -50.0]), 0.0)
+    assert la.goal_index == 2 and la.skipped == 0
+
+
+def test_local_escapes_draw_a_free_sub_goal_and_widen_within_one_stall():
+    """The escape's candidates (angle, radius r √U(¼, 1), dz, with the generator's draws copied): half
+    of them blocked by a sphere, the sub-goal is the first free one; with every candidate blocked (the
+    vehicle deep inside a huge sphere) no escape happens and False is returned.  Within one stall the
+    k-th escape draws within k × 60 m, counting only this stall's escapes (3 earlier ones do not)."""
+    from auvplan._types import as_rng
+    from auvplan.guidance.local import _random_free_point
+
+    def draws(rng, radius):
+        ang, rad = rng.uniform(0, 2 * np.pi, 64), radius * np.sqrt(rng.uniform(0.25, 1.0, 64))
+        dz = rng.uniform(-0.2, 0.2, 64) * radius
+        return np.c_[rad * np.cos(ang), rad * np.sin(ang), dz]
+
+    p = np.array([0.0, 0.0, -50.0])
+    half = World(Bounds(-500, 500, -500, 500, -100, 0), obstacles=(Sphere((60.0, 0.0, -50.0), 60.0),))
+    cand = p + draws(as_rng(4), 60.0)
+    ok = half.is_free(cand)
+    assert not ok.all() and ok.any() and not ok[0]
+    np.testing.assert_array_equal(_random_free_point(half, p, 60.0, 0.0, as_rng(4)), cand[np.argmax(ok)])
+    trapped = _la(World(Bounds(-5000, 5000, -500, 500, -5000, 0), obstacles=(Sphere((0.0, 0.0, -2000.0), 1500.0),)),
+                  [(0.0, 0.0, -2000.0), (100.0, 0.0, -2000.0)])
+    assert trapped._escape(np.array([0.0, 0.0, -2000.0]), 0.0) is False and trapped.escapes == 0
+    assert trapped.mode == "route" and trapped.subgoal is None
+    assert _la(half, [(0.0, 0.0, -50.0), (-100.0, 0.0, -50.0)])._escape(p, 0.0) is True
+    from test_oracles import _KEYS, _open_water
+
+    la = _la(_open_water(), _KEYS)
+    la.escapes = 3  # escapes of an earlier stall
+    rng = as_rng(0)
+    first, second = draws(rng, 60.0), draws(rng, 120.0)
+    q = np.array([50.0, 0.0, -50.0])
+    assert la.stalled(q, 10.0, since=5.0) and la.escapes == 4
+    np.testing.assert_allclose(la.subgoal, q + first[0], atol=1e-9)
+    la.subgoal = None  # reached, still no progress: the second escape of this stall
+    assert la.stalled(q, 12.0, since=5.0) and la.escapes == 5
+    np.testing.assert_allclose(la.subgoal, q + second[0], atol=1e-9)
+
+
+class _Base:
+    """A path follower that records the obstacles it is given."""
+
+    name, route = "stub", None
+
+    def __init__(self) -> None:
+        self.seen: list = []
+
+    def reset(self) -> None:
+        pass
+
+    def command(self, x, y, z, current, speed, obstacles, dt):
+        from auvplan.guidance.route import RoutePoint
+
+        self.seen.append(list(obstacles))
+        return 0.25, 0.0, RoutePoint(0, 0.0, 0.0, 0.0, 0.0, -50.0, 0.0, False)
+
+
+def test_local_command_passes_static_obstacles_to_the_base_and_counts_apf_steps():
+    """The base follower gets the static obstacles only, as (cx, cy, distance); a moving obstacle exactly
+    at the repulsion radius (30 m) switches to the APF; each APF step counts as one decision and its
+    (small, non-negative) time adds up."""
+    from auvplan.guidance.local import LocalAvoidance
+
+    base = _Base()
+    world = World(Bounds(-5000, 5000, -500, 500, -100, 0))
+    la = LocalAvoidance(base, np.array(_BENT), world, AvoidanceParams(name="apf"), 1.5, rng=0)
+    static = (60.0, 5.0, 8.0, False, (60.0, 5.0, -50.0))
+    far = (90.0, 5.0, 30.5, True, (90.0, 5.0, -50.0), 1, np.zeros(3), 5.0)
+    psi, pitch, _ = la.command(np.array([50.0, 0.0, -50.0]), 0.0, np.zeros(3), [static, far], 0.1)
+    assert base.seen[-1] == [(60.0, 5.0, 8.0)] and pitch is None and la.mode == "route" and la.decisions == 0
+    at = (90.0, 5.0, 30.0, True, (90.0, 5.0, -50.0), 1, np.zeros(3), 5.0)
+    for k in range(3):
+        _, pitch, _ = la.command(np.array([50.0 + k, 0.0, -50.0]), 0.1 * (k + 1), np.zeros(3), [static, at], 0.1)
+        assert pitch is not None and la.mode == "apf"
+    assert la.decisions == 3 and 0.0 <= la.decision_time < 60.0
+
+
+def test_local_apf_command_goals_sub_goals_distances_and_the_sloped_seabed_floor():
+    """In APF mode with a moving obstacle near: at exactly the arrive distance (10 m) of the
+    penultimate key the goal moves on to the last key, and stays there when that is reached too; the
+    command's course is the APF force's with the obstacles' *distances*; while a sub-goal is followed a
+    trapped detector does not start another escape; over a seabed sloping in x (z = -150 + 0.05 x) the
+    dive floor uses the altitude under the vehicle (5 m above the margin at x = 100, y = 600: 7.5°; the
+    seabed also slopes in y, 0.02), and does not apply 25 m above the margin."""
+    world = World(Bounds(-5000, 5000, -500, 500, -100, 0))
+    la = _la(world, _BENT)
+    la.mode, la.goal_index = "apf", 3
+    near = [(210.0, 110.0, 20.0, True, (210.0, 110.0, -50.0))]
+    course, _, _ = la._apf_command(np.array([200.0, 90.0, -50.0]), 0.0, near, 0.3, None)
+    assert la.goal_index == 4
+    f = apf_force(np.array([200.0, 90.0, -50.0]), np.array(_BENT[4]), np.array([near[0][4]]), np.array([20.0]),
+                  la.params)
+    assert course == pytest.approx(math.atan2(f[0], f[1]), abs=1e-12)
+    la._apf_command(np.array([200.0, 195.0, -50.0]), 1.0, near, 0.3, None)
+    assert la.goal_index == 4
+    la = _la(world, _BENT, minimum_count=3)
+    la.mode, la.subgoal = "apf", np.array([150.0, 50.0, -50.0])
+    for t in range(5):
+        la._apf_command(np.array([100.0, 0.0, -50.0]), float(t), [], 0.3, None)
+    assert la.escapes == 0 and (la.subgoal == [150.0, 50.0, -50.0]).all()
+    g = np.arange(-100.0, 1101.0, 100.0)
+    plane = -150.0 + 0.05 * g[None, :] + 0.02 * (g[:, None] - 600.0)  # (ny, nx): sloping in x and y
+    slope = World(Bounds(0, 1000, 0, 1000, -200, 0), Terrain(g, g, plane), margins=Margins(min_altitude=5.0))
+    la = _la(slope, [(0.0, 600.0, -100.0), (300.0, 600.0, -200.0), (600.0, 600.0, -100.0)])
+    la.mode = "apf"
+    _, pitch, _ = la._apf_command(np.array([100.0, 600.0, -135.0]), 0.0, [], 0.3, None)
+    assert pitch == pytest.approx(math.radians(10.0) * (1.0 - 5.0 / 20.0), abs=1e-12)
+    p = np.array([100.0, 600.0, -115.0])  # 25 m above the margin: beyond 2 x arrive, the dive is not floored
+    f = apf_force(p, np.array([300.0, 600.0, -200.0]), np.empty((0, 3)), np.empty(0), la.params)
+    _, pitch, _ = la._apf_command(p, 1.0, [], 0.3, None)
+    assert pitch == pytest.approx(math.atan2(f[2], math.hypot(f[0], f[1])), abs=1e-12) and pitch < -0.3

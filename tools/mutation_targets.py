@@ -106,9 +106,9 @@ MODULES: dict[str, Target] = {
         _fns(LOCAL, "key_waypoints", "apf_force", "MinimumDetector.update", "_random_free_point",
              "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
              "LocalAvoidance.command", "LocalAvoidance._apf_command"),
-        ("tests/test_oracles.py", "tests/test_local.py", "-k",
-         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
-         " or escape_sub_goal or minimum_detector"),
+        ("tests/test_oracles.py", "tests/test_local.py", "tests/test_oracles_sim.py", "-k",
+         "(apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
+         " or escape_sub_goal or minimum_detector or local_) and (not oracles_sim or local_)"),
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
@@ -140,6 +140,9 @@ _GRAZE = ("equivalent: a step still entering a surface after six quarterings sta
           "only such nodes are kept) and is at most h_min / 4096 long, so it ends at most h_min / 4096 inside "
           "(d is 1-Lipschitz, up to a body profile's chord sag); every graze window at least that wide (0.02 h_min "
           "here) corrects the same grazes")
+_ONES = "equivalent: an all-True answer has no blocked index, whatever its length"
+_LAST = ("equivalent: i never exceeds n - 1, and at i = n - 1 the next pass has no segment left and stops "
+         "with the same keys")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -296,6 +299,19 @@ REASONS: dict[str, str] = {
         "boundary: differs only for a step ending exactly on a flow surface (distance 0.0), which is then moved "
         "1e-9 R outside and counted as a correction",
     # grid
+    "node_fields | step = min(1, _SLAB // (shape[1] * shape[2]))":
+        "equivalent: one x row per slab; the slab size changes only memory and time",
+    "node_fields | step = max(2, _SLAB // (shape[1] * shape[2]))":
+        "equivalent: the slab size changes only memory and time",
+    "node_fields | step = max(1, _SLAB // (shape[2] * shape[2]))":
+        "equivalent: the slab size changes only memory and time",
+    "node_fields | cur[i0 * n:i1 * n] = world.currents.velocity(pts).reshape(-2, 3)": _NEG,
+    "_offset_states | sure = min(obs[i, j, k], obs[vi, vj, vk]) > half_length":
+        "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
+        "runs and agrees",
+    "_offset_states | lb = min(ga, gb, 0.5 * (ga - gb - abs(dz) - lipschitz * lh))":
+        "equivalent: free nodes have g_b >= 0, so the mutated bound is never above the true one; more edges "
+        "go to the exact test, which decides the same",
     # world
     "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
         "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
@@ -317,10 +333,68 @@ REASONS: dict[str, str] = {
     "Ellipsoid._segment_min_distance | ends = np.minimum(self.distance(seg[:, 1]), self.distance(seg[:, 1]))":
         "equivalent to 1e-9 of the length: the golden section already converges onto the start when the minimum "
         "is there",
+    "World.segments_free | if self.land is not None and ok.all():":
+        "equivalent: land is burnt into the seabed (raised above the surface in every cell touching it), so "
+        "the terrain's exact test already rejects every segment crossing land; the polygon test never "
+        "changes the answer",
+    "World.segments_free | flat = np.array(ok, dtype=bool).reshape(-2)": _NEG,
+    "World.segments_free | flat[idx] = ~self.land.segments_hit(s.reshape(-2, 2, 3)[idx])": _NEG,
+    "World.path_free | return bool(self.is_free(p, t, moving).any())":
+        "equivalent: reached with a single point only, where any = all",
+    "Ellipsoid._foot_point | sign = np.where(pb <= 0, -1.0, 1.0)":
+        "equivalent to 1e-10 of the semi-axis: a zero coordinate is nudged to 1e-10 a, its sign only puts "
+        "the foot point's tiny coordinate on one side of zero or the other",
+    "Ellipsoid._foot_point | s2 = ((p / a) ** 2).sum(axis=1)":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "Ellipsoid._foot_point | outside = s2 > 1.0":
+        "equivalent: on the surface (s2 = 1) the root is t = 0, an end of either bracket",
+    "Ellipsoid._foot_point | for _ in range(65):":
+        "equivalent: a 65th halving moves t by 2^-65 of the bracket, below float resolution",
+    "Ellipsoid._foot_point | f = ((a * p / (a2 + mid[:, None])) ** 2).sum(axis=1) - 1.0":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "Ellipsoid._foot_point | pos = f >= 0": "equivalent: f = 0 means mid is the root, which either half keeps",
+    "Ellipsoid.distance | flat = pb.reshape(-2, 3)": _NEG,
+    "Ellipsoid.distance | d = np.linalg.norm(flat - q, axis=1)": "equivalent: flat is (N, 3), axis 1 is axis -1",
+    "Ellipsoid.distance | inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=-1) <= 1.0":
+        "equivalent: on the surface the distance is 0, whose sign does not matter",
+    "Ellipsoid.segments_hit | scale = 2.0 + margin / min(self.semi_axes)":
+        "equivalent: a larger prefilter ellipsoid sends more segments to the exact test, which decides the same",
+    "Ellipsoid.segments_hit | near = (point_segment_distance(np.zeros(3), a / scale, b / scale) <= 1.0) & ~touch":
+        "equivalent: a segment tangent to the prefilter also goes to the exact test, which decides the same",
+    "Ellipsoid.segments_hit | hit[near] = self._segment_min_distance(s[near]) <= margin":
+        "boundary: a segment whose least distance is exactly the margin (the golden section's minimum is "
+        "exact to 1e-9 of the length only)",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g / (hi - lo), lo + g * (hi - lo))":
+        "equivalent: hi - lo = 1 at that point",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g * (hi + lo), lo + g * (hi - lo))":
+        "equivalent: lo = 0 at that point, so hi + lo = hi - lo",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g * (hi - lo), lo + g / (hi - lo))":
+        "equivalent: hi - lo = 1 at that point",
+    "Ellipsoid._segment_min_distance | for _ in range(45):":
+        "equivalent: the bracket is already below 1e-9 of the length after 44 steps",
+    "Ellipsoid._segment_min_distance | ends = np.maximum(self.distance(seg[:, 0]), self.distance(seg[:, 1]))":
+        "equivalent to 1e-9 of the length: the golden section converges onto an end when the minimum is there, "
+        "so the end values only refine it",
+    "Ellipsoid._segment_min_distance | least: FloatArray = np.minimum(np.maximum(f1, f2), ends)":
+        "equivalent to 1e-9 of the length: after 44 steps f1 and f2 are the distance at points 1e-9 of the "
+        "length apart",
     # sim
     "_distance | if bound >= far:":
         "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
     # local
+    "key_waypoints | p = as_points(points).reshape(-2, 3)": _NEG,
+    "key_waypoints | return np.ones(n - i + 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n + i - 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n - i - 2, dtype=bool)": _ONES,
+    "key_waypoints | if i > n - 1:": _LAST,
+    "key_waypoints | if i >= n + 1:": _LAST,
+    "key_waypoints | if i >= n - 2:":
+        "equivalent for a free path (the caller's plan): the penultimate point's segment to the last one is a "
+        "segment of the path itself",
+    "key_waypoints | continue": _LAST,
+    "apf_force | d = np.asarray(distances, dtype=float).reshape(-2)": _NEG,
+    "apf_force | near = d < params.radius": "equivalent: at d = r the repulsion k (1/d - 1/r) ... is 0",
+    "LocalAvoidance._apf_command | centers = np.array([o[4] for o in near]).reshape(-2, 3)": _NEG,
     "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
         "boundary: a key waypoint exactly on a moving obstacle's margin",
     "LocalAvoidance._advance_goal | behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) + 1)] - "
