@@ -25,7 +25,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 TERRAIN = "auvplan.world.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
-GRID = "auvplan.planners.grid"
+GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
 SIM = "auvplan.sim"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
@@ -48,8 +48,9 @@ MODULES: dict[str, Target] = {
              "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
         + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
                "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
-        ("tests/test_world.py", "tests/test_oracles.py", "-k",
-         "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"),
+        ("tests/test_world.py", "tests/test_oracles.py", "tests/test_oracles_sim.py", "-k",
+         "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"
+         " and (not oracles_sim or world_)"),
     ),
     # the energy/duration kernel and the path terms (violations, clearance)
     "cost": Target(
@@ -58,30 +59,56 @@ MODULES: dict[str, Target] = {
         ("tests/test_cost.py", "tests/test_oracles.py", "-k", "cost or energy or seabed"),
         jit=False,
     ),
-    # lattice edge generation (collision tests), edge weights and the Dijkstra search
+    # the lattice (planners/lattice.py): free nodes and their safe single-precision fields, the edge
+    # test's shortcut (seabed Lipschitz bound, obstacle distance) and its exact fallback, edge bits,
+    # edge weights, the indexed binary heap and the Dijkstra/A* search; grid.py's free-edge list and
+    # the links of the goal and starts to the lattice
     "grid": Target(
-        _fns(GRID, "_edge_weight", "_sift_up", "_sift_down", "_search", "free_edges",
-             "GridReference._lattice_edges", "GridReference._connect"),
-        ("tests/test_oracles.py", "tests/test_grid.py", "-k",
-         "edge or cost_to_go or empty or enclosed or current"),
+        _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
+             "_edge_weight", "_sift_up", "_sift_down", "_push", "_heuristic", "_search", "search")
+        + _fns(GRID, "free_edges", "GridReference._connect"),
+        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+            "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
+            "cost_to_go_equals_scipys_dijkstra_over_the_free_lattice",
+            "grid_costs_with_a_weaker_current_with_a_vertical_part",
+            "free_edges_are_exactly_the_free_lattice_segments"))
+        + tuple(f"tests/test_grid.py::test_{t}" for t in (
+            "empty_world_gives_the_straight_line", "cost_to_go_is_the_26_connected_lattice_distance",
+            "goal_enclosed_by_terrain_is_infeasible_with_a_message"))
+        + ("tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge",)
+        + tuple(f"tests/test_oracles_sim.py::test_lattice_{t}" for t in (
+            "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
+            "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
+            "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single",
+            "node_fields_are_the_worlds_static_clearances")),
         jit=False,
     ),
-    # the simulation's event detection (collision, arrival, deadlock, timeout): the events block of
-    # simulate's loop (the rest of it records the run and steps the vehicle)
+    # the simulation's event detection (collision, arrival, deadlock, timeout): the pure event rules
+    # and the events block of simulate's loop (the rest of it records the run and steps the vehicle)
     "sim": Target(
-        _fns(SIM, "_distance", "_obstacle_shapes") + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
-        ("tests/test_oracles.py", "tests/test_tracking.py", "tests/test_local.py", "-k",
-         "seabed or collision_is_reported or names_the or converges or deadlock_is_declared or arrival_at"
-         " or fast_obstacle or decides_unavoidable"),
+        _fns(SIM, "_distance", "_obstacle_shapes", "_contact_event", "_arrived", "_progressed", "_deadlocked")
+        + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
+        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+            "a_dive_into_the_seabed_ends_in_collision", "deadlock_is_declared_one_step_after_the_deadlock_time",
+            "arrival_at_the_radius_and_timeout_at_max_time", "collision_names_the_obstacle_that_was_hit",
+            "the_moving_obstacle_that_hits_decides_unavoidable"))
+        + ("tests/test_tracking.py::test_converges_to_the_route_exponentially",
+           "tests/test_tracking.py::test_collision_is_reported_as_a_status",
+           "tests/test_local.py::test_fast_obstacle_aimed_at_the_vehicle_is_unavoidable")
+        + tuple(f"tests/test_oracles_sim.py::test_sim_{t}" for t in (
+            "contact_is_penetration_and_names_what_was_hit",
+            "moving_hit_is_unavoidable_when_at_least_as_fast_and_closing_in",
+            "arrival_progress_and_deadlock_rules_at_their_boundaries", "a_creeping_vehicle_is_not_deadlocked",
+            "an_obstacle_on_the_seabed_hit_half_a_metre_above_it")),
     ),
     # document 004's local avoidance: key waypoints (collision checks), APF, minimum detection, escapes
     "local": Target(
         _fns(LOCAL, "key_waypoints", "apf_force", "MinimumDetector.update", "_random_free_point",
              "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
              "LocalAvoidance.command", "LocalAvoidance._apf_command"),
-        ("tests/test_oracles.py", "tests/test_local.py", "-k",
-         "apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
-         " or escape_sub_goal or minimum_detector"),
+        ("tests/test_oracles.py", "tests/test_local.py", "tests/test_oracles_sim.py", "-k",
+         "(apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
+         " or escape_sub_goal or minimum_detector or local_) and (not oracles_sim or local_)"),
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
@@ -109,12 +136,13 @@ _KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, whic
 _CELL = "equivalent: at the boundary both branches give the same cell index"
 _EDGE = ("equivalent: reached only with the piece's midpoint outside the grid, where the mutated test "
          "answers the same")
-_SHORTCUT = ("**not killed** (no oracle yet): the obstacle shortcut made unsound, edges near an obstacle "
-             "skip the exact test; in the test worlds no edge between two free nodes clips an obstacle")
 _GRAZE = ("equivalent: a step still entering a surface after six quarterings starts at a node outside (d >= 0, "
           "only such nodes are kept) and is at most h_min / 4096 long, so it ends at most h_min / 4096 inside "
           "(d is 1-Lipschitz, up to a body profile's chord sag); every graze window at least that wide (0.02 h_min "
           "here) corrects the same grazes")
+_ONES = "equivalent: an all-True answer has no blocked index, whatever its length"
+_LAST = ("equivalent: i never exceeds n - 1, and at i = n - 1 the next pass has no segment left and stops "
+         "with the same keys")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -273,22 +301,19 @@ REASONS: dict[str, str] = {
         "boundary: differs only for a step ending exactly on a flow surface (distance 0.0), which is then moved "
         "1e-9 R outside and counted as a correction",
     # grid
-    "_search | pos[v] = -3":
-        "equivalent: a settled node is never improved again (positive weights: dist[v] + w >= dist[u]), so "
-        "marking it -3 instead of -2 only costs needless relaxations",
-    "free_edges | sure &= lb > world.margins.min_altitude":
+    "node_fields | step = min(1, _SLAB // (shape[1] * shape[2]))":
+        "equivalent: one x row per slab; the slab size changes only memory and time",
+    "node_fields | step = max(2, _SLAB // (shape[1] * shape[2]))":
+        "equivalent: the slab size changes only memory and time",
+    "node_fields | step = max(1, _SLAB // (shape[2] * shape[2]))":
+        "equivalent: the slab size changes only memory and time",
+    "node_fields | cur[i0 * n:i1 * n] = world.currents.velocity(pts).reshape(-2, 3)": _NEG,
+    "_offset_states | sure = min(obs[i, j, k], obs[vi, vj, vk]) > half_length":
         "equivalent: the shortcut only decides which edges skip the exact test; at equality the exact test "
         "runs and agrees",
-    "_sift_down | if c - 1 < size and key[heap[c + 1]] < key[heap[c]]:":
-        "**not killed** (not analysed): may compare with the stale entry just past the heap's end",
-    "_search | if pos[u] == 2 or not bits[u] >> s & 1:":
-        "**not killed** (not analysed): settled nodes are relaxed again (harmless) but the node at heap "
-        "position 2 is skipped",
-    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) < 0.5 * length": _SHORTCUT,
-    "free_edges | sure = np.maximum(obstacle[a][both], obstacle[b][both]) >= 0.5 * length": _SHORTCUT,
-    "free_edges | sure = np.minimum(obstacle[a][both], obstacle[b][both]) >= 0.5 / length": _SHORTCUT,
-    "free_edges | lb = world.terrain.altitude_lower_bound(altitude[a][both], altitude[b][both], d[2], "
-    "np.hypot(d[0], d[2]))": _SHORTCUT.replace("obstacle", "seabed"),
+    "_offset_states | lb = min(ga, gb, 0.5 * (ga - gb - abs(dz) - lipschitz * lh))":
+        "equivalent: free nodes have g_b >= 0, so the mutated bound is never above the true one; more edges "
+        "go to the exact test, which decides the same",
     # world
     "Ellipsoid._foot_point | p = np.maximum(p, 1e-10 / a)":
         "equivalent to 1e-9 m: only the size of the nudge off a zero coordinate changes",
@@ -310,39 +335,68 @@ REASONS: dict[str, str] = {
     "Ellipsoid._segment_min_distance | ends = np.minimum(self.distance(seg[:, 1]), self.distance(seg[:, 1]))":
         "equivalent to 1e-9 of the length: the golden section already converges onto the start when the minimum "
         "is there",
-    # sim (events block)
-    "simulate | what = 'the seabed' if alt < 1.0 else f'obstacle {int(np.argmin(dists))}'":
-        "not observed: needs an obstacle hit within 1 m of the seabed (only the event's wording changes)",
-    "simulate | if alt >= 1.0 and int(np.argmin(dists)) >= n_static:":
-        "not observed: needs a fast moving obstacle hit within 1 m of the seabed",
-    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) > 1.0":
-        "boundary-like: differs only when v_o . (p - c) lies in (0, 1] m²/s at contact (an obstacle passing "
-        "almost tangentially)",
-    "simulate | elif t - best_time > st.deadlock_time and (local is None or local.stalled(pos, t, best_time)):":
-        "not in the fast selection: only runs with local avoidance reach it; test_tracking's "
-        "test_deadlock_is_detected (escapes, then DEADLOCK after escape_time; ~60 s) covers it, not run per "
-        "mutant",
-    "simulate | if rp.progress > best_progress + 2.0:":
-        "not observed by the fast tests: needs a vehicle gaining between 1 and 2 m of route progress per "
-        "deadlock window",
+    "World.segments_free | if self.land is not None and ok.all():":
+        "equivalent: land is burnt into the seabed (raised above the surface in every cell touching it), so "
+        "the terrain's exact test already rejects every segment crossing land; the polygon test never "
+        "changes the answer",
+    "World.segments_free | flat = np.array(ok, dtype=bool).reshape(-2)": _NEG,
+    "World.segments_free | flat[idx] = ~self.land.segments_hit(s.reshape(-2, 2, 3)[idx])": _NEG,
+    "World.path_free | return bool(self.is_free(p, t, moving).any())":
+        "equivalent: reached with a single point only, where any = all",
+    "Ellipsoid._foot_point | sign = np.where(pb <= 0, -1.0, 1.0)":
+        "equivalent to 1e-10 of the semi-axis: a zero coordinate is nudged to 1e-10 a, its sign only puts "
+        "the foot point's tiny coordinate on one side of zero or the other",
+    "Ellipsoid._foot_point | s2 = ((p / a) ** 2).sum(axis=1)":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "Ellipsoid._foot_point | outside = s2 > 1.0":
+        "equivalent: on the surface (s2 = 1) the root is t = 0, an end of either bracket",
+    "Ellipsoid._foot_point | for _ in range(65):":
+        "equivalent: a 65th halving moves t by 2^-65 of the bracket, below float resolution",
+    "Ellipsoid._foot_point | f = ((a * p / (a2 + mid[:, None])) ** 2).sum(axis=1) - 1.0":
+        "equivalent: the points are (N, 3) here, axis 1 is axis -1",
+    "Ellipsoid._foot_point | pos = f >= 0": "equivalent: f = 0 means mid is the root, which either half keeps",
+    "Ellipsoid.distance | flat = pb.reshape(-2, 3)": _NEG,
+    "Ellipsoid.distance | d = np.linalg.norm(flat - q, axis=1)": "equivalent: flat is (N, 3), axis 1 is axis -1",
+    "Ellipsoid.distance | inside = ((flat / np.asarray(self.semi_axes)) ** 2).sum(axis=-1) <= 1.0":
+        "equivalent: on the surface the distance is 0, whose sign does not matter",
+    "Ellipsoid.segments_hit | scale = 2.0 + margin / min(self.semi_axes)":
+        "equivalent: a larger prefilter ellipsoid sends more segments to the exact test, which decides the same",
+    "Ellipsoid.segments_hit | near = (point_segment_distance(np.zeros(3), a / scale, b / scale) <= 1.0) & ~touch":
+        "equivalent: a segment tangent to the prefilter also goes to the exact test, which decides the same",
+    "Ellipsoid.segments_hit | hit[near] = self._segment_min_distance(s[near]) <= margin":
+        "boundary: a segment whose least distance is exactly the margin (the golden section's minimum is "
+        "exact to 1e-9 of the length only)",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g / (hi - lo), lo + g * (hi - lo))":
+        "equivalent: hi - lo = 1 at that point",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g * (hi + lo), lo + g * (hi - lo))":
+        "equivalent: lo = 0 at that point, so hi + lo = hi - lo",
+    "Ellipsoid._segment_min_distance | t1, t2 = (hi - g * (hi - lo), lo + g / (hi - lo))":
+        "equivalent: hi - lo = 1 at that point",
+    "Ellipsoid._segment_min_distance | for _ in range(45):":
+        "equivalent: the bracket is already below 1e-9 of the length after 44 steps",
+    "Ellipsoid._segment_min_distance | ends = np.maximum(self.distance(seg[:, 0]), self.distance(seg[:, 1]))":
+        "equivalent to 1e-9 of the length: the golden section converges onto an end when the minimum is there, "
+        "so the end values only refine it",
+    "Ellipsoid._segment_min_distance | least: FloatArray = np.minimum(np.maximum(f1, f2), ends)":
+        "equivalent to 1e-9 of the length: after 44 steps f1 and f2 are the distance at points 1e-9 of the "
+        "length apart",
+    # sim
     "_distance | if bound >= far:":
         "equivalent in the events: differs only at exactly 60 m from an obstacle, in the recorded distance",
-    "simulate | if alt <= 0.0 or any((d < 0.0 for d in dists)):": "boundary: differs only at an altitude of exactly "
-        "0 m, which a continuous trajectory sampled every 0.1 s does not hit",
-    "simulate | if alt < 0.0 or any((d <= 0.0 for d in dists)):": "boundary: differs only at a distance of exactly "
-        "0 m from an obstacle",
-    "simulate | what = 'the seabed' if alt <= 0.0 else f'obstacle {int(np.argmin(dists))}'":
-        "boundary: differs only at an altitude of exactly 0 m during an obstacle collision",
-    "simulate | if alt > 0.0 and int(np.argmin(dists)) >= n_static:": "boundary: altitude exactly 0 m",
-    "simulate | closing = float(np.dot(v_o, pos - mo.center(t))) >= 0.0":
-        "boundary: an obstacle moving exactly tangentially at the moment of contact",
-    "simulate | if np.linalg.norm(v_o) > vp.speed and closing:":
-        "boundary: an obstacle exactly as fast as the vehicle (its speed is a finite difference: equality "
-        "cannot be set up reliably)",
-    "simulate | if rp.last and math.dist((s.x, s.y, s.z), goal) < st.arrival_radius:":
-        "boundary: exactly at the arrival radius",
-    "simulate | if rp.progress >= best_progress + 1.0:": "boundary: a progress gain of exactly 1 m",
     # local
+    "key_waypoints | p = as_points(points).reshape(-2, 3)": _NEG,
+    "key_waypoints | return np.ones(n - i + 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n + i - 1, dtype=bool)": _ONES,
+    "key_waypoints | return np.ones(n - i - 2, dtype=bool)": _ONES,
+    "key_waypoints | if i > n - 1:": _LAST,
+    "key_waypoints | if i >= n + 1:": _LAST,
+    "key_waypoints | if i >= n - 2:":
+        "equivalent for a free path (the caller's plan): the penultimate point's segment to the last one is a "
+        "segment of the path itself",
+    "key_waypoints | continue": _LAST,
+    "apf_force | d = np.asarray(distances, dtype=float).reshape(-2)": _NEG,
+    "apf_force | near = d < params.radius": "equivalent: at d = r the repulsion k (1/d - 1/r) ... is 0",
+    "LocalAvoidance._apf_command | centers = np.array([o[4] for o in near]).reshape(-2, 3)": _NEG,
     "LocalAvoidance._advance_goal | occupied = self.world.clearances(here, t)['moving'] <= 0.0":
         "boundary: a key waypoint exactly on a moving obstacle's margin",
     "LocalAvoidance._advance_goal | behind = np.dot(self.keys[k] - p, self.keys[min(k + 1, len(self.keys) + 1)] - "

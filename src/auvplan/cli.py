@@ -22,7 +22,7 @@ import numpy as np
 from . import __version__
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
-from .io import export, results
+from .io import export, records, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
@@ -111,7 +111,7 @@ def _out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path 
 
 def _emit(record: dict[str, Any], as_json: bool, human: str) -> None:
     if as_json:
-        sys.stdout.write(json.dumps(export.jsonable(record)) + "\n")
+        sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:
         print(human)
 
@@ -244,7 +244,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         with (out / "sweep.csv").open("w") as fh:
             fh.write(",".join(table[0]) + "\n")
             fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
-        export.write_json(out / "sweep_summary.json", summary)
+        records.write_json(out / "sweep_summary.json", summary)
         from .viz.timeplots import sweep_figure
 
         sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
@@ -272,7 +272,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed, world = _plan(args, quiet=False)
-    record = export.plan_record(result, sc.name, seed)
+    record = records.plan_record(result, sc.name, seed)
     if args.reference:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
@@ -303,9 +303,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
     result = run.sim
-    record = export.sim_record(result, sc.name, seed, result.avoidance)
+    record = records.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        export.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
+        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -332,7 +332,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
-        export.write_run(Path(out), record, text, full)
+        records.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
         _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
@@ -347,7 +347,7 @@ def _scenario_text(sc: Scenario) -> str:
 
 def _save_context(out: Path, sc: Scenario, world: World) -> None:
     """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
-    export.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
+    records.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
     results.save_terrain(out, world.terrain)
 
 
@@ -357,7 +357,7 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
     text = _scenario_text(sc)
     empty = result.path[:0].reshape(0, 3)
-    export.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
+    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
     _save_context(out, sc, world)
 
 
@@ -369,7 +369,7 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
     export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
-    page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
+    page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None)
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
@@ -384,7 +384,7 @@ def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World
         raise AuvplanError(f"{out}: no such results folder")
     prepare_out(out, RESULT_NAMES if args.command == "report" else [f"mission.{f}" for f in args.format],
                 force=args.force)
-    record, text = export.read_run(out)
+    record, text = records.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
@@ -415,11 +415,11 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
     world, _ = scenario_io.build(sc)
     worst = 0
-    records = []
+    checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
         rec = {"file": name, "format": fmt, **check.as_dict()}
-        records.append(rec)
+        checks.append(rec)
         worst = max(worst, 0 if check.ok else 1)
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
@@ -429,7 +429,7 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
                   f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
                   f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
     if args.json:
-        print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
+        print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst
 
 
@@ -500,7 +500,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         return _run_formation(args, sc, world, mission)
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
                       force=args.force, quiet=args.quiet or args.json, planner=args.planner)
-    _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
+    _emit(records.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
     return 0 if record.status.ok else 1

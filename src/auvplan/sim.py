@@ -13,6 +13,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Any, TypedDict
 
 import numpy as np
@@ -320,6 +321,54 @@ def _obstacle_shapes(world: World, t: float, centres: Sequence[Sequence[float] |
     return items
 
 
+PROGRESS_STEP = 1.0
+"""Route progress (m) that counts as progress for the deadlock watch: the best progress so far must
+be exceeded by more than this."""
+
+
+def _contact_event(alt: float, dists: Sequence[float], pos: NDArray[np.float64], t: float,
+                   moving: Sequence[Any], speed: float) -> tuple[Status, str] | None:
+    """The collision at one step: ``(status, what was hit)``, or None.
+
+    Contact means penetration: an altitude below 0 (under the seabed) or a distance below 0 (inside an
+    obstacle); touching at exactly 0 m is not a collision, as a point with zero clearance is free for
+    :meth:`World.clearances`.  The seabed is named first; else the obstacle the vehicle is deepest in
+    (``dists`` lists the static obstacles, then ``moving``).  Hitting a moving obstacle is UNAVOIDABLE
+    when it is at least as fast as the vehicle (``speed``) and closing in, its velocity pointing towards
+    the vehicle (``v_o · (p - c) > 0``: tangential motion does not close in), else a COLLISION.
+    """
+    if alt < 0.0:
+        return Status.COLLISION, "the seabed"
+    if not any(d < 0.0 for d in dists):
+        return None
+    i = int(np.argmin(dists))
+    what = f"obstacle {i}"
+    j = i - (len(dists) - len(moving))
+    if j >= 0:
+        v_o = moving[j].velocity(t)
+        closing = float(np.dot(v_o, pos - moving[j].center(t))) > 0.0
+        if np.linalg.norm(v_o) >= speed and closing:
+            return Status.UNAVOIDABLE, what + f" (moving at {np.linalg.norm(v_o):.2f} m/s, faster than the vehicle, " \
+                "closing in)"
+    return Status.COLLISION, what
+
+
+def _arrived(last: bool, pos: Sequence[float], goal: Sequence[float], radius: float) -> bool:
+    """Arrival: on the last leg and within ``radius`` of the goal (at exactly ``radius``: arrived)."""
+    return last and math.dist(pos, goal) <= radius
+
+
+def _progressed(progress: float, best: float) -> bool:
+    """Whether the route progress beats the best so far by more than :data:`PROGRESS_STEP`."""
+    return progress > best + PROGRESS_STEP
+
+
+def _deadlocked(t: float, best_time: float, deadlock_time: float, stalled: Callable[[], bool] | None) -> bool:
+    """Deadlock: no progress for more than ``deadlock_time`` since ``best_time`` and, with local avoidance,
+    its escapes given up (``stalled()`` is False; it is asked only once the time is up, as it runs them)."""
+    return t - best_time > deadlock_time and (stalled is None or not stalled())
+
+
 def simulate(world: World, mission: Mission, route: ArrayLike | None = None, guidance: str | None = None,
              rng: RngLike = None, avoidance: str | None = None, keys: ArrayLike | None = None,
              progress: Callable[[float, float], object] | None = None) -> SimResult:
@@ -431,26 +480,20 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
             OBS[rec] = dists
             rec += 1
         # events
-        if alt < 0.0 or any(d < 0.0 for d in dists):
-            what = "the seabed" if alt < 0.0 else f"obstacle {int(np.argmin(dists))}"
-            status = Status.COLLISION
-            if alt >= 0.0 and int(np.argmin(dists)) >= n_static:
-                mo = world.moving[int(np.argmin(dists)) - n_static]
-                v_o = mo.velocity(t)
-                closing = float(np.dot(v_o, pos - mo.center(t))) > 0.0
-                if np.linalg.norm(v_o) >= vp.speed and closing:
-                    status = Status.UNAVOIDABLE
-                    what += f" (moving at {np.linalg.norm(v_o):.2f} m/s, faster than the vehicle, closing in)"
+        hit = _contact_event(alt, dists, pos, t, world.moving, vp.speed)
+        if hit is not None:
+            status, what = hit
             kind = "unavoidable" if status is Status.UNAVOIDABLE else "collision"
             events.append((t, kind, f"hit {what} at t = {t:.1f} s, position {pos.round(2).tolist()}"))
             break
-        if rp.last and math.dist((s.x, s.y, s.z), goal) <= st.arrival_radius:
+        if _arrived(rp.last, (s.x, s.y, s.z), goal, st.arrival_radius):
             events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
             status = Status.EXACT
             break
-        if rp.progress > best_progress + 1.0:
+        if _progressed(rp.progress, best_progress):
             best_progress, best_time = rp.progress, t
-        elif t - best_time > st.deadlock_time and (local is None or not local.stalled(pos, t, best_time)):
+        elif _deadlocked(t, best_time, st.deadlock_time,
+                         None if local is None else partial(local.stalled, pos, t, best_time)):
             tried = f" ({local.escapes} escapes tried)" if local is not None else ""
             events.append((t, "deadlock", f"no progress along the route for {t - best_time:.0f} s{tried}"))
             status = Status.DEADLOCK

@@ -237,9 +237,11 @@ def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost
     ds = math.sqrt(ex * ex + ey * ey + ez * ez)
     if not use_cost:
         return ds
-    cx = 0.5 * (float(current[u, 0]) + float(current[v, 0]))
-    cy = 0.5 * (float(current[u, 1]) + float(current[v, 1]))
-    cz = 0.5 * (float(current[u, 2]) + float(current[v, 2]))
+    # np.float64, not float(): numba's float() keeps a float32 scalar in single precision (the mean was
+    # then rounded to float32, ~1e-5 relative error in the cost of an edge the current nearly blocks)
+    cx = 0.5 * (np.float64(current[u, 0]) + np.float64(current[v, 0]))
+    cy = 0.5 * (np.float64(current[u, 1]) + np.float64(current[v, 1]))
+    cz = 0.5 * (np.float64(current[u, 2]) + np.float64(current[v, 2]))
     units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
     if blocked:
         return np.inf
