@@ -20,16 +20,23 @@ demo: $(STAMP)
 test: $(STAMP)
 	@bash tools/install-chromium.sh
 	$(BIN)/python -m pytest
+	$(MAKE) --no-print-directory test-nojit
 
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
 	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/test_fuzz_scenarios.py
 
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
-# coverage and tracebacks see their lines (slower: the kernel tests only)
+# coverage and tracebacks see their lines (the kernels' own tests and the small ones of the
+# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, ~1 min)
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
-		tests/test_world.py tests/test_oracles.py tests/test_jit.py \
+		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
+		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
+		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
+		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
+		tests/test_timeopt.py::test_legs_are_fifo \
+		tests/test_timeopt.py::test_current_faster_than_the_vehicle_blocks_legs_without_nan \
 		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling
 
 typecheck: $(STAMP)

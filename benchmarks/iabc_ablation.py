@@ -3,8 +3,9 @@ algorithm alone, no lattice seeds, no refinement).
 
 Variants, each against the literal document variant and the full improved one: the uniform
 chaotic initialisation alone, the spread-scaled mutation towards the best alone, the
-multi-dimension (MR) neighbour moves alone, the pull to the best (gbest-guided) alone, and the
-improved colony without each of them.  Reports the median over seeds of the final cost's gap to
+multi-dimension (MR) neighbour moves alone, the pull to the best (gbest-guided) alone, the
+rank-based onlookers alone, the random sources ordered along the track (the problem's repair)
+alone, and the improved colony without each of them.  Reports the median over seeds of the final cost's gap to
 the best cost any variant found, per hard scenario.
 
     .venv/bin/python benchmarks/iabc_ablation.py --seeds 10 --budget 10000
@@ -28,16 +29,17 @@ SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcu
 
 
 class Mixed(IABC):
-    """IABC with each of the four changes switched on or off separately."""
+    """IABC with each of the six changes switched on or off separately."""
 
-    def __init__(self, lower, upper, n, rng, *, init, mutation, mr, guided, elite=0.0, fraction=0.2):
-        p = IABCParams(modification_rate=mr if mr else 1e-9, guided=guided, elite=elite, mutation_fraction=fraction)
+    def __init__(self, lower, upper, n, rng, *, init, mutation, mr, guided, rank, order, elite=0.0, fraction=0.2):
+        p = IABCParams(modification_rate=mr if mr else 1e-9, guided=guided, elite=elite, mutation_fraction=fraction,
+                       rank_pressure=2.0 if rank else 0.0, repair=order)
         super().__init__(lower, upper, n, p, rng)
         self.flags = (init, mutation, mr)
 
     def _initial(self):
         chaos = chaotic_uniform_population if self.flags[0] else logistic_map_population
-        return self.lower + chaos(self.n, self.dim, self.params.mu, self.rng) * self.span
+        return self._ordered(self.lower + chaos(self.n, self.dim, self.params.mu, self.rng) * self.span)
 
     def _move(self, idx):
         if not self.flags[2] and self.params.guided == 0:
@@ -55,21 +57,19 @@ class Mixed(IABC):
         return self.clip(gaussian_mutation(self.X[self._idx], sigma, self.rng))
 
 
-VARIANTS = {  # init, mutation, multi-dimension moves, guided pull[, elite share, mutated share]
-    "document (literal)": (False, False, 0.0, 0.0),
-    "+ uniform chaotic init": (True, False, 0.0, 0.0),
-    "+ mutation to best, spread sigma": (False, True, 0.0, 0.0),
-    "+ multi-dimension moves (MR 0.2)": (False, False, 0.2, 0.0),
-    "+ pull to best (guided 1.5)": (False, False, 0.0, 1.5),
-    "improved - uniform init": (False, True, 0.2, 1.5),
-    "improved - mutation": (True, False, 0.2, 1.5),
-    "improved - multi-dimension": (True, True, 0.0, 1.5),
-    "improved - pull": (True, True, 0.2, 0.0),
-    "improved (all four)": (True, True, 0.2, 1.5),
-    "improved, aim at a random elite (20 %)": (True, True, 0.2, 1.5, 0.2),
-    "improved, mutate the worst 10 %": (True, True, 0.2, 1.5, 0.0, 0.1),
-    "improved, elite 20 % + mutate 10 % (iabc-elite)": (True, True, 0.2, 1.5, 0.2, 0.1),
-}
+CHANGES = ("init", "mutation", "mr", "guided", "rank", "order")
+ON = {"init": True, "mutation": True, "mr": 0.2, "guided": 1.5, "rank": True, "order": True}
+OFF = {"init": False, "mutation": False, "mr": 0.0, "guided": 0.0, "rank": False, "order": False}
+NAMES = {"init": "uniform chaotic init", "mutation": "mutation to best, spread sigma",
+         "mr": "multi-dimension moves (MR 0.2)", "guided": "pull to best (guided 1.5)", "rank": "rank-based onlookers",
+         "order": "sources ordered along the track"}
+VARIANTS = {"document (literal)": dict(OFF)}
+VARIANTS |= {f"+ {NAMES[c]}": {**OFF, c: ON[c]} for c in CHANGES}
+VARIANTS |= {f"improved - {NAMES[c]}": {**ON, c: OFF[c]} for c in CHANGES}
+VARIANTS |= {"improved (all six, the default)": dict(ON),
+             "improved, aim at a random elite (20 %)": {**ON, "elite": 0.2},
+             "improved, elite 20 % + mutate 10 % (iabc-elite)": {**ON, "elite": 0.2, "fraction": 0.1}}
+"""Each variant's switches (and the elite share / mutated share where not the defaults)."""
 
 
 def main() -> None:
@@ -85,12 +85,11 @@ def main() -> None:
         prob = planning_problem(world, mission)
         spec = replace(mission.planner, name="iabc", budget=args.budget)
         costs = {}
-        for label, (init, mut, mr, guided, *extra) in VARIANTS.items():
+        for label, flags in VARIANTS.items():
             out = []
             for seed in range(args.seeds):
                 p = spline_problem(prob, spec, args.budget)
-                opt = Mixed(p.lower, p.upper, spec.population, seed, init=init, mutation=mut, mr=mr, guided=guided,
-                            **dict(zip(("elite", "fraction"), extra)))
+                opt = Mixed(p.lower, p.upper, spec.population, seed, **flags)
                 out.append(minimize(p, opt, Termination(max_iterations=None, max_evaluations=args.budget)).f)
             costs[label] = np.array(out)
         best = min(c.min() for c in costs.values())

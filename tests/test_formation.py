@@ -16,10 +16,10 @@ from auvplan.guidance.formation import (
     Schedule,
     ShapeChange,
     VehicleSpec,
-    dominant_pole,
     shape_offsets,
 )
 from auvplan.guidance.formation_plan import plan_formation
+from auvplan.guidance.formation_steer import dominant_pole
 from auvplan.guidance.hybrid import HybridParams
 from auvplan.sim import Mission, SimSettings
 from auvplan.sim_formation import simulate_formation
@@ -201,7 +201,7 @@ def test_narrow_passage_flown_in_column_and_reformed():
 
 
 def test_scalar_closest_approach_matches_vo():
-    from auvplan.guidance.formation import vehicle_repulsion
+    from auvplan.guidance.formation_steer import vehicle_repulsion
     from auvplan.guidance.vo import closest_approach
     fp = FormationParams(spacing_m=30.0)
     rng = np.random.default_rng(3)

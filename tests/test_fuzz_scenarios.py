@@ -22,6 +22,7 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 
 from auvplan.errors import DataError, ScenarioError
+from auvplan.io import build as build_io
 from auvplan.io import scenario as scenario_io
 from auvplan.planners import plan
 from auvplan.sim import planning_problem, run_mission
@@ -38,7 +39,7 @@ MAX_RSS_GIB = 2.0  # the default [limits] memory_mb
 @pytest.fixture(scope="module", autouse=True)
 def cached_terrain():
     """The built-ins' terrains are read and resampled once (same arguments → same Terrain)."""
-    original = scenario_io.load_terrain
+    original = build_io.load_terrain
     cached = functools.lru_cache(maxsize=64)(
         lambda spec, frame_key, base_dir, extent: original(spec, frame_key and _frame(frame_key),
                                                              base_dir=base_dir, extent_m=extent))
@@ -47,9 +48,9 @@ def cached_terrain():
         key = (frame.lat0, frame.lon0) if frame is not None else None
         return cached(spec, key, base_dir, tuple(extent_m) if extent_m is not None else None)
 
-    scenario_io.load_terrain = load_terrain
+    build_io.load_terrain = load_terrain
     yield
-    scenario_io.load_terrain = original
+    build_io.load_terrain = original
 
 
 def _frame(key):

@@ -13,7 +13,7 @@ import pytest
 from auvplan._types import Status
 from auvplan.cli import main
 from auvplan.guidance.mission import build_waypoints, envelope_hits, envelopes_free, fly_check
-from auvplan.io import export, formats
+from auvplan.io import export, formats, records
 from auvplan.io import scenario as sc
 from auvplan.planners import plan
 from auvplan.sim import RunRecord, SimResult, decimate, mission_route, planning_problem, route_from_path
@@ -223,7 +223,7 @@ def test_track_exports_of_a_200_km_mission_stay_under_2_mb(tmp_path):
     w = pos[:: n // 40]
     record = RunRecord("long", 0, None, w, w[[0, -1]], sim)
     export.write_exports(tmp_path, record, ORIGIN, 1.5)
-    export.write_sim(tmp_path, sim, "long", 0)
+    records.write_sim(tmp_path, sim, "long", 0)
     for f in list(tmp_path.glob("mission.*")) + [tmp_path / "track.csv"]:
         assert f.stat().st_size <= 2_000_000, (f.name, f.stat().st_size)
     d = decimate(sim)
@@ -263,7 +263,7 @@ def test_a_plan_without_flight_exports_its_executable_mission(tmp_path):
     assert main(["plan", "dynamic-terrain", "--out", str(out)]) == 0
     assert main(["export", str(out), "--format", "moos", "plan"]) == 0
     world, mission = sc.build(sc.load("dynamic-terrain"))
-    record, _ = export.read_run(out)
+    record, _ = records.read_run(out)
     expected = mission_route(world, mission, record.plan.path)
     np.testing.assert_allclose(formats.parse_moos((out / "mission.moos").read_text()), expected, atol=1e-3)
     for name in ("mission.moos", "mission.plan"):

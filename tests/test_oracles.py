@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -21,10 +22,12 @@ from auvplan.errors import DataError
 from auvplan.guidance.hybrid import HybridParams, hybrid_force
 from auvplan.guidance.local import AvoidanceParams, apf_force
 from auvplan.guidance.route import RouteTracker
-from auvplan.optim.bee import IABC, IABCParams
+from auvplan.optim import Problem, Termination, minimize
+from auvplan.optim.bee import IABC, IABCParams, chaotic_uniform_population, rank_probabilities
 from auvplan.optim.ga import polynomial_mutation, sbx
 from auvplan.planners import GridParams, GridReference
 from auvplan.planners.flow import SAG_PAD, FlowField, FlowParams, sphere_exact_velocity
+from auvplan.planners.swarm_problem import along_track_order
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
 from helpers import flat_world
@@ -445,6 +448,53 @@ def test_one_iabc_iteration_mutates_the_worst_and_keeps_only_improvements():
     assert opt.ask().shape == (n, dim)
 
 
+def test_rank_probabilities_by_hand():
+    """Linear ranking, N = 4: p = (s - (2s - 2) r / 3) / 4 for ranks r = 0..3 (0 the best).
+    s = 2: 1/2, 1/3, 1/6, 0; s = 1.5: 3/8, 7/24, 5/24, 1/8 -- whatever the scale of the values."""
+    f = np.array([5e5 + 30, 5e5, 5e5 + 10, 5e5 + 20])  # ranks 3, 0, 1, 2
+    np.testing.assert_allclose(rank_probabilities(f, 2.0), [0.0, 1 / 2, 1 / 3, 1 / 6], rtol=1e-12)
+    np.testing.assert_allclose(rank_probabilities(f * 1e-6, 1.5), [1 / 8, 3 / 8, 7 / 24, 5 / 24], rtol=1e-12)
+
+
+def test_improved_iabc_onlookers_draw_by_rank_and_random_sources_are_repaired():
+    """The improved colony by hand: the chaotic initial sources go through the problem's repair
+    (here: each row sorted), and the onlookers are the generator's draws with the linear-ranking
+    probabilities (not eq. 21's, which are uniform within 1e-5 at costs ~1e5)."""
+    n, dim = 6, 4
+    opt = IABC(np.zeros(dim), np.ones(dim), n, IABCParams(limit=1000), rng=3)
+    opt.repair = lambda X: np.sort(X, axis=1)
+    draws = copy.deepcopy(opt.rng)
+    X0 = opt.ask()
+    np.testing.assert_array_equal(X0, np.sort(chaotic_uniform_population(n, dim, 4.0, draws), axis=1))
+    f0 = 1e5 + np.array([3.0, 0.0, 5.0, 1.0, 4.0, 2.0])
+    opt.tell(X0, f0)
+    opt.tell(opt.ask(), np.full(n, np.inf))  # employed phase: nothing improves
+    expected = copy.deepcopy(opt.rng).choice(n, size=n, p=[2 / 15, 1 / 3, 0.0, 4 / 15, 1 / 15, 1 / 5])
+    opt.ask()
+    np.testing.assert_array_equal(opt._idx, expected)
+
+
+def test_along_track_order_by_hand():
+    """Start (0, 0, 0), goal (10, 10, 0): projections on the axis are x + y; the points
+    (8, 0), (1, 1), (2, 9) (projections 8, 2, 11) come out as (1, 1), (8, 0), (2, 9)."""
+    problem = SimpleNamespace(start=np.zeros(3), goal=np.array([10.0, 10.0, 0.0]))
+    X = np.array([[8.0, 0.0, -1.0, 1.0, 1.0, -2.0, 2.0, 9.0, -3.0]])
+    np.testing.assert_array_equal(along_track_order(problem, X), [[1.0, 1.0, -2.0, 8.0, 0.0, -1.0, 2.0, 9.0, -3.0]])
+
+
+def test_seeded_iabc_keeps_its_random_sources_unrepaired():
+    """With seeds (the lattice's arrangements) the repair is not applied: the seeds sit in the first
+    rows as given and the other sources are the plain chaotic ones."""
+    problem = Problem(lambda X: X.sum(axis=1), np.zeros(4), np.ones(4), x0=[[0.9, 0.1, 0.5, 0.2]], budget=6,
+                      repair=lambda X: np.sort(X, axis=1))
+    opt = IABC(np.zeros(4), np.ones(4), 6, IABCParams(), rng=8)
+    draws = copy.deepcopy(opt.rng)
+    minimize(problem, opt, Termination(max_iterations=None, max_evaluations=6))
+    chaos = chaotic_uniform_population(6, 4, 4.0, draws)
+    np.testing.assert_array_equal(opt.X[0], [0.9, 0.1, 0.5, 0.2])
+    np.testing.assert_array_equal(opt.X[1:], chaos[1:])
+
+
 # ---------------------------------------------------------------------- GA operators with fixed draws
 class FixedDraws:
     """A stand-in generator whose ``random`` returns prescribed arrays in turn."""
@@ -658,7 +708,7 @@ def test_apf_goal_skips_key_waypoints_behind_reached_or_occupied():
     """Keys every 100 m along x (arrive radius 10 m): from x = 150 the next goal is key 2 (key 1 is
     behind); from x = 195 key 3 (key 2 reached); the last key is never skipped, even when reached;
     from x = -50 key 1 stays; a parked moving obstacle on key 2 makes the goal skip it."""
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     world = _open_water()
     la = _local(world, _KEYS)
@@ -731,7 +781,7 @@ def test_the_moving_obstacle_that_hits_decides_unavoidable():
     avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
     recorded at the lower bound |p - c| - r (exact for spheres)."""
     from auvplan.sim import SimSettings
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
     for speed, status in ((3.0, Status.UNAVOIDABLE), (0.5, Status.COLLISION)):

@@ -94,7 +94,7 @@ def test_lattice_node_fields_are_the_worlds_static_clearances():
     A second lattice of 6 × 2 × 10 000 nodes (no seabed) is evaluated in two slabs of x (100 000 points
     a slab): every slab, the last one too, is filled."""
     from auvplan.planners.lattice import down32
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 40.0), LinearMotion((200.0, 200.0, -60.0), (0.0, 0.0, 0.0)))
     world = replace(_plane_world(land=True), moving=(parked,))
@@ -412,7 +412,7 @@ def test_sim_an_obstacle_on_the_seabed_hit_half_a_metre_above_it():
     """Level flight 0.5 m above a flat seabed (100 m) into a sphere (5 m) resting there, then into a
     sphere moving head on at 3 m/s (twice the vehicle's speed): the events name the obstacle, not the
     seabed (the vehicle is above it), a COLLISION and an UNAVOIDABLE hit."""
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((100.0, 500.0, -99.5), (600.0, 500.0, -99.5))
     m = Mission("low", route[0], route[-1], route=route)
@@ -608,7 +608,7 @@ def test_local_key_waypoints_hold_up_a_path_over_two_ridges_and_ignore_moving_ob
     seabed stepping.  A level path in open water with only a moving obstacle parked on it keeps its
     ends alone (key waypoints are about the static world), with either method."""
     from auvplan.guidance.local import key_waypoints
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     g = np.arange(0.0, 1001.0, 50.0)
     z = np.full((g.size, g.size), -100.0)
@@ -684,7 +684,7 @@ def test_local_goal_advance_at_its_boundaries():
     0.5 m² ahead is not behind; a key exactly 10 m away is reached; "behind" is measured along the
     *next* leg (keys bent at 90°, offset far from the origin); a moving obstacle whose margin is 0.5 m
     short of a key does not occupy it."""
-    from auvplan.world.obstacles import LinearMotion, MovingObstacle
+    from auvplan.world.moving import LinearMotion, MovingObstacle
 
     world = World(Bounds(-5000, 5000, -500, 500, -100, 0))
     la = _la(world, _BENT)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from auvplan.cli import main
-from auvplan.io import export
+from auvplan.io import records
 from auvplan.io import scenario as sc
 from auvplan.io.formats import parse_moos
 from auvplan.io.geo import LocalFrame
@@ -39,12 +39,12 @@ def test_run_writes_the_report_and_every_export(run_dir):
 
 
 def test_run_record_round_trips_through_json_and_npz(run_dir):
-    record, text = export.read_run(run_dir)
+    record, text = records.read_run(run_dir)
     rec = json.loads((run_dir / "run.json").read_text())
     assert record.status.value == rec["status"] == "EXACT"
     assert text == sc.resolve("dynamic-terrain").read_text()
     np.testing.assert_allclose(record.keys, np.asarray(rec["key_waypoints"]))
-    again = export.run_record(record)
+    again = records.run_record(record)
     assert again["simulation"]["distance_m"] == pytest.approx(rec["simulation"]["distance_m"], rel=1e-12)
     assert again["plan"]["cost"] == pytest.approx(rec["plan"]["cost"], rel=1e-12)
     np.testing.assert_allclose(np.loadtxt(run_dir / "track.csv", delimiter=",", skiprows=1)[:, 1:4],
@@ -55,14 +55,14 @@ def test_read_run_names_the_missing_file(tmp_path):
     from auvplan.errors import DataError
 
     with pytest.raises(DataError, match="run.json"):
-        export.read_run(tmp_path)
+        records.read_run(tmp_path)
     assert main(["report", str(tmp_path)]) == 2
 
 
 def test_geojson_is_valid_and_round_trips_to_the_local_frame(run_dir, world_mission):
     shapely = pytest.importorskip("shapely.geometry")
     world, _ = world_mission
-    record, _ = export.read_run(run_dir)
+    record, _ = records.read_run(run_dir)
     doc = json.loads((run_dir / "mission.geojson").read_text())
     assert doc["type"] == "FeatureCollection"
     track = doc["features"][0]
@@ -81,7 +81,7 @@ def test_geojson_is_valid_and_round_trips_to_the_local_frame(run_dir, world_miss
 
 def test_kml_parses_back_to_the_track(run_dir, world_mission):
     world, _ = world_mission
-    record, _ = export.read_run(run_dir)
+    record, _ = records.read_run(run_dir)
     root = ET.parse(run_dir / "mission.kml").getroot()
     ns = {"k": "http://www.opengis.net/kml/2.2"}
     ls = root.find("k:Document/k:Placemark/k:LineString", ns)
@@ -92,7 +92,7 @@ def test_kml_parses_back_to_the_track(run_dir, world_mission):
 
 
 def test_moos_block_parses_back_to_the_mission(run_dir):
-    record, _ = export.read_run(run_dir)
+    record, _ = records.read_run(run_dir)
     text = (run_dir / "mission.moos").read_text()
     assert text.count("Behavior = BHV_Waypoint") == 1
     np.testing.assert_allclose(parse_moos(text), record.route, atol=0.001)
@@ -100,7 +100,7 @@ def test_moos_block_parses_back_to_the_mission(run_dir):
 
 def test_csv_has_local_geographic_depth_and_time_columns(run_dir, world_mission):
     world, mission = world_mission
-    record, _ = export.read_run(run_dir)
+    record, _ = records.read_run(run_dir)
     rows = np.genfromtxt(run_dir / "mission.csv", delimiter=",", names=True)
     assert rows.dtype.names == ("x", "y", "z", "lat", "lon", "depth", "time")
     np.testing.assert_allclose(np.column_stack([rows["x"], rows["y"], rows["z"]]), record.route, atol=1e-3)
@@ -233,6 +233,6 @@ def test_report_in_a_headless_browser(run_dir, world_mission, tmp_path):
         assert m["stated"] == pytest.approx(radii[name]) and m["radius"] == pytest.approx(radii[name], rel=1e-3)
     assert len(look["labels"]) > 10 and all(re.fullmatch(r"\d+:\d\d:\d\d", s) for s in look["labels"])
     assert any(t.endswith("°E") for t in look["graticule"]) and any(t.endswith("°N") for t in look["graticule"])
-    record, _ = export.read_run(run_dir)
+    record, _ = records.read_run(run_dir)
     assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
     assert (tmp_path / "report.png").stat().st_size > 50_000

@@ -13,6 +13,7 @@ import xarray as xr
 
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
+from auvplan.io import build as bld
 from auvplan.io import limits
 from auvplan.io import scenario as sc
 from auvplan.io.bathymetry import read_bathymetry
@@ -100,12 +101,12 @@ def test_resource_bombs_are_refused_with_the_estimate_and_the_key_to_raise(extra
 
 
 def test_a_tiny_synthetic_cell_is_refused_before_allocating(monkeypatch):
-    monkeypatch.setattr(sc, "_synthetic_terrain", lambda *a: pytest.fail("allocated before the budget check"))
+    monkeypatch.setattr(bld, "_synthetic_terrain", lambda *a: pytest.fail("allocated before the budget check"))
     rejects("", "[terrain.synthetic]", "cell_m", base=BASE.replace('kind = "flat"', 'kind = "flat"\ncell_m = 0.001'))
 
 
 def test_a_tiny_resample_is_refused_before_reading_the_data(monkeypatch):
-    monkeypatch.setattr(sc, "load_terrain", lambda *a, **k: pytest.fail("read the data before the budget check"))
+    monkeypatch.setattr(bld, "load_terrain", lambda *a, **k: pytest.fail("read the data before the budget check"))
     text = sc.resolve("marcus-wake").read_text()
     assert "resample_m" in text
     lines = [ln if not ln.startswith("resample_m") else "resample_m = 0.01" for ln in text.splitlines()]

@@ -366,23 +366,8 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
     from tqdm import tqdm
 
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    path = out / "rows.csv"
-    done = read_rows(path)
-    if path.exists() and not resume:
-        raise AuvplanError(f"{path} exists: pass --resume to complete that sweep, or choose another --out")
-    have = {_key(r) for r in done}
-    todo = []
-    for scenario, planner, guidance, seeds in spec.tasks():
-        left = tuple(x for x in seeds if (scenario, planner, guidance, str(x)) not in have)
-        if left:
-            todo.append((scenario, planner, guidance, left))
-    hpath = out / "histories.jsonl"
-    _cut_partial_line(path)  # append-only: a line cut short by a kill is trimmed, nothing else rewritten
-    _cut_partial_line(hpath)
-    if not path.is_file() or path.stat().st_size == 0:
-        with path.open("w", newline="") as fh:
-            csv.DictWriter(fh, fieldnames=COLUMNS).writeheader()
+    path, hpath = out / "rows.csv", out / "histories.jsonl"
+    todo = _todo(spec, path, resume)
     claim(out, ["rows.csv", "histories.jsonl"])
     cluster = None
     if scheduler:
@@ -411,6 +396,26 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         if cluster is not None:
             cluster.close()
     return sorted(read_rows(path), key=lambda r: (r["scenario"], r["planner"], r["guidance"], int(r["seed"])))
+
+
+def _todo(spec: SweepSpec, path: Path, resume: bool) -> list[tuple[str, str, str, tuple[int, ...]]]:
+    """The tasks whose rows ``rows.csv`` lacks; the file made ready to append (header, no cut line)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    done = read_rows(path)
+    if path.exists() and not resume:
+        raise AuvplanError(f"{path} exists: pass --resume to complete that sweep, or choose another --out")
+    have = {_key(r) for r in done}
+    todo = []
+    for scenario, planner, guidance, seeds in spec.tasks():
+        left = tuple(x for x in seeds if (scenario, planner, guidance, str(x)) not in have)
+        if left:
+            todo.append((scenario, planner, guidance, left))
+    _cut_partial_line(path)  # append-only: a line cut short by a kill is trimmed, nothing else rewritten
+    _cut_partial_line(path.parent / "histories.jsonl")
+    if not path.is_file() or path.stat().st_size == 0:
+        with path.open("w", newline="") as fh:
+            csv.DictWriter(fh, fieldnames=COLUMNS).writeheader()
+    return todo
 
 
 def _f(v: Any) -> float:

@@ -22,7 +22,7 @@ import numpy as np
 from . import __version__
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
-from .io import export, results
+from .io import export, records, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
@@ -111,7 +111,7 @@ def _out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path 
 
 def _emit(record: dict[str, Any], as_json: bool, human: str) -> None:
     if as_json:
-        sys.stdout.write(json.dumps(export.jsonable(record)) + "\n")
+        sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:
         print(human)
 
@@ -244,7 +244,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         with (out / "sweep.csv").open("w") as fh:
             fh.write(",".join(table[0]) + "\n")
             fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
-        export.write_json(out / "sweep_summary.json", summary)
+        records.write_json(out / "sweep_summary.json", summary)
         from .viz.timeplots import sweep_figure
 
         sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
@@ -272,7 +272,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed, world = _plan(args, quiet=False)
-    record = export.plan_record(result, sc.name, seed)
+    record = records.plan_record(result, sc.name, seed)
     if args.reference:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
@@ -303,9 +303,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
     result = run.sim
-    record = export.sim_record(result, sc.name, seed, result.avoidance)
+    record = records.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        export.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
+        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -332,7 +332,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
-        export.write_run(Path(out), record, text, full)
+        records.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
         _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
@@ -347,7 +347,7 @@ def _scenario_text(sc: Scenario) -> str:
 
 def _save_context(out: Path, sc: Scenario, world: World) -> None:
     """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
-    export.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
+    records.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
     results.save_terrain(out, world.terrain)
 
 
@@ -357,7 +357,7 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
     text = _scenario_text(sc)
     empty = result.path[:0].reshape(0, 3)
-    export.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
+    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
     _save_context(out, sc, world)
 
 
@@ -369,7 +369,7 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
     export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
-    page = build_report(world, record, text, export.summary_metrics(record), frame.inverse if frame else None)
+    page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None)
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
@@ -384,7 +384,7 @@ def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World
         raise AuvplanError(f"{out}: no such results folder")
     prepare_out(out, RESULT_NAMES if args.command == "report" else [f"mission.{f}" for f in args.format],
                 force=args.force)
-    record, text = export.read_run(out)
+    record, text = records.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
@@ -415,11 +415,11 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
     world, _ = scenario_io.build(sc)
     worst = 0
-    records = []
+    checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
         rec = {"file": name, "format": fmt, **check.as_dict()}
-        records.append(rec)
+        checks.append(rec)
         worst = max(worst, 0 if check.ok else 1)
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
@@ -429,7 +429,7 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
                   f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
                   f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
     if args.json:
-        print(json.dumps(export.jsonable(records[0] if len(records) == 1 else records)))
+        print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst
 
 
@@ -500,7 +500,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         return _run_formation(args, sc, world, mission)
     sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
                       force=args.force, quiet=args.quiet or args.json, planner=args.planner)
-    _emit(export.run_record(record), args.json, _describe_run(sc.name, record))
+    _emit(records.run_record(record), args.json, _describe_run(sc.name, record))
     if args.out and not args.json:
         print(f"results in {args.out}/")
     return 0 if record.status.ok else 1
@@ -545,103 +545,106 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
-    p.add_argument("--version", action="version", version=f"auvplan {__version__}")
-    p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
-    sub = p.add_subparsers(dest="command", required=True)
+_SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
+    "scenario": (("scenario",), {"help": "TOML file or built-in scenario name"}),
+    "planner": (("--planner",), {"choices": PLANNERS, "help": "override the scenario's planner"}),
+    "guidance": (("--guidance",), {"choices": ("hybrid", "los", "ilos"), "help": "override the scenario's guidance"}),
+    "avoidance": (("--avoidance",), {"choices": AVOIDANCE, "help": "override the scenario's avoidance"}),
+    "seed": (("--seed",), {"type": _SEED, "help": "random seed >= 0 (default: the scenario's)"}),
+    "full": (("--full",), {"action": "store_true",
+                           "help": "tracks at full resolution (default: every 20 m / 30 s)"}),
+    "force": (("--force",), {"action": "store_true", "help": "overwrite files in --out that auvplan did not write"}),
+    "json": (("--json",), {"action": "store_true", "help": "print one JSON object on stdout"}),
+    "dir": (("dir",), {"help": "results directory written by `auvplan run --out` or `demo`"}),
+}
+"""Arguments several commands share, by name (same flag, same meaning, same help everywhere)."""
 
-    s = sub.add_parser("scenarios", help="list the built-in scenarios")
-    s.set_defaults(func=_cmd_scenarios)
 
-    s = sub.add_parser("validate", help="check a scenario file (exit 2 with clear messages)")
-    s.add_argument("scenario", help="TOML file or built-in scenario name")
-    s.set_defaults(func=_cmd_validate)
+def _shared(s: Any, *keys: str) -> None:
+    """Add the shared arguments ``keys`` (in that order) to the (sub-)parser ``s``."""
+    for key in keys:
+        flags, kwargs = _SHARED[key]
+        s.add_argument(*flags, **kwargs)
 
+
+def _command(sub: Any, name: str, help: str, func: Callable[[argparse.Namespace], int], *shared: str) -> Any:
+    """A sub-command with the shared arguments ``shared`` (in that order) and its handler."""
+    s = sub.add_parser(name, help=help)
+    _shared(s, *shared)
+    s.set_defaults(func=func)
+    return s
+
+
+def _info_commands(sub: Any) -> None:
+    """``scenarios``, ``validate``, ``data inspect``, ``scenario new|schema``."""
+    _command(sub, "scenarios", "list the built-in scenarios", _cmd_scenarios)
+    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", _cmd_validate, "scenario")
     s = sub.add_parser("data", help="inspect bathymetry and current files (NetCDF, GeoTIFF)")
     dsub = s.add_subparsers(dest="data_command", required=True)
-    d = dsub.add_parser("inspect", help="print the layout, variables, units and axes auvplan detects in FILE")
+    d = _command(dsub, "inspect", "print the layout, variables, units and axes auvplan detects in FILE",
+                 _cmd_data_inspect)
     d.add_argument("file", help="NetCDF or GeoTIFF file")
-    d.set_defaults(func=_cmd_data_inspect)
-
     s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
     ssub = s.add_subparsers(dest="scenario_command", required=True)
-    t = ssub.add_parser("new", help="write a commented scenario template (to FILE, or stdout)")
+    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", _cmd_scenario_new)
     t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
     t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
-    t.set_defaults(func=_cmd_scenario_new)
-    t = ssub.add_parser("schema", help="print the scenario format's versioned JSON Schema")
-    t.set_defaults(func=_cmd_scenario_schema)
+    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", _cmd_scenario_schema)
 
-    s = sub.add_parser("plan", help="plan a global path")
-    s.add_argument("scenario", help="TOML file or built-in scenario name")
-    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
-    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
+
+def _flight_commands(sub: Any) -> None:
+    """``plan``, ``simulate``, ``run``."""
+    s = _command(sub, "plan", "plan a global path", _cmd_plan, "scenario", "planner", "seed")
     s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
     s.add_argument("--pipeline", choices=PIPELINES,
                    help="seeded (lattice seeds + refinement + fallback, default) or document (the algorithm alone)")
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    _shared(s, "force", "json")
     s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"),
                    help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
                         "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
     s.add_argument("--step", default="15min", help="departure step of the sweep (default 15min)")
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
-    s.set_defaults(func=_cmd_plan)
 
-    s = sub.add_parser("simulate", help="simulate the vehicle flying the route (or the mission of the plan), as `run`")
-    s.add_argument("scenario", help="TOML file or built-in scenario name")
-    s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
-    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
+    s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
+                 _cmd_simulate, "scenario", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
-    s.add_argument("--full", action="store_true", help="track.csv at full resolution (default: every 20 m / 30 s)")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    s.set_defaults(func=_cmd_simulate)
+    _shared(s, "full", "force", "json")
 
-    s = sub.add_parser("run", help="plan + key waypoints + closed-loop simulation with moving obstacles")
-    s.add_argument("scenario", help="TOML file or built-in scenario name")
-    s.add_argument("--planner", choices=PLANNERS, help="override the scenario's planner")
-    s.add_argument("--guidance", choices=("hybrid", "los", "ilos"), help="override the scenario's guidance")
-    s.add_argument("--avoidance", choices=AVOIDANCE, help="override the scenario's avoidance")
-    s.add_argument("--seed", type=_SEED, help="random seed >= 0 (default: the scenario's)")
+    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", _cmd_run,
+                 "scenario", "planner", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write every result file here")
-    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.add_argument("--json", action="store_true", help="print one JSON object on stdout")
-    s.set_defaults(func=_cmd_run)
+    _shared(s, "full", "force", "json")
 
-    s = sub.add_parser("report", help="write report.html (and the exports) for a results directory of `run --out`")
-    s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
+
+def _result_commands(sub: Any) -> None:
+    """``report``, ``export``, ``mission check``."""
+    s = _command(sub, "report", "write report.html (and the exports) for a results directory of `run --out`",
+                 _cmd_report, "dir")
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.set_defaults(func=_cmd_report)
-
-    s = sub.add_parser("export", help="write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
-                                      "nav_msgs/Path YAML) for a results directory")
-    s.add_argument("dir", help="results directory written by `auvplan run --out` or `demo`")
+    _shared(s, "force")
+    s = _command(sub, "export", "write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
+                                "nav_msgs/Path YAML) for a results directory", _cmd_export, "dir")
     s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
-    s.add_argument("--full", action="store_true", help="tracks at full resolution (default: every 20 m / 30 s)")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.set_defaults(func=_cmd_export)
-
+    _shared(s, "full", "force")
     s = sub.add_parser("mission", help="work with exported mission files")
     msub = s.add_subparsers(dest="mission_command", required=True)
-    c = msub.add_parser("check", help="re-fly mission files under their format's depth semantics against the "
-                                      "scenario's seabed and static obstacles (exit 1 below min_altitude_m)")
+    c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
+                                "scenario's seabed and static obstacles (exit 1 below min_altitude_m)",
+                 _cmd_mission_check)
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
     c.add_argument("--pitch", type=float, default=15.0,
                    help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
-    c.set_defaults(func=_cmd_mission_check)
 
-    s = sub.add_parser("bench", help="sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)")
+
+def _bench_commands(sub: Any) -> None:
+    """``bench`` and ``demo``."""
+    s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
+                 _cmd_bench)
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
     s.add_argument("--planners", nargs="+", default=["scenario"], help="planner names, or 'scenario'")
     s.add_argument("--guidance", nargs="+", default=["scenario"], help="hybrid, los, ilos, or 'scenario'")
@@ -658,13 +661,22 @@ def _parser() -> argparse.ArgumentParser:
     g.add_argument("--scheduler", help="address of an existing dask scheduler, e.g. tcp://host:8786")
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
     s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.set_defaults(func=_cmd_bench)
-
-    s = sub.add_parser("demo", help="run the built-in default scenario (showcase) end to end")
+    _shared(s, "force")
+    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", _cmd_demo)
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
-    s.add_argument("--force", action="store_true", help="overwrite files in --out that auvplan did not write")
-    s.set_defaults(func=_cmd_demo)
+    _shared(s, "force")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
+    p.add_argument("--version", action="version", version=f"auvplan {__version__}")
+    p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
+    sub = p.add_subparsers(dest="command", required=True)
+    _info_commands(sub)
+    _flight_commands(sub)
+    _result_commands(sub)
+    _bench_commands(sub)
     return p
 
 

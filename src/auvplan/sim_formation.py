@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 
 from ._types import ArrayLike, RngLike, Status, as_rng
-from .guidance.formation import FormationCommand, FormationParams, formation_command
+from .guidance.formation import FormationParams
 from .guidance.formation_plan import FormationPlan, plan_formation
+from .guidance.formation_steer import FormationCommand, formation_command
 from .planners.base import PlanResult, Progress
 from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, planned_route
 from .vehicles import Vehicle, VehicleState
@@ -195,6 +196,144 @@ def _contact(i: int, dists: Sequence[float], alt: float, vdist: dict[int, float]
     return ""
 
 
+class _Fleet:
+    """The vehicles, their recorders and the shared run state of one formation flight."""
+
+    def __init__(self, world: World, mission: Mission, fplan: FormationPlan, rng: RngLike) -> None:
+        form = mission.formation
+        if form is None:
+            raise ValueError("the mission has no [formation]")
+        self.world, self.fp, self.hp, self.vp, self.st = world, form.params, mission.hybrid, mission.vehicle, \
+            mission.sim
+        vp, st, dt = self.vp, self.st, self.st.dt
+        rng = as_rng(mission.seed if rng is None else rng)
+        self.n, self.fr, self.names = form.n, fplan.structure, form.names
+        n = self.n
+        self.states = _initial_states(mission, fplan)
+        self.models = [Vehicle(vp, dt) for _ in range(n)]
+        self.tail = (n - 1) * self.fp.spacing_m
+        self.max_time = st.max_time or 3.0 * (self.fr.length + self.tail) / vp.speed + 120.0
+        self.n_steps = int(math.ceil(self.max_time / dt))
+        n_rec = self.n_steps // st.record_every + 2
+        self.n_static = len(world.obstacles)
+        self.rec = [_Recorder(n_rec, self.n_static + len(world.moving)) for _ in range(n)]
+        self.fleet_t, self.fleet_d = np.empty(n_rec), np.empty(n_rec)
+        self.fleet_shape: list[str] = []
+        waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
+        shape = (self.n_steps + 1, n, 2)
+        self.noise = rng.standard_normal(shape) if waves else np.zeros(shape)
+        steps_t = np.arange(self.n_steps + 1) * dt
+        self.tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
+            if world.moving else np.empty((self.n_steps + 1, 0, 3))
+        self.far = max(FAR, self.hp.influence + 10.0)
+        self.velocities = np.asarray(np.gradient(self.tracks, dt, axis=0)) if self.n_steps > 0 \
+            else np.zeros_like(self.tracks)
+        self.radii = [o.shape.bounding_radius for o in world.moving]
+        self.final, _ = self.fr.slots_at(self.fr.length)
+        self.active, self.arrived = [True] * n, [False] * n
+        self.events: list[tuple[float, str, str]] = []
+        self.ends: list[Status] = [Status.TIMEOUT] * n
+        self.status = Status.TIMEOUT
+        self.s_ref, self.best, self.best_t = 0.0, np.full(n, -np.inf), np.zeros(n)
+        self.u_lead = vp.speed
+        self.vel = [(s.u * math.sin(s.psi), s.u * math.cos(s.psi), 0.0) for s in self.states]
+
+    def guide(self, k: int, t: float, pos: np.ndarray, cur: np.ndarray) -> tuple[list[FormationCommand | None],
+                                                                                  float, bool]:
+        """Every running vehicle's command at step ``k``, and its events; the largest follower lag; stop?"""
+        world, fr, n = self.world, self.fr, self.n
+        alt = pos[:, 2] - world.terrain.elevation(pos[:, 0], pos[:, 1]) if world.terrain is not None \
+            else np.full(n, np.inf)
+        shapes = _obstacle_shapes(world, t, self.tracks[k].tolist())
+        if self.active[0]:
+            self.s_ref = fr.project(pos[0, 0], pos[0, 1], self.s_ref)
+        sl, courses = fr.slots_at(self.s_ref)
+        ahead_, _ = fr.slots_at(self.s_ref + 1.0)  # the slots' own motion per metre of reference progress
+        stretch = [math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(sl, ahead_)]
+        gamma = [math.atan2(b[2] - a[2], max(h, 1e-9)) for a, b, h in zip(sl, ahead_, stretch)]
+        cmds: list[FormationCommand | None] = [None] * n
+        lag, stop = 0.0, False
+        for i in range(n):
+            if not self.active[i]:
+                continue
+            c, stopped = self._vehicle(i, k, t, pos, cur, float(alt[i]), shapes, sl, courses[i], gamma[i], stretch[i])
+            cmds[i] = c
+            stop |= stopped
+            if i:
+                lag = max(lag, c.along)
+        return cmds, lag, stop
+
+    def _vehicle(self, i: int, k: int, t: float, pos: np.ndarray, cur: np.ndarray, alt: float,
+                 shapes: Sequence[Any], sl: Sequence[Sequence[float]], course: float, gamma: float,
+                 stretch: float) -> tuple[FormationCommand, bool]:
+        """Vehicle ``i``'s command, record and events (contact, arrival, deadlock); True: stop the run."""
+        fp, st, vp, n, n_static = self.fp, self.st, self.vp, self.n, self.n_static
+        dists = [_distance(sh, pos[i], self.far) for sh in shapes]
+        others = {j: math.dist(pos[i], pos[j]) for j in range(n) if j != i and self.active[j]}
+        near = [(it[1][0], it[1][1], d) for it, d in zip(shapes[:n_static], dists) if it is not None]
+        peers = [(pos[j, 0], pos[j, 1], self.vel[j][0], self.vel[j][1], fp.separation_m) for j in others]
+        peers += [(it[1][0], it[1][1], v[0], v[1], r + 0.5 * fp.separation_m)
+                  for it, d, v, r in zip(shapes[n_static:], dists[n_static:], self.velocities[k], self.radii)
+                  if it is not None and d < self.far]
+        u_ff = (self.u_lead if i else vp.speed) * stretch
+        c = formation_command(sl[i], course, gamma, pos[i], self.vel[i], cur[i], self.states[i].u, self.hp, fp, near,
+                              peers, math.dist(pos[i], self.final[i]), u_ff, vp.speed, vp.max_speed,
+                              [(pos[j, 0], pos[j, 1]) for j in others if j < i])
+        prog = self.s_ref - c.along
+        if k % st.record_every == 0:
+            self.rec[i].add(t, self.states[i], math.hypot(self.vel[i][0], self.vel[i][1]), c.cross, prog, alt,
+                            c.error, sl[i], dists)
+        name = self.names[i]
+        what = _contact(i, dists, alt, others, self.names, fp)
+        if what:
+            self.events.append((t, "collision", f"{name} hit {what} at t = {t:.1f} s, "
+                                                f"position {pos[i].round(2).tolist()}"))
+            self.ends[i] = self.status = Status.COLLISION
+            return c, True
+        if (self.arrived[0] or i == 0) and self.s_ref >= self.fr.length - st.arrival_radius and \
+                c.error <= st.arrival_radius and (i or math.dist(pos[0], self.fr.w[-1]) <= st.arrival_radius):
+            self.events.append((t, "arrival", f"{name} within {st.arrival_radius:g} m of its final slot"))
+            self.arrived[i], self.active[i], self.ends[i] = True, False, Status.EXACT
+            return c, False
+        if prog > self.best[i] + 1.0:
+            self.best[i], self.best_t[i] = prog, t
+        elif t - self.best_t[i] > st.deadlock_time:
+            self.events.append((t, "deadlock", f"{name}: no progress for {t - self.best_t[i]:.0f} s"))
+            self.ends[i] = self.status = Status.DEADLOCK
+            return c, True
+        return c, False
+
+    def record(self, t: float, pos: np.ndarray) -> None:
+        """The fleet's figures at a recorded step: least vehicle distance and the shape being flown."""
+        rec = self.rec
+        run = [i for i in range(self.n) if self.active[i] or self.arrived[i] and rec[i].t[rec[i].k - 1] == t]
+        dmin = min((math.dist(pos[a], pos[b]) for a in run for b in run if a < b), default=math.inf)
+        j = len(self.fleet_shape)
+        self.fleet_t[j], self.fleet_d[j] = t, dmin
+        self.fleet_shape.append(self.fr.schedule.shape_at(self.s_ref))
+
+    def steer(self, k: int, cmds: Sequence[FormationCommand | None], lag: float, cur: np.ndarray) -> None:
+        """Step every running vehicle's model one ``dt`` on its command (the leader waits for laggards)."""
+        vp, fp = self.vp, self.fp
+        self.u_lead = max(vp.speed - fp.k_wait * max(lag, 0.0), fp.min_speed_ratio * vp.speed)
+        for i in range(self.n):
+            c = cmds[i]
+            if not self.active[i] or c is None:
+                continue
+            u_c = self.u_lead if i == 0 else c.speed
+            theta_c = c.gamma + math.atan(vp.depth_gain * (c.z_ref - self.states[i].z))
+            self.vel[i] = self.models[i].step(self.states[i], c.psi, theta_c, u_c, cur[i], self.noise[k, i])
+
+    def result(self, wall: float) -> FormationResult:
+        """The run as a :class:`FormationResult`."""
+        runs = tuple(r.result(self.ends[i], [e for e in self.events if self.names[i] in e[2]], wall)
+                     for i, r in enumerate(self.rec))
+        m = len(self.fleet_shape)
+        return FormationResult(self.status, self.names, runs, tuple(r.slot[:r.k].copy() for r in self.rec),
+                               tuple(r.err[:r.k].copy() for r in self.rec), self.fleet_t[:m].copy(),
+                               self.fleet_d[:m].copy(), tuple(self.fleet_shape), tuple(self.events), wall)
+
+
 def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng: RngLike = None,
                        progress: Callable[[float, float], object] | None = None) -> FormationResult:
     """Fly every vehicle of ``mission.formation`` along the formation plan ``fplan`` in ``world``.
@@ -218,131 +357,28 @@ def simulate_formation(world: World, mission: Mission, fplan: FormationPlan, rng
         Every vehicle's time series, the formation errors and the events.
     """
     t_wall = time.perf_counter()
-    form = mission.formation
-    if form is None:
-        raise ValueError("the mission has no [formation]")
-    fp, hp, vp, st = form.params, mission.hybrid, mission.vehicle, mission.sim
-    rng = as_rng(mission.seed if rng is None else rng)
-    n, dt, fr = form.n, st.dt, fplan.structure
-    names = form.names
-    states = _initial_states(mission, fplan)
-    models = [Vehicle(vp, dt) for _ in range(n)]
-    L = fr.length
-    tail = (n - 1) * fp.spacing_m
-    max_time = st.max_time or 3.0 * (L + tail) / vp.speed + 120.0
-    n_steps = int(math.ceil(max_time / dt))
-    n_rec = n_steps // st.record_every + 2
-    n_static = len(world.obstacles)
-    n_obs = n_static + len(world.moving)
-    rec = [_Recorder(n_rec, n_obs) for _ in range(n)]
-    fleet_t, fleet_d = np.empty(n_rec), np.empty(n_rec)
-    fleet_shape: list[str] = []
-    waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
-    noise = rng.standard_normal((n_steps + 1, n, 2)) if waves else np.zeros((n_steps + 1, n, 2))
-    steps_t = np.arange(n_steps + 1) * dt
-    tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
-        if world.moving else np.empty((n_steps + 1, 0, 3))
-    far = max(FAR, hp.influence + 10.0)
-    velocities = np.asarray(np.gradient(tracks, dt, axis=0)) if n_steps > 0 else np.zeros_like(tracks)
-    radii = [o.shape.bounding_radius for o in world.moving]
-    final, _ = fr.slots_at(L)
-    active, arrived = [True] * n, [False] * n
-    events: list[tuple[float, str, str]] = []
-    ends: list[Status] = [Status.TIMEOUT] * n
-    status = Status.TIMEOUT
-    s_ref, best, best_t = 0.0, np.full(n, -np.inf), np.zeros(n)
-    every, expected = max(1, int(round(60.0 / dt))), (L + tail) / vp.speed
-    u_lead = vp.speed
-    vel = [(s.u * math.sin(s.psi), s.u * math.cos(s.psi), 0.0) for s in states]
-    stop = False
-    k = 0
-    for k in range(n_steps + 1):
+    fleet = _Fleet(world, mission, fplan, rng)
+    dt = fleet.st.dt
+    every, expected = max(1, int(round(60.0 / dt))), (fleet.fr.length + fleet.tail) / fleet.vp.speed
+    for k in range(fleet.n_steps + 1):
         t = k * dt
         if progress is not None and k % every == 0:
             progress(t, expected)
-        pos = np.array([[s.x, s.y, s.z] for s in states])
+        pos = np.array([[s.x, s.y, s.z] for s in fleet.states])
         cur = world.currents.velocity(pos, t)
-        alt = pos[:, 2] - world.terrain.elevation(pos[:, 0], pos[:, 1]) if world.terrain is not None \
-            else np.full(n, np.inf)
-        shapes = _obstacle_shapes(world, t, tracks[k].tolist())
-        if active[0]:
-            s_ref = fr.project(pos[0, 0], pos[0, 1], s_ref)
-        sl, courses = fr.slots_at(s_ref)
-        ahead_, _ = fr.slots_at(s_ref + 1.0)  # the slots' own motion per metre of reference progress
-        stretch = [math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(sl, ahead_)]
-        gamma = [math.atan2(b[2] - a[2], max(h, 1e-9)) for a, b, h in zip(sl, ahead_, stretch)]
-        cmds: list[FormationCommand | None] = [None] * n
-        lag = 0.0
-        for i in range(n):
-            if not active[i]:
-                continue
-            dists = [_distance(sh, pos[i], far) for sh in shapes]
-            others = {j: math.dist(pos[i], pos[j]) for j in range(n) if j != i and active[j]}
-            near = [(it[1][0], it[1][1], d) for it, d in zip(shapes[:n_static], dists) if it is not None]
-            peers = [(pos[j, 0], pos[j, 1], vel[j][0], vel[j][1], fp.separation_m) for j in others]
-            peers += [(it[1][0], it[1][1], v[0], v[1], r + 0.5 * fp.separation_m)
-                      for it, d, v, r in zip(shapes[n_static:], dists[n_static:], velocities[k], radii)
-                      if it is not None and d < far]
-            u_ff = (u_lead if i else vp.speed) * stretch[i]
-            c = formation_command(sl[i], courses[i], gamma[i], pos[i], vel[i], cur[i], states[i].u, hp, fp, near,
-                                  peers, math.dist(pos[i], final[i]), u_ff, vp.speed, vp.max_speed,
-                                  [(pos[j, 0], pos[j, 1]) for j in others if j < i])
-            cmds[i] = c
-            if i:
-                lag = max(lag, c.along)
-            prog = s_ref - c.along
-            if k % st.record_every == 0:
-                rec[i].add(t, states[i], math.hypot(vel[i][0], vel[i][1]), c.cross, prog, float(alt[i]), c.error,
-                           sl[i], dists)
-            what = _contact(i, dists, float(alt[i]), others, names, fp)
-            if what:
-                events.append((t, "collision", f"{names[i]} hit {what} at t = {t:.1f} s, "
-                                              f"position {pos[i].round(2).tolist()}"))
-                ends[i] = status = Status.COLLISION
-                stop = True
-                continue
-            lead_done = arrived[0] or i == 0
-            if lead_done and s_ref >= L - st.arrival_radius and c.error <= st.arrival_radius and \
-                    (i or math.dist(pos[0], fr.w[-1]) <= st.arrival_radius):
-                events.append((t, "arrival", f"{names[i]} within {st.arrival_radius:g} m of its final slot"))
-                arrived[i], active[i], ends[i] = True, False, Status.EXACT
-                continue
-            if prog > best[i] + 1.0:
-                best[i], best_t[i] = prog, t
-            elif t - best_t[i] > st.deadlock_time:
-                events.append((t, "deadlock", f"{names[i]}: no progress for {t - best_t[i]:.0f} s"))
-                ends[i] = status = Status.DEADLOCK
-                stop = True
-        if k % st.record_every == 0:
-            run = [i for i in range(n) if active[i] or arrived[i] and rec[i].t[rec[i].k - 1] == t]
-            dmin = min((math.dist(pos[a], pos[b]) for a in run for b in run if a < b), default=math.inf)
-            j = len(fleet_shape)
-            fleet_t[j], fleet_d[j] = t, dmin
-            fleet_shape.append(fr.schedule.shape_at(s_ref))
+        cmds, lag, stop = fleet.guide(k, t, pos, cur)
+        if k % fleet.st.record_every == 0:
+            fleet.record(t, pos)
         if stop:
             break
-        if all(arrived):
-            status = Status.EXACT
+        if all(fleet.arrived):
+            fleet.status = Status.EXACT
             break
-        u_lead = max(vp.speed - fp.k_wait * max(lag, 0.0), fp.min_speed_ratio * vp.speed)
-        for i in range(n):
-            if not active[i]:
-                continue
-            cmd = cmds[i]
-            assert cmd is not None  # every active vehicle got its command above
-            c = cmd
-            u_c = u_lead if i == 0 else c.speed
-            theta_c = c.gamma + math.atan(vp.depth_gain * (c.z_ref - states[i].z))
-            vel[i] = models[i].step(states[i], c.psi, theta_c, u_c, cur[i], noise[k, i])
+        fleet.steer(k, cmds, lag, cur)
     else:
-        events.append((n_steps * dt, "timeout", f"not every vehicle arrived after {max_time:.0f} s"))
-    wall = time.perf_counter() - t_wall
-    runs = tuple(rec[i].result(ends[i], [e for e in events if form.names[i] in e[2]], wall)
-                 for i in range(n))
-    m = len(fleet_shape)
-    return FormationResult(status, form.names, runs, tuple(r.slot[:r.k].copy() for r in rec),
-                           tuple(r.err[:r.k].copy() for r in rec), fleet_t[:m].copy(), fleet_d[:m].copy(),
-                           tuple(fleet_shape), tuple(events), wall)
+        fleet.events.append((fleet.n_steps * dt, "timeout",
+                             f"not every vehicle arrived after {fleet.max_time:.0f} s"))
+    return fleet.result(time.perf_counter() - t_wall)
 
 
 def run_formation(world: World, mission: Mission, rng: RngLike = None, progress: Progress | None = None,

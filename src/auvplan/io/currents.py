@@ -26,6 +26,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -284,15 +285,7 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
         da_u = ds[names["u"]]
         rdim, cdim, grid, flip_r, flip_c = horizontal_grid(ds, da_u, src)
-        lead = {}
-        for d in map(str, da_u.dims):
-            if d in (rdim, cdim):
-                continue
-            kind = axis_kind(ds[d] if d in ds.variables else None, d)
-            if kind not in ("t", "z") or kind in lead:
-                raise DataError(f"{src}: variable {names['u']!r}: dimension {d!r} is neither one time nor one "
-                                "depth axis")
-            lead[kind] = d
+        lead = _lead_axes(ds, da_u, (rdim, cdim), src)
         t = _time_axis(ds, lead["t"], start_time, src) if "t" in lead else None
         z = _z_axis(ds, lead["z"], src) if "z" in lead else np.zeros(1)
         dims = [lead[k] for k in ("t", "z") if k in lead] + [rdim, cdim]
@@ -313,14 +306,37 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
     if grid.kind == "local":
         x, y = grid.cols, grid.rows
     else:
-        if frame is None:
-            lon, lat = np.mean(grid.cols), np.mean(grid.rows)
-            frame = LocalFrame(float(lat), float(lon))
-        regridded = {c: to_local(grid, a, frame, extent_m=extent_m, method="linear",
-                                 what=f"{src}: variable {names[c]!r}") for c, a in comps.items()}
-        x, y = regridded["u"][0], regridded["u"][1]
-        comps = {c: r[2] for c, r in regridded.items()}
-        (ex, ey), (nx, ny) = _directions(grid, frame, x, y, grid_relative)
-        u, v = comps["u"], comps["v"]
-        comps["u"], comps["v"] = u * ex + v * nx, u * ey + v * ny
+        x, y, comps = _regrid(grid, comps, frame, extent_m, grid_relative, {c: f"{src}: variable {names[c]!r}"
+                                                                            for c in comps})
     return GriddedCurrent(x, y, z, comps["u"], comps["v"], comps.get("w"), t, name=path.name)
+
+
+def _lead_axes(ds: Any, da: Any, horizontal: tuple[str, str], src: str) -> dict[str, str]:
+    """The variable's dimensions before the horizontal two: ``{"t": name, "z": name}``, at most one each."""
+    lead: dict[str, str] = {}
+    for d in map(str, da.dims):
+        if d in horizontal:
+            continue
+        kind = axis_kind(ds[d] if d in ds.variables else None, d)
+        if kind not in ("t", "z") or kind in lead:
+            raise DataError(f"{src}: variable {str(da.name)!r}: dimension {d!r} is neither one time nor one "
+                            "depth axis")
+        lead[kind] = d
+    return lead
+
+
+def _regrid(grid: Any, comps: dict[str, np.ndarray], frame: LocalFrame | None,
+            extent_m: tuple[float, float, float, float] | None, grid_relative: bool,
+            what: dict[str, str]) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """Geographic (or projected) components onto a local grid, the horizontal ones turned east/north."""
+    if frame is None:
+        lon, lat = np.mean(grid.cols), np.mean(grid.rows)
+        frame = LocalFrame(float(lat), float(lon))
+    regridded = {c: to_local(grid, a, frame, extent_m=extent_m, method="linear", what=what[c])
+                 for c, a in comps.items()}
+    x, y = regridded["u"][0], regridded["u"][1]
+    out = {c: r[2] for c, r in regridded.items()}
+    (ex, ey), (nx, ny) = _directions(grid, frame, x, y, grid_relative)
+    u, v = out["u"], out["v"]
+    out["u"], out["v"] = u * ex + v * nx, u * ey + v * ny
+    return x, y, out

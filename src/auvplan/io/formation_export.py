@@ -1,6 +1,6 @@
 """A formation's results: the fleet's figures, and one folder per vehicle with its own mission.
 
-Each vehicle is written as a single-vehicle run (:func:`auvplan.io.export.write_run` and
+Each vehicle is written as a single-vehicle run (:func:`auvplan.io.records.write_run` and
 :func:`~auvplan.io.export.write_exports`, the same files as ``auvplan run``) into ``DIR/<vehicle>/``:
 its flown track, its metrics, and its *own* executable mission — the leader's the route, each
 follower's its slot's swept track made executable by :func:`auvplan.guidance.mission.build_waypoints`
@@ -20,7 +20,7 @@ from ..guidance.mission import build_waypoints
 from ..sim import Mission, RunRecord
 from ..sim_formation import FormationRecord
 from ..world import World
-from . import export
+from . import export, records
 
 __all__ = ["FORMATION_NAMES", "vehicle_records", "formation_record", "write_formation"]
 
@@ -72,11 +72,11 @@ def formation_record(record: FormationRecord) -> dict[str, Any]:
         The JSON object (distances in m, times in s).
     """
     f = record.formation
-    return cast(dict[str, Any], export.jsonable({
+    return cast(dict[str, Any], records.jsonable({
         "scenario": record.scenario,
         "seed": record.seed,
         "status": record.status.value,
-        "plan": export.plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
+        "plan": records.plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
         "formation_plan": None if f is None else {
             "status": f.status.value, "message": f.message,
             "shapes": [{"from_m": b, "shape": s} for b, s in f.breaks],
@@ -114,18 +114,18 @@ def write_formation(out_dir: Path, world: World, mission: Mission, record: Forma
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rec = formation_record(record)
-    export.write_json(out / "formation.json", rec)
+    records.write_json(out / "formation.json", rec)
     if scenario_text:
-        export.write_text(out / "scenario.toml", scenario_text)
+        records.write_text(out / "scenario.toml", scenario_text)
     if record.formation is not None:
         f = record.formation
         n, m = f.tracks.shape[:2]
         rows = np.column_stack([np.repeat(np.arange(n), m), np.tile(f.s, n), f.tracks.reshape(-1, 3)])
-        export.write_path_csv(out / "slots.csv", rows, "vehicle,reference_m,x,y,z")
+        records.write_path_csv(out / "slots.csv", rows, "vehicle,reference_m,x,y,z")
     origin = world.origin
     formats = [fm for fm in export.EXPORT_FORMATS if origin is not None or fm not in export.GEOGRAPHIC]
     for name, vrec in vehicle_records(world, mission, record):
         folder = out / name
-        export.write_run(folder, vrec, "", full)
+        records.write_run(folder, vrec, "", full)
         export.write_exports(folder, vrec, origin, mission.vehicle.speed, formats, full)
     return rec

@@ -399,6 +399,21 @@ def to_local(
     x, y, out : ndarray
         Metric axes and resampled values ``(..., ny, nx)``.
     """
+    x, y = _target_axes(grid, frame, extent_m, cell_m, what)
+    gx, gy = np.meshgrid(x, y)
+    vals = np.asarray(values, dtype=float)
+    lead = vals.shape[:-2]
+    flat = vals.reshape(-1, *vals.shape[-2:])
+    if grid.kind == "curvilinear":
+        out = _from_curvilinear(grid, frame, flat, gx, gy, what)
+    else:
+        out = _from_rectilinear(grid, frame, flat, gx, gy, method, what)
+    return x, y, out.reshape(*lead, y.size, x.size)
+
+
+def _target_axes(grid: HorizontalGrid, frame: LocalFrame, extent_m: tuple[float, float, float, float] | None,
+                 cell_m: float | None, what: str) -> tuple[_F64, _F64]:
+    """The local grid's axes: the extent (default: the largest rectangle inside the data) at the cell size."""
     if extent_m is None:
         extent_m = inscribed_extent(grid, frame)
     x0, x1, y0, y1 = extent_m
@@ -410,22 +425,29 @@ def to_local(
         raise DataError(f"{what}: cell size must be positive, got {cell_m}")
     nx = max(int(round((x1 - x0) / cell_m)) + 1, 2)
     ny = max(int(round((y1 - y0) / cell_m)) + 1, 2)
-    x, y = np.linspace(x0, x1, nx), np.linspace(y0, y1, ny)
-    gx, gy = np.meshgrid(x, y)
-    vals = np.asarray(values, dtype=float)
-    lead = vals.shape[:-2]
-    flat = vals.reshape(-1, *vals.shape[-2:])
-    out = np.empty((flat.shape[0], ny * nx))
-    if grid.kind == "curvilinear":
-        sx, sy = frame.forward(grid.cols, grid.rows)
-        pts = np.column_stack([np.ravel(sx), np.ravel(sy)])
-        q = np.column_stack([gx.ravel(), gy.ravel()])
-        # one triangulation for every layer: values (npoints, layers)
-        out = LinearNDInterpolator(pts, flat.reshape(flat.shape[0], -1).T)(q).T
-        if np.isnan(out).any():
-            raise DataError(f"{what}: the curvilinear data ({data_span(grid)}) do not cover the requested extent "
-                            f"x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m")
-        return x, y, out.reshape(*lead, ny, nx)
+    return np.linspace(x0, x1, nx), np.linspace(y0, y1, ny)
+
+
+def _extent_text(gx: _F64, gy: _F64) -> str:
+    return f"x [{gx[0, 0]:.0f}, {gx[0, -1]:.0f}] y [{gy[0, 0]:.0f}, {gy[-1, 0]:.0f}] m"
+
+
+def _from_curvilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _F64, gy: _F64, what: str) -> _F64:
+    """Layers ``flat (L, nrow, ncol)`` at the local nodes: linear on one Delaunay triangulation of the nodes."""
+    sx, sy = frame.forward(grid.cols, grid.rows)
+    pts = np.column_stack([np.ravel(sx), np.ravel(sy)])
+    q = np.column_stack([gx.ravel(), gy.ravel()])
+    # one triangulation for every layer: values (npoints, layers)
+    out: _F64 = LinearNDInterpolator(pts, flat.reshape(flat.shape[0], -1).T)(q).T
+    if np.isnan(out).any():
+        raise DataError(f"{what}: the curvilinear data ({data_span(grid)}) do not cover the requested extent "
+                        f"{_extent_text(gx, gy)}")
+    return out
+
+
+def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _F64, gy: _F64, method: str,
+                      what: str) -> _F64:
+    """Layers ``flat (L, nrow, ncol)`` at the local nodes: one ``RegularGridInterpolator`` per layer."""
     if grid.kind == "local":
         qr, qc = gy.ravel(), gx.ravel()
     else:
@@ -435,15 +457,16 @@ def to_local(
     sides = _uncovered(grid, qr, qc, tol_r, tol_c)
     if sides:
         raise DataError(
-            f"{what}: the data ({data_span(grid)}) do not cover the requested extent x [{x0:.0f}, {x1:.0f}] "
-            f"y [{y0:.0f}, {y1:.0f}] m: uncovered on the {' and '.join(sides)} side{'s' if len(sides) > 1 else ''}"
+            f"{what}: the data ({data_span(grid)}) do not cover the requested extent {_extent_text(gx, gy)}: "
+            f"uncovered on the {' and '.join(sides)} side{'s' if len(sides) > 1 else ''}"
         )
     if method in ("cubic", "quintic", "pchip") and min(grid.rows.size, grid.cols.size) < 4:
         method = "linear"
     q = np.column_stack([np.clip(qr, grid.rows[0], grid.rows[-1]), np.clip(qc, grid.cols[0], grid.cols[-1])])
+    out = np.empty((flat.shape[0], q.shape[0]))
     for k in range(flat.shape[0]):  # one interpolator per 2-D layer (time/depth/component)
         out[k] = RegularGridInterpolator((grid.rows, grid.cols), flat[k], method=method)(q)
-    return x, y, out.reshape(*lead, ny, nx)
+    return out
 
 
 def _native_cell(grid: HorizontalGrid) -> float:

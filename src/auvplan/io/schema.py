@@ -21,6 +21,7 @@ from typing import Any
 from .. import __version__
 from ..guidance.formation import VehicleSpec
 from . import scenario as sc
+from . import specs
 from .tables import MAX_MAGNITUDE
 
 __all__ = ["SCHEMA_VERSION", "scenario_schema", "template", "field_docs"]
@@ -179,9 +180,9 @@ def scenario_schema() -> dict[str, Any]:
     dict
         The schema, generated from the loader's tables (never stricter than the loader).
     """
-    sections = {key: table_schema(cls) for key, cls in sc.SECTIONS.items()}
+    sections = {key: table_schema(cls) for key, cls in specs.SECTIONS.items()}
     terrain = {"anyOf": [sections.pop("terrain"), {
-        "type": "object", "properties": {"synthetic": table_schema(sc.SyntheticTerrainSpec)},
+        "type": "object", "properties": {"synthetic": table_schema(specs.SyntheticTerrainSpec)},
         "required": ["synthetic"], "additionalProperties": False}]}
     props = {
         "name": {"type": "string", "description": "Scenario name (default: the file name)."},
@@ -300,7 +301,7 @@ def template(name: str = "my-mission") -> str:
         "",
     ]
     mission = {"start": (100.0, 1000.0, -40.0), "goal": (1900.0, 1000.0, -40.0), "min_altitude_m": 10.0}
-    body = _commented_table("mission", sc.MissionSpec, mission)
+    body = _commented_table("mission", specs.MissionSpec, mission)
     for key in ("vehicle", "planner", "guidance", "avoidance", "sim", "limits"):
-        body += [""] + _commented_table(key, sc.SECTIONS[key])
+        body += [""] + _commented_table(key, specs.SECTIONS[key])
     return "\n".join(head + body) + "\n"

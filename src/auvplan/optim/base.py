@@ -43,6 +43,11 @@ class Problem:
     budget : int, optional
         Evaluations allowed; :meth:`evaluate` evaluates a batch only up to it and gives the rest
         ``+inf`` (never accepted by the optimisers).
+    repair : callable, optional
+        ``(B, D) -> (B, D)``: the canonical form of candidates in the problem's representation
+        (e.g. control points put in order along the track), which optimisers that opt in (the
+        improved IABC) apply to their candidates before evaluation, keeping the repaired ones
+        (pymoo's ``Repair``).  It must map the box into the box.
 
     Attributes
     ----------
@@ -60,8 +65,9 @@ class Problem:
     """
 
     def __init__(self, objective: Objective, lower: ArrayLike, upper: ArrayLike, x0: ArrayLike | None = None,
-                 budget: int | None = None) -> None:
+                 budget: int | None = None, repair: Callable[[FloatArray], FloatArray] | None = None) -> None:
         self.objective = objective
+        self.repair = repair
         self.lower = np.asarray(lower, dtype=float).reshape(-1)
         self.upper = np.asarray(upper, dtype=float).reshape(-1)
         if self.lower.shape != self.upper.shape or np.any(self.upper <= self.lower):
@@ -154,6 +160,12 @@ class Optimizer:
     rng : numpy.random.Generator or int or None
         The run's generator or its seed.
 
+    Attributes
+    ----------
+    repair : callable or None
+        The problem's repair (:class:`Problem`), set by :func:`minimize`; optimisers that opt in
+        apply it to their candidates.
+
     Raises
     ------
     ValueError
@@ -175,6 +187,7 @@ class Optimizer:
         self.best_x: FloatArray = np.full(self.dim, np.nan)
         self.best_f = np.inf
         self.iteration = 0
+        self.repair: Callable[[FloatArray], FloatArray] | None = None
 
     @property
     def span(self) -> FloatArray:
@@ -386,6 +399,8 @@ def minimize(
         problem = Problem(problem, optimizer.lower, optimizer.upper)
     if problem.x0.shape[0]:
         optimizer.seed(problem.x0)
+    if problem.repair is not None:
+        optimizer.repair = problem.repair
     first, evals = problem.evaluations, 0
     trace0 = len(problem.trace)
     history: list[float] = []

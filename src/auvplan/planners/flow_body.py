@@ -402,7 +402,7 @@ class AxialBody:
         mid = 0.5 * (prof[1:] + prof[:-1])
         j = np.argmin(np.hypot(q[:, None, 0] - mid[:, 0], rho[:, None] - mid[:, 1]), axis=1)
         t = prof[j + 1] - prof[j]
-        n2 = np.column_stack([t[:, 1], -t[:, 0]])  # the profile runs front → rear above the axis: left is out
+        n2 = np.column_stack([-t[:, 1], t[:, 0]])  # the profile runs front → rear above the axis: left is out
         n2 /= np.linalg.norm(n2, axis=1, keepdims=True)
         er = q[:, 1:] / np.where(rho > 0, rho, 1.0)[:, None]
         er[rho == 0] = (0.0, 1.0)

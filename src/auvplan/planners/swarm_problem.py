@@ -18,7 +18,7 @@ from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem
 
 __all__ = ["cost_model_for", "search_box", "make_objective", "spline_problem", "control_polygon", "check_endpoints",
-           "plan_terms"]
+           "plan_terms", "along_track_order"]
 
 
 def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
@@ -96,6 +96,35 @@ def control_polygon(problem: PlanningProblem, X: ArrayLike) -> FloatArray:
     return ctrl
 
 
+def along_track_order(problem: PlanningProblem, X: ArrayLike) -> FloatArray:
+    """Decision vectors with their control points sorted along the start-to-goal axis.
+
+    The representation's repair (:class:`~auvplan.optim.Problem` ``repair``): the ``K`` interior
+    control points of each vector are put in the order of their projections on the line from
+    the start to the goal (a stable sort), so that the spline visits them in the order it meets
+    them along the track instead of doubling back between two of them.  The box is per point,
+    so a sorted vector stays in the box.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        Start and goal.
+    X : array_like
+        Decision vectors ``(P, 3K)`` or one ``(3K,)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(P, 3K)``: the same points, sorted per vector.
+    """
+    X = np.atleast_2d(np.asarray(X, dtype=float))
+    pts = X.reshape(X.shape[0], -1, 3)
+    axis = problem.goal - problem.start
+    order = np.argsort((pts - problem.start) @ axis, axis=1, kind="stable")
+    out: FloatArray = np.take_along_axis(pts, order[:, :, None], axis=1).reshape(X.shape)
+    return out
+
+
 def path_terms(problem: PlanningProblem, spec: PlannerSpec, X: FloatArray, exact: bool = False) -> CostTerms:
     """Cost terms of decision vectors ``X (P, 3K)``."""
     return evaluate_paths(problem.world, sample_population(control_polygon(problem, X), spec.samples),
@@ -149,11 +178,13 @@ def spline_problem(problem: PlanningProblem, spec: PlannerSpec, budget: int | No
     Returns
     -------
     Problem
-        Box-bounded problem over the ``3K`` control-point coordinates.
+        Box-bounded problem over the ``3K`` control-point coordinates, its repair
+        :func:`along_track_order`.
     """
     lo3, hi3 = search_box(problem)
     k = spec.control_points
-    return Problem(make_objective(problem, spec, strict), np.tile(lo3, k), np.tile(hi3, k), x0=x0, budget=budget)
+    return Problem(make_objective(problem, spec, strict), np.tile(lo3, k), np.tile(hi3, k), x0=x0, budget=budget,
+                   repair=lambda X: along_track_order(problem, X))
 
 
 def plan_terms(row: CostRow, spec: PlannerSpec) -> dict[str, float]:

@@ -2,15 +2,8 @@
 
 from .currents import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent
 from .land import Land
-from .obstacles import (
-    CircleMotion,
-    Ellipsoid,
-    LinearMotion,
-    MovingObstacle,
-    RandomWalkMotion,
-    Sphere,
-    WaypointMotion,
-)
+from .moving import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion
+from .obstacles import Ellipsoid, Sphere
 from .terrain import Terrain
 from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World

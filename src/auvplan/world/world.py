@@ -20,7 +20,8 @@ from ..errors import DataError
 from ..geometry import as_points
 from .currents import CurrentField, UniformCurrent
 from .land import Land
-from .obstacles import MovingObstacle, Shape
+from .moving import MovingObstacle
+from .obstacles import Shape
 from .terrain import Terrain
 
 __all__ = ["Bounds", "Margins", "World"]
