@@ -813,3 +813,96 @@ def test_local_apf_command_goals_sub_goals_distances_and_the_sloped_seabed_floor
     f = apf_force(p, np.array([300.0, 600.0, -200.0]), np.empty((0, 3)), np.empty(0), la.params)
     _, pitch, _ = la._apf_command(p, 1.0, [], 0.3, None)
     assert pitch == pytest.approx(math.atan2(f[2], math.hypot(f[0], f[1])), abs=1e-12) and pitch < -0.3
+
+
+def test_lattice_astar_heuristic_is_c_min_times_the_distance_to_the_start():
+    """A*'s heuristic at every node of a 7 × 5 × 4 lattice (offset origin, unequal steps) is
+    ``c_min`` times the node's straight distance to the start, computed from the node's own (i, j, k);
+    ``c_min = 0`` (Dijkstra) gives 0 everywhere."""
+    from auvplan.planners.lattice import _heuristic
+
+    shape = (7, 5, 4)
+    steps, origin = np.array([0.7, 1.9, 0.4]), np.array([120.0, -35.0, -60.0])
+    start = np.array([121.3, -31.2, -59.1])
+    ijk = np.stack(np.unravel_index(np.arange(int(np.prod(shape))), shape), axis=1)
+    want = np.linalg.norm(origin + ijk * steps - start, axis=1)
+    for c_min in (0.5, 2.5):
+        got = [_heuristic(u, shape[1], shape[2], origin, steps, start, c_min) for u in range(want.size)]
+        np.testing.assert_allclose(got, c_min * want, rtol=1e-12)
+    assert all(_heuristic(u, shape[1], shape[2], origin, steps, start, 0.0) == 0.0 for u in range(want.size))
+
+
+def test_lattice_astar_finds_each_starts_dijkstra_cost_on_an_obstacle_lattice():
+    """A 12 × 10 × 4 lattice of sub-metre steps (edges cost less than 1) with two walls of removed
+    nodes, cost = length through the cost path (no current), the goal linked to three nodes and, dearly
+    (5), to a fourth whose cost through its neighbours is 0.5: for 12 random starts linked to the 8
+    nodes of their cell at their distances, A* (c_min = 1, the length bound: a consistent heuristic)
+    finds the least start cost that scipy's Dijkstra over the same graph gives, and settles exactly the
+    nodes whose Dijkstra cost plus distance to the start is below that least cost, plus the best link's
+    node (with c_min = 0.5: exactly those with cost plus half the distance below it); the dear link's
+    node gets its cheap cost; with ``c_min = 0`` and a start given the search is
+    the full Dijkstra."""
+    rng = np.random.default_rng(14)
+    shape = (12, 10, 4)
+    n = int(np.prod(shape))
+    steps, origin = np.array([0.5, 0.6, 0.3]), np.array([10.0, 20.0, -5.0])
+    idx = np.arange(n).reshape(shape)
+    ijk = np.stack(np.unravel_index(np.arange(n), shape), axis=1)
+    blocked = np.zeros(shape, dtype=bool)
+    blocked[6, 1:, :] = True  # a wall with a gap at j = 0
+    blocked[3, :8, 1:] = True
+    bits = np.zeros(n, dtype=np.uint32)
+    src, dst, length = [], [], []
+    for s, off in enumerate(OFFSETS):
+        v = ijk + off
+        inside = np.all((v >= 0) & (v < shape), axis=1)
+        ok = inside.copy()
+        ok[inside] &= ~blocked[tuple(v[inside].T)]
+        ok &= ~blocked.reshape(-1) & (rng.random(n) < 0.85)
+        bits[ok] |= np.uint32(1 << s)
+        src.append(np.flatnonzero(ok))
+        dst.append(idx[tuple(v[ok].T)])
+        length.append(np.full(ok.sum(), np.linalg.norm(off * steps)))
+    src, dst, length = np.concatenate(src), np.concatenate(dst), np.concatenate(length)
+    near = np.array([idx[11, 9, 3], idx[10, 9, 3], idx[11, 8, 2], idx[11, 9, 2]])
+    w_goal = np.array([0.2, 0.7, 0.5, 5.0])
+    still = np.zeros((n, 3), np.float32)
+    cost = (1.0, 0.0, 1.0, 0.0, False)  # length, through the cost path (its floor, its currents)
+    full, _, settled_full = search(shape, bits, steps, origin, still, cost, (near, w_goal))
+    graph = coo_matrix((np.r_[length, w_goal], (np.r_[dst, np.full(near.size, n)], np.r_[src, near])),
+                       shape=(n + 1, n + 1)).tocsr()
+    want = dijkstra(graph, indices=n)
+    np.testing.assert_allclose(full, want, rtol=1e-12)
+    assert want[near[3]] < 1.0
+    xyz = origin + ijk * steps
+    cube = np.array([[a, b, c] for a in (0, 1) for b in (0, 1) for c in (0, 1)])
+    tried = 0
+    for trial in range(12):
+        cell = np.array([rng.integers(0, shape[0] - 1), rng.integers(0, shape[1] - 1), rng.integers(0, shape[2] - 1)])
+        start = origin + (cell + rng.uniform(0.02, 0.98, 3)) * steps
+        sn = idx[tuple((cell + cube).T)]
+        ws = np.linalg.norm(xyz[sn] - start, axis=1)
+        d, _, settled = search(shape, bits, steps, origin, still, cost, (near, w_goal), (sn, ws), start, 1.0)
+        best = (ws + want[sn]).min()
+        if not np.isfinite(best):
+            continue
+        tried += 1
+        assert (ws + d[sn]).min() == pytest.approx(best, rel=1e-12), trial
+        f = want[:n] + np.linalg.norm(xyz - start, axis=1)
+        assert settled == np.count_nonzero(f < best) + 1, trial
+        if f[near[3]] < best:
+            assert d[near[3]] == pytest.approx(want[near[3]], rel=1e-12)
+        # half the bound (still consistent): the first link settled need not be the best one
+        d, _, settled = search(shape, bits, steps, origin, still, cost, (near, w_goal), (sn, ws), start, 0.5)
+        assert (ws + d[sn]).min() == pytest.approx(best, rel=1e-12), trial
+        assert settled == np.count_nonzero(want[:n] + 0.5 * np.linalg.norm(xyz - start, axis=1) < best), trial
+    assert tried >= 8
+    start = xyz[idx[10, 8, 2]] + 0.5 * steps
+    sn = idx[tuple((np.array([10, 8, 2]) + cube).T)]
+    ws = np.linalg.norm(xyz[sn] - start, axis=1)
+    d, _, settled = search(shape, bits, steps, origin, still, cost, (near, w_goal), (sn, ws), start, 1.0)
+    assert (ws + d[sn]).min() == pytest.approx((ws + want[sn]).min(), rel=1e-12)
+    assert settled < 0.2 * settled_full
+    d0, _, settled0 = search(shape, bits, steps, origin, still, cost, (near, w_goal), (sn, ws), start, 0.0)
+    np.testing.assert_allclose(d0, want, rtol=1e-12)
+    assert settled0 == settled_full

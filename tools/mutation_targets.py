@@ -80,7 +80,8 @@ MODULES: dict[str, Target] = {
             "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
             "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
             "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single",
-            "node_fields_are_the_worlds_static_clearances")),
+            "node_fields_are_the_worlds_static_clearances", "astar_heuristic_is_c_min_times_the_distance_to_the_start",
+            "astar_finds_each_starts_dijkstra_cost_on_an_obstacle_lattice")),
         jit=False,
     ),
     # the simulation's event detection (collision, arrival, deadlock, timeout): the pure event rules
@@ -435,8 +436,9 @@ REASONS: dict[str, str] = {
     "search | astar = start is not None or start_near is not None or c_min > 0.0":
         "equivalent in use: search is always called with all three of start, start_near and c_min > 0, or none",
     "search | astar = start is not None and start_near is not None and (c_min >= 0.0)":
-        "**not killed**: A* mode with c_min = 0 (a zero heuristic with the stop rule); GridReference "
-        "passes a start only with c_min > 0",
+        "equivalent: with c_min = 0 the kernel gets c_min = 0, so the start links are never checked (the "
+        "stop rule never fires) and the heuristic is 0: the keys equal the costs, a full Dijkstra "
+        "(test_lattice_astar_finds_each_starts_dijkstra_cost_on_an_obstacle_lattice checks it)",
     "search | key = np.full(n + 2, np.inf) if astar else dist":
         "equivalent: one spare entry, never read",
     "search | sn, ws = start_near if astar or start_near is not None else (np.zeros(0, np.int64), np.zeros(0))":
