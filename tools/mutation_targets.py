@@ -132,6 +132,8 @@ MODULES: dict[str, Target] = {
 # Why each surviving mutant survives, keyed ``"function | before -> after"`` (the text ``mutate.py``
 # prints): an equivalent mutant (no input can tell it apart) or one the tests cannot observe.
 _NEG = "equivalent: numpy infers the length of any negative dimension, -2 as -1"
+_UNUSED_W = ('equivalent: without a cost (length objective) the kernel is told use_cost = False and returns th'
+             'e edge length before reading these weights')
 _KNOWN = ("equivalent in use: the caller's end altitudes are the true ones, which the kernel would compute "
           "itself (only World.segments_free passes them on)")
 _CELL = "equivalent: at the boundary both branches give the same cell index"
@@ -545,4 +547,28 @@ REASONS: dict[str, str] = {
     "_crossings | if kb >= ka:":
         "equivalent: with kb = ka the first crossing comes after the last one, i.e. none, as in the "
         "no-movement branch",
+    # the search's tail (run by the lead at the end of the session)
+    'search | box = np.stack([ijk.min(axis=1), ijk.max(axis=1)], axis=1).reshape(-2)':
+        _NEG,
+    'search | w = cost if cost is not None else (2.0, 0.0, 1.0, 0.0, False)':
+        _UNUSED_W,
+    'search | w = cost if cost is not None else (1.0, 1.0, 1.0, 0.0, False)':
+        _UNUSED_W,
+    'search | w = cost if cost is not None else (1.0, 0.0, 2.0, 0.0, False)':
+        _UNUSED_W,
+    'search | w = cost if cost is not None else (1.0, 0.0, 1.0, 1.0, False)':
+        _UNUSED_W,
+    'search | w = cost if cost is not None else (1.0, 0.0, 1.0, 0.0, True)':
+        _UNUSED_W,
+    'search | settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not'
+    ' None, float(w[0]), float(w[1]), float(w[2]), float(w[3]), bool(w[4]), np.asarray(goal_near[0], '
+    'dtype=np.int64), np.asarray(goal_near[1], dtype=float), n, dist, nxt, key, np.asarray(origin, '
+    'dtype=float), np.asarray(steps, dtype=float), np.zeros(4) if start is None else np.asarray(start, '
+    'float), float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64), np.asarray(ws, dtype=float),'
+    ' box, np.empty(n, dtype=np.int32), np.full(n, -1, dtype=np.int32))':
+        ("equivalent: without a start the search is Dijkstra (c_min = 0), whose heuristic returns 0 before "
+         "reading the start point"),
+    'GridReference._connect | ok = self.world.segments_free(np.stack([p, q], axis=1), moving=True)':
+        ("**not killed** (conservative): a moving obstacle's position at t = 0 would block links of the start "
+        "or goal to the lattice; no oracle parks a mover across such a link"),
 }
