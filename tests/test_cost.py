@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from auvplan.cost import CostModel, evaluate_paths, segment_energy
-from auvplan.world import Bounds, LambOseenVortices, Margins, Sphere, World
+from auvplan.world import Bounds, LambOseenVortices, Margins, Sphere, Terrain, World
 
 
 def reference_terms(world: World, p: np.ndarray, model: CostModel) -> dict:
@@ -125,3 +125,32 @@ def test_open_water_without_a_seabed():
     # through the sphere: every segment within 110 m of the centre violates (x in [390, 610])
     assert terms.violations[0] == 22 and terms.violations[1] == 0
     assert terms.min_clearance[1] == pytest.approx(300.0) and terms.min_clearance[0] < 0
+
+
+def test_path_cost_by_hand_at_each_bound_the_depth_limit_and_inside_an_island():
+    """Two-point paths whose second point breaks one constraint by a known amount, each one segment
+    charged 1e4 + 100 × the amount: 7 m east of the box, 4 m north of it, 3 m south of it, 6 m below
+    the 250 m depth limit.  Two 1 m legs 5 m deep inside a flat island 200 m high (the seabed 100 m
+    deep around it) are 205 m under the ground: two violations and clearance −205 m with the compiled
+    shortcut (``exact=False``) as with the exact walk — the shortcut must take the end altitudes as
+    depth minus ground height (on the second leg both ends are carried over from the first)."""
+    world = World(Bounds(1000, 2000, -500, 500, -300, 0), margins=Margins(min_depth=5.0, max_depth=250.0))
+    paths = np.array([
+        [[1900.0, 0.0, -50.0], [2007.0, 0.0, -50.0]],
+        [[1500.0, 400.0, -50.0], [1500.0, 504.0, -50.0]],
+        [[1500.0, -400.0, -50.0], [1500.0, -503.0, -50.0]],
+        [[1500.0, 0.0, -200.0], [1500.0, 0.0, -256.0]],
+    ])
+    terms = evaluate_paths(world, paths, CostModel())
+    np.testing.assert_array_equal(terms.violations, [1, 1, 1, 1])
+    np.testing.assert_allclose(terms.terrain, 1e4 + 100.0 * np.array([7.0, 4.0, 3.0, 6.0]))
+    x = y = np.linspace(0.0, 2000.0, 41)
+    z = np.full((41, 41), -100.0)
+    z[15:26, 15:26] = 200.0  # a flat island from 750 to 1250 m
+    island = World(Bounds(0, 2000, 0, 2000, -300, 300), terrain=Terrain(x, y, z),
+                   margins=Margins(min_altitude=10.0))
+    legs = np.array([[[1000.0, 1000.0, -5.0], [1001.0, 1000.0, -5.0], [1002.0, 1000.0, -5.0]]])
+    for exact in (False, True):
+        t = evaluate_paths(island, legs, CostModel(), exact=exact)
+        assert t.violations[0] == 2
+        assert t.min_clearance[0] == pytest.approx(-205.0, abs=1e-9)

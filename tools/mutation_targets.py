@@ -571,4 +571,12 @@ REASONS: dict[str, str] = {
     'GridReference._connect | ok = self.world.segments_free(np.stack([p, q], axis=1), moving=True)':
         ("**not killed** (conservative): a moving obstacle's position at t = 0 would block links of the start "
         "or goal to the lattice; no oracle parks a mover across such a link"),
+    # cost, every mutant (lead, end of session)
+    "_path_terms | g_p = pz + elevation_kernel(coef, x0, y0, dx, dy, px, py) if has_terrain else math.inf":
+        "equivalent for points at or below the surface: only the first segment's start altitude changes, and "
+        "the shortcut's bound is at most min(g_a', g_b) and 0.5 (g_a' + g_b - |dz| - G L) <= 0.5 (g_a' + g_a) "
+        "= pz <= 0 when the true minimum is below the threshold (Lipschitz), so the exact walk still runs",
+    "_obstacle_slack | slack = np.minimum(slack, np.where(hit, np.minimum(d - m.obstacle, -1.0), d + m.obstacle))":
+        "equivalent: that branch is taken where the segment keeps the margin (d >= margin), where d - margin "
+        "and d + margin are both >= 0: neither is charged",
 }
