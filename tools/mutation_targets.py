@@ -579,4 +579,36 @@ REASONS: dict[str, str] = {
     "_obstacle_slack | slack = np.minimum(slack, np.where(hit, np.minimum(d - m.obstacle, -1.0), d + m.obstacle))":
         "equivalent: that branch is taken where the segment keeps the margin (d >= margin), where d - margin "
         "and d + margin are both >= 0: neither is charged",
+    # cost, the full run's remaining survivors (lead, end of session)
+    '_obstacle_slack | touch = shape.segments_hit(ends, 1.0)':
+        ('not killed (reporting, conservative): a segment passing within 1 m of an obstacle without touching '
+         'would report clearance 0 (and with a zero margin count as a violation); no test passes that close'),
+    '_obstacle_slack | hit = shape.segments_hit(ends, m.obstacle) if m.obstacle >= 0 else touch':
+        ('equivalent: with a zero margin segments_hit(ends, 0) is touch'),
+    '_obstacle_slack | hit = shape.segments_hit(ends, m.obstacle) if m.obstacle > 1 else touch':
+        ('**not killed**: a margin of at most 1 m would be ignored (touch used instead); the tests use margins'
+         ' of 0 or >= 5 m'),
+    '_obstacle_slack | clearance = np.minimum(clearance, np.where(touch, np.minimum(d, 1.0), d))':
+        ('not killed (reporting only): a touching segment whose ends are over 1 m away would report clearance '
+         '1 m instead of 0; violations are unaffected'),
+    'segment_energy | a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-2, '
+    '3)) for v in arrays)': _NEG,
+    'energy_kernel | c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 1.0':
+        ('equivalent: with ds = 0 the time, the energy and the blocked flag are all 0 / False whatever c_par'),
+    'energy_kernel | blocked = (disc <= 0.0 or vg <= 1e-09) and ds > 0.0':
+        ('boundary: differs only when the cross current equals the speed exactly'),
+    'energy_kernel | blocked = (disc < 0.0 or vg < 1e-09) and ds > 0.0':
+        ('boundary: differs only at a ground speed of exactly 1e-9 m/s'),
+    'energy_kernel | blocked = (disc < 0.0 or vg <= 1e-09) and ds >= 0.0':
+        ('not killed: a zero-length leg in a current faster than the vehicle would count as blocked (one more '
+         'violation); no test has one'),
+    'energy_kernel | blocked = (disc < 0.0 or vg <= 1e-09) and ds > 1.0':
+        ("**not killed**: legs shorter than 1 m would never count as blocked; the tests' blocked legs are "
+         'longer'),
+    'energy_kernel | t = ds / (speed if blocked or vg < 0.0 else vg) if ds > 0.0 else 0.0':
+        ('equivalent: at vg = 0 with ds > 0 the leg is blocked (vg <= 1e-9), so the speed is used either way'),
+    'evaluate_paths | other_slack = other_clear = np.empty((1, 0))':
+        ('equivalent: without obstacles the kernel is told has_other = False and never reads these arrays'),
+    'evaluate_paths | other_slack = other_clear = np.empty((0, 1))':
+        ('equivalent: without obstacles the kernel is told has_other = False and never reads these arrays'),
 }
