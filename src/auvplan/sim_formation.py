@@ -29,7 +29,7 @@ from .guidance.formation import FormationParams
 from .guidance.formation_plan import FormationPlan, plan_formation
 from .guidance.formation_steer import FormationCommand, formation_command
 from .planners.base import PlanResult, Progress
-from .sim import FAR, Mission, SimResult, _distance, _obstacle_shapes, planned_route
+from .sim import FAR, Mission, SimResult, _deadlocked, _distance, _obstacle_shapes, _progressed, planned_route
 from .vehicles import Vehicle, VehicleState
 from .world import World
 
@@ -295,9 +295,9 @@ class _Fleet:
             self.events.append((t, "arrival", f"{name} within {st.arrival_radius:g} m of its final slot"))
             self.arrived[i], self.active[i], self.ends[i] = True, False, Status.EXACT
             return c, False
-        if prog > self.best[i] + 1.0:
+        if _progressed(prog, self.best[i]):
             self.best[i], self.best_t[i] = prog, t
-        elif t - self.best_t[i] > st.deadlock_time:
+        elif _deadlocked(t, self.best_t[i], st.deadlock_time, None):
             self.events.append((t, "deadlock", f"{name}: no progress for {t - self.best_t[i]:.0f} s"))
             self.ends[i] = self.status = Status.DEADLOCK
             return c, True

@@ -188,6 +188,7 @@ class Optimizer:
         self.best_f = np.inf
         self.iteration = 0
         self.repair: Callable[[FloatArray], FloatArray] | None = None
+        self._x0: FloatArray = np.empty((0, self.dim))  # seeds (:meth:`seed`)
 
     @property
     def span(self) -> FloatArray:
@@ -247,8 +248,8 @@ class Optimizer:
             ``X`` with at most half of its rows replaced by the (clipped) seeds; ``X`` itself
             without seeds.
         """
-        x0 = getattr(self, "_x0", None)
-        if x0 is None or x0.shape[0] == 0:
+        x0 = self._x0
+        if x0.shape[0] == 0:
             return X
         m = min(x0.shape[0], max(X.shape[0] // 2, 1))
         X = X.copy()

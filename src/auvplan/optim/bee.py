@@ -563,8 +563,7 @@ class IABC(ABC):
 
     def _ordered(self, X: FloatArray) -> FloatArray:
         """Random sources put through the problem's repair (improved variant with ``repair``, no seeds)."""
-        seeds = getattr(self, "_x0", None)
-        if self.literal or self.repair is None or not self.params.repair or (seeds is not None and seeds.size):
+        if self.literal or self.repair is None or not self.params.repair or self._x0.size:
             return X
         return self.clip(self.repair(X))
 
