@@ -597,7 +597,8 @@ def _flight_commands(sub: Any) -> None:
     s = _command(sub, "plan", "plan a global path", _cmd_plan, "scenario", "planner", "seed")
     s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
     s.add_argument("--pipeline", choices=PIPELINES,
-                   help="seeded (lattice seeds + refinement + fallback, default) or document (the algorithm alone)")
+                   help=("seeded (lattice seeds + refinement + fallback, default), document (the algorithm "
+                         "alone) or progressive (alone, coarse to fine)"))
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")

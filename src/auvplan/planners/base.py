@@ -30,7 +30,7 @@ tidal currents (see ``planners.registry``)."""
 SWARM = ("iabc", "abc", "ga", "pso", "de")
 """The population optimisers over B-spline control points (they iterate and call
 ``progress(iteration, best)``)."""
-PIPELINES = ("seeded", "document")
+PIPELINES = ("seeded", "document", "progressive")
 
 
 @dataclass(frozen=True)
@@ -113,7 +113,10 @@ class PlannerSpec:
         For the population optimisers: ``"seeded"`` (default: a coarse lattice path, fitted as
         control points, seeds part of the first population; the best plan is refined by a
         pattern search that keeps the exact test; the lattice path is returned when the
-        optimiser found no feasible one) or ``"document"`` (the algorithm alone).
+        optimiser found no feasible one), ``"document"`` (the algorithm alone) or
+        ``"progressive"`` (the algorithm alone, coarse to fine: ``coarse_fraction`` of the budget
+        with ``⌈K/2⌉`` control points, whose best paths, refitted to K control points, seed the
+        rest; :mod:`auvplan.planners.progressive`).
     seed_fraction : float
         Share of the first population seeded from the lattice path: the best, by the objective
         (evaluations counted), of the path's least-squares fits and of the control points repeated
@@ -122,13 +125,18 @@ class PlannerSpec:
         Share of the evaluation budget kept for the refinement.
     seed_nodes : int
         Node count of the coarse seeding lattice.
+    coarse_fraction : float
+        Share of the budget the ``"progressive"`` pipeline spends with ``⌈K/2⌉`` control points.
+    bend : float
+        Weight of the bends in the ``"progressive"`` pipeline's refit (0: the plain least-squares
+        fit at uniform arc length; :func:`auvplan.planners.seeding.fit_control_points`).
     population : int
         Food sources / individuals / particles.
     iterations : int
         Iteration cap of the ``"document"`` pipeline without a budget (document 002: IterMax = 100).
     budget : int
         Objective evaluations, spent exactly by every optimiser (the last batch truncated);
-        0 means ``population * iterations`` in the seeded pipeline, and the iteration cap
+        0 means ``population * iterations`` in the seeded and progressive pipelines, and the iteration cap
         alone (as in document 002) in the document pipeline.
     control_points : int
         Free interior B-spline control points.
@@ -166,6 +174,8 @@ class PlannerSpec:
     seed_fraction: float = 0.2
     refine_fraction: float = 0.2
     seed_nodes: int = 20_000
+    coarse_fraction: float = 0.2
+    bend: float = 1.0
     population: int = 50
     iterations: int = 100
     budget: int = 0
@@ -196,6 +206,10 @@ class PlannerSpec:
             raise ValueError(f"seed_fraction = {self.seed_fraction}: must lie in [0, 0.5]")
         if not 0.0 <= self.refine_fraction < 1.0:
             raise ValueError(f"refine_fraction = {self.refine_fraction}: must lie in [0, 1)")
+        if not 0.0 < self.coarse_fraction < 1.0:
+            raise ValueError(f"coarse_fraction = {self.coarse_fraction}: must lie in (0, 1)")
+        if self.bend < 0:
+            raise ValueError(f"bend = {self.bend}: must be >= 0")
         if self.seed_nodes < 1000:
             raise ValueError(f"seed_nodes = {self.seed_nodes}: must be >= 1000")
         if self.population < 4:

@@ -57,11 +57,15 @@ def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridR
     return ref, ref.query(problem.start)
 
 
-def fit_control_points(path: ArrayLike, k: int, samples: int = 200) -> FloatArray:
+def fit_control_points(path: ArrayLike, k: int, samples: int = 200, bend: float = 0.0) -> FloatArray:
     """Least-squares fit of a clamped cubic B-spline to a polyline.
 
     The spline runs through ``path[0]`` and ``path[-1]``; its interior control points minimise the
-    squared distance to the polyline sampled at uniform arc length.
+    squared distance to the polyline sampled at uniform arc length (``bend = 0``) or at uniform
+    *bend-weighted* length, in which every radian the polyline turns counts as much as
+    ``bend / Θ`` of its length (Θ its whole turning), so that the uniform spline parameter, and
+    with it the control points, crowd where the polyline bends instead of spreading evenly along
+    its straight stretches.
 
     Parameters
     ----------
@@ -71,6 +75,9 @@ def fit_control_points(path: ArrayLike, k: int, samples: int = 200) -> FloatArra
         Number of interior control points.
     samples : int, default 200
         Samples of the polyline and the spline matched in the fit.
+    bend : float, default 0.0
+        Weight of the turning against the length (0: arc length alone; 1: half of the spline's
+        parameter for the bends when the polyline turns at all).
 
     Returns
     -------
@@ -80,14 +87,30 @@ def fit_control_points(path: ArrayLike, k: int, samples: int = 200) -> FloatArra
     path = np.asarray(path, dtype=float)
     length = float(polyline_length(path))
     pts = resample_polyline(path, max(length / (samples - 1), 1e-9))
-    if pts.shape[0] != samples:  # resample_polyline rounds the count: interpolate to exactly `samples`
-        s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+    steps = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    s = np.r_[0.0, np.cumsum(steps)]
+    if bend > 0 and pts.shape[0] > 2:
+        s = s / max(s[-1], 1e-12) + bend * _turning(pts, steps)
+    if pts.shape[0] != samples or bend > 0:  # exactly `samples` points, uniform in s
         q = np.linspace(0.0, s[-1], samples)
         pts = np.column_stack([np.interp(q, s, pts[:, d]) for d in range(3)])
     B = basis_matrix(k + 2, samples)
     rhs = pts - np.outer(B[:, 0], path[0]) - np.outer(B[:, -1], path[-1])
     ctrl, *_ = np.linalg.lstsq(B[:, 1:-1], rhs, rcond=None)
     return np.asarray(ctrl, dtype=np.float64)  # numpy types lstsq as floating[Any]: float64 in, float64 out
+
+
+def _turning(pts: FloatArray, steps: FloatArray) -> FloatArray:
+    """Cumulative turning at the vertices of a polyline, as a share of its whole turning (0 if straight).
+
+    Each vertex's turning angle is split half to the segment before it and half to the one after,
+    so that the measure grows across a corner, not at one sample."""
+    t = np.diff(pts, axis=0) / np.maximum(steps, 1e-12)[:, None]
+    angle = np.arccos(np.clip(np.einsum("ij,ij->i", t[1:], t[:-1]), -1.0, 1.0))
+    per_segment = 0.5 * (np.r_[0.0, angle] + np.r_[angle, 0.0])
+    total = per_segment.sum()
+    out: FloatArray = np.r_[0.0, np.cumsum(per_segment)] / total if total > 1e-9 else np.zeros(pts.shape[0])
+    return out
 
 
 def seed_candidates(ctrl: ArrayLike | list[FloatArray], count: int, lower: FloatArray, upper: FloatArray,

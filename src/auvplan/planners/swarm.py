@@ -3,7 +3,7 @@
 The problem (:mod:`auvplan.planners.swarm_problem`): the ``K`` interior control points of a
 clamped cubic B-spline from the start to the goal, costed by :func:`auvplan.cost.evaluate_paths`.
 The optimiser is IABC (document 002's improvement), ABC, GA, PSO or scipy's differential
-evolution.  Two pipelines (``PlannerSpec.pipeline``):
+evolution.  Three pipelines (``PlannerSpec.pipeline``):
 
 * ``"seeded"`` (default): a coarse lattice path (:mod:`auvplan.planners.seeding`) gives candidate
   control points (least-squares fits, control points repeated at the corners of its taut
@@ -15,7 +15,10 @@ evolution.  Two pipelines (``PlannerSpec.pipeline``):
   optimiser found no feasible path, the lattice path (shortened and relaxed by the grid planner)
   is returned instead, so that a plan is INFEASIBLE only when the lattice found none either;
 * ``"document"``: the algorithm alone, as in document 002 (IterMax iterations when no budget is
-  given).
+  given);
+* ``"progressive"``: the algorithm alone, coarse to fine (:mod:`auvplan.planners.progressive`):
+  ``coarse_fraction`` of the budget with ``⌈K/2⌉`` control points, then the rest with ``K``,
+  seeded by the first stage's best paths refitted with the control points crowded at the bends.
 
 ``--budget N`` (``PlannerSpec.budget``) makes every optimiser, and the seeded pipeline as a whole,
 spend exactly N objective evaluations (the last batch truncated).
@@ -51,6 +54,7 @@ from ..optim import (
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .grid import GridReference, plan_grid
+from .progressive import coarse_stage
 from .seeding import coarse_reference, lattice_seeds, seed_candidates
 from .swarm_problem import (
     check_endpoints,
@@ -138,6 +142,8 @@ def _budgets(spec: PlannerSpec) -> tuple[int | None, int]:
     """Evaluations of the optimiser (None: iteration cap only) and of the refinement."""
     if spec.pipeline == "document":
         return (spec.budget or (spec.evaluations if spec.name == "de" else None)), 0
+    if spec.pipeline == "progressive":
+        return spec.evaluations, 0
     total = spec.evaluations
     refine = int(round(spec.refine_fraction * total)) if total > 2 * 3 * spec.control_points else 0
     return total - refine, refine
@@ -182,12 +188,22 @@ def plan_swarm(
             count = max(1, int(round(spec.seed_fraction * spec.population)))
             bases = lattice_seeds(lattice, problem.world, k, spec.samples)
             x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
+    coarse = None
+    if spec.pipeline == "progressive" and budget is not None and budget >= 2 and spec.control_points > 1:
+        first = max(1, int(round(spec.coarse_fraction * budget)))
+        x0, coarse = coarse_stage(problem, spec, first, lambda s, t, g: run_optimizer(s, t, g, progress), gen)
+        budget -= coarse.evaluations
     task = spline_problem(problem, spec, budget, x0)
-    if x0 is not None and x0.shape[0] > count:  # screen the candidates (counted evaluations), keep the best
+    if x0 is not None and x0.shape[0] > count and spec.pipeline == "seeded":  # screen the candidates (counted)
         task.x0 = x0[np.argsort(task.evaluate(x0), kind="stable")[:count]]
     opt = run_optimizer(spec, task, gen, progress)
     x, f, evals = opt.x, opt.f, task.evaluations  # the screening included
     history, trace = opt.history, np.asarray(task.trace, dtype=float).reshape(-1, 2)
+    if coarse is not None:  # the coarse stage's record first
+        history = np.r_[coarse.history, history]
+        trace = np.vstack([coarse.trace, trace + np.array([coarse.evaluations, 0.0])])
+        trace[:, 1] = np.minimum.accumulate(trace[:, 1])
+        evals += coarse.evaluations
     if refine > 0:
         feasible = _feasible(problem, spec, x)
         polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
@@ -197,7 +213,8 @@ def plan_swarm(
         trace[:, 1] = np.minimum.accumulate(trace[:, 1])  # the polls' best against the incumbent
         history = np.r_[history, f]
         evals += polished.evaluations
-    result = _result(problem, spec, x, f, evals, opt.iterations, history, trace)
+    iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
+    result = _result(problem, spec, x, f, evals, iterations, history, trace)
     if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
         result = _fallback(problem, spec, ref, result)
     return replace(result, wall_time_s=time.perf_counter() - t0)
