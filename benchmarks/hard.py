@@ -2,8 +2,8 @@
 
 Every method gets exactly ``--budget`` objective evaluations of the same cost (auvplan counts
 them; peers are wrapped so that evaluations past the budget return ``inf``), ``--seeds`` seeds
-per scenario.  Methods: each auvplan optimiser in the default ``seeded`` pipeline and alone
-(``document`` pipeline), IABC's literal document variant, and the peers mealpy ``OriginalABC``
+per scenario.  Methods: each auvplan optimiser in the default ``seeded`` pipeline, alone
+(``document`` pipeline) and alone coarse to fine (``progressive`` pipeline), IABC's literal document variant, and the peers mealpy ``OriginalABC``
 and pymoo ``PSO`` / ``GA`` when installed (scipy's differential evolution is ``de``).  For each
 scenario: the gap of each method's median and worst cost to the best cost any method found (the
 grid reference included), the seeds ending INFEASIBLE and the median CPU time per plan.  Also
@@ -33,6 +33,7 @@ from auvplan.sim import planning_problem
 SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")
 OURS = [(f"{n}", n, "seeded", {}) for n in ("iabc", "abc", "ga", "pso", "de")] + \
        [(f"{n}/document", n, "document", {}) for n in ("iabc", "abc", "ga", "pso", "de")] + \
+       [(f"{n}/progressive", n, "progressive", {}) for n in ("iabc", "abc", "ga", "pso", "de")] + \
        [("iabc-elite/document", "iabc", "document", {"elite": 0.2, "mutation_fraction": 0.1}),
         ("iabc-literal/document", "iabc", "document", {"variant": "document"})]
 """(label, planner, pipeline, [planner.iabc] overrides); ``iabc-elite`` is the improved colony with the
