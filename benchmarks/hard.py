@@ -3,7 +3,8 @@
 Every method gets exactly ``--budget`` objective evaluations of the same cost (auvplan counts
 them; peers are wrapped so that evaluations past the budget return ``inf``), ``--seeds`` seeds
 per scenario.  Methods: each auvplan optimiser in the default ``seeded`` pipeline, alone
-(``document`` pipeline) and alone coarse to fine (``progressive`` pipeline), IABC's literal document variant, and the peers mealpy ``OriginalABC``
+(``document`` pipeline) and alone coarse to fine (``progressive`` pipeline), IABC's literal
+document variant, and the peers mealpy ``OriginalABC``
 and pymoo ``PSO`` / ``GA`` when installed (scipy's differential evolution is ``de``).  For each
 scenario: the gap of each method's median and worst cost to the best cost any method found (the
 grid reference included), the seeds ending INFEASIBLE and the median CPU time per plan.  Also
