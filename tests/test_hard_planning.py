@@ -137,7 +137,7 @@ def _obstacle_problem():
     return PlanningProblem(world, [50.0, 50.0, -50.0], [950.0, 950.0, -50.0], 1.5)
 
 
-@pytest.mark.parametrize("pipeline", ["seeded", "document"])
+@pytest.mark.parametrize("pipeline", ["seeded", "document", "progressive"])
 @pytest.mark.parametrize("name", SWARM)
 def test_budget_is_exactly_n_evaluations(name, pipeline, monkeypatch):
     """Objective evaluations counted independently (paths reaching the cost function)."""

@@ -26,8 +26,11 @@ from .base import PlannerSpec, PlanningProblem
 from .grid import GridReference
 from .swarm_problem import cost_model_for, search_box
 
-__all__ = ["coarse_reference", "compositions", "corner_control_points", "fit_control_points", "lattice_seeds",
-           "seed_candidates"]
+__all__ = ["STRAIGHT", "coarse_reference", "compositions", "corner_control_points", "fit_control_points",
+           "lattice_seeds", "seed_candidates"]
+
+STRAIGHT = 1e-3
+"""Whole turning (rad) below which the bend-weighted fit treats a polyline as straight (0.06°)."""
 
 
 def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, FloatArray]:
@@ -65,7 +68,8 @@ def fit_control_points(path: ArrayLike, k: int, samples: int = 200, bend: float 
     *bend-weighted* length, in which every radian the polyline turns counts as much as
     ``bend / Θ`` of its length (Θ its whole turning), so that the uniform spline parameter, and
     with it the control points, crowd where the polyline bends instead of spreading evenly along
-    its straight stretches.
+    its straight stretches (a polyline turning less than :data:`STRAIGHT` in all is fitted at
+    uniform arc length).
 
     Parameters
     ----------
@@ -101,15 +105,16 @@ def fit_control_points(path: ArrayLike, k: int, samples: int = 200, bend: float 
 
 
 def _turning(pts: FloatArray, steps: FloatArray) -> FloatArray:
-    """Cumulative turning at the vertices of a polyline, as a share of its whole turning (0 if straight).
+    """Cumulative turning at the vertices of a polyline, as a share of its whole turning.
 
-    Each vertex's turning angle is split half to the segment before it and half to the one after,
-    so that the measure grows across a corner, not at one sample."""
+    Each vertex's turning angle (``atan2(|a × b|, a · b)``, accurate near 0) is split half to the
+    segment before it and half to the one after, so that the measure grows across a corner, not at
+    one sample.  A polyline that turns less than ``STRAIGHT`` radians in all is straight: zeros."""
     t = np.diff(pts, axis=0) / np.maximum(steps, 1e-12)[:, None]
-    angle = np.arccos(np.clip(np.einsum("ij,ij->i", t[1:], t[:-1]), -1.0, 1.0))
+    angle = np.arctan2(np.linalg.norm(np.cross(t[:-1], t[1:]), axis=1), np.einsum("ij,ij->i", t[1:], t[:-1]))
     per_segment = 0.5 * (np.r_[0.0, angle] + np.r_[angle, 0.0])
     total = per_segment.sum()
-    out: FloatArray = np.r_[0.0, np.cumsum(per_segment)] / total if total > 1e-9 else np.zeros(pts.shape[0])
+    out: FloatArray = np.r_[0.0, np.cumsum(per_segment)] / total if total > STRAIGHT else np.zeros(pts.shape[0])
     return out
 
 
