@@ -10,8 +10,9 @@ import pytest
 from auvplan._types import Status
 from auvplan.io import scenario
 from auvplan.path import sample_population
-from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.progressive import Elite, coarse_count, refit
+from auvplan.planners import PlannerSpec, PlanningProblem, plan, swarm_problem
+from auvplan.optim import OptimizeResult
+from auvplan.planners.progressive import Elite, coarse_count, coarse_stage, refit
 from auvplan.planners.seeding import fit_control_points
 from auvplan.sim import planning_problem
 from helpers import flat_world
@@ -75,6 +76,32 @@ def test_coarse_count_and_refit_of_a_straight_path():
     d = prob.goal - prob.start
     off = (Y - prob.start) - np.outer((Y - prob.start) @ d / (d @ d), d)
     assert np.abs(off).max() < 1e-6
+
+
+def test_coarse_stage_seeds_are_bend_weighted_refits_of_its_best_paths():
+    """The stage's wiring against an independent computation: a stub optimiser evaluates six
+    coarse vectors (one twice) on the stage's problem; the seeds are the best ``population``
+    distinct ones, best first, each path refitted by hand with ``fit_control_points(..., bend)``."""
+    world = flat_world(depth=200.0)
+    prob = PlanningProblem(world, np.array([100.0, 100.0, -50.0]), np.array([900.0, 800.0, -60.0]), speed=1.5)
+    spec = PlannerSpec(name="iabc", pipeline="progressive", control_points=5, population=4, bend=0.7, samples=60)
+    rng = np.random.default_rng(0)
+    V = rng.uniform(np.tile([150.0, 150.0, -150.0], 3), np.tile([850.0, 850.0, -40.0], 3), size=(6, 9))
+    V = np.vstack([V, V[:1]])
+    seen = {}
+
+    def stub(s, task, g):
+        seen["dim"], seen["budget"] = task.dim, task.budget
+        f = task.evaluate(V)
+        return OptimizeResult(V[int(np.argmin(f))], float(f.min()), task.evaluations, 1, f[:1], 0.0, "stub")
+
+    seeds, result = coarse_stage(prob, spec, 40, stub, rng)
+    assert seen == {"dim": 9, "budget": 40} and result.evaluations == 7
+    f = swarm_problem.spline_problem(prob, replace(spec, control_points=3), None).evaluate(V[:6])
+    best = V[:6][np.argsort(f)[:4]]
+    by_hand = [fit_control_points(sample_population(np.vstack([prob.start, v.reshape(3, 3), prob.goal]), 60), 5, 60,
+                                  bend=0.7).ravel() for v in best]
+    assert seeds.shape == (4, 15) and np.allclose(seeds, by_hand, atol=1e-9)
 
 
 def test_progressive_spec_is_validated():
