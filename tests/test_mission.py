@@ -175,7 +175,8 @@ def test_mission_check_cli_flags_a_tampered_file(ridge, tmp_path, monkeypatch, c
     bad[len(w) // 2, 2] -= 60.0  # 60 m deeper on one leg near the crest
     (tmp_path / "bad.moos").write_text(formats.to_moos(bad, 1.5))
     assert main(["mission", "check", str(tmp_path / "bad.moos"), "--scenario", scen]) == 1
-    assert "FAIL" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "FAIL" in out and "no static obstacle in the scenario" in out and "inf m" not in out
     (tmp_path / "broken.plan").write_text("{\"mission\": 3}")
     assert main(["mission", "check", str(tmp_path / "broken.plan"), "--scenario", scen]) == 2
     assert "broken.plan" in capsys.readouterr().err

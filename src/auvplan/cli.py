@@ -424,10 +424,12 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
+            obstacles = (f"least obstacle distance {check.min_obstacle_distance_m:.2f} m (margin "
+                         f"{check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle"
+                         if np.isfinite(check.min_obstacle_distance_m) else "no static obstacle in the scenario")
             print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
                   f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
-                  f"{check.min_altitude_leg}), least obstacle distance {check.min_obstacle_distance_m:.2f} m "
-                  f"(margin {check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle{held}")
+                  f"{check.min_altitude_leg}), {obstacles}{held}")
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst
