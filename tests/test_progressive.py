@@ -9,9 +9,9 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.io import scenario
+from auvplan.optim import OptimizeResult
 from auvplan.path import sample_population
 from auvplan.planners import PlannerSpec, PlanningProblem, plan, swarm_problem
-from auvplan.optim import OptimizeResult
 from auvplan.planners.progressive import Elite, coarse_count, coarse_stage, refit
 from auvplan.planners.seeding import fit_control_points
 from auvplan.sim import planning_problem
