@@ -66,8 +66,8 @@ def test_elite_keeps_the_best_distinct_vectors_seen():
 
 
 def test_coarse_count_and_refit_of_a_straight_path():
-    """⌈K/2⌉; a path whose control points lie on the start-goal line is refitted on the line."""
-    assert [coarse_count(k) for k in (1, 2, 5, 6, 7)] == [1, 1, 3, 3, 4]
+    """⌈K/2⌉ but at least 2; a path whose control points lie on the start-goal line is refitted on the line."""
+    assert [coarse_count(k) for k in (2, 3, 4, 5, 6, 7)] == [2, 2, 2, 3, 3, 4]
     world = flat_world()
     prob = PlanningProblem(world, np.array([100.0, 100.0, -50.0]), np.array([900.0, 800.0, -60.0]), speed=1.5)
     t = np.array([0.2, 0.5, 0.8])[:, None]
@@ -104,9 +104,21 @@ def test_coarse_stage_seeds_are_bend_weighted_refits_of_its_best_paths():
     assert seeds.shape == (4, 15) and np.allclose(seeds, by_hand, atol=1e-9)
 
 
+@pytest.mark.parametrize("k", [2, 3])
+def test_progressive_at_the_fewest_control_points_spends_the_budget(k):
+    """K = 2 has no coarser stage (one run), K = 3 a coarse stage at 2; both exactly N evaluations."""
+    world = flat_world(depth=200.0)
+    prob = PlanningProblem(world, np.array([100.0, 100.0, -50.0]), np.array([900.0, 800.0, -60.0]), speed=1.5)
+    for budget in (2, 3, 57):
+        r = plan(prob, PlannerSpec(pipeline="progressive", control_points=k, population=8, budget=budget), rng=0)
+        assert r.evaluations == budget and r.status is Status.EXACT
+
+
 def test_progressive_spec_is_validated():
     with pytest.raises(ValueError, match="coarse_fraction"):
         PlannerSpec(pipeline="progressive", coarse_fraction=1.0)
+    with pytest.raises(ValueError, match=r"control_points = 1: must lie in \[2, 50\]"):
+        PlannerSpec(control_points=1)
     with pytest.raises(ValueError, match="bend"):
         PlannerSpec(pipeline="progressive", bend=-0.1)
 

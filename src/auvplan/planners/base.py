@@ -139,7 +139,8 @@ class PlannerSpec:
         0 means ``population * iterations`` in the seeded and progressive pipelines, and the iteration cap
         alone (as in document 002) in the document pipeline.
     control_points : int
-        Free interior B-spline control points.
+        Free interior B-spline control points K, 2 ≤ K ≤ 50 (the clamped cubic spline needs 4 with the
+        start and the goal).
     samples : int
         Samples per path for the cost.
     energy : str
@@ -216,8 +217,9 @@ class PlannerSpec:
             raise ValueError(f"population = {self.population}: must be >= 4")
         if self.iterations < 1 or self.budget < 0:
             raise ValueError("iterations must be >= 1 and budget >= 0")
-        if not 1 <= self.control_points <= 50:
-            raise ValueError(f"control_points = {self.control_points}: must lie in [1, 50]")
+        if not 2 <= self.control_points <= 50:
+            raise ValueError(f"control_points = {self.control_points}: must lie in [2, 50] (a clamped cubic "
+                             "B-spline needs 4 control points with the start and the goal)")
         if self.samples < 10:
             raise ValueError(f"samples = {self.samples}: must be >= 10")
         if self.energy not in ("physical", "document"):

@@ -99,7 +99,8 @@ class Elite:
 
 
 def coarse_count(k: int) -> int:
-    """Control points of the coarse stage: ``⌈k/2⌉``.
+    """Control points of the coarse stage: ``⌈k/2⌉``, at least 2 (the fewest a clamped cubic spline
+    between the start and the goal can have).
 
     Parameters
     ----------
@@ -109,9 +110,9 @@ def coarse_count(k: int) -> int:
     Returns
     -------
     int
-        ``(k + 1) // 2``.
+        ``max((k + 1) // 2, 2)``; equal to ``k`` for ``k <= 2`` (no coarser stage).
     """
-    return (k + 1) // 2
+    return max((k + 1) // 2, 2)
 
 
 def refit(problem: PlanningProblem, X: ArrayLike, k: int, samples: int, bend: float) -> FloatArray:

@@ -54,7 +54,7 @@ from ..optim import (
 from ..path import sample_population
 from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .grid import GridReference, plan_grid
-from .progressive import coarse_stage
+from .progressive import coarse_count, coarse_stage
 from .seeding import coarse_reference, lattice_seeds, seed_candidates
 from .swarm_problem import (
     check_endpoints,
@@ -189,7 +189,8 @@ def plan_swarm(
             bases = lattice_seeds(lattice, problem.world, k, spec.samples)
             x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
     coarse = None
-    if spec.pipeline == "progressive" and budget is not None and budget >= 2 and spec.control_points > 1:
+    if spec.pipeline == "progressive" and budget is not None and budget >= 2 and coarse_count(spec.control_points) < \
+            spec.control_points:
         first = max(1, int(round(spec.coarse_fraction * budget)))
         x0, coarse = coarse_stage(problem, spec, first, lambda s, t, g: run_optimizer(s, t, g, progress), gen)
         budget -= coarse.evaluations
