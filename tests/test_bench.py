@@ -79,6 +79,30 @@ def test_bad_sweep_names_are_errors():
         SweepSpec(planners=("nope",))
     with pytest.raises(AuvplanError, match="guidance"):
         SweepSpec(guidance=("nope",))
+    with pytest.raises(AuvplanError, match="pipeline"):
+        SweepSpec(planners=("iabc/fast",))
+    with pytest.raises(AuvplanError, match="planner"):
+        SweepSpec(planners=("nope/document",))
+
+
+def test_planner_labels_pick_the_pipeline(tmp_path):
+    """``iabc/progressive`` and ``iabc/document`` run those pipelines: the rows' costs are the plans'
+    of ``plan`` with the same spec and seed (an independent call), and differ from each other."""
+    from dataclasses import replace
+
+    from auvplan.io import scenario as scenario_io
+    from auvplan.planners import plan
+    from auvplan.sim import planning_problem
+
+    spec = SweepSpec(scenarios=("marcus-wake-deep",), planners=("iabc/progressive", "iabc/document"),
+                     guidance=("hybrid",), seeds=1, budget=600)
+    rows = {r["planner"]: r for r in sweep(spec, tmp_path, workers=1, progress=False)}
+    world, mission = scenario_io.build(scenario_io.load("marcus-wake-deep"))
+    for label in ("iabc/progressive", "iabc/document"):
+        pspec = replace(mission.planner, budget=600, pipeline=label.split("/")[1])
+        r = plan(planning_problem(world, mission), pspec, rng=0)
+        assert float(rows[label]["cost"]) == pytest.approx(r.cost, abs=1e-5), label  # rows hold 6 decimals
+    assert rows["iabc/progressive"]["cost"] != rows["iabc/document"]["cost"]
 
 
 def test_bench_command_writes_the_summary_and_an_offline_report(tmp_path):

@@ -32,7 +32,7 @@ from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
 from .io.safeio import claim
-from .planners import PLANNERS, PlanResult, plan, reference, with_reference
+from .planners import PIPELINES, PLANNERS, PlanResult, plan, reference, with_reference
 from .planners.grid import on_cost_function
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
@@ -67,7 +67,8 @@ class SweepSpec:
     scenarios : tuple of str
         Built-in names or TOML files.
     planners : tuple of str
-        Planner names (``"scenario"`` = each scenario's own).
+        Planner names (``"scenario"`` = each scenario's own), each optionally with a pipeline,
+        ``name/pipeline`` (e.g. ``iabc/progressive``; :data:`auvplan.planners.PIPELINES`).
     guidance : tuple of str
         ``hybrid``, ``los``, ``ilos`` (``"scenario"`` = each scenario's own).
     seeds : int
@@ -103,8 +104,11 @@ class SweepSpec:
             if a != "scenario" and a not in AVOIDANCE:
                 raise AuvplanError(f"unknown avoidance {a!r}; choose from scenario, {', '.join(AVOIDANCE)}")
         for p in self.planners:
-            if p != "scenario" and p not in PLANNERS:
+            name, slash, pipeline = p.partition("/")
+            if p != "scenario" and name not in PLANNERS:
                 raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(PLANNERS)}")
+            if slash and pipeline not in PIPELINES:
+                raise AuvplanError(f"unknown pipeline in {p!r}; choose from {', '.join(PIPELINES)}")
         for g in self.guidance:
             if g not in ("scenario", "hybrid", "los", "ilos"):
                 raise AuvplanError(f"unknown guidance {g!r}; choose from scenario, hybrid, los, ilos")
@@ -226,7 +230,8 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     world, mission = scenario_io.build(scenario_io.load(scenario))
     pspec = mission.planner
     if planner != "route":
-        pspec = replace(pspec, name=planner, budget=spec.budget or pspec.budget)
+        name, _, pipeline = planner.partition("/")
+        pspec = replace(pspec, name=name, budget=spec.budget or pspec.budget, pipeline=pipeline or pspec.pipeline)
     guidance, _, avoidance = guidance.partition("+")
     mission = replace(mission, planner=pspec, guidance=guidance)
     if avoidance:

@@ -649,7 +649,8 @@ def _bench_commands(sub: Any) -> None:
     s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
                  _cmd_bench)
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
-    s.add_argument("--planners", nargs="+", default=["scenario"], help="planner names, or 'scenario'")
+    s.add_argument("--planners", nargs="+", default=["scenario"],
+                   help="planner names, or 'scenario'; name/pipeline picks the pipeline (iabc/progressive)")
     s.add_argument("--guidance", nargs="+", default=["scenario"], help="hybrid, los, ilos, or 'scenario'")
     s.add_argument("--seeds", type=_POSITIVE, default=10, help="seeds 0..N-1 per cell")
     s.add_argument("--budget", type=_SEED, default=0, help="objective evaluations per plan (0: the scenario's)")
