@@ -292,6 +292,19 @@ def _push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
 
 
 @kernel
+def _pop(heap: Any, pos: Any, key: FloatArray, size: int, mark: int) -> int:
+    """Remove the root ``heap[0]`` (its ``pos`` set to ``mark``: -2 settled, -1 free to queue again);
+    the last entry moves to the root and sifts down.  Returns the new heap size."""
+    pos[heap[0]] = mark
+    size -= 1
+    if size > 0:
+        heap[0] = heap[size]
+        pos[heap[0]] = 0
+        _sift_down(heap, pos, key, 0, size)
+    return size
+
+
+@kernel
 def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, start: FloatArray,
                c_min: float) -> float:
     if c_min <= 0.0:
@@ -328,13 +341,8 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
         v = heap[0]
         if key[v] >= best:
             break  # A*: no unsettled node leads to a cheaper start
-        pos[v] = -2
+        size = _pop(heap, pos, key, size, -2)
         settled += 1
-        size -= 1
-        if size > 0:
-            heap[0] = heap[size]
-            pos[heap[0]] = 0
-            _sift_down(heap, pos, key, 0, size)
         k = v % nz
         j = (v // nz) % ny
         i = v // (nz * ny)
