@@ -39,10 +39,12 @@ def test_mirror_sink_is_the_image_of_the_target_in_the_plane():
 def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface():
     """Points δ = 10⁻³ R inside the flow body of the (8, 4, 3) ellipsoid, built by hand from its meridian
     profile (the middle of a segment, moved in along the segment's left-hand normal, turned about the
-    axis): ``push_out`` moves each back out along that normal by δ + eps·R (eps = 10⁻⁶), onto the profile
-    to within 2·10⁻⁶ R (the graze correction's move); the body's own ``normal`` there is the same outward
-    unit vector (it was the inward one: the correction pushed grazing points deeper in).  A sphere 40 m away
-    comes first in the field's surfaces."""
+    axis): ``push_out`` moves each back out along that normal by δ + m·R with m = eps·2^k (eps = 10⁻⁶),
+    k the fewest doublings that leave the body's own surface (F = 0 lies a little outside the profile
+    polyline: with k = 0 alone most points stayed inside), so within 2·10⁻⁵ R of the profile (the graze
+    correction's move); the body's own ``normal`` there is the same outward unit vector (it was the inward
+    one: the correction pushed grazing points deeper in).  A sphere 40 m away comes first in the field's
+    surfaces."""
     field = FlowField((ELLIPSOID, Sphere((0.0, 40.0, 0.0), 2.0)), GOAL, FlowParams(), 0.5)
     body = field.bodies[0]
     radius = float(body.radius)
@@ -61,8 +63,15 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     np.testing.assert_allclose(body.normal(points), outward, atol=1e-12)
     assert field.radii.max() == radius
     moved = field.push_out(points, 1e-6)
-    np.testing.assert_allclose(moved - points, (delta + 1e-6 * radius) * outward, rtol=0, atol=1e-3 * delta)
-    assert (np.abs(body.distance(moved)) <= 2e-6 * radius).all()  # on the profile polyline (to eps)
+    step = np.linalg.norm(moved - points, axis=1)
+    np.testing.assert_allclose((moved - points) / step[:, None], outward, rtol=0, atol=1e-9)
+    # the margin is 10⁻⁶ R doubled k times, k the fewest that leaves the body's own surface (F = 0)
+    k = np.log2((step - delta) / (1e-6 * radius))
+    np.testing.assert_allclose(k, np.round(k), atol=1e-3)
+    assert not body.inside(moved).any() and (field.distances(moved, "true")[:, 1] >= 0).all()
+    fewer = points + (delta + 0.5 * (step - delta))[:, None] * outward
+    assert (k > 0.5).sum() >= 3 and body.inside(fewer[k > 0.5]).all()
+    assert (np.abs(body.distance(moved)) <= 2e-5 * radius).all()  # on the profile polyline, to the margin
 
 
 def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outside():

@@ -70,6 +70,9 @@ __all__ = [
 
 FOUR_PI = 4.0 * np.pi
 SAG_PAD = 0.002
+PUSH_DOUBLINGS = 25
+"""Doublings of :meth:`FlowField.push_out`'s margin while a moved point is still inside its surface:
+from 10⁻⁹ of the largest radius to past the 1 % band in which a body's inside test follows F."""
 """Relative inflation that keeps the chords between integration nodes outside the safety margin."""
 
 
@@ -580,6 +583,11 @@ class FlowField:
     def push_out(self, p: ArrayLike, eps: float = 1e-9) -> FloatArray:
         """Points moved just outside the nearest flow surface along its outward normal.
 
+        Each point moves by its depth plus a margin of ``eps`` times the largest radius; where the
+        moved point is still inside that surface (a line-distribution body's surface, F = 0, lies a
+        little outside the profile polyline the depth is measured to), the margin is doubled, up to
+        :data:`PUSH_DOUBLINGS` times, until it is not.
+
         Parameters
         ----------
         p : array_like
@@ -596,17 +604,28 @@ class FlowField:
         d = self.distances(p, "true")
         k = d.argmin(axis=-1)
         ns = len(self.spheres)
+        n = np.empty_like(p)
         for i in range(p.shape[0]):
             j = k[i]
             if j < ns:
-                n = (p[i] - self.C[j]) / max(np.linalg.norm(p[i] - self.C[j]), 1e-300)
+                n[i] = (p[i] - self.C[j]) / max(np.linalg.norm(p[i] - self.C[j]), 1e-300)
             elif j < len(self.items):
-                n = (self.bodies[j - ns].normal(p[i:i + 1])[0] if self.contained
-                     else self.items[j].gradient(p[i]))
+                n[i] = (self.bodies[j - ns].normal(p[i:i + 1])[0] if self.contained
+                        else self.items[j].gradient(p[i]))
             else:
-                n = np.array([0.0, 0.0, 1.0])
-            p[i] = p[i] + (-d[i, j] + eps * max(self.radii.max(initial=1.0), 1.0)) * n
-        return p
+                n[i] = (0.0, 0.0, 1.0)
+        rows = np.arange(p.shape[0])
+        depth = -d[rows, k]
+        scale = max(self.radii.max(initial=1.0), 1.0)
+        margin = np.full(p.shape[0], eps * scale)
+        q = p + (depth + margin)[:, None] * n
+        for _ in range(PUSH_DOUBLINGS):  # a body's surface (F = 0) lies a little outside its profile polyline
+            inside = self.distances(q, "true")[rows, k] < 0
+            if not inside.any():
+                break
+            margin[inside] *= 2.0
+            q[inside] = p[inside] + (depth[inside] + margin[inside])[:, None] * n[inside]
+        return q
 
     # ------------------------------------------------------------------ velocity
     def _sphere_parts(self, p: FloatArray) -> FloatArray:
