@@ -618,7 +618,7 @@ class FlowField:
         depth = -d[rows, k]
         scale = max(self.radii.max(initial=1.0), 1.0)
         margin = np.full(p.shape[0], eps * scale)
-        q = p + (depth + margin)[:, None] * n
+        q: FloatArray = p + (depth + margin)[:, None] * n
         for _ in range(PUSH_DOUBLINGS):  # a body's surface (F = 0) lies a little outside its profile polyline
             inside = self.distances(q, "true")[rows, k] < 0
             if not inside.any():
