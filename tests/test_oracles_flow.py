@@ -271,6 +271,23 @@ def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
     np.testing.assert_allclose(out[1], [0.0, 0.0, -5.507 + 5.51e-6], rtol=0, atol=1e-12)
 
 
+def test_min_distance_counts_the_start_and_the_exit_rules_points():
+    """The start and the exit rule's points are nodes of the path, so ``min_distance`` counts them.  By
+    hand: a start 5.505 m from a sphere inflated to 5.5 m is 0.005 m clear (its exit point, on the flow
+    sphere, and everything after are farther); in the wedge under a sphere's flow shell, the exit rule's
+    first point, 5.51 (1 + 10⁻⁶) m below the centre, is 0.0030055 m under the plane z = −5.507 m, so the
+    streamline ends there as ``contact`` with that clearance (both were counted from the last exit point
+    on)."""
+    field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
+    ray = np.array([2.0, -3.0, 6.0]) / 7.0
+    sl = integrate_streamlines(field, np.array([1.0, 2.0, -3.0]) + 5.505 * ray)
+    assert sl.arrived[0] and sl.min_distance[0] == pytest.approx(0.005, abs=1e-12)
+    assert sl.min_distance[0] == pytest.approx(field.clearance(sl.paths[0]).min(), abs=1e-12)
+    field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
+    sl = integrate_streamlines(field, np.array([0.0, 0.0, -5.505]))
+    assert sl.status[0] == "contact" and sl.min_distance[0] == pytest.approx(-(5.51 * (1 + 1e-6) - 5.507), abs=1e-12)
+
+
 def test_streamline_stops_at_the_step_cap():
     """``max_steps = 7`` and two starts 30 m from the goal: exactly 7 steps (8 nodes), status ``max_steps``.
     With ``max_steps = 30``, an on-axis start (its 6th or so step the front rule's sideways step) and an

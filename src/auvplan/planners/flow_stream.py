@@ -204,6 +204,11 @@ def integrate_streamlines(field: FlowField, starts: ArrayLike, params: FlowParam
     corrections = np.zeros(n, dtype=np.intp)
     deflections = np.zeros(n, dtype=np.intp)
     min_d = np.where(blocked, field.clearance(p), np.inf)
+    for i in np.flatnonzero(exits):  # the start and the exit rule's points are nodes of the path too
+        min_d[i] = field.clearance(np.vstack([np.asarray(starts, dtype=float).reshape(-1, 3)[i], *prefix[i]])).min()
+        if min_d[i] < 0:
+            status[i] = "contact"
+            active[i] = False
 
     def direction(x: FloatArray) -> tuple[FloatArray, FloatArray]:
         u = field.velocity(x)
