@@ -323,7 +323,7 @@ def test_sim_contact_is_penetration_and_names_what_was_hit():
     """Touching at exactly 0 m (the seabed or an obstacle's surface) is not a collision; any depth below
     it is.  The seabed is named first, even with an obstacle penetrated too; at an altitude of 0 to 1 m
     the obstacle the vehicle is deepest in is named (index into the static, then the moving ones)."""
-    from auvplan.sim import _contact_event
+    from auvplan.sim.events import _contact_event
 
     p = np.array([10.0, 20.0, -30.0])
     assert _contact_event(0.0, [0.0, 5.0], p, 0.0, (), 1.5) is None
@@ -349,7 +349,7 @@ def test_sim_moving_hit_is_unavoidable_when_at_least_as_fast_and_closing_in(velo
     """A moving obstacle (index 1 after one static) hit with its centre ``offset`` behind the vehicle:
     UNAVOIDABLE exactly when |v_o| >= V (1.5 m/s) and v_o · (p - c) > 0; also within a metre of the
     seabed (0 to 1 m altitude), where the seabed is not the one hit."""
-    from auvplan.sim import _contact_event
+    from auvplan.sim.events import _contact_event
 
     p = np.array([100.0, -40.0, -60.0])
     mover = _Mover(p - np.asarray(offset), velocity)
@@ -363,7 +363,7 @@ def test_sim_arrival_progress_and_deadlock_rules_at_their_boundaries():
     the best by more than 1 m (exactly 1 m is not progress, 1.5 m is); deadlock after more than
     ``deadlock_time`` without progress and only once the avoidance's escapes have given up (asked only
     when the time is up)."""
-    from auvplan.sim import PROGRESS_STEP, _arrived, _deadlocked, _progressed
+    from auvplan.sim.events import PROGRESS_STEP, _arrived, _deadlocked, _progressed
 
     assert _arrived(True, (3.0, 4.0, 0.0), (0.0, 0.0, 0.0), 5.0)
     assert not _arrived(True, (3.0, 4.0, 0.0), (0.0, 0.0, 0.0), 4.999)

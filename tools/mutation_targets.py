@@ -26,7 +26,7 @@ TERRAIN = "auvplan.world.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
 GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
-SIM = "auvplan.sim"
+SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
 
@@ -85,10 +85,10 @@ MODULES: dict[str, Target] = {
         jit=False,
     ),
     # the simulation's event detection (collision, arrival, deadlock, timeout): the pure event rules
-    # and the events block of simulate's loop (the rest of it records the run and steps the vehicle)
+    # and the loop's per-step events (the rest of the loop records the run and steps the vehicle)
     "sim": Target(
-        _fns(SIM, "_distance", "_obstacle_shapes", "_contact_event", "_arrived", "_progressed", "_deadlocked")
-        + ((SIM, "simulate", "# events", "if pitch_cmd is None"),),
+        _fns(SIM_EVENTS, "_distance", "_obstacle_shapes", "_contact_event", "_arrived", "_progressed", "_deadlocked")
+        + _fns(SIM_LOOP, "_step_events"),
         tuple(f"tests/test_oracles.py::test_{t}" for t in (
             "a_dive_into_the_seabed_ends_in_collision", "deadlock_is_declared_one_step_after_the_deadlock_time",
             "arrival_at_the_radius_and_timeout_at_max_time", "collision_names_the_obstacle_that_was_hit",

@@ -47,9 +47,9 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
     "sim-no-seabed-event": (
-        "sim.py",
-        "if alt < 0.0 or any(d < 0.0 for d in dists):",
-        "if any(d < 0.0 for d in dists):",
+        "sim/events.py",
+        "    if alt < 0.0:\n        return Status.COLLISION, \"the seabed\"\n",
+        "",
     ),
     "flow-sphere-leaky-line-image": (
         "planners/flow.py",

@@ -29,7 +29,8 @@ from .guidance.formation import FormationParams
 from .guidance.formation_plan import FormationPlan, plan_formation
 from .guidance.formation_steer import FormationCommand, formation_command
 from .planners.base import PlanResult, Progress
-from .sim import FAR, Mission, SimResult, _deadlocked, _distance, _obstacle_shapes, _progressed, planned_route
+from .sim import Mission, SimResult, planned_route
+from .sim.events import FAR, _deadlocked, _distance, _obstacle_shapes, _progressed
 from .vehicles import Vehicle, VehicleState
 from .world import World
 

@@ -20,6 +20,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ._types import FloatArray
 
 __all__ = ["VehicleParams", "VehicleState", "Vehicle"]
 
@@ -215,8 +219,8 @@ class Vehicle:
         e = (psi_d - s.psi + math.pi) % (2.0 * math.pi) - math.pi
         return self.kp * e - self.kd * s.r
 
-    def step(self, s: VehicleState, psi_d: float, theta_c: float, u_c: float, current: Sequence[float],
-             noise: Sequence[float]) -> tuple[float, float, float]:
+    def step(self, s: VehicleState, psi_d: float, theta_c: float, u_c: float, current: Sequence[float] | FloatArray,
+             noise: Sequence[float] | FloatArray) -> tuple[float, float, float]:
         """Advance ``s`` by one step in place; returns the ground velocity (m/s).
 
         Parameters

@@ -1,0 +1,34 @@
+"""Missions and their closed-loop simulation, one vehicle (formations: :mod:`auvplan.sim_formation`).
+
+Each idea has its module; every public name is importable from :mod:`auvplan.sim` itself:
+
+* :mod:`~auvplan.sim.mission`: what to fly (:class:`Mission`, :class:`SimSettings`);
+* :mod:`~auvplan.sim.events`: the event rules of one step (contact, arrival, progress, deadlock);
+* :mod:`~auvplan.sim.loop`: the fixed-step closed loop (:func:`simulate`, :func:`make_guidance`);
+* :mod:`~auvplan.sim.result`: what a run produced (:class:`SimResult`, :class:`SimMetrics`,
+  :class:`RunRecord`, :func:`decimate`);
+* :mod:`~auvplan.sim.pipeline`: plan → mission route → key waypoints → simulation (:func:`run_mission`).
+"""
+
+from __future__ import annotations
+
+from .loop import make_guidance, simulate
+from .mission import Mission, SimSettings
+from .pipeline import mission_route, planned_route, planning_problem, route_from_path, run_mission
+from .result import RunRecord, SimMetrics, SimResult, decimate
+
+__all__ = [
+    "SimSettings",
+    "Mission",
+    "SimResult",
+    "SimMetrics",
+    "RunRecord",
+    "planning_problem",
+    "make_guidance",
+    "simulate",
+    "run_mission",
+    "route_from_path",
+    "mission_route",
+    "planned_route",
+    "decimate",
+]

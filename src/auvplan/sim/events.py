@@ -1,0 +1,95 @@
+"""The closed loop's event rules, pure functions of one step: distances to the obstacles, contact
+(collision or unavoidable), arrival, progress and deadlock.  :func:`auvplan.sim.simulate` and
+:mod:`auvplan.sim_formation` apply them."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._types import Status
+from ..world import World
+from ..world.obstacles import Shape
+
+__all__: list[str] = []
+
+
+FAR = 60.0
+"""Obstacle distances beyond this (m) are recorded as the lower bound |p - c| - bounding radius
+(beyond the reach of every guidance law: APF radius 30 m, hybrid influence 25 m by default)."""
+
+
+def _distance(item: tuple[Shape, tuple[float, ...]] | None, pos: NDArray[np.float64], far: float = FAR) -> float:
+    """Distance to a placed shape's surface, exact within ``far`` (a cheap lower bound beyond)."""
+    if item is None:
+        return math.inf
+    shape, c = item
+    bound = math.dist((pos[0], pos[1], pos[2]), c) - shape.bounding_radius
+    if bound > far:
+        return bound
+    # the shape is defined about its own centre: move the query point instead of the shape
+    return shape.distance(pos - c + np.asarray(shape.center)).item()
+
+
+def _obstacle_shapes(world: World, t: float, centres: Sequence[Sequence[float] | NDArray[np.float64]] | None = None
+                     ) -> list[tuple[Any, tuple[float, ...]] | None]:
+    """(shape, centre) of every static and active moving obstacle at ``t`` (None when inactive);
+    ``centres`` are the moving obstacles' centres at ``t`` when the caller has them."""
+    items: list[tuple[Any, tuple[float, ...]] | None] = [(o, o.center) for o in world.obstacles]
+    if centres is None:
+        centres = [o.center(t) for o in world.moving]
+    items += [(o.shape, tuple(c)) if o.active(t) else None for o, c in zip(world.moving, centres)]
+    return items
+
+
+PROGRESS_STEP = 1.0
+"""Route progress (m) that counts as progress for the deadlock watch: the best progress so far must
+be exceeded by more than this."""
+
+
+def _contact_event(alt: float, dists: Sequence[float], pos: NDArray[np.float64], t: float,
+                   moving: Sequence[Any], speed: float) -> tuple[Status, str] | None:
+    """The collision at one step: ``(status, what was hit)``, or None.
+
+    Contact means penetration: an altitude below 0 (under the seabed) or a distance below 0 (inside an
+    obstacle); touching at exactly 0 m is not a collision, as a point with zero clearance is free for
+    :meth:`World.clearances`.  The seabed is named first; else the obstacle the vehicle is deepest in
+    (``dists`` lists the static obstacles, then ``moving``).  Hitting a moving obstacle is UNAVOIDABLE
+    when it is at least as fast as the vehicle (``speed``) and closing in, its velocity pointing towards
+    the vehicle (``v_o · (p - c) > 0``: tangential motion does not close in), else a COLLISION.
+    """
+    if alt < 0.0:
+        return Status.COLLISION, "the seabed"
+    if not any(d < 0.0 for d in dists):
+        return None
+    i = int(np.argmin(dists))
+    what = f"obstacle {i}"
+    j = i - (len(dists) - len(moving))
+    if j >= 0:
+        v_o = moving[j].velocity(t)
+        closing = float(np.dot(v_o, pos - moving[j].center(t))) > 0.0
+        if np.linalg.norm(v_o) >= speed and closing:
+            return Status.UNAVOIDABLE, what + f" (moving at {np.linalg.norm(v_o):.2f} m/s, faster than the vehicle, " \
+                "closing in)"
+    return Status.COLLISION, what
+
+
+def _arrived(last: bool, pos: Sequence[float], goal: Sequence[float] | NDArray[np.float64], radius: float) -> bool:
+    """Arrival: on the last leg and within ``radius`` of the goal (at exactly ``radius``: arrived)."""
+    return last and math.dist(pos, goal) <= radius
+
+
+def _progressed(progress: float, best: float) -> bool:
+    """Whether the route progress beats the best so far by more than :data:`PROGRESS_STEP`."""
+    return progress > best + PROGRESS_STEP
+
+
+def _deadlocked(t: float, best_time: float, deadlock_time: float, stalled: Callable[[], bool] | None) -> bool:
+    """Deadlock: no progress for more than ``deadlock_time`` since ``best_time`` and, with local avoidance,
+    its escapes given up (``stalled()`` is False; it is asked only once the time is up, as it runs them)."""
+    return t - best_time > deadlock_time and (stalled is None or not stalled())
+

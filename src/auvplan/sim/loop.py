@@ -1,0 +1,323 @@
+"""The closed-loop simulator of one vehicle.
+
+:func:`simulate` runs a fixed-step loop (``dt``) of guidance → autopilot → vehicle → world,
+with preallocated arrays and events: arrival (within ``arrival_radius`` of the last waypoint),
+collision (seabed or an obstacle surface), deadlock (no progress along the route for
+``deadlock_time``), timeout.  The loop is scalar Python on purpose (one vehicle, thousands of
+small steps); the world is queried through its vectorised kernels once per step.  Its phases:
+:func:`_setup` (the run's fixed inputs and state, :class:`_Run`), per step :func:`_sense` (what the
+vehicle is near), :func:`_command` (guidance or local avoidance), :meth:`_Recorder.add`,
+:func:`_step_events` (the rules of :mod:`auvplan.sim.events`) and :func:`_steer` (autopilot and
+vehicle), then :func:`_result`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from functools import partial
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._types import RngLike, Status, as_rng
+from ..guidance.hybrid import HybridGuidance
+from ..guidance.local import LocalAvoidance, key_waypoints
+from ..guidance.los import LosGuidance
+from ..guidance.predictive import PredictiveAvoidance
+from ..guidance.route import PathFollower, RoutePoint, RouteTracker
+from ..vehicles import Vehicle, VehicleState
+from ..world import World
+from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
+from .mission import Mission
+from .result import SimResult
+
+__all__ = ["make_guidance", "simulate"]
+
+_Placed = tuple[Any, tuple[float, ...]] | None
+"""An obstacle's (shape, centre) at one step, None when inactive (:func:`~auvplan.sim.events._obstacle_shapes`)."""
+
+
+def make_guidance(name: str, route: ArrayLike, mission: Mission) -> PathFollower:
+    """Make a path follower by name.
+
+    Parameters
+    ----------
+    name : {'hybrid', 'los', 'ilos'}
+        The path follower.
+    route : array_like
+        ``(N, 3)`` waypoints to follow (m).
+    mission : Mission
+        Its ``hybrid`` and ``los`` settings.
+
+    Returns
+    -------
+    PathFollower
+        :class:`~auvplan.guidance.hybrid.HybridGuidance` or :class:`~auvplan.guidance.los.LosGuidance`.
+    """
+    if name == "hybrid":
+        return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius), mission.hybrid)
+    if name in ("los", "ilos"):
+        return LosGuidance(RouteTracker(route, mission.los.switch_radius), mission.los, integral=name == "ilos")
+    raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
+
+
+def simulate(world: World, mission: Mission, route: ArrayLike | None = None, guidance: str | None = None,
+             rng: RngLike = None, avoidance: str | None = None, keys: ArrayLike | None = None,
+             progress: Callable[[float, float], object] | None = None) -> SimResult:
+    """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, currents, static and moving obstacles.
+    mission : Mission
+        Vehicle, guidance and simulation settings.
+    route : array_like (N, 3), optional
+        Waypoints to follow; the mission's own route by default.
+    guidance : str, optional
+        ``hybrid``, ``los`` or ``ilos``; the mission's choice by default.
+    rng : Generator, int or None
+        Seed of the wave disturbance and of the escape sub-goals.
+    avoidance : str, optional
+        ``predictive`` (prediction + velocity obstacles), ``apf`` (document 004) or ``none``; the
+        mission's choice by default.  With avoidance, a stalled route progress first runs
+        document 004's escapes for ``escape_time`` s before ``DEADLOCK`` is declared.
+    keys : array_like (K, 3), optional
+        Key waypoints for the APF; derived from the route by document 004's rule by default.
+    progress : callable, optional
+        ``progress(t, expected)`` every simulated minute: the time flown and the time the route
+        should take at the vehicle's speed (s), for a progress bar.
+
+    Returns
+    -------
+    SimResult
+        Status, recorded time series and events of the run.
+    """
+    t_wall = time.perf_counter()
+    run = _setup(world, mission, route, guidance, rng, avoidance, keys)
+    st, dt, s = mission.sim, mission.sim.dt, run.state
+    every = max(1, int(round(60.0 / dt)))
+    expected = run.tracker.total_length / mission.vehicle.speed
+    k = 0
+    for k in range(run.n_steps + 1):
+        t = k * dt
+        if progress is not None and k % every == 0:
+            progress(t, expected)
+        pos, shapes, dists, alt, cur = _sense(run, k, t)
+        psi_d, pitch_cmd, rp = _command(run, k, t, pos, shapes, dists, cur)
+        if k % st.record_every == 0:
+            run.rec.add(t, pos, s, run.vel, rp, alt, dists)
+        if _step_events(run, t, pos, alt, dists, rp):
+            break
+        _steer(run, k, psi_d, pitch_cmd, rp, cur)
+    else:
+        run.events.append((run.n_steps * dt, "timeout", f"not arrived after {run.max_time:.0f} s"))
+    if k % st.record_every != 0 or run.rec.n == 0:  # always keep the final state
+        _record_final(run, k * dt, rp)
+    return _result(run, time.perf_counter() - t_wall)
+
+
+class _Recorder:
+    """Preallocated time series of the run, one row per recorded step (:class:`~auvplan.sim.result.SimResult`)."""
+
+    def __init__(self, n_rec: int, n_obs: int) -> None:
+        self.n = 0
+        self.t, self.h, self.v, self.d, self.e, self.pr, self.alt = (np.empty(n_rec) for _ in range(7))
+        self.p = np.empty((n_rec, 3))
+        self.obs = np.empty((n_rec, n_obs))
+
+    def add(self, t: float, pos: ArrayLike, s: VehicleState, vel: tuple[float, float, float], rp: RoutePoint,
+            alt: float, dists: ArrayLike) -> None:
+        """Record one step: time, position, heading, rudder, speed over ground, route point, altitude, distances."""
+        n = self.n
+        self.t[n], self.p[n], self.h[n], self.d[n] = t, pos, s.psi, s.delta
+        self.v[n] = math.hypot(vel[0], vel[1])
+        self.e[n], self.pr[n], self.alt[n] = rp.cross, rp.progress, alt
+        self.obs[n] = dists
+        self.n += 1
+
+
+@dataclass(eq=False)
+class _Run:
+    """One run's fixed inputs (world, mission, follower, avoidance, vehicle, the moving obstacles' tracks,
+    the wave noise) and the state the loop carries (vehicle state and velocity, best progress, events)."""
+
+    world: World
+    mission: Mission
+    guide: PathFollower
+    local: LocalAvoidance | PredictiveAvoidance | None
+    avoidance: str
+    vehicle: Vehicle
+    state: VehicleState
+    max_time: float
+    n_steps: int
+    noise: NDArray[np.float64]  # (n_steps + 1, 2) standard normal draws of the wave disturbance
+    tracks: NDArray[np.float64]  # (n_steps + 1, M, 3) the moving obstacles' centres at every step time
+    velocities: NDArray[np.float64]  # (n_steps + 1, M, 3) their velocities
+    radii: list[float]
+    far: float
+    rec: _Recorder
+    goal: NDArray[np.float64]
+    vel: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    status: Status = Status.TIMEOUT
+    best_progress: float = -1.0
+    best_time: float = 0.0
+    events: list[tuple[float, str, str]] = field(default_factory=list)
+
+    @property
+    def tracker(self) -> RouteTracker:
+        """The path follower's route tracker."""
+        return self.guide.route
+
+
+def _local_avoidance(world: World, mission: Mission, name: str, route: NDArray[np.float64], guide: PathFollower,
+                     keys: ArrayLike | None, rng: np.random.Generator) -> LocalAvoidance | PredictiveAvoidance | None:
+    """The local avoidance ``name`` wraps around ``guide`` (None for ``none``)."""
+    if name not in ("apf", "predictive"):
+        return None
+    keys = key_waypoints(route, world, mission.avoidance.collision_check) if keys is None else keys
+    av = replace(mission.avoidance, name=name)
+    return LocalAvoidance(guide, keys, world, av, mission.vehicle.speed, rng) if name == "apf" \
+        else PredictiveAvoidance(guide, keys, world, av, mission.vehicle, rng)
+
+
+def _moving_tracks(world: World, n_steps: int, dt: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The moving obstacles' centres at every step time (one vectorised call per obstacle) and their
+    velocities (what the scenario knows; predictive avoidance may estimate them instead)."""
+    steps_t = np.arange(n_steps + 1) * dt
+    tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
+        if world.moving else np.empty((n_steps + 1, 0, 3))
+    velocities = np.asarray(np.gradient(tracks, dt, axis=0)) if n_steps > 0 else np.zeros_like(tracks)
+    return tracks, velocities
+
+
+def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: str | None, rng: RngLike,
+           avoidance: str | None, keys: ArrayLike | None) -> _Run:
+    """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed."""
+    gen = as_rng(mission.seed if rng is None else rng)
+    waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
+    st, vp = mission.sim, mission.vehicle
+    guide = make_guidance(guidance or mission.guidance, waypoints, mission)
+    av_name = avoidance or mission.avoidance.name
+    local = _local_avoidance(world, mission, av_name, waypoints, guide, keys, gen)  # before the noise: same draws
+    first = waypoints[1] - waypoints[0]
+    s = VehicleState(float(waypoints[0, 0]), float(waypoints[0, 1]), float(waypoints[0, 2]),
+                     math.atan2(first[0], first[1]) % (2 * math.pi), vp.speed)
+    max_time = st.max_time or 3.0 * guide.route.total_length / vp.speed + 120.0
+    n_steps = int(math.ceil(max_time / st.dt))
+    waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
+    noise = gen.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
+    tracks, velocities = _moving_tracks(world, n_steps, st.dt)
+    return _Run(world, mission, guide, local, av_name, Vehicle(vp, st.dt), s, max_time, n_steps, noise, tracks,
+                velocities, [o.shape.bounding_radius for o in world.moving],
+                max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0),
+                _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1])
+
+
+def _sense(run: _Run, k: int, t: float) -> tuple[NDArray[np.float64], list[_Placed], list[float], float,
+                                                    NDArray[np.float64]]:
+    """What the vehicle is in at step ``k``: its position, the obstacles (placed) and their distances, its
+    altitude above the seabed and the current."""
+    s, world = run.state, run.world
+    pos = np.array([s.x, s.y, s.z])
+    shapes = _obstacle_shapes(world, t, run.tracks[k].tolist())
+    dists = [_distance(sh, pos, run.far) for sh in shapes]
+    alt = s.z - world.terrain.elevation_at(s.x, s.y) if world.terrain is not None else math.inf
+    cur = world.currents.velocity(pos[None], t)[0]
+    return pos, shapes, dists, alt, cur
+
+
+def _command(run: _Run, k: int, t: float, pos: NDArray[np.float64], shapes: Sequence[_Placed],
+             dists: Sequence[float], cur: NDArray[np.float64]) -> tuple[float, float | None, RoutePoint]:
+    """The commanded heading, pitch (None: the autopilot's depth law) and route point of step ``k``."""
+    s, dt = run.state, run.mission.sim.dt
+    if run.local is None:
+        near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
+        psi_d, _, rp = run.guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
+        return psi_d, None, rp
+    n_static = len(run.world.obstacles)
+    obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
+                 (it[1][0], it[1][1], d, True, it[1], i, run.velocities[k, i - n_static], run.radii[i - n_static])
+                 for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
+    return run.local.command(pos, t, cur, obstacles, dt)
+
+
+def _step_events(run: _Run, t: float, pos: NDArray[np.float64], alt: float, dists: Sequence[float],
+                 rp: RoutePoint) -> bool:
+    """The events of one step (contact, arrival, deadlock) into ``run.events`` and ``run.status``;
+    True when the run ends.  Progress along the route resets the deadlock watch."""
+    st, s, local = run.mission.sim, run.state, run.local
+    hit = _contact_event(alt, dists, pos, t, run.world.moving, run.mission.vehicle.speed)
+    if hit is not None:
+        run.status, what = hit
+        kind = "unavoidable" if run.status is Status.UNAVOIDABLE else "collision"
+        run.events.append((t, kind, f"hit {what} at t = {t:.1f} s, position {pos.round(2).tolist()}"))
+        return True
+    if _arrived(rp.last, (s.x, s.y, s.z), run.goal, st.arrival_radius):
+        run.events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
+        run.status = Status.EXACT
+        return True
+    if _progressed(rp.progress, run.best_progress):
+        run.best_progress, run.best_time = rp.progress, t
+    elif _deadlocked(t, run.best_time, st.deadlock_time,
+                     None if local is None else partial(local.stalled, pos, t, run.best_time)):
+        tried = f" ({local.escapes} escapes tried)" if local is not None else ""
+        run.events.append((t, "deadlock", f"no progress along the route for {t - run.best_time:.0f} s{tried}"))
+        run.status = Status.DEADLOCK
+        return True
+    return False
+
+
+def _steer(run: _Run, k: int, psi_d: float, pitch_cmd: float | None, rp: RoutePoint, cur: NDArray[np.float64]) -> None:
+    """Autopilot and vehicle: one ``dt`` on the commanded heading and pitch (the depth law without a pitch)."""
+    s, vp = run.state, run.mission.vehicle
+    if pitch_cmd is None:
+        theta_c = rp.gamma + math.atan(vp.depth_gain * (rp.z_ref - s.z))
+    else:
+        theta_c = pitch_cmd
+    run.vel = run.vehicle.step(s, psi_d, theta_c, vp.speed if run.local is None else run.local.speed_command, cur,
+                               run.noise[k])
+
+
+def _record_final(run: _Run, t: float, rp: RoutePoint) -> None:
+    """Record the final state at ``t`` when its step was not recorded (altitude and distances recomputed
+    there, exact to :data:`~auvplan.sim.events.FAR`)."""
+    rec, s, world = run.rec, run.state, run.world
+    n = rec.n
+    rec.t[n], rec.p[n], rec.h[n], rec.d[n] = t, (s.x, s.y, s.z), s.psi, s.delta
+    rec.v[n] = math.hypot(run.vel[0], run.vel[1])
+    rec.e[n], rec.pr[n] = rp.cross, rp.progress
+    rec.alt[n] = float(world.terrain.altitude(rec.p[n])) if world.terrain is not None else math.inf
+    rec.obs[n] = [_distance(sh, rec.p[n]) for sh in _obstacle_shapes(world, t)]
+    rec.n += 1
+
+
+def _result(run: _Run, wall_time: float) -> SimResult:
+    """The run as a :class:`~auvplan.sim.result.SimResult`."""
+    rec, n, local = run.rec, run.rec.n, run.local
+    position = rec.p[:n].copy()
+    return SimResult(
+        status=run.status,
+        arrived=run.status is Status.EXACT,
+        t=rec.t[:n].copy(),
+        position=position,
+        heading=rec.h[:n].copy(),
+        speed=rec.v[:n].copy(),
+        rudder=rec.d[:n].copy(),
+        cross_track=rec.e[:n].copy(),
+        route_error=run.tracker.cross_track(position),
+        progress=rec.pr[:n].copy(),
+        altitude=rec.alt[:n].copy(),
+        obstacle_distance=rec.obs[:n].copy(),
+        events=tuple(run.events),
+        guidance=run.guide.name,
+        wall_time_s=wall_time,
+        escapes=local.escapes if local is not None else 0,
+        avoidance=run.avoidance,
+        decision_steps=local.decisions if local is not None else 0,
+        decision_time_s=local.decision_time if local is not None else 0.0,
+    )
