@@ -15,7 +15,7 @@ from .._types import Status
 from ..world import World
 from ..world.obstacles import Shape
 
-__all__: list[str] = []
+__all__: list[str] = []  # the rules are private to auvplan.sim and auvplan.sim_formation
 
 
 FAR = 60.0
