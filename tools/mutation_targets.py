@@ -29,6 +29,7 @@ GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
 SIM = "auvplan.sim"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
+ELEMENTS = "auvplan.planners.flow_elements"
 
 MODULES: dict[str, Target] = {
     # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
@@ -113,7 +114,8 @@ MODULES: dict[str, Target] = {
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
-        _fns(FLOW, "sink_velocity", "sphere_exact_velocity", "FlowField.clearance", "FlowField.inside_body",
+        _fns(ELEMENTS, "sink_velocity", "sphere_exact_velocity")
+        + _fns(FLOW, "FlowField.clearance", "FlowField.inside_body",
              "FlowField.push_out", "FlowField._sphere_parts", "FlowField._free", "FlowField.velocity")
         + _fns(STREAM, "_segment_clear", "_exit_body", "_deflect", "integrate_streamlines", "_Run.start",
                "_Run.advance", "_Run.sideways", "_Run.step", "_direction", "_rk4", "_guarded_rk4"),
