@@ -43,7 +43,8 @@ from .._types import ArrayLike, BoolArray, FloatArray, Status
 from ..world import Ellipsoid, Sphere, World
 from ..world.obstacles import Shape
 from .base import PlanningProblem, PlanResult
-from .flow_body import AxialBody, design_body, frame
+from .flow_body import AxialBody, frame
+from .flow_design import design_body
 from .flow_elements import (
     rankine_indicator,
     rankine_radius,
