@@ -251,7 +251,7 @@ def test_document_sizing_lets_streamlines_into_the_ellipsoid():
     """The document's Rankine sizing: the ellipsoid sticks out of the body (METHODS.md §1.4)."""
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="document"), 0.5)
     body = field.bodies[0]
-    from auvplan.planners.flow_body import offset_surface
+    from auvplan.planners.flow_design import offset_surface
 
     assert not body.inside(offset_surface(ELLIPSOID, 0.5)).all()
     near_axis = np.array([[-30.0, 0.2 * np.cos(a), 0.2 * np.sin(a)] for a in (0.0, 2.0, 4.0)])

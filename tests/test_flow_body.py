@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from auvplan.planners.flow_body import AxialBody, design_body, frame, offset_surface
+from auvplan.planners.flow_body import AxialBody, frame
+from auvplan.planners.flow_design import design_body, offset_surface
 from auvplan.world import Ellipsoid
 
 MARGIN = 0.5

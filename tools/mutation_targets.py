@@ -29,6 +29,7 @@ GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
+ELEMENTS = "auvplan.planners.flow_elements"
 
 MODULES: dict[str, Target] = {
     # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
@@ -113,9 +114,11 @@ MODULES: dict[str, Target] = {
     ),
     # the planner's flow field (sphere image solution, clearance) and the streamlines' stop conditions
     "flow": Target(
-        _fns(FLOW, "sink_velocity", "sphere_exact_velocity", "FlowField.clearance", "FlowField.inside_body",
+        _fns(ELEMENTS, "sink_velocity", "sphere_exact_velocity")
+        + _fns(FLOW, "FlowField.clearance", "FlowField.inside_body",
              "FlowField.push_out", "FlowField._sphere_parts", "FlowField._free", "FlowField.velocity")
-        + _fns(STREAM, "_segment_clear", "_exit_body", "_deflect", "integrate_streamlines"),
+        + _fns(STREAM, "_segment_clear", "_exit_body", "_deflect", "integrate_streamlines", "_Run.start",
+               "_Run.advance", "_Run.sideways", "_Run.step", "_direction", "_rk4", "_guarded_rk4"),
         # the field's oracle tests, test_oracles_flow.py (the mirror sink, push_out on a body, the exit rule
         # in a sphere's shell, the step cap, stagnation, the front rule's threshold, grazes) and the whole of
         # test_flow.py (~20 s: starts inside bodies, the on-axis rule, the seabed plane, streamlines that must
@@ -235,23 +238,28 @@ REASONS: dict[str, str] = {
         "the step is recorded in min_distance and plan_flow's exact segment test would reject the path",
     "_deflect | near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho <= 0.05 * R)":
         "boundary: a streamline exactly 0.05 R off the axis",
-    "integrate_streamlines | p = np.array(starts, dtype=float).reshape(-2, 3)": _NEG,
+    "integrate_streamlines | run = _Run.start(field, np.array(starts, dtype=float).reshape(-2, 3), "
+    "params.max_steps + 1)": _NEG,
     "FlowField.clearance | near = lb <= max(ob.semi_axes)":
         "boundary: differs only where the lower bound equals the largest semi-axis exactly; the exact distance "
         "(>= the bound) is then returned instead of the bound",
+    "FlowField.push_out | inside = self.distances(q, 'true')[rows, k] <= 0":
+        "boundary: a pushed point exactly on its surface (distance 0.0) gets one more doubling of the margin",
+    "FlowField.push_out | continue":
+        "equivalent: once no point is inside, the remaining doublings find none inside again and change nothing",
     "FlowField.push_out | k = d.argmin(axis=1)": "equivalent: d is (N, K) here (p is reshaped to (N, 3)), axis 1 "
         "is axis -1",
-    "integrate_streamlines | for _ in range(7):":
+    "_guarded_rk4 | for _ in range(7):":
         "not killed: a seventh quartering (h / 16384) only lets a streamline creeping into a leaky surface take "
         "one more tiny step before the graze correction; its nodes stay outside either way",
-    "integrate_streamlines | graze = (d_next < 0) & (d_next >= -0.001 * h_min / 0.05)": _GRAZE,
-    "integrate_streamlines | graze = (d_next < 0) & (d_next > -1.001 * h_min / 0.05)": _GRAZE,
-    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 / h_min / 0.05)":
+    "_guarded_rk4 | graze = np.flatnonzero((d_next < 0) & (d_next >= -0.001 * h_min / 0.05))": _GRAZE,
+    "_guarded_rk4 | graze = np.flatnonzero((d_next < 0) & (d_next > -1.001 * h_min / 0.05))": _GRAZE,
+    "_guarded_rk4 | graze = np.flatnonzero((d_next < 0) & (d_next > -0.001 / h_min / 0.05))":
         _GRAZE + " (here 0.02 / h_min >= h_min / 4096 for h_min <= 9 m, i.e. obstacles up to ~180 m)",
     "FlowField.inside_body | return np.asarray((d <= 0).any(axis=-1) if d.shape[-1] else np.zeros(d.shape[:-1], "
     "dtype=bool))":
         "boundary: a point exactly on a flow surface (distance 0.0), which the exit rule then leaves as it is",
-    "FlowField.push_out | n = self.bodies[j - ns].normal(p[i:i + 2])[0] if self.contained else "
+    "FlowField.push_out | n[i] = self.bodies[j - ns].normal(p[i:i + 2])[0] if self.contained else "
     "self.items[j].gradient(p[i])": "equivalent: row 0 of the normals of p[i:i + 2] is the normal at p[i]",
     "FlowField._sphere_parts | b = np.linalg.norm(Tc, axis=1)": "equivalent: Tc is (S, 3), axis 1 is axis -1",
     "FlowField._free | mirror = self.target / np.array([1.0, 1.0, -1.0]) + np.array([0.0, 0.0, 2.0 * self.plane])":
@@ -268,11 +276,11 @@ REASONS: dict[str, str] = {
         "not killed (no oracle): needs a sideways step whose midpoint lies inside a second flow surface while its "
         "end is outside all (an obstacle under ~0.1 R at the front stagnation point of a larger one); the "
         "planner's exact segment test would still reject the path",
-    "integrate_streamlines | sp = np.linalg.norm(u, axis=1, keepdims=True)":
+    "_direction | sp = np.linalg.norm(u, axis=1, keepdims=True)":
         "equivalent: the points are (N, 3) here, axis 1 is axis -1",
-    "integrate_streamlines | d = dall.min(axis=-1) if dall.shape[1] else np.full(idx.size, np.inf)":
+    "_Run.step | d = dall.min(axis=-1) if dall.shape[1] else np.full(idx.size, np.inf)":
         "equivalent: dall is (N, K) here, axis 1 is axis -1",
-    "integrate_streamlines | stalled = sp <= params.stagnation * ref":
+    "_Run.step | stalled = sp <= params.stagnation * ref":
         "boundary: a speed exactly at the stagnation fraction of the bare sink's",
     "FlowField.push_out | p = np.array(p, dtype=float).reshape(-2, 3)": _NEG,
     "_deflect | s = np.where((rho >= 1e-09 * R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
@@ -281,11 +289,11 @@ REASONS: dict[str, str] = {
     "cand[ok])[None], 'true').min() > 0:":
         "not killed (no oracle): differs only when one of the sideways step's end and midpoint lies inside a flow "
         "surface and the other not (a second obstacle under ~0.1 R at the front of a larger one; see above)",
-    "integrate_streamlines | arrived = dist_goal < params.arrive": "boundary: a node exactly at the arrival radius",
-    "integrate_streamlines | missed = ((x - T) @ field.direction >= 0) & ~arrived":
+    "_Run.step | arrived = dist_goal < params.arrive": "boundary: a node exactly at the arrival radius",
+    "_Run.step | missed = ((x - T) @ field.direction >= 0) & ~arrived":
         "boundary: a node exactly in the goal's plane (uniform field)",
-    "integrate_streamlines | graze = (d_next < 0) & (d_next > -0.001 * h_min / 1.05)": _GRAZE,
-    "integrate_streamlines | contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
+    "_guarded_rk4 | graze = np.flatnonzero((d_next < 0) & (d_next > -0.001 * h_min / 1.05))": _GRAZE,
+    "_Run.step | contact = (d_next < 0) | (self.corrections[idx] > MAX_CORRECTIONS) | (clear_next <= 0)":
         "boundary: a node whose clearance is exactly 0.0",
     "FlowField.velocity | if parts.shape[2] == 1:":
         "equivalent: a single field then goes through the blend, whose one weight is exactly 1.0 (both weight "
@@ -298,16 +306,13 @@ REASONS: dict[str, str] = {
         "boundary: a node exactly at the rule's distance threshold",
     "_deflect | s = np.where((rho > 1e-09 / R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])":
         "boundary: differs only for a streamline between 1e-9 / R and 1e-9 R off the axis (nanometres)",
-    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) >= params.arrive) & (deflections[idx] < "
-    "MAX_DEFLECTIONS)": "boundary: a node exactly at the arrival radius",
-    "integrate_streamlines | defl &= (np.linalg.norm(p[idx] - T, axis=1) > params.arrive) & (deflections[idx] <= "
-    "MAX_DEFLECTIONS)": "not killed: needs a streamline sent sideways 20 times (bouncing between obstacles' fronts)",
-    "integrate_streamlines | d = dall.min(axis=1) if dall.shape[-1] else np.full(idx.size, np.inf)":
+    "_Run.sideways | far = np.linalg.norm(self.p[idx] - field.target, axis=1) >= arrive":
+        "boundary: a node exactly at the arrival radius",
+    "_Run.sideways | defl &= far & (self.deflections[idx] <= MAX_DEFLECTIONS)":
+        "not killed: needs a streamline sent sideways 20 times (bouncing between obstacles' fronts)",
+    "_Run.step | d = dall.min(axis=1) if dall.shape[-1] else np.full(idx.size, np.inf)":
         "equivalent: dall is (N, K) here, axis 1 is axis -1",
-    "integrate_streamlines | continue":
-        "equivalent: both breaks (no active streamline left; no step left to retry) leave a loop whose remaining "
-        "iterations would do nothing",
-    "integrate_streamlines | graze = (d_next <= 0) & (d_next > -0.001 * h_min / 0.05)":
+    "_guarded_rk4 | graze = np.flatnonzero((d_next <= 0) & (d_next > -0.001 * h_min / 0.05))":
         "boundary: differs only for a step ending exactly on a flow surface (distance 0.0), which is then moved "
         "1e-9 R outside and counted as a correction",
     # grid

@@ -182,70 +182,93 @@ def integrate_streamlines(field: FlowField, starts: ArrayLike, params: FlowParam
     params = params or field.params
     sizes = [ob.radius for ob in field.spheres] + [min(ob.semi_axes) for ob in field.ellipsoids]
     h_min = params.h_min or (0.05 * (min(sizes) + field.margin) if sizes else 0.01)
-    p = np.array(starts, dtype=float).reshape(-1, 3)
-    n = p.shape[0]
-    T = field.target
-    status = np.array(["max_steps"] * n, dtype=object)
-    active = np.ones(n, dtype=bool)
-    blocked = field.clearance(p) < 0
-    status[blocked] = "inside_obstacle"
-    active[blocked] = False
-    prefix: list[list[np.ndarray]] = [[] for _ in range(n)]
-    exits = np.zeros(n, dtype=bool)
-    for i in np.flatnonzero(field.inside_body(p) & active):
-        prefix[i] = _exit_body(field, p[i].copy())
-        exits[i] = True
-        if prefix[i]:
-            p[i] = prefix[i][-1]
-    cap = params.max_steps + 1
-    track = np.full((cap, n, 3), np.nan)
-    track[0] = p
-    count = np.ones(n, dtype=np.intp)
-    corrections = np.zeros(n, dtype=np.intp)
-    deflections = np.zeros(n, dtype=np.intp)
-    min_d = np.where(blocked, field.clearance(p), np.inf)
-    for i in np.flatnonzero(exits):  # the start and the exit rule's points are nodes of the path too
-        min_d[i] = field.clearance(np.vstack([np.asarray(starts, dtype=float).reshape(-1, 3)[i], *prefix[i]])).min()
-        if min_d[i] < 0:
-            status[i] = "contact"
-            active[i] = False
-
-    def direction(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        u = field.velocity(x)
-        sp = np.linalg.norm(u, axis=-1, keepdims=True)
-        return u / np.maximum(sp, 1e-300), sp[..., 0]
-
-    def rk4(x: FloatArray, k1: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
-        k2, _ = direction(x + 0.5 * h[:, None] * k1)
-        k3, _ = direction(x + 0.5 * h[:, None] * k2)
-        k4, _ = direction(x + h[:, None] * k3)
-        nxt = x + h[:, None] / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-        return nxt, _flow_distance(field, nxt)
-
-    for k in range(1, cap):
-        idx = np.flatnonzero(active)
+    run = _Run.start(field, np.array(starts, dtype=float).reshape(-1, 3), params.max_steps + 1)
+    for k in range(1, params.max_steps + 1):
+        idx = np.flatnonzero(run.active)
         if idx.size == 0:
             break
-        dall = field.distances(p[idx], "true")
-        defl, moved = _deflect(field, p[idx], dall, h_min)
-        defl &= (np.linalg.norm(p[idx] - T, axis=1) > params.arrive) & (deflections[idx] < MAX_DEFLECTIONS)
-        if defl.any():  # the sideways step is this step of those streamlines
+        dall = field.distances(run.p[idx], "true")
+        idx, dall = run.sideways(field, k, idx, dall, h_min, params.arrive)
+        if idx.size:
+            run.step(field, k, idx, dall, h_min, params)
+    return _collect(run.track, run.count, run.prefix, starts, run.status, run.min_d, run.corrections,
+                    run.deflections, run.exits, field.target, t0)
+
+
+@dataclass(eq=False)
+class _Run:
+    """The streamlines' state while they are integrated (one entry per start)."""
+
+    p: FloatArray
+    status: npt.NDArray[np.object_]
+    active: BoolArray
+    prefix: list[list[FloatArray]]
+    exits: BoolArray
+    track: FloatArray
+    count: IntArray
+    corrections: IntArray
+    deflections: IntArray
+    min_d: FloatArray
+
+    @classmethod
+    def start(cls, field: FlowField, starts: FloatArray, cap: int) -> _Run:
+        """The starts: inside an obstacle's margin (stopped), inside a flow surface (the exit rule's
+        points first; stopped as ``contact`` if one of them lies within the margin), or free."""
+        p = starts.copy()
+        n = p.shape[0]
+        status = np.array(["max_steps"] * n, dtype=object)
+        blocked = field.clearance(p) < 0
+        status[blocked] = "inside_obstacle"
+        active = ~blocked
+        prefix: list[list[FloatArray]] = [[] for _ in range(n)]
+        exits = np.zeros(n, dtype=bool)
+        for i in np.flatnonzero(field.inside_body(p) & active):
+            prefix[i] = _exit_body(field, p[i].copy())
+            exits[i] = True
+            if prefix[i]:
+                p[i] = prefix[i][-1]
+        track = np.full((cap, n, 3), np.nan)
+        track[0] = p
+        min_d = np.where(blocked, field.clearance(p), np.inf)
+        for i in np.flatnonzero(exits):  # the start and the exit rule's points are nodes of the path too
+            min_d[i] = field.clearance(np.vstack([starts[i], *prefix[i]])).min()
+            if min_d[i] < 0:
+                status[i] = "contact"
+                active[i] = False
+        return cls(p, status, active, prefix, exits, track, np.ones(n, dtype=np.intp), np.zeros(n, dtype=np.intp),
+                   np.zeros(n, dtype=np.intp), min_d)
+
+    def advance(self, k: int, j: IntArray, to: FloatArray, clearance: FloatArray) -> None:
+        """Streamlines ``j`` take node ``k`` at ``to``, whose clearance is ``clearance``."""
+        self.p[j] = to
+        self.track[k, j] = to
+        self.count[j] += 1
+        self.min_d[j] = np.minimum(self.min_d[j], clearance)
+
+    def sideways(self, field: FlowField, k: int, idx: IntArray, dall: FloatArray, h_min: float,
+                 arrive: float) -> tuple[IntArray, FloatArray]:
+        """The front stagnation rule's sideways step as step ``k`` (:func:`_deflect`); returns the
+        streamlines left to integrate and their flow distances."""
+        defl, moved = _deflect(field, self.p[idx], dall, h_min)
+        far = np.linalg.norm(self.p[idx] - field.target, axis=1) > arrive
+        defl &= far & (self.deflections[idx] < MAX_DEFLECTIONS)
+        if defl.any():
             j = idx[defl]
-            p[j] = moved[defl]
-            track[k, j] = p[j]
-            count[j] += 1
-            deflections[j] += 1
-            min_d[j] = np.minimum(min_d[j], field.clearance(p[j]))
-            idx, dall = idx[~defl], dall[~defl]
-            if idx.size == 0:
-                continue
-        x = p[idx]
+            self.advance(k, j, moved[defl], field.clearance(moved[defl]))
+            self.deflections[j] += 1
+        return idx[~defl], dall[~defl]
+
+    def step(self, field: FlowField, k: int, idx: IntArray, dall: FloatArray, h_min: float,
+             params: FlowParams) -> None:
+        """One RK4 step of streamlines ``idx`` and the events at its end (arrival, stagnation, a missed
+        goal, contact)."""
+        x, T = self.p[idx], field.target
         d = dall.min(axis=-1) if dall.shape[-1] else np.full(idx.size, np.inf)
-        min_d[idx] = np.minimum(min_d[idx], _clearance_below(field, x, d, min_d[idx]))
+        self.min_d[idx] = np.minimum(self.min_d[idx], _clearance_below(field, x, d, self.min_d[idx]))
         dist_goal = np.linalg.norm(x - T, axis=1)
         arrived = dist_goal <= params.arrive
         h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
-        k1, sp = direction(x)
+        k1, sp = _direction(field, x)
         if field.direction is not None:
             ref = 1.0
             missed = ((x - T) @ field.direction > 0) & ~arrived
@@ -253,34 +276,56 @@ def integrate_streamlines(field: FlowField, starts: ArrayLike, params: FlowParam
             ref = params.strength / (FOUR_PI * np.maximum(dist_goal, 1e-300) ** 2)
             missed = np.zeros(idx.size, dtype=bool)
         stalled = sp < params.stagnation * ref
-        nxt, d_next = rk4(x, k1, h)
-        for _ in range(6):  # event: a step that would enter a surface is retried at a quarter of its size
-            retry = d_next < 0
-            if not retry.any():
-                break
-            h[retry] *= 0.25
-            nxt[retry], d_next[retry] = rk4(x[retry], k1[retry], h[retry])
-        graze = (d_next < 0) & (d_next > -1e-3 * h_min / 0.05)
-        if graze.any():
-            g = np.flatnonzero(graze)
-            nxt[g] = field.push_out(nxt[g])
-            d_next[g] = _flow_distance(field, nxt[g])
-            corrections[idx[g]] += 1
-        clear_next = _clearance_below(field, nxt, d_next, min_d[idx])  # +inf: not below the current minimum
-        contact = (d_next < 0) | (corrections[idx] > MAX_CORRECTIONS) | (clear_next < 0)
+        nxt, d_next, graze = _guarded_rk4(field, x, k1, h, h_min)
+        self.corrections[idx[graze]] += 1
+        clear_next = _clearance_below(field, nxt, d_next, self.min_d[idx])  # +inf: not below the current minimum
+        contact = (d_next < 0) | (self.corrections[idx] > MAX_CORRECTIONS) | (clear_next < 0)
         stop = arrived | stalled | missed
         move = ~stop
         ok = move & ~contact
-        p[idx[ok]] = nxt[ok]
-        track[k, idx[ok]] = nxt[ok]
-        count[idx[ok]] += 1
-        min_d[idx[ok]] = np.minimum(min_d[idx[ok]], clear_next[ok])
-        status[idx[arrived]] = "arrived"
-        status[idx[stalled & ~arrived]] = "stagnation"
-        status[idx[missed & ~stalled]] = "missed"
-        status[idx[contact & move]] = "contact"
-        active[idx[stop | (contact & move)]] = False
-    return _collect(track, count, prefix, starts, status, min_d, corrections, deflections, exits, T, t0)
+        self.advance(k, idx[ok], nxt[ok], clear_next[ok])
+        self.status[idx[arrived]] = "arrived"
+        self.status[idx[stalled & ~arrived]] = "stagnation"
+        self.status[idx[missed & ~stalled]] = "missed"
+        self.status[idx[contact & move]] = "contact"
+        self.active[idx[stop | (contact & move)]] = False
+
+
+def _direction(field: FlowField, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Unit flow direction and flow speed at ``x``."""
+    u = field.velocity(x)
+    sp = np.linalg.norm(u, axis=-1, keepdims=True)
+    return u / np.maximum(sp, 1e-300), sp[..., 0]
+
+
+def _rk4(field: FlowField, x: FloatArray, k1: FloatArray, h: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """One RK4 step of the unit direction field from ``x`` (``k1`` its direction there) by ``h``; the
+    end points and their flow distances."""
+    k2, _ = _direction(field, x + 0.5 * h[:, None] * k1)
+    k3, _ = _direction(field, x + 0.5 * h[:, None] * k2)
+    k4, _ = _direction(field, x + h[:, None] * k3)
+    nxt = x + h[:, None] / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return nxt, _flow_distance(field, nxt)
+
+
+def _guarded_rk4(field: FlowField, x: FloatArray, k1: FloatArray, h: FloatArray,
+                 h_min: float) -> tuple[FloatArray, FloatArray, IntArray]:
+    """An RK4 step that does not enter a flow surface: a step whose end would is retried at a quarter
+    of its size (six times); a graze left after that (at most 10⁻³ of the obstacle size) is pushed
+    back out along the surface's normal.  Returns the end points, their flow distances and the
+    indices of the grazes corrected (``h`` is shortened in place)."""
+    nxt, d_next = _rk4(field, x, k1, h)
+    for _ in range(6):
+        retry = d_next < 0
+        if not retry.any():
+            break
+        h[retry] *= 0.25
+        nxt[retry], d_next[retry] = _rk4(field, x[retry], k1[retry], h[retry])
+    graze = np.flatnonzero((d_next < 0) & (d_next > -1e-3 * h_min / 0.05))
+    if graze.size:
+        nxt[graze] = field.push_out(nxt[graze])
+        d_next[graze] = _flow_distance(field, nxt[graze])
+    return nxt, d_next, graze
 
 
 def _clearance_below(field: FlowField, x: FloatArray, d: FloatArray, current: FloatArray) -> FloatArray:
