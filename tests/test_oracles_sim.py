@@ -902,3 +902,29 @@ def test_lattice_astar_finds_each_starts_dijkstra_cost_on_an_obstacle_lattice():
     d0, _, settled0 = search(shape, bits, steps, origin, still, cost, (near, w_goal), (sn, ws), start, 0.0)
     np.testing.assert_allclose(d0, want, rtol=1e-12)
     assert settled0 == settled_full
+
+
+@pytest.mark.parametrize("max_time", [120.0, 60.25])
+def test_sim_the_final_sample_off_the_recording_grid_is_the_state_at_its_time(max_time):
+    """The same deterministic run recorded every step and every 7th step: the samples they share agree
+    exactly, the final one included, which is off the 7-step grid (1 200 and 603 steps; a timeout).
+    The final state used to be taken one step after its time stamp (the vehicle stepped once more
+    after the last step), and its obstacle distances with the default exact range, not the run's."""
+    from auvplan.sim import SimSettings
+    from auvplan.world.moving import LinearMotion, MovingObstacle
+
+    route = ((100.0, 500.0, -60.0), (900.0, 500.0, -60.0))
+    moving = MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 420.0, -60.0), (0.0, 0.4, 0.0)))
+    world = replace(flat_world(depth=100.0, size=1000.0, obstacles=(Sphere((300.0, 540.0, -60.0), 8.0),)),
+                    moving=(moving,))
+    runs = [simulate(world, Mission("grid", route[0], route[-1], route=route,
+                                    sim=SimSettings(max_time=max_time, record_every=every)),
+                     guidance="los", rng=0, avoidance="none") for every in (1, 7)]
+    full, sparse = runs
+    assert full.status is sparse.status is Status.TIMEOUT
+    n_steps = int(math.ceil(max_time / 0.1))
+    assert n_steps % 7 != 0 and sparse.t[-1] == full.t[-1] == pytest.approx(n_steps * 0.1)
+    at = np.searchsorted(full.t, sparse.t)
+    np.testing.assert_array_equal(full.t[at], sparse.t)
+    for name in ("position", "heading", "speed", "altitude", "obstacle_distance", "progress"):
+        np.testing.assert_array_equal(getattr(full, name)[at], getattr(sparse, name), err_msg=name)

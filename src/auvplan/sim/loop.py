@@ -113,11 +113,13 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
             run.rec.add(t, pos, s, run.vel, rp, alt, dists)
         if _step_events(run, t, pos, alt, dists, rp):
             break
-        _steer(run, k, psi_d, pitch_cmd, rp, cur)
+        if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
+            _steer(run, k, psi_d, pitch_cmd, rp, cur)
     else:
         run.events.append((run.n_steps * dt, "timeout", f"not arrived after {run.max_time:.0f} s"))
-    if k % st.record_every != 0 or run.rec.n == 0:  # always keep the final state
-        _record_final(run, k * dt, rp)
+    if k % st.record_every != 0:  # always keep the final state, sensed as every recorded one
+        pos, _, dists, alt, _ = _sense(run, k, k * dt)
+        run.rec.add(k * dt, pos, s, run.vel, rp, alt, dists)
     return _result(run, time.perf_counter() - t_wall)
 
 
@@ -281,19 +283,6 @@ def _steer(run: _Run, k: int, psi_d: float, pitch_cmd: float | None, rp: RoutePo
         theta_c = pitch_cmd
     run.vel = run.vehicle.step(s, psi_d, theta_c, vp.speed if run.local is None else run.local.speed_command, cur,
                                run.noise[k])
-
-
-def _record_final(run: _Run, t: float, rp: RoutePoint) -> None:
-    """Record the final state at ``t`` when its step was not recorded (altitude and distances recomputed
-    there, exact to :data:`~auvplan.sim.events.FAR`)."""
-    rec, s, world = run.rec, run.state, run.world
-    n = rec.n
-    rec.t[n], rec.p[n], rec.h[n], rec.d[n] = t, (s.x, s.y, s.z), s.psi, s.delta
-    rec.v[n] = math.hypot(run.vel[0], run.vel[1])
-    rec.e[n], rec.pr[n] = rp.cross, rp.progress
-    rec.alt[n] = float(world.terrain.altitude(rec.p[n])) if world.terrain is not None else math.inf
-    rec.obs[n] = [_distance(sh, rec.p[n]) for sh in _obstacle_shapes(world, t)]
-    rec.n += 1
 
 
 def _result(run: _Run, wall_time: float) -> SimResult:
