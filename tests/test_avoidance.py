@@ -10,7 +10,8 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.bench import perturb_moving
-from auvplan.guidance.local import AvoidanceParams, apf_force, run_point_model
+from auvplan.guidance.local import AvoidanceParams, apf_force
+from auvplan.guidance.point_model import run_point_model
 from auvplan.guidance.predictive import TrackEstimator
 from auvplan.guidance.vo import CFG, closest_approach, predicted_preference, vo_choose
 from auvplan.io import scenario as sc
