@@ -2,13 +2,14 @@
 
 A population optimiser alone, started at random over ``K`` control points, spends its budget
 sorting out *which* control points do what before it can shape the path: on chagos-banks IABC's
-colony settles with four of six control points crowded near the start and one wide arc around
+colony settles with three or four of six control points crowded near the start and one wide arc around
 the bank (+2–4 % against the reference), and no setting of the algorithm moves the idle control
 points to the corner the path must turn.  Searched first with ``⌈K/2⌉`` control points, the
 route (which side of each bank, where the path turns) is found in a space half as large; the
 best paths of that stage, refitted to ``K`` control points with the fit weighted towards the
 bends (:func:`~auvplan.planners.seeding.fit_control_points`, ``bend``), then seed the full
-search, which starts with its control points where the path turns.
+search (at most half of its first population, the rest drawn as usual), which starts with its
+control points where the path turns.
 
 No lattice and no local polish are involved: this is still the optimiser alone, run twice at two
 resolutions of the same representation, and every evaluation of both stages counts against the
