@@ -243,10 +243,10 @@ REASONS: dict[str, str] = {
     "FlowField.clearance | near = lb <= max(ob.semi_axes)":
         "boundary: differs only where the lower bound equals the largest semi-axis exactly; the exact distance "
         "(>= the bound) is then returned instead of the bound",
-    "FlowField.push_out | inside = self.distances(q, 'true')[rows, k] <= 0":
+    "FlowField.push_out | inside = self.distances(q[todo], 'true')[np.arange(todo.size), k[todo]] <= 0":
         "boundary: a pushed point exactly on its surface (distance 0.0) gets one more doubling of the margin",
     "FlowField.push_out | continue":
-        "equivalent: once no point is inside, the remaining doublings find none inside again and change nothing",
+        "equivalent: once no point is inside, the remaining doublings have no point to move and change nothing",
     "FlowField.push_out | k = d.argmin(axis=1)": "equivalent: d is (N, K) here (p is reshaped to (N, 3)), axis 1 "
         "is axis -1",
     "_guarded_rk4 | for _ in range(7):":

@@ -338,12 +338,14 @@ class FlowField:
         scale = max(self.radii.max(initial=1.0), 1.0)
         margin = np.full(p.shape[0], eps * scale)
         q: FloatArray = p + (depth + margin)[:, None] * n
+        todo = rows
         for _ in range(PUSH_DOUBLINGS):  # a body's surface (F = 0) lies a little outside its profile polyline
-            inside = self.distances(q, "true")[rows, k] < 0
-            if not inside.any():
+            inside = self.distances(q[todo], "true")[np.arange(todo.size), k[todo]] < 0
+            todo = todo[inside]
+            if not todo.size:
                 break
-            margin[inside] *= 2.0
-            q[inside] = p[inside] + (depth[inside] + margin[inside])[:, None] * n[inside]
+            margin[todo] *= 2.0
+            q[todo] = p[todo] + (depth[todo] + margin[todo])[:, None] * n[todo]
         return q
 
     # ------------------------------------------------------------------ velocity
