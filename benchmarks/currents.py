@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.world import GriddedCurrent
 
 

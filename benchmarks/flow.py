@@ -21,9 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario as sc
-from auvplan.planners.flow import FlowField, FlowParams, integrate_streamlines
-from auvplan.planners.flow_design import design_body
+from auvplan.io.scenario import loader as sc
+from auvplan.planners.flow.design import design_body
+from auvplan.planners.flow.field import FlowField
+from auvplan.planners.flow.stream import integrate_streamlines
+from auvplan.planners.params import FlowParams
 from auvplan.world import Ellipsoid, Sphere
 
 ELLIPSOID = Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0))
@@ -111,7 +113,7 @@ def peer(name, obstacles, goal, n: int = 40) -> str:
 def volumes() -> list[str]:
     lines = ["| obstacle | goal | body | volume (m³) | / inflated ellipsoid | contains the inflated obstacle |",
              "|---|---|---|---|---|---|"]
-    from auvplan.planners.flow_design import offset_surface
+    from auvplan.planners.flow.design import offset_surface
 
     cases = (("(8, 4, 3)", ELLIPSOID, np.array([30.0, 0.0, 0.0])),
              ("(8, 4, 3)", ELLIPSOID, np.array([28.0, 28.0, 0.0])),

@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.bench import perturb_moving
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate
-from auvplan.sim_formation import run_formation
+from auvplan.sim.formation import run_formation
 
 SCENARIO = "chagos-formation"
 

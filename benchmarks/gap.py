@@ -31,7 +31,7 @@ PLANNERS = ("iabc", "abc", "ga", "pso", "de")
 
 
 def _problem(scenario: str, budget: int):
-    from auvplan.io import scenario as sc
+    from auvplan.io.scenario import loader as sc
     from auvplan.sim import planning_problem
 
     world, mission = sc.build(sc.load(scenario))

@@ -45,10 +45,10 @@ def _rss_mib() -> float:
 
 def measure(cell: float, scenario: str) -> dict:
     """One cell size on one scenario (see the module notes)."""
-    from auvplan.io import scenario as sc
+    from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridParams, GridReference, plan_grid
-    from auvplan.planners.lattice import node_fields
-    from auvplan.planners.swarm_problem import cost_model_for, search_box
+    from auvplan.planners.grid.lattice import node_fields
+    from auvplan.planners.swarm.problem import cost_model_for, search_box
     from auvplan.sim import planning_problem
 
     world, mission = sc.build(sc.load(scenario))

@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.optim import Problem
 from auvplan.planners import plan, reference
-from auvplan.planners.swarm_problem import path_terms, spline_problem
+from auvplan.planners.swarm.problem import path_terms, spline_problem
 from auvplan.sim import planning_problem
 
 SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")

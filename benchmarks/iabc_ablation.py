@@ -19,10 +19,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.optim import IABC, IABCParams, Termination, minimize
 from auvplan.optim.bee import ABC, chaotic_uniform_population, gaussian_mutation, logistic_map_population
-from auvplan.planners.swarm_problem import spline_problem
+from auvplan.planners.swarm.problem import spline_problem
 from auvplan.sim import planning_problem
 
 SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")

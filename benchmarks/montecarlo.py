@@ -31,7 +31,7 @@ import numpy as np
 
 from auvplan.bench import perturb_moving
 from auvplan.guidance.local import key_waypoints
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import PlanningProblem, plan
 from auvplan.sim import mission_route, planning_problem, simulate
 from auvplan.world import Sphere

@@ -19,10 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import GridParams, plan
-from auvplan.planners.grid import path_cost
-from auvplan.planners.swarm import search_box
+from auvplan.planners.grid.band import path_cost
+from auvplan.planners.swarm.problem import search_box
 from auvplan.sim import planning_problem
 
 

@@ -19,7 +19,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import planning_problem
 

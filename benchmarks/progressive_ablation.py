@@ -25,8 +25,9 @@ from unittest import mock
 
 import numpy as np
 
-from auvplan.io import scenario as sc
-from auvplan.planners import plan, progressive
+from auvplan.io.scenario import loader as sc
+from auvplan.planners import plan
+from auvplan.planners.swarm import progressive
 from auvplan.sim import planning_problem
 
 BEST = {"ninetyeast-ridge": 581_937.0, "new-england-seamounts": 423_442.0, "chagos-banks": 491_967.0,

@@ -27,9 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import PLANNERS, SWARM, plan
-from auvplan.planners.swarm import make_objective, search_box
+from auvplan.planners.swarm.problem import make_objective, search_box
 from auvplan.sim import planning_problem
 
 

@@ -26,8 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario
-from auvplan.planners.timeplan import departure_sweep, plan_timeopt, setup, sweep_summary
+from auvplan.io.scenario import loader as scenario
+from auvplan.planners.timeopt.planner import departure_sweep, plan_timeopt, setup, sweep_summary
 from auvplan.sim import planning_problem
 
 

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, simulate
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 
 
 @pytest.fixture(scope="session")

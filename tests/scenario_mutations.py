@@ -99,7 +99,7 @@ def _known_keys() -> list[tuple[str, ...]]:
     can then set keys the built-ins leave at their defaults (``[currents] file``, ``[planner.grid]``)."""
     import dataclasses
 
-    from auvplan.io.specs import SECTIONS
+    from auvplan.io.scenario.specs import SECTIONS
 
     out = []
     for section, cls in SECTIONS.items():

@@ -14,7 +14,7 @@ from auvplan.guidance.local import AvoidanceParams, apf_force
 from auvplan.guidance.point_model import run_point_model
 from auvplan.guidance.predictive import TrackEstimator
 from auvplan.guidance.vo import CFG, closest_approach, predicted_preference, vo_choose
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
 

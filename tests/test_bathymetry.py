@@ -7,8 +7,8 @@ import pytest
 import xarray as xr
 
 from auvplan.errors import DataError
-from auvplan.io.bathymetry import read_bathymetry
-from auvplan.io.geo import LocalFrame
+from auvplan.io.data.bathymetry import read_bathymetry
+from auvplan.io.data.geo import LocalFrame
 
 LAT = np.arange(14.8, 15.4001, 0.05)
 LON = np.arange(158.5, 159.1001, 0.05)

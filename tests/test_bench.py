@@ -90,7 +90,7 @@ def test_planner_labels_pick_the_pipeline(tmp_path):
     of ``plan`` with the same spec and seed (an independent call), and differ from each other."""
     from dataclasses import replace
 
-    from auvplan.io import scenario as scenario_io
+    from auvplan.io.scenario import loader as scenario_io
     from auvplan.planners import plan
     from auvplan.sim import planning_problem
 

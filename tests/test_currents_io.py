@@ -16,9 +16,9 @@ from pyproj import Proj
 
 from auvplan import cli
 from auvplan.errors import DataError
-from auvplan.io import scenario as sc
-from auvplan.io.currents import CurrentsFileSpec, read_currents
-from auvplan.io.geo import LocalFrame
+from auvplan.io.data.currents import CurrentsFileSpec, read_currents
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.scenario import loader as sc
 
 ORIGIN = (48.05, -125.75)
 FRAME = LocalFrame(*ORIGIN)

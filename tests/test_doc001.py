@@ -18,7 +18,7 @@ from auvplan.errors import ScenarioError
 from auvplan.guidance.hybrid import HybridGuidance, HybridParams, goal_factor, hybrid_force
 from auvplan.guidance.los import LosGuidance, LosParams, los_heading
 from auvplan.guidance.route import RouteTracker, crab_heading
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, SimSettings, simulate
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World

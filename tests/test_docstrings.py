@@ -12,7 +12,7 @@ Checked: every name in each module's ``__all__`` (functions, classes, compiled k
   have Yields.
 
 A frozen dataclass (or NamedTuple) may document its fields in an ``Attributes`` section instead of
-``Parameters`` (io/schema.py reads the scenario keys' descriptions from there); the Attributes section may
+``Parameters`` (io/scenario/schema.py reads the scenario keys' descriptions from there); the Attributes section may
 also describe derived attributes that are not constructor parameters.
 
 Modules listed in ``PENDING`` are not there yet: their test is expected to fail (strict xfail), so a module

@@ -6,13 +6,9 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.flow import (
-    FlowField,
-    FlowParams,
-    blend_weights,
-    integrate_streamlines,
+from auvplan.planners.flow.elements import (
     rankine_indicator,
     rankine_radius,
     rankine_stagnation_points,
@@ -22,6 +18,12 @@ from auvplan.planners.flow import (
     sphere_exact_velocity,
     uniform_dipole_velocity,
 )
+from auvplan.planners.flow.field import (
+    FlowField,
+    blend_weights,
+)
+from auvplan.planners.flow.stream import integrate_streamlines
+from auvplan.planners.params import FlowParams
 from auvplan.sim import planning_problem
 from auvplan.world import Ellipsoid, Sphere
 
@@ -251,7 +253,7 @@ def test_document_sizing_lets_streamlines_into_the_ellipsoid():
     """The document's Rankine sizing: the ellipsoid sticks out of the body (METHODS.md §1.4)."""
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="document"), 0.5)
     body = field.bodies[0]
-    from auvplan.planners.flow_design import offset_surface
+    from auvplan.planners.flow.design import offset_surface
 
     assert not body.inside(offset_surface(ELLIPSOID, 0.5)).all()
     near_axis = np.array([[-30.0, 0.2 * np.cos(a), 0.2 * np.sin(a)] for a in (0.0, 2.0, 4.0)])

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from auvplan.planners.flow_body import AxialBody, frame
-from auvplan.planners.flow_design import design_body, offset_surface
+from auvplan.planners.flow.body import AxialBody, frame
+from auvplan.planners.flow.design import design_body, offset_surface
 from auvplan.world import Ellipsoid
 
 MARGIN = 0.5
@@ -124,7 +124,7 @@ def test_document_sizing_matches_its_semi_axes_but_not_the_obstacle():
 
 def test_frame_and_pair_closed_forms_agree():
     """A pair body's stream function agrees with the document's closed forms (flow.rankine_indicator)."""
-    from auvplan.planners.flow import rankine_indicator
+    from auvplan.planners.flow.elements import rankine_indicator
 
     b = AxialBody(np.zeros(3), frame([1.0, 0, 0]), 30.0, 1.0, points=np.array([-2.0, 2.0]),
                   strengths=np.array([0.5, -0.5]))

@@ -22,7 +22,7 @@ from auvplan.guidance.formation_plan import plan_formation
 from auvplan.guidance.formation_steer import dominant_pole
 from auvplan.guidance.hybrid import HybridParams
 from auvplan.sim import Mission, SimSettings
-from auvplan.sim_formation import simulate_formation
+from auvplan.sim.formation import simulate_formation
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World
 

@@ -8,8 +8,8 @@ import json
 import pytest
 
 from auvplan import cli
-from auvplan.io import scenario as sc
-from auvplan.io.formats import check_mission_file
+from auvplan.io.missions.formats import check_mission_file
+from auvplan.io.scenario import loader as sc
 
 SCENARIO = """
 name = "hills-formation"

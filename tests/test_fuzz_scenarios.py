@@ -22,8 +22,8 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 
 from auvplan.errors import DataError, ScenarioError
-from auvplan.io import build as build_io
-from auvplan.io import scenario as scenario_io
+from auvplan.io.scenario import build as build_io
+from auvplan.io.scenario import loader as scenario_io
 from auvplan.planners import plan
 from auvplan.sim import planning_problem, run_mission
 from auvplan.world import World
@@ -54,7 +54,7 @@ def cached_terrain():
 
 
 def _frame(key):
-    from auvplan.io.geo import LocalFrame
+    from auvplan.io.data.geo import LocalFrame
 
     return LocalFrame(*key)
 

@@ -9,8 +9,8 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.planners import GridParams, GridReference, PlannerSpec, PlanningProblem, plan, plan_grid, with_reference
-from auvplan.planners.grid import edge_cost, path_cost
-from auvplan.planners.swarm import cost_model_for, search_box
+from auvplan.planners.grid.band import edge_cost, path_cost
+from auvplan.planners.swarm.problem import cost_model_for, search_box
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, Margins, Sphere, Terrain, World
 from helpers import flat_world
@@ -185,8 +185,8 @@ def test_marcus_wake_reference_and_the_gap_of_a_swarm_plan(marcus):
 def test_streamline_plans_are_recosted_on_the_planners_cost_function():
     """A flow plan reports its length only; on the cost function it gains the energy term, and
     a swarm plan is left as it is (bench and reference gaps compare like with like)."""
-    from auvplan.io import scenario as sc
-    from auvplan.planners.grid import on_cost_function
+    from auvplan.io.scenario import loader as sc
+    from auvplan.planners.grid.planner import on_cost_function
 
     world, mission = sc.build(sc.load("flow-spheres"))
     prob = planning_problem(world, mission)
@@ -234,7 +234,7 @@ def test_reference_is_never_beaten_by_more_than_five_hundredths_on_a_hard_case()
     """new-england-seamounts (real ETOPO1, abyssal plain among seamounts) at a small budget: every
     planner's seeded run costs at least the reference minus 0.05 % (the gap study's property,
     benchmarks/gap.py, on one case), and the reference says which plan won."""
-    from auvplan.io import scenario as sc
+    from auvplan.io.scenario import loader as sc
     from auvplan.planners import reference
 
     world, mission = sc.build(sc.load("new-england-seamounts"))

@@ -9,13 +9,14 @@ import pytest
 from scipy import stats
 
 from auvplan._types import Status
-from auvplan.io import scenario
+from auvplan.io.scenario import loader as scenario
 from auvplan.optim import IABC, IABCParams, Problem, Termination, differential_evolution, minimize, pattern_search
 from auvplan.optim.bee import chaotic_uniform_population, logistic_map_population
 from auvplan.optim.local import poll_points
 from auvplan.path import sample_population
-from auvplan.planners import PLANNERS, REGISTRY, SWARM, PlannerSpec, PlanningProblem, plan, register, swarm_problem
-from auvplan.planners.seeding import compositions, corner_control_points, fit_control_points, lattice_seeds
+from auvplan.planners import PLANNERS, REGISTRY, SWARM, PlannerSpec, PlanningProblem, plan, register
+from auvplan.planners.swarm import problem as swarm_problem
+from auvplan.planners.swarm.seeding import compositions, corner_control_points, fit_control_points, lattice_seeds
 from auvplan.sim import planning_problem
 from auvplan.world import Sphere
 from helpers import flat_world
@@ -225,7 +226,7 @@ def test_lattice_seeds_on_chagos_reach_a_better_basin_than_the_fit():
     2.76e6, penalised); the best corner arrangement is cheaper (the seeds the planner keeps)."""
     world, mission = scenario.build(scenario.load("chagos-banks"))
     prob = planning_problem(world, mission)
-    from auvplan.planners.seeding import coarse_reference
+    from auvplan.planners.swarm.seeding import coarse_reference
 
     _, lattice = coarse_reference(prob, mission.planner)
     seeds = lattice_seeds(lattice, world, 6)

@@ -11,9 +11,9 @@ import shapely
 from pyproj import Transformer
 
 from auvplan import cli
-from auvplan.io import scenario as sc
-from auvplan.io.coast import LandSpec, read_land
-from auvplan.io.geo import LocalFrame
+from auvplan.io.data.coast import LandSpec, read_land
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.scenario import loader as sc
 from auvplan.world import Bounds, Land, Margins, Terrain, World
 
 ISLAND = shapely.box(400.0, 400.0, 600.0, 500.0)

@@ -18,8 +18,8 @@ from pyproj import CRS, Transformer
 
 from auvplan import cli
 from auvplan.errors import DataError
-from auvplan.io.bathymetry import read_bathymetry
-from auvplan.io.geo import LocalFrame
+from auvplan.io.data.bathymetry import read_bathymetry
+from auvplan.io.data.geo import LocalFrame
 
 FRAME = LocalFrame(15.1, 158.8)
 LAT = np.arange(14.8, 15.4001, 0.02)

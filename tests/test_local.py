@@ -11,7 +11,7 @@ from auvplan._types import Status
 from auvplan.cli import main
 from auvplan.guidance.local import AvoidanceParams, apf_force, key_waypoints
 from auvplan.guidance.point_model import run_point_model
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, run_mission, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
 

@@ -13,8 +13,9 @@ import pytest
 from auvplan._types import Status
 from auvplan.cli import main
 from auvplan.guidance.mission import build_waypoints, envelope_hits, envelopes_free, fly_check
-from auvplan.io import export, formats, records
-from auvplan.io import scenario as sc
+from auvplan.io.missions import export, formats
+from auvplan.io.results import records
+from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import RunRecord, SimResult, decimate, mission_route, planning_problem, route_from_path
 from auvplan.world import Sphere

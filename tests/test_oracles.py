@@ -26,8 +26,10 @@ from auvplan.optim import Problem, Termination, minimize
 from auvplan.optim.bee import IABC, IABCParams, chaotic_uniform_population, rank_probabilities
 from auvplan.optim.ga import polynomial_mutation, sbx
 from auvplan.planners import GridParams, GridReference
-from auvplan.planners.flow import SAG_PAD, FlowField, FlowParams, sphere_exact_velocity
-from auvplan.planners.swarm_problem import along_track_order
+from auvplan.planners.flow.elements import sphere_exact_velocity
+from auvplan.planners.flow.field import SAG_PAD, FlowField
+from auvplan.planners.params import FlowParams
+from auvplan.planners.swarm.problem import along_track_order
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
 from helpers import flat_world
@@ -596,7 +598,7 @@ def test_optional_field_of_the_wrong_type_is_a_scenario_error():
     from dataclasses import dataclass
 
     from auvplan.errors import ScenarioError
-    from auvplan.io.tables import build_dataclass
+    from auvplan.io.scenario.tables import build_dataclass
 
     @dataclass(frozen=True)
     class Spec:
@@ -834,7 +836,7 @@ def test_planner_sphere_field_clearance_and_the_sink_by_hand():
     """Two spheres (radii 6 and 3 m, margin 1.5 m): the field's clearance is the distance to the
     nearest sphere minus its radius and the margin (negative inside); the target sink's velocity is
     -m r / (4π |r|³) also within a metre of the target (0.5 m: 4 m / (4π 0.25) = 1.27 m/s)."""
-    from auvplan.planners.flow import sink_velocity
+    from auvplan.planners.flow.elements import sink_velocity
 
     field = FlowField([Sphere((0.0, 0.0, -50.0), 6.0), Sphere((40.0, 0.0, -50.0), 3.0)],
                       np.array([100.0, 0.0, -50.0]), FlowParams(), margin=1.5)
@@ -850,8 +852,8 @@ def test_free_edges_are_exactly_the_free_lattice_segments():
     (both end nodes free: 0.5 m and 5.5 m from the surface): the edges :func:`free_edges` returns for
     each of the 13 offsets are exactly the pairs of free nodes whose segment the World's exact test
     calls free (the obstacle shortcut may only skip the exact test where it cannot matter)."""
-    from auvplan.planners.grid import free_edges
-    from auvplan.planners.lattice import HALF
+    from auvplan.planners.grid.lattice import HALF
+    from auvplan.planners.grid.planner import free_edges
 
     world = World(Bounds(-1, 21, -1, 21, -21, 0),
                   obstacles=(Sphere((2.5, 0.0, -10.0), 2.0), Sphere((10.0, 17.5, -20.0), 2.0)),
@@ -896,7 +898,7 @@ def test_streamline_segment_clear_is_the_sampled_flow_clearance():
     """``_segment_clear``: a chord through the inflated sphere (clearance −7.5 m at its middle) is not
     clear; one 10 m above the centre (closest clearance 10 − 7.5 = 2.5 m) and one ending on the surface
     (clearance 0 at the end: clear) are; each axis-aligned so a component of b − a is zero."""
-    from auvplan.planners.flow_stream import _segment_clear
+    from auvplan.planners.flow.stream import _segment_clear
 
     field = FlowField([Sphere((0.0, 0.0, -50.0), 6.0)], np.array([100.0, 0.0, -50.0]), FlowParams(), margin=1.5)
     assert not _segment_clear(field, np.array([0.0, -20.0, -50.0]), np.array([0.0, 20.0, -50.0]))
@@ -908,7 +910,7 @@ def test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface():
     """Starts inside the flow body of an ellipsoid (20 × 6 × 4 m, margin 1 m): the exit rule's last point
     lies outside every flow surface and within 1e-4 of the body's radius of it (the rule steps to
     1e-6 R beyond the surface, by the normal or by bisection along the gradient); 60 seeded starts."""
-    from auvplan.planners.flow_stream import _exit_body
+    from auvplan.planners.flow.stream import _exit_body
     from auvplan.world import Ellipsoid
 
     field = FlowField([Ellipsoid((0.0, 0.0, -50.0), (20.0, 6.0, 4.0))], np.array([100.0, 0.0, -50.0]),

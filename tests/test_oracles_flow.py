@@ -2,7 +2,7 @@
 
 The survivors of the mutation run on ``flow`` (docs/mutants.md §2) each met one of these: a small
 independent computation (an image by hand, an analytic speed, a rule's threshold read off the path)
-that a one-line bug in ``planners/flow.py`` or ``planners/flow_stream.py`` breaks.
+that a one-line bug in ``planners/flow/field.py`` or ``planners/flow/stream.py`` breaks.
 """
 
 from __future__ import annotations
@@ -12,8 +12,10 @@ import math
 import numpy as np
 import pytest
 
-from auvplan.planners.flow import FlowField, FlowParams, integrate_streamlines, sink_velocity
-from auvplan.planners.flow_stream import MAX_CORRECTIONS
+from auvplan.planners.flow.elements import sink_velocity
+from auvplan.planners.flow.field import FlowField
+from auvplan.planners.flow.stream import MAX_CORRECTIONS, integrate_streamlines
+from auvplan.planners.params import FlowParams
 from auvplan.world import Ellipsoid, Sphere
 
 GOAL = np.array([30.0, 0.0, 0.0])
@@ -79,7 +81,7 @@ def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outs
     (a tenth, half and nine tenths along a segment, in along the segment's left-hand normal n, turned about
     the axis): where the straight move to p + (depth + 10⁻⁶ R) n lands outside the body, clear of the
     obstacle, that is the exit rule's point (by hand, n independent of the body's own ``normal``)."""
-    from auvplan.planners.flow_stream import _exit_body, _segment_clear
+    from auvplan.planners.flow.stream import _exit_body, _segment_clear
 
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
     body = field.bodies[0]
@@ -108,7 +110,7 @@ def test_exit_rule_leaves_a_body_in_one_move():
     """40 seeded starts inside the flow body of the (8, 4, 3) ellipsoid (outside the inflated obstacle): the
     exit rule's first point (straight along the normal, or by bisection along the obstacle's normal, then
     10⁻⁶ R on) is already outside every flow surface: one move."""
-    from auvplan.planners.flow_stream import _exit_body
+    from auvplan.planners.flow.stream import _exit_body
 
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
     rng = np.random.default_rng(6)
@@ -124,7 +126,7 @@ def test_exit_rule_bisection_lands_just_past_the_body_along_the_obstacle_normal(
     """Seeded starts inside the (8, 4, 3) ellipsoid's flow body whose straight move fails: the exit point q is
     on the obstacle's outward normal g at the start (q − p ∥ g) and 10⁻⁶ R past the body's surface:
     q − 1.01·10⁻⁶ R g is inside the body, q − 0.99·10⁻⁶ R g outside."""
-    from auvplan.planners.flow_stream import _exit_body, _segment_clear
+    from auvplan.planners.flow.stream import _exit_body, _segment_clear
 
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
     body = field.bodies[0]
@@ -150,7 +152,7 @@ def test_document_sphere_field_in_the_flow_field_is_the_blend_of_the_single_fiel
     """``field = "document"`` with two spheres (flow radii A = r + margin + 0.002 r): the field's velocity is
     Σ w_k u_k with u_k the document's single-sphere field and w_k = (1/d_k) / Σ (1/d_j), d_k = |p − c_k| − A_k,
     all by hand; with one sphere, its single field."""
-    from auvplan.planners.flow import sphere_document_velocity
+    from auvplan.planners.flow.elements import sphere_document_velocity
 
     c = np.array([[0.0, 0.0, 0.0], [15.0, 6.0, -2.0]])
     r = np.array([5.0, 3.0])
@@ -213,7 +215,7 @@ def test_ellipsoid_clearance_is_exact_near_and_the_scaled_lower_bound_far():
 def test_sphere_image_field_takes_one_point_or_any_batch_of_points():
     """``sphere_exact_velocity`` of one point ``(3,)`` and of a ``(2, 3, 3)`` batch: the velocities of the same
     points in a row (shape ``(..., 3)`` in, ``(..., 3)`` out)."""
-    from auvplan.planners.flow import sphere_exact_velocity
+    from auvplan.planners.flow.elements import sphere_exact_velocity
 
     rng = np.random.default_rng(4)
     p = rng.uniform(-20.0, 20.0, (6, 3))
@@ -261,7 +263,7 @@ def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
     z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, above the plane.  The exit rule's first
     point is on the ray from the centre, at A (1 + 10⁻⁶) (below the plane), its second straight up onto
     the plane, 10⁻⁶ × 5.51 m above it (the plane's normal is +z)."""
-    from auvplan.planners.flow_stream import _exit_body
+    from auvplan.planners.flow.stream import _exit_body
 
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
     start = np.array([0.0, 0.0, -5.505])

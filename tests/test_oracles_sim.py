@@ -19,7 +19,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from auvplan._types import Status
 from auvplan.guidance.local import AvoidanceParams, apf_force
-from auvplan.planners.lattice import HALF, OFFSETS, _pop, _push, _sift_down, edge_states, node_fields, search
+from auvplan.planners.grid.lattice import HALF, OFFSETS, _pop, _push, _sift_down, edge_states, node_fields, search
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
 from helpers import flat_world
@@ -76,7 +76,7 @@ def test_lattice_fields_round_down_to_the_nearest_single():
     """``down32``: the largest single-precision value not above each double (the lattice keeps
     altitudes and clearances that way, so they are never optimistic): doubles exactly representable
     in single precision are kept, the others go to the float32 just below."""
-    from auvplan.planners.lattice import down32
+    from auvplan.planners.grid.lattice import down32
 
     rng = np.random.default_rng(3)
     a = np.r_[rng.normal(0.0, 100.0, 2000), 0.5, -3.25, 0.0, 1e-3, -1e-3, 16777217.0]
@@ -93,7 +93,7 @@ def test_lattice_node_fields_are_the_worlds_static_clearances():
     and the sphere do), altitudes and obstacle slacks are the World's rounded down to single precision.
     A second lattice of 6 × 2 × 10 000 nodes (no seabed) is evaluated in two slabs of x (100 000 points
     a slab): every slab, the last one too, is filled."""
-    from auvplan.planners.lattice import down32
+    from auvplan.planners.grid.lattice import down32
     from auvplan.world.moving import LinearMotion, MovingObstacle
 
     parked = MovingObstacle(Sphere((0.0, 0.0, 0.0), 40.0), LinearMotion((200.0, 200.0, -60.0), (0.0, 0.0, 0.0)))
@@ -815,7 +815,7 @@ def test_lattice_astar_heuristic_is_c_min_times_the_distance_to_the_start():
     """A*'s heuristic at every node of a 7 × 5 × 4 lattice (offset origin, unequal steps) is
     ``c_min`` times the node's straight distance to the start, computed from the node's own (i, j, k);
     ``c_min = 0`` (Dijkstra) gives 0 everywhere."""
-    from auvplan.planners.lattice import _heuristic
+    from auvplan.planners.grid.lattice import _heuristic
 
     shape = (7, 5, 4)
     steps, origin = np.array([0.7, 1.9, 0.4]), np.array([120.0, -35.0, -60.0])

@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.io import scenario
+from auvplan.io.scenario import loader as scenario
 from auvplan.optim import OptimizeResult
 from auvplan.path import sample_population
-from auvplan.planners import PlannerSpec, PlanningProblem, plan, swarm_problem
-from auvplan.planners.progressive import Elite, coarse_count, coarse_stage, refit
-from auvplan.planners.seeding import fit_control_points
+from auvplan.planners import PlannerSpec, PlanningProblem, plan
+from auvplan.planners.swarm import problem as swarm_problem
+from auvplan.planners.swarm.progressive import Elite, coarse_count, coarse_stage, refit
+from auvplan.planners.swarm.seeding import fit_control_points
 from auvplan.sim import planning_problem
 from helpers import flat_world
 

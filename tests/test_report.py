@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from auvplan.cli import main
-from auvplan.io import records
-from auvplan.io import scenario as sc
-from auvplan.io.formats import parse_moos
-from auvplan.io.geo import LocalFrame
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.missions.formats import parse_moos
+from auvplan.io.results import records
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import decimate
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from auvplan.errors import DataError, ScenarioError
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 
 BASE = """
 name = "lab"

@@ -16,8 +16,8 @@ from hypothesis import HealthCheck, given, settings
 
 from auvplan import cli
 from auvplan.errors import AuvplanError
-from auvplan.io import scenario as sc
-from auvplan.io.schema import SCHEMA_VERSION, field_docs, scenario_schema, template
+from auvplan.io.scenario import loader as sc
+from auvplan.io.scenario.schema import SCHEMA_VERSION, field_docs, scenario_schema, template
 from scenario_mutations import BUILTINS, documents
 
 README = Path(__file__).parents[1] / "README.md"

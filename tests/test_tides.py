@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from auvplan.errors import AuvplanError, DataError
-from auvplan.io import scenario
-from auvplan.io.geo import LocalFrame
-from auvplan.io.tides import load_tidal_current, parse_start_time
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.data.tides import load_tidal_current, parse_start_time
+from auvplan.io.scenario import loader as scenario
 from auvplan.world.tides import predict_speed
 
 FRAME = LocalFrame(48.08, -124.12)

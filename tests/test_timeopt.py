@@ -11,10 +11,10 @@ from scipy.optimize import brentq, fsolve
 
 from auvplan._types import Status
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.timeopt import CurrentTable, timed_traverse
-from auvplan.planners.timeopt_kernels import leg_time
+from auvplan.planners.timeopt.kernels import leg_time
+from auvplan.planners.timeopt.planner import departure_sweep
+from auvplan.planners.timeopt.search import CurrentTable, timed_traverse
 from auvplan.planners.timeopt_params import TimeoptParams
-from auvplan.planners.timeplan import departure_sweep
 from auvplan.world import Bounds, GriddedCurrent, Margins, World
 
 V = 1.0
@@ -126,7 +126,7 @@ def test_current_faster_than_the_vehicle_blocks_legs_without_nan():
 def test_legs_are_fifo():
     """Leaving later never arrives earlier (the property the label-setting search relies on)."""
     world, t, c = uniform_world(CASES["reversing"])
-    from auvplan.planners.timeplan import setup
+    from auvplan.planners.timeopt.planner import setup
 
     ts = setup(PlanningProblem(world, START, GOAL, speed=V), SPEC, 0.0, 0.0)
     departs = np.arange(0.0, 30000.0, 97.0)

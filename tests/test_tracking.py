@@ -11,7 +11,7 @@ from auvplan._types import Status
 from auvplan.guidance.hybrid import HybridParams, crab_heading, hybrid_force
 from auvplan.guidance.los import los_heading
 from auvplan.guidance.route import RouteTracker
-from auvplan.io import scenario as sc
+from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, simulate
 from auvplan.vehicles import Vehicle, VehicleParams, VehicleState
 from auvplan.world import Bounds, World

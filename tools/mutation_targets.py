@@ -25,11 +25,11 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 TERRAIN = "auvplan.world.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
-GRID, LATTICE = "auvplan.planners.grid", "auvplan.planners.lattice"
+GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.local"
-FLOW, STREAM = "auvplan.planners.flow", "auvplan.planners.flow_stream"
-ELEMENTS = "auvplan.planners.flow_elements"
+FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
+ELEMENTS = "auvplan.planners.flow.elements"
 
 MODULES: dict[str, Target] = {
     # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
@@ -60,7 +60,7 @@ MODULES: dict[str, Target] = {
         ("tests/test_cost.py", "tests/test_oracles.py", "-k", "cost or energy or seabed"),
         jit=False,
     ),
-    # the lattice (planners/lattice.py): free nodes and their safe single-precision fields, the edge
+    # the lattice (planners/grid/lattice.py): free nodes and their safe single-precision fields, the edge
     # test's shortcut (seabed Lipschitz bound, obstacle distance) and its exact fallback, edge bits,
     # edge weights, the indexed binary heap and the Dijkstra/A* search; grid.py's free-edge list and
     # the links of the goal and starts to the lattice

@@ -37,12 +37,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "gx = np.abs(coef[..., 1])",
     ),
     "grid-edges-skip-collision-test": (
-        "planners/lattice.py",
+        "planners/grid/lattice.py",
         "state[u] = world.segments_free(seg, moving=False, ends_free=True)",
         "state[u] = True",
     ),
     "grid-backward-edge-costed-forward": (
-        "planners/lattice.py",
+        "planners/grid/lattice.py",
         "ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]",
         "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
@@ -52,12 +52,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "",
     ),
     "flow-sphere-leaky-line-image": (
-        "planners/flow.py",
+        "planners/flow/field.py",
         "line = (m / (FOUR_PI * self.A) * 2.0 * L)",
         "line = (m / (FOUR_PI * self.A) * 1.0 * L)",
     ),
     "flow-sphere-image-strength": (
-        "planners/flow.py",
+        "planners/flow/field.py",
         "image = -(m * self.A / (FOUR_PI * b))",
         "image = -(m / (FOUR_PI * b))",
     ),

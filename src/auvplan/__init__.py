@@ -109,6 +109,6 @@ def load_scenario(scenario: str) -> tuple[World, Mission]:
     DataError
         Gridded input data referenced by the scenario is unusable.
     """
-    from .io import scenario as _scenario
+    from .io.scenario import loader as _scenario
 
     return _scenario.build(_scenario.load(scenario))

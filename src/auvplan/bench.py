@@ -30,10 +30,10 @@ import numpy as np
 
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
-from .io import scenario as scenario_io
 from .io.safeio import claim
+from .io.scenario import loader as scenario_io
 from .planners import PIPELINES, PLANNERS, PlanResult, plan, reference, with_reference
-from .planners.grid import on_cost_function
+from .planners.grid.planner import on_cost_function
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 

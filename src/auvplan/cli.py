@@ -32,7 +32,7 @@ from .cli_commands import (
 )
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
-from .io import export
+from .io.missions import export
 from .planners import PIPELINES, PLANNERS
 
 __all__ = ["main", "main_entry"]

@@ -17,15 +17,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .errors import AuvplanError
-from .io import export, records, results
-from .io import scenario as scenario_io
-from .io.geo import LocalFrame
+from .io.data.geo import LocalFrame
+from .io.missions import export
+from .io.results import folder as results
+from .io.results import records
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
+from .io.scenario import loader as scenario_io
 from .planners import SWARM, plan, reference, with_reference
 from .sim import mission_route, planning_problem, run_mission
 
 if TYPE_CHECKING:
-    from .io.scenario import Scenario
+    from .io.scenario.specs import Scenario
     from .planners import PlannerSpec, PlanResult
     from .sim import Mission, RunRecord
     from .world import World
@@ -98,7 +100,7 @@ def _cmd_scenarios(args: argparse.Namespace) -> int:
 
 
 def _cmd_data_inspect(args: argparse.Namespace) -> int:
-    from .io.inspect import inspect_file
+    from .io.data.inspect import inspect_file
 
     print(inspect_file(args.file))
     return 0
@@ -121,7 +123,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_scenario_new(args: argparse.Namespace) -> int:
-    from .io.schema import template
+    from .io.scenario.schema import template
 
     text = template(Path(args.file).stem if args.file else "my-mission")
     if not args.file:
@@ -133,7 +135,7 @@ def _cmd_scenario_new(args: argparse.Namespace) -> int:
 
 
 def _cmd_scenario_schema(args: argparse.Namespace) -> int:
-    from .io.schema import scenario_schema
+    from .io.scenario.schema import scenario_schema
 
     sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
     return 0
@@ -181,7 +183,7 @@ def _duration(text: str, what: str) -> float:
 
 def _instant(text: str, start_time: str, what: str) -> float:
     """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
-    from .io.tides import parse_start_time
+    from .io.data.tides import parse_start_time
 
     if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
         return _duration(text, what)
@@ -194,7 +196,7 @@ def _instant(text: str, start_time: str, what: str) -> float:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from .planners.timeplan import departure_sweep, sweep_summary
+    from .planners.timeopt.planner import departure_sweep, sweep_summary
 
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -209,7 +211,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
-        from .io.tides import parse_start_time, utc_iso
+        from .io.data.tides import parse_start_time, utc_iso
 
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [dataclasses.asdict(r) for r in rows]
@@ -385,7 +387,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
-    from .io.formats import check_mission_file
+    from .io.missions.formats import check_mission_file
 
     sc = scenario_io.load(args.scenario)
     world, _ = scenario_io.build(sc)
@@ -428,8 +430,8 @@ def _describe_run(name: str, record: RunRecord) -> str:
 
 def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
     """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
-    from .io.formation_export import FORMATION_NAMES, formation_record, vehicle_records, write_formation
-    from .sim_formation import run_formation
+    from .io.missions.formation import FORMATION_NAMES, formation_record, vehicle_records, write_formation
+    from .sim.formation import run_formation
 
     assert mission.formation is not None  # _cmd_run calls this only for a scenario with [[vehicles]]
     if args.guidance or args.avoidance:

@@ -5,11 +5,11 @@ from dataclasses import replace
 
 from .._types import RngLike
 from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult, Progress
-from .flow import plan_flow
-from .grid import GridReference, plan_grid, refine_plan, with_reference
+from .flow.field import plan_flow
+from .grid.planner import GridReference, plan_grid, refine_plan, with_reference
 from .registry import REGISTRY, PlannerEntry, get, register
-from .swarm import plan_swarm
-from .timeplan import plan_timeopt
+from .swarm.planner import plan_swarm
+from .timeopt.planner import plan_timeopt
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
@@ -49,7 +49,7 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
     refined to convergence (:func:`plan_grid`) and the seeded pipeline of each planner in
     ``swarms`` at twice ``spec``'s evaluation budget (seed ``seed``, apart from the seeds users
     run), each of those then refined to convergence as a polyline by the lattice plan's own
-    refinement (:func:`auvplan.planners.grid.refine_plan`), the cheapest feasible one; its
+    refinement (:func:`auvplan.planners.grid.planner.refine_plan`), the cheapest feasible one; its
     ``message`` says which (best of N).
 
     Parameters

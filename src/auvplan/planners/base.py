@@ -15,7 +15,7 @@ from ..optim.ga import GAParams
 from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
 from ..world import World
-from .flow_params import FlowParams
+from .params import FlowParams
 from .timeopt_params import TimeoptParams
 
 __all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM", "Progress"]
@@ -116,11 +116,11 @@ class PlannerSpec:
         optimiser found no feasible one), ``"document"`` (the algorithm alone) or
         ``"progressive"`` (the algorithm alone, coarse to fine: ``coarse_fraction`` of the budget
         with ``⌈K/2⌉`` control points, whose best paths, refitted to K control points, seed the
-        rest; :mod:`auvplan.planners.progressive`).
+        rest; :mod:`auvplan.planners.swarm.progressive`).
     seed_fraction : float
         Share of the first population seeded from the lattice path: the best, by the objective
         (evaluations counted), of the path's least-squares fits and of the control points repeated
-        at the corners of its taut polygon (:func:`auvplan.planners.seeding.lattice_seeds`).
+        at the corners of its taut polygon (:func:`auvplan.planners.swarm.seeding.lattice_seeds`).
     refine_fraction : float
         Share of the evaluation budget kept for the refinement.
     seed_nodes : int
@@ -129,7 +129,7 @@ class PlannerSpec:
         Share of the budget the ``"progressive"`` pipeline spends with ``⌈K/2⌉`` control points.
     bend : float
         Weight of the bends in the ``"progressive"`` pipeline's refit (0: the plain least-squares
-        fit at uniform arc length; :func:`auvplan.planners.seeding.fit_control_points`).
+        fit at uniform arc length; :func:`auvplan.planners.swarm.seeding.fit_control_points`).
     population : int
         Food sources / individuals / particles.
     iterations : int

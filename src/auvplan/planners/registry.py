@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 from .._types import RngLike
 from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult, Progress
-from .flow import plan_flow
-from .grid import plan_grid
-from .swarm import plan_swarm
-from .timeplan import plan_timeopt
+from .flow.field import plan_flow
+from .grid.planner import plan_grid
+from .swarm.planner import plan_swarm
+from .timeopt.planner import plan_timeopt
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get"]
 

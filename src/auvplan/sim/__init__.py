@@ -1,4 +1,4 @@
-"""Missions and their closed-loop simulation, one vehicle (formations: :mod:`auvplan.sim_formation`).
+"""Missions and their closed-loop simulation, one vehicle (formations: :mod:`auvplan.sim.formation`).
 
 Each idea has its module; every public name is importable from :mod:`auvplan.sim` itself:
 

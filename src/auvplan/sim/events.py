@@ -1,6 +1,6 @@
 """The closed loop's event rules, pure functions of one step: distances to the obstacles, contact
 (collision or unavoidable), arrival, progress and deadlock.  :func:`auvplan.sim.simulate` and
-:mod:`auvplan.sim_formation` apply them."""
+:mod:`auvplan.sim.formation` apply them."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from .._types import Status
 from ..world import World
 from ..world.obstacles import Shape
 
-__all__: list[str] = []  # the rules are private to auvplan.sim and auvplan.sim_formation
+__all__: list[str] = []  # the rules are private to auvplan.sim and auvplan.sim.formation
 
 
 FAR = 60.0

@@ -67,7 +67,7 @@ class Mission:
         ``"hybrid"``, ``"los"`` or ``"ilos"``.
     formation : Formation or None
         Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
-        :mod:`auvplan.sim_formation` flies them.
+        :mod:`auvplan.sim.formation` flies them.
     """
 
     name: str

@@ -19,7 +19,7 @@ import plotly.io as pio
 from plotly.subplots import make_subplots
 
 from ..sim import RunRecord, decimate
-from ..sim_formation import FormationRecord
+from ..sim.formation import FormationRecord
 from ..world import World
 from .chart import ToLonLat, figure_plan_view
 from .report import _CSS, _clock, _table
@@ -103,7 +103,7 @@ def build_formation_report(world: World, record: FormationRecord, runs: list[Run
         The plans and the fleet's run.
     runs : list of RunRecord
         One single-vehicle record per vehicle, leader first
-        (:func:`auvplan.io.formation_export.vehicle_records`).
+        (:func:`auvplan.io.missions.formation.vehicle_records`).
     scenario_text : str
         The scenario file.
     to_lonlat : callable, optional

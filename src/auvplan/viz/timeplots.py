@@ -11,7 +11,7 @@ import numpy as np
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from ..planners.timeplan import SweepRow
+    from ..planners.timeopt.planner import SweepRow
 
 __all__ = ["sweep_figure"]
 

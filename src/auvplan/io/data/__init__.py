@@ -1,0 +1,3 @@
+"""Input data: bathymetry, elevation grids, currents, tides, coastlines, and the local frame."""
+
+__all__: list[str] = []

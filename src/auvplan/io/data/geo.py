@@ -1,0 +1,91 @@
+"""Geodesy for inputs and exports: the local metric frame about a scenario origin.
+
+The local frame is pyproj's azimuthal equidistant projection about
+``(lat0, lon0)`` on WGS 84 (x east, y north, metres).  Geographic grids are
+projected once, on input (:mod:`auvplan.io.data.grids`), so that the algorithms below
+never see latitudes or longitudes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from pyproj import Transformer
+
+__all__ = ["LocalFrame", "normalise_lon"]
+
+
+def normalise_lon(lon: ArrayLike) -> NDArray[np.float64]:
+    """Map longitudes to ``[-180, 180)``.
+
+    Parameters
+    ----------
+    lon : array_like
+        Longitudes (degrees).
+
+    Returns
+    -------
+    numpy.ndarray
+        The same longitudes in ``[-180, 180)`` (degrees).
+    """
+    return np.mod(np.asarray(lon, dtype=float) + 180.0, 360.0) - 180.0
+
+
+@dataclass(frozen=True)
+class LocalFrame:
+    """Azimuthal equidistant frame about ``(lat0, lon0)`` (degrees).
+
+    Parameters
+    ----------
+    lat0 : float
+        Latitude of the origin (degrees).
+    lon0 : float
+        Longitude of the origin (degrees).
+    """
+
+    lat0: float
+    lon0: float
+    _fwd: Transformer = field(init=False, repr=False, compare=False)
+    _inv: Transformer = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not (-90.0 <= self.lat0 <= 90.0) or not np.isfinite(self.lon0):
+            raise ValueError(f"origin must be a valid latitude/longitude, got ({self.lat0}, {self.lon0})")
+        lon0 = float(normalise_lon(self.lon0))
+        proj = f"+proj=aeqd +lat_0={self.lat0} +lon_0={lon0} +datum=WGS84 +units=m +no_defs"
+        object.__setattr__(self, "_fwd", Transformer.from_crs("EPSG:4326", proj, always_xy=True))
+        object.__setattr__(self, "_inv", Transformer.from_crs(proj, "EPSG:4326", always_xy=True))
+
+    def forward(self, lon: ArrayLike, lat: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Project longitude/latitude into the local frame.
+
+        Parameters
+        ----------
+        lon, lat : array_like
+            Longitude and latitude (degrees, WGS84).
+
+        Returns
+        -------
+        x, y : numpy.ndarray
+            East and north of the origin (m).
+        """
+        x, y = self._fwd.transform(normalise_lon(lon), np.asarray(lat, dtype=float))
+        return np.asarray(x), np.asarray(y)
+
+    def inverse(self, x: ArrayLike, y: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Unproject local coordinates to longitude and latitude.
+
+        Parameters
+        ----------
+        x, y : array_like
+            East and north of the origin (m).
+
+        Returns
+        -------
+        lon, lat : numpy.ndarray
+            Longitude in ``[-180, 180)`` and latitude (degrees, WGS84).
+        """
+        lon, lat = self._inv.transform(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        return normalise_lon(lon), np.asarray(lat)

@@ -1,0 +1,111 @@
+"""``auvplan data inspect FILE``: what the readers detect in a data file, before a scenario uses it.
+
+For every file: the format and its variables.  Then, as bathymetry: the elevation
+variable, the layout of its horizontal axes (coordinates, coordinate-less dimensions with
+1-D lat/lon variables, 2-D lat/lon, CRS), whether values are depths (and why), missing
+values and the elevation range.  As currents: the u/v/w variables, their units and the
+factor to m/s, time and depth axes, and the cells without a value (land).  A part that
+does not apply says why in one line.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ...errors import DataError
+from .currents import _find, _z_axis, velocity_factor
+from .elevation import is_geotiff, read_elevation
+from .grids import axis_kind, horizontal_grid
+
+__all__ = ["inspect_file"]
+
+
+def _variables(path: Path) -> list[str]:
+    try:
+        with xr.open_dataset(path, decode_times=False) as ds:
+            out = [f"  {k}{tuple(map(str, v.dims))} {v.dtype}" + (f" [{v.attrs['units']}]" if "units" in v.attrs
+                                                                   else "") for k, v in ds.variables.items()]
+    except Exception as exc:  # any unreadable file: say so, do not crash
+        raise DataError(f"{path}: cannot read as NetCDF or GeoTIFF ({exc})") from exc
+    return ["variables:", *out]
+
+
+def _bathymetry(path: Path) -> list[str]:
+    try:
+        eg = read_elevation(path)
+    except DataError as exc:
+        return [f"as bathymetry: not usable — {exc}"]
+    z = eg.z[np.isfinite(eg.z)]
+    rng = f"{z.min():.1f} .. {z.max():.1f} m" if z.size else "no value"
+    return [
+        f"as bathymetry: variable {eg.variable!r} ({eg.format})",
+        f"  {eg.grid.describe()}",
+        f"  values positive {eg.positive}; elevation (up) {rng}; {eg.missing} missing value(s)",
+    ]
+
+
+def _currents(path: Path) -> list[str]:
+    src = str(path)
+    try:
+        with xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None)) as ds:
+            names = {c: _find(ds, c, "", src, c != "w") for c in "uvw"}
+            da = ds[names["u"]]
+            rdim, cdim, grid, _, _ = horizontal_grid(ds, da, src)
+            lines = [f"as currents: u {names['u']!r}, v {names['v']!r}, w {names['w']!r}",
+                     f"  {grid.describe()}"]
+            for n in names.values():
+                if n is None:
+                    continue
+                units = str(ds[n].attrs.get("units", "")).strip()
+                factor = velocity_factor(units, f"{src}: variable {n!r}") if units else 1.0
+                vals = np.asarray(ds[n].values, dtype=float)
+                lines.append(f"  {n}: units {units or '(none: taken as m/s)'} → × {factor:g} to m/s; "
+                             f"{int(np.count_nonzero(~np.isfinite(vals)))} missing value(s) (land → zero current)")
+            for d in map(str, da.dims):
+                if d in (rdim, cdim):
+                    continue
+                kind = axis_kind(ds[d] if d in ds.variables else None, d)
+                if kind == "t" and d in ds.variables:
+                    v = ds[d].values
+                    cal = ds[d].encoding.get("calendar", "standard")
+                    lines.append(f"  time {d!r}: {v.size} steps, {str(v.min())[:19]} .. {str(v.max())[:19]} "
+                                 f"(calendar {cal})")
+                elif kind == "z":
+                    z = _z_axis(ds, d, src)
+                    lines.append(f"  depth {d!r}: {z.size} levels, elevation {z.min():g} .. {z.max() + 0.0:g} m")
+                else:
+                    lines.append(f"  dimension {d!r}: not a time or depth axis")
+    except (DataError, ValueError, TypeError) as exc:
+        return [f"as currents: not usable — {exc}"]
+    return lines
+
+
+def inspect_file(path: str | Path) -> str:
+    """Report what auvplan detects in a data file (NetCDF or GeoTIFF).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file.
+
+    Returns
+    -------
+    str
+        A human-readable report: variables, and the file read as bathymetry and as currents.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataError(f"{path}: file not found")
+    if is_geotiff(path):
+        return "\n".join([f"{path}: GeoTIFF", *_bathymetry(path)])
+    lines = [f"{path}: NetCDF", *_variables(path)]
+    with xr.open_dataset(path, decode_times=False) as ds:
+        has_current = _find(ds, "u", "", str(path), False) is not None
+    bathy = _bathymetry(path)
+    if not (has_current and "not usable" in bathy[0]):  # a current file is not expected to be a seabed
+        lines += bathy
+    lines += _currents(path) if has_current else ["as currents: no eastward/x velocity variable"]
+    return "\n".join(lines)

@@ -1,0 +1,221 @@
+"""Mission exports of a run: GeoJSON (RFC 7946), KML, CSV, MOOS-IvP, QGroundControl ``.plan``, GPX 1.1,
+ROS 2 ``nav_msgs/Path`` (the writers and readers are in :mod:`auvplan.io.missions.formats`; the results files
+themselves in :mod:`auvplan.io.results.records`)."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ...errors import DataError
+from ...sim import RunRecord, decimate
+from ..data.geo import LocalFrame
+from ..results.records import JsonDict, jsonable, summary_metrics, write_text
+from . import formats as mfmt
+
+__all__ = [
+    "EXPORT_FORMATS",
+    "GEOGRAPHIC",
+    "to_geojson",
+    "to_kml",
+    "mission_waypoints",
+    "write_exports",
+]
+
+EXPORT_FORMATS = ("geojson", "kml", "csv", "moos", "plan", "gpx", "yaml")
+"""Mission export formats of :func:`write_exports` (file suffixes: ``mission.<format>``)."""
+GEOGRAPHIC = ("geojson", "kml", "plan", "gpx")
+"""Formats that need the scenario's ``[origin]``."""
+
+def _frame(origin: tuple[float, float] | None) -> LocalFrame:
+    if origin is None:
+        raise DataError("this scenario has no [origin] lat/lon, so it cannot be exported in geographic "
+                        "coordinates (GeoJSON, KML); add an [origin] table or use --format csv/moos")
+    return LocalFrame(*origin)
+
+
+def _track(record: RunRecord, full: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The flown track (decimated unless ``full``; or the plan when there is no flight) and its times (s)."""
+    if record.sim is not None and record.sim.t.size:
+        sim = record.sim if full else decimate(record.sim)
+        return sim.position, sim.t
+    path = record.plan.path if record.plan is not None else record.route
+    if record.plan is not None and record.plan.times is not None and len(record.plan.times) == len(path):
+        return path, record.plan.times
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))]
+    dur = record.plan.cost_terms.get("duration_s", np.nan) if record.plan is not None else np.nan
+    return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)
+
+
+def mission_waypoints(record: RunRecord) -> NDArray[np.float64]:
+    """Return the executable mission of a run: the route it flew (the plan's path without one).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    """
+    if record.route.size:
+        return record.route
+    if record.plan is not None and record.plan.path.size:
+        return record.plan.path
+    raise DataError("this run has neither a route nor a planned path to export")
+
+
+def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> JsonDict:
+    """Make an RFC 7946 FeatureCollection of a run.
+
+    The flown track (decimated unless ``full``), the planned path, the key waypoints and the
+    executable mission (``name = "mission"``) as LineStrings / MultiPoint with ``[lon, lat, z]``
+    (z the elevation: negative below the surface).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The GeoJSON document.
+    """
+    frame = _frame(origin)
+    track, _ = _track(record, full)
+
+    def coords(p: NDArray[np.float64]) -> list[list[float]]:
+        lon, lat = frame.inverse(p[:, 0], p[:, 1])
+        return [[round(float(a), 9), round(float(b), 9), round(float(z), 3)] for a, b, z in zip(lon, lat, p[:, 2])]
+
+    props = {"name": "track" if record.sim is not None else "plan", **jsonable(summary_metrics(record))}
+    feats = [{"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(track)}, "properties": props}]
+    if record.plan is not None and record.plan.path.shape[0] >= 2 and record.sim is not None:
+        feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(record.plan.path)},
+                      "properties": {"name": "global plan", "planner": record.plan.planner}})
+    if record.keys.size:
+        feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
+                      "properties": {"name": "key waypoints"}})
+    mission = coords(mission_waypoints(record))
+    feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission},
+                  "properties": {"name": "mission", "depth_semantics": "linear along each leg"}})
+    return {"type": "FeatureCollection", "features": feats}
+
+
+def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> str:
+    """Make a KML document of a run.
+
+    The track (decimated unless ``full``), the plan and the executable mission (placemark
+    ``mission``) as LineStrings with absolute altitude (m, negative below sea level) and the key
+    waypoints as placemarks.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    str
+        The KML XML text.
+    """
+    frame = _frame(origin)
+    ns = "http://www.opengis.net/kml/2.2"
+    ET.register_namespace("", ns)
+    root = ET.Element(f"{{{ns}}}kml")
+    doc = ET.SubElement(root, f"{{{ns}}}Document")
+    ET.SubElement(doc, f"{{{ns}}}name").text = f"auvplan {record.scenario} seed {record.seed}"
+
+    def text(p: NDArray[np.float64]) -> str:
+        lon, lat = frame.inverse(p[:, 0], p[:, 1])
+        return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in zip(lon, lat, p[:, 2]))
+
+    def line(name: str, p: NDArray[np.float64]) -> None:
+        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+        ET.SubElement(pm, f"{{{ns}}}name").text = name
+        ls = ET.SubElement(pm, f"{{{ns}}}LineString")
+        ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
+        ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(p)
+
+    track, _ = _track(record, full)
+    line("track" if record.sim is not None else "plan", track)
+    if record.plan is not None and record.sim is not None and record.plan.path.shape[0] >= 2:
+        line("global plan", record.plan.path)
+    line("mission", mission_waypoints(record))
+    for i, k in enumerate(record.keys):
+        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+        ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
+        pt = ET.SubElement(pm, f"{{{ns}}}Point")
+        ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
+        ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(k[None])
+    return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float,
+                  formats: Iterable[str] = EXPORT_FORMATS, full: bool = False) -> list[Path]:
+    """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
+    :mod:`auvplan.io.missions.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
+    also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
+    speed : float
+        Planned speed (m/s), for the formats' arrival times.
+    formats : iterable of str, optional
+        Format names (``EXPORT_FORMATS``).
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    out = Path(out_dir)
+    written = []
+    waypoints = mission_waypoints(record)
+    for fmt in formats:
+        if fmt not in EXPORT_FORMATS:
+            raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
+        if fmt in GEOGRAPHIC:
+            _frame(origin)
+        if fmt == "geojson":
+            text = json.dumps(to_geojson(record, origin, full)) + "\n"
+        elif fmt == "kml":
+            text = to_kml(record, origin, full)
+        elif fmt == "csv":
+            text = mfmt.mission_csv(waypoints, origin, speed)
+        elif fmt == "moos":
+            text = mfmt.to_moos(waypoints, speed)
+        elif fmt == "plan":
+            assert origin is not None  # _frame(origin) raised otherwise
+            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed), indent=1) + "\n"
+        elif fmt == "gpx":
+            assert origin is not None  # _frame(origin) raised otherwise
+            text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
+        else:
+            text = mfmt.to_ros_path(waypoints, speed)
+        written.append(write_text(out / f"mission.{fmt}", text))
+    return written

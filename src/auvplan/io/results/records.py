@@ -1,0 +1,445 @@
+"""Results to files and back: the plan JSON (the CLI's contract, DESIGN.md §4), CSV paths, the
+simulation JSON, and the whole :class:`~auvplan.sim.RunRecord` as JSON + NPZ (:func:`write_run`,
+:func:`read_run`); every file written atomically, none of the user's overwritten."""
+
+from __future__ import annotations
+
+import io
+import json
+import math
+import zipfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, cast
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..._types import Status
+from ...errors import DataError
+from ...planners.base import PlanResult
+from ...sim import RunRecord, SimResult, decimate
+from ..safeio import atomic_write
+
+__all__ = [
+    "JsonDict",
+    "plan_record",
+    "sim_record",
+    "run_record",
+    "write_plan",
+    "write_sim",
+    "write_run",
+    "write_json",
+    "write_path_csv",
+    "write_text",
+    "jsonable",
+    "read_run",
+    "summary_metrics",
+]
+
+JsonDict = dict[str, Any]
+"""A JSON object."""
+
+_SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
+               "obstacle_distance")
+
+
+def jsonable(value: Any) -> Any:
+    """Convert numpy scalars/arrays and non-finite floats (→ None) to plain JSON types, recursively.
+
+    Parameters
+    ----------
+    value : object
+        A value, possibly nested in dicts, lists and tuples.
+
+    Returns
+    -------
+    object
+        The same value with only JSON types (dict keys as str, enums as their value).
+    """
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if hasattr(value, "value") and isinstance(value.value, str):
+        return value.value
+    return value
+
+
+def plan_record(result: PlanResult, scenario: str, seed: int) -> JsonDict:
+    """Make the plan JSON object of DESIGN.md §4.
+
+    Parameters
+    ----------
+    result : PlanResult
+        The plan.
+    scenario : str
+        Scenario name.
+    seed : int
+        The planner's seed.
+
+    Returns
+    -------
+    dict
+        Status, cost and its terms (m, J, s), evaluations, timing and message.
+    """
+    t = result.cost_terms
+    return cast(JsonDict, jsonable({
+        "scenario": scenario,
+        "planner": result.planner,
+        "seed": seed,
+        "status": result.status.value,
+        "message": result.message,
+        "length_m": t.get("length_m", float("nan")),
+        "energy_j": t.get("energy_j", float("nan")),
+        "duration_s": t.get("duration_s", float("nan")),
+        "min_clearance_m": t.get("min_clearance_m", float("nan")),
+        "violations": int(t.get("violations", t.get("collisions", 0))),
+        "collisions": int(t.get("collisions", 0)),  # deprecated alias of "violations"
+        "cost": result.cost,
+        "cost_terms": {k: t[k] for k in ("length", "terrain", "energy") if k in t},
+        "evaluations": result.evaluations,
+        "iterations": result.iterations,
+        "wall_time_s": result.wall_time_s,
+        "history": result.history,
+        "waypoints": result.path,
+        **({"times": result.times} if result.times is not None else {}),
+    }))
+
+
+def write_text(path: Path, text: str | bytes) -> Path:
+    """Write one result file, text (UTF-8) or bytes.
+
+    Every writer of this module goes through here, and here through
+    :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never through a symlink).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    text : str or bytes
+        Its content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return atomic_write(path, text)
+
+
+def write_json(path: Path, obj: Any) -> Path:
+    """Write ``obj`` as indented JSON (through :func:`jsonable`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    obj : object
+        A JSON-able value.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    return write_text(path, json.dumps(jsonable(obj), indent=2) + "\n")
+
+
+def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z") -> Path:
+    """Write points ``(N, k)`` as CSV with a header line.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    points : array_like
+        ``(N, k)`` rows (units as the header says; m for x, y, z).
+    header : str, optional
+        The header line.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    buf = io.StringIO()
+    np.savetxt(buf, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
+    return write_text(path, buf.getvalue())
+
+
+def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> JsonDict:
+    """Write ``metrics.json``, ``path.csv`` and the scenario source into ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    result : PlanResult
+        The plan.
+    scenario : str
+        Scenario name.
+    seed : int
+        The planner's seed.
+    scenario_text : str, optional
+        The scenario's TOML source, copied as ``scenario.toml``.
+
+    Returns
+    -------
+    dict
+        The plan record (:func:`plan_record`).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    record = plan_record(result, scenario, seed)
+    write_json(out / "metrics.json", record)
+    if result.path.size and result.times is not None:  # timed plans: the time at each vertex (s after start_time)
+        write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time")
+    elif result.path.size:
+        write_path_csv(out / "path.csv", result.path)
+    if scenario_text:
+        write_text(out / "scenario.toml", scenario_text)
+    return record
+
+
+def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "none") -> JsonDict:
+    """Make the simulate JSON object of DESIGN.md §4.
+
+    Parameters
+    ----------
+    result : SimResult
+        The closed-loop run.
+    scenario : str
+        Scenario name.
+    seed : int
+        The run's seed.
+    avoidance : str, optional
+        The local avoidance used.
+
+    Returns
+    -------
+    dict
+        Status, metrics (m, s) and events.
+    """
+    m: Mapping[str, object] = result.metrics
+    keys = ("arrived", "duration_s", "distance_m", "min_altitude_m", "min_clearance_m", "min_obstacle_distance_m",
+            "collisions",
+            "cross_track_rms_m", "cross_track_max_m", "escapes", "wall_time_s")
+    rec = {"scenario": scenario, "guidance": result.guidance, "avoidance": avoidance, "seed": seed,
+           "status": result.status.value}
+    rec.update({k: m[k] for k in keys})
+    rec["obstacle_min_distances_m"] = m["obstacle_min_distances_m"]
+    rec["events"] = [list(e) for e in result.events]
+    return cast(JsonDict, jsonable(rec))
+
+
+def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none",
+              full: bool = False) -> JsonDict:
+    """Write ``sim_metrics.json`` and ``track.csv`` into ``out_dir``.
+
+    ``track.csv``: t, x, y, z, heading, speed, rudder, cross-track (s, m, rad, m/s); decimated by
+    :func:`auvplan.sim.decimate` unless ``full``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    result : SimResult
+        The closed-loop run.
+    scenario : str
+        Scenario name.
+    seed : int
+        The run's seed.
+    avoidance : str, optional
+        The local avoidance used.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The simulate record (:func:`sim_record`).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    record = sim_record(result, scenario, seed, avoidance)
+    write_json(out / "sim_metrics.json", record)
+    result = result if full else decimate(result)
+    cols = np.column_stack([result.t, result.position, result.heading, result.speed, result.rudder,
+                            result.route_error])
+    write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m")
+    return record
+
+
+def run_record(record: RunRecord, avoidance: str = "") -> JsonDict:
+    """Make one JSON object for a whole mission: status, the plan's and the simulation's records.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    avoidance : str, optional
+        The local avoidance used.
+
+    Returns
+    -------
+    dict
+        ``scenario``, ``seed``, ``status``, ``plan`` and ``simulation``.
+    """
+    sim = record.sim
+    return cast(JsonDict, jsonable({
+        "scenario": record.scenario,
+        "seed": record.seed,
+        "status": record.status.value,
+        "plan": plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
+        "simulation": sim_record(sim, record.scenario, record.seed, avoidance or sim.avoidance) if sim else None,
+        "key_waypoints": record.keys,
+    }))
+
+
+def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False) -> JsonDict:
+    """Write a mission's results into ``out_dir``.
+
+    run.json, metrics.json (plan), path.csv, route.csv (the mission), keys.csv, sim_metrics.json
+    and track.csv (decimated unless ``full``; run.npz keeps every sample).
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+    scenario_text : str, optional
+        The scenario's TOML source, copied as ``scenario.toml``.
+    full : bool, optional
+        Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+
+    Returns
+    -------
+    dict
+        The run record (:func:`run_record`).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if record.plan is not None:
+        write_plan(out, record.plan, record.scenario, record.seed)
+    if record.route.size:
+        write_path_csv(out / "route.csv", record.route)
+        write_path_csv(out / "keys.csv", record.keys)
+    if record.sim is not None:
+        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full)
+    if scenario_text:
+        write_text(out / "scenario.toml", scenario_text)
+    rec = run_record(record)
+    write_json(out / "run.json", rec)
+    arrays = {"route": record.route, "keys": record.keys}
+    if record.plan is not None:
+        arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
+    if record.sim is not None:
+        arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)  # type: ignore[arg-type]
+    write_text(out / "run.npz", buf.getvalue())
+    return rec
+
+
+def read_run(out_dir: Path) -> tuple[RunRecord, str]:
+    """Read back the :class:`RunRecord` written by :func:`write_run` into ``out_dir``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+
+    Returns
+    -------
+    record : RunRecord
+        The run.
+    scenario_text : str
+        The stored scenario (empty when missing).
+
+    Raises
+    ------
+    DataError
+        Naming the missing or unreadable file.
+    """
+    out = Path(out_dir)
+    files = {n: out / n for n in ("run.json", "run.npz")}
+    for p in files.values():
+        if not p.is_file():
+            raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
+    try:
+        rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
+        with np.load(files["run.npz"], allow_pickle=False) as npz:
+            arr = {k: npz[k] for k in npz.files}
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+    try:
+        scenario_file = out / "scenario.toml"
+        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+        return _record_from(rec, arr), text
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError) as exc:
+        raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+def _record_from(rec: JsonDict, arr: Mapping[str, Any]) -> RunRecord:
+    plan = None
+    p = rec.get("plan")
+    if p is not None:
+        terms = {k: _num(p.get(k)) for k in ("length_m", "energy_j", "duration_s", "min_clearance_m")}
+        terms.update({k: _num(v) for k, v in (p.get("cost_terms") or {}).items()})
+        terms["collisions"] = int(p.get("collisions") or 0)
+        plan = PlanResult(Status(p["status"]), arr.get("plan_path", np.empty((0, 3))), _num(p.get("cost")), terms,
+                          int(p.get("evaluations") or 0), int(p.get("iterations") or 0),
+                          _num(p.get("wall_time_s")), arr.get("plan_history", np.empty(0)), p["planner"],
+                          None, p.get("message") or "")
+    sim = None
+    s = rec.get("simulation")
+    if s is not None:
+        sim = SimResult(status=Status(s["status"]), arrived=bool(s["arrived"]),
+                        **{k: arr[f"sim_{k}"] for k in _SIM_ARRAYS},
+                        events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
+                        wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
+                        avoidance=s.get("avoidance", "none"))
+    route = arr.get("route", np.empty((0, 3)))
+    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
+
+
+def _num(v: Any) -> float:
+    return float("nan") if v is None else float(v)
+
+
+# ---------------------------------------------------------------------------------------- exports
+
+
+def summary_metrics(record: RunRecord) -> JsonDict:
+    """Make a flat table of a mission's headline figures (report and GeoJSON properties).
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: plan, route, key waypoints and flight.
+
+    Returns
+    -------
+    dict
+        Figure name (unit in the name) → value.
+    """
+    rec = run_record(record)
+    out = {"scenario": record.scenario, "seed": record.seed, "status": rec["status"]}
+    if rec["plan"]:
+        out.update({f"plan_{k}": rec["plan"][k] for k in ("planner", "cost", "length_m", "energy_j", "duration_s")})
+    if rec["simulation"]:
+        out.update({f"sim_{k}": rec["simulation"][k] for k in ("arrived", "duration_s", "distance_m",
+                                                               "min_clearance_m", "min_obstacle_distance_m",
+                                                               "collisions", "cross_track_rms_m")})
+    return out

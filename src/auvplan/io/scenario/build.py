@@ -1,0 +1,246 @@
+"""A parsed :class:`~auvplan.io.scenario.specs.Scenario` → :class:`~auvplan.world.World` +
+:class:`~auvplan.sim.Mission`:
+read the bathymetry, currents and coastlines it names, make the World, and check the mission's start,
+goal, route and vehicles against it (and the simulation's record against the memory budget)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import DataError, ScenarioError
+from ...sim import Mission
+from ...world import (
+    Bounds,
+    CurrentField,
+    LambOseenVortices,
+    Margins,
+    Terrain,
+    UniformCurrent,
+    World,
+)
+from ..data.bathymetry import load_terrain
+from ..data.coast import read_land
+from ..data.currents import read_currents
+from ..data.geo import LocalFrame
+from ..data.tides import load_tidal_current, parse_start_time
+from . import limits as _limits
+from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
+from .tables import table_error
+
+__all__ = ["build"]
+
+
+def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str) -> Terrain:
+    if not (bounds.x and bounds.y):
+        raise ScenarioError(f"{src}: [bounds] x and y are required with [terrain.synthetic]")
+    (x0, x1), (y0, y1) = bounds.x, bounds.y
+    cell = spec.cell_m or max(x1 - x0, y1 - y0) / 200.0
+    x = np.linspace(x0, x1, max(int(round((x1 - x0) / cell)) + 1, 2))
+    y = np.linspace(y0, y1, max(int(round((y1 - y0) / cell)) + 1, 2))
+    gx, gy = np.meshgrid(x, y)
+    z = np.full_like(gx, -spec.depth)
+    if spec.kind == "plane":
+        z = z + spec.slope[0] * gx + spec.slope[1] * gy
+    elif spec.kind == "hills":
+        for hx, hy, h, s in spec.hills:
+            z = z + h * np.exp(-((gx - hx) ** 2 + (gy - hy) ** 2) / (2.0 * s * s))
+    elif spec.kind == "ridge":
+        z = z + spec.height * np.clip(1.0 - np.abs(gx - spec.ridge_x) / spec.ridge_width, 0.0, None)
+    return Terrain(x, y, z, name=f"synthetic:{spec.kind}")
+
+
+def _check_point(world: World, point: tuple[float, ...], key: str, src: str) -> None:
+    p = np.asarray(point, dtype=float)
+    table = "" if key.startswith("[[") else "[mission] "
+    if not world.bounds.contains(p):
+        b = world.bounds
+        raise ScenarioError(
+            f"{src}: {table}{key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
+            f"y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}]"
+        )
+    why = world.explain(p, 0.0)
+    if why:
+        seabed = float(world.seabed(p[0], p[1]))
+        extra = f" (seabed at {seabed:.1f} m)" if np.isfinite(seabed) else ""
+        raise ScenarioError(f"{src}: {table}{key} = {list(point)}: not a free point: {why}{extra}")
+
+
+def _check_terrain_size(s: Scenario, extent: tuple[float, float, float, float] | None) -> None:
+    """A resampled data grid's node count from the bounds (or the crop box), before reading it."""
+    t = s.terrain
+    if t is None or not t.resample_m > 0:
+        return
+    if extent is not None:
+        span_x, span_y = extent[1] - extent[0], extent[3] - extent[2]
+    elif t.box:
+        lat = math.radians(0.5 * (t.box[0] + t.box[1]))
+        span_y = (t.box[1] - t.box[0]) * 111_320.0
+        span_x = abs(t.box[3] - t.box[2]) * 111_320.0 * max(math.cos(lat), 1e-3)
+    else:
+        return  # the data's own extent: bounded by the file itself
+    nodes = _limits.grid_nodes(span_x, span_y, t.resample_m)
+    _limits.check(s.limits, f"{s.source}: [terrain]", f"resample_m = {t.resample_m:g} ({nodes:.3g} nodes)",
+                  nodes * _limits.BYTES_PER_TERRAIN_NODE)
+
+
+def _check_sim_size(s: Scenario) -> None:
+    """The simulation preallocates its record for the time limit: check it before any flight."""
+    m = s.mission
+    pts = [m.start, *m.route, m.goal] if m.route else [m.start, m.goal]
+    length = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:]))
+    if not m.route:
+        length *= 1.5  # a planned path is longer than the straight line
+    nbytes = _limits.sim_bytes(length, s.vehicle.speed, s.sim.max_time, s.sim.dt, s.sim.record_every,
+                               len(s.obstacles) + len(s.moving))
+    _limits.check(s.limits, f"{s.source}: [sim]", f"a record at dt = {s.sim.dt:g} s, record_every = "
+                  f"{s.sim.record_every}, for a ~{length:.3g} m mission at [vehicle] speed = {s.vehicle.speed:g}",
+                  nbytes)
+
+
+def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mission]:
+    """Read the scenario's data and make its World and Mission.
+
+    ``terrain``, when given, replaces the scenario's terrain source (a results folder's saved
+    cut-out: the grid the run used, so a moved folder needs no data file).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        The validated scenario.
+    terrain : Terrain, optional
+        A terrain replacing the scenario's source.
+
+    Returns
+    -------
+    world : World
+        Seabed, currents, obstacles, bounds and margins.
+    mission : Mission
+        End points, route and every component's settings.
+
+    Raises
+    ------
+    ScenarioError
+        When the start or goal is outside the bounds or not free, or the
+        bounds are missing.
+    DataError
+        When the bathymetry or current data are unusable or do not cover the area.
+    """
+    s = scenario
+    src = s.source
+    frame = LocalFrame(s.origin.lat, s.origin.lon) if s.origin else None
+    b = s.bounds
+    extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
+    _check_terrain_size(s, extent)
+    if terrain is None:
+        terrain = _terrain(s, frame, extent)
+    bounds = _bounds(s, terrain)
+    currents = _currents(s, frame, bounds)
+    land = None
+    if s.land is not None:
+        if frame is None:
+            raise ScenarioError(f"{src}: [land] needs [origin] lat/lon (the polygons are geographic)")
+        try:
+            land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
+        except DataError as exc:
+            raise DataError(f"{src}: [land] {exc}") from exc
+    m = s.mission
+    min_depth = m.min_depth_m if m.surface else -math.inf
+    margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
+    try:
+        world = World(
+            bounds=bounds,
+            terrain=terrain,
+            currents=currents,
+            obstacles=s.obstacles,
+            moving=s.moving,
+            margins=margins,
+            origin=(s.origin.lat, s.origin.lon) if s.origin else None,
+            name=s.name,
+            land=land,
+        )
+    except DataError as exc:
+        raise DataError(f"{src}: {exc}") from exc
+    _check_point(world, m.start, "start", src)
+    _check_point(world, m.goal, "goal", src)
+    _check_sim_size(s)
+    for i, wp in enumerate(m.route):
+        if not world.bounds.contains(np.asarray(wp)):
+            raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
+    for spec in s.formation.vehicles if s.formation is not None else ():
+        if spec.start:
+            _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
+    mission = Mission(
+        name=s.name,
+        start=m.start,
+        goal=m.goal,
+        route=m.route,
+        seed=s.seed,
+        vehicle=s.vehicle,
+        planner=s.planner,
+        guidance=s.guidance.name,
+        hybrid=s.guidance.hybrid,
+        los=s.guidance.los,
+        avoidance=s.avoidance,
+        sim=s.sim,
+        formation=s.formation,
+    )
+    return world, mission
+
+
+def _terrain(s: Scenario, frame: LocalFrame | None,
+             extent: tuple[float, float, float, float] | None) -> Terrain | None:
+    """The scenario's seabed: a data grid (cropped to the bounds), a synthetic one, or none."""
+    try:
+        if s.terrain is not None:
+            return load_terrain(s.terrain, frame, base_dir=s.base_dir, extent_m=extent)
+        if s.synthetic is not None:
+            return _synthetic_terrain(s.synthetic, s.bounds, s.source)
+    except DataError as exc:
+        raise DataError(f"{s.source}: [terrain] {exc}") from exc
+    return None
+
+
+def _bounds(s: Scenario, terrain: Terrain | None) -> Bounds:
+    """The operating box: ``[bounds]``, completed from the terrain's extent and depth."""
+    b = s.bounds
+    if terrain is not None:
+        x0, x1, y0, y1 = terrain.extent
+        xr, yr = (b.x or (x0, x1)), (b.y or (y0, y1))
+        zr = b.z or (float(terrain.z.min()) - 1.0, 0.0)
+    else:
+        if not (b.x and b.y and b.z):
+            raise ScenarioError(f"{s.source}: [bounds] x, y and z are required when there is no terrain")
+        xr, yr, zr = b.x, b.y, b.z
+    return Bounds(xr[0], xr[1], yr[0], yr[1], zr[0], zr[1])
+
+
+def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentField:
+    """The current field (vortices, a data file, tides or uniform), checked to cover the bounds."""
+    c, src = s.currents, s.source
+    box = (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax)
+    currents: CurrentField
+    try:
+        if c.vortices:
+            v = c.vortices
+            currents = LambOseenVortices(np.array([(q.x, q.y) for q in v]), np.array([q.gamma for q in v]),
+                                         np.array([q.delta for q in v]))
+        elif c.file is not None:
+            currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=box,  # type: ignore[arg-type]
+                                     start_time=s.mission.start_time)
+        elif c.tides:
+            if frame is None or not s.mission.start_time:
+                raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "
+                                    "[mission] start_time (ISO 8601, UTC)")
+            currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
+                                          base_dir=s.base_dir)
+        else:
+            currents = UniformCurrent(c.uniform)
+    except DataError as exc:
+        raise DataError(f"{src}: [currents] {exc}") from exc
+    if not currents.covers(*box):
+        what = f"file {c.file.path!r}" if c.file is not None else "field"  # type: ignore[union-attr]
+        raise DataError(f"{src}: [currents] the current {what} does not cover the bounds x [{bounds.xmin:.0f}, "
+                        f"{bounds.xmax:.0f}] y [{bounds.ymin:.0f}, {bounds.ymax:.0f}] m")
+    return currents

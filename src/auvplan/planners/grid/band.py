@@ -1,0 +1,252 @@
+"""The elastic band that refines a lattice path under the planner's own cost (the grid planner's step 4).
+
+:func:`edge_cost` prices straight segments with the planner's cost (length, or length + energy in the
+current, each segment in its own direction); :func:`densify` and :func:`resample_free` put points on a
+path, the latter keeping vertices where a resampled segment would collide (exact test);
+:func:`_relax` moves each interior vertex towards its neighbours' midpoint or along the path's two
+normals when that lowers the cost of its two segments and keeps both free; :func:`_refine` runs the
+band coarse to fine, and :func:`_converge` until halving the spacing no longer lowers the exact cost
+(:func:`path_cost`).  Used by :mod:`auvplan.planners.grid` (and :func:`~auvplan.planners.grid.planner.refine_plan`
+for any planner's path).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..._types import ArrayLike, FloatArray
+from ...cost import CostModel, evaluate_paths, segment_energy
+from ...guidance.local import key_waypoints
+from ...path import polyline_length, resample_polyline
+from ...world import World
+from ..base import PlannerSpec, PlanningProblem
+from ..swarm.problem import cost_model_for, plan_terms
+
+__all__ = ["densify", "edge_cost", "path_cost", "resample_free"]
+
+
+def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
+              current: ArrayLike | None = None) -> FloatArray:
+    """Cost of travelling straight segments.
+
+    Parameters
+    ----------
+    world : World
+        Source of the current field.
+    a, b : numpy.ndarray
+        Segment starts and ends ``(..., 3)`` (m).
+    model : CostModel
+        Weights and vehicle figures.
+    objective : str
+        ``"length"`` (the length in m) or ``"cost"`` (the cost function's ``w_L`` length + ``w_E`` energy).
+    current : array_like, optional
+        The current at the midpoints ``(..., 3)`` (m/s) when the caller has it.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(...)``; ``inf`` where the current beats the vehicle.
+    """
+    length: FloatArray = np.linalg.norm(b - a, axis=-1)
+    if objective == "length":
+        return length
+    units, _, _, blocked = segment_energy(world, a, b, model, current)
+    cost = model.w_length * length + model.w_energy * model.scale * units
+    return np.where(blocked, np.inf, cost)
+
+
+def densify(points: ArrayLike, spacing: float) -> FloatArray:
+    """The polyline with extra points so that no segment exceeds ``spacing`` (every vertex kept).
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    spacing : float
+        Longest segment allowed (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Vertices ``(M, 3)``, ``M >= N`` (m).
+    """
+    p = np.asarray(points, dtype=float)
+    if p.shape[0] < 2:
+        return p.copy()
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
+    t = np.concatenate([np.arange(k) / k for k in n])
+    i = np.repeat(np.arange(len(n)), n)
+    out = p[i] + t[:, None] * (p[i + 1] - p[i])
+    return np.vstack([out, p[-1]])
+
+
+def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
+    """Points every ``spacing`` metres along the free polyline ``path (N, 3)``, except where a
+    resampled segment would cut a corner into the seabed or an obstacle: there the original
+    vertices between its two ends are kept, so that stretch follows ``path`` and stays free.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    path : ndarray, shape (N, 3)
+        A polyline that passes the exact segment test.
+    spacing : float
+        Arc-length spacing (m).
+
+    Returns
+    -------
+    ndarray, shape (M, 3)
+        A free polyline through the same end points.
+    """
+    p = np.asarray(path, dtype=float)
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    r = resample_polyline(p, spacing)
+    q = np.linspace(0.0, s[-1], r.shape[0])
+    bad = np.flatnonzero(~world.segments_free(np.stack([r[:-1], r[1:]], axis=1), moving=False))
+    if bad.size == 0:
+        return r
+    pieces, last = [], 0
+    for i in bad:
+        pieces += [r[last:i + 1], p[(s > q[i]) & (s < q[i + 1])]]
+        last = int(i) + 1
+    return np.vstack([*pieces, r[last:]])
+
+
+def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
+    t = p[i + 1] - p[i - 1]
+    t /= np.maximum(np.sqrt(np.einsum("ij,ij->i", t, t)), 1e-12)[:, None]
+    tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
+    steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
+    n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
+                  np.stack([ty, -tx, np.zeros_like(tx)], axis=1))
+    n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
+    n2 = np.stack([ty * n1[:, 2] - tz * n1[:, 1], tz * n1[:, 0] - tx * n1[:, 2], tx * n1[:, 1] - ty * n1[:, 0]], axis=1)
+    return n1, n2
+
+
+def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterations: int,
+           step: float) -> np.ndarray:
+    """Elastic band with pattern search: each interior point tries a pull towards its
+    neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
+    best move that lowers the cost of its two segments and keeps both free (odd and even
+    points in turn, so that the moves are independent).  Failed points halve their steps.
+    Only the moves that lower the cost go through the exact segment test."""
+    p = p.copy()
+    n = p.shape[0]
+    if n < 3 or iterations == 0:
+        return p
+    alpha = np.full(n, 0.5)
+    delta = np.full(n, 0.5 * step)
+    tol = 1e-3 * step
+    for _ in range(iterations):
+        for parity in (1, 2):
+            i = np.arange(parity, n - 1, 2)
+            i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
+            if i.size == 0:
+                continue
+            m = i.size
+            a, b, c = p[i - 1], p[i], p[i + 1]
+            n1, n2 = _normals(p, i)
+            d = delta[i, None]
+            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
+                            b - d * n2])  # (6, m, 3): the point, then its five moves
+            ends = np.concatenate([np.broadcast_to(a, pts.shape), pts])
+            cost = edge_cost(world, ends, np.concatenate([pts, np.broadcast_to(c, pts.shape)]), model, objective)
+            both = cost[:6] + cost[6:]
+            old, new = both[0], both[1:]
+            better = new < old - 1e-9 * np.abs(old)
+            kk, jj = np.nonzero(better)
+            if kk.size:
+                q = pts[kk + 1, jj]
+                seg = np.stack([np.stack([a[jj], q], axis=1), np.stack([q, c[jj]], axis=1)], axis=1)
+                better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
+            new = np.where(better, new, np.inf)
+            k = np.argmin(new, axis=0)
+            ok = np.isfinite(new[k, np.arange(m)])
+            p[i[ok]] = pts[k[ok] + 1, np.flatnonzero(ok)]
+            pulled = ok & (k == 0)
+            alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
+            pushed = ok & (k > 0)
+            delta[i[pushed]] = np.minimum(delta[i[pushed]] * 1.5, step)
+            alpha[i[~pulled]] *= 0.5
+            delta[i[~pushed]] *= 0.5
+        if np.all(alpha[1:-1] <= 1e-3) and np.all(delta[1:-1] <= tol):
+            break
+    return p
+
+
+def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cell: float,
+            iterations: int) -> np.ndarray:
+    """Coarse-to-fine elastic band: the path is resampled at 1/8, 1/16, … of its length down to
+    half a cell (a ladder of spacings fixed by the path, not by the cell, so that every lattice
+    hands the band the same coarse levels; resamplings that would cut into an obstacle densify
+    instead) and relaxed at each level with steps of that spacing, so that whole stretches move
+    together before the detail is settled."""
+    path = raw
+    spacing = float(polyline_length(raw)) / 8.0
+    while True:
+        spacing = max(spacing, 0.5 * cell)
+        path = _relax(world, resample_free(world, path, spacing), model, objective, iterations, spacing)
+        if spacing <= 0.5 * cell:
+            return path
+        spacing *= 0.5
+
+
+def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
+              iterations: int, tol: float, cycles: int = 6) -> tuple[np.ndarray, float, int]:
+    """Refine until the cost stops improving, the same way whatever the lattice: cycles of
+    levels, each level resampling the best path so far every 1/8, 1/16, … 1/2048 of its length
+    (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
+    objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
+    free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
+
+    Returns the path, its cost and the number of levels run.
+    """
+    world, objective = problem.world, spec.grid.objective
+    best, best_cost = path, path_cost(problem, spec, path)["total"]
+    length = float(polyline_length(path))
+    levels = 0
+    for _ in range(cycles):
+        before = best_cost
+        spacing = length / 8.0
+        while spacing >= length / 2048.0:
+            levels += 1
+            cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
+            if objective == "length":
+                cand = key_waypoints(cand, world)
+            cost = path_cost(problem, spec, cand)["total"]
+            if cost < best_cost and world.path_free(cand):
+                best, best_cost = cand, cost
+            spacing *= 0.5
+        if before - best_cost < tol * max(abs(before), 1e-12):
+            break
+    return best, best_cost, levels
+
+
+def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:
+    """Cost terms of a polyline under the planner's cost function, as in :class:`PlanResult.cost_terms`.
+
+    Segments no longer than 1/``spec.samples`` of the path, vertices kept.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        Cost settings and samples per path.
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+
+    Returns
+    -------
+    dict of str to float
+        ``total`` and the terms of :func:`~auvplan.planners.swarm.problem.plan_terms`.
+    """
+    path = np.asarray(path, dtype=float)
+    spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
+    terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
+    row = terms.row(0)
+    return {"total": row["total"], **plan_terms(row, spec)}

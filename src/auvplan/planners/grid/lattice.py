@@ -1,0 +1,429 @@
+"""The lean 3D lattice of the reference planner: node fields, free edges and the compiled search.
+
+Memory grows with the nodes, not with the 26 edges of each node, and no array the size of the
+lattice is held twice:
+
+* **Node fields** (:func:`node_fields`) are evaluated one slab of x at a time: the World's
+  constraints on the slab's points, the seabed and the land (horizontal fields) once per column.
+  What the edge test needs is kept in single precision rounded towards the safe side (altitude and
+  obstacle clearance rounded down), the current in single precision.
+* **Free edges** (:func:`edge_bits`) are one bit per lattice direction and node.  One compiled
+  pass per direction clears most edges from the node values alone (the seabed's Lipschitz bound,
+  the obstacles' 1-Lipschitz distance); the few others go through the World's exact segment test.
+* **The search** (:func:`search`) is Dijkstra from the goal over the reversed lattice with an
+  indexed binary heap (``int32`` indices), edges and their costs generated on the fly.  Given a
+  start it becomes A*: the heuristic ``c_min |x - start|`` with ``c_min`` the cheapest cost per
+  metre any edge can have (length weight, plus the energy of travelling at the vehicle's speed
+  plus the strongest current), which is consistent, so the first settled value of every node is
+  its cost-to-go and the search stops as soon as no unsettled node can lead to a cheaper start.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from ..._jit import kernel
+from ..._types import ArrayLike, FloatArray, IntArray
+from ...cost import energy_kernel
+from ...world import World
+
+__all__ = ["HALF", "OFFSETS", "node_fields", "edge_bits", "edge_states", "search", "down32"]
+
+HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
+                 if (i, j, k) > (0, 0, 0)], dtype=np.int64)
+"""The 13 lattice offsets with a positive first non-zero component (the other 13 are their reverses)."""
+
+OFFSETS = np.concatenate([HALF, -HALF]).astype(np.int64)
+"""The 26 lattice directions; bit ``s`` of a node's edge mask is the edge along ``OFFSETS[s]``."""
+
+_SLAB = 100_000
+"""Points per slab of the node-field evaluation (bounds the temporaries to a few tens of MB)."""
+
+
+def down32(a: FloatArray) -> Any:
+    """``a`` in single precision, rounded down (never above the double value: a safe clearance).
+
+    Parameters
+    ----------
+    a : ndarray
+        Double-precision values.
+
+    Returns
+    -------
+    ndarray of float32
+        The largest single-precision values not above ``a``.
+    """
+    b = a.astype(np.float32)
+    return np.where(b > a, np.nextafter(b, np.float32(-np.inf)), b)
+
+
+def node_fields(world: World, axes: tuple[FloatArray, ...], currents: bool) -> tuple[Any, Any, Any, Any]:
+    """Free nodes, altitudes, obstacle clearances and currents of the lattice ``axes``.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints only are applied.
+    axes : tuple of ndarray
+        Node coordinates along x, y and z.
+    currents : bool
+        Evaluate the current at the nodes (else an empty ``(0, 3)`` array).
+
+    Returns
+    -------
+    free : ndarray of bool, shape (nx, ny, nz)
+        Where every static constraint of :meth:`World.clearances` holds.
+    altitude : ndarray of float32, shape (nx, ny, nz)
+        Height above the seabed (``inf`` without terrain), rounded down.
+    obstacle : ndarray of float32, shape (nx, ny, nz)
+        Static-obstacle slack (distance minus margin), rounded down.
+    current : ndarray of float32, shape (N, 3) or (0, 3)
+        Current at the nodes in flat C order (m/s).
+    """
+    ax, ay, az = (np.asarray(a, dtype=float) for a in axes)
+    shape = (ax.size, ay.size, az.size)
+    columns = np.stack(np.meshgrid(ax, ay, indexing="ij"), axis=-1)
+    seabed = world.terrain.elevation(columns[..., 0], columns[..., 1]) if world.terrain is not None else None
+    land = world.land.signed_distance(columns) if world.land is not None else None
+    body = replace(world, terrain=None, land=None)  # the 3D constraints; seabed and land per column
+    free = np.empty(shape, dtype=bool)
+    alt = np.full(shape, np.inf, dtype=np.float32)
+    obs = np.empty(shape, dtype=np.float32)
+    cur = np.empty((int(np.prod(shape)) if currents else 0, 3), dtype=np.float32)
+    step = max(1, _SLAB // (shape[1] * shape[2]))
+    for i0 in range(0, shape[0], step):
+        i1 = min(shape[0], i0 + step)
+        pts = np.empty((i1 - i0, shape[1], shape[2], 3))
+        pts[..., 0] = ax[i0:i1, None, None]
+        pts[..., 1] = ay[None, :, None]
+        pts[..., 2] = az[None, None, :]
+        slack = body.clearances(pts, moving=False)
+        least = np.minimum.reduce(list(slack.values()))
+        if seabed is not None:
+            height = pts[..., 2] - seabed[i0:i1, :, None]
+            least = np.minimum(least, height - world.margins.min_altitude)
+            alt[i0:i1] = down32(height)
+        if land is not None:
+            least = np.minimum(least, land[i0:i1, :, None])
+        free[i0:i1] = least >= 0.0
+        obs[i0:i1] = down32(slack["obstacles"])
+        if currents:
+            n = shape[1] * shape[2]
+            cur[i0 * n:i1 * n] = world.currents.velocity(pts).reshape(-1, 3)
+    return free, alt, obs, cur
+
+
+@kernel
+def _offset_states(free: Any, alt: Any, obs: Any, off: IntArray, half_length: float, dz: float, lh: float,
+                   lipschitz: float, min_alt: float, has_terrain: bool, state: Any) -> None:
+    """``state[u]`` for the edge ``u -> u + off`` of each node (flat C order): 0 no edge (an end
+    outside the lattice or not free), 1 free by the node values alone, 2 to be tested exactly."""
+    nx, ny, nz = free.shape
+    for i in range(nx):
+        for j in range(ny):
+            for k in range(nz):
+                u = (i * ny + j) * nz + k
+                vi, vj, vk = i + off[0], j + off[1], k + off[2]
+                if (vi < 0 or vi >= nx or vj < 0 or vj >= ny or vk < 0 or vk >= nz
+                        or not free[i, j, k] or not free[vi, vj, vk]):
+                    state[u] = 0
+                    continue
+                sure = min(obs[i, j, k], obs[vi, vj, vk]) >= half_length
+                if sure and has_terrain:
+                    ga, gb = alt[i, j, k], alt[vi, vj, vk]
+                    lb = min(ga, gb, 0.5 * (ga + gb - abs(dz) - lipschitz * lh))
+                    sure = lb >= min_alt
+                state[u] = 1 if sure else 2
+
+
+def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
+                coords: Callable[[Any], FloatArray]) -> Any:
+    """Which edges ``u -> u + off`` are free.
+
+    Most edges are cleared by the node values in one compiled pass (the seabed's Lipschitz bound
+    on the end altitudes, the obstacles' 1-Lipschitz distance); the rest go through
+    :meth:`World.segments_free`.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : ndarray of bool, shape (nx, ny, nz)
+        Free nodes.
+    altitude, obstacle : ndarray, shape (nx, ny, nz)
+        Node heights above the seabed and static-obstacle slack (:func:`node_fields`), never above
+        the true values.
+    steps : array_like, shape (3,)
+        Cell sizes (m).
+    off : array_like of int, shape (3,)
+        The lattice offset of the edges.
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    ndarray of int8, shape (N,)
+        Over the source nodes (flat C order): 1 where the edge is free, 0 where it is not (an end
+        outside the lattice or not free, or the segment fails the exact test).
+    """
+    off = np.asarray(off, dtype=np.int64)
+    d = off * np.asarray(steps, dtype=float)
+    state = np.empty(free.size, dtype=np.int8)
+    terrain = world.terrain
+    has_terrain = terrain is not None
+    _offset_states(free, altitude, obstacle, off, 0.5 * float(np.linalg.norm(d)), float(d[2]),
+                   float(np.hypot(d[0], d[1])), terrain.max_slope if terrain is not None else 0.0,
+                   world.margins.min_altitude, has_terrain, state)
+    unsure = np.flatnonzero(state == 2)
+    delta = int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
+    for c0 in range(0, unsure.size, 200_000):
+        u = unsure[c0:c0 + 200_000]
+        seg = np.stack([coords(u), coords(u + delta)], axis=1)
+        state[u] = world.segments_free(seg, moving=False, ends_free=True)
+    return state
+
+
+@kernel
+def _set_bits(state: Any, delta: int, bits: Any, fwd: Any, rev: Any) -> None:
+    for u in range(state.size):
+        if state[u] == 1:
+            bits[u] |= fwd
+            bits[u + delta] |= rev
+
+
+def edge_bits(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike,
+              coords: Callable[[Any], FloatArray]) -> Any:
+    """Free edges as one bit per lattice direction and node, from :func:`edge_states`.
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : ndarray of bool, shape (nx, ny, nz)
+        Free nodes.
+    altitude, obstacle : ndarray, shape (nx, ny, nz)
+        Node heights above the seabed and static-obstacle slack (:func:`node_fields`).
+    steps : array_like, shape (3,)
+        Cell sizes (m).
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    ndarray of uint32, shape (N,)
+        Bit ``s`` of node ``u`` is set when the edge ``u -> u + OFFSETS[s]`` is free.
+    """
+    shape = free.shape
+    bits = np.zeros(free.size, dtype=np.uint32)
+    for slot, off in enumerate(HALF):
+        state = edge_states(world, free, altitude, obstacle, steps, off, coords)
+        delta = int((off[0] * shape[1] + off[1]) * shape[2] + off[2])
+        _set_bits(state, delta, bits, np.uint32(1 << slot), np.uint32(1 << (13 + slot)))
+    return bits
+
+
+@kernel
+def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost: bool, w_length: float,
+                 w_energy: float, speed: float, power: float, document: bool) -> float:
+    """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
+    ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
+    (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
+    ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]
+    ds = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if not use_cost:
+        return ds
+    # np.float64, not float(): numba's float() keeps a float32 scalar in single precision (the mean was
+    # then rounded to float32, ~1e-5 relative error in the cost of an edge the current nearly blocks)
+    cx = 0.5 * (np.float64(current[u, 0]) + np.float64(current[v, 0]))
+    cy = 0.5 * (np.float64(current[u, 1]) + np.float64(current[v, 1]))
+    cz = 0.5 * (np.float64(current[u, 2]) + np.float64(current[v, 2]))
+    units, _, _, blocked = energy_kernel(ex, ey, ez, ds, cx, cy, cz, speed, power, document)
+    if blocked:
+        return np.inf
+    return max(w_length * ds + w_energy * units, 1e-12)
+
+
+@kernel
+def _sift_up(heap: Any, pos: Any, key: FloatArray, i: int) -> None:
+    node = heap[i]
+    while i > 0:
+        parent = (i - 1) >> 1
+        if key[heap[parent]] <= key[node]:
+            break
+        heap[i] = heap[parent]
+        pos[heap[i]] = i
+        i = parent
+    heap[i] = node
+    pos[node] = i
+
+
+@kernel
+def _sift_down(heap: Any, pos: Any, key: FloatArray, i: int, size: int) -> None:
+    node = heap[i]
+    while True:
+        c = 2 * i + 1
+        if c >= size:
+            break
+        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
+            c += 1
+        if key[heap[c]] >= key[node]:
+            break
+        heap[i] = heap[c]
+        pos[heap[i]] = i
+        i = c
+    heap[i] = node
+    pos[node] = i
+
+
+@kernel
+def _push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
+    """Queue ``u`` (or move it up after its key fell); returns the new heap size."""
+    if pos[u] == -1:
+        heap[size] = u
+        pos[u] = size
+        size += 1
+    _sift_up(heap, pos, key, pos[u])
+    return size
+
+
+@kernel
+def _pop(heap: Any, pos: Any, key: FloatArray, size: int, mark: int) -> int:
+    """Remove the root ``heap[0]`` (its ``pos`` set to ``mark``: -2 settled, -1 free to queue again);
+    the last entry moves to the root and sifts down.  Returns the new heap size."""
+    pos[heap[0]] = mark
+    size -= 1
+    if size > 0:
+        heap[0] = heap[size]
+        pos[heap[0]] = 0
+        _sift_down(heap, pos, key, 0, size)
+    return size
+
+
+@kernel
+def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, start: FloatArray,
+               c_min: float) -> float:
+    if c_min <= 0.0:
+        return 0.0
+    k = u % nz
+    j = (u // nz) % ny
+    i = u // (nz * ny)
+    dx = origin[0] + i * steps[0] - start[0]
+    dy = origin[1] + j * steps[1] - start[1]
+    dz = origin[2] + k * steps[2] - start[2]
+    return c_min * math.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@kernel
+def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any, use_cost: bool,
+            w_length: float, w_energy: float, speed: float, power: float, document: bool, near: IntArray,
+            w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, key: FloatArray, origin: FloatArray,
+            steps: FloatArray, start: FloatArray, c_min: float, start_near: IntArray, w_start: FloatArray,
+            box: IntArray, heap: Any, pos: Any) -> int:
+    """Dijkstra (``c_min = 0``) or A* towards ``start`` from the goal over the reversed lattice;
+    see :func:`search`.  Returns the nodes settled."""
+    nx, ny, nz = shape[0], shape[1], shape[2]
+    size = 0
+    for k in range(near.size):
+        u = near[k]
+        if w_goal[k] < dist[u]:
+            dist[u] = w_goal[k]
+            key[u] = dist[u] + _heuristic(u, ny, nz, origin, steps, start, c_min)
+            nxt[u] = goal
+            size = _push(heap, pos, key, size, u)
+    best = np.inf
+    settled = 0
+    while size > 0:
+        v = heap[0]
+        if key[v] >= best:
+            break  # A*: no unsettled node leads to a cheaper start
+        size = _pop(heap, pos, key, size, -2)
+        settled += 1
+        k = v % nz
+        j = (v // nz) % ny
+        i = v // (nz * ny)
+        if c_min > 0.0 and box[0] <= i <= box[1] and box[2] <= j <= box[3] and box[4] <= k <= box[5]:
+            for m in range(start_near.size):
+                if start_near[m] == v:
+                    best = min(best, dist[v] + w_start[m])
+        for s in range(26):
+            # the edge u -> v along direction s starts at u = v - offsets[s]
+            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
+            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
+                continue
+            u = (ui * ny + uj) * nz + uk
+            if pos[u] == -2 or not (bits[u] >> s) & 1:
+                continue
+            alt = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
+                                         document)
+            if alt < dist[u]:
+                dist[u] = alt
+                key[u] = alt + _heuristic(u, ny, nz, origin, steps, start, c_min)
+                nxt[u] = v
+                size = _push(heap, pos, key, size, u)
+    return settled
+
+
+def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLike, current: Any,
+           cost: tuple[float, float, float, float, bool] | None, goal_near: tuple[Any, Any],
+           start_near: tuple[Any, Any] | None = None, start: ArrayLike | None = None,
+           c_min: float = 0.0) -> tuple[FloatArray, Any, int]:
+    """Cost-to-go from every node to the goal over the lattice (reversed Dijkstra), or A* for one start.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Lattice shape ``(nx, ny, nz)``.
+    bits : ndarray of uint32, shape (N,)
+        Free edges (:func:`edge_bits`).
+    steps, origin : ndarray, shape (3,)
+        Cell sizes and the first node's coordinates.
+    current : ndarray, shape (N, 3) or (0, 3)
+        Node currents (used with a cost objective).
+    cost : tuple or None
+        ``(w_length, w_energy, speed, power, document)`` of the cost function; ``None``: length.
+    goal_near : tuple of ndarray
+        Nodes joined to the goal and the cost of their segment to it.
+    start_near : tuple of ndarray, optional
+        Nodes joined to the start and the cost of the segment from it; with ``start`` and
+        ``c_min > 0`` the search is A* and stops once the start's best link is settled.
+    start : ndarray, shape (3,), optional
+        The start point (A*'s target).
+    c_min : float
+        Lower bound of any edge's cost per metre (0: plain Dijkstra over the whole lattice).
+
+    Returns
+    -------
+    dist : ndarray, shape (N + 1,)
+        Cost-to-go (the goal is node ``N``): exact on settled nodes, an upper bound reached by a
+        real path on the other reached nodes, ``inf`` on the unreached.
+    nxt : ndarray of int32, shape (N + 1,)
+        Next node towards the goal.
+    settled : int
+        Nodes settled.
+    """
+    n = int(np.prod(shape))
+    dist = np.full(n + 1, np.inf)
+    nxt = np.full(n + 1, -1, dtype=np.int32)
+    dist[n] = 0.0
+    astar = start is not None and start_near is not None and c_min > 0.0
+    key = np.full(n + 1, np.inf) if astar else dist
+    vec = OFFSETS * np.asarray(steps, dtype=float)
+    sn, ws = start_near if astar and start_near is not None else (np.zeros(0, np.int64), np.zeros(0))
+    box = np.zeros(6, dtype=np.int64)
+    if astar and sn.size:
+        ijk = np.stack(np.unravel_index(sn, shape))
+        box = np.stack([ijk.min(axis=1), ijk.max(axis=1)], axis=1).reshape(-1)
+    w = cost if cost is not None else (1.0, 0.0, 1.0, 0.0, False)
+    settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not None, float(w[0]),
+                      float(w[1]), float(w[2]), float(w[3]), bool(w[4]), np.asarray(goal_near[0], dtype=np.int64),
+                      np.asarray(goal_near[1], dtype=float), n, dist, nxt, key, np.asarray(origin, dtype=float),
+                      np.asarray(steps, dtype=float), np.zeros(3) if start is None else np.asarray(start, float),
+                      float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64),
+                      np.asarray(ws, dtype=float), box, np.empty(n, dtype=np.int32),
+                      np.full(n, -1, dtype=np.int32))  # heap; pos: -1 never queued, -2 settled
+    return dist, nxt, int(settled)

@@ -1,0 +1,258 @@
+"""Global planning with population optimisers over B-spline control points (document 002).
+
+The problem (:mod:`auvplan.planners.swarm.problem`): the ``K`` interior control points of a
+clamped cubic B-spline from the start to the goal, costed by :func:`auvplan.cost.evaluate_paths`.
+The optimiser is IABC (document 002's improvement), ABC, GA, PSO or scipy's differential
+evolution.  Three pipelines (``PlannerSpec.pipeline``):
+
+* ``"seeded"`` (default): a coarse lattice path (:mod:`auvplan.planners.swarm.seeding`) gives candidate
+  control points (least-squares fits, control points repeated at the corners of its taut
+  polygon); the best of them, screened by the objective (evaluations counted), seed
+  ``seed_fraction`` of the first population; the optimiser spends
+  ``(1 - refine_fraction)`` of the budget; a pattern search (:func:`auvplan.optim.pattern_search`)
+  spends the rest refining the best plan, accepting only paths that pass the exact test when the
+  optimiser's plan did (so the refined plan is never worse and never less safe); when the
+  optimiser found no feasible path, the lattice path (shortened and relaxed by the grid planner)
+  is returned instead, so that a plan is INFEASIBLE only when the lattice found none either;
+* ``"document"``: the algorithm alone, as in document 002 (IterMax iterations when no budget is
+  given);
+* ``"progressive"``: the algorithm alone, coarse to fine (:mod:`auvplan.planners.swarm.progressive`):
+  ``coarse_fraction`` of the budget with ``⌈K/2⌉`` control points, then the rest with ``K``,
+  seeded by the first stage's best paths refitted with the control points crowded at the bends.
+
+``--budget N`` (``PlannerSpec.budget``) makes every optimiser, and the seeded pipeline as a whole,
+spend exactly N objective evaluations (the last batch truncated).
+
+Status: ``EXACT`` when the returned path passes every exact constraint test, ``INFEASIBLE``
+when even the best path violates one (the path is still returned, with the number of
+violating segments in the message), ``INVALID_START`` / ``INVALID_GOAL`` when an end point is
+not free.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+
+from ..._types import FloatArray, RngLike, Status, as_rng
+from ...cost import evaluate_paths
+from ...optim import (
+    ABC,
+    GA,
+    IABC,
+    PSO,
+    Optimizer,
+    OptimizeResult,
+    Problem,
+    Termination,
+    differential_evolution,
+    minimize,
+    pattern_search,
+)
+from ...path import sample_population
+from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..grid.planner import GridReference, plan_grid
+from .problem import (
+    check_endpoints,
+    control_polygon,
+    cost_model_for,
+    make_objective,
+    plan_terms,
+    search_box,
+    spline_problem,
+)
+from .progressive import coarse_count, coarse_stage
+from .seeding import coarse_reference, lattice_seeds, seed_candidates
+
+__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "run_optimizer", "check_endpoints",
+           "plan_terms", "search_box", "spline_problem"]
+
+
+def make_optimizer(spec: PlannerSpec, lower: FloatArray, upper: FloatArray, rng: np.random.Generator) -> Optimizer:
+    """The ask/tell optimiser named by ``spec.name`` over a box.
+
+    Parameters
+    ----------
+    spec : PlannerSpec
+        Optimiser name (``iabc``, ``abc``, ``ga`` or ``pso``), population and settings.
+    lower, upper : numpy.ndarray
+        Search box ``(D,)``.
+    rng : numpy.random.Generator
+        The run's generator.
+
+    Returns
+    -------
+    Optimizer
+        A fresh optimiser.
+
+    Raises
+    ------
+    ValueError
+        For any other name.
+    """
+    if spec.name == "iabc":
+        params = replace(spec.iabc, max_iterations=spec.iterations)
+        return IABC(lower, upper, spec.population, params, rng)
+    if spec.name == "abc":
+        return ABC(lower, upper, spec.population, spec.abc, rng)
+    if spec.name == "ga":
+        return GA(lower, upper, spec.population, spec.ga, rng)
+    if spec.name == "pso":
+        return PSO(lower, upper, spec.population, spec.pso, rng)
+    raise ValueError(f"unknown swarm planner {spec.name!r}")
+
+
+def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
+                  progress: Progress | None = None) -> OptimizeResult:
+    """Run the optimiser of ``spec`` on ``problem`` until its budget is spent.
+
+    Without a budget, for ``spec.iterations`` iterations.
+
+    Parameters
+    ----------
+    spec : PlannerSpec
+        Optimiser name, population, settings and iteration cap.
+    problem : Problem
+        Objective, box, seeds and budget.
+    rng : numpy.random.Generator
+        The run's generator.
+    progress : callable, optional
+        ``progress(iteration, best_cost)`` after each iteration.
+
+    Returns
+    -------
+    OptimizeResult
+        The optimiser's best decision vector and its record.
+    """
+    if spec.name == "de":
+        return differential_evolution(problem, spec.population, spec.de, rng, progress)
+    optimizer = make_optimizer(spec, problem.lower, problem.upper, rng)
+    termination = (Termination(max_iterations=spec.iterations) if problem.budget is None
+                   else Termination(max_iterations=None, max_evaluations=problem.budget))
+    return minimize(problem, optimizer, termination, progress)
+
+
+def _failure(status: Status, message: str, name: str) -> PlanResult:
+    return PlanResult(status, np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), name, None, message)
+
+
+def _budgets(spec: PlannerSpec) -> tuple[int | None, int]:
+    """Evaluations of the optimiser (None: iteration cap only) and of the refinement."""
+    if spec.pipeline == "document":
+        return (spec.budget or (spec.evaluations if spec.name == "de" else None)), 0
+    if spec.pipeline == "progressive":
+        return spec.evaluations, 0
+    total = spec.evaluations
+    refine = int(round(spec.refine_fraction * total)) if total > 2 * 3 * spec.control_points else 0
+    return total - refine, refine
+
+
+def plan_swarm(
+    problem: PlanningProblem,
+    spec: PlannerSpec,
+    rng: RngLike = None,
+    progress: Progress | None = None,
+) -> PlanResult:
+    """Plan with the population optimiser named by ``spec.name`` (see the module notes).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, vehicle energy figures.
+    spec : PlannerSpec
+        Optimiser, pipeline, population, evaluation budget, cost settings.
+    rng : Generator, int or None
+        Seed of the run (same seed → same result).
+    progress : callable, optional
+        ``progress(iteration, best_cost)`` after each iteration.
+
+    Returns
+    -------
+    PlanResult
+        Status, path, control points, cost terms and history; a failure is a status.
+    """
+    t0 = time.perf_counter()
+    bad = check_endpoints(problem)
+    if bad is not None:
+        return _failure(bad[0], bad[1], spec.name)
+    gen = as_rng(rng)
+    budget, refine = _budgets(spec)
+    lattice, x0, count = None, None, 0
+    if spec.pipeline == "seeded":
+        ref, lattice = coarse_reference(problem, spec)
+        if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
+            lo3, hi3 = search_box(problem)
+            k = spec.control_points
+            count = max(1, int(round(spec.seed_fraction * spec.population)))
+            bases = lattice_seeds(lattice, problem.world, k, spec.samples)
+            x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
+    coarse = None
+    if spec.pipeline == "progressive" and budget is not None and budget >= 2 and coarse_count(spec.control_points) < \
+            spec.control_points:
+        first = max(1, int(round(spec.coarse_fraction * budget)))
+        x0, coarse = coarse_stage(problem, spec, first, lambda s, t, g: run_optimizer(s, t, g, progress), gen)
+        budget -= coarse.evaluations
+    task = spline_problem(problem, spec, budget, x0)
+    if x0 is not None and x0.shape[0] > count and spec.pipeline == "seeded":  # screen the candidates (counted)
+        task.x0 = x0[np.argsort(task.evaluate(x0), kind="stable")[:count]]
+    opt = run_optimizer(spec, task, gen, progress)
+    x, f, evals = opt.x, opt.f, task.evaluations  # the screening included
+    history, trace = opt.history, np.asarray(task.trace, dtype=float).reshape(-1, 2)
+    if coarse is not None:  # the coarse stage's record first
+        history = np.r_[coarse.history, history]
+        trace = np.vstack([coarse.trace, trace + np.array([coarse.evaluations, 0.0])])
+        trace[:, 1] = np.minimum.accumulate(trace[:, 1])
+        evals += coarse.evaluations
+    if refine > 0:
+        feasible = _feasible(problem, spec, x)
+        polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
+        if polished.f <= f:
+            x, f = polished.x, polished.f
+        trace = np.vstack([trace, polished.trace + np.array([evals, 0.0])])
+        trace[:, 1] = np.minimum.accumulate(trace[:, 1])  # the polls' best against the incumbent
+        history = np.r_[history, f]
+        evals += polished.evaluations
+    iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
+    result = _result(problem, spec, x, f, evals, iterations, history, trace)
+    if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
+        result = _fallback(problem, spec, ref, result)
+    return replace(result, wall_time_s=time.perf_counter() - t0)
+
+
+def _feasible(problem: PlanningProblem, spec: PlannerSpec, x: FloatArray) -> bool:
+    """Whether decision vector ``x`` passes every constraint (a check of the optimiser's answer,
+    not a search step: it does not count against the budget)."""
+    path = sample_population(control_polygon(problem, x), spec.samples)
+    return bool(evaluate_paths(problem.world, path, cost_model_for(problem, spec)).feasible[0])
+
+
+def _result(problem: PlanningProblem, spec: PlannerSpec, x: FloatArray, f: float, evals: int, iterations: int,
+            history: FloatArray, trace: FloatArray) -> PlanResult:
+    """The plan of decision vector ``x`` with its exact status."""
+    ctrl = control_polygon(problem, x)[0]
+    path = sample_population(ctrl, spec.samples)
+    terms = evaluate_paths(problem.world, path[None], cost_model_for(problem, spec), exact=True)
+    row = terms.row(0)
+    free = problem.world.path_free(path, moving=False)
+    status = Status.EXACT if (free and row["violations"] == 0) else Status.INFEASIBLE
+    message = "" if status is Status.EXACT else (
+        f"the best path found still violates {row['violations']} segment constraint(s) "
+        f"(deepest violation {-row['min_clearance_m']:.1f} m); raise the budget or relax the margins"
+    )
+    return PlanResult(status=status, path=path, cost=float(f), cost_terms=plan_terms(row, spec), evaluations=evals,
+                      iterations=iterations, wall_time_s=0.0, history=history, planner=spec.name, control_points=ctrl,
+                      message=message, trace=trace)
+
+
+def _fallback(problem: PlanningProblem, spec: PlannerSpec, ref: GridReference | None,
+              failed: PlanResult) -> PlanResult:
+    """The coarse lattice path (shortened and relaxed by the grid planner) in place of a failed plan."""
+    grid = plan_grid(problem, spec, reference=ref)
+    if not grid.status.ok:
+        return failed
+    note = (f"the {spec.name} optimiser found no feasible path ({failed.message}); returned the lattice path "
+            f"of the seeding lattice instead")
+    return replace(grid, planner=spec.name, evaluations=failed.evaluations, iterations=failed.iterations,
+                   history=np.r_[failed.history, grid.cost], trace=failed.trace, message=note)

@@ -1,0 +1,242 @@
+"""What the lattice knows, handed to the population optimisers: seeds from a coarse lattice path.
+
+A coarse :class:`~auvplan.planners.grid.planner.GridReference` (``spec.seed_nodes`` nodes, the planner's
+own cost on its edges) tells which side of each seamount or bank the cheap path takes.  Its
+path gives candidate ``K`` interior control points of the clamped cubic B-spline from the start
+to the goal: the least-squares fit of the path (samples at uniform arc length matched to uniform
+spline parameters), the fit of its taut polygon (document 004's key waypoints), and every
+arrangement of the ``K`` control points as repeats of the taut polygon's corners, which puts the
+spline's bends where the path bends (the even spread of a least-squares fit is one local optimum
+of the spline's parametrisation among many; on chagos-banks not the best one).  The planner
+screens the candidates by its objective and seeds part of the first population with the best.
+The same lattice path is the fallback plan when the optimiser ends with no feasible path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..._types import ArrayLike, FloatArray, IntArray
+from ...guidance.local import key_waypoints
+from ...path import basis_matrix, polyline_length, resample_polyline
+from ...world import World
+from ..base import PlannerSpec, PlanningProblem
+from ..grid.planner import GridReference
+from .problem import cost_model_for, search_box
+
+__all__ = ["STRAIGHT", "coarse_reference", "compositions", "corner_control_points", "fit_control_points",
+           "lattice_seeds", "seed_candidates"]
+
+STRAIGHT = 1e-3
+"""Whole turning (rad) below which the bend-weighted fit treats a polyline as straight (0.06°)."""
+
+
+def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridReference | None, FloatArray]:
+    """The coarse lattice and its path from the start.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        ``spec.seed_nodes`` and the cost function.
+
+    Returns
+    -------
+    reference : GridReference or None
+        The coarse lattice (None when it cannot be built).
+    path : numpy.ndarray
+        Its path ``(N, 3)`` (m) from the start (empty when the lattice finds none).
+    """
+    lower, upper = search_box(problem)
+    params = replace(spec.grid, cell=0.0, cell_z=0.0, target_nodes=spec.seed_nodes,
+                     max_nodes=max(spec.grid.max_nodes, spec.seed_nodes), objective="cost")
+    try:
+        ref = GridReference(problem.world, problem.goal, cost_model_for(problem, spec), lower, upper, params)
+    except ValueError:
+        return None, np.empty((0, 3))
+    return ref, ref.query(problem.start)
+
+
+def fit_control_points(path: ArrayLike, k: int, samples: int = 200, bend: float = 0.0) -> FloatArray:
+    """Least-squares fit of a clamped cubic B-spline to a polyline.
+
+    The spline runs through ``path[0]`` and ``path[-1]``; its interior control points minimise the
+    squared distance to the polyline sampled at uniform arc length (``bend = 0``) or at uniform
+    *bend-weighted* length, in which every radian the polyline turns counts as much as
+    ``bend / Θ`` of its length (Θ its whole turning), so that the uniform spline parameter, and
+    with it the control points, crowd where the polyline bends instead of spreading evenly along
+    its straight stretches (a polyline turning less than :data:`STRAIGHT` in all is fitted at
+    uniform arc length).
+
+    Parameters
+    ----------
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+    k : int
+        Number of interior control points.
+    samples : int, default 200
+        Samples of the polyline and the spline matched in the fit.
+    bend : float, default 0.0
+        Weight of the turning against the length (0: arc length alone; 1: half of the spline's
+        parameter for the bends when the polyline turns at all).
+
+    Returns
+    -------
+    numpy.ndarray
+        Interior control points ``(k, 3)`` (m).
+    """
+    path = np.asarray(path, dtype=float)
+    length = float(polyline_length(path))
+    pts = resample_polyline(path, max(length / (samples - 1), 1e-9))
+    steps = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    s = np.r_[0.0, np.cumsum(steps)]
+    if bend > 0 and pts.shape[0] > 2:
+        s = s / max(s[-1], 1e-12) + bend * _turning(pts, steps)
+    if pts.shape[0] != samples or bend > 0:  # exactly `samples` points, uniform in s
+        q = np.linspace(0.0, s[-1], samples)
+        pts = np.column_stack([np.interp(q, s, pts[:, d]) for d in range(3)])
+    B = basis_matrix(k + 2, samples)
+    rhs = pts - np.outer(B[:, 0], path[0]) - np.outer(B[:, -1], path[-1])
+    ctrl, *_ = np.linalg.lstsq(B[:, 1:-1], rhs, rcond=None)
+    return np.asarray(ctrl, dtype=np.float64)  # numpy types lstsq as floating[Any]: float64 in, float64 out
+
+
+def _turning(pts: FloatArray, steps: FloatArray) -> FloatArray:
+    """Cumulative turning at the vertices of a polyline, as a share of its whole turning.
+
+    Each vertex's turning angle (``atan2(|a × b|, a · b)``, accurate near 0) is split half to the
+    segment before it and half to the one after, so that the measure grows across a corner, not at
+    one sample.  A polyline that turns less than ``STRAIGHT`` radians in all is straight: zeros."""
+    t = np.diff(pts, axis=0) / np.maximum(steps, 1e-12)[:, None]
+    angle = np.arctan2(np.linalg.norm(np.cross(t[:-1], t[1:]), axis=1), np.einsum("ij,ij->i", t[1:], t[:-1]))
+    per_segment = 0.5 * (np.r_[0.0, angle] + np.r_[angle, 0.0])
+    total = per_segment.sum()
+    out: FloatArray = np.r_[0.0, np.cumsum(per_segment)] / total if total > STRAIGHT else np.zeros(pts.shape[0])
+    return out
+
+
+def seed_candidates(ctrl: ArrayLike | list[FloatArray], count: int, lower: FloatArray, upper: FloatArray,
+                    rng: np.random.Generator, jitter: float = 0.02) -> FloatArray:
+    """Decision vectors seeding a population: the seed control points and jittered copies.
+
+    Parameters
+    ----------
+    ctrl : array_like or list of numpy.ndarray
+        Seed interior control points ``(k, 3)`` (m), one array or a list of them, each flattened
+        into a decision vector.
+    count : int
+        Number of vectors (at least 1 is returned).
+    lower, upper : numpy.ndarray
+        Box of the decision vector ``(3k,)`` (m).
+    rng : numpy.random.Generator
+        Source of the jitter.
+    jitter : float, default 0.02
+        Standard deviation of the jitter as a fraction of the box width per coordinate.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(max(count, 1), 3k)``: each seed once, then copies of the seeds in turn jittered by
+        ``N(0, (jitter · range)²)``, all clipped to the box.
+    """
+    base = [np.asarray(c, dtype=float).reshape(-1) for c in (ctrl if isinstance(ctrl, list) else [ctrl])]
+    count = max(count, 1)
+    out = np.array([base[i % len(base)] for i in range(count)])
+    if count > len(base):
+        out[len(base):] += rng.normal(0.0, 1.0, size=out[len(base):].shape) * jitter * (upper - lower)
+    seeds: FloatArray = np.clip(out, lower, upper)
+    return seeds
+
+
+def compositions(k: int, m: int) -> IntArray:
+    """Every way of writing ``k`` as an ordered sum of ``m`` non-negative integers.
+
+    Parameters
+    ----------
+    k : int
+        The total (>= 0).
+    m : int
+        Number of parts (>= 1).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(C(k + m - 1, m - 1), m)`` integer rows, the first part in decreasing order.
+    """
+    if m == 1:
+        return np.array([[k]])
+    rows = [np.c_[np.full((len(rest), 1), first), rest] for first in range(k, -1, -1)
+            for rest in [compositions(k - first, m - 1)]]
+    out: IntArray = np.vstack(rows)
+    return out
+
+
+def corner_control_points(polygon: ArrayLike, k: int) -> list[FloatArray]:
+    """Control points that put the spline's bends at the corners of a polygon.
+
+    Every arrangement of the ``k`` control points as repeats of the corners (a corner may get none:
+    a coarse lattice path turns where the best path need not), so that the clamped cubic B-spline
+    turns close to the repeated corners (through a corner repeated three times).  The
+    arrangements are local optima of the spline's parametrisation that the smooth least-squares
+    fit does not reach.
+
+    Parameters
+    ----------
+    polygon : array_like
+        Vertices ``(m + 2, 3)`` (m): the start, ``1 <= m <= k`` corners, the goal.
+    k : int
+        Number of interior control points.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One ``(k, 3)`` array per composition of ``k`` into ``m`` parts (:func:`compositions`).
+
+    Raises
+    ------
+    ValueError
+        If the polygon has no corner or more than ``k``.
+    """
+    corners = np.asarray(polygon, dtype=float).reshape(-1, 3)[1:-1]
+    m = corners.shape[0]
+    if not 1 <= m <= k:
+        raise ValueError(f"need 1 <= corners <= k, got {m} corners for k = {k}")
+    return [np.repeat(corners, mult, axis=0) for mult in compositions(k, m)]
+
+
+def lattice_seeds(path: ArrayLike, world: World, k: int, samples: int = 200) -> list[FloatArray]:
+    """Seed control points from a lattice path.
+
+    The least-squares fit of the path, the least-squares fit of its taut polygon (document 004's
+    key waypoints: the waypoints that hold the path up, exact segment test) and, when the taut
+    polygon has at most ``k`` corners, the control points repeated at its corners
+    (:func:`corner_control_points`), which put the spline's bends where the path bends instead of
+    spreading them evenly.
+
+    Parameters
+    ----------
+    path : array_like
+        Lattice path ``(N, 3)`` (m) from the start to the goal.
+    world : World
+        The world (its exact segment test picks the taut polygon).
+    k : int
+        Number of interior control points.
+    samples : int, default 200
+        Samples matched in the least-squares fits.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        Candidate interior control points, each ``(k, 3)`` (m); the path's fit first.
+    """
+    path = np.asarray(path, dtype=float)
+    seeds = [fit_control_points(path, k, samples)]
+    taut = key_waypoints(path, world)
+    if taut.shape[0] > 2:
+        seeds.append(fit_control_points(taut, k, samples))
+        if taut.shape[0] - 2 <= k:
+            seeds += corner_control_points(taut, k)
+    return seeds

@@ -1,0 +1,314 @@
+"""Compiled inner loops of the time-dependent planner: the current table lookup, the travel time
+of a straight leg through a current that changes while the vehicle is on it, and the label-setting
+(Dijkstra) search on arrival times.
+
+The current table ``cur (nt, nx, ny, nz, 3)`` holds the field at the lattice nodes every ``dt``
+seconds from ``t0``; lookups are trilinear in space and linear in time, clamped at the ends.
+
+Travel time of a leg: the vehicle holds the track at through-water speed V (it crabs), so its
+ground speed along the unit tangent ŝ is ``g = c·ŝ + √(V² - |c - (c·ŝ) ŝ|²)`` (as in
+:mod:`auvplan.cost`); the leg is cut into sub-steps of at most ``ds`` metres and each sub-step is
+integrated with the midpoint rule in time (the current at the sub-step's midpoint, at the time the
+vehicle reaches it).  Where the cross current beats the vehicle or ``g ≤ 0`` the leg is blocked at
+that time (``inf``), never ``nan``.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from typing import TypeAlias
+
+import numpy as np
+import numpy.typing as npt
+
+from ..._jit import kernel
+from ..._types import BoolArray, FloatArray, IntArray
+
+__all__ = ["current_at", "ground_speed", "leg_time", "polyline_times", "search", "Float32Array"]
+
+#: The current table's precision: ``cur (nt, nx, ny, nz, 3)`` in m/s as float32.
+Float32Array: TypeAlias = npt.NDArray[np.float32]
+
+
+@kernel
+def _axis(value: float, origin: float, step: float, n: int) -> tuple[int, float]:
+    """Index and weight of ``value`` on a uniform axis, clamped (a single-node axis gives (0, 0))."""
+    if n == 1:
+        return 0, 0.0
+    f = (value - origin) / step
+    if f <= 0.0:
+        return 0, 0.0
+    if f >= n - 1:
+        return n - 2, 1.0
+    i = int(f)
+    return i, f - i
+
+
+@kernel
+def current_at(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, x: float, y: float, z: float,
+               t: float) -> tuple[float, float, float]:
+    """Current at a point and time from the table (module notes).
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    x, y, z : float
+        The point (m).
+    t : float
+        Time (s).
+
+    Returns
+    -------
+    tuple of float
+        ``(u, v, w)`` (m/s), trilinear in space and linear in time, clamped at the ends.
+    """
+    nt, nx, ny, nz = cur.shape[0], cur.shape[1], cur.shape[2], cur.shape[3]
+    it, wt = _axis(t, t0, dt, nt)
+    ix, wx = _axis(x, org[0], step[0], nx)
+    iy, wy = _axis(y, org[1], step[1], ny)
+    iz, wz = _axis(z, org[2], step[2], nz)
+    u = v = w = 0.0
+    for a in range(2):
+        ca = wt if a else 1.0 - wt
+        if ca == 0.0:
+            continue
+        for b in range(2):
+            cb = ca * (wx if b else 1.0 - wx)
+            if cb == 0.0:
+                continue
+            for c in range(2):
+                cc = cb * (wy if c else 1.0 - wy)
+                if cc == 0.0:
+                    continue
+                for d in range(2):
+                    cd = cc * (wz if d else 1.0 - wz)
+                    if cd == 0.0:
+                        continue
+                    u += cd * cur[it + a, ix + b, iy + c, iz + d, 0]
+                    v += cd * cur[it + a, ix + b, iy + c, iz + d, 1]
+                    w += cd * cur[it + a, ix + b, iy + c, iz + d, 2]
+    return u, v, w
+
+
+@kernel
+def ground_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, speed: float) -> float:
+    """Ground speed along a unit tangent at a through-water speed in a current.
+
+    Parameters
+    ----------
+    u, v, w : float
+        Current (m/s; east, north, up).
+    ex, ey, ez : float
+        Unit tangent of the track.
+    speed : float
+        Through-water speed V (m/s).
+
+    Returns
+    -------
+    float
+        ``c·ŝ + √(V² - |c⊥|²)`` (m/s); ``-1`` where the current beats the vehicle (or the ground
+        speed is at most 1 µm/s).
+    """
+    c_par = u * ex + v * ey + w * ez
+    disc = speed * speed - max(u * u + v * v + w * w - c_par * c_par, 0.0)
+    if disc < 0.0:
+        return -1.0
+    g = c_par + math.sqrt(disc)
+    return g if g > 1e-6 else -1.0
+
+
+@kernel
+def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+             ax: float, ay: float, az: float,
+             bx: float, by: float, bz: float, t: float, speed: float, ds: float) -> float:
+    """Arrival time at the end of a straight leg through the time-varying current.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    ax, ay, az : float
+        Start of the leg (m).
+    bx, by, bz : float
+        End of the leg (m).
+    t : float
+        Departure time (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+
+    Returns
+    -------
+    float
+        Arrival time at the end (s); ``inf`` when the current blocks the leg.
+    """
+    ex, ey, ez = bx - ax, by - ay, bz - az
+    length = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if length == 0.0:
+        return t
+    ex, ey, ez = ex / length, ey / length, ez / length
+    n = max(1, int(math.ceil(length / ds)))
+    h = length / n
+    for k in range(n):
+        s = (k + 0.5) * h
+        mx, my, mz = ax + s * ex, ay + s * ey, az + s * ez
+        u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / speed)
+        g = ground_speed(u, v, w, ex, ey, ez, speed)
+        if g < 0.0:
+            return math.inf
+        u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / g)
+        g = ground_speed(u, v, w, ex, ey, ez, speed)
+        if g < 0.0:
+            return math.inf
+        t += h / g
+    return t
+
+
+@kernel
+def polyline_times(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+                   p: FloatArray, t_start: float,
+                   speed: float, ds: float, out: FloatArray) -> None:
+    """Arrival time at every vertex of a polyline.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    p : numpy.ndarray
+        Vertices ``(N, 3)`` (m).
+    t_start : float
+        Departure time from the first vertex (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+    out : numpy.ndarray
+        Receives the arrival times ``(N,)`` (s; ``inf`` after a blocked leg).
+    """
+    out[0] = t_start
+    for i in range(1, p.shape[0]):
+        out[i] = leg_time(cur, org, step, t0, dt, p[i - 1, 0], p[i - 1, 1], p[i - 1, 2],
+                          p[i, 0], p[i, 1], p[i, 2], out[i - 1], speed, ds)
+
+
+@kernel
+def two_legs(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+             a: FloatArray, cand: FloatArray,
+             c: FloatArray, t_a: FloatArray, speed: float, ds: float, out: FloatArray) -> None:
+    """Arrival at ``c[i]`` through each candidate ``cand[i, j]`` from ``a[i]`` left at ``t_a[i]``."""
+    for i in range(cand.shape[0]):
+        for j in range(cand.shape[1]):
+            tm = leg_time(cur, org, step, t0, dt, a[i, 0], a[i, 1], a[i, 2], cand[i, j, 0], cand[i, j, 1],
+                          cand[i, j, 2], t_a[i], speed, ds)
+            if math.isinf(tm):
+                out[i, j] = math.inf
+            else:
+                out[i, j] = leg_time(cur, org, step, t0, dt, cand[i, j, 0], cand[i, j, 1], cand[i, j, 2],
+                                     c[i, 0], c[i, 1], c[i, 2], tm, speed, ds)
+
+
+@kernel
+def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, shape: IntArray,
+           offsets: IntArray, edge_ok: BoolArray, start_ids: IntArray, start_arr: FloatArray,
+           goal_link: BoolArray, goal: FloatArray, speed: float, ds: float, arrival: FloatArray,
+           pred: IntArray) -> tuple[float, np.int64]:
+    """Label-setting search on arrival times (time-dependent Dijkstra, FIFO legs).
+
+    Nodes are ``(ix * ny + iy) * nz + iz``; the search stops when no open label can beat the
+    goal's arrival.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    shape : numpy.ndarray
+        Nodes along x, y, z ``(3,)``.
+    offsets : numpy.ndarray
+        Leg offsets ``(M, 3)`` in nodes.
+    edge_ok : numpy.ndarray of bool
+        ``(M, N)``: ``edge_ok[m, n]`` says the leg from node ``n`` along ``offsets[m]`` is free.
+    start_ids : numpy.ndarray
+        Nodes linked to the start.
+    start_arr : numpy.ndarray
+        Their arrival times (s).
+    goal_link : numpy.ndarray of bool
+        ``(N,)``, nodes with a free leg to the goal.
+    goal : numpy.ndarray
+        The goal ``(3,)`` (m).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+    arrival : numpy.ndarray
+        ``(N,)``, filled with the earliest arrival at each node (s); pass it filled with ``inf``.
+    pred : numpy.ndarray
+        ``(N,)``, filled with each node's predecessor (``-1`` for start-linked nodes).
+
+    Returns
+    -------
+    best : float
+        Arrival at the goal (s); ``inf`` when unreachable.
+    last : int
+        The node the goal is reached from (``-1`` when unreachable).
+    """
+    ny, nz = shape[1], shape[2]
+    heap = [(0.0, np.int64(0))]
+    heap.pop()
+    for k in range(start_ids.size):
+        n = start_ids[k]
+        if start_arr[k] < arrival[n]:
+            arrival[n] = start_arr[k]
+            pred[n] = -1
+            heapq.heappush(heap, (start_arr[k], np.int64(n)))
+    best, last = math.inf, np.int64(-1)
+    done = np.zeros(arrival.size, dtype=np.bool_)
+    while heap:
+        t, n = heapq.heappop(heap)
+        if done[n] or t > arrival[n]:
+            continue
+        if t >= best:
+            break
+        done[n] = True
+        iz = n % nz
+        iy = (n // nz) % ny
+        ix = n // (nz * ny)
+        x = org[0] + ix * step[0]
+        y = org[1] + iy * step[1]
+        z = org[2] + iz * step[2]
+        if goal_link[n]:
+            tg = leg_time(cur, org, step, t0, dt, x, y, z, goal[0], goal[1], goal[2], t, speed, ds)
+            if tg < best:
+                best, last = tg, n
+        for m in range(offsets.shape[0]):
+            if not edge_ok[m, n]:
+                continue
+            jx, jy, jz = ix + offsets[m, 0], iy + offsets[m, 1], iz + offsets[m, 2]
+            q = (jx * ny + jy) * nz + jz
+            if done[q]:
+                continue
+            tq = leg_time(cur, org, step, t0, dt, x, y, z, org[0] + jx * step[0], org[1] + jy * step[1],
+                          org[2] + jz * step[2], t, speed, ds)
+            if tq < arrival[q]:
+                arrival[q] = tq
+                pred[q] = n
+                heapq.heappush(heap, (tq, np.int64(q)))
+    return best, last
