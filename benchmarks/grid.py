@@ -47,8 +47,8 @@ def measure(cell: float, scenario: str) -> dict:
     """One cell size on one scenario (see the module notes)."""
     from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridParams, GridReference, plan_grid
+    from auvplan.planners.common import cost_model_for, search_box
     from auvplan.planners.grid.lattice import node_fields
-    from auvplan.planners.swarm.problem import cost_model_for, search_box
     from auvplan.sim import planning_problem
 
     world, mission = sc.build(sc.load(scenario))

@@ -10,8 +10,8 @@ import pytest
 
 from auvplan.cost import CostModel
 from auvplan.planners import GridParams, GridReference
+from auvplan.planners.common import cost_model_for, search_box
 from auvplan.planners.grid.lattice import HALF, edge_states, node_fields
-from auvplan.planners.swarm.problem import cost_model_for, search_box
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
 

@@ -852,8 +852,7 @@ def test_free_edges_are_exactly_the_free_lattice_segments():
     (both end nodes free: 0.5 m and 5.5 m from the surface): the edges :func:`free_edges` returns for
     each of the 13 offsets are exactly the pairs of free nodes whose segment the World's exact test
     calls free (the obstacle shortcut may only skip the exact test where it cannot matter)."""
-    from auvplan.planners.grid.lattice import HALF
-    from auvplan.planners.grid.planner import free_edges
+    from auvplan.planners.grid.lattice import HALF, free_edges
 
     world = World(Bounds(-1, 21, -1, 21, -21, 0),
                   obstacles=(Sphere((2.5, 0.0, -10.0), 2.0), Sphere((10.0, 17.5, -20.0), 2.0)),

@@ -11,10 +11,10 @@ from scipy.optimize import brentq, fsolve
 
 from auvplan._types import Status
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
+from auvplan.planners.params import TimeoptParams
 from auvplan.planners.timeopt.kernels import leg_time
 from auvplan.planners.timeopt.planner import departure_sweep
 from auvplan.planners.timeopt.search import CurrentTable, timed_traverse
-from auvplan.planners.timeopt_params import TimeoptParams
 from auvplan.world import Bounds, GriddedCurrent, Margins, World
 
 V = 1.0

@@ -62,12 +62,13 @@ MODULES: dict[str, Target] = {
     ),
     # the lattice (planners/grid/lattice.py): free nodes and their safe single-precision fields, the edge
     # test's shortcut (seabed Lipschitz bound, obstacle distance) and its exact fallback, edge bits,
-    # edge weights, the indexed binary heap and the Dijkstra/A* search; grid.py's free-edge list and
+    # edge weights, the indexed binary heap and the Dijkstra/A* search, the free-edge list; and
     # the links of the goal and starts to the lattice
     "grid": Target(
         _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
-             "_edge_weight", "_sift_up", "_sift_down", "_push", "_pop", "_heuristic", "_search", "search")
-        + _fns(GRID, "free_edges", "GridReference._connect"),
+             "_edge_weight", "_sift_up", "_sift_down", "_push", "_pop", "_heuristic", "_search", "search",
+             "free_edges")
+        + _fns(GRID, "GridReference._connect"),
         tuple(f"tests/test_oracles.py::test_{t}" for t in (
             "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
             "cost_to_go_equals_scipys_dijkstra_over_the_free_lattice",

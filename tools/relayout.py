@@ -95,13 +95,21 @@ LATER_MODULES: dict[str, str] = {
 
 # (old module, name) -> new module, for names moved out of their file after the move; applied only
 # once the new module defines the name
+# once the new module defines the name (keys: old module names and the new names of their files)
 SYMBOLS: dict[tuple[str, str], str] = {
-    **{("auvplan.planners.swarm_problem", n): "auvplan.planners.common"
+    **{(m, n): "auvplan.planners.common"
+       for m in ("auvplan.planners.swarm_problem", "auvplan.planners.swarm.problem",
+                 "auvplan.planners.swarm", "auvplan.planners.swarm.planner")
        for n in ("check_endpoints", "cost_model_for", "search_box", "plan_terms")},
-    **{("auvplan.planners.flow", n): "auvplan.planners.flow.planner" for n in ("plan_flow", "seabed_plane")},
+    **{(m, n): "auvplan.planners.flow.planner" for m in ("auvplan.planners.flow", "auvplan.planners.flow.field")
+       for n in ("plan_flow", "seabed_plane")},
+    **{(m, n): "auvplan.planners.flow.stream" for m in ("auvplan.planners.flow", "auvplan.planners.flow.field")
+       for n in ("Streamlines", "integrate_streamlines")},
+    **{(m, "densify"): "auvplan.path" for m in ("auvplan.planners.grid", "auvplan.planners.band",
+                                                "auvplan.planners.grid.planner", "auvplan.planners.grid.band")},
+    **{(m, "free_edges"): "auvplan.planners.grid.lattice" for m in ("auvplan.planners.grid",
+                                                                    "auvplan.planners.grid.planner")},
     ("auvplan.planners.base", "GridParams"): "auvplan.planners.params",
-    ("auvplan.planners.grid", "densify"): "auvplan.planners.common",
-    ("auvplan.planners.band", "densify"): "auvplan.planners.common",
     ("auvplan", "__version__"): "auvplan._version",
 }
 
@@ -330,7 +338,9 @@ def resolve_from(tree: Tree, info: FileInfo, node: ast.ImportFrom) -> str:
     module = _absolute(info.package, node.level, node.module)
     if not _valid(tree, module, [a.name for a in node.names]) and info.old_module is not None:
         old_pkg = info.old_module if info.rel.endswith("__init__.py") else info.old_module.rsplit(".", 1)[0]
-        module = _absolute(old_pkg, node.level, node.module)
+        alt = _absolute(old_pkg, node.level, node.module)
+        if tree.exists(alt) or alt in MODULES:  # else the import is on the new layout, a name moved out
+            module = alt
     return module
 
 

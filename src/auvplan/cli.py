@@ -14,7 +14,7 @@ import sys
 from collections.abc import Callable
 from typing import Any
 
-from . import __version__
+from ._version import __version__
 from .cli_commands import (
     _cmd_bench,
     _cmd_data_inspect,

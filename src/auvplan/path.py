@@ -302,3 +302,29 @@ class BSplinePath:
         d = self(u, 1)
         angle: FloatArray = np.arctan2(d[..., 2], np.hypot(d[..., 0], d[..., 1]))
         return angle
+
+
+def densify(points: ArrayLike, spacing: float) -> FloatArray:
+    """The polyline with extra points so that no segment exceeds ``spacing`` (every vertex kept).
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, 3)`` (m).
+    spacing : float
+        Longest segment allowed (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Vertices ``(M, 3)``, ``M >= N`` (m).
+    """
+    p = np.asarray(points, dtype=float)
+    if p.shape[0] < 2:
+        return p.copy()
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
+    t = np.concatenate([np.arange(k) / k for k in n])
+    i = np.repeat(np.arange(len(n)), n)
+    out = p[i] + t[:, None] * (p[i + 1] - p[i])
+    return np.vstack([out, p[-1]])

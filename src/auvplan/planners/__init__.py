@@ -4,9 +4,10 @@ the lattice reference, behind one interface (:mod:`auvplan.planners.registry`)."
 from dataclasses import replace
 
 from .._types import RngLike
-from .base import PIPELINES, PLANNERS, SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult, Progress
-from .flow.field import plan_flow
+from .base import PIPELINES, PLANNERS, SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
+from .flow.planner import plan_flow
 from .grid.planner import GridReference, plan_grid, refine_plan, with_reference
+from .params import GridParams
 from .registry import REGISTRY, PlannerEntry, get, register
 from .swarm.planner import plan_swarm
 from .timeopt.planner import plan_timeopt

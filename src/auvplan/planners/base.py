@@ -15,10 +15,9 @@ from ..optim.ga import GAParams
 from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
 from ..world import World
-from .params import FlowParams
-from .timeopt_params import TimeoptParams
+from .params import FlowParams, GridParams, TimeoptParams
 
-__all__ = ["GridParams", "PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM", "Progress"]
+__all__ = ["PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM", "Progress"]
 
 #: ``progress(iteration, best_cost)``, called by the iterating planners after each iteration.
 Progress: TypeAlias = Callable[[int, float], None]
@@ -31,73 +30,6 @@ SWARM = ("iabc", "abc", "ga", "pso", "de")
 """The population optimisers over B-spline control points (they iterate and call
 ``progress(iteration, best)``)."""
 PIPELINES = ("seeded", "document", "progressive")
-
-
-@dataclass(frozen=True)
-class GridParams:
-    """Settings of the lattice reference planner (``[planner.grid]``).
-
-    Attributes
-    ----------
-    cell : float
-        Horizontal cell size (m); 0 = ``max(terrain spacing, (volume / target_nodes)^(1/3))``.
-    cell_z : float
-        Vertical cell size (m); 0 = ``cell``, or finer where the depth band would hold fewer
-        than ``levels`` levels.
-    levels : int
-        Fewest depth levels of an automatic vertical cell.
-    target_nodes : int
-        Node count the automatic cell size aims at.
-    max_nodes : int
-        Refuse lattices larger than this (memory guard: the reference needs about 45 bytes a node).
-    objective : str
-        ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
-    relax_iterations : int
-        Most elastic-band sweeps per refinement level (0 = none).
-    smooth : bool
-        Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
-    converge : bool
-        Refine the lattice path to convergence (cycles of elastic-band levels from 1/8 to 1/2048
-        of the path, until a cycle gains less than ``converge_tol``) instead of the band alone:
-        the reference becomes the best known plan, not a lattice bound.
-    converge_tol : float
-        Relative cost gain below which the refinement stops.
-    ladder : bool
-        With ``converge``: also plan on the lattices 2, 4, … times coarser (up to 1/25 of the
-        search box's narrower side) and keep the cheapest, so that halving the cell never gives
-        a worse reference.
-
-    Raises
-    ------
-    ValueError
-        If a setting is outside its range.
-    """
-
-    cell: float = 0.0
-    cell_z: float = 0.0
-    levels: int = 10
-    target_nodes: int = 500_000
-    max_nodes: int = 4_000_000
-    objective: str = "cost"
-    relax_iterations: int = 200
-    smooth: bool = True
-    converge: bool = True
-    converge_tol: float = 1e-5
-    ladder: bool = True
-
-    def __post_init__(self) -> None:
-        if not 0.0 < self.converge_tol < 1.0:
-            raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
-        if self.cell < 0 or self.cell_z < 0:
-            raise ValueError("cell and cell_z must be >= 0 (0 = automatic)")
-        if self.levels < 2:
-            raise ValueError(f"levels = {self.levels}: must be >= 2")
-        if self.target_nodes < 8 or self.max_nodes < self.target_nodes:
-            raise ValueError("need target_nodes >= 8 and max_nodes >= target_nodes")
-        if self.objective not in ("cost", "length"):
-            raise ValueError(f"objective = {self.objective!r}: choose 'cost' or 'length'")
-        if self.relax_iterations < 0:
-            raise ValueError("relax_iterations must be >= 0")
 
 
 @dataclass(frozen=True)

@@ -1,10 +1,12 @@
-"""Settings of the streamline planner (document 000), kept apart so that PlannerSpec can hold them."""
+"""The methods' settings in one place (the scenario's ``[planner.flow]``, ``[planner.grid]`` and
+``[planner.timeopt]`` tables), below :class:`~auvplan.planners.base.PlannerSpec` that holds them and the
+method packages that read them.  The swarm optimisers' settings live with them in :mod:`auvplan.optim`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["FlowParams"]
+__all__ = ["FlowParams", "GridParams", "TimeoptParams"]
 
 
 @dataclass(frozen=True)
@@ -64,3 +66,123 @@ class FlowParams:
         if not (0 <= self.h_min <= self.h_max) or not self.arrive > 0 or self.max_steps < 1 or self.strength <= 0 \
                 or not 0 < self.step_factor <= 1:
             raise ValueError("need 0 < h_min <= h_max, arrive > 0, max_steps >= 1 and strength > 0")
+
+
+@dataclass(frozen=True)
+class GridParams:
+    """Settings of the lattice reference planner (``[planner.grid]``).
+
+    Attributes
+    ----------
+    cell : float
+        Horizontal cell size (m); 0 = ``max(terrain spacing, (volume / target_nodes)^(1/3))``.
+    cell_z : float
+        Vertical cell size (m); 0 = ``cell``, or finer where the depth band would hold fewer
+        than ``levels`` levels.
+    levels : int
+        Fewest depth levels of an automatic vertical cell.
+    target_nodes : int
+        Node count the automatic cell size aims at.
+    max_nodes : int
+        Refuse lattices larger than this (memory guard: the reference needs about 45 bytes a node).
+    objective : str
+        ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
+    relax_iterations : int
+        Most elastic-band sweeps per refinement level (0 = none).
+    smooth : bool
+        Try a clamped cubic B-spline over the shortened path; kept only when free and cheaper.
+    converge : bool
+        Refine the lattice path to convergence (cycles of elastic-band levels from 1/8 to 1/2048
+        of the path, until a cycle gains less than ``converge_tol``) instead of the band alone:
+        the reference becomes the best known plan, not a lattice bound.
+    converge_tol : float
+        Relative cost gain below which the refinement stops.
+    ladder : bool
+        With ``converge``: also plan on the lattices 2, 4, … times coarser (up to 1/25 of the
+        search box's narrower side) and keep the cheapest, so that halving the cell never gives
+        a worse reference.
+
+    Raises
+    ------
+    ValueError
+        If a setting is outside its range.
+    """
+
+    cell: float = 0.0
+    cell_z: float = 0.0
+    levels: int = 10
+    target_nodes: int = 500_000
+    max_nodes: int = 4_000_000
+    objective: str = "cost"
+    relax_iterations: int = 200
+    smooth: bool = True
+    converge: bool = True
+    converge_tol: float = 1e-5
+    ladder: bool = True
+
+    def __post_init__(self) -> None:
+        if not 0.0 < self.converge_tol < 1.0:
+            raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
+        if self.cell < 0 or self.cell_z < 0:
+            raise ValueError("cell and cell_z must be >= 0 (0 = automatic)")
+        if self.levels < 2:
+            raise ValueError(f"levels = {self.levels}: must be >= 2")
+        if self.target_nodes < 8 or self.max_nodes < self.target_nodes:
+            raise ValueError("need target_nodes >= 8 and max_nodes >= target_nodes")
+        if self.objective not in ("cost", "length"):
+            raise ValueError(f"objective = {self.objective!r}: choose 'cost' or 'length'")
+        if self.relax_iterations < 0:
+            raise ValueError("relax_iterations must be >= 0")
+
+
+@dataclass(frozen=True)
+class TimeoptParams:
+    """Settings of the time-optimal planner in currents that change with time.
+
+    Attributes
+    ----------
+    objective : str
+        ``"time"`` (earliest arrival at the vehicle's speed) or ``"energy"`` (least energy over
+        the through-water speeds ``speeds`` × the vehicle's speed, each time-optimal).
+    depart_s : float
+        Departure time (s after the mission's ``start_time``).
+    cell : float
+        Horizontal lattice cell (m); 0 = 1/100 of the larger horizontal side of the search box.
+    levels : int
+        Depth levels of the lattice across the allowed depth band (1 = the start's depth only).
+    dt : float
+        Time step of the current table the search reads (s).
+    horizon_s : float
+        Longest mission the table covers (s); 0 = 1.5 × the still-water straight-line time + 2 h
+        (doubled, up to twice, when a plan runs past it).
+    substep : float
+        Longest sub-step of the travel-time integration along a segment (m); 0 = cell / 2.
+    relax_iterations : int
+        Sweeps of the time-aware elastic band after the lattice search (0 = none).
+    speeds : tuple of float
+        Fractions of the vehicle's speed tried by the ``"energy"`` objective.
+    """
+
+    objective: str = "time"
+    depart_s: float = 0.0
+    cell: float = 0.0
+    levels: int = 5
+    dt: float = 600.0
+    horizon_s: float = 0.0
+    substep: float = 0.0
+    relax_iterations: int = 60
+    speeds: tuple[float, ...] = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+
+    def __post_init__(self) -> None:
+        if self.objective not in ("time", "energy"):
+            raise ValueError(f"objective = {self.objective!r}: choose 'time' or 'energy'")
+        if self.cell < 0 or self.substep < 0 or self.horizon_s < 0:
+            raise ValueError("cell, substep and horizon_s must be >= 0 (0 = automatic)")
+        if self.levels < 1:
+            raise ValueError(f"levels = {self.levels}: must be >= 1")
+        if not self.dt > 0:
+            raise ValueError(f"dt = {self.dt}: must be > 0")
+        if self.relax_iterations < 0:
+            raise ValueError("relax_iterations must be >= 0")
+        if not self.speeds or any(not 0.0 < s <= 1.0 for s in self.speeds):
+            raise ValueError(f"speeds = {list(self.speeds)}: fractions in (0, 1]")

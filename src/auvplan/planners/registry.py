@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from .._types import RngLike
 from .base import PLANNERS, PlannerSpec, PlanningProblem, PlanResult, Progress
-from .flow.field import plan_flow
+from .flow.planner import plan_flow
 from .grid.planner import plan_grid
 from .swarm.planner import plan_swarm
 from .timeopt.planner import plan_timeopt

@@ -31,8 +31,10 @@ from ..guidance.formation_steer import FormationCommand, formation_command
 from ..planners.base import PlanResult, Progress
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
-from . import Mission, SimResult, planned_route
 from .events import FAR, _deadlocked, _distance, _obstacle_shapes, _progressed
+from .mission import Mission
+from .pipeline import planned_route
+from .result import SimResult
 
 __all__ = ["FormationResult", "FormationRecord", "simulate_formation", "run_formation"]
 

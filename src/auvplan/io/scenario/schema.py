@@ -18,7 +18,7 @@ import typing
 from collections.abc import Iterator
 from typing import Any
 
-from ... import __version__
+from ..._version import __version__
 from ...guidance.formation import VehicleSpec
 from . import loader as sc
 from . import specs

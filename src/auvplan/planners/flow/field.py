@@ -33,16 +33,14 @@ documented rule.  A flat seabed enters as a mirror plane (:func:`plan_flow`).
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
 
-from ..._types import ArrayLike, BoolArray, FloatArray, Status
-from ...world import Ellipsoid, Sphere, World
+from ..._types import ArrayLike, BoolArray, FloatArray
+from ...world import Ellipsoid, Sphere
 from ...world.obstacles import Shape
-from ..base import PlanningProblem, PlanResult
 from ..params import FlowParams
 from .body import AxialBody, frame
 from .design import design_body
@@ -57,7 +55,6 @@ from .elements import (
     sphere_exact_velocity,
     uniform_dipole_velocity,
 )
-from .stream import Streamlines, integrate_streamlines
 
 __all__ = [
     "FlowParams",
@@ -74,9 +71,6 @@ __all__ = [
     "uniform_dipole_velocity",
     "blend_weights",
     "FlowField",
-    "Streamlines",
-    "integrate_streamlines",
-    "plan_flow",
 ]
 
 FOUR_PI = 4.0 * np.pi
@@ -410,97 +404,3 @@ class FlowField:
         w = blend_weights(self.distances(p), self.params.weights)
         blended: FloatArray = np.einsum("nk,nki->ni", w, parts).reshape(shape)
         return blended
-
-def seabed_plane(world: World, start: ArrayLike, goal: ArrayLike, buffer: float) -> tuple[float | None, str]:
-    """The flat seabed the flow can model: ``(height, "")``, or ``(None, reason)`` when it is not flat enough.
-
-    The plane lies at the highest seabed elevation within ``buffer`` of the straight start–goal line
-    (sampled every ~1/200 of its length on five parallel lines) plus the minimum altitude: a mirror
-    image of the target sink in it makes it a stream surface.  Start and goal must lie above it.
-    """
-    if world.terrain is None:
-        return None, ""
-    a, b = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
-    d = b[:2] - a[:2]
-    n = np.array([-d[1], d[0]]) / max(np.linalg.norm(d), 1e-9)
-    t = np.linspace(0.0, 1.0, 201)[:, None]
-    xy = np.concatenate([a[:2] + t * d + o * buffer * n for o in (-1.0, -0.5, 0.0, 0.5, 1.0)])
-    top = float(np.nanmax(world.seabed(xy[:, 0], xy[:, 1])))
-    plane = top + world.margins.min_altitude
-    low = min(a[2], b[2])
-    if low <= plane:
-        which = "start" if a[2] <= b[2] else "goal"
-        return None, (f"the seabed is not locally flat: it rises to {top:.1f} m within {buffer:.0f} m of the "
-                      f"start-goal line, so its mirror plane (+ min altitude {world.margins.min_altitude:g} m) lies "
-                      f"above the {which} (z = {low:.1f} m); the flow planner models the seabed as one flat plane "
-                      f"- plan with iabc or grid")
-    return plane, ""
-
-
-def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
-    """Streamline from the problem's start to its goal in the world's obstacle field.
-
-    When the seabed is in the way of the obstacle flow, the flow sees it as a flat mirror plane
-    (:func:`seabed_plane`), or, when the seabed is not flat enough for that, the plan is
-    ``INFEASIBLE`` with that reason.
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World (spheres and ellipsoids, seabed, margins), start, goal and speed.
-    params : FlowParams
-        Field, body sizing and integration settings.
-
-    Returns
-    -------
-    PlanResult
-        ``EXACT`` when the streamline arrives without touching an obstacle (inflated by the World's
-        obstacle margin) and passes the World's exact segment tests (seabed included);
-        ``INFEASIBLE`` otherwise, with the reason.
-    """
-    t0 = time.perf_counter()
-    world: World = problem.world
-    from ..swarm.problem import check_endpoints
-
-    bad = check_endpoints(problem)
-    if bad is None and params.field == "uniform":
-        bad = (Status.INFEASIBLE,
-               "field = 'uniform' has no sink at the goal (document 000 Fig. 5 baseline): use it in benchmarks")
-    if bad is not None:
-        return PlanResult(bad[0], np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), "flow", None, bad[1])
-    field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
-    sl = integrate_streamlines(field, problem.start[None], params)
-    plane, why = None, ""
-    if world.terrain is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
-        # the seabed may be in the way: the flow with the seabed as a mirror plane, if it is flat enough
-        sizes = [ob.bounding_radius for ob in world.obstacles]
-        buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
-        plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
-        if plane is not None:
-            field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
-            sl = integrate_streamlines(field, problem.start[None], params)
-    path = sl.paths[0]
-    length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
-    st = sl.status[0]
-    message = ""
-    status = Status.EXACT
-    if st != "arrived":
-        status, message = Status.INFEASIBLE, f"the streamline ended by {st} after {sl.steps[0]} steps"
-    elif not world.path_free(path):
-        status = Status.INFEASIBLE
-        seg = np.stack([path[:-1], path[1:]], axis=1)
-        bad_seg = int(np.flatnonzero(~world.segments_free(seg, moving=False))[0])
-        message = (f"the streamline arrives but its leg {bad_seg} near {np.round(path[bad_seg], 1).tolist()} meets the "
-                   f"seabed, an obstacle margin or the bounds")
-        message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
-                                             if plane is not None else "")
-    seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
-    clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
-    if world.terrain is not None:
-        clearance = min(clearance, float(world.terrain.segment_min_altitude(seg).min()))
-    terms = {"length": length, "terrain": 0.0, "energy": 0.0, "length_m": length, "energy_j": float("nan"),
-             "duration_s": length / problem.speed, "min_clearance_m": clearance,
-             "violations": int(np.count_nonzero(~world.segments_free(seg, moving=False)))}
-    terms["collisions"] = terms["violations"]  # deprecated alias (CHANGELOG 0.2.0)
-    return PlanResult(status, path, length, terms, int(sl.steps[0]) * 4, int(sl.steps[0]),
-                      time.perf_counter() - t0, np.empty(0), "flow", None, message)

@@ -29,16 +29,13 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..params import FlowParams
-
-if TYPE_CHECKING:  # flow.py imports this module
-    from .field import FlowField
+from .field import FlowField
 
 __all__ = ["Streamlines", "integrate_streamlines"]
 

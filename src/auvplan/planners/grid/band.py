@@ -17,12 +17,12 @@ import numpy as np
 from ..._types import ArrayLike, FloatArray
 from ...cost import CostModel, evaluate_paths, segment_energy
 from ...guidance.local import key_waypoints
-from ...path import polyline_length, resample_polyline
+from ...path import densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
-from ..swarm.problem import cost_model_for, plan_terms
+from ..common import cost_model_for, plan_terms
 
-__all__ = ["densify", "edge_cost", "path_cost", "resample_free"]
+__all__ = ["edge_cost", "path_cost", "resample_free"]
 
 
 def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
@@ -53,32 +53,6 @@ def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, obje
     units, _, _, blocked = segment_energy(world, a, b, model, current)
     cost = model.w_length * length + model.w_energy * model.scale * units
     return np.where(blocked, np.inf, cost)
-
-
-def densify(points: ArrayLike, spacing: float) -> FloatArray:
-    """The polyline with extra points so that no segment exceeds ``spacing`` (every vertex kept).
-
-    Parameters
-    ----------
-    points : array_like
-        Vertices ``(N, 3)`` (m).
-    spacing : float
-        Longest segment allowed (m).
-
-    Returns
-    -------
-    numpy.ndarray
-        Vertices ``(M, 3)``, ``M >= N`` (m).
-    """
-    p = np.asarray(points, dtype=float)
-    if p.shape[0] < 2:
-        return p.copy()
-    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
-    n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
-    t = np.concatenate([np.arange(k) / k for k in n])
-    i = np.repeat(np.arange(len(n)), n)
-    out = p[i] + t[:, None] * (p[i + 1] - p[i])
-    return np.vstack([out, p[-1]])
 
 
 def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
@@ -243,7 +217,7 @@ def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> d
     Returns
     -------
     dict of str to float
-        ``total`` and the terms of :func:`~auvplan.planners.swarm.problem.plan_terms`.
+        ``total`` and the terms of :func:`~auvplan.planners.common.plan_terms`.
     """
     path = np.asarray(path, dtype=float)
     spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)

@@ -427,3 +427,37 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
                       np.asarray(ws, dtype=float), box, np.empty(n, dtype=np.int32),
                       np.full(n, -1, dtype=np.int32))  # heap; pos: -1 never queued, -2 settled
     return dist, nxt, int(settled)
+
+
+def free_edges(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
+               coords: Callable[[Any], FloatArray]) -> tuple[IntArray, IntArray]:
+    """The free lattice edges ``src -> src + off`` between free nodes.
+
+    The seabed's Lipschitz bound (``altitude``: node altitudes above the seabed) and the
+    obstacles' 1-Lipschitz distance (``obstacle``: slack beyond the margin) clear most edges from
+    the node values alone in one compiled pass; only the others go through the World's exact
+    segment test (:func:`auvplan.planners.grid.lattice.edge_states`).
+
+    Parameters
+    ----------
+    world : World
+        Static constraints.
+    free : numpy.ndarray
+        Free nodes, the lattice's shape ``(nx, ny, nz)``.
+    altitude, obstacle : numpy.ndarray
+        Node heights above the seabed and static-obstacle slack (m), the lattice's shape.
+    steps : array_like
+        Cell sizes ``(3,)`` (m).
+    off : array_like
+        The lattice offset ``(3,)`` of the edges.
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Flat node ids ``(src, dst)`` of the free edges.
+    """
+    off = np.asarray(off, dtype=np.int64)
+    src = np.flatnonzero(edge_states(world, free, altitude, obstacle, steps, off, coords))
+    return src, src + int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])

@@ -30,24 +30,23 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, IntArray, Status
+from ..._types import ArrayLike, FloatArray, Status
 from ...cost import CostModel, propulsion_power
 from ...guidance.local import key_waypoints
 from ...path import sample_population
 from ...world import World
-from ..base import SWARM, GridParams, PlannerSpec, PlanningProblem, PlanResult
-from ..swarm.problem import check_endpoints, cost_model_for, search_box
-from .band import _converge, _refine, densify, edge_cost, path_cost, resample_free
-from .lattice import edge_bits, edge_states, node_fields, search
+from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult
+from ..common import check_endpoints, cost_model_for, search_box
+from ..params import GridParams
+from .band import _converge, _refine, edge_cost, path_cost, resample_free
+from .lattice import edge_bits, node_fields, search
 
-__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "densify", "edge_cost", "free_edges",
-           "on_cost_function", "path_cost", "resample_free", "with_reference"]
+__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function", "path_cost",
+           "resample_free", "with_reference"]
 
 def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
     """Horizontal and vertical cell sizes.
@@ -84,40 +83,6 @@ def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridPa
     if params.cell_z <= 0 and params.cell > 0:
         cell_z = min(params.cell, float(ext[2]) / params.levels)
     return cell, cell_z
-
-
-def free_edges(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
-               coords: Callable[[Any], FloatArray]) -> tuple[IntArray, IntArray]:
-    """The free lattice edges ``src -> src + off`` between free nodes.
-
-    The seabed's Lipschitz bound (``altitude``: node altitudes above the seabed) and the
-    obstacles' 1-Lipschitz distance (``obstacle``: slack beyond the margin) clear most edges from
-    the node values alone in one compiled pass; only the others go through the World's exact
-    segment test (:func:`auvplan.planners.grid.lattice.edge_states`).
-
-    Parameters
-    ----------
-    world : World
-        Static constraints.
-    free : numpy.ndarray
-        Free nodes, the lattice's shape ``(nx, ny, nz)``.
-    altitude, obstacle : numpy.ndarray
-        Node heights above the seabed and static-obstacle slack (m), the lattice's shape.
-    steps : array_like
-        Cell sizes ``(3,)`` (m).
-    off : array_like
-        The lattice offset ``(3,)`` of the edges.
-    coords : callable
-        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        Flat node ids ``(src, dst)`` of the free edges.
-    """
-    off = np.asarray(off, dtype=np.int64)
-    src = np.flatnonzero(edge_states(world, free, altitude, obstacle, steps, off, coords))
-    return src, src + int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
 
 
 class GridReference:

@@ -53,21 +53,21 @@ from ...optim import (
 )
 from ...path import sample_population
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
-from ..grid.planner import GridReference, plan_grid
-from .problem import (
+from ..common import (
     check_endpoints,
-    control_polygon,
     cost_model_for,
-    make_objective,
     plan_terms,
     search_box,
+)
+from ..grid.planner import GridReference, plan_grid
+from .problem import (
+    control_polygon,
     spline_problem,
 )
 from .progressive import coarse_count, coarse_stage
 from .seeding import coarse_reference, lattice_seeds, seed_candidates
 
-__all__ = ["plan_swarm", "cost_model_for", "make_objective", "make_optimizer", "run_optimizer", "check_endpoints",
-           "plan_terms", "search_box", "spline_problem"]
+__all__ = ["plan_swarm", "make_optimizer", "run_optimizer"]
 
 
 def make_optimizer(spec: PlannerSpec, lower: FloatArray, upper: FloatArray, rng: np.random.Generator) -> Optimizer:

@@ -23,8 +23,8 @@ from ...guidance.local import key_waypoints
 from ...path import basis_matrix, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
+from ..common import cost_model_for, search_box
 from ..grid.planner import GridReference
-from .problem import cost_model_for, search_box
 
 __all__ = ["STRAIGHT", "coarse_reference", "compositions", "corner_control_points", "fit_control_points",
            "lattice_seeds", "seed_candidates"]

@@ -19,7 +19,7 @@ import numpy as np
 from ..._types import ArrayLike, Status
 from ...cost import evaluate_paths
 from ..base import PlannerSpec, PlanningProblem, PlanResult
-from ..swarm.problem import check_endpoints, cost_model_for, search_box
+from ..common import check_endpoints, cost_model_for, search_box
 from .search import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
 
 __all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]

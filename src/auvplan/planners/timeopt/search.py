@@ -39,10 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
-from ...path import resample_polyline
+from ...path import densify, resample_polyline
 from ...world import World
-from ..grid.band import densify
-from ..grid.planner import free_edges
+from ..grid.lattice import free_edges
 from .kernels import Float32Array, polyline_times, search, two_legs
 
 __all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "build_lattice", "build_table",
