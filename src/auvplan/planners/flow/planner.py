@@ -7,15 +7,15 @@ import time
 
 import numpy as np
 
-from ..._types import ArrayLike, Status
+from ..._types import ArrayLike, RngLike, Status
 from ...world import World
-from ..base import PlanningProblem, PlanResult
+from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints
 from ..params import FlowParams
 from .field import FlowField
 from .stream import integrate_streamlines
 
-__all__ = ["seabed_plane", "plan_flow"]
+__all__ = ["seabed_plane", "plan_flow", "run_flow"]
 
 
 def seabed_plane(world: World, start: ArrayLike, goal: ArrayLike, buffer: float) -> tuple[float | None, str]:
@@ -24,6 +24,21 @@ def seabed_plane(world: World, start: ArrayLike, goal: ArrayLike, buffer: float)
     The plane lies at the highest seabed elevation within ``buffer`` of the straight start–goal line
     (sampled every ~1/200 of its length on five parallel lines) plus the minimum altitude: a mirror
     image of the target sink in it makes it a stream surface.  Start and goal must lie above it.
+
+    Parameters
+    ----------
+    world : World
+        The seabed and the minimum altitude.
+    start, goal : array_like
+        The end points ``(3,)`` (m).
+    buffer : float
+        Half-width of the strip about the start-goal line that is sampled (m).
+
+    Returns
+    -------
+    tuple of (float or None, str)
+        The plane's height (m) and ``""``; ``(None, "")`` without a seabed; ``(None, reason)`` when the
+        seabed is not flat enough.
     """
     if world.terrain is None:
         return None, ""
@@ -109,3 +124,9 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
     terms["collisions"] = terms["violations"]  # deprecated alias (CHANGELOG 0.2.0)
     return PlanResult(status, path, length, terms, int(sl.steps[0]) * 4, int(sl.steps[0]),
                       time.perf_counter() - t0, np.empty(0), "flow", None, message)
+
+
+def run_flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+             progress: Progress | None = None) -> PlanResult:
+    """:func:`plan_flow` under the registry's signature (deterministic: ``rng`` and ``progress`` unused)."""
+    return plan_flow(problem, spec.flow)
