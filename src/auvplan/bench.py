@@ -32,8 +32,9 @@ from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io.safeio import claim
 from .io.scenario import loader as scenario_io
-from .planners import PIPELINES, PLANNERS, PlanResult, plan, reference, with_reference
+from .planners import PIPELINES, PlanResult, plan, reference, with_reference
 from .planners.grid.planner import on_cost_function
+from .planners.registry import known, names
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
 
@@ -105,8 +106,8 @@ class SweepSpec:
                 raise AuvplanError(f"unknown avoidance {a!r}; choose from scenario, {', '.join(AVOIDANCE)}")
         for p in self.planners:
             name, slash, pipeline = p.partition("/")
-            if p != "scenario" and name not in PLANNERS:
-                raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(PLANNERS)}")
+            if p != "scenario" and not known(name):
+                raise AuvplanError(f"unknown planner {p!r}; choose from scenario, {', '.join(names())}")
             if slash and pipeline not in PIPELINES:
                 raise AuvplanError(f"unknown pipeline in {p!r}; choose from {', '.join(PIPELINES)}")
         for g in self.guidance:

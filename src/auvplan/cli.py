@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Collection, Iterator
 from typing import Any
 
 from ._version import __version__
@@ -33,7 +33,7 @@ from .cli_commands import (
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
 from .io.missions import export
-from .planners import PIPELINES, PLANNERS
+from .planners import PIPELINES
 
 __all__ = ["main", "main_entry"]
 
@@ -54,13 +54,39 @@ def _int_at_least(low: int) -> Callable[[str], int]:
     return parse
 
 
+class _Choices(Collection[str]):
+    """argparse ``choices`` read when first needed (a ``--planner`` value, or that command's ``--help``)."""
+
+    def __init__(self, load: Callable[[], Collection[str]], extra: tuple[str, ...] = ()) -> None:
+        self._load, self._extra = load, extra
+
+    def _get(self) -> tuple[str, ...]:
+        return (*self._extra, *self._load())  # read each time: a planner may be registered after the parser
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._get()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._get())
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+
+def _planner_names() -> tuple[str, ...]:
+    """The registered planners (:mod:`auvplan.planners.registry`): built-in and plugged in."""
+    from .planners.registry import names
+
+    return names()
+
+
 _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
 
 
 _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "scenario": (("scenario",), {"help": "TOML file or built-in scenario name"}),
-    "planner": (("--planner",), {"choices": PLANNERS, "help": "override the scenario's planner"}),
+    "planner": (("--planner",), {"choices": _Choices(_planner_names), "help": "override the scenario's planner"}),
     "guidance": (("--guidance",), {"choices": ("hybrid", "los", "ilos"), "help": "override the scenario's guidance"}),
     "avoidance": (("--avoidance",), {"choices": AVOIDANCE, "help": "override the scenario's avoidance"}),
     "seed": (("--seed",), {"type": _SEED, "help": "random seed >= 0 (default: the scenario's)"}),

@@ -23,7 +23,8 @@ from .io.results import folder as results
 from .io.results import records
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .io.scenario import loader as scenario_io
-from .planners import SWARM, plan, reference, with_reference
+from .planners import get as get_planner
+from .planners import plan, reference, with_reference
 from .sim import mission_route, planning_problem, run_mission
 
 if TYPE_CHECKING:
@@ -50,10 +51,12 @@ class _Progress:
 
         self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
         self.flight_bar: Any = None
-        # only the swarm optimisers iterate; the other planners get a line, not a bar stuck at 0
+        # only the iterating planners (the swarm optimisers) report progress; the others get a line, not a
+        # bar stuck at 0
+        iterative = get_planner(spec.name).iterative
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
-                        disable=quiet or spec.name not in SWARM, leave=False, mininterval=0.5)
-        if spec.name not in SWARM:
+                        disable=quiet or not iterative, leave=False, mininterval=0.5)
+        if not iterative:
             self.stage(f"planning with {spec.name}")
 
     def __call__(self, iteration: int, best: float) -> None:

@@ -1,20 +1,52 @@
-"""Global planners: swarm optimisers over B-splines (document 002), streamlines (document 000) and
-the lattice reference, behind one interface (:mod:`auvplan.planners.registry`)."""
+"""Global planners: swarm optimisers over B-splines (document 002), streamlines (document 000), the
+lattice reference and the time-optimal planner, one package each, behind one interface and one registry
+(:mod:`auvplan.planners.registry`, the plug-in point).
 
+The planners themselves are imported when first used (``plan_flow`` … below are loaded on access), so
+naming, checking or registering a planner imports none of them.
+"""
+
+import importlib
 from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 from .._types import RngLike
-from .base import PIPELINES, PLANNERS, SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
-from .flow.planner import plan_flow
-from .grid.planner import GridReference, plan_grid, refine_plan, with_reference
+from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .params import GridParams
-from .registry import REGISTRY, PlannerEntry, get, register
-from .swarm.planner import plan_swarm
-from .timeopt.planner import plan_timeopt
+from .registry import PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, register
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers only
+    from .flow.planner import plan_flow
+    from .grid.planner import GridReference, plan_grid, refine_plan, with_reference
+    from .swarm.planner import plan_swarm
+    from .timeopt.planner import plan_timeopt
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
-           "REFERENCE_SWARMS", "reference", "register", "with_reference"]
+           "REFERENCE_SWARMS", "reference", "register", "refine_plan", "with_reference"]
+
+_LAZY = {
+    "plan_flow": "auvplan.planners.flow.planner",
+    "plan_grid": "auvplan.planners.grid.planner",
+    "GridReference": "auvplan.planners.grid.planner",
+    "refine_plan": "auvplan.planners.grid.planner",
+    "with_reference": "auvplan.planners.grid.planner",
+    "plan_swarm": "auvplan.planners.swarm.planner",
+    "plan_timeopt": "auvplan.planners.timeopt.planner",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'auvplan.planners' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
@@ -37,7 +69,10 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
     PlanResult
         Status, path, cost terms and history; a failure is a status, never an exception.
     """
-    return get(spec.name).run(problem, spec, rng, progress)
+    result = get(spec.name).run(problem, spec, rng, progress)
+    if not isinstance(result, PlanResult):  # a planner registered from outside that breaks the interface
+        raise TypeError(f"planner {spec.name!r} returned {type(result).__name__}, not a PlanResult")
+    return result
 
 
 REFERENCE_SWARMS = ("iabc", "pso", "de")
@@ -69,6 +104,8 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
     PlanResult
         Named ``grid`` whichever plan won, with that plan's path and cost.
     """
+    from .grid.planner import plan_grid, refine_plan
+
     grid = plan_grid(problem, spec)
     if not grid.status.ok or not swarms:
         return grid

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TypeAlias
+from typing import Any, TypeAlias
 
 import numpy as np
 
@@ -16,20 +16,13 @@ from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
 from ..world import World
 from .params import FlowParams, GridParams, TimeoptParams
+from .registry import PIPELINES, PLANNERS, SWARM, get, known, names
 
 __all__ = ["PlannerSpec", "PlanningProblem", "PlanResult", "PIPELINES", "PLANNERS", "SWARM", "Progress"]
 
 #: ``progress(iteration, best_cost)``, called by the iterating planners after each iteration.
 Progress: TypeAlias = Callable[[int, float], None]
 
-PLANNERS = ("iabc", "abc", "ga", "pso", "de", "flow", "grid", "timeopt")
-"""Planner names: the four swarm optimisers (document 002), scipy's differential evolution, the
-streamline planner (document 000), the lattice reference planner and the time-optimal planner in
-tidal currents (see ``planners.registry``)."""
-SWARM = ("iabc", "abc", "ga", "pso", "de")
-"""The population optimisers over B-spline control points (they iterate and call
-``progress(iteration, best)``)."""
-PIPELINES = ("seeded", "document", "progressive")
 
 
 @dataclass(frozen=True)
@@ -40,7 +33,9 @@ class PlannerSpec:
     ----------
     name : str
         ``iabc``, ``abc``, ``ga``, ``pso`` (swarm, document 002), ``de`` (scipy's differential
-        evolution), ``flow`` (streamlines, document 000) or ``grid`` (lattice reference).
+        evolution), ``flow`` (streamlines, document 000), ``grid`` (lattice reference), ``timeopt``
+        (time-optimal in currents), or any planner registered with
+        :func:`auvplan.planners.registry.register`.
     pipeline : str
         For the population optimisers: ``"seeded"`` (default: a coarse lattice path, fitted as
         control points, seeds part of the first population; the best plan is refined by a
@@ -95,6 +90,10 @@ class PlannerSpec:
         Settings of the lattice reference planner.
     timeopt : TimeoptParams
         Settings of the time-optimal planner.
+    _plugins : tuple of (str, object)
+        Settings of planners registered from outside the package, by name (each read from the
+        scenario's ``[planner.<name>]`` table into its registered settings type); use
+        :meth:`params_for`.
 
     Raises
     ------
@@ -129,10 +128,11 @@ class PlannerSpec:
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
     timeopt: TimeoptParams = field(default_factory=TimeoptParams)
+    _plugins: tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
-        if self.name not in PLANNERS:
-            raise ValueError(f"name = {self.name!r}: choose one of {', '.join(PLANNERS)}")
+        if not known(self.name):
+            raise ValueError(f"name = {self.name!r}: choose one of {', '.join(names())}")
         if self.pipeline not in PIPELINES:
             raise ValueError(f"pipeline = {self.pipeline!r}: choose one of {', '.join(PIPELINES)}")
         if not 0.0 <= self.seed_fraction <= 0.5:
@@ -159,6 +159,30 @@ class PlannerSpec:
         for k in ("w_length", "w_terrain", "w_energy", "terrain_penalty", "energy_scale"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
+
+    def params_for(self, name: str | None = None) -> Any:
+        """The settings of a planner: its table of this spec, or its registered type's defaults.
+
+        Parameters
+        ----------
+        name : str, optional
+            Planner name (default: this spec's).
+
+        Returns
+        -------
+        object or None
+            ``self.flow`` for ``flow``, ``self.iabc`` for ``iabc`` …; for a planner registered from
+            outside, the settings read from ``[planner.<name>]``, else its settings type's defaults;
+            None for a planner without settings.
+        """
+        entry = get(name or self.name)
+        if entry.table is not None:
+            return getattr(self, entry.table)
+        for key, value in self._plugins:
+            if key == entry.name:
+                return value
+        cls = entry.settings_type
+        return cls() if cls is not None else None
 
     @property
     def evaluations(self) -> int:

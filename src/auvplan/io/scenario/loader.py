@@ -27,6 +27,7 @@ Layout (all tables optional except ``[mission]``)::
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass
@@ -38,6 +39,7 @@ import numpy as np
 
 from ...errors import ScenarioError
 from ...guidance.formation import Formation, VehicleSpec
+from ...planners import registry
 from ...planners.base import PlannerSpec
 from ...sim import SimSettings
 from ...world import (
@@ -270,6 +272,23 @@ def _section(data: dict[str, Any], key: str, src: str) -> Any:
     return build_dataclass(SECTIONS[key], table, f"{src}: [{key}]")
 
 
+def _planner(table: Any, src: str) -> PlannerSpec:
+    """``[planner]``, with the ``[planner.<name>]`` table of a planner registered from outside the package
+    read into its registered settings type (:func:`auvplan.planners.registry.register`)."""
+    where = f"{src}: [planner]"
+    builtin = {f.name for f in dataclasses.fields(PlannerSpec)}
+    outside = {k: v for k, v in table.items() if isinstance(v, dict) and k not in builtin and registry.known(k)} \
+        if isinstance(table, dict) else {}
+    spec: PlannerSpec = build_dataclass(PlannerSpec, table, where, skip=tuple(outside))
+    plugins = []
+    for name, sub in outside.items():
+        cls = registry.get(name).settings_type
+        if cls is None:
+            raise ScenarioError(f"{src}: [planner.{name}] planner {name!r} takes no settings")
+        plugins.append((name, build_dataclass(cls, sub, f"{src}: [planner.{name}]")))
+    return dataclasses.replace(spec, _plugins=tuple(plugins)) if plugins else spec
+
+
 def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:
     """Parse and validate scenario TOML text.
 
@@ -333,7 +352,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits)
                    for i, t in enumerate(_array(data, "moving", source)))
     mission = _section(data, "mission", source)
-    planner = _section(data, "planner", source)
+    planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
     _check_geometry(source, mission, sim)

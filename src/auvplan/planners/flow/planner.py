@@ -128,5 +128,22 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
 
 def run_flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
              progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_flow` under the registry's signature (deterministic: ``rng`` and ``progress`` unused)."""
+    """:func:`plan_flow` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The planner's settings.
+    rng : Generator, int or None
+        Unused.
+    progress : callable, optional
+        Unused (the planner does not iterate).
+
+    Returns
+    -------
+    PlanResult
+        As :func:`plan_flow`.
+    """
     return plan_flow(problem, spec.flow)

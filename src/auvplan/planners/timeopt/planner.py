@@ -16,13 +16,14 @@ from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from ..._types import ArrayLike, Status
+from ..._types import ArrayLike, RngLike, Status
 from ...cost import evaluate_paths
-from ..base import PlannerSpec, PlanningProblem, PlanResult
+from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
 from .search import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
 
-__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "plan_timeopt", "departure_sweep", "sweep_summary"]
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "plan_timeopt", "run_timeopt", "departure_sweep",
+           "sweep_summary"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -304,3 +305,26 @@ def sweep_summary(rows: list[SweepRow], energy: bool = False) -> SweepSummary:
         "mean_saved_vs_straight_pct": float(np.nanmean([saved(r.duration_s, r.straight_duration_s) for r in ok])),
         "cpu_per_departure_s": float(np.mean([r.cpu_s for r in rows])),
     }
+
+
+def run_timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
+                progress: Progress | None = None) -> PlanResult:
+    """:func:`plan_timeopt` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The planner's settings.
+    rng : Generator, int or None
+        Unused.
+    progress : callable, optional
+        Unused (the planner does not iterate).
+
+    Returns
+    -------
+    PlanResult
+        As :func:`plan_timeopt`.
+    """
+    return plan_timeopt(problem, spec)
