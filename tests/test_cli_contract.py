@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from auvplan import cli, cli_commands
+import auvplan.sim
+from auvplan import cli
 from auvplan._types import Status
 from auvplan.bench import COLUMNS, SweepSpec, sweep
 from auvplan.io.safeio import MANIFEST, OutputError, atomic_write, prepare_out, written
@@ -40,7 +41,7 @@ def test_bad_arguments_exit_2_before_any_work(capsys, argv, needle):
 def test_out_naming_a_file_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
     target = tmp_path / "afile"
     target.write_text("mine")
-    monkeypatch.setattr(cli_commands, "run_mission",
+    monkeypatch.setattr(auvplan.sim, "run_mission",
                         lambda *a, **k: pytest.fail("the mission ran before --out was checked"))
     code, _, err = run_cli(capsys, "run", "track-single", "--out", target)
     assert code == 2 and "--out names an existing file" in err and str(target) in err
@@ -49,7 +50,7 @@ def test_out_naming_a_file_is_refused_before_the_mission(capsys, tmp_path, monke
 
 def test_an_out_below_a_file_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
     (tmp_path / "afile").write_text("x")
-    monkeypatch.setattr(cli_commands, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
+    monkeypatch.setattr(auvplan.sim, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
     code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "afile" / "sub")
     assert code == 2 and "cannot create the output folder" in err and "afile/sub" in err
 
@@ -58,7 +59,7 @@ def test_an_out_below_a_file_is_refused_before_the_mission(capsys, tmp_path, mon
 def test_unwritable_out_is_refused_before_the_mission(capsys, tmp_path, monkeypatch):
     locked = tmp_path / "locked"
     locked.mkdir(mode=0o500)
-    monkeypatch.setattr(cli_commands, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
+    monkeypatch.setattr(auvplan.sim, "run_mission", lambda *a, **k: pytest.fail("the mission ran"))
     code, _, err = run_cli(capsys, "run", "track-single", "--out", locked / "sub")
     assert code == 2 and "locked" in err
 
@@ -67,7 +68,7 @@ def test_keyboard_interrupt_exits_130_naming_the_folder(capsys, tmp_path, monkey
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli_commands, "run_mission", interrupted)
+    monkeypatch.setattr(auvplan.sim, "run_mission", interrupted)
     code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "r")
     assert code == 130
     assert err.strip().splitlines()[-1] == f"auvplan: interrupted; partial results in {tmp_path / 'r'}"
@@ -79,7 +80,7 @@ def test_library_errors_are_one_line_exit_2(capsys, tmp_path, monkeypatch, exc):
     def boom(*args, **kwargs):
         raise exc
 
-    monkeypatch.setattr(cli_commands, "run_mission", boom)
+    monkeypatch.setattr(auvplan.sim, "run_mission", boom)
     code, _, err = run_cli(capsys, "run", "track-single")
     assert code == 2
     assert err.count("\n") == 1 and "Traceback" not in err

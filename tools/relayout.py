@@ -109,6 +109,8 @@ SYMBOLS: dict[tuple[str, str], str] = {
                                                 "auvplan.planners.grid.planner", "auvplan.planners.grid.band")},
     **{(m, "free_edges"): "auvplan.planners.grid.lattice" for m in ("auvplan.planners.grid",
                                                                     "auvplan.planners.grid.planner")},
+    **{(m, n): "auvplan.io.scenario.builtins" for m in ("auvplan.io.scenario", "auvplan.io.scenario.loader")
+       for n in ("builtin_scenarios", "resolve")},
     ("auvplan.planners.base", "GridParams"): "auvplan.planners.params",
     ("auvplan", "__version__"): "auvplan._version",
 }

@@ -9,31 +9,14 @@ stdout; progress and messages go to stderr.
 from __future__ import annotations
 
 import argparse
+import importlib
 import logging
 import sys
 from collections.abc import Callable, Collection, Iterator
 from typing import Any
 
 from ._version import __version__
-from .cli_commands import (
-    _cmd_bench,
-    _cmd_data_inspect,
-    _cmd_demo,
-    _cmd_export,
-    _cmd_mission_check,
-    _cmd_plan,
-    _cmd_report,
-    _cmd_run,
-    _cmd_scenario_new,
-    _cmd_scenario_schema,
-    _cmd_scenarios,
-    _cmd_simulate,
-    _cmd_validate,
-)
 from .errors import AuvplanError, require
-from .guidance.local import AVOIDANCE
-from .io.missions import export
-from .planners import PIPELINES
 
 __all__ = ["main", "main_entry"]
 
@@ -55,7 +38,8 @@ def _int_at_least(low: int) -> Callable[[str], int]:
 
 
 class _Choices(Collection[str]):
-    """argparse ``choices`` read when first needed (a ``--planner`` value, or that command's ``--help``)."""
+    """argparse ``choices`` read when first needed (a ``--planner`` value, or that command's ``--help``;
+    each such argument has a ``metavar``, else argparse would list the choices when the parser is built)."""
 
     def __init__(self, load: Callable[[], Collection[str]], extra: tuple[str, ...] = ()) -> None:
         self._load, self._extra = load, extra
@@ -80,15 +64,28 @@ def _planner_names() -> tuple[str, ...]:
     return names()
 
 
+def _names_in(module: str, name: str) -> Callable[[], tuple[str, ...]]:
+    """A loader of the tuple ``module.name`` (imported when the choices are first read)."""
+    return lambda: tuple(getattr(importlib.import_module(module), name))
+
+
+_AVOIDANCE = _Choices(_names_in("auvplan.guidance.local", "AVOIDANCE"))
+_PIPELINES = _Choices(_names_in("auvplan.planners.registry", "PIPELINES"))
+_FORMATS = _Choices(_names_in("auvplan.io.missions.export", "EXPORT_FORMATS"))
+_BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.local", "AVOIDANCE"), ("scenario",))
+
+
 _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
 
 
 _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "scenario": (("scenario",), {"help": "TOML file or built-in scenario name"}),
-    "planner": (("--planner",), {"choices": _Choices(_planner_names), "help": "override the scenario's planner"}),
+    "planner": (("--planner",), {"choices": _Choices(_planner_names), "metavar": "PLANNER",
+                                 "help": "override the scenario's planner: %(choices)s"}),
     "guidance": (("--guidance",), {"choices": ("hybrid", "los", "ilos"), "help": "override the scenario's guidance"}),
-    "avoidance": (("--avoidance",), {"choices": AVOIDANCE, "help": "override the scenario's avoidance"}),
+    "avoidance": (("--avoidance",), {"choices": _AVOIDANCE, "metavar": "AVOIDANCE",
+                                     "help": "override the scenario's avoidance: %(choices)s"}),
     "seed": (("--seed",), {"type": _SEED, "help": "random seed >= 0 (default: the scenario's)"}),
     "full": (("--full",), {"action": "store_true",
                            "help": "tracks at full resolution (default: every 20 m / 30 s)"}),
@@ -106,8 +103,10 @@ def _shared(s: Any, *keys: str) -> None:
         s.add_argument(*flags, **kwargs)
 
 
-def _command(sub: Any, name: str, help: str, func: Callable[[argparse.Namespace], int], *shared: str) -> Any:
-    """A sub-command with the shared arguments ``shared`` (in that order) and its handler."""
+def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
+    """A sub-command with the shared arguments ``shared`` (in that order) and its handler, named in
+    :mod:`auvplan.cli_commands` (imported when a command runs, so ``--help`` and ``--version`` import
+    nothing of the library)."""
     s = sub.add_parser(name, help=help)
     _shared(s, *shared)
     s.set_defaults(func=func)
@@ -116,26 +115,26 @@ def _command(sub: Any, name: str, help: str, func: Callable[[argparse.Namespace]
 
 def _info_commands(sub: Any) -> None:
     """``scenarios``, ``validate``, ``data inspect``, ``scenario new|schema``."""
-    _command(sub, "scenarios", "list the built-in scenarios", _cmd_scenarios)
-    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", _cmd_validate, "scenario")
+    _command(sub, "scenarios", "list the built-in scenarios", "_cmd_scenarios")
+    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", "_cmd_validate", "scenario")
     s = sub.add_parser("data", help="inspect bathymetry and current files (NetCDF, GeoTIFF)")
     dsub = s.add_subparsers(dest="data_command", required=True)
     d = _command(dsub, "inspect", "print the layout, variables, units and axes auvplan detects in FILE",
-                 _cmd_data_inspect)
+                 "_cmd_data_inspect")
     d.add_argument("file", help="NetCDF or GeoTIFF file")
     s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
     ssub = s.add_subparsers(dest="scenario_command", required=True)
-    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", _cmd_scenario_new)
+    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", "_cmd_scenario_new")
     t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
     t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
-    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", _cmd_scenario_schema)
+    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", "_cmd_scenario_schema")
 
 
 def _flight_commands(sub: Any) -> None:
     """``plan``, ``simulate``, ``run``."""
-    s = _command(sub, "plan", "plan a global path", _cmd_plan, "scenario", "planner", "seed")
+    s = _command(sub, "plan", "plan a global path", "_cmd_plan", "scenario", "planner", "seed")
     s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
-    s.add_argument("--pipeline", choices=PIPELINES,
+    s.add_argument("--pipeline", choices=_PIPELINES, metavar="PIPELINE",
                    help=("seeded (lattice seeds + refinement + fallback, default), document (the algorithm "
                          "alone) or progressive (alone, coarse to fine)"))
     s.add_argument("--reference", action="store_true",
@@ -149,11 +148,11 @@ def _flight_commands(sub: Any) -> None:
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
 
     s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
-                 _cmd_simulate, "scenario", "guidance", "avoidance", "seed")
+                 "_cmd_simulate", "scenario", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
     _shared(s, "full", "force", "json")
 
-    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", _cmd_run,
+    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "_cmd_run",
                  "scenario", "planner", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write every result file here")
     _shared(s, "full", "force", "json")
@@ -162,18 +161,19 @@ def _flight_commands(sub: Any) -> None:
 def _result_commands(sub: Any) -> None:
     """``report``, ``export``, ``mission check``."""
     s = _command(sub, "report", "write report.html (and the exports) for a results directory of `run --out`",
-                 _cmd_report, "dir")
+                 "_cmd_report", "dir")
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
     _shared(s, "force")
     s = _command(sub, "export", "write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
-                                "nav_msgs/Path YAML) for a results directory", _cmd_export, "dir")
-    s.add_argument("--format", nargs="+", default=list(export.EXPORT_FORMATS), choices=export.EXPORT_FORMATS)
+                                "nav_msgs/Path YAML) for a results directory", "_cmd_export", "dir")
+    s.add_argument("--format", nargs="+", default=_FORMATS, choices=_FORMATS, metavar="FORMAT",
+                   help="mission formats (default: all): %(choices)s")
     _shared(s, "full", "force")
     s = sub.add_parser("mission", help="work with exported mission files")
     msub = s.add_subparsers(dest="mission_command", required=True)
     c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
                                 "scenario's seabed and static obstacles (exit 1 below min_altitude_m)",
-                 _cmd_mission_check)
+                 "_cmd_mission_check")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
     c.add_argument("--pitch", type=float, default=15.0,
@@ -184,7 +184,7 @@ def _result_commands(sub: Any) -> None:
 def _bench_commands(sub: Any) -> None:
     """``bench`` and ``demo``."""
     s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
-                 _cmd_bench)
+                 "_cmd_bench")
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
     s.add_argument("--planners", nargs="+", default=["scenario"],
                    help="planner names, or 'scenario'; name/pipeline picks the pipeline (iabc/progressive)")
@@ -194,8 +194,8 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
     s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
-    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=("scenario", *AVOIDANCE),
-                   help="local avoidance variants (an axis; 'scenario' = the scenario's own)")
+    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=_BENCH_AVOIDANCE, metavar="AVOIDANCE",
+                   help="local avoidance variants (an axis; 'scenario' = the scenario's own): %(choices)s")
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")
@@ -203,7 +203,7 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
     s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
     _shared(s, "force")
-    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", _cmd_demo)
+    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "_cmd_demo")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
     _shared(s, "force")
 
@@ -245,7 +245,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
-        code: int = args.func(args)
+        handler = getattr(importlib.import_module("auvplan.cli_commands"), args.func)
+        code: int = handler(args)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)

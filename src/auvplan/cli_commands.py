@@ -17,15 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .errors import AuvplanError
-from .io.data.geo import LocalFrame
-from .io.missions import export
-from .io.results import folder as results
-from .io.results import records
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
-from .io.scenario import loader as scenario_io
-from .planners import get as get_planner
-from .planners import plan, reference, with_reference
-from .sim import mission_route, planning_problem, run_mission
 
 if TYPE_CHECKING:
     from .io.scenario.specs import Scenario
@@ -48,6 +40,8 @@ class _Progress:
 
     def __init__(self, spec: PlannerSpec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
+
+        from .planners import get as get_planner
 
         self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
         self.flight_bar: Any = None
@@ -90,6 +84,8 @@ def _out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path 
 
 
 def _emit(record: dict[str, Any], as_json: bool, human: str) -> None:
+    from .io.results import records
+
     if as_json:
         sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:
@@ -97,7 +93,9 @@ def _emit(record: dict[str, Any], as_json: bool, human: str) -> None:
 
 
 def _cmd_scenarios(args: argparse.Namespace) -> int:
-    for name, desc in scenario_io.builtin_scenarios().items():
+    from .io.scenario.builtins import builtin_scenarios
+
+    for name, desc in builtin_scenarios().items():
         print(f"{name:18s} {desc}")
     return 0
 
@@ -110,6 +108,9 @@ def _cmd_data_inspect(args: argparse.Namespace) -> int:
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
+    from .io.scenario import loader as scenario_io
+    from .sim import planning_problem
+
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
@@ -145,6 +146,10 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
 
 
 def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World]:
+    from .io.scenario import loader as scenario_io
+    from .planners import plan, reference, with_reference
+    from .sim import planning_problem
+
     _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -199,7 +204,10 @@ def _instant(text: str, start_time: str, what: str) -> float:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
     from .planners.timeopt.planner import departure_sweep, sweep_summary
+    from .sim import planning_problem
 
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -246,6 +254,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
+    from .io.results import records
+
     if args.depart_between:
         return _cmd_sweep(args)
     if args.objective:
@@ -268,6 +278,10 @@ def _cmd_plan(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
+    from .sim import run_mission
+
     _out(args)
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -297,6 +311,10 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
          full: bool = False, force: bool = False, quiet: bool = False,
          planner: str | None = None) -> tuple[Scenario, RunRecord]:
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
+    from .sim import run_mission
+
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
@@ -327,12 +345,16 @@ def _scenario_text(sc: Scenario) -> str:
 
 def _save_context(out: Path, sc: Scenario, world: World) -> None:
     """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
+    from .io.results import folder as results
+    from .io.results import records
+
     records.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
     results.save_terrain(out, world.terrain)
 
 
 def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int) -> None:
     """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
+    from .io.results import records
     from .sim import RunRecord
 
     text = _scenario_text(sc)
@@ -344,6 +366,9 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
                   full: bool = False) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
+    from .io.data.geo import LocalFrame
+    from .io.missions import export
+    from .io.results import records
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
@@ -359,6 +384,11 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
 
 
 def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
+    from .io.results import folder as results
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
+    from .sim import mission_route
+
     out = Path(args.dir)
     if not out.is_dir():
         raise AuvplanError(f"{out}: no such results folder")
@@ -383,6 +413,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
+    from .io.missions import export
+
     out, record, _, world, mission = _load_results(args)
     for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
         print(p)
@@ -391,6 +423,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .io.missions.formats import check_mission_file
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
 
     sc = scenario_io.load(args.scenario)
     world, _ = scenario_io.build(sc)
@@ -433,6 +467,7 @@ def _describe_run(name: str, record: RunRecord) -> str:
 
 def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
     """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
+    from .io.data.geo import LocalFrame
     from .io.missions.formation import FORMATION_NAMES, formation_record, vehicle_records, write_formation
     from .sim.formation import run_formation
 
@@ -476,6 +511,9 @@ def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
+    from .io.results import records
+    from .io.scenario import loader as scenario_io
+
     sc = scenario_io.load(args.scenario)
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)

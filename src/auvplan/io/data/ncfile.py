@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
+from xarray.backends import NetCDF4BackendEntrypoint
 
 from ...errors import DataError
 
@@ -97,6 +98,9 @@ def open_dataset(path: Path, what: str, **kwargs: Any) -> xr.Dataset:
     if declared is not None and size < declared:
         raise DataError(f"{path}: truncated NetCDF-4/HDF5 file: {size} bytes of the {declared} its header declares")
     try:
+        # the engine xarray would pick first for NetCDF, named: no scan of every installed backend (which
+        # imports rioxarray, dask and more, about a second of a command's start)
+        kwargs.setdefault("engine", NetCDF4BackendEntrypoint)
         return xr.open_dataset(path, **kwargs)
     except Exception as exc:  # xarray and the HDF5 library raise many types for damaged files
         text = " ".join(str(exc).split())

@@ -31,7 +31,6 @@ import dataclasses
 import math
 import tomllib
 from dataclasses import dataclass
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -54,6 +53,7 @@ from ...world import (
 from ..data.bathymetry import TerrainSpec
 from . import limits as _limits
 from .build import build
+from .builtins import builtin_scenarios, resolve
 from .limits import Limits
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
@@ -199,45 +199,6 @@ def _moving(table: dict[str, Any], where: str, bounds_xy: tuple[float, float, fl
 
 
 # ---------------------------------------------------------------------- loading
-def builtin_scenarios() -> dict[str, str]:
-    """List the built-in scenarios with their one-line descriptions.
-
-    Returns
-    -------
-    dict of str to str
-        Name → description.
-    """
-    out = {}
-    folder = resources.files("auvplan") / "data" / "scenarios"
-    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
-        if entry.name.endswith(".toml"):
-            with entry.open("rb") as fh:
-                data = tomllib.load(fh)
-            out[entry.name[:-5]] = str(data.get("description", "")).strip().splitlines()[0]
-    return out
-
-
-def resolve(scenario: str | Path) -> Path:
-    """Return the path of a scenario given as a file path or the name of a built-in scenario.
-
-    Parameters
-    ----------
-    scenario : str or pathlib.Path
-        A TOML file or a built-in name.
-
-    Returns
-    -------
-    pathlib.Path
-        The TOML file.
-    """
-    p = Path(scenario)
-    if p.is_file():
-        return p
-    builtin = resources.files("auvplan") / "data" / "scenarios" / f"{scenario}.toml"
-    if builtin.is_file():
-        return Path(str(builtin))
-    names = ", ".join(builtin_scenarios())
-    raise ScenarioError(f"{scenario}: no such scenario file, and not a built-in scenario ({names})")
 
 
 def load(scenario: str | Path) -> Scenario:

@@ -1,0 +1,53 @@
+"""The built-in scenarios: their list and the file of a name (without importing the loader, so that
+``auvplan scenarios`` starts at once)."""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+from ...errors import ScenarioError
+
+__all__ = ["builtin_scenarios", "resolve"]
+
+
+def builtin_scenarios() -> dict[str, str]:
+    """List the built-in scenarios with their one-line descriptions.
+
+    Returns
+    -------
+    dict of str to str
+        Name → description.
+    """
+    out = {}
+    folder = resources.files("auvplan") / "data" / "scenarios"
+    for entry in sorted(folder.iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".toml"):
+            with entry.open("rb") as fh:
+                data = tomllib.load(fh)
+            out[entry.name[:-5]] = str(data.get("description", "")).strip().splitlines()[0]
+    return out
+
+
+def resolve(scenario: str | Path) -> Path:
+    """Return the path of a scenario given as a file path or the name of a built-in scenario.
+
+    Parameters
+    ----------
+    scenario : str or pathlib.Path
+        A TOML file or a built-in name.
+
+    Returns
+    -------
+    pathlib.Path
+        The TOML file.
+    """
+    p = Path(scenario)
+    if p.is_file():
+        return p
+    builtin = resources.files("auvplan") / "data" / "scenarios" / f"{scenario}.toml"
+    if builtin.is_file():
+        return Path(str(builtin))
+    names = ", ".join(builtin_scenarios())
+    raise ScenarioError(f"{scenario}: no such scenario file, and not a built-in scenario ({names})")
