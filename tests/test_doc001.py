@@ -19,7 +19,7 @@ from auvplan.guidance.hybrid import HybridGuidance, HybridParams, goal_factor, h
 from auvplan.guidance.los import LosGuidance, LosParams, los_heading
 from auvplan.guidance.route import RouteTracker, crab_heading
 from auvplan.io.scenario import loader as sc
-from auvplan.sim import Mission, SimSettings, simulate
+from auvplan.sim import Mission, SimParams, simulate
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World
 
@@ -123,7 +123,7 @@ def _straight(current, waves: bool, length: float = 800.0):
     world = World(Bounds(-100, length + 100, -300, 300, -100, 0), currents=UniformCurrent(current))
     vp = VehicleParams(wave_sigma_r=0.01, wave_sigma_v=0.05) if waves else VehicleParams()
     mission = Mission("leg", (0, 0, -20), (length, 0, -20), route=((0, 0, -20), (length, 0, -20)), vehicle=vp,
-                      sim=SimSettings(arrival_radius=5.0))
+                      sim=SimParams(arrival_radius=5.0))
     return world, mission
 
 

@@ -21,7 +21,7 @@ from auvplan.guidance.formation import (
 from auvplan.guidance.formation_plan import plan_formation
 from auvplan.guidance.formation_steer import dominant_pole
 from auvplan.guidance.hybrid import HybridParams
-from auvplan.sim import Mission, SimSettings
+from auvplan.sim import Mission, SimParams
 from auvplan.sim.formation import simulate_formation
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Bounds, UniformCurrent, World
@@ -30,7 +30,7 @@ STRAIGHT = ((0.0, 0.0, -50.0), (0.0, 1200.0, -50.0))
 
 
 def _fly(world, route, formation, dt=0.1, seed=0, **vehicle):
-    mission = Mission("t", route[0], route[-1], route=route, formation=formation, sim=SimSettings(dt=dt),
+    mission = Mission("t", route[0], route[-1], route=route, formation=formation, sim=SimParams(dt=dt),
                       vehicle=VehicleParams(**vehicle))
     plan = plan_formation(world, route, formation)
     assert plan.status is Status.EXACT, plan.message

@@ -618,10 +618,10 @@ def test_deadlock_is_declared_one_step_after_the_deadlock_time():
     """A 2 m/s current head on against a 1.5 m/s vehicle: the route progress never gains 1 m, so
     without avoidance the run ends in DEADLOCK at the first step after ``deadlock_time`` (60 s):
     t = 60.1 s with dt = 0.1 s; the vehicle has been pushed back, never forward."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
 
     m = Mission("dl", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
-                sim=SimSettings(deadlock_time=60.0))
+                sim=SimParams(deadlock_time=60.0))
     r = simulate(_open_water((-2.0, 0.0, 0.0)), m, guidance="hybrid", rng=0, avoidance="none")
     assert r.status is Status.DEADLOCK and r.events[-1][1] == "deadlock" and len(r.events) == 1
     assert r.t[-1] == pytest.approx(60.1, abs=1e-9)
@@ -632,7 +632,7 @@ def test_arrival_at_the_radius_and_timeout_at_max_time():
     """A 300 m straight leg at 1.5 m/s in still open water: arrival is declared at the first step
     within 10 m of the goal (x ≥ 290 m, not before: ~193 s after the start); with
     ``max_time = 50`` s the same run ends in TIMEOUT after 500 steps, 75 m out."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
 
     route = ((0.0, 0.0, -20.0), (300.0, 0.0, -20.0))
     m = Mission("arrive", route[0], route[-1], route=route)
@@ -641,7 +641,7 @@ def test_arrival_at_the_radius_and_timeout_at_max_time():
     d = np.linalg.norm(r.position - np.array(route[-1]), axis=1)
     assert d[-1] <= 10.0 < d[-2]  # stopped at the first recorded step inside the radius
     assert 290.0 / 1.5 < r.t[-1] < 290.0 / 1.5 + 10.0
-    m = Mission("late", route[0], route[-1], route=route, sim=SimSettings(max_time=50.0))
+    m = Mission("late", route[0], route[-1], route=route, sim=SimParams(max_time=50.0))
     r = simulate(_open_water(), m, guidance="los", rng=0, avoidance="none")
     assert r.status is Status.TIMEOUT and not r.arrived and r.events[-1][1] == "timeout"
     assert r.t[-1] == pytest.approx(50.0) and 60.0 < r.position[-1, 0] < 76.0
@@ -782,7 +782,7 @@ def test_the_moving_obstacle_that_hits_decides_unavoidable():
     is UNAVOIDABLE and names obstacle 1; at 0.5 m/s it is a plain COLLISION (the vehicle could have
     avoided it).  Recording every 7th step still ends on the final state, and far obstacles are
     recorded at the lower bound |p - c| - r (exact for spheres)."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
     from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((0.0, 500.0, -20.0), (600.0, 500.0, -20.0))
@@ -790,7 +790,7 @@ def test_the_moving_obstacle_that_hits_decides_unavoidable():
         moving = (MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((400.0, 500.0, -20.0), (-speed, 0.0, 0.0))),
                   MovingObstacle(Sphere((0.0, 0.0, 0.0), 5.0), LinearMotion((100.0, 900.0, -20.0), (0.2, 0.0, 0.0))))
         w = World(Bounds(-500, 1000, 0, 1000, -100, 0), obstacles=(Sphere((300.0, 20.0, -20.0), 10.0),), moving=moving)
-        m = Mission("hit", route[0], route[-1], route=route, sim=SimSettings(record_every=7))
+        m = Mission("hit", route[0], route[-1], route=route, sim=SimParams(record_every=7))
         r = simulate(w, m, guidance="los", rng=0, avoidance="none")
         assert r.status is status and "obstacle 1" in r.events[-1][2], (speed, r.events[-1])
         assert r.t[-1] == pytest.approx(r.events[-1][0]) and r.obstacle_distance[-1, 1] < 0.0

@@ -393,10 +393,10 @@ def test_sim_a_creeping_vehicle_is_not_deadlocked():
     max_time (300 s) 7.5 m along.  At 0.015 m/s (0.9 m a minute) the run is deadlocked at the first
     step more than 60 s after its last progress, the first step (t = 0.1 s: 1.5 mm beat the initial best
     of -1 m by more than 1 m), i.e. at t = 60.2 s."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
 
     m = Mission("creep", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
-                sim=SimSettings(deadlock_time=60.0, max_time=300.0))
+                sim=SimParams(deadlock_time=60.0, max_time=300.0))
     r = simulate(_head_current(0.025), m, guidance="los", rng=0, avoidance="none")
     assert r.status is Status.TIMEOUT and [e[1] for e in r.events] == ["timeout"]
     assert r.position[-1, 0] == pytest.approx(7.5, abs=0.05)
@@ -910,7 +910,7 @@ def test_sim_the_final_sample_off_the_recording_grid_is_the_state_at_its_time(ma
     exactly, the final one included, which is off the 7-step grid (1 200 and 603 steps; a timeout).
     The final state used to be taken one step after its time stamp (the vehicle stepped once more
     after the last step), and its obstacle distances with the default exact range, not the run's."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
     from auvplan.world.moving import LinearMotion, MovingObstacle
 
     route = ((100.0, 500.0, -60.0), (900.0, 500.0, -60.0))
@@ -918,7 +918,7 @@ def test_sim_the_final_sample_off_the_recording_grid_is_the_state_at_its_time(ma
     world = replace(flat_world(depth=100.0, size=1000.0, obstacles=(Sphere((300.0, 540.0, -60.0), 8.0),)),
                     moving=(moving,))
     runs = [simulate(world, Mission("grid", route[0], route[-1], route=route,
-                                    sim=SimSettings(max_time=max_time, record_every=every)),
+                                    sim=SimParams(max_time=max_time, record_every=every)),
                      guidance="los", rng=0, avoidance="none") for every in (1, 7)]
     full, sparse = runs
     assert full.status is sparse.status is Status.TIMEOUT

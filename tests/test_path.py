@@ -5,7 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from auvplan.path import BSplinePath, basis_matrix, sample_population, uniform_cubic_basis
+from auvplan.path import (
+    BSplinePath,
+    arc_length,
+    basis_matrix,
+    densify,
+    polyline_length,
+    sample_population,
+    uniform_cubic_basis,
+)
 
 
 def test_uniform_basis_partition_of_unity_and_symmetry():
@@ -62,3 +70,20 @@ def test_geometry_of_a_straight_and_a_circular_path():
     th = np.linspace(0, np.pi, 60)
     arc = BSplinePath(np.c_[100 * np.cos(th), 100 * np.sin(th), np.zeros_like(th)])
     assert np.allclose(arc.curvature(np.linspace(0.2, 0.8, 9)), 0.01, rtol=0.01)
+
+
+def test_arc_length_of_a_three_four_five_polyline():
+    """Arc length at each vertex: 0, then the 3-4-5 legs' sums; its last value is polyline_length."""
+    p = np.array([[0.0, 0.0, 0.0], [3.0, 4.0, 0.0], [3.0, 4.0, 12.0], [3.0, 4.0, 12.0]])
+    np.testing.assert_array_equal(arc_length(p), [0.0, 5.0, 17.0, 17.0])
+    assert arc_length(p)[-1] == polyline_length(p) == 17.0
+    assert arc_length(p[:1]).tolist() == [0.0]
+
+
+def test_densify_keeps_every_vertex_and_caps_the_step():
+    p = np.array([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 3.0, 0.0]])
+    d = densify(p, 4.0)
+    assert len(d) == 3 + 1 + 1 + 0 and np.all(np.diff(arc_length(d)) <= 4.0 + 1e-12)
+    assert all(any(np.array_equal(v, q) for q in d) for v in p)
+    assert arc_length(d)[-1] == pytest.approx(13.0)
+

@@ -150,12 +150,12 @@ def test_collision_is_reported_as_a_status():
 
 def test_deadlock_is_detected():
     """A current stronger than the vehicle, head on: no progress → DEADLOCK, not an endless run."""
-    from auvplan.sim import SimSettings
+    from auvplan.sim import SimParams
     from auvplan.world import UniformCurrent
 
     w = World(Bounds(-5000, 5000, -500, 500, -100, 0), currents=UniformCurrent((-2.0, 0.0, 0.0)))
     m = Mission("dl", (0, 0, -20), (1000, 0, -20), route=((0, 0, -20), (1000, 0, -20)),
-                sim=SimSettings(deadlock_time=60.0))
+                sim=SimParams(deadlock_time=60.0))
     r = simulate(w, m, guidance="hybrid", rng=0, avoidance="none")
     assert r.status is Status.DEADLOCK and r.t[-1] < 200
     # with local avoidance, document 004's escapes run first; DEADLOCK only after escape_time more

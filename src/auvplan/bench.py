@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ._types import Status
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io.safeio import claim
@@ -460,7 +461,7 @@ def summarise(rows: Iterable[Mapping[str, Any]]) -> list[Row]:
     for (s, p, g), rs in sorted(cells.items()):
         cost = np.array([_f(r["cost"]) for r in rs])
         cost = cost[np.isfinite(cost)]
-        ok = [r["status"] in ("EXACT", "APPROXIMATE") for r in rs]
+        ok = [Status(r["status"]).ok for r in rs]
         q = np.percentile(cost, [25, 50, 75]) if cost.size else [np.nan] * 3
         gap = np.array([_f(r["gap_pct"]) for r in rs])
         out.append({"scenario": s, "planner": p, "guidance": g, "runs": len(rs),

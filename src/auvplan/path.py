@@ -31,7 +31,9 @@ __all__ = [
     "BSplinePath",
     "sample_population",
     "polyline_length",
+    "arc_length",
     "resample_polyline",
+    "densify",
 ]
 
 
@@ -158,6 +160,24 @@ def polyline_length(points: ArrayLike) -> FloatArray:
     return length
 
 
+def arc_length(points: ArrayLike) -> FloatArray:
+    """Arc length at each vertex of a polyline: 0 at the first, the polyline's length at the last.
+
+    Parameters
+    ----------
+    points : array_like
+        Vertices ``(N, D)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` distances along the polyline (m).
+    """
+    p = np.asarray(points, dtype=float)
+    s: FloatArray = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    return s
+
+
 def resample_polyline(points: ArrayLike, spacing: float) -> FloatArray:
     """Points every ``spacing`` metres of arc length along a polyline (ends kept).
 
@@ -174,7 +194,7 @@ def resample_polyline(points: ArrayLike, spacing: float) -> FloatArray:
         Points ``(M, 3)`` (m), ``M >= 2``, the first and last vertex included.
     """
     p = as_points(points)
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    s = arc_length(p)
     n = max(int(np.ceil(s[-1] / spacing)), 1) + 1
     q = np.linspace(0.0, s[-1], n)
     return np.column_stack([np.interp(q, s, p[:, k]) for k in range(3)])

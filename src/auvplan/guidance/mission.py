@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..geometry import as_points, point_segment_distance
+from ..path import polyline_length
 from ..world import World
 from ..world.obstacles import Ellipsoid, Shape, Sphere
 
@@ -197,7 +198,7 @@ def default_tolerance(path: ArrayLike) -> float:
         Tolerance (m).
     """
     p = as_points(path).reshape(-1, 3)
-    length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
+    length = float(polyline_length(p)) if len(p) > 1 else 0.0
     return float(np.clip(0.002 * length, 0.5, 50.0))
 
 

@@ -2,7 +2,7 @@
 
 Each idea has its module; every public name is importable from :mod:`auvplan.sim` itself:
 
-* :mod:`~auvplan.sim.mission`: what to fly (:class:`Mission`, :class:`SimSettings`);
+* :mod:`~auvplan.sim.mission`: what to fly (:class:`Mission`, :class:`SimParams`);
 * :mod:`~auvplan.sim.events`: the event rules of one step (contact, arrival, progress, deadlock);
 * :mod:`~auvplan.sim.loop`: the fixed-step closed loop (:func:`simulate`, :func:`make_guidance`);
 * :mod:`~auvplan.sim.result`: what a run produced (:class:`SimResult`, :class:`SimMetrics`,
@@ -13,11 +13,12 @@ Each idea has its module; every public name is importable from :mod:`auvplan.sim
 from __future__ import annotations
 
 from .loop import make_guidance, simulate
-from .mission import Mission, SimSettings
+from .mission import Mission, SimParams, SimSettings
 from .pipeline import mission_route, planned_route, planning_problem, route_from_path, run_mission
 from .result import RunRecord, SimMetrics, SimResult, decimate
 
 __all__ = [
+    "SimParams",
     "SimSettings",
     "Mission",
     "SimResult",

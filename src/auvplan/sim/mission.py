@@ -1,5 +1,5 @@
 """What to fly: a :class:`Mission` (end points, an optional fixed route, every component's settings) and
-its closed-loop :class:`SimSettings`."""
+its closed-loop :class:`SimParams`."""
 
 from __future__ import annotations
 
@@ -12,11 +12,11 @@ from ..guidance.los import LosParams
 from ..planners.base import PlannerSpec
 from ..vehicles import VehicleParams
 
-__all__ = ["SimSettings", "Mission"]
+__all__ = ["SimParams", "SimSettings", "Mission"]
 
 
 @dataclass(frozen=True)
-class SimSettings:
+class SimParams:
     """Closed-loop settings: time step, time limit, arrival, deadlock and recording.
 
     Attributes
@@ -44,6 +44,10 @@ class SimSettings:
             raise ValueError("dt, arrival_radius and deadlock_time must be positive and max_time >= 0")
         if self.record_every < 1:
             raise ValueError(f"record_every = {self.record_every}: must be >= 1")
+
+
+SimSettings = SimParams
+"""Former name of :class:`SimParams` (settings are ``*Params`` throughout), kept for existing code."""
 
 
 @dataclass(frozen=True)
@@ -81,6 +85,6 @@ class Mission:
     hybrid: HybridParams = field(default_factory=HybridParams)
     los: LosParams = field(default_factory=LosParams)
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
-    sim: SimSettings = field(default_factory=SimSettings)
+    sim: SimParams = field(default_factory=SimParams)
     formation: Formation | None = None
 

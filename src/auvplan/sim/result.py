@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..path import arc_length, polyline_length
 from ..planners.base import PlanResult
 
 __all__ = ["SimResult", "SimMetrics", "RunRecord", "decimate"]
@@ -121,7 +122,7 @@ class SimResult:
         of the two (the geometric clearance, as in a plan's cost terms; margins not subtracted),
         ``collisions`` the contacts (``collision`` and ``unavoidable`` events).
         """
-        d = np.linalg.norm(np.diff(self.position, axis=0), axis=1).sum() if self.t.size > 1 else 0.0
+        d = polyline_length(self.position) if self.t.size > 1 else 0.0
         per_obs = self.obstacle_distance.min(axis=0) if self.obstacle_distance.size else np.empty(0)
         altitude = float(self.altitude.min()) if self.t.size else float("inf")
         obstacle = float(per_obs.min()) if per_obs.size else float("inf")
@@ -203,7 +204,7 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
     n = result.t.size
     if n <= 2:
         return result
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(result.position, axis=0), axis=1))]
+    s = arc_length(result.position)
     keep = np.zeros(n, dtype=bool)
     keep[np.unique(np.searchsorted(s, np.arange(0.0, s[-1], every_m)))] = True
     keep[np.unique(np.searchsorted(result.t, np.arange(0.0, result.t[-1], every_s)))] = True

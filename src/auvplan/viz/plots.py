@@ -25,6 +25,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 from numpy.typing import ArrayLike, NDArray
 
+from .._types import Status
+from ..path import arc_length
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
 from .scene3d import elevation_range, shape_surface
@@ -216,7 +218,7 @@ def algorithm_paths(world: World, paths: Mapping[str, ArrayLike]) -> Figure:
         p = np.asarray(p)
         if p.size:
             ax.plot(p[:, 0], p[:, 1], lw=1.5, label=name)
-            s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+            s = arc_length(p)
             bx.plot(s / 1000, p[:, 2], lw=1.2, label=name)
             if world.terrain is not None:
                 bx.plot(s / 1000, world.terrain.elevation(p[:, 0], p[:, 1]), color="k", lw=0.5, alpha=0.3)
@@ -343,7 +345,7 @@ def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path) -> list[Path]
     ax.boxplot([c[np.isfinite(c)] for c in costs], tick_labels=names)
     ax.set_ylabel("plan cost")
     ax.tick_params(axis="x", labelsize=7)
-    ok = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
+    ok = [np.mean([Status(r["status"]).ok for r in cells[n]]) for n in names]
     bx.bar(range(len(names)), ok, color="seagreen")
     bx.set_xticks(range(len(names)), names, fontsize=7)
     bx.set_ylim(0, 1.05)

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._types import Status
 from ..sim import RunRecord, decimate
 from ..world import World
 from . import PLOTLY_MISSING
@@ -192,7 +193,7 @@ def build_bench_report(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapp
         box.add_trace(go.Box(y=c[np.isfinite(c)], name=name, boxpoints="outliers", marker_color=colour[name]))
     box.update_layout(title="plan cost per cell", yaxis_title="cost", height=450)
     names = sorted(cells)
-    rate = [np.mean([r["status"] in ("EXACT", "APPROXIMATE") for r in cells[n]]) for n in names]
+    rate = [np.mean([Status(r["status"]).ok for r in cells[n]]) for n in names]
     bars = go.Figure(go.Bar(x=names, y=rate, marker_color=[colour[n] for n in names]))
     bars.update_layout(title="success rate", yaxis=dict(range=[0, 1.05]), height=380)
     conv = _convergence_figure(histories, colour)

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from ...path import arc_length
 from ...sim import RunRecord, decimate
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, summary_metrics, write_text
@@ -47,7 +48,7 @@ def _track(record: RunRecord, full: bool = False) -> tuple[NDArray[np.float64], 
     path = record.plan.path if record.plan is not None else record.route
     if record.plan is not None and record.plan.times is not None and len(record.plan.times) == len(path):
         return path, record.plan.times
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(path, axis=0), axis=1))]
+    s = arc_length(path)
     dur = record.plan.cost_terms.get("duration_s", np.nan) if record.plan is not None else np.nan
     return path, s / s[-1] * dur if s[-1] > 0 and np.isfinite(dur) else np.full(len(path), np.nan)
 

@@ -38,6 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
 from ...guidance.mission import MissionCheck, fly_check
+from ...path import arc_length
 from ...world import World
 from ..data.geo import LocalFrame
 
@@ -81,7 +82,7 @@ def planned_times(waypoints: ArrayLike, speed: float) -> NDArray[np.float64]:
         ``(N,)`` times (s), 0 at the first point.
     """
     w = np.asarray(waypoints, dtype=float)
-    times: NDArray[np.float64] = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))] / speed
+    times: NDArray[np.float64] = arc_length(w) / speed
     return times
 
 

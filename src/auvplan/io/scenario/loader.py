@@ -40,7 +40,7 @@ from ...errors import ScenarioError
 from ...guidance.formation import Formation, VehicleSpec
 from ...planners import registry
 from ...planners.base import PlannerSpec
-from ...sim import SimSettings
+from ...sim import SimParams
 from ...world import (
     CircleMotion,
     Ellipsoid,
@@ -430,7 +430,7 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
                   nodes * _limits.BYTES_PER_LATTICE_NODE)
 
 
-def _check_geometry(src: str, m: MissionSpec, sim: SimSettings) -> None:
+def _check_geometry(src: str, m: MissionSpec, sim: SimParams) -> None:
     """Zero-length and degenerate missions: start on the goal, repeated or too few route points."""
     where = f"{src}: [mission]"
     if not m.route:

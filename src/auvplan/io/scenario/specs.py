@@ -14,7 +14,7 @@ from ...guidance.hybrid import HybridParams
 from ...guidance.local import AvoidanceParams
 from ...guidance.los import LosParams
 from ...planners.base import PlannerSpec
-from ...sim import SimSettings
+from ...sim import SimParams
 from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
@@ -291,7 +291,7 @@ class Scenario:
         Path follower.
     avoidance : AvoidanceParams
         Local avoidance.
-    sim : SimSettings
+    sim : SimParams
         Closed-loop settings.
     raw : dict
         The parsed TOML document.
@@ -320,7 +320,7 @@ class Scenario:
     planner: PlannerSpec
     guidance: GuidanceSpec
     avoidance: AvoidanceParams
-    sim: SimSettings
+    sim: SimParams
     raw: dict[str, Any] = field(repr=False, default_factory=dict)
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
@@ -330,7 +330,7 @@ class Scenario:
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
-    "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
+    "avoidance": AvoidanceParams, "sim": SimParams, "limits": Limits, "land": LandSpec,
     "formation": FormationParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""

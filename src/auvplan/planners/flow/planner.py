@@ -8,6 +8,7 @@ import time
 import numpy as np
 
 from ..._types import ArrayLike, RngLike, Status
+from ...path import polyline_length
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints
@@ -100,7 +101,7 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
             field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
             sl = integrate_streamlines(field, problem.start[None], params)
     path = sl.paths[0]
-    length = float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+    length = float(polyline_length(path))
     st = sl.status[0]
     message = ""
     status = Status.EXACT

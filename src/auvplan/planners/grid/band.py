@@ -17,7 +17,7 @@ import numpy as np
 from ..._types import ArrayLike, FloatArray
 from ...cost import CostModel, evaluate_paths, segment_energy
 from ...guidance.local import key_waypoints
-from ...path import densify, polyline_length, resample_polyline
+from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
 from ..common import cost_model_for, plan_terms
@@ -75,7 +75,7 @@ def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
         A free polyline through the same end points.
     """
     p = np.asarray(path, dtype=float)
-    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    s = arc_length(p)
     r = resample_polyline(p, spacing)
     q = np.linspace(0.0, s[-1], r.shape[0])
     bad = np.flatnonzero(~world.segments_free(np.stack([r[:-1], r[1:]], axis=1), moving=False))

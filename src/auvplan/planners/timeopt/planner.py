@@ -18,6 +18,7 @@ import numpy as np
 
 from ..._types import ArrayLike, RngLike, Status
 from ...cost import evaluate_paths
+from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
 from .search import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
@@ -111,7 +112,7 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 
 
 def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
-    length = float(np.linalg.norm(np.diff(tp.points, axis=0), axis=1).sum())
+    length = float(polyline_length(tp.points))
     energy = _power(problem, tp.speed) * tp.duration
     # geometric clearance (seabed along every segment, exactly; static obstacles), as the other planners
     exact = evaluate_paths(problem.world, tp.points[None], cost_model_for(problem, spec), exact=True)

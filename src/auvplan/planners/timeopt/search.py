@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
-from ...path import densify, resample_polyline
+from ...path import densify, polyline_length, resample_polyline
 from ...world import World
 from ..grid.lattice import free_edges
 from .kernels import Float32Array, polyline_times, search, two_legs
@@ -394,7 +394,7 @@ def refine(world: World, table: CurrentTable, path: TimedPath, cell: float, vste
         A free path never arriving later than ``path``.
     """
     best = path
-    total = float(np.linalg.norm(np.diff(path.points, axis=0), axis=1).sum())
+    total = float(polyline_length(path.points))
     if iterations == 0 or not np.isfinite(path.duration):
         return path
     for level in (16.0, 8.0, 4.0, 2.0, 1.0, 0.5):
