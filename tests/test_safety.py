@@ -6,6 +6,7 @@ computed by hand in the docstrings.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ import pytest
 from auvplan.cost import CostModel, evaluate_paths
 from auvplan.guidance.formation import FormationParams
 from auvplan.guidance.mission import MissionCheck, envelope_hits, fly_check, held_track
+from auvplan.guidance.mission_limits import waypoint_limits
 from auvplan.planners.lattice import edge_states, node_fields
 from auvplan.sim_formation import _contact
 from auvplan.world import Bounds, Ellipsoid, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
@@ -150,3 +152,148 @@ def test_held_track_reaches_every_held_depth_at_the_pitch():
     slope = math.tan(math.radians(15.0))
     np.testing.assert_allclose(trk, [[0.0, 0.0, -90.0], [10.0, 0.0, -90.0 + 10.0 * slope],
                                      [50.0 / slope, 0.0, -40.0], [300.0, 0.0, -40.0]], atol=1e-9)
+
+
+# ---------------------------------------------------------------------- mission check: surface, depth band, bounds
+_SCENARIO = """
+name = "ridge-band"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 10000.0]
+y = [0.0, 2000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 200.0
+cell_m = 100.0
+ridge_x = 5000.0
+ridge_width = 2000.0
+height = 150.0
+[mission]
+start = [500.0, 1000.0, -150.0]
+goal = [9500.0, 1000.0, -150.0]
+min_altitude_m = 20.0
+min_depth_m = 5.0
+max_depth_m = 160.0
+"""
+_HEADER = "x,y,z,lat,lon,depth,time\n"
+
+
+def _csv(path, rows):
+    path.write_text(_HEADER + "".join(f"{x},{y},{z},,,{-z},0\n" for x, y, z in rows))
+    return str(path)
+
+
+@pytest.fixture()
+def scenario_file(tmp_path):
+    """The ridge scenario (seabed 200 m deep, crest 50 m deep at x = 5 km) with the band 5-160 m."""
+    (tmp_path / "s.toml").write_text(_SCENARIO)
+    return str(tmp_path / "s.toml")
+
+
+def test_mission_check_fails_a_mission_that_leaves_the_water(tmp_path, scenario_file, capsys):
+    """A CSV waypoint 500 m above the surface over the 200 m deep seabed (x = 1 km): the old check
+    said OK (its least altitude, 50 m at the start, is fine); now FAIL naming the waypoint."""
+    from auvplan.cli import main
+
+    f = _csv(tmp_path / "up.csv", [(500.0, 1000.0, -150.0), (1000.0, 1000.0, 500.0), (2000.0, 1000.0, -150.0)])
+    assert main(["mission", "check", f, "--scenario", scenario_file]) == 1
+    out = capsys.readouterr().out
+    assert out.startswith(f"{f} (csv, depth ramp): FAIL — 1 waypoint above the sea surface (waypoint 1 is 500.00 m "
+                          "above it); least altitude 50.00 m")
+    assert "depth band" not in out and "bounds" not in out  # named once, for what it breaks
+    assert main(["mission", "check", f, "--scenario", scenario_file, "--json"]) == 1
+    rec = json.loads(capsys.readouterr().out)
+    assert not rec["ok"] and rec["limits"]["above_surface"] == [1] and rec["limits"]["shallowest_m"] == -500.0
+
+
+def test_mission_check_fails_a_leg_deeper_than_max_depth_or_shallower_than_min_depth(tmp_path, scenario_file, capsys):
+    """max_depth_m = 160: a waypoint at 175 m (25 m above the 200 m seabed, so the altitude is
+    fine) fails; min_depth_m = 5: one at 2 m fails; 5 m and 160 m exactly pass."""
+    from auvplan.cli import main
+
+    deep = _csv(tmp_path / "deep.csv", [(500.0, 1000.0, -150.0), (1000.0, 1000.0, -175.0), (2000.0, 1000.0, -150.0)])
+    assert main(["mission", "check", deep, "--scenario", scenario_file]) == 1
+    out = capsys.readouterr().out
+    assert ("FAIL — 1 waypoint outside the depth band (waypoint 1 at depth 175.00 m, deeper than max_depth_m = 160); "
+            "least altitude 25.00 m") in out
+    shallow = _csv(tmp_path / "shallow.csv", [(500.0, 1000.0, -150.0), (1000.0, 1000.0, -2.0)])
+    assert main(["mission", "check", shallow, "--scenario", scenario_file]) == 1
+    assert "(waypoint 1 at depth 2.00 m, shallower than min_depth_m = 5)" in capsys.readouterr().out
+    edges = _csv(tmp_path / "edges.csv", [(500.0, 1000.0, -160.0), (1000.0, 1000.0, -5.0)])
+    assert main(["mission", "check", edges, "--scenario", scenario_file]) == 0
+    assert ": OK — least altitude" in capsys.readouterr().out
+
+
+def test_mission_check_names_a_waypoint_outside_the_bounds(tmp_path, scenario_file, capsys):
+    """x = 12 km is 2 km east of the bounds: named as outside the bounds (the leg also crosses the
+    crest 100 m below its depth, reported as the altitude it is)."""
+    from auvplan.cli import main
+
+    f = _csv(tmp_path / "east.csv", [(500.0, 1000.0, -150.0), (12000.0, 1000.0, -150.0)])
+    assert main(["mission", "check", f, "--scenario", scenario_file]) == 1
+    assert ("FAIL — 1 waypoint outside the scenario bounds (waypoint 1: x = 12000.00 not in [0, 10000]); "
+            "least altitude -100.00 m") in capsys.readouterr().out
+
+
+def test_mission_check_refuses_too_few_waypoints_and_a_bad_pitch(tmp_path, scenario_file, capsys):
+    """One waypoint (CSV) or a .plan with no item (its home only): exit 2, one line naming the
+    file.  --pitch must be a finite angle in (0, 90]."""
+    from auvplan.cli import main
+
+    one = _csv(tmp_path / "one.csv", [(500.0, 1000.0, -150.0)])
+    assert main(["mission", "check", one, "--scenario", scenario_file]) == 2
+    err = capsys.readouterr().err
+    assert err == f"auvplan: error: {one}: the mission has 1 waypoint; at least 2 are needed (a start and a goal)\n"
+    plan = tmp_path / "empty.plan"
+    plan.write_text(json.dumps({"mission": {"plannedHomePosition": [48.0, -125.0, 0], "items": []}}))
+    assert main(["mission", "check", str(plan), "--scenario", scenario_file]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "empty.plan: the mission has 1 waypoint" in err
+    ok = _csv(tmp_path / "ok.csv", [(500.0, 1000.0, -150.0), (1000.0, 1000.0, -150.0)])
+    for bad in ("nan", "inf", "0", "-5", "90.5", "steep"):
+        assert main(["mission", "check", ok, "--scenario", scenario_file, "--pitch", bad]) == 2, bad
+        assert "--pitch" in capsys.readouterr().err
+    assert main(["mission", "check", ok, "--scenario", scenario_file, "--pitch", "90"]) == 0
+    world = World(Bounds(0, 10, 0, 10, -10, 0))
+    with pytest.raises(ValueError, match="at least 2 waypoints"):
+        fly_check(world, [[1.0, 1.0, -1.0]])
+    with pytest.raises(ValueError, match="pitch_deg"):
+        fly_check(world, [[1.0, 1.0, -1.0], [2.0, 1.0, -1.0]], pitch_deg=0.0)
+
+
+def test_the_depth_band_under_each_format_and_the_launch_point_of_a_plan(tmp_path, scenario_file):
+    """MOOS (held) and QGC (ramp from a surface home): a mission within the band passes in both,
+    the .plan's home at the surface being the launch point; a waypoint 2 m deep fails in both."""
+    from auvplan.io import formats
+    from auvplan.io import scenario as sc
+
+    world, _ = sc.build(sc.loads(_SCENARIO, "s.toml"))
+    good = np.array([[500.0, 1000.0, -150.0], [1500.0, 1000.0, -100.0], [2500.0, 1000.0, -150.0]])
+    bad = good.copy()
+    bad[1, 2] = -2.0
+    for w, ok in ((good, True), (bad, False)):
+        (tmp_path / "m.moos").write_text(formats.to_moos(w, 1.5))
+        (tmp_path / "m.plan").write_text(json.dumps(formats.to_qgc_plan(w, (48.0, -125.0), 1.5)))
+        for name, first in (("m.moos", 0), ("m.plan", 1)):  # the plan's waypoint 0 is its home
+            check, _ = formats.check_mission_file(tmp_path / name, world)
+            assert check.ok == ok and check.limits is not None, name
+            assert check.limits.outside_depth_band == (() if ok else (first + 1,)), name
+            assert check.limits.launch == (name == "m.plan")
+    limits = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]], launch=True)
+    assert limits.ok and limits.depth_range() == (150.0, 150.0)
+    assert waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]]).outside_depth_band == (0,)
+
+
+def test_a_held_executor_never_leaves_the_range_of_the_waypoint_depths():
+    """The reason the depth band is checked at the waypoints under the held semantics: 200 random
+    missions, pitches 1-90°: every corner of the executor's track lies between the shallowest and
+    the deepest waypoint."""
+    rng = np.random.default_rng(31)
+    for _ in range(200):
+        n = int(rng.integers(2, 8))
+        w = np.column_stack([np.cumsum(rng.uniform(1, 300, n)), np.zeros(n), rng.uniform(-200, -5, n)])
+        trk = held_track(w, float(rng.uniform(1.0, 90.0)))
+        assert trk[:, 2].min() >= w[:, 2].min() - 1e-9 and trk[:, 2].max() <= w[:, 2].max() + 1e-9
