@@ -12,7 +12,7 @@ from auvplan.cli import main
 from auvplan.guidance.local import AvoidanceParams, apf_force, key_waypoints
 from auvplan.guidance.point_model import run_point_model
 from auvplan.io.scenario import loader as sc
-from auvplan.sim import Mission, run_mission, simulate
+from auvplan.sim import Mission, SimSettings, run_mission, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
 
 
@@ -172,6 +172,20 @@ def test_demo_writes_results(tmp_path):
     assert rec["simulation"]["min_obstacle_distance_m"] > 0
 
 
-@pytest.mark.parametrize("check", ["exact", "stepping"])
-def test_collision_check_option(check):
-    assert AvoidanceParams(collision_check=check).collision_check == check
+@pytest.mark.parametrize("check, n_keys", [("exact", 3), ("stepping", 2)])
+def test_collision_check_option_chooses_the_key_waypoint_test_of_a_run(check, n_keys):
+    """``[avoidance] collision_check`` reaches the key waypoints ``run_mission`` flies: over a one-cell
+    ridge (crest -60 m at x = 150 m, 10 m cells) the route's shortcut at -70 m hits the crest; the
+    exact test keeps the waypoint on top (3 keys), the document's stepping test probes every 10 m
+    at x = 145 and 155 m (seabed -80 m there), misses the crest and keeps only the ends (2 keys)."""
+    x = np.arange(0.0, 301.0, 10.0)
+    z = np.full((x.size, x.size), -100.0)
+    z[:, x == 150.0] = -60.0
+    w = World(Bounds(0, 300, 0, 300, -100, 0), Terrain(x, x, z), margins=Margins(min_altitude=0.0))
+    route = ((45.0, 100.0, -70.0), (150.0, 100.0, -50.0), (255.0, 100.0, -70.0))
+    mission = Mission("t", route[0], route[-1], route=route, avoidance=AvoidanceParams(collision_check=check),
+                      sim=SimSettings(max_time=1.0))
+    rec = run_mission(w, mission, 0)
+    np.testing.assert_array_equal(rec.keys, np.array(route)[[0, 1, 2] if n_keys == 3 else [0, 2]])
+    with pytest.raises(ValueError, match="collision_check"):
+        AvoidanceParams(collision_check="sampled")

@@ -89,13 +89,9 @@ def test_gaussian_mutation_statistics():
     assert Y.std(axis=0) == pytest.approx([1.0, 0.1], rel=0.03)
 
 
-def test_iabc_mutation_only_accepts_improvements():
-    opt = IABC(np.full(3, -1.0), np.full(3, 1.0), 10, rng=4)
-    r = minimize(sphere, opt, Termination(max_iterations=5))
-    f_before = opt.f.copy()
-    X = opt.ask()  # employed bees of the next iteration
-    assert X.shape == (10, 3) and r.iterations == 5
-    assert np.all(np.isfinite(f_before))
+# "IABC's mutation only accepts improvements" is held by
+# test_oracles.py::test_one_iabc_iteration_mutates_the_worst_and_keeps_only_improvements (one ask/tell by hand
+# with the generator's draws copied); the shape-only test that stood here could not fail.
 
 
 def test_pso_step_pure():

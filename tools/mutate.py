@@ -5,9 +5,17 @@ Usage::
     .venv/bin/python tools/mutate.py [MODULE ...] [--list] [--only N,M] [--timeout S] [--out DIR]
 
 (``make mutants`` runs every module).  For each module the named functions are parsed, every
-mutation site in their bodies is enumerated (operators below), and each mutant is run against that
-module's oracle and unit tests; a JSON record per module goes to ``build/mutants/`` and a summary
-table to stdout.
+mutation site in their bodies is enumerated (operators below), and each mutant is run against the
+module's tests; a JSON record per module goes to ``build/mutants/`` and a summary table to stdout.
+
+Which tests: a target that names none (``Target.tests`` empty) is run against **every test file
+that imports a mutated module** (:func:`importing_tests`: an ``import``/``from ... import`` of the
+module itself, or of a name it defines through a package re-export, anywhere in the file), all of
+each file's tests.  One rule keeps that affordable on a shared machine: a test whose *unmutated* run
+uses more than ``--test-limit`` CPU seconds (default 30) is dropped from the selection, and the
+record lists it (``slow``) -- a mutant is then a survivor only if all the remaining tests pass.
+Tests run fastest first with ``-x`` semantics, and each test that kills a mutant moves to the front
+for the next ones (mutants of one line tend to fall to the same test), so a killed mutant costs little.
 
 Why not mutmut: mutmut 2 starts a fresh Python per mutant (importing numpy, scipy, numba, xarray:
 ~5-10 s on a loaded machine) and, for the kernel modules, recompiled every numba kernel per
@@ -66,7 +74,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(ROOT / "tools"))
 
-from mutation_targets import MODULES, REASONS  # noqa: E402
+from mutation_targets import LISTED, MODULES, REASONS  # noqa: E402
 
 # ---------------------------------------------------------------------------------------- operators
 _ARITH: dict[type, tuple[type, ...]] = {
@@ -296,27 +304,77 @@ def _install(module: object, fn_node: ast.FunctionDef, qualname: str) -> None:
 
 
 # ---------------------------------------------------------------------------------------- runner
-def _run_items(items: list, record: str | None = None) -> int:
+class _TooSlow(Exception):
+    """Raised in a test of the unmutated run that used more than the per-test CPU limit."""
+
+
+_KILLER_CODES = 250
+"""A child's exit code ``1 + k`` (``k < 250``) names the test ``items[k]`` that killed the mutant; 255:
+the mutant broke the test machinery."""
+
+_SLOW: dict[str, list[str]] = {}
+"""Per target, the tests dropped from its selection as too slow (the unmutated run's ``slow``)."""
+
+
+def importing_tests(modules: list[str] | tuple[str, ...], tests_dir: Path = ROOT / "tests") -> list[str]:
+    """The test files that import one of ``modules``: directly, or a name one of them defines
+    through a package (``from auvplan.world import World`` imports ``auvplan.world.world``), at any
+    level of the file (local imports inside tests count)."""
+    wanted, out = set(modules), []
+    for path in sorted(tests_dir.glob("test_*.py")):
+        found: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                found |= {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0 \
+                    and node.module.split(".")[0] == "auvplan":
+                found.add(node.module)
+                package = importlib.import_module(node.module)
+                for a in node.names:
+                    obj = getattr(package, a.name, None)
+                    found.add(obj.__name__ if inspect.ismodule(obj) else getattr(obj, "__module__", None) or "")
+        if found & wanted:
+            out.append(str(path.relative_to(ROOT)))
+    return out
+
+
+def _run_items(items: list, record: str | None = None, limit: float = 0.0) -> int:
     """Run the collected test ``items`` in order: 0 when all pass, 1 at the first failure.  With
-    ``record``, write each test's duration there."""
+    ``record`` (the unmutated run), write each test's duration there and stop any test at ``limit``
+    CPU seconds (``> 0``): it is recorded as ``"slow"`` and the run goes on."""
     from _pytest.runner import runtestprotocol
 
-    code, durations = 0, {}
+    code, durations, slow = 0, {}, []
+
+    def stop(_signum: int, _frame: object) -> None:
+        raise _TooSlow(f"more than {limit:g} s CPU")
+
+    if limit > 0:
+        signal.signal(signal.SIGPROF, stop)
     for k, item in enumerate(items):
         t0 = time.perf_counter()
+        if limit > 0:
+            signal.setitimer(signal.ITIMER_PROF, limit)
         reports = runtestprotocol(item, nextitem=items[k + 1] if k + 1 < len(items) else None, log=False)
+        if limit > 0:
+            left = signal.setitimer(signal.ITIMER_PROF, 0)[0]
+            if left == 0.0 and any(r.failed and "_TooSlow" in str(r.longrepr) for r in reports):
+                slow.append(item.nodeid)
+                continue
         durations[item.nodeid] = time.perf_counter() - t0
         if any(r.failed for r in reports):
-            code = 1
+            code = 1 + min(k, _KILLER_CODES - 1)  # which test failed (the parent tries it first next time)
             break
+    if limit > 0:
+        signal.signal(signal.SIGPROF, signal.SIG_DFL)
     if record:
-        Path(record).write_text(json.dumps(durations))
+        Path(record).write_text(json.dumps({"durations": durations, "slow": slow}))
     return code
 
 
 def _fork(items: list, setup=None, quiet: bool = True) -> int:
     """Fork; the child applies ``setup`` (the mutant), runs the test ``items`` and exits 0 when all
-    pass, 1 at the first failure (also when the mutant cannot even be installed)."""
+    pass, ``1 + k`` when ``items[k]`` fails, 255 when the mutant cannot even be installed."""
     pid = os.fork()
     if pid:
         return pid
@@ -330,7 +388,7 @@ def _fork(items: list, setup=None, quiet: bool = True) -> int:
             setup()
         code = _run_items(items)
     except BaseException:  # noqa: BLE001 - a mutant that breaks the test machinery is killed
-        code = 1
+        code = 255
     finally:
         os._exit(code)
 
@@ -365,7 +423,10 @@ def run_module(name: str, args: argparse.Namespace) -> dict:
     import pytest
 
     driver = _Driver(name, args)
-    pytest.main(["-qq", "-p", "no:cacheprovider", *MODULES[name].tests], plugins=[driver])
+    target = MODULES[name]
+    tests = list(LISTED.get(name, ()) if args.listed else target.tests) \
+        or importing_tests(sorted({spec[0] for spec in target.functions}))
+    pytest.main(["-qq", "-p", "no:cacheprovider", *tests], plugins=[driver])
     return driver.record
 
 
@@ -383,15 +444,22 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     record_file = Path(args.out) / f"{name}.durations.json"
     # the unmutated run, in this process: with the JIT on, its compiled kernels are inherited by every child
     t0, cpu0 = time.monotonic(), resource.getrusage(resource.RUSAGE_SELF)
-    code = _run_items(items, record=str(record_file))
+    code = _run_items(items, record=str(record_file), limit=0.0 if target.tests or args.listed else args.test_limit)
     cpu1 = resource.getrusage(resource.RUSAGE_SELF)
     baseline, baseline_cpu = time.monotonic() - t0, cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
     print(f"   baseline: exit {code} in {baseline:.1f} s ({baseline_cpu:.1f} s CPU), JIT "
           f"{'off' if os.environ.get('NUMBA_DISABLE_JIT') == '1' else 'on'}", flush=True)
     if code != 0:
         raise SystemExit(f"{name}: the unmutated tests fail (exit {code})")
-    durations = json.loads(record_file.read_text())
-    items.sort(key=lambda item: durations.get(item.nodeid, 0.0))  # fastest first: -x stops killed mutants early
+    base = json.loads(record_file.read_text())
+    durations, slow = base["durations"], base["slow"]
+    _SLOW[name] = slow
+    if slow:
+        print(f"   dropped (unmutated run > {args.test_limit:g} s CPU): {', '.join(slow)}", flush=True)
+        items[:] = [item for item in items if item.nodeid not in slow]
+        baseline_cpu = sum(durations.values())  # the kept tests' time (wall, an upper bound of their CPU)
+    # fastest first (-x stops a killed mutant early), then each killing test moved to the front
+    items.sort(key=lambda item: durations.get(item.nodeid, 0.0))
     # a mutant is hung when it has used this much CPU (not wall time: the machine may be loaded)
     timeout = args.timeout or max(10.0, 3.0 * baseline_cpu)
     only = {int(k) for k in args.only.split(",")} if args.only else None
@@ -399,7 +467,7 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
         only = set(random.Random(args.seed).sample([m.id for m, _i, _j in mutants], args.sample))
     fns = {(spec[0], spec[1]): _function_node(trees[spec[0]], spec[1]) for spec in target.functions}
     todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
-    running: dict[int, tuple[Mutant, float]] = {}
+    running: dict[int, tuple[Mutant, float, list]] = {}
     done = 0
     while todo or running:
         while todo and len(running) < args.jobs:
@@ -409,12 +477,15 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             def setup(new_fn=new_fn, mod=modules[m.module], qualname=m.function) -> None:
                 _install(mod, new_fn, qualname)
 
-            running[_fork(items, setup, quiet=not args.verbose)] = (m, time.monotonic())
+            running[_fork(items, setup, quiet=not args.verbose)] = (m, time.monotonic(), list(items))
         time.sleep(0.01)
-        for pid, (m, t1) in list(running.items()):
+        for pid, (m, t1, order) in list(running.items()):
             finished, status = os.waitpid(pid, os.WNOHANG)
             if finished:
                 m.status, code = _outcome(status)
+                if 1 < code <= _KILLER_CODES:  # the test that killed it goes first for the next mutants
+                    items.remove(order[code - 1])
+                    items.insert(0, order[code - 1])
             elif _cpu_seconds(pid) > timeout or time.monotonic() - t1 > 100 * timeout:
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
@@ -437,6 +508,7 @@ def _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
     return {"module": name, "functions": [".".join(spec[:2]) + (f" [{spec[2]!r}..{spec[3]!r}]" if len(spec) > 2 else "")
                                           for spec in target.functions],
             "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
+            "slow": _SLOW.get(name, []), "test_limit_cpu_s": args.test_limit,
             "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout,
             "jobs": args.jobs, "sample": args.sample, "seed": args.seed,
             "jit": os.environ.get("NUMBA_DISABLE_JIT") != "1", "load": os.getloadavg(),
@@ -495,6 +567,7 @@ def report(out: Path, names: list[str]) -> str:
             "| score | score without the equivalent |",
             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     lines: list[str] = []
+    dropped: list[str] = []
     total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
     for name in names:
         path = out / f"{name}.json"
@@ -507,6 +580,10 @@ def report(out: Path, names: list[str]) -> str:
         if isinstance(record, list):  # an older partial record: the mutants only
             record = {"mutants": record, "functions": MODULES[name].functions, "tests": []}
         lines_of = changed_lines(name)
+        files = sorted({t.split("::")[0] for t in record["tests"]})
+        dropped.append(f"* **{name}**: {len(record['tests'])} tests of {', '.join(f'`{f}`' for f in files)}"
+                       + (f"; dropped as slower than {record.get('test_limit_cpu_s', 0):g} s CPU unmutated: "
+                          + ", ".join(f"`{t}`" for t in record["slow"]) if record.get("slow") else ""))
         for m in record["mutants"]:
             m["change"] = lines_of.get(m["id"], ("", ""))
         s = summary(record)
@@ -532,7 +609,27 @@ def report(out: Path, names: list[str]) -> str:
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
                 f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.1f} % | {100 * adjusted:.1f} % |")
     head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
-    return "\n".join(rows) + "\n\nSurvivors:\n\n" + "\n".join(head + lines) + "\n"
+    return ("\n".join(rows) + "\n\nTests run per module:\n\n" + "\n".join(dropped) + "\n\nSurvivors:\n\n"
+            + "\n".join(head + lines) + "\n")
+
+
+BEGIN, END = "<!-- mutate:begin -->", "<!-- mutate:end -->"
+
+
+def _publish(out: Path, names: list[str], doc: str | None) -> None:
+    """Print the summary of ``names``; with ``doc``, replace the block between ``BEGIN`` and ``END`` in that
+    file with the summary of every module (the records in ``out``; "not run" where there is none)."""
+    print(report(out, names))
+    if not doc:
+        return
+    text = report(out, list(MODULES))
+    path = Path(doc)
+    old = path.read_text()
+    if BEGIN not in old or END not in old:
+        raise SystemExit(f"{doc}: no {BEGIN!r} ... {END!r} block to replace")
+    head, rest = old.split(BEGIN, 1)
+    stamp = time.strftime("%d %b %Y %H:%M UTC", time.gmtime())
+    path.write_text(f"{head}{BEGIN}\n\nGenerated by `make mutants` ({stamp}).\n\n{text}\n{END}{rest.split(END, 1)[1]}")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -544,20 +641,28 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--timeout", type=float, default=0.0,
                     help="per-mutant CPU seconds (default 3x the baseline's, >= 10)")
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once")
+    ap.add_argument("--test-limit", type=float, default=30.0,
+                    help="drop from a target's importing-file selection the tests whose unmutated run uses more "
+                         "CPU seconds than this (default 30)")
     ap.add_argument("--sample", type=int, default=0, help="run a seeded uniform sample of this many mutants")
     ap.add_argument("--seed", type=int, default=23, help="seed of --sample")
+    ap.add_argument("--listed", action="store_true",
+                    help="the older targets' hand-picked tests (LISTED) instead of every importing test file")
     ap.add_argument("--out", default=str(ROOT / "build" / "mutants"))
     ap.add_argument("--verbose", action="store_true", help="show pytest's output")
+    ap.add_argument("--doc", help="also write the summary into this markdown file, between the lines "
+                                  f"{BEGIN!r} and {END!r}")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if args.report:
-        print(report(out, args.modules))
+        _publish(out, args.modules, args.doc)
         return 0
     if len(args.modules) > 1:  # one process per module: each decides whether numba compiles
-        rest = [a for a in (argv if argv is not None else sys.argv[1:]) if a not in args.modules]
+        rest = [a for a in (argv if argv is not None else sys.argv[1:]) if a not in args.modules and a != "--doc"
+                and a != args.doc]
         codes = [subprocess.run([sys.executable, __file__, name, *rest]).returncode for name in args.modules]
-        print(report(out, args.modules))
+        _publish(out, args.modules, args.doc)
         return max(codes)
     if not MODULES[args.modules[0]].jit:
         os.environ["NUMBA_DISABLE_JIT"] = "1"  # the mutated functions are kernels: run them as Python
@@ -584,6 +689,8 @@ def main(argv: list[str] | None = None) -> int:
                                   f"{m['before']}  ->  {m['after']}", "   "))
         if s["score"] < 0.9:
             worst = 1
+    if args.doc:
+        _publish(out, args.modules, args.doc)
     return worst
 
 

@@ -1,10 +1,13 @@
-"""What ``tools/mutate.py`` mutates: per safety-relevant module, the functions that decide safety and
-the tests that guard them (the module's oracle and fast unit tests, run with ``NUMBA_DISABLE_JIT=1``;
-not the whole suite, so a module's score is a lower bound of the whole suite's)."""
+"""What ``tools/mutate.py`` mutates: per safety-relevant module, the functions that decide safety.
+
+The tests: every test file that imports a mutated module (``Target.tests`` empty; see
+:func:`mutate.importing_tests`), minus the tests slower than ``--test-limit`` CPU seconds unmutated.
+The older targets (terrain ... flow) named their tests one by one until issue #31; those lists are
+kept in ``LISTED`` for re-running the older records' selection (``--listed``)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -14,7 +17,7 @@ class Target:
     marker up to the one holding the end marker are mutated."""
 
     functions: tuple[tuple[str, ...], ...]
-    tests: tuple[str, ...]
+    tests: tuple[str, ...] = ()  # empty: every test file importing a mutated module
     jit: bool = True  # False where the mutated functions are numba kernels (they then run as Python)
 
 
@@ -30,6 +33,9 @@ SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
+MISSION, LIMITS = "auvplan.guidance.mission", "auvplan.guidance.mission_limits"
+FORMATS = "auvplan.io.missions.formats"
+FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
     # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
@@ -132,6 +138,34 @@ MODULES: dict[str, Target] = {
          "tests/test_oracles_flow.py", "tests/test_flow.py"),
     ),
 }
+
+# issue #31: every target runs against the test files that import it; the lists above were hand-picked
+LISTED: dict[str, tuple[str, ...]] = {name: t.tests for name, t in MODULES.items()}
+MODULES = {name: replace(t, tests=()) for name, t in MODULES.items()}
+MODULES.update({
+    # the mission envelope (exact seabed, exact rectangle-vs-obstacle), the re-flying check and its verdict,
+    # the executor model, and the surface / depth band / bounds at the waypoints
+    "mission": Target(
+        _fns(MISSION, "leg_floors", "_unit_frame", "_parallelogram_distance", "_corners", "envelope_hits",
+             "envelopes_free", "MissionCheck.ok", "_sphere_rect_distance", "_sampled_rect_distance", "held_track",
+             "fly_check")
+        + _fns(LIMITS, "WaypointLimits.ok", "waypoint_limits"),
+    ),
+    # the mission readers: what `mission check` re-flies is what these parse
+    "formats": Target(
+        _fns(FORMATS, "_moos_blocks", "parse_moos", "parse_qgc_plan", "parse_gpx", "parse_ros_path",
+             "_geojson_mission", "_kml_mission", "read_mission", "check_mission_file"),
+    ),
+    # the formation loop's contact rule and the stop it causes
+    "formation": Target(
+        _fns(FORMATION, "_contact") + ((FORMATION, "_Fleet._vehicle", "what = _contact(", "if (self.arrived[0]"),),
+    ),
+    # the cost's constraint kernel: point slack (depth band, bounds), obstacle slack, path terms
+    "cost-constraints": Target(
+        _fns(COST, "_point_slack", "_obstacle_slack", "_path_terms"),
+        jit=False,
+    ),
+})
 
 # Why each surviving mutant survives, keyed ``"function | before -> after"`` (the text ``mutate.py``
 # prints): an equivalent mutant (no input can tell it apart) or one the tests cannot observe.

@@ -1,6 +1,6 @@
 """Plant the hand-written mutants of docs/mutants.md one at a time and check a test kills each.
 
-Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/test_oracles.py] [NAME ...]``
+Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/test_oracles.py tests/test_safety.py] [NAME ...]``
 
 Each mutant is one textual replacement in one source file.  The file is restored afterwards
 (also on Ctrl-C).  Numba's on-disk cache is pointed at a fresh directory per mutant, so a
@@ -126,6 +126,42 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "push = -1.0 if side > 0.5 else 1.0",
         "push = 1.0 if side > 0.5 else -1.0",
     ),
+    # issue #31: ways of passing an unsafe mission (killed by tests/test_safety.py)
+    "mission-ok-ignores-executor": (
+        "guidance/mission.py",
+        "alt = min(self.min_altitude_m, self.executor_min_altitude_m)",
+        "alt = self.min_altitude_m",
+    ),
+    "mission-ellipsoid-inflated-by-largest-axis": (
+        "guidance/mission.py",
+        "(1.0 + margin / min(shape.semi_axes))",
+        "(1.0 + margin / max(shape.semi_axes))",
+    ),
+    "mission-ramp-check-without-margin": (
+        "guidance/mission.py",
+        "hits |= shape.segments_hit(np.stack([a, b], axis=1), m.obstacle)",
+        "hits |= shape.segments_hit(np.stack([a, b], axis=1), 0.0)",
+    ),
+    "cost-point-slack-no-floor": (
+        "cost.py",
+        "                       z - box[4], box[5] - z)",
+        "                       box[5] - z)",
+    ),
+    "lattice-sure-free-horizontal-half-length": (
+        "planners/grid/lattice.py",
+        "0.5 * float(np.linalg.norm(d)), float(d[2]),",
+        "0.5 * float(np.hypot(d[0], d[1])), float(d[2]),",
+    ),
+    "world-moving-obstacles-at-t0": (
+        "world/world.py",
+        "shapes += [o.at(t) for o in self.moving if o.active(t)]",
+        "shapes += [o.at(0.0) for o in self.moving if o.active(0.0)]",
+    ),
+    "formation-contact-at-zero-distance": (
+        "sim/formation.py",
+        "if d < fp.contact_m:",
+        "if d < 0.0:",
+    ),
 }
 
 
@@ -152,7 +188,7 @@ def run_one(name: str, tests: list[str]) -> bool:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", help="mutants to plant (default: all)")
-    ap.add_argument("--tests", nargs="+", default=["tests/test_oracles.py"])
+    ap.add_argument("--tests", nargs="+", default=["tests/test_oracles.py", "tests/test_safety.py"])
     args = ap.parse_args()
     names = args.names or list(MUTANTS)
     survivors = [n for n in names if not run_one(n, args.tests)]

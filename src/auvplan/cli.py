@@ -79,6 +79,20 @@ _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
 
 
+def _pitch(text: str) -> float:
+    """An argparse type: a finite pitch angle in (0, 90] degrees."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0.0 < value <= 90.0:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"{text} must be a finite angle in (0, 90] degrees")
+    return value
+
+
+_pitch.__name__ = "pitch in (0, 90] degrees"
+
+
 _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "scenario": (("scenario",), {"help": "TOML file or built-in scenario name"}),
     "planner": (("--planner",), {"choices": _Choices(_planner_names), "metavar": "PLANNER",
@@ -172,11 +186,12 @@ def _result_commands(sub: Any) -> None:
     s = sub.add_parser("mission", help="work with exported mission files")
     msub = s.add_subparsers(dest="mission_command", required=True)
     c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
-                                "scenario's seabed and static obstacles (exit 1 below min_altitude_m)",
+                                "scenario's seabed, static obstacles, sea surface, depth band and bounds "
+                                "(exit 1 when one is broken)",
                  "_cmd_mission_check")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
-    c.add_argument("--pitch", type=float, default=15.0,
+    c.add_argument("--pitch", type=_pitch, default=15.0,
                    help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
 

@@ -441,7 +441,8 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             obstacles = (f"least obstacle distance {check.min_obstacle_distance_m:.2f} m (margin "
                          f"{check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle"
                          if np.isfinite(check.min_obstacle_distance_m) else "no static obstacle in the scenario")
-            print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — least altitude "
+            limits = "".join(f"{r}; " for r in (check.limits.reasons() if check.limits is not None else []))
+            print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}least altitude "
                   f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
                   f"{check.min_altitude_leg}), {obstacles}{held}")
     if args.json:

@@ -39,6 +39,7 @@ from ..geometry import as_points, point_segment_distance
 from ..path import polyline_length
 from ..world import World
 from ..world.obstacles import Ellipsoid, Shape, Sphere
+from .mission_limits import WaypointLimits, WaypointLimitsDict, waypoint_limits
 
 __all__ = [
     "SEMANTICS",
@@ -336,6 +337,9 @@ class MissionCheckDict(TypedDict):
         As in :class:`MissionCheck`; ``legs`` the number of legs.
     pitch_deg, executor_min_altitude_m : float
         The executor model's pitch and least altitude.
+    limits : WaypointLimitsDict or None
+        The waypoints above the surface, outside the depth band or outside the bounds
+        (:class:`~auvplan.guidance.mission_limits.WaypointLimits`).
     """
 
     semantics: str
@@ -350,6 +354,7 @@ class MissionCheckDict(TypedDict):
     pitch_deg: float
     executor_min_altitude_m: float
     executor_obstacle_hits: int
+    limits: WaypointLimitsDict | None
 
 
 @dataclass(frozen=True, eq=False)
@@ -380,6 +385,8 @@ class MissionCheck:
         ``inf`` when not flown.
     executor_obstacle_hits : int
         Segments of that track within the obstacle margin of an obstacle.
+    limits : WaypointLimits or None
+        The sea surface, the depth band and the bounds at every waypoint (:func:`fly_check` sets it).
     """
 
     semantics: str
@@ -393,13 +400,15 @@ class MissionCheck:
     pitch_deg: float = float("nan")
     executor_min_altitude_m: float = float("inf")
     executor_obstacle_hits: int = 0
+    limits: WaypointLimits | None = None
 
     @property
     def ok(self) -> bool:
-        """True when the least altitude (envelope and executor) is at least the required one and no
-        leg meets an obstacle."""
+        """True when the least altitude (envelope and executor) is at least the required one, no
+        leg meets an obstacle and every waypoint keeps the surface, depth band and bounds."""
         alt = min(self.min_altitude_m, self.executor_min_altitude_m)
-        return alt >= self.required_altitude_m - 1e-6 and self.obstacle_hits == 0 and self.executor_obstacle_hits == 0
+        return alt >= self.required_altitude_m - 1e-6 and self.obstacle_hits == 0 and self.executor_obstacle_hits == 0 \
+            and (self.limits is None or self.limits.ok)
 
     def as_dict(self) -> MissionCheckDict:
         """Summarise the check as plain JSON.
@@ -414,7 +423,8 @@ class MissionCheck:
                 "min_obstacle_distance_m": self.min_obstacle_distance_m, "obstacle_hits": self.obstacle_hits,
                 "obstacle_margin_m": self.obstacle_margin_m, "legs": int(self.leg_altitude_m.size),
                 "pitch_deg": self.pitch_deg, "executor_min_altitude_m": self.executor_min_altitude_m,
-                "executor_obstacle_hits": self.executor_obstacle_hits}
+                "executor_obstacle_hits": self.executor_obstacle_hits,
+                "limits": None if self.limits is None else self.limits.as_dict()}
 
 
 def _sphere_rect_distance(shape: Sphere, o: _F64, e1: _F64, e2: _F64) -> _F64:
@@ -470,7 +480,8 @@ def held_track(waypoints: ArrayLike, pitch_deg: float) -> _F64:
     return np.vstack(out)
 
 
-def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch_deg: float = 15.0) -> MissionCheck:
+def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch_deg: float = 15.0,
+              launch: bool = False) -> MissionCheck:
     """Re-fly ``waypoints (N, 3)`` under ``semantics`` against the seabed and static obstacles.
 
     ``"held"``: on each leg the vehicle lies anywhere between the depths of its two ends (the
@@ -479,7 +490,8 @@ def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch
     a leg ends is outside the next leg's envelope.  ``"ramp"``: on the straight 3D leg.
     Altitudes are exact (:meth:`Terrain.segment_min_altitude`); obstacle contact is the exact
     rectangle / segment test; obstacle distances are exact for spheres and sampled every 0.25 m
-    near ellipsoids.
+    near ellipsoids.  The sea surface, the depth band and the bounds are tested at every waypoint
+    (:func:`~auvplan.guidance.mission_limits.waypoint_limits`: convex, so the ends decide each leg).
 
     Parameters
     ----------
@@ -490,19 +502,30 @@ def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch
     semantics : {'held', 'ramp'}, optional
         The executor's depth semantics.
     pitch_deg : float, optional
-        Pitch of the executor model's depth changes (degrees; ``"held"`` only).
+        Pitch of the executor model's depth changes (degrees, in (0, 90]; ``"held"`` only).
+    launch : bool, optional
+        Waypoint 0 is a launch point on the surface (a QGroundControl ``.plan``'s home): exempt
+        from the depth band.
 
     Returns
     -------
     MissionCheck
-        Least altitudes, obstacle distance and hits.
+        Least altitudes, obstacle distance and hits, and the waypoints' limits.
+
+    Raises
+    ------
+    ValueError
+        For an unknown semantics, a pitch outside (0, 90] or fewer than two waypoints.
     """
     if semantics not in SEMANTICS:
         raise ValueError(f"semantics = {semantics!r}: choose one of {SEMANTICS}")
+    if not 0.0 < pitch_deg <= 90.0:
+        raise ValueError(f"pitch_deg = {pitch_deg}: must be in (0, 90] degrees")
     w = as_points(waypoints).reshape(-1, 3)
     m = world.margins
     if len(w) < 2:
-        return MissionCheck(semantics, np.inf, -1, np.inf, 0, np.empty(0), m.min_altitude, m.obstacle)
+        raise ValueError(f"a mission needs at least 2 waypoints (a start and a goal), got {len(w)}")
+    limits = waypoint_limits(world, w, launch)
     a, b = w[:-1], w[1:]
     if semantics == "held":
         fa, fb = a.copy(), b.copy()
@@ -535,4 +558,4 @@ def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch
         ex_hits = sum(int(sh.segments_hit(seg, m.obstacle).sum()) for sh in world.obstacles)
         extra = {"pitch_deg": float(pitch_deg), "executor_min_altitude_m": ex_alt, "executor_obstacle_hits": ex_hits}
     return MissionCheck(semantics, float(alt.min()), k, float(dist), int(hits.sum()), alt, m.min_altitude, m.obstacle,
-                        **extra)  # type: ignore[arg-type]
+                        limits=limits, **extra)  # type: ignore[arg-type]

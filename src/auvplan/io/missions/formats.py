@@ -525,8 +525,16 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
         Least altitudes, obstacle distance and hits.
     format : str
         The file's format.
+
+    Raises
+    ------
+    DataError
+        Naming the file when it cannot be read, has a non-finite waypoint or fewer than 2.
     """
     waypoints, semantics, fmt = read_mission(path, world.origin)
-    if not np.isfinite(waypoints).all() or len(waypoints) < 1:
-        raise DataError(f"{path}: the mission has no finite waypoints")
-    return fly_check(world, waypoints, semantics, pitch_deg), fmt
+    if not np.isfinite(waypoints).all():
+        raise DataError(f"{path}: the mission has a waypoint that is not finite")
+    if len(waypoints) < 2:
+        raise DataError(f"{path}: the mission has {len(waypoints)} waypoint{'' if len(waypoints) == 1 else 's'}; "
+                        "at least 2 are needed (a start and a goal)")
+    return fly_check(world, waypoints, semantics, pitch_deg, launch=fmt == "qgc"), fmt
