@@ -37,15 +37,18 @@ from ..world.currents import GriddedCurrent
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
 from .ncfile import open_dataset
+from .vectors import grid_angle, to_east_north, vector_frame
 
 __all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
 
 log = logging.getLogger(__name__)
 
 _NAMES = {
-    "u": (("eastward_sea_water_velocity", "sea_water_x_velocity", "eastward_sea_water_velocity_assuming_no_tide",
+    "u": (("eastward_sea_water_velocity", "sea_water_x_velocity", "x_sea_water_velocity",
+           "eastward_sea_water_velocity_assuming_no_tide",
            "surface_eastward_sea_water_velocity"), ("u", "uo", "water_u", "east_vel", "ucur", "uvel")),
-    "v": (("northward_sea_water_velocity", "sea_water_y_velocity", "northward_sea_water_velocity_assuming_no_tide",
+    "v": (("northward_sea_water_velocity", "sea_water_y_velocity", "y_sea_water_velocity",
+           "northward_sea_water_velocity_assuming_no_tide",
            "surface_northward_sea_water_velocity"), ("v", "vo", "water_v", "north_vel", "vcur", "vvel")),
     "w": (("upward_sea_water_velocity",), ("w", "wo", "water_w", "up_vel", "wcur")),
 }
@@ -293,7 +296,13 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         flip_z = z.size > 1 and bool(z[0] > z[-1])
         flips = ([flip_t] if t is not None else []) + ([flip_z] if "z" in lead else []) + [flip_r, flip_c]
         comps = {c: _component(ds, n, dims, flips, src) for c, n in names.items() if n is not None}
-        grid_relative = str(da_u.attrs.get("standard_name", "")).lower() == "sea_water_x_velocity"
+        vframe = vector_frame(ds, str(names["u"]), grid)
+        if vframe.grid_relative:  # along the grid's axes: turned to east/north at the source nodes
+            alpha = grid_angle(ds, grid, vframe, (rdim, cdim), (flip_r, flip_c), src)
+            comps["u"], comps["v"] = to_east_north(comps["u"], comps["v"], alpha)
+            log.info("%s: velocity along the grid's axes (%s), turned to east/north by %.1f..%.1f deg", src,
+                     vframe.reason, np.rad2deg(alpha.min()), np.rad2deg(alpha.max()))
+        grid_relative = False
     t = t[::-1] if flip_t and t is not None else t
     z = z[::-1] if flip_z else z
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])

@@ -72,6 +72,10 @@ def axis_kind(var: xr.DataArray | None, name: str) -> str:
         return "t"
     if std == "time" or axis == "t" or n in ("time", "t") or " since " in _attr(var, "units"):
         return "t"
+    if std == "grid_longitude":  # a rotated pole's axes: coordinates of its grid_mapping, not longitude
+        return "x"
+    if std == "grid_latitude":
+        return "y"
     if std == "longitude" or units in _LON_UNITS or n in ("lon", "longitude", "long", "nav_lon") \
             or long_name == "longitude":
         return "lon"
@@ -215,7 +219,7 @@ def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, st
         else:
             crs = _crs_of(ds, da, src)
             kind = "projected" if crs is not None else "local"
-            if crs is not None and crs.is_geographic:
+            if crs is not None and crs.is_geographic and not crs.is_derived:  # a rotated pole stays "projected"
                 kind, crs = "lonlat", None
             scale = _METRES.get(_attr(ds[cdim], "units") if cdim in ds.variables else "", 1.0)
             rows, cols = rows * scale, cols * scale
@@ -330,7 +334,35 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
                               options={"xatol": 1e-12})
         best = min(float(vals[k]), float(res.fun))
         out[side] = -sign * best + sign * 1e-3
-    return out["west"], out["east"], out["south"], out["north"]
+    return _inside_footprint(grid, frame, (out["west"], out["east"], out["south"], out["north"]))
+
+
+def _inside_footprint(grid: HorizontalGrid, frame: LocalFrame,
+                      rect: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """``rect`` when it lies inside the data's projected footprint; otherwise (a grid turned far from the local
+    axes, e.g. a polar-stereographic forecast far from its central meridian) the largest rectangle of the
+    footprint's bounding-box proportions about its centroid that does (bisection on the scale)."""
+    import shapely
+
+    s = np.linspace(0.0, 1.0, 201)
+    r0, r1, c0, c1 = grid.rows[0], grid.rows[-1], grid.cols[0], grid.cols[-1]
+    ring_r = np.r_[np.full_like(s, r0), r0 + s * (r1 - r0), np.full_like(s, r1), r1 - s * (r1 - r0)]
+    ring_c = np.r_[c0 + s * (c1 - c0), np.full_like(s, c1), c1 - s * (c1 - c0), np.full_like(s, c0)]
+    px, py = _from_source(grid, frame, ring_r, ring_c)
+    poly = shapely.Polygon(np.column_stack([px, py])).buffer(-1e-3)
+    if rect[0] < rect[1] and rect[2] < rect[3] and poly.contains(shapely.box(rect[0], rect[2], rect[1], rect[3])):
+        return rect
+    cx, cy = poly.centroid.x, poly.centroid.y
+    bx0, by0, bx1, by1 = poly.bounds
+    w, h = bx1 - bx0, by1 - by0
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if poly.contains(shapely.box(cx - mid * w / 2, cy - mid * h / 2, cx + mid * w / 2, cy + mid * h / 2)):
+            lo = mid
+        else:
+            hi = mid
+    return cx - lo * w / 2, cx + lo * w / 2, cy - lo * h / 2, cy + lo * h / 2
 
 
 def _uncovered(grid: HorizontalGrid, qr: _F64, qc: _F64, tol_r: float, tol_c: float) -> list[str]:
@@ -472,7 +504,8 @@ def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
 def _native_cell(grid: HorizontalGrid) -> float:
     """The data's own node spacing (m) at its centre."""
     if grid.kind in ("projected", "local"):
-        return float(min(np.median(np.diff(grid.rows)), np.median(np.diff(grid.cols))))
+        deg = 111_320.0 if grid.crs is not None and grid.crs.is_geographic else 1.0  # rotated pole: degrees
+        return deg * float(min(np.median(np.diff(grid.rows)), np.median(np.diff(grid.cols))))
     lat, lon = np.asarray(grid.rows), np.asarray(grid.cols)
     if grid.kind == "curvilinear":
         dlat = float(np.median(np.abs(np.diff(lat, axis=0)))) * 111_320.0
