@@ -37,6 +37,7 @@ from ..world.currents import GriddedCurrent
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
 from .ncfile import open_dataset
+from .roms import is_s_coordinate, read_s_levels
 from .vectors import grid_angle, to_east_north, vector_frame
 
 __all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
@@ -286,6 +287,10 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
     src = str(path)
     with _open(path, src) as ds:
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
+        if is_s_coordinate(ds, str(names["u"])):  # ROMS/CROCO: s-levels, staggered u/v, turned by `angle`
+            grid, t, z, comps = read_s_levels(ds, str(names["u"]), str(names["v"]), src,
+                                              lambda d: _time_axis(ds, d, start_time, src), velocity_factor)
+            return _finish(grid, t, z, comps, True, names, frame, extent_m, path)
         da_u = ds[names["u"]]
         rdim, cdim, grid, flip_r, flip_c = horizontal_grid(ds, da_u, src)
         lead = _lead_axes(ds, da_u, (rdim, cdim), src)
@@ -302,21 +307,28 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
             comps["u"], comps["v"] = to_east_north(comps["u"], comps["v"], alpha)
             log.info("%s: velocity along the grid's axes (%s), turned to east/north by %.1f..%.1f deg", src,
                      vframe.reason, np.rad2deg(alpha.min()), np.rad2deg(alpha.max()))
-        grid_relative = False
     t = t[::-1] if flip_t and t is not None else t
     z = z[::-1] if flip_z else z
+    return _finish(grid, t, z, comps, "z" in lead, names, frame, extent_m, path)
+
+
+def _finish(grid: HorizontalGrid, t: NDArray[np.float64] | None, z: NDArray[np.float64],
+            comps: dict[str, np.ndarray], has_z: bool, names: dict[str, str | None], frame: LocalFrame | None,
+            extent_m: tuple[float, float, float, float] | None, path: Path) -> GriddedCurrent:
+    """East/north components on the source grid → land filled, regridded into the local frame."""
+    src = str(path)
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
     land = 0
     for c in comps:
-        comps[c], n = _fill_land(comps[c].reshape(shape), "z" in lead, src, str(names[c]))
+        comps[c], n = _fill_land(comps[c].reshape(shape), has_z, src, str(names[c]))
         land = max(land, n)
     if land:
         log.info("%s: %d horizontal cells without a value (land): zero current there", src, land)
     if grid.kind == "local":
         x, y = grid.cols, grid.rows
     else:
-        x, y, comps = _regrid(grid, comps, frame, extent_m, grid_relative, {c: f"{src}: variable {names[c]!r}"
-                                                                            for c in comps})
+        x, y, comps = _regrid(grid, comps, frame, extent_m, False, {c: f"{src}: variable {names[c]!r}"
+                                                                    for c in comps})
     return GriddedCurrent(x, y, z, comps["u"], comps["v"], comps.get("w"), t, name=path.name)
 
 

@@ -312,7 +312,10 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
         return float(grid.cols[0]), float(grid.cols[-1]), float(grid.rows[0]), float(grid.rows[-1])
     if grid.kind == "curvilinear":
         x, y = frame.forward(grid.cols, grid.rows)
-        return float(x[:, 0].max()), float(x[:, -1].min()), float(y[0, :].max()), float(y[-1, :].min())
+        rect = float(x[:, 0].max()), float(x[:, -1].min()), float(y[0, :].max()), float(y[-1, :].min())
+        ring_x = np.r_[x[0, :], x[1:, -1], x[-1, -2::-1], x[-2:0:-1, 0]]
+        ring_y = np.r_[y[0, :], y[1:, -1], y[-1, -2::-1], y[-2:0:-1, 0]]
+        return _inside_ring(ring_x, ring_y, rect)
     r0, r1, c0, c1 = grid.rows[0], grid.rows[-1], grid.cols[0], grid.cols[-1]
     edges = {  # (fixed coordinate, which local component, sign of the extreme: +1 max, -1 min)
         "west": (lambda s: (r0 + s * (r1 - r0), c0), 0, 1.0),
@@ -342,13 +345,18 @@ def _inside_footprint(grid: HorizontalGrid, frame: LocalFrame,
     """``rect`` when it lies inside the data's projected footprint; otherwise (a grid turned far from the local
     axes, e.g. a polar-stereographic forecast far from its central meridian) the largest rectangle of the
     footprint's bounding-box proportions about its centroid that does (bisection on the scale)."""
-    import shapely
-
     s = np.linspace(0.0, 1.0, 201)
     r0, r1, c0, c1 = grid.rows[0], grid.rows[-1], grid.cols[0], grid.cols[-1]
     ring_r = np.r_[np.full_like(s, r0), r0 + s * (r1 - r0), np.full_like(s, r1), r1 - s * (r1 - r0)]
     ring_c = np.r_[c0 + s * (c1 - c0), np.full_like(s, c1), c1 - s * (c1 - c0), np.full_like(s, c0)]
     px, py = _from_source(grid, frame, ring_r, ring_c)
+    return _inside_ring(px, py, rect)
+
+
+def _inside_ring(px: _F64, py: _F64, rect: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """``rect`` if inside the ring's polygon, else the largest one of the polygon's proportions about its centroid."""
+    import shapely
+
     poly = shapely.Polygon(np.column_stack([px, py])).buffer(-1e-3)
     if rect[0] < rect[1] and rect[2] < rect[3] and poly.contains(shapely.box(rect[0], rect[2], rect[1], rect[3])):
         return rect
