@@ -21,6 +21,7 @@
 
 from __future__ import annotations
 
+import functools
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -40,7 +41,7 @@ from .ncfile import open_dataset
 from .roms import is_s_coordinate, read_s_levels
 from .vectors import grid_angle, to_east_north, vector_frame
 
-__all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
+__all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time", "open_water_gaps"]
 
 log = logging.getLogger(__name__)
 
@@ -100,6 +101,20 @@ def parse_time(text: str) -> np.datetime64:
     return np.datetime64(t, "ns")
 
 
+@functools.cache
+def _unit_registry() -> Any:
+    """cf_xarray's pint registry (CF/UDUNITS syntax), configured once: its import redefines a dozen units
+    (``percent``, ``degrees`` …), which pint announces as warnings on its ``pint.util`` logger — silenced."""
+    pint_log = logging.getLogger("pint.util")
+    level = pint_log.level
+    pint_log.setLevel(logging.ERROR)
+    try:
+        from cf_xarray.units import units as ureg
+    finally:
+        pint_log.setLevel(level)
+    return ureg
+
+
 def velocity_factor(units: str, where: str) -> float:
     """Return the factor from ``units`` to m/s, through pint's CF registry.
 
@@ -115,8 +130,7 @@ def velocity_factor(units: str, where: str) -> float:
     float
         Multiply values in ``units`` by this to get m/s.
     """
-    from cf_xarray.units import units as ureg  # pint registry with CF/UDUNITS syntax
-
+    ureg = _unit_registry()
     try:
         q = ureg.Quantity(1.0, units)
     except Exception as exc:  # pint raises several types for unparsable units
@@ -166,6 +180,39 @@ def _component(ds: xr.Dataset, name: str, dims: Sequence[str], flips: Sequence[b
     else:
         log.warning("%s: variable %r has no units; taken as m/s", src, name)
     return arr
+
+
+def open_water_gaps(arr: np.ndarray) -> tuple[int, tuple[int, ...] | None]:
+    """Missing values that are neither land nor below the seabed: a hole above a valid value of the same
+    column, or a place and level without a value at one time that has one at another.
+
+    Parameters
+    ----------
+    arr : numpy.ndarray
+        ``(nt, nz, ny, nx)`` values, depth ascending (deepest level first).
+
+    Returns
+    -------
+    count : int
+        Number of such values.
+    first : tuple of 4 int or None
+        ``(t, z, row, col)`` index of the first.
+    """
+    bad = ~np.isfinite(arr)
+    below = np.logical_or.accumulate(~bad, axis=1)  # a value at or below this level in the column
+    gaps = bad & (below | (~bad).any(axis=0, keepdims=True))
+    n = int(np.count_nonzero(gaps))
+    return n, (tuple(int(i) for i in np.argwhere(gaps)[0]) if n else None)
+
+
+def _where(grid: HorizontalGrid, j: int, i: int) -> str:
+    """A source node in words (lat/lon, or x/y of the grid)."""
+    r, c = np.asarray(grid.rows), np.asarray(grid.cols)
+    if grid.kind == "curvilinear":
+        return f"lat {r[j, i]:.4f}, lon {c[j, i]:.4f}"
+    if grid.kind == "lonlat":
+        return f"lat {r[j]:.4f}, lon {c[i]:.4f}"
+    return f"grid y {r[j]:.1f}, x {c[i]:.1f}"
 
 
 def _fill_land(arr: np.ndarray, has_z: bool, src: str, name: str) -> tuple[np.ndarray, int]:
@@ -320,6 +367,12 @@ def _finish(grid: HorizontalGrid, t: NDArray[np.float64] | None, z: NDArray[np.f
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
     land = 0
     for c in comps:
+        gaps, first = open_water_gaps(comps[c].reshape(shape))
+        if first is not None:
+            log.warning("%s: variable %r: %d missing value(s) in open water (below them the column has values, or "
+                        "the place has values at other times), first at %s, level %d, time %d; filled from the "
+                        "level above, else zero", src, names[c], gaps, _where(grid, first[2], first[3]), first[1],
+                        first[0])
         comps[c], n = _fill_land(comps[c].reshape(shape), has_z, src, str(names[c]))
         land = max(land, n)
     if land:

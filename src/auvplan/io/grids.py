@@ -34,7 +34,7 @@ from scipy.optimize import minimize_scalar
 from ..errors import DataError
 from .geo import LocalFrame, normalise_lon
 
-__all__ = ["HorizontalGrid", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
+__all__ = ["HorizontalGrid", "crs_line", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
 
 _F64 = NDArray[np.float64]
 """Array of float64."""
@@ -128,8 +128,35 @@ class HorizontalGrid:
                     f"{normalise_lon(np.nanmax(c)):.5f}")
         else:
             span = f"y {np.nanmin(r):.1f}..{np.nanmax(r):.1f}, x {np.nanmin(c):.1f}..{np.nanmax(c):.1f} m"
-        crs = f", CRS {self.crs.name} ({self.crs.to_string()})" if self.crs is not None else ""
+        crs = f", CRS {crs_line(self.crs)}" if self.crs is not None else ""
         return f"{self.kind} grid {r.shape[0]} x {c.shape[-1]} ({self.layout}); {span}{crs}"
+
+
+def crs_line(crs: CRS) -> str:
+    """A CRS in one short line: its name and authority code, else its PROJ string.
+
+    Parameters
+    ----------
+    crs : pyproj.CRS
+        The CRS.
+
+    Returns
+    -------
+    str
+        E.g. ``WGS 84 / UTM zone 33N (EPSG:32633)`` or ``polar_stereographic (+proj=stere +lat_0=90 …)``.
+    """
+    name = crs.name
+    if name.lower() in ("", "undefined", "unknown", "unnamed") and crs.coordinate_operation is not None:
+        name = crs.coordinate_operation.method_name
+    auth = crs.to_authority(min_confidence=90)
+    if auth is not None:
+        return f"{name} ({auth[0]}:{auth[1]})"
+    import warnings
+
+    with warnings.catch_warnings():  # "you will likely lose important projection information": not for a label
+        warnings.simplefilter("ignore", UserWarning)
+        text = crs.to_proj4()
+    return f"{name} ({' '.join(p for p in text.split() if p not in ('+no_defs', '+type=crs'))})"
 
 
 def _candidates(ds: xr.Dataset, dim: str) -> list[tuple[str, xr.DataArray]]:
@@ -276,7 +303,8 @@ def _to_source(grid: HorizontalGrid, frame: LocalFrame, x: ArrayLike, y: ArrayLi
         tr = Transformer.from_crs("EPSG:4326", grid.crs, always_xy=True)
         cx, cy = tr.transform(lon, lat)
         return np.asarray(cy), np.asarray(cx)
-    c0 = float(grid.cols[0])
+    # longitudes within 180 degrees of the data's middle: a point just west of the data stays west of it
+    c0 = 0.5 * float(grid.cols[0] + grid.cols[-1]) - 180.0
     return np.asarray(lat), c0 + np.mod(np.asarray(lon) - c0, 360.0)
 
 

@@ -21,6 +21,8 @@ from .currents import _find, _z_axis, velocity_factor
 from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame
 from .grids import _native_cell, axis_kind, horizontal_grid
+from .inspect_frames import frame_lines, gap_line, roms_lines
+from .roms import is_s_coordinate
 from .seabed_model import model_seabed
 
 __all__ = ["inspect_file"]
@@ -83,10 +85,12 @@ def _currents(path: Path) -> list[str]:
     try:
         with xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None)) as ds:
             names = {c: _find(ds, c, "", src, c != "w") for c in "uvw"}
+            if is_s_coordinate(ds, str(names["u"])):
+                return roms_lines(ds, str(names["u"]), str(names["v"]))
             da = ds[names["u"]]
             rdim, cdim, grid, _, _ = horizontal_grid(ds, da, src)
             lines = [f"as currents: u {names['u']!r}, v {names['v']!r}, w {names['w']!r}",
-                     f"  {grid.describe()}"]
+                     f"  {grid.describe()}", *frame_lines(ds, str(names["u"]), grid, (rdim, cdim), src)]
             for n in names.values():
                 if n is None:
                     continue
@@ -95,6 +99,8 @@ def _currents(path: Path) -> list[str]:
                 vals = np.asarray(ds[n].values, dtype=float)
                 lines.append(f"  {n}: units {units or '(none: taken as m/s)'} → × {factor:g} to m/s; "
                              f"{int(np.count_nonzero(~np.isfinite(vals)))} missing value(s) (land → zero current)")
+                gap = gap_line(ds, n, (rdim, cdim), src)
+                lines += [gap] if gap else []
             for d in map(str, da.dims):
                 if d in (rdim, cdim):
                     continue
