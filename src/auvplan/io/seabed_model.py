@@ -61,6 +61,29 @@ def node_indices(grid: HorizontalGrid, frame: LocalFrame | None, x: _F64, y: _F6
     return fr, fc
 
 
+def _sample(n_cells: int, most: int = 48) -> _F64:
+    """Indices of up to ``most`` cells spread over ``n_cells``, the first and last included."""
+    return np.unique(np.r_[np.linspace(0, n_cells - 1, min(most, n_cells)).round().astype(int), n_cells - 1])
+
+
+def _projection_margin(grid: HorizontalGrid, frame: LocalFrame, data: _F64, x: _F64, y: _F64, fr: _F64,
+                       fc: _F64) -> _F64:
+    """:func:`affine_margin` from a spread sample of the model's cells (corners and edges of the extent included)."""
+    ii, jj = np.meshgrid(_sample(x.size - 1), _sample(y.size - 1))
+    ii, jj = ii.ravel(), jj.ravel()
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    half = np.array([0.0, 0.5, 1.0])
+    px = x[ii][:, None, None] + half[None, None, :] * dx + 0.0 * half[None, :, None]
+    py = y[jj][:, None, None] + half[None, :, None] * dy + 0.0 * half[None, None, :]
+    r, c = (np.asarray(a, dtype=float) for a in _to_source(grid, frame, px, py))
+    rows, cols = np.asarray(grid.rows, dtype=float), np.asarray(grid.cols, dtype=float)
+    true_r = np.interp(r, rows, np.arange(rows.size, dtype=float))
+    true_c = np.interp(c, cols, np.arange(cols.size, dtype=float))
+    cr = np.stack([np.stack([fr[jj, ii], fr[jj, ii + 1]], -1), np.stack([fr[jj + 1, ii], fr[jj + 1, ii + 1]], -1)], 1)
+    cc = np.stack([np.stack([fc[jj, ii], fc[jj, ii + 1]], -1), np.stack([fc[jj + 1, ii], fc[jj + 1, ii + 1]], -1)], 1)
+    return affine_margin(data, fr, fc, cr, cc, true_r, true_c)
+
+
 def model_seabed(grid: HorizontalGrid, z: _F64, frame: LocalFrame, *,
                  extent_m: tuple[float, float, float, float] | None, cell_m: float | None, method: str,
                  what: str) -> tuple[_F64, _F64, _F64, SeabedFit | None]:
@@ -97,10 +120,8 @@ def model_seabed(grid: HorizontalGrid, z: _F64, frame: LocalFrame, *,
     fr, fc = node_indices(grid, frame, x, y)
     data = np.asarray(z, dtype=float)
     if method == "conservative":
-        margin: np.ndarray | float = 0.0
+        margin: _F64 | float = 0.0
         if grid.kind != "local":  # a projection: bound what the affine map of a cell leaves out
-            x2 = np.linspace(x[0], x[-1], 2 * x.size - 1)
-            y2 = np.linspace(y[0], y[-1], 2 * y.size - 1)
-            margin = affine_margin(data, fr, fc, *node_indices(grid, frame, x2, y2))
+            margin = _projection_margin(grid, frame, data, x, y, fr, fc)
         zn = conservative_nodes(data, fr, fc, margin)
     return x, y, zn, fit_report(data, fr, fc, zn, method)

@@ -130,45 +130,56 @@ def _quad_extremes(d0: float, dm: float, d1: float) -> tuple[float, float]:
     return hi, lo
 
 
+@kernel(inline="always")
+def _sorted_into(us: FloatArray, n: int) -> None:
+    """Insertion sort of ``us[:n]`` in place (a handful of values per segment)."""
+    for a in range(1, n):
+        key = us[a]
+        b = a - 1
+        while b >= 0 and us[b] > key:
+            us[b + 1] = us[b]
+            b -= 1
+        us[b + 1] = key
+
+
 @kernel
 def _segment(z: FloatArray, o: FloatArray, ea: FloatArray, eb: FloatArray, zc: FloatArray,
-             s0: float, t0: float, s1: float, t1: float, acc: FloatArray) -> None:
+             s0: float, t0: float, s1: float, t1: float, acc: FloatArray, us: FloatArray) -> None:
     """Extremes of ``zd`` and ``D`` on the cell-parameter segment ``(s0, t0) → (s1, t1)``, folded into
-    ``acc = [max zd, max D, min D]``."""
+    ``acc = [max zd, max D, min D]``; ``us`` is scratch space for the segment's breakpoints."""
     r0 = o[0] + s0 * ea[0] + t0 * eb[0]
     c0 = o[1] + s0 * ea[1] + t0 * eb[1]
     r1 = o[0] + s1 * ea[0] + t1 * eb[0]
     c1 = o[1] + s1 * ea[1] + t1 * eb[1]
-    lo_r, hi_r = min(r0, r1), max(r0, r1)
-    lo_c, hi_c = min(c0, c1), max(c0, c1)
-    n_r = max(int(math.floor(hi_r)) - int(math.ceil(lo_r)) + 1, 0)
-    n_c = max(int(math.floor(hi_c)) - int(math.ceil(lo_c)) + 1, 0)
-    us = np.empty(n_r + n_c + 2)
     us[0], us[1] = 0.0, 1.0
     n = 2
-    for k in range(int(math.ceil(lo_r)), int(math.floor(hi_r)) + 1):
-        if r1 != r0:
-            us[n] = (k - r0) / (r1 - r0)
+    if r1 != r0:
+        for k in range(int(math.ceil(min(r0, r1))), int(math.floor(max(r0, r1))) + 1):
+            us[n] = min(max((k - r0) / (r1 - r0), 0.0), 1.0)
             n += 1
-    for k in range(int(math.ceil(lo_c)), int(math.floor(hi_c)) + 1):
-        if c1 != c0:
-            us[n] = (k - c0) / (c1 - c0)
+    if c1 != c0:
+        for k in range(int(math.ceil(min(c0, c1))), int(math.floor(max(c0, c1))) + 1):
+            us[n] = min(max((k - c0) / (c1 - c0), 0.0), 1.0)
             n += 1
-    us = np.sort(np.clip(us[:n], 0.0, 1.0))
+    _sorted_into(us, n)
     for p in range(n - 1):
         ua, ub = us[p], us[p + 1]
         if ub - ua <= 1e-12:
             continue
-        dz = np.empty(3)
-        dd = np.empty(3)
+        z_0 = z_m = z_1 = d_0 = d_m = d_1 = 0.0
         for q in range(3):
             u = ua + 0.5 * q * (ub - ua)
             s, t = s0 + u * (s1 - s0), t0 + u * (t1 - t0)
             zd = _data(z, o[0] + s * ea[0] + t * eb[0], o[1] + s * ea[1] + t * eb[1])
             zm = ((1.0 - t) * ((1.0 - s) * zc[0] + s * zc[1]) + t * ((1.0 - s) * zc[2] + s * zc[3]))
-            dz[q], dd[q] = zd, zd - zm
-        hz, _ = _quad_extremes(dz[0], dz[1], dz[2])
-        hd, ld = _quad_extremes(dd[0], dd[1], dd[2])
+            if q == 0:
+                z_0, d_0 = zd, zd - zm
+            elif q == 1:
+                z_m, d_m = zd, zd - zm
+            else:
+                z_1, d_1 = zd, zd - zm
+        hz, _ = _quad_extremes(z_0, z_m, z_1)
+        hd, ld = _quad_extremes(d_0, d_m, d_1)
         acc[0] = max(acc[0], hz)
         acc[1] = max(acc[1], hd)
         acc[2] = min(acc[2], ld)
@@ -228,6 +239,10 @@ def cell_extremes(z: FloatArray, fr: FloatArray, fc: FloatArray, zn: FloatArray)
     eb = np.empty(2)
     zc = np.empty(4)
     acc = np.empty(3)
+    span = 0.0  # the most data lines a segment of a cell can cross, for the scratch space
+    for f in (fr, fc):
+        span += max(np.abs(f[1:, :] - f[:-1, :]).max(), np.abs(f[:, 1:] - f[:, :-1]).max()) * 2.0
+    us = np.empty(int(span) + 8)
     for j in range(ny - 1):
         for i in range(nx - 1):
             for d, f in enumerate((fr, fc)):
@@ -237,29 +252,18 @@ def cell_extremes(z: FloatArray, fr: FloatArray, fc: FloatArray, zn: FloatArray)
                 o[d] = 0.25 * (p00 + p10 + p01 + p11) - 0.5 * ea[d] - 0.5 * eb[d]
             zc[0], zc[1], zc[2], zc[3] = zn[j, i], zn[j, i + 1], zn[j + 1, i], zn[j + 1, i + 1]
             acc[0], acc[1], acc[2] = -np.inf, -np.inf, np.inf
-            _segment(z, o, ea, eb, zc, 0.0, 0.0, 1.0, 0.0, acc)
-            _segment(z, o, ea, eb, zc, 1.0, 0.0, 1.0, 1.0, acc)
-            _segment(z, o, ea, eb, zc, 1.0, 1.0, 0.0, 1.0, acc)
-            _segment(z, o, ea, eb, zc, 0.0, 1.0, 0.0, 0.0, acc)
+            _segment(z, o, ea, eb, zc, 0.0, 0.0, 1.0, 0.0, acc, us)
+            _segment(z, o, ea, eb, zc, 1.0, 0.0, 1.0, 1.0, acc, us)
+            _segment(z, o, ea, eb, zc, 1.0, 1.0, 0.0, 1.0, acc, us)
+            _segment(z, o, ea, eb, zc, 0.0, 1.0, 0.0, 0.0, acc, us)
             for d in range(2):  # the data lines of rows (d = 0) and of columns (d = 1) across the cell
                 c0 = o[d] + min(0.0, ea[d]) + min(0.0, eb[d])
                 c1 = o[d] + max(0.0, ea[d]) + max(0.0, eb[d])
                 for k in range(int(math.ceil(c0)), int(math.floor(c1)) + 1):
                     found, s0, t0, s1, t1 = _line_in_square(o[d], ea[d], eb[d], float(k))
                     if found:
-                        _segment(z, o, ea, eb, zc, s0, t0, s1, t1, acc)
+                        _segment(z, o, ea, eb, zc, s0, t0, s1, t1, acc, us)
             out[j, i, 0], out[j, i, 1], out[j, i, 2] = acc[0], acc[1], acc[2]
-    return out
-
-
-def _cells_to_nodes(req: FloatArray, ny: int, nx: int) -> FloatArray:
-    """Largest requirement of the (up to four) cells around each node; ``req`` is ``(ny-1, nx-1, 4)``
-    with the corners in the order (j, i), (j, i+1), (j+1, i), (j+1, i+1)."""
-    out = np.full((ny, nx), -np.inf)
-    np.maximum(out[:-1, :-1], req[..., 0], out=out[:-1, :-1])
-    np.maximum(out[:-1, 1:], req[..., 1], out=out[:-1, 1:])
-    np.maximum(out[1:, :-1], req[..., 2], out=out[1:, :-1])
-    np.maximum(out[1:, 1:], req[..., 3], out=out[1:, 1:])
     return out
 
 
@@ -287,17 +291,25 @@ def conservative_nodes(z: FloatArray, fr: FloatArray, fc: FloatArray, margin: Fl
     fc = np.ascontiguousarray(fc, dtype=float)
     z0 = data_at(z, fr, fc)
     ext = cell_extremes(z, fr, fc, z0)
-    corners = np.stack([z0[:-1, :-1], z0[:-1, 1:], z0[1:, :-1], z0[1:, 1:]], axis=-1)
-    pad = np.broadcast_to(np.asarray(margin, dtype=float), ext.shape[:2])[..., None]
-    lift = corners + np.maximum(ext[..., 1], 0.0)[..., None] + pad  # a finer cell: lift its surface
-    envelope = np.broadcast_to(ext[..., 0][..., None] + pad, corners.shape)  # a coarser one: the data's maximum
-    use_lift = (lift - corners).sum(axis=-1) <= (np.maximum(envelope, corners) - corners).sum(axis=-1)
-    req = np.where(use_lift[..., None], lift, np.maximum(envelope, corners))
-    out: FloatArray = np.maximum(_cells_to_nodes(req, *fr.shape), z0)
+    pad = np.broadcast_to(np.asarray(margin, dtype=float), ext.shape[:2])
+    lift = np.maximum(ext[..., 1], 0.0) + pad  # a finer cell: lift its surface uniformly
+    top = ext[..., 0] + pad  # a coarser one: all corners at the data's maximum over it
+    del ext
+    corners = ((slice(None, -1), slice(None, -1)), (slice(None, -1), slice(1, None)),
+               (slice(1, None), slice(None, -1)), (slice(1, None), slice(1, None)))
+    envelope_raise = np.zeros_like(lift)
+    for c in corners:
+        envelope_raise += np.maximum(top - z0[c], 0.0)
+    use_lift = 4.0 * lift <= envelope_raise
+    del envelope_raise
+    out: FloatArray = z0.copy()
+    for c in corners:
+        np.maximum(out[c], np.where(use_lift, z0[c] + lift, np.maximum(top, z0[c])), out=out[c])
     return out
 
 
-def affine_margin(z: FloatArray, fr: FloatArray, fc: FloatArray, fr2: FloatArray, fc2: FloatArray) -> FloatArray:
+def affine_margin(z: FloatArray, fr: FloatArray, fc: FloatArray, corners_r: FloatArray, corners_c: FloatArray,
+                  true_r: FloatArray, true_c: FloatArray) -> FloatArray:
     """Per model cell, a bound on the data's change between the true and the affine map of the cell.
 
     Parameters
@@ -305,32 +317,40 @@ def affine_margin(z: FloatArray, fr: FloatArray, fc: FloatArray, fr2: FloatArray
     z : numpy.ndarray
         Data ``(nrow, ncol)``.
     fr, fc : numpy.ndarray
-        Fractional data indices of the model's nodes ``(ny, nx)``.
-    fr2, fc2 : numpy.ndarray
-        The same on the twice-refined grid ``(2 ny - 1, 2 nx - 1)`` (nodes, edge midpoints, centres).
+        ``(ny, nx)`` fractional data indices of the model's nodes.
+    corners_r, corners_c : numpy.ndarray
+        ``(K, 2, 2)`` fractional data indices of the corners of a sample of K cells (``[t, s]``).
+    true_r, true_c : numpy.ndarray
+        ``(K, 3, 3)`` the same at the sampled cells' nine points ``(s, t) in {0, 1/2, 1}^2``.
 
     Returns
     -------
     numpy.ndarray
-        ``(ny - 1, nx - 1)`` margin (m): twice the largest departure, at the nine points of each cell,
-        of the true index position from the affine one, times the data's steepest change per index
-        along each axis.
+        ``(ny - 1, nx - 1)`` margin (m): twice the largest departure (over the sample: it varies smoothly
+        over the model's extent) of the true index position from the affine one, times the data's steepest
+        change per index along each axis around the cell.
     """
+    from scipy import ndimage
+
     z = np.asarray(z, dtype=float)
-    g_r = float(np.abs(np.diff(z, axis=0)).max()) if z.shape[0] > 1 else 0.0
-    g_c = float(np.abs(np.diff(z, axis=1)).max()) if z.shape[1] > 1 else 0.0
     out = np.zeros((fr.shape[0] - 1, fr.shape[1] - 1))
-    for f, f2, g in ((fr, fr2, g_r), (fc, fc2, g_c)):
-        p00, p10, p01, p11 = f[:-1, :-1], f[:-1, 1:], f[1:, :-1], f[1:, 1:]
+    reach = int(np.ceil(max(np.abs(np.diff(fr, axis=0)).max(), np.abs(np.diff(fr, axis=1)).max(),
+                            np.abs(np.diff(fc, axis=0)).max(), np.abs(np.diff(fc, axis=1)).max()))) + 2
+    jr = np.clip(np.floor(fr[:-1, :-1]).astype(int), 0, z.shape[0] - 2)
+    jc = np.clip(np.floor(fc[:-1, :-1]).astype(int), 0, z.shape[1] - 2)
+    for axis, f, f2 in ((0, corners_r, true_r), (1, corners_c, true_c)):
+        p00, p10, p01, p11 = f[:, 0, 0], f[:, 0, 1], f[:, 1, 0], f[:, 1, 1]
         ea = 0.5 * (p10 - p00 + p11 - p01)
         eb = 0.5 * (p01 - p00 + p11 - p10)
         o = 0.25 * (p00 + p10 + p01 + p11) - 0.5 * ea - 0.5 * eb
-        dev = np.zeros_like(out)
-        for a in range(3):
-            for b in range(3):
-                true = f2[b: b + 2 * out.shape[0]: 2, a: a + 2 * out.shape[1]: 2]  # (s, t) = (a/2, b/2)
-                dev = np.maximum(dev, np.abs(true - (o + 0.5 * a * ea + 0.5 * b * eb)))
-        out += 2.0 * dev * g
+        dev = 0.0
+        for b in range(3):
+            for a in range(3):
+                dev = max(dev, float(np.abs(f2[:, b, a] - (o + 0.5 * a * ea + 0.5 * b * eb)).max()))
+        step = np.abs(np.diff(z, axis=axis))
+        step = np.pad(step, ((0, 1), (0, 0)) if axis == 0 else ((0, 0), (0, 1)), mode="edge")
+        local = ndimage.maximum_filter(step, size=2 * reach + 1, mode="nearest")
+        out += 2.0 * dev * local[jr, jc]
     return out
 
 
