@@ -121,6 +121,8 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         t = world.terrain
         print(f"  terrain {t.name}: {t.x.size} x {t.y.size} nodes, cell {t.dx:.0f} m, "
               f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
+        if t.fit is not None:
+            print(f"  {t.fit.describe()}")
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
     return 0
@@ -263,6 +265,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
                            "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed, world = _plan(args, quiet=False)
     record = records.plan_record(result, sc.name, seed)
+    if world.terrain is not None and world.terrain.fit is not None:
+        record.update(records.fit_metrics(world.terrain.fit))
     if args.reference:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
@@ -374,7 +378,10 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
     export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
-    page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None)
+    metrics = records.summary_metrics(record)
+    if world.terrain is not None and world.terrain.fit is not None:
+        metrics.update(records.fit_metrics(world.terrain.fit))
+    page = build_report(world, record, text, metrics, frame.inverse if frame else None)
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots

@@ -177,4 +177,4 @@ class Land:
                 jn, in_ = jj[touch] + dj, ii[touch] + di
                 z[jn, in_] = np.maximum(z[jn, in_], height)
         # beyond the grid the seabed is continued with the edge values: land there is covered by the edge cells
-        return Terrain(x, y, z, name=f"{terrain.name} + land {self.name}".strip())
+        return Terrain(x, y, z, name=f"{terrain.name} + land {self.name}".strip(), fit=terrain.fit)

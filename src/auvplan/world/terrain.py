@@ -29,6 +29,7 @@ import numpy as np
 from .._jit import kernel
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
+from .seabed import SeabedFit
 
 __all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel"]
 
@@ -49,6 +50,9 @@ class Terrain:
         Seabed elevation (m, positive up), shape ``(ny, nx)``; must be finite.
     name : str
         Free text (source of the data).
+    fit : SeabedFit, optional
+        How this model sits against the data it was made from (its excess height, and any depth
+        below the data); None when unknown (synthetic terrains, older results folders).
 
     Raises
     ------
@@ -60,6 +64,7 @@ class Terrain:
     y: FloatArray
     z: FloatArray
     name: str = ""
+    fit: SeabedFit | None = None
     _coef: FloatArray = field(init=False, repr=False)
     _lipschitz: float = field(init=False, repr=False)
     _kernel: TerrainKernelData = field(init=False, repr=False, compare=False)

@@ -13,8 +13,9 @@ What the reader handles, each covered by a round-trip test (file layouts: :mod:`
 * fill values / NaN: ``nan_policy="error"`` (default, a clear error naming the
   count and the first location), ``"land"`` (no-go: elevation +1 m) or
   ``"nearest"`` (nearest valid value);
-* a crop to a lat/lon box and a smooth resampling to a target cell size
-  (cubic by default: the 0.1° ETOPO1 cut-out is ~11 km per cell).
+* a crop to a lat/lon box and a resampling to a target cell size, by default
+  ``conservative``: the model is never deeper than the data, and how much shallower
+  it is gets measured (:mod:`auvplan.io.data.seabed_model`; ``linear``, ``cubic`` … on request).
 
 Built-in real terrains: ``etopo1-marcus-wake``, ``etopo1-ninetyeast``, ``etopo1-new-england``
 and ``etopo1-chagos`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and
@@ -39,10 +40,12 @@ from pyproj import Transformer
 from scipy import ndimage
 
 from ...errors import DataError
+from ...world.seabed import SeabedFit
 from ...world.terrain import Terrain
 from .elevation import read_elevation
 from .geo import LocalFrame, normalise_lon
-from .grids import HorizontalGrid, data_span, horizontal_grid, to_local
+from .grids import HorizontalGrid, data_span, horizontal_grid
+from .seabed_model import METHODS, model_seabed
 
 __all__ = [
     "TerrainSpec",
@@ -93,7 +96,8 @@ class TerrainSpec:
     resample_m : float
         Target cell size (m); 0 keeps the data's own spacing.
     method : str
-        Resampling interpolation: ``"cubic"`` (smooth, default) or ``"linear"``.
+        Resampling: ``"conservative"`` (default: never deeper than the data), or ``"linear"``,
+        ``"cubic"``, ``"quintic"``, ``"pchip"`` (which can lie below it).
     nan_policy : str
         ``"error"``, ``"land"`` or ``"nearest"``.
     """
@@ -104,7 +108,7 @@ class TerrainSpec:
     positive: str = ""
     box: tuple[float, ...] = ()
     resample_m: float = 0.0
-    method: str = "cubic"
+    method: str = "conservative"
     nan_policy: str = "error"
 
     def __post_init__(self) -> None:
@@ -120,8 +124,8 @@ class TerrainSpec:
             raise ValueError(f"box latitudes must satisfy lat_min < lat_max, got {list(self.box)}")
         if self.resample_m < 0:
             raise ValueError(f"resample_m must be >= 0, got {self.resample_m}")
-        if self.method not in ("cubic", "linear", "quintic", "pchip"):
-            raise ValueError(f"method must be one of cubic, linear, quintic, pchip; got {self.method!r}")
+        if self.method not in METHODS:
+            raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
         if self.nan_policy not in ("error", "land", "nearest"):
             raise ValueError(f"nan_policy must be error, land or nearest; got {self.nan_policy!r}")
 
@@ -212,7 +216,7 @@ def terrain_from_grid(
     box: tuple[float, ...] = (),
     extent_m: tuple[float, float, float, float] | None = None,
     resample_m: float = 0.0,
-    method: str = "cubic",
+    method: str = "conservative",
     nan_policy: str = "error",
     name: str = "",
 ) -> Terrain:
@@ -240,7 +244,7 @@ def terrain_from_grid(
     nan_policy : {'error', 'land', 'nearest'}, optional
         Missing values: an error, no-go land, or the nearest valid value.
     method : str, optional
-        Resampling method (``"cubic"``, ``"linear"`` …).
+        Resampling method (``"conservative"``, default; ``"linear"``, ``"cubic"`` …).
     name : str, optional
         Name of the terrain (file:variable), for messages.
 
@@ -261,10 +265,12 @@ def terrain_from_grid(
     else:
         where = lambda j, i: f"x {grid.cols[i]:.1f}, y {grid.rows[j]:.1f}"  # noqa: E731
     if grid.kind == "local":
-        return terrain_from_xy(grid.cols, grid.rows, z, resample_m=resample_m, nan_policy=nan_policy, name=name)
+        return terrain_from_xy(grid.cols, grid.rows, z, resample_m=resample_m, nan_policy=nan_policy, name=name,
+                               method=method)
     z = _fill_nan(z, nan_policy, name, where)
-    x, y, zz = to_local(grid, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method, what=name)
-    return Terrain(x, y, zz, name=name)
+    x, y, zz, fit = model_seabed(grid, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method,
+                                 what=name)
+    return Terrain(x, y, zz, name=name, fit=fit)
 
 
 def terrain_from_lonlat(lon: ArrayLike, lat: ArrayLike, elevation: ArrayLike, *, frame: LocalFrame, name: str = "",
@@ -304,7 +310,7 @@ def terrain_from_lonlat(lon: ArrayLike, lat: ArrayLike, elevation: ArrayLike, *,
 
 
 def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resample_m: float = 0.0,
-                    nan_policy: str = "error", name: str = "") -> Terrain:
+                    nan_policy: str = "error", name: str = "", method: str = "conservative") -> Terrain:
     """Build a Terrain from elevation on metric axes (any order, possibly non-uniform).
 
     Parameters
@@ -319,6 +325,8 @@ def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resampl
         Missing values: an error, no-go land, or the nearest valid value.
     name : str, optional
         Name of the terrain (file:variable), for messages.
+    method : str, optional
+        Resampling method when the grid is resampled (``"conservative"``, default; ``"linear"`` …).
 
     Returns
     -------
@@ -341,16 +349,12 @@ def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resampl
     step_x, step_y = np.diff(x), np.diff(y)
     uniform = x.size > 1 and y.size > 1 and np.allclose(step_x, step_x[0]) and np.allclose(step_y, step_y[0])
     if resample_m or not uniform:
-        from scipy.interpolate import RegularGridInterpolator
-
         cell = resample_m or float(min(step_x.min(), step_y.min()))
-        nx = max(int(round((x[-1] - x[0]) / cell)) + 1, 2)
-        ny = max(int(round((y[-1] - y[0]) / cell)) + 1, 2)
-        xi, yi = np.linspace(x[0], x[-1], nx), np.linspace(y[0], y[-1], ny)
-        gy, gx = np.meshgrid(yi, xi, indexing="ij")
-        z = RegularGridInterpolator((y, x), z)(np.column_stack([gy.ravel(), gx.ravel()])).reshape(ny, nx)
-        x, y = xi, yi
-    return Terrain(x, y, z, name=name)
+        grid = HorizontalGrid("local", y, x, None, "metric axes")
+        x, y, z, fit = model_seabed(grid, z, LocalFrame(0.0, 0.0), extent_m=(x[0], x[-1], y[0], y[-1]), cell_m=cell,
+                                    method=method, what=name)
+        return Terrain(x, y, z, name=name, fit=fit)
+    return Terrain(x, y, z, name=name, fit=SeabedFit(method, 0.0, 0.0, 0.0))
 
 
 def read_bathymetry(
@@ -362,7 +366,7 @@ def read_bathymetry(
     box: tuple[float, ...] = (),
     extent_m: tuple[float, float, float, float] | None = None,
     resample_m: float = 0.0,
-    method: str = "cubic",
+    method: str = "conservative",
     nan_policy: str = "error",
 ) -> Terrain:
     """Read a bathymetry/topography grid (NetCDF in any supported layout, or GeoTIFF) into a Terrain.

@@ -21,6 +21,7 @@
 
 from __future__ import annotations
 
+import functools
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -37,15 +38,19 @@ from ...world.currents import GriddedCurrent
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
 from .ncfile import open_dataset
+from .roms import is_s_coordinate, read_s_levels
+from .vectors import grid_angle, to_east_north, vector_frame
 
-__all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time"]
+__all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time", "open_water_gaps"]
 
 log = logging.getLogger(__name__)
 
 _NAMES = {
-    "u": (("eastward_sea_water_velocity", "sea_water_x_velocity", "eastward_sea_water_velocity_assuming_no_tide",
+    "u": (("eastward_sea_water_velocity", "sea_water_x_velocity", "x_sea_water_velocity",
+           "eastward_sea_water_velocity_assuming_no_tide",
            "surface_eastward_sea_water_velocity"), ("u", "uo", "water_u", "east_vel", "ucur", "uvel")),
-    "v": (("northward_sea_water_velocity", "sea_water_y_velocity", "northward_sea_water_velocity_assuming_no_tide",
+    "v": (("northward_sea_water_velocity", "sea_water_y_velocity", "y_sea_water_velocity",
+           "northward_sea_water_velocity_assuming_no_tide",
            "surface_northward_sea_water_velocity"), ("v", "vo", "water_v", "north_vel", "vcur", "vvel")),
     "w": (("upward_sea_water_velocity",), ("w", "wo", "water_w", "up_vel", "wcur")),
 }
@@ -96,6 +101,20 @@ def parse_time(text: str) -> np.datetime64:
     return np.datetime64(t, "ns")
 
 
+@functools.cache
+def _unit_registry() -> Any:
+    """cf_xarray's pint registry (CF/UDUNITS syntax), configured once: its import redefines a dozen units
+    (``percent``, ``degrees`` …), which pint announces as warnings on its ``pint.util`` logger — silenced."""
+    pint_log = logging.getLogger("pint.util")
+    level = pint_log.level
+    pint_log.setLevel(logging.ERROR)
+    try:
+        from cf_xarray.units import units as ureg
+    finally:
+        pint_log.setLevel(level)
+    return ureg
+
+
 def velocity_factor(units: str, where: str) -> float:
     """Return the factor from ``units`` to m/s, through pint's CF registry.
 
@@ -111,8 +130,7 @@ def velocity_factor(units: str, where: str) -> float:
     float
         Multiply values in ``units`` by this to get m/s.
     """
-    from cf_xarray.units import units as ureg  # pint registry with CF/UDUNITS syntax
-
+    ureg = _unit_registry()
     try:
         q = ureg.Quantity(1.0, units)
     except Exception as exc:  # pint raises several types for unparsable units
@@ -162,6 +180,39 @@ def _component(ds: xr.Dataset, name: str, dims: Sequence[str], flips: Sequence[b
     else:
         log.warning("%s: variable %r has no units; taken as m/s", src, name)
     return arr
+
+
+def open_water_gaps(arr: np.ndarray) -> tuple[int, tuple[int, ...] | None]:
+    """Missing values that are neither land nor below the seabed: a hole above a valid value of the same
+    column, or a place and level without a value at one time that has one at another.
+
+    Parameters
+    ----------
+    arr : numpy.ndarray
+        ``(nt, nz, ny, nx)`` values, depth ascending (deepest level first).
+
+    Returns
+    -------
+    count : int
+        Number of such values.
+    first : tuple of 4 int or None
+        ``(t, z, row, col)`` index of the first.
+    """
+    bad = ~np.isfinite(arr)
+    below = np.logical_or.accumulate(~bad, axis=1)  # a value at or below this level in the column
+    gaps = bad & (below | (~bad).any(axis=0, keepdims=True))
+    n = int(np.count_nonzero(gaps))
+    return n, (tuple(int(i) for i in np.argwhere(gaps)[0]) if n else None)
+
+
+def _where(grid: HorizontalGrid, j: int, i: int) -> str:
+    """A source node in words (lat/lon, or x/y of the grid)."""
+    r, c = np.asarray(grid.rows), np.asarray(grid.cols)
+    if grid.kind == "curvilinear":
+        return f"lat {r[j, i]:.4f}, lon {c[j, i]:.4f}"
+    if grid.kind == "lonlat":
+        return f"lat {r[j]:.4f}, lon {c[i]:.4f}"
+    return f"grid y {r[j]:.1f}, x {c[i]:.1f}"
 
 
 def _fill_land(arr: np.ndarray, has_z: bool, src: str, name: str) -> tuple[np.ndarray, int]:
@@ -283,6 +334,10 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
     src = str(path)
     with _open(path, src) as ds:
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
+        if is_s_coordinate(ds, str(names["u"])):  # ROMS/CROCO: s-levels, staggered u/v, turned by `angle`
+            grid, t, z, comps = read_s_levels(ds, str(names["u"]), str(names["v"]), src,
+                                              lambda d: _time_axis(ds, d, start_time, src), velocity_factor)
+            return _finish(grid, t, z, comps, True, names, frame, extent_m, path)
         da_u = ds[names["u"]]
         rdim, cdim, grid, flip_r, flip_c = horizontal_grid(ds, da_u, src)
         lead = _lead_axes(ds, da_u, (rdim, cdim), src)
@@ -293,21 +348,40 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         flip_z = z.size > 1 and bool(z[0] > z[-1])
         flips = ([flip_t] if t is not None else []) + ([flip_z] if "z" in lead else []) + [flip_r, flip_c]
         comps = {c: _component(ds, n, dims, flips, src) for c, n in names.items() if n is not None}
-        grid_relative = str(da_u.attrs.get("standard_name", "")).lower() == "sea_water_x_velocity"
+        vframe = vector_frame(ds, str(names["u"]), grid)
+        if vframe.grid_relative:  # along the grid's axes: turned to east/north at the source nodes
+            alpha = grid_angle(ds, grid, vframe, (rdim, cdim), (flip_r, flip_c), src)
+            comps["u"], comps["v"] = to_east_north(comps["u"], comps["v"], alpha)
+            log.info("%s: velocity along the grid's axes (%s), turned to east/north by %.1f..%.1f deg", src,
+                     vframe.reason, np.rad2deg(alpha.min()), np.rad2deg(alpha.max()))
     t = t[::-1] if flip_t and t is not None else t
     z = z[::-1] if flip_z else z
+    return _finish(grid, t, z, comps, "z" in lead, names, frame, extent_m, path)
+
+
+def _finish(grid: HorizontalGrid, t: NDArray[np.float64] | None, z: NDArray[np.float64],
+            comps: dict[str, np.ndarray], has_z: bool, names: dict[str, str | None], frame: LocalFrame | None,
+            extent_m: tuple[float, float, float, float] | None, path: Path) -> GriddedCurrent:
+    """East/north components on the source grid → land filled, regridded into the local frame."""
+    src = str(path)
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
     land = 0
     for c in comps:
-        comps[c], n = _fill_land(comps[c].reshape(shape), "z" in lead, src, str(names[c]))
+        gaps, first = open_water_gaps(comps[c].reshape(shape))
+        if first is not None:
+            log.warning("%s: variable %r: %d missing value(s) in open water (below them the column has values, or "
+                        "the place has values at other times), first at %s, level %d, time %d; filled from the "
+                        "level above, else zero", src, names[c], gaps, _where(grid, first[2], first[3]), first[1],
+                        first[0])
+        comps[c], n = _fill_land(comps[c].reshape(shape), has_z, src, str(names[c]))
         land = max(land, n)
     if land:
         log.info("%s: %d horizontal cells without a value (land): zero current there", src, land)
     if grid.kind == "local":
         x, y = grid.cols, grid.rows
     else:
-        x, y, comps = _regrid(grid, comps, frame, extent_m, grid_relative, {c: f"{src}: variable {names[c]!r}"
-                                                                            for c in comps})
+        x, y, comps = _regrid(grid, comps, frame, extent_m, False, {c: f"{src}: variable {names[c]!r}"
+                                                                    for c in comps})
     return GriddedCurrent(x, y, z, comps["u"], comps["v"], comps.get("w"), t, name=path.name)
 
 

@@ -34,7 +34,7 @@ from scipy.optimize import minimize_scalar
 from ...errors import DataError
 from .geo import LocalFrame, normalise_lon
 
-__all__ = ["HorizontalGrid", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
+__all__ = ["HorizontalGrid", "crs_line", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
 
 _F64 = NDArray[np.float64]
 """Array of float64."""
@@ -72,6 +72,10 @@ def axis_kind(var: xr.DataArray | None, name: str) -> str:
         return "t"
     if std == "time" or axis == "t" or n in ("time", "t") or " since " in _attr(var, "units"):
         return "t"
+    if std == "grid_longitude":  # a rotated pole's axes: coordinates of its grid_mapping, not longitude
+        return "x"
+    if std == "grid_latitude":
+        return "y"
     if std == "longitude" or units in _LON_UNITS or n in ("lon", "longitude", "long", "nav_lon") \
             or long_name == "longitude":
         return "lon"
@@ -124,8 +128,35 @@ class HorizontalGrid:
                     f"{normalise_lon(np.nanmax(c)):.5f}")
         else:
             span = f"y {np.nanmin(r):.1f}..{np.nanmax(r):.1f}, x {np.nanmin(c):.1f}..{np.nanmax(c):.1f} m"
-        crs = f", CRS {self.crs.name} ({self.crs.to_string()})" if self.crs is not None else ""
+        crs = f", CRS {crs_line(self.crs)}" if self.crs is not None else ""
         return f"{self.kind} grid {r.shape[0]} x {c.shape[-1]} ({self.layout}); {span}{crs}"
+
+
+def crs_line(crs: CRS) -> str:
+    """A CRS in one short line: its name and authority code, else its PROJ string.
+
+    Parameters
+    ----------
+    crs : pyproj.CRS
+        The CRS.
+
+    Returns
+    -------
+    str
+        E.g. ``WGS 84 / UTM zone 33N (EPSG:32633)`` or ``polar_stereographic (+proj=stere +lat_0=90 …)``.
+    """
+    name = crs.name
+    if name.lower() in ("", "undefined", "unknown", "unnamed") and crs.coordinate_operation is not None:
+        name = crs.coordinate_operation.method_name
+    auth = crs.to_authority(min_confidence=90)
+    if auth is not None:
+        return f"{name} ({auth[0]}:{auth[1]})"
+    import warnings
+
+    with warnings.catch_warnings():  # "you will likely lose important projection information": not for a label
+        warnings.simplefilter("ignore", UserWarning)
+        text = crs.to_proj4()
+    return f"{name} ({' '.join(p for p in text.split() if p not in ('+no_defs', '+type=crs'))})"
 
 
 def _candidates(ds: xr.Dataset, dim: str) -> list[tuple[str, xr.DataArray]]:
@@ -215,7 +246,7 @@ def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, st
         else:
             crs = _crs_of(ds, da, src)
             kind = "projected" if crs is not None else "local"
-            if crs is not None and crs.is_geographic:
+            if crs is not None and crs.is_geographic and not crs.is_derived:  # a rotated pole stays "projected"
                 kind, crs = "lonlat", None
             scale = _METRES.get(_attr(ds[cdim], "units") if cdim in ds.variables else "", 1.0)
             rows, cols = rows * scale, cols * scale
@@ -272,7 +303,8 @@ def _to_source(grid: HorizontalGrid, frame: LocalFrame, x: ArrayLike, y: ArrayLi
         tr = Transformer.from_crs("EPSG:4326", grid.crs, always_xy=True)
         cx, cy = tr.transform(lon, lat)
         return np.asarray(cy), np.asarray(cx)
-    c0 = float(grid.cols[0])
+    # longitudes within 180 degrees of the data's middle: a point just west of the data stays west of it
+    c0 = 0.5 * float(grid.cols[0] + grid.cols[-1]) - 180.0
     return np.asarray(lat), c0 + np.mod(np.asarray(lon) - c0, 360.0)
 
 
@@ -308,7 +340,10 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
         return float(grid.cols[0]), float(grid.cols[-1]), float(grid.rows[0]), float(grid.rows[-1])
     if grid.kind == "curvilinear":
         x, y = frame.forward(grid.cols, grid.rows)
-        return float(x[:, 0].max()), float(x[:, -1].min()), float(y[0, :].max()), float(y[-1, :].min())
+        rect = float(x[:, 0].max()), float(x[:, -1].min()), float(y[0, :].max()), float(y[-1, :].min())
+        ring_x = np.r_[x[0, :], x[1:, -1], x[-1, -2::-1], x[-2:0:-1, 0]]
+        ring_y = np.r_[y[0, :], y[1:, -1], y[-1, -2::-1], y[-2:0:-1, 0]]
+        return _inside_ring(ring_x, ring_y, rect)
     r0, r1, c0, c1 = grid.rows[0], grid.rows[-1], grid.cols[0], grid.cols[-1]
     edges = {  # (fixed coordinate, which local component, sign of the extreme: +1 max, -1 min)
         "west": (lambda s: (r0 + s * (r1 - r0), c0), 0, 1.0),
@@ -330,7 +365,40 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
                               options={"xatol": 1e-12})
         best = min(float(vals[k]), float(res.fun))
         out[side] = -sign * best + sign * 1e-3
-    return out["west"], out["east"], out["south"], out["north"]
+    return _inside_footprint(grid, frame, (out["west"], out["east"], out["south"], out["north"]))
+
+
+def _inside_footprint(grid: HorizontalGrid, frame: LocalFrame,
+                      rect: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """``rect`` when it lies inside the data's projected footprint; otherwise (a grid turned far from the local
+    axes, e.g. a polar-stereographic forecast far from its central meridian) the largest rectangle of the
+    footprint's bounding-box proportions about its centroid that does (bisection on the scale)."""
+    s = np.linspace(0.0, 1.0, 201)
+    r0, r1, c0, c1 = grid.rows[0], grid.rows[-1], grid.cols[0], grid.cols[-1]
+    ring_r = np.r_[np.full_like(s, r0), r0 + s * (r1 - r0), np.full_like(s, r1), r1 - s * (r1 - r0)]
+    ring_c = np.r_[c0 + s * (c1 - c0), np.full_like(s, c1), c1 - s * (c1 - c0), np.full_like(s, c0)]
+    px, py = _from_source(grid, frame, ring_r, ring_c)
+    return _inside_ring(px, py, rect)
+
+
+def _inside_ring(px: _F64, py: _F64, rect: tuple[float, float, float, float]) -> tuple[float, float, float, float]:
+    """``rect`` if inside the ring's polygon, else the largest one of the polygon's proportions about its centroid."""
+    import shapely
+
+    poly = shapely.Polygon(np.column_stack([px, py])).buffer(-1e-3)
+    if rect[0] < rect[1] and rect[2] < rect[3] and poly.contains(shapely.box(rect[0], rect[2], rect[1], rect[3])):
+        return rect
+    cx, cy = poly.centroid.x, poly.centroid.y
+    bx0, by0, bx1, by1 = poly.bounds
+    w, h = bx1 - bx0, by1 - by0
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if poly.contains(shapely.box(cx - mid * w / 2, cy - mid * h / 2, cx + mid * w / 2, cy + mid * h / 2)):
+            lo = mid
+        else:
+            hi = mid
+    return cx - lo * w / 2, cx + lo * w / 2, cy - lo * h / 2, cy + lo * h / 2
 
 
 def _uncovered(grid: HorizontalGrid, qr: _F64, qc: _F64, tol_r: float, tol_c: float) -> list[str]:
@@ -472,7 +540,8 @@ def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
 def _native_cell(grid: HorizontalGrid) -> float:
     """The data's own node spacing (m) at its centre."""
     if grid.kind in ("projected", "local"):
-        return float(min(np.median(np.diff(grid.rows)), np.median(np.diff(grid.cols))))
+        deg = 111_320.0 if grid.crs is not None and grid.crs.is_geographic else 1.0  # rotated pole: degrees
+        return deg * float(min(np.median(np.diff(grid.rows)), np.median(np.diff(grid.cols))))
     lat, lon = np.asarray(grid.rows), np.asarray(grid.cols)
     if grid.kind == "curvilinear":
         dlat = float(np.median(np.abs(np.diff(lat, axis=0)))) * 111_320.0

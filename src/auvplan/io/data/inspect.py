@@ -16,9 +16,14 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
+from .bathymetry import _centre_lonlat, _fill_nan
 from .currents import _find, _z_axis, velocity_factor
-from .elevation import is_geotiff, read_elevation
-from .grids import axis_kind, horizontal_grid
+from .elevation import ElevationGrid, is_geotiff, read_elevation
+from .geo import LocalFrame
+from .grids import _native_cell, axis_kind, horizontal_grid
+from .inspect_frames import frame_lines, gap_line, roms_lines
+from .roms import is_s_coordinate
+from .seabed_model import model_seabed
 
 __all__ = ["inspect_file"]
 
@@ -44,7 +49,35 @@ def _bathymetry(path: Path) -> list[str]:
         f"as bathymetry: variable {eg.variable!r} ({eg.format})",
         f"  {eg.grid.describe()}",
         f"  values positive {eg.positive}; elevation (up) {rng}; {eg.missing} missing value(s)",
+        *_seabed_costs(eg),
     ]
+
+
+def _seabed_costs(eg: ElevationGrid, max_nodes: float = 2e6) -> list[str]:
+    """What the conservative seabed model costs (its height above the data) at a few cell sizes."""
+    grid = eg.grid
+    if grid.kind == "curvilinear":
+        return ["  seabed model: 2-D lat/lon grid, triangulated linearly (no excess measured)"]
+    if not np.isfinite(eg.z).any():
+        return []
+    native = _native_cell(grid)
+    lon, lat = _centre_lonlat(grid) if grid.kind != "local" else (0.0, 0.0)
+    frame = LocalFrame(lat, lon)
+    z = _fill_nan(eg.z, "nearest", eg.name, lambda j, i: "")
+    lines = ["  seabed model (conservative: never deeper than the data) — how much shallower, by cell:"]
+    for factor in (0.1, 0.25, 0.5, 1.0, 2.0):
+        cell = native * factor
+        nodes = grid.rows.size * grid.cols.size / factor**2
+        if nodes > max_nodes or min(grid.rows.size, grid.cols.size) / factor < 2:
+            continue
+        try:
+            *_, fit = model_seabed(grid, z, frame, extent_m=None, cell_m=cell, method="conservative", what=eg.name)
+        except DataError as exc:
+            return [f"  seabed model: not measured ({exc})"]
+        if fit is not None:
+            lines.append(f"    cell {cell:.0f} m: up to {fit.excess_max_m:.1f} m, mean {fit.excess_mean_m:.2f} m "
+                         "at the nodes")
+    return lines
 
 
 def _currents(path: Path) -> list[str]:
@@ -52,10 +85,12 @@ def _currents(path: Path) -> list[str]:
     try:
         with xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None)) as ds:
             names = {c: _find(ds, c, "", src, c != "w") for c in "uvw"}
+            if is_s_coordinate(ds, str(names["u"])):
+                return roms_lines(ds, str(names["u"]), str(names["v"]))
             da = ds[names["u"]]
             rdim, cdim, grid, _, _ = horizontal_grid(ds, da, src)
             lines = [f"as currents: u {names['u']!r}, v {names['v']!r}, w {names['w']!r}",
-                     f"  {grid.describe()}"]
+                     f"  {grid.describe()}", *frame_lines(ds, str(names["u"]), grid, (rdim, cdim), src)]
             for n in names.values():
                 if n is None:
                     continue
@@ -64,6 +99,8 @@ def _currents(path: Path) -> list[str]:
                 vals = np.asarray(ds[n].values, dtype=float)
                 lines.append(f"  {n}: units {units or '(none: taken as m/s)'} → × {factor:g} to m/s; "
                              f"{int(np.count_nonzero(~np.isfinite(vals)))} missing value(s) (land → zero current)")
+                gap = gap_line(ds, n, (rdim, cdim), src)
+                lines += [gap] if gap else []
             for d in map(str, da.dims):
                 if d in (rdim, cdim):
                     continue

@@ -13,11 +13,13 @@ import io
 import json
 import zipfile
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ...errors import DataError
 from ...world import Terrain
+from ...world.seabed import SeabedFit
 from ..safeio import atomic_write
 
 __all__ = ["TERRAIN_FILE", "save_terrain", "load_terrain", "scenario_base"]
@@ -44,7 +46,12 @@ def save_terrain(out: Path, terrain: Terrain | None) -> Path | None:
     if terrain is None:
         return None
     buf = io.BytesIO()
-    np.savez_compressed(buf, x=terrain.x, y=terrain.y, z=terrain.z, name=np.array(terrain.name))
+    fit = terrain.fit
+    arrays: dict[str, Any] = {"x": terrain.x, "y": terrain.y, "z": terrain.z, "name": np.array(terrain.name)}
+    if fit is not None:
+        arrays.update(fit_method=np.array(fit.method),
+                      fit=np.array([fit.excess_max_m, fit.excess_mean_m, fit.deficit_max_m]))
+    np.savez_compressed(buf, **arrays)
     return atomic_write(Path(out) / TERRAIN_FILE, buf.getvalue())
 
 
@@ -71,7 +78,8 @@ def load_terrain(out: Path) -> Terrain | None:
         return None
     try:
         with np.load(path, allow_pickle=False) as f:
-            return Terrain(f["x"], f["y"], f["z"], name=str(f["name"]))
+            fit = SeabedFit(str(f["fit_method"]), *map(float, f["fit"])) if "fit" in f else None
+            return Terrain(f["x"], f["y"], f["z"], name=str(f["name"]), fit=fit)
     except (KeyError, ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
         raise DataError(f"{path}: unreadable terrain cut-out ({exc})") from exc
 

@@ -19,6 +19,7 @@ from ..._types import Status
 from ...errors import DataError
 from ...planners.base import PlanResult
 from ...sim import RunRecord, SimResult, decimate
+from ...world.seabed import SeabedFit
 from ..safeio import atomic_write
 
 __all__ = [
@@ -35,6 +36,7 @@ __all__ = [
     "jsonable",
     "read_run",
     "summary_metrics",
+    "fit_metrics",
 ]
 
 JsonDict = dict[str, Any]
@@ -419,6 +421,24 @@ def _num(v: Any) -> float:
 
 
 # ---------------------------------------------------------------------------------------- exports
+
+
+def fit_metrics(fit: SeabedFit) -> JsonDict:
+    """The seabed model against its data, as metrics (the report's table and ``plan --json``).
+
+    Parameters
+    ----------
+    fit : SeabedFit
+        How the terrain sits against its data.
+
+    Returns
+    -------
+    dict
+        ``terrain_method``, ``terrain_excess_max_m``, ``terrain_excess_mean_m``, ``terrain_below_data_max_m``.
+    """
+    return {"terrain_method": fit.method, "terrain_excess_max_m": round(fit.excess_max_m, 3),
+            "terrain_excess_mean_m": round(fit.excess_mean_m, 3),
+            "terrain_below_data_max_m": round(fit.deficit_max_m, 3)}
 
 
 def summary_metrics(record: RunRecord) -> JsonDict:
