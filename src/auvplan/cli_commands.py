@@ -280,7 +280,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     result = run.sim
     record = records.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
+        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full, world.origin)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -307,7 +307,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
-        records.write_run(Path(out), record, text, full)
+        records.write_run(Path(out), record, text, full, world.origin)
         _save_context(Path(out), sc, world)
         _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
@@ -332,7 +332,7 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
     text = _scenario_text(sc)
     empty = result.path[:0].reshape(0, 3)
-    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
+    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     _save_context(out, sc, world)
 
 

@@ -5,6 +5,7 @@ goal, route and vehicles against it (and the simulation's record against the mem
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -24,6 +25,7 @@ from .bathymetry import load_terrain
 from .coast import read_land
 from .currents import read_currents
 from .geo import LocalFrame
+from .geoinput import apply_altitudes, clip_to_data
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 from .tides import load_tidal_current, parse_start_time
@@ -132,8 +134,14 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
+    if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
+        data = terrain if terrain is not None else _terrain(s, frame, None)
+        extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
+        s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
     if terrain is None:
         terrain = _terrain(s, frame, extent)
+    if s.geo is not None and s.geo.altitudes:
+        s = _place_altitudes(s, terrain)
     bounds = _bounds(s, terrain)
     currents = _currents(s, frame, bounds)
     land = None
@@ -186,6 +194,25 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         formation=s.formation,
     )
     return world, mission
+
+
+def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
+    """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`auvplan.io.geoinput`)."""
+    from .scenario import from_dict  # the loader imports this module
+
+    assert s.geo is not None
+    if terrain is None:
+        ref = s.geo.altitudes[0]
+        raise table_error(ref.where, ref.key, {"altitude": ref.altitude}, "an altitude needs a [terrain] (give a "
+                          "depth instead)")
+    x0, x1, y0, y1 = terrain.extent
+
+    def seabed(x: float, y: float) -> float:
+        return float(terrain.elevation(x, y)) if x0 <= x <= x1 and y0 <= y <= y1 else math.nan
+
+    placed = from_dict(apply_altitudes(s.geo, seabed), s.source, s.base_dir)
+    return replace(s, mission=placed.mission, obstacles=placed.obstacles, moving=placed.moving,
+                   formation=placed.formation)
 
 
 def _terrain(s: Scenario, frame: LocalFrame | None,

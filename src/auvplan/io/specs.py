@@ -20,6 +20,7 @@ from ..world import MovingObstacle
 from .bathymetry import TerrainSpec
 from .coast import LandSpec
 from .currents import CurrentsFileSpec, parse_time
+from .geoinput import GeoInput
 from .limits import Limits
 
 __all__ = [
@@ -301,6 +302,8 @@ class Scenario:
         Coastline source.
     formation : Formation or None
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
+    geo : GeoInput or None
+        What its geographic positions left for the build (:mod:`auvplan.io.geoinput`).
     """
 
     name: str
@@ -325,6 +328,7 @@ class Scenario:
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
     formation: Formation | None = None
+    geo: GeoInput | None = None
 
 
 SECTIONS: dict[str, type] = {
