@@ -154,7 +154,11 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             raise DataError(f"{src}: [land] {exc}") from exc
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
-    margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
+    rating = s.vehicle.max_depth_m  # the vehicle's depth rating clips the mission's depth band
+    if not rating > max(min_depth, 0.0):
+        raise table_error(f"{src}: [vehicle]", "max_depth_m", rating, f"the depth rating must exceed [mission] "
+                          f"min_depth_m = {m.min_depth_m:g}")
+    margins = Margins(m.min_altitude_m, min_depth, min(m.max_depth_m, rating), m.obstacle_margin_m)
     try:
         world = World(
             bounds=bounds,
@@ -192,6 +196,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         avoidance=s.avoidance,
         sim=s.sim,
         formation=s.formation,
+        follow_altitude_m=m.follow_altitude_m,
     )
     return world, mission
 

@@ -10,8 +10,10 @@ from .grid import GridReference, plan_grid, refine_plan, with_reference
 from .registry import REGISTRY, PlannerEntry, get, register
 from .swarm import plan_swarm
 from .timeplan import plan_timeopt
+from .vehicle_limits import enforce_limits
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
+           "enforce_limits",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
            "REFERENCE_SWARMS", "reference", "register", "with_reference"]
 
@@ -34,9 +36,11 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
     Returns
     -------
     PlanResult
-        Status, path, cost terms and history; a failure is a status, never an exception.
+        Status, path, cost terms and history; a failure is a status, never an exception.  With
+        ``problem.limits`` the result is held to the vehicle's limits
+        (:func:`~auvplan.planners.vehicle_limits.enforce_limits`: pitch repaired, else ``INFEASIBLE``).
     """
-    return get(spec.name).run(problem, spec, rng, progress)
+    return enforce_limits(problem, spec, get(spec.name).run(problem, spec, rng, progress))
 
 
 REFERENCE_SWARMS = ("iabc", "pso", "de")

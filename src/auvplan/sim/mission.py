@@ -68,6 +68,9 @@ class Mission:
     formation : Formation or None
         Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
         :mod:`auvplan.sim_formation` flies them.
+    follow_altitude_m : float
+        Terrain following: the mission's depth schedule holds this altitude above the seabed
+        within the vehicle's pitch limit (m; 0: off; :mod:`auvplan.guidance.fit_limits`).
     """
 
     name: str
@@ -83,4 +86,5 @@ class Mission:
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimSettings = field(default_factory=SimSettings)
     formation: Formation | None = None
+    follow_altitude_m: float = 0.0
 
