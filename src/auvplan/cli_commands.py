@@ -385,17 +385,23 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
-    from .io.formats import check_mission_file
+    from .flyable import check_limits
+    from .io.formats import check_mission_file, read_mission
+    from .sim.pipeline import vehicle_limits
 
     sc = scenario_io.load(args.scenario)
-    world, _ = scenario_io.build(sc)
+    world, mission = scenario_io.build(sc)
     worst = 0
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        rec = {"file": name, "format": fmt, **check.as_dict()}
+        limits = check_limits(read_mission(Path(name), world.origin)[0], vehicle_limits(mission.vehicle))
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict()}
         checks.append(rec)
-        worst = max(worst, 0 if check.ok else 1)
+        worst = max(worst, 0 if check.ok and limits.ok else 1)
+        if not args.json:
+            print(f"{name} vehicle: {'OK' if limits.ok else 'FAIL'} — {limits.summary}"
+                  + (f"; {len(limits.violations)} violations: {limits.message}" if not limits.ok else ""))
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")

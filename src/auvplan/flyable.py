@@ -148,6 +148,40 @@ class LimitReport:
         """
         return not self.violations
 
+    def as_dict(self) -> dict[str, object]:
+        """Summarise the report as plain JSON (lengths in m, angles in degrees).
+
+        Returns
+        -------
+        dict
+            ``ok``, ``max_pitch_deg``, ``max_pitch_leg``, ``tightest_turn_m``, ``tightest_turn_leg``,
+            ``deepest_m``, the ``limits`` and the ``violations`` (leg, limit, value, allowed, text).
+        """
+        lim = self.limits
+        return {"ok": self.ok, "max_pitch_deg": self.max_pitch_deg, "max_pitch_leg": self.max_pitch_leg,
+                "tightest_turn_m": self.tightest_turn_m, "tightest_turn_leg": self.tightest_turn_leg,
+                "deepest_m": self.max_depth_m,
+                "limits": {"max_pitch_deg": lim.max_pitch_deg, "turn_radius_m": lim.turn_radius_m,
+                           "max_depth_m": lim.max_depth_m},
+                "violations": [{"leg": v.leg, "limit": v.limit, "value": v.value, "allowed": v.allowed,
+                                "text": v.text} for v in self.violations]}
+
+    @property
+    def summary(self) -> str:
+        """One line: largest pitch, tightest turn and greatest depth against the limits.
+
+        Returns
+        -------
+        str
+            E.g. ``largest pitch 12.3° (leg 4; max_pitch_deg 20), tightest turn 41.0 m (leg 7; ...``.
+        """
+        lim = self.limits
+        turn = (f"{self.tightest_turn_m:.1f} m (leg {self.tightest_turn_leg})" if math.isfinite(self.tightest_turn_m)
+                else "none (straight)")
+        return (f"largest pitch {self.max_pitch_deg:.1f}° (leg {self.max_pitch_leg}; max_pitch_deg "
+                f"{lim.max_pitch_deg:g}), tightest turn {turn} (turn_radius_m {lim.turn_radius_m:g}), deepest "
+                f"{self.max_depth_m:.1f} m (max_depth_m {lim.max_depth_m:g})")
+
     @property
     def message(self) -> str:
         """The first violations as one line (empty when none).

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import BoolArray, FloatArray, IntArray
-from ..flyable import LimitReport, VehicleLimits, check_limits, pitch_profile, turn_angles
+from ..flyable import LimitReport, VehicleLimits, check_limits, cone_max, pitch_profile, turn_angles
 from ..world import World
 from .mission import envelopes_free
 
@@ -245,7 +245,9 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     floor = _floors(world, p, region, arcs, m.min_altitude + slack)
     floor[[0, -1]] = -np.inf
     if follow_altitude > 0.0:
-        target = np.maximum(_floors(world, p, region, arcs, follow_altitude), floor)
+        # hold at least the altitude: climbs the vehicle cannot follow start early (cone_max)
+        target = cone_max(sf, np.maximum(_floors(world, p, region, arcs, follow_altitude), floor),
+                          math.tan(math.radians(limits.max_pitch_deg)))
     else:
         target = p[:, 2]
     slope = math.tan(math.radians(limits.max_pitch_deg))
