@@ -25,6 +25,7 @@ from auvplan.flyable import (
 )
 from auvplan.guidance.mission import fly_check
 from auvplan.io import scenario as scenario_io
+from auvplan.path import resample_polyline
 from auvplan.planners import plan
 from auvplan.planners.base import PlanResult
 from auvplan.planners.vehicle_limits import enforce_limits
@@ -228,3 +229,24 @@ def test_plan_result_message_names_leg_and_limit() -> None:
     out = enforce_limits(planning_problem(world, mission), mission.planner, r)
     assert out.status is Status.INFEASIBLE
     assert out.message.endswith("leg 1: its turns fit a radius of 3.0 m only < turn_radius_m = 10")
+
+
+def test_terrain_following_on_real_bathymetry_climbs_as_late_as_the_pitch_allows() -> None:
+    """marcus-terrain-follow (real ETOPO1, written in lat/lon): every leg within 12°, never below
+    min_altitude under either depth semantics, and the scheduled depth is the least 12°-limited
+    profile above seabed + 50 m (independent O(N²) cone envelope along the route)."""
+    world, mission = scenario_io.build(scenario_io.load("marcus-terrain-follow"))
+    assert mission.follow_altitude_m == 50.0 and mission.vehicle.max_pitch_deg == 12.0
+    planned, route = planned_route(world, mission, 1)
+    assert planned is None and route is not None
+    assert np.abs(leg_pitch_deg(route)).max() <= 12.0 + 1e-9
+    assert fly_check(world, route, "ramp").min_altitude_m >= 20.0
+    held = fly_check(world, route, "held", 12.0)
+    assert held.ok and held.min_altitude_m >= 20.0
+    d = resample_polyline(route, 50.0)
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(d[:, :2], axis=0).T))]
+    g = world.seabed(d[:, 0], d[:, 1]) + 50.0
+    brute = np.max(g[None, :] - math.tan(math.radians(12.0)) * np.abs(s[:, None] - s[None, :]), axis=1)
+    diff = d[:, 2] - brute
+    assert -2.0 <= diff.min() and diff.max() <= 3.5 and np.percentile(np.abs(diff), 99) <= 2.0
+    assert np.mean(np.abs(d[:, 2] - g) <= 5.0) > 0.5  # holds 50 ± 5 m on over half the route

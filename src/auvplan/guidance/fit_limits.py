@@ -13,11 +13,12 @@ the vehicle can fly:
   the target where it is flyable; climbs started early (``cone_max`` of the floor) and dives ended
   late, so no leg is steeper than ``max_pitch_deg`` and no vertex is below its floor (the highest
   seabed under its legs + ``min_altitude``), the start and goal kept.
-* **Terrain following.**  With ``follow_altitude`` > 0 the target is the highest seabed under
-  each vertex's legs (and turn arc) + that altitude: the mission holds the altitude wherever the
-  pitch limit allows and is higher only where the seabed rises faster than the vehicle can climb.
+* **Terrain following.**  With ``follow_altitude`` > 0 the target is the seabed under each point
+  (in a turn region, the highest seabed under the arc) + that altitude, raised by ``cone_max``
+  where the seabed rises faster than the vehicle can climb: the mission holds the altitude
+  wherever the pitch limit allows and is higher only there (and where a descent cannot keep up).
 
-The dense profile (points every half terrain cell) is then simplified: a chord replaces points
+The dense profile (points every quarter terrain cell) is then simplified: a chord replaces points
 when it stays within ``tolerance`` of the profile and its deeper end clears every floor under it
 (the leg's envelope, so that a depth held per leg is safe too; a chord of a profile within the
 pitch limit is within it too); points inside a turn region never become waypoints, so
@@ -237,7 +238,7 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
         return MissionFit(w.copy(), check_limits(w, limits), True, "")
     radius = limits.turn_radius_m
     s, dpsi, t, arc = _corner_geometry(w, radius)
-    spacing = min(world.terrain.dx, world.terrain.dy) / 2.0 if world.terrain is not None else max(s[-1], 1.0)
+    spacing = min(world.terrain.dx, world.terrain.dy) / 4.0 if world.terrain is not None else max(s[-1], 1.0)
     p, d, region = _dense(w, spacing, s, t)
     sf = flown_distance(d, s, t, arc)
     arcs = _arc_seabed(world, w, radius, t, dpsi)
@@ -246,8 +247,12 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     floor[[0, -1]] = -np.inf
     if follow_altitude > 0.0:
         # hold at least the altitude: climbs the vehicle cannot follow start early (cone_max)
-        target = cone_max(sf, np.maximum(_floors(world, p, region, arcs, follow_altitude), floor),
-                          math.tan(math.radians(limits.max_pitch_deg)))
+        # (the seabed under the point, or the highest under its turn's arc: not the conservative floor)
+        seabed = world.terrain.elevation(p[:, 0], p[:, 1]) if world.terrain is not None else np.full(len(p), -np.inf)
+        for i, zb in enumerate(arcs):
+            if np.isfinite(zb):
+                seabed[region == i] = np.maximum(seabed[region == i], zb)
+        target = cone_max(sf, np.maximum(seabed + follow_altitude, floor), math.tan(math.radians(limits.max_pitch_deg)))
     else:
         target = p[:, 2]
     slope = math.tan(math.radians(limits.max_pitch_deg))
