@@ -395,7 +395,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        limits = check_limits(read_mission(Path(name), world.origin)[0], vehicle_limits(mission.vehicle))
+        points = read_mission(Path(name), world.origin)[0]
+        # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
+        limits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict()}
         checks.append(rec)
         worst = max(worst, 0 if check.ok and limits.ok else 1)

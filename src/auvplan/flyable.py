@@ -25,12 +25,14 @@ from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["VehicleLimits", "LimitViolation", "LimitReport", "leg_pitch_deg", "turn_angles", "leg_turn_radius",
            "check_limits", "flyby_arcs", "merge_close", "corner_indices", "MIN_LEG_M", "MERGE_FRACTION",
-           "TRACK_FRACTION", "cone_max", "cone_min",
-           "pitch_profile"]
+           "PITCH_SLACK_DEG", "TRACK_FRACTION", "cone_max", "cone_min", "pitch_profile"]
 
 _F64 = NDArray[np.float64]
 """Array of float64 (units as documented per parameter)."""
 
+PITCH_SLACK_DEG = 0.05
+"""Pitch kept below the limit by the mission builder and the planners' repair, so that the rounding
+of exported coordinates (1 mm) cannot take a leg of 2.5 m or more over the limit."""
 MIN_LEG_M = 1e-6
 """Legs shorter than this horizontally have no heading (a vertical leg: its pitch is 90°)."""
 TRACK_FRACTION = 0.1

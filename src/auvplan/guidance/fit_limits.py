@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import BoolArray, FloatArray, IntArray
-from ..flyable import LimitReport, VehicleLimits, check_limits, cone_max, pitch_profile, turn_angles
+from ..flyable import PITCH_SLACK_DEG, LimitReport, VehicleLimits, check_limits, cone_max, pitch_profile, turn_angles
 from ..world import World
 from .mission import envelopes_free
 
@@ -245,6 +245,7 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     m = world.margins
     floor = _floors(world, p, region, arcs, m.min_altitude + slack)
     floor[[0, -1]] = -np.inf
+    slope = math.tan(math.radians(max(limits.max_pitch_deg - PITCH_SLACK_DEG, 0.5 * limits.max_pitch_deg)))
     if follow_altitude > 0.0:
         # hold at least the altitude: climbs the vehicle cannot follow start early (cone_max)
         # (the seabed under the point, or the highest under its turn's arc: not the conservative floor)
@@ -252,10 +253,9 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
         for i, zb in enumerate(arcs):
             if np.isfinite(zb):
                 seabed[region == i] = np.maximum(seabed[region == i], zb)
-        target = cone_max(sf, np.maximum(seabed + follow_altitude, floor), math.tan(math.radians(limits.max_pitch_deg)))
+        target = cone_max(sf, np.maximum(seabed + follow_altitude, floor), slope)
     else:
         target = p[:, 2]
-    slope = math.tan(math.radians(limits.max_pitch_deg))
     z, ok = pitch_profile(sf, target, floor, slope, float(w[0, 2]), float(w[-1, 2]), ceiling=-m.min_depth,
                           deepest=-min(m.max_depth, limits.max_depth_m))
     z[[0, -1]] = w[[0, -1], 2]

@@ -18,7 +18,7 @@ from dataclasses import replace
 import numpy as np
 
 from .._types import FloatArray, Status
-from ..flyable import check_limits, pitch_profile
+from ..flyable import PITCH_SLACK_DEG, check_limits, pitch_profile
 from ..world import World
 from .band import path_cost
 from .base import SWARM, PlannerSpec, PlanningProblem, PlanResult
@@ -78,7 +78,8 @@ def repair_pitch(world: World, path: FloatArray, max_pitch_deg: float, slack: fl
     m = world.margins
     floor = vertex_floors(world, p) + slack
     floor[[0, -1]] = -np.inf  # the ends are pinned where they are
-    z, ok = pitch_profile(s, p[:, 2], floor, math.tan(math.radians(max_pitch_deg)), float(p[0, 2]),
+    slope = math.tan(math.radians(max(max_pitch_deg - PITCH_SLACK_DEG, 0.5 * max_pitch_deg)))
+    z, ok = pitch_profile(s, p[:, 2], floor, slope, float(p[0, 2]),
                           float(p[-1, 2]), ceiling=-m.min_depth, deepest=-m.max_depth)
     if not ok:
         return None
