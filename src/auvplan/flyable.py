@@ -6,7 +6,9 @@ radius R tangent to both legs.  Through a heading change Δψ the arc's tangent 
 
     R (tan(Δψ_k / 2) + tan(Δψ_{k+1} / 2)) <= L_k          (L_k: the leg's horizontal length)
 
-which is also the curvature limit κ <= 1/R of a densely sampled curve (Δψ ≈ L κ).  The largest
+which is also the curvature limit κ <= 1/R of a densely sampled curve (Δψ ≈ L κ).  A sampled
+curve is judged on its track simplified to ``TRACK_FRACTION`` · R horizontally
+(:func:`corner_indices`), so that micro-legs of a spline's samples are not taken for turns.  The largest
 radius that fits a leg is ``L_k / (tan(Δψ_k/2) + tan(Δψ_{k+1}/2))``; the tightest turn of a
 polyline is the least of those.  A leg's pitch is ``atan(|Δz| / L_k)``; the depth rating bounds
 every vertex's depth.  :func:`check_limits` reports the largest pitch, the tightest turn and every
