@@ -186,8 +186,9 @@ def _result_commands(sub: Any) -> None:
     s = sub.add_parser("mission", help="work with exported mission files")
     msub = s.add_subparsers(dest="mission_command", required=True)
     c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
-                                "scenario's seabed, static obstacles, sea surface, depth band and bounds "
-                                "(exit 1 when one is broken)",
+                                "scenario's seabed, static obstacles, sea surface, depth band and bounds, and "
+                                "check the [vehicle]'s pitch, turn radius and depth rating (exit 1 when one is "
+                                "broken)",
                  "_cmd_mission_check")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")

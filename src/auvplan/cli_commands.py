@@ -303,7 +303,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     result = run.sim
     record = records.sim_record(result, sc.name, seed, result.avoidance)
     if args.out:
-        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full)
+        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full, world.origin)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
@@ -334,7 +334,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
-        records.write_run(Path(out), record, text, full)
+        records.write_run(Path(out), record, text, full, world.origin)
         _save_context(Path(out), sc, world)
         _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record
@@ -363,7 +363,7 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
     text = _scenario_text(sc)
     empty = result.path[:0].reshape(0, 3)
-    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text)
+    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     _save_context(out, sc, world)
 
 
@@ -429,19 +429,27 @@ def _cmd_export(args: argparse.Namespace) -> int:
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
-    from .io.missions.formats import check_mission_file
+    from .flyable import check_limits
+    from .io.missions.formats import check_mission_file, read_mission
     from .io.results import records
     from .io.scenario import loader as scenario_io
+    from .sim.pipeline import vehicle_limits
 
     sc = scenario_io.load(args.scenario)
-    world, _ = scenario_io.build(sc)
+    world, mission = scenario_io.build(sc)
     worst = 0
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        rec = {"file": name, "format": fmt, **check.as_dict()}
+        points = read_mission(Path(name), world.origin)[0]
+        # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
+        limits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict()}
         checks.append(rec)
-        worst = max(worst, 0 if check.ok else 1)
+        worst = max(worst, 0 if check.ok and limits.ok else 1)
+        if not args.json:
+            print(f"{name} vehicle: {'OK' if limits.ok else 'FAIL'} — {limits.summary}"
+                  + (f"; {len(limits.violations)} violations: {limits.message}" if not limits.ok else ""))
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")

@@ -81,6 +81,16 @@ class VehicleParams:
         Standard deviation of the wave sway disturbance v_w (m/s); 0 switches it off.
     wave_tau : float
         Correlation time of the Gauss–Markov wave disturbances (s).
+    max_pitch_deg : float
+        Largest pitch a plan or mission may ask of the vehicle (degrees, in (0, 90]; 90: no limit,
+        a point vehicle): every planner's result, the mission builder and ``mission check``
+        enforce it (20°, within the 15–25° operators plan REMUS-class vehicles at).
+    turn_radius_m : float
+        Least fly-by turn radius (m; 0 switches the turn check off): 10 m, the steady turn of
+        this model at full rudder (``turning_radius``).
+    max_depth_m : float
+        Depth rating (m): 6000 m, the REMUS 6000's (a REMUS 100 is rated to 100 m, a REMUS 600 to
+        600 m); the mission's depth band is clipped to it.
     """
 
     speed: float = 1.5
@@ -103,6 +113,9 @@ class VehicleParams:
     wave_sigma_r: float = 0.0
     wave_sigma_v: float = 0.0
     wave_tau: float = 5.0
+    max_pitch_deg: float = 20.0
+    turn_radius_m: float = 10.0
+    max_depth_m: float = 6000.0
 
     def __post_init__(self) -> None:
         positive = ("speed", "max_speed", "surge_time_constant", "nomoto_T", "nomoto_K", "rudder_max_deg",
@@ -121,6 +134,10 @@ class VehicleParams:
             raise ValueError("rudder_max_deg and pitch_max_deg must be below 90")
         if self.propulsive_efficiency > 1:
             raise ValueError(f"propulsive_efficiency = {self.propulsive_efficiency}: must be <= 1")
+        if not 0 < self.max_pitch_deg <= 90:
+            raise ValueError(f"max_pitch_deg = {self.max_pitch_deg}: must lie in (0, 90] (90: no pitch limit)")
+        if self.turn_radius_m < 0 or not self.max_depth_m > 0:
+            raise ValueError("turn_radius_m must be >= 0 and max_depth_m > 0")
 
     @property
     def drag_k(self) -> float:

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from .timeopt.planner import plan_timeopt
 
 __all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
+           "enforce_limits",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
            "REFERENCE_SWARMS", "reference", "register", "refine_plan", "with_reference"]
 
@@ -67,12 +68,16 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
     Returns
     -------
     PlanResult
-        Status, path, cost terms and history; a failure is a status, never an exception.
+        Status, path, cost terms and history; a failure is a status, never an exception.  With
+        ``problem.limits`` the result is held to the vehicle's limits
+        (:func:`~auvplan.planners.vehicle_limits.enforce_limits`: pitch repaired, else ``INFEASIBLE``).
     """
+    from .vehicle_limits import enforce_limits
+
     result = get(spec.name).run(problem, spec, rng, progress)
     if not isinstance(result, PlanResult):  # a planner registered from outside that breaks the interface
         raise TypeError(f"planner {spec.name!r} returned {type(result).__name__}, not a PlanResult")
-    return result
+    return enforce_limits(problem, spec, result)
 
 
 REFERENCE_SWARMS = ("iabc", "pso", "de")

@@ -9,6 +9,7 @@ from typing import Any, TypeAlias
 import numpy as np
 
 from .._types import FloatArray, Status
+from ..flyable import VehicleLimits
 from ..optim.bee import ABCParams, IABCParams
 from ..optim.de import DEParams
 from ..optim.ga import GAParams
@@ -212,6 +213,9 @@ class PlanningProblem:
         Power drawn regardless of speed (W).
     drag_k : float
         Propulsion power coefficient k in ``P = k V³`` (W s³/m³).
+    limits : VehicleLimits or None
+        Pitch, turn radius and depth rating every result is held to
+        (:func:`auvplan.planners.vehicle_limits.enforce_limits`); None: not checked.
 
     Raises
     ------
@@ -225,6 +229,7 @@ class PlanningProblem:
     speed: float = 1.5
     hotel_power: float = 15.0
     drag_k: float = 5.8
+    limits: VehicleLimits | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "start", np.asarray(self.start, dtype=float).reshape(3))

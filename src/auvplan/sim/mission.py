@@ -72,6 +72,9 @@ class Mission:
     formation : Formation or None
         Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
         :mod:`auvplan.sim.formation` flies them.
+    follow_altitude_m : float
+        Terrain following: the mission's depth schedule holds this altitude above the seabed
+        within the vehicle's pitch limit (m; 0: off; :mod:`auvplan.guidance.fit_limits`).
     """
 
     name: str
@@ -87,4 +90,5 @@ class Mission:
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimParams = field(default_factory=SimParams)
     formation: Formation | None = None
+    follow_altitude_m: float = 0.0
 

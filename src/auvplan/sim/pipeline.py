@@ -4,22 +4,27 @@ closed-loop simulation (:func:`run_mission`), and its pieces."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._types import RngLike
+from .._types import RngLike, Status
+from ..flyable import VehicleLimits, check_limits
+from ..guidance.fit_limits import MissionFit, fit_mission
 from ..guidance.local import key_waypoints
 from ..guidance.mission import build_waypoints
 from ..path import resample_polyline
 from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
+from ..vehicles import VehicleParams
 from ..world import World
 from .loop import simulate
 from .mission import Mission
 from .result import RunRecord
 
-__all__ = ["planning_problem", "run_mission", "route_from_path", "mission_route", "planned_route"]
+__all__ = ["vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path", "mission_route",
+           "planned_route"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -35,11 +40,28 @@ def planning_problem(world: World, mission: Mission) -> PlanningProblem:
     Returns
     -------
     PlanningProblem
-        Start, goal (m), speed (m/s), hotel power (W) and drag factor (W s³/m³) in the world.
+        Start, goal (m), speed (m/s), hotel power (W), drag factor (W s³/m³) and the vehicle's
+        limits (pitch, turn radius, depth rating) in the world.
     """
     v = mission.vehicle
     return PlanningProblem(world, np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float),
-                           v.speed, v.hotel_power, v.drag_k)
+                           v.speed, v.hotel_power, v.drag_k, vehicle_limits(v))
+
+
+def vehicle_limits(vehicle: VehicleParams) -> VehicleLimits:
+    """The limits a vehicle's plans and missions are held to.
+
+    Parameters
+    ----------
+    vehicle : VehicleParams
+        The ``[vehicle]`` table.
+
+    Returns
+    -------
+    VehicleLimits
+        ``max_pitch_deg``, ``turn_radius_m`` and ``max_depth_m``.
+    """
+    return VehicleLimits(vehicle.max_pitch_deg, vehicle.turn_radius_m, vehicle.max_depth_m)
 
 
 def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
@@ -63,18 +85,48 @@ def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
     return resample_polyline(path, spacing)
 
 
-def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np.float64]:
-    """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
+def fitted_route(world: World, mission: Mission, route: ArrayLike) -> MissionFit:
+    """A mission's waypoints held to its vehicle's limits (:func:`auvplan.guidance.fit_limits.fit_mission`).
 
-    :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
-    Douglas–Peucker where the exact envelope test decides what may be dropped.
+    A mission within the limits and without ``follow_altitude_m`` is kept as it is; otherwise its
+    depth schedule is fitted (terrain following, climbs within the pitch limit, fly-by turns).
 
     Parameters
     ----------
     world : World
         Seabed, static obstacles and margins.
     mission : Mission
-        The mission (unused today; kept for mission-specific settings).
+        The vehicle (its limits) and ``follow_altitude_m``.
+    route : array_like
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    MissionFit
+        The waypoints, their limit report and whether the vehicle can fly them.
+    """
+    lim = vehicle_limits(mission.vehicle)
+    w = np.asarray(route, dtype=float).reshape(-1, 3)
+    if mission.follow_altitude_m <= 0.0:
+        report = check_limits(w, lim)
+        if report.ok:
+            return MissionFit(w, report, True, "")
+    return fit_mission(w, world, lim, mission.follow_altitude_m)
+
+
+def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np.float64]:
+    """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
+
+    :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
+    Douglas–Peucker where the exact envelope test decides what may be dropped; then
+    :func:`fitted_route` (the vehicle's limits, terrain following).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    mission : Mission
+        The vehicle's limits and ``follow_altitude_m``.
     path : array_like
         ``(M, 3)`` dense planned path (m).
 
@@ -83,12 +135,15 @@ def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np
     numpy.ndarray
         ``(N, 3)`` waypoints (m), safe under held and ramped depth semantics.
     """
-    return build_waypoints(path, world)
+    return fitted_route(world, mission, build_waypoints(path, world)).waypoints
 
 
 def planned_route(world: World, mission: Mission, seed: RngLike,
                   progress: Progress | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
     """The route a mission flies: its fixed route, or the global plan's (:func:`mission_route`).
+
+    Either is held to the vehicle's limits (:func:`fitted_route`); a mission the vehicle cannot
+    fly is an ``INFEASIBLE`` plan naming the leg and the limit, with no route.
 
     Parameters
     ----------
@@ -104,14 +159,24 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     Returns
     -------
     tuple
-        The plan (None for a fixed route) and the route ``(N, 3)`` (m), None when the plan failed.
+        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None
+        when the plan or the fit failed.
     """
     if mission.route:
-        return None, np.asarray(mission.route, dtype=float)
+        fit = fitted_route(world, mission, mission.route)
+        if fit.ok:
+            return None, fit.waypoints
+        route = np.asarray(mission.route, dtype=float)
+        return PlanResult(Status.INFEASIBLE, route, float("inf"), {}, 0, 0, 0.0, np.empty(0), "route",
+                          message=f"the vehicle cannot fly the [mission] route: {fit.message}"), None
     planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
     if not planned.status.ok:
         return planned, None
-    return planned, mission_route(world, mission, planned.path)
+    fit = fitted_route(world, mission, build_waypoints(planned.path, world))
+    if not fit.ok:
+        return replace(planned, status=Status.INFEASIBLE,
+                       message=f"the vehicle cannot fly the mission built from the plan: {fit.message}"), None
+    return planned, fit.waypoints
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,

@@ -20,6 +20,7 @@ from ...errors import DataError
 from ...planners.base import PlanResult
 from ...sim import RunRecord, SimResult, decimate
 from ...world.seabed import SeabedFit
+from ..data.geo import LocalFrame
 from ..safeio import atomic_write
 
 __all__ = [
@@ -157,7 +158,8 @@ def write_json(path: Path, obj: Any) -> Path:
     return write_text(path, json.dumps(jsonable(obj), indent=2) + "\n")
 
 
-def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z") -> Path:
+def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z",
+                   origin: tuple[float, float] | None = None, xy: tuple[int, int] = (0, 1)) -> Path:
     """Write points ``(N, k)`` as CSV with a header line.
 
     Parameters
@@ -168,18 +170,30 @@ def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z") -> Path
         ``(N, k)`` rows (units as the header says; m for x, y, z).
     header : str, optional
         The header line.
+    origin : tuple of 2 float, optional
+        ``(lat, lon)`` of the local frame: two columns ``lat,lon`` (degrees, WGS 84, 8 decimals)
+        are appended, unprojected from the columns ``xy``.
+    xy : tuple of 2 int, optional
+        The columns holding x and y (m).
 
     Returns
     -------
     pathlib.Path
         ``path``.
     """
+    rows = np.asarray(points, dtype=float).reshape(-1, len(header.split(",")))
+    fmt = ["%.3f"] * rows.shape[1]
+    if origin is not None:
+        lon, lat = LocalFrame(*origin).inverse(rows[:, xy[0]], rows[:, xy[1]])
+        rows = np.column_stack([rows, lat, lon])
+        header, fmt = header + ",lat,lon", fmt + ["%.8f", "%.8f"]
     buf = io.StringIO()
-    np.savetxt(buf, np.asarray(points, dtype=float), delimiter=",", header=header, comments="", fmt="%.3f")
+    np.savetxt(buf, rows, delimiter=",", header=header, comments="", fmt=fmt)
     return write_text(path, buf.getvalue())
 
 
-def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "") -> JsonDict:
+def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scenario_text: str = "",
+               origin: tuple[float, float] | None = None) -> JsonDict:
     """Write ``metrics.json``, ``path.csv`` and the scenario source into ``out_dir``.
 
     Parameters
@@ -194,6 +208,8 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
         The planner's seed.
     scenario_text : str, optional
         The scenario's TOML source, copied as ``scenario.toml``.
+    origin : tuple of 2 float, optional
+        ``(lat, lon)`` of the local frame: ``path.csv`` gets ``lat,lon`` columns.
 
     Returns
     -------
@@ -205,9 +221,9 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     record = plan_record(result, scenario, seed)
     write_json(out / "metrics.json", record)
     if result.path.size and result.times is not None:  # timed plans: the time at each vertex (s after start_time)
-        write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time")
+        write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time", origin)
     elif result.path.size:
-        write_path_csv(out / "path.csv", result.path)
+        write_path_csv(out / "path.csv", result.path, origin=origin)
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
     return record
@@ -245,7 +261,7 @@ def sim_record(result: SimResult, scenario: str, seed: int, avoidance: str = "no
 
 
 def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoidance: str = "none",
-              full: bool = False) -> JsonDict:
+              full: bool = False, origin: tuple[float, float] | None = None) -> JsonDict:
     """Write ``sim_metrics.json`` and ``track.csv`` into ``out_dir``.
 
     ``track.csv``: t, x, y, z, heading, speed, rudder, cross-track (s, m, rad, m/s); decimated by
@@ -265,6 +281,8 @@ def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoida
         The local avoidance used.
     full : bool, optional
         Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+    origin : tuple of 2 float, optional
+        ``(lat, lon)`` of the local frame: ``track.csv`` gets ``lat,lon`` columns.
 
     Returns
     -------
@@ -278,7 +296,8 @@ def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoida
     result = result if full else decimate(result)
     cols = np.column_stack([result.t, result.position, result.heading, result.speed, result.rudder,
                             result.route_error])
-    write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m")
+    write_path_csv(out / "track.csv", cols, header="t,x,y,z,heading_rad,speed_mps,rudder_rad,cross_track_m",
+                   origin=origin, xy=(1, 2))
     return record
 
 
@@ -308,7 +327,8 @@ def run_record(record: RunRecord, avoidance: str = "") -> JsonDict:
     }))
 
 
-def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False) -> JsonDict:
+def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: bool = False,
+              origin: tuple[float, float] | None = None) -> JsonDict:
     """Write a mission's results into ``out_dir``.
 
     run.json, metrics.json (plan), path.csv, route.csv (the mission), keys.csv, sim_metrics.json
@@ -324,6 +344,9 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
         The scenario's TOML source, copied as ``scenario.toml``.
     full : bool, optional
         Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+    origin : tuple of 2 float, optional
+        ``(lat, lon)`` of the local frame: ``path.csv``, ``route.csv``, ``keys.csv`` and ``track.csv``
+        get ``lat,lon`` columns.
 
     Returns
     -------
@@ -333,12 +356,12 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     if record.plan is not None:
-        write_plan(out, record.plan, record.scenario, record.seed)
+        write_plan(out, record.plan, record.scenario, record.seed, origin=origin)
     if record.route.size:
-        write_path_csv(out / "route.csv", record.route)
-        write_path_csv(out / "keys.csv", record.keys)
+        write_path_csv(out / "route.csv", record.route, origin=origin)
+        write_path_csv(out / "keys.csv", record.keys, origin=origin)
     if record.sim is not None:
-        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full)
+        write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full, origin)
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
     rec = run_record(record)

@@ -6,6 +6,7 @@ goal, route and vehicles against it (and the simulation's record against the mem
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -26,6 +27,7 @@ from ..data.currents import read_currents
 from ..data.geo import LocalFrame
 from ..data.tides import load_tidal_current, parse_start_time
 from . import limits as _limits
+from .geoinput import apply_altitudes, clip_to_data
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 
@@ -133,8 +135,14 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
+    if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
+        data = terrain if terrain is not None else _terrain(s, frame, None)
+        extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
+        s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
     if terrain is None:
         terrain = _terrain(s, frame, extent)
+    if s.geo is not None and s.geo.altitudes:
+        s = _place_altitudes(s, terrain)
     bounds = _bounds(s, terrain)
     currents = _currents(s, frame, bounds)
     land = None
@@ -147,7 +155,11 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             raise DataError(f"{src}: [land] {exc}") from exc
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
-    margins = Margins(m.min_altitude_m, min_depth, m.max_depth_m, m.obstacle_margin_m)
+    rating = s.vehicle.max_depth_m  # the vehicle's depth rating clips the mission's depth band
+    if not rating > max(min_depth, 0.0):
+        raise table_error(f"{src}: [vehicle]", "max_depth_m", rating, f"the depth rating must exceed [mission] "
+                          f"min_depth_m = {m.min_depth_m:g}")
+    margins = Margins(m.min_altitude_m, min_depth, min(m.max_depth_m, rating), m.obstacle_margin_m)
     try:
         world = World(
             bounds=bounds,
@@ -185,8 +197,28 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         avoidance=s.avoidance,
         sim=s.sim,
         formation=s.formation,
+        follow_altitude_m=m.follow_altitude_m,
     )
     return world, mission
+
+
+def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
+    """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`auvplan.io.scenario.geoinput`)."""
+    from .loader import from_dict  # the loader imports this module
+
+    assert s.geo is not None
+    if terrain is None:
+        ref = s.geo.altitudes[0]
+        raise table_error(ref.where, ref.key, {"altitude": ref.altitude}, "an altitude needs a [terrain] (give a "
+                          "depth instead)")
+    x0, x1, y0, y1 = terrain.extent
+
+    def seabed(x: float, y: float) -> float:
+        return float(terrain.elevation(x, y)) if x0 <= x <= x1 and y0 <= y <= y1 else math.nan
+
+    placed = from_dict(apply_altitudes(s.geo, seabed), s.source, s.base_dir)
+    return replace(s, mission=placed.mission, obstacles=placed.obstacles, moving=placed.moving,
+                   formation=placed.formation)
 
 
 def _terrain(s: Scenario, frame: LocalFrame | None,

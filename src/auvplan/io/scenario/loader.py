@@ -54,6 +54,7 @@ from ..data.bathymetry import TerrainSpec
 from . import limits as _limits
 from .build import build
 from .builtins import builtin_scenarios, resolve
+from .geoinput import resolve_positions
 from .limits import Limits
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
@@ -297,6 +298,10 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         The validated scenario.
     """
     name, description, seed = _header(data, source)
+    raw = data
+    geo = resolve_positions(data, source)  # {lat, lon, depth | altitude} -> metre triples (io.scenario.geoinput)
+    if geo is not None:
+        data = geo.metric
     limits = _section(data, "limits", source)
     origin = _section(data, "origin", source) if "origin" in data else None
     bounds = _section(data, "bounds", source)
@@ -337,10 +342,11 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         guidance=_section(data, "guidance", source),
         avoidance=_section(data, "avoidance", source),
         sim=sim,
-        raw=copy.deepcopy(data),
+        raw=copy.deepcopy(raw),
         limits=limits,
         land=land,
         formation=formation,
+        geo=geo,
     )
 
 

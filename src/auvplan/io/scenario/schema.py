@@ -24,7 +24,7 @@ from . import loader as sc
 from . import specs
 from .tables import MAX_MAGNITUDE
 
-__all__ = ["SCHEMA_VERSION", "scenario_schema", "template", "field_docs"]
+__all__ = ["SCHEMA_VERSION", "scenario_schema", "template", "field_docs", "GEO_POSITION"]
 
 SCHEMA_VERSION = "1.0"
 """Version of the scenario format (bumped when keys change meaning or disappear)."""
@@ -195,6 +195,8 @@ def scenario_schema() -> dict[str, Any]:
         "vehicles": {"type": "array", "items": table_schema(VehicleSpec), "minItems": 2,
                      "description": "Several vehicles flying the route in [formation]."},
     }
+    for table in (props["mission"], props["obstacles"], props["moving"], props["vehicles"]):
+        _geographic_positions(table)
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": f"https://auvplan.invalid/schema/scenario-{SCHEMA_VERSION}.json",
@@ -207,6 +209,42 @@ def scenario_schema() -> dict[str, Any]:
         "required": ["mission"],
         "additionalProperties": False,
     }
+
+
+GEO_POSITION: dict[str, Any] = {
+    "type": "object",
+    "description": "A geographic position (WGS 84, degrees) with a depth below the surface or an altitude above "
+                   "the seabed (m); see auvplan.io.scenario.geoinput.",
+    "properties": {"lat": {"type": "number", "minimum": -90, "maximum": 90},
+                   "lon": {"type": "number", "minimum": -360, "maximum": 360},
+                   "depth": _number(False), "altitude": {"type": "number", "minimum": 0, "maximum": MAX_MAGNITUDE}},
+    "required": ["lat", "lon"],
+    "oneOf": [{"required": ["depth"]}, {"required": ["altitude"]}],
+    "additionalProperties": False,
+}
+"""``{ lat, lon, depth | altitude }``: accepted wherever a scenario takes a metre triple."""
+
+
+def _is_triple(node: Any) -> bool:
+    return isinstance(node, dict) and node.get("type") == "array" and len(node.get("prefixItems", ())) == 3
+
+
+def _geographic_positions(node: Any) -> None:
+    """Let every position of a table (start, goal, center, route and points items) be geographic too."""
+    if isinstance(node, list):
+        for item in node:
+            _geographic_positions(item)
+        return
+    if not isinstance(node, dict):
+        return
+    for key, sub in list(node.get("properties", {}).items()):
+        if key in ("start", "goal", "center") and _is_triple(sub):
+            node["properties"][key] = {"anyOf": [sub, GEO_POSITION]}
+        elif key in ("route", "points") and isinstance(sub, dict) and _is_triple(sub.get("items")):
+            sub["items"] = {"anyOf": [sub["items"], GEO_POSITION]}
+    for key in ("oneOf", "anyOf", "items"):
+        if key in node:
+            _geographic_positions(node[key])
 
 
 def _toml(value: Any) -> str:
@@ -265,7 +303,8 @@ def template(name: str = "my-mission") -> str:
         'description = "A synthetic 2 km x 2 km box with a ridge; replace [terrain] with real data."',
         "seed = 1",
         "",
-        "# [origin] lat/lon is required with real bathymetry ([terrain] file or builtin)",
+        "# [origin] lat/lon is required with real bathymetry ([terrain] file or builtin), unless the positions",
+        "# are written in degrees: start = { lat = .., lon = .., depth = .. } (or altitude = .. above the seabed)",
         "# [origin]",
         "# lat = 14.7601",
         "# lon = 158.4009",

@@ -20,6 +20,7 @@ from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
 from ..data.currents import CurrentsFileSpec, parse_time
+from .geoinput import GeoInput
 from .limits import Limits
 
 __all__ = [
@@ -203,6 +204,9 @@ class MissionSpec:
     start_time : str
         ISO 8601 UTC time of the start, matched to the current file's time axis or the tides
         (empty: the file's first time).
+    follow_altitude_m : float
+        Terrain following: fly the route or plan at this altitude above the seabed (m, at least
+        ``min_altitude_m``), climbs started early enough for ``[vehicle] max_pitch_deg``; 0: off.
     """
 
     start: tuple[float, float, float]
@@ -214,6 +218,7 @@ class MissionSpec:
     obstacle_margin_m: float = 0.0
     surface: bool = True
     start_time: str = ""
+    follow_altitude_m: float = 0.0
 
     def __post_init__(self) -> None:
         if self.start_time:  # ISO 8601, matched to the current file's CF time or the tides
@@ -228,6 +233,9 @@ class MissionSpec:
             raise ValueError(f"max_depth_m = {self.max_depth_m}: must exceed min_depth_m")
         if any(not math.isfinite(v) for v in self.start + self.goal):
             raise ValueError("start and goal must be finite")
+        if self.follow_altitude_m and not self.follow_altitude_m >= self.min_altitude_m:
+            raise ValueError(f"follow_altitude_m = {self.follow_altitude_m}: must be 0 (off) or at least "
+                             f"min_altitude_m = {self.min_altitude_m:g}")
 
 
 @dataclass(frozen=True)
@@ -301,6 +309,8 @@ class Scenario:
         Coastline source.
     formation : Formation or None
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
+    geo : GeoInput or None
+        What its geographic positions left for the build (:mod:`auvplan.io.scenario.geoinput`).
     """
 
     name: str
@@ -325,6 +335,7 @@ class Scenario:
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
     formation: Formation | None = None
+    geo: GeoInput | None = None
 
 
 SECTIONS: dict[str, type] = {
