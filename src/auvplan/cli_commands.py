@@ -25,6 +25,7 @@ from .planners import SWARM, plan, reference, with_reference
 from .sim import mission_route, planning_problem, run_mission
 
 if TYPE_CHECKING:
+    from .endurance import Endurance
     from .io.scenario import Scenario
     from .planners import PlannerSpec, PlanResult
     from .sim import Mission, RunRecord
@@ -291,7 +292,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
          full: bool = False, force: bool = False, quiet: bool = False,
-         planner: str | None = None) -> tuple[Scenario, RunRecord]:
+         planner: str | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
     sc = scenario_io.load(scenario)
@@ -304,13 +305,30 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    endurance = _endurance(world, mission, sc, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
         records.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
         _write_report(Path(out), world, mission, record, text, full=full)
-    return sc, record
+        if endurance is not None:
+            from .io.energy import write_energy
+
+            frame = LocalFrame(*world.origin) if world.origin is not None else None
+            write_energy(Path(out), endurance, frame.inverse if frame else None)
+    return sc, record, endurance
+
+
+def _endurance(world: World, mission: Mission, sc: Scenario, record: RunRecord) -> Endurance | None:
+    """The mission's energy budget, point of no return and flown energy (None without a route)."""
+    if record.route.shape[0] < 2:
+        return None
+    from .endurance import assess
+
+    sim = record.sim
+    track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
+    return assess(world, record.route, mission.vehicle, sc.endurance, track=track)
 
 
 def _scenario_text(sc: Scenario) -> str:
@@ -410,8 +428,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     return worst
 
 
-def _describe_run(name: str, record: RunRecord) -> str:
-    lines = [f"{name}: {record.status.value}"]
+def _describe_run(name: str, record: RunRecord, endurance: Endurance | None = None) -> str:
+    status = record.status if endurance is None or not record.status.ok else endurance.status
+    lines = [f"{name}: {status.value}"]
     if record.plan is not None:
         p = record.plan
         lines.append(f"  plan   {p.planner}: {p.status.value}, length {p.cost_terms.get('length_m', 0):.0f} m, "
@@ -423,6 +442,10 @@ def _describe_run(name: str, record: RunRecord) -> str:
                      f"{m['distance_m']:.0f} m flown, min altitude {m['min_altitude_m']:.1f} m, "
                      f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
                      f"{len(record.keys)} key waypoints")
+    if endurance is not None:
+        flown = f"; flown {endurance.flown.energy.energy_wh:.1f} Wh" if endurance.flown is not None else ""
+        lines.append(f"  energy {endurance.budget.message}{flown}")
+        lines.append(f"  point of no return: {endurance.pnr.message}")
     return "\n".join(lines)
 
 
@@ -475,19 +498,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return _run_formation(args, sc, world, mission)
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
-                      force=args.force, quiet=args.quiet or args.json, planner=args.planner)
-    _emit(records.run_record(record), args.json, _describe_run(sc.name, record))
+    sc, record, endurance = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
+                                 force=args.force, quiet=args.quiet or args.json, planner=args.planner)
+    rec = records.run_record(record)
+    if endurance is not None:
+        from .io.energy import energy_record
+
+        rec["energy"] = records.jsonable(energy_record(endurance))
+        if record.status.ok and not endurance.status.ok:
+            rec["status"] = endurance.status.value
+    _emit(rec, args.json, _describe_run(sc.name, record, endurance))
     if args.out and not args.json:
         print(f"results in {args.out}/")
-    return 0 if record.status.ok else 1
+    return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
-    print(_describe_run(sc.name, record))
+    sc, record, endurance = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
+    print(_describe_run(sc.name, record, endurance))
     print(f"results in {args.out}/")
-    return 0 if record.status.ok else 1
+    return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1
 
 
 _BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")

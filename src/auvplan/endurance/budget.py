@@ -317,6 +317,6 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
                        f"short by {-margin:.1f} Wh, the reserve is entered on leg {over}")
         else:
             status = Status.EXACT
-            message = (f"energy {cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget: margin {margin:.1f} Wh, "
+            message = (f"{cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget: margin {margin:.1f} Wh, "
                        f"{remaining[-1]:.1f} Wh left at the end (reserve {model.reserve_wh:.1f} Wh)")
     return Budget(status, message, model, t_start, t_end, length, tr.speeds, ground, energy, cum, remaining, tr)

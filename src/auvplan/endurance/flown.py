@@ -64,7 +64,7 @@ class FlownEnergy:
         numpy.ndarray
             Energy (Wh), same shape.
         """
-        return np.asarray(np.interp(t, self.t, self.cumulative_wh), dtype=float)
+        return np.asarray(np.interp(np.asarray(t, dtype=np.float64), self.t, self.cumulative_wh), dtype=np.float64)
 
 
 def flown_energy(world: World, t: ArrayLike, position: ArrayLike, model: EnergyModel,

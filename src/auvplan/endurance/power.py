@@ -122,7 +122,7 @@ def optimal_speed(hotel_w: float, k: float) -> float:
     float
         v* (m/s); 0 without a hotel load.
     """
-    return (hotel_w / (2.0 * k)) ** (1.0 / 3.0)
+    return float((hotel_w / (2.0 * k)) ** (1.0 / 3.0))
 
 
 @dataclass(frozen=True)

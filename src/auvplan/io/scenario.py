@@ -61,6 +61,7 @@ __all__ = ["Scenario", "load", "loads", "build", "builtin_scenarios", "resolve",
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
+    "endurance",
 }
 
 
@@ -361,6 +362,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         limits=limits,
         land=land,
         formation=formation,
+        endurance=_section(data, "endurance", source),
     )
 
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..endurance.params import EnduranceParams
 from ..guidance.formation import Formation, FormationParams
 from ..guidance.hybrid import HybridParams
 from ..guidance.local import AvoidanceParams
@@ -301,6 +302,8 @@ class Scenario:
         Coastline source.
     formation : Formation or None
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
+    endurance : EnduranceParams
+        Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     """
 
     name: str
@@ -325,12 +328,13 @@ class Scenario:
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
     formation: Formation | None = None
+    endurance: EnduranceParams = field(default_factory=EnduranceParams)
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
-    "formation": FormationParams,
+    "formation": FormationParams, "endurance": EnduranceParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""

@@ -1,0 +1,105 @@
+"""One call for a mission's endurance: the budget at its departure, the point of no return, and,
+given a simulated flight, the energy it drew per leg (what ``auvplan run`` reports)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._types import Status
+from ..vehicles import VehicleParams
+from ..world import World
+from .budget import Budget, mission_budget
+from .flown import FlownEnergy, flown_energy, flown_legs
+from .params import EnduranceParams
+from .pnr import PointOfNoReturn, point_of_no_return
+from .power import EnergyModel
+from .speeds import SpeedPlan, choose_speeds
+
+__all__ = ["Endurance", "FlownLegs", "assess"]
+
+
+@dataclass(frozen=True, eq=False)
+class FlownLegs:
+    """A simulated flight's energy and its split by leg (s, Wh).
+
+    Attributes
+    ----------
+    energy : FlownEnergy
+        Energy drawn along the track.
+    t_start, t_end, energy_wh : numpy.ndarray
+        ``(L,)`` each leg's start and end time and energy in the flight.
+    """
+
+    energy: FlownEnergy
+    t_start: NDArray[np.float64]
+    t_end: NDArray[np.float64]
+    energy_wh: NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class Endurance:
+    """A mission's endurance analysis.
+
+    Attributes
+    ----------
+    budget : Budget
+        Per-leg budget at the departure time, with the verdict.
+    pnr : PointOfNoReturn
+        The point of no return for the recovery point.
+    speeds : SpeedPlan
+        How the leg speeds were chosen.
+    flown : FlownLegs or None
+        The simulated flight's energy, when a flight was given.
+    """
+
+    budget: Budget
+    pnr: PointOfNoReturn
+    speeds: SpeedPlan
+    flown: FlownLegs | None = None
+
+    @property
+    def status(self) -> Status:
+        """The budget's verdict (``EXACT``, ``RESERVE_BROKEN`` or ``INFEASIBLE``)."""
+        return self.budget.status
+
+
+def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: EnduranceParams | None = None,
+           depart: float = 0.0, track: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None) -> Endurance:
+    """Budget, point of no return and (with ``track``) the flown energy of a mission route.
+
+    Parameters
+    ----------
+    world : World
+        Currents, seabed and obstacles.
+    route : array_like
+        ``(N, 3)`` mission waypoints (m).
+    vehicle : VehicleParams
+        Speed, speed range, power model and battery.
+    params : EnduranceParams, optional
+        Recovery point and speed choice (defaults: home, every leg at the vehicle's speed).
+    depart : float, default 0.0
+        Departure (s after the mission's start time).
+    track : tuple of array_like, optional
+        A simulated flight's ``(t, position, progress)`` (:class:`auvplan.sim.SimResult` arrays).
+
+    Returns
+    -------
+    Endurance
+        The analysis.
+    """
+    p = params or EnduranceParams()
+    model = EnergyModel.from_vehicle(vehicle)
+    w = np.asarray(route, dtype=float).reshape(-1, 3)
+    plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m)
+    budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m)
+    ret = p.return_speed or vehicle.speed
+    pnr = point_of_no_return(world, budget.traverse, model, p.recovery_point(), ret, ds=p.ds_m)
+    flown = None
+    if track is not None:
+        t, pos, progress = (np.asarray(a, dtype=float) for a in track)
+        fe = flown_energy(world, t, pos, model)
+        flown = FlownLegs(fe, *flown_legs(w, t, progress, fe))
+    return Endurance(budget, pnr, plan, flown)
