@@ -245,3 +245,30 @@ def test_run_that_breaks_the_reserve_exits_1_and_says_so(tmp_path, capsys):
     assert code == 1 and "RESERVE_BROKEN" in text and "RESERVE BROKEN" in text
     assert json.loads((out / "run.json").read_text())["status"] == "RESERVE_BROKEN"
     assert json.loads((out / "metrics.json").read_text())["energy_status"] == "RESERVE_BROKEN"
+    assert cli.main(["mission", "check", str(out / "mission.moos"), "--scenario", str(tmp_path / "line.toml")]) == 1
+    assert "energy RESERVE_BROKEN" in capsys.readouterr().out
+
+
+def test_mission_check_passes_a_mission_that_keeps_its_reserve(tmp_path, capsys):
+    code, out, _ = _run(tmp_path, capsys, 1000.0)
+    assert cli.main(["mission", "check", str(out / "mission.csv"), "--scenario", str(tmp_path / "line.toml"),
+                     "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["energy"]["energy_status"] == "EXACT" and rec["energy"]["margin_wh"] > 0
+
+
+def test_run_flies_the_chosen_leg_speeds(tmp_path, capsys):
+    path = tmp_path / "line.toml"
+    path.write_text(SCENARIO.format(battery=1000.0) + '[endurance]\nspeeds = "energy"\n')
+    out = tmp_path / "out"
+    assert cli.main(["run", str(path), "--out", str(out)]) == 0
+    m = json.loads((out / "metrics.json").read_text())
+    k = VehicleParams().drag_k
+    best = minimize_scalar(lambda s: (15.0 + k * s**3) / (s + 0.3), bounds=(0.5, 2.5), method="bounded",
+                           options={"xatol": 1e-10}).x  # least energy per metre with a 0.3 m/s following current
+    assert m["leg_speeds_mps"] == pytest.approx([best, best], abs=1e-4)
+    with (out / "legs.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    for r in rows:  # the closed loop flew those speeds: its leg times match the prediction
+        assert float(r["flown_t_end_s"]) - float(r["flown_t_start_s"]) == pytest.approx(
+            float(r["duration_s"]), rel=0.03)

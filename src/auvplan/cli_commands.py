@@ -325,10 +325,12 @@ def _endurance(world: World, mission: Mission, sc: Scenario, record: RunRecord) 
     if record.route.shape[0] < 2:
         return None
     from .endurance import assess
+    from .sim import with_leg_speeds
 
     sim = record.sim
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
-    return assess(world, record.route, mission.vehicle, sc.endurance, track=track)
+    speeds = with_leg_speeds(world, mission, record.route).leg_speeds or None
+    return assess(world, record.route, mission.vehicle, sc.endurance, track=track, speeds=speeds)
 
 
 def _scenario_text(sc: Scenario) -> str:
@@ -406,14 +408,17 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .io.formats import check_mission_file
 
     sc = scenario_io.load(args.scenario)
-    world, _ = scenario_io.build(sc)
+    world, mission = scenario_io.build(sc)
     worst = 0
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        rec = {"file": name, "format": fmt, **check.as_dict()}
+        energy, energy_ok, energy_line = _mission_energy(world, mission, sc, Path(name))
+        rec = {"file": name, "format": fmt, **check.as_dict(), "energy": energy}
         checks.append(rec)
-        worst = max(worst, 0 if check.ok else 1)
+        worst = max(worst, 0 if check.ok and energy_ok else 1)
+        if not args.json:
+            print(f"{name}: {energy_line}")
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
@@ -426,6 +431,21 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst
+
+
+def _mission_energy(world: World, mission: Mission, sc: Scenario, path: Path) -> tuple[dict[str, Any], bool, str]:
+    """A mission file's energy budget from the scenario's start time: its record, verdict and a line of text."""
+    from .endurance import EnergyModel, mission_budget
+    from .io.formats import read_mission
+
+    waypoints = read_mission(path, world.origin)[0]
+    if waypoints.shape[0] < 2:
+        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    b = mission_budget(world, waypoints, model, mission.vehicle.speed, 0.0, sc.endurance.ds_m)
+    rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
+           "duration_s": b.duration_s, "energy_message": b.message}
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
 
 
 def _describe_run(name: str, record: RunRecord, endurance: Endurance | None = None) -> str:

@@ -3,6 +3,7 @@ given a simulated flight, the energy it drew per leg (what ``auvplan run`` repor
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -67,7 +68,8 @@ class Endurance:
 
 
 def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: EnduranceParams | None = None,
-           depart: float = 0.0, track: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None) -> Endurance:
+           depart: float = 0.0, track: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None,
+           speeds: ArrayLike | None = None) -> Endurance:
     """Budget, point of no return and (with ``track``) the flown energy of a mission route.
 
     Parameters
@@ -84,6 +86,9 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
         Departure (s after the mission's start time).
     track : tuple of array_like, optional
         A simulated flight's ``(t, position, progress)`` (:class:`auvplan.sim.SimResult` arrays).
+    speeds : array_like, optional
+        ``(N - 1,)`` leg speeds already chosen (m/s), e.g. the ones the flight flew; chosen by
+        ``params.speeds`` when omitted.
 
     Returns
     -------
@@ -93,7 +98,10 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
     p = params or EnduranceParams()
     model = EnergyModel.from_vehicle(vehicle)
     w = np.asarray(route, dtype=float).reshape(-1, 3)
-    plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m)
+    if speeds is None:
+        plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m)
+    else:
+        plan = SpeedPlan(p.speeds, np.asarray(speeds, dtype=float), math.nan, math.nan, math.nan, "as flown")
     budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m)
     ret = p.return_speed or vehicle.speed
     pnr = point_of_no_return(world, budget.traverse, model, p.recovery_point(), ret, ds=p.ds_m)

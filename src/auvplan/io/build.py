@@ -184,6 +184,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         avoidance=s.avoidance,
         sim=s.sim,
         formation=s.formation,
+        endurance=s.endurance,
     )
     return world, mission
 

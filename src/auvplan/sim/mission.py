@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..endurance.params import EnduranceParams
 from ..guidance.formation import Formation
 from ..guidance.hybrid import HybridParams
 from ..guidance.local import AvoidanceParams
@@ -68,6 +69,10 @@ class Mission:
     formation : Formation or None
         Several vehicles flying the route in formation (``[[vehicles]]``, ``[formation]``):
         :mod:`auvplan.sim_formation` flies them.
+    endurance : EnduranceParams
+        Recovery point and the speed choice per leg (``[endurance]``, :mod:`auvplan.endurance`).
+    leg_speeds : tuple of float
+        Through-water speed of each leg of the route flown (m/s); empty: the vehicle's ``speed``.
     """
 
     name: str
@@ -83,4 +88,6 @@ class Mission:
     avoidance: AvoidanceParams = field(default_factory=AvoidanceParams)
     sim: SimSettings = field(default_factory=SimSettings)
     formation: Formation | None = None
+    endurance: EnduranceParams = field(default_factory=EnduranceParams)
+    leg_speeds: tuple[float, ...] = ()
 
