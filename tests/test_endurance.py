@@ -272,3 +272,23 @@ def test_run_flies_the_chosen_leg_speeds(tmp_path, capsys):
     for r in rows:  # the closed loop flew those speeds: its leg times match the prediction
         assert float(r["flown_t_end_s"]) - float(r["flown_t_start_s"]) == pytest.approx(
             float(r["duration_s"]), rel=0.03)
+
+
+def test_exports_carry_the_speed_of_each_leg():
+    from auvplan.io import formats
+    from auvplan.io.geo import LocalFrame
+
+    pts = np.array([[0.0, 0.0, -10.0], [300.0, 0.0, -20.0], [300.0, 400.0, -20.0]])
+    v = [1.0, 2.0]
+    assert formats.planned_times(pts, v) == pytest.approx([0.0, np.hypot(300, 10) / 1.0, np.hypot(300, 10) + 200.0])
+    moos = formats.to_moos(pts, v)
+    assert "runflag   = WPT_UPDATE = speed=1" in moos and "runflag   = WPT_UPDATE = speed=2" in moos
+    assert "updates        = WPT_UPDATE" in moos and formats.parse_moos(moos) == pytest.approx(pts)
+    plan = formats.to_qgc_plan(pts, (48.0, -124.0), v)
+    change = [it["params"][1] for it in plan["mission"]["items"] if it["command"] == 178]
+    assert change == [1.0, 2.0]
+    back = formats.parse_qgc_plan(plan, LocalFrame(48.0, -124.0))
+    assert back[1:] == pytest.approx(pts, abs=1e-3)
+    rows = formats.mission_csv(pts, None, v).splitlines()
+    assert rows[0].endswith(",speed") and [float(r.split(",")[-1]) for r in rows[1:]] == [1.0, 1.0, 2.0]
+    assert "runflag" not in formats.to_moos(pts, 1.5)  # one speed: the file is as before

@@ -207,13 +207,16 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
-    rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
+    departs = np.arange(t0, t1 + 0.5 * step, step)
+    plans: list[Any] = []
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans)
+    energy = _sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
         from .io.tides import parse_start_time, utc_iso
 
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
-    table = [dataclasses.asdict(r) for r in rows]
+    table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -226,9 +229,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
     lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
              f"(after {sc.mission.start_time or 't = 0'})",
-             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
+             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9} {'energy Wh':>9} "
+             f"{'margin Wh':>9} {'PNR h':>6} {'PNR km':>6}"]
     lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
-              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f}" for r in rows]
+              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f} {e['energy_wh']:9.1f} "
+              f"{e['margin_wh']:9.1f} {e['pnr_t_s'] / 3600:6.2f} {e['pnr_s_m'] / 1000:6.1f}"
+              + (" (whole mission)" if e["pnr_whole_mission"] == 1 else "") for r, e in zip(rows, energy)]
     if summary.get("feasible_departures"):
         lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
                      f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
@@ -239,6 +245,19 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                         if "best_depart_utc" in summary else ""))
     _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
     return 0 if summary.get("feasible_departures") else 1
+
+
+def _sweep_energy(world: World, mission: Mission, plans: list[Any], departs: np.ndarray) -> list[dict[str, float]]:
+    """Energy, margin and point of no return (with its lat/lon) of every departure of a sweep."""
+    from .endurance import departure_endurance
+
+    rows = departure_endurance(world, plans, departs, mission.vehicle, mission.endurance)
+    if world.origin is not None:
+        inverse = LocalFrame(*world.origin).inverse
+        for r in rows:
+            lon, lat = inverse(np.array([r["pnr_x"]]), np.array([r["pnr_y"]]))
+            r["pnr_lat"], r["pnr_lon"] = float(np.ravel(lat)[0]), float(np.ravel(lon)[0])
+    return rows
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
@@ -311,12 +330,12 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         text = _scenario_text(sc)
         records.write_run(Path(out), record, text, full)
         _save_context(Path(out), sc, world)
-        _write_report(Path(out), world, mission, record, text, full=full)
         if endurance is not None:
             from .io.energy import write_energy
 
             frame = LocalFrame(*world.origin) if world.origin is not None else None
             write_energy(Path(out), endurance, frame.inverse if frame else None)
+        _write_report(Path(out), world, mission, record, text, full=full)
     return sc, record, endurance
 
 
@@ -363,7 +382,7 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
-    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
+    export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), formats, full)
     page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None)
     path = atomic_write(out / "report.html", page)
     if figures:
@@ -371,6 +390,14 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
 
         plots.write_mission_figures(out / "figures", world, record)
     return path
+
+
+def _planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np.ndarray:
+    """The speed of each leg of the mission (``legs.csv`` of the folder), else the vehicle's speed."""
+    from .io.energy import read_leg_speeds
+
+    speeds = read_leg_speeds(out, max(record.route.shape[0] - 1, 0))
+    return mission.vehicle.speed if speeds is None else speeds
 
 
 def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
@@ -399,7 +426,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
 def _cmd_export(args: argparse.Namespace) -> int:
     out, record, _, world, mission = _load_results(args)
-    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
+    for p in export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), args.format,
+                                  args.full):
         print(p)
     return 0
 

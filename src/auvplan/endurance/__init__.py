@@ -10,7 +10,7 @@ return and the through-water speed of each leg (issue 38; ``docs/endurance.md``)
 
 from __future__ import annotations
 
-from .assess import Endurance, FlownLegs, assess
+from .assess import Endurance, FlownLegs, assess, departure_endurance
 from .budget import Budget, Traverse, ground_speed, mission_budget, traverse
 from .flown import FlownEnergy, flown_energy, flown_legs
 from .params import EnduranceParams, RallyPoint
@@ -21,4 +21,4 @@ from .speeds import SpeedPlan, choose_speeds, leg_speeds
 __all__ = ["WH", "EnergyModel", "PowerFit", "fit_power", "optimal_speed", "Budget", "Traverse", "ground_speed",
            "mission_budget", "traverse", "FlownEnergy", "flown_energy", "flown_legs", "EnduranceParams", "RallyPoint",
            "PointOfNoReturn", "point_of_no_return", "return_route", "SpeedPlan", "choose_speeds", "leg_speeds",
-           "Endurance", "FlownLegs", "assess"]
+           "Endurance", "FlownLegs", "assess", "departure_endurance"]

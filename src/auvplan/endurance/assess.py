@@ -19,7 +19,7 @@ from .pnr import PointOfNoReturn, point_of_no_return
 from .power import EnergyModel
 from .speeds import SpeedPlan, choose_speeds
 
-__all__ = ["Endurance", "FlownLegs", "assess"]
+__all__ = ["Endurance", "FlownLegs", "assess", "departure_endurance"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,3 +111,44 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
         fe = flown_energy(world, t, pos, model)
         flown = FlownLegs(fe, *flown_legs(w, t, progress, fe))
     return Endurance(budget, pnr, plan, flown)
+
+
+def departure_endurance(world: World, plans: list[tuple[NDArray[np.float64], float] | None], departs: ArrayLike,
+                        vehicle: VehicleParams, params: EnduranceParams | None = None) -> list[dict[str, float]]:
+    """Energy, margin and point of no return of each departure of a sweep.
+
+    Parameters
+    ----------
+    world : World
+        Currents, seabed and obstacles.
+    plans : list
+        Each departure's plan ``(points (M, 3), speed)`` or None
+        (:func:`auvplan.planners.timeplan.departure_sweep` ``paths``).
+    departs : array_like
+        The departures (s after the mission's start time).
+    vehicle : VehicleParams
+        Power model and battery.
+    params : EnduranceParams, optional
+        Recovery point and integration step.
+
+    Returns
+    -------
+    list of dict
+        Per departure: ``energy_wh``, ``margin_wh``, ``reserve_ok`` (1/0), ``pnr_x``, ``pnr_y``, ``pnr_z``,
+        ``pnr_t_s`` (s after the start time), ``pnr_s_m`` and ``pnr_whole_mission`` (1/0); nan without a plan.
+    """
+    p = params or EnduranceParams()
+    model = EnergyModel.from_vehicle(vehicle)
+    rows = []
+    for plan, d in zip(plans, np.asarray(departs, dtype=float)):
+        row = dict.fromkeys(("energy_wh", "margin_wh", "reserve_ok", "pnr_x", "pnr_y", "pnr_z", "pnr_t_s", "pnr_s_m",
+                             "pnr_whole_mission"), math.nan)
+        if plan is not None and len(plan[0]) >= 2:
+            b = mission_budget(world, plan[0], model, plan[1], float(d), p.ds_m)
+            pnr = point_of_no_return(world, b.traverse, model, p.recovery_point(), p.return_speed or plan[1],
+                                     ds=p.ds_m)
+            row.update(energy_wh=b.energy_wh, margin_wh=b.margin_wh, reserve_ok=float(b.status.ok),
+                       pnr_x=pnr.position[0], pnr_y=pnr.position[1], pnr_z=pnr.position[2], pnr_t_s=pnr.t_s,
+                       pnr_s_m=pnr.s_m, pnr_whole_mission=float(pnr.whole_mission))
+        rows.append(row)
+    return rows

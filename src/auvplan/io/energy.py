@@ -13,18 +13,20 @@
 
 from __future__ import annotations
 
+import csv
 import json
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .._types import Status
 from ..endurance import Endurance
 from .records import JsonDict, jsonable, write_json, write_text
 
-__all__ = ["energy_record", "legs_table", "write_energy"]
+__all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -123,3 +125,29 @@ def write_energy(out_dir: Path, e: Endurance, inverse: _Inverse | None = None) -
             doc["status"] = e.status.value
         write_json(run, doc)
     return rec
+
+
+def read_leg_speeds(out_dir: Path, legs: int) -> NDArray[np.float64] | None:
+    """The ``speed_water_mps`` column of ``legs.csv`` in ``out_dir``, when it has ``legs`` rows.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        A results folder.
+    legs : int
+        The number of legs of its mission.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(legs,)`` speeds (m/s); None when the file is missing, malformed or for another mission.
+    """
+    path = Path(out_dir) / "legs.csv"
+    if not path.is_file() or legs < 1:
+        return None
+    try:
+        with path.open(encoding="utf-8") as fh:
+            v = np.array([float(r["speed_water_mps"]) for r in csv.DictReader(fh)])
+    except (OSError, KeyError, ValueError, TypeError, UnicodeDecodeError):
+        return None
+    return v if v.size == legs and np.all(np.isfinite(v)) and np.all(v > 0) else None
