@@ -63,7 +63,8 @@ def one(name: str, speeds: str) -> dict:
     return {
         "scenario": name, "speeds": speeds, "status": rec.status.value, "legs": int(ok.sum()),
         "length_m": float(b.length_m.sum()), "leg_speeds_min_max": [float(v.min()), float(v.max())],
-        "duration_pred_s": b.duration_s, "duration_flown_s": float(sim.t[-1]), "duration_naive_s": float(dur_naive.sum()),
+        "duration_pred_s": b.duration_s, "duration_flown_s": float(sim.t[-1]),
+        "duration_naive_s": float(dur_naive.sum()),
         "energy_pred_wh": b.energy_wh, "energy_flown_wh": f.energy.energy_wh, "energy_naive_wh": float(e_naive.sum()),
         "mission_time_err_pct": 100.0 * (b.duration_s - sim.t[-1]) / sim.t[-1],
         "mission_energy_err_pct": 100.0 * (b.energy_wh - f.energy.energy_wh) / f.energy.energy_wh,
@@ -102,11 +103,13 @@ def main() -> None:
             print(f"{name} [{sp}]: {r['status']}, {r['legs']} legs, {r['length_m'] / 1000:.1f} km, speeds "
                   f"{r['leg_speeds_min_max'][0]:.3f}-{r['leg_speeds_min_max'][1]:.3f} m/s; mission time "
                   f"{r['duration_pred_s']:.0f} s predicted / {r['duration_flown_s']:.0f} s flown "
-                  f"({r['mission_time_err_pct']:+.2f} %), naive {r['duration_naive_s']:.0f} s; energy "
-                  f"{r['energy_pred_wh']:.1f} / {r['energy_flown_wh']:.1f} Wh ({r['mission_energy_err_pct']:+.2f} %), "
-                  f"naive {r['energy_naive_wh']:.1f} Wh ({r['mission_naive_energy_err_pct']:+.1f} %); per leg |err| max "
+                  f"({r['mission_time_err_pct']:+.2f} %), naive {r['duration_naive_s']:.0f} s; "
+                  f"energy {r['energy_pred_wh']:.1f} / {r['energy_flown_wh']:.1f} Wh "
+                  f"({r['mission_energy_err_pct']:+.2f} %), naive {r['energy_naive_wh']:.1f} Wh "
+                  f"({r['mission_naive_energy_err_pct']:+.1f} %); per leg |err| max "
                   f"time {r['leg_time_err_pct_max']:.2f} %, energy {r['leg_energy_err_pct_max']:.2f} % "
-                  f"(naive {r['leg_naive_time_err_pct_max']:.1f} %, median {r['leg_naive_time_err_pct_median']:.1f} %); "
+                  f"(naive {r['leg_naive_time_err_pct_max']:.1f} %, "
+                  f"median {r['leg_naive_time_err_pct_median']:.1f} %); "
                   f"{r['legs_within_5pct']}/{r['legs']} legs within 5 %; {r['pnr']}; CPU run {r['cpu_run_s']:.1f} s, "
                   f"assess {r['cpu_assess_s']:.2f} s")
     (out / "endurance.json").write_text(json.dumps(rows, indent=1) + "\n")

@@ -237,6 +237,8 @@ def test_run_writes_legs_csv_and_the_energy_metrics(tmp_path, capsys):
     assert set(m["point_of_no_return"]) >= {"lat", "lon", "t_s"}
     flown = json.loads((out / "sim_metrics.json").read_text())["energy_wh"]
     assert flown == pytest.approx(m["energy_wh"], rel=0.02)  # the loop flies the same mission
+    page = (out / "report.html").read_text()
+    assert "<h2>Energy</h2>" in page and "point of no return" in page and "usable charge left" in page
 
 
 def test_run_that_breaks_the_reserve_exits_1_and_says_so(tmp_path, capsys):

@@ -324,7 +324,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
-    endurance = _endurance(world, mission, sc, record)
+    endurance = _endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
@@ -335,11 +335,11 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
 
             frame = LocalFrame(*world.origin) if world.origin is not None else None
             write_energy(Path(out), endurance, frame.inverse if frame else None)
-        _write_report(Path(out), world, mission, record, text, full=full)
+        _write_report(Path(out), world, mission, record, text, full=full, endurance=endurance)
     return sc, record, endurance
 
 
-def _endurance(world: World, mission: Mission, sc: Scenario, record: RunRecord) -> Endurance | None:
+def _endurance(world: World, mission: Mission, record: RunRecord) -> Endurance | None:
     """The mission's energy budget, point of no return and flown energy (None without a route)."""
     if record.route.shape[0] < 2:
         return None
@@ -349,7 +349,7 @@ def _endurance(world: World, mission: Mission, sc: Scenario, record: RunRecord) 
     sim = record.sim
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
     speeds = with_leg_speeds(world, mission, record.route).leg_speeds or None
-    return assess(world, record.route, mission.vehicle, sc.endurance, track=track, speeds=speeds)
+    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds)
 
 
 def _scenario_text(sc: Scenario) -> str:
@@ -376,14 +376,17 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
 
 def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
-                  full: bool = False) -> Path:
+                  full: bool = False, endurance: Endurance | None = None) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
     export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), formats, full)
-    page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None)
+    if endurance is None:
+        endurance = _endurance(world, mission, record)
+    page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None,
+                        endurance)
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
