@@ -294,3 +294,30 @@ def test_exports_carry_the_speed_of_each_leg():
     rows = formats.mission_csv(pts, None, v).splitlines()
     assert rows[0].endswith(",speed") and [float(r.split(",")[-1]) for r in rows[1:]] == [1.0, 1.0, 2.0]
     assert "runflag" not in formats.to_moos(pts, 1.5)  # one speed: the file is as before
+
+
+def test_departure_sweep_reports_energy_margin_and_pnr_for_every_departure():
+    from auvplan.endurance import departure_endurance
+    from auvplan.planners import PlannerSpec, PlanningProblem
+    from auvplan.planners.timeopt_params import TimeoptParams
+    from auvplan.planners.timeplan import departure_sweep
+    from auvplan.world import GriddedCurrent, Margins
+
+    t = np.arange(0.0, 90000.0, 600.0)
+    u = np.broadcast_to((0.5 * np.cos(2 * np.pi * t / 44712.0))[:, None, None, None], (t.size, 1, 2, 2)).copy()
+    cur = GriddedCurrent([-1e5, 1e5], [-1e5, 1e5], [0.0], u, np.zeros_like(u), t=t)
+    world = World(Bounds(-2000, 22000, -6000, 6000, -100, 0), currents=cur, margins=Margins(0, 0, 100))
+    problem = PlanningProblem(world, np.array([0.0, 0.0, -50.0]), np.array([20000.0, 0.0, -50.0]), speed=1.0)
+    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1))
+    departs = np.arange(0.0, 40000.0, 10000.0)
+    plans: list = []
+    rows, _ = departure_sweep(problem, spec, departs, paths=plans)
+    vp = VehicleParams(speed=1.0, battery_wh=60.0)
+    energy = departure_endurance(world, plans, departs, vp)
+    assert len(energy) == len(rows) == departs.size
+    budget = EnergyModel.from_vehicle(vp).budget_wh
+    for r, e, d in zip(rows, energy, departs):
+        assert e["energy_wh"] == pytest.approx(r.energy_j / 3600.0, rel=2e-3)  # the planner's own integration
+        assert e["margin_wh"] == pytest.approx(budget - e["energy_wh"], rel=1e-12)
+        assert d <= e["pnr_t_s"] <= d + r.duration_s + 1e-6
+    assert np.ptp([e["energy_wh"] for e in energy]) > 1.0  # the tide changes the budget with the departure
