@@ -144,6 +144,38 @@ def test_point_of_no_return_on_a_straight_leg_in_a_uniform_current(u):
     assert pnr.energy_out_wh + pnr.energy_back_wh == pytest.approx(m.budget_wh, abs=1e-3)
 
 
+def test_pnr_flies_the_return_in_the_currents_of_the_turn_back_time():
+    class Slack(UniformCurrent):  # 0.5 m/s along the leg until t = 1000 s, slack water after
+        def velocity(self, points, t=0.0):
+            p = np.asarray(points, dtype=float)
+            return np.broadcast_to(np.array([0.5 if t < 1000.0 else 0.0, 0.0, 0.0]), p.shape).copy()
+
+    world = World(Bounds(-1e5, 1e5, -1e5, 1e5, -500.0, 0.0), currents=Slack())
+    leg = np.array([[0.0, 0.0, -20.0], [20000.0, 0.0, -20.0]])
+    m = model(battery_wh=P * 5000.0 / 3600.0 / 0.7)  # budget: 5000 s of flight
+    b = mission_budget(world, leg, m, V, ds=10.0)
+    pnr = point_of_no_return(world, b.traverse, m, tol=0.01, ds=10.0)
+    # out: 2000 m by t = 1000 s, then 1.5 m/s; back in slack water: 1000 + (s − 2000)/1.5 + s/1.5 = 5000
+    assert pnr.s_m == pytest.approx((1.5 * 4000.0 + 2000.0) / 2.0, abs=2.0)
+    assert pnr.t_s == pytest.approx(1000.0 + 2000.0 / 1.5, abs=2.0)
+
+
+def test_return_route_retraces_the_route_round_an_obstacle():
+    from auvplan.endurance import return_route
+    from auvplan.world import Margins, Sphere
+
+    world = World(Bounds(-2000, 3000, -2000, 3000, -100.0, 0.0), obstacles=(Sphere((500.0, 500.0, -20.0), 200.0),),
+                  margins=Margins(0.0, 0.0, 100.0))
+    pts = np.array([[0.0, 0.0, -20.0], [1000.0, 0.0, -20.0], [1000.0, 1000.0, -20.0], [0.0, 1200.0, -20.0]])
+    here = np.array([1000.0, 900.0, -20.0])  # the line home passes 50 m from the sphere's centre
+    back = return_route(world, pts, here, 1, pts[0])
+    assert back == pytest.approx(np.array([here, pts[1], pts[0]]))
+    near = np.array([1000.0, 100.0, -20.0])  # from here the straight line home is clear
+    assert return_route(world, pts, near, 1, pts[0]) == pytest.approx(np.array([near, pts[0]]))
+    far = np.array([800.0, 1040.0, -20.0])  # leg 2: retrace to the first waypoint that sees home (B)
+    assert return_route(world, pts, far, 2, pts[0]) == pytest.approx(np.array([far, pts[2], pts[1], pts[0]]))
+
+
 def test_rally_point_and_whole_mission():
     world = open_water()
     b = mission_budget(world, LEG, model(), V)
