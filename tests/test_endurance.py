@@ -353,3 +353,16 @@ def test_departure_sweep_reports_energy_margin_and_pnr_for_every_departure():
         assert e["margin_wh"] == pytest.approx(budget - e["energy_wh"], rel=1e-12)
         assert d <= e["pnr_t_s"] <= d + r.duration_s + 1e-6
     assert np.ptp([e["energy_wh"] for e in energy]) > 1.0  # the tide changes the budget with the departure
+
+
+@pytest.mark.parametrize("endurance, needle", [
+    ('recovery = "boat"\n', "recovery = 'boat'"),
+    ('recovery = "boat"\nrally = [{name = "boat", point = [5000.0, 500.0, -20.0]}]\n', "rally 'boat' point"),
+    ('speeds = "fast"\n', "speeds = 'fast'"),
+])
+def test_bad_endurance_input_exits_2_naming_the_key(tmp_path, capsys, endurance, needle):
+    path = tmp_path / "bad.toml"
+    path.write_text(SCENARIO.format(battery=1000.0) + "[endurance]\n" + endurance)
+    assert cli.main(["validate", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and "[endurance]" in err and len(err.strip().splitlines()) == 1
