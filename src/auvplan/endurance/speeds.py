@@ -146,7 +146,7 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
     ds : float, default 100.0
         Longest integration sub-step (m).
     iterations : int, default 24
-        Bisection steps on the price of time.
+        Most bisection steps on the price of time (it stops when λ is known to 0.01 %).
 
     Returns
     -------
@@ -191,6 +191,8 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
     lo, hi, best = 0.0, lam_hi, (fast if objective == "energy" else base)
     best_lam = hi if objective == "energy" else lo
     for _ in range(iterations):
+        if hi - lo <= 1e-4 * max(hi, 1.0):  # λ to 0.01 %: the speeds to about 1e-5 of their range
+            break
         mid = 0.5 * (lo + hi)
         res = leg_speeds(world, w, model, mid, depart, ds)
         if objective == "energy":  # smallest λ meeting the deadline
