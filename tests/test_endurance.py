@@ -306,6 +306,11 @@ def test_run_flies_the_chosen_leg_speeds(tmp_path, capsys):
     for r in rows:  # the closed loop flew those speeds: its leg times match the prediction
         assert float(r["flown_t_end_s"]) - float(r["flown_t_start_s"]) == pytest.approx(
             float(r["duration_s"]), rel=0.03)
+    capsys.readouterr()
+    assert cli.main(["mission", "check", str(out / "mission.moos"), "--scenario", str(path), "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)["energy"]  # the check budgets the speeds the file carries
+    assert rec["leg_speeds_mps"] == pytest.approx([best, best], abs=1e-4)
+    assert rec["energy_wh"] == pytest.approx(m["energy_wh"], rel=1e-6)
 
 
 def test_exports_carry_the_speed_of_each_leg():
@@ -366,3 +371,20 @@ def test_bad_endurance_input_exits_2_naming_the_key(tmp_path, capsys, endurance,
     assert cli.main(["validate", str(path)]) == 2
     err = capsys.readouterr().err
     assert needle in err and "[endurance]" in err and len(err.strip().splitlines()) == 1
+
+
+def test_mission_files_give_back_the_speed_of_each_leg(tmp_path):
+    from auvplan.io import formats
+    from auvplan.io.mission_speeds import read_leg_speeds
+
+    pts = np.array([[0.0, 0.0, -10.0], [300.0, 0.0, -20.0], [300.0, 400.0, -20.0], [0.0, 400.0, -20.0]])
+    v = [1.0, 2.0, 1.25]
+    (tmp_path / "m.moos").write_text(formats.to_moos(pts, v))
+    (tmp_path / "m.csv").write_text(formats.mission_csv(pts, None, v))
+    (tmp_path / "m.plan").write_text(json.dumps(formats.to_qgc_plan(pts, (48.0, -124.0), v)))
+    assert read_leg_speeds(tmp_path / "m.moos", 3) == pytest.approx(v)
+    assert read_leg_speeds(tmp_path / "m.csv", 3) == pytest.approx(v)
+    # QGC: home on the surface is a waypoint too, reached at the first leg's speed
+    assert read_leg_speeds(tmp_path / "m.plan", 4) == pytest.approx([1.0, *v])
+    assert formats.read_mission(tmp_path / "m.plan", (48.0, -124.0))[0].shape == (5, 3)
+    assert read_leg_speeds(tmp_path / "m.moos", 2) is None  # not the file's legs

@@ -472,10 +472,14 @@ def _mission_energy(world: World, mission: Mission, sc: Scenario, path: Path) ->
     waypoints = read_mission(path, world.origin)[0]
     if waypoints.shape[0] < 2:
         return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
+    from .io.mission_speeds import read_leg_speeds
+
     model = EnergyModel.from_vehicle(mission.vehicle)
-    b = mission_budget(world, waypoints, model, mission.vehicle.speed, 0.0, sc.endurance.ds_m)
+    carried = read_leg_speeds(path, waypoints.shape[0] - 1)  # the file's speed per leg, when it has one
+    speeds = mission.vehicle.speed if carried is None else carried
+    b = mission_budget(world, waypoints, model, speeds, 0.0, sc.endurance.ds_m)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": b.message}
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
     return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
 
 
