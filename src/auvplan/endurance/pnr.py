@@ -163,7 +163,7 @@ def point_of_no_return(world: World, tr: Traverse, model: EnergyModel, recovery:
     v = float(tr.speeds[0]) if speed is None else float(speed)
     where = "home (the start)" if recovery is None else f"the rally point {np.round(home, 1).tolist()}"
     free_from = np.array([world.path_free(np.stack([q, home])) for q in tr.points])
-    total = float(tr.node_s[-1]) if tr.ok else float(tr.node_s[-1])
+    total = float(tr.node_s[-1])  # the whole route, or up to where the current blocks it
     budget = model.budget_wh
 
     def f(s: float) -> tuple[float, tuple[float, float, F64, float, int]]:
