@@ -234,7 +234,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
               f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f} {e['energy_wh']:9.1f} "
               f"{e['margin_wh']:9.1f} {e['pnr_t_s'] / 3600:6.2f} {e['pnr_s_m'] / 1000:6.1f}"
-              + (" (whole mission)" if e["pnr_whole_mission"] == 1 else "") for r, e in zip(rows, energy)]
+              + (" (whole mission)" if e["pnr_whole_mission"] == 1 else "")
+              + ("" if np.isfinite(e["energy_wh"]) or not np.isfinite(r.duration_s) else
+                 " (a cross current beats the vehicle on the plan's track: PNR up to there)")
+              for r, e in zip(rows, energy)]
     if summary.get("feasible_departures"):
         lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
                      f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
