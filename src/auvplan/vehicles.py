@@ -88,7 +88,8 @@ class VehicleParams:
     reserve : float
         Share of ``battery_wh`` to keep at the end of the mission, in [0, ``usable_fraction``).
     min_speed : float
-        Slowest through-water speed a leg may be planned at (m/s; steerage).
+        Slowest through-water speed a leg may be planned at (m/s; steerage); a cruise ``speed`` below
+        it lowers it to ``speed``.
     hotel_w : float or None
         The hotel load under the name of the energy contract (W); when given it sets ``hotel_power``.
     power_table : tuple of (float, float)
@@ -149,8 +150,8 @@ class VehicleParams:
             raise ValueError(f"battery_wh = {self.battery_wh}, usable_fraction = {self.usable_fraction}, reserve = "
                              f"{self.reserve}: need battery_wh > 0, 0 < usable_fraction <= 1 and 0 <= reserve < "
                              "usable_fraction")
-        if not 0 < self.min_speed <= self.speed:
-            raise ValueError(f"min_speed = {self.min_speed}: must be positive and at most speed = {self.speed}")
+        if not 0 < self.min_speed <= self.max_speed:
+            raise ValueError(f"min_speed = {self.min_speed}: must be positive and at most max_speed = {self.max_speed}")
         if self.hotel_w is not None:
             if self.hotel_w < 0:
                 raise ValueError(f"hotel_w = {self.hotel_w}: must be >= 0")
