@@ -19,6 +19,7 @@ import numpy as np
 from .errors import AuvplanError
 from .io import export, records, results
 from .io import scenario as scenario_io
+from .io.energy import mission_endurance, mission_file_energy, sweep_energy
 from .io.geo import LocalFrame
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 from .planners import SWARM, plan, reference, with_reference
@@ -210,7 +211,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     departs = np.arange(t0, t1 + 0.5 * step, step)
     plans: list[Any] = []
     rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans)
-    energy = _sweep_energy(world, mission, plans, departs)
+    energy = sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
         from .io.tides import parse_start_time, utc_iso
@@ -248,19 +249,6 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                         if "best_depart_utc" in summary else ""))
     _emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
     return 0 if summary.get("feasible_departures") else 1
-
-
-def _sweep_energy(world: World, mission: Mission, plans: list[Any], departs: np.ndarray) -> list[dict[str, float]]:
-    """Energy, margin and point of no return (with its lat/lon) of every departure of a sweep."""
-    from .endurance import departure_endurance
-
-    rows = departure_endurance(world, plans, departs, mission.vehicle, mission.endurance)
-    if world.origin is not None:
-        inverse = LocalFrame(*world.origin).inverse
-        for r in rows:
-            lon, lat = inverse(np.array([r["pnr_x"]]), np.array([r["pnr_y"]]))
-            r["pnr_lat"], r["pnr_lon"] = float(np.ravel(lat)[0]), float(np.ravel(lon)[0])
-    return rows
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
@@ -327,7 +315,7 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
-    endurance = _endurance(world, mission, record)
+    endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
@@ -340,19 +328,6 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
             write_energy(Path(out), endurance, frame.inverse if frame else None)
         _write_report(Path(out), world, mission, record, text, full=full, endurance=endurance)
     return sc, record, endurance
-
-
-def _endurance(world: World, mission: Mission, record: RunRecord) -> Endurance | None:
-    """The mission's energy budget, point of no return and flown energy (None without a route)."""
-    if record.route.shape[0] < 2:
-        return None
-    from .endurance import assess
-    from .sim import with_leg_speeds
-
-    sim = record.sim
-    track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
-    speeds = with_leg_speeds(world, mission, record.route).leg_speeds or None
-    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds)
 
 
 def _scenario_text(sc: Scenario) -> str:
@@ -387,7 +362,7 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
     export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), formats, full)
     if endurance is None:
-        endurance = _endurance(world, mission, record)
+        endurance = mission_endurance(world, mission, record)
     page = build_report(world, record, text, records.summary_metrics(record), frame.inverse if frame else None,
                         endurance)
     path = atomic_write(out / "report.html", page)
@@ -447,7 +422,7 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        energy, energy_ok, energy_line = _mission_energy(world, mission, sc, Path(name))
+        energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         rec = {"file": name, "format": fmt, **check.as_dict(), "energy": energy}
         checks.append(rec)
         worst = max(worst, 0 if check.ok and energy_ok else 1)
@@ -465,25 +440,6 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst
-
-
-def _mission_energy(world: World, mission: Mission, sc: Scenario, path: Path) -> tuple[dict[str, Any], bool, str]:
-    """A mission file's energy budget from the scenario's start time: its record, verdict and a line of text."""
-    from .endurance import EnergyModel, mission_budget
-    from .io.formats import read_mission
-
-    waypoints = read_mission(path, world.origin)[0]
-    if waypoints.shape[0] < 2:
-        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
-    from .io.mission_speeds import read_leg_speeds
-
-    model = EnergyModel.from_vehicle(mission.vehicle)
-    carried = read_leg_speeds(path, waypoints.shape[0] - 1)  # the file's speed per leg, when it has one
-    speeds = mission.vehicle.speed if carried is None else carried
-    b = mission_budget(world, waypoints, model, speeds, 0.0, sc.endurance.ds_m)
-    rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
-    return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
 
 
 def _describe_run(name: str, record: RunRecord, endurance: Endurance | None = None) -> str:

@@ -23,10 +23,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import Status
-from ..endurance import Endurance
+from ..endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget
+from ..sim import Mission, RunRecord, with_leg_speeds
+from ..world import World
+from .formats import read_mission
+from .geo import LocalFrame
+from .mission_speeds import read_leg_speeds as file_leg_speeds
 from .records import JsonDict, jsonable, write_json, write_text
 
-__all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds"]
+__all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
+           "mission_file_energy", "sweep_energy"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -151,3 +157,90 @@ def read_leg_speeds(out_dir: Path, legs: int) -> NDArray[np.float64] | None:
     except (OSError, KeyError, ValueError, TypeError, UnicodeDecodeError):
         return None
     return v if v.size == legs and np.all(np.isfinite(v)) and np.all(v > 0) else None
+
+
+def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endurance | None:
+    """The run's energy budget, point of no return and flown energy, at the speeds the flight flew.
+
+    Parameters
+    ----------
+    world : World
+        Currents, seabed and obstacles.
+    mission : Mission
+        Vehicle and ``[endurance]`` settings.
+    record : RunRecord
+        The run: its route and flight.
+
+    Returns
+    -------
+    Endurance or None
+        The analysis (:func:`auvplan.endurance.assess`); None without a route of two points.
+    """
+    if record.route.shape[0] < 2:
+        return None
+    sim = record.sim
+    track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
+    speeds = with_leg_speeds(world, mission, record.route).leg_speeds or None
+    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds)
+
+
+def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
+    """A mission file's energy budget from the scenario's start time, at the speeds the file carries.
+
+    Parameters
+    ----------
+    world : World
+        Currents (and the origin of geographic formats).
+    mission : Mission
+        Vehicle (speed when the file carries none, power model, battery) and ``[endurance] ds_m``.
+    path : pathlib.Path
+        The mission file.
+
+    Returns
+    -------
+    record : dict
+        ``energy_status``, ``energy_wh``, ``margin_wh``, ``duration_s``, ``energy_message``, ``leg_speeds_mps``.
+    ok : bool
+        Whether the reserve is kept.
+    line : str
+        The verdict in one line.
+    """
+    waypoints = read_mission(path, world.origin)[0]
+    if waypoints.shape[0] < 2:
+        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    carried = file_leg_speeds(path, waypoints.shape[0] - 1)
+    speeds = mission.vehicle.speed if carried is None else carried
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m)
+    rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
+
+
+def sweep_energy(world: World, mission: Mission, plans: list[Any],
+                 departs: NDArray[np.float64]) -> list[dict[str, float]]:
+    """Energy, margin and point of no return (with its lat/lon) of every departure of a sweep.
+
+    Parameters
+    ----------
+    world : World
+        Currents, seabed, obstacles and origin.
+    mission : Mission
+        Vehicle and ``[endurance]`` settings.
+    plans : list
+        Each departure's ``(points, speed)`` or None (``departure_sweep(..., paths=plans)``).
+    departs : numpy.ndarray
+        The departures (s after the start time).
+
+    Returns
+    -------
+    list of dict
+        :func:`auvplan.endurance.departure_endurance`'s rows, with ``pnr_lat`` and ``pnr_lon``.
+    """
+    rows = departure_endurance(world, plans, departs, mission.vehicle, mission.endurance)
+    if world.origin is not None:
+        inverse = LocalFrame(*world.origin).inverse
+        for r in rows:
+            lon, lat = inverse(np.array([r["pnr_x"]]), np.array([r["pnr_y"]]))
+            r["pnr_lat"], r["pnr_lon"] = float(np.ravel(lat)[0]), float(np.ravel(lon)[0])
+    return rows
