@@ -188,6 +188,9 @@ def test_rally_point_and_whole_mission():
     pnr = point_of_no_return(world, b.traverse, m, recovery=rally, tol=0.01)
     assert not pnr.whole_mission and pnr.s_m == pytest.approx(2000.0, abs=0.02)
     assert pnr.recovery == (-1000.0, 0.0, -20.0)
+    short = model(battery_wh=P * (500.0 / V) / 3600.0 / 0.7)  # 500 m of flight: the rally is 1000 m away
+    none = point_of_no_return(world, mission_budget(world, LEG, short, V).traverse, short, recovery=rally)
+    assert none.status is Status.INFEASIBLE and "even from the start" in none.message
 
 
 # ------------------------------------------------------------------ 4. speed per leg
