@@ -172,6 +172,7 @@ def test_cli_departure_sweep(tmp_path, capsys):
     assert s["best_depart_utc"] in ("2026-06-15T00:00:00Z", "2026-06-15T06:00:00Z")
     for r in doc["rows"]:
         assert r["duration_s"] <= r["steady_duration_s"] * (1 + 1e-6)
+        assert {"energy_wh", "margin_wh", "pnr_lat", "pnr_lon", "pnr_t_s"} <= set(r)  # issue 38: per departure
     assert {p.name for p in tmp_path.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}
     assert main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+1h", "--step", "soon"]) == 2
     assert "--step 'soon'" in capsys.readouterr().err

@@ -38,6 +38,7 @@ class Status(enum.StrEnum):
     UNAVOIDABLE = "UNAVOIDABLE"
     COLLISION = "COLLISION"
     DEADLOCK = "DEADLOCK"
+    RESERVE_BROKEN = "RESERVE_BROKEN"
 
     @property
     def ok(self) -> bool:

@@ -20,6 +20,7 @@ from .errors import AuvplanError
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
 
 if TYPE_CHECKING:
+    from .endurance import Endurance
     from .io.scenario.specs import Scenario
     from .planners import PlannerSpec, PlanResult
     from .sim import Mission, RunRecord
@@ -206,6 +207,7 @@ def _instant(text: str, start_time: str, what: str) -> float:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .io.missions.energy import sweep_energy
     from .io.results import records
     from .io.scenario import loader as scenario_io
     from .planners.timeopt.planner import departure_sweep, sweep_summary
@@ -221,13 +223,16 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
-    rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
+    departs = np.arange(t0, t1 + 0.5 * step, step)
+    plans: list[Any] = []
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans)
+    energy = sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
         from .io.data.tides import parse_start_time, utc_iso
 
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
-    table = [dataclasses.asdict(r) for r in rows]
+    table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
     if args.out:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
@@ -240,9 +245,15 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
     lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
              f"(after {sc.mission.start_time or 't = 0'})",
-             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
+             f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9} {'energy Wh':>9} "
+             f"{'margin Wh':>9} {'PNR h':>6} {'PNR km':>6}"]
     lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
-              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f}" for r in rows]
+              f"{r.straight_duration_s / 3600:10.2f} {r.energy_j / 1e6:9.3f} {e['energy_wh']:9.1f} "
+              f"{e['margin_wh']:9.1f} {e['pnr_t_s'] / 3600:6.2f} {e['pnr_s_m'] / 1000:6.1f}"
+              + (" (whole mission)" if e["pnr_whole_mission"] == 1 else "")
+              + ("" if np.isfinite(e["energy_wh"]) or not np.isfinite(r.duration_s) else
+                 " (a cross current beats the vehicle on the plan's track: PNR up to there)")
+              for r, e in zip(rows, energy)]
     if summary.get("feasible_departures"):
         lines.append(f"best departure {summary['best_depart_s'] / 3600:+.2f} h: "
                      f"{summary['best_duration_s'] / 3600:.2f} h, saves {summary['saved_vs_worst_pct']:.1f} % "
@@ -314,7 +325,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
          full: bool = False, force: bool = False, quiet: bool = False,
-         planner: str | None = None) -> tuple[Scenario, RunRecord]:
+         planner: str | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
+    from .io.data.geo import LocalFrame
+    from .io.missions.energy import mission_endurance
     from .io.results import records
     from .io.scenario import loader as scenario_io
     from .sim import run_mission
@@ -331,13 +344,19 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         text = _scenario_text(sc)
         records.write_run(Path(out), record, text, full, world.origin)
         _save_context(Path(out), sc, world)
-        _write_report(Path(out), world, mission, record, text, full=full)
-    return sc, record
+        if endurance is not None:
+            from .io.missions.energy import write_energy
+
+            frame = LocalFrame(*world.origin) if world.origin is not None else None
+            write_energy(Path(out), endurance, frame.inverse if frame else None)
+        _write_report(Path(out), world, mission, record, text, full=full, endurance=endurance)
+    return sc, record, endurance
 
 
 def _scenario_text(sc: Scenario) -> str:
@@ -368,7 +387,7 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
 
 
 def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
-                  full: bool = False) -> Path:
+                  full: bool = False, endurance: Endurance | None = None) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
     from .io.data.geo import LocalFrame
     from .io.missions import export
@@ -377,17 +396,29 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
-    export.write_exports(out, record, world.origin, mission.vehicle.speed, formats, full)
+    from .io.missions.energy import mission_endurance
+
+    export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), formats, full)
+    if endurance is None:
+        endurance = mission_endurance(world, mission, record)
     metrics = records.summary_metrics(record)
     if world.terrain is not None and world.terrain.fit is not None:
         metrics.update(records.fit_metrics(world.terrain.fit))
-    page = build_report(world, record, text, metrics, frame.inverse if frame else None)
+    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance)
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
 
         plots.write_mission_figures(out / "figures", world, record)
     return path
+
+
+def _planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np.ndarray:
+    """The speed of each leg of the mission (``legs.csv`` of the folder), else the vehicle's speed."""
+    from .io.missions.energy import read_leg_speeds
+
+    speeds = read_leg_speeds(out, max(record.route.shape[0] - 1, 0))
+    return mission.vehicle.speed if speeds is None else speeds
 
 
 def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
@@ -423,13 +454,15 @@ def _cmd_export(args: argparse.Namespace) -> int:
     from .io.missions import export
 
     out, record, _, world, mission = _load_results(args)
-    for p in export.write_exports(out, record, world.origin, mission.vehicle.speed, args.format, args.full):
+    for p in export.write_exports(out, record, world.origin, _planned_speeds(out, record, mission), args.format,
+                                  args.full):
         print(p)
     return 0
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .flyable import check_limits
+    from .io.missions.energy import mission_file_energy
     from .io.missions.formats import check_mission_file, read_mission
     from .io.results import records
     from .io.scenario import loader as scenario_io
@@ -444,12 +477,14 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         points = read_mission(Path(name), world.origin)[0]
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         limits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
-        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict()}
+        energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict(), "energy": energy}
         checks.append(rec)
-        worst = max(worst, 0 if check.ok and limits.ok else 1)
+        worst = max(worst, 0 if check.ok and limits.ok and energy_ok else 1)
         if not args.json:
             print(f"{name} vehicle: {'OK' if limits.ok else 'FAIL'} — {limits.summary}"
                   + (f"; {len(limits.violations)} violations: {limits.message}" if not limits.ok else ""))
+            print(f"{name}: {energy_line}")
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
@@ -465,8 +500,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     return worst
 
 
-def _describe_run(name: str, record: RunRecord) -> str:
-    lines = [f"{name}: {record.status.value}"]
+def _describe_run(name: str, record: RunRecord, endurance: Endurance | None = None) -> str:
+    status = record.status if endurance is None or not record.status.ok else endurance.status
+    lines = [f"{name}: {status.value}"]
     if record.plan is not None:
         p = record.plan
         lines.append(f"  plan   {p.planner}: {p.status.value}, length {p.cost_terms.get('length_m', 0):.0f} m, "
@@ -478,6 +514,10 @@ def _describe_run(name: str, record: RunRecord) -> str:
                      f"{m['distance_m']:.0f} m flown, min altitude {m['min_altitude_m']:.1f} m, "
                      f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
                      f"{len(record.keys)} key waypoints")
+    if endurance is not None:
+        flown = f"; flown {endurance.flown.energy.energy_wh:.1f} Wh" if endurance.flown is not None else ""
+        lines.append(f"  energy {endurance.budget.message}{flown}")
+        lines.append(f"  point of no return: {endurance.pnr.message}")
     return "\n".join(lines)
 
 
@@ -534,19 +574,26 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return _run_formation(args, sc, world, mission)
-    sc, record = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
-                      force=args.force, quiet=args.quiet or args.json, planner=args.planner)
-    _emit(records.run_record(record), args.json, _describe_run(sc.name, record))
+    sc, record, endurance = _run(args.scenario, args.out, args.guidance, args.avoidance, args.seed, full=args.full,
+                                 force=args.force, quiet=args.quiet or args.json, planner=args.planner)
+    rec = records.run_record(record)
+    if endurance is not None:
+        from .io.missions.energy import energy_record
+
+        rec["energy"] = records.jsonable(energy_record(endurance))
+        if record.status.ok and not endurance.status.ok:
+            rec["status"] = endurance.status.value
+    _emit(rec, args.json, _describe_run(sc.name, record, endurance))
     if args.out and not args.json:
         print(f"results in {args.out}/")
-    return 0 if record.status.ok else 1
+    return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    sc, record = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
-    print(_describe_run(sc.name, record))
+    sc, record, endurance = _run(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
+    print(_describe_run(sc.name, record, endurance))
     print(f"results in {args.out}/")
-    return 0 if record.status.ok else 1
+    return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1
 
 
 _BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")

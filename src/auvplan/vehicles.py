@@ -91,6 +91,21 @@ class VehicleParams:
     max_depth_m : float
         Depth rating (m): 6000 m, the REMUS 6000's (a REMUS 100 is rated to 100 m, a REMUS 600 to
         600 m); the mission's depth band is clipped to it.
+    battery_wh : float
+        Nominal battery capacity (Wh); the REMUS 100 carries 1 kWh.
+    usable_fraction : float
+        Share of ``battery_wh`` that can be drawn (cold, ageing), in (0, 1].
+    reserve : float
+        Share of ``battery_wh`` to keep at the end of the mission, in [0, ``usable_fraction``).
+    min_speed : float
+        Slowest through-water speed a leg may be planned at (m/s; steerage); a cruise ``speed`` below
+        it lowers it to ``speed``.
+    hotel_w : float or None
+        The hotel load under the name of the energy contract (W); when given it sets ``hotel_power``.
+    power_table : tuple of (float, float)
+        Measured (speed m/s, power W) pairs: when given, ``hotel_power`` (unless ``hotel_w`` is given)
+        and the drag coefficient are fitted to ``P = P_hotel + k V³`` by least squares
+        (:func:`auvplan.endurance.fit_power`), so every planner and budget uses the fitted model.
     """
 
     speed: float = 1.5
@@ -116,6 +131,12 @@ class VehicleParams:
     max_pitch_deg: float = 20.0
     turn_radius_m: float = 10.0
     max_depth_m: float = 6000.0
+    battery_wh: float = 1000.0
+    usable_fraction: float = 0.9
+    reserve: float = 0.2
+    min_speed: float = 0.5
+    hotel_w: float | None = None
+    power_table: tuple[tuple[float, float], ...] = ()
 
     def __post_init__(self) -> None:
         positive = ("speed", "max_speed", "surge_time_constant", "nomoto_T", "nomoto_K", "rudder_max_deg",
@@ -138,6 +159,28 @@ class VehicleParams:
             raise ValueError(f"max_pitch_deg = {self.max_pitch_deg}: must lie in (0, 90] (90: no pitch limit)")
         if self.turn_radius_m < 0 or not self.max_depth_m > 0:
             raise ValueError("turn_radius_m must be >= 0 and max_depth_m > 0")
+        self._energy_checks()
+
+    def _energy_checks(self) -> None:
+        """Battery, reserve and speed range; ``hotel_w`` and ``power_table`` resolved into the power model."""
+        if not self.battery_wh > 0 or not 0 < self.usable_fraction <= 1 or not 0 <= self.reserve < self.usable_fraction:
+            raise ValueError(f"battery_wh = {self.battery_wh}, usable_fraction = {self.usable_fraction}, reserve = "
+                             f"{self.reserve}: need battery_wh > 0, 0 < usable_fraction <= 1 and 0 <= reserve < "
+                             "usable_fraction")
+        if not 0 < self.min_speed <= self.max_speed:
+            raise ValueError(f"min_speed = {self.min_speed}: must be positive and at most max_speed = {self.max_speed}")
+        if self.hotel_w is not None:
+            if self.hotel_w < 0:
+                raise ValueError(f"hotel_w = {self.hotel_w}: must be >= 0")
+            object.__setattr__(self, "hotel_power", float(self.hotel_w))
+        if self.power_table:
+            from .endurance.power import fit_power
+
+            v, p = zip(*self.power_table, strict=True)
+            fit = fit_power(v, p, self.hotel_w)
+            object.__setattr__(self, "hotel_power", fit.hotel_w)
+            c = fit.k * self.propulsive_efficiency  # k = c / η and c = ½ ρ C_D A
+            object.__setattr__(self, "drag_coefficient", 2.0 * c / (self.water_density * self.frontal_area))
 
     @property
     def drag_k(self) -> float:

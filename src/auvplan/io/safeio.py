@@ -29,7 +29,7 @@ RESULT_NAMES = (
     "run.json", "run.npz", "metrics.json", "path.csv", "route.csv", "keys.csv", "sim_metrics.json", "track.csv",
     "scenario.toml", "source.json", "terrain.npz", "report.html", "mission.geojson", "mission.kml", "mission.csv",
     "mission.moos", "mission.plan", "mission.gpx", "mission.yaml", "rows.csv", "histories.jsonl", "summary.csv",
-    "summary.md", "bench.html", "bench.png",
+    "summary.md", "bench.html", "bench.png", "legs.csv",
 )
 """File names a command may write into ``--out`` (checked before any work starts)."""
 

@@ -281,8 +281,10 @@ def _steer(run: _Run, k: int, psi_d: float, pitch_cmd: float | None, rp: RoutePo
         theta_c = rp.gamma + math.atan(vp.depth_gain * (rp.z_ref - s.z))
     else:
         theta_c = pitch_cmd
-    run.vel = run.vehicle.step(s, psi_d, theta_c, vp.speed if run.local is None else run.local.speed_command, cur,
-                               run.noise[k])
+    cruise = run.mission.leg_speeds[min(rp.leg, len(run.mission.leg_speeds) - 1)] if run.mission.leg_speeds \
+        else vp.speed  # the leg's speed (issue 38); avoidance's command scales with it
+    run.vel = run.vehicle.step(s, psi_d, theta_c, cruise if run.local is None else
+                               run.local.speed_command * cruise / vp.speed, cur, run.noise[k])
 
 
 def _result(run: _Run, wall_time: float) -> SimResult:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..endurance.params import EnduranceParams
 from ..guidance.formation import Formation
 from ..guidance.hybrid import HybridParams
 from ..guidance.local import AvoidanceParams
@@ -75,6 +76,10 @@ class Mission:
     follow_altitude_m : float
         Terrain following: the mission's depth schedule holds this altitude above the seabed
         within the vehicle's pitch limit (m; 0: off; :mod:`auvplan.guidance.fit_limits`).
+    endurance : EnduranceParams
+        Recovery point and the speed choice per leg (``[endurance]``, :mod:`auvplan.endurance`).
+    leg_speeds : tuple of float
+        Through-water speed of each leg of the route flown (m/s); empty: the vehicle's ``speed``.
     """
 
     name: str
@@ -91,4 +96,6 @@ class Mission:
     sim: SimParams = field(default_factory=SimParams)
     formation: Formation | None = None
     follow_altitude_m: float = 0.0
+    endurance: EnduranceParams = field(default_factory=EnduranceParams)
+    leg_speeds: tuple[float, ...] = ()
 

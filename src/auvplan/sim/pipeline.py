@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
+from ..endurance import EnergyModel, choose_speeds
 from ..flyable import VehicleLimits, check_limits
 from ..guidance.fit_limits import MissionFit, fit_mission
 from ..guidance.local import key_waypoints
@@ -24,7 +25,7 @@ from .mission import Mission
 from .result import RunRecord
 
 __all__ = ["vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path", "mission_route",
-           "planned_route"]
+           "planned_route", "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -179,6 +180,36 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     return planned, fit.waypoints
 
 
+def with_leg_speeds(world: World, mission: Mission, route: ArrayLike) -> Mission:
+    """The mission with the speed of each leg of ``route`` chosen by ``[endurance] speeds`` (issue 38).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Vehicle, endurance settings and any leg speeds already set.
+    route : array_like
+        ``(N, 3)`` the route to fly (m).
+
+    Returns
+    -------
+    Mission
+        ``mission`` itself for ``speeds = "fixed"`` or when it has leg speeds; else with ``leg_speeds``
+        from :func:`auvplan.endurance.choose_speeds` from the start time.
+    """
+    e = mission.endurance
+    if e.speeds == "fixed" or mission.leg_speeds:
+        return mission
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m)
+    sim = mission.sim
+    if sim.max_time == 0:  # the loop's default allows 3× the route at the cruise speed: at the slowest leg speed
+        length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
+        sim = replace(sim, max_time=3.0 * length / float(plan.speeds.min()) + 120.0)
+    return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
+
+
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
                 progress: Progress | None = None, guidance: str | None = None,
                 avoidance: str | None = None, flight: Callable[[float, float], object] | None = None) -> RunRecord:
@@ -213,6 +244,7 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     if route is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
+    mission = with_leg_speeds(world, mission, route)
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
+from ..endurance import Endurance
 from ..sim import RunRecord, decimate
 from ..world import World
 from . import PLOTLY_MISSING
@@ -113,7 +114,7 @@ th{background:#f3f3f3}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size
 
 
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: Mapping[str, Any],
-                 to_lonlat: ToLonLat | None = None) -> str:
+                 to_lonlat: ToLonLat | None = None, endurance: Endurance | None = None) -> str:
     """Build the whole report as one HTML page that needs no network (plotly.js is inlined once).
 
     The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
@@ -131,6 +132,9 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
         Metric name → value (units in the names), shown as a table.
     to_lonlat : callable, optional
         ``(x, y) -> (lon, lat)`` (m → degrees); with it the plan view has a graticule.
+    endurance : Endurance, optional
+        The energy budget: with it an Energy section (charge against time, energy per leg) and the
+        point of no return on the plan view (:mod:`auvplan.viz.energy`).
 
     Returns
     -------
@@ -139,8 +143,14 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     """
     if record.sim is not None:
         record = replace(record, sim=decimate(record.sim))
-    figs = [("view3d", figure_3d(world, record)), ("planview", figure_plan_view(world, record, to_lonlat)),
+    plan_view = figure_plan_view(world, record, to_lonlat)
+    figs = [("view3d", figure_3d(world, record)), ("planview", plan_view),
             ("profiles", figure_profiles(record)), ("convergence", figure_convergence(record))]
+    if endurance is not None:
+        from .energy import figure_energy, mark_pnr
+
+        mark_pnr(plan_view, endurance)
+        figs.append(("energy", figure_energy(endurance)))
     parts: list[str] = []
     for i, (div, fig) in enumerate(figs):
         parts.append(pio.to_html(fig, include_plotlyjs=(i == 0), full_html=False, div_id=div,
@@ -149,6 +159,7 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
             f"</head><body><h1>{title}</h1><p>status <b>{html.escape(record.status.value)}</b></p>"
             + parts[0] + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
+            + "".join("<h2>Energy</h2>" + p for p in parts[4:])
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
 

@@ -10,7 +10,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
 from ...path import arc_length
@@ -168,7 +168,7 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
-def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float,
+def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float | ArrayLike,
                   formats: Iterable[str] = EXPORT_FORMATS, full: bool = False) -> list[Path]:
     """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
     :mod:`auvplan.io.missions.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
@@ -182,8 +182,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         The run: plan, route, key waypoints and flight.
     origin : tuple of float or None
         ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
-    speed : float
-        Planned speed (m/s), for the formats' arrival times.
+    speed : float or array_like
+        Planned speed (m/s), for the formats' arrival times; or one per leg of the mission (MOOS, QGC
+        and CSV then carry the speed of each leg).
     formats : iterable of str, optional
         Format names (``EXPORT_FORMATS``).
     full : bool, optional

@@ -38,7 +38,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
 from ...guidance.mission import MissionCheck, fly_check
-from ...path import arc_length
 from ...world import World
 from ..data.geo import LocalFrame
 
@@ -54,6 +53,7 @@ __all__ = [
     "parse_ros_path",
     "mission_csv",
     "planned_times",
+    "leg_speeds",
     "read_mission",
     "check_mission_file",
 ]
@@ -66,15 +66,15 @@ _GPX = "http://www.topografix.com/GPX/1/1"
 _KML = "http://www.opengis.net/kml/2.2"
 
 
-def planned_times(waypoints: ArrayLike, speed: float) -> NDArray[np.float64]:
+def planned_times(waypoints: ArrayLike, speed: float | ArrayLike) -> NDArray[np.float64]:
     """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs.
 
     Parameters
     ----------
     waypoints : array_like
         ``(N, 3)`` waypoints (m).
-    speed : float
-        Planned speed (m/s).
+    speed : float or array_like
+        Planned speed (m/s), one for all legs or ``(N - 1,)`` one per leg.
 
     Returns
     -------
@@ -82,25 +82,59 @@ def planned_times(waypoints: ArrayLike, speed: float) -> NDArray[np.float64]:
         ``(N,)`` times (s), 0 at the first point.
     """
     w = np.asarray(waypoints, dtype=float)
-    times: NDArray[np.float64] = arc_length(w) / speed
+    legs = np.linalg.norm(np.diff(w, axis=0), axis=1)
+    times: NDArray[np.float64] = np.r_[0.0, np.cumsum(legs / leg_speeds(speed, legs.size))]
     return times
 
 
+def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
+    """One planned speed per leg: ``speed`` repeated, or the ``(legs,)`` speeds given (issue 38).
+
+    Parameters
+    ----------
+    speed : float or array_like
+        One speed for all legs or one per leg (m/s).
+    legs : int
+        Number of legs.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(legs,)`` speeds (m/s).
+
+    Raises
+    ------
+    ValueError
+        When per-leg speeds do not match the legs.
+    """
+    v = np.asarray(speed, dtype=float)
+    if v.ndim and v.size != legs:
+        raise ValueError(f"{v.size} leg speeds for {legs} legs")
+    return np.broadcast_to(v, (legs,)).astype(float)
+
+
+def _varies(v: NDArray[np.float64]) -> bool:
+    return bool(v.size) and bool(np.ptp(v) > 1e-9)
+
+
 # ---------------------------------------------------------------------- MOOS-IvP
-def to_moos(points: ArrayLike, speed: float, name: str = "auvplan") -> str:
+def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan") -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
 
     ``BHV_Waypoint`` posts ``WPT_INDEX`` = index (from 0) of the point it heads to, so leg i, from
     point i to point i + 1, runs while ``WPT_INDEX = i``; its ``BHV_ConstantDepth`` holds the depth
-    of point i + 1.  :func:`auvplan.guidance.mission.build_waypoints` chose the depths so that the
+    of point i + 1.  With a speed per leg that varies, each leg's depth behaviour also posts
+    ``WPT_UPDATE = speed=v_i`` when it starts running (``runflag``), and the waypoint behaviour takes
+    its parameter updates from ``WPT_UPDATE`` (``updates``): leg i is flown at v_i.
+    :func:`auvplan.guidance.mission.build_waypoints` chose the depths so that the
     vehicle stays clear of the seabed whatever depth it holds between a leg's two end depths.
 
     Parameters
     ----------
     points : array_like
         ``(N, 3)`` mission waypoints in the local frame (m).
-    speed : float
-        Planned speed (m/s).
+    speed : float or array_like
+        Planned speed (m/s), or one per leg ``(N - 1,)``.
     name : str, optional
         Mission name, in the file's comments.
 
@@ -110,6 +144,8 @@ def to_moos(points: ArrayLike, speed: float, name: str = "auvplan") -> str:
         The ``.bhv`` text.
     """
     p = np.asarray(points, dtype=float)
+    v = leg_speeds(speed, len(p) - 1)
+    per_leg = _varies(v)
     x0, y0, z0 = p[0]
     pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
     lines = [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
@@ -118,12 +154,14 @@ def to_moos(points: ArrayLike, speed: float, name: str = "auvplan") -> str:
              "", "initialize   DEPLOY = false", "initialize   RETURN = false", "",
              "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
              "  condition      = DEPLOY = true", "  condition      = RETURN = false",
-             "  endflag        = RETURN = true", f"  speed          = {speed:g}", "  capture_radius = 5",
-             "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}", "}"]
+             "  endflag        = RETURN = true", f"  speed          = {v[0] if v.size else 0.0:g}",
+             "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
+    lines += ["  updates        = WPT_UPDATE", "}"] if per_leg else ["}"]
     for i, z in enumerate(p[1:, 2]):
         lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_depth_{i}", "  pwt       = 100",
                   "  condition = DEPLOY = true", f"  condition = WPT_INDEX = {i}", f"  depth     = {-z:.3f}",
-                  "  duration  = no-time-limit", "}"]
+                  "  duration  = no-time-limit"]
+        lines += [f"  runflag   = WPT_UPDATE = speed={v[i]:g}", "}"] if per_leg else ["}"]
     return "\n".join(lines) + "\n"
 
 
@@ -183,12 +221,14 @@ def parse_moos(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
-def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float,
+def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
                 acceptance_radius: float = 5.0) -> dict[str, Any]:
     """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
 
     Home on the surface above the first point, one ``MAV_CMD_NAV_WAYPOINT`` per point with
-    altitude = z (negative: depth) relative to home.
+    altitude = z (negative: depth) relative to home.  With a speed per leg that varies, a
+    ``MAV_CMD_DO_CHANGE_SPEED`` (178; speed type 1, the speed, throttle −1) after waypoint i sets
+    the speed of leg i (ArduSub's WPNav horizontal speed).
 
     Parameters
     ----------
@@ -196,8 +236,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float,
         ``(N, 3)`` mission waypoints in the local frame (m).
     origin : tuple of float
         ``(lat, lon)`` of the local frame's origin (degrees).
-    speed : float
-        Planned speed (m/s).
+    speed : float or array_like
+        Planned speed (m/s), or one per leg ``(N - 1,)``.
     acceptance_radius : float, optional
         Waypoint acceptance radius (m).
 
@@ -209,10 +249,17 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float,
     p = np.asarray(points, dtype=float)
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
-    items = [{"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": i + 1, "frame": 3,
-              "params": [0, acceptance_radius, 0, None, round(float(la), 9), round(float(lo), 9), round(float(z), 3)],
-              "Altitude": round(float(z), 3), "AltitudeMode": 1, "AMSLAltAboveTerrain": None}
-             for i, (la, lo, z) in enumerate(zip(lat, lon, p[:, 2]))]
+    v = leg_speeds(speed, len(p) - 1)
+    items: list[dict[str, Any]] = []
+    for i, (la, lo, z) in enumerate(zip(lat, lon, p[:, 2])):
+        items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
+                      "frame": 3, "params": [0, acceptance_radius, 0, None, round(float(la), 9), round(float(lo), 9),
+                                             round(float(z), 3)],
+                      "Altitude": round(float(z), 3), "AltitudeMode": 1, "AMSLAltAboveTerrain": None})
+        if _varies(v) and i < v.size:
+            items.append({"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": len(items) + 1,
+                          "frame": 2, "params": [1, round(float(v[i]), 4), -1, 0, 0, 0, 0]})
+    speed = float(v[0]) if v.size else 0.0
     return {"fileType": "Plan", "version": 1, "groundStation": "QGroundControl",
             "geoFence": {"circles": [], "polygons": [], "version": 2},
             "rallyPoints": {"points": [], "version": 2},
@@ -340,15 +387,15 @@ def _xml(text: str, what: str) -> ET.Element:
 
 
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
-def to_ros_path(points: ArrayLike, speed: float, frame_id: str = "map") -> str:
+def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map") -> str:
     """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
 
     Parameters
     ----------
     points : array_like
         ``(N, 3)`` mission waypoints in the local frame (m).
-    speed : float
-        Planned speed (m/s).
+    speed : float or array_like
+        Planned speed (m/s), or one per leg ``(N - 1,)`` (the stamps follow it).
     frame_id : str, optional
         The ROS frame of the poses (ENU, m).
 
@@ -400,8 +447,9 @@ def parse_ros_path(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- CSV, GeoJSON, KML
-def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float) -> str:
-    """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s).
+def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike) -> str:
+    """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
+    ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
     Parameters
     ----------
@@ -409,23 +457,25 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
         ``(N, 3)`` mission waypoints in the local frame (m).
     origin : tuple of float or None
         ``(lat, lon)`` of the local frame's origin (degrees); None leaves lat/lon empty.
-    speed : float
-        Planned speed (m/s).
+    speed : float or array_like
+        Planned speed (m/s), or one per leg ``(N - 1,)``.
 
     Returns
     -------
     str
-        The CSV text (m, degrees, s).
+        The CSV text (m, degrees, s, m/s).
     """
     p = np.asarray(points, dtype=float)
     if origin is not None:
         lon, lat = LocalFrame(*origin).inverse(p[:, 0], p[:, 1])
     else:
         lon = lat = np.full(len(p), np.nan)
-    rows = ["x,y,z,lat,lon,depth,time"]
-    for (x, y, z), la, lo, tt in zip(p, lat, lon, planned_times(p, speed)):
+    v = leg_speeds(speed, len(p) - 1)
+    v = np.r_[v[:1], v] if v.size else np.asarray(speed, dtype=float).reshape(-1)[:1].repeat(len(p))
+    rows = ["x,y,z,lat,lon,depth,time,speed"]
+    for (x, y, z), la, lo, tt, s in zip(p, lat, lon, planned_times(p, speed), v):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
-                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}"]))
+                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]))
     return "\n".join(rows) + "\n"
 
 

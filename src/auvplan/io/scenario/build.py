@@ -55,7 +55,7 @@ def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str)
 
 def _check_point(world: World, point: tuple[float, ...], key: str, src: str) -> None:
     p = np.asarray(point, dtype=float)
-    table = "" if key.startswith("[[") else "[mission] "
+    table = "" if key.startswith("[") else "[mission] "
     if not world.bounds.contains(p):
         b = world.bounds
         raise ScenarioError(
@@ -183,6 +183,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     for spec in s.formation.vehicles if s.formation is not None else ():
         if spec.start:
             _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
+    for rally in s.endurance.rally:
+        _check_point(world, rally.point, f"[endurance] rally {rally.name!r} point", src)
     mission = Mission(
         name=s.name,
         start=m.start,
@@ -198,6 +200,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         sim=s.sim,
         formation=s.formation,
         follow_altitude_m=m.follow_altitude_m,
+        endurance=s.endurance,
     )
     return world, mission
 

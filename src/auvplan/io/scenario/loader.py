@@ -64,6 +64,7 @@ __all__ = ["Scenario", "load", "loads", "build", "builtin_scenarios", "resolve",
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
+    "endurance",
 }
 
 
@@ -347,6 +348,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         land=land,
         formation=formation,
         geo=geo,
+        endurance=_section(data, "endurance", source),
     )
 
 

@@ -341,6 +341,6 @@ def template(name: str = "my-mission") -> str:
     ]
     mission = {"start": (100.0, 1000.0, -40.0), "goal": (1900.0, 1000.0, -40.0), "min_altitude_m": 10.0}
     body = _commented_table("mission", specs.MissionSpec, mission)
-    for key in ("vehicle", "planner", "guidance", "avoidance", "sim", "limits"):
+    for key in ("vehicle", "planner", "guidance", "avoidance", "sim", "limits", "endurance"):
         body += [""] + _commented_table(key, specs.SECTIONS[key])
     return "\n".join(head + body) + "\n"

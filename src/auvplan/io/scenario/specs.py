@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ...endurance.params import EnduranceParams
 from ...guidance.formation import Formation, FormationParams
 from ...guidance.hybrid import HybridParams
 from ...guidance.local import AvoidanceParams
@@ -311,6 +312,8 @@ class Scenario:
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
     geo : GeoInput or None
         What its geographic positions left for the build (:mod:`auvplan.io.scenario.geoinput`).
+    endurance : EnduranceParams
+        Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     """
 
     name: str
@@ -336,12 +339,13 @@ class Scenario:
     land: LandSpec | None = None
     formation: Formation | None = None
     geo: GeoInput | None = None
+    endurance: EnduranceParams = field(default_factory=EnduranceParams)
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimParams, "limits": Limits, "land": LandSpec,
-    "formation": FormationParams,
+    "formation": FormationParams, "endurance": EnduranceParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""

@@ -16,7 +16,7 @@ from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from ..._types import ArrayLike, RngLike, Status
+from ..._types import ArrayLike, FloatArray, RngLike, Status
 from ...cost import evaluate_paths
 from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
@@ -199,8 +199,8 @@ class SweepRow:
     cpu_s: float
 
 
-def departure_sweep(problem: PlanningProblem, spec: PlannerSpec,
-                    departs: ArrayLike) -> tuple[list[SweepRow], TimeSetup]:
+def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayLike,
+                    paths: list[tuple[FloatArray, float] | None] | None = None) -> tuple[list[SweepRow], TimeSetup]:
     """Plan every departure time on one lattice and table (module notes).
 
     Parameters
@@ -211,6 +211,9 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec,
         ``spec.timeopt`` settings.
     departs : array_like
         Departure times (s after the mission's start time).
+    paths : list, optional
+        When given, receives each departure's timed plan as ``(points (M, 3), speed)`` (None
+        where there is none), for the energy budget of each departure (:mod:`auvplan.endurance`).
 
     Returns
     -------
@@ -237,6 +240,8 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec,
         steady = _fly(problem, spec, ts, d, v, table=frozen)
         sd = timed_traverse(ts.table, steady.points, d, v, ts.ds).duration if steady is not None else math.inf
         rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
+        if paths is not None:
+            paths.append((tp.points, tp.speed) if tp is not None else None)
     return rows, ts
 
 

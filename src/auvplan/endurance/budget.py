@@ -1,0 +1,322 @@
+"""A mission's energy budget leg by leg, in the real currents at its departure time.
+
+The vehicle holds each leg's track at the leg's through-water speed V (it crabs into the cross
+current), so along the unit tangent ŝ of a leg, in the current c at its position and time:
+
+    c∥ = c·ŝ,   c⊥² = |c|² − c∥²,   V_g = c∥ + √(V² − c⊥²)
+
+(the same kinematics as :func:`auvplan.cost.energy_kernel` and the time planner's
+``ground_speed``).  Each leg is cut into sub-steps of at most ``ds`` metres; a sub-step takes
+``h / V_g`` with V_g at its midpoint at the time the vehicle is half-way through it (one
+predictor step from its start), so the time and the energy are exact in a steady uniform
+current and second order in time-varying ones.  The leg's energy is ``P(V) × duration``
+(:class:`~auvplan.endurance.power.EnergyModel`).  Where the current beats the vehicle
+(V < |c⊥| or V_g ≤ 0) the leg cannot be flown and the budget's status is ``INFEASIBLE``; when
+the mission would eat into the reserve, ``RESERVE_BROKEN``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._types import Status
+from ..world import World
+from .power import WH, EnergyModel
+
+__all__ = ["Traverse", "Budget", "traverse", "mission_budget", "ground_speed"]
+
+F64 = NDArray[np.float64]
+
+
+def ground_speed(current: F64, tangent: F64, speed: float) -> float:
+    """Speed over ground along a unit tangent at through-water speed ``speed`` in a current.
+
+    Parameters
+    ----------
+    current : numpy.ndarray
+        Current ``(3,)`` (m/s).
+    tangent : numpy.ndarray
+        Unit tangent of the track ``(3,)``.
+    speed : float
+        Through-water speed (m/s).
+
+    Returns
+    -------
+    float
+        ``c·ŝ + √(V² − |c⊥|²)`` (m/s); ``nan`` where the current beats the vehicle.
+    """
+    c_par = float(current @ tangent)
+    disc = speed * speed - max(float(current @ current) - c_par * c_par, 0.0)
+    if disc < 0.0:
+        return math.nan
+    g = c_par + math.sqrt(disc)
+    return g if g > 1e-6 else math.nan
+
+
+@dataclass(frozen=True, eq=False)
+class Traverse:
+    """A route flown through the currents: times at its vertices and at the sub-step nodes.
+
+    Attributes
+    ----------
+    points : numpy.ndarray
+        ``(N, 3)`` route vertices (m).
+    speeds : numpy.ndarray
+        ``(N - 1,)`` through-water speed of each leg (m/s).
+    times : numpy.ndarray
+        ``(N,)`` arrival time at each vertex (s after the mission's start time); ``nan`` past a
+        leg the current blocks.
+    nodes : numpy.ndarray
+        ``(M, 3)`` sub-step nodes along the route, the vertices included (m).
+    node_s : numpy.ndarray
+        ``(M,)`` distance along the route of each node (m, 3D).
+    node_t : numpy.ndarray
+        ``(M,)`` time at each node (s).
+    node_leg : numpy.ndarray
+        ``(M,)`` leg of the sub-step that ends at each node (0 for the first node).
+    ok : bool
+        Whether every leg could be flown.
+    message : str
+        Where the current beats the vehicle, when not ``ok``.
+    """
+
+    points: F64
+    speeds: F64
+    times: F64
+    nodes: F64
+    node_s: F64
+    node_t: F64
+    node_leg: NDArray[np.int64]
+    ok: bool = True
+    message: str = ""
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last vertex (s); ``nan`` when not ``ok``."""
+        return float(self.times[-1] - self.times[0])
+
+    def at(self, s: float) -> tuple[F64, float, int]:
+        """Position, time and leg at distance ``s`` along the route (linear between nodes).
+
+        Parameters
+        ----------
+        s : float
+            Distance along the route (m), clipped to [0, length].
+
+        Returns
+        -------
+        tuple
+            Position ``(3,)`` (m), time (s) and leg index.
+        """
+        s = min(max(s, 0.0), float(self.node_s[-1]))
+        j = int(np.clip(np.searchsorted(self.node_s, s, side="right"), 1, self.node_s.size - 1))
+        s0, s1 = self.node_s[j - 1], self.node_s[j]
+        w = 0.0 if s1 <= s0 else (s - s0) / (s1 - s0)
+        pos = (1.0 - w) * self.nodes[j - 1] + w * self.nodes[j]
+        return pos, float((1.0 - w) * self.node_t[j - 1] + w * self.node_t[j]), int(self.node_leg[j])
+
+
+def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart: float = 0.0,
+             ds: float = 100.0) -> Traverse:
+    """Fly a route through the world's currents at each leg's through-water speed (module notes).
+
+    Parameters
+    ----------
+    world : World
+        Its currents (``world.currents.velocity(points, t)``).
+    points : array_like
+        ``(N, 3)`` route vertices (m), N ≥ 2; zero-length legs take no time.
+    speeds : array_like or float
+        Through-water speed of each leg ``(N - 1,)``, or one for all (m/s).
+    depart : float, default 0.0
+        Time at the first vertex (s after the mission's start time).
+    ds : float, default 100.0
+        Longest sub-step (m).
+
+    Returns
+    -------
+    Traverse
+        Times at the vertices and nodes; ``ok`` False where the current beats the vehicle.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    if p.shape[0] < 2:
+        raise ValueError(f"a route needs at least 2 points, got {p.shape[0]}")
+    v = np.broadcast_to(np.asarray(speeds, dtype=float), (p.shape[0] - 1,)).copy()
+    if not (np.all(np.isfinite(v)) and np.all(v > 0)) or not ds > 0:
+        raise ValueError("leg speeds and ds must be positive")
+    times = np.full(p.shape[0], math.nan)
+    times[0] = depart
+    nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
+    t, s_along, ok, message = depart, 0.0, True, ""
+    cur = world.currents
+    for i in range(p.shape[0] - 1):
+        a, b = p[i], p[i + 1]
+        length = float(np.linalg.norm(b - a))
+        if length == 0.0:
+            times[i + 1] = t
+            continue
+        e = (b - a) / length
+        n = max(1, math.ceil(length / ds))
+        h = length / n
+        for j in range(n):
+            start = a + (j * h) * e
+            g0 = ground_speed(cur.velocity(start, t), e, v[i])
+            g = ground_speed(cur.velocity(start + 0.5 * h * e, t + 0.5 * h / g0), e, v[i]) if g0 == g0 else math.nan
+            if not g == g:  # nan: the current beats the vehicle
+                ok, message = False, (f"leg {i}: the current beats the vehicle at {np.round(start, 1).tolist()} "
+                                      f"(t = {t:.0f} s, through-water speed {v[i]:g} m/s)")
+                break
+            t += h / g
+            s_along += h
+            nodes.append(a + ((j + 1) * h) * e)
+            node_s.append(s_along)
+            node_t.append(t)
+            node_leg.append(i)
+        if not ok:
+            break
+        times[i + 1] = t
+    return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
+                    np.asarray(node_leg, dtype=np.int64), ok, message)
+
+
+@dataclass(frozen=True, eq=False)
+class Budget:
+    """The energy budget of a mission, leg by leg (times in s after the start time, energies in Wh).
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` when the mission ends with its reserve, ``RESERVE_BROKEN`` when it would eat
+        into it, ``INFEASIBLE`` when the current blocks a leg.
+    message : str
+        The verdict in words.
+    model : EnergyModel
+        Power model and battery.
+    t_start, t_end : numpy.ndarray
+        ``(L,)`` each leg's start and end time (s).
+    length_m : numpy.ndarray
+        ``(L,)`` leg lengths (m, 3D).
+    speed_water, speed_ground : numpy.ndarray
+        ``(L,)`` through-water speed and mean speed over ground (m/s).
+    energy_leg_wh, cumulative_wh, remaining_wh : numpy.ndarray
+        ``(L,)`` each leg's energy, the energy spent by its end, and the charge that can still be
+        drawn then (usable minus spent) (Wh).
+    traverse : Traverse
+        The flight through the currents behind the figures.
+    """
+
+    status: Status
+    message: str
+    model: EnergyModel
+    t_start: F64
+    t_end: F64
+    length_m: F64
+    speed_water: F64
+    speed_ground: F64
+    energy_leg_wh: F64
+    cumulative_wh: F64
+    remaining_wh: F64
+    traverse: Traverse = field(repr=False)
+
+    @property
+    def energy_wh(self) -> float:
+        """Energy of the whole mission (Wh; ``inf`` when a leg cannot be flown)."""
+        return float(self.cumulative_wh[-1]) if self.status is not Status.INFEASIBLE else math.inf
+
+    @property
+    def duration_s(self) -> float:
+        """Duration of the whole mission (s)."""
+        return float(self.t_end[-1] - self.t_start[0])
+
+    @property
+    def margin_wh(self) -> float:
+        """Budget left at the end: usable − reserve − spent (Wh); negative when the reserve is broken."""
+        return self.model.budget_wh - self.energy_wh
+
+    def rows(self) -> list[dict[str, float]]:
+        """One row per leg for ``legs.csv`` (``leg, t_start_s, t_end_s, energy_wh`` first).
+
+        Returns
+        -------
+        list of dict
+            Column name (unit in the name) → value.
+        """
+        return [{"leg": float(i), "t_start_s": float(self.t_start[i]), "t_end_s": float(self.t_end[i]),
+                 "energy_wh": float(self.energy_leg_wh[i]), "length_m": float(self.length_m[i]),
+                 "duration_s": float(self.t_end[i] - self.t_start[i]), "speed_water_mps": float(self.speed_water[i]),
+                 "speed_ground_mps": float(self.speed_ground[i]), "cumulative_wh": float(self.cumulative_wh[i]),
+                 "remaining_wh": float(self.remaining_wh[i])} for i in range(self.t_start.size)]
+
+    def charge(self) -> tuple[F64, F64]:
+        """Charge that can still be drawn against time, at every sub-step node.
+
+        Returns
+        -------
+        t : numpy.ndarray
+            Times (s after the start time).
+        remaining_wh : numpy.ndarray
+            Usable charge left (Wh); the reserve line is ``model.reserve_wh``.
+        """
+        tr = self.traverse
+        good = np.isfinite(tr.node_t)
+        t, legs = tr.node_t[good], tr.node_leg[good]
+        power = self.model.power(tr.speeds)[legs]
+        spent = np.r_[0.0, np.cumsum(power[1:] * np.diff(t))] / WH
+        return t, self.model.usable_wh - spent
+
+
+def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: ArrayLike | float | None = None,
+                   depart: float = 0.0, ds: float = 100.0) -> Budget:
+    """Budget a route leg by leg in the world's currents from ``depart`` (module notes).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    route : array_like
+        ``(N, 3)`` mission waypoints (m).
+    model : EnergyModel
+        Power model and battery.
+    speeds : array_like or float, optional
+        Through-water speed per leg or for all (m/s); the vehicle's cruise speed ``model`` does
+        not know, so required in practice (None: the model's least-energy still-water speed).
+    depart : float, default 0.0
+        Departure (s after the mission's start time).
+    ds : float, default 100.0
+        Longest integration sub-step (m).
+
+    Returns
+    -------
+    Budget
+        Per-leg times, speeds and energies, and the verdict.
+    """
+    v = model.best_speed if speeds is None else speeds
+    tr = traverse(world, route, v, depart, ds)
+    p = tr.points
+    length = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    t_start, t_end = tr.times[:-1], tr.times[1:]
+    dur = t_end - t_start
+    energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)
+    cum = np.cumsum(energy)
+    remaining = model.usable_wh - cum
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ground = np.where(dur > 0, length / np.where(dur > 0, dur, 1.0), np.nan)
+    if not tr.ok:
+        status, message = Status.INFEASIBLE, f"the mission cannot be flown: {tr.message}"
+    else:
+        margin = model.budget_wh - float(cum[-1])
+        if margin < -1e-9 * model.battery_wh:
+            status = Status.RESERVE_BROKEN
+            over = int(np.argmax(remaining < model.reserve_wh - 1e-9 * model.battery_wh))
+            message = (f"RESERVE BROKEN: the mission needs {cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget "
+                       f"({model.battery_wh:g} Wh × ({model.usable_fraction:g} usable − {model.reserve:g} reserve)); "
+                       f"short by {-margin:.1f} Wh, the reserve is entered on leg {over}")
+        else:
+            status = Status.EXACT
+            message = (f"{cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget: margin {margin:.1f} Wh, "
+                       f"{remaining[-1]:.1f} Wh left at the end (reserve {model.reserve_wh:.1f} Wh)")
+    return Budget(status, message, model, t_start, t_end, length, tr.speeds, ground, energy, cum, remaining, tr)

@@ -1,0 +1,91 @@
+"""The speed of each leg a mission file carries (issue 38), read back for ``auvplan mission check``.
+
+The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoints:
+
+* MOOS (``.moos``/``.bhv``): leg i's ``runflag = WPT_UPDATE = speed=v`` in the depth behaviour of
+  ``WPT_INDEX = i``, else the waypoint behaviour's ``speed`` (the deploy point is waypoint 0, so leg
+  0 of the file's points is leg 0 here);
+* QGroundControl (``.plan``): home → first item at ``cruiseSpeed``, then each
+  ``MAV_CMD_DO_CHANGE_SPEED`` (178) sets the speed of the legs after it;
+* CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
+
+Other formats carry no speed (None).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["read_leg_speeds"]
+
+
+def _moos(text: str, legs: int) -> list[float] | None:
+    text = re.sub(r"//[^\n]*", "", text)
+    base = re.search(r"Behavior\s*=\s*BHV_Waypoint\s*\{[^}]*?\n\s*speed\s*=\s*([-\d.eE+]+)", text)
+    if base is None:
+        return None
+    v = [float(base.group(1))] * legs
+    for m in re.finditer(r"Behavior\s*=\s*BHV_ConstantDepth\s*\{([^}]*)\}", text):
+        body = m.group(1)
+        idx = re.search(r"WPT_INDEX\s*==?\s*(\d+)", body)
+        flag = re.search(r"runflag\s*=\s*WPT_UPDATE\s*=\s*speed\s*=\s*([-\d.eE+]+)", body)
+        if idx and int(idx.group(1)) >= legs:
+            return None  # the file has more legs than the mission it was read as
+        if idx and flag:
+            v[int(idx.group(1))] = float(flag.group(1))
+    return v
+
+
+def _qgc(doc: dict[str, Any], legs: int) -> list[float] | None:
+    mission = doc["mission"]
+    speed = float(mission.get("cruiseSpeed") or 0.0)
+    out: list[float] = []
+    for item in mission["items"]:
+        if item.get("command") == 16:
+            out.append(speed)  # the leg that reaches this waypoint
+        elif item.get("command") == 178 and float(item["params"][1]) > 0:
+            speed = float(item["params"][1])
+    return out if len(out) == legs else None
+
+
+def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
+    """The speed of each of ``legs`` legs a mission file carries (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file (already read once by :func:`auvplan.io.missions.formats.read_mission`).
+    legs : int
+        Its number of legs.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(legs,)`` positive speeds (m/s); None when the format carries none or they do not match.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    try:
+        text = path.read_text(encoding="utf-8")
+        if suffix in (".moos", ".bhv"):
+            v = _moos(text, legs)
+        elif suffix == ".plan":
+            v = _qgc(json.loads(text), legs)
+        elif suffix == ".csv":
+            rows = np.genfromtxt(path, delimiter=",", names=True)
+            names = rows.dtype.names or ()
+            v = np.atleast_1d(rows["speed"])[1:].tolist() if "speed" in names else None
+        else:
+            v = None
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError):
+        return None
+    if v is None or len(v) != legs:
+        return None
+    a = np.asarray(v, dtype=float)
+    return a if bool(np.all(np.isfinite(a))) and bool(np.all(a > 0)) else None
