@@ -32,7 +32,7 @@ from .cli_commands import (
 )
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
-from .io import export
+from .io import export, outdir
 from .planners import PIPELINES, PLANNERS
 
 __all__ = ["main", "main_entry"]
@@ -219,7 +219,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
-        code: int = args.func(args)
+        with outdir.session():  # the --out folders this command locked are released when it ends
+            code: int = args.func(args)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)

@@ -20,7 +20,7 @@ from .errors import AuvplanError
 from .io import export, records, results
 from .io import scenario as scenario_io
 from .io.geo import LocalFrame
-from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
+from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, save_figure, write_new
 from .planners import SWARM, plan, reference, with_reference
 from .sim import mission_route, planning_problem, run_mission
 
@@ -196,6 +196,7 @@ def _instant(text: str, start_time: str, what: str) -> float:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from .planners.timeplan import departure_sweep, sweep_summary
 
+    _out(args, ("sweep.csv", "sweep_summary.json", "sweep.png"))
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     spec = replace(mission.planner, name="timeopt")
@@ -215,14 +216,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     table = [dataclasses.asdict(r) for r in rows]
     if args.out:
         out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        with (out / "sweep.csv").open("w") as fh:
-            fh.write(",".join(table[0]) + "\n")
-            fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
+        atomic_write(out / "sweep.csv", ",".join(table[0]) + "\n"
+                     + "".join(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table))
         records.write_json(out / "sweep_summary.json", summary)
         from .viz.timeplots import sweep_figure
 
-        sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
+        save_figure(out / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
     lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
              f"(after {sc.mission.start_time or 't = 0'})",
              f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9}"]
@@ -349,16 +348,21 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     if figures:
         from .viz import plots
 
-        plots.write_mission_figures(out / "figures", world, record)
+        plots.write_mission_figures(out / "figures", world, record, save=save_figure)
     return path
+
+
+_FIGURES = tuple(f"figures/{n}.{f}" for n in ("plan_view", "profiles", "convergence") for f in ("png", "svg"))
+"""Files of ``report --figures``."""
 
 
 def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
     out = Path(args.dir)
     if not out.is_dir():
         raise AuvplanError(f"{out}: no such results folder")
-    prepare_out(out, RESULT_NAMES if args.command == "report" else [f"mission.{f}" for f in args.format],
-                force=args.force)
+    names = [*RESULT_NAMES, *(_FIGURES if getattr(args, "figures", False) else ())] if args.command == "report" \
+        else [f"mission.{f}" for f in args.format]
+    prepare_out(out, names, force=args.force)
     record, text = records.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
@@ -514,7 +518,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     from .viz.plots import bench_figures
     from .viz.report import build_bench_report
 
-    bench_figures(rows, out)
+    bench_figures(rows, out, save=save_figure)
     page = build_bench_report(rows, table, read_histories(out / "histories.jsonl"))
     atomic_write(out / "bench.html", page)
     print(text)

@@ -53,6 +53,7 @@ from . import limits as _limits
 from .bathymetry import TerrainSpec
 from .build import build
 from .limits import Limits
+from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
 
@@ -378,6 +379,7 @@ def _header(data: Any, source: str) -> tuple[str, str, int]:
     seed = data.get("seed", 0)
     if not isinstance(name, str):
         raise table_error(f"{source}:", "name", name, "expected a string")
+    check_scenario_name(source, name)
     if not isinstance(description, str):
         raise table_error(f"{source}:", "description", description, "expected a string")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -416,6 +418,7 @@ def _formation(data: dict[str, Any], src: str, mission: MissionSpec) -> Formatio
     if not isinstance(raw, list) or not raw:
         raise table_error(f"{src}:", "vehicles", raw, "expected an array of tables [[vehicles]] (name, role, ...)")
     vehicles = tuple(build_dataclass(VehicleSpec, v, f"{src}: [[vehicles]] #{i + 1}") for i, v in enumerate(raw))
+    check_vehicle_folders(src, [v.name for v in vehicles])
     params = _section(data, "formation", src)
     for i, ch in enumerate(params.changes):
         if ch.waypoint >= 0 and ch.waypoint >= max(len(mission.route), 1):
