@@ -179,11 +179,16 @@ def _duration(text: str, what: str) -> float:
         raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
 
 
+def _is_offset(text: str) -> bool:
+    """Whether a departure is an offset after start_time ('+6h', '900') rather than a date-time."""
+    return text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T")
+
+
 def _instant(text: str, start_time: str, what: str) -> float:
     """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
     from .io.tides import parse_start_time
 
-    if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
+    if _is_offset(text):
         return _duration(text, what)
     if not start_time:
         raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
@@ -207,6 +212,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
+    from .io.build import check_plan_sizes
+
+    check_plan_sizes(sc, world.bounds, t1 - t0, timeopt=True)  # the table covers the sweep and the horizon
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
