@@ -214,7 +214,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                            "500 departures")
     from .io.build import check_plan_sizes
 
-    check_plan_sizes(sc, world.bounds, t1 - t0, timeopt=True)  # the table covers the sweep and the horizon
+    b = world.bounds
+    check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
     rows, _ = departure_sweep(planning_problem(world, mission), spec, np.arange(t0, t1 + 0.5 * step, step))
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):

@@ -98,15 +98,15 @@ def _check_sim_size(s: Scenario) -> None:
                   nbytes)
 
 
-def check_plan_sizes(s: Scenario, bounds: Bounds, sweep_s: float = 0.0, timeopt: bool = False) -> None:
+def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.0, timeopt: bool = False) -> None:
     """``[planner.timeopt]`` (lattice and current table) and ``[formation] sample_m`` against the budget.
 
     Parameters
     ----------
     s : Scenario
         The scenario.
-    bounds : Bounds
-        The world's bounds (the planners' search box lies inside).
+    span : (float, float)
+        Horizontal sides of the world's bounds (m; the planners' search box lies inside).
     sweep_s : float, optional
         Span of a departure sweep (s): the table covers it on top of the horizon.
     timeopt : bool, optional
@@ -118,8 +118,7 @@ def check_plan_sizes(s: Scenario, bounds: Bounds, sweep_s: float = 0.0, timeopt:
     if timeopt or s.planner.name == "timeopt":
         slowest = s.vehicle.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
         horizon = (p.horizon_s or 1.5 * math.dist(m.start, m.goal) / slowest + 7200.0) + sweep_s
-        nodes, steps, nbytes = _limits.timeopt_size(bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin, p.cell,
-                                                    p.levels, horizon, p.dt)
+        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt)
         _limits.check(s.limits, f"{s.source}: [planner.timeopt]",
                       f"cell = {p.cell:g}, levels = {p.levels}, dt = {p.dt:g} s, horizon_s = {horizon:.6g} s"
                       + (f" (with a {sweep_s:.6g} s departure sweep)" if sweep_s else "")
@@ -166,11 +165,14 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
+    if extent is not None:  # before any data is read when the bounds say where
+        check_plan_sizes(s, (extent[1] - extent[0], extent[3] - extent[2]))
     with _limits.budget(s.limits):  # every data reader estimates against the scenario's budget
         if terrain is None:
             terrain = _terrain(s, frame, extent)
         bounds = _bounds(s, terrain)
-        check_plan_sizes(s, bounds)
+        if extent is None:
+            check_plan_sizes(s, (bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin))
         currents = _currents(s, frame, bounds)
     land = None
     if s.land is not None:

@@ -156,7 +156,8 @@ def check(limits: Limits, where: str, what: str, nbytes: float, *, error: type[E
     if nbytes <= limits.memory_mb * _MIB:  # nan compares False: refused
         return
     mib = nbytes / _MIB
-    shown = ("unbounded memory" if not math.isfinite(mib) else f"{mib:,.0f} MiB" if mib < 1e9 else f"{mib:.3g} MiB")
+    shown = ("unbounded memory" if not math.isfinite(mib) else f"{mib:.3g} MiB" if mib < 10 or mib >= 1e9
+             else f"{mib:,.0f} MiB")
     raise error(f"{where} {what} needs ~{shown}, over the limit of {limits.memory_mb:g} MiB; {hint}")
 
 
@@ -200,6 +201,19 @@ def check_npz(path: Path, limits: Limits | None = None) -> None:
     """
     limits = limits or current()
     total = 0.0
+    for name, shape, dtype, size in _npz_headers(path):
+        nbytes = max(math.prod(float(n) for n in shape) * dtype.itemsize, float(size))
+        total += nbytes
+        check(limits, f"{path}: member {name!r}", f"declares shape {tuple(shape)} {dtype} "
+              f"({size:,} bytes uncompressed), which", nbytes, error=BudgetError,
+              hint="the file is damaged or not auvplan's")
+    check(limits, f"{path}:", "its members together", total, error=BudgetError,
+          hint="the file is damaged or not auvplan's")
+
+
+def _npz_headers(path: Path) -> list[tuple[str, tuple[int, ...], np.dtype[np.generic], int]]:
+    """``(member, declared shape, dtype, uncompressed bytes)`` of each member of an ``.npz`` (headers only)."""
+    out = []
     try:
         with zipfile.ZipFile(path) as zf:
             for info in zf.infolist():
@@ -207,16 +221,10 @@ def check_npz(path: Path, limits: Limits | None = None) -> None:
                     version = np.lib.format.read_magic(fh)
                     shape, _, dtype = (np.lib.format.read_array_header_1_0(fh) if version == (1, 0)
                                        else np.lib.format.read_array_header_2_0(fh))
-                nbytes = max(math.prod(float(n) for n in shape) * dtype.itemsize, float(info.file_size))
-                total += nbytes
-                name = info.filename.removesuffix(".npy")
-                check(limits, f"{path}: member {name!r}", f"declares shape {tuple(shape)} {dtype} "
-                      f"({info.file_size:,} bytes uncompressed), which", nbytes, error=BudgetError,
-                      hint="the file is damaged or not auvplan's")
+                out.append((info.filename.removesuffix(".npy"), tuple(shape), dtype, info.file_size))
     except (zipfile.BadZipFile, ValueError, OSError, EOFError) as exc:
         raise DataError(f"{path}: not a readable .npz archive ({' '.join(str(exc).split())[:160]})") from exc
-    check(limits, f"{path}:", "its members together", total, error=BudgetError,
-          hint="the file is damaged or not auvplan's")
+    return out
 
 
 def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon_s: float,
