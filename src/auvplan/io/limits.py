@@ -12,15 +12,18 @@ machine) minutes later.  The per-item byte counts are measured peaks (``tracemal
 * random-walk obstacle track: ~100 B per step (``duration / dt``);
 * simulation record: ~(96 + 8 × obstacles) B per recorded step;
 * lattice reference planner: ~1.3 kB per node (edges, costs, Dijkstra heap);
-* a data variable read from a file (NetCDF, GeoTIFF, a run's ``run.npz``): ~24 B per declared
-  cell (float64 values, the masked/filled copy, flips), from the file's header or declared shape
+* a data variable read from a file (NetCDF, GeoTIFF): ~24 B per declared cell (float64 values,
+  the masked/filled copy, flips; measured 15 B, 21 B with a flipped axis), from the file's header
   — *before* a byte of it is read, so a 5 MB sparse file that declares 400 000 × 400 000 cells is
   refused naming the file, the variable and its shape;
-* the time-optimal planner (``[planner.timeopt]``): ~400 B per lattice node (positions, clearances,
-  the 50 leg flags, the search's arrays) and ~36 B per node and time step of its current table
-  (sampled as float64, kept as float32), ``horizon_s / dt`` steps;
+* the time-optimal planner (``[planner.timeopt]``): ~900 B per lattice node (positions, clearances,
+  the 50 leg flags, the search's arrays) and ~44 B per node and time step of its current table
+  (sampled as float64, kept as float32), ``horizon_s / dt`` steps (measured on juan-de-fuca-tides,
+  31 236 and 62 472 nodes × 97 and 383 steps: 840 B and 40 B);
+* a results folder's ``run.npz``: each member's declared shape × item size (its header) and its
+  uncompressed size (the archive's directory), whichever is larger;
 * a formation's slot tracks (``[formation] sample_m``): ~400 B per vehicle and sample (tracks,
-  segments, the exact segment test).
+  segments, the exact segment test; measured 284 B on chagos-formation at 10 m and 5 m).
 
 The scenario's budget is set for the readers by :func:`budget` (a context: the data readers take
 no ``limits`` argument); outside one, :data:`DEFAULT` applies (``data inspect``, ``report``).
@@ -67,8 +70,8 @@ BYTES_PER_SAMPLE = 200
 BYTES_PER_WALK_STEP = 100
 BYTES_PER_LATTICE_NODE = 1300
 BYTES_PER_DATA_CELL = 24
-BYTES_PER_TIMEOPT_NODE = 400
-BYTES_PER_TABLE_SAMPLE = 36
+BYTES_PER_TIMEOPT_NODE = 900
+BYTES_PER_TABLE_SAMPLE = 44
 BYTES_PER_TRACK_SAMPLE = 400
 _MIB = 1024.0 * 1024.0
 
