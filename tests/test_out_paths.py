@@ -136,3 +136,17 @@ def test_the_resolved_path_must_stay_inside(tmp_path):
     prepare_out(tmp_path / "out", ["run.json"])
     atomic_write(tmp_path / "out" / "run.json", "{}")
     assert (real / "run.json").read_text() == "{}"
+
+
+def test_bench_never_appends_through_a_linked_rows_csv(tmp_path):
+    from auvplan.bench import SweepSpec, sweep
+
+    out, victim = tmp_path / "b", tmp_path / "victim.csv"
+    out.mkdir()
+    victim.write_text("precious\n")
+    (out / "rows.csv").symlink_to(victim)
+    with pytest.raises(OutputError, match="symbolic link"):
+        prepare_out(out, ["rows.csv", "histories.jsonl"])
+    with pytest.raises(OutputError, match="rows.csv: is a symbolic link"):
+        sweep(SweepSpec(scenarios=("track-single",), seeds=1), out, resume=True, progress=False)
+    assert victim.read_text() == "precious\n"

@@ -174,7 +174,7 @@ def test_cli_departure_sweep(tmp_path, capsys):
         assert r["duration_s"] <= r["steady_duration_s"] * (1 + 1e-6)
     assert {p.name for p in tmp_path.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}
     assert main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+1h", "--step", "soon"]) == 2
-    assert "--step 'soon'" in capsys.readouterr().err
+    assert "argument --step: 'soon': not a duration" in capsys.readouterr().err
 
 
 def test_energy_sweep_picks_least_energy_per_departure():

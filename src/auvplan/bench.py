@@ -33,6 +33,7 @@ from ._types import Status
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
 from .io import scenario as scenario_io
+from .io.outdir import OutputError, check_inside
 from .io.safeio import claim
 from .planners import PIPELINES, PLANNERS, PlanResult, plan, reference, with_reference
 from .planners.grid import on_cost_function
@@ -393,6 +394,10 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
 
     out = Path(out)
     path, hpath = out / "rows.csv", out / "histories.jsonl"
+    for p in (path, hpath):  # appended to in place: never through a link, never outside --out
+        check_inside(p)
+        if p.is_symlink():
+            raise OutputError(f"{p}: is a symbolic link; auvplan does not append through links")
     todo = _todo(spec, path, resume)
     claim(out, ["rows.csv", "histories.jsonl"])
     cluster = None
