@@ -172,3 +172,12 @@ def test_resume_after_a_row_cut_at_every_byte_runs_every_row_exactly_once(tmp_pa
         assert sorted(kept + again) == sorted(want), cut  # every row exactly once
         assert len(kept) == (3 if cut == len(whole) else 2), cut
         assert (folder / "rows.csv").read_bytes() == whole[:cut if cut == len(whole) else last], cut
+
+
+def test_report_figures_are_recorded_so_a_second_report_needs_no_force(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert cli.main(["-q", "plan", "flow-spheres", "--out", str(out)]) == 0
+    assert cli.main(["report", str(out), "--figures"]) == 0
+    figs = {p.name for p in (out / "figures").iterdir()} - {MANIFEST}
+    assert {"plan_view.png", "profiles.svg"} <= figs and figs == written(out / "figures")
+    assert cli.main(["report", str(out), "--figures"]) == 0, capsys.readouterr().err
