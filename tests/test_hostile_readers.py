@@ -20,7 +20,7 @@ from auvplan.errors import DataError, ScenarioError
 from auvplan.io import scenario as scenario_io
 from auvplan.io.elevation import read_elevation
 from auvplan.io.formats import _moos_blocks, read_mission
-from auvplan.io.records import read_json
+from auvplan.io.jsonfile import read_json
 
 _BUILTINS = Path(__file__).parents[1] / "src" / "auvplan" / "data" / "scenarios"
 

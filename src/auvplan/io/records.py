@@ -19,6 +19,7 @@ from .._types import Status
 from ..errors import DataError
 from ..planners.base import PlanResult
 from ..sim import RunRecord, SimResult, decimate
+from .jsonfile import read_json
 from .limits import check_npz
 from .safeio import atomic_write
 
@@ -419,52 +420,6 @@ class _Arrays(dict[str, Any]):
         return self[key] if key in self else default
 
 
-MAX_JSON_BYTES = 64 * 1024 * 1024
-"""Largest JSON file of a results folder read (``run.json`` of a long run is a few MB)."""
-
-
-def read_json(path: Path) -> Any:
-    """Read a JSON file of a results folder, bounded in size and nesting, naming the file on any fault.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file.
-
-    Returns
-    -------
-    object
-        The parsed value; non-finite or out-of-range numbers (``1e400``) are refused.
-
-    Raises
-    ------
-    DataError
-        Naming the file and the fault (too large, not UTF-8, not JSON, nested too deeply).
-    """
-    try:
-        size = path.stat().st_size
-        if size > MAX_JSON_BYTES:
-            raise DataError(f"{path}: {size:,} bytes, over the {MAX_JSON_BYTES:,} a results file may have")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: cannot read ({exc})") from exc
-    try:
-        return json.loads(text, parse_constant=_no_constant, parse_float=_finite_float)
-    except RecursionError:
-        raise DataError(f"{path}: nested too deeply (not a file auvplan wrote)") from None
-    except ValueError as exc:
-        raise DataError(f"{path}: not valid JSON ({exc})") from exc
-
-
-def _no_constant(name: str) -> float:
-    raise ValueError(f"{name} is not a number JSON allows")
-
-
-def _finite_float(text: str) -> float:
-    v = float(text)
-    if not math.isfinite(v):
-        raise ValueError(f"number {text[:40]} is out of range")
-    return v
 
 
 def _record_from(rec: JsonDict, arr: Mapping[str, Any]) -> RunRecord:
