@@ -89,7 +89,13 @@ def release_all() -> None:
 
 @contextlib.contextmanager
 def session() -> Iterator[None]:
-    """Release, on leaving, every output folder locked inside (one command of the command line)."""
+    """Release, on leaving, every output folder locked inside (one command of the command line).
+
+    Yields
+    ------
+    None
+        Nothing: the block runs with the locks it takes.
+    """
     before = set(_HELD)
     try:
         yield
@@ -105,7 +111,18 @@ def _as_written(path: Path | str) -> Path:
 
 
 def root_of(path: Path) -> Path | None:
-    """The locked output root that ``path`` (taken as written, ``..`` kept) starts with, the innermost."""
+    """Find the locked output root that ``path`` (taken as written, ``..`` kept) starts with.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A file about to be written.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The innermost such root, or None when the path lies in none.
+    """
     parts = _as_written(path).parts
     best = None
     for root in _HELD:
