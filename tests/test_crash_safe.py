@@ -93,23 +93,33 @@ def test_a_run_killed_from_outside_is_completed_by_a_re_run(tmp_path):
     _assert_whole(out)
 
 
+_SLOW_WRITES = """
+import os, time
+_real = os.replace
+def _replace(a, b, **kw):
+    time.sleep(0.1)
+    _real(a, b, **kw)
+os.replace = _replace
+"""
+"""Make every atomic replace of the first run slow, so that the second starts while it writes."""
+
+
 def test_two_runs_into_one_folder_one_is_refused(tmp_path, capsys):
     out = tmp_path / "r"
-    holder = subprocess.Popen(
-        [sys.executable, "-c", "import sys; from auvplan.io.safeio import prepare_out; prepare_out(sys.argv[1]); "
-                               "print('locked', flush=True); sys.stdin.read()", str(out)],
-        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    code = f"import sys\n{_SLOW_WRITES}\nfrom auvplan import cli\nsys.exit(cli.main(sys.argv[1:]))"
+    first = subprocess.Popen([sys.executable, "-c", code, "-q", "run", SCENARIO, "--out", str(out)],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
-        assert holder.stdout.readline().strip() == "locked"
-        code = cli.main(["run", SCENARIO, "--out", str(out)])
+        while not (out / MANIFEST).exists() and first.poll() is None:
+            time.sleep(0.01)  # polls a state: the first run is writing (and holds the lock)
+        code2 = cli.main(["-q", "run", SCENARIO, "--out", str(out)])
         err = capsys.readouterr().err
-        assert code == 2 and err.count("\n") == 1
-        assert f"another auvplan process (pid {holder.pid}) is writing into this folder" in err
-        assert not (out / "run.json").exists()
     finally:
-        holder.communicate("")
-    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out)]) == 0  # the holder exited: its lock is gone
-    assert (out / "run.json").is_file()
+        assert first.wait(timeout=300) == 0, first.stderr.read()[-400:]
+    assert code2 == 2 and err.count("\n") == 1, err
+    assert f"another auvplan process (pid {first.pid}) is writing into this folder" in err
+    _assert_whole(out)  # the first run's folder, untouched by the second
+    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out)]) == 0  # the first exited: its lock is gone
 
 
 def test_stale_temporaries_of_auvplan_files_are_removed_and_others_kept(tmp_path):
