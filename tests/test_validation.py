@@ -16,8 +16,8 @@ from auvplan.errors import DataError, ScenarioError
 from auvplan.io.data.bathymetry import read_bathymetry
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.scenario import build as bld
-from auvplan.io.scenario import limits
 from auvplan.io.scenario import loader as sc
+from auvplan.io.scenario.loader import limits
 from auvplan.world import RandomWalkMotion
 
 BASE = """

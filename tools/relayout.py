@@ -68,7 +68,6 @@ MOVES: dict[str, str] = {
     "io/scenario.py": "io/scenario/loader.py",
     "io/specs.py": "io/scenario/specs.py",
     "io/tables.py": "io/scenario/tables.py",
-    "io/limits.py": "io/scenario/limits.py",
     "io/schema.py": "io/scenario/schema.py",
     "io/build.py": "io/scenario/build.py",
     # io: input data

@@ -16,6 +16,7 @@ once per cell (with the scenario's seed) and flies that plan in every seed's wor
 from __future__ import annotations
 
 import csv
+import io
 import json
 import logging
 import math
@@ -31,6 +32,7 @@ import numpy as np
 from ._types import Status
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE, key_waypoints
+from .io.outdir import OutputError, check_inside
 from .io.safeio import claim
 from .io.scenario import loader as scenario_io
 from .planners import PIPELINES, PlanResult, plan, reference, with_reference
@@ -55,6 +57,8 @@ COLUMNS = KEY + (
     "cross_track_rms_m", "cross_track_max_m", "escapes", "cpu_s", "wall_s",
 )
 """Columns of ``rows.csv``."""
+
+_STATUSES = frozenset(s.value for s in Status)
 
 TIMING = ("cpu_s", "wall_s")
 """Columns that vary from run to run of the same sweep."""
@@ -268,7 +272,12 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
 
 
 def read_rows(path: Path) -> list[Row]:
-    """Read the complete rows of a ``rows.csv`` (a line cut short by an interruption is left out).
+    """Read the rows of a ``rows.csv`` that are provably complete, each key once.
+
+    A row counts only when its line ends with a newline (a line an interruption cut short, even
+    one cut inside its last field, is left out and its run done again by ``--resume``), it has
+    every column, its ``status`` is a status and its ``wall_s`` a number; of two rows with the
+    same key (a tampered file) the first is kept.
 
     Parameters
     ----------
@@ -283,10 +292,22 @@ def read_rows(path: Path) -> list[Row]:
     path = Path(path)
     if not path.is_file():
         return []
-    with path.open(newline="") as fh:
-        rows = [r for r in csv.DictReader(fh)  # short or over-long (two lines run together) rows are dropped
-                if None not in r and None not in r.values() and r.get("wall_s") not in (None, "")]
-    return rows
+    data = path.read_bytes()
+    text = data[:data.rfind(b"\n") + 1].decode("utf-8", "replace")  # complete lines only
+    rows: dict[tuple[str, ...], Row] = {}
+    for r in csv.DictReader(io.StringIO(text, newline="")):
+        # short or over-long (two lines run together) rows are dropped
+        if None in r or None in r.values() or r.get("status") not in _STATUSES or not _is_number(r.get("wall_s")):
+            continue
+        rows.setdefault(_key(r), r)
+    return list(rows.values())
+
+
+def _is_number(v: Any) -> bool:
+    try:
+        return math.isfinite(float(v))
+    except (TypeError, ValueError):
+        return False
 
 
 def read_histories(path: Path) -> list[Row]:
@@ -374,6 +395,10 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
 
     out = Path(out)
     path, hpath = out / "rows.csv", out / "histories.jsonl"
+    for p in (path, hpath):  # appended to in place: never through a link, never outside --out
+        check_inside(p)
+        if p.is_symlink():
+            raise OutputError(f"{p}: is a symbolic link; auvplan does not append through links")
     todo = _todo(spec, path, resume)
     claim(out, ["rows.csv", "histories.jsonl"])
     cluster = None
@@ -408,7 +433,7 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
 def _todo(spec: SweepSpec, path: Path, resume: bool) -> list[tuple[str, str, str, tuple[int, ...]]]:
     """The tasks whose rows ``rows.csv`` lacks; the file made ready to append (header, no cut line)."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    done = read_rows(path)
+    done = read_rows(path)  # complete lines only: a row cut anywhere in its line is run again
     if path.exists() and not resume:
         raise AuvplanError(f"{path} exists: pass --resume to complete that sweep, or choose another --out")
     have = {_key(r) for r in done}

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import logging
+import math
 import sys
 from collections.abc import Callable, Collection, Iterator
 from typing import Any
@@ -77,6 +78,43 @@ _BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.local", "AVOIDANCE"), ("
 
 _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
+
+_MAX_SWEEP_S = 366 * 86400.0
+"""Longest departure step and farthest departure offset of a sweep (a year: tide tables are per year)."""
+
+
+def _step(text: str) -> str:
+    """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
+    from .cli_commands import _duration
+
+    try:
+        value = _duration(text, "--step")
+    except AuvplanError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--step ")) from None
+    if not (math.isfinite(value) and 0 < value <= _MAX_SWEEP_S):
+        raise argparse.ArgumentTypeError(f"{text!r}: a step must lie in (0 s, 366 d]")
+    return text
+
+
+def _departure(text: str) -> str:
+    """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
+    from .cli_commands import _duration, _is_offset
+
+    if _is_offset(text):
+        try:
+            value = _duration(text, "--depart-between")
+        except AuvplanError as exc:
+            raise argparse.ArgumentTypeError(str(exc).removeprefix("--depart-between ")) from None
+        if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):
+            raise argparse.ArgumentTypeError(f"{text!r}: an offset must lie within 366 d of [mission] start_time")
+        return text
+    from .io.data.currents import parse_time
+
+    try:
+        parse_time(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
 
 
 def _pitch(text: str) -> float:
@@ -155,10 +193,10 @@ def _flight_commands(sub: Any) -> None:
                    help="also plan the grid reference and report reference_cost and gap_pct")
     s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
     _shared(s, "force", "json")
-    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"),
+    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"), type=_departure,
                    help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
                         "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
-    s.add_argument("--step", default="15min", help="departure step of the sweep (default 15min)")
+    s.add_argument("--step", default="15min", type=_step, help="departure step of the sweep (default 15min)")
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
 
     s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
@@ -262,7 +300,10 @@ def main(argv: list[str] | None = None) -> int:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
         handler = getattr(importlib.import_module("auvplan.cli_commands"), args.func)
-        code: int = handler(args)
+        from .io import outdir
+
+        with outdir.session():  # the --out folders this command locked are released when it ends
+            code: int = handler(args)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .errors import AuvplanError
-from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, write_new
+from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, save_figure, write_new
 
 if TYPE_CHECKING:
     from .endurance import Endurance
@@ -192,11 +192,16 @@ def _duration(text: str, what: str) -> float:
         raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
 
 
+def _is_offset(text: str) -> bool:
+    """Whether a departure is an offset after start_time ('+6h', '900') rather than a date-time."""
+    return text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T")
+
+
 def _instant(text: str, start_time: str, what: str) -> float:
     """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
     from .io.data.tides import parse_start_time
 
-    if text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T"):
+    if _is_offset(text):
         return _duration(text, what)
     if not start_time:
         raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
@@ -213,6 +218,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .planners.timeopt.planner import departure_sweep, sweep_summary
     from .sim import planning_problem
 
+    _out(args, ("sweep.csv", "sweep_summary.json", "sweep.png"))
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
     spec = replace(mission.planner, name="timeopt")
@@ -223,6 +229,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
+    from .io.scenario.build import check_plan_sizes
+
+    b = world.bounds
+    check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
     departs = np.arange(t0, t1 + 0.5 * step, step)
     plans: list[Any] = []
     rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans)
@@ -235,14 +245,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
     if args.out:
         out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        with (out / "sweep.csv").open("w") as fh:
-            fh.write(",".join(table[0]) + "\n")
-            fh.writelines(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table)
+        atomic_write(out / "sweep.csv", ",".join(table[0]) + "\n"
+                     + "".join(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table))
         records.write_json(out / "sweep_summary.json", summary)
         from .viz.timeplots import sweep_figure
 
-        sweep_figure(rows, f"{sc.name}: departure sweep").savefig(out / "sweep.png", dpi=120)
+        save_figure(out / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
     lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
              f"(after {sc.mission.start_time or 't = 0'})",
              f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9} {'energy Wh':>9} "
@@ -409,7 +417,7 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     if figures:
         from .viz import plots
 
-        plots.write_mission_figures(out / "figures", world, record)
+        plots.write_mission_figures(out / "figures", world, record, save=save_figure)
     return path
 
 
@@ -421,6 +429,10 @@ def _planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | n
     return mission.vehicle.speed if speeds is None else speeds
 
 
+_FIGURES = tuple(f"figures/{n}.{f}" for n in ("plan_view", "profiles", "convergence") for f in ("png", "svg"))
+"""Files of ``report --figures``."""
+
+
 def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
     from .io.results import folder as results
     from .io.results import records
@@ -430,8 +442,9 @@ def _load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World
     out = Path(args.dir)
     if not out.is_dir():
         raise AuvplanError(f"{out}: no such results folder")
-    prepare_out(out, RESULT_NAMES if args.command == "report" else [f"mission.{f}" for f in args.format],
-                force=args.force)
+    names = [*RESULT_NAMES, *(_FIGURES if getattr(args, "figures", False) else ())] if args.command == "report" \
+        else [f"mission.{f}" for f in args.format]
+    prepare_out(out, names, force=args.force)
     record, text = records.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
@@ -476,14 +489,14 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
         points = read_mission(Path(name), world.origin)[0]
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-        limits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
-        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": limits.as_dict(), "energy": energy}
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
         checks.append(rec)
-        worst = max(worst, 0 if check.ok and limits.ok and energy_ok else 1)
+        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
         if not args.json:
-            print(f"{name} vehicle: {'OK' if limits.ok else 'FAIL'} — {limits.summary}"
-                  + (f"; {len(limits.violations)} violations: {limits.message}" if not limits.ok else ""))
+            print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
+                  + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
             print(f"{name}: {energy_line}")
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
@@ -605,7 +618,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
-    out = prepare_out(args.out, _BENCH_NAMES, force=args.force)
+    out = prepare_out(args.out, ("rows.csv", "histories.jsonl", *_BENCH_NAMES), force=args.force)  # no link in the way
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
     cols = list(table[0]) if table else []
@@ -620,7 +633,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     from .viz.plots import bench_figures
     from .viz.report import build_bench_report
 
-    bench_figures(rows, out)
+    bench_figures(rows, out, save=save_figure)
     page = build_bench_report(rows, table, read_histories(out / "histories.jsonl"))
     atomic_write(out / "bench.html", page)
     print(text)

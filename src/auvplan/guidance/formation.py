@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TypeAlias
@@ -59,6 +60,7 @@ __all__ = [
     "ShapeChange",
     "FormationParams",
     "VehicleSpec",
+    "VEHICLE_NAME",
     "Formation",
     "shape_offsets",
     "Schedule",
@@ -66,6 +68,9 @@ __all__ = [
 ]
 
 SHAPES = ("line", "column", "wedge")
+
+VEHICLE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")
+"""A vehicle name (a folder of the results): no '.', '..', separators, spaces, control characters or NUL."""
 
 
 @dataclass(frozen=True)
@@ -175,7 +180,8 @@ class VehicleSpec:
     Attributes
     ----------
     name : str
-        Its name (a folder name in the results: no spaces or slashes).
+        Its name, a folder of the results: matches :data:`VEHICLE_NAME` (1-64 of ``A-Za-z0-9._-``,
+        starting with a letter or digit).
     role : str
         ``leader`` (exactly one) or ``follower``.
     start : tuple of float
@@ -195,8 +201,9 @@ class VehicleSpec:
             raise ValueError(f"role = {self.role!r}: choose leader or follower")
         if self.start and len(self.start) != 3:
             raise ValueError(f"start = {list(self.start)}: expected [x, y, z]")
-        if not self.name or any(c in self.name for c in "/\\ \t\n"):
-            raise ValueError(f"name = {self.name!r}: a non-empty name without spaces or slashes")
+        if not isinstance(self.name, str) or not VEHICLE_NAME.fullmatch(self.name):
+            raise ValueError(f"name = {self.name!r}: a vehicle name is a folder of the results: 1-64 ASCII letters, "
+                             "digits, '.', '_' or '-', starting with a letter or digit")
 
 
 @dataclass(frozen=True)

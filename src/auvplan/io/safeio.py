@@ -12,15 +12,19 @@ user's own ``mission.csv``) is never replaced unless the caller adopted it first
 from __future__ import annotations
 
 import contextlib
+import io
 import json
 import os
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
-from ..errors import AuvplanError
+from . import outdir
+from .outdir import OutputError
 
-__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written"]
+__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
+           "save_figure"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -29,13 +33,9 @@ RESULT_NAMES = (
     "run.json", "run.npz", "metrics.json", "path.csv", "route.csv", "keys.csv", "sim_metrics.json", "track.csv",
     "scenario.toml", "source.json", "terrain.npz", "report.html", "mission.geojson", "mission.kml", "mission.csv",
     "mission.moos", "mission.plan", "mission.gpx", "mission.yaml", "rows.csv", "histories.jsonl", "summary.csv",
-    "summary.md", "bench.html", "bench.png", "legs.csv",
+    "summary.md", "bench.html", "bench.png", "legs.csv", "sweep.csv", "sweep_summary.json", "sweep.png",
 )
 """File names a command may write into ``--out`` (checked before any work starts)."""
-
-
-class OutputError(AuvplanError, OSError):
-    """An output folder or file cannot be written safely (names the path and why)."""
 
 
 def written(folder: Path) -> set[str]:
@@ -162,7 +162,9 @@ def atomic_write(path: Path, data: bytes | str) -> Path:
     if isinstance(data, str):
         data = data.encode("utf-8")
     try:
+        outdir.check_inside(path)  # inside its --out, through no link (before any folder is made)
         folder.mkdir(parents=True, exist_ok=True)
+        outdir.check_inside(path)
         if path.is_symlink():
             raise OutputError(f"{path}: is a symbolic link; auvplan does not write through links "
                               "(remove it, or pass --force to replace the link itself)")
@@ -171,8 +173,10 @@ def atomic_write(path: Path, data: bytes | str) -> Path:
         if path.exists() and path.name not in written(folder):
             raise OutputError(f"{path}: exists and was not written by auvplan; not overwritten "
                               "(choose another --out, or pass --force)")
-        _replace(path, data)
+        # the manifest names the file before it exists: a kill between the two leaves a name without
+        # its file (harmless), never a file of auvplan's that the next run takes for a user's
         _record(folder, [path.name])
+        _replace(path, data)
     except OutputError:
         raise
     except OSError as exc:
@@ -180,18 +184,58 @@ def atomic_write(path: Path, data: bytes | str) -> Path:
     return path
 
 
+def _mine(out: Path, name: str) -> bool:
+    """Whether auvplan wrote ``out / name`` (the manifest of the folder holding it lists it)."""
+    p = out / name
+    return p.name in written(p.parent)
+
+
+def _check_names(out: Path, names: list[str], force: bool) -> None:
+    """Every name a relative path below ``out`` through real folders (links replaced with ``force``)."""
+    for n in names:
+        parts = Path(n).parts
+        if Path(n).is_absolute() or not parts or any(p in ("..", ".") for p in parts):
+            raise OutputError(f"{out / n}: a result name that leaves the output folder; nothing was written")
+        here = out
+        for part in parts[:-1]:
+            here = here / part
+            if here.is_symlink():
+                if not force:
+                    raise OutputError(f"{here}: a symbolic link is in the way below the output folder; auvplan "
+                                      "does not write through links — remove it, or pass --force")
+                here.unlink()  # the link itself, never its target
+            elif here.exists() and not here.is_dir():
+                raise OutputError(f"{here}: a file is in the way of a results folder; remove it or choose another "
+                                  "--out")
+
+
+def _clean_temporaries(out: Path, names: list[str]) -> None:
+    """Remove what an interrupted write left: ``.NAME.XXXXXXXX.tmp`` of the names (and manifests) written here."""
+    by_folder: dict[Path, set[str]] = {out: {MANIFEST}}
+    for n in names:
+        p = out / n
+        by_folder.setdefault(p.parent, {MANIFEST}).add(p.name)
+    for folder, wanted in by_folder.items():
+        if folder.is_dir() and not folder.is_symlink():
+            for tmp in outdir.stale_temporaries(folder, wanted):
+                tmp.unlink()
+
+
 def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, force: bool = False) -> Path:
-    """Check an output folder before any work: creatable, writable, and no user file in the way.
+    """Check an output folder before any work: creatable, writable, locked, and no user file in the way.
+
+    The folder is locked for this process (:func:`auvplan.io.outdir.acquire`; a second auvplan
+    writing into it is refused) and the temporary files an interrupted run left are removed.
 
     Parameters
     ----------
     folder : Path or str
         The ``--out`` folder (created when missing).
     names : iterable of str
-        The files the command may write.
+        The files the command may write (``vehicle/run.json`` for a file in a sub-folder).
     force : bool
         Adopt existing files of those names (they will be overwritten) and remove symbolic
-        links of those names (the link, not its target).
+        links of those names or on the way to them (the link, not its target).
 
     Returns
     -------
@@ -204,6 +248,7 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         Naming the folder or the first file in the way, and how to proceed.
     """
     out = Path(folder)
+    names = list(names)
     if out.exists() and not out.is_dir():
         raise OutputError(f"{out}: --out names an existing file, not a folder")
     try:
@@ -212,8 +257,15 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         raise OutputError(f"{out}: cannot create the output folder ({exc.strerror or exc})") from exc
     if not os.access(out, os.W_OK | os.X_OK):
         raise OutputError(f"{out}: the output folder is not writable")
-    mine = written(out)
-    conflicts = [n for n in names if (out / n).is_symlink() or ((out / n).exists() and n not in mine)]
+    outdir.acquire(out)
+    try:
+        _check_names(out, names, force)
+        _clean_temporaries(out, names)
+    except OutputError:
+        raise
+    except OSError as exc:
+        raise OutputError(f"{out}: the output folder is not writable ({exc.strerror or exc})") from exc
+    conflicts = [n for n in names if (out / n).is_symlink() or ((out / n).exists() and not _mine(out, n))]
     if conflicts and not force:
         what = "a symbolic link" if (out / conflicts[0]).is_symlink() else "a file auvplan did not write"
         raise OutputError(f"{out / conflicts[0]}: {what} is in the way ({len(conflicts)} such); nothing was "
@@ -224,7 +276,9 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
                 (out / n).unlink()
             elif (out / n).is_dir():
                 raise OutputError(f"{out / n}: a folder is in the way; remove it or choose another --out")
-        _record(out, [n for n in conflicts if (out / n).exists()])
+        for n in conflicts:
+            if (out / n).exists():
+                _record((out / n).parent, [(out / n).name])
         probe = tempfile.NamedTemporaryFile(dir=out, prefix=".auvplan-probe.", delete=True)
         probe.close()
     except OutputError:
@@ -232,3 +286,25 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
     except OSError as exc:
         raise OutputError(f"{out}: the output folder is not writable ({exc.strerror or exc})") from exc
     return out
+
+
+def save_figure(path: Path, fig: Any, dpi: int = 130) -> Path:
+    """Write a matplotlib figure atomically (rendered in memory, then :func:`atomic_write`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The image file; its suffix is the format (``.png``, ``.svg``, ``.pdf`` …).
+    fig : matplotlib.figure.Figure
+        The figure.
+    dpi : int, optional
+        Resolution of raster formats.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    buf = io.BytesIO()
+    fig.savefig(buf, format=Path(path).suffix.lstrip(".") or "png", dpi=dpi)
+    return atomic_write(path, buf.getvalue())

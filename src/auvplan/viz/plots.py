@@ -13,7 +13,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +33,15 @@ from .scene3d import elevation_range, shape_surface
 from .style import bathymetry_cmap
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
-           "bench_figures"]
+           "bench_figures", "SaveFigure"]
+
+
+SaveFigure = Callable[[Path, Any, int], object]
+"""Writes one figure: ``save(path, fig, dpi)``."""
+
+
+def _savefig(path: Path, fig: Any, dpi: int) -> None:
+    fig.savefig(path, dpi=dpi)
 
 
 STRIP = 4.0
@@ -278,7 +286,7 @@ def streamlines(world: World, paths: Iterable[NDArray[np.float64]], goal: Sequen
 
 
 def write_mission_figures(folder: Path, world: World, record: RunRecord,
-                          formats: Sequence[str] = ("png", "svg")) -> list[Path]:
+                          formats: Sequence[str] = ("png", "svg"), save: SaveFigure | None = None) -> list[Path]:
     """Write the plan view, profiles and convergence of a run as image files into ``folder``.
 
     Parameters
@@ -291,6 +299,9 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
         The run.
     formats : sequence of str, optional
         File formats matplotlib can write (``png``, ``svg``, ``pdf`` …).
+    save : callable, optional
+        ``save(path, fig, dpi)`` writes one figure (the command line's atomic, recorded write);
+        default ``fig.savefig(path, dpi=dpi)``.
 
     Returns
     -------
@@ -306,12 +317,12 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
     for name, fig in figs.items():
         for fmt in formats:
             path = folder / f"{name}.{fmt}"
-            fig.savefig(path, dpi=150)
+            (save or _savefig)(path, fig, 150)
             written.append(path)
     return written
 
 
-def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path) -> list[Path]:
+def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path, save: SaveFigure | None = None) -> list[Path]:
     """Write box plots of the cost per planner and success rates per cell of a sweep's rows.
 
     Parameters
@@ -320,6 +331,8 @@ def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path) -> list[Path]
         Rows of ``rows.csv`` (:data:`auvplan.bench.COLUMNS`), values as read from the file.
     folder : pathlib.Path
         Output folder (exists).
+    save : callable, optional
+        ``save(path, fig, dpi)`` writes the figure; default ``fig.savefig(path, dpi=dpi)``.
 
     Returns
     -------
@@ -352,5 +365,5 @@ def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path) -> list[Path]
     bx.set_ylabel("success rate")
     fig.tight_layout()
     path = folder / "bench.png"
-    fig.savefig(path, dpi=130)
+    (save or _savefig)(path, fig, 130)
     return [path]

@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from ...errors import DataError
 from ...world.currents import GriddedCurrent
+from ..limits import check_declared
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid, to_local
 from .ncfile import open_dataset
@@ -98,6 +99,8 @@ def parse_time(text: str) -> np.datetime64:
         raise ValueError(f"{text!r} is not an ISO 8601 date-time (e.g. 2024-03-01T06:00:00Z)") from exc
     if t.tzinfo is not None:
         t = t.astimezone(UTC).replace(tzinfo=None)
+    if not 1678 <= t.year <= 2261:  # datetime64[ns] would wrap silently (year 1 became 1754)
+        raise ValueError(f"{text!r}: year {t.year} is outside 1678..2261, the span of nanosecond times")
     return np.datetime64(t, "ns")
 
 
@@ -170,6 +173,7 @@ def _component(ds: xr.Dataset, name: str, dims: Sequence[str], flips: Sequence[b
     da = ds[name]
     if set(map(str, da.dims)) != set(dims):
         raise DataError(f"{src}: variable {name!r} has dims {da.dims}, expected {tuple(dims)}")
+    check_declared(f"{src}: variable {name!r}", "declares", da.shape)  # before a byte is read
     arr = np.array(da.transpose(*dims).values, dtype=float)
     for axis, flip in enumerate(flips):
         if flip:

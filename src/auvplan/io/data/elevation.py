@@ -25,6 +25,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from ..limits import check_declared
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
 from .ncfile import check_dims, open_dataset, variable_values
 
@@ -179,6 +180,7 @@ def read_elevation(path: str | Path, *, variable: str = "", positive: str = "") 
             return _read_gmt3(ds, path, positive)
         var = _find_elevation(ds, variable, src)
         da = ds[var]
+        check_declared(f"{src}: variable {var!r}", "declares", da.shape)  # before a byte is read
         rdim, cdim, grid, flip_r, flip_c = horizontal_grid(ds, da, src)
         extra = [d for d in da.dims if d not in (rdim, cdim)]
         for d in extra:
@@ -210,6 +212,7 @@ def _read_gmt3(ds: xr.Dataset, path: Path, positive: str) -> ElevationGrid:
         xr_, yr_ = np.asarray(ds["x_range"].values, float), np.asarray(ds["y_range"].values, float)
     except (ValueError, TypeError) as exc:
         raise DataError(f"{src}: GMT 3 grid: unreadable 'dimension'/'x_range'/'y_range' ({exc})") from exc
+    check_declared(f"{src}: variable 'z'", "declares", ds["z"].shape)
     z = np.asarray(ds["z"].values, dtype=float)
     if nx < 2 or ny < 2 or z.size != nx * ny:
         raise DataError(f"{src}: variable 'z' has {z.size} values, but dimension says {nx} x {ny}")
@@ -236,6 +239,7 @@ def _read_geotiff(path: Path, positive: str) -> ElevationGrid:
     except Exception as exc:  # rasterio raises many types for broken files
         raise DataError(f"{src}: cannot read as GeoTIFF ({exc})") from exc
     with da:
+        check_declared(f"{src}: band 1", "declares", da.shape[-2:])  # rasterio reads the header only
         if da.sizes.get("band", 1) != 1:
             raise DataError(f"{src}: band: the GeoTIFF has {da.sizes['band']} bands; one elevation band is needed")
         crs = da.rio.crs

@@ -20,6 +20,7 @@ extent is reported with the side (north, south, east, west) that is missing.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 from typing import Any
@@ -32,6 +33,7 @@ from scipy.interpolate import LinearNDInterpolator, RegularGridInterpolator
 from scipy.optimize import minimize_scalar
 
 from ...errors import DataError
+from ..limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, check_declared, current, grid_nodes
 from .geo import LocalFrame, normalise_lon
 
 __all__ = ["HorizontalGrid", "crs_line", "axis_kind", "data_span", "horizontal_grid", "to_local", "inscribed_extent"]
@@ -193,13 +195,14 @@ def _crs_of(ds: xr.Dataset, da: xr.DataArray, src: str) -> CRS | None:
         raise DataError(f"{src}: grid_mapping {gm!r} is not a usable CRS ({exc})") from exc
 
 
-def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str]) -> tuple[_F64, _F64] | None:
+def _two_d_lonlat(ds: xr.Dataset, dims: tuple[str, str], src: str = "") -> tuple[_F64, _F64] | None:
     """2-D latitude and longitude variables on ``dims`` (any order), or None."""
     found = {}
     for name, var in ds.variables.items():
         if var.ndim == 2 and set(var.dims) == set(dims):
             kind = axis_kind(var, str(name))  # type: ignore[arg-type]  # a Variable quacks like a DataArray here
             if kind in ("lat", "lon") and kind not in found:
+                check_declared(f"{src}: coordinate {str(name)!r}", "declares", var.shape)
                 found[kind] = np.asarray(var.transpose(*dims).values, dtype=float)
     return (found["lat"], found["lon"]) if len(found) == 2 else None
 
@@ -235,7 +238,7 @@ def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, st
         _, rows, how_r = horiz[rdim]
         _, cols, how_c = horiz[cdim]
         if rows is None or cols is None:
-            two = _two_d_lonlat(ds, (rdim, cdim))
+            two = _two_d_lonlat(ds, (rdim, cdim), src)
             if two is None:
                 raise DataError(f"{src}: variable {name!r} has dimensions {tuple(da.dims)} without coordinate "
                                 "values and no latitude/longitude variables on them")
@@ -254,7 +257,7 @@ def horizontal_grid(ds: xr.Dataset, da: xr.DataArray, src: str) -> tuple[str, st
     # dims without any recognisable 1-D axis: 2-D lat/lon over the last two dimensions
     if da.ndim >= 2:
         rdim, cdim = str(da.dims[-2]), str(da.dims[-1])
-        two = _two_d_lonlat(ds, (rdim, cdim))
+        two = _two_d_lonlat(ds, (rdim, cdim), src)
         if two is not None:
             return _from_two_d(two, rdim, cdim, src, name)
     shown = {d: (k[0] or "?") for d, k in kinds.items()}
@@ -276,10 +279,29 @@ def _ascending(kind: str, rows: _F64, cols: _F64, crs: CRS | None, layout: str, 
         cols = cols[0] + np.mod(cols - cols[0], 360.0)
         if cols[-1] - cols[0] < 1e-9 and cols.size > 1:
             raise DataError(f"{src}: variable {name!r}: longitude axis spans nothing")
-    if not (np.all(np.diff(rows) > 0) and np.all(np.diff(cols) > 0)) or not np.all(np.isfinite(rows)) \
-            or not np.all(np.isfinite(cols)):
-        raise DataError(f"{src}: variable {name!r}: axes {rdim!r} and {cdim!r} must be finite and strictly monotonic")
+    for axis, dim, values in (("row", rdim, rows), ("column", cdim, cols)):
+        fault = _axis_fault(values)
+        if fault:
+            role = {"lonlat": ("latitude", "longitude"), "projected": ("y (northing)", "x (easting)")}.get(
+                kind, ("y", "x"))[axis == "column"]
+            raise DataError(f"{src}: variable {name!r}: the {role} axis {dim!r} {fault}; it must be finite and "
+                            "strictly monotonic")
     return rdim, cdim, HorizontalGrid(kind, rows, cols, crs, layout), flip_r, flip_c
+
+
+def _axis_fault(v: _F64) -> str:
+    """What makes an (ascending-ordered) axis unusable: a non-finite value, a repeat, a reversal; '' if none."""
+    bad = np.flatnonzero(~np.isfinite(v))
+    if bad.size:
+        return f"has {bad.size} non-finite value(s) ({v[bad[0]]})"
+    d = np.diff(v)
+    rep = np.flatnonzero(d == 0)
+    if rep.size:
+        return f"repeats the value {v[rep[0]]:.10g}"
+    rev = np.flatnonzero(d < 0)
+    if rev.size:
+        return f"is not monotonic ({v[rev[0]]:.10g} then {v[rev[0] + 1]:.10g})"
+    return ""
 
 
 def _from_two_d(two: tuple[_F64, _F64], rdim: str, cdim: str, src: str,
@@ -467,9 +489,9 @@ def to_local(
     x, y, out : ndarray
         Metric axes and resampled values ``(..., ny, nx)``.
     """
-    x, y = _target_axes(grid, frame, extent_m, cell_m, what)
-    gx, gy = np.meshgrid(x, y)
     vals = np.asarray(values, dtype=float)
+    x, y = _target_axes(grid, frame, extent_m, cell_m, what, math.prod(vals.shape[:-2]))
+    gx, gy = np.meshgrid(x, y)
     lead = vals.shape[:-2]
     flat = vals.reshape(-1, *vals.shape[-2:])
     if grid.kind == "curvilinear":
@@ -480,20 +502,33 @@ def to_local(
 
 
 def _target_axes(grid: HorizontalGrid, frame: LocalFrame, extent_m: tuple[float, float, float, float] | None,
-                 cell_m: float | None, what: str) -> tuple[_F64, _F64]:
-    """The local grid's axes: the extent (default: the largest rectangle inside the data) at the cell size."""
+                 cell_m: float | None, what: str, layers: int = 1) -> tuple[_F64, _F64]:
+    """The local grid's axes: the extent (default: the largest rectangle inside the data) at the cell size,
+    refused before they are made when the local grid is over the memory budget (``layers`` values a node)."""
     if extent_m is None:
         extent_m = inscribed_extent(grid, frame)
     x0, x1, y0, y1 = extent_m
     if not (x0 < x1 and y0 < y1):
         raise DataError(f"{what}: empty extent {extent_m} after projection")
+    native = cell_m is None
     if cell_m is None:
         cell_m = _native_cell(grid)
     if not cell_m > 0:
         raise DataError(f"{what}: cell size must be positive, got {cell_m}")
+    nodes = grid_nodes(x1 - x0, y1 - y0, cell_m)
+    check(current(), f"{what}:", f"resampling {_extent_m_text(extent_m)} at a cell of {cell_m:.3g} m "
+          f"({'the data’s own spacing' if native else 'as asked'}; {nodes:.3g} nodes × {layers} layer(s)), which",
+          nodes * (BYTES_PER_TERRAIN_NODE + 16.0 * layers), error=BudgetError,
+          hint=("do the coordinates hold the units of the CRS the file declares (degrees labelled as metres, a "
+                "geocentric CRS)? Or set a coarser [terrain] resample_m" if native else
+                "set a coarser resample_m, or raise [limits] memory_mb"))
     nx = max(int(round((x1 - x0) / cell_m)) + 1, 2)
     ny = max(int(round((y1 - y0) / cell_m)) + 1, 2)
     return np.linspace(x0, x1, nx), np.linspace(y0, y1, ny)
+
+
+def _extent_m_text(e: tuple[float, float, float, float]) -> str:
+    return f"x [{e[0]:.6g}, {e[1]:.6g}] y [{e[2]:.6g}, {e[3]:.6g}] m"
 
 
 def _extent_text(gx: _F64, gy: _F64) -> str:

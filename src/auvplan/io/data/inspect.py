@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
+from ..limits import BudgetError, check_declared
 from .bathymetry import _centre_lonlat, _fill_nan
 from .currents import _find, _z_axis, velocity_factor
 from .elevation import ElevationGrid, is_geotiff, read_elevation
@@ -41,6 +42,8 @@ def _variables(path: Path) -> list[str]:
 def _bathymetry(path: Path) -> list[str]:
     try:
         eg = read_elevation(path)
+    except BudgetError:
+        raise  # a file too large to read is exit 2, not a layout that does not fit
     except DataError as exc:
         return [f"as bathymetry: not usable — {exc}"]
     z = eg.z[np.isfinite(eg.z)]
@@ -96,6 +99,7 @@ def _currents(path: Path) -> list[str]:
                     continue
                 units = str(ds[n].attrs.get("units", "")).strip()
                 factor = velocity_factor(units, f"{src}: variable {n!r}") if units else 1.0
+                check_declared(f"{src}: variable {n!r}", "declares", ds[n].shape)
                 vals = np.asarray(ds[n].values, dtype=float)
                 lines.append(f"  {n}: units {units or '(none: taken as m/s)'} → × {factor:g} to m/s; "
                              f"{int(np.count_nonzero(~np.isfinite(vals)))} missing value(s) (land → zero current)")
@@ -115,6 +119,8 @@ def _currents(path: Path) -> list[str]:
                     lines.append(f"  depth {d!r}: {z.size} levels, elevation {z.min():g} .. {z.max() + 0.0:g} m")
                 else:
                     lines.append(f"  dimension {d!r}: not a time or depth axis")
+    except BudgetError:
+        raise
     except (DataError, ValueError, TypeError) as exc:
         return [f"as currents: not usable — {exc}"]
     return lines

@@ -94,6 +94,8 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
         doc = json.loads(text)
         for key in ("constituents", "speed_deg_per_hour", "first_year", "equilibrium_deg", "node_factor", "stations"):
             doc[key]  # noqa: B018 - presence check
+    except RecursionError:
+        raise DataError(f"{where}: not a tidal station file (nested too deeply)") from None
     except (ValueError, KeyError, TypeError) as exc:
         raise DataError(f"{where}: not a tidal station file ({exc})") from exc
     if not isinstance(doc, dict):

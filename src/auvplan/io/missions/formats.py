@@ -42,6 +42,7 @@ from ...world import World
 from ..data.geo import LocalFrame
 
 __all__ = [
+    "MAX_MISSION_BYTES",
     "MISSION_SUFFIXES",
     "to_moos",
     "parse_moos",
@@ -57,6 +58,9 @@ __all__ = [
     "read_mission",
     "check_mission_file",
 ]
+
+MAX_MISSION_BYTES = 256 * 1024 * 1024
+"""Largest mission file ``mission check`` reads (a 200 km mission at full resolution is a few MB)."""
 
 MISSION_SUFFIXES = {".moos": "moos", ".bhv": "moos", ".plan": "qgc", ".gpx": "gpx", ".yaml": "ros", ".yml": "ros",
                     ".geojson": "geojson", ".json": "geojson", ".kml": "kml", ".csv": "csv"}
@@ -169,14 +173,26 @@ def _moos_blocks(text: str) -> list[tuple[str, list[tuple[str, str]]]]:
     """``(behaviour type, [(key, value), ...])`` of every ``Behavior = X { ... }`` block."""
     text = re.sub(r"//[^\n]*", "", text)
     out = []
-    for m in re.finditer(r"Behavior\s*=\s*(\w+)\s*\{([^}]*)\}", text):
+    pos = 0
+    # linear: each header is found once and its body ends at the next '}' (blocks do not nest); a header
+    # without a closing brace ends the scan, as no later header can have one either (one regex
+    # ``Behavior ... \{[^}]*\}`` rescanned to the end of the text from every unclosed header: quadratic)
+    while (m := _MOOS_HEADER.search(text, pos)) is not None:
+        end = text.find("}", m.end())
+        if end < 0:
+            break
         pairs = []
-        for line in m.group(2).splitlines():
+        for line in text[m.end():end].splitlines():
             if "=" in line:
                 k, v = line.split("=", 1)
                 pairs.append((k.strip().lower(), v.strip()))
         out.append((m.group(1), pairs))
+        pos = end + 1
     return out
+
+
+_MOOS_HEADER = re.compile(r"Behavior[ \t\r\n\f\v]*=[ \t\r\n\f\v]*(\w+)[ \t\r\n\f\v]*\{")
+"""``Behavior = TYPE {`` of a MOOS-IvP behaviour file."""
 
 
 def parse_moos(text: str) -> NDArray[np.float64]:
@@ -532,6 +548,9 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
     if fmt in ("qgc", "gpx", "geojson", "kml") and origin is None:
         raise DataError(f"{path}: a {fmt} mission is geographic: the scenario needs an [origin]")
     try:
+        size = path.stat().st_size
+        if size > MAX_MISSION_BYTES:
+            raise DataError(f"{path}: {size:,} bytes, over the {MAX_MISSION_BYTES:,} a mission file may have")
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise DataError(f"{path}: cannot read ({exc})") from exc
@@ -553,7 +572,9 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
         return (parse_qgc_plan(doc, frame) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
     except DataError as exc:
         raise DataError(f"{path}: {exc}") from exc
-    except (ValueError, KeyError, TypeError, AttributeError) as exc:
+    except RecursionError:
+        raise DataError(f"{path}: nested too deeply for a {fmt} mission") from None
+    except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as exc:
         raise DataError(f"{path}: not a readable {fmt} mission ({exc})") from exc
 
 

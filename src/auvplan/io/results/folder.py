@@ -10,7 +10,6 @@ Other data references (a currents file) are resolved against the scenario's orig
 from __future__ import annotations
 
 import io
-import json
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -20,6 +19,7 @@ import numpy as np
 from ...errors import DataError
 from ...world import Terrain
 from ...world.seabed import SeabedFit
+from ..jsonfile import read_json
 from ..safeio import atomic_write
 
 __all__ = ["TERRAIN_FILE", "save_terrain", "load_terrain", "scenario_base"]
@@ -101,8 +101,8 @@ def scenario_base(out: Path) -> Path:
     src = out / "source.json"
     if not src.is_file():
         return out
+    data = read_json(src)  # bounded in size and nesting, names the file
     try:
-        data = json.loads(src.read_text(encoding="utf-8"))
         return Path(str(data["scenario_source"])).parent
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise DataError(f"{src}: malformed ({type(exc).__name__}: {exc}); expected "

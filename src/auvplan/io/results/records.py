@@ -21,6 +21,8 @@ from ...planners.base import PlanResult
 from ...sim import RunRecord, SimResult, decimate
 from ...world.seabed import SeabedFit
 from ..data.geo import LocalFrame
+from ..jsonfile import read_json
+from ..limits import check_npz
 from ..safeio import atomic_write
 
 __all__ = [
@@ -402,18 +404,47 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
     for p in files.values():
         if not p.is_file():
             raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
+    rec = read_json(files["run.json"])
+    check_npz(files["run.npz"])  # the members' headers against the budget, before a byte of data is read
     try:
-        rec = json.loads(files["run.json"].read_text(encoding="utf-8"))
         with np.load(files["run.npz"], allow_pickle=False) as npz:
             arr = {k: npz[k] for k in npz.files}
     except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise DataError(f"{out}: cannot read the run record: {exc}") from exc
+        raise DataError(f"{files['run.npz']}: cannot read the run's arrays: {' '.join(str(exc).split())[:200]}") \
+            from exc
     try:
         scenario_file = out / "scenario.toml"
         text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
-        return _record_from(rec, arr), text
-    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError) as exc:
+        return _record_from(rec, _Arrays(arr, files["run.npz"])), text
+    except _ArrayFault as exc:
+        raise DataError(f"{files['run.npz']}: {exc}") from exc
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError, OverflowError) as exc:
         raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+class _ArrayFault(Exception):
+    """A member of ``run.npz`` missing or of the wrong shape (blamed on run.npz, not run.json)."""
+
+
+class _Arrays(dict[str, Any]):
+    """The members of ``run.npz``; a missing or malformed one is an :class:`_ArrayFault`."""
+
+    def __init__(self, arr: Mapping[str, Any], path: Path) -> None:
+        super().__init__(arr)
+        self.path = path
+
+    def __getitem__(self, key: str) -> Any:
+        if key not in self:
+            raise _ArrayFault(f"member {key!r} is missing")
+        value = super().__getitem__(key)
+        if not isinstance(value, np.ndarray) or value.dtype.kind not in "biuf":
+            raise _ArrayFault(f"member {key!r} is not a numeric array")
+        return value
+
+    def get(self, key: str, default: Any = None) -> Any:
+        return self[key] if key in self else default
+
+
 
 
 def _record_from(rec: JsonDict, arr: Mapping[str, Any]) -> RunRecord:

@@ -21,17 +21,17 @@ from ...world import (
     UniformCurrent,
     World,
 )
+from .. import limits as _limits
 from ..data.bathymetry import load_terrain
 from ..data.coast import read_land
 from ..data.currents import read_currents
 from ..data.geo import LocalFrame
 from ..data.tides import load_tidal_current, parse_start_time
-from . import limits as _limits
 from .geoinput import apply_altitudes, clip_to_data
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 
-__all__ = ["build"]
+__all__ = ["build", "check_plan_sizes"]
 
 
 def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str) -> Terrain:
@@ -101,6 +101,39 @@ def _check_sim_size(s: Scenario) -> None:
                   nbytes)
 
 
+def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.0, timeopt: bool = False) -> None:
+    """``[planner.timeopt]`` (lattice and current table) and ``[formation] sample_m`` against the budget.
+
+    Parameters
+    ----------
+    s : Scenario
+        The scenario.
+    span : (float, float)
+        Horizontal sides of the world's bounds (m; the planners' search box lies inside).
+    sweep_s : float, optional
+        Span of a departure sweep (s): the table covers it on top of the horizon.
+    timeopt : bool, optional
+        Check the time-optimal planner even when the scenario names another (a sweep).
+    """
+    m, p = s.mission, s.planner.timeopt
+    pts = [m.start, *m.route, m.goal] if m.route else [m.start, m.goal]
+    length = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:])) * (1.0 if m.route else 1.5)
+    if timeopt or s.planner.name == "timeopt":
+        slowest = s.vehicle.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
+        horizon = (p.horizon_s or 1.5 * math.dist(m.start, m.goal) / slowest + 7200.0) + sweep_s
+        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt)
+        _limits.check(s.limits, f"{s.source}: [planner.timeopt]",
+                      f"cell = {p.cell:g}, levels = {p.levels}, dt = {p.dt:g} s, horizon_s = {horizon:.6g} s"
+                      + (f" (with a {sweep_s:.6g} s departure sweep)" if sweep_s else "")
+                      + f": a lattice of {nodes:.3g} nodes × a current table of {steps:.3g} steps, which", nbytes)
+    if s.formation is not None:
+        fp = s.formation.params
+        samples = (length / fp.sample_m + 2.0) * s.formation.n
+        _limits.check(s.limits, f"{s.source}: [formation]", f"sample_m = {fp.sample_m:g} over a ~{length:.3g} m "
+                      f"route for {s.formation.n} vehicles ({samples:.3g} track samples), which",
+                      samples * _limits.BYTES_PER_TRACK_SAMPLE)
+
+
 def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mission]:
     """Read the scenario's data and make its World and Mission.
 
@@ -135,16 +168,21 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
-    if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
-        data = terrain if terrain is not None else _terrain(s, frame, None)
-        extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
-        s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
-    if terrain is None:
-        terrain = _terrain(s, frame, extent)
-    if s.geo is not None and s.geo.altitudes:
-        s = _place_altitudes(s, terrain)
-    bounds = _bounds(s, terrain)
-    currents = _currents(s, frame, bounds)
+    if extent is not None:  # before any data is read when the bounds say where
+        check_plan_sizes(s, (extent[1] - extent[0], extent[3] - extent[2]))
+    with _limits.budget(s.limits):  # every data reader estimates against the scenario's budget
+        if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
+            data = terrain if terrain is not None else _terrain(s, frame, None)
+            extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
+            s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
+        if terrain is None:
+            terrain = _terrain(s, frame, extent)
+        if s.geo is not None and s.geo.altitudes:
+            s = _place_altitudes(s, terrain)
+        bounds = _bounds(s, terrain)
+        if extent is None:
+            check_plan_sizes(s, (bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin))
+        currents = _currents(s, frame, bounds)
     land = None
     if s.land is not None:
         if frame is None:
@@ -181,6 +219,10 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
     for spec in s.formation.vehicles if s.formation is not None else ():
+        span = world.bounds.zmax - world.bounds.zmin
+        if abs(spec.depth_offset_m) >= span:  # no slot could fly there: refused, not silently flown in column
+            raise table_error(f"{src}: [[vehicles]] {spec.name!r}", "depth_offset_m", spec.depth_offset_m,
+                              f"puts the vehicle outside the world's {span:g} m of depth ([bounds] z)")
         if spec.start:
             _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     for rally in s.endurance.rally:

@@ -50,12 +50,13 @@ from ...world import (
     Sphere,
     WaypointMotion,
 )
+from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
-from . import limits as _limits
+from ..limits import Limits
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .geoinput import resolve_positions
-from .limits import Limits
+from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
 
@@ -366,6 +367,7 @@ def _header(data: Any, source: str) -> tuple[str, str, int]:
     seed = data.get("seed", 0)
     if not isinstance(name, str):
         raise table_error(f"{source}:", "name", name, "expected a string")
+    check_scenario_name(source, name)
     if not isinstance(description, str):
         raise table_error(f"{source}:", "description", description, "expected a string")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -404,6 +406,7 @@ def _formation(data: dict[str, Any], src: str, mission: MissionSpec) -> Formatio
     if not isinstance(raw, list) or not raw:
         raise table_error(f"{src}:", "vehicles", raw, "expected an array of tables [[vehicles]] (name, role, ...)")
     vehicles = tuple(build_dataclass(VehicleSpec, v, f"{src}: [[vehicles]] #{i + 1}") for i, v in enumerate(raw))
+    check_vehicle_folders(src, [v.name for v in vehicles])
     params = _section(data, "formation", src)
     for i, ch in enumerate(params.changes):
         if ch.waypoint >= 0 and ch.waypoint >= max(len(mission.route), 1):

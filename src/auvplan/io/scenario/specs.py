@@ -21,8 +21,8 @@ from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
 from ..data.currents import CurrentsFileSpec, parse_time
+from ..limits import Limits
 from .geoinput import GeoInput
-from .limits import Limits
 
 __all__ = [
     "Scenario",

@@ -1,0 +1,65 @@
+"""Read a JSON file a user or a results folder supplies: bounded in size and nesting, finite numbers only.
+
+``json.loads`` recurses once per nesting level (a file of 100 000 ``[`` is a ``RecursionError``
+naming nothing) and turns ``1e400`` into ``inf`` (later an ``OverflowError`` far away); here each
+fault is a :class:`~auvplan.errors.DataError` naming the file.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from ..errors import DataError
+
+__all__ = ["MAX_JSON_BYTES", "read_json"]
+
+
+MAX_JSON_BYTES = 64 * 1024 * 1024
+"""Largest JSON file read (``run.json`` of a long run is a few MB)."""
+
+
+def read_json(path: Path) -> Any:
+    """Read a JSON file, bounded in size and nesting, naming the file on any fault.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+
+    Returns
+    -------
+    object
+        The parsed value; non-finite or out-of-range numbers (``1e400``) are refused.
+
+    Raises
+    ------
+    DataError
+        Naming the file and the fault (too large, not UTF-8, not JSON, nested too deeply).
+    """
+    try:
+        size = path.stat().st_size
+        if size > MAX_JSON_BYTES:
+            raise DataError(f"{path}: {size:,} bytes, over the {MAX_JSON_BYTES:,} a results file may have")
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: cannot read ({exc})") from exc
+    try:
+        return json.loads(text, parse_constant=_no_constant, parse_float=_finite_float)
+    except RecursionError:
+        raise DataError(f"{path}: nested too deeply (not a file auvplan wrote)") from None
+    except ValueError as exc:
+        raise DataError(f"{path}: not valid JSON ({exc})") from exc
+
+
+def _no_constant(name: str) -> float:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def _finite_float(text: str) -> float:
+    v = float(text)
+    if not math.isfinite(v):
+        raise ValueError(f"number {text[:40]} is out of range")
+    return v

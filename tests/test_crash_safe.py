@@ -1,0 +1,193 @@
+"""Issue #32, result folders that survive crashes and concurrency: a lock per ``--out``, the manifest
+naming each file before it is written, figures written atomically and recorded, a re-run after a
+SIGKILL that completes, and ``bench --resume`` that re-runs exactly the rows it cannot prove complete."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from auvplan import cli
+from auvplan.bench import COLUMNS, KEY, SweepSpec, _todo, read_rows
+from auvplan.cli_commands import _BENCH_NAMES
+from auvplan.io import outdir
+from auvplan.io.outdir import LOCK
+from auvplan.io.safeio import MANIFEST, atomic_write, prepare_out, save_figure, written
+from auvplan.viz.plots import bench_figures
+
+SCENARIO = "track-single"  # the fastest built-in `run` (about 3 s)
+
+
+@pytest.fixture(autouse=True)
+def _release_locks():
+    yield
+    outdir.release_all()
+
+
+def _auvplan(*args: str, pre: str = "") -> subprocess.CompletedProcess[str]:
+    """Run the command line in a fresh interpreter, after the Python statements ``pre``."""
+    code = f"import sys\n{pre}\nfrom auvplan import cli\nsys.exit(cli.main(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, "-q", *args], capture_output=True, text=True, timeout=300)
+
+
+def _assert_whole(out: Path) -> None:
+    """A finished results folder: no temporary left, every file present listed in the manifest."""
+    names = {p.name for p in out.iterdir()}
+    assert not [n for n in names if n.endswith(".tmp")], names
+    mine = written(out)
+    assert names - {MANIFEST, LOCK} <= mine, names - mine
+    assert {"run.json", "run.npz", "track.csv", "report.html", "sim_metrics.json"} <= names
+    json.loads((out / "run.json").read_text())
+
+
+_KILL_AT = """
+import os, signal
+_real, _n = os.replace, [0]
+def _replace(a, b, **kw):
+    _n[0] += 1
+    if _n[0] == {k} and {before}:
+        os.kill(os.getpid(), signal.SIGKILL)
+    _real(a, b, **kw)
+    if _n[0] == {k}:
+        os.kill(os.getpid(), signal.SIGKILL)
+os.replace = _replace
+"""
+"""Kill the process at the k-th atomic replace (just before it, or just after it)."""
+
+
+def test_a_run_killed_while_writing_is_completed_by_a_re_run(tmp_path):
+    """SIGKILL at seeded random points of the writing (before and after a replace of the manifest or
+    of a result file), then the same command again, without --force: it completes and the folder
+    is whole (no 'a file auvplan did not write', no temporary manifest left)."""
+    rng = np.random.default_rng(32)  # one point per test run (each costs two runs); tools/ can sweep them all
+    for i, (k, before) in enumerate([(int(rng.integers(1, 21)), bool(rng.integers(2)))]):
+        out = tmp_path / f"r{i}"
+        killed = _auvplan("run", SCENARIO, "--out", str(out), pre=_KILL_AT.format(k=k, before=before))
+        assert killed.returncode == -signal.SIGKILL, (k, killed.stderr[-400:])
+        again = _auvplan("run", SCENARIO, "--out", str(out))
+        assert again.returncode == 0, (k, before, again.stderr[-400:])
+        _assert_whole(out)
+
+
+def test_a_run_killed_from_outside_is_completed_by_a_re_run(tmp_path):
+    out = tmp_path / "r"
+    proc = subprocess.Popen([sys.executable, "-m", "auvplan", "-q", "run", SCENARIO, "--out", str(out)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    t0 = time.monotonic()
+    while not (out / MANIFEST).exists() and proc.poll() is None and time.monotonic() - t0 < 120:
+        time.sleep(0.01)  # polls a state, asserts nothing about time
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    again = _auvplan("run", SCENARIO, "--out", str(out))
+    assert again.returncode == 0, again.stderr[-400:]
+    _assert_whole(out)
+
+
+_SLOW_WRITES = """
+import os, time
+_real = os.replace
+def _replace(a, b, **kw):
+    time.sleep(0.1)
+    _real(a, b, **kw)
+os.replace = _replace
+"""
+"""Make every atomic replace of the first run slow, so that the second starts while it writes."""
+
+
+def test_two_runs_into_one_folder_one_is_refused(tmp_path, capsys):
+    out = tmp_path / "r"
+    code = f"import sys\n{_SLOW_WRITES}\nfrom auvplan import cli\nsys.exit(cli.main(sys.argv[1:]))"
+    first = subprocess.Popen([sys.executable, "-c", code, "-q", "run", SCENARIO, "--out", str(out)],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        while not (out / MANIFEST).exists() and first.poll() is None:
+            time.sleep(0.01)  # polls a state: the first run is writing (and holds the lock)
+        code2 = cli.main(["-q", "run", SCENARIO, "--out", str(out)])
+        err = capsys.readouterr().err
+    finally:
+        assert first.wait(timeout=300) == 0, first.stderr.read()[-400:]
+    assert code2 == 2 and err.count("\n") == 1, err
+    assert f"another auvplan process (pid {first.pid}) is writing into this folder" in err
+    _assert_whole(out)  # the first run's folder, untouched by the second
+    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out)]) == 0  # the first exited: its lock is gone
+
+
+def test_stale_temporaries_of_auvplan_files_are_removed_and_others_kept(tmp_path):
+    out = tmp_path / "r"
+    atomic_write(out / "run.json", "{}")
+    (out / f".{MANIFEST}.ab12_xYz.tmp").write_text("{")  # a manifest rename a kill interrupted
+    (out / ".run.json.q1w2e3r4.tmp").write_text("{")
+    (out / ".notes.txt.q1w2e3r4.tmp").write_text("the user's")
+    prepare_out(out)
+    assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST, LOCK, "run.json", ".notes.txt.q1w2e3r4.tmp"])
+
+
+def test_the_manifest_names_a_file_before_it_is_written(tmp_path, monkeypatch):
+    """A kill between the manifest and the file leaves a name without a file, never a file without its name."""
+    seen = []
+    real = os.replace
+
+    def spy(a, b, **kw):
+        if Path(b).name == "x.json":
+            seen.append("x.json" in written(Path(b).parent))
+        real(a, b, **kw)
+
+    monkeypatch.setattr(os, "replace", spy)
+    atomic_write(tmp_path / "x.json", "1")
+    assert seen == [True]
+
+
+def test_figures_are_written_atomically_and_recorded(tmp_path):
+    rows = [{"scenario": "s", "planner": "p", "guidance": "g", "cost": str(c), "status": "EXACT"} for c in (1, 2)]
+    out = prepare_out(tmp_path / "b", _BENCH_NAMES)
+    [png] = bench_figures(rows, out, save=save_figure)
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and "bench.png" in written(out)
+    outdir.release_all()
+    prepare_out(out, _BENCH_NAMES)  # a --resume of a finished sweep: no --force needed
+
+
+def _rows_file(path: Path, seeds: range) -> bytes:
+    buf = io.StringIO(newline="")
+    w = csv.DictWriter(buf, fieldnames=COLUMNS)
+    w.writeheader()
+    for s in seeds:
+        w.writerow({**dict.fromkeys(COLUMNS, "1.5"), "scenario": SCENARIO, "planner": "route", "guidance": "los",
+                    "seed": s, "status": "EXACT", "plan_status": "EXACT", "arrived": "True", "wall_s": "0.123456"})
+    return buf.getvalue().encode()
+
+
+def test_resume_after_a_row_cut_at_every_byte_runs_every_row_exactly_once(tmp_path):
+    spec = SweepSpec(scenarios=(SCENARIO,), guidance=("los",), seeds=4, chunk=1)
+    want = {(SCENARIO, "route", "los", str(s)) for s in range(4)}
+    whole = _rows_file(tmp_path / "rows.csv", range(3))
+    last = whole.rstrip(b"\r\n").rfind(b"\n") + 1  # start of the last row's line
+    assert whole.endswith(b"\r\n")
+    for cut in range(last, len(whole) + 1):
+        folder = tmp_path / f"c{cut}"
+        folder.mkdir()
+        (folder / "rows.csv").write_bytes(whole[:cut])
+        todo = _todo(spec, folder / "rows.csv", resume=True)
+        kept = [tuple(r[k] for k in KEY) for r in read_rows(folder / "rows.csv")]
+        again = [(s, p, g, str(x)) for s, p, g, seeds in todo for x in seeds]
+        assert sorted(kept + again) == sorted(want), cut  # every row exactly once
+        assert len(kept) == (3 if cut == len(whole) else 2), cut
+        assert (folder / "rows.csv").read_bytes() == whole[:cut if cut == len(whole) else last], cut
+
+
+def test_report_figures_are_recorded_so_a_second_report_needs_no_force(tmp_path, capsys):
+    out = tmp_path / "r"
+    assert cli.main(["-q", "plan", "flow-spheres", "--out", str(out)]) == 0
+    assert cli.main(["report", str(out), "--figures"]) == 0
+    figs = {p.name for p in (out / "figures").iterdir()} - {MANIFEST}
+    assert {"plan_view.png", "profiles.svg"} <= figs and figs == written(out / "figures")
+    assert cli.main(["report", str(out), "--figures"]) == 0, capsys.readouterr().err
