@@ -310,10 +310,14 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
     width, front_c = np.full(k, np.nan), np.full(k, np.nan)
     lines: list[SurveyLine] = []
     while len(lines) < params.max_lines:
-        todo = inside & (front < hi)
-        if not todo.any():
+        todo = np.flatnonzero(inside & (front < hi))
+        if not todo.size:
             break
-        idx = np.flatnonzero(todo)
+        first, last = (int(todo[0]), int(todo[-1])) if not lines else (max(int(todo[0]) - 1, 0),
+                                                                       min(int(todo[-1]) + 1, k - 1))
+        flown = np.zeros(k, dtype=bool)
+        flown[first:last + 1] = True
+        idx = np.flatnonzero(flown & inside & np.isfinite(front)) if lines else todo
         st = s[idx]
         if not lines:
             base = lo[idx]
@@ -334,9 +338,6 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         cmax = np.full(k, np.inf)
         cmax[idx] = _bisect_max(g, base, base + span)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
-        first, last = max(int(idx[0]) - 1, 0), min(int(idx[-1]) + 1, k - 1)
-        if not lines:
-            first, last = int(idx[0]), int(idx[-1])
         z = pl.depth_profile(c, first, last)
         left, right = np.full(k, np.nan), np.full(k, np.nan)
         a = slice(first, last + 1)
