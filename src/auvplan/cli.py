@@ -30,6 +30,7 @@ from .cli_commands import (
     _cmd_simulate,
     _cmd_validate,
 )
+from .cli_survey import cmd_survey
 from .errors import AuvplanError, require
 from .guidance.local import AVOIDANCE
 from .io import export
@@ -130,6 +131,12 @@ def _flight_commands(sub: Any) -> None:
     s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", _cmd_run,
                  "scenario", "planner", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write every result file here")
+    _shared(s, "full", "force", "json")
+
+    s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
+                 "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", cmd_survey,
+                 "scenario", "guidance", "seed")
+    s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
     _shared(s, "full", "force", "json")
 
 

@@ -472,6 +472,10 @@ def _run_formation(args: argparse.Namespace, sc: Scenario, world: World, mission
 
 def _cmd_run(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
+    if sc.survey is not None:
+        from .cli_survey import cmd_survey
+
+        return cmd_survey(args)
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return _run_formation(args, sc, world, mission)

@@ -21,6 +21,7 @@ Layout (all tables optional except ``[mission]``)::
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
     [[vehicles]]  name, role = leader|follower, start, depth_offset_m     # several vehicles ...
     [formation]   shape = line|column|wedge, spacing_m, changes, ...    # ... flying in formation
+    [survey]   polygon | file, sensor, opening_deg | range_m, mounting, altitude_m, overlap, heading_deg
     [vehicle] [planner] [guidance] [avoidance] [sim]   parameters of those components
 """
 
@@ -61,6 +62,7 @@ __all__ = ["Scenario", "load", "loads", "build", "builtin_scenarios", "resolve",
 _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
+    "survey",
 }
 
 
@@ -336,7 +338,9 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     planner = _section(data, "planner", source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
-    _check_geometry(source, mission, sim)
+    survey = _section(data, "survey", source) if "survey" in data else None
+    if survey is None:  # a survey may start and end at the same launch/recovery point
+        _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
     return Scenario(
         name=name,
@@ -361,6 +365,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         limits=limits,
         land=land,
         formation=formation,
+        survey=survey,
     )
 
 

@@ -15,6 +15,7 @@ from ..guidance.local import AvoidanceParams
 from ..guidance.los import LosParams
 from ..planners.base import PlannerSpec
 from ..sim import SimSettings
+from ..survey.spec import SurveySpec
 from ..vehicles import VehicleParams
 from ..world import MovingObstacle
 from .bathymetry import TerrainSpec
@@ -301,6 +302,8 @@ class Scenario:
         Coastline source.
     formation : Formation or None
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
+    survey : SurveySpec or None
+        A coverage survey of an area (``[survey]``).
     """
 
     name: str
@@ -325,12 +328,13 @@ class Scenario:
     limits: Limits = field(default_factory=Limits)
     land: LandSpec | None = None
     formation: Formation | None = None
+    survey: SurveySpec | None = None
 
 
 SECTIONS: dict[str, type] = {
     "origin": OriginSpec, "bounds": BoundsSpec, "terrain": TerrainSpec, "currents": CurrentsSpec,
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimSettings, "limits": Limits, "land": LandSpec,
-    "formation": FormationParams,
+    "formation": FormationParams, "survey": SurveySpec,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.schema` share it)."""

@@ -83,7 +83,7 @@ class Coverage:
     overlap : list of numpy.ndarray
         Overlap fractions of each adjacent pair at the stations where they meet inside the area.
     gaps : list of shapely.Polygon
-        The uncovered parts of the area (m²-size slivers included).
+        The uncovered parts of the area of at least ``min_gap_m2``.
     footprints : list of shapely geometry
         Footprint of every line.
     area_m2 : float
@@ -118,7 +118,7 @@ class Coverage:
     @property
     def gap_area_m2(self) -> float:
         """Total uncovered area (m²)."""
-        return float(sum(g.area for g in self.gaps))
+        return self.area_m2 * (1.0 - self.coverage_pct / 100.0)
 
 
 def _cut_spans(fp: shapely.Geometry, s: NDArray[np.float64], heading: float) -> NDArray[np.float64]:
@@ -138,7 +138,8 @@ def _cut_spans(fp: shapely.Geometry, s: NDArray[np.float64], heading: float) -> 
     return out
 
 
-def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometry]) -> Coverage:
+def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometry],
+            min_gap_m2: float = 1.0) -> Coverage:
     """Coverage, per-pair overlap and gaps of footprints over the area.
 
     Parameters
@@ -149,6 +150,9 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
         The planned lines (their stations, heading and the area's cross-sections).
     fps : list of shapely geometry
         Footprint of every line, in placement order.
+    min_gap_m2 : float
+        Gaps smaller than this (numerical slivers along shared edges) are not listed; the coverage
+        counts every uncovered square metre.
 
     Returns
     -------
@@ -157,8 +161,8 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     """
     union = shapely.union_all([f for f in fps if not f.is_empty])
     missing = area.difference(union) if not union.is_empty else area
-    gaps = [g for g in shapely.get_parts(missing) if isinstance(g, shapely.Polygon) and g.area > 0]
-    cover = 100.0 * (1.0 - sum(g.area for g in gaps) / area.area)
+    cover = 100.0 * (1.0 - missing.area / area.area)
+    gaps = [g for g in shapely.get_parts(missing) if isinstance(g, shapely.Polygon) and g.area >= min_gap_m2]
     spans = [_cut_spans(f, lines.stations, lines.heading) for f in fps]
     lo, hi = lines.area_lo, lines.area_hi
     overlap = []

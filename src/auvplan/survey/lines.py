@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
+import shapely.affinity
 from numpy.typing import NDArray
 
 from .swath import Seabed, Sensor, swath_reach
@@ -256,22 +257,21 @@ class _Placer:
 
 def _cross_sections(area: shapely.Polygon, s: NDArray[np.float64],
                     heading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The area's extent across at every station (NaN where a station misses the area)."""
-    ring = np.asarray(area.exterior.coords)
-    _, n = to_sn(ring[:, 0], ring[:, 1], heading)
-    pad = float(np.ptp(n)) + 1.0
-    n0, n1 = float(n.min()) - pad, float(n.max()) + pad
-    x0, y0 = from_sn(s, np.full(s.size, n0), heading)
-    x1, y1 = from_sn(s, np.full(s.size, n1), heading)
-    cuts = shapely.linestrings(np.stack([np.column_stack([x0, y0]), np.column_stack([x1, y1])], axis=1))
-    parts = shapely.intersection(cuts, area)
-    lo, hi = np.full(s.size, np.nan), np.full(s.size, np.nan)
-    for k, g in enumerate(parts):
-        if g.is_empty:
-            continue
-        pts = shapely.get_coordinates(g)
-        _, nn = to_sn(pts[:, 0], pts[:, 1], heading)
-        lo[k], hi[k] = nn.min(), nn.max()
+    """The area's extent across over the strip of every station (half-way to its neighbours either side).
+
+    The strip, not the cut at the station alone, so a corner or a slanted edge between two stations is
+    inside the extent the swaths must reach.  NaN where a strip misses the area.
+    """
+    sh, ch = math.sin(heading), math.cos(heading)
+    rot = shapely.affinity.affine_transform(area, [sh, ch, ch, -sh, 0.0, 0.0])  # (x, y) -> (s, n)
+    _, n0, _, n1 = rot.bounds
+    half = 0.5 * (s[1] - s[0]) if s.size > 1 else 0.5
+    strips = shapely.box(s - half, n0 - 1.0, s + half, n1 + 1.0)
+    parts = shapely.intersection(strips, rot)
+    b = shapely.bounds(parts)
+    empty = shapely.is_empty(parts) | ~(shapely.area(parts) > 0)
+    lo, hi = b[:, 1].copy(), b[:, 3].copy()
+    lo[empty], hi[empty] = np.nan, np.nan
     return lo, hi
 
 
