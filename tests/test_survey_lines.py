@@ -89,7 +89,8 @@ def _edge(seabed, sensor, x, y, z, direction):
     return brentq(f, t[j - 1], t[j])
 
 
-@pytest.mark.parametrize("sensor", [Sensor("multibeam", 120.0), Sensor("multibeam", 120.0, mounting="auv", altitude_m=30.0),
+@pytest.mark.parametrize("sensor", [Sensor("multibeam", 120.0),
+                                    Sensor("multibeam", 120.0, mounting="auv", altitude_m=30.0),
                                     Sensor("sidescan", range_m=120.0, mounting="auv", altitude_m=20.0)],
                          ids=["multibeam-surface", "multibeam-auv", "sidescan-auv"])
 def test_overlap_within_bounds_over_a_scarp_and_a_pit(sensor):

@@ -28,6 +28,7 @@ stays within ``pitch_max_deg`` (the upper Lipschitz envelope again), and the swa
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -199,9 +200,9 @@ def lower_envelope(s: NDArray[np.float64], floor: NDArray[np.float64], slope: fl
     return -upper_envelope(s, -floor, slope)
 
 
-def _bisect_max(g: object, lo: NDArray[np.float64], hi: NDArray[np.float64], iters: int = 40) -> NDArray[np.float64]:
+def _bisect_max(g: Callable[[NDArray[np.float64]], NDArray[np.float64]], lo: NDArray[np.float64],
+                hi: NDArray[np.float64], iters: int = 40) -> NDArray[np.float64]:
     """Largest ``c`` in ``[lo, hi]`` with ``g(c) >= 0`` for ``g`` decreasing (vectorised; ``hi`` if ``g(hi) >= 0``)."""
-    assert callable(g)
     ok_hi = g(hi) >= 0
     a, b = lo.copy(), hi.copy()
     for _ in range(iters):
@@ -239,6 +240,27 @@ class _Placer:
     def trial(self, s: NDArray[np.float64], c: NDArray[np.float64]) -> tuple[NDArray[np.float64],
                                                                            NDArray[np.float64]]:
         return self.reach(s, c, self.nominal_z(s, c))
+
+    def first_bound(self, st: NDArray[np.float64],
+                    lo: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+        """``g(c) >= 0`` while the swath's left edge reaches the area's edge ``lo``."""
+
+        def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
+            left, _ = self.trial(st, c)
+            return np.asarray(lo - (c - left))
+
+        return g
+
+    def next_bound(self, st: NDArray[np.float64], front: NDArray[np.float64],
+                   width: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+        """``g(c) >= 0`` while the overlap with the swath in front (edge ``front``) is at least the minimum."""
+        eta = self.p.overlap_min
+
+        def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
+            left, right = self.trial(st, c)
+            return np.asarray(front - (c - left) - eta * np.minimum(width, left + right))
+
+        return g
 
     def depth_profile(self, c: NDArray[np.float64], first: int, last: int) -> NDArray[np.float64]:
         """Sensor elevation along a line: surface, or seabed + altitude within the pitch limit."""
@@ -320,23 +342,15 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         idx = np.flatnonzero(flown & inside & np.isfinite(front)) if lines else todo
         st = s[idx]
         if not lines:
-            base = lo[idx]
-
-            def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
-                left, _ = pl.trial(st, c)
-                return np.asarray(base - (c - left))
-
-            span = 1.0 + 2.0 * float(np.max(pl.trial(st, base)[0])) + 10.0 * params.step_m
+            base, span = lo[idx], 0.0
+            bound = pl.first_bound(st, base)
         else:
-            ef, wf, base = front[idx], width[idx], front_c[idx]
-
-            def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
-                left, right = pl.trial(st, c)
-                return np.asarray(ef - (c - left) - params.overlap_min * np.minimum(wf, left + right))
-
-            span = 3.0 * float(np.nanmax(wf)) + 10.0 * params.step_m
+            base, span = front_c[idx], 3.0 * float(np.nanmax(width[idx])) + 10.0 * params.step_m
+            bound = pl.next_bound(st, front[idx], width[idx])
+        if not lines:
+            span = 1.0 + 2.0 * float(np.max(pl.trial(st, base)[0])) + 10.0 * params.step_m
         cmax = np.full(k, np.inf)
-        cmax[idx] = _bisect_max(g, base, base + span)
+        cmax[idx] = _bisect_max(bound, base, base + span)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
         z = pl.depth_profile(c, first, last)
         left, right = np.full(k, np.nan), np.full(k, np.nan)

@@ -20,7 +20,7 @@ from ..planners.base import PlanResult, Progress
 from ..sim import Mission, planned_route
 from ..world import World
 from .lines import LineParams, SurveyLines, lower_envelope, place_lines
-from .swath import Sensor
+from .swath import Seabed, Sensor
 from .turns import dubins, sample_turn
 
 __all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
@@ -122,13 +122,12 @@ class SurveyPlan:
         return float(np.linalg.norm(np.diff(self.route, axis=0), axis=1).sum())
 
 
-def choose_heading(seabed: object, params: SurveyParams, candidates: int = 12) -> float:
+def choose_heading(seabed: Seabed, params: SurveyParams, candidates: int = 12) -> float:
     """The line heading (rad) of the shortest survey among evenly spread headings and the isobaths'.
 
     Every candidate is planned at a coarse station spacing; the length counts lines and turns (a turn
     as ``π R`` plus the gap between the lines).
     """
-    assert callable(seabed)
     area = params.area
     c = area.centroid
     h = 0.1 * math.sqrt(area.area)
@@ -140,7 +139,7 @@ def choose_heading(seabed: object, params: SurveyParams, candidates: int = 12) -
     coarse = replace(params.lines, station_m=max(params.lines.station_m, math.sqrt(area.area) / 20.0))
     best, best_len = heads[0], math.inf
     for hd in heads:
-        lines = place_lines(seabed, area, params.sensor, hd, coarse)  # type: ignore[arg-type]
+        lines = place_lines(seabed, area, params.sensor, hd, coarse)
         total = sum(float(np.ptp(lines.stations[ln.active])) + 2 * params.run_in_m for ln in lines.lines)
         total += (len(lines.lines) - 1) * math.pi * params.turn_radius_m
         if lines.complete and total < best_len:
@@ -256,7 +255,7 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     else:
         heading = math.radians(params.heading_deg)
     line_params = replace(params.lines, surface_z=-max(world.margins.min_depth, 0.0))
-    lines = place_lines(seabed, params.area, params.sensor, heading, line_params)  # type: ignore[arg-type]
+    lines = place_lines(seabed, params.area, params.sensor, heading, line_params)
     route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
                                         max(world.margins.min_depth, 0.0))
     survey = labels != TRANSIT
@@ -271,7 +270,8 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
         for a, b, where in ((mission.start, route[0], "out"), (route[-1], mission.goal, "home")):
             if math.dist(a, b) <= mission.sim.arrival_radius:
                 continue
-            leg = replace(mission, start=tuple(map(float, a)), goal=tuple(map(float, b)), route=())
+            leg = replace(mission, start=(float(a[0]), float(a[1]), float(a[2])),
+                          goal=(float(b[0]), float(b[1]), float(b[2])), route=())
             planned, path = planned_route(world, leg, seed, progress)
             assert planned is not None
             transits.append(planned)
