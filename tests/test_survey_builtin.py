@@ -42,3 +42,21 @@ def test_builtin_survey_saves_lines_against_the_fixed_lawnmower(shelf):
     flown_lines = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in plan.line_waypoints())
     assert flown_lines < mower.line_length_m
     assert plan.min_turn_radius_m >= params.turn_radius_m * (1 - 1e-6)
+
+
+def test_builtin_survey_flown_in_the_cross_current_covers_99_percent(shelf):
+    from dataclasses import replace
+
+    from auvplan.sim import RunRecord, simulate
+    from auvplan.survey.run import flown_coverage
+
+    world, mission, params, plan = shelf
+    speed = np.hypot(*np.asarray(world.currents.velocity(np.array([[65000.0, 4000.0, -2.0]]), 0.0))[0, :2])
+    assert speed > 0.19  # a real cross-current on the north-south lines
+    sim = simulate(world, replace(mission, route=tuple(map(tuple, plan.route.tolist()))), route=plan.route, rng=1,
+                   avoidance="none", keys=np.empty((0, 3)))
+    assert sim.status.ok
+    cov, t_lines = flown_coverage(world, plan, params, RunRecord("shelf-survey", 1, None, plan.route,
+                                                                  np.empty((0, 3)), sim))
+    assert cov.coverage_pct >= 99.0
+    assert 0 < t_lines < sim.t[-1]
