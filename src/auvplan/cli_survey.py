@@ -25,7 +25,18 @@ def _say(args: argparse.Namespace, text: str) -> None:
 
 
 def cmd_survey(args: argparse.Namespace) -> int:
-    """Run the survey command (``args``: scenario, out, seed, guidance, full, force, json, quiet)."""
+    """Run the survey command.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``scenario``, ``out``, ``seed``, ``guidance``, ``full``, ``force``, ``json``, ``quiet``.
+
+    Returns
+    -------
+    int
+        0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
+    """
     if args.out:
         prepare_out(args.out, (*RESULT_NAMES, *SURVEY_NAMES), force=args.force)
     sc = scenario_io.load(args.scenario)
@@ -47,7 +58,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
         export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full)
         from .viz.survey import coverage_map
 
-        coverage_map(world, run, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
+        coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
             out / "coverage.png", dpi=110)
     m = rec["lawnmower"]
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "

@@ -32,7 +32,22 @@ SURVEY_NAMES = ("lines.csv", "coverage.json", "gaps.geojson", "coverage.png")
 
 
 def read_area(path: Path, layer: str, where: str) -> tuple[shapely.Polygon, CRS]:
-    """The largest polygon of a vector file's layer and the file's CRS (WGS 84 when it has none)."""
+    """The largest polygon of a vector file's layer and the file's CRS (WGS 84 when it has none).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        GeoJSON, KML, shapefile or any vector format GDAL reads.
+    layer : str
+        Layer name ('' for the first).
+    where : str
+        ``file: [survey]`` for messages.
+
+    Returns
+    -------
+    tuple
+        The polygon (in the file's coordinates) and its ``pyproj.CRS``.
+    """
     import pyogrio
 
     if not path.is_file():
@@ -113,7 +128,21 @@ def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path |
 
 
 def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
-    """``coverage.json``: the flown coverage (the plan's without a flight), the plan's, the lawnmower's."""
+    """``coverage.json``: the flown coverage (the plan's without a flight), the plan's, the lawnmower's.
+
+    Parameters
+    ----------
+    run : SurveyRun
+        The survey.
+    params : SurveyParams
+        Its parameters.
+
+    Returns
+    -------
+    dict
+        ``coverage_pct``, ``overlap_min_pct``, ``overlap_max_pct`` (of the flight, else of the plan), then
+        the plan's and the flight's per-pair overlaps, lengths, times, turns and the lawnmower comparison.
+    """
     plan, planned, flown, mower = run.plan, run.planned, run.flown, run.lawnmower
     main = flown or planned
     n = len(plan.lines.lines)

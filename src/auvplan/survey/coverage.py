@@ -25,7 +25,18 @@ __all__ = ["Coverage", "footprints", "measure", "lawnmower", "Lawnmower", "fan_r
 
 
 def fan_right(heading: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``(N, 2)`` unit vectors to the right of compass headings (rad)."""
+    """Unit vectors to the right of compass headings.
+
+    Parameters
+    ----------
+    heading : numpy.ndarray
+        ``(N,)`` compass headings (rad).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 2)`` unit vectors.
+    """
     h = np.asarray(heading, dtype=float)
     return np.column_stack([np.cos(h), -np.sin(h)])
 
@@ -97,7 +108,13 @@ class Coverage:
     area_m2: float
 
     def pair_stats(self) -> list[dict[str, float]]:
-        """Min, median and max overlap (%) of every adjacent pair."""
+        """Min, median and max overlap of every adjacent pair.
+
+        Returns
+        -------
+        list of dict
+            ``pair``, ``min_pct``, ``median_pct``, ``max_pct`` (NaN for a pair that never meets in the area).
+        """
         return [{"pair": i, "min_pct": 100.0 * float(o.min()), "median_pct": 100.0 * float(np.median(o)),
                  "max_pct": 100.0 * float(o.max())} if o.size else
                 {"pair": i, "min_pct": math.nan, "median_pct": math.nan, "max_pct": math.nan}

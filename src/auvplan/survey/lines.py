@@ -139,14 +139,31 @@ class SurveyLines:
     complete: bool
 
     def waypoints(self, i: int) -> NDArray[np.float64]:
-        """``(M, 3)`` waypoints of line ``i`` in the world frame, in increasing station order (m)."""
+        """Waypoints of one line in the world frame, in increasing station order.
+
+        Parameters
+        ----------
+        i : int
+            The line (placement order).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(M, 3)`` waypoints (m).
+        """
         ln = self.lines[i]
         a = ln.active
         x, y = from_sn(self.stations[a], ln.c[a], self.heading)
         return np.column_stack([x, y, ln.z[a]])
 
     def overlaps(self) -> list[NDArray[np.float64]]:
-        """Overlap fraction of each adjacent pair at the stations they share where area is left to cover."""
+        """Overlap fraction of each adjacent pair at the stations they share where their seam is in the area.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            One array of fractions per pair.
+        """
         out = []
         for a, b in zip(self.lines[:-1], self.lines[1:], strict=True):
             k = np.zeros(self.stations.size, dtype=bool)
@@ -160,14 +177,40 @@ class SurveyLines:
 
 def to_sn(x: NDArray[np.float64], y: NDArray[np.float64], heading: float) -> tuple[NDArray[np.float64],
                                                                                    NDArray[np.float64]]:
-    """World ``(x, y)`` to line coordinates ``(s, n)`` for the compass ``heading`` (rad)."""
+    """World ``(x, y)`` to line coordinates ``(s, n)``.
+
+    Parameters
+    ----------
+    x, y : numpy.ndarray
+        World coordinates (m).
+    heading : float
+        Compass heading of the lines (rad).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``s`` along and ``n`` across (to the right) (m).
+    """
     sh, ch = math.sin(heading), math.cos(heading)
     return x * sh + y * ch, x * ch - y * sh
 
 
 def from_sn(s: NDArray[np.float64], n: NDArray[np.float64], heading: float) -> tuple[NDArray[np.float64],
                                                                                      NDArray[np.float64]]:
-    """Line coordinates ``(s, n)`` back to world ``(x, y)`` (the inverse of :func:`to_sn`)."""
+    """Line coordinates ``(s, n)`` back to world ``(x, y)`` (the inverse of :func:`to_sn`).
+
+    Parameters
+    ----------
+    s, n : numpy.ndarray
+        Along and across coordinates (m).
+    heading : float
+        Compass heading of the lines (rad).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``x`` and ``y`` (m).
+    """
     sh, ch = math.sin(heading), math.cos(heading)
     return s * sh + n * ch, s * ch - n * sh
 
@@ -196,7 +239,22 @@ def upper_envelope(s: NDArray[np.float64], cap: NDArray[np.float64], slope: floa
 
 
 def lower_envelope(s: NDArray[np.float64], floor: NDArray[np.float64], slope: float) -> NDArray[np.float64]:
-    """The smallest function over ``floor`` with ``|dz/ds| <= slope``: ``max_j floor_j - slope |s - s_j|``."""
+    """The smallest function over ``floor`` with ``|dz/ds| <= slope``: ``max_j floor_j - slope |s - s_j|``.
+
+    Parameters
+    ----------
+    s : numpy.ndarray
+        ``(K,)`` coordinates along (m).
+    floor : numpy.ndarray
+        ``(K,)`` lower bounds.
+    slope : float
+        Largest slope.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` the envelope.
+    """
     return -upper_envelope(s, -floor, slope)
 
 

@@ -106,7 +106,13 @@ class SurveyPlan:
     max_pitch_deg: float
 
     def line_waypoints(self) -> list[NDArray[np.float64]]:
-        """``(M, 3)`` waypoints of every line in flying order (m)."""
+        """The waypoints of every line in flying order.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            ``(M, 3)`` waypoints of each line, run-ins included (m).
+        """
         return [self.route[self.labels == k] for k in range(len(self.lines.lines))]
 
     @property
@@ -123,10 +129,24 @@ class SurveyPlan:
 
 
 def choose_heading(seabed: Seabed, params: SurveyParams, candidates: int = 12) -> float:
-    """The line heading (rad) of the shortest survey among evenly spread headings and the isobaths'.
+    """The line heading of the shortest survey among evenly spread headings and the isobaths'.
 
-    Every candidate is planned at a coarse station spacing; the length counts lines and turns (a turn
-    as ``π R`` plus the gap between the lines).
+    Every candidate is planned at a coarse station spacing; the length counts lines, run-ins and turns
+    (a turn as ``π R``).
+
+    Parameters
+    ----------
+    seabed : callable
+        ``zb(x, y)`` (m).
+    params : SurveyParams
+        The survey.
+    candidates : int
+        Headings tried, evenly spread over 180°, besides the isobaths' at the area's centre.
+
+    Returns
+    -------
+    float
+        Compass heading (rad).
     """
     area = params.area
     c = area.centroid
@@ -175,6 +195,17 @@ def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tupl
 def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
                  min_depth: float) -> tuple[NDArray[np.float64], NDArray[np.int64], tuple[str, ...]]:
     """Lines (alternating directions) and turns as one route, with its depth held within the pitch limit.
+
+    Parameters
+    ----------
+    world : World
+        The seabed.
+    lines : SurveyLines
+        The placed lines.
+    params : SurveyParams
+        Turn radius, run-in, sensor (its mounting) and pitch limit.
+    min_depth : float
+        Shallowest depth allowed (m).
 
     Returns
     -------

@@ -51,6 +51,20 @@ def track_labels(route: NDArray[np.float64], labels: NDArray[np.int64],
     """The route label (line number, turn or transit) of each track sample from its progress along the route.
 
     A sample is on line ``k`` when the route segment it has reached joins two vertices of line ``k``.
+
+    Parameters
+    ----------
+    route : numpy.ndarray
+        ``(N, 3)`` route (m).
+    labels : numpy.ndarray
+        ``(N,)`` labels of its vertices.
+    progress : numpy.ndarray
+        ``(M,)`` distance along the route of each sample (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M,)`` labels (-1 off the lines).
     """
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(route, axis=0), axis=1))])
     seg = np.clip(np.searchsorted(arc, progress, side="right") - 1, 0, route.shape[0] - 2)
@@ -59,7 +73,22 @@ def track_labels(route: NDArray[np.float64], labels: NDArray[np.int64],
 
 
 def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Coverage:
-    """Coverage of the planned lines, fans across the nominal heading (the planner's model)."""
+    """Coverage of the planned lines, fans across the nominal heading (the planner's model).
+
+    Parameters
+    ----------
+    world : World
+        The seabed.
+    plan : SurveyPlan
+        The mission.
+    params : SurveyParams
+        The survey.
+
+    Returns
+    -------
+    Coverage
+        Coverage, per-pair overlaps and gaps of the plan.
+    """
     lab = plan.labels
     right = np.broadcast_to(fan_right(np.array([plan.lines.heading])), (lab.size, 2))
     fps = footprints(world.seabed, params.sensor, plan.route, np.asarray(right), lab, len(plan.lines.lines),
@@ -69,7 +98,26 @@ def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Co
 
 def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record: RunRecord,
                    spacing: float = 5.0) -> tuple[Coverage, float]:
-    """Coverage of the flown track (fans across the vehicle's heading) and the time on the lines (s)."""
+    """Coverage of the flown track (fans across the vehicle's heading) and the time on the lines.
+
+    Parameters
+    ----------
+    world : World
+        The seabed.
+    plan : SurveyPlan
+        The mission flown.
+    params : SurveyParams
+        The survey.
+    record : RunRecord
+        The flight.
+    spacing : float
+        Track samples are kept every ``spacing`` metres (m).
+
+    Returns
+    -------
+    tuple
+        The :class:`Coverage` and the time from entering the first line to leaving the last (s).
+    """
     sim = record.sim
     assert sim is not None
     lab = track_labels(plan.route, plan.labels, sim.progress)

@@ -91,11 +91,28 @@ class SurveySpec:
         LineParams(self.overlap[0], self.overlap[1], 1.0, self.max_bend_deg, self.pitch_max_deg)
 
     def sensor_model(self) -> Sensor:
-        """The :class:`~auvplan.survey.swath.Sensor` of the table."""
+        """The sensor of the table.
+
+        Returns
+        -------
+        Sensor
+            Kind, opening or range, mounting and altitude.
+        """
         return Sensor(self.sensor, self.opening_deg, self.range_m, self.mounting, self.altitude_m)
 
     def line_params(self, cell_m: float) -> LineParams:
-        """The :class:`~auvplan.survey.lines.LineParams` of the table over a terrain of ``cell_m`` cells."""
+        """The line placement parameters of the table.
+
+        Parameters
+        ----------
+        cell_m : float
+            Terrain cell (m), for the default station spacing and sampling step.
+
+        Returns
+        -------
+        LineParams
+            Overlap bounds, stations, sampling, bend and pitch limits.
+        """
         station = self.station_m or min(max(cell_m / 4.0, 10.0), 100.0)
         step = self.step_m or min(max(cell_m / 10.0, 1.0), 20.0)
         return LineParams(self.overlap[0], self.overlap[1], station, self.max_bend_deg, self.pitch_max_deg,

@@ -81,7 +81,18 @@ class Sensor:
         return math.radians(self.opening_deg) / 2.0
 
     def flat_reach(self, height: NDArray[np.float64] | float) -> NDArray[np.float64]:
-        """Reach on one side over a flat seabed ``height`` metres below the sensor (m)."""
+        """Reach on one side over a flat seabed ``height`` metres below the sensor.
+
+        Parameters
+        ----------
+        height : float or numpy.ndarray
+            Height of the sensor above the seabed (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            Horizontal reach (m).
+        """
         h = np.maximum(np.asarray(height, dtype=float), 0.0)
         if self.kind == "multibeam":
             return np.asarray(h * math.tan(self.half_angle))

@@ -24,7 +24,7 @@ def _fill(ax: Axes, geom: shapely.Geometry, **kw: object) -> None:
             ax.fill(np.asarray(x) / 1e3, np.asarray(y) / 1e3, **kw)  # type: ignore[arg-type]
 
 
-def _panel(ax: Axes, world: World, run: SurveyRun, cov: Coverage, track: np.ndarray, title: str) -> None:
+def _panel(ax: Axes, world: World, area: shapely.Polygon, cov: Coverage, track: np.ndarray, title: str) -> None:
     poly = shapely.union_all([f for f in cov.footprints if not f.is_empty])
     x0, y0, x1, y1 = poly.bounds
     gx, gy = np.meshgrid(np.linspace(x0, x1, 160), np.linspace(y0, y1, 160))
@@ -36,15 +36,17 @@ def _panel(ax: Axes, world: World, run: SurveyRun, cov: Coverage, track: np.ndar
     for i, f in enumerate(cov.footprints):
         _fill(ax, f, alpha=0.18, color=("tab:orange" if i % 2 else "tab:blue"), lw=0)
     for g in cov.gaps:
-        _fill(ax, g, color="red", alpha=0.9, lw=0)
+        _fill(ax, g, facecolor="red", edgecolor="red", alpha=0.9, lw=1.5)
     ax.plot(track[:, 0] / 1e3, track[:, 1] / 1e3, color="k", lw=0.6)
+    ring = np.asarray(area.exterior.coords)
+    ax.plot(ring[:, 0] / 1e3, ring[:, 1] / 1e3, color="crimson", lw=1.0, ls="--")
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("x east (km)")
     ax.set_ylabel("y north (km)")
     ax.set_aspect("equal")
 
 
-def coverage_map(world: World, run: SurveyRun, overlap: tuple[float, float]) -> Figure:
+def coverage_map(world: World, run: SurveyRun, area: shapely.Polygon, overlap: tuple[float, float]) -> Figure:
     """The planned and flown coverage of a survey with the per-pair overlap.
 
     Parameters
@@ -53,6 +55,8 @@ def coverage_map(world: World, run: SurveyRun, overlap: tuple[float, float]) -> 
         The seabed.
     run : SurveyRun
         The planned and flown survey.
+    area : shapely.Polygon
+        The survey area (drawn dashed).
     overlap : tuple of float
         The overlap bounds (fractions) drawn on the overlap panel.
 
@@ -68,11 +72,11 @@ def coverage_map(world: World, run: SurveyRun, overlap: tuple[float, float]) -> 
     on = plan.labels >= -1
     p = run.planned
     mower = run.lawnmower
-    _panel(axes[0], world, run, p, plan.route[on],
+    _panel(axes[0], world, area, p, plan.route[on],
            f"planned: {len(plan.lines.lines)} lines, coverage {p.coverage_pct:.2f} %\n"
            f"(fixed lawnmower: {mower.lines} lines for {mower.shallowest_m:.0f} m)")
     if flown is not None and run.record.sim is not None:
-        _panel(axes[1], world, run, flown, run.record.sim.position,
+        _panel(axes[1], world, area, flown, run.record.sim.position,
                f"flown (closed loop, currents): coverage {flown.coverage_pct:.2f} %, "
                f"{len(flown.gaps)} gaps {flown.gap_area_m2:.0f} m²")
     ax = axes[-1]
