@@ -209,6 +209,12 @@ def _flight_commands(sub: Any) -> None:
     s.add_argument("--out", help="write every result file here")
     _shared(s, "full", "force", "json")
 
+    s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
+                 "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "_cmd_survey",
+                 "scenario", "guidance", "seed")
+    s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
+    _shared(s, "full", "force", "json")
+
 
 def _result_commands(sub: Any) -> None:
     """``report``, ``export``, ``mission check``."""

@@ -584,6 +584,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .io.scenario import loader as scenario_io
 
     sc = scenario_io.load(args.scenario)
+    if sc.survey is not None:
+        from .cli_survey import cmd_survey
+
+        return cmd_survey(args)
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return _run_formation(args, sc, world, mission)
@@ -639,3 +643,9 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     print(text)
     print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}, report {out / 'bench.html'}")
     return 0
+
+
+def _cmd_survey(args: argparse.Namespace) -> int:
+    from .cli_survey import cmd_survey
+
+    return cmd_survey(args)

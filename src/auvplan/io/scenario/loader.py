@@ -21,6 +21,7 @@ Layout (all tables optional except ``[mission]``)::
     [mission]  start, goal, route, min_altitude_m, min_depth_m, max_depth_m, obstacle_margin_m
     [[vehicles]]  name, role = leader|follower, start, depth_offset_m     # several vehicles ...
     [formation]   shape = line|column|wedge, spacing_m, changes, ...    # ... flying in formation
+    [survey]   polygon | file, sensor, opening_deg | range_m, mounting, altitude_m, overlap, heading_deg
     [vehicle] [planner] [guidance] [avoidance] [sim]   parameters of those components
 """
 
@@ -66,6 +67,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
+    "survey",
 }
 
 
@@ -323,7 +325,9 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
-    _check_geometry(source, mission, sim)
+    survey = _section(data, "survey", source) if "survey" in data else None
+    if survey is None:  # a survey may start and end at the same launch/recovery point
+        _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
     return Scenario(
         name=name,
@@ -350,6 +354,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         formation=formation,
         geo=geo,
         endurance=_section(data, "endurance", source),
+        survey=survey,
     )
 
 

@@ -16,6 +16,7 @@ from ...guidance.local import AvoidanceParams
 from ...guidance.los import LosParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
+from ...survey.spec import SurveySpec
 from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
@@ -314,6 +315,8 @@ class Scenario:
         What its geographic positions left for the build (:mod:`auvplan.io.scenario.geoinput`).
     endurance : EnduranceParams
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
+    survey : SurveySpec or None
+        A coverage survey of an area (``[survey]``).
     """
 
     name: str
@@ -340,6 +343,7 @@ class Scenario:
     formation: Formation | None = None
     geo: GeoInput | None = None
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
+    survey: SurveySpec | None = None
 
 
 SECTIONS: dict[str, type] = {
@@ -347,5 +351,6 @@ SECTIONS: dict[str, type] = {
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimParams, "limits": Limits, "land": LandSpec,
     "formation": FormationParams, "endurance": EnduranceParams,
+    "survey": SurveySpec,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""

@@ -1,0 +1,320 @@
+"""A survey as a mission: the lines in flying order, the turns between them, the depth held within the
+pitch limit, the exact seabed and obstacle test of every line and turn, and the transits from the launch
+point to the first line and from the last line home by the global planner.
+
+Route vertices are labelled: ``k >= 0`` on line ``k`` (flying order), ``TURN`` on a turn, ``TRANSIT`` on a
+transit.  A survey may start and end at the same launch/recovery point.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from .._types import Status
+from ..planners.base import PlanResult, Progress
+from ..sim import Mission, planned_route
+from ..world import World
+from .lines import LineParams, SurveyLines, lower_envelope, place_lines
+from .swath import Seabed, Sensor
+from .turns import dubins, sample_turn
+
+__all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
+           "DEFAULT_TURN_RADIUS_M"]
+
+TURN = -1
+TRANSIT = -2
+DEFAULT_TURN_RADIUS_M = 10.0
+"""Turn radius when ``[vehicle]`` gives none: the REMUS-100-class steady turn at full rudder (~10 m)."""
+
+
+@dataclass(frozen=True)
+class SurveyParams:
+    """A survey: the area, the sensor, how the lines are placed, and how the vehicle turns.
+
+    Attributes
+    ----------
+    area : shapely.Polygon
+        The area to cover in the local frame (m).
+    sensor : Sensor
+        Swath sensor and mounting.
+    lines : LineParams
+        Overlap bounds, station spacing, bend and pitch limits.
+    heading_deg : float or None
+        Compass heading of the lines (deg); None chooses the shortest survey (:func:`choose_heading`).
+    turn_radius_m : float
+        Least turn radius of the vehicle (m).
+    run_in_m : float
+        Straight run beyond the area at both ends of every line (m), so the vehicle is on the line when
+        it enters the area.
+    """
+
+    area: shapely.Polygon
+    sensor: Sensor
+    lines: LineParams = LineParams()
+    heading_deg: float | None = None
+    turn_radius_m: float = DEFAULT_TURN_RADIUS_M
+    run_in_m: float = 60.0
+
+    def __post_init__(self) -> None:
+        if not self.turn_radius_m > 0:
+            raise ValueError(f"turn_radius_m = {self.turn_radius_m}: must be positive")
+        if self.run_in_m < 0:
+            raise ValueError(f"run_in_m = {self.run_in_m}: must be >= 0")
+        if not (self.area.is_valid and self.area.area > 0):
+            raise ValueError("the survey area must be a valid polygon with a positive area")
+
+
+@dataclass(frozen=True)
+class SurveyPlan:
+    """The planned survey mission.
+
+    Attributes
+    ----------
+    status : Status
+        ``EXACT`` when every line, turn and transit is clear; else why not (``message``).
+    message : str
+        What failed, naming the line or turn.
+    lines : SurveyLines
+        The placed lines.
+    route : numpy.ndarray
+        ``(N, 3)`` the whole mission (m): transit, lines and turns, transit home.
+    labels : numpy.ndarray
+        ``(N,)`` line number (flying order) of each route vertex, or ``TURN`` / ``TRANSIT``.
+    turn_words : tuple of str
+        The Dubins word of each turn (CCC words are omega turns).
+    transits : tuple of PlanResult
+        The global plans of the transits out and home (absent when the launch is on the first line).
+    min_turn_radius_m : float
+        The tightest turn radius of the survey part of the route (m).
+    max_pitch_deg : float
+        The steepest climb or dive of the survey part (deg).
+    """
+
+    status: Status
+    message: str
+    lines: SurveyLines
+    route: NDArray[np.float64]
+    labels: NDArray[np.int64]
+    turn_words: tuple[str, ...]
+    transits: tuple[PlanResult, ...]
+    min_turn_radius_m: float
+    max_pitch_deg: float
+
+    def line_waypoints(self) -> list[NDArray[np.float64]]:
+        """The waypoints of every line in flying order.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            ``(M, 3)`` waypoints of each line, run-ins included (m).
+        """
+        return [self.route[self.labels == k] for k in range(len(self.lines.lines))]
+
+    @property
+    def survey_length_m(self) -> float:
+        """Length of the lines and turns (m), transits excluded."""
+        keep = self.labels != TRANSIT
+        p = self.route[keep]
+        return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if p.shape[0] > 1 else 0.0
+
+    @property
+    def length_m(self) -> float:
+        """Length of the whole mission (m)."""
+        return float(np.linalg.norm(np.diff(self.route, axis=0), axis=1).sum())
+
+
+def choose_heading(seabed: Seabed, params: SurveyParams, candidates: int = 12) -> float:
+    """The line heading of the shortest survey among evenly spread headings and the isobaths'.
+
+    Every candidate is planned at a coarse station spacing; the length counts lines, run-ins and turns
+    (a turn as ``π R``).
+
+    Parameters
+    ----------
+    seabed : callable
+        ``zb(x, y)`` (m).
+    params : SurveyParams
+        The survey.
+    candidates : int
+        Headings tried, evenly spread over 180°, besides the isobaths' at the area's centre.
+
+    Returns
+    -------
+    float
+        Compass heading (rad).
+    """
+    area = params.area
+    c = area.centroid
+    h = 0.1 * math.sqrt(area.area)
+    gx = float(seabed(np.array([c.x + h]), np.array([c.y]))[0] - seabed(np.array([c.x - h]), np.array([c.y]))[0])
+    gy = float(seabed(np.array([c.x]), np.array([c.y + h]))[0] - seabed(np.array([c.x]), np.array([c.y - h]))[0])
+    heads = [math.pi * i / candidates for i in range(candidates)]
+    if math.hypot(gx, gy) > 0:
+        heads.append(math.atan2(-gy, gx) % math.pi)  # compass heading of the isobaths (normal to the gradient)
+    coarse = replace(params.lines, station_m=max(params.lines.station_m, math.sqrt(area.area) / 20.0))
+    best, best_len = heads[0], math.inf
+    for hd in heads:
+        lines = place_lines(seabed, area, params.sensor, hd, coarse)
+        total = sum(float(np.ptp(lines.stations[ln.active])) + 2 * params.run_in_m for ln in lines.lines)
+        total += (len(lines.lines) - 1) * math.pi * params.turn_radius_m
+        if lines.complete and total < best_len:
+            best, best_len = hd, total
+    return best
+
+
+def _line_points(lines: SurveyLines, k: int, forward: bool, run_in: float) -> NDArray[np.float64]:
+    """Waypoints of line ``k`` in flying direction, extended by the run-in at both ends."""
+    p = lines.waypoints(k)
+    if not forward:
+        p = p[::-1]
+    if run_in > 0 and p.shape[0] >= 2:
+        t0 = p[1, :2] - p[0, :2]
+        t1 = p[-1, :2] - p[-2, :2]
+        a = np.r_[p[0, :2] - run_in * t0 / np.linalg.norm(t0), p[0, 2]]
+        b = np.r_[p[-1, :2] + run_in * t1 / np.linalg.norm(t1), p[-1, 2]]
+        p = np.vstack([a, p, b])
+    return p
+
+
+def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
+    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated)."""
+    h0 = math.atan2(a[-1, 1] - a[-2, 1], a[-1, 0] - a[-2, 0])
+    h1 = math.atan2(b[1, 1] - b[0, 1], b[1, 0] - b[0, 0])
+    t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), radius)
+    pts = sample_turn(t, radius / 2.0)[1:-1]
+    frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
+    z = a[-1, 2] + frac * (b[0, 2] - a[-1, 2])
+    return np.column_stack([pts[:, :2], z]), t.word
+
+
+def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
+                 min_depth: float) -> tuple[NDArray[np.float64], NDArray[np.int64], tuple[str, ...]]:
+    """Lines (alternating directions) and turns as one route, with its depth held within the pitch limit.
+
+    Parameters
+    ----------
+    world : World
+        The seabed.
+    lines : SurveyLines
+        The placed lines.
+    params : SurveyParams
+        Turn radius, run-in, sensor (its mounting) and pitch limit.
+    min_depth : float
+        Shallowest depth allowed (m).
+
+    Returns
+    -------
+    tuple
+        ``(N, 3)`` route (m), ``(N,)`` labels, the turns' Dubins words.
+    """
+    parts, labels, words = [], [], []
+    prev: NDArray[np.float64] | None = None
+    for k in range(len(lines.lines)):
+        pts = _line_points(lines, k, k % 2 == 0, params.run_in_m)
+        if prev is not None:
+            turn, word = _turn(prev, pts, params.turn_radius_m)
+            parts.append(turn)
+            labels.append(np.full(turn.shape[0], TURN))
+            words.append(word)
+        parts.append(pts)
+        labels.append(np.full(pts.shape[0], k))
+        prev = pts
+    route = np.vstack(parts)
+    lab = np.concatenate(labels).astype(np.int64)
+    if params.sensor.mounting == "auv" and world.terrain is not None:
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(route[:, :2], axis=0).T))])
+        target = world.seabed(route[:, 0], route[:, 1]) + params.sensor.altitude_m
+        route[:, 2] = np.minimum(lower_envelope(arc, target, math.tan(math.radians(params.lines.pitch_max_deg))),
+                                 -min_depth)
+    return route, lab, tuple(words)
+
+
+def _turn_radius(route: NDArray[np.float64]) -> float:
+    """Least radius of the circles through consecutive route vertices (m)."""
+    a, b, c = route[:-2, :2], route[1:-1, :2], route[2:, :2]
+    ab, bc, ca = (np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1))
+    cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(cross > 1e-9 * ab * bc, ab * bc * ca / (2.0 * cross), np.inf)
+    return float(r.min()) if r.size else math.inf
+
+
+def _check(world: World, route: NDArray[np.float64], labels: NDArray[np.int64]) -> str:
+    """'' when every segment passes the exact seabed and obstacle test; else which line or turn fails."""
+    seg = np.stack([route[:-1], route[1:]], axis=1)
+    ok = world.segments_free(seg, moving=False)
+    if ok.all():
+        return ""
+    i = int(np.flatnonzero(~ok)[0])
+    what = f"line {labels[i]}" if labels[i] >= 0 else ("a turn" if labels[i] == TURN else "a transit")
+    return (f"{int((~ok).sum())} segments fail the seabed/obstacle test; the first on {what} at "
+            f"({seg[i, 0, 0]:.0f}, {seg[i, 0, 1]:.0f}, {seg[i, 0, 2]:.0f}): {world.explain(seg[i, 0])}")
+
+
+def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,
+                progress: Progress | None = None) -> SurveyPlan:
+    """Plan a survey mission: lines, turns, depth, checks and the transits out and home.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles and margins.
+    mission : Mission
+        Launch (``start``) and recovery (``goal``) points, vehicle and planner settings.
+    params : SurveyParams
+        The survey.
+    seed : int
+        Seed of the transit planner.
+    progress : callable, optional
+        Progress of the transit planner.
+
+    Returns
+    -------
+    SurveyPlan
+        The mission; a failed check or transit is its status, not an exception.
+    """
+    if world.terrain is None:
+        raise ValueError("a survey needs a seabed ([terrain])")
+    seabed = world.seabed
+    if params.heading_deg is None:
+        heading = choose_heading(seabed, params)
+    else:
+        heading = math.radians(params.heading_deg)
+    line_params = replace(params.lines, surface_z=-max(world.margins.min_depth, 0.0))
+    lines = place_lines(seabed, params.area, params.sensor, heading, line_params)
+    route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
+                                        max(world.margins.min_depth, 0.0))
+    survey = labels != TRANSIT
+    p = route[survey]
+    dh = np.hypot(*np.diff(p[:, :2], axis=0).T)
+    pitch = float(np.degrees(np.arctan2(np.abs(np.diff(p[:, 2])), np.maximum(dh, 1e-9))).max()) if dh.size else 0.0
+    message = "" if lines.complete else f"the area is not covered after {len(lines.lines)} lines (max_lines)"
+    message = message or _check(world, route, labels)
+    transits: list[PlanResult] = []
+    parts, labs = [route], [labels]
+    if not message:
+        for a, b, where in ((mission.start, route[0], "out"), (route[-1], mission.goal, "home")):
+            if math.dist(a, b) <= mission.sim.arrival_radius:
+                continue
+            leg = replace(mission, start=(float(a[0]), float(a[1]), float(a[2])),
+                          goal=(float(b[0]), float(b[1]), float(b[2])), route=())
+            planned, path = planned_route(world, leg, seed, progress)
+            assert planned is not None
+            transits.append(planned)
+            if path is None:
+                message = f"the transit {where} failed ({planned.status.value}): {planned.message}"
+                break
+            if where == "out":
+                parts.insert(0, path[:-1])
+                labs.insert(0, np.full(path.shape[0] - 1, TRANSIT))
+            else:
+                parts.append(path[1:])
+                labs.append(np.full(path.shape[0] - 1, TRANSIT))
+    status = Status.EXACT if not message else Status.INFEASIBLE
+    return SurveyPlan(status, message, lines, np.vstack(parts), np.concatenate(labs).astype(np.int64), words,
+                      tuple(transits), _turn_radius(p), pitch)
