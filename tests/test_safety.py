@@ -331,6 +331,10 @@ def test_parallelogram_distance_by_hand():
                    [0.0, 0.0, 0.0]])
     want = [5.0, 5.0, math.sqrt(1.0 + 1.0 + 25.0), 5.0, 5.0, 5.0]
     np.testing.assert_allclose(_parallelogram_distance(o, e1, e2), want, rtol=0, atol=1e-12)
+    # the foot of the perpendicular past the far edges (s or t = 1.5): the nearest points are on those edges
+    o2 = np.array([[-1.0, -1.5, 5.0], [-1.5, -1.0, 5.0]])
+    e1b, e2b = np.array([[2.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0], [0.0, 2.0, 0.0]])
+    np.testing.assert_allclose(_parallelogram_distance(o2, e1b, e2b), [math.sqrt(25.25)] * 2, rtol=0, atol=1e-12)
     # against dense sampling on random sheared parallelograms
     rng = np.random.default_rng(7)
     o, e1, e2 = (rng.uniform(-3, 3, (40, 3)) for _ in range(3))
@@ -472,6 +476,8 @@ def test_parse_moos_reads_the_deploy_point_the_points_and_each_legs_held_depth()
     from auvplan.io import formats
 
     np.testing.assert_array_equal(formats.parse_moos(_MOOS), [[10, 20, -30], [100, 200, -40], [300, 400, -50.5]])
+    other = "Behavior = BHV_ConstantDepth\n{\n  condition = RETURN = true\n  depth = 5\n}\n"  # not a leg's
+    np.testing.assert_array_equal(formats.parse_moos(_MOOS + other), formats.parse_moos(_MOOS))
     no_start = _MOOS.replace("// start: 10.000, 20.000, 30.000   (deploy point)\n", "")
     np.testing.assert_array_equal(formats.parse_moos(no_start), [[100, 200, -40], [300, 400, -50.5]])
     for broken, match in ((_MOOS.replace("BHV_Waypoint", "BHV_Loiter"), "no BHV_Waypoint block"),
@@ -528,3 +534,37 @@ def test_read_mission_by_suffix(tmp_path):
     (tmp_path / "nan.csv").write_text(_HEADER + "1,2,-3,,,3,0\n4,5,nan,,,6,1\n")
     with pytest.raises(DataError, match="nan.csv: the mission has a waypoint that is not finite"):
         formats.check_mission_file(tmp_path / "nan.csv", World(Bounds(0, 10, 0, 10, -10, 0)))
+
+
+def test_geojson_and_kml_missions_are_the_features_named_mission(tmp_path):
+    """The flown track comes first in these files; the mission is the feature / placemark named
+    'mission', wherever it is."""
+    from auvplan.errors import DataError
+    from auvplan.io import formats
+    from auvplan.io.geo import LocalFrame
+
+    frame = LocalFrame(48.0, -125.0)
+    lon, lat = frame.inverse(np.array([0.0, 100.0, 7.0]), np.array([0.0, 50.0, 9.0]))
+    mission = [[lon[0], lat[0], -20.0], [lon[1], lat[1], -30.0]]
+    track = [[lon[2], lat[2], -5.0], [lon[1], lat[1], -6.0], [lon[0], lat[0], -7.0]]
+    doc = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "track"}, "geometry": {"type": "LineString", "coordinates": track}},
+        {"type": "Feature", "properties": None, "geometry": {"type": "LineString", "coordinates": track}},
+        {"type": "Feature", "properties": {"name": "mission"}, "geometry": {"type": "LineString",
+                                                                              "coordinates": mission}}]}
+    (tmp_path / "m.geojson").write_text(json.dumps(doc))
+    want = [[0.0, 0.0, -20.0], [100.0, 50.0, -30.0]]
+    np.testing.assert_allclose(formats.read_mission(tmp_path / "m.geojson", (48.0, -125.0))[0], want, atol=1e-6)
+
+    def placemark(name, pts):
+        return (f"<Placemark><name>{name}</name><LineString><coordinates>"
+                + " ".join(f"{float(x)!r},{float(y)!r},{float(z)!r}" for x, y, z in pts) + "</coordinates></LineString></Placemark>")
+
+    kml = (f'<kml xmlns="http://www.opengis.net/kml/2.2"><Document>{placemark("track", track)}'
+           f'{placemark("mission", mission)}</Document></kml>')
+    (tmp_path / "m.kml").write_text(kml)
+    np.testing.assert_allclose(formats.read_mission(tmp_path / "m.kml", (48.0, -125.0))[0], want, atol=1e-6)
+    doc["features"].pop()
+    (tmp_path / "t.geojson").write_text(json.dumps(doc))
+    with pytest.raises(DataError, match="no feature with properties.name = 'mission'"):
+        formats.read_mission(tmp_path / "t.geojson", (48.0, -125.0))
