@@ -118,6 +118,10 @@ def test_crossing_courses_keep_the_separation(x, ahead):
         bare = Formation(FormationParams(shape="line", spacing_m=30.0, k_vehicle=0.0), form.vehicles)
         _, res0 = _fly(OPEN, route, bare, dt=0.2)
         assert res0.metrics["min_vehicle_distance_m"] < form.params.separation_m
+        # ... which ends at the first step with the hulls closer than contact_m = 2 m (1.98 m at t = 164.2 s),
+        # both vehicles naming the other (the loop went on to 1.16 m when contact meant distance < 0)
+        assert res0.status is Status.COLLISION and res0.metrics["vehicle_contacts"] == 2
+        assert form.params.contact_m - 0.1 < res0.metrics["min_vehicle_distance_m"] < form.params.contact_m
 
 
 def test_shape_change_at_a_waypoint_completes_within_the_transition():

@@ -14,7 +14,7 @@ import pytest
 
 from auvplan.cost import CostModel, evaluate_paths
 from auvplan.guidance.formation import FormationParams
-from auvplan.guidance.mission import MissionCheck, envelope_hits, fly_check, held_track
+from auvplan.guidance.mission import MissionCheck, envelope_hits, envelopes_free, fly_check, held_track, leg_floors
 from auvplan.guidance.mission_limits import waypoint_limits
 from auvplan.planners.grid.lattice import edge_states, node_fields
 from auvplan.sim.formation import _contact
@@ -285,6 +285,8 @@ def test_the_depth_band_under_each_format_and_the_launch_point_of_a_plan(tmp_pat
     limits = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]], launch=True)
     assert limits.ok and limits.depth_range() == (150.0, 150.0)
     assert waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]]).outside_depth_band == (0,)
+    launched = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -2.0], [700.0, 1000.0, -150.0]], True)
+    assert launched.outside_depth_band == (1,) and launched.depth_range() == (2.0, 150.0)
 
 
 def test_a_held_executor_never_leaves_the_range_of_the_waypoint_depths():
@@ -297,3 +299,272 @@ def test_a_held_executor_never_leaves_the_range_of_the_waypoint_depths():
         w = np.column_stack([np.cumsum(rng.uniform(1, 300, n)), np.zeros(n), rng.uniform(-200, -5, n)])
         trk = held_track(w, float(rng.uniform(1.0, 90.0)))
         assert trk[:, 2].min() >= w[:, 2].min() - 1e-9 and trk[:, 2].max() <= w[:, 2].max() + 1e-9
+
+
+def test_leg_floors_is_the_highest_seabed_under_a_leg_plus_min_altitude():
+    """Over the 40 m step (5 m cells, min_altitude 5 m): a leg wholly before the step has floor
+    -100 + 5 = -95 m, one reaching x = 97.5 m (half way up the cell's ramp) -80 + 5 = -75 m, one
+    over the step -60 + 5 = -55 m, whatever the legs' depths; without a seabed the floor is -inf."""
+    world = _step_world()
+    a = np.array([[0.0, 0.0, -90.0], [0.0, 10.0, -10.0], [50.0, -20.0, -30.0]])
+    b = np.array([[90.0, 0.0, -20.0], [97.5, 10.0, -99.0], [250.0, 20.0, -30.0]])
+    np.testing.assert_allclose(leg_floors(world, a, b), [-95.0, -75.0, -55.0], atol=1e-9)
+    np.testing.assert_allclose(leg_floors(world, a[0], b[0]), [-95.0], atol=1e-9)
+    open_water = World(world.bounds)
+    floors = leg_floors(open_water, a[:2], b[:2])
+    assert floors.shape == (2,) and np.all(floors == -np.inf)
+
+
+def test_parallelogram_distance_by_hand():
+    """Distance from the origin to o + s e1 + t e2 (s, t in [0, 1]), by hand: a square 5 m below whose
+    plane the origin projects into (5 m); a sheared one (e1 . e2 = 2, as an ellipsoid's body frame makes
+    of an envelope) with the foot inside (5 m) and outside, near its corner (1, 1, 5) from o + e2 + ...;
+    a 1 mm square (the plane, 5 m exactly, not the edges' 5.000000025 m); a vertical segment (e1 = 0);
+    a point."""
+    from auvplan.guidance.mission import _parallelogram_distance
+
+    o = np.array([[-1.0, -1.0, 5.0], [-1.5, -1.0, 5.0], [1.0, 1.0, 5.0], [-5e-4, -5e-4, 5.0], [3.0, 4.0, -1.0],
+                  [3.0, 4.0, 0.0]])
+    e1 = np.array([[2.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 0.0, 0.0], [1e-3, 0.0, 0.0], [0.0, 0.0, 0.0],
+                   [0.0, 0.0, 0.0]])
+    e2 = np.array([[0.0, 2.0, 0.0], [1.0, 2.0, 0.0], [1.0, 2.0, 0.0], [0.0, 1e-3, 0.0], [0.0, 0.0, 2.0],
+                   [0.0, 0.0, 0.0]])
+    want = [5.0, 5.0, math.sqrt(1.0 + 1.0 + 25.0), 5.0, 5.0, 5.0]
+    np.testing.assert_allclose(_parallelogram_distance(o, e1, e2), want, rtol=0, atol=1e-12)
+    # the foot of the perpendicular past the far edges (s or t = 1.5): the nearest points are on those edges
+    o2 = np.array([[-1.0, -1.5, 5.0], [-1.5, -1.0, 5.0]])
+    e1b, e2b = np.array([[2.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), np.array([[0.0, 1.0, 0.0], [0.0, 2.0, 0.0]])
+    np.testing.assert_allclose(_parallelogram_distance(o2, e1b, e2b), [math.sqrt(25.25)] * 2, rtol=0, atol=1e-12)
+    # against dense sampling on random sheared parallelograms
+    rng = np.random.default_rng(7)
+    o, e1, e2 = (rng.uniform(-3, 3, (40, 3)) for _ in range(3))
+    s, t = np.meshgrid(np.linspace(0, 1, 201), np.linspace(0, 1, 201))
+    pts = o[:, None] + s.reshape(1, -1, 1) * e1[:, None] + t.reshape(1, -1, 1) * e2[:, None]
+    sampled = np.linalg.norm(pts, axis=-1).min(axis=1)
+    got = _parallelogram_distance(o, e1, e2)
+    assert np.all(got <= sampled + 1e-12) and np.all(sampled - got < 0.05)
+
+
+def test_envelopes_free_at_the_depth_band_the_bounds_and_the_floor_exactly():
+    """Band 5-100 m, bounds x, y in [0, 300], flat seabed 150 m deep with min_altitude 5 (floor -145 m,
+    deeper than the band, so the band decides) and over the step world (floor exactly -95 m then -55 m):
+    each leg's envelope is free exactly when both ends keep every limit, the limits themselves included."""
+    x = np.arange(0.0, 301.0, 5.0)
+    flat = World(Bounds(0, 300, -50, 50, -200, 0), Terrain(x, np.array([-50.0, 50.0]), np.full((2, x.size), -150.0)),
+                 margins=Margins(min_altitude=5.0, min_depth=5.0, max_depth=100.0))
+    a = np.array([[10.0, 0.0, -5.0], [10.0, 0.0, -50.0], [10.0, 0.0, -50.0], [10.0, 0.0, -4.9], [10.0, 0.0, -50.0],
+                  [10.0, 0.0, -50.0], [10.0, 0.0, -50.0]])
+    b = np.array([[90.0, 0.0, -100.0], [90.0, 0.0, -100.1], [90.0, 0.0, -4.0], [90.0, 0.0, -50.0],
+                  [310.0, 0.0, -50.0], [90.0, 60.0, -50.0], [90.0, -20.0, -60.0]])
+    np.testing.assert_array_equal(envelopes_free(flat, a, b), [True, False, False, False, False, False, True])
+    step = _step_world()
+    a = np.array([[0.0, 0.0, -95.0], [0.0, 0.0, -95.001], [120.0, 0.0, -55.0], [120.0, 0.0, -20.0]])
+    b = np.array([[90.0, 0.0, -40.0], [90.0, 0.0, -40.0], [250.0, 0.0, -10.0], [250.0, 0.0, -55.001]])
+    np.testing.assert_array_equal(envelopes_free(step, a, b), [True, False, True, False])
+    # MissionCheck.ok at exactly the required altitude
+    base = dict(semantics="ramp", min_altitude_leg=0, min_obstacle_distance_m=np.inf, obstacle_hits=0,
+                leg_altitude_m=np.array([5.0]), required_altitude_m=5.0, obstacle_margin_m=0.0)
+    assert MissionCheck(min_altitude_m=5.0, **base).ok
+    assert not MissionCheck(min_altitude_m=5.0 - 2e-6, **base).ok
+    assert not MissionCheck(min_altitude_m=9.0, executor_obstacle_hits=1, **base).ok
+    assert not MissionCheck(**{**base, "obstacle_hits": 1}, min_altitude_m=9.0).ok
+
+
+def test_held_track_at_the_steepest_pitch_and_on_short_legs():
+    """90° is capped at 89.99° (slope tan 89.99° = 5729.58): a 57.2958 m climb ends 0.01 m into the
+    leg.  A 0.2 m leg asking 0.1 m at 15° (needs 0.373 m) gets 0.2 tan 15° = 0.0536 m of it and the
+    next leg the rest.  The library refuses a pitch outside (0, 90] and flies 0.5°."""
+    slope = math.tan(math.radians(89.99))
+    trk = held_track([[0.0, 0.0, -100.0], [100.0, 0.0, -100.0 + 57.2958], [200.0, 0.0, 0.0]], 90.0)
+    assert trk[1, 0] == pytest.approx(57.2958 / slope, abs=1e-9) and trk[1, 0] == pytest.approx(0.01, abs=1e-6)
+    short = held_track([[0.0, 0.0, -10.0], [0.2, 0.0, -9.9], [100.0, 0.0, -9.9]], 15.0)
+    np.testing.assert_allclose(short[1], [0.2, 0.0, -10.0 + 0.2 * math.tan(math.radians(15.0))], atol=1e-12)
+    world = World(Bounds(-10, 300, -10, 10, -200, 0))
+    w = [[0.0, 0.0, -10.0], [200.0, 0.0, -11.0]]
+    assert fly_check(world, w, "held", 0.5).pitch_deg == 0.5
+    for bad in (0.0, -1.0, 90.5, float("nan")):
+        with pytest.raises(ValueError, match="pitch_deg"):
+            fly_check(world, w, "held", bad)
+
+
+def test_sampled_ellipsoid_distance_is_the_exact_one_to_the_sampling():
+    """An ellipsoid with equal semi-axes is a sphere, whose rectangle distance is exact: the 0.25 m
+    sampled distance over random envelopes (a vertical leg, short and long legs) is never below it and
+    at most 0.03 m above it (half the grid's diagonal squared over the radius, here far less)."""
+    from auvplan.guidance.mission import _corners, _sampled_rect_distance, _sphere_rect_distance
+
+    sphere, round_ellipsoid = Sphere((0.0, 0.0, -50.0), 6.0), Ellipsoid((0.0, 0.0, -50.0), (6.0, 6.0, 6.0))
+    rng = np.random.default_rng(3)
+    a = rng.uniform([-30, -30, -70], [30, 30, -30], (25, 3))
+    b = a + rng.uniform([-20, -20, -15], [20, 20, 15], (25, 3))
+    b[0, :2] = a[0, :2]  # a vertical leg
+    b[1] = a[1] + [0.1, 0.0, 0.0]  # a 0.1 m leg
+    o, e1, e2 = _corners(a, b)
+    exact = _sphere_rect_distance(sphere, o, e1, e2)
+    sampled = _sampled_rect_distance(round_ellipsoid, o, e1, e2, 0.25)
+    assert np.all(sampled >= exact - 1e-9) and np.all(sampled - exact < 0.03)
+
+
+def test_held_and_ramp_meet_different_obstacles_and_report_distances_within_200_m():
+    """A leg climbing 60 m over 80 m passes 35 m under a 5 m sphere at x = -20 (the 3D line is at -65 m
+    there): the ramp formats clear it, a held depth may sit anywhere in [-80, -20] m, so the envelope
+    meets it.  The least obstacle distance is reported for obstacles within 200 m of a leg's
+    envelope (by hand: 100 m from a 150 m sphere 250 m off, 100 m beside a 150 m tall envelope, near
+    the far end of a 1 km leg, 199.5 m), inf beyond (200.5 m)."""
+    bounds = Bounds(-2000, 2000, -2000, 2000, -400, 0)
+    w = np.array([[-40.0, 0.0, -80.0], [40.0, 0.0, -20.0]])
+    world = World(bounds, obstacles=(Sphere((-20.0, 0.0, -30.0), 5.0),))
+    ramp, held = fly_check(world, w, "ramp"), fly_check(world, w, "held")
+    assert ramp.obstacle_hits == 0 and ramp.ok and held.obstacle_hits == 1 and not held.ok
+    cases = [  # (waypoints, sphere, least distance)
+        ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 250.0, -50.0), 150.0), 100.0),
+        ([[-40.0, 0.0, -200.0], [40.0, 0.0, -50.0]], Sphere((0.0, 101.0, -120.0), 1.0), 100.0),
+        ([[-1000.0, 0.0, -50.0], [0.0, 0.0, -50.0]], Sphere((10.0, 0.0, -50.0), 5.0), 5.0),
+        ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 204.5, -50.0), 5.0), 199.5),
+        ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 205.5, -50.0), 5.0), np.inf),
+    ]
+    for pts, sphere, want in cases:
+        check = fly_check(World(bounds, obstacles=(sphere,)), pts, "held")
+        assert check.min_obstacle_distance_m == pytest.approx(want, abs=1e-9), (pts, sphere)
+
+
+def test_fly_check_reports_the_least_distance_over_every_leg_and_obstacle_and_the_lowest_leg():
+    """Three legs: the first 45 m from a 5 m sphere, the second 35 m (its end (40, 0) is 64 m from
+    the centre; its nearest point (40, 50) 35 m), the third more than 200 m away; a far sphere listed
+    first must not hide a near one.  A unit round ellipsoid 1.5 m off a leg reports 0.5 m to the 0.25 m
+    sampling (0.5035 m; 1.25 m sampling would say 0.519 m).  The lowest leg is named (-1 without a
+    seabed); a waypoint 0.5 m above the surface is above it."""
+    bounds = Bounds(-2000, 2000, -2000, 2000, -400, 0)
+    near = Sphere((0.0, 50.0, -50.0), 5.0)
+    w = [[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0], [40.0, 600.0, -50.0], [1000.0, 600.0, -50.0]]
+    check = fly_check(World(bounds, obstacles=(Sphere((1900.0, -1900.0, -50.0), 5.0), near)), w, "held")
+    assert check.min_obstacle_distance_m == pytest.approx(35.0, abs=1e-9) and check.min_altitude_leg == -1
+    one = fly_check(World(bounds, obstacles=(near,)), w[:2] + [[40.0, -600.0, -50.0], [1000.0, -600.0, -50.0]])
+    assert one.min_obstacle_distance_m == pytest.approx(45.0, abs=1e-9)
+    ball = World(bounds, obstacles=(Ellipsoid((0.0, 0.0, -50.0), (1.0, 1.0, 1.0)),))
+    d = fly_check(ball, [[-7.3, 1.5, -50.0], [8.0, 1.5, -50.0]], "ramp").min_obstacle_distance_m
+    assert 0.5 <= d < 0.51
+    step = fly_check(_step_world(), [[0.0, 0.0, -90.0], [10.0, 0.0, -40.0], [300.0, 0.0, -40.0]], "ramp")
+    assert step.min_altitude_leg == 0 and step.leg_altitude_m.tolist() == pytest.approx([10.0, 20.0])
+    assert waypoint_limits(World(bounds), [[0.0, 0.0, -10.0], [5.0, 0.0, 0.5]]).above_surface == (1,)
+
+
+# ---------------------------------------------------------------------- the mission readers
+_MOOS = """// start: 10.000, 20.000, 30.000   (deploy point)
+Behavior = BHV_Waypoint
+{
+  points = 100,200,7:300,400,7
+}
+Behavior = BHV_ConstantDepth
+{
+  condition = DEPLOY = true
+  condition = WPT_INDEX = 0
+  depth = 40
+}
+Behavior = BHV_ConstantDepth
+{
+  condition = WPT_INDEX == 1
+  depth = 50.5
+}
+"""
+
+
+def test_parse_moos_reads_the_deploy_point_the_points_and_each_legs_held_depth():
+    """x, y of each point (a third value ignored), the depth its leg's WPT_INDEX holds (`=` or `==`),
+    the deploy point from the `// start:` line; every missing piece a DataError naming it."""
+    from auvplan.errors import DataError
+    from auvplan.io import formats
+
+    np.testing.assert_array_equal(formats.parse_moos(_MOOS), [[10, 20, -30], [100, 200, -40], [300, 400, -50.5]])
+    other = "Behavior = BHV_ConstantDepth\n{\n  condition = RETURN = true\n  depth = 5\n}\n"  # not a leg's
+    np.testing.assert_array_equal(formats.parse_moos(_MOOS + other), formats.parse_moos(_MOOS))
+    no_start = _MOOS.replace("// start: 10.000, 20.000, 30.000   (deploy point)\n", "")
+    np.testing.assert_array_equal(formats.parse_moos(no_start), [[100, 200, -40], [300, 400, -50.5]])
+    for broken, match in ((_MOOS.replace("BHV_Waypoint", "BHV_Loiter"), "no BHV_Waypoint block"),
+                          (_MOOS.replace("points", "polygon"), "no BHV_Waypoint block"),
+                          (_MOOS.replace("100,200,7", "100;200"), "not x,y pairs"),
+                          (_MOOS.replace("WPT_INDEX == 1", "WPT_INDEX = 2"), "WPT_INDEX = 1")):
+        with pytest.raises(DataError, match=match):
+            formats.parse_moos(broken)
+
+
+def test_parse_qgc_plan_keeps_the_waypoints_of_relative_altitude_frames_only():
+    """Home on the surface, then every MAV_CMD_NAV_WAYPOINT (16) item; other commands skipped; frames 3
+    and 6 (relative altitude) read, any other frame a DataError naming the item."""
+    from auvplan.errors import DataError
+    from auvplan.io import formats
+    from auvplan.io.geo import LocalFrame
+
+    frame = LocalFrame(48.0, -125.0)
+    lon, lat = frame.inverse(np.array([0.0, 100.0, 200.0]), np.array([0.0, 50.0, -30.0]))
+
+    def item(k, command=16, fr=3, z=-20.0):
+        return {"command": command, "frame": fr, "params": [0, 0, 0, None, lat[k], lon[k], z]}
+
+    doc = {"mission": {"plannedHomePosition": [lat[0], lon[0], 0],
+                       "items": [item(1), item(2, command=178), item(2, fr=6, z=-35.0)]}}
+    np.testing.assert_allclose(formats.parse_qgc_plan(doc, frame), [[0, 0, 0], [100, 50, -20], [200, -30, -35]],
+                               atol=1e-6)
+    doc["mission"]["items"].append(item(1, fr=0))
+    with pytest.raises(DataError, match=r"items\[3\].frame = 0"):
+        formats.parse_qgc_plan(doc, frame)
+    with pytest.raises(DataError, match="missing or malformed"):
+        formats.parse_qgc_plan({"mission": {"items": []}}, frame)
+
+
+def test_read_mission_by_suffix(tmp_path):
+    """The suffix decides (any case); an unknown one, or a geographic format without an origin, is a
+    DataError naming the file; each format's semantics."""
+    from auvplan.errors import DataError
+    from auvplan.io import formats
+
+    (tmp_path / "M.BHV").write_text(_MOOS)
+    w, semantics, fmt = formats.read_mission(tmp_path / "M.BHV")
+    assert (semantics, fmt, w.shape) == ("held", "moos", (3, 3))
+    (tmp_path / "m.txt").write_text("x")
+    with pytest.raises(DataError, match="m.txt: unknown mission format '.txt'"):
+        formats.read_mission(tmp_path / "m.txt")
+    for suffix in (".plan", ".gpx", ".geojson", ".kml"):
+        (tmp_path / f"m{suffix}").write_text("{}")
+        with pytest.raises(DataError, match=f"m{suffix}: a .* mission is geographic"):
+            formats.read_mission(tmp_path / f"m{suffix}")
+    _csv(tmp_path / "m.csv", [(1.0, 2.0, -3.0), (4.0, 5.0, -6.0)])
+    w, semantics, fmt = formats.read_mission(tmp_path / "m.csv")
+    assert (semantics, fmt) == ("ramp", "csv") and w.tolist() == [[1, 2, -3], [4, 5, -6]]
+    (tmp_path / "nan.csv").write_text(_HEADER + "1,2,-3,,,3,0\n4,5,nan,,,6,1\n")
+    with pytest.raises(DataError, match="nan.csv: the mission has a waypoint that is not finite"):
+        formats.check_mission_file(tmp_path / "nan.csv", World(Bounds(0, 10, 0, 10, -10, 0)))
+
+
+def test_geojson_and_kml_missions_are_the_features_named_mission(tmp_path):
+    """The flown track comes first in these files; the mission is the feature / placemark named
+    'mission', wherever it is."""
+    from auvplan.errors import DataError
+    from auvplan.io import formats
+    from auvplan.io.geo import LocalFrame
+
+    frame = LocalFrame(48.0, -125.0)
+    lon, lat = frame.inverse(np.array([0.0, 100.0, 7.0]), np.array([0.0, 50.0, 9.0]))
+    mission = [[lon[0], lat[0], -20.0], [lon[1], lat[1], -30.0]]
+    track = [[lon[2], lat[2], -5.0], [lon[1], lat[1], -6.0], [lon[0], lat[0], -7.0]]
+    doc = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "track"}, "geometry": {"type": "LineString", "coordinates": track}},
+        {"type": "Feature", "properties": None, "geometry": {"type": "LineString", "coordinates": track}},
+        {"type": "Feature", "properties": {"name": "mission"}, "geometry": {"type": "LineString",
+                                                                              "coordinates": mission}}]}
+    (tmp_path / "m.geojson").write_text(json.dumps(doc))
+    want = [[0.0, 0.0, -20.0], [100.0, 50.0, -30.0]]
+    np.testing.assert_allclose(formats.read_mission(tmp_path / "m.geojson", (48.0, -125.0))[0], want, atol=1e-6)
+
+    def placemark(name, pts):
+        return (f"<Placemark><name>{name}</name><LineString><coordinates>"
+                + " ".join(f"{float(x)!r},{float(y)!r},{float(z)!r}" for x, y, z in pts) + "</coordinates></LineString></Placemark>")
+
+    kml = (f'<kml xmlns="http://www.opengis.net/kml/2.2"><Document>{placemark("track", track)}'
+           f'{placemark("mission", mission)}</Document></kml>')
+    (tmp_path / "m.kml").write_text(kml)
+    np.testing.assert_allclose(formats.read_mission(tmp_path / "m.kml", (48.0, -125.0))[0], want, atol=1e-6)
+    doc["features"].pop()
+    (tmp_path / "t.geojson").write_text(json.dumps(doc))
+    with pytest.raises(DataError, match="no feature with properties.name = 'mission'"):
+        formats.read_mission(tmp_path / "t.geojson", (48.0, -125.0))

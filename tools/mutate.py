@@ -678,6 +678,10 @@ def main(argv: list[str] | None = None) -> int:
             old = json.loads(path.read_text())
             fresh = {m["id"]: m for m in record["mutants"] if m["status"] != "not run"}
             old["mutants"] = [fresh.get(m["id"], m) for m in old["mutants"]]
+            # the selection the re-run survivors met (a superset of the first pass's: killed stays killed)
+            old["tests"], old["slow"] = record["tests"], record["slow"]
+            old.setdefault("reruns", []).append({"ids": sorted(fresh), "tests": len(record["tests"]),
+                                                 "load": record["load"]})
             record = old
         path.write_text(json.dumps(record, indent=1))
         s = summary(record)

@@ -161,8 +161,12 @@ MODULES.update({
         _fns(FORMATION, "_contact") + ((FORMATION, "_Fleet._vehicle", "what = _contact(", "if (self.arrived[0]"),),
     ),
     # the cost's constraint kernel: point slack (depth band, bounds), obstacle slack, path terms
+    # (its importing files, test_planner.py and the whole of test_oracles.py with the kernels as Python, did
+    # not fit issue #31's session on the shared machine: run against the cost target's tests + test_safety.py)
     "cost-constraints": Target(
         _fns(COST, "_point_slack", "_obstacle_slack", "_path_terms"),
+        ("tests/test_cost.py", "tests/test_oracles.py", "tests/test_safety.py", "-k", "cost or energy or seabed or "
+         "test_safety"),
         jit=False,
     ),
 })
@@ -191,6 +195,11 @@ _HEUR = ("**not killed**: a wrong A* heuristic; on the test lattices (at most 9 
          "finds the start's cheapest cost")
 _STARTLINK = ("**not killed**: A*'s check of a settled node against the start's links; on the test lattices the "
               "search still reaches the start's cheapest cost")
+_AXIS = "equivalent: the arrays are (K, 3) (or (K, 2)), where axis 1 is axis -1"
+_UNUSED_SAFE = ("equivalent: where ok is False the s and t computed with this divisor are discarded "
+                "(inside = ok & ...)")
+_ON_EDGE = ("equivalent: at s or t exactly 0 or 1 the foot of the perpendicular lies on an edge of the "
+            "parallelogram, whose segment distance is the same as the plane's")
 REASONS: dict[str, str] = {
     # terrain
     "Terrain.__post_init__ | if not np.any(step > 0) or not np.allclose(step, step[0], rtol=1e-06, atol=1e-09):":
@@ -648,4 +657,100 @@ REASONS: dict[str, str] = {
         ('equivalent: without obstacles the kernel is told has_other = False and never reads these arrays'),
     'evaluate_paths | other_slack = other_clear = np.empty((0, 1))':
         ('equivalent: without obstacles the kernel is told has_other = False and never reads these arrays'),
+    # mission (issue #31)
+    'leg_floors | a, b = (as_points(a).reshape(-2, 3), as_points(b).reshape(-1, 3))':
+        _NEG,
+    'leg_floors | a, b = (as_points(a).reshape(-1, 3), as_points(b).reshape(-2, 3))':
+        _NEG,
+    'envelope_hits | a, b = (as_points(a).reshape(-2, 3), as_points(b).reshape(-1, 3))':
+        _NEG,
+    'envelope_hits | a, b = (as_points(a).reshape(-1, 3), as_points(b).reshape(-2, 3))':
+        _NEG,
+    'envelopes_free | a, b = (as_points(a).reshape(-2, 3), as_points(b).reshape(-1, 3))':
+        _NEG,
+    'envelopes_free | a, b = (as_points(a).reshape(-1, 3), as_points(b).reshape(-2, 3))':
+        _NEG,
+    '_sampled_rect_distance | out[k] = float(shape.distance(pts.reshape(-2, 3)).min())':
+        _NEG,
+    'held_track | w = as_points(waypoints).reshape(-2, 3)':
+        _NEG,
+    'fly_check | w = as_points(waypoints).reshape(-2, 3)':
+        _NEG,
+    'waypoint_limits | w = as_points(waypoints).reshape(-2, 3)':
+        _NEG,
+    '_parallelogram_distance | a11 = (e1 * e1).sum(1)':
+        _AXIS,
+    '_parallelogram_distance | a22 = (e2 * e2).sum(1)':
+        _AXIS,
+    '_parallelogram_distance | a12 = (e1 * e2).sum(1)':
+        _AXIS,
+    '_parallelogram_distance | r1, r2 = (-(o * e1).sum(1), -(o * e2).sum(-1))':
+        _AXIS,
+    '_parallelogram_distance | r1, r2 = (-(o * e1).sum(-1), -(o * e2).sum(1))':
+        _AXIS,
+    '_parallelogram_distance | plane = np.linalg.norm(o + s[:, None] * e1 + t[:, None] * e2, axis=1)':
+        _AXIS,
+    'envelopes_free | ok: NDArray[np.bool_] = np.all((-ends[..., 2] >= m.min_depth) & (-ends[..., 2] <= m'
+    '.max_depth), axis=1)':
+        _AXIS,
+    'envelopes_free | ok &= world.bounds.contains(ends).all(axis=1)':
+        _AXIS,
+    'fly_check | near = point_segment_distance(np.asarray(shape.center), o, o + e1) - shape.bounding_radi'
+    'us < 200.0 + np.linalg.norm(e2, axis=1)':
+        _AXIS,
+    '_parallelogram_distance | safe = np.where(ok, det, 2.0)':
+        _UNUSED_SAFE,
+    '_parallelogram_distance | inside = ok & (s > 0) & (s <= 1) & (t >= 0) & (t <= 1)':
+        _ON_EDGE,
+    '_parallelogram_distance | inside = ok & (s >= 0) & (s < 1) & (t >= 0) & (t <= 1)':
+        _ON_EDGE,
+    '_parallelogram_distance | inside = ok & (s >= 0) & (s <= 1) & (t > 0) & (t <= 1)':
+        _ON_EDGE,
+    '_parallelogram_distance | inside = ok & (s >= 0) & (s <= 1) & (t >= 0) & (t < 1)':
+        _ON_EDGE,
+    'fly_check | k = int(np.argmin(alt)) if np.isfinite(alt).all() else -1':
+        'equivalent: alt is all finite (a seabed) or all inf (none), so any() is all()',
+    'held_track | if 0.0 < need <= length:':
+        ('equivalent: at need = length the depth change ends exactly at the waypoint either way; the mutant ad'
+         'ds the same point twice (a zero-length segment)'),
+    '_parallelogram_distance | ok = det >= 1e-12 * np.maximum(a11 * a22, 1e-300)':
+        'boundary: differs only when the determinant equals the threshold exactly',
+    'envelope_hits | return _parallelogram_distance(uo, ue1, ue2) <= 1.0':
+        'boundary: an envelope exactly on the inflated surface (distance exactly the margin)',
+    'MissionCheck.ok | return alt > self.required_altitude_m - 1e-06 and self.obstacle_hits == 0 and (sel'
+    'f.executor_obstacle_hits == 0) and (self.limits is None or self.limits.ok)':
+        'boundary: an altitude of exactly required - 1e-6 m',
+    'fly_check | near = point_segment_distance(np.asarray(shape.center), o, o + e1) - shape.bounding_radi'
+    'us <= 200.0 + np.linalg.norm(e2, axis=-1)':
+        "boundary: an obstacle surface exactly 200 m (plus the envelope's height) from a leg",
+
+    '_parallelogram_distance | ok = det > 1e-12 * np.minimum(a11 * a22, 1e-300)':
+        ("equivalent to 1e-6 of the leg: with the guard at det > 1e-312 the plane's solution is also taken whe"
+         "re det <= 1e-12 a11 a22; an envelope's edges are orthogonal before the obstacle's affine map, so tha"
+         "t needs a depth change under 1e-6 of the leg (or ellipsoid axes 1e6 apart), where the plane's and th"
+         "e edges' distances differ by less than that height"),
+    '_sampled_rect_distance | nt = int(np.clip(np.ceil(np.linalg.norm(e2[k]) / step), 1, 500)) + 1':
+        ('equivalent: with e2 = 0 (a level leg) the extra row repeats the same points; otherwise ceil(h / step'
+         ') >= 1 already'),
+    '_sampled_rect_distance | ns = int(np.clip(np.ceil(np.linalg.norm(e1[k]) / step), 2, 2000)) + 1':
+        ('not killed (reporting precision): a finer grid for the reported ellipsoid distance, only closer to t'
+         'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
+         'velope test'),
+    '_sampled_rect_distance | ns = int(np.clip(np.ceil(np.linalg.norm(e1[k]) / step), 1, 2001)) + 1':
+        ('not killed (reporting precision): a finer grid for the reported ellipsoid distance, only closer to t'
+         'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
+         'velope test'),
+    '_sampled_rect_distance | ns = int(np.clip(np.ceil(np.linalg.norm(e1[k]) / step), 1, 2000)) + 2':
+        ('not killed (reporting precision): a finer grid for the reported ellipsoid distance, only closer to t'
+         'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
+         'velope test'),
+    '_sampled_rect_distance | nt = int(np.clip(np.ceil(np.linalg.norm(e2[k]) / step), 0, 501)) + 1':
+        ('not killed (reporting precision): a finer grid for the reported ellipsoid distance, only closer to t'
+         'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
+         'velope test'),
+    '_sampled_rect_distance | nt = int(np.clip(np.ceil(np.linalg.norm(e2[k]) / step), 0, 500)) + 2':
+        ('not killed (reporting precision): a finer grid for the reported ellipsoid distance, only closer to t'
+         'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
+         'velope test'),
+
 }

@@ -370,7 +370,7 @@ class MissionCheck:
     min_altitude_leg : int
         Leg where it occurs (-1 without legs or terrain).
     min_obstacle_distance_m : float
-        Least distance to a static obstacle surface (``inf`` without obstacles).
+        Least distance to a static obstacle surface (``inf`` without one within 200 m of an envelope).
     obstacle_hits : int
         Legs whose swept region comes within the obstacle margin of an obstacle (exact test).
     leg_altitude_m : ndarray (K,)
