@@ -150,7 +150,12 @@ def test_dynamic_terrain_pipeline():
     rec = run_mission(w, m)
     assert rec.plan.status is Status.EXACT and rec.status is Status.EXACT
     assert rec.sim.altitude.min() >= 0.0 and rec.sim.obstacle_distance.min() > 0.0
-    assert len(rec.keys) >= 3
+    # re-pinned from ``>= 3`` (issue 30): the old cubic seabed bulged up to ~780 m above the ETOPO1 data in this
+    # 6 km box, and the plan needed a key waypoint over the bulge; on the conservative seabed (never deeper than
+    # the data, 13.6 m above it at most) the straight line clears the seabed by more than the scenario's 30 m
+    # min_altitude_m (exact segment test below), so start and goal alone hold the plan up
+    assert len(rec.keys) >= 2
+    assert float(w.terrain.min_altitude_between(m.start, m.goal)) > 30.0
     blind = run_mission(w, m, avoidance="none")
     assert blind.status is Status.COLLISION  # the obstacles really cross the path
 

@@ -153,3 +153,15 @@ def test_validate_inspect_and_plan_json_report_the_excess(tmp_path, capsys):
     assert abs(cell - t.dx) < 2.0  # the data's own spacing (read_bathymetry rounds it to whole cells)
     assert rows[cell][0] == pytest.approx(t.fit.excess_max_m, abs=0.06)
     assert rows[cell][1] == pytest.approx(t.fit.excess_mean_m, abs=0.006)
+
+
+def test_results_folder_keeps_the_fit(tmp_path):
+    """A results folder's terrain carries its fit, so a re-rendered report states the same excess."""
+    from auvplan.io import records, results
+
+    t = terrain_from_xy(XS, YS, _peak_and_pit(), resample_m=700.0)
+    results.save_terrain(tmp_path, t)
+    back = results.load_terrain(tmp_path)
+    assert back.fit == t.fit
+    m = records.fit_metrics(back.fit)
+    assert m["terrain_method"] == "conservative" and m["terrain_excess_max_m"] == round(t.fit.excess_max_m, 3)

@@ -13,11 +13,11 @@ import xarray as xr
 
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
+from auvplan.io import limits
 from auvplan.io.data.bathymetry import read_bathymetry
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.scenario import build as bld
 from auvplan.io.scenario import loader as sc
-from auvplan.io.scenario.loader import limits
 from auvplan.world import RandomWalkMotion
 
 BASE = """

@@ -20,11 +20,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import DataError
 from ...world.seabed import SeabedFit, affine_margin, conservative_nodes, fit_report
 from .geo import LocalFrame
-from .grids import HorizontalGrid, _to_source, to_local
+from .grids import HorizontalGrid, _target_axes, _to_source, to_local
 
-__all__ = ["METHODS", "node_indices", "model_seabed"]
+__all__ = ["METHODS", "MAX_NODES", "node_indices", "model_seabed"]
+
+#: Most model nodes a resampling may make (~5 GB of work arrays); beyond it the request is refused.
+MAX_NODES = 50_000_000
 
 #: Resampling methods of ``[terrain] method``; the first is the default.
 METHODS = ("conservative", "linear", "cubic", "quintic", "pchip")
@@ -114,7 +118,13 @@ def model_seabed(grid: HorizontalGrid, z: _F64, frame: LocalFrame, *,
         The model against the data (None for curvilinear grids).
     """
     base = "linear" if method == "conservative" else method
-    x, y, zn = to_local(grid, z, frame, extent_m=extent_m, cell_m=cell_m, method=base, what=what)
+    x, y = _target_axes(grid, frame, extent_m, cell_m, what)
+    if x.size * y.size > MAX_NODES:  # the data's own extent at a tiny cell: refuse before allocating
+        raise DataError(f"{what}: a {x[1] - x[0]:.3g} m cell over {x[-1] - x[0]:.0f} x {y[-1] - y[0]:.0f} m gives "
+                        f"{x.size} x {y.size} nodes (more than {MAX_NODES:.0e}); set a larger resample_m, or "
+                        "limit the area ([bounds] or [terrain] box)")
+    x, y, zn = to_local(grid, z, frame, extent_m=(x[0], x[-1], y[0], y[-1]), cell_m=float(x[1] - x[0]) if
+                        cell_m is None else cell_m, method=base, what=what)
     if grid.kind == "curvilinear":
         return x, y, zn, None
     fr, fc = node_indices(grid, frame, x, y)
