@@ -24,13 +24,14 @@ from auvplan.flyable import (
     leg_turn_radius,
     pitch_profile,
 )
-from auvplan.guidance.mission import fly_check
+from auvplan.guidance.fit_limits import fit_turns
+from auvplan.guidance.mission import envelopes_free, fly_check
 from auvplan.io import scenario as scenario_io
 from auvplan.path import resample_polyline
 from auvplan.planners import plan
 from auvplan.planners.base import PlanResult
 from auvplan.planners.vehicle_limits import enforce_limits
-from auvplan.sim.pipeline import planned_route, planning_problem
+from auvplan.sim.pipeline import mission_route, planned_route, planning_problem
 
 RIDGE = """
 name = "ridge"
@@ -280,3 +281,23 @@ def test_terrain_following_holds_the_altitude_over_the_turn_arc() -> None:
     sk = s[k]
     z_lo = np.interp([sk - 10.0, sk, sk + 10.0], s, route[:, 2]).min()
     assert z_lo - over_arc >= 20.0 - 1.1  # follow_altitude_m 20 over the arc (1 m chord tolerance)
+
+
+def test_planned_mission_drops_corners_whose_turns_do_not_fit() -> None:
+    """A planned path with a 4 m jog (two 53° turns on 5 m legs: 10 m needs 2 x 5 m): the mission
+    builder drops the jog where the straight leg is free; with an obstacle on the straight it drops
+    other corners, keeping every leg's envelope free."""
+    world, mission = _build(RIDGE.replace("follow_altitude_m = 20.0", ""))
+    path = np.array([[100, 200, -80], [500, 200, -80], [503, 204, -80], [506, 200, -80], [800, 200, -80]], float)
+    assert not check_limits(path, VehicleLimits(20.0, 10.0)).ok
+    route = mission_route(world, mission, path)
+    assert check_limits(route, VehicleLimits(20.0, 10.0)).ok
+    assert np.all(route[:, 1] == 200.0)  # the jog is gone
+    blocked = _build(RIDGE.replace("follow_altitude_m = 20.0", "") + """
+[[obstacles]]
+center = [503.0, 199.0, -80.0]
+radius = 1.5
+""")
+    kept = fit_turns(path, blocked[0], 10.0)
+    assert envelopes_free(blocked[0], kept[:-1], kept[1:]).all() and check_limits(kept, VehicleLimits(20.0, 10.0)).ok
+    assert not np.all(kept[:, 1] == 200.0)  # the straight leg meets the obstacle: the mission cuts another way
