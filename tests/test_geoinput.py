@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 from dataclasses import replace
 from pathlib import Path
 
@@ -146,6 +147,9 @@ def test_results_keep_lat_lon_beside_x_y(tmp_path: Path) -> None:
     assert list(rows[0]) == ["x", "y", "z", "lat", "lon"]
     assert (float(rows[0]["lat"]), float(rows[0]["lon"])) == pytest.approx((48.095, -125.683), abs=1e-8)
     assert (float(rows[-1]["lat"]), float(rows[-1]["lon"])) == pytest.approx((48.5, -124.612), abs=1e-8)
+    metrics = json.loads((tmp_path / "out" / "metrics.json").read_text())
+    assert len(metrics["waypoints_lat_lon"]) == len(metrics["waypoints"]) == len(rows)
+    assert metrics["waypoints_lat_lon"][0] == pytest.approx([48.095, -125.683], abs=1e-8)
 
 
 def test_metre_scenarios_are_untouched() -> None:

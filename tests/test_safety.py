@@ -473,7 +473,7 @@ def test_parse_moos_reads_the_deploy_point_the_points_and_each_legs_held_depth()
     """x, y of each point (a third value ignored), the depth its leg's WPT_INDEX holds (`=` or `==`),
     the deploy point from the `// start:` line; every missing piece a DataError naming it."""
     from auvplan.errors import DataError
-    from auvplan.io import formats
+    from auvplan.io.missions import formats
 
     np.testing.assert_array_equal(formats.parse_moos(_MOOS), [[10, 20, -30], [100, 200, -40], [300, 400, -50.5]])
     other = "Behavior = BHV_ConstantDepth\n{\n  condition = RETURN = true\n  depth = 5\n}\n"  # not a leg's
@@ -492,8 +492,8 @@ def test_parse_qgc_plan_keeps_the_waypoints_of_relative_altitude_frames_only():
     """Home on the surface, then every MAV_CMD_NAV_WAYPOINT (16) item; other commands skipped; frames 3
     and 6 (relative altitude) read, any other frame a DataError naming the item."""
     from auvplan.errors import DataError
-    from auvplan.io import formats
-    from auvplan.io.geo import LocalFrame
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.missions import formats
 
     frame = LocalFrame(48.0, -125.0)
     lon, lat = frame.inverse(np.array([0.0, 100.0, 200.0]), np.array([0.0, 50.0, -30.0]))
@@ -516,7 +516,7 @@ def test_read_mission_by_suffix(tmp_path):
     """The suffix decides (any case); an unknown one, or a geographic format without an origin, is a
     DataError naming the file; each format's semantics."""
     from auvplan.errors import DataError
-    from auvplan.io import formats
+    from auvplan.io.missions import formats
 
     (tmp_path / "M.BHV").write_text(_MOOS)
     w, semantics, fmt = formats.read_mission(tmp_path / "M.BHV")
@@ -540,8 +540,8 @@ def test_geojson_and_kml_missions_are_the_features_named_mission(tmp_path):
     """The flown track comes first in these files; the mission is the feature / placemark named
     'mission', wherever it is."""
     from auvplan.errors import DataError
-    from auvplan.io import formats
-    from auvplan.io.geo import LocalFrame
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.missions import formats
 
     frame = LocalFrame(48.0, -125.0)
     lon, lat = frame.inverse(np.array([0.0, 100.0, 7.0]), np.array([0.0, 50.0, 9.0]))

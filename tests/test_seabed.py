@@ -157,7 +157,8 @@ def test_validate_inspect_and_plan_json_report_the_excess(tmp_path, capsys):
 
 def test_results_folder_keeps_the_fit(tmp_path):
     """A results folder's terrain carries its fit, so a re-rendered report states the same excess."""
-    from auvplan.io import records, results
+    from auvplan.io.results import folder as results
+    from auvplan.io.results import records
 
     t = terrain_from_xy(XS, YS, _peak_and_pit(), resample_m=700.0)
     results.save_terrain(tmp_path, t)

@@ -24,13 +24,14 @@ from auvplan.flyable import (
     leg_turn_radius,
     pitch_profile,
 )
-from auvplan.guidance.mission import fly_check
+from auvplan.guidance.fit_limits import fit_turns
+from auvplan.guidance.mission import envelopes_free, fly_check
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.path import resample_polyline
 from auvplan.planners import plan
 from auvplan.planners.base import PlanResult
 from auvplan.planners.vehicle_limits import enforce_limits
-from auvplan.sim.pipeline import planned_route, planning_problem
+from auvplan.sim.pipeline import mission_route, planned_route, planning_problem
 
 RIDGE = """
 name = "ridge"
@@ -252,3 +253,51 @@ def test_terrain_following_on_real_bathymetry_climbs_as_late_as_the_pitch_allows
     diff = d[:, 2] - brute
     assert -2.0 <= diff.min() and diff.max() <= 3.5 and np.percentile(np.abs(diff), 99) <= 2.0
     assert np.mean(np.abs(d[:, 2] - g) <= 5.0) > 0.5  # holds 50 ± 5 m on over half the route
+
+
+def test_terrain_following_holds_the_altitude_over_the_turn_arc() -> None:
+    """A 90° turn on the ridge's flank: the fly-by arc cuts the corner towards the crest, over
+    seabed higher than under either leg; the altitude is held over the arc (flyby_arcs), not
+    only over the polyline."""
+    text = RIDGE.replace('route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]',
+                         'route = [[1015.0, 20.0, -50.0], [1015.0, 300.0, -50.0], [100.0, 300.0, -80.0]]').replace(
+        "start = [100.0, 200.0, -80.0]", "start = [1015.0, 20.0, -50.0]").replace(
+        "goal = [1900.0, 200.0, -80.0]", "goal = [100.0, 300.0, -80.0]")
+    world, mission = _build(text)
+    _, route = planned_route(world, mission, 1)
+    assert route is not None
+    k = int(np.flatnonzero((route[:, 0] == 1015.0) & (route[:, 1] == 300.0))[0])
+    entry, exit_, centre = flyby_arcs(route[k - 1:k + 2], 10.0)
+    a0 = np.arctan2(*(entry[1] - centre[1])[::-1])
+    a1 = np.arctan2(*(exit_[1] - centre[1])[::-1])
+    ang = a0 + ((a1 - a0 + np.pi) % (2 * np.pi) - np.pi) * np.linspace(0, 1, 201)
+    arc = centre[1] + 10.0 * np.c_[np.cos(ang), np.sin(ang)]
+    assert np.hypot(*(arc[100] - [1015.0, 300.0])) == pytest.approx(10.0 * (math.sqrt(2) - 1), rel=1e-6)
+    over_arc = world.seabed(arc[:, 0], arc[:, 1]).max()
+    under_legs = world.seabed(np.full(2, 1015.0), np.array([290.0, 300.0])).max()
+    assert over_arc > under_legs + 1.5  # the arc passes closer to the crest
+    # the depth the vehicle holds on the arc lies between those of the turn region's ends
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(route[:, :2], axis=0).T))]
+    sk = s[k]
+    z_lo = np.interp([sk - 10.0, sk, sk + 10.0], s, route[:, 2]).min()
+    assert z_lo - over_arc >= 20.0 - 1.1  # follow_altitude_m 20 over the arc (1 m chord tolerance)
+
+
+def test_planned_mission_drops_corners_whose_turns_do_not_fit() -> None:
+    """A planned path with a 4 m jog (two 53° turns on 5 m legs: 10 m needs 2 x 5 m): the mission
+    builder drops the jog where the straight leg is free; with an obstacle on the straight it drops
+    other corners, keeping every leg's envelope free."""
+    world, mission = _build(RIDGE.replace("follow_altitude_m = 20.0", ""))
+    path = np.array([[100, 200, -80], [500, 200, -80], [503, 204, -80], [506, 200, -80], [800, 200, -80]], float)
+    assert not check_limits(path, VehicleLimits(20.0, 10.0)).ok
+    route = mission_route(world, mission, path)
+    assert check_limits(route, VehicleLimits(20.0, 10.0)).ok
+    assert np.all(route[:, 1] == 200.0)  # the jog is gone
+    blocked = _build(RIDGE.replace("follow_altitude_m = 20.0", "") + """
+[[obstacles]]
+center = [503.0, 199.0, -80.0]
+radius = 1.5
+""")
+    kept = fit_turns(path, blocked[0], 10.0)
+    assert envelopes_free(blocked[0], kept[:-1], kept[1:]).all() and check_limits(kept, VehicleLimits(20.0, 10.0)).ok
+    assert not np.all(kept[:, 1] == 200.0)  # the straight leg meets the obstacle: the mission cuts another way

@@ -35,11 +35,20 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import BoolArray, FloatArray, IntArray
-from ..flyable import PITCH_SLACK_DEG, LimitReport, VehicleLimits, check_limits, cone_max, pitch_profile, turn_angles
+from ..flyable import (
+    PITCH_SLACK_DEG,
+    LimitReport,
+    VehicleLimits,
+    check_limits,
+    cone_max,
+    leg_turn_radius,
+    pitch_profile,
+    turn_angles,
+)
 from ..world import World
 from .mission import envelopes_free
 
-__all__ = ["MissionFit", "fit_mission", "flown_distance"]
+__all__ = ["MissionFit", "fit_mission", "fit_turns", "flown_distance"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -274,3 +283,54 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
         why.append(f"leg {int(np.flatnonzero(~free)[0])}: its envelope (depth held at either end) breaks "
                    "min_altitude, the depth band, the bounds or an obstacle's margin")
     return MissionFit(out, report, not why, "; ".join(why))
+
+
+def fit_turns(waypoints: FloatArray, world: World, radius: float, rounds: int = 200) -> FloatArray:
+    """Drop the corners whose fly-by turns do not fit, where the leg that replaces them is free.
+
+    For a planned mission (not a route the operator wrote): while some leg's turns need more than
+    its length (:func:`auvplan.flyable.leg_turn_radius` below ``radius``), the sharper interior
+    corner at its ends is removed when the new leg's envelope is free
+    (:func:`auvplan.guidance.mission.envelopes_free`); a corner that cannot go stays, and the check
+    of :func:`fit_mission` then names it.
+
+    Parameters
+    ----------
+    waypoints : numpy.ndarray
+        ``(N, 3)`` mission (m).
+    world : World
+        Seabed, static obstacles and margins.
+    radius : float
+        Turn radius R (m).
+    rounds : int, optional
+        Most corners removed.
+
+    Returns
+    -------
+    numpy.ndarray
+        The mission with its unflyable corners removed where possible.
+    """
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3).copy()
+    if radius <= 0.0:
+        return w
+    stuck: set[tuple[float, float]] = set()
+    for _ in range(rounds):
+        if len(w) < 3:
+            break
+        bad = np.flatnonzero(leg_turn_radius(w) < radius)
+        dpsi = turn_angles(w)
+        done = True
+        for k in bad:
+            cands = [i for i in (int(k), int(k) + 1) if 0 < i < len(w) - 1 and tuple(w[i, :2]) not in stuck]
+            for i in sorted(cands, key=lambda i: -dpsi[i]):
+                a, b = w[i - 1], w[i + 1]
+                if envelopes_free(world, a[None], b[None])[0]:
+                    w = np.delete(w, i, axis=0)
+                    done = False
+                    break
+                stuck.add(tuple(w[i, :2]))
+            if not done:
+                break
+        if done:
+            break
+    return w

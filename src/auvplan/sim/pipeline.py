@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from .._types import RngLike, Status
 from ..endurance import EnergyModel, choose_speeds
 from ..flyable import VehicleLimits, check_limits
-from ..guidance.fit_limits import MissionFit, fit_mission
+from ..guidance.fit_limits import MissionFit, fit_mission, fit_turns
 from ..guidance.local import key_waypoints
 from ..guidance.mission import build_waypoints
 from ..path import resample_polyline
@@ -119,8 +119,10 @@ def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np
     """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
 
     :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
-    Douglas–Peucker where the exact envelope test decides what may be dropped; then
-    :func:`fitted_route` (the vehicle's limits, terrain following).
+    Douglas–Peucker where the exact envelope test decides what may be dropped; corners whose
+    fly-by turns do not fit dropped where the new leg is free
+    (:func:`auvplan.guidance.fit_limits.fit_turns`); then :func:`fitted_route` (the vehicle's
+    limits, terrain following).
 
     Parameters
     ----------
@@ -136,7 +138,8 @@ def mission_route(world: World, mission: Mission, path: ArrayLike) -> NDArray[np
     numpy.ndarray
         ``(N, 3)`` waypoints (m), safe under held and ramped depth semantics.
     """
-    return fitted_route(world, mission, build_waypoints(path, world)).waypoints
+    w = fit_turns(build_waypoints(path, world), world, mission.vehicle.turn_radius_m)
+    return fitted_route(world, mission, w).waypoints
 
 
 def planned_route(world: World, mission: Mission, seed: RngLike,
@@ -173,7 +176,8 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
     if not planned.status.ok:
         return planned, None
-    fit = fitted_route(world, mission, build_waypoints(planned.path, world))
+    fit = fitted_route(world, mission, fit_turns(build_waypoints(planned.path, world), world,
+                                                 mission.vehicle.turn_radius_m))
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
                        message=f"the vehicle cannot fly the mission built from the plan: {fit.message}"), None

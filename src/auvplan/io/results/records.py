@@ -211,7 +211,8 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     scenario_text : str, optional
         The scenario's TOML source, copied as ``scenario.toml``.
     origin : tuple of 2 float, optional
-        ``(lat, lon)`` of the local frame: ``path.csv`` gets ``lat,lon`` columns.
+        ``(lat, lon)`` of the local frame: ``path.csv`` gets ``lat,lon`` columns and ``metrics.json``
+        ``waypoints_lat_lon`` (degrees, beside ``waypoints`` in m).
 
     Returns
     -------
@@ -221,6 +222,9 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     record = plan_record(result, scenario, seed)
+    if origin is not None and result.path.size:  # the plan's vertices in degrees beside the metres
+        lon, lat = LocalFrame(*origin).inverse(result.path[:, 0], result.path[:, 1])
+        record["waypoints_lat_lon"] = [[round(float(a), 8), round(float(b), 8)] for a, b in zip(lat, lon)]
     write_json(out / "metrics.json", record)
     if result.path.size and result.times is not None:  # timed plans: the time at each vertex (s after start_time)
         write_path_csv(out / "path.csv", np.column_stack([result.path, result.times]), "x,y,z,time", origin)
