@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +25,10 @@ test: $(STAMP)
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
 	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/test_fuzz_scenarios.py
+
+# SIGKILL `run --out` at every atomic replace (before and after), re-run, check the folder is whole
+kill-points: $(STAMP)
+	$(BIN)/python tools/kill_points.py
 
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
 # coverage and tracebacks see their lines (the kernels' own tests and the small ones of the

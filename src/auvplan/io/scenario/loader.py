@@ -372,7 +372,8 @@ def _header(data: Any, source: str) -> tuple[str, str, int]:
     seed = data.get("seed", 0)
     if not isinstance(name, str):
         raise table_error(f"{source}:", "name", name, "expected a string")
-    check_scenario_name(source, name)
+    if "name" in data:  # an explicit name (the file's own stem, the default, is the user's choice)
+        check_scenario_name(source, name)
     if not isinstance(description, str):
         raise table_error(f"{source}:", "description", description, "expected a string")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
