@@ -153,3 +153,12 @@ def test_area_from_a_geojson_layer(tmp_path, capsys):
     assert main(["-q", "survey", str(scen), "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert rec["area_m2"] == pytest.approx(600_000.0, rel=1e-3)
+
+
+def test_a_line_through_an_obstacle_is_a_failed_status_naming_it(tmp_path, capsys):
+    scen = _write(tmp_path)
+    scen.write_text(scen.read_text() + "\n[[obstacles]]\ntype = \"sphere\"\ncenter = [850.0, 700.0, -2.0]\n"
+                    "radius = 20.0\n")
+    assert main(["-q", "survey", str(scen), "--json"]) == 1
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["status"] == "INFEASIBLE" and "on line 2 " in rec["message"] and rec["flown"] is None
