@@ -184,3 +184,15 @@ def test_coverage_gaps_and_overlap_of_known_footprints():
     assert cov.coverage_pct == pytest.approx(100.0 * covered / 1000.0, abs=1e-9)
     assert len(cov.gaps) == 2 and cov.gap_area_m2 == pytest.approx(400.0 * (1000.0 - covered), rel=1e-9)
     np.testing.assert_allclose(cov.overlap[0], ((80.0 + half) - (300.0 - half)) / (2 * half), atol=1e-9)
+
+
+def test_the_chosen_heading_runs_the_lines_along_a_long_flat_area():
+    """Over a flat seabed the shortest survey of a long strip has few, long lines: along its long side."""
+    from auvplan.survey.mission import SurveyParams, choose_heading
+
+    def flat(x, y):
+        return np.full(np.shape(x), -40.0)
+
+    for box, along in ((shapely.box(0, 0, 3000, 600), math.pi / 2), (shapely.box(0, 0, 600, 3000), 0.0)):
+        heading = choose_heading(flat, SurveyParams(box, Sensor(), LineParams(station_m=100.0)))
+        assert abs(math.sin(heading - along)) < 1e-9
