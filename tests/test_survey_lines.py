@@ -143,3 +143,56 @@ def test_lines_close_up_where_the_seabed_shoals():
     gaps = np.diff(c)
     shallow, deep = gaps[c[1:] < 650], gaps[c[:-1] > 760]
     assert shallow.size and deep.size and deep.min() > 1.4 * shallow.max()
+
+
+def test_auv_climbs_the_scarp_within_the_pitch_limit():
+    """Lines across the scarp: the AUV holds at least its altitude and never climbs steeper than the limit."""
+    sensor = Sensor("multibeam", 120.0, mounting="auv", altitude_m=30.0)
+    params = LineParams(0.10, 0.20, station_m=10.0, step_m=1.0, pitch_max_deg=15.0)
+    lines = place_lines(_scarp_and_pit, shapely.box(0.0, 0.0, 1500.0, 600.0), sensor, math.pi / 2, params)
+    assert lines.complete
+    steepest = 0.0
+    for ln in lines.lines:
+        a = ln.active
+        x, y = from_sn(lines.stations[a], ln.c[a], math.pi / 2)
+        assert np.all(ln.z[a] - _scarp_and_pit(x, y) >= sensor.altitude_m - 1e-9)
+        climb = np.degrees(np.arctan(np.abs(np.diff(ln.z[a])) / np.hypot(np.diff(x), np.diff(y))))
+        steepest = max(steepest, float(climb.max()))
+    assert 14.9 <= steepest <= params.pitch_max_deg + 1e-9  # the limit binds at the 30 m scarp
+    assert np.concatenate(lines.overlaps()).min() >= 0.10 - 1e-9
+
+
+def test_coverage_gaps_and_overlap_of_known_footprints():
+    """Two straight lines over a flat 50 m seabed: swaths of half-width 50 tan 60° each, one gap between them."""
+    from auvplan.survey import SurveyLine, SurveyLines
+    from auvplan.survey.coverage import footprints, measure
+
+    def flat(x, y):
+        return np.full(np.shape(x), -50.0)
+
+    half = 50.0 * math.tan(math.radians(60.0))
+    y = np.linspace(0.0, 400.0, 9)
+    pts = np.vstack([np.column_stack([np.full(9, 80.0), y, np.zeros(9)]),
+                     np.column_stack([np.full(9, 300.0), y[::-1], np.zeros(9)])])
+    labels = np.repeat([0, 1], 9)
+    right = np.tile([1.0, 0.0], (18, 1))  # heading north: the fan's right side is east
+    fps = footprints(flat, Sensor(), pts, right, labels, 2, 1.0)
+    dummy = SurveyLine(np.zeros(9), np.zeros(9), np.zeros(9), np.zeros(9), 0, 8)
+    lines = SurveyLines(0.0, y, np.zeros(9), np.full(9, 1000.0), (dummy, dummy), True)
+    cov = measure(shapely.box(0.0, 0.0, 1000.0, 400.0), lines, fps)
+    covered = (80.0 + half) + 2 * half  # the first swath is cut at x = 0
+    assert cov.coverage_pct == pytest.approx(100.0 * covered / 1000.0, abs=1e-9)
+    assert len(cov.gaps) == 2 and cov.gap_area_m2 == pytest.approx(400.0 * (1000.0 - covered), rel=1e-9)
+    np.testing.assert_allclose(cov.overlap[0], ((80.0 + half) - (300.0 - half)) / (2 * half), atol=1e-9)
+
+
+def test_the_chosen_heading_runs_the_lines_along_a_long_flat_area():
+    """Over a flat seabed the shortest survey of a long strip has few, long lines: along its long side."""
+    from auvplan.survey.mission import SurveyParams, choose_heading
+
+    def flat(x, y):
+        return np.full(np.shape(x), -40.0)
+
+    for box, along in ((shapely.box(0, 0, 3000, 600), math.pi / 2), (shapely.box(0, 0, 600, 3000), 0.0)):
+        heading = choose_heading(flat, SurveyParams(box, Sensor(), LineParams(station_m=100.0)))
+        assert abs(math.sin(heading - along)) < 1e-9

@@ -141,15 +141,42 @@ def test_bad_survey_input_is_one_line_exit_2(tmp_path, capsys, area, needle):
     assert needle in err and err.count("\n") == 1 and "[survey]" in err
 
 
-def test_area_from_a_geojson_layer(tmp_path, capsys):
+KML = """<?xml version="1.0" encoding="UTF-8"?>
+<kml xmlns="http://www.opengis.net/kml/2.2"><Document><Placemark><name>area</name><Polygon><outerBoundaryIs>
+<LinearRing><coordinates>{coords}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark></Document></kml>
+"""
+
+
+@pytest.mark.parametrize("fmt", ["geojson", "kml"])
+def test_area_from_a_vector_file(tmp_path, capsys, fmt):
     from auvplan.io.data.geo import LocalFrame
 
     lon, lat = LocalFrame(48.0, -125.0).inverse(np.array([400.0, 1400.0, 1400.0, 400.0, 400.0]),
                                                 np.array([400.0, 400.0, 1000.0, 1000.0, 400.0]))
     ring = [[float(a), float(b)] for a, b in zip(lon, lat)]
-    (tmp_path / "area.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [
-        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [ring]}}]}))
-    scen = _write(tmp_path, area='file = "area.geojson"')
+    if fmt == "geojson":
+        text = json.dumps({"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [ring]}}]})
+    else:
+        text = KML.format(coords=" ".join(f"{a:.9f},{b:.9f},0" for a, b in ring))
+    (tmp_path / f"area.{fmt}").write_text(text)
+    scen = _write(tmp_path, area=f'file = "area.{fmt}"')
     assert main(["-q", "survey", str(scen), "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
     assert rec["area_m2"] == pytest.approx(600_000.0, rel=1e-3)
+
+
+def test_a_line_through_an_obstacle_is_a_failed_status_naming_it(tmp_path, capsys):
+    scen = _write(tmp_path)
+    scen.write_text(scen.read_text() + "\n[[obstacles]]\ntype = \"sphere\"\ncenter = [850.0, 700.0, -2.0]\n"
+                    "radius = 20.0\n")
+    assert main(["-q", "survey", str(scen), "--json"]) == 1
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["status"] == "INFEASIBLE" and "on line 2 " in rec["message"] and rec["flown"] is None
+
+
+def test_run_of_a_survey_scenario_is_the_survey(tmp_path, capsys):
+    scen = _write(tmp_path, area="polygon_xy = [[400.0, 400.0], [900.0, 400.0], [900.0, 700.0], [400.0, 700.0]]")
+    assert main(["-q", "run", str(scen), "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["measured_on"] == "flight" and rec["coverage_pct"] >= 99.0 and rec["lines"] >= 2

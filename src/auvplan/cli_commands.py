@@ -126,6 +126,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             print(f"  {t.fit.describe()}")
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    if sc.survey is not None:
+        from .io.survey_io import survey_params
+
+        area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
+        print(f"  survey of {area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)")
     return 0
 
 
