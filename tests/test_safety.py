@@ -558,7 +558,8 @@ def test_geojson_and_kml_missions_are_the_features_named_mission(tmp_path):
 
     def placemark(name, pts):
         return (f"<Placemark><name>{name}</name><LineString><coordinates>"
-                + " ".join(f"{float(x)!r},{float(y)!r},{float(z)!r}" for x, y, z in pts) + "</coordinates></LineString></Placemark>")
+                + " ".join(f"{float(x)!r},{float(y)!r},{float(z)!r}" for x, y, z in pts)
+                + "</coordinates></LineString></Placemark>")
 
     kml = (f'<kml xmlns="http://www.opengis.net/kml/2.2"><Document>{placemark("track", track)}'
            f'{placemark("mission", mission)}</Document></kml>')

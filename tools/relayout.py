@@ -87,6 +87,16 @@ MOVES: dict[str, str] = {
     "io/export.py": "io/missions/export.py",
     "io/formats.py": "io/missions/formats.py",
     "io/formation_export.py": "io/missions/formation.py",
+    # wave 3 modules written on the old layout by the parallel branches, placed at the merge
+    "io/seabed_model.py": "io/data/seabed_model.py",
+    "io/roms.py": "io/data/roms.py",
+    "io/vectors.py": "io/data/vectors.py",
+    "io/inspect_frames.py": "io/data/inspect_frames.py",
+    "io/geoinput.py": "io/scenario/geoinput.py",
+    "io/names.py": "io/scenario/names.py",
+    "io/energy.py": "io/missions/energy.py",
+    "io/mission_speeds.py": "io/missions/speeds.py",
+    "io/survey_io.py": "io/results/survey.py",
 }
 
 # module renames done after the move (whole modules merged into another)

@@ -127,7 +127,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
     if sc.survey is not None:
-        from .io.survey_io import survey_params
+        from .io.results.survey import survey_params
 
         area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
         print(f"  survey of {area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)")
@@ -500,10 +500,6 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         checks.append(rec)
         worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
         if not args.json:
-            print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
-                  + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
-            print(f"{name}: {energy_line}")
-        if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
             obstacles = (f"least obstacle distance {check.min_obstacle_distance_m:.2f} m (margin "
@@ -513,6 +509,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}least altitude "
                   f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
                   f"{check.min_altitude_leg}), {obstacles}{held}")
+            print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
+                  + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
+            print(f"{name}: {energy_line}")
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst

@@ -105,7 +105,7 @@ class VehicleParams:
     power_table : tuple of (float, float)
         Measured (speed m/s, power W) pairs: when given, ``hotel_power`` (unless ``hotel_w`` is given)
         and the drag coefficient are fitted to ``P = P_hotel + k V³`` by least squares
-        (:func:`auvplan.endurance.fit_power`), so every planner and budget uses the fitted model.
+        (:func:`auvplan.power_fit.fit_power`), so every planner and budget uses the fitted model.
     """
 
     speed: float = 1.5
@@ -174,7 +174,7 @@ class VehicleParams:
                 raise ValueError(f"hotel_w = {self.hotel_w}: must be >= 0")
             object.__setattr__(self, "hotel_power", float(self.hotel_w))
         if self.power_table:
-            from .endurance.power import fit_power
+            from .power_fit import fit_power
 
             v, p = zip(*self.power_table, strict=True)
             fit = fit_power(v, p, self.hotel_w)

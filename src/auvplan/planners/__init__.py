@@ -34,6 +34,7 @@ _LAZY = {
     "with_reference": "auvplan.planners.grid.planner",
     "plan_swarm": "auvplan.planners.swarm.planner",
     "plan_timeopt": "auvplan.planners.timeopt.planner",
+    "enforce_limits": "auvplan.planners.vehicle_limits",
 }
 
 
