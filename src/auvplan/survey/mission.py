@@ -181,15 +181,42 @@ def _line_points(lines: SurveyLines, k: int, forward: bool, run_in: float) -> ND
     return p
 
 
+_HALF_STEP_RAD = 1.0
+"""Largest turn of the sampled arcs between two waypoints of a survey turn (rad): coarse enough that
+each waypoint lies more than ``TRACK_FRACTION`` · R off its neighbours' chord, so the check of
+:func:`auvplan.flyable.check_limits` judges the waypoints as given, not a simplified track."""
+
+
 def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
     """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated)."""
     h0 = math.atan2(a[-1, 1] - a[-2, 1], a[-1, 0] - a[-2, 0])
     h1 = math.atan2(b[1, 1] - b[0, 1], b[1, 0] - b[0, 0])
-    t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), radius)
-    pts = sample_turn(t, radius / 2.0)[1:-1]
+    # sampled every radian at most, the arcs' chords turn by up to 1 rad at each vertex; a fly-by
+    # turn there fits r cos(0.5) only, so the arcs are drawn at r / cos(0.5) and the waypoints a
+    # vehicle flies by fit ``radius`` (the check of ``mission check``, :func:`auvplan.flyable.check_limits`)
+    r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)
+    t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
+    pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]
     frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
     z = a[-1, 2] + frac * (b[0, 2] - a[-1, 2])
     return np.column_stack([pts[:, :2], z]), t.word
+
+
+def _thin_ends(pts: NDArray[np.float64], min_leg: float) -> NDArray[np.float64]:
+    """A line's points without the inner ones that leave a leg shorter than ``min_leg`` at either end.
+
+    A turn joins the line at its end point with a fly-by corner that needs ``R tan(Δψ/2)`` of the
+    line's last leg; a seabed-following line can end with a leg of a metre, which no turn fits.
+    """
+    keep = np.ones(pts.shape[0], dtype=bool)
+    i, j = 1, pts.shape[0] - 2
+    while i < j and np.hypot(*(pts[i, :2] - pts[0, :2])) < min_leg:
+        keep[i] = False
+        i += 1
+    while j > i and np.hypot(*(pts[-1, :2] - pts[j, :2])) < min_leg:
+        keep[j] = False
+        j -= 1
+    return pts[keep]
 
 
 def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
@@ -215,7 +242,7 @@ def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
     parts, labels, words = [], [], []
     prev: NDArray[np.float64] | None = None
     for k in range(len(lines.lines)):
-        pts = _line_points(lines, k, k % 2 == 0, params.run_in_m)
+        pts = _thin_ends(_line_points(lines, k, k % 2 == 0, params.run_in_m), params.turn_radius_m)
         if prev is not None:
             turn, word = _turn(prev, pts, params.turn_radius_m)
             parts.append(turn)
