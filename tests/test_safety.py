@@ -74,6 +74,8 @@ def test_a_ramp_leg_inside_the_obstacle_margin_fails():
     margin none."""
     sphere = Sphere((0.0, 0.0, -50.0), 10.0)
     w = np.array([[-40.0, 13.0, -50.0], [40.0, 13.0, -50.0]])
+    level = np.array([[-40.0, 15.0, -50.0], [40.0, 15.0, -50.0]])  # exactly the margin away: not within it
+    assert not envelope_hits(sphere, level[0], level[1], 5.0)[0] and envelope_hits(sphere, level[0], level[1], 5.01)[0]
     for margin, hits in ((5.0, 1), (2.0, 0)):
         world = World(Bounds(-100, 100, -100, 100, -100, 0), obstacles=(sphere,), margins=Margins(obstacle=margin))
         for semantics in ("ramp", "held"):
@@ -142,6 +144,8 @@ def test_two_hulls_closer_than_contact_m_are_a_contact():
     assert _contact(0, [3.0], 10.0, {1: 2.0, 2: 30.0}, names, fp) == ""
     assert _contact(0, [3.0, -0.1], 10.0, {1: 1.0}, names, fp) == "obstacle 1"
     assert _contact(0, [3.0], -0.1, {1: 1.0}, names, fp) == "the seabed"
+    # contact is penetration, as in the single-vehicle loop: touching (0 m) or 0.5 m away is not
+    assert _contact(0, [0.0, 0.5], 0.0, {}, names, fp) == "" and _contact(0, [0.5], 0.5, {}, names, fp) == ""
 
 
 def test_held_track_reaches_every_held_depth_at_the_pitch():
@@ -364,7 +368,7 @@ def test_envelopes_free_at_the_depth_band_the_bounds_and_the_floor_exactly():
     # MissionCheck.ok at exactly the required altitude
     base = dict(semantics="ramp", min_altitude_leg=0, min_obstacle_distance_m=np.inf, obstacle_hits=0,
                 leg_altitude_m=np.array([5.0]), required_altitude_m=5.0, obstacle_margin_m=0.0)
-    assert MissionCheck(min_altitude_m=5.0, **base).ok
+    assert MissionCheck(min_altitude_m=5.0, **base).ok and MissionCheck(min_altitude_m=5.0 - 1e-6, **base).ok
     assert not MissionCheck(min_altitude_m=5.0 - 2e-6, **base).ok
     assert not MissionCheck(min_altitude_m=9.0, executor_obstacle_hits=1, **base).ok
     assert not MissionCheck(**{**base, "obstacle_hits": 1}, min_altitude_m=9.0).ok
@@ -422,6 +426,7 @@ def test_held_and_ramp_meet_different_obstacles_and_report_distances_within_200_
         ([[-1000.0, 0.0, -50.0], [0.0, 0.0, -50.0]], Sphere((10.0, 0.0, -50.0), 5.0), 5.0),
         ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 204.5, -50.0), 5.0), 199.5),
         ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 205.5, -50.0), 5.0), np.inf),
+        ([[-40.0, 0.0, -50.0], [40.0, 0.0, -50.0]], Sphere((0.0, 205.0, -50.0), 5.0), np.inf),  # 200 m exactly
     ]
     for pts, sphere, want in cases:
         check = fly_check(World(bounds, obstacles=(sphere,)), pts, "held")
@@ -569,3 +574,28 @@ def test_geojson_and_kml_missions_are_the_features_named_mission(tmp_path):
     (tmp_path / "t.geojson").write_text(json.dumps(doc))
     with pytest.raises(DataError, match="no feature with properties.name = 'mission'"):
         formats.read_mission(tmp_path / "t.geojson", (48.0, -125.0))
+
+
+def test_a_path_inside_a_half_metre_obstacle_margin_is_a_violation():
+    """Obstacle margin 0.5 m: a leg passing 0.3 m from a 5 m sphere's surface (its ends 40 m away) is
+    one violation charged at least 1e4 + 100 x 1 m; 0.7 m from it, none."""
+    world = World(Bounds(-100, 100, -100, 100, -100, 0), obstacles=(Sphere((0.0, 0.0, -50.0), 5.0),),
+                  margins=Margins(obstacle=0.5))
+    paths = np.array([[[-40.0, 5.3, -50.0], [40.0, 5.3, -50.0]], [[-40.0, 5.7, -50.0], [40.0, 5.7, -50.0]]])
+    terms = evaluate_paths(world, paths, CostModel())
+    np.testing.assert_array_equal(terms.violations, [1, 0])
+    assert terms.terrain[0] >= 1e4 + 100.0 and terms.terrain[1] == 0.0
+
+
+def test_the_sampled_ellipsoid_distance_uses_a_grid_of_at_most_a_quarter_metre_with_both_ends():
+    """A unit round ellipsoid 1.5 m beside the middle of a held leg's envelope: a grid with both ends
+    and spacing <= 0.25 m (at most 2001 x 501 points) holds the midpoint when the number of intervals
+    is even, so the report is exactly 0.5 m for a 20 m leg rising 10 m (80 x 40 intervals), a 600 m
+    leg (capped: 2000 intervals) and a 200 m rise (capped: 500); a 0.2 m leg is sampled at its ends
+    only: sqrt(1.5^2 + 0.1^2) - 1 m."""
+    world = World(Bounds(-400, 400, -400, 400, -400, 0), obstacles=(Ellipsoid((0.0, 0.0, -250.0), (1.0, 1.0, 1.0)),))
+    for (x0, z0), (x1, z1), want in (((-10.0, -255.0), (10.0, -245.0), 0.5), ((-300.0, -250.0), (300.0, -250.0), 0.5),
+                                     ((-5.0, -350.0), (5.0, -150.0), 0.5),
+                                     ((-0.1, -250.0), (0.1, -250.0), math.hypot(1.5, 0.1) - 1.0)):
+        check = fly_check(world, [[x0, 1.5, z0], [x1, 1.5, z1]], "held")
+        assert check.min_obstacle_distance_m == pytest.approx(want, abs=1e-9), (x0, z0)

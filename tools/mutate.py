@@ -590,14 +590,14 @@ def report(out: Path, names: list[str]) -> str:
         for k in ("generated", "tested", "killed", "timeout", "survived"):
             total[k] += s[k]
         eq = sum(REASONS.get(_key(m), "").startswith("equivalent") for m in s["survivors"])
-        score = f"{100 * s['score']:.1f} %"
+        score = f"{100 * s['score']:.2f} %"
         if s["tested"] < s["generated"]:  # a sample: Wilson 95 % interval of the module's score
             lo, hi = _wilson(s["killed"] + s["timeout"], s["tested"])
             score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
         adjusted = (s["killed"] + s["timeout"]) / max(s["tested"] - eq, 1)
         rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
                     f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} ({eq}) | {score} | "
-                    f"{100 * adjusted:.1f} % |")
+                    f"{100 * adjusted:.2f} % |")
         total["equivalent"] = total.get("equivalent", 0) + eq
         for m in s["survivors"]:
             reason = REASONS.get(_key(m), "**not analysed yet**")
@@ -607,7 +607,7 @@ def report(out: Path, names: list[str]) -> str:
     eq = total.get("equivalent", 0)
     adjusted = (total["killed"] + total["timeout"]) / max(total["tested"] - eq, 1)
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
-                f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.1f} % | {100 * adjusted:.1f} % |")
+                f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.2f} % | {100 * adjusted:.2f} % |")
     head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
     return ("\n".join(rows) + "\n\nTests run per module:\n\n" + "\n".join(dropped) + "\n\nSurvivors:\n\n"
             + "\n".join(head + lines) + "\n")
