@@ -247,7 +247,8 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
         return MissionFit(w.copy(), check_limits(w, limits), True, "")
     radius = limits.turn_radius_m
     s, dpsi, t, arc = _corner_geometry(w, radius)
-    spacing = min(world.terrain.dx, world.terrain.dy) / 4.0 if world.terrain is not None else max(s[-1], 1.0)
+    # a conservative seabed is lifted cell by cell: its peaks lie anywhere in a cell, so sample finely
+    spacing = min(world.terrain.dx, world.terrain.dy) / 16.0 if world.terrain is not None else max(s[-1], 1.0)
     p, d, region = _dense(w, spacing, s, t)
     sf = flown_distance(d, s, t, arc)
     arcs = _arc_seabed(world, w, radius, t, dpsi)
