@@ -5,7 +5,7 @@ the rest) and ``gaps.geojson``."""
 
 from __future__ import annotations
 
-import logging
+import json
 import math
 from pathlib import Path
 from typing import Any
@@ -24,8 +24,6 @@ from ..safeio import atomic_write
 from .records import write_json
 
 __all__ = ["SURVEY_NAMES", "survey_params", "read_area", "write_survey", "coverage_record"]
-
-log = logging.getLogger(__name__)
 
 SURVEY_NAMES = ("lines.csv", "coverage.json", "gaps.geojson", "coverage.png")
 """Files a survey writes into ``--out`` besides the run files and the mission exports."""
@@ -218,7 +216,5 @@ def write_survey(out: Path, run: SurveyRun, params: SurveyParams, origin: tuple[
     cov = run.flown or run.planned
     feats = [_feature(g, frame, {"kind": "gap", "area_m2": g.area}) for g in cov.gaps]
     feats.append(_feature(params.area, frame, {"kind": "area", "area_m2": params.area.area}))
-    import json
-
     paths.append(atomic_write(out / "gaps.geojson", json.dumps({"type": "FeatureCollection", "features": feats})))
     return paths
