@@ -753,4 +753,9 @@ REASONS: dict[str, str] = {
          'he exact value (the 0.25 m grid is within 0.005 m of it in the tests); the verdict uses the exact en'
          'velope test'),
 
+    # sim (issue #31 run)
+    '_obstacle_shapes | if centres is not None:':
+        ("equivalent in use: both callers (sim.loop, sim_formation) pass the moving obstacles' centres at t fr"
+         'om their motions (the precomputed tracks), which the mutant recomputes with o.center(t)'),
+
 }

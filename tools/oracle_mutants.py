@@ -176,12 +176,16 @@ def run_one(name: str, tests: list[str]) -> bool:
         path.write_text(text.replace(old, new))
         with tempfile.TemporaryDirectory(prefix="auvplan-mutant-") as cache:
             env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-            r = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", *tests],
+            r = subprocess.run([sys.executable, "-m", "pytest", "-x", "-q", "-rf", "-p", "no:cacheprovider", *tests],
                                cwd=ROOT, env=env, capture_output=True, text=True)
     finally:
         path.write_text(text)
+    if r.returncode not in (0, 1):  # 1: a test failed; anything else (usage, collection, internal) is no verdict
+        raise SystemExit(f"{name}: pytest exit {r.returncode}, not a test failure:\n"
+                         f"{r.stdout[-2000:]}{r.stderr[-2000:]}")
     failed = [ln.split(" - ")[0] for ln in r.stdout.splitlines() if ln.startswith("FAILED")]
-    print(f"{name:40s} {'killed by ' + failed[0].split('::')[-1] if r.returncode else 'SURVIVED'}", flush=True)
+    killer = failed[0].split("::")[-1] if failed else f"exit {r.returncode}"
+    print(f"{name:40s} {'killed by ' + killer if r.returncode else 'SURVIVED'}", flush=True)
     return r.returncode != 0
 
 
