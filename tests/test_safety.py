@@ -349,6 +349,25 @@ def test_parallelogram_distance_by_hand():
     assert np.all(got <= sampled + 1e-12) and np.all(sampled - got < 0.05)
 
 
+def test_parallelogram_distance_at_exactly_the_degeneracy_threshold_is_the_edges():
+    """The guard ``det > 1e-12 max(a11 a22, 1e-300)`` is strict: a parallelogram whose determinant equals
+    the threshold exactly counts as degenerate and its distance is the edges'.  The one exact case: a
+    square of side L = 1e-78 (orthogonal edges, det = a11 a22 = L^4 = 1e-312, below 1e-300, so the
+    threshold is 1e-12 * 1e-300 = 1e-312, equal in floating point), the origin at its centre in its
+    plane: the edges are L / 2 away (the plane's distance would be 0).  A square of side 2 m (det = 16, far
+    above the threshold) with the same origin: the plane, 0."""
+    from auvplan.guidance.mission import _parallelogram_distance
+
+    side = 1e-78
+    assert side**4 == 1e-12 * 1e-300  # the boundary itself, exact in floating point
+    o = np.array([[-side / 2, -side / 2, 0.0], [-1.0, -1.0, 0.0]])
+    e1 = np.array([[side, 0.0, 0.0], [2.0, 0.0, 0.0]])
+    e2 = np.array([[0.0, side, 0.0], [0.0, 2.0, 0.0]])
+    got = _parallelogram_distance(o, e1, e2)
+    assert got[0] == pytest.approx(side / 2, rel=1e-12, abs=0.0)
+    assert got[1] == 0.0
+
+
 def test_envelopes_free_at_the_depth_band_the_bounds_and_the_floor_exactly():
     """Band 5-100 m, bounds x, y in [0, 300], flat seabed 150 m deep with min_altitude 5 (floor -145 m,
     deeper than the band, so the band decides) and over the step world (floor exactly -95 m then -55 m):
