@@ -713,8 +713,6 @@ REASONS: dict[str, str] = {
     'held_track | if 0.0 < need <= length:':
         ('equivalent: at need = length the depth change ends exactly at the waypoint either way; the mutant ad'
          'ds the same point twice (a zero-length segment)'),
-    '_parallelogram_distance | ok = det >= 1e-12 * np.maximum(a11 * a22, 1e-300)':
-        'boundary: differs only when the determinant equals the threshold exactly',
     'envelope_hits | return _parallelogram_distance(uo, ue1, ue2) <= 1.0':
         'boundary: an envelope exactly on the inflated surface (distance exactly the margin)',
     'MissionCheck.ok | return alt > self.required_altitude_m - 1e-06 and self.obstacle_hits == 0 and (sel'
