@@ -19,6 +19,7 @@ from auvplan.guidance.mission_limits import waypoint_limits
 from auvplan.planners.grid.lattice import edge_states, node_fields
 from auvplan.sim.formation import _contact
 from auvplan.world import Bounds, Ellipsoid, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
+from test_mission import _RIDGE_TOML
 
 
 def _step_world() -> World:
@@ -159,29 +160,9 @@ def test_held_track_reaches_every_held_depth_at_the_pitch():
 
 
 # ---------------------------------------------------------------------- mission check: surface, depth band, bounds
-_SCENARIO = """
-name = "ridge-band"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 10000.0]
-y = [0.0, 2000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 200.0
-cell_m = 100.0
-ridge_x = 5000.0
-ridge_width = 2000.0
-height = 150.0
-[mission]
-start = [500.0, 1000.0, -150.0]
-goal = [9500.0, 1000.0, -150.0]
-min_altitude_m = 20.0
-min_depth_m = 5.0
-max_depth_m = 160.0
-"""
+# test_mission's ridge with a depth band whose floor (160 m) lies above the ridge's foot (200 m)
+_SCENARIO = _RIDGE_TOML.replace('name = "ridge-check"', 'name = "ridge-band"').replace(
+    "max_depth_m = 300.0", "max_depth_m = 160.0")
 _HEADER = "x,y,z,lat,lon,depth,time\n"
 
 
