@@ -202,23 +202,6 @@ def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tupl
     return np.column_stack([pts[:, :2], z]), t.word
 
 
-def _thin_ends(pts: NDArray[np.float64], min_leg: float) -> NDArray[np.float64]:
-    """A line's points without the inner ones that leave a leg shorter than ``min_leg`` at either end.
-
-    A turn joins the line at its end point with a fly-by corner that needs ``R tan(Δψ/2)`` of the
-    line's last leg; a seabed-following line can end with a leg of a metre, which no turn fits.
-    """
-    keep = np.ones(pts.shape[0], dtype=bool)
-    i, j = 1, pts.shape[0] - 2
-    while i < j and np.hypot(*(pts[i, :2] - pts[0, :2])) < min_leg:
-        keep[i] = False
-        i += 1
-    while j > i and np.hypot(*(pts[-1, :2] - pts[j, :2])) < min_leg:
-        keep[j] = False
-        j -= 1
-    return pts[keep]
-
-
 def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
                  min_depth: float) -> tuple[NDArray[np.float64], NDArray[np.int64], tuple[str, ...]]:
     """Lines (alternating directions) and turns as one route, with its depth held within the pitch limit.
@@ -242,7 +225,7 @@ def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
     parts, labels, words = [], [], []
     prev: NDArray[np.float64] | None = None
     for k in range(len(lines.lines)):
-        pts = _thin_ends(_line_points(lines, k, k % 2 == 0, params.run_in_m), params.turn_radius_m)
+        pts = _line_points(lines, k, k % 2 == 0, params.run_in_m)
         if prev is not None:
             turn, word = _turn(prev, pts, params.turn_radius_m)
             parts.append(turn)

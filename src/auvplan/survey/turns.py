@@ -132,11 +132,6 @@ def sample_turn(turn: Turn, step: float) -> NDArray[np.float64]:
     r = turn.radius
     pts = [(x, y, th)]
     for kind, seg in zip(turn.word, turn.params, strict=True):
-        if kind == "S" and seg * r < step and pts[-1] is not pts[0]:
-            # a straight shorter than a sample between two arcs: no waypoint of its own (two close
-            # waypoints would ask for a fly-by turn tighter than the arcs'); the chord spans it
-            x, y = x + r * seg * math.cos(th), y + r * seg * math.sin(th)
-            continue
         n = 1 if kind == "S" else max(1, int(math.ceil(seg * r / step)))
         for i in range(1, n + 1):
             phi = seg * i / n
