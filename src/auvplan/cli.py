@@ -241,6 +241,19 @@ def _result_commands(sub: Any) -> None:
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
 
 
+def _serve_command(sub: Any) -> None:
+    """``serve``: the local planning page (:mod:`auvplan.cli_serve`)."""
+    s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "_cmd_serve")
+    s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
+                   help="built-in name, TOML file or results folder (default: the built-in showcase)")
+    s.add_argument("--port", type=_int_at_least(0), default=8765, help="TCP port (default 8765; 0: any free port)")
+    s.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1: this machine only)")
+    s.add_argument("--root", action="append", metavar="DIR",
+                   help="a folder the page may read and save in (repeatable; default: the folder of the "
+                        "scenario or the results folder, else the current folder)")
+    s.add_argument("--no-browser", action="store_true", help="do not open the page in the browser")
+
+
 def _bench_commands(sub: Any) -> None:
     """``bench`` and ``demo``."""
     s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
@@ -278,6 +291,7 @@ def _parser() -> argparse.ArgumentParser:
     _flight_commands(sub)
     _result_commands(sub)
     _bench_commands(sub)
+    _serve_command(sub)
     return p
 
 

@@ -653,3 +653,9 @@ def _cmd_survey(args: argparse.Namespace) -> int:
     from .cli_survey import cmd_survey
 
     return cmd_survey(args)
+
+
+def _cmd_serve(args: argparse.Namespace) -> int:
+    from .cli_serve import cmd_serve
+
+    return cmd_serve(args)

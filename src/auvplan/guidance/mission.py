@@ -52,6 +52,8 @@ __all__ = [
     "default_tolerance",
     "fly_check",
     "held_track",
+    "leg_figures",
+    "segment_figures",
 ]
 
 _F64 = NDArray[np.float64]
@@ -480,6 +482,87 @@ def held_track(waypoints: ArrayLike, pitch_deg: float) -> _F64:
     return np.vstack(out)
 
 
+def leg_figures(world: World, a: ArrayLike, b: ArrayLike, semantics: str = "held") -> tuple[_F64, NDArray[np.bool_],
+                                                                                          _F64]:
+    """Check each leg ``a -> b`` on its own, as :func:`fly_check` does: each leg's figures depend on its
+    two ends only, so a mission edited at a few waypoints needs only its changed legs re-checked.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    a, b : array_like
+        ``(K, 3)`` leg starts and ends (m).
+    semantics : {'held', 'ramp'}, optional
+        ``"held"``: the leg's envelope; ``"ramp"``: the straight 3D leg.
+
+    Returns
+    -------
+    altitude : numpy.ndarray
+        ``(K,)`` least altitude above the seabed (m; ``inf`` without terrain).
+    hits : numpy.ndarray
+        ``(K,)`` bool, the leg comes within the obstacle margin of a static obstacle.
+    distance : numpy.ndarray
+        ``(K,)`` least distance to a static obstacle's surface (m; ``inf`` without one within 200 m).
+    """
+    a, b = as_points(a).reshape(-1, 3), as_points(b).reshape(-1, 3)
+    m = world.margins
+    if semantics == "held":
+        fa, fb = a.copy(), b.copy()
+        fa[:, 2] = fb[:, 2] = np.minimum(a[:, 2], b[:, 2])
+        o, e1, e2 = _corners(a, b)
+    else:
+        fa, fb = a, b
+        o, e1, e2 = a, b - a, np.zeros_like(a)
+    alt = world.terrain.min_altitude_between(fa, fb) if world.terrain is not None and len(a) else \
+        np.full(len(a), np.inf)
+    dist = np.full(len(a), np.inf)
+    hits = np.zeros(len(a), dtype=bool)
+    for shape in world.obstacles:
+        if not len(a):
+            break
+        hits |= shape.segments_hit(np.stack([a, b], axis=1), m.obstacle) if semantics == "ramp" else \
+            envelope_hits(shape, a, b, m.obstacle)
+        near = point_segment_distance(np.asarray(shape.center), o, o + e1) - shape.bounding_radius \
+            < 200.0 + np.linalg.norm(e2, axis=-1)
+        if not near.any():
+            continue
+        if isinstance(shape, Sphere):
+            d = _sphere_rect_distance(shape, o[near], e1[near], e2[near])
+        else:
+            d = _sampled_rect_distance(shape, o[near], e1[near], e2[near], 0.25)
+        dist[near] = np.minimum(dist[near], d)
+    return np.asarray(alt, dtype=float), hits, dist
+
+
+def segment_figures(world: World, a: ArrayLike, b: ArrayLike) -> tuple[_F64, NDArray[np.int64]]:
+    """Least altitude and obstacle contacts of each straight segment ``a -> b`` (an executor's track).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    a, b : array_like
+        ``(K, 3)`` segment starts and ends (m).
+
+    Returns
+    -------
+    altitude : numpy.ndarray
+        ``(K,)`` least altitude above the seabed (m; ``inf`` without terrain).
+    hits : numpy.ndarray
+        ``(K,)`` number of static obstacles each segment comes within the obstacle margin of.
+    """
+    a, b = as_points(a).reshape(-1, 3), as_points(b).reshape(-1, 3)
+    seg = np.stack([a, b], axis=1)
+    alt = world.terrain.segment_min_altitude(seg) if world.terrain is not None and len(a) else \
+        np.full(len(a), np.inf)
+    hits = np.zeros(len(a), dtype=np.int64)
+    for sh in world.obstacles:
+        if len(a):
+            hits += sh.segments_hit(seg, world.margins.obstacle).astype(np.int64)
+    return np.asarray(alt, dtype=float), hits
+
+
 def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch_deg: float = 15.0,
               launch: bool = False) -> MissionCheck:
     """Re-fly ``waypoints (N, 3)`` under ``semantics`` against the seabed and static obstacles.
@@ -526,36 +609,15 @@ def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch
     if len(w) < 2:
         raise ValueError(f"a mission needs at least 2 waypoints (a start and a goal), got {len(w)}")
     limits = waypoint_limits(world, w, launch)
-    a, b = w[:-1], w[1:]
-    if semantics == "held":
-        fa, fb = a.copy(), b.copy()
-        fa[:, 2] = fb[:, 2] = np.minimum(a[:, 2], b[:, 2])
-        o, e1, e2 = _corners(a, b)
-    else:
-        fa, fb = a, b
-        o, e1, e2 = a, b - a, np.zeros_like(a)
-    alt = world.terrain.min_altitude_between(fa, fb) if world.terrain is not None else np.full(len(a), np.inf)
-    dist = np.inf
-    hits = np.zeros(len(a), dtype=bool)
-    for shape in world.obstacles:
-        hits |= shape.segments_hit(np.stack([a, b], axis=1), m.obstacle) if semantics == "ramp" else \
-            envelope_hits(shape, a, b, m.obstacle)
-        near = point_segment_distance(np.asarray(shape.center), o, o + e1) - shape.bounding_radius \
-            < 200.0 + np.linalg.norm(e2, axis=-1)
-        if not near.any():
-            continue
-        if isinstance(shape, Sphere):
-            d = _sphere_rect_distance(shape, o[near], e1[near], e2[near])
-        else:
-            d = _sampled_rect_distance(shape, o[near], e1[near], e2[near], 0.25)
-        dist = min(dist, float(d.min()))
+    alt, hits, leg_dist = leg_figures(world, w[:-1], w[1:], semantics)
+    dist = float(leg_dist.min()) if leg_dist.size else np.inf
     k = int(np.argmin(alt)) if np.isfinite(alt).any() else -1
     extra: dict[str, float | int] = {}
     if semantics == "held":
         trk = held_track(w, pitch_deg)
-        seg = np.stack([trk[:-1], trk[1:]], axis=1)
-        ex_alt = float(world.terrain.segment_min_altitude(seg).min()) if world.terrain is not None else np.inf
-        ex_hits = sum(int(sh.segments_hit(seg, m.obstacle).sum()) for sh in world.obstacles)
-        extra = {"pitch_deg": float(pitch_deg), "executor_min_altitude_m": ex_alt, "executor_obstacle_hits": ex_hits}
-    return MissionCheck(semantics, float(alt.min()), k, float(dist), int(hits.sum()), alt, m.min_altitude, m.obstacle,
+        seg_alt, seg_hits = segment_figures(world, trk[:-1], trk[1:])
+        ex_alt = float(seg_alt.min()) if world.terrain is not None else np.inf
+        extra = {"pitch_deg": float(pitch_deg), "executor_min_altitude_m": ex_alt,
+                 "executor_obstacle_hits": int(seg_hits.sum())}
+    return MissionCheck(semantics, float(alt.min()), k, dist, int(hits.sum()), alt, m.min_altitude, m.obstacle,
                         limits=limits, **extra)  # type: ignore[arg-type]

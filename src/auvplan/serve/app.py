@@ -1,0 +1,224 @@
+"""The routes of ``auvplan serve`` (Starlette): the page, its assets, and a JSON API over a :class:`Session`.
+
+Every asset is served from the package (plotly.js from the installed plotly), so the page works with
+no network.  Requests carry JSON data only; errors come back as ``{"error": line}`` with the line
+the command line prints for the same input (status 400), never a traceback.
+
+* ``GET /`` the page; ``GET /static/<name>`` its script, style sheet and plotly.js;
+* ``GET /api/state`` scenario, waypoints, check, candidates, history, flight;
+* ``GET /api/chart`` the plan view (the report's chart, :func:`auvplan.viz.chart.figure_plan_view`);
+* ``POST /api/edit`` ``{op, index, x, y, z}``; ``POST /api/undo``; ``POST /api/check`` ``{semantics, pitch}``;
+* ``POST /api/set`` ``{table, key, value}``; ``POST /api/open`` ``{scenario}``;
+* ``POST /api/survey`` ``{polygon}`` or ``{file}``; ``POST /api/plan`` ``{planner, seed}``; ``POST /api/fly``;
+* ``POST /api/keep`` ``{name}``; ``POST /api/choose`` ``{index}``; ``POST /api/save`` ``{name}``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Awaitable, Callable
+from importlib import resources
+from typing import Any
+
+import numpy as np
+from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
+from starlette.requests import Request
+from starlette.responses import HTMLResponse, JSONResponse, Response
+from starlette.routing import Route
+
+from ..errors import AuvplanError
+from ..sim import RunRecord
+from .check import CheckResult
+from .session import Session, builtin_names, one_line
+
+__all__ = ["make_app", "page_state", "MAX_BODY_BYTES"]
+
+MAX_BODY_BYTES = 4 * 1024 * 1024
+"""Largest request body (a 20 000-point polygon is well under)."""
+
+_STATIC = {"app.js": "text/javascript", "app.css": "text/css"}
+"""Assets of the page, by name (nothing else under /static is served)."""
+
+
+def _clean(v: Any) -> Any:
+    """JSON-safe: non-finite floats as null, arrays as lists."""
+    if isinstance(v, dict):
+        return {str(k): _clean(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_clean(x) for x in v]
+    if isinstance(v, np.ndarray):
+        return _clean(v.tolist())
+    if isinstance(v, (np.floating, float)):
+        f = float(v)
+        return f if math.isfinite(f) else None
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.bool_):
+        return bool(v)
+    return v
+
+
+def _check_json(result: CheckResult | None) -> dict[str, Any] | None:
+    if result is None:
+        return None
+    return {"summary": result.summary, "violations": result.violations, "rechecked": result.rechecked,
+            "leg_altitude_m": result.check.leg_altitude_m}
+
+
+def page_state(session: Session, full: bool = True) -> dict[str, Any]:
+    """What the page shows, as JSON data.
+
+    Parameters
+    ----------
+    session : Session
+        The session.
+    full : bool, optional
+        Also the scenario text, settings, candidates and history (else the mission and its check only).
+
+    Returns
+    -------
+    dict
+        JSON-safe state.
+    """
+    with session.lock:
+        state: dict[str, Any] = {"generation": session.generation, "waypoints": session.waypoints,
+                                 "check": _check_json(session.result), "history": session.history[-50:],
+                                 "candidates": session.candidate_rows(), "flight": session.flight_summary(),
+                                 "survey_area": session.survey_area, "settings": {
+                                     "semantics": session.settings.semantics, "pitch_deg": session.settings.pitch_deg}}
+        if full and session.sc is not None and session.mission is not None:
+            v = session.mission.vehicle
+            state.update(scenario=session.sc.name, source=session.source, text=session.text,
+                         builtins=builtin_names(), planner=session.mission.planner.name,
+                         vehicle={k: getattr(v, k) for k in ("speed", "max_pitch_deg", "turn_radius_m",
+                                                             "max_depth_m")},
+                         mission={"min_altitude_m": session.world.margins.min_altitude if session.world else None,
+                                  "start_time": session.sc.mission.start_time},
+                         roots=[str(r) for r in session.roots.folders])
+    return _clean(state)  # type: ignore[no-any-return]
+
+
+def _chart(session: Session) -> str:
+    from ..io.data.geo import LocalFrame
+    from ..viz.chart import figure_plan_view
+
+    with session.lock:
+        world, sc = session.world, session.sc
+        if world is None or sc is None:
+            raise AuvplanError("no scenario is open")
+        empty = np.empty((0, 3))
+        to_lonlat = LocalFrame(*world.origin).inverse if world.origin is not None else None
+        fig = figure_plan_view(world, RunRecord(sc.name, sc.seed, None, empty, empty, None), to_lonlat)
+        land = world.land
+    if land is not None and not land.is_empty:
+        import plotly.graph_objects as go
+        import shapely
+
+        for i, poly in enumerate(shapely.get_parts(land.geometry)):
+            xy = np.asarray(poly.exterior.coords)
+            fig.add_trace(go.Scatter(x=xy[:, 0], y=xy[:, 1], mode="lines", fill="toself", name="land",
+                                     legendgroup="land", showlegend=i == 0, line=dict(color="saddlebrown", width=1),
+                                     fillcolor="rgba(160,120,60,0.6)", hoverinfo="skip"))
+    fig.update_layout(height=680, title=None, margin=dict(l=60, r=10, t=30, b=40), uirevision="chart")
+    return str(fig.to_json())
+
+
+Handler = Callable[[Request], Awaitable[Response]]
+
+
+def make_app(session: Session) -> Starlette:
+    """The Starlette application of a session.
+
+    Parameters
+    ----------
+    session : Session
+        The page's state (one per server: the page is for one user on this machine).
+
+    Returns
+    -------
+    starlette.applications.Starlette
+        The ASGI application.
+    """
+    static = resources.files("auvplan.serve") / "static"
+
+    async def index(request: Request) -> Response:
+        return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
+                            headers={"Content-Security-Policy": "default-src 'self'; style-src 'self' 'unsafe-inline'; "
+                                     "img-src 'self' data: blob:; script-src 'self' 'unsafe-eval'"})
+
+    async def asset(request: Request) -> Response:
+        name = request.path_params["name"]
+        if name == "plotly.min.js":
+            from plotly.offline import get_plotlyjs
+
+            return Response(get_plotlyjs(), media_type="text/javascript")
+        if name not in _STATIC:
+            return JSONResponse({"error": f"auvplan: error: /static/{name}: no such asset"}, status_code=404)
+        return Response((static / name).read_text(encoding="utf-8"), media_type=_STATIC[name])
+
+    async def body(request: Request) -> dict[str, Any]:
+        raw = await request.body()
+        if len(raw) > MAX_BODY_BYTES:
+            raise AuvplanError(f"request of {len(raw):,} bytes, over the {MAX_BODY_BYTES:,} allowed")
+        if not raw:
+            return {}
+        try:
+            data = json.loads(raw)
+        except (ValueError, RecursionError):
+            raise AuvplanError("the request is not JSON") from None
+        if not isinstance(data, dict):
+            raise AuvplanError("the request must be a JSON object")
+        return data
+
+    def api(work: Callable[[dict[str, Any]], Any], full: bool = False) -> Handler:
+        async def handler(request: Request) -> Response:
+            try:
+                data = await body(request) if request.method == "POST" else {}
+                out = await run_in_threadpool(work, data)
+            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError) as exc:
+                return JSONResponse({"error": one_line(exc)}, status_code=400)
+            if isinstance(out, Response):
+                return out
+            state = page_state(session, full)
+            if out is not None:
+                state["result"] = _clean(out)
+            return JSONResponse(state)
+
+        return handler
+
+    def edit(d: dict[str, Any]) -> None:
+        session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+
+    def chart(d: dict[str, Any]) -> Response:
+        return Response(_chart(session), media_type="application/json")
+
+    def save(d: dict[str, Any]) -> dict[str, str]:
+        from .save import save_results
+
+        out = save_results(session, d.get("name", ""))
+        return {"saved": str(out)}
+
+    routes = [
+        Route("/", index),
+        Route("/static/{name}", asset),
+        Route("/api/state", api(lambda d: None, full=True)),
+        Route("/api/chart", api(chart)),
+        Route("/api/edit", api(edit), methods=["POST"]),
+        Route("/api/undo", api(lambda d: session.undo() and None), methods=["POST"]),
+        Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
+                                and None), methods=["POST"]),
+        Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), d.get("key"), d.get("value"))
+                              and None, full=True), methods=["POST"]),
+        Route("/api/open", api(lambda d: session.open(str(d.get("scenario", ""))), full=True), methods=["POST"]),
+        Route("/api/survey", api(lambda d: session.survey(d.get("polygon"), d.get("file")) and None, full=True),
+              methods=["POST"]),
+        Route("/api/plan", api(lambda d: session.replan(d.get("planner") or None, d.get("seed")) and None),
+              methods=["POST"]),
+        Route("/api/fly", api(lambda d: session.fly() and None), methods=["POST"]),
+        Route("/api/keep", api(lambda d: session.keep(str(d.get("name", ""))) and None), methods=["POST"]),
+        Route("/api/choose", api(lambda d: session.choose(d.get("index")) and None), methods=["POST"]),
+        Route("/api/save", api(save), methods=["POST"]),
+    ]
+    return Starlette(routes=routes)

@@ -1,0 +1,101 @@
+"""File access confined to the folders ``auvplan serve`` was started with.
+
+A name the page sends is resolved against the served folders: ``..`` parts are refused outright,
+an absolute path must lie inside a served folder, and the resolved path (every symbolic link
+followed) must still lie inside one, so a link pointing out of a folder is refused too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath, PureWindowsPath
+
+from ..errors import AuvplanError
+
+__all__ = ["PathRefused", "Roots"]
+
+
+class PathRefused(AuvplanError):
+    """A path the page asked for that lies outside the served folders."""
+
+
+@dataclass(frozen=True)
+class Roots:
+    """The folders the server may read and write in.
+
+    Parameters
+    ----------
+    folders : tuple of pathlib.Path
+        Absolute, resolved folders; the first is where saved results go.
+    """
+
+    folders: tuple[Path, ...]
+
+    @classmethod
+    def of(cls, folders: Sequence[str | Path]) -> Roots:
+        """Serve ``folders`` (resolved now, so a later change of directory does not move them).
+
+        Parameters
+        ----------
+        folders : sequence of str or pathlib.Path
+            Existing folders.
+
+        Returns
+        -------
+        Roots
+            The confinement.
+        """
+        return cls(tuple(Path(f).resolve() for f in folders))
+
+    def inside(self, path: Path) -> bool:
+        """Whether ``path`` (resolved, links followed) lies in a served folder.
+
+        Parameters
+        ----------
+        path : pathlib.Path
+            Any path.
+
+        Returns
+        -------
+        bool
+            True inside one of the folders.
+        """
+        real = path.resolve()
+        return any(real == r or real.is_relative_to(r) for r in self.folders)
+
+    def resolve(self, name: str, must_exist: bool = True) -> Path:
+        """The path of ``name`` inside the served folders, or :class:`PathRefused`.
+
+        Parameters
+        ----------
+        name : str
+            Relative to the first folder holding it, or absolute inside a folder.
+        must_exist : bool, optional
+            Refuse a name that does not exist in any folder.
+
+        Returns
+        -------
+        pathlib.Path
+            The resolved path.
+
+        Raises
+        ------
+        PathRefused
+            For ``..`` parts, a path outside the folders (also through a link) or a missing file.
+        """
+        if not isinstance(name, str) or not name.strip() or "\x00" in name or len(name) > 4096:
+            raise PathRefused(f"{str(name)[:80]!r}: not a file name")
+        if ".." in PurePosixPath(name).parts or ".." in PureWindowsPath(name).parts:
+            raise PathRefused(f"{name}: '..' is not allowed; name a file inside the served folders "
+                              f"({', '.join(map(str, self.folders))})")
+        p = Path(name)
+        candidates = [p] if p.is_absolute() else [r / p for r in self.folders]
+        for c in candidates:
+            if not self.inside(c):
+                continue
+            if c.exists() or not must_exist:
+                return c.resolve()
+        if p.is_absolute() or any(c.exists() or c.is_symlink() for c in candidates):
+            raise PathRefused(f"{name}: outside the served folders ({', '.join(map(str, self.folders))})")
+        raise PathRefused(f"{name}: no such file in the served folders ({', '.join(map(str, self.folders))})")

@@ -1,0 +1,246 @@
+// auvplan serve: the page. Data only goes to the server (JSON); every check is the server's `mission check`.
+"use strict";
+const gd = document.getElementById("chart");
+const $ = (id) => document.getElementById(id);
+let S = null;          // the last state from the server
+let W = [];            // the waypoints being drawn (copied from S.waypoints)
+let base = 0;          // index of the first trace the page adds to the chart
+let mode = "move";
+let drag = null;
+let drawing = [];
+let selected = null;
+let generation = -1;
+let pending = 0;
+
+const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4 };
+
+function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
+function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
+
+async function call(url, data) {
+  pending += 1; $("busy").hidden = false;
+  try {
+    const r = await fetch(url, data === undefined ? {} : {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data) });
+    const j = await r.json();
+    if (!r.ok) { $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || ""; return null; }
+    $("error").textContent = ""; document.body.dataset.error = "";
+    await show(j);
+    return j;
+  } finally {
+    pending -= 1; $("busy").hidden = pending === 0;
+    document.body.dataset.pending = String(pending);
+  }
+}
+
+function axes() {
+  const fl = gd._fullLayout; return [fl.xaxis, fl.yaxis, gd.getBoundingClientRect()];
+}
+function toData(ev) {
+  const [xa, ya, r] = axes();
+  return [xa.p2l(ev.clientX - r.left - xa._offset), ya.p2l(ev.clientY - r.top - ya._offset)];
+}
+function toPx(x, y) {  // page pixels of a local point (also used by the browser tests)
+  const [xa, ya, r] = axes();
+  return [r.left + xa._offset + xa.l2p(x), r.top + ya._offset + ya.l2p(y)];
+}
+function inPlot(ev) {
+  const [xa, ya, r] = axes(); const px = ev.clientX - r.left - xa._offset, py = ev.clientY - r.top - ya._offset;
+  return px >= 0 && px <= xa._length && py >= 0 && py <= ya._length;
+}
+function nearest(ev, tol) {
+  let best = -1, bd = tol * tol;
+  W.forEach((p, i) => { const [px, py] = toPx(p[0], p[1]); const d = (px - ev.clientX) ** 2 + (py - ev.clientY) ** 2;
+    if (d <= bd) { bd = d; best = i; } });
+  return best;
+}
+
+function routeTrace() {
+  const n = W.length;
+  return { x: W.map((p) => p[0]), y: W.map((p) => p[1]), customdata: W.map((p, i) => [i, -p[2]]),
+    marker: { size: W.map((_, i) => (i === 0 || i === n - 1 ? 12 : i === selected ? 11 : 7)),
+      color: W.map((_, i) => (i === 0 ? "limegreen" : i === n - 1 ? "black" : i === selected ? "deepskyblue" : "orange")),
+      line: { width: 1, color: "white" } } };
+}
+function drawRoute() {
+  const t = routeTrace();
+  Plotly.restyle(gd, { x: [t.x], y: [t.y], customdata: [t.customdata], marker: [t.marker] }, [base + T.route]);
+}
+function badTraces() {
+  const v = (S && S.check) ? S.check.violations : [];
+  const byLeg = new Map();
+  v.forEach((e) => { if (!byLeg.has(e.leg)) byLeg.set(e.leg, []); byLeg.get(e.leg).push(e.text); });
+  const xs = [], ys = [], mx = [], my = [], txt = [], legs = [];
+  byLeg.forEach((texts, leg) => {
+    const a = W[leg], b = W[Math.min(leg + 1, W.length - 1)];
+    if (!a || !b) return;
+    xs.push(a[0], b[0], null); ys.push(a[1], b[1], null);
+    mx.push((a[0] + b[0]) / 2); my.push((a[1] + b[1]) / 2); txt.push(texts.join("<br>")); legs.push(leg);
+  });
+  return { xs, ys, mx, my, txt, legs };
+}
+
+async function newChart() {
+  const r = await fetch("/api/chart"); const fig = await r.json();
+  if (!r.ok) { $("error").textContent = fig.error; return; }
+  base = fig.data.length;
+  const extra = [
+    { type: "scatter", mode: "lines+markers", name: "mission (drag the waypoints)", line: { color: "orange", width: 2.5 },
+      hovertemplate: "waypoint %{customdata[0]}<br>depth %{customdata[1]:.1f} m<extra></extra>", x: [], y: [] },
+    { type: "scatter", mode: "lines", name: "violations", line: { color: "red", width: 6 }, opacity: 0.8,
+      hoverinfo: "skip", x: [], y: [] },
+    { type: "scatter", mode: "lines", name: "survey area", fill: "toself", fillcolor: "rgba(0,150,255,0.12)",
+      line: { color: "dodgerblue", width: 2, dash: "dash" }, hoverinfo: "skip", x: [], y: [] },
+    { type: "scatter", mode: "lines+markers", name: "drawing", line: { color: "dodgerblue" }, x: [], y: [] },
+    { type: "scatter", mode: "lines", name: "flown track", line: { color: "rgba(30,30,30,0.7)", width: 1.5 },
+      hoverinfo: "skip", x: [], y: [] },
+    { type: "scatter", mode: "markers+text", name: "violation at leg", marker: { symbol: "x", size: 13, color: "red" },
+      textposition: "top center", textfont: { color: "red", size: 12 }, x: [], y: [],
+      hovertemplate: "%{customdata}<extra></extra>" },
+  ];
+  const layout = Object.assign({}, fig.layout, { dragmode: mode === "pan" ? "pan" : false });
+  await Plotly.newPlot(gd, fig.data.concat(extra), layout,
+    { displaylogo: false, doubleClick: false, scrollZoom: true, responsive: true });
+}
+
+async function show(st) {
+  if (st.generation !== generation) { generation = st.generation; await newChart(); }
+  S = Object.assign(S || {}, st);
+  W = S.waypoints.map((p) => p.slice());
+  if (selected !== null && selected >= W.length) selected = null;
+  const c = S.check && S.check.summary;
+  if (c) {
+    $("verdict").textContent = c.ok ? "OK" : "FAIL";
+    $("verdict").className = "verdict " + (c.ok ? "ok" : "fail");
+    document.body.dataset.ok = String(c.ok);
+    const exec = c.executor_min_altitude_m !== null && c.semantics === "held"
+      ? `; held-depth executor ${fmt(c.executor_min_altitude_m, 2, " m")}` : "";
+    $("min-alt").textContent = `${fmt(c.min_altitude_m, 2, " m")} (leg ${c.min_altitude_leg}; required ${fmt(c.required_altitude_m, 0, " m")})${exec}`;
+    $("min-alt").dataset.value = c.min_altitude_m;
+    $("turn").textContent = c.tightest_turn_m === null ? "none (straight)" : `${fmt(c.tightest_turn_m, 1, " m")} (leg ${c.tightest_turn_leg})`;
+    $("pitch").textContent = `${fmt(c.max_pitch_deg, 1, "°")} (leg ${c.max_pitch_leg})`;
+    $("length").textContent = `${fmt(c.length_m / 1000, 2, " km")}, ${c.waypoints} waypoints`;
+    $("duration").textContent = hours(c.duration_s);
+    $("energy").textContent = `${fmt(c.energy_wh, 1, " Wh")} (${c.energy_status})`;
+    $("energy").dataset.value = c.energy_wh;
+    $("margin").textContent = fmt(c.margin_wh, 1, " Wh");
+    const ul = $("violations"); ul.replaceChildren();
+    S.check.violations.forEach((v) => { const li = document.createElement("li"); li.textContent = v.text;
+      li.dataset.leg = v.leg; li.dataset.kind = v.kind; if (v.value !== null) li.dataset.value = v.value; ul.appendChild(li); });
+  }
+  $("scenario-name").textContent = S.scenario ? `${S.scenario} — ${S.source}` : "";
+  if (st.vehicle) {
+    document.querySelectorAll("#settings input").forEach((el) => {
+      const v = (S[el.dataset.table] || {})[el.dataset.key]; el.value = v === null || v === undefined ? "" : v; });
+    $("planner").placeholder = S.planner || "";
+    $("semantics").value = S.settings.semantics; $("check-pitch").value = S.settings.pitch_deg;
+    const dl = $("builtins"); dl.replaceChildren();
+    (S.builtins || []).forEach((n) => { const o = document.createElement("option"); o.value = n; dl.appendChild(o); });
+  }
+  const tb = document.querySelector("#candidates tbody"); tb.replaceChildren();
+  (S.candidates || []).forEach((c2, i) => {
+    const tr = document.createElement("tr");
+    const b = document.createElement("button"); b.textContent = "use"; b.onclick = () => call("/api/choose", { index: i });
+    const td0 = document.createElement("td"); td0.appendChild(b); tr.appendChild(td0);
+    [c2.name, c2.waypoints, fmt(c2.length_m / 1000, 2), fmt(c2.duration_s / 3600, 2), fmt(c2.energy_wh, 1),
+      fmt(c2.margin_wh, 1), fmt(c2.min_altitude_m, 1), fmt(c2.tightest_turn_m, 1), fmt(c2.max_pitch_deg, 1),
+      c2.ok ? "OK" : "FAIL"].forEach((v) => { const td = document.createElement("td"); td.textContent = v; tr.appendChild(td); });
+    tb.appendChild(tr);
+  });
+  const ol = $("history"); ol.replaceChildren();
+  (S.history || []).forEach((h) => { const li = document.createElement("li"); li.textContent = h.text; ol.appendChild(li); });
+  $("flight").textContent = S.flight ? `flown: ${S.flight.status}, ${fmt(S.flight.metrics.duration_s / 3600, 2)} h, least altitude ${fmt(S.flight.metrics.min_altitude_m, 1, " m")}` : "";
+  if (st.result && st.result.saved) $("saved").textContent = `saved in ${st.result.saved}`;
+  showSelected();
+  redraw();
+}
+
+function redraw() {
+  if (!gd.data) return;
+  const r = routeTrace(), b = badTraces();
+  const area = S.survey_area || [];
+  const fl = S.flight || { x: [], y: [] };
+  Plotly.restyle(gd, {
+    x: [r.x, b.xs, area.map((p) => p[0]), drawing.map((p) => p[0]), fl.x, b.mx],
+    y: [r.y, b.ys, area.map((p) => p[1]), drawing.map((p) => p[1]), fl.y, b.my],
+  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + 5]);
+  Plotly.restyle(gd, { customdata: [r.customdata], marker: [r.marker] }, [base + T.route]);
+  Plotly.restyle(gd, { customdata: [b.txt], text: [b.legs.map((l) => `leg ${l}`)] }, [base + 5]);
+  document.body.dataset.drawn = String(Date.now());
+}
+
+function showSelected() {
+  if (selected === null || !W[selected]) { $("selected").textContent = "click a waypoint"; return; }
+  const p = W[selected];
+  $("selected").textContent = `waypoint ${selected}: x ${p[0].toFixed(0)} m, y ${p[1].toFixed(0)} m, depth ${(-p[2]).toFixed(1)} m`;
+  $("wp-depth").value = (-p[2]).toFixed(1);
+}
+
+function setMode(m) {
+  mode = m;
+  document.querySelectorAll("button.mode").forEach((b) => b.classList.toggle("on", b.dataset.mode === m));
+  Plotly.relayout(gd, { dragmode: m === "pan" ? "pan" : false });
+  $("finish-area").disabled = m !== "draw";
+  if (m !== "draw") { drawing = []; redraw(); }
+}
+
+gd.addEventListener("mousedown", (ev) => {
+  if (mode !== "move" || !gd._fullLayout || !inPlot(ev)) return;
+  const i = nearest(ev, 12);
+  if (i < 0) return;
+  drag = { i, moved: false }; selected = i; showSelected();
+  ev.preventDefault(); ev.stopPropagation();
+}, true);
+window.addEventListener("mousemove", (ev) => {
+  if (!drag) return;
+  const [x, y] = toData(ev); W[drag.i][0] = x; W[drag.i][1] = y; drag.moved = true; drawRoute();
+});
+window.addEventListener("mouseup", async (ev) => {
+  if (!drag) return;
+  const d = drag; drag = null;
+  if (!d.moved) { redraw(); return; }
+  const [x, y] = toData(ev);
+  await call("/api/edit", { op: "move", index: d.i, x, y });
+});
+gd.addEventListener("click", async (ev) => {
+  if (!gd._fullLayout || !inPlot(ev)) return;
+  const [x, y] = toData(ev);
+  if (mode === "add") await call("/api/edit", { op: "insert", x, y });
+  else if (mode === "delete") { const i = nearest(ev, 12); if (i >= 0) await call("/api/edit", { op: "delete", index: i }); }
+  else if (mode === "draw") { drawing.push([x, y]); redraw(); }
+}, true);
+
+document.querySelectorAll("button.mode").forEach((b) => { b.onclick = () => setMode(b.dataset.mode); });
+$("finish-area").onclick = async () => {
+  if (drawing.length < 3) { $("error").textContent = "draw at least 3 corners"; return; }
+  const poly = drawing.slice(); drawing = [];
+  const r = await call("/api/survey", { polygon: poly });
+  if (r) setMode("move");
+};
+$("undo").onclick = () => call("/api/undo", {});
+$("wp-depth").onchange = () => {
+  if (selected === null) return;
+  const v = parseFloat($("wp-depth").value);
+  if (Number.isFinite(v)) call("/api/edit", { op: "depth", index: selected, z: -v });
+};
+document.querySelectorAll("#settings input").forEach((el) => {
+  el.onchange = () => {
+    const raw = el.value.trim();
+    const value = raw === "" ? null : (el.type === "number" ? Number(raw) : raw);
+    call("/api/set", { table: el.dataset.table, key: el.dataset.key, value });
+  };
+});
+$("semantics").onchange = $("check-pitch").onchange = () =>
+  call("/api/check", { semantics: $("semantics").value, pitch: Number($("check-pitch").value) });
+$("open").onclick = () => call("/api/open", { scenario: $("open-name").value.trim() });
+$("import-area").onclick = () => call("/api/survey", { file: $("area-file").value.trim() });
+$("plan").onclick = () => {
+  const seed = $("seed").value.trim();
+  call("/api/plan", { planner: $("planner").value.trim() || null, seed: seed === "" ? null : Number(seed) });
+};
+$("fly").onclick = () => call("/api/fly", {});
+$("keep").onclick = () => call("/api/keep", {});
+$("save").onclick = () => call("/api/save", { name: $("save-name").value.trim() });
+
+window.auvplan = { toPx, state: () => S, waypoints: () => W, setMode, call };
+call("/api/state").then(() => { document.body.dataset.ready = "1"; });
