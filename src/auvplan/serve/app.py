@@ -203,6 +203,7 @@ def make_app(session: Session) -> Starlette:
     routes = [
         Route("/", index),
         Route("/static/{name}", asset),
+        Route("/favicon.ico", lambda request: Response(status_code=204)),
         Route("/api/state", api(lambda d: None, full=True)),
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),

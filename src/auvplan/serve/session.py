@@ -171,9 +171,11 @@ class Session:
                 sc = scenario_io.load(path)
                 world, mission = scenario_io.build(sc)
                 self._set_scenario(sc, text, str(path), path.parent, world, mission)
-                self._set_initial_route()
             self.history, self._undo, self.candidates = [], [], []
             self._record("open", f"opened {target}")
+            if not path.is_dir():
+                self._set_initial_route()
+                self._undo = []
 
     def _open_results(self, out: Path) -> None:
         from ..io.results import folder as results
@@ -212,6 +214,9 @@ class Session:
         world, mission = self._require()
         if mission.route:
             self._set_waypoints(np.asarray(mission.route, dtype=float))
+            return
+        if self.sc is not None and self.sc.survey is not None:  # the scenario's own survey
+            self._plan_survey(self.doc, "the scenario's [survey]")
             return
         line = np.linspace(np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float), 50)
         self._set_waypoints(mission_route(world, mission, line))
@@ -435,11 +440,8 @@ class Session:
         CheckResult
             The check of the survey mission.
         """
-        from ..io.results.survey import survey_params
-        from ..survey.mission import plan_survey
-
         with self.lock:
-            world, mission = self._require()
+            self._require()
             doc = copy.deepcopy(self.doc)
             table = {k: v for k, v in doc.get("survey", {}).items() if k not in ("polygon", "polygon_xy", "file",
                                                                                    "layer")}
@@ -453,20 +455,28 @@ class Session:
                 table["polygon_xy"] = [[float(a), float(b)] for a, b in p]
                 what = f"a drawn area of {p.shape[0]} points"
             doc["survey"] = table
-            text = dumps(doc)
-            sc = scenario_io.loads(text, self.source, base_dir=self.base_dir)
-            assert sc.survey is not None
-            params = survey_params(sc.survey, world, mission.vehicle, self.base_dir, f"{self.source}: [survey]")
-            plan = plan_survey(world, mission, params, sc.seed)
-            if not plan.status.ok:
-                raise AuvplanError(f"{self.source}: [survey] {plan.status.value}: {plan.message}")
-            self.doc, self.text, self.sc = doc, text, sc
-            self.survey_area = [list(map(float, c)) for c in params.area.exterior.coords]
-            self.plan = None
-            result = self._apply(plan.route, "survey",
-                                 f"survey of {what}: {len(plan.lines.lines)} lines, {plan.length_m / 1e3:.1f} km")
-            self._keep("survey", "survey", None)
-            return result
+            return self._plan_survey(doc, what)
+
+    def _plan_survey(self, doc: dict[str, Any], what: str) -> CheckResult:
+        """Validate ``doc`` (with its ``[survey]``), plan the survey and make it the mission."""
+        from ..io.results.survey import survey_params
+        from ..survey.mission import plan_survey
+
+        world, mission = self._require()
+        text = dumps(doc)
+        sc = scenario_io.loads(text, self.source, base_dir=self.base_dir)
+        assert sc.survey is not None
+        params = survey_params(sc.survey, world, mission.vehicle, self.base_dir, f"{self.source}: [survey]")
+        plan = plan_survey(world, mission, params, sc.seed)
+        if not plan.status.ok:
+            raise AuvplanError(f"{self.source}: [survey] {plan.status.value}: {plan.message}")
+        self.doc, self.text, self.sc = doc, text, sc
+        self.survey_area = [list(map(float, c)) for c in params.area.exterior.coords]
+        self.plan = None
+        result = self._apply(plan.route, "survey",
+                             f"survey of {what}: {len(plan.lines.lines)} lines, {plan.length_m / 1e3:.1f} km")
+        self._keep("survey", "survey", None)
+        return result
 
     def replan(self, planner: str | None = None, seed: int | None = None) -> CheckResult:
         """Plan the mission again (global plan → executable mission) and keep it as a candidate.

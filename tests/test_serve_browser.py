@@ -1,0 +1,144 @@
+"""``auvplan serve`` in headless Chromium (Playwright): drag a waypoint onto the seamount and see the
+violation on its legs, drag it back and see OK; draw an area and get a survey; save, and
+``auvplan mission check`` on the saved files agrees with the page.  The oracle of every figure the
+page shows is an independent ``fly_check`` / ``mission check`` run on the same waypoints."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from serve_helpers import chromium, running
+
+from auvplan import cli
+from auvplan.cli_serve import make_session
+from auvplan.guidance.mission import fly_check
+
+pytest.importorskip("starlette")
+pytest.importorskip("uvicorn")
+sync_api = pytest.importorskip("playwright.sync_api")
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium(), args=["--no-sandbox"])
+        yield b
+        b.close()
+
+
+def _page(browser, url):
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    errors, outside = [], []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: outside.append(r.url) if not r.url.startswith((url, "data:", "blob:")) else None)
+    page.goto(url + "/")
+    page.wait_for_selector("body[data-ready='1']", timeout=30_000)
+    return page, errors, outside
+
+
+def _drag(page, src, dst):
+    a = page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", list(src))
+    b = page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", list(dst))
+    page.mouse.move(*a)
+    page.mouse.down()
+    for f in (0.3, 0.6, 1.0):
+        page.mouse.move(a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]))
+    page.mouse.up()
+    page.wait_for_function("() => document.body.dataset.pending === '0'")
+
+
+def test_drag_a_waypoint_onto_the_seamount_and_back(browser, tmp_path):
+    session = make_session("showcase", [str(tmp_path)])
+    from auvplan.serve.app import make_app
+
+    world = session.world
+    t = world.terrain
+    i, j = np.unravel_index(np.argmax(t.z), t.z.shape)
+    summit = (float(t.x[j]), float(t.y[i]))  # the shallowest seabed in the box: above every waypoint's depth
+    with running(make_app(session)) as url:
+        page, errors, outside = _page(browser, url)
+        assert page.inner_text("#verdict") == "OK"
+        w0 = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        k = 2
+        assert t.z.max() > w0[k, 2] + world.margins.min_altitude  # the summit is a collision at this depth
+        _drag(page, w0[k, :2], summit)
+        page.wait_for_selector(f"#violations li[data-leg='{k - 1}'][data-kind='altitude']")
+        assert page.inner_text("#verdict") == "FAIL"
+        w1 = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        assert np.hypot(*(w1[k, :2] - summit)) < 0.02 * (world.bounds.xmax - world.bounds.xmin)  # moved there
+        oracle = fly_check(world, w1, "held")
+        for leg in (k - 1, k):
+            shown = float(page.get_attribute(f"#violations li[data-leg='{leg}'][data-kind='altitude']", "data-value"))
+            assert shown == pytest.approx(oracle.leg_altitude_m[leg], abs=1e-9)
+            assert shown < 0  # into the seabed
+            assert f"altitude {oracle.leg_altitude_m[leg]:.1f} m" in page.inner_text("#violations")
+        marks = page.evaluate("() => { const d = document.getElementById('chart').data; "
+                              "return d.find(t => t.name === 'violation at leg').text; }")
+        assert marks == [f"leg {k - 1}", f"leg {k}"]  # marked on the map at those legs
+        assert float(page.get_attribute("#min-alt", "data-value")) == pytest.approx(oracle.min_altitude_m, abs=1e-9)
+        _drag(page, w1[k, :2], w0[k, :2])
+        page.wait_for_selector("#verdict.ok")
+        assert page.locator("#violations li").count() == 0
+        w2 = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        assert fly_check(world, w2, "held").ok
+        assert [h["op"] for h in session.history] == ["open", "move", "move"]
+        assert not errors, errors
+        assert not outside, outside  # every asset from the server: works offline
+
+
+def test_save_then_mission_check_agrees_with_the_page(browser, tmp_path, capsys):
+    session = make_session("showcase", [str(tmp_path)])
+    from auvplan.serve.app import make_app
+
+    with running(make_app(session)) as url:
+        page, errors, _ = _page(browser, url)
+        w0 = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        mid = 0.5 * (w0[1, :2] + w0[2, :2]) + np.array([300.0, -300.0])
+        page.click("button[data-mode='add']")
+        page.mouse.click(*page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", list(mid)))
+        page.wait_for_function(f"() => window.auvplan.waypoints().length === {len(w0) + 1}")
+        page.fill("#save-name", "chosen")
+        page.click("#save")
+        page.wait_for_selector("#saved:has-text('saved in')")
+        min_alt = float(page.get_attribute("#min-alt", "data-value"))
+        energy = float(page.get_attribute("#energy", "data-value"))
+        assert not errors, errors
+    out = tmp_path / "chosen"
+    capsys.readouterr()
+    code = cli.main(["mission", "check", "--scenario", str(out / "scenario.toml"), str(out / "mission.moos"),
+                     "--json"])
+    rec = json.loads(capsys.readouterr().out)
+    assert code == 0 and rec["ok"]
+    assert rec["min_altitude_m"] == pytest.approx(min_alt, abs=0.01)  # exports round to 1 mm
+    assert rec["energy"]["energy_wh"] == pytest.approx(energy, rel=1e-3)
+    assert rec["legs"] == len(w0)  # the inserted waypoint is in the saved mission
+
+
+def test_draw_an_area_and_get_a_survey(browser, tmp_path):
+    session = make_session("shelf-survey", [str(tmp_path)])
+    from auvplan.serve.app import make_app
+
+    corners = [(64500.0, 3300.0), (66500.0, 3300.0), (66500.0, 4700.0), (64500.0, 4700.0)]
+    with running(make_app(session)) as url:
+        page, errors, _ = _page(browser, url)
+        page.click("button[data-mode='draw']")
+        for c in corners:
+            page.mouse.click(*page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", list(c)))
+        page.click("#finish-area")
+        page.wait_for_selector("#history li:has-text('survey of a drawn area')", state="attached", timeout=60_000)
+        area = np.array(session.survey_area)
+        w = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        assert not errors, errors
+    # the drawn corners became the survey area (to the pixel the clicks landed on)
+    assert area[:-1, 0].min() == pytest.approx(64500.0, abs=30) and area[:-1, 0].max() == pytest.approx(66500.0, abs=30)
+    assert session.sc.survey.polygon_xy and len(session.sc.survey.polygon_xy) == 4
+    import shapely
+
+    poly = shapely.Polygon(area)
+    inside = shapely.contains_xy(poly.buffer(1.0), w[:, 0], w[:, 1])
+    assert inside.sum() > 20  # survey lines over the area
+    assert np.hypot(*(w[0, :2] - np.array(session.mission.start[:2]))) < 1.0  # from the launch point
+    assert session.result.summary["check_ok"]
