@@ -1,0 +1,175 @@
+"""``auvplan serve`` without a browser: the incremental check equals ``fly_check``, edits, the
+confinement to the served folders, localhost by default, and the CLI's error lines."""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from auvplan import cli
+from auvplan.guidance.mission import fly_check
+
+pytest.importorskip("starlette")
+pytest.importorskip("uvicorn")
+from starlette.testclient import TestClient  # noqa: E402
+
+from auvplan.cli_serve import DEFAULT_HOST, make_session, server_config  # noqa: E402
+from auvplan.serve.app import make_app  # noqa: E402
+from auvplan.serve.check import CheckSettings, IncrementalCheck  # noqa: E402
+from auvplan.serve.tomlout import dumps  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def served(tmp_path_factory):
+    root = tmp_path_factory.mktemp("served")
+    session = make_session("showcase", [str(root)])
+    return session, TestClient(make_app(session)), root
+
+
+def test_incremental_check_equals_fly_check_after_random_edits(marcus):
+    """Every edit re-checks only its legs, and the result is fly_check's, figure for figure."""
+    _, world, mission = marcus
+    rng = np.random.default_rng(3)
+    w = np.linspace(mission.start, mission.goal, 60)
+    w[:, 2] = np.linspace(-1500.0, -1200.0, 60)
+    ic = IncrementalCheck(world, mission)
+    for semantics in ("held", "ramp"):
+        settings = CheckSettings(semantics, 15.0)
+        ic.run(w, settings)
+        for _ in range(8):
+            k = int(rng.integers(1, len(w) - 1))
+            w = w.copy()
+            w[k, :2] += rng.normal(0.0, 3000.0, 2)
+            r = ic.run(w, settings)
+            legs = 2 if semantics == "ramp" else None
+            if legs is not None:
+                assert r.rechecked == legs  # only the two legs of the moved waypoint
+            oracle = fly_check(world, w, semantics, 15.0)
+            assert r.check.as_dict() == oracle.as_dict()
+            np.testing.assert_array_equal(r.check.leg_altitude_m, oracle.leg_altitude_m)
+            bad = {v["leg"] for v in r.violations if v["kind"] == "altitude"}
+            assert bad == set(np.flatnonzero(oracle.leg_altitude_m < oracle.required_altitude_m - 1e-6).tolist())
+
+
+def test_scenario_documents_round_trip_through_the_toml_writer():
+    from auvplan.io.scenario.builtins import builtin_scenarios, resolve
+
+    for name in builtin_scenarios():
+        doc = tomllib.loads(resolve(name).read_text(encoding="utf-8"))
+        assert tomllib.loads(dumps(doc)) == doc, name
+
+
+def test_the_page_and_its_assets_are_served_locally(served):
+    _, client, _ = served
+    page = client.get("/")
+    assert page.status_code == 200 and "<div id=\"chart\">" in page.text
+    assert "http" not in page.text.replace("http-equiv", "")  # no asset from the network
+    js = client.get("/static/plotly.min.js")
+    assert js.status_code == 200 and len(js.text) > 1_000_000
+    assert client.get("/static/app.js").status_code == 200
+    assert client.get("/static/..%2Fapp.py").status_code == 404
+    assert client.get("/static/session.py").status_code == 404
+    chart = client.get("/api/chart").json()
+    assert any(t.get("name") == "seabed" for t in chart["data"])  # the report's chart
+
+
+def test_edits_history_undo_and_candidates(served):
+    session, client, _ = served
+    st = client.get("/api/state").json()
+    n = len(st["waypoints"])
+    st = client.post("/api/edit", json={"op": "insert", "x": 40000.0, "y": 60000.0}).json()
+    assert len(st["waypoints"]) == n + 1
+    st = client.post("/api/edit", json={"op": "depth", "index": 1, "z": -2700.0}).json()
+    assert st["waypoints"][1][2] == -2700.0
+    np.testing.assert_array_equal(session.waypoints, np.array(st["waypoints"]))
+    assert st["check"]["summary"]["min_altitude_m"] == pytest.approx(
+        fly_check(session.world, session.waypoints).min_altitude_m)
+    st = client.post("/api/keep", json={"name": "mine"}).json()
+    assert st["candidates"][-1]["name"] == "mine"
+    client.post("/api/undo", json={})
+    st = client.post("/api/undo", json={}).json()
+    assert len(st["waypoints"]) == n
+    assert [h["op"] for h in st["history"]][-4:] == ["insert", "depth", "undo", "undo"]
+    st = client.post("/api/choose", json={"index": len(st["candidates"]) - 1}).json()
+    assert len(st["waypoints"]) == n + 1 and st["waypoints"][1][2] == -2700.0
+    bad = client.post("/api/edit", json={"op": "move", "index": 99, "x": 0, "y": 0})
+    assert bad.status_code == 400 and bad.json()["error"].startswith("auvplan: error: waypoint 99")
+    bad = client.post("/api/edit", json={"op": "move", "index": 1, "x": "nan", "y": 0})
+    assert bad.status_code == 400 and "finite" in bad.json()["error"]
+    assert client.post("/api/edit", content=b"[1,").status_code == 400
+
+
+def test_settings_are_validated_exactly_as_the_cli_does(served, tmp_path, capsys):
+    session, client, _ = served
+    r = client.post("/api/set", json={"table": "vehicle", "key": "speed", "value": -1})
+    assert r.status_code == 400
+    # the same document through the command line: the same error line
+    doc = tomllib.loads(session.text)
+    doc["vehicle"]["speed"] = -1
+    bad = Path(session.source)  # the messages name the scenario's file
+    text = dumps(doc)
+    scenario = tmp_path / bad.name
+    scenario.write_text(text, encoding="utf-8")
+    capsys.readouterr()
+    assert cli.main(["validate", str(scenario)]) == 2
+    line = capsys.readouterr().err.strip()
+    assert r.json()["error"] == line.replace(str(scenario), session.source)
+    r = client.post("/api/set", json={"table": "vehicle", "key": "no_such_key", "value": 1})
+    assert r.status_code == 400 and "no_such_key" in r.json()["error"]
+    assert client.post("/api/set", json={"table": "terrain", "key": "file", "value": "/etc/passwd"}).status_code == 400
+    r = client.post("/api/set", json={"table": "vehicle", "key": "max_pitch_deg", "value": 2.0}).json()
+    assert not r["check"]["summary"]["vehicle_ok"]
+    assert any(v["kind"] == "max_pitch_deg" for v in r["check"]["violations"])
+    client.post("/api/set", json={"table": "vehicle", "key": "max_pitch_deg", "value": None})
+
+
+def test_paths_outside_the_served_folders_are_refused(served, tmp_path_factory):
+    session, client, root = served
+    outside = tmp_path_factory.mktemp("outside")
+    (outside / "secret.toml").write_text("name = 'x'\n", encoding="utf-8")
+    (outside / "area.geojson").write_text("{}", encoding="utf-8")
+    link = root / "link.toml"
+    if not link.exists():
+        os.symlink(outside / "secret.toml", link)
+    for name in ("../secret.toml", str(outside / "secret.toml"), "/etc/passwd", "link.toml",
+                 f"sub/../../{outside.name}/secret.toml", "..\\secret.toml"):
+        r = client.post("/api/open", json={"scenario": name})
+        assert r.status_code == 400, name
+        assert "outside the served folders" in r.json()["error"] or "'..' is not allowed" in r.json()["error"]
+    r = client.post("/api/survey", json={"file": str(outside / "area.geojson")})
+    assert r.status_code == 400 and "outside the served folders" in r.json()["error"]
+    for name in ("../evil", "/tmp/evil", "a/b", ".hidden", ""):
+        assert client.post("/api/save", json={"name": name}).status_code == 400, name
+    assert not (root.parent / "evil").exists()
+    assert session.sc.name == "showcase"  # nothing was opened
+
+
+def test_binds_to_localhost_by_default():
+    args = cli._parser().parse_args(["serve", "--no-browser"])
+    assert args.host == DEFAULT_HOST == "127.0.0.1" and args.port == 8765
+    cfg = server_config(object())
+    assert cfg.host == "127.0.0.1"
+
+
+def test_a_live_server_listens_on_localhost_only(served):
+    from serve_helpers import running
+
+    session, _, _ = served
+    import httpx
+
+    with running(make_app(session)) as url:
+        assert url.startswith("http://127.0.0.1:")
+        assert httpx.get(url + "/api/state").status_code == 200
+
+
+def test_saving_never_overwrites(served):
+    session, client, root = served
+    (root / "taken").mkdir()
+    (root / "taken" / "notes.txt").write_text("mine", encoding="utf-8")
+    r = client.post("/api/save", json={"name": "taken"})
+    assert r.status_code == 400 and "never overwritten" in r.json()["error"]
+    assert (root / "taken" / "notes.txt").read_text(encoding="utf-8") == "mine"
