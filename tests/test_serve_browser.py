@@ -9,11 +9,11 @@ import json
 
 import numpy as np
 import pytest
-from serve_helpers import chromium, running
 
 from auvplan import cli
 from auvplan.cli_serve import make_session
 from auvplan.guidance.mission import fly_check
+from serve_helpers import chromium, running
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")

@@ -18,6 +18,9 @@ from .errors import AuvplanError, require
 
 __all__ = ["cmd_serve", "DEFAULT_HOST", "served_folders", "server_config", "make_session"]
 
+DEFAULT_SCENARIO = "showcase"
+"""Opened when no SCENARIO is given (the built-in default scenario, as ``auvplan demo`` runs)."""
+
 DEFAULT_HOST = "127.0.0.1"
 """The page is served on this machine only unless ``--host`` says otherwise."""
 
@@ -67,13 +70,12 @@ def make_session(target: str | None, roots: list[str] | None = None) -> Any:
     auvplan.serve.session.Session
         The opened session.
     """
-    from .cli_commands import DEMO_SCENARIO
     from .serve.paths import Roots
     from .serve.session import Session
 
     folders = served_folders(target, roots)
     session = Session(Roots.of(folders))
-    name = target or DEMO_SCENARIO
+    name = target or DEFAULT_SCENARIO
     p = Path(name)
     session.open(str(p.resolve()) if p.exists() else name)
     return session

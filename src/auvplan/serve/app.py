@@ -125,6 +125,13 @@ def _chart(session: Session) -> str:
     return str(fig.to_json())
 
 
+def _index(d: dict[str, Any]) -> int:
+    v = d.get("index")
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise AuvplanError(f"index {v!r}: not an integer")
+    return v
+
+
 Handler = Callable[[Request], Awaitable[Response]]
 
 
@@ -210,7 +217,7 @@ def make_app(session: Session) -> Starlette:
         Route("/api/undo", api(lambda d: session.undo() and None), methods=["POST"]),
         Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
                                 and None), methods=["POST"]),
-        Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), d.get("key"), d.get("value"))
+        Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), str(d.get("key")), d.get("value"))
                               and None, full=True), methods=["POST"]),
         Route("/api/open", api(lambda d: session.open(str(d.get("scenario", ""))), full=True), methods=["POST"]),
         Route("/api/survey", api(lambda d: session.survey(d.get("polygon"), d.get("file")) and None, full=True),
@@ -219,7 +226,7 @@ def make_app(session: Session) -> Starlette:
               methods=["POST"]),
         Route("/api/fly", api(lambda d: session.fly() and None), methods=["POST"]),
         Route("/api/keep", api(lambda d: session.keep(str(d.get("name", ""))) and None), methods=["POST"]),
-        Route("/api/choose", api(lambda d: session.choose(d.get("index")) and None), methods=["POST"]),
+        Route("/api/choose", api(lambda d: session.choose(_index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]
     return Starlette(routes=routes)

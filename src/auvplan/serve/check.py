@@ -226,8 +226,8 @@ class IncrementalCheck:
             for kind, idx in (("above_surface", lim.above_surface), ("outside_depth_band", lim.outside_depth_band),
                               ("outside_bounds", lim.outside_bounds)):
                 for i in idx:
-                    leg = min(int(i), len(w) - 2)
-                    violations.append({"leg": leg, "kind": kind, "value": float(-w[i, 2]),
+                    at = int(i) if int(i) < len(w) - 1 else len(w) - 2
+                    violations.append({"leg": at, "kind": kind, "value": float(-w[i, 2]),
                                        "text": f"waypoint {i}: {kind.replace('_', ' ')} (depth {-w[i, 2]:.1f} m)"})
         violations.sort(key=lambda v: v["leg"])
         executor = check.executor_min_altitude_m

@@ -16,10 +16,10 @@ from typing import Any
 
 from ..errors import AuvplanError
 from ..guidance.local import key_waypoints
+from ..io import outdir
 from ..io.data.geo import LocalFrame
 from ..io.missions import export
 from ..io.missions.energy import mission_endurance, read_leg_speeds, write_energy
-from ..io import outdir
 from ..io.results import folder as results
 from ..io.results import records
 from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
@@ -60,8 +60,8 @@ def save_results(session: Session, name: str) -> Path:
             raise AuvplanError("no scenario is open")
         w = session.waypoints.copy()
         flight = session.flight_summary() is not None
-        record = RunRecord(sc.name, sc.seed, session.plan, w, key_waypoints(w, world, mission.avoidance.collision_check),
-                           session.flight if flight else None)
+        keys = key_waypoints(w, world, mission.avoidance.collision_check)
+        record = RunRecord(sc.name, sc.seed, session.plan, w, keys, session.flight if flight else None)
         text, source = session.text, session.source
         history = list(session.history)
         candidates = session.candidate_rows()

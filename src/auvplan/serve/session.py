@@ -323,7 +323,7 @@ class Session:
             elif op == "delete":
                 if n <= 2:
                     raise AuvplanError("delete: a mission needs at least 2 waypoints (a start and a goal)")
-                w = np.delete(w, index, axis=0)
+                w = np.delete(w, int(index or 0), axis=0)
                 text = f"deleted waypoint {index}"
             else:
                 raise AuvplanError(f"edit op = {op!r}: choose move, insert, delete or depth")
