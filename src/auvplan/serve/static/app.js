@@ -12,7 +12,7 @@ let selected = null;
 let generation = -1;
 let pending = 0;
 
-const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4 };
+const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5 };
 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
@@ -62,9 +62,13 @@ function routeTrace() {
       color: W.map((_, i) => (i === 0 ? "limegreen" : i === n - 1 ? "black" : i === selected ? "deepskyblue" : "orange")),
       line: { width: 1, color: "white" } } };
 }
-function drawRoute() {
-  const t = routeTrace();
-  Plotly.restyle(gd, { x: [t.x], y: [t.y], customdata: [t.customdata], marker: [t.marker] }, [base + T.route]);
+let frame = 0;
+function drawRoute() {  // while dragging: at most once per frame
+  if (frame) return;
+  frame = requestAnimationFrame(() => {
+    frame = 0;
+    Plotly.restyle(gd, { x: [W.map((p) => p[0])], y: [W.map((p) => p[1])] }, [base + T.route]);
+  });
 }
 function badTraces() {
   const v = (S && S.check) ? S.check.violations : [];
@@ -160,13 +164,16 @@ function redraw() {
   const r = routeTrace(), b = badTraces();
   const area = S.survey_area || [];
   const fl = S.flight || { x: [], y: [] };
+  const u = undefined;  // restyle leaves an attribute of a trace alone where its value is undefined
   Plotly.restyle(gd, {
     x: [r.x, b.xs, area.map((p) => p[0]), drawing.map((p) => p[0]), fl.x, b.mx],
     y: [r.y, b.ys, area.map((p) => p[1]), drawing.map((p) => p[1]), fl.y, b.my],
-  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + 5]);
-  Plotly.restyle(gd, { customdata: [r.customdata], marker: [r.marker] }, [base + T.route]);
-  Plotly.restyle(gd, { customdata: [b.txt], text: [b.legs.map((l) => `leg ${l}`)] }, [base + 5]);
-  document.body.dataset.drawn = String(Date.now());
+    customdata: [r.customdata, u, u, u, u, b.txt],
+    text: [u, u, u, u, u, b.legs.map((l) => `leg ${l}`)],
+    "marker.size": [r.marker.size, u, u, u, u, u],
+    "marker.color": [r.marker.color, u, u, u, u, u],
+  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + T.marks]);
+  document.body.dataset.drawn = String(performance.now());
 }
 
 function showSelected() {

@@ -1,0 +1,100 @@
+"""``auvplan serve``: the edit → checked round trip for 100- and 1 000-waypoint missions (issue 41).
+
+Over HTTP (uvicorn on 127.0.0.1 in a thread): POST /api/edit moving one waypoint, the server
+re-checks only the changed legs (``mission check``'s figures) and answers with the whole state; with
+``--browser`` also in headless Chromium, from the mouse release to the chart and the check panel
+redrawn.  Prints the median and the 90th percentile of each.
+
+    python benchmarks/serve.py [--browser] [--repeats 20]
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import httpx
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from serve_helpers import running  # noqa: E402
+
+from auvplan.cli_serve import make_session  # noqa: E402
+from auvplan.serve.app import make_app  # noqa: E402
+
+
+def _mission(session, n: int) -> None:
+    """An n-waypoint zigzag over the showcase seamount at a safe depth."""
+    m = session.mission
+    w = np.linspace(m.start, m.goal, n)
+    w[1:-1, 0] += np.where(np.arange(1, n - 1) % 2 == 0, 40.0, -40.0)
+    w[1:-1, 2] = -2300.0
+    session._apply(w, "bench", f"{n} waypoints")
+
+
+def _http(url: str, session, n: int, repeats: int) -> list[float]:
+    rng = np.random.default_rng(0)
+    times = []
+    with httpx.Client(base_url=url, timeout=60) as c:
+        for _ in range(repeats):
+            k = int(rng.integers(1, n - 1))
+            x, y = session.waypoints[k, :2] + rng.normal(0.0, 30.0, 2)
+            t0 = time.perf_counter()
+            r = c.post("/api/edit", json={"op": "move", "index": k, "x": float(x), "y": float(y)})
+            r.json()
+            times.append(time.perf_counter() - t0)
+            assert r.status_code == 200
+    return times
+
+
+def _browser(url: str, session, n: int, repeats: int) -> list[float]:
+    from playwright.sync_api import sync_playwright
+
+    times = []
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=shutil.which("chromium"), args=["--no-sandbox"])
+        page = b.new_page(viewport={"width": 1400, "height": 900})
+        page.goto(url + "/")
+        page.wait_for_selector("body[data-ready='1']", timeout=60_000)
+        for r in range(repeats):
+            k = 1 + (r * 7) % (n - 2)
+            src = session.waypoints[k, :2]
+            a = page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", [float(src[0]), float(src[1])])
+            page.mouse.move(*a)
+            page.mouse.down()
+            page.mouse.move(a[0] + 3, a[1] + 3)
+            before = page.evaluate("() => document.body.dataset.drawn")
+            t0 = time.perf_counter()
+            page.mouse.up()
+            page.wait_for_function(f"() => document.body.dataset.drawn !== '{before}' && "
+                                   "document.body.dataset.pending === '0'")
+            times.append(time.perf_counter() - t0)
+        b.close()
+    return times
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--browser", action="store_true", help="also time the round trip in headless Chromium")
+    ap.add_argument("--repeats", type=int, default=20)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as root:
+        session = make_session("showcase", [root])
+        with running(make_app(session)) as url:
+            for n in (100, 1000):
+                _mission(session, n)
+                rows = [("HTTP edit → checked state", _http(url, session, n, args.repeats))]
+                if args.browser:
+                    rows.append(("browser release → redrawn", _browser(url, session, n, args.repeats)))
+                for what, t in rows:
+                    ms = 1e3 * np.asarray(t)
+                    print(f"{n:5d} waypoints  {what:28s} median {np.median(ms):7.1f} ms  "
+                          f"p90 {np.percentile(ms, 90):7.1f} ms  (n={len(ms)})")
+
+
+if __name__ == "__main__":
+    main()
