@@ -173,3 +173,61 @@ def test_saving_never_overwrites(served):
     r = client.post("/api/save", json={"name": "taken"})
     assert r.status_code == 400 and "never overwritten" in r.json()["error"]
     assert (root / "taken" / "notes.txt").read_text(encoding="utf-8") == "mine"
+
+
+def test_replan_fly_and_compare_candidates(tmp_path):
+    session = make_session("track-single", [str(tmp_path)])
+    client = TestClient(make_app(session))
+    first = client.post("/api/keep", json={"name": "as opened"}).json()
+    st = client.post("/api/plan", json={"planner": "grid", "seed": 0}).json()
+    rows = st["candidates"]
+    assert [r["name"] for r in rows] == ["as opened", "grid seed 0"]
+    assert rows[1]["waypoints"] == len(st["waypoints"])
+    # document 001's tracking scene: the route runs through the obstacles that local avoidance steers round,
+    # so mission check fails it; the table says what an independent fly_check says
+    oracle = fly_check(session.world, np.array(st["waypoints"]), "held")
+    assert oracle.obstacle_hits > 0 and rows[1]["ok"] is False
+    assert rows[1]["length_m"] == pytest.approx(np.linalg.norm(np.diff(st["waypoints"], axis=0), axis=1).sum())
+    st = client.post("/api/fly", json={}).json()
+    assert st["flight"]["status"] == "EXACT" and len(st["flight"]["x"]) > 10
+    st = client.post("/api/choose", json={"index": 0}).json()
+    assert st["waypoints"] == first["waypoints"] and st["flight"] is None  # the flight was of the other mission
+    assert client.post("/api/plan", json={"planner": "no-such"}).status_code == 400
+    assert client.post("/api/plan", json={"seed": -1}).status_code == 400
+
+
+def test_a_saved_folder_reopens_with_the_same_mission_and_exports(served, capsys):
+    session, client, root = served
+    client.post("/api/edit", json={"op": "insert", "x": 39000.0, "y": 58500.0})
+    saved = client.post("/api/save", json={"name": "reopen"}).json()
+    out = Path(saved["result"]["saved"])
+    assert out == root / "reopen" and (out / "history.json").is_file()
+    again = make_session(str(out))
+    np.testing.assert_array_equal(again.waypoints, session.waypoints)
+    assert again.result.summary == pytest.approx(session.result.summary)
+    capsys.readouterr()
+    assert cli.main(["export", str(out), "--force"]) == 0
+    assert cli.main(["mission", "check", "--scenario", str(out / "scenario.toml"), str(out / "mission.gpx"),
+                     "--json"]) == 0
+
+
+def test_import_a_survey_area_from_a_file_in_the_served_folder(tmp_path):
+    import json
+
+    from auvplan.io.data.geo import LocalFrame
+
+    session = make_session("shelf-survey", [str(tmp_path)])
+    frame = LocalFrame(*session.world.origin)
+    x = np.array([64600.0, 66000.0, 66000.0, 64600.0, 64600.0])
+    y = np.array([3400.0, 3400.0, 4600.0, 4600.0, 3400.0])
+    lon, lat = frame.inverse(x, y)
+    (tmp_path / "area.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [{
+        "type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [
+            np.column_stack([lon, lat]).tolist()]}}]}), encoding="utf-8")
+    client = TestClient(make_app(session))
+    st = client.post("/api/survey", json={"file": "area.geojson"}).json()
+    area = np.array(st["survey_area"])
+    assert area[:, 0].min() == pytest.approx(64600.0, abs=0.5) and area[:, 1].max() == pytest.approx(4600.0, abs=0.5)
+    assert st["history"][-1]["op"] == "survey" and st["check"]["summary"]["check_ok"]
+    r = client.post("/api/survey", json={"file": "missing.geojson"})
+    assert r.status_code == 400 and "no such file in the served folders" in r.json()["error"]
