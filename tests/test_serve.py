@@ -30,29 +30,40 @@ def served(tmp_path_factory):
     return session, TestClient(make_app(session)), root
 
 
-def test_incremental_check_equals_fly_check_after_random_edits(marcus):
-    """Every edit re-checks only its legs, and the result is fly_check's, figure for figure."""
-    _, world, mission = marcus
+@pytest.mark.parametrize("name", ["marcus-wake", "track-double"])
+def test_incremental_check_equals_fly_check_after_random_edits(name, marcus):
+    """Every edit re-checks only its legs, and the result is fly_check's, figure for figure (a real seabed;
+    a scene of static obstacles)."""
+    from auvplan.io.scenario import loader
+
+    world, mission = marcus[1:] if name == "marcus-wake" else loader.build(loader.load(name))
     rng = np.random.default_rng(3)
     w = np.linspace(mission.start, mission.goal, 60)
-    w[:, 2] = np.linspace(-1500.0, -1200.0, 60)
+    if world.terrain is not None:
+        w[:, 2] = np.linspace(-1500.0, -1200.0, 60)
+    step = 0.05 * (world.bounds.xmax - world.bounds.xmin)
     ic = IncrementalCheck(world, mission)
+    hit = False
     for semantics in ("held", "ramp"):
         settings = CheckSettings(semantics, 15.0)
         ic.run(w, settings)
-        for _ in range(8):
+        for e in range(9):
             k = int(rng.integers(1, len(w) - 1))
             w = w.copy()
-            w[k, :2] += rng.normal(0.0, 3000.0, 2)
+            w[k, :2] += rng.normal(0.0, step, 2)
+            if e == 8 and world.obstacles:  # the last edit: onto an obstacle
+                w[k] = world.obstacles[0].center
             r = ic.run(w, settings)
-            legs = 2 if semantics == "ramp" else None
-            if legs is not None:
-                assert r.rechecked == legs  # only the two legs of the moved waypoint
+            if semantics == "ramp":
+                assert r.rechecked == 2  # only the two legs of the moved waypoint
             oracle = fly_check(world, w, semantics, 15.0)
             assert r.check.as_dict() == oracle.as_dict()
             np.testing.assert_array_equal(r.check.leg_altitude_m, oracle.leg_altitude_m)
             bad = {v["leg"] for v in r.violations if v["kind"] == "altitude"}
             assert bad == set(np.flatnonzero(oracle.leg_altitude_m < oracle.required_altitude_m - 1e-6).tolist())
+            hit |= oracle.obstacle_hits > 0
+            assert len({v["leg"] for v in r.violations if v["kind"] == "obstacle"}) == oracle.obstacle_hits
+    assert hit == bool(world.obstacles)  # the obstacle figures were exercised where there are obstacles
 
 
 def test_scenario_documents_round_trip_through_the_toml_writer():
