@@ -242,3 +242,15 @@ def test_import_a_survey_area_from_a_file_in_the_served_folder(tmp_path):
     assert st["history"][-1]["op"] == "survey" and st["check"]["summary"]["check_ok"]
     r = client.post("/api/survey", json={"file": "missing.geojson"})
     assert r.status_code == 400 and "no such file in the served folders" in r.json()["error"]
+
+
+def test_other_sites_cannot_drive_the_server(served):
+    """A page elsewhere can only send 'simple' requests (text/plain) or reach 127.0.0.1 under its own
+    DNS name: both are refused."""
+    session, client, _ = served
+    n = len(session.waypoints)
+    r = client.post("/api/edit", content=b'{"op": "delete", "index": 1}', headers={"Content-Type": "text/plain"})
+    assert r.status_code == 400 and "application/json" in r.json()["error"]
+    r = client.get("/api/state", headers={"Host": "evil.example:8765"})
+    assert r.status_code == 400
+    assert len(session.waypoints) == n

@@ -136,14 +136,15 @@ def cmd_serve(args: argparse.Namespace) -> int:
     require("plotly", "serve")
     import uvicorn
 
-    from .serve.app import make_app
+    from .serve.app import LOCAL_HOSTS, make_app
 
     if args.host != DEFAULT_HOST:
         print(f"auvplan: warning: serving on {args.host}: anyone who can reach this address can edit and save "
               "missions in the served folders", file=sys.stderr)
     _port_free(args.host, args.port)
     session = make_session(args.target, args.root)
-    server = uvicorn.Server(server_config(make_app(session), args.host, args.port))
+    hosts = LOCAL_HOSTS if args.host == DEFAULT_HOST else (*LOCAL_HOSTS, args.host)
+    server = uvicorn.Server(server_config(make_app(session, hosts), args.host, args.port))
     url = f"http://{'localhost' if args.host == DEFAULT_HOST else args.host}:{args.port}/"
     print(f"auvplan serve: {session.sc.name if session.sc else ''} on {url} (folders: "
           f"{', '.join(map(str, session.roots.folders))}); Ctrl-C stops", file=sys.stderr)

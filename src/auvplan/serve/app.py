@@ -24,6 +24,8 @@ from typing import Any
 import numpy as np
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
+from starlette.middleware import Middleware
+from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
 from starlette.responses import HTMLResponse, JSONResponse, Response
 from starlette.routing import Route
@@ -33,7 +35,10 @@ from ..sim import RunRecord
 from .check import CheckResult
 from .session import Session, builtin_names, one_line
 
-__all__ = ["make_app", "page_state", "MAX_BODY_BYTES"]
+__all__ = ["make_app", "page_state", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
+
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
+"""``Host`` names accepted by default (``testserver``: Starlette's test client)."""
 
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
@@ -135,13 +140,20 @@ def _index(d: dict[str, Any]) -> int:
 Handler = Callable[[Request], Awaitable[Response]]
 
 
-def make_app(session: Session) -> Starlette:
+def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlette:
     """The Starlette application of a session.
+
+    Requests whose ``Host`` is not one of ``hosts`` are refused (a web page elsewhere cannot reach the
+    server through a DNS name pointed at 127.0.0.1), and a POST must say it is JSON (``Content-Type:
+    application/json``), which a page of another origin cannot send without the browser asking the
+    server first (it is never allowed): no other site can edit or save through your browser.
 
     Parameters
     ----------
     session : Session
         The page's state (one per server: the page is for one user on this machine).
+    hosts : tuple of str, optional
+        Host names the page is served under (``--host`` adds its address).
 
     Returns
     -------
@@ -166,6 +178,8 @@ def make_app(session: Session) -> Starlette:
         return Response((static / name).read_text(encoding="utf-8"), media_type=_STATIC[name])
 
     async def body(request: Request) -> dict[str, Any]:
+        if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
+            raise AuvplanError("the request must be JSON (Content-Type: application/json)")
         raw = await request.body()
         if len(raw) > MAX_BODY_BYTES:
             raise AuvplanError(f"request of {len(raw):,} bytes, over the {MAX_BODY_BYTES:,} allowed")
@@ -229,4 +243,4 @@ def make_app(session: Session) -> Starlette:
         Route("/api/choose", api(lambda d: session.choose(_index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]
-    return Starlette(routes=routes)
+    return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))])
