@@ -254,3 +254,30 @@ def test_other_sites_cannot_drive_the_server(served):
     r = client.get("/api/state", headers={"Host": "evil.example:8765"})
     assert r.status_code == 400
     assert len(session.waypoints) == n
+
+
+def test_the_serve_command_binds_localhost_and_refuses_a_busy_port(monkeypatch, tmp_path, capsys):
+    import socket
+    import webbrowser
+
+    import uvicorn
+
+    seen = {}
+
+    def fake_run(self, *a, **k):
+        seen["host"], seen["port"] = self.config.host, self.config.port
+        seen["app"] = self.config.app
+
+    monkeypatch.setattr(uvicorn.Server, "run", fake_run)
+    monkeypatch.setattr(webbrowser, "open", lambda url: seen.setdefault("opened", url))
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["serve", "track-single", "--no-browser", "--port", "0"]) == 0
+    assert seen["host"] == "127.0.0.1" and "opened" not in seen
+    client = TestClient(seen["app"])
+    assert client.get("/api/state").json()["scenario"] == "track-single"
+    with socket.create_server(("127.0.0.1", 0)) as busy:
+        port = busy.getsockname()[1]
+        capsys.readouterr()
+        assert cli.main(["serve", "track-single", "--no-browser", "--port", str(port)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.startswith(f"auvplan: error: --port {port}: cannot serve") and "\n" not in err

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+import threading
+import time
 import webbrowser
 from pathlib import Path
 from typing import Any
@@ -145,10 +147,18 @@ def cmd_serve(args: argparse.Namespace) -> int:
     session = make_session(args.target, args.root)
     hosts = LOCAL_HOSTS if args.host == DEFAULT_HOST else (*LOCAL_HOSTS, args.host)
     server = uvicorn.Server(server_config(make_app(session, hosts), args.host, args.port))
-    url = f"http://{'localhost' if args.host == DEFAULT_HOST else args.host}:{args.port}/"
+    url = f"http://{args.host}:{args.port}/"
     print(f"auvplan serve: {session.sc.name if session.sc else ''} on {url} (folders: "
           f"{', '.join(map(str, session.roots.folders))}); Ctrl-C stops", file=sys.stderr)
-    if not args.no_browser:
-        webbrowser.open(url)
+    if not args.no_browser:  # once the server listens
+        threading.Thread(target=_open_when_started, args=(server, url), daemon=True).start()
     server.run()
     return 0
+
+
+def _open_when_started(server: Any, url: str, timeout: float = 60.0) -> None:
+    t0 = time.monotonic()
+    while not server.started and not server.should_exit and time.monotonic() - t0 < timeout:
+        time.sleep(0.05)
+    if server.started:
+        webbrowser.open(url)
