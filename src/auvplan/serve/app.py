@@ -33,9 +33,9 @@ from starlette.routing import Route
 from ..errors import AuvplanError
 from ..sim import RunRecord
 from .check import CheckResult
-from .session import Session, builtin_names, one_line
+from .session import Session, builtin_names
 
-__all__ = ["make_app", "page_state", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
+__all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
 """``Host`` names accepted by default (``testserver``: Starlette's test client)."""
@@ -45,6 +45,25 @@ MAX_BODY_BYTES = 4 * 1024 * 1024
 
 _STATIC = {"app.js": "text/javascript", "app.css": "text/css"}
 """Assets of the page, by name (nothing else under /static is served)."""
+
+
+def one_line(exc: BaseException) -> str:
+    """The error line the command line prints for ``exc`` (``auvplan: error: ...``).
+
+    Parameters
+    ----------
+    exc : BaseException
+        The error.
+
+    Returns
+    -------
+    str
+        One line, multi-line messages folded.
+    """
+    text = " ".join(str(exc).split())
+    if not (isinstance(exc, AuvplanError) and text):
+        text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    return f"auvplan: error: {text}"
 
 
 def _clean(v: Any) -> Any:
@@ -238,7 +257,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
               methods=["POST"]),
         Route("/api/plan", api(lambda d: session.replan(d.get("planner") or None, d.get("seed")) and None),
               methods=["POST"]),
-        Route("/api/fly", api(lambda d: session.fly() and None), methods=["POST"]),
+        Route("/api/fly", api(lambda d: session.fly()), methods=["POST"]),
         Route("/api/keep", api(lambda d: session.keep(str(d.get("name", ""))) and None), methods=["POST"]),
         Route("/api/choose", api(lambda d: session.choose(_index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),

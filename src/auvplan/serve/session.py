@@ -11,10 +11,9 @@ flight :func:`auvplan.sim.simulate`, and every edit is re-checked by :class:`~.c
 from __future__ import annotations
 
 import copy
-import math
 import threading
 import tomllib
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -27,13 +26,14 @@ from ..io.scenario.builtins import builtin_scenarios
 from ..io.scenario.builtins import resolve as resolve_scenario
 from ..io.scenario.specs import Scenario
 from ..planners import PlanResult
-from ..sim import Mission, SimResult, mission_route, planned_route, with_leg_speeds
+from ..sim import Mission, SimResult, mission_route, with_leg_speeds
 from ..world import World
 from .check import CheckResult, CheckSettings, IncrementalCheck
 from .paths import Roots
+from .plans import as_points, flown, nearest_leg, plan_area, replanned, survey_table
 from .tomlout import dumps
 
-__all__ = ["Session", "Candidate", "EDITABLE_TABLES", "MAX_WAYPOINTS", "one_line", "builtin_names"]
+__all__ = ["Session", "Candidate", "EDITABLE_TABLES", "MAX_WAYPOINTS", "builtin_names"]
 
 _F64 = NDArray[np.float64]
 
@@ -45,25 +45,6 @@ MAX_WAYPOINTS = 20_000
 
 MAX_HISTORY = 500
 """Edits kept for undo (the history's text is kept whole)."""
-
-
-def one_line(exc: BaseException) -> str:
-    """The error line the command line prints for ``exc`` (``auvplan: error: ...``).
-
-    Parameters
-    ----------
-    exc : BaseException
-        The error.
-
-    Returns
-    -------
-    str
-        One line, multi-line messages folded.
-    """
-    text = " ".join(str(exc).split())
-    if not (isinstance(exc, AuvplanError) and text):
-        text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
-    return f"auvplan: error: {text}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,16 +73,6 @@ class Candidate:
     summary: dict[str, Any]
     plan: PlanResult | None
     start_time: str
-
-
-def _points(value: Any, what: str) -> _F64:
-    try:
-        p = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise AuvplanError(f"{what}: not a list of numbers") from None
-    if not np.isfinite(p).all():
-        raise AuvplanError(f"{what}: every coordinate must be a finite number")
-    return p
 
 
 class Session:
@@ -260,7 +231,7 @@ class Session:
             return self.result
 
     def _set_waypoints(self, w: Any) -> None:
-        p = _points(w, "waypoints").reshape(-1, 3) if np.size(w) else np.empty((0, 3))
+        p = as_points(w, "waypoints").reshape(-1, 3) if np.size(w) else np.empty((0, 3))
         if not 2 <= p.shape[0] <= MAX_WAYPOINTS:
             raise AuvplanError(f"the mission has {p.shape[0]} waypoints; it needs 2 to {MAX_WAYPOINTS}")
         self.waypoints = p.copy()
@@ -299,7 +270,7 @@ class Session:
             if op in ("move", "delete", "depth"):
                 if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < n:
                     raise AuvplanError(f"waypoint {index!r}: no such waypoint (0 to {n - 1})")
-            xyz = [None if v is None else float(_points(v, f"{op} {k}")) for k, v in (("x", x), ("y", y), ("z", z))]
+            xyz = [None if v is None else float(as_points(v, f"{op} {k}")) for k, v in (("x", x), ("y", y), ("z", z))]
             if op == "move":
                 if xyz[0] is None or xyz[1] is None:
                     raise AuvplanError("move: x and y are needed")
@@ -315,7 +286,7 @@ class Session:
             elif op == "insert":
                 if xyz[0] is None or xyz[1] is None:
                     raise AuvplanError("insert: x and y are needed")
-                leg, f = _nearest_leg(w, np.array([xyz[0], xyz[1]]))
+                leg, f = nearest_leg(w, np.array([xyz[0], xyz[1]]))
                 zi = w[leg, 2] + f * (w[leg + 1, 2] - w[leg, 2]) if xyz[2] is None else xyz[2]
                 w = np.insert(w, leg + 1, [xyz[0], xyz[1], zi], axis=0)
                 index = leg + 1
@@ -442,39 +413,16 @@ class Session:
         """
         with self.lock:
             self._require()
-            doc = copy.deepcopy(self.doc)
-            table = {k: v for k, v in doc.get("survey", {}).items() if k not in ("polygon", "polygon_xy", "file",
-                                                                                   "layer")}
-            if file:
-                table["file"] = str(self.roots.resolve(file))
-                what = f"the area of {file}"
-            else:
-                p = _points(polygon_xy, "survey polygon").reshape(-1, 2)
-                if p.shape[0] < 3:
-                    raise AuvplanError(f"survey polygon: {p.shape[0]} points; an area needs at least 3")
-                table["polygon_xy"] = [[float(a), float(b)] for a, b in p]
-                what = f"a drawn area of {p.shape[0]} points"
-            doc["survey"] = table
+            path = self.roots.resolve(file) if file else None
+            doc = survey_table(self.doc, None if path else polygon_xy, path)
+            what = f"the area of {file}" if file else f"a drawn area of {len(doc['survey']['polygon_xy'])} points"
             return self._plan_survey(doc, what)
 
     def _plan_survey(self, doc: dict[str, Any], what: str) -> CheckResult:
-        """Validate ``doc`` (with its ``[survey]``), plan the survey and make it the mission."""
-        from ..io.results.survey import survey_params
-        from ..survey.mission import plan_survey
-
         world, mission = self._require()
-        text = dumps(doc)
-        sc = scenario_io.loads(text, self.source, base_dir=self.base_dir)
-        assert sc.survey is not None
-        params = survey_params(sc.survey, world, mission.vehicle, self.base_dir, f"{self.source}: [survey]")
-        plan = plan_survey(world, mission, params, sc.seed)
-        if not plan.status.ok:
-            raise AuvplanError(f"{self.source}: [survey] {plan.status.value}: {plan.message}")
-        self.doc, self.text, self.sc = doc, text, sc
-        self.survey_area = [list(map(float, c)) for c in params.area.exterior.coords]
-        self.plan = None
-        result = self._apply(plan.route, "survey",
-                             f"survey of {what}: {len(plan.lines.lines)} lines, {plan.length_m / 1e3:.1f} km")
+        s = plan_area(world, mission, doc, self.source, self.base_dir)
+        self.doc, self.text, self.sc, self.survey_area, self.plan = s.doc, s.text, s.scenario, s.area, None
+        result = self._apply(s.route, "survey", f"survey of {what}: {s.label}")
         self._keep("survey", "survey", None)
         return result
 
@@ -493,50 +441,27 @@ class Session:
         CheckResult
             The check of the new mission (it becomes the current one).
         """
-        from ..planners.registry import names
-
         with self.lock:
             world, mission = self._require()
-            assert self.sc is not None
             name = planner or mission.planner.name
-            if name not in names():
-                raise AuvplanError(f"--planner {name!r}: choose one of {', '.join(names())}")
-            if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
-                raise AuvplanError(f"--seed {seed!r}: must be an integer >= 0")
-            s = self.sc.seed if seed is None else seed
-            m = replace(mission, planner=replace(mission.planner, name=name), route=())
-        plan, route = planned_route(world, m, s)
+            s = (self.sc.seed if self.sc else 0) if seed is None else seed
+        plan, route = replanned(world, mission, name, s)
         with self.lock:
-            if route is None:
-                status = plan.status.value if plan is not None else "INFEASIBLE"
-                raise AuvplanError(f"plan with {name} seed {s}: {status} — {plan.message if plan else ''}")
             self.plan = plan
             result = self._apply(route, "plan", f"planned with {name} seed {s}: {route.shape[0]} waypoints")
             self._keep(f"{name} seed {s}", name, plan)
             return result
 
-    def fly(self) -> dict[str, Any]:
-        """Fly the current mission in the closed loop (currents, moving obstacles, the guidance).
-
-        Returns
-        -------
-        dict
-            The flight's status and metrics.
-        """
-        from ..guidance.local import key_waypoints
-        from ..sim import simulate
-
+    def fly(self) -> None:
+        """Fly the current mission in the closed loop (currents, moving obstacles, the guidance)."""
         with self.lock:
             world, mission = self._require()
             w = self.waypoints.copy()
             seed = self.sc.seed if self.sc else 0
-        keys = key_waypoints(w, world, mission.avoidance.collision_check)
-        m = with_leg_speeds(world, mission, w)
-        sim = simulate(world, m, route=w, rng=seed, keys=keys)
+        sim = flown(world, mission, w, seed)
         with self.lock:
             self.flight, self.flight_of = sim, w
             self._record("fly", f"flew the mission: {sim.status.value}")
-        return self.flight_summary() or {}
 
     def flight_summary(self) -> dict[str, Any] | None:
         """The last flight of the current waypoints (None when there is none or the mission changed since).
@@ -614,17 +539,6 @@ class Session:
                 "max_pitch_deg")
         return [{"name": c.name, "origin": c.origin, "waypoints": int(c.waypoints.shape[0]),
                  "start_time": c.start_time, **{k: c.summary.get(k) for k in keys}} for c in self.candidates]
-
-
-def _nearest_leg(w: _F64, p: _F64) -> tuple[int, float]:
-    """The leg of ``w`` nearest to the horizontal point ``p`` and the fraction along it."""
-    a, b = w[:-1, :2], w[1:, :2]
-    d = b - a
-    den = np.maximum((d * d).sum(-1), 1e-12)
-    f = np.clip(((p - a) * d).sum(-1) / den, 0.0, 1.0)
-    dist = np.hypot(*(a + f[:, None] * d - p).T)
-    k = int(np.argmin(dist))
-    return k, float(f[k]) if math.isfinite(f[k]) else 0.5
 
 
 def builtin_names() -> list[str]:
