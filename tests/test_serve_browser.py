@@ -78,6 +78,8 @@ def test_drag_a_waypoint_onto_the_seamount_and_back(browser, tmp_path):
         marks = page.evaluate("() => { const d = document.getElementById('chart').data; "
                               "return d.find(t => t.name === 'violation at leg').text; }")
         assert marks == [f"leg {k - 1}", f"leg {k}"]  # marked on the map at those legs
+        keys = page.evaluate("() => document.getElementById('chart').data.find(t => t.name === 'key waypoints').x")
+        np.testing.assert_allclose(keys, session.keys[:, 0])  # the key waypoints of the edited mission
         assert float(page.get_attribute("#min-alt", "data-value")) == pytest.approx(oracle.min_altitude_m, abs=1e-9)
         _drag(page, w1[k, :2], w0[k, :2])
         page.wait_for_selector("#verdict.ok")

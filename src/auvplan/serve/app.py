@@ -73,6 +73,8 @@ def _clean(v: Any) -> Any:
     if isinstance(v, (list, tuple)):
         return [_clean(x) for x in v]
     if isinstance(v, np.ndarray):
+        if v.dtype.kind == "f" and np.isfinite(v).all():
+            return v.tolist()  # the waypoints: finite by construction, no walk through them
         return _clean(v.tolist())
     if isinstance(v, (np.floating, float)):
         f = float(v)
@@ -108,6 +110,7 @@ def page_state(session: Session, full: bool = True) -> dict[str, Any]:
     """
     with session.lock:
         state: dict[str, Any] = {"generation": session.generation, "waypoints": session.waypoints,
+                                 "keys": session.keys,
                                  "check": _check_json(session.result), "history": session.history[-50:],
                                  "candidates": session.candidate_rows(), "flight": session.flight_summary(),
                                  "survey_area": session.survey_area, "settings": {

@@ -15,7 +15,6 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import AuvplanError
-from ..guidance.local import key_waypoints
 from ..io import outdir
 from ..io.data.geo import LocalFrame
 from ..io.missions import export
@@ -60,8 +59,7 @@ def save_results(session: Session, name: str) -> Path:
             raise AuvplanError("no scenario is open")
         w = session.waypoints.copy()
         flight = session.flight_summary() is not None
-        keys = key_waypoints(w, world, mission.avoidance.collision_check)
-        record = RunRecord(sc.name, sc.seed, session.plan, w, keys, session.flight if flight else None)
+        record = RunRecord(sc.name, sc.seed, session.plan, w, session.keys.copy(), session.flight if flight else None)
         text, source = session.text, session.source
         history = list(session.history)
         candidates = session.candidate_rows()

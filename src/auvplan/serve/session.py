@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import AuvplanError
+from ..guidance.local import key_waypoints
 from ..io.scenario import loader as scenario_io
 from ..io.scenario.builtins import builtin_scenarios
 from ..io.scenario.builtins import resolve as resolve_scenario
@@ -105,6 +106,7 @@ class Session:
         self._undo: list[_F64] = []
         self.candidates: list[Candidate] = []
         self.result: CheckResult | None = None
+        self.keys: _F64 = np.empty((0, 3))  # the key waypoints of the mission (what the guidance steers by)
         self.generation = 0  # bumped when the world changes: the page redraws its chart
 
     # ------------------------------------------------------------------ loading
@@ -228,6 +230,8 @@ class Session:
             if self.checker is None:
                 raise AuvplanError("no scenario is open")
             self.result = self.checker.run(self.waypoints, self.settings, self._speeds(self.waypoints))
+            world, mission = self._require()
+            self.keys = key_waypoints(self.waypoints, world, mission.avoidance.collision_check)
             return self.result
 
     def _set_waypoints(self, w: Any) -> None:

@@ -12,7 +12,7 @@ let selected = null;
 let generation = -1;
 let pending = 0;
 
-const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5 };
+const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6 };
 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
@@ -101,6 +101,8 @@ async function newChart() {
     { type: "scatter", mode: "markers+text", name: "violation at leg", marker: { symbol: "x", size: 13, color: "red" },
       textposition: "top center", textfont: { color: "red", size: 12 }, x: [], y: [],
       hovertemplate: "%{customdata}<extra></extra>" },
+    { type: "scatter", mode: "markers", name: "key waypoints", hoverinfo: "skip", x: [], y: [],
+      marker: { color: "gold", symbol: "diamond", size: 9, line: { width: 1 } } },
   ];
   const layout = Object.assign({}, fig.layout, { dragmode: mode === "pan" ? "pan" : false });
   await Plotly.newPlot(gd, fig.data.concat(extra), layout,
@@ -165,14 +167,15 @@ function redraw() {
   const area = S.survey_area || [];
   const fl = S.flight || { x: [], y: [] };
   const u = undefined;  // restyle leaves an attribute of a trace alone where its value is undefined
+  const keys = S.keys || [];
   Plotly.restyle(gd, {
-    x: [r.x, b.xs, area.map((p) => p[0]), drawing.map((p) => p[0]), fl.x, b.mx],
-    y: [r.y, b.ys, area.map((p) => p[1]), drawing.map((p) => p[1]), fl.y, b.my],
-    customdata: [r.customdata, u, u, u, u, b.txt],
-    text: [u, u, u, u, u, b.legs.map((l) => `leg ${l}`)],
-    "marker.size": [r.marker.size, u, u, u, u, u],
-    "marker.color": [r.marker.color, u, u, u, u, u],
-  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + T.marks]);
+    x: [r.x, b.xs, area.map((p) => p[0]), drawing.map((p) => p[0]), fl.x, b.mx, keys.map((p) => p[0])],
+    y: [r.y, b.ys, area.map((p) => p[1]), drawing.map((p) => p[1]), fl.y, b.my, keys.map((p) => p[1])],
+    customdata: [r.customdata, u, u, u, u, b.txt, u],
+    text: [u, u, u, u, u, b.legs.map((l) => `leg ${l}`), u],
+    "marker.size": [r.marker.size, u, u, u, u, u, u],
+    "marker.color": [r.marker.color, u, u, u, u, u, u],
+  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + T.marks, base + T.keys]);
   document.body.dataset.drawn = String(performance.now());
 }
 
