@@ -108,6 +108,22 @@ def test_save_then_mission_check_agrees_with_the_page(browser, tmp_path, capsys)
         min_alt = float(page.get_attribute("#min-alt", "data-value"))
         energy = float(page.get_attribute("#energy", "data-value"))
         assert not errors, errors
+        # pan the chart: the report's chart underneath follows the editable overlay, to the metre
+        ranges = "() => ['chart', 'base'].map(id => { const f = document.getElementById(id)._fullLayout; " \
+                 "return [f.xaxis.range, f.yaxis.range, f.xaxis._offset, f.yaxis._offset]; })"
+        before = page.evaluate(ranges)
+        page.click("button[data-mode='pan']")
+        box = page.locator("#chart").bounding_box()
+        page.mouse.move(box["x"] + 300, box["y"] + 300)
+        page.mouse.down()
+        page.mouse.move(box["x"] + 400, box["y"] + 350, steps=4)
+        page.mouse.up()
+        page.wait_for_timeout(300)
+        overlay, chart = page.evaluate(ranges)
+        assert overlay[0] != before[0][0]  # it moved
+        np.testing.assert_allclose(overlay[0], chart[0], atol=1.0)
+        np.testing.assert_allclose(overlay[1], chart[1], atol=1.0)
+        assert overlay[2:] == pytest.approx(chart[2:], abs=0.5)  # the same plot area on the page
     out = tmp_path / "chosen"
     capsys.readouterr()
     code = cli.main(["mission", "check", "--scenario", str(out / "scenario.toml"), str(out / "mission.moos"),

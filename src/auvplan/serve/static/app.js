@@ -1,6 +1,7 @@
 // auvplan serve: the page. Data only goes to the server (JSON); every check is the server's `mission check`.
 "use strict";
-const gd = document.getElementById("chart");
+const gd = document.getElementById("chart");   // the editable overlay: the mission, its violations, the areas
+const bg = document.getElementById("base");    // the report's chart underneath (drawn once per scenario)
 const $ = (id) => document.getElementById(id);
 let S = null;          // the last state from the server
 let W = [];            // the waypoints being drawn (copied from S.waypoints)
@@ -87,7 +88,7 @@ function badTraces() {
 async function newChart() {
   const r = await fetch("/api/chart"); const fig = await r.json();
   if (!r.ok) { $("error").textContent = fig.error; return; }
-  base = fig.data.length;
+  base = 0;  // the overlay holds only the page's traces
   const extra = [
     { type: "scatter", mode: "lines+markers", name: "mission (drag the waypoints)", line: { color: "orange", width: 2.5 },
       hovertemplate: "waypoint %{customdata[0]}<br>depth %{customdata[1]:.1f} m<extra></extra>", x: [], y: [] },
@@ -104,9 +105,33 @@ async function newChart() {
     { type: "scatter", mode: "markers", name: "key waypoints", hoverinfo: "skip", x: [], y: [],
       marker: { color: "gold", symbol: "diamond", size: 9, line: { width: 1 } } },
   ];
-  const layout = Object.assign({}, fig.layout, { dragmode: mode === "pan" ? "pan" : false });
-  await Plotly.newPlot(gd, fig.data.concat(extra), layout,
-    { displaylogo: false, doubleClick: false, scrollZoom: true, responsive: true });
+  await Plotly.newPlot(bg, fig.data, Object.assign({}, fig.layout, { dragmode: false }),
+    { displaylogo: false, staticPlot: true });
+  await Plotly.newPlot(gd, extra, overlayLayout(), { displaylogo: false, doubleClick: false, scrollZoom: true,
+    displayModeBar: false });
+  gd.on("plotly_relayout", syncBase);
+}
+
+// The overlay's plot area and ranges are the chart's, so that an edit redraws the overlay only.
+function overlayLayout() {
+  const fl = bg._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
+  const axis = (a) => ({ range: a.range.slice(), visible: false, showgrid: false, zeroline: false });
+  return { width: fl.width, height: fl.height, showlegend: false, hovermode: "closest",
+    dragmode: mode === "pan" ? "pan" : false, paper_bgcolor: "rgba(0,0,0,0)", plot_bgcolor: "rgba(0,0,0,0)",
+    margin: { l: xa._offset, t: ya._offset, r: fl.width - xa._offset - xa._length,
+      b: fl.height - ya._offset - ya._length, pad: 0, autoexpand: false },
+    xaxis: axis(xa), yaxis: axis(ya) };
+}
+let syncing = false;
+async function syncBase(ev) {  // pan/zoom on the overlay moves the chart, then the overlay takes the chart's frame
+  if (syncing || !ev || !(("xaxis.range[0]" in ev) || ("xaxis.range" in ev) || ("xaxis.autorange" in ev))) return;
+  syncing = true;
+  try {
+    const xa = gd._fullLayout.xaxis, ya = gd._fullLayout.yaxis;
+    await Plotly.relayout(bg, { "xaxis.range": xa.range.slice(), "yaxis.range": ya.range.slice() });
+    const o = overlayLayout();
+    await Plotly.relayout(gd, { margin: o.margin, "xaxis.range": o.xaxis.range, "yaxis.range": o.yaxis.range });
+  } finally { syncing = false; }
 }
 
 async function show(st) {
