@@ -245,3 +245,31 @@ def test_reference_is_never_beaten_by_more_than_five_hundredths_on_a_hard_case()
     best = min(r.cost for r in runs if r.status is Status.EXACT)
     assert ref.status is Status.EXACT and world.path_free(ref.path) and "best of 4" in ref.message
     assert ref.cost <= best * (1 + 5e-4)
+
+
+def test_the_ladder_runs_when_the_finest_lattice_finds_no_path():
+    """A 10 m and a 20 m lattice over 1 km x 1 km x 200 m are over ``max_nodes`` (refused, no
+    path); the ladder then tries the coarser cells and the 40 m lattice plans (the straight line
+    of the empty world), naming every cell tried.  Without the ladder the refusal stands."""
+    world = flat_world(depth=200.0, size=1000.0)
+    prob = PlanningProblem(world, [37.0, 81.0, -150.0], [913.0, 777.0, -40.0], 1.5)
+    params = GridParams(cell=10.0, target_nodes=1000, max_nodes=20_000)
+    r = plan_grid(prob, PlannerSpec(name="grid", grid=params))
+    assert r.status is Status.EXACT and "10, 20, 40 m: 40 m" in r.message
+    np.testing.assert_allclose(r.path, np.stack([prob.start, prob.goal]))
+    alone = plan_grid(prob, PlannerSpec(name="grid", grid=replace(params, ladder=False)))
+    assert alone.status is Status.INFEASIBLE and "max_nodes" in alone.message
+
+
+def test_the_ladder_reports_the_finest_failure_when_no_lattice_finds_a_path():
+    """A ridge to the surface splits the world: every lattice of the ladder fails, the status is
+    INFEASIBLE with the finest lattice's message and the coarser cells tried named."""
+    x = np.linspace(0.0, 1000.0, 21)
+    z = np.full((21, 21), -200.0)
+    z[10, :] = 0.0  # x = 500 m: the seabed at the surface, no altitude left above it
+    world = World(Bounds(0.0, 1000.0, 0.0, 1000.0, -200.0, 0.0), Terrain(x, x, z.T, name="ridge"),
+                  margins=Margins(min_altitude=5.0))
+    prob = PlanningProblem(world, [100.0, 500.0, -100.0], [900.0, 500.0, -100.0], 1.5)
+    r = plan_grid(prob, PlannerSpec(name="grid", grid=GridParams(cell=20.0)))
+    assert r.status is Status.INFEASIBLE and "cannot be reached" in r.message
+    assert "no path on the coarser lattices either (40 m)" in r.message

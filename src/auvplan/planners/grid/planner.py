@@ -268,9 +268,11 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     t0 = time.perf_counter()
     best, cell = _plan_lattice(problem, spec, reference)
     params = spec.grid
-    if not (params.converge and params.ladder and best.status.ok):
+    if not (params.converge and params.ladder) or best.status in (Status.INVALID_START, Status.INVALID_GOAL):
         return best
     lower, upper = search_box(problem)
+    if cell <= 0:  # the finest lattice was refused (over max_nodes): the ladder starts from its cell
+        cell = auto_cell(problem.world, lower, upper, params)[0]
     top = float(np.min(upper[:2] - lower[:2])) / 25.0
     cells, won, edges, coarse = [cell], cell, best.evaluations, cell
     while coarse < top:
@@ -278,8 +280,12 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
         run, _ = _plan_lattice(problem, replace(spec, grid=replace(params, cell=coarse)))
         cells.append(coarse)
         edges += run.evaluations
-        if run.status.ok and run.cost < best.cost:
+        if run.status.ok and (not best.status.ok or run.cost < best.cost):
             best, won = run, coarse
+    if not best.status.ok:  # no lattice of the ladder found a path: the finest one's failure, tried cells named
+        return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
+                       message=f"{best.message}; no path on the coarser lattices either "
+                       f"({', '.join(f'{c:g}' for c in cells[1:])} m)" if len(cells) > 1 else best.message)
     return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
                    message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
                    f"{won:g} m")
