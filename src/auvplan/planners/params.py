@@ -84,7 +84,8 @@ class GridParams:
     target_nodes : int
         Node count the automatic cell size aims at.
     max_nodes : int
-        Refuse lattices larger than this (memory guard: the reference needs about 45 bytes a node).
+        Refuse lattices larger than this (memory guard: the reference's peak is about 42 bytes a node
+        plus 13 MB; :func:`auvplan.io.limits.lattice_bytes` estimates it).
     objective : str
         ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
     relax_iterations : int
