@@ -268,7 +268,7 @@ class _Run:
         h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
         k1, sp = _direction(field, x)
         if field.direction is not None:
-            ref = 1.0
+            ref: float | FloatArray = 1.0
             missed = ((x - T) @ field.direction > 0) & ~arrived
         else:
             ref = params.strength / (FOUR_PI * np.maximum(dist_goal, 1e-300) ** 2)

@@ -43,7 +43,7 @@ from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
 from ..params import GridParams
 from .band import _converge, _refine, edge_cost, path_cost, resample_free
-from .lattice import edge_bits, node_fields, search
+from .lattice import down32, edge_bits, node_fields, search
 
 __all__ = ["GridReference", "plan_grid", "run_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
            "path_cost", "resample_free", "with_reference"]
@@ -137,6 +137,7 @@ class GridReference:
         use_cost = params.objective == "cost"
         self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
         bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        links = self._links(alt, obs) if params.any_angle > 0 else None
         del alt, obs
         near, w_goal = self._connect(self.goal, towards=True)
         keep = np.isfinite(w_goal)
@@ -155,8 +156,21 @@ class GridReference:
             if np.any(span > 0):
                 c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
         self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
-                                                      start_near, start, c_min)
+                                                      start_near, start, c_min, links)
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
+
+    def _links(self, alt: np.ndarray, obs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, bool, bool,
+                                                                 float, float, np.ndarray]:
+        """The any-angle links' settings for :func:`~auvplan.planners.grid.lattice.search`: the node
+        fields, the land's signed distance per column (rounded down) and the seabed's slope."""
+        w = self.world
+        land = np.zeros((1, 1), np.float32)
+        if w.land is not None:
+            columns = np.stack(np.meshgrid(self.axes[0], self.axes[1], indexing="ij"), axis=-1)
+            land = down32(np.asarray(w.land.signed_distance(columns), dtype=float))
+        slope = float(w.terrain.max_slope) if w.terrain is not None else 0.0
+        return (int(self.params.any_angle), alt, obs, land, w.terrain is not None, w.land is not None, slope,
+                float(w.margins.min_altitude), self.goal)
 
     def _cost_per_metre(self, current: np.ndarray) -> float:
         """A lower bound of any lattice edge's cost per metre (A*'s heuristic): 1 for the length;
