@@ -32,6 +32,8 @@ from ..._types import ArrayLike, FloatArray, IntArray
 from ...cost import energy_kernel
 from ...world import World
 from .anyangle import link_exact, link_guess
+from .heap import pop as _pop
+from .heap import push as _push
 
 __all__ = ["HALF", "OFFSETS", "node_fields", "edge_bits", "edge_states", "search", "down32"]
 
@@ -247,62 +249,6 @@ def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost
     if blocked:
         return np.inf
     return max(w_length * ds + w_energy * units, 1e-12)
-
-
-@kernel
-def _sift_up(heap: Any, pos: Any, key: FloatArray, i: int) -> None:
-    node = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        if key[heap[parent]] <= key[node]:
-            break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
-        i = parent
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _sift_down(heap: Any, pos: Any, key: FloatArray, i: int, size: int) -> None:
-    node = heap[i]
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
-            c += 1
-        if key[heap[c]] >= key[node]:
-            break
-        heap[i] = heap[c]
-        pos[heap[i]] = i
-        i = c
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
-    """Queue ``u`` (or move it up after its key fell); returns the new heap size."""
-    if pos[u] == -1:
-        heap[size] = u
-        pos[u] = size
-        size += 1
-    _sift_up(heap, pos, key, pos[u])
-    return size
-
-
-@kernel
-def _pop(heap: Any, pos: Any, key: FloatArray, size: int, mark: int) -> int:
-    """Remove the root ``heap[0]`` (its ``pos`` set to ``mark``: -2 settled, -1 free to queue again);
-    the last entry moves to the root and sifts down.  Returns the new heap size."""
-    pos[heap[0]] = mark
-    size -= 1
-    if size > 0:
-        heap[0] = heap[size]
-        pos[heap[0]] = 0
-        _sift_down(heap, pos, key, 0, size)
-    return size
 
 
 @kernel
