@@ -345,13 +345,15 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
             for m in range(start_near.size):
                 if start_near[m] == v:
                     best = min(best, dist[v] + w_start[m])
+        mask = bits[v]
         for s in range(26):
-            # the edge u -> v along direction s starts at u = v - offsets[s]
-            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
-            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
+            # the edge u -> v along direction s starts at u = v - offsets[s]; it is free when v's edge back
+            # along the reverse direction is (one edge, both bits set): no bounds test, no load of bits[u]
+            if not (mask >> (s + 13 if s < 13 else s - 13)) & 1:
                 continue
+            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
             u = (ui * ny + uj) * nz + uk
-            if pos[u] == -2 or not (bits[u] >> s) & 1:
+            if pos[u] == -2:
                 continue
             via = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
                                          document)
