@@ -6,7 +6,9 @@
    exact segment test; each edge is weighted by the planner's own cost function
    (``w_L`` length + ``w_E`` energy in the current field, :func:`auvplan.cost.segment_energy`)
    in its own direction, or by length alone.
-3. One Dijkstra search from the goal on the reversed graph gives the cost-to-go of every node;
+3. One Dijkstra search from the goal on the reversed graph gives the cost-to-go of every node
+   (with ``[planner.grid] any_angle``, lazy Theta*'s straight links past the 26 directions,
+   :mod:`auvplan.planners.grid.anyangle`);
    any start is then answered without searching again (:class:`GridReference`, "plan once,
    query many").  The search is compiled and generates the edges on the fly from one bit per
    direction and node (which edges are free) and the node currents, so the lattice needs a
@@ -262,7 +264,9 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     With ``converge`` and ``ladder`` (the defaults) the lattices 2, 4, … times coarser, up to
     the first at least 1/25 of the search box's narrower side, are planned and refined the same
     way and the cheapest plan wins: the candidates of a cell include those of the cell twice as
-    coarse, so halving the cell never gives a worse reference.
+    coarse, so halving the cell never gives a worse reference.  The ladder also runs when the finest
+    lattice finds no path or is refused over ``max_nodes`` (a coarser one may find one); when none
+    does, the finest lattice's failure is returned with the cells tried named.
 
     Parameters
     ----------
