@@ -316,7 +316,7 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
     """Dijkstra (``c_min = 0``) or A* towards ``start`` from the goal over the reversed lattice,
     with any-angle links of up to ``link`` cells (0: the 26 directions only); see :func:`search`.
     Returns the nodes settled."""
-    nx, ny, nz = shape[0], shape[1], shape[2]
+    ny, nz = shape[1], shape[2]
     pf = np.empty(3)  # the far end of a link, in cells
     size = 0
     for k in range(near.size):
