@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -53,6 +53,12 @@ MODULES ?=
 mutants: $(STAMP)
 	$(BIN)/python tools/oracle_mutants.py
 	nice -n 10 $(BIN)/python tools/mutate.py $(MODULES) --jobs 1 --doc docs/mutants.md
+
+# the simulator's and the flow planner's CPU against the previous release, checked out into a temporary
+# git worktree and timed in the same run (ratios and bit-identity in results/bench-regress/summary.md)
+PREV ?= 3e02e1a
+bench-regress: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --out results/bench-regress
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

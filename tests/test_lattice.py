@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from auvplan.cost import CostModel
+from auvplan.io.limits import lattice_bytes
 from auvplan.planners import GridParams, GridReference
 from auvplan.planners.common import cost_model_for, search_box
 from auvplan.planners.grid.lattice import HALF, edge_states, node_fields
@@ -88,3 +89,5 @@ def test_lattice_memory_grows_with_nodes_not_edges():
     assert ref.nodes > 900_000 and ref.edges > 20 * ref.nodes
     assert held / ref.nodes <= 13.1
     assert peak / ref.nodes < 60
+    # the scenario budget's estimate ([limits] memory_mb) is the measured peak within a factor 2, never below
+    assert peak <= lattice_bytes(ref.nodes) <= 2.0 * peak

@@ -93,7 +93,7 @@ def test_zero_length_route_legs_and_one_point_routes_are_refused():
     ("[sim]\ndt = 1e-9\n", ("[sim]", "dt", "memory_mb")),
     ('[[moving]]\nradius = 5.0\nmotion = "random-walk"\nstart = [0.0, 0.0, -50.0]\nspeed = 1.0\n'
      "duration = 1e12\n", ("[[moving]] #1", "duration / dt", "memory_mb")),
-    ("[planner.grid]\ncell = 0.01\n", ("[planner.grid]", "lattice", "memory_mb")),
+    ("[planner.grid]\ncell = 0.01\nmax_nodes = 100000000000\n", ("[planner.grid]", "lattice", "memory_mb")),
 ])
 def test_resource_bombs_are_refused_with_the_estimate_and_the_key_to_raise(extra, needles):
     msg = rejects(extra, *needles)

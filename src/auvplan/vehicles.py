@@ -310,13 +310,16 @@ class Vehicle:
         s.u = self._a_u * s.u + (1.0 - self._a_u) * min(max(u_c, 0.0), p.max_speed)
         theta_c = min(max(theta_c, -self._thmax), self._thmax)
         s.theta = self._a_th * s.theta + (1.0 - self._a_th) * theta_c
-        s.v_wave = self._a_w * s.v_wave + p.wave_sigma_v * self._s_w * noise[0]
-        s.r_wave = self._a_w * s.r_wave + p.wave_sigma_r * self._s_w * noise[1]
+        # Python floats, not numpy scalars: a numpy scalar here made the whole state numpy scalars and
+        # every later step's arithmetic (guidance, events) several times slower; the values are the same
+        n0, n1 = float(noise[0]), float(noise[1])
+        s.v_wave = self._a_w * s.v_wave + p.wave_sigma_v * self._s_w * n0
+        s.r_wave = self._a_w * s.r_wave + p.wave_sigma_r * self._s_w * n1
         sp, cp = math.sin(s.psi), math.cos(s.psi)
         ct = math.cos(s.theta)
-        vx = s.u * ct * sp + s.v_wave * cp + current[0]
-        vy = s.u * ct * cp - s.v_wave * sp + current[1]
-        vz = s.u * math.sin(s.theta) + current[2]
+        vx = s.u * ct * sp + s.v_wave * cp + float(current[0])
+        vy = s.u * ct * cp - s.v_wave * sp + float(current[1])
+        vz = s.u * math.sin(s.theta) + float(current[2])
         s.x += vx * self.dt
         s.y += vy * self.dt
         s.z += vz * self.dt

@@ -195,15 +195,15 @@ class PredictiveAvoidance(LocalAvoidance):
         p = np.asarray(pos, dtype=float)
         statics = [o[:3] for o in obstacles if not o[3]]
         psi_b, _, rp = self.base.command(float(p[0]), float(p[1]), float(p[2]), current, self.speed, statics, dt)
-        cur = np.asarray(current, dtype=float)
-        v_now = (p - self._last_p) / dt if self._last_p is not None \
-            else self.speed * np.array([math.sin(psi_b), math.cos(psi_b), 0.0]) + cur
-        self._last_p = p
+        last, self._last_p = self._last_p, p
         self.speed_command = self.speed
         sensed = [o for o in obstacles if o[3] and o[2] <= self.params.sensor_range]
         if not sensed and self.subgoal is None:
             self.mode = "route"
             return psi_b, None, rp
+        cur = np.asarray(current, dtype=float)  # the velocity over ground only when a decision needs it
+        v_now = (p - last) / dt if last is not None \
+            else self.speed * np.array([math.sin(psi_b), math.cos(psi_b), 0.0]) + cur
         t0 = time.perf_counter()
         self.decisions += 1
         try:

@@ -99,6 +99,10 @@ class RouteTracker:
         self.cum = np.r_[0.0, np.cumsum(self.length)]
         self.switch_radius = float(switch_radius)
         self.k = 0
+        # the per-step look-ups on Python floats (numpy scalars cost several times more per operation)
+        self._w, self._len, self._cum = self.w.tolist(), self.length.tolist(), self.cum.tolist()
+        self._course, self._gamma = self.course.tolist(), self.gamma.tolist()
+        self._cs = [(math.cos(c), math.sin(c)) for c in self._course]
 
     @property
     def total_length(self) -> float:
@@ -110,8 +114,8 @@ class RouteTracker:
         self.k = 0
 
     def _locate(self, x: float, y: float, k: int) -> tuple[float, float]:
-        a = self.w[k]
-        c, s = math.cos(self.course[k]), math.sin(self.course[k])
+        a = self._w[k]
+        c, s = self._cs[k]
         dx, dy = x - a[0], y - a[1]
         along = dx * s + dy * c
         cross = dx * c - dy * s
@@ -130,19 +134,20 @@ class RouteTracker:
         RoutePoint
             Active leg, along- and cross-track position, progress and reference depth.
         """
-        last = self.length.size - 1
+        lengths, w = self._len, self._w
+        last = len(lengths) - 1
         while self.k < last:
             along, _ = self._locate(x, y, self.k)
-            if along >= self.length[self.k] - self.switch_radius:
+            if along >= lengths[self.k] - self.switch_radius:
                 self.k += 1
             else:
                 break
         k = self.k
         along, cross = self._locate(x, y, k)
-        frac = min(max(along / self.length[k], 0.0), 1.0) if self.length[k] > 0 else 1.0
-        z_ref = float(self.w[k, 2] + frac * (self.w[k + 1, 2] - self.w[k, 2]))
-        progress = float(self.cum[k] + min(max(along, 0.0), self.length[k]))
-        return RoutePoint(k, along, cross, float(self.course[k]), progress, z_ref, float(self.gamma[k]), k == last)
+        frac = min(max(along / lengths[k], 0.0), 1.0) if lengths[k] > 0 else 1.0
+        z_ref = w[k][2] + frac * (w[k + 1][2] - w[k][2])
+        progress = self._cum[k] + min(max(along, 0.0), lengths[k])
+        return RoutePoint(k, along, cross, self._course[k], progress, z_ref, self._gamma[k], k == last)
 
     def cross_track(self, points: ArrayLike) -> NDArray[np.float64]:
         """Horizontal distance of points to the whole polyline.

@@ -11,7 +11,10 @@ machine) minutes later.  The per-item byte counts are measured peaks (``tracemal
 * swarm population × samples: ~200 B per sample point (population arrays, cost temporaries);
 * random-walk obstacle track: ~100 B per step (``duration / dt``);
 * simulation record: ~(96 + 8 × obstacles) B per recorded step;
-* lattice reference planner: ~1.3 kB per node (edges, costs, Dijkstra heap);
+* lattice reference planner: ~48 B per node plus 24 MiB (:func:`lattice_bytes`; node fields by
+  slabs, one bit per edge and direction, the compiled search's arrays; measured by ``tracemalloc``
+  on marcus-wake at 1 000, 500 and 250 m: peak = 41.6 B per node + 13 MB, so the estimate is
+  1.2–1.7× the measured peak from 10⁵ nodes up, within 2× in ``tests/test_lattice.py``);
 * a data variable read from a file (NetCDF, GeoTIFF): ~24 B per declared cell (float64 values,
   the masked/filled copy, flips; measured 15 B, 21 B with a flipped axis), from the file's header
   — *before* a byte of it is read, so a 5 MB sparse file that declares 400 000 × 400 000 cells is
@@ -49,6 +52,8 @@ __all__ = [
     "BYTES_PER_SAMPLE",
     "BYTES_PER_WALK_STEP",
     "BYTES_PER_LATTICE_NODE",
+    "LATTICE_FIXED_BYTES",
+    "lattice_bytes",
     "BYTES_PER_DATA_CELL",
     "BYTES_PER_TIMEOPT_NODE",
     "BYTES_PER_TABLE_SAMPLE",
@@ -68,7 +73,8 @@ __all__ = [
 BYTES_PER_TERRAIN_NODE = 160
 BYTES_PER_SAMPLE = 200
 BYTES_PER_WALK_STEP = 100
-BYTES_PER_LATTICE_NODE = 1300
+BYTES_PER_LATTICE_NODE = 48
+LATTICE_FIXED_BYTES = 24 * 1024 * 1024
 BYTES_PER_DATA_CELL = 24
 BYTES_PER_TIMEOPT_NODE = 900
 BYTES_PER_TABLE_SAMPLE = 44
@@ -258,6 +264,23 @@ def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon
     nodes = (_floor(span_x / cell + 1e-9) + 1.0) * (_floor(span_y / cell + 1e-9) + 1.0) * max(levels, 1)
     steps = max(-_floor(-horizon_s / dt), 1.0) + 1.0
     return nodes, steps, nodes * (BYTES_PER_TIMEOPT_NODE + steps * BYTES_PER_TABLE_SAMPLE)
+
+
+def lattice_bytes(nodes: float) -> float:
+    """Estimate the peak memory of the lattice reference planner building and searching a lattice.
+
+    Parameters
+    ----------
+    nodes : float
+        Lattice nodes.
+
+    Returns
+    -------
+    float
+        Bytes: :data:`BYTES_PER_LATTICE_NODE` a node plus :data:`LATTICE_FIXED_BYTES` (the node
+        fields' slab temporaries, the per-column seabed and land).
+    """
+    return float(nodes) * BYTES_PER_LATTICE_NODE + LATTICE_FIXED_BYTES
 
 
 def grid_nodes(span_x: float, span_y: float, cell: float) -> float:

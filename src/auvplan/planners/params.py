@@ -84,7 +84,8 @@ class GridParams:
     target_nodes : int
         Node count the automatic cell size aims at.
     max_nodes : int
-        Refuse lattices larger than this (memory guard: the reference needs about 45 bytes a node).
+        Refuse lattices larger than this (memory guard: the reference's peak is about 42 bytes a node
+        plus 13 MB; :func:`auvplan.io.limits.lattice_bytes` estimates it).
     objective : str
         ``"cost"`` (length and energy terms of the planner's cost function, default) or ``"length"``.
     relax_iterations : int
@@ -101,6 +102,15 @@ class GridParams:
         With ``converge``: also plan on the lattices 2, 4, … times coarser (up to 1/25 of the
         search box's narrower side) and keep the cheapest, so that halving the cell never gives
         a worse reference.
+    any_angle : int
+        Longest any-angle link of the lattice search in cells on each axis (lazy Theta*,
+        :mod:`auvplan.planners.grid.anyangle`): a node links straight to a node up to this far
+        when the node fields clear the segment, so the cost-to-go is not bound to the 26 lattice
+        directions (16: within 0.8 % of the straight-line distance in open water, ``tests/test_grid.py``);
+        0 (default) = the 26 directions only (metricated: up to 8 % long).  Off by default: on the
+        sphere scene of ``tests/test_grid.py`` the refinement of the any-angle lattice path settles
+        0.2 % above the geodesic (the conservative clearance test sends it round another side),
+        where the 26-direction path refines to it within 10⁻⁵ (``docs/lattice.md``).
 
     Raises
     ------
@@ -119,8 +129,11 @@ class GridParams:
     converge: bool = True
     converge_tol: float = 1e-5
     ladder: bool = True
+    any_angle: int = 0
 
     def __post_init__(self) -> None:
+        if self.any_angle < 0:
+            raise ValueError(f"any_angle = {self.any_angle}: must be >= 0 (0 = the 26 lattice directions only)")
         if not 0.0 < self.converge_tol < 1.0:
             raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
         if self.cell < 0 or self.cell_z < 0:

@@ -120,7 +120,9 @@ class UniformCurrent(CurrentField):
             Velocities ``(..., 3)`` (m/s; east, north, up).
         """
         p = as_points(points)
-        return np.broadcast_to(np.asarray(self.vector, dtype=float), p.shape).copy()
+        out = np.empty(p.shape)
+        out[...] = self.vector  # broadcast into a fresh array (cheaper than broadcast_to + copy per step)
+        return out
 
     @property
     def max_speed(self) -> float:

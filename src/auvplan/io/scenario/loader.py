@@ -444,7 +444,7 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
     else:
         nodes = grid.target_nodes
     _limits.check(limits, f"{src}: [planner.grid]", f"a reference lattice of ~{nodes:.3g} nodes",
-                  nodes * _limits.BYTES_PER_LATTICE_NODE)
+                  _limits.lattice_bytes(nodes))
 
 
 def _check_geometry(src: str, m: MissionSpec, sim: SimParams) -> None:

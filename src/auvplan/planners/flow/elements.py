@@ -57,7 +57,7 @@ def sink_velocity(p: ArrayLike, target: ArrayLike, m: float = 1.0) -> FloatArray
         Velocity ``(..., 3)`` (m/s).
     """
     r = np.asarray(p, dtype=float) - np.asarray(target, dtype=float)
-    n = np.linalg.norm(r, axis=-1, keepdims=True)
+    n = np.sqrt(np.add.reduce(r * r, axis=-1, keepdims=True))  # np.linalg.norm's sum and root, without its wrapper
     u: FloatArray = -m * r / (FOUR_PI * np.maximum(n, 1e-300) ** 3)
     return u
 

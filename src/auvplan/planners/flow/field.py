@@ -82,6 +82,12 @@ from 10⁻⁹ of the largest radius to past the 1 % band in which a body's insid
 
 
 # ---------------------------------------------------------------------- several obstacles
+def _norm(q: FloatArray) -> FloatArray:
+    """``np.linalg.norm(q, axis=-1)`` without its wrapper (the same sum and root: the same bits)."""
+    out: FloatArray = np.sqrt(np.add.reduce(q * q, axis=-1))
+    return out
+
+
 def blend_weights(d: FloatArray, kind: str = "normalised") -> FloatArray:
     """Blend weights of the obstacles' fields from their surface distances.
 
@@ -238,7 +244,7 @@ class FlowField:
         """
         kind = kind or self.params.distance
         p = np.asarray(p, dtype=float)
-        out = [np.linalg.norm(p[..., None, :] - self.C, axis=-1) - self.A] if self.spheres else []
+        out = [_norm(p[..., None, :] - self.C) - self.A] if self.spheres else []
         for ob, body in zip(self.ellipsoids, self.bodies):
             if self.contained:
                 d = body.distance(p)
@@ -352,16 +358,21 @@ class FlowField:
             assert self.direction is not None  # set by the constructor for the uniform field
             return np.stack([uniform_dipole_velocity(p, c, a, self.direction) for c, a in zip(self.C, self.A)], 1)
         q = p[:, None, :] - self.C
-        Tc = self.target - self.C
-        b = np.linalg.norm(Tc, axis=-1)
-        e = Tc / b[:, None]
-        L = self.A**2 / b
-        q1 = q - (L[:, None] * e)
-        R0 = np.linalg.norm(q, axis=-1)[..., None]
-        R1 = np.linalg.norm(q1, axis=-1)[..., None]
+        consts = self.__dict__.get("_image_consts")
+        if consts is None:  # the images' fixed figures, once per field (they were the bulk of a small call)
+            Tc = self.target - self.C
+            b = np.linalg.norm(Tc, axis=-1)
+            e = Tc / b[:, None]
+            L = self.A**2 / b
+            consts = self._image_consts = ((L[:, None] * e), -(m * self.A / (FOUR_PI * b))[:, None],
+                                           (m / (FOUR_PI * self.A) * 2.0 * L)[:, None], L[:, None] ** 2)
+        shift, k_image, k_line, L2 = consts
+        q1 = q - shift
+        R0 = _norm(q)[..., None]
+        R1 = _norm(q1)[..., None]
         S = R0 + R1
-        image = -(m * self.A / (FOUR_PI * b))[:, None] * q1 / R1**3
-        line = (m / (FOUR_PI * self.A) * 2.0 * L)[:, None] / (S * S - L[:, None] ** 2) * (q / R0 + q1 / R1)
+        image = k_image * q1 / R1**3
+        line = k_line / (S * S - L2) * (q / R0 + q1 / R1)
         parts: FloatArray = sink_velocity(p, self.target, m)[:, None, :] + image + line
         return parts
 

@@ -35,7 +35,7 @@ import numpy.typing as npt
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..params import FlowParams
-from .field import FlowField
+from .field import FlowField, _norm
 
 __all__ = ["Streamlines", "integrate_streamlines"]
 
@@ -133,8 +133,8 @@ def _deflect(field: FlowField, x: FloatArray, d: FloatArray, h_min: float) -> tu
     moved = x.copy()
     mask = np.zeros(n, dtype=bool)
     K = len(field.items)
-    if K == 0:
-        return mask, moved
+    if K == 0 or not (d[:, :K] < max(2.0 * h_min, 0.02 * float(field.radii.max()))).any():
+        return mask, moved  # no point near enough to any surface for the rule (the usual step)
     j = d[:, :K].argmin(axis=1)
     for k in np.unique(j):
         sel = np.flatnonzero(j == k)
@@ -247,8 +247,9 @@ class _Run:
         """The front stagnation rule's sideways step as step ``k`` (:func:`_deflect`); returns the
         streamlines left to integrate and their flow distances."""
         defl, moved = _deflect(field, self.p[idx], dall, h_min)
-        far = np.linalg.norm(self.p[idx] - field.target, axis=1) > arrive
-        defl &= far & (self.deflections[idx] < MAX_DEFLECTIONS)
+        if defl.any():
+            far = np.linalg.norm(self.p[idx] - field.target, axis=1) > arrive
+            defl &= far & (self.deflections[idx] < MAX_DEFLECTIONS)
         if defl.any():
             j = idx[defl]
             self.advance(k, j, moved[defl], field.clearance(moved[defl]))
@@ -262,12 +263,12 @@ class _Run:
         x, T = self.p[idx], field.target
         d = dall.min(axis=-1) if dall.shape[-1] else np.full(idx.size, np.inf)
         self.min_d[idx] = np.minimum(self.min_d[idx], _clearance_below(field, x, d, self.min_d[idx]))
-        dist_goal = np.linalg.norm(x - T, axis=1)
+        dist_goal = _norm(x - T)
         arrived = dist_goal <= params.arrive
         h = np.clip(params.step_factor * np.minimum(d, dist_goal), h_min, max(params.h_max, h_min))
         k1, sp = _direction(field, x)
         if field.direction is not None:
-            ref = 1.0
+            ref: float | FloatArray = 1.0
             missed = ((x - T) @ field.direction > 0) & ~arrived
         else:
             ref = params.strength / (FOUR_PI * np.maximum(dist_goal, 1e-300) ** 2)

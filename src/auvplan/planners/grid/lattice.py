@@ -31,6 +31,9 @@ from ..._jit import kernel
 from ..._types import ArrayLike, FloatArray, IntArray
 from ...cost import energy_kernel
 from ...world import World
+from .anyangle import link_exact, link_guess
+from .heap import pop as _pop
+from .heap import push as _push
 
 __all__ = ["HALF", "OFFSETS", "node_fields", "edge_bits", "edge_states", "search", "down32"]
 
@@ -249,62 +252,6 @@ def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost
 
 
 @kernel
-def _sift_up(heap: Any, pos: Any, key: FloatArray, i: int) -> None:
-    node = heap[i]
-    while i > 0:
-        parent = (i - 1) >> 1
-        if key[heap[parent]] <= key[node]:
-            break
-        heap[i] = heap[parent]
-        pos[heap[i]] = i
-        i = parent
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _sift_down(heap: Any, pos: Any, key: FloatArray, i: int, size: int) -> None:
-    node = heap[i]
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and key[heap[c + 1]] < key[heap[c]]:
-            c += 1
-        if key[heap[c]] >= key[node]:
-            break
-        heap[i] = heap[c]
-        pos[heap[i]] = i
-        i = c
-    heap[i] = node
-    pos[node] = i
-
-
-@kernel
-def _push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
-    """Queue ``u`` (or move it up after its key fell); returns the new heap size."""
-    if pos[u] == -1:
-        heap[size] = u
-        pos[u] = size
-        size += 1
-    _sift_up(heap, pos, key, pos[u])
-    return size
-
-
-@kernel
-def _pop(heap: Any, pos: Any, key: FloatArray, size: int, mark: int) -> int:
-    """Remove the root ``heap[0]`` (its ``pos`` set to ``mark``: -2 settled, -1 free to queue again);
-    the last entry moves to the root and sifts down.  Returns the new heap size."""
-    pos[heap[0]] = mark
-    size -= 1
-    if size > 0:
-        heap[0] = heap[size]
-        pos[heap[0]] = 0
-        _sift_down(heap, pos, key, 0, size)
-    return size
-
-
-@kernel
 def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, start: FloatArray,
                c_min: float) -> float:
     if c_min <= 0.0:
@@ -319,14 +266,58 @@ def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, 
 
 
 @kernel
+def _settle_link(v: int, shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any,
+                 use_cost: bool, w_length: float, w_energy: float, speed: float, power: float, document: bool,
+                 dist: FloatArray, nxt: Any, pos: Any, steps: FloatArray, alt: Any, obs: Any, land: Any,
+                 flags: Any, lipschitz: float, min_alt: float, goal: int, gf: FloatArray, pf: FloatArray) -> None:
+    """Lazy Theta*'s check of a node being settled: its tentative straight link, or the cheapest
+    lattice edge to a settled neighbour (:mod:`auvplan.planners.grid.anyangle`)."""
+    nx, ny, nz = shape[0], shape[1], shape[2]
+    p = nxt[v]
+    vk, vj, vi = v % nz, (v // nz) % ny, v // (nz * ny)
+    pk, pj, pi = p % nz, (p // nz) % ny, p // (nz * ny)
+    if p == goal:
+        pf[0], pf[1], pf[2] = gf[0], gf[1], gf[2]
+    else:
+        pf[0], pf[1], pf[2] = pi, pj, pk
+    if p != goal and max(abs(pi - vi), abs(pj - vj), abs(pk - vk)) <= 1:
+        for s in range(26):  # a lattice neighbour: the link is the lattice edge, if free
+            if vi + offsets[s, 0] == pi and vj + offsets[s, 1] == pj and vk + offsets[s, 2] == pk:
+                if (bits[v] >> s) & 1:
+                    dist[v] = dist[p] + _edge_weight(v, p, s, vec, current, use_cost, w_length, w_energy, speed,
+                                                     power, document)
+                    return
+    guess = dist[v]
+    best = dist[p] + link_exact(v, pf, ny, nz, steps, alt, obs, land, flags[0], flags[1], lipschitz, min_alt,
+                                current, use_cost, w_length, w_energy, speed, power, document)
+    to = p
+    if not best <= guess * (1.0 + 1e-12):
+        for s in range(26):
+            wi, wj, wk = vi + offsets[s, 0], vj + offsets[s, 1], vk + offsets[s, 2]
+            if wi < 0 or wi >= nx or wj < 0 or wj >= ny or wk < 0 or wk >= nz or not (bits[v] >> s) & 1:
+                continue
+            w = (wi * ny + wj) * nz + wk
+            if pos[w] != -2:
+                continue
+            cand = dist[w] + _edge_weight(v, w, s, vec, current, use_cost, w_length, w_energy, speed, power, document)
+            if cand < best:
+                best, to = cand, w
+    dist[v] = best
+    nxt[v] = to
+
+
+@kernel
 def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any, use_cost: bool,
             w_length: float, w_energy: float, speed: float, power: float, document: bool, near: IntArray,
             w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, key: FloatArray, origin: FloatArray,
             steps: FloatArray, start: FloatArray, c_min: float, start_near: IntArray, w_start: FloatArray,
-            box: IntArray, heap: Any, pos: Any) -> int:
-    """Dijkstra (``c_min = 0``) or A* towards ``start`` from the goal over the reversed lattice;
-    see :func:`search`.  Returns the nodes settled."""
-    nx, ny, nz = shape[0], shape[1], shape[2]
+            box: IntArray, heap: Any, pos: Any, link: int, alt: Any, obs: Any, land: Any, flags: Any,
+            lipschitz: float, min_alt: float, gf: FloatArray) -> int:
+    """Dijkstra (``c_min = 0``) or A* towards ``start`` from the goal over the reversed lattice,
+    with any-angle links of up to ``link`` cells (0: the 26 directions only); see :func:`search`.
+    Returns the nodes settled."""
+    ny, nz = shape[1], shape[2]
+    pf = np.empty(3)  # the far end of a link, in cells
     size = 0
     for k in range(near.size):
         u = near[k]
@@ -343,6 +334,10 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
             break  # A*: no unsettled node leads to a cheaper start
         size = _pop(heap, pos, key, size, -2)
         settled += 1
+        if link > 0 and (nxt[v] != goal or max(abs(v // (nz * ny) - gf[0]), abs((v // nz) % ny - gf[1]),
+                                               abs(v % nz - gf[2])) > 2.01):  # a goal link of its own is exact
+            _settle_link(v, shape, bits, offsets, vec, current, use_cost, w_length, w_energy, speed, power, document,
+                         dist, nxt, pos, steps, alt, obs, land, flags, lipschitz, min_alt, goal, gf, pf)
         k = v % nz
         j = (v // nz) % ny
         i = v // (nz * ny)
@@ -350,20 +345,35 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
             for m in range(start_near.size):
                 if start_near[m] == v:
                     best = min(best, dist[v] + w_start[m])
+        mask = bits[v]
         for s in range(26):
-            # the edge u -> v along direction s starts at u = v - offsets[s]
+            # the edge u -> v along direction s starts at u = v - offsets[s]; it is free when v's edge back
+            # along the reverse direction is (one edge, both bits set): no bounds test, no load of bits[u]
+            if not (mask >> (s + 13 if s < 13 else s - 13)) & 1:
+                continue
             ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
-            if ui < 0 or ui >= nx or uj < 0 or uj >= ny or uk < 0 or uk >= nz:
-                continue
             u = (ui * ny + uj) * nz + uk
-            if pos[u] == -2 or not (bits[u] >> s) & 1:
+            if pos[u] == -2:
                 continue
-            alt = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
+            via = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
                                          document)
-            if alt < dist[u]:
-                dist[u] = alt
-                key[u] = alt + _heuristic(u, ny, nz, origin, steps, start, c_min)
-                nxt[u] = v
+            to = v
+            p = nxt[v]
+            if link > 0:  # Theta*: straight on to v's next node (or the goal), checked when u is settled
+                if p == goal:
+                    pf[0], pf[1], pf[2] = gf[0], gf[1], gf[2]
+                else:
+                    pf[0], pf[1], pf[2] = p // (nz * ny), (p // nz) % ny, p % nz
+                reach = max(abs(pf[0] - ui), abs(pf[1] - uj), abs(pf[2] - uk))
+                if reach <= link and (p != goal or reach > 2.01):  # within two cells the goal links are exact
+                    guess = dist[p] + link_guess(u, p if p != goal else -1, pf, ny, nz, steps, current, use_cost,
+                                                 w_length, w_energy, speed, power, document)
+                    if guess < via:
+                        via, to = guess, p
+            if via < dist[u]:
+                dist[u] = via
+                key[u] = via + _heuristic(u, ny, nz, origin, steps, start, c_min)
+                nxt[u] = to
                 size = _push(heap, pos, key, size, u)
     return settled
 
@@ -371,7 +381,8 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
 def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLike, current: Any,
            cost: tuple[float, float, float, float, bool] | None, goal_near: tuple[Any, Any],
            start_near: tuple[Any, Any] | None = None, start: ArrayLike | None = None,
-           c_min: float = 0.0) -> tuple[FloatArray, Any, int]:
+           c_min: float = 0.0, links: tuple[int, Any, Any, Any, bool, bool, float, float, Any] | None = None
+           ) -> tuple[FloatArray, Any, int]:
     """Cost-to-go from every node to the goal over the lattice (reversed Dijkstra), or A* for one start.
 
     Parameters
@@ -395,6 +406,12 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
         The start point (A*'s target).
     c_min : float
         Lower bound of any edge's cost per metre (0: plain Dijkstra over the whole lattice).
+    links : tuple, optional
+        Any-angle links (:mod:`~auvplan.planners.grid.anyangle`): ``(link, altitude, obstacle,
+        land, has_terrain, has_land, lipschitz, min_altitude, goal)`` with ``link`` the longest link
+        in cells, the node fields of :func:`node_fields`, the land's signed distance per column and
+        the goal point (links to it are tried beyond the two cells of its own links);
+        ``None``: the 26 lattice directions only.
 
     Returns
     -------
@@ -419,13 +436,19 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
         ijk = np.stack(np.unravel_index(sn, shape))
         box = np.stack([ijk.min(axis=1), ijk.max(axis=1)], axis=1).reshape(-1)
     w = cost if cost is not None else (1.0, 0.0, 1.0, 0.0, False)
+    empty3, empty2 = np.zeros((1, 1, 1), np.float32), np.zeros((1, 1), np.float32)
+    link, l_alt, l_obs, l_land, has_t, has_l, lip, min_alt, goal_point = links if links is not None else \
+        (0, empty3, empty3, empty2, False, False, 0.0, 0.0, np.zeros(3))
+    gf = (np.asarray(goal_point, dtype=float) - np.asarray(origin, dtype=float)) / np.asarray(steps, dtype=float)
     settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not None, float(w[0]),
                       float(w[1]), float(w[2]), float(w[3]), bool(w[4]), np.asarray(goal_near[0], dtype=np.int64),
                       np.asarray(goal_near[1], dtype=float), n, dist, nxt, key, np.asarray(origin, dtype=float),
                       np.asarray(steps, dtype=float), np.zeros(3) if start is None else np.asarray(start, float),
                       float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64),
                       np.asarray(ws, dtype=float), box, np.empty(n, dtype=np.int32),
-                      np.full(n, -1, dtype=np.int32))  # heap; pos: -1 never queued, -2 settled
+                      np.full(n, -1, dtype=np.int32),  # heap; pos: -1 never queued, -2 settled
+                      int(link), l_alt, l_obs, l_land, np.array([has_t, has_l]), float(lip), float(min_alt),
+                      gf)
     return dist, nxt, int(settled)
 
 

@@ -6,7 +6,9 @@
    exact segment test; each edge is weighted by the planner's own cost function
    (``w_L`` length + ``w_E`` energy in the current field, :func:`auvplan.cost.segment_energy`)
    in its own direction, or by length alone.
-3. One Dijkstra search from the goal on the reversed graph gives the cost-to-go of every node;
+3. One Dijkstra search from the goal on the reversed graph gives the cost-to-go of every node
+   (with ``[planner.grid] any_angle``, lazy Theta*'s straight links past the 26 directions,
+   :mod:`auvplan.planners.grid.anyangle`);
    any start is then answered without searching again (:class:`GridReference`, "plan once,
    query many").  The search is compiled and generates the edges on the fly from one bit per
    direction and node (which edges are free) and the node currents, so the lattice needs a
@@ -43,7 +45,7 @@ from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
 from ..params import GridParams
 from .band import _converge, _refine, edge_cost, path_cost, resample_free
-from .lattice import edge_bits, node_fields, search
+from .lattice import down32, edge_bits, node_fields, search
 
 __all__ = ["GridReference", "plan_grid", "run_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
            "path_cost", "resample_free", "with_reference"]
@@ -137,6 +139,7 @@ class GridReference:
         use_cost = params.objective == "cost"
         self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
         bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        links = self._links(alt, obs) if params.any_angle > 0 else None
         del alt, obs
         near, w_goal = self._connect(self.goal, towards=True)
         keep = np.isfinite(w_goal)
@@ -155,8 +158,21 @@ class GridReference:
             if np.any(span > 0):
                 c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
         self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
-                                                      start_near, start, c_min)
+                                                      start_near, start, c_min, links)
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
+
+    def _links(self, alt: np.ndarray, obs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, bool, bool,
+                                                                 float, float, np.ndarray]:
+        """The any-angle links' settings for :func:`~auvplan.planners.grid.lattice.search`: the node
+        fields, the land's signed distance per column (rounded down) and the seabed's slope."""
+        w = self.world
+        land = np.zeros((1, 1), np.float32)
+        if w.land is not None:
+            columns = np.stack(np.meshgrid(self.axes[0], self.axes[1], indexing="ij"), axis=-1)
+            land = down32(np.asarray(w.land.signed_distance(columns), dtype=float))
+        slope = float(w.terrain.max_slope) if w.terrain is not None else 0.0
+        return (int(self.params.any_angle), alt, obs, land, w.terrain is not None, w.land is not None, slope,
+                float(w.margins.min_altitude), self.goal)
 
     def _cost_per_metre(self, current: np.ndarray) -> float:
         """A lower bound of any lattice edge's cost per metre (A*'s heuristic): 1 for the length;
@@ -248,7 +264,9 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     With ``converge`` and ``ladder`` (the defaults) the lattices 2, 4, … times coarser, up to
     the first at least 1/25 of the search box's narrower side, are planned and refined the same
     way and the cheapest plan wins: the candidates of a cell include those of the cell twice as
-    coarse, so halving the cell never gives a worse reference.
+    coarse, so halving the cell never gives a worse reference.  The ladder also runs when the finest
+    lattice finds no path or is refused over ``max_nodes`` (a coarser one may find one); when none
+    does, the finest lattice's failure is returned with the cells tried named.
 
     Parameters
     ----------
@@ -268,9 +286,11 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     t0 = time.perf_counter()
     best, cell = _plan_lattice(problem, spec, reference)
     params = spec.grid
-    if not (params.converge and params.ladder and best.status.ok):
+    if not (params.converge and params.ladder) or best.status in (Status.INVALID_START, Status.INVALID_GOAL):
         return best
     lower, upper = search_box(problem)
+    if cell <= 0:  # the finest lattice was refused (over max_nodes): the ladder starts from its cell
+        cell = auto_cell(problem.world, lower, upper, params)[0]
     top = float(np.min(upper[:2] - lower[:2])) / 25.0
     cells, won, edges, coarse = [cell], cell, best.evaluations, cell
     while coarse < top:
@@ -278,8 +298,12 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
         run, _ = _plan_lattice(problem, replace(spec, grid=replace(params, cell=coarse)))
         cells.append(coarse)
         edges += run.evaluations
-        if run.status.ok and run.cost < best.cost:
+        if run.status.ok and (not best.status.ok or run.cost < best.cost):
             best, won = run, coarse
+    if not best.status.ok:  # no lattice of the ladder found a path: the finest one's failure, tried cells named
+        return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
+                       message=f"{best.message}; no path on the coarser lattices either "
+                       f"({', '.join(f'{c:g}' for c in cells[1:])} m)" if len(cells) > 1 else best.message)
     return replace(best, evaluations=edges, wall_time_s=time.perf_counter() - t0,
                    message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
                    f"{won:g} m")
