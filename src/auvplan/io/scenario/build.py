@@ -28,6 +28,7 @@ from ..data.currents import read_currents
 from ..data.geo import LocalFrame
 from ..data.tides import load_tidal_current, parse_start_time
 from .geoinput import apply_altitudes, clip_to_data
+from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 
@@ -312,9 +313,14 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
                                     "[mission] start_time (ISO 8601, UTC)")
             currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
                                           base_dir=s.base_dir)
+        elif c.members and not any(c.uniform):  # an ensemble alone: its first member is the nominal field
+            return member_fields(c.members, UniformCurrent(), frame, box, source=src, base_dir=s.base_dir,
+                                 start_time=s.mission.start_time, first_only=True)[0][1]
         else:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
+        if c.members and str(exc).startswith(f"{src}: [currents]"):
+            raise
         raise DataError(f"{src}: [currents] {exc}") from exc
     if not currents.covers(*box):
         what = f"file {c.file.path!r}" if c.file is not None else "field"  # type: ignore[union-attr]

@@ -24,6 +24,7 @@ from ..data.coast import LandSpec
 from ..data.currents import CurrentsFileSpec, parse_time
 from ..limits import Limits
 from .geoinput import GeoInput
+from .members import MemberSpec
 
 __all__ = [
     "Scenario",
@@ -169,12 +170,16 @@ class CurrentsSpec:
         A NetCDF current file (``file = "x.nc"`` or a table with its variable names).
     tides : str
         A built-in tidal station set or a station JSON file.
+    members : tuple of MemberSpec
+        A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
+        every member; the nominal field is the one above, or the first member when none is given.
     """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
     file: str | CurrentsFileSpec | None = None
     tides: str = ""
+    members: tuple[MemberSpec, ...] = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
