@@ -153,7 +153,7 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World]:
+def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:
     from .io.scenario import loader as scenario_io
     from .planners import plan, reference, with_reference
     from .sim import planning_problem
@@ -169,16 +169,25 @@ def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, 
     if getattr(args, "pipeline", None):
         spec = replace(spec, pipeline=args.pipeline)
     seed = sc.seed if args.seed is None else args.seed
+    from .cli_ensemble import scenario_members
+
+    members = scenario_members(sc, world)  # issue 39: [currents] members, read (and checked) before planning
     bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
+    ensemble: dict[str, Any] = {}
     try:
-        result = plan(problem, spec, seed, bar)
+        if members:  # the plan flown in every member, or the robust plan
+            from .cli_ensemble import ensemble_plan
+
+            result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed)
+        else:
+            result = plan(problem, spec, seed, bar)
     finally:
         bar.close()
     if getattr(args, "reference", False):
         bar.stage("reference: the converged lattice plan and the seeded iabc, pso, de at twice the budget")
         result = with_reference(result, problem, spec, reference(problem, spec))
-    return sc, result, seed, world
+    return sc, result, seed, world, ensemble
 
 
 def _duration(text: str, what: str) -> float:
@@ -287,8 +296,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.objective:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
-    sc, result, seed, world = _plan(args, quiet=False)
+    sc, result, seed, world, ensemble = _plan(args, quiet=False)
     record = records.plan_record(result, sc.name, seed)
+    record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:
         record.update(records.fit_metrics(world.terrain.fit))
     if args.reference:
