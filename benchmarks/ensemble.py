@@ -1,0 +1,171 @@
+"""Two ocean models over one sea (issue 39): robust plans over the ensemble, and re-planning in flight.
+
+    .venv/bin/python benchmarks/ensemble.py [--pairs 100] [--intervals 3600 1800] [--out results/ensemble]
+
+Built-in scenario ``lofoten-two-models``: MET Norway's Arctic-20km forecast (the vehicle's forecast, the
+nominal member) and its Nordic-4km hindcast (the truth) off Lofoten, 2-4 February 2016.  ``--pairs``
+start/goal pairs at 50 m depth, more than 20 km apart, in free water, are drawn with a seeded generator
+(seed = pair index); each is
+
+* planned robustly (:func:`auvplan.ensemble.plan_robust`, ``p90``) and nominally (on the forecast), both
+  flown in both members: the P90 over the two members and the arrival in the other member (the truth);
+* flown through the truth (:mod:`auvplan.ensemble.replan`): the oracle (planned on the truth), open loop
+  (the forecast's plan flown to its end, then a fix and homing) and re-planned on the forecast from a fix
+  every ``interval`` seconds; the loss is open loop minus oracle, the recovered share
+  (open loop − re-planned) / loss, summed over the pairs where the open loop arrives.
+
+Writes ``summary.json`` and ``pairs.json`` to ``--out`` and the figures of ``docs/ensembles.md``
+with ``--figures``.  Numbers are in ``docs/ensembles.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import time
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from auvplan.cli_ensemble import scenario_members
+from auvplan.ensemble import plan_robust
+from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
+from auvplan.io.scenario import loader as scenario
+
+
+def pairs(world, n: int, depth: float = -50.0, min_gap: float = 20000.0) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Seeded start/goal pairs in free water (pair i from seed i)."""
+    b = world.bounds
+    out = []
+    for i in range(n):
+        rng = np.random.default_rng(i)
+        while True:
+            a = np.r_[rng.uniform(b.xmin + 2000, b.xmax - 2000), rng.uniform(b.ymin + 2000, b.ymax - 2000), depth]
+            g = np.r_[rng.uniform(b.xmin + 2000, b.xmax - 2000), rng.uniform(b.ymin + 2000, b.ymax - 2000), depth]
+            if np.linalg.norm(a - g) > min_gap and world.is_free(np.stack([a, g])).all():
+                out.append((a, g))
+                break
+    return out
+
+
+def one(world, mission, members, a, g, intervals) -> dict:
+    """Robust vs nominal, and open loop vs re-planned, for one pair."""
+    m = replace(mission, start=tuple(a), goal=tuple(g))
+    forecast, truth_field = members[0][1], members[1][1]
+    truth = replace(world, currents=truth_field)
+    row: dict = {"start": a.tolist(), "goal": g.tolist()}
+    r = plan_robust(world, m, members, "p90", seed=1)
+    if r.nominal.score is None or r.chosen.score is None:
+        row["robust"] = None
+    else:
+        row["robust"] = {"candidate": r.chosen.label,
+                         "nominal_p90_s": r.nominal.score.arrival_p90_s, "robust_p90_s": r.chosen.score.arrival_p90_s,
+                         "nominal_truth_s": r.nominal.score.members[1].arrival_s,
+                         "robust_truth_s": r.chosen.score.members[1].arrival_s}
+    oracle = fly_open_loop(truth, truth_field, m, ReplanParams(), seed=1)
+    ol = fly_open_loop(truth, forecast, m, ReplanParams(), seed=1)
+    row["oracle_s"], row["open_s"], row["open_status"] = oracle.arrival_s, ol.arrival_s, ol.status.value
+    row["open_success"] = ol.success
+    for iv in intervals:
+        t0 = time.process_time()
+        rp = fly_replanning(truth, forecast, m, ReplanParams(interval_s=iv), seed=1)
+        row[f"replan_{iv:g}"] = {"arrival_s": rp.arrival_s, "status": rp.status.value, "success": rp.success,
+                                 "replans": rp.replans, "cpu_per_plan_s": float(np.mean(rp.plan_cpu_s)),
+                                 "cpu_max_s": float(np.max(rp.plan_cpu_s)), "cpu_s": time.process_time() - t0}
+    return row
+
+
+def summarise(rows: list[dict], intervals) -> dict:
+    """Arrivals, successes, losses and the recovered share."""
+    n = len(rows)
+    rob = [r["robust"] for r in rows if r["robust"] is not None]
+    s: dict = {"pairs": n,
+               "robust_p90_below_nominal": sum(x["robust_p90_s"] < x["nominal_p90_s"] - 1e-6 for x in rob),
+               "robust_p90_equal_nominal": sum(abs(x["robust_p90_s"] - x["nominal_p90_s"]) <= 1e-6 for x in rob),
+               "robust_p90_gain_mean_s": float(np.mean([x["nominal_p90_s"] - x["robust_p90_s"] for x in rob])),
+               "robust_truth_gain_mean_s": float(np.mean([x["nominal_truth_s"] - x["robust_truth_s"] for x in rob])),
+               "oracle_arrivals": sum(math.isfinite(r["oracle_s"]) for r in rows),
+               "open_arrivals": sum(math.isfinite(r["open_s"]) for r in rows),
+               "open_successes": sum(r["open_success"] for r in rows)}
+    for iv in intervals:
+        k = f"replan_{iv:g}"
+        both = [r for r in rows if math.isfinite(r["open_s"]) and math.isfinite(r[k]["arrival_s"])
+                and math.isfinite(r["oracle_s"])]
+        loss = sum(r["open_s"] - r["oracle_s"] for r in both)
+        gain = sum(r["open_s"] - r[k]["arrival_s"] for r in both)
+        s[k] = {"arrivals": sum(math.isfinite(r[k]["arrival_s"]) for r in rows),
+                "successes": sum(r[k]["success"] for r in rows),
+                "open_loss_s": loss, "recovered_s": gain, "recovered_share": gain / loss if loss > 0 else math.nan,
+                "mean_open_loss_pct": float(np.mean([100 * (r["open_s"] / r["oracle_s"] - 1) for r in both])),
+                "mean_replan_loss_pct": float(np.mean([100 * (r[k]["arrival_s"] / r["oracle_s"] - 1) for r in both])),
+                "cpu_per_plan_mean_s": float(np.mean([r[k]["cpu_per_plan_s"] for r in rows])),
+                "cpu_per_plan_max_s": float(np.max([r[k]["cpu_max_s"] for r in rows])),
+                "replans_mean": float(np.mean([r[k]["replans"] for r in rows]))}
+    return s
+
+
+def figures(world, mission, members, a, g, out: Path) -> None:
+    """Tracks of the oracle, the open loop and the re-planned flight of one pair over the seabed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    m = replace(mission, start=tuple(a), goal=tuple(g))
+    truth = replace(world, currents=members[1][1])
+    flights = {"oracle (planned on the truth)": fly_open_loop(truth, members[1][1], m, seed=1),
+               "open loop (forecast plan)": fly_open_loop(truth, members[0][1], m, seed=1),
+               "re-planned every hour": fly_replanning(truth, members[0][1], m, seed=1)}
+    fig, ax = plt.subplots(figsize=(6.5, 6))
+    t = world.terrain
+    pc = ax.pcolormesh(t.x / 1000, t.y / 1000, t.z, cmap="Blues_r", shading="auto")
+    fig.colorbar(pc, ax=ax, label="seabed elevation (m)")
+    xx, yy = np.meshgrid(np.linspace(world.bounds.xmin, world.bounds.xmax, 12),
+                         np.linspace(world.bounds.ymin, world.bounds.ymax, 12))
+    pts = np.c_[xx.ravel(), yy.ravel(), np.full(xx.size, -50.0)]
+    for (name, f), col in zip(members, ("tab:orange", "k")):
+        c = f.velocity(pts, 43200.0)
+        ax.quiver(xx / 1000, yy / 1000, c[:, 0], c[:, 1], color=col, scale=3, width=0.003, label=f"{name} at +12 h")
+    for (label, fl), col in zip(flights.items(), ("k", "tab:red", "tab:green")):
+        ax.plot(fl.track[:, 0] / 1000, fl.track[:, 1] / 1000, color=col,
+                label=f"{label}: {fl.arrival_s / 3600:.1f} h" if fl.arrived else f"{label}: {fl.status.value}")
+    ax.plot(*(np.c_[a, g][:2] / 1000), "o", color="m")
+    ax.set(xlabel="x east (km)", ylabel="y north (km)", title="lofoten-two-models: truth Nordic-4km, forecast Arctic-20km")
+    ax.legend(fontsize=7, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(out / "ensembles_tracks.png", dpi=110)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--pairs", type=int, default=100)
+    ap.add_argument("--intervals", type=float, nargs="+", default=[3600.0, 1800.0])
+    ap.add_argument("--out", default="results/ensemble")
+    ap.add_argument("--figures", default="", help="folder for the figures (docs/img)")
+    args = ap.parse_args()
+    sc = scenario.load("lofoten-two-models")
+    world, mission = scenario.build(sc)
+    members = scenario_members(sc, world)
+    rows = []
+    t0 = time.perf_counter()
+    for i, (a, g) in enumerate(pairs(world, args.pairs)):
+        rows.append(one(world, mission, members, a, g, args.intervals))
+        print(i, json.dumps(rows[-1]), flush=True)
+    summary = summarise(rows, args.intervals)
+    summary["wall_s"] = time.perf_counter() - t0
+    summary["load"] = os.getloadavg()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "pairs.json").write_text(json.dumps(rows, indent=1))
+    (out / "summary.json").write_text(json.dumps(summary, indent=1))
+    print(json.dumps(summary, indent=1))
+    if args.figures:
+        a, g = np.asarray(mission.start), np.asarray(mission.goal)
+        figures(world, mission, members, a, g, Path(args.figures))
+
+
+if __name__ == "__main__":
+    main()
