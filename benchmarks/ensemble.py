@@ -133,7 +133,8 @@ def figures(world, mission, members, a, g, out: Path) -> None:
         ax.plot(fl.track[:, 0] / 1000, fl.track[:, 1] / 1000, color=col,
                 label=f"{label}: {fl.arrival_s / 3600:.1f} h" if fl.arrived else f"{label}: {fl.status.value}")
     ax.plot(*(np.c_[a, g][:2] / 1000), "o", color="m")
-    ax.set(xlabel="x east (km)", ylabel="y north (km)", title="lofoten-two-models: truth Nordic-4km, forecast Arctic-20km")
+    ax.set(xlabel="x east (km)", ylabel="y north (km)",
+           title="lofoten-two-models: truth Nordic-4km, forecast Arctic-20km")
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(out / "ensembles_tracks.png", dpi=110)
