@@ -193,3 +193,27 @@ def test_bad_member_exits_2_naming_file_key_value(tmp_path, capsys, member, key,
     assert main(["plan", str(f), "--json"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "bad.toml" in err[0] and "members[2]" in err[0] and key in err[0] and value in err[0]
+
+
+def test_open_loop_drifts_by_the_forecast_error_times_the_planned_time(two):
+    """Dead reckoning in uniform currents: the forecast's plan, flown in the truth, ends exactly at
+    goal + (c_true - c_forecast) T_forecast; with a perfect forecast it arrives at the closed-form time."""
+    from dataclasses import replace
+
+    from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
+
+    _, world, mission, _ = two
+    c_true = (0.3, -0.2, 0.0)
+    fc, true = UniformCurrent(C1), UniformCurrent(c_true)
+    perfect = fly_open_loop(replace(world, currents=fc), fc, mission, ReplanParams(dt=30.0), seed=1)
+    t1 = _closed_form(C1)[0]
+    assert perfect.success and perfect.replans == 0 and perfect.arrival_s == pytest.approx(t1, rel=1e-6)
+    truth = replace(world, currents=true)
+    ol = fly_open_loop(truth, fc, mission, ReplanParams(dt=30.0), seed=1)
+    k = int(np.argmin(np.abs(ol.times - t1)))  # the end of the first plan's schedule
+    drift = (np.subtract(c_true, C1) * t1)[:2]
+    assert ol.track[k, :2] == pytest.approx(np.add(GOAL[:2], drift), abs=1e-6)
+    assert ol.replans == 1 and ol.arrived  # one homing plan from the fix
+    rp = fly_replanning(truth, fc, mission, ReplanParams(interval_s=900.0, dt=30.0), seed=1)
+    assert rp.arrived and rp.replans >= 3 and rp.arrival_s < ol.arrival_s
+    assert len(rp.plan_cpu_s) == rp.replans + 1

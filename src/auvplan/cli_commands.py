@@ -507,6 +507,8 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
+        if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
+            rec["clearance_confidence"] = sc.mission.confidence
         checks.append(rec)
         worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
         if not args.json:
@@ -522,6 +524,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
                   + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
             print(f"{name}: {energy_line}")
+            if sc.mission.confidence:
+                print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
+                      f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst

@@ -31,6 +31,7 @@ from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
+from .uncertainty import seabed_at_confidence
 
 __all__ = ["build", "check_plan_sizes"]
 
@@ -176,8 +177,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             data = terrain if terrain is not None else _terrain(s, frame, None)
             extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
             s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
-        if terrain is None:
-            terrain = _terrain(s, frame, extent)
+        if terrain is None:  # (a saved cut-out is the seabed the run used: already at its confidence)
+            terrain = seabed_at_confidence(s, _terrain(s, frame, extent), frame, extent)
         if s.geo is not None and s.geo.altitudes:
             s = _place_altitudes(s, terrain)
         bounds = _bounds(s, terrain)
