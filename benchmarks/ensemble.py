@@ -107,18 +107,12 @@ def summarise(rows: list[dict], intervals) -> dict:
     return s
 
 
-def figures(world, mission, members, a, g, out: Path) -> None:
-    """Tracks of the oracle, the open loop and the re-planned flight of one pair over the seabed."""
+def _axes(world, members, title):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    m = replace(mission, start=tuple(a), goal=tuple(g))
-    truth = replace(world, currents=members[1][1])
-    flights = {"oracle (planned on the truth)": fly_open_loop(truth, members[1][1], m, seed=1),
-               "open loop (forecast plan)": fly_open_loop(truth, members[0][1], m, seed=1),
-               "re-planned every hour": fly_replanning(truth, members[0][1], m, seed=1)}
     fig, ax = plt.subplots(figsize=(6.5, 6))
     t = world.terrain
     pc = ax.pcolormesh(t.x / 1000, t.y / 1000, t.z, cmap="Blues_r", shading="auto")
@@ -129,15 +123,37 @@ def figures(world, mission, members, a, g, out: Path) -> None:
     for (name, f), col in zip(members, ("tab:orange", "k")):
         c = f.velocity(pts, 43200.0)
         ax.quiver(xx / 1000, yy / 1000, c[:, 0], c[:, 1], color=col, scale=3, width=0.003, label=f"{name} at +12 h")
+    ax.set(xlabel="x east (km)", ylabel="y north (km)", title=title)
+    return fig, ax
+
+
+def figures(world, mission, members, out: Path) -> None:
+    """Tracks of the oracle, the open loop and the re-planned flight of one pair over the seabed; the nominal
+    and the robust routes of the scenario's own mission."""
+    a, g = np.array([-15000.0, -15000.0, -50.0]), np.array([15000.0, 15000.0, -50.0])
+    m = replace(mission, start=tuple(a), goal=tuple(g))
+    truth = replace(world, currents=members[1][1])
+    flights = {"oracle (planned on the truth)": fly_open_loop(truth, members[1][1], m, seed=1),
+               "open loop (forecast plan)": fly_open_loop(truth, members[0][1], m, seed=1),
+               "re-planned every hour": fly_replanning(truth, members[0][1], m, seed=1)}
+    fig, ax = _axes(world, members, "truth Nordic-4km, forecast Arctic-20km: flights")
     for (label, fl), col in zip(flights.items(), ("k", "tab:red", "tab:green")):
         ax.plot(fl.track[:, 0] / 1000, fl.track[:, 1] / 1000, color=col,
                 label=f"{label}: {fl.arrival_s / 3600:.1f} h" if fl.arrived else f"{label}: {fl.status.value}")
     ax.plot(*(np.c_[a, g][:2] / 1000), "o", color="m")
-    ax.set(xlabel="x east (km)", ylabel="y north (km)",
-           title="lofoten-two-models: truth Nordic-4km, forecast Arctic-20km")
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(out / "ensembles_tracks.png", dpi=110)
+    r = plan_robust(world, mission, members, "p90", seed=1)
+    fig, ax = _axes(world, members, "lofoten-two-models: nominal and robust (p90) routes")
+    for c, col in ((r.nominal, "tab:red"), (r.chosen, "tab:green")):
+        times = ", ".join(f"{x.name} {x.arrival_s / 3600:.1f} h" for x in c.score.members)
+        ax.plot(c.route[:, 0] / 1000, c.route[:, 1] / 1000, color=col, lw=2,
+                label=f"{'nominal' if c is r.nominal else 'robust'} ({c.label}): {times}; "
+                      f"P90 {c.score.arrival_p90_s / 3600:.1f} h")
+    ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(out / "ensembles_robust.png", dpi=110)
 
 
 def main() -> None:
@@ -150,6 +166,9 @@ def main() -> None:
     sc = scenario.load("lofoten-two-models")
     world, mission = scenario.build(sc)
     members = scenario_members(sc, world)
+    if args.pairs == 0:  # the figures alone
+        figures(world, mission, members, Path(args.figures or "."))
+        return
     rows = []
     t0 = time.perf_counter()
     for i, (a, g) in enumerate(pairs(world, args.pairs)):
@@ -164,8 +183,7 @@ def main() -> None:
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
     print(json.dumps(summary, indent=1))
     if args.figures:
-        a, g = np.asarray(mission.start), np.asarray(mission.goal)
-        figures(world, mission, members, a, g, Path(args.figures))
+        figures(world, mission, members, Path(args.figures))
 
 
 if __name__ == "__main__":

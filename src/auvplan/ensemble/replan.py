@@ -176,7 +176,8 @@ def _finish(truth: World, forecast: CurrentField, mission: Mission, p: ReplanPar
     model = EnergyModel.from_vehicle(v)
     xs, ts = np.vstack(track), np.concatenate(times)
     pos, t = xs[-1], float(ts[-1])
-    free = truth.path_free(xs) and truth.bounds.contains(xs).all()
+    inside = bool(truth.bounds.contains(xs).all())
+    free = inside and truth.path_free(xs)
 
     def done(status: Status, arrival: float, message: str = "") -> Flight:
         t_end = float(ts[-1]) if not math.isfinite(arrival) else arrival
@@ -186,7 +187,8 @@ def _finish(truth: World, forecast: CurrentField, mission: Mission, p: ReplanPar
         return Flight(status, arrival, energy, xs, ts, replans, tuple(cpu), message)
 
     if not free:
-        return done(Status.COLLISION, math.inf, "the track meets the seabed, land or an obstacle")
+        return done(Status.COLLISION, math.inf, "the track meets the seabed, land or an obstacle" if inside else
+                    "the track leaves the operating box ([bounds])")
     goal = np.asarray(mission.goal, dtype=float)
     if float(np.linalg.norm(pos - goal)) <= mission.sim.arrival_radius:
         return done(Status.EXACT, t)
