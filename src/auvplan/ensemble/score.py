@@ -63,7 +63,13 @@ class MemberScore:
         return self.status is Status.EXACT
 
     def as_dict(self) -> dict[str, Any]:
-        """JSON fields: ``name``, ``arrival_s``, ``status``, ``success``, ``energy_wh``, ``heading_deg``."""
+        """The member's JSON fields.
+
+        Returns
+        -------
+        dict
+            ``name``, ``arrival_s``, ``status``, ``success``, ``energy_wh``, ``heading_deg``.
+        """
         return {"name": self.name, "arrival_s": self.arrival_s, "status": self.status.value, "success": self.success,
                 "energy_wh": self.energy_wh, "heading_deg": self.heading_deg}
 
@@ -88,7 +94,13 @@ class EnsembleScore:
     success_probability: float
 
     def as_dict(self) -> dict[str, Any]:
-        """The ``plan --json`` fields: ``arrival_p50_s``, ``arrival_p90_s``, ``success_probability``, ``members``."""
+        """The ``plan --json`` fields.
+
+        Returns
+        -------
+        dict
+            ``arrival_p50_s``, ``arrival_p90_s``, ``success_probability`` and ``members``.
+        """
         return {"arrival_p50_s": self.arrival_p50_s, "arrival_p90_s": self.arrival_p90_s,
                 "success_probability": self.success_probability, "members": [m.as_dict() for m in self.members]}
 

@@ -101,7 +101,18 @@ class PerturbedCurrent(CurrentField):
         return out
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the base field covers the box (see :meth:`CurrentField.covers`)."""
+        """Whether the field is defined over the whole horizontal box (the base's).
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            True when every point of the box is inside the field's domain.
+        """
         return self.base.covers(xmin, xmax, ymin, ymax)
 
     @property
@@ -146,7 +157,18 @@ class MeanCurrent(CurrentField):
         return total / len(self.members)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether every member covers the box."""
+        """Whether the field is defined over the whole horizontal box (every member's).
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            True when every point of the box is inside the field's domain.
+        """
         return all(m.covers(xmin, xmax, ymin, ymax) for m in self.members)
 
     @property
@@ -188,7 +210,18 @@ class ShiftedCurrent(CurrentField):
         return self.base.velocity(points, self.t0 + t)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the base covers the box."""
+        """Whether the field is defined over the whole horizontal box (the base's).
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            True when every point of the box is inside the field's domain.
+        """
         return self.base.covers(xmin, xmax, ymin, ymax)
 
     @property
