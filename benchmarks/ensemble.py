@@ -1,6 +1,7 @@
 """Two ocean models over one sea (issue 39): robust plans over the ensemble, and re-planning in flight.
 
     .venv/bin/python benchmarks/ensemble.py [--pairs 100] [--intervals 3600 1800] [--out results/ensemble]
+                                            [--workers N] [--figures docs/img]
 
 Built-in scenario ``lofoten-two-models``: MET Norway's Arctic-20km forecast (the vehicle's forecast, the
 nominal member) and its Nordic-4km hindcast (the truth) off Lofoten, 2-4 February 2016.  ``--pairs``
@@ -14,13 +15,17 @@ start/goal pairs at 50 m depth, more than 20 km apart, in free water, are drawn 
   every ``interval`` seconds; the loss is open loop minus oracle, the recovered share
   (open loop − re-planned) / loss, summed over the pairs where the open loop arrives.
 
-Writes ``summary.json`` and ``pairs.json`` to ``--out`` and the figures of ``docs/ensembles.md``
-with ``--figures``.  Numbers are in ``docs/ensembles.md``.
+The pairs run on dask.distributed with ``--workers N`` (a local cluster, one thread a worker; each pair
+is seeded by its index, so the rows do not depend on the worker count).  Writes ``summary.json`` and
+``pairs.json`` to ``--out`` and, with ``--figures``, the figures of ``docs/ensembles.md``: the flights of
+one pair, the nominal and robust routes, and the spread of the forecast plan's tracks and arrival times
+flown in a 20-member perturbation ensemble of the forecast.  Numbers are in ``docs/ensembles.md``.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import math
 import os
@@ -34,13 +39,30 @@ from auvplan.cli_ensemble import scenario_members
 from auvplan.ensemble import plan_robust
 from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 from auvplan.io.scenario import loader as scenario
+from auvplan.world.ensemble_fields import PerturbedCurrent
 
 
-def pairs(world, n: int, depth: float = -50.0, min_gap: float = 20000.0) -> list[tuple[np.ndarray, np.ndarray]]:
+@functools.lru_cache(maxsize=1)
+def context():
+    """The built-in scenario's world, mission and members (once per process: each dask worker reads them once)."""
+    sc = scenario.load("lofoten-two-models")
+    world, mission = scenario.build(sc)
+    return world, mission, scenario_members(sc, world)
+
+
+def pair_row(i: int, intervals: tuple[float, ...]) -> dict:
+    """Pair i (from seed i) planned, scored and flown: the unit of work of a sweep."""
+    world, mission, members = context()
+    a, g = pairs(world, i + 1, first=i)[0]
+    return {"pair": i, **one(world, mission, members, a, g, intervals)}
+
+
+def pairs(world, n: int, depth: float = -50.0, min_gap: float = 20000.0,
+          first: int = 0) -> list[tuple[np.ndarray, np.ndarray]]:
     """Seeded start/goal pairs in free water (pair i from seed i)."""
     b = world.bounds
     out = []
-    for i in range(n):
+    for i in range(first, n):
         rng = np.random.default_rng(i)
         while True:
             a = np.r_[rng.uniform(b.xmin + 2000, b.xmax - 2000), rng.uniform(b.ymin + 2000, b.ymax - 2000), depth]
@@ -156,24 +178,68 @@ def figures(world, mission, members, out: Path) -> None:
     fig.savefig(out / "ensembles_robust.png", dpi=110)
 
 
+def spread(world, mission, members, out: Path, count: int = 20) -> dict:
+    """The forecast's plan flown open loop in a perturbation ensemble of the forecast (spread 0.1 m/s, 10 km):
+    the spread of its tracks and arrival times, beside the same plan in the truth."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    a, g = np.array([-15000.0, -15000.0, -50.0]), np.array([15000.0, 15000.0, -50.0])
+    m = replace(mission, start=tuple(a), goal=tuple(g))
+    forecast = members[0][1]
+    ens = [PerturbedCurrent(forecast, 0.1, 10000.0, seed=j) for j in range(count)]
+    flights = [fly_open_loop(replace(world, currents=f), forecast, m, seed=1) for f in ens]
+    truth = fly_open_loop(replace(world, currents=members[1][1]), forecast, m, seed=1)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 5))
+    t = world.terrain
+    ax.pcolormesh(t.x / 1000, t.y / 1000, t.z, cmap="Blues_r", shading="auto")
+    for f in flights:
+        ax.plot(f.track[:, 0] / 1000, f.track[:, 1] / 1000, color="tab:orange", lw=0.8, alpha=0.8)
+    ax.plot(truth.track[:, 0] / 1000, truth.track[:, 1] / 1000, color="k", lw=1.5, label="in the truth (Nordic-4km)")
+    ax.plot([], [], color="tab:orange", label=f"in {count} perturbed forecasts (σ 0.1 m/s, L 10 km)")
+    ax.set(xlabel="x east (km)", ylabel="y north (km)", title="the forecast's plan flown open loop")
+    ax.legend(fontsize=7, loc="lower right")
+    arr = np.array([f.arrival_s for f in flights]) / 3600
+    ok = np.isfinite(arr)
+    bx.hist(arr[ok], bins=10, color="tab:orange")
+    if truth.arrived:
+        bx.axvline(truth.arrival_s / 3600, color="k", label="in the truth")
+    bx.set(xlabel="arrival (h)", ylabel="members", title=f"arrivals: {ok.sum()} of {count} members")
+    fig.tight_layout()
+    fig.savefig(out / "ensembles_spread.png", dpi=110)
+    return {"members": count, "arrived": int(ok.sum()), "p50_h": float(np.percentile(arr[ok], 50)),
+            "p90_h": float(np.percentile(arr[ok], 90)), "truth_h": truth.arrival_s / 3600,
+            "successes": sum(f.success for f in flights)}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--pairs", type=int, default=100)
     ap.add_argument("--intervals", type=float, nargs="+", default=[3600.0, 1800.0])
     ap.add_argument("--out", default="results/ensemble")
     ap.add_argument("--figures", default="", help="folder for the figures (docs/img)")
+    ap.add_argument("--workers", type=int, default=0, help="dask.distributed local workers (0: in this process)")
     args = ap.parse_args()
-    sc = scenario.load("lofoten-two-models")
-    world, mission = scenario.build(sc)
-    members = scenario_members(sc, world)
+    world, mission, members = context()
     if args.pairs == 0:  # the figures alone
         figures(world, mission, members, Path(args.figures or "."))
+        print(json.dumps(spread(world, mission, members, Path(args.figures or "."))))
         return
-    rows = []
+    intervals = tuple(args.intervals)
     t0 = time.perf_counter()
-    for i, (a, g) in enumerate(pairs(world, args.pairs)):
-        rows.append(one(world, mission, members, a, g, args.intervals))
-        print(i, json.dumps(rows[-1]), flush=True)
+    if args.workers:
+        from dask.distributed import Client, LocalCluster
+
+        with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True) as cluster, \
+                Client(cluster) as client:
+            rows = client.gather(client.map(pair_row, range(args.pairs), intervals=intervals))
+    else:
+        rows = []
+        for i in range(args.pairs):
+            rows.append(pair_row(i, intervals))
+            print(i, json.dumps(rows[-1]), flush=True)
     summary = summarise(rows, args.intervals)
     summary["wall_s"] = time.perf_counter() - t0
     summary["load"] = os.getloadavg()
@@ -184,6 +250,8 @@ def main() -> None:
     print(json.dumps(summary, indent=1))
     if args.figures:
         figures(world, mission, members, Path(args.figures))
+        summary["spread"] = spread(world, mission, members, Path(args.figures))
+        (out / "summary.json").write_text(json.dumps(summary, indent=1))
 
 
 if __name__ == "__main__":
