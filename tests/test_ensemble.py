@@ -231,3 +231,31 @@ def test_real_two_models_robust_p90_below_the_nominal(capsys):
     assert rec["nominal"]["arrival_p90_s"] == pytest.approx(92326.5, rel=0.02)
     assert [m["name"] for m in rec["members"]] == ["arctic20km", "nordic4km"]
     assert rec["success_probability"] == 1.0
+
+
+def test_one_file_with_a_realisation_dimension(tmp_path, capsys):
+    """An ensemble file (realization, y, x): one member per index, each with its own uniform value; a wrong
+    dimension name is refused naming the file, the key and the value."""
+    import xarray as xr
+
+    x = np.linspace(0.0, 4000.0, 5)
+    u = np.stack([np.full((5, 5), 0.1 * (k + 1)) for k in range(3)])
+    ds = xr.Dataset({"u": (("realization", "y", "x"), u, {"units": "m s-1"}),
+                     "v": (("realization", "y", "x"), -u, {"units": "m s-1"})},
+                    coords={"x": ("x", x, {"units": "m"}), "y": ("y", x, {"units": "m"})})
+    ds.to_netcdf(tmp_path / "ens.nc")
+    text = TWO.replace(TWO[TWO.index("members = "):TWO.index("[mission]")],
+                       'members = [ { file = "ens.nc", dimension = "realization" } ]\n')
+    (tmp_path / "e.toml").write_text(text)
+    sc = loader.load(tmp_path / "e.toml")
+    world, _ = loader.build(sc)
+    members = member_fields(sc.currents.members, world.currents, None, (0.0, 4000.0, 0.0, 4000.0), source="t",
+                            base_dir=tmp_path)
+    assert [n for n, _ in members] == ["ens[0]", "ens[1]", "ens[2]"]
+    for k, (_, f) in enumerate(members):
+        assert f.velocity(np.array([[1234.0, 2345.0, -50.0]]))[0] == pytest.approx([0.1 * (k + 1), -0.1 * (k + 1), 0])
+    assert world.currents.velocity(np.zeros((1, 3)))[0, 0] == pytest.approx(0.1)  # the nominal: the first member
+    (tmp_path / "e.toml").write_text(text.replace('dimension = "realization"', 'dimension = "member"'))
+    assert main(["plan", str(tmp_path / "e.toml"), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "e.toml" in err and "dimension = 'member'" in err and "realization" in err

@@ -1,7 +1,8 @@
 """``[currents] members``: the current fields of a forecast ensemble (issue 39).
 
 Each member is a table: ``{ file = "model.nc" }`` (a NetCDF current file, or a table with its
-variable names as ``[currents] file``), ``{ uniform = [u, v, w] }``, or
+variable names as ``[currents] file``; with ``dimension = "realization"`` one member per index of the
+file's member dimension), ``{ uniform = [u, v, w] }``, or
 ``{ perturbation = { count, spread_mps, correlation_m, seed } }`` which stands for ``count`` members
 made from the nominal ``[currents]`` field (its ``uniform``, ``vortices``, ``file`` or ``tides``)
 plus a smooth random perturbation of the stated spread and correlation length
@@ -16,6 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import xarray as xr
+
 from ...errors import DataError
 from ...world import CurrentField, UniformCurrent
 from ...world.ensemble_fields import PerturbedCurrent
@@ -23,6 +26,24 @@ from ..data.currents import CurrentsFileSpec, read_currents
 from ..data.geo import LocalFrame
 
 __all__ = ["PerturbationSpec", "MemberSpec", "member_fields"]
+
+
+def _dimension_size(spec: CurrentsFileSpec, dim: str, base_dir: Path | None, where: str) -> int:
+    """Length of a file's member dimension (the file is opened, not read)."""
+    path = Path(spec.path)
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    try:
+        with xr.open_dataset(path, decode_times=False) as ds:
+            sizes = dict(ds.sizes)
+    except (OSError, ValueError) as exc:
+        raise DataError(f"{where} file = {spec.path!r}: cannot read ({exc})") from exc
+    if dim not in sizes:
+        raise DataError(f"{where} dimension = {dim!r}: not a dimension of {spec.path!r} "
+                        f"(it has {', '.join(map(str, sizes)) or 'none'})")
+    if not 1 <= sizes[dim] <= 1000:
+        raise DataError(f"{where} dimension = {dim!r}: {sizes[dim]} members (1 to 1000 allowed)")
+    return int(sizes[dim])
 
 
 @dataclass(frozen=True)
@@ -71,12 +92,15 @@ class MemberSpec:
         A uniform current (m/s; east, north, up).
     perturbation : PerturbationSpec or None
         Perturbed copies of the nominal field.
+    dimension : str
+        With ``file``: the file's member/realisation dimension; the entry stands for one member per index.
     """
 
     name: str = ""
     file: str | CurrentsFileSpec | None = None
     uniform: tuple[float, float, float] | None = None
     perturbation: PerturbationSpec | None = None
+    dimension: str = ""
 
     def __post_init__(self) -> None:
         if isinstance(self.file, str):
@@ -85,6 +109,8 @@ class MemberSpec:
         if len(kinds) != 1:
             raise ValueError("give exactly one of 'file', 'uniform' and 'perturbation' "
                              f"(got {', '.join(kinds) or 'none'})")
+        if self.dimension and self.file is None:
+            raise ValueError(f"dimension = {self.dimension!r}: a member dimension needs a 'file'")
 
     @property
     def count(self) -> int:
@@ -133,16 +159,23 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
         if m.file is not None:
             spec = m.file
             assert isinstance(spec, CurrentsFileSpec)
-            try:
-                field: CurrentField = read_currents(spec, frame, base_dir=base_dir, extent_m=box,
-                                                    start_time=start_time)
-            except DataError as exc:
-                raise DataError(f"{where} file = {spec.path!r}: {exc}") from exc
             label = m.name or Path(spec.path).stem
-            if not field.covers(*box):
-                raise DataError(f"{where} file = {spec.path!r}: does not cover the bounds x [{box[0]:.0f}, "
-                                f"{box[1]:.0f}] y [{box[2]:.0f}, {box[3]:.0f}] m")
-            out.append((label, field))
+            picks: list[tuple[str, int] | None] = [None]
+            if m.dimension:
+                size = _dimension_size(spec, m.dimension, base_dir, where)
+                picks = [(m.dimension, j) for j in range(size)]
+            for pick in picks:
+                try:
+                    field: CurrentField = read_currents(spec, frame, base_dir=base_dir, extent_m=box,
+                                                        start_time=start_time, member=pick)
+                except DataError as exc:
+                    raise DataError(f"{where} file = {spec.path!r}: {exc}") from exc
+                if not field.covers(*box):
+                    raise DataError(f"{where} file = {spec.path!r}: does not cover the bounds x [{box[0]:.0f}, "
+                                    f"{box[1]:.0f}] y [{box[2]:.0f}, {box[3]:.0f}] m")
+                out.append((label if pick is None else f"{label}[{pick[1]}]", field))
+                if first_only:
+                    return tuple(out)
         elif m.uniform is not None:
             out.append((m.name or f"member{len(out)}", UniformCurrent(m.uniform)))
         else:
