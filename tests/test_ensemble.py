@@ -259,3 +259,14 @@ def test_one_file_with_a_realisation_dimension(tmp_path, capsys):
     assert main(["plan", str(tmp_path / "e.toml"), "--json"]) == 2
     err = capsys.readouterr().err
     assert "e.toml" in err and "dimension = 'member'" in err and "realization" in err
+
+
+def test_validate_reads_every_member(tmp_path, capsys):
+    f = tmp_path / "bad.toml"
+    f.write_text(TWO.replace("name = \"second\" }", "name = \"second\" }, { file = \"nope.nc\" }"))
+    assert main(["validate", str(f)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "members[2] file = 'nope.nc'" in err[0]
+    f.write_text(TWO)
+    assert main(["validate", str(f)]) == 0
+    assert "2 current members: member0, second; [planner] robust = 'p90'" in capsys.readouterr().out

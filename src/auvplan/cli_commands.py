@@ -115,6 +115,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
+    from .cli_ensemble import scenario_members
+
+    members = scenario_members(sc, world)  # [currents] members: every one read and checked
     b = world.bounds
     print(f"{sc.source}: OK — {sc.name}")
     print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
@@ -126,6 +129,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             print(f"  {t.fit.describe()}")
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    if members:
+        print(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
+              + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
+    if sc.mission.confidence:
+        print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
     if sc.survey is not None:
         from .io.results.survey import survey_params
 
