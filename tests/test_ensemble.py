@@ -214,8 +214,8 @@ def test_open_loop_drifts_by_the_forecast_error_times_the_planned_time(two):
     drift = (np.subtract(c_true, C1) * t1)[:2]
     assert ol.track[k, :2] == pytest.approx(np.add(GOAL[:2], drift), abs=1e-6)
     assert ol.replans == 1 and ol.arrived  # one homing plan from the fix
-    rp = fly_replanning(truth, fc, mission, ReplanParams(interval_s=900.0, dt=30.0), seed=1)
-    assert rp.arrived and rp.replans >= 3 and rp.arrival_s < ol.arrival_s
+    rp = fly_replanning(truth, fc, mission, ReplanParams(interval_s=1200.0, dt=30.0), seed=1)
+    assert rp.arrived and rp.replans >= 2 and rp.arrival_s < ol.arrival_s
     assert len(rp.plan_cpu_s) == rp.replans + 1
 
 
