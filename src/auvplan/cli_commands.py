@@ -115,6 +115,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
+    from .cli_ensemble import scenario_members
+
+    members = scenario_members(sc, world)  # [currents] members: every one read and checked
     b = world.bounds
     print(f"{sc.source}: OK — {sc.name}")
     print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
@@ -126,6 +129,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
             print(f"  {t.fit.describe()}")
     print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
           f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    if members:
+        print(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
+              + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
+    if sc.mission.confidence:
+        print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
     if sc.survey is not None:
         from .io.results.survey import survey_params
 
@@ -153,7 +161,7 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World]:
+def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:
     from .io.scenario import loader as scenario_io
     from .planners import plan, reference, with_reference
     from .sim import planning_problem
@@ -169,16 +177,25 @@ def _plan(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, 
     if getattr(args, "pipeline", None):
         spec = replace(spec, pipeline=args.pipeline)
     seed = sc.seed if args.seed is None else args.seed
+    from .cli_ensemble import scenario_members
+
+    members = scenario_members(sc, world)  # issue 39: [currents] members, read (and checked) before planning
     bar = _Progress(spec, sc.name, quiet or args.quiet)
     problem = planning_problem(world, mission)
+    ensemble: dict[str, Any] = {}
     try:
-        result = plan(problem, spec, seed, bar)
+        if members:  # the plan flown in every member, or the robust plan
+            from .cli_ensemble import ensemble_plan
+
+            result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed)
+        else:
+            result = plan(problem, spec, seed, bar)
     finally:
         bar.close()
     if getattr(args, "reference", False):
         bar.stage("reference: the converged lattice plan and the seeded iabc, pso, de at twice the budget")
         result = with_reference(result, problem, spec, reference(problem, spec))
-    return sc, result, seed, world
+    return sc, result, seed, world, ensemble
 
 
 def _duration(text: str, what: str) -> float:
@@ -287,8 +304,9 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     if args.objective:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
-    sc, result, seed, world = _plan(args, quiet=False)
+    sc, result, seed, world, ensemble = _plan(args, quiet=False)
     record = records.plan_record(result, sc.name, seed)
+    record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:
         record.update(records.fit_metrics(world.terrain.fit))
     if args.reference:
@@ -497,6 +515,8 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
+        if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
+            rec["clearance_confidence"] = sc.mission.confidence
         checks.append(rec)
         worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
         if not args.json:
@@ -512,6 +532,9 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
                   + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
             print(f"{name}: {energy_line}")
+            if sc.mission.confidence:
+                print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
+                      f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")
     if args.json:
         print(json.dumps(records.jsonable(checks[0] if len(checks) == 1 else checks)))
     return worst

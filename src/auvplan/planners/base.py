@@ -91,6 +91,10 @@ class PlannerSpec:
         Settings of the lattice reference planner.
     timeopt : TimeoptParams
         Settings of the time-optimal planner.
+    robust : str
+        With ``[currents] members`` (issue 39): ``"none"`` plans on the nominal field; ``"p90"``
+        plans one route for all members with the least 90th-percentile arrival time, ``"success"``
+        with the highest success probability (:mod:`auvplan.ensemble.robust`).
     _plugins : tuple of (str, object)
         Settings of planners registered from outside the package, by name (each read from the
         scenario's ``[planner.<name>]`` table into its registered settings type); use
@@ -129,6 +133,7 @@ class PlannerSpec:
     flow: FlowParams = field(default_factory=FlowParams)
     grid: GridParams = field(default_factory=GridParams)
     timeopt: TimeoptParams = field(default_factory=TimeoptParams)
+    robust: str = "none"
     _plugins: tuple[tuple[str, Any], ...] = ()
 
     def __post_init__(self) -> None:
@@ -160,6 +165,8 @@ class PlannerSpec:
         for k in ("w_length", "w_terrain", "w_energy", "terrain_penalty", "energy_scale"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
+        if self.robust not in ("none", "p90", "success"):
+            raise ValueError(f"robust = {self.robust!r}: choose 'none', 'p90' or 'success'")
 
     def params_for(self, name: str | None = None) -> Any:
         """The settings of a planner: its table of this spec, or its registered type's defaults.

@@ -100,6 +100,12 @@ class TerrainSpec:
         ``"cubic"``, ``"quintic"``, ``"pchip"`` (which can lie below it).
     nan_policy : str
         ``"error"``, ``"land"`` or ``"nearest"``.
+    uncertainty : str
+        Vertical uncertainty of the seabed (issue 39, :mod:`auvplan.world.uncertainty`): the name of the
+        file's one-sigma uncertainty variable (m), ``"slope"`` for the slope rule, or ``""`` (then
+        ``uncertainty_m`` alone, a constant).  Used with ``[mission] confidence``.
+    uncertainty_m : float
+        A constant one-sigma uncertainty (m), or the slope rule's floor σ₀.
     """
 
     file: str = ""
@@ -110,6 +116,8 @@ class TerrainSpec:
     resample_m: float = 0.0
     method: str = "conservative"
     nan_policy: str = "error"
+    uncertainty: str = ""
+    uncertainty_m: float = 0.0
 
     def __post_init__(self) -> None:
         if bool(self.file) == bool(self.builtin):
@@ -128,6 +136,10 @@ class TerrainSpec:
             raise ValueError(f"method must be one of {', '.join(METHODS)}; got {self.method!r}")
         if self.nan_policy not in ("error", "land", "nearest"):
             raise ValueError(f"nan_policy must be error, land or nearest; got {self.nan_policy!r}")
+        if self.uncertainty_m < 0:
+            raise ValueError(f"uncertainty_m = {self.uncertainty_m}: must be >= 0")
+        if self.uncertainty and self.uncertainty != "slope" and not self.file:
+            raise ValueError(f"uncertainty = {self.uncertainty!r}: a variable needs a [terrain] file (or use 'slope')")
 
 
 def builtin_terrain_path(name: str) -> Path:

@@ -306,7 +306,8 @@ def _directions(grid: HorizontalGrid, frame: LocalFrame, x: NDArray[np.float64],
 
 
 def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir: Path | None = None,
-                  extent_m: tuple[float, float, float, float] | None = None, start_time: str = "") -> GriddedCurrent:
+                  extent_m: tuple[float, float, float, float] | None = None, start_time: str = "",
+                  member: tuple[str, int] | None = None) -> GriddedCurrent:
     """Read the current file of ``spec`` into the local frame over ``extent_m`` (default: the data's own).
 
     Parameters
@@ -321,6 +322,8 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         ``(xmin, xmax, ymin, ymax)`` to cover (m).
     start_time : str, optional
         ISO 8601 UTC time of simulation ``t = 0``; the file's first time when empty.
+    member : (str, int), optional
+        ``(dimension, index)``: read one member of an ensemble file (issue 39).
 
     Returns
     -------
@@ -337,6 +340,8 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
         path = base_dir / path
     src = str(path)
     with _open(path, src) as ds:
+        if member is not None:  # one realisation of an ensemble file
+            ds = ds.isel({member[0]: member[1]})
         names = {c: _find(ds, c, getattr(spec, c), src, c != "w") for c in "uvw"}
         if is_s_coordinate(ds, str(names["u"])):  # ROMS/CROCO: s-levels, staggered u/v, turned by `angle`
             grid, t, z, comps = read_s_levels(ds, str(names["u"]), str(names["v"]), src,

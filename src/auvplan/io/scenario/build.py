@@ -28,8 +28,10 @@ from ..data.currents import read_currents
 from ..data.geo import LocalFrame
 from ..data.tides import load_tidal_current, parse_start_time
 from .geoinput import apply_altitudes, clip_to_data
+from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
+from .uncertainty import seabed_at_confidence
 
 __all__ = ["build", "check_plan_sizes"]
 
@@ -175,8 +177,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             data = terrain if terrain is not None else _terrain(s, frame, None)
             extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
             s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
-        if terrain is None:
-            terrain = _terrain(s, frame, extent)
+        if terrain is None:  # (a saved cut-out is the seabed the run used: already at its confidence)
+            terrain = seabed_at_confidence(s, _terrain(s, frame, extent), frame, extent)
         if s.geo is not None and s.geo.altitudes:
             s = _place_altitudes(s, terrain)
         bounds = _bounds(s, terrain)
@@ -312,9 +314,14 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
                                     "[mission] start_time (ISO 8601, UTC)")
             currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
                                           base_dir=s.base_dir)
+        elif c.members and not any(c.uniform):  # an ensemble alone: its first member is the nominal field
+            return member_fields(c.members, UniformCurrent(), frame, box, source=src, base_dir=s.base_dir,
+                                 start_time=s.mission.start_time, first_only=True)[0][1]
         else:
             currents = UniformCurrent(c.uniform)
     except DataError as exc:
+        if c.members and str(exc).startswith(f"{src}: [currents]"):
+            raise
         raise DataError(f"{src}: [currents] {exc}") from exc
     if not currents.covers(*box):
         what = f"file {c.file.path!r}" if c.file is not None else "field"  # type: ignore[union-attr]

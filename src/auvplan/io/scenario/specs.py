@@ -24,6 +24,7 @@ from ..data.coast import LandSpec
 from ..data.currents import CurrentsFileSpec, parse_time
 from ..limits import Limits
 from .geoinput import GeoInput
+from .members import MemberSpec
 
 __all__ = [
     "Scenario",
@@ -109,6 +110,8 @@ class SyntheticTerrainSpec:
         Half-width of the ridge (m).
     height : float
         Height of the ridge above the flat seabed (m).
+    uncertainty_m : float
+        One-sigma vertical uncertainty of the whole seabed (m), used with ``[mission] confidence``.
     """
 
     kind: str = "flat"
@@ -119,6 +122,7 @@ class SyntheticTerrainSpec:
     ridge_x: float = 0.0
     ridge_width: float = 10.0
     height: float = 0.0
+    uncertainty_m: float = 0.0
 
     def __post_init__(self) -> None:
         if self.kind not in ("flat", "plane", "hills", "ridge"):
@@ -127,6 +131,8 @@ class SyntheticTerrainSpec:
             raise ValueError(f"depth = {self.depth}: must be positive")
         if self.cell_m < 0 or self.ridge_width <= 0:
             raise ValueError("cell_m must be >= 0 and ridge_width > 0")
+        if self.uncertainty_m < 0:
+            raise ValueError(f"uncertainty_m = {self.uncertainty_m}: must be >= 0")
 
 
 @dataclass(frozen=True)
@@ -169,12 +175,16 @@ class CurrentsSpec:
         A NetCDF current file (``file = "x.nc"`` or a table with its variable names).
     tides : str
         A built-in tidal station set or a station JSON file.
+    members : tuple of MemberSpec
+        A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
+        every member; the nominal field is the one above, or the first member when none is given.
     """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
     vortices: tuple[VortexSpec, ...] = ()
     file: str | CurrentsFileSpec | None = None
     tides: str = ""
+    members: tuple[MemberSpec, ...] = ()
 
     def __post_init__(self) -> None:
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
@@ -209,6 +219,9 @@ class MissionSpec:
     follow_altitude_m : float
         Terrain following: fly the route or plan at this altitude above the seabed (m, at least
         ``min_altitude_m``), climbs started early enough for ``[vehicle] max_pitch_deg``; 0: off.
+    confidence : float
+        Plan and check against the worst-case seabed at this confidence, in (0.5, 1) (issue 39: the
+        ``[terrain]`` uncertainty raised by Φ⁻¹(confidence) σ); 0: the nominal seabed.
     """
 
     start: tuple[float, float, float]
@@ -221,6 +234,7 @@ class MissionSpec:
     surface: bool = True
     start_time: str = ""
     follow_altitude_m: float = 0.0
+    confidence: float = 0.0
 
     def __post_init__(self) -> None:
         if self.start_time:  # ISO 8601, matched to the current file's CF time or the tides
@@ -235,6 +249,8 @@ class MissionSpec:
             raise ValueError(f"max_depth_m = {self.max_depth_m}: must exceed min_depth_m")
         if any(not math.isfinite(v) for v in self.start + self.goal):
             raise ValueError("start and goal must be finite")
+        if self.confidence and not 0.5 < self.confidence < 1.0:
+            raise ValueError(f"confidence = {self.confidence}: must lie in (0.5, 1) (or 0: the nominal seabed)")
         if self.follow_altitude_m and not self.follow_altitude_m >= self.min_altitude_m:
             raise ValueError(f"follow_altitude_m = {self.follow_altitude_m}: must be 0 (off) or at least "
                              f"min_altitude_m = {self.min_altitude_m:g}")

@@ -99,7 +99,7 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     if dataclasses.is_dataclass(tp):
         if not isinstance(value, dict):
             raise table_error(where, key, value, "expected a table")
-        sub = f"{where.rstrip(']')}.{key}]" if where.endswith("]") else where
+        sub = f"{where[:-1]}.{key}]" if where.endswith("]") else where
         return build_dataclass(typing.cast(type, tp), value, sub)
     if tp is Any:
         return value
