@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points docs docs-bench
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -53,6 +53,25 @@ MODULES ?=
 mutants: $(STAMP)
 	$(BIN)/python tools/oracle_mutants.py
 	nice -n 10 $(BIN)/python tools/mutate.py $(MODULES) --jobs 1 --doc docs/mutants.md
+
+# every figure and picture of the docs from its measurement (docs/README.md): the demo and the mission
+# table (~2 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
+# picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
+docs: $(STAMP)
+	$(BIN)/python tools/docs_figures.py measure
+	@bash tools/install-chromium.sh
+	$(BIN)/python tools/report_screenshots.py --out docs/img
+	$(BIN)/python tools/scenario_reference.py
+	$(BIN)/python tools/architecture.py
+	$(BIN)/python tools/docs_figures.py sync
+
+# the Monte Carlo figures of the docs (avoidance-gauntlet, 500 seeds, predictive; ~15 min on 1 worker)
+docs-bench: $(STAMP)
+	rm -rf results/docs/gauntlet
+	$(BIN)/auvplan -q bench --scenarios avoidance-gauntlet --avoidance predictive --seeds 500 --randomise \
+		--plan-once --workers 1 --out results/docs/gauntlet
+	$(BIN)/python tools/docs_figures.py from-bench results/docs/gauntlet --name gauntlet-predictive
+	$(BIN)/python tools/docs_figures.py sync
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
