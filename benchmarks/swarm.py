@@ -199,7 +199,7 @@ def main(argv=None) -> int:
     ap.add_argument("--budget", type=int, default=10_000, help="evaluations per run in the equal-budget mode")
     ap.add_argument("--peers", action="store_true", help="also run mealpy ABC and pymoo PSO on the same cost")
     ap.add_argument("--out", default="results/bench-swarm")
-    ap.add_argument("--figure", type=Path, help="also write the table there (docs/figures/swarm-marcus.md, make docs-bench)")
+    ap.add_argument("--figure", type=Path, help="also write the table there (docs/figures/swarm-marcus.md)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

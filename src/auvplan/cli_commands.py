@@ -428,7 +428,8 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     if figures:
         from .viz import plots
 
-        plots.write_mission_figures(out / "figures", world, record, save=save_figure)
+        plots.write_mission_figures(out / "figures", world, record, save=save_figure,
+                                    to_lonlat=frame.inverse if frame else None)
     return path
 
 
