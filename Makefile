@@ -65,12 +65,14 @@ docs: $(STAMP)
 	$(BIN)/python tools/architecture.py
 	$(BIN)/python tools/docs_figures.py sync
 
-# the Monte Carlo figures of the docs (avoidance-gauntlet, 500 seeds, predictive; ~15 min on 1 worker)
+# the benchmark figures of the docs: avoidance-gauntlet Monte Carlo (500 seeds, predictive; ~15 min on 1 worker)
+# and the swarm algorithms on marcus-wake (10 seeds, ~5 min)
 docs-bench: $(STAMP)
 	rm -rf results/docs/gauntlet
 	$(BIN)/auvplan -q bench --scenarios avoidance-gauntlet --avoidance predictive --seeds 500 --randomise \
 		--plan-once --workers 1 --out results/docs/gauntlet
 	$(BIN)/python tools/docs_figures.py from-bench results/docs/gauntlet --name gauntlet-predictive
+	$(BIN)/python benchmarks/swarm.py --seeds 10 --out results/docs/swarm --figure docs/figures/swarm-marcus.md
 	$(BIN)/python tools/docs_figures.py sync
 
 lint: $(STAMP)
