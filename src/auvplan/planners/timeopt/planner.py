@@ -216,6 +216,8 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
     paths : list, optional
         When given, receives each departure's timed plan as ``(points (M, 3), speed)`` (None
         where there is none), for the energy budget of each departure (:mod:`auvplan.endurance`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each departure (the command line's bar and ETA).
 
     Returns
     -------
