@@ -94,3 +94,33 @@ def test_static_plan_view_is_framed_on_the_map_and_dressed_as_a_chart():
     track = next(c for c in ax.collections if isinstance(c, LineCollection) and c.get_array() is not None)
     drawn = {to_hex(c) for c in track.to_rgba(track.get_array())}
     assert to_hex(handle.get_color()) in drawn
+
+
+def _flight():
+    from auvplan._types import Status
+    from auvplan.sim import RunRecord, SimResult
+
+    t = np.linspace(0.0, 600.0, 61)
+    pos = np.column_stack([t, 0 * t, -40.0 - 0.01 * t])
+    seabed = -100.0 + 0.05 * t  # rises under the vehicle
+    z = np.zeros(t.size)
+    sim = SimResult(status=Status.EXACT, arrived=True, t=t, position=pos, heading=z, speed=z + 1.0, rudder=z,
+                    cross_track=z, route_error=z, progress=t, altitude=pos[:, 2] - seabed,
+                    obstacle_distance=np.zeros((t.size, 0)), events=(), guidance="hybrid", wall_time_s=0.0)
+    return RunRecord("flight", 0, None, pos[[0, -1]], pos[:0], sim), -seabed
+
+
+def test_profiles_draw_the_seabed_under_the_depth_and_the_altitude_limit():
+    from auvplan.viz import plots
+    from auvplan.viz.report import figure_profiles
+
+    record, seabed_depth = _flight()
+    fig = figure_profiles(record, 20.0)
+    seabed = next(t for t in fig.data if t.name == "seabed")
+    assert np.allclose(seabed.y, seabed_depth[: len(seabed.y)]) and seabed.yaxis == "y"
+    limit = next(t for t in fig.data if t.name == "min_altitude_m")
+    assert limit.yaxis == "y2" and list(limit.y) == [20.0, 20.0]
+    static = plots.profiles(record, 20.0)
+    depth_lines = {ln.get_label(): ln for ln in static.axes[0].lines}
+    assert np.allclose(depth_lines["seabed"].get_ydata(), seabed_depth)
+    assert any(np.allclose(ln.get_ydata(), 20.0) for ln in static.axes[1].lines)

@@ -31,7 +31,7 @@ from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
 from .chartmarks import ToLonLat, coastline, degree_label, graticule, isobath_levels, nice_step
 from .scene3d import elevation_range, shape_surface
-from .style import ALTITUDE_COLORSCALE, ROLE, bathymetry_cmap
+from .style import ALTITUDE_COLORSCALE, LAND_COLORS, ROLE, bathymetry_cmap
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures", "SaveFigure"]
@@ -217,13 +217,16 @@ def _track_by_altitude(ax: Axes, p: NDArray[np.float64], altitude: NDArray[np.fl
     ax.figure.colorbar(lc, ax=ax, label="track altitude above seabed (m)", pad=0.01)
 
 
-def profiles(record: RunRecord) -> Figure:
-    """Draw depth, altitude above the seabed, cross-track error and speed against time.
+def profiles(record: RunRecord, min_altitude_m: float | None = None) -> Figure:
+    """Draw depth (with the seabed under it), altitude above the seabed (with the altitude limit),
+    cross-track error and speed against time.
 
     Parameters
     ----------
     record : RunRecord
         The flight (its ``sim``); empty panels without one.
+    min_altitude_m : float, optional
+        The mission's ``min_altitude_m``, a red dashed line on the altitude panel.
 
     Returns
     -------
@@ -235,11 +238,18 @@ def profiles(record: RunRecord) -> Figure:
     if sim is not None and sim.t.size:
         series = ((-sim.position[:, 2], "depth (m)"), (sim.altitude, "altitude (m)"),
                   (sim.route_error, "cross-track (m)"), (sim.speed, "speed (m/s)"))
+        axes[0].plot(sim.t, sim.altitude - sim.position[:, 2], lw=1.2, color=LAND_COLORS[3], label="seabed")
         for ax, (y, label) in zip(axes, series):
-            ax.plot(sim.t, y, lw=1)
+            ax.plot(sim.t, y, lw=1, color=ROLE["track"], label="vehicle" if ax is axes[0] else None)
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
         axes[0].invert_yaxis()
+        axes[0].legend(fontsize=7, loc="best")
+        if min_altitude_m is not None and np.isfinite(min_altitude_m) and min_altitude_m > 0:
+            axes[1].axhline(min_altitude_m, color=ROLE["limit"], ls="--", lw=1,
+                            label=f"min_altitude_m {min_altitude_m:g}")
+            axes[1].set_ylim(bottom=0.0)
+            axes[1].legend(fontsize=7, loc="best")
     axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
     return fig
@@ -380,7 +390,8 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    figs = {"plan_view": plan_view(world, record, to_lonlat), "profiles": profiles(record)}
+    figs = {"plan_view": plan_view(world, record, to_lonlat),
+            "profiles": profiles(record, world.margins.min_altitude)}
     if record.plan is not None and record.plan.history.size:
         figs["convergence"] = convergence({record.plan.planner: record.plan.history})
     written = []
