@@ -350,7 +350,7 @@ def streamlines(world: World, paths: Iterable[NDArray[np.float64]], goal: Sequen
     fig, axes = _subplots(1, 2, figsize=(12, 5.5))
     for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
         for s in world.obstacles:
-            _silhouette(ax, s, i, j, color="firebrick", alpha=0.45, lw=0)
+            _silhouette(ax, s, i, j, color=ROLE["static"], alpha=0.45, lw=0)
         for k, p in enumerate(paths):
             ok = status is None or str(status[k]) in ("arrived", "EXACT")
             ax.plot(p[:, i], p[:, j], lw=0.6, color="steelblue" if ok else "red", alpha=0.8)
