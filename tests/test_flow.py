@@ -80,7 +80,7 @@ def test_document_field_is_the_gradient_of_its_potential():
 
 
 def test_document_field_is_not_harmonic():
-    """METHODS.md §1.1: the document's potential has spurious sources (its Laplacian is not zero)."""
+    """docs/methods.md §1.1: the document's potential has spurious sources (its Laplacian is not zero)."""
     p = _outside()[:50]
     h = 1e-3
     lap = sum(sphere_document_potential(p + h * e, C, A, T) + sphere_document_potential(p - h * e, C, A, T)
@@ -250,7 +250,7 @@ def test_uniform_field_misses_a_fixed_goal():
 
 
 def test_document_sizing_lets_streamlines_into_the_ellipsoid():
-    """The document's Rankine sizing: the ellipsoid sticks out of the body (METHODS.md §1.4)."""
+    """The document's Rankine sizing: the ellipsoid sticks out of the body (docs/methods.md §1.4)."""
     field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="document"), 0.5)
     body = field.bodies[0]
     from auvplan.planners.flow.design import offset_surface

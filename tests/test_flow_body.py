@@ -112,7 +112,7 @@ def test_pair_with_both_parameters_free_contains_and_beats_a_fixed_spacing():
 
 def test_document_sizing_matches_its_semi_axes_but_not_the_obstacle():
     """Document 000: front stagnation point at the axial semi-axis, R0 the radial one — and the
-    ellipsoid sticks out of that body (METHODS.md §1.4)."""
+    ellipsoid sticks out of that body (docs/methods.md §1.4)."""
     ob, goal = CASES["8-4-3"]
     doc = design_body(ob, goal, "document", 1.0, MARGIN)
     xf, xr = doc.stagnation

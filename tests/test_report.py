@@ -8,6 +8,7 @@ import os
 import re
 import shutil
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.formats import parse_moos
 from auvplan.io.results import records
 from auvplan.io.scenario import loader as sc
-from auvplan.sim import decimate
+from auvplan.sim import RunRecord, decimate
 
 
 @pytest.fixture(scope="module")
@@ -237,3 +238,67 @@ def test_report_in_a_headless_browser(run_dir, world_mission, tmp_path):
     record, _ = records.read_run(run_dir)
     assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
     assert (tmp_path / "report.png").stat().st_size > 50_000
+
+
+_CHART_JS = """() => {
+    const m = document.getElementById('planview');
+    const scatter = [...m.querySelectorAll('.scatterlayer .trace')];
+    const coast = m._fullData.findIndex(t => t.name === 'coastline');
+    const nth = m._fullData.filter((t, i) => i < coast && t.type === 'scatter').length;
+    const line = coast < 0 ? null : scatter[nth].querySelector('path.js-line');
+    const drawn = line ? (line.getAttribute('d') || '') : '';
+    const boxes = [...m.querySelectorAll('.annotation')].map(a => {
+        const r = a.getBoundingClientRect(); return [r.left, r.top, r.right, r.bottom, a.textContent]; });
+    const overlaps = [];
+    for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {
+        const a = boxes[i], b = boxes[j];
+        const hit = a[0] < b[2] - 0.5 && b[0] < a[2] - 0.5 && a[1] < b[3] - 0.5 && b[1] < a[3] - 0.5;
+        if (hit) overlaps.push([a[4], b[4]]);
+    }
+    return {isobaths: m._fullData.filter(t => t.meta && t.meta.kind === 'isobath').map(t => t.meta.level),
+            coast: drawn.length, labels: boxes.map(b => b[4]), overlaps: overlaps};
+}"""
+
+
+def _chart_in_browser(html_path: Path) -> dict:
+    browser = _chromium()
+    if browser is None:
+        if os.environ.get("CI"):
+            pytest.fail("Chromium is not installed on CI (tools/install-chromium.sh should have installed it)")
+        pytest.skip("Chromium is not installed (Debian package 'chromium'; tools/install-chromium.sh)")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=browser,
+                              args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"])
+        page = b.new_page(viewport={"width": 1300, "height": 900})
+        page.goto(html_path.as_uri())
+        page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
+        look = page.evaluate(_CHART_JS)
+        b.close()
+    return look
+
+
+def test_chart_of_a_real_coast_in_a_browser(tmp_path):
+    """The chart rules on a real area (admiralty-inlet: topobathy + GSHHG shoreline, 36 km): a dozen or
+    so isobaths at a round interval, the coastline drawn, and no two labels overlapping on the page."""
+    from auvplan.viz.chart import figure_plan_view
+
+    world, mission = sc.build(sc.load("admiralty-inlet"))
+    route = np.array([mission.start, mission.goal])
+    keys = np.array([mission.start, 0.5 * (np.asarray(mission.start) + mission.goal), mission.goal])
+    record = RunRecord("admiralty-inlet", 0, None, route, keys, None)
+    page = tmp_path / "chart.html"
+    figure_plan_view(world, record).write_html(page, include_plotlyjs=True, div_id="planview")
+    look = _chart_in_browser(page)
+    levels = np.array(look["isobaths"])
+    assert 8 <= levels.size <= 25 and np.all(levels < 0)
+    step = float(np.min(np.diff(np.sort(levels))))
+    assert step in (1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0)
+    assert look["coast"] > 200  # an SVG path of the shoreline, not an empty trace
+    assert {"goal", "K1"} <= set(look["labels"]) and sum(t.isdigit() for t in look["labels"]) >= 5
+    assert look["overlaps"] == []
+
+
+def test_report_chart_labels_do_not_overlap(run_dir):
+    look = _chart_in_browser(run_dir / "report.html")
+    assert look["overlaps"] == [] and look["isobaths"] and "K1" in look["labels"]

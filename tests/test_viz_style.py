@@ -9,7 +9,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
-from matplotlib.colors import to_rgb
+from matplotlib.colors import LinearSegmentedColormap, to_rgb
 from matplotlib.testing.compare import compare_images
 
 from auvplan._types import Status
@@ -17,7 +17,7 @@ from auvplan.sim import RunRecord, SimResult
 from auvplan.viz import plots
 from auvplan.viz.chart import degree_label, nice_step
 from auvplan.viz.scene3d import hms, vertical_exaggeration
-from auvplan.viz.style import BATHY_CMAP, bathymetry_cmap, bathymetry_colorscale, bathymetry_stops
+from auvplan.viz.style import BATHY_CMAP, LAND_COLORS, bathymetry_cmap, bathymetry_colorscale, bathymetry_stops
 from auvplan.world import Bounds, Sphere, Terrain, World
 
 BASELINE = Path(__file__).parent / "baseline"
@@ -33,14 +33,20 @@ def test_bathymetry_scale_breaks_at_sea_level_with_water_below_and_land_above():
     assert at0.size == 2  # two stops at 0 m: a hard break
     assert np.all(np.diff(p) >= 0) and p[0] == 0.0 and p[-1] == 1.0
     water, land = _rgb(c[: at0[0] + 1]), _rgb(c[at0[1]:])
-    # Every water stop is a colour of topo's lower half, every land stop one of its upper half.
-    lower, upper = BATHY_CMAP(np.linspace(0, 0.499, 400))[:, :3], BATHY_CMAP(np.linspace(0.5, 1, 400))[:, :3]
+    # Water stops are colours of topo's water half short of its pale green (a shelf must not read as
+    # land); land stops are the chart's sand-to-brown ramp, from its first colour to its last.
+    lower = BATHY_CMAP(np.linspace(0, 0.38, 400))[:, :3]
+    ramp = LinearSegmentedColormap.from_list("land", list(LAND_COLORS))(np.linspace(0, 1, 400))[:, :3]
 
     def nearest(a, table):
         return np.min(np.linalg.norm(a[:, None] - table[None], axis=2), axis=1)
 
-    assert nearest(water, lower).max() < 0.02 and nearest(land, upper).max() < 0.02
-    assert nearest(land, lower).min() > 0.02
+    assert nearest(water, lower).max() < 0.02 and nearest(land, ramp).max() < 0.02
+    assert np.allclose(land[0], to_rgb(LAND_COLORS[0]), atol=0.01) and np.allclose(land[-1], to_rgb(LAND_COLORS[-1]),
+                                                                                     atol=0.01)
+    # the shallowest water and the lowest land are far apart (no pale-green shelf beside olive land)
+    assert np.linalg.norm(water[-1] - land[0]) > 0.3
+    assert nearest(land, lower).min() > 0.1  # no land stop is a water colour
 
 
 def test_offshore_scenes_never_use_coastal_or_land_colours():

@@ -1,4 +1,4 @@
-"""Screenshots of a mission report for the README (docs/img/report-*.png).
+"""Screenshots of a mission report for the docs (docs/img/report-*.png; part of `make docs`).
 
 Usage: .venv/bin/python tools/report_screenshots.py [SCENARIO] [--out docs/img]
 
@@ -16,7 +16,8 @@ from pathlib import Path
 
 from playwright.sync_api import sync_playwright
 
-from auvplan.cli import DEMO_SCENARIO, main
+from auvplan.cli import main
+from auvplan.cli_commands import DEMO_SCENARIO
 
 
 def shoot(report: Path, out: Path) -> list[Path]:

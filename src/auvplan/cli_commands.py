@@ -257,7 +257,13 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
     departs = np.arange(t0, t1 + 0.5 * step, step)
     plans: list[Any] = []
-    rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans)
+    from tqdm import tqdm
+
+    # departures done / total and an ETA on stderr; silent with -q or --json
+    with tqdm(total=len(departs), desc=f"departures of {sc.name}", unit="dep", file=sys.stderr,
+              disable=args.quiet or args.json, mininterval=0.5) as bar:
+        rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans,
+                                  progress=lambda done, total: bar.update(done - bar.n))
     energy = sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
@@ -440,7 +446,8 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     if figures:
         from .viz import plots
 
-        plots.write_mission_figures(out / "figures", world, record, save=save_figure)
+        plots.write_mission_figures(out / "figures", world, record, save=save_figure,
+                                    to_lonlat=frame.inverse if frame else None)
     return path
 
 

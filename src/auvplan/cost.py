@@ -22,7 +22,7 @@
   - ``"document"``: eqs. 16–17 as written, |V_h| = √(V² - (V_oc sin Φ)²) +
     V_oc cos Φ and W = ρ |V_h|³ ds / V_oc with V_oc the current speed (not
     physical: it cubes the ground speed, divides by the current — floored at
-    1 mm/s — and prefers head currents; METHODS.md §2).
+    1 mm/s — and prefers head currents; docs/methods.md §2).
 
 The currents at all midpoints come from the field in one vectorised call; everything else is one
 compiled pass (:func:`auvplan._jit.kernel`) over the segments of the population that sums every

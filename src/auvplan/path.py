@@ -1,7 +1,7 @@
 """Paths: clamped cubic B-splines over control points, and polylines.
 
 Document 002 smooths its control points with the cubic *uniform* B-spline
-(eq. 6, whose printed cubes are a typo; corrected in METHODS.md §2)::
+(eq. 6, whose printed cubes are a typo; corrected in docs/methods.md §2)::
 
     B0 = (1-u)³/6,  B1 = (3u³ - 6u² + 4)/6,  B2 = (-3u³ + 3u² + 3u + 1)/6,  B3 = u³/6
 

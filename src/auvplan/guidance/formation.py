@@ -1,7 +1,7 @@
 """Formation keeping for several under-actuated vehicles in document 001's hybrid potential field.
 
 Document 001 (Wang et al. 2020, "path planning *and formation* method for UUVs based on a hybrid
-potential field") gives the single-vehicle field (METHODS.md §3) and no formation law; this module
+potential field") gives the single-vehicle field (docs/methods.md §3) and no formation law; this module
 builds the formation from the same terms, one heading command per vehicle:
 
 * **virtual structure along the global route** (leader–follower in path coordinates): the

@@ -1,6 +1,6 @@
 """Hybrid potential-field path tracking for a single-rudder vehicle (document 001).
 
-Wang et al. 2020, Ship Science and Technology 42(12); METHODS.md §3.  One commanded direction
+Wang et al. 2020, Ship Science and Technology 42(12); docs/methods.md §3.  One commanded direction
 from three fields, for the active leg A → B with unit direction t̂ and right normal n̂:
 
 * route attraction (eq. 3): magnitude k_H·|e| perpendicular to the leg, towards it

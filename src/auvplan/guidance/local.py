@@ -1,6 +1,6 @@
 """Local avoidance of moving obstacles with key waypoints and an APF (document 004).
 
-Patent 004 (METHODS.md §4):
+Patent 004 (docs/methods.md §4):
 
 * **Key waypoints** (step 2): walk the global path with i = first point, j = next; when the
   straight segment (i, j) collides with the terrain, store point i and set i = j − 1; at the goal
@@ -59,7 +59,7 @@ AVOIDANCE = ("predictive", "apf", "none")
 
 @dataclass(frozen=True)
 class AvoidanceParams:
-    """Document 004's APF parameters (METHODS.md §4) and their vehicle-scale defaults.
+    """Document 004's APF parameters (docs/methods.md §4) and their vehicle-scale defaults.
 
     Attributes
     ----------

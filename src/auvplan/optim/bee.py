@@ -1,7 +1,7 @@
 """Artificial bee colony (Karaboga 2005) and the improved colony of document 002.
 
 Document 002 (IABC for 3D global path planning of a manned submersible),
-equations 18–25, as restated in METHODS.md §2:
+equations 18–25, as restated in docs/methods.md §2:
 
 * eq. 18 — initial food sources ``g_i = L + r (U - L)`` (ABC);
 * eq. 19 — neighbour move ``g_new = g_i + φ (g_i - g_k)``, ``φ ∈ [-1, 1]``,

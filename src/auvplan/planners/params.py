@@ -30,7 +30,7 @@ class FlowParams:
     strength : float
         Sink strength m at the target (the streamlines' shape does not depend on it for spheres).
     h_min, h_max : float
-        Step bounds (m); ``h_min = 0`` means 0.05 × the smallest obstacle size (METHODS.md §1.6).
+        Step bounds (m); ``h_min = 0`` means 0.05 × the smallest obstacle size (docs/methods.md §1.6).
         The step is also at most ``step_factor`` × the clearance and × the distance to the goal.
     step_factor : float
         Step as a fraction of the clearance to the nearest surface (or of the goal distance).

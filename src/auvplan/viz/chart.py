@@ -1,20 +1,17 @@
 """The plan view of a mission report drawn as a chart (plotly): data in, figure out.
 
-Filled depth in the shared bathymetry colours with isobaths labelled in metres, a graticule in
-degrees with °E/°N labels on the frame, a scale bar and a north arrow, obstacles at their true
-size, start and goal, the global path and key waypoints, and the flown track coloured by its
-altitude above the seabed — the safety figure a planner looks at first. The legend sits outside
-the data.
+Filled depth in the shared bathymetry colours with isobaths at a round interval chosen from the
+relief and labelled in metres, the coastline and land as on a chart, a graticule in degrees with
+°E/°N labels on the frame, a scale bar and a north arrow, obstacles at their true size (with a
+fixed-size symbol where they would be too small to see), moving obstacles' tracks and where each came
+closest to the vehicle, start and goal, the global path and labelled key waypoints, and the flown
+track coloured by its altitude above the seabed — the safety figure a planner looks at first. No two
+labels overlap (:mod:`auvplan.viz.chartmarks`); the legend sits outside the data.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
-
-import contourpy
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
 
 from ..sim import RunRecord
 from ..world import World
@@ -24,91 +21,22 @@ try:
     import plotly.graph_objects as go
 except ImportError as exc:  # plotly is the optional `report` extra
     raise ImportError(PLOTLY_MISSING) from exc
+from .chartmarks import (
+    ToLonLat,
+    coastline,
+    contour_lines,
+    degree_label,
+    graticule,
+    isobath_levels,
+    needs_marker,
+    nice_step,
+    place_labels,
+)
 from .scene3d import _terrain_grid, elevation_range, shape_surface, thin
-from .style import bathymetry_colorscale
+from .style import ALTITUDE_COLORSCALE, ROLE, bathymetry_colorscale
 
 __all__ = ["figure_plan_view", "nice_step", "graticule", "degree_label", "ToLonLat"]
 
-ToLonLat = Callable[[Any, Any], tuple[ArrayLike, ArrayLike]]
-"""Map from local ``(x, y)`` (m, arrays) to ``(lon, lat)`` (degrees): a pyproj transform."""
-
-
-def nice_step(span: float, count: float = 5.0) -> float:
-    """A round step (1, 2, 2.5, 5 × 10^k) that cuts ``span`` into about ``count`` parts.
-
-    Parameters
-    ----------
-    span : float
-        Positive length.
-    count : float
-        Wanted number of parts.
-
-    Returns
-    -------
-    float
-        The step, in the unit of ``span``.
-    """
-    raw = span / count
-    if not (np.isfinite(raw) and raw > 0):
-        return 1.0
-    decade = 10.0 ** np.floor(np.log10(raw))
-    return float(min((n * decade for n in (1.0, 2.0, 2.5, 5.0, 10.0)), key=lambda s: abs(s - raw)))
-
-
-def degree_label(value: float, axis: str, step: float) -> str:
-    """``'158.5°E'``, ``'14°N'``: a longitude (``axis='lon'``) or latitude with the decimals of ``step``.
-
-    Parameters
-    ----------
-    value : float
-        Degrees.
-    axis : {'lon', 'lat'}
-        Which coordinate ``value`` is.
-    step : float
-        Graticule step, sets the number of decimals.
-
-    Returns
-    -------
-    str
-        The label, hemisphere letter after the absolute value.
-    """
-    decimals = max(0, int(np.ceil(-np.log10(step) - 1e-9))) if step < 1 else 0
-    if step < 1 and abs(step * 10 ** decimals - round(step * 10 ** decimals)) > 1e-9:
-        decimals += 1
-    hemi = ("E", "W") if axis == "lon" else ("N", "S")
-    return f"{abs(value):.{decimals}f}°{hemi[0] if value >= 0 else hemi[1]}"
-
-
-def graticule(world: World, to_lonlat: ToLonLat, n: int = 80) -> list[tuple[str, float, NDArray[np.float64], float]]:
-    """Lines of constant longitude and latitude across the bounds.
-
-    Parameters
-    ----------
-    world : World
-        Its bounds.
-    to_lonlat : callable
-        ``(x, y) -> (lon, lat)`` in degrees.
-    n : int
-        Sampling grid size.
-
-    Returns
-    -------
-    list of (axis, value, polyline, step)
-        ``axis`` is ``'lon'`` or ``'lat'``, ``value`` its degrees, ``polyline`` ``(M, 2)`` local x, y (m),
-        ``step`` the graticule step (degrees).
-    """
-    b = world.bounds
-    gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, n), np.linspace(b.ymin, b.ymax, n))
-    lon, lat = (np.asarray(a, dtype=float) for a in to_lonlat(gx, gy))
-    lines = []
-    for axis, field in (("lon", lon), ("lat", lat)):
-        step = nice_step(float(np.ptp(field)), 4.0)
-        gen = contourpy.contour_generator(gx, gy, field)
-        for v in np.arange(np.ceil(field.min() / step), np.floor(field.max() / step) + 1) * step:
-            for seg in gen.lines(float(v)):
-                if len(seg) > 1:
-                    lines.append((axis, float(v), np.asarray(seg), step))
-    return lines
 
 
 def _graticule_traces(fig: go.Figure, world: World, to_lonlat: ToLonLat) -> None:
@@ -158,57 +86,163 @@ def _scale_bar_and_north(fig: go.Figure, world: World, to_lonlat: ToLonLat | Non
                        font=dict(size=15, color="black"), yanchor="bottom", name="north-arrow")
 
 
-def _seabed(fig: go.Figure, world: World) -> None:
+_PLOT_PX = (1000.0, 590.0)
+"""Approximate plot area of the chart (px) for placing labels; the browser test measures the real one."""
+
+
+def _px_per_m(world: World) -> float:
+    b = world.bounds
+    return min(_PLOT_PX[0] / (b.xmax - b.xmin), _PLOT_PX[1] / (b.ymax - b.ymin))
+
+
+def _seabed(fig: go.Figure, world: World) -> list[tuple[list[tuple[float, float]], str]]:
+    """Filled seabed, labelled isobaths at a round interval and the coastline; returns the isobath
+    labels' candidate positions and texts (placed with the other labels)."""
     x, y, z = _terrain_grid(world, 200)
     lo, hi = elevation_range(world)
-    step = nice_step(hi - lo, 8.0)
-    fig.add_trace(go.Contour(x=x, y=y, z=z, zmin=lo, zmax=hi, colorscale=bathymetry_colorscale(lo, hi), name="seabed",
-                             contours=dict(start=np.ceil(lo / step) * step, end=hi, size=step, showlabels=True,
-                                           labelfont=dict(size=10, color="rgba(0,0,0,0.75)"), labelformat=".0f"),
-                             line=dict(width=0.6, color="rgba(0,0,0,0.35)"),
-                             colorbar=dict(title="elevation (m)", x=1.08, len=0.9),
+    tick = nice_step(hi - lo, 6.0)
+    fig.add_trace(go.Heatmap(x=x, y=y, z=z, zmin=lo, zmax=hi, colorscale=bathymetry_colorscale(lo, hi), name="seabed",
+                             zsmooth="best", colorbar=dict(title="elevation (m)", x=1.08, len=0.9, tick0=0.0,
+                                                           dtick=tick, tickformat=".0f"),
                              hovertemplate="x %{x:.0f} m<br>y %{y:.0f} m<br>seabed %{z:.0f} m<extra></extra>"))
+    levels, step = isobath_levels(float(np.nanmin(z)), float(np.nanmax(z)))
+    labels: list[tuple[list[tuple[float, float]], str]] = []
+    first = True
+    for level in levels[::-1]:  # shallow first: the shelf's labels are placed before the deep ones
+        pieces = contour_lines(x, y, z, level)
+        if not pieces:
+            continue
+        xs = np.concatenate([np.append(p[:, 0], np.nan) for p in pieces])
+        ys = np.concatenate([np.append(p[:, 1], np.nan) for p in pieces])
+        fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", name=f"isobaths (every {step:g} m)",
+                                 legendgroup="isobaths", showlegend=first,
+                                 meta=dict(kind="isobath", level=float(level)),
+                                 line=dict(color=ROLE["isobath"], width=0.8), hoverinfo="skip"))
+        first = False
+        longest = max(pieces, key=len)
+        cands = [tuple(longest[int(f * (len(longest) - 1))]) for f in (0.5, 0.3, 0.7, 0.15, 0.85)]
+        labels.append(([(float(a), float(b)) for a, b in cands], f"{-level:.0f}"))
+    shore = coastline(world, x, y, z)
+    if shore:
+        xs = np.concatenate([np.append(p[:, 0], np.nan) for p in shore])
+        ys = np.concatenate([np.append(p[:, 1], np.nan) for p in shore])
+        fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", name="coastline", meta=dict(kind="coastline"),
+                                 line=dict(color=ROLE["coast"], width=1.6), hoverinfo="skip"))
+    return labels
 
 
-def _mission(fig: go.Figure, world: World, record: RunRecord) -> None:
+def _place(fig: go.Figure, world: World, labels: list[tuple[list[tuple[float, float]], str, str]]) -> None:
+    """Annotate every label at its first position clear of the others (isobath depths, key waypoints,
+    start and goal); the scale bar and north arrow corners are kept free."""
+    b = world.bounds
+    k = _px_per_m(world)
+    w, h = b.xmax - b.xmin, b.ymax - b.ymin
+    corners = [((b.xmax - 0.36 * w) * k, b.ymin * k, b.xmax * k, (b.ymin + 0.14 * h) * k),
+               (b.xmin * k, (b.ymax - 0.2 * h) * k, (b.xmin + 0.11 * w) * k, (b.ymax - 0.06 * h) * k)]
+    inside = [[(cx, cy) for cx, cy in cands
+               if b.xmin + 30 / k < cx < b.xmax - 30 / k and b.ymin + 12 / k < cy < b.ymax - 12 / k] or cands[:1]
+              for cands, _, _ in labels]
+    sizes = [(7.0 * len(text) + 4.0, 14.0) for _, text, _ in labels]
+    chosen = place_labels(inside, sizes, (k, k), taken=corners)
+    for (_, text, kind), pos, c in zip(labels, chosen, inside):
+        if pos is None:
+            continue
+        x, y = c[pos]
+        style = dict(size=10, color="rgba(0,0,0,0.8)") if kind == "isobath" else dict(size=12, color="black")
+        fig.add_annotation(x=x, y=y, text=text, showarrow=False, font=style, name=f"label-{kind}",
+                           bgcolor="rgba(255,255,255,0.55)" if kind == "isobath" else "rgba(255,255,255,0.8)",
+                           borderpad=1)
+
+
+def _offsets(x: float, y: float, r: float) -> list[tuple[float, float]]:
+    """Label positions round a point, ``r`` away, above first."""
+    return [(x + r * dx, y + r * dy) for dx, dy in ((0, 1), (1, 0.6), (-1, 0.6), (0, -1), (1, -0.6), (-1, -0.6),
+                                                    (0, 2), (2, 0), (-2, 0), (0, -2))]
+
+
+def _obstacles(fig: go.Figure, world: World, record: RunRecord) -> None:
+    """Static obstacles at true size (plus a fixed-size symbol where too small to see); moving
+    obstacles' tracks and their position when closest to the vehicle, marked the same way."""
+    k = _px_per_m(world)
+    small: list[tuple[float, float, str]] = []
     for i, s in enumerate(world.obstacles):
         x, y, _ = shape_surface(s, 40)
         fig.add_trace(go.Scatter(x=x[len(x) // 2], y=y[len(y) // 2], mode="lines", fill="toself",
                                  name="static obstacles", legendgroup="obstacles", showlegend=i == 0,
-                                 line=dict(color="firebrick"), fillcolor="rgba(178,34,34,0.5)"))
-    if record.sim is not None and record.sim.t.size and world.moving:
-        t = record.sim.t[thin(record.sim.t.size, 400)]
-        for m, o in enumerate(world.moving):
-            c = np.asarray(o.motion.position(t), dtype=float).reshape(t.size, 3)
-            fig.add_trace(go.Scatter(x=c[:, 0], y=c[:, 1], mode="lines", name="moving obstacles (tracks)",
-                                     legendgroup="moving", showlegend=m == 0,
-                                     line=dict(color="purple", width=1, dash="dot")))
+                                 line=dict(color=ROLE["static"]), fillcolor="rgba(95,95,95,0.55)"))
+        if needs_marker(2 * s.bounding_radius, k):
+            small.append((float(s.center[0]), float(s.center[1]), f"obstacle {i}, radius {s.bounding_radius:.0f} m"))
+    if small:
+        fig.add_trace(go.Scatter(x=[p[0] for p in small], y=[p[1] for p in small], mode="markers",
+                                 name="static obstacles (small)", legendgroup="obstacles", showlegend=False,
+                                 text=[p[2] for p in small], hoverinfo="text",
+                                 marker=dict(symbol="circle", size=8, color=ROLE["static"], line=dict(width=1,
+                                                                                                     color="white"))))
+    if record.sim is None or not record.sim.t.size or not world.moving:
+        return
+    t = record.sim.t[thin(record.sim.t.size, 400)]
+    vehicle = record.sim.position[thin(record.sim.t.size, 400)]
+    near = []
+    for m, o in enumerate(world.moving):
+        c = np.asarray(o.motion.position(t), dtype=float).reshape(t.size, 3)
+        fig.add_trace(go.Scatter(x=c[:, 0], y=c[:, 1], mode="lines", name="moving obstacles (tracks)",
+                                 legendgroup="moving", showlegend=m == 0,
+                                 line=dict(color=ROLE["moving"], width=1, dash="dot")))
+        alive = (o.appears <= t) & (t < o.disappears)
+        d = np.where(alive, np.linalg.norm(c - vehicle, axis=1), np.inf)
+        j = int(np.argmin(d))
+        if np.isfinite(d[j]):
+            near.append((c[j], float(o.shape.bounding_radius), o.name or f"moving obstacle {m}", float(t[j])))
+    for n, (c, r, _, _) in enumerate(near):
+        ang = np.linspace(0, 2 * np.pi, 33)
+        fig.add_trace(go.Scatter(x=c[0] + r * np.cos(ang), y=c[1] + r * np.sin(ang), mode="lines", fill="toself",
+                                 name="moving obstacles (closest to the vehicle)", legendgroup="moving-near",
+                                 showlegend=n == 0, line=dict(color=ROLE["moving"], width=1),
+                                 fillcolor="rgba(123,50,148,0.5)", meta=dict(kind="moving", radius=r),
+                                 hoverinfo="skip"))
+    fig.add_trace(go.Scatter(x=[c[0] for c, *_ in near], y=[c[1] for c, *_ in near], mode="markers",
+                             name="moving obstacles (closest to the vehicle)", legendgroup="moving-near",
+                             showlegend=False, hoverinfo="text",
+                             text=[f"{nm}, radius {r:g} m, closest at {tj:.0f} s" for _, r, nm, tj in near],
+                             marker=dict(symbol="circle-open", size=9, color=ROLE["moving"], line=dict(width=2))))
+
+
+def _mission(fig: go.Figure, world: World, record: RunRecord) -> list[tuple[list[tuple[float, float]], str, str]]:
+    """Obstacles, path, key waypoints, the track coloured by altitude, start and goal; returns the
+    labels of the key waypoints, start and goal for :func:`_place`."""
+    _obstacles(fig, world, record)
+    labels: list[tuple[list[tuple[float, float]], str, str]] = []
+    r = 14.0 / _px_per_m(world)
+    route = record.plan.path if record.plan is not None and record.plan.path.size else record.route
+    if route.size:
+        labels += [(_offsets(float(route[0, 0]), float(route[0, 1]), r), "start", "end"),
+                   (_offsets(float(route[-1, 0]), float(route[-1, 1]), r), "goal", "end")]
     if record.plan is not None and record.plan.path.size:
         p = record.plan.path
         fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", name="global path",
-                                 line=dict(color="orange", width=2)))
+                                 line=dict(color=ROLE["path"], width=2)))
     if record.keys.size:
         fig.add_trace(go.Scatter(x=record.keys[:, 0], y=record.keys[:, 1], mode="markers", name="key waypoints",
-                                 marker=dict(color="gold", symbol="diamond", size=9, line=dict(width=1))))
+                                 text=[f"K{i}" for i in range(len(record.keys))], hoverinfo="text",
+                                 marker=dict(color=ROLE["keys"], symbol="diamond", size=9, line=dict(width=1))))
+        labels += [(_offsets(float(q[0]), float(q[1]), r), f"K{i}", "key") for i, q in enumerate(record.keys)]
     if record.sim is not None and record.sim.t.size:
         kept = thin(record.sim.t.size)
         p, alt = record.sim.position[kept], record.sim.altitude[kept]
         shown = alt[np.isfinite(alt)]
         top = float(np.percentile(shown, 95)) if shown.size else 1.0
-        fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", line=dict(color="rgba(40,40,40,0.5)", width=1),
+        fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="lines", line=dict(color=ROLE["track"], width=1),
                                  showlegend=False, hoverinfo="skip"))
         fig.add_trace(go.Scatter(x=p[:, 0], y=p[:, 1], mode="markers", name="track (colour: altitude)",
-                                 marker=dict(size=4, color=np.where(np.isfinite(alt), alt, top), colorscale="RdYlGn",
-                                             cmin=0.0, cmax=max(top, 1.0),
+                                 marker=dict(size=4, color=np.where(np.isfinite(alt), alt, top),
+                                             colorscale=ALTITUDE_COLORSCALE, cmin=0.0, cmax=max(top, 1.0),
                                              colorbar=dict(title="track altitude (m)", x=1.22, len=0.9)),
                                  customdata=alt, hovertemplate="altitude %{customdata:.1f} m<extra></extra>"))
-    route = record.plan.path if record.plan is not None and record.plan.path.size else record.route
     if route.size:
-        fig.add_trace(go.Scatter(x=route[[0, -1], 0], y=route[[0, -1], 1], mode="markers+text", name="start / goal",
-                                 text=["start", "goal"], textposition="top center",
-                                 textfont=dict(color="white", size=13),
-                                 marker=dict(size=12, color=["limegreen", "black"], symbol=["circle", "x"],
-                                             line=dict(width=1, color="white"))))
+        fig.add_trace(go.Scatter(x=route[[0, -1], 0], y=route[[0, -1], 1], mode="markers", name="start / goal",
+                                 marker=dict(size=12, color=[ROLE["start"], ROLE["goal"]], symbol=["circle", "x"],
+                                             line=dict(width=1.5, color="black"))))
+    return labels
 
 
 def figure_plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None) -> go.Figure:
@@ -230,11 +264,12 @@ def figure_plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None
     """
     fig = go.Figure()
     b = world.bounds
-    if world.terrain is not None:
-        _seabed(fig, world)
+    depths = _seabed(fig, world) if world.terrain is not None else []
     if to_lonlat is not None:
         _graticule_traces(fig, world, to_lonlat)
-    _mission(fig, world, record)
+    marks = _mission(fig, world, record)
+    # the mission's own labels first, then as many isobath depths as fit between them
+    _place(fig, world, marks + [(c, t, "isobath") for c, t in depths])
     _scale_bar_and_north(fig, world, to_lonlat)
     fig.update_layout(
         xaxis=dict(title="x east (m)", range=[b.xmin, b.xmax], constrain="domain", showgrid=False),

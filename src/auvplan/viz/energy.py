@@ -79,8 +79,8 @@ def mark_pnr(fig: go.Figure, e: Endurance) -> go.Figure:
     label = "point of no return" + (" (none: home in reach all along)" if p.whole_mission else "")
     fig.add_trace(go.Scatter(x=[p.position[0]], y=[p.position[1]], mode="markers+text", name=label,
                              text=["PNR"], textposition="bottom center", textfont=dict(color="white"),
-                             marker=dict(symbol="x-thin-open" if p.whole_mission else "x", size=14, color="red",
-                                         line=dict(width=3, color="red")),
+                             marker=dict(symbol="x-thin-open" if p.whole_mission else "x", size=14, color="#e7298a",
+                                         line=dict(width=3, color="#e7298a")),
                              hovertext=p.message, hoverinfo="text"))
     fig.add_trace(go.Scatter(x=[p.recovery[0]], y=[p.recovery[1]], mode="markers", name="recovery point",
                              marker=dict(symbol="star", size=12, color="deepskyblue", line=dict(width=1))))

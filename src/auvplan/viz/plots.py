@@ -22,15 +22,16 @@ from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.colors import Normalize
 from matplotlib.figure import Figure
-from matplotlib.patches import Circle
+from matplotlib.patches import Circle, Rectangle
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
 from ..path import arc_length
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
+from .chartmarks import ToLonLat, coastline, degree_label, graticule, isobath_levels, nice_step
 from .scene3d import elevation_range, shape_surface
-from .style import bathymetry_cmap
+from .style import ALTITUDE_COLORSCALE, LAND_COLORS, ROLE, bathymetry_cmap
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures", "SaveFigure"]
@@ -57,17 +58,61 @@ def _subplots(*grid: int, figsize: tuple[float, float], **kw: Any) -> tuple[Figu
 
 
 def _seabed(ax: Axes, world: World) -> None:
-    """Filled seabed in the shared bathymetry colours, isobaths labelled in metres."""
+    """Filled seabed in the shared bathymetry colours, isobaths at a round interval labelled with their
+    depth, the coastline, and a colour bar with round ticks."""
     if world.terrain is None:
         return
     t = world.terrain
     lo, hi = elevation_range(world)
     cmap, norm = bathymetry_cmap(lo, hi)
-    levels = np.linspace(lo, hi, 21)
+    levels = np.linspace(lo, hi, 41)
     cs = ax.contourf(t.x, t.y, t.z, levels=levels, cmap=cmap, norm=norm, extend="both")
-    lines = ax.contour(t.x, t.y, t.z, levels=levels[::4], colors="k", linewidths=0.4, alpha=0.5)
-    ax.clabel(lines, fmt="%.0f m", fontsize=6)
-    ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)")
+    depths, _ = isobath_levels(float(np.nanmin(t.z)), float(np.nanmax(t.z)))
+    if depths.size:
+        lines = ax.contour(t.x, t.y, t.z, levels=depths, colors="k", linewidths=0.4, alpha=0.45)
+        ax.clabel(lines, fmt=lambda v: f"{-v:.0f}", fontsize=6, inline_spacing=2)
+    for piece in coastline(world, np.asarray(t.x), np.asarray(t.y), np.asarray(t.z)):
+        ax.plot(piece[:, 0], piece[:, 1], color=ROLE["coast"], lw=1.1)
+    step = nice_step(hi - lo, 6.0)
+    ticks = np.arange(np.ceil(lo / step), np.floor(hi / step) + 1) * step
+    ax.figure.colorbar(cs, ax=ax, label="seabed elevation (m)", ticks=ticks, format="%.0f")
+
+
+def _chart_marks(ax: Axes, world: World, to_lonlat: ToLonLat | None) -> None:
+    """Graticule (°E/°N on the frame), a scale bar and a north arrow, as on the report's chart."""
+    b = world.bounds
+    w, h = b.xmax - b.xmin, b.ymax - b.ymin
+    if to_lonlat is not None:
+        for axis, v, seg, step in graticule(world, to_lonlat):
+            ax.plot(seg[:, 0], seg[:, 1], ":", color="0.25", lw=0.6, alpha=0.7)
+            end = seg[np.argmax(seg[:, 1])] if axis == "lon" else seg[np.argmax(seg[:, 0])]
+            # labelled just inside the frame (top edge: longitudes, right edge: latitudes), clear of the
+            # title and the colour bars
+            box = dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7)
+            if axis == "lon" and b.xmin + 0.05 * w < end[0] < b.xmax - 0.05 * w:
+                ax.text(end[0], b.ymax - 0.005 * h, degree_label(v, axis, step), ha="center", va="top", fontsize=6,
+                        bbox=box)
+            elif axis == "lat" and b.ymin + 0.05 * h < end[1] < b.ymax - 0.05 * h:
+                ax.text(b.xmax - 0.005 * w, end[1], degree_label(v, axis, step), ha="right", va="center", fontsize=6,
+                        bbox=box)
+    length = nice_step(w / 5.0, 1.0)
+    x0, y0 = b.xmax - 0.06 * w - length, b.ymin + 0.06 * h
+    ax.add_patch(Rectangle((x0 - 0.01 * w, y0 - 0.02 * h), length + 0.02 * w, 0.08 * h, color="white", alpha=0.8))
+    ax.plot([x0, x0 + length], [y0, y0], color="black", lw=3, solid_capstyle="butt")
+    ax.text(x0 + length / 2, y0 + 0.012 * h, f"{length / 1000:g} km" if length >= 1000 else f"{length:g} m",
+            ha="center", va="bottom", fontsize=8)
+    nx, ny = 0.0, 1.0
+    cx, cy = b.xmin + 0.06 * w, b.ymax - 0.16 * h
+    if to_lonlat is not None:
+        d = 1e-3 * max(w, h)
+        lat = [float(np.asarray(to_lonlat(np.array([cx + dx]), np.array([cy + dy]))[1])[0])
+               for dx, dy in ((d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d))]
+        g = np.array([lat[0] - lat[1], lat[2] - lat[3]])
+        if np.linalg.norm(g) > 0:
+            nx, ny = g / np.linalg.norm(g)
+    arrow = 0.08 * h
+    ax.annotate("N", xy=(cx + nx * arrow, cy + ny * arrow), xytext=(cx, cy), ha="center", va="top", fontsize=10,
+                arrowprops=dict(arrowstyle="-|>", color="black", lw=1.5))
 
 
 def _fit_aspect(ax: Axes, points: NDArray[np.float64]) -> None:
@@ -86,16 +131,18 @@ def _fit_aspect(ax: Axes, points: NDArray[np.float64]) -> None:
 def _obstacles(ax: Axes, world: World, t: float | None = None) -> None:
     for s in world.obstacles:
         x, y, _ = shape_surface(s, 60)
-        ax.fill(x[30], y[30], color="firebrick", alpha=0.6, lw=0)
+        ax.fill(x[30], y[30], color=ROLE["static"], alpha=0.6, lw=0)
     if t is not None:
         for o in world.moving:
             if o.active(t):
                 c = o.center(t)
-                ax.add_patch(Circle((float(c[0]), float(c[1])), o.shape.bounding_radius, color="purple", alpha=0.4))
+                ax.add_patch(Circle((float(c[0]), float(c[1])), o.shape.bounding_radius, color=ROLE["moving"],
+                                    alpha=0.4))
 
 
-def plan_view(world: World, record: RunRecord) -> Figure:
-    """Draw the route (global path) against the flown track, with obstacles and key waypoints.
+def plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None) -> Figure:
+    """Draw the route (global path) against the flown track, with obstacles and key waypoints, on a
+    chart framed on the scenario's bounds (isobaths, coastline, graticule, scale bar, north arrow).
 
     Parameters
     ----------
@@ -103,6 +150,8 @@ def plan_view(world: World, record: RunRecord) -> Figure:
         Seabed, static and moving obstacles.
     record : RunRecord
         Route, key waypoints and the flight (track coloured by altitude above the seabed, m).
+    to_lonlat : callable, optional
+        ``(x, y) -> (lon, lat)`` (m → degrees); with it a graticule and a true-north arrow.
 
     Returns
     -------
@@ -113,50 +162,71 @@ def plan_view(world: World, record: RunRecord) -> Figure:
     _seabed(ax, world)
     _obstacles(ax, world)
     if record.route.size:
-        ax.plot(record.route[:, 0], record.route[:, 1], "--", color="orange", lw=1.5, label="route")
+        ax.plot(record.route[:, 0], record.route[:, 1], "--", color=ROLE["path"], lw=1.5, label="route")
     if record.keys.size:
-        ax.plot(record.keys[:, 0], record.keys[:, 1], "D", color="gold", mec="k", ms=5, label="key waypoints")
-    drawn = [record.route] if record.route.size else []
+        ax.plot(record.keys[:, 0], record.keys[:, 1], "D", color=ROLE["keys"], mec="k", ms=5, label="key waypoints")
     if record.sim is not None and record.sim.t.size:
         p = record.sim.position
-        drawn.append(p)
         _track_by_altitude(ax, p, record.sim.altitude)
-        for o in world.moving:
+        for m, o in enumerate(world.moving):
             c = np.array([o.center(t) for t in record.sim.t[:: max(1, record.sim.t.size // 200)]])
-            ax.plot(c[:, 0], c[:, 1], ":", color="purple", lw=0.8)
+            ax.plot(c[:, 0], c[:, 1], ":", color=ROLE["moving"], lw=0.8, label="moving obstacles" if m == 0 else None)
     ax.set_xlabel("x east (m)")
     ax.set_ylabel("y north (m)")
     ax.set_title(f"{record.scenario}: {record.status.value}")
-    if drawn:
-        _fit_aspect(ax, np.vstack(drawn))
-    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=3, fontsize=8, frameon=False)
+    b = world.bounds
+    drawn = [record.route] if record.route.size else []
+    if record.sim is not None and record.sim.t.size:
+        drawn.append(record.sim.position)
+    # framed on the map when the mission spans it, else on the mission (a strip is exaggerated and says so)
+    corners = np.array([[b.xmin, b.ymin, 0.0], [b.xmax, b.ymax, 0.0]])
+    frame = corners if not drawn or _strip_ratio(np.vstack(drawn)) <= STRIP else np.vstack(drawn)
+    _fit_aspect(ax, frame)
+    if frame is corners:
+        ax.set_xlim(b.xmin, b.xmax)
+        ax.set_ylim(b.ymin, b.ymax)
+        _chart_marks(ax, world, to_lonlat)
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, -0.12), ncol=2, fontsize=8, frameon=False)
     fig.tight_layout()
     return fig
 
 
+def _strip_ratio(points: NDArray[np.float64]) -> float:
+    span = np.maximum(np.ptp(points[:, :2], axis=0), 1e-9)
+    return float(span.max() / span.min())
+
+
 def _track_by_altitude(ax: Axes, p: NDArray[np.float64], altitude: NDArray[np.float64]) -> None:
-    """The flown track coloured by its altitude above the seabed (red low, green high)."""
+    """The flown track coloured by its altitude above the seabed (dark red low, pale yellow high); its
+    legend entry shows the colour of the track's median altitude."""
     alt = np.where(np.isfinite(altitude), altitude, np.nan)
     segments = np.stack([p[:-1, :2], p[1:, :2]], axis=1)
     finite = alt[np.isfinite(alt)]
     if finite.size == 0:
-        ax.plot(p[:, 0], p[:, 1], color="crimson", lw=1.2, label="track")
+        ax.plot(p[:, 0], p[:, 1], color=ROLE["track"], lw=1.2, label="track")
         return
     top = max(float(np.percentile(finite, 95)), 1.0)
-    lc = LineCollection(list(segments), cmap="RdYlGn", norm=Normalize(0.0, top), linewidths=1.8, label="track")
-    lc.set_array(np.nan_to_num(0.5 * (alt[:-1] + alt[1:]), nan=top))
+    norm = Normalize(0.0, top)
+    lc = LineCollection(list(segments), cmap=ALTITUDE_COLORSCALE, norm=norm, linewidths=1.8)
+    values = np.nan_to_num(0.5 * (alt[:-1] + alt[1:]), nan=top)
+    lc.set_array(values)
     ax.add_collection(lc)
+    median = float(values[np.argsort(values)[values.size // 2]])  # a colour the track is drawn in
+    ax.plot([], [], color=lc.get_cmap()(norm(median)), lw=1.8, label="track (colour: altitude)")
     ax.autoscale_view()
     ax.figure.colorbar(lc, ax=ax, label="track altitude above seabed (m)", pad=0.01)
 
 
-def profiles(record: RunRecord) -> Figure:
-    """Draw depth, altitude above the seabed, cross-track error and speed against time.
+def profiles(record: RunRecord, min_altitude_m: float | None = None) -> Figure:
+    """Draw depth (with the seabed under it), altitude above the seabed (with the altitude limit),
+    cross-track error and speed against time.
 
     Parameters
     ----------
     record : RunRecord
         The flight (its ``sim``); empty panels without one.
+    min_altitude_m : float, optional
+        The mission's ``min_altitude_m``, a red dashed line on the altitude panel.
 
     Returns
     -------
@@ -168,11 +238,18 @@ def profiles(record: RunRecord) -> Figure:
     if sim is not None and sim.t.size:
         series = ((-sim.position[:, 2], "depth (m)"), (sim.altitude, "altitude (m)"),
                   (sim.route_error, "cross-track (m)"), (sim.speed, "speed (m/s)"))
+        axes[0].plot(sim.t, sim.altitude - sim.position[:, 2], lw=1.2, color=LAND_COLORS[3], label="seabed")
         for ax, (y, label) in zip(axes, series):
-            ax.plot(sim.t, y, lw=1)
+            ax.plot(sim.t, y, lw=1, color=ROLE["track"], label="vehicle" if ax is axes[0] else None)
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
         axes[0].invert_yaxis()
+        axes[0].legend(fontsize=7, loc="best")
+        if min_altitude_m is not None and np.isfinite(min_altitude_m) and min_altitude_m > 0:
+            axes[1].axhline(min_altitude_m, color=ROLE["limit"], ls="--", lw=1,
+                            label=f"min_altitude_m {min_altitude_m:g}")
+            axes[1].set_ylim(bottom=0.0)
+            axes[1].legend(fontsize=7, loc="best")
     axes[-1].set_xlabel("time (s)")
     fig.tight_layout()
     return fig
@@ -273,7 +350,7 @@ def streamlines(world: World, paths: Iterable[NDArray[np.float64]], goal: Sequen
     fig, axes = _subplots(1, 2, figsize=(12, 5.5))
     for ax, (i, j, labels) in zip(axes, ((0, 1, ("x (m)", "y (m)")), (0, 2, ("x (m)", "z (m)")))):
         for s in world.obstacles:
-            _silhouette(ax, s, i, j, color="firebrick", alpha=0.45, lw=0)
+            _silhouette(ax, s, i, j, color=ROLE["static"], alpha=0.45, lw=0)
         for k, p in enumerate(paths):
             ok = status is None or str(status[k]) in ("arrived", "EXACT")
             ax.plot(p[:, i], p[:, j], lw=0.6, color="steelblue" if ok else "red", alpha=0.8)
@@ -286,7 +363,8 @@ def streamlines(world: World, paths: Iterable[NDArray[np.float64]], goal: Sequen
 
 
 def write_mission_figures(folder: Path, world: World, record: RunRecord,
-                          formats: Sequence[str] = ("png", "svg"), save: SaveFigure | None = None) -> list[Path]:
+                          formats: Sequence[str] = ("png", "svg"), save: SaveFigure | None = None,
+                          to_lonlat: ToLonLat | None = None) -> list[Path]:
     """Write the plan view, profiles and convergence of a run as image files into ``folder``.
 
     Parameters
@@ -302,6 +380,8 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
     save : callable, optional
         ``save(path, fig, dpi)`` writes one figure (the command line's atomic, recorded write);
         default ``fig.savefig(path, dpi=dpi)``.
+    to_lonlat : callable, optional
+        ``(x, y) -> (lon, lat)``: a graticule and a true-north arrow on the plan view.
 
     Returns
     -------
@@ -310,7 +390,8 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
     """
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    figs = {"plan_view": plan_view(world, record), "profiles": profiles(record)}
+    figs = {"plan_view": plan_view(world, record, to_lonlat),
+            "profiles": profiles(record, world.margins.min_altitude)}
     if record.plan is not None and record.plan.history.size:
         figs["convergence"] = convergence({record.plan.planner: record.plan.history})
     written = []

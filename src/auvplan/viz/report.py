@@ -13,6 +13,7 @@ and the resolved scenario.
 from __future__ import annotations
 
 import html
+import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -35,6 +36,7 @@ except ImportError as exc:  # plotly is the optional `report` extra
     raise ImportError(PLOTLY_MISSING) from exc
 from .chart import ToLonLat, figure_plan_view
 from .scene3d import figure_3d, thin
+from .style import LAND_COLORS, ROLE
 
 __all__ = ["build_report", "build_bench_report", "figure_profiles", "figure_convergence"]
 
@@ -44,13 +46,16 @@ def _clock(t: ArrayLike) -> NDArray[np.datetime64]:
     return np.datetime64("2000-01-01T00:00:00") + np.round(np.asarray(t) * 1000).astype("timedelta64[ms]")
 
 
-def figure_profiles(record: RunRecord) -> go.Figure:
-    """Draw depth, altitude above the seabed, cross-track error and speed against time.
+def figure_profiles(record: RunRecord, min_altitude_m: float | None = None) -> go.Figure:
+    """Draw depth (with the seabed under it), altitude above the seabed (with the altitude limit),
+    cross-track error and speed against time.
 
     Parameters
     ----------
     record : RunRecord
         The flight (its ``sim``); empty panels without one.
+    min_altitude_m : float, optional
+        The mission's ``min_altitude_m``, drawn as a red line on the altitude panel.
 
     Returns
     -------
@@ -58,17 +63,31 @@ def figure_profiles(record: RunRecord) -> go.Figure:
         Four panels (m, m, m, m/s) against the elapsed time (h:mm:ss).
     """
     fig = make_subplots(rows=4, cols=1, shared_xaxes=True, vertical_spacing=0.04,
-                        subplot_titles=("depth (m)", "altitude above seabed (m)", "cross-track error (m)",
-                                        "speed over ground (m/s)"))
+                        subplot_titles=("depth (m): vehicle and seabed", "altitude above seabed (m)",
+                                        "cross-track error (m)", "speed over ground (m/s)"))
     sim = record.sim
     if sim is not None and sim.t.size:
         i = thin(sim.t.size)
         alt = np.where(np.isfinite(sim.altitude), sim.altitude, np.nan)
+        clock = _clock(sim.t[i])
+        seabed = alt[i] - sim.position[i, 2]  # depth of the seabed under the vehicle: altitude + vehicle depth
+        fig.add_trace(go.Scatter(x=clock, y=seabed, mode="lines", name="seabed", showlegend=False,
+                                 line=dict(color=LAND_COLORS[3], width=1.5),
+                                 hovertemplate="seabed %{y:.1f} m<extra></extra>"), row=1, col=1)
         for row, (y, name) in enumerate(((-sim.position[:, 2], "depth"), (alt, "altitude"),
                                          (sim.route_error, "cross-track"), (sim.speed, "speed")), start=1):
-            fig.add_trace(go.Scatter(x=_clock(sim.t[i]), y=y[i], mode="lines", name=name, showlegend=False),
-                          row=row, col=1)
+            fig.add_trace(go.Scatter(x=clock, y=y[i], mode="lines", name=name, showlegend=False,
+                                     line=dict(color=ROLE["track"], width=1.5)), row=row, col=1)
+        if min_altitude_m is not None and np.isfinite(min_altitude_m):
+            fig.add_trace(go.Scatter(x=clock[[0, -1]], y=[min_altitude_m] * 2, mode="lines",
+                                     name="min_altitude_m", showlegend=False, meta=dict(kind="limit"),
+                                     line=dict(color=ROLE["limit"], width=1.5, dash="dash"),
+                                     hovertemplate=f"min_altitude_m {min_altitude_m:g} m<extra></extra>"), row=2, col=1)
+            fig.add_annotation(x=clock[-1], y=min_altitude_m, xref="x2", yref="y2",
+                               text=f"min_altitude_m {min_altitude_m:g}", showarrow=False, xanchor="right",
+                               yanchor="bottom", font=dict(color=ROLE["limit"], size=11))
         fig.update_yaxes(autorange="reversed", row=1, col=1)
+        fig.update_yaxes(rangemode="tozero", row=2, col=1)
         fig.update_xaxes(tickformat="%H:%M:%S", hoverformat="%H:%M:%S")
     fig.update_xaxes(title_text="elapsed time (h:mm:ss)", row=4, col=1)
     fig.update_layout(height=760, title="profiles along the track", margin=dict(t=60))
@@ -113,6 +132,15 @@ table{border-collapse:collapse}th,td{border:1px solid #ccc;padding:3px 8px;text-
 th{background:#f3f3f3}pre{background:#f7f7f7;padding:1em;overflow:auto;font-size:0.85em}"""
 
 
+def _min_altitude(scenario_text: str) -> float | None:
+    """The scenario's ``[mission] min_altitude_m`` (None when the text does not parse or has none)."""
+    try:
+        value = tomllib.loads(scenario_text).get("mission", {}).get("min_altitude_m")
+    except tomllib.TOMLDecodeError:
+        return None
+    return float(value) if isinstance(value, int | float) else None
+
+
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: Mapping[str, Any],
                  to_lonlat: ToLonLat | None = None, endurance: Endurance | None = None) -> str:
     """Build the whole report as one HTML page that needs no network (plotly.js is inlined once).
@@ -145,7 +173,8 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
         record = replace(record, sim=decimate(record.sim))
     plan_view = figure_plan_view(world, record, to_lonlat)
     figs = [("view3d", figure_3d(world, record)), ("planview", plan_view),
-            ("profiles", figure_profiles(record)), ("convergence", figure_convergence(record))]
+            ("profiles", figure_profiles(record, _min_altitude(scenario_text))),
+            ("convergence", figure_convergence(record))]
     if endurance is not None:
         from .energy import figure_energy, mark_pnr
 

@@ -26,7 +26,7 @@ else:
         import plotly.graph_objects as go
     except ImportError:  # plotly is the optional `report` extra; the geometry helpers here work without it
         go = MissingPlotly()
-from .style import bathymetry_colorscale, speed_colorscale
+from .style import ROLE, bathymetry_colorscale, speed_colorscale
 
 __all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "z_range", "hms", "FRAMES",
            "MAX_POINTS"]
@@ -241,8 +241,10 @@ def _sea_surface(world: World) -> go.Surface:
 def _currents(world: World, path: NDArray[np.float64]) -> list[go.Cone]:
     b = world.bounds
     zs = path[:, 2] if path.size else np.array([b.zmin, b.zmax])
-    gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 8)[1:-1], np.linspace(b.ymin, b.ymax, 8)[1:-1])
-    levels = np.linspace(zs.min(), zs.max(), 3) if np.ptp(zs) > 0 else zs[:1]
+    # a sparse grid (5 × 5 at two depths) of small cones: the current's pattern without hiding the path;
+    # a click on "current" in the legend hides them
+    gx, gy = np.meshgrid(np.linspace(b.xmin, b.xmax, 7)[1:-1], np.linspace(b.ymin, b.ymax, 7)[1:-1])
+    levels = np.linspace(zs.min(), zs.max(), 2) if np.ptp(zs) > 0 else zs[:1]
     p = np.vstack([np.column_stack([gx.ravel(), gy.ravel(), np.full(gx.size, z)]) for z in levels])
     v = np.asarray(world.currents.velocity(p, 0.0), dtype=float)
     speed = np.linalg.norm(v, axis=1)
@@ -251,7 +253,7 @@ def _currents(world: World, path: NDArray[np.float64]) -> list[go.Cone]:
     # The axes are fixed to the bounds, so arrows cannot stretch the scene; "scaled" sizes them
     # to the spacing of the arrow grid (the fastest about half a cell).
     return [go.Cone(x=p[:, 0], y=p[:, 1], z=p[:, 2], u=v[:, 0], v=v[:, 1], w=v[:, 2], customdata=speed,
-                    name="current", sizemode="scaled", sizeref=0.5, anchor="center", cmin=0.0,
+                    name="current", sizemode="scaled", sizeref=0.3, anchor="tail", cmin=0.0, opacity=0.6,
                     cmax=float(speed.max()), colorscale=speed_colorscale(), showscale=True, showlegend=True,
                     colorbar=dict(title="current (m/s)", x=1.08, len=0.6, y=0.45),
                     hovertemplate="current %{customdata:.2f} m/s<extra></extra>")]
@@ -264,12 +266,22 @@ def _labels(record: RunRecord) -> list[go.Scatter3d]:
         ends = route[[0, -1]]
         traces.append(go.Scatter3d(x=ends[:, 0], y=ends[:, 1], z=ends[:, 2], mode="markers+text", name="start / goal",
                                    text=["start", "goal"], textposition="top center",
-                                   marker=dict(size=6, color=["limegreen", "black"], symbol=["circle", "x"])))
+                                   marker=dict(size=6, color=[ROLE["start"], ROLE["goal"]], symbol=["circle", "x"],
+                                               line=dict(width=1, color="black"))))
     if record.keys.size:
         k = record.keys
+        # label a key waypoint only where it stands clear of the last one labelled (3 % of the scene's
+        # width): crowded keys keep their names on hover instead of piling text on each other
+        span = float(np.ptp(k[:, :2], axis=0).max()) if len(k) > 1 else 1.0
+        shown, last = [], None
+        for i, q in enumerate(k):
+            clear = last is None or np.hypot(*(q[:2] - last[:2])) > 0.03 * max(span, 1.0)
+            shown.append(f"K{i}" if clear or i == len(k) - 1 else "")
+            last = q if clear else last
         traces.append(go.Scatter3d(x=k[:, 0], y=k[:, 1], z=k[:, 2], mode="markers+text", name="key waypoints",
-                                   text=[f"K{i}" for i in range(len(k))], textposition="top center",
-                                   textfont=dict(size=10), marker=dict(size=4, color="gold", symbol="diamond")))
+                                   text=shown, hovertext=[f"K{i}" for i in range(len(k))], hoverinfo="text",
+                                   textposition="top center", textfont=dict(size=10),
+                                   marker=dict(size=4, color=ROLE["keys"], symbol="diamond")))
     return traces
 
 
@@ -283,7 +295,7 @@ def _moving_meshes(world: World, times: NDArray[np.float64], n: int = 11) -> tup
         centres = np.asarray(o.motion.position(times), dtype=float).reshape(times.size, 3)
         alive = (o.appears <= times) & (times < o.disappears)
         per_time = [vertices + c if a else np.empty((0, 3)) for c, a in zip(centres, alive)]
-        trace = _mesh(per_time[0], tri, o.name or f"moving obstacle {m}", "purple", 0.55)
+        trace = _mesh(per_time[0], tri, o.name or f"moving obstacle {m}", ROLE["moving"], 0.55)
         trace.update(meta=dict(kind="moving", radius=float(o.shape.bounding_radius)))
         traces.append(trace)
         frames.append(per_time)
@@ -311,7 +323,7 @@ def _slider(fig: go.Figure, record: RunRecord, world: World) -> None:
     times = np.linspace(sim.t[0], sim.t[-1], min(FRAMES, sim.t.size))
     pos = np.column_stack([np.interp(times, sim.t, sim.position[:, k]) for k in range(3)])
     fig.add_trace(go.Scatter3d(x=[pos[0, 0]], y=[pos[0, 1]], z=[pos[0, 2]], mode="markers", name="vehicle",
-                               marker=dict(size=7, color="black")))
+                               marker=dict(size=7, color=ROLE["vehicle"], line=dict(width=2, color="white"))))
     moving, verts = _moving_meshes(world, times)
     first = len(fig.data)
     for t in moving:
@@ -372,19 +384,24 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
     for t in _currents(world, path):
         fig.add_trace(t)
     for i, s in enumerate(world.obstacles):
-        trace = _mesh(*shape_mesh(s, 21), f"obstacle {i}", "firebrick", 0.7)
+        trace = _mesh(*shape_mesh(s, 21), f"obstacle {i}", ROLE["static"], 0.7)
         trace.update(meta=dict(kind="static", radius=float(s.bounding_radius)))
         fig.add_trace(trace)
+        if 2 * s.bounding_radius < 0.008 * max(b.xmax - b.xmin, b.ymax - b.ymin):  # too small to see: a symbol too
+            c = np.asarray(s.center, dtype=float)
+            fig.add_trace(go.Scatter3d(x=[c[0]], y=[c[1]], z=[c[2]], mode="markers", name=f"obstacle {i} (mark)",
+                                       showlegend=False, hovertext=f"obstacle {i}, radius {s.bounding_radius:g} m",
+                                       hoverinfo="text", marker=dict(size=4, color=ROLE["static"])))
     if record.plan is not None and record.plan.path.size:
         p = record.plan.path
         fig.add_trace(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines",
-                                   name=f"global path ({record.plan.planner})", line=dict(color="orange", width=5)))
+                                   name=f"global path ({record.plan.planner})", line=dict(color=ROLE["path"], width=5)))
     for t in _labels(record):
         fig.add_trace(t)
     if record.sim is not None and record.sim.t.size:
         p = record.sim.position[thin(record.sim.t.size)]
         fig.add_trace(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines", name="track",
-                                   line=dict(color="crimson", width=3)))
+                                   line=dict(color=ROLE["track"], width=3)))
         _slider(fig, record, world)
     sx, sy, sz = b.xmax - b.xmin, b.ymax - b.ymin, zhi - zlo
     big = max(sx, sy)

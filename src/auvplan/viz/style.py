@@ -1,11 +1,11 @@
 """One colour convention for every figure, interactive or static.
 
-Bathymetry uses cmocean's ``topo`` map (Thyng et al. 2016), whose lower half is made for the sea
-floor and whose upper half for land, split at 0 m the GMT way: the water part of the map is
-stretched over the seabed shown (up to 0 m) and the land part over ``[0, zmax]``, so that a depth
-has one colour in the 3D view, the plan view and the PNG figures of a mission, land is never a
-shade of water, and the break sits exactly at the coastline. Scenes that stay offshore stop short
-of the palest (coastal) water colours. Current speed uses cmocean's ``speed``.
+Bathymetry uses the water half of cmocean's ``topo`` map (Thyng et al. 2016) and a chart's land
+colours (sand to brown, :data:`LAND_COLORS`), split at 0 m the GMT way: the water part is stretched
+over the seabed shown (up to 0 m) and the land part over ``[0, zmax]``, so that a depth has one
+colour in the 3D view, the plan view and the PNG figures of a mission, land is never a shade of
+water, and the break sits exactly at the coastline. The water stops at ``topo``'s aquamarine,
+short of its pale green, so a shelf never reads as land. Current speed uses cmocean's ``speed``.
 
 :func:`bathymetry_stops` is the one definition; :func:`bathymetry_colorscale` (plotly) and
 :func:`bathymetry_cmap` (matplotlib) are two views of it.
@@ -17,8 +17,8 @@ import cmocean
 import numpy as np
 from matplotlib.colors import LinearSegmentedColormap, Normalize
 
-__all__ = ["BATHY_CMAP", "SPEED_CMAP", "bathymetry_stops", "bathymetry_colorscale", "bathymetry_cmap",
-           "speed_colorscale", "SEA_LEVEL_M"]
+__all__ = ["BATHY_CMAP", "SPEED_CMAP", "LAND_COLORS", "ROLE", "ALTITUDE_COLORSCALE", "bathymetry_stops",
+           "bathymetry_colorscale", "bathymetry_cmap", "speed_colorscale", "SEA_LEVEL_M"]
 
 BATHY_CMAP = cmocean.cm.topo
 """Colour map of seabed and land elevation: lower half water, upper half land."""
@@ -26,14 +26,29 @@ BATHY_CMAP = cmocean.cm.topo
 SPEED_CMAP = cmocean.cm.speed
 """Colour map of current speed."""
 
+LAND_COLORS = ("#efe4c0", "#d9c38f", "#b39461", "#7d6440")
+"""Land from the shore up, as on a chart: sand to brown, never a colour of the water scale (the pale
+upper water of ``topo`` is green, and its land half starts dark green: a shelf read as land)."""
+
+ROLE = {"path": "#ff7f0e", "track": "#1a1a1a", "vehicle": "#1a1a1a", "keys": "#ffd700", "start": "#32cd32",
+        "goal": "#ffffff", "static": "#5f5f5f", "moving": "#7b3294", "coast": "#2b2b2b", "isobath": "rgba(0,0,0,0.33)",
+        "limit": "#d7301f", "pnr": "#e7298a"}
+"""One colour per role in every figure: red only means "too low" (the altitude scale's low end and the
+``min_altitude_m`` line); obstacles are grey (static) and purple (moving), the vehicle and its track
+near-black, the global path orange, key waypoints gold, the start green, the goal white, the point of
+no return magenta (``viz/energy.py``)."""
+
+ALTITUDE_COLORSCALE = "YlOrRd_r"
+"""Track altitude above the seabed: dark red low, pale yellow high."""
+
 SEA_LEVEL_M = 0.0
 """Elevation of the break between water and land colours."""
 
 _N = 24
 """Stops on each side of the break."""
 
-_WATER_TOP = 0.5 - 1e-6
-_WATER_OFFSHORE = 0.4
+_WATER_TOP = 0.38
+_WATER_OFFSHORE = 0.34
 
 
 def _hex(rgba: np.ndarray) -> list[str]:
@@ -75,10 +90,13 @@ def bathymetry_stops(zmin: float, zmax: float) -> tuple[np.ndarray, list[str]]:
         bottom = max(zmin, SEA_LEVEL_M)
         z = np.linspace(bottom, zmax, _N)
         pos.append((z - zmin) / span)
-        frac.append(0.5 + 0.5 * (z - SEA_LEVEL_M) / (zmax - SEA_LEVEL_M))
+        frac.append(-1.0 - (z - SEA_LEVEL_M) / (zmax - SEA_LEVEL_M))  # negative: the land ramp
     p = np.concatenate(pos)
     p[0], p[-1] = 0.0, 1.0
-    return p, _hex(BATHY_CMAP(np.concatenate(frac)))
+    f = np.concatenate(frac)
+    land = LinearSegmentedColormap.from_list("auvplan-land", list(LAND_COLORS))
+    rgba = np.where((f >= 0)[:, None], BATHY_CMAP(np.clip(f, 0, 1)), land(np.clip(-1.0 - f, 0, 1)))
+    return p, _hex(rgba)
 
 
 def bathymetry_colorscale(zmin: float, zmax: float) -> list[list[float | str]]:

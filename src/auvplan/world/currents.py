@@ -2,7 +2,7 @@
 
 * :class:`UniformCurrent` — constant vector.
 * :class:`LambOseenVortices` — a sum of viscous Lamb–Oseen vortices, document 002
-  eqs. 1–2 (METHODS.md §2).  The document's eq. 3, ``Γ/(πδ²) exp(-r²/δ²)``, is the
+  eqs. 1–2 (docs/methods.md §2).  The document's eq. 3, ``Γ/(πδ²) exp(-r²/δ²)``, is the
   vertical **vorticity** of the vortex (1/s), not a vertical velocity: it is
   offered as :meth:`LambOseenVortices.vorticity` and the vertical velocity is 0.
 * :class:`GriddedCurrent` — u, v (and optionally w) on an (x, y, z[, t]) grid,

@@ -4,7 +4,7 @@
   ``distance`` is the true Euclidean signed distance to the surface (negative
   inside).  For the ellipsoid the foot point ``q_i = A_i² p_i / (A_i² + t)`` is
   found by bisection on the root of ``Σ (A_i p_i / (A_i² + t))² = 1``
-  (METHODS.md §1.5); document 000's radial-ray distance ``|p| (1 - 1/s)``,
+  (docs/methods.md §1.5); document 000's radial-ray distance ``|p| (1 - 1/s)``,
   which overestimates the clearance, is :meth:`Ellipsoid.ray_distance`, and the
   guaranteed lower bound ``(s - 1) A_min`` is :meth:`Ellipsoid.lower_bound_distance`.
 

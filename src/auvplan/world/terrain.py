@@ -10,7 +10,7 @@ Two segment-versus-terrain tests are provided:
   every grid line a segment crosses splits it into pieces that each lie in one
   cell; along a piece the bilinear surface is a quadratic in the segment
   parameter, so the altitude ``z(t) - zb(t)`` is a quadratic whose minimum is at
-  a piece end or at its vertex (METHODS.md §4, the exact collision model).  All
+  a piece end or at its vertex (docs/methods.md §4, the exact collision model).  All
   pieces are walked in one compiled loop per segment (numba), after a provable
   lower bound has cleared the segments that are far above the seabed.
 * :meth:`Terrain.segments_below_stepping` — document 004's test: probes every

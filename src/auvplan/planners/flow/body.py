@@ -2,7 +2,7 @@
 
 Document 000 (§4.1) wraps an ellipsoid in the body formed by a source m at (−a₂, 0, 0), an equal
 sink at (a₂, 0, 0) and the target sink Q at (a₁, 0, 0), and treats the ellipsoid with the body's
-stagnation point x_s and mid-radius R₀ as its semi-axes.  The body is not that ellipsoid (METHODS.md
+stagnation point x_s and mid-radius R₀ as its semi-axes.  The body is not that ellipsoid (docs/methods.md
 §1.4): the real obstacle sticks out of it.  This module builds the same kind of flow — still
 axisymmetric potential flow about the axis from the obstacle to the target, still the target sink
 plus sources and sinks on that axis — but sized so that the body contains the obstacle inflated by

@@ -248,7 +248,7 @@ def design_document_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, mar
     """Document 000's sizing: front stagnation point and mid-radius R₀ equal to the inflated semi-axes.
 
     Along the axis the semi-axis is the inflated obstacle's extent; across it the largest radius of
-    the meridian shadow.  Solves for (m, a₂) with the corrected flux equation (METHODS.md §1.4); the
+    the meridian shadow.  Solves for (m, a₂) with the corrected flux equation (docs/methods.md §1.4); the
     obstacle generally sticks out of this body.
 
     Parameters

@@ -151,7 +151,7 @@ def sphere_document_potential(p: ArrayLike, center: ArrayLike, radius: float, ta
 
 def sphere_document_velocity(p: ArrayLike, center: ArrayLike, radius: float, target: ArrayLike,
                              m: float = 1.0) -> FloatArray:
-    """Gradient of the document's potential, differentiated in full (METHODS.md §1.1).
+    """Gradient of the document's potential, differentiated in full (docs/methods.md §1.1).
 
     Parameters
     ----------
@@ -272,7 +272,7 @@ def rankine_indicator(p: ArrayLike, m: float, a2: float, Q: float, a1: float) ->
 
 
 def rankine_stagnation_points(m: float, a2: float, Q: float, a1: float) -> tuple[float, float]:
-    """Front and rear stagnation points on the axis (METHODS.md §1.4 equations).
+    """Front and rear stagnation points on the axis (docs/methods.md §1.4 equations).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Potential-flow streamline planning around spheres and ellipsoids (document 000).
 
-Lei 2024, "3D AUV path planning with potential functions"; METHODS.md §1 (corrections).
+Lei 2024, "3D AUV path planning with potential functions"; docs/methods.md §1 (corrections).
 Convention: u = +∇φ; a sink of strength m at the target T has φ = m / (4π|p − T|), so its
 velocity −m (p − T) / (4π|p − T|³) points at T.  Paths follow u/|u| (arc length).
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import NotRequired, TypedDict
 
@@ -200,7 +201,8 @@ class SweepRow:
 
 
 def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayLike,
-                    paths: list[tuple[FloatArray, float] | None] | None = None) -> tuple[list[SweepRow], TimeSetup]:
+                    paths: list[tuple[FloatArray, float] | None] | None = None,
+                    progress: Callable[[int, int], None] | None = None) -> tuple[list[SweepRow], TimeSetup]:
     """Plan every departure time on one lattice and table (module notes).
 
     Parameters
@@ -214,6 +216,8 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
     paths : list, optional
         When given, receives each departure's timed plan as ``(points (M, 3), speed)`` (None
         where there is none), for the energy budget of each departure (:mod:`auvplan.endurance`).
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each departure (the command line's bar and ETA).
 
     Returns
     -------
@@ -242,6 +246,8 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
         rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
         if paths is not None:
             paths.append((tp.points, tp.speed) if tp is not None else None)
+        if progress is not None:
+            progress(len(rows), len(departs))
     return rows, ts
 
 
