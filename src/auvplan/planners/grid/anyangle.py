@@ -68,8 +68,12 @@ def link_guess(u: int, p: int, pf: FloatArray, ny: int, nz: int, steps: FloatArr
         Cell sizes (m).
     current : ndarray, shape (N, 3) or (0, 3)
         Node currents.
-    use_cost, w_length, w_energy, speed, power, document
-        The edge cost's settings (length alone when ``use_cost`` is False).
+    use_cost : bool
+        False: the cost is the length alone.
+    w_length, w_energy, speed, power : float
+        The edge cost's weights, the vehicle's speed (m/s) and electrical power at that speed (W).
+    document : bool
+        Use document 002's energy (eqs. 16–17) instead of joules.
 
     Returns
     -------
@@ -114,8 +118,14 @@ def link_exact(u: int, pf: FloatArray, ny: int, nz: int, steps: FloatArray, alt:
         The seabed's largest slope.
     min_alt : float
         Least altitude (m).
-    current, use_cost, w_length, w_energy, speed, power, document
-        As :func:`link_guess`.
+    current : ndarray, shape (N, 3) or (0, 3)
+        Node currents.
+    use_cost : bool
+        False: the cost is the length alone.
+    w_length, w_energy, speed, power : float
+        The edge cost's weights, the vehicle's speed (m/s) and electrical power at that speed (W).
+    document : bool
+        Use document 002's energy (eqs. 16–17) instead of joules.
 
     Returns
     -------

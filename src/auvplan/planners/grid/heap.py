@@ -48,7 +48,26 @@ def _sift_down(heap: Any, pos: Any, key: FloatArray, i: int, size: int) -> None:
 
 @kernel
 def push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
-    """Queue ``u`` (or move it up after its key fell); returns the new heap size."""
+    """Queue ``u`` (or move it up after its key fell).
+
+    Parameters
+    ----------
+    heap : ndarray of int32
+        Node ids, a binary heap on ``key`` in its first ``size`` entries.
+    pos : ndarray of int32
+        Each node's index in ``heap`` (-1 never queued or free to queue again, -2 settled).
+    key : ndarray of float
+        Each node's key.
+    size : int
+        The heap's size.
+    u : int
+        The node.
+
+    Returns
+    -------
+    int
+        The new heap size.
+    """
     if pos[u] == -1:
         heap[size] = u
         pos[u] = size
@@ -59,8 +78,26 @@ def push(heap: Any, pos: Any, key: FloatArray, size: int, u: int) -> int:
 
 @kernel
 def pop(heap: Any, pos: Any, key: FloatArray, size: int, mark: int) -> int:
-    """Remove the root ``heap[0]`` (its ``pos`` set to ``mark``: -2 settled, -1 free to queue again);
-    the last entry moves to the root and sifts down.  Returns the new heap size."""
+    """Remove the root ``heap[0]``; the last entry moves to the root and sifts down.
+
+    Parameters
+    ----------
+    heap : ndarray of int32
+        Node ids, a binary heap on ``key`` in its first ``size`` entries.
+    pos : ndarray of int32
+        Each node's index in ``heap`` (-1 never queued or free to queue again, -2 settled).
+    key : ndarray of float
+        Each node's key.
+    size : int
+        The heap's size.
+    mark : int
+        The root's new ``pos``: -2 settled, -1 free to queue again.
+
+    Returns
+    -------
+    int
+        The new heap size.
+    """
     pos[heap[0]] = mark
     size -= 1
     if size > 0:
