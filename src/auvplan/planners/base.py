@@ -111,8 +111,8 @@ class PlannerSpec:
     pipeline: str = "seeded"
     seed_fraction: float = 0.2
     refine_fraction: float = 0.2
-    polish: int = 3
-    seed_nodes: int = 20_000
+    polish: int = 2
+    seed_nodes: int = 8_000
     coarse_fraction: float = 0.2
     bend: float = 1.0
     population: int = 50

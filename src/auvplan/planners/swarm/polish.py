@@ -6,9 +6,11 @@ which is a polyline refined to convergence.  The plan's path (its ``S`` samples)
 to the lattice's own refinement (:func:`auvplan.planners.grid.planner.refine_plan`: cycles of an
 elastic band at spacings 1/8 … 1/2048 of the length, each level kept only when cheaper and free)
 with a light setting: ``spec.polish`` relaxation sweeps per level and one cycle.  The polished
-path is returned only when it is cheaper and passes the exact test, so the plan is never worse
-and never less safe.  The work is not an objective evaluation of the optimiser's problem: it is not
-counted in the budget and its CPU is reported apart (``PlanResult.work["polish_cpu_s"]``).
+path is returned only when it is cheaper, passes the exact test and, when the vehicle has limits
+(``problem.limits``: turn radius, pitch), is within them whenever the spline was, so the plan is never
+worse, never less safe and never less flyable.  The work is not an objective evaluation of the
+optimiser's problem: it is not counted in the budget and its CPU is reported apart
+(``PlanResult.work["polish_cpu_s"]``).
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
+from ...flyable import check_limits
 from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..grid.planner import refine_plan
 
@@ -41,14 +44,18 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
     -------
     PlanResult
         The polished plan (a polyline: no control points, ``message`` says so) or ``result``, with
-        ``work["polish_cpu_s"]`` set in both cases.
+        ``work["polish_cpu_s"]`` set in both cases (``result`` itself when ``spec.polish`` is 0).
     """
+    if spec.polish == 0:
+        return result
     c0 = time.process_time()
     out = result
-    if spec.polish > 0 and result.status.ok:
+    if result.status.ok:
         settings = replace(spec, grid=replace(spec.grid, relax_iterations=spec.polish, converge_tol=POLISH_TOLERANCE))
         polished = refine_plan(problem, settings, result)
-        if polished is not result:
+        lim = problem.limits
+        if polished is not result and (lim is None or check_limits(polished.path, lim).ok
+                                       or not check_limits(result.path, lim).ok):
             note = f"polished as a polyline (lattice band, {spec.polish} sweeps per level): {result.cost:.6g} -> " \
                    f"{polished.cost:.6g}"
             out = replace(polished, message="; ".join(m for m in (result.message, note) if m))
