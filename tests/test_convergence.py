@@ -107,6 +107,14 @@ def test_seeding_work_is_reported_exactly():
     assert alone.work == {}
 
 
+def test_a_loop_is_not_polished_to_a_point():
+    """Start = goal (a survey's loop): the plan keeps its spline, not the zero-length path."""
+    prob = PlanningProblem(flat_world(obstacles=(Sphere((500.0, 500.0, -50.0), 100.0),)),
+                           [50.0, 50.0, -50.0], [50.0, 50.0, -50.0], 1.5)
+    r = plan(prob, PlannerSpec(population=20, budget=400), rng=0)
+    assert r.path.shape[0] > 2 and r.control_points is not None
+
+
 def test_polish_setting_is_validated():
     with pytest.raises(ValueError, match="polish"):
         PlannerSpec(polish=-1)

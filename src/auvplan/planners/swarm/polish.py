@@ -5,7 +5,8 @@ polyline: on the long hard scenarios the best splines end 0.2–0.7 % above the 
 which is a polyline refined to convergence.  The plan's path (its ``S`` samples) is therefore handed
 to the lattice's own refinement (:func:`auvplan.planners.grid.planner.refine_plan`: cycles of an
 elastic band at spacings 1/8 … 1/2048 of the length, each level kept only when cheaper and free)
-with a light setting: ``spec.polish`` relaxation sweeps per level and one cycle.  The polished
+with a light setting: ``spec.polish`` relaxation sweeps per level and one cycle (not when the start is
+the goal: the band would shrink a loop to the point).  The polished
 path is returned only when it is cheaper, passes the exact test and, when the vehicle has limits
 (``problem.limits``: turn radius, pitch), is within them whenever the spline was, so the plan is never
 worse, never less safe and never less flyable.  The work is not an objective evaluation of the
@@ -17,6 +18,8 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+
+import numpy as np
 
 from ...flyable import check_limits
 from ..base import PlannerSpec, PlanningProblem, PlanResult
@@ -50,7 +53,7 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
         return result
     c0 = time.process_time()
     out = result
-    if result.status.ok:
+    if result.status.ok and not np.array_equal(problem.start, problem.goal):  # a loop is not polished to a point
         settings = replace(spec, grid=replace(spec.grid, relax_iterations=spec.polish, converge_tol=POLISH_TOLERANCE))
         polished = refine_plan(problem, settings, result)
         lim = problem.limits
