@@ -15,6 +15,12 @@ cost function and reports the evaluation throughput beside ours, measured in the
 
     .venv/bin/pip install mealpy pymoo      # only for --peers
     .venv/bin/python benchmarks/swarm.py --seeds 10 --peers --out results/bench-swarm
+
+With ``--readings`` it instead ranks IABC, ABC, GA and PSO (the algorithms alone, equal budgets) under
+each reading of the energy term (``physical``, ``document``: eq. 17 with V_oc the current's speed,
+``document-vehicle``: V_oc the vehicle's still-water speed) and writes the table to ``--doc``:
+
+    .venv/bin/python benchmarks/swarm.py --readings --seeds 10 --doc docs/energy_readings.md
 """
 
 from __future__ import annotations
@@ -183,6 +189,73 @@ def throughput(world, mission, budget: int) -> dict:
     return out
 
 
+READING_ALGORITHMS = ("iabc", "abc", "ga", "pso")
+READINGS_DOC = """# Document 002's energy term under its two readings (issue #36.3)
+
+Document 002's eq. 17 charges a leg W = ρ ∫|V_h|³ ds / V_oc, |V_h| = √(V² − (V_oc sin Φ)²) + V_oc cos Φ
+the ground speed in the current.  The text above the equation makes V_oc the *current's* speed; the gloss
+under eq. 17 calls it the vehicle's *still-water speed*.  auvplan offers both readings beside the physical
+energy (`[planner] energy = ...`, `auvplan.cost`):
+
+* `physical` (default): (P_hotel + k V³) · time, in equivalent metres;
+* `document`: ρ |V_h|³ ds / |c| with c the current (floored at 1 mm/s: infinite in still water, and it
+  prefers head currents);
+* `document-vehicle`: ρ |V_h|³ ds / V, V the vehicle's still-water speed (finite in still water: ρ V² ds).
+
+ρ is `energy_scale` (auto: 1 / V² for both document readings, so the term reads as metres in a 1 m/s
+current or in still water).  Their ranking of the four algorithms of the document (IABC, ABC, GA, PSO),
+each alone (`pipeline = "document"`), at equal budgets of {budget} objective evaluations, {seeds} seeds,
+on `marcus-wake` (document 002's seamounts and vortices): median cost of each algorithm under each
+reading (median path length, feasible seeds), and the order of the medians.  The document's Table 2 /
+Fig. 9 order is IABC first (shortest path, lowest final cost).  Costs compare only within a row (each
+reading is its own cost function).  Produced by
+
+    .venv/bin/python benchmarks/swarm.py --readings --seeds {seeds} --budget {budget} --doc docs/energy_readings.md
+
+{table}
+"""
+
+
+def readings_table(world, mission, seeds: int, budget: int) -> tuple[str, list[dict]]:
+    """Median cost and rank of the four document algorithms under each energy reading (equal budgets)."""
+    from auvplan.cost import ENERGY_READINGS
+
+    prob = planning_problem(world, mission)
+    rows = []
+    for reading in ENERGY_READINGS:
+        for name in READING_ALGORITHMS:
+            spec = replace(mission.planner, name=name, pipeline="document", budget=budget, energy=reading)
+            for seed in range(seeds):
+                c0 = time.process_time()
+                r = plan(prob, spec, rng=seed)
+                rows.append({"reading": reading, "planner": name, "seed": seed, "status": r.status.value,
+                             "cost": r.cost, "length_m": r.cost_terms.get("length_m"),
+                             "evaluations": r.evaluations, "cpu_s": time.process_time() - c0})
+    notes: list[str] = []
+    lines = ["| energy reading | " + " | ".join(n.upper() for n in READING_ALGORITHMS) + " | ranking (median cost) |",
+             "|---|" + "---|" * len(READING_ALGORITHMS) + "---|"]
+    for reading in ENERGY_READINGS:
+        med, cells = {}, []
+        for name in READING_ALGORITHMS:
+            sel = [r for r in rows if r["reading"] == reading and r["planner"] == name]
+            med[name] = float(np.median([r["cost"] for r in sel]))
+            length = np.median([r["length_m"] for r in sel])
+            ok = sum(r["status"] == "EXACT" for r in sel)
+            cells.append(f"{med[name]:.0f} ({length / 1000:.1f} km, {ok}/{len(sel)} feasible)")
+        order = sorted(READING_ALGORITHMS, key=med.__getitem__)
+        ranking = order[0].upper() + "".join((" = " if round(med[b]) == round(med[a]) else " < ") + b.upper()
+                                             for a, b in zip(order, order[1:]))
+        lines.append(f"| `{reading}` | " + " | ".join(cells) + f" | {ranking} |")
+        length = {n: np.median([r["length_m"] for r in rows if r["reading"] == reading and r["planner"] == n])
+                  for n in READING_ALGORITHMS}
+        first = ", ".join(n.upper() for n in order if round(med[n]) == round(med[order[0]]))
+        shortest = min(length, key=length.__getitem__).upper()
+        notes.append(f"* `{reading}`: lowest median cost {first}; shortest median path {shortest}; GA "
+                     f"{'last' if order[-1] == 'ga' else 'not last'}.")
+    return "\n".join(lines) + "\n\nAgainst the document's order (IABC best and shortest, GA slowest):\n\n" + \
+        "\n".join(notes), rows
+
+
 def paths_figure(world, mission, path: Path) -> None:
     """Document 002's figure: the seed-0 path of each algorithm over the seamounts, and its profile."""
     from auvplan.viz.plots import algorithm_paths
@@ -200,11 +273,20 @@ def main(argv=None) -> int:
     ap.add_argument("--peers", action="store_true", help="also run mealpy ABC and pymoo PSO on the same cost")
     ap.add_argument("--out", default="results/bench-swarm")
     ap.add_argument("--figure", type=Path, help="also write the table there (docs/figures/swarm-marcus.md)")
+    ap.add_argument("--readings", action="store_true",
+                    help="rank IABC, ABC, GA, PSO under each energy reading instead (writes --doc)")
+    ap.add_argument("--doc", default="docs/energy_readings.md")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     world, mission = sc.build(sc.load("marcus-wake"))
     plan(planning_problem(world, mission), replace(mission.planner, iterations=2), rng=0)  # load the kernels
+    if args.readings:
+        table, rows = readings_table(world, mission, args.seeds, args.budget)
+        (out / "readings.json").write_text(json.dumps(rows))
+        Path(args.doc).write_text(READINGS_DOC.format(seeds=args.seeds, budget=args.budget, table=table))
+        print(table)
+        return 0
     rows = run_matrix(world, mission, args.seeds, "document", 0) + run_matrix(world, mission, args.seeds, "equal",
                                                                                args.budget)
     text = "# marcus-wake: IABC vs ABC, GA, PSO\n\n" + summarise(rows) + "\n"

@@ -25,6 +25,8 @@ def reference_terms(world: World, p: np.ndarray, model: CostModel) -> dict:
     joules = (model.hotel_power + model.drag_k * model.speed**3) * dt
     if model.energy == "physical":
         units = joules
+    elif model.energy == "document-vehicle":  # eq. 17 with V_oc the vehicle's still-water speed
+        units = np.abs(root + c_par) ** 3 * ds / model.speed
     else:
         units = np.abs(root + c_par) ** 3 * ds / np.maximum(np.linalg.norm(c, axis=-1), 1e-3)
     m = world.margins
@@ -82,7 +84,7 @@ def scene(salish):
     return w, np.concatenate([xy, z[..., None]], axis=-1)
 
 
-@pytest.mark.parametrize("energy", ["physical", "document"])
+@pytest.mark.parametrize("energy", ["physical", "document", "document-vehicle"])
 def test_compiled_cost_matches_an_independent_computation(scene, energy):
     world, p = scene
     model = CostModel(speed=0.45, energy=energy)

@@ -1,10 +1,10 @@
 """Cut the small ETOPO1 0.1° tiles that auvplan ships out of the grid bundled in the pybacktrack wheel.
 
     pip download --no-deps pybacktrack==1.5.0 -d /tmp/pbt && cd /tmp/pbt && unzip -q pybacktrack-*.whl
-    .venv/bin/python tools/cut_etopo1.py /tmp/pbt/pybacktrack/bundle_data/topography/ETOPO1_0.1.grd
+    .venv/bin/python tools/cut_etopo1.py /tmp/pbt/pybacktrack/bundle_data/topography/ETOPO1_0.1.grd [NAME ...]
 
-Writes ``src/auvplan/data/etopo1_<name>.nc`` for each region below (values point-sampled, as in the
-source grid; see ``src/auvplan/data/PROVENANCE.md``).
+Writes ``src/auvplan/data/etopo1_<name>.nc`` for each region below, or for the regions named (values
+point-sampled, as in the source grid; see ``src/auvplan/data/PROVENANCE.md``).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ REGIONS = {  # name: (lat_min, lat_max, lon_min, lon_max), degrees; lon in [-180
     "ninetyeast": (-12.0, -9.2, 87.6, 90.8),
     "new_england": (37.4, 39.5, -63.3, -60.4),
     "chagos": (-7.4, -4.6, 70.4, 73.3),
+    "mariana": (15.8, 19.0, 144.2, 147.4),
 }
 
 
@@ -41,10 +42,12 @@ def cut(grid: xr.Dataset, box: tuple[float, float, float, float], name: str) -> 
     return ds
 
 
-def main(src: str) -> None:
+def main(src: str, names: list[str]) -> None:
     grid = xr.open_dataset(src)
     out = Path(__file__).resolve().parents[1] / "src" / "auvplan" / "data"
     for name, box in REGIONS.items():
+        if names and name not in names:
+            continue
         ds = cut(grid, box, name)
         path = out / f"etopo1_{name}.nc"
         ds.to_netcdf(path, encoding={"elevation": {"zlib": True}})
@@ -54,4 +57,4 @@ def main(src: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(sys.argv[1], sys.argv[2:])

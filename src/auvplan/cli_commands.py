@@ -322,11 +322,24 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         _save_plan(Path(args.out), sc, world, result, seed)
     human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
-             f"{result.wall_time_s:.2f} s" + (f"\n  {result.message}" if result.message else "")
+             f"{result.wall_time_s:.2f} s" + _work_note(result.work)
+             + (f"\n  {result.message}" if result.message else "")
              + (f"\n  grid reference cost {result.reference_cost:.6g}, gap {result.gap_pct:+.2f} %"
                 if args.reference else ""))
     _emit(record, args.json, human)
     return 0 if result.status.ok else 1
+
+
+def _work_note(work: dict[str, float]) -> str:
+    """The seeded pipeline's work outside the evaluation budget, for the human line of ``plan``."""
+    if not work:
+        return ""
+    parts = []
+    if "seeding_cpu_s" in work:
+        parts.append(f"seeding lattice {work['seeding_lattice_nodes']:.0f} nodes {work['seeding_cpu_s']:.3f} s CPU")
+    if "polish_cpu_s" in work:
+        parts.append(f"polish {work['polish_cpu_s']:.3f} s CPU")
+    return f"  (outside the budget: {', '.join(parts)})"
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:

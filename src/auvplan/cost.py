@@ -23,6 +23,9 @@
     V_oc cos Φ and W = ρ |V_h|³ ds / V_oc with V_oc the current speed (not
     physical: it cubes the ground speed, divides by the current — floored at
     1 mm/s — and prefers head currents; docs/methods.md §2).
+  - ``"document-vehicle"``: eq. 17 with the document's own gloss of V_oc under it, the
+    vehicle's still-water speed: W = ρ |V_h|³ ds / V (the ground speed |V_h| as above, with the
+    current; only the divisor is the constant V, so still water is finite: ρ V² ds).
 
 The currents at all midpoints come from the field in one vectorised call; everything else is one
 compiled pass (:func:`auvplan._jit.kernel`) over the segments of the population that sums every
@@ -43,7 +46,11 @@ from .world import World
 from .world.terrain import TerrainKernelData, elevation_kernel, min_altitude_kernel
 
 __all__ = ["CostModel", "CostTerms", "CostRow", "evaluate_paths", "segment_energy", "energy_kernel",
-           "propulsion_power"]
+           "propulsion_power", "ENERGY_READINGS", "energy_mode"]
+
+ENERGY_READINGS = ("physical", "document", "document-vehicle")
+"""The energy models (module notes): physical, and document 002's eq. 17 with V_oc the current's
+speed (as written) or the vehicle's still-water speed (the document's gloss under eq. 17)."""
 
 
 @dataclass(frozen=True)
@@ -57,7 +64,7 @@ class CostModel:
     hotel_power, drag_k : float
         P_hotel (W) and k (W s³/m³) of the power model P = P_hotel + k V³.
     energy : str
-        ``"physical"`` or ``"document"``.
+        ``"physical"``, ``"document"`` or ``"document-vehicle"`` (:data:`ENERGY_READINGS`).
     w_length, w_terrain, w_energy : float
         Term weights.
     terrain_penalty : float
@@ -87,8 +94,8 @@ class CostModel:
     def __post_init__(self) -> None:
         if not self.speed > 0:
             raise ValueError(f"speed must be positive, got {self.speed}")
-        if self.energy not in ("physical", "document"):
-            raise ValueError(f"energy must be 'physical' or 'document', got {self.energy!r}")
+        if self.energy not in ENERGY_READINGS:
+            raise ValueError(f"energy must be one of {', '.join(map(repr, ENERGY_READINGS))}, got {self.energy!r}")
 
     @property
     def scale(self) -> float:
@@ -98,13 +105,29 @@ class CostModel:
         -------
         float
             ``energy_scale`` when set, else V / (P_hotel + k V³) (cost units per joule, physical) or
-            1 / V² (document).
+            1 / V² (both document readings).
         """
         if self.energy_scale > 0:
             return self.energy_scale
         if self.energy == "physical":
             return self.speed / (self.hotel_power + self.drag_k * self.speed**3)
-        return 1.0 / self.speed**2  # document: |V_h|³/V_oc ~ V² per metre in a 1 m/s current
+        return 1.0 / self.speed**2  # document: |V_h|³/V_oc ~ V² per metre (1 m/s current, or V_oc = V)
+
+
+def energy_mode(model: CostModel) -> int:
+    """The compiled kernels' code of the model's energy reading.
+
+    Parameters
+    ----------
+    model : CostModel
+        Its ``energy``.
+
+    Returns
+    -------
+    int
+        0 physical, 1 document (V_oc the current's speed), 2 document-vehicle (V_oc = V).
+    """
+    return ENERGY_READINGS.index(model.energy)
 
 
 class CostRow(TypedDict):
@@ -242,7 +265,7 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
     c = world.currents.velocity(0.5 * (a + b)) if current is None else given[0]
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
-    _segment_energies(a, b, c, model.speed, propulsion_power(model), model.energy == "document", units, energy_j, dt,
+    _segment_energies(a, b, c, model.speed, propulsion_power(model), energy_mode(model), units, energy_j, dt,
                       blocked)
     return units.reshape(lead), energy_j.reshape(lead), dt.reshape(lead), blocked.reshape(lead)
 
@@ -265,7 +288,7 @@ def propulsion_power(model: CostModel) -> float:
 
 @kernel
 def energy_kernel(ex: float, ey: float, ez: float, ds: float, cx: float, cy: float, cz: float, speed: float,
-                  power: float, document: bool) -> tuple[float, float, float, bool]:
+                  power: float, document: int) -> tuple[float, float, float, bool]:
     """Energy of one segment in a current (compiled; module notes).
 
     Track tangent ŝ, c∥ = c·ŝ, c⊥² = |c|² - c∥², ground speed c∥ + √(V² - c⊥²), time, energy.
@@ -282,8 +305,9 @@ def energy_kernel(ex: float, ey: float, ez: float, ds: float, cx: float, cy: flo
         Through-water speed V (m/s).
     power : float
         Electrical power at that speed (W).
-    document : bool
-        Use document 002's energy (eqs. 16–17) for ``units`` instead of joules.
+    document : int or bool
+        :func:`energy_mode`: 0 (False) joules for ``units``; 1 (True) document 002's energy
+        (eqs. 16–17) divided by the current's speed; 2 the same divided by the vehicle's speed V.
 
     Returns
     -------
@@ -298,12 +322,17 @@ def energy_kernel(ex: float, ey: float, ez: float, ds: float, cx: float, cy: flo
     vg = c_par + root
     blocked = (disc < 0.0 or vg <= 1e-9) and ds > 0.0
     t = ds / (speed if (blocked or vg <= 0.0) else vg) if ds > 0.0 else 0.0
-    units: float = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3) if document else power * t
+    if document == 2:
+        units = abs(root + c_par) ** 3 * ds / speed
+    elif document:
+        units = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3)
+    else:
+        units = power * t
     return units, power * t, t, blocked
 
 
 @kernel
-def _segment_energies(a: FloatArray, b: FloatArray, c: FloatArray, speed: float, power: float, document: bool,
+def _segment_energies(a: FloatArray, b: FloatArray, c: FloatArray, speed: float, power: float, document: int,
                       units: FloatArray, energy_j: FloatArray, dt: FloatArray, blocked: BoolArray) -> None:
     for k in range(a.shape[0]):
         ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
@@ -323,7 +352,7 @@ def _point_slack(x: float, y: float, z: float, box: FloatArray, min_depth: float
 @kernel
 def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, other_clear: FloatArray,
                 has_other: bool, terrain: TerrainKernelData, has_terrain: bool, min_altitude: float, threshold: float,
-                box: FloatArray, min_depth: float, max_depth: float, speed: float, power: float, document: bool,
+                box: FloatArray, min_depth: float, max_depth: float, speed: float, power: float, document: int,
                 out: FloatArray) -> None:
     """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
 
@@ -408,7 +437,7 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
     _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
-                model.speed, propulsion_power(model), model.energy == "document", out)
+                model.speed, propulsion_power(model), energy_mode(model), out)
     length, violations, depth, units, energy_j, duration, clearance = out
     counts = violations.astype(np.intp)
     terrain_cost = model.terrain_penalty * counts + model.violation_slope * depth

@@ -51,6 +51,10 @@ class PlannerSpec:
         at the corners of its taut polygon (:func:`auvplan.planners.swarm.seeding.lattice_seeds`).
     refine_fraction : float
         Share of the evaluation budget kept for the refinement.
+    polish : int
+        Relaxation sweeps per level of the seeded pipeline's last stage, the plan polished as a
+        polyline by the lattice's band (:mod:`auvplan.planners.swarm.polish`; not counted in the
+        budget, its CPU reported in ``PlanResult.work``); 0: no polish (the pipeline before #35).
     seed_nodes : int
         Node count of the coarse seeding lattice.
     coarse_fraction : float
@@ -72,7 +76,8 @@ class PlannerSpec:
     samples : int
         Samples per path for the cost.
     energy : str
-        ``"physical"`` (default) or ``"document"`` (document 002 eq. 17).
+        ``"physical"`` (default), ``"document"`` (document 002 eq. 17, V_oc the current's speed) or
+        ``"document-vehicle"`` (eq. 17 with V_oc the vehicle's still-water speed, the document's gloss).
     w_length, w_terrain, w_energy : float
         Weights of the three cost terms (document 002 eq. 9 uses 1, 1, 1).
     terrain_penalty : float
@@ -110,7 +115,8 @@ class PlannerSpec:
     pipeline: str = "seeded"
     seed_fraction: float = 0.2
     refine_fraction: float = 0.2
-    seed_nodes: int = 20_000
+    polish: int = 2
+    seed_nodes: int = 8_000
     coarse_fraction: float = 0.2
     bend: float = 1.0
     population: int = 50
@@ -149,6 +155,8 @@ class PlannerSpec:
             raise ValueError(f"coarse_fraction = {self.coarse_fraction}: must lie in (0, 1)")
         if self.bend < 0:
             raise ValueError(f"bend = {self.bend}: must be >= 0")
+        if self.polish < 0:
+            raise ValueError(f"polish = {self.polish}: must be >= 0")
         if self.seed_nodes < 1000:
             raise ValueError(f"seed_nodes = {self.seed_nodes}: must be >= 1000")
         if self.population < 4:
@@ -160,8 +168,8 @@ class PlannerSpec:
                              "B-spline needs 4 control points with the start and the goal)")
         if self.samples < 10:
             raise ValueError(f"samples = {self.samples}: must be >= 10")
-        if self.energy not in ("physical", "document"):
-            raise ValueError(f"energy = {self.energy!r}: choose 'physical' or 'document'")
+        if self.energy not in ("physical", "document", "document-vehicle"):
+            raise ValueError(f"energy = {self.energy!r}: choose 'physical', 'document' or 'document-vehicle'")
         for k in ("w_length", "w_terrain", "w_energy", "terrain_penalty", "energy_scale"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
@@ -282,6 +290,9 @@ class PlanResult:
         Cost of the grid reference plan on the same cost function (``nan`` when not computed).
     times : ndarray or None
         Time (s after the mission's start time) at each vertex of ``path``, for timed plans.
+    work : dict
+        Work done outside the evaluation budget, by name: the seeded pipeline's lattice seeding
+        (``seeding_lattice_nodes``, ``seeding_cpu_s``) and polyline polish (``polish_cpu_s``).
     """
 
     status: Status
@@ -298,6 +309,7 @@ class PlanResult:
     reference_cost: float = float("nan")
     trace: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
     times: FloatArray | None = None
+    work: dict[str, float] = field(default_factory=dict)
 
     @property
     def gap(self) -> float:

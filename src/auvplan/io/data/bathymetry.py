@@ -17,8 +17,8 @@ What the reader handles, each covered by a round-trip test (file layouts: :mod:`
   ``conservative``: the model is never deeper than the data, and how much shallower
   it is gets measured (:mod:`auvplan.io.data.seabed_model`; ``linear``, ``cubic`` … on request).
 
-Built-in real terrains: ``etopo1-marcus-wake``, ``etopo1-ninetyeast``, ``etopo1-new-england``
-and ``etopo1-chagos`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and
+Built-in real terrains: ``etopo1-marcus-wake``, ``etopo1-ninetyeast``, ``etopo1-new-england``,
+``etopo1-chagos`` and ``etopo1-mariana`` (ETOPO1 cut-outs shipped in ``auvplan/data``) and
 ``matplotlib-topobathy`` (``topobathy.npz`` read through
 ``matplotlib.cbook.get_sample_data``; its value −1 marks shore water with no
 depth and is treated as no-go).
@@ -69,12 +69,14 @@ BUILTIN_TERRAINS = {
     "etopo1-ninetyeast": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 12.0-9.2 S, 87.6-90.8 E (Ninetyeast Ridge)",
     "etopo1-new-england": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 37.4-39.5 N, 63.3-60.4 W (New England Seamounts)",
     "etopo1-chagos": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 7.4-4.6 S, 70.4-73.3 E (Chagos banks and atolls)",
+    "etopo1-mariana": "ETOPO1 1' relief (NOAA NGDC), 0.1° cut-out 15.8-19.0 N, 144.2-147.4 E (Mariana arc)",
 }
 _BUILTIN_FILES = {
     "etopo1-marcus-wake": "etopo1_seed_marcus_wake.nc",
     "etopo1-ninetyeast": "etopo1_ninetyeast.nc",
     "etopo1-new-england": "etopo1_new_england.nc",
     "etopo1-chagos": "etopo1_chagos.nc",
+    "etopo1-mariana": "etopo1_mariana.nc",
 }
 
 @dataclass(frozen=True)

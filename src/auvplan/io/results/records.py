@@ -116,6 +116,7 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> JsonDict:
         "history": result.history,
         "waypoints": result.path,
         **({"times": result.times} if result.times is not None else {}),
+        **({"work": result.work} if result.work else {}),
     }))
 
 

@@ -14,6 +14,12 @@ evolution.  Three pipelines (``PlannerSpec.pipeline``):
   optimiser's plan did (so the refined plan is never worse and never less safe); when the
   optimiser found no feasible path, the lattice path (shortened and relaxed by the grid planner)
   is returned instead, so that a plan is INFEASIBLE only when the lattice found none either;
+  last, the plan is polished as a polyline by the lattice's band (:mod:`auvplan.planners.swarm.polish`,
+  ``spec.polish`` sweeps per level), kept only when cheaper and free.  The lattice seeding and the
+  polish are not objective evaluations of the optimiser's problem: they are outside the budget,
+  and reported beside it in ``PlanResult.work`` (``seeding_lattice_nodes``, ``seeding_cpu_s``,
+  ``polish_cpu_s``), so that a comparison at equal budgets is equal in the evaluations of the swarm,
+  with the seeding and the polish counted apart;
 * ``"document"``: the algorithm alone, as in document 002 (IterMax iterations when no budget is
   given);
 * ``"progressive"``: the algorithm alone, coarse to fine (:mod:`auvplan.planners.swarm.progressive`):
@@ -60,6 +66,7 @@ from ..common import (
     search_box,
 )
 from ..grid.planner import GridReference, plan_grid
+from .polish import polish_polyline
 from .problem import (
     control_polygon,
     spline_problem,
@@ -179,8 +186,9 @@ def plan_swarm(
         return _failure(bad[0], bad[1], spec.name)
     gen = as_rng(rng)
     budget, refine = _budgets(spec)
-    lattice, x0, count = None, None, 0
+    lattice, x0, count, work = None, None, 0, {}
     if spec.pipeline == "seeded":
+        c0 = time.process_time()
         ref, lattice = coarse_reference(problem, spec)
         if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
             lo3, hi3 = search_box(problem)
@@ -188,6 +196,8 @@ def plan_swarm(
             count = max(1, int(round(spec.seed_fraction * spec.population)))
             bases = lattice_seeds(lattice, problem.world, k, spec.samples)
             x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
+        work = {"seeding_lattice_nodes": float(ref.nodes if ref is not None else 0),
+                "seeding_cpu_s": time.process_time() - c0}
     coarse = None
     if spec.pipeline == "progressive" and budget is not None and budget >= 2 and coarse_count(spec.control_points) < \
             spec.control_points:
@@ -215,9 +225,11 @@ def plan_swarm(
         history = np.r_[history, f]
         evals += polished.evaluations
     iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
-    result = _result(problem, spec, x, f, evals, iterations, history, trace)
+    result = replace(_result(problem, spec, x, f, evals, iterations, history, trace), work=work)
     if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
-        result = _fallback(problem, spec, ref, result)
+        result = replace(_fallback(problem, spec, ref, result), work=work)
+    if spec.pipeline == "seeded":
+        result = polish_polyline(problem, spec, result)
     return replace(result, wall_time_s=time.perf_counter() - t0)
 
 
