@@ -102,6 +102,12 @@ class AvoidanceParams:
     vertical, speed_change : bool
         ``predictive``: also consider pitch (dive / climb within the depth band and the altitude
         margin) and speed (slow down / sprint to the vehicle's ``max_speed``) changes.
+    sweep : bool
+        ``predictive``: add the image of every shuttle beyond its turning point to the predicted
+        obstacles (:mod:`.sweep`, issue #36), so the vehicle leaves a fast mover's lane before it
+        turns round.
+    sweep_window : float
+        ``predictive``: length of the remembered track of each sensed obstacle (s).
     """
 
     name: str = "predictive"
@@ -125,6 +131,8 @@ class AvoidanceParams:
     track_window: float = 5.0
     vertical: bool = True
     speed_change: bool = True
+    sweep: bool = True
+    sweep_window: float = 600.0
 
     def __post_init__(self) -> None:
         if self.name not in AVOIDANCE:
@@ -134,7 +142,7 @@ class AvoidanceParams:
         if self.escape_time < 0:
             raise ValueError(f"escape_time = {self.escape_time}: must be >= 0")
         for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt", "sensor_range", "horizon",
-                  "margin", "track_window"):
+                  "margin", "track_window", "sweep_window"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
         if self.minimum_count < 2:
