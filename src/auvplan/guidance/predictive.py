@@ -213,7 +213,7 @@ class PredictiveAvoidance(LocalAvoidance):
         finally:
             self.decision_time += time.perf_counter() - t0
 
-    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]]) -> tuple[_F64, _F64, _F64]:
+    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]], p: _F64) -> tuple[_F64, _F64, _F64]:
         """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles,
         and of the shuttles' images (:mod:`.sweep`)."""
         C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
@@ -228,7 +228,7 @@ class PredictiveAvoidance(LocalAvoidance):
         for i, c in zip(ids, C):
             self.sweep.update(i, t, c)
         if self.params.sweep:  # shuttles' images beyond their turning points (issue #36)
-            return self.sweep.images(ids, C, V, R)
+            return self.sweep.images(ids, C, V, R, p, self.params.horizon)
         return C, V, R
 
     def _preferred(self, p: _F64, t: float, psi_b: float, rp: RoutePoint) -> tuple[_F64, float]:
@@ -262,7 +262,7 @@ class PredictiveAvoidance(LocalAvoidance):
 
     def _decide(self, p: _F64, t: float, v_now: _F64, cur: _F64, sensed: Sequence[tuple[Any, ...]], psi_b: float,
                 rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
-        C, V, R = self._sensed(t, sensed)
+        C, V, R = self._sensed(t, sensed, p)
         a, theta_pref = self._preferred(p, t, psi_b, rp)
         psi_a = math.atan2(a[0], a[1])
         if self.subgoal is None:  # the follower keeps control while its own command stays clear
