@@ -304,8 +304,13 @@ class MinimumDetector:
 
 
 def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng: np.random.Generator,
-                       tries: int = 64) -> _F64 | None:
-    """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first)."""
+                       tries: int = 64, goal: ArrayLike | None = None) -> _F64 | None:
+    """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first).
+
+    With ``goal``, the escape is planned (issue #36): of the free draws, those reached from ``p`` by a
+    free straight segment (obstacles frozen at ``t``) are kept and the one with the shortest way
+    ``|p − q| + |q − goal|`` taken; the first free draw when none is in sight.
+    """
     ang = rng.uniform(0, 2 * np.pi, tries)
     rad = radius * np.sqrt(rng.uniform(0.25, 1.0, tries))
     dz = rng.uniform(-0.2, 0.2, tries) * radius
@@ -313,7 +318,16 @@ def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng:
     ok = world.is_free(cand, t)
     if not ok.any():
         return None
-    point: _F64 = cand[int(np.flatnonzero(ok)[0])]
+    free = np.flatnonzero(ok)
+    if goal is not None:
+        seg = np.stack([np.broadcast_to(np.asarray(p, dtype=float), (free.size, 3)), cand[free]], axis=1)
+        seen = free[world.segments_free(seg, t)]
+        if seen.size:
+            way = np.linalg.norm(cand[seen] - np.asarray(p), axis=1) + np.linalg.norm(cand[seen] - np.asarray(goal),
+                                                                                        axis=1)
+            best: _F64 = cand[int(seen[np.argmin(way)])]
+            return best
+    point: _F64 = cand[int(free[0])]
     return point
 
 
@@ -361,20 +375,28 @@ class LocalAvoidance:
         self.goal_index = 1
         self.subgoal: np.ndarray | None = None
         self.escapes = 0
+        self.minimum_escapes = 0
         self.skipped = 0
         self.decisions = 0
         self.decision_time = 0.0
         self.speed_command = self.speed
         self._stall = (math.nan, math.nan, 0)
 
-    def _escape(self, p: _F64, t: float, scale: float = 1.0) -> bool:
-        """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``."""
-        sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng)
+    def _escape(self, p: _F64, t: float, scale: float = 1.0, minimum: bool = False) -> bool:
+        """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``.
+
+        The sub-goal is planned among the random draws (in sight, shortest way to the first unvisited
+        key waypoint; :func:`_random_free_point`).  ``minimum``: fired by the local-minimum count
+        (counted in ``minimum_escapes``), else by the stalled route progress.
+        """
+        goal = self.keys[min(self.goal_index, len(self.keys) - 1)]
+        sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng, goal=goal)
         if sub is None:
             return False
         self.detector.reset()
         self.subgoal = sub
         self.escapes += 1
+        self.minimum_escapes += int(minimum)
         if self.mode == "route":
             self.mode = "apf"
             self._advance_goal(p, t)
@@ -487,7 +509,7 @@ class LocalAvoidance:
             else:
                 self.goal_index = min(self.goal_index + 1, len(self.keys) - 1)
                 goal = self.keys[self.goal_index]
-        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t):
+        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t, minimum=True):
             goal = self.subgoal
         centers = np.array([o[4] for o in near]).reshape(-1, 3)
         dists = np.array([o[2] for o in near])

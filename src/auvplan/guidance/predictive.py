@@ -237,7 +237,7 @@ class PredictiveAvoidance(LocalAvoidance):
             self.subgoal = None
             self.detector.reset()
         if self.subgoal is None and self.mode != "route" and self.detector.update(p, t):
-            self._escape(p, t)
+            self._escape(p, t, minimum=True)
         if self.subgoal is not None:
             a = self.subgoal - p
             a /= max(float(np.linalg.norm(a)), 1e-9)
