@@ -228,7 +228,7 @@ class PredictiveAvoidance(LocalAvoidance):
         for i, c in zip(ids, C):
             self.sweep.update(i, t, c)
         if self.params.sweep:  # shuttles' images beyond their turning points (issue #36)
-            return self.sweep.images(ids, C, V, R, p, self.params.horizon)
+            return self.sweep.images(ids, C, V, R, p)
         return C, V, R
 
     def _preferred(self, p: _F64, t: float, psi_b: float, rp: RoutePoint) -> tuple[_F64, float]:
