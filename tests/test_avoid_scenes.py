@@ -6,12 +6,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-import pytest
 
-from auvplan._types import Status
 from auvplan.guidance.formation_plan import plan_formation
 from auvplan.io.scenario import loader as sc
-from auvplan.sim import simulate
 from auvplan.sim.formation import simulate_formation
 
 

@@ -15,7 +15,9 @@ centre is E − v (t − a/|v|) = (c + 2a v̂) − v t: a straight mover from th
 with velocity −v — the method of images.  That image is added to the obstacles the velocity
 obstacles and the predicted repulsion see, so the vehicle leaves the lane *before* the turn.
 Before the turn the image lies beyond the lane's end, where it only keeps the vehicle off the
-lane's extension (conservative).  A track seen only once (no return yet) gets no image.
+lane's extension (conservative).  A track seen only once (no return yet) gets the image of a turn
+*now* (at its centre, velocity −v) while the vehicle trails the mover in its lane: a faster mover
+pulling away down the vehicle's route may turn at any time, and the vehicle then keeps out of its lane.
 """
 
 from __future__ import annotations
@@ -99,71 +101,8 @@ class SweepMemory:
         a = float(along.max())
         return a if a > 0.5 * radius else 0.0
 
-    def turn_rate(self, i: int, span: float = 6.0) -> float:
-        """Turn rate (rad/s, counter-clockwise positive, horizontal) of obstacle ``i`` over its last 2 × ``span`` s.
-
-        Parameters
-        ----------
-        i : int
-            Obstacle identifier.
-        span : float
-            Time between the three remembered centres compared (s).
-
-        Returns
-        -------
-        float
-            Change of the horizontal direction of motion between the two chords, over their mid-times'
-            interval; 0 with too short a track or a mover slower than 0.05 m/s.
-        """
-        track = self.tracks.get(i)
-        if not track or track[-1][0] - track[0][0] < 2.0 * span:
-            return 0.0
-        t2, c2 = track[-1]
-        t1, c1 = min(track, key=lambda e: abs(e[0] - (t2 - span)))
-        t0, c0 = min(track, key=lambda e: abs(e[0] - (t2 - 2.0 * span)))
-        d1, d2 = c1 - c0, c2 - c1
-        if t1 <= t0 or t2 <= t1 or np.hypot(*d1[:2]) < 0.05 * (t1 - t0) or np.hypot(*d2[:2]) < 0.05 * (t2 - t1):
-            return 0.0
-        turn = np.arctan2(d1[0] * d2[1] - d1[1] * d2[0], d1[0] * d2[0] + d1[1] * d2[1])
-        return float(turn / (0.5 * (t2 - t0)))
-
-    def arc(self, i: int, centre: ArrayLike, velocity: ArrayLike, radius: float, horizon: float,
-            min_rate: float = 0.005) -> list[_F64]:
-        """Centres of a turning mover along its predicted arc (constant speed and turn rate) over ``horizon``.
-
-        Parameters
-        ----------
-        i : int
-            Obstacle identifier.
-        centre, velocity : array_like
-            ``(3,)`` its centre (m) and velocity (m/s) now.
-        radius : float
-            Its radius (m): the centres are spaced by it.
-        horizon : float
-            Prediction horizon (s).
-        min_rate : float
-            Turn rates below this (rad/s) count as straight (no arc).
-
-        Returns
-        -------
-        list of numpy.ndarray
-            ``(3,)`` centres at times Δ, 2Δ, … ≤ ``horizon``, Δ = radius / speed; empty for a straight mover.
-        """
-        w = self.turn_rate(i)
-        v = np.asarray(velocity, dtype=float)
-        speed = float(np.hypot(v[0], v[1]))
-        if abs(w) < min_rate or speed < 0.05:
-            return []
-        c = np.asarray(centre, dtype=float)
-        ts = np.arange(radius / speed, horizon + 1e-9, radius / speed)
-        psi0 = np.arctan2(v[1], v[0])
-        x = c[0] + speed / w * (np.sin(psi0 + w * ts) - np.sin(psi0))
-        y = c[1] - speed / w * (np.cos(psi0 + w * ts) - np.cos(psi0))
-        z = c[2] + v[2] * ts
-        return list(np.stack([x, y, z], axis=1))
-
     def images(self, ids: ArrayLike, C: ArrayLike, V: ArrayLike, R: ArrayLike,
-               p: ArrayLike | None = None, horizon: float = 0.0) -> tuple[_F64, _F64, _F64]:
+               p: ArrayLike | None = None) -> tuple[_F64, _F64, _F64]:
         """The obstacles ``(C, V, R)`` followed by the images of the shuttles among them.
 
         Parameters
@@ -172,9 +111,6 @@ class SweepMemory:
             ``(3,)`` vehicle position (m): a mover whose turning point is not known yet gets the image
             of a turn *now* (at its centre, velocity −v) while the vehicle trails it in its lane
             (behind it, within twice its radius of its line of motion).
-        horizon : float, optional
-            With a positive horizon (s), a turning mover's predicted arc over it (:meth:`arc`) is added
-            as still spheres of its radius.
         ids : array_like
             ``(M,)`` obstacle identifiers.
         C, V : array_like
@@ -185,8 +121,7 @@ class SweepMemory:
         Returns
         -------
         C, V, R : numpy.ndarray
-            The obstacles and, appended, one image per shuttle: centre c + 2a v̂, velocity −v, same radius;
-            then the still spheres of the turning movers' arcs.
+            The obstacles and, appended, one image per shuttle: centre c + 2a v̂, velocity −v, same radius.
         """
         C = np.asarray(C, dtype=float).reshape(-1, 3)
         V = np.asarray(V, dtype=float).reshape(-1, 3)
@@ -204,11 +139,6 @@ class SweepMemory:
                 extra_c.append(C[k] + 2.0 * a * V[k] / np.linalg.norm(V[k]))
                 extra_v.append(-V[k])
                 extra_r.append(R[k])
-            if horizon > 0.0:
-                for c in self.arc(int(i), C[k], V[k], float(R[k]), horizon):
-                    extra_c.append(c)
-                    extra_v.append(np.zeros(3))
-                    extra_r.append(R[k])
         if not extra_c:
             return C, V, R
         return np.vstack([C, extra_c]), np.vstack([V, extra_v]), np.r_[R, extra_r]
