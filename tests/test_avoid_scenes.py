@@ -10,9 +10,11 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.guidance.formation_plan import plan_formation
+from auvplan.guidance.sweep import SweepMemory
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate
 from auvplan.sim.formation import simulate_formation
+from auvplan.world import WaypointMotion
 
 
 # ---------------------------------------------------------------------- formation: the seed drives the run
@@ -70,3 +72,35 @@ def test_avoidance_net_needs_and_fires_document_004s_escape():
     off = replace(m, avoidance=replace(m.avoidance, minimum_count=10**6, escape_time=0.0))
     stuck = simulate(w, off, rng=0)
     assert stuck.status is Status.DEADLOCK and stuck.escapes == 0 and stuck.metrics["collisions"] == 0
+
+
+# ---------------------------------------------------------------------- the sweep images of fast movers
+def _shuttle_memory(t_end: float) -> tuple[SweepMemory, WaypointMotion]:
+    """A 2 m/s shuttle between x = 0 and x = 300 m (y = 50 m), remembered from t = 0 to ``t_end``."""
+    motion = WaypointMotion(np.array([[0.0, 50.0, -100.0], [300.0, 50.0, -100.0]]), 2.0, True)
+    mem = SweepMemory(window=600.0)
+    for t in np.arange(0.0, t_end + 1e-9, 1.0):
+        mem.update(7, t, motion.position(t))
+    return mem, motion
+
+
+def test_shuttle_image_is_its_return_mirrored_about_the_turning_point():
+    """On its way back (t = 200 s: x = 200, heading -x) the shuttle has been at x = 0 ... 300: its turning
+    point ahead is x = 0 (a = 200 m) and its image, c + 2a v̂ with velocity -v, sits at x = -200 moving +x;
+    the image's track equals the shuttle's after the turn (method of images); a straight mover gets none."""
+    mem, motion = _shuttle_memory(200.0)
+    c, v = motion.position(200.0), np.array([-2.0, 0.0, 0.0])
+    assert mem.turning_distance(7, c, v, 15.0) == pytest.approx(200.0)
+    C, V, R = mem.images([7], c[None], v[None], [15.0])
+    assert C.shape == (2, 3) and np.allclose(C[1], [-200.0, 50.0, -100.0]) and np.allclose(V[1], [2.0, 0.0, 0.0])
+    for t in (120.0, 150.0):  # after the turn at t = 300 s: the image is where the shuttle is
+        assert np.allclose(C[1] + V[1] * t, motion.position(200.0 + t), atol=1e-9)
+    # first pass (t = 100 s, heading +x, never been further): no image, unless the vehicle trails it in its lane
+    mem, motion = _shuttle_memory(100.0)
+    c, v = motion.position(100.0), np.array([2.0, 0.0, 0.0])
+    assert mem.turning_distance(7, c, v, 15.0) == 0.0
+    assert mem.images([7], c[None], v[None], [15.0])[0].shape == (1, 3)
+    assert mem.images([7], c[None], v[None], [15.0], p=[250.0, 50.0, -100.0])[0].shape == (1, 3)  # ahead of it
+    C, V, _ = mem.images([7], c[None], v[None], [15.0], p=[40.0, 60.0, -100.0])  # behind it, in its lane
+    assert np.allclose(C[1], c) and np.allclose(V[1], -v)
+    assert mem.images([7], c[None], v[None], [15.0], p=[40.0, 120.0, -100.0])[0].shape == (1, 3)  # beside the lane
