@@ -385,11 +385,12 @@ class LocalAvoidance:
     def _escape(self, p: _F64, t: float, scale: float = 1.0, minimum: bool = False) -> bool:
         """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``.
 
-        The sub-goal is planned among the random draws (in sight, shortest way to the first unvisited
-        key waypoint; :func:`_random_free_point`).  ``minimum``: fired by the local-minimum count
+        With ``predictive`` avoidance the sub-goal is planned among the random draws (in sight, shortest
+        way to the first unvisited key waypoint; :func:`_random_free_point`); document 004's APF keeps
+        its random free point.  ``minimum``: fired by the local-minimum count
         (counted in ``minimum_escapes``), else by the stalled route progress.
         """
-        goal = self.keys[min(self.goal_index, len(self.keys) - 1)]
+        goal = self.keys[min(self.goal_index, len(self.keys) - 1)] if self.params.name == "predictive" else None
         sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng, goal=goal)
         if sub is None:
             return False
