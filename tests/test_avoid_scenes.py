@@ -9,10 +9,12 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
+from auvplan.bench import fast_movers
 from auvplan.guidance.formation_plan import plan_formation
 from auvplan.guidance.sweep import SweepMemory
 from auvplan.io.scenario import loader as sc
-from auvplan.sim import simulate
+from auvplan.planners import plan
+from auvplan.sim import mission_route, planning_problem, simulate
 from auvplan.sim.formation import simulate_formation
 from auvplan.world import WaypointMotion
 
@@ -104,3 +106,18 @@ def test_shuttle_image_is_its_return_mirrored_about_the_turning_point():
     C, V, _ = mem.images([7], c[None], v[None], [15.0], p=[40.0, 60.0, -100.0])  # behind it, in its lane
     assert np.allclose(C[1], c) and np.allclose(V[1], -v)
     assert mem.images([7], c[None], v[None], [15.0], p=[40.0, 120.0, -100.0])[0].shape == (1, 3)  # beside the lane
+
+
+@pytest.mark.parametrize("seed", [1, 3])
+def test_fast_shuttle_trap_runs_down_the_old_avoidance_and_not_the_sweep(seed):
+    """Fast-mover Monte Carlo seeds 1 and 3 (benchmarks/avoidance.py) on avoidance-gauntlet's seabed and
+    plan: the vehicle trails a fast shuttle (1.85 / 2.5 m/s) down its lane; without the sweep images it
+    is run down when the shuttle turns round; with them it leaves the lane and arrives with no contact."""
+    w, m = sc.build(sc.load("avoidance-gauntlet"))
+    route = mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
+    world = fast_movers(w, route, m.vehicle.speed, seed)
+    old = simulate(world, replace(m, avoidance=replace(m.avoidance, sweep=False)), route=route, rng=seed)
+    assert old.metrics["collisions"] == 1 and not old.arrived
+    new = simulate(world, m, route=route, rng=seed)
+    assert new.status is Status.EXACT and new.metrics["collisions"] == 0
+    assert new.metrics["min_obstacle_distance_m"] > 5.0
