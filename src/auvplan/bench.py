@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._types import Status
 from .errors import AuvplanError, require
@@ -39,10 +40,10 @@ from .planners import PIPELINES, PlanResult, plan, reference, with_reference
 from .planners.grid.planner import on_cost_function
 from .planners.registry import known, names
 from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
-from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion, World
+from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, Sphere, WaypointMotion, World
 
-__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "run_chunk", "sweep", "summarise", "read_rows",
-           "read_histories"]
+__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "fast_movers", "run_chunk", "sweep", "summarise",
+           "read_rows", "read_histories"]
 
 Row = dict[str, Any]
 """One row of ``rows.csv`` (or of the summary, or one convergence record)."""
@@ -185,6 +186,67 @@ def perturb_moving(world: World, seed: int) -> World:
             m = WaypointMotion(np.roll(m.points, k, axis=0), m.speed * rng.uniform(0.6, 1.2), m.loop)
         moving.append(MovingObstacle(o.shape, m, o.name, o.appears, o.disappears))
     return replace(world, moving=tuple(moving))
+
+
+def fast_movers(world: World, route: ArrayLike, speed: float, seed: int, n: int = 6) -> World:
+    """``world`` with its moving obstacles replaced (issue #36's fast-mover Monte Carlo,
+    ``benchmarks/avoidance.py``) by ``n`` fast movers drawn from ``seed``.
+
+    Each mover is a sphere of 15–30 m radius at 1.8–3.0 m/s (1.2–2× the vehicle's cruise speed) placed
+    on the route at a random 10–90 % of its length and timed (±40 s) to be there when the vehicle
+    arrives at cruise speed; its motion is one of (equally likely): a straight run at any angle to the
+    route (head-on, crossing from either side, overtaking); a shuttle 300 m across the route and
+    back; a shuttle 300 m along it; an orbit of 60–100 m radius about the route point.
+
+    Parameters
+    ----------
+    world : World
+        The scenario's world (seabed, bounds).
+    route : numpy.ndarray
+        ``(N, 3)`` route the vehicle flies (m).
+    speed : float
+        The vehicle's cruise speed (m/s).
+    seed : int
+        Seed of the draws.
+    n : int
+        Number of movers.
+
+    Returns
+    -------
+    World
+        The same world with the ``n`` movers as its moving obstacles.
+    """
+    rng = np.random.default_rng(20_000 + seed)
+    route = np.asarray(route, dtype=float).reshape(-1, 3)
+    seg = np.diff(route, axis=0)
+    cum = np.r_[0.0, np.cumsum(np.linalg.norm(seg, axis=1))]
+    movers = []
+    for i in range(n):
+        s = rng.uniform(0.1, 0.9) * cum[-1]
+        k = min(int(np.searchsorted(cum, s, side="right")) - 1, len(seg) - 1)
+        tangent = seg[k] / np.linalg.norm(seg[k])
+        normal = np.array([tangent[1], -tangent[0], 0.0]) / max(np.hypot(tangent[0], tangent[1]), 1e-9)
+        point = route[k] + (s - cum[k]) * tangent
+        u = rng.uniform(1.8, 3.0)
+        t_meet = s / speed + rng.uniform(-40.0, 40.0)
+        kind = int(rng.integers(4))
+        if kind == 0:  # straight, any angle to the route
+            heading = np.arctan2(tangent[0], tangent[1]) + rng.uniform(-np.pi, np.pi)
+            v = u * np.array([np.sin(heading), np.cos(heading), 0.0])
+            motion: LinearMotion | WaypointMotion | CircleMotion = LinearMotion(tuple(point - v * t_meet), tuple(v))
+        elif kind in (1, 2):  # shuttle across / along, on the route point at t_meet
+            axis = normal if kind == 1 else tangent * np.array([1.0, 1.0, 0.0])
+            a_end, b_end = point - 150.0 * axis, point + 150.0 * axis
+            d0 = (150.0 - u * t_meet) % 600.0  # arc from a_end on the loop a -> b -> a at t = 0
+            pts = [a_end + d0 * axis, b_end, a_end] if d0 <= 300.0 else [b_end - (d0 - 300.0) * axis, a_end, b_end]
+            motion = WaypointMotion(np.array(pts), u, True)
+        else:  # orbit about the route point
+            radius = rng.uniform(60.0, 100.0)
+            motion = CircleMotion(tuple(point), float(radius), float(2 * np.pi * radius / u),
+                                  float(rng.uniform(0, 2 * np.pi)))
+        movers.append(MovingObstacle(Sphere((0.0, 0.0, 0.0), float(rng.uniform(15.0, 30.0))), motion,
+                                     f"fast-{i}"))
+    return replace(world, moving=tuple(movers))
 
 
 def _row(scenario: str, planner: str, guidance: str, seed: int, record: RunRecord, ref: PlanResult | None, cpu: float,

@@ -136,6 +136,11 @@ class FormationParams:
         slots of a wide formation turn smoothly round a corner).
     sample_m : float
         Spacing of the slot-track samples tested against the seabed (m).
+    start_sigma_m : float
+        Launch scatter: standard deviation of each vehicle's initial horizontal position error about
+        its slot (or its ``start``), per axis (m; 0: exactly on it).  Drawn from the run's seed.
+    start_heading_sigma_deg : float
+        Standard deviation of each vehicle's initial heading error (degrees), drawn from the run's seed.
     """
 
     shape: str = "line"
@@ -153,6 +158,8 @@ class FormationParams:
     min_speed_ratio: float = 0.5
     course_window_m: float = 0.0
     sample_m: float = 10.0
+    start_sigma_m: float = 0.0
+    start_heading_sigma_deg: float = 0.0
 
     def __post_init__(self) -> None:
         if self.shape not in SHAPES:
@@ -161,7 +168,7 @@ class FormationParams:
                   "horizon_s"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
-        for k in ("k_vehicle", "k_speed", "k_wait", "course_window_m"):
+        for k in ("k_vehicle", "k_speed", "k_wait", "course_window_m", "start_sigma_m", "start_heading_sigma_deg"):
             if getattr(self, k) < 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
         if not 0 < self.min_speed_ratio <= 1:

@@ -102,6 +102,12 @@ class AvoidanceParams:
     vertical, speed_change : bool
         ``predictive``: also consider pitch (dive / climb within the depth band and the altitude
         margin) and speed (slow down / sprint to the vehicle's ``max_speed``) changes.
+    sweep : bool
+        ``predictive``: add the image of every shuttle beyond its turning point to the predicted
+        obstacles (:mod:`.sweep`, issue #36), so the vehicle leaves a fast mover's lane before it
+        turns round.
+    sweep_window : float
+        ``predictive``: length of the remembered track of each sensed obstacle (s).
     """
 
     name: str = "predictive"
@@ -125,6 +131,8 @@ class AvoidanceParams:
     track_window: float = 5.0
     vertical: bool = True
     speed_change: bool = True
+    sweep: bool = True
+    sweep_window: float = 600.0
 
     def __post_init__(self) -> None:
         if self.name not in AVOIDANCE:
@@ -134,7 +142,7 @@ class AvoidanceParams:
         if self.escape_time < 0:
             raise ValueError(f"escape_time = {self.escape_time}: must be >= 0")
         for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt", "sensor_range", "horizon",
-                  "margin", "track_window"):
+                  "margin", "track_window", "sweep_window"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
         if self.minimum_count < 2:
@@ -296,8 +304,13 @@ class MinimumDetector:
 
 
 def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng: np.random.Generator,
-                       tries: int = 64) -> _F64 | None:
-    """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first)."""
+                       tries: int = 64, goal: ArrayLike | None = None) -> _F64 | None:
+    """A random free point within ``radius`` of ``p`` (horizontal disc at the same depth first).
+
+    With ``goal``, the escape is planned (issue #36): of the free draws, those reached from ``p`` by a
+    free straight segment (obstacles frozen at ``t``) are kept and the one with the shortest way
+    ``|p − q| + |q − goal|`` taken; the first free draw when none is in sight.
+    """
     ang = rng.uniform(0, 2 * np.pi, tries)
     rad = radius * np.sqrt(rng.uniform(0.25, 1.0, tries))
     dz = rng.uniform(-0.2, 0.2, tries) * radius
@@ -305,7 +318,16 @@ def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng:
     ok = world.is_free(cand, t)
     if not ok.any():
         return None
-    point: _F64 = cand[int(np.flatnonzero(ok)[0])]
+    free = np.flatnonzero(ok)
+    if goal is not None:
+        seg = np.stack([np.broadcast_to(np.asarray(p, dtype=float), (free.size, 3)), cand[free]], axis=1)
+        seen = free[world.segments_free(seg, t)]
+        if seen.size:
+            way = np.linalg.norm(cand[seen] - np.asarray(p), axis=1) + np.linalg.norm(cand[seen] - np.asarray(goal),
+                                                                                        axis=1)
+            best: _F64 = cand[int(seen[np.argmin(way)])]
+            return best
+    point: _F64 = cand[int(free[0])]
     return point
 
 
@@ -353,20 +375,29 @@ class LocalAvoidance:
         self.goal_index = 1
         self.subgoal: np.ndarray | None = None
         self.escapes = 0
+        self.minimum_escapes = 0
         self.skipped = 0
         self.decisions = 0
         self.decision_time = 0.0
         self.speed_command = self.speed
         self._stall = (math.nan, math.nan, 0)
 
-    def _escape(self, p: _F64, t: float, scale: float = 1.0) -> bool:
-        """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``."""
-        sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng)
+    def _escape(self, p: _F64, t: float, scale: float = 1.0, minimum: bool = False) -> bool:
+        """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``.
+
+        With ``predictive`` avoidance the sub-goal is planned among the random draws (in sight, shortest
+        way to the first unvisited key waypoint; :func:`_random_free_point`); document 004's APF keeps
+        its random free point.  ``minimum``: fired by the local-minimum count
+        (counted in ``minimum_escapes``), else by the stalled route progress.
+        """
+        goal = self.keys[min(self.goal_index, len(self.keys) - 1)] if self.params.name == "predictive" else None
+        sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng, goal=goal)
         if sub is None:
             return False
         self.detector.reset()
         self.subgoal = sub
         self.escapes += 1
+        self.minimum_escapes += int(minimum)
         if self.mode == "route":
             self.mode = "apf"
             self._advance_goal(p, t)
@@ -479,7 +510,7 @@ class LocalAvoidance:
             else:
                 self.goal_index = min(self.goal_index + 1, len(self.keys) - 1)
                 goal = self.keys[self.goal_index]
-        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t):
+        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t, minimum=True):
             goal = self.subgoal
         centers = np.array([o[4] for o in near]).reshape(-1, 3)
         dists = np.array([o[2] for o in near])

@@ -38,6 +38,7 @@ from ..vehicles import VehicleParams
 from ..world import World
 from .local import AvoidanceParams, LocalAvoidance
 from .route import PathFollower, RoutePoint
+from .sweep import SweepMemory
 from .vo import CFG, predicted_preference, vo_choose
 
 __all__ = ["TrackEstimator", "PredictiveAvoidance"]
@@ -161,6 +162,7 @@ class PredictiveAvoidance(LocalAvoidance):
         """Back to route following; forget the tracks and the last choice."""
         super().reset()
         self.estimator = TrackEstimator(self.params.track_window)
+        self.sweep = SweepMemory(self.params.sweep_window)
         self._last_p: np.ndarray | None = None
         self._psi_last = math.nan
         self.solves = 0
@@ -211,8 +213,9 @@ class PredictiveAvoidance(LocalAvoidance):
         finally:
             self.decision_time += time.perf_counter() - t0
 
-    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]]) -> tuple[_F64, _F64, _F64]:
-        """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles."""
+    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]], p: _F64) -> tuple[_F64, _F64, _F64]:
+        """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles,
+        and of the shuttles' images (:mod:`.sweep`)."""
         C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
         R = np.array([o[7] for o in sensed], dtype=float) + self.world.margins.obstacle
         if self.params.velocity == "known":
@@ -221,6 +224,11 @@ class PredictiveAvoidance(LocalAvoidance):
             for o, c in zip(sensed, C):
                 self.estimator.update(o[5], t, c)
             V = np.array([self.estimator.velocity(o[5]) for o in sensed]).reshape(-1, 3)
+        ids = [o[5] for o in sensed]
+        for i, c in zip(ids, C):
+            self.sweep.update(i, t, c)
+        if self.params.sweep:  # shuttles' images beyond their turning points (issue #36)
+            return self.sweep.images(ids, C, V, R, p)
         return C, V, R
 
     def _preferred(self, p: _F64, t: float, psi_b: float, rp: RoutePoint) -> tuple[_F64, float]:
@@ -229,7 +237,7 @@ class PredictiveAvoidance(LocalAvoidance):
             self.subgoal = None
             self.detector.reset()
         if self.subgoal is None and self.mode != "route" and self.detector.update(p, t):
-            self._escape(p, t)
+            self._escape(p, t, minimum=True)
         if self.subgoal is not None:
             a = self.subgoal - p
             a /= max(float(np.linalg.norm(a)), 1e-9)
@@ -254,7 +262,7 @@ class PredictiveAvoidance(LocalAvoidance):
 
     def _decide(self, p: _F64, t: float, v_now: _F64, cur: _F64, sensed: Sequence[tuple[Any, ...]], psi_b: float,
                 rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
-        C, V, R = self._sensed(t, sensed)
+        C, V, R = self._sensed(t, sensed, p)
         a, theta_pref = self._preferred(p, t, psi_b, rp)
         psi_a = math.atan2(a[0], a[1])
         if self.subgoal is None:  # the follower keeps control while its own command stays clear

@@ -186,6 +186,18 @@ def _initial_states(mission: Mission, fplan: FormationPlan) -> list[VehicleState
     return out
 
 
+def _scatter(states: Sequence[VehicleState], fp: FormationParams, rng: np.random.Generator) -> None:
+    """Launch scatter (issue #36): each vehicle's initial horizontal position and heading off by
+    N(0, ``start_sigma_m``²) per axis and N(0, ``start_heading_sigma_deg``²), drawn from ``rng``."""
+    if fp.start_sigma_m <= 0.0 and fp.start_heading_sigma_deg <= 0.0:
+        return
+    draws = rng.standard_normal((len(states), 3))
+    for s, (dx, dy, dpsi) in zip(states, draws):
+        s.x += fp.start_sigma_m * float(dx)
+        s.y += fp.start_sigma_m * float(dy)
+        s.psi = (s.psi + math.radians(fp.start_heading_sigma_deg) * float(dpsi)) % (2 * math.pi)
+
+
 def _contact(i: int, dists: Sequence[float], alt: float, vdist: dict[int, float], names: Sequence[str],
              fp: FormationParams) -> str:
     """What vehicle ``i`` touches ('' when nothing)."""
@@ -225,6 +237,7 @@ class _Fleet:
         waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
         shape = (self.n_steps + 1, n, 2)
         self.noise = rng.standard_normal(shape) if waves else np.zeros(shape)
+        _scatter(self.states, self.fp, rng)  # after the wave draws: runs without scatter keep their noise
         steps_t = np.arange(self.n_steps + 1) * dt
         self.tracks = np.stack([np.asarray(o.motion.position(steps_t)) for o in world.moving], axis=1) \
             if world.moving else np.empty((self.n_steps + 1, 0, 3))

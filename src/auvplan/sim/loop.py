@@ -311,4 +311,5 @@ def _result(run: _Run, wall_time: float) -> SimResult:
         avoidance=run.avoidance,
         decision_steps=local.decisions if local is not None else 0,
         decision_time_s=local.decision_time if local is not None else 0.0,
+        minimum_escapes=local.minimum_escapes if local is not None else 0,
     )

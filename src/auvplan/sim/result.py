@@ -91,6 +91,9 @@ class SimResult:
         Wall-clock time of the run.
     escapes, decision_steps, decision_time_s
         Local-minimum escapes, APF decision steps and their total time (s).
+    minimum_escapes : int
+        Of the escapes, those fired by document 004's local-minimum count (the others by the stalled
+        route progress).
     """
 
     status: Status
@@ -112,6 +115,7 @@ class SimResult:
     avoidance: str = "none"
     decision_steps: int = 0
     decision_time_s: float = 0.0
+    minimum_escapes: int = 0
 
     @property
     def metrics(self) -> SimMetrics:
