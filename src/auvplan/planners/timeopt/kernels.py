@@ -184,6 +184,8 @@ def _drift(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: 
             return math.inf, s_min
         if g > 0.0 and s + tau * g >= length:
             return t + (length - s) / g, s_min
+        if g0 < 0.0 and g > g0 and -g0 < 2.0 * (g - g0):  # the turn within the step (g linear in time)
+            s_min = min(s_min, s - 0.25 * g0 * g0 * tau / (g - g0))
         s += tau * g
         t += tau
         s_min = min(s_min, s)

@@ -150,8 +150,9 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
     tp = flown(problem, ts, tp)
     if not np.isfinite(tp.duration):
-        return _failure(Status.INFEASIBLE, "flown through the current field itself (not the planner's table), the "
-                        "plan meets a cross current no heading can hold; try a smaller [planner.timeopt] dt or cell", t0)
+        return _failure(Status.INFEASIBLE, "flown through the current field itself (not the planner's table), "
+                        "the plan meets a cross current no heading can hold; try a smaller [planner.timeopt] dt or "
+                        "cell", t0)
     length = float(polyline_length(tp.points))
     energy = _power(problem, tp.speed) * tp.duration
     # geometric clearance (seabed along every segment, exactly; static obstacles), as the other planners
@@ -204,8 +205,9 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
         best = _fly(problem, spec, ts, depart)
         if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
-                            f"within {ts.table.t1 - depart:.0f} s (the current blocks it, or the seabed encloses "
-                            "the goal; try a smaller [planner.timeopt] cell or another departure)", t0)
+                            f"within {ts.table.t1 - depart:.0f} s (no heading makes good a way there against a current "
+                            "stronger than the vehicle, or the seabed encloses the goal; try a smaller "
+                            "[planner.timeopt] cell or another departure)", t0)
         if best.times[-1] < ts.table.t1 or attempt == 2:  # (the last attempt keeps its own table)
             break
         spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))

@@ -82,6 +82,8 @@ def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: flo
             break
         if g > 0.0 and s + tau * g >= length:
             return t + (length - s) / g, max(-s_min, 0.0)
+        if g0 < 0.0 and g > g0 and -g0 < 2.0 * (g - g0):  # the turn within the step (g linear in time)
+            s_min = min(s_min, s - 0.25 * g0 * g0 * tau / (g - g0))
         s, t = s + tau * g, t + tau
         s_min = min(s_min, s)
     return math.inf, max(-s_min, 0.0)
