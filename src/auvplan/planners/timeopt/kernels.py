@@ -14,13 +14,14 @@ vehicle reaches it).
 Currents stronger than the vehicle (U > V).  The heading that holds the track and makes the most
 headway is the ``+`` root above whatever the current; ``g`` is negative when the along-track current
 beats the vehicle: the vehicle, still heading to make good the track, drifts back along the leg's
-line (behind its start, at most one leg length) until the current eases, then goes on — the
+line (behind its start too) until the current eases, then goes on — the
 constant-heading least-time flight of a uniform current, and what the closed-loop follower does
 (it holds the active leg's line).  From the first sub-step where ``g`` falls below a quarter of V
 the leg is integrated in time instead (midpoint steps of ``ds / V`` seconds).  A leg is rejected
-(``inf``, never ``nan``) only where no heading holds its line (``|c⊥| > V``), where the drift would
-take the vehicle more than a leg length behind its start, or where it would not reach the end
-before the table does.  :func:`leg_reach` also returns how far behind its start a leg drifted, so
+(``inf``, never ``nan``) only where no heading holds its line (``|c⊥| > V``), where it would not
+reach the end before the table does (two leg times past its end), and, in the search, where the
+drift would take the vehicle more than a leg length behind its start (onto the reverse leg, which
+must be free).  :func:`leg_reach` also returns how far behind its start a leg drifted, so
 that the search and the planner test that stretch of water too.
 """
 
@@ -164,14 +165,14 @@ def track_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, s
 @kernel
 def _drift(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
            ax: float, ay: float, az: float, ex: float, ey: float, ez: float, length: float,
-           s: float, t: float, speed: float, ds: float) -> tuple[float, float]:
+           s: float, t: float, speed: float, ds: float, reach_back: float) -> tuple[float, float]:
     """The rest of a leg from arc length ``s`` at time ``t``, integrated in time (module notes):
     ``(arrival, least arc length reached)``, ``(inf, ...)`` when the leg is rejected."""
     tau = ds / speed
     t_end = t0 + dt * (cur.shape[0] - 1) + 2.0 * length / speed + tau
     s_min = s
     while True:
-        if t > t_end or s < -length:
+        if t > t_end or s < -reach_back:
             return math.inf, s_min
         u, v, w = current_at(cur, org, step, t0, dt, ax + s * ex, ay + s * ey, az + s * ez, t)
         g0 = track_speed(u, v, w, ex, ey, ez, speed)
@@ -194,7 +195,8 @@ def _drift(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: 
 @kernel
 def leg_reach(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
               ax: float, ay: float, az: float,
-              bx: float, by: float, bz: float, t: float, speed: float, ds: float) -> tuple[float, float]:
+              bx: float, by: float, bz: float, t: float, speed: float, ds: float,
+              reach_back: float) -> tuple[float, float]:
     """Arrival time at the end of a straight leg through the time-varying current, and the drift.
 
     Parameters
@@ -215,6 +217,9 @@ def leg_reach(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, d
         Through-water speed (m/s).
     ds : float
         Largest integration sub-step (m).
+    reach_back : float
+        The leg is rejected when the vehicle drifts farther than this behind its start (m; ``inf``:
+        only when it would not arrive before the table's end).
 
     Returns
     -------
@@ -240,7 +245,8 @@ def leg_reach(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, d
             u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / g)
             g = track_speed(u, v, w, ex, ey, ez, speed)
         if not g >= slow:  # slow, drifting back or no heading holds the line: integrate in time
-            arrive, s_min = _drift(cur, org, step, t0, dt, ax, ay, az, ex, ey, ez, length, k * h, t, speed, ds)
+            arrive, s_min = _drift(cur, org, step, t0, dt, ax, ay, az, ex, ey, ez, length, k * h, t, speed, ds,
+                                   reach_back)
             return arrive, max(-s_min, 0.0)
         t += h / g
     return t, 0.0
@@ -250,7 +256,7 @@ def leg_reach(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, d
 def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
              ax: float, ay: float, az: float,
              bx: float, by: float, bz: float, t: float, speed: float, ds: float) -> float:
-    """Arrival time at the end of a straight leg (:func:`leg_reach` without the drift).
+    """Arrival time at the end of a straight leg (:func:`leg_reach`, at most a leg length of drift).
 
     Parameters
     ----------
@@ -276,7 +282,8 @@ def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt
     float
         Arrival time at the end (s); ``inf`` when the leg is rejected.
     """
-    return leg_reach(cur, org, step, t0, dt, ax, ay, az, bx, by, bz, t, speed, ds)[0]
+    back = math.sqrt((bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2)
+    return leg_reach(cur, org, step, t0, dt, ax, ay, az, bx, by, bz, t, speed, ds, back)[0]
 
 
 @kernel
@@ -309,7 +316,7 @@ def polyline_times(cur: Float32Array, org: FloatArray, step: FloatArray, t0: flo
     out[0] = t_start
     for i in range(1, p.shape[0]):
         out[i], back[i - 1] = leg_reach(cur, org, step, t0, dt, p[i - 1, 0], p[i - 1, 1], p[i - 1, 2],
-                                        p[i, 0], p[i, 1], p[i, 2], out[i - 1], speed, ds)
+                                        p[i, 0], p[i, 1], p[i, 2], out[i - 1], speed, ds, math.inf)
 
 
 @kernel
@@ -414,8 +421,9 @@ def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: 
             q = (jx * ny + jy) * nz + jz
             if done[q]:
                 continue
-            tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, org[0] + jx * step[0], org[1] + jy * step[1],
-                                 org[2] + jz * step[2], t, speed, ds)
+            qx, qy, qz = org[0] + jx * step[0], org[1] + jy * step[1], org[2] + jz * step[2]
+            tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds,
+                                 math.sqrt((qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2))
             if back > 0.0 and not edge_ok[opposite[m], n]:
                 continue
             if tq < arrival[q]:

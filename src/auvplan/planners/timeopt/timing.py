@@ -75,7 +75,7 @@ def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: flo
     else:
         return t, 0.0
     tau, s_min = ds / speed, s
-    while t <= t_limit and s >= -length:  # slow, or drifting back: in time steps
+    while t <= t_limit:  # slow, or drifting back: in time steps
         g0 = g_at(s, t)
         g = g_at(s + 0.5 * tau * g0, t + 0.5 * tau) if g0 == g0 else math.nan
         if g != g:
@@ -90,7 +90,7 @@ def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: flo
 
 
 def fly_times(field: CurrentField, points: ArrayLike, depart: float, speed: float, ds: float,
-              t_limit: float = math.inf) -> tuple[FloatArray, FloatArray]:
+              t_limit: float) -> tuple[FloatArray, FloatArray]:
     """Arrival at every vertex of a polyline flown through a current field (module notes).
 
     Parameters
@@ -105,9 +105,8 @@ def fly_times(field: CurrentField, points: ArrayLike, depart: float, speed: floa
         Through-water speed (m/s).
     ds : float
         Largest sub-step (m).
-    t_limit : float, optional
-        A drifting leg not arrived by this time is rejected (s; default: never, as long as the
-        current lets the vehicle arrive at all — give a limit when it may not).
+    t_limit : float
+        A drifting leg not arrived by this time is rejected (s).
 
     Returns
     -------
