@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from auvplan.planners.params import TimeoptParams
 from auvplan.planners.timeopt.kernels import leg_reach, leg_time
 from auvplan.planners.timeopt.planner import departure_sweep
 from auvplan.planners.timeopt.search import CurrentTable, timed_traverse
-from auvplan.world import Bounds, GriddedCurrent, Margins, World
+from auvplan.world import Bounds, GriddedCurrent, Margins, Sphere, World
 
 V = 1.0
 START = np.array([0.0, 0.0, -50.0])
@@ -190,6 +191,41 @@ def test_uniform_current_stronger_than_the_vehicle_within_one_percent(case):
         assert r.cost_terms["drift_back_m"] == pytest.approx(-track[0].min(), rel=0.02)
 
 
+def test_the_current_never_pushes_the_vehicle_back_into_an_obstacle():
+    """The reversing head current pushes the vehicle 552 m back west of the start on the straight
+    line; a sphere 400 m west of the start is in the way.  The plan must leave at an angle so that
+    its drift misses the sphere: each leg re-flown here (s' = c·ŝ + √(V² - c⊥²) by ``solve_ivp``,
+    independently of the planner) arrives at the plan's times and drifts back clear of the sphere."""
+    cfun = STRONG["reversing-head"][0]
+    world, _, _ = uniform_world(cfun, tmax=90000.0)
+    centre, radius = np.array([-400.0, 0.0, -50.0]), 100.0
+    world = replace(world, obstacles=(Sphere(tuple(centre), radius),))
+    r = plan(PlanningProblem(world, START, GOAL, speed=V), SPEC)
+    exact, _ = least_time_ode(cfun, GOAL, V)
+    assert r.status is Status.EXACT and exact <= r.cost <= 1.01 * exact
+    assert r.times is not None and r.cost_terms["drift_back_m"] > 300.0
+    for a, b, ta, tb in zip(r.path[:-1], r.path[1:], r.times[:-1], r.times[1:]):
+        length = float(np.linalg.norm(b - a))
+        if length == 0.0:
+            continue
+        e = (b - a) / length
+
+        def speed(t, s, e=e):
+            c = np.array([*cfun(t), 0.0])
+            return [c @ e + math.sqrt(V**2 - (c @ c - (c @ e) ** 2))]
+
+        def arrive(t, s, length=length):
+            return s[0] - length
+
+        arrive.terminal = True
+        leg = solve_ivp(speed, (ta, ta + 40000.0), [0.0], events=arrive, rtol=1e-9, atol=1e-6, max_step=60.0)
+        assert leg.t_events[0][0] == pytest.approx(tb, rel=1e-4)
+        back = max(-leg.y[0].min(), 0.0)
+        d = np.linalg.norm(np.cross(centre - a, e))  # the sphere from the drift's line, and along it
+        along = (centre - a) @ e
+        assert d > radius or not (-back - radius < along < radius)
+
+
 def test_steady_current_stronger_than_the_vehicle_analytic():
     """Steady uniform current U > V: the goal is reachable iff it lies in the downstream cone, in the
     least time T = (G·c - √((G·c)² - (U² - V²)|G|²)) / (U² - V²) (the smaller root of
@@ -211,8 +247,6 @@ def test_planned_duration_is_the_closed_loop_flight_when_the_current_beats_the_v
     """3 km in a reversing current of 1.9 m/s (V = 1.5) with a cross set: the vehicle drifts back about
     110 m before the current turns.  The plan's duration is what the closed loop flies (both path
     followers) within 1 %, and its drift back what the flight shows within 5 %."""
-    from dataclasses import replace
-
     from auvplan.sim import Mission, SimParams, mission_route, simulate
 
     def cfun(s):

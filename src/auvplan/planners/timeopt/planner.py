@@ -21,7 +21,17 @@ from ...cost import evaluate_paths
 from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
-from .search import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search
+from .search import (
+    CurrentTable,
+    Lattice,
+    TimedPath,
+    build_lattice,
+    build_table,
+    drift_free,
+    refine,
+    time_search,
+    timed_traverse,
+)
 from .timing import fly_times
 
 __all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt", "run_timeopt",
@@ -104,7 +114,11 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
         return None
     raw = min(scored, key=lambda s: s[0])[1]
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
-    return refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
+    refined = refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
+    for cand in (refined, raw):  # the refinement may move a leg whose drift back meets the seabed
+        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)):
+            return cand
+    return refined
 
 
 def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
@@ -129,17 +143,6 @@ def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
     limit = ts.table.t1 + (ts.table.t1 - ts.table.t0)
     times, back = fly_times(problem.world.currents, tp.points, float(tp.times[0]), tp.speed, 0.25 * ts.ds, limit)
     return TimedPath(tp.points, times, tp.speed, back)
-
-
-def _drift_free(problem: PlanningProblem, tp: TimedPath) -> bool:
-    """Whether the water behind each leg's start that the current pushes the vehicle back into is free."""
-    if tp.back is None or not (tp.back > 0.0).any():
-        return True
-    i = np.flatnonzero(tp.back > 0.0)
-    d = tp.points[i + 1] - tp.points[i]
-    e = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
-    seg = np.stack([tp.points[i] - tp.back[i, None] * e, tp.points[i]], axis=1)
-    return bool(problem.world.segments_free(seg, moving=False).all())
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
@@ -167,7 +170,7 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
         "lattice_nodes": int(ts.lattice.free.sum()), "lattice_legs": ts.lattice.legs,
     }
     cost = tp.duration if spec.timeopt.objective == "time" else energy
-    drift_ok = _drift_free(problem, tp)
+    drift_ok = drift_free(problem.world, tp)
     terms["drift_back_m"] = float(tp.back.max()) if tp.back is not None and tp.back.size else 0.0
     free = bool(seg_ok.all()) and drift_ok
     message = "" if free else "the refined path failed the exact segment test" if not seg_ok.all() else \

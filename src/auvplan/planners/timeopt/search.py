@@ -49,8 +49,8 @@ from ...world import World
 from ..grid.lattice import free_edges
 from .kernels import Float32Array, polyline_times, search, two_legs
 
-__all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "build_lattice", "build_table",
-           "refine"]
+__all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "drift_free", "build_lattice",
+           "build_table", "refine"]
 
 
 def _stencil() -> IntArray:
@@ -301,6 +301,30 @@ def timed_traverse(table: CurrentTable, points: ArrayLike, depart: float, speed:
     return TimedPath(p, out, float(speed), back)
 
 
+def drift_free(world: World, tp: TimedPath) -> bool:
+    """Whether the water behind each leg's start that the current pushes the vehicle back into is free.
+
+    Parameters
+    ----------
+    world : World
+        The world of the exact segment tests.
+    tp : TimedPath
+        A path with its drifts (``back``; None passes).
+
+    Returns
+    -------
+    bool
+        True when every leg's stretch ``[start - back ŝ, start]`` passes the exact segment test.
+    """
+    if tp.back is None or not (tp.back > 0.0).any():
+        return True
+    i = np.flatnonzero(tp.back > 0.0)
+    d = tp.points[i + 1] - tp.points[i]
+    e = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    seg = np.stack([tp.points[i] - tp.back[i, None] * e, tp.points[i]], axis=1)
+    return bool(world.segments_free(seg, moving=False).all())
+
+
 def _links(world: World, lattice: Lattice, point: FloatArray, reach: float) -> IntArray:
     """Free nodes within ``reach`` of ``point`` joined to it by a free straight segment."""
     xyz = lattice.xyz
@@ -345,7 +369,8 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     s_ids = _links(world, lattice, start, reach)
     g_ids = _links(world, lattice, goal, reach)
     args = table.args()
-    s_arr = np.array([timed_traverse(table, [start, xyz[i]], depart, speed, ds).times[-1] for i in s_ids])
+    s_legs = [timed_traverse(table, [start, xyz[i]], depart, speed, ds) for i in s_ids]
+    s_arr = np.array([leg.times[-1] if drift_free(world, leg) else np.inf for leg in s_legs])
     goal_link = np.zeros(xyz.shape[0], dtype=bool)
     goal_link[g_ids] = True
     arrival = np.full(xyz.shape[0], np.inf)
@@ -353,7 +378,7 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     best, last = search(*args, np.array(lattice.shape, dtype=np.int64), _OFFSETS, _OPPOSITE, lattice.edge_ok,
                         s_ids.astype(np.int64), s_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
     straight = timed_traverse(table, [start, goal], depart, speed, ds)
-    if world.path_free(straight.points) and straight.times[-1] <= best:
+    if world.path_free(straight.points) and drift_free(world, straight) and straight.times[-1] <= best:
         return straight
     if not np.isfinite(best):
         return None
