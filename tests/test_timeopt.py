@@ -247,7 +247,7 @@ def test_planned_duration_is_the_closed_loop_flight_when_the_current_beats_the_v
     """3 km in a reversing current of 1.9 m/s (V = 1.5) with a cross set: the vehicle drifts back about
     110 m before the current turns.  The plan's duration is what the closed loop flies (both path
     followers) within 1 %, and its drift back what the flight shows within 5 %."""
-    from auvplan.sim import Mission, SimParams, mission_route, simulate
+    from auvplan.sim import Mission, SimParams, mission_route, run_mission, simulate
 
     def cfun(s):
         return (-1.9 * math.cos(2 * math.pi * s / 3600.0), 0.3)
@@ -265,12 +265,17 @@ def test_planned_duration_is_the_closed_loop_flight_when_the_current_beats_the_v
     assert r.status is Status.EXACT and exact * (1 - 1e-4) <= r.cost <= 1.01 * exact
     m = Mission("drift", start, goal, sim=SimParams(deadlock_time=20000.0))
     m = replace(m, vehicle=replace(m.vehicle, speed=speed))
-    route = mission_route(world, m, r.path)
+    route = mission_route(world, m, r.path, r.times, speed)
     for guidance in ("los", "hybrid"):
         sim = simulate(world, m, route=route, guidance=guidance, rng=0, avoidance="none")
         assert sim.status is Status.EXACT
         assert sim.t[-1] == pytest.approx(r.cost, rel=0.01)
         assert -sim.position[:, 0].min() == pytest.approx(r.cost_terms["drift_back_m"], rel=0.05)
+    # the pipeline plans and flies it with the default deadlock watch (120 s): a plan that drifts back
+    # with the tide is not a deadlock
+    rec = run_mission(world, replace(m, sim=SimParams(), planner=spec, guidance="los"), rng=0)
+    assert rec.sim is not None and rec.sim.status is Status.EXACT
+    assert rec.sim.t[-1] == pytest.approx(rec.plan.cost, rel=0.01)
 
 
 def test_legs_are_fifo():

@@ -300,6 +300,9 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     mission = with_leg_speeds(world, mission, route)
+    if planned is not None and planned.cost_terms.get("drift_back_m", 0.0) > 0.0:  # a timed plan the tide pushes
+        wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock
+        mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight)
     return RunRecord(mission.name, recorded, planned, route, keys, result)
