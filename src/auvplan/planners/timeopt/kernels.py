@@ -9,8 +9,20 @@ Travel time of a leg: the vehicle holds the track at through-water speed V (it c
 ground speed along the unit tangent ŝ is ``g = c·ŝ + √(V² - |c - (c·ŝ) ŝ|²)`` (as in
 :mod:`auvplan.cost`); the leg is cut into sub-steps of at most ``ds`` metres and each sub-step is
 integrated with the midpoint rule in time (the current at the sub-step's midpoint, at the time the
-vehicle reaches it).  Where the cross current beats the vehicle or ``g ≤ 0`` the leg is blocked at
-that time (``inf``), never ``nan``.
+vehicle reaches it).
+
+Currents stronger than the vehicle (U > V).  The heading that holds the track and makes the most
+headway is the ``+`` root above whatever the current; ``g`` is negative when the along-track current
+beats the vehicle: the vehicle, still heading to make good the track, drifts back along the leg's
+line (behind its start too) until the current eases, then goes on — the
+constant-heading least-time flight of a uniform current, and what the closed-loop follower does
+(it holds the active leg's line).  From the first sub-step where ``g`` falls below a quarter of V
+the leg is integrated in time instead (midpoint steps of ``ds / V`` seconds).  A leg is rejected
+(``inf``, never ``nan``) only where no heading holds its line (``|c⊥| > V``), where it would not
+reach the end before the table does (two leg times past its end), and, in the search, where the
+drift would take the vehicle more than a leg length behind its start (onto the reverse leg, which
+must be free).  :func:`leg_reach` also returns how far behind its start a leg drifted, so
+that the search and the planner test that stretch of water too.
 """
 
 from __future__ import annotations
@@ -25,7 +37,8 @@ import numpy.typing as npt
 from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
 
-__all__ = ["current_at", "ground_speed", "leg_time", "polyline_times", "search", "Float32Array"]
+__all__ = ["current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times", "search",
+           "Float32Array"]
 
 #: The current table's precision: ``cur (nt, nx, ny, nz, 3)`` in m/s as float32.
 Float32Array: TypeAlias = npt.NDArray[np.float32]
@@ -124,10 +137,126 @@ def ground_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, 
 
 
 @kernel
+def track_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, speed: float) -> float:
+    """Signed speed along a unit tangent of the heading that holds the track and makes the most headway.
+
+    Parameters
+    ----------
+    u, v, w : float
+        Current (m/s; east, north, up).
+    ex, ey, ez : float
+        Unit tangent of the track.
+    speed : float
+        Through-water speed V (m/s).
+
+    Returns
+    -------
+    float
+        ``c·ŝ + √(V² - |c⊥|²)`` (m/s), negative when the along-track current beats the vehicle (it
+        drifts back on the line); ``nan`` where no heading holds the line (``|c⊥| > V``).
+    """
+    c_par = u * ex + v * ey + w * ez
+    disc = speed * speed - max(u * u + v * v + w * w - c_par * c_par, 0.0)
+    if disc < 0.0:
+        return math.nan
+    return c_par + math.sqrt(disc)
+
+
+@kernel
+def _drift(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+           ax: float, ay: float, az: float, ex: float, ey: float, ez: float, length: float,
+           s: float, t: float, speed: float, ds: float, reach_back: float) -> tuple[float, float]:
+    """The rest of a leg from arc length ``s`` at time ``t``, integrated in time (module notes):
+    ``(arrival, least arc length reached)``, ``(inf, ...)`` when the leg is rejected."""
+    tau = ds / speed
+    t_end = t0 + dt * (cur.shape[0] - 1) + 2.0 * length / speed + tau
+    s_min = s
+    while True:
+        if t > t_end or s < -reach_back:
+            return math.inf, s_min
+        u, v, w = current_at(cur, org, step, t0, dt, ax + s * ex, ay + s * ey, az + s * ez, t)
+        g0 = track_speed(u, v, w, ex, ey, ez, speed)
+        if math.isnan(g0):
+            return math.inf, s_min
+        sm = s + 0.5 * tau * g0
+        u, v, w = current_at(cur, org, step, t0, dt, ax + sm * ex, ay + sm * ey, az + sm * ez, t + 0.5 * tau)
+        g = track_speed(u, v, w, ex, ey, ez, speed)
+        if math.isnan(g):
+            return math.inf, s_min
+        if g > 0.0 and s + tau * g >= length:
+            return t + (length - s) / g, s_min
+        if g0 < 0.0 and g > g0 and -g0 < 2.0 * (g - g0):  # the turn within the step (g linear in time)
+            s_min = min(s_min, s - 0.25 * g0 * g0 * tau / (g - g0))
+        s += tau * g
+        t += tau
+        s_min = min(s_min, s)
+
+
+@kernel
+def leg_reach(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
+              ax: float, ay: float, az: float,
+              bx: float, by: float, bz: float, t: float, speed: float, ds: float,
+              reach_back: float) -> tuple[float, float]:
+    """Arrival time at the end of a straight leg through the time-varying current, and the drift.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
+    org, step : numpy.ndarray
+        First node and node spacing of the table's lattice ``(3,)`` (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    ax, ay, az : float
+        Start of the leg (m).
+    bx, by, bz : float
+        End of the leg (m).
+    t : float
+        Departure time (s).
+    speed : float
+        Through-water speed (m/s).
+    ds : float
+        Largest integration sub-step (m).
+    reach_back : float
+        The leg is rejected when the vehicle drifts farther than this behind its start (m; ``inf``:
+        only when it would not arrive before the table's end).
+
+    Returns
+    -------
+    arrival : float
+        Arrival time at the end (s); ``inf`` when the leg is rejected (module notes).
+    back : float
+        How far behind its start the current pushed the vehicle on the leg's line (m, >= 0).
+    """
+    ex, ey, ez = bx - ax, by - ay, bz - az
+    length = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if length == 0.0:
+        return t, 0.0
+    ex, ey, ez = ex / length, ey / length, ez / length
+    n = max(1, int(math.ceil(length / ds)))
+    h = length / n
+    slow = 0.25 * speed
+    for k in range(n):
+        s = (k + 0.5) * h
+        mx, my, mz = ax + s * ex, ay + s * ey, az + s * ez
+        u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / speed)
+        g = track_speed(u, v, w, ex, ey, ez, speed)
+        if g >= slow:
+            u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / g)
+            g = track_speed(u, v, w, ex, ey, ez, speed)
+        if not g >= slow:  # slow, drifting back or no heading holds the line: integrate in time
+            arrive, s_min = _drift(cur, org, step, t0, dt, ax, ay, az, ex, ey, ez, length, k * h, t, speed, ds,
+                                   reach_back)
+            return arrive, max(-s_min, 0.0)
+        t += h / g
+    return t, 0.0
+
+
+@kernel
 def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
              ax: float, ay: float, az: float,
              bx: float, by: float, bz: float, t: float, speed: float, ds: float) -> float:
-    """Arrival time at the end of a straight leg through the time-varying current.
+    """Arrival time at the end of a straight leg (:func:`leg_reach`, at most a leg length of drift).
 
     Parameters
     ----------
@@ -151,34 +280,16 @@ def leg_time(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt
     Returns
     -------
     float
-        Arrival time at the end (s); ``inf`` when the current blocks the leg.
+        Arrival time at the end (s); ``inf`` when the leg is rejected.
     """
-    ex, ey, ez = bx - ax, by - ay, bz - az
-    length = math.sqrt(ex * ex + ey * ey + ez * ez)
-    if length == 0.0:
-        return t
-    ex, ey, ez = ex / length, ey / length, ez / length
-    n = max(1, int(math.ceil(length / ds)))
-    h = length / n
-    for k in range(n):
-        s = (k + 0.5) * h
-        mx, my, mz = ax + s * ex, ay + s * ey, az + s * ez
-        u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / speed)
-        g = ground_speed(u, v, w, ex, ey, ez, speed)
-        if g < 0.0:
-            return math.inf
-        u, v, w = current_at(cur, org, step, t0, dt, mx, my, mz, t + 0.5 * h / g)
-        g = ground_speed(u, v, w, ex, ey, ez, speed)
-        if g < 0.0:
-            return math.inf
-        t += h / g
-    return t
+    back = math.sqrt((bx - ax) ** 2 + (by - ay) ** 2 + (bz - az) ** 2)
+    return leg_reach(cur, org, step, t0, dt, ax, ay, az, bx, by, bz, t, speed, ds, back)[0]
 
 
 @kernel
 def polyline_times(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float,
                    p: FloatArray, t_start: float,
-                   speed: float, ds: float, out: FloatArray) -> None:
+                   speed: float, ds: float, out: FloatArray, back: FloatArray) -> None:
     """Arrival time at every vertex of a polyline.
 
     Parameters
@@ -198,12 +309,14 @@ def polyline_times(cur: Float32Array, org: FloatArray, step: FloatArray, t0: flo
     ds : float
         Largest integration sub-step (m).
     out : numpy.ndarray
-        Receives the arrival times ``(N,)`` (s; ``inf`` after a blocked leg).
+        Receives the arrival times ``(N,)`` (s; ``inf`` after a rejected leg).
+    back : numpy.ndarray
+        Receives how far behind its start each leg drifted ``(N - 1,)`` (m).
     """
     out[0] = t_start
     for i in range(1, p.shape[0]):
-        out[i] = leg_time(cur, org, step, t0, dt, p[i - 1, 0], p[i - 1, 1], p[i - 1, 2],
-                          p[i, 0], p[i, 1], p[i, 2], out[i - 1], speed, ds)
+        out[i], back[i - 1] = leg_reach(cur, org, step, t0, dt, p[i - 1, 0], p[i - 1, 1], p[i - 1, 2],
+                                        p[i, 0], p[i, 1], p[i, 2], out[i - 1], speed, ds, math.inf)
 
 
 @kernel
@@ -224,7 +337,7 @@ def two_legs(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt
 
 @kernel
 def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, shape: IntArray,
-           offsets: IntArray, edge_ok: BoolArray, start_ids: IntArray, start_arr: FloatArray,
+           offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray, start_arr: FloatArray,
            goal_link: BoolArray, goal: FloatArray, speed: float, ds: float, arrival: FloatArray,
            pred: IntArray) -> tuple[float, np.int64]:
     """Label-setting search on arrival times (time-dependent Dijkstra, FIFO legs).
@@ -244,6 +357,9 @@ def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: 
         Nodes along x, y, z ``(3,)``.
     offsets : numpy.ndarray
         Leg offsets ``(M, 3)`` in nodes.
+    opposite : numpy.ndarray
+        ``(M,)``: the slot of each offset's reverse (a leg the current pushes back behind its
+        start needs that leg free too).
     edge_ok : numpy.ndarray of bool
         ``(M, N)``: ``edge_ok[m, n]`` says the leg from node ``n`` along ``offsets[m]`` is free.
     start_ids : numpy.ndarray
@@ -305,8 +421,11 @@ def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: 
             q = (jx * ny + jy) * nz + jz
             if done[q]:
                 continue
-            tq = leg_time(cur, org, step, t0, dt, x, y, z, org[0] + jx * step[0], org[1] + jy * step[1],
-                          org[2] + jz * step[2], t, speed, ds)
+            qx, qy, qz = org[0] + jx * step[0], org[1] + jy * step[1], org[2] + jz * step[2]
+            tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds,
+                                 math.sqrt((qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2))
+            if back > 0.0 and not edge_ok[opposite[m], n]:
+                continue
             if tq < arrival[q]:
                 arrival[q] = tq
                 pred[q] = n

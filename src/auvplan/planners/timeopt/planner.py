@@ -22,10 +22,21 @@ from ...cost import evaluate_paths
 from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from ..common import check_endpoints, cost_model_for, search_box
-from .search import CurrentTable, Lattice, TimedPath, build_lattice, build_table, refine, time_search, timed_traverse
+from .search import (
+    CurrentTable,
+    Lattice,
+    TimedPath,
+    build_lattice,
+    build_table,
+    drift_free,
+    refine,
+    time_search,
+    timed_traverse,
+)
+from .timing import fly_times
 
-__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "plan_timeopt", "run_timeopt", "departure_sweep",
-           "sweep_summary"]
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt", "run_timeopt",
+           "departure_sweep", "sweep_summary"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,7 +115,35 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
         return None
     raw = min(scored, key=lambda s: s[0])[1]
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
-    return refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
+    refined = refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
+    for cand in (refined, raw):  # the refinement may move a leg whose drift back meets the seabed
+        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)):
+            return cand
+    return refined
+
+
+def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
+    """A timed path re-timed through the World's current itself (:mod:`.timing`): the duration a plan reports.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        The World (its current field).
+    ts : TimeSetup
+        The sub-step (a quarter of the search's) and the table's span (a drifting leg not
+        arrived one span after the table's end is rejected).
+    tp : TimedPath
+        The path, its departure and speed.
+
+    Returns
+    -------
+    TimedPath
+        The same vertices with the times and drifts flown through the field (``inf`` from a leg
+        no heading can hold on).
+    """
+    limit = ts.table.t1 + (ts.table.t1 - ts.table.t0)
+    times, back = fly_times(problem.world.currents, tp.points, float(tp.times[0]), tp.speed, 0.25 * ts.ds, limit)
+    return TimedPath(tp.points, times, tp.speed, back)
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
@@ -113,6 +152,11 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
 
 
 def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
+    tp = flown(problem, ts, tp)
+    if not np.isfinite(tp.duration):
+        return _failure(Status.INFEASIBLE, "flown through the current field itself (not the planner's table), "
+                        "the plan meets a cross current no heading can hold; try a smaller [planner.timeopt] dt or "
+                        "cell", t0)
     length = float(polyline_length(tp.points))
     energy = _power(problem, tp.speed) * tp.duration
     # geometric clearance (seabed along every segment, exactly; static obstacles), as the other planners
@@ -127,10 +171,13 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
         "lattice_nodes": int(ts.lattice.free.sum()), "lattice_legs": ts.lattice.legs,
     }
     cost = tp.duration if spec.timeopt.objective == "time" else energy
-    free = bool(seg_ok.all())
+    drift_ok = drift_free(problem.world, tp)
+    terms["drift_back_m"] = float(tp.back.max()) if tp.back is not None and tp.back.size else 0.0
+    free = bool(seg_ok.all()) and drift_ok
+    message = "" if free else "the refined path failed the exact segment test" if not seg_ok.all() else \
+        "the current pushes the vehicle back behind a leg's start onto the seabed or an obstacle"
     return PlanResult(Status.EXACT if free else Status.INFEASIBLE, tp.points, cost, terms, ts.lattice.legs, 1,
-                      time.perf_counter() - t0, np.array([cost]), "timeopt", None,
-                      "" if free else "the refined path failed the exact segment test", times=tp.times)
+                      time.perf_counter() - t0, np.array([cost]), "timeopt", None, message, times=tp.times)
 
 
 def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | None = None) -> PlanResult:
@@ -162,8 +209,9 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
         best = _fly(problem, spec, ts, depart)
         if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
-                            f"within {ts.table.t1 - depart:.0f} s (the current blocks it, or the seabed encloses "
-                            "the goal; try a smaller [planner.timeopt] cell or another departure)", t0)
+                            f"within {ts.table.t1 - depart:.0f} s (no heading makes good a way there against a current "
+                            "stronger than the vehicle, or the seabed encloses the goal; try a smaller "
+                            "[planner.timeopt] cell or another departure)", t0)
         if best.times[-1] < ts.table.t1 or attempt == 2:  # (the last attempt keeps its own table)
             break
         spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
@@ -235,14 +283,22 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
     for d in departs:
         clock = time.process_time()
         tp = _fly(problem, spec, ts, d)
-        dur = tp.duration if tp is not None else math.inf
-        energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
+        tp = flown(problem, ts, tp) if tp is not None else None
         cpu = time.process_time() - clock
-        sl = timed_traverse(ts.table, [problem.start, problem.goal], d, v, ts.ds).duration if straight_ok else math.nan
+        line = flown(problem, ts, TimedPath(np.stack([problem.start, problem.goal]), np.array([d, d]), v))
+        sl = line.duration if straight_ok else math.nan
         it = int(round((d - ts.table.t0) / ts.table.dt))
         frozen = replace(ts.table, cur=ts.table.cur[it:it + 1], t0=float(d))
         steady = _fly(problem, spec, ts, d, v, table=frozen)
-        sd = timed_traverse(ts.table, steady.points, d, v, ts.ds).duration if steady is not None else math.inf
+        steady = flown(problem, ts, steady) if steady is not None else None
+        sd = steady.duration if steady is not None else math.inf
+        # the plan is the best the planner knows as flown through the real current: where the table's
+        # interpolation let the steady plan or the straight line fly faster, that one (by ppm)
+        cands = [c for c in (tp, steady, line if straight_ok else None) if c is not None and np.isfinite(c.duration)]
+        tp = min(cands, key=lambda c: c.duration * (_power(problem, c.speed) if spec.timeopt.objective == "energy"
+                                                    else 1.0)) if cands else None
+        dur = tp.duration if tp is not None else math.inf
+        energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
         rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
         if paths is not None:
             paths.append((tp.points, tp.speed) if tp is not None else None)

@@ -17,8 +17,13 @@
    search needs to keep, so Dijkstra on arrival times is exact for the lattice, needs no time
    discretisation of the state (times are continuous), answers in one pass, and reuses the
    World's exact collision tests on every leg, which a grid PDE front cannot do for 3D seabed.
-   Legs the current blocks (cross current above V, or no ground speed) are not taken at that time.
-   The vehicle does not wait (an AUV cannot hold station against a current faster than itself).
+   Where the along-track current beats the vehicle (U > V) the vehicle holds the leg's line heading
+   to make the most headway and drifts back on it until the current eases (:mod:`.kernels`; the
+   leg behind its start must be free too); only legs no heading can hold (cross current above V)
+   are not taken at that time.  The vehicle does not wait (it cannot hold station against a
+   current faster than itself).  Drifting back breaks FIFO for legs from the same node at
+   different times, so the search is then a close approximation (the uniform-current oracles of
+   ``tests/test_timeopt.py`` hold it to 1 %), no longer exact for the lattice.
 4. **Refinement.**  The lattice path, resampled every half cell, is pulled by a time-aware elastic
    band: in turn the odd and even vertices try a pull towards their neighbours' midpoint and moves
    of ±δ across the path (horizontally and vertically), and keep the move that brings the vehicle
@@ -44,8 +49,8 @@ from ...world import World
 from ..grid.lattice import free_edges
 from .kernels import Float32Array, polyline_times, search, two_legs
 
-__all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "build_lattice", "build_table",
-           "refine"]
+__all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "drift_free", "build_lattice",
+           "build_table", "refine"]
 
 
 def _stencil() -> IntArray:
@@ -56,6 +61,8 @@ def _stencil() -> IntArray:
 
 
 _OFFSETS = _stencil()
+_OPPOSITE = np.array([next(j for j, o in enumerate(_OFFSETS) if (o == -off).all()) for off in _OFFSETS],
+                     dtype=np.int64)
 
 
 @dataclass(frozen=True, eq=False)
@@ -245,11 +252,15 @@ class TimedPath:
         Arrival at each vertex ``(N,)`` (s after the mission's start time).
     speed : float
         Through-water speed (m/s).
+    back : numpy.ndarray, optional
+        How far behind its start the current pushed the vehicle on each leg ``(N - 1,)`` (m;
+        None: not known, as for a lattice path).
     """
 
     points: FloatArray
     times: FloatArray
     speed: float
+    back: FloatArray | None = None
 
     @property
     def duration(self) -> float:
@@ -282,12 +293,36 @@ def timed_traverse(table: CurrentTable, points: ArrayLike, depart: float, speed:
     Returns
     -------
     TimedPath
-        The polyline with its arrival times (``inf`` after a blocked leg).
+        The polyline with its arrival times (``inf`` after a rejected leg) and each leg's drift.
     """
     p = np.ascontiguousarray(np.asarray(points, dtype=float))
-    out = np.empty(p.shape[0])
-    polyline_times(*table.args(), p, float(depart), float(speed), float(ds), out)
-    return TimedPath(p, out, float(speed))
+    out, back = np.empty(p.shape[0]), np.zeros(max(p.shape[0] - 1, 0))
+    polyline_times(*table.args(), p, float(depart), float(speed), float(ds), out, back)
+    return TimedPath(p, out, float(speed), back)
+
+
+def drift_free(world: World, tp: TimedPath) -> bool:
+    """Whether the water behind each leg's start that the current pushes the vehicle back into is free.
+
+    Parameters
+    ----------
+    world : World
+        The world of the exact segment tests.
+    tp : TimedPath
+        A path with its drifts (``back``; None passes).
+
+    Returns
+    -------
+    bool
+        True when every leg's stretch ``[start - back ŝ, start]`` passes the exact segment test.
+    """
+    if tp.back is None or not (tp.back > 0.0).any():
+        return True
+    i = np.flatnonzero(tp.back > 0.0)
+    d = tp.points[i + 1] - tp.points[i]
+    e = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    seg = np.stack([tp.points[i] - tp.back[i, None] * e, tp.points[i]], axis=1)
+    return bool(world.segments_free(seg, moving=False).all())
 
 
 def _links(world: World, lattice: Lattice, point: FloatArray, reach: float) -> IntArray:
@@ -334,15 +369,16 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     s_ids = _links(world, lattice, start, reach)
     g_ids = _links(world, lattice, goal, reach)
     args = table.args()
-    s_arr = np.array([timed_traverse(table, [start, xyz[i]], depart, speed, ds).times[-1] for i in s_ids])
+    s_legs = [timed_traverse(table, [start, xyz[i]], depart, speed, ds) for i in s_ids]
+    s_arr = np.array([leg.times[-1] if drift_free(world, leg) else np.inf for leg in s_legs])
     goal_link = np.zeros(xyz.shape[0], dtype=bool)
     goal_link[g_ids] = True
     arrival = np.full(xyz.shape[0], np.inf)
     pred = np.full(xyz.shape[0], -2, dtype=np.int64)
-    best, last = search(*args, np.array(lattice.shape, dtype=np.int64), _OFFSETS, lattice.edge_ok,
+    best, last = search(*args, np.array(lattice.shape, dtype=np.int64), _OFFSETS, _OPPOSITE, lattice.edge_ok,
                         s_ids.astype(np.int64), s_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
     straight = timed_traverse(table, [start, goal], depart, speed, ds)
-    if world.path_free(straight.points) and straight.times[-1] <= best:
+    if world.path_free(straight.points) and drift_free(world, straight) and straight.times[-1] <= best:
         return straight
     if not np.isfinite(best):
         return None
