@@ -295,8 +295,8 @@ def test_lattice_search_by_length_on_a_line():
     and 3: the cost-to-go to the goal linked to the last node (2 m) is 2 + 3 (4 - i) for nodes 3 and 4
     and the others are unreached; with every edge free it is 2 + 3 (4 - i) for all.  On a 6-node line
     (1 m steps, both ways) with the goal linked to nodes 2, 5, 3 and 0 at costs 1, 2, 100 and 3, node 3
-    (queued third, at heap position 2 when node 2 is settled) costs 2 through node 2: a search that skips the node at some
-    heap position when relaxing finds 4 (through nodes 5 and 4) or 100."""
+    (queued third, at heap position 2 when node 2 is settled) costs 2 through node 2: a search that
+    skips the node at some heap position when relaxing finds 4 (through nodes 5 and 4) or 100."""
     shape = (5, 1, 1)
     bits = np.zeros(5, dtype=np.uint32)
     plus = int(np.flatnonzero((OFFSETS == [1, 0, 0]).all(axis=1))[0])
