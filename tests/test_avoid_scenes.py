@@ -108,11 +108,12 @@ def test_shuttle_image_is_its_return_mirrored_about_the_turning_point():
     assert mem.images([7], c[None], v[None], [15.0], p=[40.0, 120.0, -100.0])[0].shape == (1, 3)  # beside the lane
 
 
-@pytest.mark.parametrize("seed", [1, 3])
+@pytest.mark.parametrize("seed", [16, 28])
 def test_fast_shuttle_trap_runs_down_the_old_avoidance_and_not_the_sweep(seed):
-    """Fast-mover Monte Carlo seeds 1 and 3 (benchmarks/avoidance.py) on avoidance-gauntlet's seabed and
-    plan: the vehicle trails a fast shuttle (1.85 / 2.5 m/s) down its lane; without the sweep images it
-    is run down when the shuttle turns round; with them it leaves the lane and arrives with no contact."""
+    """Fast-mover Monte Carlo seeds 16 and 28 (benchmarks/avoidance.py) on avoidance-gauntlet's seabed and
+    default plan (the seeds of 0–39 where the old avoidance is hit; they depend on the plan: seeds 1 and 3
+    before the planner's polish of issue 35): without the sweep images the vehicle is run down; with them
+    it arrives with no contact and more than 5 m clear."""
     w, m = sc.build(sc.load("avoidance-gauntlet"))
     route = mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
     world = fast_movers(w, route, m.vehicle.speed, seed)
