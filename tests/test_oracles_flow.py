@@ -260,26 +260,30 @@ def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
 
 def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
     """A sphere (r = 5 m, margin 0.5 m, flow radius A = 5.51 m) whose flow shell reaches below the plane
-    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, above the plane.  The exit rule's first
-    point is on the ray from the centre, at A (1 + 10⁻⁶) (below the plane), its second straight up onto
-    the plane, 10⁻⁶ × 5.51 m above it (the plane's normal is +z)."""
+    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, 2 mm above the plane.  The sphere's normal
+    (straight down) would cross the plane, so the exit rule searches: its one point is outside every flow
+    surface, above the plane, reached by a segment that keeps the margin everywhere (it used to step under
+    the plane and end there as ``contact``), and it is the shortest such move: sideways, at most
+    √(5.51² − 5.505²) = 0.235 m plus one march step (0.5 % of 3 × 5.51 m)."""
     from auvplan.planners.flow.stream import _exit_body
 
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
     start = np.array([0.0, 0.0, -5.505])
     assert field.clearance(start) > 0 and field.inside_body(start)
     out = _exit_body(field, start.copy())
-    np.testing.assert_allclose(out[0], [0.0, 0.0, -5.51 * (1 + 1e-6)], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(out[1], [0.0, 0.0, -5.507 + 5.51e-6], rtol=0, atol=1e-12)
+    assert len(out) == 1 and not field.inside_body(out[0]) and out[0][2] > -5.507
+    seg = start + np.linspace(0.0, 1.0, 201)[:, None] * (out[0] - start)
+    assert field.clearance(seg).min() >= 0.0
+    assert np.linalg.norm(out[0] - start) <= math.sqrt(5.51**2 - 5.505**2) + 2 * 3 * 5.51 / 600
 
 
 def test_min_distance_counts_the_start_and_the_exit_rules_points():
     """The start and the exit rule's points are nodes of the path, so ``min_distance`` counts them.  By
     hand: a start 5.505 m from a sphere inflated to 5.5 m is 0.005 m clear (its exit point, on the flow
     sphere, and everything after are farther); in the wedge under a sphere's flow shell, the exit rule's
-    first point, 5.51 (1 + 10⁻⁶) m below the centre, is 0.0030055 m under the plane z = −5.507 m, so the
-    streamline ends there as ``contact`` with that clearance (both were counted from the last exit point
-    on)."""
+    point (a sideways move that stays above the plane z = −5.507 m) keeps the start's clearance of 2 mm
+    above the plane or more (it was counted from the last exit point on; the exit used to step under the
+    plane and end as ``contact``)."""
     field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
     ray = np.array([2.0, -3.0, 6.0]) / 7.0
     sl = integrate_streamlines(field, np.array([1.0, 2.0, -3.0]) + 5.505 * ray)
@@ -287,7 +291,8 @@ def test_min_distance_counts_the_start_and_the_exit_rules_points():
     assert sl.min_distance[0] == pytest.approx(field.clearance(sl.paths[0]).min(), abs=1e-12)
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
     sl = integrate_streamlines(field, np.array([0.0, 0.0, -5.505]))
-    assert sl.status[0] == "contact" and sl.min_distance[0] == pytest.approx(-(5.51 * (1 + 1e-6) - 5.507), abs=1e-12)
+    assert sl.arrived[0] and sl.min_distance[0] == pytest.approx(field.clearance(sl.paths[0]).min(), abs=1e-12)
+    assert 0.0 <= sl.min_distance[0] <= 0.002 + 1e-12
 
 
 def test_streamline_stops_at_the_step_cap():

@@ -122,9 +122,43 @@ def _exit_body(field: FlowField, p: FloatArray) -> list[FloatArray]:
                     mid = 0.5 * (lo + hi)
                     lo, hi = (mid, hi) if body.inside((p + mid * g)[None])[0] else (lo, mid)
                 q = p + (hi + 1e-6 * body.radius) * g
+        if not _segment_clear(field, p, q) or (field.inside_body(q[None])[0] and len(field.items) > 1):
+            q = _search_exit(field, p, q)  # the move would cross an obstacle or land in another flow surface
         out.append(q)
         p = q
     return out
+
+
+EXIT_DIRECTIONS = 400
+"""Directions tried by :func:`_search_exit` (a Fibonacci sphere)."""
+
+
+def _search_exit(field: FlowField, p: FloatArray, fallback: FloatArray) -> FloatArray:
+    """The shortest straight way out of every flow surface that stays clear of every inflated obstacle.
+
+    Where the body's and the obstacle's normals lead into a neighbouring obstacle or its flow surface (flow
+    surfaces can overlap when a body is large), each of :data:`EXIT_DIRECTIONS` directions is marched in
+    steps of 0.5 % of the largest radius to its first point outside every flow surface (then 0.5 % on); the
+    shortest move whose segment keeps the margin wins.  ``fallback`` when none does.
+    """
+    n = EXIT_DIRECTIONS
+    i = np.arange(n) + 0.5
+    polar, azim = np.arccos(1.0 - 2.0 * i / n), np.pi * (1.0 + 5.0**0.5) * i
+    dirs = np.column_stack([np.cos(azim) * np.sin(polar), np.sin(azim) * np.sin(polar), np.cos(polar)])
+    reach = 3.0 * float(field.radii.max(initial=1.0))
+    t = np.linspace(0.0, reach, 601)[1:]
+    pts = p + t[None, :, None] * dirs[:, None, :]
+    free = ~field.inside_body(pts.reshape(-1, 3)).reshape(n, t.size)
+    first = np.where(free.any(axis=1), free.argmax(axis=1), t.size - 1)
+    ends = p + t[np.minimum(first + 1, t.size - 1), None] * dirs
+    order = np.argsort(np.where(free.any(axis=1), t[first], np.inf))
+    for k in order[:64]:
+        if not free[k].any():
+            break
+        if _segment_clear(field, p, ends[k], 33) and not field.inside_body(ends[k][None])[0]:
+            q: FloatArray = ends[k]
+            return q
+    return fallback
 
 
 def _deflect(field: FlowField, x: FloatArray, d: FloatArray, h_min: float) -> tuple[BoolArray, FloatArray]:
