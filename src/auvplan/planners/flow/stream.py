@@ -129,6 +129,57 @@ def _exit_body(field: FlowField, p: FloatArray) -> list[FloatArray]:
     return out
 
 
+EXIT_ANGLE = np.radians(30.0)
+"""Angle to the flow surface at which :func:`_smooth_exit` climbs out while inside it."""
+EXIT_CLEAR = 0.1
+"""Distance outside the flow surface, in units of its radius, at which :func:`_smooth_exit` hands over."""
+EXIT_STEP = 0.01
+"""Step of :func:`_smooth_exit`, in units of the surface's radius."""
+
+
+def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
+    """Smooth exit for a start inside one flow surface (sphere or body): the points it passes (empty: none).
+
+    It flies with the flow along the surface while it climbs: its direction is the flow's direction at
+    the surface point nearest to it (tangent to the surface) turned outward by :data:`EXIT_ANGLE`, the
+    angle easing to a fifth of it over the last :data:`EXIT_CLEAR` × R, where it hands over to the
+    streamline at 0.8 × EXIT_CLEAR × R (about 6° to the flow there, where a straight exit along the normal
+    met it at 90° on the surface itself).  Steps of :data:`EXIT_STEP` × R, each checked to keep the margin
+    and out of every other flow surface; any failure (or a start inside several surfaces, or under the
+    plane) leaves the start to :func:`_exit_body`.
+    """
+    d = field.distances(p[None], "true")[0]
+    j = int(d.argmin())
+    if int((d < 0).sum()) != 1 or j >= len(field.items):
+        return []
+    ns = len(field.spheres)
+    R = float(field.radii[j])
+    clear, h = EXIT_CLEAR * R, EXIT_STEP * R
+    out: list[FloatArray] = []
+    x = p
+    for _ in range(int(4.0 * (clear - d[j]) / (h * np.sin(0.2 * EXIT_ANGLE))) + 8):
+        if d[j] >= 0.8 * clear:
+            return out
+        if j < ns:
+            n = (x - field.C[j]) / max(float(np.linalg.norm(x - field.C[j])), 1e-300)
+        else:
+            n = field.bodies[j - ns].normal(x[None])[0]
+        foot = x - d[j] * n
+        u = field.velocity((foot + 1e-3 * R * n)[None])[0]
+        t = u - (u @ n) * n
+        if np.linalg.norm(t) < 1e-12 * max(float(np.linalg.norm(u)), 1e-300):
+            return []  # at a stagnation point of the surface: no flow direction to follow
+        a = EXIT_ANGLE * min(1.0, max(0.2, 1.0 - max(float(d[j]), 0.0) / clear))
+        nxt = x + h * (np.cos(a) * t / np.linalg.norm(t) + np.sin(a) * n)
+        dn = field.distances(nxt[None], "true")[0]
+        others = np.arange(dn.size) != j
+        if (dn[others] < 0).any() or not _segment_clear(field, x, nxt, 5):
+            return []
+        out.append(nxt)
+        x, d = nxt, dn
+    return []
+
+
 EXIT_DIRECTIONS = 400
 """Directions tried by :func:`_search_exit` (a Fibonacci sphere)."""
 
@@ -254,7 +305,7 @@ class _Run:
         prefix: list[list[FloatArray]] = [[] for _ in range(n)]
         exits = np.zeros(n, dtype=bool)
         for i in np.flatnonzero(field.inside_body(p) & active):
-            prefix[i] = _exit_body(field, p[i].copy())
+            prefix[i] = _smooth_exit(field, p[i].copy()) or _exit_body(field, p[i].copy())
             exits[i] = True
             if prefix[i]:
                 p[i] = prefix[i][-1]
