@@ -135,6 +135,8 @@ EXIT_CLEAR = 0.1
 """Distance outside the flow surface, in units of its radius, at which :func:`_smooth_exit` hands over."""
 EXIT_STEP = 0.01
 """Step of :func:`_smooth_exit`, in units of the surface's radius."""
+EXIT_TURN = np.radians(10.0)
+"""Largest turn of :func:`_smooth_exit` per step where it turns from the surface flow to the normal."""
 
 
 def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
@@ -144,7 +146,9 @@ def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
     the surface point nearest to it (tangent to the surface) turned outward by :data:`EXIT_ANGLE`, the
     angle easing to a fifth of it over the last :data:`EXIT_CLEAR` × R, where it hands over to the
     streamline at 0.8 × EXIT_CLEAR × R (about 6° to the flow there, where a straight exit along the normal
-    met it at 90° on the surface itself).  Steps of :data:`EXIT_STEP` × R, each checked to keep the margin
+    met it at 90° on the surface itself).  Where the surface flow turns by more than EXIT_ANGLE from one step
+    to the next (near a rear stagnation point it flips from side to side) the exit turns towards the outward
+    normal instead, at most :data:`EXIT_TURN` a step.  Steps of :data:`EXIT_STEP` × R, each checked to keep the margin
     and out of every other flow surface; any failure (or a start inside several surfaces, or under the
     plane) leaves the start to :func:`_exit_body`.
     """
@@ -157,6 +161,9 @@ def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
     clear, h = EXIT_CLEAR * R, EXIT_STEP * R
     out: list[FloatArray] = []
     x = p
+    prev: FloatArray | None = None
+    prev_t = p
+    rear = False
     for _ in range(int(4.0 * (clear - d[j]) / (h * np.sin(0.2 * EXIT_ANGLE))) + 8):
         if d[j] >= 0.8 * clear:
             return out
@@ -169,8 +176,18 @@ def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
         t = u - (u @ n) * n
         if np.linalg.norm(t) < 1e-12 * max(float(np.linalg.norm(u)), 1e-300):
             return []  # at a stagnation point of the surface: no flow direction to follow
+        t /= np.linalg.norm(t)
         a = EXIT_ANGLE * min(1.0, max(0.2, 1.0 - max(float(d[j]), 0.0) / clear))
-        nxt = x + h * (np.cos(a) * t / np.linalg.norm(t) + np.sin(a) * n)
+        v = np.cos(a) * t + np.sin(a) * n
+        if prev is not None and (rear or t @ prev_t < np.cos(EXIT_ANGLE)):
+            # near a rear stagnation point the surface flow flips from side to side: from there on the exit
+            # turns towards the outward normal (downstream there) by at most EXIT_TURN a step
+            rear = True
+            w = n - (n @ prev) * prev
+            turn = min(EXIT_TURN, float(np.arccos(np.clip(n @ prev, -1.0, 1.0))))
+            v = np.cos(turn) * prev + np.sin(turn) * w / max(float(np.linalg.norm(w)), 1e-300)
+        prev, prev_t = v, t
+        nxt = x + h * v
         dn = field.distances(nxt[None], "true")[0]
         others = np.arange(dn.size) != j
         if (dn[others] < 0).any() or not _segment_clear(field, x, nxt, 5):
