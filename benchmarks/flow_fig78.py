@@ -168,7 +168,8 @@ def main(argv=None) -> int:
             f"(VehicleParams defaults): {vehicle.speed} m/s, full-rudder turn radius {R:.1f} m "
             f"({np.degrees(vehicle.speed / R):.1f}°/s).\n\n" + "\n".join(head) + "\n")
     if not args.no_sweep:
-        text += "\n## Bodies round the (8, 4, 3) ellipsoid for goals 35 m away in 26 directions\n\n" + "\n".join(sweep())
+        text += ("\n## Bodies round the (8, 4, 3) ellipsoid for goals 35 m away in 26 directions\n\n"
+                 + "\n".join(sweep()))
     text += f"\n\nLoad average at end {os.getloadavg()[0]:.1f}.\n"
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -73,12 +73,12 @@ def test_fig8_starts_near_every_surface_arrive_clear_and_without_corners(fig8):
 
 
 def test_exit_from_an_oversized_body_never_ends_in_the_neighbouring_sphere():
-    """The (8, 4, 3) ellipsoid unturned and the goal 45° off its long axis: its body reaches over the sphere at
-    (−12, −6, 2).  Starts inside the body 0.5-2 m from that sphere's real surface (outside the inflated
+    """The (8, 4, 3) ellipsoid unturned and the goal 45° off its long axis, sized by the pair (6.1× the inflated
+    ellipsoid, what the default fell back to before): its body reaches over the sphere at (−12, −6, 2).  Starts inside the body 0.5-2 m from that sphere's real surface (outside the inflated
     obstacles) used to exit the body into the sphere's margin (``contact`` at the start, inside the margin);
     now every move keeps the margin."""
     obstacles = (Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0)),) + SPHERES
-    field = FlowField(obstacles, GOAL, FlowParams(), MARGIN)
+    field = FlowField(obstacles, GOAL, FlowParams(rankine="pair"), MARGIN)
     rng = np.random.default_rng(5)
     v = rng.normal(size=(3000, 3))
     p = np.asarray(SPHERES[1].center) + rng.uniform(3.0, 4.5, (3000, 1)) * v / np.linalg.norm(v, axis=1, keepdims=True)
@@ -109,6 +109,32 @@ def test_document_sizing_runs_the_fig8_scene_where_it_has_a_solution(fig8):
     world, _, _ = fig8
     doc = FlowField(world.obstacles, GOAL, FlowParams(rankine="document"), MARGIN)
     # the inflated semi-axis 8.5 m plus the chord-sag pad SAG_PAD × 8 m
-    assert doc.bodies[0].kind == "document" and doc.bodies[0].stagnation[0] == pytest.approx(-(8.5 + SAG_PAD * 8.0), abs=1e-6)
+    assert doc.bodies[0].kind == "document"
+    assert doc.bodies[0].stagnation[0] == pytest.approx(-(8.5 + SAG_PAD * 8.0), abs=1e-6)
     with pytest.raises(ValueError, match="no \\(m, a2\\)"):
         FlowField((Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0)),), GOAL, FlowParams(rankine="document"), MARGIN)
+
+
+@pytest.mark.parametrize("direction, kind, ratio", [((1.0, 1.0, 1.0), "line", 4.53), ((0.0, 0.0, 1.0), "pair", 4.83)])
+def test_oblique_goals_get_a_containing_body_without_dents(direction, kind, ratio):
+    """Goals 35 m away off the (8, 4, 3) ellipsoid's long axis: the body contains all 18 300 points of the
+    inflated surface (n = 95), F < 0 just inside its profile (no dent the profile bridges, where the outer
+    flow would reach inside the distances the integrator steps by), and its volume is pinned: along
+    (1, 1, 1) the line distribution fitted to the shadow's concave envelope, 4.53× the inflated ellipsoid
+    (the pair it fell back to before: 6.66×); along z still the pair.  No body of revolution about those
+    axes can go below the shadow's 3.1× and 1.9× (docs/flow.md)."""
+    from auvplan.planners.flow.design import design_body, offset_surface
+
+    ob = Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0))
+    goal = 35.0 * np.asarray(direction) / np.linalg.norm(direction)
+    body = design_body(ob, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+    inflated = 4.0 / 3.0 * np.pi * 8.5 * 4.5 * 3.5
+    assert body.kind == kind and body.volume / inflated == pytest.approx(ratio, abs=0.05)
+    assert body.inside(offset_surface(ob, MARGIN, 95)).all()
+    prof = body.profile
+    mid, t = 0.5 * (prof[1:] + prof[:-1]), prof[1:] - prof[:-1]
+    n = np.column_stack([-t[:, 1], t[:, 0]]) / np.linalg.norm(t, axis=1)[:, None]
+    for depth in (0.005, 0.01, 0.02):
+        inner = mid - depth * body.radius * n
+        keep = inner[:, 1] > 0.04 * body.radius
+        assert (body.stream(inner[keep, 0], inner[keep, 1]) < 0).all()
