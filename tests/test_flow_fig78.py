@@ -74,9 +74,9 @@ def test_fig8_starts_near_every_surface_arrive_clear_and_without_corners(fig8):
 
 def test_exit_from_an_oversized_body_never_ends_in_the_neighbouring_sphere():
     """The (8, 4, 3) ellipsoid unturned and the goal 45° off its long axis, sized by the pair (6.1× the inflated
-    ellipsoid, what the default fell back to before): its body reaches over the sphere at (−12, −6, 2).  Starts inside the body 0.5-2 m from that sphere's real surface (outside the inflated
-    obstacles) used to exit the body into the sphere's margin (``contact`` at the start, inside the margin);
-    now every move keeps the margin."""
+    ellipsoid, the default's fall-back there): its body reaches over the sphere at (−12, −6, 2).  Starts
+    inside the body 0.5-2 m from that sphere's real surface (outside the inflated obstacles) used to exit the
+    body into the sphere's margin (``contact`` at the start, inside the margin); now every move keeps it."""
     obstacles = (Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0)),) + SPHERES
     field = FlowField(obstacles, GOAL, FlowParams(rankine="pair"), MARGIN)
     rng = np.random.default_rng(5)

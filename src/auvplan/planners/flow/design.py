@@ -190,9 +190,9 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
 
 def _no_dents(body: AxialBody, depth: float = 0.02) -> bool:
     """Whether the body's dividing surface is its outer profile: F < 0 just inside the profile everywhere but
-    at the tips (a quarter, half and all of ``depth`` × its radius in along the profile's normal).  Where the outer flow reaches into a
-    dent of the surface that the profile (the outermost crossing on rays from the body's middle) bridges,
-    the distances the integrator steps by would be wrong."""
+    at the tips (a quarter, half and all of ``depth`` × its radius in along the profile's normal).  Where
+    the outer flow reaches into a dent of the surface that the profile (the outermost crossing on rays from
+    the body's middle) bridges, the distances the integrator steps by would be wrong."""
     prof = body.profile
     mid = 0.5 * (prof[1:] + prof[:-1])
     t = prof[1:] - prof[:-1]
