@@ -117,7 +117,7 @@ def test_document_sizing_runs_the_fig8_scene_where_it_has_a_solution(fig8):
 
 @pytest.mark.parametrize("direction, kind, ratio", [((1.0, 1.0, 1.0), "line", 4.53), ((0.0, 0.0, 1.0), "pair", 4.83)])
 def test_oblique_goals_get_a_containing_body_without_dents(direction, kind, ratio):
-    """Goals 35 m away off the (8, 4, 3) ellipsoid's long axis: the body contains all 18 300 points of the
+    """Goals 35 m away off the (8, 4, 3) ellipsoid's long axis: the body contains all 18 240 points of the
     inflated surface (n = 95), F < 0 just inside its profile (no dent the profile bridges, where the outer
     flow would reach inside the distances the integrator steps by), and its volume is pinned: along
     (1, 1, 1) the line distribution fitted to the shadow's concave envelope, 4.53× the inflated ellipsoid
