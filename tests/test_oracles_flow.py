@@ -242,44 +242,66 @@ def test_push_out_of_a_small_sphere_and_below_the_plane():
 
 
 # ---------------------------------------------------------------------- the streamlines' rules
-def test_start_in_the_flow_shell_of_a_sphere_leaves_along_the_radius():
+def test_start_in_the_flow_shell_of_a_sphere_leaves_smoothly_with_the_flow():
     """A sphere (r = 5, margin 0.5: inflated 5.5 m, flow sphere A = 5.51 m) and a start 5.505 m from its
-    centre, outside the inflated obstacle but inside the flow sphere: the exit rule's point is on the
-    ray from the centre at A (1 + 10⁻⁶), then the streamline arrives without touching the obstacle (a second
-    sphere 30 m away: the exit is from the surface the start is inside, the nearest one)."""
-    field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
+    centre, outside the inflated obstacle but inside the flow sphere (a second sphere 30 m away).  The smooth
+    exit: the first node is 0.01 A on from the start along cos 30° t + sin 30° n, n the ray from the centre
+    and t the flow's direction at A (1 + 10⁻³) on that ray with its radial part removed (by hand); every
+    exit node is farther from the centre than the last, the exit hands over between 0.08 A and 0.09 A
+    outside the flow sphere, and no turn on the whole path reaches 30° (the straight exit along the radius
+    met the flow at 90°).  The streamline then arrives without touching the obstacle."""
+    from auvplan.planners.flow.stream import EXIT_ANGLE
+
+    centre = np.array([1.0, 2.0, -3.0])
+    field = FlowField((Sphere(tuple(centre), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
     a = float(field.radii[0])
-    assert a == pytest.approx(5.51)
+    assert a == pytest.approx(5.51) and EXIT_ANGLE == pytest.approx(math.radians(30.0))
     ray = np.array([2.0, -3.0, 6.0]) / 7.0
-    start = np.array([1.0, 2.0, -3.0]) + 5.505 * ray
+    start = centre + 5.505 * ray
     sl = integrate_streamlines(field, start)
     assert sl.exits[0] and sl.arrived[0] and sl.min_distance[0] >= 0
-    np.testing.assert_allclose(sl.paths[0][0], start, atol=1e-12)
-    np.testing.assert_allclose(sl.paths[0][1], np.array([1.0, 2.0, -3.0]) + a * (1 + 1e-6) * ray, atol=1e-9)
+    path = sl.paths[0]
+    np.testing.assert_allclose(path[0], start, atol=1e-12)
+    u = field.velocity((centre + a * (1 + 1e-3) * ray)[None])[0]
+    t = u - (u @ ray) * ray
+    t /= np.linalg.norm(t)
+    first = start + 0.01 * a * (math.cos(math.radians(30.0)) * t + math.sin(math.radians(30.0)) * ray)
+    np.testing.assert_allclose(path[1], first, atol=1e-9)
+    r = np.linalg.norm(path - centre, axis=1)
+    k = int(np.argmax(r >= a + 0.08 * a))  # the hand-over node
+    assert (np.diff(r[: k + 1]) > 0).all() and r[k] <= a + 0.09 * a
+    legs = np.diff(path, axis=0)
+    legs = legs[np.linalg.norm(legs, axis=1) > 1e-9]
+    legs /= np.linalg.norm(legs, axis=1, keepdims=True)
+    assert np.degrees(np.arccos(np.clip((legs[:-1] * legs[1:]).sum(axis=1), -1, 1))).max() < 30.0
 
 
 def test_exit_rule_in_the_wedge_between_a_sphere_and_the_plane():
     """A sphere (r = 5 m, margin 0.5 m, flow radius A = 5.51 m) whose flow shell reaches below the plane
-    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, above the plane.  The exit rule's first
-    point is on the ray from the centre, at A (1 + 10⁻⁶) (below the plane), its second straight up onto
-    the plane, 10⁻⁶ × 5.51 m above it (the plane's normal is +z)."""
+    z = −5.507 m: a start at (0, 0, −5.505) is inside the shell, 2 mm above the plane.  The sphere's normal
+    (straight down) would cross the plane, so the exit rule searches: its one point is outside every flow
+    surface, above the plane, reached by a segment that keeps the margin everywhere (it used to step under
+    the plane and end there as ``contact``), and it is the shortest such move: sideways, at most
+    √(5.51² − 5.505²) = 0.235 m plus one march step (0.5 % of 3 × 5.51 m)."""
     from auvplan.planners.flow.stream import _exit_body
 
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
     start = np.array([0.0, 0.0, -5.505])
     assert field.clearance(start) > 0 and field.inside_body(start)
     out = _exit_body(field, start.copy())
-    np.testing.assert_allclose(out[0], [0.0, 0.0, -5.51 * (1 + 1e-6)], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(out[1], [0.0, 0.0, -5.507 + 5.51e-6], rtol=0, atol=1e-12)
+    assert len(out) == 1 and not field.inside_body(out[0]) and out[0][2] > -5.507
+    seg = start + np.linspace(0.0, 1.0, 201)[:, None] * (out[0] - start)
+    assert field.clearance(seg).min() >= 0.0
+    assert np.linalg.norm(out[0] - start) <= math.sqrt(5.51**2 - 5.505**2) + 2 * 3 * 5.51 / 600
 
 
 def test_min_distance_counts_the_start_and_the_exit_rules_points():
     """The start and the exit rule's points are nodes of the path, so ``min_distance`` counts them.  By
     hand: a start 5.505 m from a sphere inflated to 5.5 m is 0.005 m clear (its exit point, on the flow
     sphere, and everything after are farther); in the wedge under a sphere's flow shell, the exit rule's
-    first point, 5.51 (1 + 10⁻⁶) m below the centre, is 0.0030055 m under the plane z = −5.507 m, so the
-    streamline ends there as ``contact`` with that clearance (both were counted from the last exit point
-    on)."""
+    point (a sideways move that stays above the plane z = −5.507 m) keeps the start's clearance of 2 mm
+    above the plane or more (it was counted from the last exit point on; the exit used to step under the
+    plane and end as ``contact``)."""
     field = FlowField((Sphere((1.0, 2.0, -3.0), 5.0), Sphere((15.0, -25.0, 10.0), 2.0)), GOAL, FlowParams(), 0.5)
     ray = np.array([2.0, -3.0, 6.0]) / 7.0
     sl = integrate_streamlines(field, np.array([1.0, 2.0, -3.0]) + 5.505 * ray)
@@ -287,7 +309,8 @@ def test_min_distance_counts_the_start_and_the_exit_rules_points():
     assert sl.min_distance[0] == pytest.approx(field.clearance(sl.paths[0]).min(), abs=1e-12)
     field = FlowField((Sphere((0.0, 0.0, 0.0), 5.0),), GOAL, FlowParams(), 0.5, plane=-5.507)
     sl = integrate_streamlines(field, np.array([0.0, 0.0, -5.505]))
-    assert sl.status[0] == "contact" and sl.min_distance[0] == pytest.approx(-(5.51 * (1 + 1e-6) - 5.507), abs=1e-12)
+    assert sl.arrived[0] and sl.min_distance[0] == pytest.approx(field.clearance(sl.paths[0]).min(), abs=1e-12)
+    assert 0.0 <= sl.min_distance[0] <= 0.002 + 1e-12
 
 
 def test_streamline_stops_at_the_step_cap():

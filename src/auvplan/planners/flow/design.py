@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import brentq
+from scipy.spatial import ConvexHull
 
 from ..._types import ArrayLike, FloatArray
 from ...world.obstacles import Ellipsoid, Shape
@@ -58,8 +59,9 @@ def _meridian(points: FloatArray, center: FloatArray, basis: FloatArray) -> tupl
 
 
 def _contains(body: AxialBody, x: FloatArray, rho: FloatArray, outer: bool = False) -> bool:
-    """Whether the body contains the meridian points: F < 0 at all of them (and, with ``outer``, the
-    outer-profile test of :meth:`AxialBody.inside`, which needs the profile)."""
+    """Whether the body contains the meridian points: F < 0 at all of them, or, with ``outer``, the
+    outer-profile test of :meth:`AxialBody.inside` (which needs the profile): points deep inside may lie in
+    a closed pocket of F > 0 that alternating sources and sinks leave inside the body."""
     try:
         xf, xr = body.stagnation
     except (ValueError, IndexError):
@@ -67,7 +69,7 @@ def _contains(body: AxialBody, x: FloatArray, rho: FloatArray, outer: bool = Fal
     if not (x.min() > xf and x.max() < xr < body.a1):
         return False
     on_axis = rho < 1e-9 * (xr - xf)
-    if not np.all((body.stream(x, rho) < 0) | on_axis):
+    if not outer and not np.all((body.stream(x, rho) < 0) | on_axis):
         return False
     if not outer:
         return True
@@ -141,22 +143,34 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
     # 0.1 % of the size on top: the surface between the sampled points (azimuth steps of 1.5°)
     x_all, rho_all = _meridian(offset_surface(obstacle, margin + pad + 1e-3 * obstacle.bounding_radius), c, basis)
     x, rho = _envelope(x_all, rho_all)
+    # the fit aims at the shadow's concave envelope: seen obliquely the shadow has a waist between two humps,
+    # which a fit to the shadow itself follows into a pinched body that misses the humps
+    xt, rt = _concave_envelope(x, rho)
     xc = 0.5 * (x.min() + x.max())
     size = float(rho.max())
     best: AxialBody | None = None
-    for K, frac in ((8, 0.8), (12, 0.85), (16, 0.9), (12, 0.7)):
+    for K, frac in ((8, 0.8), (12, 0.85), (16, 0.9), (12, 0.7), (24, 0.95)):
         half = 0.5 * (x.max() - x.min())
         knots = np.linspace(xc - frac * half, xc + frac * half, K + 1)
 
         def build(delta: float, knots: FloatArray = knots) -> AxialBody:
-            lam = _fit_line(x, rho, a1, Q, knots, delta, xc)
+            lam = _fit_line(xt, rt, a1, Q, knots, delta, xc)
             return AxialBody(c, basis, a1, Q, knots=knots, density=lam, kind="line")
 
         lo, hi = 0.0, 0.25 * size
         good = build(hi)
-        while not _contains(good, x, rho) and hi < 2.0 * size:
-            lo, hi = hi, 2.0 * hi
-            good = build(hi)
+        if not _contains(good, x, rho):  # containment is not monotone in δ: the first gap on a grid that works
+            for lo, hi in zip((0.0, 0.03, 0.06, 0.12), (0.03, 0.06, 0.12, 0.25)):
+                good = build(hi * size)
+                if _contains(good, x, rho):
+                    lo, hi = lo * size, hi * size
+                    break
+            else:
+                lo, hi = 0.25 * size, 0.5 * size
+                good = build(hi)
+                while not _contains(good, x, rho) and hi < 2.0 * size:
+                    lo, hi = hi, 2.0 * hi
+                    good = build(hi)
         if not _contains(good, x, rho):
             continue
         for _ in range(12):
@@ -166,11 +180,44 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
                 hi, good = mid, trial
             else:
                 lo = mid
-        if (best is None or good.volume < best.volume) and _contains(good, x_all, rho_all, outer=True):
+        if (best is None or good.volume < best.volume) and _contains(good, x_all, rho_all, outer=True) \
+                and _no_dents(good):
             best = good
     if best is None:
         raise ValueError(f"the target {tuple(T)} is too close to the obstacle at {tuple(c)}: no body contains it")
     return best
+
+
+def _no_dents(body: AxialBody, depth: float = 0.02) -> bool:
+    """Whether the body's dividing surface is its outer profile: F < 0 just inside the profile everywhere but
+    at the tips (a quarter, half and all of ``depth`` × its radius in along the profile's normal).  Where
+    the outer flow reaches into a dent of the surface that the profile (the outermost crossing on rays from
+    the body's middle) bridges, the distances the integrator steps by would be wrong."""
+    prof = body.profile
+    mid = 0.5 * (prof[1:] + prof[:-1])
+    t = prof[1:] - prof[:-1]
+    n = np.column_stack([-t[:, 1], t[:, 0]]) / np.maximum(np.linalg.norm(t, axis=1), 1e-300)[:, None]
+    for frac in (0.25, 0.5, 1.0):
+        inner = mid - frac * depth * body.radius * n
+        keep = inner[:, 1] > 2.0 * depth * body.radius
+        if not np.all(body.stream(inner[keep, 0], inner[keep, 1]) < 0):
+            return False
+    return True
+
+
+def _concave_envelope(x: FloatArray, rho: FloatArray, n: int = 160) -> tuple[FloatArray, FloatArray]:
+    """The least concave majorant of meridian points (the upper chain of their convex hull with the axis),
+    sampled at ``n`` abscissae from the first to the last point."""
+    pts = np.column_stack([np.concatenate([x, [x.min(), x.max()]]), np.concatenate([rho, [0.0, 0.0]])])
+    hull = pts[ConvexHull(pts).vertices]
+    xs = np.linspace(x.min(), x.max(), n)
+    top = np.zeros(n)
+    for p, q in zip(hull, np.roll(hull, -1, axis=0)):
+        if q[0] == p[0]:
+            continue
+        span = (xs >= min(p[0], q[0]) - 1e-12) & (xs <= max(p[0], q[0]) + 1e-12)
+        top[span] = np.maximum(top[span], p[1] + (q[1] - p[1]) * (xs[span] - p[0]) / (q[0] - p[0]))
+    return xs, top
 
 
 def _envelope(x: FloatArray, rho: FloatArray, bins: int = 160) -> tuple[FloatArray, FloatArray]:

@@ -122,9 +122,111 @@ def _exit_body(field: FlowField, p: FloatArray) -> list[FloatArray]:
                     mid = 0.5 * (lo + hi)
                     lo, hi = (mid, hi) if body.inside((p + mid * g)[None])[0] else (lo, mid)
                 q = p + (hi + 1e-6 * body.radius) * g
+        if not _segment_clear(field, p, q) or (field.inside_body(q[None])[0] and len(field.items) > 1):
+            q = _search_exit(field, p, q)  # the move would cross an obstacle or land in another flow surface
         out.append(q)
         p = q
     return out
+
+
+EXIT_ANGLE = np.radians(30.0)
+"""Angle to the flow surface at which :func:`_smooth_exit` climbs out while inside it."""
+EXIT_CLEAR = 0.1
+"""Distance outside the flow surface, in units of its radius, at which :func:`_smooth_exit` hands over."""
+EXIT_STEP = 0.01
+"""Step of :func:`_smooth_exit`, in units of the surface's radius."""
+EXIT_TURN = np.radians(10.0)
+"""Largest turn of :func:`_smooth_exit` per step where it turns from the surface flow to the normal."""
+
+
+def _smooth_exit(field: FlowField, p: FloatArray) -> list[FloatArray]:
+    """Smooth exit for a start inside one flow surface (sphere or body): the points it passes (empty: none).
+
+    It flies with the flow along the surface while it climbs: its direction is the flow's direction at
+    the surface point nearest to it (tangent to the surface) turned outward by :data:`EXIT_ANGLE`, the
+    angle easing to a fifth of it over the last :data:`EXIT_CLEAR` × R, where it hands over to the
+    streamline at 0.8 × EXIT_CLEAR × R (about 6° to the flow there, where a straight exit along the normal
+    met it at 90° on the surface itself).  Where the surface flow turns by more than EXIT_ANGLE from one step
+    to the next (near a rear stagnation point it flips from side to side) the exit turns towards the outward
+    normal instead, at most :data:`EXIT_TURN` a step.  Steps of :data:`EXIT_STEP` × R, each checked to keep the margin
+    and out of every other flow surface; any failure (or a start inside several surfaces, or under the
+    plane) leaves the start to :func:`_exit_body`.
+    """
+    d = field.distances(p[None], "true")[0]
+    j = int(d.argmin())
+    if int((d < 0).sum()) != 1 or j >= len(field.items):
+        return []
+    ns = len(field.spheres)
+    R = float(field.radii[j])
+    clear, h = EXIT_CLEAR * R, EXIT_STEP * R
+    out: list[FloatArray] = []
+    x = p
+    prev: FloatArray | None = None
+    prev_t = p
+    rear = False
+    for _ in range(int(4.0 * (clear - d[j]) / (h * np.sin(0.2 * EXIT_ANGLE))) + 8):
+        if d[j] >= 0.8 * clear:
+            return out
+        if j < ns:
+            n = (x - field.C[j]) / max(float(np.linalg.norm(x - field.C[j])), 1e-300)
+        else:
+            n = field.bodies[j - ns].normal(x[None])[0]
+        foot = x - d[j] * n
+        u = field.velocity((foot + 1e-3 * R * n)[None])[0]
+        t = u - (u @ n) * n
+        if np.linalg.norm(t) < 1e-12 * max(float(np.linalg.norm(u)), 1e-300):
+            return []  # at a stagnation point of the surface: no flow direction to follow
+        t /= np.linalg.norm(t)
+        a = EXIT_ANGLE * min(1.0, max(0.2, 1.0 - max(float(d[j]), 0.0) / clear))
+        v = np.cos(a) * t + np.sin(a) * n
+        if prev is not None and (rear or t @ prev_t < np.cos(EXIT_ANGLE)):
+            # near a rear stagnation point the surface flow flips from side to side: from there on the exit
+            # turns towards the outward normal (downstream there) by at most EXIT_TURN a step
+            rear = True
+            w = n - (n @ prev) * prev
+            turn = min(EXIT_TURN, float(np.arccos(np.clip(n @ prev, -1.0, 1.0))))
+            v = np.cos(turn) * prev + np.sin(turn) * w / max(float(np.linalg.norm(w)), 1e-300)
+        prev, prev_t = v, t
+        nxt = x + h * v
+        dn = field.distances(nxt[None], "true")[0]
+        others = np.arange(dn.size) != j
+        if (dn[others] < 0).any() or not _segment_clear(field, x, nxt, 5):
+            return []
+        out.append(nxt)
+        x, d = nxt, dn
+    return []
+
+
+EXIT_DIRECTIONS = 400
+"""Directions tried by :func:`_search_exit` (a Fibonacci sphere)."""
+
+
+def _search_exit(field: FlowField, p: FloatArray, fallback: FloatArray) -> FloatArray:
+    """The shortest straight way out of every flow surface that stays clear of every inflated obstacle.
+
+    Where the body's and the obstacle's normals lead into a neighbouring obstacle or its flow surface (flow
+    surfaces can overlap when a body is large), each of :data:`EXIT_DIRECTIONS` directions is marched in
+    steps of 0.5 % of the largest radius to its first point outside every flow surface (then 0.5 % on); the
+    shortest move whose segment keeps the margin wins.  ``fallback`` when none does.
+    """
+    n = EXIT_DIRECTIONS
+    i = np.arange(n) + 0.5
+    polar, azim = np.arccos(1.0 - 2.0 * i / n), np.pi * (1.0 + 5.0**0.5) * i
+    dirs = np.column_stack([np.cos(azim) * np.sin(polar), np.sin(azim) * np.sin(polar), np.cos(polar)])
+    reach = 3.0 * float(field.radii.max(initial=1.0))
+    t = np.linspace(0.0, reach, 601)[1:]
+    pts = p + t[None, :, None] * dirs[:, None, :]
+    free = ~field.inside_body(pts.reshape(-1, 3)).reshape(n, t.size)
+    first = np.where(free.any(axis=1), free.argmax(axis=1), t.size - 1)
+    ends = p + t[np.minimum(first + 1, t.size - 1), None] * dirs
+    order = np.argsort(np.where(free.any(axis=1), t[first], np.inf))
+    for k in order[:64]:
+        if not free[k].any():
+            break
+        if _segment_clear(field, p, ends[k], 33) and not field.inside_body(ends[k][None])[0]:
+            q: FloatArray = ends[k]
+            return q
+    return fallback
 
 
 def _deflect(field: FlowField, x: FloatArray, d: FloatArray, h_min: float) -> tuple[BoolArray, FloatArray]:
@@ -220,7 +322,7 @@ class _Run:
         prefix: list[list[FloatArray]] = [[] for _ in range(n)]
         exits = np.zeros(n, dtype=bool)
         for i in np.flatnonzero(field.inside_body(p) & active):
-            prefix[i] = _exit_body(field, p[i].copy())
+            prefix[i] = _smooth_exit(field, p[i].copy()) or _exit_body(field, p[i].copy())
             exits[i] = True
             if prefix[i]:
                 p[i] = prefix[i][-1]
