@@ -51,3 +51,28 @@ def test_readings_are_validated_by_name():
         PlannerSpec(energy="vehicle")
     with pytest.raises(ValueError, match="document-vehicle"):
         CostModel(energy="document_vehicle")
+
+
+@pytest.mark.parametrize("energy", ENERGY_READINGS)
+def test_lattice_reference_costs_its_edges_under_the_scenarios_reading(energy):
+    """Still water, cost objective: every lattice direction costs the same per metre, so the cost-to-go
+    of the nodes straight above the goal is the cost of that vertical segment, which the swarm's cost
+    function (:func:`evaluate_paths`, its own code) gives under each reading: the lattice must use the
+    scenario's reading (it used the physical energy for ``document-vehicle``, whose still water is
+    ρ V² per metre, not P / V)."""
+    from auvplan.planners import GridParams, GridReference, PlanningProblem
+    from auvplan.planners.common import cost_model_for, search_box
+
+    world = World(Bounds(0.0, 200.0, 0.0, 200.0, -200.0, 0.0))
+    prob = PlanningProblem(world, [10.0, 10.0, -190.0], [100.0, 100.0, -100.0], 1.5)
+    spec = PlannerSpec(name="grid", energy=energy, grid=GridParams(objective="cost", cell=20.0, cell_z=20.0,
+                                                                   any_angle=0))
+    lo, hi = search_box(prob)
+    model = cost_model_for(prob, spec)
+    ref = GridReference(world, prob.goal, model, lo, hi, spec.grid)
+    i, j, k = (int(np.argmin(np.abs(ax - g))) for ax, g in zip(ref.axes, prob.goal))
+    assert (ref.axes[0][i], ref.axes[1][j], ref.axes[2][k]) == (100.0, 100.0, -100.0)
+    for kk in range(ref.shape[2]):
+        node = np.array([ref.axes[0][i], ref.axes[1][j], ref.axes[2][kk]])
+        want = evaluate_paths(world, np.stack([node, prob.goal]), model, exact=True).total[0]
+        assert ref.cost_to_go[i, j, kk] == pytest.approx(want, rel=1e-9, abs=1e-9), kk

@@ -41,7 +41,7 @@ def _unravel(u: int, ny: int, nz: int) -> tuple[int, int, int]:
 
 @kernel
 def _piece_cost(ex: float, ey: float, ez: float, cx: float, cy: float, cz: float, use_cost: bool,
-                w_length: float, w_energy: float, speed: float, power: float, document: bool) -> float:
+                w_length: float, w_energy: float, speed: float, power: float, document: int) -> float:
     ds = math.sqrt(ex * ex + ey * ey + ez * ez)
     if not use_cost:
         return ds
@@ -53,7 +53,7 @@ def _piece_cost(ex: float, ey: float, ez: float, cx: float, cy: float, cz: float
 
 @kernel
 def link_guess(u: int, p: int, pf: FloatArray, ny: int, nz: int, steps: FloatArray, current: Any, use_cost: bool,
-               w_length: float, w_energy: float, speed: float, power: float, document: bool) -> float:
+               w_length: float, w_energy: float, speed: float, power: float, document: int) -> float:
     """Tentative cost of the straight link ``u -> p``: one segment in the mean of its ends' currents.
 
     Parameters
@@ -72,8 +72,8 @@ def link_guess(u: int, p: int, pf: FloatArray, ny: int, nz: int, steps: FloatArr
         False: the cost is the length alone.
     w_length, w_energy, speed, power : float
         The edge cost's weights, the vehicle's speed (m/s) and electrical power at that speed (W).
-    document : bool
-        Use document 002's energy (eqs. 16–17) instead of joules.
+    document : int
+        :func:`~auvplan.cost.energy_mode`: 0 joules, 1 or 2 document 002's energy (eqs. 16–17) in either reading.
 
     Returns
     -------
@@ -94,7 +94,7 @@ def link_guess(u: int, p: int, pf: FloatArray, ny: int, nz: int, steps: FloatArr
 @kernel
 def link_exact(u: int, pf: FloatArray, ny: int, nz: int, steps: FloatArray, alt: Any, obs: Any, land: Any,
                has_terrain: bool, has_land: bool, lipschitz: float, min_alt: float, current: Any, use_cost: bool,
-               w_length: float, w_energy: float, speed: float, power: float, document: bool) -> float:
+               w_length: float, w_energy: float, speed: float, power: float, document: int) -> float:
     """Cost of the straight link ``u -> p`` piece by piece, or ``inf`` when the node fields cannot
     clear it (module notes).
 
@@ -124,8 +124,8 @@ def link_exact(u: int, pf: FloatArray, ny: int, nz: int, steps: FloatArray, alt:
         False: the cost is the length alone.
     w_length, w_energy, speed, power : float
         The edge cost's weights, the vehicle's speed (m/s) and electrical power at that speed (W).
-    document : bool
-        Use document 002's energy (eqs. 16–17) instead of joules.
+    document : int
+        :func:`~auvplan.cost.energy_mode`: 0 joules, 1 or 2 document 002's energy (eqs. 16–17) in either reading.
 
     Returns
     -------

@@ -232,7 +232,7 @@ def edge_bits(world: World, free: Any, altitude: Any, obstacle: Any, steps: Arra
 
 @kernel
 def _edge_weight(u: int, v: int, s: int, vec: FloatArray, current: Any, use_cost: bool, w_length: float,
-                 w_energy: float, speed: float, power: float, document: bool) -> float:
+                 w_energy: float, speed: float, power: float, document: int) -> float:
     """Cost of the lattice edge ``u -> v`` along direction ``s``: its length, or ``w_L`` length +
     ``w_E`` energy with the current at the midpoint taken as the mean of the two nodes'
     (:func:`auvplan.cost.segment_energy`'s model); ``inf`` where the current beats the vehicle."""
@@ -267,7 +267,7 @@ def _heuristic(u: int, ny: int, nz: int, origin: FloatArray, steps: FloatArray, 
 
 @kernel
 def _settle_link(v: int, shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any,
-                 use_cost: bool, w_length: float, w_energy: float, speed: float, power: float, document: bool,
+                 use_cost: bool, w_length: float, w_energy: float, speed: float, power: float, document: int,
                  dist: FloatArray, nxt: Any, pos: Any, steps: FloatArray, alt: Any, obs: Any, land: Any,
                  flags: Any, lipschitz: float, min_alt: float, goal: int, gf: FloatArray, pf: FloatArray) -> None:
     """Lazy Theta*'s check of a node being settled: its tentative straight link, or the cheapest
@@ -308,7 +308,7 @@ def _settle_link(v: int, shape: IntArray, bits: Any, offsets: IntArray, vec: Flo
 
 @kernel
 def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any, use_cost: bool,
-            w_length: float, w_energy: float, speed: float, power: float, document: bool, near: IntArray,
+            w_length: float, w_energy: float, speed: float, power: float, document: int, near: IntArray,
             w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, key: FloatArray, origin: FloatArray,
             steps: FloatArray, start: FloatArray, c_min: float, start_near: IntArray, w_start: FloatArray,
             box: IntArray, heap: Any, pos: Any, link: int, alt: Any, obs: Any, land: Any, flags: Any,
@@ -379,7 +379,7 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
 
 
 def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLike, current: Any,
-           cost: tuple[float, float, float, float, bool] | None, goal_near: tuple[Any, Any],
+           cost: tuple[float, float, float, float, int] | None, goal_near: tuple[Any, Any],
            start_near: tuple[Any, Any] | None = None, start: ArrayLike | None = None,
            c_min: float = 0.0, links: tuple[int, Any, Any, Any, bool, bool, float, float, Any] | None = None
            ) -> tuple[FloatArray, Any, int]:
@@ -441,7 +441,7 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
         (0, empty3, empty3, empty2, False, False, 0.0, 0.0, np.zeros(3))
     gf = (np.asarray(goal_point, dtype=float) - np.asarray(origin, dtype=float)) / np.asarray(steps, dtype=float)
     settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not None, float(w[0]),
-                      float(w[1]), float(w[2]), float(w[3]), bool(w[4]), np.asarray(goal_near[0], dtype=np.int64),
+                      float(w[1]), float(w[2]), float(w[3]), int(w[4]), np.asarray(goal_near[0], dtype=np.int64),
                       np.asarray(goal_near[1], dtype=float), n, dist, nxt, key, np.asarray(origin, dtype=float),
                       np.asarray(steps, dtype=float), np.zeros(3) if start is None else np.asarray(start, float),
                       float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64),

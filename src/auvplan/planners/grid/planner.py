@@ -37,7 +37,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray, RngLike, Status
-from ...cost import CostModel, propulsion_power
+from ...cost import CostModel, energy_mode, propulsion_power
 from ...guidance.local import key_waypoints
 from ...path import sample_population
 from ...world import World
@@ -147,7 +147,7 @@ class GridReference:
         self.edges = int(np.bitwise_count(bits).sum()) + int(near.size)
         self._goal_id = self.nodes
         cost = (model.w_length, model.w_energy * model.scale, model.speed, propulsion_power(model),
-                model.energy == "document") if use_cost else None
+                energy_mode(model)) if use_cost else None
         start_near, c_min = None, 0.0
         if start is not None:
             start = np.asarray(start, dtype=float).reshape(3)
@@ -178,12 +178,12 @@ class GridReference:
         """A lower bound of any lattice edge's cost per metre (A*'s heuristic): 1 for the length;
         the length weight plus the energy at the ground speed of the still-water speed plus the
         strongest node current (an edge takes the mean of its two nodes' currents) for the
-        physical energy model; the length weight alone for the document's energy (which can be
+        physical energy model; the length weight alone for either document reading (which can be
         near zero)."""
         m = self.model
         if self.params.objective == "length":
             return 1.0
-        if m.energy == "document" or current.shape[0] == 0:
+        if m.energy != "physical" or current.shape[0] == 0:
             return float(m.w_length)
         c2 = max((float(np.einsum("ij,ij->i", c, c).max()) for c in np.array_split(current, 16) if c.size),
                  default=0.0)
