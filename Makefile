@@ -32,7 +32,9 @@ kill-points: $(STAMP)
 
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
 # coverage and tracebacks see their lines (the kernels' own tests and the small ones of the
-# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, ~1 min)
+# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, ~1 min).  The exit-rule oracle of
+# document 000's bodies is left to the compiled run: its 60 exits search the field round the body (> 10 min
+# as plain Python)
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
@@ -41,7 +43,8 @@ test-nojit: $(STAMP)
 		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
 		tests/test_timeopt.py::test_legs_are_fifo \
 		tests/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \
-		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling
+		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling \
+		--deselect tests/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface
 
 typecheck: $(STAMP)
 	$(BIN)/mypy
