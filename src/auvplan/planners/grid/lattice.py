@@ -390,7 +390,8 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
     shape : tuple of int
         Lattice shape ``(nx, ny, nz)``.
     bits : ndarray of uint32, shape (N,)
-        Free edges (:func:`edge_bits`).
+        Free edges (:func:`edge_bits`), undirected: the edge ``u -> v`` is read from ``v``'s bit of the
+        reverse direction, so both bits of an edge must be set or neither (as :func:`edge_bits` does).
     steps, origin : ndarray, shape (3,)
         Cell sizes and the first node's coordinates.
     current : ndarray, shape (N, 3) or (0, 3)
