@@ -34,7 +34,7 @@ LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
 MISSION, LIMITS = "auvplan.guidance.mission", "auvplan.guidance.mission_limits"
-FORMATS = "auvplan.io.missions.formats"
+FORMATS = "auvplan.io.missions.readers"
 FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
