@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,9 +18,9 @@ from .errors import AuvplanError
 from .io.safeio import atomic_write, save_figure
 
 if TYPE_CHECKING:
-    pass
+    from .planners.timeopt.planner import SweepRow, SweepSummary
 
-__all__ = ["parse_duration", "is_offset", "parse_instant", "cmd_sweep"]
+__all__ = ["parse_duration", "is_offset", "parse_instant", "cmd_sweep", "sweep_lines"]
 
 
 def parse_duration(text: str, what: str) -> float:
@@ -104,8 +105,37 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         from .viz.timeplots import sweep_figure
 
         save_figure(out / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
-    lines = [f"{sc.name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
-             f"(after {sc.mission.start_time or 't = 0'})",
+    lines = sweep_lines(sc.name, sc.mission.start_time, rows, energy, summary, t0, step)
+    emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
+    return 0 if summary.get("feasible_departures") else 1
+
+
+def sweep_lines(name: str, start_time: str, rows: Sequence[SweepRow], energy: Sequence[dict[str, float]],
+                summary: SweepSummary, t0: float, step: float) -> list[str]:
+    """The human table of a departure sweep: one line per departure, then the best one.
+
+    Parameters
+    ----------
+    name : str
+        The scenario's name.
+    start_time : str
+        Its ``[mission] start_time`` (empty: t = 0).
+    rows : sequence
+        The sweep's rows (:func:`auvplan.planners.timeopt.planner.departure_sweep`).
+    energy : sequence of dict
+        Each departure's energy figures (:func:`auvplan.io.missions.energy.sweep_energy`).
+    summary : dict
+        :func:`auvplan.planners.timeopt.planner.sweep_summary` of the rows.
+    t0, step : float
+        First departure and step (s).
+
+    Returns
+    -------
+    list of str
+        The lines.
+    """
+    lines = [f"{name}: {len(rows)} departures every {step / 60:.0f} min from {t0 / 3600:+.2f} h "
+             f"(after {start_time or 't = 0'})",
              f"{'depart h':>9} {'timed h':>8} {'steady h':>9} {'straight h':>10} {'timed MJ':>9} {'energy Wh':>9} "
              f"{'margin Wh':>9} {'PNR h':>6} {'PNR km':>6}"]
     lines += [f"{r.depart_s / 3600:9.2f} {r.duration_s / 3600:8.2f} {r.steady_duration_s / 3600:9.2f} "
@@ -123,5 +153,4 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                      f"{summary['saved_vs_straight_pct']:.1f} % against the straight line"
                      + (f"\n  fly it: [mission] start_time = \"{summary['best_depart_utc']}\""
                         if "best_depart_utc" in summary else ""))
-    emit({"scenario": sc.name, "summary": summary, "rows": table}, args.json, "\n".join(lines))
-    return 0 if summary.get("feasible_departures") else 1
+    return lines
