@@ -36,18 +36,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, RngLike, Status
+from ..._types import ArrayLike, FloatArray, Status
 from ...cost import CostModel, energy_mode, propulsion_power
 from ...guidance.local import key_waypoints
 from ...path import sample_population
 from ...world import World
-from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box
 from ..params import GridParams
 from .band import _converge, _refine, edge_cost, path_cost, resample_free
 from .lattice import down32, edge_bits, node_fields, search
 
-__all__ = ["GridReference", "plan_grid", "run_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
+__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
            "path_cost", "resample_free", "with_reference"]
 
 def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
@@ -458,26 +458,3 @@ def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSp
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
     return replace(on_cost_function(result, problem, spec), reference_cost=float(reference.cost))
-
-
-def run_grid(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
-             progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_grid` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World, start, goal and vehicle figures.
-    spec : PlannerSpec
-        The planner's settings.
-    rng : Generator, int or None
-        Unused.
-    progress : callable, optional
-        Unused (the planner does not iterate).
-
-    Returns
-    -------
-    PlanResult
-        As :func:`plan_grid`.
-    """
-    return plan_grid(problem, spec)

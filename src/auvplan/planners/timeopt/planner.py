@@ -17,10 +17,10 @@ from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, RngLike, Status
+from ..._types import ArrayLike, FloatArray, Status
 from ...cost import evaluate_paths
 from ...path import polyline_length
-from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box
 from .search import (
     CurrentTable,
@@ -35,7 +35,7 @@ from .search import (
 )
 from .timing import fly_times
 
-__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt", "run_timeopt",
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt",
            "departure_sweep", "sweep_summary"]
 
 
@@ -373,26 +373,3 @@ def sweep_summary(rows: list[SweepRow], energy: bool = False) -> SweepSummary:
         "mean_saved_vs_straight_pct": float(np.nanmean([saved(r.duration_s, r.straight_duration_s) for r in ok])),
         "cpu_per_departure_s": float(np.mean([r.cpu_s for r in rows])),
     }
-
-
-def run_timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
-                progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_timeopt` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World, start, goal and vehicle figures.
-    spec : PlannerSpec
-        The planner's settings.
-    rng : Generator, int or None
-        Unused.
-    progress : callable, optional
-        Unused (the planner does not iterate).
-
-    Returns
-    -------
-    PlanResult
-        As :func:`plan_timeopt`.
-    """
-    return plan_timeopt(problem, spec)
