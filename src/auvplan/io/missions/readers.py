@@ -20,6 +20,7 @@ from ...errors import DataError
 from ...guidance.mission import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
+from ..jsonfile import read_bounded_text
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -266,13 +267,7 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
                         f"expected one of {', '.join(sorted(MISSION_SUFFIXES))}")
     if fmt in ("qgc", "gpx", "geojson", "kml") and origin is None:
         raise DataError(f"{path}: a {fmt} mission is geographic: the scenario needs an [origin]")
-    try:
-        size = path.stat().st_size
-        if size > MAX_MISSION_BYTES:
-            raise DataError(f"{path}: {size:,} bytes, over the {MAX_MISSION_BYTES:,} a mission file may have")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: cannot read ({exc})") from exc
+    text = read_bounded_text(path, MAX_MISSION_BYTES, "a mission file")
     frame = LocalFrame(*origin) if origin is not None else None
     try:
         if fmt == "moos":
