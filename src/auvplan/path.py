@@ -344,7 +344,8 @@ def densify(points: ArrayLike, spacing: float) -> FloatArray:
         return p.copy()
     seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
     n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
-    t = np.concatenate([np.arange(k) / k for k in n])
     i = np.repeat(np.arange(len(n)), n)
+    first = np.cumsum(n) - n  # index of each segment's first output point
+    t = (np.arange(i.size) - first[i]) / n[i]  # j / k for j < k, as k-long aranges / k
     out = p[i] + t[:, None] * (p[i + 1] - p[i])
     return np.vstack([out, p[-1]])
