@@ -80,8 +80,8 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
             settings = replace(spec, grid=replace(spec.grid, relax_iterations=sweeps, converge_tol=POLISH_TOLERANCE))
             polished = refine_plan(problem, settings, candidate, finest=POLISH_FINEST)
             if polished is not candidate and polished.cost < out.cost and _flyable(problem, polished, result):
-                note = f"polished as a polyline (lattice band, {sweeps} sweeps per level{_FROM[candidate is result]}):" \
-                       f" {result.cost:.6g} -> {polished.cost:.6g}"
+                note = (f"polished as a polyline (lattice band, {sweeps} sweeps per level"
+                        f"{_FROM[candidate is result]}): {result.cost:.6g} -> {polished.cost:.6g}")
                 out = replace(polished, message="; ".join(m for m in (result.message, note) if m),
                               control_points=None)
     return replace(out, work={**result.work, "polish_cpu_s": time.process_time() - c0})
