@@ -123,8 +123,12 @@ def _peer_rows(prob, spec, seeds: int, budget: int) -> list[dict]:
     return rows
 
 
+_WARM: list[bool] = []
+"""Whether this process has run a reference (warmed the lattice's kernels) yet."""
+
+
 def run(name: str, seeds: int, budget: int, peers: bool, methods: list[str] | None = None,
-        release: ReleasePeer | None = None) -> dict:
+        release: ReleasePeer | None = None, before: ReleasePeer | None = None) -> dict:
     world, mission = sc.build(sc.load(name))
     prob = planning_problem(world, mission)
     spec = replace(mission.planner, budget=budget)
@@ -137,12 +141,20 @@ def run(name: str, seeds: int, budget: int, peers: bool, methods: list[str] | No
             rows.append({"method": "release-code", "seed": seed, "trace": [], **release.plan(name, seed, budget)})
     if peers:
         rows += _peer_rows(prob, spec, seeds, budget)
+    if before is not None and not _WARM:  # the peer's first reference is warmed up: so is ours
+        reference(prob, spec)
+        _WARM.append(True)
     c0 = time.process_time()
     ref = reference(prob, spec)
     cpu = time.process_time() - c0
     c0 = time.process_time()
     old = reference(prob, replace(spec, **RELEASE))
-    return {"scenario": name, "rows": rows, "reference_cost": min(ref.cost, old.cost),
+    extra = {}
+    if before is not None:  # the reference of another commit's code (e.g. the branch point), same problem
+        row = before.plan(name, -1, budget)
+        extra = {"before_reference_cpu_s": row["cpu_s"], "before_reference_cost": row["cost"],
+                 "before_commit": before.commit}
+    return {"scenario": name, "rows": rows, **extra, "reference_cost": min(ref.cost, old.cost),
             "reference_status": ref.status.value if ref.cost <= old.cost else old.status.value,
             "reference_cpu_s": cpu, "release_reference_cpu_s": time.process_time() - c0,
             "release_reference_cost": old.cost, "default_reference_cost": ref.cost}
@@ -228,6 +240,7 @@ def main() -> None:
     ap.add_argument("--release-code", default=RELEASE_COMMIT, help="the previous release's commit (its code a peer)")
     ap.add_argument("--no-release-code", action="store_true", help="leave the release's code out")
     ap.add_argument("--figure-md", help="write the default against both peers to docs/figures/NAME.md")
+    ap.add_argument("--reference-peer", help="also time the --reference of this commit's code (e.g. the branch point)")
     ap.add_argument("--out", default="results/bench-hard")
     args = ap.parse_args()
     out = Path(args.out)
@@ -238,11 +251,13 @@ def main() -> None:
             "(shared machine: CPU times are inflated)"]
     results = []
     release = None if args.no_release_code else ReleasePeer(args.release_code)
+    before = ReleasePeer(args.reference_peer) if args.reference_peer else None
     try:
-        _run_all(args, out, text, results, release)
+        _run_all(args, out, text, results, release, before)
     finally:
-        if release is not None:
-            release.close()
+        for peer in (release, before):
+            if peer is not None:
+                peer.close()
     if args.figure_md:
         figure = Path(__file__).resolve().parents[1] / "docs" / "figures" / f"{args.figure_md}.md"
         figure.write_text(summary_figure(results, args, load))
@@ -250,9 +265,9 @@ def main() -> None:
 
 
 def _run_all(args: argparse.Namespace, out: Path, text: list[str], results: list[dict],
-             release: ReleasePeer | None) -> None:
+             release: ReleasePeer | None, before: ReleasePeer | None) -> None:
     for name in args.scenarios:
-        res = run(name, args.seeds, args.budget, not args.no_peers, args.methods, release)
+        res = run(name, args.seeds, args.budget, not args.no_peers, args.methods, release, before)
         results.append(res)
         text += table(res)
         print("\n".join(table(res)), flush=True)
@@ -271,14 +286,16 @@ def _run_all(args: argparse.Namespace, out: Path, text: list[str], results: list
 def summary_figure(results: list[dict], args: argparse.Namespace, load0: tuple[float, ...]) -> str:
     """The default (``iabc``) against the best known and both CPU peers, one row a scenario (Markdown)."""
     end = getattr(args, "load_end", (float("nan"),) * 3)
-    lines = [f"`benchmarks/hard.py --seeds {args.seeds} --budget {args.budget} --release-code {args.release_code}` "
+    before = f" --reference-peer {args.reference_peer}" if args.reference_peer else ""
+    lines = [f"`benchmarks/hard.py --seeds {args.seeds} --budget {args.budget} --release-code {args.release_code}"
+             f"{before}` "
              f"(seeds 0–{args.seeds - 1}; CPU per plan = median `time.process_time()` of one plan, seeding and "
              f"polish included; load average {load0[0]:.1f} at the start, {end[0]:.1f} at the end, "
              f"{os.cpu_count()} shared cores; the three columns interleaved seed by seed)", "",
              "| scenario | best known | default median / worst gap | infeasible | release-code median / worst gap "
              "| CPU s per plan: default / release code (ratio) | release settings on today's code (ratio) "
-             "| polish CPU s |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| polish CPU s | `--reference` CPU s: now / before (ratio) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for res in results:
         rows = res["rows"]
         best = min([r["cost"] for r in rows if r["status"] == "EXACT"]
@@ -294,8 +311,11 @@ def summary_figure(results: list[dict], args: argparse.Namespace, load0: tuple[f
 
         (g, cpu, bad), (gr, cpur, _), (_, cpus, _) = col("iabc"), col("release-code"), col("iabc/release")
         polish = np.median([r.get("polish_cpu_s", 0.0) for r in rows if r["method"] == "iabc"])
+        ref = (f"{res['reference_cpu_s']:.2f} / {res['before_reference_cpu_s']:.2f} "
+               f"({res['reference_cpu_s'] / res['before_reference_cpu_s']:.2f})" if "before_reference_cpu_s" in res
+               else f"{res['reference_cpu_s']:.2f} / -")
         lines.append(f"| {res['scenario']} | {best:.0f} | {g} | {bad}/{args.seeds} | {gr} | {cpu:.3f} / {cpur:.3f} "
-                     f"({cpu / cpur:.2f}) | {cpus:.3f} ({cpu / cpus:.2f}) | {polish:.3f} |")
+                     f"({cpu / cpur:.2f}) | {cpus:.3f} ({cpu / cpus:.2f}) | {polish:.3f} | {ref} |")
     return "\n".join(lines) + "\n"
 
 

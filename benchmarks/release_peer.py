@@ -10,7 +10,9 @@ kernel both share counts for today's code only.
 The problem is today's scenario file, handed to the release as a file: a built-in terrain the release
 does not ship (``etopo1-mariana``) is named by its file in today's tree instead (``file = ...``).
 Each scenario's first plan in the child is a warm-up (numba compiles into the worktree's cache), not
-timed; each reply's CPU is ``time.process_time()`` around the release's ``plan`` alone.
+timed, and so is the first reference; each reply's CPU is ``time.process_time()`` around the release's
+``plan`` alone.  The same worker, on another commit (``hard.py --reference-peer``), times that commit's
+``--reference`` on the same problem.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ WORKER = r'''
 import json, sys, time
 from dataclasses import replace
 from auvplan.io.scenario import loader as sc
-from auvplan.planners import plan
+from auvplan.planners import plan, reference
 from auvplan.sim import planning_problem
 
 problems = {}
@@ -51,8 +53,11 @@ for line in sys.stdin:
         plan(prob, spec, rng=0)  # warm-up: compile / load the numba cache
         problems[key] = (prob, spec)
     prob, spec = problems[key]
+    if ask["seed"] < 0 and not problems.get("reference warm"):
+        reference(prob, spec)  # warm-up: the lattice's and the band's kernels
+        problems["reference warm"] = True
     c0 = time.process_time()
-    r = plan(prob, spec, rng=ask["seed"])
+    r = reference(prob, spec) if ask["seed"] < 0 else plan(prob, spec, rng=ask["seed"])
     cpu = time.process_time() - c0
     print(json.dumps({"status": r.status.value, "cost": float(r.cost), "evaluations": int(r.evaluations),
                       "cpu_s": cpu}), flush=True)
@@ -105,7 +110,8 @@ class ReleasePeer:
         self._files: dict[str, Path] = {}
 
     def plan(self, scenario: str, seed: int, budget: int) -> dict[str, object]:
-        """One plan of the release: status, cost, evaluations and CPU (s) of its ``plan`` call."""
+        """One plan of the release: status, cost, evaluations and CPU (s) of its ``plan`` call
+        (``seed < 0``: its ``reference`` instead)."""
         if scenario not in self._files:
             self._files[scenario] = portable_scenario(scenario, Path(self._tmp.name))
         assert self._child.stdin is not None and self._child.stdout is not None
