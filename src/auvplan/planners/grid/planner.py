@@ -377,7 +377,7 @@ def _plan_lattice(problem: PlanningProblem, spec: PlannerSpec,
     ), reference.cell
 
 
-def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult) -> PlanResult:
+def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult, finest: float = 2048.0) -> PlanResult:
     """``result`` with its path refined to convergence on the planner's cost function (the lattice
     reference's own refinement) when that is cheaper and free, else ``result`` unchanged.
 
@@ -389,6 +389,8 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult)
         The cost function and the refinement settings (``spec.grid``).
     result : PlanResult
         A plan of any planner.
+    finest : float, default 2048
+        The finest level's spacing as a fraction of the length (1/``finest``).
 
     Returns
     -------
@@ -399,7 +401,7 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult)
         return result
     params = spec.grid
     path, cost, levels = _converge(problem, spec, np.asarray(result.path, dtype=float), cost_model_for(problem, spec),
-                                   params.relax_iterations, params.converge_tol)
+                                   params.relax_iterations, params.converge_tol, finest=finest)
     if not cost < result.cost or not problem.world.path_free(path):
         return result
     terms = path_cost(problem, spec, path)
