@@ -137,3 +137,30 @@ def test_field_equals_scipy_dijkstra_on_the_same_graph(objective):
     assert np.isfinite(want).sum() > 0.5 * free.sum()
     fin = np.isfinite(want)
     assert np.allclose(got[fin], want[fin], rtol=1e-12, atol=0.0)
+
+
+def test_heap_pops_in_key_order_after_decrease_keys():
+    """The indexed heap with inline keys against sorting: 2 000 random keys queued, a third of them
+    lowered in place (decrease-key), then popped: the keys come out sorted, each node once, each with
+    its last key, and ``pos`` marks every popped node."""
+    from auvplan.planners.grid.heap import pop, push
+
+    rng = np.random.default_rng(5)
+    n = 2000
+    key = rng.uniform(0.0, 100.0, n)
+    heap, hkey, pos = np.empty(n, np.int32), np.empty(n), np.full(n, -1, np.int32)
+    size = 0
+    for u in range(n):
+        size = push(heap, hkey, pos, size, u, key[u])
+    for u in rng.choice(n, n // 3, replace=False):
+        key[u] -= rng.uniform(0.0, key[u])
+        size = push(heap, hkey, pos, size, int(u), key[u])
+    out, keys = [], []
+    while size:
+        out.append(int(heap[0]))
+        keys.append(float(hkey[0]))
+        size = pop(heap, hkey, pos, size, -2)
+    assert sorted(out) == list(range(n))
+    assert keys == sorted(keys)
+    assert np.array_equal(np.array(keys), key[out])
+    assert (pos == -2).all()
