@@ -120,6 +120,8 @@ class GridReference:
         Directed edges in the graph.
     settled : int
         Nodes the search settled.
+    search_cpu_s : float
+        CPU time of the search alone (the field over the built lattice), s.
     """
 
     def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
@@ -157,8 +159,10 @@ class GridReference:
             span = np.linalg.norm(self._coords(ids) - start, axis=1)  # the start's links obey the bound too
             if np.any(span > 0):
                 c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
+        t0 = time.process_time()
         self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
                                                       start_near, start, c_min, links)
+        self.search_cpu_s = time.process_time() - t0
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
     def _links(self, alt: np.ndarray, obs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, bool, bool,
