@@ -108,6 +108,11 @@ class AvoidanceParams:
         turns round.
     sweep_window : float
         ``predictive``: length of the remembered track of each sensed obstacle (s).
+    turn_model : bool
+        ``predictive``: predict a mover whose remembered track turns at a constant rate on its arc
+        (CTRV, :mod:`.turning`) instead of its tangent.
+    turn_growth : float
+        ``predictive``: growth of a turning mover's predicted radius with the time ahead (m/s).
     """
 
     name: str = "predictive"
@@ -133,6 +138,8 @@ class AvoidanceParams:
     speed_change: bool = True
     sweep: bool = True
     sweep_window: float = 600.0
+    turn_model: bool = True
+    turn_growth: float = 0.05
 
     def __post_init__(self) -> None:
         if self.name not in AVOIDANCE:
