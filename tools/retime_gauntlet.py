@@ -103,7 +103,8 @@ def main(argv: list[str] | None = None) -> int:
         before = float((np.linalg.norm(c - v_new, axis=1) - r).min())
         after = np.linalg.norm(np.asarray(m2.position(t)) - v_new, axis=1) - r
         print(f"{o.name:16s} {type(o.motion).__name__:16s} old path: {d_old[k]:7.1f} m at t = {t0:6.0f} s "
-              f"(f = {f:.2f}); today's plan: {before:7.1f} m -> {after.min():7.1f} m at t = {t[np.argmin(after)]:6.0f} s")
+              f"(f = {f:.2f}); today's plan: {before:7.1f} m -> {after.min():7.1f} m "
+              f"at t = {t[np.argmin(after)]:6.0f} s")
         if isinstance(m2, LinearMotion):
             print(f"    start = [{', '.join(f'{x:.1f}' for x in m2.start)}]")
         elif isinstance(m2, CircleMotion):
