@@ -169,6 +169,8 @@ def main(argv=None) -> int:
     ap.add_argument("--sets", nargs="+", default=list(SETS), choices=SETS)
     ap.add_argument("--avoidance", nargs="+", default=["predictive"])
     ap.add_argument("--out", default="results/bench-avoidance")
+    ap.add_argument("--resume", action="store_true", help="keep the rows already in --out's rows.jsonl and run "
+                    "only the missing (set, seed, avoidance) tasks; the summary covers all rows")
     ap.add_argument("--figure", default=None, help="figure file to write the summary to "
                     "(docs/figures/avoidance-monte-carlo.md)")
     args = ap.parse_args(argv)
@@ -180,10 +182,14 @@ def main(argv=None) -> int:
     keys = key_waypoints(route, world)
     load = os.getloadavg()
     t0 = time.perf_counter()
-    tasks = [(k, s, a, route, keys) for k in args.sets for a in args.avoidance
-             for s in range(args.first, args.first + args.seeds)]
     rows = []
-    with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "w") as fh:
+    if args.resume and (out / "rows.jsonl").exists():
+        rows = [json.loads(line) for line in (out / "rows.jsonl").read_text().splitlines() if line.strip()]
+    done = {(r["set"], r["seed"], r["avoidance"]) for r in rows}
+    resumed = len(rows)
+    tasks = [(k, s, a, route, keys) for k in args.sets for a in args.avoidance
+             for s in range(args.first, args.first + args.seeds) if (k, s, a) not in done]
+    with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "a" if resumed else "w") as fh:
         for row in pool.map(one, tasks, chunksize=2):
             rows.append(row)
             fh.write(json.dumps(row) + "\n")
@@ -193,7 +199,8 @@ def main(argv=None) -> int:
     end = os.getloadavg()
     text += (f"\n`{' '.join(['benchmarks/avoidance.py', '--seeds', str(args.seeds), '--first', str(args.first)])}` "
              f"(avoidance {', '.join(args.avoidance)}, fast movers seeded 20000 + seed, gauntlet planned with the "
-             f"seed): {len(rows)} runs in {wall:.0f} s wall on {args.workers} workers, machine load (1, 5, 15 min) "
+             f"seed): {len(rows) - resumed} runs in {wall:.0f} s wall on {args.workers} workers"
+             f"{f' (and {resumed} rows of earlier runs resumed)' if resumed else ''}, machine load (1, 5, 15 min) "
              f"{', '.join(f'{v:.1f}' for v in load)} at the start, {', '.join(f'{v:.1f}' for v in end)} at the end.\n")
     bad = [r for r in rows if not r["arrived"]]
     if bad:

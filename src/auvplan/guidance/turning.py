@@ -103,8 +103,9 @@ def ctrv_position(centre: ArrayLike, velocity: ArrayLike, omega: float, s: Array
     psi0 = math.atan2(v[0], v[1])
     rho = u / omega
     psi = psi0 + omega * s
-    return np.c_[c[0] + rho * (math.cos(psi0) - np.cos(psi)), c[1] + rho * (np.sin(psi) - math.sin(psi0)),
-                 c[2] + v[2] * s]
+    arc: _F64 = np.c_[c[0] + rho * (math.cos(psi0) - np.cos(psi)), c[1] + rho * (np.sin(psi) - math.sin(psi0)),
+                      c[2] + v[2] * s]
+    return arc
 
 
 def arc_chords(centre: ArrayLike, velocity: ArrayLike, radius: float, omega: float, horizon: float,

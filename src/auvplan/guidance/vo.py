@@ -183,8 +183,7 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
     W = np.empty((C.shape[0], 2))
     W[:, 0] = 0.0
     W[:, 1] = math.inf
-    return vo_choose_windows(p, v_now, cur, C, V, R, W, headings, pitches, speeds, pref, coef, cfg,  # type: ignore[no-any-return]
-                             weights)
+    return vo_choose_windows(p, v_now, cur, C, V, R, W, headings, pitches, speeds, pref, coef, cfg, weights)
 
 
 @kernel
