@@ -18,6 +18,9 @@ Three sets of missions, each seed flown once per avoidance variant (``--avoidanc
 ``gauntlet-randomised``
     The README's kind: the scenario's plan (its seed), each seed re-drawing every moving
     obstacle's track (:func:`auvplan.bench.perturb_moving`).
+``avoidance-net``
+    The built-in where document 004's escape is needed (a towed trawl net the vehicle steers into),
+    the first ``NET_SEEDS`` seeds: the escapes must fire and the runs arrive.
 
 **Design criterion** (fast movers, :mod:`auvplan.guidance.oracle`): every encounter of every seed must
 be avoidable with margin — from the state of a vehicle flying the route at cruise speed when the mover
@@ -32,8 +35,9 @@ that does not arrive gets the same oracle from its own state when the mover it h
 (``avoidable``): a contact is never explained away by its label.
 
 Per set: arrivals, contacts (obstacle or seabed, UNAVOIDABLE included), deadlocks, timeouts,
-runs where an escape fired (``escapes`` > 0: document 004's random sub-goal, or the sweep
-replan / wait of :mod:`auvplan.guidance.escape`) and of those the runs that arrived, the smallest
+runs where an escape fired (``escapes`` > 0: document 004's random sub-goal, fired by its
+local-minimum count or by the stalled route progress, :meth:`auvplan.guidance.local.LocalAvoidance.stalled`)
+and of those the runs that arrived, the smallest
 obstacle distance.  Writes ``rows.jsonl`` and ``summary.md`` to ``--out`` and, with ``--figure``, the
 same summary as a figure file (``docs/figures/avoidance-monte-carlo.md``, quoted in docs/avoidance.md by
 its ``<!-- figure: avoidance-monte-carlo -->`` marker; ``tools/docs_figures.py sync`` copies it).
@@ -61,7 +65,9 @@ from auvplan.sim import mission_route, planning_problem, run_mission, simulate
 from auvplan.vehicles import VehicleState
 
 SCENARIO = "avoidance-gauntlet"
-SETS = ("fast-movers", "gauntlet", "gauntlet-randomised")
+SETS = ("fast-movers", "gauntlet", "gauntlet-randomised", "avoidance-net")
+NET_SEEDS = 6
+"""Seeds of the ``avoidance-net`` set (the first ``NET_SEEDS`` of the requested ones)."""
 ORACLE_MARGIN = 10.0
 """Clearance (m) the design criterion asks of the best constant manoeuvre (the avoidance's own margin)."""
 ORACLE_HORIZON = 150.0
@@ -118,6 +124,12 @@ def avoidable(world, mission, r) -> str:
 
 def one(args) -> dict:
     kind, seed, avoidance, route, keys = args
+    if kind == "avoidance-net":
+        world, mission = sc.build(sc.load("avoidance-net"))
+        r = simulate(world, mission, rng=seed, avoidance=avoidance)
+        row = _row(kind, seed, avoidance, r)
+        row["minimum_escapes"] = r.minimum_escapes
+        return row
     world, mission = sc.build(sc.load(SCENARIO))
     if kind == "gauntlet":
         record = run_mission(world, mission, seed, avoidance=avoidance)
@@ -187,8 +199,9 @@ def main(argv=None) -> int:
         rows = [json.loads(line) for line in (out / "rows.jsonl").read_text().splitlines() if line.strip()]
     done = {(r["set"], r["seed"], r["avoidance"]) for r in rows}
     resumed = len(rows)
+    n_seeds = {k: min(args.seeds, NET_SEEDS) if k == "avoidance-net" else args.seeds for k in args.sets}
     tasks = [(k, s, a, route, keys) for k in args.sets for a in args.avoidance
-             for s in range(args.first, args.first + args.seeds) if (k, s, a) not in done]
+             for s in range(args.first, args.first + n_seeds[k]) if (k, s, a) not in done]
     with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "a" if resumed else "w") as fh:
         for row in pool.map(one, tasks, chunksize=2):
             rows.append(row)

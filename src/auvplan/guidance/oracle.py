@@ -8,7 +8,7 @@ Nomoto yaw with the rudder's angle and rate limits, pitch lag, surge lag, no wav
 the depth band.  The contact was avoidable (by a vehicle with these limits) when at least one manoeuvre
 keeps ``margin`` metres from every mover's surface and stays inside the band over ``horizon`` s.  The
 best manoeuvre's clearance is the *margin* of the case: the Monte Carlo's design criterion is that it
-is positive (see ``benchmarks/avoidance.py --oracle``).
+is at least its margin (``benchmarks/avoidance.py``: ``ORACLE_MARGIN``, ``design_margin``).
 
 Constant manoeuvres are a subset of all the vehicle can do, so "no constant manoeuvre" does not prove a
 contact unavoidable; "one exists" proves it avoidable.
