@@ -40,6 +40,7 @@ test-nojit: $(STAMP)
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
 		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
 		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
+		tests/test_turning.py::test_windowed_velocity_obstacles \
 		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
 		tests/test_timeopt.py::test_legs_are_fifo \
 		tests/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \

@@ -29,7 +29,8 @@ from numpy.typing import ArrayLike, NDArray
 from .._jit import kernel
 from ..world.terrain import elevation_kernel
 
-__all__ = ["CFG", "closest_approach", "predicted_preference", "vo_choose"]
+__all__ = ["CFG", "closest_approach", "predicted_preference", "predicted_preference_windows", "vo_choose",
+           "vo_choose_windows"]
 
 _F64 = NDArray[np.float64]
 """Array of float64 (units as documented per parameter)."""
@@ -78,10 +79,32 @@ def _segment_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: floa
     return math.sqrt(dx * dx + dy * dy + dz * dz), s
 
 
+@kernel(inline="always")
+def _window_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: float, lo: float,
+                hi: float) -> tuple[float, float]:
+    """min over s ∈ [lo, hi] of |r + w s| and that s; (inf, lo) when the window is empty."""
+    if hi < lo:
+        return math.inf, lo
+    d, s = _segment_min(rx + wx * lo, ry + wy * lo, rz + wz * lo, wx, wy, wz, hi - lo)
+    return d, lo + s
+
+
 @kernel
 def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
                          attraction: _F64, horizon: float, k_rep: float, w_obs: float,
                          radius: float) -> _F64:
+    """:func:`predicted_preference_windows` with every obstacle valid over the whole horizon."""
+    W = np.empty((C.shape[0], 2))
+    W[:, 0] = 0.0
+    W[:, 1] = math.inf
+    out: _F64 = predicted_preference_windows(p, v_now, C, V, R, W, attraction, horizon, k_rep, w_obs, radius)
+    return out
+
+
+@kernel
+def predicted_preference_windows(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64, W: _F64,
+                                 attraction: _F64, horizon: float, k_rep: float, w_obs: float,
+                                 radius: float) -> _F64:
     """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
 
     Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
@@ -100,6 +123,9 @@ def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
         ``(M, 3)`` obstacle velocities (m/s).
     R : numpy.ndarray
         ``(M,)`` obstacle radii (m).
+    W : numpy.ndarray
+        ``(M, 2)`` time window [start, end] (s from now) in which each obstacle's ``C + V s`` holds
+        (a chord of a turning mover's arc, :mod:`.turning`); [0, inf] for a straight mover.
     attraction : numpy.ndarray
         ``(3,)`` unit attraction direction.
     horizon : float
@@ -120,7 +146,7 @@ def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
     for m in range(C.shape[0]):
         rx, ry, rz = C[m, 0] - p[0], C[m, 1] - p[1], C[m, 2] - p[2]
         wx, wy, wz = V[m, 0] - v_now[0], V[m, 1] - v_now[1], V[m, 2] - v_now[2]
-        dist, t = _segment_min(rx, ry, rz, wx, wy, wz, horizon)
+        dist, t = _window_min(rx, ry, rz, wx, wy, wz, W[m, 0], min(W[m, 1], horizon))
         d = dist - R[m]
         if d <= radius and dist > 1e-12:
             d = max(d, 1e-3)
@@ -153,6 +179,17 @@ CFG = ("psi0", "u_now", "theta_pref", "u_cruise", "psi_last", "r_max", "lag", "h
 def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
               headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
               coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
+    """:func:`vo_choose_windows` with every obstacle valid over the whole horizon."""
+    W = np.empty((C.shape[0], 2))
+    W[:, 0] = 0.0
+    W[:, 1] = math.inf
+    return vo_choose_windows(p, v_now, cur, C, V, R, W, headings, pitches, speeds, pref, coef, cfg, weights)
+
+
+@kernel
+def vo_choose_windows(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64, W: _F64,
+                      headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
+                      coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
     """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
 
     Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
@@ -172,6 +209,9 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
         ``(M, 3)`` obstacle velocities (m/s).
     R : numpy.ndarray
         ``(M,)`` obstacle radii (m).
+    W : numpy.ndarray
+        ``(M, 2)`` time window [start, end] (s from now) in which each obstacle's ``C + V s`` holds;
+        [0, inf] for a straight mover.
     headings : numpy.ndarray
         Candidate compass headings (rad).
     pitches : numpy.ndarray
@@ -247,14 +287,17 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
                 for m in range(M):
                     rx, ry, rz = C[m, 0] - p[0], C[m, 1] - p[1], C[m, 2] - p[2]
                     w1x, w1y, w1z = V[m, 0] - v1x, V[m, 1] - v1y, V[m, 2] - v1z
-                    d1, s1 = _segment_min(rx, ry, rz, w1x, w1y, w1z, tau)
+                    d1, s1 = _window_min(rx, ry, rz, w1x, w1y, w1z, W[m, 0], min(W[m, 1], tau))
                     ex, ey, ez = rx + w1x * tau, ry + w1y * tau, rz + w1z * tau
                     w2x, w2y, w2z = V[m, 0] - vx, V[m, 1] - vy, V[m, 2] - vz
-                    d2, s2 = _segment_min(ex, ey, ez, w2x, w2y, w2z, horizon - tau)
+                    d2, s2 = _window_min(ex, ey, ez, w2x, w2y, w2z, max(W[m, 0] - tau, 0.0),
+                                         min(W[m, 1], horizon) - tau)
                     if d1 < d2:
                         dm, qx, qy, qz = d1, rx + w1x * s1, ry + w1y * s1, rz + w1z * s1
                     else:
                         dm, qx, qy, qz = d2, ex + w2x * s2, ey + w2y * s2, ez + w2z * s2
+                    if not math.isfinite(dm):
+                        continue  # its window lies beyond the horizon
                     clear = min(clear, dm - R[m])
                     if speed_o[m] > 0.05 and -(qx * V[m, 0] + qy * V[m, 1] + qz * V[m, 2]) > 0.5 * speed_o[m] * dm:
                         ahead = True
