@@ -86,8 +86,9 @@ def main() -> None:
                 f"planned, {doc['arrived']} flown to the goal; planned vs flown worst {worst['error_pct']:+.3f} % "
                 f"(+{worst['depart_h']:g} h: planned {worst['planned_s']:.1f} s, flown {worst['flown_s']:.1f} s), "
                 f"mean |error| {doc['mean_abs_error_pct']:.3f} %, largest drift back "
-                f"{max(r.get('drift_back_m', 0.0) for r in out_rows):.0f} m; sweep {sweep_cpu:.0f} s CPU; {mission.guidance} "
-                f"guidance, seed {mission.seed}; {load.split('load average:')[-1].strip()} load on {os.cpu_count()} "
+                f"{max(r.get('drift_back_m', 0.0) for r in out_rows):.0f} m; sweep {sweep_cpu:.0f} s CPU; "
+                f"{mission.guidance} guidance, seed {mission.seed}; load average "
+                f"{load.split('load average:')[-1].strip()} on {os.cpu_count()} "
                 f"cores (`benchmarks/tides_flown.py --scenario {args.scenario} --hours {args.hours:g} "
                 f"--step {args.step:g}`)\n")
         Path(__file__).resolve().parents[1].joinpath("docs", "figures", f"{args.figure}.md").write_text(text)

@@ -13,7 +13,6 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from test_timeopt import least_time_ode
 
 from auvplan._types import Status
 from auvplan.io.scenario import loader as scenario
@@ -22,6 +21,7 @@ from auvplan.planners.params import TimeoptParams
 from auvplan.planners.timeopt.labels import fifo_holds, label_width
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, GriddedCurrent, Margins, World
+from test_timeopt import least_time_ode
 
 V = 1.0
 TIDE = 44712.0  # M2 period (s)
@@ -133,6 +133,7 @@ def test_fifo_test_and_label_memory():
     cur[3, 1, 1, 0, 1] = 0.5  # one node at one time: |c| = 1.03
     assert not fifo_holds(cur, 0.0, 600.0, 0.0, 2400.0, 1.0)
     assert fifo_holds(cur, 0.0, 600.0, 0.0, 1000.0, 1.0)  # before that slice's reach
-    for n, span, width, cap in [(8000, 90000.0, 500.0, 4_000_000), (30000, 2e5, 100.0, 1_000_000), (10, 50.0, 500.0, 100)]:
+    cases = [(8000, 90000.0, 500.0, 4_000_000), (30000, 2e5, 100.0, 1_000_000), (10, 50.0, 500.0, 100)]
+    for n, span, width, cap in cases:
         w, nb = label_width(n, span, width, cap)
         assert n * nb <= max(cap, n) and w >= width and w * max(nb - 1, 1) >= span - 1e-9
