@@ -38,9 +38,9 @@ from scipy.ndimage import maximum_filter
 
 from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
-from .kernels import Float32Array, leg_reach, leg_time
+from .kernels import Float32Array, leg_reach, leg_time, search
 
-__all__ = ["fifo_holds", "strong_nodes", "label_width", "label_search", "label_chain", "multi_search"]
+__all__ = ["fifo_holds", "strong_nodes", "label_width", "label_search", "label_chain", "single_search", "multi_search"]
 
 
 def _speeds(cur: Float32Array, t0: float, dt: float, depart: float, t_end: float) -> FloatArray:
@@ -255,6 +255,38 @@ def label_chain(pred: IntArray, last: int, buckets: int) -> tuple[IntArray, IntA
         chain.append(int(pred[chain[-1]]))
     labels = np.array(chain[::-1], dtype=np.int64)
     return labels, labels // buckets
+
+
+def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float], shape: tuple[int, int, int],
+                  offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray,
+                  start_arr: FloatArray, goal_link: BoolArray, goal: FloatArray, speed: float,
+                  ds: float) -> tuple[float, IntArray, FloatArray]:
+    """Run the one-label search (:func:`.kernels.search`) on a lattice and read its path back.
+
+    Parameters
+    ----------
+    args, shape, offsets, opposite, edge_ok, start_ids, start_arr, goal_link, goal, speed, ds
+        As :func:`multi_search`.
+
+    Returns
+    -------
+    best : float
+        Arrival at the goal (s; ``inf`` when unreachable).
+    nodes : numpy.ndarray
+        The path's nodes in flying order (empty when unreachable).
+    times : numpy.ndarray
+        The arrival at each of them (s).
+    """
+    n = int(np.prod(shape))
+    arrival = np.full(n, np.inf)
+    pred = np.full(n, -2, dtype=np.int64)
+    best, last = search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok, start_ids.astype(np.int64),
+                        start_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
+    chain = [int(last)] if np.isfinite(best) else []
+    while chain and pred[chain[-1]] >= 0:
+        chain.append(int(pred[chain[-1]]))
+    nodes = np.array(chain[::-1], dtype=np.int64)
+    return float(best), nodes, arrival[nodes]
 
 
 def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float], shape: tuple[int, int, int],

@@ -48,8 +48,8 @@ from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ...path import densify, polyline_length, resample_polyline
 from ...world import World
 from ..grid.lattice import free_edges
-from .kernels import Float32Array, polyline_times, search, two_legs
-from .labels import fifo_holds, multi_search
+from .kernels import Float32Array, polyline_times, two_legs
+from .labels import fifo_holds, multi_search, single_search
 
 __all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "drift_free", "build_lattice",
            "build_table", "refine"]
@@ -384,20 +384,12 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     s_arr = np.array([leg.times[-1] if drift_free(world, leg) else np.inf for leg in s_legs])
     goal_link = np.zeros(xyz.shape[0], dtype=bool)
     goal_link[g_ids] = True
+    common = (args, lattice.shape, _OFFSETS, _OPPOSITE, lattice.edge_ok, s_ids, s_arr, goal_link, goal, float(speed),
+              float(ds))
     if labels == "single" or (labels == "auto" and fifo_holds(table.cur, table.t0, table.dt, depart, table.t1, speed)):
-        arrival = np.full(xyz.shape[0], np.inf)
-        pred = np.full(xyz.shape[0], -2, dtype=np.int64)
-        best, last = search(*args, np.array(lattice.shape, dtype=np.int64), _OFFSETS, _OPPOSITE, lattice.edge_ok,
-                            s_ids.astype(np.int64), s_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
-        chain = [int(last)] if np.isfinite(best) else []
-        while chain and pred[chain[-1]] >= 0:
-            chain.append(int(pred[chain[-1]]))
-        nodes = np.array(chain[::-1], dtype=np.int64)
-        at = arrival[nodes]
+        best, nodes, at = single_search(*common)
     else:
-        best, nodes, at = multi_search(args, lattice.shape, _OFFSETS, _OPPOSITE, lattice.edge_ok, s_ids, s_arr,
-                                       goal_link, goal, float(speed), float(ds), float(depart),
-                                       label_dt or float(lattice.step[0]) / speed, max_labels)
+        best, nodes, at = multi_search(*common, float(depart), label_dt or float(lattice.step[0]) / speed, max_labels)
     straight = timed_traverse(table, [start, goal], depart, speed, ds)
     if world.path_free(straight.points) and drift_free(world, straight) and straight.times[-1] <= best:
         return straight
