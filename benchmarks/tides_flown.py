@@ -83,7 +83,8 @@ def main() -> None:
     if args.figure and worst is not None:
         planned = sum(r.get("planned_s") is not None for r in out_rows)
         text = (f"`{args.scenario}`, departures every {args.step:g} min over {args.hours:g} h: {planned}/{len(rows)} "
-                f"planned, {doc['arrived']} flown to the goal; planned vs flown worst {worst['error_pct']:+.3f} % "
+                f"planned, {doc['arrived']} flown to the goal, {sum(abs(r['error_pct']) <= 1.0 for r in errs)} within "
+                f"1 % of the plan; planned vs flown worst {worst['error_pct']:+.3f} % "
                 f"(+{worst['depart_h']:g} h: planned {worst['planned_s']:.1f} s, flown {worst['flown_s']:.1f} s), "
                 f"mean |error| {doc['mean_abs_error_pct']:.3f} %, largest drift back "
                 f"{max(r.get('drift_back_m', 0.0) for r in out_rows):.0f} m; sweep {sweep_cpu:.0f} s CPU; "
