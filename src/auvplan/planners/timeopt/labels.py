@@ -265,8 +265,20 @@ def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float
 
     Parameters
     ----------
-    args, shape, offsets, opposite, edge_ok, start_ids, start_arr, goal_link, goal, speed, ds
-        As :func:`multi_search`.
+    args : tuple
+        The table's kernel arguments ``(cur, origin, step, t0, dt)``.
+    shape : tuple of int
+        Nodes along x, y, z.
+    offsets, opposite, edge_ok : numpy.ndarray
+        The stencil, its reverses and the free legs ``(M, N)``.
+    start_ids, start_arr : numpy.ndarray
+        Nodes linked to the start and their arrival times (s).
+    goal_link : numpy.ndarray of bool
+        Nodes with a free leg to the goal.
+    goal : numpy.ndarray
+        The goal ``(3,)`` (m).
+    speed, ds : float
+        Through-water speed (m/s) and largest integration sub-step (m).
 
     Returns
     -------
