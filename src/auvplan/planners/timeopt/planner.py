@@ -107,8 +107,8 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
         speeds = [speed]
     else:
         speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
-    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds)
-            for v in speeds]
+    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds, p.labels,
+                        p.label_dt, p.max_labels) for v in speeds]
     scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
               for r in raws if r is not None and np.isfinite(r.duration)]
     if not scored:
@@ -117,8 +117,10 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
     refined = refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
     for cand in (refined, raw):  # the refinement may move a leg whose drift back meets the seabed
-        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)):
-            return cand
+        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)) \
+                and (table is not None or np.isfinite(flown(problem, ts, cand).duration)):
+            return cand  # (where the current beats the vehicle, a line held at the table's edge of the
+            # cone may be lost in the World's own current: then the other candidate)
     return refined
 
 
@@ -207,6 +209,10 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
     for attempt in range(3):  # the horizon doubles when a plan runs past the end of the table
         ts = ts or setup(problem, spec, depart, depart)
         best = _fly(problem, spec, ts, depart)
+        if best is None and attempt < 2:  # no path within the table: a longer one may have one
+            spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
+            p, ts = spec.timeopt, None
+            continue
         if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
                             f"within {ts.table.t1 - depart:.0f} s (no heading makes good a way there against a current "
