@@ -174,3 +174,24 @@ def test_the_hand_typed_row_check_sees_numbers_but_not_figures_or_code():
         ("Formation", "one IABC plan on marcus-wake", "| one IABC plan on marcus-wake | 0.1 s |")]
     rows, _, labels = _hand_typed(text)
     assert rows == ["| z 1-hour | 0.62 s wall |"] and labels == {"one IABC plan on marcus-wake"}
+
+
+def _bench_tool():
+    spec = importlib.util.spec_from_file_location("figures_bench", ROOT / "tools" / "figures_bench.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_document_001_cells_count_and_summarise_the_runs_as_the_table_says():
+    """arrived / with a collision (DL) · RMS median / max worst · least obstacle distance · time median."""
+    run = {"scenario": "s", "law": "a", "compensation": False, "status": "EXACT", "arrived": True, "collisions": 0,
+           "rms_m": 1.0, "max_m": 2.0, "min_obstacle_m": 3.0, "duration_s": 100.0}
+    rows = [run, {**run, "rms_m": 3.0, "max_m": 9.25, "duration_s": 300.0},
+            {**run, "status": "COLLISION", "arrived": False, "collisions": 1, "rms_m": 2.0, "min_obstacle_m": -0.5},
+            {**run, "status": "DEADLOCK", "arrived": False, "rms_m": 5.0, "min_obstacle_m": float("inf")}]
+    rows += [{**r, "compensation": True, "min_obstacle_m": float("inf")} for r in rows[:2]]
+    table = _bench_tool().tracking_table(rows, ["s"], ["a"], {"a": "law A"}, default="a").splitlines()
+    assert table[0] == "| law | crab | `s` |"
+    assert table[2] == "| law A | no | 2 / 1 (1 DL) · 2.50 / 9.2 · −0.50 · 200 |"
+    assert table[3] == "| law A (default) | yes | 2 / 0 · 2.00 / 9.2 · — · 200 |"

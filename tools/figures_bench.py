@@ -135,6 +135,30 @@ def formation_chagos(seeds: int = 100) -> dict[str, str]:
                                                f"{load0} at the start, {_load()} at the end")}
 
 
+def ensemble_text(summary: dict[str, Any], pairs: int, wall: float, load: str) -> dict[str, str]:
+    """The two-model benchmark's outcome in one line (README, docs/ensembles.md)."""
+    n = summary["pairs"]
+    h = summary["replan_3600"]
+    setting = (f"`lofoten-two-models`, {n} start/goal pairs 0–{pairs - 1} (pair i drawn from seed i), measured by "
+               f"`tools/docs_figures.py bench ensemble-lofoten` (`benchmarks/ensemble.py`, one process): "
+               f"{wall:.0f} s wall, load {load}")
+    line = (f"re-planning every hour {h['arrivals']}/{n} arrivals and {100 * h['recovered_share']:.0f} % of the "
+            f"open-loop loss recovered (open loop {summary['open_arrivals']}/{n}, oracle "
+            f"{summary['oracle_arrivals']}/{n}; {1e3 * h['cpu_per_plan_mean_s']:.0f} ms CPU per re-plan)")
+    return {"ensemble-replan": f"{line}; {setting}"}
+
+
+def ensemble_lofoten(seeds: int = 100) -> dict[str, str]:
+    """Forecast vs truth on ``lofoten-two-models`` over ``seeds`` start/goal pairs (benchmarks/ensemble.py)."""
+    from benchmarks import ensemble
+
+    load0, t0 = _load(), time.perf_counter()
+    intervals = (3600.0, 1800.0)
+    rows = [ensemble.pair_row(i, intervals) for i in range(seeds)]
+    summary = ensemble.summarise(rows, intervals)
+    return ensemble_text(summary, seeds, time.perf_counter() - t0, f"{load0} at the start, {_load()} at the end")
+
+
 def kill_points(seeds: int = 0) -> dict[str, str]:
     """``tools/kill_points.py``: a run killed at every atomic replace (before and after), then run again.
 
@@ -157,6 +181,7 @@ HEAVY: dict[str, Callable[..., dict[str, str]]] = {
     "doc001-tracking": doc001_tracking,
     "formation-chagos": formation_chagos,
     "kill-points": kill_points,
+    "ensemble-lofoten": ensemble_lofoten,
 }
 """Heavy measurements by name: ``make docs-bench`` runs each (one at a time); each returns its figures,
 ``{figure name: text}``, written to docs/figures/NAME.md.  Each takes ``seeds`` (its default is the

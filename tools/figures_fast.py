@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ and tools/ are folders of the repository, not of the package
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "FAST"]
+__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "track_200km", "demo_report", "FAST"]
 
 AUVPLAN = Path(sys.executable).parent / "auvplan"
 
@@ -82,10 +82,54 @@ def shelf_survey() -> dict[str, str]:
                             f"(`auvplan survey shelf-survey`, {d['status']}; {_load()})"}
 
 
+def _size(n: int) -> str:
+    return f"{n / 1e6:.2f} MB" if n >= 100_000 else f"{max(1, round(n / 1e3))} kB"
+
+
+def track_200km() -> dict[str, str]:
+    """Export sizes of a 200 km synthetic track (the one tests/test_mission.py holds under 2 MB)."""
+    import numpy as np
+
+    from auvplan._types import Status
+    from auvplan.io.missions import export
+    from auvplan.io.results import records
+    from auvplan.sim import RunRecord, SimResult
+
+    n = int(200_000 // 0.15)  # 200 km at 1.5 m/s, one sample every 0.1 s
+    t = np.arange(n) * 0.1
+    s = t * 1.5
+    pos = np.column_stack([s * 0.8, s * 0.6, -500.0 + 100.0 * np.sin(s / 5000.0)])
+    sim = SimResult(Status.EXACT, True, t, pos, *(np.zeros(n),) * 6, np.full(n, 80.0), np.empty((n, 0)), (),
+                    "hybrid", 0.0)
+    w = pos[:: n // 40]
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+        export.write_exports(out, RunRecord("long", 0, None, w, w[[0, -1]], sim), (48.0, -125.0), 1.5)
+        records.write_sim(out, sim, "long", 0)
+        size = {p.name: p.stat().st_size for p in out.iterdir()}
+        with (out / "mission.csv").open() as f:
+            waypoints = sum(1 for _ in f) - 1
+    small = sorted(size[f"mission.{e}"] for e in ("moos", "plan", "yaml", "csv"))
+    return {"track-200km": f"{n / 1e6:.2f} M samples: {waypoints} waypoints, `track.csv` {_size(size['track.csv'])}, "
+                           f"GeoJSON {_size(size['mission.geojson'])}, KML {_size(size['mission.kml'])}, GPX "
+                           f"{_size(size['mission.gpx'])}, MOOS, `.plan`, YAML and CSV "
+                           f"{max(1, round(small[0] / 1e3))}–{max(1, round(small[-1] / 1e3))} kB"}
+
+
+def demo_report() -> dict[str, str]:
+    """The size of the demo's ``report.html`` (``auvplan demo``)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "demo"
+        subprocess.run([str(AUVPLAN), "-q", "demo", "--out", str(out)], capture_output=True, check=True)
+        return {"demo-report": f"{_size((out / 'report.html').stat().st_size)} for the showcase demo"}
+
+
 FAST: dict[str, Callable[[], dict[str, str]]] = {
     "sim-hour": sim_hour,
     "oracle-mutants": oracle_mutants,
     "fuzz-documents": fuzz_documents,
     "shelf-survey": shelf_survey,
+    "track-200km": track_200km,
+    "demo-report": demo_report,
 }
 """Quick measurements by name, run by ``make docs`` after the demo and the mission table."""
