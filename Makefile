@@ -75,7 +75,8 @@ docs: $(STAMP)
 
 # the benchmark figures of the docs: avoidance-gauntlet Monte Carlo (500 seeds, predictive; ~15 min on 1 worker),
 # the swarm algorithms on marcus-wake (10 seeds, ~5 min), then tools/figures_bench.py's one at a time: document
-# 001's laws (10 seeds, ~2 min), chagos-formation (100 seeds, ~15 min idle), the kill points (~5 min)
+# 001's laws (10 seeds, ~2 min), chagos-formation (100 seeds, ~15 min idle), the kill points (~5 min), the
+# two-model ensemble (100 pairs, ~5 min)
 docs-bench: $(STAMP)
 	rm -rf results/docs/gauntlet
 	$(BIN)/auvplan -q bench --scenarios avoidance-gauntlet --avoidance predictive --seeds 500 --randomise \
@@ -85,6 +86,7 @@ docs-bench: $(STAMP)
 	$(BIN)/python tools/docs_figures.py bench doc001-tracking
 	$(BIN)/python tools/docs_figures.py bench formation-chagos
 	$(BIN)/python tools/docs_figures.py bench kill-points
+	$(BIN)/python tools/docs_figures.py bench ensemble-lofoten
 	$(BIN)/python tools/docs_figures.py sync
 
 lint: $(STAMP)

@@ -22,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ and tools/ are folders of the repository, not of the package
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "track_200km", "demo_report", "FAST"]
+__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "track_200km", "demo_report", "test_count",
+           "FAST"]
 
 AUVPLAN = Path(sys.executable).parent / "auvplan"
 
@@ -124,6 +125,16 @@ def demo_report() -> dict[str, str]:
         return {"demo-report": f"{_size((out / 'report.html').stat().st_size)} for the showcase demo"}
 
 
+def test_count() -> dict[str, str]:
+    """How many tests ``make test``'s pytest run collects (``pytest --collect-only``)."""
+    r = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider"], cwd=ROOT,
+                       capture_output=True, text=True, check=False)
+    per_file = [int(n) for n in re.findall(r"^tests/\S+\.py: (\d+)$", r.stdout, re.M)]  # -qq: a count per file
+    if r.returncode != 0 or not per_file:
+        raise SystemExit(f"pytest --collect-only: exit {r.returncode}\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
+    return {"test-count": f"{_thousands(sum(per_file))} tests in {len(per_file)} files"}
+
+
 FAST: dict[str, Callable[[], dict[str, str]]] = {
     "sim-hour": sim_hour,
     "oracle-mutants": oracle_mutants,
@@ -131,5 +142,6 @@ FAST: dict[str, Callable[[], dict[str, str]]] = {
     "shelf-survey": shelf_survey,
     "track-200km": track_200km,
     "demo-report": demo_report,
+    "test-count": test_count,
 }
 """Quick measurements by name, run by ``make docs`` after the demo and the mission table."""
