@@ -44,6 +44,7 @@ from ...world.obstacles import Shape
 from ..params import FlowParams
 from .body import AxialBody, frame
 from .design import design_body
+from .ellipsoid import EllipsoidBody, design_ellipsoid_body
 from .elements import (
     rankine_indicator,
     rankine_radius,
@@ -120,7 +121,9 @@ def blend_weights(d: FloatArray, kind: str = "normalised") -> FloatArray:
 
 @lru_cache(maxsize=128)
 def _cached_body(ob: Ellipsoid, target: tuple[float, ...], sizing: str, Q: float, margin: float,
-                 pad: float) -> AxialBody:
+                 pad: float) -> AxialBody | EllipsoidBody:
+    if sizing == "ellipsoid":
+        return design_ellipsoid_body(ob, np.array(target), Q, margin, pad)
     return design_body(ob, np.array(target), sizing, Q, margin, pad)
 
 
