@@ -43,7 +43,7 @@ class FlowParams:
     """
 
     field: str = "exact"
-    rankine: str = "line"
+    rankine: str = "ellipsoid"
     weights: str = "normalised"
     distance: str = "true"
     strength: float = 1.0

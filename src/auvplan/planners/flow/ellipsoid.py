@@ -229,6 +229,35 @@ class EllipsoidBody:
         u: FloatArray = us + ud @ rot.T
         return u
 
+    @cached_property
+    def front(self) -> tuple[FloatArray, FloatArray]:
+        """Front stagnation point and the unit normal there (world frame).
+
+        On the surface the flow is the tangential part of W = ((1 + Kᵢ Iᵢ(0)) Uᵢ): it stagnates where the
+        normal is parallel to W, the front point where W points inwards; U = u_s there, found by fixed-point
+        iteration from U = u_s(centre).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            The point ``(3,)`` (m) and its outward normal ``(3,)``.
+        """
+        b = np.asarray(self.shape.semi_axes)
+        rot = self.shape._rot
+        c = np.asarray(self.shape.center)
+        gain = 1.0 + self._K * np.array([2.0 / 3.0 * carlson_rd(b[(i + 1) % 3] ** 2, b[(i + 2) % 3] ** 2, b[i] ** 2)
+                                         for i in range(3)])
+        x = c
+        for _ in range(50):
+            r = x - self.target
+            U = (-r / np.linalg.norm(r) ** 3) @ rot
+            W = gain * U
+            local = -b**2 * W / np.sqrt(np.sum(b**2 * W**2))
+            x = c + local @ rot.T
+        n = local / b**2
+        normal: FloatArray = (n / np.linalg.norm(n)) @ rot.T
+        return x, normal
+
     def distance(self, p: ArrayLike) -> FloatArray:
         """Signed distance to the body's surface (m, negative inside).
 
