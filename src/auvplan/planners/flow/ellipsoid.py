@@ -105,7 +105,7 @@ def _disturbance(q: FloatArray, U: FloatArray, a: FloatArray, K: FloatArray) -> 
         x0, x1, x2 = q[k, 0], q[k, 1], q[k, 2]
         r2 = x0 * x0 + x1 * x1 + x2 * x2
         lam = 0.0
-        inside = x0 * x0 / a2[0] + x1 * x1 / a2[1] + x2 * x2 / a2[2] <= 1.0
+        inside = x0 * x0 / a2[0] + x1 * x1 / a2[1] + x2 * x2 / a2[2] < 1.0 - 1e-10  # on it: the outer limit
         if not inside:
             lam = max(0.0, r2 - amax)  # f(λ) ≥ 0 here; f convex decreasing: Newton climbs to the root
             hi = r2 - amin
@@ -114,7 +114,7 @@ def _disturbance(q: FloatArray, U: FloatArray, a: FloatArray, K: FloatArray) -> 
                 f = x0 * x0 / d0 + x1 * x1 / d1 + x2 * x2 / d2 - 1.0
                 fp = -(x0 * x0 / (d0 * d0) + x1 * x1 / (d1 * d1) + x2 * x2 / (d2 * d2))
                 step = -f / fp
-                lam = min(lam + step, hi)
+                lam = max(min(lam + step, hi), 0.0)
                 if step <= 1e-15 * (lam + amax):
                     break
         d = (a2[0] + lam, a2[1] + lam, a2[2] + lam)
@@ -122,7 +122,7 @@ def _disturbance(q: FloatArray, U: FloatArray, a: FloatArray, K: FloatArray) -> 
         integ = (2.0 / 3.0 * carlson_rd(d[1], d[2], d[0]), 2.0 / 3.0 * carlson_rd(d[2], d[0], d[1]),
                  2.0 / 3.0 * carlson_rd(d[0], d[1], d[2]))
         xs = (x0, x1, x2)
-        g = (0.0, 0.0, 0.0)
+        g = (0.0, 0.0, 0.0)  # inside, λ ≡ 0: the constant interior field W
         if not inside:
             s = x0 * x0 / (d[0] * d[0]) + x1 * x1 / (d[1] * d[1]) + x2 * x2 / (d[2] * d[2])
             g = (2.0 * x0 / (d[0] * s), 2.0 * x1 / (d[1] * s), 2.0 * x2 / (d[2] * s))

@@ -44,7 +44,6 @@ from ...world.obstacles import Shape
 from ..params import FlowParams
 from .body import AxialBody, frame
 from .design import design_body
-from .ellipsoid import EllipsoidBody, design_ellipsoid_body
 from .elements import (
     rankine_indicator,
     rankine_radius,
@@ -56,6 +55,7 @@ from .elements import (
     sphere_exact_velocity,
     uniform_dipole_velocity,
 )
+from .ellipsoid import EllipsoidBody, design_ellipsoid_body
 
 __all__ = [
     "FlowParams",
