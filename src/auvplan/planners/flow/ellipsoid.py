@@ -70,7 +70,8 @@ def carlson_rd(x: float, y: float, z: float) -> float:  # pragma: no cover - com
     ee = ed + ec + ec
     c1, c2, c3, c4, c5, c6 = 3.0 / 14.0, 1.0 / 6.0, 9.0 / 22.0, 3.0 / 26.0, 0.25 * 9.0 / 22.0, 1.5 * 3.0 / 26.0
     series = 1.0 + ed * (-c1 + c5 * ed - c6 * dz * ee) + dz * (c2 * ee + dz * (-c3 * ec + dz * c4 * ea))
-    return 3.0 * s + fac * series / (mu * np.sqrt(mu))
+    value: float = 3.0 * s + fac * series / (mu * np.sqrt(mu))
+    return value
 
 
 def ellipsoid_coefficients(a: ArrayLike) -> FloatArray:
@@ -359,6 +360,7 @@ def design_ellipsoid_body(obstacle: Ellipsoid, target: ArrayLike, Q: float = 1.0
             hi = mid
         else:
             lo = mid
-    b = tuple(float(v) for v in a + hi + pad)
+    grown = a + hi + pad
+    b = (float(grown[0]), float(grown[1]), float(grown[2]))
     shape = Ellipsoid(obstacle.center, b, obstacle.yaw, obstacle.pitch, obstacle.roll)
     return EllipsoidBody(shape, np.asarray(target, dtype=float), float(Q))
