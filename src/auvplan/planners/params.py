@@ -43,7 +43,7 @@ class FlowParams:
     """
 
     field: str = "exact"
-    rankine: str = "line"
+    rankine: str = "ellipsoid"
     weights: str = "normalised"
     distance: str = "true"
     strength: float = 1.0
@@ -57,8 +57,8 @@ class FlowParams:
     def __post_init__(self) -> None:
         if self.field not in ("exact", "document", "uniform"):
             raise ValueError(f"field = {self.field!r}: choose 'exact', 'document' or 'uniform'")
-        if self.rankine not in ("line", "pair", "document"):
-            raise ValueError(f"rankine = {self.rankine!r}: choose 'line', 'pair' or 'document'")
+        if self.rankine not in ("line", "pair", "document", "ellipsoid"):
+            raise ValueError(f"rankine = {self.rankine!r}: choose 'line', 'pair', 'document' or 'ellipsoid'")
         if self.weights not in ("normalised", "document"):
             raise ValueError(f"weights = {self.weights!r}: choose 'normalised' or 'document'")
         if self.distance not in ("true", "ray"):
