@@ -63,19 +63,14 @@ mutants: $(STAMP)
 PREV ?= 3e02e1a
 bench-regress: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --out results/bench-regress
-<<<<<<< HEAD
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
 RELEASE ?= f5c6a15
 bench-hard: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
 		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
-# every figure and picture of the docs from its measurement (docs/README.md): the demo and the mission
-# table (~2 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
-=======
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~4 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
->>>>>>> docs/docs
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
 docs: $(STAMP)
 	$(BIN)/python tools/docs_figures.py measure
