@@ -15,7 +15,7 @@ from .io.safeio import RESULT_NAMES, prepare_out
 if TYPE_CHECKING:
     from .planners import PlannerSpec
 
-__all__ = ["Progress", "check_out", "emit"]
+__all__: list[str] = []  # handlers: CLI internals, not library API
 
 
 class Progress:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from .planners import PlanResult
     from .world import World
 
-__all__ = ["plan_scenario", "cmd_plan", "work_note", "cmd_simulate"]
+__all__: list[str] = []  # handlers: CLI internals, not library API
 
 
 def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:

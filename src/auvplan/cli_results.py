@@ -20,8 +20,7 @@ if TYPE_CHECKING:
     from .sim import Mission, RunRecord
     from .world import World
 
-__all__ = ["FIGURES", "scenario_text", "save_context", "save_plan", "write_report", "planned_speeds",
-           "load_results", "cmd_report", "cmd_export"]
+__all__: list[str] = ["FIGURES"]  # handlers: CLI internals, not library API
 
 
 def scenario_text(sc: Scenario) -> str:

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from .sim import Mission, RunRecord
     from .world import World
 
-__all__ = ["DEMO_SCENARIO", "run_scenario", "describe_run", "run_formation_scenario", "cmd_run", "cmd_demo"]
+__all__: list[str] = ["DEMO_SCENARIO"]  # handlers: CLI internals, not library API
 
 
 DEMO_SCENARIO = "showcase"

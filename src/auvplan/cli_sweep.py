@@ -20,7 +20,7 @@ from .io.safeio import atomic_write, save_figure
 if TYPE_CHECKING:
     from .planners.timeopt.planner import SweepRow, SweepSummary
 
-__all__ = ["parse_duration", "is_offset", "parse_instant", "cmd_sweep", "sweep_lines"]
+__all__: list[str] = ["sweep_lines"]  # handlers: CLI internals, not library API
 
 
 def parse_duration(text: str, what: str) -> float:

@@ -93,7 +93,42 @@ def _window_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: float
 def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
                          attraction: _F64, horizon: float, k_rep: float, w_obs: float,
                          radius: float) -> _F64:
-    """:func:`predicted_preference_windows` with every obstacle valid over the whole horizon."""
+    """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
+
+    Every obstacle is valid over the whole horizon (windows [0, inf]; :func:`predicted_preference_windows`).
+
+    Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
+    approach (``d`` its predicted surface distance, only ≤ r repels), the vehicle keeping its
+    velocity ``v_now``.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    attraction : numpy.ndarray
+        ``(3,)`` unit attraction direction.
+    horizon : float
+        Prediction horizon T (s).
+    k_rep : float
+        Repulsion gain k₂ (m^(w₂+1)).
+    w_obs : float
+        Distance exponent w₂.
+    radius : float
+        Influence radius r from the obstacle's surface (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` unit direction; ``attraction`` when the sum vanishes.
+    """
     W = np.empty((C.shape[0], 2))
     W[:, 0] = 0.0
     W[:, 1] = math.inf
@@ -179,7 +214,51 @@ CFG = ("psi0", "u_now", "theta_pref", "u_cruise", "psi_last", "r_max", "lag", "h
 def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
               headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
               coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
-    """:func:`vo_choose_windows` with every obstacle valid over the whole horizon."""
+    """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
+
+    Every obstacle is valid over the whole horizon (windows [0, inf]; :func:`vo_choose_windows`).
+
+    Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
+    microseconds.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s); its vertical part is kept through the turn.
+    cur : numpy.ndarray
+        ``(3,)`` current velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    headings : numpy.ndarray
+        Candidate compass headings (rad).
+    pitches : numpy.ndarray
+        Candidate pitch angles (rad, up positive).
+    speeds : numpy.ndarray
+        Candidate speeds through the water (m/s).
+    pref : numpy.ndarray
+        ``(3,)`` unit preferred direction.
+    coef : numpy.ndarray
+        The seabed's bilinear coefficients (unused unless ``cfg``'s ``terrain`` is 1).
+    cfg : numpy.ndarray
+        The scalars named by :data:`CFG` (angles in rad, speeds in m/s, times in s, lengths in m).
+    weights : numpy.ndarray
+        Cost weights (speed, pitch, hysteresis, clearance, crossing ahead).
+
+    Returns
+    -------
+    i, j, k : int
+        Indices of the chosen heading, pitch and speed.
+    clearance : float
+        Its smallest predicted distance from an obstacle's surface over the horizon (m).
+    safe : bool
+        Whether it keeps the margin and the depth band; False: the least bad candidate.
+    """
     W = np.empty((C.shape[0], 2))
     W[:, 0] = 0.0
     W[:, 1] = math.inf
