@@ -32,6 +32,7 @@ import numpy as np
 
 from auvplan.planners.flow.body import frame
 from auvplan.planners.flow.design import design_body, offset_surface
+from auvplan.planners.flow.ellipsoid import design_ellipsoid_body
 from auvplan.planners.flow.field import SAG_PAD, FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
 from auvplan.planners.params import FlowParams
@@ -128,9 +129,12 @@ def hull_ratio(ob, e, n=300, bins=120):
 
 
 def sweep() -> list[str]:
-    lines = ["| goal direction | body (default sizing) | volume / inflated ellipsoid | least body of revolution "
-             "about the goal axis / inflated | contains the inflated surface (18 240 points) | design (s) |",
-             "|---|---|---|---|---|---|"]
+    """The default (``rankine = "ellipsoid"``) body and the line body round the unturned (8, 4, 3) ellipsoid
+    for goals 35 m away in the 26 lattice directions: volume over the inflated ellipsoid's and the share of
+    18 240 points of the inflated surface it contains."""
+    lines = ["| goal direction | default body: kind | volume / inflated ellipsoid | contains the inflated surface | "
+             "design (s) | line body: kind | volume / inflated | least body of revolution about the goal axis / "
+             "inflated |", "|---|---|---|---|---|---|---|---|"]
     dense = offset_surface(ALIGNED, MARGIN, 95)
     for d in itertools.product((-1, 0, 1), repeat=3):
         if not any(d):
@@ -138,10 +142,12 @@ def sweep() -> list[str]:
         e = np.asarray(d, dtype=float) / np.linalg.norm(d)
         goal = 35.0 * e
         t0 = time.perf_counter()
-        body = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+        body = design_ellipsoid_body(ALIGNED, goal, 1.0, MARGIN, SAG_PAD * 8.0)
         dt = time.perf_counter() - t0
-        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.2f} | {hull_ratio(ALIGNED, e):.2f} | "
-                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.1f} |")
+        line = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.3f} | "
+                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.2f} | {line.kind} | "
+                     f"{line.volume / _inflated(ALIGNED):.2f} | {hull_ratio(ALIGNED, e):.2f} |")
         print(lines[-1], flush=True)
     return lines
 

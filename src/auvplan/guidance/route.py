@@ -99,6 +99,7 @@ class RouteTracker:
         self.cum = np.r_[0.0, np.cumsum(self.length)]
         self.switch_radius = float(switch_radius)
         self.k = 0
+        self.kd = 0
         # the per-step look-ups on Python floats (numpy scalars cost several times more per operation)
         self._w, self._len, self._cum = self.w.tolist(), self.length.tolist(), self.cum.tolist()
         self._course, self._gamma = self.course.tolist(), self.gamma.tolist()
@@ -112,6 +113,7 @@ class RouteTracker:
     def reset(self) -> None:
         """Back to the first leg."""
         self.k = 0
+        self.kd = 0
 
     def _locate(self, x: float, y: float, k: int) -> tuple[float, float]:
         a = self._w[k]
@@ -144,10 +146,29 @@ class RouteTracker:
                 break
         k = self.k
         along, cross = self._locate(x, y, k)
-        frac = min(max(along / lengths[k], 0.0), 1.0) if lengths[k] > 0 else 1.0
-        z_ref = w[k][2] + frac * (w[k + 1][2] - w[k][2])
+        if k >= self.kd + 2:
+            self.kd = self._nearest_leg(x, y, self.kd, k)
+        if k >= self.kd + 2:
+            # switched past legs shorter than the switch radius: the vehicle still lies over leg kd, so
+            # its depth stays between that leg's ends (the envelope every mission is checked under)
+            j = self.kd + 1
+            z_ref, gamma = w[j][2], self._gamma[j]
+        else:
+            frac = min(max(along / lengths[k], 0.0), 1.0) if lengths[k] > 0 else 1.0
+            z_ref, gamma = w[k][2] + frac * (w[k + 1][2] - w[k][2]), self._gamma[k]
         progress = self._cum[k] + min(max(along, 0.0), lengths[k])
-        return RoutePoint(k, along, cross, self._course[k], progress, z_ref, self._gamma[k], k == last)
+        return RoutePoint(k, along, cross, self._course[k], progress, z_ref, gamma, k == last)
+
+    def _nearest_leg(self, x: float, y: float, first: int, last: int) -> int:
+        """The leg among ``first`` … ``last`` horizontally nearest the vehicle (the later one on ties)."""
+        best, best_d = first, math.inf
+        for j in range(first, last + 1):
+            along, cross = self._locate(x, y, j)
+            off = along - min(max(along, 0.0), self._len[j])
+            d = math.hypot(off, cross)
+            if d <= best_d:
+                best, best_d = j, d
+        return best
 
     def cross_track(self, points: ArrayLike) -> NDArray[np.float64]:
         """Horizontal distance of points to the whole polyline.

@@ -31,6 +31,7 @@ from ..guidance.predictive import PredictiveAvoidance
 from ..guidance.route import PathFollower, RoutePoint, RouteTracker
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
+from ..world.obstacles import Ellipsoid
 from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
 from .mission import Mission
 from .result import SimResult
@@ -164,6 +165,7 @@ class _Run:
     far: float
     rec: _Recorder
     goal: NDArray[np.float64]
+    bands: list[tuple[float, float]]  # the static obstacles' depth bands (:func:`_depth_band`)
     vel: tuple[float, float, float] = (0.0, 0.0, 0.0)
     status: Status = Status.TIMEOUT
     best_progress: float = -1.0
@@ -217,7 +219,19 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     return _Run(world, mission, guide, local, av_name, Vehicle(vp, st.dt), s, max_time, n_steps, noise, tracks,
                 velocities, [o.shape.bounding_radius for o in world.moving],
                 max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0),
-                _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1])
+                _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1],
+                [_depth_band(o) for o in world.obstacles])
+
+
+def _depth_band(shape: Any) -> tuple[float, float]:
+    """The depths ``(z_low, z_high)`` (m, up positive) at which a static obstacle has a horizontal
+    cross-section: its centre's z ± its vertical half-extent (a sphere's radius; an ellipsoid's
+    ``‖row z of R·diag(a)‖``; any other shape its bounding radius)."""
+    half = float(shape.bounding_radius)
+    if isinstance(shape, Ellipsoid):
+        half = float(np.linalg.norm(shape._rot[2] * np.asarray(shape.semi_axes)))
+    zc = float(shape.center[2])
+    return zc - half, zc + half
 
 
 def _sense(run: _Run, k: int, t: float) -> tuple[NDArray[np.float64], list[_Placed], list[float], float,
@@ -237,14 +251,17 @@ def _command(run: _Run, k: int, t: float, pos: NDArray[np.float64], shapes: Sequ
              dists: Sequence[float], cur: NDArray[np.float64]) -> tuple[float, float | None, RoutePoint]:
     """The commanded heading, pitch (None: the autopilot's depth law) and route point of step ``k``."""
     s, dt = run.state, run.mission.sim.dt
+    n_static, bands = len(run.world.obstacles), run.bands
+    # the follower's field acts in the horizontal plane: a static obstacle the vehicle passes above or
+    # below (its depth outside the obstacle's band) is not steered round
+    level = [i >= n_static or bands[i][0] <= s.z <= bands[i][1] for i in range(len(shapes))]
     if run.local is None:
-        near = [(it[1][0], it[1][1], d) for it, d in zip(shapes, dists) if it is not None]
+        near = [(it[1][0], it[1][1], d) for it, d, lv in zip(shapes, dists, level) if it is not None and lv]
         psi_d, _, rp = run.guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
         return psi_d, None, rp
-    n_static = len(run.world.obstacles)
     obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
                  (it[1][0], it[1][1], d, True, it[1], i, run.velocities[k, i - n_static], run.radii[i - n_static])
-                 for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None]
+                 for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None and level[i]]
     return run.local.command(pos, t, cur, obstacles, dt)
 
 
