@@ -164,3 +164,27 @@ def test_heap_pops_in_key_order_after_decrease_keys():
     assert keys == sorted(keys)
     assert np.array_equal(np.array(keys), key[out])
     assert (pos == -2).all()
+
+
+def test_column_slopes_bound_the_seabeds_rise_within_a_cell_of_each_column(salish):
+    """The local slope of :func:`lattice_slopes` is a Lipschitz constant of the real seabed round each
+    column: for random point pairs within one cell of a column, the seabed's difference is at most
+    that slope times their horizontal distance; it never exceeds the terrain's steepest slope and is
+    well below it on most columns (else the local bound would gain nothing)."""
+    from auvplan.planners.grid.lattice import lattice_slopes
+
+    _, world, _ = salish
+    t = world.terrain
+    assert t is not None
+    cell = 2.5 * t.dx
+    ax = np.arange(t.x[0] + 3.0, t.x[-1], cell)
+    ay = np.arange(t.y[0] + 7.0, t.y[-1], cell)
+    shape = (ax.size, ay.size, 2)
+    xyz = np.stack(np.meshgrid(ax, ay, np.array([-10.0, -5.0]), indexing="ij"), axis=-1).reshape(-1, 3)
+    slope = lattice_slopes(world, shape, (cell, cell, 5.0), xyz.__getitem__)
+    assert slope.shape == shape[:2] and np.all(slope <= t.max_slope) and np.median(slope) < 0.5 * t.max_slope
+    rng = np.random.default_rng(35)
+    i, j = rng.integers(0, ax.size, 20_000), rng.integers(0, ay.size, 20_000)
+    p, q = (np.stack([ax[i], ay[j]], axis=1) + rng.uniform(-cell, cell, (20_000, 2)) for _ in range(2))
+    rise = np.abs(t.elevation(p[:, 0], p[:, 1]) - t.elevation(q[:, 0], q[:, 1]))
+    assert np.all(rise <= slope[i, j] * np.linalg.norm(p - q, axis=1) * (1 + 1e-9) + 1e-9)

@@ -34,8 +34,9 @@ from ...world import World
 from .anyangle import link_exact, link_guess
 from .heap import pop as _pop
 from .heap import push as _push
+from .slopes import column_slopes
 
-__all__ = ["HALF", "OFFSETS", "node_fields", "edge_bits", "edge_states", "search", "down32"]
+__all__ = ["HALF", "OFFSETS", "node_fields", "edge_bits", "edge_states", "lattice_slopes", "search", "down32"]
 
 HALF = np.array([(i, j, k) for i in (-1, 0, 1) for j in (-1, 0, 1) for k in (-1, 0, 1)
                  if (i, j, k) > (0, 0, 0)], dtype=np.int64)
@@ -123,9 +124,10 @@ def node_fields(world: World, axes: tuple[FloatArray, ...], currents: bool) -> t
 
 @kernel
 def _offset_states(free: Any, alt: Any, obs: Any, off: IntArray, half_length: float, dz: float, lh: float,
-                   lipschitz: float, min_alt: float, has_terrain: bool, state: Any) -> None:
+                   slope: Any, min_alt: float, has_terrain: bool, state: Any) -> None:
     """``state[u]`` for the edge ``u -> u + off`` of each node (flat C order): 0 no edge (an end
-    outside the lattice or not free), 1 free by the node values alone, 2 to be tested exactly."""
+    outside the lattice or not free), 1 free by the node values alone, 2 to be tested exactly;
+    ``slope[i, j]`` bounds the seabed's slope round ``u``'s column (:mod:`.slopes`)."""
     nx, ny, nz = free.shape
     for i in range(nx):
         for j in range(ny):
@@ -139,13 +141,13 @@ def _offset_states(free: Any, alt: Any, obs: Any, off: IntArray, half_length: fl
                 sure = min(obs[i, j, k], obs[vi, vj, vk]) >= half_length
                 if sure and has_terrain:
                     ga, gb = alt[i, j, k], alt[vi, vj, vk]
-                    lb = min(ga, gb, 0.5 * (ga + gb - abs(dz) - lipschitz * lh))
+                    lb = min(ga, gb, 0.5 * (ga + gb - abs(dz) - slope[i, j] * lh))
                     sure = lb >= min_alt
                 state[u] = 1 if sure else 2
 
 
 def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: ArrayLike, off: ArrayLike,
-                coords: Callable[[Any], FloatArray]) -> Any:
+                coords: Callable[[Any], FloatArray], slope: Any = None) -> Any:
     """Which edges ``u -> u + off`` are free.
 
     Most edges are cleared by the node values in one compiled pass (the seabed's Lipschitz bound
@@ -167,6 +169,9 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
         The lattice offset of the edges.
     coords : callable
         ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+    slope : ndarray, shape (nx, ny), optional
+        The seabed's local slope within one cell of each column (:func:`lattice_slopes`); computed
+        when not given or when ``off`` reaches further along x or y.
 
     Returns
     -------
@@ -177,11 +182,12 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
     off = np.asarray(off, dtype=np.int64)
     d = off * np.asarray(steps, dtype=float)
     state = np.empty(free.size, dtype=np.int8)
-    terrain = world.terrain
-    has_terrain = terrain is not None
+    has_terrain = world.terrain is not None
+    reach = max(1, int(abs(off[0])), int(abs(off[1])))
+    if slope is None or reach > 1:  # a given slope field is for the one-cell rectangles of the 26 directions
+        slope = lattice_slopes(world, free.shape, steps, coords, reach)
     _offset_states(free, altitude, obstacle, off, 0.5 * float(np.linalg.norm(d)), float(d[2]),
-                   float(np.hypot(d[0], d[1])), terrain.max_slope if terrain is not None else 0.0,
-                   world.margins.min_altitude, has_terrain, state)
+                   float(np.hypot(d[0], d[1])), slope, world.margins.min_altitude, has_terrain, state)
     unsure = np.flatnonzero(state == 2)
     delta = int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
     for c0 in range(0, unsure.size, 200_000):
@@ -189,6 +195,38 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
         seg = np.stack([coords(u), coords(u + delta)], axis=1)
         state[u] = world.segments_free(seg, moving=False, ends_free=True)
     return state
+
+
+def lattice_slopes(world: World, shape: tuple[int, ...], steps: ArrayLike,
+                   coords: Callable[[Any], FloatArray], reach: int = 1) -> Any:
+    """The seabed's steepest slope within one cell of each lattice column (:func:`.slopes.column_slopes`).
+
+    Parameters
+    ----------
+    world : World
+        Its terrain (none: zeros).
+    shape : tuple of int
+        Lattice shape ``(nx, ny, nz)``.
+    steps : array_like, shape (3,)
+        Cell sizes (m).
+    coords : callable
+        ``coords(ids)`` gives the coordinates ``(n, 3)`` of flat node ids.
+    reach : int, default 1
+        Half-width of each column's rectangle in cells (an edge reaching ``reach`` cells along x
+        or y stays inside it).
+
+    Returns
+    -------
+    ndarray of float64, shape (nx, ny)
+        A Lipschitz constant of the seabed round each column (0 without terrain).
+    """
+    if world.terrain is None:
+        return np.zeros(tuple(shape[:2]))
+    nx, ny, nz = shape
+    ax = coords(np.arange(nx, dtype=np.int64) * ny * nz)[:, 0]
+    ay = coords(np.arange(ny, dtype=np.int64) * nz)[:, 1]
+    st = np.asarray(steps, dtype=float)
+    return column_slopes(world.terrain, ax, ay, reach * float(st[0]), reach * float(st[1]))
 
 
 @kernel
@@ -223,8 +261,9 @@ def edge_bits(world: World, free: Any, altitude: Any, obstacle: Any, steps: Arra
     """
     shape = free.shape
     bits = np.zeros(free.size, dtype=np.uint32)
+    slope = lattice_slopes(world, shape, steps, coords)
     for slot, off in enumerate(HALF):
-        state = edge_states(world, free, altitude, obstacle, steps, off, coords)
+        state = edge_states(world, free, altitude, obstacle, steps, off, coords, slope)
         delta = int((off[0] * shape[1] + off[1]) * shape[2] + off[2])
         _set_bits(state, delta, bits, np.uint32(1 << slot), np.uint32(1 << (13 + slot)))
     return bits
