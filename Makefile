@@ -60,9 +60,9 @@ mutants: $(STAMP)
 
 # the simulator's and the flow planner's CPU against the previous release, checked out into a temporary
 # git worktree and timed in the same run (ratios and bit-identity in results/bench-regress/summary.md)
-PREV ?= 3e02e1a
+PREV ?= f5c6a15
 bench-regress: $(STAMP)
-	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --out results/bench-regress
+	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --figure-md bench-regress --out results/bench-regress
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
 RELEASE ?= f5c6a15

@@ -83,7 +83,7 @@ def _stamped_cache(dispatcher: Any) -> Any:
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
-    dispatcher = njit(**_SETTINGS, **options)(fn)
+    dispatcher = njit(**{**_SETTINGS, **options})(fn)
     if hasattr(dispatcher, "enable_caching"):  # not with NUMBA_DISABLE_JIT=1
         try:
             dispatcher._cache = _stamped_cache(dispatcher)
@@ -108,7 +108,8 @@ def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     fn : callable, optional
         The function to compile (``@kernel``); omitted for ``@kernel(**options)``.
     **options
-        Further ``numba.njit`` options (e.g. ``inline="always"``).
+        Further ``numba.njit`` options (e.g. ``inline="always"``); they override the settings above
+        (``fastmath=False``: the IEEE operations of numpy, for a kernel that must match it bit for bit).
 
     Returns
     -------

@@ -19,6 +19,7 @@ import numpy as np
 
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..geometry import as_points, point_segment_distance, rotation_matrix
+from .ellipsoid_kernels import foot_point_kernel
 
 __all__ = [
     "Sphere",
@@ -161,6 +162,7 @@ class Ellipsoid:
     pitch: float = 0.0
     roll: float = 0.0
     _rot: FloatArray = field(init=False, repr=False, compare=False)
+    _axes: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         axes = tuple(float(a) for a in self.semi_axes)
@@ -169,6 +171,7 @@ class Ellipsoid:
         object.__setattr__(self, "semi_axes", axes)
         object.__setattr__(self, "center", tuple(float(c) for c in self.center))
         object.__setattr__(self, "_rot", rotation_matrix(self.yaw, self.pitch, self.roll))
+        object.__setattr__(self, "_axes", np.asarray(axes, dtype=float))
 
     @property
     def bounding_radius(self) -> float:
@@ -198,26 +201,8 @@ class Ellipsoid:
         return pb
 
     def _foot_point(self, pb: FloatArray) -> FloatArray:
-        """Nearest surface point (body frame) for body-frame points ``(N, 3)``."""
-        a = np.asarray(self.semi_axes)
-        sign = np.where(pb < 0, -1.0, 1.0)
-        p = np.abs(pb)
-        # a zero coordinate on the minor axis is a degenerate (non-smooth) case: nudge it
-        p = np.maximum(p, 1e-10 * a)
-        s2 = ((p / a) ** 2).sum(axis=-1)
-        outside = s2 >= 1.0
-        lo = np.where(outside, 0.0, -(a.min() ** 2))
-        hi = np.where(outside, a.max() * np.linalg.norm(p, axis=-1), 0.0)
-        a2 = a * a
-        for _ in range(64):  # the bracket shrinks 2^-64: below float64 resolution of t
-            mid = 0.5 * (lo + hi)
-            f = (((a * p) / (a2 + mid[:, None])) ** 2).sum(axis=-1) - 1.0
-            pos = f > 0
-            lo = np.where(pos, mid, lo)
-            hi = np.where(pos, hi, mid)
-        t = 0.5 * (lo + hi)
-        q = a2 * p / (a2 + t[:, None])
-        foot: FloatArray = sign * q
+        """Nearest surface point (body frame) for body-frame points ``(N, 3)`` (compiled: ellipsoid_kernels)."""
+        foot: FloatArray = foot_point_kernel(self._axes, np.ascontiguousarray(pb, dtype=float))
         return foot
 
     def distance(self, points: ArrayLike) -> FloatArray:
