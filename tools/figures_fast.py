@@ -17,12 +17,13 @@ import sys
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ and tools/ are folders of the repository, not of the package
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "track_200km", "demo_report", "test_count",
+__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "shelf_survey_table", "track_200km", "demo_report", "test_count",
            "FAST"]
 
 AUVPLAN = Path(sys.executable).parent / "auvplan"
@@ -80,7 +81,37 @@ def shelf_survey() -> dict[str, str]:
     return {"shelf-survey": f"{d['lines']} lines instead of the {lm['lines']} of a fixed lawnmower sized for the "
                             f"shallowest depth ({lm['line_length_saved_m'] / 1000:.1f} km of line saved), planned "
                             f"coverage {d['planned']['coverage_pct']:.1f} %, flown {d['flown']['coverage_pct']:.2f} % "
-                            f"(`auvplan survey shelf-survey`, {d['status']}; {_load()})"}
+                            f"(`auvplan survey shelf-survey`, {d['status']}; {_load()})",
+            "shelf-survey-table": shelf_survey_table(d) + f"\n\nFrom `auvplan survey shelf-survey --json` "
+                                  f"(`coverage.json`; {d['status']}, deterministic; {_load()})."}
+
+
+def _pairs(pairs: list[dict[str, float]]) -> tuple[float, float, float, float]:
+    """Least minimum, range of the medians and largest maximum of the adjacent pairs' overlaps (%)."""
+    med = [p["median_pct"] for p in pairs]
+    return (min(p["min_pct"] for p in pairs), min(med), max(med), max(p["max_pct"] for p in pairs))
+
+
+def shelf_survey_table(d: dict[str, Any]) -> str:
+    """docs/survey.md's table: the depth-adaptive survey against the fixed lawnmower, planned and flown."""
+    lm, pl, fl, tu = d["lawnmower"], d["planned"], d["flown"], d["turns"]
+    own = lm["line_length_m"] - lm["line_length_saved_m"]
+    p_lo, _, _, p_hi = _pairs(pl["pairs"])
+    f_lo, m_lo, m_hi, f_hi = _pairs(fl["pairs"])
+    kinds = f"{tu['count'] - tu['omega']} U-turns" + (f", {tu['omega']} omega turns" if tu["omega"] else "")
+    return "\n".join([
+        f"| | depth-adaptive (auvplan) | fixed lawnmower for the shallowest {lm['shallowest_m']:.0f} m |",
+        "| --- | --- | --- |",
+        f"| lines | **{d['lines']}** | {lm['lines']} (spacing {lm['spacing_m']:.0f} m) |",
+        f"| line length | {own / 1000:.1f} km | {lm['line_length_m'] / 1000:.1f} km "
+        f"(**{lm['line_length_saved_m'] / 1000:.1f} km saved**, {100 * lm['line_length_saved_m'] / lm['line_length_m']:.0f} %) |",
+        f"| planned coverage | {pl['coverage_pct']:.2f} % (every adjacent overlap {p_lo:.1f}–{p_hi:.1f} %) | |",
+        f"| flown coverage (closed loop, current) | **{fl['coverage_pct']:.2f} %** ({fl['gaps']} "
+        f"gap{'' if fl['gaps'] == 1 else 's'}, {_thousands(round(fl['gap_area_m2']))} m² in all) | |",
+        f"| flown overlap per pair | min {f_lo:.1f} %, median {m_lo:.0f}–{m_hi:.0f} %, max {f_hi:.0f} % | |",
+        f"| survey (lines + turns) | {d['survey_length_m'] / 1000:.1f} km, {d['survey_time_s'] / 3600:.1f} h; whole "
+        f"mission with the transits {d['mission_length_m'] / 1000:.1f} km, {d['mission_time_s'] / 3600:.1f} h | |",
+        f"| turns | {kinds}, least radius {tu['least_radius_m']:.1f} m (vehicle's {tu['radius_m']:.0f} m) | |"])
 
 
 def _size(n: int) -> str:
