@@ -156,7 +156,8 @@ def ensemble_robust(summary: dict[str, Any]) -> str:
     return (f"the robust P90 is below the nominal P90 in **{summary['robust_p90_below_nominal']} pairs**, equal in "
             f"{summary['robust_p90_equal_nominal']} (the nominal route is already the best candidate), above in "
             f"{n - summary['robust_p90_below_nominal'] - summary['robust_p90_equal_nominal']}; mean P90 gain "
-            f"{summary['robust_p90_gain_mean_s']:.0f} s, mean gain in the truth {summary['robust_truth_gain_mean_s']:.0f} s")
+            f"{summary['robust_p90_gain_mean_s']:.0f} s, mean gain in the truth "
+            f"{summary['robust_truth_gain_mean_s']:.0f} s")
 
 
 def _thousands(x: float) -> str:
@@ -168,7 +169,8 @@ def ensemble_table(summary: dict[str, Any], setting: str) -> str:
     n = summary["pairs"]
     rows = ["| | arrivals | successes | mean time over the oracle | share of the open-loop loss recovered |",
             "| --- | --- | --- | --- | --- |",
-            f"| oracle (planned on the truth) | {summary['oracle_arrivals']} / {n} | {summary['oracle_successes']} | — | — |",
+            f"| oracle (planned on the truth) | {summary['oracle_arrivals']} / {n} | {summary['oracle_successes']} "
+            "| — | — |",
             f"| open loop (forecast plan) | {summary['open_arrivals']} / {n} | {summary['open_successes']} | "
             f"+{summary['replan_3600']['mean_open_loss_pct']:.1f} % | — |"]
     for key, label in (("replan_3600", "every hour"), ("replan_1800", "every 30 min")):
@@ -179,10 +181,12 @@ def ensemble_table(summary: dict[str, Any], setting: str) -> str:
                     f"+{k['mean_replan_loss_pct']:.1f} % | {100 * k['recovered_share']:.0f} % "
                     f"({_thousands(k['recovered_s'])} s of {_thousands(k['open_loss_s'])} s) |")
     h = summary["replan_3600"]
+    fails = summary.get("failed_pairs", {})
+    failed = "".join(f"Failed pairs, {k}: {', '.join(map(str, v))}.  " for k, v in fails.items() if v and len(v) <= 5)
     return ("\n".join(rows) + f"\n\nCPU per re-plan (every hour): {1e3 * h['cpu_per_plan_mean_s']:.0f} ms mean, "
             f"{1e3 * h['cpu_per_plan_max_s']:.0f} ms at most (`time.process_time`), {h['replans_mean']:.0f} re-plans "
-            f"per flight on average.  Open loop's mean time over the oracle: over the pairs where it, the oracle and "
-            f"the hourly re-planned flight all arrive.  {setting[:1].upper()}{setting[1:]}.")
+            f"per flight on average.  {failed}Open loop's mean time over the oracle: over the pairs where it, the "
+            f"oracle and the hourly re-planned flight all arrive.  {setting[:1].upper()}{setting[1:]}.")
 
 
 def ensemble_lofoten(seeds: int = 100) -> dict[str, str]:
@@ -193,6 +197,11 @@ def ensemble_lofoten(seeds: int = 100) -> dict[str, str]:
     intervals = (3600.0, 1800.0)
     rows = [ensemble.pair_row(i, intervals) for i in range(seeds)]
     summary = ensemble.summarise(rows, intervals)
+    summary["failed_pairs"] = {"oracle": [r["pair"] for r in rows if not r.get("oracle_success", True)],
+                               "open loop": [r["pair"] for r in rows if not r["open_success"]],
+                               **{f"re-planned every {iv / 60:.0f} min": [r["pair"] for r in rows
+                                                                          if not r[f"replan_{iv:g}"]["success"]]
+                                  for iv in intervals}}
     return ensemble_text(summary, seeds, time.perf_counter() - t0, f"{load0} at the start, {_load()} at the end")
 
 

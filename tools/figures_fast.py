@@ -23,8 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ and tools/ are folders of the repository, not of the package
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "shelf_survey_table", "track_200km", "demo_report", "test_count",
-           "FAST"]
+__all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "shelf_survey_table", "track_200km",
+           "demo_report", "test_count", "FAST"]
 
 AUVPLAN = Path(sys.executable).parent / "auvplan"
 
@@ -72,18 +72,30 @@ def fuzz_documents() -> dict[str, str]:
 
 
 def shelf_survey() -> dict[str, str]:
-    """``auvplan survey shelf-survey``: lines against a fixed lawnmower, coverage planned and flown."""
+    """``auvplan survey shelf-survey``: lines against a fixed lawnmower, coverage planned and flown; then the
+    same survey without ``heading_deg`` (auvplan chooses the line direction)."""
     with tempfile.TemporaryDirectory() as tmp:
         r = subprocess.run([str(AUVPLAN), "survey", "shelf-survey", "--out", str(Path(tmp) / "s"), "--json"],
                            capture_output=True, text=True, check=True)
-    d = json.loads(r.stdout)
+        d = json.loads(r.stdout)
+        toml = (ROOT / "src" / "auvplan" / "data" / "scenarios" / "shelf-survey.toml").read_text()
+        free = Path(tmp) / "shelf-survey-free-heading.toml"  # the same survey with the line direction left free
+        free.write_text(re.sub(r"^heading_deg\s*=.*$", "", toml, flags=re.M))
+        r = subprocess.run([str(AUVPLAN), "survey", str(free), "--out", str(Path(tmp) / "f"), "--json"],
+                           capture_output=True, text=True, check=True)
+        f = json.loads(r.stdout)
     lm = d["lawnmower"]
     return {"shelf-survey": f"{d['lines']} lines instead of the {lm['lines']} of a fixed lawnmower sized for the "
                             f"shallowest depth ({lm['line_length_saved_m'] / 1000:.1f} km of line saved), planned "
                             f"coverage {d['planned']['coverage_pct']:.1f} %, flown {d['flown']['coverage_pct']:.2f} % "
                             f"(`auvplan survey shelf-survey`, {d['status']}; {_load()})",
             "shelf-survey-table": shelf_survey_table(d) + f"\n\nFrom `auvplan survey shelf-survey --json` "
-                                  f"(`coverage.json`; {d['status']}, deterministic; {_load()})."}
+                                  f"(`coverage.json`; {d['status']}, deterministic; {_load()}).",
+            "shelf-survey-free-heading": f"heading {f['heading_deg']:.0f}°, {f['lines']} lines, "
+                                         f"{f['survey_length_m'] / 1000:.1f} km of survey "
+                                         f"({(d['survey_length_m'] - f['survey_length_m']) / 1000:.1f} km shorter than "
+                                         f"along the isobaths), flown {f['flown']['coverage_pct']:.3f} %; the fixed "
+                                         f"lawnmower would need {f['lawnmower']['lines']} ({f['status']})"}
 
 
 def _pairs(pairs: list[dict[str, float]]) -> tuple[float, float, float, float]:
@@ -104,7 +116,8 @@ def shelf_survey_table(d: dict[str, Any]) -> str:
         "| --- | --- | --- |",
         f"| lines | **{d['lines']}** | {lm['lines']} (spacing {lm['spacing_m']:.0f} m) |",
         f"| line length | {own / 1000:.1f} km | {lm['line_length_m'] / 1000:.1f} km "
-        f"(**{lm['line_length_saved_m'] / 1000:.1f} km saved**, {100 * lm['line_length_saved_m'] / lm['line_length_m']:.0f} %) |",
+        f"(**{lm['line_length_saved_m'] / 1000:.1f} km saved**, "
+        f"{100 * lm['line_length_saved_m'] / lm['line_length_m']:.0f} %) |",
         f"| planned coverage | {pl['coverage_pct']:.2f} % (every adjacent overlap {p_lo:.1f}–{p_hi:.1f} %) | |",
         f"| flown coverage (closed loop, current) | **{fl['coverage_pct']:.2f} %** ({fl['gaps']} "
         f"gap{'' if fl['gaps'] == 1 else 's'}, {_thousands(round(fl['gap_area_m2']))} m² in all) | |",
