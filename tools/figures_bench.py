@@ -24,7 +24,8 @@ if str(ROOT) not in sys.path:  # benchmarks/ is a folder of the repository, not 
     sys.path.insert(0, str(ROOT))
 
 __all__ = ["tracking_table", "doc001_tracking", "formation_text", "formation_chagos", "ensemble_text", "ensemble_table",
-           "ensemble_robust", "ensemble_lofoten", "kill_points", "endurance_table", "endurance_prediction", "HEAVY"]
+           "ensemble_robust", "ensemble_lofoten", "kill_points", "endurance_table", "endurance_summary",
+           "endurance_prediction", "HEAVY"]
 
 Row = dict[str, Any]
 
@@ -247,6 +248,19 @@ def endurance_table(rows: Sequence[Row]) -> str:
     return "\n".join(out)
 
 
+def endurance_summary(rows: Sequence[Row]) -> str:
+    """The endurance table in one line (README): legs within 5 %, the worst leg and mission errors, the naive ones."""
+    done = [r for r in rows if "legs" in r]
+    legs, within = sum(r["legs"] for r in done), sum(r["legs_within_5pct"] for r in done)
+    worst_leg = max(max(r["leg_time_err_pct_max"], r["leg_energy_err_pct_max"]) for r in done)
+    worst = max(max(abs(r["mission_time_err_pct"]), abs(r["mission_energy_err_pct"])) for r in done)
+    naive = [abs(r["mission_naive_energy_err_pct"]) for r in done]
+    scenes = ", ".join(dict.fromkeys(f"`{r['scenario']}`" for r in done))
+    return (f"{within}/{legs} legs predicted within 5 % of the closed-loop flight in time and energy (worst leg "
+            f"{worst_leg:.1f} %, worst mission {worst:.2f} %) against {min(naive):.0f}–{max(naive):.0f} % off over the "
+            f"mission for length / speed in still water ({scenes}, fixed and least-energy speeds, {len(done)} runs)")
+
+
 def endurance_prediction(seeds: int = 0) -> dict[str, str]:
     """benchmarks/endurance.py on its three scenarios, fixed and energy speeds (deterministic: each scenario's seed).
 
@@ -258,7 +272,8 @@ def endurance_prediction(seeds: int = 0) -> dict[str, str]:
     scenes = ("juan-de-fuca-tides", "marcus-wake", "showcase")
     rows = [endurance.one(name, sp) for name in scenes for sp in ("fixed", "energy")]
     pnr = "; ".join(f"`{r['scenario']}` ({r['speeds']}): {r['pnr']}" for r in rows if "pnr" in r)
-    return {"endurance-prediction": endurance_table(rows) + f"\n\nPoint of no return: {pnr}.  Measured by "
+    return {"endurance-summary": endurance_summary(rows),
+            "endurance-prediction": endurance_table(rows) + f"\n\nPoint of no return: {pnr}.  Measured by "
             f"`tools/docs_figures.py bench endurance-prediction` (`benchmarks/endurance.py`'s `one`, each scenario's "
             f"own seed, one process): {time.perf_counter() - t0:.0f} s wall, load {load0} at the start, {_load()} at "
             f"the end."}

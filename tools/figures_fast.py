@@ -24,7 +24,8 @@ if str(ROOT) not in sys.path:  # benchmarks/ and tools/ are folders of the repos
     sys.path.insert(0, str(ROOT))
 
 __all__ = ["sim_hour", "oracle_mutants", "fuzz_documents", "shelf_survey", "shelf_survey_table", "track_200km",
-           "demo_report", "test_count", "FAST"]
+           "demo_report", "test_count", "terrain_follow", "lofoten_robust",
+           "FAST"]
 
 AUVPLAN = Path(sys.executable).parent / "auvplan"
 
@@ -179,7 +180,69 @@ def test_count() -> dict[str, str]:
     return {"test-count": f"{_thousands(sum(per_file))} tests in {len(per_file)} files"}
 
 
+def terrain_follow() -> dict[str, str]:
+    """``auvplan run marcus-terrain-follow``, then ``mission check --pitch 12`` of its exports (docs/missions.md)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "tf"
+        subprocess.run([str(AUVPLAN), "-q", "run", "marcus-terrain-follow", "--out", str(out)], capture_output=True,
+                       check=True)
+        files = sorted(str(p) for p in out.glob("mission.*"))
+        r = subprocess.run([str(AUVPLAN), "mission", "check", *files, "--scenario", "marcus-terrain-follow",
+                            "--pitch", "12", "--json"], capture_output=True, text=True, check=False)
+        checks = json.loads(r.stdout)
+        sim = json.loads((out / "sim_metrics.json").read_text())
+    v = checks[0]["vehicle"]
+    lines = [c for c in checks if c["semantics"] != "held"]
+    held = [c for c in checks if c["semantics"] == "held"]
+    ok = all(c["ok"] for c in checks)
+    vehicle_ok = all(c["vehicle"]["ok"] for c in checks)
+    violations = sum(len(c["vehicle"]["violations"]) for c in checks)
+    alt = (f"least {min(c['min_altitude_m'] for c in lines):.2f} m on the 3D-line formats"
+           + (f", {min(c['min_altitude_m'] for c in held):.2f} m over MOOS envelopes and "
+              f"{min(c['executor_min_altitude_m'] for c in held):.2f} m flown held at 12°" if held else ""))
+    return {"terrain-follow": "\n".join([
+        "| figure | value |", "| --- | --- |",
+        f"| mission | {_thousands(checks[0]['legs'] + 1)} waypoints; largest pitch {v['max_pitch_deg']:.1f}° (limit "
+        f"{v['limits']['max_pitch_deg']:g}°); tightest turn {_thousands(round(v['tightest_turn_m']))} m (limit "
+        f"{v['limits']['turn_radius_m']:g} m); {violations or 'no'} violation{'' if violations == 1 else 's'} |",
+        f"| `mission check`, all {len(checks)} exports | altitude {'OK' if ok else 'FAILED'}: {alt}; vehicle "
+        f"{'OK' if vehicle_ok else 'FAILED'} |",
+        f"| closed-loop flight ({sim['guidance']} guidance, {sim['avoidance']} avoidance) | {sim['status']}; least "
+        f"altitude {sim['min_altitude_m']:.1f} m; cross-track RMS {sim['cross_track_rms_m']:.2f} m, max "
+        f"{sim['cross_track_max_m']:.2f} m |",
+        "", f"Measured by `tools/docs_figures.py measure terrain-follow` (`auvplan run marcus-terrain-follow`, seed "
+            f"{sim['seed']}, then `mission check --pitch 12`; {_load()})."])}
+
+
+def lofoten_robust() -> dict[str, str]:
+    """The robust plan against the nominal one in both models of ``lofoten-two-models`` (``auvplan plan
+    lofoten-two-models --json``'s choice; the member times of both plans from :func:`auvplan.ensemble.plan_robust`)."""
+    from auvplan.cli_ensemble import scenario_members
+    from auvplan.ensemble import plan_robust
+    from auvplan.io.scenario import loader as scenario
+
+    sc = scenario.load("lofoten-two-models")
+    world, mission = scenario.build(sc)
+    r = plan_robust(world, mission, scenario_members(sc, world), "p90", seed=sc.seed)
+    nom, rob = r.nominal.score, r.chosen.score
+    if nom is None or rob is None:
+        raise SystemExit("lofoten-two-models: a plan failed")
+    (fc, lo), (truth, hi) = [(m.name, m.arrival_s) for m in nom.members]
+    a, b = (m.arrival_s for m in rob.members)
+    ok = "both succeed in both members" if rob.success_probability == 1.0 and nom.success_probability == 1.0 \
+        else f"success {rob.success_probability:.0%} robust, {nom.success_probability:.0%} nominal"
+    return {"lofoten-robust": f"the nominal plan: {lo / 3600:.1f} h in `{fc}`, {hi / 3600:.1f} h in `{truth}`, P90 "
+                              f"{nom.arrival_p90_s / 3600:.1f} h; the robust plan (the `{r.chosen.label}` "
+                              f"candidate): {a / 3600:.1f} h and {b / 3600:.1f} h, **P90 "
+                              f"{rob.arrival_p90_s / 3600:.1f} h**, "
+                              f"{(nom.arrival_p90_s - rob.arrival_p90_s) / 3600:.1f} h below the nominal plan's, "
+                              f"and {(hi - b) / 3600:.1f} h faster in `{truth}` (the truth); {ok} (`auvplan plan "
+                              f"lofoten-two-models --json`, seed {sc.seed})"}
+
+
 FAST: dict[str, Callable[[], dict[str, str]]] = {
+    "lofoten-robust": lofoten_robust,
+    "terrain-follow": terrain_follow,
     "sim-hour": sim_hour,
     "oracle-mutants": oracle_mutants,
     "fuzz-documents": fuzz_documents,
