@@ -29,7 +29,8 @@ def test_every_documented_figure_matches_its_source_file():
     tool = _tool()
     quoted = [name for doc in tool.doc_files() if doc.exists() for name, _ in tool.blocks(doc.read_text())]
     assert {"demo-cost", "demo-flight", "missions", "gauntlet-predictive", "doc001-tracking", "formation-chagos",
-            "sim-hour", "shelf-survey", "track-200km", "oracle-mutants", "ensemble-replan"} <= set(quoted)
+            "sim-hour", "shelf-survey", "track-200km", "oracle-mutants", "ensemble-replan", "shelf-survey-table",
+            "endurance-prediction", "ensemble-table", "terrain-follow", "lofoten-robust"} <= set(quoted)
     assert tool.problems() == []
 
 
