@@ -70,7 +70,7 @@ bench-hard: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
 		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
-# table and the quick figures of tools/figures_fast.py (~4 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
+# table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
 docs: $(STAMP)
 	$(BIN)/python tools/docs_figures.py measure
@@ -83,7 +83,7 @@ docs: $(STAMP)
 # the benchmark figures of the docs: avoidance-gauntlet Monte Carlo (500 seeds, predictive; ~15 min on 1 worker),
 # the swarm algorithms on marcus-wake (10 seeds, ~5 min), then tools/figures_bench.py's one at a time: document
 # 001's laws (10 seeds, ~2 min), chagos-formation (100 seeds, ~15 min idle), the kill points (~5 min), the
-# two-model ensemble (100 pairs, ~5 min)
+# two-model ensemble (100 pairs, ~5 min), endurance predicted against the closed loop (6 runs, ~2 min)
 docs-bench: $(STAMP)
 	rm -rf results/docs/gauntlet
 	$(BIN)/auvplan -q bench --scenarios avoidance-gauntlet --avoidance predictive --seeds 500 --randomise \
@@ -94,6 +94,7 @@ docs-bench: $(STAMP)
 	$(BIN)/python tools/docs_figures.py bench formation-chagos
 	$(BIN)/python tools/docs_figures.py bench kill-points
 	$(BIN)/python tools/docs_figures.py bench ensemble-lofoten
+	$(BIN)/python tools/docs_figures.py bench endurance-prediction
 	$(BIN)/python tools/docs_figures.py sync
 
 lint: $(STAMP)

@@ -90,7 +90,7 @@ def one(world, mission, members, a, g, intervals) -> dict:
     oracle = fly_open_loop(truth, truth_field, m, ReplanParams(), seed=1)
     ol = fly_open_loop(truth, forecast, m, ReplanParams(), seed=1)
     row["oracle_s"], row["open_s"], row["open_status"] = oracle.arrival_s, ol.arrival_s, ol.status.value
-    row["open_success"] = ol.success
+    row["open_success"], row["oracle_success"] = ol.success, oracle.success
     for iv in intervals:
         t0 = time.process_time()
         rp = fly_replanning(truth, forecast, m, ReplanParams(interval_s=iv), seed=1)
@@ -111,7 +111,8 @@ def summarise(rows: list[dict], intervals) -> dict:
                "robust_truth_gain_mean_s": float(np.mean([x["nominal_truth_s"] - x["robust_truth_s"] for x in rob])),
                "oracle_arrivals": sum(math.isfinite(r["oracle_s"]) for r in rows),
                "open_arrivals": sum(math.isfinite(r["open_s"]) for r in rows),
-               "open_successes": sum(r["open_success"] for r in rows)}
+               "open_successes": sum(r["open_success"] for r in rows),
+               "oracle_successes": sum(r.get("oracle_success", False) for r in rows)}
     for iv in intervals:
         k = f"replan_{iv:g}"
         both = [r for r in rows if math.isfinite(r["open_s"]) and math.isfinite(r[k]["arrival_s"])

@@ -23,7 +23,9 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ is a folder of the repository, not of the package
     sys.path.insert(0, str(ROOT))
 
-__all__ = ["tracking_table", "doc001_tracking", "formation_text", "formation_chagos", "HEAVY"]
+__all__ = ["tracking_table", "doc001_tracking", "formation_text", "formation_chagos", "ensemble_text", "ensemble_table",
+           "ensemble_robust", "ensemble_lofoten", "kill_points", "endurance_table", "endurance_summary",
+           "endurance_prediction", "HEAVY"]
 
 Row = dict[str, Any]
 
@@ -145,7 +147,47 @@ def ensemble_text(summary: dict[str, Any], pairs: int, wall: float, load: str) -
     line = (f"re-planning every hour {h['arrivals']}/{n} arrivals and {100 * h['recovered_share']:.0f} % of the "
             f"open-loop loss recovered (open loop {summary['open_arrivals']}/{n}, oracle "
             f"{summary['oracle_arrivals']}/{n}; {1e3 * h['cpu_per_plan_mean_s']:.0f} ms CPU per re-plan)")
-    return {"ensemble-replan": f"{line}; {setting}"}
+    return {"ensemble-replan": f"{line}; {setting}", "ensemble-table": ensemble_table(summary, setting),
+            "ensemble-robust": ensemble_robust(summary)}
+
+
+def ensemble_robust(summary: dict[str, Any]) -> str:
+    """The robust plan against the nominal one over the pairs (P90 below / equal, mean gains)."""
+    n = summary["pairs"]
+    return (f"the robust P90 is below the nominal P90 in **{summary['robust_p90_below_nominal']} pairs**, equal in "
+            f"{summary['robust_p90_equal_nominal']} (the nominal route is already the best candidate), above in "
+            f"{n - summary['robust_p90_below_nominal'] - summary['robust_p90_equal_nominal']}; mean P90 gain "
+            f"{summary['robust_p90_gain_mean_s']:.0f} s, mean gain in the truth "
+            f"{summary['robust_truth_gain_mean_s']:.0f} s")
+
+
+def _thousands(x: float) -> str:
+    return f"{x:,.0f}".replace(",", " ")
+
+
+def ensemble_table(summary: dict[str, Any], setting: str) -> str:
+    """docs/ensembles.md's table: arrivals, successes, time over the oracle and loss recovered per scheme."""
+    n = summary["pairs"]
+    rows = ["| | arrivals | successes | mean time over the oracle | share of the open-loop loss recovered |",
+            "| --- | --- | --- | --- | --- |",
+            f"| oracle (planned on the truth) | {summary['oracle_arrivals']} / {n} | {summary['oracle_successes']} "
+            "| — | — |",
+            f"| open loop (forecast plan) | {summary['open_arrivals']} / {n} | {summary['open_successes']} | "
+            f"+{summary['replan_3600']['mean_open_loss_pct']:.1f} % | — |"]
+    for key, label in (("replan_3600", "every hour"), ("replan_1800", "every 30 min")):
+        k = summary.get(key)
+        if k is None:
+            continue
+        rows.append(f"| re-planned {label} | {k['arrivals']} / {n} | {k['successes']} | "
+                    f"+{k['mean_replan_loss_pct']:.1f} % | {100 * k['recovered_share']:.0f} % "
+                    f"({_thousands(k['recovered_s'])} s of {_thousands(k['open_loss_s'])} s) |")
+    h = summary["replan_3600"]
+    fails = summary.get("failed_pairs", {})
+    failed = "".join(f"Failed pairs, {k}: {', '.join(map(str, v))}.  " for k, v in fails.items() if v and len(v) <= 5)
+    return ("\n".join(rows) + f"\n\nCPU per re-plan (every hour): {1e3 * h['cpu_per_plan_mean_s']:.0f} ms mean, "
+            f"{1e3 * h['cpu_per_plan_max_s']:.0f} ms at most (`time.process_time`), {h['replans_mean']:.0f} re-plans "
+            f"per flight on average.  {failed}Open loop's mean time over the oracle: over the pairs where it, the "
+            f"oracle and the hourly re-planned flight all arrive.  {setting[:1].upper()}{setting[1:]}.")
 
 
 def ensemble_lofoten(seeds: int = 100) -> dict[str, str]:
@@ -156,6 +198,11 @@ def ensemble_lofoten(seeds: int = 100) -> dict[str, str]:
     intervals = (3600.0, 1800.0)
     rows = [ensemble.pair_row(i, intervals) for i in range(seeds)]
     summary = ensemble.summarise(rows, intervals)
+    summary["failed_pairs"] = {"oracle": [r["pair"] for r in rows if not r.get("oracle_success", True)],
+                               "open loop": [r["pair"] for r in rows if not r["open_success"]],
+                               **{f"re-planned every {iv / 60:.0f} min": [r["pair"] for r in rows
+                                                                          if not r[f"replan_{iv:g}"]["success"]]
+                                  for iv in intervals}}
     return ensemble_text(summary, seeds, time.perf_counter() - t0, f"{load0} at the start, {_load()} at the end")
 
 
@@ -177,7 +224,63 @@ def kill_points(seeds: int = 0) -> dict[str, str]:
                            f"its {len(kills) // 2} atomic replaces; load {load0})"}
 
 
+def _signed(x: float, digits: int) -> str:
+    return f"{x:+.{digits}f}".replace("-", "−")
+
+
+def endurance_table(rows: Sequence[Row]) -> str:
+    """docs/endurance.md's table: each run's predicted time and energy against its closed-loop flight."""
+    out = ["| scenario, speeds | legs | mission time pred / flown | mission energy pred / flown (naive) | per-leg max "
+           "error, time / energy | naive per-leg max (median) | legs within 5 % |",
+           "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in rows:
+        if "legs" not in r:
+            out.append(f"| `{r['scenario']}`, {r['speeds']} | {r['status']} | | | | | |")
+            continue
+        lo, hi = r["leg_speeds_min_max"]
+        speeds = f"{lo:.1f} m/s" if hi - lo < 1e-6 else f"{lo:.2f}–{hi:.2f} m/s"
+        out.append(f"| `{r['scenario']}`, {r['speeds']} {speeds} | {r['legs']} | {r['duration_pred_s']:.0f} / "
+                   f"{r['duration_flown_s']:.0f} s ({_signed(r['mission_time_err_pct'], 2)} %) | "
+                   f"{r['energy_pred_wh']:.1f} / {r['energy_flown_wh']:.1f} Wh (naive {r['energy_naive_wh']:.1f}, "
+                   f"{_signed(r['mission_naive_energy_err_pct'], 1)} %) | {r['leg_time_err_pct_max']:.2f} / "
+                   f"{r['leg_energy_err_pct_max']:.2f} % | {r['leg_naive_time_err_pct_max']:.1f} % "
+                   f"({r['leg_naive_time_err_pct_median']:.1f} %) | {r['legs_within_5pct']}/{r['legs']} |")
+    return "\n".join(out)
+
+
+def endurance_summary(rows: Sequence[Row]) -> str:
+    """The endurance table in one line (README): legs within 5 %, the worst leg and mission errors, the naive ones."""
+    done = [r for r in rows if "legs" in r]
+    legs, within = sum(r["legs"] for r in done), sum(r["legs_within_5pct"] for r in done)
+    worst_leg = max(max(r["leg_time_err_pct_max"], r["leg_energy_err_pct_max"]) for r in done)
+    worst = max(max(abs(r["mission_time_err_pct"]), abs(r["mission_energy_err_pct"])) for r in done)
+    naive = [abs(r["mission_naive_energy_err_pct"]) for r in done]
+    scenes = ", ".join(dict.fromkeys(f"`{r['scenario']}`" for r in done))
+    return (f"{within}/{legs} legs predicted within 5 % of the closed-loop flight in time and energy (worst leg "
+            f"{worst_leg:.1f} %, worst mission {worst:.2f} %) against {min(naive):.0f}–{max(naive):.0f} % off over the "
+            f"mission for length / speed in still water ({scenes}, fixed and least-energy speeds, {len(done)} runs)")
+
+
+def endurance_prediction(seeds: int = 0) -> dict[str, str]:
+    """benchmarks/endurance.py on its three scenarios, fixed and energy speeds (deterministic: each scenario's seed).
+
+    ``seeds`` is unused (each run takes its scenario's own seed); it keeps the HEAVY signature.
+    """
+    from benchmarks import endurance
+
+    load0, t0 = _load(), time.perf_counter()
+    scenes = ("juan-de-fuca-tides", "marcus-wake", "showcase")
+    rows = [endurance.one(name, sp) for name in scenes for sp in ("fixed", "energy")]
+    pnr = "; ".join(f"`{r['scenario']}` ({r['speeds']}): {r['pnr']}" for r in rows if "pnr" in r)
+    return {"endurance-summary": endurance_summary(rows),
+            "endurance-prediction": endurance_table(rows) + f"\n\nPoint of no return: {pnr}.  Measured by "
+            f"`tools/docs_figures.py bench endurance-prediction` (`benchmarks/endurance.py`'s `one`, each scenario's "
+            f"own seed, one process): {time.perf_counter() - t0:.0f} s wall, load {load0} at the start, {_load()} at "
+            f"the end."}
+
+
 HEAVY: dict[str, Callable[..., dict[str, str]]] = {
+    "endurance-prediction": endurance_prediction,
     "doc001-tracking": doc001_tracking,
     "formation-chagos": formation_chagos,
     "kill-points": kill_points,
