@@ -27,6 +27,7 @@ from auvplan.bench import perturb_moving
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate
 from auvplan.sim.formation import run_formation
+from auvplan.sim.formation_error import SETTLE_M
 
 SCENARIO = "chagos-formation"
 
@@ -46,11 +47,18 @@ def one(seed: int) -> dict:
     row.update({k: m[k] for k in ("arrivals", "collisions", "vehicle_contacts", "min_vehicle_distance_m",
                                   "min_altitude_m", "min_obstacle_distance_m", "duration_s")})
     row["vehicle_steps"] = steps
+    if mission.formation is not None:  # the launch scatter the seed draws
+        fp = mission.formation.params
+        row["start_sigma_m"], row["start_heading_sigma_deg"] = fp.start_sigma_m, fp.start_heading_sigma_deg
     row["reshaped"] = len(rec.formation.reshaped) if rec.formation is not None else 0
     row["events"] = "; ".join(e[2] for e in rec.result.events if e[1] != "arrival")
     for name, v in m["per_vehicle"].items():
         row[f"{name}_rms_m"] = v["formation_error_rms_m"]
         row[f"{name}_max_m"] = v["formation_error_max_m"]
+        row[f"{name}_p95_m"] = v["formation_error_p95_m"]
+        row[f"{name}_settle_s"] = v["settle_time_s"]
+        for k in ("rms", "p95", "max"):  # settled: from the first step within SETTLE_M of the slot
+            row[f"{name}_set_{k}"] = v[f"settled_error_{k}_m"]
     return row
 
 
@@ -81,6 +89,14 @@ def summary(rows: list[dict], peer_cpu: float, peer_steps: int, load: str) -> st
         rms = np.array([r[f"{name}_rms_m"] for r in ok])
         mx = np.array([r[f"{name}_max_m"] for r in ok])
         lines.append(f"| {name} | {np.median(rms):.2f} | {rms.max():.2f} | {np.median(mx):.2f} | {mx.max():.2f} |")
+    lines += ["", f"Settled (from the first step within {SETTLE_M:g} m of the slot; the launch scatter before):", "",
+              "| vehicle | settle time median / worst (s) | RMS median / worst (m) | p95 median / worst (m) "
+              "| max median / worst (m) |", "|---|---|---|---|---|"]
+    for name in names:
+        st = np.array([r[f"{name}_settle_s"] for r in ok])
+        cols = [np.array([r[f"{name}_set_{k}"] for r in ok]) for k in ("rms", "p95", "max")]
+        lines.append(f"| {name} | {np.median(st):.0f} / {st.max():.0f} | "
+                     + " | ".join(f"{np.median(c):.2f} / {c.max():.2f}" for c in cols) + " |")
     cpu = np.array([r["cpu_s"] for r in ok])
     per = np.array([r["cpu_s"] / r["vehicle_steps"] for r in ok]) * 1e6
     lines += ["", f"CPU per run: median {np.median(cpu):.2f} s; per vehicle-step median {np.median(per):.1f} µs "

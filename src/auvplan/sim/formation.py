@@ -32,6 +32,7 @@ from ..planners.base import PlanResult, Progress
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from .events import FAR, _deadlocked, _distance, _obstacle_shapes, _progressed
+from .formation_error import error_figures
 from .mission import Mission
 from .pipeline import planned_route
 from .result import SimResult
@@ -90,8 +91,7 @@ class FormationResult:
             per[name] = {
                 "status": m["status"], "arrived": m["arrived"], "duration_s": m["duration_s"],
                 "distance_m": m["distance_m"],
-                "formation_error_rms_m": float(np.sqrt(np.mean(err**2))) if err.size else 0.0,
-                "formation_error_max_m": float(err.max()) if err.size else 0.0,
+                **error_figures(run.t[:err.size], err),
                 "min_altitude_m": m["min_altitude_m"], "min_obstacle_distance_m": m["min_obstacle_distance_m"],
             }
         collisions = sum(1 for e in self.events if e[1] in ("collision", "unavoidable"))
