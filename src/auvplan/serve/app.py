@@ -33,6 +33,7 @@ from starlette.routing import Route
 from ..errors import AuvplanError
 from ..sim import RunRecord
 from .check import CheckResult
+from .delta import Revisions
 from .session import Session, builtin_names
 
 __all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
@@ -86,14 +87,17 @@ def _clean(v: Any) -> Any:
     return v
 
 
-def _check_json(result: CheckResult | None) -> dict[str, Any] | None:
+def _check_json(result: CheckResult | None, whole: bool = True) -> dict[str, Any] | None:
     if result is None:
         return None
-    return {"summary": result.summary, "violations": result.violations, "rechecked": result.rechecked,
-            "leg_altitude_m": result.check.leg_altitude_m}
+    out: dict[str, Any] = {"summary": result.summary, "rechecked": result.rechecked}
+    if whole:  # else the violations come as a splice (``delta``) and the page does not need the legs' figures
+        out.update(violations=result.violations, leg_altitude_m=result.check.leg_altitude_m)
+    return out
 
 
-def page_state(session: Session, full: bool = True) -> dict[str, Any]:
+def page_state(session: Session, full: bool = True, revisions: Revisions | None = None,
+               known: Any = None) -> dict[str, Any]:
     """What the page shows, as JSON data.
 
     Parameters
@@ -102,6 +106,12 @@ def page_state(session: Session, full: bool = True) -> dict[str, Any]:
         The session.
     full : bool, optional
         Also the scenario text, settings, candidates and history (else the mission and its check only).
+    revisions : Revisions, optional
+        The session's waypoint revisions: with ``known`` (the revision the page holds), the waypoints
+        come as the splice ``delta`` from it, and so do the check's violations (the per-leg altitudes
+        are then left out).
+    known : int, optional
+        The page's revision (``rev`` of its request).
 
     Returns
     -------
@@ -109,9 +119,12 @@ def page_state(session: Session, full: bool = True) -> dict[str, Any]:
         JSON-safe state.
     """
     with session.lock:
-        state: dict[str, Any] = {"generation": session.generation, "waypoints": session.waypoints,
+        result = session.result
+        wp = ({"waypoints": session.waypoints} if revisions is None or result is None
+              else revisions.state(session.waypoints, result.violations, known))
+        state: dict[str, Any] = {"generation": session.generation, **wp,
                                  "keys": session.keys,
-                                 "check": _check_json(session.result), "history": session.history[-50:],
+                                 "check": _check_json(result, "waypoints" in wp), "history": session.history[-50:],
                                  "candidates": session.candidate_rows(), "flight": session.flight_summary(),
                                  "survey_area": session.survey_area, "settings": {
                                      "semantics": session.settings.semantics, "pitch_deg": session.settings.pitch_deg}}
@@ -183,6 +196,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         The ASGI application.
     """
     static = resources.files("auvplan.serve") / "static"
+    revisions = Revisions()
 
     async def index(request: Request) -> Response:
         return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
@@ -224,7 +238,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
                 return JSONResponse({"error": one_line(exc)}, status_code=400)
             if isinstance(out, Response):
                 return out
-            state = page_state(session, full)
+            state = page_state(session, full, revisions, data.get("rev"))
             if out is not None:
                 state["result"] = _clean(out)
             return JSONResponse(state)
