@@ -64,7 +64,8 @@ def test_bench_over_members_gives_one_row_per_member_equal_to_a_direct_plan(tmp_
 
 def _perturbed_scenario(path: Path, seed: int, members: bool = True) -> Path:
     """A flat 1 km box, a uniform current and two perturbed members, a fixed 583 m route (fast to fly)."""
-    entry = f"members = [ {{ perturbation = {{ count = 2, spread_mps = 0.15, correlation_m = 500.0, seed = {seed} }} }} ]"
+    entry = ("members = [ { perturbation = { count = 2, spread_mps = 0.15, correlation_m = 500.0, "
+             f"seed = {seed} }} }} ]")
     path.write_text(f"""
 name = "perturbed-pair"
 [bounds]
