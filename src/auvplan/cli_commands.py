@@ -319,7 +319,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
     if args.out:
-        _save_plan(Path(args.out), sc, world, result, seed)
+        _save_plan(Path(args.out), sc, world, result, seed, ensemble)
     human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
              f"{result.wall_time_s:.2f} s" + _work_note(result.work)
@@ -397,6 +397,9 @@ def _run(scenario: str, out: str | None, guidance: str | None, avoidance: str | 
     endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
+        from .cli_ensemble import route_fields, scenario_members, write_ensemble
+
+        write_ensemble(Path(out), route_fields(scenario_members(sc, world), world, mission, record.route))
         text = _scenario_text(sc)
         records.write_run(Path(out), record, text, full, world.origin)
         _save_context(Path(out), sc, world)
@@ -425,7 +428,8 @@ def _save_context(out: Path, sc: Scenario, world: World) -> None:
     results.save_terrain(out, world.terrain)
 
 
-def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int) -> None:
+def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int,
+               ensemble: dict[str, Any] | None = None) -> None:
     """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
     from .io.results import records
     from .sim import RunRecord
@@ -434,6 +438,9 @@ def _save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: 
     empty = result.path[:0].reshape(0, 3)
     records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     _save_context(out, sc, world)
+    from .cli_ensemble import write_ensemble
+
+    write_ensemble(out, ensemble or {})
 
 
 def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
@@ -454,7 +461,9 @@ def _write_report(out: Path, world: World, mission: Mission, record: RunRecord, 
     metrics = records.summary_metrics(record)
     if world.terrain is not None and world.terrain.fit is not None:
         metrics.update(records.fit_metrics(world.terrain.fit))
-    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance)
+    from .cli_ensemble import read_ensemble
+
+    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance, read_ensemble(out))
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots
