@@ -93,3 +93,30 @@ def test_a_move_sends_one_waypoint_and_the_page_copy_equals_the_server(tmp_path)
     st = client.post("/api/edit", json={"op": "depth", "index": 3, "z": -2360.0}).json()
     assert st["waypoints"] == session.waypoints.tolist()
     assert len(st["check"]["leg_altitude_m"]) == len(session.waypoints) - 1
+
+
+def test_the_incremental_budget_equals_mission_budget_after_edits(tmp_path):
+    """In a steady current the legs' flights are cached: the budget equals ``mission_budget`` flown whole
+    (showcase: Lamb–Oseen vortices), and only the moved waypoint's two legs are flown again."""
+    from auvplan.endurance import EnergyModel, mission_budget
+    from auvplan.serve.budget import IncrementalBudget, steady
+
+    session = make_session("showcase", [str(tmp_path)])
+    world, mission = session.world, session.mission
+    assert steady(world.currents)
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    inc = IncrementalBudget(world, model, mission.endurance.ds_m)
+    rng = np.random.default_rng(5)
+    w = session.waypoints.copy()
+    _, computed = inc.run(w, mission.vehicle.speed)
+    assert computed == len(w) - 1
+    for _ in range(6):
+        k = int(rng.integers(1, len(w) - 1))
+        w[k, :2] += rng.normal(0.0, 400.0, 2)
+        got, computed = inc.run(w, mission.vehicle.speed)
+        assert computed == 2
+        ref = mission_budget(world, w, model, mission.vehicle.speed, 0.0, mission.endurance.ds_m)
+        assert got.status is ref.status and got.message == ref.message
+        np.testing.assert_allclose(got.t_end, ref.t_end, rtol=1e-12)
+        np.testing.assert_allclose(got.energy_leg_wh, ref.energy_leg_wh, rtol=1e-12)
+        assert got.margin_wh == pytest.approx(ref.margin_wh, rel=1e-12)
