@@ -75,8 +75,8 @@ def ensemble_table(fields: Mapping[str, Any]) -> str:
             + _cell("status", m.get("status"), str(m.get("status", "")))
             + _cell("success", m.get("success"), "yes" if m.get("success") else "no")
             + _cell("heading_deg", m.get("heading_deg"), f"{h:.0f}°" if math.isfinite(h) else "—") + "</tr>")
-    return (f"<table id='ensemble-spread'>{spread}</table>"
-            "<table id='ensemble-members'><tr><th>member</th><th>arrival</th><th>energy</th><th>status</th>"
+    return (f"<table id='ensemble-spread' style='margin-bottom:10px'>{spread}</table>"
+            "<table id='ensemble-members' style='margin-bottom:10px'><tr><th>member</th><th>arrival</th><th>energy</th><th>status</th>"
             "<th>success</th><th>heading (first leg)</th></tr>" + "".join(members) + "</table>")
 
 
@@ -108,7 +108,7 @@ def figure_ensemble(fields: Mapping[str, Any]) -> go.Figure:
         if math.isfinite(v):
             fig.add_hline(y=v / 3600, line_dash=dash, line_color="black", annotation_text=f"{label} {v / 3600:.2f} h",
                           row=1, col=1)
-    fig.update_layout(height=360, showlegend=False, margin=dict(l=50, r=20, t=40, b=40),
+    fig.update_layout(height=360, showlegend=False, margin=dict(l=50, r=20, t=80, b=40),
                       title=f"success probability {100 * _num(fields.get('success_probability')):.0f} % "
                             f"over {len(members)} members")
     return fig
