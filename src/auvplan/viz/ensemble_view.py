@@ -76,7 +76,8 @@ def ensemble_table(fields: Mapping[str, Any]) -> str:
             + _cell("success", m.get("success"), "yes" if m.get("success") else "no")
             + _cell("heading_deg", m.get("heading_deg"), f"{h:.0f}°" if math.isfinite(h) else "—") + "</tr>")
     return (f"<table id='ensemble-spread' style='margin-bottom:10px'>{spread}</table>"
-            "<table id='ensemble-members' style='margin-bottom:10px'><tr><th>member</th><th>arrival</th><th>energy</th><th>status</th>"
+            "<table id='ensemble-members' style='margin-bottom:10px'>"
+            "<tr><th>member</th><th>arrival</th><th>energy</th><th>status</th>"
             "<th>success</th><th>heading (first leg)</th></tr>" + "".join(members) + "</table>")
 
 
