@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress docs docs-bench
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -40,6 +40,7 @@ test-nojit: $(STAMP)
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
 		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
 		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
+		tests/test_turning.py::test_windowed_velocity_obstacles \
 		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
 		tests/test_timeopt.py::test_legs_are_fifo \
 		tests/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \
@@ -62,8 +63,14 @@ mutants: $(STAMP)
 PREV ?= 3e02e1a
 bench-regress: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --out results/bench-regress
-# every figure and picture of the docs from its measurement (docs/README.md): the demo and the mission
-# table (~2 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
+# the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
+# interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
+RELEASE ?= f5c6a15
+bench-hard: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
+		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
+# every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
+# table and the quick figures of tools/figures_fast.py (~4 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
 docs: $(STAMP)
 	$(BIN)/python tools/docs_figures.py measure
@@ -73,14 +80,20 @@ docs: $(STAMP)
 	$(BIN)/python tools/architecture.py
 	$(BIN)/python tools/docs_figures.py sync
 
-# the benchmark figures of the docs: avoidance-gauntlet Monte Carlo (500 seeds, predictive; ~15 min on 1 worker)
-# and the swarm algorithms on marcus-wake (10 seeds, ~5 min)
+# the benchmark figures of the docs: avoidance-gauntlet Monte Carlo (500 seeds, predictive; ~15 min on 1 worker),
+# the swarm algorithms on marcus-wake (10 seeds, ~5 min), then tools/figures_bench.py's one at a time: document
+# 001's laws (10 seeds, ~2 min), chagos-formation (100 seeds, ~15 min idle), the kill points (~5 min), the
+# two-model ensemble (100 pairs, ~5 min)
 docs-bench: $(STAMP)
 	rm -rf results/docs/gauntlet
 	$(BIN)/auvplan -q bench --scenarios avoidance-gauntlet --avoidance predictive --seeds 500 --randomise \
 		--plan-once --workers 1 --out results/docs/gauntlet
 	$(BIN)/python tools/docs_figures.py from-bench results/docs/gauntlet --name gauntlet-predictive
 	$(BIN)/python benchmarks/swarm.py --seeds 10 --out results/docs/swarm --figure docs/figures/swarm-marcus.md
+	$(BIN)/python tools/docs_figures.py bench doc001-tracking
+	$(BIN)/python tools/docs_figures.py bench formation-chagos
+	$(BIN)/python tools/docs_figures.py bench kill-points
+	$(BIN)/python tools/docs_figures.py bench ensemble-lofoten
 	$(BIN)/python tools/docs_figures.py sync
 
 lint: $(STAMP)

@@ -36,6 +36,9 @@ from pathlib import Path
 
 import numpy as np
 
+REPEATS = 5
+"""Field and scikit-fmm timings per (scenario, cell), interleaved; the medians are reported."""
+
 HARD = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")
 
 
@@ -43,12 +46,11 @@ def _rss_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def measure(cell: float, scenario: str) -> dict:
+def measure(cell: float, scenario: str, repeats: int = REPEATS) -> dict:
     """One cell size on one scenario (see the module notes)."""
     from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridParams, GridReference, plan_grid
     from auvplan.planners.common import cost_model_for, search_box
-    from auvplan.planners.grid.lattice import node_fields
     from auvplan.sim import planning_problem
 
     world, mission = sc.build(sc.load(scenario))
@@ -70,16 +72,16 @@ def measure(cell: float, scenario: str) -> dict:
     row["cost_single_lattice"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, ladder=False))).cost
     lspec = replace(spec, grid=replace(spec.grid, objective="length"))
     lo, hi = search_box(prob)
-    t0, c0 = time.perf_counter(), time.process_time()
     ref = GridReference(world, prob.goal, cost_model_for(prob, lspec), lo, hi, lspec.grid)
-    row["field_s"], row["field_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
     row["nodes"], row["free_nodes"], row["shape"] = ref.nodes, int(ref.free.sum()), list(ref.shape)
+    row.update(_lattice_paths(prob, spec, r))
     try:
         import skfmm
     except ImportError:
         row["skfmm"] = "not installed"
         return row
-    free = node_fields(world, ref.axes, currents=False)[0]
+    free = ref.free
+
     def nearest_free(p):  # the free node nearest to p (the node nearest to a seabed-hugging end may be in the seabed)
         ids = np.flatnonzero(free)
         xyz = np.stack([ref.axes[d][i] for d, i in enumerate(np.unravel_index(ids, ref.shape))], axis=1)
@@ -88,13 +90,80 @@ def measure(cell: float, scenario: str) -> dict:
     gi = nearest_free(prob.goal)
     phi = np.ones(ref.shape)
     phi[gi] = -1.0
-    t0, c0 = time.perf_counter(), time.process_time()
-    tt = skfmm.distance(np.ma.MaskedArray(phi, ~free), dx=[ref.cell, ref.cell, ref.cell_z])
-    row["skfmm_s"], row["skfmm_cpu_s"] = time.perf_counter() - t0, time.process_time() - c0
+    build, search, peer = [], [], []
+    for _ in range(repeats):  # interleaved, so that a change of load hits both alike
+        c0 = time.process_time()
+        ref = GridReference(world, prob.goal, cost_model_for(prob, lspec), lo, hi, lspec.grid)
+        build.append(time.process_time() - c0)
+        search.append(ref.search_cpu_s)
+        c0 = time.process_time()
+        tt = skfmm.distance(np.ma.MaskedArray(phi, ~free), dx=[ref.cell, ref.cell, ref.cell_z])
+        peer.append(time.process_time() - c0)
+    row["field_cpu_s"], row["search_cpu_s"], row["skfmm_cpu_s"] = (float(np.median(v)) for v in (build, search, peer))
+    row["search_ratios"] = [a / b for a, b in zip(search, peer)]
+    row["build_ratios"] = [a / b for a, b in zip(build, peer)]
+    row["search_ratio"] = float(np.median(row["search_ratios"]))
+    row["build_ratio"] = float(np.median(row["build_ratios"]))
     si = nearest_free(prob.start)
     row["skfmm_distance_m"] = float(tt[si])
     row["dijkstra_distance_m"] = float(ref.cost_to_go[si])
     return row
+
+
+def _lattice_paths(prob, spec, converged) -> dict:
+    """The raw lattice path (26 directions, and with any-angle links of 16 cells) on the planner's cost:
+    its cost and length beside the converged reference's (``converged``)."""
+    from auvplan.planners import plan_grid
+    from auvplan.planners.common import cost_model_for, search_box
+    from auvplan.planners.grid.planner import GridReference as Ref
+    from auvplan.planners.grid.planner import path_cost
+
+    out: dict = {}
+    lo, hi = search_box(prob)
+    for tag, link in (("lattice26", 0), ("anyangle16", 16)):
+        g = replace(spec.grid, any_angle=link)
+        ref = Ref(prob.world, prob.goal, cost_model_for(prob, replace(spec, grid=g)), lo, hi, g, prob.start)
+        raw = ref.query(prob.start)
+        if raw.shape[0] < 2:
+            continue
+        terms = path_cost(prob, replace(spec, grid=g), raw)
+        out[f"{tag}_cost"], out[f"{tag}_length_m"] = float(terms["total"]), float(terms["length_m"])
+        single = plan_grid(prob, replace(spec, grid=replace(g, ladder=False)), ref)
+        out[f"{tag}_converged_cost"] = float(single.cost)
+        out[f"{tag}_refined_length_m"] = float(single.cost_terms.get("length_m", float("nan")))
+        if link:  # the ladder with the links (the default ladder's cost is the row's "cost")
+            out[f"{tag}_ladder_cost"] = float(plan_grid(prob, replace(spec, grid=g)).cost)
+    return out
+
+
+def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
+    """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers)."""
+    loads = [r["load_1min"] for r in rows]
+    lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid.py {argv}` "
+             f"(load average {min(loads):.1f}–{max(loads):.1f} on the shared 2-core host; CPU times are process "
+             "times; field and scikit-fmm interleaved, median of the repeats; the field is the full cost-to-go "
+             "of the length objective from the goal over the whole lattice, scikit-fmm's distance on the same "
+             "free-node mask and cells)", "",
+             "| scenario | cell m | nodes | raw lattice path cost: 26-dir / any-angle 16 "
+             "| its length / refined length (any-angle) "
+             "| single lattice converged: 26-dir / any-angle 16 | ladder: 26-dir (default) / any-angle 16 "
+             "| search CPU s | whole build CPU s | scikit-fmm CPU s "
+             "| search / skfmm (median, per repeat) | build / skfmm (median) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        ratios = ", ".join(f"{x:.2f}" for x in r.get("search_ratios", []))
+        lines.append(
+            f"| {r['scenario']} | {r['cell_m']:g} | {r['nodes']:,} | {r.get('lattice26_cost', float('nan')):,.1f} / "
+            f"{r.get('anyangle16_cost', float('nan')):,.1f} | {r.get('anyangle16_length_m', float('nan')):,.0f} / "
+            f"{r.get('anyangle16_refined_length_m', float('nan')):,.0f} "
+            f"({100 * (r.get('anyangle16_length_m', 0) / r.get('anyangle16_refined_length_m', 1) - 1):+.2f} %) | "
+            f"{r['cost_single_lattice']:,.2f} / {r.get('anyangle16_converged_cost', float('nan')):,.2f} | "
+            f"{r['cost']:,.2f} / {r.get('anyangle16_ladder_cost', float('nan')):,.2f} | "
+            f"{r.get('search_cpu_s', float('nan')):.3f} | "
+            f"{r.get('field_cpu_s', float('nan')):.3f} | {r.get('skfmm_cpu_s', float('nan')):.3f} | "
+            f"**{r.get('search_ratio', float('nan')):.2f}** ({ratios}) | {r.get('build_ratio', float('nan')):.2f} |")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n")
 
 
 def _print(r: dict) -> None:
@@ -104,7 +173,10 @@ def _print(r: dict) -> None:
           f"numpy {r['numpy_peak_mib']:5.0f})"
           f"  cost {r['cost']:.7g} (this lattice alone {r['cost_single_lattice']:.7g}, lattice-bound "
           f"{r['cost_lattice_bound']:.7g})  field cpu {r['field_cpu_s']:5.2f} s  "
-          f"skfmm cpu {r.get('skfmm_cpu_s', float('nan')):5.2f} s", flush=True)
+          f"search cpu {r.get('search_cpu_s', float('nan')):5.3f} s  "
+          f"skfmm cpu {r.get('skfmm_cpu_s', float('nan')):5.3f} s  "
+          f"search/skfmm {r.get('search_ratio', float('nan')):.2f}"
+          f"  build/skfmm {r.get('build_ratio', float('nan')):.2f}", flush=True)
 
 
 def main(argv=None) -> int:
@@ -112,16 +184,19 @@ def main(argv=None) -> int:
     ap.add_argument("--cells", type=float, nargs="+", default=[1000, 500, 350, 250])
     ap.add_argument("--scenarios", nargs="+", default=["marcus-wake", *HARD])
     ap.add_argument("--out", default="results/bench-grid")
+    ap.add_argument("--repeats", type=int, default=REPEATS, help="field / scikit-fmm timings per case (median)")
+    ap.add_argument("--figure", type=Path, help="also write the lattice table to this docs figure file")
     ap.add_argument("--one", type=float, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
-        print(json.dumps(measure(args.one, args.scenarios[0])))
+        print(json.dumps(measure(args.one, args.scenarios[0], args.repeats)))
         return 0
     rows: list[dict] = []
     Path(args.out).mkdir(parents=True, exist_ok=True)
     for cell, scenario in ((c, s) for c in args.cells for s in args.scenarios):  # coarse cells first
         load = os.getloadavg()[0]
-        out = subprocess.run([sys.executable, __file__, "--one", str(cell), "--scenarios", scenario],
+        out = subprocess.run([sys.executable, __file__, "--one", str(cell), "--scenarios", scenario,
+                              "--repeats", str(args.repeats)],
                              capture_output=True, text=True)
         if out.returncode:
             print(f"{scenario} {cell:g} m failed: {out.stderr.strip().splitlines()[-1]}", flush=True)
@@ -129,6 +204,8 @@ def main(argv=None) -> int:
         rows.append({**json.loads(out.stdout.strip().splitlines()[-1]), "load_1min": load})
         _print(rows[-1])
         (Path(args.out) / "grid.json").write_text(json.dumps(rows, indent=2) + "\n")
+        if args.figure is not None:
+            figure(rows, args.figure, args.repeats, " ".join(sys.argv[1:] if argv is None else argv))
     return 0
 
 

@@ -16,8 +16,12 @@ budget (median lattice nodes, seeding CPU and polish CPU per plan, all included 
 ``iabc/release`` is the default pipeline with the settings of the previous release (``RELEASE``: no
 polyline polish, a 20 000-node seeding lattice), run in the same process, interleaved seed by seed with
 the default, as the CPU peer; the reference is also timed with those settings (its seeded swarms are the
-default pipeline's).  ``--methods`` keeps only the methods named; the references' CPU is in each
-scenario's heading.
+default pipeline's).  ``release-code`` is the previous release's CODE (``--release-code``, default
+f5c6a15, :mod:`release_peer`: a git worktree and a child process), its default plan on the same
+problems and seeds, asked seed by seed between today's methods, so that a speed-up of a kernel both
+share counts (``--no-release-code`` leaves it out).  ``--methods`` keeps only the methods named; the
+references' CPU is in each scenario's heading.  ``--figure-md NAME`` writes the default's summary
+against both peers to ``docs/figures/NAME.md`` (quoted in docs/bench_hard.md).
 
     .venv/bin/pip install mealpy pymoo      # optional peers
     .venv/bin/python benchmarks/hard.py --seeds 10 --budget 10000 --out results/bench-hard
@@ -39,6 +43,11 @@ from auvplan.optim import Problem
 from auvplan.planners import plan, reference
 from auvplan.planners.swarm.problem import path_terms, spline_problem
 from auvplan.sim import planning_problem
+
+try:
+    from release_peer import RELEASE_COMMIT, ReleasePeer
+except ImportError:  # imported as benchmarks.hard
+    from benchmarks.release_peer import RELEASE_COMMIT, ReleasePeer
 
 SCENARIOS = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep", "new-england-chain",
              "mariana-arc")
@@ -114,20 +123,38 @@ def _peer_rows(prob, spec, seeds: int, budget: int) -> list[dict]:
     return rows
 
 
-def run(name: str, seeds: int, budget: int, peers: bool, methods: list[str] | None = None) -> dict:
+_WARM: list[bool] = []
+"""Whether this process has run a reference (warmed the lattice's kernels) yet."""
+
+
+def run(name: str, seeds: int, budget: int, peers: bool, methods: list[str] | None = None,
+        release: ReleasePeer | None = None, before: ReleasePeer | None = None) -> dict:
     world, mission = sc.build(sc.load(name))
     prob = planning_problem(world, mission)
     spec = replace(mission.planner, budget=budget)
     chosen = [m for m in OURS if methods is None or m[0] in methods]
-    rows = [_ours(prob, spec, *m, seed) for seed in range(seeds) for m in chosen]  # interleaved: fair CPU
+    plan(prob, spec, rng=0)  # warm-up (numba's cache), as the release's worker does
+    rows = []
+    for seed in range(seeds):  # interleaved: fair CPU
+        rows += [_ours(prob, spec, *m, seed) for m in chosen]
+        if release is not None:
+            rows.append({"method": "release-code", "seed": seed, "trace": [], **release.plan(name, seed, budget)})
     if peers:
         rows += _peer_rows(prob, spec, seeds, budget)
+    if before is not None and not _WARM:  # the peer's first reference is warmed up: so is ours
+        reference(prob, spec)
+        _WARM.append(True)
     c0 = time.process_time()
     ref = reference(prob, spec)
     cpu = time.process_time() - c0
     c0 = time.process_time()
     old = reference(prob, replace(spec, **RELEASE))
-    return {"scenario": name, "rows": rows, "reference_cost": min(ref.cost, old.cost),
+    extra = {}
+    if before is not None:  # the reference of another commit's code (e.g. the branch point), same problem
+        row = before.plan(name, -1, budget)
+        extra = {"before_reference_cpu_s": row["cpu_s"], "before_reference_cost": row["cost"],
+                 "before_commit": before.commit}
+    return {"scenario": name, "rows": rows, **extra, "reference_cost": min(ref.cost, old.cost),
             "reference_status": ref.status.value if ref.cost <= old.cost else old.status.value,
             "reference_cpu_s": cpu, "release_reference_cpu_s": time.process_time() - c0,
             "release_reference_cost": old.cost, "default_reference_cost": ref.cost}
@@ -210,6 +237,10 @@ def main() -> None:
     ap.add_argument("--no-peers", action="store_true")
     ap.add_argument("--methods", nargs="+", help="only these methods (labels of the table), e.g. iabc iabc/release")
     ap.add_argument("--figure", default="docs/convergence_hard.png")
+    ap.add_argument("--release-code", default=RELEASE_COMMIT, help="the previous release's commit (its code a peer)")
+    ap.add_argument("--no-release-code", action="store_true", help="leave the release's code out")
+    ap.add_argument("--figure-md", help="write the default against both peers to docs/figures/NAME.md")
+    ap.add_argument("--reference-peer", help="also time the --reference of this commit's code (e.g. the branch point)")
     ap.add_argument("--out", default="results/bench-hard")
     args = ap.parse_args()
     out = Path(args.out)
@@ -219,8 +250,24 @@ def main() -> None:
             f"\nload average at start {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} on {os.cpu_count()} cores "
             "(shared machine: CPU times are inflated)"]
     results = []
+    release = None if args.no_release_code else ReleasePeer(args.release_code)
+    before = ReleasePeer(args.reference_peer) if args.reference_peer else None
+    try:
+        _run_all(args, out, text, results, release, before)
+    finally:
+        for peer in (release, before):
+            if peer is not None:
+                peer.close()
+    if args.figure_md:
+        figure = Path(__file__).resolve().parents[1] / "docs" / "figures" / f"{args.figure_md}.md"
+        figure.write_text(summary_figure(results, args, load))
+        print(f"wrote {figure}")
+
+
+def _run_all(args: argparse.Namespace, out: Path, text: list[str], results: list[dict],
+             release: ReleasePeer | None, before: ReleasePeer | None) -> None:
     for name in args.scenarios:
-        res = run(name, args.seeds, args.budget, not args.no_peers, args.methods)
+        res = run(name, args.seeds, args.budget, not args.no_peers, args.methods, release, before)
         results.append(res)
         text += table(res)
         print("\n".join(table(res)), flush=True)
@@ -229,10 +276,47 @@ def main() -> None:
         if name == args.scenarios[0] and any(r["method"] == "iabc/document" for r in res["rows"]):
             convergence_figure(res, args.budget, Path(args.figure))
     load = os.getloadavg()
+    args.load_end = load
     text.append(f"\nload average at end {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f}")
     (out / "summary.md").write_text("\n".join(text) + "\n")
     (out / "rows.json").write_text(json.dumps(results))
     print(f"wrote {out / 'summary.md'}, {args.figure}")
+
+
+def summary_figure(results: list[dict], args: argparse.Namespace, load0: tuple[float, ...]) -> str:
+    """The default (``iabc``) against the best known and both CPU peers, one row a scenario (Markdown)."""
+    end = getattr(args, "load_end", (float("nan"),) * 3)
+    before = f" --reference-peer {args.reference_peer}" if args.reference_peer else ""
+    lines = [f"`benchmarks/hard.py --seeds {args.seeds} --budget {args.budget} --release-code {args.release_code}"
+             f"{before}` "
+             f"(seeds 0–{args.seeds - 1}; CPU per plan = median `time.process_time()` of one plan, seeding and "
+             f"polish included; load average {load0[0]:.1f} at the start, {end[0]:.1f} at the end, "
+             f"{os.cpu_count()} shared cores; the three columns interleaved seed by seed)", "",
+             "| scenario | best known | default median / worst gap | infeasible | release-code median / worst gap "
+             "| CPU s per plan: default / release code (ratio) | release settings on today's code (ratio) "
+             "| polish CPU s | `--reference` CPU s: now / before (ratio) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for res in results:
+        rows = res["rows"]
+        best = min([r["cost"] for r in rows if r["status"] == "EXACT"]
+                   + ([res["reference_cost"]] if res["reference_status"] == "EXACT" else []))
+
+        def col(method: str, rows: list[dict] = rows, best: float = best) -> tuple[str, float, int]:
+            sel = [r for r in rows if r["method"] == method]
+            if not sel:
+                return "-", float("nan"), 0
+            c = np.array([r["cost"] for r in sel])
+            gap = f"{100 * (np.median(c) / best - 1):+.2f} / {100 * (c.max() / best - 1):+.2f} %"
+            return gap, float(np.median([r["cpu_s"] for r in sel])), sum(r["status"] != "EXACT" for r in sel)
+
+        (g, cpu, bad), (gr, cpur, _), (_, cpus, _) = col("iabc"), col("release-code"), col("iabc/release")
+        polish = np.median([r.get("polish_cpu_s", 0.0) for r in rows if r["method"] == "iabc"])
+        ref = (f"{res['reference_cpu_s']:.2f} / {res['before_reference_cpu_s']:.2f} "
+               f"({res['reference_cpu_s'] / res['before_reference_cpu_s']:.2f})" if "before_reference_cpu_s" in res
+               else f"{res['reference_cpu_s']:.2f} / -")
+        lines.append(f"| {res['scenario']} | {best:.0f} | {g} | {bad}/{args.seeds} | {gr} | {cpu:.3f} / {cpur:.3f} "
+                     f"({cpu / cpur:.2f}) | {cpus:.3f} ({cpu / cpus:.2f}) | {polish:.3f} | {ref} |")
+    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 """Planned against flown durations of ``juan-de-fuca-tides`` over the departure sweep (issue 36, point 5).
 
     .venv/bin/python benchmarks/tides_flown.py [--hours 25] [--step 30] [--out results/tides]
+        [--scenario juan-de-fuca-tides] [--figure NAME]
 
 For every departure of the sweep of ``benchmarks/tides.py`` (``--hours`` every ``--step`` minutes from
 the scenario's start time), the departure sweep's timed plan (:func:`departure_sweep`, its duration
@@ -11,7 +12,9 @@ flown by the closed loop (:func:`auvplan.sim.simulate`: the scenario's guidance,
 ``[sim]`` settings, seed 1) in the same tidal current with its epoch moved to the departure (what
 ``[mission] start_time`` = the departure does).  The deadlock watch is lengthened to 6 h so that
 a plan which drifts back with the tide is flown, not stopped (no plan of the sweep drifts: see the
-``drift_back_m`` column).  Writes ``tides_flown.json`` with one row per departure and the worst.
+``drift_back_m`` column).  Writes ``tides_flown.json`` with one row per departure and the worst, and
+with ``--figure NAME`` the summary as ``docs/figures/NAME.md`` (quoted in docs/timeopt.md).
+``--scenario rotary-tide``: the same for the rotary current stronger than the vehicle (issue 36).
 """
 
 from __future__ import annotations
@@ -37,18 +40,22 @@ def main() -> None:
     ap.add_argument("--hours", type=float, default=25.0)
     ap.add_argument("--step", type=float, default=30.0, help="minutes")
     ap.add_argument("--out", default="results/tides")
+    ap.add_argument("--scenario", default="juan-de-fuca-tides")
+    ap.add_argument("--figure", default="", help="write docs/figures/NAME.md")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    print("load:", subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip(), "cpus", os.cpu_count())
-    world, mission = scenario.build(scenario.load("juan-de-fuca-tides"))
+    load = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    print("load:", load, "cpus", os.cpu_count())
+    world, mission = scenario.build(scenario.load(args.scenario))
     mission = replace(mission, sim=replace(mission.sim, deadlock_time=6 * 3600.0))
     problem = planning_problem(world, mission)
     departs = np.arange(0.0, args.hours * 3600.0 + 1.0, args.step * 60.0)
     paths: list = []
     c0 = time.process_time()
     rows, _ = departure_sweep(problem, replace(mission.planner, name="timeopt"), departs, paths=paths)
-    print(f"sweep: {len(rows)} departures, {time.process_time() - c0:.1f} s CPU")
+    sweep_cpu = time.process_time() - c0
+    print(f"sweep: {len(rows)} departures, {sweep_cpu:.1f} s CPU")
     out_rows = []
     for row, plan in zip(rows, paths):
         if plan is None:
@@ -73,6 +80,19 @@ def main() -> None:
            "rows": out_rows}
     (out / "tides_flown.json").write_text(json.dumps(doc, indent=1))
     print("worst:", json.dumps(worst), "arrived", doc["arrived"], "of", doc["departures"])
+    if args.figure and worst is not None:
+        planned = sum(r.get("planned_s") is not None for r in out_rows)
+        text = (f"`{args.scenario}`, departures every {args.step:g} min over {args.hours:g} h: {planned}/{len(rows)} "
+                f"planned, {doc['arrived']} flown to the goal, {sum(abs(r['error_pct']) <= 1.0 for r in errs)} within "
+                f"1 % of the plan; planned vs flown worst {worst['error_pct']:+.3f} % "
+                f"(+{worst['depart_h']:g} h: planned {worst['planned_s']:.1f} s, flown {worst['flown_s']:.1f} s), "
+                f"mean |error| {doc['mean_abs_error_pct']:.3f} %, largest drift back "
+                f"{max(r.get('drift_back_m', 0.0) for r in out_rows):.0f} m; sweep {sweep_cpu:.0f} s CPU; "
+                f"{mission.guidance} guidance, seed {mission.seed}; load average "
+                f"{load.split('load average:')[-1].strip()} on {os.cpu_count()} "
+                f"cores (`benchmarks/tides_flown.py --scenario {args.scenario} --hours {args.hours:g} "
+                f"--step {args.step:g}`)\n")
+        Path(__file__).resolve().parents[1].joinpath("docs", "figures", f"{args.figure}.md").write_text(text)
 
 
 if __name__ == "__main__":

@@ -19,7 +19,12 @@ _VIZ = ("chart", "plots", "report", "scene3d", "style", "timeplots")
 
 @pytest.fixture
 def no_plotly(monkeypatch):
-    """plotly made unimportable; the viz modules re-imported under that, everything restored afterwards."""
+    """plotly made unimportable; the viz modules re-imported under that, everything restored afterwards.
+
+    A module first imported while plotly is blocked (``auvplan.viz.scene3d`` when this file runs first) holds
+    plotly's stand-in: it is dropped from ``sys.modules`` and from its package at teardown, so that the next
+    import loads it with plotly (monkeypatch restores only what was there before)."""
+    before = set(sys.modules)
     for name in list(sys.modules):
         if name == "plotly" or name.startswith("plotly.") or name in {f"auvplan.viz.{m}" for m in _VIZ}:
             monkeypatch.delitem(sys.modules, name)
@@ -30,6 +35,12 @@ def no_plotly(monkeypatch):
     with pytest.raises(ImportError):
         import plotly  # noqa: F401
     yield
+    for name in set(sys.modules) - before:
+        if sys.modules[name] is not None and name.startswith(("plotly.", "auvplan.")):
+            module = sys.modules.pop(name)
+            parent, _, leaf = name.rpartition(".")
+            if getattr(sys.modules.get(parent), leaf, None) is module:
+                delattr(sys.modules[parent], leaf)
 
 
 def _one_line_error(capsys) -> str:
@@ -80,3 +91,19 @@ def test_extras_declared_and_all_installs_them():
     extras = meta["optional-dependencies"]
     assert any(d.startswith("plotly") for d in extras["report"])
     assert "auvplan[bench,report]" in extras["all"]
+
+
+def test_no_stand_in_outlives_the_blocking():
+    """Runs after the tests that block plotly (pytest keeps the file's order): every viz module loaded now has the
+    real plotly.  With this file run first, scene3d is first imported while plotly is blocked; it kept plotly's
+    stand-in for every later test until the fixture dropped what was first imported under the block."""
+    import plotly.graph_objects as go
+
+    from auvplan.viz import scene3d
+
+    assert sys.modules["plotly"] is not None
+    assert scene3d.go is go and sys.modules["auvplan.viz.scene3d"] is scene3d
+    assert scene3d is importlib.import_module("auvplan.viz.scene3d")
+    for name, module in list(sys.modules.items()):
+        if name.startswith("auvplan.viz.") and hasattr(module, "go"):
+            assert module.go is go, name

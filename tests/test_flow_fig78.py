@@ -58,14 +58,15 @@ def fig8():
 def test_fig8_starts_near_every_surface_arrive_clear_and_without_corners(fig8):
     """48 seeded starts, 4 per obstacle 0.5-1 m from its real surface and 12 per obstacle 1-5 m: every
     streamline arrives, none comes closer than the margin to a real obstacle (exact segment tests), and no
-    turn between two steps reaches 45° (straight exits along the normal turned up to 99°, 44 of 510 ≥ 90°)."""
+    turn between two steps reaches 45° (straight exits along the normal turned up to 99°, 44 of 510 ≥ 90°).
+    The default body is the containing ellipsoid itself (1.04×): only starts in its thin shell exit."""
     world, _, field = fig8
     p = np.vstack([_near_surface_starts(world.obstacles, field, 4, 0, 0.5, 1.0),
                    _near_surface_starts(world.obstacles, field, 12, 1, 1.0, 5.0)])
     assert len(p) == 48
     sl = integrate_streamlines(field, p)
     assert sl.arrived.all(), dict(zip(*np.unique(sl.status, return_counts=True)))
-    assert sl.exits.sum() >= 3  # some start inside the ellipsoid's body: the exit is exercised
+    assert sl.exits.sum() >= 1  # a start inside the ellipsoid's body: the exit is exercised
     for q in sl.paths:
         seg = np.stack([q[:-1], q[1:]], axis=1)
         assert not any(ob.segments_hit(seg, MARGIN).any() for ob in world.obstacles)

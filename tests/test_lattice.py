@@ -14,7 +14,7 @@ from auvplan.planners import GridParams, GridReference
 from auvplan.planners.common import cost_model_for, search_box
 from auvplan.planners.grid.lattice import HALF, edge_states, node_fields
 from auvplan.sim import planning_problem
-from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World
+from auvplan.world import Bounds, LambOseenVortices, Margins, Sphere, Terrain, UniformCurrent, World
 
 
 def _ridge_world() -> World:
@@ -91,3 +91,76 @@ def test_lattice_memory_grows_with_nodes_not_edges():
     assert peak / ref.nodes < 60
     # the scenario budget's estimate ([limits] memory_mb) is the measured peak within a factor 2, never below
     assert peak <= lattice_bytes(ref.nodes) <= 2.0 * peak
+
+
+@pytest.mark.parametrize("objective", ["length", "cost"])
+def test_field_equals_scipy_dijkstra_on_the_same_graph(objective):
+    """The compiled cost-to-go field (inline-key heap, precomputed direction steps and lengths) is
+    scipy.sparse.csgraph's Dijkstra on the same graph: the free edges of :func:`edge_states`, each
+    weighted by its length or by :func:`auvplan.planners.grid.lattice._edge_weight`'s cost in a
+    sheared current (mean of the two nodes' currents), and the goal's links."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    from auvplan.cost import energy_mode, propulsion_power
+    from auvplan.planners.grid.lattice import OFFSETS, _edge_weight
+    world = replace(_ridge_world(), currents=LambOseenVortices(np.array([[120.0, 200.0]]), np.array([300.0]),
+                                                               np.array([60.0])))
+    model = CostModel()
+    params = GridParams(cell=13.0, cell_z=9.0, objective=objective)
+    ref = GridReference(world, [280.0, 260.0, -40.0], model, np.array([0.0, 0.0, -100.0]),
+                        np.array([300.0, 300.0, 0.0]), params)
+    free, alt, obs, cur = node_fields(world, ref.axes, currents=True)
+    steps = np.array([ref.cell, ref.cell, ref.cell_z])
+    n, shape = ref.nodes, ref.shape
+    vec = OFFSETS * steps
+    args = (model.w_length, model.w_energy * model.scale, model.speed, propulsion_power(model), energy_mode(model))
+    rows, cols, wts = [], [], []
+    for s, off in enumerate(OFFSETS):
+        src = np.flatnonzero(edge_states(world, free, alt, obs, steps, off, ref._coords))
+        dst = src + int((off[0] * shape[1] + off[1]) * shape[2] + off[2])
+        w = np.array([_edge_weight(u, v, s, vec, cur, objective == "cost", *args) for u, v in zip(src, dst)])
+        rows += [src]
+        cols += [dst]
+        wts += [w]
+    near, w_goal = ref._connect(ref.goal, towards=True)
+    keep = np.isfinite(w_goal)
+    rows.append(near[keep])
+    cols.append(np.full(int(keep.sum()), n))
+    wts.append(np.maximum(w_goal[keep], 1e-12))
+    r, c, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(wts)
+    ok = np.isfinite(w)
+    graph = coo_matrix((w[ok], (r[ok], c[ok])), shape=(n + 1, n + 1)).tocsr()
+    want = dijkstra(graph.T, indices=n)[:n].reshape(shape)  # reversed: from the goal over incoming edges
+    got = ref.cost_to_go
+    assert np.array_equal(np.isfinite(got), np.isfinite(want))
+    assert np.isfinite(want).sum() > 0.5 * free.sum()
+    fin = np.isfinite(want)
+    assert np.allclose(got[fin], want[fin], rtol=1e-12, atol=0.0)
+
+
+def test_heap_pops_in_key_order_after_decrease_keys():
+    """The indexed heap with inline keys against sorting: 2 000 random keys queued, a third of them
+    lowered in place (decrease-key), then popped: the keys come out sorted, each node once, each with
+    its last key, and ``pos`` marks every popped node."""
+    from auvplan.planners.grid.heap import pop, push
+
+    rng = np.random.default_rng(5)
+    n = 2000
+    key = rng.uniform(0.0, 100.0, n)
+    heap, hkey, pos = np.empty(n, np.int32), np.empty(n), np.full(n, -1, np.int32)
+    size = 0
+    for u in range(n):
+        size = push(heap, hkey, pos, size, u, key[u])
+    for u in rng.choice(n, n // 3, replace=False):
+        key[u] -= rng.uniform(0.0, key[u])
+        size = push(heap, hkey, pos, size, int(u), key[u])
+    out, keys = [], []
+    while size:
+        out.append(int(heap[0]))
+        keys.append(float(hkey[0]))
+        size = pop(heap, hkey, pos, size, -2)
+    assert sorted(out) == list(range(n))
+    assert keys == sorted(keys)
+    assert np.array_equal(np.array(keys), key[out])
+    assert (pos == -2).all()

@@ -47,7 +47,7 @@ def test_push_out_from_just_inside_a_line_distribution_body_lands_on_its_surface
     correction's move); the body's own ``normal`` there is the same outward unit vector (it was the inward
     one: the correction pushed grazing points deeper in).  A sphere 40 m away comes first in the field's
     surfaces."""
-    field = FlowField((ELLIPSOID, Sphere((0.0, 40.0, 0.0), 2.0)), GOAL, FlowParams(), 0.5)
+    field = FlowField((ELLIPSOID, Sphere((0.0, 40.0, 0.0), 2.0)), GOAL, FlowParams(rankine="line"), 0.5)
     body = field.bodies[0]
     radius = float(body.radius)
     prof = body.profile
@@ -83,7 +83,7 @@ def test_exit_rule_leaves_a_body_straight_along_its_normal_where_that_lands_outs
     obstacle, that is the exit rule's point (by hand, n independent of the body's own ``normal``)."""
     from auvplan.planners.flow.stream import _exit_body, _segment_clear
 
-    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="line"), 0.5)
     body = field.bodies[0]
     radius = float(body.radius)
     prof = body.profile
@@ -112,7 +112,7 @@ def test_exit_rule_leaves_a_body_in_one_move():
     10⁻⁶ R on) is already outside every flow surface: one move."""
     from auvplan.planners.flow.stream import _exit_body
 
-    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="line"), 0.5)
     rng = np.random.default_rng(6)
     p = rng.uniform(-1.0, 1.0, (4000, 3)) * (9.5, 5.0, 4.0)
     p = p[field.inside_body(p) & (field.clearance(p) > 0)][:40]
@@ -128,7 +128,7 @@ def test_exit_rule_bisection_lands_just_past_the_body_along_the_obstacle_normal(
     q − 1.01·10⁻⁶ R g is inside the body, q − 0.99·10⁻⁶ R g outside."""
     from auvplan.planners.flow.stream import _exit_body, _segment_clear
 
-    field = FlowField((ELLIPSOID,), GOAL, FlowParams(), 0.5)
+    field = FlowField((ELLIPSOID,), GOAL, FlowParams(rankine="line"), 0.5)
     body = field.bodies[0]
     radius = float(body.radius)
     rng = np.random.default_rng(7)

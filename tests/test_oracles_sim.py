@@ -123,10 +123,12 @@ def test_lattice_node_fields_are_the_worlds_static_clearances():
 
 
 # ---------------------------------------------------------------------- grid: the indexed binary heap
-def _check_heap(heap: np.ndarray, pos: np.ndarray, key: np.ndarray, size: int, members: set[int]) -> None:
+def _check_heap(heap: np.ndarray, hkey: np.ndarray, pos: np.ndarray, key: np.ndarray, size: int,
+                members: set[int]) -> None:
     assert set(heap[:size].tolist()) == members
     for i in range(size):
         assert pos[heap[i]] == i
+        assert hkey[i] == key[heap[i]]  # the inline key is the node's
         if i:
             assert key[heap[(i - 1) >> 1]] <= key[heap[i]]
 
@@ -142,6 +144,7 @@ def test_lattice_heap_pops_in_heapq_order_with_decrease_key():
     heap = rng.permutation(n).astype(np.int32)  # garbage beyond the heap's end
     pos = np.full(n, -1, dtype=np.int32)
     key = rng.uniform(-1.0, 0.0, n)  # stale keys of nodes not queued: smaller than any queued one
+    hkey = rng.uniform(-1.0, 0.0, n)  # garbage keys beyond the heap's end, smaller than any queued one
     ref: list[tuple[float, int]] = []
     members: set[int] = set()
     size, popped = 0, 0
@@ -149,12 +152,12 @@ def test_lattice_heap_pops_in_heapq_order_with_decrease_key():
         u = int(rng.integers(n))
         if rng.random() < 0.6 and u not in members:
             key[u] = rng.uniform(1.0, 100.0)
-            size = _push(heap, pos, key, size, u)
+            size = _push(heap, hkey, pos, size, u, key[u])
             members.add(u)
             heapq.heappush(ref, (key[u], u))
         elif rng.random() < 0.5 and u in members:  # decrease-key
             key[u] = key[u] - rng.uniform(0.0, key[u] - 0.5)
-            size = _push(heap, pos, key, size, u)
+            size = _push(heap, hkey, pos, size, u, key[u])
             heapq.heappush(ref, (key[u], u))
         elif size:
             v = int(heap[0])
@@ -162,15 +165,15 @@ def test_lattice_heap_pops_in_heapq_order_with_decrease_key():
                 heapq.heappop(ref)
             assert v == heapq.heappop(ref)[1]
             members.remove(v)
-            size = _pop(heap, pos, key, size, -1)  # -1: may be queued again
+            size = _pop(heap, hkey, pos, size, -1)  # -1: may be queued again
             assert pos[v] == -1
             popped += 1
-        _check_heap(heap, pos, key, size, members)
+        _check_heap(heap, hkey, pos, key, size, members)
     assert popped > 500
 
 
 def test_lattice_sift_down_reads_nothing_past_the_heap_end():
-    """``_sift_down(heap, pos, key, i, size)`` restores a heap whose root key grew: with 2 to 30 of 40
+    """``_sift_down(heap, hkey, pos, size)`` restores a heap whose root key grew: with 2 to 30 of 40
     nodes queued and every node past the end a smaller key, the result is a heap of the same nodes
     (a sift that compares with ``heap[size]`` would take one of those in)."""
     rng = np.random.default_rng(7)
@@ -179,14 +182,16 @@ def test_lattice_sift_down_reads_nothing_past_the_heap_end():
         heap = rng.permutation(n).astype(np.int32)
         key = rng.uniform(10.0, 20.0, n)
         key[heap[size:]] = rng.uniform(0.0, 1.0, n - size)
+        hkey = key[heap].copy()  # past the end: the smaller keys of nodes not queued
         pos = np.full(n, -1, dtype=np.int32)
         members = heap[:size].tolist()
         s = 0
         for u in members:
-            s = _push(heap, pos, key, s, u)
+            s = _push(heap, hkey, pos, s, u, key[u])
         key[heap[0]] += rng.uniform(0.0, 15.0)
-        _sift_down(heap, pos, key, 0, size)
-        _check_heap(heap, pos, key, size, set(members))
+        hkey[0] = key[heap[0]]
+        _sift_down(heap, hkey, pos, size)
+        _check_heap(heap, hkey, pos, key, size, set(members))
 
 
 # ---------------------------------------------------------------------- grid: the search against scipy

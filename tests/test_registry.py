@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pytest
@@ -42,7 +42,11 @@ class StraightParams:
 def straight(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
              progress: Progress | None = None) -> PlanResult:
     """The straight line from the start to the goal, a point every ``spacing`` metres at most."""
-    params = spec.params_for()
+    return straight_line(problem, spec.params_for())
+
+
+def straight_line(problem: PlanningProblem, params: StraightParams) -> PlanResult:
+    """:func:`straight` of the settings alone (a deterministic plan function)."""
     length = float(np.linalg.norm(problem.goal - problem.start))
     path = np.linspace(problem.start, problem.goal, math.ceil(length / params.spacing) + 1)
     status = Status.EXACT if problem.world.path_free(path) else Status.INFEASIBLE
@@ -138,3 +142,61 @@ def test_an_unregistered_or_misconfigured_planner_is_a_named_error(registered: N
         assert "name = 'straight'" in capsys.readouterr().err
     finally:
         register("straight", iterative=False, description="again", params=StraightParams)(straight)
+
+
+
+def test_a_deterministic_plan_function_is_registered_with_a_flag(registered: None) -> None:
+    """``plan(problem, spec)`` and ``plan(problem, settings)`` registered with ``deterministic``: the registry
+    calls them under its signature with the spec or the planner's own settings, and neither the generator
+    nor the progress callback reaches them; they plan what the full-signature planner plans."""
+    text = SCENARIO + "\n[planner.straight]\nspacing = 30.0\n"
+    world, mission = sc.build(sc.loads(text))
+    problem = planning_problem(world, mission)
+    want = plan(problem, mission.planner)
+    seen: list[object] = []
+
+    def by_spec(problem: PlanningProblem, spec: PlannerSpec) -> PlanResult:
+        seen.append(spec)
+        return straight(problem, spec)
+
+    def by_settings(problem: PlanningProblem, settings: StraightParams) -> PlanResult:
+        seen.append(settings)
+        return straight_line(problem, settings)
+
+    register("by_spec", iterative=False, description="spec form", deterministic="spec")(by_spec)
+    register("by_settings", iterative=False, description="settings form", params=StraightParams,
+             deterministic="settings")(by_settings)
+    try:
+        spec = sc.build(sc.loads(text.replace('name = "straight"', 'name = "by_settings"')
+                                 + "\n[planner.by_settings]\nspacing = 45.0\n"))[1].planner
+        got = [get("by_spec").run(problem, mission.planner, 7, lambda *a: seen.append("progress")),
+               plan(problem, spec, 7, lambda *a: seen.append("progress"))]
+        with pytest.raises(ValueError, match="does not iterate"):
+            register("looping", iterative=True, description="", deterministic="spec")(by_spec)
+        with pytest.raises(ValueError, match="choose 'spec' or 'settings'"):
+            register("odd", iterative=False, description="", deterministic="rng")(by_spec)  # type: ignore[arg-type]
+    finally:
+        REGISTRY.pop("by_spec")
+        REGISTRY.pop("by_settings")
+    assert seen == [mission.planner, StraightParams(45.0)]  # the spec, then its own settings only; no progress
+    np.testing.assert_array_equal(got[0].path, want.path)
+    assert got[0].cost == want.cost and got[0].status is want.status
+    assert len(got[1].path) == math.ceil(LENGTH / 45.0) + 1  # [planner.by_settings] reached it, not straight's
+
+
+def test_the_built_in_deterministic_planners_are_their_plan_functions() -> None:
+    """The lattice and the streamline planner run through the registry plan exactly what their plan functions
+    plan (the adapters they used to carry are the registry's one wrapper now)."""
+    from auvplan.planners.flow.planner import plan_flow
+    from auvplan.planners.grid.planner import plan_grid
+
+    world, mission = sc.build(sc.loads(SCENARIO.replace('name = "straight"', 'name = "grid"')
+                                       + "\n[planner.grid]\ncell = 50.0\n"))
+    problem = planning_problem(world, mission)
+    for name, direct in (("grid", lambda: plan_grid(problem, mission.planner)),
+                         ("flow", lambda: plan_flow(problem, mission.planner.flow))):
+        assert get(name).deterministic is not None and not get(name).iterative
+        via = plan(problem, replace(mission.planner, name=name), 11)
+        ref = direct()
+        np.testing.assert_array_equal(via.path, ref.path)
+        assert (via.status, via.cost, via.planner) == (ref.status, ref.cost, ref.planner)

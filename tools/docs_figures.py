@@ -13,8 +13,10 @@ scenario reference and the architecture picture, and syncs.
 
 Usage::
 
-    .venv/bin/python tools/docs_figures.py measure                 # demo + mission table (~2 min)
+    .venv/bin/python tools/docs_figures.py measure                 # demo, mission table, quick figures (~4 min)
+    .venv/bin/python tools/docs_figures.py measure sim-hour        # one quick figure (tools/figures_fast.py)
     .venv/bin/python tools/docs_figures.py from-bench results/docs/gauntlet --name gauntlet-predictive
+    .venv/bin/python tools/docs_figures.py bench doc001-tracking   # one heavy figure (tools/figures_bench.py)
     .venv/bin/python tools/docs_figures.py sync                    # copy the figures into the docs
     .venv/bin/python tools/docs_figures.py check                   # exit 1 on a stale or orphan figure
 """
@@ -31,6 +33,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 __all__ = ["ROOT", "FIGURES", "BLOCK", "doc_files", "blocks", "problems", "sync", "main"]
@@ -198,8 +201,22 @@ def from_bench(folder: Path, name: str) -> None:
              f"{cpu[len(cpu) // 2]:.2f} s CPU median per mission")
 
 
+def _heavy() -> dict[str, Callable[..., dict[str, str]]]:
+    sys.path.insert(0, str(Path(__file__).parent))
+    import figures_bench
+
+    return figures_bench.HEAVY
+
+
+def _fast() -> dict[str, Callable[[], dict[str, str]]]:
+    sys.path.insert(0, str(Path(__file__).parent))
+    import figures_fast
+
+    return figures_fast.FAST
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Command line: ``measure``, ``from-bench DIR --name NAME``, ``sync``, ``check``.
+    """Command line: ``measure``, ``bench NAME...``, ``from-bench DIR --name NAME``, ``sync``, ``check``.
 
     Parameters
     ----------
@@ -213,15 +230,36 @@ def main(argv: list[str] | None = None) -> int:
     """
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
-    sub.add_parser("measure", help="run the demo and the mission table's scenarios")
+    m = sub.add_parser("measure", help="run the demo, the mission table's scenarios and the quick figures")
+    m.add_argument("names", nargs="*", metavar="NAME",
+                   help="only these quick measurements (tools/figures_fast.py FAST) or 'missions'")
     b = sub.add_parser("from-bench", help="a bench folder's rows.csv as a figure")
     b.add_argument("folder", type=Path)
     b.add_argument("--name", required=True)
+    h = sub.add_parser("bench", help="measure heavy figures (tools/figures_bench.py), one at a time")
+    h.add_argument("names", nargs="+", metavar="NAME", help="a measurement of figures_bench.HEAVY")
+    h.add_argument("--seeds", type=int, help="seeds instead of the documented number (stated in the figure)")
     sub.add_parser("sync", help="copy the figure files into the docs")
     sub.add_parser("check", help="exit 1 when a quoted figure differs from its file")
     args = ap.parse_args(argv)
     if args.cmd == "measure":
-        measure()
+        fast = _fast()
+        unknown = [n for n in args.names if n not in fast and n != "missions"]
+        if unknown:
+            ap.error(f"unknown figure {unknown[0]!r}; known: missions, {', '.join(sorted(fast))}")
+        if not args.names or "missions" in args.names:
+            measure()
+        for name in args.names or list(fast):
+            for figure, text in fast[name]().items() if name in fast else ():
+                _write(figure, text)
+    elif args.cmd == "bench":
+        heavy = _heavy()
+        unknown = [n for n in args.names if n not in heavy]
+        if unknown:
+            ap.error(f"unknown figure {unknown[0]!r}; known: {', '.join(sorted(heavy))}")
+        for name in args.names:
+            for figure, text in heavy[name](*([args.seeds] if args.seeds else [])).items():
+                _write(figure, text)
     elif args.cmd == "from-bench":
         from_bench(args.folder, args.name)
     elif args.cmd == "sync":

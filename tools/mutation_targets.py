@@ -25,7 +25,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
     return tuple((module, n) for n in names)
 
 
-TERRAIN = "auvplan.world.terrain"
+TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.terrain_kernels"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
 GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
@@ -34,15 +34,16 @@ LOCAL = "auvplan.guidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
 MISSION, LIMITS = "auvplan.guidance.mission", "auvplan.guidance.mission_limits"
-FORMATS = "auvplan.io.missions.formats"
+FORMATS = "auvplan.io.missions.readers"
 FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
     # the exact segment-vs-seabed test, its Lipschitz shortcut and the bilinear surface
     "terrain": Target(
         _fns(TERRAIN, "Terrain.__post_init__", "Terrain.altitude", "Terrain.altitude_lower_bound",
-             "Terrain.min_altitude_between", "Terrain.segments_below", "_cell", "elevation_kernel", "_piece_min",
-             "_crossings", "_walk_min", "min_altitude_kernel", "_min_altitudes"),
+             "Terrain.min_altitude_between", "Terrain.segments_below")
+        + _fns(TERRAIN_KERNELS, "_cell", "elevation_kernel", "_piece_min", "_crossings", "_walk_min",
+               "min_altitude_kernel", "_min_altitudes"),
         ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
          "ridge or slope or terrain or bilinear or gradient or outside or lower_bound or offset_grid or off_the_grid"
          " or altitude_limit or twisted_cell or more_rows_than_columns",

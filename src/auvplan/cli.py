@@ -85,10 +85,10 @@ _MAX_SWEEP_S = 366 * 86400.0
 
 def _step(text: str) -> str:
     """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from .cli_commands import _duration
+    from .cli_sweep import parse_duration
 
     try:
-        value = _duration(text, "--step")
+        value = parse_duration(text, "--step")
     except AuvplanError as exc:
         raise argparse.ArgumentTypeError(str(exc).removeprefix("--step ")) from None
     if not (math.isfinite(value) and 0 < value <= _MAX_SWEEP_S):
@@ -98,11 +98,11 @@ def _step(text: str) -> str:
 
 def _departure(text: str) -> str:
     """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from .cli_commands import _duration, _is_offset
+    from .cli_sweep import is_offset, parse_duration
 
-    if _is_offset(text):
+    if is_offset(text):
         try:
-            value = _duration(text, "--depart-between")
+            value = parse_duration(text, "--depart-between")
         except AuvplanError as exc:
             raise argparse.ArgumentTypeError(str(exc).removeprefix("--depart-between ")) from None
         if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):

@@ -135,10 +135,10 @@ def sample_population(control: ArrayLike, n_samples: int, order: int = 0) -> Flo
     c = np.asarray(control, dtype=float)
     lead, k = c.shape[:-2], c.shape[-2]
     basis = basis_matrix(k, n_samples, order)
-    # one matrix product for the whole population: (S, K) @ (K, P·3)
-    flat = np.moveaxis(c.reshape((-1, k, 3)), 1, 0).reshape(k, -1)
-    out = (basis @ flat).reshape(n_samples, -1, 3)
-    samples: FloatArray = np.ascontiguousarray(np.moveaxis(out, 0, 1)).reshape(lead + (n_samples, 3))
+    # one matrix product for the whole population: (P·3, K) @ (K, S), the same sums as (S, K) @ (K, P·3)
+    flat = c.reshape((-1, k, 3)).transpose(0, 2, 1).reshape(-1, k)
+    out = (flat @ basis.T).reshape(-1, 3, n_samples)
+    samples: FloatArray = np.ascontiguousarray(out.transpose(0, 2, 1)).reshape(lead + (n_samples, 3))
     return samples
 
 
@@ -344,7 +344,8 @@ def densify(points: ArrayLike, spacing: float) -> FloatArray:
         return p.copy()
     seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
     n = np.maximum(np.ceil(seg / spacing).astype(int), 1)
-    t = np.concatenate([np.arange(k) / k for k in n])
     i = np.repeat(np.arange(len(n)), n)
+    first = np.cumsum(n) - n  # index of each segment's first output point
+    t = (np.arange(i.size) - first[i]) / n[i]  # j / k for j < k, as k-long aranges / k
     out = p[i] + t[:, None] * (p[i + 1] - p[i])
     return np.vstack([out, p[-1]])

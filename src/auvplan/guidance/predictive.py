@@ -39,7 +39,8 @@ from ..world import World
 from .local import AvoidanceParams, LocalAvoidance
 from .route import PathFollower, RoutePoint
 from .sweep import SweepMemory
-from .vo import CFG, predicted_preference, vo_choose
+from .turning import arc_chords, turn_rate
+from .vo import CFG, predicted_preference_windows, vo_choose_windows
 
 __all__ = ["TrackEstimator", "PredictiveAvoidance"]
 
@@ -213,7 +214,28 @@ class PredictiveAvoidance(LocalAvoidance):
         finally:
             self.decision_time += time.perf_counter() - t0
 
-    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]], p: _F64) -> tuple[_F64, _F64, _F64]:
+    def _sensed(self, t: float, sensed: Sequence[tuple[Any, ...]], p: _F64) -> tuple[_F64, _F64, _F64, _F64]:
+        """Centres, velocities, radii (+ the obstacle margin) and time windows of the predicted obstacles: the
+        sensed ones (a turning one as the chords of its CTRV arc, :mod:`.turning`) and the shuttles' images
+        (:mod:`.sweep`)."""
+        C, V, R = self._straight(t, sensed, p)
+        W = np.zeros((len(R), 2))
+        W[:, 1] = math.inf
+        if not self.params.turn_model:
+            return C, V, R, W
+        keep, parts = np.ones(len(R), dtype=bool), []
+        for k, o in enumerate(sensed):
+            omega = turn_rate(self.sweep.tracks.get(o[5], ()), t)
+            if omega != 0.0:
+                keep[k] = False
+                parts.append(arc_chords(C[k], V[k], float(R[k]), omega, 2.0 * self.params.horizon,
+                                        growth=self.params.turn_growth))
+        if not parts:
+            return C, V, R, W
+        return (np.vstack([C[keep]] + [q[0] for q in parts]), np.vstack([V[keep]] + [q[1] for q in parts]),
+                np.concatenate([R[keep]] + [q[2] for q in parts]), np.vstack([W[keep]] + [q[3] for q in parts]))
+
+    def _straight(self, t: float, sensed: Sequence[tuple[Any, ...]], p: _F64) -> tuple[_F64, _F64, _F64]:
         """Centres, velocities (known or estimated) and radii (+ the obstacle margin) of the sensed obstacles,
         and of the shuttles' images (:mod:`.sweep`)."""
         C = np.array([o[4] for o in sensed], dtype=float).reshape(-1, 3)
@@ -246,7 +268,7 @@ class PredictiveAvoidance(LocalAvoidance):
         th = min(max(th, -self.theta_max), self.theta_max)
         return np.array([math.cos(th) * math.sin(psi_b), math.cos(th) * math.cos(psi_b), math.sin(th)]), th
 
-    def _solve(self, p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64, headings: _F64,
+    def _solve(self, p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64, W: _F64, headings: _F64,
                pitches: _F64, speeds: _F64, pref: _F64, theta_pref: float,
                horizon: float) -> tuple[int, int, int, float, bool]:
         water = v_now - cur
@@ -256,17 +278,17 @@ class PredictiveAvoidance(LocalAvoidance):
         cfg[1] = max(math.hypot(water[0], water[1]), 0.1)
         cfg[2], cfg[3] = theta_pref, self.speed
         cfg[4] = self._psi_last if math.isfinite(self._psi_last) else cfg[0]
-        choice: tuple[int, int, int, float, bool] = vo_choose(p, v_now, cur, C, V, R, headings, pitches, speeds, pref,
-                                                              self.coef, cfg, WEIGHTS)
+        choice: tuple[int, int, int, float, bool] = vo_choose_windows(p, v_now, cur, C, V, R, W, headings, pitches,
+                                                                      speeds, pref, self.coef, cfg, WEIGHTS)
         return choice
 
     def _decide(self, p: _F64, t: float, v_now: _F64, cur: _F64, sensed: Sequence[tuple[Any, ...]], psi_b: float,
                 rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
-        C, V, R = self._sensed(t, sensed, p)
+        C, V, R, W = self._sensed(t, sensed, p)
         a, theta_pref = self._preferred(p, t, psi_b, rp)
         psi_a = math.atan2(a[0], a[1])
         if self.subgoal is None:  # the follower keeps control while its own command stays clear
-            _, _, _, clear, safe = self._solve(p, v_now, cur, C, V, R, np.array([psi_b]), np.array([theta_pref]),
+            _, _, _, clear, safe = self._solve(p, v_now, cur, C, V, R, W, np.array([psi_b]), np.array([theta_pref]),
                                                self.speeds[:1], a, theta_pref, 2.0 * self.params.horizon)
             if safe and clear >= 2.0 * self.params.margin:
                 self.mode = "route"
@@ -278,13 +300,13 @@ class PredictiveAvoidance(LocalAvoidance):
         t0 = time.perf_counter()
         # document 004's repulsion from the predicted geometry at closest approach
         pr = self.params
-        pref = predicted_preference(p, v_now, C, V, R, a, pr.horizon, pr.k_rep, pr.w_obs, pr.radius)
+        pref = predicted_preference_windows(p, v_now, C, V, R, W, a, pr.horizon, pr.k_rep, pr.w_obs, pr.radius)
         headings = math.atan2(pref[0], pref[1]) + self.offsets
         if math.isfinite(self._psi_last):
             headings = np.concatenate((headings, (self._psi_last, psi_a)))
         pitches = np.clip(theta_pref + self.pitch_offsets, -self.theta_max, self.theta_max) if self.params.vertical \
             else np.array([theta_pref])
-        i, j, k, _, _ = self._solve(p, v_now, cur, C, V, R, headings, pitches, self.speeds, pref, theta_pref,
+        i, j, k, _, _ = self._solve(p, v_now, cur, C, V, R, W, headings, pitches, self.speeds, pref, theta_pref,
                                     self.params.horizon)
         self.solves += 1
         self.solve_time += time.perf_counter() - t0

@@ -29,7 +29,8 @@ from numpy.typing import ArrayLike, NDArray
 from .._jit import kernel
 from ..world.terrain import elevation_kernel
 
-__all__ = ["CFG", "closest_approach", "predicted_preference", "vo_choose"]
+__all__ = ["CFG", "closest_approach", "predicted_preference", "predicted_preference_windows", "vo_choose",
+           "vo_choose_windows"]
 
 _F64 = NDArray[np.float64]
 """Array of float64 (units as documented per parameter)."""
@@ -78,11 +79,23 @@ def _segment_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: floa
     return math.sqrt(dx * dx + dy * dy + dz * dz), s
 
 
+@kernel(inline="always")
+def _window_min(rx: float, ry: float, rz: float, wx: float, wy: float, wz: float, lo: float,
+                hi: float) -> tuple[float, float]:
+    """min over s ∈ [lo, hi] of |r + w s| and that s; (inf, lo) when the window is empty."""
+    if hi < lo:
+        return math.inf, lo
+    d, s = _segment_min(rx + wx * lo, ry + wy * lo, rz + wz * lo, wx, wy, wz, hi - lo)
+    return d, lo + s
+
+
 @kernel
 def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
                          attraction: _F64, horizon: float, k_rep: float, w_obs: float,
                          radius: float) -> _F64:
     """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
+
+    Every obstacle is valid over the whole horizon (windows [0, inf]; :func:`predicted_preference_windows`).
 
     Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
     approach (``d`` its predicted surface distance, only ≤ r repels), the vehicle keeping its
@@ -116,11 +129,59 @@ def predicted_preference(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64,
     numpy.ndarray
         ``(3,)`` unit direction; ``attraction`` when the sum vanishes.
     """
+    W = np.empty((C.shape[0], 2))
+    W[:, 0] = 0.0
+    W[:, 1] = math.inf
+    out: _F64 = predicted_preference_windows(p, v_now, C, V, R, W, attraction, horizon, k_rep, w_obs, radius)
+    return out
+
+
+@kernel
+def predicted_preference_windows(p: _F64, v_now: _F64, C: _F64, V: _F64, R: _F64, W: _F64,
+                                 attraction: _F64, horizon: float, k_rep: float, w_obs: float,
+                                 radius: float) -> _F64:
+    """Return the preferred direction: attraction plus repulsion from the obstacles' predicted positions.
+
+    Document 004's repulsion k₂ (1/d − 1/r) / d^w₂ from each obstacle's predicted position at closest
+    approach (``d`` its predicted surface distance, only ≤ r repels), the vehicle keeping its
+    velocity ``v_now``.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    W : numpy.ndarray
+        ``(M, 2)`` time window [start, end] (s from now) in which each obstacle's ``C + V s`` holds
+        (a chord of a turning mover's arc, :mod:`.turning`); [0, inf] for a straight mover.
+    attraction : numpy.ndarray
+        ``(3,)`` unit attraction direction.
+    horizon : float
+        Prediction horizon T (s).
+    k_rep : float
+        Repulsion gain k₂ (m^(w₂+1)).
+    w_obs : float
+        Distance exponent w₂.
+    radius : float
+        Influence radius r from the obstacle's surface (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` unit direction; ``attraction`` when the sum vanishes.
+    """
     f = attraction.copy()
     for m in range(C.shape[0]):
         rx, ry, rz = C[m, 0] - p[0], C[m, 1] - p[1], C[m, 2] - p[2]
         wx, wy, wz = V[m, 0] - v_now[0], V[m, 1] - v_now[1], V[m, 2] - v_now[2]
-        dist, t = _segment_min(rx, ry, rz, wx, wy, wz, horizon)
+        dist, t = _window_min(rx, ry, rz, wx, wy, wz, W[m, 0], min(W[m, 1], horizon))
         d = dist - R[m]
         if d <= radius and dist > 1e-12:
             d = max(d, 1e-3)
@@ -155,6 +216,8 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
               coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
     """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
 
+    Every obstacle is valid over the whole horizon (windows [0, inf]; :func:`vo_choose_windows`).
+
     Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
     microseconds.
 
@@ -172,6 +235,62 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
         ``(M, 3)`` obstacle velocities (m/s).
     R : numpy.ndarray
         ``(M,)`` obstacle radii (m).
+    headings : numpy.ndarray
+        Candidate compass headings (rad).
+    pitches : numpy.ndarray
+        Candidate pitch angles (rad, up positive).
+    speeds : numpy.ndarray
+        Candidate speeds through the water (m/s).
+    pref : numpy.ndarray
+        ``(3,)`` unit preferred direction.
+    coef : numpy.ndarray
+        The seabed's bilinear coefficients (unused unless ``cfg``'s ``terrain`` is 1).
+    cfg : numpy.ndarray
+        The scalars named by :data:`CFG` (angles in rad, speeds in m/s, times in s, lengths in m).
+    weights : numpy.ndarray
+        Cost weights (speed, pitch, hysteresis, clearance, crossing ahead).
+
+    Returns
+    -------
+    i, j, k : int
+        Indices of the chosen heading, pitch and speed.
+    clearance : float
+        Its smallest predicted distance from an obstacle's surface over the horizon (m).
+    safe : bool
+        Whether it keeps the margin and the depth band; False: the least bad candidate.
+    """
+    W = np.empty((C.shape[0], 2))
+    W[:, 0] = 0.0
+    W[:, 1] = math.inf
+    return vo_choose_windows(p, v_now, cur, C, V, R, W, headings, pitches, speeds, pref, coef, cfg, weights)
+
+
+@kernel
+def vo_choose_windows(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64, W: _F64,
+                      headings: _F64, pitches: _F64, speeds: _F64, pref: _F64,
+                      coef: _F64, cfg: _F64, weights: _F64) -> tuple[int, int, int, float, bool]:
+    """Choose the best candidate of ``headings × pitches × speeds`` under the vehicle's turn limits.
+
+    Loops are flat (no array passed to a helper inside them): 500+ candidates must cost
+    microseconds.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        ``(3,)`` vehicle position (m).
+    v_now : numpy.ndarray
+        ``(3,)`` vehicle ground velocity (m/s); its vertical part is kept through the turn.
+    cur : numpy.ndarray
+        ``(3,)`` current velocity (m/s).
+    C : numpy.ndarray
+        ``(M, 3)`` obstacle centres (m).
+    V : numpy.ndarray
+        ``(M, 3)`` obstacle velocities (m/s).
+    R : numpy.ndarray
+        ``(M,)`` obstacle radii (m).
+    W : numpy.ndarray
+        ``(M, 2)`` time window [start, end] (s from now) in which each obstacle's ``C + V s`` holds;
+        [0, inf] for a straight mover.
     headings : numpy.ndarray
         Candidate compass headings (rad).
     pitches : numpy.ndarray
@@ -247,14 +366,17 @@ def vo_choose(p: _F64, v_now: _F64, cur: _F64, C: _F64, V: _F64, R: _F64,
                 for m in range(M):
                     rx, ry, rz = C[m, 0] - p[0], C[m, 1] - p[1], C[m, 2] - p[2]
                     w1x, w1y, w1z = V[m, 0] - v1x, V[m, 1] - v1y, V[m, 2] - v1z
-                    d1, s1 = _segment_min(rx, ry, rz, w1x, w1y, w1z, tau)
+                    d1, s1 = _window_min(rx, ry, rz, w1x, w1y, w1z, W[m, 0], min(W[m, 1], tau))
                     ex, ey, ez = rx + w1x * tau, ry + w1y * tau, rz + w1z * tau
                     w2x, w2y, w2z = V[m, 0] - vx, V[m, 1] - vy, V[m, 2] - vz
-                    d2, s2 = _segment_min(ex, ey, ez, w2x, w2y, w2z, horizon - tau)
+                    d2, s2 = _window_min(ex, ey, ez, w2x, w2y, w2z, max(W[m, 0] - tau, 0.0),
+                                         min(W[m, 1], horizon) - tau)
                     if d1 < d2:
                         dm, qx, qy, qz = d1, rx + w1x * s1, ry + w1y * s1, rz + w1z * s1
                     else:
                         dm, qx, qy, qz = d2, ex + w2x * s2, ey + w2y * s2, ez + w2z * s2
+                    if not math.isfinite(dm):
+                        continue  # its window lies beyond the horizon
                     clear = min(clear, dm - R[m])
                     if speed_o[m] > 0.05 and -(qx * V[m, 0] + qy * V[m, 1] + qz * V[m, 2]) > 0.5 * speed_o[m] * dm:
                         ahead = True

@@ -14,11 +14,42 @@ from typing import Any
 
 from ..errors import DataError
 
-__all__ = ["MAX_JSON_BYTES", "read_json"]
+__all__ = ["MAX_JSON_BYTES", "read_json", "read_bounded_text"]
 
 
 MAX_JSON_BYTES = 64 * 1024 * 1024
 """Largest JSON file read (``run.json`` of a long run is a few MB)."""
+
+
+def read_bounded_text(path: Path, limit: int, what: str) -> str:
+    """The UTF-8 text of a file no larger than ``limit`` bytes, naming the file on any fault.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    limit : int
+        Most bytes it may have.
+    what : str
+        What it is, for the message (``"a mission file"``).
+
+    Returns
+    -------
+    str
+        Its text.
+
+    Raises
+    ------
+    DataError
+        Naming the file when it is larger, unreadable or not UTF-8.
+    """
+    try:
+        size = path.stat().st_size
+        if size > limit:
+            raise DataError(f"{path}: {size:,} bytes, over the {limit:,} {what} may have")
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise DataError(f"{path}: cannot read ({exc})") from exc
 
 
 def read_json(path: Path) -> Any:
@@ -39,13 +70,7 @@ def read_json(path: Path) -> Any:
     DataError
         Naming the file and the fault (too large, not UTF-8, not JSON, nested too deeply).
     """
-    try:
-        size = path.stat().st_size
-        if size > MAX_JSON_BYTES:
-            raise DataError(f"{path}: {size:,} bytes, over the {MAX_JSON_BYTES:,} a results file may have")
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DataError(f"{path}: cannot read ({exc})") from exc
+    text = read_bounded_text(path, MAX_JSON_BYTES, "a results file")
     try:
         return json.loads(text, parse_constant=_no_constant, parse_float=_finite_float)
     except RecursionError:

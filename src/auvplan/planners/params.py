@@ -43,7 +43,7 @@ class FlowParams:
     """
 
     field: str = "exact"
-    rankine: str = "line"
+    rankine: str = "ellipsoid"
     weights: str = "normalised"
     distance: str = "true"
     strength: float = 1.0
@@ -57,8 +57,8 @@ class FlowParams:
     def __post_init__(self) -> None:
         if self.field not in ("exact", "document", "uniform"):
             raise ValueError(f"field = {self.field!r}: choose 'exact', 'document' or 'uniform'")
-        if self.rankine not in ("line", "pair", "document"):
-            raise ValueError(f"rankine = {self.rankine!r}: choose 'line', 'pair' or 'document'")
+        if self.rankine not in ("line", "pair", "document", "ellipsoid"):
+            raise ValueError(f"rankine = {self.rankine!r}: choose 'line', 'pair', 'document' or 'ellipsoid'")
         if self.weights not in ("normalised", "document"):
             raise ValueError(f"weights = {self.weights!r}: choose 'normalised' or 'document'")
         if self.distance not in ("true", "ray"):
@@ -174,6 +174,13 @@ class TimeoptParams:
         Sweeps of the time-aware elastic band after the lattice search (0 = none).
     speeds : tuple of float
         Fractions of the vehicle's speed tried by the ``"energy"`` objective.
+    labels : str
+        Lattice search: ``"auto"`` (one arrival label per node where the current stays slower than
+        the vehicle, else one per node and arrival-time bucket), ``"single"`` or ``"multi"``.
+    label_dt : float
+        Bucket width of the multi-label search (s); 0 = a cell's still-water leg time.
+    max_labels : int
+        Most labels of the multi-label search (the bucket width grows to stay within it).
     """
 
     objective: str = "time"
@@ -185,8 +192,15 @@ class TimeoptParams:
     substep: float = 0.0
     relax_iterations: int = 60
     speeds: tuple[float, ...] = (0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+    labels: str = "auto"
+    label_dt: float = 0.0
+    max_labels: int = 4_000_000
 
     def __post_init__(self) -> None:
+        if self.labels not in ("auto", "single", "multi"):
+            raise ValueError(f"labels = {self.labels!r}: choose 'auto', 'single' or 'multi'")
+        if self.label_dt < 0 or self.max_labels < 1:
+            raise ValueError("label_dt must be >= 0 (0 = automatic) and max_labels >= 1")
         if self.objective not in ("time", "energy"):
             raise ValueError(f"objective = {self.objective!r}: choose 'time' or 'energy'")
         if self.cell < 0 or self.substep < 0 or self.horizon_s < 0:

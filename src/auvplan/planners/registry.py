@@ -4,8 +4,10 @@ and robotics-toolbox's planner classes).
 A planner is a function ``run(problem, spec, rng, progress) -> PlanResult``: the
 :class:`~auvplan.planners.base.PlanningProblem` (world, end points, vehicle figures) as one
 object, the :class:`~auvplan.planners.base.PlannerSpec` (its settings), a seed or generator and
-an optional ``progress(iteration, best_cost)``.  :func:`register` adds one under a name, with the
-frozen dataclass of its settings; from then on
+an optional ``progress(iteration, best_cost)``.  A deterministic planner that neither draws nor
+iterates registers its ``plan(problem, spec)`` (or ``plan(problem, settings)``) with ``deterministic`` set,
+and the registry calls it under that signature (:func:`deterministic_run`).  :func:`register` adds one
+under a name, with the frozen dataclass of its settings; from then on
 
 - :class:`~auvplan.planners.base.PlannerSpec` accepts the name (``[planner] name = "..."``),
 - a scenario's ``[planner.<name>]`` table is read into the settings type, and the planner gets it back
@@ -28,13 +30,18 @@ import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import metadata
-from typing import Any
+from typing import Any, Literal
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get", "names", "known", "load_plugins", "ENTRY_POINTS",
-           "PLANNERS", "SWARM", "PIPELINES"]
+           "PLANNERS", "SWARM", "PIPELINES", "Deterministic", "deterministic_run"]
 
 PlannerFn = Callable[..., Any]
 """``run(problem, spec, rng, progress) -> PlanResult``."""
+
+Deterministic = Literal["spec", "settings"]
+"""What a deterministic planner's ``plan`` takes besides the problem: the whole
+:class:`~auvplan.planners.base.PlannerSpec` (``"spec"``) or only its own settings (``"settings"``,
+``spec.params_for(name)``)."""
 
 ENTRY_POINTS = "auvplan.planners"
 """The entry-point group that other packages register planners in."""
@@ -48,6 +55,35 @@ SWARM = ("iabc", "abc", "ga", "pso", "de")
 ``progress(iteration, best)``)."""
 PIPELINES = ("seeded", "document", "progressive")
 """The swarm planners' pipelines (``[planner] pipeline``)."""
+
+
+def deterministic_run(plan: PlannerFn, takes: Deterministic, name: str) -> PlannerFn:
+    """A deterministic ``plan`` under the registry's signature ``run(problem, spec, rng, progress)``.
+
+    Parameters
+    ----------
+    plan : callable
+        ``plan(problem, spec) -> PlanResult`` or ``plan(problem, settings) -> PlanResult``.
+    takes : {"spec", "settings"}
+        Which of the two ``plan`` is.
+    name : str
+        The planner's registered name (whose settings ``"settings"`` passes).
+
+    Returns
+    -------
+    callable
+        ``run(problem, spec, rng=None, progress=None)``: ``rng`` and ``progress`` unused (the planner
+        draws nothing and does not iterate).
+    """
+    if takes not in ("spec", "settings"):
+        raise ValueError(f"planner {name!r}: deterministic = {takes!r}; choose 'spec' or 'settings'")
+
+    def run(problem: Any, spec: Any, rng: Any = None, progress: Any = None) -> Any:
+        return plan(problem, spec if takes == "spec" else spec.params_for(name))
+
+    run.__name__ = run.__qualname__ = f"run_{name}"
+    run.__doc__ = f":func:`{getattr(plan, '__qualname__', plan)}` of planner {name!r} under the registry's signature."
+    return run
 
 
 def _resolve(target: Any) -> Any:
@@ -79,6 +115,10 @@ class PlannerEntry:
         Where :class:`~auvplan.planners.base.PlannerSpec` keeps those settings: the attribute of a
         built-in planner (``"flow"``, ``"iabc"`` …); None for a planner registered from outside,
         whose ``[planner.<name>]`` table :meth:`PlannerSpec.params_for` returns.
+    deterministic : {"spec", "settings"} or None
+        None: ``target`` is ``run(problem, spec, rng, progress)``.  Otherwise ``target`` is a deterministic
+        ``plan(problem, spec)`` (``"spec"``) or ``plan(problem, settings)`` (``"settings"``), which
+        :attr:`run` calls under the registry's signature (:func:`deterministic_run`).
     """
 
     name: str
@@ -87,6 +127,7 @@ class PlannerEntry:
     description: str
     params: type | str | None = None
     table: str | None = None
+    deterministic: Deterministic | None = None
 
     @property
     def run(self) -> PlannerFn:
@@ -98,7 +139,7 @@ class PlannerEntry:
             ``run(problem, spec, rng, progress) -> PlanResult``.
         """
         fn: PlannerFn = _resolve(self.target)
-        return fn
+        return fn if self.deterministic is None else deterministic_run(fn, self.deterministic, self.name)
 
     @property
     def settings_type(self) -> type | None:
@@ -120,14 +161,20 @@ _PLUGINS_LOADED = False
 def _add(entry: PlannerEntry) -> None:
     if not entry.name.isidentifier():
         raise ValueError(f"planner name {entry.name!r} must be an identifier (letters, digits, _)")
+    if entry.deterministic not in (None, "spec", "settings"):
+        raise ValueError(f"planner {entry.name!r}: deterministic = {entry.deterministic!r}; choose 'spec' or "
+                         "'settings'")
+    if entry.deterministic is not None and entry.iterative:
+        raise ValueError(f"planner {entry.name!r}: a deterministic plan function does not iterate")
     if entry.name in REGISTRY:
         raise ValueError(f"planner {entry.name!r} is already registered")
     REGISTRY[entry.name] = entry
 
 
-def register(name: str, *, iterative: bool, description: str,
-             params: type | None = None) -> Callable[[PlannerFn], PlannerFn]:
-    """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name``.
+def register(name: str, *, iterative: bool, description: str, params: type | None = None,
+             deterministic: Deterministic | None = None) -> Callable[[PlannerFn], PlannerFn]:
+    """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name`` (or, with
+    ``deterministic``, a ``plan(problem, spec)`` or ``plan(problem, settings)``).
 
     Parameters
     ----------
@@ -141,6 +188,9 @@ def register(name: str, *, iterative: bool, description: str,
         A frozen dataclass of its settings: a scenario's ``[planner.<name>]`` table is read into it
         (unknown keys and bad values rejected with the file, key and value), and the planner gets it
         from ``spec.params_for()`` (its defaults when the table is absent).
+    deterministic : {"spec", "settings"}, optional
+        The decorated function is a deterministic ``plan(problem, spec)`` (``"spec"``) or
+        ``plan(problem, settings)`` (``"settings"``): no generator, no progress (``iterative`` False).
 
     Returns
     -------
@@ -150,11 +200,12 @@ def register(name: str, *, iterative: bool, description: str,
     Raises
     ------
     ValueError
-        If ``name`` is already registered or is not an identifier (when the decorator is applied).
+        If ``name`` is already registered or is not an identifier, or ``deterministic`` is not one of the
+        two forms or comes with ``iterative`` (when the decorator is applied).
     """
 
     def add(run: PlannerFn) -> PlannerFn:
-        _add(PlannerEntry(name, run, iterative, description, params, None))
+        _add(PlannerEntry(name, run, iterative, description, params, None, deterministic))
         return run
 
     return add
@@ -232,15 +283,16 @@ _SWARM_TEXT = {
 }
 for _name, (_text, _params) in _SWARM_TEXT.items():
     _add(PlannerEntry(_name, "auvplan.planners.swarm.planner:plan_swarm", True, _text, _params, _name))
-_add(PlannerEntry("flow", "auvplan.planners.flow.planner:run_flow", False,
+# the deterministic planners: their plan functions, called under the registry's signature
+_add(PlannerEntry("flow", "auvplan.planners.flow.planner:plan_flow", False,
                   "potential-flow streamline from the start (document 000)", "auvplan.planners.params:FlowParams",
-                  "flow"))
-_add(PlannerEntry("grid", "auvplan.planners.grid.planner:run_grid", False,
+                  "flow", deterministic="settings"))
+_add(PlannerEntry("grid", "auvplan.planners.grid.planner:plan_grid", False,
                   "lattice reference: Dijkstra cost-to-go, elastic band, B-spline",
-                  "auvplan.planners.params:GridParams", "grid"))
-_add(PlannerEntry("timeopt", "auvplan.planners.timeopt.planner:run_timeopt", False,
+                  "auvplan.planners.params:GridParams", "grid", deterministic="spec"))
+_add(PlannerEntry("timeopt", "auvplan.planners.timeopt.planner:plan_timeopt", False,
                   "time-optimal path in tidal currents, departure time given", "auvplan.planners.params:TimeoptParams",
-                  "timeopt"))
+                  "timeopt", deterministic="spec"))
 
 if tuple(REGISTRY) != PLANNERS:  # pragma: no cover - a programming error
     raise RuntimeError(f"registry {tuple(REGISTRY)} does not match PLANNERS {PLANNERS}")

@@ -44,7 +44,8 @@ from ...world.seabed import SeabedFit
 from ...world.terrain import Terrain
 from .elevation import read_elevation
 from .geo import LocalFrame, normalise_lon
-from .grids import HorizontalGrid, data_span, horizontal_grid
+from .grids import HorizontalGrid, horizontal_grid
+from .regrid import data_span
 from .seabed_model import METHODS, model_seabed
 
 __all__ = [

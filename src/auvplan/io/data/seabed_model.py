@@ -23,7 +23,8 @@ import numpy as np
 from ...errors import DataError
 from ...world.seabed import SeabedFit, affine_margin, conservative_nodes, fit_report
 from .geo import LocalFrame
-from .grids import HorizontalGrid, _target_axes, _to_source, to_local
+from .grids import HorizontalGrid
+from .regrid import _target_axes, _to_source, to_local
 
 __all__ = ["METHODS", "MAX_NODES", "node_indices", "model_seabed"]
 

@@ -1,13 +1,13 @@
 """Results to files and back: the plan JSON (the CLI's contract, DESIGN.md §4), CSV paths, the
-simulation JSON, and the whole :class:`~auvplan.sim.RunRecord` as JSON + NPZ (:func:`write_run`,
-:func:`read_run`); every file written atomically, none of the user's overwritten."""
+simulation JSON, and the whole :class:`~auvplan.sim.RunRecord` as JSON + NPZ (:func:`write_run`; read back by
+:func:`read_run`, from :mod:`auvplan.io.results.readback`); every file written atomically, none of the user's
+overwritten."""
 
 from __future__ import annotations
 
 import io
 import json
 import math
-import zipfile
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, cast
@@ -15,15 +15,12 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._types import Status
-from ...errors import DataError
 from ...planners.base import PlanResult
 from ...sim import RunRecord, SimResult, decimate
 from ...world.seabed import SeabedFit
 from ..data.geo import LocalFrame
-from ..jsonfile import read_json
-from ..limits import check_npz
 from ..safeio import atomic_write
+from .readback import SIM_ARRAYS, read_run
 
 __all__ = [
     "JsonDict",
@@ -44,9 +41,6 @@ __all__ = [
 
 JsonDict = dict[str, Any]
 """A JSON object."""
-
-_SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
-               "obstacle_distance")
 
 
 def jsonable(value: Any) -> Any:
@@ -377,106 +371,11 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     if record.plan is not None:
         arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
     if record.sim is not None:
-        arrays.update({f"sim_{k}": getattr(record.sim, k) for k in _SIM_ARRAYS})
+        arrays.update({f"sim_{k}": getattr(record.sim, k) for k in SIM_ARRAYS})
     buf = io.BytesIO()
     np.savez_compressed(buf, **arrays)  # type: ignore[arg-type]
     write_text(out / "run.npz", buf.getvalue())
     return rec
-
-
-def read_run(out_dir: Path) -> tuple[RunRecord, str]:
-    """Read back the :class:`RunRecord` written by :func:`write_run` into ``out_dir``.
-
-    Parameters
-    ----------
-    out_dir : pathlib.Path
-        Results folder.
-
-    Returns
-    -------
-    record : RunRecord
-        The run.
-    scenario_text : str
-        The stored scenario (empty when missing).
-
-    Raises
-    ------
-    DataError
-        Naming the missing or unreadable file.
-    """
-    out = Path(out_dir)
-    files = {n: out / n for n in ("run.json", "run.npz")}
-    for p in files.values():
-        if not p.is_file():
-            raise DataError(f"{p}: missing — is {out} a directory written by `auvplan run --out`?")
-    rec = read_json(files["run.json"])
-    check_npz(files["run.npz"])  # the members' headers against the budget, before a byte of data is read
-    try:
-        with np.load(files["run.npz"], allow_pickle=False) as npz:
-            arr = {k: npz[k] for k in npz.files}
-    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise DataError(f"{files['run.npz']}: cannot read the run's arrays: {' '.join(str(exc).split())[:200]}") \
-            from exc
-    try:
-        scenario_file = out / "scenario.toml"
-        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
-        return _record_from(rec, _Arrays(arr, files["run.npz"])), text
-    except _ArrayFault as exc:
-        raise DataError(f"{files['run.npz']}: {exc}") from exc
-    except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError, OverflowError) as exc:
-        raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
-
-
-class _ArrayFault(Exception):
-    """A member of ``run.npz`` missing or of the wrong shape (blamed on run.npz, not run.json)."""
-
-
-class _Arrays(dict[str, Any]):
-    """The members of ``run.npz``; a missing or malformed one is an :class:`_ArrayFault`."""
-
-    def __init__(self, arr: Mapping[str, Any], path: Path) -> None:
-        super().__init__(arr)
-        self.path = path
-
-    def __getitem__(self, key: str) -> Any:
-        if key not in self:
-            raise _ArrayFault(f"member {key!r} is missing")
-        value = super().__getitem__(key)
-        if not isinstance(value, np.ndarray) or value.dtype.kind not in "biuf":
-            raise _ArrayFault(f"member {key!r} is not a numeric array")
-        return value
-
-    def get(self, key: str, default: Any = None) -> Any:
-        return self[key] if key in self else default
-
-
-
-
-def _record_from(rec: JsonDict, arr: Mapping[str, Any]) -> RunRecord:
-    plan = None
-    p = rec.get("plan")
-    if p is not None:
-        terms = {k: _num(p.get(k)) for k in ("length_m", "energy_j", "duration_s", "min_clearance_m")}
-        terms.update({k: _num(v) for k, v in (p.get("cost_terms") or {}).items()})
-        terms["collisions"] = int(p.get("collisions") or 0)
-        plan = PlanResult(Status(p["status"]), arr.get("plan_path", np.empty((0, 3))), _num(p.get("cost")), terms,
-                          int(p.get("evaluations") or 0), int(p.get("iterations") or 0),
-                          _num(p.get("wall_time_s")), arr.get("plan_history", np.empty(0)), p["planner"],
-                          None, p.get("message") or "")
-    sim = None
-    s = rec.get("simulation")
-    if s is not None:
-        sim = SimResult(status=Status(s["status"]), arrived=bool(s["arrived"]),
-                        **{k: arr[f"sim_{k}"] for k in _SIM_ARRAYS},
-                        events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
-                        wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
-                        avoidance=s.get("avoidance", "none"))
-    route = arr.get("route", np.empty((0, 3)))
-    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
-
-
-def _num(v: Any) -> float:
-    return float("nan") if v is None else float(v)
 
 
 # ---------------------------------------------------------------------------------------- exports

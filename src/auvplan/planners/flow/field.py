@@ -55,6 +55,7 @@ from .elements import (
     sphere_exact_velocity,
     uniform_dipole_velocity,
 )
+from .ellipsoid import EllipsoidBody, design_ellipsoid_body
 
 __all__ = [
     "FlowParams",
@@ -120,7 +121,9 @@ def blend_weights(d: FloatArray, kind: str = "normalised") -> FloatArray:
 
 @lru_cache(maxsize=128)
 def _cached_body(ob: Ellipsoid, target: tuple[float, ...], sizing: str, Q: float, margin: float,
-                 pad: float) -> AxialBody:
+                 pad: float) -> AxialBody | EllipsoidBody:
+    if sizing == "ellipsoid":
+        return design_ellipsoid_body(ob, np.array(target), Q, margin, pad)
     return design_body(ob, np.array(target), sizing, Q, margin, pad)
 
 
@@ -206,11 +209,20 @@ class FlowField:
         self.plane = plane
         self.axes: list[np.ndarray] = []
         self.sides: list[np.ndarray] = []
+        self.anchors: list[np.ndarray] = []  # where the front stagnation rule's axis passes (centre or front point)
+        self.bands: list[float] = []  # the rule's reach off that axis, in units of the radius
         radii: list[float] = []
         for i, ob in enumerate(self.items):
             c = np.asarray(ob.center)
             e = self.direction if self.direction is not None else (self.target - c) / np.linalg.norm(self.target - c)
+            anchor, band = c, 0.05
+            body = self.bodies[i - len(self.spheres)] if i >= len(self.spheres) else None
+            if isinstance(body, EllipsoidBody):  # the flow divides at a regular point off the axis
+                anchor, normal = body.front
+                e, band = -normal, 1e-3
             self.axes.append(e)
+            self.anchors.append(anchor)
+            self.bands.append(band)
             self.sides.append(_side(ob, e))
             radii.append(self.A[i] if i < len(self.spheres) else self.bodies[i - len(self.spheres)].radius)
         self.radii = np.asarray(radii)

@@ -7,16 +7,16 @@ import time
 
 import numpy as np
 
-from ..._types import ArrayLike, RngLike, Status
+from ..._types import ArrayLike, Status
 from ...path import polyline_length
 from ...world import World
-from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..base import PlanningProblem, PlanResult
 from ..common import check_endpoints
 from ..params import FlowParams
 from .field import FlowField
 from .stream import integrate_streamlines
 
-__all__ = ["seabed_plane", "plan_flow", "run_flow"]
+__all__ = ["seabed_plane", "plan_flow"]
 
 
 def seabed_plane(world: World, start: ArrayLike, goal: ArrayLike, buffer: float) -> tuple[float | None, str]:
@@ -125,26 +125,3 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
     terms["collisions"] = terms["violations"]  # deprecated alias (CHANGELOG 0.2.0)
     return PlanResult(status, path, length, terms, int(sl.steps[0]) * 4, int(sl.steps[0]),
                       time.perf_counter() - t0, np.empty(0), "flow", None, message)
-
-
-def run_flow(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
-             progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_flow` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World, start, goal and vehicle figures.
-    spec : PlannerSpec
-        The planner's settings.
-    rng : Generator, int or None
-        Unused.
-    progress : callable, optional
-        Unused (the planner does not iterate).
-
-    Returns
-    -------
-    PlanResult
-        As :func:`plan_flow`.
-    """
-    return plan_flow(problem, spec.flow)

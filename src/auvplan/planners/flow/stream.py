@@ -240,14 +240,14 @@ def _deflect(field: FlowField, x: FloatArray, d: FloatArray, h_min: float) -> tu
     j = d[:, :K].argmin(axis=1)
     for k in np.unique(j):
         sel = np.flatnonzero(j == k)
-        c = np.asarray(field.items[k].center)
+        c = field.anchors[k]
         e = field.axes[k]
         R = field.radii[k]
         q = x[sel] - c
         along = q @ e
         perp = q - along[:, None] * e
         rho = np.linalg.norm(perp, axis=1)
-        near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho < 0.05 * R)
+        near = (d[sel, k] < max(2.0 * h_min, 0.02 * R)) & (along < 0) & (rho < field.bands[k] * R)
         if not near.any():
             continue
         s = np.where((rho > 1e-9 * R)[:, None], perp / np.maximum(rho, 1e-300)[:, None], field.sides[k])

@@ -170,9 +170,9 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
 
 
 def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
-              iterations: int, tol: float, cycles: int = 6) -> tuple[np.ndarray, float, int]:
+              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0) -> tuple[np.ndarray, float, int]:
     """Refine until the cost stops improving, the same way whatever the lattice: cycles of
-    levels, each level resampling the best path so far every 1/8, 1/16, … 1/2048 of its length
+    levels, each level resampling the best path so far every 1/8, 1/16, … 1/``finest`` of its length
     (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
     objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
     free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
@@ -186,7 +186,7 @@ def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, mod
     for _ in range(cycles):
         before = best_cost
         spacing = length / 8.0
-        while spacing >= length / 2048.0:
+        while spacing >= length / finest:
             levels += 1
             cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
             if objective == "length":

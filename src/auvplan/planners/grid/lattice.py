@@ -309,7 +309,7 @@ def _settle_link(v: int, shape: IntArray, bits: Any, offsets: IntArray, vec: Flo
 @kernel
 def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, current: Any, use_cost: bool,
             w_length: float, w_energy: float, speed: float, power: float, document: int, near: IntArray,
-            w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, key: FloatArray, origin: FloatArray,
+            w_goal: FloatArray, goal: int, dist: FloatArray, nxt: Any, hkey: FloatArray, origin: FloatArray,
             steps: FloatArray, start: FloatArray, c_min: float, start_near: IntArray, w_start: FloatArray,
             box: IntArray, heap: Any, pos: Any, link: int, alt: Any, obs: Any, land: Any, flags: Any,
             lipschitz: float, min_alt: float, gf: FloatArray) -> int:
@@ -318,21 +318,25 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
     Returns the nodes settled."""
     ny, nz = shape[1], shape[2]
     pf = np.empty(3)  # the far end of a link, in cells
+    delta = np.empty(26, dtype=np.int64)  # each direction's step in flat node ids
+    lens = np.empty(26)  # each direction's edge length
+    for s in range(26):
+        delta[s] = (offsets[s, 0] * ny + offsets[s, 1]) * nz + offsets[s, 2]
+        lens[s] = math.sqrt(vec[s, 0] * vec[s, 0] + vec[s, 1] * vec[s, 1] + vec[s, 2] * vec[s, 2])
     size = 0
     for k in range(near.size):
         u = near[k]
         if w_goal[k] < dist[u]:
             dist[u] = w_goal[k]
-            key[u] = dist[u] + _heuristic(u, ny, nz, origin, steps, start, c_min)
             nxt[u] = goal
-            size = _push(heap, pos, key, size, u)
+            size = _push(heap, hkey, pos, size, u, dist[u] + _heuristic(u, ny, nz, origin, steps, start, c_min))
     best = np.inf
     settled = 0
     while size > 0:
         v = heap[0]
-        if key[v] >= best:
+        if hkey[0] >= best:
             break  # A*: no unsettled node leads to a cheaper start
-        size = _pop(heap, pos, key, size, -2)
+        size = _pop(heap, hkey, pos, size, -2)
         settled += 1
         if link > 0 and (nxt[v] != goal or max(abs(v // (nz * ny) - gf[0]), abs((v // nz) % ny - gf[1]),
                                                abs(v % nz - gf[2])) > 2.01):  # a goal link of its own is exact
@@ -351,15 +355,18 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
             # along the reverse direction is (one edge, both bits set): no bounds test, no load of bits[u]
             if not (mask >> (s + 13 if s < 13 else s - 13)) & 1:
                 continue
-            ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
-            u = (ui * ny + uj) * nz + uk
+            u = v - delta[s]
             if pos[u] == -2:
                 continue
-            via = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
-                                         document)
+            if use_cost:
+                via = dist[v] + _edge_weight(u, v, s, vec, current, use_cost, w_length, w_energy, speed, power,
+                                             document)
+            else:
+                via = dist[v] + lens[s]  # the length objective: the edge's length, computed once per direction
             to = v
-            p = nxt[v]
             if link > 0:  # Theta*: straight on to v's next node (or the goal), checked when u is settled
+                p = nxt[v]
+                ui, uj, uk = i - offsets[s, 0], j - offsets[s, 1], k - offsets[s, 2]
                 if p == goal:
                     pf[0], pf[1], pf[2] = gf[0], gf[1], gf[2]
                 else:
@@ -372,9 +379,8 @@ def _search(shape: IntArray, bits: Any, offsets: IntArray, vec: FloatArray, curr
                         via, to = guess, p
             if via < dist[u]:
                 dist[u] = via
-                key[u] = via + _heuristic(u, ny, nz, origin, steps, start, c_min)
                 nxt[u] = to
-                size = _push(heap, pos, key, size, u)
+                size = _push(heap, hkey, pos, size, u, via + _heuristic(u, ny, nz, origin, steps, start, c_min))
     return settled
 
 
@@ -429,7 +435,6 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
     nxt = np.full(n + 1, -1, dtype=np.int32)
     dist[n] = 0.0
     astar = start is not None and start_near is not None and c_min > 0.0
-    key = np.full(n + 1, np.inf) if astar else dist
     vec = OFFSETS * np.asarray(steps, dtype=float)
     sn, ws = start_near if astar and start_near is not None else (np.zeros(0, np.int64), np.zeros(0))
     box = np.zeros(6, dtype=np.int64)
@@ -443,7 +448,7 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
     gf = (np.asarray(goal_point, dtype=float) - np.asarray(origin, dtype=float)) / np.asarray(steps, dtype=float)
     settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not None, float(w[0]),
                       float(w[1]), float(w[2]), float(w[3]), int(w[4]), np.asarray(goal_near[0], dtype=np.int64),
-                      np.asarray(goal_near[1], dtype=float), n, dist, nxt, key, np.asarray(origin, dtype=float),
+                      np.asarray(goal_near[1], dtype=float), n, dist, nxt, np.empty(n), np.asarray(origin, dtype=float),
                       np.asarray(steps, dtype=float), np.zeros(3) if start is None else np.asarray(start, float),
                       float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64),
                       np.asarray(ws, dtype=float), box, np.empty(n, dtype=np.int32),

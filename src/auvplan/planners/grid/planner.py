@@ -36,18 +36,18 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, RngLike, Status
+from ..._types import ArrayLike, FloatArray, Status
 from ...cost import CostModel, energy_mode, propulsion_power
 from ...guidance.local import key_waypoints
 from ...path import sample_population
 from ...world import World
-from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box
 from ..params import GridParams
 from .band import _converge, _refine, edge_cost, path_cost, resample_free
 from .lattice import down32, edge_bits, node_fields, search
 
-__all__ = ["GridReference", "plan_grid", "run_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
+__all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
            "path_cost", "resample_free", "with_reference"]
 
 def auto_cell(world: World, lower: FloatArray, upper: FloatArray, params: GridParams) -> tuple[float, float]:
@@ -120,6 +120,8 @@ class GridReference:
         Directed edges in the graph.
     settled : int
         Nodes the search settled.
+    search_cpu_s : float
+        CPU time of the search alone (the field over the built lattice), s.
     """
 
     def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
@@ -157,8 +159,10 @@ class GridReference:
             span = np.linalg.norm(self._coords(ids) - start, axis=1)  # the start's links obey the bound too
             if np.any(span > 0):
                 c_min = min(c_min, float(np.min(w[span > 0] / span[span > 0])))
+        t0 = time.process_time()
         self._dist, self._next, self.settled = search(self.shape, bits, steps, origin, current, cost, (near, w_goal),
                                                       start_near, start, c_min, links)
+        self.search_cpu_s = time.process_time() - t0
         self.cost_to_go = self._dist[:self._goal_id].reshape(self.shape)
 
     def _links(self, alt: np.ndarray, obs: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, np.ndarray, bool, bool,
@@ -377,7 +381,7 @@ def _plan_lattice(problem: PlanningProblem, spec: PlannerSpec,
     ), reference.cell
 
 
-def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult) -> PlanResult:
+def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult, finest: float = 2048.0) -> PlanResult:
     """``result`` with its path refined to convergence on the planner's cost function (the lattice
     reference's own refinement) when that is cheaper and free, else ``result`` unchanged.
 
@@ -389,6 +393,8 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult)
         The cost function and the refinement settings (``spec.grid``).
     result : PlanResult
         A plan of any planner.
+    finest : float, default 2048
+        The finest level's spacing as a fraction of the length (1/``finest``).
 
     Returns
     -------
@@ -399,7 +405,7 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult)
         return result
     params = spec.grid
     path, cost, levels = _converge(problem, spec, np.asarray(result.path, dtype=float), cost_model_for(problem, spec),
-                                   params.relax_iterations, params.converge_tol)
+                                   params.relax_iterations, params.converge_tol, finest=finest)
     if not cost < result.cost or not problem.world.path_free(path):
         return result
     terms = path_cost(problem, spec, path)
@@ -458,26 +464,3 @@ def with_reference(result: PlanResult, problem: PlanningProblem, spec: PlannerSp
     if not reference.status.ok or result.path.shape[0] < 2:
         return replace(result, reference_cost=reference.cost)
     return replace(on_cost_function(result, problem, spec), reference_cost=float(reference.cost))
-
-
-def run_grid(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
-             progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_grid` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World, start, goal and vehicle figures.
-    spec : PlannerSpec
-        The planner's settings.
-    rng : Generator, int or None
-        Unused.
-    progress : callable, optional
-        Unused (the planner does not iterate).
-
-    Returns
-    -------
-    PlanResult
-        As :func:`plan_grid`.
-    """
-    return plan_grid(problem, spec)

@@ -229,7 +229,7 @@ def plan_swarm(
     if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
         result = replace(_fallback(problem, spec, ref, result), work=work)
     if spec.pipeline == "seeded":
-        result = polish_polyline(problem, spec, result)
+        result = polish_polyline(problem, spec, result, lattice)
     return replace(result, wall_time_s=time.perf_counter() - t0)
 
 

@@ -14,6 +14,7 @@ The same lattice path is the fallback plan when the optimiser ends with no feasi
 
 from __future__ import annotations
 
+import functools
 from dataclasses import replace
 
 import numpy as np
@@ -166,12 +167,15 @@ def compositions(k: int, m: int) -> IntArray:
     numpy.ndarray
         ``(C(k + m - 1, m - 1), m)`` integer rows, the first part in decreasing order.
     """
+    return np.array(_compositions(k, m), dtype=np.int_).reshape(-1, m)
+
+
+@functools.lru_cache(maxsize=64)
+def _compositions(k: int, m: int) -> tuple[tuple[int, ...], ...]:
+    """:func:`compositions` as tuples, cached (each plan asks for the same few)."""
     if m == 1:
-        return np.array([[k]])
-    rows = [np.c_[np.full((len(rest), 1), first), rest] for first in range(k, -1, -1)
-            for rest in [compositions(k - first, m - 1)]]
-    out: IntArray = np.vstack(rows)
-    return out
+        return ((k,),)
+    return tuple((first, *rest) for first in range(k, -1, -1) for rest in _compositions(k - first, m - 1))
 
 
 def corner_control_points(polygon: ArrayLike, k: int) -> list[FloatArray]:

@@ -18,7 +18,7 @@ line (behind its start too) until the current eases, then goes on — the
 constant-heading least-time flight of a uniform current, and what the closed-loop follower does
 (it holds the active leg's line).  From the first sub-step where ``g`` falls below a quarter of V
 the leg is integrated in time instead (midpoint steps of ``ds / V`` seconds).  A leg is rejected
-(``inf``, never ``nan``) only where no heading holds its line (``|c⊥| > V``), where it would not
+(``inf``, never ``nan``) only where no heading holds its line (``|c⊥| > HOLD V``, 3 % short of V), where it would not
 reach the end before the table does (two leg times past its end), and, in the search, where the
 drift would take the vehicle more than a leg length behind its start (onto the reverse leg, which
 must be free).  :func:`leg_reach` also returns how far behind its start a leg drifted, so
@@ -37,8 +37,12 @@ import numpy.typing as npt
 from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
 
-__all__ = ["current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times", "search",
+__all__ = ["HOLD", "current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times", "search",
            "Float32Array"]
+
+#: The search holds a line only with this fraction of the vehicle's speed across it (the rest, 3 %,
+#: is the margin that keeps a planned line holdable when flown a little off the planned times).
+HOLD = 0.97
 
 #: The current table's precision: ``cur (nt, nx, ny, nz, 3)`` in m/s as float32.
 Float32Array: TypeAlias = npt.NDArray[np.float32]
@@ -153,13 +157,15 @@ def track_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, s
     -------
     float
         ``c·ŝ + √(V² - |c⊥|²)`` (m/s), negative when the along-track current beats the vehicle (it
-        drifts back on the line); ``nan`` where no heading holds the line (``|c⊥| > V``).
+        drifts back on the line); ``nan`` where the search takes no heading to hold the line
+        (``|c⊥| > HOLD V``: a line at the very edge of what the vehicle can hold is lost for a few
+        seconds' difference in timing, or in the World's current between the table's slices).
     """
     c_par = u * ex + v * ey + w * ez
-    disc = speed * speed - max(u * u + v * v + w * w - c_par * c_par, 0.0)
-    if disc < 0.0:
+    cross = max(u * u + v * v + w * w - c_par * c_par, 0.0)
+    if cross > HOLD * HOLD * speed * speed:
         return math.nan
-    return c_par + math.sqrt(disc)
+    return c_par + math.sqrt(max(speed * speed - cross, 0.0))
 
 
 @kernel

@@ -17,10 +17,10 @@ from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, RngLike, Status
+from ..._types import ArrayLike, FloatArray, Status
 from ...cost import evaluate_paths
 from ...path import polyline_length
-from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box
 from .search import (
     CurrentTable,
@@ -35,7 +35,7 @@ from .search import (
 )
 from .timing import fly_times
 
-__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt", "run_timeopt",
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt",
            "departure_sweep", "sweep_summary"]
 
 
@@ -107,8 +107,8 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
         speeds = [speed]
     else:
         speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
-    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds)
-            for v in speeds]
+    raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds, p.labels,
+                        p.label_dt, p.max_labels) for v in speeds]
     scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
               for r in raws if r is not None and np.isfinite(r.duration)]
     if not scored:
@@ -117,8 +117,10 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
     refined = refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
     for cand in (refined, raw):  # the refinement may move a leg whose drift back meets the seabed
-        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)):
-            return cand
+        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)) \
+                and (table is not None or np.isfinite(flown(problem, ts, cand).duration)):
+            return cand  # (where the current beats the vehicle, a line held at the table's edge of the
+            # cone may be lost in the World's own current: then the other candidate)
     return refined
 
 
@@ -207,6 +209,10 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
     for attempt in range(3):  # the horizon doubles when a plan runs past the end of the table
         ts = ts or setup(problem, spec, depart, depart)
         best = _fly(problem, spec, ts, depart)
+        if best is None and attempt < 2:  # no path within the table: a longer one may have one
+            spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
+            p, ts = spec.timeopt, None
+            continue
         if best is None:
             return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
                             f"within {ts.table.t1 - depart:.0f} s (no heading makes good a way there against a current "
@@ -373,26 +379,3 @@ def sweep_summary(rows: list[SweepRow], energy: bool = False) -> SweepSummary:
         "mean_saved_vs_straight_pct": float(np.nanmean([saved(r.duration_s, r.straight_duration_s) for r in ok])),
         "cpu_per_departure_s": float(np.mean([r.cpu_s for r in rows])),
     }
-
-
-def run_timeopt(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
-                progress: Progress | None = None) -> PlanResult:
-    """:func:`plan_timeopt` under the registry's signature (deterministic: ``rng`` and ``progress`` unused).
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World, start, goal and vehicle figures.
-    spec : PlannerSpec
-        The planner's settings.
-    rng : Generator, int or None
-        Unused.
-    progress : callable, optional
-        Unused (the planner does not iterate).
-
-    Returns
-    -------
-    PlanResult
-        As :func:`plan_timeopt`.
-    """
-    return plan_timeopt(problem, spec)

@@ -21,9 +21,10 @@
    to make the most headway and drifts back on it until the current eases (:mod:`.kernels`; the
    leg behind its start must be free too); only legs no heading can hold (cross current above V)
    are not taken at that time.  The vehicle does not wait (it cannot hold station against a
-   current faster than itself).  Drifting back breaks FIFO for legs from the same node at
-   different times, so the search is then a close approximation (the uniform-current oracles of
-   ``tests/test_timeopt.py`` hold it to 1 %), no longer exact for the lattice.
+   current faster than itself).  Drifting back and legs that open later break FIFO, and one label
+   per node then fails where the current turns (issue 36): where the table's current can reach
+   the vehicle's speed the search keeps a label per node and arrival-time bucket instead
+   (:mod:`.labels`; ``labels = "auto"``), exact for the lattice as the buckets shrink.
 4. **Refinement.**  The lattice path, resampled every half cell, is pulled by a time-aware elastic
    band: in turn the odd and even vertices try a pull towards their neighbours' midpoint and moves
    of ±δ across the path (horizontally and vertically), and keep the move that brings the vehicle
@@ -47,7 +48,8 @@ from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ...path import densify, polyline_length, resample_polyline
 from ...world import World
 from ..grid.lattice import free_edges
-from .kernels import Float32Array, polyline_times, search, two_legs
+from .kernels import Float32Array, polyline_times, two_legs
+from .labels import fifo_holds, multi_search, single_search
 
 __all__ = ["Lattice", "CurrentTable", "TimedPath", "time_search", "timed_traverse", "drift_free", "build_lattice",
            "build_table", "refine"]
@@ -337,7 +339,8 @@ def _links(world: World, lattice: Lattice, point: FloatArray, reach: float) -> I
 
 
 def time_search(world: World, lattice: Lattice, table: CurrentTable, start: ArrayLike, goal: ArrayLike,
-                depart: float, speed: float, ds: float) -> TimedPath | None:
+                depart: float, speed: float, ds: float, labels: str = "auto", label_dt: float = 0.0,
+                max_labels: int = 4_000_000) -> TimedPath | None:
     """Earliest-arrival lattice path from start to goal.
 
     Parameters
@@ -356,6 +359,14 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
         Through-water speed (m/s).
     ds : float
         Largest integration sub-step (m).
+    labels : str, default "auto"
+        ``"single"``: one label per node (:func:`.kernels.search`); ``"multi"``: one per node and
+        arrival-time bucket (:mod:`.labels`); ``"auto"``: single where FIFO provably holds (the
+        table's current slower than the vehicle from ``depart`` on), else multi.
+    label_dt : float, default 0
+        Bucket width of the multi-label search (s; 0 = a cell's still-water leg time).
+    max_labels : int, default 4 000 000
+        Most labels of the multi-label search (the bucket width grows to stay within it).
 
     Returns
     -------
@@ -373,22 +384,18 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     s_arr = np.array([leg.times[-1] if drift_free(world, leg) else np.inf for leg in s_legs])
     goal_link = np.zeros(xyz.shape[0], dtype=bool)
     goal_link[g_ids] = True
-    arrival = np.full(xyz.shape[0], np.inf)
-    pred = np.full(xyz.shape[0], -2, dtype=np.int64)
-    best, last = search(*args, np.array(lattice.shape, dtype=np.int64), _OFFSETS, _OPPOSITE, lattice.edge_ok,
-                        s_ids.astype(np.int64), s_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
+    common = (args, lattice.shape, _OFFSETS, _OPPOSITE, lattice.edge_ok, s_ids, s_arr, goal_link, goal, float(speed),
+              float(ds))
+    if labels == "single" or (labels == "auto" and fifo_holds(table.cur, table.t0, table.dt, depart, table.t1, speed)):
+        best, nodes, at = single_search(*common)
+    else:
+        best, nodes, at = multi_search(*common, float(depart), label_dt or float(lattice.step[0]) / speed, max_labels)
     straight = timed_traverse(table, [start, goal], depart, speed, ds)
     if world.path_free(straight.points) and drift_free(world, straight) and straight.times[-1] <= best:
         return straight
     if not np.isfinite(best):
         return None
-    chain = [int(last)]
-    while pred[chain[-1]] >= 0:
-        chain.append(int(pred[chain[-1]]))
-    chain.reverse()
-    pts = np.vstack([start, xyz[chain], goal])
-    times = np.r_[depart, arrival[chain], best]
-    return TimedPath(pts, times, float(speed))
+    return TimedPath(np.vstack([start, xyz[nodes], goal]), np.r_[depart, at, best], float(speed))
 
 
 def _normals(p: FloatArray, i: IntArray) -> tuple[FloatArray, FloatArray]:
