@@ -86,8 +86,15 @@ def test_a_move_sends_one_waypoint_and_the_page_copy_equals_the_server(tmp_path)
         for a, b in zip(page_v, server_v):
             assert {**a, "value": None} == {**b, "value": None}
             assert a["value"] == b["value"] or (a["value"] is None and math.isnan(b["value"]))
-    # a page that missed a revision gets the whole list again
-    st = client.post("/api/edit", json={"op": "depth", "index": 3, "z": -2350.0, "rev": rev - 1}).json()
+    # an edit made on a revision that is not the server's current one is refused, nothing changes
+    before = session.waypoints.copy()
+    r = client.post("/api/edit", json={"op": "depth", "index": 3, "z": -2350.0, "rev": rev - 1})
+    assert r.status_code == 409 and r.json()["stale"] and "the mission changed" in r.json()["error"]
+    np.testing.assert_array_equal(session.waypoints, before)
+    # a page one revision behind gets the splice from its revision; two behind, the whole list again
+    st = client.post("/api/check", json={"semantics": "held", "pitch": 15.0, "rev": rev - 1}).json()
+    assert st["delta"]["base"] == rev - 1 and st["rev"] == rev
+    st = client.post("/api/check", json={"semantics": "held", "pitch": 15.0, "rev": rev - 2}).json()
     assert st["waypoints"] == session.waypoints.tolist() and "delta" not in st
     # without a revision (scripts, the tests above): the whole state, as before
     st = client.post("/api/edit", json={"op": "depth", "index": 3, "z": -2360.0}).json()

@@ -33,7 +33,7 @@ from starlette.routing import Route
 from ..errors import AuvplanError
 from ..sim import RunRecord
 from .check import CheckResult
-from .delta import Revisions
+from .delta import Revisions, StaleRevision
 from .session import Session, builtin_names
 
 __all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
@@ -44,7 +44,7 @@ LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
 
-_STATIC = {"app.js": "text/javascript", "app.css": "text/css"}
+_STATIC = {"app.js": "text/javascript", "delta.js": "text/javascript", "app.css": "text/css"}
 """Assets of the page, by name (nothing else under /static is served)."""
 
 
@@ -234,6 +234,8 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
             try:
                 data = await body(request) if request.method == "POST" else {}
                 out = await run_in_threadpool(work, data)
+            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
+                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
             except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError) as exc:
                 return JSONResponse({"error": one_line(exc)}, status_code=400)
             if isinstance(out, Response):
@@ -245,8 +247,20 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
 
         return handler
 
+    def current(d: dict[str, Any]) -> None:
+        """Refuse an edit made on another revision than the session's (the caller holds the lock)."""
+        result = session.result
+        revisions.require(d.get("rev"), session.waypoints, result.violations if result is not None else [])
+
     def edit(d: dict[str, Any]) -> None:
-        session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+        with session.lock:
+            current(d)
+            session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+
+    def undo(d: dict[str, Any]) -> None:
+        with session.lock:
+            current(d)
+            session.undo()
 
     def chart(d: dict[str, Any]) -> Response:
         return Response(_chart(session), media_type="application/json")
@@ -264,7 +278,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/state", api(lambda d: None, full=True)),
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),
-        Route("/api/undo", api(lambda d: session.undo() and None), methods=["POST"]),
+        Route("/api/undo", api(undo), methods=["POST"]),
         Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
                                 and None), methods=["POST"]),
         Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), str(d.get("key")), d.get("value"))

@@ -4,10 +4,10 @@ const gd = document.getElementById("chart");   // the editable overlay: the miss
 const bg = document.getElementById("base");    // the report's chart underneath (drawn once per scenario)
 const $ = (id) => document.getElementById(id);
 let S = null;          // the last state from the server
-let SW = [];           // the server's waypoints at revision `rev` (kept up to date by the edits' splices)
-let SV = [];           // and their check's violations
-let rev = null;        // the revision of SW (sent with every request: the server answers with what changed)
-let W = [];            // the waypoints being drawn (copied from SW)
+const C = { rev: null, w: [], v: [] };  // the server's waypoints `w` and violations `v` at revision `rev`
+                       // (kept by the answers' splices, delta.js; `rev` goes with every request)
+let queue = Promise.resolve();  // the requests, one at a time, each sent on the answer before it
+let W = [];            // the waypoints being drawn (copied from C.w)
 const MAXDRAWN = 200;  // markers (and labels) drawn per trace at most: plotly thins those in view beyond
 const MAXLISTED = 200; // violations listed in the panel at most
 const shown = {};      // what each overlay trace and panel shows (skip redrawing what did not change)
@@ -24,21 +24,30 @@ const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
 
-async function call(url, data) {
-  pending += 1; $("busy").hidden = false;
-  try {
-    const r = await fetch(url, data === undefined ? {} : {
-      method: "POST", headers: { "Content-Type": "application/json" },
-      body: JSON.stringify(rev === null ? data : Object.assign({ rev }, data)) });
-    const j = await r.json();
-    if (!r.ok) { $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || ""; return null; }
-    $("error").textContent = ""; document.body.dataset.error = "";
-    await show(j);
-    return j;
-  } finally {
+// Requests go one at a time: each is sent with the revision the answer before it left (an edit names the
+// picture it was made on; the server refuses it if the mission changed since: HTTP 409).
+function call(url, data) {
+  pending += 1; $("busy").hidden = false; document.body.dataset.pending = String(pending);
+  const p = queue.then(() => send(url, data)).finally(() => {
     pending -= 1; $("busy").hidden = pending === 0;
     document.body.dataset.pending = String(pending);
+  });
+  queue = p.catch(() => null);
+  return p;
+}
+async function send(url, data) {
+  const r = await fetch(url, data === undefined ? {} : {
+    method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(C.rev === null ? data : Object.assign({ rev: C.rev }, data)) });
+  const j = await r.json();
+  if (!r.ok) {
+    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
+    if (j.stale) { C.rev = null; await send("/api/state"); }  // not applied: show the mission as it is now
+    return null;
   }
+  $("error").textContent = ""; document.body.dataset.error = "";
+  await show(j);
+  return j;
 }
 
 function axes() {
@@ -143,21 +152,6 @@ async function syncBase(ev) {  // pan/zoom on the overlay moves the chart, then 
   } finally { syncing = false; }
 }
 
-// The server's waypoints: the whole list, or the splice from the revision the page holds.
-function takeWaypoints(st) {
-  if (st.delta && st.rev !== undefined && (st.rev === rev || st.rev === rev + 1)) {
-    const d = st.delta, v = d.violations;
-    if (d.waypoints.length || d.stop > d.start) SW.splice(d.start, d.stop - d.start, ...d.waypoints.map((p) => p.slice()));
-    if (v.items.length || v.stop > v.start) SV.splice(v.start, v.stop - v.start, ...v.items);
-  } else if (st.waypoints) {
-    SW = st.waypoints.map((p) => p.slice());
-    SV = (st.check && st.check.violations) || [];
-  } else {  // a splice on a revision the page does not hold: ask for everything
-    rev = null; return false;
-  }
-  rev = st.rev === undefined ? null : st.rev;
-  return true;
-}
 function changed(key, value) {  // true (and remembered) when `value` differs from what `key` last showed
   const v = typeof value === "string" ? value : JSON.stringify(value);
   if (shown[key] === v) return false;
@@ -165,12 +159,15 @@ function changed(key, value) {  // true (and remembered) when `value` differs fr
 }
 
 async function show(st) {
+  if (C.rev !== null && st.rev !== undefined && st.rev < C.rev) return;  // older than what the page shows
   if (st.generation !== generation) { generation = st.generation; await newChart(); }
-  if (!takeWaypoints(st)) { await call("/api/state"); return; }
+  const took = takeState(C, st);  // the whole list, or the splice from the revision the page holds
+  if (took === "stale") return;
+  if (took === "gap") { await send("/api/state"); return; }  // a splice on another revision: everything
   delete st.waypoints; delete st.delta;
   S = Object.assign(S || {}, st);
-  W = SW.map((p) => p.slice());
-  if (S.check) S.check.violations = SV;
+  W = C.w.map((p) => p.slice());
+  if (S.check) S.check.violations = C.v;
   if (selected !== null && selected >= W.length) selected = null;
   const c = S.check && S.check.summary;
   if (c) {
