@@ -1,16 +1,21 @@
 """``auvplan serve``: the edit → checked round trip for 100- and 1 000-waypoint missions (issue 41).
 
-Over HTTP (uvicorn on 127.0.0.1 in a thread): POST /api/edit moving one waypoint, the server
-re-checks only the changed legs (``mission check``'s figures) and answers with the whole state; with
-``--browser`` also in headless Chromium, from the mouse release to the chart and the check panel
-redrawn.  Prints the median and the 90th percentile of each.
+Over HTTP (uvicorn on 127.0.0.1 in a thread): POST /api/edit moving one waypoint, as the page does
+(with the revision it holds: the server re-checks only the changed legs, ``mission check``'s figures,
+and answers with what changed); with ``--browser`` also in headless Chromium, from the mouse release to
+the chart and the check panel redrawn.  Prints the median and the 90th percentile of each, and with
+``--figure`` writes them, with the load, to ``docs/figures/serve-edit.md`` (quoted in docs/serve.md).
 
-    python benchmarks/serve.py [--browser] [--repeats 20]
+The mission is an n-waypoint zigzag over the showcase seamount: every turn is tighter than the
+vehicle's turn radius, so the check lists n - 1 violations, the page's worst case.
+
+    python benchmarks/serve.py [--browser] [--repeats 20] [--figure]
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
 import sys
 import tempfile
@@ -39,14 +44,16 @@ def _http(url: str, session, n: int, repeats: int) -> list[float]:
     rng = np.random.default_rng(0)
     times = []
     with httpx.Client(base_url=url, timeout=60) as c:
+        rev = c.get("/api/state").json()["rev"]
         for _ in range(repeats):
             k = int(rng.integers(1, n - 1))
             x, y = session.waypoints[k, :2] + rng.normal(0.0, 30.0, 2)
             t0 = time.perf_counter()
-            r = c.post("/api/edit", json={"op": "move", "index": k, "x": float(x), "y": float(y)})
-            r.json()
+            r = c.post("/api/edit", json={"op": "move", "index": k, "x": float(x), "y": float(y), "rev": rev})
+            st = r.json()
             times.append(time.perf_counter() - t0)
-            assert r.status_code == 200
+            assert r.status_code == 200 and "delta" in st, st
+            rev = st["rev"]
     return times
 
 
@@ -80,7 +87,10 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--browser", action="store_true", help="also time the round trip in headless Chromium")
     ap.add_argument("--repeats", type=int, default=20)
+    ap.add_argument("--figure", action="store_true", help="write docs/figures/serve-edit.md")
     args = ap.parse_args()
+    load0 = os.getloadavg()[0]
+    table = ["| waypoints | round trip | median | p90 |", "|---:|---|---:|---:|"]
     with tempfile.TemporaryDirectory() as root:
         session = make_session("showcase", [root])
         with running(make_app(session)) as url:
@@ -93,6 +103,16 @@ def main() -> None:
                     ms = 1e3 * np.asarray(t)
                     print(f"{n:5d} waypoints  {what:28s} median {np.median(ms):7.1f} ms  "
                           f"p90 {np.percentile(ms, 90):7.1f} ms  (n={len(ms)})")
+                    table.append(f"| {n:,} | {what} | {np.median(ms):.0f} ms | {np.percentile(ms, 90):.0f} ms |"
+                                 .replace(",", " "))
+    load = f"{load0:.1f}–{os.getloadavg()[0]:.1f}"
+    print(f"load average {load} on {os.cpu_count()} cores")
+    if args.figure:
+        out = Path(__file__).resolve().parents[1] / "docs" / "figures" / "serve-edit.md"
+        out.write_text("\n".join(table) + f"\n\n`python benchmarks/serve.py --browser --repeats {args.repeats} "
+                       f"--figure`: showcase, an n-waypoint zigzag (n − 1 turn violations), one waypoint moved "
+                       f"per edit (seed 0); load average {load} on {os.cpu_count()} cores.\n", encoding="utf-8")
+        print(f"wrote {out}")
 
 
 if __name__ == "__main__":

@@ -160,3 +160,53 @@ def test_draw_an_area_and_get_a_survey(browser, tmp_path):
     assert inside.sum() > 20  # survey lines over the area
     assert np.hypot(*(w[0, :2] - np.array(session.mission.start[:2]))) < 1.0  # from the launch point
     assert session.result.summary["check_ok"]
+
+
+def test_editing_a_1000_waypoint_mission_keeps_the_page_equal_to_the_server(browser, tmp_path):
+    """The page keeps its copy of a 1 000-waypoint mission by the edits' splices: after drags (one onto the
+    seamount), an insert, a delete and an undo, it holds the server's waypoints to the bit, and what it
+    shows is an independent ``fly_check`` of them (least altitude; the legs too low, listed and marked)."""
+    session = make_session("showcase", [str(tmp_path)])
+    from auvplan.serve.app import make_app
+
+    m, t = session.mission, session.world.terrain
+    n = 1000
+    w = np.linspace(m.start, m.goal, n)
+    w[1:-1, 0] += np.where(np.arange(1, n - 1) % 2 == 0, 40.0, -40.0)
+    w[1:-1, 2] = -2300.0
+    session._apply(w, "test", "1 000 waypoints")
+    i, j = np.unravel_index(np.argmax(t.z), t.z.shape)
+    summit = (float(t.x[j]), float(t.y[i]))
+    with running(make_app(session)) as url:
+        page, errors, _ = _page(browser, url)
+        assert len(page.evaluate("() => window.auvplan.waypoints()")) == n
+        page.evaluate("() => window.auvplan.call('/api/edit', {op: 'depth', index: 500, z: -2450})")
+        _drag(page, session.waypoints[500, :2], summit)  # the drag picks the waypoint under the mouse
+        _drag(page, session.waypoints[200, :2], session.waypoints[200, :2] + np.array([400.0, 300.0]))
+        page.evaluate("([x, y]) => window.auvplan.call('/api/edit', {op: 'insert', x, y})",
+                      [float(w[700, 0]) + 100.0, float(w[700, 1])])
+        page.evaluate("() => window.auvplan.call('/api/edit', {op: 'delete', index: 10})")
+        page.evaluate("() => window.auvplan.call('/api/undo', {})")
+        page.wait_for_function("() => document.body.dataset.pending === '0'")
+        shown_w = np.array(page.evaluate("() => window.auvplan.waypoints()"))
+        np.testing.assert_array_equal(shown_w, session.waypoints)  # the server's mission, to the bit
+        assert shown_w.shape[0] == n + 1
+        oracle = fly_check(session.world, shown_w, "held")
+        low = np.flatnonzero(oracle.leg_altitude_m < oracle.required_altitude_m - 1e-6).tolist()
+        assert low  # the waypoint dragged onto the summit is in the rock
+        shown = page.evaluate("() => window.auvplan.state().check.violations.filter(v => v.kind === 'altitude')"
+                              ".map(v => [v.leg, v.value])")
+        assert [s[0] for s in shown] == low
+        np.testing.assert_allclose([s[1] for s in shown], oracle.leg_altitude_m[low], atol=1e-9)
+        listed = page.evaluate("() => [...document.querySelectorAll(\"#violations li[data-kind='altitude']\")]"
+                               ".map(li => Number(li.dataset.leg))")
+        first = session.result.violations[:200]  # the panel lists the first 200 (then "… and N more")
+        assert listed == [v["leg"] for v in first if v["kind"] == "altitude"]
+        assert page.inner_text("#violations li.more") == f"… and {len(session.result.violations) - 200} more"
+        marks = page.evaluate("() => document.getElementById('chart').data.find(t => t.name === 'violation at leg')"
+                              ".customdata")
+        assert len(marks) == len({v["leg"] for v in session.result.violations})  # one mark per leg with a violation
+        assert float(page.get_attribute("#min-alt", "data-value")) == pytest.approx(oracle.min_altitude_m, abs=1e-9)
+        route = page.evaluate("() => { const d = document.getElementById('chart').data[0]; return [d.x, d.y]; }")
+        np.testing.assert_array_equal(np.array(route).T, shown_w[:, :2])  # the drawn route is the mission
+        assert not errors, errors

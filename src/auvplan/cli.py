@@ -269,6 +269,10 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
     s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=_BENCH_AVOIDANCE, metavar="AVOIDANCE",
                    help="local avoidance variants (an axis; 'scenario' = the scenario's own): %(choices)s")
+    s.add_argument("--members", nargs="+", default=["scenario"], metavar="MEMBER",
+                   help="current ensemble members as an axis: names from [currents] members, 'each', or 'scenario'")
+    s.add_argument("--member-seeds", nargs="+", type=_SEED, default=[], metavar="SEED",
+                   help="re-draw the [currents] members' perturbation entries with each seed (an axis)")
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")

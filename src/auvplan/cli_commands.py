@@ -153,7 +153,8 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
-                     args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance))
+                     args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance),
+                     tuple(args.members), tuple(args.member_seeds))
     out = prepare_out(args.out, ("rows.csv", "histories.jsonl", *_BENCH_NAMES), force=args.force)  # no link in the way
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)

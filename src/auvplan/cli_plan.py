@@ -78,7 +78,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         record["reference_cost"] = result.reference_cost
         record["gap_pct"] = result.gap_pct
     if args.out:
-        save_plan(Path(args.out), sc, world, result, seed)
+        save_plan(Path(args.out), sc, world, result, seed, ensemble)
     human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
              f"{result.wall_time_s:.2f} s" + work_note(result.work)

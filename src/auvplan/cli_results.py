@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -40,7 +40,8 @@ def save_context(out: Path, sc: Scenario, world: World) -> None:
     results.save_terrain(out, world.terrain)
 
 
-def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int) -> None:
+def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int,
+              ensemble: dict[str, Any] | None = None) -> None:
     """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
     from .io.results import records
     from .sim import RunRecord
@@ -49,6 +50,9 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
     empty = result.path[:0].reshape(0, 3)
     records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     save_context(out, sc, world)
+    from .cli_ensemble import write_ensemble
+
+    write_ensemble(out, ensemble or {})
 
 
 def write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
@@ -69,7 +73,9 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     metrics = records.summary_metrics(record)
     if world.terrain is not None and world.terrain.fit is not None:
         metrics.update(records.fit_metrics(world.terrain.fit))
-    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance)
+    from .cli_ensemble import read_ensemble
+
+    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance, read_ensemble(out))
     path = atomic_write(out / "report.html", page)
     if figures:
         from .viz import plots

@@ -51,6 +51,9 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
+        from .cli_ensemble import route_fields, scenario_members, write_ensemble
+
+        write_ensemble(Path(out), route_fields(scenario_members(sc, world), world, mission, record.route))
         text = scenario_text(sc)
         records.write_run(Path(out), record, text, full, world.origin)
         save_context(Path(out), sc, world)

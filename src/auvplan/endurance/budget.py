@@ -27,7 +27,7 @@ from .._types import Status
 from ..world import World
 from .power import WH, EnergyModel
 
-__all__ = ["Traverse", "Budget", "traverse", "mission_budget", "ground_speed"]
+__all__ = ["Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]
 
 F64 = NDArray[np.float64]
 
@@ -295,7 +295,24 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Per-leg times, speeds and energies, and the verdict.
     """
     v = model.best_speed if speeds is None else speeds
-    tr = traverse(world, route, v, depart, ds)
+    return budget_of(traverse(world, route, v, depart, ds), model)
+
+
+def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
+    """The budget of a route already flown through the currents (:func:`mission_budget` after :func:`traverse`).
+
+    Parameters
+    ----------
+    tr : Traverse
+        The flight (times at the vertices, through-water speeds).
+    model : EnergyModel
+        Power model and battery.
+
+    Returns
+    -------
+    Budget
+        Per-leg times, speeds and energies, and the verdict.
+    """
     p = tr.points
     length = np.linalg.norm(np.diff(p, axis=0), axis=1)
     t_start, t_end = tr.times[:-1], tr.times[1:]

@@ -33,6 +33,7 @@ from starlette.routing import Route
 from ..errors import AuvplanError
 from ..sim import RunRecord
 from .check import CheckResult
+from .delta import Revisions, StaleRevision
 from .session import Session, builtin_names
 
 __all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
@@ -43,7 +44,7 @@ LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
 
-_STATIC = {"app.js": "text/javascript", "app.css": "text/css"}
+_STATIC = {"app.js": "text/javascript", "delta.js": "text/javascript", "app.css": "text/css"}
 """Assets of the page, by name (nothing else under /static is served)."""
 
 
@@ -86,14 +87,17 @@ def _clean(v: Any) -> Any:
     return v
 
 
-def _check_json(result: CheckResult | None) -> dict[str, Any] | None:
+def _check_json(result: CheckResult | None, whole: bool = True) -> dict[str, Any] | None:
     if result is None:
         return None
-    return {"summary": result.summary, "violations": result.violations, "rechecked": result.rechecked,
-            "leg_altitude_m": result.check.leg_altitude_m}
+    out: dict[str, Any] = {"summary": result.summary, "rechecked": result.rechecked}
+    if whole:  # else the violations come as a splice (``delta``) and the page does not need the legs' figures
+        out.update(violations=result.violations, leg_altitude_m=result.check.leg_altitude_m)
+    return out
 
 
-def page_state(session: Session, full: bool = True) -> dict[str, Any]:
+def page_state(session: Session, full: bool = True, revisions: Revisions | None = None,
+               known: Any = None) -> dict[str, Any]:
     """What the page shows, as JSON data.
 
     Parameters
@@ -102,6 +106,12 @@ def page_state(session: Session, full: bool = True) -> dict[str, Any]:
         The session.
     full : bool, optional
         Also the scenario text, settings, candidates and history (else the mission and its check only).
+    revisions : Revisions, optional
+        The session's waypoint revisions: with ``known`` (the revision the page holds), the waypoints
+        come as the splice ``delta`` from it, and so do the check's violations (the per-leg altitudes
+        are then left out).
+    known : int, optional
+        The page's revision (``rev`` of its request).
 
     Returns
     -------
@@ -109,9 +119,12 @@ def page_state(session: Session, full: bool = True) -> dict[str, Any]:
         JSON-safe state.
     """
     with session.lock:
-        state: dict[str, Any] = {"generation": session.generation, "waypoints": session.waypoints,
+        result = session.result
+        wp = ({"waypoints": session.waypoints} if revisions is None or result is None
+              else revisions.state(session.waypoints, result.violations, known))
+        state: dict[str, Any] = {"generation": session.generation, **wp,
                                  "keys": session.keys,
-                                 "check": _check_json(session.result), "history": session.history[-50:],
+                                 "check": _check_json(result, "waypoints" in wp), "history": session.history[-50:],
                                  "candidates": session.candidate_rows(), "flight": session.flight_summary(),
                                  "survey_area": session.survey_area, "settings": {
                                      "semantics": session.settings.semantics, "pitch_deg": session.settings.pitch_deg}}
@@ -183,6 +196,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         The ASGI application.
     """
     static = resources.files("auvplan.serve") / "static"
+    revisions = Revisions()
 
     async def index(request: Request) -> Response:
         return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
@@ -220,19 +234,33 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
             try:
                 data = await body(request) if request.method == "POST" else {}
                 out = await run_in_threadpool(work, data)
+            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
+                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
             except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError) as exc:
                 return JSONResponse({"error": one_line(exc)}, status_code=400)
             if isinstance(out, Response):
                 return out
-            state = page_state(session, full)
+            state = page_state(session, full, revisions, data.get("rev"))
             if out is not None:
                 state["result"] = _clean(out)
             return JSONResponse(state)
 
         return handler
 
+    def current(d: dict[str, Any]) -> None:
+        """Refuse an edit made on another revision than the session's (the caller holds the lock)."""
+        result = session.result
+        revisions.require(d.get("rev"), session.waypoints, result.violations if result is not None else [])
+
     def edit(d: dict[str, Any]) -> None:
-        session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+        with session.lock:
+            current(d)
+            session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+
+    def undo(d: dict[str, Any]) -> None:
+        with session.lock:
+            current(d)
+            session.undo()
 
     def chart(d: dict[str, Any]) -> Response:
         return Response(_chart(session), media_type="application/json")
@@ -250,7 +278,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/state", api(lambda d: None, full=True)),
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),
-        Route("/api/undo", api(lambda d: session.undo() and None), methods=["POST"]),
+        Route("/api/undo", api(undo), methods=["POST"]),
         Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
                                 and None), methods=["POST"]),
         Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), str(d.get("key")), d.get("value"))

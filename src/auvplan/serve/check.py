@@ -3,7 +3,8 @@
 The figures are those of ``auvplan mission check`` on the mission's exported file
 (:func:`auvplan.guidance.mission.fly_check` under the executor's depth semantics,
 :func:`auvplan.flyable.check_limits` against the ``[vehicle]``, the energy budget of
-:func:`auvplan.endurance.mission_budget` from the scenario's start time).  Each leg's seabed and
+:func:`auvplan.endurance.mission_budget` from the scenario's start time; in a steady current each
+leg's flight is cached too, :mod:`auvplan.serve.budget`).  Each leg's seabed and
 obstacle figures depend on its two ends only (:func:`~auvplan.guidance.mission.leg_figures`), and
 each segment of the held-depth executor's track on its own ends
 (:func:`~auvplan.guidance.mission.segment_figures`): both are kept in a cache keyed by the ends'
@@ -13,20 +14,21 @@ coordinates, so moving one waypoint re-checks two legs and the few track segment
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ..endurance import EnergyModel, mission_budget
+from ..endurance import EnergyModel
 from ..flyable import check_limits
 from ..guidance.mission import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
 from ..guidance.mission_limits import waypoint_limits
 from ..sim import Mission
 from ..sim.pipeline import vehicle_limits
 from ..world import World
+from .budget import IncrementalBudget
+from .lru import LruCache as _Cache
 
 __all__ = ["CheckSettings", "IncrementalCheck", "CheckResult"]
 
@@ -78,31 +80,6 @@ class CheckResult:
     rechecked: int = 0
 
 
-@dataclass
-class _Cache:
-    """Least-recently-used figures by the bytes of a leg's or segment's ends."""
-
-    size: int = 50_000
-    items: OrderedDict[bytes, tuple[float, ...]] = field(default_factory=OrderedDict)
-
-    def get_many(self, keys: list[bytes]) -> tuple[list[tuple[float, ...] | None], list[int]]:
-        found: list[tuple[float, ...] | None] = []
-        missing = []
-        for i, k in enumerate(keys):
-            v = self.items.get(k)
-            if v is None:
-                missing.append(i)
-            else:
-                self.items.move_to_end(k)
-            found.append(v)
-        return found, missing
-
-    def put(self, key: bytes, value: tuple[float, ...]) -> None:
-        self.items[key] = value
-        if len(self.items) > self.size:
-            self.items.popitem(last=False)
-
-
 def _keys(a: _F64, b: _F64, tag: bytes) -> list[bytes]:
     ends = np.ascontiguousarray(np.concatenate([a, b], axis=1))
     return [tag + row.tobytes() for row in ends]
@@ -123,6 +100,7 @@ class IncrementalCheck:
         self.world, self.mission = world, mission
         self._legs = _Cache()
         self._segments = _Cache()
+        self._budget = IncrementalBudget(world, EnergyModel.from_vehicle(mission.vehicle), mission.endurance.ds_m)
 
     def _leg_figures(self, a: _F64, b: _F64, semantics: str) -> tuple[_F64, NDArray[np.bool_], _F64, int]:
         keys = _keys(a, b, semantics.encode())
@@ -207,8 +185,7 @@ class IncrementalCheck:
         check, hits, computed = self.fly_check(w, settings)
         vehicle = self.mission.vehicle
         limits = check_limits(w, vehicle_limits(vehicle))
-        budget = mission_budget(self.world, w, EnergyModel.from_vehicle(vehicle),
-                                vehicle.speed if speeds is None else speeds, 0.0, self.mission.endurance.ds_m)
+        budget = self._budget.run(w, vehicle.speed if speeds is None else speeds)[0]  # = mission_budget
         req = check.required_altitude_m
         violations: list[dict[str, Any]] = []
         for leg in np.flatnonzero(check.leg_altitude_m < req - 1e-6):

@@ -142,7 +142,8 @@ def _min_altitude(scenario_text: str) -> float | None:
 
 
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: Mapping[str, Any],
-                 to_lonlat: ToLonLat | None = None, endurance: Endurance | None = None) -> str:
+                 to_lonlat: ToLonLat | None = None, endurance: Endurance | None = None,
+                 ensemble: Mapping[str, Any] | None = None) -> str:
     """Build the whole report as one HTML page that needs no network (plotly.js is inlined once).
 
     The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
@@ -163,6 +164,10 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     endurance : Endurance, optional
         The energy budget: with it an Energy section (charge against time, energy per leg) and the
         point of no return on the plan view (:mod:`auvplan.viz.energy`).
+    ensemble : mapping, optional
+        The mission flown in every current member (``plan --json``'s ``arrival_p50_s``,
+        ``arrival_p90_s``, ``success_probability``, ``members``): with it a Current ensemble section,
+        the spread and each member's arrival and energy (:mod:`auvplan.viz.ensemble_view`).
 
     Returns
     -------
@@ -180,6 +185,12 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
 
         mark_pnr(plan_view, endurance)
         figs.append(("energy", figure_energy(endurance)))
+    spread = ""
+    if ensemble and ensemble.get("members"):
+        from .ensemble_view import ensemble_table, figure_ensemble
+
+        figs.append(("ensemble", figure_ensemble(ensemble)))
+        spread = "<h2>Current ensemble</h2>" + ensemble_table(ensemble)
     parts: list[str] = []
     for i, (div, fig) in enumerate(figs):
         parts.append(pio.to_html(fig, include_plotlyjs=(i == 0), full_html=False, div_id=div,
@@ -188,7 +199,8 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
             f"</head><body><h1>{title}</h1><p>status <b>{html.escape(record.status.value)}</b></p>"
             + parts[0] + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
-            + "".join("<h2>Energy</h2>" + p for p in parts[4:])
+            + "".join("<h2>Energy</h2>" + p for p in parts[4:len(parts) - bool(spread)])
+            + (spread + parts[-1] if spread else "")
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
 

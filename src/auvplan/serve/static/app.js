@@ -4,7 +4,13 @@ const gd = document.getElementById("chart");   // the editable overlay: the miss
 const bg = document.getElementById("base");    // the report's chart underneath (drawn once per scenario)
 const $ = (id) => document.getElementById(id);
 let S = null;          // the last state from the server
-let W = [];            // the waypoints being drawn (copied from S.waypoints)
+const C = { rev: null, w: [], v: [] };  // the server's waypoints `w` and violations `v` at revision `rev`
+                       // (kept by the answers' splices, delta.js; `rev` goes with every request)
+let queue = Promise.resolve();  // the requests, one at a time, each sent on the answer before it
+let W = [];            // the waypoints being drawn (copied from C.w)
+const MAXDRAWN = 200;  // markers (and labels) drawn per trace at most: plotly thins those in view beyond
+const MAXLISTED = 200; // violations listed in the panel at most
+const shown = {};      // what each overlay trace and panel shows (skip redrawing what did not change)
 let base = 0;          // index of the first trace the page adds to the chart
 let mode = "move";
 let drag = null;
@@ -18,20 +24,30 @@ const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
 
-async function call(url, data) {
-  pending += 1; $("busy").hidden = false;
-  try {
-    const r = await fetch(url, data === undefined ? {} : {
-      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data) });
-    const j = await r.json();
-    if (!r.ok) { $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || ""; return null; }
-    $("error").textContent = ""; document.body.dataset.error = "";
-    await show(j);
-    return j;
-  } finally {
+// Requests go one at a time: each is sent with the revision the answer before it left (an edit names the
+// picture it was made on; the server refuses it if the mission changed since: HTTP 409).
+function call(url, data) {
+  pending += 1; $("busy").hidden = false; document.body.dataset.pending = String(pending);
+  const p = queue.then(() => send(url, data)).finally(() => {
     pending -= 1; $("busy").hidden = pending === 0;
     document.body.dataset.pending = String(pending);
+  });
+  queue = p.catch(() => null);
+  return p;
+}
+async function send(url, data) {
+  const r = await fetch(url, data === undefined ? {} : {
+    method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify(C.rev === null ? data : Object.assign({ rev: C.rev }, data)) });
+  const j = await r.json();
+  if (!r.ok) {
+    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
+    if (j.stale) { C.rev = null; await send("/api/state"); }  // not applied: show the mission as it is now
+    return null;
   }
+  $("error").textContent = ""; document.body.dataset.error = "";
+  await show(j);
+  return j;
 }
 
 function axes() {
@@ -89,8 +105,10 @@ async function newChart() {
   const r = await fetch("/api/chart"); const fig = await r.json();
   if (!r.ok) { $("error").textContent = fig.error; return; }
   base = 0;  // the overlay holds only the page's traces
+  for (const k of Object.keys(shown)) delete shown[k];
   const extra = [
     { type: "scatter", mode: "lines+markers", name: "mission (drag the waypoints)", line: { color: "orange", width: 2.5 },
+      marker: { maxdisplayed: MAXDRAWN },
       hovertemplate: "waypoint %{customdata[0]}<br>depth %{customdata[1]:.1f} m<extra></extra>", x: [], y: [] },
     { type: "scatter", mode: "lines", name: "violations", line: { color: "red", width: 6 }, opacity: 0.8,
       hoverinfo: "skip", x: [], y: [] },
@@ -99,7 +117,7 @@ async function newChart() {
     { type: "scatter", mode: "lines+markers", name: "drawing", line: { color: "dodgerblue" }, x: [], y: [] },
     { type: "scatter", mode: "lines", name: "flown track", line: { color: "rgba(30,30,30,0.7)", width: 1.5 },
       hoverinfo: "skip", x: [], y: [] },
-    { type: "scatter", mode: "markers+text", name: "violation at leg", marker: { symbol: "x", size: 13, color: "red" },
+    { type: "scatter", mode: "markers+text", name: "violation at leg", marker: { symbol: "x", size: 13, color: "red", maxdisplayed: MAXDRAWN },
       textposition: "top center", textfont: { color: "red", size: 12 }, x: [], y: [],
       hovertemplate: "%{customdata}<extra></extra>" },
     { type: "scatter", mode: "markers", name: "key waypoints", hoverinfo: "skip", x: [], y: [],
@@ -134,10 +152,22 @@ async function syncBase(ev) {  // pan/zoom on the overlay moves the chart, then 
   } finally { syncing = false; }
 }
 
+function changed(key, value) {  // true (and remembered) when `value` differs from what `key` last showed
+  const v = typeof value === "string" ? value : JSON.stringify(value);
+  if (shown[key] === v) return false;
+  shown[key] = v; return true;
+}
+
 async function show(st) {
+  if (C.rev !== null && st.rev !== undefined && st.rev < C.rev) return;  // older than what the page shows
   if (st.generation !== generation) { generation = st.generation; await newChart(); }
+  const took = takeState(C, st);  // the whole list, or the splice from the revision the page holds
+  if (took === "stale") return;
+  if (took === "gap") { await send("/api/state"); return; }  // a splice on another revision: everything
+  delete st.waypoints; delete st.delta;
   S = Object.assign(S || {}, st);
-  W = S.waypoints.map((p) => p.slice());
+  W = C.w.map((p) => p.slice());
+  if (S.check) S.check.violations = C.v;
   if (selected !== null && selected >= W.length) selected = null;
   const c = S.check && S.check.summary;
   if (c) {
@@ -155,9 +185,14 @@ async function show(st) {
     $("energy").textContent = `${fmt(c.energy_wh, 1, " Wh")} (${c.energy_status})`;
     $("energy").dataset.value = c.energy_wh;
     $("margin").textContent = fmt(c.margin_wh, 1, " Wh");
-    const ul = $("violations"); ul.replaceChildren();
-    S.check.violations.forEach((v) => { const li = document.createElement("li"); li.textContent = v.text;
-      li.dataset.leg = v.leg; li.dataset.kind = v.kind; if (v.value !== null) li.dataset.value = v.value; ul.appendChild(li); });
+    const ul = $("violations");
+    if (changed("violations-list", S.check.violations)) {
+      ul.replaceChildren();
+      S.check.violations.slice(0, MAXLISTED).forEach((v) => { const li = document.createElement("li"); li.textContent = v.text;
+        li.dataset.leg = v.leg; li.dataset.kind = v.kind; if (v.value !== null) li.dataset.value = v.value; ul.appendChild(li); });
+      const more = S.check.violations.length - MAXLISTED;
+      if (more > 0) { const li = document.createElement("li"); li.className = "more"; li.textContent = `… and ${more} more`; ul.appendChild(li); }
+    }
   }
   $("scenario-name").textContent = S.scenario ? `${S.scenario} — ${S.source}` : "";
   if (st.vehicle) {
@@ -168,8 +203,9 @@ async function show(st) {
     const dl = $("builtins"); dl.replaceChildren();
     (S.builtins || []).forEach((n) => { const o = document.createElement("option"); o.value = n; dl.appendChild(o); });
   }
-  const tb = document.querySelector("#candidates tbody"); tb.replaceChildren();
-  (S.candidates || []).forEach((c2, i) => {
+  const tb = document.querySelector("#candidates tbody");
+  if (changed("candidates", S.candidates || [])) tb.replaceChildren();
+  if (!tb.children.length) (S.candidates || []).forEach((c2, i) => {
     const tr = document.createElement("tr");
     const b = document.createElement("button"); b.textContent = "use"; b.onclick = () => call("/api/choose", { index: i });
     const td0 = document.createElement("td"); td0.appendChild(b); tr.appendChild(td0);
@@ -178,29 +214,46 @@ async function show(st) {
       c2.ok ? "OK" : "FAIL"].forEach((v) => { const td = document.createElement("td"); td.textContent = v; tr.appendChild(td); });
     tb.appendChild(tr);
   });
-  const ol = $("history"); ol.replaceChildren();
-  (S.history || []).forEach((h) => { const li = document.createElement("li"); li.textContent = h.text; ol.appendChild(li); });
+  const ol = $("history");
+  if (changed("history", S.history || [])) ol.replaceChildren();
+  if (!ol.children.length) (S.history || []).forEach((h) => { const li = document.createElement("li"); li.textContent = h.text; ol.appendChild(li); });
   $("flight").textContent = S.flight ? `flown: ${S.flight.status}, ${fmt(S.flight.metrics.duration_s / 3600, 2)} h, least altitude ${fmt(S.flight.metrics.min_altitude_m, 1, " m")}` : "";
   if (st.result && st.result.saved) $("saved").textContent = `saved in ${st.result.saved}`;
   showSelected();
   redraw();
 }
 
+// Redraw the overlay traces whose data changed, in one restyle (one pass of plotly over the chart).
 function redraw() {
   if (!gd.data) return;
-  const r = routeTrace(), b = badTraces();
+  const b = badTraces();
   const area = S.survey_area || [];
   const fl = S.flight || { x: [], y: [] };
-  const u = undefined;  // restyle leaves an attribute of a trace alone where its value is undefined
   const keys = S.keys || [];
-  Plotly.restyle(gd, {
-    x: [r.x, b.xs, area.map((p) => p[0]), drawing.map((p) => p[0]), fl.x, b.mx, keys.map((p) => p[0])],
-    y: [r.y, b.ys, area.map((p) => p[1]), drawing.map((p) => p[1]), fl.y, b.my, keys.map((p) => p[1])],
-    customdata: [r.customdata, u, u, u, u, b.txt, u],
-    text: [u, u, u, u, u, b.legs.map((l) => `leg ${l}`), u],
-    "marker.size": [r.marker.size, u, u, u, u, u, u],
-    "marker.color": [r.marker.color, u, u, u, u, u, u],
-  }, [base + T.route, base + T.bad, base + T.area, base + T.drawing, base + T.flight, base + T.marks, base + T.keys]);
+  const u = undefined;  // restyle leaves an attribute of a trace alone where its value is undefined
+  const upd = { x: [], y: [], customdata: [], text: [], "marker.size": [], "marker.color": [] };
+  const idx = [];
+  const add = (trace, at) => {
+    for (const k of Object.keys(upd)) upd[k].push(at[k]);
+    idx.push(base + trace);
+  };
+  if (changed("route", [W, selected])) {
+    const r = routeTrace();
+    add(T.route, { x: r.x, y: r.y, customdata: r.customdata, "marker.size": r.marker.size,
+      "marker.color": r.marker.color });
+  }
+  if (changed("bad", [b.xs, b.ys])) add(T.bad, { x: b.xs, y: b.ys });
+  if (changed("area", area)) add(T.area, { x: area.map((p) => p[0]), y: area.map((p) => p[1]) });
+  if (changed("drawing", drawing)) add(T.drawing, { x: drawing.map((p) => p[0]), y: drawing.map((p) => p[1]) });
+  if (changed("flight", [fl.x.length, fl.x[0], fl.y[0], fl.x[fl.x.length - 1], fl.y[fl.y.length - 1]])) add(T.flight, { x: fl.x, y: fl.y });
+  if (changed("marks", [b.mx, b.my, b.txt])) {
+    add(T.marks, { x: b.mx, y: b.my, customdata: b.txt, text: b.legs.map((l) => `leg ${l}`) });
+  }
+  if (changed("keys", keys)) add(T.keys, { x: keys.map((p) => p[0]), y: keys.map((p) => p[1]) });
+  if (idx.length) {
+    for (const k of Object.keys(upd)) if (upd[k].every((v) => v === u)) delete upd[k];
+    Plotly.restyle(gd, upd, idx);
+  }
   document.body.dataset.drawn = String(performance.now());
 }
 

@@ -1,4 +1,4 @@
-"""Sweeps of scenario × planner × guidance × seed on dask.distributed (``auvplan bench``).
+"""Sweeps of scenario × planner × guidance × current member × seed on dask.distributed (``auvplan bench``).
 
 Every run goes through :func:`auvplan.sim.run_mission` and yields one flat row (status, every
 cost term and metric, evaluations, CPU and wall time, optionally the gap to the grid reference).
@@ -10,19 +10,18 @@ each run is seeded by its own seed, so the rows do not depend on the worker coun
 With ``randomise=True`` each seed also re-draws every moving obstacle's track (start shifted
 ±150 m along and across its motion, speed × [0.6, 1.2], new random-walk seeds, a random phase
 on loops) — the Monte Carlo an operator certifies a mission with; ``plan_once=True`` then plans
-once per cell (with the scenario's seed) and flies that plan in every seed's world.
+once per cell (with the scenario's seed) and flies that plan in every seed's world.  The current
+ensemble's members and perturbation seeds are axes too (:mod:`auvplan.bench.members`).
 """
 
 from __future__ import annotations
 
 import csv
-import io
 import json
 import logging
 import math
 import sys
 import time
-from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -30,40 +29,21 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._types import Status
-from .errors import AuvplanError, require
-from .guidance.local import AVOIDANCE, key_waypoints
-from .io.outdir import OutputError, check_inside
-from .io.safeio import claim
-from .io.scenario import loader as scenario_io
-from .planners import PIPELINES, PlanResult, plan, reference, with_reference
-from .planners.grid.planner import on_cost_function
-from .planners.registry import known, names
-from .sim import RunRecord, mission_route, planning_problem, run_mission, simulate
-from .world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, Sphere, WaypointMotion, World
+from ..errors import AuvplanError, require
+from ..guidance.local import AVOIDANCE, key_waypoints
+from ..io.outdir import OutputError, check_inside
+from ..io.safeio import claim
+from ..io.scenario import loader as scenario_io
+from ..io.scenario.specs import Scenario
+from ..planners import PIPELINES, PlanResult, plan, reference, with_reference
+from ..planners.grid.planner import on_cost_function
+from ..planners.registry import known, names
+from ..sim import RunRecord, mission_route, planning_problem, run_mission, simulate
+from ..world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, Sphere, WaypointMotion, World
+from .members import expand_members, member_columns, member_world, parse_label
+from .rows import COLUMNS, Row, _cut_partial_line, _key, read_rows
 
-__all__ = ["SweepSpec", "COLUMNS", "KEY", "perturb_moving", "fast_movers", "run_chunk", "sweep", "summarise",
-           "read_rows", "read_histories"]
-
-Row = dict[str, Any]
-"""One row of ``rows.csv`` (or of the summary, or one convergence record)."""
-
-KEY = ("scenario", "planner", "guidance", "seed")
-"""Columns that identify a run."""
-
-COLUMNS = KEY + (
-    "status", "plan_status", "arrived", "cost", "length", "terrain", "energy", "length_m", "energy_j",
-    "plan_duration_s", "plan_min_clearance_m", "plan_collisions", "evaluations", "iterations", "reference_cost",
-    "gap_pct", "sim_duration_s", "distance_m", "min_clearance_m", "min_obstacle_distance_m", "collisions",
-    "cross_track_rms_m", "cross_track_max_m", "escapes", "cpu_s", "wall_s",
-)
-"""Columns of ``rows.csv``."""
-
-_STATUSES = frozenset(s.value for s in Status)
-
-TIMING = ("cpu_s", "wall_s")
-"""Columns that vary from run to run of the same sweep."""
-
+__all__ = ["SweepSpec", "perturb_moving", "fast_movers", "run_chunk", "sweep"]
 
 @dataclass(frozen=True)
 class SweepSpec:
@@ -93,6 +73,13 @@ class SweepSpec:
     avoidance : tuple of str
         Local avoidance variants (``"scenario"`` = each scenario's own); any other is a further
         axis, written into the guidance column as ``guidance+avoidance``.
+    members : tuple of str
+        Current ensemble members (``"scenario"`` = the scenario's own currents, ``"each"`` = every
+        member of its ``[currents] members``, or member names): each is the only current of its
+        cells, written into the scenario column as ``scenario@member`` (:mod:`auvplan.bench.members`).
+    member_seeds : tuple of int
+        Perturbation seeds: the ``perturbation`` members re-drawn with each (an axis;
+        ``scenario@member~seed``); empty = the scenario's own seeds.
     """
 
     scenarios: tuple[str, ...] = ("dynamic-terrain",)
@@ -105,8 +92,14 @@ class SweepSpec:
     plan_once: bool = False
     chunk: int = 10
     avoidance: tuple[str, ...] = ("scenario",)
+    members: tuple[str, ...] = ("scenario",)
+    member_seeds: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
+        if not self.members or any(not m.strip() for m in self.members):
+            raise AuvplanError(f"--members {' '.join(self.members)!r}: name members, 'each' or 'scenario'")
+        if any(isinstance(s, bool) or not isinstance(s, int) or s < 0 for s in self.member_seeds):
+            raise AuvplanError(f"--member-seeds {self.member_seeds!r}: seeds are integers >= 0")
         for a in self.avoidance:
             if a != "scenario" and a not in AVOIDANCE:
                 raise AuvplanError(f"unknown avoidance {a!r}; choose from scenario, {', '.join(AVOIDANCE)}")
@@ -134,9 +127,18 @@ class SweepSpec:
             ``(scenario, planner, guidance, seeds)`` chunks.
         """
         out = []
-        for s in self.scenarios:
-            sc = scenario_io.load(s)
+        for s0 in self.scenarios:
+            sc = scenario_io.load(s0)
             own_planner = "route" if sc.mission.route else sc.planner.name
+            labels = [s0]
+            if self.members != ("scenario",) or self.member_seeds:
+                labels = expand_members(s0, sc, scenario_io.build(sc)[0], self.members, self.member_seeds)
+            out += self._cells(labels, sc, own_planner)
+        return out
+
+    def _cells(self, labels: list[str], sc: Scenario, own_planner: str) -> list[tuple[str, str, str, tuple[int, ...]]]:
+        out: list[tuple[str, str, str, tuple[int, ...]]] = []
+        for s in labels:
             for p in self.planners:
                 p = own_planner if p == "scenario" or own_planner == "route" else p
                 for g0 in self.guidance:
@@ -295,7 +297,12 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
         One row (:data:`COLUMNS`; m, J, s) per seed, in seed order.
     """
     scenario, planner, guidance, seeds = task
-    world, mission = scenario_io.build(scenario_io.load(scenario))
+    name, member, member_seed = parse_label(scenario)
+    sc = scenario_io.load(name)
+    world, mission = scenario_io.build(sc)
+    field = None
+    if member is not None:  # one current member as the world's only current
+        world, field = member_world(sc, world, member, member_seed)
     pspec = mission.planner
     if planner != "route":
         name, _, pipeline = planner.partition("/")
@@ -330,100 +337,10 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
                 record = replace(record, plan=with_reference(record.plan, problem, pspec, ref))
         rows.append(_row(scenario, planner, task[2], seed, record, ref, time.process_time() - c0,
                          time.perf_counter() - t0))
+        if member is not None and field is not None:
+            rows[-1].update({k: (round(v, 6) if isinstance(v, float) and math.isfinite(v) else v)
+                             for k, v in member_columns(w, mission, record, member, member_seed, field).items()})
     return rows
-
-
-def read_rows(path: Path) -> list[Row]:
-    """Read the rows of a ``rows.csv`` that are provably complete, each key once.
-
-    A row counts only when its line ends with a newline (a line an interruption cut short, even
-    one cut inside its last field, is left out and its run done again by ``--resume``), it has
-    every column, its ``status`` is a status and its ``wall_s`` a number; of two rows with the
-    same key (a tampered file) the first is kept.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The CSV file.
-
-    Returns
-    -------
-    list of dict
-        The rows, values as strings.
-    """
-    path = Path(path)
-    if not path.is_file():
-        return []
-    data = path.read_bytes()
-    text = data[:data.rfind(b"\n") + 1].decode("utf-8", "replace")  # complete lines only
-    rows: dict[tuple[str, ...], Row] = {}
-    for r in csv.DictReader(io.StringIO(text, newline="")):
-        # short or over-long (two lines run together) rows are dropped
-        if None in r or None in r.values() or r.get("status") not in _STATUSES or not _is_number(r.get("wall_s")):
-            continue
-        rows.setdefault(_key(r), r)
-    return list(rows.values())
-
-
-def _is_number(v: Any) -> bool:
-    try:
-        return math.isfinite(float(v))
-    except (TypeError, ValueError):
-        return False
-
-
-def read_histories(path: Path) -> list[Row]:
-    """Read the convergence records of a sweep's ``histories.jsonl``.
-
-    A line cut short by an interruption is left out.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The JSON-lines file.
-
-    Returns
-    -------
-    list of dict
-        ``{"key": [scenario, planner, guidance, seed], "history": [...], "trace": [[evaluations, best], ...]}``.
-    """
-    path = Path(path)
-    if not path.is_file():
-        return []
-    out: dict[tuple[Any, ...], Row] = {}
-    for line in path.read_text().splitlines():
-        try:
-            h = json.loads(line)
-            out[tuple(h["key"])] = h  # a run re-done after a kill between its two lines: the last wins
-        except (ValueError, KeyError, TypeError):
-            continue
-    return list(out.values())
-
-
-def _cut_partial_line(path: Path) -> None:
-    """Truncate ``path`` after its last newline (drops a line an interruption cut short); the
-    complete lines before it are never rewritten."""
-    if not path.is_file():
-        return
-    with path.open("rb+") as fh:
-        size = fh.seek(0, 2)
-        if size == 0:
-            return
-        back = min(size, 1 << 16)
-        while True:
-            fh.seek(size - back)
-            tail = fh.read(back)
-            cut = tail.rfind(b"\n")
-            if cut >= 0 or back == size:
-                break
-            back = min(size, back * 2)
-        keep = size - back + cut + 1 if cut >= 0 else 0
-        if keep < size:
-            fh.truncate(keep)
-
-
-def _key(row: Mapping[str, Any]) -> tuple[str, ...]:
-    return tuple(str(row[k]) for k in KEY)
 
 
 def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = None, resume: bool = False,
@@ -510,55 +427,3 @@ def _todo(spec: SweepSpec, path: Path, resume: bool) -> list[tuple[str, str, str
         with path.open("w", newline="") as fh:
             csv.DictWriter(fh, fieldnames=COLUMNS).writeheader()
     return todo
-
-
-def _f(v: Any) -> float:
-    try:
-        return float(v)
-    except (TypeError, ValueError):
-        return float("nan")
-
-
-def _nanmin(values: Iterable[Any]) -> float:
-    v = np.asarray(values, dtype=float)
-    return float(np.nanmin(v)) if np.isfinite(v).any() else float("nan")
-
-
-def summarise(rows: Iterable[Mapping[str, Any]]) -> list[Row]:
-    """Summarise a sweep per cell (scenario, planner, guidance).
-
-    Runs, success rate, cost median / IQR / best / worst, median gap to the reference, median CPU
-    time, then the flights' collisions (all kinds), deadlocks, escapes (total) and smallest
-    obstacle distance.
-
-    Parameters
-    ----------
-    rows : iterable of mapping
-        Rows of ``rows.csv``.
-
-    Returns
-    -------
-    list of dict
-        One row per cell (costs in the objective's unit, times in s, distances in m).
-    """
-    cells: dict[tuple[str, str, str], list[Mapping[str, Any]]] = {}
-    for r in rows:
-        cells.setdefault((r["scenario"], r["planner"], r["guidance"]), []).append(r)
-    out = []
-    for (s, p, g), rs in sorted(cells.items()):
-        cost = np.array([_f(r["cost"]) for r in rs])
-        cost = cost[np.isfinite(cost)]
-        ok = [Status(r["status"]).ok for r in rs]
-        q = np.percentile(cost, [25, 50, 75]) if cost.size else [np.nan] * 3
-        gap = np.array([_f(r["gap_pct"]) for r in rs])
-        out.append({"scenario": s, "planner": p, "guidance": g, "runs": len(rs),
-                    "success_rate": float(np.mean(ok)), "cost_median": float(q[1]), "cost_iqr": float(q[2] - q[0]),
-                    "cost_best": float(cost.min()) if cost.size else np.nan,
-                    "cost_worst": float(cost.max()) if cost.size else np.nan,
-                    "gap_pct_median": float(np.nanmedian(gap)) if np.isfinite(gap).any() else np.nan,
-                    "cpu_s_median": float(np.median([_f(r["cpu_s"]) for r in rs])),
-                    "collisions": int(np.nansum([_f(r["collisions"]) for r in rs])),
-                    "deadlocks": sum(r["status"] == "DEADLOCK" for r in rs),
-                    "escapes": int(np.nansum([_f(r["escapes"]) for r in rs])),
-                    "min_obstacle_distance_m": _nanmin([_f(r["min_obstacle_distance_m"]) for r in rs])})
-    return out
