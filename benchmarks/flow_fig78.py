@@ -127,8 +127,11 @@ def hull_ratio(ob, e, n=300, bins=120):
     return float(np.sum(np.pi * top**2 * np.diff(edges)) / _inflated(ob))
 
 
-def sweep() -> list[str]:
-    lines = ["| goal direction | body (default sizing) | volume / inflated ellipsoid | least body of revolution "
+def sweep(params: FlowParams) -> list[str]:
+    """The body ``params`` builds round the unturned (8, 4, 3) ellipsoid for goals 35 m away along each of
+    the 26 directions (±1, 0)³ \\ 0: its volume over the inflated ellipsoid's, the least body of revolution
+    about the goal axis (:func:`hull_ratio`) and the share of the 18 240 offset-surface points it contains."""
+    lines = ["| goal direction | body | volume / inflated ellipsoid | least body of revolution "
              "about the goal axis / inflated | contains the inflated surface (18 240 points) | design (s) |",
              "|---|---|---|---|---|---|"]
     dense = offset_surface(ALIGNED, MARGIN, 95)
@@ -138,10 +141,13 @@ def sweep() -> list[str]:
         e = np.asarray(d, dtype=float) / np.linalg.norm(d)
         goal = 35.0 * e
         t0 = time.perf_counter()
-        body = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+        if params.rankine == "line":
+            body = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+        else:
+            body = FlowField((ALIGNED,), goal, params, MARGIN).bodies[0]
         dt = time.perf_counter() - t0
-        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.2f} | {hull_ratio(ALIGNED, e):.2f} | "
-                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.1f} |")
+        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.3f} | {hull_ratio(ALIGNED, e):.2f} | "
+                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.2f} |")
         print(lines[-1], flush=True)
     return lines
 
@@ -151,29 +157,37 @@ def main(argv=None) -> int:
     ap.add_argument("--starts", type=int, default=510)
     ap.add_argument("--out", default="results/bench-flow-fig78")
     ap.add_argument("--no-sweep", action="store_true", help="skip the 26-direction body sweep")
+    ap.add_argument("--document", action="store_true", help="also run the document's sizing (rankine = 'document')")
+    ap.add_argument("--figure", action="store_true",
+                    help="also write the summary as the documented figure docs/figures/flow-fig78.md")
     args = ap.parse_args(argv)
+    t_start = time.perf_counter()
     vehicle = VehicleParams()
     R = vehicle.turning_radius
     load = os.getloadavg()
     head = ["| scene | body sizing | starts | status | arrived, starts ≤ 1 m | penetrating | exits | pushed back | "
-            "largest turn between steps | streamlines with a turn ≥ 90° | tightest radius; streamlines whose "
-            f"tightest radius ≥ {R:.1f} m |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+            "largest turn between steps | streamlines with a turn ≥ 90° | tightest local radius; streamlines "
+            f"within the vehicle's turn (every turn ≤ the vehicle's over that step: radius ≥ {R:.1f} m) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, obstacles in scenes():
-        for params in (FlowParams(), FlowParams(rankine="document")):
+        for params in (FlowParams(),) + ((FlowParams(rankine="document"),) if args.document else ()):
             line, _ = row(name, obstacles, params, args.starts, R)
             head.append(line)
             print(line, flush=True)
-    text = (f"# Document 000 Figs. 7-8 at the goal (28, 28, 0): {args.starts} starts 0.5-5 m from the surfaces\n\n"
-            f"Seed 0, margin {MARGIN} m, FlowParams defaults. Load average at start {load[0]:.1f}. The vehicle "
+    text = (f"Document 000 Figs. 7-8 at the goal (28, 28, 0): {args.starts} starts 0.5-5 m from the surfaces "
+            f"(`benchmarks/flow_fig78.py --starts {args.starts}`).\n\n"
+            f"Seed 0, margin {MARGIN} m, FlowParams defaults (body `rankine = \"{FlowParams().rankine}\"`), "
+            f"{os.cpu_count()} cores, load average at start {load[0]:.1f}. The vehicle "
             f"(VehicleParams defaults): {vehicle.speed} m/s, full-rudder turn radius {R:.1f} m "
             f"({np.degrees(vehicle.speed / R):.1f}°/s).\n\n" + "\n".join(head) + "\n")
     if not args.no_sweep:
-        text += ("\n## Bodies round the (8, 4, 3) ellipsoid for goals 35 m away in 26 directions\n\n"
-                 + "\n".join(sweep()))
-    text += f"\n\nLoad average at end {os.getloadavg()[0]:.1f}.\n"
+        text += (f"\nThe default body (`rankine = \"{FlowParams().rankine}\"`) round the unturned (8, 4, 3) ellipsoid "
+                 "for goals 35 m away in 26 directions:\n\n" + "\n".join(sweep(FlowParams())) + "\n")
+    text += (f"\nLoad average at end {os.getloadavg()[0]:.1f}; wall time {time.perf_counter() - t_start:.0f} s.\n")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)
+    if args.figure:
+        (Path(__file__).resolve().parents[1] / "docs" / "figures" / "flow-fig78.md").write_text(text)
     print(text)
     return 0
 
