@@ -34,6 +34,7 @@ from auvplan.planners.flow.body import frame
 from auvplan.planners.flow.design import design_body, offset_surface
 from auvplan.planners.flow.field import SAG_PAD, FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
+from auvplan.planners.flow.turning import flyable_path
 from auvplan.planners.params import FlowParams
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Ellipsoid, Sphere
@@ -111,6 +112,28 @@ def row(name, obstacles, params, n, turn_radius):
     return line, tr
 
 
+def flyable_row(name, obstacles, n, radius):
+    """The default plan's path (``FlowParams.path = "flyable"``: a vehicle steering by the flow, turning at most
+    1/R per metre) from the same starts: arrived / unflyable, penetrating legs (exact), largest turn between
+    steps against the vehicle's turn over one step (step / R)."""
+    field = FlowField(obstacles, GOAL, FlowParams(), MARGIN)
+    p = near_surface_starts(obstacles, field, n)
+    close = np.min([ob.distance(p) for ob in obstacles], axis=0) <= 1.0
+
+    def free(seg):
+        return ~np.any([ob.segments_hit(seg, MARGIN) for ob in obstacles], axis=0)
+
+    out = [flyable_path(field.velocity, free, q, GOAL, radius, FlowParams().arrive) for q in p]
+    ok = np.array([o.status == "arrived" for o in out])
+    pen = sum(any(ob.segments_hit(np.stack([o.path[:-1], o.path[1:]], 1), MARGIN).any() for ob in obstacles)
+              for o in out if len(o.path) > 1)
+    worst = max(o.max_turn_deg for o in out)
+    step = radius / 20.0
+    return (f"| {name} | {len(p)} | {int(ok.sum())} ({int(ok[close].sum())}/{int(close.sum())} within 1 m) | "
+            f"{int((~ok).sum())} | {pen} | {worst:.2f}° (vehicle: {np.degrees(step / radius):.2f}° over a "
+            f"{step:.2f} m step) | {int(ok.sum())} |")
+
+
 def _inflated(ob):
     return 4.0 / 3.0 * np.pi * np.prod(np.asarray(ob.semi_axes) + MARGIN)
 
@@ -167,18 +190,26 @@ def main(argv=None) -> int:
     load = os.getloadavg()
     head = ["| scene | body sizing | starts | status | arrived, starts ≤ 1 m | penetrating | exits | pushed back | "
             "largest turn between steps | streamlines with a turn ≥ 90° | tightest local radius; streamlines "
-            f"within the vehicle's turn (every turn ≤ the vehicle's over that step: radius ≥ {R:.1f} m) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+            f"within the vehicle's turn (every turn ≤ the vehicle's over that step: radius ≥ {R:.1f} m) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, obstacles in scenes():
         for params in (FlowParams(),) + ((FlowParams(rankine="document"),) if args.document else ()):
             line, _ = row(name, obstacles, params, args.starts, R)
             head.append(line)
             print(line, flush=True)
+    fly = ["| scene | starts | arrived | unflyable (stopped before a leg that would enter a margin) | penetrating | "
+           "largest turn between steps | arrived paths within the vehicle's turn (before the last ≤ 0.5 m leg to the goal) |", "|---|---|---|---|---|---|---|"]
+    for name, obstacles in scenes():
+        fly.append(flyable_row(name, obstacles, args.starts, R))
+        print(fly[-1], flush=True)
     text = (f"Document 000 Figs. 7-8 at the goal (28, 28, 0): {args.starts} starts 0.5-5 m from the surfaces "
             f"(`benchmarks/flow_fig78.py --starts {args.starts}`).\n\n"
             f"Seed 0, margin {MARGIN} m, FlowParams defaults (body `rankine = \"{FlowParams().rankine}\"`), "
             f"{os.cpu_count()} cores, load average at start {load[0]:.1f}. The vehicle "
             f"(VehicleParams defaults): {vehicle.speed} m/s, full-rudder turn radius {R:.1f} m "
-            f"({np.degrees(vehicle.speed / R):.1f}°/s).\n\n" + "\n".join(head) + "\n")
+            f"({np.degrees(vehicle.speed / R):.1f}°/s).\n\nPure streamlines (`FlowParams(path=\"streamline\")`):\n\n"
+            + "\n".join(head) + "\n\nThe default plan's path (`path = \"flyable\"`, R = the vehicle's "
+            f"{R:.1f} m) from the same starts:\n\n" + "\n".join(fly) + "\n")
     if not args.no_sweep:
         text += (f"\nThe default body (`rankine = \"{FlowParams().rankine}\"`) round the unturned (8, 4, 3) ellipsoid "
                  "for goals 35 m away in 26 directions:\n\n" + "\n".join(sweep(FlowParams())) + "\n")

@@ -6,8 +6,6 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from auvplan._types import Status
 from auvplan.io.scenario import loader as sc
 from auvplan.sim.pipeline import run_mission
