@@ -198,7 +198,8 @@ def main(argv=None) -> int:
             head.append(line)
             print(line, flush=True)
     fly = ["| scene | starts | arrived | unflyable (stopped before a leg that would enter a margin) | penetrating | "
-           "largest turn between steps | arrived paths within the vehicle's turn (before the last ≤ 0.5 m leg to the goal) |",
+           "largest turn between steps | arrived paths within the vehicle's turn "
+           "(before the last ≤ 0.5 m leg to the goal) |",
            "|---|---|---|---|---|---|---|"]
     for name, obstacles in scenes():
         fly.append(flyable_row(name, obstacles, args.starts, R))
