@@ -18,7 +18,7 @@ def _least_clearance(world, track):
 
 def test_flow_fig8_is_flown_outside_every_margin():
     """Arrives, and every recorded position is >= 1 m outside the 0.5 m margin of the three obstacles
-    (3.6 m measured).  With the corrected field's lateral bias back at its default 2 (the planted fault:
+    (3.5 m measured).  With the corrected field's lateral bias back at its default 2 (the planted fault:
     the bias sends the vehicle to starboard round the ellipsoid the plan passes under) the same flight
     enters the sphere's margin, which this oracle sees."""
     world, mission = sc.build(sc.load("flow-fig8"))
