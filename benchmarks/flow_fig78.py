@@ -26,23 +26,16 @@ import argparse
 import itertools
 import os
 import time
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from auvplan._types import Status
-from auvplan.guidance.fit_limits import fit_turns
-from auvplan.guidance.mission import build_waypoints
-from auvplan.io.scenario import loader as sc
 from auvplan.planners.flow.body import frame
 from auvplan.planners.flow.design import design_body, offset_surface
-from auvplan.planners.flow.ellipsoid import design_ellipsoid_body
 from auvplan.planners.flow.field import SAG_PAD, FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
+from auvplan.planners.flow.turning import flyable_path
 from auvplan.planners.params import FlowParams
-from auvplan.sim import simulate
-from auvplan.sim.pipeline import fitted_route
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Ellipsoid, Sphere
 
@@ -99,11 +92,11 @@ def scenes():
     yield "Fig. 8, axis-aligned + 2 spheres", (ALIGNED,) + SPHERES
 
 
-def row(name, obstacles, params, n, turn_radius, scene=None, cap=40):
+def row(name, obstacles, params, n, turn_radius):
     try:
         field = FlowField(obstacles, GOAL, params, MARGIN)
     except ValueError as err:
-        return f"| {name} | {params.rankine} | not runnable: {err} |" + " |" * 10, None
+        return f"| {name} | {params.rankine} | not runnable: {err} |" + " |" * 9, None
     p = near_surface_starts(obstacles, field, n)
     close = np.min([ob.distance(p) for ob in obstacles], axis=0) <= 1.0
     sl = integrate_streamlines(field, p)
@@ -112,43 +105,33 @@ def row(name, obstacles, params, n, turn_radius, scene=None, cap=40):
     tr = np.array([turns(q) for q in sl.paths])
     kinds = ", ".join(f"{b.kind} {b.volume / _inflated(ob):.2f}×" for b, ob in zip(field.bodies, field.ellipsoids))
     status = ", ".join(f"{k} {c}" for k, c in zip(*np.unique(sl.status, return_counts=True)))
-    flown = "" if scene is None else " " + missions(scene, obstacles, sl, turn_radius, cap) + " |"
     line = (f"| {name} | {params.rankine} ({kinds}) | {len(p)} ({int(close.sum())} within 1 m) | {status} | "
             f"{int(sl.arrived[close].sum())}/{int(close.sum())} | {int(pen.sum())} | {int(sl.exits.sum())} | "
             f"{int((sl.corrections > 0).sum())} | {tr[:, 0].max():.0f}° (median {np.median(tr[:, 0]):.1f}°) | "
-            f"{int((tr[:, 0] >= 90).sum())} | {tr[:, 1].min():.2g} m; {int((tr[:, 1] >= turn_radius).sum())} |"
-            + flown)
+            f"{int((tr[:, 0] >= 90).sum())} | {tr[:, 1].min():.2g} m; {int((tr[:, 1] >= turn_radius).sum())} |")
     return line, tr
 
 
-def missions(scene, obstacles, sl, turn_radius, cap):
-    """What leaves auvplan for ``cap`` arrived streamlines evenly spread over the starts (building a mission
-    takes seconds on these dense scenes), as the pipeline builds it (:func:`mission_route`'s
-    steps: key waypoints, unflyable fly-by corners dropped where the new leg is free, the vehicle's limits
-    checked): how many missions fit the vehicle's turn (every fly-by arc of radius >= R, else the plan is
-    reported INFEASIBLE, never a corner), their least fly-by radius, and the closed-loop flight of each
-    (the scenario's hybrid guidance + predictive avoidance): arrivals, contacts, least distance to a real
-    surface."""
-    world, mission = scene
-    world = replace(world, obstacles=tuple(obstacles))
-    ok = arrived = contact = 0
-    tight, least = np.inf, np.inf
-    picked = np.flatnonzero(sl.arrived)
-    picked = picked[np.unique(np.linspace(0, len(picked) - 1, min(cap, len(picked))).astype(int))]
-    for i in picked:
-        q = sl.paths[i]
-        w = fit_turns(build_waypoints(q, world), world, turn_radius)
-        fit = fitted_route(world, mission, w)
-        if not fit.ok:
-            continue
-        ok += 1
-        tight = min(tight, fit.report.tightest_turn_m)
-        run = simulate(world, mission, route=fit.waypoints)
-        arrived += int(run.arrived)
-        contact += int(run.status is Status.COLLISION)
-        least = min(least, float(np.min([ob.distance(run.position) for ob in obstacles])))
-    return (f"{ok}/{len(picked)} (least fly-by radius {tight:.1f} m) | {arrived}/{ok} arrive, "
-            f"{contact} contacts, least distance {least:.2f} m")
+def flyable_row(name, obstacles, n, radius):
+    """The default plan's path (``FlowParams.path = "flyable"``: a vehicle steering by the flow, turning at most
+    1/R per metre) from the same starts: arrived / unflyable, penetrating legs (exact), largest turn between
+    steps against the vehicle's turn over one step (step / R)."""
+    field = FlowField(obstacles, GOAL, FlowParams(), MARGIN)
+    p = near_surface_starts(obstacles, field, n)
+    close = np.min([ob.distance(p) for ob in obstacles], axis=0) <= 1.0
+
+    def free(seg):
+        return ~np.any([ob.segments_hit(seg, MARGIN) for ob in obstacles], axis=0)
+
+    out = [flyable_path(field.velocity, free, q, GOAL, radius, FlowParams().arrive) for q in p]
+    ok = np.array([o.status == "arrived" for o in out])
+    pen = sum(any(ob.segments_hit(np.stack([o.path[:-1], o.path[1:]], 1), MARGIN).any() for ob in obstacles)
+              for o in out if len(o.path) > 1)
+    worst = max(o.max_turn_deg for o in out)
+    step = radius / 20.0
+    return (f"| {name} | {len(p)} | {int(ok.sum())} ({int(ok[close].sum())}/{int(close.sum())} within 1 m) | "
+            f"{int((~ok).sum())} | {pen} | {worst:.2f}° (vehicle: {np.degrees(step / radius):.2f}° over a "
+            f"{step:.2f} m step) | {int(ok.sum())} |")
 
 
 def _inflated(ob):
@@ -167,13 +150,13 @@ def hull_ratio(ob, e, n=300, bins=120):
     return float(np.sum(np.pi * top**2 * np.diff(edges)) / _inflated(ob))
 
 
-def sweep() -> list[str]:
-    """The default (``rankine = "ellipsoid"``) body and the line body round the unturned (8, 4, 3) ellipsoid
-    for goals 35 m away in the 26 lattice directions: volume over the inflated ellipsoid's and the share of
-    18 240 points of the inflated surface it contains."""
-    lines = ["| goal direction | default body: kind | volume / inflated ellipsoid | contains the inflated surface | "
-             "design (s) | line body: kind | volume / inflated | least body of revolution about the goal axis / "
-             "inflated |", "|---|---|---|---|---|---|---|---|"]
+def sweep(params: FlowParams) -> list[str]:
+    """The body ``params`` builds round the unturned (8, 4, 3) ellipsoid for goals 35 m away along each of
+    the 26 directions (±1, 0)³ \\ 0: its volume over the inflated ellipsoid's, the least body of revolution
+    about the goal axis (:func:`hull_ratio`) and the share of the 18 240 offset-surface points it contains."""
+    lines = ["| goal direction | body | volume / inflated ellipsoid | least body of revolution "
+             "about the goal axis / inflated | contains the inflated surface (18 240 points) | design (s) |",
+             "|---|---|---|---|---|---|"]
     dense = offset_surface(ALIGNED, MARGIN, 95)
     for d in itertools.product((-1, 0, 1), repeat=3):
         if not any(d):
@@ -181,12 +164,13 @@ def sweep() -> list[str]:
         e = np.asarray(d, dtype=float) / np.linalg.norm(d)
         goal = 35.0 * e
         t0 = time.perf_counter()
-        body = design_ellipsoid_body(ALIGNED, goal, 1.0, MARGIN, SAG_PAD * 8.0)
+        if params.rankine == "line":
+            body = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
+        else:
+            body = FlowField((ALIGNED,), goal, params, MARGIN).bodies[0]
         dt = time.perf_counter() - t0
-        line = design_body(ALIGNED, goal, "line", 1.0, MARGIN, SAG_PAD * 8.0)
-        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.3f} | "
-                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.2f} | {line.kind} | "
-                     f"{line.volume / _inflated(ALIGNED):.2f} | {hull_ratio(ALIGNED, e):.2f} |")
+        lines.append(f"| {d} | {body.kind} | {body.volume / _inflated(ALIGNED):.3f} | {hull_ratio(ALIGNED, e):.2f} | "
+                     f"{100 * body.inside(dense).mean():.2f} % | {dt:.2f} |")
         print(lines[-1], flush=True)
     return lines
 
@@ -195,47 +179,48 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--starts", type=int, default=510)
     ap.add_argument("--out", default="results/bench-flow-fig78")
-    ap.add_argument("--figure", help="also write the summary as this figure file (docs/figures/flow-fig78.md)")
     ap.add_argument("--no-sweep", action="store_true", help="skip the 26-direction body sweep")
-    ap.add_argument("--missions", type=int, default=40, help="streamlines per scene made into missions and flown")
-    ap.add_argument("--no-flights", action="store_true", help="skip building and flying the missions")
+    ap.add_argument("--document", action="store_true", help="also run the document's sizing (rankine = 'document')")
+    ap.add_argument("--figure", action="store_true",
+                    help="also write the summary as the documented figure docs/figures/flow-fig78.md")
     args = ap.parse_args(argv)
+    t_start = time.perf_counter()
     vehicle = VehicleParams()
     R = vehicle.turning_radius
     load = os.getloadavg()
-    t0 = time.perf_counter()
-    scene = None if args.no_flights else sc.build(sc.load("flow-fig8"))
     head = ["| scene | body sizing | starts | status | arrived, starts ≤ 1 m | penetrating | exits | pushed back | "
-            "largest turn between steps | streamlines with a turn ≥ 90° | tightest radius; streamlines whose "
-            f"tightest radius ≥ {R:.1f} m | missions within the {R:.0f} m turn (of {args.missions}) | flown (hybrid + "
-            "predictive) |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+            "largest turn between steps | streamlines with a turn ≥ 90° | tightest local radius; streamlines "
+            f"within the vehicle's turn (every turn ≤ the vehicle's over that step: radius ≥ {R:.1f} m) |",
+            "|---|---|---|---|---|---|---|---|---|---|---|"]
     for name, obstacles in scenes():
-        for params in (FlowParams(), FlowParams(rankine="document")):
-            line, _ = row(name, obstacles, params, args.starts, R, scene if params == FlowParams() else None,
-                          args.missions)
+        for params in (FlowParams(),) + ((FlowParams(rankine="document"),) if args.document else ()):
+            line, _ = row(name, obstacles, params, args.starts, R)
             head.append(line)
             print(line, flush=True)
-    text = (f"Document 000 Figs. 7-8 at the goal (28, 28, 0): {args.starts} starts 0.5-5 m from the surfaces per "
-            f"scene, seed 0, margin {MARGIN} m, `FlowParams()` defaults (`rankine = \"ellipsoid\"`) and the "
-            f"document's sizing. The vehicle (VehicleParams defaults): {vehicle.speed} m/s, full-rudder turn radius "
-            f"{R:.1f} m ({np.degrees(vehicle.speed / R):.1f}°/s, {np.degrees(0.5 / R):.1f}° over a 0.5 m step). "
-            f"Missions: {args.missions} arrived streamlines per scene, evenly spread over the starts, each made "
-            "into the mission the pipeline exports (key waypoints, fly-by "
-            "corners that do not fit the turn dropped where the new leg is free, the limits checked: a mission "
-            "that does not fit is reported INFEASIBLE) and flown by the closed loop (`flow-fig8`'s settings: "
-            "hybrid guidance, predictive avoidance, seed 1).\n\n" + "\n".join(head) + "\n")
+    fly = ["| scene | starts | arrived | unflyable (stopped before a leg that would enter a margin) | penetrating | "
+           "largest turn between steps | arrived paths within the vehicle's turn "
+           "(before the last ≤ 0.5 m leg to the goal) |",
+           "|---|---|---|---|---|---|---|"]
+    for name, obstacles in scenes():
+        fly.append(flyable_row(name, obstacles, args.starts, R))
+        print(fly[-1], flush=True)
+    text = (f"Document 000 Figs. 7-8 at the goal (28, 28, 0): {args.starts} starts 0.5-5 m from the surfaces "
+            f"(`benchmarks/flow_fig78.py --starts {args.starts}`).\n\n"
+            f"Seed 0, margin {MARGIN} m, FlowParams defaults (body `rankine = \"{FlowParams().rankine}\"`), "
+            f"{os.cpu_count()} cores, load average at start {load[0]:.1f}. The vehicle "
+            f"(VehicleParams defaults): {vehicle.speed} m/s, full-rudder turn radius {R:.1f} m "
+            f"({np.degrees(vehicle.speed / R):.1f}°/s).\n\nPure streamlines (`FlowParams(path=\"streamline\")`):\n\n"
+            + "\n".join(head) + "\n\nThe default plan's path (`path = \"flyable\"`, R = the vehicle's "
+            f"{R:.1f} m) from the same starts:\n\n" + "\n".join(fly) + "\n")
     if not args.no_sweep:
-        text += ("\nBodies round the unturned (8, 4, 3) ellipsoid (0.5 m margin) for goals 35 m away in the 26 "
-                 "lattice directions:\n\n" + "\n".join(sweep()) + "\n")
-    text += (f"\nMeasured {time.strftime('%Y-%m-%d')}, load average {load[0]:.2f} at start, "
-             f"{os.getloadavg()[0]:.2f} at end on 2 cores, {time.perf_counter() - t0:.0f} s "
-             f"(`benchmarks/flow_fig78.py --starts {args.starts}`).\n")
+        text += (f"\nThe default body (`rankine = \"{FlowParams().rankine}\"`) round the unturned (8, 4, 3) ellipsoid "
+                 "for goals 35 m away in 26 directions:\n\n" + "\n".join(sweep(FlowParams())) + "\n")
+    text += (f"\nLoad average at end {os.getloadavg()[0]:.1f}; wall time {time.perf_counter() - t_start:.0f} s.\n")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)
     if args.figure:
-        Path(args.figure).write_text(text)
+        (Path(__file__).resolve().parents[1] / "docs" / "figures" / "flow-fig78.md").write_text(text)
     print(text)
     return 0
 

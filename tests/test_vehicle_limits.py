@@ -191,7 +191,7 @@ def test_every_planner_result_is_held_to_the_limits() -> None:
     world, mission = scenario_io.build(scenario_io.load("flow-ellipsoid"))
     # the line body (wave 4's default): its streamline climbs steeper than the limit, which the hold repairs
     # (the exact ellipsoid body of wave 5 stays within 25° on this scene)
-    spec = replace(mission.planner, name="flow", flow=replace(mission.planner.flow, rankine="line"))
+    spec = replace(mission.planner, name="flow", flow=replace(mission.planner.flow, rankine="line", path="streamline"))
     raw = plan(replace(planning_problem(world, mission), limits=None), spec)
     assert raw.status is Status.EXACT and np.abs(leg_pitch_deg(raw.path)).max() > 30.0
     held = plan(planning_problem(world, mission), spec)

@@ -40,6 +40,12 @@ class FlowParams:
         Step limit per streamline.
     stagnation : float
         |u| below this fraction of the bare sink's speed at the same point is a stagnation event.
+    path : str
+        ``"flyable"`` (default): the path of a vehicle that steers by the flow's direction and turns by at
+        most 1/R per metre (R the problem's vehicle turn radius; :mod:`auvplan.planners.flow.turning`),
+        every leg checked exactly; ``INFEASIBLE`` where it cannot follow the flow within the clearance.
+        ``"streamline"``: the pure streamline (document 000), whatever its turns.  Without a turn radius
+        in the problem both are the streamline.
     """
 
     field: str = "exact"
@@ -53,8 +59,11 @@ class FlowParams:
     arrive: float = 0.5
     max_steps: int = 4000
     stagnation: float = 1e-6
+    path: str = "flyable"
 
     def __post_init__(self) -> None:
+        if self.path not in ("flyable", "streamline"):
+            raise ValueError(f"path = {self.path!r}: choose 'flyable' or 'streamline'")
         if self.field not in ("exact", "document", "uniform"):
             raise ValueError(f"field = {self.field!r}: choose 'exact', 'document' or 'uniform'")
         if self.rankine not in ("line", "pair", "document", "ellipsoid"):

@@ -15,6 +15,7 @@ from ..common import check_endpoints
 from ..params import FlowParams
 from .field import FlowField
 from .stream import integrate_streamlines
+from .turning import flyable_path
 
 __all__ = ["seabed_plane", "plan_flow"]
 
@@ -79,7 +80,9 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
     PlanResult
         ``EXACT`` when the streamline arrives without touching an obstacle (inflated by the World's
         obstacle margin) and passes the World's exact segment tests (seabed included);
-        ``INFEASIBLE`` otherwise, with the reason.
+        ``INFEASIBLE`` otherwise, with the reason.  With ``params.path = "flyable"`` (default) and a turn
+        radius in ``problem.limits``, the path is the turn-limited one along the flow
+        (:func:`~auvplan.planners.flow.turning.flyable_path`), ``INFEASIBLE`` where it cannot follow the flow.
     """
     t0 = time.perf_counter()
     world: World = problem.world
@@ -115,8 +118,21 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
                    f"seabed, an obstacle margin or the bounds")
         message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
                                              if plane is not None else "")
-    seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
+    radius = problem.limits.turn_radius_m if problem.limits is not None else 0.0
+    if status is Status.EXACT and params.path == "flyable" and radius > 0:
+        fly = flyable_path(field.velocity, lambda s: world.segments_free(s, moving=False), problem.start,
+                           problem.goal, radius, params.arrive)
+        if fly.status == "arrived":
+            path = fly.path
+            length = float(polyline_length(path))
+            clearance = float(field.clearance(path).min() + world.margins.obstacle) if world.obstacles else clearance
+        else:
+            status = Status.INFEASIBLE
+            message = (f"the streamline arrives, but a vehicle turning at most 1/{radius:g} m⁻¹ cannot follow it "
+                       f"within the margins ({fly.status} near {np.round(fly.path[-1], 1).tolist()}); "
+                       f"[planner.flow] path = 'streamline' gives the pure streamline")
+    seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     if world.terrain is not None:
         clearance = min(clearance, float(world.terrain.segment_min_altitude(seg).min()))
     terms = {"length": length, "terrain": 0.0, "energy": 0.0, "length_m": length, "energy_j": float("nan"),
