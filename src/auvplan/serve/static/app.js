@@ -42,8 +42,8 @@ async function send(url, data) {
     body: JSON.stringify(C.rev === null || "rev" in data ? data : Object.assign({ rev: C.rev }, data)) });
   const j = await r.json();
   if (!r.ok) {
-    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
     if (j.stale) { C.rev = null; await send("/api/state"); }  // not applied: show the mission as it is now
+    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
     return null;
   }
   $("error").textContent = ""; document.body.dataset.error = "";
