@@ -2,9 +2,10 @@
 
 Over HTTP (uvicorn on 127.0.0.1 in a thread): POST /api/edit moving one waypoint, as the page does
 (with the revision it holds: the server re-checks only the changed legs, ``mission check``'s figures,
-and answers with what changed); with ``--browser`` also in headless Chromium, from the mouse release to
+and answers with the splice from that revision; the page applies it only on that revision and sends one
+request at a time); with ``--browser`` also in headless Chromium, from the mouse release to
 the chart and the check panel redrawn.  Prints the median and the 90th percentile of each, and with
-``--figure`` writes them, with the load, to ``docs/figures/serve-edit.md`` (quoted in docs/serve.md).
+``--figure`` writes them, with the load, to ``docs/figures/serve-redraw.md`` (quoted in docs/serve.md).
 
 The mission is an n-waypoint zigzag over the showcase seamount: every turn is tighter than the
 vehicle's turn radius, so the check lists n - 1 violations, the page's worst case.
@@ -87,7 +88,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--browser", action="store_true", help="also time the round trip in headless Chromium")
     ap.add_argument("--repeats", type=int, default=20)
-    ap.add_argument("--figure", action="store_true", help="write docs/figures/serve-edit.md")
+    ap.add_argument("--figure", action="store_true", help="write docs/figures/serve-redraw.md")
     args = ap.parse_args()
     load0 = os.getloadavg()[0]
     table = ["| waypoints | round trip | median | p90 |", "|---:|---|---:|---:|"]
@@ -108,7 +109,7 @@ def main() -> None:
     load = f"{load0:.1f}–{os.getloadavg()[0]:.1f}"
     print(f"load average {load} on {os.cpu_count()} cores")
     if args.figure:
-        out = Path(__file__).resolve().parents[1] / "docs" / "figures" / "serve-edit.md"
+        out = Path(__file__).resolve().parents[1] / "docs" / "figures" / "serve-redraw.md"
         out.write_text("\n".join(table) + f"\n\n`python benchmarks/serve.py --browser --repeats {args.repeats} "
                        f"--figure`: showcase, an n-waypoint zigzag (n − 1 turn violations), one waypoint moved "
                        f"per edit (seed 0); load average {load} on {os.cpu_count()} cores.\n", encoding="utf-8")

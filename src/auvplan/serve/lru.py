@@ -10,12 +10,34 @@ __all__ = ["LruCache"]
 
 @dataclass
 class LruCache:
-    """Least-recently-used figures by the bytes of a leg's or segment's ends."""
+    """Least-recently-used figures by the bytes of a leg's or segment's ends.
+
+    Attributes
+    ----------
+    size : int
+        Entries kept at most; putting one more forgets the least recently used.
+    items : collections.OrderedDict
+        The figures by key, least recently used first.
+    """
 
     size: int = 50_000
     items: OrderedDict[bytes, tuple[float, ...]] = field(default_factory=OrderedDict)
 
     def get_many(self, keys: list[bytes]) -> tuple[list[tuple[float, ...] | None], list[int]]:
+        """Look up many keys at once; each one found becomes the most recently used.
+
+        Parameters
+        ----------
+        keys : list of bytes
+            The keys (e.g. the bytes of each leg's two ends).
+
+        Returns
+        -------
+        found : list
+            Each key's figures, or ``None`` where it is not cached.
+        missing : list of int
+            The positions in ``keys`` of those not cached.
+        """
         found: list[tuple[float, ...] | None] = []
         missing = []
         for i, k in enumerate(keys):
@@ -28,6 +50,15 @@ class LruCache:
         return found, missing
 
     def put(self, key: bytes, value: tuple[float, ...]) -> None:
+        """Remember ``value`` under ``key`` (forgetting the least recently used beyond ``size``).
+
+        Parameters
+        ----------
+        key : bytes
+            The key.
+        value : tuple of float
+            The figures.
+        """
         self.items[key] = value
         if len(self.items) > self.size:
             self.items.popitem(last=False)

@@ -24,8 +24,9 @@ const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
 
-// Requests go one at a time: each is sent with the revision the answer before it left (an edit names the
-// picture it was made on; the server refuses it if the mission changed since: HTTP 409).
+// Requests go one at a time, each with the revision the answer before it left; an edit carries instead the
+// revision of the picture its waypoint was picked on (`rev` in `data`, taken when the user acted), and the
+// server refuses it if the mission changed since (HTTP 409): an index never lands on another waypoint.
 function call(url, data) {
   pending += 1; $("busy").hidden = false; document.body.dataset.pending = String(pending);
   const p = queue.then(() => send(url, data)).finally(() => {
@@ -38,11 +39,11 @@ function call(url, data) {
 async function send(url, data) {
   const r = await fetch(url, data === undefined ? {} : {
     method: "POST", headers: { "Content-Type": "application/json" },
-    body: JSON.stringify(C.rev === null ? data : Object.assign({ rev: C.rev }, data)) });
+    body: JSON.stringify(C.rev === null || "rev" in data ? data : Object.assign({ rev: C.rev }, data)) });
   const j = await r.json();
   if (!r.ok) {
-    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
     if (j.stale) { C.rev = null; await send("/api/state"); }  // not applied: show the mission as it is now
+    $("error").textContent = j.error || `HTTP ${r.status}`; document.body.dataset.error = j.error || "";
     return null;
   }
   $("error").textContent = ""; document.body.dataset.error = "";
@@ -276,7 +277,7 @@ gd.addEventListener("mousedown", (ev) => {
   if (mode !== "move" || !gd._fullLayout || !inPlot(ev)) return;
   const i = nearest(ev, 12);
   if (i < 0) return;
-  drag = { i, moved: false }; selected = i; showSelected();
+  drag = { i, moved: false, rev: C.rev }; selected = i; showSelected();
   ev.preventDefault(); ev.stopPropagation();
 }, true);
 window.addEventListener("mousemove", (ev) => {
@@ -288,13 +289,13 @@ window.addEventListener("mouseup", async (ev) => {
   const d = drag; drag = null;
   if (!d.moved) { redraw(); return; }
   const [x, y] = toData(ev);
-  await call("/api/edit", { op: "move", index: d.i, x, y });
+  await call("/api/edit", { op: "move", index: d.i, x, y, rev: d.rev });
 });
 gd.addEventListener("click", async (ev) => {
   if (!gd._fullLayout || !inPlot(ev)) return;
   const [x, y] = toData(ev);
-  if (mode === "add") await call("/api/edit", { op: "insert", x, y });
-  else if (mode === "delete") { const i = nearest(ev, 12); if (i >= 0) await call("/api/edit", { op: "delete", index: i }); }
+  if (mode === "add") await call("/api/edit", { op: "insert", x, y, rev: C.rev });
+  else if (mode === "delete") { const i = nearest(ev, 12); if (i >= 0) await call("/api/edit", { op: "delete", index: i, rev: C.rev }); }
   else if (mode === "draw") { drawing.push([x, y]); redraw(); }
 }, true);
 
@@ -305,11 +306,11 @@ $("finish-area").onclick = async () => {
   const r = await call("/api/survey", { polygon: poly });
   if (r) setMode("move");
 };
-$("undo").onclick = () => call("/api/undo", {});
+$("undo").onclick = () => call("/api/undo", { rev: C.rev });
 $("wp-depth").onchange = () => {
   if (selected === null) return;
   const v = parseFloat($("wp-depth").value);
-  if (Number.isFinite(v)) call("/api/edit", { op: "depth", index: selected, z: -v });
+  if (Number.isFinite(v)) call("/api/edit", { op: "depth", index: selected, z: -v, rev: C.rev });
 };
 document.querySelectorAll("#settings input").forEach((el) => {
   el.onchange = () => {
