@@ -182,7 +182,8 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
     message = "" if free else "the refined path failed the exact segment test" if not seg_ok.all() else \
         "the current pushes the vehicle back behind a leg's start onto the seabed or an obstacle"
     return PlanResult(Status.EXACT if free else Status.INFEASIBLE, tp.points, cost, terms, ts.lattice.legs, 1,
-                      time.perf_counter() - t0, np.array([cost]), "timeopt", None, message, times=tp.times)
+                      time.perf_counter() - t0, np.array([cost]), "timeopt", None, message, times=tp.times,
+                      tail=tp.tail)
 
 
 def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | None = None) -> PlanResult:
