@@ -152,7 +152,8 @@ class RouteTracker:
         last = len(lengths) - 1
         while self.k < last:
             along, _ = self._locate(x, y, self.k)
-            if along >= lengths[self.k] - self.switch_radius:
+            if along >= lengths[self.k] - (0.0 if self.tail[self.k] else self.switch_radius):  # (a tail-first
+                # leg is slow: it is held to its end, where the next heading needs no turn ahead of time)
                 self.k += 1
             else:
                 break

@@ -212,7 +212,8 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     local = _local_avoidance(world, mission, av_name, waypoints, guide, keys, gen)  # before the noise: same draws
     first = waypoints[1] - waypoints[0]
     s = VehicleState(float(waypoints[0, 0]), float(waypoints[0, 1]), float(waypoints[0, 2]),
-                     math.atan2(first[0], first[1]) % (2 * math.pi), vp.speed)
+                     (math.atan2(first[0], first[1]) + (math.pi if guide.route.tail[0] else 0.0)) % (2 * math.pi),
+                     vp.speed)  # (heading against a first leg flown tail-first)
     max_time = st.max_time or 3.0 * guide.route.total_length / vp.speed + 120.0
     n_steps = int(math.ceil(max_time / st.dt))
     waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
