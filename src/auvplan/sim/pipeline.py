@@ -263,8 +263,12 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
     if not planned.status.ok:
         return planned, None
-    w = build_waypoints(planned.path, world) if planned.times is None else \
-        timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]))
+    if planned.tail is not None and planned.times is not None:  # tail-first legs: every mode change kept
+        w = mission_route(world, mission, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]),
+                          planned.tail)
+    else:
+        w = build_waypoints(planned.path, world) if planned.times is None else \
+            timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]))
     fit = fitted_route(world, mission, fit_turns(w, world, mission.vehicle.turn_radius_m))
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
@@ -337,9 +341,11 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     mission = with_leg_speeds(world, mission, route)
-    if planned is not None and planned.cost_terms.get("drift_back_m", 0.0) > 0.0:  # a timed plan the tide pushes
+    if planned is not None and (planned.cost_terms.get("drift_back_m", 0.0) > 0.0  # a timed plan the tide pushes
+                                or planned.cost_terms.get("tail_first_legs", 0) > 0):  # (or carries slowly)
         wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
+    tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
-                      progress=flight)
+                      progress=flight, tail=tail)
     return RunRecord(mission.name, recorded, planned, route, keys, result)
