@@ -1,6 +1,6 @@
 """Several arrival labels per lattice node: the time-dependent search where the current can beat the vehicle.
 
-Why one label per node is not enough there.  The single-label search (:func:`.kernels.search`)
+Why one label per node is not enough there.  The single-label search (:func:`single_search`)
 keeps only the earliest arrival at each node, which is exact when leaving a node later never
 arrives anywhere earlier (the FIFO property).  That holds whenever the current is slower than the
 vehicle everywhere it flies: then the ground speed along every leg, ``g = c·ŝ + √(V² − |c⊥|²)``, is
@@ -38,7 +38,7 @@ from scipy.ndimage import maximum_filter
 
 from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
-from .kernels import Float32Array, leg_reach, leg_time, search
+from .kernels import Float32Array, leg_reach, leg_time
 from .tail import tail_leg
 
 __all__ = ["fifo_holds", "strong_nodes", "label_width", "label_search", "label_chain", "single_search", "multi_search"]
@@ -224,6 +224,8 @@ def label_search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float
                 continue
             jx, jy, jz = ix + offsets[m, 0], iy + offsets[m, 1], iz + offsets[m, 2]
             q = (jx * ny + jy) * nz + jz
+            if not multi[q] and done[q * nb]:  # (its only label is settled: no leg to time)
+                continue
             qx, qy, qz = org[0] + jx * step[0], org[1] + jy * step[1], org[2] + jz * step[2]
             tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds,
                                  math.sqrt((qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2))
@@ -272,7 +274,8 @@ def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float
                   offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray,
                   start_arr: FloatArray, goal_link: BoolArray, goal: FloatArray, speed: float,
                   ds: float) -> tuple[float, IntArray, FloatArray]:
-    """Run the one-label search (:func:`.kernels.search`) on a lattice and read its path back.
+    """Run the one-label search on a lattice and read its path back: :func:`label_search` with one
+    bucket per node (no node keeps more than its earliest arrival).
 
     Parameters
     ----------
@@ -303,13 +306,14 @@ def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float
     n = int(np.prod(shape))
     arrival = np.full(n, np.inf)
     pred = np.full(n, -2, dtype=np.int64)
-    best, last = search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok, start_ids.astype(np.int64),
-                        start_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
-    chain = [int(last)] if np.isfinite(best) else []
-    while chain and pred[chain[-1]] >= 0:
-        chain.append(int(pred[chain[-1]]))
-    nodes = np.array(chain[::-1], dtype=np.int64)
-    return float(best), nodes, arrival[nodes]
+    best, last = label_search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok,
+                              start_ids.astype(np.int64), start_arr, goal_link, goal, float(speed), float(ds), 0.0,
+                              math.inf, np.zeros(n, dtype=np.bool_), arrival, pred, False,
+                              np.zeros(n, dtype=np.int64))
+    if not np.isfinite(best):
+        return math.inf, np.zeros(0, dtype=np.int64), np.zeros(0)
+    labels, nodes = label_chain(pred, int(last), 1)
+    return float(best), nodes, arrival[labels]
 
 
 def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float], shape: tuple[int, int, int],

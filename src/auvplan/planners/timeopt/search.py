@@ -363,7 +363,7 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     ds : float
         Largest integration sub-step (m).
     labels : str, default "auto"
-        ``"single"``: one label per node (:func:`.kernels.search`); ``"multi"``: one per node and
+        ``"single"``: one label per node (:func:`.labels.single_search`); ``"multi"``: one per node and
         arrival-time bucket (:mod:`.labels`); ``"auto"``: single where FIFO provably holds (the
         table's current slower than the vehicle from ``depart`` on), else multi.
     label_dt : float, default 0
