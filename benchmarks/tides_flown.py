@@ -21,18 +21,22 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import time
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
 from auvplan.io.scenario import loader as scenario
+from auvplan.planners import plan
 from auvplan.planners.timeopt.planner import departure_sweep
 from auvplan.planners.timeopt.timing import fly_times
 from auvplan.sim import mission_route, planning_problem, simulate
+from auvplan.sim.pipeline import route_tail
 
 
 def main() -> None:
@@ -42,6 +46,8 @@ def main() -> None:
     ap.add_argument("--out", default="results/tides")
     ap.add_argument("--scenario", default="juan-de-fuca-tides")
     ap.add_argument("--figure", default="", help="write docs/figures/NAME.md")
+    ap.add_argument("--tail-first", action="store_true", help="plan each departure with tail_first = true "
+                    "(plan(), not the sweep) and fly its tail-first legs tail-first")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -53,24 +59,38 @@ def main() -> None:
     departs = np.arange(0.0, args.hours * 3600.0 + 1.0, args.step * 60.0)
     paths: list = []
     c0 = time.process_time()
-    rows, _ = departure_sweep(problem, replace(mission.planner, name="timeopt"), departs, paths=paths)
+    tails: list = []
+    if args.tail_first:
+        rows = []
+        for d in departs:
+            res = plan(problem, replace(mission.planner, name="timeopt", timeopt=replace(
+                mission.planner.timeopt, depart_s=float(d), tail_first=True)))
+            ok = res.status.value == "EXACT"
+            rows.append(SimpleNamespace(depart_s=float(d), duration_s=float(res.cost) if ok else math.inf))
+            paths.append((res.path, float(res.cost_terms["speed_m_s"])) if ok else None)
+            tails.append(res.tail if ok else None)
+    else:
+        rows, _ = departure_sweep(problem, replace(mission.planner, name="timeopt"), departs, paths=paths)
+        tails = [None] * len(rows)
     sweep_cpu = time.process_time() - c0
     print(f"sweep: {len(rows)} departures, {sweep_cpu:.1f} s CPU")
     out_rows = []
-    for row, plan in zip(rows, paths):
-        if plan is None:
+    for row, plan_, tail in zip(rows, paths, tails, strict=True):
+        if plan_ is None:
             out_rows.append({"depart_h": row.depart_s / 3600.0, "planned_s": None, "flown_s": None,
                              "status": "no plan"})
             continue
         shifted = replace(world, currents=replace(world.currents, epoch=world.currents.epoch + row.depart_s))
-        times, back = fly_times(world.currents, plan[0], row.depart_s, plan[1], 62.5, row.depart_s + 2 * 86400.0)
-        route = mission_route(shifted, mission, plan[0], times - row.depart_s, plan[1])
+        times, back = fly_times(world.currents, plan_[0], row.depart_s, plan_[1], 62.5, row.depart_s + 2 * 86400.0,
+                                tail)
+        route = mission_route(shifted, mission, plan_[0], times - row.depart_s, plan_[1], tail)
         w0 = time.perf_counter()
-        sim = simulate(shifted, mission, route=route, rng=mission.seed)
+        sim = simulate(shifted, mission, route=route, rng=mission.seed, tail=route_tail(route, plan_[0], tail))
         flown = float(sim.t[-1])
         r = {"depart_h": row.depart_s / 3600.0, "planned_s": row.duration_s, "flown_s": flown,
              "error_pct": 100.0 * (flown - row.duration_s) / row.duration_s, "status": sim.status.value,
-             "waypoints": int(route.shape[0]), "drift_back_m": float(back.max()), "wall_s": time.perf_counter() - w0}
+             "waypoints": int(route.shape[0]), "drift_back_m": float(back.max()), "wall_s": time.perf_counter() - w0,
+             "tail_first_legs": int(np.sum(tail)) if tail is not None else 0}
         out_rows.append(r)
         print(json.dumps(r), flush=True)
     errs = [r for r in out_rows if r.get("error_pct") is not None]
@@ -91,7 +111,9 @@ def main() -> None:
                 f"{mission.guidance} guidance, seed {mission.seed}; load average "
                 f"{load.split('load average:')[-1].strip()} on {os.cpu_count()} "
                 f"cores (`benchmarks/tides_flown.py --scenario {args.scenario} --hours {args.hours:g} "
-                f"--step {args.step:g}`)\n")
+                f"--step {args.step:g}{' --tail-first' if args.tail_first else ''}`)"
+                + (f"; tail-first legs in {sum(r.get('tail_first_legs', 0) > 0 for r in out_rows)} plans, flown "
+                   "tail-first" if args.tail_first else "") + "\n")
         Path(__file__).resolve().parents[1].joinpath("docs", "figures", f"{args.figure}.md").write_text(text)
 
 

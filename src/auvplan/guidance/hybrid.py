@@ -255,5 +255,5 @@ class HybridGuidance:
         target = math.hypot(b[0] - x, b[1] - y)
         fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k])
         course = math.atan2(fx, fy)
-        psi = crab_heading(course, current, speed) if self.params.compensates else course
+        psi = crab_heading(course, current, speed, self.route.tail[k]) if self.params.compensates else course
         return psi, True, rp

@@ -136,7 +136,7 @@ class LosGuidance:
         sigma = p.sigma if self.integral else 0.0
         psi_d = los_heading(rp.course, rp.cross, p.lookahead, self.y_int, sigma)
         if p.current_compensation:
-            psi_d = crab_heading(psi_d, current, speed)
+            psi_d = crab_heading(psi_d, current, speed, self.route.tail[rp.leg])
         if self.integral:
             e = rp.cross
             self.y_int += dt * p.lookahead * e / ((e + sigma * self.y_int) ** 2 + p.lookahead**2)

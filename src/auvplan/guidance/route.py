@@ -19,12 +19,16 @@ from ..geometry import as_points
 __all__ = ["RouteTracker", "RoutePoint", "PathFollower", "crab_heading"]
 
 
-def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], speed: float) -> float:
+def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], speed: float,
+                 tail: bool = False) -> float:
     """Heading that makes good ``course`` over ground through a horizontal ``current``.
 
     The crab angle β = asin(c⊥ / u) turns the bow into the current component c⊥ across the
     course (positive to starboard) so that the through-water velocity at ``speed`` u cancels it;
-    |c⊥| ≥ u is clipped to a 90° crab (the course cannot be made good).
+    |c⊥| ≥ u is clipped to a 90° crab (the course cannot be made good).  ``tail``: the other heading
+    that cancels c⊥, pointing *against* the course (``course + π + β``, the far root of the crab
+    equation): the vehicle is carried along the course by a current stronger than itself
+    (a tail-first leg of the time-optimal planner, :mod:`auvplan.planners.timeopt.tail`).
 
     Parameters
     ----------
@@ -34,14 +38,17 @@ def crab_heading(course: float, current: Sequence[float] | NDArray[np.float64], 
         Current (east, north, ...) at the vehicle (m/s); only the horizontal part is used.
     speed : float
         Through-water speed (m/s).
+    tail : bool, default False
+        Head against the course (the far root).
 
     Returns
     -------
     float
-        Commanded heading (compass, rad), ``course − β``.
+        Commanded heading (compass, rad), ``course − β`` (``course + π + β`` tail-first).
     """
     c_right = current[0] * math.cos(course) - current[1] * math.sin(course)
-    return course - math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
+    beta = math.asin(max(-1.0, min(1.0, c_right / max(speed, 1e-6))))
+    return course + math.pi + beta if tail else course - beta
 
 
 class RoutePoint:
@@ -84,14 +91,21 @@ class RouteTracker:
         ``(N, 3)`` waypoints in the local frame (m), N ≥ 2; repeated points are dropped.
     switch_radius : float
         The active leg advances when the vehicle is this close to its end along the track (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs to fly tail-first (none by default).
     """
 
-    def __init__(self, waypoints: ArrayLike, switch_radius: float) -> None:
+    def __init__(self, waypoints: ArrayLike, switch_radius: float, tail: ArrayLike | None = None) -> None:
         w = as_points(waypoints, "waypoints").reshape(-1, 3)
         if w.shape[0] < 2:
             raise ValueError("a route needs at least two waypoints")
         keep = np.r_[True, np.linalg.norm(np.diff(w, axis=0), axis=1) > 1e-9]
         self.w = w[keep]
+        legs = np.zeros(w.shape[0] - 1, dtype=bool) if tail is None else np.asarray(tail, dtype=bool).reshape(-1)
+        if legs.size != w.shape[0] - 1:
+            raise ValueError(f"tail has {legs.size} flags for {w.shape[0] - 1} legs")
+        #: Legs flown tail-first (heading against the leg, :func:`crab_heading`).
+        self.tail: list[bool] = legs[keep[1:]].tolist()
         d = np.diff(self.w, axis=0)
         self.length = np.hypot(d[:, 0], d[:, 1])
         self.course = np.arctan2(d[:, 0], d[:, 1])
@@ -140,7 +154,8 @@ class RouteTracker:
         last = len(lengths) - 1
         while self.k < last:
             along, _ = self._locate(x, y, self.k)
-            if along >= lengths[self.k] - self.switch_radius:
+            if along >= lengths[self.k] - (0.0 if self.tail[self.k] else self.switch_radius):  # (a tail-first
+                # leg is slow: it is held to its end, where the next heading needs no turn ahead of time)
                 self.k += 1
             else:
                 break

@@ -8,7 +8,7 @@ from typing import Any, TypeAlias
 
 import numpy as np
 
-from .._types import FloatArray, Status
+from .._types import BoolArray, FloatArray, Status
 from ..flyable import VehicleLimits
 from ..optim.bee import ABCParams, IABCParams
 from ..optim.de import DEParams
@@ -290,6 +290,8 @@ class PlanResult:
         Cost of the grid reference plan on the same cost function (``nan`` when not computed).
     times : ndarray or None
         Time (s after the mission's start time) at each vertex of ``path``, for timed plans.
+    tail : ndarray of bool or None
+        ``(N - 1,)`` legs of ``path`` flown tail-first (time-optimal plans with ``tail_first``).
     work : dict
         Work done outside the evaluation budget, by name: the seeded pipeline's lattice seeding
         (``seeding_lattice_nodes``, ``seeding_cpu_s``) and polyline polish (``polish_cpu_s``).
@@ -310,6 +312,7 @@ class PlanResult:
     trace: FloatArray = field(default_factory=lambda: np.empty((0, 2)))
     times: FloatArray | None = None
     work: dict[str, float] = field(default_factory=dict)
+    tail: BoolArray | None = None
 
     @property
     def gap(self) -> float:

@@ -190,6 +190,9 @@ class TimeoptParams:
         Bucket width of the multi-label search (s); 0 = a cell's still-water leg time.
     max_labels : int
         Most labels of the multi-label search (the bucket width grows to stay within it).
+    tail_first : bool
+        Let the multi-label search also fly a leg tail-first (heading against its line, carried along
+        it by a current stronger than the vehicle; docs/timeopt.md).
     """
 
     objective: str = "time"
@@ -204,6 +207,7 @@ class TimeoptParams:
     labels: str = "auto"
     label_dt: float = 0.0
     max_labels: int = 4_000_000
+    tail_first: bool = False
 
     def __post_init__(self) -> None:
         if self.labels not in ("auto", "single", "multi"):

@@ -42,7 +42,7 @@ _Placed = tuple[Any, tuple[float, ...]] | None
 """An obstacle's (shape, centre) at one step, None when inactive (:func:`~auvplan.sim.events._obstacle_shapes`)."""
 
 
-def make_guidance(name: str, route: ArrayLike, mission: Mission) -> PathFollower:
+def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike | None = None) -> PathFollower:
     """Make a path follower by name.
 
     Parameters
@@ -53,6 +53,8 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission) -> PathFollower
         ``(N, 3)`` waypoints to follow (m).
     mission : Mission
         Its ``hybrid`` and ``los`` settings.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:class:`~auvplan.guidance.route.RouteTracker`).
 
     Returns
     -------
@@ -60,15 +62,15 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission) -> PathFollower
         :class:`~auvplan.guidance.hybrid.HybridGuidance` or :class:`~auvplan.guidance.los.LosGuidance`.
     """
     if name == "hybrid":
-        return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius), mission.hybrid)
+        return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius, tail), mission.hybrid)
     if name in ("los", "ilos"):
-        return LosGuidance(RouteTracker(route, mission.los.switch_radius), mission.los, integral=name == "ilos")
+        return LosGuidance(RouteTracker(route, mission.los.switch_radius, tail), mission.los, integral=name == "ilos")
     raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
 
 
 def simulate(world: World, mission: Mission, route: ArrayLike | None = None, guidance: str | None = None,
              rng: RngLike = None, avoidance: str | None = None, keys: ArrayLike | None = None,
-             progress: Callable[[float, float], object] | None = None) -> SimResult:
+             progress: Callable[[float, float], object] | None = None, tail: ArrayLike | None = None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -92,6 +94,8 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
     progress : callable, optional
         ``progress(t, expected)`` every simulated minute: the time flown and the time the route
         should take at the vehicle's speed (s), for a progress bar.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs of ``route`` flown tail-first (a time-optimal plan's, :func:`.pipeline.mission_route`).
 
     Returns
     -------
@@ -99,7 +103,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         Status, recorded time series and events of the run.
     """
     t_wall = time.perf_counter()
-    run = _setup(world, mission, route, guidance, rng, avoidance, keys)
+    run = _setup(world, mission, route, guidance, rng, avoidance, keys, tail)
     st, dt, s = mission.sim, mission.sim.dt, run.state
     every = max(1, int(round(60.0 / dt)))
     expected = run.tracker.total_length / mission.vehicle.speed
@@ -200,17 +204,18 @@ def _moving_tracks(world: World, n_steps: int, dt: float) -> tuple[NDArray[np.fl
 
 
 def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: str | None, rng: RngLike,
-           avoidance: str | None, keys: ArrayLike | None) -> _Run:
+           avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None) -> _Run:
     """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed."""
     gen = as_rng(mission.seed if rng is None else rng)
     waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
     st, vp = mission.sim, mission.vehicle
-    guide = make_guidance(guidance or mission.guidance, waypoints, mission)
+    guide = make_guidance(guidance or mission.guidance, waypoints, mission, tail)
     av_name = avoidance or mission.avoidance.name
     local = _local_avoidance(world, mission, av_name, waypoints, guide, keys, gen)  # before the noise: same draws
     first = waypoints[1] - waypoints[0]
     s = VehicleState(float(waypoints[0, 0]), float(waypoints[0, 1]), float(waypoints[0, 2]),
-                     math.atan2(first[0], first[1]) % (2 * math.pi), vp.speed)
+                     (math.atan2(first[0], first[1]) + (math.pi if guide.route.tail[0] else 0.0)) % (2 * math.pi),
+                     vp.speed)  # (heading against a first leg flown tail-first)
     max_time = st.max_time or 3.0 * guide.route.total_length / vp.speed + 120.0
     n_steps = int(math.ceil(max_time / st.dt))
     waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0

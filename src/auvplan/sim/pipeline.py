@@ -25,7 +25,7 @@ from .mission import Mission
 from .result import RunRecord
 
 __all__ = ["vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path", "mission_route",
-           "timed_waypoints", "planned_route", "with_leg_speeds"]
+           "timed_waypoints", "route_tail", "planned_route", "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -116,7 +116,7 @@ def fitted_route(world: World, mission: Mission, route: ArrayLike) -> MissionFit
 
 
 def mission_route(world: World, mission: Mission, path: ArrayLike, times: ArrayLike | None = None,
-                  speed: float | None = None) -> NDArray[np.float64]:
+                  speed: float | None = None, tail: ArrayLike | None = None) -> NDArray[np.float64]:
     """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
 
     :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
@@ -136,16 +136,53 @@ def mission_route(world: World, mission: Mission, path: ArrayLike, times: ArrayL
     times, speed : array_like and float, optional
         A timed plan's time at each vertex (s) and through-water speed (m/s): its waypoints keep
         its duration (:func:`timed_waypoints`).
+    tail : array_like of bool, optional
+        A timed plan's legs flown tail-first (``plan.tail``): then its own vertices are kept (the
+        route's flags: :func:`route_tail`).
 
     Returns
     -------
     numpy.ndarray
         ``(N, 3)`` waypoints (m), safe under held and ramped depth semantics.
     """
-    w = build_waypoints(path, world) if times is None or speed is None else \
-        timed_waypoints(world, path, times, speed)
+    if tail is not None and np.any(tail) and times is not None:  # keep every vertex where the mode changes
+        p, flags = np.asarray(path, dtype=float).reshape(-1, 3), np.asarray(tail, dtype=bool)
+        cuts = np.r_[0, np.flatnonzero(flags[1:] != flags[:-1]) + 1, flags.size]
+        parts = [build_waypoints(p[i:j + 1], world, tolerance=0.5) for i, j in zip(cuts[:-1], cuts[1:], strict=True)]
+        w = np.vstack([parts[0]] + [q[1:] for q in parts[1:]])
+    else:
+        w = build_waypoints(path, world) if times is None or speed is None else \
+            timed_waypoints(world, path, times, speed)
     w = fit_turns(w, world, mission.vehicle.turn_radius_m)
     return fitted_route(world, mission, w).waypoints
+
+
+def route_tail(route: ArrayLike, path: ArrayLike, tail: ArrayLike | None) -> NDArray[np.bool_] | None:
+    """Which legs of a mission's route fly tail-first: those whose midpoint lies nearest a plan's tail-first leg.
+
+    Parameters
+    ----------
+    route : array_like
+        ``(N, 3)`` the route's waypoints (:func:`mission_route`) (m).
+    path : array_like
+        ``(M, 3)`` the plan's vertices (m).
+    tail : array_like of bool or None
+        ``(M - 1,)`` the plan's tail-first legs (``plan.tail``).
+
+    Returns
+    -------
+    numpy.ndarray of bool or None
+        ``(N - 1,)`` flags (None when the plan has none).
+    """
+    if tail is None or not np.any(tail):
+        return None
+    w, p = np.asarray(route, dtype=float).reshape(-1, 3), np.asarray(path, dtype=float).reshape(-1, 3)
+    a, d = p[:-1, :2], np.diff(p[:, :2], axis=0)
+    mid = 0.5 * (w[:-1, :2] + w[1:, :2])
+    s = np.clip(np.einsum("lk,mlk->ml", d, mid[:, None, :] - a[None]) / np.maximum((d * d).sum(1), 1e-12), 0.0, 1.0)
+    dist = np.linalg.norm(a[None] + s[..., None] * d[None] - mid[:, None, :], axis=2)
+    flags: NDArray[np.bool_] = np.asarray(tail, dtype=bool)[dist.argmin(axis=1)]
+    return flags
 
 
 def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: float,
@@ -226,8 +263,12 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     planned = global_plan(planning_problem(world, mission), mission.planner, seed, progress)
     if not planned.status.ok:
         return planned, None
-    w = build_waypoints(planned.path, world) if planned.times is None else \
-        timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]))
+    if planned.tail is not None and planned.times is not None:  # tail-first legs: every mode change kept
+        w = mission_route(world, mission, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]),
+                          planned.tail)
+    else:
+        w = build_waypoints(planned.path, world) if planned.times is None else \
+            timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]))
     fit = fitted_route(world, mission, fit_turns(w, world, mission.vehicle.turn_radius_m))
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
@@ -300,9 +341,11 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     mission = with_leg_speeds(world, mission, route)
-    if planned is not None and planned.cost_terms.get("drift_back_m", 0.0) > 0.0:  # a timed plan the tide pushes
+    if planned is not None and (planned.cost_terms.get("drift_back_m", 0.0) > 0.0  # a timed plan the tide pushes
+                                or planned.cost_terms.get("tail_first_legs", 0) > 0):  # (or carries slowly)
         wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
+    tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
-                      progress=flight)
+                      progress=flight, tail=tail)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

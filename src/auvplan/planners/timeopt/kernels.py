@@ -1,6 +1,6 @@
 """Compiled inner loops of the time-dependent planner: the current table lookup, the travel time
-of a straight leg through a current that changes while the vehicle is on it, and the label-setting
-(Dijkstra) search on arrival times.
+of a straight leg through a current that changes while the vehicle is on it (the label-setting
+search on arrival times is :mod:`.labels`).
 
 The current table ``cur (nt, nx, ny, nz, 3)`` holds the field at the lattice nodes every ``dt``
 seconds from ``t0``; lookups are trilinear in space and linear in time, clamped at the ends.
@@ -27,7 +27,6 @@ that the search and the planner test that stretch of water too.
 
 from __future__ import annotations
 
-import heapq
 import math
 from typing import TypeAlias
 
@@ -35,9 +34,9 @@ import numpy as np
 import numpy.typing as npt
 
 from ..._jit import kernel
-from ..._types import BoolArray, FloatArray, IntArray
+from ..._types import FloatArray
 
-__all__ = ["HOLD", "current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times", "search",
+__all__ = ["HOLD", "current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times",
            "Float32Array"]
 
 #: The search holds a line only with this fraction of the vehicle's speed across it (the rest, 3 %,
@@ -339,101 +338,3 @@ def two_legs(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt
             else:
                 out[i, j] = leg_time(cur, org, step, t0, dt, cand[i, j, 0], cand[i, j, 1], cand[i, j, 2],
                                      c[i, 0], c[i, 1], c[i, 2], tm, speed, ds)
-
-
-@kernel
-def search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, dt: float, shape: IntArray,
-           offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray, start_arr: FloatArray,
-           goal_link: BoolArray, goal: FloatArray, speed: float, ds: float, arrival: FloatArray,
-           pred: IntArray) -> tuple[float, np.int64]:
-    """Label-setting search on arrival times (time-dependent Dijkstra, FIFO legs).
-
-    Nodes are ``(ix * ny + iy) * nz + iz``; the search stops when no open label can beat the
-    goal's arrival.
-
-    Parameters
-    ----------
-    cur : numpy.ndarray
-        Current table ``(nt, nx, ny, nz, 3)`` (m/s, float32).
-    org, step : numpy.ndarray
-        First node and node spacing of the lattice ``(3,)`` (m).
-    t0, dt : float
-        First time and time step of the table (s).
-    shape : numpy.ndarray
-        Nodes along x, y, z ``(3,)``.
-    offsets : numpy.ndarray
-        Leg offsets ``(M, 3)`` in nodes.
-    opposite : numpy.ndarray
-        ``(M,)``: the slot of each offset's reverse (a leg the current pushes back behind its
-        start needs that leg free too).
-    edge_ok : numpy.ndarray of bool
-        ``(M, N)``: ``edge_ok[m, n]`` says the leg from node ``n`` along ``offsets[m]`` is free.
-    start_ids : numpy.ndarray
-        Nodes linked to the start.
-    start_arr : numpy.ndarray
-        Their arrival times (s).
-    goal_link : numpy.ndarray of bool
-        ``(N,)``, nodes with a free leg to the goal.
-    goal : numpy.ndarray
-        The goal ``(3,)`` (m).
-    speed : float
-        Through-water speed (m/s).
-    ds : float
-        Largest integration sub-step (m).
-    arrival : numpy.ndarray
-        ``(N,)``, filled with the earliest arrival at each node (s); pass it filled with ``inf``.
-    pred : numpy.ndarray
-        ``(N,)``, filled with each node's predecessor (``-1`` for start-linked nodes).
-
-    Returns
-    -------
-    best : float
-        Arrival at the goal (s); ``inf`` when unreachable.
-    last : int
-        The node the goal is reached from (``-1`` when unreachable).
-    """
-    ny, nz = shape[1], shape[2]
-    heap = [(0.0, np.int64(0))]
-    heap.pop()
-    for k in range(start_ids.size):
-        n = start_ids[k]
-        if start_arr[k] < arrival[n]:
-            arrival[n] = start_arr[k]
-            pred[n] = -1
-            heapq.heappush(heap, (start_arr[k], np.int64(n)))
-    best, last = math.inf, np.int64(-1)
-    done = np.zeros(arrival.size, dtype=np.bool_)
-    while heap:
-        t, n = heapq.heappop(heap)
-        if done[n] or t > arrival[n]:
-            continue
-        if t >= best:
-            break
-        done[n] = True
-        iz = n % nz
-        iy = (n // nz) % ny
-        ix = n // (nz * ny)
-        x = org[0] + ix * step[0]
-        y = org[1] + iy * step[1]
-        z = org[2] + iz * step[2]
-        if goal_link[n]:
-            tg = leg_time(cur, org, step, t0, dt, x, y, z, goal[0], goal[1], goal[2], t, speed, ds)
-            if tg < best:
-                best, last = tg, n
-        for m in range(offsets.shape[0]):
-            if not edge_ok[m, n]:
-                continue
-            jx, jy, jz = ix + offsets[m, 0], iy + offsets[m, 1], iz + offsets[m, 2]
-            q = (jx * ny + jy) * nz + jz
-            if done[q]:
-                continue
-            qx, qy, qz = org[0] + jx * step[0], org[1] + jy * step[1], org[2] + jz * step[2]
-            tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds,
-                                 math.sqrt((qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2))
-            if back > 0.0 and not edge_ok[opposite[m], n]:
-                continue
-            if tq < arrival[q]:
-                arrival[q] = tq
-                pred[q] = n
-                heapq.heappush(heap, (tq, np.int64(q)))
-    return best, last

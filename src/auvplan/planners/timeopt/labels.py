@@ -1,6 +1,6 @@
 """Several arrival labels per lattice node: the time-dependent search where the current can beat the vehicle.
 
-Why one label per node is not enough there.  The single-label search (:func:`.kernels.search`)
+Why one label per node is not enough there.  The single-label search (:func:`single_search`)
 keeps only the earliest arrival at each node, which is exact when leaving a node later never
 arrives anywhere earlier (the FIFO property).  That holds whenever the current is slower than the
 vehicle everywhere it flies: then the ground speed along every leg, ``g = c·ŝ + √(V² − |c⊥|²)``, is
@@ -38,7 +38,8 @@ from scipy.ndimage import maximum_filter
 
 from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
-from .kernels import Float32Array, leg_reach, leg_time, search
+from .kernels import Float32Array, leg_reach, leg_time
+from .tail import tail_leg
 
 __all__ = ["fifo_holds", "strong_nodes", "label_width", "label_search", "label_chain", "single_search", "multi_search"]
 
@@ -139,7 +140,7 @@ def label_search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float
                  offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray,
                  start_arr: FloatArray, goal_link: BoolArray, goal: FloatArray, speed: float, ds: float,
                  depart: float, width: float, multi: BoolArray, arrival: FloatArray,
-                 pred: IntArray) -> tuple[float, np.int64]:
+                 pred: IntArray, tail: bool, mode: IntArray) -> tuple[float, np.int64]:
     """Label-setting search on arrival times with one label per node and time bucket (module notes).
 
     Parameters
@@ -176,6 +177,10 @@ def label_search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float
         ``(N * B,)`` filled with ``inf``; receives each label's arrival (s).
     pred : numpy.ndarray
         ``(N * B,)``; receives each label's predecessor label (``-1``: linked to the start).
+    tail : bool
+        Also fly each leg from a strong node tail-first (:mod:`.tail`) where it can be.
+    mode : numpy.ndarray
+        ``(N * B,)``; receives 1 where a label's leg in is flown tail-first, else 0.
 
     Returns
     -------
@@ -219,17 +224,25 @@ def label_search(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float
                 continue
             jx, jy, jz = ix + offsets[m, 0], iy + offsets[m, 1], iz + offsets[m, 2]
             q = (jx * ny + jy) * nz + jz
+            if not multi[q] and done[q * nb]:  # (its only label is settled: no leg to time)
+                continue
             qx, qy, qz = org[0] + jx * step[0], org[1] + jy * step[1], org[2] + jz * step[2]
             tq, back = leg_reach(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds,
                                  math.sqrt((qx - x) ** 2 + (qy - y) ** 2 + (qz - z) ** 2))
-            if not tq < math.inf or (back > 0.0 and not edge_ok[opposite[m], n]):
-                continue
-            b = min(int((tq - depart) / width), nb - 1) if multi[q] else 0
-            lq = q * nb + b
-            if not done[lq] and tq < arrival[lq]:
-                arrival[lq] = tq
-                pred[lq] = lab
-                heapq.heappush(heap, (tq, np.int64(lq)))
+            if back > 0.0 and not edge_ok[opposite[m], n]:
+                tq = math.inf
+            for k in range(2 if tail and multi[n] else 1):
+                if k == 1:
+                    tq = tail_leg(cur, org, step, t0, dt, x, y, z, qx, qy, qz, t, speed, ds)
+                if not tq < math.inf:
+                    continue
+                b = min(int((tq - depart) / width), nb - 1) if multi[q] else 0
+                lq = q * nb + b
+                if not done[lq] and tq < arrival[lq]:
+                    arrival[lq] = tq
+                    pred[lq] = lab
+                    mode[lq] = k
+                    heapq.heappush(heap, (tq, np.int64(lq)))
     return best, last
 
 
@@ -261,7 +274,8 @@ def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float
                   offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray,
                   start_arr: FloatArray, goal_link: BoolArray, goal: FloatArray, speed: float,
                   ds: float) -> tuple[float, IntArray, FloatArray]:
-    """Run the one-label search (:func:`.kernels.search`) on a lattice and read its path back.
+    """Run the one-label search on a lattice and read its path back: :func:`label_search` with one
+    bucket per node (no node keeps more than its earliest arrival).
 
     Parameters
     ----------
@@ -292,19 +306,21 @@ def single_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float
     n = int(np.prod(shape))
     arrival = np.full(n, np.inf)
     pred = np.full(n, -2, dtype=np.int64)
-    best, last = search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok, start_ids.astype(np.int64),
-                        start_arr, goal_link, goal, float(speed), float(ds), arrival, pred)
-    chain = [int(last)] if np.isfinite(best) else []
-    while chain and pred[chain[-1]] >= 0:
-        chain.append(int(pred[chain[-1]]))
-    nodes = np.array(chain[::-1], dtype=np.int64)
-    return float(best), nodes, arrival[nodes]
+    best, last = label_search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok,
+                              start_ids.astype(np.int64), start_arr, goal_link, goal, float(speed), float(ds), 0.0,
+                              math.inf, np.zeros(n, dtype=np.bool_), arrival, pred, False,
+                              np.zeros(n, dtype=np.int64))
+    if not np.isfinite(best):
+        return math.inf, np.zeros(0, dtype=np.int64), np.zeros(0)
+    labels, nodes = label_chain(pred, int(last), 1)
+    return float(best), nodes, arrival[labels]
 
 
 def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float], shape: tuple[int, int, int],
                  offsets: IntArray, opposite: IntArray, edge_ok: BoolArray, start_ids: IntArray,
                  start_arr: FloatArray, goal_link: BoolArray, goal: FloatArray, speed: float, ds: float,
-                 depart: float, width: float, max_labels: int) -> tuple[float, IntArray, FloatArray]:
+                 depart: float, width: float, max_labels: int,
+                 tail: bool = False) -> tuple[float, IntArray, FloatArray, IntArray]:
     """Run :func:`label_search` on a lattice: buckets sized, strong nodes found, path read back.
 
     Parameters
@@ -329,6 +345,8 @@ def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float]
         Wanted bucket width (s).
     max_labels : int
         Largest number of labels.
+    tail : bool, default False
+        Also fly legs tail-first (:mod:`.tail`).
 
     Returns
     -------
@@ -338,6 +356,8 @@ def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float]
         The path's nodes in flying order (empty when unreachable).
     times : numpy.ndarray
         The arrival at each of them (s).
+    modes : numpy.ndarray
+        1 where the leg into each of them is flown tail-first, else 0.
     """
     cur, _, _, t0, dt = args
     t1 = t0 + dt * (cur.shape[0] - 1)
@@ -347,10 +367,11 @@ def multi_search(args: tuple[Float32Array, FloatArray, FloatArray, float, float]
     w, nb = label_width(n, max(t1 - depart, width), width, max_labels)
     arrival = np.full(n * nb, np.inf)
     pred = np.full(n * nb, -2, dtype=np.int64)
+    mode = np.zeros(n * nb, dtype=np.int64)
     best, last = label_search(*args, np.array(shape, dtype=np.int64), offsets, opposite, edge_ok,
                               start_ids.astype(np.int64), start_arr, goal_link, goal, float(speed), float(ds),
-                              float(depart), float(w), multi, arrival, pred)
+                              float(depart), float(w), multi, arrival, pred, bool(tail), mode)
     if not np.isfinite(best):
-        return math.inf, np.zeros(0, dtype=np.int64), np.zeros(0)
+        return math.inf, np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0, dtype=np.int64)
     labels, nodes = label_chain(pred, int(last), nb)
-    return float(best), nodes, arrival[labels]
+    return float(best), nodes, arrival[labels], mode[labels]

@@ -108,7 +108,7 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
     else:
         speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
     raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds, p.labels,
-                        p.label_dt, p.max_labels) for v in speeds]
+                        p.label_dt, p.max_labels, p.tail_first) for v in speeds]
     scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
               for r in raws if r is not None and np.isfinite(r.duration)]
     if not scored:
@@ -117,7 +117,8 @@ def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: flo
     vstep = ts.lattice.step[2] if ts.lattice.shape[2] > 1 else 0.0
     refined = refine(problem.world, tab, raw, ts.cell, vstep, ts.ds, p.relax_iterations)
     for cand in (refined, raw):  # the refinement may move a leg whose drift back meets the seabed
-        if drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]), cand.speed, ts.ds)) \
+        if (cand.tail is not None or drift_free(problem.world, timed_traverse(tab, cand.points, float(cand.times[0]),
+                                                                             cand.speed, ts.ds))) \
                 and (table is not None or np.isfinite(flown(problem, ts, cand).duration)):
             return cand  # (where the current beats the vehicle, a line held at the table's edge of the
             # cone may be lost in the World's own current: then the other candidate)
@@ -144,8 +145,9 @@ def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
         no heading can hold on).
     """
     limit = ts.table.t1 + (ts.table.t1 - ts.table.t0)
-    times, back = fly_times(problem.world.currents, tp.points, float(tp.times[0]), tp.speed, 0.25 * ts.ds, limit)
-    return TimedPath(tp.points, times, tp.speed, back)
+    times, back = fly_times(problem.world.currents, tp.points, float(tp.times[0]), tp.speed, 0.25 * ts.ds, limit,
+                            tp.tail)
+    return TimedPath(tp.points, times, tp.speed, back, tp.tail)
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
@@ -175,11 +177,13 @@ def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: Time
     cost = tp.duration if spec.timeopt.objective == "time" else energy
     drift_ok = drift_free(problem.world, tp)
     terms["drift_back_m"] = float(tp.back.max()) if tp.back is not None and tp.back.size else 0.0
+    terms["tail_first_legs"] = int(tp.tail.sum()) if tp.tail is not None else 0
     free = bool(seg_ok.all()) and drift_ok
     message = "" if free else "the refined path failed the exact segment test" if not seg_ok.all() else \
         "the current pushes the vehicle back behind a leg's start onto the seabed or an obstacle"
     return PlanResult(Status.EXACT if free else Status.INFEASIBLE, tp.points, cost, terms, ts.lattice.legs, 1,
-                      time.perf_counter() - t0, np.array([cost]), "timeopt", None, message, times=tp.times)
+                      time.perf_counter() - t0, np.array([cost]), "timeopt", None, message, times=tp.times,
+                      tail=tp.tail)
 
 
 def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | None = None) -> PlanResult:

@@ -257,12 +257,15 @@ class TimedPath:
     back : numpy.ndarray, optional
         How far behind its start the current pushed the vehicle on each leg ``(N - 1,)`` (m;
         None: not known, as for a lattice path).
+    tail : numpy.ndarray of bool, optional
+        ``(N - 1,)``: the legs flown tail-first (:mod:`.tail`; None: none).
     """
 
     points: FloatArray
     times: FloatArray
     speed: float
     back: FloatArray | None = None
+    tail: BoolArray | None = None
 
     @property
     def duration(self) -> float:
@@ -340,7 +343,7 @@ def _links(world: World, lattice: Lattice, point: FloatArray, reach: float) -> I
 
 def time_search(world: World, lattice: Lattice, table: CurrentTable, start: ArrayLike, goal: ArrayLike,
                 depart: float, speed: float, ds: float, labels: str = "auto", label_dt: float = 0.0,
-                max_labels: int = 4_000_000) -> TimedPath | None:
+                max_labels: int = 4_000_000, tail: bool = False) -> TimedPath | None:
     """Earliest-arrival lattice path from start to goal.
 
     Parameters
@@ -360,13 +363,15 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     ds : float
         Largest integration sub-step (m).
     labels : str, default "auto"
-        ``"single"``: one label per node (:func:`.kernels.search`); ``"multi"``: one per node and
+        ``"single"``: one label per node (:func:`.labels.single_search`); ``"multi"``: one per node and
         arrival-time bucket (:mod:`.labels`); ``"auto"``: single where FIFO provably holds (the
         table's current slower than the vehicle from ``depart`` on), else multi.
     label_dt : float, default 0
         Bucket width of the multi-label search (s; 0 = a cell's still-water leg time).
     max_labels : int, default 4 000 000
         Most labels of the multi-label search (the bucket width grows to stay within it).
+    tail : bool, default False
+        Let the multi-label search also fly legs tail-first (:mod:`.tail`).
 
     Returns
     -------
@@ -386,16 +391,19 @@ def time_search(world: World, lattice: Lattice, table: CurrentTable, start: Arra
     goal_link[g_ids] = True
     common = (args, lattice.shape, _OFFSETS, _OPPOSITE, lattice.edge_ok, s_ids, s_arr, goal_link, goal, float(speed),
               float(ds))
+    modes = None
     if labels == "single" or (labels == "auto" and fifo_holds(table.cur, table.t0, table.dt, depart, table.t1, speed)):
         best, nodes, at = single_search(*common)
     else:
-        best, nodes, at = multi_search(*common, float(depart), label_dt or float(lattice.step[0]) / speed, max_labels)
+        best, nodes, at, modes = multi_search(*common, float(depart), label_dt or float(lattice.step[0]) / speed,
+                                              max_labels, tail)
     straight = timed_traverse(table, [start, goal], depart, speed, ds)
     if world.path_free(straight.points) and drift_free(world, straight) and straight.times[-1] <= best:
         return straight
     if not np.isfinite(best):
         return None
-    return TimedPath(np.vstack([start, xyz[nodes], goal]), np.r_[depart, at, best], float(speed))
+    tails = None if modes is None or not modes.any() else np.r_[modes > 0, False]
+    return TimedPath(np.vstack([start, xyz[nodes], goal]), np.r_[depart, at, best], float(speed), tail=tails)
 
 
 def _normals(p: FloatArray, i: IntArray) -> tuple[FloatArray, FloatArray]:
@@ -438,8 +446,8 @@ def refine(world: World, table: CurrentTable, path: TimedPath, cell: float, vste
     """
     best = path
     total = float(polyline_length(path.points))
-    if iterations == 0 or not np.isfinite(path.duration):
-        return path
+    if iterations == 0 or not np.isfinite(path.duration) or path.tail is not None:
+        return path  # (the band times legs forward: a path with tail-first legs is kept as the lattice made it)
     for level in (16.0, 8.0, 4.0, 2.0, 1.0, 0.5):
         spacing = level * cell
         if spacing > 0.25 * total and level > 0.5:

@@ -12,6 +12,8 @@ unit tangent ŝ, drifting back on the line where ``g < 0`` — on sub-steps of a
 path the vehicle can fly is never below the least time (the exact optimum is no slower than any
 flyable path), up to the integrator's second-order error; the closed-loop follower holds the same
 line (:mod:`auvplan.guidance.route`), so this is also the duration it flies (docs/timeopt.md).
+Legs marked tail-first (:mod:`.tail`) are flown with the far root, ``g = c·ŝ − √(V² − |c⊥|²)``, in
+midpoint time steps of ``ds / V`` seconds, and rejected where it is not positive.
 """
 
 from __future__ import annotations
@@ -24,6 +26,35 @@ from ..._types import ArrayLike, FloatArray
 from ...world import CurrentField
 
 __all__ = ["track_speed", "fly_times"]
+
+
+def _tail_leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: float, ds: float,
+              t_limit: float) -> float:
+    """Arrival at ``b`` from ``a`` left at ``t`` flown tail-first (the far root); ``inf`` when it cannot be."""
+    d = b - a
+    length = float(np.linalg.norm(d))
+    if length == 0.0:
+        return t
+    e = d / length
+
+    def g_at(s: float, when: float) -> float:
+        c = field.velocity((a + s * e)[None], when)[0]
+        c_par = float(c @ e)
+        disc = speed * speed - max(float(c @ c) - c_par * c_par, 0.0)
+        return c_par - math.sqrt(disc) if disc >= 0.0 else math.nan
+
+    tau, s = ds / speed, 0.0
+    while t <= t_limit:
+        g0 = g_at(s, t)
+        if not g0 > 0.0:
+            return math.inf
+        g = g_at(min(s + 0.5 * tau * g0, length), t + 0.5 * tau)
+        if not g > 0.0:
+            return math.inf
+        if s + tau * g >= length:
+            return t + (length - s) / g
+        s, t = s + tau * g, t + tau
+    return math.inf
 
 
 def track_speed(current: FloatArray, tangent: FloatArray, speed: float) -> float:
@@ -90,7 +121,7 @@ def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: flo
 
 
 def fly_times(field: CurrentField, points: ArrayLike, depart: float, speed: float, ds: float,
-              t_limit: float) -> tuple[FloatArray, FloatArray]:
+              t_limit: float, tail: ArrayLike | None = None) -> tuple[FloatArray, FloatArray]:
     """Arrival at every vertex of a polyline flown through a current field (module notes).
 
     Parameters
@@ -107,6 +138,8 @@ def fly_times(field: CurrentField, points: ArrayLike, depart: float, speed: floa
         Largest sub-step (m).
     t_limit : float
         A drifting leg not arrived by this time is rejected (s).
+    tail : array_like of bool, optional
+        ``(N - 1,)``: the legs flown tail-first (:mod:`.tail`; none when omitted).
 
     Returns
     -------
@@ -121,8 +154,12 @@ def fly_times(field: CurrentField, points: ArrayLike, depart: float, speed: floa
     if p.shape[0] == 0:
         return times, back
     times[0] = depart
+    tails = np.zeros(back.size, dtype=bool) if tail is None else np.asarray(tail, dtype=bool)
     for i in range(1, p.shape[0]):
-        times[i], back[i - 1] = _leg(field, p[i - 1], p[i], float(times[i - 1]), float(speed), float(ds), t_limit)
+        if tails[i - 1]:
+            times[i] = _tail_leg(field, p[i - 1], p[i], float(times[i - 1]), float(speed), float(ds), t_limit)
+        else:
+            times[i], back[i - 1] = _leg(field, p[i - 1], p[i], float(times[i - 1]), float(speed), float(ds), t_limit)
         if not math.isfinite(times[i]):
             break
     return times, back
