@@ -251,6 +251,8 @@ class _Fleet:
         self.ends: list[Status] = [Status.TIMEOUT] * n
         self.status = Status.TIMEOUT
         self.s_ref, self.best, self.best_t = 0.0, np.full(n, -np.inf), np.zeros(n)
+        # a leader launched behind the route's start (the launch scatter) starts the slots abreast of it
+        self.s_ref = self.fr.project(self.states[0].x, self.states[0].y, 0.0, behind=math.inf, ahead=0.0)
         self.u_lead = vp.speed
         self.vel = [(s.u * math.sin(s.psi), s.u * math.cos(s.psi), 0.0) for s in self.states]
 
