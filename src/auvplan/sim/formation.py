@@ -104,6 +104,8 @@ class FormationResult:
             "min_vehicle_distance_m": float(self.vehicle_distance.min()) if self.vehicle_distance.size else math.inf,
             "formation_error_rms_m": max(v["formation_error_rms_m"] for v in per.values()),
             "formation_error_max_m": max(v["formation_error_max_m"] for v in per.values()),
+            # after the launch transient (NaN when a vehicle never came within the settling radius)
+            "settled_error_max_m": float(np.max([v["settled_error_max_m"] for v in per.values()])),
             "min_altitude_m": min(v["min_altitude_m"] for v in per.values()),
             "min_obstacle_distance_m": min(v["min_obstacle_distance_m"] for v in per.values()),
             "duration_s": float(self.t[-1]) if self.t.size else 0.0,
