@@ -88,6 +88,8 @@ def test_launch_scatter_is_the_largest_error_and_settled_stays_inside():
         assert f["settled_error_max_m"] <= SETTLE_M + 0.5
         assert f["settled_error_rms_m"] <= f["formation_error_rms_m"] + 1e-12
     assert launched  # seed 3 puts at least one vehicle beyond the settling radius at launch
+    per = res.metrics["per_vehicle"].values()
+    assert res.metrics["settled_error_max_m"] == max(v["settled_error_max_m"] for v in per)
 
 
 def test_leader_launched_behind_the_start_carries_the_slots():
