@@ -88,6 +88,11 @@ def describe_run(name: str, record: RunRecord, endurance: Endurance | None = Non
     return "\n".join(lines)
 
 
+def _settled(v: float | None) -> str:
+    """The fleet's settled largest formation error for the summary line (None: a vehicle never settled)."""
+    return "n/a" if v is None else f"{v:.2f} m"
+
+
 def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
     """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
     from .io.data.geo import LocalFrame
@@ -125,7 +130,7 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
     human = f"{sc.name}: {record.status.value}" + (
         f" — {m['arrivals']}/{m['vehicles']} vehicles arrived, {m['collisions']} collisions, least vehicle "
         f"distance {m['min_vehicle_distance_m']:.1f} m, formation error RMS {m['formation_error_rms_m']:.2f} m "
-        f"(max {m['formation_error_max_m']:.2f} m); shapes: "
+        f"(max {m['formation_error_max_m']:.2f} m, settled {_settled(m.get('settled_error_max_m'))}); shapes: "
         + " → ".join(f"{s} from {b:.0f} m" for b, s in record.formation.breaks) if m and record.formation else "")
     emit(rec, args.json, human)
     if args.out and not args.json:

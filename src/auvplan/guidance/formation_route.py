@@ -316,7 +316,10 @@ class FormationRoute:
     def project(self, x: float, y: float, s_prev: float, behind: float = 30.0, ahead: float = 120.0) -> float:
         """Arc length of the nearest route point within a window about the previous one.
 
-        Continuous: no jumps at leg switches, no short-cuts to a distant part of the route.
+        Continuous: no jumps at leg switches, no short-cuts to a distant part of the route.  Behind the
+        route's start the first leg extends straight back (negative arc lengths, as in :meth:`point`):
+        a leader launched behind the start carries the slots with it instead of pinning them to the
+        start while the followers, which cannot stop, run past them.
 
         Parameters
         ----------
@@ -332,7 +335,7 @@ class FormationRoute:
         float
             Arc length (m).
         """
-        lo, hi = max(s_prev - behind, 0.0), min(s_prev + ahead, self.length)
+        lo, hi = s_prev - behind, min(s_prev + ahead, self.length)
         cum, w = self._cum, self._w
         k = max(bisect.bisect_right(cum, lo) - 1, 0)
         best, s_best = math.inf, min(max(s_prev, lo), hi)
@@ -340,7 +343,8 @@ class FormationRoute:
             ax, ay = w[k][0], w[k][1]
             dx, dy = w[k + 1][0] - ax, w[k + 1][1] - ay
             dd = dx * dx + dy * dy
-            f = min(max(((x - ax) * dx + (y - ay) * dy) / dd, 0.0), 1.0) if dd > 0 else 0.0
+            f = ((x - ax) * dx + (y - ay) * dy) / dd if dd > 0 else 0.0
+            f = min(max(f, 0.0) if k else f, 1.0)  # the first leg extends back past the start
             d = math.hypot(ax + f * dx - x, ay + f * dy - y)
             if d < best:
                 best, s_best = d, cum[k] + f * (cum[k + 1] - cum[k])

@@ -104,6 +104,8 @@ class FormationResult:
             "min_vehicle_distance_m": float(self.vehicle_distance.min()) if self.vehicle_distance.size else math.inf,
             "formation_error_rms_m": max(v["formation_error_rms_m"] for v in per.values()),
             "formation_error_max_m": max(v["formation_error_max_m"] for v in per.values()),
+            # after the launch transient (NaN when a vehicle never came within the settling radius)
+            "settled_error_max_m": float(np.max([v["settled_error_max_m"] for v in per.values()])),
             "min_altitude_m": min(v["min_altitude_m"] for v in per.values()),
             "min_obstacle_distance_m": min(v["min_obstacle_distance_m"] for v in per.values()),
             "duration_s": float(self.t[-1]) if self.t.size else 0.0,
@@ -251,6 +253,8 @@ class _Fleet:
         self.ends: list[Status] = [Status.TIMEOUT] * n
         self.status = Status.TIMEOUT
         self.s_ref, self.best, self.best_t = 0.0, np.full(n, -np.inf), np.zeros(n)
+        # a leader launched behind the route's start (the launch scatter) starts the slots abreast of it
+        self.s_ref = self.fr.project(self.states[0].x, self.states[0].y, 0.0, behind=math.inf, ahead=0.0)
         self.u_lead = vp.speed
         self.vel = [(s.u * math.sin(s.psi), s.u * math.cos(s.psi), 0.0) for s in self.states]
 
