@@ -13,8 +13,9 @@ from auvplan.guidance.los import los_heading
 from auvplan.guidance.route import RouteTracker
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, simulate
+from auvplan.sim.loop import _depth_band
 from auvplan.vehicles import Vehicle, VehicleParams, VehicleState
-from auvplan.world import Bounds, World
+from auvplan.world import Bounds, Ellipsoid, Sphere, World
 
 SEEDS = range(10)
 
@@ -162,3 +163,27 @@ def test_deadlock_is_detected():
     r = simulate(w, m, guidance="hybrid", rng=0)
     wait = 60.0 + m.avoidance.escape_time
     assert r.status is Status.DEADLOCK and r.escapes >= 1 and wait <= r.t[-1] < wait + 30.0
+
+
+def test_a_tracker_past_short_legs_keeps_the_depth_of_the_leg_below_it():
+    """Legs of 2 m after a 40 m leg, switch radius 10 m: a vehicle 6 m before the end of the long leg has its
+    active leg three legs on, but its depth reference is the long leg's end depth (between that leg's two ends:
+    the envelope a mission is checked under), not the depth 4 m further on; a single early switch keeps the
+    new leg's start depth as before."""
+    w = [[0, 0, -10], [0, 40, -10], [0, 42, -4], [0, 44, -2], [0, 46, 0], [0, 100, 0]]
+    tr = RouteTracker(w, 10.0)
+    rp = tr.update(0.0, 34.0)
+    assert rp.leg == 3 and rp.z_ref == -10.0
+    tr2 = RouteTracker([[0, 0, -10], [0, 40, -10], [0, 80, -4]], 10.0)
+    rp2 = tr2.update(0.0, 32.0)
+    assert rp2.leg == 1 and rp2.z_ref == -10.0 and rp2.gamma == pytest.approx(math.atan2(6.0, 40.0))
+
+
+def test_depth_band_of_a_pitched_ellipsoid():
+    """The band of an ellipsoid is its centre's z ± ‖row z of R·diag(a)‖: c for a yawed one, a for one pitched
+    90° (its long axis vertical), a sphere's radius."""
+    flat = Ellipsoid((0.0, 0.0, 1.0), (8.0, 4.0, 3.0), yaw=0.7)
+    up = Ellipsoid((0.0, 0.0, 1.0), (8.0, 4.0, 3.0), pitch=math.pi / 2)
+    assert _depth_band(flat) == pytest.approx((-2.0, 4.0))
+    assert _depth_band(up) == pytest.approx((-7.0, 9.0))
+    assert _depth_band(Sphere((0.0, 0.0, -5.0), 2.0)) == pytest.approx((-7.0, -3.0))
