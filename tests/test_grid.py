@@ -314,3 +314,21 @@ def test_a_finer_any_angle_lattice_gives_a_shorter_lattice_path_round_a_sphere()
             excess[links].append(polyline_length(raw) / exact - 1.0)
     assert excess[16][0] > excess[16][1] > excess[16][2] > 0.0 and excess[16][2] < 0.01
     assert min(excess[0]) > 0.02 and excess[0][2] > excess[0][0]
+
+
+def test_band_normals_are_unit_and_orthogonal_also_on_a_zero_chord() -> None:
+    """The elastic band's two move directions: unit, perpendicular to the chord and to each other; a
+    point whose neighbours coincide (the path comes back on itself) gets finite normals, not NaN."""
+    from auvplan.planners.grid.band import _normals
+
+    p = np.array([[0.0, 0.0, -10.0], [5.0, 1.0, -12.0], [10.0, 3.0, -9.0], [5.0, 1.0, -12.0],
+                  [5.0, 1.0, 30.0], [5.0, 1.0, -12.0]])
+    i = np.arange(1, p.shape[0] - 1)
+    n1, n2 = _normals(p, i)
+    assert np.all(np.isfinite(n1)) and np.all(np.isfinite(n2))
+    np.testing.assert_allclose(np.linalg.norm(n1, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(n2, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", n1, n2), 0.0, atol=1e-12)
+    t = p[i + 1] - p[i - 1]
+    np.testing.assert_allclose(np.einsum("ij,ij->i", n1, t), 0.0, atol=1e-9)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", n2, t), 0.0, atol=1e-9)

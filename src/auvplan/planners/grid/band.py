@@ -91,7 +91,9 @@ def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
 def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
     t = p[i + 1] - p[i - 1]
-    t /= np.maximum(np.sqrt(np.einsum("ij,ij->i", t, t)), 1e-12)[:, None]
+    norm = np.sqrt(np.einsum("ij,ij->i", t, t))
+    t = np.where(norm[:, None] > 1e-12, t / np.maximum(norm, 1e-12)[:, None], (1.0, 0.0, 0.0))  # a point
+    # revisited (zero chord) has every direction normal to it: take those of an x chord, never NaN
     tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
     steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
     n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
