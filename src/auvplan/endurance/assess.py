@@ -4,6 +4,7 @@ given a simulated flight, the energy it drew per leg (what ``auvplan run`` repor
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,7 +70,7 @@ class Endurance:
 
 def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: EnduranceParams | None = None,
            depart: float = 0.0, track: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None,
-           speeds: ArrayLike | None = None) -> Endurance:
+           speeds: ArrayLike | None = None, tail: ArrayLike | None = None) -> Endurance:
     """Budget, point of no return and (with ``track``) the flown energy of a mission route.
 
     Parameters
@@ -89,6 +90,9 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
     speeds : array_like, optional
         ``(N - 1,)`` leg speeds already chosen (m/s), e.g. the ones the flight flew; chosen by
         ``params.speeds`` when omitted.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (the time-optimal planner's ``tail_first``; the budget times
+        them with the other root of the crab equation, :func:`~auvplan.endurance.budget.traverse`).
 
     Returns
     -------
@@ -99,10 +103,10 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
     model = EnergyModel.from_vehicle(vehicle)
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     if speeds is None:
-        plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m)
+        plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m, tail=tail)
     else:
         plan = SpeedPlan(p.speeds, np.asarray(speeds, dtype=float), math.nan, math.nan, math.nan, "as flown")
-    budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m)
+    budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m, tail)
     ret = p.return_speed or vehicle.speed
     pnr = point_of_no_return(world, budget.traverse, model, p.recovery_point(), ret, ds=p.ds_m)
     flown = None
@@ -113,7 +117,10 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
     return Endurance(budget, pnr, plan, flown)
 
 
-def departure_endurance(world: World, plans: list[tuple[NDArray[np.float64], float] | None], departs: ArrayLike,
+_Plan = tuple[NDArray[np.float64], float] | tuple[NDArray[np.float64], float, NDArray[np.bool_] | None]
+
+
+def departure_endurance(world: World, plans: Sequence[_Plan | None], departs: ArrayLike,
                         vehicle: VehicleParams, params: EnduranceParams | None = None) -> list[dict[str, float]]:
     """Energy, margin and point of no return of each departure of a sweep.
 
@@ -122,7 +129,8 @@ def departure_endurance(world: World, plans: list[tuple[NDArray[np.float64], flo
     world : World
         Currents, seabed and obstacles.
     plans : list
-        Each departure's plan ``(points (M, 3), speed)`` or None
+        Each departure's plan ``(points (M, 3), speed)`` or ``(points, speed, tail)`` (``tail``: the
+        ``(M - 1,)`` legs flown tail-first, or None) or None
         (:func:`auvplan.planners.timeopt.planner.departure_sweep` ``paths``).
     departs : array_like
         The departures (s after the mission's start time).
@@ -144,7 +152,8 @@ def departure_endurance(world: World, plans: list[tuple[NDArray[np.float64], flo
         row = dict.fromkeys(("energy_wh", "margin_wh", "reserve_ok", "pnr_x", "pnr_y", "pnr_z", "pnr_t_s", "pnr_s_m",
                              "pnr_whole_mission"), math.nan)
         if plan is not None and len(plan[0]) >= 2:
-            b = mission_budget(world, plan[0], model, plan[1], float(d), p.ds_m)
+            tail = plan[2] if len(plan) > 2 else None
+            b = mission_budget(world, plan[0], model, plan[1], float(d), p.ds_m, tail)
             pnr = point_of_no_return(world, b.traverse, model, p.recovery_point(), p.return_speed or plan[1],
                                      ds=p.ds_m)
             row.update(energy_wh=b.energy_wh, margin_wh=b.margin_wh, reserve_ok=float(b.status.ok),

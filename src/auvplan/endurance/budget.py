@@ -6,7 +6,10 @@ current), so along the unit tangent ŝ of a leg, in the current c at its positio
     c∥ = c·ŝ,   c⊥² = |c|² − c∥²,   V_g = c∥ + √(V² − c⊥²)
 
 (the same kinematics as :func:`auvplan.cost.energy_kernel` and the time planner's
-``ground_speed``).  Each leg is cut into sub-steps of at most ``ds`` metres; a sub-step takes
+``ground_speed``).  A leg flown **tail-first** (the time-optimal planner's ``tail_first``: the vehicle
+heads against its track and a current stronger than itself carries it, ``PlanResult.tail``) takes the
+other root, ``V_g = c∥ − √(V² − c⊥²)``, as the planner and the path followers do
+(:mod:`auvplan.planners.timeopt.tail`).  Each leg is cut into sub-steps of at most ``ds`` metres; a sub-step takes
 ``h / V_g`` with V_g at its midpoint at the time the vehicle is half-way through it (one
 predictor step from its start), so the time and the energy are exact in a steady uniform
 current and second order in time-varying ones.  The leg's energy is ``P(V) × duration``
@@ -32,7 +35,7 @@ __all__ = ["Traverse", "Budget", "traverse", "mission_budget", "budget_of", "gro
 F64 = NDArray[np.float64]
 
 
-def ground_speed(current: F64, tangent: F64, speed: float) -> float:
+def ground_speed(current: F64, tangent: F64, speed: float, tail: bool = False) -> float:
     """Speed over ground along a unit tangent at through-water speed ``speed`` in a current.
 
     Parameters
@@ -43,17 +46,20 @@ def ground_speed(current: F64, tangent: F64, speed: float) -> float:
         Unit tangent of the track ``(3,)``.
     speed : float
         Through-water speed (m/s).
+    tail : bool, default False
+        The leg is flown tail-first (heading against the track): the other root.
 
     Returns
     -------
     float
-        ``c·ŝ + √(V² − |c⊥|²)`` (m/s); ``nan`` where the current beats the vehicle.
+        ``c·ŝ + √(V² − |c⊥|²)`` (``c·ŝ − √(V² − |c⊥|²)`` tail-first) (m/s); ``nan`` where that
+        heading cannot hold the track or makes no headway along it.
     """
     c_par = float(current @ tangent)
     disc = speed * speed - max(float(current @ current) - c_par * c_par, 0.0)
     if disc < 0.0:
         return math.nan
-    g = c_par + math.sqrt(disc)
+    g = c_par - math.sqrt(disc) if tail else c_par + math.sqrt(disc)
     return g if g > 1e-6 else math.nan
 
 
@@ -82,6 +88,8 @@ class Traverse:
         Whether every leg could be flown.
     message : str
         Where the current beats the vehicle, when not ``ok``.
+    tail : numpy.ndarray
+        ``(N - 1,)`` legs flown tail-first.
     """
 
     points: F64
@@ -93,6 +101,7 @@ class Traverse:
     node_leg: NDArray[np.int64]
     ok: bool = True
     message: str = ""
+    tail: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
     @property
     def duration(self) -> float:
@@ -121,7 +130,7 @@ class Traverse:
 
 
 def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart: float = 0.0,
-             ds: float = 100.0) -> Traverse:
+             ds: float = 100.0, tail: ArrayLike | None = None) -> Traverse:
     """Fly a route through the world's currents at each leg's through-water speed (module notes).
 
     Parameters
@@ -136,6 +145,8 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         Time at the first vertex (s after the mission's start time).
     ds : float, default 100.0
         Longest sub-step (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (module notes); none by default.
 
     Returns
     -------
@@ -148,6 +159,9 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     v = np.broadcast_to(np.asarray(speeds, dtype=float), (p.shape[0] - 1,)).copy()
     if not (np.all(np.isfinite(v)) and np.all(v > 0)) or not ds > 0:
         raise ValueError("leg speeds and ds must be positive")
+    back = np.zeros(p.shape[0] - 1, dtype=bool) if tail is None else np.asarray(tail, dtype=bool).reshape(-1)
+    if back.shape != v.shape:
+        raise ValueError(f"tail needs one flag per leg ({v.size}), got {back.size}")
     times = np.full(p.shape[0], math.nan)
     times[0] = depart
     nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
@@ -164,10 +178,12 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         h = length / n
         for j in range(n):
             start = a + (j * h) * e
-            g0 = ground_speed(cur.velocity(start, t), e, v[i])
-            g = ground_speed(cur.velocity(start + 0.5 * h * e, t + 0.5 * h / g0), e, v[i]) if g0 == g0 else math.nan
-            if not g == g:  # nan: the current beats the vehicle
-                ok, message = False, (f"leg {i}: the current beats the vehicle at {np.round(start, 1).tolist()} "
+            g0 = ground_speed(cur.velocity(start, t), e, v[i], back[i])
+            g = ground_speed(cur.velocity(start + 0.5 * h * e, t + 0.5 * h / g0), e, v[i], back[i]) \
+                if g0 == g0 else math.nan
+            if not g == g:  # nan: the current beats the vehicle (or, tail-first, is too weak to carry it)
+                what = "is too weak to carry the vehicle tail-first" if back[i] else "beats the vehicle"
+                ok, message = False, (f"leg {i}: the current {what} at {np.round(start, 1).tolist()} "
                                       f"(t = {t:.0f} s, through-water speed {v[i]:g} m/s)")
                 break
             t += h / g
@@ -180,7 +196,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
             break
         times[i + 1] = t
     return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
-                    np.asarray(node_leg, dtype=np.int64), ok, message)
+                    np.asarray(node_leg, dtype=np.int64), ok, message, back)
 
 
 @dataclass(frozen=True, eq=False)
@@ -270,7 +286,7 @@ class Budget:
 
 
 def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: ArrayLike | float | None = None,
-                   depart: float = 0.0, ds: float = 100.0) -> Budget:
+                   depart: float = 0.0, ds: float = 100.0, tail: ArrayLike | None = None) -> Budget:
     """Budget a route leg by leg in the world's currents from ``depart`` (module notes).
 
     Parameters
@@ -288,6 +304,8 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Departure (s after the mission's start time).
     ds : float, default 100.0
         Longest integration sub-step (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (module notes).
 
     Returns
     -------
@@ -295,7 +313,7 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Per-leg times, speeds and energies, and the verdict.
     """
     v = model.best_speed if speeds is None else speeds
-    return budget_of(traverse(world, route, v, depart, ds), model)
+    return budget_of(traverse(world, route, v, depart, ds, tail), model)
 
 
 def budget_of(tr: Traverse, model: EnergyModel) -> Budget:

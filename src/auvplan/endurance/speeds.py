@@ -61,13 +61,13 @@ class SpeedPlan:
     message: str = ""
 
 
-def _leg_time(world: World, a: F64, b: F64, v: float, t: float, ds: float) -> float:
-    tr = traverse(world, np.stack([a, b]), v, t, ds)
+def _leg_time(world: World, a: F64, b: F64, v: float, t: float, ds: float, tail: bool = False) -> float:
+    tr = traverse(world, np.stack([a, b]), v, t, ds, [tail])
     return tr.duration if tr.ok else math.inf
 
 
 def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: float, depart: float = 0.0,
-               ds: float = 100.0, xtol: float = 1e-6) -> tuple[F64, float, float]:
+               ds: float = 100.0, xtol: float = 1e-6, tail: ArrayLike | None = None) -> tuple[F64, float, float]:
     """Each leg's speed minimising ``(P(V) + λ) T_i(V, t_i)``, leg after leg (module notes).
 
     Parameters
@@ -86,6 +86,8 @@ def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: floa
         Longest integration sub-step (m).
     xtol : float, default 1e-6
         Speed tolerance of the bounded scalar minimisation (m/s).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:func:`~auvplan.endurance.budget.traverse`).
 
     Returns
     -------
@@ -97,12 +99,13 @@ def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: floa
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     lo, hi = model.min_speed, model.max_speed
     speeds = np.empty(w.shape[0] - 1)
+    back = np.zeros(speeds.size, dtype=bool) if tail is None else np.asarray(tail, dtype=bool).reshape(-1)
     t, energy = depart, 0.0
     for i in range(w.shape[0] - 1):
-        a, b = w[i], w[i + 1]
+        a, b, k = w[i], w[i + 1], bool(back[i])
 
-        def cost(v: float, a: F64 = a, b: F64 = b, t: float = t) -> float:
-            dur = _leg_time(world, a, b, v, t, ds)
+        def cost(v: float, a: F64 = a, b: F64 = b, t: float = t, k: bool = k) -> float:
+            dur = _leg_time(world, a, b, v, t, ds, k)
             return (float(model.power(v)) + price_w) * dur if math.isfinite(dur) else 1e300
 
         if lo == hi:
@@ -112,7 +115,7 @@ def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: floa
             v = float(res.x)
             if cost(hi) < cost(v):  # the bounded search keeps inside the interval: check the fast end
                 v = hi
-        dur = _leg_time(world, a, b, v, t, ds)
+        dur = _leg_time(world, a, b, v, t, ds, k)
         speeds[i] = v
         if not math.isfinite(dur):
             return speeds, math.inf, math.inf
@@ -123,7 +126,7 @@ def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: floa
 
 def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: float, objective: str = "fixed",
                   deadline_s: float = 0.0, depart: float = 0.0, ds: float = 100.0,
-                  iterations: int = 24) -> SpeedPlan:
+                  iterations: int = 24, tail: ArrayLike | None = None) -> SpeedPlan:
     """Choose the speed of every leg for an objective (module notes).
 
     Parameters
@@ -147,6 +150,8 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
         Longest integration sub-step (m).
     iterations : int, default 24
         Most bisection steps on the price of time (it stops when λ is known to 0.01 %).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:func:`~auvplan.endurance.budget.traverse`).
 
     Returns
     -------
@@ -157,7 +162,7 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     n = w.shape[0] - 1
     if objective == "fixed":
-        tr = traverse(world, w, cruise, depart, ds)
+        tr = traverse(world, w, cruise, depart, ds, tail)
         dur = tr.duration if tr.ok else math.inf
         return SpeedPlan("fixed", np.full(n, cruise), 0.0, dur, float(model.power(cruise)) * dur / WH)
     if objective not in ("energy", "time"):
@@ -168,18 +173,18 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
             return deadline_s <= 0 or depart + res[1] <= deadline_s
         return res[2] <= model.budget_wh
 
-    base = leg_speeds(world, w, model, 0.0, depart, ds)
+    base = leg_speeds(world, w, model, 0.0, depart, ds, tail=tail)
     if objective == "energy" and ok(base):
         return SpeedPlan("energy", base[0], 0.0, base[1], base[2], "least energy" + (
             f", arrives {deadline_s - depart - base[1]:.0f} s before the deadline" if deadline_s > 0 else ""))
     # λ large enough to fly at the top speed: P'(v) T = ... grows with k v_max³; bracket by doubling
     lam_hi = max(model.hotel_w, 1.0)
-    fast = leg_speeds(world, w, model, lam_hi, depart, ds)
+    fast = leg_speeds(world, w, model, lam_hi, depart, ds, tail=tail)
     for _ in range(30):
         if bool(np.all(fast[0] >= model.max_speed - 1e-4)):
             break
         lam_hi *= 4.0
-        fast = leg_speeds(world, w, model, lam_hi, depart, ds)
+        fast = leg_speeds(world, w, model, lam_hi, depart, ds, tail=tail)
     if objective == "energy" and not ok(fast):
         return SpeedPlan("energy", fast[0], lam_hi, fast[1], fast[2],
                          f"the deadline cannot be met: the fastest arrival is {depart + fast[1]:.0f} s")
@@ -194,7 +199,7 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
         if hi - lo <= 1e-4 * max(hi, 1.0):  # λ to 0.01 %: the speeds to about 1e-5 of their range
             break
         mid = 0.5 * (lo + hi)
-        res = leg_speeds(world, w, model, mid, depart, ds)
+        res = leg_speeds(world, w, model, mid, depart, ds, tail=tail)
         if objective == "energy":  # smallest λ meeting the deadline
             if ok(res):
                 hi, best, best_lam = mid, res, mid

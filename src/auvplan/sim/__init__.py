@@ -14,7 +14,15 @@ from __future__ import annotations
 
 from .loop import make_guidance, simulate
 from .mission import Mission, SimParams, SimSettings
-from .pipeline import mission_route, planned_route, planning_problem, route_from_path, run_mission, with_leg_speeds
+from .pipeline import (
+    mission_route,
+    planned_route,
+    planning_problem,
+    record_tail,
+    route_from_path,
+    run_mission,
+    with_leg_speeds,
+)
 from .result import RunRecord, SimMetrics, SimResult, decimate
 
 __all__ = [
@@ -33,4 +41,5 @@ __all__ = [
     "planned_route",
     "decimate",
     "with_leg_speeds",
+    "record_tail",
 ]

@@ -25,7 +25,7 @@ from .mission import Mission
 from .result import RunRecord
 
 __all__ = ["vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path", "mission_route",
-           "timed_waypoints", "route_tail", "planned_route", "with_leg_speeds"]
+           "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -185,6 +185,23 @@ def route_tail(route: ArrayLike, path: ArrayLike, tail: ArrayLike | None) -> NDA
     return flags
 
 
+def record_tail(record: RunRecord) -> NDArray[np.bool_] | None:
+    """The tail-first legs of a run's route (:func:`route_tail` of its plan), as the follower flew them.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run: its plan and route.
+
+    Returns
+    -------
+    numpy.ndarray of bool or None
+        ``(N - 1,)`` flags; None when no leg is flown tail-first.
+    """
+    p = record.plan
+    return None if p is None or record.route.shape[0] < 2 else route_tail(record.route, p.path, p.tail)
+
+
 def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: float,
                     rel: float = 0.002) -> NDArray[np.float64]:
     """The key waypoints of a timed plan (``plan.times``, the time-optimal planner) that keep its duration.
@@ -276,7 +293,7 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     return planned, fit.waypoints
 
 
-def with_leg_speeds(world: World, mission: Mission, route: ArrayLike) -> Mission:
+def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
     """The mission with the speed of each leg of ``route`` chosen by ``[endurance] speeds`` (issue 38).
 
     Parameters
@@ -287,6 +304,8 @@ def with_leg_speeds(world: World, mission: Mission, route: ArrayLike) -> Mission
         Vehicle, endurance settings and any leg speeds already set.
     route : array_like
         ``(N, 3)`` the route to fly (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:func:`route_tail`).
 
     Returns
     -------
@@ -298,7 +317,7 @@ def with_leg_speeds(world: World, mission: Mission, route: ArrayLike) -> Mission
     if e.speeds == "fixed" or mission.leg_speeds:
         return mission
     model = EnergyModel.from_vehicle(mission.vehicle)
-    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m)
+    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m, tail=tail)
     sim = mission.sim
     if sim.max_time == 0:  # the loop's default allows 3× the route at the cruise speed: at the slowest leg speed
         length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
@@ -340,12 +359,12 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     if route is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
-    mission = with_leg_speeds(world, mission, route)
+    tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
+    mission = with_leg_speeds(world, mission, route, tail)
     if planned is not None and (planned.cost_terms.get("drift_back_m", 0.0) > 0.0  # a timed plan the tide pushes
                                 or planned.cost_terms.get("tail_first_legs", 0) > 0):  # (or carries slowly)
         wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
-    tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight, tail=tail)
     return RunRecord(mission.name, recorded, planned, route, keys, result)

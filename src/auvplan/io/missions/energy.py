@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from ..._types import Status
 from ...endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget
-from ...sim import Mission, RunRecord, with_leg_speeds
+from ...sim import Mission, RunRecord, record_tail, with_leg_speeds
 from ...world import World
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, write_json, write_text
@@ -180,8 +180,9 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
         return None
     sim = record.sim
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
-    speeds = with_leg_speeds(world, mission, record.route).leg_speeds or None
-    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds)
+    tail = record_tail(record)  # legs the follower flew tail-first: timed with the other root
+    speeds = with_leg_speeds(world, mission, record.route, tail).leg_speeds or None
+    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds, tail=tail)
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
@@ -228,7 +229,7 @@ def sweep_energy(world: World, mission: Mission, plans: list[Any],
     mission : Mission
         Vehicle and ``[endurance]`` settings.
     plans : list
-        Each departure's ``(points, speed)`` or None (``departure_sweep(..., paths=plans)``).
+        Each departure's ``(points, speed, tail)`` or None (``departure_sweep(..., paths=plans)``).
     departs : numpy.ndarray
         The departures (s after the start time).
 

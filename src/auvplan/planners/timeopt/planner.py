@@ -17,7 +17,7 @@ from typing import NotRequired, TypedDict
 
 import numpy as np
 
-from ..._types import ArrayLike, FloatArray, Status
+from ..._types import ArrayLike, BoolArray, FloatArray, Status
 from ...cost import evaluate_paths
 from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult
@@ -259,7 +259,7 @@ class SweepRow:
 
 
 def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayLike,
-                    paths: list[tuple[FloatArray, float] | None] | None = None,
+                    paths: list[tuple[FloatArray, float, BoolArray | None] | None] | None = None,
                     progress: Callable[[int, int], None] | None = None) -> tuple[list[SweepRow], TimeSetup]:
     """Plan every departure time on one lattice and table (module notes).
 
@@ -272,8 +272,9 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
     departs : array_like
         Departure times (s after the mission's start time).
     paths : list, optional
-        When given, receives each departure's timed plan as ``(points (M, 3), speed)`` (None
-        where there is none), for the energy budget of each departure (:mod:`auvplan.endurance`).
+        When given, receives each departure's timed plan as ``(points (M, 3), speed, tail)`` (None
+        where there is none; ``tail`` the ``(M - 1,)`` tail-first legs or None), for the energy budget
+        of each departure (:mod:`auvplan.endurance`).
     progress : callable, optional
         Called as ``progress(done, total)`` after each departure (the command line's bar and ETA).
 
@@ -311,7 +312,7 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
         energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
         rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
         if paths is not None:
-            paths.append((tp.points, tp.speed) if tp is not None else None)
+            paths.append((tp.points, tp.speed, tp.tail) if tp is not None else None)
         if progress is not None:
             progress(len(rows), len(departs))
     return rows, ts
