@@ -4,6 +4,7 @@ report and exports, and ``report``/``export`` of a folder written before."""
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -64,7 +65,10 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
-    formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
+    formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
+                                                if frame is not None or f not in export.GEOGRAPHIC])
+    for line in notes:  # a format that would fly a tail-first leg nose-first
+        print(f"auvplan: {line}", file=sys.stderr)
     from .io.missions.energy import mission_endurance
 
     export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), formats, full)

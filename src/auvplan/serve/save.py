@@ -82,7 +82,8 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
     if endurance is not None:
         write_energy(out, endurance, frame.inverse if frame else None)
     speeds = read_leg_speeds(out, w.shape[0] - 1)
-    formats = [f for f in export.EXPORT_FORMATS if frame is not None or f not in export.GEOGRAPHIC]
+    formats = export.exportable(record, [f for f in export.EXPORT_FORMATS
+                                         if frame is not None or f not in export.GEOGRAPHIC])[0]
     export.write_exports(out, record, world.origin, mission.vehicle.speed if speeds is None else speeds, formats)
     _report(out, session, record, text, endurance)
     atomic_write(out / "history.json", json.dumps(history, indent=1) + "\n")

@@ -30,6 +30,7 @@ from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
 from .speeds import read_leg_speeds as file_leg_speeds
+from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
            "mission_file_energy", "sweep_energy"]
@@ -212,7 +213,8 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     model = EnergyModel.from_vehicle(mission.vehicle)
     carried = file_leg_speeds(path, waypoints.shape[0] - 1)
     speeds = mission.vehicle.speed if carried is None else carried
-    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m)
+    tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
            "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
     return rec, b.status.ok, f"energy {b.status.value} — {b.message}"

@@ -14,10 +14,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
 from ...path import arc_length
-from ...sim import RunRecord, decimate
+from ...sim import RunRecord, decimate, record_tail
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, summary_metrics, write_text
 from . import formats as mfmt
+from .tail import TAIL_FORMATS, any_tail, refusal
 
 __all__ = [
     "EXPORT_FORMATS",
@@ -25,6 +26,7 @@ __all__ = [
     "to_geojson",
     "to_kml",
     "mission_waypoints",
+    "exportable",
     "write_exports",
 ]
 
@@ -110,8 +112,11 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
         feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
                       "properties": {"name": "key waypoints"}})
     mission = coords(mission_waypoints(record))
-    feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission},
-                  "properties": {"name": "mission", "depth_semantics": "linear along each leg"}})
+    mp: JsonDict = {"name": "mission", "depth_semantics": "linear along each leg"}
+    tail = record_tail(record)
+    if tail is not None and any_tail(tail):
+        mp["tail_first_legs"] = [int(i) for i in np.flatnonzero(tail)]  # (auvplan.io.missions.tail)
+    feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission}, "properties": mp})
     return {"type": "FeatureCollection", "features": feats}
 
 
@@ -159,6 +164,11 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
     if record.plan is not None and record.sim is not None and record.plan.path.shape[0] >= 2:
         line("global plan", record.plan.path)
     line("mission", mission_waypoints(record))
+    tail = record_tail(record)
+    if tail is not None and any_tail(tail):  # (auvplan.io.missions.tail)
+        ext = ET.SubElement(doc.findall(f"{{{ns}}}Placemark")[-1], f"{{{ns}}}ExtendedData")
+        data = ET.SubElement(ext, f"{{{ns}}}Data", name="tail_first_legs")
+        ET.SubElement(data, f"{{{ns}}}value").text = " ".join(str(int(i)) for i in np.flatnonzero(tail))
     for i, k in enumerate(record.keys):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
@@ -166,6 +176,31 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
         ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
         ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(k[None])
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def exportable(record: RunRecord, formats: Iterable[str]) -> tuple[list[str], list[str]]:
+    """The formats a run's mission can be written in, and why the others cannot.
+
+    Parameters
+    ----------
+    record : RunRecord
+        The run (its tail-first legs: :func:`auvplan.sim.record_tail`).
+    formats : iterable of str
+        Format names (``EXPORT_FORMATS``).
+
+    Returns
+    -------
+    kept : list of str
+        The formats that carry the mission as it is flown.
+    notes : list of str
+        One line per format left out (:func:`auvplan.io.missions.tail.refusal`).
+    """
+    tail = record_tail(record)
+    fmts = list(formats)
+    if not any_tail(tail):
+        return fmts, []
+    assert tail is not None
+    return [f for f in fmts if f in TAIL_FORMATS], [refusal(f, tail) for f in fmts if f not in TAIL_FORMATS]
 
 
 def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float | ArrayLike,
@@ -194,13 +229,23 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     -------
     list of pathlib.Path
         The files written.
+
+    Raises
+    ------
+    DataError
+        For an unknown format, a geographic one without an origin, or one that cannot carry the mission's
+        tail-first legs (:func:`exportable`).
     """
     out = Path(out_dir)
     written = []
     waypoints = mission_waypoints(record)
+    tail = record_tail(record) if record.route.size else None
     for fmt in formats:
         if fmt not in EXPORT_FORMATS:
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
+        if any_tail(tail) and fmt not in TAIL_FORMATS:
+            assert tail is not None
+            raise DataError(refusal(fmt, tail))
         if fmt in GEOGRAPHIC:
             _frame(origin)
         if fmt == "geojson":
@@ -208,7 +253,7 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         elif fmt == "kml":
             text = to_kml(record, origin, full)
         elif fmt == "csv":
-            text = mfmt.mission_csv(waypoints, origin, speed)
+            text = mfmt.mission_csv(waypoints, origin, speed, tail)
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed)
         elif fmt == "plan":
@@ -218,6 +263,6 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
-            text = mfmt.to_ros_path(waypoints, speed)
+            text = mfmt.to_ros_path(waypoints, speed, tail=tail)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written

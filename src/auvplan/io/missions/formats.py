@@ -263,7 +263,8 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
 
 
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
-def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map") -> str:
+def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map",
+                tail: ArrayLike | None = None) -> str:
     """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
 
     Parameters
@@ -274,6 +275,9 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         Planned speed (m/s), or one per leg ``(N - 1,)`` (the stamps follow it).
     frame_id : str, optional
         The ROS frame of the poses (ENU, m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first: the pose that starts one faces against it (yaw + 180°,
+        :mod:`auvplan.io.missions.tail`).
 
     Returns
     -------
@@ -285,6 +289,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
     d = np.diff(p, axis=0)
     d = np.vstack([d, d[-1:]]) if len(d) else np.zeros((1, 3))
     yaw = np.arctan2(d[:, 1], d[:, 0])  # ENU yaw: counter-clockwise from east
+    if tail is not None:  # a tail-first leg: the heading held against it
+        yaw[:-1] = np.where(np.asarray(tail, dtype=bool), np.angle(-np.exp(1j * yaw[:-1])), yaw[:-1])
     pitch = -np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1]))  # ROS pitch about y: positive nose down
     lines = ["# nav_msgs/msg/Path written by auvplan: ENU local frame about the scenario origin (x east, y north,",
              "# z up, m); stamps are planned arrival times from the start (s)",
@@ -301,7 +307,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 
 
 # ---------------------------------------------------------------------- CSV
-def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike) -> str:
+def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
+                tail: ArrayLike | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -313,6 +320,9 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
         ``(lat, lon)`` of the local frame's origin (degrees); None leaves lat/lon empty.
     speed : float or array_like
         Planned speed (m/s), or one per leg ``(N - 1,)``.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first: then a last column ``tail_first`` (1/0, the leg that reaches
+        the waypoint; :mod:`auvplan.io.missions.tail`).
 
     Returns
     -------
@@ -326,8 +336,11 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
         lon = lat = np.full(len(p), np.nan)
     v = leg_speeds(speed, len(p) - 1)
     v = np.r_[v[:1], v] if v.size else np.asarray(speed, dtype=float).reshape(-1)[:1].repeat(len(p))
-    rows = ["x,y,z,lat,lon,depth,time,speed"]
-    for (x, y, z), la, lo, tt, s in zip(p, lat, lon, planned_times(p, speed), v):
+    k = None if tail is None else np.asarray(tail, dtype=bool)
+    k = None if k is None or not k.any() else np.r_[k[:1], k].astype(int)
+    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")]
+    for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
-                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]))
+                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
+                             + ([] if k is None else [str(k[i])])))
     return "\n".join(rows) + "\n"

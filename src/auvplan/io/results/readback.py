@@ -102,7 +102,8 @@ def _record_from(rec: dict[str, Any], arr: Mapping[str, Any]) -> RunRecord:
         plan = PlanResult(Status(p["status"]), arr.get("plan_path", np.empty((0, 3))), _num(p.get("cost")), terms,
                           int(p.get("evaluations") or 0), int(p.get("iterations") or 0),
                           _num(p.get("wall_time_s")), arr.get("plan_history", np.empty(0)), p["planner"],
-                          None, p.get("message") or "")
+                          None, p.get("message") or "",
+                          **({"tail": arr["plan_tail"] > 0.5} if "plan_tail" in arr else {}))
     sim = None
     s = rec.get("simulation")
     if s is not None:

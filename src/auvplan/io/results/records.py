@@ -370,6 +370,8 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     arrays = {"route": record.route, "keys": record.keys}
     if record.plan is not None:
         arrays.update(plan_path=record.plan.path, plan_history=record.plan.history)
+        if record.plan.tail is not None:  # the legs flown tail-first (the exports need them)
+            arrays.update(plan_tail=record.plan.tail.astype(np.float64))
     if record.sim is not None:
         arrays.update({f"sim_{k}": getattr(record.sim, k) for k in SIM_ARRAYS})
     buf = io.BytesIO()
