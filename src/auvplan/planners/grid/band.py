@@ -170,12 +170,15 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
 
 
 def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
-              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0) -> tuple[np.ndarray, float, int]:
+              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0,
+              first: float = 8.0) -> tuple[np.ndarray, float, int]:
     """Refine until the cost stops improving, the same way whatever the lattice: cycles of
     levels, each level resampling the best path so far every 1/8, 1/16, … 1/``finest`` of its length
     (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
     objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
     free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
+    The first cycle starts at 1/``first`` of the length (to go on from a path already relaxed
+    down to 1/(``first``/2), :mod:`auvplan.planners.grid.ladder`).
 
     Returns the path, its cost and the number of levels run.
     """
@@ -183,9 +186,9 @@ def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, mod
     best, best_cost = path, path_cost(problem, spec, path)["total"]
     length = float(polyline_length(path))
     levels = 0
-    for _ in range(cycles):
+    for cycle in range(cycles):
         before = best_cost
-        spacing = length / 8.0
+        spacing = length / (first if cycle == 0 else 8.0)
         while spacing >= length / finest:
             levels += 1
             cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
