@@ -144,7 +144,7 @@ def _cells(problem: PlanningProblem, params: GridParams, reference: GridReferenc
     lower, upper = search_box(problem)
     cells = [reference.cell if reference is not None else auto_cell(problem.world, lower, upper, params)[0]]
     top = float(np.min(upper[:2] - lower[:2])) / 25.0
-    while params.ladder and 2.0 * cells[-1] <= top:
+    while params.ladder and cells[-1] < top:
         cells.append(2.0 * cells[-1])
     return cells
 
@@ -229,5 +229,5 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
         return replace(_failure(Status.INFEASIBLE, why, t0), message=why + (tried if len(cells) > 1 else ""))
     kinds = "26 directions" if won[1] == 0 else f"any-angle links of {won[1]} cells"
     return replace(best, evaluations=edges, wall_time_s=done,
-                   message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m "
-                   f"({screened} lattice paths screened, {refined} refined to convergence): {won[0]:g} m, {kinds}")
+                   message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
+                   f"{won[0]:g} m, {kinds} ({screened} lattice paths screened, {refined} refined to convergence)")
