@@ -69,8 +69,12 @@ def measure(cell: float, scenario: str, repeats: int = REPEATS) -> dict:
     row["peak_rss_mib"] = _rss_mib()
     row.update(status=r.status.value, cost=r.cost, length_m=r.cost_terms.get("length_m"), edges=r.evaluations,
                reference=r.message)
+    row["winner"] = r.message.rsplit(": ", 1)[-1]
     row["cost_lattice_bound"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, converge=False))).cost
     row["cost_single_lattice"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, ladder=False))).cost
+    c0 = time.process_time()  # the ladder of the 26 directions alone (the default before wave 7), same code
+    row["lattice26_ladder_cost"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, also_any_angle=0))).cost
+    row["lattice26_ladder_cpu_s"] = time.process_time() - c0
     lspec = replace(spec, grid=replace(spec.grid, objective="length"))
     lo, hi = search_box(prob)
     ref = GridReference(world, prob.goal, cost_model_for(prob, lspec), lo, hi, lspec.grid)
@@ -129,7 +133,7 @@ def _lattice_paths(prob, spec, converged) -> dict:
     out: dict = {}
     lo, hi = search_box(prob)
     for tag, link in (("lattice26", 0), ("anyangle16", 16)):
-        g = replace(spec.grid, any_angle=link)
+        g = replace(spec.grid, any_angle=link, also_any_angle=0)  # one kind of link
         ref = Ref(prob.world, prob.goal, cost_model_for(prob, replace(spec, grid=g)), lo, hi, g, prob.start)
         raw = ref.query(prob.start)
         if raw.shape[0] < 2:
@@ -152,13 +156,16 @@ def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
              "times; field and scikit-fmm interleaved, median of the repeats; the field is the full cost-to-go "
              "of the length objective from the goal over the whole lattice, scikit-fmm's distance on the same "
              "free-node mask and cells; the mask is what scikit-fmm must be handed, the free nodes of the "
-             "World's static clearances per node, timed as the build computes it, `node_fields`)", "",
+             "World's static clearances per node, timed as the build computes it, `node_fields`; the default "
+             "ladder searches every rung with the 26 directions and with any-angle links of 16 cells and refines the "
+             "better, `docs/lattice.md`; the single-kind columns set `also_any_angle = 0`)", "",
              "| scenario | cell m | nodes | raw lattice path cost: 26-dir / any-angle 16 "
              "| its length / refined length (any-angle) "
-             "| single lattice converged: 26-dir / any-angle 16 | ladder: 26-dir (default) / any-angle 16 "
+             "| single lattice converged: 26-dir / any-angle 16 | ladder: 26-dir / any-angle 16 "
+             "| **default ladder** (both kinds) | its winner | ladder CPU s: default / 26-dir (ratio) "
              "| search CPU s | whole build CPU s | scikit-fmm CPU s "
              "| search / skfmm (median, per repeat) | mask CPU s | build / skfmm | build / (skfmm + mask) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         ratios = ", ".join(f"{x:.2f}" for x in r.get("search_ratios", []))
         lines.append(
@@ -167,7 +174,10 @@ def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
             f"{r.get('anyangle16_refined_length_m', float('nan')):,.0f} "
             f"({100 * (r.get('anyangle16_length_m', 0) / r.get('anyangle16_refined_length_m', 1) - 1):+.2f} %) | "
             f"{r['cost_single_lattice']:,.2f} / {r.get('anyangle16_converged_cost', float('nan')):,.2f} | "
-            f"{r['cost']:,.2f} / {r.get('anyangle16_ladder_cost', float('nan')):,.2f} | "
+            f"{r.get('lattice26_ladder_cost', float('nan')):,.2f} / {r.get('anyangle16_ladder_cost', float('nan')):,.2f} | "
+            f"**{r['cost']:,.2f}** | {r.get('winner', '')} | {r['plan_cpu_s']:.2f} / "
+            f"{r.get('lattice26_ladder_cpu_s', float('nan')):.2f} "
+            f"({r['plan_cpu_s'] / r.get('lattice26_ladder_cpu_s', float('nan')):.2f}) | "
             f"{r.get('search_cpu_s', float('nan')):.3f} | "
             f"{r.get('field_cpu_s', float('nan')):.3f} | {r.get('skfmm_cpu_s', float('nan')):.3f} | "
             f"**{r.get('search_ratio', float('nan')):.2f}** ({ratios}) | {r.get('mask_cpu_s', float('nan')):.3f} | "
