@@ -150,7 +150,7 @@ def _lattice_paths(prob, spec, converged) -> dict:
 
 def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
     """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers)."""
-    loads = [r["load_1min"] for r in rows]
+    loads, nan = [r["load_1min"] for r in rows], float("nan")
     lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid.py {argv}` "
              f"(load average {min(loads):.1f}–{max(loads):.1f} on the shared 2-core host; CPU times are process "
              "times; field and scikit-fmm interleaved, median of the repeats; the field is the full cost-to-go "
@@ -173,8 +173,8 @@ def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
             f"{r.get('anyangle16_cost', float('nan')):,.1f} | {r.get('anyangle16_length_m', float('nan')):,.0f} / "
             f"{r.get('anyangle16_refined_length_m', float('nan')):,.0f} "
             f"({100 * (r.get('anyangle16_length_m', 0) / r.get('anyangle16_refined_length_m', 1) - 1):+.2f} %) | "
-            f"{r['cost_single_lattice']:,.2f} / {r.get('anyangle16_converged_cost', float('nan')):,.2f} | "
-            f"{r.get('lattice26_ladder_cost', float('nan')):,.2f} / {r.get('anyangle16_ladder_cost', float('nan')):,.2f} | "
+            f"{r.get('lattice26_converged_cost', nan):,.2f} / {r.get('anyangle16_converged_cost', nan):,.2f} | "
+            f"{r.get('lattice26_ladder_cost', nan):,.2f} / {r.get('anyangle16_ladder_cost', nan):,.2f} | "
             f"**{r['cost']:,.2f}** | {r.get('winner', '')} | {r['plan_cpu_s']:.2f} / "
             f"{r.get('lattice26_ladder_cpu_s', float('nan')):.2f} "
             f"({r['plan_cpu_s'] / r.get('lattice26_ladder_cpu_s', float('nan')):.2f}) | "

@@ -66,7 +66,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{name:24s} cost {r['cost']:.2f} (peer {r['peer_cost']:.2f})  CPU {r['cpu']:.2f} s "
                   f"(peer {r['peer_cpu']:.2f} s, ratio {r['cpu'] / r['peer_cpu']:.2f})  {r['winner']}", flush=True)
     if args.figure is not None:
-        lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid_reference.py {' '.join(sys.argv[1:] if argv is None else argv)}` "
+        cmd = " ".join(sys.argv[1:] if argv is None else argv)
+        lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid_reference.py {cmd}` "
                  f"(load average {min(loads):.1f}–{max(loads):.1f} on the shared 2-core host; `--reference` with the "
                  f"scenario's settings at budget {args.budget}; CPU = process time of `reference` alone, median of "
                  f"{args.repeats} repeats interleaved with the peer commit {args.peer}'s code in a child process)", "",

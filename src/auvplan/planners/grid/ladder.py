@@ -188,9 +188,11 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
     Returns
     -------
     PlanResult
-        The cheapest rung's plan; ``evaluations`` counts the edges of every lattice built; the
-        message names the rungs, the winner's cell and links, and how many paths were refined to
-        convergence.  When no rung finds a path, the finest rung's failure with the cells tried named.
+        The cheapest rung's plan; ``evaluations`` counts the edges of every lattice built; ``history``
+        is the ladder's cost after each rung, coarsest first (its last entry the plan's cost; ``inf``
+        while no rung has a plan), i.e. the reference of each cell; the message names the rungs, the
+        winner's cell and links, and how many paths were refined to convergence.  When no rung finds a
+        path, the finest rung's failure with the cells tried named.
     """
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
@@ -202,12 +204,14 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
     best: PlanResult | None = None
     failed: PlanResult | None = None
     edges, screened, refined, won, why = 0, 0, 0, (cells[0], 0), ""
+    history: list[float] = []  # the ladder's cost after each rung, coarse to fine
     for cell in reversed(cells):  # coarse to fine: a finer ladder re-runs the same rungs first
         finest = cell == cells[0]
         rung = params if finest else replace(params, cell=cell)
         cands, e, msg = _screened(problem, spec, model, rung, reference if finest else None)
         edges += e
         why = msg if finest else why
+        history.append(best.cost if best is not None else float("inf"))
         if not cands:
             continue
         screened += len(cands)
@@ -222,6 +226,7 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
             failed = failed or run
         elif best is None or run.cost < best.cost:
             best, won = run, (cell, links)
+            history[-1] = best.cost
     done = time.perf_counter() - t0
     if best is None:
         if failed is not None:
@@ -229,6 +234,6 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
         tried = f"; no path on the coarser lattices either ({', '.join(f'{c:g}' for c in cells[1:])} m)"
         return replace(_failure(Status.INFEASIBLE, why, t0), message=why + (tried if len(cells) > 1 else ""))
     kinds = "26 directions" if won[1] == 0 else f"any-angle links of {won[1]} cells"
-    return replace(best, evaluations=edges, wall_time_s=done,
+    return replace(best, evaluations=edges, wall_time_s=done, history=np.array(history),
                    message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
                    f"{won[0]:g} m, {kinds} ({screened} lattice paths screened, {refined} refined to convergence)")
