@@ -88,16 +88,20 @@ def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
     return np.vstack([*pieces, r[last:]])
 
 
-def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
-    t = p[i + 1] - p[i - 1]
+def _normals(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors perpendicular to the chords ``t (m, 3)`` (normalised in place) and to each other."""
     t /= np.maximum(np.sqrt(np.einsum("ij,ij->i", t, t)), 1e-12)[:, None]
     tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
     steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
-    n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
-                  np.stack([ty, -tx, np.zeros_like(tx)], axis=1))
+    n1 = np.empty_like(t)
+    n1[:, 0] = np.where(steep, 0.0, ty)
+    n1[:, 1] = np.where(steep, tz, -tx)
+    n1[:, 2] = np.where(steep, -ty, 0.0)
     n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
-    n2 = np.stack([ty * n1[:, 2] - tz * n1[:, 1], tz * n1[:, 0] - tx * n1[:, 2], tx * n1[:, 1] - ty * n1[:, 0]], axis=1)
+    n2 = np.empty_like(t)
+    n2[:, 0] = ty * n1[:, 2] - tz * n1[:, 1]
+    n2[:, 1] = tz * n1[:, 0] - tx * n1[:, 2]
+    n2[:, 2] = tx * n1[:, 1] - ty * n1[:, 0]
     return n1, n2
 
 
@@ -107,7 +111,8 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
     best move that lowers the cost of its two segments and keeps both free (odd and even
     points in turn, so that the moves are independent).  Failed points halve their steps.
-    Only the moves that lower the cost go through the exact segment test."""
+    Only the moves that lower the cost go through the exact segment test.  (The arrays are
+    filled in place rather than stacked: the same numbers, fewer temporaries.)"""
     p = p.copy()
     n = p.shape[0]
     if n < 3 or iterations == 0:
@@ -115,27 +120,37 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     alpha = np.full(n, 0.5)
     delta = np.full(n, 0.5 * step)
     tol = 1e-3 * step
+    parities = (np.arange(1, n - 1, 2), np.arange(2, n - 1, 2))
     for _ in range(iterations):
-        for parity in (1, 2):
-            i = np.arange(parity, n - 1, 2)
-            i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
+        for every in parities:
+            i = every[(alpha[every] > 1e-3) | (delta[every] > tol)]
             if i.size == 0:
                 continue
             m = i.size
             a, b, c = p[i - 1], p[i], p[i + 1]
-            n1, n2 = _normals(p, i)
+            n1, n2 = _normals(c - a)
             d = delta[i, None]
-            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
-                            b - d * n2])  # (6, m, 3): the point, then its five moves
-            ends = np.concatenate([np.broadcast_to(a, pts.shape), pts])
-            cost = edge_cost(world, ends, np.concatenate([pts, np.broadcast_to(c, pts.shape)]), model, objective)
+            ends = np.empty((2, 6, m, 3))  # segment starts and ends: the point, then its five moves
+            pts = ends[1, :6]
+            pts[0] = b
+            pts[1] = b + alpha[i, None] * (0.5 * (a + c) - b)
+            dn = d * n1
+            pts[2], pts[3] = b + dn, b - dn
+            dn = d * n2
+            pts[4], pts[5] = b + dn, b - dn
+            ends[0] = a
+            tips = np.empty((2, 6, m, 3))
+            tips[0] = pts
+            tips[1] = c
+            cost = edge_cost(world, ends.reshape(12, m, 3), tips.reshape(12, m, 3), model, objective)
             both = cost[:6] + cost[6:]
             old, new = both[0], both[1:]
             better = new < old - 1e-9 * np.abs(old)
             kk, jj = np.nonzero(better)
             if kk.size:
                 q = pts[kk + 1, jj]
-                seg = np.stack([np.stack([a[jj], q], axis=1), np.stack([q, c[jj]], axis=1)], axis=1)
+                seg = np.empty((kk.size, 2, 2, 3))
+                seg[:, 0, 0], seg[:, 0, 1], seg[:, 1, 0], seg[:, 1, 1] = a[jj], q, q, c[jj]
                 better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
             new = np.where(better, new, np.inf)
             k = np.argmin(new, axis=0)
@@ -170,15 +185,12 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
 
 
 def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
-              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0,
-              first: float = 8.0) -> tuple[np.ndarray, float, int]:
+              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0) -> tuple[np.ndarray, float, int]:
     """Refine until the cost stops improving, the same way whatever the lattice: cycles of
     levels, each level resampling the best path so far every 1/8, 1/16, … 1/``finest`` of its length
     (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
     objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
     free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
-    The first cycle starts at 1/``first`` of the length (to go on from a path already relaxed
-    down to 1/(``first``/2), :mod:`auvplan.planners.grid.ladder`).
 
     Returns the path, its cost and the number of levels run.
     """
@@ -186,9 +198,9 @@ def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, mod
     best, best_cost = path, path_cost(problem, spec, path)["total"]
     length = float(polyline_length(path))
     levels = 0
-    for cycle in range(cycles):
+    for _ in range(cycles):
         before = best_cost
-        spacing = length / (first if cycle == 0 else 8.0)
+        spacing = length / 8.0
         while spacing >= length / finest:
             levels += 1
             cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
