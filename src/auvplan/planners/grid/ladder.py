@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -66,14 +67,15 @@ def _failure(status: Status, message: str, t0: float) -> PlanResult:
                       "grid", None, message)
 
 
-def _lattice(problem: PlanningProblem, model: CostModel, params: GridParams,
-             reference: GridReference | None) -> tuple[GridReference | None, FloatArray, str]:
+def _lattice(problem: PlanningProblem, model: CostModel, params: GridParams, reference: GridReference | None,
+             keep: bool = False, fields: tuple[Any, ...] | None = None) -> tuple[GridReference | None, FloatArray, str]:
     """The lattice of ``params`` (or ``reference``) and its path from the start; the message says
-    why when there is no path (the path is then empty)."""
+    why when there is no path (the path is then empty).  ``keep`` / ``fields``: see :class:`GridReference`."""
     if reference is None:
         lower, upper = search_box(problem)
         try:
-            reference = GridReference(problem.world, problem.goal, model, lower, upper, params, problem.start)
+            reference = GridReference(problem.world, problem.goal, model, lower, upper, params, problem.start,
+                                      keep=keep, fields=fields)
         except ValueError as exc:
             return None, np.empty((0, 3)), str(exc)
     raw = reference.query(problem.start)
@@ -163,14 +165,16 @@ def _screened(problem: PlanningProblem, spec: PlannerSpec, model: CostModel, par
               reference: GridReference | None) -> tuple[list[tuple[float, int, FloatArray, GridReference]], int, str]:
     """One rung: each kind of link's lattice path with its cost after the screening refinement, as
     ``(cost, links, path, lattice)``; also the lattices' edges and the first failure's message."""
-    kinds = dict.fromkeys([params.any_angle] + ([params.also_any_angle] if params.also_any_angle else []))
-    out, edges, why = [], 0, ""
-    for links in kinds:
+    kinds = list(dict.fromkeys([params.any_angle] + ([params.also_any_angle] if params.also_any_angle else [])))
+    out, edges, why, shared = [], 0, "", None
+    for n, links in enumerate(kinds):
         given = reference if reference is not None and reference.params.any_angle == links else None
         p = replace(params, any_angle=links)
         if reference is not None and given is None:  # the other kind on the given lattice's cells
             p = replace(p, cell=reference.cell, cell_z=reference.cell_z)
-        ref, raw, msg = _lattice(problem, model, p, given)
+        ref, raw, msg = _lattice(problem, model, p, given, keep=n + 1 < len(kinds), fields=shared)
+        if ref is not None:  # the next kind searches the same lattice: its node fields and edges re-used
+            shared, ref.fields = ref.fields, None
         edges += ref.edges if ref is not None else 0
         if ref is None or raw.shape[0] == 0:
             why = why or msg

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import numpy as np
 
@@ -79,6 +80,12 @@ class GridReference:
         The one start that will be queried: the search becomes A* towards it and stops when its
         cheapest path is known (:func:`auvplan.planners.grid.lattice.search`).  Other starts are then
         answered by real but not necessarily cheapest lattice paths.
+    keep : bool, default False
+        Keep the node fields and the free-edge bits as :attr:`fields` (for another search of the
+        same lattice; set it to None when done, they are most of the lattice's memory).
+    fields : tuple, optional
+        :attr:`fields` of a lattice of the same world, box, cells and objective: re-used instead of
+        computed (only the search differs, e.g. its any-angle links).
 
     Attributes
     ----------
@@ -95,10 +102,13 @@ class GridReference:
         Nodes the search settled.
     search_cpu_s : float
         CPU time of the search alone (the field over the built lattice), s.
+    fields : tuple or None
+        With ``keep``: free nodes, altitudes, obstacle clearances, currents and free-edge bits.
     """
 
     def __init__(self, world: World, goal: ArrayLike, model: CostModel, lower: ArrayLike, upper: ArrayLike,
-                 params: GridParams, start: ArrayLike | None = None) -> None:
+                 params: GridParams, start: ArrayLike | None = None, keep: bool = False,
+                 fields: tuple[Any, ...] | None = None) -> None:
         self.world, self.model, self.params = world, model, params
         self.goal = np.asarray(goal, dtype=float).reshape(3)
         lower, upper = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
@@ -112,8 +122,12 @@ class GridReference:
         self.cell, self.cell_z, self.shape = cell, cell_z, tuple(int(v) for v in n)
         self.axes = tuple(origin[d] + steps[d] * np.arange(n[d]) for d in range(3))
         use_cost = params.objective == "cost"
-        self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
-        bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        if fields is None:
+            self.free, alt, obs, current = node_fields(world, self.axes, use_cost)
+            bits = edge_bits(world, self.free, alt, obs, steps, self._coords)
+        else:  # another kind of link on the same lattice (the search reads them only)
+            self.free, alt, obs, current, bits = fields
+        self.fields = (self.free, alt, obs, current, bits) if keep else None
         links = self._links(alt, obs) if params.any_angle > 0 else None
         del alt, obs
         near, w_goal = self._connect(self.goal, towards=True)
