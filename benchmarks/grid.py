@@ -148,8 +148,9 @@ def _lattice_paths(prob, spec, converged) -> dict:
     return out
 
 
-def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
-    """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers)."""
+def figure(rows: list[dict], path: Path, repeats: int, argv: str = "", optimum: dict | None = None) -> None:
+    """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers); ``optimum``: the
+    independent polyline optimum of one scenario (``benchmarks/grid_optimum.py``), stated under the table."""
     loads, nan = [r["load_1min"] for r in rows], float("nan")
     lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid.py {argv}` "
              f"(load average {min(loads):.1f}–{max(loads):.1f} on the shared 2-core host; CPU times are process "
@@ -182,6 +183,16 @@ def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
             f"{r.get('field_cpu_s', float('nan')):.3f} | {r.get('skfmm_cpu_s', float('nan')):.3f} | "
             f"**{r.get('search_ratio', float('nan')):.2f}** ({ratios}) | {r.get('mask_cpu_s', float('nan')):.3f} | "
             f"{r.get('build_ratio', float('nan')):.2f} | **{r.get('build_mask_ratio', float('nan')):.2f}** |")
+    if optimum is not None:
+        best = min(r["cost"] for r in rows if r["scenario"] == optimum["scenario"])
+        lines += ["", f"Optimality on {optimum['scenario']}: an independent optimum with no lattice and no "
+                  f"elastic band (`benchmarks/grid_optimum.py {optimum['scenario']} --segments {optimum['segments']}`: "
+                  f"scipy's L-BFGS-B over the {optimum['segments'] - 1} interior vertices of a polyline started on the "
+                  f"straight line, same cost function) costs {optimum['cost']:,.2f} "
+                  f"({'free' if optimum['free'] else 'NOT FREE'}, {optimum['cpu_s']:.0f} s CPU), "
+                  f"{100 * (optimum['cost'] / best - 1):+.5f} % from the default ladder's best {best:,.2f}: the "
+                  "reference is the problem's optimum to that precision, so a flat ladder is the best a finer lattice "
+                  "can do there."]
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
 
@@ -206,12 +217,20 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="results/bench-grid")
     ap.add_argument("--repeats", type=int, default=REPEATS, help="field / scikit-fmm timings per case (median)")
     ap.add_argument("--figure", type=Path, help="also write the lattice table to this docs figure file")
+    ap.add_argument("--optimum", help="also state this scenario's independent polyline optimum under the figure")
+    ap.add_argument("--segments", type=int, default=81, help="polyline segments of --optimum")
+    ap.add_argument("--from-json", action="store_true", help="rewrite the figure from --out's JSON (no measuring)")
     ap.add_argument("--one", type=float, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
         print(json.dumps(measure(args.one, args.scenarios[0], args.repeats)))
         return 0
-    rows: list[dict] = []
+    command = " ".join(a for a in (sys.argv[1:] if argv is None else argv) if a != "--from-json")
+    if args.from_json:
+        rows = json.loads((Path(args.out) / "grid.json").read_text())
+        figure(rows, args.figure, args.repeats, command, _optimum(args))
+        return 0
+    rows = []
     Path(args.out).mkdir(parents=True, exist_ok=True)
     for cell, scenario in ((c, s) for c in args.cells for s in args.scenarios):  # coarse cells first
         load = os.getloadavg()[0]
@@ -225,8 +244,25 @@ def main(argv=None) -> int:
         _print(rows[-1])
         (Path(args.out) / "grid.json").write_text(json.dumps(rows, indent=2) + "\n")
         if args.figure is not None:
-            figure(rows, args.figure, args.repeats, " ".join(sys.argv[1:] if argv is None else argv))
+            figure(rows, args.figure, args.repeats, command)
+    if args.figure is not None and args.optimum:
+        figure(rows, args.figure, args.repeats, command, _optimum(args))
     return 0
+
+
+def _optimum(args: argparse.Namespace) -> dict | None:
+    """``--optimum``'s polyline optimum (stored beside the rows: ``--from-json`` re-uses it)."""
+    if not args.optimum:
+        return None
+    store = Path(args.out) / f"optimum-{args.optimum}-{args.segments}.json"
+    if not store.exists():
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from grid_optimum import optimum
+
+        cost, free, cpu = optimum(args.optimum, args.segments)
+        store.write_text(json.dumps({"scenario": args.optimum, "segments": args.segments, "cost": cost,
+                                     "free": free, "cpu_s": cpu}) + "\n")
+    return dict(json.loads(store.read_text()))
 
 
 if __name__ == "__main__":
