@@ -69,8 +69,12 @@ def measure(cell: float, scenario: str, repeats: int = REPEATS) -> dict:
     row["peak_rss_mib"] = _rss_mib()
     row.update(status=r.status.value, cost=r.cost, length_m=r.cost_terms.get("length_m"), edges=r.evaluations,
                reference=r.message)
+    row["winner"] = r.message.rsplit(": ", 1)[-1]
     row["cost_lattice_bound"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, converge=False))).cost
     row["cost_single_lattice"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, ladder=False))).cost
+    c0 = time.process_time()  # the ladder of the 26 directions alone (the default before wave 7), same code
+    row["lattice26_ladder_cost"] = plan_grid(prob, replace(spec, grid=replace(spec.grid, also_any_angle=0))).cost
+    row["lattice26_ladder_cpu_s"] = time.process_time() - c0
     lspec = replace(spec, grid=replace(spec.grid, objective="length"))
     lo, hi = search_box(prob)
     ref = GridReference(world, prob.goal, cost_model_for(prob, lspec), lo, hi, lspec.grid)
@@ -129,7 +133,7 @@ def _lattice_paths(prob, spec, converged) -> dict:
     out: dict = {}
     lo, hi = search_box(prob)
     for tag, link in (("lattice26", 0), ("anyangle16", 16)):
-        g = replace(spec.grid, any_angle=link)
+        g = replace(spec.grid, any_angle=link, also_any_angle=0)  # one kind of link
         ref = Ref(prob.world, prob.goal, cost_model_for(prob, replace(spec, grid=g)), lo, hi, g, prob.start)
         raw = ref.query(prob.start)
         if raw.shape[0] < 2:
@@ -144,21 +148,25 @@ def _lattice_paths(prob, spec, converged) -> dict:
     return out
 
 
-def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
-    """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers)."""
-    loads = [r["load_1min"] for r in rows]
+def figure(rows: list[dict], path: Path, repeats: int, argv: str = "", optimum: dict | None = None) -> None:
+    """The lattice table as a docs figure (quoted by ``<!-- figure: NAME -->`` markers); ``optimum``: the
+    independent polyline optimum of one scenario (``benchmarks/grid_optimum.py``), stated under the table."""
+    loads, nan = [r["load_1min"] for r in rows], float("nan")
     lines = [f"`nice -n 5 .venv/bin/python benchmarks/grid.py {argv}` "
              f"(load average {min(loads):.1f}–{max(loads):.1f} on the shared 2-core host; CPU times are process "
              "times; field and scikit-fmm interleaved, median of the repeats; the field is the full cost-to-go "
              "of the length objective from the goal over the whole lattice, scikit-fmm's distance on the same "
              "free-node mask and cells; the mask is what scikit-fmm must be handed, the free nodes of the "
-             "World's static clearances per node, timed as the build computes it, `node_fields`)", "",
+             "World's static clearances per node, timed as the build computes it, `node_fields`; the default "
+             "ladder searches every rung with the 26 directions and with any-angle links of 16 cells and refines the "
+             "better, `docs/lattice.md`; the single-kind columns set `also_any_angle = 0`)", "",
              "| scenario | cell m | nodes | raw lattice path cost: 26-dir / any-angle 16 "
              "| its length / refined length (any-angle) "
-             "| single lattice converged: 26-dir / any-angle 16 | ladder: 26-dir (default) / any-angle 16 "
+             "| single lattice converged: 26-dir / any-angle 16 | ladder: 26-dir / any-angle 16 "
+             "| **default ladder** (both kinds) | its winner | ladder CPU s: default / 26-dir (ratio) "
              "| search CPU s | whole build CPU s | scikit-fmm CPU s "
              "| search / skfmm (median, per repeat) | mask CPU s | build / skfmm | build / (skfmm + mask) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         ratios = ", ".join(f"{x:.2f}" for x in r.get("search_ratios", []))
         lines.append(
@@ -166,12 +174,25 @@ def figure(rows: list[dict], path: Path, repeats: int, argv: str = "") -> None:
             f"{r.get('anyangle16_cost', float('nan')):,.1f} | {r.get('anyangle16_length_m', float('nan')):,.0f} / "
             f"{r.get('anyangle16_refined_length_m', float('nan')):,.0f} "
             f"({100 * (r.get('anyangle16_length_m', 0) / r.get('anyangle16_refined_length_m', 1) - 1):+.2f} %) | "
-            f"{r['cost_single_lattice']:,.2f} / {r.get('anyangle16_converged_cost', float('nan')):,.2f} | "
-            f"{r['cost']:,.2f} / {r.get('anyangle16_ladder_cost', float('nan')):,.2f} | "
+            f"{r.get('lattice26_converged_cost', nan):,.2f} / {r.get('anyangle16_converged_cost', nan):,.2f} | "
+            f"{r.get('lattice26_ladder_cost', nan):,.2f} / {r.get('anyangle16_ladder_cost', nan):,.2f} | "
+            f"**{r['cost']:,.2f}** | {r.get('winner', '')} | {r['plan_cpu_s']:.2f} / "
+            f"{r.get('lattice26_ladder_cpu_s', float('nan')):.2f} "
+            f"({r['plan_cpu_s'] / r.get('lattice26_ladder_cpu_s', float('nan')):.2f}) | "
             f"{r.get('search_cpu_s', float('nan')):.3f} | "
             f"{r.get('field_cpu_s', float('nan')):.3f} | {r.get('skfmm_cpu_s', float('nan')):.3f} | "
             f"**{r.get('search_ratio', float('nan')):.2f}** ({ratios}) | {r.get('mask_cpu_s', float('nan')):.3f} | "
             f"{r.get('build_ratio', float('nan')):.2f} | **{r.get('build_mask_ratio', float('nan')):.2f}** |")
+    if optimum is not None:
+        best = min(r["cost"] for r in rows if r["scenario"] == optimum["scenario"])
+        lines += ["", f"Optimality on {optimum['scenario']}: an independent optimum with no lattice and no "
+                  f"elastic band (`benchmarks/grid_optimum.py {optimum['scenario']} --segments {optimum['segments']}`: "
+                  f"scipy's L-BFGS-B over the {optimum['segments'] - 1} interior vertices of a polyline started on the "
+                  f"straight line, same cost function) costs {optimum['cost']:,.2f} "
+                  f"({'free' if optimum['free'] else 'NOT FREE'}, {optimum['cpu_s']:.0f} s CPU), "
+                  f"{100 * (optimum['cost'] / best - 1):+.5f} % from the default ladder's best {best:,.2f}: the "
+                  "reference is the problem's optimum to that precision, so a flat ladder is the best a finer lattice "
+                  "can do there."]
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
 
@@ -196,12 +217,20 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default="results/bench-grid")
     ap.add_argument("--repeats", type=int, default=REPEATS, help="field / scikit-fmm timings per case (median)")
     ap.add_argument("--figure", type=Path, help="also write the lattice table to this docs figure file")
+    ap.add_argument("--optimum", help="also state this scenario's independent polyline optimum under the figure")
+    ap.add_argument("--segments", type=int, default=81, help="polyline segments of --optimum")
+    ap.add_argument("--from-json", action="store_true", help="rewrite the figure from --out's JSON (no measuring)")
     ap.add_argument("--one", type=float, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.one is not None:
         print(json.dumps(measure(args.one, args.scenarios[0], args.repeats)))
         return 0
-    rows: list[dict] = []
+    command = " ".join(a for a in (sys.argv[1:] if argv is None else argv) if a != "--from-json")
+    if args.from_json:
+        rows = json.loads((Path(args.out) / "grid.json").read_text())
+        figure(rows, args.figure, args.repeats, command, _optimum(args))
+        return 0
+    rows = []
     Path(args.out).mkdir(parents=True, exist_ok=True)
     for cell, scenario in ((c, s) for c in args.cells for s in args.scenarios):  # coarse cells first
         load = os.getloadavg()[0]
@@ -215,8 +244,25 @@ def main(argv=None) -> int:
         _print(rows[-1])
         (Path(args.out) / "grid.json").write_text(json.dumps(rows, indent=2) + "\n")
         if args.figure is not None:
-            figure(rows, args.figure, args.repeats, " ".join(sys.argv[1:] if argv is None else argv))
+            figure(rows, args.figure, args.repeats, command)
+    if args.figure is not None and args.optimum:
+        figure(rows, args.figure, args.repeats, command, _optimum(args))
     return 0
+
+
+def _optimum(args: argparse.Namespace) -> dict | None:
+    """``--optimum``'s polyline optimum (stored beside the rows: ``--from-json`` re-uses it)."""
+    if not args.optimum:
+        return None
+    store = Path(args.out) / f"optimum-{args.optimum}-{args.segments}.json"
+    if not store.exists():
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        from grid_optimum import optimum
+
+        cost, free, cpu = optimum(args.optimum, args.segments)
+        store.write_text(json.dumps({"scenario": args.optimum, "segments": args.segments, "cost": cost,
+                                     "free": free, "cpu_s": cpu}) + "\n")
+    return dict(json.loads(store.read_text()))
 
 
 if __name__ == "__main__":

@@ -324,7 +324,7 @@ def test_band_normals_are_unit_and_orthogonal_also_on_a_zero_chord() -> None:
     p = np.array([[0.0, 0.0, -10.0], [5.0, 1.0, -12.0], [10.0, 3.0, -9.0], [5.0, 1.0, -12.0],
                   [5.0, 1.0, 30.0], [5.0, 1.0, -12.0]])
     i = np.arange(1, p.shape[0] - 1)
-    n1, n2 = _normals(p, i)
+    n1, n2 = _normals(p[i + 1] - p[i - 1])
     assert np.all(np.isfinite(n1)) and np.all(np.isfinite(n2))
     np.testing.assert_allclose(np.linalg.norm(n1, axis=1), 1.0, atol=1e-12)
     np.testing.assert_allclose(np.linalg.norm(n2, axis=1), 1.0, atol=1e-12)

@@ -120,6 +120,12 @@ class GridParams:
         sphere scene of ``tests/test_grid.py`` the refinement of the any-angle lattice path settles
         0.2 % above the geodesic (the conservative clearance test sends it round another side),
         where the 26-direction path refines to it within 10⁻⁵ (``docs/lattice.md``).
+    also_any_angle : int
+        With ``converge``: every lattice of the ladder is also searched with any-angle links of this
+        many cells, both lattice paths are screened by a short refinement and the cheaper is refined
+        to convergence (:mod:`auvplan.planners.grid.ladder`), so that a finer cell can lower the
+        reference where the 26 directions alone stall (``docs/lattice.md``); 0 = the links of
+        ``any_angle`` alone.  The swarms' seeding lattice uses ``any_angle`` alone.
 
     Raises
     ------
@@ -139,10 +145,13 @@ class GridParams:
     converge_tol: float = 1e-5
     ladder: bool = True
     any_angle: int = 0
+    also_any_angle: int = 16
 
     def __post_init__(self) -> None:
         if self.any_angle < 0:
             raise ValueError(f"any_angle = {self.any_angle}: must be >= 0 (0 = the 26 lattice directions only)")
+        if self.also_any_angle < 0:
+            raise ValueError(f"also_any_angle = {self.also_any_angle}: must be >= 0 (0 = the any_angle links alone)")
         if not 0.0 < self.converge_tol < 1.0:
             raise ValueError(f"converge_tol = {self.converge_tol}: must be in (0, 1)")
         if self.cell < 0 or self.cell_z < 0:

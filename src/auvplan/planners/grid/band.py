@@ -88,18 +88,23 @@ def resample_free(world: World, path: np.ndarray, spacing: float) -> np.ndarray:
     return np.vstack([*pieces, r[last:]])
 
 
-def _normals(p: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors perpendicular to the chord ``p[i+1] - p[i-1]`` and to each other."""
-    t = p[i + 1] - p[i - 1]
+def _normals(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors perpendicular to the chords ``t (m, 3)`` (normalised in place) and to each other."""
     norm = np.sqrt(np.einsum("ij,ij->i", t, t))
-    t = np.where(norm[:, None] > 1e-12, t / np.maximum(norm, 1e-12)[:, None], (1.0, 0.0, 0.0))  # a point
-    # revisited (zero chord) has every direction normal to it: take those of an x chord, never NaN
+    t /= np.maximum(norm, 1e-12)[:, None]
+    t[norm <= 1e-12] = (1.0, 0.0, 0.0)  # a point revisited (zero chord): every direction is normal to it;
+    # take those of an x chord, never NaN
     tx, ty, tz = t[:, 0], t[:, 1], t[:, 2]
     steep = np.abs(tz) >= 0.9  # t x (0, 0, 1), or t x (1, 0, 0) for a steep chord
-    n1 = np.where(steep[:, None], np.stack([np.zeros_like(tx), tz, -ty], axis=1),
-                  np.stack([ty, -tx, np.zeros_like(tx)], axis=1))
+    n1 = np.empty_like(t)
+    n1[:, 0] = np.where(steep, 0.0, ty)
+    n1[:, 1] = np.where(steep, tz, -tx)
+    n1[:, 2] = np.where(steep, -ty, 0.0)
     n1 /= np.sqrt(np.einsum("ij,ij->i", n1, n1))[:, None]
-    n2 = np.stack([ty * n1[:, 2] - tz * n1[:, 1], tz * n1[:, 0] - tx * n1[:, 2], tx * n1[:, 1] - ty * n1[:, 0]], axis=1)
+    n2 = np.empty_like(t)
+    n2[:, 0] = ty * n1[:, 2] - tz * n1[:, 1]
+    n2[:, 1] = tz * n1[:, 0] - tx * n1[:, 2]
+    n2[:, 2] = tx * n1[:, 1] - ty * n1[:, 0]
     return n1, n2
 
 
@@ -109,7 +114,8 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     neighbours' midpoint and moves of ``±δ`` along two normals of the path, and takes the
     best move that lowers the cost of its two segments and keeps both free (odd and even
     points in turn, so that the moves are independent).  Failed points halve their steps.
-    Only the moves that lower the cost go through the exact segment test."""
+    Only the moves that lower the cost go through the exact segment test.  (The arrays are
+    filled in place rather than stacked: the same numbers, fewer temporaries.)"""
     p = p.copy()
     n = p.shape[0]
     if n < 3 or iterations == 0:
@@ -117,27 +123,37 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
     alpha = np.full(n, 0.5)
     delta = np.full(n, 0.5 * step)
     tol = 1e-3 * step
+    parities = (np.arange(1, n - 1, 2), np.arange(2, n - 1, 2))
     for _ in range(iterations):
-        for parity in (1, 2):
-            i = np.arange(parity, n - 1, 2)
-            i = i[(alpha[i] > 1e-3) | (delta[i] > tol)]
+        for every in parities:
+            i = every[(alpha[every] > 1e-3) | (delta[every] > tol)]
             if i.size == 0:
                 continue
             m = i.size
             a, b, c = p[i - 1], p[i], p[i + 1]
-            n1, n2 = _normals(p, i)
+            n1, n2 = _normals(c - a)
             d = delta[i, None]
-            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
-                            b - d * n2])  # (6, m, 3): the point, then its five moves
-            ends = np.concatenate([np.broadcast_to(a, pts.shape), pts])
-            cost = edge_cost(world, ends, np.concatenate([pts, np.broadcast_to(c, pts.shape)]), model, objective)
+            ends = np.empty((2, 6, m, 3))  # segment starts and ends: the point, then its five moves
+            pts = ends[1, :6]
+            pts[0] = b
+            pts[1] = b + alpha[i, None] * (0.5 * (a + c) - b)
+            dn = d * n1
+            pts[2], pts[3] = b + dn, b - dn
+            dn = d * n2
+            pts[4], pts[5] = b + dn, b - dn
+            ends[0] = a
+            tips = np.empty((2, 6, m, 3))
+            tips[0] = pts
+            tips[1] = c
+            cost = edge_cost(world, ends.reshape(12, m, 3), tips.reshape(12, m, 3), model, objective)
             both = cost[:6] + cost[6:]
             old, new = both[0], both[1:]
             better = new < old - 1e-9 * np.abs(old)
             kk, jj = np.nonzero(better)
             if kk.size:
                 q = pts[kk + 1, jj]
-                seg = np.stack([np.stack([a[jj], q], axis=1), np.stack([q, c[jj]], axis=1)], axis=1)
+                seg = np.empty((kk.size, 2, 2, 3))
+                seg[:, 0, 0], seg[:, 0, 1], seg[:, 1, 0], seg[:, 1, 1] = a[jj], q, q, c[jj]
                 better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
             new = np.where(better, new, np.inf)
             k = np.argmin(new, axis=0)
