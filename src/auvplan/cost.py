@@ -43,7 +43,8 @@ import numpy as np
 from ._jit import kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .world import World
-from .world.terrain import TerrainKernelData, elevation_kernel, min_altitude_kernel
+from .world.terrain import TerrainKernelData, elevation_kernel
+from .world.terrain_kernels import box_floor_kernel, lipschitz_bound_kernel, walk_min_kernel
 
 __all__ = ["CostModel", "CostTerms", "CostRow", "evaluate_paths", "segment_energy", "energy_kernel",
            "propulsion_power", "ENERGY_READINGS", "energy_mode"]
@@ -351,15 +352,17 @@ def _point_slack(x: float, y: float, z: float, box: FloatArray, min_depth: float
 
 @kernel
 def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, other_clear: FloatArray,
-                has_other: bool, terrain: TerrainKernelData, has_terrain: bool, min_altitude: float, threshold: float,
-                box: FloatArray, min_depth: float, max_depth: float, speed: float, power: float, document: int,
-                out: FloatArray) -> None:
+                has_other: bool, terrain: TerrainKernelData, cell_max: FloatArray, has_terrain: bool,
+                min_altitude: float, threshold: float, box: FloatArray, min_depth: float, max_depth: float,
+                speed: float, power: float, document: int, out: FloatArray) -> None:
     """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
 
     ``out (7, P)`` receives length, violations, violation depth, energy units, joules, seconds and
     the least clearance.  The convex constraints are decided by the end points (each point is
     visited once), the seabed by the terrain's compiled segment test, the obstacles come in as
-    ``other_slack`` / ``other_clear`` (P, S - 1).
+    ``other_slack`` / ``other_clear`` (P, S - 1).  A segment's seabed clearance is exact below
+    ``threshold`` and otherwise a lower bound that clears it: the terrain's Lipschitz bound, else the
+    highest seabed under the segment's box (``cell_max``), else the exact walk.
     """
     coef, x0, y0, dx, dy, lipschitz = terrain
     for i in range(p.shape[0]):
@@ -375,7 +378,12 @@ def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, oth
             c = math.inf
             if has_terrain:
                 g_q = qz - elevation_kernel(coef, x0, y0, dx, dy, qx, qy)
-                c = min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_p, g_q, threshold)
+                # min_altitude_kernel with a second bound before the walk: the highest seabed under the box
+                c = lipschitz_bound_kernel(lipschitz, px, py, pz, qx, qy, qz, g_p, g_q)
+                if not c >= threshold:
+                    c = box_floor_kernel(cell_max, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
+                    if not c >= threshold:
+                        c = walk_min_kernel(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
                 slack = min(slack, c - min_altitude)
                 g_p = g_q
             if has_other:
@@ -433,8 +441,10 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         other_slack = other_clear = np.empty((0, 0))
     m, bd = world.margins, world.bounds
     terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
+    cell_max = world.terrain.cell_max if world.terrain is not None else terrain[0][..., 0]
     out = np.empty((7, p.shape[0]))
-    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, world.terrain is not None,
+    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, cell_max,
+                world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
                 model.speed, propulsion_power(model), energy_mode(model), out)
