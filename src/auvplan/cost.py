@@ -42,7 +42,7 @@ import numpy as np
 
 from ._jit import kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
-from .world import World
+from .world import UniformCurrent, World
 from .world.terrain import TerrainKernelData, elevation_kernel
 from .world.terrain_kernels import box_floor_kernel, lipschitz_bound_kernel, walk_min_kernel
 
@@ -263,7 +263,7 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
     arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
     lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
     a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
-    c = world.currents.velocity(0.5 * (a + b)) if current is None else given[0]
+    c = _midpoint_currents(world, a[None], b[None])[0] if current is None else given[0]  # (N, 3) or (1, 3)
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
     _segment_energies(a, b, c, model.speed, propulsion_power(model), energy_mode(model), units, energy_j, dt,
@@ -338,7 +338,8 @@ def _segment_energies(a: FloatArray, b: FloatArray, c: FloatArray, speed: float,
     for k in range(a.shape[0]):
         ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
         ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-        units[k], energy_j[k], dt[k], blocked[k] = energy_kernel(ex, ey, ez, ds, c[k, 0], c[k, 1], c[k, 2],
+        kc = 0 if c.shape[0] == 1 else k  # (1, 3): one uniform current
+        units[k], energy_j[k], dt[k], blocked[k] = energy_kernel(ex, ey, ez, ds, c[kc, 0], c[kc, 1], c[kc, 2],
                                                                   speed, power, document)
 
 
@@ -360,11 +361,13 @@ def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, oth
     ``out (7, P)`` receives length, violations, violation depth, energy units, joules, seconds and
     the least clearance.  The convex constraints are decided by the end points (each point is
     visited once), the seabed by the terrain's compiled segment test, the obstacles come in as
-    ``other_slack`` / ``other_clear`` (P, S - 1).  A segment's seabed clearance is exact below
+    ``other_slack`` / ``other_clear`` (P, S - 1), the currents at the midpoints as ``current (P, S - 1, 3)``
+    or, for a uniform field, ``(1, 1, 3)``.  A segment's seabed clearance is exact below
     ``threshold`` and otherwise a lower bound that clears it: the terrain's Lipschitz bound, else the
     highest seabed under the segment's box (``cell_max``), else the exact walk.
     """
     coef, x0, y0, dx, dy, lipschitz = terrain
+    uniform = current.shape[0] == 1 and current.shape[1] == 1  # one current for every segment
     for i in range(p.shape[0]):
         length = viol = depth = units = joules = seconds = 0.0
         clear = math.inf
@@ -391,8 +394,9 @@ def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, oth
                 c = min(c, other_clear[i, s])
             ex, ey, ez = qx - px, qy - py, qz - pz
             ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-            u, j, t, blocked = energy_kernel(ex, ey, ez, ds, current[i, s, 0], current[i, s, 1], current[i, s, 2],
-                                              speed, power, document)
+            ci, cs = (0, 0) if uniform else (i, s)
+            u, j, t, blocked = energy_kernel(ex, ey, ez, ds, current[ci, cs, 0], current[ci, cs, 1],
+                                              current[ci, cs, 2], speed, power, document)
             length += ds
             units += u
             joules += j
@@ -434,7 +438,7 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         p = p[None]
     p = np.ascontiguousarray(p)
     a, b = p[:, :-1], p[:, 1:]
-    current = np.ascontiguousarray(world.currents.velocity(0.5 * (a + b)))
+    current = _midpoint_currents(world, a, b)
     if world.obstacles:
         other_slack, other_clear = _obstacle_slack(world, a, b)
     else:
@@ -463,6 +467,15 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         violations=counts,
         min_clearance=clearance,
     )
+
+
+def _midpoint_currents(world: World, a: FloatArray, b: FloatArray) -> FloatArray:
+    """The current at the midpoints of the segments ``a -> b (P, S - 1, 3)``, or ``(1, 1, 3)`` when the
+    field is a :class:`~auvplan.world.UniformCurrent` (the same vector everywhere: no array to fill)."""
+    if type(world.currents) is UniformCurrent:
+        return np.array(world.currents.vector, dtype=float).reshape(1, 1, 3)
+    current: FloatArray = np.ascontiguousarray(world.currents.velocity(0.5 * (a + b)))
+    return current
 
 
 def _no_terrain() -> TerrainKernelData:
