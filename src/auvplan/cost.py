@@ -40,7 +40,7 @@ from typing import TypedDict
 
 import numpy as np
 
-from ._jit import kernel
+from ._jit import JIT_ON, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .world import UniformCurrent, World
 from .world.terrain import TerrainKernelData, elevation_kernel
@@ -474,8 +474,21 @@ def _midpoint_currents(world: World, a: FloatArray, b: FloatArray) -> FloatArray
     field is a :class:`~auvplan.world.UniformCurrent` (the same vector everywhere: no array to fill)."""
     if type(world.currents) is UniformCurrent:
         return np.array(world.currents.vector, dtype=float).reshape(1, 1, 3)
-    current: FloatArray = np.ascontiguousarray(world.currents.velocity(0.5 * (a + b)))
+    if JIT_ON and a.ndim == 3:
+        mid = np.empty(a.shape)
+        _midpoints(a, b, mid)  # 0.5 (a + b) without numpy's temporaries
+    else:
+        mid = 0.5 * (a + b)
+    current: FloatArray = np.ascontiguousarray(world.currents.velocity(mid))
     return current
+
+
+@kernel
+def _midpoints(a: FloatArray, b: FloatArray, out: FloatArray) -> None:
+    for i in range(a.shape[0]):
+        for s in range(a.shape[1]):
+            for d in range(3):
+                out[i, s, d] = 0.5 * (a[i, s, d] + b[i, s, d])
 
 
 def _no_terrain() -> TerrainKernelData:

@@ -19,10 +19,9 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-from numba import config as _numba_config
 from scipy.interpolate import BSpline
 
-from ._jit import kernel
+from ._jit import JIT_ON, kernel
 from ._types import ArrayLike, FloatArray, IntArray
 from .geometry import as_points
 
@@ -37,10 +36,6 @@ __all__ = [
     "resample_polyline",
     "densify",
 ]
-
-
-_COMPILED = not getattr(_numba_config, "DISABLE_JIT", False)
-"""Whether :func:`sample_population` runs its compiled pass (numba on) or one BLAS matrix product."""
 
 
 def uniform_cubic_basis(u: ArrayLike) -> FloatArray:
@@ -141,7 +136,7 @@ def sample_population(control: ArrayLike, n_samples: int, order: int = 0) -> Flo
     c = np.asarray(control, dtype=float)
     lead, k = c.shape[:-2], c.shape[-2]
     basis = basis_matrix(k, n_samples, order)
-    if _COMPILED:
+    if JIT_ON:  # else one BLAS matrix product (a compiled loop run as Python would be slow)
         # one compiled pass over the population, no BLAS call (whose threads cost more CPU than the sums)
         flat3 = np.ascontiguousarray(c.reshape((-1, k, 3)))
         samples: FloatArray = np.empty((flat3.shape[0], n_samples, 3))
