@@ -11,8 +11,10 @@ before and after a change of a kernel, then compare::
     .venv/bin/python benchmarks/hard_identity.py --compare results/before.npz results/after.npz
 
 The comparison prints, per problem, how many seeds are bit-identical in every array and the largest
-relative difference of the best cost and of any array; it exits 1 when a difference exceeds ``--rtol``
-(0 by default: bit-identical).  Clock fields (CPU and wall times) are left out.
+relative difference of the best cost, of the plan (path and control points) and of the convergence trace;
+it exits 1 when a best cost or a plan differs by more than ``--rtol`` (0 by default: bit-identical).
+``--figure-md NAME`` also writes the table to ``docs/figures/NAME.md``.  Clock fields (CPU and wall times)
+are not dumped.
 """
 
 from __future__ import annotations
@@ -70,26 +72,48 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.max(np.where(same, 0.0, np.abs(a - b) / np.where(scale > 0, scale, 1.0))))
 
 
-def compare(a: Path, b: Path, rtol: float = 0.0) -> int:
-    """Print the per-problem agreement of two dumps; 1 if any difference exceeds ``rtol``."""
+def agreement(a: Path, b: Path) -> dict[str, dict[str, float]]:
+    """Per problem: seeds, seeds bit-identical in every array, and the largest relative difference of the
+    best cost, of the plan (path and control points), of its exact cost terms, of the convergence trace and of
+    any array."""
     da, db = np.load(a), np.load(b)
-    keys = sorted(set(da.files) | set(db.files))
-    worst = 0.0
     per: dict[str, dict[str, float]] = {}
-    for k in keys:
+    seeds: dict[str, dict[str, float]] = {}
+    for k in sorted(set(da.files) | set(db.files)):
         name, seed, field = k.split("/", 2)
         r = _rel(da[k], db[k]) if k in da.files and k in db.files else np.inf
-        row = per.setdefault(name, {})
-        row[seed] = max(row.get(seed, 0.0), r)
-        if field == "cost":
-            row["cost"] = max(row.get("cost", 0.0), r)
-        worst = max(worst, r)
+        row = per.setdefault(name, {"cost": 0.0, "plan": 0.0, "terms": 0.0, "trace": 0.0, "any": 0.0})
+        part = "plan" if field in ("path", "control_points") else field if field in ("cost", "trace") else \
+            "terms" if field.startswith("terms/") else "any"
+        row[part] = max(row[part], r)
+        row["any"] = max(row["any"], r)
+        by_seed = seeds.setdefault(name, {})
+        by_seed[seed] = max(by_seed.get(seed, 0.0), r)
     for name, row in per.items():
-        seeds = [s for s in row if s != "cost"]
-        same = sum(row[s] == 0.0 for s in seeds)
-        print(f"{name}: {same}/{len(seeds)} seeds bit-identical; largest relative difference: "
-              f"cost {row.get('cost', 0.0):.3g}, any array {max(row[s] for s in seeds):.3g}")
-    print(f"largest relative difference overall: {worst:.3g} (tolerance {rtol:g})")
+        row["seeds"] = float(len(seeds[name]))
+        row["identical"] = float(sum(v == 0.0 for v in seeds[name].values()))
+    return per
+
+
+def compare(a: Path, b: Path, rtol: float = 0.0, figure: str | None = None) -> int:
+    """Print the per-problem agreement of two dumps (and write it as ``docs/figures/<figure>.md``);
+    1 if the best cost or the plan of any seed differs by more than ``rtol`` (relative)."""
+    per = agreement(a, b)
+    lines = [f"`benchmarks/hard_identity.py --compare {a.name} {b.name}` (the default plan at the scenario's "
+             "budget, per problem and seed; relative differences, 0 = bit-identical)", "",
+             "| scenario | seeds bit-identical in every array | best cost | plan (path, control points) "
+             "| exact cost terms | convergence trace |", "|---|---|---|---|---|---|"]
+    for name, row in per.items():
+        trace = "different length" if row["trace"] == np.inf else f"{row['trace']:.2g}"
+        lines.append(f"| {name} | {row['identical']:.0f}/{row['seeds']:.0f} | {row['cost']:.2g} | {row['plan']:.2g} "
+                     f"| {row['terms']:.2g} | {trace} |")
+    print("\n".join(lines))
+    worst = max(max(row["cost"], row["plan"]) for row in per.values())
+    print(f"largest relative difference of a best cost or a plan: {worst:.3g} (tolerance {rtol:g})")
+    if figure:
+        path = Path(__file__).resolve().parents[1] / "docs" / "figures" / f"{figure}.md"
+        path.write_text("\n".join(lines) + "\n")
+        print(f"wrote {path}")
     return 0 if worst <= rtol else 1
 
 
@@ -101,9 +125,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--budget", type=int, default=10_000)
     ap.add_argument("--only", nargs="+", choices=SCENARIOS)
     ap.add_argument("--rtol", type=float, default=0.0)
+    ap.add_argument("--figure-md", help="with --compare: write the table to docs/figures/NAME.md")
     args = ap.parse_args(argv)
     if args.compare:
-        return compare(*args.compare, rtol=args.rtol)
+        return compare(*args.compare, rtol=args.rtol, figure=args.figure_md)
     if args.out is None:
         ap.error("--out or --compare is needed")
     np.savez_compressed(args.out, **collect(args.seeds, args.budget, args.only))
