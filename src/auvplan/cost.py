@@ -43,8 +43,13 @@ import numpy as np
 from ._jit import JIT_ON, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .world import UniformCurrent, World
-from .world.terrain import TerrainKernelData, elevation_kernel
-from .world.terrain_kernels import box_floor_kernel, lipschitz_bound_kernel, walk_min_kernel
+from .world.terrain import (
+    TerrainKernelData,
+    box_floor_kernel,
+    elevation_kernel,
+    lipschitz_bound_kernel,
+    walk_min_kernel,
+)
 
 __all__ = ["CostModel", "CostTerms", "CostRow", "evaluate_paths", "segment_energy", "energy_kernel",
            "propulsion_power", "ENERGY_READINGS", "energy_mode"]

@@ -28,9 +28,18 @@ import numpy as np
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .seabed import SeabedFit
-from .terrain_kernels import _elevations, _min_altitudes, elevation_kernel, min_altitude_kernel
+from .terrain_kernels import (
+    _elevations,
+    _min_altitudes,
+    box_floor_kernel,
+    elevation_kernel,
+    lipschitz_bound_kernel,
+    min_altitude_kernel,
+    walk_min_kernel,
+)
 
-__all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel"]
+__all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel", "lipschitz_bound_kernel",
+           "box_floor_kernel", "walk_min_kernel"]
 
 #: ``(coef, x0, y0, dx, dy, max_slope)``: bilinear coefficients ``(ny - 1, nx - 1, 4)`` (m), grid origin (m),
 #: cell sizes (m) and the surface's steepest slope; the leading arguments of the compiled kernels.
