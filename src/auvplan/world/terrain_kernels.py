@@ -179,8 +179,22 @@ def min_altitude_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: f
 @kernel(inline="always")
 def lipschitz_bound_kernel(lipschitz: float, px: float, py: float, pz: float, qx: float, qy: float, qz: float,
                            g_a: float, g_b: float) -> float:
-    """Lower bound of the least altitude along ``p -> q`` from the end altitudes ``g_a``, ``g_b`` (m) and
-    the surface's steepest slope ``lipschitz``: :func:`min_altitude_kernel`'s first test."""
+    """Lower bound of the least altitude along a segment: :func:`min_altitude_kernel`'s first test.
+
+    Parameters
+    ----------
+    lipschitz : float
+        Steepest slope of the surface (m/m).
+    px, py, pz, qx, qy, qz : float
+        The segment's ends (m).
+    g_a, g_b : float
+        Altitudes of its ends above the seabed (m).
+
+    Returns
+    -------
+    float
+        ``min(g_a, g_b, (g_a + g_b - |Δz| - lipschitz · L_h) / 2)`` (m), L_h the horizontal length.
+    """
     bound: float = min(g_a, g_b,
                        0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.sqrt((qx - px) ** 2 + (qy - py) ** 2)))
     return bound
@@ -231,8 +245,22 @@ def box_floor_kernel(cell_max: FloatArray, x0: float, y0: float, dx: float, dy: 
 @kernel
 def walk_min_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, px: float, py: float, pz: float,
                     qx: float, qy: float, qz: float) -> float:
-    """Exact least altitude along the segment ``p -> q`` (m): the walk of :func:`min_altitude_kernel`
-    without its bound (the arguments before ``px`` are the first five of :attr:`Terrain.kernel_data`)."""
+    """Exact least altitude along a segment: the walk of :func:`min_altitude_kernel` without its bound.
+
+    Parameters
+    ----------
+    coef : numpy.ndarray
+        Bilinear coefficients per cell ``(ny - 1, nx - 1, 4)`` (m).
+    x0, y0, dx, dy : float
+        Grid origin and cell sizes (m): with ``coef`` the first five of :attr:`Terrain.kernel_data`.
+    px, py, pz, qx, qy, qz : float
+        The segment's ends (m).
+
+    Returns
+    -------
+    float
+        The least altitude above the seabed along the segment (m).
+    """
     return _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
 
 
