@@ -36,7 +36,7 @@ kill-points: $(STAMP)
 # document 000's bodies is left to the compiled run: its 60 exits search the field round the body (> 10 min
 # as plain Python)
 test-nojit: $(STAMP)
-	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py tests/test_cost_kernels.py \
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
 		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
 		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \

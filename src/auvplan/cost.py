@@ -40,10 +40,16 @@ from typing import TypedDict
 
 import numpy as np
 
-from ._jit import kernel
+from ._jit import JIT_ON, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
-from .world import World
-from .world.terrain import TerrainKernelData, elevation_kernel, min_altitude_kernel
+from .world import UniformCurrent, World
+from .world.terrain import (
+    TerrainKernelData,
+    box_floor_kernel,
+    elevation_kernel,
+    lipschitz_bound_kernel,
+    walk_min_kernel,
+)
 
 __all__ = ["CostModel", "CostTerms", "CostRow", "evaluate_paths", "segment_energy", "energy_kernel",
            "propulsion_power", "ENERGY_READINGS", "energy_mode"]
@@ -262,7 +268,7 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
     arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
     lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
     a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
-    c = world.currents.velocity(0.5 * (a + b)) if current is None else given[0]
+    c = _midpoint_currents(world, a[None], b[None])[0] if current is None else given[0]  # (N, 3) or (1, 3)
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
     _segment_energies(a, b, c, model.speed, propulsion_power(model), energy_mode(model), units, energy_j, dt,
@@ -337,7 +343,8 @@ def _segment_energies(a: FloatArray, b: FloatArray, c: FloatArray, speed: float,
     for k in range(a.shape[0]):
         ex, ey, ez = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
         ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-        units[k], energy_j[k], dt[k], blocked[k] = energy_kernel(ex, ey, ez, ds, c[k, 0], c[k, 1], c[k, 2],
+        kc = 0 if c.shape[0] == 1 else k  # (1, 3): one uniform current
+        units[k], energy_j[k], dt[k], blocked[k] = energy_kernel(ex, ey, ez, ds, c[kc, 0], c[kc, 1], c[kc, 2],
                                                                   speed, power, document)
 
 
@@ -351,17 +358,21 @@ def _point_slack(x: float, y: float, z: float, box: FloatArray, min_depth: float
 
 @kernel
 def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, other_clear: FloatArray,
-                has_other: bool, terrain: TerrainKernelData, has_terrain: bool, min_altitude: float, threshold: float,
-                box: FloatArray, min_depth: float, max_depth: float, speed: float, power: float, document: int,
-                out: FloatArray) -> None:
+                has_other: bool, terrain: TerrainKernelData, cell_max: FloatArray, has_terrain: bool,
+                min_altitude: float, threshold: float, box: FloatArray, min_depth: float, max_depth: float,
+                speed: float, power: float, document: int, out: FloatArray) -> None:
     """Every per-path sum of :func:`evaluate_paths` in one pass over the segments of ``p (P, S, 3)``.
 
     ``out (7, P)`` receives length, violations, violation depth, energy units, joules, seconds and
     the least clearance.  The convex constraints are decided by the end points (each point is
     visited once), the seabed by the terrain's compiled segment test, the obstacles come in as
-    ``other_slack`` / ``other_clear`` (P, S - 1).
+    ``other_slack`` / ``other_clear`` (P, S - 1), the currents at the midpoints as ``current (P, S - 1, 3)``
+    or, for a uniform field, ``(1, 1, 3)``.  A segment's seabed clearance is exact below
+    ``threshold`` and otherwise a lower bound that clears it: the terrain's Lipschitz bound, else the
+    highest seabed under the segment's box (``cell_max``), else the exact walk.
     """
     coef, x0, y0, dx, dy, lipschitz = terrain
+    uniform = current.shape[0] == 1 and current.shape[1] == 1  # one current for every segment
     for i in range(p.shape[0]):
         length = viol = depth = units = joules = seconds = 0.0
         clear = math.inf
@@ -375,7 +386,12 @@ def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, oth
             c = math.inf
             if has_terrain:
                 g_q = qz - elevation_kernel(coef, x0, y0, dx, dy, qx, qy)
-                c = min_altitude_kernel(coef, x0, y0, dx, dy, lipschitz, px, py, pz, qx, qy, qz, g_p, g_q, threshold)
+                # min_altitude_kernel with a second bound before the walk: the highest seabed under the box
+                c = lipschitz_bound_kernel(lipschitz, px, py, pz, qx, qy, qz, g_p, g_q)
+                if not c >= threshold:
+                    c = box_floor_kernel(cell_max, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
+                    if not c >= threshold:
+                        c = walk_min_kernel(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
                 slack = min(slack, c - min_altitude)
                 g_p = g_q
             if has_other:
@@ -383,8 +399,9 @@ def _path_terms(p: FloatArray, current: FloatArray, other_slack: FloatArray, oth
                 c = min(c, other_clear[i, s])
             ex, ey, ez = qx - px, qy - py, qz - pz
             ds = math.sqrt(ex * ex + ey * ey + ez * ez)
-            u, j, t, blocked = energy_kernel(ex, ey, ez, ds, current[i, s, 0], current[i, s, 1], current[i, s, 2],
-                                              speed, power, document)
+            ci, cs = (0, 0) if uniform else (i, s)
+            u, j, t, blocked = energy_kernel(ex, ey, ez, ds, current[ci, cs, 0], current[ci, cs, 1],
+                                              current[ci, cs, 2], speed, power, document)
             length += ds
             units += u
             joules += j
@@ -426,15 +443,17 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         p = p[None]
     p = np.ascontiguousarray(p)
     a, b = p[:, :-1], p[:, 1:]
-    current = np.ascontiguousarray(world.currents.velocity(0.5 * (a + b)))
+    current = _midpoint_currents(world, a, b)
     if world.obstacles:
         other_slack, other_clear = _obstacle_slack(world, a, b)
     else:
         other_slack = other_clear = np.empty((0, 0))
     m, bd = world.margins, world.bounds
     terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
+    cell_max = world.terrain.cell_max if world.terrain is not None else terrain[0][..., 0]
     out = np.empty((7, p.shape[0]))
-    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, world.terrain is not None,
+    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, cell_max,
+                world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
                 model.speed, propulsion_power(model), energy_mode(model), out)
@@ -453,6 +472,28 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         violations=counts,
         min_clearance=clearance,
     )
+
+
+def _midpoint_currents(world: World, a: FloatArray, b: FloatArray) -> FloatArray:
+    """The current at the midpoints of the segments ``a -> b (P, S - 1, 3)``, or ``(1, 1, 3)`` when the
+    field is a :class:`~auvplan.world.UniformCurrent` (the same vector everywhere: no array to fill)."""
+    if type(world.currents) is UniformCurrent:
+        return np.array(world.currents.vector, dtype=float).reshape(1, 1, 3)
+    if JIT_ON and a.ndim == 3:
+        mid = np.empty(a.shape)
+        _midpoints(a, b, mid)  # 0.5 (a + b) without numpy's temporaries
+    else:
+        mid = 0.5 * (a + b)
+    current: FloatArray = np.ascontiguousarray(world.currents.velocity(mid))
+    return current
+
+
+@kernel
+def _midpoints(a: FloatArray, b: FloatArray, out: FloatArray) -> None:
+    for i in range(a.shape[0]):
+        for s in range(a.shape[1]):
+            for d in range(3):
+                out[i, s, d] = 0.5 * (a[i, s, d] + b[i, s, d])
 
 
 def _no_terrain() -> TerrainKernelData:

@@ -21,7 +21,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.interpolate import BSpline
 
-from ._types import ArrayLike, FloatArray
+from ._jit import JIT_ON, kernel
+from ._types import ArrayLike, FloatArray, IntArray
 from .geometry import as_points
 
 __all__ = [
@@ -135,11 +136,48 @@ def sample_population(control: ArrayLike, n_samples: int, order: int = 0) -> Flo
     c = np.asarray(control, dtype=float)
     lead, k = c.shape[:-2], c.shape[-2]
     basis = basis_matrix(k, n_samples, order)
+    if JIT_ON:  # else one BLAS matrix product (a compiled loop run as Python would be slow)
+        # one compiled pass over the population, no BLAS call (whose threads cost more CPU than the sums)
+        flat3 = np.ascontiguousarray(c.reshape((-1, k, 3)))
+        samples: FloatArray = np.empty((flat3.shape[0], n_samples, 3))
+        lo, hi = _support(k, int(n_samples), int(order))
+        _sample_kernel(flat3, basis, lo, hi, samples)
+        return samples.reshape(lead + (n_samples, 3))
     # one matrix product for the whole population: (P·3, K) @ (K, S), the same sums as (S, K) @ (K, P·3)
     flat = c.reshape((-1, k, 3)).transpose(0, 2, 1).reshape(-1, k)
     out = (flat @ basis.T).reshape(-1, 3, n_samples)
-    samples: FloatArray = np.ascontiguousarray(out.transpose(0, 2, 1)).reshape(lead + (n_samples, 3))
+    samples = np.ascontiguousarray(out.transpose(0, 2, 1)).reshape(lead + (n_samples, 3))
     return samples
+
+
+@lru_cache(maxsize=64)
+def _support(n_control: int, n_samples: int, order: int) -> tuple[IntArray, IntArray]:
+    """First and one-past-last column of the non-zero entries of each row of :func:`basis_matrix`
+    (a cubic B-spline has at most four non-zero basis functions at a parameter)."""
+    nz = basis_matrix(n_control, n_samples, order) != 0.0
+    any_nz = nz.any(axis=1)
+    lo = np.where(any_nz, nz.argmax(axis=1), 0).astype(np.intp)
+    hi = np.where(any_nz, n_control - nz[:, ::-1].argmax(axis=1), 0).astype(np.intp)
+    lo.setflags(write=False)
+    hi.setflags(write=False)
+    return lo, hi
+
+
+@kernel
+def _sample_kernel(control: FloatArray, basis: FloatArray, lo: IntArray, hi: IntArray, out: FloatArray) -> None:
+    """``out[i, s] = basis[s] @ control[i]`` for ``control (N, K, 3)``, summed over the non-zero columns
+    ``lo[s] <= k < hi[s]`` of each row in increasing ``k`` (the zero terms add nothing to a finite sum)."""
+    for i in range(control.shape[0]):
+        for s in range(basis.shape[0]):
+            x = y = z = 0.0
+            for k in range(lo[s], hi[s]):
+                b = basis[s, k]
+                x += b * control[i, k, 0]
+                y += b * control[i, k, 1]
+                z += b * control[i, k, 2]
+            out[i, s, 0] = x
+            out[i, s, 1] = y
+            out[i, s, 2] = z
 
 
 def polyline_length(points: ArrayLike) -> FloatArray:

@@ -203,8 +203,9 @@ class LambOseenVortices(CurrentField):
         if self._k:
             q = np.empty((flat.shape[0], self._k))
             _vortex_q(flat, self.centers, self.delta, q)
-            # numpy's exp is vectorised; the compiled loops do the rest without temporaries
-            _vortex_sum(flat, self.centers, self.gamma, self.delta, q, np.exp(-q), out)
+            # numpy's exp is vectorised (in place: one temporary); the compiled loops do the rest
+            e = np.negative(q)
+            _vortex_sum(flat, self.centers, self.gamma, self.delta, q, np.exp(e, out=e), out)
         return out.reshape(p.shape)
 
     def vorticity(self, points: ArrayLike) -> FloatArray:

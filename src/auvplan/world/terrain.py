@@ -28,9 +28,18 @@ import numpy as np
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .seabed import SeabedFit
-from .terrain_kernels import _elevations, _min_altitudes, elevation_kernel, min_altitude_kernel
+from .terrain_kernels import (
+    _elevations,
+    _min_altitudes,
+    box_floor_kernel,
+    elevation_kernel,
+    lipschitz_bound_kernel,
+    min_altitude_kernel,
+    walk_min_kernel,
+)
 
-__all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel"]
+__all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel", "lipschitz_bound_kernel",
+           "box_floor_kernel", "walk_min_kernel"]
 
 #: ``(coef, x0, y0, dx, dy, max_slope)``: bilinear coefficients ``(ny - 1, nx - 1, 4)`` (m), grid origin (m),
 #: cell sizes (m) and the surface's steepest slope; the leading arguments of the compiled kernels.
@@ -67,6 +76,7 @@ class Terrain:
     _coef: FloatArray = field(init=False, repr=False)
     _lipschitz: float = field(init=False, repr=False)
     _kernel: TerrainKernelData = field(init=False, repr=False, compare=False)
+    _cell_max: FloatArray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.x, dtype=float)
@@ -107,6 +117,10 @@ class Terrain:
         kernel_data: TerrainKernelData = (coef, float(x[0]), float(y[0]), float(x[1] - x[0]), float(y[1] - y[0]),
                                           self._lipschitz)
         object.__setattr__(self, "_kernel", kernel_data)
+        # the bilinear surface of a cell is a convex combination of its corners: its top is the highest corner
+        cell_max = np.maximum(np.maximum(z00, z10), np.maximum(z01, z11))
+        cell_max.setflags(write=False)
+        object.__setattr__(self, "_cell_max", cell_max)
 
     # ------------------------------------------------------------------ grid facts
     @property
@@ -124,6 +138,12 @@ class Terrain:
         """``(coef, x0, y0, dx, dy, max_slope)``: the leading arguments of the compiled
         :func:`elevation_kernel` (first five) and :func:`min_altitude_kernel` (all six)."""
         return self._kernel
+
+    @property
+    def cell_max(self) -> FloatArray:
+        """Highest seabed elevation of each cell ``(ny - 1, nx - 1)`` (m): the argument of
+        :func:`~auvplan.world.terrain_kernels.box_floor_kernel`."""
+        return self._cell_max
 
     @property
     def extent(self) -> tuple[float, float, float, float]:

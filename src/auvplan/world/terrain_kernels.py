@@ -3,7 +3,8 @@ elevation of one point (:func:`elevation_kernel`) and the exact least altitude o
 (:func:`min_altitude_kernel`): every grid line the segment crosses splits it into pieces that each lie in one
 cell; along a piece the bilinear surface is a quadratic in the segment parameter, so the altitude is a
 quadratic whose minimum is at a piece end or at its vertex (docs/methods.md §4, the exact collision model).
-A provable lower bound first clears the segments far above the seabed.
+A provable lower bound first clears the segments far above the seabed; :func:`box_floor_kernel` is a second
+one, from the highest seabed under the segment's bounding box (:attr:`Terrain.cell_max`).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import math
 from .._jit import kernel
 from .._types import FloatArray
 
-__all__ = ["elevation_kernel", "min_altitude_kernel"]
+__all__ = ["elevation_kernel", "min_altitude_kernel", "lipschitz_bound_kernel", "box_floor_kernel",
+           "walk_min_kernel"]
 
 
 @kernel(inline="always")
@@ -170,8 +172,96 @@ def min_altitude_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: f
     -----
     The arguments before ``px`` are :attr:`Terrain.kernel_data`.
     """
-    bound = min(g_a, g_b, 0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.sqrt((qx - px) ** 2 + (qy - py) ** 2)))
+    bound = lipschitz_bound_kernel(lipschitz, px, py, pz, qx, qy, qz, g_a, g_b)
     return bound if bound >= threshold else _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
+
+
+@kernel(inline="always")
+def lipschitz_bound_kernel(lipschitz: float, px: float, py: float, pz: float, qx: float, qy: float, qz: float,
+                           g_a: float, g_b: float) -> float:
+    """Lower bound of the least altitude along a segment: :func:`min_altitude_kernel`'s first test.
+
+    Parameters
+    ----------
+    lipschitz : float
+        Steepest slope of the surface (m/m).
+    px, py, pz, qx, qy, qz : float
+        The segment's ends (m).
+    g_a, g_b : float
+        Altitudes of its ends above the seabed (m).
+
+    Returns
+    -------
+    float
+        ``min(g_a, g_b, (g_a + g_b - |Δz| - lipschitz · L_h) / 2)`` (m), L_h the horizontal length.
+    """
+    bound: float = min(g_a, g_b,
+                       0.5 * (g_a + g_b - abs(qz - pz) - lipschitz * math.sqrt((qx - px) ** 2 + (qy - py) ** 2)))
+    return bound
+
+
+BOX_CELLS = 36
+"""Largest bounding box (in cells) that :func:`box_floor_kernel` scans; a longer segment is left to the walk."""
+
+
+@kernel
+def box_floor_kernel(cell_max: FloatArray, x0: float, y0: float, dx: float, dy: float, px: float, py: float,
+                     pz: float, qx: float, qy: float, qz: float) -> float:
+    """Lower bound of the least altitude along the segment ``p -> q``: its lowest end less the highest seabed
+    of the cells its horizontal bounding box meets (beyond the grid the edge cells, as the surface holds them).
+
+    Parameters
+    ----------
+    cell_max : numpy.ndarray
+        Highest elevation per cell ``(ny - 1, nx - 1)`` (:attr:`Terrain.cell_max`, m).
+    x0, y0, dx, dy : float
+        Grid origin and cell sizes (m), as in :attr:`Terrain.kernel_data`.
+    px, py, pz, qx, qy, qz : float
+        The segment's ends (m).
+
+    Returns
+    -------
+    float
+        The bound (m), lowered by 1 µm per km of seabed height against rounding; ``-inf`` when the box
+        spans more than :data:`BOX_CELLS` cells or a coordinate is not finite (then nothing is bounded).
+    """
+    if not (abs(px) < 1e15 and abs(py) < 1e15 and abs(qx) < 1e15 and abs(qy) < 1e15):
+        return -math.inf  # NaN or huge: no index
+    nxc, nyc = cell_max.shape[1], cell_max.shape[0]
+    i0 = _cell(math.floor((min(px, qx) - x0) / dx), nxc)
+    i1 = _cell(math.floor((max(px, qx) - x0) / dx), nxc)
+    j0 = _cell(math.floor((min(py, qy) - y0) / dy), nyc)
+    j1 = _cell(math.floor((max(py, qy) - y0) / dy), nyc)
+    if (i1 - i0 + 1) * (j1 - j0 + 1) > BOX_CELLS:
+        return -math.inf
+    top = -math.inf
+    for j in range(j0, j1 + 1):
+        for i in range(i0, i1 + 1):
+            top = max(top, cell_max[j, i])
+    floor: float = min(pz, qz) - top - 1e-9 * (1.0 + abs(top))
+    return floor
+
+
+@kernel
+def walk_min_kernel(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, px: float, py: float, pz: float,
+                    qx: float, qy: float, qz: float) -> float:
+    """Exact least altitude along a segment: the walk of :func:`min_altitude_kernel` without its bound.
+
+    Parameters
+    ----------
+    coef : numpy.ndarray
+        Bilinear coefficients per cell ``(ny - 1, nx - 1, 4)`` (m).
+    x0, y0, dx, dy : float
+        Grid origin and cell sizes (m): with ``coef`` the first five of :attr:`Terrain.kernel_data`.
+    px, py, pz, qx, qy, qz : float
+        The segment's ends (m).
+
+    Returns
+    -------
+    float
+        The least altitude above the seabed along the segment (m).
+    """
+    return _walk_min(coef, x0, y0, dx, dy, px, py, pz, qx, qy, qz)
 
 
 @kernel
