@@ -44,15 +44,15 @@ def test_lifted_candidate_crosses_the_rise_the_worst_seed_goes_round(seamounts, 
 
 def test_lifted_candidate_is_the_path_at_the_ceiling_within_the_margin(seamounts):
     """``_lifted_plan``: the ends kept, every interior point at ``-min_depth - LIFT_BELOW``, the x, y
-    unchanged; kept iff its cost (computed here independently) is within ``1 + LATTICE_WITHIN`` of the
+    unchanged; kept iff its cost (computed here independently) is within ``1 + LIFT_WITHIN`` of the
     plan's (both sides of the threshold); None without a ceiling."""
     prob, spec = seamounts
     base = plan(prob, replace(spec, polish=0), rng=0)
     lifted = base.path.copy()
     lifted[1:-1, 2] = -prob.world.margins.min_depth - polish.LIFT_BELOW
     cost = path_cost(prob, spec, lifted)["total"]
-    above = replace(base, cost=cost / (1.0 + polish.LATTICE_WITHIN) * 0.999)
-    within = replace(base, cost=cost / (1.0 + polish.LATTICE_WITHIN) * 1.001)
+    above = replace(base, cost=cost / (1.0 + polish.LIFT_WITHIN) * 0.999)
+    within = replace(base, cost=cost / (1.0 + polish.LIFT_WITHIN) * 1.001)
     assert polish._lifted_plan(prob, spec, above) is None
     kept = polish._lifted_plan(prob, spec, within)
     assert kept is not None and kept.cost == float("inf") and np.array_equal(kept.path, lifted)
