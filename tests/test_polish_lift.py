@@ -59,3 +59,20 @@ def test_lifted_candidate_is_the_path_at_the_ceiling_within_the_margin(seamounts
     assert np.array_equal(kept.path[[0, -1]], base.path[[0, -1]])
     open_sea = replace(prob, world=replace(prob.world, margins=replace(prob.world.margins, min_depth=-float("inf"))))
     assert polish._lifted_plan(open_sea, spec, within) is None
+
+
+def test_spline_polish_is_not_run_when_the_lifted_path_wins(seamounts, monkeypatch):
+    """Seed 8: the lifted candidate is polished first and wins, so the refinement runs once (the spline's
+    own polish skipped, the far lattice corridor not polished): the polish costs what it did before."""
+    prob, spec = seamounts
+    calls: list[float] = []
+    real = polish.refine_plan
+
+    def spy(*args, **kwargs):
+        calls.append(float(args[2].path[1:-1, 2].max()))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(polish, "refine_plan", spy)
+    r = plan(prob, spec, rng=8)
+    assert "lifted to the depth ceiling" in r.message
+    assert calls == [-prob.world.margins.min_depth - polish.LIFT_BELOW]
