@@ -22,8 +22,8 @@ from unittest import mock
 import numpy as np
 
 from auvplan.guidance import mission as gm
-from auvplan.io.scenario.builtins import builtin_scenarios
 from auvplan.io.scenario import loader as sc
+from auvplan.io.scenario.builtins import builtin_scenarios
 from auvplan.planners import plan
 from auvplan.sim import planning_problem
 
