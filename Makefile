@@ -6,7 +6,8 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench
+.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
+	bench-flow-flown
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -69,6 +70,11 @@ RELEASE ?= f5c6a15
 bench-hard: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
 		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
+# the default flow pipeline flown from 300 near-surface starts per Fig. 7/8 scene (docs/figures/flow-flown.md),
+# and mission building (breadth-first Douglas-Peucker) against the recursive one, missions identical
+bench-flow-flown: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/flow_flown.py --starts 300 --out results/bench-flow-flown
+	nice -n 5 $(BIN)/python benchmarks/mission_build.py --starts 30
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step

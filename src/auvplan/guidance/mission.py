@@ -263,22 +263,42 @@ def _deviation(p: np.ndarray, i: int, j: int) -> tuple[float, int]:
     return float(d[k]), i + 1 + k
 
 
+def _deviations(p: np.ndarray, i: NDArray[np.int64], j: NDArray[np.int64]) -> tuple[_F64, NDArray[np.int64]]:
+    """:func:`_deviation` of many chords ``p[i] -> p[j]`` (``j - i >= 2``) in one array pass: the largest
+    distance of each chord's interior points and the first index where it is reached."""
+    n = j - i - 1
+    grp = np.repeat(np.arange(len(i)), n)
+    idx = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n) + np.repeat(i + 1, n)
+    d = point_segment_distance(p[idx], p[i][grp], p[j][grp])
+    starts = np.cumsum(n) - n
+    top = np.maximum.reduceat(d, starts)
+    at = np.flatnonzero(d == top[grp])
+    _, first = np.unique(grp[at], return_index=True)
+    return top, idx[at[first]]
+
+
 def _douglas_peucker(world: World, p: np.ndarray, tolerance: float) -> np.ndarray:
     """Indices kept by Douglas–Peucker where a chord replaces its points only when it is within
-    ``tolerance`` of them *and* its envelope is free (:func:`envelopes_free`)."""
+    ``tolerance`` of them *and* its envelope is free (:func:`envelopes_free`).
+
+    Breadth first: every open chord of one level is measured and envelope-tested in one array call
+    (each chord's outcome depends on its ends only, so the kept points are those of the recursion)."""
     keep = np.zeros(len(p), dtype=bool)
     keep[[0, -1]] = True
-    stack = [(0, len(p) - 1)]
-    while stack:
-        i, j = stack.pop()
-        if j - i < 2:
-            continue
-        dev, k = _deviation(p, i, j)
-        if dev <= tolerance and envelopes_free(world, p[i][None], p[j][None])[0]:
-            continue
-        k = k if dev > 0.0 else (i + j) // 2
+    i, j = np.array([0]), np.array([len(p) - 1])
+    while i.size:
+        wide = j - i >= 2
+        i, j = i[wide], j[wide]
+        if not i.size:
+            break
+        dev, k = _deviations(p, i, j)
+        done = dev <= tolerance
+        if done.any():
+            done[done] = envelopes_free(world, p[i[done]], p[j[done]])
+        k = np.where(dev > 0.0, k, (i + j) // 2)[~done]
+        i, j = i[~done], j[~done]
         keep[k] = True
-        stack += [(i, k), (k, j)]
+        i, j = np.r_[i, k], np.r_[k, j]
     return np.flatnonzero(keep)
 
 
