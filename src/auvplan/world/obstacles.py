@@ -64,6 +64,18 @@ class Sphere:
         """
         return self.radius
 
+    @property
+    def z_range(self) -> tuple[float, float]:
+        """Exact vertical extent: the lowest and highest z of the surface.
+
+        Returns
+        -------
+        tuple of float
+            ``(z_min, z_max)`` (m, up positive): the centre's z ∓ the radius.
+        """
+        zc = self.center[2]
+        return zc - self.radius, zc + self.radius
+
     def distance(self, points: ArrayLike) -> FloatArray:
         """Signed distance from points to the surface.
 
@@ -183,6 +195,23 @@ class Ellipsoid:
             Radius (m).
         """
         return max(self.semi_axes)
+
+    @property
+    def z_range(self) -> tuple[float, float]:
+        """Exact vertical extent: the lowest and highest z of the surface.
+
+        A surface point is ``c + R (a ∘ u)`` for a unit vector ``u`` (``R`` the body-to-world rotation,
+        ``a`` the semi-axes), so its z is ``c_z + Σ_j R[2, j] a_j u_j``, whose extremes over the unit
+        sphere are ``c_z ∓ sqrt(Σ_j (R[2, j] a_j)²)``.
+
+        Returns
+        -------
+        tuple of float
+            ``(z_min, z_max)`` (m, up positive).
+        """
+        half = float(np.linalg.norm(self._rot[2] * self._axes))
+        zc = self.center[2]
+        return zc - half, zc + half
 
     def to_body(self, points: ArrayLike) -> FloatArray:
         """World points in the ellipsoid's body frame.
