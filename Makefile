@@ -38,6 +38,7 @@ kill-points: $(STAMP)
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py \
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
+		tests/test_ellipsoid_kernels.py \
 		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
 		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
 		tests/test_turning.py::test_windowed_velocity_obstacles \

@@ -27,12 +27,25 @@ from typing import Any, TypeVar, overload
 
 from numba import njit
 
-__all__ = ["kernel", "source_stamp"]
+__all__ = ["jit_enabled", "kernel", "source_stamp"]
 
 #: A function compiled by :func:`kernel`; the dispatcher is called with the same arguments.
 F = TypeVar("F", bound=Callable[..., Any])
 
 _SETTINGS: dict[str, Any] = dict(nogil=True, error_model="numpy", fastmath={"nsz", "arcp", "contract"})
+
+
+def jit_enabled() -> bool:
+    """Whether :func:`kernel` compiles (False under ``NUMBA_DISABLE_JIT=1``: kernels run as plain Python).
+
+    Returns
+    -------
+    bool
+        numba's ``DISABLE_JIT`` setting, negated.
+    """
+    from numba import config
+
+    return not bool(config.DISABLE_JIT)  # type: ignore[attr-defined]  # numba.config sets it at import
 
 
 @functools.cache

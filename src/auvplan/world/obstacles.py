@@ -19,7 +19,7 @@ import numpy as np
 
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..geometry import as_points, point_segment_distance, rotation_matrix
-from .ellipsoid_kernels import foot_point_kernel
+from .ellipsoid_kernels import foot_point
 
 __all__ = [
     "Sphere",
@@ -230,8 +230,8 @@ class Ellipsoid:
         return pb
 
     def _foot_point(self, pb: FloatArray) -> FloatArray:
-        """Nearest surface point (body frame) for body-frame points ``(N, 3)`` (compiled: ellipsoid_kernels)."""
-        foot: FloatArray = foot_point_kernel(self._axes, np.ascontiguousarray(pb, dtype=float))
+        """Nearest surface point (body frame) for body-frame points ``(N, 3)`` (ellipsoid_kernels)."""
+        foot: FloatArray = foot_point(self._axes, np.ascontiguousarray(pb, dtype=float))
         return foot
 
     def distance(self, points: ArrayLike) -> FloatArray:
