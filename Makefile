@@ -66,10 +66,13 @@ bench-regress: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --figure-md bench-regress --out results/bench-regress
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
+# (and the `--reference` solver's CPU against REFERENCE_PEER's code, the wave's branch point)
 RELEASE ?= f5c6a15
+REFERENCE_PEER ?= 455a663
 bench-hard: $(STAMP)
-	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
-		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
+	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --budget 10000 --no-peers --methods iabc iabc/release \
+		--release-code $(RELEASE) --reference-peer $(REFERENCE_PEER) --figure-md bench-hard-default \
+		--out results/bench-hard
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
