@@ -39,6 +39,7 @@ kill-points: $(STAMP)
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py tests/test_cost_kernels.py \
 		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
+		tests/test_ellipsoid_kernels.py \
 		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
 		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
 		tests/test_turning.py::test_windowed_velocity_obstacles \
@@ -66,10 +67,13 @@ bench-regress: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --figure-md bench-regress --out results/bench-regress
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
+# (and the `--reference` solver's CPU against REFERENCE_PEER's code, the wave's branch point)
 RELEASE ?= f5c6a15
+REFERENCE_PEER ?= 07f244c
 bench-hard: $(STAMP)
-	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --no-peers --methods iabc iabc/release \
-		--release-code $(RELEASE) --figure-md bench-hard-default --out results/bench-hard
+	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --budget 10000 --no-peers --methods iabc iabc/release \
+		--release-code $(RELEASE) --reference-peer $(REFERENCE_PEER) --figure-md bench-hard-default \
+		--out results/bench-hard
 # the default flow pipeline flown from 300 near-surface starts per Fig. 7/8 scene (docs/figures/flow-flown.md),
 # and mission building (breadth-first Douglas-Peucker) against the recursive one, missions identical
 bench-flow-flown: $(STAMP)

@@ -269,3 +269,31 @@ def test_document_001_cells_count_and_summarise_the_runs_as_the_table_says():
     assert table[0] == "| law | crab | `s` |"
     assert table[2] == "| law A | no | 2 / 1 (1 DL) · 2.50 / 9.2 · −0.50 · 200 |"
     assert table[3] == "| law A (default) | yes | 2 / 0 · 2.00 / 9.2 · — · 200 |"
+
+
+# The README's prose under the same guard: a measured-looking number (a count out of a total, a percentage,
+# a multiple, an angle, an approximate duration) outside code, links, pictures and figure blocks fails.
+MEASURED_IN_PROSE = re.compile(r"\d\s?/\s?\d|\d\s?%|\d\s?×|\d\s?°|(?:about|~)\s?\d|\d\s?(?:min|minutes)\b")
+
+
+def _measured_prose(text: str) -> list[str]:
+    """The number-bearing phrases of ``text``'s prose that look measured and are not quoted figures."""
+    text = _tool().BLOCK.sub("", text)
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
+    text = re.sub(r"!\[[^\]]*\]\([^)]*\)", "", text)  # pictures (their captions describe the picture)
+    text = re.sub(r"\]\([^)]*\)", "]", text)  # link targets
+    text = re.sub(r"`[^`]*`", "", text)
+    return [text[max(0, m.start() - 30):m.end() + 10].replace("\n", " ") for m in MEASURED_IN_PROSE.finditer(text)]
+
+
+def test_readme_has_no_hand_typed_measured_numbers():
+    assert _measured_prose(README.read_text()) == [], \
+        "hand-typed numbers: measure them into docs/figures/ and quote them with a marker, or drop them"
+
+
+def test_the_readme_guard_catches_the_numbers_it_replaced():
+    for typed in ("100/100 arrivals, 0 contacts", "within 0.18 % of its planned duration", "about 8 min on",
+                  "the body is 1.045× the inflated", "(2.86° over a 0.5 m step", "numba off (~1 min)."):
+        assert len(_measured_prose(f"- x: {typed}\n")) == 1, typed
+    quoted = "- x: <!-- figure: f -->100/100 (0.18 %)<!-- /figure --> `--seeds 0/1` [a](docs/x1/2.md) ![5 %](p.png)\n"
+    assert _measured_prose(quoted) == []

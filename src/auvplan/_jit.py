@@ -25,19 +25,27 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
 
-from numba import config as _numba_config
 from numba import njit
 
-__all__ = ["kernel", "source_stamp", "JIT_ON"]
+__all__ = ["jit_enabled", "kernel", "source_stamp"]
 
 #: A function compiled by :func:`kernel`; the dispatcher is called with the same arguments.
 F = TypeVar("F", bound=Callable[..., Any])
 
-JIT_ON: bool = not getattr(_numba_config, "DISABLE_JIT", False)
-"""Whether kernels are compiled (``NUMBA_DISABLE_JIT=1`` runs them as plain Python: a caller may then
-prefer a vectorised numpy route to the same numbers)."""
-
 _SETTINGS: dict[str, Any] = dict(nogil=True, error_model="numpy", fastmath={"nsz", "arcp", "contract"})
+
+
+def jit_enabled() -> bool:
+    """Whether :func:`kernel` compiles (False under ``NUMBA_DISABLE_JIT=1``: kernels run as plain Python).
+
+    Returns
+    -------
+    bool
+        numba's ``DISABLE_JIT`` setting, negated.
+    """
+    from numba import config
+
+    return not bool(config.DISABLE_JIT)  # type: ignore[attr-defined]  # numba.config sets it at import
 
 
 @functools.cache

@@ -40,7 +40,7 @@ from typing import TypedDict
 
 import numpy as np
 
-from ._jit import JIT_ON, kernel
+from ._jit import jit_enabled, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .world import UniformCurrent, World
 from .world.terrain import (
@@ -479,7 +479,7 @@ def _midpoint_currents(world: World, a: FloatArray, b: FloatArray) -> FloatArray
     field is a :class:`~auvplan.world.UniformCurrent` (the same vector everywhere: no array to fill)."""
     if type(world.currents) is UniformCurrent:
         return np.array(world.currents.vector, dtype=float).reshape(1, 1, 3)
-    if JIT_ON and a.ndim == 3:
+    if jit_enabled() and a.ndim == 3:
         mid = np.empty(a.shape)
         _midpoints(a, b, mid)  # 0.5 (a + b) without numpy's temporaries
     else:

@@ -21,7 +21,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.interpolate import BSpline
 
-from ._jit import JIT_ON, kernel
+from ._jit import jit_enabled, kernel
 from ._types import ArrayLike, FloatArray, IntArray
 from .geometry import as_points
 
@@ -136,7 +136,7 @@ def sample_population(control: ArrayLike, n_samples: int, order: int = 0) -> Flo
     c = np.asarray(control, dtype=float)
     lead, k = c.shape[:-2], c.shape[-2]
     basis = basis_matrix(k, n_samples, order)
-    if JIT_ON:  # else one BLAS matrix product (a compiled loop run as Python would be slow)
+    if jit_enabled():  # else one BLAS matrix product (a compiled loop run as Python would be slow)
         # one compiled pass over the population, no BLAS call (whose threads cost more CPU than the sums)
         flat3 = np.ascontiguousarray(c.reshape((-1, k, 3)))
         samples: FloatArray = np.empty((flat3.shape[0], n_samples, 3))

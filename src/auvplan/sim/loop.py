@@ -31,7 +31,7 @@ from ..guidance.predictive import PredictiveAvoidance
 from ..guidance.route import PathFollower, RoutePoint, RouteTracker
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
-from ..world.obstacles import Ellipsoid
+from ..world.obstacles import Shape
 from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
 from .mission import Mission
 from .result import SimResult
@@ -228,15 +228,10 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
                 [_depth_band(o) for o in world.obstacles])
 
 
-def _depth_band(shape: Any) -> tuple[float, float]:
+def _depth_band(shape: Shape) -> tuple[float, float]:
     """The depths ``(z_low, z_high)`` (m, up positive) at which a static obstacle has a horizontal
-    cross-section: its centre's z ± its vertical half-extent (a sphere's radius; an ellipsoid's
-    ``‖row z of R·diag(a)‖``; any other shape its bounding radius)."""
-    half = float(shape.bounding_radius)
-    if isinstance(shape, Ellipsoid):
-        half = float(np.linalg.norm(shape._rot[2] * np.asarray(shape.semi_axes)))
-    zc = float(shape.center[2])
-    return zc - half, zc + half
+    cross-section: the shape's exact vertical extent (``z_range``)."""
+    return shape.z_range
 
 
 def _sense(run: _Run, k: int, t: float) -> tuple[NDArray[np.float64], list[_Placed], list[float], float,

@@ -6,6 +6,10 @@ The foot point of a body-frame point ``p`` (first octant by symmetry) is ``a² p
 runs exactly the operations of the numpy version it replaced, point by point and in the same order,
 without fast-math liberties (``fastmath=False``), so its results are bit-identical to it
 (``tests/test_ellipsoid_kernels.py`` holds them against that numpy reference).
+
+That numpy version is kept as :func:`foot_point_numpy`: with compiling switched off
+(``NUMBA_DISABLE_JIT=1``) the kernel would run its bisection as plain Python point by point, so
+:func:`foot_point` then runs the numpy version on all points at once (same results, bit for bit).
 """
 
 from __future__ import annotations
@@ -14,10 +18,10 @@ import math
 
 import numpy as np
 
-from .._jit import kernel
+from .._jit import jit_enabled, kernel
 from .._types import FloatArray
 
-__all__ = ["foot_point_kernel"]
+__all__ = ["foot_point", "foot_point_kernel", "foot_point_numpy"]
 
 
 @kernel(fastmath=False)
@@ -80,3 +84,56 @@ def foot_point_kernel(a: FloatArray, pb: FloatArray) -> FloatArray:
             q = a2[k] * p[k] / (a2[k] + t)
             out[i, k] = -q if pb[i, k] < 0 else q
     return out
+
+
+def foot_point_numpy(a: FloatArray, pb: FloatArray) -> FloatArray:
+    """:func:`foot_point_kernel` vectorised over the points in numpy (the same operations, bit-identical).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Semi-axes ``(3,)`` (m).
+    pb : numpy.ndarray
+        Points ``(N, 3)`` in the ellipsoid's body frame (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Foot points ``(N, 3)`` (m, body frame).
+    """
+    with np.errstate(all="ignore"):  # inf/nan as in the kernel, silently (error_model="numpy")
+        sign = np.where(pb < 0, -1.0, 1.0)
+        p = np.maximum(np.abs(pb), 1e-10 * a)
+        outside = ((p / a) ** 2).sum(axis=-1) >= 1.0
+        lo = np.where(outside, 0.0, -(a.min() ** 2))
+        hi = np.where(outside, a.max() * np.linalg.norm(p, axis=-1), 0.0)
+        a2 = a * a
+        ap = a * p
+        for _ in range(64):
+            mid = 0.5 * (lo + hi)
+            pos = ((ap / (a2 + mid[:, None])) ** 2).sum(axis=-1) - 1.0 > 0
+            lo = np.where(pos, mid, lo)
+            hi = np.where(pos, hi, mid)
+        t = 0.5 * (lo + hi)
+        out: FloatArray = sign * (a2 * p / (a2 + t[:, None]))
+    return out
+
+
+def foot_point(a: FloatArray, pb: FloatArray) -> FloatArray:
+    """Nearest surface points (body frame): the compiled kernel, or its numpy version when compiling is off.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        Semi-axes ``(3,)`` (m).
+    pb : numpy.ndarray
+        Points ``(N, 3)`` in the ellipsoid's body frame (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        Foot points ``(N, 3)`` (m, body frame).
+    """
+    if jit_enabled():
+        return foot_point_kernel(a, pb)
+    return foot_point_numpy(np.asarray(a, dtype=float), np.asarray(pb, dtype=float))

@@ -19,7 +19,7 @@ import numpy as np
 
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..geometry import as_points, point_segment_distance, rotation_matrix
-from .ellipsoid_kernels import foot_point_kernel
+from .ellipsoid_kernels import foot_point
 
 __all__ = [
     "Sphere",
@@ -63,6 +63,18 @@ class Sphere:
             Radius (m).
         """
         return self.radius
+
+    @property
+    def z_range(self) -> tuple[float, float]:
+        """Exact vertical extent: the lowest and highest z of the surface.
+
+        Returns
+        -------
+        tuple of float
+            ``(z_min, z_max)`` (m, up positive): the centre's z ∓ the radius.
+        """
+        zc = self.center[2]
+        return zc - self.radius, zc + self.radius
 
     def distance(self, points: ArrayLike) -> FloatArray:
         """Signed distance from points to the surface.
@@ -184,6 +196,23 @@ class Ellipsoid:
         """
         return max(self.semi_axes)
 
+    @property
+    def z_range(self) -> tuple[float, float]:
+        """Exact vertical extent: the lowest and highest z of the surface.
+
+        A surface point is ``c + R (a ∘ u)`` for a unit vector ``u`` (``R`` the body-to-world rotation,
+        ``a`` the semi-axes), so its z is ``c_z + Σ_j R[2, j] a_j u_j``, whose extremes over the unit
+        sphere are ``c_z ∓ sqrt(Σ_j (R[2, j] a_j)²)``.
+
+        Returns
+        -------
+        tuple of float
+            ``(z_min, z_max)`` (m, up positive).
+        """
+        half = float(np.linalg.norm(self._rot[2] * self._axes))
+        zc = self.center[2]
+        return zc - half, zc + half
+
     def to_body(self, points: ArrayLike) -> FloatArray:
         """World points in the ellipsoid's body frame.
 
@@ -201,8 +230,8 @@ class Ellipsoid:
         return pb
 
     def _foot_point(self, pb: FloatArray) -> FloatArray:
-        """Nearest surface point (body frame) for body-frame points ``(N, 3)`` (compiled: ellipsoid_kernels)."""
-        foot: FloatArray = foot_point_kernel(self._axes, np.ascontiguousarray(pb, dtype=float))
+        """Nearest surface point (body frame) for body-frame points ``(N, 3)`` (ellipsoid_kernels)."""
+        foot: FloatArray = foot_point(self._axes, np.ascontiguousarray(pb, dtype=float))
         return foot
 
     def distance(self, points: ArrayLike) -> FloatArray:
