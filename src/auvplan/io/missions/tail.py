@@ -41,7 +41,18 @@ _KML_NS = "http://www.opengis.net/kml/2.2"
 
 
 def any_tail(tail: ArrayLike | None) -> bool:
-    """Whether any leg is flown tail-first (None: none)."""
+    """Whether any leg is flown tail-first.
+
+    Parameters
+    ----------
+    tail : array_like of bool or None
+        Per-leg flags (None: no leg).
+
+    Returns
+    -------
+    bool
+        True when at least one flag is set.
+    """
     return tail is not None and bool(np.any(np.asarray(tail, dtype=bool)))
 
 
