@@ -87,10 +87,13 @@ def test_missions_from_flyable_flow_paths_are_flown_clear_by_the_line_of_sight_f
     assert rec.sim.metrics["collisions"] == 0
 
 
-@pytest.mark.xfail(strict=True, reason="open: the hybrid field's repulsion from the nearer obstacle (and its "
-                   "lateral bias) pushes the vehicle off the clear leg into the neighbouring sphere")
 @pytest.mark.parametrize("case", range(len(HARD)))
 def test_the_default_hybrid_follower_flies_the_hard_starts_clear(fig8, case):
-    """Known defect, measured by benchmarks/flow_flown.py: the same missions flown by the default follower."""
+    """The same missions flown by the default follower (measured by benchmarks/flow_flown.py): the hybrid
+    field repels from a static obstacle only inside the route's own clearance from it (the route point
+    nearest the vehicle), so it no longer pushes the vehicle off a clear leg into the neighbouring sphere
+    (it did on all three: least distance -0.01 to -0.09 m).  Oracle: the exact distance of every recorded
+    position; it arrives."""
     rec, least = _fly(fig8, *HARD[case], "hybrid")
-    assert least > 0.0
+    assert rec.sim.arrived and rec.sim.metrics["collisions"] == 0
+    assert least > 0.25

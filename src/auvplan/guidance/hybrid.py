@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -143,7 +144,8 @@ def goal_factor(target_distance: float, params: HybridParams) -> float:
 
 def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
                  obstacles: Sequence[Sequence[float]], target_distance: float,
-                 leg_origin: Sequence[float] | NDArray[np.float64]) -> tuple[float, float]:
+                 leg_origin: Sequence[float] | NDArray[np.float64],
+                 reach: Sequence[float] | None = None) -> tuple[float, float]:
     """Compute the resultant of route attraction, heading attraction and obstacle repulsion.
 
     Parameters
@@ -162,6 +164,10 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
         Horizontal distance to the active waypoint r_at (m).
     leg_origin : sequence of float
         ``(x, y)`` of the active leg's start (m), to tell which side of the route an obstacle is on.
+    reach : sequence of float, optional
+        Each obstacle's influence distance (m; default ``params.influence`` for all): where the route
+        itself passes closer than P_o to a static obstacle, :class:`HybridGuidance` repels only inside
+        the route's own clearance (the plan is clear; the field corrects a drift towards the obstacle).
 
     Returns
     -------
@@ -183,11 +189,12 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
     po = params.influence
     rho = goal_factor(target_distance, params)
     bias = params.bias
-    for cx, cy, d in obstacles:
-        if d >= po:
+    for i, (cx, cy, d) in enumerate(obstacles):
+        pi = po if reach is None else reach[i]
+        if d >= pi:
             continue
         d = max(d, 1e-3)
-        mag = params.k_repulse * (1.0 / d - 1.0 / po) / (d * d) * rho
+        mag = params.k_repulse * (1.0 / d - 1.0 / pi) / (d * d) * rho
         rx, ry = x - cx, y - cy
         rn = math.hypot(rx, ry) or 1.0
         fx += mag * rx / rn
@@ -209,13 +216,39 @@ class HybridGuidance:
         The route to follow.
     params : HybridParams
         The field's gains.
+    statics : sequence of shapes, optional
+        The world's static obstacles: the field repels from one that the route passes (without entering
+        it) closer than P_o only inside the route's own clearance from it (:meth:`_reach`).
     """
 
     name = "hybrid"
 
-    def __init__(self, route: RouteTracker, params: HybridParams) -> None:
+    def __init__(self, route: RouteTracker, params: HybridParams, statics: Sequence[Any] = ()) -> None:
         self.route = route
         self.params = params
+        w = np.asarray(route.w, dtype=float)
+        legs = np.stack([w[:-1], w[1:]], axis=1)  # an obstacle the route runs into keeps the full field
+        self._statics = {(float(o.center[0]), float(o.center[1])): o for o in statics
+                         if not bool(np.any(o.segments_hit(legs)))}
+        self._a, self._d = w[:-1], np.diff(w, axis=0)
+        self._dd = np.maximum((self._d[:, :2] ** 2).sum(axis=1), 1e-12)
+
+    def _reach(self, x: float, y: float, obstacles: Sequence[Sequence[float]]) -> list[float] | None:
+        """Each obstacle's influence distance: P_o, or the route's own clearance from a static obstacle where
+        that is below P_o: the exact surface distance of the route point nearest the vehicle (in plan view;
+        at the route's depth there).  An obstacle the route runs into (exact segment test) keeps P_o."""
+        if not self._statics or not obstacles:
+            return None
+        po = self.params.influence
+        s = np.clip(((x - self._a[:, 0]) * self._d[:, 0] + (y - self._a[:, 1]) * self._d[:, 1]) / self._dd, 0.0, 1.0)
+        q = self._a + s[:, None] * self._d
+        pt = q[int(np.argmin((q[:, 0] - x) ** 2 + (q[:, 1] - y) ** 2))][None]
+        reach = []
+        for ob in obstacles:
+            shape = self._statics.get((float(ob[0]), float(ob[1])))
+            clear = float(shape.distance(pt)[0]) if shape is not None else po
+            reach.append(clear if 0.0 < clear < po else po)
+        return reach
 
     def reset(self) -> None:
         """Restart the route."""
@@ -253,7 +286,8 @@ class HybridGuidance:
         k = rp.leg
         b = self.route.w[k + 1]
         target = math.hypot(b[0] - x, b[1] - y)
-        fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k])
+        fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k],
+                              self._reach(x, y, obstacles))
         course = math.atan2(fx, fy)
         psi = crab_heading(course, current, speed, self.route.tail[k]) if self.params.compensates else course
         return psi, True, rp

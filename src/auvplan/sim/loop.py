@@ -42,7 +42,8 @@ _Placed = tuple[Any, tuple[float, ...]] | None
 """An obstacle's (shape, centre) at one step, None when inactive (:func:`~auvplan.sim.events._obstacle_shapes`)."""
 
 
-def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike | None = None) -> PathFollower:
+def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike | None = None,
+                  statics: Sequence[Any] = ()) -> PathFollower:
     """Make a path follower by name.
 
     Parameters
@@ -55,6 +56,9 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike
         Its ``hybrid`` and ``los`` settings.
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first (:class:`~auvplan.guidance.route.RouteTracker`).
+    statics : sequence of shapes, optional
+        The world's static obstacles: the hybrid field repels from one only inside the route's own
+        clearance from it (:class:`~auvplan.guidance.hybrid.HybridGuidance`).
 
     Returns
     -------
@@ -62,7 +66,7 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike
         :class:`~auvplan.guidance.hybrid.HybridGuidance` or :class:`~auvplan.guidance.los.LosGuidance`.
     """
     if name == "hybrid":
-        return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius, tail), mission.hybrid)
+        return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius, tail), mission.hybrid, statics)
     if name in ("los", "ilos"):
         return LosGuidance(RouteTracker(route, mission.los.switch_radius, tail), mission.los, integral=name == "ilos")
     raise ValueError(f"unknown guidance {name!r}; choose hybrid, los or ilos")
@@ -209,7 +213,7 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     gen = as_rng(mission.seed if rng is None else rng)
     waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
     st, vp = mission.sim, mission.vehicle
-    guide = make_guidance(guidance or mission.guidance, waypoints, mission, tail)
+    guide = make_guidance(guidance or mission.guidance, waypoints, mission, tail, world.obstacles)
     av_name = avoidance or mission.avoidance.name
     local = _local_avoidance(world, mission, av_name, waypoints, guide, keys, gen)  # before the noise: same draws
     first = waypoints[1] - waypoints[0]
