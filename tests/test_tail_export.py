@@ -97,3 +97,11 @@ def test_run_npz_keeps_the_flags(tail_run, tmp_path: Path):
     assert back.plan is not None and back.plan.tail is not None
     np.testing.assert_array_equal(back.plan.tail, record.plan.tail)
     np.testing.assert_array_equal(record_tail(back), tail)
+
+
+def test_read_tail_of_a_malformed_file_says_nothing(tmp_path: Path):
+    """A file that does not parse carries no flags (None), never a traceback; the reader of the waypoints
+    names the file (auvplan.io.missions.readers)."""
+    for name, text in (("m.yaml", "poses: [\n"), ("m.csv", "x,y\n1"), ("m.kml", "<kml"), ("m.geojson", "{")):
+        (tmp_path / name).write_text(text)
+        assert read_tail(tmp_path / name, 3) is None

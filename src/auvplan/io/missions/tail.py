@@ -98,6 +98,8 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
     numpy.ndarray of bool or None
         ``(legs,)`` flags; None when the file has no tail-first leg or does not say.
     """
+    import yaml
+
     path = Path(path)
     suffix = path.suffix.lower()
     flags = np.zeros(legs, dtype=bool)
@@ -121,8 +123,6 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
                             idx = [int(i) for i in (d.findtext(f"{{{_KML_NS}}}value") or "").split()]
                             flags[[i for i in idx if 0 <= i < legs]] = True
         elif suffix in (".yaml", ".yml"):
-            import yaml
-
             poses = yaml.safe_load(text)["poses"]
             if len(poses) != legs + 1:
                 return None
@@ -133,10 +133,6 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
                     flags[i] = math.cos(_yaw_of(poses[i]["pose"]["orientation"]) - math.atan2(d[1], d[0])) < 0.0
         else:
             return None
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, ET.ParseError, UnicodeDecodeError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, ET.ParseError, yaml.YAMLError):
         return None
-    except Exception as exc:  # a YAML error (PyYAML is imported lazily)
-        if type(exc).__module__.startswith("yaml"):
-            return None
-        raise
     return flags if flags.any() else None
