@@ -104,6 +104,7 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
 def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .flyable import check_limits
     from .io.missions.energy import mission_file_energy
+    from .io.missions.deploy_read import file_deploy_check
     from .io.missions.formats import check_mission_file, read_mission
     from .io.results import records
     from .io.scenario import loader as scenario_io
@@ -115,15 +116,18 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
     checks = []
     for name in args.files:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
-        points = read_mission(Path(name), world.origin)[0]
+        points = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)[0]
+        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
+                                                mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
-        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
+               "deploy": deploy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
         checks.append(rec)
-        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
+        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok and deploy["ok"] else 1)
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
@@ -137,6 +141,7 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
                   + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
             print(f"{name}: {energy_line}")
+            print(f"{name}: {deploy_line}")
             if sc.mission.confidence:
                 print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
                       f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")

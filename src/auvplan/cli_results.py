@@ -71,7 +71,9 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
         print(f"auvplan: {line}", file=sys.stderr)
     from .io.missions.energy import mission_endurance
 
-    export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), formats, full)
+    speeds = planned_speeds(out, record, mission)
+    export.write_exports(out, record, world.origin, speeds, formats, full,
+                         export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record)))
     if endurance is None:
         endurance = mission_endurance(world, mission, record)
     metrics = records.summary_metrics(record)
@@ -138,7 +140,8 @@ def cmd_export(args: argparse.Namespace) -> int:
     from .io.missions import export
 
     out, record, _, world, mission = load_results(args)
-    for p in export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), args.format,
-                                  args.full):
+    speeds = planned_speeds(out, record, mission)
+    deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))
+    for p in export.write_exports(out, record, world.origin, speeds, args.format, args.full, deploy):
         print(p)
     return 0

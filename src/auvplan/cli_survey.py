@@ -56,7 +56,10 @@ def cmd_survey(args: argparse.Namespace) -> int:
         text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
         records.write_run(out, run.record, text, args.full)
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
-        export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full)
+        from .io.missions.deploy import payload_from_labels
+
+        deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed, payload_from_labels(run.plan.labels))
+        export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full, deploy)
         from .viz.survey import coverage_map
 
         coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(

@@ -84,7 +84,8 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
     speeds = read_leg_speeds(out, w.shape[0] - 1)
     formats = export.exportable(record, [f for f in export.EXPORT_FORMATS
                                          if frame is not None or f not in export.GEOGRAPHIC])[0]
-    export.write_exports(out, record, world.origin, mission.vehicle.speed if speeds is None else speeds, formats)
+    v = mission.vehicle.speed if speeds is None else speeds
+    export.write_exports(out, record, world.origin, v, formats, deploy=export.deploy_for(world, mission, record, v))
     _report(out, session, record, text, endurance)
     atomic_write(out / "history.json", json.dumps(history, indent=1) + "\n")
     atomic_write(out / "candidates.json", json.dumps(records.jsonable(candidates), indent=1) + "\n")
