@@ -24,12 +24,16 @@ if TYPE_CHECKING:
 __all__: list[str] = ["FIGURES"]  # handlers: CLI internals, not library API
 
 
-def scenario_text(sc: Scenario) -> str:
-    """The text of the scenario file (empty where it cannot be read)."""
+def scenario_text(sc: Scenario, world: World | None = None) -> str:
+    """The text of the scenario file (empty where it cannot be read), with the ``[origin]`` and ``[bounds]``
+    the build derived from ``world`` written in (:func:`auvplan.io.scenario.saved.with_derived_frame`)."""
+    from .io.scenario.saved import with_derived_frame
+
     try:
-        return Path(sc.source).read_text(encoding="utf-8")
+        text = Path(sc.source).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return ""
+    return with_derived_frame(text, world) if world is not None else text
 
 
 def save_context(out: Path, sc: Scenario, world: World) -> None:
@@ -47,7 +51,7 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
     from .io.results import records
     from .sim import RunRecord
 
-    text = scenario_text(sc)
+    text = scenario_text(sc, world)
     empty = result.path[:0].reshape(0, 3)
     records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     save_context(out, sc, world)

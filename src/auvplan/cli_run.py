@@ -12,6 +12,7 @@ from .cli_output import Progress, emit
 from .cli_results import save_context, scenario_text, write_report
 from .errors import AuvplanError
 from .io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from .io.scenario.defaults import energy_defaults
 
 if TYPE_CHECKING:
     from .endurance import Endurance
@@ -28,8 +29,10 @@ DEMO_SCENARIO = "showcase"
 
 def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
                  full: bool = False, force: bool = False, quiet: bool = False,
-                 planner: str | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
-    """Plan and fly one scenario (``run``, ``demo``); with ``out``, its results folder, report and exports."""
+                 planner: str | None = None,
+                 notes: list[str] | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
+    """Plan and fly one scenario (``run``, ``demo``); with ``out``, its results folder, report and exports; the
+    rules the run applied to its inputs (currents past the file, defaults) are appended to ``notes``."""
     from .io.data.geo import LocalFrame
     from .io.missions.energy import mission_endurance
     from .io.results import records
@@ -48,13 +51,18 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    from .io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, record)  # issue 51: refused, or said
+    if notes is not None:
+        notes.extend([note] if note else [])
     endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
         from .cli_ensemble import route_fields, scenario_members, write_ensemble
 
         write_ensemble(Path(out), route_fields(scenario_members(sc, world), world, mission, record.route))
-        text = scenario_text(sc)
+        text = scenario_text(sc, world)
         records.write_run(Path(out), record, text, full, world.origin)
         save_context(Path(out), sc, world)
         if endurance is not None:
@@ -118,7 +126,7 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
         from .viz.formation import build_formation_report
 
         bar.stage(f"writing results, report and exports into {args.out}")
-        out, text = Path(args.out), scenario_text(sc)
+        out, text = Path(args.out), scenario_text(sc, world)
         write_formation(out, world, mission, record, text, args.full)
         save_context(out, sc, world)
         frame = LocalFrame(*world.origin) if world.origin is not None else None
@@ -151,9 +159,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return run_formation_scenario(args, sc, world, mission)
+    notes: list[str] = []
     sc, record, endurance = run_scenario(args.scenario, args.out, args.guidance, args.avoidance, args.seed,
                                          full=args.full, force=args.force, quiet=args.quiet or args.json,
-                                         planner=args.planner)
+                                         planner=args.planner, notes=notes)
     rec = records.run_record(record)
     if endurance is not None:
         from .io.missions.energy import energy_record
@@ -161,7 +170,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         rec["energy"] = records.jsonable(energy_record(endurance))
         if record.status.ok and not endurance.status.ok:
             rec["status"] = endurance.status.value
-    emit(rec, args.json, describe_run(sc.name, record, endurance))
+    notes += energy_defaults(sc) if endurance is not None else []
+    if notes:
+        rec["notes"] = notes
+    emit(rec, args.json, describe_run(sc.name, record, endurance) + "".join(f"\n  note: {n}" for n in notes))
     if args.out and not args.json:
         print(f"results in {args.out}/")
     return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1

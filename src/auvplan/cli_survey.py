@@ -53,12 +53,16 @@ def cmd_survey(args: argparse.Namespace) -> int:
         out = Path(args.out)
         _say(args, f"writing the survey, the run files and the mission exports into {out}")
         write_survey(out, run, params, world.origin)
+        from .io.scenario.saved import with_derived_frame
+
         text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
+        text = with_derived_frame(text, world)  # issue 51: the derived [origin] and [bounds]
         records.write_run(out, run.record, text, args.full)
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
         from .io.missions.deploy import payload_from_labels
 
-        deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed, payload_from_labels(run.plan.labels))
+        deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
+                                   payload_from_labels(run.plan.labels))
         export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full, deploy)
         from .viz.survey import coverage_map
 

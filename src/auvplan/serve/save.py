@@ -75,6 +75,9 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
     w = record.route
     prepare_out(out, SAVE_NAMES)
     frame = LocalFrame(*world.origin) if world.origin is not None else None
+    from ..io.scenario.saved import with_derived_frame
+
+    text = with_derived_frame(text, world)  # issue 51: the derived [origin] and [bounds] kept with the results
     records.write_run(out, record, text, False, world.origin)
     records.write_json(out / "source.json", {"scenario_source": str(Path(source).resolve())})
     results.save_terrain(out, world.terrain)

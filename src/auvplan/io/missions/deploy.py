@@ -145,7 +145,8 @@ def payload_events(payload: ArrayLike) -> list[tuple[int, bool]]:
     return [(int(i), bool(p[i + 1])) for i in np.flatnonzero(p[1:] != p[:-1])]
 
 
-def _exclusions(world: World, box: shapely.Polygon, mission: shapely.LineString) -> tuple:
+def _exclusions(world: World, box: shapely.Polygon,
+                mission: shapely.Geometry) -> tuple[tuple[tuple[float, float], ...], ...]:
     """Land inside the bounds as exclusion polygons, simplified (≤ ~1 % of the box's side) but never
     touching the mission's track (the tolerance is lowered until it does not, down to the exact land)."""
     if world.land is None:

@@ -56,7 +56,8 @@ def moos_envelope(env: Envelope | None, name: str) -> list[str]:
     if env is None:
         return []
     poly = ":".join(f"{x:.3f},{y:.3f}" for x, y in env.polygon)
-    lines = ["", "Behavior = BHV_OpRegion", "{", f"  name                   = {name}_opregion", "  pwt                    = 100",
+    lines = ["", "Behavior = BHV_OpRegion", "{", f"  name                   = {name}_opregion",
+             "  pwt                    = 100",
              "  condition              = DEPLOY = true", f"  polygon                = {poly}",
              f"  max_depth              = {env.max_depth_m:.3f}"]
     if env.min_altitude_m > 0:
@@ -81,8 +82,9 @@ def moos_leg_extras(deploy: DeployInfo | None, leg: int) -> tuple[list[str], lis
     after: list[str] = []
     if deploy.altitude is not None:
         a = min(deploy.follow_altitude_m or np.inf, float(deploy.altitude[leg]), float(deploy.altitude[leg + 1]))
-        after = ["", "Behavior = BHV_MinAltitudeX", "{", f"  name         = altitude_{leg}", f"  pwt          = {ALTITUDE_PWT}",
-                 "  condition    = DEPLOY = true", f"  condition    = WPT_INDEX = {leg}", "  condition    = RETURN = false",
+        after = ["", "Behavior = BHV_MinAltitudeX", "{", f"  name         = altitude_{leg}",
+                 f"  pwt          = {ALTITUDE_PWT}", "  condition    = DEPLOY = true",
+                 f"  condition    = WPT_INDEX = {leg}", "  condition    = RETURN = false",
                  "  condition    = ABORT = false", f"  min_altitude = {max(a, 0.0):.3f}", "}"]
     return inside, after
 
@@ -154,7 +156,8 @@ def mission_props(deploy: DeployInfo | None) -> dict[str, Any]:
 
 def envelope_props(env: Envelope) -> dict[str, Any]:
     """The envelope's limits as GeoJSON properties / KML ``ExtendedData``."""
-    return {"name": "envelope", "max_depth_m": round(env.max_depth_m, 3), "min_altitude_m": round(env.min_altitude_m, 3),
+    return {"name": "envelope", "max_depth_m": round(env.max_depth_m, 3),
+            "min_altitude_m": round(env.min_altitude_m, 3),
             "max_time_s": env.max_time_s, "predicted_duration_s": round(env.predicted_s, 1),
             "timeout_factor": env.timeout_factor}
 

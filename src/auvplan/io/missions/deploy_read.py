@@ -81,8 +81,8 @@ def _moos(text: str) -> FileDeploy:
                                                                if "=" in ln))
         if "polygon" in kv:
             poly = np.array([[float(c) for c in pt.split(",")[:2]] for pt in kv["polygon"].split(":")])
-        limits = {f"{k}_{'m' if k != 'max_time' else 's'}": float(kv[k]) for k in ("max_depth", "min_altitude", "max_time")
-                  if k in kv}
+        limits = {f"{k}_{'m' if k != 'max_time' else 's'}": float(kv[k])
+                  for k in ("max_depth", "min_altitude", "max_time") if k in kv}
     events = []
     for blk in re.finditer(r"Behavior\s*=\s*BHV_ConstantDepth\s*\{([^}]*)\}", body):
         idx = re.search(r"WPT_INDEX\s*==?\s*(\d+)", blk.group(1))
@@ -139,13 +139,15 @@ def _geojson(doc: dict[str, Any]) -> FileDeploy:
 
 def _kml(text: str) -> FileDeploy:
     ns = {"k": KML_NS}
-    poly, exc, limits, events = None, [], {}, []
+    poly, exc, events = None, [], []
+    limits: dict[str, float] = {}
     for pm in ET.fromstring(text).iter(f"{{{KML_NS}}}Placemark"):
         name = pm.findtext("k:name", namespaces=ns) or ""
         data = {d.get("name"): d.findtext("k:value", namespaces=ns) or "" for d in pm.iter(f"{{{KML_NS}}}Data")}
         if name in ("envelope", "exclusion"):
             c = pm.find("k:Polygon/k:outerBoundaryIs/k:LinearRing/k:coordinates", ns)
-            ring = np.array([[float(v) for v in s.split(",")[:2]] for s in (c.text or "").split()])[:-1, ::-1]
+            ring = np.array([[float(v) for v in s.split(",")[:2]]
+                             for s in ((c.text if c is not None else "") or "").split()])[:-1, ::-1]
             if name == "envelope":
                 poly = ring
                 limits = {k: float(data[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in data}

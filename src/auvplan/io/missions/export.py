@@ -225,7 +225,8 @@ def _extended(pm: ET.Element, data: dict[str, str], ns: str) -> None:
 
 def deploy_for(world: World, mission: Mission, record: RunRecord, speed: float | ArrayLike,
                payload: ArrayLike | None = None) -> DeployInfo:
-    """The datum, envelope, payload and altitudes the exports of a run carry (:func:`auvplan.io.missions.deploy.deploy_info`).
+    """The datum, envelope, payload and altitudes the exports of a run carry
+    (:func:`auvplan.io.missions.deploy.deploy_info`).
 
     Parameters
     ----------
@@ -270,7 +271,7 @@ def survey_payload(out_dir: Path, record: RunRecord) -> NDArray[np.bool_] | None
     if not path.is_file() or len(w) < 2:
         return None
     rows = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
-    pairs = set()
+    pairs: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
     for k in np.unique(rows["line"]):
         p = np.column_stack([rows["x"], rows["y"]])[rows["line"] == k]
         pairs.update(zip(map(tuple, np.round(p[:-1], 3)), map(tuple, np.round(p[1:], 3))))

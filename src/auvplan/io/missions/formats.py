@@ -120,7 +120,8 @@ def _varies(v: NDArray[np.float64]) -> bool:
 
 
 # ---------------------------------------------------------------------- MOOS-IvP
-def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan", deploy: DeployInfo | None = None) -> str:
+def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
+            deploy: DeployInfo | None = None) -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
 
     ``BHV_Waypoint`` posts ``WPT_INDEX`` = index (from 0) of the point it heads to, so leg i, from
@@ -369,8 +370,8 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     k = None if k is None or not k.any() else np.r_[k[:1], k].astype(int)
     alt = deploy.altitude if deploy is not None else None
     pay = None if deploy is None or deploy.payload is None else np.r_[deploy.payload, False].astype(int)
-    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first") + ("" if alt is None else ",altitude")
-            + ("" if pay is None else ",payload")]
+    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
+            + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")]
     for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
                               "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]

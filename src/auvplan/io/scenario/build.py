@@ -27,6 +27,7 @@ from ..data.coast import read_land
 from ..data.currents import read_currents
 from ..data.geo import LocalFrame
 from ..data.tides import load_tidal_current, parse_start_time
+from .currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
@@ -229,6 +230,9 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     for rally in s.endurance.rally:
         _check_point(world, rally.point, f"[endurance] rally {rally.name!r} point", src)
+    pts = np.asarray([m.start, *m.route, m.goal], dtype=float)  # issue 51: a file too short for any mission
+    least = sum(lower_bound_s(world, a, b, s.vehicle.max_speed) for a, b in zip(pts[:-1], pts[1:]))
+    check_span(src, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, predicted=False)
     mission = Mission(
         name=s.name,
         start=m.start,
@@ -308,6 +312,8 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
         elif c.file is not None:
             currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=box,  # type: ignore[arg-type]
                                      start_time=s.mission.start_time)
+            if c.beyond == "zero" and file_span(currents, "hold") is not None:  # issue 51: no current after it
+                currents = zero_beyond(currents)
         elif c.tides:
             if frame is None or not s.mission.start_time:
                 raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "

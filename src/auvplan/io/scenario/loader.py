@@ -56,6 +56,7 @@ from ..data.bathymetry import TerrainSpec
 from ..limits import Limits
 from .build import build
 from .builtins import builtin_scenarios, resolve
+from .defaults import apply_preset
 from .geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
@@ -343,7 +344,8 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         obstacles=obstacles,
         moving=moving,
         mission=mission,
-        vehicle=_section(data, "vehicle", source),
+        vehicle=build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
+                                f"{source}: [vehicle]"),
         planner=planner,
         guidance=_section(data, "guidance", source),
         avoidance=_section(data, "avoidance", source),

@@ -178,6 +178,10 @@ class CurrentsSpec:
     members : tuple of MemberSpec
         A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
         every member; the nominal field is the one above, or the first member when none is given.
+    beyond : str
+        What a mission lasting longer than the current file's time span does (issue 51,
+        :mod:`auvplan.io.scenario.currentspan`): ``"refuse"`` (exit 2, the default), ``"hold"`` (the last
+        field held) or ``"zero"`` (no current after the file).
     """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -185,8 +189,11 @@ class CurrentsSpec:
     file: str | CurrentsFileSpec | None = None
     tides: str = ""
     members: tuple[MemberSpec, ...] = ()
+    beyond: str = "refuse"
 
     def __post_init__(self) -> None:
+        if self.beyond not in ("refuse", "hold", "zero"):
+            raise ValueError(f"beyond = {self.beyond!r}: choose 'refuse', 'hold' or 'zero'")
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
             object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
