@@ -61,18 +61,22 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
 
 
 def write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
-                  full: bool = False, endurance: Endurance | None = None) -> Path:
-    """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
+                  full: bool = False, endurance: Endurance | None = None, notes: list[str] | None = None) -> Path:
+    """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``; the formats
+    left out are said on stderr, or appended to ``notes`` when given (``--json``: stderr stays empty)."""
     from .io.data.geo import LocalFrame
     from .io.missions import export
     from .io.results import records
     from .viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
-    formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
+    formats, left_out = export.exportable(record, [f for f in export.EXPORT_FORMATS
                                                 if frame is not None or f not in export.GEOGRAPHIC])
-    for line in notes:  # a format that would fly a tail-first leg nose-first
-        print(f"auvplan: {line}", file=sys.stderr)
+    for line in left_out:  # a format that would fly a tail-first leg nose-first
+        if notes is not None:
+            notes.append(line)
+        else:
+            print(f"auvplan: {line}", file=sys.stderr)
     from .io.missions.energy import mission_endurance
 
     speeds = planned_speeds(out, record, mission)

@@ -70,7 +70,8 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
 
             frame = LocalFrame(*world.origin) if world.origin is not None else None
             write_energy(Path(out), endurance, frame.inverse if frame else None)
-        write_report(Path(out), world, mission, record, text, full=full, endurance=endurance)
+        write_report(Path(out), world, mission, record, text, full=full, endurance=endurance,
+                     notes=notes if quiet and notes is not None else None)
     return sc, record, endurance
 
 

@@ -232,7 +232,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         _check_point(world, rally.point, f"[endurance] rally {rally.name!r} point", src)
     pts = np.asarray([m.start, *m.route, m.goal], dtype=float)  # issue 51: a file too short for any mission
     least = sum(lower_bound_s(world, a, b, s.vehicle.max_speed) for a, b in zip(pts[:-1], pts[1:]))
-    check_span(src, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, predicted=False)
+    cruise = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()) / s.vehicle.speed
+    check_span(src, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, False, cruise)
     mission = Mission(
         name=s.name,
         start=m.start,

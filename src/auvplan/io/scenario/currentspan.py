@@ -85,7 +85,7 @@ def lower_bound_s(world: World, start: np.ndarray, goal: np.ndarray, max_speed: 
 
 
 def check_span(source: str, beyond: str, span: tuple[float, float] | None, needed_s: float,
-               predicted: bool = True) -> str | None:
+               predicted: bool = True, cruise_s: float | None = None) -> str | None:
     """Refuse, or describe, currents needed past the file's span.
 
     Parameters
@@ -100,6 +100,8 @@ def check_span(source: str, beyond: str, span: tuple[float, float] | None, neede
         How long the mission lasts (s from the start).
     predicted : bool, optional
         Whether ``needed_s`` is the mission's duration (True) or a lower bound of it (False).
+    cruise_s : float, optional
+        With a lower bound: the duration at the cruise speed through still water (s), also named.
 
     Returns
     -------
@@ -114,11 +116,12 @@ def check_span(source: str, beyond: str, span: tuple[float, float] | None, neede
     if span is None or not np.isfinite(needed_s) or needed_s <= span[1] + 1e-6:
         return None
     what = "lasts" if predicted else "lasts at least"
+    cruise = f" ({cruise_s / 3600:.2f} h at the cruise speed in still water)" if cruise_s else ""
     cover = f"covers {span[0] / 3600:.2f} to {span[1] / 3600:.2f} h from the start"
     if beyond == "refuse":
-        raise DataError(f"{source}: [currents] the current file {cover}, but the mission {what} {needed_s / 3600:.2f} "
-                        f"h: {(needed_s - span[1]) / 3600:.2f} h without currents; give a longer file or [currents] "
-                        "beyond = \"hold\" (hold the last field) or \"zero\" (no current after the file)")
+        raise DataError(f"{source}: [currents] the current file {cover}, but the mission {what} "
+                        f"{needed_s / 3600:.2f} h{cruise}: {(needed_s - span[1]) / 3600:.2f} h without currents; give "
+                        "a longer file or [currents] beyond = \"hold\" (hold the last field) or \"zero\" (no current after the file)")
     rule = "the field at its last time held" if beyond == "hold" else "no current"
     return (f"currents: the file {cover}; the last {(needed_s - span[1]) / 3600:.2f} h of the {needed_s / 3600:.2f} h "
             f"mission fly with {rule} ([currents] beyond = \"{beyond}\")")
