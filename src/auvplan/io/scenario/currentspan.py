@@ -121,7 +121,8 @@ def check_span(source: str, beyond: str, span: tuple[float, float] | None, neede
     if beyond == "refuse":
         raise DataError(f"{source}: [currents] the current file {cover}, but the mission {what} "
                         f"{needed_s / 3600:.2f} h{cruise}: {(needed_s - span[1]) / 3600:.2f} h without currents; give "
-                        "a longer file or [currents] beyond = \"hold\" (hold the last field) or \"zero\" (no current after the file)")
+                        "a longer file or [currents] beyond = \"hold\" (hold the last field) or \"zero\" "
+                        "(no current after the file)")
     rule = "the field at its last time held" if beyond == "hold" else "no current"
     return (f"currents: the file {cover}; the last {(needed_s - span[1]) / 3600:.2f} h of the {needed_s / 3600:.2f} h "
             f"mission fly with {rule} ([currents] beyond = \"{beyond}\")")
