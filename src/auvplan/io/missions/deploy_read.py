@@ -110,7 +110,7 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
 def _yaml(text: str) -> FileDeploy:
     import yaml
 
-    doc = yaml.safe_load(text)
+    doc = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml when built with it
     d = doc.get("datum")
     datum = (float(d["lat"]), float(d["lon"])) if isinstance(d, dict) else None
     env = doc.get("envelope") or {}
