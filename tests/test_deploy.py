@@ -356,8 +356,8 @@ def test_validate_prints_ok_only_after_every_check(tmp_path, capsys):
 
 # ---------------------------------------------------------------------- presets, saved frame
 def test_presets_give_published_figures_and_explicit_keys_override():
-    base = 'name = "p"\n[mission]\nstart = [0, 0, -10]\ngoal = [100, 0, -10]\n[bounds]\nx = [-10, 200]\ny = [-50, 50]\n' \
-           'z = [-100, 0]\n[vehicle]\npreset = "{p}"\n{extra}'
+    base = ('name = "p"\n[mission]\nstart = [0, 0, -10]\ngoal = [100, 0, -10]\n[bounds]\nx = [-10, 200]\n'
+            'y = [-50, 50]\nz = [-100, 0]\n[vehicle]\npreset = "{p}"\n{extra}')
     sc = sc_io.loads(base.format(p="bluefin9", extra="battery_wh = 2000.0\n"), "p.toml")
     assert sc.vehicle.battery_wh == 2000.0 and sc.vehicle.max_depth_m == 200.0 and sc.vehicle.hotel_power == 204.0
     assert energy_defaults(sc) == ["energy verdict rests on usable_fraction = 0.9 (default), reserve = 0.2 (default), "

@@ -43,7 +43,18 @@ RELAY = 181
 
 
 def moos_datum(origin: tuple[float, float] | None) -> list[str]:
-    """The datum block at the top of ``mission.moos`` (empty without an origin)."""
+    """The datum block at the top of ``mission.moos`` (empty without an origin).
+
+    Parameters
+    ----------
+    origin : tuple of float or None
+        ``(lat, lon)`` (degrees).
+
+    Returns
+    -------
+    list of str
+        The lines.
+    """
     if origin is None:
         return []
     return ["// datum: MOOS global parameters (every MOOS app reads them with CMOOSFileReader::GetValue);",
@@ -52,7 +63,20 @@ def moos_datum(origin: tuple[float, float] | None) -> list[str]:
 
 
 def moos_envelope(env: Envelope | None, name: str) -> list[str]:
-    """The ``BHV_OpRegion`` block of the envelope (convex polygon: the bounds rectangle)."""
+    """The ``BHV_OpRegion`` block of the envelope (convex polygon: the bounds rectangle).
+
+    Parameters
+    ----------
+    env : Envelope or None
+        The envelope (None: no block).
+    name : str
+        Mission name (the behaviour's name prefix).
+
+    Returns
+    -------
+    list of str
+        The lines.
+    """
     if env is None:
         return []
     poly = ":".join(f"{x:.3f},{y:.3f}" for x, y in env.polygon)
@@ -71,7 +95,22 @@ def moos_envelope(env: Envelope | None, name: str) -> list[str]:
 
 
 def moos_leg_extras(deploy: DeployInfo | None, leg: int) -> tuple[list[str], list[str]]:
-    """Lines inside leg ``leg``'s depth behaviour (payload runflag) and the blocks after it (altitude)."""
+    """Lines inside leg ``leg``'s depth behaviour (payload runflag) and the blocks after it (altitude).
+
+    Parameters
+    ----------
+    deploy : DeployInfo or None
+        Payload and altitudes.
+    leg : int
+        The leg (``WPT_INDEX``).
+
+    Returns
+    -------
+    inside : list of str
+        Lines for the depth behaviour's body.
+    after : list of str
+        The ``BHV_MinAltitudeX`` block of a terrain-following leg.
+    """
     if deploy is None:
         return [], []
     inside: list[str] = []
@@ -90,8 +129,23 @@ def moos_leg_extras(deploy: DeployInfo | None, leg: int) -> tuple[list[str], lis
 
 
 def geo_ring(frame: LocalFrame, poly: tuple[tuple[float, float], ...], per_edge: int = 8) -> NDArray[np.float64]:
-    """``(M, 2)`` lat, lon of a local polygon's ring, each edge divided in ``per_edge`` (so the geographic
-    polygon follows the local one within centimetres), not closed."""
+    """The lat, lon ring of a local polygon, each edge divided in ``per_edge`` (so the geographic polygon
+    follows the local one closely), not closed.
+
+    Parameters
+    ----------
+    frame : LocalFrame
+        The local frame.
+    poly : tuple of (float, float)
+        Local vertices (m).
+    per_edge : int, optional
+        Pieces per edge.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 2)`` lat, lon (degrees).
+    """
     p = np.asarray(poly, dtype=float)
     q = np.roll(p, -1, axis=0)
     s = np.arange(per_edge) / per_edge
@@ -101,7 +155,20 @@ def geo_ring(frame: LocalFrame, poly: tuple[tuple[float, float], ...], per_edge:
 
 
 def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]:
-    """The ``geoFence`` of a QGC plan: the bounds as inclusion, the exclusions (version 2)."""
+    """The ``geoFence`` of a QGC plan: the bounds as inclusion, the exclusions (version 2).
+
+    Parameters
+    ----------
+    deploy : DeployInfo or None
+        The envelope (None: an empty fence).
+    frame : LocalFrame
+        The local frame.
+
+    Returns
+    -------
+    dict
+        ``{"circles": [], "polygons": [...], "version": 2}``.
+    """
     polys: list[dict[str, Any]] = []
     env = deploy.envelope if deploy is not None else None
     if env is not None:
@@ -113,13 +180,37 @@ def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]
 
 
 def qgc_relay(on: bool, jump: int) -> dict[str, Any]:
-    """A ``MAV_CMD_DO_SET_RELAY`` item switching the payload (relay 0)."""
+    """A ``MAV_CMD_DO_SET_RELAY`` item switching the payload (relay 0).
+
+    Parameters
+    ----------
+    on : bool
+        Switch on (1) or off (0).
+    jump : int
+        Its ``doJumpId``.
+
+    Returns
+    -------
+    dict
+        The plan item.
+    """
     return {"type": "SimpleItem", "autoContinue": True, "command": RELAY, "doJumpId": jump, "frame": 2,
             "params": [0, 1 if on else 0, 0, 0, 0, 0, 0]}
 
 
 def yaml_extras(deploy: DeployInfo | None) -> list[str]:
-    """Top-level ``datum``, ``envelope`` and ``payload_events`` of the ROS 2 YAML."""
+    """Top-level ``datum``, ``envelope`` and ``payload_events`` of the ROS 2 YAML.
+
+    Parameters
+    ----------
+    deploy : DeployInfo or None
+        What to write (None: nothing).
+
+    Returns
+    -------
+    list of str
+        The lines.
+    """
     if deploy is None:
         return []
     lines = []
@@ -139,7 +230,18 @@ def yaml_extras(deploy: DeployInfo | None) -> list[str]:
 
 
 def mission_props(deploy: DeployInfo | None) -> dict[str, Any]:
-    """Properties of the GeoJSON mission feature (and KML ``ExtendedData``): datum, payload, altitudes."""
+    """Properties of the GeoJSON mission feature (and KML ``ExtendedData``): datum, payload, altitudes.
+
+    Parameters
+    ----------
+    deploy : DeployInfo or None
+        What to write (None: nothing).
+
+    Returns
+    -------
+    dict
+        ``datum``, ``payload_on_legs``, ``payload_events``, ``altitude_m`` where known.
+    """
     if deploy is None:
         return {}
     out: dict[str, Any] = {}
@@ -155,7 +257,18 @@ def mission_props(deploy: DeployInfo | None) -> dict[str, Any]:
 
 
 def envelope_props(env: Envelope) -> dict[str, Any]:
-    """The envelope's limits as GeoJSON properties / KML ``ExtendedData``."""
+    """The envelope's limits as GeoJSON properties / KML ``ExtendedData``.
+
+    Parameters
+    ----------
+    env : Envelope
+        The envelope.
+
+    Returns
+    -------
+    dict
+        ``name``, ``max_depth_m``, ``min_altitude_m``, ``max_time_s``, ``predicted_duration_s``, ``timeout_factor``.
+    """
     return {"name": "envelope", "max_depth_m": round(env.max_depth_m, 3),
             "min_altitude_m": round(env.min_altitude_m, 3),
             "max_time_s": env.max_time_s, "predicted_duration_s": round(env.predicted_s, 1),
@@ -163,7 +276,20 @@ def envelope_props(env: Envelope) -> dict[str, Any]:
 
 
 def envelope_rings(deploy: DeployInfo | None, frame: LocalFrame) -> list[tuple[str, NDArray[np.float64]]]:
-    """``("envelope" | "exclusion", (M, 2) lat/lon ring)`` of the envelope and its exclusions (not closed)."""
+    """The lat/lon rings of the envelope and its exclusions (not closed).
+
+    Parameters
+    ----------
+    deploy : DeployInfo or None
+        The envelope (None: no ring).
+    frame : LocalFrame
+        The local frame.
+
+    Returns
+    -------
+    list of (str, numpy.ndarray)
+        ``("envelope" | "exclusion", (M, 2) lat, lon)``.
+    """
     env = deploy.envelope if deploy is not None else None
     if env is None:
         return []

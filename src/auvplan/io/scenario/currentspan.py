@@ -79,7 +79,22 @@ def file_span(field: CurrentField, beyond: str) -> tuple[float, float] | None:
 
 def lower_bound_s(world: World, start: np.ndarray, goal: np.ndarray, max_speed: float) -> float:
     """The least time any mission from ``start`` to ``goal`` can take: the straight line at the vehicle's
-    top speed plus the strongest current (s)."""
+    top speed plus the strongest current.
+
+    Parameters
+    ----------
+    world : World
+        Its current (its largest speed).
+    start, goal : numpy.ndarray
+        ``(3,)`` points (m).
+    max_speed : float
+        The vehicle's top speed through the water (m/s).
+
+    Returns
+    -------
+    float
+        Seconds.
+    """
     d = float(np.linalg.norm(np.asarray(goal, dtype=float) - np.asarray(start, dtype=float)))
     return d / max(max_speed + world.currents.max_speed, 1e-9)
 
