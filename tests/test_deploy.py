@@ -386,3 +386,10 @@ def test_saved_scenario_holds_the_derived_origin_and_bounds(tf):
     again = sc_io.loads(saved, "saved.toml", base_dir=sc.base_dir)
     assert (again.origin.lat, again.origin.lon) == world.origin and again.mission.start == sc.mission.start
     assert with_derived_frame(saved, world) == saved  # nothing derived left to add
+
+
+def test_json_leaves_stderr_empty(tmp_path, capsys):
+    """`plan --json` drew its progress bar on stderr before issue 51."""
+    assert cli.main(["plan", "dynamic-terrain", "--budget", "300", "--json", "--out", str(tmp_path / "p")]) == 0
+    cap = capsys.readouterr()
+    assert cap.err == "" and json.loads(cap.out)["status"] in ("EXACT", "APPROXIMATE")

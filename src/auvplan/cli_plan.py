@@ -69,7 +69,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.objective:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
-    sc, result, seed, world, ensemble = plan_scenario(args, quiet=False)
+    sc, result, seed, world, ensemble = plan_scenario(args, quiet=args.json)  # issue 51: --json, stderr empty
     record = records.plan_record(result, sc.name, seed)
     record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:
