@@ -269,6 +269,13 @@ def test_mission_check_verifies_datum_and_envelope(dt, tmp_path, capsys):
     assert cli.main(["mission", "check", str(moved), "--scenario", "dynamic-terrain"]) == 2
     err = capsys.readouterr().err
     assert "datum" in err and "differs from the scenario's [origin]" in err and "11.06 m apart" in err
+    # a CSV whose lat/lon columns were written about another origin: its datum (solved from the rows) differs
+    (tmp_path / "m.csv").write_text(formats.mission_csv(MINI, (world.origin[0], world.origin[1] + 2e-4), SPEED))
+    assert cli.main(["mission", "check", str(tmp_path / "m.csv"), "--scenario", "dynamic-terrain"]) == 2
+    assert "21.5" in capsys.readouterr().err  # 2e-4 deg of longitude at 14.76 N: 21.5 m
+    (tmp_path / "m.csv").write_text(formats.mission_csv(MINI, world.origin, SPEED))
+    assert cli.main(["mission", "check", str(tmp_path / "m.csv"), "--scenario", "dynamic-terrain"]) == 0
+    assert "= the scenario's (0.0 mm)" in capsys.readouterr().out
     # an envelope that leaves the last waypoint out: FAIL, exit 1
     (tmp_path / "c").mkdir()
     small = ((37000.0, 57000.0), (42000.0, 57000.0), (42000.0, 62000.0), (37000.0, 62000.0))
