@@ -121,13 +121,18 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         assert run.plan is not None  # no flight without a route: the plan failed
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
+    from .io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, run)  # issue 51: currents past the file refused or said
     result = run.sim
     record = records.sim_record(result, sc.name, seed, result.avoidance)
+    if note:
+        record["notes"] = [note]
     if args.out:
         records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full, world.origin)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
-             f"min obstacle distance {m['min_obstacle_distance_m']:.2f} m")
+             f"min obstacle distance {m['min_obstacle_distance_m']:.2f} m" + (f"\n  note: {note}" if note else ""))
     emit(record, args.json, human)
     return 0 if result.status.ok else 1

@@ -48,7 +48,12 @@ def cmd_survey(args: argparse.Namespace) -> int:
     seed = sc.seed if args.seed is None else args.seed
     _say(args, f"planning and flying the survey of {sc.name}")
     run = run_survey(world, mission, params, seed, guidance=getattr(args, "guidance", None))
+    from .io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, run.record)  # issue 51: refused, or said
     rec = coverage_record(run, params)
+    if note:
+        rec["notes"] = [note]
     if args.out:
         out = Path(args.out)
         _say(args, f"writing the survey, the run files and the mission exports into {out}")
@@ -78,7 +83,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
              + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
              + f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']} lines, "
                f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
-             + (f"\n  {rec['message']}" if rec["message"] else ""))
+             + (f"\n  {rec['message']}" if rec["message"] else "") + (f"\n  note: {note}" if note else ""))
     if args.json:
         print(_json(rec))
     else:

@@ -199,9 +199,10 @@ def scenario_schema() -> dict[str, Any]:
         _geographic_positions(table)
     from .defaults import PRESETS  # issue 51: published figures of a vehicle, under the explicit keys
 
-    props["vehicle"]["properties"] = {"preset": {"enum": list(PRESETS), "description": (
+    vehicle: dict[str, Any] = sections["vehicle"]
+    vehicle["properties"] = {"preset": {"enum": list(PRESETS), "description": (
         "A vehicle's published figures (speed, battery, hotel load, depth rating, pitch and turn limits; "
-        "docs/missions.md); every key given here overrides its preset value.")}, **props["vehicle"]["properties"]}
+        "docs/missions.md); every key given here overrides its preset value.")}, **vehicle["properties"]}
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": f"https://auvplan.invalid/schema/scenario-{SCHEMA_VERSION}.json",
