@@ -28,7 +28,7 @@ from pyproj import Geod, Transformer
 
 from auvplan import cli
 from auvplan.io.missions import export, formats
-from auvplan.io.missions.deploy import DeployInfo, payload_from_labels
+from auvplan.io.missions.deploy import DeployInfo, deploy_info, payload_from_labels
 from auvplan.io.scenario import loader as sc_io
 from auvplan.io.scenario.currentspan import file_span, zero_beyond
 from auvplan.io.scenario.defaults import PRESETS, energy_defaults
@@ -400,3 +400,23 @@ def test_json_leaves_stderr_empty(tmp_path, capsys):
     assert cli.main(["plan", "dynamic-terrain", "--budget", "300", "--json", "--out", str(tmp_path / "p")]) == 0
     cap = capsys.readouterr()
     assert cap.err == "" and json.loads(cap.out)["status"] in ("EXACT", "APPROXIMATE")
+
+
+def test_land_becomes_exclusions_and_a_route_across_it_fails(tmp_path):
+    """admiralty-inlet (GSHHG shorelines): the land inside the bounds is the geofence's exclusions; a short leg
+    in open water stays clear of them, the straight line over the Quimper Peninsula crosses them."""
+    from auvplan.io.missions.deploy_read import check_deploy
+
+    world, mission = sc_io.build(sc_io.load("admiralty-inlet"))
+    across = np.array([mission.start, mission.goal])
+    short = np.array([mission.start, np.add(mission.start, (200.0, 0.0, 0.0))])
+    for w, ok in ((short, True), (across, False)):
+        d = deploy_info(world, mission, w, SPEED)
+        assert d.envelope.exclusions
+        p = tmp_path / f"{ok}.plan"
+        p.write_text(json.dumps(formats.to_qgc_plan(w, world.origin, SPEED, deploy=d)))
+        fence = json.loads(p.read_text())["geoFence"]["polygons"]
+        assert sum(not f["inclusion"] for f in fence) == len(d.envelope.exclusions)
+        rec = check_deploy(p, world.origin, np.vstack([[w[0, 0], w[0, 1], 0.0], w]), 100.0, 100.0)
+        assert rec["envelope"]["ok"] == ok
+        assert ok or any("crosses exclusion" in r for r in rec["envelope"]["reasons"])
