@@ -420,3 +420,11 @@ def test_land_becomes_exclusions_and_a_route_across_it_fails(tmp_path):
         rec = check_deploy(p, world.origin, np.vstack([[w[0, 0], w[0, 1], 0.0], w]), 100.0, 100.0)
         assert rec["envelope"]["ok"] == ok
         assert ok or any("crosses exclusion" in r for r in rec["envelope"]["reasons"])
+
+
+def test_an_envelope_removed_from_a_new_file_fails(dt, tmp_path, capsys):
+    p = _mini(dt, tmp_path)
+    p.write_text(re.sub(r"Behavior = BHV_OpRegion\n\{[^}]*\}\n", "", p.read_text()))
+    assert "BHV_OpRegion" not in p.read_text() and "LatOrigin" in p.read_text()
+    assert cli.main(["mission", "check", str(p), "--scenario", "dynamic-terrain"]) == 1
+    assert "no envelope (BHV_OpRegion / envelope removed)" in capsys.readouterr().out

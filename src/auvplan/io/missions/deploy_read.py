@@ -287,6 +287,10 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
         out["datum"] = {"lat": info.datum[0], "lon": info.datum[1], "offset_m": off}
     if info.polygon is not None:
         out["envelope"] = _envelope(info, origin, waypoints, min_altitude_m, duration_s)
+    elif info.datum is not None and MISSION_SUFFIXES.get(Path(path).suffix.lower()) in ("moos", "ros"):
+        # written since issue 51 (it has a datum), in a format that carries an envelope, but without one
+        out["envelope"] = {"ok": False, "vertices": 0, "exclusions": 0, "predicted_s": duration_s,
+                           "reasons": ["the file has a datum but no envelope (BHV_OpRegion / envelope removed)"]}
     out["ok"] = out["envelope"] is None or out["envelope"]["ok"]
     return out
 
