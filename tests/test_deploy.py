@@ -269,6 +269,14 @@ def test_mission_check_verifies_datum_and_envelope(dt, tmp_path, capsys):
     assert cli.main(["mission", "check", str(moved), "--scenario", "dynamic-terrain"]) == 2
     err = capsys.readouterr().err
     assert "datum" in err and "differs from the scenario's [origin]" in err and "11.06 m apart" in err
+    # the tolerance is 1 cm: 1e-6 deg (11 cm) is refused, 5e-8 deg (5.5 mm) is the same datum
+    (tmp_path / "d").mkdir()
+    near = _mini(dt, tmp_path / "d", origin=(world.origin[0] + 1e-6, world.origin[1]))
+    assert cli.main(["mission", "check", str(near), "--scenario", "dynamic-terrain"]) == 2
+    assert "(0.11 m apart)" in capsys.readouterr().err
+    same = _mini(dt, tmp_path / "d", origin=(world.origin[0] + 5e-8, world.origin[1]))
+    assert cli.main(["mission", "check", str(same), "--scenario", "dynamic-terrain"]) == 0
+    assert "= the scenario's (5.5 mm)" in capsys.readouterr().out
     # a CSV whose lat/lon columns were written about another origin: its datum (solved from the rows) differs
     (tmp_path / "m.csv").write_text(formats.mission_csv(MINI, (world.origin[0], world.origin[1] + 2e-4), SPEED))
     assert cli.main(["mission", "check", str(tmp_path / "m.csv"), "--scenario", "dynamic-terrain"]) == 2
