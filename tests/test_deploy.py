@@ -436,3 +436,13 @@ def test_an_envelope_removed_from_a_new_file_fails(dt, tmp_path, capsys):
     assert "BHV_OpRegion" not in p.read_text() and "LatOrigin" in p.read_text()
     assert cli.main(["mission", "check", str(p), "--scenario", "dynamic-terrain"]) == 1
     assert "no envelope (BHV_OpRegion / envelope removed)" in capsys.readouterr().out
+
+
+def test_survey_payload_is_read_back_from_lines_csv(tmp_path):
+    """`export`/`report` of a survey folder: the legs joining consecutive points of one line are on."""
+    route = np.array([[0, 0, -5], [10, 0, -5], [20, 0, -5], [20, 5, -5], [10, 5, -5], [0, 5, -5], [0, 9, -5]], float)
+    (tmp_path / "lines.csv").write_text("line,x,y,z,lat,lon\n0,10,0,-5,,\n0,20,0,-5,,\n1,20,5,-5,,\n1,10,5,-5,,\n"
+                                        "1,0,5,-5,,\n")
+    flags = export.survey_payload(tmp_path, RunRecord("s", 0, None, route, route[:0], None))
+    assert flags.tolist() == [False, True, False, True, True, False]
+    assert export.survey_payload(tmp_path / "nowhere", RunRecord("s", 0, None, route, route[:0], None)) is None
