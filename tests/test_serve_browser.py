@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.cli_serve import make_session
+from auvplan.cli.serve import make_session
 from auvplan.guidance.mission import fly_check
 from serve_helpers import chromium, running
 

@@ -35,7 +35,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["MOVES", "SYMBOLS", "module_map", "main"]
+__all__ = ["MOVES", "KEEP", "SYMBOLS", "module_map", "main"]
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
@@ -97,12 +97,33 @@ MOVES: dict[str, str] = {
     "io/energy.py": "io/missions/energy.py",
     "io/mission_speeds.py": "io/missions/speeds.py",
     "io/survey_io.py": "io/results/survey.py",
+    # issue 50: the command line in one folder (parsing and printing) over the jobs it shares with serve
+    "cli.py": "cli/parser.py",
+    "cli_commands.py": "cli/commands.py",
+    "cli_output.py": "cli/output.py",
+    "cli_plan.py": "cli/plan.py",
+    "cli_run.py": "cli/run.py",
+    "cli_sweep.py": "cli/sweep.py",
+    "cli_survey.py": "cli/survey.py",
+    "cli_serve.py": "cli/serve.py",
+    "cli_results.py": "app/results.py",
+    "cli_ensemble.py": "app/ensemble.py",
+    # issue 50: the package root down to 8 files: paths and their flyability; the vehicle and its power fit
+    "path.py": "path/curves.py",
+    "pitch_profile.py": "path/pitch.py",
+    "flyable.py": "path/flyable.py",
+    "vehicles.py": "vehicles/model.py",
+    "power_fit.py": "vehicles/power_fit.py",
 }
 
 # module renames done after the move (whole modules merged into another)
 LATER_MODULES: dict[str, str] = {
     "auvplan.planners.timeopt_params": "auvplan.planners.params",
 }
+
+# old modules that became packages re-exporting the old module's public names (issue 50): ``from auvplan.path
+# import BSplinePath``, ``from auvplan import cli`` and ``import auvplan.vehicles`` keep working and are left alone
+KEEP: frozenset[str] = frozenset({"auvplan.cli", "auvplan.path", "auvplan.vehicles"})
 
 # (old module, name) -> new module, for names moved out of their file after the move; applied only
 # once the new module defines the name
@@ -135,6 +156,8 @@ PACKAGE_DOCS: dict[str, str] = {
     "io/data": "Input data: bathymetry, elevation grids, currents, tides, coastlines, and the local frame.",
     "io/results": "Results folders: run records and the files beside them.",
     "io/missions": "Mission exports: GPX, CSV, QGroundControl, MOOS and ROS files, and formation missions.",
+    "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
+           "one writer of a results folder.",
 }
 
 TEXT_GLOBS = ("src/**/*.py", "tests/**/*.py", "benchmarks/**/*.py", "tools/**/*.py", "docs/**/*.md",
@@ -261,6 +284,8 @@ def new_module(old: str) -> str | None:
 def where_now(tree: Tree, module: str, name: str) -> tuple[str, str]:
     """Where ``from module import name`` must import from now: (module, name)."""
     sub = f"{module}.{name}"
+    if sub in KEEP or module in KEEP and tree.defines(module, name):
+        return module, name  # a package that re-exports its old module's names
     moved_sub = new_module(sub)
     if tree.exists(sub) and moved_sub is None:
         return module, name  # a module of the new tree
@@ -417,6 +442,8 @@ def _dotted(ref: str, standalone: bool = False) -> str:
         if head not in MODULES and (head, parts[cut] if cut < len(parts) else "") not in SYMBOLS:
             continue
         rest = parts[cut:]
+        if head in KEEP and (not rest or tree.defines(head, rest[0])):
+            return ref
         if not rest:
             moved = new_module(head)
             if moved is None or (tree.exists(head) and not standalone):

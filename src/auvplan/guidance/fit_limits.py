@@ -5,11 +5,11 @@
 the vehicle can fly:
 
 * **Turns.**  At each corner the vehicle flies a fly-by arc of radius R through the heading
-  change Δψ, tangent to both legs ``t = R tan(Δψ/2)`` from the corner (:mod:`auvplan.flyable`).
+  change Δψ, tangent to both legs ``t = R tan(Δψ/2)`` from the corner (:mod:`auvplan.path.flyable`).
   Distances along the mission are measured along that flown track (the arcs are shorter than the
   corners they cut), and the seabed under each arc joins the floor of the corner's turn region,
   so neither the pitch limit nor ``min_altitude`` is broken at a turn.
-* **Pitch.**  The depth profile is :func:`auvplan.flyable.pitch_profile` over the flown distance:
+* **Pitch.**  The depth profile is :func:`auvplan.path.pitch.pitch_profile` over the flown distance:
   the target where it is flyable; climbs started early (``cone_max`` of the floor) and dives ended
   late, so no leg is steeper than ``max_pitch_deg`` and no vertex is below its floor (the highest
   seabed under its legs + ``min_altitude``), the start and goal kept.
@@ -24,7 +24,7 @@ when it stays within ``tolerance`` of the profile and its deeper end clears ever
 pitch limit is within it too); points inside a turn region never become waypoints, so
 every turn keeps its tangent lengths.  The exact envelope test
 (:func:`auvplan.guidance.mission.envelopes_free`) then checks the static obstacles, and
-:func:`auvplan.flyable.check_limits` the result.
+:func:`auvplan.path.flyable.check_limits` the result.
 """
 
 from __future__ import annotations
@@ -35,15 +35,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import BoolArray, FloatArray, IntArray
-from ..flyable import (
+from ..path.flyable import (
     PITCH_SLACK_DEG,
     LimitReport,
     VehicleLimits,
     check_limits,
-    cone_max,
     leg_turn_radius,
-    pitch_profile,
     turn_angles,
+)
+from ..path.pitch import (
+    cone_max,
+    pitch_profile,
 )
 from ..world import World
 from .mission import envelopes_free
@@ -290,7 +292,7 @@ def fit_turns(waypoints: FloatArray, world: World, radius: float, rounds: int = 
     """Drop the corners whose fly-by turns do not fit, where the leg that replaces them is free.
 
     For a planned mission (not a route the operator wrote): while some leg's turns need more than
-    its length (:func:`auvplan.flyable.leg_turn_radius` below ``radius``), the sharper interior
+    its length (:func:`auvplan.path.flyable.leg_turn_radius` below ``radius``), the sharper interior
     corner at its ends is removed when the new leg's envelope is free
     (:func:`auvplan.guidance.mission.envelopes_free`); a corner that cannot go stays, and the check
     of :func:`fit_mission` then names it.

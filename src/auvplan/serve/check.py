@@ -2,7 +2,7 @@
 
 The figures are those of ``auvplan mission check`` on the mission's exported file
 (:func:`auvplan.guidance.mission.fly_check` under the executor's depth semantics,
-:func:`auvplan.flyable.check_limits` against the ``[vehicle]``, the energy budget of
+:func:`auvplan.path.flyable.check_limits` against the ``[vehicle]``, the energy budget of
 :func:`auvplan.endurance.mission_budget` from the scenario's start time; in a steady current each
 leg's flight is cached too, :mod:`auvplan.serve.budget`).  Each leg's seabed and
 obstacle figures depend on its two ends only (:func:`~auvplan.guidance.mission.leg_figures`), and
@@ -21,9 +21,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..endurance import EnergyModel
-from ..flyable import check_limits
 from ..guidance.mission import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
 from ..guidance.mission_limits import waypoint_limits
+from ..path.flyable import check_limits
 from ..sim import Mission
 from ..sim.pipeline import vehicle_limits
 from ..world import World

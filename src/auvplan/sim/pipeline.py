@@ -11,11 +11,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
 from ..endurance import EnergyModel, choose_speeds
-from ..flyable import VehicleLimits, check_limits
 from ..guidance.fit_limits import MissionFit, fit_mission, fit_turns
 from ..guidance.local import key_waypoints
 from ..guidance.mission import build_waypoints, default_tolerance
 from ..path import resample_polyline
+from ..path.flyable import VehicleLimits, check_limits
 from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams

@@ -21,9 +21,9 @@ from functools import lru_cache
 import numpy as np
 from scipy.interpolate import BSpline
 
-from ._jit import jit_enabled, kernel
-from ._types import ArrayLike, FloatArray, IntArray
-from .geometry import as_points
+from .._jit import jit_enabled, kernel
+from .._types import ArrayLike, FloatArray, IntArray
+from ..geometry import as_points
 
 __all__ = [
     "uniform_cubic_basis",

@@ -25,7 +25,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from .pitch_profile import cone_max, cone_min, pitch_profile
+from .pitch import cone_max, cone_min, pitch_profile
 
 __all__ = ["VehicleLimits", "LimitViolation", "LimitReport", "leg_pitch_deg", "turn_angles", "leg_turn_radius",
            "check_limits", "flyby_arcs", "merge_close", "corner_indices", "MIN_LEG_M", "MERGE_FRACTION",

@@ -1,6 +1,6 @@
 """Depth profiles within a pitch limit: the Lipschitz envelopes above and below a profile (:func:`cone_max`,
 :func:`cone_min`) and the profile as near a target as the limit allows, never below a floor
-(:func:`pitch_profile`).  Used by :mod:`auvplan.flyable` (which re-exports them), the planners' repair of a
+(:func:`pitch_profile`).  Used by :mod:`auvplan.path.flyable` (which re-exports them), the planners' repair of a
 plan to the vehicle's limits and the fit of a flown mission.
 """
 

@@ -2,9 +2,9 @@
 writes the results; :mod:`auvplan.cli` declares the arguments and maps errors to exit codes.
 
 The handlers :mod:`auvplan.cli` names are all found here (``_cmd_<command>``); the larger commands live in
-their topic's module: :mod:`auvplan.cli_plan` (``plan``, ``simulate``), :mod:`auvplan.cli_sweep` (the
-departure sweep), :mod:`auvplan.cli_run` (``run``, ``demo``), :mod:`auvplan.cli_results` (``report``,
-``export``), on what they share in :mod:`auvplan.cli_output`.
+their topic's module: :mod:`auvplan.cli.plan` (``plan``, ``simulate``), :mod:`auvplan.cli.sweep` (the
+departure sweep), :mod:`auvplan.cli.run` (``run``, ``demo``), :mod:`auvplan.app.results` (``report``,
+``export``), on what they share in :mod:`auvplan.cli.output`.
 """
 
 from __future__ import annotations
@@ -17,15 +17,17 @@ from pathlib import Path
 
 import numpy as np
 
-from . import cli_plan, cli_results, cli_run
-from .io.safeio import atomic_write, prepare_out, save_figure, write_new
+from ..app import results as cli_results
+from ..io.safeio import atomic_write, prepare_out, save_figure, write_new
+from . import plan as cli_plan
+from . import run as cli_run
 
 __all__ = ["DEMO_SCENARIO"]
 
 DEMO_SCENARIO = cli_run.DEMO_SCENARIO
 """The built-in default scenario: a real seamount flank, two eddies and twelve fast moving obstacles."""
 
-# the handlers of the topic modules, under the names cli.py dispatches to
+# the handlers of the topic modules, under the names cli/parser.py dispatches to
 _cmd_plan, _cmd_simulate = cli_plan.cmd_plan, cli_plan.cmd_simulate
 _cmd_run, _cmd_demo = cli_run.cmd_run, cli_run.cmd_demo
 _cmd_report, _cmd_export = cli_results.cmd_report, cli_results.cmd_export
@@ -34,7 +36,7 @@ log = logging.getLogger("auvplan")
 
 
 def _cmd_scenarios(args: argparse.Namespace) -> int:
-    from .io.scenario.builtins import builtin_scenarios
+    from ..io.scenario.builtins import builtin_scenarios
 
     for name, desc in builtin_scenarios().items():
         print(f"{name:18s} {desc}")
@@ -42,20 +44,20 @@ def _cmd_scenarios(args: argparse.Namespace) -> int:
 
 
 def _cmd_data_inspect(args: argparse.Namespace) -> int:
-    from .io.data.inspect import inspect_file
+    from ..io.data.inspect import inspect_file
 
     print(inspect_file(args.file))
     return 0
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
-    from .io.scenario import loader as scenario_io
-    from .sim import planning_problem
+    from ..io.scenario import loader as scenario_io
+    from ..sim import planning_problem
 
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
-    from .cli_ensemble import scenario_members
+    from ..app.ensemble import scenario_members
 
     members = scenario_members(sc, world)  # [currents] members: every one read and checked
     b = world.bounds
@@ -75,7 +77,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     if sc.mission.confidence:
         print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
     if sc.survey is not None:
-        from .io.results.survey import survey_params
+        from ..io.results.survey import survey_params
 
         area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
         print(f"  survey of {area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)")
@@ -83,7 +85,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _cmd_scenario_new(args: argparse.Namespace) -> int:
-    from .io.scenario.schema import template
+    from ..io.scenario.schema import template
 
     text = template(Path(args.file).stem if args.file else "my-mission")
     if not args.file:
@@ -95,19 +97,19 @@ def _cmd_scenario_new(args: argparse.Namespace) -> int:
 
 
 def _cmd_scenario_schema(args: argparse.Namespace) -> int:
-    from .io.scenario.schema import scenario_schema
+    from ..io.scenario.schema import scenario_schema
 
     sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
     return 0
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
-    from .flyable import check_limits
-    from .io.missions.energy import mission_file_energy
-    from .io.missions.formats import check_mission_file, read_mission
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
-    from .sim.pipeline import vehicle_limits
+    from ..io.missions.energy import mission_file_energy
+    from ..io.missions.formats import check_mission_file, read_mission
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..path.flyable import check_limits
+    from ..sim.pipeline import vehicle_limits
 
     sc = scenario_io.load(args.scenario)
     world, mission = scenario_io.build(sc)
@@ -150,7 +152,7 @@ _BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")
 
 
 def _cmd_bench(args: argparse.Namespace) -> int:
-    from .bench import SweepSpec, summarise, sweep
+    from ..bench import SweepSpec, summarise, sweep
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance),
@@ -166,9 +168,9 @@ def _cmd_bench(args: argparse.Namespace) -> int:
               for r in table]
     text = "\n".join(lines)
     atomic_write(out / "summary.md", f"# auvplan bench: {len(rows)} runs\n\n{text}\n")
-    from .bench import read_histories
-    from .viz.plots import bench_figures
-    from .viz.report import build_bench_report
+    from ..bench import read_histories
+    from ..viz.plots import bench_figures
+    from ..viz.report import build_bench_report
 
     bench_figures(rows, out, save=save_figure)
     page = build_bench_report(rows, table, read_histories(out / "histories.jsonl"))
@@ -179,12 +181,12 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _cmd_survey(args: argparse.Namespace) -> int:
-    from .cli_survey import cmd_survey
+    from .survey import cmd_survey
 
     return cmd_survey(args)
 
 
 def _cmd_serve(args: argparse.Namespace) -> int:
-    from .cli_serve import cmd_serve
+    from .serve import cmd_serve
 
     return cmd_serve(args)

@@ -8,16 +8,16 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .cli_output import Progress, emit
-from .cli_results import save_context, scenario_text, write_report
-from .errors import AuvplanError
-from .io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from ..app.results import save_context, scenario_text, write_report
+from ..errors import AuvplanError
+from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from .output import Progress, emit
 
 if TYPE_CHECKING:
-    from .endurance import Endurance
-    from .io.scenario.specs import Scenario
-    from .sim import Mission, RunRecord
-    from .world import World
+    from ..endurance import Endurance
+    from ..io.scenario.specs import Scenario
+    from ..sim import Mission, RunRecord
+    from ..world import World
 
 __all__: list[str] = ["DEMO_SCENARIO"]  # handlers: CLI internals, not library API
 
@@ -30,11 +30,11 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
                  full: bool = False, force: bool = False, quiet: bool = False,
                  planner: str | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
     """Plan and fly one scenario (``run``, ``demo``); with ``out``, its results folder, report and exports."""
-    from .io.data.geo import LocalFrame
-    from .io.missions.energy import mission_endurance
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
-    from .sim import run_mission
+    from ..io.data.geo import LocalFrame
+    from ..io.missions.energy import mission_endurance
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..sim import run_mission
 
     if out:
         prepare_out(out, RESULT_NAMES, force=force)
@@ -51,14 +51,14 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     endurance = mission_endurance(world, mission, record)
     if out:
         bar.stage(f"writing results, report and exports into {out}")
-        from .cli_ensemble import route_fields, scenario_members, write_ensemble
+        from ..app.ensemble import route_fields, scenario_members, write_ensemble
 
         write_ensemble(Path(out), route_fields(scenario_members(sc, world), world, mission, record.route))
         text = scenario_text(sc)
         records.write_run(Path(out), record, text, full, world.origin)
         save_context(Path(out), sc, world)
         if endurance is not None:
-            from .io.missions.energy import write_energy
+            from ..io.missions.energy import write_energy
 
             frame = LocalFrame(*world.origin) if world.origin is not None else None
             write_energy(Path(out), endurance, frame.inverse if frame else None)
@@ -95,9 +95,9 @@ def _settled(v: float | None) -> str:
 
 def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
     """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
-    from .io.data.geo import LocalFrame
-    from .io.missions.formation import FORMATION_NAMES, formation_record, vehicle_records, write_formation
-    from .sim.formation import run_formation
+    from ..io.data.geo import LocalFrame
+    from ..io.missions.formation import FORMATION_NAMES, formation_record, vehicle_records, write_formation
+    from ..sim.formation import run_formation
 
     assert mission.formation is not None  # cmd_run calls this only for a scenario with [[vehicles]]
     if args.guidance or args.avoidance:
@@ -115,7 +115,7 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
     finally:
         bar.close()
     if args.out:
-        from .viz.formation import build_formation_report
+        from ..viz.formation import build_formation_report
 
         bar.stage(f"writing results, report and exports into {args.out}")
         out, text = Path(args.out), scenario_text(sc)
@@ -140,12 +140,12 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
 
 def cmd_run(args: argparse.Namespace) -> int:
     """``run``: one vehicle, a formation (``[[vehicles]]``) or a survey (``[survey]``), planned and flown."""
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
 
     sc = scenario_io.load(args.scenario)
     if sc.survey is not None:
-        from .cli_survey import cmd_survey
+        from .survey import cmd_survey
 
         return cmd_survey(args)
     if sc.formation is not None:
@@ -156,7 +156,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                                          planner=args.planner)
     rec = records.run_record(record)
     if endurance is not None:
-        from .io.missions.energy import energy_record
+        from ..io.missions.energy import energy_record
 
         rec["energy"] = records.jsonable(energy_record(endurance))
         if record.status.ok and not endurance.status.ok:

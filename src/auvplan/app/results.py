@@ -11,15 +11,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import AuvplanError
-from .io.safeio import RESULT_NAMES, atomic_write, prepare_out, save_figure
+from ..errors import AuvplanError
+from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out, save_figure
 
 if TYPE_CHECKING:
-    from .endurance import Endurance
-    from .io.scenario.specs import Scenario
-    from .planners import PlanResult
-    from .sim import Mission, RunRecord
-    from .world import World
+    from ..endurance import Endurance
+    from ..io.scenario.specs import Scenario
+    from ..planners import PlanResult
+    from ..sim import Mission, RunRecord
+    from ..world import World
 
 __all__: list[str] = ["FIGURES"]  # handlers: CLI internals, not library API
 
@@ -34,8 +34,8 @@ def scenario_text(sc: Scenario) -> str:
 
 def save_context(out: Path, sc: Scenario, world: World) -> None:
     """What makes a results folder self-contained: the scenario's origin and the terrain it used."""
-    from .io.results import folder as results
-    from .io.results import records
+    from ..io.results import folder as results
+    from ..io.results import records
 
     records.write_json(out / "source.json", {"scenario_source": str(Path(sc.source).resolve())})
     results.save_terrain(out, world.terrain)
@@ -44,14 +44,14 @@ def save_context(out: Path, sc: Scenario, world: World) -> None:
 def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int,
               ensemble: dict[str, Any] | None = None) -> None:
     """``plan --out``: the plan files plus a run record without a flight, so report/export work on it."""
-    from .io.results import records
-    from .sim import RunRecord
+    from ..io.results import records
+    from ..sim import RunRecord
 
     text = scenario_text(sc)
     empty = result.path[:0].reshape(0, 3)
     records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     save_context(out, sc, world)
-    from .cli_ensemble import write_ensemble
+    from .ensemble import write_ensemble
 
     write_ensemble(out, ensemble or {})
 
@@ -59,17 +59,17 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
 def write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
                   full: bool = False, endurance: Endurance | None = None) -> Path:
     """report.html (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``."""
-    from .io.data.geo import LocalFrame
-    from .io.missions import export
-    from .io.results import records
-    from .viz.report import build_report
+    from ..io.data.geo import LocalFrame
+    from ..io.missions import export
+    from ..io.results import records
+    from ..viz.report import build_report
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
                                                 if frame is not None or f not in export.GEOGRAPHIC])
     for line in notes:  # a format that would fly a tail-first leg nose-first
         print(f"auvplan: {line}", file=sys.stderr)
-    from .io.missions.energy import mission_endurance
+    from ..io.missions.energy import mission_endurance
 
     export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), formats, full)
     if endurance is None:
@@ -77,12 +77,12 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     metrics = records.summary_metrics(record)
     if world.terrain is not None and world.terrain.fit is not None:
         metrics.update(records.fit_metrics(world.terrain.fit))
-    from .cli_ensemble import read_ensemble
+    from .ensemble import read_ensemble
 
     page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance, read_ensemble(out))
     path = atomic_write(out / "report.html", page)
     if figures:
-        from .viz import plots
+        from ..viz import plots
 
         plots.write_mission_figures(out / "figures", world, record, save=save_figure,
                                     to_lonlat=frame.inverse if frame else None)
@@ -91,7 +91,7 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
 
 def planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np.ndarray:
     """The speed of each leg of the mission (``legs.csv`` of the folder), else the vehicle's speed."""
-    from .io.missions.energy import read_leg_speeds
+    from ..io.missions.energy import read_leg_speeds
 
     speeds = read_leg_speeds(out, max(record.route.shape[0] - 1, 0))
     return mission.vehicle.speed if speeds is None else speeds
@@ -103,10 +103,10 @@ FIGURES = tuple(f"figures/{n}.{f}" for n in ("plan_view", "profiles", "convergen
 
 def load_results(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
     """A results folder of ``report``/``export``: its record, scenario text and the World and Mission rebuilt."""
-    from .io.results import folder as results
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
-    from .sim import mission_route
+    from ..io.results import folder as results
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..sim import mission_route
 
     out = Path(args.dir)
     if not out.is_dir():
@@ -135,7 +135,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 def cmd_export(args: argparse.Namespace) -> int:
     """``export``: the mission files of a results folder in the formats asked for."""
-    from .io.missions import export
+    from ..io.missions import export
 
     out, record, _, world, mission = load_results(args)
     for p in export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), args.format,

@@ -10,10 +10,10 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .io.safeio import RESULT_NAMES, prepare_out
+from ..io.safeio import RESULT_NAMES, prepare_out
 
 if TYPE_CHECKING:
-    from .planners import PlannerSpec
+    from ..planners import PlannerSpec
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
@@ -26,7 +26,7 @@ class Progress:
     def __init__(self, spec: PlannerSpec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
 
-        from .planners import get as get_planner
+        from ..planners import get as get_planner
 
         self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
         self.flight_bar: Any = None
@@ -70,7 +70,7 @@ def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> 
 
 def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
     """A command's record: one JSON object on stdout with ``as_json``, else the human text."""
-    from .io.results import records
+    from ..io.results import records
 
     if as_json:
         sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")

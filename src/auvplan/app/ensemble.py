@@ -10,13 +10,13 @@ from typing import Any
 
 import numpy as np
 
-from ._types import Status
-from .io.data.geo import LocalFrame
-from .io.scenario.members import member_fields
-from .io.scenario.specs import Scenario
-from .planners.base import PlanResult
-from .sim import Mission
-from .world import CurrentField, World
+from .._types import Status
+from ..io.data.geo import LocalFrame
+from ..io.scenario.members import member_fields
+from ..io.scenario.specs import Scenario
+from ..planners.base import PlanResult
+from ..sim import Mission
+from ..world import CurrentField, World
 
 __all__ = ["scenario_members", "ensemble_plan", "route_fields", "write_ensemble", "read_ensemble", "ENSEMBLE_FILE"]
 
@@ -74,7 +74,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
         ``members`` (each ``name``, ``arrival_s``, ``status``, ``success``, ``energy_wh``, ``heading_deg``)
         and ``nominal`` (the nominal plan's P50, P90 and success probability).
     """
-    from .ensemble import plan_robust
+    from ..ensemble import plan_robust
 
     robust = plan_robust(world, mission, members, mission.planner.robust, seed)
     chosen = robust.chosen
@@ -117,7 +117,7 @@ def route_fields(members: tuple[tuple[str, CurrentField], ...], world: World, mi
         ``arrival_p50_s``, ``arrival_p90_s``, ``success_probability``, ``members``; empty without
         members or a route.
     """
-    from .ensemble import score_route
+    from ..ensemble import score_route
 
     p = np.asarray(route, dtype=float).reshape(-1, 3)
     if not members or p.shape[0] < 2:
@@ -136,7 +136,7 @@ def write_ensemble(out: Path, fields: dict[str, Any]) -> None:
     fields : dict
         The ``plan --json`` ensemble fields, or empty.
     """
-    from .io.safeio import atomic_write
+    from ..io.safeio import atomic_write
 
     path = Path(out) / ENSEMBLE_FILE
     if not fields:

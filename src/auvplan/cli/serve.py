@@ -16,7 +16,7 @@ import webbrowser
 from pathlib import Path
 from typing import Any
 
-from .errors import AuvplanError, require
+from ..errors import AuvplanError, require
 
 __all__ = ["cmd_serve", "DEFAULT_HOST", "served_folders", "server_config", "make_session"]
 
@@ -72,8 +72,8 @@ def make_session(target: str | None, roots: list[str] | None = None) -> Any:
     auvplan.serve.session.Session
         The opened session.
     """
-    from .serve.paths import Roots
-    from .serve.session import Session
+    from ..serve.paths import Roots
+    from ..serve.session import Session
 
     folders = served_folders(target, roots)
     session = Session(Roots.of(folders))
@@ -138,7 +138,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
     require("plotly", "serve")
     import uvicorn
 
-    from .serve.app import LOCAL_HOSTS, make_app
+    from ..serve.app import LOCAL_HOSTS, make_app
 
     if args.host != DEFAULT_HOST:
         print(f"auvplan: warning: serving on {args.host}: anyone who can reach this address can edit and save "

@@ -13,12 +13,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .cli_output import check_out, emit
-from .errors import AuvplanError
-from .io.safeio import atomic_write, save_figure
+from ..errors import AuvplanError
+from ..io.safeio import atomic_write, save_figure
+from .output import check_out, emit
 
 if TYPE_CHECKING:
-    from .planners.timeopt.planner import SweepRow, SweepSummary
+    from ..planners.timeopt.planner import SweepRow, SweepSummary
 
 __all__: list[str] = ["sweep_lines"]  # handlers: CLI internals, not library API
 
@@ -46,7 +46,7 @@ def is_offset(text: str) -> bool:
 
 def parse_instant(text: str, start_time: str, what: str) -> float:
     """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset."""
-    from .io.data.tides import parse_start_time
+    from ..io.data.tides import parse_start_time
 
     if is_offset(text):
         return parse_duration(text, what)
@@ -60,11 +60,11 @@ def parse_instant(text: str, start_time: str, what: str) -> float:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """``plan --depart-between``: the time-optimal plan of every departure, its energy and the best one."""
-    from .io.missions.energy import sweep_energy
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
-    from .planners.timeopt.planner import departure_sweep, sweep_summary
-    from .sim import planning_problem
+    from ..io.missions.energy import sweep_energy
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..planners.timeopt.planner import departure_sweep, sweep_summary
+    from ..sim import planning_problem
 
     check_out(args, ("sweep.csv", "sweep_summary.json", "sweep.png"))
     sc = scenario_io.load(args.scenario)
@@ -77,7 +77,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if not (t1 >= t0 and step > 0 and (t1 - t0) / step <= 500):
         raise AuvplanError(f"--depart-between {args.depart_between} --step {args.step}: need T1 >= T0 and at most "
                            "500 departures")
-    from .io.scenario.build import check_plan_sizes
+    from ..io.scenario.build import check_plan_sizes
 
     b = world.bounds
     check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
@@ -93,7 +93,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     energy = sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
-        from .io.data.tides import parse_start_time, utc_iso
+        from ..io.data.tides import parse_start_time, utc_iso
 
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
@@ -102,7 +102,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         atomic_write(out / "sweep.csv", ",".join(table[0]) + "\n"
                      + "".join(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table))
         records.write_json(out / "sweep_summary.json", summary)
-        from .viz.timeplots import sweep_figure
+        from ..viz.timeplots import sweep_figure
 
         save_figure(out / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
     lines = sweep_lines(sc.name, sc.mission.start_time, rows, energy, summary, t0, step)

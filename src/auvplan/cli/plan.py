@@ -9,24 +9,24 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cli_output import Progress, check_out, emit
-from .cli_results import save_plan
-from .cli_sweep import cmd_sweep
-from .errors import AuvplanError
+from ..app.results import save_plan
+from ..errors import AuvplanError
+from .output import Progress, check_out, emit
+from .sweep import cmd_sweep
 
 if TYPE_CHECKING:
-    from .io.scenario.specs import Scenario
-    from .planners import PlanResult
-    from .world import World
+    from ..io.scenario.specs import Scenario
+    from ..planners import PlanResult
+    from ..world import World
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
 
 def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:
     """Load, build and plan the scenario of ``plan`` (with its members, or against the reference)."""
-    from .io.scenario import loader as scenario_io
-    from .planners import plan, reference, with_reference
-    from .sim import planning_problem
+    from ..io.scenario import loader as scenario_io
+    from ..planners import plan, reference, with_reference
+    from ..sim import planning_problem
 
     check_out(args)
     sc = scenario_io.load(args.scenario)
@@ -39,7 +39,7 @@ def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, Plan
     if getattr(args, "pipeline", None):
         spec = replace(spec, pipeline=args.pipeline)
     seed = sc.seed if args.seed is None else args.seed
-    from .cli_ensemble import scenario_members
+    from ..app.ensemble import scenario_members
 
     members = scenario_members(sc, world)  # issue 39: [currents] members, read (and checked) before planning
     bar = Progress(spec, sc.name, quiet or args.quiet)
@@ -47,7 +47,7 @@ def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, Plan
     ensemble: dict[str, Any] = {}
     try:
         if members:  # the plan flown in every member, or the robust plan
-            from .cli_ensemble import ensemble_plan
+            from ..app.ensemble import ensemble_plan
 
             result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed)
         else:
@@ -62,7 +62,7 @@ def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, Plan
 
 def cmd_plan(args: argparse.Namespace) -> int:
     """``plan``: one global plan, its record on stdout and with ``--out`` its files (or the departure sweep)."""
-    from .io.results import records
+    from ..io.results import records
 
     if args.depart_between:
         return cmd_sweep(args)
@@ -103,9 +103,9 @@ def work_note(work: dict[str, float]) -> str:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``simulate``: the pipeline of ``run``, its flight's record and files."""
-    from .io.results import records
-    from .io.scenario import loader as scenario_io
-    from .sim import run_mission
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..sim import run_mission
 
     check_out(args)
     sc = scenario_io.load(args.scenario)

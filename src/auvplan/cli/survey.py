@@ -9,13 +9,13 @@ import math
 import sys
 from pathlib import Path
 
-from .errors import ScenarioError
-from .io.missions import export
-from .io.results import records
-from .io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
-from .io.safeio import RESULT_NAMES, prepare_out
-from .io.scenario import loader as scenario_io
-from .survey.run import run_survey
+from ..errors import ScenarioError
+from ..io.missions import export
+from ..io.results import records
+from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
+from ..io.safeio import RESULT_NAMES, prepare_out
+from ..io.scenario import loader as scenario_io
+from ..survey.run import run_survey
 
 __all__ = ["cmd_survey"]
 
@@ -57,7 +57,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
         records.write_run(out, run.record, text, args.full)
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
         export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full)
-        from .viz.survey import coverage_map
+        from ..viz.survey import coverage_map
 
         coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
             out / "coverage.png", dpi=110)

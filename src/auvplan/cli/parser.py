@@ -1,5 +1,5 @@
 """Command-line front end (DESIGN.md §4): argument parsing and output only, no logic (the commands
-themselves are in :mod:`auvplan.cli_commands`).
+themselves are in :mod:`auvplan.cli.commands`).
 
 Exit codes: 0 success, 1 the plan/simulation failed (status not EXACT or
 APPROXIMATE), 2 bad input.  ``--json`` prints exactly one JSON object on
@@ -16,8 +16,8 @@ import sys
 from collections.abc import Callable, Collection, Iterator
 from typing import Any
 
-from ._version import __version__
-from .errors import AuvplanError, require
+from .._version import __version__
+from ..errors import AuvplanError, require
 
 __all__ = ["main", "main_entry"]
 
@@ -60,7 +60,7 @@ class _Choices(Collection[str]):
 
 def _planner_names() -> tuple[str, ...]:
     """The registered planners (:mod:`auvplan.planners.registry`): built-in and plugged in."""
-    from .planners.registry import names
+    from ..planners.registry import names
 
     return names()
 
@@ -85,7 +85,7 @@ _MAX_SWEEP_S = 366 * 86400.0
 
 def _step(text: str) -> str:
     """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from .cli_sweep import parse_duration
+    from .sweep import parse_duration
 
     try:
         value = parse_duration(text, "--step")
@@ -98,7 +98,7 @@ def _step(text: str) -> str:
 
 def _departure(text: str) -> str:
     """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from .cli_sweep import is_offset, parse_duration
+    from .sweep import is_offset, parse_duration
 
     if is_offset(text):
         try:
@@ -108,7 +108,7 @@ def _departure(text: str) -> str:
         if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):
             raise argparse.ArgumentTypeError(f"{text!r}: an offset must lie within 366 d of [mission] start_time")
         return text
-    from .io.data.currents import parse_time
+    from ..io.data.currents import parse_time
 
     try:
         parse_time(text)
@@ -157,7 +157,7 @@ def _shared(s: Any, *keys: str) -> None:
 
 def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
     """A sub-command with the shared arguments ``shared`` (in that order) and its handler, named in
-    :mod:`auvplan.cli_commands` (imported when a command runs, so ``--help`` and ``--version`` import
+    :mod:`auvplan.cli.commands` (imported when a command runs, so ``--help`` and ``--version`` import
     nothing of the library)."""
     s = sub.add_parser(name, help=help)
     _shared(s, *shared)
@@ -242,7 +242,7 @@ def _result_commands(sub: Any) -> None:
 
 
 def _serve_command(sub: Any) -> None:
-    """``serve``: the local planning page (:mod:`auvplan.cli_serve`)."""
+    """``serve``: the local planning page (:mod:`auvplan.cli.serve`)."""
     s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "_cmd_serve")
     s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
                    help="built-in name, TOML file or results folder (default: the built-in showcase)")
@@ -323,8 +323,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
-        handler = getattr(importlib.import_module("auvplan.cli_commands"), args.func)
-        from .io import outdir
+        handler = getattr(importlib.import_module("auvplan.cli.commands"), args.func)
+        from ..io import outdir
 
         with outdir.session():  # the --out folders this command locked are released when it ends
             code: int = handler(args)

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from ._types import FloatArray
+    from .._types import FloatArray
 
 __all__ = ["VehicleParams", "VehicleState", "Vehicle"]
 
@@ -105,7 +105,7 @@ class VehicleParams:
     power_table : tuple of (float, float)
         Measured (speed m/s, power W) pairs: when given, ``hotel_power`` (unless ``hotel_w`` is given)
         and the drag coefficient are fitted to ``P = P_hotel + k V³`` by least squares
-        (:func:`auvplan.power_fit.fit_power`), so every planner and budget uses the fitted model.
+        (:func:`auvplan.vehicles.power_fit.fit_power`), so every planner and budget uses the fitted model.
     """
 
     speed: float = 1.5
