@@ -99,7 +99,7 @@ MOVES: dict[str, str] = {
     "io/survey_io.py": "io/results/survey.py",
     # issue 50: the command line in one folder (parsing and printing) over the jobs it shares with serve
     "cli.py": "cli/parser.py",
-    "cli_commands.py": "cli/commands.py",
+    "cli_commands.py": "cli/info.py",  # its bench, mission check and the jobs moved out (SYMBOLS)
     "cli_output.py": "cli/output.py",
     "cli_plan.py": "cli/plan.py",
     "cli_run.py": "cli/run.py",
@@ -143,6 +143,14 @@ SYMBOLS: dict[tuple[str, str], str] = {
                                                                     "auvplan.planners.grid.planner")},
     **{(m, n): "auvplan.io.scenario.builtins" for m in ("auvplan.io.scenario", "auvplan.io.scenario.loader")
        for n in ("builtin_scenarios", "resolve")},
+    # issue 50: the jobs out of the command line's modules into auvplan.app, the handlers into their group
+    **{(m, n): "auvplan.app.run" for m in ("auvplan.cli_run", "auvplan.cli.run", "auvplan.cli_commands",
+                                            "auvplan.cli.info") for n in ("run_scenario", "DEMO_SCENARIO")},
+    **{(m, "plan_scenario"): "auvplan.app.plan" for m in ("auvplan.cli_plan", "auvplan.cli.plan")},
+    **{(m, n): "auvplan.app.sweep" for m in ("auvplan.cli_sweep", "auvplan.cli.sweep")
+       for n in ("parse_duration", "is_offset", "parse_instant")},
+    **{(m, n): "auvplan.cli.results" for m in ("auvplan.cli_results", "auvplan.app.results")
+       for n in ("cmd_report", "cmd_export")},
     ("auvplan.planners.base", "GridParams"): "auvplan.planners.params",
     ("auvplan", "__version__"): "auvplan._version",
 }

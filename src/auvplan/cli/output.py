@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -59,6 +59,11 @@ class Progress:
         self.bar.close()
         if self.flight_bar is not None:
             self.flight_bar.close()
+
+
+def reporter(quiet: bool) -> Callable[[PlannerSpec, str], Progress]:
+    """The progress reporter a job builds from its planner and scenario (:class:`auvplan.app.Reporter`)."""
+    return lambda spec, scenario: Progress(spec, scenario, quiet)
 
 
 def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path | None:

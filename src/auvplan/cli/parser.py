@@ -1,5 +1,6 @@
-"""Command-line front end (DESIGN.md §4): argument parsing and output only, no logic (the commands
-themselves are in :mod:`auvplan.cli.commands`).
+"""Command-line front end (DESIGN.md §4): every command's arguments, the dispatch to its handler (one module
+per command group: :mod:`.info`, :mod:`.plan`, :mod:`.sweep`, :mod:`.run`, :mod:`.survey`, :mod:`.results`,
+:mod:`.bench`, :mod:`.serve`) and the exit codes; no logic (the jobs are in :mod:`auvplan.app`).
 
 Exit codes: 0 success, 1 the plan/simulation failed (status not EXACT or
 APPROXIMATE), 2 bad input.  ``--json`` prints exactly one JSON object on
@@ -85,7 +86,7 @@ _MAX_SWEEP_S = 366 * 86400.0
 
 def _step(text: str) -> str:
     """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from .sweep import parse_duration
+    from ..app.sweep import parse_duration
 
     try:
         value = parse_duration(text, "--step")
@@ -98,7 +99,7 @@ def _step(text: str) -> str:
 
 def _departure(text: str) -> str:
     """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from .sweep import is_offset, parse_duration
+    from ..app.sweep import is_offset, parse_duration
 
     if is_offset(text):
         try:
@@ -156,9 +157,9 @@ def _shared(s: Any, *keys: str) -> None:
 
 
 def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
-    """A sub-command with the shared arguments ``shared`` (in that order) and its handler, named in
-    :mod:`auvplan.cli.commands` (imported when a command runs, so ``--help`` and ``--version`` import
-    nothing of the library)."""
+    """A sub-command with the shared arguments ``shared`` (in that order) and its handler ``func``, named
+    ``"<module>:<function>"`` in a command group's module of :mod:`auvplan.cli` (imported when a command runs, so
+    ``--help`` and ``--version`` import nothing of the library)."""
     s = sub.add_parser(name, help=help)
     _shared(s, *shared)
     s.set_defaults(func=func)
@@ -167,24 +168,24 @@ def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
 
 def _info_commands(sub: Any) -> None:
     """``scenarios``, ``validate``, ``data inspect``, ``scenario new|schema``."""
-    _command(sub, "scenarios", "list the built-in scenarios", "_cmd_scenarios")
-    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", "_cmd_validate", "scenario")
+    _command(sub, "scenarios", "list the built-in scenarios", "info:cmd_scenarios")
+    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", "info:cmd_validate", "scenario")
     s = sub.add_parser("data", help="inspect bathymetry and current files (NetCDF, GeoTIFF)")
     dsub = s.add_subparsers(dest="data_command", required=True)
     d = _command(dsub, "inspect", "print the layout, variables, units and axes auvplan detects in FILE",
-                 "_cmd_data_inspect")
+                 "info:cmd_data_inspect")
     d.add_argument("file", help="NetCDF or GeoTIFF file")
     s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
     ssub = s.add_subparsers(dest="scenario_command", required=True)
-    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", "_cmd_scenario_new")
+    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", "info:cmd_scenario_new")
     t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
     t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
-    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", "_cmd_scenario_schema")
+    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", "info:cmd_scenario_schema")
 
 
 def _flight_commands(sub: Any) -> None:
     """``plan``, ``simulate``, ``run``."""
-    s = _command(sub, "plan", "plan a global path", "_cmd_plan", "scenario", "planner", "seed")
+    s = _command(sub, "plan", "plan a global path", "plan:cmd_plan", "scenario", "planner", "seed")
     s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
     s.add_argument("--pipeline", choices=_PIPELINES, metavar="PIPELINE",
                    help=("seeded (lattice seeds + refinement + fallback, default), document (the algorithm "
@@ -200,17 +201,17 @@ def _flight_commands(sub: Any) -> None:
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
 
     s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
-                 "_cmd_simulate", "scenario", "guidance", "avoidance", "seed")
+                 "plan:cmd_simulate", "scenario", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write sim_metrics.json and track.csv here")
     _shared(s, "full", "force", "json")
 
-    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "_cmd_run",
+    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "run:cmd_run",
                  "scenario", "planner", "guidance", "avoidance", "seed")
     s.add_argument("--out", help="write every result file here")
     _shared(s, "full", "force", "json")
 
     s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
-                 "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "_cmd_survey",
+                 "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "survey:cmd_survey",
                  "scenario", "guidance", "seed")
     s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
     _shared(s, "full", "force", "json")
@@ -219,11 +220,11 @@ def _flight_commands(sub: Any) -> None:
 def _result_commands(sub: Any) -> None:
     """``report``, ``export``, ``mission check``."""
     s = _command(sub, "report", "write report.html (and the exports) for a results directory of `run --out`",
-                 "_cmd_report", "dir")
+                 "results:cmd_report", "dir")
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
     _shared(s, "force")
     s = _command(sub, "export", "write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
-                                "nav_msgs/Path YAML) for a results directory", "_cmd_export", "dir")
+                                "nav_msgs/Path YAML) for a results directory", "results:cmd_export", "dir")
     s.add_argument("--format", nargs="+", default=_FORMATS, choices=_FORMATS, metavar="FORMAT",
                    help="mission formats (default: all): %(choices)s")
     _shared(s, "full", "force")
@@ -233,7 +234,7 @@ def _result_commands(sub: Any) -> None:
                                 "scenario's seabed, static obstacles, sea surface, depth band and bounds, and "
                                 "check the [vehicle]'s pitch, turn radius and depth rating (exit 1 when one is "
                                 "broken)",
-                 "_cmd_mission_check")
+                 "results:cmd_mission_check")
     c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
     c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
     c.add_argument("--pitch", type=_pitch, default=15.0,
@@ -243,7 +244,7 @@ def _result_commands(sub: Any) -> None:
 
 def _serve_command(sub: Any) -> None:
     """``serve``: the local planning page (:mod:`auvplan.cli.serve`)."""
-    s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "_cmd_serve")
+    s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "serve:cmd_serve")
     s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
                    help="built-in name, TOML file or results folder (default: the built-in showcase)")
     s.add_argument("--port", type=_int_at_least(0), default=8765, help="TCP port (default 8765; 0: any free port)")
@@ -257,7 +258,7 @@ def _serve_command(sub: Any) -> None:
 def _bench_commands(sub: Any) -> None:
     """``bench`` and ``demo``."""
     s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
-                 "_cmd_bench")
+                 "bench:cmd_bench")
     s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
     s.add_argument("--planners", nargs="+", default=["scenario"],
                    help="planner names, or 'scenario'; name/pipeline picks the pipeline (iabc/progressive)")
@@ -280,7 +281,7 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
     s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
     _shared(s, "force")
-    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "_cmd_demo")
+    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "run:cmd_demo")
     s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
     _shared(s, "force")
 
@@ -323,7 +324,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
-        handler = getattr(importlib.import_module("auvplan.cli.commands"), args.func)
+        module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
+        handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
         from ..io import outdir
 
         with outdir.session():  # the --out folders this command locked are released when it ends

@@ -1,75 +1,34 @@
-"""``plan`` and ``simulate``: the global plan of a scenario (with ``--reference``, against the lattice and the
-seeded optimisers), its record and files; the flight of the same pipeline."""
+"""``plan`` and ``simulate``: their arguments to the jobs of :mod:`auvplan.app.plan`, and their output (a
+human line, or one JSON object)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
-from ..app.results import save_plan
 from ..errors import AuvplanError
-from .output import Progress, check_out, emit
-from .sweep import cmd_sweep
-
-if TYPE_CHECKING:
-    from ..io.scenario.specs import Scenario
-    from ..planners import PlanResult
-    from ..world import World
+from .output import emit, reporter
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
 
-def plan_scenario(args: argparse.Namespace, quiet: bool) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:
-    """Load, build and plan the scenario of ``plan`` (with its members, or against the reference)."""
-    from ..io.scenario import loader as scenario_io
-    from ..planners import plan, reference, with_reference
-    from ..sim import planning_problem
-
-    check_out(args)
-    sc = scenario_io.load(args.scenario)
-    world, mission = scenario_io.build(sc)
-    spec = mission.planner
-    if args.planner:
-        spec = replace(spec, name=args.planner)
-    if args.budget is not None:
-        spec = replace(spec, budget=args.budget)
-    if getattr(args, "pipeline", None):
-        spec = replace(spec, pipeline=args.pipeline)
-    seed = sc.seed if args.seed is None else args.seed
-    from ..app.ensemble import scenario_members
-
-    members = scenario_members(sc, world)  # issue 39: [currents] members, read (and checked) before planning
-    bar = Progress(spec, sc.name, quiet or args.quiet)
-    problem = planning_problem(world, mission)
-    ensemble: dict[str, Any] = {}
-    try:
-        if members:  # the plan flown in every member, or the robust plan
-            from ..app.ensemble import ensemble_plan
-
-            result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed)
-        else:
-            result = plan(problem, spec, seed, bar)
-    finally:
-        bar.close()
-    if getattr(args, "reference", False):
-        bar.stage("reference: the converged lattice plan and the seeded iabc, pso, de at twice the budget")
-        result = with_reference(result, problem, spec, reference(problem, spec))
-    return sc, result, seed, world, ensemble
-
-
 def cmd_plan(args: argparse.Namespace) -> int:
     """``plan``: one global plan, its record on stdout and with ``--out`` its files (or the departure sweep)."""
+    from ..app.plan import plan_scenario
+    from ..app.results import save_plan
     from ..io.results import records
 
     if args.depart_between:
+        from .sweep import cmd_sweep
+
         return cmd_sweep(args)
     if args.objective:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")
-    sc, result, seed, world, ensemble = plan_scenario(args, quiet=False)
+    sc, result, seed, world, ensemble = plan_scenario(
+        args.scenario, args.out, getattr(args, "force", False), args.planner, args.budget,
+        getattr(args, "pipeline", None), args.seed, getattr(args, "reference", False), reporter(args.quiet))
     record = records.plan_record(result, sc.name, seed)
     record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:
@@ -103,28 +62,17 @@ def work_note(work: dict[str, float]) -> str:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``simulate``: the pipeline of ``run``, its flight's record and files."""
+    from ..app.plan import simulate_scenario
     from ..io.results import records
-    from ..io.scenario import loader as scenario_io
-    from ..sim import run_mission
 
-    check_out(args)
-    sc = scenario_io.load(args.scenario)
-    world, mission = scenario_io.build(sc)
-    seed = sc.seed if args.seed is None else args.seed
-    bar = Progress(mission.planner, sc.name, args.quiet or args.json)
-    try:  # the same pipeline as `run`: the same plan, mission and seed fly the same track
-        run = run_mission(world, mission, seed, bar, guidance=args.guidance, avoidance=args.avoidance,
-                          flight=bar.flight)
-    finally:
-        bar.close()
+    sc, run, seed = simulate_scenario(args.scenario, args.out, getattr(args, "force", False), args.guidance,
+                                      args.avoidance, args.seed, args.full, reporter(args.quiet or args.json))
     if run.sim is None:
         assert run.plan is not None  # no flight without a route: the plan failed
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
     result = run.sim
     record = records.sim_record(result, sc.name, seed, result.avoidance)
-    if args.out:
-        records.write_sim(Path(args.out), result, sc.name, seed, result.avoidance, args.full, world.origin)
     m = result.metrics
     human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
              f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "

@@ -1,17 +1,14 @@
-"""``run`` and ``demo``: plan, key waypoints and the closed-loop flight of one vehicle (or a formation),
-the results folder and the summary lines."""
+"""``run`` and ``demo``: their arguments to the jobs of :mod:`auvplan.app.run` (one vehicle, a formation) and
+:mod:`auvplan.app.survey`, and the summary lines."""
 
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
-from pathlib import Path
+import sys
 from typing import TYPE_CHECKING
 
-from ..app.results import save_context, scenario_text, write_report
 from ..errors import AuvplanError
-from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
-from .output import Progress, emit
+from .output import emit, reporter
 
 if TYPE_CHECKING:
     from ..endurance import Endurance
@@ -19,51 +16,7 @@ if TYPE_CHECKING:
     from ..sim import Mission, RunRecord
     from ..world import World
 
-__all__: list[str] = ["DEMO_SCENARIO"]  # handlers: CLI internals, not library API
-
-
-DEMO_SCENARIO = "showcase"
-"""The built-in default scenario: a real seamount flank, two eddies and twelve fast moving obstacles."""
-
-
-def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
-                 full: bool = False, force: bool = False, quiet: bool = False,
-                 planner: str | None = None) -> tuple[Scenario, RunRecord, Endurance | None]:
-    """Plan and fly one scenario (``run``, ``demo``); with ``out``, its results folder, report and exports."""
-    from ..io.data.geo import LocalFrame
-    from ..io.missions.energy import mission_endurance
-    from ..io.results import records
-    from ..io.scenario import loader as scenario_io
-    from ..sim import run_mission
-
-    if out:
-        prepare_out(out, RESULT_NAMES, force=force)
-    sc = scenario_io.load(scenario)
-    world, mission = scenario_io.build(sc)
-    if planner:
-        mission = replace(mission, planner=replace(mission.planner, name=planner))
-    seed = sc.seed if seed is None else seed
-    bar = Progress(mission.planner, sc.name, quiet)
-    try:
-        record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
-    finally:
-        bar.close()
-    endurance = mission_endurance(world, mission, record)
-    if out:
-        bar.stage(f"writing results, report and exports into {out}")
-        from ..app.ensemble import route_fields, scenario_members, write_ensemble
-
-        write_ensemble(Path(out), route_fields(scenario_members(sc, world), world, mission, record.route))
-        text = scenario_text(sc)
-        records.write_run(Path(out), record, text, full, world.origin)
-        save_context(Path(out), sc, world)
-        if endurance is not None:
-            from ..io.missions.energy import write_energy
-
-            frame = LocalFrame(*world.origin) if world.origin is not None else None
-            write_energy(Path(out), endurance, frame.inverse if frame else None)
-        write_report(Path(out), world, mission, record, text, full=full, endurance=endurance)
-    return sc, record, endurance
+__all__: list[str] = []  # handlers: CLI internals, not library API
 
 
 def describe_run(name: str, record: RunRecord, endurance: Endurance | None = None) -> str:
@@ -93,39 +46,20 @@ def _settled(v: float | None) -> str:
     return "n/a" if v is None else f"{v:.2f} m"
 
 
-def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
-    """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, its files and report."""
-    from ..io.data.geo import LocalFrame
-    from ..io.missions.formation import FORMATION_NAMES, formation_record, vehicle_records, write_formation
-    from ..sim.formation import run_formation
+def _notes(notes: list[str]) -> None:
+    for line in notes:  # a format that would fly a tail-first leg nose-first
+        print(f"auvplan: {line}", file=sys.stderr)
 
-    assert mission.formation is not None  # cmd_run calls this only for a scenario with [[vehicles]]
+
+def cmd_formation(args: argparse.Namespace, sc: Scenario, world: World, mission: Mission) -> int:
+    """``run`` of a scenario with ``[[vehicles]]``: the fleet's summary line (or JSON record)."""
+    from ..app.run import run_formation_scenario
+
     if args.guidance or args.avoidance:
         raise AuvplanError(f"{sc.source}: --guidance/--avoidance do not apply to a formation (each vehicle flies "
                            "the formation field of [formation])")
-    if args.out:
-        names = [*FORMATION_NAMES, *(f"{v.name}/{f}" for v in mission.formation.vehicles for f in RESULT_NAMES)]
-        prepare_out(args.out, names, force=args.force)
-    if args.planner:
-        mission = replace(mission, planner=replace(mission.planner, name=args.planner))
-    seed = sc.seed if args.seed is None else args.seed
-    bar = Progress(mission.planner, sc.name, args.quiet or args.json)
-    try:
-        record = run_formation(world, mission, seed, bar, flight=bar.flight)
-    finally:
-        bar.close()
-    if args.out:
-        from ..viz.formation import build_formation_report
-
-        bar.stage(f"writing results, report and exports into {args.out}")
-        out, text = Path(args.out), scenario_text(sc)
-        write_formation(out, world, mission, record, text, args.full)
-        save_context(out, sc, world)
-        frame = LocalFrame(*world.origin) if world.origin is not None else None
-        page = build_formation_report(world, record, [r for _, r in vehicle_records(world, mission, record)], text,
-                                      frame.inverse if frame else None)
-        atomic_write(out / "report.html", page)
-    rec = formation_record(record)
+    record, rec = run_formation_scenario(sc, world, mission, args.out, args.seed, args.full, args.force,
+                                         args.planner, reporter(args.quiet or args.json))
     m = rec["metrics"] or {}
     human = f"{sc.name}: {record.status.value}" + (
         f" — {m['arrivals']}/{m['vehicles']} vehicles arrived, {m['collisions']} collisions, least vehicle "
@@ -140,6 +74,7 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
 
 def cmd_run(args: argparse.Namespace) -> int:
     """``run``: one vehicle, a formation (``[[vehicles]]``) or a survey (``[survey]``), planned and flown."""
+    from ..app.run import run_scenario
     from ..io.results import records
     from ..io.scenario import loader as scenario_io
 
@@ -150,10 +85,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         return cmd_survey(args)
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
-        return run_formation_scenario(args, sc, world, mission)
-    sc, record, endurance = run_scenario(args.scenario, args.out, args.guidance, args.avoidance, args.seed,
-                                         full=args.full, force=args.force, quiet=args.quiet or args.json,
-                                         planner=args.planner)
+        return cmd_formation(args, sc, world, mission)
+    sc, record, endurance, notes = run_scenario(args.scenario, args.out, args.guidance, args.avoidance, args.seed,
+                                                full=args.full, force=args.force, planner=args.planner,
+                                                reporter=reporter(args.quiet or args.json))
+    _notes(notes)
     rec = records.run_record(record)
     if endurance is not None:
         from ..io.missions.energy import energy_record
@@ -169,7 +105,11 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """``demo``: ``run`` of the built-in default scenario into ``--out``."""
-    sc, record, endurance = run_scenario(DEMO_SCENARIO, args.out, None, None, None, force=args.force, quiet=args.quiet)
+    from ..app.run import DEMO_SCENARIO, run_scenario
+
+    sc, record, endurance, notes = run_scenario(DEMO_SCENARIO, args.out, None, None, None, force=args.force,
+                                                reporter=reporter(args.quiet))
+    _notes(notes)
     print(describe_run(sc.name, record, endurance))
     print(f"results in {args.out}/")
     return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1

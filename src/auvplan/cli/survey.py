@@ -1,21 +1,11 @@
-"""``auvplan survey SCENARIO --out DIR`` (and ``run`` of a scenario with ``[survey]``): plan the
-depth-adaptive lines, fly the whole mission in the closed loop, measure the coverage, write ``lines.csv``,
-``coverage.json``, ``gaps.geojson``, ``coverage.png``, the run files and every mission export."""
+"""``auvplan survey SCENARIO --out DIR`` (and ``run`` of a scenario with ``[survey]``): the arguments to the job
+of :mod:`auvplan.app.survey`, and its summary (a human text, or one JSON object)."""
 
 from __future__ import annotations
 
 import argparse
 import math
 import sys
-from pathlib import Path
-
-from ..errors import ScenarioError
-from ..io.missions import export
-from ..io.results import records
-from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
-from ..io.safeio import RESULT_NAMES, prepare_out
-from ..io.scenario import loader as scenario_io
-from ..survey.run import run_survey
 
 __all__ = ["cmd_survey"]
 
@@ -38,29 +28,10 @@ def cmd_survey(args: argparse.Namespace) -> int:
     int
         0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
     """
-    if args.out:
-        prepare_out(args.out, (*RESULT_NAMES, *SURVEY_NAMES), force=args.force)
-    sc = scenario_io.load(args.scenario)
-    if sc.survey is None:
-        raise ScenarioError(f"{sc.source}: no [survey] table (polygon, sensor, opening_deg, mounting, overlap)")
-    world, mission = scenario_io.build(sc)
-    params = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
-    seed = sc.seed if args.seed is None else args.seed
-    _say(args, f"planning and flying the survey of {sc.name}")
-    run = run_survey(world, mission, params, seed, guidance=getattr(args, "guidance", None))
-    rec = coverage_record(run, params)
-    if args.out:
-        out = Path(args.out)
-        _say(args, f"writing the survey, the run files and the mission exports into {out}")
-        write_survey(out, run, params, world.origin)
-        text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
-        records.write_run(out, run.record, text, args.full)
-        formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
-        export.write_exports(out, run.record, world.origin, mission.vehicle.speed, formats, args.full)
-        from ..viz.survey import coverage_map
+    from ..app.survey import survey_scenario
 
-        coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
-            out / "coverage.png", dpi=110)
+    sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
+                              args.full, lambda text: _say(args, text))
     m = rec["lawnmower"]
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "
              f"planned coverage {rec['planned']['coverage_pct']:.2f} % (overlap {rec['planned']['overlap_min_pct']:.1f}"
@@ -83,5 +54,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
 
 def _json(rec: dict[str, object]) -> str:
     import json
+
+    from ..io.results import records
 
     return json.dumps(records.jsonable(rec))
