@@ -14,8 +14,8 @@ import shapely
 from auvplan import cli
 from auvplan._types import Status
 from auvplan.errors import ScenarioError
-from auvplan.guidance.fit_limits import fit_turns
-from auvplan.guidance.mission import envelopes_free, fly_check
+from auvplan.guidance.mission.fit import fit_turns
+from auvplan.guidance.mission.waypoints import envelopes_free, fly_check
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.path import resample_polyline
 from auvplan.path.flyable import (

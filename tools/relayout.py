@@ -114,6 +114,26 @@ MOVES: dict[str, str] = {
     "flyable.py": "path/flyable.py",
     "vehicles.py": "vehicles/model.py",
     "power_fit.py": "vehicles/power_fit.py",
+    # issue 50: guidance by concern
+    "guidance/route.py": "guidance/following/route.py",
+    "guidance/los.py": "guidance/following/los.py",
+    "guidance/hybrid.py": "guidance/following/hybrid.py",
+    "guidance/avoid_params.py": "guidance/avoidance/params.py",
+    "guidance/local.py": "guidance/avoidance/local.py",
+    "guidance/vo.py": "guidance/avoidance/vo.py",
+    "guidance/predictive.py": "guidance/avoidance/predictive.py",
+    "guidance/turning.py": "guidance/avoidance/turning.py",
+    "guidance/sweep.py": "guidance/avoidance/sweep.py",
+    "guidance/oracle.py": "guidance/avoidance/oracle.py",
+    "guidance/point_model.py": "guidance/avoidance/point_model.py",
+    "guidance/formation.py": "guidance/formation/keeping.py",
+    "guidance/formation_route.py": "guidance/formation/route.py",
+    "guidance/formation_plan.py": "guidance/formation/plan.py",
+    "guidance/formation_steer.py": "guidance/formation/steer.py",
+    "sim/formation_error.py": "guidance/formation/error.py",
+    "guidance/mission.py": "guidance/mission/waypoints.py",
+    "guidance/mission_limits.py": "guidance/mission/limits.py",
+    "guidance/fit_limits.py": "guidance/mission/fit.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -164,6 +184,13 @@ PACKAGE_DOCS: dict[str, str] = {
     "io/data": "Input data: bathymetry, elevation grids, currents, tides, coastlines, and the local frame.",
     "io/results": "Results folders: run records and the files beside them.",
     "io/missions": "Mission exports: GPX, CSV, QGroundControl, MOOS and ROS files, and formation missions.",
+    "guidance/following": "Route following: the route and its active leg, LOS and ILOS, document 001's hybrid field.",
+    "guidance/avoidance": "Local avoidance of moving obstacles: key waypoints and APF (document 004), predictive "
+                          "avoidance and velocity obstacles, the movers' prediction, the avoidability oracle.",
+    "guidance/formation": "Formations: slots and shapes along the route, their swept tracks, each vehicle's "
+                          "steering to its slot, and the formation error figures.",
+    "guidance/mission": "The executable waypoint mission: built from a plan, its convex limits, and the mission "
+                        "fitted to the vehicle.",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",
 }
@@ -473,7 +500,9 @@ def _paths(text: str) -> str:
     for old, new in MOVES.items():
         if old.rsplit("/", 1)[-1] in BASENAMES:
             text = re.sub(r"(?<![\w./])" + re.escape(old.rsplit("/", 1)[-1]) + r"(?!\w)", new, text)
-        pat = re.compile(r"(?<![\w.])((?:src/)?auvplan/)?" + re.escape(old) + r"(?!\w)")
+        # a file of the package root (``flyable.py``) is not one of a folder (``path/flyable.py``, its new place)
+        before = r"(?<![\w./])" if "/" not in old else r"(?<![\w.])"
+        pat = re.compile(before + r"((?:src/)?auvplan/)?" + re.escape(old) + r"(?!\w)")
         text = pat.sub(lambda m, new=new: (m.group(1) or "") + new, text)
     return text
 

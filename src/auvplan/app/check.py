@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ..guidance.mission import MissionCheck
+    from ..guidance.mission.waypoints import MissionCheck
     from ..io.scenario.specs import Scenario
     from ..path.flyable import LimitReport
 

@@ -71,10 +71,10 @@ def _names_in(module: str, name: str) -> Callable[[], tuple[str, ...]]:
     return lambda: tuple(getattr(importlib.import_module(module), name))
 
 
-_AVOIDANCE = _Choices(_names_in("auvplan.guidance.local", "AVOIDANCE"))
+_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"))
 _PIPELINES = _Choices(_names_in("auvplan.planners.registry", "PIPELINES"))
 _FORMATS = _Choices(_names_in("auvplan.io.missions.export", "EXPORT_FORMATS"))
-_BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.local", "AVOIDANCE"), ("scenario",))
+_BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"), ("scenario",))
 
 
 _SEED = _int_at_least(0)

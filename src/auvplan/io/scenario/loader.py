@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import ScenarioError
-from ...guidance.formation import Formation, VehicleSpec
+from ...guidance.formation.keeping import Formation, VehicleSpec
 from ...planners import registry
 from ...planners.base import PlannerSpec
 from ...sim import SimParams

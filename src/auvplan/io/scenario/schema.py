@@ -19,7 +19,7 @@ from collections.abc import Iterator
 from typing import Any
 
 from ..._version import __version__
-from ...guidance.formation import VehicleSpec
+from ...guidance.formation.keeping import VehicleSpec
 from . import loader as sc
 from . import specs
 from .tables import MAX_MAGNITUDE

@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from ...endurance.params import EnduranceParams
-from ...guidance.formation import Formation, FormationParams
-from ...guidance.hybrid import HybridParams
-from ...guidance.local import AvoidanceParams
-from ...guidance.los import LosParams
+from ...guidance.avoidance.params import AvoidanceParams
+from ...guidance.following.hybrid import HybridParams
+from ...guidance.following.los import LosParams
+from ...guidance.formation.keeping import Formation, FormationParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
 from ...survey.spec import SurveySpec

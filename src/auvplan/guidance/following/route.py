@@ -14,7 +14,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..geometry import as_points
+from ...geometry import as_points
 
 __all__ = ["RouteTracker", "RoutePoint", "PathFollower", "crab_heading"]
 

@@ -35,11 +35,11 @@ from typing import TypedDict
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..geometry import as_points, point_segment_distance
-from ..path import polyline_length
-from ..world import World
-from ..world.obstacles import Ellipsoid, Shape, Sphere
-from .mission_limits import WaypointLimits, WaypointLimitsDict, waypoint_limits
+from ...geometry import as_points, point_segment_distance
+from ...path import polyline_length
+from ...world import World
+from ...world.obstacles import Ellipsoid, Shape, Sphere
+from .limits import WaypointLimits, WaypointLimitsDict, waypoint_limits
 
 __all__ = [
     "SEMANTICS",
@@ -361,7 +361,7 @@ class MissionCheckDict(TypedDict):
         The executor model's pitch and least altitude.
     limits : WaypointLimitsDict or None
         The waypoints above the surface, outside the depth band or outside the bounds
-        (:class:`~auvplan.guidance.mission_limits.WaypointLimits`).
+        (:class:`~auvplan.guidance.mission.limits.WaypointLimits`).
     """
 
     semantics: str
@@ -594,7 +594,7 @@ def fly_check(world: World, waypoints: ArrayLike, semantics: str = "held", pitch
     Altitudes are exact (:meth:`Terrain.segment_min_altitude`); obstacle contact is the exact
     rectangle / segment test; obstacle distances are exact for spheres and sampled every 0.25 m
     near ellipsoids.  The sea surface, the depth band and the bounds are tested at every waypoint
-    (:func:`~auvplan.guidance.mission_limits.waypoint_limits`: convex, so the ends decide each leg).
+    (:func:`~auvplan.guidance.mission.limits.waypoint_limits`: convex, so the ends decide each leg).
 
     Parameters
     ----------

@@ -23,9 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import ArrayLike, Status
-from ..world import World
-from .formation import Formation, FormationRoute, Schedule
+from ..._types import ArrayLike, Status
+from ...world import World
+from .keeping import Formation
+from .route import FormationRoute, Schedule
 
 __all__ = ["FormationPlan", "requested_breaks", "plan_formation", "check_tracks"]
 

@@ -15,7 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray
+from ..._types import ArrayLike, FloatArray
 
 __all__ = ["SHAPES", "shape_offsets", "Schedule", "FormationRoute"]
 

@@ -33,11 +33,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._types import RngLike
-from ..vehicles import VehicleParams
-from ..world import World
+from ..._types import RngLike
+from ...vehicles import VehicleParams
+from ...world import World
+from ..following.route import PathFollower, RoutePoint
 from .local import AvoidanceParams, LocalAvoidance
-from .route import PathFollower, RoutePoint
 from .sweep import SweepMemory
 from .turning import arc_chords, turn_rate
 from .vo import CFG, predicted_preference_windows, vo_choose_windows

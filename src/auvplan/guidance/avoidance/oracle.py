@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..vehicles import Vehicle, VehicleParams, VehicleState
-from ..world import World
+from ...vehicles import Vehicle, VehicleParams, VehicleState
+from ...world import World
 
 __all__ = ["Manoeuvre", "best_constant_manoeuvre"]
 

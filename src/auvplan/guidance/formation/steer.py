@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from .formation import FormationParams, Vec
-from .hybrid import HybridParams, crab_heading, hybrid_force
+from ..following.hybrid import HybridParams, hybrid_force
+from ..following.route import crab_heading
+from .keeping import FormationParams, Vec
 
 __all__ = ["vehicle_repulsion", "FormationCommand", "formation_command", "dominant_pole"]
 
@@ -27,7 +28,7 @@ def vehicle_repulsion(course: float, fp: FormationParams, pos: Vec, vel: Vec,
     For each other vehicle ``(x, y, vx, vy, keep)`` (ground velocities shared over the acoustic link;
     ``keep`` the centre distance to hold: ``separation_m`` for a vehicle, radius + half of it for a
     moving obstacle) the closest approach within ``horizon_s``
-    (:func:`auvplan.guidance.vo.closest_approach`, both keeping their velocities) gives the predicted
+    (:func:`auvplan.guidance.avoidance.vo.closest_approach`, both keeping their velocities) gives the predicted
     relative position ``r_c`` and distance ``d = |r_c| − keep``; for ``d < vehicle_influence_m`` the
     push ``k_vehicle (1/d − 1/P_v)(1/d²)`` points away
     from ``r_c`` — opposite for the two vehicles, so each opens the miss distance the same way round —

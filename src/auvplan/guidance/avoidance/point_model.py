@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._types import RngLike, Status, as_rng
-from ..world import World
+from ..._types import RngLike, Status, as_rng
+from ...world import World
 from .local import AvoidanceParams, MinimumDetector, _random_free_point, apf_force
 
 __all__ = ["PointModelResult", "run_point_model"]

@@ -34,11 +34,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._types import RngLike, as_rng
-from ..geometry import as_points
-from ..world import World
-from .avoid_params import AVOIDANCE, AvoidanceParams
-from .route import PathFollower, RoutePoint
+from ..._types import RngLike, as_rng
+from ...geometry import as_points
+from ...world import World
+from ..following.route import PathFollower, RoutePoint
+from .params import AVOIDANCE, AvoidanceParams
 
 __all__ = [
     "AVOIDANCE",

@@ -32,7 +32,7 @@ The resultant is the commanded direction.  Two variants (``HybridParams.variant`
 ``lateral_bias`` and ``current_compensation`` left unset take the variant's choice; set, they
 apply to either variant (LOS and ILOS take the same ``current_compensation``, so the laws can be
 compared with and without it).  With no obstacle within P_o, k_H = k_X and the same compensation,
-the field commands exactly LOS's heading (:func:`auvplan.guidance.los.los_heading`).
+the field commands exactly LOS's heading (:func:`auvplan.guidance.following.los.los_heading`).
 """
 
 from __future__ import annotations

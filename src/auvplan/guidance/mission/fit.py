@@ -1,7 +1,7 @@
 """A waypoint mission fitted to the vehicle: fly-by turns, climbs within the pitch limit, terrain following.
 
 :func:`fit_mission` takes the horizontal track of a mission (the corners of
-:func:`auvplan.guidance.mission.build_waypoints`, or a fixed route) and gives it a depth schedule
+:func:`auvplan.guidance.mission.waypoints.build_waypoints`, or a fixed route) and gives it a depth schedule
 the vehicle can fly:
 
 * **Turns.**  At each corner the vehicle flies a fly-by arc of radius R through the heading
@@ -23,7 +23,7 @@ when it stays within ``tolerance`` of the profile and its deeper end clears ever
 (the leg's envelope, so that a depth held per leg is safe too; a chord of a profile within the
 pitch limit is within it too); points inside a turn region never become waypoints, so
 every turn keeps its tangent lengths.  The exact envelope test
-(:func:`auvplan.guidance.mission.envelopes_free`) then checks the static obstacles, and
+(:func:`auvplan.guidance.mission.waypoints.envelopes_free`) then checks the static obstacles, and
 :func:`auvplan.path.flyable.check_limits` the result.
 """
 
@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._types import BoolArray, FloatArray, IntArray
-from ..path.flyable import (
+from ..._types import BoolArray, FloatArray, IntArray
+from ...path.flyable import (
     PITCH_SLACK_DEG,
     LimitReport,
     VehicleLimits,
@@ -43,12 +43,12 @@ from ..path.flyable import (
     leg_turn_radius,
     turn_angles,
 )
-from ..path.pitch import (
+from ...path.pitch import (
     cone_max,
     pitch_profile,
 )
-from ..world import World
-from .mission import envelopes_free
+from ...world import World
+from .waypoints import envelopes_free
 
 __all__ = ["MissionFit", "fit_mission", "fit_turns", "flown_distance"]
 
@@ -294,7 +294,7 @@ def fit_turns(waypoints: FloatArray, world: World, radius: float, rounds: int = 
     For a planned mission (not a route the operator wrote): while some leg's turns need more than
     its length (:func:`auvplan.path.flyable.leg_turn_radius` below ``radius``), the sharper interior
     corner at its ends is removed when the new leg's envelope is free
-    (:func:`auvplan.guidance.mission.envelopes_free`); a corner that cannot go stays, and the check
+    (:func:`auvplan.guidance.mission.waypoints.envelopes_free`); a corner that cannot go stays, and the check
     of :func:`fit_mission` then names it.
 
     Parameters

@@ -12,15 +12,15 @@ builds the formation from the same terms, one heading command per vehicle:
 * **route attraction to the slot** (eqs. 3–4): ``k_H·e`` towards the line through the slot along
   the slot's course (``e`` the follower's cross error to it); **heading attraction** (eqs. 5–6):
   ``k_X·Δ`` along that course; **repulsion from obstacles** (eqs. 7–8) — all three through
-  :func:`auvplan.guidance.hybrid.hybrid_force`, the single-vehicle field itself;
+  :func:`auvplan.guidance.following.hybrid.hybrid_force`, the single-vehicle field itself;
 * **repulsion from the other vehicles**: the same eqs. 7–8 term
-  (:func:`~auvplan.guidance.formation_steer.vehicle_repulsion`) with its own gain ``k_vehicle`` and
+  (:func:`~auvplan.guidance.formation.steer.vehicle_repulsion`) with its own gain ``k_vehicle`` and
   influence ``vehicle_influence_m`` beyond the separation ``separation_m``,
   acting from the *predicted* relative position at closest approach (the vehicles share positions and
   velocities), so two vehicles on crossing courses open their miss distance early and the same way
   round (no goal factor: the other vehicles move with the formation);
 * the resultant is the course; the current turns it into a heading (crab angle) as in
-  :class:`~auvplan.guidance.hybrid.HybridGuidance`;
+  :class:`~auvplan.guidance.following.hybrid.HybridGuidance`;
 * **speed adjustment** holds the along-track spacing: ``u = u_slot + k_s ε`` (``ε`` the along
   error, positive when behind; ``u_slot`` the slot's own speed: the leader's speed command times the
   slot track's stretch, so outer vehicles speed up in turns and during shape changes), and the
@@ -30,14 +30,14 @@ Linearised on a straight route (small errors, crab-compensated current) the cros
 ``s (s² + 2ζω_n s + ω_n²) + ω_n² U k_H / (k_X Δ) = 0`` (heading autopilot poles ω_n, ζ; ground speed
 ``U``) and the along error ``T_u s² + s + k_s = 0`` (surge lag ``T_u``; the leader's wait cancels out
 of the spacing error because each follower's feed-forward is the leader's command):
-:func:`~auvplan.guidance.formation_steer.dominant_pole` (the steering law is computed in
-:mod:`auvplan.guidance.formation_steer`).  The defaults put the along poles at a double root ``−1/(2 T_u)``.
+:func:`~auvplan.guidance.formation.steer.dominant_pole` (the steering law is computed in
+:mod:`auvplan.guidance.formation.steer`).  The defaults put the along poles at a double root ``−1/(2 T_u)``.
 
 Shapes (``spacing_m`` between neighbours): ``line`` (abreast: port, starboard, port … of the
 leader), ``column`` (single file behind the leader, every vehicle on the route at the route's
 depth), ``wedge`` (each rank ``spacing`` back and ``spacing`` out).  A shape change at a route
 position blends the offsets over ``transition_m`` metres (smoothstep); the shapes along the route are
-:mod:`auvplan.guidance.formation_route`'s (re-exported here).
+:mod:`auvplan.guidance.formation.route`'s (re-exported here).
 """
 
 from __future__ import annotations
@@ -47,8 +47,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TypeAlias
 
-from .._types import FloatArray
-from .formation_route import SHAPES, FormationRoute, Schedule, shape_offsets
+from ..._types import FloatArray
+from .route import SHAPES, FormationRoute, Schedule, shape_offsets
 
 Vec: TypeAlias = "Sequence[float] | FloatArray"
 """A point or vector ``(x, y[, z])`` (m or m/s) as a sequence or an array."""

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .._types import ArrayLike
+from ..._types import ArrayLike
 
 __all__ = ["SETTLE_M", "error_figures"]
 
