@@ -32,6 +32,7 @@ from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 from .uncertainty import seabed_at_confidence
+from .validate import from_dict
 
 __all__ = ["build", "check_plan_sizes"]
 
@@ -251,8 +252,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
 
 def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
     """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`auvplan.io.scenario.geoinput`)."""
-    from .loader import from_dict  # the loader imports this module
-
     assert s.geo is not None
     if terrain is None:
         ref = s.geo.altitudes[0]

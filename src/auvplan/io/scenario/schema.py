@@ -20,8 +20,8 @@ from typing import Any
 
 from ..._version import __version__
 from ...guidance.formation.keeping import VehicleSpec
-from . import loader as sc
 from . import specs
+from . import validate as sc
 from .tables import MAX_MAGNITUDE
 
 __all__ = ["SCHEMA_VERSION", "scenario_schema", "template", "field_docs", "GEO_POSITION"]
