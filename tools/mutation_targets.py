@@ -25,7 +25,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
     return tuple((module, n) for n in names)
 
 
-TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.terrain_kernels"
+TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
 GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"

@@ -22,12 +22,12 @@ SRC = ROOT / "src" / "auvplan"
 # name: (file, original text, mutated text)
 MUTANTS: dict[str, tuple[str, str, str]] = {
     "terrain-bound-signed-dz": (
-        "world/terrain_kernels.py",
+        "world/kernels/terrain.py",
         "0.5 * (g_a + g_b - abs(qz - pz) - lipschitz",
         "0.5 * (g_a + g_b - (qz - pz) - lipschitz",
     ),
     "terrain-bound-half-slope": (
-        "world/terrain_kernels.py",
+        "world/kernels/terrain.py",
         "- lipschitz * math.sqrt((qx - px) ** 2",
         "- 0.5 * lipschitz * math.sqrt((qx - px) ** 2",
     ),

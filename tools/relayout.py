@@ -73,8 +73,8 @@ MOVES: dict[str, str] = {
     # io: input data
     "io/bathymetry.py": "io/data/bathymetry.py",
     "io/elevation.py": "io/data/elevation.py",
-    "io/currents.py": "io/data/currents.py",
-    "io/tides.py": "io/data/tides.py",
+    "io/currents.py": "io/data/ocean/currents.py",
+    "io/tides.py": "io/data/ocean/tides.py",
     "io/coast.py": "io/data/coast.py",
     "io/grids.py": "io/data/grids.py",
     "io/ncfile.py": "io/data/ncfile.py",
@@ -89,8 +89,8 @@ MOVES: dict[str, str] = {
     "io/formation_export.py": "io/missions/formation.py",
     # wave 3 modules written on the old layout by the parallel branches, placed at the merge
     "io/seabed_model.py": "io/data/seabed_model.py",
-    "io/roms.py": "io/data/roms.py",
-    "io/vectors.py": "io/data/vectors.py",
+    "io/roms.py": "io/data/ocean/roms.py",
+    "io/vectors.py": "io/data/ocean/vectors.py",
     "io/inspect_frames.py": "io/data/inspect_frames.py",
     "io/geoinput.py": "io/scenario/geoinput.py",
     "io/names.py": "io/scenario/names.py",
@@ -134,6 +134,13 @@ MOVES: dict[str, str] = {
     "guidance/mission.py": "guidance/mission/waypoints.py",
     "guidance/mission_limits.py": "guidance/mission/limits.py",
     "guidance/fit_limits.py": "guidance/mission/fit.py",
+    # issue 50: no folder over 12 flat modules
+    "world/terrain_kernels.py": "world/kernels/terrain.py",
+    "world/ellipsoid_kernels.py": "world/kernels/ellipsoid.py",
+    "io/data/currents.py": "io/data/ocean/currents.py",
+    "io/data/tides.py": "io/data/ocean/tides.py",
+    "io/data/roms.py": "io/data/ocean/roms.py",
+    "io/data/vectors.py": "io/data/ocean/vectors.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -191,6 +198,8 @@ PACKAGE_DOCS: dict[str, str] = {
                           "steering to its slot, and the formation error figures.",
     "guidance/mission": "The executable waypoint mission: built from a plan, its convex limits, and the mission "
                         "fitted to the vehicle.",
+    "world/kernels": "The compiled kernels of the seabed's heightfield and of the ellipsoids' distances.",
+    "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",
 }

@@ -117,7 +117,7 @@ def parse_instant(text: str, start_time: str, what: str) -> float:
     float
         Seconds after start_time.
     """
-    from ..io.data.tides import parse_start_time
+    from ..io.data.ocean.tides import parse_start_time
 
     if is_offset(text):
         return parse_duration(text, what)
@@ -185,7 +185,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     energy = sweep_energy(world, mission, plans, departs)
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
-        from ..io.data.tides import parse_start_time, utc_iso
+        from ..io.data.ocean.tides import parse_start_time, utc_iso
 
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]

@@ -109,7 +109,7 @@ def _departure(text: str) -> str:
         if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):
             raise argparse.ArgumentTypeError(f"{text!r}: an offset must lie within 366 d of [mission] start_time")
         return text
-    from ..io.data.currents import parse_time
+    from ..io.data.ocean.currents import parse_time
 
     try:
         parse_time(text)

@@ -24,9 +24,9 @@ from ...world import (
 from .. import limits as _limits
 from ..data.bathymetry import load_terrain
 from ..data.coast import read_land
-from ..data.currents import read_currents
 from ..data.geo import LocalFrame
-from ..data.tides import load_tidal_current, parse_start_time
+from ..data.ocean.currents import read_currents
+from ..data.ocean.tides import load_tidal_current, parse_start_time
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec

@@ -21,7 +21,7 @@ from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
-from ..data.currents import CurrentsFileSpec, parse_time
+from ..data.ocean.currents import CurrentsFileSpec, parse_time
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec

@@ -17,10 +17,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pyproj import Geod
 
-from ...errors import DataError
-from ...world.tides import HarmonicTables, TidalCurrent
+from ....errors import DataError
+from ....world.tides import HarmonicTables, TidalCurrent
+from ..geo import LocalFrame
 from .currents import parse_time
-from .geo import LocalFrame
 
 __all__ = ["BUILTIN_TIDES", "parse_start_time", "utc_iso", "read_tide_file", "load_tidal_current"]
 

@@ -29,8 +29,8 @@ import xarray as xr
 from numpy.typing import NDArray
 from pyproj import Geod, Transformer
 
-from ...errors import DataError
-from .grids import HorizontalGrid
+from ....errors import DataError
+from ..grids import HorizontalGrid
 
 __all__ = ["VectorFrame", "vector_frame", "grid_angle", "to_east_north", "GRID_X_NAMES"]
 

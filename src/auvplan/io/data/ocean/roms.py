@@ -18,7 +18,7 @@ before it was written; ``zeta`` optional, default 0).
   down to the deepest ``h``); above the top rho level the top value holds, below the bottom one the
   bottom value down to the seabed, and below the seabed values are missing (filled like any land mask).
 * **Frame**: ``u``/``v`` are along the grid's XI/ETA axes and are turned to east/north with ``angle``
-  (:mod:`auvplan.io.data.vectors`), at the rho points.
+  (:mod:`auvplan.io.data.ocean.vectors`), at the rho points.
 """
 
 from __future__ import annotations
@@ -29,8 +29,8 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ...errors import DataError
-from .grids import HorizontalGrid
+from ....errors import DataError
+from ..grids import HorizontalGrid
 from .vectors import to_east_north
 
 __all__ = ["LEVELS_M", "is_s_coordinate", "s_depths", "read_s_levels", "to_levels"]

@@ -33,13 +33,13 @@ import numpy as np
 import xarray as xr
 from numpy.typing import NDArray
 
-from ...errors import DataError
-from ...world.currents import GriddedCurrent
-from ..limits import check_declared
-from .geo import LocalFrame
-from .grids import HorizontalGrid, axis_kind, horizontal_grid
-from .ncfile import open_dataset
-from .regrid import to_local
+from ....errors import DataError
+from ....world.currents import GriddedCurrent
+from ...limits import check_declared
+from ..geo import LocalFrame
+from ..grids import HorizontalGrid, axis_kind, horizontal_grid
+from ..ncfile import open_dataset
+from ..regrid import to_local
 from .roms import is_s_coordinate, read_s_levels
 from .vectors import grid_angle, to_east_north, vector_frame
 
