@@ -119,6 +119,9 @@ class PlannerEntry:
         None: ``target`` is ``run(problem, spec, rng, progress)``.  Otherwise ``target`` is a deterministic
         ``plan(problem, spec)`` (``"spec"``) or ``plan(problem, settings)`` (``"settings"``), which
         :attr:`run` calls under the registry's signature (:func:`deterministic_run`).
+    zones : bool, default False
+        Whether the planner keeps out of a world's charted no-go zones (``[[zones]]``); one that does
+        not is refused when the world has any (:func:`auvplan.planners.plan`).
     """
 
     name: str
@@ -128,6 +131,7 @@ class PlannerEntry:
     params: type | str | None = None
     table: str | None = None
     deterministic: Deterministic | None = None
+    zones: bool = False
 
     @property
     def run(self) -> PlannerFn:
@@ -172,7 +176,7 @@ def _add(entry: PlannerEntry) -> None:
 
 
 def register(name: str, *, iterative: bool, description: str, params: type | None = None,
-             deterministic: Deterministic | None = None) -> Callable[[PlannerFn], PlannerFn]:
+             deterministic: Deterministic | None = None, zones: bool = False) -> Callable[[PlannerFn], PlannerFn]:
     """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name`` (or, with
     ``deterministic``, a ``plan(problem, spec)`` or ``plan(problem, settings)``).
 
@@ -191,6 +195,8 @@ def register(name: str, *, iterative: bool, description: str, params: type | Non
     deterministic : {"spec", "settings"}, optional
         The decorated function is a deterministic ``plan(problem, spec)`` (``"spec"``) or
         ``plan(problem, settings)`` (``"settings"``): no generator, no progress (``iterative`` False).
+    zones : bool, default False
+        The planner keeps out of ``[[zones]]`` (else it is refused in a world that has any).
 
     Returns
     -------
@@ -205,7 +211,7 @@ def register(name: str, *, iterative: bool, description: str, params: type | Non
     """
 
     def add(run: PlannerFn) -> PlannerFn:
-        _add(PlannerEntry(name, run, iterative, description, params, None, deterministic))
+        _add(PlannerEntry(name, run, iterative, description, params, None, deterministic, zones))
         return run
 
     return add
@@ -282,17 +288,17 @@ _SWARM_TEXT = {
     "de": ("scipy's differential evolution (vectorised) over B-splines", "auvplan.optim.de:DEParams"),
 }
 for _name, (_text, _params) in _SWARM_TEXT.items():
-    _add(PlannerEntry(_name, "auvplan.planners.swarm.planner:plan_swarm", True, _text, _params, _name))
+    _add(PlannerEntry(_name, "auvplan.planners.swarm.planner:plan_swarm", True, _text, _params, _name, zones=True))
 # the deterministic planners: their plan functions, called under the registry's signature
 _add(PlannerEntry("flow", "auvplan.planners.flow.planner:plan_flow", False,
                   "potential-flow streamline from the start (document 000)", "auvplan.planners.params:FlowParams",
                   "flow", deterministic="settings"))
 _add(PlannerEntry("grid", "auvplan.planners.grid.planner:plan_grid", False,
                   "lattice reference: Dijkstra cost-to-go, elastic band, B-spline",
-                  "auvplan.planners.params:GridParams", "grid", deterministic="spec"))
+                  "auvplan.planners.params:GridParams", "grid", deterministic="spec", zones=True))
 _add(PlannerEntry("timeopt", "auvplan.planners.timeopt.planner:plan_timeopt", False,
                   "time-optimal path in tidal currents, departure time given", "auvplan.planners.params:TimeoptParams",
-                  "timeopt", deterministic="spec"))
+                  "timeopt", deterministic="spec", zones=True))
 
 if tuple(REGISTRY) != PLANNERS:  # pragma: no cover - a programming error
     raise RuntimeError(f"registry {tuple(REGISTRY)} does not match PLANNERS {PLANNERS}")

@@ -57,6 +57,7 @@ from ..limits import Limits
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .geoinput import resolve_positions
+from ..data.zones import parse_zones
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
@@ -67,7 +68,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
-    "survey",
+    "survey", "zones",
 }
 
 
@@ -329,6 +330,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     if survey is None:  # a survey may start and end at the same launch/recovery point
         _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
+    zones = parse_zones(data.get("zones", []), source)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -355,6 +357,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         geo=geo,
         endurance=_section(data, "endurance", source),
         survey=survey,
+        zones=zones,
     )
 
 
