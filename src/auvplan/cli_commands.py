@@ -122,8 +122,12 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
+        zones = world.zones.exact.approach(points[1:] if fmt == "qgc" else points) if world.zones else []
+        if zones:
+            rec["zones"] = [z.as_dict() for z in zones]
+        zones_ok = not any(z.entered_legs for z in zones)
         checks.append(rec)
-        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
+        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok and zones_ok else 1)
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
@@ -137,6 +141,10 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
                   + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
             print(f"{name}: {energy_line}")
+            for z in zones:
+                legs = ", ".join(str(k) for k in z.entered_legs)
+                print(f"{name} zone {z.name!r}: " + (f"FAIL — entered by leg{'s' if len(z.entered_legs) > 1 else ''} "
+                      f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m"))
             if sc.mission.confidence:
                 print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
                       f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")

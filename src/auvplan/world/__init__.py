@@ -7,7 +7,7 @@ from .obstacles import Ellipsoid, Sphere
 from .terrain import Terrain
 from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World
-from .zones import Zone, Zones
+from .zones import Zone, ZoneApproach, Zones
 
 __all__ = [
     "Bounds",
@@ -30,4 +30,5 @@ __all__ = [
     "World",
     "Zone",
     "Zones",
+    "ZoneApproach",
 ]

@@ -38,7 +38,7 @@ from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .terrain import Terrain
 
-__all__ = ["Zone", "Zones"]
+__all__ = ["Zone", "Zones", "ZoneApproach"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,6 +111,11 @@ class Zones:
         The prisms (may be empty).
     terrain : Terrain or None
         Seabed for the zones given ``above_seabed``; required when any is.
+    pad : float, default 0.0
+        Every prism grown by this much (m: footprints buffered, bands widened) in every query: the
+        planners keep this far off, so a plan that skirts a zone stays outside it once densified,
+        simplified into a mission and rounded in a file.  :attr:`exact` is the same zones unpadded
+        (what checks of flown or exported missions test against).
 
     Raises
     ------
@@ -120,6 +125,7 @@ class Zones:
 
     zones: tuple[Zone, ...]
     terrain: Terrain | None = None
+    pad: float = 0.0
     _tree: shapely.STRtree = field(init=False, repr=False)
     _geoms: np.ndarray = field(init=False, repr=False)
     _zlo: FloatArray = field(init=False, repr=False)
@@ -134,17 +140,54 @@ class Zones:
         if np.isfinite(h).any() and self.terrain is None:
             bad = next(z.name for z in zs if z.above_seabed is not None)
             raise DataError(f"zone {bad!r}: above_seabed_m needs a seabed (a [terrain])")
+        if not (math.isfinite(self.pad) and self.pad >= 0):
+            raise DataError(f"zones: pad must be a non-negative number, got {self.pad}")
         geoms = np.array([z.footprint for z in zs], dtype=object)
+        if self.pad > 0 and geoms.size:
+            geoms = shapely.buffer(geoms, self.pad)
         shapely.prepare(geoms)
         object.__setattr__(self, "_geoms", geoms)
         object.__setattr__(self, "_tree", shapely.STRtree(geoms))
-        object.__setattr__(self, "_zlo", np.array([-z.bottom for z in zs], dtype=float))
-        object.__setattr__(self, "_zhi", np.array([-z.top for z in zs], dtype=float))
-        object.__setattr__(self, "_h", h)
+        object.__setattr__(self, "_zlo", np.array([-z.bottom for z in zs], dtype=float) - self.pad)
+        object.__setattr__(self, "_zhi", np.minimum(np.array([-z.top for z in zs], dtype=float) + self.pad, 0.0)
+                           if self.pad else np.array([-z.top for z in zs], dtype=float))
+        object.__setattr__(self, "_h", h + self.pad)
         object.__setattr__(self, "_bounds", shapely.bounds(geoms).reshape(-1, 4))
 
     def __len__(self) -> int:
         return len(self.zones)
+
+    def with_pad(self, pad: float) -> Zones:
+        """The same zones grown by another pad.
+
+        Parameters
+        ----------
+        pad : float
+            Growth (m).
+
+        Returns
+        -------
+        Zones
+            ``self`` when ``pad`` is the current one.
+        """
+        return self if pad == self.pad else Zones(self.zones, self.terrain, pad)
+
+    @property
+    def exact(self) -> Zones:
+        """The same zones without :attr:`pad`.
+
+        Returns
+        -------
+        Zones
+            ``self`` when unpadded.
+        """
+        if self.pad == 0:
+            return self
+        cached: Zones | None = self.__dict__.get("_exact")
+        if cached is None:
+            cached = Zones(self.zones, self.terrain)
+            object.__setattr__(self, "_exact", cached)
+        return cached
 
     @property
     def names(self) -> list[str]:
@@ -247,6 +290,39 @@ class Zones:
         seg, _ = self.entries(s.reshape(-1, 2, 3))
         out[seg] = True
         return out.reshape(lead)
+
+    def envelopes_enter(self, a: ArrayLike, b: ArrayLike) -> BoolArray:
+        """Where the vertical envelope of a leg (its horizontal trace times the depths between its
+        ends: every way of flying it with depth held or ramped) meets a zone (exact).
+
+        Parameters
+        ----------
+        a, b : array_like
+            Leg starts and ends ``(K, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(K,)``, True where the envelope enters or touches a prism.
+        """
+        a, b = np.asarray(a, dtype=float).reshape(-1, 3), np.asarray(b, dtype=float).reshape(-1, 3)
+        out = np.zeros(a.shape[0], dtype=bool)
+        if not self.zones or a.shape[0] == 0:
+            return out
+        low = np.minimum(a[:, 2], b[:, 2])
+        seg = np.stack([a, b], axis=1)
+        traces = _traces(seg)
+        si, zi = self._tree.query(traces, predicate="intersects")
+        seabed = np.isfinite(self._h[zi])
+        flat = ~seabed
+        out[si[flat][(low[si[flat]] <= self._zhi[zi[flat]])
+                     & (np.maximum(a[si[flat], 2], b[si[flat], 2]) >= self._zlo[zi[flat]])]] = True
+        if seabed.any():  # the envelope's lowest edge: the leg flown flat at its deeper end
+            level = seg[si[seabed]].copy()
+            level[:, :, 2] = low[si[seabed], None]
+            hit = self._seabed_hits(level, traces[si[seabed]], zi[seabed])
+            out[si[seabed][hit]] = True
+        return out
 
     def inside_lengths(self, segments: ArrayLike) -> FloatArray:
         """How much of each segment's horizontal trace lies over the footprints of the zones it
@@ -351,6 +427,71 @@ class Zones:
         for j in range(len(self.zones)):
             out[:, j] = self._pair_distance(p, pts, np.full(p.shape[0], j, dtype=np.intp))
         return out
+
+
+    def approach(self, polyline: ArrayLike, step: float = 25.0, max_samples: int = 4000) -> list[ZoneApproach]:
+        """Closest approach of a polyline to every zone, and the legs that enter each (exact).
+
+        Parameters
+        ----------
+        polyline : array_like
+            Vertices ``(N, 3)`` (m); leg ``k`` (from 1) joins vertices ``k - 1`` and ``k``.
+        step : float, default 25.0
+            Spacing of the samples along each leg the distance is measured at (m); the reported
+            distance is within ``step / 2`` of the true least distance (above it at worst).
+        max_samples : int, default 4000
+            Most samples per leg (longer legs are sampled more coarsely).
+
+        Returns
+        -------
+        list of ZoneApproach
+            One per zone, in order: name, closest approach (m; ≤ 0 when entered) and the legs entering it.
+        """
+        p = np.asarray(polyline, dtype=float).reshape(-1, 3)
+        if not self.zones:
+            return []
+        legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
+        seg, zi = self.entries(legs)
+        length = np.linalg.norm(legs[:, 1] - legs[:, 0], axis=-1)
+        n = np.clip(np.ceil(length / step).astype(int) + 1, 2, max_samples)
+        samples = np.concatenate([a + np.linspace(0.0, 1.0, k)[:, None] * (b - a) for (a, b), k in zip(legs, n,
+                                                                                                  strict=True)])
+        closest = self.distances(samples).min(axis=0)
+        out = []
+        for j, z in enumerate(self.zones):
+            entered = tuple(sorted({int(s) + 1 for s in seg[zi == j]}))
+            d = float(min(closest[j], 0.0)) if entered else float(closest[j])
+            out.append(ZoneApproach(z.name, d, entered))
+        return out
+
+
+@dataclass(frozen=True)
+class ZoneApproach:
+    """How a polyline passes one zone (:meth:`Zones.approach`).
+
+    Attributes
+    ----------
+    name : str
+        The zone.
+    closest_m : float
+        Least distance of the polyline to the prism (m); ≤ 0 when a leg enters it.
+    entered_legs : tuple of int
+        The legs (from 1) that enter it (exact test); empty when none does.
+    """
+
+    name: str
+    closest_m: float
+    entered_legs: tuple[int, ...]
+
+    def as_dict(self) -> dict[str, object]:
+        """The approach as JSON-ready values.
+
+        Returns
+        -------
+        dict
+            ``name``, ``closest_m``, ``entered_legs``.
+        """
+        return {"name": self.name, "closest_m": self.closest_m, "entered_legs": list(self.entered_legs)}
 
 
 def _traces(seg: FloatArray) -> np.ndarray:

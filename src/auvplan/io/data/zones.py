@@ -239,7 +239,7 @@ def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
         if not shapely.intersects(local, box):
             continue
         tag = str(label[i]).strip() if label is not None and label[i] not in (None, "") else f"#{i + 1}"
-        out.append((f"{spec.name} {tag}", local))
+        out.append((f"{spec.name}: {tag}", local))
     if not out:
         log.warning("%s: no feature reaches the operating area", src)
     return out
@@ -247,7 +247,7 @@ def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
 
 def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: Terrain | None,
                extent_m: tuple[float, float, float, float], *, base_dir: Path | None = None,
-               margin_m: float = 1000.0) -> Zones:
+               margin_m: float = 1000.0, pad_m: float = 1.0) -> Zones:
     """Make the scenario's zones in the local frame (files read, lines and points buffered).
 
     Parameters
@@ -265,6 +265,9 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
         Folder that relative file paths resolve against.
     margin_m : float, default 1000.0
         Widening of the area for file features (m).
+    pad_m : float, default 1.0
+        How far the planners keep off every zone (:attr:`Zones.pad`, m); checks of missions test the
+        zones themselves.
 
     Returns
     -------
@@ -294,6 +297,6 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
             except DataError as exc:
                 raise ScenarioError(f"{spec.where_}: {exc}") from exc
     try:
-        return Zones(tuple(zones), terrain)
+        return Zones(tuple(zones), terrain, pad=pad_m)
     except DataError as exc:
         raise ScenarioError(f"{specs[0].where_.split(':')[0]}: {exc}") from exc
