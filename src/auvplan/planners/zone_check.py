@@ -73,11 +73,16 @@ def hold_to_zones(problem: PlanningProblem, result: PlanResult) -> PlanResult:
     Returns
     -------
     PlanResult
-        ``result`` itself, or a copy with status ``INFEASIBLE`` and the entries in its message.
+        With zones, a copy whose ``cost_terms`` hold ``zone_clearance_min_m`` (the path's least
+        distance to the zones themselves, :meth:`Zones.clearance`), and with status ``INFEASIBLE``
+        and the entries in its message when it enters one (with the planners' pad).
     """
-    if not result.status.ok or not problem.world.zones:
+    zones = problem.world.zones
+    if not zones or np.asarray(result.path).size == 0:
         return result
-    hits = zone_entries(problem, result.path)
+    clearance = zones.exact.clearance(result.path)
+    result = replace(result, cost_terms=dict(result.cost_terms, zone_clearance_min_m=clearance))
+    hits = zone_entries(problem, result.path) if result.status.ok else []
     if not hits:
         return result
     where = "; ".join(f"leg {leg} enters zone {name!r}" for leg, name in hits[:5])

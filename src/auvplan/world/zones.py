@@ -429,6 +429,31 @@ class Zones:
         return out
 
 
+    def clearance(self, polyline: ArrayLike, step: float = 25.0, max_samples: int = 4000) -> float:
+        """Least distance of a polyline to any zone (m): ``min`` of :meth:`approach` over the zones,
+        through the R-tree (no loop over the zones).
+
+        Parameters
+        ----------
+        polyline : array_like
+            Vertices ``(N, 3)`` (m).
+        step : float, default 25.0
+            Sample spacing along each leg (m).
+        max_samples : int, default 4000
+            Most samples per leg.
+
+        Returns
+        -------
+        float
+            ≤ 0 when a leg enters a zone (exact test); ``inf`` without zones.
+        """
+        p = np.asarray(polyline, dtype=float).reshape(-1, 3)
+        if not self.zones or p.shape[0] == 0:
+            return math.inf
+        legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
+        d = float(self.signed_distance(_samples(legs, step, max_samples)).min())
+        return min(d, 0.0) if self.entries(legs)[0].size else d
+
     def approach(self, polyline: ArrayLike, step: float = 25.0, max_samples: int = 4000) -> list[ZoneApproach]:
         """Closest approach of a polyline to every zone, and the legs that enter each (exact).
 
@@ -452,11 +477,7 @@ class Zones:
             return []
         legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
         seg, zi = self.entries(legs)
-        length = np.linalg.norm(legs[:, 1] - legs[:, 0], axis=-1)
-        n = np.clip(np.ceil(length / step).astype(int) + 1, 2, max_samples)
-        samples = np.concatenate([a + np.linspace(0.0, 1.0, k)[:, None] * (b - a) for (a, b), k in zip(legs, n,
-                                                                                                  strict=True)])
-        closest = self.distances(samples).min(axis=0)
+        closest = self.distances(_samples(legs, step, max_samples)).min(axis=0)
         out = []
         for j, z in enumerate(self.zones):
             entered = tuple(sorted({int(s) + 1 for s in seg[zi == j]}))
@@ -492,6 +513,16 @@ class ZoneApproach:
             ``name``, ``closest_m``, ``entered_legs``.
         """
         return {"name": self.name, "closest_m": self.closest_m, "entered_legs": list(self.entered_legs)}
+
+
+def _samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
+    """Points every ``step`` metres (at most ``max_samples`` per leg) along legs ``(K, 2, 3)``, ends included."""
+    length = np.linalg.norm(legs[:, 1] - legs[:, 0], axis=-1)
+    n = np.clip(np.ceil(length / step).astype(int) + 1, 2, max_samples)
+    t = np.concatenate([np.linspace(0.0, 1.0, k) for k in n])
+    leg = np.repeat(np.arange(len(legs)), n)
+    out: FloatArray = legs[leg, 0] + t[:, None] * (legs[leg, 1] - legs[leg, 0])
+    return out
 
 
 def _traces(seg: FloatArray) -> np.ndarray:
