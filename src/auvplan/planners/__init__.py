@@ -133,5 +133,6 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
             best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations, refined)"
     from .zone_check import hold_to_zones
 
-    return hold_to_zones(problem, replace(best, planner="grid", message=f"{grid.message}; best of {1 + len(swarms)} (lattice, "
-                   f"{', '.join(swarms)} at twice the budget, each refined): {label}"))
+    message = (f"{grid.message}; best of {1 + len(swarms)} (lattice, {', '.join(swarms)} at twice the budget, "
+               f"each refined): {label}")
+    return hold_to_zones(problem, replace(best, planner="grid", message=message))

@@ -390,7 +390,8 @@ class Zones:
         pi, zi = self._tree.query_nearest(pts, all_matches=False)
         out[pi] = self._pair_distance(flat[pi], pts[pi], zi)
         # every zone horizontally closer than that bound, checked exactly
-        pi, zi = self._tree.query(pts, predicate="dwithin", distance=np.where(np.isfinite(out), np.maximum(out, 0.0), 0.0))
+        reach = np.where(np.isfinite(out), np.maximum(out, 0.0), 0.0)
+        pi, zi = self._tree.query(pts, predicate="dwithin", distance=reach)
         if pi.size:
             np.minimum.at(out, pi, self._pair_distance(flat[pi], pts[pi], zi))
         return out.reshape(lead)
@@ -401,7 +402,7 @@ class Zones:
         dh = shapely.distance(geoms, pts)
         inside_h = dh == 0.0
         out_v, in_v = self._vertical(p, zi)
-        d = np.hypot(dh, np.maximum(out_v, 0.0))
+        d: FloatArray = np.hypot(dh, np.maximum(out_v, 0.0))
         inside = inside_h & (out_v <= 0.0)
         if inside.any():
             edge = shapely.distance(shapely.boundary(geoms[inside]), pts[inside])

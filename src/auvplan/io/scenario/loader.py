@@ -53,11 +53,11 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
+from ..data.zones import parse_zones
 from ..limits import Limits
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .geoinput import resolve_positions
-from ..data.zones import parse_zones
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
