@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -37,6 +38,7 @@ import shapely
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .terrain import Terrain
+from .zone_kernels import candidates_kernel, flat_hits_kernel, near_pairs_kernel
 
 __all__ = ["Zone", "Zones", "ZoneApproach"]
 
@@ -132,6 +134,8 @@ class Zones:
     _zhi: FloatArray = field(init=False, repr=False)
     _h: FloatArray = field(init=False, repr=False)
     _bounds: FloatArray = field(init=False, repr=False)
+    _grid: tuple[Any, ...] | None = field(init=False, repr=False)
+    _rings: tuple[FloatArray, IntArray, IntArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         zs = tuple(self.zones)
@@ -153,6 +157,89 @@ class Zones:
                            if self.pad else np.array([-z.top for z in zs], dtype=float))
         object.__setattr__(self, "_h", h + self.pad)
         object.__setattr__(self, "_bounds", shapely.bounds(geoms).reshape(-1, 4))
+        object.__setattr__(self, "_rings", _rings(geoms))
+        self._rasterise()
+
+    def _rasterise(self) -> None:
+        """The broad phase's grid (:mod:`.zone_kernels`): the zones listed per cell, each zone's bounding
+        box and band (a seabed band up to the highest seabed under its box), and each cell's distance
+        (in cells) to the nearest cell that lists a zone."""
+        from scipy.ndimage import distance_transform_edt
+
+        if not self.zones:
+            object.__setattr__(self, "_grid", None)
+            return
+        b = self._bounds
+        lo, hi = b[:, :2].min(axis=0), b[:, 2:].max(axis=0)
+        span = float((hi - lo).max())
+        size = float(np.median(np.maximum(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])))
+        cell = max(min(max(2.0 * size, span / 512), span / 32), 1e-3)  # about twice a typical zone
+        lo = lo - cell
+        n = np.ceil((hi + cell - lo) / cell).astype(int)
+        nx, ny = int(n[0]), int(n[1])
+        jj, ii = np.divmod(np.arange(nx * ny), nx)
+        boxes = shapely.box(lo[0] + ii * cell, lo[1] + jj * cell, lo[0] + (ii + 1) * cell, lo[1] + (jj + 1) * cell)
+        ci, zi = self._tree.query(boxes, predicate="intersects")
+        order = np.lexsort((zi, ci))
+        ci, zi = ci[order], zi[order]
+        start = np.zeros(nx * ny + 1, dtype=np.intp)
+        np.add.at(start, ci + 1, 1)
+        start = np.cumsum(start)
+        top = self._zhi.copy()
+        sea = np.flatnonzero(np.isfinite(self._h))
+        if sea.size:  # a seabed band reaches the highest seabed under the zone's box plus its height
+            assert self.terrain is not None
+            t = self.terrain
+            x, y, z = np.asarray(t.x), np.asarray(t.y), np.asarray(t.z)
+            for k in sea:
+                x0, y0, x1, y1 = b[k]
+                i0, i1 = max(np.searchsorted(x, x0, "right") - 1, 0), min(np.searchsorted(x, x1, "left"), x.size - 1)
+                j0, j1 = max(np.searchsorted(y, y0, "right") - 1, 0), min(np.searchsorted(y, y1, "left"), y.size - 1)
+                top[k] = z[j0:j1 + 1, i0:i1 + 1].max() + self._h[k]
+        bottom = np.where(np.isfinite(self._h), -np.inf, self._zlo)
+        flagged = np.diff(start) > 0
+        reach = distance_transform_edt(~flagged.reshape(ny, nx))
+        object.__setattr__(self, "_grid", (float(lo[0]), float(lo[1]), cell, nx, ny, start, zi.astype(np.intp),
+                                           np.ascontiguousarray(b), bottom, top, np.asarray(reach, dtype=float)))
+
+    def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
+        """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.zone_kernels`);
+        every other pair provably does not meet.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(N, 2, 3)`` (m).
+
+        Returns
+        -------
+        seg, zone : numpy.ndarray of int
+            The candidate pairs, sorted by segment.
+        """
+        s = np.ascontiguousarray(np.asarray(segments, dtype=float).reshape(-1, 2, 3))
+        if self._grid is None or s.shape[0] == 0:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, _ = self._grid
+        args = (s, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi)
+        mark = np.full(len(self.zones), -1, dtype=np.intp)
+        pairs = np.empty((2, 2 * s.shape[0] + 64), dtype=np.intp)
+        m = candidates_kernel(*args, mark, pairs, pairs.shape[1])
+        if m > pairs.shape[1]:  # more than the buffer held: again into one of the right size
+            pairs = np.empty((2, m), dtype=np.intp)
+            mark[:] = -1
+            candidates_kernel(*args, mark, pairs, m)
+        return pairs[0, :m], pairs[1, :m]
+
+    def _lower_bound(self, p: FloatArray) -> FloatArray:
+        """A lower bound of the horizontal distance from points ``(N, 3)`` to every footprint (m)."""
+        assert self._grid is not None
+        x0, y0, cell, nx, ny, *_, reach = self._grid
+        fx, fy = (p[:, 0] - x0) / cell, (p[:, 1] - y0) / cell
+        outside = np.hypot(np.maximum(np.maximum(-fx, fx - nx), 0.0), np.maximum(np.maximum(-fy, fy - ny), 0.0))
+        i = np.clip(np.floor(fx).astype(int), 0, nx - 1)
+        j = np.clip(np.floor(fy).astype(int), 0, ny - 1)
+        inside: FloatArray = np.maximum(reach[j, i] - math.sqrt(2.0), 0.0)
+        return np.where(outside > 0, outside, inside) * cell
 
     def __len__(self) -> int:
         return len(self.zones)
@@ -218,25 +305,23 @@ class Zones:
         empty = np.zeros(0, dtype=np.intp)
         if not self.zones or s.shape[0] == 0:
             return empty, empty
-        lo, hi = s[:, :, :2].min(axis=1), s[:, :, :2].max(axis=1)
-        b = self._bounds
-        near = ((lo[:, 0] <= b[:, 2].max()) & (hi[:, 0] >= b[:, 0].min())
-                & (lo[:, 1] <= b[:, 3].max()) & (hi[:, 1] >= b[:, 1].min()))
-        idx = np.flatnonzero(near)
-        if idx.size == 0:
-            return empty, empty
-        traces = _traces(s[idx])
-        si, zi = self._tree.query(traces, predicate="intersects")
-        if si.size == 0:
+        cs, zi = self.candidates(s)
+        if cs.size == 0:
             return empty, empty
         seabed = np.isfinite(self._h[zi])
-        hit = np.zeros(si.size, dtype=bool)
+        hit = np.zeros(cs.size, dtype=bool)
         flat = ~seabed
         if flat.any():
-            hit[flat] = self._flat_hits(s[idx[si[flat]]], zi[flat])
+            out = np.empty(int(flat.sum()), dtype=bool)
+            flat_hits_kernel(s, cs[flat], zi[flat], self._zlo, self._zhi, *self._rings, out)
+            hit[flat] = out
         if seabed.any():
-            hit[seabed] = self._seabed_hits(s[idx[si[seabed]]], traces[si[seabed]], zi[seabed])
-        return idx[si[hit]], zi[hit]
+            idx, si = np.unique(cs[seabed], return_inverse=True)
+            traces = _traces(s[idx])
+            meet = shapely.intersects(self._geoms[zi[seabed]], traces[si])
+            sub = np.flatnonzero(seabed)[meet]
+            hit[sub] = self._seabed_hits(s[cs[sub]], traces[si[meet]], zi[sub])
+        return cs[hit], zi[hit]
 
     def _flat_hits(self, seg: FloatArray, zi: IntArray) -> BoolArray:
         """Exact test of segments ``(K, 2, 3)`` whose traces meet the footprints ``zi`` against
@@ -325,8 +410,8 @@ class Zones:
         return out
 
     def inside_lengths(self, segments: ArrayLike) -> FloatArray:
-        """How much of each segment's horizontal trace lies over the footprints of the zones it
-        enters (m, at least 1 for an entry; 0 without one): a violation depth for the cost.
+        """A violation depth for the cost: the length of each segment that enters a zone (m, at
+        least 1; 0 for a segment that enters none).
 
         Parameters
         ----------
@@ -342,10 +427,10 @@ class Zones:
         lead = s.shape[:-2]
         flat = s.reshape(-1, 2, 3)
         out = np.zeros(flat.shape[0])
-        seg, zi = self.entries(flat)
+        seg, _ = self.entries(flat)
         if seg.size:
-            inside = shapely.length(shapely.intersection(_traces(flat[seg]), self._geoms[zi]))
-            np.add.at(out, seg, np.maximum(inside, 1.0))
+            seg = np.unique(seg)
+            out[seg] = np.maximum(np.linalg.norm(flat[seg, 1] - flat[seg, 0], axis=-1), 1.0)
         return out.reshape(lead)
 
     # ------------------------------------------------------------------ points
@@ -364,15 +449,19 @@ class Zones:
             in_v[sea] = -g / slope
         return out_v, in_v
 
-    def signed_distance(self, points: ArrayLike) -> FloatArray:
+    def signed_distance(self, points: ArrayLike, exact: bool = False) -> FloatArray:
         """Distance from points to the nearest prism (m), negative inside.
 
-        Exact Euclidean for flat bands; for seabed bands a lower bound (module docstring).
+        Exact Euclidean for flat bands; for seabed bands a lower bound (module docstring).  Unless
+        ``exact``, points more than two broad-phase cells from every footprint get the grid's lower
+        bound of their horizontal distance instead (positive, never above the truth).
 
         Parameters
         ----------
         points : array_like
             Points ``(..., 3)`` (m).
+        exact : bool, default False
+            Measure every point.
 
         Returns
         -------
@@ -385,6 +474,13 @@ class Zones:
         out = np.full(flat.shape[0], np.inf)
         if not self.zones or flat.shape[0] == 0:
             return out.reshape(lead)
+        if not exact and self._grid is not None:
+            bound = self._lower_bound(flat)
+            near = bound < 2.0 * self._grid[2]
+            out[~near] = bound[~near]
+            if near.any():
+                out[near] = self._near_distance(flat[near])
+            return out.reshape(lead)
         pts = shapely.points(flat[:, 0], flat[:, 1])
         # an upper bound per point: its 3D distance to the horizontally nearest zone
         pi, zi = self._tree.query_nearest(pts, all_matches=False)
@@ -395,6 +491,26 @@ class Zones:
         if pi.size:
             np.minimum.at(out, pi, self._pair_distance(flat[pi], pts[pi], zi))
         return out.reshape(lead)
+
+    def _near_distance(self, p: FloatArray) -> FloatArray:
+        """Signed distance of points ``(N, 3)`` to the zones listed within two cells of them, capped at
+        two cells (every other zone is at least that far): exact below the cap."""
+        assert self._grid is not None
+        x0, y0, cell, nx, ny, start, ids, *_ = self._grid
+        mark = np.full(len(self.zones), -1, dtype=np.intp)
+        pairs = np.empty((2, 8 * p.shape[0] + 64), dtype=np.intp)
+        args = (np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), x0, y0, cell, nx, ny, start, ids, 2)
+        m = near_pairs_kernel(*args, mark, pairs, pairs.shape[1])
+        if m > pairs.shape[1]:
+            pairs = np.empty((2, m), dtype=np.intp)
+            mark[:] = -1
+            near_pairs_kernel(*args, mark, pairs, m)
+        pi, zi = pairs[0, :m], pairs[1, :m]
+        out = np.full(p.shape[0], 2.0 * cell)
+        if m:
+            d = self._pair_distance(p[pi], shapely.points(p[pi, 0], p[pi, 1]), zi)
+            np.minimum.at(out, pi, d)
+        return out
 
     def _pair_distance(self, p: FloatArray, pts: np.ndarray, zi: IntArray) -> FloatArray:
         """Signed distance of each point to its paired zone."""
@@ -452,7 +568,10 @@ class Zones:
         if not self.zones or p.shape[0] == 0:
             return math.inf
         legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
-        d = float(self.signed_distance(_samples(legs, step, max_samples)).min())
+        samples = _samples(legs, step, max_samples)
+        d = float(self.signed_distance(samples).min())
+        if self._grid is not None and d >= 2.0 * self._grid[2]:  # far from every zone: measured exactly
+            d = float(self.signed_distance(samples, exact=True).min())
         return min(d, 0.0) if self.entries(legs)[0].size else d
 
     def approach(self, polyline: ArrayLike, step: float = 25.0, max_samples: int = 4000) -> list[ZoneApproach]:
@@ -514,6 +633,23 @@ class ZoneApproach:
             ``name``, ``closest_m``, ``entered_legs``.
         """
         return {"name": self.name, "closest_m": self.closest_m, "entered_legs": list(self.entered_legs)}
+
+
+def _rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
+    """Every polygon's rings as flat arrays for the compiled test: vertices ``xy (V, 2)`` (each ring
+    closed), ring offsets ``ring (R + 1,)`` into ``xy``, per zone ring offsets ``rings (Z + 1,)``."""
+    xy_parts: list[FloatArray] = []
+    ring = [0]
+    rings = [0]
+    for g in geoms:
+        for poly in shapely.get_parts(g):
+            for r in (poly.exterior, *poly.interiors):
+                c = np.asarray(r.coords, dtype=float)[:, :2]
+                xy_parts.append(c)
+                ring.append(ring[-1] + c.shape[0])
+        rings.append(len(ring) - 1)
+    xy = np.ascontiguousarray(np.concatenate(xy_parts)) if xy_parts else np.zeros((0, 2))
+    return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp)
 
 
 def _samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
