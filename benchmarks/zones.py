@@ -43,7 +43,8 @@ def random_world(rng: np.random.Generator, n_zones: int) -> World:
     z = np.full_like(gx, -rng.uniform(200.0, 300.0))
     for _ in range(3):
         c = rng.uniform(0.0, SIZE, 2)
-        z += rng.uniform(30.0, 100.0) * np.exp(-((gx - c[0]) ** 2 + (gy - c[1]) ** 2) / (2 * rng.uniform(200, 600) ** 2))
+        width = rng.uniform(200.0, 600.0)
+        z += rng.uniform(30.0, 100.0) * np.exp(-((gx - c[0]) ** 2 + (gy - c[1]) ** 2) / (2 * width**2))
     terrain = Terrain(x, x, z, name="hills")
     zones = [random_zone(rng, f"z{i}") for i in range(n_zones)]
     return World(Bounds(0.0, SIZE, 0.0, SIZE, -300.0, 0.0), terrain, UniformCurrent((0.05, -0.02, 0.0)),
@@ -206,6 +207,34 @@ def gap(scenario: str) -> dict[str, float]:
             "zone_clearance_min_m": default.cost_terms.get("zone_clearance_min_m", float("nan"))}
 
 
+def _figure(name: str, text: str) -> None:
+    """Write ``docs/figures/<name>.md`` (quoted in docs/zones.md)."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "docs" / "figures" / f"{name}.md"
+    path.write_text(text.rstrip() + "\n")
+    print(f"wrote {path}")
+
+
+def _figure_text(cmd: str, res: dict, argv: str) -> str:
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    if cmd == "montecarlo":
+        rows = "\n".join(f"| `{k}` | {v['missions']} | {v['feasible']} | **{v['entries']}** | {v['cpu_s']} |"
+                         for k, v in res.items())
+        return ("| planner | missions | reported feasible | entries (independent check) | CPU (s) |\n"
+                f"| --- | --- | --- | --- | --- |\n{rows}\n\n`python benchmarks/zones.py {argv}`; "
+                f"load {load} at the end.")
+    if cmd == "cpu":
+        return (f"| problem | no zones | {res['zones']} zones | ratio |\n| --- | --- | --- | --- |\n"
+                f"| `{res['scenario']}`, `{res['planner']}` default plan | {res['cpu_none_s']} s CPU | "
+                f"{res['cpu_zones_s']} s CPU | **{res['ratio']}×** |\n\n`python benchmarks/zones.py {argv}` (median of "
+                f"repeats after a warm-up); load {load} at the end.")
+    return (f"| scenario | default plan (`{res['planner']}`) | `--reference` | gap | least distance to a zone |\n"
+            f"| --- | --- | --- | --- | --- |\n| `{res['scenario']}` | {res['cost']:.1f} ({res['status']}) | "
+            f"{res['reference_cost']:.1f} | **{res['gap_pct']:+.3f} %** | {res['zone_clearance_min_m']:.2f} m |\n\n"
+            f"`python benchmarks/zones.py {argv}`; load {load} at the end.")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -221,13 +250,20 @@ def main() -> None:
     c.add_argument("--repeats", type=int, default=5)
     g = sub.add_parser("gap")
     g.add_argument("--scenario", default="chagos-reefs")
+    for p in (m, c, g):
+        p.add_argument("--figure-md", default="", help="also write docs/figures/<NAME>.md")
     args = ap.parse_args()
     if args.cmd == "montecarlo":
-        print(json.dumps(montecarlo(args.missions, args.planners, args.seed, args.zones)))
+        res = montecarlo(args.missions, args.planners, args.seed, args.zones)
     elif args.cmd == "cpu":
-        print(json.dumps(cpu(args.scenario, args.zones, args.repeats, args.planner)))
+        res = cpu(args.scenario, args.zones, args.repeats, args.planner)
     else:
-        print(json.dumps(gap(args.scenario)))
+        res = gap(args.scenario)
+    print(json.dumps(res))
+    if args.figure_md:
+        import sys
+
+        _figure(args.figure_md, _figure_text(args.cmd, res, " ".join(sys.argv[1:])))
 
 
 if __name__ == "__main__":

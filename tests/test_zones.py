@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
-from helpers import flat_world
+from benchmarks.zones import free_point, independent_entries, random_world, spec_for
 
 from auvplan.cli import main
 from auvplan.cost import CostModel, evaluate_paths
@@ -19,7 +19,7 @@ from auvplan.io.scenario.loader import loads
 from auvplan.planners import PlannerSpec, PlanningProblem, plan, register
 from auvplan.planners.registry import REGISTRY
 from auvplan.world import Zone, Zones
-from benchmarks.zones import free_point, independent_entries, random_world, spec_for
+from helpers import flat_world
 
 
 # ---------------------------------------------------------------------- the exact test
@@ -180,9 +180,9 @@ def test_a_planner_that_cannot_honour_zones_is_refused():
 
 
 def test_a_plan_through_a_zone_is_never_feasible_and_names_zone_and_leg():
+    from auvplan._types import Status
     from auvplan.planners.base import PlanResult
     from auvplan.planners.common import plan_terms
-    from auvplan._types import Status
 
     @register("straight_zoned", iterative=False, description="a straight line (test)", zones=True)
     def straight(problem, spec, rng=None, progress=None):

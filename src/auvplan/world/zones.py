@@ -239,7 +239,8 @@ class Zones:
         i = np.clip(np.floor(fx).astype(int), 0, nx - 1)
         j = np.clip(np.floor(fy).astype(int), 0, ny - 1)
         inside: FloatArray = np.maximum(reach[j, i] - math.sqrt(2.0), 0.0)
-        return np.where(outside > 0, outside, inside) * cell
+        bound: FloatArray = np.where(outside > 0, outside, inside) * cell
+        return bound
 
     def __len__(self) -> int:
         return len(self.zones)
