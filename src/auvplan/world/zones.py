@@ -39,6 +39,10 @@ from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .terrain import Terrain
 from .zone_kernels import candidates_kernel, flat_hits_kernel, near_pairs_kernel
+from .zone_parts import clip_pieces, rasterise
+from .zone_parts import rings as polygon_rings
+from .zone_parts import samples as leg_samples
+from .zone_parts import traces as trace_geoms
 
 __all__ = ["Zone", "Zones", "ZoneApproach"]
 
@@ -157,50 +161,13 @@ class Zones:
                            if self.pad else np.array([-z.top for z in zs], dtype=float))
         object.__setattr__(self, "_h", h + self.pad)
         object.__setattr__(self, "_bounds", shapely.bounds(geoms).reshape(-1, 4))
-        object.__setattr__(self, "_rings", _rings(geoms))
+        object.__setattr__(self, "_rings", polygon_rings(geoms))
         self._rasterise()
 
     def _rasterise(self) -> None:
-        """The broad phase's grid (:mod:`.zone_kernels`): the zones listed per cell, each zone's bounding
-        box and band (a seabed band up to the highest seabed under its box), and each cell's distance
-        (in cells) to the nearest cell that lists a zone."""
-        from scipy.ndimage import distance_transform_edt
-
-        if not self.zones:
-            object.__setattr__(self, "_grid", None)
-            return
-        b = self._bounds
-        lo, hi = b[:, :2].min(axis=0), b[:, 2:].max(axis=0)
-        span = float((hi - lo).max())
-        size = float(np.median(np.maximum(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])))
-        cell = max(min(max(2.0 * size, span / 512), span / 32), 1e-3)  # about twice a typical zone
-        lo = lo - cell
-        n = np.ceil((hi + cell - lo) / cell).astype(int)
-        nx, ny = int(n[0]), int(n[1])
-        jj, ii = np.divmod(np.arange(nx * ny), nx)
-        boxes = shapely.box(lo[0] + ii * cell, lo[1] + jj * cell, lo[0] + (ii + 1) * cell, lo[1] + (jj + 1) * cell)
-        ci, zi = self._tree.query(boxes, predicate="intersects")
-        order = np.lexsort((zi, ci))
-        ci, zi = ci[order], zi[order]
-        start = np.zeros(nx * ny + 1, dtype=np.intp)
-        np.add.at(start, ci + 1, 1)
-        start = np.cumsum(start)
-        top = self._zhi.copy()
-        sea = np.flatnonzero(np.isfinite(self._h))
-        if sea.size:  # a seabed band reaches the highest seabed under the zone's box plus its height
-            assert self.terrain is not None
-            t = self.terrain
-            x, y, z = np.asarray(t.x), np.asarray(t.y), np.asarray(t.z)
-            for k in sea:
-                x0, y0, x1, y1 = b[k]
-                i0, i1 = max(np.searchsorted(x, x0, "right") - 1, 0), min(np.searchsorted(x, x1, "left"), x.size - 1)
-                j0, j1 = max(np.searchsorted(y, y0, "right") - 1, 0), min(np.searchsorted(y, y1, "left"), y.size - 1)
-                top[k] = z[j0:j1 + 1, i0:i1 + 1].max() + self._h[k]
-        bottom = np.where(np.isfinite(self._h), -np.inf, self._zlo)
-        flagged = np.diff(start) > 0
-        reach = distance_transform_edt(~flagged.reshape(ny, nx))
-        object.__setattr__(self, "_grid", (float(lo[0]), float(lo[1]), cell, nx, ny, start, zi.astype(np.intp),
-                                           np.ascontiguousarray(b), bottom, top, np.asarray(reach, dtype=float)))
+        """The broad phase's grid (:func:`.zone_parts.rasterise`)."""
+        grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
+        object.__setattr__(self, "_grid", grid)
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
         """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.zone_kernels`);
@@ -318,39 +285,17 @@ class Zones:
             hit[flat] = out
         if seabed.any():
             idx, si = np.unique(cs[seabed], return_inverse=True)
-            traces = _traces(s[idx])
+            traces = trace_geoms(s[idx])
             meet = shapely.intersects(self._geoms[zi[seabed]], traces[si])
             sub = np.flatnonzero(seabed)[meet]
             hit[sub] = self._seabed_hits(s[cs[sub]], traces[si[meet]], zi[sub])
         return cs[hit], zi[hit]
 
-    def _flat_hits(self, seg: FloatArray, zi: IntArray) -> BoolArray:
-        """Exact test of segments ``(K, 2, 3)`` whose traces meet the footprints ``zi`` against
-        flat bands: the parameter interval inside the band, then the trace over it."""
-        za, zb = seg[:, 0, 2], seg[:, 1, 2]
-        dz = zb - za
-        zlo, zhi = self._zlo[zi], self._zhi[zi]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t1, t2 = (zlo - za) / dz, (zhi - za) / dz
-        level = dz == 0.0
-        t0 = np.where(level, 0.0, np.maximum(0.0, np.minimum(t1, t2)))
-        t1_ = np.where(level, 1.0, np.minimum(1.0, np.maximum(t1, t2)))
-        inside_band = np.where(level, (za >= zlo) & (za <= zhi), t0 <= t1_)
-        hit = np.zeros(zi.size, dtype=bool)
-        whole = inside_band & (t0 <= 0.0) & (t1_ >= 1.0)
-        hit[whole] = True  # the whole trace is in the band and it meets the footprint
-        part = inside_band & ~whole
-        if part.any():
-            a, d = seg[part, 0, :2], seg[part, 1, :2] - seg[part, 0, :2]
-            cut = np.stack([a + t0[part, None] * d, a + t1_[part, None] * d], axis=1)
-            hit[part] = shapely.intersects(self._geoms[zi[part]], _traces(cut))
-        return hit
-
     def _seabed_hits(self, seg: FloatArray, traces: np.ndarray, zi: IntArray) -> BoolArray:
         """Exact test against seabed bands: the trace clipped to the footprint, each piece's least
         altitude from the terrain's exact walk, compared with the band's height."""
         assert self.terrain is not None
-        pieces, owner = _clip(seg, traces, self._geoms[zi])
+        pieces, owner = clip_pieces(seg, traces, self._geoms[zi])
         hit = np.zeros(zi.size, dtype=bool)
         if owner.size:
             alt = self.terrain.segment_min_altitude(pieces)
@@ -397,7 +342,7 @@ class Zones:
             return out
         low = np.minimum(a[:, 2], b[:, 2])
         seg = np.stack([a, b], axis=1)
-        traces = _traces(seg)
+        traces = trace_geoms(seg)
         si, zi = self._tree.query(traces, predicate="intersects")
         seabed = np.isfinite(self._h[zi])
         flat = ~seabed
@@ -569,7 +514,7 @@ class Zones:
         if not self.zones or p.shape[0] == 0:
             return math.inf
         legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
-        samples = _samples(legs, step, max_samples)
+        samples = leg_samples(legs, step, max_samples)
         d = float(self.signed_distance(samples).min())
         if self._grid is not None and d >= 2.0 * self._grid[2]:  # far from every zone: measured exactly
             d = float(self.signed_distance(samples, exact=True).min())
@@ -598,7 +543,7 @@ class Zones:
             return []
         legs = np.stack([p[:-1], p[1:]], axis=1) if p.shape[0] > 1 else np.stack([p, p], axis=1)
         seg, zi = self.entries(legs)
-        closest = self.distances(_samples(legs, step, max_samples)).min(axis=0)
+        closest = self.distances(leg_samples(legs, step, max_samples)).min(axis=0)
         out = []
         for j, z in enumerate(self.zones):
             entered = tuple(sorted({int(s) + 1 for s in seg[zi == j]}))
@@ -634,71 +579,3 @@ class ZoneApproach:
             ``name``, ``closest_m``, ``entered_legs``.
         """
         return {"name": self.name, "closest_m": self.closest_m, "entered_legs": list(self.entered_legs)}
-
-
-def _rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
-    """Every polygon's rings as flat arrays for the compiled test: vertices ``xy (V, 2)`` (each ring
-    closed), ring offsets ``ring (R + 1,)`` into ``xy``, per zone ring offsets ``rings (Z + 1,)``."""
-    xy_parts: list[FloatArray] = []
-    ring = [0]
-    rings = [0]
-    for g in geoms:
-        for poly in shapely.get_parts(g):
-            for r in (poly.exterior, *poly.interiors):
-                c = np.asarray(r.coords, dtype=float)[:, :2]
-                xy_parts.append(c)
-                ring.append(ring[-1] + c.shape[0])
-        rings.append(len(ring) - 1)
-    xy = np.ascontiguousarray(np.concatenate(xy_parts)) if xy_parts else np.zeros((0, 2))
-    return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp)
-
-
-def _samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
-    """Points every ``step`` metres (at most ``max_samples`` per leg) along legs ``(K, 2, 3)``, ends included."""
-    length = np.linalg.norm(legs[:, 1] - legs[:, 0], axis=-1)
-    n = np.clip(np.ceil(length / step).astype(int) + 1, 2, max_samples)
-    t = np.concatenate([np.linspace(0.0, 1.0, k) for k in n])
-    leg = np.repeat(np.arange(len(legs)), n)
-    out: FloatArray = legs[leg, 0] + t[:, None] * (legs[leg, 1] - legs[leg, 0])
-    return out
-
-
-def _traces(seg: FloatArray) -> np.ndarray:
-    """The horizontal traces of segments ``(K, 2, >=2)`` as shapely geometries (a point for a
-    vertical segment)."""
-    xy = np.ascontiguousarray(seg[:, :, :2])
-    out = np.empty(xy.shape[0], dtype=object)
-    zero = np.all(xy[:, 0] == xy[:, 1], axis=-1)
-    if (~zero).any():
-        out[~zero] = shapely.linestrings(xy[~zero])
-    if zero.any():
-        out[zero] = shapely.points(xy[zero, 0])
-    return out
-
-
-def _clip(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, IntArray]:
-    """The 3D pieces of segments ``(K, 2, 3)`` over their paired footprints: ``pieces (M, 2, 3)``
-    and the pair each belongs to ``owner (M,)``."""
-    cut = shapely.intersection(traces, geoms)
-    parts, owner = shapely.get_parts(cut, return_index=True)
-    keep = ~shapely.is_empty(parts)
-    parts, owner = parts[keep], owner[keep]
-    if owner.size == 0:
-        return np.zeros((0, 2, 3)), owner.astype(np.intp)
-    xy, part = shapely.get_coordinates(parts, return_index=True)
-    o = owner[part]
-    a, d = seg[o, 0, :2], seg[o, 1, :2] - seg[o, 0, :2]
-    dd = np.einsum("ij,ij->i", d, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dd > 0, np.einsum("ij,ij->i", xy - a, d) / dd, 0.0)
-    t = np.clip(t, 0.0, 1.0)
-    n = parts.size
-    tmin = np.full(n, np.inf)
-    tmax = np.full(n, -np.inf)
-    np.minimum.at(tmin, part, t)
-    np.maximum.at(tmax, part, t)
-    sa, sb = seg[owner, 0], seg[owner, 1]
-    vertical = np.all(sa[:, :2] == sb[:, :2], axis=-1)
-    tmin[vertical], tmax[vertical] = 0.0, 1.0  # a vertical segment over the footprint: all of it
-    pieces = np.stack([sa + tmin[:, None] * (sb - sa), sa + tmax[:, None] * (sb - sa)], axis=1)
-    return pieces, owner.astype(np.intp)
