@@ -42,9 +42,34 @@ def _meets_box(ax: float, ay: float, dx: float, dy: float, x0: float, y0: float,
 def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int, start: IntArray,
                       ids: IntArray, box: FloatArray, zlo: FloatArray, zhi: FloatArray, mark: IntArray,
                       pairs: IntArray, capacity: int) -> int:
-    """The (segment, zone) candidate pairs of segments ``seg (N, 2, 3)`` (see the module notes), each
-    pair once, written into ``pairs (2, capacity)`` while they fit; ``mark (Z,)`` is scratch (filled
-    with -1 by the caller).  Returns the number of pairs (more than ``capacity``: call again)."""
+    """The (segment, zone) candidate pairs of segments (see the module notes), each pair once.
+
+    Parameters
+    ----------
+    seg : numpy.ndarray
+        Segments ``(N, 2, 3)`` (m).
+    x0, y0, cell : float
+        The grid's corner and cell size (m).
+    nx, ny : int
+        Cells along x and y.
+    start, ids : numpy.ndarray of int
+        Compressed rows: the zones of cell ``c`` (``j * nx + i``) are ``ids[start[c]:start[c + 1]]``.
+    box : numpy.ndarray
+        The zones' bounding boxes ``(Z, 4)`` (m).
+    zlo, zhi : numpy.ndarray
+        The zones' bands ``(Z,)`` (z up, m).
+    mark : numpy.ndarray of int
+        Scratch ``(Z,)``, filled with -1 by the caller.
+    pairs : numpy.ndarray of int
+        Output ``(2, capacity)``: segment and zone of each pair, while they fit.
+    capacity : int
+        Columns of ``pairs``.
+
+    Returns
+    -------
+    int
+        The number of pairs (more than ``capacity``: call again with room for them).
+    """
     m = 0
     for n in range(seg.shape[0]):
         ax, ay, az = seg[n, 0, 0], seg[n, 0, 1], seg[n, 0, 2]

@@ -72,8 +72,22 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
 
 
 def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
-    """Every polygon's rings as flat arrays for the compiled test: vertices ``xy (V, 2)`` (each ring
-    closed), ring offsets ``ring (R + 1,)`` into ``xy``, per zone ring offsets ``rings (Z + 1,)``."""
+    """Every polygon's rings as flat arrays for the compiled test.
+
+    Parameters
+    ----------
+    geoms : numpy.ndarray of shapely geometries
+        Polygons or multipolygons ``(Z,)``.
+
+    Returns
+    -------
+    xy : numpy.ndarray
+        Vertices ``(V, 2)``, each ring closed.
+    ring : numpy.ndarray of int
+        Ring offsets ``(R + 1,)`` into ``xy``.
+    rings : numpy.ndarray of int
+        Per polygon ring offsets ``(Z + 1,)`` into ``ring``.
+    """
     xy_parts: list[FloatArray] = []
     ring = [0]
     rings = [0]
@@ -89,7 +103,22 @@ def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
 
 
 def samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
-    """Points every ``step`` metres (at most ``max_samples`` per leg) along legs ``(K, 2, 3)``, ends included."""
+    """Points along legs, ends included.
+
+    Parameters
+    ----------
+    legs : numpy.ndarray
+        ``(K, 2, 3)`` (m).
+    step : float
+        Spacing (m).
+    max_samples : int
+        Most points per leg.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 3)`` (m).
+    """
     length = np.linalg.norm(legs[:, 1] - legs[:, 0], axis=-1)
     n = np.clip(np.ceil(length / step).astype(int) + 1, 2, max_samples)
     t = np.concatenate([np.linspace(0.0, 1.0, k) for k in n])
@@ -99,8 +128,18 @@ def samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
 
 
 def traces(seg: FloatArray) -> np.ndarray:
-    """The horizontal traces of segments ``(K, 2, >=2)`` as shapely geometries (a point for a
-    vertical segment)."""
+    """The horizontal traces of segments as shapely geometries.
+
+    Parameters
+    ----------
+    seg : numpy.ndarray
+        Segments ``(K, 2, >=2)`` (m).
+
+    Returns
+    -------
+    numpy.ndarray of shapely geometries
+        ``(K,)`` line strings (a point for a vertical segment).
+    """
     xy = np.ascontiguousarray(seg[:, :, :2])
     out = np.empty(xy.shape[0], dtype=object)
     zero = np.all(xy[:, 0] == xy[:, 1], axis=-1)
@@ -112,8 +151,24 @@ def traces(seg: FloatArray) -> np.ndarray:
 
 
 def clip_pieces(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, IntArray]:
-    """The 3D pieces of segments ``(K, 2, 3)`` over their paired footprints: ``pieces (M, 2, 3)``
-    and the pair each belongs to ``owner (M,)``."""
+    """The 3D pieces of segments over their paired footprints.
+
+    Parameters
+    ----------
+    seg : numpy.ndarray
+        Segments ``(K, 2, 3)`` (m).
+    traces : numpy.ndarray of shapely geometries
+        Their horizontal traces ``(K,)`` (:func:`traces`).
+    geoms : numpy.ndarray of shapely geometries
+        The footprint paired with each ``(K,)``.
+
+    Returns
+    -------
+    pieces : numpy.ndarray
+        ``(M, 2, 3)`` straight sub-segments over the footprints (m).
+    owner : numpy.ndarray of int
+        ``(M,)`` the pair each piece belongs to.
+    """
     cut = shapely.intersection(traces, geoms)
     parts, owner = shapely.get_parts(cut, return_index=True)
     keep = ~shapely.is_empty(parts)
