@@ -184,7 +184,7 @@ def test_a_plan_through_a_zone_is_never_feasible_and_names_zone_and_leg():
     from auvplan.planners.base import PlanResult
     from auvplan.planners.common import plan_terms
 
-    @register("straight_zoned", iterative=False, description="a straight line (test)", zones=True)
+    @register("straight_zoned", iterative=False, description="a straight line (test)", capabilities=("zones",))
     def straight(problem, spec, rng=None, progress=None):
         path = np.array([problem.start, 0.5 * (problem.start + problem.goal), problem.goal])
         return PlanResult(Status.EXACT, path, 1.0, {}, 1, 1, 0.0, np.zeros(1), "straight_zoned")

@@ -24,7 +24,7 @@ def refuse_unless_zones(problem: PlanningProblem, entry: PlannerEntry) -> None:
     problem : PlanningProblem
         Its world's zones.
     entry : PlannerEntry
-        The planner (its ``zones`` flag).
+        The planner (its ``"zones"`` capability).
 
     Raises
     ------
@@ -32,7 +32,7 @@ def refuse_unless_zones(problem: PlanningProblem, entry: PlannerEntry) -> None:
         If the world has zones and the planner does not keep out of them.
     """
     zones = problem.world.zones
-    if zones and not entry.zones:
+    if zones and "zones" not in entry.capabilities:
         raise ScenarioError(f"planner {entry.name!r} cannot keep out of the scenario's {len(zones)} [[zones]] "
                             f"(first: {zones.names[0]!r}); choose iabc, abc, ga, pso, de, grid or timeopt")
 
