@@ -11,7 +11,7 @@ import numpy as np
 from .._types import Status
 from ..errors import ScenarioError
 from .base import PlanningProblem, PlanResult
-from .registry import PlannerEntry
+from .registry import REGISTRY, PlannerEntry
 
 __all__ = ["refuse_unless_zones", "zone_entries", "hold_to_zones"]
 
@@ -33,8 +33,9 @@ def refuse_unless_zones(problem: PlanningProblem, entry: PlannerEntry) -> None:
     """
     zones = problem.world.zones
     if zones and "zones" not in entry.capabilities:
+        able = ", ".join(n for n, e in REGISTRY.items() if "zones" in e.capabilities)
         raise ScenarioError(f"planner {entry.name!r} cannot keep out of the scenario's {len(zones)} [[zones]] "
-                            f"(first: {zones.names[0]!r}); choose iabc, abc, ga, pso, de, grid or timeopt")
+                            f"(first: {zones.names[0]!r}); choose one of {able}")
 
 
 def zone_entries(problem: PlanningProblem, path: np.ndarray) -> list[tuple[int, str]]:
