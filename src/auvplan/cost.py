@@ -448,11 +448,18 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         other_slack, other_clear = _obstacle_slack(world, a, b)
     else:
         other_slack = other_clear = np.empty((0, 0))
+    if world.zones:  # the exact segment-vs-prism test; a violation as deep as the trace inside a zone
+        inside = world.zones.inside_lengths(np.stack([a, b], axis=-2))
+        zone_slack = np.where(inside > 0.0, -inside, np.inf)
+        if world.obstacles:
+            other_slack = np.minimum(other_slack, zone_slack)
+        else:
+            other_slack, other_clear = zone_slack, np.full(zone_slack.shape, np.inf)
     m, bd = world.margins, world.bounds
     terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
     cell_max = world.terrain.cell_max if world.terrain is not None else terrain[0][..., 0]
     out = np.empty((7, p.shape[0]))
-    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, cell_max,
+    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles) or bool(world.zones), terrain, cell_max,
                 world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,

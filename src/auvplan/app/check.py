@@ -1,5 +1,6 @@
 """``mission check`` as a job: exported mission files re-flown under their format's depth semantics against a
-scenario's seabed, obstacles, surface, depth band and bounds, and held to the vehicle's limits and energy."""
+scenario's seabed, obstacles, surface, depth band and bounds, held to the vehicle's limits and energy, and
+measured against its charted no-go zones."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ if TYPE_CHECKING:
     from ..guidance.mission.waypoints import MissionCheck
     from ..io.scenario.specs import Scenario
     from ..path.flyable import LimitReport
+    from ..world.zones import ZoneApproach
 
 __all__ = ["FileCheck", "check_missions"]
 
@@ -33,6 +35,8 @@ class FileCheck:
         Datum, envelope, payload events and altitude legs, one line (issue 51).
     ok : bool
         Whether every check passed.
+    zones : tuple of ZoneApproach
+        The closest approach to each charted zone and the legs entering it (empty without zones).
     """
 
     record: dict[str, Any]
@@ -41,6 +45,7 @@ class FileCheck:
     energy_line: str
     deploy_line: str
     ok: bool
+    zones: tuple[ZoneApproach, ...] = ()
 
 
 def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
@@ -88,6 +93,11 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
                "deploy": deploy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
+        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test)
+        zones = world.zones.exact.approach(points[1:] if fmt == "qgc" else points) if world.zones else []
+        if zones:
+            rec["zones"] = [z.as_dict() for z in zones]
+        zones_ok = not any(z.entered_legs for z in zones)
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
-                             check.ok and vlimits.ok and energy_ok and deploy["ok"]))
+                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok, tuple(zones)))
     return sc, out

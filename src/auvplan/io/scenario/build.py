@@ -27,6 +27,7 @@ from ..data.coast import read_land
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
+from ..data.zones import read_zones
 from .currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
@@ -195,6 +196,10 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
         except DataError as exc:
             raise DataError(f"{src}: [land] {exc}") from exc
+    zones = None
+    if s.zones:
+        zones = read_zones(s.zones, frame, terrain, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax),
+                           base_dir=s.base_dir)
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     rating = s.vehicle.max_depth_m  # the vehicle's depth rating clips the mission's depth band
@@ -213,6 +218,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             origin=(s.origin.lat, s.origin.lon) if s.origin else None,
             name=s.name,
             land=land,
+            zones=zones,
         )
     except DataError as exc:
         raise DataError(f"{src}: {exc}") from exc

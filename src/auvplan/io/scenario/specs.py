@@ -22,6 +22,7 @@ from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
 from ..data.ocean.currents import CurrentsFileSpec, parse_time
+from ..data.zones import ZoneSpec
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec
@@ -340,6 +341,8 @@ class Scenario:
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
+    zones : tuple of ZoneSpec
+        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
     """
 
     name: str
@@ -367,6 +370,7 @@ class Scenario:
     geo: GeoInput | None = None
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     survey: SurveySpec | None = None
+    zones: tuple[ZoneSpec, ...] = ()
 
 
 SECTIONS: dict[str, type] = {

@@ -152,7 +152,7 @@ def build_lattice(world: World, lower: ArrayLike, upper: ArrayLike, cell: float,
     slack = world.clearances(xyz, moving=False)
     free = np.minimum.reduce(list(slack.values())) >= 0.0
     alt = (slack["altitude"] + world.margins.min_altitude).reshape(shape)
-    obs = slack["obstacles"].reshape(shape)
+    obs = np.minimum(slack["obstacles"], slack["zones"]).reshape(shape)  # both lower-bound a distance
     return Lattice(origin, step, shape, free, _legs(world, xyz, free.reshape(shape), alt, obs, step))
 
 
