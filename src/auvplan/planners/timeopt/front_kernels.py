@@ -1,0 +1,199 @@
+"""Compiled loops of the reachable-set front (:mod:`.front`) and of Zermelo's heading equation (:mod:`.zermelo`).
+
+The horizontal current table ``cur (nt, nx, ny, 2)`` holds the field on the front's grid (origin
+``(ox, oy)``, spacing ``h``) every ``dt`` seconds from ``t0``; lookups are bilinear in space and
+linear in time, clamped at the ends.  Headings are mathematical angles here (counter-clockwise from
+east): the vehicle's velocity over ground is ``c + V (cos θ, sin θ)``.
+
+Front step (semi-Lagrangian dynamic programming on the reachable set's level-set function, Falcone
+and Ferretti 2014, ch. 8): with ``R(t) = {φ(·, t) ≤ 0}``,
+
+    φ(x, t + Δt) = max( min_θ φ(x − Δt (c_m + V ĥ_θ), t),  g(x) )
+
+where ``c_m`` is the current at the step's midpoint (time ``t + Δt/2``, position half a step back)
+and ``g`` the obstacle function (positive in land).  ``K`` headings are tried, then one more at the
+vertex of the parabola through the best and its two neighbours; every value taken is that of a
+heading the vehicle can fly, so the front never runs ahead of the set it approximates by more than
+the interpolation's error.  A foot outside the grid is not reached.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..._jit import kernel
+from ..._types import BoolArray, FloatArray
+from .kernels import Float32Array
+
+__all__ = ["CAP", "bilinear", "cubic", "current2", "mid_current", "best_heading", "front_step", "shoot"]
+
+
+@kernel
+def bilinear(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -> float:
+    """Bilinear value of a node field ``f (nx, ny)`` at ``(x, y)``; ``inf`` outside the grid."""
+    nx, ny = f.shape[0], f.shape[1]
+    fx = (x - ox) / h
+    fy = (y - oy) / h
+    if not (fx >= 0.0 and fy >= 0.0 and fx <= nx - 1 and fy <= ny - 1):
+        return math.inf
+    i = min(int(fx), nx - 2)
+    j = min(int(fy), ny - 2)
+    a, b = fx - i, fy - j
+    return float((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1]) + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
+
+
+#: φ is kept within ``±CAP`` cells of the front (module notes of :func:`front_step`).
+CAP = 4.0
+
+
+@kernel
+def _cr(p0: float, p1: float, p2: float, p3: float, a: float) -> float:
+    """Catmull-Rom cubic through four equally spaced values at fraction ``a`` between the middle two."""
+    return float(p1 + 0.5 * a * (p2 - p0 + a * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + a * (3.0 * (p1 - p2) + p3 - p0))))
+
+
+@kernel
+def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -> float:
+    """Bicubic (Catmull-Rom) value of a node field ``f (nx, ny)`` at ``(x, y)`` (bilinear in the outer
+    cells); ``inf`` outside the grid."""
+    nx, ny = f.shape[0], f.shape[1]
+    fx = (x - ox) / h
+    fy = (y - oy) / h
+    if not (fx >= 0.0 and fy >= 0.0 and fx <= nx - 1 and fy <= ny - 1):
+        return math.inf
+    i = min(int(fx), nx - 2)
+    j = min(int(fy), ny - 2)
+    if i < 1 or j < 1 or i > nx - 3 or j > ny - 3:
+        return bilinear(f, ox, oy, h, x, y)
+    a, b = fx - i, fy - j
+    r0 = _cr(f[i - 1, j - 1], f[i, j - 1], f[i + 1, j - 1], f[i + 2, j - 1], a)
+    r1 = _cr(f[i - 1, j], f[i, j], f[i + 1, j], f[i + 2, j], a)
+    r2 = _cr(f[i - 1, j + 1], f[i, j + 1], f[i + 1, j + 1], f[i + 2, j + 1], a)
+    r3 = _cr(f[i - 1, j + 2], f[i, j + 2], f[i + 1, j + 2], f[i + 2, j + 2], a)
+    return _cr(r0, r1, r2, r3, b)
+
+
+@kernel
+def current2(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x: float, y: float,
+             t: float) -> tuple[float, float]:
+    """Horizontal current ``(u, v)`` (m/s) at a point and time from the table (clamped at its edges)."""
+    nt, nx, ny = cur.shape[0], cur.shape[1], cur.shape[2]
+    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(t)):
+        return math.nan, math.nan
+    ft = min(max((t - t0) / dt, 0.0), nt - 1.0)
+    fx = min(max((x - ox) / h, 0.0), nx - 1.0)
+    fy = min(max((y - oy) / h, 0.0), ny - 1.0)
+    k = min(int(ft), max(nt - 2, 0))
+    i = min(int(fx), nx - 2)
+    j = min(int(fy), ny - 2)
+    c, a, b = ft - k, fx - i, fy - j
+    u = v = 0.0
+    for dk in range(2):
+        wk = c if dk else 1.0 - c
+        if wk == 0.0 or k + dk >= nt:
+            continue
+        for di in range(2):
+            wi = wk * (a if di else 1.0 - a)
+            for dj in range(2):
+                w = wi * (b if dj else 1.0 - b)
+                u += w * cur[k + dk, i + di, j + dj, 0]
+                v += w * cur[k + dk, i + di, j + dj, 1]
+    return u, v
+
+
+@kernel
+def _foot_value(phi: Float32Array, ox: float, oy: float, h: float, x: float, y: float, cu: float, cv: float,
+                step: float, speed: float, th: float) -> float:
+    """φ at the foot of the characteristic that ends at ``(x, y)`` flying heading ``th`` for ``step`` s
+    in the current ``(cu, cv)``."""
+    return cubic(phi, ox, oy, h, x - step * (cu + speed * math.cos(th)), y - step * (cv + speed * math.sin(th)))
+
+
+@kernel
+def mid_current(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x: float, y: float,
+                t_mid: float, step: float) -> tuple[float, float]:
+    """The current of a step that ends at ``(x, y)``: at mid-step, half the drift back (the same for
+    every heading: exact in a current uniform in space, first order in its gradient)."""
+    u, v = current2(cur, ox, oy, h, t0, dt, x, y, t_mid)
+    return current2(cur, ox, oy, h, t0, dt, x - 0.5 * step * u, y - 0.5 * step * v, t_mid)
+
+
+@kernel
+def best_heading(phi: Float32Array, ox: float, oy: float, h: float, x: float, y: float, cu: float, cv: float,
+                 step: float, speed: float, k: int) -> tuple[float, float]:
+    """The least foot value over ``k`` headings and the parabola's vertex: ``(value, heading)``."""
+    best, kb = math.inf, -1
+    d = 2.0 * math.pi / k
+    for m in range(k):
+        val = _foot_value(phi, ox, oy, h, x, y, cu, cv, step, speed, m * d)
+        if val < best:
+            best, kb = val, m
+    if kb < 0:
+        return math.inf, 0.0
+    th = kb * d
+    lo = _foot_value(phi, ox, oy, h, x, y, cu, cv, step, speed, th - d)
+    hi = _foot_value(phi, ox, oy, h, x, y, cu, cv, step, speed, th + d)
+    curv = lo - 2.0 * best + hi
+    if math.isfinite(lo) and math.isfinite(hi) and curv > 0.0:
+        tv = th + 0.5 * d * (lo - hi) / curv
+        val = _foot_value(phi, ox, oy, h, x, y, cu, cv, step, speed, tv)
+        if val < best:
+            return val, tv
+    return best, th
+
+
+@kernel
+def front_step(phi: Float32Array, out: Float32Array, g: Float32Array, active: BoolArray, cur: Float32Array, ox: float,
+               oy: float, h: float, t0: float, dt: float, t_mid: float, step: float, speed: float, k: int) -> None:
+    """One step of the front (module notes): ``out`` receives φ at ``t + step`` from ``phi`` at ``t``
+    (clamped to ``±CAP h``: only the values near the front matter, and a bounded field keeps the
+    cubic interpolation's overshoot small; a foot outside the grid takes ``+CAP h``)."""
+    nx, ny = phi.shape[0], phi.shape[1]
+    cap = CAP * h
+    for i in range(nx):
+        for j in range(ny):
+            if g[i, j] > 0.0 or not active[i, j]:
+                out[i, j] = min(g[i, j], cap) if g[i, j] > 0.0 else phi[i, j]
+                continue
+            x, y = ox + i * h, oy + j * h
+            cu, cv = mid_current(cur, ox, oy, h, t0, dt, x, y, t_mid, step)
+            val = best_heading(phi, ox, oy, h, x, y, cu, cv, step, speed, k)[0]
+            out[i, j] = min(max(val, g[i, j], -cap), cap)
+
+
+@kernel
+def _zermelo_rhs(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x: float, y: float,
+                 th: float, t: float, speed: float) -> tuple[float, float, float]:
+    """``(ẋ, ẏ, θ̇)`` of Zermelo's navigation problem (gradients by central differences over a cell)."""
+    u, v = current2(cur, ox, oy, h, t0, dt, x, y, t)
+    e = 0.5 * h
+    ue, ve = current2(cur, ox, oy, h, t0, dt, x + e, y, t)
+    uw, vw = current2(cur, ox, oy, h, t0, dt, x - e, y, t)
+    un, vn = current2(cur, ox, oy, h, t0, dt, x, y + e, t)
+    us, vs = current2(cur, ox, oy, h, t0, dt, x, y - e, t)
+    ux, vx = (ue - uw) / (2 * e), (ve - vw) / (2 * e)
+    uy, vy = (un - us) / (2 * e), (vn - vs) / (2 * e)
+    s, c = math.sin(th), math.cos(th)
+    dth = s * s * vx + s * c * (ux - vy) - c * c * uy
+    return u + speed * c, v + speed * s, dth
+
+
+@kernel
+def shoot(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x0: float, y0: float,
+          th0: float, t_start: float, step: float, speed: float, out: FloatArray) -> None:
+    """Integrate ``(x, y, θ)`` by RK4 from ``t_start`` in steps of ``step`` s into ``out (n, 3)``."""
+    x, y, th, t = x0, y0, th0, t_start
+    out[0, 0], out[0, 1], out[0, 2] = x, y, th
+    for n in range(1, out.shape[0]):
+        k1 = _zermelo_rhs(cur, ox, oy, h, t0, dt, x, y, th, t, speed)
+        k2 = _zermelo_rhs(cur, ox, oy, h, t0, dt, x + 0.5 * step * k1[0], y + 0.5 * step * k1[1],
+                          th + 0.5 * step * k1[2], t + 0.5 * step, speed)
+        k3 = _zermelo_rhs(cur, ox, oy, h, t0, dt, x + 0.5 * step * k2[0], y + 0.5 * step * k2[1],
+                          th + 0.5 * step * k2[2], t + 0.5 * step, speed)
+        k4 = _zermelo_rhs(cur, ox, oy, h, t0, dt, x + step * k3[0], y + step * k3[1], th + step * k3[2], t + step,
+                          speed)
+        x += step * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0]) / 6.0
+        y += step * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1]) / 6.0
+        th += step * (k1[2] + 2 * k2[2] + 2 * k3[2] + k4[2]) / 6.0
+        t += step
+        out[n, 0], out[n, 1], out[n, 2] = x, y, th
