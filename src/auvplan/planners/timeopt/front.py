@@ -6,8 +6,10 @@ dynamic flows using level set equations", on a dynamic-programming grid scheme):
 1. **Grid.**  A horizontal grid of spacing ``h`` over the search box at the mission's depth (the
    start's; where the goal is at another depth, the path changes depth linearly along its length and
    a node must be free at both depths and half-way).  ``g`` is the obstacle function: the signed
-   distance to the blocked nodes' boundary, put half-way between a free and a blocked node
-   (positive in the seabed and the obstacles).  The current is tabulated on the grid every ``dt``.
+   distance to the blocked nodes
+   (positive in the seabed and the obstacles), half-way between a free and a blocked node; where
+   two blocked nodes touch only diagonally one of the two free nodes beside them is blocked too
+   (:func:`_sealed`: the bilinear g would let the front through between them).  The current is tabulated on the grid every ``dt``.
 2. **Front.**  The reachable set at time t is ``R(t) = {φ(·, t) ≤ 0}``; it starts as the disc of
    radius ``V τ`` about ``start + c τ`` one step after the departure and advances by the
    semi-Lagrangian step of :func:`.front_kernels.front_step` (steps of a cell's flight at ``V + U``),
@@ -30,6 +32,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 
 from ..._types import ArrayLike, BoolArray, FloatArray
@@ -42,7 +45,7 @@ __all__ = ["FrontGrid", "Front", "build_grid", "propagate", "backtrack"]
 
 @dataclass(frozen=True, eq=False)
 class FrontGrid:
-    """The horizontal grid, its obstacle function and current table.
+    """The horizontal grid, its obstacle functions and current table.
 
     Attributes
     ----------
@@ -51,25 +54,32 @@ class FrontGrid:
     h : float
         Node spacing (m).
     free : numpy.ndarray of bool
-        ``(nx, ny)`` free nodes.
+        ``(L, nx, ny)`` free nodes at each depth the flight uses.
     g : numpy.ndarray
-        ``(nx, ny)`` obstacle function (m; > 0 blocked), float32.
+        ``(L, nx, ny)`` obstacle function at each of those depths (m; > 0 blocked), float32.
+    level : numpy.ndarray of int
+        ``(nt,)`` which depth each table slice's time is flown at.
     cur : numpy.ndarray
-        ``(nt, nx, ny, 2)`` horizontal current (m/s), float32.
+        ``(nt, nx, ny, 2)`` horizontal current (m/s) at the depth of each slice's time, float32.
     t0, dt : float
         First time and time step of the table (s).
     z : tuple of float
         Depth of the start and of the goal (m, z up).
+    schedule : tuple of numpy.ndarray, optional
+        ``(times, z)``: the depth flown against time (the lattice plan's); None: the depth goes
+        linearly in arc length from the start's to the goal's.
     """
 
     origin: FloatArray
     h: float
     free: BoolArray
     g: Float32Array
+    level: npt.NDArray[np.int64]
     cur: Float32Array
     t0: float
     dt: float
     z: tuple[float, float]
+    schedule: tuple[FloatArray, FloatArray] | None = None
 
     @property
     def t1(self) -> float:
@@ -80,7 +90,7 @@ class FrontGrid:
         float
             ``t0 + dt (nt - 1)``.
         """
-        return self.t0 + self.dt * (self.cur.shape[0] - 1)
+        return float(self.t0 + self.dt * (self.cur.shape[0] - 1))
 
     def table_args(self) -> tuple[Float32Array, float, float, float, float, float]:
         """The kernels' leading table arguments.
@@ -92,10 +102,54 @@ class FrontGrid:
         """
         return self.cur, float(self.origin[0]), float(self.origin[1]), self.h, self.t0, self.dt
 
+    def g_at(self, t: float) -> Float32Array:
+        """The obstacle function at the depth flown at time ``t``.
+
+        Parameters
+        ----------
+        t : float
+            Time (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(nx, ny)``.
+        """
+        k = int(min(max(round((t - self.t0) / self.dt), 0), self.level.size - 1))
+        out: Float32Array = self.g[self.level[k]]
+        return out
+
+    def depth(self, t: ArrayLike) -> FloatArray:
+        """Depth flown at times (the schedule's; None: the start's).
+
+        Parameters
+        ----------
+        t : array_like
+            Times (s).
+
+        Returns
+        -------
+        numpy.ndarray
+            z (m).
+        """
+        if self.schedule is None:
+            return np.full(np.shape(t), self.z[0])
+        return np.asarray(np.interp(t, self.schedule[0], self.schedule[1]), dtype=float)
+
+
+def _obstacle(free: BoolArray, h: float) -> Float32Array:
+    """Signed distance to the blocked nodes (m; module notes, 1)."""
+    free = _sealed(free)
+    if free.all():
+        return np.full(free.shape, -1e9, dtype=np.float32)
+    inside = ndimage.distance_transform_edt(~free)
+    outside = ndimage.distance_transform_edt(free)
+    return np.asarray(np.where(free, 0.5 - outside, inside - 0.5) * h, dtype=np.float32)
+
 
 def build_grid(world: World, lower: ArrayLike, upper: ArrayLike, h: float, z: tuple[float, float], t0: float,
-               t1: float, dt: float) -> FrontGrid:
-    """Grid, obstacle function and current table over a horizontal box (module notes, 1).
+               t1: float, dt: float, schedule: tuple[FloatArray, FloatArray] | None = None) -> FrontGrid:
+    """Grid, obstacle functions and current table over a horizontal box (module notes, 1).
 
     Parameters
     ----------
@@ -111,6 +165,9 @@ def build_grid(world: World, lower: ArrayLike, upper: ArrayLike, h: float, z: tu
         Times the table covers (s).
     dt : float
         Time step of the table (s).
+    schedule : tuple of numpy.ndarray, optional
+        ``(times, z)``: fly depth ``z(t)`` (each table slice at its depth, rounded to the metre);
+        default one depth (module notes, 1).
 
     Returns
     -------
@@ -121,19 +178,44 @@ def build_grid(world: World, lower: ArrayLike, upper: ArrayLike, h: float, z: tu
     n = np.maximum(np.floor((hi - lo) / h + 1e-9).astype(int) + 1, 2)
     xs, ys = lo[0] + h * np.arange(n[0]), lo[1] + h * np.arange(n[1])
     xx, yy = np.meshgrid(xs, ys, indexing="ij")
-    free = np.ones(xx.shape, dtype=bool)
-    for zz in sorted({z[0], 0.5 * (z[0] + z[1]), z[1]}):
-        pts = np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, zz)], axis=1)
-        free &= world.is_free(pts, moving=False).reshape(xx.shape)
-    inside = ndimage.distance_transform_edt(~free) if (~free).any() else np.zeros(free.shape)
-    outside = ndimage.distance_transform_edt(free) if (~free).any() else np.full(free.shape, 1e9)
-    g = np.where(free, 0.5 - outside, inside - 0.5) * h
     nt = max(int(math.ceil((t1 - t0) / dt)), 1) + 1
-    mid = np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, 0.5 * (z[0] + z[1]))], axis=1)
-    cur = world.currents.sample(mid, t0 + dt * np.arange(nt))[..., :2].astype(np.float32)
-    return FrontGrid(lo, float(h), free, np.ascontiguousarray(g, dtype=np.float32),
-                     np.ascontiguousarray(cur.reshape(nt, n[0], n[1], 2)), float(t0), float(dt),
-                     (float(z[0]), float(z[1])))
+    times = t0 + dt * np.arange(nt)
+
+    def free_at(depths: list[float]) -> BoolArray:
+        ok = np.ones(xx.shape, dtype=bool)
+        for zz in depths:
+            ok &= world.is_free(np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, zz)], axis=1),
+                                moving=False).reshape(xx.shape)
+        return ok
+
+    if schedule is None:
+        frees = [free_at(sorted({z[0], 0.5 * (z[0] + z[1]), z[1]}))]
+        level = np.zeros(nt, dtype=np.int64)
+        mid = np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, 0.5 * (z[0] + z[1]))], axis=1)
+        cur = world.currents.sample(mid, times)[..., :2]
+    else:
+        zt = np.round(np.interp(times, schedule[0], schedule[1]))
+        depths, level = np.unique(zt, return_inverse=True)
+        frees = [free_at([float(d)]) for d in depths]
+        cur = np.stack([world.currents.velocity(np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, zt[k])], axis=1),
+                                                float(times[k]))[:, :2] for k in range(nt)])
+    return FrontGrid(lo, float(h), np.stack(frees), np.stack([_obstacle(f, h) for f in frees]),
+                     np.asarray(level, dtype=np.int64), np.ascontiguousarray(cur.reshape(nt, n[0], n[1], 2),
+                                                                             dtype=np.float32),
+                     float(t0), float(dt), (float(z[0]), float(z[1])), schedule)
+
+
+def _sealed(free: BoolArray) -> BoolArray:
+    """``free`` with every diagonal-only contact of blocked nodes closed (module notes, 1)."""
+    free = free.copy()
+    while True:
+        b = ~free
+        d1 = b[:-1, :-1] & b[1:, 1:] & free[1:, :-1] & free[:-1, 1:]
+        d2 = b[1:, :-1] & b[:-1, 1:] & free[:-1, :-1] & free[1:, 1:]
+        if not (d1.any() or d2.any()):
+            return free
+        free[1:, :-1] &= ~d1
+        free[:-1, :-1] &= ~d2
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,6 +236,8 @@ class Front:
         Headings tried per node and step.
     reason : str
         Why the goal was not reached (empty when it was).
+    exhausted : bool
+        The goal was not reached before the table's end (a longer table may reach it).
     """
 
     phi: Float32Array
@@ -162,6 +246,7 @@ class Front:
     step: float
     headings: int
     reason: str
+    exhausted: bool = False
 
 
 def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float, speed: float,
@@ -193,13 +278,14 @@ def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float,
     step = grid.h / (speed + umax)
     t_end = grid.t1 if t_end is None else min(t_end, grid.t1)
     cur, ox, oy, h, t0, dt = grid.table_args()
-    xs, ys = ox + h * np.arange(grid.g.shape[0]), oy + h * np.arange(grid.g.shape[1])
+    xs, ys = ox + h * np.arange(grid.g.shape[1]), oy + h * np.arange(grid.g.shape[2])
     cap, reach = (CAP - 1e-3) * h, 3  # nodes farther than 3 cells from the front keep their value
     tau = max(step, 2.0 * h / speed)  # the first front: a disc two cells wide (the current's drift over it)
     c0 = np.array(_current(grid, s, depart + 0.5 * tau))
     centre = s + tau * c0
     disc = np.hypot(xs[:, None] - centre[0], ys[None, :] - centre[1]) - speed * tau
-    phis = [np.clip(np.maximum(disc, grid.g), -CAP * h, CAP * h).astype(np.float32)]
+    g0 = grid.g_at(depart + tau)
+    phis = [np.where(g0 > 0.0, CAP * h, np.clip(np.maximum(disc, g0), -CAP * h, CAP * h)).astype(np.float32)]
     times = [depart + tau]
     arrival, reason = math.inf, ""
     if cubic(phis[0], ox, oy, h, q[0], q[1]) <= 0.0:
@@ -207,7 +293,8 @@ def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float,
     while not math.isfinite(arrival) and times[-1] + step <= t_end:
         out = np.empty_like(phis[-1])
         active = ndimage.binary_dilation(np.abs(phis[-1]) < cap, iterations=reach)
-        front_step(phis[-1], out, grid.g, active, cur, ox, oy, h, t0, dt, times[-1] + 0.5 * step, step, speed, headings)
+        front_step(phis[-1], out, grid.g_at(times[-1] + step), active, cur, ox, oy, h, t0, dt, times[-1] + 0.5 * step, step, speed,
+                   *_trig(headings))
         a, b = cubic(phis[-1], ox, oy, h, q[0], q[1]), cubic(out, ox, oy, h, q[0], q[1])
         phis.append(out)
         times.append(times[-1] + step)
@@ -220,7 +307,13 @@ def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float,
     if not math.isfinite(arrival) and not reason:
         reason = (f"the goal is not in the reachable set within {times[-1] - depart:.0f} s of the departure "
                   "(the current table's end)")
-    return Front(np.stack(phis), np.array(times), arrival, step, headings, reason)
+    exhausted = not math.isfinite(arrival) and reason.endswith("(the current table's end)")
+    return Front(np.stack(phis), np.array(times), arrival, step, headings, reason, exhausted)
+
+
+def _trig(k: int) -> tuple[FloatArray, FloatArray]:
+    a = 2.0 * np.pi * np.arange(k) / k
+    return np.cos(a), np.sin(a)
 
 
 def _current(grid: FrontGrid, p: FloatArray, t: float) -> tuple[float, float]:
@@ -262,7 +355,7 @@ def backtrack(grid: FrontGrid, front: Front, start: ArrayLike, goal: ArrayLike, 
         step = t - front.times[k]
         if step > 1e-9:
             cu, cv = mid_current(cur, ox, oy, h, t0, dt, x[0], x[1], t - 0.5 * step, step)
-            _, th = best_heading(front.phi[k], ox, oy, h, x[0], x[1], cu, cv, step, speed, front.headings)
+            _, th = best_heading(front.phi[k], ox, oy, h, x[0], x[1], cu, cv, step, speed, *_trig(front.headings))
             x = x - step * np.array([cu + speed * math.cos(th), cv + speed * math.sin(th)])
             t = float(front.times[k])
             pts.append(x.copy())

@@ -11,7 +11,7 @@ and Ferretti 2014, ch. 8): with ``R(t) = {φ(·, t) ≤ 0}``,
     φ(x, t + Δt) = max( min_θ φ(x − Δt (c_m + V ĥ_θ), t),  g(x) )
 
 where ``c_m`` is the current at the step's midpoint (time ``t + Δt/2``, position half a step back)
-and ``g`` the obstacle function (positive in land).  ``K`` headings are tried, then one more at the
+and ``g`` the obstacle function (positive in land, where φ is held at its cap).  ``K`` headings are tried, then one more at the
 vertex of the parabola through the best and its two neighbours; every value taken is that of a
 heading the vehicle can fly, so the front never runs ahead of the set it approximates by more than
 the interpolation's error.  A foot outside the grid is not reached.
@@ -39,7 +39,8 @@ def bilinear(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float
     i = min(int(fx), nx - 2)
     j = min(int(fy), ny - 2)
     a, b = fx - i, fy - j
-    return float((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1]) + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
+    return float((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
+                 + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
 
 
 #: φ is kept within ``±CAP`` cells of the front (module notes of :func:`front_step`).
@@ -54,8 +55,9 @@ def _cr(p0: float, p1: float, p2: float, p3: float, a: float) -> float:
 
 @kernel
 def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -> float:
-    """Bicubic (Catmull-Rom) value of a node field ``f (nx, ny)`` at ``(x, y)`` (bilinear in the outer
-    cells); ``inf`` outside the grid."""
+    """Bicubic (Catmull-Rom) value of a node field ``f (nx, ny)`` at ``(x, y)``, clipped to the range of
+    the cell's four corners (quasi-monotone, Bermejo and Staniforth 1992: no undershoot lets the front
+    leak along a coast); bilinear in the outer cells; ``inf`` outside the grid."""
     nx, ny = f.shape[0], f.shape[1]
     fx = (x - ox) / h
     fy = (y - oy) / h
@@ -70,7 +72,9 @@ def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -
     r1 = _cr(f[i - 1, j], f[i, j], f[i + 1, j], f[i + 2, j], a)
     r2 = _cr(f[i - 1, j + 1], f[i, j + 1], f[i + 1, j + 1], f[i + 2, j + 1], a)
     r3 = _cr(f[i - 1, j + 2], f[i, j + 2], f[i + 1, j + 2], f[i + 2, j + 2], a)
-    return _cr(r0, r1, r2, r3, b)
+    lo = min(f[i, j], f[i + 1, j], f[i, j + 1], f[i + 1, j + 1])
+    hi = max(f[i, j], f[i + 1, j], f[i, j + 1], f[i + 1, j + 1])
+    return min(max(_cr(r0, r1, r2, r3, b), lo), hi)  # quasi-monotone: within the cell's corner values
 
 
 @kernel
@@ -120,12 +124,14 @@ def mid_current(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt
 
 @kernel
 def best_heading(phi: Float32Array, ox: float, oy: float, h: float, x: float, y: float, cu: float, cv: float,
-                 step: float, speed: float, k: int) -> tuple[float, float]:
-    """The least foot value over ``k`` headings and the parabola's vertex: ``(value, heading)``."""
+                 step: float, speed: float, cosk: FloatArray, sink: FloatArray) -> tuple[float, float]:
+    """The least foot value over the ``k`` headings ``2π m / k`` (``cosk``, ``sink``: their cosines and
+    sines) and the parabola's vertex: ``(value, heading)``."""
+    k = cosk.shape[0]
     best, kb = math.inf, -1
     d = 2.0 * math.pi / k
     for m in range(k):
-        val = _foot_value(phi, ox, oy, h, x, y, cu, cv, step, speed, m * d)
+        val = cubic(phi, ox, oy, h, x - step * (cu + speed * cosk[m]), y - step * (cv + speed * sink[m]))
         if val < best:
             best, kb = val, m
     if kb < 0:
@@ -144,20 +150,23 @@ def best_heading(phi: Float32Array, ox: float, oy: float, h: float, x: float, y:
 
 @kernel
 def front_step(phi: Float32Array, out: Float32Array, g: Float32Array, active: BoolArray, cur: Float32Array, ox: float,
-               oy: float, h: float, t0: float, dt: float, t_mid: float, step: float, speed: float, k: int) -> None:
+               oy: float, h: float, t0: float, dt: float, t_mid: float, step: float, speed: float, cosk: FloatArray,
+               sink: FloatArray) -> None:
     """One step of the front (module notes): ``out`` receives φ at ``t + step`` from ``phi`` at ``t``
     (clamped to ``±CAP h``: only the values near the front matter, and a bounded field keeps the
-    cubic interpolation's overshoot small; a foot outside the grid takes ``+CAP h``)."""
+    cubic interpolation's overshoot small; a foot outside the grid and a blocked node take ``+CAP h``
+    — no less than unreached water, or the seabed would feed the front —; nodes not ``active`` keep
+    their value)."""
     nx, ny = phi.shape[0], phi.shape[1]
     cap = CAP * h
     for i in range(nx):
         for j in range(ny):
             if g[i, j] > 0.0 or not active[i, j]:
-                out[i, j] = min(g[i, j], cap) if g[i, j] > 0.0 else phi[i, j]
+                out[i, j] = cap if g[i, j] > 0.0 else phi[i, j]
                 continue
             x, y = ox + i * h, oy + j * h
             cu, cv = mid_current(cur, ox, oy, h, t0, dt, x, y, t_mid, step)
-            val = best_heading(phi, ox, oy, h, x, y, cu, cv, step, speed, k)[0]
+            val = best_heading(phi, ox, oy, h, x, y, cu, cv, step, speed, cosk, sink)[0]
             out[i, j] = min(max(val, g[i, j], -cap), cap)
 
 

@@ -52,11 +52,20 @@ class FrontOutcome:
     candidates: dict[str, float]
 
 
-def _z(p2: FloatArray, z: tuple[float, float]) -> FloatArray:
-    """Depth along the path: linear in arc length from the start's to the goal's."""
+def _z(p2: FloatArray, times: FloatArray, grid: FrontGrid) -> FloatArray:
+    """Depth along the path: the grid's schedule at the vertices' times, else linear in arc length
+    from the start's to the goal's (the end points keep their own)."""
+    if grid.schedule is not None:
+        z = grid.depth(times)
+        z[0], z[-1] = grid.z
+        return np.column_stack([p2, z])
     s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p2, axis=0).T))])
     f = s / s[-1] if s[-1] > 0 else np.zeros_like(s)
-    return np.column_stack([p2, z[0] + f * (z[1] - z[0])])
+    return np.column_stack([p2, grid.z[0] + f * (grid.z[1] - grid.z[0])])
+
+
+def _zt(grid: FrontGrid, t: float) -> float:
+    return float(grid.depth(t)) if grid.schedule is not None else 0.5 * (grid.z[0] + grid.z[1])
 
 
 def _tails(p2: FloatArray, heads: FloatArray) -> BoolArray:
@@ -94,17 +103,16 @@ def fly_headings(world: World, grid: FrontGrid, start: ArrayLike, goal: ArrayLik
     """
     p = np.empty((times.size, 2))
     p[0] = np.asarray(start, dtype=float)[:2]
-    zm = 0.5 * (grid.z[0] + grid.z[1])
     for i in range(times.size - 1):  # midpoint rule, two sub-steps per piece
         a = speed * np.array([math.cos(heads[i]), math.sin(heads[i])])
         x, t, h = p[i].copy(), float(times[i]), 0.5 * float(times[i + 1] - times[i])
         for _ in range(2):
-            c = world.currents.velocity(np.array([x[0], x[1], zm]), t)[:2]
+            c = world.currents.velocity(np.array([x[0], x[1], _zt(grid, t)]), t)[:2]
             xm = x + 0.5 * h * (c + a)
-            x = x + h * (world.currents.velocity(np.array([xm[0], xm[1], zm]), t + 0.5 * h)[:2] + a)
+            x = x + h * (world.currents.velocity(np.array([xm[0], xm[1], _zt(grid, t + 0.5 * h)]), t + 0.5 * h)[:2] + a)
             t += h
         p[i + 1] = x
-    pts = _z(np.vstack([p, np.asarray(goal, dtype=float)[:2]]), grid.z)
+    pts = _z(np.vstack([p, np.asarray(goal, dtype=float)[:2]]), np.append(times, times[-1]), grid)
     last, back = math.inf, np.zeros(1)
     for tail in (False, True):  # the last leg: whichever root holds it
         tt, bb = fly_times(world.currents, pts[-2:], float(times[-1]), speed, ds, t_limit, [tail])
@@ -116,7 +124,7 @@ def fly_headings(world: World, grid: FrontGrid, start: ArrayLike, goal: ArrayLik
 def _as_path(world: World, grid: FrontGrid, p2: FloatArray, times: FloatArray, heads: FloatArray, speed: float,
              ds: float, t_limit: float) -> TimedPath:
     """The flight as a held polyline when every leg holds, else as its heading schedule (module notes)."""
-    pts = _z(p2, grid.z)
+    pts = _z(p2, times, grid)
     tail = _tails(p2, heads)
     t, back = fly_times(world.currents, pts, float(times[0]), speed, ds, t_limit, tail)
     if np.isfinite(t[-1]):
