@@ -9,7 +9,8 @@ dynamic flows using level set equations", on a dynamic-programming grid scheme):
    distance to the blocked nodes
    (positive in the seabed and the obstacles), half-way between a free and a blocked node; where
    two blocked nodes touch only diagonally one of the two free nodes beside them is blocked too
-   (:func:`_sealed`: the bilinear g would let the front through between them).  The current is tabulated on the grid every ``dt``.
+   (:func:`_sealed`: the bilinear g would let the front through between them).  The current is
+   tabulated on the grid every ``dt``.
 2. **Front.**  The reachable set at time t is ``R(t) = {φ(·, t) ≤ 0}``; it starts as the disc of
    radius ``V τ`` about ``start + c τ`` one step after the departure and advances by the
    semi-Lagrangian step of :func:`.front_kernels.front_step` (steps of a cell's flight at ``V + U``),
@@ -134,7 +135,8 @@ class FrontGrid:
         """
         if self.schedule is None:
             return np.full(np.shape(t), self.z[0])
-        return np.asarray(np.interp(t, self.schedule[0], self.schedule[1]), dtype=float)
+        out: FloatArray = np.interp(np.asarray(t, dtype=np.float64), self.schedule[0], self.schedule[1])
+        return np.asarray(out, dtype=np.float64)
 
 
 def _obstacle(free: BoolArray, h: float) -> Float32Array:
@@ -293,8 +295,8 @@ def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float,
     while not math.isfinite(arrival) and times[-1] + step <= t_end:
         out = np.empty_like(phis[-1])
         active = ndimage.binary_dilation(np.abs(phis[-1]) < cap, iterations=reach)
-        front_step(phis[-1], out, grid.g_at(times[-1] + step), active, cur, ox, oy, h, t0, dt, times[-1] + 0.5 * step, step, speed,
-                   *_trig(headings))
+        front_step(phis[-1], out, grid.g_at(times[-1] + step), active, cur, ox, oy, h, t0, dt,
+                   times[-1] + 0.5 * step, step, speed, *_trig(headings))
         a, b = cubic(phis[-1], ox, oy, h, q[0], q[1]), cubic(out, ox, oy, h, q[0], q[1])
         phis.append(out)
         times.append(times[-1] + step)

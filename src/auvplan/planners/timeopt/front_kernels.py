@@ -11,10 +11,10 @@ and Ferretti 2014, ch. 8): with ``R(t) = {φ(·, t) ≤ 0}``,
     φ(x, t + Δt) = max( min_θ φ(x − Δt (c_m + V ĥ_θ), t),  g(x) )
 
 where ``c_m`` is the current at the step's midpoint (time ``t + Δt/2``, position half a step back)
-and ``g`` the obstacle function (positive in land, where φ is held at its cap).  ``K`` headings are tried, then one more at the
-vertex of the parabola through the best and its two neighbours; every value taken is that of a
-heading the vehicle can fly, so the front never runs ahead of the set it approximates by more than
-the interpolation's error.  A foot outside the grid is not reached.
+and ``g`` the obstacle function (positive in land, where φ is held at its cap).  ``K`` headings are
+tried, then one more at the vertex of the parabola through the best and its two neighbours; every
+value taken is that of a heading the vehicle can fly, so the front never runs ahead of the set it
+approximates by more than the interpolation's error.  A foot outside the grid is not reached.
 """
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -
     r3 = _cr(f[i - 1, j + 2], f[i, j + 2], f[i + 1, j + 2], f[i + 2, j + 2], a)
     lo = min(f[i, j], f[i + 1, j], f[i, j + 1], f[i + 1, j + 1])
     hi = max(f[i, j], f[i + 1, j], f[i, j + 1], f[i + 1, j + 1])
-    return min(max(_cr(r0, r1, r2, r3, b), lo), hi)  # quasi-monotone: within the cell's corner values
+    return float(min(max(_cr(r0, r1, r2, r3, b), lo), hi))  # quasi-monotone: within the cell's corner values
 
 
 @kernel
