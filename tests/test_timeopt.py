@@ -295,7 +295,8 @@ def test_energy_objective_trades_speed_for_power():
     world, _, _ = uniform_world(CASES["steady"])
     problem = PlanningProblem(world, START, GOAL, speed=V, hotel_power=5.0, drag_k=20.0)
     fast = plan(problem, SPEC)
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
+    spec = PlannerSpec(name="timeopt",
+                       timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
     cheap = plan(problem, spec)
     assert cheap.status is Status.EXACT
     assert cheap.cost_terms["speed_m_s"] < V
@@ -337,7 +338,8 @@ def test_cli_departure_sweep(tmp_path, capsys):
 def test_energy_sweep_picks_least_energy_per_departure():
     world, _, _ = uniform_world(CASES["reversing"], tmax=80000.0)
     problem = PlanningProblem(world, START, GOAL, speed=V, hotel_power=5.0, drag_k=20.0)
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
+    spec = PlannerSpec(name="timeopt",
+                       timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
     rows, _ = departure_sweep(problem, spec, [0.0, 20000.0])
     for r in rows:
         assert r.energy_j <= min(r.straight_energy_j, r.steady_energy_j) * (1 + 1e-6)

@@ -30,7 +30,24 @@ __all__ = ["CAP", "bilinear", "cubic", "current2", "mid_current", "best_heading"
 
 @kernel
 def bilinear(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -> float:
-    """Bilinear value of a node field ``f (nx, ny)`` at ``(x, y)``; ``inf`` outside the grid."""
+    """Bilinear value of a node field at a point.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Node values ``(nx, ny)``.
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    x, y : float
+        The point (m).
+
+    Returns
+    -------
+    float
+        The value; ``inf`` outside the grid.
+    """
     nx, ny = f.shape[0], f.shape[1]
     fx = (x - ox) / h
     fy = (y - oy) / h
@@ -55,9 +72,26 @@ def _cr(p0: float, p1: float, p2: float, p3: float, a: float) -> float:
 
 @kernel
 def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -> float:
-    """Bicubic (Catmull-Rom) value of a node field ``f (nx, ny)`` at ``(x, y)``, clipped to the range of
-    the cell's four corners (quasi-monotone, Bermejo and Staniforth 1992: no undershoot lets the front
-    leak along a coast); bilinear in the outer cells; ``inf`` outside the grid."""
+    """Bicubic (Catmull-Rom) value of a node field, clipped to the range of the cell's four corners
+    (quasi-monotone, Bermejo and Staniforth 1992: no undershoot lets the front leak along a coast);
+    bilinear in the outer cells.
+
+    Parameters
+    ----------
+    f : numpy.ndarray
+        Node values ``(nx, ny)``.
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    x, y : float
+        The point (m).
+
+    Returns
+    -------
+    float
+        The value; ``inf`` outside the grid.
+    """
     nx, ny = f.shape[0], f.shape[1]
     fx = (x - ox) / h
     fy = (y - oy) / h
@@ -80,7 +114,28 @@ def cubic(f: Float32Array, ox: float, oy: float, h: float, x: float, y: float) -
 @kernel
 def current2(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x: float, y: float,
              t: float) -> tuple[float, float]:
-    """Horizontal current ``(u, v)`` (m/s) at a point and time from the table (clamped at its edges)."""
+    """Horizontal current at a point and time from the table (clamped at its edges).
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, 2)`` (m/s, float32).
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    x, y : float
+        The point (m).
+    t : float
+        Time (s).
+
+    Returns
+    -------
+    tuple of float
+        ``(u, v)`` (m/s); ``nan`` for a point or time that is not finite.
+    """
     nt, nx, ny = cur.shape[0], cur.shape[1], cur.shape[2]
     if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(t)):
         return math.nan, math.nan
@@ -116,8 +171,31 @@ def _foot_value(phi: Float32Array, ox: float, oy: float, h: float, x: float, y: 
 @kernel
 def mid_current(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x: float, y: float,
                 t_mid: float, step: float) -> tuple[float, float]:
-    """The current of a step that ends at ``(x, y)``: at mid-step, half the drift back (the same for
-    every heading: exact in a current uniform in space, first order in its gradient)."""
+    """The current of a step that ends at a point: at mid-step, half the drift back (the same for every
+    heading: exact in a current uniform in space, first order in its gradient).
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, 2)`` (m/s, float32).
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    x, y : float
+        End of the step (m).
+    t_mid : float
+        Middle of the step (s).
+    step : float
+        Its length (s).
+
+    Returns
+    -------
+    tuple of float
+        ``(u, v)`` (m/s).
+    """
     u, v = current2(cur, ox, oy, h, t0, dt, x, y, t_mid)
     return current2(cur, ox, oy, h, t0, dt, x - 0.5 * step * u, y - 0.5 * step * v, t_mid)
 
@@ -125,8 +203,32 @@ def mid_current(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt
 @kernel
 def best_heading(phi: Float32Array, ox: float, oy: float, h: float, x: float, y: float, cu: float, cv: float,
                  step: float, speed: float, cosk: FloatArray, sink: FloatArray) -> tuple[float, float]:
-    """The least foot value over the ``k`` headings ``2π m / k`` (``cosk``, ``sink``: their cosines and
-    sines) and the parabola's vertex: ``(value, heading)``."""
+    """The least value of φ at a characteristic's foot over the headings and the parabola's vertex.
+
+    Parameters
+    ----------
+    phi : numpy.ndarray
+        φ at the step's start ``(nx, ny)``.
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    x, y : float
+        End of the step (m).
+    cu, cv : float
+        Current of the step (:func:`mid_current`, m/s).
+    step : float
+        Its length (s).
+    speed : float
+        Through-water speed V (m/s).
+    cosk, sink : numpy.ndarray
+        Cosines and sines of the ``k`` headings ``2π m / k``.
+
+    Returns
+    -------
+    tuple of float
+        ``(value, heading)`` (m; mathematical angle, rad); ``(inf, 0)`` when every foot is off the grid.
+    """
     k = cosk.shape[0]
     best, kb = math.inf, -1
     d = 2.0 * math.pi / k
@@ -156,7 +258,35 @@ def front_step(phi: Float32Array, out: Float32Array, g: Float32Array, active: Bo
     (clamped to ``±CAP h``: only the values near the front matter, and a bounded field keeps the
     cubic interpolation's overshoot small; a foot outside the grid and a blocked node take ``+CAP h``
     — no less than unreached water, or the seabed would feed the front —; nodes not ``active`` keep
-    their value)."""
+    their value).
+
+    Parameters
+    ----------
+    phi : numpy.ndarray
+        φ at ``t`` ``(nx, ny)``.
+    out : numpy.ndarray
+        Receives φ at ``t + step``.
+    g : numpy.ndarray
+        Obstacle function ``(nx, ny)`` (m; > 0 blocked).
+    active : numpy.ndarray of bool
+        Nodes to update (the others are farther from the front than a step can reach).
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, 2)`` (m/s, float32).
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    t_mid : float
+        Middle of the step (s).
+    step : float
+        Its length (s).
+    speed : float
+        Through-water speed V (m/s).
+    cosk, sink : numpy.ndarray
+        Cosines and sines of the headings tried.
+    """
     nx, ny = phi.shape[0], phi.shape[1]
     cap = CAP * h
     for i in range(nx):
@@ -190,7 +320,31 @@ def _zermelo_rhs(cur: Float32Array, ox: float, oy: float, h: float, t0: float, d
 @kernel
 def shoot(cur: Float32Array, ox: float, oy: float, h: float, t0: float, dt: float, x0: float, y0: float,
           th0: float, t_start: float, step: float, speed: float, out: FloatArray) -> None:
-    """Integrate ``(x, y, θ)`` by RK4 from ``t_start`` in steps of ``step`` s into ``out (n, 3)``."""
+    """Integrate Zermelo's navigation equations (:mod:`.zermelo`) by RK4.
+
+    Parameters
+    ----------
+    cur : numpy.ndarray
+        Current table ``(nt, nx, ny, 2)`` (m/s, float32).
+    ox, oy : float
+        First node of the grid (m).
+    h : float
+        Node spacing (m).
+    t0, dt : float
+        First time and time step of the table (s).
+    x0, y0 : float
+        Start (m).
+    th0 : float
+        First heading (mathematical angle, rad).
+    t_start : float
+        Departure (s).
+    step : float
+        RK4 step (s).
+    speed : float
+        Through-water speed V (m/s).
+    out : numpy.ndarray
+        Receives ``(x, y, θ)`` every step ``(n, 3)``, the first row the start.
+    """
     x, y, th, t = x0, y0, th0, t_start
     out[0, 0], out[0, 1], out[0, 2] = x, y, th
     for n in range(1, out.shape[0]):
