@@ -46,7 +46,7 @@ def world_of(cfun, box, tmax: float = 60000.0, dt: float = 60.0) -> tuple[World,
     return World(Bounds(*box, -100, 0), currents=cur, margins=Margins(0, 0, 100)), t, c
 
 
-def least_time(t: np.ndarray, c: np.ndarray, goal, depart: float) -> float:
+def least_time(t: np.ndarray, c: np.ndarray, goal, depart: float, speed: float = V) -> float:
     """The oracle (module notes): first root of |g − D(T)| − V T, D exact on the piecewise-linear table."""
     cum = np.concatenate([[[0.0, 0.0]], np.cumsum(0.5 * (c[1:] + c[:-1]) * np.diff(t)[:, None], axis=0)])
 
@@ -56,7 +56,7 @@ def least_time(t: np.ndarray, c: np.ndarray, goal, depart: float) -> float:
         return cum[k] + (t[k + 1] - t[k]) * (a * c[k] + 0.5 * a * a * (c[k + 1] - c[k]))
 
     g = np.asarray(goal, dtype=float) - START[:2]
-    gap = lambda T: float(np.hypot(*(g - drift(depart + T) + drift(depart)))) - V * T  # noqa: E731
+    gap = lambda T: float(np.hypot(*(g - drift(depart + T) + drift(depart)))) - speed * T  # noqa: E731
     scan = np.linspace(1.0, t[-1] - depart - 1.0, 4000)
     k = int(np.flatnonzero(np.array([gap(T) for T in scan]) <= 0.0)[0])
     return float(brentq(gap, scan[k - 1], scan[k], xtol=1e-6))
@@ -113,6 +113,24 @@ def test_obstacle_respected_and_never_below_the_free_water_time():
     assert r.status is Status.EXACT, r.message
     assert world.segments_free(np.stack([r.path[:-1], r.path[1:]], axis=1), moving=False).all()
     assert r.cost >= least_time(t, c, goal, depart) * (1 - 1e-5)
+
+
+def test_energy_objective_is_the_least_energy_over_the_speeds():
+    """``objective = "energy"``: with P(v) = P_hotel + k v³ at a constant through-water speed, the plan's
+    energy is the least over the allowed speeds of P(v) T*(v), T* the oracle's least time at v —
+    within 1 %, never below it."""
+    cfun, goal, depart, box = CASES["cross-tide"]
+    world, t, c = world_of(cfun, box)
+    problem = PlanningProblem(world, START, np.array([*goal, -50.0]), speed=V, hotel_power=5.0, drag_k=20.0)
+    fractions = (0.8, 0.9, 1.0)
+    r = plan(problem, spec(depart, 1000.0, objective="energy", speeds=fractions))
+    assert r.status is Status.EXACT, r.message
+
+    def energy(f: float) -> float:
+        return (5.0 + 20.0 * (f * V) ** 3) * least_time(t, c, goal, depart, f * V)
+
+    best = min(energy(f) for f in fractions)
+    assert best * (1 - 1e-5) <= r.cost <= 1.01 * best
 
 
 # --- the one ground-speed function (crab.py) ---------------------------------------------------------------
