@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown bench-zones
+	bench-flow-flown bench-zones bench-timeopt-front
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -88,6 +88,10 @@ bench-zones: $(STAMP)
 bench-flow-flown: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/flow_flown.py --starts 300 --out results/bench-flow-flown
 	nice -n 5 $(BIN)/python benchmarks/mission_build.py --starts 30
+# the time-optimal planner's front method (issue 55): exact least times, rotary-tide against Zermelo's bound,
+# and CPU against hj_reachability on the same 2-D grid (optional: pip install hj_reachability jax)
+bench-timeopt-front: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/timeopt_front.py --out results/bench-timeopt-front
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step

@@ -126,7 +126,9 @@ def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.
     if timeopt or s.planner.name == "timeopt":
         slowest = s.vehicle.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
         horizon = (p.horizon_s or 1.5 * math.dist(m.start, m.goal) / slowest + 7200.0) + sweep_s
-        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt)
+        # the front method's steps: a cell at V + the current, taken as 1.5 V (the built-in tides: ≤ 1.6 V)
+        front = 2.5 * s.vehicle.speed if p.method == "front" else 0.0
+        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt, front)
         _limits.check(s.limits, f"{s.source}: [planner.timeopt]",
                       f"cell = {p.cell:g}, levels = {p.levels}, dt = {p.dt:g} s, horizon_s = {horizon:.6g} s"
                       + (f" (with a {sweep_s:.6g} s departure sweep)" if sweep_s else "")

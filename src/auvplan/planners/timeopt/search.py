@@ -259,6 +259,9 @@ class TimedPath:
         None: not known, as for a lattice path).
     tail : numpy.ndarray of bool, optional
         ``(N - 1,)``: the legs flown tail-first (:mod:`.tail`; None: none).
+    timed : bool, default False
+        The times are already those of a flight through the World's own current (the front method,
+        :mod:`.front_plan`): :func:`.planner.flown` keeps them.
     """
 
     points: FloatArray
@@ -266,6 +269,7 @@ class TimedPath:
     speed: float
     back: FloatArray | None = None
     tail: BoolArray | None = None
+    timed: bool = False
 
     @property
     def duration(self) -> float:
