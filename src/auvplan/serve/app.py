@@ -34,12 +34,12 @@ from ..errors import AuvplanError
 from ..sim import RunRecord
 from .check import CheckResult
 from .delta import Revisions, StaleRevision
-from .session import Session, builtin_names
+from .session import Busy, Session, Superseded, builtin_names
 
-__all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
+__all__ = ["make_app", "page_state", "one_line", "bounded_body", "ClientGone", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
 
-LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
-"""``Host`` names accepted by default (``testserver``: Starlette's test client)."""
+LOCAL_HOSTS = ("127.0.0.1", "localhost")
+"""``Host`` names accepted by default (tests pass their client's name, ``testserver``, themselves)."""
 
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
@@ -144,14 +144,14 @@ def _chart(session: Session) -> str:
     from ..io.data.geo import LocalFrame
     from ..viz.chart import figure_plan_view
 
-    with session.lock:
+    with session.lock:  # the world is never changed in place: drawn outside the lock
         world, sc = session.world, session.sc
-        if world is None or sc is None:
-            raise AuvplanError("no scenario is open")
-        empty = np.empty((0, 3))
-        to_lonlat = LocalFrame(*world.origin).inverse if world.origin is not None else None
-        fig = figure_plan_view(world, RunRecord(sc.name, sc.seed, None, empty, empty, None), to_lonlat)
-        land = world.land
+    if world is None or sc is None:
+        raise AuvplanError("no scenario is open")
+    empty = np.empty((0, 3))
+    to_lonlat = LocalFrame(*world.origin).inverse if world.origin is not None else None
+    fig = figure_plan_view(world, RunRecord(sc.name, sc.seed, None, empty, empty, None), to_lonlat)
+    land = world.land
     if land is not None and not land.is_empty:
         import plotly.graph_objects as go
         import shapely
@@ -173,6 +173,45 @@ def _index(d: dict[str, Any]) -> int:
 
 
 Handler = Callable[[Request], Awaitable[Response]]
+
+
+class ClientGone(AuvplanError):
+    """The client closed the connection before its request's body was read (nothing to answer)."""
+
+
+async def bounded_body(request: Request, limit: int) -> bytes:
+    """The request's body, read chunk by chunk and refused as soon as it passes ``limit`` bytes.
+
+    A declared ``Content-Length`` over the limit is refused before a byte is read; a body without one
+    (chunked) is counted as it streams, so a 300 MB body never sits in memory.
+
+    Parameters
+    ----------
+    request : starlette.requests.Request
+        The request.
+    limit : int
+        Largest body (bytes).
+
+    Returns
+    -------
+    bytes
+        The body.
+    """
+    from starlette.requests import ClientDisconnect
+
+    declared = request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > limit:
+        raise AuvplanError(f"request of {int(declared):,} bytes, over the {limit:,} allowed")
+    chunks, size = [], 0
+    try:
+        async for chunk in request.stream():
+            size += len(chunk)
+            if size > limit:
+                raise AuvplanError(f"request of more than {limit:,} bytes, over the {limit:,} allowed")
+            chunks.append(chunk)
+    except ClientDisconnect:
+        raise ClientGone("the client closed the connection") from None
+    return b"".join(chunks)
 
 
 def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlette:
@@ -216,9 +255,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     async def body(request: Request) -> dict[str, Any]:
         if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
             raise AuvplanError("the request must be JSON (Content-Type: application/json)")
-        raw = await request.body()
-        if len(raw) > MAX_BODY_BYTES:
-            raise AuvplanError(f"request of {len(raw):,} bytes, over the {MAX_BODY_BYTES:,} allowed")
+        raw = await bounded_body(request, MAX_BODY_BYTES)
         if not raw:
             return {}
         try:
@@ -230,20 +267,34 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         return data
 
     def api(work: Callable[[dict[str, Any]], Any], full: bool = False) -> Handler:
-        async def handler(request: Request) -> Response:
-            try:
-                data = await body(request) if request.method == "POST" else {}
-                out = await run_in_threadpool(work, data)
-            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
-                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
-            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError) as exc:
-                return JSONResponse({"error": one_line(exc)}, status_code=400)
+        def answer(data: dict[str, Any]) -> Any:  # in a worker thread: the event loop never waits on a lock
+            out = work(data)
             if isinstance(out, Response):
                 return out
             state = page_state(session, full, revisions, data.get("rev"))
             if out is not None:
                 state["result"] = _clean(out)
-            return JSONResponse(state)
+            return state
+
+        async def handler(request: Request) -> Response:
+            try:
+                data = await body(request) if request.method == "POST" else {}
+                out = await run_in_threadpool(answer, data)
+            except ClientGone:
+                return Response(status_code=400)  # nobody reads it; no traceback in the server's log
+            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
+                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
+            except Superseded as exc:  # long work overtaken by an edit: dropped, the edit stands
+                return JSONResponse({"error": one_line(exc), "superseded": True}, status_code=409)
+            except Busy as exc:  # long work already running: refused at once, never queued
+                return JSONResponse({"error": one_line(exc), "busy": True}, status_code=503,
+                                    headers={"Retry-After": "1"})
+            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError,
+                    OverflowError, IndexError) as exc:
+                return JSONResponse({"error": one_line(exc)}, status_code=400)
+            if isinstance(out, Response):
+                return out
+            return JSONResponse(out)
 
         return handler
 
@@ -253,12 +304,12 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         revisions.require(d.get("rev"), session.waypoints, result.violations if result is not None else [])
 
     def edit(d: dict[str, Any]) -> None:
-        with session.lock:
+        with session.write_lock:
             current(d)
             session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
 
     def undo(d: dict[str, Any]) -> None:
-        with session.lock:
+        with session.write_lock:
             current(d)
             session.undo()
 
@@ -268,7 +319,8 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     def save(d: dict[str, Any]) -> dict[str, str]:
         from .save import save_results
 
-        out = save_results(session, d.get("name", ""))
+        with session.long_work("saving the results"):
+            out = save_results(session, d.get("name", ""))
         return {"saved": str(out)}
 
     routes = [

@@ -10,9 +10,11 @@ flight :func:`auvplan.sim.simulate`, and every edit is re-checked by :class:`~.c
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import threading
 import tomllib
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,12 +31,13 @@ from ..io.scenario.specs import Scenario
 from ..planners import PlanResult
 from ..sim import Mission, SimResult, mission_route, with_leg_speeds
 from ..world import World
+from .bounds import edit_budget, inside_area, scalar
 from .check import CheckResult, CheckSettings, IncrementalCheck
 from .paths import Roots
 from .plans import as_points, flown, nearest_leg, plan_area, replanned, survey_table
 from .tomlout import dumps
 
-__all__ = ["Session", "Candidate", "EDITABLE_TABLES", "MAX_WAYPOINTS", "builtin_names"]
+__all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "builtin_names"]
 
 _F64 = NDArray[np.float64]
 
@@ -46,6 +49,14 @@ MAX_WAYPOINTS = 20_000
 
 MAX_HISTORY = 500
 """Edits kept for undo (the history's text is kept whole)."""
+
+
+class Busy(AuvplanError):
+    """Long work (a survey, a plan, a flight, a rebuild, a save) is already running: asked again later."""
+
+
+class Superseded(AuvplanError):
+    """Long work finished after a newer edit of the mission: its result is dropped (the edit wins)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,7 +98,11 @@ class Session:
 
     def __init__(self, roots: Roots) -> None:
         self.roots = roots
-        self.lock = threading.RLock()
+        self.lock = threading.RLock()  # the state: held only to read or commit it, never while computing
+        self.write_lock = threading.RLock()  # the writers of the mission, one at a time (each bounded)
+        self._long = threading.Lock()  # long work, one at a time; a second is refused (Busy), never queued
+        self.busy_with = ""
+        self.epoch = 0  # bumped on every change of the waypoints: long work started before one is dropped
         self.source = ""
         self.base_dir: Path | None = None
         self.doc: dict[str, Any] = {}
@@ -127,6 +142,43 @@ class Session:
             return resolve_scenario(name)
         return self.roots.resolve(name)
 
+    @contextlib.contextmanager
+    def long_work(self, what: str) -> Iterator[int]:
+        """Run long work aside: refused at once (:class:`Busy`) while other long work runs.
+
+        Parameters
+        ----------
+        what : str
+            What it is, for the refusal of the next one.
+
+        Yields
+        ------
+        int
+            The mission's epoch when the work started (:meth:`commit_if_current` drops it after a newer edit).
+        """
+        if not self._long.acquire(blocking=False):
+            raise Busy(f"busy: {self.busy_with or 'other work'} is running; try {what} again when it is done")
+        self.busy_with = what
+        try:
+            yield self.epoch
+        finally:
+            self.busy_with = ""
+            self._long.release()
+
+    def require_epoch(self, epoch: int, what: str) -> None:
+        """Refuse to commit long work started before the mission's last change (the caller holds ``write_lock``).
+
+        Parameters
+        ----------
+        epoch : int
+            :meth:`long_work`'s epoch.
+        what : str
+            The work, for the message.
+        """
+        if self.epoch != epoch:
+            raise Superseded(f"{what}: the mission was edited while it ran; its result was dropped (the edit "
+                             "stands; ask again)")
+
     def open(self, target: str) -> None:
         """Open a scenario (built-in name or TOML file) or a results folder.
 
@@ -136,15 +188,17 @@ class Session:
             Built-in name, scenario file or results folder (inside the served folders).
         """
         path = self.scenario_path(target)
-        with self.lock:
+        with self.long_work(f"opening {target}"), self.write_lock:
             if path.is_dir():
                 self._open_results(path)
             else:
                 text = path.read_text(encoding="utf-8") if path.is_file() else ""
                 sc = scenario_io.load(path)
+                self.roots.confine(sc)
                 world, mission = scenario_io.build(sc)
                 self._set_scenario(sc, text, str(path), path.parent, world, mission)
-            self.history, self._undo, self.candidates = [], [], []
+            with self.lock:
+                self.history, self._undo, self.candidates = [], [], []
             self._record("open", f"opened {target}")
             if not path.is_dir():
                 self._set_initial_route()
@@ -159,6 +213,7 @@ class Session:
             raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
         base = results.scenario_base(out)
         sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=base)
+        self.roots.confine(sc)
         world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
         self._set_scenario(sc, text, str(out / "scenario.toml"), base, world, mission)
         self.plan = record.plan
@@ -173,13 +228,17 @@ class Session:
 
     def _set_scenario(self, sc: Scenario, text: str, source: str, base: Path | None, world: World,
                       mission: Mission) -> None:
-        self.sc, self.text, self.source, self.base_dir = sc, text, source, base
-        self.doc = tomllib.loads(text) if text else {}
-        self.world, self.mission = world, mission
-        self.checker = IncrementalCheck(world, mission)
-        self.plan, self.flight, self.flight_of = None, None, None
-        self.survey_area = self._survey_area()
-        self.generation += 1
+        doc = tomllib.loads(text) if text else {}
+        checker = IncrementalCheck(world, mission)
+        area = self._survey_area(sc, world, mission, base, source)
+        with self.lock:
+            self.sc, self.text, self.source, self.base_dir = sc, text, source, base
+            self.doc = doc
+            self.world, self.mission = world, mission
+            self.checker = checker
+            self.plan, self.flight, self.flight_of = None, None, None
+            self.survey_area = area
+            self.generation += 1
 
     def _set_initial_route(self) -> None:
         """The scenario's fixed route, else the straight start → goal line made into a mission (floors
@@ -199,14 +258,15 @@ class Session:
             raise AuvplanError("no scenario is open")
         return self.world, self.mission
 
-    def _survey_area(self) -> list[list[float]] | None:
-        if self.sc is None or self.sc.survey is None or self.world is None:
+    @staticmethod
+    def _survey_area(sc: Scenario, world: World, mission: Mission, base: Path | None,
+                     source: str) -> list[list[float]] | None:
+        if sc.survey is None:
             return None
         from ..io.results.survey import survey_params
 
         try:
-            params = survey_params(self.sc.survey, self.world, self.mission.vehicle if self.mission else None,
-                                   self.base_dir, f"{self.source}: [survey]")
+            params = survey_params(sc.survey, world, mission.vehicle, base, f"{source}: [survey]")
         except AuvplanError:
             return None
         return [list(map(float, c)) for c in params.area.exterior.coords]
@@ -226,26 +286,35 @@ class Session:
         CheckResult
             ``mission check``'s verdicts on the current waypoints.
         """
+        with self.write_lock:
+            return self._check(self.waypoints)
+
+    def _check(self, w: _F64) -> CheckResult:
+        """Check ``w`` outside the state lock and make it the current mission (the caller holds ``write_lock``)."""
+        if self.checker is None:
+            raise AuvplanError("no scenario is open")
+        world, mission = self._require()
+        edit_budget(world, mission, w, "the mission")
+        result = self.checker.run(w, self.settings, self._speeds(w))
+        keys = key_waypoints(w, world, mission.avoidance.collision_check)
         with self.lock:
-            if self.checker is None:
-                raise AuvplanError("no scenario is open")
-            self.result = self.checker.run(self.waypoints, self.settings, self._speeds(self.waypoints))
-            world, mission = self._require()
-            self.keys = key_waypoints(self.waypoints, world, mission.avoidance.collision_check)
-            return self.result
+            if not np.array_equal(w, self.waypoints):
+                self.epoch += 1
+            self.waypoints, self.result, self.keys = w, result, keys
+        return result
 
     def _set_waypoints(self, w: Any) -> None:
         p = as_points(w, "waypoints").reshape(-1, 3) if np.size(w) else np.empty((0, 3))
         if not 2 <= p.shape[0] <= MAX_WAYPOINTS:
             raise AuvplanError(f"the mission has {p.shape[0]} waypoints; it needs 2 to {MAX_WAYPOINTS}")
-        self.waypoints = p.copy()
-        self.check()
+        self._check(p.copy())
 
     def _record(self, op: str, text: str) -> None:
-        self.history.append({"n": len(self.history) + 1, "op": op, "text": text,
-                             "waypoints": int(self.waypoints.shape[0]),
-                             "ok": bool(self.result.summary["ok"]) if self.result else None})
-        del self.history[:-MAX_HISTORY]
+        with self.lock:
+            self.history.append({"n": len(self.history) + 1, "op": op, "text": text,
+                                 "waypoints": int(self.waypoints.shape[0]),
+                                 "ok": bool(self.result.summary["ok"]) if self.result else None})
+            del self.history[:-MAX_HISTORY]
 
     # ------------------------------------------------------------------ editing
     def edit(self, op: str, index: int | None = None, x: float | None = None, y: float | None = None,
@@ -268,13 +337,14 @@ class Session:
         CheckResult
             The check of the edited mission.
         """
-        with self.lock:
+        with self.write_lock:
             w = self.waypoints.copy()
             n = w.shape[0]
             if op in ("move", "delete", "depth"):
                 if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < n:
                     raise AuvplanError(f"waypoint {index!r}: no such waypoint (0 to {n - 1})")
-            xyz = [None if v is None else float(as_points(v, f"{op} {k}")) for k, v in (("x", x), ("y", y), ("z", z))]
+            xyz = [None if v is None else scalar(v, f"{op} {k}") for k, v in (("x", x), ("y", y), ("z", z))]
+            inside_area(self._require()[0], op, index if op != "insert" else None, xyz)
             if op == "move":
                 if xyz[0] is None or xyz[1] is None:
                     raise AuvplanError("move: x and y are needed")
@@ -307,8 +377,9 @@ class Session:
     def _apply(self, w: _F64, op: str, text: str) -> CheckResult:
         previous = self.waypoints
         self._set_waypoints(w)
-        self._undo.append(previous)
-        del self._undo[:-MAX_HISTORY]
+        with self.lock:
+            self._undo.append(previous)
+            del self._undo[:-MAX_HISTORY]
         self._record(op, text)
         assert self.result is not None
         return self.result
@@ -321,7 +392,7 @@ class Session:
         CheckResult
             The check of the restored mission.
         """
-        with self.lock:
+        with self.write_lock:
             if not self._undo:
                 raise AuvplanError("undo: nothing to undo")
             self._set_waypoints(self._undo.pop())
@@ -344,12 +415,13 @@ class Session:
         CheckResult
             The new check.
         """
-        with self.lock:
-            try:
-                self.settings = CheckSettings(str(semantics), float(pitch_deg))
-            except (TypeError, ValueError) as exc:
-                raise AuvplanError(f"--pitch {exc}") from None
-            return self.check()
+        try:
+            settings = CheckSettings(str(semantics), float(pitch_deg))
+        except (TypeError, ValueError, OverflowError) as exc:
+            raise AuvplanError(f"--pitch {pitch_deg!r}: {exc}") from None
+        with self.write_lock:
+            self.settings = settings
+            return self._check(self.waypoints)
 
     # ------------------------------------------------------------------ the scenario
     def set_value(self, table: str, key: str, value: Any) -> CheckResult:
@@ -369,7 +441,7 @@ class Session:
         CheckResult
             The current mission checked under the new settings.
         """
-        with self.lock:
+        with self.long_work(f"setting [{table}] {key}"), self.write_lock:
             if table not in EDITABLE_TABLES:
                 raise AuvplanError(f"[{table}]: the page edits only {', '.join(EDITABLE_TABLES)}")
             doc = copy.deepcopy(self.doc)
@@ -390,13 +462,17 @@ class Session:
         assert self.world is not None
         text = dumps(doc)
         sc = scenario_io.loads(text, self.source, base_dir=self.base_dir)
+        self.roots.confine(sc)
         world, mission = scenario_io.build(sc, terrain=self.world.terrain)
         w, plan, flight, flight_of = self.waypoints, self.plan, self.flight, self.flight_of
+        edit_budget(world, mission, w, "the mission")  # before the new settings become the session's
+        same_vehicle = doc.get("vehicle") == self.doc.get("vehicle")
         self._set_scenario(sc, text, self.source, self.base_dir, world, mission)
-        self.plan = plan
-        if doc.get("vehicle") == self.doc.get("vehicle"):
-            self.flight, self.flight_of = flight, flight_of
-        self.doc = doc
+        with self.lock:
+            self.plan = plan
+            if same_vehicle:
+                self.flight, self.flight_of = flight, flight_of
+            self.doc = doc
         self._set_waypoints(w)
 
     # ------------------------------------------------------------------ survey, plan, fly
@@ -415,20 +491,27 @@ class Session:
         CheckResult
             The check of the survey mission.
         """
-        with self.lock:
+        with self.long_work("a survey") as epoch:
             self._require()
             path = self.roots.resolve(file) if file else None
             doc = survey_table(self.doc, None if path else polygon_xy, path)
             what = f"the area of {file}" if file else f"a drawn area of {len(doc['survey']['polygon_xy'])} points"
-            return self._plan_survey(doc, what)
+            return self._plan_survey(doc, what, epoch)
 
-    def _plan_survey(self, doc: dict[str, Any], what: str) -> CheckResult:
-        world, mission = self._require()
-        s = plan_area(world, mission, doc, self.source, self.base_dir)
-        self.doc, self.text, self.sc, self.survey_area, self.plan = s.doc, s.text, s.scenario, s.area, None
-        result = self._apply(s.route, "survey", f"survey of {what}: {s.label}")
-        self._keep("survey", "survey", None)
-        return result
+    def _plan_survey(self, doc: dict[str, Any], what: str, epoch: int | None = None) -> CheckResult:
+        with self.lock:
+            world, mission = self._require()
+            source, base = self.source, self.base_dir
+        s = plan_area(world, mission, doc, source, base, self.roots)  # aside: no lock held
+        with self.write_lock:
+            if epoch is not None:
+                self.require_epoch(epoch, "the survey")
+            edit_budget(world, mission, s.route, "the survey")
+            with self.lock:
+                self.doc, self.text, self.sc, self.survey_area, self.plan = s.doc, s.text, s.scenario, s.area, None
+            result = self._apply(s.route, "survey", f"survey of {what}: {s.label}")
+            self._keep("survey", "survey", None)
+            return result
 
     def replan(self, planner: str | None = None, seed: int | None = None) -> CheckResult:
         """Plan the mission again (global plan → executable mission) and keep it as a candidate.
@@ -445,26 +528,30 @@ class Session:
         CheckResult
             The check of the new mission (it becomes the current one).
         """
-        with self.lock:
-            world, mission = self._require()
-            name = planner or mission.planner.name
-            s = (self.sc.seed if self.sc else 0) if seed is None else seed
-        plan, route = replanned(world, mission, name, s)
-        with self.lock:
-            self.plan = plan
-            result = self._apply(route, "plan", f"planned with {name} seed {s}: {route.shape[0]} waypoints")
-            self._keep(f"{name} seed {s}", name, plan)
-            return result
+        with self.long_work("a plan") as epoch:
+            with self.lock:
+                world, mission = self._require()
+                name = planner or mission.planner.name
+                s = (self.sc.seed if self.sc else 0) if seed is None else seed
+            plan, route = replanned(world, mission, name, s)
+            with self.write_lock:
+                self.require_epoch(epoch, f"the plan with {name}")
+                with self.lock:
+                    self.plan = plan
+                result = self._apply(route, "plan", f"planned with {name} seed {s}: {route.shape[0]} waypoints")
+                self._keep(f"{name} seed {s}", name, plan)
+                return result
 
     def fly(self) -> None:
         """Fly the current mission in the closed loop (currents, moving obstacles, the guidance)."""
-        with self.lock:
-            world, mission = self._require()
-            w = self.waypoints.copy()
-            seed = self.sc.seed if self.sc else 0
-        sim = flown(world, mission, w, seed)
-        with self.lock:
-            self.flight, self.flight_of = sim, w
+        with self.long_work("a flight"):
+            with self.lock:
+                world, mission = self._require()
+                w = self.waypoints.copy()
+                seed = self.sc.seed if self.sc else 0
+            sim = flown(world, mission, w, seed)
+            with self.lock:
+                self.flight, self.flight_of = sim, w
             self._record("fly", f"flew the mission: {sim.status.value}")
 
     def flight_summary(self) -> dict[str, Any] | None:
@@ -488,11 +575,12 @@ class Session:
 
     # ------------------------------------------------------------------ candidates
     def _keep(self, name: str, origin: str, plan: PlanResult | None) -> Candidate:
-        assert self.result is not None
-        start = self.sc.mission.start_time if self.sc is not None else ""
-        c = Candidate(name, origin, self.waypoints.copy(), dict(self.result.summary), plan, start)
-        self.candidates.append(c)
-        return c
+        with self.lock:
+            assert self.result is not None
+            start = self.sc.mission.start_time if self.sc is not None else ""
+            c = Candidate(name, origin, self.waypoints.copy(), dict(self.result.summary), plan, start)
+            self.candidates.append(c)
+            return c
 
     def keep(self, name: str = "") -> Candidate:
         """Keep the current mission as a candidate.
@@ -524,11 +612,12 @@ class Session:
         CheckResult
             Its check.
         """
-        with self.lock:
+        with self.write_lock:
             if not isinstance(index, int) or isinstance(index, bool) or not 0 <= index < len(self.candidates):
                 raise AuvplanError(f"candidate {index!r}: no such candidate")
             c = self.candidates[index]
-            self.plan = c.plan
+            with self.lock:
+                self.plan = c.plan
             return self._apply(c.waypoints, "choose", f"chose candidate {c.name}")
 
     def candidate_rows(self) -> list[dict[str, Any]]:

@@ -103,6 +103,14 @@ def _check_sim_size(s: Scenario) -> None:
                   nbytes)
 
 
+def _check_endurance_size(s: Scenario) -> None:
+    """The energy budget's integration steps (``[endurance] ds_m`` along the mission) against the one estimator."""
+    m = s.mission
+    pts = [m.start, *m.route, m.goal] if m.route else [m.start, m.goal]
+    length = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:])) * (1.0 if m.route else 1.5)
+    _limits.check_endurance(s.limits, f"{s.source}: [endurance]", length, max(len(pts) - 1, 1), s.endurance.ds_m)
+
+
 def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.0, timeopt: bool = False) -> None:
     """``[planner.timeopt]`` (lattice and current table) and ``[formation] sample_m`` against the budget.
 
@@ -217,6 +225,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     _check_point(world, m.start, "start", src)
     _check_point(world, m.goal, "goal", src)
     _check_sim_size(s)
+    _check_endurance_size(s)
     for i, wp in enumerate(m.route):
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")

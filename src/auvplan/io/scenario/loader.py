@@ -325,6 +325,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
+    _limits.check_members(f"{source}: [currents] members", [m.count for m in currents.members])
     survey = _section(data, "survey", source) if "survey" in data else None
     if survey is None:  # a survey may start and end at the same launch/recovery point
         _check_geometry(source, mission, sim)
