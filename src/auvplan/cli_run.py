@@ -37,7 +37,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     from .sim import run_mission
 
     if out:
-        prepare_out(out, RESULT_NAMES, force=force)
+        prepare_out(out, RESULT_NAMES, force=force, job="run")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     if planner:
@@ -105,7 +105,7 @@ def run_formation_scenario(args: argparse.Namespace, sc: Scenario, world: World,
                            "the formation field of [formation])")
     if args.out:
         names = [*FORMATION_NAMES, *(f"{v.name}/{f}" for v in mission.formation.vehicles for f in RESULT_NAMES)]
-        prepare_out(args.out, names, force=args.force)
+        prepare_out(args.out, names, force=args.force, job="run formation")
     if args.planner:
         mission = replace(mission, planner=replace(mission.planner, name=args.planner))
     seed = sc.seed if args.seed is None else args.seed

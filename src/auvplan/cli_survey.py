@@ -39,7 +39,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
         0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
     """
     if args.out:
-        prepare_out(args.out, (*RESULT_NAMES, *SURVEY_NAMES), force=args.force)
+        prepare_out(args.out, (*RESULT_NAMES, *SURVEY_NAMES), force=args.force, job="survey")
     sc = scenario_io.load(args.scenario)
     if sc.survey is None:
         raise ScenarioError(f"{sc.source}: no [survey] table (polygon, sensor, opening_deg, mounting, overlap)")

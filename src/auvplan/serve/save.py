@@ -73,7 +73,7 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
     world, mission = session.world, session.mission
     assert world is not None and mission is not None
     w = record.route
-    prepare_out(out, SAVE_NAMES)
+    prepare_out(out, SAVE_NAMES, job="run")
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     records.write_run(out, record, text, False, world.origin)
     records.write_json(out / "source.json", {"scenario_source": str(Path(source).resolve())})
