@@ -248,7 +248,8 @@ def _serve_command(sub: Any) -> None:
     s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "_cmd_serve")
     s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
                    help="built-in name, TOML file or results folder (default: the built-in showcase)")
-    s.add_argument("--port", type=_int_at_least(0, 65535), default=8765, help="TCP port (default 8765; 0: any free port)")
+    s.add_argument("--port", type=_int_at_least(0, 65535), default=8765,
+                   help="TCP port (default 8765; 0: any free port)")
     s.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1: this machine only)")
     s.add_argument("--root", action="append", metavar="DIR",
                    help="a folder the page may read and save in (repeatable; default: the folder of the "

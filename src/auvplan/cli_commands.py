@@ -155,7 +155,8 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance),
                      tuple(args.members), tuple(args.member_seeds))
-    out = prepare_out(args.out, ("rows.csv", "histories.jsonl", *_BENCH_NAMES), force=args.force, job="bench")  # no link in the way
+    out = prepare_out(args.out, ("rows.csv", "histories.jsonl", *_BENCH_NAMES), force=args.force,
+                      job="bench")  # no link in the way
     rows = sweep(spec, out, workers=args.workers, scheduler=args.scheduler, resume=args.resume)
     table = summarise(rows)
     cols = list(table[0]) if table else []

@@ -23,8 +23,8 @@ from typing import Any
 from . import outdir
 from .outdir import OutputError
 
-__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written", "written_by",
-           "save_figure"]
+__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
+           "written_by", "save_figure"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""

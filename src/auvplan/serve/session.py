@@ -337,6 +337,8 @@ class Session:
         CheckResult
             The check of the edited mission.
         """
+        if op not in ("move", "insert", "delete", "depth"):
+            raise AuvplanError(f"edit op = {op!r}: choose move, insert, delete or depth")
         with self.write_lock:
             w = self.waypoints.copy()
             n = w.shape[0]
