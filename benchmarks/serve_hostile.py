@@ -124,7 +124,7 @@ def _big_body(port: int, mb: int, declared: bool) -> tuple[int, float]:
     chunk = b"[" + b"1," * (512 * 1024 - 1)
     n = mb * 1024 * 1024 // len(chunk)
     s = socket.create_connection(("127.0.0.1", port), timeout=120)
-    head = (f"POST /api/edit HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+    head = ("POST /api/edit HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
             + (f"Content-Length: {n * len(chunk)}\r\n" if declared else "Transfer-Encoding: chunked\r\n") + "\r\n")
     t0 = time.perf_counter()
     status = 0
@@ -182,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.monotonic()
         while True:
             try:
-                st = _state(port)
+                _state(port)
                 break
             except OSError:
                 if time.monotonic() - t0 > 300 or server.poll() is not None:

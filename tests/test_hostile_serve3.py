@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import json
 import logging
-import tomllib
 import socket
 import threading
+import tomllib
 
 import numpy as np
 import pytest
