@@ -218,7 +218,7 @@ def parse_ros_path(text: str) -> NDArray[np.float64]:
 def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str) -> NDArray[np.float64]:
     """``(N, 3)`` lon, lat, altitude (a line of points) projected to the local frame; anything else named."""
     if c.ndim != 2:
-        shape = "one point" if c.ndim == 1 else f"nested {c.ndim} deep (a polygon?)"
+        shape = {0: "not a list of points", 1: "one point"}.get(c.ndim, f"nested {c.ndim} deep (a polygon?)")
         raise DataError(f"the {what} coordinates are {shape}; a mission is a line of [lon, lat, altitude] points")
     if c.shape[1] == 2:
         raise DataError(f"the {what} coordinates are lon,lat without an altitude (point 0: "

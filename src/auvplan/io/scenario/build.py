@@ -178,6 +178,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
+    _check_endurance_size(s)  # from the document alone: before any data is read
     if extent is not None:  # before any data is read when the bounds say where
         check_plan_sizes(s, (extent[1] - extent[0], extent[3] - extent[2]))
     with _limits.budget(s.limits):  # every data reader estimates against the scenario's budget
@@ -225,7 +226,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     _check_point(world, m.start, "start", src)
     _check_point(world, m.goal, "goal", src)
     _check_sim_size(s)
-    _check_endurance_size(s)
     for i, wp in enumerate(m.route):
         if not world.bounds.contains(np.asarray(wp)):
             raise table_error(f"{src}: [mission]", f"route[{i}]", list(wp), "outside the bounds")
