@@ -25,7 +25,7 @@ import httpx  # noqa: E402
 from starlette.testclient import TestClient  # noqa: E402
 
 from auvplan.cli_serve import make_session  # noqa: E402
-from auvplan.serve import session as session_mod  # noqa: E402
+from auvplan.serve.actions import planning as planning_mod  # noqa: E402
 from auvplan.serve.app import LOCAL_HOSTS, MAX_BODY_BYTES, make_app  # noqa: E402
 from auvplan.serve.tomlout import dumps  # noqa: E402
 from serve_helpers import running  # noqa: E402
@@ -237,7 +237,7 @@ def test_long_work_runs_aside_busy_then_superseded_by_an_edit(monkeypatch, tmp_p
         assert release.wait(120)
         return None, session.waypoints[::-1].copy()
 
-    monkeypatch.setattr(session_mod, "replanned", held)
+    monkeypatch.setattr(planning_mod, "replanned", held)
     with running(make_app(session)) as url, httpx.Client(base_url=url, timeout=120) as c:
         out: dict[str, httpx.Response] = {}
         t = threading.Thread(target=lambda: out.setdefault("plan", httpx.post(f"{url}/api/plan", json={},

@@ -32,6 +32,7 @@ from starlette.routing import Route
 
 from ..errors import AuvplanError
 from ..sim import RunRecord
+from .actions import editing, planning, scenario
 from .check import CheckResult
 from .delta import Revisions, StaleRevision
 from .session import Busy, Session, Superseded, builtin_names
@@ -306,18 +307,18 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     def edit(d: dict[str, Any]) -> None:
         with session.write_lock:
             current(d)
-            session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+            editing.edit(session, str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
 
     def undo(d: dict[str, Any]) -> None:
         with session.write_lock:
             current(d)
-            session.undo()
+            editing.undo(session)
 
     def chart(d: dict[str, Any]) -> Response:
         return Response(_chart(session), media_type="application/json")
 
     def save(d: dict[str, Any]) -> dict[str, str]:
-        from .save import save_results
+        from .actions.save import save_results
 
         with session.long_work("saving the results"):
             out = save_results(session, d.get("name", ""))
@@ -331,18 +332,19 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),
         Route("/api/undo", api(undo), methods=["POST"]),
-        Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
-                                and None), methods=["POST"]),
-        Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), str(d.get("key")), d.get("value"))
-                              and None, full=True), methods=["POST"]),
-        Route("/api/open", api(lambda d: session.open(str(d.get("scenario", ""))), full=True), methods=["POST"]),
-        Route("/api/survey", api(lambda d: session.survey(d.get("polygon"), d.get("file")) and None, full=True),
+        Route("/api/check", api(lambda d: editing.set_check(session, d.get("semantics", "held"),
+                                                            d.get("pitch", 15.0)) and None), methods=["POST"]),
+        Route("/api/set", api(lambda d: scenario.set_value(session, str(d.get("table")), str(d.get("key")),
+                                                           d.get("value")) and None, full=True), methods=["POST"]),
+        Route("/api/open", api(lambda d: scenario.open_scenario(session, str(d.get("scenario", ""))), full=True),
               methods=["POST"]),
-        Route("/api/plan", api(lambda d: session.replan(d.get("planner") or None, d.get("seed")) and None),
-              methods=["POST"]),
-        Route("/api/fly", api(lambda d: session.fly()), methods=["POST"]),
-        Route("/api/keep", api(lambda d: session.keep(str(d.get("name", ""))) and None), methods=["POST"]),
-        Route("/api/choose", api(lambda d: session.choose(_index(d)) and None), methods=["POST"]),
+        Route("/api/survey", api(lambda d: planning.survey(session, d.get("polygon"), d.get("file")) and None,
+                                 full=True), methods=["POST"]),
+        Route("/api/plan", api(lambda d: planning.replan(session, d.get("planner") or None, d.get("seed"))
+                               and None), methods=["POST"]),
+        Route("/api/fly", api(lambda d: planning.fly(session)), methods=["POST"]),
+        Route("/api/keep", api(lambda d: editing.keep(session, str(d.get("name", ""))) and None), methods=["POST"]),
+        Route("/api/choose", api(lambda d: editing.choose(session, _index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]
     return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))])

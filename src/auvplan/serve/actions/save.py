@@ -14,16 +14,16 @@ import json
 from pathlib import Path
 from typing import Any
 
-from ..errors import AuvplanError
-from ..io import outdir
-from ..io.data.geo import LocalFrame
-from ..io.missions import export
-from ..io.missions.energy import mission_endurance, read_leg_speeds, write_energy
-from ..io.results import folder as results
-from ..io.results import records
-from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
-from ..sim import RunRecord
-from .session import Session
+from ...errors import AuvplanError
+from ...io import outdir
+from ...io.data.geo import LocalFrame
+from ...io.missions import export
+from ...io.missions.energy import mission_endurance, read_leg_speeds, write_energy
+from ...io.results import folder as results
+from ...io.results import records
+from ...io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from ...sim import RunRecord
+from ..session import Session
 
 __all__ = ["save_results", "SAVE_NAMES"]
 
@@ -91,7 +91,7 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
 
 
 def _report(out: Path, session: Session, record: RunRecord, text: str, endurance: Any) -> None:
-    from ..viz.report import build_report
+    from ...viz.report import build_report
 
     world = session.world
     assert world is not None
