@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown
+	bench-flow-flown bench-serve-hostile
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -79,6 +79,10 @@ bench-hard: $(STAMP)
 bench-flow-flown: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/flow_flown.py --starts 300 --out results/bench-flow-flown
 	nice -n 5 $(BIN)/python benchmarks/mission_build.py --starts 30
+# auvplan serve under hostile requests (issue 48): another request's latency, the server's memory under a
+# 300 MB body and 600 concurrent checks; writes docs/figures/serve-hostile.md (quoted in docs/serve.md)
+bench-serve-hostile: $(STAMP)
+	$(BIN)/python benchmarks/serve_hostile.py --figure
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
