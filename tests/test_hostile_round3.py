@@ -312,3 +312,16 @@ def test_force_removes_the_other_jobs_files_and_keeps_the_users(tmp_path):
     assert not (out / "track.csv").exists() and not (out / "metrics.json").exists()
     assert (out / "notes.txt").read_text() == "mine" and written_by(out) == "survey"
     assert json.loads((out / MANIFEST).read_text())["job"] == "survey"
+
+
+@pytest.mark.parametrize("planner, refused", [("iterations = 1000000000", True), ("budget = 1000000000000", True),
+                                              ("iterations = 300000", True), ("iterations = 50000", False),
+                                              ("budget = 10000", False)])
+def test_a_plan_of_hours_is_refused_at_load_naming_the_keys(planner, refused):
+    text = resolve("flow-spheres").read_text(encoding="utf-8").replace("[planner]", f"[planner]\n{planner}", 1)
+    if not refused:
+        loader.loads(text, "s.toml")
+        return
+    key = planner.split(" =")[0]
+    with pytest.raises(ScenarioError, match=rf"^s.toml: \[planner\] .*{key}.* path samples to cost, over the"):
+        loader.loads(text, "s.toml")

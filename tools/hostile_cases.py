@@ -38,10 +38,10 @@ CLASSES = [  # (class, example, the test functions' names)
      ("test_scenario_files_outside",)),
     ("serve: long work and dropped clients", "a second long request (503 busy), an edit during a re-plan "
      "(409 superseded), 3 drops mid-body", ("test_long_work_runs_aside", "test_a_client_dropping")),
-    ("estimator: endurance, members, survey", "`ds_m = 1e-9`, a 1.4·10⁹ m leg, 21 × 1 000 members, "
+    ("estimator: endurance, members, survey", "`ds_m = 1e-9`, a 1.4·10⁹ m leg, 21 × 1 000 members, `iterations = 10⁹`, "
      "`station_m = 1e-6`",
      ("test_the_energy", "test_ensemble_members", "test_survey_sizes", "test_endurance_ds_m", "test_a_long_route",
-      "test_perturbation_members", "test_survey_settings", "test_the_builtin_survey")),
+      "test_perturbation_members", "test_survey_settings", "test_the_builtin_survey", "test_a_plan_of_hours")),
     ("mission files", "2-D KML/GeoJSON, Point, flat list, polygon, `tail_first_legs: [1e400]`",
      ("test_odd_geojson", "test_geojson_without", "test_a_3d_kml", "test_odd_kml", "test_odd_tail",
       "test_mission_check_of_a_2d")),

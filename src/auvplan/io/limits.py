@@ -76,6 +76,8 @@ __all__ = [
     "BYTES_PER_SURVEY_STATION",
     "MAX_SURVEY_LINES",
     "check_survey",
+    "MAX_PLAN_SAMPLES",
+    "check_plan_work",
 ]
 
 BYTES_PER_TERRAIN_NODE = 160
@@ -92,6 +94,7 @@ MAX_ENDURANCE_STEPS = 2_000_000
 MAX_ENSEMBLE_MEMBERS = 1000
 BYTES_PER_SURVEY_STATION = 200
 MAX_SURVEY_LINES = 5000
+MAX_PLAN_SAMPLES = 2e9
 _MIB = 1024.0 * 1024.0
 
 
@@ -423,3 +426,21 @@ def check_survey(limits: Limits, where: str, span_m: float, length_m: float, spa
     samples = stations * (swath_m / step_m + 1.0) if step_m > 0 else math.inf
     check(limits, where, f"{what}, station_m = {station_m:g} m, step_m = {step_m:g} m ({stations:.3g} stations, "
           f"{samples:.3g} swath samples), which", stations * BYTES_PER_SURVEY_STATION + samples * 8.0 * 3)
+
+
+def check_plan_work(where: str, population: int, iterations: int, budget: int, samples: int) -> None:
+    """Refuse a swarm plan of more than :data:`MAX_PLAN_SAMPLES` path samples costed (time, not memory).
+
+    Parameters
+    ----------
+    where : str
+        ``s.toml: [planner]``.
+    population, iterations, budget, samples : int
+        The ``[planner]`` keys (``budget = 0``: ``population × iterations`` evaluations).
+    """
+    evaluations = float(budget) if budget > 0 else float(population) * float(iterations)
+    work = evaluations * float(samples)
+    if work > MAX_PLAN_SAMPLES:
+        what = (f"budget = {budget}" if budget > 0 else f"population × iterations = {population} × {iterations}")
+        raise ScenarioError(f"{where} {what} evaluations × samples = {samples}: {work:.3g} path samples to cost, "
+                            f"over the {MAX_PLAN_SAMPLES:.0e} allowed (hours of work); lower iterations or budget")

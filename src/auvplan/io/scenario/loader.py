@@ -435,6 +435,8 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
         nodes = _limits.grid_nodes(x1 - x0, y1 - y0, cell)
         _limits.check(limits, f"{src}: [terrain.synthetic]", f"cell_m = {cell:g} over the bounds ({nodes:.3g} nodes)",
                       nodes * _limits.BYTES_PER_TERRAIN_NODE)
+    _limits.check_plan_work(f"{src}: [planner]", planner.population, planner.iterations, planner.budget,
+                            planner.samples)
     pts = float(planner.population) * float(planner.samples)
     _limits.check(limits, f"{src}: [planner]", f"population × samples = {planner.population} × {planner.samples}",
                   pts * _limits.BYTES_PER_SAMPLE)
