@@ -42,7 +42,7 @@ CLASSES = [  # (class, example, the test functions' names)
      "`station_m = 1e-6`",
      ("test_the_energy", "test_ensemble_members", "test_survey_sizes", "test_endurance_ds_m", "test_a_long_route",
       "test_perturbation_members", "test_survey_settings", "test_the_builtin_survey", "test_a_plan_of_hours")),
-    ("mission files", "2-D KML/GeoJSON, Point, flat list, polygon, `tail_first_legs: [1e400]`",
+    ("mission files", "2-D KML/GeoJSON, Point, flat list, polygon, `tail_first_legs: [1e400]`, a 10⁹ m leg",
      ("test_odd_geojson", "test_geojson_without", "test_a_3d_kml", "test_odd_kml", "test_odd_tail",
       "test_mission_check_of_a_2d")),
     ("command line", "`--port 99999`, `validate` of what `plan` refuses",
@@ -52,7 +52,8 @@ CLASSES = [  # (class, example, the test functions' names)
 ]
 
 INPUTS = {"test_scenario_files_outside": 5, "test_a_body_over_the_limit": 2, "test_long_work_runs_aside": 2,
-          "test_a_client_dropping": 3, "test_validate_exits_2": 2}
+          "test_a_client_dropping": 3, "test_validate_exits_2": 2,
+          "test_mission_check_of_a_2d": 2}
 """Tests asserting the contract on several inputs: how many."""
 
 
