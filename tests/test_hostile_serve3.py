@@ -269,10 +269,10 @@ def test_a_client_dropping_mid_body_leaves_no_traceback(served):
             records.append(record)
 
     handler = Keep(level=logging.DEBUG)
-    for name in ("uvicorn.error", "uvicorn", "uvicorn.asgi"):
-        logging.getLogger(name).addHandler(handler)
     try:
-        with running(make_app(session)) as url:
+        with running(make_app(session)) as url:  # (uvicorn configures its loggers as it starts: handler after)
+            for name in ("uvicorn.error", "uvicorn", "uvicorn.asgi"):
+                logging.getLogger(name).addHandler(handler)
             host, port = url.removeprefix("http://").split(":")
             for _ in range(3):
                 s = socket.create_connection((host, int(port)))
