@@ -21,9 +21,9 @@ from collections.abc import Awaitable, Callable
 from importlib import resources
 from typing import Any
 
+import anyio
 import numpy as np
 from starlette.applications import Starlette
-from starlette.concurrency import run_in_threadpool
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
@@ -37,13 +37,18 @@ from .check import CheckResult
 from .delta import Revisions, StaleRevision
 from .session import Busy, Session, Superseded, builtin_names
 
-__all__ = ["make_app", "page_state", "one_line", "bounded_body", "ClientGone", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
+__all__ = ["make_app", "page_state", "one_line", "bounded_body", "ClientGone", "MAX_BODY_BYTES", "LOCAL_HOSTS",
+           "WRITER_THREADS"]
 
 LOCAL_HOSTS = ("127.0.0.1", "localhost")
 """``Host`` names accepted by default (tests pass their client's name, ``testserver``, themselves)."""
 
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
+
+WRITER_THREADS = 4
+"""Threads the POST requests share (they take turns on the session's ``write_lock`` anyway): a burst of them
+waits in this queue, not in the thread pool that ``GET /api/state`` and ``/api/chart`` are answered from."""
 
 _STATIC = {"app.js": "text/javascript", "delta.js": "text/javascript", "app.css": "text/css"}
 """Assets of the page, by name (nothing else under /static is served)."""
@@ -237,6 +242,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     """
     static = resources.files("auvplan.serve") / "static"
     revisions = Revisions()
+    writers = anyio.CapacityLimiter(WRITER_THREADS)
 
     async def index(request: Request) -> Response:
         return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
@@ -280,7 +286,9 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         async def handler(request: Request) -> Response:
             try:
                 data = await body(request) if request.method == "POST" else {}
-                out = await run_in_threadpool(answer, data)
+                # writers queue on their own few threads: the readers (state, chart) always find one free
+                out = await anyio.to_thread.run_sync(answer, data,
+                                                     limiter=writers if request.method == "POST" else None)
             except ClientGone:
                 return Response(status_code=400)  # nobody reads it; no traceback in the server's log
             except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
