@@ -13,7 +13,7 @@ from importlib import resources
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
 from ..errors import AuvplanError
-from ..io.data.tides import BUILTIN_TIDES
+from ..io.data.ocean.tides import BUILTIN_TIDES
 from ..io.scenario.specs import Scenario
 
 __all__ = ["PathRefused", "Roots", "named_files"]

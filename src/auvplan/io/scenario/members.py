@@ -23,8 +23,8 @@ from ...errors import DataError
 from ...world import CurrentField, UniformCurrent
 from ...world.ensemble_fields import PerturbedCurrent
 from .. import limits as _limits
-from ..data.currents import CurrentsFileSpec, read_currents
 from ..data.geo import LocalFrame
+from ..data.ocean.currents import CurrentsFileSpec, read_currents
 
 __all__ = ["PerturbationSpec", "MemberSpec", "member_fields"]
 
