@@ -353,11 +353,11 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
         nodes = _limits.grid_nodes(x1 - x0, y1 - y0, cell)
         _limits.check(limits, f"{src}: [terrain.synthetic]", f"cell_m = {cell:g} over the bounds ({nodes:.3g} nodes)",
                       nodes * _limits.BYTES_PER_TERRAIN_NODE)
-    _limits.check_plan_work(f"{src}: [planner]", planner.population, planner.iterations, planner.budget,
-                            planner.samples)
     pts = float(planner.population) * float(planner.samples)
     _limits.check(limits, f"{src}: [planner]", f"population × samples = {planner.population} × {planner.samples}",
                   pts * _limits.BYTES_PER_SAMPLE)
+    _limits.check_plan_work(f"{src}: [planner]", planner.population, planner.iterations, planner.budget,
+                            planner.samples)  # after the memory: a population bomb names its memory first
     grid = planner.grid
     if grid.cell > 0 and bounds.x and bounds.y and bounds.z:
         nodes = min(_limits.grid_nodes(bounds.x[1] - bounds.x[0], bounds.y[1] - bounds.y[0], grid.cell)
