@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown bench-zones bench-timeopt-front
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -92,6 +92,10 @@ bench-flow-flown: $(STAMP)
 # and CPU against hj_reachability on the same 2-D grid (optional: pip install hj_reachability jax)
 bench-timeopt-front: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/timeopt_front.py --out results/bench-timeopt-front
+# auvplan serve under hostile requests (issue 48): another request's latency, the server's memory under a
+# 300 MB body and 600 concurrent checks; writes docs/figures/serve-hostile.md (quoted in docs/serve.md)
+bench-serve-hostile: $(STAMP)
+	$(BIN)/python benchmarks/serve_hostile.py --figure
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step

@@ -58,7 +58,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     from .ensemble import route_fields, scenario_members
 
     if out:
-        prepare_out(out, RESULT_NAMES, force=force)
+        prepare_out(out, RESULT_NAMES, force=force, job="run")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     if planner:
@@ -125,7 +125,7 @@ def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: st
 
     assert mission.formation is not None  # called only for a scenario with [[vehicles]]
     if out:
-        prepare_out(out, _formation_names(mission), force=force)
+        prepare_out(out, _formation_names(mission), force=force, job="run formation")
     if planner:
         mission = replace(mission, planner=replace(mission.planner, name=planner))
     seed = sc.seed if seed is None else seed

@@ -70,7 +70,8 @@ def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> 
     """Check ``--out`` before any work (creatable, writable, no user file or link in the way)."""
     if getattr(args, "out", None) is None:
         return None
-    return prepare_out(args.out, names, force=getattr(args, "force", False))
+    job = "sweep" if getattr(args, "depart_between", None) else str(getattr(args, "command", "") or "")
+    return prepare_out(args.out, names, force=getattr(args, "force", False), job=job)
 
 
 JSON_WARNINGS: list[str] = []

@@ -23,8 +23,8 @@ from ..errors import AuvplanError, require
 __all__ = ["main", "main_entry"]
 
 
-def _int_at_least(low: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``low`` (a clear usage error otherwise, before any work)."""
+def _int_at_least(low: int, high: int | None = None) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``low`` (and <= ``high``; a clear usage error otherwise, before any work)."""
 
     def parse(text: str) -> int:
         try:
@@ -33,9 +33,11 @@ def _int_at_least(low: int) -> Callable[[str], int]:
             raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
         if value < low:
             raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(f"{value} must be <= {high}")
         return value
 
-    parse.__name__ = f"integer >= {low}"
+    parse.__name__ = f"integer >= {low}" if high is None else f"integer in [{low}, {high}]"
     return parse
 
 
@@ -247,7 +249,8 @@ def _serve_command(sub: Any) -> None:
     s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "serve:cmd_serve")
     s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
                    help="built-in name, TOML file or results folder (default: the built-in showcase)")
-    s.add_argument("--port", type=_int_at_least(0), default=8765, help="TCP port (default 8765; 0: any free port)")
+    s.add_argument("--port", type=_int_at_least(0, 65535), default=8765,
+                   help="TCP port (default 8765; 0: any free port)")
     s.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1: this machine only)")
     s.add_argument("--root", action="append", metavar="DIR",
                    help="a folder the page may read and save in (repeatable; default: the folder of the "

@@ -227,12 +227,35 @@ def parse_ros_path(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- GeoJSON, KML
+def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str) -> NDArray[np.float64]:
+    """``(N, 3)`` lon, lat, altitude (a line of points) projected to the local frame; anything else named."""
+    if c.ndim != 2:
+        shape = {0: "not a list of points", 1: "one point"}.get(c.ndim, f"nested {c.ndim} deep (a polygon?)")
+        raise DataError(f"the {what} coordinates are {shape}; a mission is a line of [lon, lat, altitude] points")
+    if c.shape[1] == 2:
+        raise DataError(f"the {what} coordinates are lon,lat without an altitude (point 0: "
+                        f"{c[0, 0]:.6g},{c[0, 1]:.6g}); a mission needs each waypoint's altitude (negative: depth "
+                        "below the surface) as a third value")
+    if c.shape[1] != 3:
+        raise DataError(f"the {what} coordinates have {c.shape[1]} values per point; expected lon, lat, altitude")
+    if not (np.all(np.abs(c[:, 1]) <= 90.0) and np.all(np.abs(c[:, 0]) <= 360.0)):
+        bad = int(np.flatnonzero(~((np.abs(c[:, 1]) <= 90.0) & (np.abs(c[:, 0]) <= 360.0)))[0])
+        raise DataError(f"the {what} point {bad} = {c[bad].tolist()}: not a lon, lat in degrees")
+    x, y = frame.forward(c[:, 0], c[:, 1])
+    return np.column_stack([x, y, c[:, 2]])
+
+
 def _geojson_mission(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
-    for f in doc.get("features", []):
-        if (f.get("properties") or {}).get("name") == "mission":
-            c = np.asarray(f["geometry"]["coordinates"], dtype=float)
-            x, y = frame.forward(c[:, 0], c[:, 1])
-            return np.column_stack([x, y, c[:, 2]])
+    features = doc.get("features", []) if isinstance(doc, dict) else None
+    if not isinstance(features, list):
+        raise DataError("GeoJSON: 'features' is not a list of features")
+    for f in features:
+        if isinstance(f, dict) and (f.get("properties") or {}).get("name") == "mission":
+            geometry = f.get("geometry") or {}
+            if not isinstance(geometry, dict) or "coordinates" not in geometry:
+                raise DataError("GeoJSON: the feature 'mission' has no geometry coordinates")
+            c = np.asarray(geometry["coordinates"], dtype=float)
+            return _lon_lat_alt(c, frame, f"GeoJSON feature 'mission' ({geometry.get('type', '?')})")
     raise DataError("GeoJSON: no feature with properties.name = 'mission'")
 
 
@@ -240,10 +263,13 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
     ns = {"k": KML_NS}
     for pm in _xml(text, "KML").iter(f"{{{KML_NS}}}Placemark"):
         if (pm.findtext("k:name", namespaces=ns) or "") == "mission":
-            c = np.array([[float(v) for v in s.split(",")]
-                          for s in pm.find("k:LineString/k:coordinates", ns).text.split()])  # type: ignore[union-attr]
-            x, y = frame.forward(c[:, 0], c[:, 1])
-            return np.column_stack([x, y, c[:, 2]])
+            coords = pm.find("k:LineString/k:coordinates", ns)
+            if coords is None or not (coords.text or "").strip():
+                raise DataError("KML: the Placemark 'mission' has no LineString coordinates")
+            rows = [[float(v) for v in s.split(",")] for s in coords.text.split()]  # type: ignore[union-attr]
+            if len({len(r) for r in rows}) > 1:
+                raise DataError("KML: the Placemark 'mission' mixes points with and without an altitude")
+            return _lon_lat_alt(np.array(rows, dtype=float), frame, "KML Placemark 'mission'")
     raise DataError("KML: no Placemark named 'mission'")
 
 
@@ -303,8 +329,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
         raise DataError(f"{path}: {exc}") from exc
     except RecursionError:
         raise DataError(f"{path}: nested too deeply for a {fmt} mission") from None
-    except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as exc:
-        raise DataError(f"{path}: not a readable {fmt} mission ({exc})") from exc
+    except (ValueError, KeyError, TypeError, AttributeError, OverflowError, IndexError) as exc:
+        raise DataError(f"{path}: not a readable {fmt} mission ({' '.join(str(exc).split())[:200]})") from exc
 
 
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:

@@ -106,6 +106,14 @@ def _check_sim_size(s: Scenario) -> None:
                   nbytes)
 
 
+def _check_endurance_size(s: Scenario) -> None:
+    """The energy budget's integration steps (``[endurance] ds_m`` along the mission) against the one estimator."""
+    m = s.mission
+    pts = [m.start, *m.route, m.goal] if m.route else [m.start, m.goal]
+    length = sum(math.dist(a, b) for a, b in zip(pts[:-1], pts[1:])) * (1.0 if m.route else 1.5)
+    _limits.check_endurance(s.limits, f"{s.source}: [endurance]", length, max(len(pts) - 1, 1), s.endurance.ds_m)
+
+
 def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.0, timeopt: bool = False) -> None:
     """``[planner.timeopt]`` (lattice and current table) and ``[formation] sample_m`` against the budget.
 
@@ -175,6 +183,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
     _check_terrain_size(s, extent)
+    _check_endurance_size(s)  # from the document alone: before any data is read
     if extent is not None:  # before any data is read when the bounds say where
         check_plan_sizes(s, (extent[1] - extent[0], extent[3] - extent[2]))
     with _limits.budget(s.limits):  # every data reader estimates against the scenario's budget

@@ -245,6 +245,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
+    _limits.check_members(f"{source}: [currents] members", [m.count for m in currents.members])
     survey = _section(data, "survey", source) if "survey" in data else None
     if survey is None:  # a survey may start and end at the same launch/recovery point
         _check_geometry(source, mission, sim)
@@ -360,6 +361,8 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
     pts = float(planner.population) * float(planner.samples)
     _limits.check(limits, f"{src}: [planner]", f"population × samples = {planner.population} × {planner.samples}",
                   pts * _limits.BYTES_PER_SAMPLE)
+    _limits.check_plan_work(f"{src}: [planner]", planner.population, planner.iterations, planner.budget,
+                            planner.samples)  # after the memory: a population bomb names its memory first
     grid = planner.grid
     if grid.cell > 0 and bounds.x and bounds.y and bounds.z:
         nodes = min(_limits.grid_nodes(bounds.x[1] - bounds.x[0], bounds.y[1] - bounds.y[0], grid.cell)
