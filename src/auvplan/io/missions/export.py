@@ -253,7 +253,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         elif fmt == "kml":
             text = to_kml(record, origin, full)
         elif fmt == "csv":
-            text = mfmt.mission_csv(waypoints, origin, speed, tail)
+            nav = record.nav
+            text = mfmt.mission_csv(waypoints, origin, speed, tail, nav.check.budget.error_m
+                                    if nav is not None and len(nav.points) == len(waypoints) else None)
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed)
         elif fmt == "plan":

@@ -308,7 +308,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 
 # ---------------------------------------------------------------------- CSV
 def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
-                tail: ArrayLike | None = None) -> str:
+                tail: ArrayLike | None = None, nav_error: ArrayLike | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -323,6 +323,9 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first: then a last column ``tail_first`` (1/0, the leg that reaches
         the waypoint; :mod:`auvplan.io.missions.tail`).
+    nav_error : array_like, optional
+        ``(N,)`` the predicted navigation error at each waypoint, after any fix there (confidence × σ,
+        :mod:`auvplan.nav`): then a last column ``nav_error_m``.
 
     Returns
     -------
@@ -338,9 +341,11 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     v = np.r_[v[:1], v] if v.size else np.asarray(speed, dtype=float).reshape(-1)[:1].repeat(len(p))
     k = None if tail is None else np.asarray(tail, dtype=bool)
     k = None if k is None or not k.any() else np.r_[k[:1], k].astype(int)
-    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")]
+    ne = None if nav_error is None else np.asarray(nav_error, dtype=float).reshape(-1)
+    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
+            + ("" if ne is None else ",nav_error_m")]
     for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
                               "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
-                             + ([] if k is None else [str(k[i])])))
+                             + ([] if k is None else [str(k[i])]) + ([] if ne is None else [f"{ne[i]:.2f}"])))
     return "\n".join(rows) + "\n"

@@ -67,7 +67,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
-    "survey",
+    "survey", "navigation",
 }
 
 
@@ -354,6 +354,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         formation=formation,
         geo=geo,
         endurance=_section(data, "endurance", source),
+        navigation=_section(data, "navigation", source) if "navigation" in data else None,
         survey=survey,
     )
 

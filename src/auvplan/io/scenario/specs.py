@@ -14,6 +14,7 @@ from ...guidance.formation import Formation, FormationParams
 from ...guidance.hybrid import HybridParams
 from ...guidance.local import AvoidanceParams
 from ...guidance.los import LosParams
+from ...nav.params import NavParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
 from ...survey.spec import SurveySpec
@@ -333,6 +334,8 @@ class Scenario:
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
+    navigation : NavParams or None
+        The navigation error budget and its fixes (``[navigation]``, issue 52).
     """
 
     name: str
@@ -360,6 +363,7 @@ class Scenario:
     geo: GeoInput | None = None
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     survey: SurveySpec | None = None
+    navigation: NavParams | None = None
 
 
 SECTIONS: dict[str, type] = {
@@ -367,6 +371,6 @@ SECTIONS: dict[str, type] = {
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimParams, "limits": Limits, "land": LandSpec,
     "formation": FormationParams, "endurance": EnduranceParams,
-    "survey": SurveySpec,
+    "survey": SurveySpec, "navigation": NavParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""
