@@ -14,11 +14,16 @@ import json
 import logging
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import cli_plan, cli_results, cli_run
 from .io.safeio import atomic_write, prepare_out, save_figure, write_new
+
+if TYPE_CHECKING:
+    from .nav import NavParams
+    from .world import World
 
 __all__ = ["DEMO_SCENARIO"]
 
@@ -101,6 +106,27 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
     return 0
 
 
+def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[dict[str, Any], bool, list[str]]:
+    """``mission check`` under ``[navigation]``: the mission's surface waypoints are its GPS fixes; the predicted
+    error of every leg, its bottom lock, and its least altitude over the seabed within that error."""
+    from .nav import check_navigation, surface_kinds
+
+    kinds = surface_kinds(points)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy)
+    b = c.budget
+    legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
+            for k in range(len(b.leg_error_m))]
+    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
+             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
+    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k)} surface fixes, predicted "
+                 f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
+                 + (f"; {c.message}" if c.message else ""))
+    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k),
+           "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
+    return rec, c.ok, lines
+
+
 def _cmd_mission_check(args: argparse.Namespace) -> int:
     from .flyable import check_limits
     from .io.missions.energy import mission_file_energy
@@ -122,8 +148,14 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
+        nav_ok = True
+        if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
+            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
+                                                                    points[1:] if fmt == "qgc" else points)
+            if not args.json:
+                print("\n".join(f"{name} {line}" for line in nav_lines))
         checks.append(rec)
-        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok else 1)
+        worst = max(worst, 0 if check.ok and vlimits.ok and energy_ok and nav_ok else 1)
         if not args.json:
             held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
                     if check.semantics == "held" else "")
