@@ -9,8 +9,9 @@ The scenario's route (its fixed ``[mission] route``, fitted to the vehicle) is p
 (:func:`auvplan.sim.simulate`) with a drifting estimate (``Mission.nav_drift``: the budget's own model,
 drawn per seed, :mod:`auvplan.sim.drift`): the vehicle steers by its estimate, every fix resets it.
 Per flight: contact with the seabed, arrival, the true error's largest value against the budget E.
-Writes ``nav_drift.json`` and, with ``--figure NAME``, ``docs/figures/NAME.md`` (quoted in
-docs/navigation.md).
+Flights are appended to ``planned.jsonl`` and ``perfect.jsonl`` as they are flown (a rerun resumes;
+``--part`` flies one of the two, so two processes can share the work).  Writes ``nav_drift.json`` and,
+with ``--figure NAME``, ``docs/figures/NAME.md`` (quoted in docs/navigation.md).
 """
 
 from __future__ import annotations
@@ -29,14 +30,25 @@ from auvplan.sim import simulate
 from auvplan.sim.pipeline import navigation_plan, planned_route
 
 
-def fly(world, mission, route, kinds, seeds):  # type: ignore[no-untyped-def]
-    """Fly the route once per seed with drift; one row per flight."""
+def fly(world, mission, route, kinds, seeds, log):  # type: ignore[no-untyped-def]
+    """Fly the route once per seed with drift; one row per flight (also appended to ``log`` as it is flown)."""
+    done = {}
+    if log.exists():  # resume: the flights already flown
+        for line in log.read_text().splitlines():
+            row = json.loads(line)
+            done[row["seed"]] = row
     rows = []
     for seed in range(seeds):
+        if seed in done:
+            rows.append(done[seed])
+            continue
         r = simulate(world, mission, route=route, rng=seed, fix_kinds=kinds)
-        rows.append({"seed": seed, "status": r.status.value, "arrived": bool(r.arrived),
-                     "contacts": int(r.metrics["collisions"]), "min_altitude_m": float(r.metrics["min_altitude_m"]),
-                     "nav_error_max_m": float(r.nav_error.max()) if r.nav_error is not None else 0.0})
+        row = {"seed": seed, "status": r.status.value, "arrived": bool(r.arrived),
+               "contacts": int(r.metrics["collisions"]), "min_altitude_m": float(r.metrics["min_altitude_m"]),
+               "nav_error_max_m": float(r.nav_error.max()) if r.nav_error is not None else 0.0}
+        rows.append(row)
+        with log.open("a") as f:
+            f.write(json.dumps(row) + "\n")
     return rows
 
 
@@ -55,6 +67,8 @@ def main() -> None:  # noqa: D103
     ap.add_argument("--seeds", type=int, default=200)
     ap.add_argument("--out", default="results/nav")
     ap.add_argument("--figure", default="")
+    ap.add_argument("--part", choices=("both", "planned", "perfect"), default="both",
+                    help="fly only one of the two missions (two processes; then run again with both to summarise)")
     a = ap.parse_args()
     t0 = time.process_time()
     sc = scenario.load(a.scenario)
@@ -66,17 +80,23 @@ def main() -> None:  # noqa: D103
     plan = navigation_plan(world, mission, route)
     assert plan is not None and plan.ok, plan.message if plan else ""
     load0 = os.getloadavg()
-    planned = fly(world, replace(mission, nav_drift=True), plan.points, plan.kinds, a.seeds)
+    out_dir = Path(a.out)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if a.part in ("both", "planned"):
+        planned = fly(world, replace(mission, nav_drift=True), plan.points, plan.kinds, a.seeds,
+                      out_dir / "planned.jsonl")
     perfect = replace(mission, navigation=replace(nav, fixes="none"), nav_drift=True)
-    naive = fly(world, perfect, route, ("",) * len(route), a.seeds)
+    if a.part in ("both", "perfect"):
+        naive = fly(world, perfect, route, ("",) * len(route), a.seeds, out_dir / "perfect.jsonl")
+    if a.part != "both":
+        return
     m = plan.metrics()
     out = {"scenario": a.scenario, "seeds": a.seeds, "budget_m": nav.max_error_m, "confidence": nav.confidence,
            "route_km": float(np.hypot(*np.diff(route[:, :2], axis=0).T).sum() / 1000), **m,
            "planned": summary(planned, nav.max_error_m), "perfect_navigation": summary(naive, nav.max_error_m),
            "cpu_s": time.process_time() - t0, "load": [load0, os.getloadavg()],
            "rows": {"planned": planned, "perfect_navigation": naive}}
-    Path(a.out).mkdir(parents=True, exist_ok=True)
-    (Path(a.out) / "nav_drift.json").write_text(json.dumps(out, indent=1) + "\n")
+    (out_dir / "nav_drift.json").write_text(json.dumps(out, indent=1) + "\n")
     p, q = out["planned"], out["perfect_navigation"]
     fewer = 100.0 * (1 - m["fixes"] / m["fixes_fixed_period"]) if m["fixes_fixed_period"] else float("nan")
     text = (f"`{a.scenario}` ({out['route_km']:.1f} km, E = {nav.max_error_m:g} m at {nav.confidence:g} σ): "
@@ -87,9 +107,9 @@ def main() -> None:  # noqa: D103
             f"(largest {p['error_max_m']:.1f} m, median of the largest {p['error_p50_m']:.1f} m), least altitude "
             f"{p['min_altitude_m']:.1f} m; the same route planned with perfect navigation (no fix), flown with "
             f"the same drift: {q['arrived']} arrived, {q['with_contact']} with a contact, true error within E in "
-            f"{q['error_within_budget']} (largest {q['error_max_m']:.0f} m), least altitude {q['min_altitude_m']:.1f} m; "
-            f"{out['cpu_s']:.0f} s CPU, load average {load0[0]:.2f} at the start, {os.getloadavg()[0]:.2f} at the end "
-            f"on 2 cores (`benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
+            f"{q['error_within_budget']} (largest {q['error_max_m']:.0f} m), least altitude "
+            f"{q['min_altitude_m']:.1f} m; flights flown by two processes (`--part`), load average "
+            f"{load0[0]:.2f} when summarised on 2 cores (`benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
     print(text)
     if a.figure:
         Path("docs/figures", f"{a.figure}.md").write_text(text + "\n")
