@@ -109,7 +109,8 @@ def main() -> None:  # noqa: D103
             f"the same drift: {q['arrived']} arrived, {q['with_contact']} with a contact, true error within E in "
             f"{q['error_within_budget']} (largest {q['error_max_m']:.0f} m), least altitude "
             f"{q['min_altitude_m']:.1f} m; flights flown by two processes (`--part`), load average "
-            f"{load0[0]:.2f} when summarised on 2 cores (`benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
+            f"{load0[0]:.2f} when summarised on 2 cores "
+            f"(`benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
     print(text)
     if a.figure:
         Path("docs/figures", f"{a.figure}.md").write_text(text + "\n")
