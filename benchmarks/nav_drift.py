@@ -67,8 +67,8 @@ def main() -> None:  # noqa: D103
     ap.add_argument("--seeds", type=int, default=200)
     ap.add_argument("--out", default="results/nav")
     ap.add_argument("--figure", default="")
-    ap.add_argument("--part", choices=("both", "planned", "perfect"), default="both",
-                    help="fly only one of the two missions (two processes; then run again with both to summarise)")
+    ap.add_argument("--part", choices=("both", "planned", "perfect", "summary"), default="both",
+                    help="fly only one of the two missions (two processes), or summarise the flights flown so far")
     a = ap.parse_args()
     t0 = time.process_time()
     sc = scenario.load(a.scenario)
@@ -88,8 +88,11 @@ def main() -> None:  # noqa: D103
     perfect = replace(mission, navigation=replace(nav, fixes="none"), nav_drift=True)
     if a.part in ("both", "perfect"):
         naive = fly(world, perfect, route, ("",) * len(route), a.seeds, out_dir / "perfect.jsonl")
-    if a.part != "both":
+    if a.part in ("planned", "perfect"):
         return
+    if a.part == "summary":  # the flights flown so far, whatever their number
+        planned, naive = ([json.loads(x) for x in (out_dir / f"{k}.jsonl").read_text().splitlines()]
+                          for k in ("planned", "perfect"))
     m = plan.metrics()
     out = {"scenario": a.scenario, "seeds": a.seeds, "budget_m": nav.max_error_m, "confidence": nav.confidence,
            "route_km": float(np.hypot(*np.diff(route[:, :2], axis=0).T).sum() / 1000), **m,
@@ -98,6 +101,8 @@ def main() -> None:  # noqa: D103
            "rows": {"planned": planned, "perfect_navigation": naive}}
     (out_dir / "nav_drift.json").write_text(json.dumps(out, indent=1) + "\n")
     p, q = out["planned"], out["perfect_navigation"]
+    seeds = f"seeds 0-{p['flights'] - 1}" if p["flights"] == q["flights"] else \
+        f"seeds 0-{p['flights'] - 1} and 0-{q['flights'] - 1}"
     fewer = 100.0 * (1 - m["fixes"] / m["fixes_fixed_period"]) if m["fixes_fixed_period"] else float("nan")
     text = (f"`{a.scenario}` ({out['route_km']:.1f} km, E = {nav.max_error_m:g} m at {nav.confidence:g} σ): "
             f"{m['fixes']} planned fixes against {m['fixes_fixed_period']} for the best fixed period "
@@ -108,9 +113,9 @@ def main() -> None:  # noqa: D103
             f"{p['min_altitude_m']:.1f} m; the same route planned with perfect navigation (no fix), flown with "
             f"the same drift: {q['arrived']} arrived, {q['with_contact']} with a contact, true error within E in "
             f"{q['error_within_budget']} (largest {q['error_max_m']:.0f} m), least altitude "
-            f"{q['min_altitude_m']:.1f} m; flights flown by two processes (`--part`), load average "
+            f"{q['min_altitude_m']:.1f} m; load average "
             f"{load0[0]:.2f} when summarised on 2 cores "
-            f"(`benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
+            f"({seeds}; `benchmarks/nav_drift.py --scenario {a.scenario} --seeds {a.seeds}`)")
     print(text)
     if a.figure:
         Path("docs/figures", f"{a.figure}.md").write_text(text + "\n")
