@@ -119,7 +119,7 @@ def lock_fraction(alt: ArrayLike, dvl_range: float) -> FloatArray:
 
 
 def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams) -> FloatArray:
-    """σ growth over each interval: ``Δs × (f · drift_pct + (1 − f) · drift_pct_no_lock) / 100``.
+    """The growth of σ over each interval: ``Δs × (f · drift_pct + (1 − f) · drift_pct_no_lock) / 100``.
 
     Parameters
     ----------
@@ -142,7 +142,7 @@ def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams) -> FloatArr
 
 def sigma_profile(inc: ArrayLike, resets: ArrayLike, sigma_fix: ArrayLike, sigma0: float) -> tuple[FloatArray,
                                                                                                     FloatArray]:
-    """σ at every sample, before and after any fix there.
+    """The σ at every sample, before and after any fix there.
 
     Parameters
     ----------
@@ -175,7 +175,7 @@ def sigma_profile(inc: ArrayLike, resets: ArrayLike, sigma_fix: ArrayLike, sigma
 
 
 def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float, float] | None) -> float:
-    """σ right after a fix of ``kind`` at ``point``.
+    """The σ right after a fix of ``kind`` at ``point``.
 
     Parameters
     ----------

@@ -63,6 +63,8 @@ class NavParams:
         Time at the surface per fix (s).
     usbl : UsblParams or None
         Optional USBL aiding from a ship: a second kind of fix, taken at depth.
+    _usbl_xy : tuple of float or None
+        The ship's position in the local frame (m), set when the scenario is built (not a scenario key).
     """
 
     drift_pct: float = 0.3
