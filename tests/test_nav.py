@@ -290,3 +290,17 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
     before, after = flown.nav_error[:at_fix - 5], flown.nav_error[at_fix + 5:]
     assert before.max() > 20.0 * after[0]  # reset to the fix's own error, then growing again
     assert after[-1] > after[0]
+
+
+def test_the_surface_dwell_is_in_the_energy_budget_at_hotel_power():
+    from auvplan.endurance import EnergyModel, mission_budget as energy_budget
+    from auvplan.vehicles import VehicleParams
+
+    w = _world(depth=300.0)
+    route = np.array([[1000.0, 6000.0, -250.0], [3000.0, 6000.0, 0.0], [5000.0, 6000.0, -250.0]])
+    model = EnergyModel.from_vehicle(VehicleParams())
+    plain = energy_budget(w, route, model, 1.5)
+    held = energy_budget(w, route, model, 1.5, dwell=[0.0, 120.0, 0.0])
+    assert held.duration_s == pytest.approx(plain.duration_s + 120.0, rel=1e-12)
+    assert held.energy_wh - plain.energy_wh == pytest.approx(float(model.power(0.0)) * 120.0 / 3600.0, rel=1e-9)
+    np.testing.assert_allclose(held.speed_ground, plain.speed_ground, rtol=1e-12)
