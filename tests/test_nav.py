@@ -304,3 +304,20 @@ def test_the_surface_dwell_is_in_the_energy_budget_at_hotel_power():
     assert held.duration_s == pytest.approx(plain.duration_s + 120.0, rel=1e-12)
     assert held.energy_wh - plain.energy_wh == pytest.approx(float(model.power(0.0)) * 120.0 / 3600.0, rel=1e-9)
     np.testing.assert_allclose(held.speed_ground, plain.speed_ground, rtol=1e-12)
+
+
+def test_usbl_fixes_are_taken_at_depth_near_the_ship_with_their_slant_range_error():
+    from auvplan.nav import UsblParams, plan_navigation
+    from auvplan.nav.budget import fix_sigma
+
+    w = _world(depth=300.0)
+    nav = NavParams(drift_pct=0.5, drift_pct_no_lock=1.5, dvl_range_m=100.0, fix_error_m=3.0, max_error_m=120.0,
+                    usbl=UsblParams(16.0, 145.0, 1.0), _usbl_xy=(8000.0, 6500.0))
+    assert fix_sigma(nav, "usbl", (8000.0, 6000.0, -200.0), nav.usbl_xy) == pytest.approx(0.01 * math.hypot(500, 200))
+    route = np.array([[1000.0, 6000.0, -150.0], [15000.0, 6000.0, -150.0]])  # 150 m up: no lock
+    plan = plan_navigation(w, route, nav, 20.0, 1.5, nav.usbl_xy, step=100.0, compare=False)
+    assert plan.ok and "usbl" in plan.kinds
+    i = plan.kinds.index("usbl")
+    assert plan.points[i, 2] == pytest.approx(-150.0)  # taken where the vehicle is, not at the surface
+    assert plan.check.budget.error_m[i] == pytest.approx(
+        nav.confidence * fix_sigma(nav, "usbl", plan.points[i], nav.usbl_xy), rel=1e-9)
