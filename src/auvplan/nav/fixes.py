@@ -160,10 +160,13 @@ def _stretch_from(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node,
     i = b.k - a.k
     if b.kind != "gps":
         return True, nav.confidence * float(np.hypot(a.sigma, d[i]))
-    v = -prof.tan_pitch * (prof.s[b.k] - prof.s[a.k:b.k + 1])
-    lifted = np.flatnonzero(v <= z[:i + 1])
-    j0 = int(lifted[-1]) if lifted.size else 0  # the climb leaves the schedule after this sample
-    zz = np.maximum(z[j0:i + 1], v[j0:])
+    reach = float(-z[:i + 1].min()) / prof.tan_pitch  # no climb starts further back than this
+    w0 = max(0, int(np.searchsorted(prof.s, prof.s[b.k] - reach)) - 1 - a.k)
+    v = -prof.tan_pitch * (prof.s[b.k] - prof.s[a.k + w0:b.k + 1])
+    lifted = np.flatnonzero(v <= z[w0:i + 1])
+    j0 = w0 + (int(lifted[-1]) if lifted.size else 0)  # the climb leaves the schedule after this sample
+    v = v[j0 - w0:]
+    zz = np.maximum(z[j0:i + 1], v)
     inc = drift_increments(np.diff(prof.s[a.k + j0:b.k + 1]), lock_fraction(zz - prof.zb[a.k + j0:b.k + 1],
                                                                             nav.dvl_range_m), nav)
     err = nav.confidence * np.hypot(a.sigma, d[j0] + np.cumsum(inc))
