@@ -303,7 +303,7 @@ def _command(run: _Run, k: int, t: float, pos: NDArray[np.float64], shapes: Sequ
     # the follower's field acts in the horizontal plane: a static obstacle the vehicle passes above or
     # below (its depth outside the obstacle's band) is not steered round
     level = [i >= n_static or bands[i][0] <= s.z <= bands[i][1] for i in range(len(shapes))]
-    ex, ey = run.estimate()  # the vehicle steers by where it believes it is
+    ex, ey = (0.0, 0.0) if run.drift is None else run.estimate()  # it steers by where it believes it is
     if run.local is None:
         near = [(it[1][0], it[1][1], d) for it, d, lv in zip(shapes, dists, level) if it is not None and lv]
         psi_d, _, rp = run.guide.command(s.x + ex, s.y + ey, s.z, cur, s.u, near, dt)
@@ -327,7 +327,7 @@ def _step_events(run: _Run, t: float, pos: NDArray[np.float64], alt: float, dist
         kind = "unavoidable" if run.status is Status.UNAVOIDABLE else "collision"
         run.events.append((t, kind, f"hit {what} at t = {t:.1f} s, position {pos.round(2).tolist()}"))
         return True
-    ex, ey = run.estimate()  # arrival as the vehicle believes it
+    ex, ey = (0.0, 0.0) if run.drift is None else run.estimate()  # arrival as the vehicle believes it
     if _arrived(rp.last, (s.x + ex, s.y + ey, s.z), run.goal, st.arrival_radius):
         run.events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
         run.status = Status.EXACT
