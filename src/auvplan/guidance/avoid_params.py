@@ -7,11 +7,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["AVOIDANCE", "AvoidanceParams"]
+__all__ = ["AVOIDANCE", "ESCAPES", "AvoidanceParams"]
 
 
 AVOIDANCE = ("predictive", "apf", "none")
 """Local avoidance variants: issue #21's predictive one, document 004's APF, none."""
+
+ESCAPES = ("auto", "sampled", "patent")
+"""Local-minimum escape rules: each avoidance's own (``auto``), issue #36's sampled sub-goal, document 004's
+rule as written."""
 
 
 @dataclass(frozen=True)
@@ -39,7 +43,16 @@ class AvoidanceParams:
     history_dt : float
         Interval between remembered own positions (s).
     escape_radius : float
-        Radius about the vehicle in which random escape sub-goals are drawn (m).
+        ``escape = "sampled"``: radius about the vehicle in which random escape sub-goals are drawn (m).
+    escape : str
+        The local-minimum escape rule.  ``"auto"`` (the default): ``"patent"`` under document 004's
+        ``apf``, ``"sampled"`` under ``predictive`` (:attr:`escape_rule`).  ``"sampled"``: draws within
+        ``escape_radius`` at about the vehicle's depth, the sub-goal kept until reached
+        (``predictive`` picks the draw in sight with the shortest way on).  ``"patent"``: document 004
+        steps 3.3.2.5-3.3.2.7 as written: a random obstacle-free point anywhere in the world (bounds,
+        seabed, margins) replaces the sub-goal at every new path point (one per ``history_dt``) while
+        the local-minimum count says trapped; once it does not, the first unvisited key waypoint is the
+        sub-goal again.
     collision_check : str
         ``"exact"`` or ``"stepping"`` (document 004's test) for key waypoints.
     escape_time : float
@@ -84,6 +97,7 @@ class AvoidanceParams:
     minimum_count: int = 60
     history_dt: float = 1.0
     escape_radius: float = 60.0
+    escape: str = "auto"
     collision_check: str = "exact"
     escape_time: float = 300.0
     sensor_range: float = 200.0
@@ -103,6 +117,8 @@ class AvoidanceParams:
             raise ValueError(f"name = {self.name!r}: choose {', '.join(repr(a) for a in AVOIDANCE)}")
         if self.velocity not in ("known", "track"):
             raise ValueError(f"velocity = {self.velocity!r}: choose 'known' or 'track'")
+        if self.escape not in ESCAPES:
+            raise ValueError(f"escape = {self.escape!r}: choose {', '.join(repr(a) for a in ESCAPES)}")
         if self.escape_time < 0:
             raise ValueError(f"escape_time = {self.escape_time}: must be >= 0")
         for k in ("radius", "arrive", "minimum_radius", "escape_radius", "history_dt", "sensor_range", "horizon",
@@ -116,3 +132,10 @@ class AvoidanceParams:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be >= 0")
         if self.collision_check not in ("exact", "stepping"):
             raise ValueError(f"collision_check = {self.collision_check!r}: choose 'exact' or 'stepping'")
+
+    @property
+    def escape_rule(self) -> str:
+        """The escape rule in force: ``escape``, or the avoidance's own when ``"auto"``."""
+        if self.escape != "auto":
+            return self.escape
+        return "patent" if self.name == "apf" else "sampled"

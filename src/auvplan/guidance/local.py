@@ -17,7 +17,10 @@ Patent 004 (docs/methods.md §4):
   commanded direction (heading and pitch) of the vehicle.
 * **Local minimum**: the count of the vehicle's own past points within r₁ of the current point
   reaching ε₂ means trapped; escape toward a random free sub-goal (seeded), then back to the key
-  waypoint.
+  waypoint.  ``escape = "patent"`` is the document's rule as written (steps 3.3.2.5-3.3.2.7): a
+  random obstacle-free point anywhere in the world is the sub-goal, drawn anew at every path point
+  while the count says trapped, dropped as soon as it does not; ``escape = "sampled"`` (issue #36)
+  draws within ``escape_radius`` at about the vehicle's depth and keeps the sub-goal until reached.
 
 Failure modes are statuses: a key waypoint occupied by an obstacle is skipped (the next one
 becomes the goal); a collision with an obstacle faster than the vehicle that was closing in is
@@ -173,6 +176,8 @@ class MinimumDetector:
         self.n = 0
         self.head = 0
         self._last = -math.inf
+        self._trapped = False
+        self.fresh = False
 
     def update(self, p: _F64, t: float) -> bool:
         """Remember ``p`` (every ``every`` s) and say whether the vehicle is trapped.
@@ -189,7 +194,8 @@ class MinimumDetector:
         bool
             True when at least ε₂ remembered points lie within r₁ of ``p``.
         """
-        if t - self._last >= self.every:
+        self.fresh = t - self._last >= self.every  # a new path point is remembered (and tested)
+        if self.fresh:
             self.buf[self.head] = p[:3]
             self.head = (self.head + 1) % self.buf.shape[0]
             self.n = min(self.n + 1, self.buf.shape[0])
@@ -228,6 +234,26 @@ def _random_free_point(world: World, p: ArrayLike, radius: float, t: float, rng:
             return best
     point: _F64 = cand[int(free[0])]
     return point
+
+
+def _free_point_anywhere(world: World, t: float, rng: np.random.Generator, tries: int = 64,
+                         rounds: int = 8) -> _F64 | None:
+    """A random obstacle-free point anywhere in the world (document 004 step 3.3.2.5).
+
+    Uniform in the world's bounds; the first of ``tries`` draws that is free (seabed, surface and
+    depth margins, static obstacles, moving obstacles placed at ``t``), over at most ``rounds``
+    batches; None when every draw is occupied.
+    """
+    b = world.bounds
+    lo = np.array([b.xmin, b.ymin, b.zmin])
+    hi = np.array([b.xmax, b.ymax, b.zmax])
+    for _ in range(rounds):
+        cand = lo + (hi - lo) * rng.uniform(0.0, 1.0, (tries, 3))
+        ok = np.flatnonzero(world.is_free(cand, t))
+        if ok.size:
+            point: _F64 = cand[int(ok[0])]
+            return point
+    return None
 
 
 # ---------------------------------------------------------------------- vehicle guidance
@@ -280,6 +306,7 @@ class LocalAvoidance:
         self.decision_time = 0.0
         self.speed_command = self.speed
         self._stall = (math.nan, math.nan, 0)
+        self._trap_goal = False  # the sub-goal is the patent's escape point (dropped once not trapped)
 
     def _escape(self, p: _F64, t: float, scale: float = 1.0, minimum: bool = False) -> bool:
         """Document 004's escape: head for a random free sub-goal within ``scale × escape_radius``.
@@ -287,13 +314,15 @@ class LocalAvoidance:
         With ``predictive`` avoidance the sub-goal is planned among the random draws (in sight, shortest
         way to the first unvisited key waypoint; :func:`_random_free_point`); document 004's APF keeps
         its random free point.  ``minimum``: fired by the local-minimum count
-        (counted in ``minimum_escapes``), else by the stalled route progress.
+        (counted in ``minimum_escapes``) under ``escape = "sampled"``, else by the stalled route progress
+        (under either rule: document 004 has no stall watch; :meth:`_patent_escape` is its own rule).
         """
         goal = self.keys[min(self.goal_index, len(self.keys) - 1)] if self.params.name == "predictive" else None
         sub = _random_free_point(self.world, p, scale * self.params.escape_radius, t, self.rng, goal=goal)
         if sub is None:
             return False
         self.detector.reset()
+        self._trap_goal = False
         self.subgoal = sub
         self.escapes += 1
         self.minimum_escapes += int(minimum)
@@ -394,6 +423,26 @@ class LocalAvoidance:
         finally:
             self.decision_time += time.perf_counter() - t0
 
+    def _patent_escape(self, p: _F64, t: float, goal: _F64) -> _F64:
+        """Document 004 steps 3.3.2.5-3.3.2.7: while trapped, a new random free point anywhere at every
+        path point; once not trapped, back to the first unvisited key waypoint.  Returns the goal to steer to."""
+        if not self.detector.update(p, t):
+            if self._trap_goal:
+                self.subgoal, self._trap_goal = None, False
+                key: _F64 = self.keys[self.goal_index]
+                return key
+            return goal
+        if self.subgoal is not None and not (self._trap_goal and self.detector.fresh):
+            return goal  # the same path point, or a stall escape's sub-goal (kept until reached)
+        sub = _free_point_anywhere(self.world, t, self.rng)
+        if sub is None:
+            return goal
+        if not self._trap_goal:  # a new escape; later draws while trapped re-draw the same one
+            self.escapes += 1
+            self.minimum_escapes += 1
+        self.subgoal, self._trap_goal = sub, True
+        return sub
+
     def _apf_command(self, pos: _F64, t: float, near: Sequence[tuple[Any, ...]], psi: float,
                      rp: RoutePoint) -> tuple[float, float | None, RoutePoint]:
         p = np.asarray(pos, dtype=float)
@@ -409,7 +458,9 @@ class LocalAvoidance:
             else:
                 self.goal_index = min(self.goal_index + 1, len(self.keys) - 1)
                 goal = self.keys[self.goal_index]
-        if self.subgoal is None and self.detector.update(p, t) and self._escape(p, t, minimum=True):
+        if self.params.escape_rule == "patent":
+            goal = self._patent_escape(p, t, goal)
+        elif self.subgoal is None and self.detector.update(p, t) and self._escape(p, t, minimum=True):
             goal = self.subgoal
         centers = np.array([o[4] for o in near]).reshape(-1, 3)
         dists = np.array([o[2] for o in near])

@@ -258,7 +258,9 @@ class PredictiveAvoidance(LocalAvoidance):
         if self.subgoal is not None and np.linalg.norm(self.subgoal - p) <= self.params.arrive:
             self.subgoal = None
             self.detector.reset()
-        if self.subgoal is None and self.mode != "route" and self.detector.update(p, t):
+        if self.mode != "route" and self.params.escape_rule == "patent":
+            self._patent_escape(p, t, p)
+        elif self.subgoal is None and self.mode != "route" and self.detector.update(p, t):
             self._escape(p, t, minimum=True)
         if self.subgoal is not None:
             a = self.subgoal - p
