@@ -10,10 +10,11 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.bench import perturb_moving
-from auvplan.guidance.local import AvoidanceParams, apf_force
-from auvplan.guidance.point_model import run_point_model
-from auvplan.guidance.predictive import TrackEstimator
-from auvplan.guidance.vo import CFG, closest_approach, predicted_preference, vo_choose
+from auvplan.guidance.avoidance.local import apf_force
+from auvplan.guidance.avoidance.params import AvoidanceParams
+from auvplan.guidance.avoidance.point_model import run_point_model
+from auvplan.guidance.avoidance.predictive import TrackEstimator
+from auvplan.guidance.avoidance.vo import CFG, closest_approach, predicted_preference, vo_choose
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import Mission, mission_route, planning_problem, simulate

@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from auvplan.errors import ScenarioError
-from auvplan.flyable import VehicleLimits, check_limits
 from auvplan.nav import (
     NavParams,
     apply_fixes,
@@ -28,6 +27,7 @@ from auvplan.nav import (
 )
 from auvplan.nav.budget import drift_increments, lock_fraction, sigma_profile
 from auvplan.nav.clearance import lattice_step
+from auvplan.path.flyable import VehicleLimits, check_limits
 from auvplan.sim.drift import NavDrift
 from auvplan.world import Bounds, Margins, Terrain, World
 
@@ -293,7 +293,8 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
 
 
 def test_the_surface_dwell_is_in_the_energy_budget_at_hotel_power():
-    from auvplan.endurance import EnergyModel, mission_budget as energy_budget
+    from auvplan.endurance import EnergyModel
+    from auvplan.endurance import mission_budget as energy_budget
     from auvplan.vehicles import VehicleParams
 
     w = _world(depth=300.0)

@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.guidance.local import AvoidanceParams, LocalAvoidance
+from auvplan.guidance.avoidance.local import LocalAvoidance
+from auvplan.guidance.avoidance.params import AvoidanceParams
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, make_guidance, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, World

@@ -100,7 +100,7 @@ def test_rotary_tide_departure_without_forward_path_plans_tail_first():
     world, mission = scenario.build(scenario.load("rotary-tide"))
     problem = planning_problem(world, mission)
     d = 18 * 3600.0
-    t = replace(mission.planner.timeopt, depart_s=d)
+    t = replace(mission.planner.timeopt, depart_s=d, method="lattice")
     assert plan(problem, replace(mission.planner, timeopt=replace(t, labels="multi"))).status is Status.INFEASIBLE
     r = plan(problem, replace(mission.planner, timeopt=replace(t, tail_first=True)))
     assert r.status is Status.EXACT and r.times is not None and r.cost_terms["tail_first_legs"] > 0
@@ -127,7 +127,7 @@ def test_closed_loop_flies_a_tail_first_leg_as_timed():
     """A steady uniform current (2.0, 0.3) m/s against a 1.5 m/s vehicle, a 1 km leg east flown tail-first
     then a 1 km leg forward: the followers (hybrid, and LOS with current compensation) take L / g₋ + L / g₊
     (analytic) within 1 % (+0.34 % hybrid when written), and the tail-first heading cancels the cross current."""
-    from auvplan.guidance.route import crab_heading
+    from auvplan.guidance.following.route import crab_heading
     from auvplan.sim import simulate
 
     world, mission = scenario.build(scenario.load("rotary-tide"))

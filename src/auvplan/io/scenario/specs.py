@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from ...endurance.params import EnduranceParams
-from ...guidance.formation import Formation, FormationParams
-from ...guidance.hybrid import HybridParams
-from ...guidance.local import AvoidanceParams
-from ...guidance.los import LosParams
+from ...guidance.avoidance.params import AvoidanceParams
+from ...guidance.following.hybrid import HybridParams
+from ...guidance.following.los import LosParams
+from ...guidance.formation.keeping import Formation, FormationParams
 from ...nav.params import NavParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
@@ -22,7 +22,8 @@ from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
-from ..data.currents import CurrentsFileSpec, parse_time
+from ..data.ocean.currents import CurrentsFileSpec, parse_time
+from ..data.zones import ZoneSpec
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec
@@ -179,6 +180,10 @@ class CurrentsSpec:
     members : tuple of MemberSpec
         A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
         every member; the nominal field is the one above, or the first member when none is given.
+    beyond : str
+        What a mission lasting longer than the current file's time span does (issue 51,
+        :mod:`auvplan.io.scenario.currentspan`): ``"refuse"`` (exit 2, the default), ``"hold"`` (the last
+        field held) or ``"zero"`` (no current after the file).
     """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -186,8 +191,11 @@ class CurrentsSpec:
     file: str | CurrentsFileSpec | None = None
     tides: str = ""
     members: tuple[MemberSpec, ...] = ()
+    beyond: str = "refuse"
 
     def __post_init__(self) -> None:
+        if self.beyond not in ("refuse", "hold", "zero"):
+            raise ValueError(f"beyond = {self.beyond!r}: choose 'refuse', 'hold' or 'zero'")
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
             object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
@@ -334,6 +342,8 @@ class Scenario:
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
+    zones : tuple of ZoneSpec
+        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
     navigation : NavParams or None
         The navigation error budget and its fixes (``[navigation]``, issue 52).
     """
@@ -363,6 +373,7 @@ class Scenario:
     geo: GeoInput | None = None
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     survey: SurveySpec | None = None
+    zones: tuple[ZoneSpec, ...] = ()
     navigation: NavParams | None = None
 
 

@@ -11,7 +11,7 @@ unit tangent ŝ, drifting back on the line where ``g < 0`` — on sub-steps of a
 (midpoint rule in time; in time steps of ``ds / V`` seconds where ``g < V / 4``).  The time of a
 path the vehicle can fly is never below the least time (the exact optimum is no slower than any
 flyable path), up to the integrator's second-order error; the closed-loop follower holds the same
-line (:mod:`auvplan.guidance.route`), so this is also the duration it flies (docs/timeopt.md).
+line (:mod:`auvplan.guidance.following.route`), so this is also the duration it flies (docs/timeopt.md).
 Legs marked tail-first (:mod:`.tail`) are flown with the far root, ``g = c·ŝ − √(V² − |c⊥|²)``, in
 midpoint time steps of ``ds / V`` seconds, and rejected where it is not positive.
 """
@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
+from ...crab import crab_speed
 from ...world import CurrentField
 
 __all__ = ["track_speed", "fly_times"]
@@ -39,9 +40,7 @@ def _tail_leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed
 
     def g_at(s: float, when: float) -> float:
         c = field.velocity((a + s * e)[None], when)[0]
-        c_par = float(c @ e)
-        disc = speed * speed - max(float(c @ c) - c_par * c_par, 0.0)
-        return c_par - math.sqrt(disc) if disc >= 0.0 else math.nan
+        return float(crab_speed(c[0], c[1], c[2], e[0], e[1], e[2], speed, True, 1.0))
 
     tau, s = ds / speed, 0.0
     while t <= t_limit:
@@ -74,9 +73,9 @@ def track_speed(current: FloatArray, tangent: FloatArray, speed: float) -> float
     float
         ``c·ŝ + √(V² − |c⊥|²)`` (m/s; negative: drifting back); ``nan`` when no heading holds the line.
     """
-    c_par = float(current @ tangent)
-    disc = speed * speed - max(float(current @ current) - c_par * c_par, 0.0)
-    return c_par + math.sqrt(disc) if disc >= 0.0 else math.nan
+    c, e = current, tangent
+    return float(crab_speed(float(c[0]), float(c[1]), float(c[2]), float(e[0]), float(e[1]), float(e[2]), speed,
+                            False, 1.0))
 
 
 def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: float, ds: float,

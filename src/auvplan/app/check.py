@@ -1,0 +1,156 @@
+"""``mission check`` as a job: exported mission files re-flown under their format's depth semantics against a
+scenario's seabed, obstacles, surface, depth band and bounds, held to the vehicle's limits and energy, and
+measured against its charted no-go zones."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ..guidance.mission.waypoints import MissionCheck
+    from ..io.scenario.specs import Scenario
+    from ..nav import NavParams
+    from ..path.flyable import LimitReport
+    from ..world import World
+    from ..world.zones import ZoneApproach
+
+__all__ = ["FileCheck", "check_missions", "navigation_check"]
+
+
+@dataclass(frozen=True)
+class FileCheck:
+    """One file's checks.
+
+    Attributes
+    ----------
+    record : dict
+        Its JSON record (``mission check --json``).
+    check : MissionCheck
+        The file re-flown under its format's depth semantics.
+    vehicle : LimitReport
+        The vehicle's pitch, turn and depth limits.
+    energy_line : str
+        The energy verdict, one line.
+    deploy_line : str
+        Datum, envelope, payload events and altitude legs, one line (issue 51).
+    ok : bool
+        Whether every check passed.
+    zones : tuple of ZoneApproach
+        The closest approach to each charted zone and the legs entering it (empty without zones).
+    navigation : tuple of str
+        ``[navigation]``: the predicted error of every leg and the verdict, one line each (issue 52).
+    """
+
+    record: dict[str, Any]
+    check: MissionCheck
+    vehicle: LimitReport
+    energy_line: str
+    deploy_line: str
+    ok: bool
+    zones: tuple[ZoneApproach, ...] = ()
+    navigation: tuple[str, ...] = ()
+
+
+def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
+    """Check mission files against a scenario.
+
+    Parameters
+    ----------
+    scenario : str
+        Built-in name or TOML file.
+    files : list of str
+        Mission files (``.moos``, ``.plan``, ``.gpx``, ``.yaml``, ``.geojson``, ``.kml``, ``.csv``).
+    pitch : float
+        Pitch (deg) at which a depth-holding executor changes depth.
+
+    Returns
+    -------
+    scenario : Scenario
+        The scenario.
+    checks : list of FileCheck
+        One per file, in order.
+    """
+    from ..io.missions.deploy_read import file_deploy_check
+    from ..io.missions.energy import mission_file_energy
+    from ..io.missions.formats import check_mission_file, read_mission
+    from ..io.scenario import loader as scenario_io
+    from ..io.scenario.defaults import energy_defaults
+    from ..path.flyable import check_limits
+    from ..sim.pipeline import vehicle_limits
+
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    out = []
+    for name in files:
+        check, fmt = check_mission_file(Path(name), world, pitch)
+        points = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)[0]
+        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
+                                                mission.vehicle.speed)  # issue 51: datum, envelope, payload
+        # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
+        vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
+        defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
+        energy_line += "".join(f"; {d}" for d in defaults)
+        energy["defaults"] = defaults
+        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
+               "deploy": deploy}
+        if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
+            rec["clearance_confidence"] = sc.mission.confidence
+        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test)
+        zones = world.zones.exact.approach(points[1:] if fmt == "qgc" else points) if world.zones else []
+        if zones:
+            rec["zones"] = [z.as_dict() for z in zones]
+        zones_ok = not any(z.entered_legs for z in zones)
+        nav_ok = True
+        nav_lines: list[str] = []
+        if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
+            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
+                                                                    points[1:] if fmt == "qgc" else points)
+        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
+                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
+                             tuple(zones), tuple(nav_lines)))
+    return sc, out
+
+
+def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[dict[str, Any], bool, list[str]]:
+    """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    nav : NavParams
+        The error model and the budget.
+    points : numpy.ndarray
+        ``(N, 3)`` the mission's waypoints (m).
+
+    Returns
+    -------
+    record : dict
+        ``ok``, ``message``, ``fixes``, ``nav_error_max_m``, ``max_error_m`` and per leg ``nav_error_m``,
+        ``lock``, ``uncertain_altitude_m``, ``clear``.
+    ok : bool
+        Error within the budget and every leg clear under it.
+    lines : list of str
+        One line per leg and the verdict.
+    """
+    from ..nav import check_navigation, surface_kinds
+
+    kinds = surface_kinds(points)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy)
+    b = c.budget
+    legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
+            for k in range(len(b.leg_error_m))]
+    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
+             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
+    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k)} surface fixes, predicted "
+                 f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
+                 + (f"; {c.message}" if c.message else ""))
+    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k),
+           "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
+    return rec, c.ok, lines
