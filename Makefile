@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -96,6 +96,12 @@ bench-timeopt-front: $(STAMP)
 # 300 MB body and 600 concurrent checks; writes docs/figures/serve-hostile.md (quoted in docs/serve.md)
 bench-serve-hostile: $(STAMP)
 	$(BIN)/python benchmarks/serve_hostile.py --figure
+# issue 52: planned fixes flown with a drifting estimate, and the same route with perfect navigation (200 seeds
+# each, two processes; docs/navigation.md)
+bench-nav: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part planned & \
+	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part perfect; wait
+	$(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part summary --figure nav-drift
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step

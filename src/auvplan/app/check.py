@@ -8,13 +8,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 if TYPE_CHECKING:
     from ..guidance.mission.waypoints import MissionCheck
     from ..io.scenario.specs import Scenario
+    from ..nav import NavParams
     from ..path.flyable import LimitReport
+    from ..world import World
     from ..world.zones import ZoneApproach
 
-__all__ = ["FileCheck", "check_missions"]
+__all__ = ["FileCheck", "check_missions", "navigation_check"]
 
 
 @dataclass(frozen=True)
@@ -37,6 +41,8 @@ class FileCheck:
         Whether every check passed.
     zones : tuple of ZoneApproach
         The closest approach to each charted zone and the legs entering it (empty without zones).
+    navigation : tuple of str
+        ``[navigation]``: the predicted error of every leg and the verdict, one line each (issue 52).
     """
 
     record: dict[str, Any]
@@ -46,6 +52,7 @@ class FileCheck:
     deploy_line: str
     ok: bool
     zones: tuple[ZoneApproach, ...] = ()
+    navigation: tuple[str, ...] = ()
 
 
 def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
@@ -98,6 +105,52 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
         zones_ok = not any(z.entered_legs for z in zones)
+        nav_ok = True
+        nav_lines: list[str] = []
+        if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
+            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
+                                                                    points[1:] if fmt == "qgc" else points)
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
-                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok, tuple(zones)))
+                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
+                             tuple(zones), tuple(nav_lines)))
     return sc, out
+
+
+def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[dict[str, Any], bool, list[str]]:
+    """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    nav : NavParams
+        The error model and the budget.
+    points : numpy.ndarray
+        ``(N, 3)`` the mission's waypoints (m).
+
+    Returns
+    -------
+    record : dict
+        ``ok``, ``message``, ``fixes``, ``nav_error_max_m``, ``max_error_m`` and per leg ``nav_error_m``,
+        ``lock``, ``uncertain_altitude_m``, ``clear``.
+    ok : bool
+        Error within the budget and every leg clear under it.
+    lines : list of str
+        One line per leg and the verdict.
+    """
+    from ..nav import check_navigation, surface_kinds
+
+    kinds = surface_kinds(points)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy)
+    b = c.budget
+    legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
+            for k in range(len(b.leg_error_m))]
+    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
+             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
+    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k)} surface fixes, predicted "
+                 f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
+                 + (f"; {c.message}" if c.message else ""))
+    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k),
+           "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
+    return rec, c.ok, lines

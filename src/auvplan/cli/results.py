@@ -74,6 +74,8 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
               + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
         print(f"{name}: {c.energy_line}")
         print(f"{name}: {c.deploy_line}")
+        for line in c.navigation:  # issue 52
+            print(f"{name} {line}")
         for z in c.zones:
             legs = ", ".join(str(k) for k in z.entered_legs)
             print(f"{name} zone {z.name!r}: " + (f"FAIL — entered by leg{'s' if len(z.entered_legs) > 1 else ''} "

@@ -13,6 +13,7 @@ from .output import emit, reporter
 if TYPE_CHECKING:
     from ..endurance import Endurance
     from ..io.scenario.specs import Scenario
+    from ..nav import NavPlan
     from ..sim import Mission, RunRecord
     from ..world import World
 
@@ -38,7 +39,24 @@ def describe_run(name: str, record: RunRecord, endurance: Endurance | None = Non
         flown = f"; flown {endurance.flown.energy.energy_wh:.1f} Wh" if endurance.flown is not None else ""
         lines.append(f"  energy {endurance.budget.message}{flown}")
         lines.append(f"  point of no return: {endurance.pnr.message}")
+    if record.nav is not None:
+        lines.extend(describe_navigation(record.nav))
     return "\n".join(lines)
+
+
+def describe_navigation(nav: NavPlan) -> list[str]:
+    """The navigation lines of a run's summary: where to surface, and whether the mission is safe under its error."""
+    m, b = nav.metrics(), nav.check.budget
+    if not nav.ok:
+        return [f"  navigation: NOT SAFE — {nav.message}"]
+    head = (f"  navigation: {m['fixes']} fixes, predicted error at most {m['nav_error_max_m']:.1f} m, every leg "
+            f"clear of the seabed within it (least {float(nav.check.leg_uncertain_altitude_m.min()):.1f} m)")
+    if m["fixes_fixed_period"] is not None:
+        head += f"; a fix every {m['fixed_period_s']:.0f} s would need {m['fixes_fixed_period']}"
+    idx = [i for i, k in enumerate(nav.kinds) if k]
+    fixes = [f"{nav.kinds[i]} at x {nav.points[i, 0]:.0f} y {nav.points[i, 1]:.0f} m, t {t / 3600:.2f} h "
+             f"(error before {b.leg_error_m[i - 1]:.0f} m)" for i, t in zip(idx, nav.times_s, strict=True)]
+    return [head] + [f"    fix {n + 1}: {f}" for n, f in enumerate(fixes)]
 
 
 def _settled(v: float | None) -> str:

@@ -70,7 +70,8 @@ class Endurance:
 
 def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: EnduranceParams | None = None,
            depart: float = 0.0, track: tuple[ArrayLike, ArrayLike, ArrayLike] | None = None,
-           speeds: ArrayLike | None = None, tail: ArrayLike | None = None) -> Endurance:
+           speeds: ArrayLike | None = None, tail: ArrayLike | None = None,
+           dwell: ArrayLike | None = None) -> Endurance:
     """Budget, point of no return and (with ``track``) the flown energy of a mission route.
 
     Parameters
@@ -93,6 +94,9 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first (the time-optimal planner's ``tail_first``; the budget times
         them with the other root of the crab equation, :func:`~auvplan.endurance.budget.traverse`).
+    dwell : array_like, optional
+        ``(N,)`` time held at each waypoint (s; the surface fixes' ``surface_s``, :mod:`auvplan.nav`): its
+        time and hotel energy are in the budget and the point of no return.
 
     Returns
     -------
@@ -106,7 +110,7 @@ def assess(world: World, route: ArrayLike, vehicle: VehicleParams, params: Endur
         plan = choose_speeds(world, w, model, vehicle.speed, p.speeds, p.deadline_s, depart, p.ds_m, tail=tail)
     else:
         plan = SpeedPlan(p.speeds, np.asarray(speeds, dtype=float), math.nan, math.nan, math.nan, "as flown")
-    budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m, tail)
+    budget = mission_budget(world, w, model, plan.speeds, depart, p.ds_m, tail, dwell)
     ret = p.return_speed or vehicle.speed
     pnr = point_of_no_return(world, budget.traverse, model, p.recovery_point(), ret, ds=p.ds_m)
     flown = None

@@ -89,6 +89,8 @@ class Traverse:
         Where the current beats the vehicle, when not ``ok``.
     tail : numpy.ndarray
         ``(N - 1,)`` legs flown tail-first.
+    dwell : numpy.ndarray
+        ``(N,)`` time held at each vertex before the next leg (a surface fix's ``surface_s``; s).
     """
 
     points: F64
@@ -101,6 +103,7 @@ class Traverse:
     ok: bool = True
     message: str = ""
     tail: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    dwell: F64 = field(default_factory=lambda: np.zeros(0))
 
     @property
     def duration(self) -> float:
@@ -129,7 +132,7 @@ class Traverse:
 
 
 def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart: float = 0.0,
-             ds: float = 100.0, tail: ArrayLike | None = None) -> Traverse:
+             ds: float = 100.0, tail: ArrayLike | None = None, dwell: ArrayLike | None = None) -> Traverse:
     """Fly a route through the world's currents at each leg's through-water speed (module notes).
 
     Parameters
@@ -146,11 +149,14 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         Longest sub-step (m).
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first (module notes); none by default.
+    dwell : array_like, optional
+        ``(N,)`` time held at each vertex before the next leg (s; a surface fix's ``surface_s``,
+        :mod:`auvplan.nav`): the next leg departs that much later.
 
     Returns
     -------
     Traverse
-        Times at the vertices and nodes; ``ok`` False where the current beats the vehicle.
+        Times at the vertices (arrival) and nodes; ``ok`` False where the current beats the vehicle.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if p.shape[0] < 2:
@@ -161,6 +167,8 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     back = np.zeros(p.shape[0] - 1, dtype=bool) if tail is None else np.asarray(tail, dtype=bool).reshape(-1)
     if back.shape != v.shape:
         raise ValueError(f"tail needs one flag per leg ({v.size}), got {back.size}")
+    hold = np.zeros(p.shape[0]) if dwell is None else np.broadcast_to(np.asarray(dwell, dtype=float),
+                                                                       (p.shape[0],)).copy()
     times = np.full(p.shape[0], math.nan)
     times[0] = depart
     nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
@@ -168,6 +176,12 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     cur = world.currents
     for i in range(p.shape[0] - 1):
         a, b = p[i], p[i + 1]
+        if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
+            t += float(hold[i])
+            nodes.append(a.copy())
+            node_s.append(s_along)
+            node_t.append(t)
+            node_leg.append(i)
         length = float(np.linalg.norm(b - a))
         if length == 0.0:
             times[i + 1] = t
@@ -195,7 +209,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
             break
         times[i + 1] = t
     return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
-                    np.asarray(node_leg, dtype=np.int64), ok, message, back)
+                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold)
 
 
 @dataclass(frozen=True, eq=False)
@@ -285,7 +299,8 @@ class Budget:
 
 
 def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: ArrayLike | float | None = None,
-                   depart: float = 0.0, ds: float = 100.0, tail: ArrayLike | None = None) -> Budget:
+                   depart: float = 0.0, ds: float = 100.0, tail: ArrayLike | None = None,
+                   dwell: ArrayLike | None = None) -> Budget:
     """Budget a route leg by leg in the world's currents from ``depart`` (module notes).
 
     Parameters
@@ -305,6 +320,8 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Longest integration sub-step (m).
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first (module notes).
+    dwell : array_like, optional
+        ``(N,)`` time held at each vertex (s): at hotel power, counted in the leg that follows.
 
     Returns
     -------
@@ -312,7 +329,7 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Per-leg times, speeds and energies, and the verdict.
     """
     v = model.best_speed if speeds is None else speeds
-    return budget_of(traverse(world, route, v, depart, ds, tail), model)
+    return budget_of(traverse(world, route, v, depart, ds, tail, dwell), model)
 
 
 def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
@@ -334,11 +351,13 @@ def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
     length = np.linalg.norm(np.diff(p, axis=0), axis=1)
     t_start, t_end = tr.times[:-1], tr.times[1:]
     dur = t_end - t_start
-    energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)
+    held = tr.dwell[:-1] if tr.dwell.size == p.shape[0] else np.zeros(dur.shape)  # at the leg's start vertex
+    energy = np.asarray((model.power(tr.speeds) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)
     cum = np.cumsum(energy)
     remaining = model.usable_wh - cum
     with np.errstate(invalid="ignore", divide="ignore"):
-        ground = np.where(dur > 0, length / np.where(dur > 0, dur, 1.0), np.nan)
+        moving = dur - held
+        ground = np.where(moving > 0, length / np.where(moving > 0, moving, 1.0), np.nan)
     if not tr.ok:
         status, message = Status.INFEASIBLE, f"the mission cannot be flown: {tr.message}"
     else:

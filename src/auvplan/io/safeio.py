@@ -34,7 +34,7 @@ RESULT_NAMES = (
     "scenario.toml", "source.json", "terrain.npz", "report.html", "mission.geojson", "mission.kml", "mission.csv",
     "mission.moos", "mission.plan", "mission.gpx", "mission.yaml", "rows.csv", "histories.jsonl", "summary.csv",
     "summary.md", "bench.html", "bench.png", "legs.csv", "sweep.csv", "sweep_summary.json", "sweep.png",
-    "ensemble.json",
+    "ensemble.json", "fixes.csv",
 )
 """File names a command may write into ``--out`` (checked before any work starts)."""
 

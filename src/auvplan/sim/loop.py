@@ -32,6 +32,7 @@ from ..guidance.following.route import PathFollower, RoutePoint, RouteTracker
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from ..world.obstacles import Shape
+from .drift import NavDrift
 from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
 from .mission import Mission
 from .result import SimResult
@@ -75,7 +76,8 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike
 
 def simulate(world: World, mission: Mission, route: ArrayLike | None = None, guidance: str | None = None,
              rng: RngLike = None, avoidance: str | None = None, keys: ArrayLike | None = None,
-             progress: Callable[[float, float], object] | None = None, tail: ArrayLike | None = None) -> SimResult:
+             progress: Callable[[float, float], object] | None = None, tail: ArrayLike | None = None,
+             fix_kinds: Sequence[str] | None = None) -> SimResult:
     """Fly ``mission`` along ``route`` (default: the mission's route) in ``world``.
 
     Parameters
@@ -101,6 +103,11 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         should take at the vehicle's speed (s), for a progress bar.
     tail : array_like of bool, optional
         ``(N - 1,)`` legs of ``route`` flown tail-first (a time-optimal plan's, :func:`.pipeline.mission_route`).
+    fix_kinds : sequence of str, optional
+        ``(N,)`` the position fix at each waypoint (``""``, ``"gps"``, ``"usbl"``) when the mission flies
+        with a drifting estimate (``mission.nav_drift``); by default its surface waypoints are GPS fixes.
+        With drift the vehicle steers by its estimate, which a fix resets once the route's leg after
+        the fix waypoint becomes active (:mod:`auvplan.sim.drift`).
 
     Returns
     -------
@@ -108,7 +115,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         Status, recorded time series and events of the run.
     """
     t_wall = time.perf_counter()
-    run = _setup(world, mission, route, guidance, rng, avoidance, keys, tail)
+    run = _setup(world, mission, route, guidance, rng, avoidance, keys, tail, fix_kinds)
     st, dt, s = mission.sim, mission.sim.dt, run.state
     every = max(1, int(round(60.0 / dt)))
     expected = run.tracker.total_length / mission.vehicle.speed
@@ -120,16 +127,18 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         pos, shapes, dists, alt, cur = _sense(run, k, t)
         psi_d, pitch_cmd, rp = _command(run, k, t, pos, shapes, dists, cur)
         if k % st.record_every == 0:
-            run.rec.add(t, pos, s, run.vel, rp, alt, dists)
+            run.rec.add(t, pos, s, run.vel, rp, alt, dists, run.nav_error())
         if _step_events(run, t, pos, alt, dists, rp):
             break
         if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
             _steer(run, k, psi_d, pitch_cmd, rp, cur)
+            if run.drift is not None:
+                _drift(run, pos, alt, rp)
     else:
         run.events.append((run.n_steps * dt, "timeout", f"not arrived after {run.max_time:.0f} s"))
     if k % st.record_every != 0:  # always keep the final state, sensed as every recorded one
         pos, _, dists, alt, _ = _sense(run, k, k * dt)
-        run.rec.add(k * dt, pos, s, run.vel, rp, alt, dists)
+        run.rec.add(k * dt, pos, s, run.vel, rp, alt, dists, run.nav_error())
     return _result(run, time.perf_counter() - t_wall)
 
 
@@ -138,14 +147,16 @@ class _Recorder:
 
     def __init__(self, n_rec: int, n_obs: int) -> None:
         self.n = 0
-        self.t, self.h, self.v, self.d, self.e, self.pr, self.alt = (np.empty(n_rec) for _ in range(7))
+        self.t, self.h, self.v, self.d, self.e, self.pr, self.alt, self.ne = (np.empty(n_rec) for _ in range(8))
         self.p = np.empty((n_rec, 3))
         self.obs = np.empty((n_rec, n_obs))
 
     def add(self, t: float, pos: ArrayLike, s: VehicleState, vel: tuple[float, float, float], rp: RoutePoint,
-            alt: float, dists: ArrayLike) -> None:
-        """Record one step: time, position, heading, rudder, speed over ground, route point, altitude, distances."""
+            alt: float, dists: ArrayLike, nav_error: float = 0.0) -> None:
+        """Record one step: time, position, heading, rudder, speed over ground, route point, altitude, distances
+        and the navigation estimate's error."""
         n = self.n
+        self.ne[n] = nav_error
         self.t[n], self.p[n], self.h[n], self.d[n] = t, pos, s.psi, s.delta
         self.v[n] = math.hypot(vel[0], vel[1])
         self.e[n], self.pr[n], self.alt[n] = rp.cross, rp.progress, alt
@@ -180,6 +191,17 @@ class _Run:
     best_progress: float = -1.0
     best_time: float = 0.0
     events: list[tuple[float, str, str]] = field(default_factory=list)
+    drift: NavDrift | None = None  # the drifting estimate (mission.nav_drift), None: perfect navigation
+    fixes: tuple[str, ...] = ()  # the fix at each waypoint
+    fixed: int = 0  # fixes up to this waypoint index are taken
+
+    def nav_error(self) -> float:
+        """The estimate's horizontal error now (m; 0 with perfect navigation)."""
+        return 0.0 if self.drift is None else math.hypot(*self.drift.error)
+
+    def estimate(self) -> tuple[float, float]:
+        """The horizontal offset of the estimate from the true position (m)."""
+        return (0.0, 0.0) if self.drift is None else (float(self.drift.error[0]), float(self.drift.error[1]))
 
     @property
     def tracker(self) -> RouteTracker:
@@ -209,7 +231,8 @@ def _moving_tracks(world: World, n_steps: int, dt: float) -> tuple[NDArray[np.fl
 
 
 def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: str | None, rng: RngLike,
-           avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None) -> _Run:
+           avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None,
+           fix_kinds: Sequence[str] | None = None) -> _Run:
     """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed."""
     gen = as_rng(mission.seed if rng is None else rng)
     waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
@@ -226,11 +249,32 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
     noise = gen.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
     tracks, velocities = _moving_tracks(world, n_steps, st.dt)
+    drift: NavDrift | None = None
+    fixes: tuple[str, ...] = ()
+    if mission.nav_drift and mission.navigation is not None:  # its own stream, drawn last: nothing else changes
+        drift = NavDrift(mission.navigation, np.random.default_rng(int(gen.integers(2**63))))
+        kinds = list(fix_kinds) if fix_kinds is not None else \
+            ["gps" if i > 0 and z >= -0.5 else "" for i, z in enumerate(waypoints[:, 2])]
+        kept = np.r_[True, np.linalg.norm(np.diff(waypoints, axis=0), axis=1) > 1e-9]  # as the tracker keeps them
+        for i in np.flatnonzero(~kept)[::-1]:  # a dropped duplicate's fix goes to the waypoint it repeats
+            kinds[i - 1] = kinds[i - 1] or kinds[i]
+        fixes = tuple(k for k, m in zip(kinds, kept, strict=True) if m)
     return _Run(world, mission, guide, local, av_name, Vehicle(vp, st.dt), s, max_time, n_steps, noise, tracks,
                 velocities, [o.shape.bounding_radius for o in world.moving],
                 max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0),
                 _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1],
-                [_depth_band(o) for o in world.obstacles])
+                [_depth_band(o) for o in world.obstacles], drift=drift, fixes=fixes)
+
+
+def _drift(run: _Run, before: NDArray[np.float64], alt: float, rp: RoutePoint) -> None:
+    """The estimate's error after one step from ``before``; a fix once the leg after its waypoint is active."""
+    s, drift = run.state, run.drift
+    assert drift is not None
+    drift.advance(math.hypot(s.x - before[0], s.y - before[1]), alt)
+    while run.fixed < min(rp.leg, len(run.fixes) - 1):
+        run.fixed += 1
+        if run.fixes[run.fixed]:
+            drift.fix(run.fixes[run.fixed], (s.x, s.y, s.z))
 
 
 def _depth_band(shape: Shape) -> tuple[float, float]:
@@ -260,10 +304,13 @@ def _command(run: _Run, k: int, t: float, pos: NDArray[np.float64], shapes: Sequ
     # the follower's field acts in the horizontal plane: a static obstacle the vehicle passes above or
     # below (its depth outside the obstacle's band) is not steered round
     level = [i >= n_static or bands[i][0] <= s.z <= bands[i][1] for i in range(len(shapes))]
+    ex, ey = (0.0, 0.0) if run.drift is None else run.estimate()  # it steers by where it believes it is
     if run.local is None:
         near = [(it[1][0], it[1][1], d) for it, d, lv in zip(shapes, dists, level) if it is not None and lv]
-        psi_d, _, rp = run.guide.command(s.x, s.y, s.z, cur, s.u, near, dt)
+        psi_d, _, rp = run.guide.command(s.x + ex, s.y + ey, s.z, cur, s.u, near, dt)
         return psi_d, None, rp
+    if run.drift is not None:
+        pos = pos + np.array([ex, ey, 0.0])
     obstacles = [(it[1][0], it[1][1], d, False, it[1]) if i < n_static else
                  (it[1][0], it[1][1], d, True, it[1], i, run.velocities[k, i - n_static], run.radii[i - n_static])
                  for i, (it, d) in enumerate(zip(shapes, dists)) if it is not None and level[i]]
@@ -281,7 +328,8 @@ def _step_events(run: _Run, t: float, pos: NDArray[np.float64], alt: float, dist
         kind = "unavoidable" if run.status is Status.UNAVOIDABLE else "collision"
         run.events.append((t, kind, f"hit {what} at t = {t:.1f} s, position {pos.round(2).tolist()}"))
         return True
-    if _arrived(rp.last, (s.x, s.y, s.z), run.goal, st.arrival_radius):
+    ex, ey = (0.0, 0.0) if run.drift is None else run.estimate()  # arrival as the vehicle believes it
+    if _arrived(rp.last, (s.x + ex, s.y + ey, s.z), run.goal, st.arrival_radius):
         run.events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
         run.status = Status.EXACT
         return True
@@ -334,4 +382,5 @@ def _result(run: _Run, wall_time: float) -> SimResult:
         decision_steps=local.decisions if local is not None else 0,
         decision_time_s=local.decision_time if local is not None else 0.0,
         minimum_escapes=local.minimum_escapes if local is not None else 0,
+        nav_error=rec.ne[:n].copy() if run.drift is not None else None,
     )

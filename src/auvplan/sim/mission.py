@@ -10,6 +10,7 @@ from ..guidance.avoidance.params import AvoidanceParams
 from ..guidance.following.hybrid import HybridParams
 from ..guidance.following.los import LosParams
 from ..guidance.formation.keeping import Formation
+from ..nav.params import NavParams
 from ..planners.base import PlannerSpec
 from ..vehicles import VehicleParams
 
@@ -80,6 +81,11 @@ class Mission:
         Recovery point and the speed choice per leg (``[endurance]``, :mod:`auvplan.endurance`).
     leg_speeds : tuple of float
         Through-water speed of each leg of the route flown (m/s); empty: the vehicle's ``speed``.
+    navigation : NavParams or None
+        The navigation error budget (``[navigation]``): fixes planned or timed into the route, the
+        predicted error, and the clearance under it (:mod:`auvplan.nav`); None: perfect navigation.
+    nav_drift : bool
+        Fly with a drifting navigation estimate (:mod:`auvplan.sim.drift`); off by default.
     """
 
     name: str
@@ -98,4 +104,6 @@ class Mission:
     follow_altitude_m: float = 0.0
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     leg_speeds: tuple[float, ...] = ()
+    navigation: NavParams | None = None
+    nav_drift: bool = False
 

@@ -14,6 +14,7 @@ from ..endurance import EnergyModel, choose_speeds
 from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
 from ..guidance.mission.waypoints import build_waypoints, default_tolerance
+from ..nav.mission import NavPlan, plan_navigation
 from ..path import resample_polyline
 from ..path.flyable import VehicleLimits, check_limits
 from ..planners import plan as global_plan
@@ -24,8 +25,8 @@ from .loop import simulate
 from .mission import Mission
 from .result import RunRecord
 
-__all__ = ["vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path", "mission_route",
-           "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
+__all__ = ["navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
+           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -325,6 +326,30 @@ def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: Arra
     return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
 
 
+def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
+    """The route's position fixes and navigation budget (``[navigation]``; :func:`auvplan.nav.plan_navigation`).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    mission : Mission
+        Its ``navigation`` settings and vehicle (pitch limit, speed).
+    route : array_like
+        ``(N, 3)`` the route (m).
+
+    Returns
+    -------
+    NavPlan or None
+        None for a mission without ``[navigation]`` (perfect navigation).
+    """
+    nav = mission.navigation
+    if nav is None:
+        return None
+    v = mission.vehicle
+    return plan_navigation(world, route, nav, v.max_pitch_deg, v.speed, nav.usbl_xy)
+
+
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
                 progress: Progress | None = None, guidance: str | None = None,
                 avoidance: str | None = None, flight: Callable[[float, float], object] | None = None) -> RunRecord:
@@ -358,6 +383,11 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     planned, route = planned_route(world, mission, seed, progress)
     if route is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
+    nav = navigation_plan(world, mission, route)
+    if nav is not None:  # the fixes are part of the mission: surfacings (depth 0) and USBL fix waypoints
+        route = nav.points
+        if not nav.ok:
+            return RunRecord(mission.name, recorded, planned, route, np.empty((0, 3)), None, nav)
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
     mission = with_leg_speeds(world, mission, route, tail)
@@ -366,5 +396,5 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
-                      progress=flight, tail=tail)
-    return RunRecord(mission.name, recorded, planned, route, keys, result)
+                      progress=flight, tail=tail, fix_kinds=nav.kinds if nav is not None else None)
+    return RunRecord(mission.name, recorded, planned, route, keys, result, nav)

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..nav.mission import NavPlan
 from ..path import arc_length, polyline_length
 from ..planners.base import PlanResult
 
@@ -94,6 +95,9 @@ class SimResult:
     minimum_escapes : int
         Of the escapes, those fired by document 004's local-minimum count (the others by the stalled
         route progress).
+    nav_error : ndarray or None
+        ``(N,)`` the true horizontal error of the navigation estimate the vehicle steered by (m); None
+        with perfect navigation (:mod:`auvplan.sim.drift`).
     """
 
     status: Status
@@ -116,6 +120,7 @@ class SimResult:
     decision_steps: int = 0
     decision_time_s: float = 0.0
     minimum_escapes: int = 0
+    nav_error: NDArray[np.float64] | None = None
 
     @property
     def metrics(self) -> SimMetrics:
@@ -167,6 +172,8 @@ class RunRecord:
         Waypoints flown and their key waypoints (document 004).
     sim : SimResult or None
         The closed-loop run (None when the plan failed).
+    nav : NavPlan or None
+        The navigation budget and its fixes (``[navigation]``; :mod:`auvplan.nav`).
     """
 
     scenario: str
@@ -175,12 +182,16 @@ class RunRecord:
     route: NDArray[np.float64]
     keys: NDArray[np.float64]
     sim: SimResult | None
+    nav: NavPlan | None = None
 
     @property
     def status(self) -> Status:
-        """The mission's outcome: the plan's failure if it failed, else the simulation's."""
+        """The mission's outcome: the plan's failure if it failed, then the navigation budget's, else the
+        simulation's."""
         if self.plan is not None and not self.plan.status.ok:
             return self.plan.status
+        if self.nav is not None and not self.nav.ok:
+            return Status.INFEASIBLE
         return self.sim.status if self.sim is not None else Status.INFEASIBLE
 
 

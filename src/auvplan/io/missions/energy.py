@@ -186,7 +186,10 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
     tail = record_tail(record)  # legs the follower flew tail-first: timed with the other root
     speeds = with_leg_speeds(world, mission, record.route, tail).leg_speeds or None
-    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds, tail=tail)
+    nav = record.nav  # the surface fixes' dwell (issue 52)
+    dwell = nav.dwell_s if nav is not None and len(nav.dwell_s) == record.route.shape[0] else None
+    return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds, tail=tail,
+                  dwell=dwell)
 
 
 def _check_steps(mission: Mission, waypoints: NDArray[np.float64], where: str) -> None:

@@ -359,7 +359,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         elif fmt == "kml":
             text = to_kml(record, origin, full, deploy)
         elif fmt == "csv":
-            text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy)
+            nav = record.nav
+            text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
+                                    if nav is not None and len(nav.points) == len(waypoints) else None)
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed, deploy=deploy)
         elif fmt == "plan":

@@ -335,7 +335,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 
 # ---------------------------------------------------------------------- CSV
 def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
-                tail: ArrayLike | None = None, deploy: DeployInfo | None = None) -> str:
+                tail: ArrayLike | None = None, deploy: DeployInfo | None = None,
+                nav_error: ArrayLike | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -353,6 +354,9 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     deploy : DeployInfo, optional
         Then the last columns ``altitude`` (terrain following: planned altitude above the seabed, m) and
         ``payload`` (1: the sensor is on from this waypoint to the next), when the mission has them.
+    nav_error : array_like, optional
+        ``(N,)`` the predicted navigation error at each waypoint, after any fix there (confidence × σ,
+        :mod:`auvplan.nav`): then a last column ``nav_error_m``.
 
     Returns
     -------
@@ -370,11 +374,13 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     k = None if k is None or not k.any() else np.r_[k[:1], k].astype(int)
     alt = deploy.altitude if deploy is not None else None
     pay = None if deploy is None or deploy.payload is None else np.r_[deploy.payload, False].astype(int)
+    ne = None if nav_error is None else np.asarray(nav_error, dtype=float).reshape(-1)
     rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
-            + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")]
+            + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")
+            + ("" if ne is None else ",nav_error_m")]
     for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
                               "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
                              + ([] if k is None else [str(k[i])]) + ([] if alt is None else [f"{alt[i]:.3f}"])
-                             + ([] if pay is None else [str(pay[i])])))
+                             + ([] if pay is None else [str(pay[i])]) + ([] if ne is None else [f"{ne[i]:.2f}"])))
     return "\n".join(rows) + "\n"

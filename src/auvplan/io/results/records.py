@@ -15,6 +15,7 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ...nav.mission import NavPlan
 from ...planners.base import PlanResult
 from ...sim import RunRecord, SimResult, decimate
 from ...world.seabed import SeabedFit
@@ -30,6 +31,7 @@ __all__ = [
     "write_plan",
     "write_sim",
     "write_run",
+    "write_navigation",
     "write_json",
     "write_path_csv",
     "write_text",
@@ -364,6 +366,8 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
         write_path_csv(out / "keys.csv", record.keys, origin=origin)
     if record.sim is not None:
         write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full, origin)
+    if record.nav is not None:
+        write_navigation(out, record.nav, origin)
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
     rec = run_record(record)
@@ -379,6 +383,40 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     np.savez_compressed(buf, **arrays)  # type: ignore[arg-type]
     write_text(out / "run.npz", buf.getvalue())
     return rec
+
+
+def write_navigation(out_dir: Path, nav: NavPlan, origin: tuple[float, float] | None = None) -> None:
+    """``fixes.csv`` (``lat, lon, t_s, kind``: one row per planned fix) and the navigation figures of
+    ``metrics.json`` (``nav_error_max_m``, ``fixes``, ``fixes_fixed_period``, ``fixed_period_s``, added to
+    the plan's record when there is one).
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        Results folder.
+    nav : NavPlan
+        The mission's fixes and budget (:mod:`auvplan.nav`).
+    origin : tuple of 2 float, optional
+        ``(lat, lon)`` of the local frame (without it lat and lon are left empty).
+    """
+    out = Path(out_dir)
+    idx = [i for i, k in enumerate(nav.kinds) if k]
+    p = nav.points[idx]
+    if origin is not None and p.size:
+        lon, lat = LocalFrame(*origin).inverse(p[:, 0], p[:, 1])
+    else:
+        lon = lat = np.full(len(idx), np.nan)
+    rows = ["lat,lon,t_s,kind"] + [",".join(["" if np.isnan(a) else f"{a:.7f}", "" if np.isnan(o) else f"{o:.7f}",
+                                             f"{t:.1f}", nav.kinds[i]])
+                                   for a, o, t, i in zip(lat, lon, nav.times_s, idx, strict=True)]
+    write_text(out / "fixes.csv", "\n".join(rows) + "\n")
+    path = out / "metrics.json"
+    metrics = json.loads(path.read_text()) if path.exists() else {}
+    metrics.update(nav.metrics())
+    metrics["nav_status"] = "EXACT" if nav.ok else "INFEASIBLE"
+    if not nav.ok:
+        metrics["nav_message"] = nav.message
+    write_json(path, metrics)
 
 
 # ---------------------------------------------------------------------------------------- exports

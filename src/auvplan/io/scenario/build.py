@@ -11,6 +11,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...errors import DataError, ScenarioError
+from ...nav.params import NavParams
 from ...sim import Mission
 from ...world import (
     Bounds,
@@ -268,8 +269,27 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         formation=s.formation,
         follow_altitude_m=m.follow_altitude_m,
         endurance=s.endurance,
+        navigation=_navigation(s, world),
     )
     return world, mission
+
+
+def _navigation(s: Scenario, world: World) -> NavParams | None:
+    """``[navigation]`` with its USBL ship placed in the local frame; its surfacings need ``min_depth_m = 0``."""
+    nav = s.navigation
+    if nav is None:
+        return None
+    src = s.source
+    if nav.fixes != "none" and world.margins.min_depth > 0.0:
+        raise table_error(f"{src}: [mission]", "min_depth_m", s.mission.min_depth_m,
+                          f"[navigation] fixes = {nav.fixes!r} surfaces the vehicle: min_depth_m must be 0")
+    if nav.usbl is None:
+        return nav
+    if world.origin is None:
+        raise table_error(f"{src}: [navigation]", "usbl", {"lat": nav.usbl.lat, "lon": nav.usbl.lon},
+                          "a USBL position needs the scenario's [origin] (or geographic mission points)")
+    x, y = LocalFrame(*world.origin).forward(nav.usbl.lon, nav.usbl.lat)
+    return replace(nav, _usbl_xy=(float(x), float(y)))
 
 
 def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:

@@ -14,6 +14,7 @@ from ...guidance.avoidance.params import AvoidanceParams
 from ...guidance.following.hybrid import HybridParams
 from ...guidance.following.los import LosParams
 from ...guidance.formation.keeping import Formation, FormationParams
+from ...nav.params import NavParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
 from ...survey.spec import SurveySpec
@@ -343,6 +344,8 @@ class Scenario:
         A coverage survey of an area (``[survey]``).
     zones : tuple of ZoneSpec
         Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
+    navigation : NavParams or None
+        The navigation error budget and its fixes (``[navigation]``, issue 52).
     """
 
     name: str
@@ -371,6 +374,7 @@ class Scenario:
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     survey: SurveySpec | None = None
     zones: tuple[ZoneSpec, ...] = ()
+    navigation: NavParams | None = None
 
 
 SECTIONS: dict[str, type] = {
@@ -378,6 +382,6 @@ SECTIONS: dict[str, type] = {
     "mission": MissionSpec, "vehicle": VehicleParams, "planner": PlannerSpec, "guidance": GuidanceSpec,
     "avoidance": AvoidanceParams, "sim": SimParams, "limits": Limits, "land": LandSpec,
     "formation": FormationParams, "endurance": EnduranceParams,
-    "survey": SurveySpec,
+    "survey": SurveySpec, "navigation": NavParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""

@@ -46,7 +46,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
-    "survey", "zones",
+    "survey", "zones", "navigation",
 }
 
 
@@ -279,6 +279,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         endurance=_section(data, "endurance", source),
         survey=survey,
         zones=zones,
+        navigation=_section(data, "navigation", source) if "navigation" in data else None,
     )
 
 

@@ -1,0 +1,22 @@
+"""Navigation uncertainty: the dead-reckoning error budget along a mission, position fixes planned with
+the fewest surfacings, and clearance under the error (issue 52; ``docs/navigation.md``).
+
+* :mod:`~auvplan.nav.params`: ``[navigation]`` (:class:`NavParams`);
+* :mod:`~auvplan.nav.budget`: σ linear in the distance travelled, per lock state, reset at fixes;
+* :mod:`~auvplan.nav.clearance`: the seabed and obstacles within the horizontal error of each leg;
+* :mod:`~auvplan.nav.fixes`: fewest fixes by dynamic programming, periodic fixes, the best period;
+* :mod:`~auvplan.nav.mission`: a route's fixes, the mission that carries them, its check.
+"""
+
+from __future__ import annotations
+
+from .budget import NavBudget, mission_budget
+from .clearance import leg_slack, safe_radius, uncertain_clearance
+from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
+from .mission import NavCheck, NavPlan, check_navigation, fix_times, plan_navigation, surface_kinds
+from .params import NavParams, UsblParams
+
+__all__ = ["NavParams", "UsblParams", "NavBudget", "mission_budget", "safe_radius", "leg_slack",
+           "uncertain_clearance", "FixPlan", "apply_fixes", "best_period", "periodic_fixes", "plan_fixes",
+           "route_profile", "NavCheck", "NavPlan", "check_navigation", "fix_times", "plan_navigation",
+           "surface_kinds"]

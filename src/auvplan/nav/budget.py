@@ -1,0 +1,243 @@
+"""The navigation error budget along a mission (issue 52; ``docs/navigation.md``).
+
+Model.  Dead reckoning makes the horizontal position error σ (1σ, radial RMS) grow linearly with the
+horizontal distance travelled: by ``drift_pct / 100`` per metre where the DVL has bottom lock (the
+altitude, from the mission's depth schedule over the World's seabed, is at most ``dvl_range_m``) and
+by ``drift_pct_no_lock / 100`` where it has not.  Legs are sampled every ``step`` metres and each
+interval is split where the (linearly interpolated) altitude crosses ``dvl_range_m``, so
+
+    D(s) = Σ rate_k · Δs_k   (summed since the last fix),
+
+and the drift adds to the error of the last fix in quadrature (the two are independent):
+
+    σ(s) = sqrt(σ_fix² + D(s)²),     reported error = confidence × σ.
+
+A GPS fix at the surface sets ``σ_fix = fix_error_m`` and ``D = 0``; a USBL fix sets
+``σ_fix = error_pct / 100 × slant range``; the mission starts with a fix (``fix_error_m``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._types import FloatArray, IntArray
+from ..world import World
+from .params import NavParams
+
+__all__ = ["NavBudget", "sample_route", "lock_fraction", "drift_increments", "sigma_profile", "fix_sigma",
+           "mission_budget", "DEFAULT_STEP_M"]
+
+DEFAULT_STEP_M = 50.0
+"""Longest horizontal sampling interval of the altitude schedule (m)."""
+
+
+@dataclass(frozen=True, eq=False)
+class NavBudget:
+    """The predicted error of a mission at its waypoints and on its legs.
+
+    Attributes
+    ----------
+    error_m : numpy.ndarray
+        ``(N,)`` confidence × σ at each waypoint, after any fix there (m): ``mission.csv`` ``nav_error_m``.
+    leg_error_m : numpy.ndarray
+        ``(N - 1,)`` the largest confidence × σ on each leg (at its end, before a fix there; m).
+    leg_lock : numpy.ndarray
+        ``(N - 1,)`` share of each leg's horizontal length flown with bottom lock.
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint: ``""``, ``"gps"`` or ``"usbl"``.
+    max_error_m : float
+        The largest error anywhere (m).
+    """
+
+    error_m: FloatArray
+    leg_error_m: FloatArray
+    leg_lock: FloatArray
+    kinds: tuple[str, ...]
+    max_error_m: float
+
+
+def sample_route(world: World, points: ArrayLike, step: float = DEFAULT_STEP_M) -> tuple[FloatArray, FloatArray,
+                                                                                         IntArray, IntArray]:
+    """Sample a polyline's legs every ``step`` metres horizontally (the altitude schedule).
+
+    Parameters
+    ----------
+    world : World
+        The seabed (altitude ``+inf`` without one).
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    step : float
+        Longest horizontal interval (m).
+
+    Returns
+    -------
+    ds : numpy.ndarray
+        ``(M - 1,)`` horizontal length of each interval (m).
+    alt : numpy.ndarray
+        ``(M,)`` altitude above the seabed at each sample (m).
+    leg : numpy.ndarray of int
+        ``(M - 1,)`` the leg of each interval.
+    vertex : numpy.ndarray of int
+        ``(N,)`` the sample index of each waypoint.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    h = np.hypot(*np.diff(p[:, :2], axis=0).T)
+    n = np.maximum(np.ceil(h / step), 1).astype(np.intp)
+    leg = np.repeat(np.arange(n.size), n)
+    k = np.arange(leg.size) - np.repeat(np.cumsum(n) - n, n)
+    f = (k / n[leg])[:, None]
+    samples = np.vstack([p[leg] + f * (p[leg + 1] - p[leg]), p[-1:]])
+    alt = world.terrain.altitude(samples) if world.terrain is not None else np.full(len(samples), np.inf)
+    vertex = np.r_[0, np.cumsum(n)].astype(np.intp)
+    return (h / n)[leg], np.asarray(alt, dtype=float), leg.astype(np.intp), vertex
+
+
+def lock_fraction(alt: ArrayLike, dvl_range: float) -> FloatArray:
+    """Share of each interval with bottom lock, the altitude linear between its ends.
+
+    Parameters
+    ----------
+    alt : array_like
+        ``(M,)`` altitudes at the samples (m).
+    dvl_range : float
+        Bottom lock at altitudes ≤ this (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M - 1,)`` in ``[0, 1]``: 1 or 0 when both ends agree, else the share on the lock side of the crossing.
+    """
+    a = np.asarray(alt, dtype=float)
+    a0, a1 = a[:-1], a[1:]
+    l0, l1 = a0 <= dvl_range, a1 <= dvl_range
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.clip((dvl_range - a0) / (a1 - a0), 0.0, 1.0)  # where the altitude reaches dvl_range
+    return np.where(l0 == l1, l0.astype(float), np.where(l0, c, 1.0 - c))
+
+
+def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams) -> FloatArray:
+    """The growth of σ over each interval: ``Δs × (f · drift_pct + (1 − f) · drift_pct_no_lock) / 100``.
+
+    Parameters
+    ----------
+    ds : array_like
+        ``(M - 1,)`` horizontal lengths (m).
+    lock : array_like
+        ``(M - 1,)`` lock shares (:func:`lock_fraction`).
+    nav : NavParams
+        The rates.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M - 1,)`` (m).
+    """
+    f = np.asarray(lock, dtype=float)
+    out: FloatArray = np.asarray(ds, dtype=float) * (f * nav.rate(True) + (1.0 - f) * nav.rate(False))
+    return out
+
+
+def sigma_profile(inc: ArrayLike, resets: ArrayLike, sigma_fix: ArrayLike, sigma0: float) -> tuple[FloatArray,
+                                                                                                    FloatArray]:
+    """The σ at every sample, before and after any fix there.
+
+    Parameters
+    ----------
+    inc : array_like
+        ``(M - 1,)`` drift increments (:func:`drift_increments`, m).
+    resets : array_like of int
+        Sample indices where a fix is taken.
+    sigma_fix : array_like
+        σ right after each of those fixes (m).
+    sigma0 : float
+        σ at the first sample (the launch fix, m).
+
+    Returns
+    -------
+    before, after : numpy.ndarray
+        ``(M,)`` σ on arrival at each sample and after any fix there (m).
+    """
+    d = np.r_[0.0, np.cumsum(np.asarray(inc, dtype=float))]
+    r = np.asarray(resets, dtype=np.intp).reshape(-1)
+    order = np.argsort(r, kind="stable")
+    r = r[order]
+    base = np.r_[0.0, d[r]]  # D at the start and at each fix
+    sfix = np.r_[float(sigma0), np.asarray(sigma_fix, dtype=float).reshape(-1)[order]]
+    idx = np.arange(d.size)
+    at_or_before = np.searchsorted(r, idx, side="right")  # the last fix at or before each sample (0: start)
+    strictly_before = np.searchsorted(r, idx, side="left")
+    after = np.hypot(sfix[at_or_before], d - base[at_or_before])
+    before = np.hypot(sfix[strictly_before], d - base[strictly_before])
+    return before, after
+
+
+def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float, float] | None) -> float:
+    """The σ right after a fix of ``kind`` at ``point``.
+
+    Parameters
+    ----------
+    nav : NavParams
+        ``fix_error_m`` and ``usbl``.
+    kind : {'gps', 'usbl'}
+        The fix.
+    point : array_like
+        ``(3,)`` where it is taken (m).
+    usbl_xy : tuple of float or None
+        The USBL ship's local position (m), for ``usbl``.
+
+    Returns
+    -------
+    float
+        σ (m).
+    """
+    if kind == "usbl":
+        if nav.usbl is None or usbl_xy is None:
+            raise ValueError("a USBL fix needs [navigation] usbl")
+        p = np.asarray(point, dtype=float)
+        slant = float(np.sqrt((p[0] - usbl_xy[0]) ** 2 + (p[1] - usbl_xy[1]) ** 2 + p[2] ** 2))
+        return nav.usbl.error_pct / 100.0 * slant
+    return nav.fix_error_m
+
+
+def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
+                   usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> NavBudget:
+    """The predicted error along a mission whose fixes are known (:class:`NavBudget`).
+
+    Parameters
+    ----------
+    world : World
+        The seabed (the lock states come from the waypoints' depths over it).
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint (``""``, ``"gps"``, ``"usbl"``).
+    nav : NavParams
+        The error model.
+    usbl_xy : tuple of float, optional
+        The USBL ship's local position (m).
+    step : float, optional
+        Sampling of the altitude schedule (m).
+
+    Returns
+    -------
+    NavBudget
+        Errors at the waypoints and on the legs.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    if len(kinds) != p.shape[0]:
+        raise ValueError(f"{len(kinds)} fix kinds for {p.shape[0]} waypoints")
+    ds, alt, leg, vertex = sample_route(world, p, step)
+    lock = lock_fraction(alt, nav.dvl_range_m)
+    inc = drift_increments(ds, lock, nav)
+    fixes = [i for i, k in enumerate(kinds) if k and i > 0]
+    before, after = sigma_profile(inc, vertex[fixes], [fix_sigma(nav, kinds[i], p[i], usbl_xy) for i in fixes],
+                                  fix_sigma(nav, kinds[0] or "gps", p[0], usbl_xy))
+    c = nav.confidence
+    leg_error = c * before[vertex[1:]]  # σ grows along a leg: its largest is on arrival
+    share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(
+        np.bincount(leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)
+    error = c * after[vertex]
+    return NavBudget(error, leg_error, share, tuple(kinds), float(max(leg_error.max(initial=0.0), error.max())))

@@ -1,0 +1,448 @@
+"""Position fixes planned along a route with the fewest fixes, and the best fixed period to compare.
+
+A GPS fix is a surfacing: from the route the vehicle climbs at its pitch limit to the surface at a
+point ``s_f`` of the route's horizontal track, waits ``surface_s`` and dives back at the pitch limit
+until it meets the route's depth schedule again.  The new schedule is the upper envelope
+``z(s) = max(z_route(s), −tanθ |s − s_f|)`` over the same horizontal track, so the fix never brings the
+vehicle nearer the seabed.  A USBL fix (``[navigation] usbl``) is taken where the vehicle is.
+
+Planning (``fixes = "plan"``): candidate fix points every ``spacing`` metres along the track; the
+error resets at a fix, so whether the stretch between two consecutive fixes ``i → j`` keeps the error
+within E and the uncertain clearance (:mod:`auvplan.nav.clearance`) depends on ``i`` and ``j`` only.
+The plan is then a shortest path in the DAG of feasible stretches, with the lexicographic cost
+(number of fixes, time): dynamic programming over the candidates in route order gives the fewest
+fixes over the candidate set exactly, and among those the least time (climb, dive and
+``surface_s``).  Lifting the schedule only raises the altitude, so a fix never gives bottom lock
+where the route had none: the error of a stretch is at least that of the route without its end's
+climb, which bounds the scan (``docs/navigation.md`` gives the argument).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._types import BoolArray, FloatArray
+from ..world import World
+from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
+from .clearance import safe_radius
+from .params import NavParams
+
+__all__ = ["RouteProfile", "route_profile", "FixPlan", "plan_fixes", "periodic_fixes", "best_period",
+           "apply_fixes", "PITCH_SHARE"]
+
+PITCH_SHARE = 0.999
+"""Share of the pitch limit the fix's climb and dive use (the limit itself, kept inside its check's rounding)."""
+
+
+@dataclass(frozen=True, eq=False)
+class RouteProfile:
+    """A route sampled along its horizontal track, with what a fix plan needs at each sample.
+
+    Attributes
+    ----------
+    s : numpy.ndarray
+        ``(M,)`` horizontal distance along the track (m).
+    xyz : numpy.ndarray
+        ``(M, 3)`` the samples (m).
+    zb : numpy.ndarray
+        ``(M,)`` seabed under them (m; ``-inf`` without terrain).
+    r_safe : numpy.ndarray
+        ``(M - 1,)`` the largest horizontal uncertainty each interval allows (:func:`~.clearance.safe_radius`).
+    t : numpy.ndarray
+        ``(M,)`` flying time along the route at the cruise speed (s).
+    tan_pitch : float
+        Slope of a fix's climb and dive.
+    """
+
+    s: FloatArray
+    xyz: FloatArray
+    zb: FloatArray
+    r_safe: FloatArray
+    t: FloatArray
+    tan_pitch: float
+
+
+def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
+                  step: float = DEFAULT_STEP_M) -> RouteProfile:
+    """Sample a route for fix planning (:class:`RouteProfile`).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, margins.
+    route : array_like
+        ``(N, 3)`` waypoints (m).
+    nav : NavParams
+        The budget E (the search radius of the safe radii).
+    max_pitch_deg : float
+        The vehicle's pitch limit (degrees).
+    speed : float
+        Cruise speed (m/s).
+    step : float, optional
+        Sampling (m).
+
+    Returns
+    -------
+    RouteProfile
+        The samples.
+    """
+    p = np.asarray(route, dtype=float).reshape(-1, 3)
+    h = np.hypot(*np.diff(p[:, :2], axis=0).T)
+    keep = np.r_[True, h > 1e-9]
+    p, h = p[keep], h[h > 1e-9]
+    n = np.maximum(np.ceil(h / step), 1).astype(np.intp)
+    leg = np.repeat(np.arange(n.size), n)
+    k = np.arange(leg.size) - np.repeat(np.cumsum(n) - n, n)
+    xyz = np.vstack([p[leg] + (k / n[leg])[:, None] * (p[leg + 1] - p[leg]), p[-1:]])
+    s = np.r_[0.0, np.cumsum((h / n)[leg])]
+    zb = world.seabed(xyz[:, 0], xyz[:, 1])
+    if world.terrain is not None:
+        r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
+    else:
+        r_safe = np.full(xyz.shape[0] - 1, np.inf)
+    t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))] / speed
+    return RouteProfile(s, xyz, zb, r_safe, t, math.tan(math.radians(PITCH_SHARE * max_pitch_deg)))
+
+
+@dataclass(frozen=True)
+class _Node:
+    """A fix candidate: sample index, kind (``start``, ``goal``, ``gps``, ``usbl``), σ after it (m), cost (s)."""
+
+    k: int
+    kind: str
+    sigma: float
+    cost: float
+
+
+def _lifted(prof: RouteProfile, k0: int, k1: int, ends: tuple[_Node, _Node]) -> FloatArray:
+    """The depth schedule between samples ``k0..k1`` with the surfacings of the two end nodes."""
+    z = prof.xyz[k0:k1 + 1, 2].copy()
+    s = prof.s[k0:k1 + 1]
+    for node in ends:
+        if node.kind == "gps":
+            z = np.maximum(z, -prof.tan_pitch * np.abs(s - prof.s[node.k]))
+    return z
+
+
+def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bool, float]:
+    """Whether the stretch between fixes ``a`` and ``b`` keeps the error within E and the uncertain clearance,
+    and its largest error (confidence × σ, m)."""
+    z = _lifted(prof, a.k, b.k, (a, b))
+    alt = z - prof.zb[a.k:b.k + 1]
+    inc = drift_increments(np.diff(prof.s[a.k:b.k + 1]), lock_fraction(alt, nav.dvl_range_m), nav)
+    err = nav.confidence * np.hypot(a.sigma, np.cumsum(inc))
+    worst = float(err[-1]) if err.size else nav.confidence * a.sigma
+    ok = worst <= nav.max_error_m and bool(np.all(err <= prof.r_safe[a.k:b.k]))
+    return ok, worst
+
+
+def _nominal(prof: RouteProfile, nav: NavParams, a: _Node) -> tuple[FloatArray, FloatArray, int]:
+    """From fix ``a`` to the goal without another fix: depth schedule, drift ``D`` at each sample, and the
+    first sample past which no stretch from ``a`` can be feasible (lifting the schedule only loses lock)."""
+    z = _lifted(prof, a.k, prof.s.size - 1, (a, a))
+    inc = drift_increments(np.diff(prof.s[a.k:]), lock_fraction(z - prof.zb[a.k:], nav.dvl_range_m), nav)
+    d = np.r_[0.0, np.cumsum(inc)]
+    err = nav.confidence * np.hypot(a.sigma, d[1:])
+    bad = np.flatnonzero((err > nav.max_error_m) | (err > prof.r_safe[a.k:]))
+    return z, d, prof.s.size if bad.size == 0 else a.k + int(bad[0]) + 1
+
+
+def _stretch_from(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node,
+                  nominal: tuple[FloatArray, FloatArray, int]) -> tuple[bool, float]:
+    """:func:`_stretch` from the nominal schedule of ``a``: only ``b``'s climb is recomputed."""
+    z, d, stop = nominal
+    if b.k >= stop:
+        return False, math.inf
+    i = b.k - a.k
+    if b.kind != "gps":
+        return True, nav.confidence * float(np.hypot(a.sigma, d[i]))
+    reach = float(-z[:i + 1].min()) / prof.tan_pitch  # no climb starts further back than this
+    w0 = max(0, int(np.searchsorted(prof.s, prof.s[b.k] - reach)) - 1 - a.k)
+    v = -prof.tan_pitch * (prof.s[b.k] - prof.s[a.k + w0:b.k + 1])
+    lifted = np.flatnonzero(v <= z[w0:i + 1])
+    j0 = w0 + (int(lifted[-1]) if lifted.size else 0)  # the climb leaves the schedule after this sample
+    v = v[j0 - w0:]
+    zz = np.maximum(z[j0:i + 1], v)
+    inc = drift_increments(np.diff(prof.s[a.k + j0:b.k + 1]), lock_fraction(zz - prof.zb[a.k + j0:b.k + 1],
+                                                                            nav.dvl_range_m), nav)
+    err = nav.confidence * np.hypot(a.sigma, d[j0] + np.cumsum(inc))
+    worst = float(err[-1]) if err.size else nav.confidence * float(np.hypot(a.sigma, d[j0]))
+    ok = worst <= nav.max_error_m and bool(np.all(err <= prof.r_safe[a.k + j0:b.k]))
+    return ok, worst
+
+
+def _surface_cost(prof: RouteProfile, nav: NavParams, k: int, speed: float) -> float:
+    """Extra time of a surfacing at sample ``k``: the longer climb and dive, and ``surface_s`` (s)."""
+    reach = float(-prof.xyz[:, 2].min()) / prof.tan_pitch  # no climb is longer than this
+    lo, hi = np.searchsorted(prof.s, [prof.s[k] - reach, prof.s[k] + reach])
+    lo, hi = max(int(lo) - 1, 0), min(int(hi) + 1, prof.s.size)
+    s, zr = prof.s[lo:hi], prof.xyz[lo:hi, 2]
+    z = np.maximum(zr, -prof.tan_pitch * np.abs(s - prof.s[k]))
+    ds = np.diff(s)
+    extra = np.hypot(ds, np.diff(z)).sum() - np.hypot(ds, np.diff(zr)).sum()
+    return float(extra) / speed + nav.surface_s
+
+
+def _nodes(prof: RouteProfile, nav: NavParams, spacing: float, speed: float,
+           usbl_xy: tuple[float, float] | None) -> list[_Node]:
+    """Start, the candidates (GPS, and USBL when configured) in route order, goal."""
+    m = prof.s.size
+    every = max(1, int(round(spacing / max(prof.s[-1] / max(m - 1, 1), 1e-9))))
+    nodes = [_Node(0, "start", nav.fix_error_m, 0.0)]
+    for k in range(every, m - 1, every):
+        nodes.append(_Node(k, "gps", nav.fix_error_m, _surface_cost(prof, nav, k, speed)))
+        if usbl_xy is not None:
+            nodes.append(_Node(k, "usbl", fix_sigma(nav, "usbl", prof.xyz[k], usbl_xy), 0.0))
+    nodes.append(_Node(m - 1, "goal", 0.0, 0.0))
+    return nodes
+
+
+@dataclass(frozen=True, eq=False)
+class FixPlan:
+    """Where to take fixes along a route.
+
+    Attributes
+    ----------
+    ok : bool
+        Whether every stretch keeps the error within E and the uncertain clearance.
+    s : numpy.ndarray
+        ``(F,)`` the fixes' distances along the track (m).
+    kinds : tuple of str
+        ``(F,)`` ``"gps"`` or ``"usbl"``.
+    max_error_m : float
+        The largest predicted error (confidence × σ, m).
+    time_s : float
+        Time the fixes add (climbs, dives, ``surface_s``; s).
+    message : str
+        Why the plan fails, when it does.
+    """
+
+    ok: bool
+    s: FloatArray
+    kinds: tuple[str, ...]
+    max_error_m: float
+    time_s: float
+    message: str = ""
+
+    @property
+    def count(self) -> int:
+        """Number of fixes."""
+        return int(self.s.size)
+
+
+def plan_fixes(prof: RouteProfile, nav: NavParams, speed: float, spacing: float = 250.0,
+               usbl_xy: tuple[float, float] | None = None) -> FixPlan:
+    """The fewest fixes (ties: least time) that keep the error within E and the uncertain clearance.
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route (:func:`route_profile`).
+    nav : NavParams
+        The error model and E.
+    speed : float
+        Cruise speed (m/s).
+    spacing : float, optional
+        Distance between candidate fix points along the track (m).
+    usbl_xy : tuple of float, optional
+        The USBL ship (m): USBL fixes are candidates too.
+
+    Returns
+    -------
+    FixPlan
+        The fixes; ``ok`` False (with the reason) when no choice of candidates keeps the budget.
+    """
+    nodes = _nodes(prof, nav, spacing, speed, usbl_xy)
+    best: list[tuple[int, float, float] | None] = [None] * len(nodes)  # (fixes, time, worst error)
+    prev = [-1] * len(nodes)
+    best[0] = (0, 0.0, nav.confidence * nav.fix_error_m)
+    for i, a in enumerate(nodes[:-1]):
+        bi = best[i]
+        if bi is None:
+            continue
+        nominal = _nominal(prof, nav, a)
+        for j in range(i + 1, len(nodes)):
+            b = nodes[j]
+            if b.k <= a.k:
+                continue
+            if b.k >= nominal[2]:
+                break
+            ok, worst = _stretch_from(prof, nav, a, b, nominal)
+            if not ok:
+                continue
+            cand = (bi[0] + (b.kind in ("gps", "usbl")), bi[1] + b.cost, max(bi[2], worst))
+            bj = best[j]
+            if bj is None or cand[:2] < bj[:2]:
+                best[j], prev[j] = cand, i
+    goal = best[-1]
+    if goal is None:
+        return FixPlan(False, np.empty(0), (), math.inf, 0.0, _why(prof, nav))
+    chain, j = [], prev[-1]
+    while j > 0:
+        chain.append(nodes[j])
+        j = prev[j]
+    chain.reverse()
+    return FixPlan(True, prof.s[[n.k for n in chain]], tuple(n.kind for n in chain), goal[2], goal[1])
+
+
+def _why(prof: RouteProfile, nav: NavParams) -> str:
+    """Why no plan exists: the first place where even a fix right before cannot keep the uncertain clearance."""
+    tight = np.flatnonzero(prof.r_safe < nav.confidence * nav.fix_error_m)
+    if tight.size:
+        k = int(tight[0])
+        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed is within {prof.r_safe[k]:.0f} m "
+                f"horizontally of the leg, less than confidence × fix_error_m = {nav.confidence * nav.fix_error_m:g} m")
+    return (f"no choice of fixes every candidate point keeps the error within max_error_m = {nav.max_error_m:g} m "
+            "and the uncertain clearance")
+
+
+def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: float) -> FixPlan:
+    """GPS fixes every ``period`` seconds of flying time along the route (MOOS-IvP's periodic surfacing).
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route.
+    nav : NavParams
+        The error model and E.
+    period : float
+        Flying time between fixes (s), measured along the route at the cruise speed.
+    speed : float
+        Cruise speed (m/s).
+
+    Returns
+    -------
+    FixPlan
+        The fixes and whether they keep the budget.
+    """
+    ks: list[int] = []
+    t0 = 0.0
+    while True:
+        k = int(np.searchsorted(prof.t, t0 + period, side="left"))
+        if k >= prof.s.size - 1:
+            break
+        ks.append(k)
+        t0 = float(prof.t[k])
+    chain = [_Node(0, "start", nav.fix_error_m, 0.0)] + [_Node(k, "gps", nav.fix_error_m, 0.0) for k in ks] \
+        + [_Node(prof.s.size - 1, "goal", 0.0, 0.0)]
+    ok, worst = True, 0.0
+    for a, b in zip(chain[:-1], chain[1:], strict=True):
+        good, w = _stretch(prof, nav, a, b)
+        ok, worst = ok and good, max(worst, w)
+        if not ok:
+            break
+    time = sum(_surface_cost(prof, nav, k, speed) for k in ks) if ok else math.nan
+    return FixPlan(ok, prof.s[ks] if ks else np.empty(0), ("gps",) * len(ks), worst, time,
+                   "" if ok else f"a fix every {period:.0f} s lets the error or the uncertain clearance fail")
+
+
+def best_period(prof: RouteProfile, nav: NavParams, speed: float, max_error: float,
+                resolution: float = 0.0) -> tuple[float, FixPlan] | None:
+    """The largest fix period whose fixes keep the error within ``max_error`` and the uncertain clearance.
+
+    Periods are scanned down from the route's flying time in steps of ``resolution`` seconds (default:
+    a thousandth of the flying time, at least 10 s).
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route.
+    nav : NavParams
+        The error model.
+    speed : float
+        Cruise speed (m/s).
+    max_error : float
+        The largest error allowed (m): the planned fixes' own maximum, for a like-for-like comparison.
+    resolution : float, optional
+        Step of the scan (s); 0: the default.
+
+    Returns
+    -------
+    tuple or None
+        ``(period_s, plan)``; None when no period down to ``resolution`` keeps it.
+    """
+    capped = NavParams(nav.drift_pct, nav.drift_pct_no_lock, nav.dvl_range_m, nav.fix_error_m,
+                       max(max_error, nav.confidence * nav.fix_error_m * (1 + 1e-9)), nav.confidence, nav.fixes,
+                       nav.surface_s, nav.usbl)
+    period = float(prof.t[-1])
+    resolution = resolution or max(10.0, period / 1000.0)
+    while period >= resolution:
+        plan = periodic_fixes(prof, capped, period, speed)
+        if plan.ok:
+            return period, plan
+        period -= resolution
+    return None
+
+
+def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
+                tan_pitch: float) -> tuple[FloatArray, tuple[str, ...]]:
+    """The mission with its fixes: surfacings (a waypoint at depth 0) and USBL fix waypoints on the track.
+
+    The depth schedule becomes ``max(z_route(s), max_f −tanθ |s − s_f|)`` over the same horizontal
+    track: its breakpoints are the route's vertices, the fixes and every crossing of a climb or dive
+    with a leg or with another fix's; a route vertex the envelope lifts is kept (its bend stays).
+
+    Parameters
+    ----------
+    route : array_like
+        ``(N, 3)`` waypoints (m).
+    s_fix : array_like
+        ``(F,)`` the fixes along the horizontal track (m).
+    kinds : tuple of str
+        ``(F,)`` ``"gps"`` or ``"usbl"``.
+    tan_pitch : float
+        Slope of the climbs and dives.
+
+    Returns
+    -------
+    points : numpy.ndarray
+        ``(N', 3)`` waypoints.
+    kinds : tuple of str
+        ``(N',)`` the fix at each (``""`` elsewhere).
+    """
+    p = np.asarray(route, dtype=float).reshape(-1, 3)
+    sf = np.asarray(s_fix, dtype=float).reshape(-1)
+    if sf.size == 0:
+        return p.copy(), ("",) * p.shape[0]
+    sv = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]
+    gps = sf[[k == "gps" for k in kinds]] if sf.size else sf
+    brk = [sv, sf]
+    for f in gps:  # crossings of each climb/dive with each leg
+        for sign in (-1.0, 1.0):
+            slope_v = -sign * tan_pitch  # V(s) = -tan * |s - f| = tan*(s - f) before f (sign -1), -tan*(s - f) after
+            dz, ds = np.diff(p[:, 2]), np.diff(sv)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                # z_route(s) = z0 + (dz/ds)(s - s0) meets V(s) = slope_v (s - f)
+                s_cross = (p[:-1, 2] - dz / ds * sv[:-1] + slope_v * f) / (slope_v - dz / ds)
+            inside = np.isfinite(s_cross) & (s_cross > sv[:-1]) & (s_cross < sv[1:])
+            brk.append(s_cross[inside])
+    if gps.size > 1:
+        brk.append(0.5 * (gps[1:] + gps[:-1]))
+    s = np.unique(np.concatenate(brk))
+    s = s[(s >= 0.0) & (s <= sv[-1])]
+    s = s[np.r_[True, np.diff(s) > 1e-6]]  # breakpoints closer than a micrometre are one
+    x, y, z = (np.interp(s, sv, p[:, i]) for i in range(3))
+    for f in gps:
+        z = np.maximum(z, -tan_pitch * np.abs(s - f))
+    pts = np.column_stack([x, y, z])
+    out_kinds = [""] * s.size
+    for f, kind in zip(sf, kinds, strict=True):
+        out_kinds[int(np.argmin(np.abs(s - f)))] = kind
+    keep = _needed(pts, s, sv, out_kinds)
+    return pts[keep], tuple(k for k, m in zip(out_kinds, keep, strict=True) if m)
+
+
+
+def _needed(pts: FloatArray, s: FloatArray, sv: FloatArray, kinds: list[str]) -> BoolArray:
+    """Breakpoints to keep: route vertices, fixes, and wherever the depth schedule bends."""
+    keep = np.zeros(s.size, dtype=bool)
+    keep[[0, -1]] = True
+    vertex = np.abs(sv[np.clip(np.searchsorted(sv, s), 0, sv.size - 1)] - s) <= 1e-6
+    keep |= vertex | np.array([bool(k) for k in kinds])
+    slope = np.diff(pts[:, 2]) / np.maximum(np.diff(s), 1e-12)
+    keep[1:-1] |= np.abs(np.diff(slope)) > 1e-9
+    return keep

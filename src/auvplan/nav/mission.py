@@ -1,0 +1,234 @@
+"""A mission's navigation: its fixes planned (or timed), the waypoints that carry them, the predicted
+error at every waypoint and leg, and the clearance under that error (issue 52; ``docs/navigation.md``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._types import BoolArray, FloatArray
+from ..world import World
+from .budget import DEFAULT_STEP_M, NavBudget, mission_budget
+from .clearance import uncertain_clearance
+from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
+from .params import NavParams
+
+__all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times"]
+
+
+@dataclass(frozen=True, eq=False)
+class NavCheck:
+    """A mission's predicted error and clearance under it.
+
+    Attributes
+    ----------
+    budget : NavBudget
+        Errors at the waypoints and on the legs.
+    leg_uncertain_altitude_m : numpy.ndarray
+        ``(N - 1,)`` least altitude above the highest seabed within each leg's error (m; within
+        ``max_error_m`` for a leg whose error exceeds it).
+    leg_clear : numpy.ndarray of bool
+        ``(N - 1,)`` each leg clear of the seabed and the obstacles under its error.
+    ok : bool
+        Error within ``max_error_m`` everywhere and every leg clear.
+    message : str
+        The first failure, "" when ok.
+    """
+
+    budget: NavBudget
+    leg_uncertain_altitude_m: FloatArray
+    leg_clear: BoolArray
+    ok: bool
+    message: str
+
+
+def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
+                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> NavCheck:
+    """Predict a mission's error and test its legs under it (what ``mission check`` prints per leg).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint (``""``, ``"gps"``, ``"usbl"``).
+    nav : NavParams
+        The error model and the budget.
+    usbl_xy : tuple of float, optional
+        The USBL ship's local position (m).
+    step : float, optional
+        Sampling of the altitude schedule and of the clearance test (m).
+
+    Returns
+    -------
+    NavCheck
+        The verdict.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    budget = mission_budget(world, p, kinds, nav, usbl_xy, step)
+    # a leg over the budget fails on its error; its clearance is tested at the budget (the scan stays bounded)
+    alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step)
+    over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 + 1e-9))
+    msg = ""
+    if over.size:
+        k = int(over[0])
+        msg = f"leg {k + 1}: predicted error {budget.leg_error_m[k]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
+    elif not clear.all():
+        k = int(np.flatnonzero(~clear)[0])
+        msg = (f"leg {k + 1}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an obstacle "
+               f"comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+    return NavCheck(budget, alt, clear, not msg, msg)
+
+
+@dataclass(frozen=True, eq=False)
+class NavPlan:
+    """A route with its fixes: the mission flown and its navigation figures.
+
+    Attributes
+    ----------
+    points : numpy.ndarray
+        ``(N, 3)`` the mission's waypoints, surfacings included (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint.
+    dwell_s : numpy.ndarray
+        ``(N,)`` time held at each waypoint (``surface_s`` at a surfacing; s).
+    check : NavCheck
+        Predicted error and uncertain clearance of the mission.
+    fixes : FixPlan
+        The fixes chosen (or timed).
+    fixed_period : tuple of (float, FixPlan) or None
+        The best fixed period with the same largest error and its fixes (``fixes = "plan"`` only).
+    times_s : numpy.ndarray
+        ``(F,)`` planned time of each fix (s from the start, at the cruise speed, earlier dwells included).
+    """
+
+    points: FloatArray
+    kinds: tuple[str, ...]
+    dwell_s: FloatArray
+    check: NavCheck
+    fixes: FixPlan
+    fixed_period: tuple[float, FixPlan] | None
+    times_s: FloatArray
+
+    @property
+    def ok(self) -> bool:
+        """The fixes were found and the mission keeps its budget and clearance."""
+        return self.fixes.ok and self.check.ok
+
+    @property
+    def message(self) -> str:
+        """Why not ok ("" when ok)."""
+        return self.fixes.message or self.check.message
+
+    def metrics(self) -> dict[str, float | int | None]:
+        """``metrics.json``'s navigation figures.
+
+        Returns
+        -------
+        dict
+            ``nav_error_max_m``, ``fixes``, ``fixes_fixed_period``, ``fixed_period_s``.
+        """
+        fp = self.fixed_period
+        return {"nav_error_max_m": round(self.check.budget.max_error_m, 3),
+                "fixes": sum(1 for k in self.kinds if k),
+                "fixes_fixed_period": None if fp is None else fp[1].count,
+                "fixed_period_s": None if fp is None else round(fp[0], 1)}
+
+
+def surface_kinds(points: ArrayLike, depth_tol: float = 0.5) -> tuple[str, ...]:
+    """The fixes of a mission read back from its waypoints: a waypoint at the surface (depth within
+    ``depth_tol``) after the first is a GPS fix.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    depth_tol : float, optional
+        Depth that counts as the surface (m).
+
+    Returns
+    -------
+    tuple of str
+        ``(N,)``.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    return tuple("gps" if i > 0 and -z <= depth_tol else "" for i, z in enumerate(p[:, 2]))
+
+
+def fix_times(points: ArrayLike, kinds: tuple[str, ...], dwell_s: ArrayLike, speed: float) -> FloatArray:
+    """Planned time of each fix (arrival at its waypoint, earlier dwells included; s).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    kinds : tuple of str
+        ``(N,)`` fixes.
+    dwell_s : array_like
+        ``(N,)`` dwell at each waypoint (s).
+    speed : float
+        Cruise speed (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(F,)`` one time per fix.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))] / speed
+    t = t + np.r_[0.0, np.cumsum(np.asarray(dwell_s, dtype=float))[:-1]]
+    out: FloatArray = t[[i for i, k in enumerate(kinds) if k]]
+    return out
+
+
+def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
+                    usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
+                    spacing: float = 250.0, compare: bool = True) -> NavPlan:
+    """Fixes for a route as ``[navigation] fixes`` asks, and the mission that carries them.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    route : array_like
+        ``(N, 3)`` the route's waypoints (m).
+    nav : NavParams
+        Error model, budget and ``fixes``.
+    max_pitch_deg : float
+        The vehicle's pitch limit: the climbs and dives of the surfacings (degrees).
+    speed : float
+        Cruise speed (m/s).
+    usbl_xy : tuple of float, optional
+        The USBL ship's local position (m).
+    step : float, optional
+        Sampling (m).
+    spacing : float, optional
+        Distance between candidate fix points (m).
+    compare : bool, optional
+        With ``fixes = "plan"``, also find the best fixed period with the same largest error.
+
+    Returns
+    -------
+    NavPlan
+        The mission; ``ok`` False with the reason when the budget or the clearance cannot be kept.
+    """
+    r = np.asarray(route, dtype=float).reshape(-1, 3)
+    prof = route_profile(world, r, nav, max_pitch_deg, speed, step)
+    if nav.fixes == "plan":
+        fp = plan_fixes(prof, nav, speed, spacing, usbl_xy)
+    elif nav.period_s is not None:
+        fp = periodic_fixes(prof, nav, nav.period_s, speed)
+    else:
+        fp = FixPlan(True, np.empty(0), (), math.nan, 0.0)
+    points, kinds = apply_fixes(r, fp.s, fp.kinds, prof.tan_pitch)
+    check = check_navigation(world, points, kinds, nav, usbl_xy, step)
+    dwell = np.array([nav.surface_s if k == "gps" else 0.0 for k in kinds])
+    fixed = None
+    if compare and nav.fixes == "plan" and fp.ok:
+        fixed = best_period(prof, nav, speed, fp.max_error_m)
+    return NavPlan(points, kinds, dwell, check, fp, fixed, fix_times(points, kinds, dwell, speed))
