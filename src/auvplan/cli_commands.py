@@ -102,11 +102,11 @@ def _cmd_scenario_schema(args: argparse.Namespace) -> int:
 
 
 def _cmd_mission_check(args: argparse.Namespace) -> int:
-    from .flyable import check_limits
     from .io.missions.energy import mission_file_energy
     from .io.missions.formats import check_mission_file, read_mission
     from .io.results import records
     from .io.scenario import loader as scenario_io
+    from .legs import helm_check
     from .sim.pipeline import vehicle_limits
 
     sc = scenario_io.load(args.scenario)
@@ -117,7 +117,8 @@ def _cmd_mission_check(args: argparse.Namespace) -> int:
         check, fmt = check_mission_file(Path(name), world, args.pitch)
         points = read_mission(Path(name), world.origin)[0]
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-        vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
+        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
