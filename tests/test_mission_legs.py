@@ -14,12 +14,14 @@ import pytest
 
 from auvplan import cli
 from auvplan.flyable import VehicleLimits, check_limits, leg_pitch_deg, leg_turn_radius
+from auvplan.guidance.mission import build_waypoints
 from auvplan.guidance.mission_legs import merge_short_legs
 from auvplan.io.missions.export import EXPORT_FORMATS, write_exports
 from auvplan.io.missions.formats import read_mission
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.legs import FITTED_LEG_M, SHORTEST_LEG_M, helm_check, shortest_leg, waypoint_budget
-from auvplan.sim.pipeline import fitted_route, planned_route
+from auvplan.legs import FITTED_LEG_M, helm_check, shortest_leg, waypoint_budget
+from auvplan.planners import plan as plan_global
+from auvplan.sim.pipeline import fitted_route, planned_route, planning_problem
 from auvplan.sim.result import RunRecord
 
 RIDGE = """
@@ -45,7 +47,7 @@ min_altitude_m = 10.0
 
 def test_helm_check_judges_each_leg_as_given_where_the_plan_check_merges() -> None:
     """A 4 mm leg whose ends were rounded to 1 mm: the plan check merges it (1 % of R) and passes; leg by
-    leg it reads atan(1 mm / 4 mm) = 14° and is shorter than the 1 m minimum; a kink of 1 mm on it is a
+    leg it reads atan(1 mm / 4 mm) = 14° and is shorter than the 2 m minimum (1 % of R); a kink of 1 mm on it is a
     turn no 200 m vehicle makes (4 mm / (tan(Δψ₁/2) + tan(Δψ₂/2)) by hand)."""
     lim = VehicleLimits(10.0, 200.0)
     w = np.array([[0.0, 0.0, -100.0], [500.0, 0.0, -100.0], [500.004, 0.001, -99.999], [1000.0, 0.0, -100.0]])
@@ -59,8 +61,8 @@ def test_helm_check_judges_each_leg_as_given_where_the_plan_check_merges() -> No
     a2 = a1 + math.atan2(0.001, 499.996)
     assert rep.tightest_turn_m == pytest.approx(math.hypot(0.004, 0.001) / (math.tan(a1 / 2) + math.tan(a2 / 2)))
     texts = [v.text for v in rep.violations if v.limit == "min_leg_m"]
-    assert texts == [f"leg 1: {length:.3f} m long < the shortest leg {SHORTEST_LEG_M:g} m"]
-    assert shortest_leg(VehicleLimits()) == 0.01 and shortest_leg(lim) == SHORTEST_LEG_M
+    assert texts == [f"leg 1: {length:.3f} m long < the shortest leg 2 m"]
+    assert shortest_leg(VehicleLimits()) == 0.01 and shortest_leg(lim) == 2.0 and shortest_leg(VehicleLimits(20, 10)) == 0.1
     assert helm_check(np.delete(w, 2, axis=0), lim).ok
 
 
@@ -135,7 +137,7 @@ def test_steep_real_ridge_in_lat_lon_every_exported_leg_holds_the_limits(tmp_pat
 
 def test_flow_mission_near_an_obstacle_is_bounded_or_refused_naming_the_leg() -> None:
     """A Fig. 8 start 0.5-5 m off the ellipsoid (benchmarks/flow_flown.py's seeded starts) whose
-    mission had 5 990 waypoints with legs of 0.5 mm: no leg under 1 m now, within the waypoint budget,
+    mission had 5 990 waypoints with legs of 0.5 mm: no leg under 0.1 m (1 % of R) now, within the waypoint budget,
     or refused with the leg and the limit named."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     from dataclasses import replace
@@ -145,7 +147,11 @@ def test_flow_mission_near_an_obstacle_is_bounded_or_refused_naming_the_leg() ->
     world, mission = scenario_io.build(scenario_io.load("flow-fig8"))
     obstacles = dict(scenes())["Fig. 8, document reading + 2 spheres"]
     world = replace(world, obstacles=tuple(obstacles))
-    plan, w = planned_route(world, replace(mission, start=(-3.835, -7.906, 0.186)), 1)
+    start = (-3.835, -7.906, 0.186)
+    plan, w = planned_route(world, replace(mission, start=start), 1)
+    flown = plan_global(planning_problem(world, replace(mission, start=start)), mission.planner, 1)
+    built = build_waypoints(flown.path, world, min_leg=shortest_leg(VehicleLimits(20.0, 10.0)))
+    assert len(built) <= len(flown.path)  # halving next to the ellipsoid stops at 0.2 m legs (was 5 990 points)
     if w is None:
         assert plan is not None and "leg " in plan.message
     else:

@@ -222,8 +222,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "edges-refine-halves-any-leg": (
         "guidance/mission.py",
-        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) >= 2.0 * min_leg",
-        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) >= 0.0 * min_leg",
+        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 2.0 * min_leg * (1.0 + 1e-6)",
+        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 0.0 * min_leg * (1.0 + 1e-6)",
     ),
     "edges-simplify-any-split-point": (
         "guidance/fit_limits.py",

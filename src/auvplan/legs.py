@@ -9,11 +9,12 @@ were rounded to 1 mm then reads up to 14° of pitch, and the heading noise of a 
 waypoint is a turn no vehicle makes.  :func:`helm_check` therefore judges every leg of the file as
 given (issue 49):
 
-* **shortest leg**: no leg is shorter than :func:`shortest_leg` (3D): :data:`SHORTEST_LEG_M` (1 m) for a
-  vehicle with a pitch limit or a turn radius; :data:`DUPLICATE_LEG_M` (a duplicate waypoint) for a point
-  vehicle without limits.  A mission whose depth schedule was fitted to the pitch limit keeps its legs
-  at least :data:`FITTED_LEG_M` (2.5 m) long, so that the rounding of exported coordinates (≤ 1.1 mm:
-  1 mm in the metric formats, 10⁻⁸° of latitude or longitude) moves no leg's pitch by more than
+* **shortest leg**: no leg is shorter than :func:`shortest_leg` (3D): 1 % of the turn radius
+  (:data:`SHORTEST_LEG_FRACTION`, the plan check's merge distance), at least :data:`DUPLICATE_LEG_M`:
+  shorter legs are degenerate (the rounding of their ends alone moves their pitch and heading by
+  degrees).  A mission whose depth schedule was fitted to the pitch limit keeps its legs at least
+  :data:`FITTED_LEG_M` (2.5 m) long, so that the rounding of exported coordinates (≤ 1.1 mm: 1 mm in
+  the metric formats, 10⁻⁸° of latitude or longitude) moves no leg's pitch by more than
   ``atan(2.2 mm / 2.5 m)`` = 0.05° (the builder's :data:`~auvplan.flyable.PITCH_SLACK_DEG`);
 * **pitch** of every leg from its own ends, ``atan(|Δz| / L)``;
 * **turns** at every waypoint, ``R (tan(Δψ_k/2) + tan(Δψ_{k+1}/2)) <= L_k`` on the legs as given;
@@ -31,11 +32,13 @@ from numpy.typing import ArrayLike
 
 from .flyable import LimitReport, LimitViolation, VehicleLimits, leg_pitch_deg, leg_turn_radius
 
-__all__ = ["SHORTEST_LEG_M", "FITTED_LEG_M", "DUPLICATE_LEG_M", "WAYPOINTS_PER_KM", "shortest_leg", "helm_check",
+__all__ = ["SHORTEST_LEG_FRACTION", "FITTED_LEG_M", "DUPLICATE_LEG_M", "WAYPOINTS_PER_KM", "shortest_leg", "helm_check",
            "waypoint_budget"]
 
-SHORTEST_LEG_M = 1.0
-"""Shortest leg (3D, m) of an exported mission of a vehicle with a pitch limit or a turn radius."""
+SHORTEST_LEG_FRACTION = 0.01
+"""Shortest leg of an exported mission as a fraction of the vehicle's turn radius (2 m for R = 200 m,
+0.1 m for the 10 m default; :data:`auvplan.flyable.MERGE_FRACTION`: the plan check treats closer
+vertices as one)."""
 FITTED_LEG_M = 2.5
 """Shortest leg (3D, m) of a mission whose depth schedule was fitted to the pitch limit
 (:func:`auvplan.guidance.fit_limits.fit_mission`): its legs climb at up to the limit less
@@ -60,9 +63,9 @@ def shortest_leg(limits: VehicleLimits) -> float:
     Returns
     -------
     float
-        :data:`SHORTEST_LEG_M` with a pitch limit below 90° or a turn radius; else :data:`DUPLICATE_LEG_M` (m).
+        ``max(SHORTEST_LEG_FRACTION * turn_radius_m, DUPLICATE_LEG_M)`` (m).
     """
-    return SHORTEST_LEG_M if limits.max_pitch_deg < 90.0 or limits.turn_radius_m > 0.0 else DUPLICATE_LEG_M
+    return max(SHORTEST_LEG_FRACTION * limits.turn_radius_m, DUPLICATE_LEG_M)
 
 
 def waypoint_budget(points: ArrayLike) -> int:
@@ -112,7 +115,7 @@ def helm_check(points: ArrayLike, limits: VehicleLimits, min_leg: float | None =
     tol = 1e-9
     bad: list[LimitViolation] = []
     for k in range(len(p) - 1):
-        if length[k] < shortest:
+        if length[k] < shortest * (1.0 - 1e-9):
             bad.append(LimitViolation(k, "min_leg_m", float(length[k]), shortest))
         if pitch[k] > limits.max_pitch_deg + tol:
             bad.append(LimitViolation(k, "max_pitch_deg", float(pitch[k]), limits.max_pitch_deg))

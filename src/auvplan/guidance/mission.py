@@ -247,7 +247,7 @@ def _refine(world: World, p: np.ndarray, rounds: int = 10, min_leg: float = 0.0)
     margin was halved ten times, into thousands of millimetre legs)."""
     for _ in range(rounds):
         bad = ~envelopes_free(world, p[:-1], p[1:])
-        bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) >= 2.0 * min_leg
+        bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 2.0 * min_leg * (1.0 + 1e-6)
         if bad.any():  # halving cannot help a leg that is itself blocked
             bad &= world.segments_free(np.stack([p[:-1], p[1:]], axis=1), moving=False)
         split = np.flatnonzero(bad)
