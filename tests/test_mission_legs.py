@@ -62,7 +62,8 @@ def test_helm_check_judges_each_leg_as_given_where_the_plan_check_merges() -> No
     assert rep.tightest_turn_m == pytest.approx(math.hypot(0.004, 0.001) / (math.tan(a1 / 2) + math.tan(a2 / 2)))
     texts = [v.text for v in rep.violations if v.limit == "min_leg_m"]
     assert texts == [f"leg 1: {length:.3f} m long < the shortest leg 2 m"]
-    assert shortest_leg(VehicleLimits()) == 0.01 and shortest_leg(lim) == 2.0 and shortest_leg(VehicleLimits(20, 10)) == 0.1
+    assert shortest_leg(VehicleLimits()) == 0.01 and shortest_leg(lim) == 2.0
+    assert shortest_leg(VehicleLimits(20, 10)) == 0.1
     assert helm_check(np.delete(w, 2, axis=0), lim).ok
 
 
