@@ -270,3 +270,69 @@ def monkeypatch_session():  # type: ignore[no-untyped-def]
     mp = pytest.MonkeyPatch()
     yield mp
     mp.undo()
+
+
+# ---------------------------------------------------------------------- the modules' edges, pinned by hand
+def test_uncertainty_rejects_what_it_cannot_use() -> None:
+    """Confidence in (0, 1) for the quantile and (0.5, 1) for the worst case; σ finite and >= 0 (0 allowed,
+    the nominal seabed); σ₀ >= 0."""
+    from auvplan.world.uncertainty import slope_sigma, worst_case, z_score
+
+    t = Terrain(np.array([0.0, 100.0, 200.0]), np.array([0.0, 400.0]), np.full((2, 3), -100.0))
+    for bad in (0.0, 1.0):
+        with pytest.raises(ValueError, match="must lie in \\(0, 1\\)"):
+            z_score(bad)
+    with pytest.raises(ValueError, match="floor_m"):
+        slope_sigma(t, -1e-9)
+    assert np.all(slope_sigma(t, 0.0) == 0.0)
+    assert np.array_equal(worst_case(t, 0.0, 0.95).z, t.z)  # zero uncertainty: the nominal seabed
+    for sigma in (np.array([[1.0, np.nan, 1.0], [1.0, 1.0, 1.0]]), np.array([[1.0, -1e-12, 1.0], [1.0, 1.0, 1.0]]),
+                  np.array([[-1.0, -1.0, -1.0], [-1.0, -1.0, -1.0]])):
+        with pytest.raises(ValueError, match="finite and >= 0"):
+            worst_case(t, sigma, 0.95)
+    for conf in (0.5, 1.0, 1.5):
+        with pytest.raises(ValueError, match="must lie in \\(0.5, 1\\)"):
+            worst_case(t, 1.0, conf)
+
+
+@pytest.mark.parametrize("kind", ["none", "uniform", "gridded-steady", "gridded-one-time"])
+def test_serve_cache_reuses_only_unchanged_legs_in_steady_fields(kind: str) -> None:
+    """In a steady field the cached budget equals mission_budget (times and energies) and flies only the
+    legs an edit changed (two when an interior waypoint moves); fields with a time axis are not steady."""
+    from auvplan.serve.budget import IncrementalBudget, steady
+
+    x = np.linspace(-20_000.0, 20_000.0, 3)
+    u = np.full((1, 1, 3, 3), 0.2) * np.linspace(0.5, 1.5, 3)[None, None, None, :]
+    cur = {"none": None, "uniform": UniformCurrent((0.2, -0.1, 0.0)),
+           "gridded-steady": GriddedCurrent(x, x, [0.0], u[0], 0.5 * u[0]),
+           "gridded-one-time": GriddedCurrent(x, x, [0.0], u, 0.5 * u, t=[100.0])}[kind]
+    world = _open_world(size=20_000.0)
+    world = replace(world, currents=cur) if cur is not None else world
+    assert steady(world.currents)
+    cache = IncrementalBudget(world, _model(), 200.0)
+    w = np.array([[-8000.0, 0.0, -100.0], [-3000.0, 1000.0, -100.0], [2000.0, -500.0, -100.0], [6000.0, 0.0, -100.0]])
+    got, n = cache.run(w, 1.5)
+    assert n == 3
+    w2 = w.copy()
+    w2[2, 1] += 300.0
+    got2, n2 = cache.run(w2, np.array([1.5, 1.5, 1.5]))
+    assert n2 == 2
+    for g, route in ((got, w), (got2, w2)):
+        want = mission_budget(world, route, _model(), 1.5, 0.0, 200.0)
+        assert np.allclose(g.t_start, want.t_start, rtol=1e-12, atol=1e-9)
+        assert np.allclose(g.t_end, want.t_end, rtol=1e-12) and g.energy_wh == pytest.approx(want.energy_wh, rel=1e-12)
+        assert np.allclose(g.length_m, want.length_m, rtol=1e-12)
+    t2 = GriddedCurrent(x, x, [0.0], np.concatenate([u, u]), np.concatenate([u, u]), t=[0.0, 10.0])
+    assert not steady(t2)
+
+
+def test_lru_cache_forgets_the_least_recently_used() -> None:
+    from auvplan.serve.lru import LruCache
+
+    c = LruCache(size=2)
+    c.put(b"a", (1.0,))
+    c.put(b"b", (2.0,))
+    found, missing = c.get_many([b"a", b"z"])  # a becomes the most recently used
+    assert found == [(1.0,), None] and missing == [1]
+    c.put(b"c", (3.0,))  # b, the least recently used, goes
+    assert list(c.items) == [b"a", b"c"]
