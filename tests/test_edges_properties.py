@@ -336,3 +336,36 @@ def test_lru_cache_forgets_the_least_recently_used() -> None:
     assert found == [(1.0,), None] and missing == [1]
     c.put(b"c", (3.0,))  # b, the least recently used, goes
     assert list(c.items) == [b"a", b"c"]
+
+
+def test_a_re_plan_flight_is_judged_on_its_whole_track_and_its_arrival() -> None:
+    """_finish by hand: a track that leaves the box or meets the seabed is a COLLISION with infinite
+    arrival and the energy of the time flown (P(V) × last time); at exactly the arrival radius the
+    flight has arrived (EXACT, arrival = the last time); short of it the vehicle homes on a plan and the
+    arrival is the homing leg's end (later than the track's last time)."""
+    from auvplan.ensemble.replan import ReplanParams, _finish
+    from auvplan.sim.mission import Mission
+    from auvplan.vehicles import VehicleParams
+
+    world = _open_world(size=20_000.0)
+    vehicle = VehicleParams(speed=1.5)
+    p_w = float(EnergyModel.from_vehicle(vehicle).power(1.5))
+    mission = Mission("t", (0.0, 0.0, -100.0), (5000.0, 0.0, -100.0), vehicle=vehicle)
+    ts = np.linspace(0.0, 3000.0, 11)
+    out = np.column_stack([np.linspace(0.0, 30_000.0, 11), np.zeros(11), np.full(11, -100.0)])
+    deep = np.column_stack([np.linspace(0.0, 5000.0, 11), np.zeros(11), np.r_[np.full(5, -100.0), -498.0,
+                                                                              np.full(5, -100.0)]])
+    for track, why in ((out, "operating box"), (deep, "seabed")):
+        f = _finish(world, world.currents, mission, ReplanParams(), 1, [track], [ts], [], 0)
+        assert f.status is Status.COLLISION and why in f.message and not f.arrived and not f.success
+        assert f.energy_wh == pytest.approx(p_w * 3000.0 / WH, rel=1e-12)
+    r = mission.sim.arrival_radius
+    at = np.column_stack([np.linspace(0.0, 5000.0 - r, 11), np.zeros(11), np.full(11, -100.0)])
+    f = _finish(world, world.currents, mission, ReplanParams(), 1, [at], [ts], [], 0)
+    assert f.status is Status.EXACT and f.arrival_s == 3000.0 and f.replans == 0 and f.success
+    short = at.copy()
+    short[:, 0] *= 0.5
+    f = _finish(world, world.currents, mission, ReplanParams(), 1, [short], [ts], [], 0)
+    assert f.replans == 1 and f.arrived and f.arrival_s > 3000.0
+    assert f.arrival_s == pytest.approx(3000.0 + (5000.0 - short[-1, 0]) / 1.5, rel=0.02)
+    assert f.energy_wh == pytest.approx(p_w * f.arrival_s / WH, rel=1e-12)
