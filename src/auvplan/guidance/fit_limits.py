@@ -22,9 +22,14 @@ The dense profile (points every quarter terrain cell) is then simplified: a chor
 when it stays within ``tolerance`` of the profile and its deeper end clears every floor under it
 (the leg's envelope, so that a depth held per leg is safe too; a chord of a profile within the
 pitch limit is within it too); points inside a turn region never become waypoints, so
-every turn keeps its tangent lengths.  The exact envelope test
-(:func:`auvplan.guidance.mission.envelopes_free`) then checks the static obstacles, and
-:func:`auvplan.flyable.check_limits` the result.
+every turn keeps its tangent lengths.  No leg is shorter than 2.5 m (:data:`auvplan.legs.FITTED_LEG_M`:
+split points closer to a chord's ends are not taken, and near-duplicates left are merged by
+:func:`auvplan.guidance.mission_legs.merge_short_legs`), each turn region reaches ``TURN_SLACK`` R past its
+tangent points, and the mission keeps its waypoint budget (:func:`auvplan.legs.waypoint_budget`: the
+tolerance is doubled until it does), so that every leg of every export holds the limits judged on its own
+(issue 49).  The exact envelope test (:func:`auvplan.guidance.mission.envelopes_free`) then checks the
+static obstacles, and :func:`auvplan.legs.helm_check` the result leg by leg; where the pitch limit keeps
+the schedule off ``follow_altitude ± tolerance`` the :class:`AltitudeBand` says so.
 """
 
 from __future__ import annotations
