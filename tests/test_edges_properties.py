@@ -369,3 +369,16 @@ def test_a_re_plan_flight_is_judged_on_its_whole_track_and_its_arrival() -> None
     assert f.replans == 1 and f.arrived and f.arrival_s > 3000.0
     assert f.arrival_s == pytest.approx(3000.0 + (5000.0 - short[-1, 0]) / 1.5, rel=0.02)
     assert f.energy_wh == pytest.approx(p_w * f.arrival_s / WH, rel=1e-12)
+
+
+def test_serve_cache_falls_back_to_the_whole_flight_where_the_current_beats_the_vehicle() -> None:
+    """A 2 m/s eastward current against a 1.5 m/s vehicle on the westward leg: the cached budget is the
+    whole flight's, INFEASIBLE with the same message (place and time) as mission_budget."""
+    from auvplan.serve.budget import IncrementalBudget
+
+    world = _open_world(size=20_000.0, currents=UniformCurrent((2.0, 0.0, 0.0)))
+    w = np.array([[-8000.0, 0.0, -100.0], [-3000.0, 0.0, -100.0], [-6000.0, 500.0, -100.0]])
+    got, n = IncrementalBudget(world, _model(), 200.0).run(w, 1.5)
+    want = mission_budget(world, w, _model(), 1.5, 0.0, 200.0)
+    assert n == 2 and got.status is want.status is Status.INFEASIBLE and got.message == want.message
+    assert "t = " in got.message and np.array_equal(got.t_end[:1], want.t_end[:1])

@@ -802,3 +802,24 @@ REASONS: dict[str, str] = {
          'om their motions (the precomputed tracks), which the mutant recomputes with o.center(t)'),
 
 }
+
+# issue #49: the new modules' survivors, argued
+_UNIFORM = ("equivalent: a Terrain's axes are uniform (Terrain.__post_init__ rejects steps that differ by more than "
+            "1e-6 relative), so the largest and the least step of an axis are the same")
+REASONS.update({
+    "slope_sigma | h = max(float(np.min(np.diff(x))), float(np.max(np.diff(y))))": _UNIFORM,
+    "slope_sigma | h = max(float(np.max(np.diff(x))), float(np.min(np.diff(y))))": _UNIFORM,
+    "IncrementalBudget.run | p = np.asarray(waypoints, dtype=float).reshape(-2, 3)": _NEG,
+    "IncrementalBudget.run | tr = traverse(self.world, p[i:i + 3], v[i], 0.0, self.ds)":
+        ("equivalent: the time at the leg's end is times[1] whether the flight goes on one more leg or not; a "
+         "blocked extra leg falls back to the whole flight, which is the same budget"),
+    "IncrementalBudget.run | s = np.concatenate([[1.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])":
+        ("equivalent in use: node_s of the cached budget's Traverse is read by Traverse.at only (the point of no "
+         "return), which serve never asks of it; budget_of and charge() do not read it"),
+    "IncrementalBudget.run | s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=1), axis=1))])":
+        ("equivalent in use: node_s of the cached budget's Traverse is read by Traverse.at only (the point of no "
+         "return), which serve never asks of it; budget_of and charge() do not read it"),
+    "IncrementalBudget.run | tr = Traverse(p, v, times, p.copy(), s, times.copy(), np.r_[1, np.arange(n)].astype(np.int64))":
+        ("equivalent: node_leg[0] (the first node's leg) is never read: charge() multiplies power[legs][1:] by the "
+         "time steps"),
+})
