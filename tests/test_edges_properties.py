@@ -369,6 +369,10 @@ def test_a_re_plan_flight_is_judged_on_its_whole_track_and_its_arrival() -> None
     assert f.replans == 1 and f.arrived and f.arrival_s > 3000.0
     assert f.arrival_s == pytest.approx(3000.0 + (5000.0 - short[-1, 0]) / 1.5, rel=0.02)
     assert f.energy_wh == pytest.approx(p_w * f.arrival_s / WH, rel=1e-12)
+    # the homing leg is appended node by node: no gap longer than a sub-step, one time per position
+    assert f.track.shape[0] == f.times.shape[0] and f.times[-1] == f.arrival_s
+    assert np.linalg.norm(np.diff(f.track, axis=0), axis=1).max() <= ReplanParams().ds + 1e-6
+    assert np.linalg.norm(f.track[-1] - np.array(mission.goal)) <= r
 
 
 def test_serve_cache_falls_back_to_the_whole_flight_where_the_current_beats_the_vehicle() -> None:

@@ -822,4 +822,7 @@ REASONS.update({
     "IncrementalBudget.run | tr = Traverse(p, v, times, p.copy(), s, times.copy(), np.r_[1, np.arange(n)].astype(np.int64))":
         ("equivalent: node_leg[0] (the first node's leg) is never read: charge() multiplies power[legs][1:] by the "
          "time steps"),
+    "_finish | if status is Status.EXACT and energy >= model.budget_wh:":
+        ("boundary, not killed: a flight that uses exactly its budget keeps exactly its reserve (EXACT); the mutant "
+         "calls it RESERVE_BROKEN, which no float example hits"),
 })
