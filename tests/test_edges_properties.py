@@ -23,8 +23,8 @@ from auvplan._types import Status
 from auvplan.endurance import EnergyModel, mission_budget
 from auvplan.endurance.budget import traverse
 from auvplan.endurance.pnr import point_of_no_return
-from auvplan.flyable import VehicleLimits
-from auvplan.legs import helm_check
+from auvplan.path.flyable import VehicleLimits
+from auvplan.path.legs import helm_check
 from auvplan.world import Bounds, GriddedCurrent, Terrain, UniformCurrent, World
 from helpers import flat_world
 

@@ -14,13 +14,13 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.flyable import VehicleLimits, check_limits, leg_pitch_deg, leg_turn_radius
 from auvplan.guidance.mission import build_waypoints
-from auvplan.guidance.mission_legs import merge_short_legs
+from auvplan.guidance.mission.legs import merge_short_legs
 from auvplan.io.missions.export import EXPORT_FORMATS, write_exports
 from auvplan.io.missions.formats import read_mission
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.legs import FITTED_LEG_M, helm_check, shortest_leg, waypoint_budget
+from auvplan.path.flyable import VehicleLimits, check_limits, leg_pitch_deg, leg_turn_radius
+from auvplan.path.legs import FITTED_LEG_M, helm_check, shortest_leg, waypoint_budget
 from auvplan.planners import plan as plan_global
 from auvplan.sim.pipeline import fitted_route, planned_route, planning_problem, run_mission
 from auvplan.sim.result import RunRecord

@@ -25,15 +25,15 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
     return tuple((module, n) for n in names)
 
 
-TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.terrain_kernels"
+TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
 GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
-LOCAL = "auvplan.guidance.local"
+LOCAL = "auvplan.guidance.avoidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
-MISSION, LIMITS = "auvplan.guidance.mission", "auvplan.guidance.mission_limits"
+MISSION, LIMITS = "auvplan.guidance.mission.waypoints", "auvplan.guidance.mission.limits"
 FORMATS = "auvplan.io.missions.readers"
 FORMATION = "auvplan.sim.formation"
 
@@ -177,7 +177,7 @@ MODULES.update({
 UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.serve.budget", "auvplan.serve.lru"
 BUDGET, PNR, POWER = "auvplan.endurance.budget", "auvplan.endurance.pnr", "auvplan.endurance.power"
 SPEEDS = "auvplan.endurance.speeds"
-FLYABLE, PLAN_LIMITS = "auvplan.flyable", "auvplan.planners.vehicle_limits"
+FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.vehicle_limits"
 GEOINPUT, LADDER = "auvplan.io.scenario.geoinput", "auvplan.planners.grid.ladder"
 TURNS, TAIL_IO, TAIL_PLAN = "auvplan.survey.turns", "auvplan.io.missions.tail", "auvplan.planners.timeopt.tail"
 REPLAN = "auvplan.ensemble.replan"
@@ -819,7 +819,8 @@ REASONS.update({
     "IncrementalBudget.run | s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=1), axis=1))])":
         ("equivalent in use: node_s of the cached budget's Traverse is read by Traverse.at only (the point of no "
          "return), which serve never asks of it; budget_of and charge() do not read it"),
-    "IncrementalBudget.run | tr = Traverse(p, v, times, p.copy(), s, times.copy(), np.r_[1, np.arange(n)].astype(np.int64))":
+    ("IncrementalBudget.run | tr = Traverse(p, v, times, p.copy(), s, times.copy(), "
+     "np.r_[1, np.arange(n)].astype(np.int64))"):
         ("equivalent: node_leg[0] (the first node's leg) is never read: charge() multiplies power[legs][1:] by the "
          "time steps"),
     "_finish | if status is Status.EXACT and energy >= model.budget_wh:":
