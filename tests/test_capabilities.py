@@ -25,9 +25,9 @@ from test_registry import SCENARIO, StraightParams, straight
 def test_every_built_in_planner_declares_its_capabilities() -> None:
     declared = {name: get(name).capabilities for name in PLANNERS}
     assert declared == {
-        **{s: frozenset({"path_cost", "currents"}) for s in ("iabc", "abc", "ga", "pso", "de")},
-        "flow": frozenset(), "grid": frozenset({"path_cost", "currents"}),
-        "timeopt": frozenset({"currents", "time_varying"}),
+        **{s: frozenset({"path_cost", "currents", "zones"}) for s in ("iabc", "abc", "ga", "pso", "de")},
+        "flow": frozenset(), "grid": frozenset({"path_cost", "currents", "zones"}),
+        "timeopt": frozenset({"currents", "time_varying", "zones"}),
     }
     assert all(c in CAPABILITIES for caps in declared.values() for c in caps)
     assert has("grid", "path_cost") and not has("flow", "path_cost") and has("timeopt", "time_varying")

@@ -119,7 +119,10 @@ def test_two_runs_into_one_folder_one_is_refused(tmp_path, capsys):
     assert code2 == 2 and err.count("\n") == 1, err
     assert f"another auvplan process (pid {first.pid}) is writing into this folder" in err
     _assert_whole(out)  # the first run's folder, untouched by the second
-    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out)]) == 0  # the first exited: its lock is gone
+    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out)]) == 2  # one folder, one job (issue #48)
+    assert "holds the results of `auvplan run`" in capsys.readouterr().err
+    assert cli.main(["-q", "plan", SCENARIO, "--out", str(out), "--force"]) == 0  # the first exited: its lock is gone
+    assert not (out / "track.csv").exists()  # the run's files went with --force: no mixed folder
 
 
 def test_stale_temporaries_of_auvplan_files_are_removed_and_others_kept(tmp_path):

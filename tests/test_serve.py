@@ -27,7 +27,7 @@ from auvplan.serve.tomlout import dumps  # noqa: E402
 def served(tmp_path_factory):
     root = tmp_path_factory.mktemp("served")
     session = make_session("showcase", [str(root)])
-    return session, TestClient(make_app(session)), root
+    return session, TestClient(make_app(session), base_url="http://127.0.0.1"), root
 
 
 @pytest.mark.parametrize("name", ["marcus-wake", "track-double"])
@@ -188,7 +188,7 @@ def test_saving_never_overwrites(served):
 
 def test_replan_fly_and_compare_candidates(tmp_path):
     session = make_session("track-single", [str(tmp_path)])
-    client = TestClient(make_app(session))
+    client = TestClient(make_app(session), base_url="http://127.0.0.1")
     first = client.post("/api/keep", json={"name": "as opened"}).json()
     st = client.post("/api/plan", json={"planner": "grid", "seed": 0}).json()
     rows = st["candidates"]
@@ -235,7 +235,7 @@ def test_import_a_survey_area_from_a_file_in_the_served_folder(tmp_path):
     (tmp_path / "area.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [{
         "type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [
             np.column_stack([lon, lat]).tolist()]}}]}), encoding="utf-8")
-    client = TestClient(make_app(session))
+    client = TestClient(make_app(session), base_url="http://127.0.0.1")
     st = client.post("/api/survey", json={"file": "area.geojson"}).json()
     area = np.array(st["survey_area"])
     assert area[:, 0].min() == pytest.approx(64600.0, abs=0.5) and area[:, 1].max() == pytest.approx(4600.0, abs=0.5)
@@ -273,7 +273,7 @@ def test_the_serve_command_binds_localhost_and_refuses_a_busy_port(monkeypatch, 
     monkeypatch.chdir(tmp_path)
     assert cli.main(["serve", "track-single", "--no-browser", "--port", "0"]) == 0
     assert seen["host"] == "127.0.0.1" and "opened" not in seen
-    client = TestClient(seen["app"])
+    client = TestClient(seen["app"], base_url="http://127.0.0.1")
     assert client.get("/api/state").json()["scenario"] == "track-single"
     with socket.create_server(("127.0.0.1", 0)) as busy:
         port = busy.getsockname()[1]

@@ -44,7 +44,7 @@ def test_the_changed_slice_rebuilds_the_new_waypoints_and_is_the_smallest():
 
 def test_a_move_sends_one_waypoint_and_the_page_copy_equals_the_server(tmp_path):
     session = make_session("showcase", [str(tmp_path)])
-    client = TestClient(make_app(session))
+    client = TestClient(make_app(session), base_url="http://127.0.0.1")
     m = session.mission
     n = 1000
     w = np.linspace(m.start, m.goal, n)

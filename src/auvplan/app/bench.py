@@ -46,7 +46,8 @@ def bench(spec: Any, out: str | Path, force: bool = False, workers: int = 2, sch
     from ..viz.plots import bench_figures
     from ..viz.report import build_bench_report
 
-    folder = prepare_out(out, ("rows.csv", "histories.jsonl", *BENCH_NAMES), force=force)  # no link in the way
+    folder = prepare_out(out, ("rows.csv", "histories.jsonl", *BENCH_NAMES), force=force,
+                          job="bench")  # no link in the way
     rows = sweep(spec, folder, workers=workers, scheduler=scheduler, resume=resume)
     table = summarise(rows)
     cols = list(table[0]) if table else []

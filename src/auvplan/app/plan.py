@@ -52,7 +52,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     from .ensemble import ensemble_plan, scenario_members
 
     if out is not None:
-        prepare_out(out, RESULT_NAMES, force=force)
+        prepare_out(out, RESULT_NAMES, force=force, job="plan")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     spec = mission.planner
@@ -111,7 +111,7 @@ def simulate_scenario(scenario: str, out: str | None = None, force: bool = False
     from ..sim import run_mission
 
     if out is not None:
-        prepare_out(out, RESULT_NAMES, force=force)
+        prepare_out(out, RESULT_NAMES, force=force, job="simulate")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if seed is None else seed
@@ -120,6 +120,9 @@ def simulate_scenario(scenario: str, out: str | None = None, force: bool = False
         run = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    from ..io.scenario.currentspan import run_note
+
+    run_note(sc.source, sc.currents.beyond, world, run)  # issue 51: currents past the file refused (the note: run)
     if out and run.sim is not None:
         result = run.sim
         records.write_sim(Path(out), result, sc.name, seed, result.avoidance, full, world.origin)

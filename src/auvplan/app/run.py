@@ -49,7 +49,8 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     Returns
     -------
     tuple
-        The scenario, the run record, its energy assessment (or None) and the notes on the exports.
+        The scenario, the run record, its energy assessment (or None) and the notes: the rule applied to currents
+        past the file (``currents: …``, issue 51), then those on the exports.
     """
     from ..io.missions.energy import mission_endurance
     from ..io.scenario import loader as scenario_io
@@ -57,7 +58,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     from .ensemble import route_fields, scenario_members
 
     if out:
-        prepare_out(out, RESULT_NAMES, force=force)
+        prepare_out(out, RESULT_NAMES, force=force, job="run")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     if planner:
@@ -68,6 +69,9 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    from ..io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, record)  # issue 51: currents past the file refused or said
     endurance = mission_endurance(world, mission, record)
     notes: list[str] = []
     if out:
@@ -75,7 +79,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         ensemble = route_fields(scenario_members(sc, world), world, mission, record.route)
         notes = write_results(Path(out), world, mission, record, scenario_text(sc), sc.source, full=full,
                               endurance=endurance, ensemble=ensemble)
-    return sc, record, endurance, notes
+    return sc, record, endurance, ([note] if note else []) + notes
 
 
 def _formation_names(mission: Mission) -> list[str]:
@@ -121,7 +125,7 @@ def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: st
 
     assert mission.formation is not None  # called only for a scenario with [[vehicles]]
     if out:
-        prepare_out(out, _formation_names(mission), force=force)
+        prepare_out(out, _formation_names(mission), force=force, job="run formation")
     if planner:
         mission = replace(mission, planner=replace(mission.planner, name=planner))
     seed = sc.seed if seed is None else seed

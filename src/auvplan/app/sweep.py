@@ -164,7 +164,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     from ..sim import planning_problem
 
     if out is not None:
-        prepare_out(out, SWEEP_NAMES, force=force)
+        prepare_out(out, SWEEP_NAMES, force=force, job="sweep")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     spec = replace(mission.planner, name="timeopt")

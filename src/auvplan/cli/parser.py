@@ -23,8 +23,8 @@ from ..errors import AuvplanError, require
 __all__ = ["main", "main_entry"]
 
 
-def _int_at_least(low: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``low`` (a clear usage error otherwise, before any work)."""
+def _int_at_least(low: int, high: int | None = None) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``low`` (and <= ``high``; a clear usage error otherwise, before any work)."""
 
     def parse(text: str) -> int:
         try:
@@ -33,9 +33,11 @@ def _int_at_least(low: int) -> Callable[[str], int]:
             raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
         if value < low:
             raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(f"{value} must be <= {high}")
         return value
 
-    parse.__name__ = f"integer >= {low}"
+    parse.__name__ = f"integer >= {low}" if high is None else f"integer in [{low}, {high}]"
     return parse
 
 
@@ -247,7 +249,8 @@ def _serve_command(sub: Any) -> None:
     s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "serve:cmd_serve")
     s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
                    help="built-in name, TOML file or results folder (default: the built-in showcase)")
-    s.add_argument("--port", type=_int_at_least(0), default=8765, help="TCP port (default 8765; 0: any free port)")
+    s.add_argument("--port", type=_int_at_least(0, 65535), default=8765,
+                   help="TCP port (default 8765; 0: any free port)")
     s.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1: this machine only)")
     s.add_argument("--root", action="append", metavar="DIR",
                    help="a folder the page may read and save in (repeatable; default: the folder of the "
@@ -319,8 +322,12 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
         return int(exc.code or 0)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
-                        format="%(levelname)s %(name)s: %(message)s")
+    undo: Callable[[], None] = _nothing
+    if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
+        undo = _collect_warnings()
+    else:
+        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+                            format="%(levelname)s %(name)s: %(message)s")
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
@@ -339,6 +346,43 @@ def main(argv: list[str] | None = None) -> int:
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    finally:
+        undo()
+
+
+def _nothing() -> None:
+    """Nothing to undo."""
+
+
+def _collect_warnings() -> Callable[[], None]:
+    """Send logging warnings and Python warnings of a ``--json`` command to the JSON object's ``warnings``
+    (:data:`auvplan.cli.output.JSON_WARNINGS`) instead of stderr; returns what undoes it."""
+    import warnings
+
+    from .output import JSON_WARNINGS
+
+    JSON_WARNINGS.clear()
+
+    class _Collect(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            JSON_WARNINGS.append(f"{record.name}: {record.getMessage()}")
+
+    root, handler, shown, level = logging.getLogger(), _Collect(logging.WARNING), warnings.showwarning, None
+    level = root.level
+    root.addHandler(handler)
+    root.setLevel(min(level or logging.WARNING, logging.WARNING))
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        JSON_WARNINGS.append(f"{category.__name__}: {message}")
+
+    warnings.showwarning = show
+
+    def undo() -> None:
+        root.removeHandler(handler)
+        root.setLevel(level)
+        warnings.showwarning = shown
+
+    return undo
 
 
 def _writes_html(args: argparse.Namespace) -> bool:

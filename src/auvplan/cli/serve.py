@@ -72,6 +72,7 @@ def make_session(target: str | None, roots: list[str] | None = None) -> Any:
     auvplan.serve.session.Session
         The opened session.
     """
+    from ..serve.actions.scenario import open_scenario
     from ..serve.paths import Roots
     from ..serve.session import Session
 
@@ -79,7 +80,7 @@ def make_session(target: str | None, roots: list[str] | None = None) -> Any:
     session = Session(Roots.of(folders))
     name = target or DEFAULT_SCENARIO
     p = Path(name)
-    session.open(str(p.resolve()) if p.exists() else name)
+    open_scenario(session, str(p.resolve()) if p.exists() else name)
     return session
 
 

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["RallyPoint", "EnduranceParams"]
+__all__ = ["RallyPoint", "EnduranceParams", "DS_M_RANGE"]
+
+DS_M_RANGE = (0.1, 100_000.0)
+"""Floor and ceiling of ``[endurance] ds_m`` (m): below 0.1 m a 100 km mission is 10⁶ Python steps."""
 
 
 @dataclass(frozen=True)
@@ -65,8 +68,13 @@ class EnduranceParams:
             raise ValueError(f"recovery = {self.recovery!r}: 'home' or one of the rally names {names}")
         if self.speeds not in ("fixed", "energy", "time"):
             raise ValueError(f"speeds = {self.speeds!r}: choose 'fixed', 'energy' or 'time'")
-        if self.deadline_s < 0 or self.return_speed < 0 or not self.ds_m > 0:
-            raise ValueError("deadline_s and return_speed must be >= 0 and ds_m > 0")
+        if not self.deadline_s >= 0:
+            raise ValueError(f"deadline_s = {self.deadline_s}: must be >= 0")
+        if not self.return_speed >= 0:
+            raise ValueError(f"return_speed = {self.return_speed}: must be >= 0")
+        if not DS_M_RANGE[0] <= self.ds_m <= DS_M_RANGE[1]:
+            raise ValueError(f"ds_m = {self.ds_m:g}: must lie in [{DS_M_RANGE[0]:g}, {DS_M_RANGE[1]:g}] m (an "
+                             "integration sub-step; each one is a step of Python work)")
 
     def recovery_point(self) -> tuple[float, float, float] | None:
         """The recovery point, None for home.

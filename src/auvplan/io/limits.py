@@ -22,7 +22,8 @@ machine) minutes later.  The per-item byte counts are measured peaks (``tracemal
 * the time-optimal planner (``[planner.timeopt]``): ~900 B per lattice node (positions, clearances,
   the 50 leg flags, the search's arrays) and ~44 B per node and time step of its current table
   (sampled as float64, kept as float32), ``horizon_s / dt`` steps (measured on juan-de-fuca-tides,
-  31 236 and 62 472 nodes × 97 and 383 steps: 840 B and 40 B);
+  31 236 and 62 472 nodes × 97 and 383 steps: 840 B and 40 B), and the front method's stored fronts,
+  8 B per horizontal node and step of a cell at ``V + 1.5 V`` over the horizon;
 * a results folder's ``run.npz``: each member's declared shape × item size (its header) and its
   uncompressed size (the archive's directory), whichever is larger;
 * a formation's slot tracks (``[formation] sample_m``): ~400 B per vehicle and sample (tracks,
@@ -49,6 +50,7 @@ from ..errors import DataError, ScenarioError
 __all__ = [
     "Limits",
     "BYTES_PER_TERRAIN_NODE",
+    "BYTES_PER_FRONT_SAMPLE",
     "BYTES_PER_SAMPLE",
     "BYTES_PER_WALK_STEP",
     "BYTES_PER_LATTICE_NODE",
@@ -68,9 +70,21 @@ __all__ = [
     "grid_nodes",
     "sim_bytes",
     "timeopt_size",
+    "BYTES_PER_ENDURANCE_STEP",
+    "MAX_ENDURANCE_STEPS",
+    "check_endurance",
+    "MAX_ENSEMBLE_MEMBERS",
+    "check_members",
+    "BYTES_PER_SURVEY_STATION",
+    "MAX_SURVEY_LINES",
+    "check_survey",
+    "MAX_PLAN_SAMPLES",
+    "check_plan_work",
 ]
 
 BYTES_PER_TERRAIN_NODE = 160
+#: The front method's stored level-set function: float32 per horizontal node and step, and its stacked copy.
+BYTES_PER_FRONT_SAMPLE = 8
 BYTES_PER_SAMPLE = 200
 BYTES_PER_WALK_STEP = 100
 BYTES_PER_LATTICE_NODE = 48
@@ -79,6 +93,12 @@ BYTES_PER_DATA_CELL = 24
 BYTES_PER_TIMEOPT_NODE = 900
 BYTES_PER_TABLE_SAMPLE = 44
 BYTES_PER_TRACK_SAMPLE = 400
+BYTES_PER_ENDURANCE_STEP = 400
+MAX_ENDURANCE_STEPS = 2_000_000
+MAX_ENSEMBLE_MEMBERS = 1000
+BYTES_PER_SURVEY_STATION = 200
+MAX_SURVEY_LINES = 5000
+MAX_PLAN_SAMPLES = 2e9
 _MIB = 1024.0 * 1024.0
 
 
@@ -237,7 +257,7 @@ def _npz_headers(path: Path) -> list[tuple[str, tuple[int, ...], np.dtype[np.gen
 
 
 def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon_s: float,
-                 dt: float) -> tuple[float, float, float]:
+                 dt: float, front_speed: float = 0.0) -> tuple[float, float, float]:
     """Estimate the time-optimal planner's lattice and current table (as ``timeplan.setup`` builds them).
 
     Parameters
@@ -252,6 +272,10 @@ def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon
         Time the table covers (s).
     dt : float
         Table time step (s).
+    front_speed : float, default 0
+        The front method's ``V + max |c|`` (m/s; 0: no front): it keeps its level-set function,
+        float32, at every horizontal node for every step of a cell at that speed over the horizon
+        (:data:`BYTES_PER_FRONT_SAMPLE` with the copy that stacks them).
 
     Returns
     -------
@@ -263,7 +287,9 @@ def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon
         return math.inf, math.inf, math.inf
     nodes = (_floor(span_x / cell + 1e-9) + 1.0) * (_floor(span_y / cell + 1e-9) + 1.0) * max(levels, 1)
     steps = max(-_floor(-horizon_s / dt), 1.0) + 1.0
-    return nodes, steps, nodes * (BYTES_PER_TIMEOPT_NODE + steps * BYTES_PER_TABLE_SAMPLE)
+    front = nodes / max(levels, 1) * (horizon_s * front_speed / cell + 2.0) * BYTES_PER_FRONT_SAMPLE \
+        if front_speed else 0.0
+    return nodes, steps, nodes * (BYTES_PER_TIMEOPT_NODE + steps * BYTES_PER_TABLE_SAMPLE) + front
 
 
 def lattice_bytes(nodes: float) -> float:
@@ -334,3 +360,97 @@ def sim_bytes(length_m: float, speed: float, max_time: float, dt: float, record_
     t = max_time or 3.0 * length_m / speed + 120.0
     steps = t / dt / record_every + 2.0
     return steps * (96.0 + 8.0 * n_obstacles)
+
+
+def check_endurance(limits: Limits, where: str, length_m: float, legs: int, ds_m: float) -> None:
+    """Refuse an energy integration of more steps than :data:`MAX_ENDURANCE_STEPS` or over the budget.
+
+    The energy budget flies each leg in ``ds_m`` sub-steps (two current evaluations and one stored node
+    each: ~:data:`BYTES_PER_ENDURANCE_STEP` and a step of Python work); ``length / ds_m + legs`` steps.
+
+    Parameters
+    ----------
+    limits : Limits
+        The budget.
+    where : str
+        The file and table (``s.toml: [endurance]``) or what is checked.
+    length_m : float
+        Length of the mission (m).
+    legs : int
+        Its legs.
+    ds_m : float
+        ``[endurance] ds_m`` (m).
+    """
+    steps = length_m / ds_m + legs if ds_m > 0 else math.inf
+    what = f"ds_m = {ds_m:g} m over a {length_m:.4g} m mission of {legs} legs ({steps:.3g} integration steps)"
+    if not steps <= MAX_ENDURANCE_STEPS:  # nan and inf too
+        raise ScenarioError(f"{where} {what}: over the {MAX_ENDURANCE_STEPS:,} steps allowed; raise ds_m, or "
+                            "shorten the mission (every position lies in the scenario's area)")
+    check(limits, where, what + ", which", steps * BYTES_PER_ENDURANCE_STEP)
+
+
+def check_members(where: str, counts: Sequence[int]) -> None:
+    """Refuse an ensemble of more than :data:`MAX_ENSEMBLE_MEMBERS` members in total over its entries.
+
+    Parameters
+    ----------
+    where : str
+        ``s.toml: [currents] members``.
+    counts : sequence of int
+        Members each entry stands for.
+    """
+    total = sum(int(c) for c in counts)
+    if total > MAX_ENSEMBLE_MEMBERS:
+        raise ScenarioError(f"{where}: {len(counts)} entries stand for {total:,} members in total; at most "
+                            f"{MAX_ENSEMBLE_MEMBERS:,} (every plan is scored on every member)")
+
+
+def check_survey(limits: Limits, where: str, span_m: float, length_m: float, spacing_m: float,
+                 station_m: float, step_m: float, swath_m: float) -> None:
+    """Refuse a survey whose lines, stations or swath samples are over the ceilings (before any is planned).
+
+    Parameters
+    ----------
+    limits : Limits
+        The budget.
+    where : str
+        ``s.toml: [survey]``.
+    span_m : float
+        Width of the area across the lines (its largest side: the lines may take any heading) (m).
+    length_m : float
+        Length of the area along the lines (m).
+    spacing_m : float
+        The least line spacing the sensor allows over the area (swath × (1 − the largest overlap)) (m).
+    station_m, step_m : float
+        Station spacing along the lines and the seabed sampling step under the swath (m).
+    swath_m : float
+        The widest swath over the area (m).
+    """
+    lines = span_m / spacing_m + 1.0 if spacing_m > 0 else math.inf
+    what = (f"the area ({span_m:.4g} × {length_m:.4g} m) at a line spacing of ~{spacing_m:.3g} m "
+            f"({lines:.3g} lines)")
+    if not lines <= MAX_SURVEY_LINES:
+        raise ScenarioError(f"{where} {what}: over the {MAX_SURVEY_LINES:,} lines allowed; a smaller area, a "
+                            "wider swath (opening_deg, range_m, altitude_m) or less overlap")
+    stations = lines * (length_m / station_m + 1.0) if station_m > 0 else math.inf
+    samples = stations * (swath_m / step_m + 1.0) if step_m > 0 else math.inf
+    check(limits, where, f"{what}, station_m = {station_m:g} m, step_m = {step_m:g} m ({stations:.3g} stations, "
+          f"{samples:.3g} swath samples), which", stations * BYTES_PER_SURVEY_STATION + samples * 8.0 * 3)
+
+
+def check_plan_work(where: str, population: int, iterations: int, budget: int, samples: int) -> None:
+    """Refuse a swarm plan of more than :data:`MAX_PLAN_SAMPLES` path samples costed (time, not memory).
+
+    Parameters
+    ----------
+    where : str
+        ``s.toml: [planner]``.
+    population, iterations, budget, samples : int
+        The ``[planner]`` keys (``budget = 0``: ``population × iterations`` evaluations).
+    """
+    evaluations = float(budget) if budget > 0 else float(population) * float(iterations)
+    work = evaluations * float(samples)
+    if work > MAX_PLAN_SAMPLES:
+        what = (f"budget = {budget}" if budget > 0 else f"population × iterations = {population} × {iterations}")
+        raise ScenarioError(f"{where} {what} evaluations × samples = {samples}: {work:.3g} path samples to cost, "
+                            f"over the {MAX_PLAN_SAMPLES:.0e} allowed (hours of work); lower iterations or budget")

@@ -24,7 +24,7 @@ from . import outdir
 from .outdir import OutputError
 
 __all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
-           "save_figure"]
+           "written_by", "save_figure"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -83,11 +83,54 @@ def _replace(path: Path, data: bytes) -> None:
         raise
 
 
-def _record(folder: Path, names: Iterable[str]) -> None:
-    have = written(folder)
+def written_by(folder: Path) -> str:
+    """The command whose results a folder holds (its manifest's ``job``; '' when it does not say).
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        An output folder.
+
+    Returns
+    -------
+    str
+        ``run``, ``survey``, ``plan`` … or ''.
+    """
+    p = Path(folder) / MANIFEST
+    if p.is_symlink() or not p.is_file():
+        return ""
+    try:
+        data = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return ""
+    job = data.get("job", "") if isinstance(data, dict) else ""
+    return job if isinstance(job, str) else ""
+
+
+def _record(folder: Path, names: Iterable[str], job: str = "") -> None:
+    have, was = written(folder), written_by(folder)
     new = have | set(names)
-    if new != have:
-        _replace(folder / MANIFEST, (json.dumps({"files": sorted(new)}, indent=1) + "\n").encode())
+    if new != have or (job and job != was):
+        doc: dict[str, object] = {"files": sorted(new)}
+        if job or was:
+            doc["job"] = job or was
+        _replace(folder / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
+
+
+def _one_job(out: Path, job: str, force: bool) -> None:
+    """One results folder = one job: refuse a folder another command wrote (with ``force``, remove its files)."""
+    was = written_by(out)
+    if not job or not was or was == job:
+        return
+    if not force:
+        raise OutputError(f"{out}: holds the results of `auvplan {was}` ({MANIFEST} job = {was!r}); a results folder "
+                          f"holds one job, `auvplan {job}` would mix its files with them — choose another --out, or "
+                          "pass --force to remove that job's files first")
+    for name in sorted(written(out)):
+        p = out / name
+        if p.is_file() and not p.is_symlink():
+            p.unlink()
+    _replace(out / MANIFEST, (json.dumps({"files": [], "job": job}, indent=1) + "\n").encode())
 
 
 def write_new(path: Path, data: str, *, force: bool = False) -> Path:
@@ -222,7 +265,8 @@ def _clean_temporaries(out: Path, names: list[str]) -> None:
                 tmp.unlink()
 
 
-def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, force: bool = False) -> Path:
+def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, force: bool = False,
+                job: str = "") -> Path:
     """Check an output folder before any work: creatable, writable, locked, and no user file in the way.
 
     The folder is locked for this process (:func:`auvplan.io.outdir.acquire`; a second auvplan
@@ -237,6 +281,10 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
     force : bool
         Adopt existing files of those names (they will be overwritten) and remove symbolic
         links of those names or on the way to them (the link, not its target).
+    job : str, optional
+        The command writing the folder (``run``, ``survey`` …), recorded in the manifest: a folder
+        another command wrote is refused, naming that command (with ``force`` its files are removed
+        first). '' for commands that add to a folder (``report``, ``export``).
 
     Returns
     -------
@@ -260,6 +308,7 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         raise OutputError(f"{out}: the output folder is not writable")
     outdir.acquire(out)
     try:
+        _one_job(out, job, force)
         _check_names(out, names, force)
         _clean_temporaries(out, names)
     except OutputError:
@@ -280,6 +329,8 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         for n in conflicts:
             if (out / n).exists():
                 _record((out / n).parent, [(out / n).name])
+        if job and written_by(out) != job:
+            _record(out, [], job)
         probe = tempfile.NamedTemporaryFile(dir=out, prefix=".auvplan-probe.", delete=True)
         probe.close()
     except OutputError:

@@ -61,6 +61,8 @@ CAPABILITIES = {
                  "repaired path is re-costed by that cost and no other",
     "currents": "its cost or its timing accounts for the world's currents",
     "time_varying": "it plans in currents that change with time (a departure time and timed waypoints)",
+    "zones": "it keeps out of the world's charted no-go zones ([[zones]]); a planner without it is refused in a "
+             "world that has any (auvplan.planners.plan)",
 }
 """What a planner may declare at registration (:func:`register`'s ``capabilities``), and what each means.
 The rest of the package asks :func:`has`, never a planner's name."""
@@ -335,16 +337,16 @@ _SWARM_TEXT = {
 # the built-in planners, through the same register() as outside ones, by the dotted path of their function
 for _name, (_text, _params) in _SWARM_TEXT.items():
     register(_name, iterative=True, description=_text, params=_params, table=_name,
-             capabilities=("path_cost", "currents"))("auvplan.planners.swarm.planner:plan_swarm")
+             capabilities=("path_cost", "currents", "zones"))("auvplan.planners.swarm.planner:plan_swarm")
 register("flow", iterative=False, description="potential-flow streamline from the start (document 000)",
          params="auvplan.planners.params:FlowParams", table="flow",
          deterministic="settings")("auvplan.planners.flow.planner:plan_flow")
 register("grid", iterative=False, description="lattice reference: Dijkstra cost-to-go, elastic band, B-spline",
          params="auvplan.planners.params:GridParams", table="grid", deterministic="spec",
-         capabilities=("path_cost", "currents"))("auvplan.planners.grid.planner:plan_grid")
+         capabilities=("path_cost", "currents", "zones"))("auvplan.planners.grid.planner:plan_grid")
 register("timeopt", iterative=False, description="time-optimal path in tidal currents, departure time given",
          params="auvplan.planners.params:TimeoptParams", table="timeopt", deterministic="spec",
-         capabilities=("currents", "time_varying"))("auvplan.planners.timeopt.planner:plan_timeopt")
+         capabilities=("currents", "time_varying", "zones"))("auvplan.planners.timeopt.planner:plan_timeopt")
 
 if tuple(REGISTRY) != PLANNERS:  # pragma: no cover - a programming error
     raise RuntimeError(f"registry {tuple(REGISTRY)} does not match PLANNERS {PLANNERS}")

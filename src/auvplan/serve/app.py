@@ -21,9 +21,9 @@ from collections.abc import Awaitable, Callable
 from importlib import resources
 from typing import Any
 
+import anyio
 import numpy as np
 from starlette.applications import Starlette
-from starlette.concurrency import run_in_threadpool
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
@@ -32,17 +32,23 @@ from starlette.routing import Route
 
 from ..errors import AuvplanError
 from ..sim import RunRecord
+from .actions import editing, planning, scenario
 from .check import CheckResult
 from .delta import Revisions, StaleRevision
-from .session import Session, builtin_names
+from .session import Busy, Session, Superseded, builtin_names
 
-__all__ = ["make_app", "page_state", "one_line", "MAX_BODY_BYTES", "LOCAL_HOSTS"]
+__all__ = ["make_app", "page_state", "one_line", "bounded_body", "ClientGone", "MAX_BODY_BYTES", "LOCAL_HOSTS",
+           "WRITER_THREADS"]
 
-LOCAL_HOSTS = ("127.0.0.1", "localhost", "testserver")
-"""``Host`` names accepted by default (``testserver``: Starlette's test client)."""
+LOCAL_HOSTS = ("127.0.0.1", "localhost")
+"""``Host`` names accepted by default (tests pass their client's name, ``testserver``, themselves)."""
 
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
+
+WRITER_THREADS = 4
+"""Threads the POST requests share (they take turns on the session's ``write_lock`` anyway): a burst of them
+waits in this queue, not in the thread pool that ``GET /api/state`` and ``/api/chart`` are answered from."""
 
 _STATIC = {"app.js": "text/javascript", "delta.js": "text/javascript", "app.css": "text/css"}
 """Assets of the page, by name (nothing else under /static is served)."""
@@ -144,14 +150,14 @@ def _chart(session: Session) -> str:
     from ..io.data.geo import LocalFrame
     from ..viz.chart import figure_plan_view
 
-    with session.lock:
+    with session.lock:  # the world is never changed in place: drawn outside the lock
         world, sc = session.world, session.sc
-        if world is None or sc is None:
-            raise AuvplanError("no scenario is open")
-        empty = np.empty((0, 3))
-        to_lonlat = LocalFrame(*world.origin).inverse if world.origin is not None else None
-        fig = figure_plan_view(world, RunRecord(sc.name, sc.seed, None, empty, empty, None), to_lonlat)
-        land = world.land
+    if world is None or sc is None:
+        raise AuvplanError("no scenario is open")
+    empty = np.empty((0, 3))
+    to_lonlat = LocalFrame(*world.origin).inverse if world.origin is not None else None
+    fig = figure_plan_view(world, RunRecord(sc.name, sc.seed, None, empty, empty, None), to_lonlat)
+    land = world.land
     if land is not None and not land.is_empty:
         import plotly.graph_objects as go
         import shapely
@@ -173,6 +179,45 @@ def _index(d: dict[str, Any]) -> int:
 
 
 Handler = Callable[[Request], Awaitable[Response]]
+
+
+class ClientGone(AuvplanError):
+    """The client closed the connection before its request's body was read (nothing to answer)."""
+
+
+async def bounded_body(request: Request, limit: int) -> bytes:
+    """The request's body, read chunk by chunk and refused as soon as it passes ``limit`` bytes.
+
+    A declared ``Content-Length`` over the limit is refused before a byte is read; a body without one
+    (chunked) is counted as it streams, so a 300 MB body never sits in memory.
+
+    Parameters
+    ----------
+    request : starlette.requests.Request
+        The request.
+    limit : int
+        Largest body (bytes).
+
+    Returns
+    -------
+    bytes
+        The body.
+    """
+    from starlette.requests import ClientDisconnect
+
+    declared = request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > limit:
+        raise AuvplanError(f"request of {int(declared):,} bytes, over the {limit:,} allowed")
+    chunks, size = [], 0
+    try:
+        async for chunk in request.stream():
+            size += len(chunk)
+            if size > limit:
+                raise AuvplanError(f"request of more than {limit:,} bytes, over the {limit:,} allowed")
+            chunks.append(chunk)
+    except ClientDisconnect:
+        raise ClientGone("the client closed the connection") from None
+    return b"".join(chunks)
 
 
 def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlette:
@@ -197,6 +242,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     """
     static = resources.files("auvplan.serve") / "static"
     revisions = Revisions()
+    writers = anyio.CapacityLimiter(WRITER_THREADS)
 
     async def index(request: Request) -> Response:
         return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
@@ -216,9 +262,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
     async def body(request: Request) -> dict[str, Any]:
         if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
             raise AuvplanError("the request must be JSON (Content-Type: application/json)")
-        raw = await request.body()
-        if len(raw) > MAX_BODY_BYTES:
-            raise AuvplanError(f"request of {len(raw):,} bytes, over the {MAX_BODY_BYTES:,} allowed")
+        raw = await bounded_body(request, MAX_BODY_BYTES)
         if not raw:
             return {}
         try:
@@ -230,20 +274,36 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         return data
 
     def api(work: Callable[[dict[str, Any]], Any], full: bool = False) -> Handler:
-        async def handler(request: Request) -> Response:
-            try:
-                data = await body(request) if request.method == "POST" else {}
-                out = await run_in_threadpool(work, data)
-            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
-                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
-            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError) as exc:
-                return JSONResponse({"error": one_line(exc)}, status_code=400)
+        def answer(data: dict[str, Any]) -> Any:  # in a worker thread: the event loop never waits on a lock
+            out = work(data)
             if isinstance(out, Response):
                 return out
             state = page_state(session, full, revisions, data.get("rev"))
             if out is not None:
                 state["result"] = _clean(out)
-            return JSONResponse(state)
+            return state
+
+        async def handler(request: Request) -> Response:
+            try:
+                data = await body(request) if request.method == "POST" else {}
+                # writers queue on their own few threads: the readers (state, chart) always find one free
+                out = await anyio.to_thread.run_sync(answer, data,
+                                                     limiter=writers if request.method == "POST" else None)
+            except ClientGone:
+                return Response(status_code=400)  # nobody reads it; no traceback in the server's log
+            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
+                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
+            except Superseded as exc:  # long work overtaken by an edit: dropped, the edit stands
+                return JSONResponse({"error": one_line(exc), "superseded": True}, status_code=409)
+            except Busy as exc:  # long work already running: refused at once, never queued
+                return JSONResponse({"error": one_line(exc), "busy": True}, status_code=503,
+                                    headers={"Retry-After": "1"})
+            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError,
+                    OverflowError, IndexError) as exc:
+                return JSONResponse({"error": one_line(exc)}, status_code=400)
+            if isinstance(out, Response):
+                return out
+            return JSONResponse(out)
 
         return handler
 
@@ -253,22 +313,23 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         revisions.require(d.get("rev"), session.waypoints, result.violations if result is not None else [])
 
     def edit(d: dict[str, Any]) -> None:
-        with session.lock:
+        with session.write_lock:
             current(d)
-            session.edit(str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
+            editing.edit(session, str(d.get("op")), d.get("index"), d.get("x"), d.get("y"), d.get("z"))
 
     def undo(d: dict[str, Any]) -> None:
-        with session.lock:
+        with session.write_lock:
             current(d)
-            session.undo()
+            editing.undo(session)
 
     def chart(d: dict[str, Any]) -> Response:
         return Response(_chart(session), media_type="application/json")
 
     def save(d: dict[str, Any]) -> dict[str, str]:
-        from .save import save_results
+        from .actions.save import save_results
 
-        out = save_results(session, d.get("name", ""))
+        with session.long_work("saving the results"):
+            out = save_results(session, d.get("name", ""))
         return {"saved": str(out)}
 
     routes = [
@@ -279,18 +340,19 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),
         Route("/api/undo", api(undo), methods=["POST"]),
-        Route("/api/check", api(lambda d: session.set_check(d.get("semantics", "held"), d.get("pitch", 15.0))
-                                and None), methods=["POST"]),
-        Route("/api/set", api(lambda d: session.set_value(str(d.get("table")), str(d.get("key")), d.get("value"))
-                              and None, full=True), methods=["POST"]),
-        Route("/api/open", api(lambda d: session.open(str(d.get("scenario", ""))), full=True), methods=["POST"]),
-        Route("/api/survey", api(lambda d: session.survey(d.get("polygon"), d.get("file")) and None, full=True),
+        Route("/api/check", api(lambda d: editing.set_check(session, d.get("semantics", "held"),
+                                                            d.get("pitch", 15.0)) and None), methods=["POST"]),
+        Route("/api/set", api(lambda d: scenario.set_value(session, str(d.get("table")), str(d.get("key")),
+                                                           d.get("value")) and None, full=True), methods=["POST"]),
+        Route("/api/open", api(lambda d: scenario.open_scenario(session, str(d.get("scenario", ""))), full=True),
               methods=["POST"]),
-        Route("/api/plan", api(lambda d: session.replan(d.get("planner") or None, d.get("seed")) and None),
-              methods=["POST"]),
-        Route("/api/fly", api(lambda d: session.fly()), methods=["POST"]),
-        Route("/api/keep", api(lambda d: session.keep(str(d.get("name", ""))) and None), methods=["POST"]),
-        Route("/api/choose", api(lambda d: session.choose(_index(d)) and None), methods=["POST"]),
+        Route("/api/survey", api(lambda d: planning.survey(session, d.get("polygon"), d.get("file")) and None,
+                                 full=True), methods=["POST"]),
+        Route("/api/plan", api(lambda d: planning.replan(session, d.get("planner") or None, d.get("seed"))
+                               and None), methods=["POST"]),
+        Route("/api/fly", api(lambda d: planning.fly(session)), methods=["POST"]),
+        Route("/api/keep", api(lambda d: editing.keep(session, str(d.get("name", ""))) and None), methods=["POST"]),
+        Route("/api/choose", api(lambda d: editing.choose(session, _index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]
     return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))])

@@ -9,11 +9,46 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
 from ..errors import AuvplanError
+from ..io.data.ocean.tides import BUILTIN_TIDES
+from ..io.scenario.specs import Scenario
 
-__all__ = ["PathRefused", "Roots"]
+__all__ = ["PathRefused", "Roots", "named_files"]
+
+
+def named_files(sc: Scenario) -> list[tuple[str, str]]:
+    """Every data file a scenario names, as ``(key, name as written)``.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+
+    Returns
+    -------
+    list of (str, str)
+        ``[terrain] file``, ``[currents] file``, a tide station file, each member's file, ``[land] file``,
+        ``[survey] file``.
+    """
+    out: list[tuple[str, str]] = []
+    if sc.terrain is not None and sc.terrain.file:
+        out.append(("[terrain] file", sc.terrain.file))
+    c = sc.currents
+    if c.file is not None:
+        out.append(("[currents] file", c.file if isinstance(c.file, str) else c.file.path))
+    if c.tides and c.tides not in BUILTIN_TIDES:
+        out.append(("[currents] tides", c.tides))
+    for i, m in enumerate(c.members):
+        if m.file is not None:
+            out.append((f"[currents] members[{i}] file", m.file if isinstance(m.file, str) else m.file.path))
+    if sc.land is not None and sc.land.file:
+        out.append(("[land] file", sc.land.file))
+    if sc.survey is not None and sc.survey.file:
+        out.append(("[survey] file", sc.survey.file))
+    return out
 
 
 class PathRefused(AuvplanError):
@@ -63,6 +98,27 @@ class Roots:
         """
         real = path.resolve()
         return any(real == r or real.is_relative_to(r) for r in self.folders)
+
+    def confine(self, sc: Scenario) -> None:
+        """Refuse a scenario that names a data file outside the served folders (and the package's own data).
+
+        Relative names resolve against the scenario's folder, links are followed: a currents or tide file
+        by relative path (``../../elsewhere/c.nc``) is refused before it is read.
+
+        Parameters
+        ----------
+        sc : Scenario
+            The scenario about to be built.
+        """
+        data = Path(str(resources.files("auvplan.data"))).resolve()
+        for key, name in named_files(sc):
+            p = Path(name)
+            if not p.is_absolute() and sc.base_dir is not None:
+                p = Path(sc.base_dir) / p
+            real = p.resolve()
+            if not (self.inside(real) or real == data or real.is_relative_to(data)):
+                raise PathRefused(f"{sc.source}: {key} = {name!r}: outside the served folders "
+                                  f"({', '.join(map(str, self.folders))}); serve its folder too (--root)")
 
     def resolve(self, name: str, must_exist: bool = True) -> Path:
         """The path of ``name`` inside the served folders, or :class:`PathRefused`.

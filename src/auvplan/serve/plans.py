@@ -23,6 +23,7 @@ from ..io.scenario.specs import Scenario
 from ..planners import PlanResult
 from ..sim import Mission, SimResult, planned_route, with_leg_speeds
 from ..world import World
+from .paths import Roots
 from .tomlout import dumps
 
 __all__ = ["PlannedSurvey", "as_points", "survey_table", "plan_area", "replanned", "flown", "nearest_leg"]
@@ -109,7 +110,7 @@ def survey_table(doc: dict[str, Any], polygon_xy: Any = None, file: Path | None 
 
 
 def plan_area(world: World, mission: Mission, doc: dict[str, Any], source: str,
-              base_dir: Path | None) -> PlannedSurvey:
+              base_dir: Path | None, roots: Roots | None = None) -> PlannedSurvey:
     """Validate ``doc`` and plan its ``[survey]`` (``auvplan survey``'s plan, without the flight).
 
     Parameters
@@ -122,6 +123,8 @@ def plan_area(world: World, mission: Mission, doc: dict[str, Any], source: str,
         The scenario's file, for messages.
     base_dir : pathlib.Path or None
         Folder relative paths resolve against.
+    roots : Roots, optional
+        The served folders: every file the document names must lie inside.
 
     Returns
     -------
@@ -133,6 +136,8 @@ def plan_area(world: World, mission: Mission, doc: dict[str, Any], source: str,
 
     text = dumps(doc)
     sc = scenario_io.loads(text, source, base_dir=base_dir)
+    if roots is not None:
+        roots.confine(sc)
     if sc.survey is None:
         raise AuvplanError(f"{source}: no [survey] table")
     params = survey_params(sc.survey, world, mission.vehicle, base_dir, f"{source}: [survey]")

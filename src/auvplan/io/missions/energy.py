@@ -24,8 +24,10 @@ from numpy.typing import NDArray
 
 from ..._types import Status
 from ...endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget
+from ...errors import DataError
 from ...sim import Mission, RunRecord, record_tail, with_leg_speeds
 from ...world import World
+from .. import limits as _limits
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
@@ -179,11 +181,19 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
     """
     if record.route.shape[0] < 2:
         return None
+    _check_steps(mission, record.route, f"{mission.name}: [endurance]")
     sim = record.sim
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
     tail = record_tail(record)  # legs the follower flew tail-first: timed with the other root
     speeds = with_leg_speeds(world, mission, record.route, tail).leg_speeds or None
     return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds, tail=tail)
+
+
+def _check_steps(mission: Mission, waypoints: NDArray[np.float64], where: str) -> None:
+    """The energy integration of ``waypoints`` at ``[endurance] ds_m`` against the one estimator (before it runs)."""
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    length = float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum())
+    _limits.check_endurance(_limits.current(), where, length, w.shape[0] - 1, mission.endurance.ds_m)
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
@@ -207,9 +217,12 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     line : str
         The verdict in one line.
     """
-    waypoints = read_mission(path, world.origin)[0]
+    waypoints = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)[0]
     if waypoints.shape[0] < 2:
         return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
+    if not np.isfinite(waypoints).all():
+        raise DataError(f"{path}: the mission has a waypoint that is not finite")
+    _check_steps(mission, waypoints, f"{path}: energy at [endurance]")
     model = EnergyModel.from_vehicle(mission.vehicle)
     carried = file_leg_speeds(path, waypoints.shape[0] - 1)
     speeds = mission.vehicle.speed if carried is None else carried

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -121,7 +122,8 @@ def parse_moos(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
-def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
+def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
+                   seabed: Callable[[Any, Any], Any] | None = None) -> NDArray[np.float64]:
     """Read the local waypoints of a QGC plan.
 
     Parameters
@@ -130,29 +132,39 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64
         The parsed ``.plan`` JSON.
     frame : LocalFrame
         The local frame.
+    seabed : callable, optional
+        ``seabed(x, y)`` elevation (m): items in ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` (10, terrain following,
+        issue 51) are placed at the seabed plus their altitude.
 
     Returns
     -------
     numpy.ndarray
         ``(N + 1, 3)`` (m): home (on the surface) then every ``MAV_CMD_NAV_WAYPOINT`` item
-        (relative-altitude frames only).
+        (relative-altitude and terrain frames).
     """
     try:
         mission = doc["mission"]
         home = mission["plannedHomePosition"]
         rows = [(float(home[0]), float(home[1]), 0.0)]
+        terrain: list[bool] = []
         for i, item in enumerate(mission["items"]):
             if item.get("command") != 16:
                 continue
-            if item.get("frame") not in (3, 6):  # GLOBAL_RELATIVE_ALT(_INT)
-                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative alt)")
+            if item.get("frame") not in (3, 6, 10) or (item.get("frame") == 10 and seabed is None):
+                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative "
+                                "alt), or 10 (terrain alt) with a seabed")
             prm = item["params"]
             rows.append((float(prm[4]), float(prm[5]), float(prm[6])))
+            terrain.append(item.get("frame") == 10)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     a = np.array(rows)
     x, y = frame.forward(a[:, 1], a[:, 0])
-    return np.column_stack([x, y, a[:, 2]])
+    z = a[:, 2].copy()
+    t = np.array([False, *terrain])
+    if t.any() and seabed is not None:
+        z[t] += np.asarray(seabed(x[t], y[t]), dtype=float)
+    return np.column_stack([x, y, z])
 
 
 # ---------------------------------------------------------------------- GPX 1.1, KML
@@ -215,12 +227,35 @@ def parse_ros_path(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- GeoJSON, KML
+def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str) -> NDArray[np.float64]:
+    """``(N, 3)`` lon, lat, altitude (a line of points) projected to the local frame; anything else named."""
+    if c.ndim != 2:
+        shape = {0: "not a list of points", 1: "one point"}.get(c.ndim, f"nested {c.ndim} deep (a polygon?)")
+        raise DataError(f"the {what} coordinates are {shape}; a mission is a line of [lon, lat, altitude] points")
+    if c.shape[1] == 2:
+        raise DataError(f"the {what} coordinates are lon,lat without an altitude (point 0: "
+                        f"{c[0, 0]:.6g},{c[0, 1]:.6g}); a mission needs each waypoint's altitude (negative: depth "
+                        "below the surface) as a third value")
+    if c.shape[1] != 3:
+        raise DataError(f"the {what} coordinates have {c.shape[1]} values per point; expected lon, lat, altitude")
+    if not (np.all(np.abs(c[:, 1]) <= 90.0) and np.all(np.abs(c[:, 0]) <= 360.0)):
+        bad = int(np.flatnonzero(~((np.abs(c[:, 1]) <= 90.0) & (np.abs(c[:, 0]) <= 360.0)))[0])
+        raise DataError(f"the {what} point {bad} = {c[bad].tolist()}: not a lon, lat in degrees")
+    x, y = frame.forward(c[:, 0], c[:, 1])
+    return np.column_stack([x, y, c[:, 2]])
+
+
 def _geojson_mission(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
-    for f in doc.get("features", []):
-        if (f.get("properties") or {}).get("name") == "mission":
-            c = np.asarray(f["geometry"]["coordinates"], dtype=float)
-            x, y = frame.forward(c[:, 0], c[:, 1])
-            return np.column_stack([x, y, c[:, 2]])
+    features = doc.get("features", []) if isinstance(doc, dict) else None
+    if not isinstance(features, list):
+        raise DataError("GeoJSON: 'features' is not a list of features")
+    for f in features:
+        if isinstance(f, dict) and (f.get("properties") or {}).get("name") == "mission":
+            geometry = f.get("geometry") or {}
+            if not isinstance(geometry, dict) or "coordinates" not in geometry:
+                raise DataError("GeoJSON: the feature 'mission' has no geometry coordinates")
+            c = np.asarray(geometry["coordinates"], dtype=float)
+            return _lon_lat_alt(c, frame, f"GeoJSON feature 'mission' ({geometry.get('type', '?')})")
     raise DataError("GeoJSON: no feature with properties.name = 'mission'")
 
 
@@ -228,15 +263,19 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
     ns = {"k": KML_NS}
     for pm in _xml(text, "KML").iter(f"{{{KML_NS}}}Placemark"):
         if (pm.findtext("k:name", namespaces=ns) or "") == "mission":
-            c = np.array([[float(v) for v in s.split(",")]
-                          for s in pm.find("k:LineString/k:coordinates", ns).text.split()])  # type: ignore[union-attr]
-            x, y = frame.forward(c[:, 0], c[:, 1])
-            return np.column_stack([x, y, c[:, 2]])
+            coords = pm.find("k:LineString/k:coordinates", ns)
+            if coords is None or not (coords.text or "").strip():
+                raise DataError("KML: the Placemark 'mission' has no LineString coordinates")
+            rows = [[float(v) for v in s.split(",")] for s in coords.text.split()]  # type: ignore[union-attr]
+            if len({len(r) for r in rows}) > 1:
+                raise DataError("KML: the Placemark 'mission' mixes points with and without an altitude")
+            return _lon_lat_alt(np.array(rows, dtype=float), frame, "KML Placemark 'mission'")
     raise DataError("KML: no Placemark named 'mission'")
 
 
 # ---------------------------------------------------------------------- reading and checking
-def read_mission(path: str | Path, origin: tuple[float, float] | None = None) -> tuple[NDArray[np.float64], str, str]:
+def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
+                 seabed: Callable[[Any, Any], Any] | None = None) -> tuple[NDArray[np.float64], str, str]:
     """Read a mission file (format from the suffix).
 
     Parameters
@@ -245,6 +284,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
         The file.
     origin : tuple of float, optional
         ``(lat, lon)`` of the local frame (degrees); needed by the geographic formats.
+    seabed : callable, optional
+        ``seabed(x, y)`` (m): places a QGC plan's terrain-frame items (:func:`parse_qgc_plan`).
 
     Returns
     -------
@@ -283,13 +324,13 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
         if fmt == "kml":
             return _kml_mission(text, frame), "ramp", fmt
         doc = json.loads(text)
-        return (parse_qgc_plan(doc, frame) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
+        return (parse_qgc_plan(doc, frame, seabed) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
     except DataError as exc:
         raise DataError(f"{path}: {exc}") from exc
     except RecursionError:
         raise DataError(f"{path}: nested too deeply for a {fmt} mission") from None
-    except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as exc:
-        raise DataError(f"{path}: not a readable {fmt} mission ({exc})") from exc
+    except (ValueError, KeyError, TypeError, AttributeError, OverflowError, IndexError) as exc:
+        raise DataError(f"{path}: not a readable {fmt} mission ({' '.join(str(exc).split())[:200]})") from exc
 
 
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
@@ -316,7 +357,7 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
     DataError
         Naming the file when it cannot be read, has a non-finite waypoint or fewer than 2.
     """
-    waypoints, semantics, fmt = read_mission(path, world.origin)
+    waypoints, semantics, fmt = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)
     if not np.isfinite(waypoints).all():
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     if len(waypoints) < 2:

@@ -133,6 +133,7 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
                     flags[i] = math.cos(_yaw_of(poses[i]["pose"]["orientation"]) - math.atan2(d[1], d[0])) < 0.0
         else:
             return None
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, ET.ParseError, yaml.YAMLError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, OverflowError, IndexError, RecursionError,
+            ET.ParseError, yaml.YAMLError):
         return None
     return flags if flags.any() else None

@@ -23,7 +23,7 @@ from ..data.geo import LocalFrame
 from ..safeio import atomic_write
 from .records import write_json
 
-__all__ = ["SURVEY_NAMES", "survey_params", "read_area", "write_survey", "coverage_record"]
+__all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "read_area", "write_survey", "coverage_record"]
 
 SURVEY_NAMES = ("lines.csv", "coverage.json", "gaps.geojson", "coverage.png")
 """Files a survey writes into ``--out`` besides the run files and the mission exports."""
@@ -121,8 +121,45 @@ def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path |
     if world.terrain is None:
         raise ScenarioError(f"{where}: a survey needs a seabed ([terrain])")
     radius = getattr(vehicle, "turn_radius_m", None) or DEFAULT_TURN_RADIUS_M
-    return SurveyParams(area, spec.sensor_model(), spec.line_params(min(world.terrain.dx, world.terrain.dy)),
-                        spec.heading_deg, float(radius), spec.run_in_m)
+    params = SurveyParams(area, spec.sensor_model(), spec.line_params(min(world.terrain.dx, world.terrain.dy)),
+                          spec.heading_deg, float(radius), spec.run_in_m)
+    check_survey_size(params, world, where)
+    return params
+
+
+def check_survey_size(params: SurveyParams, world: World, where: str) -> None:
+    """The survey's lines, stations and swath samples against the ceilings and the budget, before planning.
+
+    The swath is estimated from the seabed on a 48 × 48 sample of the area (the sensor's reach over a flat
+    seabed at each depth); the line count is the area's diagonal over the mean spacing those swaths allow
+    at the largest overlap (an upper bound for any heading).
+
+    Parameters
+    ----------
+    params : SurveyParams
+        The survey in the local frame.
+    world : World
+        Its seabed.
+    where : str
+        ``file: [survey]`` for messages.
+    """
+    from .. import limits as _limits
+
+    x0, y0, x1, y1 = params.area.bounds
+    gx, gy = np.meshgrid(np.linspace(x0, x1, 48), np.linspace(y0, y1, 48))
+    inside = shapely.contains_xy(params.area, gx, gy)
+    depth = -world.seabed(gx[inside], gy[inside]) if inside.any() else np.array([])
+    depth = depth[np.isfinite(depth) & (depth > 0)]
+    sensor, lines = params.sensor, params.lines
+    if depth.size == 0:
+        raise ScenarioError(f"{where} polygon: no water under the area (the seabed is above the surface there)")
+    height = np.full(depth.shape, sensor.altitude_m) if sensor.mounting == "auv" else depth
+    reach = np.asarray(sensor.flat_reach(height), dtype=float)
+    spacing = 2.0 * reach * (1.0 - lines.overlap_max)
+    mean_spacing = 1.0 / float(np.mean(1.0 / np.maximum(spacing, 1e-300)))
+    diag = math.hypot(x1 - x0, y1 - y0)
+    _limits.check_survey(_limits.current(), where, diag, diag, mean_spacing, lines.station_m, lines.step_m,
+                         2.0 * float(reach.max()))
 
 
 def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:

@@ -22,6 +22,7 @@ import xarray as xr
 from ...errors import DataError
 from ...world import CurrentField, UniformCurrent
 from ...world.ensemble_fields import PerturbedCurrent
+from .. import limits as _limits
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import CurrentsFileSpec, read_currents
 
@@ -154,6 +155,9 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
         cannot be read or does not cover the bounds.
     """
     out: list[tuple[str, CurrentField]] = []
+    sizes = [_dimension_size(m.file, m.dimension, base_dir, f"{source}: [currents] members[{i}]")  # type: ignore[arg-type]
+             if m.file is not None and m.dimension else m.count for i, m in enumerate(members)]
+    _limits.check_members(f"{source}: [currents] members", sizes)  # in total, before any member is read
     for i, m in enumerate(members):
         where = f"{source}: [currents] members[{i}]"
         if m.file is not None:
@@ -162,7 +166,7 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
             label = m.name or Path(spec.path).stem
             picks: list[tuple[str, int] | None] = [None]
             if m.dimension:
-                size = _dimension_size(spec, m.dimension, base_dir, where)
+                size = sizes[i]
                 picks = [(m.dimension, j) for j in range(size)]
             for pick in picks:
                 try:

@@ -32,7 +32,9 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
+from ..data.zones import parse_zones
 from ..limits import Limits
+from .defaults import apply_preset
 from .geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
@@ -44,7 +46,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
-    "survey",
+    "survey", "zones",
 }
 
 
@@ -243,10 +245,12 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
     _check_sizes(source, limits, bounds, synthetic, planner)
+    _limits.check_members(f"{source}: [currents] members", [m.count for m in currents.members])
     survey = _section(data, "survey", source) if "survey" in data else None
     if survey is None:  # a survey may start and end at the same launch/recovery point
         _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
+    zones = parse_zones(data.get("zones", []), source)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -261,7 +265,8 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         obstacles=obstacles,
         moving=moving,
         mission=mission,
-        vehicle=_section(data, "vehicle", source),
+        vehicle=build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
+                                f"{source}: [vehicle]"),
         planner=planner,
         guidance=_section(data, "guidance", source),
         avoidance=_section(data, "avoidance", source),
@@ -273,6 +278,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         geo=geo,
         endurance=_section(data, "endurance", source),
         survey=survey,
+        zones=zones,
     )
 
 
@@ -355,6 +361,8 @@ def _check_sizes(src: str, limits: Limits, bounds: BoundsSpec, synthetic: Synthe
     pts = float(planner.population) * float(planner.samples)
     _limits.check(limits, f"{src}: [planner]", f"population × samples = {planner.population} × {planner.samples}",
                   pts * _limits.BYTES_PER_SAMPLE)
+    _limits.check_plan_work(f"{src}: [planner]", planner.population, planner.iterations, planner.budget,
+                            planner.samples)  # after the memory: a population bomb names its memory first
     grid = planner.grid
     if grid.cell > 0 and bounds.x and bounds.y and bounds.z:
         nodes = min(_limits.grid_nodes(bounds.x[1] - bounds.x[0], bounds.y[1] - bounds.y[0], grid.cell)

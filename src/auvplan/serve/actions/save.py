@@ -15,13 +15,13 @@ import json
 from pathlib import Path
 from typing import Any
 
-from ..app.results import write_results
-from ..errors import AuvplanError
-from ..io import outdir
-from ..io.results import records
-from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
-from ..sim import RunRecord
-from .session import Session
+from ...app.results import write_results
+from ...errors import AuvplanError
+from ...io import outdir
+from ...io.results import records
+from ...io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from ...sim import RunRecord
+from ..session import Session
 
 __all__ = ["save_results", "SAVE_NAMES"]
 
@@ -70,7 +70,7 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
            candidates: list[dict[str, Any]]) -> None:
     world, mission = session.world, session.mission
     assert world is not None and mission is not None
-    prepare_out(out, SAVE_NAMES)
+    prepare_out(out, SAVE_NAMES, job="run")
     write_results(out, world, mission, record, text, source)  # the folder `auvplan run --out` writes
     atomic_write(out / "history.json", json.dumps(history, indent=1) + "\n")
     atomic_write(out / "candidates.json", json.dumps(records.jsonable(candidates), indent=1) + "\n")

@@ -1,0 +1,151 @@
+"""Actions on the scenario: open a scenario or a results folder, set a key of an editable table.
+
+Loading and rebuilding run aside (:meth:`~auvplan.serve.session.Session.long_work`: a second long
+request is refused, never queued); every file the scenario names is confined to the served folders
+(:meth:`~auvplan.serve.paths.Roots.confine`) before it is read.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...errors import AuvplanError
+from ...io.scenario import loader as scenario_io
+from ...sim import mission_route
+from ..bounds import edit_budget
+from ..check import CheckResult
+from ..session import EDITABLE_TABLES, Session
+from ..tomlout import dumps
+from .planning import plan_survey
+
+__all__ = ["open_scenario", "set_initial_route", "set_value"]
+
+
+def open_scenario(session: Session, target: str) -> None:
+    """Open a scenario (built-in name or TOML file) or a results folder.
+
+    Parameters
+    ----------
+    session : Session
+        The page's state.
+    target : str
+        Built-in name, scenario file or results folder (inside the served folders).
+    """
+    path = session.scenario_path(target)
+    with session.long_work(f"opening {target}"), session.write_lock:
+        if path.is_dir():
+            _open_results(session, path)
+        else:
+            text = path.read_text(encoding="utf-8") if path.is_file() else ""
+            sc = scenario_io.load(path)
+            session.roots.confine(sc)
+            world, mission = scenario_io.build(sc)
+            session.set_scenario(sc, text, str(path), path.parent, world, mission)
+        with session.lock:
+            session.history, session.undo_stack, session.candidates = [], [], []
+        session.record("open", f"opened {target}")
+        if not path.is_dir():
+            set_initial_route(session)
+            session.undo_stack = []
+
+
+def _open_results(session: Session, out: Path) -> None:
+    from ...io.results import folder as results
+    from ...io.results import records
+
+    record, text = records.read_run(out)
+    if not text:
+        raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
+    base = results.scenario_base(out)
+    sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=base)
+    session.roots.confine(sc)
+    world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
+    session.set_scenario(sc, text, str(out / "scenario.toml"), base, world, mission)
+    session.plan = record.plan
+    if record.route.shape[0] >= 2:
+        session.set_waypoints(record.route)
+    elif record.plan is not None and record.plan.path.size:
+        session.set_waypoints(mission_route(world, mission, record.plan.path))
+    else:
+        set_initial_route(session)
+    if record.sim is not None:
+        session.flight, session.flight_of = record.sim, session.waypoints.copy()
+
+
+def set_initial_route(session: Session) -> None:
+    """The scenario's fixed route, else the straight start → goal line made into a mission (floors
+    raised over the seabed: :func:`auvplan.sim.mission_route`).
+
+    Parameters
+    ----------
+    session : Session
+        The page's state.
+    """
+    world, mission = session.require()
+    if mission.route:
+        session.set_waypoints(np.asarray(mission.route, dtype=float))
+        return
+    if session.sc is not None and session.sc.survey is not None:  # the scenario's own survey
+        plan_survey(session, session.doc, "the scenario's [survey]")
+        return
+    line = np.linspace(np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float), 50)
+    session.set_waypoints(mission_route(world, mission, line))
+
+
+def set_value(session: Session, table: str, key: str, value: Any) -> CheckResult:
+    """Set ``[table] key = value`` (None removes the key) and rebuild the world and mission.
+
+    Parameters
+    ----------
+    session : Session
+        The page's state.
+    table : str
+        One of :data:`EDITABLE_TABLES`.
+    key : str
+        The key; the loader refuses unknown keys and bad values.
+    value : object
+        A TOML value (number, string, boolean or list), or None.
+
+    Returns
+    -------
+    CheckResult
+        The current mission checked under the new settings.
+    """
+    with session.long_work(f"setting [{table}] {key}"), session.write_lock:
+        if table not in EDITABLE_TABLES:
+            raise AuvplanError(f"[{table}]: the page edits only {', '.join(EDITABLE_TABLES)}")
+        doc = copy.deepcopy(session.doc)
+        t = doc.setdefault(table, {})
+        if not isinstance(t, dict) or not isinstance(key, str):
+            raise AuvplanError(f"[{table}] {key!r}: not a key of a table")
+        if value is None:
+            t.pop(key, None)
+        else:
+            t[key] = value
+        _rebuild(session, doc)
+        session.record("set", f"[{table}] {key} = {'(default)' if value is None else value}")
+        assert session.result is not None
+        return session.result
+
+
+def _rebuild(session: Session, doc: dict[str, Any]) -> None:
+    """Validate ``doc`` with the scenario loader and rebuild the world (the same terrain)."""
+    assert session.world is not None
+    text = dumps(doc)
+    sc = scenario_io.loads(text, session.source, base_dir=session.base_dir)
+    session.roots.confine(sc)
+    world, mission = scenario_io.build(sc, terrain=session.world.terrain)
+    w, plan, flight, flight_of = session.waypoints, session.plan, session.flight, session.flight_of
+    edit_budget(world, mission, w, "the mission")  # before the new settings become the session's
+    same_vehicle = doc.get("vehicle") == session.doc.get("vehicle")
+    session.set_scenario(sc, text, session.source, session.base_dir, world, mission)
+    with session.lock:
+        session.plan = plan
+        if same_vehicle:
+            session.flight, session.flight_of = flight, flight_of
+        session.doc = doc
+    session.set_waypoints(w)
