@@ -190,6 +190,11 @@ HAND_TYPED_DOC_SECTIONS = {
     ("docs/mutants.md", "1. The catalogue (28 of 28 killed)"): NOT_MEASURED,
     ("docs/mutants.md", "2. Mutation testing of the safety-relevant functions"):
         "docs: `make mutants` (hours of CPU), not re-run in wave 6",
+    ("docs/mutants.md", "3. Issue 49: the bugs that survived the wave's suite, and the new modules"):
+        "docs: tools/oracle_mutants.py edges-* and tools/mutate.py runs (hours of CPU), issue 49",
+    ("docs/missions.md", "Every leg as a helm flies it"):
+        "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
+        "docs_figures measurement; tests/test_mission_legs.py holds the limits, the band and the flight",
     ("docs/reference.md", "Resolution study (`benchmarks/grid.py`)"): "unowned: benchmarks/grid.py (heavy), no figure",
     ("docs/reference.md", "Gap study (`benchmarks/gap.py`)"): "unowned: benchmarks/gap.py (heavy), no figure",
     ("docs/reliability.md", "Bad input"): NOT_MEASURED,

@@ -172,6 +172,50 @@ MODULES.update({
     ),
 })
 
+# issue #49: the modules of the survey / endurance / uncertainty / serve / geographic-input / vehicle-limits /
+# ladder / tail-first wave, each against every test file that imports it (the list of targets the issue asks for)
+UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.serve.budget", "auvplan.serve.lru"
+BUDGET, PNR, POWER = "auvplan.endurance.budget", "auvplan.endurance.pnr", "auvplan.endurance.power"
+SPEEDS = "auvplan.endurance.speeds"
+FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.vehicle_limits"
+GEOINPUT, LADDER = "auvplan.io.scenario.geoinput", "auvplan.planners.grid.ladder"
+TURNS, TAIL_IO, TAIL_PLAN = "auvplan.survey.turns", "auvplan.io.missions.tail", "auvplan.planners.timeopt.tail"
+REPLAN = "auvplan.ensemble.replan"
+MODULES.update({
+    # the bathymetric uncertainty: the slope rule's sigma and the worst-case seabed
+    "uncertainty": Target(_fns(UNCERTAINTY, "z_score", "slope_sigma", "worst_case")),
+    # serve's energy cache: which fields are steady, the cached budget, the LRU
+    "serve-budget": Target(
+        _fns(SERVE_BUDGET, "steady", "IncrementalBudget.run") + _fns(SERVE_LRU, "LruCache.get_many", "LruCache.put"),
+    ),
+    # the energy budget (ground speed, the flight through the currents, the verdict), the power model and
+    # the point of no return
+    "endurance": Target(
+        _fns(BUDGET, "ground_speed", "traverse", "budget_of", "Traverse.at")
+        + _fns(POWER, "optimal_speed", "EnergyModel.power")
+        + _fns(PNR, "return_route", "_return_energy", "point_of_no_return"),
+    ),
+    # the vehicle's limits: pitch, fly-by turns, the check, merging; the planners' repair
+    "vehicle-limits": Target(
+        _fns(FLYABLE, "leg_pitch_deg", "turn_angles", "leg_turn_radius", "check_limits", "corner_indices",
+             "merge_close", "flyby_arcs")
+        + _fns(PLAN_LIMITS, "vertex_floors", "repair_pitch", "enforce_limits"),
+    ),
+    # geographic input: the derived origin (antimeridian), positions, the derived bounds, the data's sides
+    "geoinput": Target(
+        _fns(GEOINPUT, "bounds_margin", "_geo_point", "_derive_origin", "resolve_positions", "apply_altitudes",
+             "clip_to_data"),
+    ),
+    # the survey's turns between lines (Dubins)
+    "survey-turns": Target(_fns(TURNS, "_mod", "_words", "dubins", "sample_turn")),
+    # the ladder of lattices: the rungs' cells and which rung wins
+    "ladder": Target(_fns(LADDER, "_cells", "plan_ladder")),
+    # tail-first legs: the planner's tail speed and the mission files' flags
+    "tail-first": Target(_fns(TAIL_PLAN, "tail_speed") + _fns(TAIL_IO, "any_tail", "refusal", "read_tail")),
+    # the re-planning flight's verdict
+    "replan": Target(_fns(REPLAN, "_finish", "Flight.arrived", "Flight.success")),
+})
+
 # Why each surviving mutant survives, keyed ``"function | before -> after"`` (the text ``mutate.py``
 # prints): an equivalent mutant (no input can tell it apart) or one the tests cannot observe.
 _NEG = "equivalent: numpy infers the length of any negative dimension, -2 as -1"
@@ -758,3 +802,28 @@ REASONS: dict[str, str] = {
          'om their motions (the precomputed tracks), which the mutant recomputes with o.center(t)'),
 
 }
+
+# issue #49: the new modules' survivors, argued
+_UNIFORM = ("equivalent: a Terrain's axes are uniform (Terrain.__post_init__ rejects steps that differ by more than "
+            "1e-6 relative), so the largest and the least step of an axis are the same")
+REASONS.update({
+    "slope_sigma | h = max(float(np.min(np.diff(x))), float(np.max(np.diff(y))))": _UNIFORM,
+    "slope_sigma | h = max(float(np.max(np.diff(x))), float(np.min(np.diff(y))))": _UNIFORM,
+    "IncrementalBudget.run | p = np.asarray(waypoints, dtype=float).reshape(-2, 3)": _NEG,
+    "IncrementalBudget.run | tr = traverse(self.world, p[i:i + 3], v[i], 0.0, self.ds)":
+        ("equivalent: the time at the leg's end is times[1] whether the flight goes on one more leg or not; a "
+         "blocked extra leg falls back to the whole flight, which is the same budget"),
+    "IncrementalBudget.run | s = np.concatenate([[1.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])":
+        ("equivalent in use: node_s of the cached budget's Traverse is read by Traverse.at only (the point of no "
+         "return), which serve never asks of it; budget_of and charge() do not read it"),
+    "IncrementalBudget.run | s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=1), axis=1))])":
+        ("equivalent in use: node_s of the cached budget's Traverse is read by Traverse.at only (the point of no "
+         "return), which serve never asks of it; budget_of and charge() do not read it"),
+    ("IncrementalBudget.run | tr = Traverse(p, v, times, p.copy(), s, times.copy(), "
+     "np.r_[1, np.arange(n)].astype(np.int64))"):
+        ("equivalent: node_leg[0] (the first node's leg) is never read: charge() multiplies power[legs][1:] by the "
+         "time steps"),
+    "_finish | if status is Status.EXACT and energy >= model.budget_wh:":
+        ("boundary, not killed: a flight that uses exactly its budget keeps exactly its reserve (EXACT); the mutant "
+         "calls it RESERVE_BROKEN, which no float example hits"),
+})

@@ -162,6 +162,74 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "if d < fp.contact_m:",
         "if d < 0.0:",
     ),
+    # issue #49: the eight bugs that survived the suite, each caught by tests/test_edges_properties.py
+    "edges-budget-first-leg-speed": (
+        "endurance/budget.py",
+        "energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)",
+        "energy = np.asarray(model.power(tr.speeds[0]) * dur / WH, dtype=float)",
+    ),
+    "edges-pnr-previous-legs-power": (
+        "endurance/pnr.py",
+        "+ power[leg] * (t - tr.times[leg])) / WH",
+        "+ power[max(leg - 1, 0)] * (t - tr.times[leg])) / WH",
+    ),
+    "edges-origin-not-unwrapped": (
+        "io/scenario/geoinput.py",
+        "    lon = lon[0] + (np.mod(lon - lon[0] + 180.0, 360.0) - 180.0)\n",
+        "",
+    ),
+    "edges-survey-turn-fix-undone": (
+        "survey/mission.py",
+        "r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)",
+        "r = radius",
+    ),
+    "edges-sigma-smaller-spacing": (
+        "world/uncertainty.py",
+        "h = max(float(np.max(np.diff(x))), float(np.max(np.diff(y))))",
+        "h = min(float(np.max(np.diff(x))), float(np.max(np.diff(y))))",
+    ),
+    "edges-replan-reserve-ignored": (
+        "ensemble/replan.py",
+        "if status is Status.EXACT and energy > model.budget_wh:",
+        "if status is Status.EXACT and energy > model.usable_wh:",
+    ),
+    "edges-serve-cache-time-varying": (
+        "serve/budget.py",
+        "return isinstance(field, GriddedCurrent) and (field.t is None or np.size(field.t) <= 1)",
+        "return isinstance(field, GriddedCurrent)",
+    ),
+    "edges-ladder-finest-wins": (
+        "planners/grid/ladder.py",
+        "elif best is None or run.cost < best.cost:",
+        "elif best is None or finest or run.cost < best.cost:",
+    ),
+    # issue #49: the mission as exported (caught by tests/test_mission_legs.py)
+    "edges-no-merge-of-short-legs": (
+        "guidance/mission/legs.py",
+        "        short = [int(k) for k in np.flatnonzero(length < min_leg)",
+        "        short = [int(k) for k in np.flatnonzero(length < 0.0 * min_leg)",
+    ),
+    "edges-no-turn-slack": (
+        "guidance/mission/fit.py",
+        "t = np.where(t > 0.0, np.minimum(t + TURN_SLACK * radius, room), t)",
+        "t = np.where(t > 0.0, np.minimum(t + 0.0 * radius, room), t)",
+    ),
+    "edges-mission-check-merges-legs": (
+        "app/check.py",
+        "vlimits = helm_check(points[1:] if fmt == \"qgc\" else points, vehicle_limits(mission.vehicle))",
+        "vlimits = __import__(\"auvplan.path.flyable\", fromlist=[\"_\"]).check_limits(points[1:] if fmt == \"qgc\" "
+        "else points, vehicle_limits(mission.vehicle))",
+    ),
+    "edges-refine-halves-any-leg": (
+        "guidance/mission/waypoints.py",
+        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 2.0 * min_leg * (1.0 + 1e-6)",
+        "bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 0.0 * min_leg * (1.0 + 1e-6)",
+    ),
+    "edges-simplify-any-split-point": (
+        "guidance/mission/fit.py",
+        "far = (s[i + 1:j] - s[i] >= min_leg) & (s[j] - s[i + 1:j] >= min_leg)",
+        "far = (s[i + 1:j] - s[i] >= 0.0) & (s[j] - s[i + 1:j] >= 0.0)",
+    ),
 }
 
 

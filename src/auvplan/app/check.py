@@ -79,7 +79,7 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     from ..io.missions.formats import check_mission_file, read_mission
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.defaults import energy_defaults
-    from ..path.flyable import check_limits
+    from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
 
     sc = scenario_io.load(scenario)
@@ -91,7 +91,8 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-        vlimits = check_limits(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
+        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)

@@ -83,10 +83,11 @@ class LimitViolation:
     leg : int
         Leg index (leg k joins points k and k + 1).
     limit : str
-        ``"max_pitch_deg"``, ``"turn_radius_m"`` or ``"max_depth_m"``.
+        ``"max_pitch_deg"``, ``"turn_radius_m"``, ``"max_depth_m"`` or ``"min_leg_m"``
+        (:func:`auvplan.path.legs.helm_check`).
     value : float
-        The leg's figure: its pitch (degrees), the largest radius its turns fit (m), or its
-        greatest depth (m).
+        The leg's figure: its pitch (degrees), the largest radius its turns fit (m), its
+        greatest depth (m) or its length (m).
     allowed : float
         The limit.
     """
@@ -110,6 +111,8 @@ class LimitViolation:
         if self.limit == "turn_radius_m":
             return (f"leg {self.leg}: its turns fit a radius of {self.value:.1f} m only < turn_radius_m = "
                     f"{self.allowed:g}")
+        if self.limit == "min_leg_m":
+            return f"leg {self.leg}: {self.value:.3f} m long < the shortest leg {self.allowed:g} m"
         return f"leg {self.leg}: depth {self.value:.1f} m > max_depth_m = {self.allowed:g}"
 
 

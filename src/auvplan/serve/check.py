@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from ..endurance import EnergyModel
 from ..guidance.mission.limits import waypoint_limits
 from ..guidance.mission.waypoints import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
-from ..path.flyable import check_limits
+from ..path.legs import helm_check
 from ..sim import Mission
 from ..sim.pipeline import vehicle_limits
 from ..world import World
@@ -184,7 +184,7 @@ class IncrementalCheck:
         w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
         check, hits, computed = self.fly_check(w, settings)
         vehicle = self.mission.vehicle
-        limits = check_limits(w, vehicle_limits(vehicle))
+        limits = helm_check(w, vehicle_limits(vehicle))  # leg by leg, as a helm flies it (issue 49)
         budget = self._budget.run(w, vehicle.speed if speeds is None else speeds)[0]  # = mission_budget
         req = check.required_altitude_m
         violations: list[dict[str, Any]] = []

@@ -13,10 +13,12 @@ from .._types import RngLike, Status
 from ..endurance import EnergyModel, choose_speeds
 from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
+from ..guidance.mission.legs import merge_short_legs
 from ..guidance.mission.waypoints import build_waypoints, default_tolerance
 from ..nav.mission import NavPlan, plan_navigation
 from ..path import resample_polyline
-from ..path.flyable import VehicleLimits, check_limits
+from ..path.flyable import VehicleLimits
+from ..path.legs import helm_check, shortest_leg
 from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams
@@ -90,7 +92,9 @@ def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
 def fitted_route(world: World, mission: Mission, route: ArrayLike) -> MissionFit:
     """A mission's waypoints held to its vehicle's limits (:func:`auvplan.guidance.mission.fit.fit_mission`).
 
-    A mission within the limits and without ``follow_altitude_m`` is kept as it is; otherwise its
+    Legs shorter than the shortest leg (:func:`auvplan.path.legs.shortest_leg`) lose an end where that is safe
+    (:func:`auvplan.guidance.mission.legs.merge_short_legs`); a mission then within the limits leg by leg
+    (:func:`auvplan.path.legs.helm_check`) and without ``follow_altitude_m`` is kept as it is; otherwise its
     depth schedule is fitted (terrain following, climbs within the pitch limit, fly-by turns).
 
     Parameters
@@ -109,8 +113,9 @@ def fitted_route(world: World, mission: Mission, route: ArrayLike) -> MissionFit
     """
     lim = vehicle_limits(mission.vehicle)
     w = np.asarray(route, dtype=float).reshape(-1, 3)
+    w = w[merge_short_legs(world, w, shortest_leg(lim), max_pitch_deg=lim.max_pitch_deg)]
     if mission.follow_altitude_m <= 0.0:
-        report = check_limits(w, lim)
+        report = helm_check(w, lim)
         if report.ok:
             return MissionFit(w, report, True, "")
     return fit_mission(w, world, lim, mission.follow_altitude_m)
@@ -146,14 +151,16 @@ def mission_route(world: World, mission: Mission, path: ArrayLike, times: ArrayL
     numpy.ndarray
         ``(N, 3)`` waypoints (m), safe under held and ramped depth semantics.
     """
+    leg = shortest_leg(vehicle_limits(mission.vehicle))
     if tail is not None and np.any(tail) and times is not None:  # keep every vertex where the mode changes
         p, flags = np.asarray(path, dtype=float).reshape(-1, 3), np.asarray(tail, dtype=bool)
         cuts = np.r_[0, np.flatnonzero(flags[1:] != flags[:-1]) + 1, flags.size]
-        parts = [build_waypoints(p[i:j + 1], world, tolerance=0.5) for i, j in zip(cuts[:-1], cuts[1:], strict=True)]
+        parts = [build_waypoints(p[i:j + 1], world, tolerance=0.5, min_leg=leg)
+                 for i, j in zip(cuts[:-1], cuts[1:], strict=True)]
         w = np.vstack([parts[0]] + [q[1:] for q in parts[1:]])
     else:
-        w = build_waypoints(path, world) if times is None or speed is None else \
-            timed_waypoints(world, path, times, speed)
+        w = build_waypoints(path, world, min_leg=leg) if times is None or speed is None else \
+            timed_waypoints(world, path, times, speed, min_leg=leg)
     w = fit_turns(w, world, mission.vehicle.turn_radius_m)
     return fitted_route(world, mission, w).waypoints
 
@@ -204,7 +211,7 @@ def record_tail(record: RunRecord) -> NDArray[np.bool_] | None:
 
 
 def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: float,
-                    rel: float = 0.002) -> NDArray[np.float64]:
+                    rel: float = 0.002, min_leg: float = 0.0) -> NDArray[np.float64]:
     """The key waypoints of a timed plan (``plan.times``, the time-optimal planner) that keep its duration.
 
     :func:`auvplan.guidance.mission.waypoints.build_waypoints` simplifies with a tolerance of 0.2 % of the
@@ -226,6 +233,8 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
         Its through-water speed (m/s).
     rel : float, default 0.002
         Largest relative increase of the duration.
+    min_leg : float, default 0.0
+        Shortest leg of the refinement next to obstacles (m; :func:`auvplan.path.legs.shortest_leg`).
 
     Returns
     -------
@@ -238,7 +247,7 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
     depart, duration = float(t[0]), float(t[-1] - t[0])
     tol = default_tolerance(path)
     while True:
-        w = build_waypoints(path, world, tolerance=tol)
+        w = build_waypoints(path, world, tolerance=tol, min_leg=min_leg)
         if tol <= 0.5:
             return w
         flown = fly_times(world.currents, w, depart, speed, 50.0, depart + 3.0 * duration + 3600.0)[0][-1] - depart
@@ -285,8 +294,9 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
         w = mission_route(world, mission, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]),
                           planned.tail)
     else:
-        w = build_waypoints(planned.path, world) if planned.times is None else \
-            timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]))
+        leg = shortest_leg(vehicle_limits(mission.vehicle))
+        w = build_waypoints(planned.path, world, min_leg=leg) if planned.times is None else \
+            timed_waypoints(world, planned.path, planned.times, float(planned.cost_terms["speed_m_s"]), min_leg=leg)
     fit = fitted_route(world, mission, fit_turns(w, world, mission.vehicle.turn_radius_m))
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,

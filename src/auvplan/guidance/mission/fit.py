@@ -22,9 +22,14 @@ The dense profile (points every quarter terrain cell) is then simplified: a chor
 when it stays within ``tolerance`` of the profile and its deeper end clears every floor under it
 (the leg's envelope, so that a depth held per leg is safe too; a chord of a profile within the
 pitch limit is within it too); points inside a turn region never become waypoints, so
-every turn keeps its tangent lengths.  The exact envelope test
-(:func:`auvplan.guidance.mission.waypoints.envelopes_free`) then checks the static obstacles, and
-:func:`auvplan.path.flyable.check_limits` the result.
+every turn keeps its tangent lengths.  No leg is shorter than 2.5 m (:data:`auvplan.path.legs.FITTED_LEG_M`:
+split points closer to a chord's ends are not taken, and near-duplicates left are merged by
+:func:`auvplan.guidance.mission.legs.merge_short_legs`), each turn region reaches ``TURN_SLACK`` R past its
+tangent points, and the mission keeps its waypoint budget (:func:`auvplan.path.legs.waypoint_budget`: the
+tolerance is doubled until it does), so that every leg of every export holds the limits judged on its own
+(issue 49).  The exact envelope test (:func:`auvplan.guidance.mission.waypoints.envelopes_free`) then checks the
+static obstacles, and :func:`auvplan.path.legs.helm_check` the result leg by leg; where the pitch limit keeps
+the schedule off ``follow_altitude ± tolerance`` the :class:`AltitudeBand` says so.
 """
 
 from __future__ import annotations
@@ -43,14 +48,63 @@ from ...path.flyable import (
     leg_turn_radius,
     turn_angles,
 )
+from ...path.legs import FITTED_LEG_M, helm_check, shortest_leg, waypoint_budget
 from ...path.pitch import (
     cone_max,
     pitch_profile,
 )
 from ...world import World
+from .legs import merge_short_legs
 from .waypoints import envelopes_free
 
-__all__ = ["MissionFit", "fit_mission", "fit_turns", "flown_distance"]
+__all__ = ["MissionFit", "AltitudeBand", "fit_mission", "fit_turns", "flown_distance", "TURN_SLACK"]
+
+TURN_SLACK = 2e-3
+"""Each turn region reaches this fraction of R beyond the arc's tangent points (0.4 m for R = 200 m): the
+rounding of exported coordinates (about 1 mm, over legs of at least 2.5 m: a heading noise of up to
+1.2e-3 rad at a tangent point, i.e. R × 6e-4 of tangent length) cannot then make a fitted turn read
+tighter than R leg by leg (:func:`auvplan.path.legs.helm_check`)."""
+
+
+@dataclass(frozen=True)
+class AltitudeBand:
+    """How a terrain-following mission holds its commanded altitude (``follow_altitude_m``).
+
+    Attributes
+    ----------
+    target_m : float
+        The commanded altitude (m; 0: not terrain following).
+    band_m : float
+        The stated band: the scheduled altitude is within ``target ± band`` wherever the pitch limit
+        allows (the simplification's tolerance, m).
+    held_fraction : float
+        Fraction of the mission's length (3D) where the schedule is within the band.
+    legs : tuple of int
+        Legs where it is not: the pitch limit forces the mission above (a climb started early, a
+        descent that cannot keep up with the seabed) or below (joining a start or goal) the band.
+    worst_above_m, worst_below_m : float
+        Largest excess of the scheduled altitude over ``target + band`` and shortfall under
+        ``target - band`` (m, >= 0).
+    """
+
+    target_m: float = 0.0
+    band_m: float = 0.0
+    held_fraction: float = 1.0
+    legs: tuple[int, ...] = ()
+    worst_above_m: float = 0.0
+    worst_below_m: float = 0.0
+
+    @property
+    def message(self) -> str:
+        """One line: the band and where it is broken (empty when not terrain following)."""
+        if self.target_m <= 0.0:
+            return ""
+        head = (f"altitude {self.target_m:g} ± {self.band_m:g} m held on {100.0 * self.held_fraction:.1f} % of the "
+                f"mission")
+        if not self.legs:
+            return head
+        return (f"{head}; the pitch limit breaks the band on {len(self.legs)} legs (first leg {self.legs[0]}): up to "
+                f"{self.worst_above_m:.1f} m above and {self.worst_below_m:.1f} m below it")
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,12 +121,16 @@ class MissionFit:
         Within every limit, above the floors, clear of the static obstacles.
     message : str
         Why not (empty when ``ok``).
+    band : AltitudeBand
+        How the schedule holds ``follow_altitude_m`` (reported, not a failure, where the pitch limit
+        breaks the band).
     """
 
     waypoints: FloatArray
     report: LimitReport
     ok: bool
     message: str
+    band: AltitudeBand = AltitudeBand()
 
 
 def _corner_geometry(w: FloatArray, radius: float) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -87,6 +145,9 @@ def _corner_geometry(w: FloatArray, radius: float) -> tuple[FloatArray, FloatArr
     t[[0, -1]] = 0.0
     with np.errstate(divide="ignore", invalid="ignore"):
         arc = np.where(half > 1e-12, t / np.where(half > 1e-12, half, 1.0) * dpsi, 0.0)
+    # the region reaches TURN_SLACK R past the tangent points (the flown distance is then shortened by at
+    # most 2 TURN_SLACK R per turn: the profile is checked on a shorter distance, so conservatively)
+    t = np.where(t > 0.0, np.minimum(t + TURN_SLACK * radius, room), t)
     return s, dpsi, t, arc
 
 
@@ -190,10 +251,11 @@ def _arc_seabed(world: World, w: FloatArray, radius: float, t: FloatArray, dpsi:
 
 
 def _simplify(s: FloatArray, z: FloatArray, floor: FloatArray, allowed: BoolArray, fixed: IntArray,
-              tol: float) -> IntArray:
+              tol: float, min_leg: float = 0.0) -> IntArray:
     """Indices kept: ``fixed`` (the corners and ends), and between them a chord replaces points when
     it stays within ``tol`` of ``z`` and its deeper end is above every ``floor`` between them (the
-    leg's envelope, so a depth held per leg is safe too); only ``allowed`` points may be kept."""
+    leg's envelope, so a depth held per leg is safe too); only ``allowed`` points at least ``min_leg``
+    along the track from the chord's ends may be kept."""
     keep = np.zeros(len(s), dtype=bool)
     keep[fixed] = True
     idx = np.flatnonzero(keep)
@@ -209,7 +271,8 @@ def _simplify(s: FloatArray, z: FloatArray, floor: FloatArray, allowed: BoolArra
         low = floor[i + 1:j] - min(z[i], z[j])
         if dev.max() <= tol and low.max() <= 1e-9:
             continue
-        cand = np.flatnonzero(allowed[i + 1:j])
+        far = (s[i + 1:j] - s[i] >= min_leg) & (s[j] - s[i + 1:j] >= min_leg)
+        cand = np.flatnonzero(allowed[i + 1:j] & far)
         if cand.size == 0:
             continue  # inside a turn region: its ends clear its (constant) floor
         score = np.maximum(dev, 1e3 * np.maximum(low, 0.0))[cand]
@@ -267,14 +330,25 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
                 seabed[region == i] = np.maximum(seabed[region == i], zb)
         target = cone_max(sf, np.maximum(seabed + follow_altitude, floor), slope)
     else:
+        seabed = np.zeros(len(p))
         target = p[:, 2]
     z, ok = pitch_profile(sf, target, floor, slope, float(w[0, 2]), float(w[-1, 2]), ceiling=-m.min_depth,
                           deepest=-min(m.max_depth, limits.max_depth_m))
     z[[0, -1]] = w[[0, -1], 2]
     corners = np.flatnonzero(region == -2)  # the mission's own vertices (its ends and corners)
-    keep = _simplify(sf, z, floor, region < 0, corners, tolerance)
-    out = np.column_stack([p[keep, :2], z[keep]])
-    report = check_limits(out, limits)
+    min_leg = max(shortest_leg(limits), FITTED_LEG_M if limits.max_pitch_deg < 90.0 else 0.0)
+    while True:  # the waypoint budget: a coarser tolerance (a wider band) until the mission fits it
+        keep = _simplify(sf, z, floor, region < 0, corners, tolerance, min_leg)
+        fixed = np.flatnonzero(np.isin(keep, corners))
+        keep = keep[merge_short_legs(world, np.column_stack([p[keep, :2], z[keep]]), min_leg, fixed,
+                                     limits.max_pitch_deg)]
+        out = np.column_stack([p[keep, :2], z[keep]])
+        if len(out) <= waypoint_budget(out) or tolerance >= 64.0:
+            break
+        tolerance *= 2.0
+    band = _band(keep, sf, z, seabed + follow_altitude, follow_altitude, tolerance) if follow_altitude > 0.0 \
+        else AltitudeBand()
+    report = helm_check(out, limits)
     why = []
     if not ok:
         why.append(f"no depth profile within max_pitch_deg = {limits.max_pitch_deg:g} joins the start and the goal "
@@ -285,7 +359,22 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     if not free.all():
         why.append(f"leg {int(np.flatnonzero(~free)[0])}: its envelope (depth held at either end) breaks "
                    "min_altitude, the depth band, the bounds or an obstacle's margin")
-    return MissionFit(out, report, not why, "; ".join(why))
+    return MissionFit(out, report, not why, "; ".join(why), band)
+
+
+def _band(keep: IntArray, sf: FloatArray, z: FloatArray, target: FloatArray, altitude: float,
+          band: float) -> AltitudeBand:
+    """Where the schedule (the profile ``z`` at the dense points, distance ``sf``) leaves ``target ± band``,
+    by leg of the mission (its vertices the dense points ``keep``)."""
+    dev = z - target
+    above, below = np.maximum(dev - band - 1e-6, 0.0), np.maximum(-dev - band - 1e-6, 0.0)
+    off = (above > 0.0) | (below > 0.0)
+    ds = np.r_[0.0, np.diff(sf)]
+    total = float(sf[-1] - sf[0]) or 1.0
+    held = 1.0 - float(ds[off].sum()) / total
+    legs = np.clip(np.searchsorted(keep, np.arange(len(z)), side="right") - 1, 0, max(len(keep) - 2, 0))
+    bad = tuple(int(k) for k in np.unique(legs[off]))
+    return AltitudeBand(altitude, band, held, bad, float(above.max(initial=0.0)), float(below.max(initial=0.0)))
 
 
 def fit_turns(waypoints: FloatArray, world: World, radius: float, rounds: int = 200) -> FloatArray:

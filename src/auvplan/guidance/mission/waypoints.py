@@ -242,11 +242,14 @@ def _raise_to_floors(world: World, p: np.ndarray) -> np.ndarray:
     return np.vstack(rows)
 
 
-def _refine(world: World, p: np.ndarray, rounds: int = 10) -> np.ndarray:
+def _refine(world: World, p: np.ndarray, rounds: int = 10, min_leg: float = 0.0) -> np.ndarray:
     """Halve the legs whose envelope meets an obstacle: each half's envelope lies inside the
-    whole leg's, and they shrink onto the 3D leg, which is free when the path was."""
+    whole leg's, and they shrink onto the 3D leg, which is free when the path was.  A leg is halved
+    only while its halves are at least ``min_leg`` long (issue 49: a leg that grazes an obstacle's
+    margin was halved ten times, into thousands of millimetre legs)."""
     for _ in range(rounds):
         bad = ~envelopes_free(world, p[:-1], p[1:])
+        bad &= np.linalg.norm(np.diff(p, axis=0), axis=1) > 2.0 * min_leg * (1.0 + 1e-6)
         if bad.any():  # halving cannot help a leg that is itself blocked
             bad &= world.segments_free(np.stack([p[:-1], p[1:]], axis=1), moving=False)
         split = np.flatnonzero(bad)
@@ -305,7 +308,7 @@ def _douglas_peucker(world: World, p: np.ndarray, tolerance: float) -> np.ndarra
 
 
 def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = None, spacing: float | None = None,
-                    slack: float = 0.05) -> _F64:
+                    slack: float = 0.05, min_leg: float = 0.0) -> _F64:
     """Build the executable mission ``(N, 3)`` for a planned ``path (M, 3)``.
 
     Parameters
@@ -322,6 +325,8 @@ def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = Non
         Extra altitude (m) the mission keeps beyond ``min_altitude``, and distance off the charted
         zones (the zones themselves, not the planners' pad), so that the rounding of exported
         coordinates (≤ 0.0005 m in the local formats) cannot take it below or inside.
+    min_leg : float, default 0.0
+        Shortest leg the refinement next to obstacles may make (m; :func:`auvplan.path.legs.shortest_leg`).
 
     Returns
     -------
@@ -342,7 +347,7 @@ def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = Non
     if world.terrain is not None:
         step = min(world.terrain.dx, world.terrain.dy) if spacing is None else float(spacing)
         p = _raise_to_floors(world, _densify(p, step))
-    p = _refine(world, p)
+    p = _refine(world, p, min_leg=min_leg)
     kept: _F64 = p[_douglas_peucker(world, p, tol)].copy()
     return kept
 
