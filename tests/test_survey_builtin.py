@@ -60,3 +60,7 @@ def test_builtin_survey_flown_in_the_cross_current_covers_99_percent(shelf):
                                                                   np.empty((0, 3)), sim))
     assert cov.coverage_pct >= 99.0
     assert 0 < t_lines < sim.t[-1]
+    # the lines were placed with the crab margin of the 0.2 m/s cross-current: the flown overlap keeps the floor
+    cross = 0.2  # the current across the north-south lines (m/s)
+    assert plan.overlap_margin == pytest.approx(1 - np.sqrt(1 - (cross / mission.vehicle.speed) ** 2), rel=1e-6)
+    assert cov.overlap_min_pct >= 10.0

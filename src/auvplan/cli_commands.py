@@ -58,6 +58,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     from .cli_ensemble import scenario_members
 
     members = scenario_members(sc, world)  # [currents] members: every one read and checked
+    survey = None
+    if sc.survey is not None:  # every check `survey` makes before planning, before saying OK
+        from .io.results.survey import survey_params
+
+        survey = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
     b = world.bounds
     print(f"{sc.source}: OK — {sc.name}")
     print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
@@ -74,11 +79,10 @@ def _cmd_validate(args: argparse.Namespace) -> int:
               + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
     if sc.mission.confidence:
         print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
-    if sc.survey is not None:
-        from .io.results.survey import survey_params
-
-        area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
-        print(f"  survey of {area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)")
+    if sc.survey is not None and survey is not None:
+        kind = "corridor" if sc.survey.corridor else "survey"
+        print(f"  {kind} of {survey.area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)"
+              + (f", {sc.survey.tie_lines} tie lines" if sc.survey.tie_lines else ""))
     return 0
 
 
