@@ -69,14 +69,13 @@ def _scarp_and_pit(x, y):
     return -depth
 
 
-def _edge(seabed, sensor, x, y, z, direction):
+def _edge(seabed, sensor, x, y, z, direction, t_max=2000.0):
     """Independent swath edge: the first sign change on a 0.05 m grid, refined by Brent's method."""
     if sensor.kind == "multibeam":
         cot = 1.0 / math.tan(math.radians(sensor.opening_deg) / 2)
 
         def f(t):
             return z - t * cot - float(seabed(x + direction * t, y))
-        t_max = 2000.0
     else:
         def f(t):
             return sensor.range_m**2 - t * t - (z - float(seabed(x + direction * t, y))) ** 2
@@ -110,8 +109,9 @@ def test_overlap_within_bounds_over_a_scarp_and_a_pit(sensor):
         np.testing.assert_allclose(right, ln.right[k], atol=params.step_m)
         if sensor.kind == "sidescan":  # the nadir gap: the blind cone's edge, a fan of nadir_deg
             cone = Sensor("multibeam", sensor.nadir_deg)
-            gl = np.array([_edge(_scarp_and_pit, cone, a, b, z, -1.0) for a, b, z in zip(x, y, ln.z[k])])
-            gr = np.array([_edge(_scarp_and_pit, cone, a, b, z, 1.0) for a, b, z in zip(x, y, ln.z[k])])
+            reach = 4 * sensor.altitude_m
+            gl = np.array([_edge(_scarp_and_pit, cone, a, b, z, -1.0, reach) for a, b, z in zip(x, y, ln.z[k])])
+            gr = np.array([_edge(_scarp_and_pit, cone, a, b, z, 1.0, reach) for a, b, z in zip(x, y, ln.z[k])])
             np.testing.assert_allclose(gr, ln.gap_right[k], atol=params.step_m)
         else:
             gl = gr = np.zeros(k.size)
