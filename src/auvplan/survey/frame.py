@@ -40,19 +40,63 @@ class Frame:
     n_limit: float = math.inf
 
     def from_sn(self, s: Arr, n: Arr) -> tuple[Arr, Arr]:
-        """World ``(x, y)`` of line coordinates ``(s, n)`` (m)."""
+        """World coordinates of line coordinates.
+
+        Parameters
+        ----------
+        s, n : numpy.ndarray
+            Along and across (to the right) (m).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``x`` and ``y`` (m).
+        """
         raise NotImplementedError
 
     def to_sn(self, x: Arr, y: Arr) -> tuple[Arr, Arr]:
-        """Line coordinates ``(s, n)`` of world ``(x, y)`` (m)."""
+        """Line coordinates of world coordinates (the inverse of :meth:`from_sn`).
+
+        Parameters
+        ----------
+        x, y : numpy.ndarray
+            World coordinates (m).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``s`` along and ``n`` across (m).
+        """
         raise NotImplementedError
 
     def right(self, s: Arr) -> Arr:
-        """``(K, 2)`` unit vectors across, to the right of the nominal direction, at ``s``."""
+        """Unit vectors across, to the right of the nominal direction.
+
+        Parameters
+        ----------
+        s : numpy.ndarray
+            ``(K,)`` along (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(K, 2)`` unit vectors.
+        """
         raise NotImplementedError
 
     def area_sn(self, area: shapely.Polygon) -> shapely.Geometry:
-        """The area mapped into ``(s, n)`` coordinates."""
+        """The area mapped into line coordinates.
+
+        Parameters
+        ----------
+        area : shapely.Polygon
+            The area in the world frame (m).
+
+        Returns
+        -------
+        shapely geometry
+            The area in ``(s, n)`` (m).
+        """
         raise NotImplementedError
 
 
@@ -69,16 +113,16 @@ class StraightFrame(Frame):
         self.heading = float(heading)
         self._sh, self._ch = math.sin(self.heading), math.cos(self.heading)
 
-    def from_sn(self, s: Arr, n: Arr) -> tuple[Arr, Arr]:  # noqa: D102
+    def from_sn(self, s: Arr, n: Arr) -> tuple[Arr, Arr]:
         return s * self._sh + n * self._ch, s * self._ch - n * self._sh
 
-    def to_sn(self, x: Arr, y: Arr) -> tuple[Arr, Arr]:  # noqa: D102
+    def to_sn(self, x: Arr, y: Arr) -> tuple[Arr, Arr]:
         return x * self._sh + y * self._ch, x * self._ch - y * self._sh
 
-    def right(self, s: Arr) -> Arr:  # noqa: D102
+    def right(self, s: Arr) -> Arr:
         return np.broadcast_to(np.array([self._ch, -self._sh]), (np.size(s), 2)).copy()
 
-    def area_sn(self, area: shapely.Polygon) -> shapely.Geometry:  # noqa: D102
+    def area_sn(self, area: shapely.Polygon) -> shapely.Geometry:
         sh, ch = self._sh, self._ch
         return shapely.affinity.affine_transform(area, [sh, ch, ch, -sh, 0.0, 0.0])
 
@@ -130,7 +174,7 @@ class CurveFrame(Frame):
         d = d / np.linalg.norm(d, axis=-1, keepdims=True)
         return pos, np.stack([d[..., 1], -d[..., 0]], axis=-1)
 
-    def from_sn(self, s: Arr, n: Arr) -> tuple[Arr, Arr]:  # noqa: D102
+    def from_sn(self, s: Arr, n: Arr) -> tuple[Arr, Arr]:
         p, r = self._at(s)
         n = np.asarray(n, dtype=float)
         return p[..., 0] + n * r[..., 0], p[..., 1] + n * r[..., 1]
@@ -140,7 +184,7 @@ class CurveFrame(Frame):
         p, r = self._at(s)
         return np.asarray((x - p[..., 0]) * -r[..., 1] + (y - p[..., 1]) * r[..., 0])
 
-    def to_sn(self, x: Arr, y: Arr) -> tuple[Arr, Arr]:  # noqa: D102
+    def to_sn(self, x: Arr, y: Arr) -> tuple[Arr, Arr]:
         # the nearest point of the polyline, then Newton's method on the curve's normals, so that to_sn
         # inverts from_sn (the polyline's nearest point differs by the sampled arcs' angle)
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
@@ -154,13 +198,18 @@ class CurveFrame(Frame):
         p, r = self._at(s)
         return s, (x - p[..., 0]) * r[..., 0] + (y - p[..., 1]) * r[..., 1]
 
-    def right(self, s: Arr) -> Arr:  # noqa: D102
+    def right(self, s: Arr) -> Arr:
         return self._at(np.asarray(s, dtype=float).reshape(-1))[1]
 
-    def area_sn(self, area: shapely.Polygon) -> shapely.Geometry:  # noqa: D102
+    def area_sn(self, area: shapely.Polygon) -> shapely.Geometry:
         ring = np.asarray(shapely.segmentize(area, 5.0).exterior.coords)
         s, n = self.to_sn(ring[:, 0], ring[:, 1])
         return shapely.make_valid(shapely.Polygon(np.column_stack([s, n])))
+
+
+for _cls in (StraightFrame, CurveFrame):  # the subclasses' methods carry the base class's documentation
+    for _name in ("from_sn", "to_sn", "right", "area_sn"):
+        getattr(_cls, _name).__doc__ = getattr(Frame, _name).__doc__
 
 
 def round_corners(points: Arr, radius: float, step_deg: float = 1.0) -> Arr:

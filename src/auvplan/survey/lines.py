@@ -36,6 +36,7 @@ import shapely
 import shapely.affinity
 from numpy.typing import NDArray
 
+from .envelope import lower_envelope, upper_envelope
 from .frame import Frame, StraightFrame
 from .swath import Seabed, Sensor, swath_reach
 
@@ -65,7 +66,8 @@ class LineParams:
         Give up after this many lines.
     overlap_margin : float
         Added to ``overlap_min`` where the lines are placed, so the flown overlap keeps the minimum when
-        the vehicle crabs in a cross-current (:func:`auvplan.survey.mission.crab_margin`).
+        the vehicle crabs in a cross-current (:func:`auvplan.survey.ties.crab_margin`); the outermost
+        swaths reach the area's edges with their reach shortened by the same fraction.
     """
 
     overlap_min: float = 0.10
@@ -292,49 +294,6 @@ def from_sn(s: NDArray[np.float64], n: NDArray[np.float64], heading: float) -> t
     return s * sh + n * ch, s * ch - n * sh
 
 
-def upper_envelope(s: NDArray[np.float64], cap: NDArray[np.float64], slope: float) -> NDArray[np.float64]:
-    """The largest function under ``cap`` with ``|dc/ds| <= slope``: ``min_j cap_j + slope |s - s_j|``.
-
-    Parameters
-    ----------
-    s : numpy.ndarray
-        ``(K,)`` station coordinates (m).
-    cap : numpy.ndarray
-        ``(K,)`` upper bounds; ``inf`` where unconstrained.
-    slope : float
-        Largest slope.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(K,)`` the envelope (``inf`` everywhere when nothing is constrained).
-    """
-    finite = np.isfinite(cap)
-    if not finite.any():
-        return np.full(s.size, np.inf)
-    return np.asarray(np.min(cap[finite][None, :] + slope * np.abs(s[:, None] - s[finite][None, :]), axis=1))
-
-
-def lower_envelope(s: NDArray[np.float64], floor: NDArray[np.float64], slope: float) -> NDArray[np.float64]:
-    """The smallest function over ``floor`` with ``|dz/ds| <= slope``: ``max_j floor_j - slope |s - s_j|``.
-
-    Parameters
-    ----------
-    s : numpy.ndarray
-        ``(K,)`` coordinates along (m).
-    floor : numpy.ndarray
-        ``(K,)`` lower bounds.
-    slope : float
-        Largest slope.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(K,)`` the envelope.
-    """
-    return -upper_envelope(s, -floor, slope)
-
-
 def _bisect_max(g: Callable[[NDArray[np.float64]], NDArray[np.float64]], lo: NDArray[np.float64],
                 hi: NDArray[np.float64], iters: int = 40) -> NDArray[np.float64]:
     """Largest ``c`` in ``[lo, hi]`` with ``g(c) >= 0`` for ``g`` decreasing (vectorised; ``hi`` if ``g(hi) >= 0``)."""
@@ -355,6 +314,7 @@ class _Placer:
                  frame: Frame) -> None:
         self.seabed, self.sensor, self.p, self.s, self.frame = seabed, sensor, params, stations, frame
         self.eta = params.overlap_min + params.overlap_margin
+        self.hold = 1.0 - params.overlap_margin  # a crabbing fan reaches r cos ψ = r (1 - margin) across
 
     def nominal_z(self, s: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.float64]:
         if self.sensor.mounting == "auv":
@@ -388,7 +348,7 @@ class _Placer:
             left, _, gl, gr = self.trial(st, c)
             if self.sensor.gap is not None:
                 return np.asarray(lo - (c + 0.5 * (gr - gl)))
-            return np.asarray(lo - (c - left))
+            return np.asarray(lo - (c - self.hold * left))
 
         return g
 
@@ -514,7 +474,7 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         left[a], right[a], gl[a], gr[a] = pl.reach(s[a], c[a], z[a])
         side = sensor.gap is not None
         lines.append(SurveyLine(c, z, left, right, first, last, gl if side else None, gr if side else None))
-        front[a] = c[a] + 0.5 * (gr[a] - gl[a]) if side else c[a] + right[a]
+        front[a] = c[a] + 0.5 * (gr[a] - gl[a]) if side else c[a] + pl.hold * right[a]
         for key, v in (("c", c), ("left", left), ("right", right), ("gl", gl), ("gr", gr)):
             prev[key][a] = v[a]
     complete = not (inside & (front < hi)).any()
