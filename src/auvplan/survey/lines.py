@@ -355,14 +355,15 @@ class _Placer:
     def next_bound(self, st: NDArray[np.float64], prev: dict[str, NDArray[np.float64]],
                    ) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
         """``g(c) >= 0`` while the overlap with the line in front (``prev`` at the stations) is at least
-        the minimum (plus the margin)."""
-        eta = self.eta
+        the minimum with both fans shortened by the crab margin (a side-scan: the minimum plus the margin)."""
+        eta, k = self.eta, self.hold
         front, width = prev["c"] + prev["right"], prev["left"] + prev["right"]
 
         def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
             left, right, gl, gr = self.trial(st, c)
-            if self.sensor.gap is None:
-                return np.asarray(front - (c - left) - eta * np.minimum(width, left + right))
+            if self.sensor.gap is None:  # both fans crabbing: every reach r cos ψ = k r, the overlap of those
+                edge = prev["c"] + k * prev["right"]
+                return np.asarray(edge - (c - k * left) - self.p.overlap_min * k * np.minimum(width, left + right))
             ma = prev["c"] + 0.5 * (prev["gr"] - prev["gl"])
             mb = c + 0.5 * (gr - gl)
             band = np.minimum(front - (prev["c"] + prev["gr"]), (c - gl) - (c - left))
