@@ -63,7 +63,7 @@ z = [-300.0, 0.0]
 [terrain.synthetic]
 kind = "plane"
 depth = 50.0
-slope = [-0.01, 0.0]
+slope = [-0.01, -0.02]
 cell_m = 25.0
 [currents]
 uniform = [0.0, 0.1, 0.0]
@@ -163,9 +163,9 @@ def test_corridor_lines_follow_the_bends_and_cover_it(plane_corridor):
         cut = shapely.LineString(np.column_stack([x, y]))
         assert params.area.intersection(cut).length == pytest.approx(w, rel=0.02)
     ray = _ray_cast_overlaps(world, plan, params, np.asarray(frame.line.coords))
-    assert ray.size >= 30
+    assert ray.size >= 15
     assert ray.min() >= 0.10 - 0.01 and ray.max() <= 0.20 + 0.02
-    assert abs(100 * ray.min() - cov.overlap_min_pct) < 1.0
+    assert abs(100 * ray.min() - cov.overlap_min_pct) < 0.15
 
 
 def test_tie_lines_cross_every_main_line(plane_corridor):
