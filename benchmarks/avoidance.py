@@ -22,7 +22,7 @@ Three sets of missions, each seed flown once per avoidance variant (``--avoidanc
     The built-in where document 004's escape is needed (a towed trawl net the vehicle steers into),
     the first ``NET_SEEDS`` seeds: the escapes must fire and the runs arrive.
 
-**Design criterion** (fast movers, :mod:`auvplan.guidance.oracle`): every encounter of every seed must
+**Design criterion** (fast movers, :mod:`auvplan.guidance.avoidance.oracle`): every encounter of every seed must
 be avoidable with margin — from the state of a vehicle flying the route at cruise speed when the mover
 first comes within the sensor range (200 m of its surface), at least one constant heading/pitch/speed
 manoeuvre flown with the vehicle's model keeps ``ORACLE_MARGIN`` m from that mover's true track for
@@ -36,7 +36,7 @@ that does not arrive gets the same oracle from its own state when the mover it h
 
 Per set: arrivals, contacts (obstacle or seabed, UNAVOIDABLE included), deadlocks, timeouts,
 runs where an escape fired (``escapes`` > 0: document 004's random sub-goal, fired by its
-local-minimum count or by the stalled route progress, :meth:`auvplan.guidance.local.LocalAvoidance.stalled`)
+local-minimum count or by the stalled route progress, :meth:`auvplan.guidance.avoidance.local.LocalAvoidance.stalled`)
 and of those the runs that arrived, the smallest
 obstacle distance.  Writes ``rows.jsonl`` and ``summary.md`` to ``--out`` and, with ``--figure``, the
 same summary as a figure file (``docs/figures/avoidance-monte-carlo.md``, quoted in docs/avoidance.md by
@@ -57,8 +57,8 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.bench import fast_movers, perturb_moving
-from auvplan.guidance.local import key_waypoints
-from auvplan.guidance.oracle import best_constant_manoeuvre
+from auvplan.guidance.avoidance.local import key_waypoints
+from auvplan.guidance.avoidance.oracle import best_constant_manoeuvre
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import mission_route, planning_problem, run_mission, simulate

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.cli_ensemble import scenario_members
+from auvplan.app.ensemble import scenario_members
 from auvplan.ensemble import plan_robust
 from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 from auvplan.io.scenario import loader as scenario

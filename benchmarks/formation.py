@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.bench import perturb_moving
+from auvplan.guidance.formation.error import SETTLE_M
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate
 from auvplan.sim.formation import run_formation
-from auvplan.sim.formation_error import SETTLE_M
 
 SCENARIO = "chagos-formation"
 

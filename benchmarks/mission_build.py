@@ -1,5 +1,5 @@
 """Mission building from dense paths: the breadth-first, array Douglas-Peucker of
-:func:`auvplan.guidance.mission.build_waypoints` against the recursive one it replaced, in one run.
+:func:`auvplan.guidance.mission.waypoints.build_waypoints` against the recursive one it replaced, in one run.
 
     .venv/bin/python benchmarks/mission_build.py --starts 30
 
@@ -21,7 +21,7 @@ from unittest import mock
 
 import numpy as np
 
-from auvplan.guidance import mission as gm
+from auvplan.guidance.mission import waypoints as gm
 from auvplan.io.scenario import loader as sc
 from auvplan.io.scenario.builtins import builtin_scenarios
 from auvplan.planners import plan

@@ -27,7 +27,7 @@ import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from auvplan.cli_serve import make_session  # noqa: E402
+from auvplan.cli.serve import make_session  # noqa: E402
 from auvplan.serve.app import make_app  # noqa: E402
 from serve_helpers import running  # noqa: E402
 

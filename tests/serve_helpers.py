@@ -11,7 +11,7 @@ from contextlib import contextmanager
 
 import pytest
 
-from auvplan.cli_serve import server_config
+from auvplan.cli.serve import server_config
 
 
 def chromium() -> str:

@@ -10,8 +10,8 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.bench import fast_movers
-from auvplan.guidance.formation_plan import plan_formation
-from auvplan.guidance.sweep import SweepMemory
+from auvplan.guidance.avoidance.sweep import SweepMemory
+from auvplan.guidance.formation.plan import plan_formation
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import mission_route, planning_problem, simulate
@@ -129,8 +129,8 @@ def test_fast_orbit_runs_down_the_tangent_prediction_and_not_the_ctrv_one(seed):
     """Fast-mover Monte Carlo seeds 37 and 57 (the two contacts left with the sweep images alone): a 26–29 m
     sphere orbiting a route point at 2.9 m/s (75–80 m radius).  Predicted on its tangent it runs the vehicle
     down although the brute-force oracle finds hundreds of safe constant manoeuvres at detection
-    (benchmarks/avoidance.py, its ``avoidable`` oracle); predicted on its CTRV arc (:mod:`auvplan.guidance.turning`) the
-    vehicle arrives with no contact."""
+    (benchmarks/avoidance.py, its ``avoidable`` oracle); predicted on its CTRV arc
+    (:mod:`auvplan.guidance.avoidance.turning`) the vehicle arrives with no contact."""
     w, m = sc.build(sc.load("avoidance-gauntlet"))
     route = mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
     world = fast_movers(w, route, m.vehicle.speed, seed)

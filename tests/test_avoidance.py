@@ -10,10 +10,11 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.bench import perturb_moving
-from auvplan.guidance.local import AvoidanceParams, apf_force
-from auvplan.guidance.point_model import run_point_model
-from auvplan.guidance.predictive import TrackEstimator
-from auvplan.guidance.vo import CFG, closest_approach, predicted_preference, vo_choose
+from auvplan.guidance.avoidance.local import apf_force
+from auvplan.guidance.avoidance.params import AvoidanceParams
+from auvplan.guidance.avoidance.point_model import run_point_model
+from auvplan.guidance.avoidance.predictive import TrackEstimator
+from auvplan.guidance.avoidance.vo import CFG, closest_approach, predicted_preference, vo_choose
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import Mission, mission_route, planning_problem, simulate
@@ -202,9 +203,11 @@ U_TRAP = tuple(_parked(x, y) for x in np.arange(400.0, 481.0, 16.0) for y in (-4
 
 @pytest.mark.parametrize("avoidance", ["apf", "predictive"])
 def test_closed_loop_u_trap_is_left_by_escapes_before_any_deadlock(avoidance):
-    """The route runs into an 80 m deep U of parked obstacles: the stalled vehicle escapes (document 004's
-    random sub-goals, growing with each try) and arrives; no deadlock is declared."""
-    r = simulate(_open(*U_TRAP), _straight(), avoidance=avoidance, rng=0)
+    """The route runs into an 80 m deep U of parked obstacles: the stalled vehicle escapes (issue #36's
+    sampled sub-goals, growing with each try) and arrives; no deadlock is declared.  (Document 004's own
+    rule, ``escape = "patent"``, the APF's default, has no direction to prefer in this level U: see
+    tests/test_patent_escape.py.)"""
+    r = simulate(_open(*U_TRAP), _straight(avoidance=AvoidanceParams(escape="sampled")), avoidance=avoidance, rng=0)
     assert r.status is Status.EXACT and r.escapes >= 1 and r.obstacle_distance.min() > 0.0
 
 

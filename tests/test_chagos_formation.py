@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.guidance.formation_plan import FormationPlan, plan_formation
+from auvplan.guidance.formation.plan import FormationPlan, plan_formation
 from auvplan.io.scenario import loader as sc
 from auvplan.sim.mission import Mission
 from auvplan.sim.pipeline import planned_route

@@ -58,7 +58,7 @@ def test_unknown_planner_is_usage_error(capsys):
 
 def test_progress_bar_only_for_iterating_planners():
     """The swarm optimisers report iterations; grid and flow would show a bar stuck at 0 — none is shown."""
-    from auvplan.cli_output import Progress as _Progress
+    from auvplan.cli.output import Progress as _Progress
     from auvplan.planners import PlannerSpec
 
     for name, shown in (("iabc", True), ("pso", True), ("grid", False), ("flow", False)):

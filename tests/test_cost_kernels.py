@@ -12,7 +12,7 @@ from scipy.interpolate import BSpline
 from auvplan.cost import CostModel, evaluate_paths, segment_energy
 from auvplan.path import clamped_knots, sample_population
 from auvplan.world import Margins, UniformCurrent, World
-from auvplan.world.terrain_kernels import BOX_CELLS, box_floor_kernel, lipschitz_bound_kernel
+from auvplan.world.kernels.terrain import BOX_CELLS, box_floor_kernel, lipschitz_bound_kernel
 
 
 @pytest.mark.parametrize("k", [4, 8, 11])

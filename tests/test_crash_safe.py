@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 
 from auvplan import cli
+from auvplan.app.bench import BENCH_NAMES as _BENCH_NAMES
 from auvplan.bench import COLUMNS, KEY, SweepSpec, _todo, read_rows
-from auvplan.cli_commands import _BENCH_NAMES
 from auvplan.io import outdir
 from auvplan.io.outdir import LOCK
 from auvplan.io.safeio import MANIFEST, atomic_write, prepare_out, save_figure, written

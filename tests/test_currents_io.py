@@ -16,8 +16,8 @@ from pyproj import Proj
 
 from auvplan import cli
 from auvplan.errors import DataError
-from auvplan.io.data.currents import CurrentsFileSpec, read_currents
 from auvplan.io.data.geo import LocalFrame
+from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
 from auvplan.io.scenario import loader as sc
 
 ORIGIN = (48.05, -125.75)

@@ -15,10 +15,10 @@ from pyproj import CRS
 
 from auvplan.errors import DataError
 from auvplan.io.data.bathymetry import read_bathymetry
-from auvplan.io.data.currents import CurrentsFileSpec, read_currents
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.data.grids import HorizontalGrid
 from auvplan.io.data.inspect import inspect_file
+from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
 
 LAT = np.arange(10.0, 10.51, 0.05)
 LON = np.arange(20.0, 20.51, 0.05)
@@ -60,7 +60,7 @@ def test_crs_line_is_short():
 def test_pint_redefinitions_are_silenced():
     """A fresh process that converts units prints no pint "Redefining" warning (it printed 11)."""
     code = ("import logging; logging.basicConfig(level=logging.WARNING); "
-            "from auvplan.io.data.currents import velocity_factor; print(velocity_factor('cm s-1', 'x'))")
+            "from auvplan.io.data.ocean.currents import velocity_factor; print(velocity_factor('cm s-1', 'x'))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "0.01"
     assert "Redefining" not in out.stderr
@@ -85,7 +85,7 @@ def test_missing_current_values_in_open_water_are_warned(tmp_path, caplog):
                     coords=coords)
     path = tmp_path / "c.nc"
     ds.to_netcdf(path)
-    with caplog.at_level(logging.WARNING, logger="auvplan.io.data.currents"):
+    with caplog.at_level(logging.WARNING, logger="auvplan.io.data.ocean.currents"):
         read_currents(CurrentsFileSpec(str(path)), FRAME)
     msgs = [r.getMessage() for r in caplog.records if "open water" in r.getMessage()]
     assert len(msgs) == 1

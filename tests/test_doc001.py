@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from auvplan.errors import ScenarioError
-from auvplan.guidance.hybrid import HybridGuidance, HybridParams, goal_factor, hybrid_force
-from auvplan.guidance.los import LosGuidance, LosParams, los_heading
-from auvplan.guidance.route import RouteTracker, crab_heading
+from auvplan.guidance.following.hybrid import HybridGuidance, HybridParams, goal_factor, hybrid_force
+from auvplan.guidance.following.los import LosGuidance, LosParams, los_heading
+from auvplan.guidance.following.route import RouteTracker, crab_heading
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, SimParams, simulate
 from auvplan.vehicles import VehicleParams

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from auvplan import _jit
-from auvplan.world import ellipsoid_kernels
-from auvplan.world.ellipsoid_kernels import foot_point, foot_point_kernel, foot_point_numpy
+from auvplan.world.kernels import ellipsoid as ellipsoid_kernels
+from auvplan.world.kernels.ellipsoid import foot_point, foot_point_kernel, foot_point_numpy
 from auvplan.world.obstacles import Ellipsoid
 
 

@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from auvplan.guidance import mission as gm
+from auvplan.guidance.mission import waypoints as gm
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import planning_problem

@@ -9,18 +9,20 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.guidance.formation import (
+from auvplan.guidance.following.hybrid import HybridParams
+from auvplan.guidance.formation.keeping import (
     Formation,
     FormationParams,
-    FormationRoute,
-    Schedule,
     ShapeChange,
     VehicleSpec,
+)
+from auvplan.guidance.formation.plan import plan_formation
+from auvplan.guidance.formation.route import (
+    FormationRoute,
+    Schedule,
     shape_offsets,
 )
-from auvplan.guidance.formation_plan import plan_formation
-from auvplan.guidance.formation_steer import dominant_pole
-from auvplan.guidance.hybrid import HybridParams
+from auvplan.guidance.formation.steer import dominant_pole
 from auvplan.sim import Mission, SimParams
 from auvplan.sim.formation import simulate_formation
 from auvplan.vehicles import VehicleParams
@@ -205,8 +207,8 @@ def test_narrow_passage_flown_in_column_and_reformed():
 
 
 def test_scalar_closest_approach_matches_vo():
-    from auvplan.guidance.formation_steer import vehicle_repulsion
-    from auvplan.guidance.vo import closest_approach
+    from auvplan.guidance.avoidance.vo import closest_approach
+    from auvplan.guidance.formation.steer import vehicle_repulsion
     fp = FormationParams(spacing_m=30.0)
     rng = np.random.default_rng(3)
     for _ in range(50):

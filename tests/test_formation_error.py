@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.guidance.formation import Formation, FormationParams, VehicleSpec
-from auvplan.guidance.formation_plan import plan_formation
+from auvplan.guidance.formation.error import SETTLE_M, error_figures
+from auvplan.guidance.formation.keeping import Formation, FormationParams, VehicleSpec
+from auvplan.guidance.formation.plan import plan_formation
 from auvplan.sim import Mission, SimParams
 from auvplan.sim.formation import simulate_formation
-from auvplan.sim.formation_error import SETTLE_M, error_figures
 from auvplan.world import Bounds, World
 
 TAU, E0 = 20.0, 80.0

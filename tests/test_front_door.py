@@ -9,7 +9,7 @@ import subprocess
 import sys
 
 HEAVY = ("numpy", "scipy", "numba", "xarray", "pandas", "matplotlib", "pyproj", "shapely", "dask",
-         "auvplan.world", "auvplan.planners", "auvplan.sim", "auvplan.io.scenario.loader", "auvplan.cli_commands")
+         "auvplan.world", "auvplan.planners", "auvplan.sim", "auvplan.io.scenario.loader", "auvplan.cli.info")
 
 
 def _imported_by(code: str) -> list[str]:
@@ -29,8 +29,8 @@ def test_the_parser_version_and_help_import_nothing_heavy() -> None:
 
 def test_scenarios_reads_the_list_without_the_loader_or_the_planners() -> None:
     got = _imported_by("from auvplan import cli\ncli.main(['scenarios'])")
-    # the commands' module (and the numpy it imports), nothing of the loader, world, planners or data readers
-    assert [m for m in got if not m.startswith("numpy")] == ["auvplan.cli_commands"], got
+    # the info commands' module, nothing of the loader, world, planners or data readers
+    assert [m for m in got if not m.startswith("numpy")] == ["auvplan.cli.info"], got
 
 
 def test_a_planner_choice_imports_the_registry_only_when_read() -> None:

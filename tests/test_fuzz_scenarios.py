@@ -24,6 +24,7 @@ from hypothesis import HealthCheck, event, given, settings
 from auvplan.errors import DataError, ScenarioError
 from auvplan.io.scenario import build as build_io
 from auvplan.io.scenario import loader as scenario_io
+from auvplan.io.scenario.validate import _TOP_KEYS
 from auvplan.planners import plan
 from auvplan.sim import planning_problem, run_mission
 from auvplan.world import World
@@ -70,7 +71,7 @@ def check_document(doc, touched) -> World | None:
     except (ScenarioError, DataError) as exc:
         msg = str(exc)
         assert msg.startswith(SOURCE), msg
-        keys = set().union(*(_names(p) for p in touched)) | set(scenario_io._TOP_KEYS) | {"bounds", "terrain"}
+        keys = set().union(*(_names(p) for p in touched)) | set(_TOP_KEYS) | {"bounds", "terrain"}
         assert any(k in msg for k in keys), msg
         assert "\n" not in msg, msg
         return None

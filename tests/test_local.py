@@ -9,8 +9,9 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.cli import main
-from auvplan.guidance.local import AvoidanceParams, apf_force, key_waypoints
-from auvplan.guidance.point_model import run_point_model
+from auvplan.guidance.avoidance.local import apf_force, key_waypoints
+from auvplan.guidance.avoidance.params import AvoidanceParams
+from auvplan.guidance.avoidance.point_model import run_point_model
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, SimSettings, run_mission, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World

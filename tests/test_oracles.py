@@ -19,9 +19,10 @@ from scipy.optimize import brentq
 from auvplan._types import Status
 from auvplan.cost import CostModel, evaluate_paths, segment_energy
 from auvplan.errors import DataError
-from auvplan.guidance.hybrid import HybridParams, hybrid_force
-from auvplan.guidance.local import AvoidanceParams, apf_force
-from auvplan.guidance.route import RouteTracker
+from auvplan.guidance.avoidance.local import apf_force
+from auvplan.guidance.avoidance.params import AvoidanceParams
+from auvplan.guidance.following.hybrid import HybridParams, hybrid_force
+from auvplan.guidance.following.route import RouteTracker
 from auvplan.optim import Problem, Termination, minimize
 from auvplan.optim.bee import IABC, IABCParams, chaotic_uniform_population, rank_probabilities
 from auvplan.optim.ga import polynomial_mutation, sbx
@@ -676,7 +677,7 @@ def test_minimum_detector_counts_only_the_points_it_has_seen():
     Points are remembered once per second only; the vehicle is trapped when 3 remembered points
     lie within 2 m of the current one, and no longer once it has moved away; the ring buffer
     (50 entries) never counts more points than it holds."""
-    from auvplan.guidance.local import MinimumDetector
+    from auvplan.guidance.avoidance.local import MinimumDetector
 
     det = MinimumDetector(radius=2.0, count=3, every=1.0)
     assert not det.update(np.zeros(3), 0.0) and det.n == 1
@@ -694,7 +695,7 @@ def test_minimum_detector_counts_only_the_points_it_has_seen():
 
 # ---------------------------------------------------------------------- local avoidance: document 004's logic by hand
 def _local(world: World, keys, base: str = "los", **params):
-    from auvplan.guidance.local import LocalAvoidance
+    from auvplan.guidance.avoidance.local import LocalAvoidance
     from auvplan.sim import make_guidance
 
     route = np.asarray(keys, dtype=float)

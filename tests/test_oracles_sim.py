@@ -18,7 +18,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from auvplan._types import Status
-from auvplan.guidance.local import AvoidanceParams, apf_force
+from auvplan.guidance.avoidance.local import apf_force
+from auvplan.guidance.avoidance.params import AvoidanceParams
 from auvplan.planners.grid.heap import _sift_down
 from auvplan.planners.grid.heap import pop as _pop
 from auvplan.planners.grid.heap import push as _push
@@ -634,7 +635,7 @@ def test_local_key_waypoints_hold_up_a_path_over_two_ridges_and_ignore_moving_ob
     each, and more than the ends (the straight line clips the ridges); the same with the document's
     seabed stepping.  A level path in open water with only a moving obstacle parked on it keeps its
     ends alone (key waypoints are about the static world), with either method."""
-    from auvplan.guidance.local import key_waypoints
+    from auvplan.guidance.avoidance.local import key_waypoints
     from auvplan.world.moving import LinearMotion, MovingObstacle
 
     g = np.arange(0.0, 1001.0, 50.0)
@@ -673,7 +674,7 @@ def test_local_minimum_detector_radius_ring_and_extra_coordinates():
     """r₁ = 3 m, ε₂ = 3, a point a second; positions may carry more than three entries (only x, y, z
     count).  Points exactly 3 m away count, 2.5 m too (6.25 <= 9), 4 m not; after 3 points near the origin
     and 25 far ones the ring (50 entries) still holds the first three: back at the origin, trapped."""
-    from auvplan.guidance.local import MinimumDetector
+    from auvplan.guidance.avoidance.local import MinimumDetector
 
     det = MinimumDetector(3.0, 3, 1.0)
     det.buf[:] = np.inf  # unwritten entries count as far away
@@ -736,7 +737,7 @@ def test_local_escapes_draw_a_free_sub_goal_and_widen_within_one_stall():
     vehicle deep inside a huge sphere) no escape happens and False is returned.  Within one stall the
     k-th escape draws within k × 60 m, counting only this stall's escapes (3 earlier ones do not)."""
     from auvplan._types import as_rng
-    from auvplan.guidance.local import _random_free_point
+    from auvplan.guidance.avoidance.local import _random_free_point
 
     def draws(rng, radius):
         ang, rad = rng.uniform(0, 2 * np.pi, 64), radius * np.sqrt(rng.uniform(0.25, 1.0, 64))
@@ -780,7 +781,7 @@ class _Base:
         pass
 
     def command(self, x, y, z, current, speed, obstacles, dt):
-        from auvplan.guidance.route import RoutePoint
+        from auvplan.guidance.following.route import RoutePoint
 
         self.seen.append(list(obstacles))
         return 0.25, 0.0, RoutePoint(0, 0.0, 0.0, 0.0, 0.0, -50.0, 0.0, False)
@@ -790,7 +791,7 @@ def test_local_command_passes_static_obstacles_to_the_base_and_counts_apf_steps(
     """The base follower gets the static obstacles only, as (cx, cy, distance); a moving obstacle exactly
     at the repulsion radius (30 m) switches to the APF; each APF step counts as one decision and its
     (small, non-negative) time adds up."""
-    from auvplan.guidance.local import LocalAvoidance
+    from auvplan.guidance.avoidance.local import LocalAvoidance
 
     base = _Base()
     world = World(Bounds(-5000, 5000, -500, 500, -100, 0))

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from benchmarks.release_peer import portable_scenario
 
-from auvplan.flyable import merge_close
 from auvplan.io.scenario import loader as sc
 from auvplan.path import densify
+from auvplan.path.flyable import merge_close
 from auvplan.planners import plan
 from auvplan.planners.swarm import polish
 from auvplan.sim import planning_problem

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import pytest
 
-from auvplan.guidance.local import key_waypoints
+from auvplan.guidance.avoidance.local import key_waypoints
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.planners.grid.planner import path_cost

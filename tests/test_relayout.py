@@ -50,6 +50,15 @@ CASES = [
      '"""See :func:`auvplan.planners.flow.planner.plan_flow` and planners/swarm/problem.py."""\n'),
     ("from auvplan.planners.grid.planner import GridReference\n",  # already on the new layout: untouched
      "from auvplan.planners.grid.planner import GridReference\n"),
+    # issue 50: a root file moved into a folder, and its new path left alone on a second run
+    ('"""See flyable.py, src/auvplan/cli_run.py and path/flyable.py."""\n',
+     '"""See path/flyable.py, src/auvplan/cli/run.py and path/flyable.py."""\n'),
+    ("from auvplan.guidance.local import key_waypoints\nfrom auvplan.guidance import mission as gm\n",
+     "from auvplan.guidance.avoidance.local import key_waypoints\n"
+     "from auvplan.guidance.mission import waypoints as gm\n"),
+    ("from auvplan.path import BSplinePath\nfrom auvplan import cli\n",  # packages re-exporting their old module
+     "from auvplan.path import BSplinePath\nfrom auvplan import cli\n"),
+    ("from auvplan.cli_run import run_scenario\n", "from auvplan.app.run import run_scenario\n"),
 ]
 
 

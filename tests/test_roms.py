@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from auvplan.io.data.currents import CurrentsFileSpec, read_currents
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.data.roms import read_s_levels
+from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
+from auvplan.io.data.ocean.roms import read_s_levels
 
 NY, NX, NS = 8, 9, 12
 LAT = 60.0 + 0.01 * np.arange(NY)

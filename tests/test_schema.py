@@ -17,6 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from auvplan import cli
 from auvplan.errors import AuvplanError
 from auvplan.io.scenario import loader as sc
+from auvplan.io.scenario import validate
 from auvplan.io.scenario.schema import SCHEMA_VERSION, field_docs, scenario_schema, template
 from scenario_mutations import BUILTINS, documents
 
@@ -34,8 +35,8 @@ def test_schema_is_versioned_and_covers_every_key_of_every_table():
     schema = scenario_schema()
     assert schema["x-auvplan-schema-version"] == SCHEMA_VERSION and SCHEMA_VERSION in schema["$id"]
     props = schema["properties"]
-    assert set(props) == sc._TOP_KEYS
-    for key, cls in sc.SECTIONS.items():
+    assert set(props) == validate._TOP_KEYS
+    for key, cls in validate.SECTIONS.items():
         table = props[key]["anyOf"][0] if key == "terrain" else props[key]
         fields = {f.name for f in dataclasses.fields(cls) if f.init and not f.name.startswith("_")}
         assert set(table["properties"]) == fields, key
@@ -87,7 +88,7 @@ def test_template_validates_builds_and_documents_keys(validator, tmp_path):
 
 
 def test_field_docs_reads_numpydoc_attributes():
-    docs = field_docs(sc.SECTIONS["planner"])
+    docs = field_docs(validate.SECTIONS["planner"])
     assert docs["population"] == "Food sources / individuals / particles."
     assert docs["w_terrain"] == docs["w_length"]  # "w_length, w_terrain, w_energy : float"
 

@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.guidance.mission import fly_check
+from auvplan.guidance.mission.waypoints import fly_check
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")
 from starlette.testclient import TestClient  # noqa: E402
 
-from auvplan.cli_serve import DEFAULT_HOST, make_session, server_config  # noqa: E402
+from auvplan.cli.serve import DEFAULT_HOST, make_session, server_config  # noqa: E402
 from auvplan.serve.app import make_app  # noqa: E402
 from auvplan.serve.check import CheckSettings, IncrementalCheck  # noqa: E402
 from auvplan.serve.tomlout import dumps  # noqa: E402

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.cli_serve import make_session
-from auvplan.guidance.mission import fly_check
+from auvplan.cli.serve import make_session
+from auvplan.guidance.mission.waypoints import fly_check
 from serve_helpers import chromium, running
 
 pytest.importorskip("starlette")

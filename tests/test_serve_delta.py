@@ -15,7 +15,7 @@ from auvplan.serve.delta import changed_items, changed_slice
 pytest.importorskip("starlette")
 from starlette.testclient import TestClient  # noqa: E402
 
-from auvplan.cli_serve import make_session  # noqa: E402
+from auvplan.cli.serve import make_session  # noqa: E402
 from auvplan.serve.app import make_app  # noqa: E402
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from auvplan.guidance.route import RouteTracker
+from auvplan.guidance.following.route import RouteTracker
 from auvplan.vehicles import Vehicle, VehicleParams, VehicleState
 from auvplan.world import UniformCurrent
 

@@ -9,7 +9,7 @@ import pytest
 
 from auvplan.errors import AuvplanError, DataError
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.data.tides import load_tidal_current, parse_start_time
+from auvplan.io.data.ocean.tides import load_tidal_current, parse_start_time
 from auvplan.io.scenario import loader as scenario
 from auvplan.world.tides import predict_speed
 

@@ -127,7 +127,7 @@ def test_closed_loop_flies_a_tail_first_leg_as_timed():
     """A steady uniform current (2.0, 0.3) m/s against a 1.5 m/s vehicle, a 1 km leg east flown tail-first
     then a 1 km leg forward: the followers (hybrid, and LOS with current compensation) take L / g₋ + L / g₊
     (analytic) within 1 % (+0.34 % hybrid when written), and the tail-first heading cancels the cross current."""
-    from auvplan.guidance.route import crab_heading
+    from auvplan.guidance.following.route import crab_heading
     from auvplan.sim import simulate
 
     world, mission = scenario.build(scenario.load("rotary-tide"))

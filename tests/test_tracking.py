@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.guidance.hybrid import HybridParams, crab_heading, hybrid_force
-from auvplan.guidance.los import los_heading
-from auvplan.guidance.route import RouteTracker
+from auvplan.guidance.following.hybrid import HybridParams, hybrid_force
+from auvplan.guidance.following.los import los_heading
+from auvplan.guidance.following.route import RouteTracker, crab_heading
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import Mission, simulate
 from auvplan.sim.loop import _depth_band

@@ -1,5 +1,5 @@
-"""Issue #36 point 4: CTRV prediction of turning movers (guidance/turning.py), the time-windowed velocity
-obstacles (guidance/vo.py) and the brute-force avoidability oracle (guidance/oracle.py)."""
+"""Issue #36 point 4: CTRV prediction of turning movers (guidance/avoidance/turning.py), the time-windowed velocity
+obstacles (guidance/avoidance/vo.py) and the brute-force avoidability oracle (guidance/avoidance/oracle.py)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from auvplan.guidance.oracle import best_constant_manoeuvre
-from auvplan.guidance.turning import arc_chords, ctrv_position, turn_rate
-from auvplan.guidance.vo import CFG, predicted_preference, predicted_preference_windows, vo_choose, vo_choose_windows
+from auvplan.guidance.avoidance.oracle import best_constant_manoeuvre
+from auvplan.guidance.avoidance.turning import arc_chords, ctrv_position, turn_rate
+from auvplan.guidance.avoidance.vo import (
+    CFG,
+    predicted_preference,
+    predicted_preference_windows,
+    vo_choose,
+    vo_choose_windows,
+)
 from auvplan.vehicles import VehicleParams, VehicleState
 from auvplan.world import Bounds, CircleMotion, LinearMotion, MovingObstacle, Sphere, WaypointMotion, World
 

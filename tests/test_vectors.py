@@ -14,8 +14,8 @@ import numpy as np
 import xarray as xr
 from pyproj import CRS, Geod, Proj, Transformer
 
-from auvplan.io.data.currents import CurrentsFileSpec, read_currents
 from auvplan.io.data.geo import LocalFrame
+from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
 
 EAST, NORTH = 0.4, -0.25
 STERE = {"grid_mapping_name": "polar_stereographic", "straight_vertical_longitude_from_pole": 70.0,
@@ -118,9 +118,9 @@ def test_norkyst_rotation_matches_pyproj_meridian_convergence():
     The reader's turn equals -meridian convergence from pyproj's get_factors at every node (independent: PROJ's
     analytic derivatives vs the reader's geodesic azimuth), about 65 degrees; read as east/north they would be
     off by the whole turn."""
-    from auvplan.io.data.currents import _find
     from auvplan.io.data.grids import horizontal_grid
-    from auvplan.io.data.vectors import grid_angle, vector_frame
+    from auvplan.io.data.ocean.currents import _find
+    from auvplan.io.data.ocean.vectors import grid_angle, vector_frame
 
     path = _data("norkyst800_stere_cut.nc")
     with xr.open_dataset(path) as ds:

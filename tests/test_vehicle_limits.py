@@ -14,20 +14,22 @@ import shapely
 from auvplan import cli
 from auvplan._types import Status
 from auvplan.errors import ScenarioError
-from auvplan.flyable import (
+from auvplan.guidance.mission.fit import fit_turns
+from auvplan.guidance.mission.waypoints import envelopes_free, fly_check
+from auvplan.io.scenario import loader as scenario_io
+from auvplan.path import resample_polyline
+from auvplan.path.flyable import (
     PITCH_SLACK_DEG,
     VehicleLimits,
     check_limits,
-    cone_max,
     flyby_arcs,
     leg_pitch_deg,
     leg_turn_radius,
+)
+from auvplan.path.pitch import (
+    cone_max,
     pitch_profile,
 )
-from auvplan.guidance.fit_limits import fit_turns
-from auvplan.guidance.mission import envelopes_free, fly_check
-from auvplan.io.scenario import loader as scenario_io
-from auvplan.path import resample_polyline
 from auvplan.planners import plan
 from auvplan.planners.base import PlanResult
 from auvplan.planners.vehicle_limits import enforce_limits

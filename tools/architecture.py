@@ -70,7 +70,7 @@ def _imports(module: str, path: Path, known: set[str]) -> set[str]:
             targets = [f"{origin}.{a.name}" if f"{origin}.{a.name}" in known else origin for a in node.names]
         elif (isinstance(node, ast.Call) and getattr(node.func, "attr", getattr(node.func, "id", "")) == "import_module"
               and node.args and isinstance(node.args[0], ast.Constant) and isinstance(node.args[0].value, str)):
-            targets = [node.args[0].value]  # ``importlib.import_module("auvplan.cli_commands")``: a lazy import
+            targets = [node.args[0].value]  # ``importlib.import_module("auvplan.io.results.folder")``: a lazy import
         else:
             continue
         for t in targets:

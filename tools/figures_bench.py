@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from auvplan.sim.formation_error import SETTLE_M
+from auvplan.guidance.formation.error import SETTLE_M
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:  # benchmarks/ is a folder of the repository, not of the package

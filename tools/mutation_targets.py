@@ -25,15 +25,15 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
     return tuple((module, n) for n in names)
 
 
-TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.terrain_kernels"
+TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
 GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
-LOCAL = "auvplan.guidance.local"
+LOCAL = "auvplan.guidance.avoidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
-MISSION, LIMITS = "auvplan.guidance.mission", "auvplan.guidance.mission_limits"
+MISSION, LIMITS = "auvplan.guidance.mission.waypoints", "auvplan.guidance.mission.limits"
 FORMATS = "auvplan.io.missions.readers"
 FORMATION = "auvplan.sim.formation"
 

@@ -22,12 +22,12 @@ SRC = ROOT / "src" / "auvplan"
 # name: (file, original text, mutated text)
 MUTANTS: dict[str, tuple[str, str, str]] = {
     "terrain-bound-signed-dz": (
-        "world/terrain_kernels.py",
+        "world/kernels/terrain.py",
         "0.5 * (g_a + g_b - abs(qz - pz) - lipschitz",
         "0.5 * (g_a + g_b - (qz - pz) - lipschitz",
     ),
     "terrain-bound-half-slope": (
-        "world/terrain_kernels.py",
+        "world/kernels/terrain.py",
         "- lipschitz * math.sqrt((qx - px) ** 2",
         "- 0.5 * lipschitz * math.sqrt((qx - px) ** 2",
     ),
@@ -72,7 +72,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "c_par = (cx * ex + cy * ey) / ds",
     ),
     "route-ignores-switch-radius": (
-        "guidance/route.py",
+        "guidance/following/route.py",
         "if along >= self.length[self.k] - self.switch_radius:",
         "if along >= self.length[self.k]:",
     ),
@@ -97,12 +97,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "sigma = (p.sigma + (p.sigma_final - p.sigma) * frac)",
     ),
     "apf-goal-exponent-swapped": (
-        "guidance/local.py",
+        "guidance/avoidance/local.py",
         "f = params.k_att * dg**params.w_att * to_goal / dg",
         "f = params.k_att * dg**params.w_goal * to_goal / dg",
     ),
     "apf-repulsion-goal-exponent-swapped": (
-        "guidance/local.py",
+        "guidance/avoidance/local.py",
         "* dg**params.w_goal / dn**params.w_obs",
         "* dg**params.w_att / dn**params.w_obs",
     ),
@@ -117,28 +117,28 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "lo = (2 * u + (1 - 2 * u) * (1 - d1) ** eta) ** mpow - 1.0",
     ),
     "hybrid-bias-always-starboard": (
-        "guidance/hybrid.py",
+        "guidance/following/hybrid.py",
         "push = -1.0 if side > 0.5 else 1.0",
         "push = 1.0",
     ),
     "hybrid-bias-towards-obstacle": (
-        "guidance/hybrid.py",
+        "guidance/following/hybrid.py",
         "push = -1.0 if side > 0.5 else 1.0",
         "push = 1.0 if side > 0.5 else -1.0",
     ),
     # issue #31: ways of passing an unsafe mission (killed by tests/test_safety.py)
     "mission-ok-ignores-executor": (
-        "guidance/mission.py",
+        "guidance/mission/waypoints.py",
         "alt = min(self.min_altitude_m, self.executor_min_altitude_m)",
         "alt = self.min_altitude_m",
     ),
     "mission-ellipsoid-inflated-by-largest-axis": (
-        "guidance/mission.py",
+        "guidance/mission/waypoints.py",
         "(1.0 + margin / min(shape.semi_axes))",
         "(1.0 + margin / max(shape.semi_axes))",
     ),
     "mission-ramp-check-without-margin": (
-        "guidance/mission.py",
+        "guidance/mission/waypoints.py",
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), m.obstacle)",
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), 0.0)",
     ),

@@ -35,7 +35,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["MOVES", "SYMBOLS", "module_map", "main"]
+__all__ = ["MOVES", "KEEP", "SYMBOLS", "module_map", "main"]
 
 ROOT = Path(__file__).resolve().parents[1]
 SRC = ROOT / "src"
@@ -73,8 +73,8 @@ MOVES: dict[str, str] = {
     # io: input data
     "io/bathymetry.py": "io/data/bathymetry.py",
     "io/elevation.py": "io/data/elevation.py",
-    "io/currents.py": "io/data/currents.py",
-    "io/tides.py": "io/data/tides.py",
+    "io/currents.py": "io/data/ocean/currents.py",
+    "io/tides.py": "io/data/ocean/tides.py",
     "io/coast.py": "io/data/coast.py",
     "io/grids.py": "io/data/grids.py",
     "io/ncfile.py": "io/data/ncfile.py",
@@ -89,20 +89,68 @@ MOVES: dict[str, str] = {
     "io/formation_export.py": "io/missions/formation.py",
     # wave 3 modules written on the old layout by the parallel branches, placed at the merge
     "io/seabed_model.py": "io/data/seabed_model.py",
-    "io/roms.py": "io/data/roms.py",
-    "io/vectors.py": "io/data/vectors.py",
+    "io/roms.py": "io/data/ocean/roms.py",
+    "io/vectors.py": "io/data/ocean/vectors.py",
     "io/inspect_frames.py": "io/data/inspect_frames.py",
     "io/geoinput.py": "io/scenario/geoinput.py",
     "io/names.py": "io/scenario/names.py",
     "io/energy.py": "io/missions/energy.py",
     "io/mission_speeds.py": "io/missions/speeds.py",
     "io/survey_io.py": "io/results/survey.py",
+    # issue 50: the command line in one folder (parsing and printing) over the jobs it shares with serve
+    "cli.py": "cli/parser.py",
+    "cli_commands.py": "cli/info.py",  # its bench, mission check and the jobs moved out (SYMBOLS)
+    "cli_output.py": "cli/output.py",
+    "cli_plan.py": "cli/plan.py",
+    "cli_run.py": "cli/run.py",
+    "cli_sweep.py": "cli/sweep.py",
+    "cli_survey.py": "cli/survey.py",
+    "cli_serve.py": "cli/serve.py",
+    "cli_results.py": "app/results.py",
+    "cli_ensemble.py": "app/ensemble.py",
+    # issue 50: the package root down to 8 files: paths and their flyability; the vehicle and its power fit
+    "path.py": "path/curves.py",
+    "pitch_profile.py": "path/pitch.py",
+    "flyable.py": "path/flyable.py",
+    "vehicles.py": "vehicles/model.py",
+    "power_fit.py": "vehicles/power_fit.py",
+    # issue 50: guidance by concern
+    "guidance/route.py": "guidance/following/route.py",
+    "guidance/los.py": "guidance/following/los.py",
+    "guidance/hybrid.py": "guidance/following/hybrid.py",
+    "guidance/avoid_params.py": "guidance/avoidance/params.py",
+    "guidance/local.py": "guidance/avoidance/local.py",
+    "guidance/vo.py": "guidance/avoidance/vo.py",
+    "guidance/predictive.py": "guidance/avoidance/predictive.py",
+    "guidance/turning.py": "guidance/avoidance/turning.py",
+    "guidance/sweep.py": "guidance/avoidance/sweep.py",
+    "guidance/oracle.py": "guidance/avoidance/oracle.py",
+    "guidance/point_model.py": "guidance/avoidance/point_model.py",
+    "guidance/formation.py": "guidance/formation/keeping.py",
+    "guidance/formation_route.py": "guidance/formation/route.py",
+    "guidance/formation_plan.py": "guidance/formation/plan.py",
+    "guidance/formation_steer.py": "guidance/formation/steer.py",
+    "sim/formation_error.py": "guidance/formation/error.py",
+    "guidance/mission.py": "guidance/mission/waypoints.py",
+    "guidance/mission_limits.py": "guidance/mission/limits.py",
+    "guidance/fit_limits.py": "guidance/mission/fit.py",
+    # issue 50: no folder over 12 flat modules
+    "world/terrain_kernels.py": "world/kernels/terrain.py",
+    "world/ellipsoid_kernels.py": "world/kernels/ellipsoid.py",
+    "io/data/currents.py": "io/data/ocean/currents.py",
+    "io/data/tides.py": "io/data/ocean/tides.py",
+    "io/data/roms.py": "io/data/ocean/roms.py",
+    "io/data/vectors.py": "io/data/ocean/vectors.py",
 }
 
 # module renames done after the move (whole modules merged into another)
 LATER_MODULES: dict[str, str] = {
     "auvplan.planners.timeopt_params": "auvplan.planners.params",
 }
+
+# old modules that became packages re-exporting the old module's public names (issue 50): ``from auvplan.path
+# import BSplinePath``, ``from auvplan import cli`` and ``import auvplan.vehicles`` keep working and are left alone
+KEEP: frozenset[str] = frozenset({"auvplan.cli", "auvplan.path", "auvplan.vehicles"})
 
 # (old module, name) -> new module, for names moved out of their file after the move; applied only
 # once the new module defines the name
@@ -122,6 +170,14 @@ SYMBOLS: dict[tuple[str, str], str] = {
                                                                     "auvplan.planners.grid.planner")},
     **{(m, n): "auvplan.io.scenario.builtins" for m in ("auvplan.io.scenario", "auvplan.io.scenario.loader")
        for n in ("builtin_scenarios", "resolve")},
+    # issue 50: the jobs out of the command line's modules into auvplan.app, the handlers into their group
+    **{(m, n): "auvplan.app.run" for m in ("auvplan.cli_run", "auvplan.cli.run", "auvplan.cli_commands",
+                                            "auvplan.cli.info") for n in ("run_scenario", "DEMO_SCENARIO")},
+    **{(m, "plan_scenario"): "auvplan.app.plan" for m in ("auvplan.cli_plan", "auvplan.cli.plan")},
+    **{(m, n): "auvplan.app.sweep" for m in ("auvplan.cli_sweep", "auvplan.cli.sweep")
+       for n in ("parse_duration", "is_offset", "parse_instant")},
+    **{(m, n): "auvplan.cli.results" for m in ("auvplan.cli_results", "auvplan.app.results")
+       for n in ("cmd_report", "cmd_export")},
     ("auvplan.planners.base", "GridParams"): "auvplan.planners.params",
     ("auvplan", "__version__"): "auvplan._version",
 }
@@ -135,6 +191,17 @@ PACKAGE_DOCS: dict[str, str] = {
     "io/data": "Input data: bathymetry, elevation grids, currents, tides, coastlines, and the local frame.",
     "io/results": "Results folders: run records and the files beside them.",
     "io/missions": "Mission exports: GPX, CSV, QGroundControl, MOOS and ROS files, and formation missions.",
+    "guidance/following": "Route following: the route and its active leg, LOS and ILOS, document 001's hybrid field.",
+    "guidance/avoidance": "Local avoidance of moving obstacles: key waypoints and APF (document 004), predictive "
+                          "avoidance and velocity obstacles, the movers' prediction, the avoidability oracle.",
+    "guidance/formation": "Formations: slots and shapes along the route, their swept tracks, each vehicle's "
+                          "steering to its slot, and the formation error figures.",
+    "guidance/mission": "The executable waypoint mission: built from a plan, its convex limits, and the mission "
+                        "fitted to the vehicle.",
+    "world/kernels": "The compiled kernels of the seabed's heightfield and of the ellipsoids' distances.",
+    "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
+    "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
+           "one writer of a results folder.",
 }
 
 TEXT_GLOBS = ("src/**/*.py", "tests/**/*.py", "benchmarks/**/*.py", "tools/**/*.py", "docs/**/*.md",
@@ -261,6 +328,8 @@ def new_module(old: str) -> str | None:
 def where_now(tree: Tree, module: str, name: str) -> tuple[str, str]:
     """Where ``from module import name`` must import from now: (module, name)."""
     sub = f"{module}.{name}"
+    if sub in KEEP or module in KEEP and tree.defines(module, name):
+        return module, name  # a package that re-exports its old module's names
     moved_sub = new_module(sub)
     if tree.exists(sub) and moved_sub is None:
         return module, name  # a module of the new tree
@@ -417,6 +486,8 @@ def _dotted(ref: str, standalone: bool = False) -> str:
         if head not in MODULES and (head, parts[cut] if cut < len(parts) else "") not in SYMBOLS:
             continue
         rest = parts[cut:]
+        if head in KEEP and (not rest or tree.defines(head, rest[0])):
+            return ref
         if not rest:
             moved = new_module(head)
             if moved is None or (tree.exists(head) and not standalone):
@@ -438,7 +509,9 @@ def _paths(text: str) -> str:
     for old, new in MOVES.items():
         if old.rsplit("/", 1)[-1] in BASENAMES:
             text = re.sub(r"(?<![\w./])" + re.escape(old.rsplit("/", 1)[-1]) + r"(?!\w)", new, text)
-        pat = re.compile(r"(?<![\w.])((?:src/)?auvplan/)?" + re.escape(old) + r"(?!\w)")
+        # a file of the package root (``flyable.py``) is not one of a folder (``path/flyable.py``, its new place)
+        before = r"(?<![\w./])" if "/" not in old else r"(?<![\w.])"
+        pat = re.compile(before + r"((?:src/)?auvplan/)?" + re.escape(old) + r"(?!\w)")
         text = pat.sub(lambda m, new=new: (m.group(1) or "") + new, text)
     return text
 

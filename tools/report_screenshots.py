@@ -16,8 +16,8 @@ from pathlib import Path
 
 from playwright.sync_api import sync_playwright
 
+from auvplan.app.run import DEMO_SCENARIO
 from auvplan.cli import main
-from auvplan.cli_commands import DEMO_SCENARIO
 
 
 def shoot(report: Path, out: Path) -> list[Path]:

@@ -20,7 +20,7 @@ import numpy as np
 from playwright.sync_api import sync_playwright
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from auvplan.cli_serve import make_session  # noqa: E402
+from auvplan.cli.serve import make_session  # noqa: E402
 from auvplan.serve.app import make_app  # noqa: E402
 from serve_helpers import running  # noqa: E402
 

@@ -30,7 +30,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import AuvplanError, require
-from ..guidance.local import AVOIDANCE, key_waypoints
+from ..guidance.avoidance.local import key_waypoints
+from ..guidance.avoidance.params import AVOIDANCE
 from ..io.outdir import OutputError, check_inside
 from ..io.safeio import claim
 from ..io.scenario import loader as scenario_io

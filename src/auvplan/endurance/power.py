@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..power_fit import PowerFit, fit_power
+from ..vehicles.power_fit import PowerFit, fit_power
 
 if TYPE_CHECKING:
     from ..vehicles import VehicleParams

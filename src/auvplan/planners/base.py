@@ -9,12 +9,12 @@ from typing import Any, TypeAlias
 import numpy as np
 
 from .._types import BoolArray, FloatArray, Status
-from ..flyable import VehicleLimits
 from ..optim.bee import ABCParams, IABCParams
 from ..optim.de import DEParams
 from ..optim.ga import GAParams
 from ..optim.local import PatternParams
 from ..optim.pso import PSOParams
+from ..path.flyable import VehicleLimits
 from ..world import World
 from .params import FlowParams, GridParams, TimeoptParams
 from .registry import PIPELINES, PLANNERS, SWARM, get, known, names

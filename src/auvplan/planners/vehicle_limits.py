@@ -2,11 +2,11 @@
 
 :func:`enforce_limits` runs after any planner (:func:`auvplan.planners.plan`).  A plan whose legs
 are steeper than ``max_pitch_deg`` is *repaired* in the vertical plane: its depth profile along
-the horizontal track becomes :func:`auvplan.flyable.pitch_profile` (the plan's own depths where
+the horizontal track becomes :func:`auvplan.path.pitch.pitch_profile` (the plan's own depths where
 they are flyable; climbs started early enough to clear every leg's highest seabed plus
 ``min_altitude``; the start and goal kept), and the exact segment test of the world decides
 whether the repaired plan stands.  A plan whose turns do not fit ``turn_radius_m`` (the fly-by
-condition of :mod:`auvplan.flyable`), that goes deeper than the depth rating, or whose repair
+condition of :mod:`auvplan.path.flyable`), that goes deeper than the depth rating, or whose repair
 fails is ``INFEASIBLE`` with a message naming the leg and the limit — never ``EXACT``.
 """
 
@@ -18,7 +18,8 @@ from dataclasses import replace
 import numpy as np
 
 from .._types import FloatArray, Status
-from ..flyable import PITCH_SLACK_DEG, check_limits, pitch_profile
+from ..path.flyable import PITCH_SLACK_DEG, check_limits
+from ..path.pitch import pitch_profile
 from ..world import World
 from .base import PlannerSpec, PlanningProblem, PlanResult
 from .grid.band import path_cost

@@ -192,7 +192,7 @@ def flown(world: World, mission: Mission, waypoints: _F64, seed: int) -> SimResu
     SimResult
         The flight.
     """
-    from ..guidance.local import key_waypoints
+    from ..guidance.avoidance.local import key_waypoints
     from ..sim import simulate
 
     keys = key_waypoints(waypoints, world, mission.avoidance.collision_check)

@@ -1,4 +1,5 @@
-"""The page's chosen mission saved as a normal results folder (as ``auvplan run --out`` writes one).
+"""The page's chosen mission saved as a normal results folder, by the writer ``auvplan run --out`` uses
+(:func:`auvplan.app.results.write_results`).
 
 ``scenario.toml`` (the edited scenario), ``source.json`` and ``terrain.npz`` (what makes the folder
 self-contained), the run files (``run.json``, ``run.npz``, ``route.csv``, ``keys.csv``, the plan's files
@@ -14,12 +15,9 @@ import json
 from pathlib import Path
 from typing import Any
 
+from ..app.results import write_results
 from ..errors import AuvplanError
 from ..io import outdir
-from ..io.data.geo import LocalFrame
-from ..io.missions import export
-from ..io.missions.energy import mission_endurance, read_leg_speeds, write_energy
-from ..io.results import folder as results
 from ..io.results import records
 from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
 from ..sim import RunRecord
@@ -72,30 +70,7 @@ def _write(out: Path, session: Session, record: RunRecord, text: str, source: st
            candidates: list[dict[str, Any]]) -> None:
     world, mission = session.world, session.mission
     assert world is not None and mission is not None
-    w = record.route
     prepare_out(out, SAVE_NAMES)
-    frame = LocalFrame(*world.origin) if world.origin is not None else None
-    records.write_run(out, record, text, False, world.origin)
-    records.write_json(out / "source.json", {"scenario_source": str(Path(source).resolve())})
-    results.save_terrain(out, world.terrain)
-    endurance = mission_endurance(world, mission, record)
-    if endurance is not None:
-        write_energy(out, endurance, frame.inverse if frame else None)
-    speeds = read_leg_speeds(out, w.shape[0] - 1)
-    formats = export.exportable(record, [f for f in export.EXPORT_FORMATS
-                                         if frame is not None or f not in export.GEOGRAPHIC])[0]
-    export.write_exports(out, record, world.origin, mission.vehicle.speed if speeds is None else speeds, formats)
-    _report(out, session, record, text, endurance)
+    write_results(out, world, mission, record, text, source)  # the folder `auvplan run --out` writes
     atomic_write(out / "history.json", json.dumps(history, indent=1) + "\n")
     atomic_write(out / "candidates.json", json.dumps(records.jsonable(candidates), indent=1) + "\n")
-
-
-def _report(out: Path, session: Session, record: RunRecord, text: str, endurance: Any) -> None:
-    from ..viz.report import build_report
-
-    world = session.world
-    assert world is not None
-    frame = LocalFrame(*world.origin) if world.origin is not None else None
-    metrics = records.summary_metrics(record)
-    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance)
-    atomic_write(out / "report.html", page)

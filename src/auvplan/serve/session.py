@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import AuvplanError
-from ..guidance.local import key_waypoints
+from ..guidance.avoidance.local import key_waypoints
 from ..io.scenario import loader as scenario_io
 from ..io.scenario.builtins import builtin_scenarios
 from ..io.scenario.builtins import resolve as resolve_scenario

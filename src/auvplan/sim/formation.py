@@ -3,12 +3,12 @@
 :func:`run_formation` is the formation's pipeline: the global plan of the leader's route (or the
 fixed survey line) → the executable mission (:func:`auvplan.sim.mission_route`) → every slot's
 swept track checked against the seabed and reshaped to column where it fails
-(:func:`auvplan.guidance.formation_plan.plan_formation`) → :func:`simulate_formation`.
+(:func:`auvplan.guidance.formation.plan.plan_formation`) → :func:`simulate_formation`.
 
 :func:`simulate_formation` steps every vehicle together at ``dt``: each is the single-vehicle model
 of :mod:`auvplan.vehicles` (under-actuated, one rudder, PD heading autopilot, Nomoto yaw, surge lag,
 pitch-driven depth, drift in the current, wave disturbance), driven by its own formation guidance
-(:func:`auvplan.guidance.formation.formation_command`); obstacle distances, collisions and the
+(:func:`auvplan.guidance.formation.keeping.formation_command`); obstacle distances, collisions and the
 moving obstacles' tracks are :mod:`auvplan.sim`'s own.  The run stops at the first contact (seabed,
 obstacle, or two hulls closer than ``contact_m``); a vehicle's run ends when it reaches its final
 slot (within the arrival radius, once the leader has arrived).
@@ -25,14 +25,14 @@ from typing import Any
 import numpy as np
 
 from .._types import ArrayLike, RngLike, Status, as_rng
-from ..guidance.formation import FormationParams
-from ..guidance.formation_plan import FormationPlan, plan_formation
-from ..guidance.formation_steer import FormationCommand, formation_command
+from ..guidance.formation.error import error_figures
+from ..guidance.formation.keeping import FormationParams
+from ..guidance.formation.plan import FormationPlan, plan_formation
+from ..guidance.formation.steer import FormationCommand, formation_command
 from ..planners.base import PlanResult, Progress
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from .events import FAR, _deadlocked, _distance, _obstacle_shapes, _progressed
-from .formation_error import error_figures
 from .mission import Mission
 from .pipeline import planned_route
 from .result import SimResult

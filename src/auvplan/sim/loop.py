@@ -24,11 +24,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status, as_rng
-from ..guidance.hybrid import HybridGuidance
-from ..guidance.local import LocalAvoidance, key_waypoints
-from ..guidance.los import LosGuidance
-from ..guidance.predictive import PredictiveAvoidance
-from ..guidance.route import PathFollower, RoutePoint, RouteTracker
+from ..guidance.avoidance.local import LocalAvoidance, key_waypoints
+from ..guidance.avoidance.predictive import PredictiveAvoidance
+from ..guidance.following.hybrid import HybridGuidance
+from ..guidance.following.los import LosGuidance
+from ..guidance.following.route import PathFollower, RoutePoint, RouteTracker
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from ..world.obstacles import Shape
@@ -55,15 +55,16 @@ def make_guidance(name: str, route: ArrayLike, mission: Mission, tail: ArrayLike
     mission : Mission
         Its ``hybrid`` and ``los`` settings.
     tail : array_like of bool, optional
-        ``(N - 1,)`` legs flown tail-first (:class:`~auvplan.guidance.route.RouteTracker`).
+        ``(N - 1,)`` legs flown tail-first (:class:`~auvplan.guidance.following.route.RouteTracker`).
     statics : sequence of shapes, optional
         The world's static obstacles: the hybrid field repels from one only inside the route's own
-        clearance from it (:class:`~auvplan.guidance.hybrid.HybridGuidance`).
+        clearance from it (:class:`~auvplan.guidance.following.hybrid.HybridGuidance`).
 
     Returns
     -------
     PathFollower
-        :class:`~auvplan.guidance.hybrid.HybridGuidance` or :class:`~auvplan.guidance.los.LosGuidance`.
+        :class:`~auvplan.guidance.following.hybrid.HybridGuidance` or
+        :class:`~auvplan.guidance.following.los.LosGuidance`.
     """
     if name == "hybrid":
         return HybridGuidance(RouteTracker(route, mission.hybrid.switch_radius, tail), mission.hybrid, statics)

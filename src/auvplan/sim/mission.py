@@ -6,10 +6,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..endurance.params import EnduranceParams
-from ..guidance.formation import Formation
-from ..guidance.hybrid import HybridParams
-from ..guidance.local import AvoidanceParams
-from ..guidance.los import LosParams
+from ..guidance.avoidance.params import AvoidanceParams
+from ..guidance.following.hybrid import HybridParams
+from ..guidance.following.los import LosParams
+from ..guidance.formation.keeping import Formation
 from ..planners.base import PlannerSpec
 from ..vehicles import VehicleParams
 
@@ -75,7 +75,7 @@ class Mission:
         :mod:`auvplan.sim.formation` flies them.
     follow_altitude_m : float
         Terrain following: the mission's depth schedule holds this altitude above the seabed
-        within the vehicle's pitch limit (m; 0: off; :mod:`auvplan.guidance.fit_limits`).
+        within the vehicle's pitch limit (m; 0: off; :mod:`auvplan.guidance.mission.fit`).
     endurance : EnduranceParams
         Recovery point and the speed choice per leg (``[endurance]``, :mod:`auvplan.endurance`).
     leg_speeds : tuple of float

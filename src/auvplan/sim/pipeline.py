@@ -11,11 +11,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
 from ..endurance import EnergyModel, choose_speeds
-from ..flyable import VehicleLimits, check_limits
-from ..guidance.fit_limits import MissionFit, fit_mission, fit_turns
-from ..guidance.local import key_waypoints
-from ..guidance.mission import build_waypoints, default_tolerance
+from ..guidance.avoidance.local import key_waypoints
+from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
+from ..guidance.mission.waypoints import build_waypoints, default_tolerance
 from ..path import resample_polyline
+from ..path.flyable import VehicleLimits, check_limits
 from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams
@@ -87,7 +87,7 @@ def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
 
 
 def fitted_route(world: World, mission: Mission, route: ArrayLike) -> MissionFit:
-    """A mission's waypoints held to its vehicle's limits (:func:`auvplan.guidance.fit_limits.fit_mission`).
+    """A mission's waypoints held to its vehicle's limits (:func:`auvplan.guidance.mission.fit.fit_mission`).
 
     A mission within the limits and without ``follow_altitude_m`` is kept as it is; otherwise its
     depth schedule is fitted (terrain following, climbs within the pitch limit, fly-by turns).
@@ -119,10 +119,10 @@ def mission_route(world: World, mission: Mission, path: ArrayLike, times: ArrayL
                   speed: float | None = None, tail: ArrayLike | None = None) -> NDArray[np.float64]:
     """Build the executable mission of a planned path: the waypoints the simulation flies and every export carries.
 
-    :func:`auvplan.guidance.mission.build_waypoints`: floors under rising seabed, 3D
+    :func:`auvplan.guidance.mission.waypoints.build_waypoints`: floors under rising seabed, 3D
     Douglas–Peucker where the exact envelope test decides what may be dropped; corners whose
     fly-by turns do not fit dropped where the new leg is free
-    (:func:`auvplan.guidance.fit_limits.fit_turns`); then :func:`fitted_route` (the vehicle's
+    (:func:`auvplan.guidance.mission.fit.fit_turns`); then :func:`fitted_route` (the vehicle's
     limits, terrain following).
 
     Parameters
@@ -206,7 +206,7 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
                     rel: float = 0.002) -> NDArray[np.float64]:
     """The key waypoints of a timed plan (``plan.times``, the time-optimal planner) that keep its duration.
 
-    :func:`auvplan.guidance.mission.build_waypoints` simplifies with a tolerance of 0.2 % of the
+    :func:`auvplan.guidance.mission.waypoints.build_waypoints` simplifies with a tolerance of 0.2 % of the
     length (up to 50 m, in 3D): in a current that changes with depth and place, the plan's small
     depth changes and bends are what make it fast, and dropping them can cost more than 1 % of its
     time (issue 36).  The tolerance is divided by 4 until the waypoints, flown through the World's

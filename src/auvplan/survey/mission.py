@@ -212,7 +212,7 @@ def _line_points(lines: SurveyLines, k: int, forward: bool, run_in: float) -> ND
 _HALF_STEP_RAD = 1.0
 """Largest turn of the sampled arcs between two waypoints of a survey turn (rad): coarse enough that
 each waypoint lies more than ``TRACK_FRACTION`` · R off its neighbours' chord, so the check of
-:func:`auvplan.flyable.check_limits` judges the waypoints as given, not a simplified track."""
+:func:`auvplan.path.flyable.check_limits` judges the waypoints as given, not a simplified track."""
 
 
 def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
@@ -221,7 +221,7 @@ def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tupl
     h1 = math.atan2(b[1, 1] - b[0, 1], b[1, 0] - b[0, 0])
     # sampled every radian at most, the arcs' chords turn by up to 1 rad at each vertex; a fly-by
     # turn there fits r cos(0.5) only, so the arcs are drawn at r / cos(0.5) and the waypoints a
-    # vehicle flies by fit ``radius`` (the check of ``mission check``, :func:`auvplan.flyable.check_limits`)
+    # vehicle flies by fit ``radius`` (the check of ``mission check``, :func:`auvplan.path.flyable.check_limits`)
     r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)
     t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
     pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]

@@ -19,7 +19,7 @@ import numpy as np
 
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..geometry import as_points, point_segment_distance, rotation_matrix
-from .ellipsoid_kernels import foot_point
+from .kernels.ellipsoid import foot_point
 
 __all__ = [
     "Sphere",

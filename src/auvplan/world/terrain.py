@@ -11,7 +11,7 @@ Two segment-versus-terrain tests are provided:
   cell; along a piece the bilinear surface is a quadratic in the segment
   parameter, so the altitude ``z(t) - zb(t)`` is a quadratic whose minimum is at
   a piece end or at its vertex (docs/methods.md §4, the exact collision model).  All
-  pieces are walked in one compiled loop per segment (numba, :mod:`auvplan.world.terrain_kernels`), after a
+  pieces are walked in one compiled loop per segment (numba, :mod:`auvplan.world.kernels.terrain`), after a
   provable lower bound has cleared the segments that are far above the seabed.
 * :meth:`Terrain.segments_below_stepping` — document 004's test: probes every
   ``step`` metres along the dominant axis.  It can miss features thinner than
@@ -27,8 +27,7 @@ import numpy as np
 
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
-from .seabed import SeabedFit
-from .terrain_kernels import (
+from .kernels.terrain import (
     _elevations,
     _min_altitudes,
     box_floor_kernel,
@@ -37,6 +36,7 @@ from .terrain_kernels import (
     min_altitude_kernel,
     walk_min_kernel,
 )
+from .seabed import SeabedFit
 
 __all__ = ["Terrain", "TerrainKernelData", "elevation_kernel", "min_altitude_kernel", "lipschitz_bound_kernel",
            "box_floor_kernel", "walk_min_kernel"]
@@ -142,7 +142,7 @@ class Terrain:
     @property
     def cell_max(self) -> FloatArray:
         """Highest seabed elevation of each cell ``(ny - 1, nx - 1)`` (m): the argument of
-        :func:`~auvplan.world.terrain_kernels.box_floor_kernel`."""
+        :func:`~auvplan.world.kernels.terrain.box_floor_kernel`."""
         return self._cell_max
 
     @property

@@ -18,13 +18,13 @@ import xarray as xr
 from ...errors import DataError
 from ..limits import BudgetError, check_declared
 from .bathymetry import _centre_lonlat, _fill_nan
-from .currents import _find, _z_axis, velocity_factor
 from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame
 from .grids import axis_kind, horizontal_grid
 from .inspect_frames import frame_lines, gap_line, roms_lines
+from .ocean.currents import _find, _z_axis, velocity_factor
+from .ocean.roms import is_s_coordinate
 from .regrid import _native_cell
-from .roms import is_s_coordinate
 from .seabed_model import model_seabed
 
 __all__ = ["inspect_file"]

@@ -7,10 +7,10 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .currents import _z_axis, open_water_gaps
 from .grids import HorizontalGrid, axis_kind
-from .roms import LEVELS_M
-from .vectors import grid_angle, vector_frame
+from .ocean.currents import _z_axis, open_water_gaps
+from .ocean.roms import LEVELS_M
+from .ocean.vectors import grid_angle, vector_frame
 
 __all__ = ["frame_lines", "gap_line", "roms_lines"]
 
@@ -48,7 +48,7 @@ def frame_lines(ds: xr.Dataset, u_name: str, grid: HorizontalGrid, dims: tuple[s
 
 
 def gap_line(ds: xr.Dataset, name: str, dims: tuple[str, str], src: str) -> str | None:
-    """A warning line for missing values in open water (see :func:`auvplan.io.data.currents.open_water_gaps`).
+    """A warning line for missing values in open water (see :func:`auvplan.io.data.ocean.currents.open_water_gaps`).
 
     Parameters
     ----------

@@ -3,7 +3,7 @@
 Each vehicle is written as a single-vehicle run (:func:`auvplan.io.results.records.write_run` and
 :func:`~auvplan.io.missions.export.write_exports`, the same files as ``auvplan run``) into ``DIR/<vehicle>/``:
 its flown track, its metrics, and its *own* executable mission — the leader's the route, each
-follower's its slot's swept track made executable by :func:`auvplan.guidance.mission.build_waypoints`
+follower's its slot's swept track made executable by :func:`auvplan.guidance.mission.waypoints.build_waypoints`
 (the exact envelope test against the seabed and the obstacles), so ``auvplan mission check`` passes
 on every file of every vehicle.  ``DIR/formation.json`` holds the fleet's metrics, the shapes along
 the route and the reshaped stretches; ``DIR/slots.csv`` every slot's track.
@@ -16,7 +16,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from ...guidance.mission import build_waypoints
+from ...guidance.mission.waypoints import build_waypoints
 from ...sim import Mission, RunRecord
 from ...sim.formation import FormationRecord
 from ...world import World

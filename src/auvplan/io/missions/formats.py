@@ -1,6 +1,6 @@
 """Mission files vehicles and ground stations load, and reading them back.
 
-Every format carries the same executable mission (:func:`auvplan.guidance.mission.build_waypoints`,
+Every format carries the same executable mission (:func:`auvplan.guidance.mission.waypoints.build_waypoints`,
 the ``route`` of a :class:`~auvplan.sim.RunRecord`):
 
 * ``mission.moos`` — MOOS-IvP behaviour file: ``initialize DEPLOY = false``; one ``BHV_Waypoint``
@@ -126,7 +126,7 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan") 
     of point i + 1.  With a speed per leg that varies, each leg's depth behaviour also posts
     ``WPT_UPDATE = speed=v_i`` when it starts running (``runflag``), and the waypoint behaviour takes
     its parameter updates from ``WPT_UPDATE`` (``updates``): leg i is flown at v_i.
-    :func:`auvplan.guidance.mission.build_waypoints` chose the depths so that the
+    :func:`auvplan.guidance.mission.waypoints.build_waypoints` chose the depths so that the
     vehicle stays clear of the seabed whatever depth it holds between a leg's two end depths.
 
     Parameters

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from ...guidance.mission import MissionCheck, fly_check
+from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
@@ -293,7 +293,7 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
 
 
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
-    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.fly_check`).
+    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
 
     Parameters
     ----------

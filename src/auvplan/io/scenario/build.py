@@ -24,14 +24,15 @@ from ...world import (
 from .. import limits as _limits
 from ..data.bathymetry import load_terrain
 from ..data.coast import read_land
-from ..data.currents import read_currents
 from ..data.geo import LocalFrame
-from ..data.tides import load_tidal_current, parse_start_time
+from ..data.ocean.currents import read_currents
+from ..data.ocean.tides import load_tidal_current, parse_start_time
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 from .uncertainty import seabed_at_confidence
+from .validate import from_dict
 
 __all__ = ["build", "check_plan_sizes"]
 
@@ -251,8 +252,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
 
 def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
     """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`auvplan.io.scenario.geoinput`)."""
-    from .loader import from_dict  # the loader imports this module
-
     assert s.geo is not None
     if terrain is None:
         ref = s.geo.altitudes[0]

@@ -22,8 +22,8 @@ import xarray as xr
 from ...errors import DataError
 from ...world import CurrentField, UniformCurrent
 from ...world.ensemble_fields import PerturbedCurrent
-from ..data.currents import CurrentsFileSpec, read_currents
 from ..data.geo import LocalFrame
+from ..data.ocean.currents import CurrentsFileSpec, read_currents
 
 __all__ = ["PerturbationSpec", "MemberSpec", "member_fields"]
 

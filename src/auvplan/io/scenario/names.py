@@ -1,7 +1,7 @@
 """Names from a scenario that become folder names, file names or one-line fields, checked at load time.
 
 A ``[[vehicles]]`` name is the folder of that vehicle's results below ``--out`` (its pattern,
-:data:`auvplan.guidance.formation.VEHICLE_NAME`, is enforced by :class:`VehicleSpec` itself); here
+:data:`auvplan.guidance.formation.keeping.VEHICLE_NAME`, is enforced by :class:`VehicleSpec` itself); here
 the names are also checked against each other and against the files a formation writes beside
 them: two names that differ only in case share one folder on a case-insensitive file system, and
 a vehicle named ``report.html`` or ``figures`` would collide with the fleet's own files.  The

@@ -19,9 +19,9 @@ from collections.abc import Iterator
 from typing import Any
 
 from ..._version import __version__
-from ...guidance.formation import VehicleSpec
-from . import loader as sc
+from ...guidance.formation.keeping import VehicleSpec
 from . import specs
+from . import validate as sc
 from .tables import MAX_MAGNITUDE
 
 __all__ = ["SCHEMA_VERSION", "scenario_schema", "template", "field_docs", "GEO_POSITION"]

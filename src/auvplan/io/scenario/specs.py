@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from ...endurance.params import EnduranceParams
-from ...guidance.formation import Formation, FormationParams
-from ...guidance.hybrid import HybridParams
-from ...guidance.local import AvoidanceParams
-from ...guidance.los import LosParams
+from ...guidance.avoidance.params import AvoidanceParams
+from ...guidance.following.hybrid import HybridParams
+from ...guidance.following.los import LosParams
+from ...guidance.formation.keeping import Formation, FormationParams
 from ...planners.base import PlannerSpec
 from ...sim import SimParams
 from ...survey.spec import SurveySpec
@@ -21,7 +21,7 @@ from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
-from ..data.currents import CurrentsFileSpec, parse_time
+from ..data.ocean.currents import CurrentsFileSpec, parse_time
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..._types import ArrayLike, FloatArray
 from ...cost import CostModel, evaluate_paths, segment_energy
-from ...guidance.local import key_waypoints
+from ...guidance.avoidance.local import key_waypoints
 from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..._types import FloatArray, Status
 from ...cost import CostModel
-from ...guidance.local import key_waypoints
+from ...guidance.avoidance.local import key_waypoints
 from ...path import sample_population
 from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box

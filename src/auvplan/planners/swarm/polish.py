@@ -40,8 +40,8 @@ from dataclasses import replace
 import numpy as np
 
 from ..._types import FloatArray
-from ...flyable import check_limits
-from ...guidance.local import key_waypoints
+from ...guidance.avoidance.local import key_waypoints
+from ...path.flyable import check_limits
 from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..grid.planner import path_cost, refine_plan
 

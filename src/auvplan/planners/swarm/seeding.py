@@ -20,7 +20,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray, IntArray
-from ...guidance.local import key_waypoints
+from ...guidance.avoidance.local import key_waypoints
 from ...path import basis_matrix, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem

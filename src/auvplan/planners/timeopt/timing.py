@@ -11,7 +11,7 @@ unit tangent ŝ, drifting back on the line where ``g < 0`` — on sub-steps of a
 (midpoint rule in time; in time steps of ``ds / V`` seconds where ``g < V / 4``).  The time of a
 path the vehicle can fly is never below the least time (the exact optimum is no slower than any
 flyable path), up to the integrator's second-order error; the closed-loop follower holds the same
-line (:mod:`auvplan.guidance.route`), so this is also the duration it flies (docs/timeopt.md).
+line (:mod:`auvplan.guidance.following.route`), so this is also the duration it flies (docs/timeopt.md).
 Legs marked tail-first (:mod:`.tail`) are flown with the far root, ``g = c·ŝ − √(V² − |c⊥|²)``, in
 midpoint time steps of ``ds / V`` seconds, and rejected where it is not positive.
 """

@@ -1,0 +1,261 @@
+"""The one writer of a results folder, for ``run``/``demo``, ``plan --out`` and the planning page's save:
+the run files, what makes the folder self-contained (the scenario's source, its terrain), the energy files,
+every mission export and ``report.html``; and a folder written before, read back for ``report``/``export``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import AuvplanError
+from ..io.safeio import atomic_write, prepare_out, save_figure
+
+if TYPE_CHECKING:
+    from ..endurance import Endurance
+    from ..io.scenario.specs import Scenario
+    from ..planners import PlanResult
+    from ..sim import Mission, RunRecord
+    from ..world import World
+
+__all__ = ["FIGURES", "scenario_text", "save_context", "save_plan", "write_results", "write_report",
+           "planned_speeds", "load_results"]
+
+
+def scenario_text(sc: Scenario) -> str:
+    """The text of the scenario file.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+
+    Returns
+    -------
+    str
+        The file's text (empty where it cannot be read).
+    """
+    try:
+        return Path(sc.source).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return ""
+
+
+def save_context(out: Path, source: str, world: World) -> None:
+    """What makes a results folder self-contained: the scenario file's path and the terrain it used.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The folder.
+    source : str
+        The scenario file's path.
+    world : World
+        The world (its terrain is saved).
+    """
+    from ..io.results import folder as results
+    from ..io.results import records
+
+    records.write_json(out / "source.json", {"scenario_source": str(Path(source).resolve())})
+    results.save_terrain(out, world.terrain)
+
+
+def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: int,
+              ensemble: dict[str, Any] | None = None) -> None:
+    """``plan --out``: the plan files plus a run record without a flight, so report/export work on it.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The folder, prepared by the caller.
+    sc : Scenario
+        The scenario.
+    world : World
+        Its world.
+    result : PlanResult
+        The plan.
+    seed : int
+        Its seed.
+    ensemble : dict, optional
+        The ensemble fields of the plan (``ensemble.json``).
+    """
+    from ..io.results import records
+    from ..sim import RunRecord
+    from .ensemble import write_ensemble
+
+    text = scenario_text(sc)
+    empty = result.path[:0].reshape(0, 3)
+    records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
+    save_context(out, sc.source, world)
+    write_ensemble(out, ensemble or {})
+
+
+def write_results(out: Path, world: World, mission: Mission, record: RunRecord, text: str, source: str, *,
+                  full: bool = False, endurance: Endurance | None = None,
+                  ensemble: dict[str, Any] | None = None) -> list[str]:
+    """Write a flown (or planned) mission's results folder: ``ensemble.json`` (when ``ensemble`` is given),
+    the run files, ``source.json`` and the terrain, the energy files, every mission export and the report.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The folder, prepared by the caller (:func:`auvplan.io.safeio.prepare_out`).
+    world, mission : World, Mission
+        What was flown.
+    record : RunRecord
+        The run.
+    text : str
+        The scenario file's text (``scenario.toml`` of the folder).
+    source : str
+        The scenario file's path (``source.json``: where relative data paths were resolved).
+    full : bool
+        Full-rate time series and exports instead of decimated ones.
+    endurance : Endurance, optional
+        The mission's energy assessment; computed here when not given.
+    ensemble : dict, optional
+        The ensemble fields of the route (:func:`auvplan.app.ensemble.route_fields`).
+
+    Returns
+    -------
+    list of str
+        Notes on the exports (a format that would fly a tail-first leg nose-first), for the caller to show.
+    """
+    from ..io.data.geo import LocalFrame
+    from ..io.missions.energy import mission_endurance, write_energy
+    from ..io.results import records
+
+    if ensemble is not None:
+        from .ensemble import write_ensemble
+
+        write_ensemble(out, ensemble)
+    records.write_run(out, record, text, full, world.origin)
+    save_context(out, source, world)
+    if endurance is None:
+        endurance = mission_endurance(world, mission, record)
+    if endurance is not None:
+        frame = LocalFrame(*world.origin) if world.origin is not None else None
+        write_energy(out, endurance, frame.inverse if frame else None)
+    return write_report(out, world, mission, record, text, full=full, endurance=endurance)[1]
+
+
+def write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
+                 full: bool = False, endurance: Endurance | None = None) -> tuple[Path, list[str]]:
+    """The report, ``report.html`` (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The results folder.
+    world, mission : World, Mission
+        What was flown.
+    record : RunRecord
+        The run.
+    text : str
+        The scenario file's text.
+    figures : bool
+        Also the static figures (``figures/``).
+    full : bool
+        Full-rate exports.
+    endurance : Endurance, optional
+        The energy assessment; computed here when not given.
+
+    Returns
+    -------
+    path : pathlib.Path
+        The report.
+    notes : list of str
+        Notes on the exports, for the caller to show.
+    """
+    from ..io.data.geo import LocalFrame
+    from ..io.missions import export
+    from ..io.missions.energy import mission_endurance
+    from ..io.results import records
+    from ..viz.report import build_report
+    from .ensemble import read_ensemble
+
+    frame = LocalFrame(*world.origin) if world.origin is not None else None
+    formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
+                                                if frame is not None or f not in export.GEOGRAPHIC])
+    export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), formats, full)
+    if endurance is None:
+        endurance = mission_endurance(world, mission, record)
+    metrics = records.summary_metrics(record)
+    if world.terrain is not None and world.terrain.fit is not None:
+        metrics.update(records.fit_metrics(world.terrain.fit))
+    page = build_report(world, record, text, metrics, frame.inverse if frame else None, endurance, read_ensemble(out))
+    path = atomic_write(out / "report.html", page)
+    if figures:
+        from ..viz import plots
+
+        plots.write_mission_figures(out / "figures", world, record, save=save_figure,
+                                    to_lonlat=frame.inverse if frame else None)
+    return path, list(notes)
+
+
+def planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np.ndarray:
+    """The speed of each leg of the mission.
+
+    Parameters
+    ----------
+    out : pathlib.Path
+        The results folder (its ``legs.csv``).
+    record : RunRecord
+        The run.
+    mission : Mission
+        The mission (its vehicle's speed).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The planned speed of each leg, else the vehicle's speed.
+    """
+    from ..io.missions.energy import read_leg_speeds
+
+    speeds = read_leg_speeds(out, max(record.route.shape[0] - 1, 0))
+    return mission.vehicle.speed if speeds is None else speeds
+
+
+FIGURES = tuple(f"figures/{n}.{f}" for n in ("plan_view", "profiles", "convergence") for f in ("png", "svg"))
+"""Files of ``report --figures``."""
+
+
+def load_results(folder: str | Path, names: list[str], force: bool = False
+                 ) -> tuple[Path, RunRecord, str, World, Mission]:
+    """A results folder written before: its record, scenario text and the World and Mission rebuilt.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The results folder.
+    names : list of str
+        The files the caller will write into it (checked first: no user file or link in the way).
+    force : bool
+        Replace those files when they exist.
+
+    Returns
+    -------
+    tuple
+        The folder, the run record (a plan without a flight gets its executable mission as route), the
+        scenario text, the World and the Mission.
+    """
+    from ..io.results import folder as results
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..sim import mission_route
+
+    out = Path(folder)
+    if not out.is_dir():
+        raise AuvplanError(f"{out}: no such results folder")
+    prepare_out(out, names, force=force)
+    record, text = records.read_run(out)
+    if not text:
+        raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
+    sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
+    world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
+    if not record.route.size and record.plan is not None and record.plan.path.size:
+        # a plan without a flight: export the executable mission, not the raw planned curve
+        record = replace(record, route=mission_route(world, mission, record.plan.path))
+    return out, record, text, world, mission

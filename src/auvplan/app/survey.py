@@ -1,0 +1,93 @@
+"""``survey`` (and ``run`` of a scenario with ``[survey]``) as a job: plan the depth-adaptive lines, fly the
+whole mission in the closed loop, measure the coverage; with ``out``, write ``lines.csv``, ``coverage.json``,
+``gaps.geojson``, ``coverage.png``, ``report.html``, the run files and every mission export."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from ..errors import ScenarioError
+from ..io.missions import export
+from ..io.results import records
+from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
+from ..io.safeio import RESULT_NAMES, prepare_out
+from ..io.scenario import loader as scenario_io
+from ..survey.run import SurveyRun, run_survey
+from ..world import World
+
+__all__ = ["survey_scenario"]
+
+
+def survey_scenario(scenario: str, out: str | None = None, force: bool = False, seed: int | None = None,
+                    guidance: str | None = None, full: bool = False,
+                    say: Callable[[str], None] = lambda text: None) -> tuple[Any, dict[str, Any]]:
+    """Plan, fly and measure the ``[survey]`` of a scenario.
+
+    Parameters
+    ----------
+    scenario : str
+        Built-in name or TOML file (with a ``[survey]`` table).
+    out : str, optional
+        The results folder, checked before any work.
+    force : bool
+        Replace the folder's result files.
+    seed, guidance : optional
+        Override the scenario's.
+    full : bool
+        Full-rate run files and exports.
+    say : callable
+        Receives a line at each stage.
+
+    Returns
+    -------
+    scenario : Scenario
+        The scenario.
+    record : dict
+        The coverage record (:func:`auvplan.io.results.survey.coverage_record`).
+    """
+    if out:
+        prepare_out(out, (*RESULT_NAMES, *SURVEY_NAMES), force=force)
+    sc = scenario_io.load(scenario)
+    if sc.survey is None:
+        raise ScenarioError(f"{sc.source}: no [survey] table (polygon, sensor, opening_deg, mounting, overlap)")
+    world, mission = scenario_io.build(sc)
+    params = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
+    seed = sc.seed if seed is None else seed
+    say(f"planning and flying the survey of {sc.name}")
+    run = run_survey(world, mission, params, seed, guidance=guidance)
+    rec = coverage_record(run, params)
+    if out:
+        folder = Path(out)
+        say(f"writing the survey, the run files and the mission exports into {folder}")
+        write_survey(folder, run, params, world.origin)
+        text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
+        records.write_run(folder, run.record, text, full)
+        formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
+        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, formats, full)
+        from ..viz.survey import coverage_map
+
+        coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
+            folder / "coverage.png", dpi=110)
+        _report(folder, world, run, rec, text)
+    return sc, rec
+
+
+def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: str) -> None:
+    """``report.html``: the run's report with the survey's coverage map, headline figures and line table."""
+    from ..io.data.geo import LocalFrame
+    from ..io.safeio import atomic_write
+    from ..viz.report import build_report
+    from ..viz.survey import line_table, survey_section
+
+    frame = LocalFrame(*world.origin) if world.origin is not None else None
+    keys = ("status", "lines", "coverage_pct", "overlap_min_pct", "overlap_max_pct", "measured_on",
+            "survey_length_m", "mission_length_m", "survey_time_s")
+    summary = {k: rec[k] for k in keys} | {"tie_lines": len(run.plan.tie_waypoints()),
+                                           "overlap_margin_pct": 100 * run.plan.overlap_margin,
+                                           "least_turn_radius_m": run.plan.min_turn_radius_m}
+    section = survey_section((out / "coverage.png").read_bytes(), line_table(run, world.seabed), summary)
+    page = build_report(world, run.record, text, records.summary_metrics(run.record),
+                        frame.inverse if frame else None, sections=[("Survey", section)])
+    atomic_write(out / "report.html", page)

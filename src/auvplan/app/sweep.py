@@ -1,0 +1,200 @@
+"""``plan --depart-between`` as a job: the departure sweep of the time-optimal planner, its files, and the
+durations and instants of its arguments."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..errors import AuvplanError
+from ..io.safeio import atomic_write, prepare_out, save_figure
+
+if TYPE_CHECKING:
+    from ..io.scenario.specs import Scenario
+    from ..planners.timeopt.planner import SweepRow, SweepSummary
+
+__all__ = ["SWEEP_NAMES", "SweepRun", "parse_duration", "is_offset", "parse_instant", "sweep_scenario"]
+
+SWEEP_NAMES = ("sweep.csv", "sweep_summary.json", "sweep.png")
+"""Files of a sweep's ``--out``."""
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """A departure sweep.
+
+    Attributes
+    ----------
+    scenario : Scenario
+        The scenario.
+    rows : list of SweepRow
+        One per departure.
+    energy : list of dict
+        Each departure's energy figures.
+    summary : dict
+        The best departure and what it saves.
+    table : list of dict
+        The rows of ``sweep.csv``.
+    t0 : float
+        First departure (s after start_time).
+    step : float
+        Departure step (s).
+    """
+
+    scenario: Scenario
+    rows: list[SweepRow]
+    energy: list[dict[str, float]]
+    summary: SweepSummary
+    table: list[dict[str, Any]]
+    t0: float
+    step: float
+
+
+def parse_duration(text: str, what: str) -> float:
+    """Seconds of '15min', '900s', '2h', '1.5h' or a bare number of seconds.
+
+    Parameters
+    ----------
+    text : str
+        The duration.
+    what : str
+        The option it came from, for the message.
+
+    Returns
+    -------
+    float
+        Seconds.
+    """
+    units = {"s": 1.0, "sec": 1.0, "min": 60.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
+    t = text.strip().lower().lstrip("+")
+    for unit in sorted(units, key=len, reverse=True):
+        if t.endswith(unit):
+            t, scale = t[: -len(unit)], units[unit]
+            break
+    else:
+        scale = 1.0
+    try:
+        return float(t) * scale
+    except ValueError:
+        raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
+
+
+def is_offset(text: str) -> bool:
+    """Whether a departure is an offset after start_time ('+6h', '900') rather than a date-time.
+
+    Parameters
+    ----------
+    text : str
+        The departure.
+
+    Returns
+    -------
+    bool
+        True for an offset.
+    """
+    return text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T")
+
+
+def parse_instant(text: str, start_time: str, what: str) -> float:
+    """Seconds after the mission's start_time of an ISO 8601 time or a '+6h' offset.
+
+    Parameters
+    ----------
+    text : str
+        The instant.
+    start_time : str
+        ``[mission] start_time`` (empty: none).
+    what : str
+        The option it came from, for the message.
+
+    Returns
+    -------
+    float
+        Seconds after start_time.
+    """
+    from ..io.data.ocean.tides import parse_start_time
+
+    if is_offset(text):
+        return parse_duration(text, what)
+    if not start_time:
+        raise AuvplanError(f"{what} {text!r}: a date-time needs [mission] start_time (or give an offset: +6h)")
+    try:
+        return parse_start_time(text) - parse_start_time(start_time)
+    except ValueError as exc:
+        raise AuvplanError(f"{what} {exc}") from None
+
+
+def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, objective: str | None = None,
+                   out: str | None = None, force: bool = False,
+                   progress: Callable[[str, int, int], None] = lambda name, done, total: None) -> SweepRun:
+    """The time-optimal plan of every departure between two instants, its energy, and the best departure.
+
+    Parameters
+    ----------
+    scenario : str
+        Built-in name or TOML file.
+    depart_between : pair of str
+        First and last departure: ISO 8601 times, or offsets after ``[mission] start_time`` (``+6h``).
+    step : str
+        Departure step (``15min``, ``900s``, ``2h``).
+    objective : {"time", "energy"}, optional
+        Objective of the timed plans (default: the scenario's).
+    out : str, optional
+        Folder of ``sweep.csv``, ``sweep_summary.json`` and ``sweep.png`` (checked before any work).
+    force : bool
+        Replace those files.
+    progress : callable
+        Called with (the scenario's name, departures done, departures in all).
+
+    Returns
+    -------
+    SweepRun
+        The scenario, the rows, each departure's energy, the summary, the table, the first departure and the step.
+    """
+    from ..io.missions.energy import sweep_energy
+    from ..io.results import records
+    from ..io.scenario import loader as scenario_io
+    from ..io.scenario.build import check_plan_sizes
+    from ..planners.timeopt.planner import departure_sweep, sweep_summary
+    from ..sim import planning_problem
+
+    if out is not None:
+        prepare_out(out, SWEEP_NAMES, force=force)
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    spec = replace(mission.planner, name="timeopt")
+    if objective:
+        spec = replace(spec, timeopt=replace(spec.timeopt, objective=objective))
+    t0, t1 = (parse_instant(v, sc.mission.start_time, "--depart-between") for v in depart_between)
+    dt = parse_duration(step, "--step")
+    if not (t1 >= t0 and dt > 0 and (t1 - t0) / dt <= 500):
+        raise AuvplanError(f"--depart-between {list(depart_between)} --step {step}: need T1 >= T0 and at most "
+                           "500 departures")
+    b = world.bounds
+    check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
+    departs = np.arange(t0, t1 + 0.5 * dt, dt)
+    plans: list[Any] = []
+    progress(sc.name, 0, len(departs))
+    rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans,
+                              progress=lambda done, total: progress(sc.name, done, len(departs)))
+    energy = sweep_energy(world, mission, plans, departs)
+    summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
+    if sc.mission.start_time and summary.get("feasible_departures"):
+        from ..io.data.ocean.tides import parse_start_time, utc_iso
+
+        summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
+    table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
+    if out:
+        folder = Path(out)
+        atomic_write(folder / "sweep.csv", ",".join(table[0]) + "\n"
+                     + "".join(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table))
+        records.write_json(folder / "sweep_summary.json", summary)
+        from ..viz.timeplots import sweep_figure
+
+        save_figure(folder / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
+    return SweepRun(sc, rows, energy, summary, table, t0, dt)

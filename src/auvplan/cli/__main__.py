@@ -1,0 +1,5 @@
+"""``python -m auvplan.cli``: the command line."""
+
+from .parser import main_entry
+
+main_entry()

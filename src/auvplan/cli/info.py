@@ -1,0 +1,88 @@
+"""``scenarios``, ``validate``, ``data inspect`` and ``scenario new|schema``: what is there, and is this file
+right — read and printed."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+__all__: list[str] = []  # handlers: CLI internals, not library API
+
+
+def cmd_scenarios(args: argparse.Namespace) -> int:
+    """``scenarios``: the built-in scenarios with their one-line descriptions."""
+    from ..io.scenario.builtins import builtin_scenarios
+
+    for name, desc in builtin_scenarios().items():
+        print(f"{name:18s} {desc}")
+    return 0
+
+
+def cmd_data_inspect(args: argparse.Namespace) -> int:
+    """``data inspect FILE``: the layout, variables, units and axes auvplan detects."""
+    from ..io.data.inspect import inspect_file
+
+    print(inspect_file(args.file))
+    return 0
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    """``validate SCENARIO``: every check ``plan`` and ``run`` make before their work, and a summary."""
+    from ..app.ensemble import scenario_members
+    from ..io.scenario import loader as scenario_io
+    from ..sim import planning_problem
+
+    sc = scenario_io.load(args.scenario)
+    world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
+    planning_problem(world, mission)
+    members = scenario_members(sc, world)  # [currents] members: every one read and checked
+    survey = None
+    if sc.survey is not None:  # every check `survey` makes before planning, before saying OK
+        from ..io.results.survey import survey_params
+
+        survey = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
+    b = world.bounds
+    print(f"{sc.source}: OK — {sc.name}")
+    print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
+    if world.terrain is not None:
+        t = world.terrain
+        print(f"  terrain {t.name}: {t.x.size} x {t.y.size} nodes, cell {t.dx:.0f} m, "
+              f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
+        if t.fit is not None:
+            print(f"  {t.fit.describe()}")
+    print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
+          f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    if members:
+        print(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
+              + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
+    if sc.mission.confidence:
+        print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
+    if sc.survey is not None and survey is not None:
+        kind = "corridor" if sc.survey.corridor else "survey"
+        print(f"  {kind} of {survey.area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)"
+              + (f", {sc.survey.tie_lines} tie lines" if sc.survey.tie_lines else ""))
+    return 0
+
+
+def cmd_scenario_new(args: argparse.Namespace) -> int:
+    """``scenario new [FILE]``: a commented scenario template (to FILE, or stdout)."""
+    from ..io.safeio import write_new
+    from ..io.scenario.schema import template
+
+    text = template(Path(args.file).stem if args.file else "my-mission")
+    if not args.file:
+        sys.stdout.write(text)
+        return 0
+    path = write_new(Path(args.file), text, force=args.force)
+    print(f"wrote {path}; check it with: auvplan validate {path}", file=sys.stderr)
+    return 0
+
+
+def cmd_scenario_schema(args: argparse.Namespace) -> int:
+    """``scenario schema``: the scenario format's versioned JSON Schema."""
+    from ..io.scenario.schema import scenario_schema
+
+    sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
+    return 0

@@ -1,0 +1,365 @@
+"""Command-line front end (DESIGN.md §4): every command's arguments, the dispatch to its handler (one module
+per command group: :mod:`.info`, :mod:`.plan`, :mod:`.sweep`, :mod:`.run`, :mod:`.survey`, :mod:`.results`,
+:mod:`.bench`, :mod:`.serve`) and the exit codes; no logic (the jobs are in :mod:`auvplan.app`).
+
+Exit codes: 0 success, 1 the plan/simulation failed (status not EXACT or
+APPROXIMATE), 2 bad input.  ``--json`` prints exactly one JSON object on
+stdout; progress and messages go to stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import math
+import sys
+from collections.abc import Callable, Collection, Iterator
+from typing import Any
+
+from .._version import __version__
+from ..errors import AuvplanError, require
+
+__all__ = ["main", "main_entry"]
+
+
+def _int_at_least(low: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``low`` (a clear usage error otherwise, before any work)."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
+        return value
+
+    parse.__name__ = f"integer >= {low}"
+    return parse
+
+
+class _Choices(Collection[str]):
+    """argparse ``choices`` read when first needed (a ``--planner`` value, or that command's ``--help``;
+    each such argument has a ``metavar``, else argparse would list the choices when the parser is built)."""
+
+    def __init__(self, load: Callable[[], Collection[str]], extra: tuple[str, ...] = ()) -> None:
+        self._load, self._extra = load, extra
+
+    def _get(self) -> tuple[str, ...]:
+        return (*self._extra, *self._load())  # read each time: a planner may be registered after the parser
+
+    def __contains__(self, value: object) -> bool:
+        return value in self._get()
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._get())
+
+    def __len__(self) -> int:
+        return len(self._get())
+
+
+def _planner_names() -> tuple[str, ...]:
+    """The registered planners (:mod:`auvplan.planners.registry`): built-in and plugged in."""
+    from ..planners.registry import names
+
+    return names()
+
+
+def _names_in(module: str, name: str) -> Callable[[], tuple[str, ...]]:
+    """A loader of the tuple ``module.name`` (imported when the choices are first read)."""
+    return lambda: tuple(getattr(importlib.import_module(module), name))
+
+
+_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"))
+_PIPELINES = _Choices(_names_in("auvplan.planners.registry", "PIPELINES"))
+_FORMATS = _Choices(_names_in("auvplan.io.missions.export", "EXPORT_FORMATS"))
+_BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"), ("scenario",))
+
+
+_SEED = _int_at_least(0)
+_POSITIVE = _int_at_least(1)
+
+_MAX_SWEEP_S = 366 * 86400.0
+"""Longest departure step and farthest departure offset of a sweep (a year: tide tables are per year)."""
+
+
+def _step(text: str) -> str:
+    """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
+    from ..app.sweep import parse_duration
+
+    try:
+        value = parse_duration(text, "--step")
+    except AuvplanError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--step ")) from None
+    if not (math.isfinite(value) and 0 < value <= _MAX_SWEEP_S):
+        raise argparse.ArgumentTypeError(f"{text!r}: a step must lie in (0 s, 366 d]")
+    return text
+
+
+def _departure(text: str) -> str:
+    """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
+    from ..app.sweep import is_offset, parse_duration
+
+    if is_offset(text):
+        try:
+            value = parse_duration(text, "--depart-between")
+        except AuvplanError as exc:
+            raise argparse.ArgumentTypeError(str(exc).removeprefix("--depart-between ")) from None
+        if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):
+            raise argparse.ArgumentTypeError(f"{text!r}: an offset must lie within 366 d of [mission] start_time")
+        return text
+    from ..io.data.ocean.currents import parse_time
+
+    try:
+        parse_time(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
+
+
+def _pitch(text: str) -> float:
+    """An argparse type: a finite pitch angle in (0, 90] degrees."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not 0.0 < value <= 90.0:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"{text} must be a finite angle in (0, 90] degrees")
+    return value
+
+
+_pitch.__name__ = "pitch in (0, 90] degrees"
+
+
+_SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
+    "scenario": (("scenario",), {"help": "TOML file or built-in scenario name"}),
+    "planner": (("--planner",), {"choices": _Choices(_planner_names), "metavar": "PLANNER",
+                                 "help": "override the scenario's planner: %(choices)s"}),
+    "guidance": (("--guidance",), {"choices": ("hybrid", "los", "ilos"), "help": "override the scenario's guidance"}),
+    "avoidance": (("--avoidance",), {"choices": _AVOIDANCE, "metavar": "AVOIDANCE",
+                                     "help": "override the scenario's avoidance: %(choices)s"}),
+    "seed": (("--seed",), {"type": _SEED, "help": "random seed >= 0 (default: the scenario's)"}),
+    "full": (("--full",), {"action": "store_true",
+                           "help": "tracks at full resolution (default: every 20 m / 30 s)"}),
+    "force": (("--force",), {"action": "store_true", "help": "overwrite files in --out that auvplan did not write"}),
+    "json": (("--json",), {"action": "store_true", "help": "print one JSON object on stdout"}),
+    "dir": (("dir",), {"help": "results directory written by `auvplan run --out` or `demo`"}),
+}
+"""Arguments several commands share, by name (same flag, same meaning, same help everywhere)."""
+
+
+def _shared(s: Any, *keys: str) -> None:
+    """Add the shared arguments ``keys`` (in that order) to the (sub-)parser ``s``."""
+    for key in keys:
+        flags, kwargs = _SHARED[key]
+        s.add_argument(*flags, **kwargs)
+
+
+def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
+    """A sub-command with the shared arguments ``shared`` (in that order) and its handler ``func``, named
+    ``"<module>:<function>"`` in a command group's module of :mod:`auvplan.cli` (imported when a command runs, so
+    ``--help`` and ``--version`` import nothing of the library)."""
+    s = sub.add_parser(name, help=help)
+    _shared(s, *shared)
+    s.set_defaults(func=func)
+    return s
+
+
+def _info_commands(sub: Any) -> None:
+    """``scenarios``, ``validate``, ``data inspect``, ``scenario new|schema``."""
+    _command(sub, "scenarios", "list the built-in scenarios", "info:cmd_scenarios")
+    _command(sub, "validate", "check a scenario file (exit 2 with clear messages)", "info:cmd_validate", "scenario")
+    s = sub.add_parser("data", help="inspect bathymetry and current files (NetCDF, GeoTIFF)")
+    dsub = s.add_subparsers(dest="data_command", required=True)
+    d = _command(dsub, "inspect", "print the layout, variables, units and axes auvplan detects in FILE",
+                 "info:cmd_data_inspect")
+    d.add_argument("file", help="NetCDF or GeoTIFF file")
+    s = sub.add_parser("scenario", help="scenario format tools: a commented template, the JSON Schema")
+    ssub = s.add_subparsers(dest="scenario_command", required=True)
+    t = _command(ssub, "new", "write a commented scenario template (to FILE, or stdout)", "info:cmd_scenario_new")
+    t.add_argument("file", nargs="?", help="the new scenario file (refused if it exists, unless --force)")
+    t.add_argument("--force", action="store_true", help="overwrite an existing FILE")
+    _command(ssub, "schema", "print the scenario format's versioned JSON Schema", "info:cmd_scenario_schema")
+
+
+def _flight_commands(sub: Any) -> None:
+    """``plan``, ``simulate``, ``run``."""
+    s = _command(sub, "plan", "plan a global path", "plan:cmd_plan", "scenario", "planner", "seed")
+    s.add_argument("--budget", type=_POSITIVE, help="objective evaluations, spent exactly by every optimiser")
+    s.add_argument("--pipeline", choices=_PIPELINES, metavar="PIPELINE",
+                   help=("seeded (lattice seeds + refinement + fallback, default), document (the algorithm "
+                         "alone) or progressive (alone, coarse to fine)"))
+    s.add_argument("--reference", action="store_true",
+                   help="also plan the grid reference and report reference_cost and gap_pct")
+    s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
+    _shared(s, "force", "json")
+    s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"), type=_departure,
+                   help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
+                        "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
+    s.add_argument("--step", default="15min", type=_step, help="departure step of the sweep (default 15min)")
+    s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
+
+    s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
+                 "plan:cmd_simulate", "scenario", "guidance", "avoidance", "seed")
+    s.add_argument("--out", help="write sim_metrics.json and track.csv here")
+    _shared(s, "full", "force", "json")
+
+    s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "run:cmd_run",
+                 "scenario", "planner", "guidance", "avoidance", "seed")
+    s.add_argument("--out", help="write every result file here")
+    _shared(s, "full", "force", "json")
+
+    s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
+                 "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "survey:cmd_survey",
+                 "scenario", "guidance", "seed")
+    s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
+    _shared(s, "full", "force", "json")
+
+
+def _result_commands(sub: Any) -> None:
+    """``report``, ``export``, ``mission check``."""
+    s = _command(sub, "report", "write report.html (and the exports) for a results directory of `run --out`",
+                 "results:cmd_report", "dir")
+    s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
+    _shared(s, "force")
+    s = _command(sub, "export", "write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
+                                "nav_msgs/Path YAML) for a results directory", "results:cmd_export", "dir")
+    s.add_argument("--format", nargs="+", default=_FORMATS, choices=_FORMATS, metavar="FORMAT",
+                   help="mission formats (default: all): %(choices)s")
+    _shared(s, "full", "force")
+    s = sub.add_parser("mission", help="work with exported mission files")
+    msub = s.add_subparsers(dest="mission_command", required=True)
+    c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
+                                "scenario's seabed, static obstacles, sea surface, depth band and bounds, and "
+                                "check the [vehicle]'s pitch, turn radius and depth rating (exit 1 when one is "
+                                "broken)",
+                 "results:cmd_mission_check")
+    c.add_argument("files", nargs="+", help="mission.moos / .plan / .gpx / .yaml / .geojson / .kml / .csv")
+    c.add_argument("--scenario", required=True, help="TOML file or built-in scenario name")
+    c.add_argument("--pitch", type=_pitch, default=15.0,
+                   help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
+    c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
+
+
+def _serve_command(sub: Any) -> None:
+    """``serve``: the local planning page (:mod:`auvplan.cli.serve`)."""
+    s = _command(sub, "serve", "plan, edit and check a mission in a local web page (offline)", "serve:cmd_serve")
+    s.add_argument("target", nargs="?", metavar="SCENARIO | RESULTS_DIR",
+                   help="built-in name, TOML file or results folder (default: the built-in showcase)")
+    s.add_argument("--port", type=_int_at_least(0), default=8765, help="TCP port (default 8765; 0: any free port)")
+    s.add_argument("--host", default="127.0.0.1", help="address to serve on (default 127.0.0.1: this machine only)")
+    s.add_argument("--root", action="append", metavar="DIR",
+                   help="a folder the page may read and save in (repeatable; default: the folder of the "
+                        "scenario or the results folder, else the current folder)")
+    s.add_argument("--no-browser", action="store_true", help="do not open the page in the browser")
+
+
+def _bench_commands(sub: Any) -> None:
+    """``bench`` and ``demo``."""
+    s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
+                 "bench:cmd_bench")
+    s.add_argument("--scenarios", nargs="+", default=["dynamic-terrain"], help="built-in names or TOML files")
+    s.add_argument("--planners", nargs="+", default=["scenario"],
+                   help="planner names, or 'scenario'; name/pipeline picks the pipeline (iabc/progressive)")
+    s.add_argument("--guidance", nargs="+", default=["scenario"], help="hybrid, los, ilos, or 'scenario'")
+    s.add_argument("--seeds", type=_POSITIVE, default=10, help="seeds 0..N-1 per cell")
+    s.add_argument("--budget", type=_SEED, default=0, help="objective evaluations per plan (0: the scenario's)")
+    s.add_argument("--reference", action="store_true", help="add the gap to the grid reference to every row")
+    s.add_argument("--randomise", action="store_true", help="re-draw the moving obstacles' tracks per seed")
+    s.add_argument("--plan-once", action="store_true", help="plan once per cell, fly it in every seed")
+    s.add_argument("--avoidance", nargs="+", default=["scenario"], choices=_BENCH_AVOIDANCE, metavar="AVOIDANCE",
+                   help="local avoidance variants (an axis; 'scenario' = the scenario's own): %(choices)s")
+    s.add_argument("--members", nargs="+", default=["scenario"], metavar="MEMBER",
+                   help="current ensemble members as an axis: names from [currents] members, 'each', or 'scenario'")
+    s.add_argument("--member-seeds", nargs="+", type=_SEED, default=[], metavar="SEED",
+                   help="re-draw the [currents] members' perturbation entries with each seed (an axis)")
+    s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")
+    g.add_argument("--scheduler", help="address of an existing dask scheduler, e.g. tcp://host:8786")
+    s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
+    s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
+    _shared(s, "force")
+    s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "run:cmd_demo")
+    s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
+    _shared(s, "force")
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
+    p.add_argument("--version", action="version", version=f"auvplan {__version__}")
+    p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
+    sub = p.add_subparsers(dest="command", required=True)
+    _info_commands(sub)
+    _flight_commands(sub)
+    _result_commands(sub)
+    _bench_commands(sub)
+    _serve_command(sub)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (``sys.argv[1:]`` by default).
+
+    Returns
+    -------
+    int
+        The exit code: 0 success, 1 a mission or plan that failed (a status), 2 bad input or a
+        missing optional dependency (one line on stderr), 130 interrupted.
+    """
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
+        return int(exc.code or 0)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+                        format="%(levelname)s %(name)s: %(message)s")
+    try:
+        if _writes_html(args):  # checked before any work is done
+            require("plotly", "report")
+        module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
+        handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
+        from ..io import outdir
+
+        with outdir.session():  # the --out folders this command locked are released when it ends
+            code: int = handler(args)
+        return code
+    except KeyboardInterrupt:
+        out = getattr(args, "out", None)
+        print(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing written",
+              file=sys.stderr)
+        return 130
+    except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
+        print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
+        return 2
+
+
+def _writes_html(args: argparse.Namespace) -> bool:
+    """Whether the command writes an HTML report (plotly, the ``report`` extra)."""
+    return args.command in ("demo", "report", "bench") or (args.command == "run" and bool(args.out))
+
+
+def _one_line(exc: BaseException) -> str:
+    """The exception as one line (multi-line library messages folded); the type when it has no text."""
+    text = " ".join(str(exc).split())
+    if isinstance(exc, MemoryError):
+        return f"out of memory ({text or 'MemoryError'}); lower the sizes, or check [limits] memory_mb"
+    if isinstance(exc, AuvplanError) and text:
+        return text
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def main_entry() -> None:
+    """Console-script entry point."""
+    sys.exit(main())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main_entry()

@@ -1,0 +1,81 @@
+"""``plan`` and ``simulate``: their arguments to the jobs of :mod:`auvplan.app.plan`, and their output (a
+human line, or one JSON object)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..errors import AuvplanError
+from .output import emit, reporter
+
+__all__: list[str] = []  # handlers: CLI internals, not library API
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    """``plan``: one global plan, its record on stdout and with ``--out`` its files (or the departure sweep)."""
+    from ..app.plan import plan_scenario
+    from ..app.results import save_plan
+    from ..io.results import records
+
+    if args.depart_between:
+        from .sweep import cmd_sweep
+
+        return cmd_sweep(args)
+    if args.objective:
+        raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
+                           "[planner.timeopt] objective in the scenario for one plan")
+    sc, result, seed, world, ensemble = plan_scenario(
+        args.scenario, args.out, getattr(args, "force", False), args.planner, args.budget,
+        getattr(args, "pipeline", None), args.seed, getattr(args, "reference", False), reporter(args.quiet))
+    record = records.plan_record(result, sc.name, seed)
+    record.update(ensemble)
+    if world.terrain is not None and world.terrain.fit is not None:
+        record.update(records.fit_metrics(world.terrain.fit))
+    if args.reference:
+        record["reference_cost"] = result.reference_cost
+        record["gap_pct"] = result.gap_pct
+    if args.out:
+        save_plan(Path(args.out), sc, world, result, seed, ensemble)
+    human = (f"{sc.name}: {result.planner} seed {seed} → {result.status.value}  cost {result.cost:.6g}  "
+             f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
+             f"{result.wall_time_s:.2f} s" + work_note(result.work)
+             + (f"\n  {result.message}" if result.message else "")
+             + (f"\n  grid reference cost {result.reference_cost:.6g}, gap {result.gap_pct:+.2f} %"
+                if args.reference else ""))
+    emit(record, args.json, human)
+    return 0 if result.status.ok else 1
+
+
+def work_note(work: dict[str, float]) -> str:
+    """The seeded pipeline's work outside the evaluation budget, for the human line of ``plan``."""
+    if not work:
+        return ""
+    parts = []
+    if "seeding_cpu_s" in work:
+        parts.append(f"seeding lattice {work['seeding_lattice_nodes']:.0f} nodes {work['seeding_cpu_s']:.3f} s CPU")
+    if "polish_cpu_s" in work:
+        parts.append(f"polish {work['polish_cpu_s']:.3f} s CPU")
+    return f"  (outside the budget: {', '.join(parts)})"
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
+    """``simulate``: the pipeline of ``run``, its flight's record and files."""
+    from ..app.plan import simulate_scenario
+    from ..io.results import records
+
+    sc, run, seed = simulate_scenario(args.scenario, args.out, getattr(args, "force", False), args.guidance,
+                                      args.avoidance, args.seed, args.full, reporter(args.quiet or args.json))
+    if run.sim is None:
+        assert run.plan is not None  # no flight without a route: the plan failed
+        print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
+        return 1
+    result = run.sim
+    record = records.sim_record(result, sc.name, seed, result.avoidance)
+    m = result.metrics
+    human = (f"{sc.name}: {result.guidance} seed {seed} → {result.status.value} after {m['duration_s']:.0f} s; "
+             f"cross-track RMS {m['cross_track_rms_m']:.2f} m, max {m['cross_track_max_m']:.2f} m; "
+             f"min obstacle distance {m['min_obstacle_distance_m']:.2f} m")
+    emit(record, args.json, human)
+    return 0 if result.status.ok else 1

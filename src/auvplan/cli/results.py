@@ -1,0 +1,81 @@
+"""``report``, ``export`` and ``mission check``: a results folder written before re-rendered or exported
+(:mod:`auvplan.app.results`), and mission files checked (:mod:`auvplan.app.check`); their output."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..sim import Mission, RunRecord
+    from ..world import World
+
+__all__: list[str] = []  # handlers: CLI internals, not library API
+
+
+def _load(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
+    from ..app.results import FIGURES, load_results
+    from ..io.safeio import RESULT_NAMES
+
+    names = [*RESULT_NAMES, *(FIGURES if getattr(args, "figures", False) else ())] if args.command == "report" \
+        else [f"mission.{f}" for f in args.format]
+    return load_results(args.dir, names, force=args.force)
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    """``report``: report.html (and with ``--figures`` the static figures) of a results folder."""
+    from ..app.results import write_report
+
+    out, record, text, world, mission = _load(args)
+    path, notes = write_report(out, world, mission, record, text, figures=args.figures)
+    for line in notes:  # a format that would fly a tail-first leg nose-first
+        print(f"auvplan: {line}", file=sys.stderr)
+    print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    """``export``: the mission files of a results folder in the formats asked for."""
+    from ..app.results import planned_speeds
+    from ..io.missions import export
+
+    out, record, _, world, mission = _load(args)
+    for p in export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), args.format,
+                                  args.full):
+        print(p)
+    return 0
+
+
+def cmd_mission_check(args: argparse.Namespace) -> int:
+    """``mission check FILE... --scenario S``: each file's verdict (or one JSON object); exit 1 when one fails."""
+    import numpy as np
+
+    from ..app.check import check_missions
+    from ..io.results import records
+
+    sc, checks = check_missions(args.scenario, args.files, args.pitch)
+    for c in checks if not args.json else ():
+        name, check, vlimits = c.record["file"], c.check, c.vehicle
+        fmt = c.record["format"]
+        held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
+                if check.semantics == "held" else "")
+        obstacles = (f"least obstacle distance {check.min_obstacle_distance_m:.2f} m (margin "
+                     f"{check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle"
+                     if np.isfinite(check.min_obstacle_distance_m) else "no static obstacle in the scenario")
+        limits = "".join(f"{r}; " for r in (check.limits.reasons() if check.limits is not None else []))
+        print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}least altitude "
+              f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
+              f"{check.min_altitude_leg}), {obstacles}{held}")
+        print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
+              + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
+        print(f"{name}: {c.energy_line}")
+        if sc.mission.confidence:
+            print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
+                  f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")
+    if args.json:
+        recs = [c.record for c in checks]
+        print(json.dumps(records.jsonable(recs[0] if len(recs) == 1 else recs)))
+    return max((0 if c.ok else 1 for c in checks), default=0)

@@ -1,0 +1,60 @@
+"""``auvplan survey SCENARIO --out DIR`` (and ``run`` of a scenario with ``[survey]``): the arguments to the job
+of :mod:`auvplan.app.survey`, and its summary (a human text, or one JSON object)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+__all__ = ["cmd_survey"]
+
+
+def _say(args: argparse.Namespace, text: str) -> None:
+    if not (getattr(args, "quiet", False) or getattr(args, "json", False)):
+        print(f"auvplan: {text} …", file=sys.stderr)
+
+
+def cmd_survey(args: argparse.Namespace) -> int:
+    """Run the survey command.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``scenario``, ``out``, ``seed``, ``guidance``, ``full``, ``force``, ``json``, ``quiet``.
+
+    Returns
+    -------
+    int
+        0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
+    """
+    from ..app.survey import survey_scenario
+
+    sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
+                              args.full, lambda text: _say(args, text))
+    m = rec["lawnmower"]
+    human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "
+             f"planned coverage {rec['planned']['coverage_pct']:.2f} % (overlap {rec['planned']['overlap_min_pct']:.1f}"
+             f"–{rec['planned']['overlap_max_pct']:.1f} %)"
+             + (f", flown {rec['coverage_pct']:.2f} % (overlap {rec['overlap_min_pct']:.1f}–"
+                f"{rec['overlap_max_pct']:.1f} %, {rec['flown']['gaps']} gaps)" if rec["flown"] else "")
+             + f"\n  survey {rec['survey_length_m'] / 1e3:.1f} km"
+             + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
+             + f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']} lines, "
+               f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
+             + (f"\n  {rec['message']}" if rec["message"] else ""))
+    if args.json:
+        print(_json(rec))
+    else:
+        print(human)
+        if args.out:
+            print(f"results in {args.out}/")
+    return 0 if rec["status"] in ("EXACT", "APPROXIMATE") else 1
+
+
+def _json(rec: dict[str, object]) -> str:
+    import json
+
+    from ..io.results import records
+
+    return json.dumps(records.jsonable(rec))
