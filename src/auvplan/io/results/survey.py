@@ -185,6 +185,11 @@ def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
         "status": plan.status.value if run.record.sim is None else run.record.status.value,
         "message": plan.message,
         "overlap_bounds_pct": [100 * params.lines.overlap_min, 100 * params.lines.overlap_max],
+        "overlap_definition": "share of the narrower swath, across the track (side-scan: how far each swath "
+                              "reaches past the neighbour's nadir, over the narrower facing band)",
+        "overlap_margin_pct": 100 * plan.overlap_margin,
+        "tie_lines": len(plan.tie_waypoints()),
+        "corridor": params.frame is not None,
         "lines": n,
         "heading_deg": math.degrees(plan.lines.heading) % 360.0,
         "area_m2": planned.area_m2,
