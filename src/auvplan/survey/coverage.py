@@ -208,7 +208,8 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     """Coverage, per-pair overlap and gaps of footprints over the area.
 
     The overlap of two adjacent footprints is measured on the cut across the nominal direction (the
-    centre line's normal for a corridor) at every station where their seam is inside the area: the share
+    centre line's normal for a corridor) at every station both lines are placed over (not on a run-in)
+    where their seam is inside the area: the share
     of the narrower swath across the track (:func:`auvplan.survey.lines.pair_overlap`; a side-scan's:
     how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.sidescan_overlap`).
 
@@ -242,7 +243,10 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     lo, hi = lines.area_lo, lines.area_hi
     side = lines.lines[0].gap_left is not None if lines.lines else False
     overlap = []
-    for a, b in zip(spans[:-1], spans[1:], strict=True):
+    for i, (a, b) in enumerate(zip(spans[:-1], spans[1:], strict=True)):
+        la, lb = lines.lines[i], lines.lines[i + 1]
+        both = np.zeros(lines.stations.size, dtype=bool)  # the stations both lines are placed over (no run-in)
+        both[max(la.first, lb.first):min(la.last, lb.last) + 1] = True
         ea, eb = a[:, 3], b[:, 0]
         with np.errstate(invalid="ignore", divide="ignore"):
             inside = (np.minimum(ea, eb) < hi) & (np.maximum(ea, eb) > lo)
@@ -252,7 +256,7 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
                 eta = np.minimum(ea - mb, ma - eb) / band
             else:
                 eta = (ea - eb) / np.minimum(a[:, 3] - a[:, 0], b[:, 3] - b[:, 0])
-        keep = inside & np.isfinite(eta)
+        keep = inside & both & np.isfinite(eta)
         overlap.append(eta[keep])
     return Coverage(cover, overlap, gaps, fps, float(area.area))
 
