@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown
+	bench-flow-flown bench-zones bench-timeopt-front
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -50,6 +50,8 @@ test-nojit: $(STAMP)
 		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
 		tests/test_timeopt.py::test_legs_are_fifo \
 		tests/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \
+		tests/test_zones.py::test_entries_match_an_independent_shapely_check \
+		tests/test_zones.py::test_signed_distance_is_the_prism_distance_and_never_above_it \
 		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling \
 		--deselect tests/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface
 
@@ -80,9 +82,20 @@ bench-hard: $(STAMP)
 		--out results/bench-hard
 # the default flow pipeline flown from 300 near-surface starts per Fig. 7/8 scene (docs/figures/flow-flown.md),
 # and mission building (breadth-first Douglas-Peucker) against the recursive one, missions identical
+# charted no-go zones (issue 53): 1 000 random missions per planner (~30 min CPU), the CPU with 1 000 zones,
+# the default plan's gap to --reference on chagos-reefs (docs/zones.md)
+bench-zones: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/zones.py montecarlo --missions 1000
+	nice -n 5 $(BIN)/python benchmarks/zones.py cpu --zones 1000
+	nice -n 5 $(BIN)/python benchmarks/zones.py gap
+
 bench-flow-flown: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/flow_flown.py --starts 300 --out results/bench-flow-flown
 	nice -n 5 $(BIN)/python benchmarks/mission_build.py --starts 30
+# the time-optimal planner's front method (issue 55): exact least times, rotary-tide against Zermelo's bound,
+# and CPU against hj_reachability on the same 2-D grid (optional: pip install hj_reachability jax)
+bench-timeopt-front: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/timeopt_front.py --out results/bench-timeopt-front
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step

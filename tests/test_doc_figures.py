@@ -183,6 +183,8 @@ HAND_TYPED_DOC_SECTIONS = {
     ("docs/guide.md", "Tidal currents and time-optimal planning"): "unowned: timeopt's measured closure, no figure",
     ("docs/hostile-input.md", "Resource estimates before allocating"): NOT_MEASURED,
     ("docs/methods.md", "The documents"): NOT_MEASURED,
+    ("docs/missions.md", "Hand it to the vehicle"): NOT_MEASURED,  # format fields and codes (issue 51)
+    ("docs/missions.md", "Vehicle presets"): "docs: manufacturers' published figures, sources in the table (#51)",
     ("docs/methods.md", "Where each method lives"): NOT_MEASURED,
     ("docs/methods.md", "1. Potential-flow streamline planning (document 000)"): NOT_MEASURED,
     ("docs/mutants.md", "1. The catalogue (28 of 28 killed)"): NOT_MEASURED,

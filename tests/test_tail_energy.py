@@ -68,7 +68,7 @@ def test_rotary_tide_tail_first_mission_is_budgeted_as_planned():
     sc = scenario.load("rotary-tide")
     assert sc.mission.start_time == "2026-06-15T21:00:00Z"
     world, mission = scenario.build(replace(sc, mission=replace(sc.mission, start_time="2026-06-16T15:00:00Z")))
-    t = replace(mission.planner.timeopt, tail_first=True)
+    t = replace(mission.planner.timeopt, tail_first=True, method="lattice")
     mission = replace(mission, planner=replace(mission.planner, timeopt=t))
     planned, route = planned_route(world, mission, mission.seed)
     assert planned is not None and route is not None and planned.tail is not None and planned.tail.any()

@@ -36,7 +36,7 @@ def tail_run():
     sc = scenario.load("rotary-tide")
     world, mission = scenario.build(replace(sc, mission=replace(sc.mission, start_time="2026-06-16T15:00:00Z")))
     mission = replace(mission, planner=replace(mission.planner, timeopt=replace(mission.planner.timeopt,
-                                                                                tail_first=True)))
+                                                                                tail_first=True, method="lattice")))
     planned, route = planned_route(world, mission, mission.seed)
     assert planned is not None and route is not None
     record = RunRecord(mission.name, mission.seed, planned, route, route[[0, -1]], None)

@@ -22,7 +22,7 @@ V = 1.0
 START = np.array([0.0, 0.0, -50.0])
 GOAL = np.array([20000.0, 0.0, -50.0])
 TIDE = 44712.0  # M2 period (s)
-SPEC = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1))
+SPEC = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, method="lattice"))
 
 
 def uniform_world(cfun, tmax: float = 40000.0, dt: float = 60.0):
@@ -182,7 +182,8 @@ def test_uniform_current_stronger_than_the_vehicle_within_one_percent(case):
     cfun, depart, dt = STRONG[case]
     world, _, _ = uniform_world(cfun, tmax=90000.0)
     exact, track = least_time_ode(cfun, GOAL, V, depart)
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, depart_s=depart, dt=dt))
+    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, depart_s=depart, dt=dt,
+                                                             method="lattice"))
     r = plan(PlanningProblem(world, START, GOAL, speed=V), spec)
     assert r.status is Status.EXACT and not np.isnan(r.cost)
     assert exact * (1 - 3e-5) <= r.cost <= 1.01 * exact
@@ -259,7 +260,7 @@ def test_planned_duration_is_the_closed_loop_flight_when_the_current_beats_the_v
     world = World(Bounds(-1500, 4500, -1500, 1500, -100, 0), currents=GriddedCurrent([-1e5, 1e5], [-1e5, 1e5], [0.0],
                   u, v, t=t), margins=Margins(0, 0, 100))
     start, goal, speed = (0.0, 0.0, -50.0), (3000.0, 0.0, -50.0), 1.5
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=100.0, levels=1, dt=60.0))
+    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=100.0, levels=1, dt=60.0, method="lattice"))
     r = plan(PlanningProblem(world, np.array(start), np.array(goal), speed=speed), spec)
     exact, _ = least_time_ode(cfun, np.subtract(goal, start), speed, t_max=10000.0)
     assert r.status is Status.EXACT and exact * (1 - 1e-4) <= r.cost <= 1.01 * exact
@@ -294,7 +295,8 @@ def test_energy_objective_trades_speed_for_power():
     world, _, _ = uniform_world(CASES["steady"])
     problem = PlanningProblem(world, START, GOAL, speed=V, hotel_power=5.0, drag_k=20.0)
     fast = plan(problem, SPEC)
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy"))
+    spec = PlannerSpec(name="timeopt",
+                       timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
     cheap = plan(problem, spec)
     assert cheap.status is Status.EXACT
     assert cheap.cost_terms["speed_m_s"] < V
@@ -336,7 +338,8 @@ def test_cli_departure_sweep(tmp_path, capsys):
 def test_energy_sweep_picks_least_energy_per_departure():
     world, _, _ = uniform_world(CASES["reversing"], tmax=80000.0)
     problem = PlanningProblem(world, START, GOAL, speed=V, hotel_power=5.0, drag_k=20.0)
-    spec = PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy"))
+    spec = PlannerSpec(name="timeopt",
+                       timeopt=TimeoptParams(cell=500.0, levels=1, objective="energy", method="lattice"))
     rows, _ = departure_sweep(problem, spec, [0.0, 20000.0])
     for r in rows:
         assert r.energy_j <= min(r.straight_energy_j, r.steady_energy_j) * (1 + 1e-6)

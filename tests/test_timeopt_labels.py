@@ -51,7 +51,8 @@ def world_of(cfun, tmax: float = 160000.0, dt: float = 60.0) -> World:
 
 
 def spec(depart: float, labels: str = "auto") -> PlannerSpec:
-    return PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, depart_s=depart, labels=labels))
+    return PlannerSpec(name="timeopt", timeopt=TimeoptParams(cell=500.0, levels=1, depart_s=depart, labels=labels,
+                                                                             method="lattice"))
 
 
 @pytest.mark.parametrize(("u", "depart_h"), [(1.3, 9.3), (1.3, 10.3), (1.6, 10.3)])
@@ -93,7 +94,7 @@ def test_rotary_tide_builtin_multi_label_beats_single_label():
     field (the oracle on the World's own current)."""
     world, mission = scenario.build(scenario.load("rotary-tide"))
     problem = planning_problem(world, mission)
-    p = mission.planner
+    p = replace(mission.planner, timeopt=replace(mission.planner.timeopt, method="lattice"))
     single = plan(problem, replace(p, timeopt=replace(p.timeopt, labels="single")))
     multi = plan(problem, p)
     assert single.status is Status.EXACT and multi.status is Status.EXACT
@@ -115,7 +116,8 @@ def test_rotary_tide_planned_duration_is_the_closed_loop_flight():
 
     world, mission = scenario.build(scenario.load("rotary-tide"))
     problem = planning_problem(world, mission)
-    r = plan(problem, replace(mission.planner, timeopt=replace(mission.planner.timeopt, depart_s=3600.0)))
+    r = plan(problem, replace(mission.planner, timeopt=replace(mission.planner.timeopt, depart_s=3600.0,
+                                                                                  method="lattice")))
     assert r.status is Status.EXACT and r.times is not None
     speeds = [np.linalg.norm(world.currents.velocity(START[None], 3600.0 + s)[0]) for s in np.arange(0.0, r.cost, 300)]
     assert max(speeds) > 1.4 * problem.speed

@@ -100,7 +100,7 @@ def test_rotary_tide_departure_without_forward_path_plans_tail_first():
     world, mission = scenario.build(scenario.load("rotary-tide"))
     problem = planning_problem(world, mission)
     d = 18 * 3600.0
-    t = replace(mission.planner.timeopt, depart_s=d)
+    t = replace(mission.planner.timeopt, depart_s=d, method="lattice")
     assert plan(problem, replace(mission.planner, timeopt=replace(t, labels="multi"))).status is Status.INFEASIBLE
     r = plan(problem, replace(mission.planner, timeopt=replace(t, tail_first=True)))
     assert r.status is Status.EXACT and r.times is not None and r.cost_terms["tail_first_legs"] > 0

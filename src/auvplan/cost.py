@@ -42,6 +42,7 @@ import numpy as np
 
 from ._jit import jit_enabled, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
+from .crab import crab_speed, makes_headway
 from .world import UniformCurrent, World
 from .world.terrain import (
     TerrainKernelData,
@@ -323,15 +324,14 @@ def energy_kernel(ex: float, ey: float, ez: float, ds: float, cx: float, cy: flo
     """
     c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0
     c2 = cx * cx + cy * cy + cz * cz
-    disc = speed * speed - max(c2 - c_par * c_par, 0.0)
-    root = math.sqrt(max(disc, 0.0))
-    vg = c_par + root
-    blocked = (disc < 0.0 or vg <= 1e-9) and ds > 0.0
+    g = crab_speed(cx, cy, cz, ex / ds, ey / ds, ez / ds, speed, False, 1.0) if ds > 0.0 else c_par + speed
+    vg = g if g == g else c_par  # (no heading holds the line: the along-line current alone, as before)
+    blocked = not makes_headway(g) and ds > 0.0
     t = ds / (speed if (blocked or vg <= 0.0) else vg) if ds > 0.0 else 0.0
     if document == 2:
-        units = abs(root + c_par) ** 3 * ds / speed
+        units = abs(vg) ** 3 * ds / speed
     elif document:
-        units = abs(root + c_par) ** 3 * ds / max(math.sqrt(c2), 1e-3)
+        units = abs(vg) ** 3 * ds / max(math.sqrt(c2), 1e-3)
     else:
         units = power * t
     return units, power * t, t, blocked
@@ -448,11 +448,18 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         other_slack, other_clear = _obstacle_slack(world, a, b)
     else:
         other_slack = other_clear = np.empty((0, 0))
+    if world.zones:  # the exact segment-vs-prism test; a violation as deep as the trace inside a zone
+        inside = world.zones.inside_lengths(np.stack([a, b], axis=-2))
+        zone_slack = np.where(inside > 0.0, -inside, np.inf)
+        if world.obstacles:
+            other_slack = np.minimum(other_slack, zone_slack)
+        else:
+            other_slack, other_clear = zone_slack, np.full(zone_slack.shape, np.inf)
     m, bd = world.margins, world.bounds
     terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
     cell_max = world.terrain.cell_max if world.terrain is not None else terrain[0][..., 0]
     out = np.empty((7, p.shape[0]))
-    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles), terrain, cell_max,
+    _path_terms(p, current, other_slack, other_clear, bool(world.obstacles) or bool(world.zones), terrain, cell_max,
                 world.terrain is not None,
                 m.min_altitude, np.inf if exact else m.min_altitude,
                 np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,

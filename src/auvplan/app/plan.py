@@ -120,6 +120,9 @@ def simulate_scenario(scenario: str, out: str | None = None, force: bool = False
         run = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    from ..io.scenario.currentspan import run_note
+
+    run_note(sc.source, sc.currents.beyond, world, run)  # issue 51: currents past the file refused (the note: run)
     if out and run.sim is not None:
         result = run.sim
         records.write_sim(Path(out), result, sc.name, seed, result.avoidance, full, world.origin)

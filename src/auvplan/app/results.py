@@ -25,23 +25,29 @@ __all__ = ["FIGURES", "scenario_text", "save_context", "save_plan", "write_resul
            "planned_speeds", "load_results"]
 
 
-def scenario_text(sc: Scenario) -> str:
-    """The text of the scenario file.
+def scenario_text(sc: Scenario, world: World | None = None) -> str:
+    """The text of the scenario file, with the ``[origin]`` and ``[bounds]`` the build derived from ``world``
+    written in (issue 51, :func:`auvplan.io.scenario.saved.with_derived_frame`).
 
     Parameters
     ----------
     sc : Scenario
         The scenario.
+    world : World, optional
+        The world built from it (None: the text as it is).
 
     Returns
     -------
     str
         The file's text (empty where it cannot be read).
     """
+    from ..io.scenario.saved import with_derived_frame
+
     try:
-        return Path(sc.source).read_text(encoding="utf-8")
+        text = Path(sc.source).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError):
         return ""
+    return with_derived_frame(text, world) if world is not None else text
 
 
 def save_context(out: Path, source: str, world: World) -> None:
@@ -86,7 +92,7 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
     from ..sim import RunRecord
     from .ensemble import write_ensemble
 
-    text = scenario_text(sc)
+    text = scenario_text(sc, world)
     empty = result.path[:0].reshape(0, 3)
     records.write_run(out, RunRecord(sc.name, seed, result, empty, empty, None), text, origin=world.origin)
     save_context(out, sc.source, world)
@@ -126,7 +132,9 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
     from ..io.data.geo import LocalFrame
     from ..io.missions.energy import mission_endurance, write_energy
     from ..io.results import records
+    from ..io.scenario.saved import with_derived_frame
 
+    text = with_derived_frame(text, world)  # issue 51: the derived [origin] and [bounds] kept with the results
     if ensemble is not None:
         from .ensemble import write_ensemble
 
@@ -179,7 +187,9 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
                                                 if frame is not None or f not in export.GEOGRAPHIC])
-    export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), formats, full)
+    speeds = planned_speeds(out, record, mission)
+    export.write_exports(out, record, world.origin, speeds, formats, full,
+                         export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record)))
     if endurance is None:
         endurance = mission_endurance(world, mission, record)
     metrics = records.summary_metrics(record)

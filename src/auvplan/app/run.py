@@ -49,7 +49,8 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     Returns
     -------
     tuple
-        The scenario, the run record, its energy assessment (or None) and the notes on the exports.
+        The scenario, the run record, its energy assessment (or None) and the notes: the rule applied to currents
+        past the file (``currents: …``, issue 51), then those on the exports.
     """
     from ..io.missions.energy import mission_endurance
     from ..io.scenario import loader as scenario_io
@@ -68,6 +69,9 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
+    from ..io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, record)  # issue 51: currents past the file refused or said
     endurance = mission_endurance(world, mission, record)
     notes: list[str] = []
     if out:
@@ -75,7 +79,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         ensemble = route_fields(scenario_members(sc, world), world, mission, record.route)
         notes = write_results(Path(out), world, mission, record, scenario_text(sc), sc.source, full=full,
                               endurance=endurance, ensemble=ensemble)
-    return sc, record, endurance, notes
+    return sc, record, endurance, ([note] if note else []) + notes
 
 
 def _formation_names(mission: Mission) -> list[str]:

@@ -57,15 +57,25 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     seed = sc.seed if seed is None else seed
     say(f"planning and flying the survey of {sc.name}")
     run = run_survey(world, mission, params, seed, guidance=guidance)
+    from ..io.scenario.currentspan import run_note
+
+    note = run_note(sc.source, sc.currents.beyond, world, run.record)  # issue 51: refused, or said
     rec = coverage_record(run, params)
+    if note:
+        rec["notes"] = [note]
     if out:
         folder = Path(out)
         say(f"writing the survey, the run files and the mission exports into {folder}")
         write_survey(folder, run, params, world.origin)
+        from ..io.missions.deploy import payload_from_labels
+        from ..io.scenario.saved import with_derived_frame
+
         text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
-        records.write_run(folder, run.record, text, full)
+        records.write_run(folder, run.record, with_derived_frame(text, world), full)  # issue 51: derived frame
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
-        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, formats, full)
+        deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
+                                   payload_from_labels(run.plan.labels))  # issue 51: envelope, payload
+        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, formats, full, deploy)
         from ..viz.survey import coverage_map
 
         coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(

@@ -38,31 +38,33 @@ def cmd_validate(args: argparse.Namespace) -> int:
     world, mission = scenario_io.build(sc)  # every check `plan` and `run` make before their work
     planning_problem(world, mission)
     members = scenario_members(sc, world)  # [currents] members: every one read and checked
-    survey = None
-    if sc.survey is not None:  # every check `survey` makes before planning, before saying OK
-        from ..io.results.survey import survey_params
-
-        survey = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
     b = world.bounds
-    print(f"{sc.source}: OK — {sc.name}")
-    print(f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m")
+    from ..io.scenario.defaults import energy_defaults
+
+    lines = [f"  bounds x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}] m"]
     if world.terrain is not None:
         t = world.terrain
-        print(f"  terrain {t.name}: {t.x.size} x {t.y.size} nodes, cell {t.dx:.0f} m, "
-              f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
+        lines.append(f"  terrain {t.name}: {t.x.size} x {t.y.size} nodes, cell {t.dx:.0f} m, "
+                     f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
         if t.fit is not None:
-            print(f"  {t.fit.describe()}")
-    print(f"  start {list(mission.start)} goal {list(mission.goal)}; "
-          f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+            lines.append(f"  {t.fit.describe()}")
+    lines.append(f"  start {list(mission.start)} goal {list(mission.goal)}; "
+                 f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
     if members:
-        print(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
-              + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
+        lines.append(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
+                     + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
     if sc.mission.confidence:
-        print(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
-    if sc.survey is not None and survey is not None:
-        kind = "corridor" if sc.survey.corridor else "survey"
-        print(f"  {kind} of {survey.area.area / 1e6:.3g} km² with a {sc.survey.sensor} ({sc.survey.mounting} mounting)"
-              + (f", {sc.survey.tie_lines} tie lines" if sc.survey.tie_lines else ""))
+        lines.append(f"  seabed: the worst case at {100 * sc.mission.confidence:g} % ([terrain] uncertainty)")
+    if sc.survey is not None:
+        from ..io.results.survey import survey_params
+
+        area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
+        lines.append(f"  {'corridor' if sc.survey.corridor else 'survey'} of {area.area / 1e6:.3g} km² with a "
+                     f"{sc.survey.sensor} ({sc.survey.mounting} mounting)"
+                     + (f", {sc.survey.tie_lines} tie lines" if sc.survey.tie_lines else ""))
+    lines += [f"  note: {d}" for d in energy_defaults(sc)]
+    # issue 51: OK only once every check above has passed (an error is exit 2 with nothing printed on stdout)
+    print("\n".join([f"{sc.source}: OK — {sc.name}", *lines]))
     return 0
 
 

@@ -73,10 +73,18 @@ def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> 
     return prepare_out(args.out, names, force=getattr(args, "force", False))
 
 
+JSON_WARNINGS: list[str] = []
+"""Warnings (logging and Python) raised while a ``--json`` command ran: :func:`emit` puts them in the JSON
+object's ``warnings`` instead of on stderr (issue 51: ``--json`` leaves stderr empty on success)."""
+
+
 def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
-    """A command's record: one JSON object on stdout with ``as_json``, else the human text."""
+    """A command's record: one JSON object on stdout with ``as_json`` (with the ``warnings`` collected while it
+    ran, :data:`JSON_WARNINGS`), else the human text."""
     from ..io.results import records
 
+    if as_json and JSON_WARNINGS:
+        record = {**record, "warnings": list(JSON_WARNINGS)}
     if as_json:
         sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:

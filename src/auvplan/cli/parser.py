@@ -319,8 +319,12 @@ def main(argv: list[str] | None = None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
         return int(exc.code or 0)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
-                        format="%(levelname)s %(name)s: %(message)s")
+    undo: Callable[[], None] = _nothing
+    if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
+        undo = _collect_warnings()
+    else:
+        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+                            format="%(levelname)s %(name)s: %(message)s")
     try:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
@@ -339,6 +343,43 @@ def main(argv: list[str] | None = None) -> int:
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    finally:
+        undo()
+
+
+def _nothing() -> None:
+    """Nothing to undo."""
+
+
+def _collect_warnings() -> Callable[[], None]:
+    """Send logging warnings and Python warnings of a ``--json`` command to the JSON object's ``warnings``
+    (:data:`auvplan.cli.output.JSON_WARNINGS`) instead of stderr; returns what undoes it."""
+    import warnings
+
+    from .output import JSON_WARNINGS
+
+    JSON_WARNINGS.clear()
+
+    class _Collect(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            JSON_WARNINGS.append(f"{record.name}: {record.getMessage()}")
+
+    root, handler, shown, level = logging.getLogger(), _Collect(logging.WARNING), warnings.showwarning, None
+    level = root.level
+    root.addHandler(handler)
+    root.setLevel(min(level or logging.WARNING, logging.WARNING))
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        JSON_WARNINGS.append(f"{category.__name__}: {message}")
+
+    warnings.showwarning = show
+
+    def undo() -> None:
+        root.removeHandler(handler)
+        root.setLevel(level)
+        warnings.showwarning = shown
+
+    return undo
 
 
 def _writes_html(args: argparse.Namespace) -> bool:

@@ -28,7 +28,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
                            "[planner.timeopt] objective in the scenario for one plan")
     sc, result, seed, world, ensemble = plan_scenario(
         args.scenario, args.out, getattr(args, "force", False), args.planner, args.budget,
-        getattr(args, "pipeline", None), args.seed, getattr(args, "reference", False), reporter(args.quiet))
+        getattr(args, "pipeline", None), args.seed, getattr(args, "reference", False),
+        reporter(args.quiet or args.json))  # issue 51: --json leaves stderr empty
     record = records.plan_record(result, sc.name, seed)
     record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:

@@ -43,8 +43,9 @@ def cmd_export(args: argparse.Namespace) -> int:
     from ..io.missions import export
 
     out, record, _, world, mission = _load(args)
-    for p in export.write_exports(out, record, world.origin, planned_speeds(out, record, mission), args.format,
-                                  args.full):
+    speeds = planned_speeds(out, record, mission)
+    deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))  # issue 51
+    for p in export.write_exports(out, record, world.origin, speeds, args.format, args.full, deploy):
         print(p)
     return 0
 
@@ -72,6 +73,11 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
         print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
               + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
         print(f"{name}: {c.energy_line}")
+        print(f"{name}: {c.deploy_line}")
+        for z in c.zones:
+            legs = ", ".join(str(k) for k in z.entered_legs)
+            print(f"{name} zone {z.name!r}: " + (f"FAIL — entered by leg{'s' if len(z.entered_legs) > 1 else ''} "
+                  f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m"))
         if sc.mission.confidence:
             print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
                   f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")

@@ -89,15 +89,21 @@ def cmd_run(args: argparse.Namespace) -> int:
     sc, record, endurance, notes = run_scenario(args.scenario, args.out, args.guidance, args.avoidance, args.seed,
                                                 full=args.full, force=args.force, planner=args.planner,
                                                 reporter=reporter(args.quiet or args.json))
-    _notes(notes)
+    said = [n for n in notes if n.startswith("currents:")]  # issue 51: the rules the run applied to its inputs
+    if not args.json:  # --json: stderr stays empty on success, the notes go into the JSON object
+        _notes([n for n in notes if n not in said])
     rec = records.run_record(record)
     if endurance is not None:
         from ..io.missions.energy import energy_record
+        from ..io.scenario.defaults import energy_defaults
 
         rec["energy"] = records.jsonable(energy_record(endurance))
         if record.status.ok and not endurance.status.ok:
             rec["status"] = endurance.status.value
-    emit(rec, args.json, describe_run(sc.name, record, endurance))
+        said += energy_defaults(sc)
+    if notes or said:
+        rec["notes"] = said + [n for n in notes if n not in said]
+    emit(rec, args.json, describe_run(sc.name, record, endurance) + "".join(f"\n  note: {n}" for n in said))
     if args.out and not args.json:
         print(f"results in {args.out}/")
     return 0 if record.status.ok and (endurance is None or endurance.status.ok) else 1

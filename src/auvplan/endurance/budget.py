@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
+from ..crab import crab_speed, makes_headway
 from ..world import World
 from .power import WH, EnergyModel
 
@@ -55,12 +56,10 @@ def ground_speed(current: F64, tangent: F64, speed: float, tail: bool = False) -
         ``c·ŝ + √(V² − |c⊥|²)`` (``c·ŝ − √(V² − |c⊥|²)`` tail-first) (m/s); ``nan`` where that
         heading cannot hold the track or makes no headway along it.
     """
-    c_par = float(current @ tangent)
-    disc = speed * speed - max(float(current @ current) - c_par * c_par, 0.0)
-    if disc < 0.0:
-        return math.nan
-    g = c_par - math.sqrt(disc) if tail else c_par + math.sqrt(disc)
-    return g if g > 1e-6 else math.nan
+    c, e = current, tangent
+    g = float(crab_speed(float(c[0]), float(c[1]), float(c[2]), float(e[0]), float(e[1]), float(e[2]), speed,
+                         bool(tail), 1.0))
+    return g if makes_headway(g) else math.nan
 
 
 @dataclass(frozen=True, eq=False)

@@ -22,7 +22,8 @@ machine) minutes later.  The per-item byte counts are measured peaks (``tracemal
 * the time-optimal planner (``[planner.timeopt]``): ~900 B per lattice node (positions, clearances,
   the 50 leg flags, the search's arrays) and ~44 B per node and time step of its current table
   (sampled as float64, kept as float32), ``horizon_s / dt`` steps (measured on juan-de-fuca-tides,
-  31 236 and 62 472 nodes × 97 and 383 steps: 840 B and 40 B);
+  31 236 and 62 472 nodes × 97 and 383 steps: 840 B and 40 B), and the front method's stored fronts,
+  8 B per horizontal node and step of a cell at ``V + 1.5 V`` over the horizon;
 * a results folder's ``run.npz``: each member's declared shape × item size (its header) and its
   uncompressed size (the archive's directory), whichever is larger;
 * a formation's slot tracks (``[formation] sample_m``): ~400 B per vehicle and sample (tracks,
@@ -49,6 +50,7 @@ from ..errors import DataError, ScenarioError
 __all__ = [
     "Limits",
     "BYTES_PER_TERRAIN_NODE",
+    "BYTES_PER_FRONT_SAMPLE",
     "BYTES_PER_SAMPLE",
     "BYTES_PER_WALK_STEP",
     "BYTES_PER_LATTICE_NODE",
@@ -71,6 +73,8 @@ __all__ = [
 ]
 
 BYTES_PER_TERRAIN_NODE = 160
+#: The front method's stored level-set function: float32 per horizontal node and step, and its stacked copy.
+BYTES_PER_FRONT_SAMPLE = 8
 BYTES_PER_SAMPLE = 200
 BYTES_PER_WALK_STEP = 100
 BYTES_PER_LATTICE_NODE = 48
@@ -237,7 +241,7 @@ def _npz_headers(path: Path) -> list[tuple[str, tuple[int, ...], np.dtype[np.gen
 
 
 def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon_s: float,
-                 dt: float) -> tuple[float, float, float]:
+                 dt: float, front_speed: float = 0.0) -> tuple[float, float, float]:
     """Estimate the time-optimal planner's lattice and current table (as ``timeplan.setup`` builds them).
 
     Parameters
@@ -252,6 +256,10 @@ def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon
         Time the table covers (s).
     dt : float
         Table time step (s).
+    front_speed : float, default 0
+        The front method's ``V + max |c|`` (m/s; 0: no front): it keeps its level-set function,
+        float32, at every horizontal node for every step of a cell at that speed over the horizon
+        (:data:`BYTES_PER_FRONT_SAMPLE` with the copy that stacks them).
 
     Returns
     -------
@@ -263,7 +271,9 @@ def timeopt_size(span_x: float, span_y: float, cell: float, levels: int, horizon
         return math.inf, math.inf, math.inf
     nodes = (_floor(span_x / cell + 1e-9) + 1.0) * (_floor(span_y / cell + 1e-9) + 1.0) * max(levels, 1)
     steps = max(-_floor(-horizon_s / dt), 1.0) + 1.0
-    return nodes, steps, nodes * (BYTES_PER_TIMEOPT_NODE + steps * BYTES_PER_TABLE_SAMPLE)
+    front = nodes / max(levels, 1) * (horizon_s * front_speed / cell + 2.0) * BYTES_PER_FRONT_SAMPLE \
+        if front_speed else 0.0
+    return nodes, steps, nodes * (BYTES_PER_TIMEOPT_NODE + steps * BYTES_PER_TABLE_SAMPLE) + front
 
 
 def lattice_bytes(nodes: float) -> float:

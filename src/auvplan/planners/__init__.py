@@ -72,13 +72,23 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
         Status, path, cost terms and history; a failure is a status, never an exception.  With
         ``problem.limits`` the result is held to the vehicle's limits
         (:func:`~auvplan.planners.vehicle_limits.enforce_limits`: pitch repaired, else ``INFEASIBLE``).
+        A plan whose path enters one of the world's ``[[zones]]`` is ``INFEASIBLE``, naming the zone and
+        the leg (:func:`~auvplan.planners.zone_check.hold_to_zones`).
+
+    Raises
+    ------
+    ScenarioError
+        If the world has zones and the planner cannot keep out of them (``flow``).
     """
     from .vehicle_limits import enforce_limits
+    from .zone_check import hold_to_zones, refuse_unless_zones
 
-    result = get(spec.name).run(problem, spec, rng, progress)
+    entry = get(spec.name)
+    refuse_unless_zones(problem, entry)
+    result = entry.run(problem, spec, rng, progress)
     if not isinstance(result, PlanResult):  # a planner registered from outside that breaks the interface
         raise TypeError(f"planner {spec.name!r} returned {type(result).__name__}, not a PlanResult")
-    return enforce_limits(problem, spec, result)
+    return hold_to_zones(problem, enforce_limits(problem, spec, result))
 
 
 REFERENCE_SWARMS = ("iabc", "pso", "de")
@@ -121,5 +131,8 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
                                                                budget=2 * spec.evaluations), seed))
         if run.status.ok and run.cost < best.cost:
             best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations, refined)"
-    return replace(best, planner="grid", message=f"{grid.message}; best of {1 + len(swarms)} (lattice, "
-                   f"{', '.join(swarms)} at twice the budget, each refined): {label}")
+    from .zone_check import hold_to_zones
+
+    message = (f"{grid.message}; best of {1 + len(swarms)} (lattice, {', '.join(swarms)} at twice the budget, "
+               f"each refined): {label}")
+    return hold_to_zones(problem, replace(best, planner="grid", message=message))

@@ -202,6 +202,12 @@ class TimeoptParams:
     tail_first : bool
         Let the multi-label search also fly a leg tail-first (heading against its line, carried along
         it by a current stronger than the vehicle; docs/timeopt.md).
+    method : str
+        ``"front"`` (the reachable set's front on a horizontal grid, backtracked and refined by
+        Zermelo's heading equation; the lattice search when it finds no flyable path) or
+        ``"lattice"`` (the lattice search alone).
+    headings : int
+        Headings tried per node and step by the front (and one more at the parabola's vertex).
     """
 
     objective: str = "time"
@@ -217,8 +223,14 @@ class TimeoptParams:
     label_dt: float = 0.0
     max_labels: int = 4_000_000
     tail_first: bool = False
+    method: str = "front"
+    headings: int = 16
 
     def __post_init__(self) -> None:
+        if self.method not in ("front", "lattice"):
+            raise ValueError(f"method = {self.method!r}: choose 'front' or 'lattice'")
+        if self.headings < 4:
+            raise ValueError(f"headings = {self.headings}: must be >= 4")
         if self.labels not in ("auto", "single", "multi"):
             raise ValueError(f"labels = {self.labels!r}: choose 'auto', 'single' or 'multi'")
         if self.label_dt < 0 or self.max_labels < 1:

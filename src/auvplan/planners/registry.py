@@ -33,7 +33,7 @@ from importlib import metadata
 from typing import Any, Literal
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get", "names", "known", "load_plugins", "ENTRY_POINTS",
-           "PLANNERS", "SWARM", "PIPELINES", "Deterministic", "deterministic_run"]
+           "PLANNERS", "SWARM", "PIPELINES", "CAPABILITIES", "has", "Deterministic", "deterministic_run"]
 
 PlannerFn = Callable[..., Any]
 """``run(problem, spec, rng, progress) -> PlanResult``."""
@@ -55,6 +55,17 @@ SWARM = ("iabc", "abc", "ga", "pso", "de")
 ``progress(iteration, best)``)."""
 PIPELINES = ("seeded", "document", "progressive")
 """The swarm planners' pipelines (``[planner] pipeline``)."""
+
+CAPABILITIES = {
+    "path_cost": "its result's cost is the project's path cost (length + terrain + energy, auvplan.cost), so a "
+                 "repaired path is re-costed by that cost and no other",
+    "currents": "its cost or its timing accounts for the world's currents",
+    "time_varying": "it plans in currents that change with time (a departure time and timed waypoints)",
+    "zones": "it keeps out of the world's charted no-go zones ([[zones]]); a planner without it is refused in a "
+             "world that has any (auvplan.planners.plan)",
+}
+"""What a planner may declare at registration (:func:`register`'s ``capabilities``), and what each means.
+The rest of the package asks :func:`has`, never a planner's name."""
 
 
 def deterministic_run(plan: PlannerFn, takes: Deterministic, name: str) -> PlannerFn:
@@ -119,6 +130,8 @@ class PlannerEntry:
         None: ``target`` is ``run(problem, spec, rng, progress)``.  Otherwise ``target`` is a deterministic
         ``plan(problem, spec)`` (``"spec"``) or ``plan(problem, settings)`` (``"settings"``), which
         :attr:`run` calls under the registry's signature (:func:`deterministic_run`).
+    capabilities : frozenset of str
+        What it declares it does (keys of :data:`CAPABILITIES`).
     """
 
     name: str
@@ -128,6 +141,7 @@ class PlannerEntry:
     params: type | str | None = None
     table: str | None = None
     deterministic: Deterministic | None = None
+    capabilities: frozenset[str] = frozenset()
 
     @property
     def run(self) -> PlannerFn:
@@ -166,15 +180,23 @@ def _add(entry: PlannerEntry) -> None:
                          "'settings'")
     if entry.deterministic is not None and entry.iterative:
         raise ValueError(f"planner {entry.name!r}: a deterministic plan function does not iterate")
+    unknown = sorted(entry.capabilities - CAPABILITIES.keys())
+    if unknown:
+        raise ValueError(f"planner {entry.name!r}: capabilities {unknown} unknown; choose from "
+                         f"{', '.join(CAPABILITIES)}")
     if entry.name in REGISTRY:
         raise ValueError(f"planner {entry.name!r} is already registered")
     REGISTRY[entry.name] = entry
 
 
-def register(name: str, *, iterative: bool, description: str, params: type | None = None,
-             deterministic: Deterministic | None = None) -> Callable[[PlannerFn], PlannerFn]:
+def register(name: str, *, iterative: bool, description: str, params: type | str | None = None,
+             deterministic: Deterministic | None = None, capabilities: tuple[str, ...] = (),
+             table: str | None = None) -> Callable[[PlannerFn | str], PlannerFn | str]:
     """Decorator: register ``run(problem, spec, rng, progress)`` as planner ``name`` (or, with
     ``deterministic``, a ``plan(problem, spec)`` or ``plan(problem, settings)``).
+
+    The built-in planners register through it too, applied to the ``"module:function"`` path of their
+    function (imported when first run) instead of the function itself.
 
     Parameters
     ----------
@@ -191,24 +213,55 @@ def register(name: str, *, iterative: bool, description: str, params: type | Non
     deterministic : {"spec", "settings"}, optional
         The decorated function is a deterministic ``plan(problem, spec)`` (``"spec"``) or
         ``plan(problem, settings)`` (``"settings"``): no generator, no progress (``iterative`` False).
+    capabilities : tuple of str, optional
+        What the planner does (keys of :data:`CAPABILITIES`); the package asks :func:`has`.
+    table : str, optional
+        Built-in planners only: the :class:`~auvplan.planners.base.PlannerSpec` attribute that holds
+        their settings (``"iabc"``, ``"flow"`` …).
 
     Returns
     -------
     callable
-        The decorator; it returns the function unchanged.
+        The decorator; it returns the function (or path) unchanged.
 
     Raises
     ------
     ValueError
-        If ``name`` is already registered or is not an identifier, or ``deterministic`` is not one of the
-        two forms or comes with ``iterative`` (when the decorator is applied).
+        If ``name`` is already registered or is not an identifier, a capability is unknown, or
+        ``deterministic`` is not one of the two forms or comes with ``iterative`` (when the decorator is
+        applied).
     """
 
-    def add(run: PlannerFn) -> PlannerFn:
-        _add(PlannerEntry(name, run, iterative, description, params, None, deterministic))
+    def add(run: PlannerFn | str) -> PlannerFn | str:
+        _add(PlannerEntry(name, run, iterative, description, params, table, deterministic, frozenset(capabilities)))
         return run
 
     return add
+
+
+def has(name: str, capability: str) -> bool:
+    """Whether the planner ``name`` declared ``capability`` at registration.
+
+    Parameters
+    ----------
+    name : str
+        A registered planner name.
+    capability : str
+        A key of :data:`CAPABILITIES`.
+
+    Returns
+    -------
+    bool
+        True when it declared it; False for an unknown planner name (a result with no planner).
+
+    Raises
+    ------
+    ValueError
+        If ``capability`` is not a key of :data:`CAPABILITIES`.
+    """
+    if capability not in CAPABILITIES:
+        raise ValueError(f"unknown capability {capability!r}; choose from {', '.join(CAPABILITIES)}")
+    return known(name) and capability in REGISTRY[name].capabilities
 
 
 def load_plugins() -> None:
@@ -281,18 +334,19 @@ _SWARM_TEXT = {
     "pso": ("particle swarm (Clerc-Kennedy constants) over B-splines", "auvplan.optim.pso:PSOParams"),
     "de": ("scipy's differential evolution (vectorised) over B-splines", "auvplan.optim.de:DEParams"),
 }
+# the built-in planners, through the same register() as outside ones, by the dotted path of their function
 for _name, (_text, _params) in _SWARM_TEXT.items():
-    _add(PlannerEntry(_name, "auvplan.planners.swarm.planner:plan_swarm", True, _text, _params, _name))
-# the deterministic planners: their plan functions, called under the registry's signature
-_add(PlannerEntry("flow", "auvplan.planners.flow.planner:plan_flow", False,
-                  "potential-flow streamline from the start (document 000)", "auvplan.planners.params:FlowParams",
-                  "flow", deterministic="settings"))
-_add(PlannerEntry("grid", "auvplan.planners.grid.planner:plan_grid", False,
-                  "lattice reference: Dijkstra cost-to-go, elastic band, B-spline",
-                  "auvplan.planners.params:GridParams", "grid", deterministic="spec"))
-_add(PlannerEntry("timeopt", "auvplan.planners.timeopt.planner:plan_timeopt", False,
-                  "time-optimal path in tidal currents, departure time given", "auvplan.planners.params:TimeoptParams",
-                  "timeopt", deterministic="spec"))
+    register(_name, iterative=True, description=_text, params=_params, table=_name,
+             capabilities=("path_cost", "currents", "zones"))("auvplan.planners.swarm.planner:plan_swarm")
+register("flow", iterative=False, description="potential-flow streamline from the start (document 000)",
+         params="auvplan.planners.params:FlowParams", table="flow",
+         deterministic="settings")("auvplan.planners.flow.planner:plan_flow")
+register("grid", iterative=False, description="lattice reference: Dijkstra cost-to-go, elastic band, B-spline",
+         params="auvplan.planners.params:GridParams", table="grid", deterministic="spec",
+         capabilities=("path_cost", "currents", "zones"))("auvplan.planners.grid.planner:plan_grid")
+register("timeopt", iterative=False, description="time-optimal path in tidal currents, departure time given",
+         params="auvplan.planners.params:TimeoptParams", table="timeopt", deterministic="spec",
+         capabilities=("currents", "time_varying", "zones"))("auvplan.planners.timeopt.planner:plan_timeopt")
 
 if tuple(REGISTRY) != PLANNERS:  # pragma: no cover - a programming error
     raise RuntimeError(f"registry {tuple(REGISTRY)} does not match PLANNERS {PLANNERS}")

@@ -23,7 +23,7 @@ from ..path.pitch import pitch_profile
 from ..world import World
 from .base import PlannerSpec, PlanningProblem, PlanResult
 from .grid.band import path_cost
-from .registry import SWARM
+from .registry import has
 
 __all__ = ["enforce_limits", "repair_pitch", "vertex_floors"]
 
@@ -124,7 +124,7 @@ def enforce_limits(problem: PlanningProblem, spec: PlannerSpec, result: PlanResu
                 note = (f"depth profile repaired to max_pitch_deg = {lim.max_pitch_deg:g} (was "
                         f"{report.max_pitch_deg:.1f}° on leg {report.max_pitch_leg})")
                 out = replace(result, path=fixed, message="; ".join(x for x in (result.message, note) if x))
-                if result.planner in SWARM or result.planner == "grid":
+                if has(result.planner, "path_cost"):
                     terms = path_cost(problem, spec, fixed)
                     total = terms.pop("total")
                     out = replace(out, cost=float(total), cost_terms={**result.cost_terms, **terms},

@@ -12,6 +12,7 @@ labels overlap (:mod:`auvplan.viz.chartmarks`); the legend sits outside the data
 from __future__ import annotations
 
 import numpy as np
+import shapely
 
 from ..sim import RunRecord
 from ..world import World
@@ -148,7 +149,8 @@ def _place(fig: go.Figure, world: World, labels: list[tuple[list[tuple[float, fl
         if pos is None:
             continue
         x, y = c[pos]
-        style = dict(size=10, color="rgba(0,0,0,0.8)") if kind == "isobath" else dict(size=12, color="black")
+        style = dict(size=10, color="rgba(0,0,0,0.8)") if kind == "isobath" else \
+            dict(size=11, color="rgb(150,0,95)") if kind == "zone" else dict(size=12, color="black")
         fig.add_annotation(x=x, y=y, text=text, showarrow=False, font=style, name=f"label-{kind}",
                            bgcolor="rgba(255,255,255,0.55)" if kind == "isobath" else "rgba(255,255,255,0.8)",
                            borderpad=1)
@@ -207,11 +209,37 @@ def _obstacles(fig: go.Figure, world: World, record: RunRecord) -> None:
                              marker=dict(symbol="circle-open", size=9, color=ROLE["moving"], line=dict(width=2))))
 
 
-def _mission(fig: go.Figure, world: World, record: RunRecord) -> list[tuple[list[tuple[float, float]], str, str]]:
-    """Obstacles, path, key waypoints, the track coloured by altitude, start and goal; returns the
-    labels of the key waypoints, start and goal for :func:`_place`."""
-    _obstacles(fig, world, record)
+def _zones(fig: go.Figure, world: World) -> list[tuple[list[tuple[float, float]], str, str]]:
+    """The charted no-go zones inside the bounds, filled in chart magenta; returns their name labels."""
+    if not world.zones:
+        return []
+    b = world.bounds
+    box = shapely.box(b.xmin, b.ymin, b.xmax, b.ymax)
     labels: list[tuple[list[tuple[float, float]], str, str]] = []
+    first = True
+    for z in world.zones.exact.zones:
+        shown = shapely.intersection(z.footprint, box)
+        rings = [np.asarray(r.coords) for p in shapely.get_parts(shown) if shapely.get_type_id(p) == 3
+                 for r in (p.exterior, *p.interiors)]
+        if not rings:
+            continue
+        xs = np.concatenate([np.append(r[:, 0], np.nan) for r in rings])
+        ys = np.concatenate([np.append(r[:, 1], np.nan) for r in rings])
+        fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", fill="toself", name="no-go zones", legendgroup="zones",
+                                 showlegend=first, meta=dict(kind="zone", name=z.name), hoverinfo="text",
+                                 text=f"{z.name}: {z.band}", line=dict(color="rgb(190,0,120)", width=1.2),
+                                 fillcolor="rgba(190,0,120,0.25)"))
+        first = False
+        c = shapely.get_coordinates(shapely.point_on_surface(shown))[0]
+        labels.append(([(float(c[0]), float(c[1]))], z.name, "zone"))
+    return labels
+
+
+def _mission(fig: go.Figure, world: World, record: RunRecord) -> list[tuple[list[tuple[float, float]], str, str]]:
+    """Zones, obstacles, path, key waypoints, the track coloured by altitude, start and goal; returns the
+    labels of the zones, the key waypoints, start and goal for :func:`_place`."""
+    labels = _zones(fig, world)
+    _obstacles(fig, world, record)
     r = 14.0 / _px_per_m(world)
     route = record.plan.path if record.plan is not None and record.plan.path.size else record.route
     if route.size:

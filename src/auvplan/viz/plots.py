@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import shapely
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.colors import Normalize
@@ -140,6 +141,26 @@ def _obstacles(ax: Axes, world: World, t: float | None = None) -> None:
                                     alpha=0.4))
 
 
+def _zones(ax: Axes, world: World) -> None:
+    """The charted no-go zones, filled in chart magenta and named."""
+    if not world.zones:
+        return
+    b = world.bounds
+    box = shapely.box(b.xmin, b.ymin, b.xmax, b.ymax)
+    for i, z in enumerate(world.zones.exact.zones):
+        shown = shapely.intersection(z.footprint, box)
+        for part in shapely.get_parts(shown):
+            if shapely.get_type_id(part) == 3:
+                xy = np.asarray(part.exterior.coords)
+                ax.fill(xy[:, 0], xy[:, 1], color="#be0078", alpha=0.3, lw=1.0, ec="#be0078",
+                        label="no-go zones" if i == 0 else None)
+                i = 1
+        if not shown.is_empty:
+            c = shapely.get_coordinates(shapely.point_on_surface(shown))[0]
+            ax.annotate(z.name, (float(c[0]), float(c[1])), fontsize=7, color="#96005f", ha="center",
+                        bbox=dict(boxstyle="round,pad=0.1", fc="white", alpha=0.6, lw=0))
+
+
 def plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None) -> Figure:
     """Draw the route (global path) against the flown track, with obstacles and key waypoints, on a
     chart framed on the scenario's bounds (isobaths, coastline, graticule, scale bar, north arrow).
@@ -160,6 +181,7 @@ def plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None
     """
     fig, ax = _subplots(figsize=(7.5, 6.5))
     _seabed(ax, world)
+    _zones(ax, world)
     _obstacles(ax, world)
     if record.route.size:
         ax.plot(record.route[:, 0], record.route[:, 1], "--", color=ROLE["path"], lw=1.5, label="route")

@@ -7,6 +7,7 @@ from .obstacles import Ellipsoid, Sphere
 from .terrain import Terrain
 from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World
+from .zones import Zone, ZoneApproach, Zones
 
 __all__ = [
     "Bounds",
@@ -27,4 +28,7 @@ __all__ = [
     "UniformCurrent",
     "WaypointMotion",
     "World",
+    "Zone",
+    "Zones",
+    "ZoneApproach",
 ]

@@ -23,6 +23,7 @@ from .land import Land
 from .moving import MovingObstacle
 from .obstacles import Shape
 from .terrain import Terrain
+from .zones import Zones
 
 __all__ = ["Bounds", "Margins", "World"]
 
@@ -155,6 +156,9 @@ class World:
         Land polygons (coastlines).  The terrain is raised above the surface on every cell that
         touches land (:meth:`Land.burn`), so the cost, the planners and the simulator keep off it;
         :meth:`is_free` and :meth:`segments_free` also test the polygons exactly.
+    zones : Zones or None
+        Charted no-go prisms (cables, wrecks, restricted areas …): :meth:`segments_free` tests them
+        exactly (:meth:`Zones.entries`) and :meth:`clearances` reports the distance to them.
 
     Raises
     ------
@@ -171,6 +175,7 @@ class World:
     origin: tuple[float, float] | None = None
     name: str = ""
     land: Land | None = None
+    zones: Zones | None = None
 
     def __post_init__(self) -> None:
         if self.land is not None:
@@ -229,8 +234,9 @@ class World:
         -------
         dict of str to numpy.ndarray
             Keys ``altitude``, ``surface``, ``max_depth``, ``bounds``, ``obstacles`` (static),
-            ``moving`` and ``land`` (horizontal distance to the shoreline, negative on land), each
-            ``(...)`` (m).  Missing constraints are ``+inf``.
+            ``moving``, ``land`` (horizontal distance to the shoreline, negative on land) and ``zones``
+            (:meth:`Zones.signed_distance`, negative inside a zone), each ``(...)`` (m).  Missing
+            constraints are ``+inf``.
         """
         p = as_points(points)
         shape = p.shape[:-1]
@@ -250,6 +256,7 @@ class World:
         else:
             out["moving"] = np.full(shape, np.inf)
         out["land"] = np.full(shape, np.inf) if self.land is None else self.land.signed_distance(p)
+        out["zones"] = np.full(shape, np.inf) if not self.zones else self.zones.signed_distance(p)
         return out
 
     def _obstacle_slack(self, shapes: Iterable[Shape], p: FloatArray) -> FloatArray:
@@ -322,6 +329,7 @@ class World:
             "obstacles": f"within {self.margins.obstacle:g} m of a static obstacle",
             "moving": f"within {self.margins.obstacle:g} m of a moving obstacle",
             "land": "on land" + (f" ({self.land.name})" if self.land is not None and self.land.name else ""),
+            "zones": "inside a no-go zone" + (f" ({self.zone_at(point)})" if self.zones else ""),
         }
         bad = [f"{words[k]} (slack {v:.2f} m)" for k, v in c.items() if v < 0]
         return "; ".join(bad)
@@ -382,7 +390,31 @@ class World:
             idx = np.flatnonzero(flat)
             flat[idx] = ~self.land.segments_hit(s.reshape(-1, 2, 3)[idx])
             ok = flat.reshape(np.shape(ok))
+        if self.zones and ok.any():  # exact segment-vs-prism test of the charted zones
+            flat = np.array(ok, dtype=bool).reshape(-1)
+            idx = np.flatnonzero(flat)
+            flat[idx] = ~self.zones.segments_enter(s.reshape(-1, 2, 3)[idx])
+            ok = flat.reshape(np.shape(ok))
         return ok
+
+    def zone_at(self, point: ArrayLike) -> str:
+        """The names of the zones a point is inside (for messages).
+
+        Parameters
+        ----------
+        point : array_like
+            One point ``(3,)`` (m).
+
+        Returns
+        -------
+        str
+            Comma-separated names; ``""`` outside every zone.
+        """
+        if not self.zones:
+            return ""
+        p = np.asarray(point, dtype=float).reshape(1, 3)
+        _, zi = self.zones.entries(np.stack([p, p], axis=1))
+        return ", ".join(self.zones.names[j] for j in zi)
 
     def path_free(self, points: ArrayLike, t: float = 0.0, moving: bool = False) -> bool:
         """Whether the polyline through the points is free everywhere.

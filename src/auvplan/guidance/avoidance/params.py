@@ -43,7 +43,7 @@ class AvoidanceParams:
     history_dt : float
         Interval between remembered own positions (s).
     escape_radius : float
-        ``escape = "sampled"``: radius about the vehicle in which random escape sub-goals are drawn (m).
+        Radius about the vehicle in which the sampled rule (``escape``) draws its escape sub-goals (m).
     escape : str
         The local-minimum escape rule.  ``"auto"`` (the default): ``"patent"`` under document 004's
         ``apf``, ``"sampled"`` under ``predictive`` (:attr:`escape_rule`).  ``"sampled"``: draws within

@@ -160,7 +160,7 @@ def envelopes_free(world: World, a: ArrayLike, b: ArrayLike) -> NDArray[np.bool_
     """Test where the envelope of each leg ``a -> b`` satisfies every static constraint.
 
     Seabed (exact, flat leg at the deeper end), depth limits and bounds (at the ends: the envelope's
-    corners), static obstacles (exact rectangle test with the obstacle margin).
+    corners), static obstacles (exact rectangle test with the obstacle margin), charted zones (exact).
 
     Parameters
     ----------
@@ -183,6 +183,8 @@ def envelopes_free(world: World, a: ArrayLike, b: ArrayLike) -> NDArray[np.bool_
         ok &= np.minimum(a[:, 2], b[:, 2]) >= leg_floors(world, a, b)
     for shape in world.obstacles:
         ok &= ~envelope_hits(shape, a, b, m.obstacle)
+    if world.zones:  # charted no-go zones, exact (Zones.envelopes_enter)
+        ok &= ~world.zones.envelopes_enter(a, b)
     return ok
 
 
@@ -317,8 +319,9 @@ def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = Non
     spacing : float, optional
         Longest horizontal leg before simplification (m); the smaller terrain cell by default.
     slack : float
-        Extra altitude (m) the mission keeps beyond ``min_altitude``, so that the rounding of
-        exported coordinates (≤ 0.0005 m in the local formats) cannot take it below.
+        Extra altitude (m) the mission keeps beyond ``min_altitude``, and distance off the charted
+        zones (the zones themselves, not the planners' pad), so that the rounding of exported
+        coordinates (≤ 0.0005 m in the local formats) cannot take it below or inside.
 
     Returns
     -------
@@ -334,7 +337,8 @@ def build_waypoints(path: ArrayLike, world: World, tolerance: float | None = Non
         return p.copy()
     tol = default_tolerance(p) if tolerance is None else float(tolerance)
     m = world.margins
-    world = replace(world, margins=replace(m, min_altitude=m.min_altitude + slack))
+    world = replace(world, margins=replace(m, min_altitude=m.min_altitude + slack),
+                    zones=world.zones.with_pad(slack) if world.zones else world.zones)  # the same slack off zones
     if world.terrain is not None:
         step = min(world.terrain.dx, world.terrain.dy) if spacing is None else float(spacing)
         p = _raise_to_floors(world, _densify(p, step))

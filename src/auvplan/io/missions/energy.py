@@ -207,7 +207,7 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     line : str
         The verdict in one line.
     """
-    waypoints = read_mission(path, world.origin)[0]
+    waypoints = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)[0]
     if waypoints.shape[0] < 2:
         return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
     model = EnergyModel.from_vehicle(mission.vehicle)

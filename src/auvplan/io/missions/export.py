@@ -14,10 +14,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
 from ...path import arc_length
-from ...sim import RunRecord, decimate, record_tail
+from ...sim import Mission, RunRecord, decimate, record_tail
+from ...world import World
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, summary_metrics, write_text
+from . import deploy_formats as dfmt
 from . import formats as mfmt
+from .deploy import DeployInfo, deploy_info
 from .tail import TAIL_FORMATS, any_tail, refusal
 
 __all__ = [
@@ -28,6 +31,8 @@ __all__ = [
     "mission_waypoints",
     "exportable",
     "write_exports",
+    "deploy_for",
+    "survey_payload",
 ]
 
 EXPORT_FORMATS = ("geojson", "kml", "csv", "moos", "plan", "gpx", "yaml")
@@ -75,7 +80,8 @@ def mission_waypoints(record: RunRecord) -> NDArray[np.float64]:
     raise DataError("this run has neither a route nor a planned path to export")
 
 
-def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> JsonDict:
+def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool = False,
+               deploy: DeployInfo | None = None) -> JsonDict:
     """Make an RFC 7946 FeatureCollection of a run.
 
     The flown track (decimated unless ``full``), the planned path, the key waypoints and the
@@ -90,6 +96,9 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
         ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
     full : bool, optional
         Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+    deploy : DeployInfo, optional
+        The envelope (``envelope`` and ``exclusion`` polygon features), datum, payload and altitudes (the
+        mission feature's properties; :mod:`auvplan.io.missions.deploy_formats`).
 
     Returns
     -------
@@ -116,11 +125,17 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
     tail = record_tail(record)
     if tail is not None and any_tail(tail):
         mp["tail_first_legs"] = [int(i) for i in np.flatnonzero(tail)]  # (auvplan.io.missions.tail)
+    mp.update(dfmt.mission_props(deploy))
     feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission}, "properties": mp})
+    for kind, ring in dfmt.envelope_rings(deploy, frame):
+        closed = [[round(float(b), 9), round(float(a), 9)] for a, b in np.vstack([ring, ring[:1]])]
+        props = dfmt.envelope_props(deploy.envelope) if kind == "envelope" else {"name": kind}  # type: ignore[union-attr, arg-type]
+        feats.append({"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [closed]}, "properties": props})
     return {"type": "FeatureCollection", "features": feats}
 
 
-def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False) -> str:
+def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False,
+           deploy: DeployInfo | None = None) -> str:
     """Make a KML document of a run.
 
     The track (decimated unless ``full``), the plan and the executable mission (placemark
@@ -135,6 +150,9 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
         ``(lat, lon)`` of the local frame (degrees); geographic formats need it.
     full : bool, optional
         Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+    deploy : DeployInfo, optional
+        The envelope (placemarks ``envelope`` and ``exclusion`` with a Polygon and ``ExtendedData``), datum,
+        payload and altitudes (the mission placemark's ``ExtendedData``).
 
     Returns
     -------
@@ -165,10 +183,21 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
         line("global plan", record.plan.path)
     line("mission", mission_waypoints(record))
     tail = record_tail(record)
+    extra = {k: _kml_value(v) for k, v in dfmt.mission_props(deploy).items()}
     if tail is not None and any_tail(tail):  # (auvplan.io.missions.tail)
-        ext = ET.SubElement(doc.findall(f"{{{ns}}}Placemark")[-1], f"{{{ns}}}ExtendedData")
-        data = ET.SubElement(ext, f"{{{ns}}}Data", name="tail_first_legs")
-        ET.SubElement(data, f"{{{ns}}}value").text = " ".join(str(int(i)) for i in np.flatnonzero(tail))
+        extra["tail_first_legs"] = " ".join(str(int(i)) for i in np.flatnonzero(tail))
+    if extra:
+        _extended(doc.findall(f"{{{ns}}}Placemark")[-1], extra, ns)
+    for kind, ring in dfmt.envelope_rings(deploy, frame):
+        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+        ET.SubElement(pm, f"{{{ns}}}name").text = kind
+        if kind == "envelope":
+            _extended(pm, {k: str(v) for k, v in dfmt.envelope_props(deploy.envelope).items()  # type: ignore[union-attr, arg-type]
+                           if k != "name"}, ns)
+        outer = ET.SubElement(ET.SubElement(ET.SubElement(pm, f"{{{ns}}}Polygon"), f"{{{ns}}}outerBoundaryIs"),
+                              f"{{{ns}}}LinearRing")
+        ET.SubElement(outer, f"{{{ns}}}coordinates").text = " ".join(
+            f"{b:.9f},{a:.9f}" for a, b in np.vstack([ring, ring[:1]]))
     for i, k in enumerate(record.keys):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
@@ -176,6 +205,78 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
         ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
         ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(k[None])
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def _kml_value(v: object) -> str:
+    """A mission property as KML ``Data`` text: lists space-separated, events as ``waypoint:on|off``."""
+    if isinstance(v, dict):
+        return " ".join(f"{k}={v[k]}" for k in v)
+    if isinstance(v, list):
+        return " ".join(f"{e['waypoint']}:{e['sensor']}" if isinstance(e, dict) else str(e) for e in v)
+    return str(v)
+
+
+def _extended(pm: ET.Element, data: dict[str, str], ns: str) -> None:
+    """``ExtendedData`` of a placemark: one ``Data`` per key."""
+    ext = ET.SubElement(pm, f"{{{ns}}}ExtendedData")
+    for k, v in data.items():
+        ET.SubElement(ET.SubElement(ext, f"{{{ns}}}Data", name=k), f"{{{ns}}}value").text = v
+
+
+def deploy_for(world: World, mission: Mission, record: RunRecord, speed: float | ArrayLike,
+               payload: ArrayLike | None = None) -> DeployInfo:
+    """The datum, envelope, payload and altitudes the exports of a run carry
+    (:func:`auvplan.io.missions.deploy.deploy_info`).
+
+    Parameters
+    ----------
+    world : World
+        Bounds, seabed, land, margins and origin.
+    mission : Mission
+        The vehicle's depth rating and ``follow_altitude_m``.
+    record : RunRecord
+        The run (its mission and the flight's duration).
+    speed : float or array_like
+        Planned speed, or one per leg (m/s).
+    payload : array_like of bool, optional
+        ``(N - 1,)`` sensor state per leg of a survey (:func:`auvplan.io.missions.deploy.payload_from_labels`).
+
+    Returns
+    -------
+    DeployInfo
+        What the exports carry.
+    """
+    flown = float(record.sim.t[-1]) if record.sim is not None and record.sim.t.size else None
+    return deploy_info(world, mission, mission_waypoints(record), speed, flown, payload)
+
+
+def survey_payload(out_dir: Path, record: RunRecord) -> NDArray[np.bool_] | None:
+    """The sensor state per leg of a survey's results folder: a leg whose two ends are consecutive waypoints
+    of one line of ``lines.csv`` (within 1 mm) is on; None without ``lines.csv``.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        The results folder of ``auvplan survey``.
+    record : RunRecord
+        Its run (the route).
+
+    Returns
+    -------
+    numpy.ndarray of bool or None
+        ``(N - 1,)`` per leg.
+    """
+    path = Path(out_dir) / "lines.csv"
+    w = mission_waypoints(record) if (record.route.size or record.plan is not None) else np.empty((0, 3))
+    if not path.is_file() or len(w) < 2:
+        return None
+    rows = np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True))
+    pairs: set[tuple[tuple[float, ...], tuple[float, ...]]] = set()
+    for k in np.unique(rows["line"]):
+        p = np.column_stack([rows["x"], rows["y"]])[rows["line"] == k]
+        pairs.update(zip(map(tuple, np.round(p[:-1], 3)), map(tuple, np.round(p[1:], 3))))
+    r = np.round(w[:, :2], 3)
+    return np.array([(tuple(a), tuple(b)) in pairs for a, b in zip(r[:-1], r[1:])], dtype=bool)
 
 
 def exportable(record: RunRecord, formats: Iterable[str]) -> tuple[list[str], list[str]]:
@@ -204,7 +305,8 @@ def exportable(record: RunRecord, formats: Iterable[str]) -> tuple[list[str], li
 
 
 def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float | ArrayLike,
-                  formats: Iterable[str] = EXPORT_FORMATS, full: bool = False) -> list[Path]:
+                  formats: Iterable[str] = EXPORT_FORMATS, full: bool = False,
+                  deploy: DeployInfo | None = None) -> list[Path]:
     """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
     :mod:`auvplan.io.missions.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
     also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``.
@@ -224,6 +326,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         Format names (``EXPORT_FORMATS``).
     full : bool, optional
         Every recorded sample instead of the decimated track (:func:`auvplan.sim.decimate`).
+    deploy : DeployInfo, optional
+        Datum, safety envelope, payload events and terrain-following altitudes (:func:`deploy_for`); without
+        it the files carry the datum only.
 
     Returns
     -------
@@ -240,6 +345,7 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     written = []
     waypoints = mission_waypoints(record)
     tail = record_tail(record) if record.route.size else None
+    deploy = deploy if deploy is not None else DeployInfo(origin)
     for fmt in formats:
         if fmt not in EXPORT_FORMATS:
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
@@ -249,20 +355,20 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         if fmt in GEOGRAPHIC:
             _frame(origin)
         if fmt == "geojson":
-            text = json.dumps(to_geojson(record, origin, full)) + "\n"
+            text = json.dumps(to_geojson(record, origin, full, deploy)) + "\n"
         elif fmt == "kml":
-            text = to_kml(record, origin, full)
+            text = to_kml(record, origin, full, deploy)
         elif fmt == "csv":
-            text = mfmt.mission_csv(waypoints, origin, speed, tail)
+            text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy)
         elif fmt == "moos":
-            text = mfmt.to_moos(waypoints, speed)
+            text = mfmt.to_moos(waypoints, speed, deploy=deploy)
         elif fmt == "plan":
             assert origin is not None  # _frame(origin) raised otherwise
-            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed), indent=1) + "\n"
+            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy), indent=1) + "\n"
         elif fmt == "gpx":
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
-            text = mfmt.to_ros_path(waypoints, speed, tail=tail)
+            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written

@@ -35,6 +35,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..data.geo import LocalFrame
+from . import deploy_formats as dfmt
+from .deploy import DeployInfo, payload_events
 from .readers import (
     GPX_NS,
     MAX_MISSION_BYTES,
@@ -118,7 +120,8 @@ def _varies(v: NDArray[np.float64]) -> bool:
 
 
 # ---------------------------------------------------------------------- MOOS-IvP
-def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan") -> str:
+def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
+            deploy: DeployInfo | None = None) -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
 
     ``BHV_Waypoint`` posts ``WPT_INDEX`` = index (from 0) of the point it heads to, so leg i, from
@@ -137,6 +140,8 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan") 
         Planned speed (m/s), or one per leg ``(N - 1,)``.
     name : str, optional
         Mission name, in the file's comments.
+    deploy : DeployInfo, optional
+        Datum, envelope, payload and terrain-following altitudes (:mod:`auvplan.io.missions.deploy_formats`).
 
     Returns
     -------
@@ -148,26 +153,36 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan") 
     per_leg = _varies(v)
     x0, y0, z0 = p[0]
     pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
+    dep = deploy is not None
+    pay = dep and deploy.payload is not None  # type: ignore[union-attr]
     lines = [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
              f"// start: {x0:.3f}, {y0:.3f}, {-z0:.3f}   (deploy point x, y, depth; not a waypoint)",
-             "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point",
-             "", "initialize   DEPLOY = false", "initialize   RETURN = false", "",
+             "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
+             *dfmt.moos_datum(deploy.origin if deploy is not None else None),
+             "initialize   DEPLOY = false", "initialize   RETURN = false",
+             *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
+             *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
              "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
              "  condition      = DEPLOY = true", "  condition      = RETURN = false",
-             "  endflag        = RETURN = true", f"  speed          = {v[0] if v.size else 0.0:g}",
+             *(["  condition      = ABORT = false"] if dep else []),
+             "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
+             *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
              "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
     lines += ["  updates        = WPT_UPDATE", "}"] if per_leg else ["}"]
     for i, z in enumerate(p[1:, 2]):
+        inside, after = dfmt.moos_leg_extras(deploy, i)
         lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_depth_{i}", "  pwt       = 100",
-                  "  condition = DEPLOY = true", f"  condition = WPT_INDEX = {i}", f"  depth     = {-z:.3f}",
-                  "  duration  = no-time-limit"]
+                  "  condition = DEPLOY = true", f"  condition = WPT_INDEX = {i}",
+                  *(["  condition = RETURN = false", "  condition = ABORT = false"] if dep else []),
+                  f"  depth     = {-z:.3f}", "  duration  = no-time-limit", *inside]
         lines += [f"  runflag   = WPT_UPDATE = speed={v[i]:g}", "}"] if per_leg else ["}"]
+        lines += after
     return "\n".join(lines) + "\n"
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
-                acceptance_radius: float = 5.0) -> dict[str, Any]:
+                acceptance_radius: float = 5.0, deploy: DeployInfo | None = None) -> dict[str, Any]:
     """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
 
     Home on the surface above the first point, one ``MAV_CMD_NAV_WAYPOINT`` per point with
@@ -185,6 +200,9 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
         Planned speed (m/s), or one per leg ``(N - 1,)``.
     acceptance_radius : float, optional
         Waypoint acceptance radius (m).
+    deploy : DeployInfo, optional
+        Envelope (the geofence), payload (relay items) and terrain-following altitudes (terrain frame items;
+        :mod:`auvplan.io.missions.deploy_formats`).
 
     Returns
     -------
@@ -196,20 +214,26 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
     items: list[dict[str, Any]] = []
+    alt = deploy.altitude if deploy is not None else None
+    events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
     for i, (la, lo, z) in enumerate(zip(lat, lon, p[:, 2])):
+        # terrain following: the altitude above the seabed in MAV_FRAME_GLOBAL_TERRAIN_ALT (10, QGC mode 4)
+        h, frame_id, mode = (round(float(z), 3), 3, 1) if alt is None else (round(float(alt[i]), 3), 10, 4)
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
-                      "frame": 3, "params": [0, acceptance_radius, 0, None, round(float(la), 9), round(float(lo), 9),
-                                             round(float(z), 3)],
-                      "Altitude": round(float(z), 3), "AltitudeMode": 1, "AMSLAltAboveTerrain": None})
+                      "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
+                                                    round(float(lo), 9), h],
+                      "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
         if _varies(v) and i < v.size:
             items.append({"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": len(items) + 1,
                           "frame": 2, "params": [1, round(float(v[i]), 4), -1, 0, 0, 0, 0]})
+        if i in events:
+            items.append(dfmt.qgc_relay(events[i], len(items) + 1))
     speed = float(v[0]) if v.size else 0.0
     return {"fileType": "Plan", "version": 1, "groundStation": "QGroundControl",
-            "geoFence": {"circles": [], "polygons": [], "version": 2},
+            "geoFence": dfmt.qgc_geofence(deploy, frame),
             "rallyPoints": {"points": [], "version": 2},
             "mission": {"version": 2, "firmwareType": 3, "vehicleType": 12, "cruiseSpeed": speed, "hoverSpeed": speed,
-                        "globalPlanAltitudeMode": 1,
+                        "globalPlanAltitudeMode": 1 if alt is None else 4,
                         "plannedHomePosition": [round(float(lat[0]), 9), round(float(lon[0]), 9), 0],
                         "items": items}}
 
@@ -264,7 +288,7 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
 
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
 def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map",
-                tail: ArrayLike | None = None) -> str:
+                tail: ArrayLike | None = None, deploy: DeployInfo | None = None) -> str:
     """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
 
     Parameters
@@ -278,6 +302,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first: the pose that starts one faces against it (yaw + 180°,
         :mod:`auvplan.io.missions.tail`).
+    deploy : DeployInfo, optional
+        Top-level ``datum: {lat, lon}``, ``envelope`` and ``payload_events``.
 
     Returns
     -------
@@ -294,7 +320,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
     pitch = -np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1]))  # ROS pitch about y: positive nose down
     lines = ["# nav_msgs/msg/Path written by auvplan: ENU local frame about the scenario origin (x east, y north,",
              "# z up, m); stamps are planned arrival times from the start (s)",
-             "header:", "  stamp: {sec: 0, nanosec: 0}", f"  frame_id: {frame_id}", "poses:"]
+             *dfmt.yaml_extras(deploy), "header:", "  stamp: {sec: 0, nanosec: 0}", f"  frame_id: {frame_id}",
+             "poses:"]
     for (x, y, z), tt, ya, pi in zip(p, t, yaw, pitch):
         cy, sy, cp, sp = math.cos(ya / 2), math.sin(ya / 2), math.cos(pi / 2), math.sin(pi / 2)
         qx, qy, qz, qw = -sy * sp, cy * sp, sy * cp, cy * cp
@@ -308,7 +335,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 
 # ---------------------------------------------------------------------- CSV
 def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
-                tail: ArrayLike | None = None) -> str:
+                tail: ArrayLike | None = None, deploy: DeployInfo | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -323,6 +350,9 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     tail : array_like of bool, optional
         ``(N - 1,)`` legs flown tail-first: then a last column ``tail_first`` (1/0, the leg that reaches
         the waypoint; :mod:`auvplan.io.missions.tail`).
+    deploy : DeployInfo, optional
+        Then the last columns ``altitude`` (terrain following: planned altitude above the seabed, m) and
+        ``payload`` (1: the sensor is on from this waypoint to the next), when the mission has them.
 
     Returns
     -------
@@ -338,9 +368,13 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     v = np.r_[v[:1], v] if v.size else np.asarray(speed, dtype=float).reshape(-1)[:1].repeat(len(p))
     k = None if tail is None else np.asarray(tail, dtype=bool)
     k = None if k is None or not k.any() else np.r_[k[:1], k].astype(int)
-    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")]
+    alt = deploy.altitude if deploy is not None else None
+    pay = None if deploy is None or deploy.payload is None else np.r_[deploy.payload, False].astype(int)
+    rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
+            + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")]
     for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
                               "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
-                             + ([] if k is None else [str(k[i])])))
+                             + ([] if k is None else [str(k[i])]) + ([] if alt is None else [f"{alt[i]:.3f}"])
+                             + ([] if pay is None else [str(pay[i])])))
     return "\n".join(rows) + "\n"

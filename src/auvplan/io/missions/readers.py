@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import re
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -121,7 +122,8 @@ def parse_moos(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
-def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64]:
+def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
+                   seabed: Callable[[Any, Any], Any] | None = None) -> NDArray[np.float64]:
     """Read the local waypoints of a QGC plan.
 
     Parameters
@@ -130,29 +132,39 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float64
         The parsed ``.plan`` JSON.
     frame : LocalFrame
         The local frame.
+    seabed : callable, optional
+        ``seabed(x, y)`` elevation (m): items in ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` (10, terrain following,
+        issue 51) are placed at the seabed plus their altitude.
 
     Returns
     -------
     numpy.ndarray
         ``(N + 1, 3)`` (m): home (on the surface) then every ``MAV_CMD_NAV_WAYPOINT`` item
-        (relative-altitude frames only).
+        (relative-altitude and terrain frames).
     """
     try:
         mission = doc["mission"]
         home = mission["plannedHomePosition"]
         rows = [(float(home[0]), float(home[1]), 0.0)]
+        terrain: list[bool] = []
         for i, item in enumerate(mission["items"]):
             if item.get("command") != 16:
                 continue
-            if item.get("frame") not in (3, 6):  # GLOBAL_RELATIVE_ALT(_INT)
-                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative alt)")
+            if item.get("frame") not in (3, 6, 10) or (item.get("frame") == 10 and seabed is None):
+                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative "
+                                "alt), or 10 (terrain alt) with a seabed")
             prm = item["params"]
             rows.append((float(prm[4]), float(prm[5]), float(prm[6])))
+            terrain.append(item.get("frame") == 10)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     a = np.array(rows)
     x, y = frame.forward(a[:, 1], a[:, 0])
-    return np.column_stack([x, y, a[:, 2]])
+    z = a[:, 2].copy()
+    t = np.array([False, *terrain])
+    if t.any() and seabed is not None:
+        z[t] += np.asarray(seabed(x[t], y[t]), dtype=float)
+    return np.column_stack([x, y, z])
 
 
 # ---------------------------------------------------------------------- GPX 1.1, KML
@@ -236,7 +248,8 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------- reading and checking
-def read_mission(path: str | Path, origin: tuple[float, float] | None = None) -> tuple[NDArray[np.float64], str, str]:
+def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
+                 seabed: Callable[[Any, Any], Any] | None = None) -> tuple[NDArray[np.float64], str, str]:
     """Read a mission file (format from the suffix).
 
     Parameters
@@ -245,6 +258,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
         The file.
     origin : tuple of float, optional
         ``(lat, lon)`` of the local frame (degrees); needed by the geographic formats.
+    seabed : callable, optional
+        ``seabed(x, y)`` (m): places a QGC plan's terrain-frame items (:func:`parse_qgc_plan`).
 
     Returns
     -------
@@ -283,7 +298,7 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None) ->
         if fmt == "kml":
             return _kml_mission(text, frame), "ramp", fmt
         doc = json.loads(text)
-        return (parse_qgc_plan(doc, frame) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
+        return (parse_qgc_plan(doc, frame, seabed) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
     except DataError as exc:
         raise DataError(f"{path}: {exc}") from exc
     except RecursionError:
@@ -316,7 +331,7 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
     DataError
         Naming the file when it cannot be read, has a non-finite waypoint or fewer than 2.
     """
-    waypoints, semantics, fmt = read_mission(path, world.origin)
+    waypoints, semantics, fmt = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)
     if not np.isfinite(waypoints).all():
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     if len(waypoints) < 2:

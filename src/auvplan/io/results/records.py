@@ -100,6 +100,7 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> JsonDict:
         "energy_j": t.get("energy_j", float("nan")),
         "duration_s": t.get("duration_s", float("nan")),
         "min_clearance_m": t.get("min_clearance_m", float("nan")),
+        **({"zone_clearance_min_m": t["zone_clearance_min_m"]} if "zone_clearance_min_m" in t else {}),
         "violations": int(t.get("violations", t.get("collisions", 0))),
         "collisions": int(t.get("collisions", 0)),  # deprecated alias of "violations"
         "cost": result.cost,

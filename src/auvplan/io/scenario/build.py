@@ -27,6 +27,8 @@ from ..data.coast import read_land
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
+from ..data.zones import read_zones
+from .currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
@@ -124,7 +126,9 @@ def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.
     if timeopt or s.planner.name == "timeopt":
         slowest = s.vehicle.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
         horizon = (p.horizon_s or 1.5 * math.dist(m.start, m.goal) / slowest + 7200.0) + sweep_s
-        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt)
+        # the front method's steps: a cell at V + the current, taken as 1.5 V (the built-in tides: ≤ 1.6 V)
+        front = 2.5 * s.vehicle.speed if p.method == "front" else 0.0
+        nodes, steps, nbytes = _limits.timeopt_size(span[0], span[1], p.cell, p.levels, horizon, p.dt, front)
         _limits.check(s.limits, f"{s.source}: [planner.timeopt]",
                       f"cell = {p.cell:g}, levels = {p.levels}, dt = {p.dt:g} s, horizon_s = {horizon:.6g} s"
                       + (f" (with a {sweep_s:.6g} s departure sweep)" if sweep_s else "")
@@ -194,6 +198,10 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
         except DataError as exc:
             raise DataError(f"{src}: [land] {exc}") from exc
+    zones = None
+    if s.zones:
+        zones = read_zones(s.zones, frame, terrain, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax),
+                           base_dir=s.base_dir)
     m = s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     rating = s.vehicle.max_depth_m  # the vehicle's depth rating clips the mission's depth band
@@ -212,6 +220,7 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             origin=(s.origin.lat, s.origin.lon) if s.origin else None,
             name=s.name,
             land=land,
+            zones=zones,
         )
     except DataError as exc:
         raise DataError(f"{src}: {exc}") from exc
@@ -230,6 +239,10 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     for rally in s.endurance.rally:
         _check_point(world, rally.point, f"[endurance] rally {rally.name!r} point", src)
+    pts = np.asarray([m.start, *m.route, m.goal], dtype=float)  # issue 51: a file too short for any mission
+    least = sum(lower_bound_s(world, a, b, s.vehicle.max_speed) for a, b in zip(pts[:-1], pts[1:]))
+    cruise = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()) / s.vehicle.speed
+    check_span(src, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, False, cruise)
     mission = Mission(
         name=s.name,
         start=m.start,
@@ -307,6 +320,8 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
         elif c.file is not None:
             currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=box,  # type: ignore[arg-type]
                                      start_time=s.mission.start_time)
+            if c.beyond == "zero" and file_span(currents, "hold") is not None:  # issue 51: no current after it
+                currents = zero_beyond(currents)
         elif c.tides:
             if frame is None or not s.mission.start_time:
                 raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "

@@ -172,6 +172,23 @@ def _moving_schema() -> dict[str, Any]:
     return {"oneOf": alts}
 
 
+def _zones_schema() -> dict[str, Any]:
+    """``[[zones]]`` (:mod:`auvplan.io.data.zones`): one geometry key, a depth band, a name."""
+    pair = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
+    depth = {"type": "number", "minimum": 0}
+    props = {"name": {"type": "string", "minLength": 1},
+             "polygon": {"type": "array", "items": pair, "minItems": 3}, "line": {"type": "array", "items": pair,
+                                                                                  "minItems": 2},
+             "point": pair, "buffer_m": {"type": "number", "exclusiveMinimum": 0},
+             "radius_m": {"type": "number", "exclusiveMinimum": 0}, "top_m": depth, "bottom_m": depth,
+             "above_seabed_m": {"type": "number", "exclusiveMinimum": 0},
+             "file": {"type": "string", "minLength": 1}, "layer": {"type": "string"}, "where": {"type": "string"}}
+    item = {"type": "object", "properties": props, "required": ["name"], "additionalProperties": False,
+            "oneOf": [{"required": [k]} for k in ("polygon", "line", "point", "file")]}
+    return {"type": "array", "items": item, "description": "Charted no-go zones: a footprint ([lat, lon] or "
+            "metre [x, y] pairs, or a vector file's features) times a depth band (docs/zones.md)."}
+
+
 def scenario_schema() -> dict[str, Any]:
     """Make the versioned JSON Schema (draft 2020-12) of a scenario document.
 
@@ -194,9 +211,16 @@ def scenario_schema() -> dict[str, Any]:
         "moving": {"type": "array", "items": _moving_schema(), "description": "Moving obstacles."},
         "vehicles": {"type": "array", "items": table_schema(VehicleSpec), "minItems": 2,
                      "description": "Several vehicles flying the route in [formation]."},
+        "zones": _zones_schema(),
     }
     for table in (props["mission"], props["obstacles"], props["moving"], props["vehicles"]):
         _geographic_positions(table)
+    from .defaults import PRESETS  # issue 51: published figures of a vehicle, under the explicit keys
+
+    vehicle: dict[str, Any] = sections["vehicle"]
+    vehicle["properties"] = {"preset": {"enum": list(PRESETS), "description": (
+        "A vehicle's published figures (speed, battery, hotel load, depth rating, pitch and turn limits; "
+        "docs/missions.md); every key given here overrides its preset value.")}, **vehicle["properties"]}
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "$id": f"https://auvplan.invalid/schema/scenario-{SCHEMA_VERSION}.json",

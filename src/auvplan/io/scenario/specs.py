@@ -22,6 +22,7 @@ from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.coast import LandSpec
 from ..data.ocean.currents import CurrentsFileSpec, parse_time
+from ..data.zones import ZoneSpec
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec
@@ -178,6 +179,10 @@ class CurrentsSpec:
     members : tuple of MemberSpec
         A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
         every member; the nominal field is the one above, or the first member when none is given.
+    beyond : str
+        What a mission lasting longer than the current file's time span does (issue 51,
+        :mod:`auvplan.io.scenario.currentspan`): ``"refuse"`` (exit 2, the default), ``"hold"`` (the last
+        field held) or ``"zero"`` (no current after the file).
     """
 
     uniform: tuple[float, float, float] = (0.0, 0.0, 0.0)
@@ -185,8 +190,11 @@ class CurrentsSpec:
     file: str | CurrentsFileSpec | None = None
     tides: str = ""
     members: tuple[MemberSpec, ...] = ()
+    beyond: str = "refuse"
 
     def __post_init__(self) -> None:
+        if self.beyond not in ("refuse", "hold", "zero"):
+            raise ValueError(f"beyond = {self.beyond!r}: choose 'refuse', 'hold' or 'zero'")
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
             object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
@@ -333,6 +341,8 @@ class Scenario:
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
+    zones : tuple of ZoneSpec
+        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
     """
 
     name: str
@@ -360,6 +370,7 @@ class Scenario:
     geo: GeoInput | None = None
     endurance: EnduranceParams = field(default_factory=EnduranceParams)
     survey: SurveySpec | None = None
+    zones: tuple[ZoneSpec, ...] = ()
 
 
 SECTIONS: dict[str, type] = {

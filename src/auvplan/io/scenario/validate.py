@@ -32,7 +32,9 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
+from ..data.zones import parse_zones
 from ..limits import Limits
+from .defaults import apply_preset
 from .geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
@@ -44,7 +46,7 @@ _TOP_KEYS = {
     "name", "description", "seed", "origin", "bounds", "terrain", "currents", "obstacles", "moving",
     "mission", "vehicle", "planner", "guidance", "avoidance", "sim", "limits", "land", "formation", "vehicles",
     "endurance",
-    "survey",
+    "survey", "zones",
 }
 
 
@@ -247,6 +249,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     if survey is None:  # a survey may start and end at the same launch/recovery point
         _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
+    zones = parse_zones(data.get("zones", []), source)
     return Scenario(
         name=name,
         description=description.strip(),
@@ -261,7 +264,8 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         obstacles=obstacles,
         moving=moving,
         mission=mission,
-        vehicle=_section(data, "vehicle", source),
+        vehicle=build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
+                                f"{source}: [vehicle]"),
         planner=planner,
         guidance=_section(data, "guidance", source),
         avoidance=_section(data, "avoidance", source),
@@ -273,6 +277,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         geo=geo,
         endurance=_section(data, "endurance", source),
         survey=survey,
+        zones=zones,
     )
 
 

@@ -115,7 +115,7 @@ def node_fields(world: World, axes: tuple[FloatArray, ...], currents: bool) -> t
         if land is not None:
             least = np.minimum(least, land[i0:i1, :, None])
         free[i0:i1] = least >= 0.0
-        obs[i0:i1] = down32(slack["obstacles"])
+        obs[i0:i1] = down32(np.minimum(slack["obstacles"], slack["zones"]))  # both lower-bound a distance
         if currents:
             n = shape[1] * shape[2]
             cur[i0 * n:i1 * n] = world.currents.velocity(pts).reshape(-1, 3)

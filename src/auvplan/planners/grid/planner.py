@@ -34,8 +34,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..base import SWARM, PlannerSpec, PlanningProblem, PlanResult
+from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..common import cost_model_for
+from ..registry import has
 from .band import _converge, edge_cost, path_cost, resample_free
 from .ladder import plan_ladder, plan_lattice
 from .reference import GridReference, auto_cell
@@ -131,7 +132,7 @@ def on_cost_function(result: PlanResult, problem: PlanningProblem, spec: Planner
     PlanResult
         ``result`` itself for swarm and lattice plans and empty paths, else a copy re-costed.
     """
-    if result.planner in SWARM or result.planner == "grid" or result.path.shape[0] < 2:
+    if has(result.planner, "path_cost") or result.path.shape[0] < 2:
         return result
     terms = path_cost(problem, spec, result.path)
     total = terms.pop("total")

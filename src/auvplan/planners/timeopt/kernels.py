@@ -35,13 +35,11 @@ import numpy.typing as npt
 
 from ..._jit import kernel
 from ..._types import FloatArray
+from ...crab import HOLD, crab_speed
 
-__all__ = ["HOLD", "current_at", "ground_speed", "track_speed", "leg_time", "leg_reach", "polyline_times",
+__all__ = ["HOLD", "current_at", "track_speed", "leg_time", "leg_reach", "polyline_times",
            "Float32Array"]
 
-#: The search holds a line only with this fraction of the vehicle's speed across it (the rest, 3 %,
-#: is the margin that keeps a planned line holdable when flown a little off the planned times).
-HOLD = 0.97
 
 #: The current table's precision: ``cur (nt, nx, ny, nz, 3)`` in m/s as float32.
 Float32Array: TypeAlias = npt.NDArray[np.float32]
@@ -113,33 +111,6 @@ def current_at(cur: Float32Array, org: FloatArray, step: FloatArray, t0: float, 
 
 
 @kernel
-def ground_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, speed: float) -> float:
-    """Ground speed along a unit tangent at a through-water speed in a current.
-
-    Parameters
-    ----------
-    u, v, w : float
-        Current (m/s; east, north, up).
-    ex, ey, ez : float
-        Unit tangent of the track.
-    speed : float
-        Through-water speed V (m/s).
-
-    Returns
-    -------
-    float
-        ``c·ŝ + √(V² - |c⊥|²)`` (m/s); ``-1`` where the current beats the vehicle (or the ground
-        speed is at most 1 µm/s).
-    """
-    c_par = u * ex + v * ey + w * ez
-    disc = speed * speed - max(u * u + v * v + w * w - c_par * c_par, 0.0)
-    if disc < 0.0:
-        return -1.0
-    g = c_par + math.sqrt(disc)
-    return g if g > 1e-6 else -1.0
-
-
-@kernel
 def track_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, speed: float) -> float:
     """Signed speed along a unit tangent of the heading that holds the track and makes the most headway.
 
@@ -160,11 +131,7 @@ def track_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, s
         (``|c⊥| > HOLD V``: a line at the very edge of what the vehicle can hold is lost for a few
         seconds' difference in timing, or in the World's current between the table's slices).
     """
-    c_par = u * ex + v * ey + w * ez
-    cross = max(u * u + v * v + w * w - c_par * c_par, 0.0)
-    if cross > HOLD * HOLD * speed * speed:
-        return math.nan
-    return c_par + math.sqrt(max(speed * speed - cross, 0.0))
+    return crab_speed(u, v, w, ex, ey, ez, speed, False, HOLD)
 
 
 @kernel

@@ -22,6 +22,8 @@ from ...cost import evaluate_paths
 from ...path import polyline_length
 from ..base import PlannerSpec, PlanningProblem, PlanResult
 from ..common import check_endpoints, cost_model_for, search_box
+from .front import FrontGrid, build_grid
+from .front_plan import front_flight
 from .search import (
     CurrentTable,
     Lattice,
@@ -55,6 +57,8 @@ class TimeSetup:
         Largest integration sub-step of a leg (m).
     build_s : float
         CPU time of building both (s).
+    grid : FrontGrid, optional
+        The front method's horizontal grid and current table (``method = "front"``).
     """
 
     lattice: Lattice
@@ -62,6 +66,7 @@ class TimeSetup:
     cell: float
     ds: float
     build_s: float
+    grid: FrontGrid | None = None
 
 
 def _power(problem: PlanningProblem, speed: float) -> float:
@@ -94,19 +99,74 @@ def setup(problem: PlanningProblem, spec: PlannerSpec, t0: float, t1: float) -> 
     slowest = problem.speed * (min(p.speeds) if p.objective == "energy" else 1.0)
     horizon = p.horizon_s or 1.5 * dist / slowest + 7200.0
     table = build_table(problem.world, lattice, t0, t1 + horizon, p.dt)
-    return TimeSetup(lattice, table, cell, p.substep or 0.5 * cell, time.process_time() - clock)
+    grid = None
+    if p.method == "front":
+        grid = build_grid(problem.world, lower, upper, cell, (float(problem.start[2]), float(problem.goal[2])), t0,
+                          t1 + horizon, p.dt)
+    return TimeSetup(lattice, table, cell, p.substep or 0.5 * cell, time.process_time() - clock, grid)
+
+
+#: Sub-step (m) of the World timing of the front's flights: they drift and turn with the current, where
+#: the midpoint rule's error is larger than on a lattice leg (a reversing tide against 1000 m cells:
+#: 125 m steps timed 0.009 % short of the least time, 20 m steps 3·10⁻⁷).
+FRONT_DS = 20.0
+
+
+def _front(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, grid: FrontGrid, depart: float,
+           speeds: list[float], notes: list[str] | None) -> tuple[TimedPath | None, bool]:
+    """The front method's best flight over ``speeds`` (:mod:`.front_plan`), None when it has none, and
+    whether every front that missed the goal ran out of table (a longer one may reach it)."""
+    p = spec.timeopt
+    limit = ts.table.t1 + (ts.table.t1 - ts.table.t0)
+    found, exhausted = [], True
+    for v in speeds:
+        out = front_flight(problem.world, grid, problem.start, problem.goal, depart, v, p.headings, FRONT_DS,
+                           limit)
+        if out.path is not None:
+            found.append(out.path)
+            continue
+        exhausted = exhausted and out.front.exhausted
+        if notes is not None:
+            notes.append(out.front.reason or "the front reached the goal but no flight it gave passed the exact "
+                         "segment test")
+    if not found:
+        return None, exhausted
+    return min(found, key=lambda tp: tp.duration * (_power(problem, tp.speed) if p.objective == "energy" else 1.0)), \
+        False
 
 
 def _fly(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup, depart: float, speed: float | None = None,
-         table: CurrentTable | None = None) -> TimedPath | None:
+         table: CurrentTable | None = None, notes: list[str] | None = None, last: bool = True) -> TimedPath | None:
     """Search then refine one departure (on ``table``, default the real one) at ``speed``, or by
-    ``spec.timeopt.objective`` over the speeds it allows (the least duration, or the least energy)."""
+    ``spec.timeopt.objective`` over the speeds it allows (the least duration, or the least energy);
+    the front method first when chosen (``notes`` receives why it found nothing; unless ``last``, a
+    front that ran out of table returns None for a longer table rather than search the lattice)."""
     tab = ts.table if table is None else table
     p = spec.timeopt
     if speed is not None:
         speeds = [speed]
     else:
         speeds = [problem.speed] if p.objective == "time" else [f * problem.speed for f in p.speeds]
+    if ts.grid is not None and table is None:
+        if ts.lattice.shape[2] == 1 and ts.grid.free.all():  # open water at one depth: the front alone
+            found, exhausted = _front(problem, spec, ts, ts.grid, depart, speeds, notes)
+            if found is not None or (exhausted and not last):
+                return found
+        else:  # seabed or depth levels: the lattice's plan, its depth schedule, then the front on it
+            lat = _fly(problem, spec, ts, depart, speed, ts.table)
+            lat_t = flown(problem, ts, lat).duration if lat is not None else math.inf
+            grid = ts.grid
+            if lat is not None and ts.lattice.shape[2] > 1:
+                lower, upper = search_box(problem)
+                grid = build_grid(problem.world, lower, upper, ts.cell, ts.grid.z, ts.grid.t0, ts.grid.t1,
+                                  ts.grid.dt, (lat.times, lat.points[:, 2]))
+            found, exhausted = _front(problem, spec, ts, grid, depart, [lat.speed] if lat is not None else speeds,
+                                      notes)
+            if found is not None and not found.duration > lat_t:
+                return found
+            if lat is None and exhausted and not last:
+                return None
+            return lat
     raws = [time_search(problem.world, ts.lattice, tab, problem.start, problem.goal, depart, v, ts.ds, p.labels,
                         p.label_dt, p.max_labels, p.tail_first) for v in speeds]
     scored = [(r.duration * (_power(problem, r.speed) if p.objective == "energy" else 1.0), r)
@@ -144,6 +204,8 @@ def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
         The same vertices with the times and drifts flown through the field (``inf`` from a leg
         no heading can hold on).
     """
+    if tp.timed:
+        return tp
     limit = ts.table.t1 + (ts.table.t1 - ts.table.t0)
     times, back = fly_times(problem.world.currents, tp.points, float(tp.times[0]), tp.speed, 0.25 * ts.ds, limit,
                             tp.tail)
@@ -212,13 +274,15 @@ def plan_timeopt(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup | No
     depart = p.depart_s
     for attempt in range(3):  # the horizon doubles when a plan runs past the end of the table
         ts = ts or setup(problem, spec, depart, depart)
-        best = _fly(problem, spec, ts, depart)
+        notes: list[str] = []
+        best = _fly(problem, spec, ts, depart, notes=notes, last=attempt == 2)
         if best is None and attempt < 2:  # no path within the table: a longer one may have one
             spec = replace(spec, timeopt=replace(p, horizon_s=2.0 * (ts.table.t1 - depart)))
             p, ts = spec.timeopt, None
             continue
         if best is None:
-            return _failure(Status.INFEASIBLE, f"no lattice path reaches the goal from departure {depart:.0f} s "
+            front = f"front: {notes[0]}; " if notes else ""
+            return _failure(Status.INFEASIBLE, f"{front}no lattice path reaches the goal from departure {depart:.0f} s "
                             f"within {ts.table.t1 - depart:.0f} s (no heading makes good a way there against a current "
                             "stronger than the vehicle, or the seabed encloses the goal; try a smaller "
                             "[planner.timeopt] cell or another departure)", t0)

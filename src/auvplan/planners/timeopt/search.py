@@ -152,7 +152,7 @@ def build_lattice(world: World, lower: ArrayLike, upper: ArrayLike, cell: float,
     slack = world.clearances(xyz, moving=False)
     free = np.minimum.reduce(list(slack.values())) >= 0.0
     alt = (slack["altitude"] + world.margins.min_altitude).reshape(shape)
-    obs = slack["obstacles"].reshape(shape)
+    obs = np.minimum(slack["obstacles"], slack["zones"]).reshape(shape)  # both lower-bound a distance
     return Lattice(origin, step, shape, free, _legs(world, xyz, free.reshape(shape), alt, obs, step))
 
 
@@ -259,6 +259,9 @@ class TimedPath:
         None: not known, as for a lattice path).
     tail : numpy.ndarray of bool, optional
         ``(N - 1,)``: the legs flown tail-first (:mod:`.tail`; None: none).
+    timed : bool, default False
+        The times are already those of a flight through the World's own current (the front method,
+        :mod:`.front_plan`): :func:`.planner.flown` keeps them.
     """
 
     points: FloatArray
@@ -266,6 +269,7 @@ class TimedPath:
     speed: float
     back: FloatArray | None = None
     tail: BoolArray | None = None
+    timed: bool = False
 
     @property
     def duration(self) -> float:

@@ -23,7 +23,8 @@ import math
 
 from ..._jit import kernel
 from ..._types import FloatArray
-from .kernels import HOLD, Float32Array, current_at
+from ...crab import HOLD, crab_speed
+from .kernels import Float32Array, current_at
 
 __all__ = ["tail_speed", "tail_leg"]
 
@@ -46,11 +47,7 @@ def tail_speed(u: float, v: float, w: float, ex: float, ey: float, ez: float, sp
     float
         ``c·ŝ − √(V² − |c⊥|²)`` (m/s); ``nan`` where no heading holds the line (``|c⊥| > HOLD V``).
     """
-    c_par = u * ex + v * ey + w * ez
-    cross = max(u * u + v * v + w * w - c_par * c_par, 0.0)
-    if cross > HOLD * HOLD * speed * speed:
-        return math.nan
-    return c_par - math.sqrt(max(speed * speed - cross, 0.0))
+    return crab_speed(u, v, w, ex, ey, ez, speed, True, HOLD)
 
 
 @kernel

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
+from ...crab import crab_speed
 from ...world import CurrentField
 
 __all__ = ["track_speed", "fly_times"]
@@ -39,9 +40,7 @@ def _tail_leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed
 
     def g_at(s: float, when: float) -> float:
         c = field.velocity((a + s * e)[None], when)[0]
-        c_par = float(c @ e)
-        disc = speed * speed - max(float(c @ c) - c_par * c_par, 0.0)
-        return c_par - math.sqrt(disc) if disc >= 0.0 else math.nan
+        return float(crab_speed(c[0], c[1], c[2], e[0], e[1], e[2], speed, True, 1.0))
 
     tau, s = ds / speed, 0.0
     while t <= t_limit:
@@ -74,9 +73,9 @@ def track_speed(current: FloatArray, tangent: FloatArray, speed: float) -> float
     float
         ``c·ŝ + √(V² − |c⊥|²)`` (m/s; negative: drifting back); ``nan`` when no heading holds the line.
     """
-    c_par = float(current @ tangent)
-    disc = speed * speed - max(float(current @ current) - c_par * c_par, 0.0)
-    return c_par + math.sqrt(disc) if disc >= 0.0 else math.nan
+    c, e = current, tangent
+    return float(crab_speed(float(c[0]), float(c[1]), float(c[2]), float(e[0]), float(e[1]), float(e[2]), speed,
+                            False, 1.0))
 
 
 def _leg(field: CurrentField, a: FloatArray, b: FloatArray, t: float, speed: float, ds: float,

@@ -1,0 +1,306 @@
+"""``[[zones]]``: charted hazards and no-go areas, written in the scenario or read from the files
+operators have, made into :class:`~auvplan.world.Zones` in the local frame.
+
+One table is one zone, or — with ``file`` — one zone per feature of a vector file (GeoJSON, KML,
+Shapefile, GeoPackage, FileGDB, S-57 …, anything GDAL reads through pyogrio), in any CRS
+(reprojected with pyproj).  An S-57 chart is read by object class: ``layer = "CBLSUB"`` (submarine
+cables), ``"PIPSOL"`` (pipelines), ``"WRECKS"``, ``"OBSTRN"``, ``"RESARE"`` (restricted areas),
+``"CBLARE"``/``"PIPARE"`` (cable and pipeline areas).
+
+Keys (docs/zones.md): ``name``; one of ``polygon = [[a, b], ...]``, ``line = [[a, b], ...]`` with
+``buffer_m``, ``point = [a, b]`` with ``radius_m``, or ``file`` with optional ``layer`` and ``where``
+(an OGR SQL attribute filter); a depth band ``top_m``/``bottom_m`` (depths, positive down; absent:
+from the surface / to the seabed) or ``above_seabed_m``.  Pairs ``[a, b]`` are ``[lat, lon]`` when the
+scenario has an ``[origin]`` and every pair lies within 5° of it, otherwise metres ``[x, y]``.  Lines
+and points in a file need ``buffer_m`` / ``radius_m``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from pyproj import CRS, Transformer
+
+from ...errors import DataError, ScenarioError
+from ...world import Terrain, Zone, Zones
+from .geo import LocalFrame
+
+__all__ = ["ZoneSpec", "parse_zones", "read_zones"]
+
+log = logging.getLogger(__name__)
+
+_KEYS = ("name", "polygon", "line", "buffer_m", "point", "radius_m", "top_m", "bottom_m", "above_seabed_m",
+         "file", "layer", "where")
+_GEO_REACH_DEG = 5.0
+_NAME_FIELDS = ("OBJNAM", "NOBJNM", "name", "NAME", "Name")
+_QUAD_SEGS = 16
+_INSCRIBED = math.cos(math.pi / (4 * _QUAD_SEGS))
+"""A buffer's arcs are polygons inscribed in them; buffering by ``r / _INSCRIBED`` circumscribes the
+true arcs, so the footprint contains every point within ``r`` (never less, at most 0.12 % more)."""
+
+
+@dataclass(frozen=True)
+class ZoneSpec:
+    """One ``[[zones]]`` table, validated (nothing read from disk yet).
+
+    Attributes
+    ----------
+    where_ : str
+        ``file: [[zones]] #i`` for messages.
+    name : str
+        Zone name (prefix of the feature names for a file).
+    kind : {"polygon", "line", "point", "file"}
+        Which geometry key was given.
+    coords : tuple of tuple of float
+        The pairs of ``polygon``/``line``/``point`` (empty for a file).
+    buffer_m, radius_m : float
+        Half-width of a line's corridor, radius round a point (m; 0 when not given).
+    top_m, bottom_m : float
+        Depth band (m, positive down); ``bottom_m = inf`` reaches the seabed.
+    above_seabed_m : float or None
+        Height of a seabed band (m).
+    file, layer, where : str
+        Vector file, its layer (an S-57 object class) and an attribute filter.
+    """
+
+    where_: str
+    name: str
+    kind: str
+    coords: tuple[tuple[float, float], ...] = ()
+    buffer_m: float = 0.0
+    radius_m: float = 0.0
+    top_m: float = 0.0
+    bottom_m: float = math.inf
+    above_seabed_m: float | None = None
+    file: str = ""
+    layer: str = ""
+    where: str = ""
+
+
+def _num(where: str, key: str, value: Any, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0 \
+            or (positive and value == 0):
+        raise ScenarioError(f"{where} {key} = {value!r}: expected a {'positive' if positive else 'non-negative'} "
+                            "number")
+    return float(value)
+
+
+def _pairs(where: str, key: str, value: Any, n_min: int) -> tuple[tuple[float, float], ...]:
+    pts = [value] if key == "point" else value
+    ok = isinstance(pts, list) and len(pts) >= n_min and all(
+        isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                    and math.isfinite(c) for c in p) for p in pts)
+    if not ok:
+        shape = "[a, b]" if key == "point" else f"an array of at least {n_min} [a, b] pairs"
+        raise ScenarioError(f"{where} {key} = {str(value)[:60]}: expected {shape} ([lat, lon] or metres [x, y])")
+    return tuple((float(p[0]), float(p[1])) for p in pts)
+
+
+def _one(table: Any, where: str) -> ZoneSpec:
+    if not isinstance(table, dict):
+        raise ScenarioError(f"{where}: expected a table, got {type(table).__name__}")
+    for key in table:
+        if key not in _KEYS:
+            raise ScenarioError(f"{where} unknown key {key!r} (allowed: {', '.join(_KEYS)})")
+    name = table.get("name", "")
+    if not isinstance(name, str) or not name.strip():
+        raise ScenarioError(f"{where} name = {name!r}: expected a non-empty string")
+    given = [k for k in ("polygon", "line", "point", "file") if k in table]
+    if len(given) != 1:
+        raise ScenarioError(f"{where} {name!r}: give exactly one of polygon, line, point, file (got "
+                            f"{', '.join(given) or 'none'})")
+    kind = given[0]
+    kw: dict[str, Any] = {}
+    for key in ("buffer_m", "radius_m"):
+        if key in table:
+            kw[key] = _num(where, key, table[key], positive=True)
+    if kind == "line" and "buffer_m" not in kw:
+        raise ScenarioError(f"{where} {name!r}: a line needs buffer_m (the corridor's half-width)")
+    if kind == "point" and "radius_m" not in kw:
+        raise ScenarioError(f"{where} {name!r}: a point needs radius_m")
+    if "above_seabed_m" in table:
+        if "top_m" in table or "bottom_m" in table:
+            raise ScenarioError(f"{where} {name!r}: above_seabed_m cannot be combined with top_m/bottom_m")
+        kw["above_seabed_m"] = _num(where, "above_seabed_m", table["above_seabed_m"], positive=True)
+    top = _num(where, "top_m", table["top_m"]) if "top_m" in table else 0.0
+    bottom = _num(where, "bottom_m", table["bottom_m"]) if "bottom_m" in table else math.inf
+    if not bottom > top:
+        raise ScenarioError(f"{where} bottom_m = {bottom:g}: must be deeper than top_m = {top:g}")
+    for key in ("file", "layer", "where"):
+        if key in table:
+            if kind != "file":
+                raise ScenarioError(f"{where} {key} = {table[key]!r}: only with file")
+            if not isinstance(table[key], str) or (key == "file" and not table[key]):
+                raise ScenarioError(f"{where} {key} = {table[key]!r}: expected a string")
+            kw[key] = table[key]
+    coords = () if kind == "file" else _pairs(where, kind, table[kind], {"polygon": 3, "line": 2, "point": 1}[kind])
+    return ZoneSpec(where, name.strip(), kind, coords, top_m=top, bottom_m=bottom, **kw)
+
+
+def parse_zones(tables: Any, source: str) -> tuple[ZoneSpec, ...]:
+    """Validate the ``[[zones]]`` array of a scenario.
+
+    Parameters
+    ----------
+    tables : list of dict
+        The parsed array of tables.
+    source : str
+        The scenario file, for messages.
+
+    Returns
+    -------
+    tuple of ZoneSpec
+        One per table.
+
+    Raises
+    ------
+    ScenarioError
+        On an unknown key, a missing or doubled geometry, or a bad value (naming file, key and value).
+    """
+    if not isinstance(tables, list):
+        raise ScenarioError(f"{source}: zones = {str(tables)[:60]}: expected an array of tables [[zones]]")
+    return tuple(_one(t, f"{source}: [[zones]] #{i + 1}") for i, t in enumerate(tables))
+
+
+def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
+    """The spec's pairs in the local frame: [lat, lon] within reach of the origin, else metres."""
+    xy = np.asarray(spec.coords, dtype=float)
+    if frame is None:
+        return xy
+    near = (np.abs(xy[:, 0] - frame.lat0) <= _GEO_REACH_DEG) & \
+        (np.abs((xy[:, 1] - frame.lon0 + 180.0) % 360.0 - 180.0) <= _GEO_REACH_DEG)
+    if near.all():
+        x, y = frame.forward(xy[:, 1], xy[:, 0])
+        return np.column_stack([x, y])
+    if near.any():
+        raise ScenarioError(f"{spec.where_} {spec.kind}: some pairs look like [lat, lon] near the origin and some "
+                            "do not; give all in degrees or all in metres")
+    return xy
+
+
+def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
+    """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
+    kind = shapely.get_type_id(geom)
+    if kind in (3, 6):
+        return shapely.make_valid(geom)
+    if kind in (1, 2, 5):
+        if not buffer_m:
+            raise ScenarioError(f"{where}: {geom.geom_type} features need buffer_m (a corridor's half-width)")
+        return shapely.buffer(geom, buffer_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
+    if kind in (0, 4):
+        if not radius_m:
+            raise ScenarioError(f"{where}: {geom.geom_type} features need radius_m")
+        return shapely.buffer(geom, radius_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
+    raise DataError(f"{where}: unsupported geometry {geom.geom_type}")
+
+
+def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
+               box: Any) -> list[tuple[str, Any]]:
+    """Named local-frame geometries of the file's features that reach ``box`` (m)."""
+    import pyogrio
+
+    path = Path(spec.file)
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    src = f"{spec.where_} file = {str(path)!r}"
+    if not path.exists():
+        raise DataError(f"{src}: not found")
+    try:
+        meta, _, wkb, fields = pyogrio.raw.read(path, layer=spec.layer or None, where=spec.where or None,
+                                                read_geometry=True)
+    except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
+        raise DataError(f"{src}: cannot read{f' layer {spec.layer!r}' if spec.layer else ''}"
+                        f"{f' where {spec.where!r}' if spec.where else ''} ({str(exc).splitlines()[0]})") from exc
+    crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
+    if frame is None and crs.is_geographic:
+        raise ScenarioError(f"{src}: geographic features need [origin] lat/lon")
+    names = list(meta.get("fields", []))
+    label = next((fields[names.index(f)] for f in _NAME_FIELDS if f in names), None)
+    geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
+
+    def project(xy: np.ndarray) -> np.ndarray:
+        if frame is None:
+            return xy
+        lon, lat = to_geo.transform(xy[:, 0], xy[:, 1])
+        x, y = frame.forward(lon, lat)
+        return np.column_stack([x, y])
+
+    out = []
+    for i, g in enumerate(geoms):
+        if g is None or g.is_empty:
+            continue
+        g = shapely.force_2d(g)
+        if crs.is_geographic and shapely.get_type_id(g) not in (0, 4):
+            g = shapely.segmentize(g, 0.005)  # about 500 m: straight in the local frame, not in degrees
+        local = shapely.transform(g, project)
+        if not shapely.intersects(local, box):
+            continue
+        tag = str(label[i]).strip() if label is not None and label[i] not in (None, "") else f"#{i + 1}"
+        out.append((f"{spec.name}: {tag}", local))
+    if not out:
+        log.warning("%s: no feature reaches the operating area", src)
+    return out
+
+
+def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: Terrain | None,
+               extent_m: tuple[float, float, float, float], *, base_dir: Path | None = None,
+               margin_m: float = 1000.0, pad_m: float = 1.0) -> Zones:
+    """Make the scenario's zones in the local frame (files read, lines and points buffered).
+
+    Parameters
+    ----------
+    specs : tuple of ZoneSpec
+        The ``[[zones]]`` tables.
+    frame : LocalFrame or None
+        The scenario's local frame (None: every pair is in metres).
+    terrain : Terrain or None
+        Seabed for ``above_seabed_m`` zones.
+    extent_m : tuple of 4 float
+        ``(xmin, xmax, ymin, ymax)`` of the operating area (m); file features that do not reach it
+        widened by ``margin_m`` are dropped.
+    base_dir : pathlib.Path, optional
+        Folder that relative file paths resolve against.
+    margin_m : float, default 1000.0
+        Widening of the area for file features (m).
+    pad_m : float, default 1.0
+        How far the planners keep off every zone (:attr:`Zones.pad`, m); checks of missions test the
+        zones themselves.
+
+    Returns
+    -------
+    Zones
+        The prisms behind their R-tree.
+
+    Raises
+    ------
+    ScenarioError, DataError
+        On a bad table or an unreadable file (one line naming the file, key and value).
+    """
+    x0, x1, y0, y1 = extent_m
+    box = shapely.box(x0 - margin_m, y0 - margin_m, x1 + margin_m, y1 + margin_m)
+    zones: list[Zone] = []
+    for spec in specs:
+        if spec.kind == "file":
+            named = _read_file(spec, frame, base_dir, box)
+        else:
+            xy = _to_local(spec, frame)
+            geom = {"polygon": shapely.Polygon, "line": shapely.LineString}.get(spec.kind, shapely.Point)(
+                xy if spec.kind != "point" else xy[0])
+            named = [(spec.name, geom)]
+        for name, geom in named:
+            footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_} {name!r}")
+            try:
+                zones.append(Zone(name, footprint, spec.top_m, spec.bottom_m, spec.above_seabed_m))
+            except DataError as exc:
+                raise ScenarioError(f"{spec.where_}: {exc}") from exc
+    try:
+        return Zones(tuple(zones), terrain, pad=pad_m)
+    except DataError as exc:
+        raise ScenarioError(f"{specs[0].where_.split(':')[0]}: {exc}") from exc

@@ -1,0 +1,209 @@
+"""What makes an exported mission deployable (issue 51): its datum, its safety envelope, its payload events
+and the altitude of its terrain-following legs, built once from the World and Mission and written by
+every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; read back by
+:mod:`auvplan.io.missions.deploy_read`).
+
+* **Datum** — the geodetic origin ``(lat, lon)`` of the local frame (WGS 84, pyproj's azimuthal
+  equidistant about it: :class:`auvplan.io.data.geo.LocalFrame`).
+* **Envelope** — the operating region: the polygon of the world's ``[bounds]`` (x/y), the deepest depth the
+  mission may reach (``[mission] max_depth_m`` clipped to the vehicle's rating), the least altitude above
+  the seabed (``[mission] min_altitude_m``), the exclusion polygons of the ``[land]`` inside the bounds, and
+  a time-out: the predicted duration × :data:`TIMEOUT_FACTOR`.
+* **Payload** — one flag per leg: the sensor is on while the vehicle flies a survey line (legs joining two
+  vertices of the same line), off on turns and transits; the events are the legs where it switches.
+* **Altitude** — with ``[mission] follow_altitude_m``, every leg is terrain-following: the planned altitude
+  above the chart's seabed at each waypoint, flown by the vehicle's altimeter where the format can say so,
+  with the planned depth schedule as the bound (never deeper than planned).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+
+from ...sim import Mission
+from ...world import World
+
+__all__ = ["TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels", "payload_events"]
+
+TIMEOUT_FACTOR = 1.5
+"""Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """The operating region of a mission (local frame, m; s).
+
+    Attributes
+    ----------
+    polygon : tuple of (float, float)
+        Counter-clockwise vertices of the region (the ``[bounds]`` rectangle), not closed.
+    max_depth_m : float
+        Deepest depth allowed (m below the surface).
+    min_altitude_m : float
+        Least altitude above the seabed (m); 0: none.
+    max_time_s : float
+        Time-out (s): ``predicted_s × timeout_factor``.
+    predicted_s : float
+        The mission's predicted duration (s).
+    timeout_factor : float
+        The factor of the time-out.
+    exclusions : tuple of polygons
+        Each a tuple of ``(x, y)`` vertices (land inside the bounds, simplified, never touching the mission).
+    """
+
+    polygon: tuple[tuple[float, float], ...]
+    max_depth_m: float
+    min_altitude_m: float
+    max_time_s: float
+    predicted_s: float
+    timeout_factor: float = TIMEOUT_FACTOR
+    exclusions: tuple[tuple[tuple[float, float], ...], ...] = ()
+
+    def contains(self, xy: ArrayLike) -> NDArray[np.bool_]:
+        """Whether each point lies in the region and outside every exclusion.
+
+        Parameters
+        ----------
+        xy : array_like
+            ``(N, 2)`` points (m).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``; points on the boundary count as inside.
+        """
+        p = shapely.points(np.asarray(xy, dtype=float)[:, :2])
+        ok = shapely.covers(shapely.Polygon(self.polygon), p)
+        for ex in self.exclusions:
+            ok &= ~shapely.intersects(shapely.Polygon(ex), p)
+        return np.asarray(ok, dtype=bool)
+
+
+@dataclass(frozen=True)
+class DeployInfo:
+    """What the exports carry beside the waypoints (module notes).
+
+    Attributes
+    ----------
+    origin : tuple of float or None
+        Datum ``(lat, lon)`` (degrees).
+    envelope : Envelope or None
+        The operating region.
+    payload : numpy.ndarray of bool or None
+        ``(N - 1,)`` the sensor is on during leg i; None: the mission has no payload events.
+    altitude : numpy.ndarray or None
+        ``(N,)`` planned altitude above the chart's seabed at each waypoint (m) when the legs are
+        terrain-following; None otherwise.
+    follow_altitude_m : float
+        The target altitude of terrain following (m; 0: off).
+    """
+
+    origin: tuple[float, float] | None
+    envelope: Envelope | None = None
+    payload: NDArray[np.bool_] | None = None
+    altitude: NDArray[np.float64] | None = None
+    follow_altitude_m: float = 0.0
+
+
+def payload_from_labels(labels: ArrayLike) -> NDArray[np.bool_]:
+    """The sensor state of each leg of a survey route: on along a line, off on turns and transits.
+
+    Parameters
+    ----------
+    labels : array_like of int
+        ``(N,)`` line number of each route vertex, negative for turns and transits
+        (:class:`auvplan.survey.mission.SurveyPlan`).
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        ``(N - 1,)`` True where leg i joins two vertices of the same line.
+    """
+    lab = np.asarray(labels, dtype=np.int64)
+    return np.asarray((lab[:-1] == lab[1:]) & (lab[:-1] >= 0), dtype=bool)
+
+
+def payload_events(payload: ArrayLike) -> list[tuple[int, bool]]:
+    """The switching events of per-leg sensor states: ``(waypoint, on)`` at each change, the sensor off
+    before the first leg and after the last.
+
+    Parameters
+    ----------
+    payload : array_like of bool
+        ``(N - 1,)`` sensor state per leg.
+
+    Returns
+    -------
+    list of (int, bool)
+        The waypoint index where the state changes and the new state.
+    """
+    p = np.r_[False, np.asarray(payload, dtype=bool), False]
+    return [(int(i), bool(p[i + 1])) for i in np.flatnonzero(p[1:] != p[:-1])]
+
+
+def _exclusions(world: World, box: shapely.Polygon,
+                mission: shapely.Geometry) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """Land inside the bounds as exclusion polygons, simplified (≤ ~1 % of the box's side) but never
+    touching the mission's track (the tolerance is lowered until it does not, down to the exact land)."""
+    if world.land is None:
+        return ()
+    land = shapely.intersection(world.land.geometry, box)
+    if land.is_empty:
+        return ()
+    side = max(box.bounds[2] - box.bounds[0], box.bounds[3] - box.bounds[1])
+    tol = 0.01 * side
+    while True:
+        g = shapely.simplify(land, tol, preserve_topology=True) if tol > 0 else land
+        if tol <= 0 or not shapely.intersects(g, mission):
+            break
+        tol = tol / 4 if tol > 0.5 else 0.0
+    polys = [p for p in getattr(g, "geoms", [g]) if isinstance(p, shapely.Polygon) and not p.is_empty]
+    return tuple(tuple((float(x), float(y)) for x, y in list(p.exterior.coords)[:-1]) for p in polys)
+
+
+def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: float | ArrayLike,
+                flown_s: float | None = None, payload: ArrayLike | None = None) -> DeployInfo:
+    """The datum, envelope, payload and altitudes of a mission (module notes).
+
+    Parameters
+    ----------
+    world : World
+        Bounds, seabed, land, margins and origin.
+    mission : Mission
+        The vehicle's depth rating and ``follow_altitude_m``.
+    waypoints : array_like
+        ``(N, 3)`` the mission (m).
+    speed : float or array_like
+        Planned speed, or one per leg (m/s).
+    flown_s : float, optional
+        Duration of the simulated flight (s): the prediction is the longer of it and the planned time.
+    payload : array_like of bool, optional
+        ``(N - 1,)`` sensor state per leg (:func:`payload_from_labels`).
+
+    Returns
+    -------
+    DeployInfo
+        What the exports carry.
+    """
+    from .formats import planned_times
+
+    w = np.asarray(waypoints, dtype=float)
+    b = world.bounds
+    poly = ((b.xmin, b.ymin), (b.xmax, b.ymin), (b.xmax, b.ymax), (b.xmin, b.ymax))
+    predicted = float(planned_times(w, speed)[-1]) if len(w) > 1 else 0.0
+    if flown_s is not None and np.isfinite(flown_s):
+        predicted = max(predicted, float(flown_s))
+    depth = world.margins.max_depth if np.isfinite(world.margins.max_depth) else mission.vehicle.max_depth_m
+    track = shapely.LineString(w[:, :2]) if len(w) > 1 else shapely.Point(w[0, :2])
+    env = Envelope(tuple((float(x), float(y)) for x, y in poly), float(depth), float(world.margins.min_altitude),
+                   round(predicted * TIMEOUT_FACTOR, 1), predicted, TIMEOUT_FACTOR,
+                   _exclusions(world, shapely.Polygon(poly), track))
+    altitude = None
+    if mission.follow_altitude_m > 0 and world.terrain is not None:
+        altitude = w[:, 2] - np.asarray(world.seabed(w[:, 0], w[:, 1]), dtype=float)
+    pay = None if payload is None or not np.any(payload) else np.asarray(payload, dtype=bool)
+    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m))

@@ -1,0 +1,375 @@
+"""Reading back what makes a mission file deployable (issue 51) and checking it against the scenario
+(``auvplan mission check``): the file's datum, its safety envelope and its payload events
+(:mod:`auvplan.io.missions.deploy_formats` says where each format keeps them).
+
+* **Datum** — a local-coordinate file (MOOS, ROS 2 YAML, CSV) whose datum differs from the scenario's
+  ``[origin]`` by more than 1 cm is refused (:class:`~auvplan.errors.DataError`, exit 2): its metres would be
+  placed elsewhere.  The CSV's datum is the origin its ``lat``/``lon`` columns put at x = y = 0
+  (:func:`csv_datum`).  A file without a datum (written before issue 51) is read as before, and said so.
+* **Envelope** — it must contain the mission: every leg inside the polygon and outside the exclusions,
+  the deepest waypoint within ``max_depth``, the least re-flown altitude at or above ``min_altitude``, the
+  predicted duration within ``max_time``.  A file that carries none is reported (``envelope: null``).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import re
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from ...errors import DataError
+from ..data.geo import LocalFrame
+from .readers import KML_NS, MISSION_SUFFIXES
+
+__all__ = ["FileDeploy", "read_deploy", "csv_datum", "check_deploy", "file_deploy_check", "DATUM_TOLERANCE_M"]
+
+DATUM_TOLERANCE_M = 0.01
+"""Largest distance (m) between a file's datum and the scenario's origin that is taken as the same datum."""
+
+
+@dataclass(frozen=True)
+class FileDeploy:
+    """What a mission file says beside its waypoints.
+
+    Attributes
+    ----------
+    datum : tuple of float or None
+        ``(lat, lon)`` of the file's local frame.
+    polygon : numpy.ndarray or None
+        ``(M, 2)`` the envelope's region: local x, y (MOOS, YAML) or lat, lon (QGC, GeoJSON, KML).
+    geographic : bool
+        Whether ``polygon`` and ``exclusions`` are lat, lon.
+    exclusions : list of numpy.ndarray
+        Exclusion polygons, in the same coordinates.
+    limits : dict
+        ``max_depth_m``, ``min_altitude_m``, ``max_time_s`` where the file gives them.
+    payload_events : list of (int, bool)
+        ``(waypoint, on)`` where the file switches the sensor.
+    altitude_legs : int
+        Legs the file flies at an altitude above the seabed (terrain following).
+    """
+
+    datum: tuple[float, float] | None = None
+    polygon: NDArray[np.float64] | None = None
+    geographic: bool = False
+    exclusions: list[NDArray[np.float64]] = field(default_factory=list)
+    limits: dict[str, float] = field(default_factory=dict)
+    payload_events: list[tuple[int, bool]] = field(default_factory=list)
+    altitude_legs: int = 0
+
+
+_NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
+
+
+def _moos(text: str) -> FileDeploy:
+    body = re.sub(r"//[^\n]*", "", text)
+    lat = re.search(rf"^\s*LatOrigin\s*=\s*{_NUM}", body, re.M)
+    lon = re.search(rf"^\s*LongOrigin\s*=\s*{_NUM}", body, re.M)
+    datum = (float(lat.group(1)), float(lon.group(1))) if lat and lon else None
+    poly, limits = None, {}
+    m = re.search(r"Behavior\s*=\s*BHV_OpRegion\s*\{([^}]*)\}", body)
+    if m:
+        kv = dict((k.strip().lower(), v.strip()) for k, v in (ln.split("=", 1) for ln in m.group(1).splitlines()
+                                                               if "=" in ln))
+        if "polygon" in kv:
+            poly = np.array([[float(c) for c in pt.split(",")[:2]] for pt in kv["polygon"].split(":")])
+        limits = {f"{k}_{'m' if k != 'max_time' else 's'}": float(kv[k])
+                  for k in ("max_depth", "min_altitude", "max_time") if k in kv}
+    events = []
+    for blk in re.finditer(r"Behavior\s*=\s*BHV_ConstantDepth\s*\{([^}]*)\}", body):
+        idx = re.search(r"WPT_INDEX\s*==?\s*(\d+)", blk.group(1))
+        flag = re.search(r"runflag\s*=\s*PAYLOAD\s*=\s*(on|off)", blk.group(1))
+        if idx and flag:
+            events.append((int(idx.group(1)), flag.group(1) == "on"))
+    alt = len(re.findall(r"Behavior\s*=\s*BHV_MinAltitudeX", body))
+    return FileDeploy(datum, poly, False, [], limits, sorted(events), alt)
+
+
+def _qgc(doc: dict[str, Any]) -> FileDeploy:
+    fence = doc.get("geoFence") or {}
+    inc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if p.get("inclusion")]
+    exc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if not p.get("inclusion", True)]
+    events, wp = [], -1
+    for item in doc["mission"]["items"]:
+        if item.get("command") == 16:
+            wp += 1
+        elif item.get("command") == 181:
+            events.append((wp, float(item["params"][1]) > 0))
+    alt = sum(1 for i in doc["mission"]["items"] if i.get("command") == 16 and i.get("frame") == 10)
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
+
+
+def _yaml(text: str) -> FileDeploy:
+    import yaml
+
+    doc = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml when built with it
+    d = doc.get("datum")
+    datum = (float(d["lat"]), float(d["lon"])) if isinstance(d, dict) else None
+    env = doc.get("envelope") or {}
+    poly = np.asarray(env["polygon"], dtype=float) if "polygon" in env else None
+    limits = {k: float(env[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in env}
+    events = [(int(e["waypoint"]), bool(e["sensor"])) for e in doc.get("payload_events") or []]
+    return FileDeploy(datum, poly, False, [], limits, events, 0)
+
+
+def _geojson(doc: dict[str, Any]) -> FileDeploy:
+    poly, exc, limits, events, alt = None, [], {}, [], 0
+    for f in doc.get("features", []):
+        props = f.get("properties") or {}
+        if props.get("name") in ("envelope", "exclusion"):
+            ring = np.asarray(f["geometry"]["coordinates"][0], dtype=float)[:-1, ::-1]  # lat, lon
+            if props["name"] == "envelope":
+                poly = ring
+                limits = {k: float(props[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in props}
+            else:
+                exc.append(ring)
+        elif props.get("name") == "mission":
+            events = [(int(e["waypoint"]), e["sensor"] == "on") for e in props.get("payload_events", [])]
+            alt = len(props.get("altitude_m", [])) and len(props["altitude_m"]) - 1
+    return FileDeploy(None, poly, True, exc, limits, events, alt)
+
+
+def _kml(text: str) -> FileDeploy:
+    ns = {"k": KML_NS}
+    poly, exc, events = None, [], []
+    limits: dict[str, float] = {}
+    for pm in ET.fromstring(text).iter(f"{{{KML_NS}}}Placemark"):
+        name = pm.findtext("k:name", namespaces=ns) or ""
+        data = {d.get("name"): d.findtext("k:value", namespaces=ns) or "" for d in pm.iter(f"{{{KML_NS}}}Data")}
+        if name in ("envelope", "exclusion"):
+            c = pm.find("k:Polygon/k:outerBoundaryIs/k:LinearRing/k:coordinates", ns)
+            ring = np.array([[float(v) for v in s.split(",")[:2]]
+                             for s in ((c.text if c is not None else "") or "").split()])[:-1, ::-1]
+            if name == "envelope":
+                poly = ring
+                limits = {k: float(data[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in data}
+            else:
+                exc.append(ring)
+        elif name == "mission" and "payload_events" in data:
+            events = [(int(a), b == "on") for a, b in (e.split(":") for e in data["payload_events"].split())]
+    return FileDeploy(None, poly, True, exc, limits, events, 0)
+
+
+def csv_datum(lat: NDArray[np.float64], lon: NDArray[np.float64], x: NDArray[np.float64],
+              y: NDArray[np.float64]) -> tuple[float, float] | None:
+    """The origin whose local frame puts each ``(lat, lon)`` at its ``(x, y)``: a fixed-point iteration
+    moving a guess by the mean residual (converges in a few steps; None without lat/lon).
+
+    Parameters
+    ----------
+    lat, lon, x, y : numpy.ndarray
+        The CSV's columns (degrees, m).
+
+    Returns
+    -------
+    tuple of float or None
+        ``(lat, lon)`` of the file's datum.
+    """
+    ok = np.isfinite(lat) & np.isfinite(lon) & np.isfinite(x) & np.isfinite(y)
+    if not ok.any():
+        return None
+    lat, lon, x, y = lat[ok], lon[ok], x[ok], y[ok]
+    frame = LocalFrame(float(lat[0]), float(lon[0]))
+    o_lon, o_lat = frame.inverse(np.array([-x[0]]), np.array([-y[0]]))
+    guess = (float(o_lat[0]), float(o_lon[0]))
+    for _ in range(8):
+        fx, fy = LocalFrame(*guess).forward(lon, lat)
+        rx, ry = float(np.mean(fx - x)), float(np.mean(fy - y))
+        g_lon, g_lat = LocalFrame(*guess).inverse(np.array([rx]), np.array([ry]))
+        guess = (float(g_lat[0]), float(g_lon[0]))
+        if np.hypot(rx, ry) < 1e-6:
+            break
+    return guess
+
+
+def _csv(text: str) -> FileDeploy:
+    rows = list(csv.DictReader(text.splitlines()))
+    if not rows:
+        return FileDeploy()
+
+    def col(k: str) -> NDArray[np.float64]:
+        return np.array([float(r[k]) if r.get(k) not in (None, "") else np.nan for r in rows])
+
+    datum = csv_datum(col("lat"), col("lon"), col("x"), col("y")) if "lat" in rows[0] else None
+    events = []
+    if "payload" in rows[0]:
+        p = np.array([r["payload"].strip() == "1" for r in rows])
+        prev = np.r_[False, p[:-1]]
+        events = [(int(i), bool(p[i])) for i in np.flatnonzero(p != prev)]
+    alt = len(rows) - 1 if "altitude" in rows[0] else 0
+    return FileDeploy(datum, None, False, [], {}, events, alt)
+
+
+def read_deploy(path: str | Path) -> FileDeploy:
+    """What a mission file carries beside its waypoints (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A file :func:`auvplan.io.missions.readers.read_mission` reads.
+
+    Returns
+    -------
+    FileDeploy
+        Its datum, envelope, payload events and terrain-following legs (empty where it says nothing).
+    """
+    path = Path(path)
+    fmt = MISSION_SUFFIXES.get(path.suffix.lower())
+    text = path.read_text(encoding="utf-8")
+    try:
+        if fmt == "moos":
+            return _moos(text)
+        if fmt == "qgc":
+            return _qgc(json.loads(text))
+        if fmt == "ros":
+            return _yaml(text)
+        if fmt == "geojson":
+            return _geojson(json.loads(text))
+        if fmt == "kml":
+            return _kml(text)
+        if fmt == "csv":
+            return _csv(text)
+    except (ValueError, KeyError, TypeError, AttributeError, IndexError, ET.ParseError) as exc:
+        raise DataError(f"{path}: the datum, envelope or payload events cannot be read ({exc})") from exc
+    return FileDeploy()
+
+
+def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints: NDArray[np.float64],
+                 min_altitude_m: float, duration_s: float) -> dict[str, Any]:
+    """Check a file's datum against the scenario and its envelope against its mission (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    origin : tuple of float or None
+        The scenario's ``[origin]``.
+    waypoints : numpy.ndarray
+        ``(N, 3)`` the file's mission in the scenario's local frame (m).
+    min_altitude_m : float
+        The least altitude of the mission re-flown under the file's semantics (m).
+    duration_s : float
+        The mission's predicted duration at the file's speeds (s).
+
+    Returns
+    -------
+    dict
+        ``datum`` (``lat``, ``lon``, ``offset_m``, or None), ``envelope`` (its limits and ``ok``, ``reasons``,
+        or None), ``payload_events``, ``altitude_legs`` and ``ok``.
+
+    Raises
+    ------
+    DataError
+        When the file's datum differs from the scenario's origin (or the scenario has none).
+    """
+    info = read_deploy(path)
+    out: dict[str, Any] = {"datum": None, "envelope": None, "altitude_legs": info.altitude_legs,
+                           "payload_events": [{"waypoint": i, "sensor": "on" if on else "off"}
+                                              for i, on in info.payload_events]}
+    if info.datum is not None:
+        if origin is None:
+            raise DataError(f"{path}: the file's datum is lat {info.datum[0]:.9f}, lon {info.datum[1]:.9f} but the "
+                            "scenario has no [origin]: its local coordinates cannot be placed")
+        dx, dy = LocalFrame(*origin).forward(np.array([info.datum[1]]), np.array([info.datum[0]]))
+        off = float(np.hypot(dx[0], dy[0]))
+        if off > DATUM_TOLERANCE_M:
+            raise DataError(f"{path}: datum lat {info.datum[0]:.9f}, lon {info.datum[1]:.9f} differs from the "
+                            f"scenario's [origin] lat {origin[0]:.9f}, lon {origin[1]:.9f} ({off:.2f} m apart): its "
+                            "local coordinates would be placed that far off")
+        out["datum"] = {"lat": info.datum[0], "lon": info.datum[1], "offset_m": off}
+    if info.polygon is not None:
+        out["envelope"] = _envelope(info, origin, waypoints, min_altitude_m, duration_s)
+    elif info.datum is not None and MISSION_SUFFIXES.get(Path(path).suffix.lower()) in ("moos", "ros"):
+        # written since issue 51 (it has a datum), in a format that carries an envelope, but without one
+        out["envelope"] = {"ok": False, "vertices": 0, "exclusions": 0, "predicted_s": duration_s,
+                           "reasons": ["the file has a datum but no envelope (BHV_OpRegion / envelope removed)"]}
+    out["ok"] = out["envelope"] is None or out["envelope"]["ok"]
+    return out
+
+
+def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[np.float64], min_alt: float,
+              duration: float) -> dict[str, Any]:
+    """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
+    pts = w[:, :2]
+    if info.geographic:
+        if origin is None:
+            raise DataError("a geographic envelope needs the scenario's [origin]")
+        lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
+        pts = np.column_stack([lat, lon])
+    track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
+    reasons = []
+    region = shapely.Polygon(info.polygon)
+    if not region.covers(track):
+        outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
+        reasons.append(f"the mission leaves the envelope's polygon ({outside} waypoints outside)")
+    hit = [k for k, e in enumerate(info.exclusions) if shapely.Polygon(e).intersects(track)]
+    if hit:
+        reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
+    lim = info.limits
+    deepest = float(-w[:, 2].min())
+    if "max_depth_m" in lim and deepest > lim["max_depth_m"] + 1e-3:
+        reasons.append(f"deepest waypoint {deepest:.2f} m > max_depth {lim['max_depth_m']:g} m")
+    if lim.get("min_altitude_m", 0) > 0 and min_alt < lim["min_altitude_m"] - 1e-3:
+        reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
+    if "max_time_s" in lim and duration > lim["max_time_s"]:
+        reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
+    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),  # type: ignore[arg-type]
+            "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
+
+
+def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
+                      min_altitude_m: float, speed: float) -> tuple[dict[str, Any], str]:
+    """:func:`check_deploy` of a file read by ``mission check`` (its leg speeds from the file where it has
+    them, else ``speed``) and the result in one line.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    origin : tuple of float or None
+        The scenario's ``[origin]``.
+    points : numpy.ndarray
+        ``(N, 3)`` the file's waypoints (a QGC plan's surface home first).
+    fmt : str
+        Its format (:data:`auvplan.io.missions.readers.MISSION_SUFFIXES`).
+    min_altitude_m : float
+        Its least re-flown altitude (m).
+    speed : float
+        The vehicle's speed (m/s), for a file without speeds.
+
+    Returns
+    -------
+    record : dict
+        :func:`check_deploy`'s record.
+    line : str
+        ``datum …; envelope OK|FAIL|none …; payload …``.
+    """
+    from .formats import planned_times
+    from .speeds import read_leg_speeds
+
+    w = points[1:] if fmt == "qgc" else points
+    v = read_leg_speeds(path, len(w) - 1)
+    duration = float(planned_times(w, speed if v is None else v)[-1]) if len(w) > 1 else 0.0
+    rec = check_deploy(path, origin, points, min_altitude_m, duration)
+    d, e = rec["datum"], rec["envelope"]
+    datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d
+             else ("geographic coordinates" if fmt in ("qgc", "gpx", "geojson", "kml") else "no datum in the file"))
+    if e is None:
+        env = "envelope: none in the file (the operator must add one)"
+    else:
+        env = (f"envelope {'OK' if e['ok'] else 'FAIL'} — polygon of {e['vertices']} vertices"
+               + (f", {e['exclusions']} exclusions" if e["exclusions"] else "")
+               + "".join(f", {k} {e[k]:g}" for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in e)
+               + f" (predicted {e['predicted_s']:.0f} s)" + "".join(f"; {r}" for r in e["reasons"]))
+    n = len(rec["payload_events"])
+    pay = f"{n} payload events" if n else "no payload events"
+    alt = f"; {rec['altitude_legs']} legs at altitude" if rec["altitude_legs"] else ""
+    return rec, f"{datum}; {env}; {pay}{alt}"

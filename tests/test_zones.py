@@ -1,0 +1,224 @@
+"""Charted no-go zones (issue 53): the exact segment-vs-prism test against an independent shapely check,
+distances, the readers of every vector format, the planners' final word, ``mission check``."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from benchmarks.zones import free_point, independent_entries, random_world, spec_for
+
+from auvplan.cli import main
+from auvplan.cost import CostModel, evaluate_paths
+from auvplan.errors import ScenarioError
+from auvplan.io.scenario.build import build
+from auvplan.io.scenario.loader import loads
+from auvplan.planners import PlannerSpec, PlanningProblem, plan, register
+from auvplan.planners.registry import REGISTRY
+from auvplan.world import Zone, Zones
+from helpers import flat_world
+
+
+# ---------------------------------------------------------------------- the exact test
+@pytest.mark.parametrize("seed", [0, 1])
+def test_entries_match_an_independent_shapely_check(seed):
+    rng = np.random.default_rng(seed)
+    world = random_world(rng, 12)
+    zones = world.zones.exact
+    p = np.column_stack([rng.uniform(0, 3000, 400), rng.uniform(0, 3000, 400), rng.uniform(-250, -5, 400)])
+    p[50:60, :2] = p[50, :2]  # vertical legs
+    p[100:110, 2] = p[100, 2]  # level legs
+    seg, zi = zones.entries(np.stack([p[:-1], p[1:]], axis=1))
+    ours = {(int(s) + 1, zones.names[int(z)]) for s, z in zip(seg, zi)}
+    theirs = set(independent_entries(world, p))
+    assert len(theirs) > 20
+    assert ours == theirs
+
+
+def test_signed_distance_is_the_prism_distance_and_never_above_it():
+    z = Zones((Zone("box", shapely.box(0, 0, 100, 100), top=20.0, bottom=50.0),))
+    d = z.signed_distance(np.array([[150.0, 50.0, -10.0], [50.0, 50.0, -30.0], [50.0, 130.0, -35.0]]), exact=True)
+    np.testing.assert_allclose(d, [math.hypot(50.0, 10.0), -10.0, 30.0])
+    rng = np.random.default_rng(3)
+    world = random_world(rng, 40)
+    pts = np.column_stack([rng.uniform(-500, 3500, (3000, 2)), rng.uniform(-300, 0, 3000)])
+    fast, exact = world.zones.signed_distance(pts), world.zones.signed_distance(pts, exact=True)
+    assert np.all(fast <= exact + 1e-9)
+    near = exact < 2.0 * world.zones._grid[2]
+    np.testing.assert_allclose(fast[near], exact[near])
+
+
+def test_the_pad_keeps_planners_off_and_checks_test_the_zone_itself():
+    zones = Zones((Zone("wreck", shapely.box(0, 0, 10, 10)),), pad=1.0)
+    leg = np.array([[[-5.0, 10.5, -5.0], [20.0, 10.5, -5.0]]])  # 0.5 m north of the footprint
+    assert zones.segments_enter(leg)[0] and not zones.exact.segments_enter(leg)[0]
+
+
+def test_a_seabed_band_follows_the_seabed():
+    world = flat_world(depth=100.0)
+    zones = Zones((Zone("pipeline", shapely.box(400, 0, 600, 1000), above_seabed=15.0),), world.terrain)
+    over = np.array([[[0.0, 500.0, -84.0], [1000.0, 500.0, -84.0]], [[0.0, 500.0, -86.0], [1000.0, 500.0, -86.0]]])
+    assert zones.segments_enter(over).tolist() == [False, True]  # 16 m and 14 m above the seabed
+
+
+# ---------------------------------------------------------------------- readers
+ORIGIN = (-7.0, 70.8)
+SQUARE = [(-6.95, 70.85), (-6.95, 70.9), (-6.9, 70.9), (-6.9, 70.85)]  # [lat, lon] corners
+
+
+def _scenario(zones_toml: str, base: Path | None = None) -> tuple:
+    text = f"""
+[origin]
+lat = {ORIGIN[0]}
+lon = {ORIGIN[1]}
+[bounds]
+x = [0.0, 20000.0]
+y = [0.0, 20000.0]
+z = [-500.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 400.0
+[mission]
+start = [1000.0, 1000.0, -100.0]
+goal = [19000.0, 19000.0, -100.0]
+min_altitude_m = 20.0
+{zones_toml}
+"""
+    return build(loads(text, source="test.toml", base_dir=base))
+
+
+def _write(path: Path, driver: str, crs: str, geoms: list, names: list[str], layer: str | None = None) -> None:
+    import pyogrio
+
+    pyogrio.raw.write(path, np.array(shapely.to_wkb(geoms), dtype=object), [np.array(names, dtype=object)],
+                      ["name"], driver=driver, crs=crs, geometry_type=geoms[0].geom_type, layer=layer)
+
+
+@pytest.mark.parametrize(("suffix", "driver", "crs"), [("geojson", "GeoJSON", "EPSG:4326"), ("kml", "KML", "EPSG:4326"),
+                                                       ("shp", "ESRI Shapefile", "EPSG:32743"),
+                                                       ("gpkg", "GPKG", "EPSG:3857")])
+def test_every_vector_format_reads_to_the_same_footprint(tmp_path, suffix, driver, crs):
+    from pyproj import Transformer
+
+    inline, _ = _scenario("[[zones]]\nname = 'area'\npolygon = " + str([list(c) for c in SQUARE]))
+    ll = Transformer.from_crs("EPSG:4326", crs, always_xy=True)
+    ring = [ll.transform(lon, lat) for lat, lon in SQUARE]
+    other = shapely.Polygon([(x + 30000.0, y) for x, y in ring]) if crs != "EPSG:4326" else \
+        shapely.Polygon([(x + 0.3, y) for x, y in ring])
+    _write(tmp_path / f"zones.{suffix}", driver, crs, [shapely.Polygon(ring), other], ["keep", "drop"],
+           layer="areas" if suffix == "gpkg" else None)
+    extra = 'layer = "areas"\n' if suffix == "gpkg" else ""
+    world, _ = _scenario(f"[[zones]]\nname = 'file'\nfile = 'zones.{suffix}'\n{extra}where = \"name = 'keep'\"\n",
+                         tmp_path)
+    assert world.zones.names == ["file: keep"]
+    a, b = inline.zones.exact.zones[0].footprint, world.zones.exact.zones[0].footprint
+    assert shapely.area(shapely.symmetric_difference(a, b)) < 2e-3 * shapely.area(a)
+
+
+def test_lines_and_points_are_buffered_and_metres_are_metres():
+    world, _ = _scenario("""
+[[zones]]
+name = "cable"
+line = [[5000.0, 0.0], [5000.0, 20000.0]]
+buffer_m = 50.0
+top_m = 10.0
+bottom_m = 200.0
+[[zones]]
+name = "wreck"
+point = [-6.95, 70.95]
+radius_m = 300.0
+above_seabed_m = 20.0
+""")
+    cable, wreck = world.zones.exact.zones
+    assert cable.footprint.bounds == pytest.approx((4950.0, -50.0, 5050.0, 20050.0), rel=2e-3)
+    assert shapely.contains(cable.footprint, shapely.buffer(shapely.LineString([(5000, 0), (5000, 20000)]), 49.99,
+                                                            quad_segs=64))
+    assert (cable.top, cable.bottom) == (10.0, 200.0)
+    assert math.pi * 300.0**2 < shapely.area(wreck.footprint) < 1.003 * math.pi * 300.0**2  # contains the circle
+    assert wreck.above_seabed == 20.0
+
+
+@pytest.mark.parametrize(("table", "words"), [
+    ("name = 'a'\npolygon = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]\nline = [[0.0, 0.0], [1.0, 1.0]]", "exactly one of"),
+    ("name = 'a'\nline = [[0.0, 0.0], [1.0, 1.0]]", "needs buffer_m"),
+    ("name = 'a'\npoint = [0.0, 0.0]\nradius_m = -1.0", "radius_m = -1.0"),
+    ("name = 'a'\npoint = [0.0, 0.0]\nradius_m = 5.0\ntop_m = 50.0\nbottom_m = 20.0", "bottom_m = 20"),
+    ("name = 'a'\npoint = [0.0, 0.0]\nradius_m = 5.0\ncolour = 'red'", "unknown key 'colour'"),
+    ("name = 'a'\npolygon = [[0.0, 0.0], [1.0]]", "polygon = "),
+    ("name = 'a'\nfile = 'missing.gpkg'", "not found"),
+])
+def test_bad_zone_tables_name_the_file_key_and_value(table, words):
+    with pytest.raises(Exception) as err:
+        _scenario("[[zones]]\n" + table)
+    assert "test.toml" in str(err.value) and words in str(err.value)
+
+
+# ---------------------------------------------------------------------- planners
+@pytest.mark.parametrize("planner", ["iabc", "grid", "timeopt"])
+def test_plans_reported_feasible_never_enter_a_zone(planner):
+    rng = np.random.default_rng(11)
+    feasible = 0
+    for m in range(4):
+        world = random_world(rng, 10)
+        problem = PlanningProblem(world, free_point(rng, world), free_point(rng, world), speed=1.5)
+        result = plan(problem, spec_for(planner), rng=m)
+        if result.status.ok:
+            feasible += 1
+            assert independent_entries(world, result.path) == []
+            assert result.cost_terms["zone_clearance_min_m"] > 0.0
+    assert feasible >= 3
+
+
+def test_a_planner_that_cannot_honour_zones_is_refused():
+    world = random_world(np.random.default_rng(2), 3)
+    problem = PlanningProblem(world, np.array([100.0, 100.0, -20.0]), np.array([2900.0, 2900.0, -20.0]))
+    with pytest.raises(ScenarioError, match="planner 'flow' cannot keep out"):
+        plan(problem, PlannerSpec(name="flow"))
+
+
+def test_a_plan_through_a_zone_is_never_feasible_and_names_zone_and_leg():
+    from auvplan._types import Status
+    from auvplan.planners.base import PlanResult
+    from auvplan.planners.common import plan_terms
+
+    @register("straight_zoned", iterative=False, description="a straight line (test)", capabilities=("zones",))
+    def straight(problem, spec, rng=None, progress=None):
+        path = np.array([problem.start, 0.5 * (problem.start + problem.goal), problem.goal])
+        return PlanResult(Status.EXACT, path, 1.0, {}, 1, 1, 0.0, np.zeros(1), "straight_zoned")
+
+    try:
+        world = flat_world()
+        world = type(world)(**{**world.__dict__, "zones": Zones((Zone("wreck", shapely.box(700, 700, 800, 800)),),
+                                                                 world.terrain)})
+        problem = PlanningProblem(world, np.array([100.0, 100.0, -50.0]), np.array([900.0, 900.0, -50.0]))
+        result = plan(problem, PlannerSpec(name="straight_zoned"))
+        assert result.status == Status.INFEASIBLE
+        assert "leg 2 enters zone 'wreck'" in result.message
+        assert result.cost_terms["zone_clearance_min_m"] <= 0.0
+    finally:
+        del REGISTRY["straight_zoned"]
+    del plan_terms
+
+
+def test_the_cost_counts_a_segment_through_a_zone():
+    world = flat_world()
+    model = CostModel(speed=1.5)
+    path = np.array([[100.0, 500.0, -50.0], [900.0, 500.0, -50.0]])
+    assert evaluate_paths(world, path, model).violations[0] == 0
+    zoned = type(world)(**{**world.__dict__, "zones": Zones((Zone("area", shapely.box(400, 400, 600, 600),
+                                                                  top=40.0, bottom=60.0),), world.terrain)})
+    assert evaluate_paths(zoned, path, model).violations[0] == 1
+    assert evaluate_paths(zoned, path + [0.0, 0.0, -15.0], model).violations[0] == 0  # 65 m deep: below the band
+
+
+# ---------------------------------------------------------------------- mission check on the built-in
+def test_mission_check_fails_a_planted_mission_naming_the_zone_and_the_leg(tmp_path, capsys):
+    planted = tmp_path / "planted.csv"
+    planted.write_text("x,y,z\n140000,180000,-100\n150000,182000,-100\n170000,186000,-100\n190000,190000,-100\n")
+    assert main(["mission", "check", str(planted), "--scenario", "chagos-reefs"]) == 1
+    out = capsys.readouterr().out
+    assert "zone 'reef: Salomon Islands': FAIL — entered by leg 2" in out
+    assert "zone 'reef: Blenheim Reef': OK — closest approach" in out
