@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
+.PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
 	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav
 
 $(STAMP): pyproject.toml
@@ -22,6 +22,10 @@ test: $(STAMP)
 	@bash tools/install-chromium.sh
 	$(BIN)/python -m pytest
 	$(MAKE) --no-print-directory test-nojit
+
+# the corridor built-in flown: coverage, overlap by an independent ray cast, turns, exports (tests/heavy, minutes)
+survey-flown: $(STAMP)
+	$(BIN)/python -m pytest -q -s tests/heavy/test_survey_corridor_flown.py
 
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)

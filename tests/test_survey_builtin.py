@@ -60,3 +60,41 @@ def test_builtin_survey_flown_in_the_cross_current_covers_99_percent(shelf):
                                                                   np.empty((0, 3)), sim))
     assert cov.coverage_pct >= 99.0
     assert 0 < t_lines < sim.t[-1]
+    # the lines were placed with the crab margin of the 0.2 m/s cross-current: the flown overlap keeps the floor
+    cross = 0.2  # the current across the north-south lines (m/s)
+    assert plan.overlap_margin == pytest.approx(1 - np.sqrt(1 - (cross / mission.vehicle.speed) ** 2), rel=1e-6)
+    assert cov.overlap_min_pct >= 10.0
+
+
+def test_sidescan_on_the_shelf_every_nadir_gap_is_covered_by_the_neighbours(shelf):
+    """A side-scan (150 m range, 15 m altitude, 90° blind cone) over the real shelf: the gaps rebuilt from the
+    lines (c - g-, c + g+ at every station) lie inside the other lines' swath footprints (share: 100 %)."""
+    import shapely
+
+    from auvplan.survey.coverage import footprints, measure
+    from auvplan.survey.lines import place_lines
+    from auvplan.survey.swath import Sensor
+
+    world, _, params, _ = shelf
+    sensor = Sensor("sidescan", range_m=150.0, mounting="auv", altitude_m=15.0, nadir_deg=90.0)
+    lines = place_lines(world.seabed, params.area, sensor, 0.0, params.lines)
+    assert lines.complete
+    fr = lines.geom
+    fps, gaps = [], []
+    for ln in lines.lines:
+        a = ln.active
+        s = lines.stations[a]
+        p = np.column_stack([*fr.from_sn(s, ln.c[a]), ln.z[a]])
+        fps += footprints(world.seabed, sensor, p, fr.right(s), np.zeros(s.size, dtype=np.int64), 1, 2.0)
+        left = np.column_stack(fr.from_sn(s, ln.c[a] - ln.gap_left[a]))
+        right = np.column_stack(fr.from_sn(s, ln.c[a] + ln.gap_right[a]))
+        gaps.append(shapely.Polygon(np.r_[left, right[::-1]]).buffer(0))
+        assert np.nanmin(ln.gap_left[a] + ln.gap_right[a]) > 25.0  # ~ 2 h tan 45° = 30 m over the gentle slope
+    cov = measure(params.area, lines, fps)
+    assert cov.coverage_pct >= 99.99 and cov.overlap_min_pct >= 10.0 - 1e-6
+    total = covered = 0.0
+    for i, g in enumerate(gaps):
+        inside = g.intersection(params.area)
+        covered += inside.intersection(shapely.union_all([f for j, f in enumerate(fps) if j != i])).area
+        total += inside.area
+    assert total > 1e6 and covered / total >= 0.9999

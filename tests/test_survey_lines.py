@@ -69,14 +69,13 @@ def _scarp_and_pit(x, y):
     return -depth
 
 
-def _edge(seabed, sensor, x, y, z, direction):
+def _edge(seabed, sensor, x, y, z, direction, t_max=2000.0):
     """Independent swath edge: the first sign change on a 0.05 m grid, refined by Brent's method."""
     if sensor.kind == "multibeam":
         cot = 1.0 / math.tan(math.radians(sensor.opening_deg) / 2)
 
         def f(t):
             return z - t * cot - float(seabed(x + direction * t, y))
-        t_max = 2000.0
     else:
         def f(t):
             return sensor.range_m**2 - t * t - (z - float(seabed(x + direction * t, y))) ** 2
@@ -108,13 +107,25 @@ def test_overlap_within_bounds_over_a_scarp_and_a_pit(sensor):
         right = np.array([_edge(_scarp_and_pit, sensor, a, b, z, 1.0) for a, b, z in zip(x, y, ln.z[k])])
         np.testing.assert_allclose(left, ln.left[k], atol=params.step_m)
         np.testing.assert_allclose(right, ln.right[k], atol=params.step_m)
-        edges.append(dict(zip(k.tolist(), zip(x - left, x + right))))
+        if sensor.kind == "sidescan":  # the nadir gap: the blind cone's edge, a fan of nadir_deg
+            cone = Sensor("multibeam", sensor.nadir_deg)
+            reach = 4 * sensor.altitude_m
+            gl = np.array([_edge(_scarp_and_pit, cone, a, b, z, -1.0, reach) for a, b, z in zip(x, y, ln.z[k])])
+            gr = np.array([_edge(_scarp_and_pit, cone, a, b, z, 1.0, reach) for a, b, z in zip(x, y, ln.z[k])])
+            np.testing.assert_allclose(gr, ln.gap_right[k], atol=params.step_m)
+        else:
+            gl = gr = np.zeros(k.size)
+        edges.append(dict(zip(k.tolist(), zip(x - left, x - gl, x + gr, x + right))))
     checked = 0
     for a, b in zip(edges[:-1], edges[1:]):
         for k in set(a) & set(b):
-            (a0, a1), (b0, b1) = a[k], b[k]
+            (a0, ga0, ga1, a1), (b0, gb0, gb1, b1) = a[k], b[k]
             if b0 < lines.area_hi[k] and a1 > lines.area_lo[k]:
-                eta = (a1 - b0) / min(a1 - a0, b1 - b0)
+                if sensor.kind == "sidescan":  # each swath reaches past the other's nadir (gap middle)
+                    eta = min(a1 - 0.5 * (gb0 + gb1), 0.5 * (ga0 + ga1) - b0) / min(a1 - ga1, gb0 - b0)
+                    assert b0 < 0.5 * (ga0 + ga1) and a1 > 0.5 * (gb0 + gb1)  # each half-gap covered by a neighbour
+                else:
+                    eta = (a1 - b0) / min(a1 - a0, b1 - b0)
                 assert 0.10 - tol <= eta <= 0.20 + tol
                 checked += 1
     assert checked >= 16
@@ -125,7 +136,12 @@ def test_overlap_within_bounds_over_a_scarp_and_a_pit(sensor):
         k = np.arange(max(a.first, b.first), min(a.last, b.last) + 1)
         ea, eb = a.c[k] + a.right[k], b.c[k] - b.left[k]
         keep = (eb < lines.area_hi[k]) & (ea > lines.area_lo[k])
-        mine = (ea - eb)[keep] / np.minimum((a.left + a.right)[k], (b.left + b.right)[k])[keep]
+        if sensor.kind == "sidescan":
+            ma, mb = a.c[k] + 0.5 * (a.gap_right[k] - a.gap_left[k]), b.c[k] + 0.5 * (b.gap_right[k] - b.gap_left[k])
+            band = np.minimum(ea - (a.c[k] + a.gap_right[k]), (b.c[k] - b.gap_left[k]) - eb)
+            mine = (np.minimum(ea - mb, ma - eb) / band)[keep]
+        else:
+            mine = (ea - eb)[keep] / np.minimum((a.left + a.right)[k], (b.left + b.right)[k])[keep]
         np.testing.assert_allclose(mine, o)
     if sensor.mounting == "auv":  # the altitude held, within the pitch limit
         for ln in lines.lines:

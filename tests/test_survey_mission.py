@@ -85,7 +85,7 @@ def test_turns_fit_the_radius(gap):
 
 
 def test_survey_cli_contract_and_every_export_passes_mission_check(tmp_path, capsys):
-    scen = _write(tmp_path)
+    scen = _write(tmp_path, extra="tie_lines = 2")
     out = tmp_path / "out"
     assert main(["-q", "survey", str(scen), "--out", str(out), "--json"]) == 0
     rec = json.loads(capsys.readouterr().out)
@@ -98,9 +98,13 @@ def test_survey_cli_contract_and_every_export_passes_mission_check(tmp_path, cap
     assert cov["turns"]["least_radius_m"] >= 10.0 * (1 - 1e-6)
     with (out / "lines.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0]) == ["line", "x", "y", "z", "lat", "lon"]
-    lines = sorted({int(r["line"]) for r in rows})
+    assert list(rows[0]) == ["line", "kind", "x", "y", "z", "lat", "lon"]
+    lines = sorted({int(r["line"]) for r in rows if r["kind"] == "main"})
     assert lines == list(range(cov["lines"]))
+    ties = sorted({int(r["line"]) for r in rows if r["kind"] == "tie"})
+    assert ties == [cov["lines"], cov["lines"] + 1]  # the tie lines, after the main lines
+    report = (out / "report.html").read_text()
+    assert "id='survey-lines'" in report and "data:image/png;base64," in report and report.count("<td>tie</td>") == 2
     assert all(abs(float(r["lat"]) - 48.0) < 0.05 and abs(float(r["lon"]) + 125.0) < 0.05 for r in rows)
     # the launch and recovery point is the same and the mission returns to it
     route = np.loadtxt(out / "route.csv", delimiter=",", skiprows=1, usecols=(0, 1, 2))

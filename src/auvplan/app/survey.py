@@ -1,6 +1,6 @@
 """``survey`` (and ``run`` of a scenario with ``[survey]``) as a job: plan the depth-adaptive lines, fly the
 whole mission in the closed loop, measure the coverage; with ``out``, write ``lines.csv``, ``coverage.json``,
-``gaps.geojson``, ``coverage.png``, the run files and every mission export."""
+``gaps.geojson``, ``coverage.png``, ``report.html``, the run files and every mission export."""
 
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
 from ..io.safeio import RESULT_NAMES, prepare_out
 from ..io.scenario import loader as scenario_io
-from ..survey.run import run_survey
+from ..survey.run import SurveyRun, run_survey
+from ..world import World
 
 __all__ = ["survey_scenario"]
 
@@ -79,4 +80,24 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
 
         coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
             folder / "coverage.png", dpi=110)
+        _report(folder, world, run, rec, text)
     return sc, rec
+
+
+def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: str) -> None:
+    """``report.html``: the run's report with the survey's coverage map, headline figures and line table."""
+    from ..io.data.geo import LocalFrame
+    from ..io.safeio import atomic_write
+    from ..viz.report import build_report
+    from ..viz.survey import line_table, survey_section
+
+    frame = LocalFrame(*world.origin) if world.origin is not None else None
+    keys = ("status", "lines", "coverage_pct", "overlap_min_pct", "overlap_max_pct", "measured_on",
+            "survey_length_m", "mission_length_m", "survey_time_s")
+    summary = {k: rec[k] for k in keys} | {"tie_lines": len(run.plan.tie_waypoints()),
+                                           "overlap_margin_pct": 100 * run.plan.overlap_margin,
+                                           "least_turn_radius_m": run.plan.min_turn_radius_m}
+    section = survey_section((out / "coverage.png").read_bytes(), line_table(run, world.seabed), summary)
+    page = build_report(world, run.record, text, records.summary_metrics(run.record),
+                        frame.inverse if frame else None, sections=[("Survey", section)])
+    atomic_write(out / "report.html", page)

@@ -59,8 +59,9 @@ def cmd_validate(args: argparse.Namespace) -> int:
         from ..io.results.survey import survey_params
 
         area = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]").area
-        lines.append(f"  survey of {area.area / 1e6:.3g} km² with a {sc.survey.sensor} "
-                     f"({sc.survey.mounting} mounting)")
+        lines.append(f"  {'corridor' if sc.survey.corridor else 'survey'} of {area.area / 1e6:.3g} km² with a "
+                     f"{sc.survey.sensor} ({sc.survey.mounting} mounting)"
+                     + (f", {sc.survey.tie_lines} tie lines" if sc.survey.tie_lines else ""))
     lines += [f"  note: {d}" for d in energy_defaults(sc)]
     # issue 51: OK only once every check above has passed (an error is exit 2 with nothing printed on stdout)
     print("\n".join([f"{sc.source}: OK — {sc.name}", *lines]))

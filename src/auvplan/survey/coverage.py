@@ -18,10 +18,11 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from .lines import SurveyLines, from_sn, to_sn
+from .frame import Frame, StraightFrame
+from .lines import SurveyLines
 from .swath import Seabed, Sensor, swath_reach
 
-__all__ = ["Coverage", "footprints", "measure", "lawnmower", "Lawnmower", "fan_right"]
+__all__ = ["Coverage", "footprints", "measure", "lawnmower", "Lawnmower", "fan_right", "cut_spans"]
 
 
 def fan_right(heading: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -77,9 +78,16 @@ def footprints(seabed: Seabed, sensor: Sensor, points: NDArray[np.float64], righ
         rr = swath_reach(seabed, sensor, p[:, :2], p[:, 2], u, step)
         ll = swath_reach(seabed, sensor, p[:, :2], p[:, 2], -u, step)
         left, rgt = p[:, :2] - ll[:, None] * u, p[:, :2] + rr[:, None] * u
-        quads = np.stack([left[:-1], left[1:], rgt[1:], rgt[:-1], left[:-1]], axis=1)
-        polys = shapely.make_valid(shapely.polygons(quads))
-        out.append(shapely.union_all(polys, grid_size=None).buffer(0))
+        gap = sensor.gap
+        if gap is None:
+            bands = [(left, rgt)]
+        else:  # a side-scan: two bands either side of the nadir gap
+            gr = np.minimum(swath_reach(seabed, gap, p[:, :2], p[:, 2], u, step), rr)
+            gl = np.minimum(swath_reach(seabed, gap, p[:, :2], p[:, 2], -u, step), ll)
+            bands = [(left, p[:, :2] - gl[:, None] * u), (p[:, :2] + gr[:, None] * u, rgt)]
+        polys = [shapely.make_valid(shapely.polygons(np.stack([a[:-1], a[1:], b[1:], b[:-1], a[:-1]], axis=1)))
+                 for a, b in bands]
+        out.append(shapely.union_all(np.concatenate(polys), grid_size=None).buffer(0))
     return out
 
 
@@ -138,20 +146,60 @@ class Coverage:
         return self.area_m2 * (1.0 - self.coverage_pct / 100.0)
 
 
-def _cut_spans(fp: shapely.Geometry, s: NDArray[np.float64], heading: float) -> NDArray[np.float64]:
-    """``(K, 2)`` across extent of a footprint on the cut at every station (NaN where it misses)."""
-    out = np.full((s.size, 2), np.nan)
+def cut_spans(fp: shapely.Geometry, s: NDArray[np.float64], frame: Frame,
+              n_range: tuple[float, float]) -> NDArray[np.float64]:
+    """``(K, 4)`` a footprint's extent on the cut across the nominal direction at every station.
+
+    Columns: the left edge, the gap's left and right edges (a side-scan's nadir gap: the widest hole
+    between the footprint's pieces on the cut; NaN when there is none), the right edge (m across).  NaN
+    where the cut misses the footprint.
+
+    Parameters
+    ----------
+    fp : shapely geometry
+        The footprint.
+    s : numpy.ndarray
+        ``(K,)`` the stations (m along).
+    frame : Frame
+        The line frame.
+    n_range : tuple of float
+        The cut's extent across (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K, 4)`` offsets across (m).
+    """
+    out = np.full((s.size, 4), np.nan)
     if fp.is_empty:
         return out
-    sh, ch = math.sin(heading), math.cos(heading)
-    rot = shapely.affinity.affine_transform(fp, [sh, ch, ch, -sh, 0.0, 0.0])  # (x, y) -> (s, n)
-    b = rot.bounds
-    cuts = shapely.linestrings(np.stack([np.column_stack([s, np.full(s.size, b[1] - 1.0)]),
-                                         np.column_stack([s, np.full(s.size, b[3] + 1.0)])], axis=1))
-    parts = shapely.intersection(cuts, rot)
-    bounds = shapely.bounds(parts)
-    ok = ~shapely.is_empty(parts)
-    out[ok] = bounds[ok][:, [1, 3]]
+    xa, ya = frame.from_sn(s, np.full(s.size, n_range[0]))
+    xb, yb = frame.from_sn(s, np.full(s.size, n_range[1]))
+    cuts = shapely.linestrings(np.stack([np.column_stack([xa, ya]), np.column_stack([xb, yb])], axis=1))
+    parts, which = shapely.get_parts(shapely.intersection(cuts, fp), return_index=True)
+    keep = shapely.get_type_id(parts) == 1  # the LineString pieces of the cut inside the footprint
+    parts, which = parts[keep], which[keep]
+    if not parts.size:
+        return out
+    xy, pi = shapely.get_coordinates(parts, return_index=True)
+    k = which[pi]
+    p0x, p0y = frame.from_sn(s[k], np.zeros(k.size))
+    r = frame.right(s[k])
+    n = (xy[:, 0] - p0x) * r[:, 0] + (xy[:, 1] - p0y) * r[:, 1]
+    lo, hi = np.full(parts.size, np.inf), np.full(parts.size, -np.inf)
+    np.minimum.at(lo, pi, n)
+    np.maximum.at(hi, pi, n)
+    order = np.lexsort((lo, which))
+    w, lo, hi = which[order], lo[order], hi[order]
+    starts = np.flatnonzero(np.r_[True, w[1:] != w[:-1]])
+    for a, b in zip(starts, np.r_[starts[1:], w.size], strict=True):
+        reach = np.maximum.accumulate(hi[a:b])
+        out[w[a], 0], out[w[a], 3] = lo[a], reach[-1]
+        if b - a > 1:
+            hole = lo[a + 1:b] - reach[:-1]
+            j = int(np.argmax(hole))
+            if hole[j] > 0:
+                out[w[a], 1], out[w[a], 2] = reach[j], lo[a + 1 + j]
     return out
 
 
@@ -159,12 +207,18 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
             min_gap_m2: float = 1.0) -> Coverage:
     """Coverage, per-pair overlap and gaps of footprints over the area.
 
+    The overlap of two adjacent footprints is measured on the cut across the nominal direction (the
+    centre line's normal for a corridor) at every station both lines are placed over (not on a run-in)
+    where their seam is inside the area: the share
+    of the narrower swath across the track (:func:`auvplan.survey.lines.pair_overlap`; a side-scan's:
+    how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.sidescan_overlap`).
+
     Parameters
     ----------
     area : shapely.Polygon
         The survey area (m).
     lines : SurveyLines
-        The planned lines (their stations, heading and the area's cross-sections).
+        The planned lines (their stations, frame and the area's cross-sections).
     fps : list of shapely geometry
         Footprint of every line, in placement order.
     min_gap_m2 : float
@@ -180,15 +234,29 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     missing = area.difference(union) if not union.is_empty else area
     cover = 100.0 * (1.0 - missing.area / area.area)
     gaps = [g for g in shapely.get_parts(missing) if isinstance(g, shapely.Polygon) and g.area >= min_gap_m2]
-    spans = [_cut_spans(f, lines.stations, lines.heading) for f in fps]
+    frame = lines.geom
+    wmax = max([float(np.nanmax(ln.left + ln.right)) for ln in lines.lines] + [1.0])
+    lim = 0.98 * frame.n_limit
+    n_range = (max(float(np.nanmin(lines.area_lo)) - 3.0 * wmax - 100.0, -lim),
+               min(float(np.nanmax(lines.area_hi)) + 3.0 * wmax + 100.0, lim))
+    spans = [cut_spans(f, lines.stations, frame, n_range) for f in fps]
     lo, hi = lines.area_lo, lines.area_hi
+    side = lines.lines[0].gap_left is not None if lines.lines else False
     overlap = []
-    for a, b in zip(spans[:-1], spans[1:], strict=True):
-        ea, eb = a[:, 1], b[:, 0]
-        with np.errstate(invalid="ignore"):
+    for i, (a, b) in enumerate(zip(spans[:-1], spans[1:], strict=True)):
+        la, lb = lines.lines[i], lines.lines[i + 1]
+        both = np.zeros(lines.stations.size, dtype=bool)  # the stations both lines are placed over (no run-in)
+        both[max(la.first, lb.first):min(la.last, lb.last) + 1] = True
+        ea, eb = a[:, 3], b[:, 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
             inside = (np.minimum(ea, eb) < hi) & (np.maximum(ea, eb) > lo)
-            eta = (ea - eb) / np.minimum(a[:, 1] - a[:, 0], b[:, 1] - b[:, 0])
-        keep = inside & np.isfinite(eta)
+            if side:
+                ma, mb = 0.5 * (a[:, 1] + a[:, 2]), 0.5 * (b[:, 1] + b[:, 2])
+                band = np.minimum(ea - a[:, 2], b[:, 1] - eb)
+                eta = np.minimum(ea - mb, ma - eb) / band
+            else:
+                eta = (ea - eb) / np.minimum(a[:, 3] - a[:, 0], b[:, 3] - b[:, 0])
+        keep = inside & both & np.isfinite(eta)
         overlap.append(eta[keep])
     return Coverage(cover, overlap, gaps, fps, float(area.area))
 
@@ -216,7 +284,7 @@ class Lawnmower:
 
 
 def lawnmower(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: float, overlap_min: float,
-              surface_z: float, run_in_m: float, grid_m: float = 0.0) -> Lawnmower:
+              surface_z: float, run_in_m: float, grid_m: float = 0.0, frame: Frame | None = None) -> Lawnmower:
     """The fixed-lane lawnmower of the conventional planner: one spacing for the whole area, from the swath
     over a flat seabed at the shallowest depth (surface mounting) or at the altitude (AUV mounting).
 
@@ -237,7 +305,9 @@ def lawnmower(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: fl
     run_in_m : float
         Run-in at both ends of every lane (m).
     grid_m : float
-        Sampling of the seabed inside the area (m); default 1/100 of the area's size.
+        Sampling of the seabed inside the area (m); default: 10 000 samples over the area.
+    frame : Frame, optional
+        The lanes' frame (a corridor's: lanes parallel to the centre line); default straight along ``heading``.
 
     Returns
     -------
@@ -245,24 +315,28 @@ def lawnmower(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: fl
         The lanes' count, spacing and length.
     """
     x0, y0, x1, y1 = area.bounds
-    g = grid_m or max(x1 - x0, y1 - y0) / 100.0
+    g = grid_m or (max(x1 - x0, y1 - y0) if frame is None else math.sqrt(area.area)) / 100.0
     gx, gy = np.meshgrid(np.arange(x0, x1 + g, g), np.arange(y0, y1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
     zb = seabed(gx[inside], gy[inside])
     top = float(np.max(zb))
     height = sensor.altitude_m if sensor.mounting == "auv" else surface_z - top
-    width = 2.0 * float(sensor.flat_reach(height))
-    spacing = (1.0 - overlap_min) * width
-    ring = np.asarray(area.exterior.coords)
-    s, n = to_sn(ring[:, 0], ring[:, 1], heading)
-    span = float(np.ptp(n))
-    count = max(1, int(math.ceil(max(span - width, 0.0) / spacing)) + 1)
-    offsets = float(n.min()) + width / 2.0 + spacing * np.arange(count)
-    big = float(np.ptp(s)) + 2.0
+    reach = float(sensor.flat_reach(height))
+    gap = sensor.gap
+    if gap is None:
+        width, spacing = 2.0 * reach, (1.0 - overlap_min) * 2.0 * reach
+    else:  # each lane's nadir gap covered by its neighbours: lanes one reach apart less the overlap
+        band = reach - float(gap.flat_reach(height))
+        width, spacing = 0.0, reach - overlap_min * band
+    fr = frame if frame is not None else StraightFrame(heading)
+    s0, n0, s1, n1 = fr.area_sn(area).bounds
+    count = max(1, int(math.ceil(max(n1 - n0 - width, 0.0) / spacing)) + 1)
+    offsets = n0 + width / 2.0 + spacing * np.arange(count)
+    ss = np.linspace(s0 - 1.0, s1 + 1.0, 2 if frame is None else max(2, int((s1 - s0) / 10.0)))
     total = 0.0
     for c in offsets:
-        xa, ya = from_sn(np.array([s.min() - 1.0, s.min() - 1.0 + big]), np.array([c, c]), heading)
+        xa, ya = fr.from_sn(ss, np.full(ss.size, c))
         cut = shapely.intersection(shapely.LineString(np.column_stack([xa, ya])), area)
         if not cut.is_empty:
-            total += cut.length + 2.0 * run_in_m
+            total += cut.length + 2.0 * run_in_m * len(shapely.get_parts(cut))
     return Lawnmower(count, spacing, total, -top)

@@ -36,6 +36,8 @@ import shapely
 import shapely.affinity
 from numpy.typing import NDArray
 
+from .envelope import lower_envelope, upper_envelope
+from .frame import Frame, StraightFrame
 from .swath import Seabed, Sensor, swath_reach
 
 __all__ = ["LineParams", "SurveyLine", "SurveyLines", "place_lines", "upper_envelope", "lower_envelope",
@@ -62,6 +64,10 @@ class LineParams:
         Sampling step of the seabed profiles under the swath (m).
     max_lines : int
         Give up after this many lines.
+    overlap_margin : float
+        Added to ``overlap_min`` where the lines are placed, so the flown overlap keeps the minimum when
+        the vehicle crabs in a cross-current (:func:`auvplan.survey.ties.crab_margin`); the outermost
+        swaths reach the area's edges with their reach shortened by the same fraction.
     """
 
     overlap_min: float = 0.10
@@ -72,6 +78,7 @@ class LineParams:
     surface_z: float = 0.0
     step_m: float = 5.0
     max_lines: int = 500
+    overlap_margin: float = 0.0
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.overlap_min < self.overlap_max < 1.0:
@@ -82,6 +89,8 @@ class LineParams:
             raise ValueError(f"max_bend_deg = {self.max_bend_deg}: must be in [0, 60)")
         if not 0.0 < self.pitch_max_deg < 60.0:
             raise ValueError(f"pitch_max_deg = {self.pitch_max_deg}: must be in (0, 60)")
+        if not 0.0 <= self.overlap_margin < 1.0 - self.overlap_min:
+            raise ValueError(f"overlap_margin = {self.overlap_margin}: must be in [0, 1 - overlap_min)")
         if self.max_lines < 1:
             raise ValueError(f"max_lines = {self.max_lines}: must be >= 1")
 
@@ -98,6 +107,8 @@ class SurveyLine:
         ``(K,)`` swath reach to the left (``-n``) and to the right (``+n``) (m); NaN off the line.
     first, last : int
         The stations ``first..last`` (inclusive) the line is flown over.
+    gap_left, gap_right : numpy.ndarray or None
+        ``(K,)`` a side-scan's nadir gap either side (m); None for a multibeam.
     """
 
     c: NDArray[np.float64]
@@ -106,6 +117,15 @@ class SurveyLine:
     right: NDArray[np.float64]
     first: int
     last: int
+    gap_left: NDArray[np.float64] | None = None
+    gap_right: NDArray[np.float64] | None = None
+
+    @property
+    def nadir(self) -> NDArray[np.float64]:
+        """``(K,)`` across offset of the middle of the nadir gap (the line itself for a multibeam) (m)."""
+        if self.gap_left is None or self.gap_right is None:
+            return self.c
+        return np.asarray(self.c + 0.5 * (self.gap_right - self.gap_left))
 
     @property
     def active(self) -> slice:
@@ -129,6 +149,8 @@ class SurveyLines:
         The lines, in placement order (left to right).
     complete : bool
         Whether the swaths reach the area's far edge everywhere (False: ``max_lines`` reached).
+    frame : Frame or None
+        The line frame (None: straight along ``heading``); a corridor's follows its centre line.
     """
 
     heading: float
@@ -137,6 +159,12 @@ class SurveyLines:
     area_hi: NDArray[np.float64]
     lines: tuple[SurveyLine, ...]
     complete: bool
+    frame: Frame | None = None
+
+    @property
+    def geom(self) -> Frame:
+        """The line frame."""
+        return self.frame if self.frame is not None else StraightFrame(self.heading)
 
     def waypoints(self, i: int) -> NDArray[np.float64]:
         """Waypoints of one line in the world frame, in increasing station order.
@@ -153,7 +181,7 @@ class SurveyLines:
         """
         ln = self.lines[i]
         a = ln.active
-        x, y = from_sn(self.stations[a], ln.c[a], self.heading)
+        x, y = self.geom.from_sn(self.stations[a], ln.c[a])
         return np.column_stack([x, y, ln.z[a]])
 
     def overlaps(self) -> list[NDArray[np.float64]]:
@@ -170,9 +198,60 @@ class SurveyLines:
             k[max(a.first, b.first):min(a.last, b.last) + 1] = True
             ea, eb = a.c + a.right, b.c - b.left
             k &= np.isfinite(self.area_hi) & (eb < self.area_hi) & (ea > self.area_lo)
-            wa, wb = a.left + a.right, b.left + b.right
-            out.append(((ea - eb) / np.minimum(wa, wb))[k])
+            out.append(pair_overlap(ea, eb, a.left + a.right, b.left + b.right, a, b)[k])
         return out
+
+
+def pair_overlap(ea: NDArray[np.float64], eb: NDArray[np.float64], wa: NDArray[np.float64], wb: NDArray[np.float64],
+                 a: SurveyLine | None = None, b: SurveyLine | None = None) -> NDArray[np.float64]:
+    """Overlap of two adjacent swaths across the track, a share of the narrower swath.
+
+    A multibeam: ``(E+_a - E-_b) / min(W_a, W_b)``, the shared width over the narrower swath.  A side-scan
+    (both lines with a nadir gap): each line's gap is covered by its neighbours, so the overlap is how far
+    each swath reaches past the other line's nadir, ``min(E+_a - m_b, m_a - E-_b)``, over the narrower of
+    the two facing one-side swaths (``E+_a - m_a - g+_a`` and ``m_b - E-_b - g-_b``).
+
+    Parameters
+    ----------
+    ea, eb : numpy.ndarray
+        Right edge of swath ``a``, left edge of swath ``b`` (m across).
+    wa, wb : numpy.ndarray
+        Widths of the two swaths (multibeam) (m).
+    a, b : SurveyLine, optional
+        The lines, for a side-scan's gaps.
+
+    Returns
+    -------
+    numpy.ndarray
+        The overlap fractions.
+    """
+    if a is None or b is None or a.gap_right is None or b.gap_left is None:
+        return np.asarray((ea - eb) / np.minimum(wa, wb))
+    assert a.gap_left is not None and b.gap_right is not None
+    return sidescan_overlap(ea, a.nadir, a.gap_right, eb, b.nadir, b.gap_left, a.c, b.c)
+
+
+def sidescan_overlap(ea: NDArray[np.float64], ma: NDArray[np.float64], gra: NDArray[np.float64],
+                     eb: NDArray[np.float64], mb: NDArray[np.float64], glb: NDArray[np.float64],
+                     ca: NDArray[np.float64], cb: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A side-scan pair's overlap: how far each swath reaches past the other's nadir, over the narrower band.
+
+    Parameters
+    ----------
+    ea, ma, gra : numpy.ndarray
+        Line ``a``'s right swath edge, nadir (gap middle) and right gap reach (m).
+    eb, mb, glb : numpy.ndarray
+        Line ``b``'s left swath edge, nadir and left gap reach (m).
+    ca, cb : numpy.ndarray
+        The two lines' offsets (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        The overlap fractions.
+    """
+    band = np.minimum(ea - (ca + gra), (cb - glb) - eb)
+    return np.asarray(np.minimum(ea - mb, ma - eb) / band)
 
 
 def to_sn(x: NDArray[np.float64], y: NDArray[np.float64], heading: float) -> tuple[NDArray[np.float64],
@@ -215,49 +294,6 @@ def from_sn(s: NDArray[np.float64], n: NDArray[np.float64], heading: float) -> t
     return s * sh + n * ch, s * ch - n * sh
 
 
-def upper_envelope(s: NDArray[np.float64], cap: NDArray[np.float64], slope: float) -> NDArray[np.float64]:
-    """The largest function under ``cap`` with ``|dc/ds| <= slope``: ``min_j cap_j + slope |s - s_j|``.
-
-    Parameters
-    ----------
-    s : numpy.ndarray
-        ``(K,)`` station coordinates (m).
-    cap : numpy.ndarray
-        ``(K,)`` upper bounds; ``inf`` where unconstrained.
-    slope : float
-        Largest slope.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(K,)`` the envelope (``inf`` everywhere when nothing is constrained).
-    """
-    finite = np.isfinite(cap)
-    if not finite.any():
-        return np.full(s.size, np.inf)
-    return np.asarray(np.min(cap[finite][None, :] + slope * np.abs(s[:, None] - s[finite][None, :]), axis=1))
-
-
-def lower_envelope(s: NDArray[np.float64], floor: NDArray[np.float64], slope: float) -> NDArray[np.float64]:
-    """The smallest function over ``floor`` with ``|dz/ds| <= slope``: ``max_j floor_j - slope |s - s_j|``.
-
-    Parameters
-    ----------
-    s : numpy.ndarray
-        ``(K,)`` coordinates along (m).
-    floor : numpy.ndarray
-        ``(K,)`` lower bounds.
-    slope : float
-        Largest slope.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(K,)`` the envelope.
-    """
-    return -upper_envelope(s, -floor, slope)
-
-
 def _bisect_max(g: Callable[[NDArray[np.float64]], NDArray[np.float64]], lo: NDArray[np.float64],
                 hi: NDArray[np.float64], iters: int = 40) -> NDArray[np.float64]:
     """Largest ``c`` in ``[lo, hi]`` with ``g(c) >= 0`` for ``g`` decreasing (vectorised; ``hi`` if ``g(hi) >= 0``)."""
@@ -275,48 +311,63 @@ class _Placer:
     """The swath of a trial line at chosen stations (the seabed read under it at each trial)."""
 
     def __init__(self, seabed: Seabed, sensor: Sensor, params: LineParams, stations: NDArray[np.float64],
-                 heading: float) -> None:
-        self.seabed, self.sensor, self.p, self.s, self.heading = seabed, sensor, params, stations, heading
-        sh, ch = math.sin(heading), math.cos(heading)
-        self.right_dir = np.array([ch, -sh])
+                 frame: Frame) -> None:
+        self.seabed, self.sensor, self.p, self.s, self.frame = seabed, sensor, params, stations, frame
+        self.eta = params.overlap_min + params.overlap_margin
+        self.hold = 1.0 - params.overlap_margin  # a crabbing fan reaches r cos ψ = r (1 - margin) across
 
     def nominal_z(self, s: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.float64]:
         if self.sensor.mounting == "auv":
-            x, y = from_sn(s, c, self.heading)
+            x, y = self.frame.from_sn(s, c)
             return np.asarray(self.seabed(x, y) + self.sensor.altitude_m)
         return np.full(s.size, self.p.surface_z)
 
     def reach(self, s: NDArray[np.float64], c: NDArray[np.float64],
-              z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        x, y = from_sn(s, c, self.heading)
+              z: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        """Left and right reach, and the left and right nadir gap (zeros for a multibeam)."""
+        x, y = self.frame.from_sn(s, c)
         xy = np.column_stack([x, y])
-        u = np.broadcast_to(self.right_dir, xy.shape)
+        u = self.frame.right(s)
         right = swath_reach(self.seabed, self.sensor, xy, z, u, self.p.step_m)
         left = swath_reach(self.seabed, self.sensor, xy, z, -u, self.p.step_m)
-        return left, right
+        gap = self.sensor.gap
+        if gap is None:
+            return left, right, np.zeros(s.size), np.zeros(s.size)
+        gr = np.minimum(swath_reach(self.seabed, gap, xy, z, u, self.p.step_m), right)
+        gl = np.minimum(swath_reach(self.seabed, gap, xy, z, -u, self.p.step_m), left)
+        return left, right, gl, gr
 
-    def trial(self, s: NDArray[np.float64], c: NDArray[np.float64]) -> tuple[NDArray[np.float64],
-                                                                           NDArray[np.float64]]:
+    def trial(self, s: NDArray[np.float64], c: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
         return self.reach(s, c, self.nominal_z(s, c))
 
     def first_bound(self, st: NDArray[np.float64],
                     lo: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
-        """``g(c) >= 0`` while the swath's left edge reaches the area's edge ``lo``."""
+        """``g(c) >= 0`` while the swath's left edge reaches the area's edge ``lo`` (a side-scan: its nadir)."""
 
         def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
-            left, _ = self.trial(st, c)
-            return np.asarray(lo - (c - left))
+            left, _, gl, gr = self.trial(st, c)
+            if self.sensor.gap is not None:
+                return np.asarray(lo - (c + 0.5 * (gr - gl)))
+            return np.asarray(lo - (c - self.hold * left))
 
         return g
 
-    def next_bound(self, st: NDArray[np.float64], front: NDArray[np.float64],
-                   width: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
-        """``g(c) >= 0`` while the overlap with the swath in front (edge ``front``) is at least the minimum."""
-        eta = self.p.overlap_min
+    def next_bound(self, st: NDArray[np.float64], prev: dict[str, NDArray[np.float64]],
+                   ) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+        """``g(c) >= 0`` while the overlap with the line in front (``prev`` at the stations) is at least
+        the minimum with both fans shortened by the crab margin (a side-scan: the minimum plus the margin)."""
+        eta, k = self.eta, self.hold
+        front, width = prev["c"] + prev["right"], prev["left"] + prev["right"]
 
         def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
-            left, right = self.trial(st, c)
-            return np.asarray(front - (c - left) - eta * np.minimum(width, left + right))
+            left, right, gl, gr = self.trial(st, c)
+            if self.sensor.gap is None:  # both fans crabbing: every reach r cos ψ = k r, the overlap of those
+                edge = prev["c"] + k * prev["right"]
+                return np.asarray(edge - (c - k * left) - self.p.overlap_min * k * np.minimum(width, left + right))
+            ma = prev["c"] + 0.5 * (prev["gr"] - prev["gl"])
+            mb = c + 0.5 * (gr - gl)
+            band = np.minimum(front - (prev["c"] + prev["gr"]), (c - gl) - (c - left))
+            return np.asarray(np.minimum(front - mb, ma - (c - left)) - eta * band)
 
         return g
 
@@ -327,7 +378,7 @@ class _Placer:
         if self.sensor.mounting != "auv":
             z[a] = self.p.surface_z
             return z
-        x, y = from_sn(self.s[a], c[a], self.heading)
+        x, y = self.frame.from_sn(self.s[a], c[a])
         arc = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))])
         target = self.seabed(x, y) + self.sensor.altitude_m
         z[a] = np.minimum(lower_envelope(arc, target, math.tan(math.radians(self.p.pitch_max_deg))),
@@ -336,14 +387,13 @@ class _Placer:
 
 
 def _cross_sections(area: shapely.Polygon, s: NDArray[np.float64],
-                    heading: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+                    frame: Frame) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The area's extent across over the strip of every station (half-way to its neighbours either side).
 
     The strip, not the cut at the station alone, so a corner or a slanted edge between two stations is
     inside the extent the swaths must reach.  NaN where a strip misses the area.
     """
-    sh, ch = math.sin(heading), math.cos(heading)
-    rot = shapely.affinity.affine_transform(area, [sh, ch, ch, -sh, 0.0, 0.0])  # (x, y) -> (s, n)
+    rot = frame.area_sn(area)
     _, n0, _, n1 = rot.bounds
     half = 0.5 * (s[1] - s[0]) if s.size > 1 else 0.5
     strips = shapely.box(s - half, n0 - 1.0, s + half, n1 + 1.0)
@@ -355,9 +405,19 @@ def _cross_sections(area: shapely.Polygon, s: NDArray[np.float64],
     return lo, hi
 
 
+def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64],
+                step: float) -> NDArray[np.float64]:
+    """Largest offsets of the first line at the stations ``st``."""
+    left, _, gl, gr = pl.trial(st, lo)
+    if pl.sensor.gap is not None:
+        pad = 1.0 + float(np.max(np.abs(gr - gl))) + 10.0 * step
+        return _bisect_max(pl.first_bound(st, lo), lo - pad, lo + pad)
+    return _bisect_max(pl.first_bound(st, lo), lo, lo + 1.0 + 2.0 * float(np.max(left)) + 10.0 * step)
+
+
 def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: float,
-                params: LineParams) -> SurveyLines:
-    """Place the depth-adaptive lines of a survey of ``area`` along ``heading``.
+                params: LineParams, frame: Frame | None = None) -> SurveyLines:
+    """Place the depth-adaptive lines of a survey of ``area`` along ``heading`` (or along a frame).
 
     Parameters
     ----------
@@ -371,23 +431,25 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         Nominal compass heading of the lines (rad).
     params : LineParams
         Overlap bounds, station spacing, bend and pitch limits.
+    frame : Frame, optional
+        The line frame (a corridor's :class:`~auvplan.survey.frame.CurveFrame`); default straight along
+        ``heading``.
 
     Returns
     -------
     SurveyLines
-        The lines, left to right across the heading.
+        The lines, left to right across the nominal direction.
     """
-    ring = np.asarray(area.exterior.coords)
-    s_all, _ = to_sn(ring[:, 0], ring[:, 1], heading)
-    s0, s1 = float(s_all.min()), float(s_all.max())
+    fr = frame if frame is not None else StraightFrame(heading)
+    s0, _, s1, _ = fr.area_sn(area).bounds
     k = max(2, int(math.ceil((s1 - s0) / params.station_m)) + 1)
     s = np.linspace(s0, s1, k)
-    lo, hi = _cross_sections(area, s, heading)
+    lo, hi = _cross_sections(area, s, fr)
     inside = np.isfinite(lo)
-    pl = _Placer(seabed, sensor, params, s, heading)
+    pl = _Placer(seabed, sensor, params, s, fr)
     bend = math.tan(math.radians(params.max_bend_deg))
-    front = np.full(k, -np.inf)  # right edge of the swath in front (latest line over each station)
-    width, front_c = np.full(k, np.nan), np.full(k, np.nan)
+    front = np.full(k, -np.inf)  # how far the swaths in front cover (a side-scan: the latest nadir)
+    prev = {key: np.full(k, np.nan) for key in ("c", "left", "right", "gl", "gr")}
     lines: list[SurveyLine] = []
     while len(lines) < params.max_lines:
         todo = np.flatnonzero(inside & (front < hi))
@@ -399,23 +461,22 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         flown[first:last + 1] = True
         idx = np.flatnonzero(flown & inside & np.isfinite(front)) if lines else todo
         st = s[idx]
-        if not lines:
-            base, span = lo[idx], 0.0
-            bound = pl.first_bound(st, base)
-        else:
-            base, span = front_c[idx], 3.0 * float(np.nanmax(width[idx])) + 10.0 * params.step_m
-            bound = pl.next_bound(st, front[idx], width[idx])
-        if not lines:
-            span = 1.0 + 2.0 * float(np.max(pl.trial(st, base)[0])) + 10.0 * params.step_m
         cmax = np.full(k, np.inf)
-        cmax[idx] = _bisect_max(bound, base, base + span)
+        if not lines:
+            cmax[idx] = _first_line(pl, st, lo[idx], params.step_m)
+        else:
+            at = {key: v[idx] for key, v in prev.items()}
+            span = 3.0 * float(np.nanmax(at["left"] + at["right"])) + 10.0 * params.step_m
+            cmax[idx] = _bisect_max(pl.next_bound(st, at), at["c"], at["c"] + span)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
         z = pl.depth_profile(c, first, last)
-        left, right = np.full(k, np.nan), np.full(k, np.nan)
+        left, right, gl, gr = (np.full(k, np.nan) for _ in range(4))
         a = slice(first, last + 1)
-        left[a], right[a] = pl.reach(s[a], c[a], z[a])
-        line = SurveyLine(c, z, left, right, first, last)
-        lines.append(line)
-        front[a], width[a], front_c[a] = c[a] + right[a], left[a] + right[a], c[a]
+        left[a], right[a], gl[a], gr[a] = pl.reach(s[a], c[a], z[a])
+        side = sensor.gap is not None
+        lines.append(SurveyLine(c, z, left, right, first, last, gl if side else None, gr if side else None))
+        front[a] = c[a] + 0.5 * (gr[a] - gl[a]) if side else c[a] + pl.hold * right[a]
+        for key, v in (("c", c), ("left", left), ("right", right), ("gl", gl), ("gr", gr)):
+            prev[key][a] = v[a]
     complete = not (inside & (front < hi)).any()
-    return SurveyLines(heading, s, lo, hi, tuple(lines), complete)
+    return SurveyLines(fr.heading, s, lo, hi, tuple(lines), complete, frame)

@@ -19,8 +19,10 @@ from .._types import Status
 from ..planners.base import PlanResult, Progress
 from ..sim import Mission, planned_route
 from ..world import World
+from .frame import Frame
 from .lines import LineParams, SurveyLines, lower_envelope, place_lines
 from .swath import Seabed, Sensor
+from .ties import crab_margin, tie_lines
 from .turns import dubins, sample_turn
 
 __all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
@@ -51,6 +53,14 @@ class SurveyParams:
     run_in_m : float
         Straight run beyond the area at both ends of every line (m), so the vehicle is on the line when
         it enters the area.
+    frame : Frame or None
+        A corridor's frame along its centre line (:class:`~auvplan.survey.frame.CurveFrame`); None: straight
+        lines along ``heading_deg``.
+    tie_lines : int
+        Tie (cross) lines flown across the main lines after them.
+    hold_overlap : bool
+        Place the lines with the overlap margin the crab angle in the current takes away
+        (:func:`~auvplan.survey.ties.crab_margin`), so the flown overlap keeps ``overlap_min``.
     """
 
     area: shapely.Polygon
@@ -59,6 +69,9 @@ class SurveyParams:
     heading_deg: float | None = None
     turn_radius_m: float = DEFAULT_TURN_RADIUS_M
     run_in_m: float = 60.0
+    frame: Frame | None = None
+    tie_lines: int = 0
+    hold_overlap: bool = True
 
     def __post_init__(self) -> None:
         if not self.turn_radius_m > 0:
@@ -93,6 +106,8 @@ class SurveyPlan:
         The tightest turn radius of the survey part of the route (m).
     max_pitch_deg : float
         The steepest climb or dive of the survey part (deg).
+    overlap_margin : float
+        The margin added to the least overlap where the lines were placed (fraction).
     """
 
     status: Status
@@ -104,6 +119,19 @@ class SurveyPlan:
     transits: tuple[PlanResult, ...]
     min_turn_radius_m: float
     max_pitch_deg: float
+    overlap_margin: float = 0.0
+
+    def tie_waypoints(self) -> list[NDArray[np.float64]]:
+        """The waypoints of every tie line in flying order (labels after the main lines').
+
+        Returns
+        -------
+        list of numpy.ndarray
+            ``(M, 3)`` waypoints of each tie line (m).
+        """
+        n = len(self.lines.lines)
+        ties = np.unique(self.labels[self.labels >= n])
+        return [self.route[self.labels == k] for k in ties]
 
     def line_waypoints(self) -> list[NDArray[np.float64]]:
         """The waypoints of every line in flying order.
@@ -234,6 +262,15 @@ def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
         parts.append(pts)
         labels.append(np.full(pts.shape[0], k))
         prev = pts
+    n = len(lines.lines)
+    for j, pts in enumerate(tie_lines(lines, params.tie_lines, params.run_in_m,
+                                      from_end=n % 2 == 1, step=params.lines.station_m)):
+        assert prev is not None
+        turn, word = _turn(prev, pts, params.turn_radius_m)
+        parts += [turn, pts]
+        labels += [np.full(turn.shape[0], TURN), np.full(pts.shape[0], n + j)]
+        words.append(word)
+        prev = pts
     route = np.vstack(parts)
     lab = np.concatenate(labels).astype(np.int64)
     if params.sensor.mounting == "auv" and world.terrain is not None:
@@ -291,12 +328,17 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     if world.terrain is None:
         raise ValueError("a survey needs a seabed ([terrain])")
     seabed = world.seabed
-    if params.heading_deg is None:
+    if params.frame is not None:
+        heading = params.frame.heading
+    elif params.heading_deg is None:
         heading = choose_heading(seabed, params)
     else:
         heading = math.radians(params.heading_deg)
-    line_params = replace(params.lines, surface_z=-max(world.margins.min_depth, 0.0))
-    lines = place_lines(seabed, params.area, params.sensor, heading, line_params)
+    surface_z = -max(world.margins.min_depth, 0.0)
+    margin = crab_margin(world.currents, params.area, surface_z, mission.vehicle.speed, params.frame, heading,
+                         0.5 * (1.0 - params.lines.overlap_min)) if params.hold_overlap else 0.0
+    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin)
+    lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
     route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
                                         max(world.margins.min_depth, 0.0))
     survey = labels != TRANSIT
@@ -327,4 +369,4 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
                 labs.append(np.full(path.shape[0] - 1, TRANSIT))
     status = Status.EXACT if not message else Status.INFEASIBLE
     return SurveyPlan(status, message, lines, np.vstack(parts), np.concatenate(labs).astype(np.int64), words,
-                      tuple(transits), _turn_radius(p), pitch)
+                      tuple(transits), _turn_radius(p), pitch, margin)

@@ -90,8 +90,9 @@ def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Co
         Coverage, per-pair overlaps and gaps of the plan.
     """
     lab = plan.labels
-    right = np.broadcast_to(fan_right(np.array([plan.lines.heading])), (lab.size, 2))
-    fps = footprints(world.seabed, params.sensor, plan.route, np.asarray(right), lab, len(plan.lines.lines),
+    fr = plan.lines.geom
+    right = fr.right(fr.to_sn(plan.route[:, 0], plan.route[:, 1])[0])
+    fps = footprints(world.seabed, params.sensor, plan.route, right, lab, len(plan.lines.lines),
                      params.lines.step_m)
     return measure(params.area, plan.lines, fps)
 
@@ -161,7 +162,7 @@ def run_survey(world: World, mission: Mission, params: SurveyParams, seed: int =
     plan = plan_survey(world, mission, params, seed, progress)
     planned = planned_coverage(world, plan, params)
     mower = lawnmower(world.seabed, params.area, params.sensor, plan.lines.heading, params.lines.overlap_min,
-                      -max(world.margins.min_depth, 0.0), params.run_in_m)
+                      -max(world.margins.min_depth, 0.0), params.run_in_m, frame=plan.lines.frame)
     empty = np.empty((0, 3))
     if not plan.status.ok:
         return SurveyRun(plan, RunRecord(mission.name, seed, None, plan.route, empty, None), planned, None, mower,

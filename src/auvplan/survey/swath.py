@@ -50,6 +50,10 @@ class Sensor:
     max_reach_factor : float
         A fan that never meets the seabed (it dips away faster than the beam) is cut at this many times
         its flat-seabed reach.
+    nadir_deg : float
+        Full opening of a side-scan's blind cone under the sensor (deg): its nadir gap reaches where a ray
+        at ``nadir_deg / 2`` from the vertical meets the seabed (``h tan(nadir_deg / 2)`` on a flat seabed
+        ``h`` below).
     """
 
     kind: str = "multibeam"
@@ -58,6 +62,7 @@ class Sensor:
     mounting: str = "surface"
     altitude_m: float = 0.0
     max_reach_factor: float = 4.0
+    nadir_deg: float = 90.0
 
     def __post_init__(self) -> None:
         if self.kind not in SENSORS:
@@ -72,8 +77,17 @@ class Sensor:
             raise ValueError(f"altitude_m = {self.altitude_m}: the AUV mounting needs a positive altitude")
         if self.kind == "sidescan" and self.mounting == "auv" and self.range_m <= self.altitude_m:
             raise ValueError(f"range_m = {self.range_m}: must exceed altitude_m = {self.altitude_m}")
+        if not 0.0 < self.nadir_deg < 180.0:
+            raise ValueError(f"nadir_deg = {self.nadir_deg}: must be in (0, 180)")
         if not self.max_reach_factor >= 1.0:
             raise ValueError(f"max_reach_factor = {self.max_reach_factor}: must be >= 1")
+
+    @property
+    def gap(self) -> Sensor | None:
+        """The blind cone of a side-scan as a fan (its reach is the nadir gap); None for a multibeam."""
+        if self.kind != "sidescan":
+            return None
+        return Sensor("multibeam", self.nadir_deg, 0.0, self.mounting, self.altitude_m, self.max_reach_factor)
 
     @property
     def half_angle(self) -> float:

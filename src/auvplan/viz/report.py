@@ -143,7 +143,7 @@ def _min_altitude(scenario_text: str) -> float | None:
 
 def build_report(world: World, record: RunRecord, scenario_text: str, metrics: Mapping[str, Any],
                  to_lonlat: ToLonLat | None = None, endurance: Endurance | None = None,
-                 ensemble: Mapping[str, Any] | None = None) -> str:
+                 ensemble: Mapping[str, Any] | None = None, sections: Sequence[tuple[str, str]] = ()) -> str:
     """Build the whole report as one HTML page that needs no network (plotly.js is inlined once).
 
     The flight is drawn from its decimated samples (:func:`auvplan.sim.decimate`: one every 20 m
@@ -168,6 +168,9 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
         The mission flown in every current member (``plan --json``'s ``arrival_p50_s``,
         ``arrival_p90_s``, ``success_probability``, ``members``): with it a Current ensemble section,
         the spread and each member's arrival and energy (:mod:`auvplan.viz.ensemble_view`).
+    sections : sequence of (str, str)
+        Further sections ``(title, html)`` after the 3D view (a survey's coverage map and line table,
+        :func:`auvplan.viz.survey.survey_section`).
 
     Returns
     -------
@@ -198,7 +201,8 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     title = html.escape(f"auvplan — {record.scenario}, seed {record.seed}")
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
             f"</head><body><h1>{title}</h1><p>status <b>{html.escape(record.status.value)}</b></p>"
-            + parts[0] + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
+            + parts[0] + "".join(f"<h2>{html.escape(t)}</h2>{body}" for t, body in sections)
+            + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
             + "".join("<h2>Energy</h2>" + p for p in parts[4:len(parts) - bool(spread)])
             + (spread + parts[-1] if spread else "")
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)

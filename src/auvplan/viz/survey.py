@@ -4,6 +4,12 @@ pair against the bounds."""
 
 from __future__ import annotations
 
+import base64
+import html
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 import numpy as np
 import shapely
 from matplotlib.axes import Axes
@@ -14,7 +20,7 @@ from ..survey.run import SurveyRun
 from ..world import World
 from .style import bathymetry_cmap
 
-__all__ = ["coverage_map"]
+__all__ = ["coverage_map", "survey_section", "line_table"]
 
 
 def _fill(ax: Axes, geom: shapely.Geometry, **kw: object) -> None:
@@ -95,3 +101,76 @@ def coverage_map(world: World, run: SurveyRun, area: shapely.Polygon, overlap: t
     ax.legend(fontsize=8)
     ax.set_title("overlap per pair, bounds dashed", fontsize=9)
     return fig
+
+
+def line_table(run: SurveyRun, seabed: Any) -> list[dict[str, Any]]:
+    """One row per line (main lines in flying order, then the tie lines): its kind, length, the depth under
+    it, its swath and its overlap with the next main line (planned and flown, min / median %).
+
+    Parameters
+    ----------
+    run : SurveyRun
+        The survey.
+    seabed : callable
+        ``zb(x, y)`` (m).
+
+    Returns
+    -------
+    list of dict
+        ``line``, ``kind``, ``length_m``, ``depth_min_m``, ``depth_max_m``, ``swath_min_m``, ``swath_max_m``,
+        ``overlap_min_pct``, ``overlap_median_pct``, ``flown_overlap_min_pct``.
+    """
+    plan = run.plan
+    main = plan.line_waypoints()
+    rows = []
+    pairs = run.planned.pair_stats()
+    flown = run.flown.pair_stats() if run.flown is not None else []
+    for k, p in enumerate(main + plan.tie_waypoints()):
+        depth = -seabed(p[:, 0], p[:, 1])
+        row: dict[str, Any] = {"line": k, "kind": "main" if k < len(main) else "tie",
+                               "length_m": float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()),
+                               "depth_min_m": float(depth.min()), "depth_max_m": float(depth.max())}
+        if k < len(main):
+            ln = plan.lines.lines[k]
+            w = (ln.left + ln.right)[ln.active]
+            row.update(swath_min_m=float(np.nanmin(w)), swath_max_m=float(np.nanmax(w)))
+            pair = pairs[k] if k < len(pairs) else None
+            row.update(overlap_min_pct=pair["min_pct"] if pair else math.nan,
+                       overlap_median_pct=pair["median_pct"] if pair else math.nan,
+                       flown_overlap_min_pct=flown[k]["min_pct"] if k < len(flown) else math.nan)
+        rows.append(row)
+    return rows
+
+
+def _cell(v: Any) -> str:
+    if isinstance(v, float):
+        return "" if math.isnan(v) else f"{v:,.1f}"
+    return html.escape(str(v))
+
+
+def survey_section(png: bytes, rows: Sequence[Mapping[str, Any]], summary: Mapping[str, Any]) -> str:
+    """The report's survey section: the coverage map (inlined PNG), the headline figures and the line table.
+
+    Parameters
+    ----------
+    png : bytes
+        ``coverage.png``.
+    rows : sequence of mapping
+        :func:`line_table`.
+    summary : mapping
+        Headline figures (name → value).
+
+    Returns
+    -------
+    str
+        HTML (needs no network).
+    """
+    img = base64.b64encode(png).decode("ascii")
+    head = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{_cell(v)}</td></tr>" for k, v in summary.items())
+    cols = ["line", "kind", "length_m", "depth_min_m", "depth_max_m", "swath_min_m", "swath_max_m",
+            "overlap_min_pct", "overlap_median_pct", "flown_overlap_min_pct"]
+    body = "".join("<tr>" + "".join(f"<td>{_cell(r.get(c, ''))}</td>" for c in cols) + "</tr>" for r in rows)
+    return (f"<img id='coverage' alt='coverage map' style='max-width:100%' src='data:image/png;base64,{img}'>"
+            f"<table id='survey-summary'>{head}</table><h3>Lines</h3><table id='survey-lines'><tr>"
+            + "".join(f"<th>{c}</th>" for c in cols) + f"</tr>{body}</table>"
+            "<p>overlap: share of the narrower swath across the track, with the next main line</p>")

@@ -1,7 +1,7 @@
 """Survey files: the ``[survey]`` area read into the local frame (a lat/lon list, or a GeoJSON, KML or
-shapefile layer through pyogrio), and the survey's results: ``lines.csv`` (``line, x, y, z, lat, lon`` of
-every line's waypoints), ``coverage.json`` (``coverage_pct``, ``overlap_min_pct``, ``overlap_max_pct`` and
-the rest) and ``gaps.geojson``."""
+shapefile layer through pyogrio; a corridor about a centre line), and the survey's results: ``lines.csv``
+(``line, kind, x, y, z, lat, lon`` of every main and tie line's waypoints), ``coverage.json``
+(``coverage_pct``, ``overlap_min_pct``, ``overlap_max_pct`` and the rest) and ``gaps.geojson``."""
 
 from __future__ import annotations
 
@@ -12,14 +12,17 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import CRS, Transformer
+from numpy.typing import NDArray
+from pyproj import CRS
 
 from ...errors import ScenarioError
+from ...survey.corridor import Corridor, build_corridor, default_bend_radius
 from ...survey.mission import DEFAULT_TURN_RADIUS_M, SurveyParams
 from ...survey.run import SurveyRun
 from ...survey.spec import SurveySpec
 from ...world import World
 from ..data.geo import LocalFrame
+from ..data.survey_area import read_area_lonlat, read_layer, read_line_lonlat
 from ..safeio import atomic_write
 from .records import write_json
 
@@ -35,7 +38,7 @@ def read_area(path: Path, layer: str, where: str) -> tuple[shapely.Polygon, CRS]
     Parameters
     ----------
     path : pathlib.Path
-        GeoJSON, KML, shapefile or any vector format GDAL reads.
+        GeoJSON, KML, shapefile, GeoPackage or any vector format GDAL reads.
     layer : str
         Layer name ('' for the first).
     where : str
@@ -46,51 +49,76 @@ def read_area(path: Path, layer: str, where: str) -> tuple[shapely.Polygon, CRS]
     tuple
         The polygon (in the file's coordinates) and its ``pyproj.CRS``.
     """
-    import pyogrio
-
-    if not path.is_file():
-        raise ScenarioError(f"{where} file = {str(path)!r}: not found")
-    try:
-        meta, _, wkb, _ = pyogrio.raw.read(path, layer=layer or None, read_geometry=True, columns=[])
-    except Exception as exc:  # GDAL raises several types for unreadable files and missing layers
-        raise ScenarioError(f"{where} file = {str(path)!r}: cannot read as a vector file"
-                            f"{f' (layer {layer!r})' if layer else ''} ({exc})") from exc
-    geoms = [g for g in (shapely.from_wkb(wkb) if wkb is not None else []) if g is not None and not g.is_empty]
+    geoms, crs = read_layer(path, layer, where)
     polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
     if not polys:
         raise ScenarioError(f"{where} file = {str(path)!r}: no polygon in "
                             f"{f'layer {layer!r}' if layer else 'its first layer'}")
-    try:
-        crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
-    except Exception as exc:  # pyproj's CRSError
-        raise ScenarioError(f"{where} file = {str(path)!r}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     return max(polys, key=lambda p: p.area), crs
 
 
-def _local_area(spec: SurveySpec, origin: tuple[float, float] | None, base_dir: Path | None,
-                where: str) -> shapely.Polygon:
-    if spec.polygon_xy:
-        return shapely.Polygon(spec.polygon_xy)
+def _path(name: str, base_dir: Path | None) -> Path:
+    path = Path(name)
+    return base_dir / path if not path.is_absolute() and base_dir is not None else path
+
+
+def _local(spec: SurveySpec, origin: tuple[float, float] | None, base_dir: Path | None,
+           where: str) -> NDArray[np.float64]:
+    """The area's ring or the centre line in the local frame (m)."""
+    xy = spec.polygon_xy or spec.centerline_xy
+    if xy:
+        return np.asarray(xy, dtype=float)
     if origin is None:
-        key = "polygon" if spec.polygon else "file"
-        raise ScenarioError(f"{where} {key}: a geographic area needs [origin] lat/lon (or give polygon_xy in m)")
+        key = next(k for k in ("polygon", "file", "centerline", "centerline_file") if getattr(spec, k))
+        raise ScenarioError(f"{where} {key}: a geographic area needs [origin] lat/lon (or give polygon_xy or "
+                            "centerline_xy in m)")
     frame = LocalFrame(*origin)
-    if spec.polygon:
-        lat, lon = np.array(spec.polygon).T
+    if spec.polygon or spec.centerline:
+        lat, lon = np.array(spec.polygon or spec.centerline).T
+    elif spec.file:
+        lon, lat = read_area_lonlat(_path(spec.file, base_dir), spec.layer, where).T
     else:
-        path = Path(spec.file)
-        if not path.is_absolute() and base_dir is not None:
-            path = base_dir / path
-        poly, crs = read_area(path, spec.layer, where)
-        xy = np.asarray(poly.exterior.coords)[:, :2]
-        lon, lat = Transformer.from_crs(crs, "EPSG:4326", always_xy=True).transform(xy[:, 0], xy[:, 1])
+        lon, lat = read_line_lonlat(_path(spec.centerline_file, base_dir), spec.layer, where).T
     x, y = frame.forward(np.asarray(lon), np.asarray(lat))
-    return shapely.Polygon(np.column_stack([x, y]))
+    return np.column_stack([x, y])
+
+
+def _corridor(spec: SurveySpec, pts: NDArray[np.float64], radius: float, where: str) -> Corridor:
+    widths = np.asarray(spec.widths_m or (spec.width_m,), dtype=float)
+    bend = spec.bend_radius_m or default_bend_radius(widths, radius)
+    try:
+        return build_corridor(pts, widths, bend)
+    except ValueError as exc:
+        raise ScenarioError(f"{where} centerline: {exc}") from exc
+
+
+def _check_seabed(area: shapely.Polygon, world: World, where: str) -> None:
+    """Every point of the area over the terrain's data and under water."""
+    assert world.terrain is not None
+    x0, x1, y0, y1 = world.terrain.extent
+    ax0, ay0, ax1, ay1 = area.bounds
+    if ax0 < x0 or ax1 > x1 or ay0 < y0 or ay1 > y1:
+        raise ScenarioError(f"{where} area x [{ax0:.0f}, {ax1:.0f}] y [{ay0:.0f}, {ay1:.0f}] m: beyond the terrain's "
+                            f"data x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}]")
+    ring = np.asarray(shapely.segmentize(area, max(math.sqrt(area.area) / 50.0, 1.0)).exterior.coords)
+    g = math.sqrt(area.area) / 40.0
+    gx, gy = np.meshgrid(np.arange(ax0, ax1 + g, g), np.arange(ay0, ay1 + g, g))
+    inside = shapely.contains_xy(area, gx, gy)
+    px, py = np.r_[ring[:, 0], gx[inside]], np.r_[ring[:, 1], gy[inside]]
+    zb = world.seabed(px, py)
+    bad = ~np.isfinite(zb) | (zb >= -max(world.margins.min_depth, 0.0))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ScenarioError(f"{where} area: the seabed at ({px[i]:.0f}, {py[i]:.0f}) m is {zb[i]:.1f} m, not under "
+                            f"water below the sensor ({int(bad.sum())} of {bad.size} sampled points)")
 
 
 def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path | None,
                   where: str) -> SurveyParams:
     """The :class:`~auvplan.survey.mission.SurveyParams` of a scenario's ``[survey]`` in its world.
+
+    Every check the survey makes before planning: the area or centre line read, the corridor built, the
+    area inside the bounds and over the terrain's data, under water everywhere.
 
     Parameters
     ----------
@@ -110,19 +138,24 @@ def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path |
     SurveyParams
         The survey in the local frame.
     """
-    area = shapely.make_valid(_local_area(spec, world.origin, base_dir, where))
+    if world.terrain is None:
+        raise ScenarioError(f"{where}: a survey needs a seabed ([terrain])")
+    radius = float(getattr(vehicle, "turn_radius_m", None) or DEFAULT_TURN_RADIUS_M)
+    pts = _local(spec, world.origin, base_dir, where)
+    corridor = _corridor(spec, pts, radius, where) if spec.corridor else None
+    area = corridor.area if corridor is not None else shapely.make_valid(shapely.Polygon(pts))
+    key = "centerline" if corridor is not None else "polygon"
     if not isinstance(area, shapely.Polygon) or area.area <= 0:
-        raise ScenarioError(f"{where} polygon: not a simple polygon with an area (self-intersecting?)")
+        raise ScenarioError(f"{where} {key}: not a simple polygon with an area (self-intersecting?)")
     b = world.bounds
     if not shapely.box(b.xmin, b.ymin, b.xmax, b.ymax).contains(area):
         x0, y0, x1, y1 = area.bounds
-        raise ScenarioError(f"{where} polygon: the area x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m is not "
+        raise ScenarioError(f"{where} {key}: the area x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m is not "
                             f"inside the [bounds] x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}]")
-    if world.terrain is None:
-        raise ScenarioError(f"{where}: a survey needs a seabed ([terrain])")
-    radius = getattr(vehicle, "turn_radius_m", None) or DEFAULT_TURN_RADIUS_M
+    _check_seabed(area, world, where)
     params = SurveyParams(area, spec.sensor_model(), spec.line_params(min(world.terrain.dx, world.terrain.dy)),
-                          spec.heading_deg, float(radius), spec.run_in_m)
+                          spec.heading_deg, radius, spec.run_in_m,
+                          frame=corridor.frame if corridor is not None else None, tie_lines=spec.tie_lines)
     check_survey_size(params, world, where)
     return params
 
@@ -189,6 +222,11 @@ def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
         "status": plan.status.value if run.record.sim is None else run.record.status.value,
         "message": plan.message,
         "overlap_bounds_pct": [100 * params.lines.overlap_min, 100 * params.lines.overlap_max],
+        "overlap_definition": "share of the narrower swath, across the track (side-scan: how far each swath "
+                              "reaches past the neighbour's nadir, over the narrower facing band)",
+        "overlap_margin_pct": 100 * plan.overlap_margin,
+        "tie_lines": len(plan.tie_waypoints()),
+        "corridor": params.frame is not None,
         "lines": n,
         "heading_deg": math.degrees(plan.lines.heading) % 360.0,
         "area_m2": planned.area_m2,
@@ -242,12 +280,14 @@ def write_survey(out: Path, run: SurveyRun, params: SurveyParams, origin: tuple[
         The files written.
     """
     frame = LocalFrame(*origin) if origin is not None else None
-    rows = ["line,x,y,z,lat,lon"]
-    for k, p in enumerate(run.plan.line_waypoints()):
+    rows = ["line,kind,x,y,z,lat,lon"]
+    main = run.plan.line_waypoints()
+    for k, p in enumerate(main + run.plan.tie_waypoints()):
         lon, lat = frame.inverse(p[:, 0], p[:, 1]) if frame is not None else (None, None)
+        kind = "main" if k < len(main) else "tie"
         for i, (x, y, z) in enumerate(p):
             geo = f"{lat[i]:.8f},{lon[i]:.8f}" if lat is not None and lon is not None else ","
-            rows.append(f"{k},{x:.3f},{y:.3f},{z:.3f},{geo}")
+            rows.append(f"{k},{kind},{x:.3f},{y:.3f},{z:.3f},{geo}")
     paths = [atomic_write(out / "lines.csv", "\n".join(rows) + "\n")]
     paths.append(write_json(out / "coverage.json", coverage_record(run, params)))
     cov = run.flown or run.planned

@@ -13,7 +13,8 @@ every geographic position into the local frame (:class:`~auvplan.io.data.geo.Loc
 equidistant about ``[origin]``) and hands the tables metre triples, so no algorithm ever sees a
 latitude.  When ``[origin]`` is absent it is derived: the centre of the latitude/longitude box of
 the mission's geographic points (start, goal, route; all geographic points when the mission has
-none).  When ``[bounds]`` gives no x/y they are derived too: the box of the mission's points plus
+none).  When ``[bounds]`` gives no x/y they are derived too: the box of the mission's points and of the
+``[survey]`` area or corridor (its polygon, centre line or file) plus
 :func:`bounds_margin` on every side, which :mod:`auvplan.io.scenario.build` then clips to the data and
 reports, naming the side, when the data do not cover a mission point.
 """
@@ -23,12 +24,14 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ...errors import DataError, ScenarioError
 from ..data.geo import LocalFrame
+from ..data.survey_area import read_area_lonlat, read_line_lonlat
 from .tables import MAX_MAGNITUDE, table_error
 
 __all__ = ["GeoInput", "AltitudeRef", "resolve_positions", "apply_altitudes", "bounds_margin", "clip_to_data",
@@ -195,7 +198,36 @@ def _origin(data: dict[str, Any], src: str) -> tuple[float, float] | None:
     return (lat, lon) if -90.0 <= lat <= 90.0 and -360.0 <= lon <= 360.0 else None
 
 
-def resolve_positions(data: dict[str, Any], source: str) -> GeoInput | None:
+def _survey_points(data: dict[str, Any], base_dir: Path | None) -> list[tuple[float, float]]:
+    """The ``[survey]`` area's or centre line's (lat, lon) points, when geographic (files read here too)."""
+    sv = data.get("survey")
+    if not isinstance(sv, dict):
+        return []
+    for key in ("polygon", "centerline"):
+        pts = sv.get(key)
+        if isinstance(pts, list) and all(isinstance(p, list) and len(p) == 2 and all(
+                isinstance(v, (int, float)) and not isinstance(v, bool) for v in p) for p in pts):
+            return [(float(p[0]), float(p[1])) for p in pts]
+    for key, read in (("file", read_area_lonlat), ("centerline_file", read_line_lonlat)):
+        name = sv.get(key)
+        if isinstance(name, str) and name:
+            path = Path(name) if Path(name).is_absolute() or base_dir is None else base_dir / name
+            layer = sv.get("layer", "")
+            try:
+                lonlat = read(path, layer if isinstance(layer, str) else "", "[survey]", key)
+            except ScenarioError:
+                return []  # the survey's own check names the file and the key
+            return [(float(lat), float(lon)) for lon, lat in lonlat]
+    return []
+
+
+def _survey_pad(data: dict[str, Any]) -> float:
+    sv = data.get("survey", {})
+    w = [sv.get("width_m", 0.0)] + list(sv.get("widths_m", [])) if isinstance(sv, dict) else []
+    return 0.5 * max([float(v) for v in w if isinstance(v, (int, float)) and math.isfinite(v)] + [0.0])
+
+
+def resolve_positions(data: dict[str, Any], source: str, base_dir: Path | None = None) -> GeoInput | None:
     """Project the geographic positions of a parsed scenario into its local frame.
 
     Parameters
@@ -204,12 +236,15 @@ def resolve_positions(data: dict[str, Any], source: str) -> GeoInput | None:
         The parsed TOML document (not modified).
     source : str
         The file, for messages.
+    base_dir : pathlib.Path, optional
+        Folder a ``[survey]`` file resolves against.
 
     Returns
     -------
     GeoInput or None
         None when the document has no geographic position; else the metric document (origin
-        and bounds filled in when derived) and the altitudes still to resolve.
+        and bounds filled in when derived: the box of the mission's points and of the ``[survey]``
+        area) and the altitudes still to resolve.
 
     Raises
     ------
@@ -248,6 +283,12 @@ def resolve_positions(data: dict[str, Any], source: str) -> GeoInput | None:
         and len(mission) >= 2
     if bounds_derived:
         xs, ys = [p[1] for p in mission], [p[2] for p in mission]
+        survey = _survey_points(data, base_dir)
+        if survey:  # the survey area is part of the mission: the derived box holds it too
+            sx, sy = frame.forward(np.array([p[1] for p in survey]), np.array([p[0] for p in survey]))
+            w = _survey_pad(data)
+            xs += [float(np.min(sx)) - w, float(np.max(sx)) + w]
+            ys += [float(np.min(sy)) - w, float(np.max(sy)) + w]
         pad = bounds_margin(max(max(xs) - min(xs), max(ys) - min(ys)))
         box = dict(bounds) if isinstance(bounds, dict) else {}
         box.update(x=[min(xs) - pad, max(xs) + pad], y=[min(ys) - pad, max(ys) + pad])

@@ -223,7 +223,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     """
     name, description, seed = _header(data, source)
     raw = data
-    geo = resolve_positions(data, source)  # {lat, lon, depth | altitude} -> metre triples (io.scenario.geoinput)
+    geo = resolve_positions(data, source, base_dir)  # {lat, lon, depth | altitude} -> metre triples
     if geo is not None:
         data = geo.metric
     limits = _section(data, "limits", source)

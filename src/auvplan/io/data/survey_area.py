@@ -1,0 +1,118 @@
+"""Survey areas and centre lines from vector files (GeoJSON, KML, shapefile, GeoPackage: any format GDAL
+reads, through pyogrio), in any CRS, returned as longitude/latitude (WGS 84) for the scenario's local frame.
+
+A polygon layer gives the survey area (its largest polygon); a line layer gives a corridor's centre line
+(its longest line; a multi-line is joined end to end when its parts touch).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS, Transformer
+
+from ...errors import ScenarioError
+
+__all__ = ["read_layer", "read_area_lonlat", "read_line_lonlat"]
+
+
+def read_layer(path: Path, layer: str, where: str, key: str = "file") -> tuple[list[shapely.Geometry], CRS]:
+    """The geometries of a vector file's layer and the file's CRS (WGS 84 when it has none).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        GeoJSON, KML, shapefile, GeoPackage or any vector format GDAL reads.
+    layer : str
+        Layer name ('' for the first).
+    where : str
+        ``file: [survey]`` for messages.
+    key : str
+        The key that named the file, for messages.
+
+    Returns
+    -------
+    tuple
+        The non-empty geometries (in the file's coordinates) and its ``pyproj.CRS``.
+    """
+    import pyogrio
+
+    if not path.is_file():
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: not found")
+    try:
+        meta, _, wkb, _ = pyogrio.raw.read(path, layer=layer or None, read_geometry=True, columns=[])
+    except Exception as exc:  # GDAL raises several types for unreadable files and missing layers
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: cannot read as a vector file"
+                            f"{f' (layer {layer!r})' if layer else ''} ({exc})") from exc
+    geoms = [g for g in (shapely.from_wkb(wkb) if wkb is not None else []) if g is not None and not g.is_empty]
+    try:
+        crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
+    except Exception as exc:  # pyproj's CRSError
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
+    return geoms, crs
+
+
+def _to_lonlat(xy: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:
+    lon, lat = Transformer.from_crs(crs, "EPSG:4326", always_xy=True).transform(xy[:, 0], xy[:, 1])
+    return np.column_stack([lon, lat])
+
+
+def read_area_lonlat(path: Path, layer: str, where: str, key: str = "file") -> NDArray[np.float64]:
+    """The exterior ring of the largest polygon of a layer, as ``(M, 2)`` longitude/latitude (deg).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The vector file.
+    layer : str
+        Layer name ('' for the first).
+    where : str
+        ``file: [survey]`` for messages.
+    key : str
+        The key that named the file.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 2)`` lon/lat of the ring (closed).
+    """
+    geoms, crs = read_layer(path, layer, where, key)
+    polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
+    if not polys:
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: no polygon in "
+                            f"{f'layer {layer!r}' if layer else 'its first layer'}")
+    return _to_lonlat(np.asarray(max(polys, key=lambda p: p.area).exterior.coords)[:, :2], crs)
+
+
+def read_line_lonlat(path: Path, layer: str, where: str, key: str = "centerline_file") -> NDArray[np.float64]:
+    """The longest line of a layer (a multi-line merged where its parts touch), as ``(M, 2)`` lon/lat (deg).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The vector file.
+    layer : str
+        Layer name ('' for the first).
+    where : str
+        ``file: [survey]`` for messages.
+    key : str
+        The key that named the file.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(M, 2)`` lon/lat of the line's vertices.
+    """
+    geoms, crs = read_layer(path, layer, where, key)
+    lines = []
+    for g in geoms:
+        if isinstance(g, shapely.MultiLineString):
+            g = shapely.line_merge(g)
+        lines += [p for p in shapely.get_parts(g) if isinstance(p, shapely.LineString)]
+    if not lines:
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: no line in "
+                            f"{f'layer {layer!r}' if layer else 'its first layer'}")
+    return _to_lonlat(np.asarray(max(lines, key=lambda p: p.length).coords)[:, :2], crs)

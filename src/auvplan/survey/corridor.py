@@ -1,0 +1,104 @@
+"""Corridor surveys: lines parallel to a pipeline's or cable's centre line, following its bends.
+
+The centre line's corners are rounded (:func:`~auvplan.survey.frame.round_corners`, shapely's
+``offset_curve`` out and back) to a radius larger than half the corridor plus the vehicle's turn radius,
+so the line frame along it (:class:`~auvplan.survey.frame.CurveFrame`) is one to one over the corridor,
+no line parallel to the centre line crosses itself at a bend and each turns with at least the vehicle's
+radius.  The corridor is the band ``|n| <= w(s) / 2`` about the rounded centre line: shapely's flat-capped
+buffer for a constant width, the band between the two offset curves for widths given per vertex
+(interpolated along the line).  The lines are then placed in that frame as over any area
+(:func:`~auvplan.survey.lines.place_lines`): depth-adaptive, the overlap held at every station.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from .frame import CurveFrame, round_corners
+
+__all__ = ["Corridor", "build_corridor", "default_bend_radius"]
+
+
+@dataclass(frozen=True)
+class Corridor:
+    """A corridor: its area, its line frame and the rounded centre line.
+
+    Attributes
+    ----------
+    area : shapely.Polygon
+        The band to cover (m).
+    frame : CurveFrame
+        The line frame along the rounded centre line.
+    centerline : numpy.ndarray
+        ``(K, 2)`` the rounded centre line (m).
+    bend_radius_m : float
+        The radius its corners were rounded to (m).
+    """
+
+    area: shapely.Polygon
+    frame: CurveFrame
+    centerline: NDArray[np.float64]
+    bend_radius_m: float
+
+
+def default_bend_radius(widths: NDArray[np.float64], turn_radius: float) -> float:
+    """The default rounding radius: the vehicle's turn radius plus the widest corridor.
+
+    Half the width keeps the outermost lines (at most half the width off the centre line) turning with the
+    vehicle's radius; the other half keeps the swaths beyond them inside the one-to-one frame.
+
+    Parameters
+    ----------
+    widths : numpy.ndarray
+        Corridor widths (m).
+    turn_radius : float
+        The vehicle's least turn radius (m).
+
+    Returns
+    -------
+    float
+        Radius (m).
+    """
+    return float(turn_radius + np.max(widths))
+
+
+def build_corridor(points: NDArray[np.float64], widths: NDArray[np.float64], bend_radius: float) -> Corridor:
+    """The corridor about a centre line.
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        ``(M, 2)`` the centre line's vertices (m).
+    widths : numpy.ndarray
+        ``(M,)`` the full width at every vertex, or ``(1,)`` one width (m).
+    bend_radius : float
+        Radius the corners are rounded to (m); larger than half the widest corridor.
+
+    Returns
+    -------
+    Corridor
+        Area, frame and rounded centre line.
+    """
+    p = np.asarray(points, dtype=float)
+    w = np.asarray(widths, dtype=float).reshape(-1)
+    if not bend_radius > 0.5 * float(w.max()):
+        raise ValueError(f"bend_radius_m = {bend_radius:g}: must exceed half the widest corridor ({w.max() / 2:g} m)")
+    rounded = round_corners(p, bend_radius)
+    frame = CurveFrame(rounded, n_limit=0.98 * bend_radius)
+    if w.size == 1:
+        area = shapely.LineString(rounded).buffer(0.5 * float(w[0]), cap_style="flat", join_style="round",
+                                                  quad_segs=45)
+    else:
+        sv, _ = frame.to_sn(p[:, 0], p[:, 1])
+        s = np.unique(np.r_[frame.s, sv])
+        half = 0.5 * np.interp(s, sv, w)
+        lx, ly = frame.from_sn(s, -half)
+        rx, ry = frame.from_sn(s, half)
+        area = shapely.make_valid(shapely.Polygon(np.r_[np.column_stack([lx, ly]), np.column_stack([rx, ry])[::-1]]))
+    if not isinstance(area, shapely.Polygon) or area.is_empty:
+        raise ValueError("the corridor about the centre line is not a simple band (does the line cross itself?)")
+    return Corridor(area, frame, rounded, float(bend_radius))
