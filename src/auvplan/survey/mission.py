@@ -16,6 +16,8 @@ import shapely
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..path.flyable import VehicleLimits
+from ..path.legs import helm_check
 from ..planners.base import PlanResult, Progress
 from ..sim import Mission, planned_route
 from ..world import World
@@ -24,6 +26,9 @@ from .lines import LineParams, SurveyLines, lower_envelope, place_lines
 from .swath import Seabed, Sensor
 from .ties import crab_margin, tie_lines
 from .turns import dubins, sample_turn
+
+_WIDEN_TRIES = 40
+"""Turns re-drawn 3 % wider at most this often (a factor 3.3) before the last one is kept."""
 
 __all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
            "DEFAULT_TURN_RADIUS_M"]
@@ -222,12 +227,43 @@ def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tupl
     # sampled every radian at most, the arcs' chords turn by up to 1 rad at each vertex; a fly-by
     # turn there fits r cos(0.5) only, so the arcs are drawn at r / cos(0.5) and the waypoints a
     # vehicle flies by fit ``radius`` (the check of ``mission check``, :func:`auvplan.path.flyable.check_limits`)
+    # Where a short arc meets the next one (an LRL turn between lines a little over 2R apart) the chords
+    # at the junction may turn by more than that: the turn is re-drawn 3 % wider until every waypoint of
+    # line end, turn and next line start fits ``radius`` as a helm flies it (issue #49's leg-by-leg check).
     r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)
-    t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
-    pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]
-    frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
-    z = a[-1, 2] + frac * (b[0, 2] - a[-1, 2])
-    return np.column_stack([pts[:, :2], z]), t.word
+    for _ in range(_WIDEN_TRIES):
+        t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
+        pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]
+        frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
+        inner = np.column_stack([pts[:, :2], a[-1, 2] + frac * (b[0, 2] - a[-1, 2])])
+        around = np.vstack([a[-2:], inner, b[:2]])
+        if helm_check(around, VehicleLimits(90.0, radius), min_leg=0.0).tightest_turn_m >= radius:
+            break
+        r *= 1.03
+    return inner, t.word
+
+
+def _join(world: World, a: NDArray[np.float64], b: NDArray[np.float64], radius: float,
+          home: bool) -> NDArray[np.float64]:
+    """The turn that joins a line's end ``a`` to a transit ``b`` (or a transit ``a`` to a line's start ``b``).
+
+    The transit's vertex next to the line (``b[1]`` home, ``a[-2]`` out) is reached by the survey's own turn
+    (:func:`_turn`) instead of a corner at the line's end, so that every fly-by turn fits ``radius`` as a helm
+    flies it; kept only when the turn is clear of the seabed and obstacles (else the corner stays, and the
+    mission's checks report it).  Returns the turn's inner points (possibly none).
+    """
+    if a.shape[0] < 2 or b.shape[0] < 2:
+        return np.empty((0, 3))
+    if home:  # from the line's end to the transit's second vertex
+        head = a[-2:]
+        tail = b[1:3] if b.shape[0] >= 3 else np.stack([b[1], 2.0 * b[1] - b[0]])
+        turn, _ = _turn(head, tail, radius)
+        whole = np.vstack([head[-1:], turn, tail[:1]])
+    else:  # out: from the transit's last-but-one vertex to the line's start
+        head = a[-3:-1] if a.shape[0] >= 3 else np.stack([2.0 * a[0] - a[1], a[0]])
+        turn, _ = _turn(head, b[:2], radius)
+        whole = np.vstack([head[-1:], turn, b[:1]])
+    return turn if world.path_free(whole) else np.empty((0, 3))
 
 
 def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
@@ -362,11 +398,13 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
                 message = f"the transit {where} failed ({planned.status.value}): {planned.message}"
                 break
             if where == "out":
-                parts.insert(0, path[:-1])
-                labs.insert(0, np.full(path.shape[0] - 1, TRANSIT))
+                path = np.vstack([path[:-1], _join(world, path, route[:2], params.turn_radius_m, home=False)])
+                parts.insert(0, path)
+                labs.insert(0, np.full(path.shape[0], TRANSIT))
             else:
-                parts.append(path[1:])
-                labs.append(np.full(path.shape[0] - 1, TRANSIT))
+                path = np.vstack([_join(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
+                parts.append(path)
+                labs.append(np.full(path.shape[0], TRANSIT))
     status = Status.EXACT if not message else Status.INFEASIBLE
     return SurveyPlan(status, message, lines, np.vstack(parts), np.concatenate(labs).astype(np.int64), words,
                       tuple(transits), _turn_radius(p), pitch, margin)
