@@ -75,17 +75,17 @@ def _edge(seabed, sensor, x, y, z, direction, t_max=2000.0):
         cot = 1.0 / math.tan(math.radians(sensor.opening_deg) / 2)
 
         def f(t):
-            return z - t * cot - float(seabed(x + direction * t, y))
+            return z - t * cot - seabed(x + direction * t, y)
     else:
         def f(t):
-            return sensor.range_m**2 - t * t - (z - float(seabed(x + direction * t, y))) ** 2
+            return sensor.range_m**2 - t * t - (z - seabed(x + direction * t, y)) ** 2
         t_max = sensor.range_m
     t = np.arange(0.0, t_max, 0.05)
-    vals = np.array([f(v) for v in t])
+    vals = np.broadcast_to(f(t), t.shape)  # the same function on the whole grid at once
     j = int(np.argmax(vals <= 0))
     if vals[j - 1] > 0 and abs(vals[j - 1] - vals[j]) > 10.0:  # the beam meets the scarp's vertical face
         return float(t[j - 1])
-    return brentq(f, t[j - 1], t[j])
+    return brentq(lambda v: float(f(v)), t[j - 1], t[j])
 
 
 @pytest.mark.parametrize("sensor", [Sensor("multibeam", 120.0),
