@@ -1,0 +1,201 @@
+"""The front door against the previous release: CPU of the commands people type, A/B interleaved.
+
+    nice -n 5 .venv/bin/python benchmarks/front_door.py --prev f5c6a15 --rounds 3
+    make bench-front                      # the same, every built-in, writes docs/figures/bench-front.md
+
+Issue #56 (and #59's "plan CPU per built-in ≤ the previous release's"): this is THE A/B benchmark of the
+command line.  The previous release (``--prev``, a commit) is checked out into a temporary ``git worktree``
+(removed afterwards); both trees run under this interpreter and its packages (``PYTHONPATH=<tree>/src``,
+``python -m auvplan``), so the comparison is of the code alone.  Each measure is the CPU time (user +
+system, ``os.wait4`` of the child: not wall time) of one fresh process:
+
+* ``--version``;
+* ``validate NAME`` and ``plan NAME --json`` for every built-in scenario (a built-in newer than the release
+  runs in the current tree only);
+* ``data inspect FILE`` of a 1 MB NetCDF bathymetry grid written for the run (lat/lon axes, a float64
+  ``elevation`` variable with CF attributes).
+
+One warm-up run of every command per tree comes first (it writes the compiled kernels' caches), then
+``--rounds`` rounds, previous / current in one round and current / previous in the next, so that both see
+the same load; each figure is the median over the rounds.  Beside ``plan``, the plan's own CPU: the same
+command run a second time inside one warm process (``auvplan.cli.main`` twice, the second timed), so that
+``plan`` CPU − own CPU is what the front door adds (imports, first calls of compiled kernels).  Targets
+(issue #56): ``validate`` ≤ 1 s, ``plan`` ≤ own + 0.5 s, ``inspect`` ≤ 2 s, and current ≤ previous.  The
+load average is printed at the start and the end.  Exit status 1 when a target is missed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+OWN = r'''
+import contextlib, io, json, sys, time
+from auvplan.cli import main
+args = json.loads(sys.argv[1])
+with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+    main(args)
+    c0 = time.process_time()
+    main(args)
+    own = time.process_time() - c0
+print(json.dumps(own))
+'''
+"""The plan's own CPU: the command a second time in a warm process."""
+
+
+def builtins(tree: Path) -> list[str]:
+    """The built-in scenario names of a tree."""
+    return sorted(p.stem for p in (tree / "src" / "auvplan" / "data" / "scenarios").glob("*.toml"))
+
+
+def cpu_of(tree: Path, argv: list[str], timeout: float = 600.0) -> tuple[float, int]:
+    """``(CPU seconds, exit code)`` of ``python -m auvplan ARGV`` importing ``tree/src`` (user + system)."""
+    env = {**os.environ, "PYTHONPATH": str(tree / "src")}
+    proc = subprocess.Popen([sys.executable, "-m", "auvplan", *argv], env=env, cwd=tempfile.gettempdir(),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    t0 = time.monotonic()
+    while True:
+        pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+        if pid:
+            break
+        if time.monotonic() - t0 > timeout:
+            proc.kill()
+            pid, status, usage = os.wait4(proc.pid, 0)
+            break
+        time.sleep(0.01)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    return usage.ru_utime + usage.ru_stime, proc.returncode
+
+
+def own_cpu(tree: Path, argv: list[str]) -> float:
+    """CPU of the command run a second time in one warm process (:data:`OWN`)."""
+    env = {**os.environ, "PYTHONPATH": str(tree / "src")}
+    out = subprocess.run([sys.executable, "-c", OWN, json.dumps(argv)], env=env, cwd=tempfile.gettempdir(),
+                         capture_output=True, text=True, check=True).stdout
+    return float(json.loads(out.strip().splitlines()[-1]))
+
+
+def write_grid(path: Path, megabytes: float = 1.0) -> Path:
+    """A NetCDF bathymetry grid of about ``megabytes`` (float64 elevation on lat/lon axes), seeded."""
+    import netCDF4
+    import numpy as np
+
+    n = int((megabytes * 1e6 / 8) ** 0.5)
+    lat = np.linspace(10.0, 11.0, n)
+    lon = np.linspace(150.0, 151.0, n)
+    rng = np.random.default_rng(0)
+    z = -4000.0 + 1500.0 * np.sin(lat[:, None] * 7.0) * np.cos(lon[None, :] * 5.0) + rng.normal(0, 5, (n, n))
+    with netCDF4.Dataset(path, "w") as nc:
+        nc.createDimension("lat", n)
+        nc.createDimension("lon", n)
+        for name, values, units in (("lat", lat, "degrees_north"), ("lon", lon, "degrees_east")):
+            v = nc.createVariable(name, "f8", (name,))
+            v[:] = values
+            v.units = units
+        e = nc.createVariable("elevation", "f8", ("lat", "lon"))
+        e[:] = z
+        e.units, e.positive, e.standard_name = "m", "up", "height_above_mean_sea_level"
+    return path
+
+
+def commands(prev: Path, cur: Path, grid: Path, names: list[str] | None) -> list[tuple[str, list[str], bool]]:
+    """``(label, argv, in the previous release too)`` of every measured command."""
+    old = set(builtins(prev))
+    out = [("--version", ["--version"], True), ("data inspect (1 MB NetCDF)", ["data", "inspect", str(grid)], True)]
+    for name in names or builtins(cur):
+        out.append((f"validate {name}", ["validate", name], name in old))
+        out.append((f"plan {name} --json", ["plan", name, "--json"], name in old))
+    return out
+
+
+def measure(prev: Path, cur: Path, cmds: list[tuple[str, list[str], bool]], rounds: int) -> dict[str, dict]:
+    """Median CPU of every command in both trees over interleaved rounds, and plans' own CPU (current)."""
+    runs: dict[str, dict[str, list[float]]] = {label: {"prev": [], "cur": [], "own": []} for label, _, _ in cmds}
+    codes: dict[str, dict[str, int]] = {label: {} for label, _, _ in cmds}
+    for label, argv, both in cmds:  # warm-up: the kernels' caches of both trees
+        for side, tree in (("prev", prev), ("cur", cur)) if both else (("cur", cur),):
+            codes[label][side] = cpu_of(tree, argv)[1]
+    for k in range(rounds):
+        for label, argv, both in cmds:
+            order = (("prev", prev), ("cur", cur)) if k % 2 == 0 else (("cur", cur), ("prev", prev))
+            for side, tree in order:
+                if side == "cur" or both:
+                    runs[label][side].append(cpu_of(tree, argv)[0])
+            if argv[0] == "plan":
+                runs[label]["own"].append(own_cpu(cur, argv))
+        print(f"round {k + 1}/{rounds} done (load {os.getloadavg()[0]:.1f})", file=sys.stderr, flush=True)
+    return {label: {side: (statistics.median(v) if v else None) for side, v in runs[label].items()}
+            | {"codes": codes[label]} for label in runs}
+
+
+def _target(label: str, row: dict) -> tuple[str, bool]:
+    cur, own = row["cur"], row["own"]
+    if label.startswith("validate"):
+        return "≤ 1 s", cur <= 1.0
+    if label.startswith("plan"):
+        return f"≤ own {own:.2f} + 0.5 s", cur <= own + 0.5
+    if label.startswith("data inspect"):
+        return "≤ 2 s", cur <= 2.0
+    return "—", True
+
+
+def table(rows: dict[str, dict], prev_rev: str, rounds: int, load: tuple[float, float]) -> tuple[str, bool]:
+    """The markdown summary and whether every target (and current ≤ previous, 10 % noise) was met."""
+    lines = [f"Front door against the previous release ({prev_rev}), one run (`make bench-front`): CPU (user + "
+             f"system) of one fresh `python -m auvplan` process, median of {rounds} interleaved rounds after a "
+             f"warm-up; `nice -n 5`; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end (2 cores, "
+             "shared).  own = the same `plan` run again in a warm process; ratio = current / previous.", "",
+             f"| command | previous ({prev_rev}) s | current s | ratio | target | met |", "|---|---|---|---|---|---|"]
+    ok = True
+    for label, row in rows.items():
+        target, met = _target(label, row)
+        prev = row["prev"]
+        ratio = f"{row['cur'] / prev:.2f}" if prev else "new"
+        slower = prev is not None and row["cur"] > 1.10 * prev
+        bad = [c for c in row["codes"].values() if c not in (0, 1)]
+        ok = ok and met and not slower and not bad
+        flag = ("yes" if met else "**no**") + (" (slower)" if slower else "") + (f" (exit {bad[0]})" if bad else "")
+        lines.append(f"| `{label}` | {prev:.2f} | {row['cur']:.2f} | {ratio} | {target} | {flag} |" if prev else
+                     f"| `{label}` | — | {row['cur']:.2f} | {ratio} | {target} | {flag} |")
+    return "\n".join(lines) + "\n", ok
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("--prev", default="f5c6a15", help="the previous release's commit (default: the release)")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--scenarios", nargs="*", help="built-ins to run (default: every built-in)")
+    ap.add_argument("--out", default="results/bench-front")
+    ap.add_argument("--figure-md", default="", help="also write docs/figures/NAME.md")
+    args = ap.parse_args(argv)
+    load0 = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory(prefix="auvplan-front-") as tmp:
+        grid = write_grid(Path(tmp) / "grid_1mb.nc")
+        wt = Path(tmp) / "prev"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt), args.prev], check=True)
+        try:
+            rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios), args.rounds)
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)], check=False)
+    text, ok = table(rows, args.prev, args.rounds, (load0, os.getloadavg()[0]))
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "summary.md").write_text(text)
+    (out / "rows.json").write_text(json.dumps(rows, indent=1))
+    if args.figure_md:
+        (ROOT / "docs" / "figures" / f"{args.figure_md}.md").write_text(text)
+    print(text)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
