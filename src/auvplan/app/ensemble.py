@@ -12,7 +12,6 @@ import numpy as np
 
 from .._types import Status
 from ..io.data.geo import LocalFrame
-from ..io.scenario.members import member_fields
 from ..io.scenario.specs import Scenario
 from ..planners.base import PlanResult
 from ..sim import Mission
@@ -41,6 +40,8 @@ def scenario_members(sc: Scenario, world: World) -> tuple[tuple[str, CurrentFiel
     """
     if not sc.currents.members:
         return ()
+    from ..io.scenario.members import member_fields  # xarray and the current readers: only with members
+
     b = world.bounds
     frame = LocalFrame(sc.origin.lat, sc.origin.lon) if sc.origin else None
     return member_fields(sc.currents.members, world.currents, frame, (b.xmin, b.xmax, b.ymin, b.ymax),

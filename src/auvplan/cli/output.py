@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import threading
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -18,10 +19,93 @@ if TYPE_CHECKING:
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
 
+class _Live:
+    """The one live line on stderr (a bar, or a stage's clock) and a daemon thread that redraws it whenever
+    stderr has been quiet for :data:`QUIET_S` (issue 56: no phase of a command is silent for more than ~2 s;
+    the redrawn line shows the elapsed time, a bar its rate and estimate).  The planner's, the flight's and
+    the loading stage's updates print as before; the thread only fills the silences."""
+
+    def __init__(self) -> None:
+        self.display: Any = None
+        self.stop = threading.Event()
+        self.thread: threading.Thread | None = None
+
+    def show(self, bar: Any) -> None:
+        """Make ``bar`` the live line (the thread starts with the first; the command's first line on stdout
+        ends it, :class:`_EndsLive`)."""
+        self.display = bar
+        if self.thread is None and bar is not None and not bar.disable:
+            self.stop.clear()
+            self.thread = threading.Thread(target=self._run, name="auvplan-progress", daemon=True)
+            self.thread.start()
+            if not isinstance(sys.stdout, _EndsLive):
+                sys.stdout = _EndsLive(sys.stdout)
+
+    def _run(self) -> None:
+        while not self.stop.wait(QUIET_S / 2):
+            bar = self.display
+            if bar is not None and not bar.disable and bar._time() - bar.last_print_t >= QUIET_S:
+                bar.refresh()
+                bar.last_print_t = bar._time()  # drawn: close() clears it
+
+    def end(self) -> None:
+        """Stop the thread and clear the live line (the command is over, or prints its result)."""
+        self.stop.set()
+        if self.thread is not None:
+            self.thread.join()
+            self.thread = None
+        if self.display is not None:
+            self.display.close()
+            self.display = None
+        if isinstance(sys.stdout, _EndsLive):
+            sys.stdout = sys.stdout.stream
+
+
+class _EndsLive:
+    """``sys.stdout`` while a live line runs: the first write (the command's result) ends the line first."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+
+    def write(self, text: str) -> int:
+        LIVE.end()
+        return int(self.stream.write(text))
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.stream, name)
+
+
+QUIET_S = 1.0
+"""The longest stderr stays quiet while a command works (s; redrawn by :class:`_Live`)."""
+
+LIVE = _Live()
+"""The live line of the running command (ended by :func:`finish`)."""
+
+
+def starting(text: str) -> None:
+    """The clock of a command's first stage (its imports), until the job reports (:func:`reporter`)."""
+    from tqdm import tqdm
+
+    LIVE.end()
+    LIVE.show(_stage_clock(tqdm, text, False))
+
+
+def finish() -> None:
+    """End the running command's live line (called by :func:`auvplan.cli.main` when a command returns)."""
+    LIVE.end()
+
+
+def _stage_clock(tqdm: Any, text: str, quiet: bool) -> Any:
+    """A bar-less live line for a stage: its text and the time it has taken so far."""
+    return tqdm(total=None, desc=text, bar_format="auvplan: {desc} … {elapsed}", file=sys.stderr, leave=False,
+                disable=quiet, mininterval=QUIET_S, delay=QUIET_S)  # nothing drawn for a stage done within it
+
+
 class Progress:
     """Progress of the long stages on stderr: a tqdm bar for the swarm planners' iterations and one
-    for the flight (simulated time against the route's expected duration), a line for the other
-    stages; all silent with ``quiet`` (``-q`` or ``--json``)."""
+    for the flight (simulated time against the flight's expected duration), a line for the other
+    stages; all silent with ``quiet`` (``-q`` or ``--json``).  Whatever is live is redrawn when stderr
+    has been quiet for a second (:class:`_Live`)."""
 
     def __init__(self, spec: PlannerSpec, scenario: str, quiet: bool) -> None:
         from tqdm import tqdm
@@ -30,12 +114,16 @@ class Progress:
 
         self._tqdm, self.quiet, self.scenario = tqdm, quiet, scenario
         self.flight_bar: Any = None
+        self.clock: Any = None
         # only the iterating planners (the swarm optimisers) report progress; the others get a line, not a
         # bar stuck at 0
         iterative = get_planner(spec.name).iterative
+        LIVE.end()  # the loading stage's clock (:func:`reporter`)
         self.bar = tqdm(total=spec.iterations, desc=f"{spec.name} on {scenario}", file=sys.stderr,
                         disable=quiet or not iterative, leave=False, mininterval=0.5)
-        if not iterative:
+        if iterative:
+            LIVE.show(self.bar)
+        else:
             self.stage(f"planning with {spec.name}")
 
     def __call__(self, iteration: int, best: float) -> None:
@@ -46,23 +134,43 @@ class Progress:
         """The simulation's callback: simulated seconds flown of about ``expected``."""
         if self.flight_bar is None:
             self.bar.close()
+            self._end_clock()
             self.flight_bar = self._tqdm(total=max(1, round(expected)), desc=f"flight on {self.scenario}", unit="s",
                                          file=sys.stderr, disable=self.quiet, leave=False, mininterval=0.5)
-        self.flight_bar.update(min(round(t), self.flight_bar.total) - self.flight_bar.n)
+            LIVE.show(self.flight_bar)
+        bar = self.flight_bar
+        if round(expected) != bar.total:  # the estimate follows the flight (issue 56: never stuck at 100 %)
+            bar.total = max(1, round(expected))
+        bar.update(min(round(t), bar.total) - bar.n)
 
     def stage(self, text: str) -> None:
-        """One line on stderr for a stage without a bar (the report, a lattice plan)."""
+        """One line on stderr for a stage without a bar (the report, a lattice plan), and its clock."""
         if not self.quiet:
+            self._end_clock()
             self._tqdm.write(f"auvplan: {text} …", file=sys.stderr)
+            self.clock = _stage_clock(self._tqdm, text, self.quiet)
+            LIVE.show(self.clock)
+
+    def _end_clock(self) -> None:
+        if self.clock is not None:
+            self.clock.close()
+            self.clock = None
 
     def close(self) -> None:
         self.bar.close()
+        self._end_clock()
         if self.flight_bar is not None:
             self.flight_bar.close()
+        if not self.quiet:  # what follows (energy, checks, files) has a clock until the next stage or the end
+            self.clock = _stage_clock(self._tqdm, f"{self.scenario}: after the plan and the flight", self.quiet)
+            LIVE.show(self.clock)
 
 
 def reporter(quiet: bool) -> Callable[[PlannerSpec, str], Progress]:
-    """The progress reporter a job builds from its planner and scenario (:class:`auvplan.app.Reporter`)."""
+    """The progress reporter a job builds from its planner and scenario (:class:`auvplan.app.Reporter`); until
+    the job builds it (reading the scenario and its data), a clock of that stage."""
+    if not quiet:
+        starting("reading the scenario and its data")
     return lambda spec, scenario: Progress(spec, scenario, quiet)
 
 

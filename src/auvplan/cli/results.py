@@ -9,9 +9,12 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from .output import finish
+
 if TYPE_CHECKING:
     from ..sim import Mission, RunRecord
     from ..world import World
+
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
@@ -32,6 +35,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     out, record, text, world, mission = _load(args)
     path, notes = write_report(out, world, mission, record, text, figures=args.figures)
     for line in notes:  # a format that would fly a tail-first leg nose-first
+        finish()  # the live line first (issue 56)
         print(f"auvplan: {line}", file=sys.stderr)
     print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
     return 0

@@ -8,7 +8,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from ..errors import AuvplanError
-from .output import emit, reporter
+from .output import emit, finish, reporter
 
 if TYPE_CHECKING:
     from ..endurance import Endurance
@@ -66,6 +66,7 @@ def _settled(v: float | None) -> str:
 
 def _notes(notes: list[str]) -> None:
     for line in notes:  # a format that would fly a tail-first leg nose-first
+        finish()  # the live line first (issue 56)
         print(f"auvplan: {line}", file=sys.stderr)
 
 

@@ -99,7 +99,7 @@ def flown_energy(world: World, t: ArrayLike, position: ArrayLike, model: EnergyM
     tb, pb = tt[idx], p[idx]
     dt = np.diff(tb)
     mid_p, mid_t = 0.5 * (pb[:-1] + pb[1:]), 0.5 * (tb[:-1] + tb[1:])
-    cur = np.array([world.currents.velocity(q, s) for q, s in zip(mid_p, mid_t)]).reshape(-1, 3)
+    cur = world.currents.velocity_at(mid_p, mid_t)  # one call for the whole track (issue 56: was one per block)
     water = np.linalg.norm(np.diff(pb, axis=0) / np.where(dt > 0, dt, 1.0)[:, None] - cur, axis=1)
     water = np.where(dt > 0, water, 0.0)
     energy = np.asarray(model.power(water), dtype=float) * dt / WH

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import minimize_scalar
 
 from ..world import World
 from .budget import traverse
@@ -111,6 +110,8 @@ def leg_speeds(world: World, route: ArrayLike, model: EnergyModel, price_w: floa
         if lo == hi:
             v = lo
         else:
+            from scipy.optimize import minimize_scalar  # imported when used (#56)
+
             res = minimize_scalar(cost, bounds=(lo, hi), method="bounded", options={"xatol": xtol})
             v = float(res.x)
             if cost(hi) < cost(v):  # the bounded search keeps inside the interval: check the fast end

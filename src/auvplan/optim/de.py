@@ -16,7 +16,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import differential_evolution as _scipy_de
 
 from .._types import FloatArray, RngLike, as_rng
 from .base import OptimizeResult, Problem
@@ -114,6 +113,8 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
     mutation: float | tuple[float, ...] = tuple(p.mutation) if isinstance(p.mutation, list | tuple) else p.mutation
     if isinstance(mutation, tuple) and len(mutation) == 1:
         mutation = mutation[0]
+    from scipy.optimize import differential_evolution as _scipy_de  # imported when used (#56)
+
     reason = "max_evaluations"
     while problem.left > 0:  # a restart (best kept) only if the population collapsed early
         try:

@@ -17,13 +17,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import BSpline
 
 from .._jit import jit_enabled, kernel
 from .._types import ArrayLike, FloatArray, IntArray
 from ..geometry import as_points
+
+if TYPE_CHECKING:
+    from scipy.interpolate import BSpline
 
 __all__ = [
     "uniform_cubic_basis",
@@ -88,6 +91,8 @@ def clamped_knots(n_control: int, degree: int = 3) -> FloatArray:
 def _basis(n_control: int, n_samples: int, order: int) -> FloatArray:
     knots = clamped_knots(n_control)
     u = np.linspace(0.0, 1.0, n_samples)
+    from scipy.interpolate import BSpline  # imported when used: ~0.4 s of a command's start (#56)
+
     spline = BSpline(knots, np.eye(n_control), 3)
     if order:
         spline = spline.derivative(order)
@@ -258,6 +263,8 @@ class BSplinePath:
     def __post_init__(self) -> None:
         c = as_points(self.control, "control").reshape(-1, 3)
         object.__setattr__(self, "control", c)
+        from scipy.interpolate import BSpline
+
         object.__setattr__(self, "_spline", BSpline(clamped_knots(c.shape[0]), c, 3))
 
     def __call__(self, u: ArrayLike, order: int = 0) -> FloatArray:

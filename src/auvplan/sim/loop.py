@@ -119,13 +119,14 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
     st, dt, s = mission.sim, mission.sim.dt, run.state
     every = max(1, int(round(60.0 / dt)))
     expected = run.tracker.total_length / mission.vehicle.speed
-    k = 0
+    k, last = 0, None
     for k in range(run.n_steps + 1):
         t = k * dt
         if progress is not None and k % every == 0:
-            progress(t, expected)
+            progress(t, _eta(t, expected, run.tracker.total_length, last))
         pos, shapes, dists, alt, cur = _sense(run, k, t)
         psi_d, pitch_cmd, rp = _command(run, k, t, pos, shapes, dists, cur)
+        last = rp
         if k % st.record_every == 0:
             run.rec.add(t, pos, s, run.vel, rp, alt, dists, run.nav_error())
         if _step_events(run, t, pos, alt, dists, rp):
@@ -294,6 +295,16 @@ def _sense(run: _Run, k: int, t: float) -> tuple[NDArray[np.float64], list[_Plac
     alt = s.z - world.terrain.elevation_at(s.x, s.y) if world.terrain is not None else math.inf
     cur = world.currents.velocity(pos[None], t)[0]
     return pos, shapes, dists, alt, cur
+
+
+def _eta(t: float, expected: float, total: float, rp: Any) -> float:
+    """The flight's expected duration for the progress bar: the route's length at the vehicle's speed, then
+    (past 2 % of the route) the time so far scaled by the route still to go (issue 56: a flight slowed by
+    the current ran on for hours behind a bar stuck at 100 %)."""
+    done = 0.0 if rp is None else float(rp.progress)
+    if t <= 0.0 or done < 0.02 * total:
+        return expected
+    return max(t, t * total / done)
 
 
 def _command(run: _Run, k: int, t: float, pos: NDArray[np.float64], shapes: Sequence[_Placed],

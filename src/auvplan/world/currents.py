@@ -65,6 +65,28 @@ class CurrentField:
         p = as_points(points).reshape(-1, 3)
         return np.stack([self.velocity(p, float(t)) for t in np.atleast_1d(times)])
 
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time (a recorded track).
+
+        The base class asks :meth:`velocity` once per point; the fields of this module and the tides
+        answer the whole array at once, with the same values (``tests/test_flown_tail.py``).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        p = as_points(points).reshape(-1, 3)
+        tt = np.broadcast_to(np.asarray(times, dtype=float).reshape(-1), (p.shape[0],))
+        return np.array([self.velocity(q, float(s)) for q, s in zip(p, tt)]).reshape(-1, 3)
+
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box.
 
@@ -123,6 +145,23 @@ class UniformCurrent(CurrentField):
         out = np.empty(p.shape)
         out[...] = self.vector  # broadcast into a fresh array (cheaper than broadcast_to + copy per step)
         return out
+
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time: steady, one call (:meth:`CurrentField.velocity_at`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        return self.velocity(as_points(points).reshape(-1, 3))
 
     @property
     def max_speed(self) -> float:
@@ -207,6 +246,23 @@ class LambOseenVortices(CurrentField):
             e = np.negative(q)
             _vortex_sum(flat, self.centers, self.gamma, self.delta, q, np.exp(e, out=e), out)
         return out.reshape(p.shape)
+
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time: steady, one call (:meth:`CurrentField.velocity_at`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        return self.velocity(as_points(points).reshape(-1, 3))
 
     def vorticity(self, points: ArrayLike) -> FloatArray:
         """Vertical vorticity ω_z — the quantity of document 002's eq. 3.
@@ -322,6 +378,27 @@ class GriddedCurrent(CurrentField):
         _interpolate(self._data, *self._axes, flat, float(t), out)
         return out.reshape(p.shape)
 
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time, in one compiled loop (:meth:`CurrentField.velocity_at`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        flat = np.ascontiguousarray(as_points(points).reshape(-1, 3))
+        tt = np.ascontiguousarray(np.broadcast_to(np.asarray(times, dtype=float).reshape(-1), (flat.shape[0],)))
+        out = np.empty_like(flat)
+        _interpolate_at(self._data, *self._axes, flat, tt, out)
+        return out
+
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box.
 
@@ -393,6 +470,14 @@ def _interpolate(data: FloatArray, taxis: FloatArray, zaxis: FloatArray, yaxis: 
                 for c in range(3):
                     out[k, c] += ab * (w00 * data[ti, zi, iy, ix, c] + w01 * data[ti, zi, iy, ix + 1, c]
                                        + w10 * data[ti, zi, iy + 1, ix, c] + w11 * data[ti, zi, iy + 1, ix + 1, c])
+
+
+@kernel
+def _interpolate_at(data: FloatArray, taxis: FloatArray, zaxis: FloatArray, yaxis: FloatArray, xaxis: FloatArray,
+                    points: FloatArray, times: FloatArray, out: FloatArray) -> None:
+    """:func:`_interpolate` with a time per point: ``points[k]`` at ``times[k]`` (the same arithmetic)."""
+    for k in range(points.shape[0]):
+        _interpolate(data, taxis, zaxis, yaxis, xaxis, points[k:k + 1], times[k], out[k:k + 1])
 
 
 @kernel

@@ -156,6 +156,25 @@ class MeanCurrent(CurrentField):
         total: FloatArray = sum((m.velocity(points, t) for m in self.members[1:]), self.members[0].velocity(points, t))
         return total / len(self.members)
 
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time (the members' mean) (:meth:`CurrentField.velocity_at`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        total: FloatArray = sum((m.velocity_at(points, times) for m in self.members[1:]),
+                                self.members[0].velocity_at(points, times))
+        return total / len(self.members)
+
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box (every member's).
 
@@ -208,6 +227,23 @@ class ShiftedCurrent(CurrentField):
             Velocities ``(..., 3)`` (m/s).
         """
         return self.base.velocity(points, self.t0 + t)
+
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time on the shifted clock (:meth:`CurrentField.velocity_at`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        return self.base.velocity_at(points, self.t0 + np.asarray(times, dtype=float))
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box (the base's).

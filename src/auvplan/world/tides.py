@@ -317,6 +317,41 @@ class TidalCurrent(CurrentField):
         out[:, :2] = uv
         return out.reshape(p.shape)
 
+    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
+        """The field at points, each at its own time (:meth:`CurrentField.velocity_at`; the station tables a
+        day at a time, as :meth:`velocity`).
+
+        Parameters
+        ----------
+        points : array_like
+            Points ``(N, 3)`` (m).
+        times : array_like
+            Times ``(N,)`` (s), one per point.
+
+        Returns
+        -------
+        numpy.ndarray
+            Velocities ``(N, 3)`` (m/s).
+        """
+        p = as_points(points).reshape(-1, 3)
+        tt = np.broadcast_to(np.asarray(times, dtype=float).reshape(-1), (p.shape[0],))
+        station = np.empty((tt.size, self.depth.size, 2))
+        day = np.floor(tt / 86400.0)
+        for d in np.unique(day):  # the minute tables of :meth:`_station_at`, blended per point
+            k = np.flatnonzero(day == d)
+            table = self._cache.get(int(d))
+            if table is None:
+                if len(self._cache) > 8:
+                    self._cache.clear()
+                table = self._cache[int(d)] = self.station_velocity(d * 86400.0 + 60.0 * np.arange(1442))
+            f = (tt[k] - d * 86400.0) / 60.0
+            i = np.minimum(f.astype(int), 1440)
+            a = (f - i)[:, None, None]
+            station[k] = (1.0 - a) * table[i] + a * table[i + 1]
+        out = np.zeros(p.shape)
+        out[:, :2] = np.matmul(self.weights(p)[:, None, :], station)[:, 0, :]
+        return out
+
     def sample(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
         """The field at points for every time of a series (one matrix product).
 

@@ -37,7 +37,6 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 from pyproj import Transformer
-from scipy import ndimage
 
 from ...errors import DataError
 from ...world.seabed import SeabedFit
@@ -178,6 +177,8 @@ def _fill_nan(z: _F64, policy: str, src: str, where: Callable[[int, int], str]) 
         return np.where(bad, 1.0, z)
     if bad.all():
         raise DataError(f"{src}: every elevation value is missing")
+    from scipy import ndimage  # imported when used (#56)
+
     idx = ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True)
     filled: _F64 = z[tuple(idx)]
     return filled

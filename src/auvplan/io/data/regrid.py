@@ -16,8 +16,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 from pyproj import Transformer
-from scipy.interpolate import LinearNDInterpolator, RegularGridInterpolator
-from scipy.optimize import minimize_scalar
 
 from ...errors import DataError
 from ..limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
@@ -92,6 +90,8 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
         vals = f(s)
         k = int(np.argmin(vals))
         lo, hi = s[max(k - 1, 0)], s[min(k + 1, s.size - 1)]
+        from scipy.optimize import minimize_scalar  # imported when used (#56)
+
         res = minimize_scalar(lambda q, f=f: float(f(q)), bounds=(lo, hi), method="bounded",
                               options={"xatol": 1e-12})
         best = min(float(vals[k]), float(res.fun))
@@ -250,6 +250,8 @@ def _from_curvilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
     pts = np.column_stack([np.ravel(sx), np.ravel(sy)])
     q = np.column_stack([gx.ravel(), gy.ravel()])
     # one triangulation for every layer: values (npoints, layers)
+    from scipy.interpolate import LinearNDInterpolator  # imported when used (#56)
+
     out: _F64 = LinearNDInterpolator(pts, flat.reshape(flat.shape[0], -1).T)(q).T
     if np.isnan(out).any():
         raise DataError(f"{what}: the curvilinear data ({data_span(grid)}) do not cover the requested extent "
@@ -275,6 +277,8 @@ def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
     if method in ("cubic", "quintic", "pchip") and min(grid.rows.size, grid.cols.size) < 4:
         method = "linear"
     q = np.column_stack([np.clip(qr, grid.rows[0], grid.rows[-1]), np.clip(qc, grid.cols[0], grid.cols[-1])])
+    from scipy.interpolate import RegularGridInterpolator  # imported when used (#56)
+
     out = np.empty((flat.shape[0], q.shape[0]))
     for k in range(flat.shape[0]):  # one interpolator per 2-D layer (time/depth/component)
         out[k] = RegularGridInterpolator((grid.rows, grid.cols), flat[k], method=method)(q)
