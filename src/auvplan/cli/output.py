@@ -31,15 +31,13 @@ class _Live:
         self.thread: threading.Thread | None = None
 
     def show(self, bar: Any) -> None:
-        """Make ``bar`` the live line (the thread starts with the first; the command's first line on stdout
-        ends it, :class:`_EndsLive`)."""
+        """Make ``bar`` the live line (the thread starts with the first; :func:`finish` ends it, before the
+        command prints its result)."""
         self.display = bar
         if self.thread is None and bar is not None and not bar.disable:
             self.stop.clear()
             self.thread = threading.Thread(target=self._run, name="auvplan-progress", daemon=True)
             self.thread.start()
-            if not isinstance(sys.stdout, _EndsLive):
-                sys.stdout = _EndsLive(sys.stdout)
 
     def _run(self) -> None:
         while not self.stop.wait(QUIET_S / 2):
@@ -57,22 +55,6 @@ class _Live:
         if self.display is not None:
             self.display.close()
             self.display = None
-        if isinstance(sys.stdout, _EndsLive):
-            sys.stdout = sys.stdout.stream
-
-
-class _EndsLive:
-    """``sys.stdout`` while a live line runs: the first write (the command's result) ends the line first."""
-
-    def __init__(self, stream: Any) -> None:
-        self.stream = stream
-
-    def write(self, text: str) -> int:
-        LIVE.end()
-        return int(self.stream.write(text))
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self.stream, name)
 
 
 QUIET_S = 1.0
@@ -192,6 +174,7 @@ def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
     ran, :data:`JSON_WARNINGS`), else the human text."""
     from ..io.results import records
 
+    finish()  # the live progress line, before the result
     if as_json and JSON_WARNINGS:
         record = {**record, "warnings": list(JSON_WARNINGS)}
     if as_json:

@@ -34,8 +34,8 @@ def cmd_report(args: argparse.Namespace) -> int:
 
     out, record, text, world, mission = _load(args)
     path, notes = write_report(out, world, mission, record, text, figures=args.figures)
+    finish()  # the live progress line, before the result (issue 56)
     for line in notes:  # a format that would fly a tail-first leg nose-first
-        finish()  # the live line first (issue 56)
         print(f"auvplan: {line}", file=sys.stderr)
     print(f"report: {path} ({path.stat().st_size / 1e6:.1f} MB)")
     return 0
@@ -49,7 +49,9 @@ def cmd_export(args: argparse.Namespace) -> int:
     out, record, _, world, mission = _load(args)
     speeds = planned_speeds(out, record, mission)
     deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))  # issue 51
-    for p in export.write_exports(out, record, world.origin, speeds, args.format, args.full, deploy):
+    paths = export.write_exports(out, record, world.origin, speeds, args.format, args.full, deploy)
+    finish()  # the live progress line, before the result (issue 56)
+    for p in paths:
         print(p)
     return 0
 

@@ -65,8 +65,8 @@ def _settled(v: float | None) -> str:
 
 
 def _notes(notes: list[str]) -> None:
+    finish()  # the live progress line, before the result (issue 56)
     for line in notes:  # a format that would fly a tail-first leg nose-first
-        finish()  # the live line first (issue 56)
         print(f"auvplan: {line}", file=sys.stderr)
 
 

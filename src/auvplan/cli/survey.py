@@ -44,6 +44,9 @@ def cmd_survey(args: argparse.Namespace) -> int:
                f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
              + (f"\n  {rec['message']}" if rec["message"] else "")
              + "".join(f"\n  note: {n}" for n in rec.get("notes", [])))
+    from .output import finish
+
+    finish()  # the live progress line, before the result (issue 56)
     if args.json:
         print(_json(rec))
     else:
