@@ -417,13 +417,15 @@ def main_entry() -> None:
 
     Once the command has returned, its output flushed and the exit handlers run, the process ends without
     tearing down the ~2 000 modules a planning command imports (issue 56: that took 0.3-3 s of CPU after the
-    last line, silent) — unless a thread other than daemons still runs, when Python ends as usual.
+    last line, silent) — unless a thread other than daemons still runs or a profiler or tracer (cProfile,
+    coverage) is on, when Python ends as usual.
     """
     code = main()
     import atexit
     import threading
 
-    if any(not t.daemon for t in threading.enumerate() if t is not threading.main_thread()):
+    others = any(not t.daemon for t in threading.enumerate() if t is not threading.main_thread())
+    if others or sys.getprofile() is not None or sys.gettrace() is not None:
         sys.exit(code)
     atexit._run_exitfuncs()
     logging.shutdown()

@@ -31,10 +31,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike, NDArray
 from pyproj import Transformer
 
@@ -46,6 +45,9 @@ from .geo import LocalFrame, normalise_lon
 from .grids import HorizontalGrid, horizontal_grid
 from .regrid import data_span
 from .seabed_model import METHODS, model_seabed
+
+if TYPE_CHECKING:
+    pass
 
 __all__ = [
     "TerrainSpec",
@@ -311,6 +313,8 @@ def terrain_from_lonlat(lon: ArrayLike, lat: ArrayLike, elevation: ArrayLike, *,
     Terrain
         The seabed on a regular metric grid (m).
     """
+    import xarray as xr  # imported when used (issue 56)
+
     lon = np.asarray(lon, dtype=float).reshape(-1)
     lat = np.asarray(lat, dtype=float).reshape(-1)
     z = np.asarray(elevation, dtype=float)

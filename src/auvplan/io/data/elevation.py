@@ -19,15 +19,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
 
 from ...errors import DataError
 from ..limits import check_declared
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
 from .ncfile import check_dims, open_dataset, variable_values
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["ElevationGrid", "read_elevation", "is_geotiff"]
 

@@ -20,15 +20,18 @@ from __future__ import annotations
 
 from collections.abc import Hashable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
 from pyproj import CRS
 
 from ...errors import DataError
 from ..limits import check_declared
 from .geo import normalise_lon
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["HorizontalGrid", "crs_line", "axis_kind", "horizontal_grid"]
 

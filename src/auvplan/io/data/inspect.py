@@ -10,6 +10,8 @@ does not apply says why in one line.
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +22,7 @@ from ..limits import BudgetError, check_declared
 from .bathymetry import _centre_lonlat, _fill_nan
 from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame
-from .grids import axis_kind, horizontal_grid
+from .grids import HorizontalGrid, axis_kind, horizontal_grid
 from .inspect_frames import frame_lines, gap_line, roms_lines
 from .ocean.currents import _find, _z_axis, velocity_factor
 from .ocean.roms import is_s_coordinate
@@ -30,9 +32,16 @@ from .seabed_model import model_seabed
 __all__ = ["inspect_file"]
 
 
+def _engine() -> object:
+    """xarray's NetCDF engine, named: no scan of every installed backend (rioxarray …, ~1 s; issue 56)."""
+    from xarray.backends import NetCDF4BackendEntrypoint
+
+    return NetCDF4BackendEntrypoint
+
+
 def _variables(path: Path) -> list[str]:
     try:
-        with xr.open_dataset(path, decode_times=False) as ds:
+        with xr.open_dataset(path, decode_times=False, engine=_engine()) as ds:
             out = [f"  {k}{tuple(map(str, v.dims))} {v.dtype}" + (f" [{v.attrs['units']}]" if "units" in v.attrs
                                                                    else "") for k, v in ds.variables.items()]
     except Exception as exc:  # any unreadable file: say so, do not crash
@@ -57,8 +66,24 @@ def _bathymetry(path: Path) -> list[str]:
     ]
 
 
-def _seabed_costs(eg: ElevationGrid, max_nodes: float = 2e6) -> list[str]:
-    """What the conservative seabed model costs (its height above the data) at a few cell sizes."""
+def _window(eg: ElevationGrid, z: np.ndarray, factor: float,
+            max_nodes: float) -> tuple[HorizontalGrid, np.ndarray, str]:
+    """The grid and data, or their centre part whose model at ``factor`` times the data's cell has at most
+    ``max_nodes`` nodes (issue 56: a 1 MB file's finest model had 2 million nodes, ~10 s), and the note."""
+    grid = eg.grid
+    nr, nc = grid.rows.size, grid.cols.size
+    shrink = math.sqrt(max_nodes * factor**2 / (nr * nc))
+    if shrink >= 1.0:
+        return grid, z, ""
+    wr, wc = max(4, int(nr * shrink)), max(4, int(nc * shrink))
+    r0, c0 = (nr - wr) // 2, (nc - wc) // 2
+    part = replace(grid, rows=grid.rows[r0:r0 + wr], cols=grid.cols[c0:c0 + wc])
+    return part, z[r0:r0 + wr, c0:c0 + wc], f" (the centre {wr} x {wc} data nodes)"
+
+
+def _seabed_costs(eg: ElevationGrid, max_nodes: float = 1.3e5) -> list[str]:
+    """What the conservative seabed model costs (its height above the data) at a few cell sizes (a model
+    over ``max_nodes`` nodes is measured on the data's centre part)."""
     grid = eg.grid
     if grid.kind == "curvilinear":
         return ["  seabed model: 2-D lat/lon grid, triangulated linearly (no excess measured)"]
@@ -71,23 +96,25 @@ def _seabed_costs(eg: ElevationGrid, max_nodes: float = 2e6) -> list[str]:
     lines = ["  seabed model (conservative: never deeper than the data) — how much shallower, by cell:"]
     for factor in (0.1, 0.25, 0.5, 1.0, 2.0):
         cell = native * factor
-        nodes = grid.rows.size * grid.cols.size / factor**2
-        if nodes > max_nodes or min(grid.rows.size, grid.cols.size) / factor < 2:
+        if grid.kind == "curvilinear" or min(grid.rows.size, grid.cols.size) / factor < 2:
             continue
+        part, zpart, where = _window(eg, z, factor, max_nodes)
         try:
-            *_, fit = model_seabed(grid, z, frame, extent_m=None, cell_m=cell, method="conservative", what=eg.name)
+            *_, fit = model_seabed(part, zpart, frame, extent_m=None, cell_m=cell, method="conservative",
+                                   what=eg.name)
         except DataError as exc:
             return [f"  seabed model: not measured ({exc})"]
         if fit is not None:
             lines.append(f"    cell {cell:.0f} m: up to {fit.excess_max_m:.1f} m, mean {fit.excess_mean_m:.2f} m "
-                         "at the nodes")
+                         f"at the nodes{where}")
     return lines
 
 
 def _currents(path: Path) -> list[str]:
     src = str(path)
     try:
-        with xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None)) as ds:
+        with xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None),
+                             engine=_engine()) as ds:
             names = {c: _find(ds, c, "", src, c != "w") for c in "uvw"}
             if is_s_coordinate(ds, str(names["u"])):
                 return roms_lines(ds, str(names["u"]), str(names["v"]))
@@ -146,7 +173,7 @@ def inspect_file(path: str | Path) -> str:
     if is_geotiff(path):
         return "\n".join([f"{path}: GeoTIFF", *_bathymetry(path)])
     lines = [f"{path}: NetCDF", *_variables(path)]
-    with xr.open_dataset(path, decode_times=False) as ds:
+    with xr.open_dataset(path, decode_times=False, engine=_engine()) as ds:
         has_current = _find(ds, "u", "", str(path), False) is not None
     bathy = _bathymetry(path)
     if not (has_current and "not usable" in bathy[0]):  # a current file is not expected to be a seabed

@@ -10,14 +10,15 @@ checks here tell the faults apart, each naming the file: missing, not a NetCDF/H
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
-from xarray.backends import NetCDF4BackendEntrypoint
 
 from ...errors import DataError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["open_dataset", "variable_values", "check_dims"]
 
@@ -100,6 +101,9 @@ def open_dataset(path: Path, what: str, **kwargs: Any) -> xr.Dataset:
     try:
         # the engine xarray would pick first for NetCDF, named: no scan of every installed backend (which
         # imports rioxarray, dask and more, about a second of a command's start)
+        import xarray as xr  # imported when used (issue 56)
+        from xarray.backends import NetCDF4BackendEntrypoint
+
         kwargs.setdefault("engine", NetCDF4BackendEntrypoint)
         return xr.open_dataset(path, **kwargs)
     except Exception as exc:  # xarray and the HDF5 library raise many types for damaged files

@@ -18,8 +18,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import xarray as xr
-
 from ...errors import DataError
 from ...world import CurrentField, UniformCurrent, World
 from ...world.ensemble_fields import PerturbedCurrent
@@ -35,6 +33,8 @@ __all__ = ["PerturbationSpec", "MemberSpec", "member_fields", "scenario_members"
 
 def _dimension_size(spec: CurrentsFileSpec, dim: str, base_dir: Path | None, where: str) -> int:
     """Length of a file's member dimension (the file is opened, not read)."""
+    import xarray as xr  # imported when used (issue 56)
+
     path = Path(spec.path)
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path

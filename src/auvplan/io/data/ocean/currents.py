@@ -27,10 +27,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
 
 from ....errors import DataError
@@ -42,6 +41,9 @@ from ..ncfile import open_dataset
 from ..regrid import to_local
 from .roms import is_s_coordinate, read_s_levels
 from .vectors import grid_angle, to_east_north, vector_frame
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["CurrentsFileSpec", "read_currents", "velocity_factor", "parse_time", "open_water_gaps"]
 
@@ -163,6 +165,8 @@ def _find(ds: xr.Dataset, comp: str, explicit: str, src: str, required: bool) ->
 
 
 def _open(path: Path, src: str) -> xr.Dataset:
+    import xarray as xr  # imported when used (issue 56)
+
     open_dataset(path, "current").close()  # missing, not NetCDF, truncated: diagnosed and named
     try:
         return xr.open_dataset(path, decode_times=xr.coders.CFDatetimeCoder(use_cftime=None))

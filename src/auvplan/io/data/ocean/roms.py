@@ -24,14 +24,17 @@ before it was written; ``zeta`` optional, default 0).
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
 
 from ....errors import DataError
 from ..grids import HorizontalGrid
 from .vectors import to_east_north
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["LEVELS_M", "is_s_coordinate", "s_depths", "read_s_levels", "to_levels"]
 

@@ -23,14 +23,17 @@ any others.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
 from pyproj import Geod, Transformer
 
 from ....errors import DataError
 from ..grids import HorizontalGrid
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["VectorFrame", "vector_frame", "grid_angle", "to_east_north", "GRID_X_NAMES"]
 
