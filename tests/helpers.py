@@ -13,3 +13,31 @@ def flat_world(depth: float = 100.0, size: float = 1000.0, min_altitude: float =
     t = Terrain(x, x, np.full((21, 21), -depth), name="flat")
     return World(Bounds(0.0, size, 0.0, size, -depth, 0.0), t, obstacles=obstacles,
                  margins=Margins(min_altitude=min_altitude, **kw), name="flat")
+
+
+def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tuple[float, str]]]:
+    """Run ``argv`` and time its stderr (issue 56): ``(exit code, [(seconds since the previous stderr line or
+    the start, the line)])``, the last entry the time from the last line to the exit (``"<exit>"``).  Lines
+    end at ``\\n`` or at a progress bar's ``\\r``; stdout is discarded."""
+    import os
+    import subprocess
+    import time
+
+    t0 = last = time.monotonic()
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    assert proc.stderr is not None
+    gaps: list[tuple[float, str]] = []
+    buf = b""
+    while chunk := os.read(proc.stderr.fileno(), 4096):
+        buf += chunk
+        *done, buf = buf.replace(b"\r", b"\n").split(b"\n")
+        for line in done:
+            if line.strip():
+                now = time.monotonic()
+                gaps.append((now - last, line.decode(errors="replace")))
+                last = now
+        if time.monotonic() - t0 > timeout:
+            proc.kill()
+    code = proc.wait()
+    gaps.append((time.monotonic() - last, "<exit>"))
+    return code, gaps

@@ -38,3 +38,31 @@ def test_a_planner_choice_imports_the_registry_only_when_read() -> None:
     assert "auvplan.planners.registry" in got  # the --planner choices, read for the help
     methods = tuple(f"auvplan.planners.{m}." for m in ("flow", "swarm", "grid", "timeopt"))
     assert not [m for m in got if m.startswith(methods)], got
+
+
+FRONT = ("xarray", "pandas", "dask", "pint", "jinja2", "scipy.stats", "matplotlib", "plotly")
+"""What a plan never needs (issue 56): the data readers' stack, statistics, plotting."""
+
+
+def _commands_import(*commands: list[str]) -> list[set[str]]:
+    """The modules of FRONT one fresh interpreter has imported after each of ``commands`` (run in turn)."""
+    probe = ("import contextlib, io, json, sys\nfrom auvplan.cli import main\nout = []\n"
+             f"for argv in {list(commands)!r}:\n"
+             "    with contextlib.redirect_stdout(io.StringIO()):\n        code = main(argv)\n"
+             "    out.append([code, sorted({m.split('.')[0] if m.split('.')[0] != 'scipy' else m for m in sys.modules} "
+             f"& set({FRONT!r}))])\nprint(json.dumps(out))")
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert [code for code, _ in got] == [0] * len(commands), run.stderr
+    return [set(mods) for _, mods in got]
+
+
+def test_validate_and_plan_import_what_their_files_need() -> None:
+    """flow-spheres (bodies in a uniform flow, no file): neither ``validate`` nor ``plan`` imports xarray (and
+    with it pandas, dask, pint, jinja2), scipy.stats or a plotting library; then marcus-wake, whose ETOPO1
+    cut-out is read through xarray (which brings pandas, and dask and pint to check for their arrays): no
+    statistics or plotting still."""
+    after = _commands_import(["validate", "flow-spheres"], ["plan", "flow-spheres", "--json"],
+                             ["validate", "marcus-wake"])
+    assert after[0] == after[1] == set(), after
+    assert "xarray" in after[2] and not after[2] & {"scipy.stats", "matplotlib", "plotly"}, after

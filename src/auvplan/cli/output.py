@@ -40,7 +40,7 @@ class _Live:
             self.thread.start()
 
     def _run(self) -> None:
-        while not self.stop.wait(QUIET_S / 2):
+        while not self.stop.wait(QUIET_S / 3):
             bar = self.display
             if bar is not None and not bar.disable and bar._time() - bar.last_print_t >= QUIET_S:
                 bar.refresh()
@@ -57,8 +57,8 @@ class _Live:
             self.display = None
 
 
-QUIET_S = 1.0
-"""The longest stderr stays quiet while a command works (s; redrawn by :class:`_Live`)."""
+QUIET_S = 0.75
+"""How long stderr stays quiet while a command works before the live line is redrawn (s, :class:`_Live`)."""
 
 LIVE = _Live()
 """The live line of the running command (ended by :func:`finish`)."""

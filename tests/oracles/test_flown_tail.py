@@ -31,10 +31,11 @@ def _points(n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _tides() -> object:
-    from auvplan.io.scenario import loader
+    """juan-de-fuca-tides' field: 78 NOAA station depths at 20 sites (the built-in station file)."""
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.data.ocean.tides import load_tidal_current, parse_start_time
 
-    world, _ = loader.build(loader.load("juan-de-fuca-tides"))
-    return world.currents
+    return load_tidal_current("juan-de-fuca", LocalFrame(48.08, -124.12), parse_start_time("2024-03-01T00:00:00Z"))
 
 
 @pytest.mark.parametrize("make", ["gridded", "vortices", "uniform", "shifted", "mean", "tides"])
@@ -50,7 +51,7 @@ def test_velocity_at_is_the_per_point_velocity(make: str) -> None:
     field = fields[make]()
     p, t = _points(400, 7)
     if make == "tides":  # the strait's stations, times over three days (three minute tables)
-        b = np.array([[-20000.0, 20000.0], [-8000.0, 8000.0], [-100.0, -5.0]])
+        b = np.array([[0.0, 68000.0], [8000.0, 36000.0], [-200.0, -5.0]])  # the scenario's bounds
         p = b[:, 0] + (b[:, 1] - b[:, 0]) * (p - p.min(0)) / np.ptp(p, axis=0)
         t = np.sort(np.random.default_rng(3).uniform(0.0, 3 * 86400.0, p.shape[0]))
     got = field.velocity_at(p, t)

@@ -1,0 +1,51 @@
+"""Issue 56: no phase of a command is silent for more than ~2 s.  The suite's version of ``make never-silent``
+(a 31 h mission, tests/heavy/test_never_silent_long.py): a job of the command line's shape run in a fresh
+process — its reporter, a stage that sleeps, one that computes in Python holding the GIL, a flight whose
+expected duration is overrun by half (the bar used to stop at 100 %), then the result — every stderr line
+timed; with ``-q`` nothing at all on stderr."""
+
+from __future__ import annotations
+
+import sys
+
+from helpers import stderr_gaps
+
+JOB = r'''
+import sys, time
+from auvplan.cli import output
+
+quiet, phase = sys.argv[1] == "quiet", float(sys.argv[2])
+make = output.reporter(quiet)         # the command's clock from its start
+from auvplan.planners import PlannerSpec  # reading the scenario: imports
+
+time.sleep(phase)                     # ... and waiting on a file
+bar = make(PlannerSpec(name="grid"), "scene")
+bar.stage("writing results")
+t0 = time.monotonic()
+while time.monotonic() - t0 < phase:  # a stage computing in Python (holding the GIL between switches)
+    sum(i * i for i in range(1000))
+for k in range(100):                  # a flight 50 % longer than first expected
+    bar.flight(100.0 * k, 6600.0 if k < 10 else 100.0 * k * 1.5)
+    time.sleep(0.01)
+bar.close()
+time.sleep(phase)                     # after the flight: energy, checks
+output.emit({"ok": True}, False, "done")
+'''
+
+BOUND_S = 2.0
+
+
+def test_every_phase_shows_within_two_seconds():
+    code, gaps = stderr_gaps([sys.executable, "-c", JOB, "loud", "2.2"])  # phases longer than the bound
+    assert code == 0
+    assert max(g for g, _ in gaps) <= BOUND_S, sorted(gaps, reverse=True)[:3]
+    text = " ".join(line for _, line in gaps)
+    assert "reading the scenario and its data" in text and "writing results" in text
+    bars = [line for _, line in gaps if line.startswith("flight on scene")]
+    done, total = (int(v) for v in bars[-1].split("|")[2].split()[0].split("/"))
+    assert total > 6600 and abs(total - 1.5 * done) <= 150  # the estimate followed the flight past its first 6 600 s
+
+
+def test_quiet_is_silent():
+    code, gaps = stderr_gaps([sys.executable, "-c", JOB, "quiet", "0.1"])
+    assert code == 0 and [line for _, line in gaps] == ["<exit>"]
