@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -26,6 +26,11 @@ test: $(STAMP)
 # the corridor built-in flown: coverage, overlap by an independent ray cast, turns, exports (tests/heavy, minutes)
 survey-flown: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_survey_corridor_flown.py
+
+# issue 56: a long mission (marcus-wake, a ~31 h flight, then its results, report and exports) in a fresh process,
+# every stderr line timed: no silent gap over 2 s (tests/heavy, ~10 min; the suite runs a small version)
+never-silent: $(STAMP)
+	$(BIN)/python -m pytest -q -s tests/heavy/test_never_silent_long.py
 
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
@@ -71,6 +76,11 @@ mutants: $(STAMP)
 PREV ?= f5c6a15
 bench-regress: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/regress.py --prev $(PREV) --figure-md bench-regress --out results/bench-regress
+# THE front-door A/B benchmark (issues 56 and 59): CPU of fresh `python -m auvplan` processes, --version, validate
+# and plan --json of every built-in, data inspect of a 1 MB grid, against the previous release's code (a git
+# worktree), interleaved rounds, load stated; writes docs/figures/bench-front.md (docs/performance.md)
+bench-front: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/front_door.py --prev $(PREV) --rounds 3 --figure-md bench-front --out results/bench-front
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
 # (and the `--reference` solver's CPU against REFERENCE_PEER's code, the wave's branch point)
