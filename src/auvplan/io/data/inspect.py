@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from xarray.backends import BackendEntrypoint, NetCDF4BackendEntrypoint
 
 from ...errors import DataError
 from ..limits import BudgetError, check_declared
@@ -32,10 +33,8 @@ from .seabed_model import model_seabed
 __all__ = ["inspect_file"]
 
 
-def _engine() -> object:
+def _engine() -> type[BackendEntrypoint]:
     """xarray's NetCDF engine, named: no scan of every installed backend (rioxarray …, ~1 s; issue 56)."""
-    from xarray.backends import NetCDF4BackendEntrypoint
-
     return NetCDF4BackendEntrypoint
 
 
