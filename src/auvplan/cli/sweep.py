@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .output import emit
+from .output import LIVE, emit
 
 if TYPE_CHECKING:
     from ..planners.timeopt.planner import SweepRow, SweepSummary
@@ -31,6 +31,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if bar is None:
             bar = tqdm(total=total, desc=f"departures of {name}", unit="dep", file=sys.stderr,
                        disable=args.quiet or args.json, mininterval=0.5)
+            LIVE.end()  # the starting clock gives way to the sweep's bar, redrawn in silences (issue 56)
+            LIVE.show(bar)
         bar.update(done - bar.n)
 
     try:
