@@ -31,7 +31,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,9 +45,6 @@ from .geo import LocalFrame, normalise_lon
 from .grids import HorizontalGrid, horizontal_grid
 from .regrid import data_span
 from .seabed_model import METHODS, model_seabed
-
-if TYPE_CHECKING:
-    pass
 
 __all__ = [
     "TerrainSpec",
