@@ -152,8 +152,8 @@ def table(rows: dict[str, dict], prev_rev: str, rounds: int, load: tuple[float, 
     """The markdown summary and whether every target (and current ≤ previous, 10 % noise) was met."""
     lines = [f"Front door against the previous release ({prev_rev}), one run (`make bench-front`): CPU (user + "
              f"system) of one fresh `python -m auvplan` process, median of {rounds} interleaved rounds after a "
-             f"warm-up; niceness {os.nice(0)}; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end (2 cores, "
-             "shared).  own = the same `plan` run again in a warm process; ratio = current / previous.", "",
+             f"warm-up; niceness {os.nice(0)}; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end "
+             "(2 cores, shared).  own = the same `plan` run again in a warm process; ratio = current / previous.", "",
              f"| command | previous ({prev_rev}) s | current s | ratio | target | met |", "|---|---|---|---|---|---|"]
     ok = True
     for label, row in rows.items():
