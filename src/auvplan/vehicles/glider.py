@@ -36,7 +36,7 @@ import numpy as np
 from .._types import ArrayLike, FloatArray
 
 __all__ = ["GliderParams", "Glide", "steady_glide", "attack_angle", "pitch_for_speed", "YoTiming", "yo_timing",
-           "G"]
+           "G", "crab_heading"]
 
 #: Gravity (m/s²).
 G = 9.81
@@ -344,3 +344,25 @@ def yo_timing(params: GliderParams, top_m: float, bottom_m: float, density: floa
     dive_s, climb_s = span / -w_d, span / w_c
     pump = density * G * bottom_m * 2e-6 * params.ballast_cc / params.pump_efficiency
     return YoTiming(dive_s, climb_s, u_d * dive_s + u_c * climb_s, pump, w_d, w_c, u_d, u_c)
+
+
+def crab_heading(bearing: float, speed: float, current: ArrayLike) -> float:
+    """Compass heading (rad) that holds a course ``bearing`` at through-water ``speed`` in ``current``.
+
+    Parameters
+    ----------
+    bearing : float
+        Course to make good (compass, rad).
+    speed : float
+        Through-water horizontal speed (m/s).
+    current : array_like
+        East and north current (m/s).
+
+    Returns
+    -------
+    float
+        The heading; straight into the cross current when it is faster than ``speed``.
+    """
+    c = np.asarray(current, dtype=float)
+    cross = c[0] * math.cos(bearing) - c[1] * math.sin(bearing)  # to the right of the course
+    return bearing - math.asin(max(-1.0, min(1.0, cross / speed)))
