@@ -185,9 +185,10 @@ class GliderPlan:
         Planned fix positions, one per surfacing, the goal last (m).
     times : ndarray, shape (M,)
         Their planned times (s).
-    headings : ndarray, shape (M - 1,)
-        Compass heading of each cycle, corrected for the depth-averaged current (rad).
-    currents : ndarray, shape (M - 1, 2)
+    headings : ndarray, shape (M,)
+        Compass heading of the cycle that ends at each waypoint, corrected for the depth-averaged
+        current (rad).
+    currents : ndarray, shape (M, 2)
         Depth-averaged current at each cycle's midpoint (m/s).
     cycle : Cycle
         The nominal dive cycle.
