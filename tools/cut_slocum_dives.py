@@ -55,7 +55,8 @@ def main(data: str, out: str) -> None:
         print(name, len(t), "records", file=sys.stderr)
     with open(out, "w", newline="") as fh:
         fh.write("# Derived from dbdreader 0.6.3's source distribution (dbdreader/data/amadeus-2014-204-05-000.dbd,\n"
-                 "# sebastian-2014-204-05-000.dbd; Slocum G2 gliders, North Sea, 2014-07-23) by tools/cut_slocum_dives.py;\n"
+                 "# sebastian-2014-204-05-000.dbd; Slocum G2 gliders, North Sea, 2014-07-23)\n"
+                 "# by tools/cut_slocum_dives.py;\n"
                  "# GPL-3.0-or-later as distributed by dbdreader (Lucas Merckelbach). Values untouched.\n")
         w = csv.writer(fh)
         w.writerow(["glider", "t", "depth_m", "pitch_rad", "ballast_cc", "heading_rad", "speed_m_s", "lat", "lon",

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["GLIDER_NAMES", "glider_scenario", "glider_record"]
+__all__ = ["GLIDER_NAMES", "glider_scenario", "glider_record", "check_glider_file"]
 
 #: The files a glider run writes into its ``--out`` folder.
 GLIDER_NAMES = ("glider.json", "surfacings.csv", "track.csv", "slocum/goto_l10.ma", "slocum/yo10.ma",
@@ -54,7 +54,8 @@ def glider_record(name: str, plan: Any, flown: Any, naive: Any, depart: float) -
         "planned_vs_flown_pct": abs(got - planned) / planned * 100.0 if flown.arrived and planned > 0 else None,
         "steady_heading_duration_s": steady if naive.arrived else None,
         "saved_vs_steady_heading_pct": _pct(got, steady) if naive.arrived and flown.arrived else None,
-        "cycle_s": plan.cycle.duration_s, "cycle_speed_m_s": plan.cycle.speed, "surfacings_planned": len(plan.waypoints),
+        "cycle_s": plan.cycle.duration_s, "cycle_speed_m_s": plan.cycle.speed,
+        "surfacings_planned": len(plan.waypoints),
         "surfacings_flown": len(flown.fixes), "planned_energy_j": plan.energy_j, "flown_energy_j": flown.energy_j,
         "pump_energy_j": flown.pump_j, "inflections": flown.inflections, "endurance_days": plan.endurance_days,
         "waypoints": [[round(float(x), 1), round(float(y), 1)] for x, y in plan.waypoints],
@@ -79,7 +80,8 @@ def _write(folder: Path, origin: tuple[float, float] | None, plan: Any, flown: A
     atomic_write(folder / "glider.json", json.dumps(rec, indent=1, allow_nan=False, default=str) + "\n")
     times = plan.times
     heads = plan.headings
-    atomic_write(folder / "surfacings.csv", _csv(["t_s", "x_m", "y_m", "heading_deg", "dac_east_m_s", "dac_north_m_s"], (
+    head = ["t_s", "x_m", "y_m", "heading_deg", "dac_east_m_s", "dac_north_m_s"]
+    atomic_write(folder / "surfacings.csv", _csv(head, (
         [f"{t:.0f}", f"{p[0]:.1f}", f"{p[1]:.1f}", f"{math.degrees(h) % 360:.1f}", f"{c[0]:.4f}", f"{c[1]:.4f}"]
         for t, p, h, c in zip(times, plan.waypoints, heads, plan.currents, strict=True))))
     step = max(1, len(flown.t) // 20000)
@@ -143,3 +145,72 @@ def glider_scenario(scenario: str, out: str | None = None, force: bool = False,
         say(f"writing the record, the surfacings, the track and the Slocum and Seaglider files into {out}")
         _write(Path(out), world.origin, plan, flown, rec, g, alt)
     return sc, rec
+
+
+def check_glider_file(scenario: str, name: str) -> dict[str, Any]:
+    """``mission check`` of a Slocum ``goto_lNN.ma`` or a Seaglider ``targets`` file against a glider scenario.
+
+    The file's waypoints are read back (:func:`auvplan.io.missions.glider.read_glider_waypoints`); every
+    waypoint must leave room for a yo (seabed at least ``climb_depth_m`` + ``min_altitude_m`` deep) and every
+    leg must be free at ``climb_depth_m`` (land, obstacles); beside a ``goto_lNN.ma`` the ``yoNN.ma`` is
+    read too (its dive altitude at least the scenario's ``min_altitude_m``); and the scenario's glider flies
+    the waypoints in the closed loop from the mission's start: it must arrive, on its battery.
+
+    Parameters
+    ----------
+    scenario : str
+        Built-in name or TOML file (its glider, seabed, current and start).
+    name : str
+        The file.
+
+    Returns
+    -------
+    dict
+        ``file``, ``format``, ``waypoints``, ``radius_m``, ``shallow_waypoints`` (1-based), ``blocked_legs``
+        (1-based, leg 1 from the start), ``yo`` (the yo file's arguments, when read), ``arrived``,
+        ``flown_duration_s``, ``energy_wh``, ``battery_wh``, ``ok`` and ``message``.
+    """
+    from ..io.missions.glider import read_glider_waypoints, read_ma
+    from ..io.scenario import loader as scenario_io
+    from ..sim.glider import fly_glider
+
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    g, alt = mission.vehicle.glider, sc.mission.min_altitude_m
+    path = Path(name)
+    if world.origin is None:
+        from ..errors import DataError
+
+        raise DataError(f"{sc.source}: [origin] is needed to read the geographic positions of {name}")
+    wps, radius, fmt = read_glider_waypoints(path, world.origin)
+    problems: list[str] = []
+    depth = -world.seabed(wps[:, 0], wps[:, 1]) if world.terrain is not None else np.full(len(wps), np.inf)
+    shallow = [k + 1 for k in np.flatnonzero(depth < g.climb_depth_m + alt)]
+    if shallow:
+        problems.append(f"waypoints {shallow} leave no room for a yo (seabed shallower than "
+                        f"{g.climb_depth_m + alt:g} m)")
+    z = -g.climb_depth_m
+    pts = np.vstack([np.asarray(mission.start, dtype=float)[:2], wps])
+    seg = np.stack([np.c_[pts[:-1], np.full(len(wps), z)], np.c_[pts[1:], np.full(len(wps), z)]], axis=1)
+    blocked = [k + 1 for k in np.flatnonzero(~world.segments_free(seg, moving=False))]
+    if blocked:
+        problems.append(f"legs {blocked} cross land, the seabed or an obstacle at {g.climb_depth_m:g} m")
+    yo: dict[str, float] = {}
+    if fmt == "slocum":
+        yo_file = path.with_name(path.name.replace("goto_l", "yo"))
+        if yo_file.exists():
+            yo = read_ma(yo_file.read_text())[1]
+            if yo.get("d_target_altitude", alt) < alt:
+                problems.append(f"{yo_file.name}: d_target_altitude {yo['d_target_altitude']:g} m is below "
+                                f"min_altitude_m {alt:g} m")
+    depart = mission.planner.timeopt.depart_s
+    flown = fly_glider(world, g, mission.start, wps, depart, min_altitude=alt, max_s=30 * 86400.0)
+    energy_wh = flown.energy_j / 3600.0
+    if not flown.arrived:
+        problems.append("the glider flying these waypoints through the scenario's current does not arrive in 30 days")
+    if energy_wh > g.battery_wh:
+        problems.append(f"the flight needs {energy_wh:.0f} Wh, more than the battery's {g.battery_wh:.0f} Wh")
+    return {"file": name, "format": fmt, "waypoints": len(wps), "radius_m": radius, "shallow_waypoints": shallow,
+            "blocked_legs": blocked, "yo": yo, "arrived": flown.arrived,
+            "flown_duration_s": flown.arrive_s - depart if flown.arrived else None, "energy_wh": energy_wh,
+            "battery_wh": g.battery_wh, "ok": not problems, "message": "; ".join(problems)}

@@ -50,3 +50,19 @@ def cmd_glider(args: argparse.Namespace) -> int:
         if getattr(args, "out", None):
             print(f"results in {args.out}/ (slocum/goto_l10.ma, yo10.ma, surfac10.ma; seaglider/targets)")
     return 0 if rec["status"] in ("EXACT", "APPROXIMATE") and rec.get("arrived") else 1
+
+
+def glider_checks(args: argparse.Namespace, files: list[str]) -> int:
+    """``mission check`` of glider files (:func:`auvplan.app.glider.check_glider_file`); exit 1 when one fails."""
+    from ..app.glider import check_glider_file
+
+    recs = [check_glider_file(args.scenario, f) for f in files]
+    if getattr(args, "json", False):
+        print(json.dumps(recs[0] if len(recs) == 1 else recs, allow_nan=False, default=str))
+    else:
+        for r in recs:
+            flown = f"flown in {_h(r['flown_duration_s'])}" if r["arrived"] else "not arrived"
+            print(f"{r['file']} ({r['format']}, {r['waypoints']} waypoints, radius {r['radius_m']:g} m): "
+                  f"{'OK' if r['ok'] else 'FAIL'} — {flown}, {r['energy_wh']:.0f} of {r['battery_wh']:.0f} Wh"
+                  + (f"; {r['message']}" if r["message"] else ""))
+    return 0 if all(r["ok"] for r in recs) else 1

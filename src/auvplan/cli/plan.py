@@ -23,6 +23,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
         from .sweep import cmd_sweep
 
         return cmd_sweep(args)
+    from ..io.scenario import loader as scenario_io
+
+    if scenario_io.load(args.scenario).vehicle.type == "glider":  # issue 58: planned in dive cycles, and flown
+        from .glider import cmd_glider
+
+        return cmd_glider(args)
     if args.objective:
         raise AuvplanError("--objective applies to the departure sweep (--depart-between); set "
                            "[planner.timeopt] objective in the scenario for one plan")

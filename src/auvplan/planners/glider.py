@@ -82,7 +82,7 @@ class DepthAveragedCurrent(CurrentField):
         q[:, 2] = -depth.reshape(-1)
         v = self.base.velocity(q, t).reshape(len(flat), len(self.frac), 3).mean(axis=1)
         v[:, 2] = 0.0
-        return v.reshape(p.shape)
+        return np.asarray(v.reshape(p.shape), dtype=float)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """The base field's cover (:meth:`CurrentField.covers`)."""

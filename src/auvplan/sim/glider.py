@@ -118,7 +118,8 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m, density)
     n = int(max_s / dt) + 2
     t_out, xyz, phase_out = np.empty(n), np.empty((n, 3)), np.empty(n, dtype=np.int64)
-    fixes, dacs = [], []
+    fixes: list[tuple[float, float, float]] = []
+    dacs: list[FloatArray] = []
     pos = np.array([*np.asarray(start, dtype=float)[:2], 0.0])
     t, phase, k = t0, _SURFACE, 0
     surface_left = 0.0  # starts at the surface: dives at once after the first fix

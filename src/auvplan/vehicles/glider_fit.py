@@ -54,7 +54,8 @@ class Leg:
     depth_m: float
 
 
-def yo_legs(t: ArrayLike, depth: ArrayLike, pitch: ArrayLike, ballast_cc: ArrayLike, min_span_m: float = 10.0) -> list[Leg]:
+def yo_legs(t: ArrayLike, depth: ArrayLike, pitch: ArrayLike, ballast_cc: ArrayLike,
+            min_span_m: float = 10.0) -> list[Leg]:
     """The steady legs of a record (module notes).
 
     Parameters
@@ -115,7 +116,7 @@ def calibrate(params: GliderParams, legs: list[Leg], density: float = 1025.0) ->
     w = np.array([lg.w for lg in legs])
 
     def residual(x: FloatArray) -> FloatArray:
-        return _model_w(replace(params, neutral_density=x[0], cd0=x[1]), legs, density) - w
+        return np.asarray(_model_w(replace(params, neutral_density=x[0], cd0=x[1]), legs, density) - w)
 
     fit = least_squares(residual, [params.neutral_density, params.cd0], x_scale=[1.0, 0.1],
                         bounds=([900.0, 0.01], [1100.0, 2.0]))
