@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["GLIDER_NAMES", "glider_scenario", "glider_record", "check_glider_file"]
+__all__ = ["GLIDER_NAMES", "glider_scenario", "glider_record", "check_glider_files"]
 
 #: The files a glider run writes into its ``--out`` folder.
 GLIDER_NAMES = ("glider.json", "surfacings.csv", "track.csv", "slocum/goto_l10.ma", "slocum/yo10.ma",
@@ -147,10 +147,10 @@ def glider_scenario(scenario: str, out: str | None = None, force: bool = False,
     return sc, rec
 
 
-def check_glider_file(scenario: str, name: str) -> dict[str, Any]:
-    """``mission check`` of a Slocum ``goto_lNN.ma`` or a Seaglider ``targets`` file against a glider scenario.
+def check_glider_files(scenario: str, names: list[str]) -> list[dict[str, Any]]:
+    """``mission check`` of Slocum ``goto_lNN.ma`` and Seaglider ``targets`` files against a glider scenario.
 
-    The file's waypoints are read back (:func:`auvplan.io.missions.glider.read_glider_waypoints`); every
+    Each file's waypoints are read back (:func:`auvplan.io.missions.glider.read_glider_waypoints`); every
     waypoint must leave room for a yo (seabed at least ``climb_depth_m`` + ``min_altitude_m`` deep) and every
     leg must be free at ``climb_depth_m`` (land, obstacles); beside a ``goto_lNN.ma`` the ``yoNN.ma`` is
     read too (its dive altitude at least the scenario's ``min_altitude_m``); and the scenario's glider flies
@@ -160,28 +160,32 @@ def check_glider_file(scenario: str, name: str) -> dict[str, Any]:
     ----------
     scenario : str
         Built-in name or TOML file (its glider, seabed, current and start).
-    name : str
-        The file.
+    names : list of str
+        The files.
 
     Returns
     -------
-    dict
-        ``file``, ``format``, ``waypoints``, ``radius_m``, ``shallow_waypoints`` (1-based), ``blocked_legs``
-        (1-based, leg 1 from the start), ``yo`` (the yo file's arguments, when read), ``arrived``,
-        ``flown_duration_s``, ``energy_wh``, ``battery_wh``, ``ok`` and ``message``.
+    list of dict
+        Per file ``file``, ``format``, ``waypoints``, ``radius_m``, ``shallow_waypoints`` (1-based),
+        ``blocked_legs`` (1-based, leg 1 from the start), ``yo`` (the yo file's arguments, when read),
+        ``arrived``, ``flown_duration_s``, ``energy_wh``, ``battery_wh``, ``ok`` and ``message``.
     """
-    from ..io.missions.glider import read_glider_waypoints, read_ma
+    from ..errors import DataError
     from ..io.scenario import loader as scenario_io
-    from ..sim.glider import fly_glider
 
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
-    g, alt = mission.vehicle.glider, sc.mission.min_altitude_m
-    path = Path(name)
     if world.origin is None:
-        from ..errors import DataError
+        raise DataError(f"{sc.source}: [origin] is needed to read the geographic positions of {names[0]}")
+    return [_check_file(world, mission, sc.mission.min_altitude_m, Path(n)) for n in names]
 
-        raise DataError(f"{sc.source}: [origin] is needed to read the geographic positions of {name}")
+
+def _check_file(world: Any, mission: Any, alt: float, path: Path) -> dict[str, Any]:
+    """One file of :func:`check_glider_files`."""
+    from ..io.missions.glider import read_glider_waypoints, read_ma
+    from ..sim.glider import fly_glider
+
+    g = mission.vehicle.glider
     wps, radius, fmt = read_glider_waypoints(path, world.origin)
     problems: list[str] = []
     depth = -world.seabed(wps[:, 0], wps[:, 1]) if world.terrain is not None else np.full(len(wps), np.inf)
@@ -204,13 +208,18 @@ def check_glider_file(scenario: str, name: str) -> dict[str, Any]:
                 problems.append(f"{yo_file.name}: d_target_altitude {yo['d_target_altitude']:g} m is below "
                                 f"min_altitude_m {alt:g} m")
     depart = mission.planner.timeopt.depart_s
-    flown = fly_glider(world, g, mission.start, wps, depart, min_altitude=alt, max_s=30 * 86400.0)
+    from ..planners.glider import cycle
+
+    length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
+    limit = 3.0 * length / cycle(g).speed + 86400.0
+    flown = fly_glider(world, g, mission.start, wps, depart, min_altitude=alt, max_s=limit)
     energy_wh = flown.energy_j / 3600.0
     if not flown.arrived:
-        problems.append("the glider flying these waypoints through the scenario's current does not arrive in 30 days")
+        problems.append("the glider flying these waypoints through the scenario's current " + (
+            "runs aground" if flown.reason == "grounded" else f"does not arrive within {limit / 86400:.1f} days"))
     if energy_wh > g.battery_wh:
         problems.append(f"the flight needs {energy_wh:.0f} Wh, more than the battery's {g.battery_wh:.0f} Wh")
-    return {"file": name, "format": fmt, "waypoints": len(wps), "radius_m": radius, "shallow_waypoints": shallow,
+    return {"file": str(path), "format": fmt, "waypoints": len(wps), "radius_m": radius, "shallow_waypoints": shallow,
             "blocked_legs": blocked, "yo": yo, "arrived": flown.arrived,
             "flown_duration_s": flown.arrive_s - depart if flown.arrived else None, "energy_wh": energy_wh,
             "battery_wh": g.battery_wh, "ok": not problems, "message": "; ".join(problems)}

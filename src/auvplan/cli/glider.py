@@ -54,9 +54,9 @@ def cmd_glider(args: argparse.Namespace) -> int:
 
 def glider_checks(args: argparse.Namespace, files: list[str]) -> int:
     """``mission check`` of glider files (:func:`auvplan.app.glider.check_glider_file`); exit 1 when one fails."""
-    from ..app.glider import check_glider_file
+    from ..app.glider import check_glider_files
 
-    recs = [check_glider_file(args.scenario, f) for f in files]
+    recs = check_glider_files(args.scenario, files)
     if getattr(args, "json", False):
         print(json.dumps(recs[0] if len(recs) == 1 else recs, allow_nan=False, default=str))
     else:

@@ -10,10 +10,13 @@ current, takes a fix, and then:
 * estimates the depth-averaged current the way a Slocum does (``m_water_vx/vy``): the fix less
   its dead-reckoned position, over the time since the previous fix;
 * advances its waypoint list past every waypoint within ``capture_radius_m`` of the fix;
-* underwater, steers from its dead-reckoned position (last fix + through-water displacement + the
-  estimated current) to the active waypoint, the heading corrected for the estimated current
-  (Slocum's ``goto_list`` with current correction; ``correct_current=False`` points the nose at the
-  waypoint and ignores the current, the naive pilot's steady heading).
+* holds the course from the fix to the active waypoint for the cycle, the heading corrected for the
+  estimated current at the cycle's mean through-water speed (so the drift at the surface is allowed
+  for: the per-cycle heading a pilot sends); it dead-reckons underwater (last fix + through-water
+  displacement + the estimated current) and takes the course to the next waypoint from there when
+  the dead-reckoned position captures an intermediate one (Slocum's ``goto_list`` with current
+  correction).  ``correct_current=False`` points the nose at the waypoint from the fix and ignores
+  the current: the naive pilot's steady heading.
 
 The mission ends at the first fix within ``capture_radius_m`` of the last waypoint.
 """
@@ -26,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import ArrayLike, FloatArray, IntArray
+from ..planners.glider import cycle
 from ..vehicles.glider import GliderParams, crab_heading, yo_timing
 from ..world import World
 
@@ -60,6 +64,8 @@ class GliderTrack:
         Of which the pump's (J).
     inflections : int
         Bottom inflections (pump strokes).
+    reason : str
+        ``"arrived"``, ``"grounded"`` (carried onto land or a seabed with no room for a yo) or ``"timeout"``.
     """
 
     t: FloatArray
@@ -72,6 +78,7 @@ class GliderTrack:
     energy_j: float
     pump_j: float
     inflections: int
+    reason: str = "arrived"
 
 
 def _bearing(a: FloatArray, b: FloatArray) -> float:
@@ -116,6 +123,7 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     g = glider
     wps = np.asarray(waypoints, dtype=float)[:, :2]
     yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m, density)
+    v_eff = cycle(g, density=density).speed  # the crab holds the course over the whole cycle, surface drift too
     n = int(max_s / dt) + 2
     t_out, xyz, phase_out = np.empty(n), np.empty((n, 3)), np.empty(n, dtype=np.int64)
     fixes: list[tuple[float, float, float]] = []
@@ -130,6 +138,7 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     heading = 0.0
     pump = energy = 0.0
     inflections, arrive = 0, math.inf
+    reason = "timeout"
     for i in range(n):
         t_out[i], xyz[i], phase_out[i] = t, pos, phase
         if phase == _SURFACE and surface_left <= 0.0:  # the fix: estimate, advance, dive
@@ -141,19 +150,20 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
             while k < len(wps) and math.hypot(*(wps[k] - pos[:2])) < g.capture_radius_m:
                 k += 1
             if k == len(wps):
-                arrive = t
+                arrive, reason = t, "arrived"
                 break
             last_fix_t, dr = t, pos[:2].copy()
             phase, yos = _DIVE, 0
-            heading = _bearing(pos[:2], wps[k])  # the naive pilot's heading, held to the next fix
+            course = heading = _bearing(pos[:2], wps[k])  # the course of this cycle (the naive pilot's heading)
         if phase != _SURFACE:
             target = wps[min(k, len(wps) - 1)]
             if correct_current:
-                heading = crab_heading(_bearing(dr, target), yo.speed, dac)
+                heading = crab_heading(course, v_eff, dac)
             w, u = (yo.w_dive, yo.u_dive) if phase == _DIVE else (yo.w_climb, yo.u_climb)
             vel = np.array([u * math.sin(heading), u * math.cos(heading), w])
             if correct_current and k < len(wps) - 1 and math.hypot(*(target - dr)) < g.capture_radius_m:
-                k += 1  # dead-reckoned capture of an intermediate waypoint
+                k += 1  # dead-reckoned capture of an intermediate waypoint: the course to the next from here
+                course = _bearing(dr, wps[k])
         else:
             vel = np.zeros(3)
         cur = world.currents.velocity(np.array([[pos[0], pos[1], min(pos[2], -0.5)]]), t)[0]
@@ -169,7 +179,11 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
         elif phase == _DIVE:
             seabed = -float(world.seabed(np.array([pos[0]]), np.array([pos[1]]))[0])
             bottom = min(g.dive_depth_m, seabed - min_altitude)
+            if seabed < g.climb_depth_m:  # aground: on land or in water too shallow to fly
+                reason = "grounded"
+                break
             if depth >= bottom:
+                pos[2] = -bottom  # the inflection (the step's overshoot of at most |w| dt is not flown)
                 shallow = bottom < g.climb_depth_m + 5.0  # no room for a yo: climb out and surface
                 phase, yos, inflections = _CLIMB, g.yos if shallow else yos + 1, inflections + 1
                 e = density * 9.81 * max(depth, 0.0) * 2e-6 * g.ballast_cc / g.pump_efficiency
@@ -177,10 +191,12 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
         else:
             due = yos >= g.yos or (g.surface_every_s > 0 and t - last_fix_t >= g.surface_every_s)
             if depth <= (0.0 if due else g.climb_depth_m):
+                pos[2] = 0.0 if due else -g.climb_depth_m
                 if due:
                     phase, surface_left, pos[2] = _SURFACE, g.surface_time_s, 0.0
                 else:
                     phase = _DIVE
     m = i + 1
     return GliderTrack(t_out[:m].copy(), xyz[:m].copy(), phase_out[:m].copy(), np.array(fixes).reshape(-1, 3),
-                       np.array(dacs).reshape(-1, 2), math.isfinite(arrive), arrive, energy, pump, inflections)
+                       np.array(dacs).reshape(-1, 2), math.isfinite(arrive), arrive, energy, pump, inflections,
+                       reason)
