@@ -171,32 +171,41 @@ def check_glider_files(scenario: str, names: list[str]) -> list[dict[str, Any]]:
         ``arrived``, ``flown_duration_s``, ``energy_wh``, ``battery_wh``, ``ok`` and ``message``.
     """
     from ..errors import DataError
+    from ..io.missions.glider import read_glider_waypoints
     from ..io.scenario import loader as scenario_io
 
     sc = scenario_io.load(scenario)
-    world, mission = scenario_io.build(sc)
-    if world.origin is None:
+    if sc.origin is None:
         raise DataError(f"{sc.source}: [origin] is needed to read the geographic positions of {names[0]}")
-    return [_check_file(world, mission, sc.mission.min_altitude_m, Path(n)) for n in names]
+    read = [read_glider_waypoints(Path(n), (sc.origin.lat, sc.origin.lon)) for n in names]  # bad files first
+    world, mission = scenario_io.build(sc)
+    return [_check_file(world, mission, sc.mission.min_altitude_m, Path(n), *r) for n, r in zip(names, read,
+                                                                                                   strict=True)]
 
 
-def _check_file(world: Any, mission: Any, alt: float, path: Path) -> dict[str, Any]:
+def _check_file(world: Any, mission: Any, alt: float, path: Path, wps: Any, radius: float,
+                fmt: str) -> dict[str, Any]:
     """One file of :func:`check_glider_files`."""
-    from ..io.missions.glider import read_glider_waypoints, read_ma
+    from ..io.missions.glider import read_ma
     from ..sim.glider import fly_glider
 
     g = mission.vehicle.glider
-    wps, radius, fmt = read_glider_waypoints(path, world.origin)
     problems: list[str] = []
+    b = world.bounds
+    outside = [int(k) + 1 for k in np.flatnonzero((wps[:, 0] < b.xmin) | (wps[:, 0] > b.xmax) | (wps[:, 1] < b.ymin)
+                                             | (wps[:, 1] > b.ymax))]
+    if outside:
+        problems.append(f"waypoints {outside} lie outside the scenario's bounds")
+        wps = np.clip(wps, [b.xmin, b.ymin], [b.xmax, b.ymax])  # (the seabed and legs checked at the edge)
     depth = -world.seabed(wps[:, 0], wps[:, 1]) if world.terrain is not None else np.full(len(wps), np.inf)
-    shallow = [k + 1 for k in np.flatnonzero(depth < g.climb_depth_m + alt)]
+    shallow = [int(k) + 1 for k in np.flatnonzero(depth < g.climb_depth_m + alt)]
     if shallow:
         problems.append(f"waypoints {shallow} leave no room for a yo (seabed shallower than "
                         f"{g.climb_depth_m + alt:g} m)")
     z = -g.climb_depth_m
     pts = np.vstack([np.asarray(mission.start, dtype=float)[:2], wps])
     seg = np.stack([np.c_[pts[:-1], np.full(len(wps), z)], np.c_[pts[1:], np.full(len(wps), z)]], axis=1)
-    blocked = [k + 1 for k in np.flatnonzero(~world.segments_free(seg, moving=False))]
+    blocked = [int(k) + 1 for k in np.flatnonzero(~world.segments_free(seg, moving=False))]
     if blocked:
         problems.append(f"legs {blocked} cross land, the seabed or an obstacle at {g.climb_depth_m:g} m")
     yo: dict[str, float] = {}
@@ -207,11 +216,15 @@ def _check_file(world: Any, mission: Any, alt: float, path: Path) -> dict[str, A
             if yo.get("d_target_altitude", alt) < alt:
                 problems.append(f"{yo_file.name}: d_target_altitude {yo['d_target_altitude']:g} m is below "
                                 f"min_altitude_m {alt:g} m")
-    depart = mission.planner.timeopt.depart_s
+    rec = {"file": str(path), "format": fmt, "waypoints": len(wps), "radius_m": radius, "outside_waypoints": outside,
+           "shallow_waypoints": shallow, "blocked_legs": blocked, "yo": yo, "arrived": False, "flown_duration_s": None,
+           "energy_wh": None, "battery_wh": g.battery_wh}
+    if problems:  # not flown: the waypoints themselves are wrong
+        return {**rec, "ok": False, "message": "; ".join(problems) + " (not flown)"}
     from ..planners.glider import cycle
 
-    length = float(np.hypot(*np.diff(pts, axis=0).T).sum())
-    limit = 3.0 * length / cycle(g).speed + 86400.0
+    depart = mission.planner.timeopt.depart_s
+    limit = 3.0 * float(np.hypot(*np.diff(pts, axis=0).T).sum()) / cycle(g).speed + 86400.0
     flown = fly_glider(world, g, mission.start, wps, depart, min_altitude=alt, max_s=limit)
     energy_wh = flown.energy_j / 3600.0
     if not flown.arrived:
@@ -219,7 +232,5 @@ def _check_file(world: Any, mission: Any, alt: float, path: Path) -> dict[str, A
             "runs aground" if flown.reason == "grounded" else f"does not arrive within {limit / 86400:.1f} days"))
     if energy_wh > g.battery_wh:
         problems.append(f"the flight needs {energy_wh:.0f} Wh, more than the battery's {g.battery_wh:.0f} Wh")
-    return {"file": str(path), "format": fmt, "waypoints": len(wps), "radius_m": radius, "shallow_waypoints": shallow,
-            "blocked_legs": blocked, "yo": yo, "arrived": flown.arrived,
-            "flown_duration_s": flown.arrive_s - depart if flown.arrived else None, "energy_wh": energy_wh,
-            "battery_wh": g.battery_wh, "ok": not problems, "message": "; ".join(problems)}
+    return {**rec, "arrived": flown.arrived, "flown_duration_s": flown.arrive_s - depart if flown.arrived else None,
+            "energy_wh": energy_wh, "ok": not problems, "message": "; ".join(problems)}

@@ -61,8 +61,8 @@ def glider_checks(args: argparse.Namespace, files: list[str]) -> int:
         print(json.dumps(recs[0] if len(recs) == 1 else recs, allow_nan=False, default=str))
     else:
         for r in recs:
-            flown = f"flown in {_h(r['flown_duration_s'])}" if r["arrived"] else "not arrived"
+            flown = (f"flown in {_h(r['flown_duration_s'])}, {r['energy_wh']:.0f} of {r['battery_wh']:.0f} Wh"
+                     if r["arrived"] else "not arrived")
             print(f"{r['file']} ({r['format']}, {r['waypoints']} waypoints, radius {r['radius_m']:g} m): "
-                  f"{'OK' if r['ok'] else 'FAIL'} — {flown}, {r['energy_wh']:.0f} of {r['battery_wh']:.0f} Wh"
-                  + (f"; {r['message']}" if r["message"] else ""))
+                  f"{'OK' if r['ok'] else 'FAIL'} — {flown}" + (f"; {r['message']}" if r["message"] else ""))
     return 0 if all(r["ok"] for r in recs) else 1

@@ -65,7 +65,8 @@ class GliderTrack:
     inflections : int
         Bottom inflections (pump strokes).
     reason : str
-        ``"arrived"``, ``"grounded"`` (carried onto land or a seabed with no room for a yo) or ``"timeout"``.
+        ``"arrived"``, ``"grounded"`` (over land or a seabed with no room for a yo: shallower than
+        ``climb_depth_m`` + ``min_altitude``) or ``"timeout"``.
     """
 
     t: FloatArray
@@ -179,7 +180,7 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
         elif phase == _DIVE:
             seabed = -float(world.seabed(np.array([pos[0]]), np.array([pos[1]]))[0])
             bottom = min(g.dive_depth_m, seabed - min_altitude)
-            if seabed < g.climb_depth_m:  # aground: on land or in water too shallow to fly
+            if seabed - min_altitude < g.climb_depth_m:  # aground: land, or no room for a yo
                 reason = "grounded"
                 break
             if depth >= bottom:
