@@ -85,7 +85,18 @@ class DepthAveragedCurrent(CurrentField):
         return np.asarray(v.reshape(p.shape), dtype=float)
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """The base field's cover (:meth:`CurrentField.covers`)."""
+        """Whether the base field covers the horizontal box.
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            The base field's :meth:`CurrentField.covers`.
+        """
         return self.base.covers(xmin, xmax, ymin, ymax)
 
     @property

@@ -179,8 +179,16 @@ def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider:
     ----------
     folder : Path
         Destination folder (created).
-    points, origin, glider, min_altitude, number
-        As :func:`slocum_files`.
+    points : array_like, shape (M, 2+)
+        The surfacing waypoints (m), as :func:`slocum_files`.
+    origin : (lat, lon)
+        The frame's origin (degrees).
+    glider : GliderParams
+        The glider.
+    min_altitude : float
+        Least altitude above the seabed (m).
+    number : int, default 10
+        The files' number NN.
 
     Returns
     -------
