@@ -1,0 +1,98 @@
+"""The glider's documented figures (issue 58): the flight model against real Slocum dives, the built-in mission.
+
+Writes ``docs/figures/glider-dives.md`` (per held-out leg of dbdreader's amadeus and sebastian segments:
+measured and modelled vertical speed, pitch and horizontal speed), ``docs/figures/glider-dac.md`` (the
+depth-averaged current dead-reckoned with the model against the glider's own ``m_water_vx/vy``) and
+``docs/figures/glider-lofoten.md`` (the built-in ``glider-lofoten`` planned, flown, and flown by the
+nose-at-the-goal pilot).  Usage: ``.venv/bin/python tools/glider_figures.py`` then
+``.venv/bin/python tools/docs_figures.py sync``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from auvplan.vehicles.glider import G, GliderParams, attack_angle, pitch_for_speed, steady_glide
+from auvplan.vehicles.glider_fit import calibrate, dead_reckoned_current, yo_legs
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "tests" / "data" / "slocum_dives_2014_204.csv"
+FIG = ROOT / "docs" / "figures"
+
+
+def _columns(glider: str) -> dict[str, np.ndarray]:
+    with DATA.open() as fh:
+        rows = list(csv.reader(line for line in fh if not line.startswith("#")))
+    head, body = rows[0], [r for r in rows[1:] if r[0] == glider]
+    return {h: np.array([float(r[i]) if r[i] else math.nan for r in body]) for i, h in enumerate(head) if i}
+
+
+def dives() -> tuple[str, str]:
+    """The per-leg table and the depth-averaged current table."""
+    table = ["| glider | leg (t, s) | kind | w measured / model (m/s) | pitch measured / model (°) | "
+             "u kinematic / model (m/s) | worst error |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    dac = ["| glider | underwater (s) | glider's own m_water_vx, vy (m/s) | model dead-reckoned (m/s) | difference (m/s) |",
+           "| --- | --- | --- | --- | --- |"]
+    for name in ("amadeus", "sebastian"):
+        c = _columns(name)
+        legs = yo_legs(c["t"], c["depth_m"], c["pitch_rad"], c["ballast_cc"])
+        half = len(legs) // 2
+        p = calibrate(GliderParams(), legs[:half])
+        lift = p.hull_lift + p.wing_lift
+        for lg in legs[half:]:
+            pr = 1025.0 * G * lg.depth_m
+            gl = steady_glide(p, lg.pitch, lg.ballast_cc, 1025.0, pr)
+            th = float(pitch_for_speed(p, np.array(lg.w), lg.ballast_cc, 1025.0, pr))
+            u_k = abs(lg.w) / math.tan(abs(lg.pitch + float(attack_angle(lg.pitch, p.cd0, p.cd1, lift))))
+            errs = [float(gl.w) / lg.w - 1, th / lg.pitch - 1, float(gl.u) / u_k - 1]
+            table.append(f"| {name} | {lg.t:.0f} | {'dive' if lg.w < 0 else 'climb'} | {lg.w:+.3f} / {float(gl.w):+.3f} "
+                         f"| {math.degrees(lg.pitch):+.1f} / {math.degrees(th):+.1f} | {u_k:.3f} / {float(gl.u):.3f} "
+                         f"| {100 * max(map(abs, errs)):.1f} % |")
+        under = np.flatnonzero(c["depth_m"] > 1.0)
+        fixed = np.isfinite(c["lat"])
+        f0 = np.flatnonzero(fixed[: under[0]])[-1]
+        f1 = under[-1] + np.flatnonzero(fixed[under[-1]:])[0]
+        k = slice(f0, f1 + 1)
+        vx, vy = dead_reckoned_current(p, c["t"][k], c["depth_m"][k], c["pitch_rad"][k], c["ballast_cc"][k],
+                                       c["heading_rad"][k], (c["lat"][f0], c["lon"][f0]), (c["lat"][f1], c["lon"][f1]))
+        own = under[-1] + np.flatnonzero(np.isfinite(c["water_vx"][under[-1]:]))[0]
+        ox, oy = c["water_vx"][own], c["water_vy"][own]
+        dac.append(f"| {name} | {c['t'][f1] - c['t'][f0]:.0f} | {ox:+.3f}, {oy:+.3f} | {vx:+.3f}, {vy:+.3f} | "
+                   f"{math.hypot(vx - ox, vy - oy):.3f} |")
+        table.append(f"| {name} | calibrated on the first {half} legs | | neutral density {p.neutral_density:.2f} "
+                     f"kg/m³, C_D0 {p.cd0:.3f} | | | |")
+    return "\n".join(table) + "\n", "\n".join(dac) + "\n"
+
+
+def lofoten() -> str:
+    """The built-in mission's line."""
+    from auvplan.app.glider import glider_scenario
+
+    clock = time.process_time()
+    _, r = glider_scenario("glider-lofoten")
+    cpu = time.process_time() - clock
+    load = os.getloadavg()[0]
+    return (f"planned {r['planned_duration_s'] / 3600:.2f} h, flown {r['flown_duration_s'] / 3600:.2f} h through the "
+            f"current at every depth ({r['planned_vs_flown_pct']:.1f} % apart); the nose-at-the-goal pilot "
+            f"{r['steady_heading_duration_s'] / 3600:.2f} h ({r['saved_vs_steady_heading_pct']:.1f} % saved); "
+            f"{r['surfacings_planned']} dive cycles of {r['cycle_s'] / 3600:.2f} h at {r['cycle_speed_m_s']:.3f} m/s, "
+            f"{r['flown_energy_j'] / 3600:.0f} Wh flown ({r['inflections']} pump strokes), endurance "
+            f"{r['endurance_days']:.0f} days; plan and both flights {cpu:.1f} s CPU, load {load:.1f} on 2 cores "
+            "(`tools/glider_figures.py`)")
+
+
+def main() -> None:
+    table, dac = dives()
+    (FIG / "glider-dives.md").write_text(table)
+    (FIG / "glider-dac.md").write_text(dac)
+    (FIG / "glider-lofoten.md").write_text(lofoten() + "\n")
+
+
+if __name__ == "__main__":
+    main()
