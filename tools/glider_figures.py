@@ -37,8 +37,8 @@ def dives() -> tuple[str, str]:
     """The per-leg table and the depth-averaged current table."""
     table = ["| glider | leg (t, s) | kind | w measured / model (m/s) | pitch measured / model (°) | "
              "u kinematic / model (m/s) | worst error |", "| --- | --- | --- | --- | --- | --- | --- |"]
-    dac = ["| glider | underwater (s) | glider's own m_water_vx, vy (m/s) | model dead-reckoned (m/s) | difference (m/s) |",
-           "| --- | --- | --- | --- | --- |"]
+    dac = ["| glider | underwater (s) | glider's own m_water_vx, vy (m/s) | model dead-reckoned (m/s) | "
+           "difference (m/s) |", "| --- | --- | --- | --- | --- |"]
     for name in ("amadeus", "sebastian"):
         c = _columns(name)
         legs = yo_legs(c["t"], c["depth_m"], c["pitch_rad"], c["ballast_cc"])
@@ -51,7 +51,8 @@ def dives() -> tuple[str, str]:
             th = float(pitch_for_speed(p, np.array(lg.w), lg.ballast_cc, 1025.0, pr))
             u_k = abs(lg.w) / math.tan(abs(lg.pitch + float(attack_angle(lg.pitch, p.cd0, p.cd1, lift))))
             errs = [float(gl.w) / lg.w - 1, th / lg.pitch - 1, float(gl.u) / u_k - 1]
-            table.append(f"| {name} | {lg.t:.0f} | {'dive' if lg.w < 0 else 'climb'} | {lg.w:+.3f} / {float(gl.w):+.3f} "
+            kind = "dive" if lg.w < 0 else "climb"
+            table.append(f"| {name} | {lg.t:.0f} | {kind} | {lg.w:+.3f} / {float(gl.w):+.3f} "
                          f"| {math.degrees(lg.pitch):+.1f} / {math.degrees(th):+.1f} | {u_k:.3f} / {float(gl.u):.3f} "
                          f"| {100 * max(map(abs, errs)):.1f} % |")
         under = np.flatnonzero(c["depth_m"] > 1.0)
