@@ -110,3 +110,15 @@ def test_loop_keeps_min_altitude_over_a_shallow_seabed():
     tr = fly_glider(w, GliderParams(dive_depth_m=200.0), (0.0, 0.0), [(0.0, 3000.0)], 0.0, min_altitude=10.0)
     assert tr.arrived
     assert tr.xyz[:, 2].min() == pytest.approx(-50.0)
+
+
+def test_loop_surfaces_every_surface_every_s():
+    """With surface_every_s the glider surfaces at the first top after that long, not after yos yos."""
+    g = GliderParams(dive_depth_m=100.0, yos=50, surface_every_s=2500.0, capture_radius_m=500.0)
+    w = World(BOX, currents=UniformCurrent((0.0, 0.0, 0.0)))
+    tr = fly_glider(w, g, (0.0, 0.0), [(0.0, 6000.0)], 0.0)
+    yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m)
+    gaps = np.diff(tr.fixes[:, 0])[:-1]  # (the last cycle ends at the goal)
+    assert len(gaps) >= 2
+    assert np.all(gaps >= 2500.0 + g.surface_time_s) and np.all(gaps <= 2500.0 + yo.dive_s + yo.climb_s
+                                                                 + g.surface_time_s + 60.0)
