@@ -88,11 +88,33 @@ def lofoten() -> str:
             "(`tools/glider_figures.py`)")
 
 
+def departures() -> str:
+    """Planned vs flown and the nose-at-the-goal pilot at four departures (every 4 h)."""
+    from auvplan.io.scenario.loader import build, load
+    from auvplan.planners.glider import plan_glider
+    from auvplan.sim.glider import fly_glider
+
+    sc = load("glider-lofoten")
+    world, m = build(sc)
+    g, alt = m.vehicle.glider, sc.mission.min_altitude_m
+    rows = ["| departure | planned (h) | flown (h) | apart | nose at the goal (h) | saved |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for d in (0.0, 4 * 3600.0, 8 * 3600.0, 12 * 3600.0):
+        pl = plan_glider(world, g, m.start, m.goal, d, alt, m.planner.timeopt)
+        fl = fly_glider(world, g, m.start, pl.waypoints, d, min_altitude=alt, dac0=pl.currents[0])
+        nv = fly_glider(world, g, m.start, [m.goal[:2]], d, min_altitude=alt, correct_current=False)
+        p, f, n = (pl.arrive_s - d) / 3600, (fl.reach_s - d) / 3600, (nv.reach_s - d) / 3600
+        rows.append(f"| +{d / 3600:.0f} h | {p:.2f} | {f:.2f} | {100 * abs(f - p) / p:.1f} % | {n:.2f} | "
+                    f"{100 * (n - f) / n:.1f} % |")
+    return "\n".join(rows) + "\n"
+
+
 def main() -> None:
     table, dac = dives()
     (FIG / "glider-dives.md").write_text(table)
     (FIG / "glider-dac.md").write_text(dac)
     (FIG / "glider-lofoten.md").write_text(lofoten() + "\n")
+    (FIG / "glider-departures.md").write_text(departures())
 
 
 if __name__ == "__main__":

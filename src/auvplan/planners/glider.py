@@ -6,7 +6,8 @@ underwater gliders*; the basis of glider route planning, e.g. GENIoS, Merckelbac
 
 1. :class:`DepthAveragedCurrent` is the World's current averaged over the yo's depth band at each
    place and time: from ``climb_depth_m`` to ``dive_depth_m``, or ``min_altitude`` above the
-   seabed where that is shallower (a glider spends equal time at every depth of a steady yo).
+   seabed where that is shallower (a glider spends equal time at every depth of a steady yo), and
+   the surface current weighted by the share of the cycle spent drifting at the surface.
 2. The glider's speed over a dive cycle is its through-water distance per cycle (flight model,
    :func:`auvplan.vehicles.glider.yo_timing`) over the cycle's duration including the time at the
    surface (:func:`cycle`).
@@ -49,13 +50,17 @@ class DepthAveragedCurrent(CurrentField):
         Least altitude of the bottom above the seabed (m).
     levels : int, default 8
         Depths sampled, evenly over the band.
+    surface_share : float, default 0.0
+        Share of the time spent drifting at the surface (the surface current, 0.5 m down, weighs that much).
     """
 
-    def __init__(self, world: World, top_m: float, bottom_m: float, min_altitude: float, levels: int = 8) -> None:
+    def __init__(self, world: World, top_m: float, bottom_m: float, min_altitude: float, levels: int = 8,
+                 surface_share: float = 0.0) -> None:
         self.base = world.currents
         self.world = world
         self.top, self.bottom, self.min_altitude = top_m, bottom_m, min_altitude
         self.frac = (np.arange(levels) + 0.5) / levels
+        self.surface_share = surface_share
 
     def velocity(self, points: ArrayLike, t: float = 0.0) -> FloatArray:
         """Depth-averaged velocity at points (their depth ignored) and a time.
@@ -81,6 +86,10 @@ class DepthAveragedCurrent(CurrentField):
         q = np.repeat(flat, len(self.frac), axis=0)
         q[:, 2] = -depth.reshape(-1)
         v = self.base.velocity(q, t).reshape(len(flat), len(self.frac), 3).mean(axis=1)
+        if self.surface_share > 0:
+            top = flat.copy()
+            top[:, 2] = -0.5
+            v = (1.0 - self.surface_share) * v + self.surface_share * self.base.velocity(top, t)
         v[:, 2] = 0.0
         return np.asarray(v.reshape(p.shape), dtype=float)
 
@@ -284,9 +293,10 @@ def plan_glider(world: World, glider: GliderParams, start: ArrayLike, goal: Arra
     GliderPlan
         The plan; ``result.status`` says whether one was found (the other fields are then empty).
     """
-    dac = DepthAveragedCurrent(world, glider.climb_depth_m, glider.dive_depth_m, min_altitude)
-    flat = replace(world, currents=dac)
     c = cycle(glider)
+    dac = DepthAveragedCurrent(world, glider.climb_depth_m, glider.dive_depth_m, min_altitude,
+                               surface_share=glider.surface_time_s / c.duration_s)
+    flat = replace(world, currents=dac)
     z = -glider.climb_depth_m
     a = np.array([*np.asarray(start, dtype=float)[:2], z])
     b = np.array([*np.asarray(goal, dtype=float)[:2], z])

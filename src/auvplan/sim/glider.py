@@ -64,6 +64,9 @@ class GliderTrack:
         Of which the pump's (J).
     inflections : int
         Bottom inflections (pump strokes).
+    reach_s : float
+        Time the glider first came within the capture radius of the last waypoint, between fixes too
+        (s; ``inf`` when never): the time to compare with a plan's arrival.
     reason : str
         ``"arrived"``, ``"grounded"`` (over land or a seabed with no room for a yo: shallower than
         ``climb_depth_m`` + ``min_altitude``) or ``"timeout"``.
@@ -79,6 +82,7 @@ class GliderTrack:
     energy_j: float
     pump_j: float
     inflections: int
+    reach_s: float = math.inf
     reason: str = "arrived"
 
 
@@ -138,7 +142,7 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     yos, bottom = 0, g.dive_depth_m
     heading = 0.0
     pump = energy = 0.0
-    inflections, arrive = 0, math.inf
+    inflections, arrive, reach = 0, math.inf, math.inf
     reason = "timeout"
     for i in range(n):
         t_out[i], xyz[i], phase_out[i] = t, pos, phase
@@ -170,6 +174,8 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
         cur = world.currents.velocity(np.array([[pos[0], pos[1], min(pos[2], -0.5)]]), t)[0]
         move = vel + np.array([cur[0], cur[1], 0.0])
         pos = pos + dt * move
+        if reach == math.inf and math.hypot(pos[0] - wps[-1, 0], pos[1] - wps[-1, 1]) < g.capture_radius_m:
+            reach = t + dt
         dr = dr + dt * (vel[:2] + dac)
         t += dt
         energy += dt * (g.hotel_w + (g.surface_power_w if phase == _SURFACE else 0.0))
@@ -200,4 +206,4 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     m = i + 1
     return GliderTrack(t_out[:m].copy(), xyz[:m].copy(), phase_out[:m].copy(), np.array(fixes).reshape(-1, 3),
                        np.array(dacs).reshape(-1, 2), math.isfinite(arrive), arrive, energy, pump, inflections,
-                       reason)
+                       min(reach, arrive), reason)
