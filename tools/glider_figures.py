@@ -135,12 +135,52 @@ def departures() -> str:
     return "\n".join(rows) + "\n"
 
 
+def picture(path: Path) -> None:
+    """Plan view of glider-lofoten: depth-averaged current at the departure, the plan, both flights."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from auvplan.io.scenario.loader import build, load
+    from auvplan.planners.glider import DepthAveragedCurrent, cycle, plan_glider
+    from auvplan.sim.glider import fly_glider
+
+    sc = load("glider-lofoten")
+    world, m = build(sc)
+    g, alt = m.vehicle.glider, sc.mission.min_altitude_m
+    pl = plan_glider(world, g, m.start, m.goal, 0.0, alt, m.planner.timeopt)
+    fl = fly_glider(world, g, m.start, pl.waypoints, 0.0, min_altitude=alt, dac0=pl.currents[0])
+    nv = fly_glider(world, g, m.start, [m.goal[:2]], 0.0, min_altitude=alt, correct_current=False)
+    dac = DepthAveragedCurrent(world, g.climb_depth_m, g.dive_depth_m, alt,
+                               surface_share=g.surface_time_s / cycle(g).duration_s)
+    xs = np.linspace(-19000.0, 19000.0, 15)
+    gx, gy = np.meshgrid(xs, xs)
+    v = dac.velocity(np.stack([gx.ravel(), gy.ravel(), np.full(gx.size, -10.0)], axis=1), 0.0)
+    fig, ax = plt.subplots(figsize=(6.4, 6.0))
+    q = ax.quiver(gx / 1e3, gy / 1e3, v[:, 0], v[:, 1], np.hypot(v[:, 0], v[:, 1]), cmap="Blues", scale=3.0)
+    fig.colorbar(q, ax=ax, label="depth-averaged current at departure (m/s)", shrink=0.8)
+    ax.plot(fl.xyz[:, 0] / 1e3, fl.xyz[:, 1] / 1e3, "-", color="tab:green", lw=1.5, label="flown (plan)")
+    ax.plot(nv.xyz[:, 0] / 1e3, nv.xyz[:, 1] / 1e3, "-", color="tab:red", lw=1.2, label="nose at the goal")
+    ax.plot(pl.waypoints[:, 0] / 1e3, pl.waypoints[:, 1] / 1e3, "o", ms=4, color="k", label="planned fixes")
+    ax.plot(*(np.array(m.start[:2]) / 1e3), "s", color="k")
+    ax.add_patch(plt.Circle(np.array(m.goal[:2]) / 1e3, g.capture_radius_m / 1e3, fill=False, color="k"))
+    ax.set_xlabel("x east (km)")
+    ax.set_ylabel("y north (km)")
+    ax.set_aspect("equal")
+    ax.set_title("glider-lofoten: dive cycles across the coastal current")
+    ax.legend(loc="lower left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
 def main() -> None:
     table, dac = dives()
     (FIG / "glider-dives.md").write_text(table)
     (FIG / "glider-dac.md").write_text(dac)
     (FIG / "glider-lofoten.md").write_text(lofoten() + "\n")
     (FIG / "glider-departures.md").write_text(departures())
+    picture(ROOT / "docs" / "img" / "glider-lofoten.png")
 
 
 if __name__ == "__main__":
