@@ -90,6 +90,83 @@ def _bearing(a: FloatArray, b: FloatArray) -> float:
     return math.atan2(b[0] - a[0], b[1] - a[1])
 
 
+class _Flight:
+    """The loop's state and its three rules: the fix, the steering, the vertical phases (mutable, internal)."""
+
+    def __init__(self, g: GliderParams, wps: FloatArray, start: ArrayLike, t0: float, dac0: ArrayLike,
+                 correct: bool, min_altitude: float, density: float) -> None:
+        self.g, self.wps, self.correct, self.alt, self.rho = g, wps, correct, min_altitude, density
+        self.yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m, density)
+        self.v_eff = cycle(g, density=density).speed  # the crab holds the course over the cycle, surface drift too
+        self.pos = np.array([*np.asarray(start, dtype=float)[:2], 0.0])
+        self.t, self.phase, self.k, self.yos = t0, _SURFACE, 0, 0
+        self.surface_left = 0.0  # starts at the surface: dives at once after the first fix
+        self.dac = np.asarray(dac0, dtype=float).copy()
+        self.dr = self.pos[:2].copy()
+        self.last_fix_t, self.course, self.heading = t0, 0.0, 0.0
+        self.fixes: list[tuple[float, float, float]] = []
+        self.dacs: list[FloatArray] = []
+        self.pump = self.energy = 0.0
+        self.inflections = 0
+
+    def fix(self) -> bool:
+        """At the surface after its time there: estimate the current, advance the waypoints, dive; True at the goal."""
+        if self.fixes and self.t > self.last_fix_t:  # dr carried the old estimate
+            self.dac = (self.pos[:2] - self.dr) / (self.t - self.last_fix_t) + self.dac
+        self.fixes.append((self.t, self.pos[0], self.pos[1]))
+        self.dacs.append(self.dac.copy())
+        while self.k < len(self.wps) and math.hypot(*(self.wps[self.k] - self.pos[:2])) < self.g.capture_radius_m:
+            self.k += 1
+        if self.k == len(self.wps):
+            return True
+        self.last_fix_t, self.dr = self.t, self.pos[:2].copy()
+        self.phase, self.yos = _DIVE, 0
+        self.course = self.heading = _bearing(self.pos[:2], self.wps[self.k])  # (the naive pilot's heading)
+        return False
+
+    def velocity(self) -> FloatArray:
+        """Through-water velocity of this step (the heading corrected for the estimated current)."""
+        if self.phase == _SURFACE:
+            return np.zeros(3)
+        if self.correct:
+            self.heading = crab_heading(self.course, self.v_eff, self.dac)
+        yo = self.yo
+        w, u = (yo.w_dive, yo.u_dive) if self.phase == _DIVE else (yo.w_climb, yo.u_climb)
+        target = self.wps[min(self.k, len(self.wps) - 1)]
+        if self.correct and self.k < len(self.wps) - 1 and math.hypot(*(target - self.dr)) < self.g.capture_radius_m:
+            self.k += 1  # dead-reckoned capture of an intermediate waypoint: the course to the next from here
+            self.course = _bearing(self.dr, self.wps[self.k])
+        return np.array([u * math.sin(self.heading), u * math.cos(self.heading), w])
+
+    def vertical(self, world: World, dt: float) -> bool:
+        """Inflections, surfacing and the pump after a step; True when aground."""
+        g, depth = self.g, -self.pos[2]
+        if self.phase == _SURFACE:
+            self.surface_left -= dt
+            self.pos[2] = 0.0
+        elif self.phase == _DIVE:
+            seabed = -float(world.seabed(np.array([self.pos[0]]), np.array([self.pos[1]]))[0])
+            bottom = min(g.dive_depth_m, seabed - self.alt)
+            if bottom < g.climb_depth_m:  # aground: land, or no room for a yo
+                return True
+            if depth >= bottom:
+                self.pos[2] = -bottom  # the inflection (the step's overshoot of at most |w| dt is not flown)
+                shallow = bottom < g.climb_depth_m + 5.0  # hardly room for a yo: climb out and surface
+                self.phase, self.inflections = _CLIMB, self.inflections + 1
+                self.yos = g.yos if shallow else self.yos + 1
+                e = self.rho * 9.81 * bottom * 2e-6 * g.ballast_cc / g.pump_efficiency
+                self.pump, self.energy = self.pump + e, self.energy + e
+        else:
+            due = self.yos >= g.yos or (g.surface_every_s > 0 and self.t - self.last_fix_t >= g.surface_every_s)
+            if depth <= (0.0 if due else g.climb_depth_m):
+                self.pos[2] = 0.0 if due else -g.climb_depth_m
+                if due:
+                    self.phase, self.surface_left = _SURFACE, g.surface_time_s
+                else:
+                    self.phase = _DIVE
+        return False
+
+
 def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: ArrayLike, t0: float = 0.0, *,
                min_altitude: float = 10.0, dac0: ArrayLike = (0.0, 0.0), correct_current: bool = True,
                dt: float = 10.0, max_s: float = 30 * 86400.0, density: float = 1025.0) -> GliderTrack:
@@ -127,83 +204,27 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     """
     g = glider
     wps = np.asarray(waypoints, dtype=float)[:, :2]
-    yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m, density)
-    v_eff = cycle(g, density=density).speed  # the crab holds the course over the whole cycle, surface drift too
+    f = _Flight(g, wps, start, t0, dac0, correct_current, min_altitude, density)
     n = int(max_s / dt) + 2
     t_out, xyz, phase_out = np.empty(n), np.empty((n, 3)), np.empty(n, dtype=np.int64)
-    fixes: list[tuple[float, float, float]] = []
-    dacs: list[FloatArray] = []
-    pos = np.array([*np.asarray(start, dtype=float)[:2], 0.0])
-    t, phase, k = t0, _SURFACE, 0
-    surface_left = 0.0  # starts at the surface: dives at once after the first fix
-    dac = np.asarray(dac0, dtype=float).copy()
-    dr = pos[:2].copy()
-    last_fix_t = t0
-    yos, bottom = 0, g.dive_depth_m
-    heading = 0.0
-    pump = energy = 0.0
-    inflections, arrive, reach = 0, math.inf, math.inf
-    reason = "timeout"
+    arrive, reach, reason = math.inf, math.inf, "timeout"
     for i in range(n):
-        t_out[i], xyz[i], phase_out[i] = t, pos, phase
-        if phase == _SURFACE and surface_left <= 0.0:  # the fix: estimate, advance, dive
-            if fixes:
-                under = t - last_fix_t
-                dac = (pos[:2] - dr) / under + dac if under > 0 else dac  # dr carried the old estimate
-            fixes.append((t, pos[0], pos[1]))
-            dacs.append(dac.copy())
-            while k < len(wps) and math.hypot(*(wps[k] - pos[:2])) < g.capture_radius_m:
-                k += 1
-            if k == len(wps):
-                arrive, reason = t, "arrived"
-                break
-            last_fix_t, dr = t, pos[:2].copy()
-            phase, yos = _DIVE, 0
-            course = heading = _bearing(pos[:2], wps[k])  # the course of this cycle (the naive pilot's heading)
-        if phase != _SURFACE:
-            target = wps[min(k, len(wps) - 1)]
-            if correct_current:
-                heading = crab_heading(course, v_eff, dac)
-            w, u = (yo.w_dive, yo.u_dive) if phase == _DIVE else (yo.w_climb, yo.u_climb)
-            vel = np.array([u * math.sin(heading), u * math.cos(heading), w])
-            if correct_current and k < len(wps) - 1 and math.hypot(*(target - dr)) < g.capture_radius_m:
-                k += 1  # dead-reckoned capture of an intermediate waypoint: the course to the next from here
-                course = _bearing(dr, wps[k])
-        else:
-            vel = np.zeros(3)
-        cur = world.currents.velocity(np.array([[pos[0], pos[1], min(pos[2], -0.5)]]), t)[0]
-        move = vel + np.array([cur[0], cur[1], 0.0])
-        pos = pos + dt * move
-        if reach == math.inf and math.hypot(pos[0] - wps[-1, 0], pos[1] - wps[-1, 1]) < g.capture_radius_m:
-            reach = t + dt
-        dr = dr + dt * (vel[:2] + dac)
-        t += dt
-        energy += dt * (g.hotel_w + (g.surface_power_w if phase == _SURFACE else 0.0))
-        depth = -pos[2]
-        if phase == _SURFACE:
-            surface_left -= dt
-            pos[2] = 0.0
-        elif phase == _DIVE:
-            seabed = -float(world.seabed(np.array([pos[0]]), np.array([pos[1]]))[0])
-            bottom = min(g.dive_depth_m, seabed - min_altitude)
-            if seabed - min_altitude < g.climb_depth_m:  # aground: land, or no room for a yo
-                reason = "grounded"
-                break
-            if depth >= bottom:
-                pos[2] = -bottom  # the inflection (the step's overshoot of at most |w| dt is not flown)
-                shallow = bottom < g.climb_depth_m + 5.0  # no room for a yo: climb out and surface
-                phase, yos, inflections = _CLIMB, g.yos if shallow else yos + 1, inflections + 1
-                e = density * 9.81 * max(depth, 0.0) * 2e-6 * g.ballast_cc / g.pump_efficiency
-                pump, energy = pump + e, energy + e
-        else:
-            due = yos >= g.yos or (g.surface_every_s > 0 and t - last_fix_t >= g.surface_every_s)
-            if depth <= (0.0 if due else g.climb_depth_m):
-                pos[2] = 0.0 if due else -g.climb_depth_m
-                if due:
-                    phase, surface_left, pos[2] = _SURFACE, g.surface_time_s, 0.0
-                else:
-                    phase = _DIVE
+        t_out[i], xyz[i], phase_out[i] = f.t, f.pos, f.phase
+        if f.phase == _SURFACE and f.surface_left <= 0.0 and f.fix():
+            arrive, reason = f.t, "arrived"
+            break
+        vel = f.velocity()
+        cur = world.currents.velocity(np.array([[f.pos[0], f.pos[1], min(f.pos[2], -0.5)]]), f.t)[0]
+        f.pos = f.pos + dt * np.array([vel[0] + cur[0], vel[1] + cur[1], vel[2]])
+        if reach == math.inf and math.hypot(f.pos[0] - wps[-1, 0], f.pos[1] - wps[-1, 1]) < g.capture_radius_m:
+            reach = f.t + dt
+        f.dr = f.dr + dt * (vel[:2] + f.dac)
+        f.energy += dt * (g.hotel_w + (g.surface_power_w if f.phase == _SURFACE else 0.0))
+        f.t += dt
+        if f.vertical(world, dt):
+            reason = "grounded"
+            break
     m = i + 1
-    return GliderTrack(t_out[:m].copy(), xyz[:m].copy(), phase_out[:m].copy(), np.array(fixes).reshape(-1, 3),
-                       np.array(dacs).reshape(-1, 2), math.isfinite(arrive), arrive, energy, pump, inflections,
-                       min(reach, arrive), reason)
+    return GliderTrack(t_out[:m].copy(), xyz[:m].copy(), phase_out[:m].copy(), np.array(f.fixes).reshape(-1, 3),
+                       np.array(f.dacs).reshape(-1, 2), math.isfinite(arrive), arrive, f.energy, f.pump,
+                       f.inflections, min(reach, arrive), reason)
