@@ -43,7 +43,9 @@ FOLLOWERS = ("hybrid", "los", "ilos")
 REASONS = (("is not free", "start or goal inside the margin"), ("cannot follow it", "flow path not flyable at 1/R"),
            ("cannot fly the mission", "mission's turns or envelope not flyable"),
            ("did not keep it", "re-plans with a raised margin did not keep it"),
-           ("streamline ended", "streamline did not arrive"), ("arrives but its leg", "streamline leg in a margin"))
+           ("streamline ended", "streamline did not arrive"), ("arrives but its leg", "streamline leg in a margin"),
+           ("exceed max_pitch_deg", "plan steeper than max_pitch_deg"),
+           ("no room to raise", "start within the margin + bound: no room to raise it"))
 
 
 def reason(plan):

@@ -10,9 +10,11 @@ mission's world with its obstacles taken away (the same vehicle, autopilot, time
 local avoidance), and the bound is the largest 3-D distance from that track to the route polyline
 (:func:`route_deviation`).  The hybrid field adds its stated push
 (:attr:`auvplan.guidance.following.hybrid.HybridParams.push_bound_m`): near a static obstacle that a
-clear route passes, its repulsion only shifts the line it steers to by at most that much.  By the
-triangle inequality, a route whose every leg is at least margin + bound from every static obstacle
-(exact segment tests) is flown at least the margin away, as long as the flight stays within the bound.
+clear route passes, its repulsion only shifts the line it steers to by at most that much.  The bound is
+kept per leg (the points of the track nearest that leg), so a start next to an obstacle on a straight
+first leg is not charged with the error of a sharp turn far away.  By the triangle inequality, a route
+whose every leg is at least margin + its bound from every static obstacle (exact segment tests) is
+flown at least the margin away, as long as the flight stays within the bound.
 
 Why per route and not one figure per vehicle: flying LOS along routes whose every fly-by turn fits the
 10 m turn radius (REMUS-100-class defaults), the deviation is 0.9-1.3 m on curves of radius R and
@@ -51,25 +53,36 @@ class TrackingBound:
     ----------
     follower : str
         ``los``, ``ilos`` or ``hybrid``.
-    flown_m : float
-        The largest 3-D distance from the track flown without obstacles to the route.
+    legs_m : numpy.ndarray
+        ``(N - 1,)`` per leg: the largest 3-D distance to the route of the points of the track flown without
+        obstacles whose nearest route point lies on that leg (0 for a leg no point is nearest to).
     push_m : float
-        The hybrid field's stated push (0 for LOS and ILOS).
+        The hybrid field's stated push (0 for LOS and ILOS), added to every leg.
     """
 
     follower: str
-    flown_m: float
+    legs_m: NDArray[np.float64]
     push_m: float
 
     @property
+    def flown_m(self) -> float:
+        """The largest distance of the flown track from the route (m)."""
+        return float(self.legs_m.max()) if self.legs_m.size else 0.0
+
+    @property
     def total_m(self) -> float:
-        """The bound: ``flown_m + push_m`` (m)."""
+        """The bound over the whole route: ``flown_m + push_m`` (m)."""
         return self.flown_m + self.push_m
+
+    @property
+    def per_leg_m(self) -> NDArray[np.float64]:
+        """``(N - 1,)`` each leg's bound: ``legs_m + push_m`` (m)."""
+        return np.asarray(self.legs_m + self.push_m, dtype=float)
 
 
 def route_deviation(track: NDArray[np.float64], route: NDArray[np.float64]) -> tuple[NDArray[np.float64],
-                                                                                 NDArray[np.float64]]:
-    """Each track point's 3-D distance to the route polyline, and its height off the nearest route point.
+                                                                                 NDArray[np.intp]]:
+    """Each track point's 3-D distance to the route polyline, and the leg its nearest route point lies on.
 
     Parameters
     ----------
@@ -81,7 +94,7 @@ def route_deviation(track: NDArray[np.float64], route: NDArray[np.float64]) -> t
     Returns
     -------
     tuple of numpy.ndarray
-        ``(M,)`` distances and ``(M,)`` absolute vertical offsets (m).
+        ``(M,)`` distances (m) and ``(M,)`` leg indices.
     """
     a, d = route[:-1], np.diff(route, axis=0)
     dd = np.maximum((d * d).sum(axis=1), 1e-12)
@@ -89,8 +102,7 @@ def route_deviation(track: NDArray[np.float64], route: NDArray[np.float64]) -> t
     q = a[None] + s[..., None] * d[None]
     dist = np.linalg.norm(track[:, None, :] - q, axis=2)
     j = dist.argmin(axis=1)
-    near = q[np.arange(track.shape[0]), j]
-    return dist[np.arange(track.shape[0]), j], np.abs(track[:, 2] - near[:, 2])
+    return dist[np.arange(track.shape[0]), j], j
 
 
 def route_bound(world: World, mission: Mission, route: ArrayLike, follower: str | None = None) -> TrackingBound:
@@ -118,13 +130,15 @@ def route_bound(world: World, mission: Mission, route: ArrayLike, follower: str 
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     clear = replace(world, obstacles=(), moving=())
     sim = simulate(clear, mission, route=w, guidance=name, avoidance="none", rng=mission.seed)
-    dist, _ = route_deviation(sim.position, w)
+    dist, leg = route_deviation(sim.position, w)
+    legs = np.zeros(w.shape[0] - 1)
+    np.maximum.at(legs, leg, dist)
     push = mission.hybrid.push if name == "hybrid" else 0.0
-    return TrackingBound(name, float(dist.max()), push)
+    return TrackingBound(name, legs, push)
 
 
-def route_keeps(world: World, route: ArrayLike, clearance: float) -> int:
-    """The first leg of a route closer than ``clearance`` to a static obstacle's surface (exact segment
+def route_keeps(world: World, route: ArrayLike, clearance: ArrayLike) -> int:
+    """The first leg of a route closer than its ``clearance`` to a static obstacle's surface (exact segment
     tests), -1 when every leg keeps it.
 
     Parameters
@@ -133,8 +147,8 @@ def route_keeps(world: World, route: ArrayLike, clearance: float) -> int:
         Its static obstacles.
     route : array_like
         ``(N, 3)`` waypoints (m).
-    clearance : float
-        Required distance from every surface (m).
+    clearance : array_like
+        Required distance from every surface (m): one for all legs or ``(N - 1,)``, one per leg.
 
     Returns
     -------
@@ -143,10 +157,11 @@ def route_keeps(world: World, route: ArrayLike, clearance: float) -> int:
     """
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     legs = np.stack([w[:-1], w[1:]], axis=1)
-    hit = np.zeros(legs.shape[0], dtype=bool)
-    for ob in world.obstacles:
-        hit |= np.asarray(ob.segments_hit(legs, clearance), dtype=bool)
-    return int(np.flatnonzero(hit)[0]) if hit.any() else -1
+    need = np.broadcast_to(np.asarray(clearance, dtype=float), (legs.shape[0],))
+    for i in range(legs.shape[0]):
+        if any(bool(ob.segments_hit(legs[i:i + 1], float(need[i]))[0]) for ob in world.obstacles):
+            return i
+    return -1
 
 
 def contract_world(world: World, bound: float) -> World:

@@ -98,7 +98,7 @@ class HybridParams:
     lateral_bias: float | None = None
     current_compensation: bool | None = None
     switch_radius: float = 10.0
-    push_bound_m: float = 0.5
+    push_bound_m: float = 0.25
     variant: str = "corrected"
 
     def __post_init__(self) -> None:
