@@ -37,7 +37,6 @@ from auvplan.sim.tracking import route_deviation
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from flow_fig78 import GOAL, MARGIN, near_surface_starts, scenes  # noqa: E402
 
-
 FOLLOWERS = ("hybrid", "los", "ilos")
 
 REASONS = (("is not free", "start or goal inside the margin"), ("cannot follow it", "flow path not flyable at 1/R"),

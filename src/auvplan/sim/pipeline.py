@@ -28,7 +28,8 @@ from .mission import Mission
 from .result import RunRecord
 from .tracking import contract_world, route_bound, route_keeps
 
-__all__ = ["kept_route", "CONTRACT_ROUNDS", "CONTRACT_ROOM", "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
+__all__ = ["kept_route", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
+           "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
            "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
 
 
