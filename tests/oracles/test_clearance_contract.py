@@ -125,7 +125,7 @@ def test_hybrid_leaves_a_clear_route_by_at_most_los_plus_its_push_bound(fig8, wo
     assert _deviation(unbounded.position, route).max() > los + 2.0
 
 
-@pytest.mark.parametrize("guidance", ["los", "ilos", "hybrid"])
+@pytest.mark.parametrize("guidance", ["los", "hybrid"])  # ILOS: benchmarks/flow_flown.py
 def test_the_contract_refuses_the_start_that_touched_with_its_reason(fig8, worst, guidance):
     """The issue's worst start: without the contract every follower touches an obstacle (exact distance <= 0);
     with it the plan is refused with a status, and the message names the follower, the leg and its bound."""
