@@ -1,19 +1,22 @@
 """Flights of the default flow pipeline from seeded near-surface starts in document 000's Figs. 7-8 scenes.
 
-    .venv/bin/python benchmarks/flow_flown.py --starts 100 --out results/bench-flow-flown
+    .venv/bin/python benchmarks/flow_flown.py --starts 100 --out results/bench-flow-flown [--followers los]
 
-The built-in ``flow-fig8`` (0.5 m margin, goal (28, 28, 0), the 10 m-turn vehicle, its default follower
-and avoidance) with its obstacles replaced by each scene of ``benchmarks/flow_fig78.py`` (document reading:
-the ellipsoid at yaw 45°; axis-aligned: unturned; Fig. 7 alone, Fig. 8 with the two spheres).  Starts: the
-same seeded near-surface starts as flow_fig78.py (0.5-5 m from a real surface, equal numbers per obstacle).
-Each start runs the whole default pipeline (:func:`auvplan.sim.pipeline.run_mission`: flyable flow plan ->
-mission waypoints -> turn fit -> key waypoints -> closed-loop simulation).
+The built-in ``flow-fig8`` (0.5 m margin, goal (28, 28, 0), the 10 m-turn vehicle, its avoidance; every
+follower: hybrid, los, ilos) with its obstacles replaced by each scene of ``benchmarks/flow_fig78.py``
+(document reading: the ellipsoid at yaw 45°; axis-aligned: unturned; Fig. 7 alone, Fig. 8 with the two
+spheres). Starts: the same seeded near-surface starts as flow_fig78.py (0.5-5 m from a real surface, equal
+numbers per obstacle). Each start runs the whole default pipeline (:func:`auvplan.sim.pipeline.run_mission`:
+flyable flow plan -> mission waypoints -> turn fit -> the clearance contract of
+:func:`auvplan.sim.pipeline.kept_route` -> key waypoints -> closed-loop simulation).
 
-Columns: planned = plans the planner returned OK (the rest are INFEASIBLE: unflyable starts); arrived = of
-the flown; least distance = the least exact distance from any recorded position to a *real* obstacle
-surface (``Shape.distance``, independent of the simulator's contact flag); contacts = flights with a
-recorded position at distance <= 0, and (sim) the simulator's own collision count; CPU = process time per
-start.
+Columns: flown = plans the planner returned OK under the contract; refused = the rest, by reason (those the
+contract refused are marked ``contract:``; every one with its message in ``refused.csv``); arrived = of the
+flown; flown off the route = the largest 3-D distance of a flight from its route and how far that lies inside
+the contract's bound (``tracking_bound_m``); least distance = the least exact distance from any recorded
+position to a *real* obstacle surface (``Shape.distance``, independent of the simulator's contact flag);
+contacts = flights with a recorded position at distance <= 0, and (sim) the simulator's own collision count;
+CPU = process time per start.
 """
 
 from __future__ import annotations
