@@ -17,9 +17,10 @@ whose every leg is at least margin + its bound from every static obstacle (exact
 flown at least the margin away, as long as the flight stays within the bound.
 
 Why per route and not one figure per vehicle: flying LOS along routes whose every fly-by turn fits the
-10 m turn radius (REMUS-100-class defaults), the deviation is 0.9-1.3 m on curves of radius R and
-8.7 m (120°) to 15 m (150°) at single sharp corners, so one bound over every flyable route would refuse
-every plan near an obstacle; the plan's own route decides.
+10 m turn radius (REMUS-100-class defaults), the deviation is 0.9-2.0 m on 270° polygons inscribed in a
+circle of radius R with 1-5 m chords and 8.7 m (120°) to 15.1 m (150°) at single sharp corners, so one bound
+over every flyable route would refuse every plan near an obstacle; the plan's own route decides
+(docs/flow-flown.md).
 
 :func:`auvplan.sim.pipeline.kept_route` applies the contract; :func:`contract_world` raises the margin.
 
