@@ -15,6 +15,7 @@ import sys, time
 from auvplan.cli import output
 
 quiet, phase = sys.argv[1] == "quiet", float(sys.argv[2])
+print("job", file=sys.stderr, flush=True)  # the interpreter has started: the oracle's clock starts here
 make = output.reporter(quiet)         # the command's clock from its start
 from auvplan.planners import PlannerSpec  # reading the scenario: imports
 
@@ -38,7 +39,8 @@ BOUND_S = 2.0
 def test_every_phase_shows_within_two_seconds():
     code, gaps = stderr_gaps([sys.executable, "-c", JOB, "loud", "2.2"])  # phases longer than the bound
     assert code == 0
-    assert max(g for g, _ in gaps) <= BOUND_S, sorted(gaps, reverse=True)[:3]
+    assert gaps[0][1] == "job"  # from here on (the interpreter's own start is not the job's)
+    assert max(g for g, _ in gaps[1:]) <= BOUND_S, sorted(gaps[1:], reverse=True)[:3]
     text = " ".join(line for _, line in gaps)
     assert "reading the scenario and its data" in text and "writing results" in text
     bars = [line for _, line in gaps if line.startswith("flight on scene")]
