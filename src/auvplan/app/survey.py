@@ -14,6 +14,7 @@ from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
 from ..io.safeio import RESULT_NAMES, prepare_out
 from ..io.scenario import loader as scenario_io
+from ..parallel import Runner
 from ..survey.run import SurveyRun, run_survey
 from ..world import World
 
@@ -22,7 +23,8 @@ __all__ = ["survey_scenario"]
 
 def survey_scenario(scenario: str, out: str | None = None, force: bool = False, seed: int | None = None,
                     guidance: str | None = None, full: bool = False,
-                    say: Callable[[str], None] = lambda text: None) -> tuple[Any, dict[str, Any]]:
+                    say: Callable[[str], None] = lambda text: None,
+                    runner: Runner | None = None) -> tuple[Any, dict[str, Any]]:
     """Plan, fly and measure the ``[survey]`` of a scenario.
 
     Parameters
@@ -39,6 +41,8 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         Full-rate run files and exports.
     say : callable
         Receives a line at each stage.
+    runner : Runner, optional
+        Where the independent transits are planned (:class:`auvplan.parallel.Runner`; this process by default).
 
     Returns
     -------
@@ -56,7 +60,7 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     params = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
     seed = sc.seed if seed is None else seed
     say(f"planning and flying the survey of {sc.name}")
-    run = run_survey(world, mission, params, seed, guidance=guidance)
+    run = run_survey(world, mission, params, seed, guidance=guidance, runner=runner)
     from ..io.scenario.currentspan import run_note
 
     note = run_note(sc.source, sc.currents.beyond, world, run.record)  # issue 51: refused, or said

@@ -90,3 +90,22 @@ def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
         sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:
         print(human)
+
+
+def runner_of(args: argparse.Namespace) -> Any:
+    """The :class:`auvplan.parallel.Runner` of ``--workers``, ``--scheduler`` and ``--retries``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (those three absent: this process, one retry).
+
+    Returns
+    -------
+    Runner
+        Where the job's independent tasks run.
+    """
+    from ..parallel import Runner
+
+    return Runner(workers=getattr(args, "workers", None) or 0, scheduler=getattr(args, "scheduler", None),
+                  retries=getattr(args, "retries", 1))

@@ -29,9 +29,10 @@ def cmd_survey(args: argparse.Namespace) -> int:
         0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
     """
     from ..app.survey import survey_scenario
+    from .output import runner_of
 
     sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
-                              args.full, lambda text: _say(args, text))
+                              args.full, lambda text: _say(args, text), runner_of(args))
     m = rec["lawnmower"]
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "
              f"planned coverage {rec['planned']['coverage_pct']:.2f} % (overlap {rec['planned']['overlap_min_pct']:.1f}"

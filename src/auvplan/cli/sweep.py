@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .output import emit
+from .output import emit, runner_of
 
 if TYPE_CHECKING:
     from ..planners.timeopt.planner import SweepRow, SweepSummary
@@ -35,7 +35,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     try:
         run = sweep_scenario(args.scenario, args.depart_between, args.step, args.objective, args.out,
-                             getattr(args, "force", False), progress)
+                             getattr(args, "force", False), progress, runner_of(args))
     finally:
         if bar is not None:
             bar.close()
