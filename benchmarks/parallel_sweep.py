@@ -1,0 +1,97 @@
+"""The 51-departure sweep of ``juan-de-fuca-tides`` on dask.distributed (issue 56): the same rows on 1 and 2
+workers, the wall-time ratio, and a killed sweep resumed without planning its finished departures again.
+
+    .venv/bin/python benchmarks/parallel_sweep.py [--out results/parallel_sweep] [--kill-at 10]
+
+``auvplan plan juan-de-fuca-tides --depart-between +0h +25h --step 30min`` (51 departures, real tides) is run
+through :func:`auvplan.app.sweep.sweep_scenario`:
+
+1. on a ``LocalCluster`` of 2 worker processes, then of 1 (the same cluster start-up cost in both), each
+   with an empty checkpoint cache; the rows are compared bit for bit (all but ``cpu_s``, a measurement)
+   and the wall times give the ratio;
+2. ``auvplan plan ... --workers 2 --out DIR`` as a command, killed (SIGKILL to its process group) once
+   ``--kill-at`` departures are checkpointed; the checkpoints it left in ``DIR/.auvplan-tasks`` are
+   counted, the sweep is run again in ``DIR`` and the departures it planned are counted (``computed`` =
+   51 − checkpoints), and its rows are compared with step 1's.
+
+Prints and writes ``DIR/summary.json``: wall times, ratio, the load average (1 min) before and after each
+run (the machine is shared: the ratio is only as good as the load is steady), counts and the identity.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ARGS = ["juan-de-fuca-tides", ["+0h", "+25h"], "30min"]
+
+
+def _table(run) -> list[dict]:
+    return [{k: v for k, v in row.items() if k != "cpu_s"} for row in run.table]
+
+
+def _timed(workers: int) -> tuple[object, dict]:
+    from auvplan.app.sweep import sweep_scenario
+    from auvplan.parallel import Runner
+
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["XDG_CACHE_HOME"] = cache  # no checkpoint of another run
+        load0, t0 = os.getloadavg()[0], time.perf_counter()
+        run = sweep_scenario(ARGS[0], ARGS[1], ARGS[2], runner=Runner(workers=workers))
+        wall = time.perf_counter() - t0
+    return run, {"workers": workers, "wall_s": round(wall, 1), "load_before": load0,
+                 "load_after": os.getloadavg()[0], "departures": len(run.rows), "computed": run.computed}
+
+
+def _killed_and_resumed(out: Path, kill_at: int) -> tuple[object, dict]:
+    from auvplan.app.sweep import sweep_scenario
+    from auvplan.parallel import Runner
+
+    cmd = [sys.executable, "-m", "auvplan", "-q", "plan", ARGS[0], "--depart-between", *ARGS[1], "--step", ARGS[2],
+           "--workers", "2", "--out", str(out), "--force"]
+    proc, t0 = subprocess.Popen(cmd, start_new_session=True), time.perf_counter()
+    while len(list((out / ".auvplan-tasks").glob("*.pkl"))) < kill_at and proc.poll() is None:
+        time.sleep(0.5)
+    os.killpg(proc.pid, signal.SIGKILL)  # the command and its dask workers, at once
+    killed_after = time.perf_counter() - t0
+    proc.wait()
+    left = len(list((out / ".auvplan-tasks").glob("*.pkl")))
+    load0, t0 = os.getloadavg()[0], time.perf_counter()
+    run = sweep_scenario(ARGS[0], ARGS[1], ARGS[2], out=str(out), force=True, runner=Runner(workers=2))
+    return run, {"killed_after_s": round(killed_after, 1), "checkpoints_left": left, "computed_on_resume": run.computed,
+                 "resume_wall_s": round(time.perf_counter() - t0, 1), "load_before": load0,
+                 "load_after": os.getloadavg()[0]}
+
+
+def main() -> None:
+    """Run the three sweeps and write the summary."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", default="results/parallel_sweep")
+    ap.add_argument("--kill-at", type=int, default=10, help="checkpointed departures at which the command is killed")
+    args = ap.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    summary: dict = {"command": "auvplan plan juan-de-fuca-tides --depart-between +0h +25h --step 30min",
+                     "cores": os.cpu_count()}
+    two, summary["two_workers"] = _timed(2)
+    print(json.dumps(summary), flush=True)
+    one, summary["one_worker"] = _timed(1)
+    summary["identical_1_vs_2"] = _table(one) == _table(two)
+    summary["wall_ratio_2_over_1"] = round(summary["two_workers"]["wall_s"] / summary["one_worker"]["wall_s"], 3)
+    print(json.dumps(summary), flush=True)
+    (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    resumed, summary["resume"] = _killed_and_resumed(out / "killed", args.kill_at)
+    summary["identical_resumed"] = _table(resumed) == _table(one)
+    print(json.dumps(summary, indent=1), flush=True)
+    (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()
