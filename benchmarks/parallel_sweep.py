@@ -1,7 +1,7 @@
 """The 51-departure sweep of ``juan-de-fuca-tides`` on dask.distributed (issue 56): the same rows on 1 and 2
 workers, the wall-time ratio, and a killed sweep resumed without planning its finished departures again.
 
-    .venv/bin/python benchmarks/parallel_sweep.py [--out results/parallel_sweep] [--kill-at 10]
+    .venv/bin/python benchmarks/parallel_sweep.py [--out results/parallel_sweep] [--kill-at 10] [--coarse]
 
 ``auvplan plan juan-de-fuca-tides --depart-between +0h +25h --step 30min`` (51 departures, real tides) is run
 through :func:`auvplan.app.sweep.sweep_scenario`:
@@ -13,6 +13,10 @@ through :func:`auvplan.app.sweep.sweep_scenario`:
    ``--kill-at`` departures are checkpointed; the checkpoints it left in ``DIR/.auvplan-tasks`` are
    counted, the sweep is run again in ``DIR`` and the departures it planned are counted (``computed`` =
    51 − checkpoints), and its rows are compared with step 1's.
+
+``--coarse`` runs the same sweep (real bathymetry and tides) on a 2 km lattice of one level with the energy
+integrated every km (``juan-de-fuca-tides`` edited as in ``tests/integration/test_parallel.py``): ~10× less
+CPU per departure, for a loaded machine.
 
 Prints and writes ``DIR/summary.json``: wall times, ratio, the load average (1 min) before and after each
 run (the machine is shared: the ratio is only as good as the load is steady), counts and the identity.
@@ -30,7 +34,17 @@ import tempfile
 import time
 from pathlib import Path
 
-ARGS = ["juan-de-fuca-tides", ["+0h", "+25h"], "30min"]
+ARGS: list = ["juan-de-fuca-tides", ["+0h", "+25h"], "30min"]
+
+
+def _coarse(out: Path) -> str:
+    from auvplan.io.scenario.loader import resolve
+
+    text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
+    text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
+    path = out / "jdf-coarse.toml"
+    path.write_text(text + "\n[endurance]\nds_m = 1000.0\n", encoding="utf-8")
+    return str(path.resolve())
 
 
 def _table(run) -> list[dict]:
@@ -75,10 +89,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="results/parallel_sweep")
     ap.add_argument("--kill-at", type=int, default=10, help="checkpointed departures at which the command is killed")
+    ap.add_argument("--coarse", action="store_true", help="a 2 km lattice of one level (see the notes)")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    summary: dict = {"command": "auvplan plan juan-de-fuca-tides --depart-between +0h +25h --step 30min",
+    if args.coarse:
+        ARGS[0] = _coarse(out)
+    summary: dict = {"command": f"auvplan plan {ARGS[0]} --depart-between +0h +25h --step 30min",
                      "cores": os.cpu_count()}
     two, summary["two_workers"] = _timed(2)
     print(json.dumps(summary), flush=True)

@@ -152,13 +152,24 @@ def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_p
         job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), runner=Runner(retries=0))
     assert len(list((out / ".auvplan-tasks").glob("*.pkl"))) == 1
     monkeypatch.setattr(job, "_departure", real)
+    job._SETUP.clear()  # a new process after the kill
     resumed = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), force=True)
     assert resumed.computed == 1  # the second departure only
     assert not (out / ".auvplan-tasks").exists()  # the sweep's files are written: its checkpoints are gone
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    job._SETUP.clear()  # the workers build the sweep's lattice and table themselves
     two = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", runner=Runner(scheduler=scheduler))
     assert two.computed == 2 and [r.depart_s for r in two.rows] == [0.0, 21600.0]
     assert _table(two) == _table(resumed)  # bit for bit: durations, energies, points of no return
     assert {k: v for k, v in two.summary.items() if k != "cpu_per_departure_s"} == {
         k: v for k, v in resumed.summary.items() if k != "cpu_per_departure_s"}
     assert all(np.isfinite(r.duration_s) and r.duration_s <= r.steady_duration_s * (1 + 1e-6) for r in two.rows)
+
+
+def test_workers_and_scheduler_are_one_choice(capsys):
+    from auvplan.cli import main
+
+    assert main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+1h", "--workers", "2",
+                 "--scheduler", "tcp://127.0.0.1:8786"]) == 2
+    assert "not allowed with argument" in capsys.readouterr().err
+    assert main(["survey", "shelf-survey", "--workers", "0"]) == 2  # at least one worker, or none given
