@@ -173,3 +173,4 @@ def test_workers_and_scheduler_are_one_choice(capsys):
                  "--scheduler", "tcp://127.0.0.1:8786"]) == 2
     assert "not allowed with argument" in capsys.readouterr().err
     assert main(["survey", "shelf-survey", "--workers", "0"]) == 2  # at least one worker, or none given
+
