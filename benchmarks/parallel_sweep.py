@@ -6,9 +6,9 @@ workers, the wall-time ratio, and a killed sweep resumed without planning its fi
 ``auvplan plan juan-de-fuca-tides --depart-between +0h +25h --step 30min`` (51 departures, real tides) is run
 through :func:`auvplan.app.sweep.sweep_scenario`:
 
-1. on a ``LocalCluster`` of 2 worker processes, then of 1 (the same cluster start-up cost in both), each
-   with an empty checkpoint cache; the rows are compared bit for bit (all but ``cpu_s``, a measurement)
-   and the wall times give the ratio;
+1. on a ``LocalCluster`` of 1 worker process and of 2 (the same cluster start-up cost in both), each with
+   an empty checkpoint cache, ``--rounds`` times interleaved; the rows are compared bit for bit (all but
+   ``cpu_s``, a measurement) and the total wall times give the ratio;
 2. ``auvplan plan ... --workers 2 --out DIR`` as a command, killed (SIGKILL to its process group) once
    ``--kill-at`` departures are checkpointed; the checkpoints it left in ``DIR/.auvplan-tasks`` are
    counted, the sweep is run again in ``DIR`` and the departures it planned are counted (``computed`` =
@@ -90,6 +90,8 @@ def main() -> None:
     ap.add_argument("--out", default="results/parallel_sweep")
     ap.add_argument("--kill-at", type=int, default=10, help="checkpointed departures at which the command is killed")
     ap.add_argument("--coarse", action="store_true", help="a 2 km lattice of one level (see the notes)")
+    ap.add_argument("--rounds", type=int, default=1, help="interleaved rounds of the 1- and 2-worker sweeps")
+    ap.add_argument("--skip-resume", action="store_true", help="no killed and resumed sweep")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -97,13 +99,22 @@ def main() -> None:
         ARGS[0] = _coarse(out)
     summary: dict = {"command": f"auvplan plan {ARGS[0]} --depart-between +0h +25h --step 30min",
                      "cores": os.cpu_count()}
-    two, summary["two_workers"] = _timed(2)
-    print(json.dumps(summary), flush=True)
-    one, summary["one_worker"] = _timed(1)
-    summary["identical_1_vs_2"] = _table(one) == _table(two)
-    summary["wall_ratio_2_over_1"] = round(summary["two_workers"]["wall_s"] / summary["one_worker"]["wall_s"], 3)
+    runs: dict[int, list] = {1: [], 2: []}
+    for r in range(args.rounds):  # interleaved, 1 then 2 workers (then 2 then 1): load drifts hit both
+        for w in ((1, 2) if r % 2 == 0 else (2, 1)):
+            run, figures = _timed(w)
+            runs[w].append((run, figures))
+            print(json.dumps(figures), flush=True)
+    first = _table(runs[1][0][0])
+    summary["runs"] = [f for w in (1, 2) for _, f in runs[w]]
+    summary["identical_1_vs_2"] = all(_table(run) == first for w in (1, 2) for run, _ in runs[w])
+    walls = {w: sum(f["wall_s"] for _, f in runs[w]) for w in (1, 2)}
+    summary["wall_ratio_2_over_1"] = round(walls[2] / walls[1], 3)  # total over the rounds
     print(json.dumps(summary), flush=True)
     (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    if args.skip_resume:
+        return
+    one = runs[1][0][0]
     resumed, summary["resume"] = _killed_and_resumed(out / "killed", args.kill_at)
     summary["identical_resumed"] = _table(resumed) == _table(one)
     print(json.dumps(summary, indent=1), flush=True)
