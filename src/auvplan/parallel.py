@@ -204,6 +204,10 @@ class Runner:
         require("dask", "bench")
         from dask.distributed import Client, LocalCluster, as_completed
 
+        log = logging.getLogger("distributed")  # its start-up lines only with -v (a root logger at INFO)
+        level = log.level
+        if logging.getLogger().getEffectiveLevel() > logging.INFO:
+            log.setLevel(logging.WARNING)
         cluster = None
         if self.scheduler:
             client = Client(self.scheduler)
@@ -222,6 +226,7 @@ class Runner:
             client.close()
             if cluster is not None:
                 cluster.close()
+            log.setLevel(level)
 
 
 @dataclass(frozen=True)
