@@ -18,7 +18,8 @@ through :func:`auvplan.app.sweep.sweep_scenario`:
 integrated every km (``juan-de-fuca-tides`` edited as in ``tests/integration/test_parallel.py``): ~10× less
 CPU per departure, for a loaded machine.
 
-Prints and writes ``DIR/summary.json``: wall times, ratio, the load average (1 min) before and after each
+Prints and writes ``DIR/summary.json`` and ``DIR/parallel-sweep.md`` (the table of ``docs/parallel.md``):
+wall times, ratio, the load average (1 min) before and after each
 run (the machine is shared: the ratio is only as good as the load is steady), counts and the identity.
 """
 
@@ -84,6 +85,21 @@ def _killed_and_resumed(out: Path, kill_at: int) -> tuple[object, dict]:
                  "load_after": os.getloadavg()[0]}
 
 
+def figure(summary: dict) -> str:
+    """The table of ``docs/figures/parallel-sweep.md`` from a summary (``runs``, ``identical_*``, ``resume``)."""
+    lines = ["| run | departures planned | wall | load (1 min) before → after |", "| --- | --- | --- | --- |"]
+    lines += [f"| {f['workers']} worker{'s' if f['workers'] > 1 else ''} | {f['computed']} | {f['wall_s']:.1f} s | "
+              f"{f['load_before']:.1f} → {f['load_after']:.1f} |" for f in summary["runs"]]
+    r = summary.get("resume")
+    if r:
+        lines.append(f"| 2 workers, killed after {r['checkpoints_left']} checkpoints, run again | "
+                     f"{r['computed_on_resume']} | {r['resume_wall_s']:.1f} s | {r['load_before']:.1f} → "
+                     f"{r['load_after']:.1f} |")
+    same = "identical" if summary["identical_1_vs_2"] and summary.get("identical_resumed", True) else "DIFFERENT"
+    lines.append(f"| rows (all but `cpu_s`) on 1 and 2 workers{' and resumed' if r else ''} | | {same} | |")
+    return "\n".join(lines) + "\n"
+
+
 def main() -> None:
     """Run the three sweeps and write the summary."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -119,6 +135,7 @@ def main() -> None:
     summary["identical_resumed"] = _table(resumed) == _table(one)
     print(json.dumps(summary, indent=1), flush=True)
     (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    (out / "parallel-sweep.md").write_text(figure(summary))  # docs/figures/parallel-sweep.md
 
 
 if __name__ == "__main__":
