@@ -281,7 +281,7 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
     nav = NavParams(drift_pct=3.0, drift_pct_no_lock=6.0, dvl_range_m=100.0, fix_error_m=1.0, max_error_m=900.0)
     base = Mission("t", tuple(route[0]), tuple(route[-1]), sim=SimParams(dt=1.0, record_every=2))
     plain = simulate(w, base, route=route, rng=4)
-    quiet = simulate(w, replace(base, navigation=nav), route=route, rng=4)  # drift off by default: nothing changes
+    quiet = simulate(w, replace(base, navigation=replace(nav, surface_s=0.0)), route=route, rng=4)  # drift off
     np.testing.assert_array_equal(plain.position, quiet.position)
     assert plain.nav_error is None
     flown = simulate(w, replace(base, navigation=nav, nav_drift=True), route=route, rng=4)
@@ -290,6 +290,34 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
     before, after = flown.nav_error[:at_fix - 5], flown.nav_error[at_fix + 5:]
     assert before.max() > 20.0 * after[0]  # reset to the fix's own error, then growing again
     assert after[-1] > after[0]
+
+
+def test_the_closed_loop_holds_the_surface_dwell_drifting_with_the_current_at_hotel_power():
+    from dataclasses import replace
+
+    from auvplan.endurance import EnergyModel, flown_energy
+    from auvplan.sim import Mission, SimParams, simulate
+    from auvplan.vehicles import VehicleParams
+    from auvplan.world.currents import UniformCurrent
+
+    w = replace(_world(depth=300.0), currents=UniformCurrent((0.0, -0.05, 0.0)))  # across the track
+    route = np.array([[1000.0, 6000.0, -250.0], [3000.0, 6000.0, -250.0], [4000.0, 6000.0, 0.0],
+                      [5000.0, 6000.0, -250.0], [7000.0, 6000.0, -250.0]])
+    nav = NavParams(drift_pct=1.0, drift_pct_no_lock=2.0, dvl_range_m=100.0, fix_error_m=1.0, max_error_m=900.0)
+    base = Mission("t", tuple(route[0]), tuple(route[-1]), sim=SimParams(dt=0.5, record_every=1))
+    flights = {s: simulate(w, replace(base, navigation=replace(nav, surface_s=s)), route=route, rng=4)
+               for s in (0.0, 300.0)}
+    assert all(f.arrived for f in flights.values())
+    held, plain = flights[300.0], flights[0.0]
+    # the dwell is flown time; regaining the track from the 15 m the current carried it across costs at most 15 m
+    assert 300.0 <= held.t[-1] - plain.t[-1] <= 300.0 + 0.05 * 300.0 / 1.5
+    still = np.flatnonzero(np.hypot(*(np.diff(held.position[:, :2], axis=0) / 0.5 - (0.0, -0.05)).T) < 1e-9)
+    assert still.size * 0.5 == pytest.approx(300.0, abs=0.5)  # 300 s moving with the water only
+    assert -held.position[still[0], 2] < 25.0  # at the surface waypoint (the switch radius before it)
+    model = EnergyModel.from_vehicle(VehicleParams())
+    extra = flown_energy(w, held.t, held.position, model).energy_wh - flown_energy(w, plain.t, plain.position,
+                                                                                   model).energy_wh
+    assert extra == pytest.approx(float(model.power(0.0)) * 300.0 / 3600.0, rel=0.05)  # the hotel load only
 
 
 def test_the_surface_dwell_is_in_the_energy_budget_at_hotel_power():
