@@ -350,3 +350,72 @@ def test_usbl_fixes_are_taken_at_depth_near_the_ship_with_their_slant_range_erro
     assert plan.points[i, 2] == pytest.approx(-150.0)  # taken where the vehicle is, not at the surface
     assert plan.check.budget.error_m[i] == pytest.approx(
         nav.confidence * fix_sigma(nav, "usbl", plan.points[i], nav.usbl_xy), rel=1e-9)
+
+
+_USBL_TOML = """name = "usbl-test"
+seed = 1
+[origin]
+lat = 16.0
+lon = 145.0
+[bounds]
+x = [0.0, 16000.0]
+y = [0.0, 12000.0]
+z = [-600.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 300.0
+cell_m = 500.0
+[mission]
+start = [1000.0, 6000.0, -150.0]
+goal = [15000.0, 6000.0, -150.0]
+route = [[1000.0, 6000.0, -150.0], [15000.0, 6000.0, -150.0]]
+min_altitude_m = 20.0
+min_depth_m = 0.0
+[navigation]
+drift_pct = 0.5
+drift_pct_no_lock = 1.5
+dvl_range_m = 100.0
+fix_error_m = 3.0
+max_error_m = 120.0
+usbl = { lat = 16.058726, lon = 145.0747642, error_pct = 1.0 }
+"""
+
+
+def test_mission_check_reads_the_usbl_fixes_back_from_fixes_csv(tmp_path, capsys):
+    import json
+
+    from auvplan.cli import main
+    from auvplan.io.missions.formats import mission_csv
+    from auvplan.io.results.records import write_navigation
+    from auvplan.io.scenario import loader
+    from auvplan.nav import plan_navigation
+
+    toml = tmp_path / "usbl.toml"
+    toml.write_text(_USBL_TOML)
+    world, mission = loader.build(loader.load(str(toml)))
+    nav = mission.navigation
+    plan = plan_navigation(world, np.array(mission.route), nav, 20.0, 1.5, nav.usbl_xy, compare=False)
+    assert plan.ok and plan.kinds.count("usbl") >= 1  # the ship is near: USBL fixes chosen
+    (tmp_path / "with").mkdir()
+    (tmp_path / "alone").mkdir()
+    for d in ("with", "alone"):
+        (tmp_path / d / "mission.csv").write_text(mission_csv(plan.points, world.origin, 1.5))
+    write_navigation(tmp_path / "with", plan, world.origin)
+
+    def check(d: str) -> tuple[int, dict]:
+        capsys.readouterr()
+        code = main(["mission", "check", str(tmp_path / d / "mission.csv"), "--scenario", str(toml), "--json"])
+        return code, json.loads(capsys.readouterr().out)["navigation"]
+
+    code, got = check("with")
+    assert code == 0 and got["usbl_fixes"] == plan.kinds.count("usbl") and got["fixes"] == plan.metrics()["fixes"]
+    np.testing.assert_allclose([leg["nav_error_m"] for leg in got["legs"]], plan.check.budget.leg_error_m, atol=0.01)
+    code, got = check("alone")  # the same file without its fixes.csv: the USBL fixes are lost, the budget fails
+    assert code == 1 and got["usbl_fixes"] == 0 and got["nav_error_max_m"] > nav.max_error_m
+    rows = (tmp_path / "with" / "fixes.csv").read_text().splitlines()
+    lat = float(rows[1].split(",")[0])
+    rows[1] = rows[1].replace(f"{lat:.7f}", f"{lat + 0.001:.7f}", 1)  # 110 m off its waypoint
+    (tmp_path / "with" / "fixes.csv").write_text("\n".join(rows) + "\n")
+    assert main(["mission", "check", str(tmp_path / "with" / "mission.csv"), "--scenario", str(toml)]) == 2
+    err = capsys.readouterr().err
+    assert "fixes.csv: row 2" in err and "Traceback" not in err
