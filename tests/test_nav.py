@@ -419,3 +419,90 @@ def test_mission_check_reads_the_usbl_fixes_back_from_fixes_csv(tmp_path, capsys
     assert main(["mission", "check", str(tmp_path / "with" / "mission.csv"), "--scenario", str(toml)]) == 2
     err = capsys.readouterr().err
     assert "fixes.csv: row 2" in err and "Traceback" not in err
+
+
+def _band_mission():
+    """A mission with a surfacing over a seabed step (lock lost and regained), and its error profile."""
+    from auvplan.nav import error_profile
+
+    w = _world(depth=300.0, z=lambda x, y: np.where(x < 15000.0, -180.0, -600.0))
+    route = np.array([[1000.0, 3000.0, -100.0], [9000.0, 9000.0, -100.0], [12000.0, 9000.0, 0.0],
+                      [14000.0, 8000.0, -150.0], [26000.0, 4000.0, -150.0]])
+    kinds = ("", "", "gps", "", "")
+    return w, route, kinds, error_profile(w, route, kinds, NAV)
+
+
+def test_error_band_is_the_union_of_the_discs_along_the_route():
+    """Oracle: brute force over discs round points every 5 m of the route, radius from the budget's closed form."""
+    import shapely
+
+    from auvplan.nav.band import error_band
+
+    w, route, kinds, prof = _band_mission()
+    b = mission_budget(w, route, kinds, NAV)
+    np.testing.assert_allclose(prof.after_m[np.r_[0, prof.fix.nonzero()[0], -1]][[0, 1]], b.error_m[[0, 2]])
+    assert prof.before_m.max() == pytest.approx(b.max_error_m, rel=1e-12)
+    band = error_band(prof, quad_segs=16)
+    s = np.linspace(0.0, prof.s_m[-1], 6000)  # centres and radii every 5 m, σ linear per sample interval
+    cx, cy = np.interp(s, prof.s_m, prof.xyz[:, 0]), np.interp(s, prof.s_m, prof.xyz[:, 1])
+    k = np.clip(np.searchsorted(prof.s_m, s, side="right") - 1, 0, prof.s_m.size - 2)
+    f = (s - prof.s_m[k]) / (prof.s_m[k + 1] - prof.s_m[k])
+    r = prof.after_m[k] + f * (prof.before_m[k + 1] - prof.after_m[k])
+    rng = np.random.default_rng(7)
+    q = np.column_stack([rng.uniform(0.0, 30000.0, 1500), rng.uniform(0.0, 12000.0, 1500)])
+    q = np.vstack([q, np.column_stack([cx, cy])[::12] + rng.normal(0.0, 80.0, (500, 2))])  # near the route too
+    gap = np.min(np.hypot(q[:, None, 0] - cx[None, :], q[:, None, 1] - cy[None, :]) - r[None, :], axis=1)
+    inside = shapely.contains_xy(band, q[:, 0], q[:, 1])
+    tol = 0.01 * r.max()  # polygonal discs (16 segments a quarter) and the oracle's 5 m spacing
+    assert np.all(inside[gap < -tol]) and not np.any(inside[gap > tol])
+    assert (gap < -tol).sum() > 150 and (gap > tol).sum() > 150
+
+
+def test_report_draws_the_band_and_the_error_against_time_and_the_folder_reads_it_back(tmp_path):
+    import plotly.graph_objects as go
+    import shapely
+
+    from auvplan.app.results import load_results
+    from auvplan.io.results.records import write_navigation, write_run
+    from auvplan.io.scenario import loader
+    from auvplan.nav import navigation_of, plan_navigation
+    from auvplan.nav.band import error_band
+    from auvplan.sim import RunRecord
+    from auvplan.viz.navview import figure_nav_error, mark_error_band, nav_profile
+
+    w, route, kinds, prof = _band_mission()
+    nav = navigation_of(w, route, kinds, replace_surface(NAV, 100.0), 1.5)
+    fig = go.Figure()
+    mark_error_band(fig, nav_profile(w, nav), nav)
+    band = next(t for t in fig.data if t.meta and t.meta["kind"] == "nav_band")
+    ring = np.column_stack([band.x, band.y])
+    ring = ring[np.isfinite(ring[:, 0])]
+    exact = error_band(prof)
+    assert shapely.Polygon(ring).symmetric_difference(exact).area < 1e-6 * exact.area  # the band drawn
+    err = figure_nav_error(nav_profile(w, nav), nav)
+    line = next(t for t in err.data if t.meta and t.meta["kind"] == "nav_error")
+    t, e = np.asarray(line.x) * 3600.0, np.asarray(line.y)
+    assert e.max() == pytest.approx(nav.check.budget.max_error_m, rel=1e-12)
+    drop = int(np.argmin(np.diff(e)))  # the fix: before at its arrival, after once the 100 s dwell is over
+    assert t[drop] == pytest.approx(nav.times_s[0], abs=1e-6) and t[drop + 1] - t[drop] == pytest.approx(100.0)
+    assert e[drop + 1] == pytest.approx(NAV.confidence * NAV.fix_error_m)
+    assert t[-1] == pytest.approx(np.linalg.norm(np.diff(route, axis=0), axis=1).sum() / 1.5 + 100.0)
+    # a results folder written by `run` gives `report DIR` its fixes back (the USBL ones from fixes.csv)
+    toml = tmp_path / "usbl.toml"
+    toml.write_text(_USBL_TOML)
+    world, mission = loader.build(loader.load(str(toml)))
+    un = mission.navigation
+    plan = plan_navigation(world, np.array(mission.route), un, 20.0, 1.5, un.usbl_xy, compare=False)
+    out = tmp_path / "run"
+    write_run(out, RunRecord("usbl-test", 1, None, plan.points, plan.points[:0], None, plan), toml.read_text(),
+              origin=world.origin)
+    write_navigation(out, plan, world.origin)
+    record = load_results(out, [])[1]
+    assert record.nav is not None and record.nav.kinds == plan.kinds and "usbl" in plan.kinds
+    np.testing.assert_allclose(record.nav.check.budget.error_m, plan.check.budget.error_m, rtol=1e-12)
+
+
+def replace_surface(nav: NavParams, surface_s: float) -> NavParams:
+    from dataclasses import replace
+
+    return replace(nav, surface_s=surface_s)
