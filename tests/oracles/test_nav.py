@@ -450,7 +450,8 @@ def test_error_band_is_the_union_of_the_discs_along_the_route():
     r = prof.after_m[k] + f * (prof.before_m[k + 1] - prof.after_m[k])
     rng = np.random.default_rng(7)
     q = np.column_stack([rng.uniform(0.0, 30000.0, 1500), rng.uniform(0.0, 12000.0, 1500)])
-    q = np.vstack([q, np.column_stack([cx, cy])[::12] + rng.normal(0.0, 80.0, (500, 2))])  # near the route too
+    q = np.vstack([q, np.column_stack([cx, cy])[::12] + rng.normal(0.0, 80.0, (500, 2)),  # near the route too
+                   np.column_stack([cx, cy])[::7]])  # and on it: the band is connected, not beads of discs
     gap = np.min(np.hypot(q[:, None, 0] - cx[None, :], q[:, None, 1] - cy[None, :]) - r[None, :], axis=1)
     inside = shapely.contains_xy(band, q[:, 0], q[:, 1])
     tol = 0.01 * r.max()  # polygonal discs (16 segments a quarter) and the oracle's 5 m spacing
@@ -506,3 +507,22 @@ def replace_surface(nav: NavParams, surface_s: float) -> NavParams:
     from dataclasses import replace
 
     return replace(nav, surface_s=surface_s)
+
+
+def test_serve_draws_the_band_of_the_mission_being_edited():
+    import shapely
+
+    from auvplan.nav.band import error_band
+    from auvplan.serve.navband import SIMPLIFY_M, nav_band
+    from auvplan.sim import Mission
+
+    w, route, kinds, prof = _band_mission()  # its surfacing is the one waypoint at depth 0: read as the fix
+    base = Mission("t", tuple(route[0]), tuple(route[-1]))
+    assert nav_band(w, base, route) is None  # no [navigation]: nothing drawn
+    got = nav_band(w, Mission("t", tuple(route[0]), tuple(route[-1]), navigation=NAV), route)
+    xy = np.column_stack([np.array(got["x"], dtype=float), np.array(got["y"], dtype=float)])
+    rings = np.split(xy, np.flatnonzero(np.isnan(xy[:, 0])))
+    drawn = shapely.union_all([shapely.Polygon(r[np.isfinite(r[:, 0])]) for r in rings if np.isfinite(r).sum() > 6])
+    assert drawn.hausdorff_distance(error_band(prof)) <= SIMPLIFY_M + 1e-6
+    assert got["max_error_m"] == pytest.approx(mission_budget(w, route, kinds, NAV).max_error_m, abs=0.01)
+    assert got["fixes"] == 1 and got["budget_m"] == NAV.max_error_m

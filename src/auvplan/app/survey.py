@@ -97,6 +97,8 @@ def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: 
     summary = {k: rec[k] for k in keys} | {"tie_lines": len(run.plan.tie_waypoints()),
                                            "overlap_margin_pct": 100 * run.plan.overlap_margin,
                                            "least_turn_radius_m": run.plan.min_turn_radius_m}
+    if rec.get("nav_spacing"):  # issue 52: the spacing under the relative navigation error, stated
+        summary["navigation"] = rec["nav_spacing"]["text"]
     section = survey_section((out / "coverage.png").read_bytes(), line_table(run, world.seabed), summary)
     page = build_report(world, run.record, text, records.summary_metrics(run.record),
                         frame.inverse if frame else None, sections=[("Survey", section)])
