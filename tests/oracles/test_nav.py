@@ -251,8 +251,12 @@ min_depth_m = 0.0
         loader.build(loader.loads(base.replace("min_depth_m = 0.0", "min_depth_m = 5.0"), "t.toml"))
 
 
-def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path):
+def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path, capsys):
+    import json
+
     from auvplan.cli import main
+    from auvplan.endurance import EnergyModel
+    from auvplan.endurance import mission_budget as energy_budget
     from auvplan.io.missions.formats import mission_csv
     from auvplan.io.scenario import loader
     from auvplan.sim.pipeline import navigation_plan, planned_route
@@ -267,7 +271,13 @@ def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fa
     (tmp_path / "bare.csv").write_text(mission_csv(route, world.origin, 1.5))
     (tmp_path / "fixed.csv").write_text(mission_csv(plan.points, world.origin, 1.5))
     assert main(["mission", "check", str(tmp_path / "bare.csv"), "--scenario", "mariana-nav", "--json"]) == 1
+    capsys.readouterr()
     assert main(["mission", "check", str(tmp_path / "fixed.csv"), "--scenario", "mariana-nav", "--json"]) == 0
+    energy = json.loads(capsys.readouterr().out)["energy"]  # the surface dwells held in the file's budget too
+    planned = energy_budget(world, plan.points, EnergyModel.from_vehicle(mission.vehicle), 1.5, dwell=plan.dwell_s)
+    assert energy["duration_s"] == pytest.approx(planned.duration_s, abs=1.0)
+    assert energy["duration_s"] > energy_budget(world, plan.points, EnergyModel.from_vehicle(mission.vehicle),
+                                                1.5).duration_s + 0.99 * plan.dwell_s.sum()
 
 
 def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix_resets_it():
