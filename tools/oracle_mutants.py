@@ -53,13 +53,13 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "flow-sphere-leaky-line-image": (
         "planners/flow/field.py",
-        "line = (m / (FOUR_PI * self.A) * 2.0 * L)",
-        "line = (m / (FOUR_PI * self.A) * 1.0 * L)",
+        "(m / (FOUR_PI * self.A) * 2.0 * L)[:, None]",
+        "(m / (FOUR_PI * self.A) * 1.0 * L)[:, None]",
     ),
     "flow-sphere-image-strength": (
         "planners/flow/field.py",
-        "image = -(m * self.A / (FOUR_PI * b))",
-        "image = -(m / (FOUR_PI * b))",
+        "-(m * self.A / (FOUR_PI * b))[:, None]",
+        "-(m / (FOUR_PI * b))[:, None]",
     ),
     "cost-vertical-current-ignored": (
         "cost.py",
@@ -73,8 +73,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "route-ignores-switch-radius": (
         "guidance/following/route.py",
-        "if along >= self.length[self.k] - self.switch_radius:",
-        "if along >= self.length[self.k]:",
+        "if along >= lengths[self.k] - (0.0 if self.tail[self.k] else self.switch_radius):",
+        "if along >= lengths[self.k]:",
     ),
     "iabc-accepts-every-mutation": (
         "optim/bee.py",
@@ -165,8 +165,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     # issue #49: the eight bugs that survived the suite, each caught by tests/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
-        "energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)",
-        "energy = np.asarray(model.power(tr.speeds[0]) * dur / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
     ),
     "edges-pnr-previous-legs-power": (
         "endurance/pnr.py",
