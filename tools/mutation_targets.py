@@ -28,7 +28,8 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
-GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
+GRID, LATTICE = "auvplan.planners.grid.reference", "auvplan.planners.grid.lattice"
+HEAP = "auvplan.planners.grid.heap"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.avoidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
@@ -73,8 +74,8 @@ MODULES: dict[str, Target] = {
     # the links of the goal and starts to the lattice
     "grid": Target(
         _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
-             "_edge_weight", "_sift_up", "_sift_down", "_push", "_pop", "_heuristic", "_search", "search",
-             "free_edges")
+             "_edge_weight", "_heuristic", "_settle_link", "_search", "search", "free_edges")
+        + _fns(HEAP, "_sift_up", "_sift_down", "push", "pop")
         + _fns(GRID, "GridReference._connect"),
         tuple(f"tests/test_oracles.py::test_{t}" for t in (
             "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
@@ -458,7 +459,7 @@ REASONS: dict[str, str] = {
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] < k <= box[5]):": _BOX,
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k < box[5]):": _BOX,
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[5] <= k <= box[5]):": _BOX,
-    "_pop | pos[heap[0]] = 1": "equivalent: _sift_down always sets the position of the node it sifts",
+    "pop | pos[heap[0]] = 1": "equivalent: _sift_down always sets the position of the node it sifts",
     "edge_states | for c0 in range(0, unsure.size, 200001):": "equivalent: the chunk size of the exact test",
     "edge_states | u = unsure[c0:c0 + 200001]": "equivalent: overlapping chunks test some edges twice",
     "edge_states | state[u] = world.segments_free(seg, moving=True, ends_free=True)":
