@@ -23,12 +23,14 @@ from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams
 from ..world import World
+from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
 from .result import RunRecord
 
 __all__ = ["navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
-           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
+           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
+           "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -258,6 +260,31 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
 
 def planned_route(world: World, mission: Mission, seed: RngLike,
                   progress: Progress | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+    """The route a mission flies: :func:`planned_fit`'s waypoints.
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    seed : Generator, int or None
+        Seed of the planner.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+
+    Returns
+    -------
+    tuple
+        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None when the plan
+        or the fit failed.
+    """
+    planned, fit = planned_fit(world, mission, seed, progress)
+    return planned, fit.waypoints if fit is not None else None
+
+
+def planned_fit(world: World, mission: Mission, seed: RngLike,
+                progress: Progress | None = None) -> tuple[PlanResult | None, MissionFit | None]:
     """The route a mission flies: its fixed route, or the global plan's (:func:`mission_route`).
 
     Either is held to the vehicle's limits (:func:`fitted_route`); a mission the vehicle cannot
@@ -277,13 +304,13 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     Returns
     -------
     tuple
-        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None
-        when the plan or the fit failed.
+        The plan (None for a fixed route the vehicle can fly) and the fitted route (:class:`MissionFit`: its
+        waypoints ``(N, 3)`` (m) and altitude band), None when the plan or the fit failed.
     """
     if mission.route:
         fit = fitted_route(world, mission, mission.route)
         if fit.ok:
-            return None, fit.waypoints
+            return None, fit
         route = np.asarray(mission.route, dtype=float)
         return PlanResult(Status.INFEASIBLE, route, float("inf"), {}, 0, 0, 0.0, np.empty(0), "route",
                           message=f"the vehicle cannot fly the [mission] route: {fit.message}"), None
@@ -301,7 +328,7 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
                        message=f"the vehicle cannot fly the mission built from the plan: {fit.message}"), None
-    return planned, fit.waypoints
+    return planned, fit
 
 
 def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
@@ -390,9 +417,10 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned, route = planned_route(world, mission, seed, progress)
-    if route is None:
+    planned, fit = planned_fit(world, mission, seed, progress)
+    if fit is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
+    route = fit.waypoints
     nav = navigation_plan(world, mission, route)
     if nav is not None:  # the fixes are part of the mission: surfacings (depth 0) and USBL fix waypoints
         route = nav.points
@@ -407,4 +435,6 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight, tail=tail, fix_kinds=nav.kinds if nav is not None else None)
-    return RunRecord(mission.name, recorded, planned, route, keys, result, nav)
+    altitude = altitude_band_metrics(world.terrain, route, fit.band, (result.progress, result.altitude)) \
+        if world.terrain is not None and fit.band.target_m > 0.0 else None
+    return RunRecord(mission.name, recorded, planned, route, keys, result, nav, altitude)
