@@ -10,7 +10,15 @@ import numpy as np
 import pytest
 
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.path.flyable import PITCH_SLACK_DEG, VehicleLimits, check_limits, leg_pitch_deg, merge_close
+from auvplan.path.flyable import (
+    PITCH_SLACK_DEG,
+    VehicleLimits,
+    check_limits,
+    flyby_arcs,
+    leg_pitch_deg,
+    leg_turn_radius,
+    merge_close,
+)
 from auvplan.planners.vehicle_limits import repair_pitch, vertex_floors
 
 # legs: 0 climbs 20 m down over 100 m (11.31°), 1 level, 2 level after a 90° turn, 3 after another 90° turn
@@ -46,6 +54,20 @@ def test_check_limits_at_exactly_each_limit_passes() -> None:
     assert check_limits(q[:2], VehicleLimits(90.0, 0.0, 29.0)).violations[0].value == 30.0
     one = check_limits(q[:1], VehicleLimits())  # a single point: its depth, no legs
     assert (one.max_depth_m, one.max_pitch_leg, one.tightest_turn_leg, one.violations) == (10.0, -1, -1, ())
+
+
+def test_turns_are_judged_on_the_horizontal_track() -> None:
+    """A right-angle corner between two legs both climbing 20 %: still 90° (only x, y count), so each 100 m leg's
+    fly-by fits R = 100 / tan 45°; a vertex 0.5 m off a 200 m chord is no corner at R = 60 m (the track is
+    simplified to 6 m first: tightest turn inf), and the straight vertex before a corner keeps its fly-by there."""
+    climb = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 20.0], [100.0, 100.0, 40.0]])
+    assert leg_turn_radius(climb) == pytest.approx([100.0, 100.0])
+    nearly = np.array([[0.0, 0.0, -10.0], [100.0, 0.5, -10.0], [200.0, 0.0, -10.0]])
+    assert check_limits(nearly, VehicleLimits(turn_radius_m=60.0)).tightest_turn_m == math.inf
+    entry, exit_, centre = flyby_arcs([[0, 0, 0], [100, 0, 0], [200, 0, 0], [200, 100, 0]], 10.0)
+    assert entry[1].tolist() == exit_[1].tolist() == centre[1].tolist() == [100.0, 0.0]  # straight: the vertex
+    assert entry[2] == pytest.approx([190.0, 0.0]) and exit_[2] == pytest.approx([200.0, 10.0])
+    assert centre[2] == pytest.approx([190.0, 10.0])  # a left turn: the centre to the left of the first leg
 
 
 def test_merge_close_keeps_the_ends_and_drops_only_what_is_closer_than_tol() -> None:
@@ -109,3 +131,9 @@ def test_repair_pitch_is_the_lowest_profile_within_the_limit() -> None:
     assert np.abs(leg_pitch_deg(fixed)).max() == pytest.approx(12.0 - PITCH_SLACK_DEG, abs=1e-6)
     assert fixed[1:-1, 2].min() == pytest.approx(-80.0, abs=1e-9)  # away from the ridge it stays at -80 m
     assert repair_pitch(world, path, 0.5) is None  # 40 m up over the ridge's flanks is out of reach at 0.5°
+    low = path.copy()  # start and goal pinned 8 m above the seabed, under min_altitude (10 m): kept where they are
+    low[[0, -1], 2] = -92.0
+    fixed = repair_pitch(world, low, 12.0)
+    assert fixed is not None and fixed[0, 2] == fixed[-1, 2] == -92.0
+    assert np.all(fixed[1:-1, 2] >= floors[1:-1] - 1e-9)
+    assert np.abs(leg_pitch_deg(fixed)).max() == pytest.approx(12.0 - PITCH_SLACK_DEG, abs=1e-6)  # off the ends
