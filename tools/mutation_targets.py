@@ -828,3 +828,48 @@ REASONS.update({
         ("boundary, not killed: a flight that uses exactly its budget keeps exactly its reserve (EXACT); the mutant "
          "calls it RESERVE_BROKEN, which no float example hits"),
 })
+
+# issue #49, second session: vehicle-limits' survivors, argued (the rest killed by tests/unit/test_limits_by_hand.py)
+_HYPOT3 = ("equivalent: np.hypot(dx, dy, dz) passes dz as hypot's ``out`` array, so the values are hypot(dx, dy) "
+           "all the same")
+_SCALE = "equivalent: atan2(|a x b|, a . b) does not change when a or b is scaled by a positive length"
+_AT_TOL = ("boundary, not killed: the figure would have to equal the limit + 1e-9 (or R (1 - 1e-9)) exactly; at the "
+           "limit itself the check passes either way (test_check_limits_at_exactly_each_limit_passes)")
+REASONS.update({
+    "turn_angles | prev = -2": "equivalent: prev only tells whether a previous leg exists (prev >= 0)",
+    "turn_angles | for k in np.flatnonzero(length >= MIN_LEG_M):":
+        "boundary, not killed: a leg exactly 1e-6 m long (MIN_LEG_M) counts as a leg; no mission has one",
+    "turn_angles | a, b = (d[prev] * length[prev], d[k] / length[k])": _SCALE,
+    "turn_angles | a, b = (d[prev] / length[prev], d[k] * length[k])": _SCALE,
+    "leg_turn_radius | length = np.hypot(*np.diff(p[:, :3], axis=0).T)": _HYPOT3,
+    "leg_turn_radius | half = np.tan(np.minimum(turn_angles(p), math.pi + 1e-12) / 2.0)":
+        ("equivalent in use: only a reversal (pi) tells; its fit radius is then L / 1.6e16 instead of L / 2e12, "
+         "below a micrometre either way, so every limit reads it as 0"),
+    "leg_turn_radius | half = np.tan(np.minimum(turn_angles(p), math.pi - 1.000000000001) / 2.0)":
+        ("not killed: turns over pi - 1 rad (123 deg) read as 123 deg, their fit radius 1.7x too large; "
+         "a turn that tight fails R anyway unless its legs are long (no test has one)"),
+    "leg_turn_radius | r = np.where(need >= 1e-15, length / np.where(need > 1e-15, need, 1.0), np.inf)":
+        "boundary: need exactly 1e-15 (turns of 2e-15 rad), where L / need is 1e15 m: no limit tells",
+    "leg_turn_radius | r = np.where(need > 1e-15, length / np.where(need >= 1e-15, need, 1.0), np.inf)":
+        "equivalent: the inner guard only keeps the discarded branch finite",
+    "leg_turn_radius | r = np.where(need > 1e-15, length / np.where(need > 1e-15, need, 2.0), np.inf)":
+        "equivalent: the placeholder divisor's result is discarded by the outer np.where",
+    "check_limits | if pitch[k] >= limits.max_pitch_deg + tol:": _AT_TOL,
+    "check_limits | if depth[k] >= limits.max_depth_m + tol:": _AT_TOL,
+    ("check_limits | bad += [LimitViolation(int(turns[k]), 'turn_radius_m', float(radius[k]), limits.turn_radius_m) "
+     "for k in np.flatnonzero(radius <= limits.turn_radius_m * (1.0 - tol))]"): _AT_TOL,
+    "corner_indices | kept = np.asarray(line.simplify(tolerance, preserve_topology=True).coords)[:, 2]":
+        ("equivalent in use: a track's simplification keeps the same vertices with or without topology "
+         "preservation unless the simplified track would cross itself (a self-crossing at the tolerance's scale)"),
+    "corner_indices | return np.unique(np.r_[1, np.rint(kept).astype(np.intp), len(p) - 1])":
+        ("not killed (conservative): index 0 is always kept by Douglas-Peucker; the mutant also keeps vertex 1, a "
+         "corner within the tolerance of the track, which can only add a turn to check (a stricter verdict)"),
+    "flyby_arcs | if dpsi[i] <= 1e-12:": "boundary: a turn of exactly 1e-12 rad (its arc is 1e-12 R long)",
+    "flyby_arcs | side = 1.0 if u[0] * v[1] - u[1] * v[0] >= 0 else -1.0":
+        "boundary: cross = 0 with a turn is a reversal (pi), whose fly-by does not exist (fit radius 0, flagged)",
+    "repair_pitch | s = np.r_[1.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]":
+        "equivalent: the profile depends on distances between vertices only (s shifted by 1 m everywhere)",
+    "repair_pitch | s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :3], axis=0).T))]": _HYPOT3,
+    ("repair_pitch | slope = math.tan(math.radians(max(max_pitch_deg - PITCH_SLACK_DEG, 0.5 / max_pitch_deg)))"):
+        "boundary: differs only for pitch limits under 0.72 deg (0.5 / limit > limit - 0.05); none is flown",
+})
