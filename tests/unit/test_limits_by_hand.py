@@ -137,3 +137,33 @@ def test_repair_pitch_is_the_lowest_profile_within_the_limit() -> None:
     assert fixed is not None and fixed[0, 2] == fixed[-1, 2] == -92.0
     assert np.all(fixed[1:-1, 2] >= floors[1:-1] - 1e-9)
     assert np.abs(leg_pitch_deg(fixed)).max() == pytest.approx(12.0 - PITCH_SLACK_DEG, abs=1e-6)  # off the ends
+
+
+def test_enforce_limits_repairs_only_what_it_can_and_says_why_not() -> None:
+    """A 2-point plan climbing 30° (limit 20°) cannot be re-profiled (its ends are pinned): INFEASIBLE naming the
+    vehicle; the same climb spread over 9 vertices is repaired within the limit; a timed plan is never repaired
+    (its times would no longer hold): INFEASIBLE."""
+    from dataclasses import replace
+
+    from auvplan._types import Status
+    from auvplan.planners import PlannerSpec
+    from auvplan.planners.base import PlanResult
+    from auvplan.planners.vehicle_limits import enforce_limits
+    from auvplan.sim.pipeline import planning_problem
+
+    world, mission = scenario_io.build(scenario_io.loads(RIDGE, "t.toml"))
+    problem = planning_problem(world, mission)
+    assert problem.limits is not None and problem.limits.max_pitch_deg == 20.0
+    rise = 100.0 * math.tan(math.radians(30.0))
+    two = np.array([[100.0, 200.0, -80.0], [200.0, 200.0, -80.0 + rise]])
+    plan = PlanResult(Status.EXACT, two, 1.0, {}, 0, 0, 0.0, np.empty(0), "straight")
+    out = enforce_limits(problem, PlannerSpec(), plan)
+    assert out.status is Status.INFEASIBLE and out.message.startswith("the vehicle cannot fly this plan"), out.message
+    x = np.linspace(100.0, 500.0, 9)
+    nine = np.column_stack([x, np.full(9, 200.0), np.interp(x, [100.0, 200.0, 500.0], [-80.0, -80.0 + rise,
+                                                                                         -80.0 + rise])])
+    fixed = enforce_limits(problem, PlannerSpec(), replace(plan, path=nine))
+    assert fixed.status is Status.EXACT and "depth profile repaired" in fixed.message
+    assert np.abs(leg_pitch_deg(fixed.path)).max() <= 20.0 and np.array_equal(fixed.path[[0, -1]], nine[[0, -1]])
+    timed = enforce_limits(problem, PlannerSpec(), replace(plan, path=nine, times=np.arange(9.0)))
+    assert timed.status is Status.INFEASIBLE
