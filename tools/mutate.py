@@ -487,7 +487,7 @@ def run_module(name: str, args: argparse.Namespace) -> dict:
 
     driver = _Driver(name, args)
     target = MODULES[name]
-    tests = list(LISTED.get(name, ()) if args.listed else target.tests) \
+    tests = list(args.tests or (LISTED.get(name, ()) if args.listed else target.tests)) \
         or importing_tests(sorted({spec[0] for spec in target.functions}))
     pytest.main(["-qq", "-p", "no:cacheprovider", *tests], plugins=[driver])
     return driver.record
@@ -725,6 +725,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--test-limit", type=float, default=30.0,
                     help="drop from a target's importing-file selection the tests whose unmutated run uses more "
                          "CPU seconds than this (default 30)")
+    ap.add_argument("--tests", nargs="+", help="pytest arguments to run instead of the target's selection (a re-run "
+                                                "of survivors against new tests: a kill is a kill, with --only)")
     ap.add_argument("--no-select", dest="select", action="store_false",
                     help="run every mutant against the whole selection (default: only the tests whose unmutated run "
                          "executes the changed lines, recorded by a line tracer)")
@@ -763,7 +765,7 @@ def main(argv: list[str] | None = None) -> int:
             fresh = {m["id"]: m for m in record["mutants"] if m["status"] != "not run"}
             old["mutants"] = [fresh.get(m["id"], m) for m in old["mutants"]]
             # the selection the re-run survivors met (a superset of the first pass's: killed stays killed)
-            old["tests"], old["slow"] = record["tests"], record["slow"]
+            old["tests"], old["slow"] = sorted(set(old["tests"]) | set(record["tests"])), record["slow"]
             old.setdefault("reruns", []).append({"ids": sorted(fresh), "tests": len(record["tests"]),
                                                  "load": record["load"]})
             record = old

@@ -54,6 +54,10 @@ def test_check_limits_at_exactly_each_limit_passes() -> None:
     assert check_limits(q[:2], VehicleLimits(90.0, 0.0, 29.0)).violations[0].value == 30.0
     one = check_limits(q[:1], VehicleLimits())  # a single point: its depth, no legs
     assert (one.max_depth_m, one.max_pitch_leg, one.tightest_turn_leg, one.violations) == (10.0, -1, -1, ())
+    assert (one.max_pitch_deg, one.tightest_turn_m) == (0.0, math.inf)
+    # a leg's depth is its deeper end, whatever the first waypoint's: 50 m on legs 0 and 1
+    v = check_limits([[0.0, 0.0, -10.0], [100.0, 0.0, -50.0], [200.0, 0.0, -20.0]], VehicleLimits(90.0, 0.0, 40.0))
+    assert [(x.leg, x.value) for x in v.violations] == [(0, 50.0), (1, 50.0)]
 
 
 def test_turns_are_judged_on_the_horizontal_track() -> None:
@@ -63,7 +67,8 @@ def test_turns_are_judged_on_the_horizontal_track() -> None:
     climb = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 20.0], [100.0, 100.0, 40.0]])
     assert leg_turn_radius(climb) == pytest.approx([100.0, 100.0])
     nearly = np.array([[0.0, 0.0, -10.0], [100.0, 0.5, -10.0], [200.0, 0.0, -10.0]])
-    assert check_limits(nearly, VehicleLimits(turn_radius_m=60.0)).tightest_turn_m == math.inf
+    straight = check_limits(nearly, VehicleLimits(turn_radius_m=60.0))
+    assert (straight.tightest_turn_m, straight.tightest_turn_leg) == (math.inf, -1)
     entry, exit_, centre = flyby_arcs([[0, 0, 0], [100, 0, 0], [200, 0, 0], [200, 100, 0]], 10.0)
     assert entry[1].tolist() == exit_[1].tolist() == centre[1].tolist() == [100.0, 0.0]  # straight: the vertex
     assert entry[2] == pytest.approx([190.0, 0.0]) and exit_[2] == pytest.approx([200.0, 10.0])
@@ -77,6 +82,8 @@ def test_merge_close_keeps_the_ends_and_drops_only_what_is_closer_than_tol() -> 
     assert merge_close([[0, 0, 0], [0.006, 0, 0.009], [0.0061, 0, 0.009]], 0.01).tolist() == [0, 2]  # last wins
     assert merge_close([[0, 0, 0], [0.001, 0, 0]], 0.01).tolist() == [0, 1]  # both ends although close
     assert merge_close([[0, 0, 0], [0.001, 0, 0], [0.002, 0, 0], [9, 0, 0]], 0.01).tolist() == [0, 3]
+    assert merge_close([[0, 0, 0], [1, 0, 0], [2, 0, 0], [2.001, 0, 0]], 0.01).tolist() == [0, 1, 3]  # the end
+    # replaces the last kept vertex, not another
 
 
 RIDGE = """
