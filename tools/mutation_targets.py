@@ -873,3 +873,27 @@ REASONS.update({
     ("repair_pitch | slope = math.tan(math.radians(max(max_pitch_deg - PITCH_SLACK_DEG, 0.5 / max_pitch_deg)))"):
         "boundary: differs only for pitch limits under 0.72 deg (0.5 / limit > limit - 0.05); none is flown",
 })
+REASONS.update({
+    ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].max()) if len(full) else 0.0, (), "
+     "limits)"): "equivalent: the branch holds one point at most, whose least and largest z are the same",
+    ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].min()) if len(full) else 1.0, (), "
+     "limits)"): "equivalent in use: an empty polyline's depth; every caller passes two points or more (plans, missions)",
+    "corner_indices | if tolerance <= 0.0 and len(p) < 3:":
+        ("equivalent in use: tolerance 0 comes from turn_radius_m = 0, when no turn is checked; Douglas-Peucker at 0 "
+         "only drops exactly collinear vertices (the reported tightest turn of an unlimited vehicle may change)"),
+    "corner_indices | if tolerance < 0.0 or len(p) < 3:":
+        ("equivalent in use: tolerance 0 comes from turn_radius_m = 0, when no turn is checked; Douglas-Peucker at 0 "
+         "only drops exactly collinear vertices (the reported tightest turn of an unlimited vehicle may change)"),
+    "corner_indices | if tolerance <= 1.0 or len(p) < 3:":
+        ("not killed (conservative): radii up to 10 m (track tolerance 0.1 R <= 1 m) judge every vertex of a dense "
+         "curve as a corner, a stricter verdict"),
+    "merge_close | if keep[-1] != len(p) + 1:":
+        ("equivalent in use: when the last kept vertex is the end the branch rewrites it with itself; only a single "
+         "point becomes [0, 0], which check_limits returns before merging"),
+    "enforce_limits | if lim is None or not result.status.ok or result.path.shape[1] < 2:":
+        ("equivalent: shape[1] is 3; a path of 0 or 1 point then reaches check_limits, whose report is ok, and is "
+         "returned unchanged as before"),
+    "enforce_limits | steep = all((v.limit == 'max_pitch_deg' for v in report.violations))":
+        ("not killed (message only): with pitch and turn violations both verdicts are INFEASIBLE (a repair keeps the "
+         "horizontal track, so the turn stays); the original names what is left after the pitch repair"),
+})

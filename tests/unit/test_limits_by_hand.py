@@ -66,6 +66,9 @@ def test_turns_are_judged_on_the_horizontal_track() -> None:
     simplified to 6 m first: tightest turn inf), and the straight vertex before a corner keeps its fly-by there."""
     climb = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 20.0], [100.0, 100.0, 40.0]])
     assert leg_turn_radius(climb) == pytest.approx([100.0, 100.0])
+    back = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [100.0 - 100.0 * math.cos(math.radians(30.0)),
+                                                          100.0 * math.sin(math.radians(30.0)), 0.0]])
+    assert leg_turn_radius(back) == pytest.approx(100.0 / math.tan(math.radians(75.0)))  # a 150° turn: 26.8 m
     nearly = np.array([[0.0, 0.0, -10.0], [100.0, 0.5, -10.0], [200.0, 0.0, -10.0]])
     straight = check_limits(nearly, VehicleLimits(turn_radius_m=60.0))
     assert (straight.tightest_turn_m, straight.tightest_turn_leg) == (math.inf, -1)
