@@ -73,6 +73,7 @@ from pathlib import Path  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.append(str(ROOT))  # as `python -m pytest` from the root: tests that import benchmarks/
 
 from mutation_targets import LISTED, MODULES, REASONS  # noqa: E402
 
