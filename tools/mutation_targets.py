@@ -897,3 +897,23 @@ REASONS.update({
         ("not killed (message only): with pitch and turn violations both verdicts are INFEASIBLE (a repair keeps the "
          "horizontal track, so the turn stays); the original names what is left after the pitch repair"),
 })
+
+# issue #49, second session: endurance's survivors (a seeded sample of 40), argued
+_MONO = ("equivalent while f(s) = energy out + energy back - budget rises along the route (every test and built-in: "
+         "the energy out grows faster than the way back shrinks); the grid only brackets the first crossing")
+REASONS.update({
+    "budget_of | ground = np.where(moving >= 0, length / np.where(moving > 0, moving, 1.0), np.nan)":
+        ("reporting only: a leg with no moving time (a pure dwell) reports ground speed length / 1 = 0 m/s instead of "
+         "NaN; the verdict, energies and times are the same"),
+    "budget_of | if margin < -1e-09 / model.battery_wh:":
+        "boundary: the float tolerance on the margin (1e-9 of the battery in Wh) at 1e-9 / battery instead",
+    "budget_of | over = int(np.argmax(remaining <= model.reserve_wh - 1e-09 * model.battery_wh))":
+        "boundary: which leg 'enters' the reserve when a leg ends exactly on it (within 1e-9 of the battery)",
+    "_return_energy | keep = np.r_[True, np.linalg.norm(np.diff(back, axis=0), axis=1) > 1.000000001]":
+        ("not killed (sub-metre): return-route vertices closer than 1 m to the previous one are dropped; the way "
+         "back changes by under a metre per dropped vertex"),
+    "point_of_no_return | grid = np.linspace(0.0, total, min(2, samples) + 1)": _MONO,
+    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) + 2)": _MONO,
+    "point_of_no_return | while hi - lo >= tol:": "equivalent within tol: one more bisection step at most",
+    "point_of_no_return | if fm >= 0:": "boundary: a bisection midpoint exactly at the point of no return (f = 0)",
+})
