@@ -917,3 +917,13 @@ REASONS.update({
     "point_of_no_return | while hi - lo >= tol:": "equivalent within tol: one more bisection step at most",
     "point_of_no_return | if fm >= 0:": "boundary: a bisection midpoint exactly at the point of no return (f = 0)",
 })
+
+# issue #49, second session: geoinput's survivors (a seeded sample of 40), argued
+REASONS.update({
+    ("_derive_origin | return (0.5 * (float(lat.min()) + float(lat.max())), float(np.mod(lon0 - 180.0, 360.0) - "
+     "180.0))"): "equivalent: lon0 + 180 and lon0 - 180 differ by 360, which np.mod(..., 360) removes",
+    ("resolve_positions | pts = [(g[0], g[1]) for _, _, _, g, mission in found if mission] or [(g[1], g[1]) for _, _, "
+     "_, g, _ in found]"):
+        ("not killed: the origin of a scenario whose only geographic positions lie outside [mission] (obstacles, "
+         "rally points given in degrees, the mission in metres); no test has one"),
+})
