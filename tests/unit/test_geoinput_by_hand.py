@@ -42,10 +42,10 @@ def test_bounds_with_depths_only_get_derived_sides() -> None:
 
 
 def test_the_derived_box_holds_the_survey_area_and_its_swath() -> None:
-    """The mission inside a 0.04° by 0.02° survey area with 200 m swaths: the box is the area's projected extent
-    ± 100 m (half a swath), plus the margin of its larger (north-south) side, on every side."""
-    poly = [[14.02, 158.02], [14.06, 158.02], [14.06, 158.04], [14.02, 158.04]]  # (lat, lon): 4.4 km by 2.2 km
-    data = {"mission": _mission(14.04, 158.03), "survey": {"polygon": poly, "width_m": 200.0}}
+    """The mission inside a 0.2° by 0.02° survey area with 200 m swaths: the box is the area's projected extent
+    ± 100 m (half a swath), plus the margin of its larger (north-south) side, 25 % of 22 km, on every side."""
+    poly = [[14.0, 158.02], [14.2, 158.02], [14.2, 158.04], [14.0, 158.04]]  # (lat, lon): 22 km by 2.2 km
+    data = {"mission": _mission(14.1, 158.03), "survey": {"polygon": poly, "width_m": 200.0}}
     g = resolve_positions(data, "t.toml")
     assert g is not None and g.bounds_derived and g.origin is not None
     sx, sy = LocalFrame(*g.origin).forward(np.array([p[1] for p in poly]), np.array([p[0] for p in poly]))
