@@ -20,6 +20,8 @@ R = 10.0
     ((0.0, -2 * R, math.pi), math.pi * R, {"RSR"}),  # to the right
     ((2 * R, 4 * R, 0.0), math.pi * R + 2 * R, {"LSR"}),  # quarter left, 2R north, quarter right
     ((2 * R, -4 * R, 0.0), math.pi * R + 2 * R, {"RSL"}),
+    ((2 * R, -2.5 * R, 0.0), math.pi * R + 0.5 * R, {"RSL"}),  # a straight shorter than R
+    ((2 * R, 2.5 * R, 0.0), math.pi * R + 0.5 * R, {"LSR"}),
     ((0.0, 0.0, math.pi), None, {"LRL", "RLR"}),  # turn round on the spot: three arcs
 ])
 def test_closed_form_lengths_and_words(end, length, words) -> None:  # type: ignore[no-untyped-def]
@@ -49,3 +51,10 @@ def test_every_path_ends_at_the_goal_with_its_heading_along_arcs_of_radius_r() -
         straight = math.hypot(end[0] - start[0], end[1] - start[1])
         assert t.length <= straight + 2.0 * R + 4.0 * math.pi * R + 1e-6  # a CSC path: two arcs < 2πR, the straight
         # between the circles' tangent points at most d + 2R
+
+
+def test_any_positive_radius_is_taken_and_no_other() -> None:
+    assert dubins((0.0, 0.0, 0.0), (0.0, 1.0, math.pi), 0.5).length == pytest.approx(0.5 * math.pi)
+    for bad in (0.0, -1.0, math.nan):
+        with pytest.raises(ValueError, match="must be positive"):
+            dubins((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), bad)
