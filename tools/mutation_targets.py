@@ -927,3 +927,12 @@ REASONS.update({
         ("not killed: the origin of a scenario whose only geographic positions lie outside [mission] (obstacles, "
          "rally points given in degrees, the mission in metres); no test has one"),
 })
+
+# issue #49, second session: survey-turns' survivors (a seeded sample of 40), argued
+REASONS.update({
+    "_words | if p2 > 0:": ("boundary: an LSR with no straight (p2 = 0 exactly) is then left out; the LRL/RLR or "
+                            "another CSC word of the same length covers it only if one exists, which no float "
+                            "configuration of the tests hits"),
+    "_words | if abs(tmp) < 1:": ("boundary: a CCC word whose middle arc is exactly 2pi - acos(+-1); "
+                                  "the CSC words cover these configurations"),
+})
