@@ -1,18 +1,17 @@
-"""What the commands of the command line share: progress on stderr, the check of ``--out`` before any work,
-and their output (a human line, or one JSON object with ``--json``)."""
+"""What the commands of the command line share: progress on stderr and their output (a human line, or one JSON
+object with ``--json``).  The check of ``--out`` before any work is each job's (:func:`auvplan.io.safeio.prepare_out`
+in :mod:`auvplan.app`)."""
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
-from collections.abc import Callable, Iterable
-from pathlib import Path
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from ..io.safeio import RESULT_NAMES, prepare_out
-
 if TYPE_CHECKING:
+    import argparse
+
     from ..planners import PlannerSpec
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
@@ -64,14 +63,6 @@ class Progress:
 def reporter(quiet: bool) -> Callable[[PlannerSpec, str], Progress]:
     """The progress reporter a job builds from its planner and scenario (:class:`auvplan.app.Reporter`)."""
     return lambda spec, scenario: Progress(spec, scenario, quiet)
-
-
-def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path | None:
-    """Check ``--out`` before any work (creatable, writable, no user file or link in the way)."""
-    if getattr(args, "out", None) is None:
-        return None
-    job = "sweep" if getattr(args, "depart_between", None) else str(getattr(args, "command", "") or "")
-    return prepare_out(args.out, names, force=getattr(args, "force", False), job=job)
 
 
 JSON_WARNINGS: list[str] = []

@@ -43,6 +43,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
              + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
              + f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']} lines, "
                f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
+             + (f"\n  {rec['nav_spacing']['text']}" if rec.get("nav_spacing") else "")
              + (f"\n  {rec['message']}" if rec["message"] else "")
              + "".join(f"\n  note: {n}" for n in rec.get("notes", [])))
     if args.json:

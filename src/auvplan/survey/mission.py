@@ -17,6 +17,7 @@ import shapely
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..nav import NavParams
 from ..parallel import Runner
 from ..path.flyable import VehicleLimits
 from ..path.legs import helm_check
@@ -32,8 +33,8 @@ from .turns import dubins, sample_turn
 _WIDEN_TRIES = 40
 """Turns re-drawn 3 % wider at most this often (a factor 3.3) before the last one is kept."""
 
-__all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
-           "DEFAULT_TURN_RADIUS_M"]
+__all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "nav_spacing", "TURN",
+           "TRANSIT", "DEFAULT_TURN_RADIUS_M"]
 
 TURN = -1
 TRANSIT = -2
@@ -361,6 +362,29 @@ def _transit(shared: _Transit, leg: tuple[Any, Any, str]) -> tuple[PlanResult, N
     return planned, path
 
 
+def nav_spacing(nav: NavParams | None, params: SurveyParams) -> tuple[float, float]:
+    """``LineParams``' relative navigation error (issue 52): an AUV-mounted sensor dead-reckons, at the drift
+    rate of its lock state on the lines (bottom lock when the sensor's altitude is within the DVL's range);
+    a surface mounting has GPS (no relative drift).
+
+    Parameters
+    ----------
+    nav : NavParams or None
+        ``[navigation]``.
+    params : SurveyParams
+        The survey: sensor, run-ins and turn radius.
+
+    Returns
+    -------
+    tuple of float
+        ``nav_rel_per_m`` (confidence × rate; 0: none) and ``nav_turn_m`` (run-ins and the longest turn: 2πR).
+    """
+    if nav is None or params.sensor.mounting != "auv":
+        return 0.0, 0.0
+    rate = nav.rate(params.sensor.altitude_m <= nav.dvl_range_m)
+    return nav.confidence * rate, 2.0 * params.run_in_m + 2.0 * math.pi * params.turn_radius_m
+
+
 def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,
                 progress: Progress | None = None, runner: Runner | None = None) -> SurveyPlan:
     """Plan a survey mission: lines, turns, depth, checks and the transits out and home.
@@ -398,7 +422,8 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     surface_z = -max(world.margins.min_depth, 0.0)
     margin = crab_margin(world.currents, params.area, surface_z, mission.vehicle.speed, params.frame, heading,
                          0.5 * (1.0 - params.lines.overlap_min)) if params.hold_overlap else 0.0
-    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin)
+    rel, turn = nav_spacing(mission.navigation, params)  # issue 52: adjacent lines' relative error
+    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin, nav_rel_per_m=rel, nav_turn_m=turn)
     lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
     route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
                                         max(world.margins.min_depth, 0.0))
