@@ -23,6 +23,7 @@ from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams
 from ..world import World
+from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
 from .result import RunRecord
@@ -30,7 +31,8 @@ from .tracking import contract_world, route_bound, route_keeps
 
 __all__ = ["kept_route", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
            "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
-           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
+           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
+           "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -260,6 +262,31 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
 
 def planned_route(world: World, mission: Mission, seed: RngLike,
                   progress: Progress | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+    """The route a mission flies: :func:`planned_fit`'s waypoints.
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    seed : Generator, int or None
+        Seed of the planner.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+
+    Returns
+    -------
+    tuple
+        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None when the plan
+        or the fit failed.
+    """
+    planned, fit = planned_fit(world, mission, seed, progress)
+    return planned, fit.waypoints if fit is not None else None
+
+
+def planned_fit(world: World, mission: Mission, seed: RngLike,
+                progress: Progress | None = None) -> tuple[PlanResult | None, MissionFit | None]:
     """The route a mission flies: its fixed route, or the global plan's (:func:`mission_route`).
 
     Either is held to the vehicle's limits (:func:`fitted_route`); a mission the vehicle cannot
@@ -279,13 +306,13 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     Returns
     -------
     tuple
-        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None
-        when the plan or the fit failed.
+        The plan (None for a fixed route the vehicle can fly) and the fitted route (:class:`MissionFit`: its
+        waypoints ``(N, 3)`` (m) and altitude band), None when the plan or the fit failed.
     """
     if mission.route:
         fit = fitted_route(world, mission, mission.route)
         if fit.ok:
-            return None, fit.waypoints
+            return None, fit
         route = np.asarray(mission.route, dtype=float)
         return PlanResult(Status.INFEASIBLE, route, float("inf"), {}, 0, 0, 0.0, np.empty(0), "route",
                           message=f"the vehicle cannot fly the [mission] route: {fit.message}"), None
@@ -303,7 +330,7 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
                        message=f"the vehicle cannot fly the mission built from the plan: {fit.message}"), None
-    return planned, fit.waypoints
+    return planned, fit
 
 
 CONTRACT_ROUNDS = 3
@@ -344,9 +371,17 @@ def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress
     tuple
         The plan and the route ``(N, 3)`` (m), None when the plan or the contract failed.
     """
-    planned, route = planned_route(world, mission, seed, progress)
-    if route is None or planned is None or mission.route or not world.obstacles:
-        return planned, route
+    planned, fit = _kept_fit(world, mission, seed, progress, follower)
+    return planned, fit.waypoints if fit is not None else None
+
+
+def _kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
+              follower: str | None = None) -> tuple[PlanResult | None, MissionFit | None]:
+    """:func:`kept_route` with the fitted route (its waypoints and altitude band, :func:`planned_fit`)."""
+    planned, fit = planned_fit(world, mission, seed, progress)
+    if fit is None or planned is None or mission.route or not world.obstacles:
+        return planned, fit
+    route = fit.waypoints
     margin, name = world.margins.obstacle, follower or mission.guidance
     ends = np.array([mission.start, mission.goal], dtype=float)
     room = float(np.min([ob.distance(ends) for ob in world.obstacles])) - margin - CONTRACT_ROOM
@@ -355,7 +390,7 @@ def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress
         bound = route_bound(world, mission, route, name)
         leg = route_keeps(world, route, margin + bound.per_leg_m)
         if leg < 0:
-            return replace(planned, cost_terms={**planned.cost_terms, "tracking_bound_m": bound.total_m}), route
+            return replace(planned, cost_terms={**planned.cost_terms, "tracking_bound_m": bound.total_m}), fit
         why = (f"the {name} follower leaves this route's leg {leg} by up to {bound.per_leg_m[leg]:.2f} m (flown "
                "without obstacles" + (f", + its push bound {bound.push_m:g} m" if bound.push_m else "")
                + f"), and the leg passes closer than the {margin:g} m margin + that to an obstacle")
@@ -364,10 +399,11 @@ def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress
         raised = min(max(raised, bound.total_m), room)  # the start and the goal stay outside the raised margin
         if raised <= 0.0:
             break
-        planned, route = planned_route(contract_world(world, raised), mission, seed, progress)
-        if route is None or planned is None:
+        planned, fit = planned_fit(contract_world(world, raised), mission, seed, progress)
+        if fit is None or planned is None:
             msg = f"clearance contract: {why}; planned again with the obstacle margin {margin + raised:.2f} m: "
             return (None if planned is None else replace(planned, message=msg + planned.message)), None
+        route = fit.waypoints
     tried = f"{rounds} plans with a raised margin did not keep it" if rounds else \
         f"the start or the goal lies within {margin + CONTRACT_ROOM:g} m of an obstacle: no room to raise the margin"
     return replace(planned, status=Status.INFEASIBLE, message=f"clearance contract: {why}; {tried}"), None
@@ -459,9 +495,10 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned, route = kept_route(world, mission, seed, progress, guidance)
-    if route is None:
+    planned, fit = _kept_fit(world, mission, seed, progress, guidance)
+    if fit is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
+    route = fit.waypoints
     nav = navigation_plan(world, mission, route)
     if nav is not None:  # the fixes are part of the mission: surfacings (depth 0) and USBL fix waypoints
         route = nav.points
@@ -476,4 +513,6 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight, tail=tail, fix_kinds=nav.kinds if nav is not None else None)
-    return RunRecord(mission.name, recorded, planned, route, keys, result, nav)
+    altitude = altitude_band_metrics(world.terrain, route, fit.band, (result.progress, result.altitude)) \
+        if world.terrain is not None and fit.band.target_m > 0.0 else None
+    return RunRecord(mission.name, recorded, planned, route, keys, result, nav, altitude)
