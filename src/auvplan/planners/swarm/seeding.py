@@ -99,8 +99,9 @@ def coarse_reference(problem: PlanningProblem, spec: PlannerSpec) -> tuple[GridR
 
 
 def _detour(path: FloatArray, problem: PlanningProblem) -> float:
-    """A lattice path's length over the straight start-goal distance (1 when they coincide)."""
-    return float(polyline_length(path)) / max(float(np.linalg.norm(problem.goal - problem.start)), 1e-9)
+    """A lattice path's length over the straight start-goal distance (1 for a loop: start = goal)."""
+    distance = float(np.linalg.norm(problem.goal - problem.start))
+    return float(polyline_length(path)) / distance if distance > 0 else 1.0
 
 
 def fit_control_points(path: ArrayLike, k: int, samples: int = 200, bend: float = 0.0) -> FloatArray:
