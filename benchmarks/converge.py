@@ -249,7 +249,7 @@ def main() -> None:
     ap.add_argument("--long-seeds", type=int, default=2)
     ap.add_argument("--long-factor", type=int, default=4)
     ap.add_argument("--scenarios", nargs="+", default=list(HARD))
-    ap.add_argument("--parts", nargs="+", default=["hard", "family", "cpu"])
+    ap.add_argument("--parts", nargs="+", default=["hard", "cpu", "family"])
     ap.add_argument("--cpu-scenarios", nargs="+", help="the CPU part on these only (default: every swarm built-in)")
     ap.add_argument("--release-code", default=release_peer.RELEASE_COMMIT)
     ap.add_argument("--base-code", default="986d447", help="the branch point (the default before issue 59)")
@@ -259,38 +259,38 @@ def main() -> None:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     figures = ROOT / "docs" / "figures"
-    done: dict[str, object] = {}
+
+    def done(name: str, text: str) -> None:  # each part's figure as soon as it is measured
+        (out / f"{name}.md").write_text(text)
+        if args.figures:
+            (figures / f"{name}.md").write_text(text)
+        print(text, flush=True)
+
     if "hard" in args.parts:
         l0, res = os.getloadavg()[0], []
         for name in args.scenarios:
             res.append(hard(name, args.seeds, args.long_seeds, args.long_factor))
             print(hard_figure(res[-1:], args, (l0, os.getloadavg()[0])).splitlines()[-1], flush=True)
             (out / "hard.json").write_text(json.dumps(res))
-        done["converge-hard"] = hard_figure(res, args, (l0, os.getloadavg()[0]))
+        done("converge-hard", hard_figure(res, args, (l0, os.getloadavg()[0])))
     peers = {}
     try:
-        if "family" in args.parts or "cpu" in args.parts:
-            peers["base"] = release_peer.ReleasePeer(args.base_code)
-        if "family" in args.parts:
-            fam = family(args.family_seeds, peers["base"], out)
-            (out / "family.json").write_text(json.dumps(fam))
-            done["converge-family"] = family_figure(fam, args)
         if "cpu" in args.parts:
+            peers["base"] = release_peer.ReleasePeer(args.base_code)
             peers["release"] = release_peer.ReleasePeer(args.release_code)
             l0 = os.getloadavg()[0]
             names = args.cpu_scenarios or swarm_builtins()
             res_cpu = cpu(names, args.cpu_seeds, {"release": peers["release"], "base": peers["base"]})
             (out / "cpu.json").write_text(json.dumps(res_cpu))
-            done["converge-cpu"] = cpu_figure(res_cpu, args, (l0, os.getloadavg()[0]))
+            done("converge-cpu", cpu_figure(res_cpu, args, (l0, os.getloadavg()[0])))
+        if "family" in args.parts:
+            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
+            fam = family(args.family_seeds, peers["base"], out)
+            (out / "family.json").write_text(json.dumps(fam))
+            done("converge-family", family_figure(fam, args))
     finally:
         for peer in peers.values():
             peer.close()
-    for name, text in done.items():
-        (out / f"{name}.md").write_text(text)
-        if args.figures:
-            (figures / f"{name}.md").write_text(text)
-        print(text)
-
 
 if __name__ == "__main__":
     main()
