@@ -124,6 +124,38 @@ def hard(name: str, seeds: int, long_seeds: int, long_factor: int) -> dict:
             "reference_cost": float(ref.cost), "best_known_cpu_s": time.process_time() - c0}
 
 
+def alone(known: list[dict], seeds: int) -> list[dict]:
+    """IABC and ABC alone coarse to fine (``progressive`` pipeline: no lattice seed, no polish), interleaved seed
+    by seed, against the best known of the ``hard`` part (``hard.json``)."""
+    out = []
+    for res in known:
+        prob, spec = _problem(res["scenario"])
+        rows = []
+        for seed in range(seeds):
+            for label, planner in (("iabc-progressive", "iabc"), ("abc-progressive", "abc")):
+                rows.append({"method": label, "seed": seed, **_one(prob, spec, "progressive", planner, seed)})
+        best = min([res["best"]] + [r["cost"] for r in rows if r["status"] == "EXACT"])
+        out.append({"scenario": res["scenario"], "budget": spec.evaluations, "rows": rows, "best": best,
+                    "best_how": res["best_how"] if best == res["best"] else "a plan of this table"})
+        print(alone_figure(out[-1:], seeds).splitlines()[-1], flush=True)
+    return out
+
+
+def alone_figure(results: list[dict], seeds: int) -> str:
+    lines = [f"`benchmarks/converge.py --parts alone --seeds {seeds}` (the colonies alone coarse to fine, "
+             f"`progressive` pipeline, at each scenario's own budget, seeds 0–{seeds - 1}; gaps to the best known "
+             "of the table above, median / worst, infeasible seeds in brackets)", "",
+             "| problem | budget | IABC alone, progressive | ABC alone, progressive | IABC ahead of ABC |",
+             "|---|---|---|---|---|"]
+    for res in results:
+        sel = {m: [r for r in res["rows"] if r["method"] == m] for m in ("iabc-progressive", "abc-progressive")}
+        med = {m: float(np.median([r["cost"] for r in v])) for m, v in sel.items()}
+        lines.append(f"| {res['scenario']} | {res['budget']} | {_gaps(sel['iabc-progressive'], res['best'])} | "
+                     f"{_gaps(sel['abc-progressive'], res['best'])} | "
+                     f"{'yes' if med['iabc-progressive'] < med['abc-progressive'] else 'no'} |")
+    return "\n".join(lines) + "\n"
+
+
 def _family_file(folder: Path, ceiling: float) -> Path:
     text = release_peer.portable_scenario("chagos-channel", folder).read_text()
     out = folder / f"chagos-channel-{ceiling:.0f}.toml"
@@ -273,6 +305,11 @@ def main() -> None:
             print(hard_figure(res[-1:], args, (l0, os.getloadavg()[0])).splitlines()[-1], flush=True)
             (out / "hard.json").write_text(json.dumps(res))
         done("converge-hard", hard_figure(res, args, (l0, os.getloadavg()[0])))
+    if "alone" in args.parts:
+        known = json.loads((out / "hard.json").read_text())
+        res_alone = alone([r for r in known if r["scenario"] in args.scenarios], args.seeds)
+        (out / "alone.json").write_text(json.dumps(res_alone))
+        done("converge-alone", alone_figure(res_alone, args.seeds))
     peers = {}
     try:
         if "cpu" in args.parts:
