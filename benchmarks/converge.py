@@ -205,13 +205,25 @@ def cpu(names: list[str], seeds: int, peers: dict[str, release_peer.ReleasePeer]
         for seed in range(seeds):
             rows["today"].append(_one(prob, spec, spec.pipeline, spec.name, seed))
             for label, peer in peers.items():
-                if label == "base":  # the branch point reads today's files in place (relative data paths)
-                    peer._files.setdefault(name, resolve(name))
+                if name not in peer._files:
+                    peer._files[name] = _peer_file(name, label, Path(peer._tmp.name))
                 rows[label].append(peer.plan(name, seed, spec.evaluations))
         out.append({"scenario": name, "budget": spec.evaluations, "rows": rows})
         med = {k: _median_cpu(v) for k, v in rows.items()}
         print(f"cpu {name}: " + ", ".join(f"{k} {v:.3f}" for k, v in med.items()), flush=True)
     return out
+
+
+def _peer_file(name: str, label: str, folder: Path) -> Path:
+    """The scenario file a peer reads: the branch point reads today's file in place (relative data paths);
+    the release reads a copy with its built-in terrain named by file when that terrain is a NetCDF file (a
+    terrain it may not ship), today's file otherwise."""
+    if label != "base":
+        try:
+            return release_peer.portable_scenario(name, folder)
+        except Exception:  # a built-in terrain that is not a file (matplotlib's topobathy): the name as it is
+            pass
+    return resolve(name)
 
 
 def _median_cpu(rows: list[dict]) -> float:
