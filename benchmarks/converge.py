@@ -293,7 +293,7 @@ def main() -> None:
     ap.add_argument("--long-seeds", type=int, default=2)
     ap.add_argument("--long-factor", type=int, default=4)
     ap.add_argument("--scenarios", nargs="+", default=list(HARD))
-    ap.add_argument("--parts", nargs="+", default=["hard", "cpu", "family"])
+    ap.add_argument("--parts", nargs="+", default=["hard", "alone", "family", "cpu"])
     ap.add_argument("--cpu-scenarios", nargs="+", help="the CPU part on these only (default: every swarm built-in)")
     ap.add_argument("--release-code", default=release_peer.RELEASE_COMMIT)
     ap.add_argument("--base-code", default="986d447", help="the branch point (the default before issue 59)")
@@ -324,19 +324,19 @@ def main() -> None:
         done("converge-alone", alone_figure(res_alone, args.seeds))
     peers = {}
     try:
+        if "family" in args.parts:
+            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
+            fam = family(args.family_seeds, peers["base"], out)
+            (out / "family.json").write_text(json.dumps(fam))
+            done("converge-family", family_figure(fam, args))
         if "cpu" in args.parts:
-            peers["base"] = release_peer.ReleasePeer(args.base_code)
+            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
             peers["release"] = release_peer.ReleasePeer(args.release_code)
             l0 = os.getloadavg()[0]
             names = args.cpu_scenarios or swarm_builtins()
             res_cpu = cpu(names, args.cpu_seeds, {"release": peers["release"], "base": peers["base"]})
             (out / "cpu.json").write_text(json.dumps(res_cpu))
             done("converge-cpu", cpu_figure(res_cpu, args, (l0, os.getloadavg()[0])))
-        if "family" in args.parts:
-            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
-            fam = family(args.family_seeds, peers["base"], out)
-            (out / "family.json").write_text(json.dumps(fam))
-            done("converge-family", family_figure(fam, args))
     finally:
         for peer in peers.values():
             peer.close()
