@@ -325,12 +325,14 @@ def main() -> None:
     peers = {}
     try:
         if "family" in args.parts:
-            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
+            if "base" not in peers:
+                peers["base"] = release_peer.ReleasePeer(args.base_code)
             fam = family(args.family_seeds, peers["base"], out)
             (out / "family.json").write_text(json.dumps(fam))
             done("converge-family", family_figure(fam, args))
         if "cpu" in args.parts:
-            peers.setdefault("base", release_peer.ReleasePeer(args.base_code))
+            if "base" not in peers:
+                peers["base"] = release_peer.ReleasePeer(args.base_code)
             peers["release"] = release_peer.ReleasePeer(args.release_code)
             l0 = os.getloadavg()[0]
             names = args.cpu_scenarios or swarm_builtins()
