@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench \
+.PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench bench-converge \
 	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent
 
 $(STAMP): pyproject.toml
@@ -90,6 +90,14 @@ bench-hard: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/hard.py --seeds 10 --budget 10000 --no-peers --methods iabc iabc/release \
 		--release-code $(RELEASE) --reference-peer $(REFERENCE_PEER) --figure-md bench-hard-default \
 		--out results/bench-hard
+# issue 59: the default plan, IABC alone and ABC alone on the eight hard problems at their own budgets (10 seeds),
+# the narrow-channel family before/after (the branch point's code in a worktree) and the plan CPU of every swarm
+# built-in against the previous release and the branch point; writes docs/figures/converge-*.md (then `sync`)
+BASE ?= 986d447
+bench-converge: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/converge.py --seeds 10 --release-code $(RELEASE) --base-code $(BASE) \
+		--figures --out results/converge
+	$(BIN)/python tools/docs_figures.py sync
 # the default flow pipeline flown from 300 near-surface starts per Fig. 7/8 scene (docs/figures/flow-flown.md),
 # and mission building (breadth-first Douglas-Peucker) against the recursive one, missions identical
 # charted no-go zones (issue 53): 1 000 random missions per planner (~30 min CPU), the CPU with 1 000 zones,

@@ -51,6 +51,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
              f"length {record['length_m'] or 0:.0f} m  evaluations {result.evaluations}  "
              f"{result.wall_time_s:.2f} s" + work_note(result.work)
              + (f"\n  {result.message}" if result.message else "")
+             + (f"\n  not converged ({result.convergence})" if result.converged is False else "")
              + (f"\n  grid reference cost {result.reference_cost:.6g}, gap {result.gap_pct:+.2f} %"
                 if args.reference else ""))
     emit(record, args.json, human)

@@ -295,6 +295,12 @@ class PlanResult:
     work : dict
         Work done outside the evaluation budget, by name: the seeded pipeline's lattice seeding
         (``seeding_lattice_nodes``, ``seeding_cpu_s``) and polyline polish (``polish_cpu_s``).
+    converged : bool or None
+        The seeded pipeline's verdict on its own plan (:mod:`auvplan.planners.swarm.convergence`):
+        False when the run's evidence says the plan may not be the best it could reach; None when not
+        assessed (other planners and pipelines).
+    convergence : str
+        The evidence behind ``converged`` (``"<code>: <explanation>"`` when False).
     """
 
     status: Status
@@ -313,6 +319,8 @@ class PlanResult:
     times: FloatArray | None = None
     work: dict[str, float] = field(default_factory=dict)
     tail: BoolArray | None = None
+    converged: bool | None = None
+    convergence: str = ""
 
     @property
     def gap(self) -> float:

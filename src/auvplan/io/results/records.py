@@ -114,6 +114,8 @@ def plan_record(result: PlanResult, scenario: str, seed: int) -> JsonDict:
         "waypoints": result.path,
         **({"times": result.times} if result.times is not None else {}),
         **({"work": result.work} if result.work else {}),
+        **({"converged": result.converged, "convergence": result.convergence}
+           if result.converged is not None else {}),
     }))
 
 

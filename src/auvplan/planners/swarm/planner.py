@@ -66,6 +66,7 @@ from ..common import (
     search_box,
 )
 from ..grid.planner import GridReference, plan_grid
+from .convergence import assess
 from .polish import polish_polyline
 from .problem import (
     control_polygon,
@@ -226,10 +227,14 @@ def plan_swarm(
         evals += polished.evaluations
     iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
     result = replace(_result(problem, spec, x, f, evals, iterations, history, trace), work=work)
-    if not result.status.ok and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
+    fell_back = not result.status.ok
+    if fell_back and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
         result = replace(_fallback(problem, spec, ref, result), work=work)
     if spec.pipeline == "seeded":
         result = polish_polyline(problem, spec, result, lattice)
+        converged, why = assess(result, work["seeding_lattice_nodes"], lattice is not None and lattice.shape[0] >= 2,
+                                fell_back)
+        result = replace(result, converged=converged, convergence=why)
     return replace(result, wall_time_s=time.perf_counter() - t0)
 
 

@@ -93,26 +93,37 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
     -------
     PlanResult
         The polished plan (a polyline: no control points, ``message`` says so) or ``result``, with
-        ``work["polish_cpu_s"]`` set in both cases (``result`` itself when ``spec.polish`` is 0).
+        ``work["polish_cpu_s"]`` set in both cases (``result`` itself when ``spec.polish`` is 0), and, for
+        an EXACT plan, ``work["polish_spline_cost"]`` (the swarm's plan after its own or its lifted
+        path's polish, the cheaper) and ``work["polish_lattice_cost"]`` (the lattice candidate polished;
+        ``inf`` when the band found no free path; absent when it was not polished) for the convergence
+        evidence (:mod:`auvplan.planners.swarm.convergence`).
     """
     if spec.polish == 0:
         return result
     c0 = time.process_time()
-    out = result
+    out, costs = result, {}
     if result.status.ok and not np.array_equal(problem.start, problem.goal):  # a loop is not polished to a point
         lifted, second = _lifted_plan(problem, spec, result), _lattice_plan(problem, spec, result, lattice)
+        spline = result.cost
         for candidate, sweeps, source in ((lifted, spec.polish, _LIFTED), (result, spec.polish, ""),
                                           (second, 2 * spec.polish, _LATTICE)):
             if candidate is None or (candidate is result and out is not result):
                 continue  # the spline's own polish is not run when its lifted path, polished, already won
             settings = replace(spec, grid=replace(spec.grid, relax_iterations=sweeps, converge_tol=POLISH_TOLERANCE))
             polished = refine_plan(problem, settings, candidate, finest=POLISH_FINEST)
-            if polished is not candidate and polished.cost < out.cost and _flyable(problem, polished, result):
+            found = polished is not candidate and bool(np.isfinite(polished.cost))
+            if source == _LATTICE:
+                costs["polish_lattice_cost"] = polished.cost if found else float("inf")
+            elif found:
+                spline = min(spline, polished.cost)
+            if found and polished.cost < out.cost and _flyable(problem, polished, result):
                 note = (f"polished as a polyline (lattice band, {sweeps} sweeps per level"
                         f"{source}): {result.cost:.6g} -> {polished.cost:.6g}")
                 out = replace(polished, message="; ".join(m for m in (result.message, note) if m),
                               control_points=None)
-    return replace(out, work={**result.work, "polish_cpu_s": time.process_time() - c0})
+        costs["polish_spline_cost"] = spline
+    return replace(out, work={**result.work, **costs, "polish_cpu_s": time.process_time() - c0})
 
 
 _LATTICE = ", from the seeding lattice's taut path"
