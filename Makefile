@@ -29,7 +29,7 @@ survey-flown: $(STAMP)
 
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
-	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/test_fuzz_scenarios.py
+	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/property/test_fuzz_scenarios.py
 
 # SIGKILL `run --out` at every atomic replace (before and after), re-run, check the folder is whole
 kill-points: $(STAMP)
@@ -41,19 +41,19 @@ kill-points: $(STAMP)
 # document 000's bodies is left to the compiled run: its 60 exits search the field round the body (> 10 min
 # as plain Python)
 test-nojit: $(STAMP)
-	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/test_terrain.py tests/test_cost.py tests/test_cost_kernels.py \
-		tests/test_world.py tests/test_oracles.py tests/test_jit.py tests/test_flow_body.py tests/test_tides.py \
-		tests/test_ellipsoid_kernels.py \
-		tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
-		tests/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
-		tests/test_turning.py::test_windowed_velocity_obstacles \
-		tests/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
-		tests/test_timeopt.py::test_legs_are_fifo \
-		tests/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \
-		tests/test_zones.py::test_entries_match_an_independent_shapely_check \
-		tests/test_zones.py::test_signed_distance_is_the_prism_distance_and_never_above_it \
-		--deselect tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling \
-		--deselect tests/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/oracles/test_terrain.py tests/oracles/test_cost.py tests/oracles/test_cost_kernels.py \
+		tests/unit/test_world.py tests/oracles/test_oracles.py tests/integration/test_jit.py tests/oracles/test_flow_body.py tests/oracles/test_tides.py \
+		tests/oracles/test_ellipsoid_kernels.py \
+		tests/unit/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge \
+		tests/unit/test_avoidance.py::test_vo_choice_clearance_matches_a_fine_simulation_of_its_track \
+		tests/unit/test_turning.py::test_windowed_velocity_obstacles \
+		tests/oracles/test_timeopt.py::test_steady_uniform_current_gives_the_straight_crab_line \
+		tests/oracles/test_timeopt.py::test_legs_are_fifo \
+		tests/oracles/test_timeopt.py::test_leg_drifts_back_on_its_line_while_the_current_beats_the_vehicle \
+		tests/oracles/test_zones.py::test_entries_match_an_independent_shapely_check \
+		tests/oracles/test_zones.py::test_signed_distance_is_the_prism_distance_and_never_above_it \
+		--deselect tests/oracles/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling \
+		--deselect tests/oracles/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface
 
 typecheck: $(STAMP)
 	$(BIN)/mypy
@@ -108,7 +108,7 @@ bench-nav: $(STAMP)
 	$(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part summary --figure nav-drift
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
-# picture, then the figures copied into the docs; tests/test_doc_figures.py keeps them in step
+# picture, then the figures copied into the docs; tests/golden/test_doc_figures.py keeps them in step
 docs: $(STAMP)
 	$(BIN)/python tools/docs_figures.py measure
 	@bash tools/install-chromium.sh

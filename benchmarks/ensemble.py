@@ -35,10 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.app.ensemble import scenario_members
 from auvplan.ensemble import plan_robust
 from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 from auvplan.io.scenario import loader as scenario
+from auvplan.io.scenario.members import scenario_members
 from auvplan.world.ensemble_fields import PerturbedCurrent
 
 

@@ -2,7 +2,7 @@
 
     /work/heavy .venv/bin/python benchmarks/timeopt_front.py [--out results/front]    (make bench-timeopt-front)
 
-1. The uniform cases of ``tests/test_timeopt_front.py`` (steady current stronger than the vehicle,
+1. The uniform cases of ``tests/oracles/test_timeopt_front.py`` (steady current stronger than the vehicle,
    reversing, rotary 1.3 m/s with the goal behind the flood, cross-tide) at 1000 m and 500 m cells:
    the plan's duration (flown through the World's current) against the exact least time (the
    oracle of the test), CPU per plan.
@@ -32,16 +32,16 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "oracles"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from test_timeopt_front import CASES, START, V, least_time, spec, world_of  # noqa: E402
 from timeopt_labels import least_time as zermelo_bound  # noqa: E402
 
 from auvplan.io.scenario import loader as scenario  # noqa: E402
 from auvplan.planners import PlanningProblem, plan  # noqa: E402
 from auvplan.planners.timeopt.front import build_grid, propagate  # noqa: E402
 from auvplan.sim import planning_problem  # noqa: E402
-from test_timeopt_front import CASES, START, V, least_time, spec, world_of  # noqa: E402
 
 
 def uniform_cases() -> list[dict]:

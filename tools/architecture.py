@@ -6,7 +6,7 @@ a package such as ``world``, or a top-level module); a part imports another when
 imports one of the other's (``TYPE_CHECKING`` imports included, as import-linter counts them).  The
 parts are ranked in layers by the imports (a part sits one layer above the highest part it imports),
 drawn as a Mermaid graph with only the arrows no longer path implies, and listed with their modules and
-each module's first docstring line.  ``tests/test_architecture.py`` regenerates it and compares::
+each module's first docstring line.  ``tests/golden/test_architecture.py`` regenerates it and compares::
 
     python tools/architecture.py          # rewrite the generated part of docs/architecture.md
     python tools/architecture.py --check  # exit 1 when it is out of date

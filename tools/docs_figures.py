@@ -6,7 +6,7 @@ benchmark's summary turned into text by ``from-bench``).  The docs quote it betw
     <!-- figure: NAME -->...<!-- /figure -->
 
 (inline within a sentence, or around a table on lines of their own).  ``sync`` copies every figure file
-into its blocks; ``--check`` (and ``tests/test_doc_figures.py``) fails when a block differs from its
+into its blocks; ``--check`` (and ``tests/golden/test_doc_figures.py``) fails when a block differs from its
 file, names a file that does not exist, or a figure file is quoted nowhere: a number in the docs cannot
 drift from the measurement it came from.  ``make docs`` measures, takes the screenshots, regenerates the
 scenario reference and the architecture picture, and syncs.

@@ -64,11 +64,11 @@ def oracle_mutants() -> dict[str, str]:
 
 
 def fuzz_documents() -> dict[str, str]:
-    """How many hostile documents tests/test_fuzz_scenarios.py makes per run (its ``AUVPLAN_FUZZ_EXAMPLES`` default)."""
-    text = (ROOT / "tests" / "test_fuzz_scenarios.py").read_text()
+    """How many hostile documents tests/property/test_fuzz_scenarios.py makes per run (its ``AUVPLAN_FUZZ_EXAMPLES`` default)."""
+    text = (ROOT / "tests" / "property" / "test_fuzz_scenarios.py").read_text()
     m = re.search(r'AUVPLAN_FUZZ_EXAMPLES", "(\d+)"', text)
     if m is None:
-        raise SystemExit("tests/test_fuzz_scenarios.py: no AUVPLAN_FUZZ_EXAMPLES default")
+        raise SystemExit("tests/property/test_fuzz_scenarios.py: no AUVPLAN_FUZZ_EXAMPLES default")
     return {"fuzz-documents": f"{_thousands(int(m.group(1)))} hostile documents"}
 
 
@@ -133,7 +133,7 @@ def _size(n: int) -> str:
 
 
 def track_200km() -> dict[str, str]:
-    """Export sizes of a 200 km synthetic track (the one tests/test_mission.py holds under 2 MB)."""
+    """Export sizes of a 200 km synthetic track (the one tests/integration/test_mission.py holds under 2 MB)."""
     import numpy as np
 
     from auvplan._types import Status
@@ -217,9 +217,9 @@ def terrain_follow() -> dict[str, str]:
 def lofoten_robust() -> dict[str, str]:
     """The robust plan against the nominal one in both models of ``lofoten-two-models`` (``auvplan plan
     lofoten-two-models --json``'s choice; the member times of both plans from :func:`auvplan.ensemble.plan_robust`)."""
-    from auvplan.app.ensemble import scenario_members
     from auvplan.ensemble import plan_robust
     from auvplan.io.scenario import loader as scenario
+    from auvplan.io.scenario.members import scenario_members
 
     sc = scenario.load("lofoten-two-models")
     world, mission = scenario.build(sc)

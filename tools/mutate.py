@@ -321,7 +321,7 @@ def importing_tests(modules: list[str] | tuple[str, ...], tests_dir: Path = ROOT
     through a package (``from auvplan.world import World`` imports ``auvplan.world.world``), at any
     level of the file (local imports inside tests count)."""
     wanted, out = set(modules), []
-    for path in sorted(tests_dir.glob("test_*.py")):
+    for path in sorted(tests_dir.rglob("test_*.py")):
         found: set[str] = set()
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.Import):

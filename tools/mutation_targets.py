@@ -44,10 +44,10 @@ MODULES: dict[str, Target] = {
              "Terrain.min_altitude_between", "Terrain.segments_below")
         + _fns(TERRAIN_KERNELS, "_cell", "elevation_kernel", "_piece_min", "_crossings", "_walk_min",
                "min_altitude_kernel", "_min_altitudes"),
-        ("tests/test_oracles.py", "tests/test_terrain.py", "-k",
+        ("tests/oracles/test_oracles.py", "tests/oracles/test_terrain.py", "-k",
          "ridge or slope or terrain or bilinear or gradient or outside or lower_bound or offset_grid or off_the_grid"
          " or altitude_limit or twisted_cell or more_rows_than_columns",
-         "--deselect", "tests/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
+         "--deselect", "tests/oracles/test_terrain.py::test_exact_segment_test_agrees_with_dense_sampling"),
         jit=False,
     ),
     # the World's point and segment tests and the obstacles' exact distances and segment tests
@@ -56,7 +56,7 @@ MODULES: dict[str, Target] = {
              "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
         + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
                "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
-        ("tests/test_world.py", "tests/test_oracles.py", "tests/test_oracles_sim.py", "-k",
+        ("tests/unit/test_world.py", "tests/oracles/test_oracles.py", "tests/oracles/test_oracles_sim.py", "-k",
          "not lamb_oseen and not gridded and not current and not iabc and not sbx and not polynomial"
          " and (not oracles_sim or world_)"),
     ),
@@ -64,7 +64,7 @@ MODULES: dict[str, Target] = {
     "cost": Target(
         _fns(COST, "_obstacle_slack", "segment_energy", "energy_kernel", "_segment_energies", "_point_slack",
              "_path_terms", "evaluate_paths"),
-        ("tests/test_cost.py", "tests/test_oracles.py", "-k", "cost or energy or seabed"),
+        ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "-k", "cost or energy or seabed"),
         jit=False,
     ),
     # the lattice (planners/grid/lattice.py): free nodes and their safe single-precision fields, the edge
@@ -76,16 +76,16 @@ MODULES: dict[str, Target] = {
              "_edge_weight", "_sift_up", "_sift_down", "_push", "_pop", "_heuristic", "_search", "search",
              "free_edges")
         + _fns(GRID, "GridReference._connect"),
-        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+        tuple(f"tests/oracles/test_oracles.py::test_{t}" for t in (
             "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
             "cost_to_go_equals_scipys_dijkstra_over_the_free_lattice",
             "grid_costs_with_a_weaker_current_with_a_vertical_part",
             "free_edges_are_exactly_the_free_lattice_segments"))
-        + tuple(f"tests/test_grid.py::test_{t}" for t in (
+        + tuple(f"tests/oracles/test_grid.py::test_{t}" for t in (
             "empty_world_gives_the_straight_line", "cost_to_go_is_the_26_connected_lattice_distance",
             "goal_enclosed_by_terrain_is_infeasible_with_a_message"))
-        + ("tests/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge",)
-        + tuple(f"tests/test_oracles_sim.py::test_lattice_{t}" for t in (
+        + ("tests/unit/test_lattice.py::test_compiled_edge_test_agrees_with_the_exact_segment_test_on_every_edge",)
+        + tuple(f"tests/oracles/test_oracles_sim.py::test_lattice_{t}" for t in (
             "edges_across_a_seabed_ridge_are_exactly_the_free_segments", "heap_pops_in_heapq_order_with_decrease_key",
             "sift_down_reads_nothing_past_the_heap_end", "search_is_scipys_dijkstra_with_random_currents_and_edges",
             "search_by_length_on_a_line", "fields_round_down_to_the_nearest_single",
@@ -98,14 +98,14 @@ MODULES: dict[str, Target] = {
     "sim": Target(
         _fns(SIM_EVENTS, "_distance", "_obstacle_shapes", "_contact_event", "_arrived", "_progressed", "_deadlocked")
         + _fns(SIM_LOOP, "_step_events"),
-        tuple(f"tests/test_oracles.py::test_{t}" for t in (
+        tuple(f"tests/oracles/test_oracles.py::test_{t}" for t in (
             "a_dive_into_the_seabed_ends_in_collision", "deadlock_is_declared_one_step_after_the_deadlock_time",
             "arrival_at_the_radius_and_timeout_at_max_time", "collision_names_the_obstacle_that_was_hit",
             "the_moving_obstacle_that_hits_decides_unavoidable"))
-        + ("tests/test_tracking.py::test_converges_to_the_route_exponentially",
-           "tests/test_tracking.py::test_collision_is_reported_as_a_status",
-           "tests/test_local.py::test_fast_obstacle_aimed_at_the_vehicle_is_unavoidable")
-        + tuple(f"tests/test_oracles_sim.py::test_sim_{t}" for t in (
+        + ("tests/oracles/test_tracking.py::test_converges_to_the_route_exponentially",
+           "tests/oracles/test_tracking.py::test_collision_is_reported_as_a_status",
+           "tests/unit/test_local.py::test_fast_obstacle_aimed_at_the_vehicle_is_unavoidable")
+        + tuple(f"tests/oracles/test_oracles_sim.py::test_sim_{t}" for t in (
             "contact_is_penetration_and_names_what_was_hit",
             "moving_hit_is_unavoidable_when_at_least_as_fast_and_closing_in",
             "arrival_progress_and_deadlock_rules_at_their_boundaries", "a_creeping_vehicle_is_not_deadlocked",
@@ -116,7 +116,7 @@ MODULES: dict[str, Target] = {
         _fns(LOCAL, "key_waypoints", "apf_force", "MinimumDetector.update", "_random_free_point",
              "LocalAvoidance._escape", "LocalAvoidance.stalled", "LocalAvoidance._advance_goal",
              "LocalAvoidance.command", "LocalAvoidance._apf_command"),
-        ("tests/test_oracles.py", "tests/test_local.py", "tests/test_oracles_sim.py", "-k",
+        ("tests/oracles/test_oracles.py", "tests/unit/test_local.py", "tests/oracles/test_oracles_sim.py", "-k",
          "(apf or key_waypoints or head_on or crossing or repulsion or parked or removed or fast_obstacle"
          " or escape_sub_goal or minimum_detector or local_) and (not oracles_sim or local_)"),
     ),
@@ -131,12 +131,12 @@ MODULES: dict[str, Target] = {
         # in a sphere's shell, the step cap, stagnation, the front rule's threshold, grazes) and the whole of
         # test_flow.py (~20 s: starts inside bodies, the on-axis rule, the seabed plane, streamlines that must
         # never enter a body)
-        ("tests/test_oracles.py::test_planner_sphere_field_is_the_exact_image_solution",
-         "tests/test_oracles.py::test_planner_sphere_field_clearance_and_the_sink_by_hand",
-         "tests/test_oracles.py::test_push_out_puts_points_on_the_ray_from_the_centre_just_outside_the_flow_sphere",
-         "tests/test_oracles.py::test_streamline_segment_clear_is_the_sampled_flow_clearance",
-         "tests/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface",
-         "tests/test_oracles_flow.py", "tests/test_flow.py"),
+        ("tests/oracles/test_oracles.py::test_planner_sphere_field_is_the_exact_image_solution",
+         "tests/oracles/test_oracles.py::test_planner_sphere_field_clearance_and_the_sink_by_hand",
+         "tests/oracles/test_oracles.py::test_push_out_puts_points_on_the_ray_from_the_centre_just_outside_the_flow_sphere",
+         "tests/oracles/test_oracles.py::test_streamline_segment_clear_is_the_sampled_flow_clearance",
+         "tests/oracles/test_oracles.py::test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface",
+         "tests/oracles/test_oracles_flow.py", "tests/oracles/test_flow.py"),
     ),
 }
 
@@ -166,7 +166,7 @@ MODULES.update({
     # not fit issue #31's session on the shared machine: run against the cost target's tests + test_safety.py)
     "cost-constraints": Target(
         _fns(COST, "_point_slack", "_obstacle_slack", "_path_terms"),
-        ("tests/test_cost.py", "tests/test_oracles.py", "tests/test_safety.py", "-k", "cost or energy or seabed or "
+        ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "tests/oracles/test_safety.py", "-k", "cost or energy or seabed or "
          "test_safety"),
         jit=False,
     ),

@@ -1,6 +1,6 @@
 """Plant the hand-written mutants of docs/mutants.md one at a time and check a test kills each.
 
-Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/test_oracles.py tests/test_safety.py] [NAME ...]``
+Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/oracles/test_oracles.py tests/oracles/test_safety.py] [NAME ...]``
 
 Each mutant is one textual replacement in one source file.  The file is restored afterwards
 (also on Ctrl-C).  Numba's on-disk cache is pointed at a fresh directory per mutant, so a
@@ -126,7 +126,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "push = -1.0 if side > 0.5 else 1.0",
         "push = 1.0 if side > 0.5 else -1.0",
     ),
-    # issue #31: ways of passing an unsafe mission (killed by tests/test_safety.py)
+    # issue #31: ways of passing an unsafe mission (killed by tests/oracles/test_safety.py)
     "mission-ok-ignores-executor": (
         "guidance/mission/waypoints.py",
         "alt = min(self.min_altitude_m, self.executor_min_altitude_m)",
@@ -162,7 +162,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "if d < fp.contact_m:",
         "if d < 0.0:",
     ),
-    # issue #49: the eight bugs that survived the suite, each caught by tests/test_edges_properties.py
+    # issue #49: the eight bugs that survived the suite, each caught by tests/property/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
         "energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)",
@@ -203,7 +203,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "elif best is None or run.cost < best.cost:",
         "elif best is None or finest or run.cost < best.cost:",
     ),
-    # issue #49: the mission as exported (caught by tests/test_mission_legs.py)
+    # issue #49: the mission as exported (caught by tests/integration/test_mission_legs.py)
     "edges-no-merge-of-short-legs": (
         "guidance/mission/legs.py",
         "        short = [int(k) for k in np.flatnonzero(length < min_leg)",
@@ -260,7 +260,7 @@ def run_one(name: str, tests: list[str]) -> bool:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", help="mutants to plant (default: all)")
-    ap.add_argument("--tests", nargs="+", default=["tests/test_oracles.py", "tests/test_safety.py"])
+    ap.add_argument("--tests", nargs="+", default=["tests/oracles/test_oracles.py", "tests/oracles/test_safety.py"])
     args = ap.parse_args()
     names = args.names or list(MUTANTS)
     survivors = [n for n in names if not run_one(n, args.tests)]

@@ -3,7 +3,7 @@
 Every table and key of a scenario file, its type, default and description, as the loader knows them:
 the page is generated from :func:`auvplan.io.scenario.schema.scenario_schema` (itself generated from the
 loader's dataclasses and their numpydoc ``Attributes``), so it cannot drift from the format.
-``tests/test_scenario_reference.py`` regenerates it and fails when the file is out of date.
+``tests/golden/test_scenario_reference.py`` regenerates it and fails when the file is out of date.
 
 Usage::
 
@@ -113,7 +113,7 @@ def reference() -> str:
     out = ["# Scenario reference", "",
            f"Every table and key of a scenario file (format version {SCHEMA_VERSION}). Generated from the "
            "scenario schema by `tools/scenario_reference.py` (`make docs`); do not edit by hand — "
-           "`tests/test_scenario_reference.py` fails when this page is out of date. The same schema is printed "
+           "`tests/golden/test_scenario_reference.py` fails when this page is out of date. The same schema is printed "
            "by `auvplan scenario schema`; `auvplan scenario new my.toml` writes a commented template with every "
            "key at its default; how to use each part: [guide.md](guide.md#scenarios).", "",
            "A position (`start`, `goal`, `route` points, obstacle centres) is either `[x, y, z]` in the local "

@@ -46,10 +46,11 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
         The scenario, the plan, the seed, the World and the ensemble fields (empty without members).
     """
     from ..io.scenario import loader as scenario_io
+    from ..io.scenario.members import scenario_members
     from ..planners import plan, with_reference
     from ..planners import reference as plan_reference
     from ..sim import planning_problem
-    from .ensemble import ensemble_plan, scenario_members
+    from .ensemble import ensemble_plan
 
     if out is not None:
         prepare_out(out, RESULT_NAMES, force=force, job="plan")

@@ -89,8 +89,8 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
         The ensemble fields of the plan (``ensemble.json``).
     """
     from ..io.results import records
+    from ..io.results.ensemble import write_ensemble
     from ..sim import RunRecord
-    from .ensemble import write_ensemble
 
     text = scenario_text(sc, world)
     empty = result.path[:0].reshape(0, 3)
@@ -122,7 +122,7 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
     endurance : Endurance, optional
         The mission's energy assessment; computed here when not given.
     ensemble : dict, optional
-        The ensemble fields of the route (:func:`auvplan.app.ensemble.route_fields`).
+        The ensemble fields of the route (:func:`auvplan.app.run.run_scenario`'s scoring in every member).
 
     Returns
     -------
@@ -136,7 +136,7 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
 
     text = with_derived_frame(text, world)  # issue 51: the derived [origin] and [bounds] kept with the results
     if ensemble is not None:
-        from .ensemble import write_ensemble
+        from ..io.results.ensemble import write_ensemble
 
         write_ensemble(out, ensemble)
     records.write_run(out, record, text, full, world.origin)
@@ -181,8 +181,8 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     from ..io.missions import export
     from ..io.missions.energy import mission_endurance
     from ..io.results import records
+    from ..io.results.ensemble import read_ensemble
     from ..viz.report import build_report
-    from .ensemble import read_ensemble
 
     frame = LocalFrame(*world.origin) if world.origin is not None else None
     formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS

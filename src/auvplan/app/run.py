@@ -16,7 +16,7 @@ if TYPE_CHECKING:
     from ..endurance import Endurance
     from ..io.scenario.specs import Scenario
     from ..sim import Mission, RunRecord
-    from ..world import World
+    from ..world import CurrentField, World
 
 __all__ = ["DEMO_SCENARIO", "run_scenario", "run_formation_scenario"]
 
@@ -54,8 +54,8 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     """
     from ..io.missions.energy import mission_endurance
     from ..io.scenario import loader as scenario_io
+    from ..io.scenario.members import scenario_members
     from ..sim import run_mission
-    from .ensemble import route_fields, scenario_members
 
     if out:
         prepare_out(out, RESULT_NAMES, force=force, job="run")
@@ -76,7 +76,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     notes: list[str] = []
     if out:
         bar.stage(f"writing results, report and exports into {out}")
-        ensemble = route_fields(scenario_members(sc, world), world, mission, record.route)
+        ensemble = _route_fields(scenario_members(sc, world), world, mission, record.route)
         notes = write_results(Path(out), world, mission, record, scenario_text(sc), sc.source, full=full,
                               endurance=endurance, ensemble=ensemble)
     return sc, record, endurance, ([note] if note else []) + notes
@@ -146,3 +146,34 @@ def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: st
                                       frame.inverse if frame else None)
         atomic_write(folder / "report.html", page)
     return record, formation_record(record)
+
+
+def _route_fields(members: tuple[tuple[str, CurrentField], ...], world: World, mission: Mission,
+                  route: Any) -> dict[str, Any]:
+    """A flown mission's route scored in every member: the ``plan --json`` ensemble fields.
+
+    Parameters
+    ----------
+    members : tuple of (str, CurrentField)
+        The ensemble (:func:`auvplan.io.scenario.members.scenario_members`).
+    world : World
+        Its world.
+    mission : Mission
+        Its mission (the vehicle).
+    route : array_like
+        ``(N, 3)`` mission waypoints (m).
+
+    Returns
+    -------
+    dict
+        ``arrival_p50_s``, ``arrival_p90_s``, ``success_probability``, ``members``; empty without
+        members or a route.
+    """
+    import numpy as np
+
+    from ..ensemble import score_route
+
+    p = np.asarray(route, dtype=float).reshape(-1, 3)
+    if not members or p.shape[0] < 2:
+        return {}
+    return score_route(world, members, p, mission.vehicle).as_dict()

@@ -19,8 +19,7 @@ from dataclasses import replace
 from typing import Any
 
 from ..errors import AuvplanError
-from ..io.data.geo import LocalFrame
-from ..io.scenario.members import member_fields
+from ..io.scenario.members import scenario_members
 from ..io.scenario.specs import Scenario
 from ..sim import Mission, RunRecord
 from ..world import CurrentField, World
@@ -77,35 +76,6 @@ def parse_label(label: str) -> tuple[str, str | None, int | None]:
     if smark and seed.isdigit():
         return scenario, name, int(seed)
     return scenario, member, None
-
-
-def scenario_members(sc: Scenario, world: World, seed: int | None = None) -> tuple[tuple[str, CurrentField], ...]:
-    """The scenario's members, its perturbation entries re-drawn with ``seed`` when given.
-
-    Parameters
-    ----------
-    sc : Scenario
-        The scenario (its ``[currents] members``).
-    world : World
-        Its world (bounds and the nominal field the perturbations perturb).
-    seed : int, optional
-        Seed in place of every ``perturbation`` entry's.
-
-    Returns
-    -------
-    tuple of (str, CurrentField)
-        Name and field of each member (empty without members).
-    """
-    members = sc.currents.members
-    if not members:
-        return ()
-    if seed is not None:
-        members = tuple(replace(m, perturbation=replace(m.perturbation, seed=seed)) if m.perturbation else m
-                        for m in members)
-    b = world.bounds
-    frame = LocalFrame(sc.origin.lat, sc.origin.lon) if sc.origin else None
-    return member_fields(members, world.currents, frame, (b.xmin, b.xmax, b.ymin, b.ymax), source=sc.source,
-                         base_dir=sc.base_dir, start_time=sc.mission.start_time)
 
 
 def expand_members(scenario: str, sc: Scenario, world: World, members: Sequence[str],

@@ -14,7 +14,7 @@ machine) minutes later.  The per-item byte counts are measured peaks (``tracemal
 * lattice reference planner: ~48 B per node plus 24 MiB (:func:`lattice_bytes`; node fields by
   slabs, one bit per edge and direction, the compiled search's arrays; measured by ``tracemalloc``
   on marcus-wake at 1 000, 500 and 250 m: peak = 41.6 B per node + 13 MB, so the estimate is
-  1.2–1.7× the measured peak from 10⁵ nodes up, within 2× in ``tests/test_lattice.py``);
+  1.2–1.7× the measured peak from 10⁵ nodes up, within 2× in ``tests/unit/test_lattice.py``);
 * a data variable read from a file (NetCDF, GeoTIFF): ~24 B per declared cell (float64 values,
   the masked/filled copy, flips; measured 15 B, 21 B with a flipped axis), from the file's header
   — *before* a byte of it is read, so a 5 MB sparse file that declares 400 000 × 400 000 cells is

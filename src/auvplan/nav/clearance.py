@@ -13,7 +13,7 @@ lattice of spacing ``h`` (default a fiftieth of a terrain cell) over the stadium
 node's interval taken for the grown radius ``r + h/√2`` (a superset of its neighbours' intervals), less
 the seabed's Lipschitz bound ``L h/√2`` (:attr:`Terrain.max_slope`): every point of the stadium lies
 within ``h/√2`` of a node, so the result never exceeds the true least altitude, and it is below it by
-at most ``2 L h`` plus what the grown radius adds.  ``tests/test_nav.py`` compares it with an
+at most ``2 L h`` plus what the grown radius adds.  ``tests/oracles/test_nav.py`` compares it with an
 independent brute-force sampling.  :func:`safe_radius` is its inverse (bisection on ``r``: the least
 altitude only falls as ``r`` grows).  Static obstacles are tested with their exact segment test at the
 margin plus ``r`` (a ball of radius ``r`` contains the horizontal disc: this errs only on the safe side).

@@ -115,9 +115,9 @@ class GridParams:
         Longest any-angle link of the lattice search in cells on each axis (lazy Theta*,
         :mod:`auvplan.planners.grid.anyangle`): a node links straight to a node up to this far
         when the node fields clear the segment, so the cost-to-go is not bound to the 26 lattice
-        directions (16: within 0.8 % of the straight-line distance in open water, ``tests/test_grid.py``);
+        directions (16: within 0.8 % of the straight-line distance in open water, ``tests/oracles/test_grid.py``);
         0 (default) = the 26 directions only (metricated: up to 8 % long).  Off by default: on the
-        sphere scene of ``tests/test_grid.py`` the refinement of the any-angle lattice path settles
+        sphere scene of ``tests/oracles/test_grid.py`` the refinement of the any-angle lattice path settles
         0.2 % above the geodesic (the conservative clearance test sends it round another side),
         where the 26-direction path refines to it within 10⁻⁵ (``docs/lattice.md``).
     also_any_angle : int

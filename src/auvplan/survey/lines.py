@@ -20,7 +20,7 @@ Placement (greedy, edge to edge):
 4. until the swaths reach ``hi_k`` everywhere.
 
 On a plane ``c^max`` is constant along the line, the lines are straight and the spacing follows the
-closed-form recursion of the 2023 CUMCM problem B (tests/test_survey_lines.py derives it by hand).
+closed-form recursion of the 2023 CUMCM problem B (tests/oracles/test_survey_lines.py derives it by hand).
 With the AUV mounting the line's depth is the seabed plus the altitude, raised where needed so the pitch
 stays within ``pitch_max_deg`` (the upper Lipschitz envelope again), and the swath is computed from that depth.
 """

@@ -14,19 +14,23 @@ The nominal field, the one a plan is made on unless ``[planner] robust`` says ot
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import xarray as xr
 
 from ...errors import DataError
-from ...world import CurrentField, UniformCurrent
+from ...world import CurrentField, UniformCurrent, World
 from ...world.ensemble_fields import PerturbedCurrent
 from .. import limits as _limits
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import CurrentsFileSpec, read_currents
 
-__all__ = ["PerturbationSpec", "MemberSpec", "member_fields"]
+if TYPE_CHECKING:
+    from .specs import Scenario
+
+__all__ = ["PerturbationSpec", "MemberSpec", "member_fields", "scenario_members"]
 
 
 def _dimension_size(spec: CurrentsFileSpec, dim: str, base_dir: Path | None, where: str) -> int:
@@ -191,3 +195,32 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
         if first_only and out:
             return tuple(out[:1])
     return tuple(out)
+
+
+def scenario_members(sc: Scenario, world: World, seed: int | None = None) -> tuple[tuple[str, CurrentField], ...]:
+    """The scenario's members, its perturbation entries re-drawn with ``seed`` when given.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario (its ``[currents] members``).
+    world : World
+        Its world (bounds and the nominal field the perturbations perturb).
+    seed : int, optional
+        Seed in place of every ``perturbation`` entry's.
+
+    Returns
+    -------
+    tuple of (str, CurrentField)
+        Name and field of each member (empty without members).
+    """
+    members = sc.currents.members
+    if not members:
+        return ()
+    if seed is not None:
+        members = tuple(replace(m, perturbation=replace(m.perturbation, seed=seed)) if m.perturbation else m
+                        for m in members)
+    b = world.bounds
+    frame = LocalFrame(sc.origin.lat, sc.origin.lon) if sc.origin else None
+    return member_fields(members, world.currents, frame, (b.xmin, b.xmax, b.ymin, b.ymax), source=sc.source,
+                         base_dir=sc.base_dir, start_time=sc.mission.start_time)

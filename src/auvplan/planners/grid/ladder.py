@@ -16,7 +16,7 @@ Why both kinds of link: with the 26 directions alone a lattice path is metricate
 whatever the cell) and its refinement lands in a local optimum that does not improve as the cell
 halves (new-england-seamounts: 429 958, 428 254, 428 254, 428 123 from 4 000 to 500 m); with
 any-angle links alone it improves there (432 069 → 424 344) but not on every scene (ninetyeast-ridge
-settles 0.02 % higher; the sphere scene of ``tests/test_grid.py`` 0.2 % higher).  The better of the
+settles 0.02 % higher; the sphere scene of ``tests/oracles/test_grid.py`` 0.2 % higher).  The better of the
 two on every rung keeps both (``docs/lattice.md``).
 """
 

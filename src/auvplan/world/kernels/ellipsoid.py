@@ -5,7 +5,7 @@ The foot point of a body-frame point ``p`` (first octant by symmetry) is ``a² p
 ``t`` in ``[-a_min², 0]``); 64 bisections shrink the bracket below float64 resolution.  The kernel
 runs exactly the operations of the numpy version it replaced, point by point and in the same order,
 without fast-math liberties (``fastmath=False``), so its results are bit-identical to it
-(``tests/test_ellipsoid_kernels.py`` holds them against that numpy reference).
+(``tests/oracles/test_ellipsoid_kernels.py`` holds them against that numpy reference).
 
 That numpy version is kept as :func:`foot_point_numpy`: with compiling switched off
 (``NUMBA_DISABLE_JIT=1``) the kernel would run its bisection as plain Python point by point, so

@@ -151,7 +151,7 @@ def test_flow_mission_near_an_obstacle_is_bounded_or_refused_naming_the_leg() ->
     """A Fig. 8 start 0.5-5 m off the ellipsoid (benchmarks/flow_flown.py's seeded starts) whose
     mission had 5 990 waypoints with legs of 0.5 mm: no leg under 0.1 m (1 % of R) now, within the waypoint budget,
     or refused with the leg and the limit named."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
     from flow_fig78 import scenes
 
     world, mission = scenario_io.build(scenario_io.load("flow-fig8"))

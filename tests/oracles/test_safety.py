@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from test_mission import _RIDGE_TOML
 
 from auvplan.cost import CostModel, evaluate_paths
 from auvplan.guidance.formation.keeping import FormationParams
@@ -26,7 +27,6 @@ from auvplan.guidance.mission.waypoints import (
 from auvplan.planners.grid.lattice import edge_states, node_fields
 from auvplan.sim.formation import _contact
 from auvplan.world import Bounds, Ellipsoid, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
-from test_mission import _RIDGE_TOML
 
 
 def _step_world() -> World:

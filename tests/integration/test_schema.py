@@ -21,7 +21,7 @@ from auvplan.io.scenario import validate
 from auvplan.io.scenario.schema import SCHEMA_VERSION, field_docs, scenario_schema, template
 from scenario_mutations import BUILTINS, documents
 
-README = Path(__file__).parents[1] / "README.md"
+README = Path(__file__).parents[2] / "README.md"
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,7 @@ from auvplan.planners import plan
 from auvplan.sim import Mission, mission_route, planning_problem, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
 
-PIN = json.loads((Path(__file__).parent / "data" / "dynamic_terrain_apf_pin.json").read_text())
+PIN = json.loads((Path(__file__).parents[1] / "data" / "dynamic_terrain_apf_pin.json").read_text())
 
 
 #: The scenario's moving obstacles as they were when the runs were pinned: issue 30 moved them to the depth of the
@@ -206,7 +206,7 @@ def test_closed_loop_u_trap_is_left_by_escapes_before_any_deadlock(avoidance):
     """The route runs into an 80 m deep U of parked obstacles: the stalled vehicle escapes (issue #36's
     sampled sub-goals, growing with each try) and arrives; no deadlock is declared.  (Document 004's own
     rule, ``escape = "patent"``, the APF's default, has no direction to prefer in this level U: see
-    tests/test_patent_escape.py.)"""
+    tests/unit/test_patent_escape.py.)"""
     r = simulate(_open(*U_TRAP), _straight(avoidance=AvoidanceParams(escape="sampled")), avoidance=avoidance, rng=0)
     assert r.status is Status.EXACT and r.escapes >= 1 and r.obstacle_distance.min() > 0.0
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from auvplan.io.scenario.schema import scenario_schema
 
-TOOL = Path(__file__).parents[1] / "tools" / "scenario_reference.py"
+TOOL = Path(__file__).parents[2] / "tools" / "scenario_reference.py"
 
 
 def _tool():

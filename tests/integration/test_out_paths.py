@@ -19,7 +19,7 @@ from auvplan.io.safeio import OutputError, atomic_write, prepare_out, written
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.sim import RunRecord
 
-FORMATION = (Path(__file__).parents[1] / "src" / "auvplan" / "data" / "scenarios" / "chagos-formation.toml").read_text()
+FORMATION = (Path(__file__).parents[2] / "src" / "auvplan" / "data" / "scenarios" / "chagos-formation.toml").read_text()
 assert 'name = "port"' in FORMATION
 
 _SAFE = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")

@@ -13,7 +13,7 @@ import pytest
 
 from auvplan.io.scenario import loader as sc
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 README = ROOT / "README.md"
 
 
@@ -194,7 +194,7 @@ HAND_TYPED_DOC_SECTIONS = {
         "docs: tools/oracle_mutants.py edges-* and tools/mutate.py runs (hours of CPU), issue 49",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
-        "docs_figures measurement; tests/test_mission_legs.py holds the limits, the band and the flight",
+        "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",
     ("docs/reference.md", "Resolution study (`benchmarks/grid.py`)"): "unowned: benchmarks/grid.py (heavy), no figure",
     ("docs/reference.md", "Gap study (`benchmarks/gap.py`)"): "unowned: benchmarks/gap.py (heavy), no figure",
     ("docs/reliability.md", "Bad input"): NOT_MEASURED,

@@ -20,7 +20,7 @@ from auvplan.viz.scene3d import hms, vertical_exaggeration
 from auvplan.viz.style import BATHY_CMAP, LAND_COLORS, bathymetry_cmap, bathymetry_colorscale, bathymetry_stops
 from auvplan.world import Bounds, Sphere, Terrain, World
 
-BASELINE = Path(__file__).parent / "baseline"
+BASELINE = Path(__file__).parents[1] / "baseline"
 
 
 def _rgb(hexes):

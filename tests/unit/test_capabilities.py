@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import pytest
+from test_registry import SCENARIO, StraightParams, straight
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import REGISTRY, plan, register
@@ -19,7 +20,6 @@ from auvplan.planners.grid.band import path_cost
 from auvplan.planners.grid.planner import on_cost_function
 from auvplan.planners.registry import CAPABILITIES, PLANNERS, get, has
 from auvplan.sim import planning_problem
-from test_registry import SCENARIO, StraightParams, straight
 
 
 def test_every_built_in_planner_declares_its_capabilities() -> None:

@@ -86,7 +86,7 @@ def test_extras_declared_and_all_installs_them():
     import tomllib
     from pathlib import Path
 
-    meta = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())["project"]
+    meta = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())["project"]
     assert not any(d.startswith(("plotly", "dask")) for d in meta["dependencies"])
     extras = meta["optional-dependencies"]
     assert any(d.startswith("plotly") for d in extras["report"])

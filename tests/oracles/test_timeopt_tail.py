@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from test_timeopt import least_time_ode
 
 from auvplan._types import Status
 from auvplan.io.scenario import loader as scenario
@@ -24,7 +25,6 @@ from auvplan.planners.timeopt.tail import tail_leg
 from auvplan.planners.timeopt.timing import fly_times
 from auvplan.sim import planning_problem
 from auvplan.world import GriddedCurrent
-from test_timeopt import least_time_ode
 
 V = 1.5
 

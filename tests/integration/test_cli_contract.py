@@ -158,7 +158,7 @@ def test_prepare_out_with_force_adopts_files_and_removes_links_only(tmp_path):
 
 
 def _scenario_with_relative_data(folder: Path) -> Path:
-    src = Path(__file__).parents[1] / "src" / "auvplan" / "data"
+    src = Path(__file__).parents[2] / "src" / "auvplan" / "data"
     folder.mkdir()
     shutil.copy(src / "etopo1_seed_marcus_wake.nc", folder / "grid.nc")
     text = (src / "scenarios" / "dynamic-terrain.toml").read_text()

@@ -170,7 +170,7 @@ def test_degrees_labelled_as_utm_are_refused_before_the_regrid(tmp_path):
         read_bathymetry(p, frame=LocalFrame(15.1, 158.8), extent_m=(0.0, 20_000.0, 0.0, 20_000.0))
 
 
-_BUILTINS = Path(__file__).parents[1] / "src" / "auvplan" / "data" / "scenarios"
+_BUILTINS = Path(__file__).parents[2] / "src" / "auvplan" / "data" / "scenarios"
 _TIDES = (_BUILTINS / "juan-de-fuca-tides.toml").read_text()
 _FORMATION = (_BUILTINS / "chagos-formation.toml").read_text()
 

@@ -6,11 +6,11 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from test_timeopt import CASES, GOAL, SPEC, START, V, uniform_world
 
 from auvplan.cli import main
 from auvplan.planners import PlanningProblem
 from auvplan.planners.timeopt.planner import departure_sweep
-from test_timeopt import CASES, GOAL, SPEC, START, V, uniform_world
 
 
 def test_departure_sweep_calls_progress_after_every_departure():

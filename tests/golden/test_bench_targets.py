@@ -6,7 +6,7 @@ import re
 import shlex
 from pathlib import Path
 
-ROOT = Path(__file__).parents[1]
+ROOT = Path(__file__).parents[2]
 FIGURES = ROOT / "docs" / "figures"
 # options that only name where the results go: they do not change what is measured
 OUTPUT_ONLY = {"--out", "--figure-md", "--figure"}

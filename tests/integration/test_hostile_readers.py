@@ -23,7 +23,7 @@ from auvplan.io.missions.formats import read_mission
 from auvplan.io.missions.readers import _moos_blocks
 from auvplan.io.scenario import loader as scenario_io
 
-_BUILTINS = Path(__file__).parents[1] / "src" / "auvplan" / "data" / "scenarios"
+_BUILTINS = Path(__file__).parents[2] / "src" / "auvplan" / "data" / "scenarios"
 
 
 def run_cli(capsys, *argv):

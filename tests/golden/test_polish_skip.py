@@ -25,7 +25,7 @@ def test_far_lattice_corridor_is_not_polished_and_nothing_is_lost(seamounts, mon
     """new-england-seamounts: the 8 000-node lattice takes another corridor (its taut polygon ~+6 % above
     the spline), so only the spline is polished (one call of the refinement), and the plan is the same, to
     the bit, as with the lattice candidate always polished (it lost there).  The lifted candidate (wave 7,
-    tests/test_polish_lift.py) is left out here: this test is about the lattice's rule."""
+    tests/golden/test_polish_lift.py) is left out here: this test is about the lattice's rule."""
     prob, spec = seamounts
     monkeypatch.setattr(polish, "_lifted_plan", lambda *a: None)
     calls: list[float] = []

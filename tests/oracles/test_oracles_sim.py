@@ -580,8 +580,9 @@ def test_world_ellipsoid_distance_near_deep_inside_and_in_batches():
     the SLSQP minimum of |q - p| on the surface (``test_world``'s oracle), with the sign of the body-frame
     quadric; the batch's shape is kept.  The lower bound (s - 1) A_min is below the distance outside,
     and for a sphere-shaped ellipsoid (4, 4, 4) it *is* the distance, |p - c| - 4, batch shape kept."""
-    from auvplan.world import Ellipsoid
     from test_world import _numerical_ellipsoid_distance
+
+    from auvplan.world import Ellipsoid
 
     e = Ellipsoid((10.0, -5.0, 3.0), (6.0, 3.0, 2.5), yaw=0.4, pitch=-0.3, roll=0.2)
     rng = np.random.default_rng(29)

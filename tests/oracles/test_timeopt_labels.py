@@ -2,7 +2,7 @@
 
 Oracle: in a current uniform in space, c(t), the points reachable at T form the disc
 |x − ∫₀ᵀ c dt| ≤ V T, so the least time is the least T with |g − ∫₀ᵀ c dt| ≤ V T (a constant heading
-is optimal: Zermelo).  ``least_time_ode`` (tests/test_timeopt.py) integrates the drift with
+is optimal: Zermelo).  ``least_time_ode`` (tests/oracles/test_timeopt.py) integrates the drift with
 ``solve_ivp`` on the continuous c(t) and flies the constant heading to check it lands on the goal.
 """
 
@@ -13,6 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from test_timeopt import least_time_ode
 
 from auvplan._types import Status
 from auvplan.io.scenario import loader as scenario
@@ -21,7 +22,6 @@ from auvplan.planners.params import TimeoptParams
 from auvplan.planners.timeopt.labels import fifo_holds, label_width
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, GriddedCurrent, Margins, World
-from test_timeopt import least_time_ode
 
 V = 1.0
 TIDE = 44712.0  # M2 period (s)
