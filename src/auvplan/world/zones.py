@@ -544,6 +544,52 @@ class Zones:
             d[inside] = -np.minimum(edge, in_v[inside])
         return d
 
+    def nearest(self, point: ArrayLike, reach: float) -> tuple[FloatArray, FloatArray]:
+        """The nearest point of every prism within ``reach`` of a point, and its signed distance (for a
+        repulsive field: the zones as static obstacles).
+
+        Parameters
+        ----------
+        point : array_like
+            ``(3,)`` (m).
+        reach : float
+            Farthest prism looked at (m).
+
+        Returns
+        -------
+        points : numpy.ndarray
+            ``(M, 3)`` nearest points of the prisms (on the boundary when ``point`` is inside): on the
+            footprint's boundary or straight above/below the point, the depth clamped to the band (m).
+        distances : numpy.ndarray
+            ``(M,)`` :meth:`signed_distance` to each of them (m, negative inside).
+        """
+        p = np.asarray(point, dtype=float).reshape(3)
+        empty = (np.zeros((0, 3)), np.zeros(0))
+        if not self.zones:
+            return empty
+        pt = shapely.points(p[0], p[1])
+        zi = self._tree.query(pt, predicate="dwithin", distance=reach)
+        if zi.size == 0:
+            return empty
+        d = self._pair_distance(np.broadcast_to(p, (zi.size, 3)), np.full(zi.size, pt, dtype=object), zi)
+        keep = d <= reach
+        zi, d = zi[keep], d[keep]
+        geoms = self._geoms[zi]
+        over = shapely.contains_xy(geoms, p[0], p[1])
+        out_v, _ = self._vertical(np.broadcast_to(p, (zi.size, 3)), zi)
+        ends = shapely.get_coordinates(shapely.shortest_line(pt, shapely.boundary(geoms))).reshape(-1, 2, 2)[:, 1]
+        q = np.column_stack([ends, np.full(zi.size, p[2])])
+        above = over & (out_v > 0)  # over the footprint, outside the band: straight above or below
+        q[above, :2] = p[:2]
+        lo = np.where(np.isfinite(self._h[zi]), -np.inf, self._zlo[zi])
+        hi = self._zhi[zi].copy()
+        sea = np.isfinite(self._h[zi])
+        if sea.any():
+            assert self.terrain is not None
+            hi[sea] = self.terrain.elevation(q[sea, 0], q[sea, 1]) + self._h[zi][sea]
+        q[:, 2] = np.clip(p[2], lo, hi)
+        return q, d
+
     def distances(self, points: ArrayLike) -> FloatArray:
         """Signed distance of every point to every zone (for reports: closest approach per zone).
 
