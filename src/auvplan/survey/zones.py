@@ -107,8 +107,9 @@ def clip_to_zones(world: World, mission: Mission, route: NDArray[np.float64], la
             parts += [detour[1:-1], route[b:b + 1]]
             labs += [np.full(detour.shape[0] - 2, transit, dtype=np.int64), labels[b:b + 1]]
             continue
-        ends = replace(mission, start=tuple(float(v) for v in route[a]), goal=tuple(float(v) for v in route[b]),
-                       route=())
+        pa, pb = route[a], route[b]
+        ends = replace(mission, start=(float(pa[0]), float(pa[1]), float(pa[2])),
+                       goal=(float(pb[0]), float(pb[1]), float(pb[2])), route=())
         planned, path = planned_route(world, ends, seed, progress)
         assert planned is not None
         plans.append(planned)
