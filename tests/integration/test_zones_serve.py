@@ -4,6 +4,8 @@ the leg's trace with the footprint; the built-in's zones reach from the surface 
 
 from __future__ import annotations
 
+import base64
+
 import numpy as np
 import pytest
 import shapely
@@ -21,18 +23,36 @@ def reefs(tmp_path_factory):
     return session, TestClient(make_app(session), base_url="http://127.0.0.1")
 
 
+def _array(v):
+    """A plotly JSON array: a list, or a typed array ``{dtype, bdata}`` (base64)."""
+    if isinstance(v, dict):
+        return np.frombuffer(base64.b64decode(v["bdata"]), dtype=v["dtype"]).astype(float)
+    return np.array([np.nan if e is None else e for e in v], dtype=float)
+
+
 def test_the_chart_draws_every_zone_in_the_bounds_with_its_name(reefs):
+    """The page's chart is the report's (``viz.chart.figure_plan_view``): each zone's filled outline is its
+    footprint cut to the bounds (same area), and its name is written on it."""
     session, client = reefs
     chart = client.get("/api/chart").json()
-    drawn = {t["meta"]["name"] for t in chart["data"] if isinstance(t.get("meta"), dict)
-             and t["meta"].get("kind") == "zone"}
+    traces = {t["meta"]["name"]: t for t in chart["data"] if isinstance(t.get("meta"), dict)
+              and t["meta"].get("kind") == "zone"}
     b = session.world.bounds
     box = shapely.box(b.xmin, b.ymin, b.xmax, b.ymax)
-    inside = {z.name for z in session.world.zones.exact.zones if shapely.intersects(z.footprint, box)}
-    assert inside and drawn == inside
-    texts = " ".join(str(a.get("text", "")) for a in chart["layout"].get("annotations", []))
-    texts += " ".join(str(t.get("text", "")) for t in chart["data"])
-    assert all(name in texts for name in inside)
+    inside = {z.name: shapely.intersection(z.footprint, box) for z in session.world.zones.exact.zones
+              if shapely.intersects(z.footprint, box)}
+    assert inside and set(traces) == set(inside)
+    labels = {a["text"]: (a["x"], a["y"]) for a in chart["layout"].get("annotations", [])
+              if a.get("name") == "label-zone"}
+    for name, shown in inside.items():
+        xs, ys = (_array(traces[name][k]) for k in "xy")
+        rings = [np.column_stack([x[np.isfinite(x)], y[np.isfinite(y)]]) for x, y in
+                 zip(np.split(xs, np.flatnonzero(np.isnan(xs))), np.split(ys, np.flatnonzero(np.isnan(ys))),
+                     strict=True)]
+        rings = [r for r in rings if r.shape[0] >= 4]
+        drawn = shapely.area(shapely.Polygon(rings[0], rings[1:]))  # one polygon per zone here: shell, holes
+        assert drawn == pytest.approx(shapely.area(shown), rel=1e-6), name
+        assert name in labels and shapely.distance(shapely.Point(labels[name]), shown) < 1.0, name
 
 
 def _oracle(zones, w):
