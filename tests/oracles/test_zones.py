@@ -36,6 +36,14 @@ def test_entries_match_an_independent_shapely_check(seed):
     theirs = set(independent_entries(world, p))
     assert len(theirs) > 20
     assert ours == theirs
+    # the planners' compiled pass (fine-field cull, march, discs, early exit) on long legs and on a short-step walk
+    walk = np.cumsum(np.column_stack([rng.normal(0, 40, (2000, 2)), rng.normal(0, 4, 2000)]), axis=0)
+    walk += [1500.0, 1500.0, -120.0] - walk.mean(axis=0)
+    for path in (p, walk):
+        legs = {k for k, _ in independent_entries(world, path)}
+        assert set(np.flatnonzero(zones.segments_enter(np.stack([path[:-1], path[1:]], axis=1))) + 1) == legs
+        assert set(np.flatnonzero(zones.polyline_inside_lengths(path[None])[0] > 0) + 1) == legs
+    assert len(legs) > 20
 
 
 def test_signed_distance_is_the_prism_distance_and_never_above_it():
