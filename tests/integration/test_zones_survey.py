@@ -6,13 +6,12 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
+from test_survey_mission import AREA, SCENARIO
 
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import loads
 from auvplan.survey.mission import TRANSIT, plan_survey
-
-from test_survey_mission import AREA, SCENARIO
 
 ZONE = [[700.0, 620.0], [1000.0, 620.0], [1000.0, 780.0], [700.0, 780.0]]  # metres: a box inside the area
 
