@@ -16,7 +16,7 @@ import math
 from .._jit import kernel
 from .._types import BoolArray, FloatArray, IntArray
 
-__all__ = ["any_hits_kernel", "path_hits_kernel", "candidates_kernel", "flat_hits_kernel", "near_distance_kernel"]
+__all__ = ["candidates_kernel"]  # the others are the internals of auvplan.world.zones
 
 
 @kernel(inline="always")
