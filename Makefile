@@ -111,6 +111,7 @@ bench-nav: $(STAMP)
 # picture, then the figures copied into the docs; tests/golden/test_doc_figures.py keeps them in step
 docs: $(STAMP)
 	$(BIN)/python tools/docs_figures.py measure
+	$(BIN)/python tools/glider_figures.py
 	@bash tools/install-chromium.sh
 	$(BIN)/python tools/report_screenshots.py --out docs/img
 	$(BIN)/python tools/scenario_reference.py

@@ -18,7 +18,15 @@ def cmd_plan(args: argparse.Namespace) -> int:
     from ..app.plan import plan_scenario
     from ..app.results import save_plan
     from ..io.results import records
+    from ..io.scenario import loader as scenario_io
 
+    if scenario_io.load(args.scenario).vehicle.type == "glider":  # issue 58: planned in dive cycles, and flown
+        if args.depart_between:
+            raise AuvplanError(f"{args.scenario}: --depart-between does not sweep a glider's departures yet; set "
+                               "[planner.timeopt] depart_s for one departure")
+        from .glider import cmd_glider
+
+        return cmd_glider(args)
     if args.depart_between:
         from .sweep import cmd_sweep
 

@@ -55,8 +55,14 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
     import numpy as np
 
     from ..app.check import check_missions
+    from ..io.missions.glider import is_glider_file
     from ..io.results import records
 
+    gliders = [f for f in args.files if is_glider_file(Path(f))]
+    if gliders:  # issue 58: Slocum goto_lNN.ma and Seaglider targets, read back and flown by the scenario's glider
+        from .glider import glider_checks
+
+        return glider_checks(args, gliders)
     sc, checks = check_missions(args.scenario, args.files, args.pitch)
     for c in checks if not args.json else ():
         name, check, vlimits = c.record["file"], c.check, c.vehicle

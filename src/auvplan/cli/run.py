@@ -101,6 +101,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         from .survey import cmd_survey
 
         return cmd_survey(args)
+    if sc.vehicle.type == "glider":
+        from .glider import cmd_glider
+
+        return cmd_glider(args)
     if sc.formation is not None:
         world, mission = scenario_io.build(sc)
         return cmd_formation(args, sc, world, mission)

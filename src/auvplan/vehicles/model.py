@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
+
+from .glider import GliderParams
 
 if TYPE_CHECKING:
     from .._types import FloatArray
@@ -106,6 +108,11 @@ class VehicleParams:
         Measured (speed m/s, power W) pairs: when given, ``hotel_power`` (unless ``hotel_w`` is given)
         and the drag coefficient are fitted to ``P = P_hotel + k V³`` by least squares
         (:func:`auvplan.vehicles.power_fit.fit_power`), so every planner and budget uses the fitted model.
+    type : str
+        ``"auv"`` (this model) or ``"glider"``: a buoyancy glider flown by its steady-glide model in
+        dive cycles (``[vehicle.glider]``, :class:`auvplan.vehicles.glider.GliderParams`; docs/gliders.md).
+    glider : GliderParams
+        The glider's flight model, yos, surfacing and power (``[vehicle.glider]``; used when ``type = "glider"``).
     """
 
     speed: float = 1.5
@@ -137,6 +144,8 @@ class VehicleParams:
     min_speed: float = 0.5
     hotel_w: float | None = None
     power_table: tuple[tuple[float, float], ...] = ()
+    type: str = "auv"
+    glider: GliderParams = field(default_factory=GliderParams)
 
     def __post_init__(self) -> None:
         positive = ("speed", "max_speed", "surge_time_constant", "nomoto_T", "nomoto_K", "rudder_max_deg",
@@ -157,6 +166,8 @@ class VehicleParams:
             raise ValueError(f"propulsive_efficiency = {self.propulsive_efficiency}: must be <= 1")
         if not 0 < self.max_pitch_deg <= 90:
             raise ValueError(f"max_pitch_deg = {self.max_pitch_deg}: must lie in (0, 90] (90: no pitch limit)")
+        if self.type not in ("auv", "glider"):
+            raise ValueError(f"type = {self.type!r}: choose 'auv' or 'glider'")
         if self.turn_radius_m < 0 or not self.max_depth_m > 0:
             raise ValueError("turn_radius_m must be >= 0 and max_depth_m > 0")
         self._energy_checks()

@@ -94,12 +94,14 @@ def energy_defaults(sc: Any) -> list[str]:
     Returns
     -------
     list of str
-        One line naming the defaults, or none when every key was given.
+        One line naming the defaults, or none when every key was given (or the vehicle is a glider).
     """
     given = sc.raw.get("vehicle", {}) if isinstance(sc.raw, dict) else {}
     given = given if isinstance(given, dict) else {}
     preset = given.get("preset")
     v: VehicleParams = sc.vehicle
+    if v.type == "glider":  # a glider's energy is its own ([vehicle.glider] hotel, surface and pump; docs/gliders.md)
+        return []
     parts = []
     for key in ENERGY_KEYS:
         if key in given or (key == "hotel_w" and "hotel_power" in given):

@@ -1,0 +1,363 @@
+"""Glider mission files as pilots load them: Slocum ``.ma`` behaviour files and the Seaglider ``targets`` file.
+
+**Slocum** (Teledyne Webb Research, *Slocum G2 Glider Operators Manual*, "Mission and behaviour
+files"; the ``beh_args.h`` enumerations quoted in the stock ``mafiles``, e.g. ``yo10.ma`` and
+``surfac03.ma`` of a Slocum release, and the ``goto_l10.ma`` written by Rutgers' Glider Guidance
+System).  A ``.ma`` file starts with ``behavior_name=NAME``; ``#`` starts a comment; behaviour
+arguments sit between ``<start:b_arg>`` and ``<end:b_arg>``, one per line as
+``b_arg: NAME(UNIT) VALUE``; a ``goto_list`` carries its waypoints between ``<start:waypoints>`` and
+``<end:waypoints>``, one per line as ``LON LAT`` in the glider's DDMM.MMMM notation (degrees × 100
++ minutes, negative west and south; longitude first).  Written here:
+
+* ``goto_lNN.ma`` (``behavior_name=goto_list``): the surfacing waypoints, ``list_stop_when`` 7
+  (``BAW_WHEN_WPT_DIST``) with ``list_when_wpt_dist`` the capture radius, ``initial_wpt`` 0,
+  ``num_legs_to_run`` the number of waypoints (stop at the last);
+* ``yoNN.ma`` (``behavior_name=yo``): ``d_target_depth``, ``d_target_altitude`` (``min_altitude``),
+  ``c_target_depth`` (``climb_depth_m``), ``d_/c_use_pitch`` 3 (servo) with ``d_/c_pitch_value`` in
+  radians, ``num_half_cycles_to_do`` = 2 × ``yos`` and ``end_action`` 2 (resume: after the surfacing
+  the yo starts again);
+* ``surfacNN.ma`` (``behavior_name=surface``): ``start_when`` 2 (``BAW_PITCH_IDLE``: when the yo has
+  done its half cycles, i.e. every ``yos`` yos), ``end_action`` 2 (resume), ``gps_wait_time``
+  ``surface_time_s``; with ``surface_every_s`` a second one, ``start_when`` 12
+  (``BAW_NOCOMM_SECS``) and ``when_secs`` = ``surface_every_s``.
+
+**Seaglider** (University of Washington APL, *Seaglider File Formats Manual* v66, "targets"; the
+same syntax as the targets files of NOAA's ``agate`` toolbox, ``makeTargetsFile.m``): ``/`` starts a
+comment line; each target is one line ``NAME lat=DDMM.MMMM lon=DDDMM.MMMM radius=R goto=NEXT``
+(signed DDMM like Slocum's; the last target's ``goto`` is itself, so the glider holds there).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ...errors import DataError
+from ..data.geo import LocalFrame
+
+__all__ = ["to_ddmm", "from_ddmm", "slocum_files", "write_slocum", "seaglider_targets", "read_goto", "read_ma",
+           "read_targets", "GLIDER_SUFFIXES", "is_glider_file", "read_glider_waypoints"]
+
+#: Files :func:`read_glider_waypoints` reads (``mission check``).
+GLIDER_SUFFIXES = (".ma",)
+
+
+def to_ddmm(deg: float) -> float:
+    """Decimal degrees as the gliders' signed DDMM.MMMM (degrees × 100 + minutes).
+
+    Parameters
+    ----------
+    deg : float
+        Degrees (negative west/south).
+
+    Returns
+    -------
+    float
+        DDMM.MMMM with the sign of ``deg``.
+    """
+    a = abs(deg)
+    d = math.floor(a)
+    m = (a - d) * 60.0
+    if round(m, 4) >= 60.0:
+        d, m = d + 1, 0.0
+    return math.copysign(d * 100.0 + m, deg)
+
+
+def from_ddmm(value: float) -> float:
+    """Signed DDMM.MMMM back to decimal degrees.
+
+    Parameters
+    ----------
+    value : float
+        DDMM.MMMM.
+
+    Returns
+    -------
+    float
+        Degrees.
+    """
+    a = abs(value)
+    d = math.floor(a / 100.0)
+    return math.copysign(d + (a - 100.0 * d) / 60.0, value)
+
+
+def _latlon(points: Any, origin: tuple[float, float]) -> list[tuple[float, float]]:
+    p = np.asarray(points, dtype=float)
+    lon, lat = LocalFrame(*origin).inverse(p[:, 0], p[:, 1])
+    return [(float(a), float(o)) for a, o in zip(lat, lon, strict=True)]
+
+
+def _b_args(args: list[tuple[str, Any, str]]) -> list[str]:
+    return ["<start:b_arg>", *(f"    b_arg: {k} {v}" + (f"    # {c}" if c else "") for k, v, c in args),
+            "<end:b_arg>"]
+
+
+def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
+                 number: int = 10, name: str = "auvplan") -> dict[str, str]:
+    """The Slocum behaviour files of a glider mission (module notes).
+
+    Parameters
+    ----------
+    points : array_like, shape (M, 2+)
+        The surfacing waypoints in the local frame (m); the last is the goal.
+    origin : (lat, lon)
+        The frame's origin (degrees).
+    glider : GliderParams
+        Yo depths, pitch, yos per surfacing, surfacing time, capture radius.
+    min_altitude : float
+        Least altitude above the seabed at the bottom of a dive (m).
+    number : int, default 10
+        The files' number NN (``goto_lNN.ma``, ``yoNN.ma``, ``surfacNN.ma``; 10-99).
+    name : str, default "auvplan"
+        Mission name for the comments.
+
+    Returns
+    -------
+    dict
+        File name → text.
+    """
+    if not 10 <= number <= 98:
+        raise ValueError(f"number = {number}: Slocum behaviour files are numbered 10-99")
+    pts = _latlon(points, origin)
+    pitch = math.radians(glider.pitch_deg)
+    goto = ["behavior_name=goto_list", f"# goto_l{number}.ma: {name}, {len(pts)} surfacing waypoints written by "
+            "auvplan (planned in dive cycles against the depth-averaged current)",
+            *_b_args([("num_legs_to_run(nodim)", len(pts), "run the list once, stop at the last"),
+                      ("start_when(enum)", 0, "BAW_IMMEDIATELY"),
+                      ("list_stop_when(enum)", 7, "BAW_WHEN_WPT_DIST"),
+                      ("list_when_wpt_dist(m)", f"{glider.capture_radius_m:.0f}", "capture radius"),
+                      ("initial_wpt(enum)", 0, "start with the first"),
+                      ("num_waypoints(nodim)", len(pts), "")]),
+            "<start:waypoints>", "#   LON (DDDMM.MMMM)  LAT (DDMM.MMMM)",
+            *(f"    {to_ddmm(lon):.4f}    {to_ddmm(lat):.4f}    # {k + 1}" for k, (lat, lon) in enumerate(pts)),
+            "<end:waypoints>"]
+    yo = ["behavior_name=yo", f"# yo{number}.ma: {name}, climb {glider.climb_depth_m:g} m, dive "
+          f"{glider.dive_depth_m:g} m, altitude {min_altitude:g} m, pitch {glider.pitch_deg:g} deg, "
+          f"{glider.yos} yos per surfacing",
+          *_b_args([("start_when(enum)", 2, "BAW_PITCH_IDLE"),
+                    ("num_half_cycles_to_do(nodim)", 2 * glider.yos, "dives + climbs between surfacings"),
+                    ("d_target_depth(m)", f"{glider.dive_depth_m:g}", ""),
+                    ("d_target_altitude(m)", f"{min_altitude:g}", ""),
+                    ("d_use_pitch(enum)", 3, "servo"),
+                    ("d_pitch_value(X)", f"{-pitch:.4f}", f"-{glider.pitch_deg:g} deg"),
+                    ("c_target_depth(m)", f"{glider.climb_depth_m:g}", ""),
+                    ("c_target_altitude(m)", -1, "off"),
+                    ("c_use_pitch(enum)", 3, "servo"),
+                    ("c_pitch_value(X)", f"{pitch:.4f}", f"{glider.pitch_deg:g} deg"),
+                    ("end_action(enum)", 2, "resume")])]
+    surf = ["behavior_name=surface", f"# surfac{number}.ma: {name}, surface when the yo has done its "
+            f"{glider.yos} yos",
+            *_b_args([("start_when(enum)", 2, "BAW_PITCH_IDLE"),
+                      ("end_action(enum)", 2, "resume"),
+                      ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
+                      ("c_use_pitch(enum)", 3, "servo"),
+                      ("c_pitch_value(X)", f"{pitch:.4f}", "")])]
+    out = {f"goto_l{number}.ma": "\n".join(goto) + "\n", f"yo{number}.ma": "\n".join(yo) + "\n",
+           f"surfac{number}.ma": "\n".join(surf) + "\n"}
+    if glider.surface_every_s > 0:
+        every = ["behavior_name=surface", f"# surfac{number + 1}.ma: {name}, surface every "
+                 f"{glider.surface_every_s:.0f} s without comms",
+                 *_b_args([("start_when(enum)", 12, "BAW_NOCOMM_SECS"),
+                           ("when_secs(sec)", f"{glider.surface_every_s:.0f}", ""),
+                           ("end_action(enum)", 2, "resume"),
+                           ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
+                           ("c_use_pitch(enum)", 3, "servo"),
+                           ("c_pitch_value(X)", f"{pitch:.4f}", "")])]
+        out[f"surfac{number + 1}.ma"] = "\n".join(every) + "\n"
+    return out
+
+
+def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
+                 number: int = 10) -> list[Path]:
+    """Write :func:`slocum_files` into ``folder`` (an existing file is never overwritten).
+
+    Parameters
+    ----------
+    folder : Path
+        Destination folder (created).
+    points : array_like, shape (M, 2+)
+        The surfacing waypoints (m), as :func:`slocum_files`.
+    origin : (lat, lon)
+        The frame's origin (degrees).
+    glider : GliderParams
+        The glider.
+    min_altitude : float
+        Least altitude above the seabed (m).
+    number : int, default 10
+        The files' number NN.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    files = slocum_files(points, origin, glider, min_altitude, number)
+    taken = [n for n in files if (folder / n).exists()]
+    if taken:
+        raise DataError(f"{folder / taken[0]}: exists; auvplan never overwrites a mission file")
+    out = []
+    for n, text in files.items():
+        (folder / n).write_text(text)
+        out.append(folder / n)
+    return out
+
+
+def seaglider_targets(points: Any, origin: tuple[float, float], radius: float, name: str = "auvplan") -> str:
+    """The Seaglider ``targets`` file of the surfacing waypoints (module notes).
+
+    Parameters
+    ----------
+    points : array_like, shape (M, 2+)
+        Waypoints in the local frame (m); the last is the goal.
+    origin : (lat, lon)
+        The frame's origin (degrees).
+    radius : float
+        Target radius (m).
+    name : str, default "auvplan"
+        Mission name for the comment.
+
+    Returns
+    -------
+    str
+        The file's text; targets ``WP01`` … and ``GOAL``.
+    """
+    pts = _latlon(points, origin)
+    names = [f"WP{k + 1:02d}" for k in range(len(pts) - 1)] + ["GOAL"]
+    lines = [f"/ targets: {name}, {len(pts)} targets written by auvplan",
+             "/ NAME lat=DDMM.MMMM lon=DDDMM.MMMM radius=M goto=NEXT"]
+    for k, (lat, lon) in enumerate(pts):
+        nxt = names[min(k + 1, len(pts) - 1)]
+        lines.append(f"{names[k]} lat={to_ddmm(lat):.4f} lon={to_ddmm(lon):.4f} radius={radius:.0f} goto={nxt}")
+    return "\n".join(lines) + "\n"
+
+
+def read_ma(text: str) -> tuple[str, dict[str, float]]:
+    """A Slocum ``.ma`` file's behaviour name and its ``b_arg`` values by name (units dropped).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    (str, dict)
+        ``behavior_name`` and ``{arg: value}``.
+    """
+    name, args = "", {}
+    for raw in text.splitlines():
+        line = raw.split("#", 1)[0].strip()
+        if line.startswith("behavior_name="):
+            name = line.split("=", 1)[1].strip()
+        m = re.match(r"b_arg:\s*([A-Za-z_0-9]+)\([^)]*\)\s+(\S+)", line)
+        if m:
+            args[m.group(1)] = float(m.group(2))
+    return name, args
+
+
+def read_goto(text: str) -> list[tuple[float, float]]:
+    """A ``goto_list`` file's waypoints as (lat, lon) degrees.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    list of (float, float)
+        The waypoints in order.
+    """
+    body = text.split("<start:waypoints>", 1)[1].split("<end:waypoints>", 1)[0]
+    out = []
+    for raw in body.splitlines():
+        line = raw.split("#", 1)[0].split()
+        if len(line) >= 2:
+            out.append((from_ddmm(float(line[1])), from_ddmm(float(line[0]))))
+    return out
+
+
+def read_targets(text: str) -> list[dict[str, Any]]:
+    """A Seaglider ``targets`` file's targets.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    list of dict
+        ``name``, ``lat``, ``lon`` (degrees), ``radius`` (m), ``goto``, in file order.
+    """
+    out = []
+    for raw in text.splitlines():
+        line = raw.strip()
+        if not line or line.startswith("/"):
+            continue
+        head, *rest = line.split()
+        kv = dict(item.split("=", 1) for item in rest if "=" in item)
+        out.append({"name": head, "lat": from_ddmm(float(kv["lat"])), "lon": from_ddmm(float(kv["lon"])),
+                    "radius": float(kv["radius"]), "goto": kv["goto"]})
+    return out
+
+
+def is_glider_file(path: Path) -> bool:
+    """Whether ``mission check`` reads ``path`` as a glider file: a Slocum ``goto_l*.ma`` or a Seaglider ``targets``.
+
+    Parameters
+    ----------
+    path : Path
+        The file.
+
+    Returns
+    -------
+    bool
+        By its name.
+    """
+    return (path.suffix == ".ma" and path.name.startswith("goto_l")) or path.name.startswith("targets")
+
+
+def read_glider_waypoints(path: Path, origin: tuple[float, float]) -> tuple[np.ndarray, float, str]:
+    """A glider file's waypoints in the local frame, its capture radius and its format.
+
+    Parameters
+    ----------
+    path : Path
+        ``goto_lNN.ma`` or ``targets``.
+    origin : (lat, lon)
+        The scenario's origin (degrees).
+
+    Returns
+    -------
+    (ndarray (M, 2), float, str)
+        Waypoints (m), radius (m), ``"slocum"`` or ``"seaglider"``.
+
+    Raises
+    ------
+    DataError
+        When the file does not parse (the message names the file).
+    """
+    text = path.read_text()
+    try:
+        if path.suffix == ".ma":
+            latlon = read_goto(text)
+            radius = read_ma(text)[1].get("list_when_wpt_dist", math.nan)
+            fmt = "slocum"
+        else:
+            tg = read_targets(text)
+            latlon = [(t["lat"], t["lon"]) for t in tg]
+            radius = tg[-1]["radius"] if tg else math.nan
+            fmt = "seaglider"
+    except (IndexError, KeyError, ValueError) as exc:
+        raise DataError(f"{path}: not a glider mission file ({exc})") from exc
+    if not latlon:
+        raise DataError(f"{path}: no waypoints")
+    lat, lon = np.array(latlon).T
+    x, y = LocalFrame(*origin).forward(lon, lat)
+    return np.stack([x, y], axis=1), float(radius), fmt
