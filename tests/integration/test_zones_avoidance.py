@@ -10,7 +10,7 @@ import numpy as np
 import shapely
 
 from auvplan._types import Status
-from auvplan.sim import Mission, simulate
+from auvplan.sim import Mission, SimParams, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, World, Zone, Zones
 
 HEAD_ON = MovingObstacle(Sphere((0, 0, 0), 30.0), LinearMotion((900.0, 15.0, -100.0), (-1.0, 0.0, 0.0)), "head-on")
@@ -25,8 +25,9 @@ def _entries(track: np.ndarray) -> int:
 def test_the_apf_dodging_a_mover_keeps_out_of_a_zone():
     world = World(Bounds(0, 1000, -500, 500, -200.0, 0), None, moving=(HEAD_ON,),
                   margins=Margins(min_altitude=5.0, min_depth=5.0))
-    mission = Mission("open", (0, 0, -100.0), (1000, 0, -100.0), route=((0, 0, -100.0), (1000, 0, -100.0)))
-    # (the same flight without the zone in the world sidesteps across it: 510 of its samples inside)
+    mission = Mission("open", (0, 0, -100.0), (1000, 0, -100.0), route=((0, 0, -100.0), (1000, 0, -100.0)),
+                      sim=SimParams(dt=0.5))
+    # (the same flight without the zone in the world sidesteps across it: 97 of its samples inside)
     r = simulate(replace(world, zones=Zones((ZONE,))), mission, avoidance="apf", rng=0)
     assert r.status is Status.EXACT and r.metrics["collisions"] == 0
     assert _entries(r.position) == 0
