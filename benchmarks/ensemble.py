@@ -230,17 +230,10 @@ def main() -> None:
         return
     intervals = tuple(args.intervals)
     t0 = time.perf_counter()
-    if args.workers:
-        from dask.distributed import Client, LocalCluster
+    from auvplan.parallel import Runner  # 0 workers: in this process
 
-        with LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True) as cluster, \
-                Client(cluster) as client:
-            rows = client.gather(client.map(pair_row, range(args.pairs), intervals=intervals))
-    else:
-        rows = []
-        for i in range(args.pairs):
-            rows.append(pair_row(i, intervals))
-            print(i, json.dumps(rows[-1]), flush=True)
+    rows = Runner(workers=args.workers).map(functools.partial(pair_row, intervals=intervals), list(range(args.pairs)),
+                                            on_result=lambda i, row: print(i, json.dumps(row), flush=True)).results
     summary = summarise(rows, args.intervals)
     summary["wall_s"] = time.perf_counter() - t0
     summary["load"] = os.getloadavg()

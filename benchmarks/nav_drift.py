@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from auvplan.endurance import EnergyModel
+from auvplan.endurance import mission_budget as energy_budget
 from auvplan.io.scenario import loader as scenario
 from auvplan.sim import simulate
 from auvplan.sim.pipeline import navigation_plan, planned_route
@@ -45,17 +47,21 @@ def fly(world, mission, route, kinds, seeds, log):  # type: ignore[no-untyped-de
         r = simulate(world, mission, route=route, rng=seed, fix_kinds=kinds)
         row = {"seed": seed, "status": r.status.value, "arrived": bool(r.arrived),
                "contacts": int(r.metrics["collisions"]), "min_altitude_m": float(r.metrics["min_altitude_m"]),
-               "nav_error_max_m": float(r.nav_error.max()) if r.nav_error is not None else 0.0}
+               "nav_error_max_m": float(r.nav_error.max()) if r.nav_error is not None else 0.0,
+               "duration_s": float(r.t[-1])}
         rows.append(row)
         with log.open("a") as f:
             f.write(json.dumps(row) + "\n")
     return rows
 
 
-def summary(rows, budget):  # type: ignore[no-untyped-def]
-    """Counts over the flights."""
+def summary(rows, budget, planned_s):  # type: ignore[no-untyped-def]
+    """Counts over the flights; the flown time of the arrived ones against the planned time."""
     err = np.array([r["nav_error_max_m"] for r in rows])
-    return {"flights": len(rows), "arrived": sum(r["arrived"] for r in rows),
+    flown = np.array([r["duration_s"] for r in rows if r["arrived"] and "duration_s" in r])
+    dev = (flown / planned_s - 1.0) * 100.0 if flown.size else np.array([np.nan])
+    return {"planned_duration_s": planned_s, "flown_duration_dev_pct": [float(dev.min()), float(dev.max())],
+            "flights": len(rows), "arrived": sum(r["arrived"] for r in rows),
             "with_contact": sum(r["contacts"] > 0 for r in rows),
             "error_within_budget": int((err <= budget).sum()), "error_max_m": float(err.max()),
             "error_p50_m": float(np.median(err)), "min_altitude_m": min(r["min_altitude_m"] for r in rows)}
@@ -94,9 +100,13 @@ def main() -> None:  # noqa: D103
         planned, naive = ([json.loads(x) for x in (out_dir / f"{k}.jsonl").read_text().splitlines()]
                           for k in ("planned", "perfect"))
     m = plan.metrics()
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    t_plan = energy_budget(world, plan.points, model, mission.vehicle.speed, dwell=plan.dwell_s).duration_s
+    t_route = energy_budget(world, route, model, mission.vehicle.speed).duration_s
     out = {"scenario": a.scenario, "seeds": a.seeds, "budget_m": nav.max_error_m, "confidence": nav.confidence,
            "route_km": float(np.hypot(*np.diff(route[:, :2], axis=0).T).sum() / 1000), **m,
-           "planned": summary(planned, nav.max_error_m), "perfect_navigation": summary(naive, nav.max_error_m),
+           "planned": summary(planned, nav.max_error_m, t_plan),
+           "perfect_navigation": summary(naive, nav.max_error_m, t_route),
            "cpu_s": time.process_time() - t0, "load": [load0, os.getloadavg()],
            "rows": {"planned": planned, "perfect_navigation": naive}}
     (out_dir / "nav_drift.json").write_text(json.dumps(out, indent=1) + "\n")
@@ -110,7 +120,9 @@ def main() -> None:  # noqa: D103
             f"({fewer:.0f} % fewer); flown with drift over {p['flights']} seeds: {p['arrived']} arrived, "
             f"{p['with_contact']} with a contact, true error within E in {p['error_within_budget']} "
             f"(largest {p['error_max_m']:.1f} m, median of the largest {p['error_p50_m']:.1f} m), least altitude "
-            f"{p['min_altitude_m']:.1f} m; the same route planned with perfect navigation (no fix), flown with "
+            f"{p['min_altitude_m']:.1f} m, flown time {p['flown_duration_dev_pct'][0]:+.2f} to "
+            f"{p['flown_duration_dev_pct'][1]:+.2f} % of the planned {p['planned_duration_s']:.0f} s "
+            f"(surface dwells held); the same route planned with perfect navigation (no fix), flown with "
             f"the same drift: {q['arrived']} arrived, {q['with_contact']} with a contact, true error within E in "
             f"{q['error_within_budget']} (largest {q['error_max_m']:.0f} m), least altitude "
             f"{q['min_altitude_m']:.1f} m; load average "

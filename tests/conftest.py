@@ -2,9 +2,18 @@
 
 from __future__ import annotations
 
-import pytest
+import os
 
-from auvplan.io.scenario import loader as sc
+# OpenBLAS's worker threads spin while they wait: on a loaded 2-core machine each small LAPACK call (scipy's
+# Delaunay barycentric transforms under LinearNDInterpolator, small solves) then costs up to seconds of CPU
+# instead of microseconds (a 551-node curvilinear current regridded: 1.7 s CPU with the default threads,
+# 0.002 s with one).  Set before numpy is imported; subprocesses inherit it.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import pytest  # noqa: E402
+
+from auvplan.io.scenario import loader as sc  # noqa: E402
 
 
 @pytest.fixture(scope="session")

@@ -73,6 +73,7 @@ from pathlib import Path  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.append(str(ROOT))  # as `python -m pytest` from the root: tests that import benchmarks/
 
 from mutation_targets import LISTED, MODULES, REASONS  # noqa: E402
 
@@ -187,6 +188,8 @@ class Mutant:
     after: str
     status: str = "not run"
     seconds: float = 0.0
+    end_line: int = 0  # the changed node's last line (the node spans line..end_line)
+    tests_run: int = -1  # how many tests covered the changed lines (-1: the whole selection, no coverage)
 
 
 def _function_node(tree: ast.Module, qualname: str) -> ast.FunctionDef:
@@ -251,7 +254,8 @@ def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, ...], ...
                 if source == original or (name, source) in seen:
                     continue  # no change, or a duplicate of an earlier mutant
                 seen.add((name, source))
-                m = Mutant(len(out) + 1, modname, name, line, kind, _snippet(node), _snippet(new_node))
+                m = Mutant(len(out) + 1, modname, name, line, kind, _snippet(node), _snippet(new_node),
+                           end_line=getattr(node, "end_lineno", None) or line)
                 out.append((m, i, j))
     return out
 
@@ -338,13 +342,69 @@ def importing_tests(modules: list[str] | tuple[str, ...], tests_dir: Path = ROOT
     return out
 
 
-def _run_items(items: list, record: str | None = None, limit: float = 0.0) -> int:
+def _codes(fn: object) -> set:
+    """The code object of function ``fn`` and every code object nested in it (comprehensions, lambdas,
+    inner functions: in Python 3.11 each is its own code object)."""
+    out, todo = set(), [fn.__code__]  # type: ignore[attr-defined]
+    while todo:
+        code = todo.pop()
+        out.add(code)
+        todo += [c for c in code.co_consts if inspect.iscode(c)]
+    return out
+
+
+class _Coverage:
+    """Which lines of the mutated functions each test executes (``sys.settrace``, local tracing only
+    inside those functions' code objects, in every thread started while it is on).  A mutant changes one
+    node spanning lines ``line..end_line``; a test that executes none of those lines runs the mutant
+    exactly as the original (the rest of the code object is the same), so it cannot kill it and is not run.
+
+    Sound for Python >= 3.11: each bytecode of the node carries a line of the node's span and the tracer
+    sees a ``line`` event whenever the executing line changes, so any execution of the node records a
+    line in its span."""
+
+    def __init__(self, codes: set) -> None:
+        self.codes, self.current = codes, ""
+        self.lines: dict[str, set[tuple[str, int]]] = {}
+
+    def _local(self, frame, event: str, _arg):  # noqa: ANN001, ANN202
+        if event == "line":
+            self.lines.setdefault(self.current, set()).add((frame.f_code.co_filename, frame.f_lineno))
+        return self._local
+
+    def _global(self, frame, event: str, _arg):  # noqa: ANN001, ANN202
+        if event == "call" and frame.f_code in self.codes:
+            self.lines.setdefault(self.current, set()).add((frame.f_code.co_filename, frame.f_lineno))
+            return self._local
+        return None
+
+    def start(self) -> None:
+        import threading
+
+        threading.settrace(self._global)
+        sys.settrace(self._global)
+
+    def stop(self) -> None:
+        import threading
+
+        sys.settrace(None)
+        threading.settrace(None)  # type: ignore[arg-type]
+
+    def covers(self, nodeid: str, filename: str, lo: int, hi: int) -> bool:
+        seen = self.lines.get(nodeid, set())
+        return any((filename, k) in seen for k in range(lo, hi + 1))
+
+
+def _run_items(items: list, record: str | None = None, limit: float = 0.0, cover: _Coverage | None = None) -> int:
     """Run the collected test ``items`` in order: 0 when all pass, 1 at the first failure.  With
     ``record`` (the unmutated run), write each test's duration there and stop any test at ``limit``
-    CPU seconds (``> 0``): it is recorded as ``"slow"`` and the run goes on."""
+    CPU seconds (``> 0``): it is recorded as ``"slow"`` and the run goes on.  With ``cover``, record
+    the lines of the mutated functions each test executes."""
     from _pytest.runner import runtestprotocol
 
     code, durations, slow = 0, {}, []
+    if cover is not None:
+        cover.start()
 
     def stop(_signum: int, _frame: object) -> None:
         raise _TooSlow(f"more than {limit:g} s CPU")
@@ -353,6 +413,8 @@ def _run_items(items: list, record: str | None = None, limit: float = 0.0) -> in
         signal.signal(signal.SIGPROF, stop)
     for k, item in enumerate(items):
         t0 = time.perf_counter()
+        if cover is not None:
+            cover.current = item.nodeid
         if limit > 0:
             signal.setitimer(signal.ITIMER_PROF, limit)
         reports = runtestprotocol(item, nextitem=items[k + 1] if k + 1 < len(items) else None, log=False)
@@ -365,6 +427,8 @@ def _run_items(items: list, record: str | None = None, limit: float = 0.0) -> in
         if any(r.failed for r in reports):
             code = 1 + min(k, _KILLER_CODES - 1)  # which test failed (the parent tries it first next time)
             break
+    if cover is not None:
+        cover.stop()
     if limit > 0:
         signal.signal(signal.SIGPROF, signal.SIG_DFL)
     if record:
@@ -424,7 +488,7 @@ def run_module(name: str, args: argparse.Namespace) -> dict:
 
     driver = _Driver(name, args)
     target = MODULES[name]
-    tests = list(LISTED.get(name, ()) if args.listed else target.tests) \
+    tests = list(args.tests or (LISTED.get(name, ()) if args.listed else target.tests)) \
         or importing_tests(sorted({spec[0] for spec in target.functions}))
     pytest.main(["-qq", "-p", "no:cacheprovider", *tests], plugins=[driver])
     return driver.record
@@ -444,7 +508,14 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     record_file = Path(args.out) / f"{name}.durations.json"
     # the unmutated run, in this process: with the JIT on, its compiled kernels are inherited by every child
     t0, cpu0 = time.monotonic(), resource.getrusage(resource.RUSAGE_SELF)
-    code = _run_items(items, record=str(record_file), limit=0.0 if target.tests or args.listed else args.test_limit)
+    cover = None
+    if args.select:  # which lines of the mutated functions each test runs: each mutant then runs only those tests
+        codes: set = set()
+        for spec in target.functions:
+            codes |= _codes(_live_function(modules[spec[0]], spec[1]))
+        cover = _Coverage(codes)
+    code = _run_items(items, record=str(record_file), limit=0.0 if target.tests or args.listed else args.test_limit,
+                      cover=cover)
     cpu1 = resource.getrusage(resource.RUSAGE_SELF)
     baseline, baseline_cpu = time.monotonic() - t0, cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
     print(f"   baseline: exit {code} in {baseline:.1f} s ({baseline_cpu:.1f} s CPU), JIT "
@@ -467,26 +538,37 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
         only = set(random.Random(args.seed).sample([m.id for m, _i, _j in mutants], args.sample))
     fns = {(spec[0], spec[1]): _function_node(trees[spec[0]], spec[1]) for spec in target.functions}
     todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
-    running: dict[int, tuple[Mutant, float, list]] = {}
+    files = {name: inspect.getfile(mod) for name, mod in modules.items()}
+    running: dict[int, tuple[Mutant, float, list, float]] = {}
     done = 0
     while todo or running:
         while todo and len(running) < args.jobs:
             m, i, j = todo.pop(0)
+            chosen, limit = list(items), timeout
+            if cover is not None:  # only the tests that execute the changed lines (same order)
+                chosen = [it for it in items if cover.covers(it.nodeid, files[m.module], m.line, m.end_line)]
+                m.tests_run = len(chosen)
+                limit = args.timeout or max(10.0, 3.0 * sum(durations.get(it.nodeid, 0.0) for it in chosen))
+                if not chosen:  # no test reaches the change: it survives without running anything
+                    m.status = "survived"
+                    done += 1
+                    print("S", end="\n" if done % 60 == 0 else "", flush=True)
+                    continue
             new_fn, _ = _mutated(fns[(m.module, m.function)], i, j)
 
             def setup(new_fn=new_fn, mod=modules[m.module], qualname=m.function) -> None:
                 _install(mod, new_fn, qualname)
 
-            running[_fork(items, setup, quiet=not args.verbose)] = (m, time.monotonic(), list(items))
+            running[_fork(chosen, setup, quiet=not args.verbose)] = (m, time.monotonic(), chosen, limit)
         time.sleep(0.01)
-        for pid, (m, t1, order) in list(running.items()):
+        for pid, (m, t1, order, limit) in list(running.items()):
             finished, status = os.waitpid(pid, os.WNOHANG)
             if finished:
                 m.status, code = _outcome(status)
-                if 1 < code <= _KILLER_CODES:  # the test that killed it goes first for the next mutants
+                if 0 < code <= _KILLER_CODES and order[code - 1] in items:  # the killer goes first next time
                     items.remove(order[code - 1])
                     items.insert(0, order[code - 1])
-            elif _cpu_seconds(pid) > timeout or time.monotonic() - t1 > 100 * timeout:
+            elif _cpu_seconds(pid) > limit or time.monotonic() - t1 > 100 * limit:
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
                 m.status, code = "timeout", -9
@@ -644,6 +726,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--test-limit", type=float, default=30.0,
                     help="drop from a target's importing-file selection the tests whose unmutated run uses more "
                          "CPU seconds than this (default 30)")
+    ap.add_argument("--tests", nargs="+", help="pytest arguments to run instead of the target's selection (a re-run "
+                                                "of survivors against new tests: a kill is a kill, with --only)")
+    ap.add_argument("--no-select", dest="select", action="store_false",
+                    help="run every mutant against the whole selection (default: only the tests whose unmutated run "
+                         "executes the changed lines, recorded by a line tracer)")
     ap.add_argument("--sample", type=int, default=0, help="run a seeded uniform sample of this many mutants")
     ap.add_argument("--seed", type=int, default=23, help="seed of --sample")
     ap.add_argument("--listed", action="store_true",
@@ -679,7 +766,7 @@ def main(argv: list[str] | None = None) -> int:
             fresh = {m["id"]: m for m in record["mutants"] if m["status"] != "not run"}
             old["mutants"] = [fresh.get(m["id"], m) for m in old["mutants"]]
             # the selection the re-run survivors met (a superset of the first pass's: killed stays killed)
-            old["tests"], old["slow"] = record["tests"], record["slow"]
+            old["tests"], old["slow"] = sorted(set(old["tests"]) | set(record["tests"])), record["slow"]
             old.setdefault("reruns", []).append({"ids": sorted(fresh), "tests": len(record["tests"]),
                                                  "load": record["load"]})
             record = old

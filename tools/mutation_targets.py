@@ -28,7 +28,8 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
 COST = "auvplan.cost"
-GRID, LATTICE = "auvplan.planners.grid.planner", "auvplan.planners.grid.lattice"
+GRID, LATTICE = "auvplan.planners.grid.reference", "auvplan.planners.grid.lattice"
+HEAP = "auvplan.planners.grid.heap"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.avoidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
@@ -73,8 +74,8 @@ MODULES: dict[str, Target] = {
     # the links of the goal and starts to the lattice
     "grid": Target(
         _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
-             "_edge_weight", "_sift_up", "_sift_down", "_push", "_pop", "_heuristic", "_search", "search",
-             "free_edges")
+             "_edge_weight", "_heuristic", "_settle_link", "_search", "search", "free_edges")
+        + _fns(HEAP, "_sift_up", "_sift_down", "push", "pop")
         + _fns(GRID, "GridReference._connect"),
         tuple(f"tests/oracles/test_oracles.py::test_{t}" for t in (
             "every_edge_of_the_cost_to_go_tree_is_free", "grid_costs_each_edge_in_its_own_direction",
@@ -458,7 +459,7 @@ REASONS: dict[str, str] = {
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] < k <= box[5]):": _BOX,
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[4] <= k < box[5]):": _BOX,
     "_search | if c_min > 0.0 and box[0] <= i <= box[1] and (box[2] <= j <= box[3]) and (box[5] <= k <= box[5]):": _BOX,
-    "_pop | pos[heap[0]] = 1": "equivalent: _sift_down always sets the position of the node it sifts",
+    "pop | pos[heap[0]] = 1": "equivalent: _sift_down always sets the position of the node it sifts",
     "edge_states | for c0 in range(0, unsure.size, 200001):": "equivalent: the chunk size of the exact test",
     "edge_states | u = unsure[c0:c0 + 200001]": "equivalent: overlapping chunks test some edges twice",
     "edge_states | state[u] = world.segments_free(seg, moving=True, ends_free=True)":
@@ -826,4 +827,112 @@ REASONS.update({
     "_finish | if status is Status.EXACT and energy >= model.budget_wh:":
         ("boundary, not killed: a flight that uses exactly its budget keeps exactly its reserve (EXACT); the mutant "
          "calls it RESERVE_BROKEN, which no float example hits"),
+})
+
+# issue #49, second session: vehicle-limits' survivors, argued (the rest killed by tests/unit/test_limits_by_hand.py)
+_HYPOT3 = ("equivalent: np.hypot(dx, dy, dz) passes dz as hypot's ``out`` array, so the values are hypot(dx, dy) "
+           "all the same")
+_SCALE = "equivalent: atan2(|a x b|, a . b) does not change when a or b is scaled by a positive length"
+_AT_TOL = ("boundary, not killed: the figure would have to equal the limit + 1e-9 (or R (1 - 1e-9)) exactly; at the "
+           "limit itself the check passes either way (test_check_limits_at_exactly_each_limit_passes)")
+REASONS.update({
+    "turn_angles | prev = -2": "equivalent: prev only tells whether a previous leg exists (prev >= 0)",
+    "turn_angles | for k in np.flatnonzero(length >= MIN_LEG_M):":
+        "boundary, not killed: a leg exactly 1e-6 m long (MIN_LEG_M) counts as a leg; no mission has one",
+    "turn_angles | a, b = (d[prev] * length[prev], d[k] / length[k])": _SCALE,
+    "turn_angles | a, b = (d[prev] / length[prev], d[k] * length[k])": _SCALE,
+    "leg_turn_radius | length = np.hypot(*np.diff(p[:, :3], axis=0).T)": _HYPOT3,
+    "leg_turn_radius | half = np.tan(np.minimum(turn_angles(p), math.pi + 1e-12) / 2.0)":
+        ("equivalent in use: only a reversal (pi) tells; its fit radius is then L / 1.6e16 instead of L / 2e12, "
+         "below a micrometre either way, so every limit reads it as 0"),
+    "leg_turn_radius | half = np.tan(np.minimum(turn_angles(p), math.pi - 1.000000000001) / 2.0)":
+        ("not killed: turns over pi - 1 rad (123 deg) read as 123 deg, their fit radius 1.7x too large; "
+         "a turn that tight fails R anyway unless its legs are long (no test has one)"),
+    "leg_turn_radius | r = np.where(need >= 1e-15, length / np.where(need > 1e-15, need, 1.0), np.inf)":
+        "boundary: need exactly 1e-15 (turns of 2e-15 rad), where L / need is 1e15 m: no limit tells",
+    "leg_turn_radius | r = np.where(need > 1e-15, length / np.where(need >= 1e-15, need, 1.0), np.inf)":
+        "equivalent: the inner guard only keeps the discarded branch finite",
+    "leg_turn_radius | r = np.where(need > 1e-15, length / np.where(need > 1e-15, need, 2.0), np.inf)":
+        "equivalent: the placeholder divisor's result is discarded by the outer np.where",
+    "check_limits | if pitch[k] >= limits.max_pitch_deg + tol:": _AT_TOL,
+    "check_limits | if depth[k] >= limits.max_depth_m + tol:": _AT_TOL,
+    ("check_limits | bad += [LimitViolation(int(turns[k]), 'turn_radius_m', float(radius[k]), limits.turn_radius_m) "
+     "for k in np.flatnonzero(radius <= limits.turn_radius_m * (1.0 - tol))]"): _AT_TOL,
+    "corner_indices | kept = np.asarray(line.simplify(tolerance, preserve_topology=True).coords)[:, 2]":
+        ("equivalent in use: a track's simplification keeps the same vertices with or without topology "
+         "preservation unless the simplified track would cross itself (a self-crossing at the tolerance's scale)"),
+    "corner_indices | return np.unique(np.r_[1, np.rint(kept).astype(np.intp), len(p) - 1])":
+        ("not killed (conservative): index 0 is always kept by Douglas-Peucker; the mutant also keeps vertex 1, a "
+         "corner within the tolerance of the track, which can only add a turn to check (a stricter verdict)"),
+    "flyby_arcs | if dpsi[i] <= 1e-12:": "boundary: a turn of exactly 1e-12 rad (its arc is 1e-12 R long)",
+    "flyby_arcs | side = 1.0 if u[0] * v[1] - u[1] * v[0] >= 0 else -1.0":
+        "boundary: cross = 0 with a turn is a reversal (pi), whose fly-by does not exist (fit radius 0, flagged)",
+    "repair_pitch | s = np.r_[1.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]":
+        "equivalent: the profile depends on distances between vertices only (s shifted by 1 m everywhere)",
+    "repair_pitch | s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :3], axis=0).T))]": _HYPOT3,
+    ("repair_pitch | slope = math.tan(math.radians(max(max_pitch_deg - PITCH_SLACK_DEG, 0.5 / max_pitch_deg)))"):
+        "boundary: differs only for pitch limits under 0.72 deg (0.5 / limit > limit - 0.05); none is flown",
+})
+REASONS.update({
+    ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].max()) if len(full) else 0.0, (), "
+     "limits)"): "equivalent: the branch holds one point at most, whose least and largest z are the same",
+    ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].min()) if len(full) else 1.0, (), "
+     "limits)"): "equivalent in use: an empty polyline's depth; every caller passes two points or more (plans, missions)",
+    "corner_indices | if tolerance <= 0.0 and len(p) < 3:":
+        ("equivalent in use: tolerance 0 comes from turn_radius_m = 0, when no turn is checked; Douglas-Peucker at 0 "
+         "only drops exactly collinear vertices (the reported tightest turn of an unlimited vehicle may change)"),
+    "corner_indices | if tolerance < 0.0 or len(p) < 3:":
+        ("equivalent in use: tolerance 0 comes from turn_radius_m = 0, when no turn is checked; Douglas-Peucker at 0 "
+         "only drops exactly collinear vertices (the reported tightest turn of an unlimited vehicle may change)"),
+    "corner_indices | if tolerance <= 1.0 or len(p) < 3:":
+        ("not killed (conservative): radii up to 10 m (track tolerance 0.1 R <= 1 m) judge every vertex of a dense "
+         "curve as a corner, a stricter verdict"),
+    "merge_close | if keep[-1] != len(p) + 1:":
+        ("equivalent in use: when the last kept vertex is the end the branch rewrites it with itself; only a single "
+         "point becomes [0, 0], which check_limits returns before merging"),
+    "enforce_limits | if lim is None or not result.status.ok or result.path.shape[1] < 2:":
+        ("equivalent: shape[1] is 3; a path of 0 or 1 point then reaches check_limits, whose report is ok, and is "
+         "returned unchanged as before"),
+    "enforce_limits | steep = all((v.limit == 'max_pitch_deg' for v in report.violations))":
+        ("not killed (message only): with pitch and turn violations both verdicts are INFEASIBLE (a repair keeps the "
+         "horizontal track, so the turn stays); the original names what is left after the pitch repair"),
+})
+
+# issue #49, second session: endurance's survivors (a seeded sample of 40), argued
+_MONO = ("equivalent while f(s) = energy out + energy back - budget rises along the route (every test and built-in: "
+         "the energy out grows faster than the way back shrinks); the grid only brackets the first crossing")
+REASONS.update({
+    "budget_of | ground = np.where(moving >= 0, length / np.where(moving > 0, moving, 1.0), np.nan)":
+        ("reporting only: a leg with no moving time (a pure dwell) reports ground speed length / 1 = 0 m/s instead of "
+         "NaN; the verdict, energies and times are the same"),
+    "budget_of | if margin < -1e-09 / model.battery_wh:":
+        "boundary: the float tolerance on the margin (1e-9 of the battery in Wh) at 1e-9 / battery instead",
+    "budget_of | over = int(np.argmax(remaining <= model.reserve_wh - 1e-09 * model.battery_wh))":
+        "boundary: which leg 'enters' the reserve when a leg ends exactly on it (within 1e-9 of the battery)",
+    "_return_energy | keep = np.r_[True, np.linalg.norm(np.diff(back, axis=0), axis=1) > 1.000000001]":
+        ("not killed (sub-metre): return-route vertices closer than 1 m to the previous one are dropped; the way "
+         "back changes by under a metre per dropped vertex"),
+    "point_of_no_return | grid = np.linspace(0.0, total, min(2, samples) + 1)": _MONO,
+    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) + 2)": _MONO,
+    "point_of_no_return | while hi - lo >= tol:": "equivalent within tol: one more bisection step at most",
+    "point_of_no_return | if fm >= 0:": "boundary: a bisection midpoint exactly at the point of no return (f = 0)",
+})
+
+# issue #49, second session: geoinput's survivors (a seeded sample of 40), argued
+REASONS.update({
+    ("_derive_origin | return (0.5 * (float(lat.min()) + float(lat.max())), float(np.mod(lon0 - 180.0, 360.0) - "
+     "180.0))"): "equivalent: lon0 + 180 and lon0 - 180 differ by 360, which np.mod(..., 360) removes",
+    ("resolve_positions | pts = [(g[0], g[1]) for _, _, _, g, mission in found if mission] or [(g[1], g[1]) for _, _, "
+     "_, g, _ in found]"):
+        ("not killed: the origin of a scenario whose only geographic positions lie outside [mission] (obstacles, "
+         "rally points given in degrees, the mission in metres); no test has one"),
+})
+
+# issue #49, second session: survey-turns' survivors (a seeded sample of 40), argued
+REASONS.update({
+    "_words | if p2 > 0:": ("boundary: an LSR with no straight (p2 = 0 exactly) is then left out; the LRL/RLR or "
+                            "another CSC word of the same length covers it only if one exists, which no float "
+                            "configuration of the tests hits"),
+    "_words | if abs(tmp) < 1:": ("boundary: a CCC word whose middle arc is exactly 2pi - acos(+-1); "
+                                  "the CSC words cover these configurations"),
 })

@@ -53,13 +53,13 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "flow-sphere-leaky-line-image": (
         "planners/flow/field.py",
-        "line = (m / (FOUR_PI * self.A) * 2.0 * L)",
-        "line = (m / (FOUR_PI * self.A) * 1.0 * L)",
+        "(m / (FOUR_PI * self.A) * 2.0 * L)[:, None]",
+        "(m / (FOUR_PI * self.A) * 1.0 * L)[:, None]",
     ),
     "flow-sphere-image-strength": (
         "planners/flow/field.py",
-        "image = -(m * self.A / (FOUR_PI * b))",
-        "image = -(m / (FOUR_PI * b))",
+        "-(m * self.A / (FOUR_PI * b))[:, None]",
+        "-(m / (FOUR_PI * b))[:, None]",
     ),
     "cost-vertical-current-ignored": (
         "cost.py",
@@ -73,8 +73,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "route-ignores-switch-radius": (
         "guidance/following/route.py",
-        "if along >= self.length[self.k] - self.switch_radius:",
-        "if along >= self.length[self.k]:",
+        "if along >= lengths[self.k] - (0.0 if self.tail[self.k] else self.switch_radius):",
+        "if along >= lengths[self.k]:",
     ),
     "iabc-accepts-every-mutation": (
         "optim/bee.py",
@@ -165,8 +165,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     # issue #49: the eight bugs that survived the suite, each caught by tests/property/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
-        "energy = np.asarray(model.power(tr.speeds) * dur / WH, dtype=float)",
-        "energy = np.asarray(model.power(tr.speeds[0]) * dur / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
     ),
     "edges-pnr-previous-legs-power": (
         "endurance/pnr.py",
@@ -233,6 +233,15 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
 }
 
 
+EQUIVALENT: dict[str, str] = {
+    "edges-survey-turn-fix-undone": (
+        "equivalent since survey/mission.py's _turn widens every turn (3 % a try) until line end, turn and next "
+        "line fit the radius leg by leg (helm_check): drawn at R instead of R / cos(0.5) the turns come out a few "
+        "per cent wider, and every export still fits R, so no test can tell; kept as a record of issue 49's bug"),
+}
+"""Catalogue mutants argued equivalent on today's code: listed, not planted (name them to plant them anyway)."""
+
+
 def run_one(name: str, tests: list[str]) -> bool:
     """Plant mutant ``name``, run ``tests``; True when the tests fail (the mutant is killed)."""
     rel, old, new = MUTANTS[name]
@@ -262,7 +271,9 @@ def main() -> int:
     ap.add_argument("names", nargs="*", help="mutants to plant (default: all)")
     ap.add_argument("--tests", nargs="+", default=["tests/oracles/test_oracles.py", "tests/oracles/test_safety.py"])
     args = ap.parse_args()
-    names = args.names or list(MUTANTS)
+    names = args.names or [n for n in MUTANTS if n not in EQUIVALENT]
+    for n in (n for n in EQUIVALENT if n not in names):
+        print(f"{n:40s} not planted: {EQUIVALENT[n]}")
     survivors = [n for n in names if not run_one(n, args.tests)]
     print(f"{len(names) - len(survivors)} of {len(names)} killed")
     return 1 if survivors else 0

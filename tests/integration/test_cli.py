@@ -77,6 +77,7 @@ def test_long_stages_report_progress_on_stderr_unless_quiet(tmp_path, capsys):
     assert main(["-q", "run", "track-arc", "--out", str(tmp_path / "r")]) == 0
     captured = capsys.readouterr()
     assert captured.err == "" and "track-arc: EXACT" in captured.out
+    assert "no seabed" in captured.out and "no obstacle," in captured.out and "inf m" not in captured.out
     assert main(["run", "track-arc", "--out", str(tmp_path / "r2")]) == 0
     assert "auvplan: writing results, report and exports" in capsys.readouterr().err
     assert main(["plan", "track-single", "--planner", "grid", "--reference"]) in (0, 1)

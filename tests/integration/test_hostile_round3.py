@@ -241,15 +241,39 @@ def test_a_3d_kml_and_geojson_still_read(tmp_path):
 _TAILS = ["[1e400]", '["a"]', "[null]", '{"a": 1}', "[-1]", "[1e20]", "3", '"0"', "[[0]]", "[0.5]"]
 
 
-@pytest.mark.parametrize("tail", _TAILS)
-def test_odd_tail_first_legs_give_no_flags_never_a_traceback(tmp_path, tail):
+def _tail_geojson(tmp_path, tail):
     p = tmp_path / "m.geojson"
     p.write_text('{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"name": "mission", '
                  f'"tail_first_legs": {tail}}}, "geometry": {{"type": "LineString", "coordinates": '
                  '[[158.4, 14.76, -10], [158.45, 14.78, -20], [158.5, 14.78, -20]]}}]}')
-    flags = read_tail(p, 2)
-    assert flags is None or (flags.dtype == bool and flags.shape == (2,))
-    assert flags is None or tail in ("[0.5]", '"0"')  # only what int() takes (0.5, "0" → leg 0) flags a leg
+    return p
+
+
+@pytest.mark.parametrize("tail", _TAILS + ["[2]", "[0, true]"])
+def test_odd_tail_first_legs_are_refused_naming_file_key_and_value(tmp_path, tail):
+    p = _tail_geojson(tmp_path, tail)  # (a string "0" or a number 0.5 was once read as leg 0)
+    with pytest.raises(DataError, match=rf"^{p}: tail_first_legs = ") as e:
+        read_tail(p, 2)
+    shown = str(e.value).split("tail_first_legs = ")[1]
+    assert shown.startswith(tail.replace("1e400", "Infinity")[:3]) and "\n" not in str(e.value), e.value
+
+
+def test_tail_first_legs_as_a_string_is_exit_2_in_one_line(tmp_path, capsys):
+    p = _tail_geojson(tmp_path, '"0"')
+    assert cli.main(["mission", "check", str(p), "--scenario", "marcus-wake"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f'{p}: tail_first_legs = "0" is not a list of leg indices' in err, err
+    assert read_tail(_tail_geojson(tmp_path, "[1]"), 2).tolist() == [False, True]  # a good list still reads
+    k = tmp_path / "m.kml"
+    for value, ok in (("1", True), ("1 a", False), ("-1", False), ("0.5", False)):
+        k.write_text('<?xml version="1.0"?><kml xmlns="http://www.opengis.net/kml/2.2"><Document><Placemark>'
+                     f'<name>mission</name><ExtendedData><Data name="tail_first_legs"><value>{value}</value></Data>'
+                     "</ExtendedData></Placemark></Document></kml>")
+        if ok:
+            assert read_tail(k, 2).tolist() == [False, True]
+        else:
+            with pytest.raises(DataError, match=rf"^{k}: tail_first_legs = '{value}' is not a list of leg"):
+                read_tail(k, 2)
 
 
 def test_mission_check_of_a_2d_geojson_exits_2_in_one_line(tmp_path, capsys):

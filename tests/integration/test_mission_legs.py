@@ -22,6 +22,7 @@ from auvplan.io.scenario import loader as scenario_io
 from auvplan.path.flyable import VehicleLimits, check_limits, leg_pitch_deg, leg_turn_radius
 from auvplan.path.legs import FITTED_LEG_M, helm_check, shortest_leg, waypoint_budget
 from auvplan.planners import plan as plan_global
+from auvplan.sim.band import altitude_band_metrics
 from auvplan.sim.pipeline import fitted_route, planned_route, planning_problem, run_mission
 from auvplan.sim.result import RunRecord
 
@@ -123,6 +124,9 @@ def test_steep_real_ridge_in_lat_lon_every_exported_leg_holds_the_limits(tmp_pat
     band = fit.band
     assert band.band_m == 1.0 and 0.3 < band.held_fraction < 0.6 and band.legs and band.worst_above_m > 500.0
     assert "the pitch limit breaks the band" in band.message
+    figs = altitude_band_metrics(world.terrain, route, band)  # metrics.json's figures: the exported straight legs
+    assert figs["altitude_band_legs"] == len(band.legs) and figs["altitude_min_m"] >= 20.0
+    assert abs(figs["altitude_band_held_fraction"] - band.held_fraction) < 0.05, figs  # ~ the fit's dense profile
     rec = RunRecord(mission.name, 1, None, route, route[[0, -1]], None)
     files = write_exports(tmp_path, rec, world.origin, mission.vehicle.speed, EXPORT_FORMATS)
     for f in files:
@@ -145,6 +149,8 @@ def test_steep_real_ridge_in_lat_lon_every_exported_leg_holds_the_limits(tmp_pat
     assert flown is not None and flown.arrived
     alt = flown.position[:, 2] - world.seabed(flown.position[:, 0], flown.position[:, 1])
     assert np.sqrt(np.mean((alt - 50.0) ** 2)) <= band.band_m and np.abs(alt - 50.0).max() <= band.band_m
+    flown_figs = altitude_band_metrics(world.terrain, piece, band, (flown.progress, flown.altitude))
+    assert flown_figs["flown_altitude_rms_m"] <= band.band_m and flown_figs["flown_altitude_band_held_fraction"] > 0.9
 
 
 def test_flow_mission_near_an_obstacle_is_bounded_or_refused_naming_the_leg() -> None:

@@ -251,8 +251,12 @@ min_depth_m = 0.0
         loader.build(loader.loads(base.replace("min_depth_m = 0.0", "min_depth_m = 5.0"), "t.toml"))
 
 
-def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path):
+def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path, capsys):
+    import json
+
     from auvplan.cli import main
+    from auvplan.endurance import EnergyModel
+    from auvplan.endurance import mission_budget as energy_budget
     from auvplan.io.missions.formats import mission_csv
     from auvplan.io.scenario import loader
     from auvplan.sim.pipeline import navigation_plan, planned_route
@@ -267,7 +271,13 @@ def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fa
     (tmp_path / "bare.csv").write_text(mission_csv(route, world.origin, 1.5))
     (tmp_path / "fixed.csv").write_text(mission_csv(plan.points, world.origin, 1.5))
     assert main(["mission", "check", str(tmp_path / "bare.csv"), "--scenario", "mariana-nav", "--json"]) == 1
+    capsys.readouterr()
     assert main(["mission", "check", str(tmp_path / "fixed.csv"), "--scenario", "mariana-nav", "--json"]) == 0
+    energy = json.loads(capsys.readouterr().out)["energy"]  # the surface dwells held in the file's budget too
+    planned = energy_budget(world, plan.points, EnergyModel.from_vehicle(mission.vehicle), 1.5, dwell=plan.dwell_s)
+    assert energy["duration_s"] == pytest.approx(planned.duration_s, abs=1.0)
+    assert energy["duration_s"] > energy_budget(world, plan.points, EnergyModel.from_vehicle(mission.vehicle),
+                                                1.5).duration_s + 0.99 * plan.dwell_s.sum()
 
 
 def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix_resets_it():
@@ -281,7 +291,7 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
     nav = NavParams(drift_pct=3.0, drift_pct_no_lock=6.0, dvl_range_m=100.0, fix_error_m=1.0, max_error_m=900.0)
     base = Mission("t", tuple(route[0]), tuple(route[-1]), sim=SimParams(dt=1.0, record_every=2))
     plain = simulate(w, base, route=route, rng=4)
-    quiet = simulate(w, replace(base, navigation=nav), route=route, rng=4)  # drift off by default: nothing changes
+    quiet = simulate(w, replace(base, navigation=replace(nav, surface_s=0.0)), route=route, rng=4)  # drift off
     np.testing.assert_array_equal(plain.position, quiet.position)
     assert plain.nav_error is None
     flown = simulate(w, replace(base, navigation=nav, nav_drift=True), route=route, rng=4)
@@ -290,6 +300,34 @@ def test_the_closed_loop_steers_by_a_drifting_estimate_only_when_asked_and_a_fix
     before, after = flown.nav_error[:at_fix - 5], flown.nav_error[at_fix + 5:]
     assert before.max() > 20.0 * after[0]  # reset to the fix's own error, then growing again
     assert after[-1] > after[0]
+
+
+def test_the_closed_loop_holds_the_surface_dwell_drifting_with_the_current_at_hotel_power():
+    from dataclasses import replace
+
+    from auvplan.endurance import EnergyModel, flown_energy
+    from auvplan.sim import Mission, SimParams, simulate
+    from auvplan.vehicles import VehicleParams
+    from auvplan.world.currents import UniformCurrent
+
+    w = replace(_world(depth=300.0), currents=UniformCurrent((0.0, -0.05, 0.0)))  # across the track
+    route = np.array([[1000.0, 6000.0, -250.0], [3000.0, 6000.0, -250.0], [4000.0, 6000.0, 0.0],
+                      [5000.0, 6000.0, -250.0], [7000.0, 6000.0, -250.0]])
+    nav = NavParams(drift_pct=1.0, drift_pct_no_lock=2.0, dvl_range_m=100.0, fix_error_m=1.0, max_error_m=900.0)
+    base = Mission("t", tuple(route[0]), tuple(route[-1]), sim=SimParams(dt=0.5, record_every=1))
+    flights = {s: simulate(w, replace(base, navigation=replace(nav, surface_s=s)), route=route, rng=4)
+               for s in (0.0, 300.0)}
+    assert all(f.arrived for f in flights.values())
+    held, plain = flights[300.0], flights[0.0]
+    # the dwell is flown time; regaining the track from the 15 m the current carried it across costs at most 15 m
+    assert 300.0 <= held.t[-1] - plain.t[-1] <= 300.0 + 0.05 * 300.0 / 1.5
+    still = np.flatnonzero(np.hypot(*(np.diff(held.position[:, :2], axis=0) / 0.5 - (0.0, -0.05)).T) < 1e-9)
+    assert still.size * 0.5 == pytest.approx(300.0, abs=0.5)  # 300 s moving with the water only
+    assert -held.position[still[0], 2] < 25.0  # at the surface waypoint (the switch radius before it)
+    model = EnergyModel.from_vehicle(VehicleParams())
+    extra = flown_energy(w, held.t, held.position, model).energy_wh - flown_energy(w, plain.t, plain.position,
+                                                                                   model).energy_wh
+    assert extra == pytest.approx(float(model.power(0.0)) * 300.0 / 3600.0, rel=0.05)  # the hotel load only
 
 
 def test_the_surface_dwell_is_in_the_energy_budget_at_hotel_power():
@@ -322,3 +360,179 @@ def test_usbl_fixes_are_taken_at_depth_near_the_ship_with_their_slant_range_erro
     assert plan.points[i, 2] == pytest.approx(-150.0)  # taken where the vehicle is, not at the surface
     assert plan.check.budget.error_m[i] == pytest.approx(
         nav.confidence * fix_sigma(nav, "usbl", plan.points[i], nav.usbl_xy), rel=1e-9)
+
+
+_USBL_TOML = """name = "usbl-test"
+seed = 1
+[origin]
+lat = 16.0
+lon = 145.0
+[bounds]
+x = [0.0, 16000.0]
+y = [0.0, 12000.0]
+z = [-600.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 300.0
+cell_m = 500.0
+[mission]
+start = [1000.0, 6000.0, -150.0]
+goal = [15000.0, 6000.0, -150.0]
+route = [[1000.0, 6000.0, -150.0], [15000.0, 6000.0, -150.0]]
+min_altitude_m = 20.0
+min_depth_m = 0.0
+[navigation]
+drift_pct = 0.5
+drift_pct_no_lock = 1.5
+dvl_range_m = 100.0
+fix_error_m = 3.0
+max_error_m = 120.0
+usbl = { lat = 16.058726, lon = 145.0747642, error_pct = 1.0 }
+"""
+
+
+def test_mission_check_reads_the_usbl_fixes_back_from_fixes_csv(tmp_path, capsys):
+    import json
+
+    from auvplan.cli import main
+    from auvplan.io.missions.formats import mission_csv
+    from auvplan.io.results.records import write_navigation
+    from auvplan.io.scenario import loader
+    from auvplan.nav import plan_navigation
+
+    toml = tmp_path / "usbl.toml"
+    toml.write_text(_USBL_TOML)
+    world, mission = loader.build(loader.load(str(toml)))
+    nav = mission.navigation
+    plan = plan_navigation(world, np.array(mission.route), nav, 20.0, 1.5, nav.usbl_xy, compare=False)
+    assert plan.ok and plan.kinds.count("usbl") >= 1  # the ship is near: USBL fixes chosen
+    (tmp_path / "with").mkdir()
+    (tmp_path / "alone").mkdir()
+    for d in ("with", "alone"):
+        (tmp_path / d / "mission.csv").write_text(mission_csv(plan.points, world.origin, 1.5))
+    write_navigation(tmp_path / "with", plan, world.origin)
+
+    def check(d: str) -> tuple[int, dict]:
+        capsys.readouterr()
+        code = main(["mission", "check", str(tmp_path / d / "mission.csv"), "--scenario", str(toml), "--json"])
+        return code, json.loads(capsys.readouterr().out)["navigation"]
+
+    code, got = check("with")
+    assert code == 0 and got["usbl_fixes"] == plan.kinds.count("usbl") and got["fixes"] == plan.metrics()["fixes"]
+    np.testing.assert_allclose([leg["nav_error_m"] for leg in got["legs"]], plan.check.budget.leg_error_m, atol=0.01)
+    code, got = check("alone")  # the same file without its fixes.csv: the USBL fixes are lost, the budget fails
+    assert code == 1 and got["usbl_fixes"] == 0 and got["nav_error_max_m"] > nav.max_error_m
+    rows = (tmp_path / "with" / "fixes.csv").read_text().splitlines()
+    lat = float(rows[1].split(",")[0])
+    rows[1] = rows[1].replace(f"{lat:.7f}", f"{lat + 0.001:.7f}", 1)  # 110 m off its waypoint
+    (tmp_path / "with" / "fixes.csv").write_text("\n".join(rows) + "\n")
+    assert main(["mission", "check", str(tmp_path / "with" / "mission.csv"), "--scenario", str(toml)]) == 2
+    err = capsys.readouterr().err
+    assert "fixes.csv: row 2" in err and "Traceback" not in err
+
+
+def _band_mission():
+    """A mission with a surfacing over a seabed step (lock lost and regained), and its error profile."""
+    from auvplan.nav import error_profile
+
+    w = _world(depth=300.0, z=lambda x, y: np.where(x < 15000.0, -180.0, -600.0))
+    route = np.array([[1000.0, 3000.0, -100.0], [9000.0, 9000.0, -100.0], [12000.0, 9000.0, 0.0],
+                      [14000.0, 8000.0, -150.0], [26000.0, 4000.0, -150.0]])
+    kinds = ("", "", "gps", "", "")
+    return w, route, kinds, error_profile(w, route, kinds, NAV)
+
+
+def test_error_band_is_the_union_of_the_discs_along_the_route():
+    """Oracle: brute force over discs round points every 5 m of the route, radius from the budget's closed form."""
+    import shapely
+
+    from auvplan.nav.band import error_band
+
+    w, route, kinds, prof = _band_mission()
+    b = mission_budget(w, route, kinds, NAV)
+    np.testing.assert_allclose(prof.after_m[np.r_[0, prof.fix.nonzero()[0], -1]][[0, 1]], b.error_m[[0, 2]])
+    assert prof.before_m.max() == pytest.approx(b.max_error_m, rel=1e-12)
+    band = error_band(prof, quad_segs=16)
+    s = np.linspace(0.0, prof.s_m[-1], 6000)  # centres and radii every 5 m, σ linear per sample interval
+    cx, cy = np.interp(s, prof.s_m, prof.xyz[:, 0]), np.interp(s, prof.s_m, prof.xyz[:, 1])
+    k = np.clip(np.searchsorted(prof.s_m, s, side="right") - 1, 0, prof.s_m.size - 2)
+    f = (s - prof.s_m[k]) / (prof.s_m[k + 1] - prof.s_m[k])
+    r = prof.after_m[k] + f * (prof.before_m[k + 1] - prof.after_m[k])
+    rng = np.random.default_rng(7)
+    q = np.column_stack([rng.uniform(0.0, 30000.0, 1500), rng.uniform(0.0, 12000.0, 1500)])
+    q = np.vstack([q, np.column_stack([cx, cy])[::12] + rng.normal(0.0, 80.0, (500, 2)),  # near the route too
+                   np.column_stack([cx, cy])[::7]])  # and on it: the band is connected, not beads of discs
+    gap = np.min(np.hypot(q[:, None, 0] - cx[None, :], q[:, None, 1] - cy[None, :]) - r[None, :], axis=1)
+    inside = shapely.contains_xy(band, q[:, 0], q[:, 1])
+    tol = 0.01 * r.max()  # polygonal discs (16 segments a quarter) and the oracle's 5 m spacing
+    assert np.all(inside[gap < -tol]) and not np.any(inside[gap > tol])
+    assert (gap < -tol).sum() > 150 and (gap > tol).sum() > 150
+
+
+def test_report_draws_the_band_and_the_error_against_time_and_the_folder_reads_it_back(tmp_path):
+    import plotly.graph_objects as go
+    import shapely
+
+    from auvplan.app.results import load_results
+    from auvplan.io.results.records import write_navigation, write_run
+    from auvplan.io.scenario import loader
+    from auvplan.nav import navigation_of, plan_navigation
+    from auvplan.nav.band import error_band
+    from auvplan.sim import RunRecord
+    from auvplan.viz.navview import figure_nav_error, mark_error_band, nav_profile
+
+    w, route, kinds, prof = _band_mission()
+    nav = navigation_of(w, route, kinds, replace_surface(NAV, 100.0), 1.5)
+    fig = go.Figure()
+    mark_error_band(fig, nav_profile(w, nav), nav)
+    band = next(t for t in fig.data if t.meta and t.meta["kind"] == "nav_band")
+    ring = np.column_stack([band.x, band.y])
+    ring = ring[np.isfinite(ring[:, 0])]
+    exact = error_band(prof)
+    assert shapely.Polygon(ring).symmetric_difference(exact).area < 1e-6 * exact.area  # the band drawn
+    err = figure_nav_error(nav_profile(w, nav), nav)
+    line = next(t for t in err.data if t.meta and t.meta["kind"] == "nav_error")
+    t, e = np.asarray(line.x) * 3600.0, np.asarray(line.y)
+    assert e.max() == pytest.approx(nav.check.budget.max_error_m, rel=1e-12)
+    drop = int(np.argmin(np.diff(e)))  # the fix: before at its arrival, after once the 100 s dwell is over
+    assert t[drop] == pytest.approx(nav.times_s[0], abs=1e-6) and t[drop + 1] - t[drop] == pytest.approx(100.0)
+    assert e[drop + 1] == pytest.approx(NAV.confidence * NAV.fix_error_m)
+    assert t[-1] == pytest.approx(np.linalg.norm(np.diff(route, axis=0), axis=1).sum() / 1.5 + 100.0)
+    # a results folder written by `run` gives `report DIR` its fixes back (the USBL ones from fixes.csv)
+    toml = tmp_path / "usbl.toml"
+    toml.write_text(_USBL_TOML)
+    world, mission = loader.build(loader.load(str(toml)))
+    un = mission.navigation
+    plan = plan_navigation(world, np.array(mission.route), un, 20.0, 1.5, un.usbl_xy, compare=False)
+    out = tmp_path / "run"
+    write_run(out, RunRecord("usbl-test", 1, None, plan.points, plan.points[:0], None, plan), toml.read_text(),
+              origin=world.origin)
+    write_navigation(out, plan, world.origin)
+    record = load_results(out, [])[1]
+    assert record.nav is not None and record.nav.kinds == plan.kinds and "usbl" in plan.kinds
+    np.testing.assert_allclose(record.nav.check.budget.error_m, plan.check.budget.error_m, rtol=1e-12)
+
+
+def replace_surface(nav: NavParams, surface_s: float) -> NavParams:
+    from dataclasses import replace
+
+    return replace(nav, surface_s=surface_s)
+
+
+def test_serve_draws_the_band_of_the_mission_being_edited():
+    import shapely
+
+    from auvplan.nav.band import error_band
+    from auvplan.serve.navband import SIMPLIFY_M, nav_band
+    from auvplan.sim import Mission
+
+    w, route, kinds, prof = _band_mission()  # its surfacing is the one waypoint at depth 0: read as the fix
+    base = Mission("t", tuple(route[0]), tuple(route[-1]))
+    assert nav_band(w, base, route) is None  # no [navigation]: nothing drawn
+    got = nav_band(w, Mission("t", tuple(route[0]), tuple(route[-1]), navigation=NAV), route)
+    xy = np.column_stack([np.array(got["x"], dtype=float), np.array(got["y"], dtype=float)])
+    rings = np.split(xy, np.flatnonzero(np.isnan(xy[:, 0])))
+    drawn = shapely.union_all([shapely.Polygon(r[np.isfinite(r[:, 0])]) for r in rings if np.isfinite(r).sum() > 6])
+    assert drawn.hausdorff_distance(error_band(prof)) <= SIMPLIFY_M + 1e-6
+    assert got["max_error_m"] == pytest.approx(mission_budget(w, route, kinds, NAV).max_error_m, abs=0.01)
+    assert got["fixes"] == 1 and got["budget_m"] == NAV.max_error_m

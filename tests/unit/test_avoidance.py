@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,7 @@ from auvplan.guidance.avoidance.predictive import TrackEstimator
 from auvplan.guidance.avoidance.vo import CFG, closest_approach, predicted_preference, vo_choose
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
-from auvplan.sim import Mission, mission_route, planning_problem, simulate
+from auvplan.sim import Mission, SimParams, mission_route, planning_problem, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
 
 PIN = json.loads((Path(__file__).parents[1] / "data" / "dynamic_terrain_apf_pin.json").read_text())
@@ -215,12 +216,16 @@ def test_deadlock_only_after_the_escapes_have_had_their_time():
     """A cage of parked obstacles around the goal: no escape can arrive, and DEADLOCK comes only after
     ``deadlock_time`` + ``escape_time`` without route progress, with the escapes counted."""
     cage = tuple(_parked(1000.0 + 40.0 * np.cos(a), 40.0 * np.sin(a)) for a in np.radians(np.arange(0, 360, 15)))
-    params = AvoidanceParams(escape_time=200.0)
-    r = simulate(_open(*cage), _straight(avoidance=params), rng=0)
+    # a 200 m route into the cage and short times (40 s + 80 s): the stall is what costs (was 1 km, 120 s + 200 s:
+    # 1 368 simulated seconds, 11 s CPU; now 401 s, 4 s)
+    mission = replace(_straight(avoidance=AvoidanceParams(escape_time=80.0)), start=(800.0, 0.0, -100.0),
+                      route=((800.0, 0.0, -100.0), (1000.0, 0.0, -100.0)),
+                      sim=SimParams(deadlock_time=40.0, max_time=3000.0))
+    r = simulate(_open(*cage), mission, rng=0)
     assert r.status is Status.DEADLOCK and r.escapes >= 1
     t, kind, msg = r.events[-1]
     stalled = float(msg.split(" for ")[1].split(" s")[0])
-    assert kind == "deadlock" and stalled >= 120.0 + 200.0 and f"{r.escapes} escapes tried" in msg
+    assert kind == "deadlock" and stalled >= 40.0 + 80.0 and f"{r.escapes} escapes tried" in msg
     assert r.obstacle_distance.min() > 0.0
 
 

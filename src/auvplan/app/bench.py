@@ -15,7 +15,7 @@ BENCH_NAMES = ("summary.csv", "summary.md", "bench.html", "bench.png")
 
 
 def bench(spec: Any, out: str | Path, force: bool = False, workers: int = 2, scheduler: str | None = None,
-          resume: bool = False) -> tuple[Path, list[dict[str, Any]], str]:
+          resume: bool = False, retries: int = 1) -> tuple[Path, list[dict[str, Any]], str]:
     """Run a benchmark sweep and write its summary, figures and report.
 
     Parameters
@@ -32,6 +32,8 @@ def bench(spec: Any, out: str | Path, force: bool = False, workers: int = 2, sch
         Address of an existing dask scheduler.
     resume : bool
         Complete an interrupted sweep in ``out``.
+    retries : int
+        Runs again of a chunk of runs that fails (:class:`auvplan.parallel.Runner`).
 
     Returns
     -------
@@ -48,7 +50,7 @@ def bench(spec: Any, out: str | Path, force: bool = False, workers: int = 2, sch
 
     folder = prepare_out(out, ("rows.csv", "histories.jsonl", *BENCH_NAMES), force=force,
                           job="bench")  # no link in the way
-    rows = sweep(spec, folder, workers=workers, scheduler=scheduler, resume=resume)
+    rows = sweep(spec, folder, workers=workers, scheduler=scheduler, resume=resume, retries=retries)
     table = summarise(rows)
     cols = list(table[0]) if table else []
     atomic_write(folder / "summary.csv", "".join(",".join(str(v) for v in r) + "\n"

@@ -110,15 +110,17 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
             rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
-                                                                    points[1:] if fmt == "qgc" else points)
+                                                                    points[1:] if fmt == "qgc" else points, Path(name))
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
                              check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
                              tuple(zones), tuple(nav_lines)))
     return sc, out
 
 
-def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[dict[str, Any], bool, list[str]]:
-    """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes.
+def navigation_check(world: World, nav: NavParams, points: np.ndarray,
+                     mission_file: Path | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+    """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
+    ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
 
     Parameters
     ----------
@@ -128,6 +130,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[
         The error model and the budget.
     points : numpy.ndarray
         ``(N, 3)`` the mission's waypoints (m).
+    mission_file : pathlib.Path, optional
+        The mission file (its folder's ``fixes.csv``).
 
     Returns
     -------
@@ -139,9 +143,12 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[
     lines : list of str
         One line per leg and the verdict.
     """
+    from ..io.missions.fixes import fix_kinds
     from ..nav import check_navigation, surface_kinds
 
-    kinds = surface_kinds(points)
+    kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
+        fix_kinds(points, mission_file, world.origin)
+    usbl = sum(1 for k in kinds if k == "usbl")
     c = check_navigation(world, points, kinds, nav, nav.usbl_xy)
     b = c.budget
     legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
@@ -149,9 +156,11 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray) -> tuple[
             for k in range(len(b.leg_error_m))]
     lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
              f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
-    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k)} surface fixes, predicted "
+    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
+                 f"{f' and {usbl} USBL fixes' if usbl else ''} (from {source}), predicted "
                  f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
                  + (f"; {c.message}" if c.message else ""))
-    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k),
+    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k), "usbl_fixes": usbl,
+           "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
     return rec, c.ok, lines

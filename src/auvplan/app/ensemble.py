@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._types import Status
+from ..parallel import Runner
 from ..planners.base import PlanResult
 from ..sim import Mission
 from ..world import CurrentField, World
@@ -15,7 +16,7 @@ from ..world import CurrentField, World
 __all__ = ["ensemble_plan"]
 
 def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, mission: Mission,
-                  seed: int) -> tuple[PlanResult, dict[str, Any]]:
+                  seed: int, runner: Runner | None = None) -> tuple[PlanResult, dict[str, Any]]:
     """The plan to report and its ensemble fields for ``plan --json``.
 
     With ``[planner] robust = "none"`` the nominal plan is kept; otherwise the robust plan
@@ -31,6 +32,8 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
         Its mission, with the planner settings in force (command-line overrides applied).
     seed : int
         The planner's seed.
+    runner : Runner, optional
+        Where the robust candidates are planned (:class:`auvplan.parallel.Runner`; this process by default).
 
     Returns
     -------
@@ -43,7 +46,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
     """
     from ..ensemble import plan_robust
 
-    robust = plan_robust(world, mission, members, mission.planner.robust, seed)
+    robust = plan_robust(world, mission, members, mission.planner.robust, seed, runner)
     chosen = robust.chosen
     fields: dict[str, Any] = {"robust": mission.planner.robust, "robust_candidate": chosen.label}
     if chosen.score is not None:

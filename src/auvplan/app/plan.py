@@ -12,6 +12,7 @@ from . import ReporterFor, silent
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
+    from ..parallel import Runner
     from ..planners import PlanResult
     from ..sim import RunRecord
     from ..world import World
@@ -21,7 +22,7 @@ __all__ = ["plan_scenario", "simulate_scenario"]
 
 def plan_scenario(scenario: str, out: str | None = None, force: bool = False, planner: str | None = None,
                   budget: int | None = None, pipeline: str | None = None, seed: int | None = None,
-                  reference: bool = False, reporter: ReporterFor = silent
+                  reference: bool = False, reporter: ReporterFor = silent, runner: Runner | None = None
                   ) -> tuple[Scenario, PlanResult, int, World, dict[str, Any]]:
     """Load, build and plan a scenario (with its members, or against the reference).
 
@@ -39,6 +40,8 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
         Also plan the grid reference and report the gap.
     reporter : callable
         Builds the progress reporter.
+    runner : Runner, optional
+        Where the robust plan's candidates are planned (:class:`auvplan.parallel.Runner`; this process by default).
 
     Returns
     -------
@@ -70,7 +73,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     ensemble: dict[str, Any] = {}
     try:
         if members:  # the plan flown in every member, or the robust plan
-            result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed)
+            result, ensemble = ensemble_plan(members, world, replace(mission, planner=spec), seed, runner)
         else:
             result = plan(problem, spec, seed, bar)
     finally:

@@ -17,6 +17,7 @@ from ..io.safeio import atomic_write, prepare_out, save_figure
 if TYPE_CHECKING:
     from ..endurance import Endurance
     from ..io.scenario.specs import Scenario
+    from ..nav import NavPlan
     from ..planners import PlanResult
     from ..sim import Mission, RunRecord
     from ..world import World
@@ -265,7 +266,25 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
     world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
-    if not record.route.size and record.plan is not None and record.plan.path.size:
+    flown = bool(record.route.size)
+    if not flown and record.plan is not None and record.plan.path.size:
         # a plan without a flight: export the executable mission, not the raw planned curve
         record = replace(record, route=mission_route(world, mission, record.plan.path))
+    if mission.navigation is not None and record.nav is None and record.route.shape[0] >= 2:
+        record = replace(record, nav=_navigation(out, world, mission, record.route, flown))
     return out, record, text, world, mission
+
+
+def _navigation(out: Path, world: World, mission: Mission, route: np.ndarray, flown: bool) -> NavPlan | None:
+    """A results folder's navigation read back (issue 52): the fixes in its route (surface waypoints, and the
+    USBL fixes of its ``fixes.csv``) with their budget; a plan without a flight gets its fixes planned."""
+    from ..io.missions.fixes import fix_kinds
+    from ..nav import navigation_of
+    from ..sim.pipeline import navigation_plan
+
+    nav = mission.navigation
+    assert nav is not None
+    if not flown:
+        return navigation_plan(world, mission, route)
+    kinds, _ = fix_kinds(route, out / "mission.csv", world.origin)
+    return navigation_of(world, route, kinds, nav, mission.vehicle.speed, nav.usbl_xy)

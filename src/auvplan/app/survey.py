@@ -5,6 +5,7 @@ whole mission in the closed loop, measure the coverage; with ``out``, write ``li
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,8 @@ from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
 from ..io.safeio import RESULT_NAMES, prepare_out
 from ..io.scenario import loader as scenario_io
+from ..parallel import Runner
+from ..sim import Mission
 from ..survey.run import SurveyRun, run_survey
 from ..world import World
 
@@ -22,7 +25,8 @@ __all__ = ["survey_scenario"]
 
 def survey_scenario(scenario: str, out: str | None = None, force: bool = False, seed: int | None = None,
                     guidance: str | None = None, full: bool = False,
-                    say: Callable[[str], None] = lambda text: None) -> tuple[Any, dict[str, Any]]:
+                    say: Callable[[str], None] = lambda text: None,
+                    runner: Runner | None = None) -> tuple[Any, dict[str, Any]]:
     """Plan, fly and measure the ``[survey]`` of a scenario.
 
     Parameters
@@ -39,6 +43,8 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         Full-rate run files and exports.
     say : callable
         Receives a line at each stage.
+    runner : Runner, optional
+        Where the independent transits are planned (:class:`auvplan.parallel.Runner`; this process by default).
 
     Returns
     -------
@@ -56,7 +62,7 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     params = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, f"{sc.source}: [survey]")
     seed = sc.seed if seed is None else seed
     say(f"planning and flying the survey of {sc.name}")
-    run = run_survey(world, mission, params, seed, guidance=guidance)
+    run = run_survey(world, mission, params, seed, guidance=guidance, runner=runner)
     from ..io.scenario.currentspan import run_note
 
     note = run_note(sc.source, sc.currents.beyond, world, run.record)  # issue 51: refused, or said
@@ -80,12 +86,13 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
 
         coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
             folder / "coverage.png", dpi=110)
-        _report(folder, world, run, rec, text)
+        _report(folder, world, run, rec, text, mission)
     return sc, rec
 
 
-def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: str) -> None:
-    """``report.html``: the run's report with the survey's coverage map, headline figures and line table."""
+def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: str, mission: Mission) -> None:
+    """``report.html``: the run's report with the survey's coverage map, headline figures and line table (and
+    under ``[navigation]`` the error band along the survey and the error against time)."""
     from ..io.data.geo import LocalFrame
     from ..io.safeio import atomic_write
     from ..viz.report import build_report
@@ -97,7 +104,16 @@ def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: 
     summary = {k: rec[k] for k in keys} | {"tie_lines": len(run.plan.tie_waypoints()),
                                            "overlap_margin_pct": 100 * run.plan.overlap_margin,
                                            "least_turn_radius_m": run.plan.min_turn_radius_m}
+    if rec.get("nav_spacing"):  # issue 52: the spacing under the relative navigation error, stated
+        summary["navigation"] = rec["nav_spacing"]["text"]
     section = survey_section((out / "coverage.png").read_bytes(), line_table(run, world.seabed), summary)
-    page = build_report(world, run.record, text, records.summary_metrics(run.record),
+    record = run.record
+    nav = mission.navigation
+    if nav is not None and record.route.shape[0] >= 2:  # issue 52: the survey's own error budget drawn
+        from ..nav import navigation_of, surface_kinds
+
+        record = replace(record, nav=navigation_of(world, record.route, surface_kinds(record.route), nav,
+                                                   mission.vehicle.speed, nav.usbl_xy))
+    page = build_report(world, record, text, records.summary_metrics(record),
                         frame.inverse if frame else None, sections=[("Survey", section)])
     atomic_write(out / "report.html", page)

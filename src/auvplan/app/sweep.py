@@ -4,6 +4,7 @@ durations and instants of its arguments."""
 from __future__ import annotations
 
 import dataclasses
+import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -11,12 +12,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._version import __version__
 from ..errors import AuvplanError
 from ..io.safeio import atomic_write, prepare_out, save_figure
+from ..parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
-    from ..planners.timeopt.planner import SweepRow, SweepSummary
+    from ..planners import PlannerSpec, PlanningProblem
+    from ..planners.timeopt.planner import SweepRow, SweepSummary, TimeSetup
+    from ..sim import Mission
 
 __all__ = ["SWEEP_NAMES", "SweepRun", "parse_duration", "is_offset", "parse_instant", "sweep_scenario"]
 
@@ -44,6 +49,8 @@ class SweepRun:
         First departure (s after start_time).
     step : float
         Departure step (s).
+    computed : int
+        Departures planned by this call (the others were read back from a killed run's checkpoints).
     """
 
     scenario: Scenario
@@ -53,6 +60,7 @@ class SweepRun:
     table: list[dict[str, Any]]
     t0: float
     step: float
+    computed: int = 0
 
 
 def parse_duration(text: str, what: str) -> float:
@@ -131,7 +139,8 @@ def parse_instant(text: str, start_time: str, what: str) -> float:
 
 def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, objective: str | None = None,
                    out: str | None = None, force: bool = False,
-                   progress: Callable[[str, int, int], None] = lambda name, done, total: None) -> SweepRun:
+                   progress: Callable[[str, int, int], None] = lambda name, done, total: None,
+                   runner: Runner | None = None) -> SweepRun:
     """The time-optimal plan of every departure between two instants, its energy, and the best departure.
 
     Parameters
@@ -150,17 +159,21 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
         Replace those files.
     progress : callable
         Called with (the scenario's name, departures done, departures in all).
+    runner : Runner, optional
+        Where the departures run (:class:`auvplan.parallel.Runner`: this process by default, local workers or a
+        dask scheduler); each finished departure is checkpointed in ``out/.auvplan-tasks`` (or the user's cache
+        folder without ``out``) until the sweep's files are written, so a killed sweep run again plans only the
+        departures it had not finished.
 
     Returns
     -------
     SweepRun
         The scenario, the rows, each departure's energy, the summary, the table, the first departure and the step.
     """
-    from ..io.missions.energy import sweep_energy
     from ..io.results import records
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.build import check_plan_sizes
-    from ..planners.timeopt.planner import departure_sweep, sweep_summary
+    from ..planners.timeopt.planner import sweep_summary
     from ..sim import planning_problem
 
     if out is not None:
@@ -178,11 +191,14 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     b = world.bounds
     check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
     departs = np.arange(t0, t1 + 0.5 * dt, dt)
-    plans: list[Any] = []
+    job = _Sweep(task_key("sweep", __version__, repr(sc), repr(spec), t0, t1), planning_problem(world, mission),
+                 spec, mission, float(departs.min()), float(departs.max()))
+    keys = [task_key(job.key, float(d)) for d in departs]
+    runner = replace(runner or Runner(), checkpoints=Path(out) / CHECKPOINTS if out else cache_folder("sweep"))
     progress(sc.name, 0, len(departs))
-    rows, _ = departure_sweep(planning_problem(world, mission), spec, departs, paths=plans,
-                              progress=lambda done, total: progress(sc.name, done, len(departs)))
-    energy = sweep_energy(world, mission, plans, departs)
+    done = runner.map(_departure, [float(d) for d in departs], keys, shared=job,
+                      progress=lambda n, total: progress(sc.name, n, total))
+    rows, energy = [r for r, _ in done.results], [e for _, e in done.results]
     summary = sweep_summary(rows, energy=spec.timeopt.objective == "energy")
     if sc.mission.start_time and summary.get("feasible_departures"):
         from ..io.data.ocean.tides import parse_start_time, utc_iso
@@ -197,4 +213,35 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
         from ..viz.timeplots import sweep_figure
 
         save_figure(folder / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
-    return SweepRun(sc, rows, energy, summary, table, t0, dt)
+    forget(runner.checkpoints, keys)  # the results are out: a re-run starts afresh
+    return SweepRun(sc, rows, energy, summary, table, t0, dt, done.computed)
+
+
+@dataclass(frozen=True)
+class _Sweep:
+    """What every departure of a sweep shares (sent once to each worker)."""
+
+    key: str
+    problem: PlanningProblem
+    spec: PlannerSpec
+    mission: Mission
+    t0: float
+    t1: float
+
+
+_SETUP: dict[str, TimeSetup] = {}
+_SETUP_LOCK = threading.Lock()
+
+
+def _departure(job: _Sweep, depart: float) -> tuple[SweepRow, dict[str, float]]:
+    """One task of a sweep: a departure's row and energy (the lattice and table built once per process)."""
+    from ..io.missions.energy import sweep_energy
+    from ..planners.timeopt.planner import departure_row, setup
+
+    with _SETUP_LOCK:
+        ts = _SETUP.get(job.key)
+        if ts is None:
+            _SETUP.clear()  # one sweep's table at a time (~100 MB)
+            ts = _SETUP[job.key] = setup(job.problem, job.spec, job.t0, job.t1)
+    row, path = departure_row(job.problem, job.spec, ts, depart)
+    return row, sweep_energy(job.problem.world, job.mission, [path], np.array([depart]))[0]

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import csv
 import json
-import logging
 import math
 import sys
 import time
@@ -36,6 +35,7 @@ from ..io.outdir import OutputError, check_inside
 from ..io.safeio import claim
 from ..io.scenario import loader as scenario_io
 from ..io.scenario.specs import Scenario
+from ..parallel import Runner
 from ..planners import PIPELINES, PlanResult, plan, reference, with_reference
 from ..planners.grid.planner import on_cost_function
 from ..planners.registry import known, names
@@ -344,9 +344,15 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     return rows
 
 
+def _chunk(spec: SweepSpec, task: tuple[str, str, str, tuple[int, ...]]) -> list[Row]:
+    """:func:`run_chunk` as a task of :meth:`auvplan.parallel.Runner.map` (the spec shared)."""
+    return run_chunk(task, spec)
+
+
 def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = None, resume: bool = False,
-          progress: bool = True) -> list[Row]:
-    """Run the sweep on dask.distributed and return every row (string values, sorted by key).
+          progress: bool = True, retries: int = 1) -> list[Row]:
+    """Run the sweep on dask.distributed (:class:`auvplan.parallel.Runner`) and return every row (string values,
+    sorted by key).
 
     Parameters
     ----------
@@ -355,7 +361,8 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
     out : Path
         Folder of ``rows.csv`` (appended as rows arrive).
     workers : int
-        Local worker processes (a ``LocalCluster``), when no ``scheduler`` is given.
+        Local worker processes (a ``LocalCluster``), when no ``scheduler`` is given; 0 runs the chunks in this
+        process.
     scheduler : str, optional
         Address of an existing dask scheduler (``tcp://host:port``).
     resume : bool
@@ -363,14 +370,14 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         existing ``rows.csv`` is an error (nothing is overwritten).
     progress : bool
         Show a progress bar on stderr.
+    retries : int
+        Runs again of a chunk that fails.
 
     Returns
     -------
     list of dict
         Every row (:data:`COLUMNS`), string values, sorted by key.
     """
-    require("dask", "bench")
-    from dask.distributed import Client, LocalCluster, as_completed
     from tqdm import tqdm
 
     out = Path(out)
@@ -381,32 +388,27 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
             raise OutputError(f"{p}: is a symbolic link; auvplan does not append through links")
     todo = _todo(spec, path, resume)
     claim(out, ["rows.csv", "histories.jsonl"])
-    cluster = None
-    if scheduler:
-        client = Client(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.WARNING)
-        client = Client(cluster)
-    total = sum(len(t[3]) for t in todo)
-    bar = tqdm(total=total, desc="bench", file=sys.stderr, disable=not progress, mininterval=0.5)
-    try:
-        futures = [client.submit(run_chunk, t, spec, pure=False) for t in todo]
-        with path.open("a", newline="") as fh, hpath.open("a") as hf:
-            writer = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
-            for fut in as_completed(futures):
-                for row in fut.result():
-                    hf.write(json.dumps({"key": list(_key(row)), "history": row["_history"],
-                                         "trace": row.get("_trace", [])}) + "\n")
-                    hf.flush()
-                    writer.writerow(row)
-                    fh.flush()
-                    bar.update(1)
-    finally:
-        bar.close()
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    runner = Runner(workers, scheduler, retries)
+    if runner.distributed:
+        require("dask", "bench")
+    bar = tqdm(total=sum(len(t[3]) for t in todo), desc="bench", file=sys.stderr, disable=not progress,
+               mininterval=0.5)
+    with path.open("a", newline="") as fh, hpath.open("a") as hf:
+        writer = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
+
+        def arrived(_: int, rows: list[Row]) -> None:  # rows.csv is the bench's checkpoint (resume=True)
+            for row in rows:
+                hf.write(json.dumps({"key": list(_key(row)), "history": row["_history"],
+                                     "trace": row.get("_trace", [])}) + "\n")
+                hf.flush()
+                writer.writerow(row)
+                fh.flush()
+                bar.update(1)
+
+        try:
+            runner.map(_chunk, todo, shared=spec, on_result=arrived)
+        finally:
+            bar.close()
     return sorted(read_rows(path), key=lambda r: (r["scenario"], r["planner"], r["guidance"], int(r["seed"])))
 
 

@@ -15,7 +15,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance),
                      tuple(args.members), tuple(args.member_seeds))
-    out, _, text = bench(spec, args.out, args.force, args.workers, args.scheduler, args.resume)
+    out, _, text = bench(spec, args.out, args.force, args.workers, args.scheduler, args.resume, args.retries)
     print(text)
     print(f"rows in {out / 'rows.csv'}, summary in {out / 'summary.md'}, report {out / 'bench.html'}")
     return 0

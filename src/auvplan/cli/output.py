@@ -1,18 +1,17 @@
-"""What the commands of the command line share: progress on stderr, the check of ``--out`` before any work,
-and their output (a human line, or one JSON object with ``--json``)."""
+"""What the commands of the command line share: progress on stderr and their output (a human line, or one JSON
+object with ``--json``).  The check of ``--out`` before any work is each job's (:func:`auvplan.io.safeio.prepare_out`
+in :mod:`auvplan.app`)."""
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
-from collections.abc import Callable, Iterable
-from pathlib import Path
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from ..io.safeio import RESULT_NAMES, prepare_out
-
 if TYPE_CHECKING:
+    import argparse
+
     from ..planners import PlannerSpec
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
@@ -66,14 +65,6 @@ def reporter(quiet: bool) -> Callable[[PlannerSpec, str], Progress]:
     return lambda spec, scenario: Progress(spec, scenario, quiet)
 
 
-def check_out(args: argparse.Namespace, names: Iterable[str] = RESULT_NAMES) -> Path | None:
-    """Check ``--out`` before any work (creatable, writable, no user file or link in the way)."""
-    if getattr(args, "out", None) is None:
-        return None
-    job = "sweep" if getattr(args, "depart_between", None) else str(getattr(args, "command", "") or "")
-    return prepare_out(args.out, names, force=getattr(args, "force", False), job=job)
-
-
 JSON_WARNINGS: list[str] = []
 """Warnings (logging and Python) raised while a ``--json`` command ran: :func:`emit` puts them in the JSON
 object's ``warnings`` instead of on stderr (issue 51: ``--json`` leaves stderr empty on success)."""
@@ -90,3 +81,22 @@ def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
         sys.stdout.write(json.dumps(records.jsonable(record)) + "\n")
     else:
         print(human)
+
+
+def runner_of(args: argparse.Namespace) -> Any:
+    """The :class:`auvplan.parallel.Runner` of ``--workers``, ``--scheduler`` and ``--retries``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The command's arguments (those three absent: this process, one retry).
+
+    Returns
+    -------
+    Runner
+        Where the job's independent tasks run.
+    """
+    from ..parallel import Runner
+
+    return Runner(workers=getattr(args, "workers", None) or 0, scheduler=getattr(args, "scheduler", None),
+                  retries=getattr(args, "retries", 1))

@@ -158,6 +158,17 @@ def _shared(s: Any, *keys: str) -> None:
         s.add_argument(*flags, **kwargs)
 
 
+def _cluster(s: Any, workers: int | None) -> None:
+    """``--workers N | --scheduler ADDR`` and ``--retries N``: where a job's independent tasks run
+    (:mod:`auvplan.parallel`; ``workers`` None: in this process unless one is given)."""
+    g = s.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=_POSITIVE, default=workers,
+                   help="local dask worker processes (a LocalCluster)"
+                        + (f"; default {workers}" if workers else "; default: this process, no dask"))
+    g.add_argument("--scheduler", help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
+    s.add_argument("--retries", type=_SEED, default=1, help="runs again of a task that fails (default 1)")
+
+
 def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
     """A sub-command with the shared arguments ``shared`` (in that order) and its handler ``func``, named
     ``"<module>:<function>"`` in a command group's module of :mod:`auvplan.cli` (imported when a command runs, so
@@ -201,6 +212,7 @@ def _flight_commands(sub: Any) -> None:
                         "time-dependent planner; writes sweep.csv, sweep_summary.json and sweep.png to --out")
     s.add_argument("--step", default="15min", type=_step, help="departure step of the sweep (default 15min)")
     s.add_argument("--objective", choices=("time", "energy"), help="objective of the sweep's timed plans")
+    _cluster(s, None)  # the sweep's departures, the robust plan's candidates
 
     s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
                  "plan:cmd_simulate", "scenario", "guidance", "avoidance", "seed")
@@ -217,6 +229,7 @@ def _flight_commands(sub: Any) -> None:
                  "scenario", "guidance", "seed")
     s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
     _shared(s, "full", "force", "json")
+    _cluster(s, None)
 
 
 def _result_commands(sub: Any) -> None:
@@ -278,9 +291,7 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--member-seeds", nargs="+", type=_SEED, default=[], metavar="SEED",
                    help="re-draw the [currents] members' perturbation entries with each seed (an axis)")
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
-    g = s.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=_POSITIVE, default=2, help="local worker processes (a LocalCluster)")
-    g.add_argument("--scheduler", help="address of an existing dask scheduler, e.g. tcp://host:8786")
+    _cluster(s, 2)
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
     s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
     _shared(s, "force")

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from ..errors import AuvplanError
-from .output import emit, reporter
+from .output import emit, reporter, runner_of
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
@@ -37,7 +37,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     sc, result, seed, world, ensemble = plan_scenario(
         args.scenario, args.out, getattr(args, "force", False), args.planner, args.budget,
         getattr(args, "pipeline", None), args.seed, getattr(args, "reference", False),
-        reporter(args.quiet or args.json))  # issue 51: --json leaves stderr empty
+        reporter(args.quiet or args.json), runner_of(args))  # issue 51: --json leaves stderr empty
     record = records.plan_record(result, sc.name, seed)
     record.update(ensemble)
     if world.terrain is not None and world.terrain.fit is not None:

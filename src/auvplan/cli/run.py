@@ -4,7 +4,9 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
+from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
 from ..errors import AuvplanError
@@ -31,10 +33,15 @@ def describe_run(name: str, record: RunRecord, endurance: Endurance | None = Non
     if record.sim is not None:
         m = record.sim.metrics
         kind = f"{record.sim.guidance}+{record.sim.avoidance}"
+        alt = f"min altitude {m['min_altitude_m']:.1f} m" if math.isfinite(m["min_altitude_m"]) else "no seabed"
+        d = m["min_obstacle_distance_m"]
+        obst = f"min obstacle distance {d:.1f} m" if math.isfinite(d) else "no obstacle"
         lines.append(f"  flight {kind}: {m['status']} after {m['duration_s']:.0f} s, "
-                     f"{m['distance_m']:.0f} m flown, min altitude {m['min_altitude_m']:.1f} m, "
-                     f"min obstacle distance {m['min_obstacle_distance_m']:.1f} m, {m['escapes']} escapes; "
+                     f"{m['distance_m']:.0f} m flown, {alt}, "
+                     f"{obst}, {m['escapes']} escapes; "
                      f"{len(record.keys)} key waypoints")
+    if record.altitude is not None:
+        lines.append(describe_altitude(record.altitude))
     if endurance is not None:
         flown = f"; flown {endurance.flown.energy.energy_wh:.1f} Wh" if endurance.flown is not None else ""
         lines.append(f"  energy {endurance.budget.message}{flown}")
@@ -42,6 +49,18 @@ def describe_run(name: str, record: RunRecord, endurance: Endurance | None = Non
     if record.nav is not None:
         lines.extend(describe_navigation(record.nav))
     return "\n".join(lines)
+
+
+def describe_altitude(a: Mapping[str, float | int]) -> str:
+    """The altitude line of a terrain-following run: the mission's and the flight's altitude against the band."""
+    line = (f"  altitude {a['altitude_target_m']:g} ± {a['altitude_band_m']:g} m: mission {a['altitude_min_m']:.1f}"
+            f"-{a['altitude_max_m']:.1f} m, RMS off target {a['altitude_rms_m']:.2f} m, within the band on "
+            f"{100.0 * a['altitude_band_held_fraction']:.1f} % ({a['altitude_band_legs']} "
+            f"leg{'' if a['altitude_band_legs'] == 1 else 's'} out where the pitch limit forces it)")
+    if "flown_altitude_rms_m" in a:
+        line += (f"; flown {a['flown_altitude_min_m']:.1f}-{a['flown_altitude_max_m']:.1f} m, RMS off target "
+                 f"{a['flown_altitude_rms_m']:.2f} m where the mission is in the band")
+    return line
 
 
 def describe_navigation(nav: NavPlan) -> list[str]:

@@ -29,9 +29,10 @@ def cmd_survey(args: argparse.Namespace) -> int:
         0 when the survey was planned and flown, 1 when a check, a transit or the flight failed.
     """
     from ..app.survey import survey_scenario
+    from .output import runner_of
 
     sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
-                              args.full, lambda text: _say(args, text))
+                              args.full, lambda text: _say(args, text), runner_of(args))
     m = rec["lawnmower"]
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "
              f"planned coverage {rec['planned']['coverage_pct']:.2f} % (overlap {rec['planned']['overlap_min_pct']:.1f}"
@@ -42,6 +43,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
              + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
              + f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']} lines, "
                f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
+             + (f"\n  {rec['nav_spacing']['text']}" if rec.get("nav_spacing") else "")
              + (f"\n  {rec['message']}" if rec["message"] else "")
              + "".join(f"\n  note: {n}" for n in rec.get("notes", [])))
     if args.json:

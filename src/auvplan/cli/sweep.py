@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .output import emit
+from .output import emit, runner_of
 
 if TYPE_CHECKING:
     from ..planners.timeopt.planner import SweepRow, SweepSummary
@@ -35,11 +35,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     try:
         run = sweep_scenario(args.scenario, args.depart_between, args.step, args.objective, args.out,
-                             getattr(args, "force", False), progress)
+                             getattr(args, "force", False), progress, runner_of(args))
     finally:
         if bar is not None:
             bar.close()
     sc, summary = run.scenario, run.summary
+    if run.computed < len(run.rows) and not (args.quiet or args.json):
+        print(f"auvplan: {len(run.rows) - run.computed} of {len(run.rows)} departures read back from the "
+              "checkpoints of an unfinished run", file=sys.stderr)
     lines = sweep_lines(sc.name, sc.mission.start_time, run.rows, run.energy, summary, run.t0, run.step)
     emit({"scenario": sc.name, "summary": summary, "rows": run.table}, args.json, "\n".join(lines))
     return 0 if summary.get("feasible_departures") else 1

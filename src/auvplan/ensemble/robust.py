@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import RngLike
+from ..parallel import Runner
 from ..planners.base import PlanResult
 from ..sim import Mission, planned_route
 from ..world import CurrentField, World
@@ -101,6 +102,21 @@ def rank_key(score: EnsembleScore | None, objective: str) -> tuple[float, float,
     return (fail, p90, p50) if objective == "success" else (p90, fail, p50)
 
 
+@dataclass(frozen=True, eq=False)
+class _Shared:
+    """What every candidate's task shares: the world, the mission, the members and the planner's seed."""
+
+    world: World
+    mission: Mission
+    members: tuple[tuple[str, CurrentField], ...]
+    seed: RngLike
+
+
+def _candidate_task(shared: _Shared, task: tuple[str, CurrentField | None]) -> Candidate:
+    """One candidate as a task of :meth:`auvplan.parallel.Runner.map`."""
+    return _candidate(shared.world, shared.mission, task[0], task[1], shared.members, shared.seed)
+
+
 def _candidate(world: World, mission: Mission, label: str, field: CurrentField | None,
                members: Sequence[tuple[str, CurrentField]], seed: RngLike) -> Candidate:
     w = world if field is None else replace(world, currents=field)
@@ -110,7 +126,7 @@ def _candidate(world: World, mission: Mission, label: str, field: CurrentField |
 
 
 def plan_robust(world: World, mission: Mission, members: Sequence[tuple[str, CurrentField]],
-                objective: str = "p90", seed: RngLike = None) -> RobustPlan:
+                objective: str = "p90", seed: RngLike = None, runner: Runner | None = None) -> RobustPlan:
     """Plan one route for every member (module notes).
 
     Parameters
@@ -125,6 +141,9 @@ def plan_robust(world: World, mission: Mission, members: Sequence[tuple[str, Cur
         ``none`` (the nominal plan, scored), ``p90`` or ``success``.
     seed : Generator, int or None
         Seed of every candidate's planner (the mission's by default).
+    runner : Runner, optional
+        Where the candidates are planned and scored (:class:`auvplan.parallel.Runner`; this process by
+        default): each is one task, seeded by ``seed``, so the choice does not depend on the workers.
 
     Returns
     -------
@@ -136,11 +155,15 @@ def plan_robust(world: World, mission: Mission, members: Sequence[tuple[str, Cur
     if not members:
         raise ValueError("robust planning needs at least one member")
     seed = mission.seed if seed is None else seed
-    nominal = _candidate(world, mission, "nominal", None, members, seed)
-    cands = [nominal]
+    if isinstance(seed, np.random.Generator):  # one seed for every candidate, whichever worker plans it
+        seed = int(seed.integers(2**62))
+    tasks: list[tuple[str, CurrentField | None]] = [("nominal", None)]
     if objective != "none" and not mission.route:
-        cands += [_candidate(world, mission, name, field, members, seed) for name, field in members]
+        tasks += list(members)
         if len(members) > 1:
-            cands.append(_candidate(world, mission, "mean", MeanCurrent([f for _, f in members]), members, seed))
+            tasks.append(("mean", MeanCurrent([f for _, f in members])))
+    shared = _Shared(world, mission, tuple(members), seed)
+    cands = (runner or Runner()).map(_candidate_task, tasks, shared=shared).results
+    nominal = cands[0]
     chosen = min(cands, key=lambda c: rank_key(c.score, objective))  # the first of equals: the nominal
     return RobustPlan(objective, chosen, nominal, tuple(cands))

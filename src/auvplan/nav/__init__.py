@@ -10,13 +10,13 @@ the fewest surfacings, and clearance under the error (issue 52; ``docs/navigatio
 
 from __future__ import annotations
 
-from .budget import NavBudget, mission_budget
+from .budget import ErrorProfile, NavBudget, error_profile, mission_budget
 from .clearance import leg_slack, safe_radius, uncertain_clearance
 from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
-from .mission import NavCheck, NavPlan, check_navigation, fix_times, plan_navigation, surface_kinds
+from .mission import NavCheck, NavPlan, check_navigation, fix_times, navigation_of, plan_navigation, surface_kinds
 from .params import NavParams, UsblParams
 
-__all__ = ["NavParams", "UsblParams", "NavBudget", "mission_budget", "safe_radius", "leg_slack",
-           "uncertain_clearance", "FixPlan", "apply_fixes", "best_period", "periodic_fixes", "plan_fixes",
-           "route_profile", "NavCheck", "NavPlan", "check_navigation", "fix_times", "plan_navigation",
-           "surface_kinds"]
+__all__ = ["NavParams", "UsblParams", "NavBudget", "ErrorProfile", "error_profile", "mission_budget",
+           "safe_radius", "leg_slack", "uncertain_clearance", "FixPlan", "apply_fixes", "best_period",
+           "periodic_fixes", "plan_fixes", "route_profile", "NavCheck", "NavPlan", "check_navigation", "fix_times",
+           "navigation_of", "plan_navigation", "surface_kinds"]

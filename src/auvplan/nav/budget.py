@@ -21,14 +21,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from .._types import FloatArray, IntArray
 from ..world import World
 from .params import NavParams
 
-__all__ = ["NavBudget", "sample_route", "lock_fraction", "drift_increments", "sigma_profile", "fix_sigma",
-           "mission_budget", "DEFAULT_STEP_M"]
+__all__ = ["NavBudget", "ErrorProfile", "sample_route", "lock_fraction", "drift_increments", "sigma_profile",
+           "fix_sigma", "mission_budget", "error_profile", "DEFAULT_STEP_M"]
 
 DEFAULT_STEP_M = 50.0
 """Longest horizontal sampling interval of the altitude schedule (m)."""
@@ -57,6 +57,30 @@ class NavBudget:
     leg_lock: FloatArray
     kinds: tuple[str, ...]
     max_error_m: float
+
+
+@dataclass(frozen=True, eq=False)
+class ErrorProfile:
+    """The predicted error along a mission at every sample of its altitude schedule (for the error band
+    and the error against time).
+
+    Attributes
+    ----------
+    xyz : numpy.ndarray
+        ``(M, 3)`` the samples (m).
+    s_m : numpy.ndarray
+        ``(M,)`` distance travelled (3D) from the start (m).
+    before_m, after_m : numpy.ndarray
+        ``(M,)`` confidence × σ on arrival at each sample and after any fix there (m).
+    fix : numpy.ndarray of bool
+        ``(M,)`` a fix is taken at the sample.
+    """
+
+    xyz: FloatArray
+    s_m: FloatArray
+    before_m: FloatArray
+    after_m: FloatArray
+    fix: NDArray[np.bool_]
 
 
 def sample_route(world: World, points: ArrayLike, step: float = DEFAULT_STEP_M) -> tuple[FloatArray, FloatArray,
@@ -241,3 +265,43 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         np.bincount(leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)
     error = c * after[vertex]
     return NavBudget(error, leg_error, share, tuple(kinds), float(max(leg_error.max(initial=0.0), error.max())))
+
+
+def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
+                  usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> ErrorProfile:
+    """The predicted error at every sample of a mission whose fixes are known (:class:`ErrorProfile`); the
+    same samples and σ as :func:`mission_budget`.
+
+    Parameters
+    ----------
+    world : World
+        The seabed.
+    points : array_like
+        ``(N, 3)`` waypoints (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint.
+    nav : NavParams
+        The error model.
+    usbl_xy : tuple of float, optional
+        The USBL ship's local position (m).
+    step : float, optional
+        Sampling (m).
+
+    Returns
+    -------
+    ErrorProfile
+        The samples and the error before and after each.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    ds, alt, leg, vertex = sample_route(world, p, step)
+    inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav)
+    fixes = [i for i, k in enumerate(kinds) if k and i > 0]
+    before, after = sigma_profile(inc, vertex[fixes], [fix_sigma(nav, kinds[i], p[i], usbl_xy) for i in fixes],
+                                  fix_sigma(nav, kinds[0] or "gps", p[0], usbl_xy))
+    n = np.diff(vertex)
+    k = np.arange(leg.size) - np.repeat(vertex[:-1], n)
+    xyz = np.vstack([p[leg] + (k / n[leg])[:, None] * (p[leg + 1] - p[leg]), p[-1:]])
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
+    fix = np.zeros(xyz.shape[0], dtype=bool)
+    fix[vertex[fixes]] = True
+    return ErrorProfile(xyz, s, nav.confidence * before, nav.confidence * after, fix)

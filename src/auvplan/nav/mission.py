@@ -16,7 +16,8 @@ from .clearance import uncertain_clearance
 from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
 from .params import NavParams
 
-__all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times"]
+__all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times",
+           "navigation_of"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,6 +106,10 @@ class NavPlan:
         The best fixed period with the same largest error and its fixes (``fixes = "plan"`` only).
     times_s : numpy.ndarray
         ``(F,)`` planned time of each fix (s from the start, at the cruise speed, earlier dwells included).
+    params : NavParams or None
+        The error model the figures come from (the error band and the error against time redraw from it).
+    speed : float
+        The cruise speed the times are planned at (m/s).
     """
 
     points: FloatArray
@@ -114,6 +119,8 @@ class NavPlan:
     fixes: FixPlan
     fixed_period: tuple[float, FixPlan] | None
     times_s: FloatArray
+    params: NavParams | None = None
+    speed: float = math.nan
 
     @property
     def ok(self) -> bool:
@@ -231,4 +238,41 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
     fixed = None
     if compare and nav.fixes == "plan" and fp.ok:
         fixed = best_period(prof, nav, speed, fp.max_error_m)
-    return NavPlan(points, kinds, dwell, check, fp, fixed, fix_times(points, kinds, dwell, speed))
+    return NavPlan(points, kinds, dwell, check, fp, fixed, fix_times(points, kinds, dwell, speed), nav, speed)
+
+
+def navigation_of(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams, speed: float,
+                  usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> NavPlan:
+    """The navigation of a mission whose fixes are already in it (a results folder read back): its budget,
+    clearance and fix times; no fixed period to compare.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    points : array_like
+        ``(N, 3)`` the mission's waypoints, surfacings included (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint.
+    nav : NavParams
+        Error model and budget.
+    speed : float
+        Cruise speed (m/s).
+    usbl_xy : tuple of float, optional
+        The USBL ship's local position (m).
+    step : float, optional
+        Sampling (m).
+
+    Returns
+    -------
+    NavPlan
+        The mission's navigation.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    check = check_navigation(world, p, kinds, nav, usbl_xy, step)
+    dwell = np.array([nav.surface_s if k == "gps" else 0.0 for k in kinds])
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]
+    idx = [i for i, k in enumerate(kinds) if k]
+    fp = FixPlan(True, s[idx], tuple(kinds[i] for i in idx), check.budget.max_error_m,
+                 float(dwell.sum()))
+    return NavPlan(p, tuple(kinds), dwell, check, fp, None, fix_times(p, kinds, dwell, speed), nav, speed)

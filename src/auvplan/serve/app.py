@@ -132,7 +132,7 @@ def page_state(session: Session, full: bool = True, revisions: Revisions | None 
                                  "keys": session.keys,
                                  "check": _check_json(result, "waypoints" in wp), "history": session.history[-50:],
                                  "candidates": session.candidate_rows(), "flight": session.flight_summary(),
-                                 "survey_area": session.survey_area, "settings": {
+                                 "survey_area": session.survey_area, "nav_band": session.nav_band, "settings": {
                                      "semantics": session.settings.semantics, "pitch_deg": session.settings.pitch_deg}}
         if full and session.sc is not None and session.mission is not None:
             v = session.mission.vehicle

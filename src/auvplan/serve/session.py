@@ -38,6 +38,7 @@ from ..sim import Mission, SimResult, with_leg_speeds
 from ..world import World
 from .bounds import edit_budget
 from .check import CheckResult, CheckSettings, IncrementalCheck
+from .navband import nav_band
 from .paths import Roots
 from .plans import as_points
 
@@ -126,6 +127,7 @@ class Session:
         self.candidates: list[Candidate] = []
         self.result: CheckResult | None = None
         self.keys: _F64 = np.empty((0, 3))  # the key waypoints of the mission (what the guidance steers by)
+        self.nav_band: dict[str, Any] | None = None  # the navigation error band of the mission ([navigation])
         self.generation = 0  # bumped when the world changes: the page redraws its chart
 
     def scenario_path(self, name: str) -> Path:
@@ -272,10 +274,11 @@ class Session:
         edit_budget(world, mission, w, "the mission")
         result = self.checker.run(w, self.settings, self._speeds(w))
         keys = key_waypoints(w, world, mission.avoidance.collision_check)
+        band = nav_band(world, mission, w)  # issue 52: the predicted error along the mission
         with self.lock:
             if not np.array_equal(w, self.waypoints):
                 self.epoch += 1
-            self.waypoints, self.result, self.keys = w, result, keys
+            self.waypoints, self.result, self.keys, self.nav_band = w, result, keys, band
         return result
 
     def set_waypoints(self, w: Any) -> None:

@@ -7,7 +7,8 @@ Each idea has its module; every public name is importable from :mod:`auvplan.sim
 * :mod:`~auvplan.sim.loop`: the fixed-step closed loop (:func:`simulate`, :func:`make_guidance`);
 * :mod:`~auvplan.sim.result`: what a run produced (:class:`SimResult`, :class:`SimMetrics`,
   :class:`RunRecord`, :func:`decimate`);
-* :mod:`~auvplan.sim.pipeline`: plan → mission route → key waypoints → simulation (:func:`run_mission`).
+* :mod:`~auvplan.sim.pipeline`: plan → mission route → key waypoints → simulation (:func:`run_mission`);
+* :mod:`~auvplan.sim.band`: a terrain-following run's altitude against its band (``metrics.json``).
 """
 
 from __future__ import annotations

@@ -118,7 +118,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
     run = _setup(world, mission, route, guidance, rng, avoidance, keys, tail, fix_kinds)
     st, dt, s = mission.sim, mission.sim.dt, run.state
     every = max(1, int(round(60.0 / dt)))
-    expected = run.tracker.total_length / mission.vehicle.speed
+    expected = run.tracker.total_length / mission.vehicle.speed + sum(run.dwell)
     k = 0
     for k in range(run.n_steps + 1):
         t = k * dt
@@ -131,9 +131,14 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         if _step_events(run, t, pos, alt, dists, rp):
             break
         if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
-            _steer(run, k, psi_d, pitch_cmd, rp, cur)
-            if run.drift is not None:
-                _drift(run, pos, alt, rp)
+            if t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
+                _hold(run, cur)
+            else:
+                _steer(run, k, psi_d, pitch_cmd, rp, cur)
+                if run.drift is not None:
+                    run.drift.advance(math.hypot(s.x - pos[0], s.y - pos[1]), alt)
+            if run.fixes:
+                _fixes_passed(run, (k + 1) * dt, rp)
     else:
         run.events.append((run.n_steps * dt, "timeout", f"not arrived after {run.max_time:.0f} s"))
     if k % st.record_every != 0:  # always keep the final state, sensed as every recorded one
@@ -194,6 +199,8 @@ class _Run:
     drift: NavDrift | None = None  # the drifting estimate (mission.nav_drift), None: perfect navigation
     fixes: tuple[str, ...] = ()  # the fix at each waypoint
     fixed: int = 0  # fixes up to this waypoint index are taken
+    dwell: tuple[float, ...] = ()  # the time held at each waypoint (surface_s at a surface fix; s)
+    hold_until: float = -math.inf  # the dwell under way ends at this time (s)
 
     def nav_error(self) -> float:
         """The estimate's horizontal error now (m; 0 with perfect navigation)."""
@@ -247,34 +254,59 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     max_time = st.max_time or 3.0 * guide.route.total_length / vp.speed + 120.0
     n_steps = int(math.ceil(max_time / st.dt))
     waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
+    fixes, dwell = _fix_waypoints(mission, waypoints, fix_kinds)
+    if fixes and not st.max_time:  # the dwells are flown time too
+        max_time += sum(dwell)
+        n_steps = int(math.ceil(max_time / st.dt))
     noise = gen.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
     tracks, velocities = _moving_tracks(world, n_steps, st.dt)
     drift: NavDrift | None = None
-    fixes: tuple[str, ...] = ()
     if mission.nav_drift and mission.navigation is not None:  # its own stream, drawn last: nothing else changes
         drift = NavDrift(mission.navigation, np.random.default_rng(int(gen.integers(2**63))))
-        kinds = list(fix_kinds) if fix_kinds is not None else \
-            ["gps" if i > 0 and z >= -0.5 else "" for i, z in enumerate(waypoints[:, 2])]
-        kept = np.r_[True, np.linalg.norm(np.diff(waypoints, axis=0), axis=1) > 1e-9]  # as the tracker keeps them
-        for i in np.flatnonzero(~kept)[::-1]:  # a dropped duplicate's fix goes to the waypoint it repeats
-            kinds[i - 1] = kinds[i - 1] or kinds[i]
-        fixes = tuple(k for k, m in zip(kinds, kept, strict=True) if m)
     return _Run(world, mission, guide, local, av_name, Vehicle(vp, st.dt), s, max_time, n_steps, noise, tracks,
                 velocities, [o.shape.bounding_radius for o in world.moving],
                 max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0),
                 _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1],
-                [_depth_band(o) for o in world.obstacles], drift=drift, fixes=fixes)
+                [_depth_band(o) for o in world.obstacles], drift=drift, fixes=fixes, dwell=dwell)
 
 
-def _drift(run: _Run, before: NDArray[np.float64], alt: float, rp: RoutePoint) -> None:
-    """The estimate's error after one step from ``before``; a fix once the leg after its waypoint is active."""
-    s, drift = run.state, run.drift
-    assert drift is not None
-    drift.advance(math.hypot(s.x - before[0], s.y - before[1]), alt)
+def _fix_waypoints(mission: Mission, waypoints: NDArray[np.float64],
+                   fix_kinds: Sequence[str] | None) -> tuple[tuple[str, ...], tuple[float, ...]]:
+    """The fix at each waypoint the tracker keeps and the time held there (``surface_s`` at a GPS fix);
+    empty without ``[navigation]``."""
+    nav = mission.navigation
+    if nav is None:
+        return (), ()
+    kinds = list(fix_kinds) if fix_kinds is not None else \
+        ["gps" if i > 0 and z >= -0.5 else "" for i, z in enumerate(waypoints[:, 2])]
+    kept = np.r_[True, np.linalg.norm(np.diff(waypoints, axis=0), axis=1) > 1e-9]  # as the tracker keeps them
+    for i in np.flatnonzero(~kept)[::-1]:  # a dropped duplicate's fix goes to the waypoint it repeats
+        kinds[i - 1] = kinds[i - 1] or kinds[i]
+    fixes = tuple(k for k, m in zip(kinds, kept, strict=True) if m)
+    return fixes, tuple(nav.surface_s if k == "gps" else 0.0 for k in fixes)
+
+
+def _fixes_passed(run: _Run, t: float, rp: RoutePoint) -> None:
+    """The fixes of the waypoints passed: taken once the leg after a fix waypoint is active (the estimate
+    reset, and at a surface fix the dwell started at ``t``)."""
+    s = run.state
     while run.fixed < min(rp.leg, len(run.fixes) - 1):
         run.fixed += 1
-        if run.fixes[run.fixed]:
-            drift.fix(run.fixes[run.fixed], (s.x, s.y, s.z))
+        kind = run.fixes[run.fixed]
+        if kind and run.drift is not None:
+            run.drift.fix(kind, (s.x, s.y, s.z))
+        if run.dwell[run.fixed] > 0.0:
+            run.hold_until = t + run.dwell[run.fixed]
+
+
+def _hold(run: _Run, cur: NDArray[np.float64]) -> None:
+    """One ``dt`` of the dwell at a surface fix: propulsion off (the hotel load only), the vehicle drifts
+    with the current; GPS holds its estimate; the deadlock watch restarts after it."""
+    s, dt = run.state, run.mission.sim.dt
+    s.x += float(cur[0]) * dt
+    s.y += float(cur[1]) * dt
+    run.vel = (float(cur[0]), float(cur[1]), 0.0)
+    run.best_time = run.hold_until
 
 
 def _depth_band(shape: Shape) -> tuple[float, float]:

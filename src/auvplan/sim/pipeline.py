@@ -23,12 +23,16 @@ from ..planners import plan as global_plan
 from ..planners.base import PlanningProblem, PlanResult, Progress
 from ..vehicles import VehicleParams
 from ..world import World
+from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
 from .result import RunRecord
+from .tracking import contract_world, route_bound, route_keeps
 
-__all__ = ["navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
-           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "with_leg_speeds"]
+__all__ = ["kept_route", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
+           "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
+           "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
+           "with_leg_speeds"]
 
 
 def planning_problem(world: World, mission: Mission) -> PlanningProblem:
@@ -258,6 +262,31 @@ def timed_waypoints(world: World, path: ArrayLike, times: ArrayLike, speed: floa
 
 def planned_route(world: World, mission: Mission, seed: RngLike,
                   progress: Progress | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+    """The route a mission flies: :func:`planned_fit`'s waypoints.
+
+    Parameters
+    ----------
+    world : World
+        Environment.
+    mission : Mission
+        What to do.
+    seed : Generator, int or None
+        Seed of the planner.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+
+    Returns
+    -------
+    tuple
+        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None when the plan
+        or the fit failed.
+    """
+    planned, fit = planned_fit(world, mission, seed, progress)
+    return planned, fit.waypoints if fit is not None else None
+
+
+def planned_fit(world: World, mission: Mission, seed: RngLike,
+                progress: Progress | None = None) -> tuple[PlanResult | None, MissionFit | None]:
     """The route a mission flies: its fixed route, or the global plan's (:func:`mission_route`).
 
     Either is held to the vehicle's limits (:func:`fitted_route`); a mission the vehicle cannot
@@ -277,13 +306,13 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     Returns
     -------
     tuple
-        The plan (None for a fixed route the vehicle can fly) and the route ``(N, 3)`` (m), None
-        when the plan or the fit failed.
+        The plan (None for a fixed route the vehicle can fly) and the fitted route (:class:`MissionFit`: its
+        waypoints ``(N, 3)`` (m) and altitude band), None when the plan or the fit failed.
     """
     if mission.route:
         fit = fitted_route(world, mission, mission.route)
         if fit.ok:
-            return None, fit.waypoints
+            return None, fit
         route = np.asarray(mission.route, dtype=float)
         return PlanResult(Status.INFEASIBLE, route, float("inf"), {}, 0, 0, 0.0, np.empty(0), "route",
                           message=f"the vehicle cannot fly the [mission] route: {fit.message}"), None
@@ -301,7 +330,83 @@ def planned_route(world: World, mission: Mission, seed: RngLike,
     if not fit.ok:
         return replace(planned, status=Status.INFEASIBLE,
                        message=f"the vehicle cannot fly the mission built from the plan: {fit.message}"), None
-    return planned, fit.waypoints
+    return planned, fit
+
+
+CONTRACT_ROUNDS = 3
+"""Re-plans with a raised margin before the clearance contract gives up (:func:`kept_route`)."""
+CONTRACT_ROOM = 0.01
+"""How far inside the start's or the goal's own clearance a raised margin stays (m; :func:`kept_route`)."""
+
+
+def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
+               follower: str | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+    """The planned route under the clearance contract between planner and follower (issue 57 item 2).
+
+    The route of :func:`planned_route` is flown by the follower without obstacles
+    (:func:`auvplan.sim.tracking.route_bound`); when a leg comes closer to a static obstacle than the
+    mission's margin plus its bound, the plan is made again with the margin raised by the route's largest bound
+    (:func:`auvplan.sim.tracking.contract_world`; at most to :data:`CONTRACT_ROOM` inside the start's and the
+    goal's own clearance, so that they stay free), up to :data:`CONTRACT_ROUNDS` times.  A plan that cannot
+    keep the clearance (its start or goal inside the raised margin, no route, or no round that keeps it)
+    is returned with its status (``INVALID_START``, ``INVALID_GOAL``, ``INFEASIBLE``) and a message naming
+    the follower, the bound and the margin.  A fixed route and a world without static obstacles are
+    returned as :func:`planned_route` gives them.  A kept plan's ``cost_terms`` carry ``tracking_bound_m``.
+
+    Parameters
+    ----------
+    world : World
+        Environment (the margin raised only for planning).
+    mission : Mission
+        What to do.
+    seed : Generator, int or None
+        Seed of the planner.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner.
+    follower : str, optional
+        The path follower that flies the route; the mission's ``guidance`` by default.
+
+    Returns
+    -------
+    tuple
+        The plan and the route ``(N, 3)`` (m), None when the plan or the contract failed.
+    """
+    planned, fit = _kept_fit(world, mission, seed, progress, follower)
+    return planned, fit.waypoints if fit is not None else None
+
+
+def _kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
+              follower: str | None = None) -> tuple[PlanResult | None, MissionFit | None]:
+    """:func:`kept_route` with the fitted route (its waypoints and altitude band, :func:`planned_fit`)."""
+    planned, fit = planned_fit(world, mission, seed, progress)
+    if fit is None or planned is None or mission.route or not world.obstacles:
+        return planned, fit
+    route = fit.waypoints
+    margin, name = world.margins.obstacle, follower or mission.guidance
+    ends = np.array([mission.start, mission.goal], dtype=float)
+    room = float(np.min([ob.distance(ends) for ob in world.obstacles])) - margin - CONTRACT_ROOM
+    raised = 0.0
+    for rounds in range(CONTRACT_ROUNDS + 1):
+        bound = route_bound(world, mission, route, name)
+        leg = route_keeps(world, route, margin + bound.per_leg_m)
+        if leg < 0:
+            return replace(planned, cost_terms={**planned.cost_terms, "tracking_bound_m": bound.total_m}), fit
+        why = (f"the {name} follower leaves this route's leg {leg} by up to {bound.per_leg_m[leg]:.2f} m (flown "
+               "without obstacles" + (f", + its push bound {bound.push_m:g} m" if bound.push_m else "")
+               + f"), and the leg passes closer than the {margin:g} m margin + that to an obstacle")
+        if rounds == CONTRACT_ROUNDS:
+            break
+        raised = min(max(raised, bound.total_m), room)  # the start and the goal stay outside the raised margin
+        if raised <= 0.0:
+            break
+        planned, fit = planned_fit(contract_world(world, raised), mission, seed, progress)
+        if fit is None or planned is None:
+            msg = f"clearance contract: {why}; planned again with the obstacle margin {margin + raised:.2f} m: "
+            return (None if planned is None else replace(planned, message=msg + planned.message)), None
+        route = fit.waypoints
+    tried = f"{rounds} plans with a raised margin did not keep it" if rounds else \
+        f"the start or the goal lies within {margin + CONTRACT_ROOM:g} m of an obstacle: no room to raise the margin"
+    return replace(planned, status=Status.INFEASIBLE, message=f"clearance contract: {why}; {tried}"), None
 
 
 def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
@@ -390,9 +495,10 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned, route = planned_route(world, mission, seed, progress)
-    if route is None:
+    planned, fit = _kept_fit(world, mission, seed, progress, guidance)
+    if fit is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
+    route = fit.waypoints
     nav = navigation_plan(world, mission, route)
     if nav is not None:  # the fixes are part of the mission: surfacings (depth 0) and USBL fix waypoints
         route = nav.points
@@ -407,4 +513,6 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
         mission = replace(mission, sim=replace(mission.sim, deadlock_time=wait))
     result = simulate(world, mission, route=route, guidance=guidance, rng=seed, avoidance=avoidance, keys=keys,
                       progress=flight, tail=tail, fix_kinds=nav.kinds if nav is not None else None)
-    return RunRecord(mission.name, recorded, planned, route, keys, result, nav)
+    altitude = altitude_band_metrics(world.terrain, route, fit.band, (result.progress, result.altitude)) \
+        if world.terrain is not None and fit.band.target_m > 0.0 else None
+    return RunRecord(mission.name, recorded, planned, route, keys, result, nav, altitude)

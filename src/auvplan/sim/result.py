@@ -3,6 +3,7 @@ a mission's :class:`RunRecord` (plan, route, key waypoints, run), and :func:`dec
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import TypedDict
 
@@ -174,6 +175,9 @@ class RunRecord:
         The closed-loop run (None when the plan failed).
     nav : NavPlan or None
         The navigation budget and its fixes (``[navigation]``; :mod:`auvplan.nav`).
+    altitude : dict or None
+        A terrain-following mission's altitude against its commanded band, planned and flown
+        (:func:`auvplan.sim.band.altitude_band_metrics`; None when not terrain following).
     """
 
     scenario: str
@@ -183,6 +187,7 @@ class RunRecord:
     keys: NDArray[np.float64]
     sim: SimResult | None
     nav: NavPlan | None = None
+    altitude: Mapping[str, float | int] | None = None
 
     @property
     def status(self) -> Status:

@@ -38,10 +38,11 @@ from numpy.typing import NDArray
 
 from .envelope import lower_envelope, upper_envelope
 from .frame import Frame, StraightFrame
+from .navspacing import nav_margin
 from .swath import Seabed, Sensor, swath_reach
 
 __all__ = ["LineParams", "SurveyLine", "SurveyLines", "place_lines", "upper_envelope", "lower_envelope",
-           "to_sn", "from_sn"]
+           "to_sn", "from_sn", "nav_margin"]
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,13 @@ class LineParams:
         Added to ``overlap_min`` where the lines are placed, so the flown overlap keeps the minimum when
         the vehicle crabs in a cross-current (:func:`auvplan.survey.ties.crab_margin`); the outermost
         swaths reach the area's edges with their reach shortened by the same fraction.
+    nav_rel_per_m : float
+        Relative navigation error of two adjacent lines per metre flown between their passes at a
+        station (confidence × the dead-reckoning drift rate, issue 52; 0: exact navigation).  Each next
+        line is brought closer by that error at every station (:func:`nav_margin`).
+    nav_turn_m : float
+        Longest path flown between the end of one line and the start of the next beyond the lines (m;
+        the run-ins and the turn): part of the distance between the passes.
     """
 
     overlap_min: float = 0.10
@@ -79,6 +87,8 @@ class LineParams:
     step_m: float = 5.0
     max_lines: int = 500
     overlap_margin: float = 0.0
+    nav_rel_per_m: float = 0.0
+    nav_turn_m: float = 0.0
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.overlap_min < self.overlap_max < 1.0:
@@ -93,6 +103,8 @@ class LineParams:
             raise ValueError(f"overlap_margin = {self.overlap_margin}: must be in [0, 1 - overlap_min)")
         if self.max_lines < 1:
             raise ValueError(f"max_lines = {self.max_lines}: must be >= 1")
+        if not (0.0 <= self.nav_rel_per_m < 1.0 and 0.0 <= self.nav_turn_m < math.inf):
+            raise ValueError(f"nav_rel_per_m = {self.nav_rel_per_m}, nav_turn_m = {self.nav_turn_m}: must be >= 0")
 
 
 @dataclass(frozen=True)
@@ -109,6 +121,9 @@ class SurveyLine:
         The stations ``first..last`` (inclusive) the line is flown over.
     gap_left, gap_right : numpy.ndarray or None
         ``(K,)`` a side-scan's nadir gap either side (m); None for a multibeam.
+    nav_margin : numpy.ndarray or None
+        ``(K,)`` how much closer the line was brought to the one before for their relative navigation
+        error at each station (m; :func:`nav_margin`); None without one.
     """
 
     c: NDArray[np.float64]
@@ -119,6 +134,7 @@ class SurveyLine:
     last: int
     gap_left: NDArray[np.float64] | None = None
     gap_right: NDArray[np.float64] | None = None
+    nav_margin: NDArray[np.float64] | None = None
 
     @property
     def nadir(self) -> NDArray[np.float64]:
@@ -353,21 +369,22 @@ class _Placer:
         return g
 
     def next_bound(self, st: NDArray[np.float64], prev: dict[str, NDArray[np.float64]],
-                   ) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
+                   margin: NDArray[np.float64] | float = 0.0) -> Callable[[NDArray[np.float64]], NDArray[np.float64]]:
         """``g(c) >= 0`` while the overlap with the line in front (``prev`` at the stations) is at least
-        the minimum with both fans shortened by the crab margin (a side-scan: the minimum plus the margin)."""
+        the minimum with both fans shortened by the crab margin (a side-scan: the minimum plus the margin),
+        the new line displaced towards the far side by the relative navigation error ``margin`` (m)."""
         eta, k = self.eta, self.hold
         front, width = prev["c"] + prev["right"], prev["left"] + prev["right"]
 
         def g(c: NDArray[np.float64]) -> NDArray[np.float64]:
             left, right, gl, gr = self.trial(st, c)
             if self.sensor.gap is None:  # both fans crabbing: every reach r cos ψ = k r, the overlap of those
-                edge = prev["c"] + k * prev["right"]
+                edge = prev["c"] + k * prev["right"] - margin
                 return np.asarray(edge - (c - k * left) - self.p.overlap_min * k * np.minimum(width, left + right))
             ma = prev["c"] + 0.5 * (prev["gr"] - prev["gl"])
             mb = c + 0.5 * (gr - gl)
             band = np.minimum(front - (prev["c"] + prev["gr"]), (c - gl) - (c - left))
-            return np.asarray(np.minimum(front - mb, ma - (c - left)) - eta * band)
+            return np.asarray(np.minimum(front - mb, ma - (c - left)) - margin - eta * band)
 
         return g
 
@@ -467,14 +484,19 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         else:
             at = {key: v[idx] for key, v in prev.items()}
             span = 3.0 * float(np.nanmax(at["left"] + at["right"])) + 10.0 * params.step_m
-            cmax[idx] = _bisect_max(pl.next_bound(st, at), at["c"], at["c"] + span)
+            margin = np.zeros(k)
+            if params.nav_rel_per_m > 0.0:
+                m = nav_margin(fr, s, lines[-1], len(lines) % 2 == 1, params, span)[idx]
+                margin[idx] = np.where(np.isfinite(m), m, np.nanmax(m, initial=0.0))  # (an older line's stations)
+            cmax[idx] = _bisect_max(pl.next_bound(st, at, margin[idx]), at["c"], at["c"] + span)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
         z = pl.depth_profile(c, first, last)
         left, right, gl, gr = (np.full(k, np.nan) for _ in range(4))
         a = slice(first, last + 1)
         left[a], right[a], gl[a], gr[a] = pl.reach(s[a], c[a], z[a])
         side = sensor.gap is not None
-        lines.append(SurveyLine(c, z, left, right, first, last, gl if side else None, gr if side else None))
+        lines.append(SurveyLine(c, z, left, right, first, last, gl if side else None, gr if side else None,
+                                margin if lines and params.nav_rel_per_m > 0.0 else None))
         front[a] = c[a] + 0.5 * (gr[a] - gl[a]) if side else c[a] + pl.hold * right[a]
         for key, v in (("c", c), ("left", left), ("right", right), ("gl", gl), ("gr", gr)):
             prev[key][a] = v[a]

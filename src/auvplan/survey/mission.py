@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..nav import NavParams
+from ..parallel import Runner
 from ..path.flyable import VehicleLimits
 from ..path.legs import helm_check
 from ..planners.base import PlanResult, Progress
@@ -31,8 +34,8 @@ from .zones import clip_to_zones
 _WIDEN_TRIES = 40
 """Turns re-drawn 3 % wider at most this often (a factor 3.3) before the last one is kept."""
 
-__all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "TURN", "TRANSIT",
-           "DEFAULT_TURN_RADIUS_M"]
+__all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "nav_spacing", "TURN",
+           "TRANSIT", "DEFAULT_TURN_RADIUS_M"]
 
 TURN = -1
 TRANSIT = -2
@@ -340,8 +343,51 @@ def _check(world: World, route: NDArray[np.float64], labels: NDArray[np.int64]) 
             f"({seg[i, 0, 0]:.0f}, {seg[i, 0, 1]:.0f}, {seg[i, 0, 2]:.0f}): {world.explain(seg[i, 0])}")
 
 
+@dataclass(frozen=True, eq=False)
+class _Transit:
+    """What both transits share: the world, the mission, the seed (and the progress, in this process)."""
+
+    world: World
+    mission: Mission
+    seed: int
+    progress: Progress | None
+
+
+def _transit(shared: _Transit, leg: tuple[Any, Any, str]) -> tuple[PlanResult, NDArray[np.float64] | None]:
+    """One transit (out or home) as a task of :meth:`auvplan.parallel.Runner.map`."""
+    a, b, _ = leg
+    m = replace(shared.mission, start=(float(a[0]), float(a[1]), float(a[2])),
+                goal=(float(b[0]), float(b[1]), float(b[2])), route=())
+    planned, path = planned_route(shared.world, m, shared.seed, shared.progress)
+    assert planned is not None
+    return planned, path
+
+
+def nav_spacing(nav: NavParams | None, params: SurveyParams) -> tuple[float, float]:
+    """``LineParams``' relative navigation error (issue 52): an AUV-mounted sensor dead-reckons, at the drift
+    rate of its lock state on the lines (bottom lock when the sensor's altitude is within the DVL's range);
+    a surface mounting has GPS (no relative drift).
+
+    Parameters
+    ----------
+    nav : NavParams or None
+        ``[navigation]``.
+    params : SurveyParams
+        The survey: sensor, run-ins and turn radius.
+
+    Returns
+    -------
+    tuple of float
+        ``nav_rel_per_m`` (confidence × rate; 0: none) and ``nav_turn_m`` (run-ins and the longest turn: 2πR).
+    """
+    if nav is None or params.sensor.mounting != "auv":
+        return 0.0, 0.0
+    rate = nav.rate(params.sensor.altitude_m <= nav.dvl_range_m)
+    return nav.confidence * rate, 2.0 * params.run_in_m + 2.0 * math.pi * params.turn_radius_m
+
+
 def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,
-                progress: Progress | None = None) -> SurveyPlan:
+                progress: Progress | None = None, runner: Runner | None = None) -> SurveyPlan:
     """Plan a survey mission: lines, turns, depth, checks and the transits out and home.
 
     Parameters
@@ -355,7 +401,10 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     seed : int
         Seed of the transit planner.
     progress : callable, optional
-        Progress of the transit planner.
+        Progress of the transit planner (in this process).
+    runner : Runner, optional
+        Where the two transits (out and home, independent plans with the same seed) are planned
+        (:class:`auvplan.parallel.Runner`; this process by default).
 
     Returns
     -------
@@ -374,7 +423,8 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     surface_z = -max(world.margins.min_depth, 0.0)
     margin = crab_margin(world.currents, params.area, surface_z, mission.vehicle.speed, params.frame, heading,
                          0.5 * (1.0 - params.lines.overlap_min)) if params.hold_overlap else 0.0
-    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin)
+    rel, turn = nav_spacing(mission.navigation, params)  # issue 52: adjacent lines' relative error
+    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin, nav_rel_per_m=rel, nav_turn_m=turn)
     lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
     route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
                                         max(world.margins.min_depth, 0.0))
@@ -389,26 +439,23 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
                                                            params.turn_radius_m)
     message = message or _check(world, route, labels)
     parts, labs = [route], [labels]
-    if not message:
-        for a, b, where in ((mission.start, route[0], "out"), (route[-1], mission.goal, "home")):
-            if math.dist(a, b) <= mission.sim.arrival_radius:
-                continue
-            leg = replace(mission, start=(float(a[0]), float(a[1]), float(a[2])),
-                          goal=(float(b[0]), float(b[1]), float(b[2])), route=())
-            planned, path = planned_route(world, leg, seed, progress)
-            assert planned is not None
-            transits.append(planned)
-            if path is None:
-                message = f"the transit {where} failed ({planned.status.value}): {planned.message}"
-                break
-            if where == "out":
-                path = np.vstack([path[:-1], _join(world, path, route[:2], params.turn_radius_m, home=False)])
-                parts.insert(0, path)
-                labs.insert(0, np.full(path.shape[0], TRANSIT))
-            else:
-                path = np.vstack([_join(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
-                parts.append(path)
-                labs.append(np.full(path.shape[0], TRANSIT))
+    legs = [] if message else [(a, b, where) for a, b, where in ((mission.start, route[0], "out"),
+                                                               (route[-1], mission.goal, "home"))
+                               if math.dist(a, b) > mission.sim.arrival_radius]
+    shared = _Transit(world, mission, seed, None if runner is not None and runner.distributed else progress)
+    for (_, _, where), (planned, path) in zip(legs, (runner or Runner()).map(_transit, legs, shared=shared).results):
+        transits.append(planned)
+        if path is None:
+            message = f"the transit {where} failed ({planned.status.value}): {planned.message}"
+            break
+        if where == "out":
+            path = np.vstack([path[:-1], _join(world, path, route[:2], params.turn_radius_m, home=False)])
+            parts.insert(0, path)
+            labs.insert(0, np.full(path.shape[0], TRANSIT))
+        else:
+            path = np.vstack([_join(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
+            parts.append(path)
+            labs.append(np.full(path.shape[0], TRANSIT))
     status = Status.EXACT if not message else Status.INFEASIBLE
     return SurveyPlan(status, message, lines, np.vstack(parts), np.concatenate(labs).astype(np.int64), words,
                       tuple(transits), _turn_radius(p), pitch, margin)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from ..parallel import Runner
 from ..planners.base import Progress
 from ..sim import Mission, RunRecord, simulate
 from ..world import World
@@ -134,7 +135,7 @@ def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record:
 
 def run_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,
                progress: Progress | None = None, flight: Callable[[float, float], object] | None = None,
-               guidance: str | None = None) -> SurveyRun:
+               guidance: str | None = None, runner: Runner | None = None) -> SurveyRun:
     """Plan, fly and measure a survey.
 
     Parameters
@@ -153,13 +154,16 @@ def run_survey(world: World, mission: Mission, params: SurveyParams, seed: int =
         The simulation's progress callback.
     guidance : str, optional
         Override the mission's path follower.
+    runner : Runner, optional
+        Where the independent transits are planned (:func:`~auvplan.survey.mission.plan_survey`); the flight
+        is one closed loop, flown in this process.
 
     Returns
     -------
     SurveyRun
         Plan, flight and coverage.
     """
-    plan = plan_survey(world, mission, params, seed, progress)
+    plan = plan_survey(world, mission, params, seed, progress, runner)
     planned = planned_coverage(world, plan, params)
     mower = lawnmower(world.seabed, params.area, params.sensor, plan.lines.heading, params.lines.overlap_min,
                       -max(world.margins.min_depth, 0.0), params.run_in_m, frame=plan.lines.frame)

@@ -180,6 +180,16 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     if record.sim is not None:
         record = replace(record, sim=decimate(record.sim))
     plan_view = figure_plan_view(world, record, to_lonlat)
+    nav_html = ""
+    if record.nav is not None:  # issue 52: the error band on the chart, the error against time
+        from .navview import figure_nav_error, mark_error_band, nav_profile
+
+        profile = nav_profile(world, record.nav)
+        if profile is not None:
+            mark_error_band(plan_view, profile, record.nav)
+            nav_html = "<h2>Navigation</h2>" + pio.to_html(
+                figure_nav_error(profile, record.nav, record), include_plotlyjs=False, full_html=False,
+                div_id="naverror", config=dict(displaylogo=False))
     figs = [("view3d", figure_3d(world, record)), ("planview", plan_view),
             ("profiles", figure_profiles(record, _min_altitude(scenario_text))),
             ("convergence", figure_convergence(record))]
@@ -202,7 +212,7 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title><style>{_CSS}</style>"
             f"</head><body><h1>{title}</h1><p>status <b>{html.escape(record.status.value)}</b></p>"
             + parts[0] + "".join(f"<h2>{html.escape(t)}</h2>{body}" for t, body in sections)
-            + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2]
+            + "<h2>Plan view</h2>" + parts[1] + "<h2>Profiles</h2>" + parts[2] + nav_html
             + "".join("<h2>Energy</h2>" + p for p in parts[4:len(parts) - bool(spread)])
             + (spread + parts[-1] if spread else "")
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)

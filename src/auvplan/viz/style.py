@@ -32,11 +32,11 @@ upper water of ``topo`` is green, and its land half starts dark green: a shelf r
 
 ROLE = {"path": "#ff7f0e", "track": "#1a1a1a", "vehicle": "#1a1a1a", "keys": "#ffd700", "start": "#32cd32",
         "goal": "#ffffff", "static": "#5f5f5f", "moving": "#7b3294", "coast": "#2b2b2b", "isobath": "rgba(0,0,0,0.33)",
-        "limit": "#d7301f", "pnr": "#e7298a"}
+        "limit": "#d7301f", "pnr": "#e7298a", "nav": "#b15928"}
 """One colour per role in every figure: red only means "too low" (the altitude scale's low end and the
 ``min_altitude_m`` line); obstacles are grey (static) and purple (moving), the vehicle and its track
 near-black, the global path orange, key waypoints gold, the start green, the goal white, the point of
-no return magenta (``viz/energy.py``)."""
+no return magenta (``viz/energy.py``), the navigation error band and the fixes brown (``viz/navview.py``)."""
 
 ALTITUDE_COLORSCALE = "YlOrRd_r"
 """Track altitude above the seabed: dark red low, pale yellow high."""

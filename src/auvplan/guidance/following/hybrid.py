@@ -79,6 +79,11 @@ class HybridParams:
         true for the corrected variant, false for the document's.
     switch_radius : float
         Leg switching radius (m).
+    push_bound_m : float
+        The most a static obstacle that a clear route passes may shift the line the field steers to (m;
+        issue 57): the repulsion of such an obstacle (bias included) acts only across the leg and is
+        clipped to ``k_route * push_bound_m``, so the field flies LOS towards a line at most this far off
+        the route (:func:`hybrid_force`).  Obstacles the route runs into and moving ones keep the full field.
     variant : str
         "corrected" (goal-distance factor capped at 1, lateral bias, crab angle) or "document"
         (document 001's eqs. 7–8 as written: the factor uncapped, no bias, no crab angle).
@@ -93,6 +98,7 @@ class HybridParams:
     lateral_bias: float | None = None
     current_compensation: bool | None = None
     switch_radius: float = 10.0
+    push_bound_m: float = 0.25
     variant: str = "corrected"
 
     def __post_init__(self) -> None:
@@ -101,8 +107,8 @@ class HybridParams:
         for k in ("k_route", "k_heading", "lookahead", "influence", "switch_radius"):
             if not getattr(self, k) > 0:
                 raise ValueError(f"{k} = {getattr(self, k)}: must be positive")
-        if self.k_repulse < 0 or self.goal_power < 0 or self.bias < 0:
-            raise ValueError("k_repulse, goal_power and lateral_bias must be >= 0")
+        if self.k_repulse < 0 or self.goal_power < 0 or self.bias < 0 or self.push_bound_m < 0:
+            raise ValueError("k_repulse, goal_power, lateral_bias and push_bound_m must be >= 0")
 
     @property
     def bias(self) -> float:
@@ -118,6 +124,11 @@ class HybridParams:
         if self.current_compensation is not None:
             return bool(self.current_compensation)
         return self.variant == "corrected"
+
+    @property
+    def push(self) -> float:
+        """The stated push bound (m): the most the field leaves a clear route beyond what LOS does."""
+        return float(self.push_bound_m)
 
 
 def goal_factor(target_distance: float, params: HybridParams) -> float:
@@ -145,7 +156,8 @@ def goal_factor(target_distance: float, params: HybridParams) -> float:
 def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y: float,
                  obstacles: Sequence[Sequence[float]], target_distance: float,
                  leg_origin: Sequence[float] | NDArray[np.float64],
-                 reach: Sequence[float] | None = None) -> tuple[float, float]:
+                 reach: Sequence[float] | None = None,
+                 capped: Sequence[bool] | None = None) -> tuple[float, float]:
     """Compute the resultant of route attraction, heading attraction and obstacle repulsion.
 
     Parameters
@@ -168,6 +180,10 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
         Each obstacle's influence distance (m; default ``params.influence`` for all): where the route
         itself passes closer than P_o to a static obstacle, :class:`HybridGuidance` repels only inside
         the route's own clearance (the plan is clear; the field corrects a drift towards the obstacle).
+    capped : sequence of bool, optional
+        Obstacles whose push is bounded (static obstacles a clear route passes): their repulsion and bias
+        are summed, only the part across the leg is kept, clipped to ``k_route * push_bound_m`` — the
+        field then steers to a line at most ``push_bound_m`` off the route.
 
     Returns
     -------
@@ -189,6 +205,7 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
     po = params.influence
     rho = goal_factor(target_distance, params)
     bias = params.bias
+    across = 0.0  # the bounded obstacles' push across the leg
     for i, (cx, cy, d) in enumerate(obstacles):
         pi = po if reach is None else reach[i]
         if d >= pi:
@@ -197,13 +214,22 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
         mag = params.k_repulse * (1.0 / d - 1.0 / pi) / (d * d) * rho
         rx, ry = x - cx, y - cy
         rn = math.hypot(rx, ry) or 1.0
-        fx += mag * rx / rn
-        fy += mag * ry / rn
+        gx, gy = mag * rx / rn, mag * ry / rn
         if bias:
             side = (cx - leg_origin[0]) * nx + (cy - leg_origin[1]) * ny
             push = -1.0 if side > 0.5 else 1.0  # away from the obstacle's side; starboard if on the route
-            fx += push * bias * mag * nx
-            fy += push * bias * mag * ny
+            gx += push * bias * mag * nx
+            gy += push * bias * mag * ny
+        if capped is not None and capped[i]:
+            across += gx * nx + gy * ny
+        else:
+            fx += gx
+            fy += gy
+    if across:
+        cap = params.k_route * params.push
+        across = max(-cap, min(cap, across))
+        fx += across * nx
+        fy += across * ny
     return fx, fy
 
 
@@ -233,22 +259,25 @@ class HybridGuidance:
         self._a, self._d = w[:-1], np.diff(w, axis=0)
         self._dd = np.maximum((self._d[:, :2] ** 2).sum(axis=1), 1e-12)
 
-    def _reach(self, x: float, y: float, obstacles: Sequence[Sequence[float]]) -> list[float] | None:
+    def _reach(self, x: float, y: float, obstacles: Sequence[Sequence[float]]) -> tuple[list[float] | None,
+                                                                                       list[bool] | None]:
         """Each obstacle's influence distance: P_o, or the route's own clearance from a static obstacle where
         that is below P_o: the exact surface distance of the route point nearest the vehicle (in plan view;
-        at the route's depth there).  An obstacle the route runs into (exact segment test) keeps P_o."""
+        at the route's depth there).  An obstacle the route runs into (exact segment test) keeps P_o.  Second:
+        which obstacles' push is bounded (``push_bound_m``): the static ones the route passes clear of."""
         if not self._statics or not obstacles:
-            return None
+            return None, None
         po = self.params.influence
         s = np.clip(((x - self._a[:, 0]) * self._d[:, 0] + (y - self._a[:, 1]) * self._d[:, 1]) / self._dd, 0.0, 1.0)
         q = self._a + s[:, None] * self._d
         pt = q[int(np.argmin((q[:, 0] - x) ** 2 + (q[:, 1] - y) ** 2))][None]
-        reach = []
+        reach, capped = [], []
         for ob in obstacles:
             shape = self._statics.get((float(ob[0]), float(ob[1])))
             clear = float(shape.distance(pt)[0]) if shape is not None else po
             reach.append(clear if 0.0 < clear < po else po)
-        return reach
+            capped.append(shape is not None)
+        return reach, capped
 
     def reset(self) -> None:
         """Restart the route."""
@@ -286,8 +315,8 @@ class HybridGuidance:
         k = rp.leg
         b = self.route.w[k + 1]
         target = math.hypot(b[0] - x, b[1] - y)
-        fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k],
-                              self._reach(x, y, obstacles))
+        reach, capped = self._reach(x, y, obstacles)
+        fx, fy = hybrid_force(rp.course, rp.cross, self.params, x, y, obstacles, target, self.route.w[k], reach, capped)
         course = math.atan2(fx, fy)
         psi = crab_heading(course, current, speed, self.route.tail[k]) if self.params.compensates else course
         return psi, True, rp

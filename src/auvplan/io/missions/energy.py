@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 from ..._types import Status
 from ...endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget
 from ...errors import DataError
+from ...nav import surface_kinds
 from ...sim import Mission, RunRecord, record_tail, with_leg_speeds
 from ...world import World
 from .. import limits as _limits
@@ -230,7 +231,9 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     carried = file_leg_speeds(path, waypoints.shape[0] - 1)
     speeds = mission.vehicle.speed if carried is None else carried
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
-    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail)
+    nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
+    dwell = None if nav is None else [nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)]
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
            "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
     return rec, b.status.ok, f"energy {b.status.value} — {b.message}"

@@ -22,11 +22,14 @@ from __future__ import annotations
 import csv
 import json
 import math
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from ...errors import DataError
 
 __all__ = ["TAIL_FORMATS", "any_tail", "refusal", "read_tail"]
 
@@ -78,6 +81,24 @@ def refusal(fmt: str, tail: ArrayLike) -> str:
             f"tail-first (a current stronger than the vehicle carries it); use {', '.join(TAIL_FORMATS)}")
 
 
+def _leg_indices(path: Path, raw: object, legs: int, spaced: bool = False) -> list[int]:
+    """``tail_first_legs`` as leg indices: a list of integers ``0 <= i < legs`` (GeoJSON), or such integers
+    separated by spaces (KML); anything else is a :class:`~auvplan.errors.DataError` naming the file, the key
+    and the value (a string ``"0"`` or a number ``0.5`` is not read as leg 0)."""
+    if spaced and isinstance(raw, str):  # KML: indices separated by spaces
+        items: object = [int(t) if re.fullmatch(r"[0-9]{1,9}", t, re.ASCII) else t for t in raw.split()]
+    else:
+        items = raw
+    if isinstance(items, list) and all(type(i) is int and 0 <= i < legs for i in items):
+        return list(items)
+    try:
+        shown = repr(raw) if spaced else json.dumps(raw)  # as the file writes it
+    except (ValueError, TypeError, RecursionError):
+        shown = repr(raw)
+    shown = shown if len(shown) <= 60 else shown[:57] + "..."  # (the first line of a long value)
+    raise DataError(f"{path}: tail_first_legs = {shown} is not a list of leg indices (integers 0 to {legs - 1})")
+
+
 def _yaw_of(q: dict[str, float]) -> float:
     x, y, z, w = (float(q[k]) for k in "xyzw")
     return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
@@ -97,6 +118,11 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
     -------
     numpy.ndarray of bool or None
         ``(legs,)`` flags; None when the file has no tail-first leg or does not say.
+
+    Raises
+    ------
+    DataError
+        ``tail_first_legs`` that is not a list of leg indices of this mission (named with the file and value).
     """
     import yaml
 
@@ -114,14 +140,13 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
             for f in json.loads(text).get("features", []):
                 props = f.get("properties") or {}
                 if props.get("name") == "mission":
-                    flags[[int(i) for i in props.get("tail_first_legs", []) if 0 <= int(i) < legs]] = True
+                    flags[_leg_indices(path, props.get("tail_first_legs", []), legs)] = True
         elif suffix == ".kml":
             for pm in ET.fromstring(text).iter(f"{{{_KML_NS}}}Placemark"):
                 if (pm.findtext(f"{{{_KML_NS}}}name") or "") == "mission":
                     for d in pm.iter(f"{{{_KML_NS}}}Data"):
                         if d.get("name") == "tail_first_legs":
-                            idx = [int(i) for i in (d.findtext(f"{{{_KML_NS}}}value") or "").split()]
-                            flags[[i for i in idx if 0 <= i < legs]] = True
+                            flags[_leg_indices(path, d.findtext(f"{{{_KML_NS}}}value") or "", legs, True)] = True
         elif suffix in (".yaml", ".yml"):
             poses = yaml.safe_load(text)["poses"]
             if len(poses) != legs + 1:
@@ -133,6 +158,8 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
                     flags[i] = math.cos(_yaw_of(poses[i]["pose"]["orientation"]) - math.atan2(d[1], d[0])) < 0.0
         else:
             return None
+    except DataError:
+        raise
     except (OSError, ValueError, KeyError, TypeError, AttributeError, OverflowError, IndexError, RecursionError,
             ET.ParseError, yaml.YAMLError):
         return None

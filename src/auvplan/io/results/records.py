@@ -328,6 +328,7 @@ def run_record(record: RunRecord, avoidance: str = "") -> JsonDict:
         "plan": plan_record(record.plan, record.scenario, record.seed) if record.plan is not None else None,
         "simulation": sim_record(sim, record.scenario, record.seed, avoidance or sim.avoidance) if sim else None,
         "key_waypoints": record.keys,
+        **({"altitude": dict(record.altitude)} if record.altitude is not None else {}),
     }))
 
 
@@ -335,8 +336,9 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
               origin: tuple[float, float] | None = None) -> JsonDict:
     """Write a mission's results into ``out_dir``.
 
-    run.json, metrics.json (plan), path.csv, route.csv (the mission), keys.csv, sim_metrics.json
-    and track.csv (decimated unless ``full``; run.npz keeps every sample).
+    run.json, metrics.json (plan; a terrain-following mission's altitude band figures added,
+    :func:`auvplan.sim.band.altitude_band_metrics`), path.csv, route.csv (the mission), keys.csv,
+    sim_metrics.json and track.csv (decimated unless ``full``; run.npz keeps every sample).
 
     Parameters
     ----------
@@ -368,6 +370,10 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
         write_sim(out, record.sim, record.scenario, record.seed, record.sim.avoidance, full, origin)
     if record.nav is not None:
         write_navigation(out, record.nav, origin)
+    if record.altitude is not None:  # the altitude band's figures (terrain following), added to metrics.json
+        path = out / "metrics.json"
+        metrics = json.loads(path.read_text()) if path.exists() else {}
+        write_json(path, {**metrics, **jsonable(dict(record.altitude))})
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
     rec = run_record(record)

@@ -17,7 +17,7 @@ from pyproj import CRS
 
 from ...errors import ScenarioError
 from ...survey.corridor import Corridor, build_corridor, default_bend_radius
-from ...survey.mission import DEFAULT_TURN_RADIUS_M, SurveyParams
+from ...survey.mission import DEFAULT_TURN_RADIUS_M, SurveyParams, SurveyPlan
 from ...survey.run import SurveyRun
 from ...survey.spec import SurveySpec
 from ...world import World
@@ -26,7 +26,8 @@ from ..data.survey_area import read_area_lonlat, read_layer, read_line_lonlat
 from ..safeio import atomic_write
 from .records import write_json
 
-__all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "read_area", "write_survey", "coverage_record"]
+__all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "read_area", "write_survey", "coverage_record",
+           "nav_spacing_record"]
 
 SURVEY_NAMES = ("lines.csv", "coverage.json", "gaps.geojson", "coverage.png")
 """Files a survey writes into ``--out`` besides the run files and the mission exports."""
@@ -225,6 +226,7 @@ def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
         "overlap_definition": "share of the narrower swath, across the track (side-scan: how far each swath "
                               "reaches past the neighbour's nadir, over the narrower facing band)",
         "overlap_margin_pct": 100 * plan.overlap_margin,
+        "nav_spacing": nav_spacing_record(plan, params),
         "tie_lines": len(plan.tie_waypoints()),
         "corridor": params.frame is not None,
         "lines": n,
@@ -295,3 +297,32 @@ def write_survey(out: Path, run: SurveyRun, params: SurveyParams, origin: tuple[
     feats.append(_feature(params.area, frame, {"kind": "area", "area_m2": params.area.area}))
     paths.append(atomic_write(out / "gaps.geojson", json.dumps({"type": "FeatureCollection", "features": feats})))
     return paths
+
+
+def nav_spacing_record(plan: SurveyPlan, params: SurveyParams) -> dict[str, Any] | None:
+    """How the line spacing was brought in for the relative navigation error of adjacent lines (issue 52):
+    None when it was not (no ``[navigation]``, or a surface mounting with GPS).
+
+    Parameters
+    ----------
+    plan : SurveyPlan
+        The survey's plan.
+    params : SurveyParams
+        Its parameters.
+
+    Returns
+    -------
+    dict or None
+        ``relative_error_max_m`` and ``relative_error_median_m`` (over every station of every pair; at the
+        ``[navigation]`` confidence) and ``text``, the sentence the report states.
+    """
+    m = [ln.nav_margin[ln.active] for ln in plan.lines.lines[1:] if ln.nav_margin is not None]
+    vals = np.concatenate(m) if m else np.empty(0)
+    vals = vals[np.isfinite(vals)]
+    if not vals.size:
+        return None
+    text = (f"line spacing reduced by the relative navigation error of adjacent lines: "
+            f"{float(np.median(vals)):.1f} m median, {float(vals.max()):.1f} m at most (the drift grown between "
+            f"the two passes at each station; the overlap floor {100 * params.lines.overlap_min:g} % holds under it)")
+    return {"relative_error_max_m": float(vals.max()), "relative_error_median_m": float(np.median(vals)),
+            "text": text}

@@ -37,7 +37,7 @@ from .search import (
 )
 from .timing import fly_times
 
-__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt",
+__all__ = ["TimeSetup", "SweepRow", "SweepSummary", "setup", "flown", "plan_timeopt", "departure_row",
            "departure_sweep", "sweep_summary"]
 
 
@@ -351,35 +351,65 @@ def departure_sweep(problem: PlanningProblem, spec: PlannerSpec, departs: ArrayL
     """
     departs = np.asarray(departs, dtype=float)
     ts = setup(problem, spec, float(departs.min()), float(departs.max()))
-    v = problem.speed
-    power = _power(problem, v)
-    straight_ok = problem.world.path_free(np.stack([problem.start, problem.goal]))
     rows = []
     for d in departs:
-        clock = time.process_time()
-        tp = _fly(problem, spec, ts, d)
-        tp = flown(problem, ts, tp) if tp is not None else None
-        cpu = time.process_time() - clock
-        line = flown(problem, ts, TimedPath(np.stack([problem.start, problem.goal]), np.array([d, d]), v))
-        sl = line.duration if straight_ok else math.nan
-        it = int(round((d - ts.table.t0) / ts.table.dt))
-        frozen = replace(ts.table, cur=ts.table.cur[it:it + 1], t0=float(d))
-        steady = _fly(problem, spec, ts, d, v, table=frozen)
-        steady = flown(problem, ts, steady) if steady is not None else None
-        sd = steady.duration if steady is not None else math.inf
-        # the plan is the best the planner knows as flown through the real current: where the table's
-        # interpolation let the steady plan or the straight line fly faster, that one (by ppm)
-        cands = [c for c in (tp, steady, line if straight_ok else None) if c is not None and np.isfinite(c.duration)]
-        tp = min(cands, key=lambda c: c.duration * (_power(problem, c.speed) if spec.timeopt.objective == "energy"
-                                                    else 1.0)) if cands else None
-        dur = tp.duration if tp is not None else math.inf
-        energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
-        rows.append(SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu))
+        row, path = departure_row(problem, spec, ts, float(d))
+        rows.append(row)
         if paths is not None:
-            paths.append((tp.points, tp.speed, tp.tail) if tp is not None else None)
+            paths.append(path)
         if progress is not None:
             progress(len(rows), len(departs))
     return rows, ts
+
+
+def departure_row(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup,
+                  depart: float) -> tuple[SweepRow, tuple[FloatArray, float, BoolArray | None] | None]:
+    """One departure of a sweep: its timed plan, and the straight line and steady-current plan flown beside it.
+
+    Depends only on its arguments (one departure is one task of a parallel sweep, :mod:`auvplan.parallel`).
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, end points, speed and power figures.
+    spec : PlannerSpec
+        ``spec.timeopt`` settings.
+    ts : TimeSetup
+        The sweep's lattice and table (:func:`setup` over every departure).
+    depart : float
+        The departure (s after the mission's start time).
+
+    Returns
+    -------
+    row : SweepRow
+        The departure's row.
+    path : tuple or None
+        Its timed plan ``(points (M, 3), speed, tail)`` (None where there is none).
+    """
+    d = depart
+    v = problem.speed
+    power = _power(problem, v)
+    straight_ok = problem.world.path_free(np.stack([problem.start, problem.goal]))
+    clock = time.process_time()
+    tp = _fly(problem, spec, ts, d)
+    tp = flown(problem, ts, tp) if tp is not None else None
+    cpu = time.process_time() - clock
+    line = flown(problem, ts, TimedPath(np.stack([problem.start, problem.goal]), np.array([d, d]), v))
+    sl = line.duration if straight_ok else math.nan
+    it = int(round((d - ts.table.t0) / ts.table.dt))
+    frozen = replace(ts.table, cur=ts.table.cur[it:it + 1], t0=float(d))
+    steady = _fly(problem, spec, ts, d, v, table=frozen)
+    steady = flown(problem, ts, steady) if steady is not None else None
+    sd = steady.duration if steady is not None else math.inf
+    # the plan is the best the planner knows as flown through the real current: where the table's
+    # interpolation let the steady plan or the straight line fly faster, that one (by ppm)
+    cands = [c for c in (tp, steady, line if straight_ok else None) if c is not None and np.isfinite(c.duration)]
+    tp = min(cands, key=lambda c: c.duration * (_power(problem, c.speed) if spec.timeopt.objective == "energy"
+                                                else 1.0)) if cands else None
+    dur = tp.duration if tp is not None else math.inf
+    energy = dur * _power(problem, tp.speed) if tp is not None else math.inf
+    row = SweepRow(float(d), dur, energy, sl, sl * power, sd, sd * power, cpu)
+    return row, ((tp.points, tp.speed, tp.tail) if tp is not None else None)
 
 
 class SweepSummary(TypedDict):

@@ -19,7 +19,7 @@ let selected = null;
 let generation = -1;
 let pending = 0;
 
-const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6 };
+const T = { route: 0, bad: 1, area: 2, drawing: 3, flight: 4, marks: 5, keys: 6, nav: 7 };
 
 function fmt(v, d = 1, unit = "") { return v === null || v === undefined ? "—" : `${Number(v).toFixed(d)}${unit}`; }
 function hours(s) { return s === null || s === undefined ? "—" : `${(s / 3600).toFixed(2)} h`; }
@@ -123,6 +123,8 @@ async function newChart() {
       hovertemplate: "%{customdata}<extra></extra>" },
     { type: "scatter", mode: "markers", name: "key waypoints", hoverinfo: "skip", x: [], y: [],
       marker: { color: "gold", symbol: "diamond", size: 9, line: { width: 1 } } },
+    { type: "scatter", mode: "lines", name: "navigation error band", fill: "toself", fillcolor: "rgba(177,89,40,0.22)",
+      line: { color: "#b15928", width: 1 }, hoverinfo: "skip", x: [], y: [] },  // [navigation]: confidence x sigma
   ];
   await Plotly.newPlot(bg, fig.data, Object.assign({}, fig.layout, { dragmode: false }),
     { displaylogo: false, staticPlot: true });
@@ -186,6 +188,9 @@ async function show(st) {
     $("energy").textContent = `${fmt(c.energy_wh, 1, " Wh")} (${c.energy_status})`;
     $("energy").dataset.value = c.energy_wh;
     $("margin").textContent = fmt(c.margin_wh, 1, " Wh");
+    const nb = S.nav_band;
+    $("nav-error").textContent = nb ? `${fmt(nb.max_error_m, 1, " m")} at ${nb.confidence} σ (budget ${nb.budget_m} m, ${nb.fixes} surface fixes)` : "—";
+    $("nav-error").dataset.value = nb ? nb.max_error_m : "";
     const ul = $("violations");
     if (changed("violations-list", S.check.violations)) {
       ul.replaceChildren();
@@ -231,6 +236,7 @@ function redraw() {
   const area = S.survey_area || [];
   const fl = S.flight || { x: [], y: [] };
   const keys = S.keys || [];
+  const nb = S.nav_band || { x: [], y: [] };
   const u = undefined;  // restyle leaves an attribute of a trace alone where its value is undefined
   const upd = { x: [], y: [], customdata: [], text: [], "marker.size": [], "marker.color": [] };
   const idx = [];
@@ -251,6 +257,7 @@ function redraw() {
     add(T.marks, { x: b.mx, y: b.my, customdata: b.txt, text: b.legs.map((l) => `leg ${l}`) });
   }
   if (changed("keys", keys)) add(T.keys, { x: keys.map((p) => p[0]), y: keys.map((p) => p[1]) });
+  if (changed("nav", [nb.x.length, nb.max_error_m, nb.x[0], nb.y[0], nb.x[nb.x.length - 2]])) add(T.nav, { x: nb.x, y: nb.y });
   if (idx.length) {
     for (const k of Object.keys(upd)) if (upd[k].every((v) => v === u)) delete upd[k];
     Plotly.restyle(gd, upd, idx);
