@@ -103,9 +103,9 @@ bench-converge: $(STAMP)
 # charted no-go zones (issue 53): 1 000 random missions per planner (~30 min CPU), the CPU with 1 000 zones,
 # the default plan's gap to --reference on chagos-reefs (docs/zones.md)
 bench-zones: $(STAMP)
-	nice -n 5 $(BIN)/python benchmarks/zones.py montecarlo --missions 1000
-	nice -n 5 $(BIN)/python benchmarks/zones.py cpu --zones 1000
-	nice -n 5 $(BIN)/python benchmarks/zones.py gap
+	nice -n 5 $(BIN)/python benchmarks/zones.py montecarlo --missions 1000 --figure-md zones-montecarlo
+	nice -n 5 $(BIN)/python benchmarks/zones.py cpu --zones 1000 --repeats 7 --figure-md zones-cpu
+	nice -n 5 $(BIN)/python benchmarks/zones.py gap --figure-md zones-gap
 
 bench-flow-flown: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/flow_flown.py --starts 300 --out results/bench-flow-flown

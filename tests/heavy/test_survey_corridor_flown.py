@@ -10,12 +10,12 @@ import json
 
 import numpy as np
 import shapely
+from test_survey_corridor import _ray_cast_overlaps
 
 from auvplan.cli import main
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.survey.mission import plan_survey
-from test_survey_corridor import _ray_cast_overlaps
 
 
 def test_strait_corridor_flown_covers_it_with_the_overlap_held(tmp_path, capsys):

@@ -36,6 +36,14 @@ def test_entries_match_an_independent_shapely_check(seed):
     theirs = set(independent_entries(world, p))
     assert len(theirs) > 20
     assert ours == theirs
+    # the planners' compiled pass (fine-field cull, march, discs, early exit) on long legs and on a short-step walk
+    walk = np.cumsum(np.column_stack([rng.normal(0, 40, (2000, 2)), rng.normal(0, 4, 2000)]), axis=0)
+    walk += [1500.0, 1500.0, -120.0] - walk.mean(axis=0)
+    for path in (p, walk):
+        legs = {k for k, _ in independent_entries(world, path)}
+        assert set(np.flatnonzero(zones.segments_enter(np.stack([path[:-1], path[1:]], axis=1))) + 1) == legs
+        assert set(np.flatnonzero(zones.polyline_inside_lengths(path[None])[0] > 0) + 1) == legs
+    assert len(legs) > 20
 
 
 def test_signed_distance_is_the_prism_distance_and_never_above_it():
@@ -222,3 +230,28 @@ def test_mission_check_fails_a_planted_mission_naming_the_zone_and_the_leg(tmp_p
     out = capsys.readouterr().out
     assert "zone 'reef: Salomon Islands': FAIL — entered by leg 2" in out
     assert "zone 'reef: Blenheim Reef': OK — closest approach" in out
+
+
+def test_lattice_edges_the_seabed_clears_still_keep_out_of_zones():
+    """The lattice's free edges (``grid``, ``--reference``, ``timeopt``): none enters a zone (oracle: the
+    independent shapely check), though most are cleared by the node values without the full segment test."""
+    from auvplan.planners.grid.lattice import HALF, edge_states, node_fields
+
+    world = random_world(np.random.default_rng(5), 15)
+    axes = (np.linspace(50.0, 2950.0, 25), np.linspace(50.0, 2950.0, 23), np.linspace(-280.0, -10.0, 6))
+    free, alt, obs, _ = node_fields(world, axes, False)
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    steps = np.array([axes[0][1] - axes[0][0], axes[1][1] - axes[1][0], axes[2][1] - axes[2][0]])
+    near = shapely.union_all([z.footprint for z in world.zones.exact.zones])
+    rng = np.random.default_rng(0)
+    kept = 0
+    for off in HALF[:6]:
+        state = edge_states(world, free, alt, obs, steps, off, grid.__getitem__)
+        src = np.flatnonzero(state == 1)
+        dst = src + int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
+        mid = 0.5 * (grid[src] + grid[dst])
+        close = np.flatnonzero(shapely.distance(near, shapely.points(mid[:, :2])) < 0.6 * steps[0])
+        for i in rng.choice(close, min(close.size, 60), replace=False):  # the edges that skirt a zone
+            assert independent_entries(world, np.stack([grid[src[i]], grid[dst[i]]])) == []
+        kept += close.size
+    assert kept > 300

@@ -198,6 +198,15 @@ class IncrementalCheck:
                                        "obstacle"})
         for v in limits.violations:
             violations.append({"leg": v.leg, "kind": v.limit, "value": v.value, "text": v.text})
+        zones = self.world.zones
+        entered = 0
+        if zones and len(w) > 1:  # the charted zones themselves, leg by leg (as ``mission check``)
+            seg, zi = zones.exact.entries(np.stack([w[:-1], w[1:]], axis=1))
+            entered = int(seg.size)
+            for leg, k in zip(seg, zi, strict=True):
+                name = zones.names[int(k)]
+                violations.append({"leg": int(leg), "kind": "zone", "value": float("nan"),
+                                   "text": f"leg {leg}: enters no-go zone {name!r}"})
         lim = check.limits
         if lim is not None:
             for kind, idx in (("above_surface", lim.above_surface), ("outside_depth_band", lim.outside_depth_band),
@@ -209,7 +218,7 @@ class IncrementalCheck:
         violations.sort(key=lambda v: v["leg"])
         executor = check.executor_min_altitude_m
         summary = {
-            "ok": bool(check.ok and limits.ok and budget.status.ok),
+            "ok": bool(check.ok and limits.ok and budget.status.ok and not entered), "zone_entries": entered,
             "check_ok": check.ok, "vehicle_ok": limits.ok, "energy_ok": budget.status.ok,
             "semantics": check.semantics, "pitch_deg": settings.pitch_deg, "waypoints": int(len(w)),
             "legs": int(len(w) - 1),

@@ -29,6 +29,7 @@ from .lines import LineParams, SurveyLines, lower_envelope, place_lines
 from .swath import Seabed, Sensor
 from .ties import crab_margin, tie_lines
 from .turns import dubins, sample_turn
+from .zones import clip_to_zones
 
 _WIDEN_TRIES = 40
 """Turns re-drawn 3 % wider at most this often (a factor 3.3) before the last one is kept."""
@@ -432,8 +433,11 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     dh = np.hypot(*np.diff(p[:, :2], axis=0).T)
     pitch = float(np.degrees(np.arctan2(np.abs(np.diff(p[:, 2])), np.maximum(dh, 1e-9))).max()) if dh.size else 0.0
     message = "" if lines.complete else f"the area is not covered after {len(lines.lines)} lines (max_lines)"
-    message = message or _check(world, route, labels)
     transits: list[PlanResult] = []
+    if world.zones and not message:  # lines clipped by the no-go zones, the gaps bridged round them
+        route, labels, transits, message = clip_to_zones(world, mission, route, labels, TRANSIT, seed, progress,
+                                                           params.turn_radius_m)
+    message = message or _check(world, route, labels)
     parts, labs = [route], [labels]
     legs = [] if message else [(a, b, where) for a, b, where in ((mission.start, route[0], "out"),
                                                                (route[-1], mission.goal, "home"))

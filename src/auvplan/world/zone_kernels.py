@@ -16,7 +16,7 @@ import math
 from .._jit import kernel
 from .._types import BoolArray, FloatArray, IntArray
 
-__all__ = ["candidates_kernel"]
+__all__ = ["candidates_kernel"]  # the others are the internals of auvplan.world.zones
 
 
 @kernel(inline="always")
@@ -36,6 +36,24 @@ def _meets_box(ax: float, ay: float, dx: float, dy: float, x0: float, y0: float,
         u, v = (y0 - ay) / dy, (y1 - ay) / dy
         t0, t1 = max(t0, min(u, v)), min(t1, max(u, v))
     return t0 <= t1
+
+
+@kernel(inline="always")
+def _row_cells(j: int, ax: float, ay: float, dx: float, dy: float, x0: float, y0: float, cell: float, i0: int,
+               i1: int) -> tuple[int, int]:
+    """The columns of row ``j`` (within ``i0..i1``) the segment ``a + t d`` can cross: the x-range of its
+    part within the row's strip, widened by a millionth of a cell against rounding (a superset; the
+    caller's corner test is exact)."""
+    if dy == 0.0:
+        return i0, i1
+    lo = max(y0 + j * cell, min(ay, ay + dy))
+    hi = min(y0 + (j + 1) * cell, max(ay, ay + dy))
+    xa = ax + (lo - ay) * dx / dy
+    xb = ax + (hi - ay) * dx / dy
+    eps = 1e-6 * cell
+    c0 = int(math.floor((min(xa, xb) - eps - x0) / cell))
+    c1 = int(math.floor((max(xa, xb) + eps - x0) / cell))
+    return max(c0, i0), min(c1, i1)
 
 
 @kernel
@@ -82,7 +100,8 @@ def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: in
         dx, dy = bx - ax, by - ay
         for j in range(j0, j1 + 1):
             cy0 = y0 + j * cell
-            for i in range(i0, i1 + 1):
+            r0, r1 = _row_cells(j, ax, ay, dx, dy, x0, y0, cell, i0, i1)
+            for i in range(r0, r1 + 1):
                 c = j * nx + i
                 if start[c] == start[c + 1]:
                     continue
@@ -105,33 +124,6 @@ def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: in
                             pairs[0, m] = n
                             pairs[1, m] = k
                         m += 1
-    return m
-
-
-@kernel
-def near_pairs_kernel(px: FloatArray, py: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int,
-                      start: IntArray, ids: IntArray, reach: int, mark: IntArray, pairs: IntArray,
-                      capacity: int) -> int:
-    """The (point, zone) pairs of the zones listed in the cells within ``reach`` cells of each point's
-    cell (each pair once), written into ``pairs (2, capacity)`` while they fit; ``mark (Z,)`` is
-    scratch (filled with -1 by the caller).  Returns the number of pairs.  A zone not paired with a
-    point lies at least ``reach`` cells from it horizontally."""
-    m = 0
-    for n in range(px.shape[0]):
-        i = int(math.floor((px[n] - x0) / cell))
-        j = int(math.floor((py[n] - y0) / cell))
-        for jj in range(max(j - reach, 0), min(j + reach, ny - 1) + 1):
-            for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 1):
-                c = jj * nx + ii
-                for q in range(start[c], start[c + 1]):
-                    k = ids[q]
-                    if mark[k] == n:
-                        continue
-                    mark[k] = n
-                    if m < capacity:
-                        pairs[0, m] = n
-                        pairs[1, m] = k
-                    m += 1
     return m
 
 
@@ -164,39 +156,256 @@ def _meets_polygon(ax: float, ay: float, bx: float, by: float, k: int, xy: Float
     each ring's closed vertex list ``xy[ring[r]:ring[r+1]]``): an edge crossed or touched, or ``a`` inside
     (even-odd rule over every ring, so holes are outside)."""
     inside = False
+    xlo, xhi, ylo, yhi = min(ax, bx), max(ax, bx), min(ay, by), max(ay, by)
     for r in range(rings[k], rings[k + 1]):
         for v in range(ring[r], ring[r + 1] - 1):
             px, py, qx, qy = xy[v, 0], xy[v, 1], xy[v + 1, 0], xy[v + 1, 1]
-            if _segments_meet(ax, ay, bx, by, px, py, qx, qy):
+            # the orientation tests only where the edge's box meets the segment's (else they cannot meet)
+            if (min(px, qx) <= xhi and max(px, qx) >= xlo and min(py, qy) <= yhi and max(py, qy) >= ylo
+                    and _segments_meet(ax, ay, bx, by, px, py, qx, qy)):
                 return True
             if (py > ay) != (qy > ay) and ax < px + (ay - py) * (qx - px) / (qy - py):
                 inside = not inside
     return inside
 
 
+@kernel(inline="always")
+def _flat_hit(ax: float, ay: float, az: float, bx: float, by: float, bz: float, lo: float, hi: float, k: int,
+              xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray) -> bool:
+    """Whether the segment ``a b`` enters the prism of polygon ``k`` times the flat band ``[lo, hi]``: the
+    segment parameter cut to the band (z is linear along it), the trace over that interval against the
+    polygon.  ``disc[k] = (x, y, r_in, r_out)``: the disc of radius ``r_in`` about ``(x, y)`` lies inside
+    the polygon (a trace passing nearer is in), the one of radius ``r_out`` holds it (a trace passing
+    further is out); between them the edges decide."""
+    dz = bz - az
+    if dz == 0.0:
+        if az < lo or az > hi:
+            return False
+        t0, t1 = 0.0, 1.0
+    else:
+        u, v = (lo - az) / dz, (hi - az) / dz
+        t0, t1 = max(0.0, min(u, v)), min(1.0, max(u, v))
+        if t0 > t1:
+            return False
+    dx, dy = bx - ax, by - ay
+    cx, cy = (ax, ay) if t0 == 0.0 else (ax + t0 * dx, ay + t0 * dy)
+    ex, ey = (bx, by) if t1 == 1.0 else (ax + t1 * dx, ay + t1 * dy)
+    # two discs about a point of the polygon settle most pairs: one inside it, one holding it
+    gx, gy = ex - cx, ey - cy
+    gg = gx * gx + gy * gy
+    ox, oy = disc[k, 0] - cx, disc[k, 1] - cy
+    t = 0.0 if gg == 0.0 else min(max((ox * gx + oy * gy) / gg, 0.0), 1.0)
+    wx, wy = ox - t * gx, oy - t * gy
+    d2 = wx * wx + wy * wy
+    if d2 < disc[k, 2] * disc[k, 2]:
+        return True
+    if d2 > disc[k, 3] * disc[k, 3]:
+        return False
+    return _meets_polygon(cx, cy, ex, ey, k, xy, ring, rings)
+
+
 @kernel
 def flat_hits_kernel(seg: FloatArray, si: IntArray, zi: IntArray, zlo: FloatArray, zhi: FloatArray,
-                     xy: FloatArray, ring: IntArray, rings: IntArray, out: BoolArray) -> None:
-    """Exact test of the pairs ``(seg[si[m]], zone zi[m])`` against flat bands ``[zlo, zhi]``: the
-    segment parameter cut to the band (z is linear along it), the trace over that interval against
-    the polygon."""
+                     xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray, out: BoolArray) -> None:
+    """Exact test of the pairs ``(seg[si[m]], zone zi[m])`` against flat bands ``[zlo, zhi]``."""
     for m in range(si.shape[0]):
         n, k = si[m], zi[m]
+        out[m] = _flat_hit(seg[n, 0, 0], seg[n, 0, 1], seg[n, 0, 2], seg[n, 1, 0], seg[n, 1, 1], seg[n, 1, 2],
+                           zlo[k], zhi[k], k, xy, ring, rings, disc)
+
+
+@kernel(inline="always")
+def _far(px: float, py: float, fx0: float, fy0: float, f: float, fnx: int, fny: int, bound: FloatArray) -> float:
+    """A lower bound of the horizontal distance from ``p`` to every footprint (m): the fine field's value in
+    ``p``'s cell, or the distance to the field's rectangle (which holds every footprint) outside it."""
+    u, v = (px - fx0) / f, (py - fy0) / f
+    if u >= 0.0 and v >= 0.0 and u < fnx and v < fny:
+        return float(bound[int(v), int(u)]) * f
+    return math.hypot(max(-u, u - fnx, 0.0), max(-v, v - fny, 0.0)) * f
+
+
+@kernel(inline="always")
+def _clear(ax: float, ay: float, bx: float, by: float, fa: float, fb: float, fx0: float, fy0: float, f: float,
+           fnx: int, fny: int, bound: FloatArray) -> bool:
+    """Whether the fine field proves the segment's trace meets no footprint (False: not proven).
+
+    ``fa``/``fb`` are the ends' bounds (:func:`_far`).  Every point within ``r = _far(p)`` of a point
+    ``p`` (open disc) is off every footprint, so the trace is marched from ``a`` by those discs until
+    they reach ``b``'s; a point with ``r = 0`` (near a footprint) or more than 256 steps stop the march.
+    """
+    dx, dy = bx - ax, by - ay
+    length = math.hypot(dx, dy)
+    if length < fa + fb:
+        return True
+    if fa == 0.0 or fb == 0.0:
+        return False
+    t, tb = fa / length, 1.0 - fb / length
+    for _ in range(256):
+        r = _far(ax + t * dx, ay + t * dy, fx0, fy0, f, fnx, fny, bound)
+        if r == 0.0:
+            return False
+        t += r / length
+        if t > tb:
+            return True
+    return False
+
+
+@kernel(inline="always")
+def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: float, x0: float, y0: float,
+          cell: float, nx: int, ny: int, start: IntArray, ids: IntArray, box: FloatArray, zlo: FloatArray,
+          zhi: FloatArray, seabed: BoolArray, xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray,
+          mark: IntArray, pairs: IntArray, m: int, capacity: int) -> tuple[bool, int]:
+    """The cells segment ``n``'s trace crosses: True at its first flat-band entry (pairs written for it
+    dropped), else its seabed-band candidates appended to ``pairs`` from ``m``; returns (entered, m)."""
+    i0 = max(int(math.floor((min(ax, bx) - x0) / cell)), 0)
+    i1 = min(int(math.floor((max(ax, bx) - x0) / cell)), nx - 1)
+    j0 = max(int(math.floor((min(ay, by) - y0) / cell)), 0)
+    j1 = min(int(math.floor((max(ay, by) - y0) / cell)), ny - 1)
+    zmin, zmax = min(az, bz), max(az, bz)
+    dx, dy = bx - ax, by - ay
+    first = m
+    for j in range(j0, j1 + 1):
+        cy0 = y0 + j * cell
+        r0, r1 = _row_cells(j, ax, ay, dx, dy, x0, y0, cell, i0, i1)
+        for i in range(r0, r1 + 1):
+            c = j * nx + i
+            if start[c] == start[c + 1]:
+                continue
+            cx0 = x0 + i * cell
+            s0 = dx * (cy0 - ay) - dy * (cx0 - ax)
+            s1 = dx * (cy0 - ay) - dy * (cx0 + cell - ax)
+            s2 = dx * (cy0 + cell - ay) - dy * (cx0 - ax)
+            s3 = dx * (cy0 + cell - ay) - dy * (cx0 + cell - ax)
+            if (s0 > 0 and s1 > 0 and s2 > 0 and s3 > 0) or (s0 < 0 and s1 < 0 and s2 < 0 and s3 < 0):
+                continue
+            for q in range(start[c], start[c + 1]):
+                k = ids[q]
+                if mark[k] == n:
+                    continue
+                mark[k] = n
+                if not (zlo[k] <= zmax and zhi[k] >= zmin
+                        and _meets_box(ax, ay, dx, dy, box[k, 0], box[k, 1], box[k, 2], box[k, 3])):
+                    continue
+                if seabed[k]:
+                    if m < capacity:
+                        pairs[0, m] = n
+                        pairs[1, m] = k
+                    m += 1
+                elif _flat_hit(ax, ay, az, bx, by, bz, zlo[k], zhi[k], k, xy, ring, rings, disc):
+                    return True, first
+    return False, m
+
+
+@kernel
+def any_hits_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int, start: IntArray,
+                    ids: IntArray, box: FloatArray, zlo: FloatArray, zhi: FloatArray, seabed: BoolArray,
+                    xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray, fx0: float, fy0: float,
+                    f: float, fnx: int, fny: int, bound: FloatArray, mark: IntArray, hit: BoolArray, pairs: IntArray,
+                    capacity: int) -> int:
+    """Broad phase and exact flat-band test in one pass: ``hit[n]`` is True where segment ``n`` enters a
+    flat-band zone (the search stops at the first); the seabed-band candidates of every other segment
+    are written to ``pairs (2, capacity)`` while they fit (the caller tests them exactly).
+
+    A segment the fine field ``bound`` (:func:`.zone_parts.distance_field`) proves clear of every
+    footprint (:func:`_clear`) is passed at once.  Otherwise the same grid and scratch as
+    :func:`candidates_kernel`; ``zlo``/``zhi`` are the grid's bands (a flat band exactly), ``seabed``
+    flags the seabed bands.  Returns the number of seabed pairs (more than ``capacity``: call again
+    with room for them).
+    """
+    m = 0
+    for n in range(seg.shape[0]):
         ax, ay, az = seg[n, 0, 0], seg[n, 0, 1], seg[n, 0, 2]
         bx, by, bz = seg[n, 1, 0], seg[n, 1, 1], seg[n, 1, 2]
-        dz = bz - az
-        if dz == 0.0:
-            if az < zlo[k] or az > zhi[k]:
-                out[m] = False
-                continue
-            t0, t1 = 0.0, 1.0
-        else:
-            u, v = (zlo[k] - az) / dz, (zhi[k] - az) / dz
-            t0, t1 = max(0.0, min(u, v)), min(1.0, max(u, v))
-            if t0 > t1:
-                out[m] = False
-                continue
-        dx, dy = bx - ax, by - ay
-        cx, cy = (ax, ay) if t0 == 0.0 else (ax + t0 * dx, ay + t0 * dy)
-        ex, ey = (bx, by) if t1 == 1.0 else (ax + t1 * dx, ay + t1 * dy)
-        out[m] = _meets_polygon(cx, cy, ex, ey, k, xy, ring, rings)
+        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+        fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+        if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
+            hit[n] = False
+            continue
+        hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, seabed, xy,
+                          ring, rings, disc, mark, pairs, m, capacity)
+    return m
+
+
+@kernel
+def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int, start: IntArray,
+                     ids: IntArray, box: FloatArray, zlo: FloatArray, zhi: FloatArray, seabed: BoolArray,
+                     xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray, fx0: float, fy0: float,
+                     f: float, fnx: int, fny: int, bound: FloatArray, mark: IntArray, hit: BoolArray, pairs: IntArray,
+                     capacity: int) -> int:
+    """:func:`any_hits_kernel` over the legs of polylines ``p (P, S, 3)`` (each vertex's field value looked
+    up once): ``hit (P * (S - 1),)`` and the pairs' segment ``n = i (S - 1) + s``."""
+    m = 0
+    legs = p.shape[1] - 1
+    for i in range(p.shape[0]):
+        ax, ay, az = p[i, 0, 0], p[i, 0, 1], p[i, 0, 2]
+        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+        for s in range(legs):
+            n = i * legs + s
+            bx, by, bz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
+            fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+            if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
+                hit[n] = False
+            else:
+                hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi,
+                                  seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
+            ax, ay, az, fa = bx, by, bz, fb
+    return m
+
+
+@kernel(inline="always")
+def _ring_distance(px: float, py: float, k: int, xy: FloatArray, ring: IntArray, rings: IntArray) -> tuple[float, bool]:
+    """Distance from ``p`` to the boundary of polygon ``k`` and whether ``p`` is inside (even-odd rule)."""
+    best = math.inf
+    inside = False
+    for r in range(rings[k], rings[k + 1]):
+        for v in range(ring[r], ring[r + 1] - 1):
+            ux, uy, wx, wy = xy[v, 0], xy[v, 1], xy[v + 1, 0], xy[v + 1, 1]
+            ex, ey = wx - ux, wy - uy
+            ee = ex * ex + ey * ey
+            t = 0.0 if ee == 0.0 else min(max(((px - ux) * ex + (py - uy) * ey) / ee, 0.0), 1.0)
+            qx, qy = ux + t * ex - px, uy + t * ey - py
+            best = min(best, qx * qx + qy * qy)
+            if (uy > py) != (wy > py) and px < ux + (py - uy) * (wx - ux) / (wy - uy):
+                inside = not inside
+    return math.sqrt(best), inside
+
+
+@kernel
+def near_distance_kernel(p: FloatArray, floor: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int,
+                         start: IntArray, ids: IntArray, reach: int, zlo: FloatArray, zhi: FloatArray,
+                         h: FloatArray, slope: float, xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray,
+                         mark: IntArray, out: FloatArray) -> None:
+    """Signed distance of points ``p (N, 3)`` to the zones listed within ``reach`` cells of them (the
+    least over those zones, at most ``out``'s initial value; negative inside).
+
+    A flat band ``[zlo, zhi]``: ``hypot(d_h, max(d_v, 0))`` outside, ``-min(edge, depth inside)``
+    inside.  A seabed band (``h`` finite): the vertical term ``(z - floor - h) / slope`` with ``floor``
+    the seabed under each point.  ``mark (Z,)`` is scratch filled with -1 by the caller.
+    """
+    for n in range(p.shape[0]):
+        px, py, pz = p[n, 0], p[n, 1], p[n, 2]
+        i = int(math.floor((px - x0) / cell))
+        j = int(math.floor((py - y0) / cell))
+        best = out[n]
+        for jj in range(max(j - reach, 0), min(j + reach, ny - 1) + 1):
+            for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 1):
+                c = jj * nx + ii
+                for q in range(start[c], start[c + 1]):
+                    k = ids[q]
+                    if mark[k] == n:
+                        continue
+                    mark[k] = n
+                    edge, inside = _ring_distance(px, py, k, xy, ring, rings)
+                    dh = 0.0 if inside else edge
+                    if math.isnan(h[k]):
+                        out_v = max(zlo[k] - pz, pz - zhi[k])
+                        in_v = min(pz - zlo[k], zhi[k] - pz)
+                    else:
+                        out_v = (pz - floor[n] - h[k]) / slope
+                        in_v = -out_v
+                    if dh == 0.0 and out_v <= 0.0:
+                        d = -min(edge, in_v)
+                    else:
+                        d = math.hypot(dh, max(out_v, 0.0))
+                    best = min(best, d)
+        out[n] = best

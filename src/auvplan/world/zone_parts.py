@@ -3,6 +3,7 @@ compiled tests, horizontal traces, clipped pieces and samples along legs."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -11,7 +12,7 @@ import shapely
 from .._types import FloatArray, IntArray
 from .terrain import Terrain
 
-__all__ = ["rasterise", "rings", "samples", "traces", "clip_pieces"]
+__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_pieces"]
 
 
 def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatArray, h: FloatArray,
@@ -71,8 +72,49 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
             top, np.asarray(reach, dtype=float))
 
 
-def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
-    """Every polygon's rings as flat arrays for the compiled test.
+def distance_field(grid: tuple[Any, ...], tree: shapely.STRtree, sub: int = 8) -> tuple[Any, ...]:
+    """A lower bound of the horizontal distance to every footprint on a grid ``sub`` times finer than the
+    broad phase's: the fine cells the footprints touch, their Euclidean distance transform (centre to
+    centre, in fine cells) less the cells' diagonal.
+
+    For a point ``p`` in fine cell ``c`` and any footprint point ``q`` (in a touched cell ``c'``),
+    ``|p - q| >= (|c - c'| - sqrt 2) f``: the value stored for ``c`` is never above the true distance.
+
+    Parameters
+    ----------
+    grid : tuple
+        :func:`rasterise`'s grid.
+    tree : shapely.STRtree
+        The footprints.
+    sub : int, default 8
+        Fine cells per broad-phase cell along each axis.
+
+    Returns
+    -------
+    tuple
+        ``(x0, y0, f, nx, ny, bound)``: corner, fine cell size and counts, and the bound ``(ny, nx)`` in
+        whole fine cells (uint8, rounded down, at most 255).
+    """
+    from scipy.ndimage import distance_transform_edt
+
+    x0, y0, cell, nx, ny, start = grid[:6]
+    f = cell / sub
+    occupied = np.flatnonzero(np.diff(start) > 0)
+    cj, ci = np.divmod(occupied, nx)
+    sj, si = np.divmod(np.arange(sub * sub), sub)
+    fi = (ci[:, None] * sub + si[None, :]).ravel()
+    fj = (cj[:, None] * sub + sj[None, :]).ravel()
+    boxes = shapely.box(x0 + fi * f, y0 + fj * f, x0 + (fi + 1) * f, y0 + (fj + 1) * f)
+    touched = np.unique(tree.query(boxes, predicate="intersects")[0])
+    free = np.ones((ny * sub, nx * sub), dtype=bool)
+    free[fj[touched], fi[touched]] = False
+    d = np.asarray(distance_transform_edt(free), dtype=float) - math.sqrt(2.0)
+    bound = np.floor(np.clip(d, 0.0, 255.0)).astype(np.uint8)  # whole fine cells, rounded down: one byte each
+    return x0, y0, f, nx * sub, ny * sub, np.ascontiguousarray(bound)
+
+
+def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
+    """Every polygon's rings as flat arrays for the compiled test, and two discs per polygon.
 
     Parameters
     ----------
@@ -87,6 +129,10 @@ def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
         Ring offsets ``(R + 1,)`` into ``xy``.
     rings : numpy.ndarray of int
         Per polygon ring offsets ``(Z + 1,)`` into ``ring``.
+    disc : numpy.ndarray
+        ``(Z, 4)``: a centre ``(x, y)`` inside the polygon (its largest part's maximum inscribed
+        circle), a radius ``r_in`` within which every point is inside (the centre's distance to the
+        boundary, less a millionth) and a radius ``r_out`` holding every vertex (plus a millionth).
     """
     xy_parts: list[FloatArray] = []
     ring = [0]
@@ -99,7 +145,19 @@ def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray]:
                 ring.append(ring[-1] + c.shape[0])
         rings.append(len(ring) - 1)
     xy = np.ascontiguousarray(np.concatenate(xy_parts)) if xy_parts else np.zeros((0, 2))
-    return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp)
+    disc = np.zeros((len(geoms), 4))
+    for k, g in enumerate(geoms):
+        parts = shapely.get_parts(g)
+        big = parts[int(np.argmax(shapely.area(parts)))]
+        size = math.sqrt(max(shapely.area(big), 1e-12))
+        centre = shapely.get_point(shapely.maximum_inscribed_circle(big, tolerance=0.01 * size), 0)
+        r_in = float(shapely.distance(centre, shapely.boundary(g))) if shapely.contains(g, centre) else 0.0
+        cx, cy = shapely.get_coordinates(centre)[0]
+        v = shapely.get_coordinates(g)
+        r_out = float(np.hypot(v[:, 0] - cx, v[:, 1] - cy).max())
+        scale = max(abs(cx), abs(cy), r_out, 1.0)
+        disc[k] = cx, cy, max(r_in - 1e-6 * scale, 0.0), r_out + 1e-6 * scale
+    return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp), disc
 
 
 def samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:

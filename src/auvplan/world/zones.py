@@ -38,8 +38,8 @@ import shapely
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .terrain import Terrain
-from .zone_kernels import candidates_kernel, flat_hits_kernel, near_pairs_kernel
-from .zone_parts import clip_pieces, rasterise
+from .zone_kernels import any_hits_kernel, candidates_kernel, flat_hits_kernel, near_distance_kernel, path_hits_kernel
+from .zone_parts import clip_pieces, distance_field, rasterise
 from .zone_parts import rings as polygon_rings
 from .zone_parts import samples as leg_samples
 from .zone_parts import traces as trace_geoms
@@ -137,9 +137,11 @@ class Zones:
     _zlo: FloatArray = field(init=False, repr=False)
     _zhi: FloatArray = field(init=False, repr=False)
     _h: FloatArray = field(init=False, repr=False)
+    _seabed: BoolArray = field(init=False, repr=False)
     _bounds: FloatArray = field(init=False, repr=False)
     _grid: tuple[Any, ...] | None = field(init=False, repr=False)
-    _rings: tuple[FloatArray, IntArray, IntArray] = field(init=False, repr=False)
+    _field: tuple[Any, ...] = field(init=False, repr=False)
+    _rings: tuple[FloatArray, IntArray, IntArray, FloatArray] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         zs = tuple(self.zones)
@@ -152,7 +154,7 @@ class Zones:
             raise DataError(f"zones: pad must be a non-negative number, got {self.pad}")
         geoms = np.array([z.footprint for z in zs], dtype=object)
         if self.pad > 0 and geoms.size:
-            geoms = shapely.buffer(geoms, self.pad)
+            geoms = shapely.buffer(geoms, self.pad, join_style="mitre")
         shapely.prepare(geoms)
         object.__setattr__(self, "_geoms", geoms)
         object.__setattr__(self, "_tree", shapely.STRtree(geoms))
@@ -160,6 +162,7 @@ class Zones:
         object.__setattr__(self, "_zhi", np.minimum(np.array([-z.top for z in zs], dtype=float) + self.pad, 0.0)
                            if self.pad else np.array([-z.top for z in zs], dtype=float))
         object.__setattr__(self, "_h", h + self.pad)
+        object.__setattr__(self, "_seabed", np.isfinite(h))
         object.__setattr__(self, "_bounds", shapely.bounds(geoms).reshape(-1, 4))
         object.__setattr__(self, "_rings", polygon_rings(geoms))
         self._rasterise()
@@ -168,6 +171,9 @@ class Zones:
         """The broad phase's grid (:func:`.zone_parts.rasterise`)."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
+        if grid is not None:  # the fine lower-bound field: at most 4 x 4 per cell, about 500 000 cells (bytes)
+            sub = int(min(max(math.sqrt(5e5 / (grid[3] * grid[4])), 1.0), 4.0))
+            object.__setattr__(self, "_field", distance_field(grid, self._tree, sub))
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
         """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.zone_kernels`);
@@ -284,12 +290,81 @@ class Zones:
             flat_hits_kernel(s, cs[flat], zi[flat], self._zlo, self._zhi, *self._rings, out)
             hit[flat] = out
         if seabed.any():
-            idx, si = np.unique(cs[seabed], return_inverse=True)
-            traces = trace_geoms(s[idx])
-            meet = shapely.intersects(self._geoms[zi[seabed]], traces[si])
-            sub = np.flatnonzero(seabed)[meet]
-            hit[sub] = self._seabed_hits(s[cs[sub]], traces[si[meet]], zi[sub])
+            sub = np.flatnonzero(seabed)
+            hit[sub] = self._seabed_pairs(s, cs[sub], zi[sub])
         return cs[hit], zi[hit]
+
+    def _seabed_pairs(self, s: FloatArray, cs: IntArray, zi: IntArray) -> BoolArray:
+        """Exact test of the (segment, seabed-band zone) pairs: the footprint met by the trace (GEOS), then
+        :meth:`_seabed_hits`."""
+        hit = np.zeros(cs.size, dtype=bool)
+        idx, si = np.unique(cs, return_inverse=True)
+        traces = trace_geoms(s[idx])
+        meet = shapely.intersects(self._geoms[zi], traces[si])
+        sub = np.flatnonzero(meet)
+        hit[sub] = self._seabed_hits(s[cs[sub]], traces[si[sub]], zi[sub])
+        return hit
+
+    def _any_hits(self, s: FloatArray) -> BoolArray:
+        """Which segments ``(N, 2, 3)`` enter any zone (exact): the compiled pass settles the flat bands and
+        lists the seabed-band candidates of the rest (:func:`.zone_kernels.any_hits_kernel`)."""
+        s = np.ascontiguousarray(s)
+        return self._compiled_hits(any_hits_kernel, s, s.shape[0], lambda n: s[n])
+
+    def _path_hits(self, p: FloatArray) -> BoolArray:
+        """Which legs of polylines ``(P, S, 3)`` enter any zone (exact), ``(P * (S - 1),)``
+        (:func:`.zone_kernels.path_hits_kernel`)."""
+        p = np.ascontiguousarray(p)
+        legs = p.shape[1] - 1
+
+        def segments(n: IntArray) -> FloatArray:
+            i, k = np.divmod(n, legs)
+            return np.stack([p[i, k], p[i, k + 1]], axis=1)
+
+        return self._compiled_hits(path_hits_kernel, p, p.shape[0] * legs, segments)
+
+    def _compiled_hits(self, kernel: Any, data: FloatArray, count: int, segments: Any) -> BoolArray:
+        """Run a compiled any-hit pass, then test its seabed-band candidates exactly (GEOS and the terrain)."""
+        hit = np.zeros(count, dtype=bool)
+        if self._grid is None or count == 0:
+            return hit
+        x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, _ = self._grid
+        args = (data, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, self._seabed, *self._rings, *self._field)
+        mark = np.full(len(self.zones), -1, dtype=np.intp)
+        pairs = np.empty((2, count + 64), dtype=np.intp)
+        m = kernel(*args, mark, hit, pairs, pairs.shape[1])
+        if m > pairs.shape[1]:
+            pairs = np.empty((2, m), dtype=np.intp)
+            mark[:] = -1
+            kernel(*args, mark, hit, pairs, m)
+        if m:
+            cs, zi = pairs[0, :m], pairs[1, :m]
+            idx, local = np.unique(cs, return_inverse=True)
+            hit[cs[self._seabed_pairs(segments(idx), local, zi)]] = True
+        return hit
+
+    def polyline_inside_lengths(self, points: ArrayLike) -> FloatArray:
+        """:meth:`inside_lengths` of the legs of polylines (for the swarm planners' cost).
+
+        Parameters
+        ----------
+        points : array_like
+            Vertices ``(P, S, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(P, S - 1)`` (m): the length of each leg that enters a zone (at least 1), else 0.
+        """
+        p = np.asarray(points, dtype=float)
+        out = np.zeros((p.shape[0], max(p.shape[1] - 1, 0)))
+        if not self.zones or out.size == 0:
+            return out
+        legs = np.flatnonzero(self._path_hits(p))
+        if legs.size:
+            i, k = np.divmod(legs, out.shape[1])
+            out[i, k] = np.maximum(np.linalg.norm(p[i, k + 1] - p[i, k], axis=-1), 1.0)
+        return out
 
     def _seabed_hits(self, seg: FloatArray, traces: np.ndarray, zi: IntArray) -> BoolArray:
         """Exact test against seabed bands: the trace clipped to the footprint, each piece's least
@@ -317,10 +392,9 @@ class Zones:
         """
         s = np.asarray(segments, dtype=float)
         lead = s.shape[:-2]
-        out = np.zeros(int(np.prod(lead, dtype=np.intp)), dtype=bool)
-        seg, _ = self.entries(s.reshape(-1, 2, 3))
-        out[seg] = True
-        return out.reshape(lead)
+        if not self.zones:
+            return np.zeros(lead, dtype=bool)
+        return self._any_hits(s.reshape(-1, 2, 3)).reshape(lead)
 
     def envelopes_enter(self, a: ArrayLike, b: ArrayLike) -> BoolArray:
         """Where the vertical envelope of a leg (its horizontal trace times the depths between its
@@ -373,9 +447,10 @@ class Zones:
         lead = s.shape[:-2]
         flat = s.reshape(-1, 2, 3)
         out = np.zeros(flat.shape[0])
-        seg, _ = self.entries(flat)
+        if not self.zones:
+            return out.reshape(lead)
+        seg = np.flatnonzero(self._any_hits(flat))
         if seg.size:
-            seg = np.unique(seg)
             out[seg] = np.maximum(np.linalg.norm(flat[seg, 1] - flat[seg, 0], axis=-1), 1.0)
         return out.reshape(lead)
 
@@ -443,19 +518,17 @@ class Zones:
         two cells (every other zone is at least that far): exact below the cap."""
         assert self._grid is not None
         x0, y0, cell, nx, ny, start, ids, *_ = self._grid
+        p = np.ascontiguousarray(p)
+        floor = np.zeros(p.shape[0])
+        slope = 1.0
+        if self._seabed.any():
+            assert self.terrain is not None
+            floor = np.ascontiguousarray(self.terrain.elevation(p[:, 0], p[:, 1]), dtype=float)
+            slope = math.sqrt(1.0 + self.terrain.max_slope ** 2)
         mark = np.full(len(self.zones), -1, dtype=np.intp)
-        pairs = np.empty((2, 8 * p.shape[0] + 64), dtype=np.intp)
-        args = (np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), x0, y0, cell, nx, ny, start, ids, 2)
-        m = near_pairs_kernel(*args, mark, pairs, pairs.shape[1])
-        if m > pairs.shape[1]:
-            pairs = np.empty((2, m), dtype=np.intp)
-            mark[:] = -1
-            near_pairs_kernel(*args, mark, pairs, m)
-        pi, zi = pairs[0, :m], pairs[1, :m]
         out = np.full(p.shape[0], 2.0 * cell)
-        if m:
-            d = self._pair_distance(p[pi], shapely.points(p[pi, 0], p[pi, 1]), zi)
-            np.minimum.at(out, pi, d)
+        near_distance_kernel(p, floor, x0, y0, cell, nx, ny, start, ids, 2, self._zlo, self._zhi, self._h, slope,
+                             *self._rings, mark, out)
         return out
 
     def _pair_distance(self, p: FloatArray, pts: np.ndarray, zi: IntArray) -> FloatArray:
@@ -470,6 +543,52 @@ class Zones:
             edge = shapely.distance(shapely.boundary(geoms[inside]), pts[inside])
             d[inside] = -np.minimum(edge, in_v[inside])
         return d
+
+    def nearest(self, point: ArrayLike, reach: float) -> tuple[FloatArray, FloatArray]:
+        """The nearest point of every prism within ``reach`` of a point, and its signed distance (for a
+        repulsive field: the zones as static obstacles).
+
+        Parameters
+        ----------
+        point : array_like
+            ``(3,)`` (m).
+        reach : float
+            Farthest prism looked at (m).
+
+        Returns
+        -------
+        points : numpy.ndarray
+            ``(M, 3)`` nearest points of the prisms (on the boundary when ``point`` is inside): on the
+            footprint's boundary or straight above/below the point, the depth clamped to the band (m).
+        distances : numpy.ndarray
+            ``(M,)`` :meth:`signed_distance` to each of them (m, negative inside).
+        """
+        p = np.asarray(point, dtype=float).reshape(3)
+        empty = (np.zeros((0, 3)), np.zeros(0))
+        if not self.zones:
+            return empty
+        pt = shapely.points(p[0], p[1])
+        zi = self._tree.query(pt, predicate="dwithin", distance=reach)
+        if zi.size == 0:
+            return empty
+        d = self._pair_distance(np.broadcast_to(p, (zi.size, 3)), np.full(zi.size, pt, dtype=object), zi)
+        keep = d <= reach
+        zi, d = zi[keep], d[keep]
+        geoms = self._geoms[zi]
+        over = shapely.contains_xy(geoms, p[0], p[1])
+        out_v, _ = self._vertical(np.broadcast_to(p, (zi.size, 3)), zi)
+        ends = shapely.get_coordinates(shapely.shortest_line(pt, shapely.boundary(geoms))).reshape(-1, 2, 2)[:, 1]
+        q = np.column_stack([ends, np.full(zi.size, p[2])])
+        above = over & (out_v > 0)  # over the footprint, outside the band: straight above or below
+        q[above, :2] = p[:2]
+        lo = np.where(np.isfinite(self._h[zi]), -np.inf, self._zlo[zi])
+        hi = self._zhi[zi].copy()
+        sea = np.isfinite(self._h[zi])
+        if sea.any():
+            assert self.terrain is not None
+            hi[sea] = self.terrain.elevation(q[sea, 0], q[sea, 1]) + self._h[zi][sea]
+        q[:, 2] = np.clip(p[2], lo, hi)
+        return q, d
 
     def distances(self, points: ArrayLike) -> FloatArray:
         """Signed distance of every point to every zone (for reports: closest approach per zone).

@@ -464,6 +464,9 @@ class LocalAvoidance:
             goal = self.subgoal
         centers = np.array([o[4] for o in near]).reshape(-1, 3)
         dists = np.array([o[2] for o in near])
+        if self.world.zones:  # the charted zones repel as static obstacles (from their nearest points)
+            zc, zd = self.world.zones.exact.nearest(p, self.params.radius)
+            centers, dists = np.concatenate([centers, zc]), np.concatenate([dists, np.maximum(zd, 0.0)])
         f = apf_force(p, goal, centers, dists, self.params)
         course = math.atan2(f[0], f[1])
         pitch = math.atan2(f[2], math.hypot(f[0], f[1]))

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
 from ...errors import ScenarioError
+from .vector import read_vector
 
 __all__ = ["read_layer", "read_area_lonlat", "read_line_lonlat"]
 
@@ -38,21 +39,9 @@ def read_layer(path: Path, layer: str, where: str, key: str = "file") -> tuple[l
     tuple
         The non-empty geometries (in the file's coordinates) and its ``pyproj.CRS``.
     """
-    import pyogrio
-
-    if not path.is_file():
-        raise ScenarioError(f"{where} {key} = {str(path)!r}: not found")
-    try:
-        meta, _, wkb, _ = pyogrio.raw.read(path, layer=layer or None, read_geometry=True, columns=[])
-    except Exception as exc:  # GDAL raises several types for unreadable files and missing layers
-        raise ScenarioError(f"{where} {key} = {str(path)!r}: cannot read as a vector file"
-                            f"{f' (layer {layer!r})' if layer else ''} ({exc})") from exc
-    geoms = [g for g in (shapely.from_wkb(wkb) if wkb is not None else []) if g is not None and not g.is_empty]
-    try:
-        crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
-    except Exception as exc:  # pyproj's CRSError
-        raise ScenarioError(f"{where} {key} = {str(path)!r}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
-    return geoms, crs
+    src = f"{where} {key} = {str(path)!r}"
+    found = read_vector(path, src, ScenarioError, layer=layer)
+    return found.present(), found.crs
 
 
 def _to_lonlat(xy: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:

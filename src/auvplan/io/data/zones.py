@@ -25,11 +25,12 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import CRS, Transformer
+from pyproj import Transformer
 
 from ...errors import DataError, ScenarioError
 from ...world import Terrain, Zone, Zones
 from .geo import LocalFrame
+from .vector import read_vector
 
 __all__ = ["ZoneSpec", "parse_zones", "read_zones"]
 
@@ -203,26 +204,16 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
 def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
                box: Any) -> list[tuple[str, Any]]:
     """Named local-frame geometries of the file's features that reach ``box`` (m)."""
-    import pyogrio
-
     path = Path(spec.file)
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
     src = f"{spec.where_} file = {str(path)!r}"
-    if not path.exists():
-        raise DataError(f"{src}: not found")
-    try:
-        meta, _, wkb, fields = pyogrio.raw.read(path, layer=spec.layer or None, where=spec.where or None,
-                                                read_geometry=True)
-    except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
-        raise DataError(f"{src}: cannot read{f' layer {spec.layer!r}' if spec.layer else ''}"
-                        f"{f' where {spec.where!r}' if spec.where else ''} ({str(exc).splitlines()[0]})") from exc
-    crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
+    found = read_vector(path, src, DataError, layer=spec.layer, where=spec.where, fields=True)
+    crs = found.crs
     if frame is None and crs.is_geographic:
         raise ScenarioError(f"{src}: geographic features need [origin] lat/lon")
-    names = list(meta.get("fields", []))
-    label = next((fields[names.index(f)] for f in _NAME_FIELDS if f in names), None)
-    geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    label = next((found.fields[f] for f in _NAME_FIELDS if f in found.fields), None)
+    geoms = found.geometries
     to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
     def project(xy: np.ndarray) -> np.ndarray:

@@ -186,14 +186,22 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
     reach = max(1, int(abs(off[0])), int(abs(off[1])))
     if slope is None or reach > 1:  # a given slope field is for the one-cell rectangles of the 26 directions
         slope = lattice_slopes(world, free.shape, steps, coords, reach)
-    _offset_states(free, altitude, obstacle, off, 0.5 * float(np.linalg.norm(d)), float(d[2]),
-                   float(np.hypot(d[0], d[1])), slope, world.margins.min_altitude, has_terrain, state)
-    unsure = np.flatnonzero(state == 2)
+    args = (off, 0.5 * float(np.linalg.norm(d)), float(d[2]), float(np.hypot(d[0], d[1])), slope,
+            world.margins.min_altitude, has_terrain)
+    _offset_states(free, altitude, obstacle, *args, state)
     delta = int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
-    for c0 in range(0, unsure.size, 200_000):
-        u = unsure[c0:c0 + 200_000]
-        seg = np.stack([coords(u), coords(u + delta)], axis=1)
-        state[u] = world.segments_free(seg, moving=False, ends_free=True)
+    unsure = np.flatnonzero(state == 2)
+    tests = [(world, unsure)]
+    if world.zones and unsure.size:  # the edges the seabed clears: the zones' own (compiled) test is enough
+        seabed_state = np.empty_like(state)
+        _offset_states(free, altitude, np.full_like(obstacle, np.inf), *args, seabed_state)
+        sure = seabed_state[unsure] == 1
+        tests = [(world, unsure[~sure]), (replace(world, terrain=None, land=None), unsure[sure])]
+    for w, ids in tests:
+        for c0 in range(0, ids.size, 200_000):
+            u = ids[c0:c0 + 200_000]
+            seg = np.stack([coords(u), coords(u + delta)], axis=1)
+            state[u] = w.segments_free(seg, moving=False, ends_free=True)
     return state
 
 

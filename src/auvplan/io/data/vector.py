@@ -1,0 +1,90 @@
+"""The one reader of vector feature files: GeoJSON, KML, Shapefile, GeoPackage, FileGDB, S-57 electronic
+charts and any other format GDAL reads (through pyogrio), in any CRS.
+
+Survey areas and centre lines (:mod:`.survey_area`) and charted zones (:mod:`.zones`) read their
+layers here; each keeps its own error type (a survey file is a scenario error, a zone file a data
+error) and its own message prefix (``file: [survey] file = '...'``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import shapely
+from pyproj import CRS
+
+__all__ = ["VectorLayer", "read_vector"]
+
+
+@dataclass(frozen=True)
+class VectorLayer:
+    """The features of one layer of a vector file.
+
+    Attributes
+    ----------
+    geometries : numpy.ndarray of shapely geometries
+        One per feature in file order (``None`` where a feature has none), in the file's coordinates.
+    crs : pyproj.CRS
+        The layer's CRS (WGS 84 longitude/latitude when the file states none).
+    fields : dict of str to numpy.ndarray
+        The attribute columns read (empty unless asked for), aligned with ``geometries``.
+    """
+
+    geometries: np.ndarray
+    crs: CRS
+    fields: dict[str, np.ndarray]
+
+    def present(self) -> list[shapely.Geometry]:
+        """The non-empty geometries, in file order.
+
+        Returns
+        -------
+        list of shapely geometries
+            Features without a geometry or with an empty one left out.
+        """
+        return [g for g in self.geometries if g is not None and not g.is_empty]
+
+
+def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = "", where: str = "",
+                fields: bool = False) -> VectorLayer:
+    """Read one layer of a vector file.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (or a FileGDB folder).
+    src : str
+        Message prefix naming the file and the key that named it, e.g. ``"s.toml: [[zones]] file = 'a.gpkg'"``.
+    error : type of Exception
+        Raised (with a message starting with ``src``) when the file is missing, unreadable or its CRS unusable.
+    layer : str, default ''
+        Layer name ('' for the first); for S-57 charts the object class (``CBLSUB``, ``WRECKS`` ...).
+    where : str, default ''
+        An OGR SQL attribute filter ('' for every feature).
+    fields : bool, default False
+        Also read the attribute columns.
+
+    Returns
+    -------
+    VectorLayer
+        Geometries, CRS and (when asked) attributes.
+    """
+    import pyogrio
+
+    if not path.exists():
+        raise error(f"{src}: not found")
+    try:
+        meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
+                                                 read_geometry=True, columns=None if fields else [])
+    except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
+        raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
+                    f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
+    try:
+        crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
+    except Exception as exc:  # pyproj's CRSError
+        raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
+    geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    names = [str(n) for n in meta.get("fields", [])] if fields else []
+    return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)))
