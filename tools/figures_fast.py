@@ -64,7 +64,8 @@ def oracle_mutants() -> dict[str, str]:
 
 
 def fuzz_documents() -> dict[str, str]:
-    """How many hostile documents tests/property/test_fuzz_scenarios.py makes per run (its ``AUVPLAN_FUZZ_EXAMPLES`` default)."""
+    """How many hostile documents tests/property/test_fuzz_scenarios.py makes per run (its
+    ``AUVPLAN_FUZZ_EXAMPLES`` default)."""
     text = (ROOT / "tests" / "property" / "test_fuzz_scenarios.py").read_text()
     m = re.search(r'AUVPLAN_FUZZ_EXAMPLES", "(\d+)"', text)
     if m is None:

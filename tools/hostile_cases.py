@@ -1,6 +1,7 @@
 """Count the hostile-input cases of round 3 (issue 48) by class and how many were mishandled.
 
-Runs ``tests/integration/test_hostile_round3.py`` and ``tests/integration/test_hostile_serve3.py`` (junit XML), puts each test
+Runs ``tests/integration/test_hostile_round3.py`` and ``tests/integration/test_hostile_serve3.py``
+(junit XML), puts each test
 case in its class by the test function's name, counts the inputs of the few tests that assert several
 (the five scenario files, the two streamed bodies, busy and superseded, the three dropped clients, the
 two ``validate`` files) and writes the table to ``docs/figures/hostile-round3.md`` with ``--figure``

@@ -1,6 +1,7 @@
 """Kill ``auvplan run --out`` at every atomic replace (before and after it), re-run, check the folder.
 
-The exhaustive version of ``tests/integration/test_crash_safe.py::test_a_run_killed_while_writing_is_completed_by_a_re_run``
+The exhaustive version of
+``tests/integration/test_crash_safe.py::test_a_run_killed_while_writing_is_completed_by_a_re_run``
 (two runs per point, about 50 points: minutes, so not in the default suite)::
 
     .venv/bin/python tools/kill_points.py [SCENARIO]

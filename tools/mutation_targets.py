@@ -167,7 +167,8 @@ MODULES.update({
     # not fit issue #31's session on the shared machine: run against the cost target's tests + test_safety.py)
     "cost-constraints": Target(
         _fns(COST, "_point_slack", "_obstacle_slack", "_path_terms"),
-        ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "tests/oracles/test_safety.py", "-k", "cost or energy or seabed or "
+        ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "tests/oracles/test_safety.py",
+         "-k", "cost or energy or seabed or "
          "test_safety"),
         jit=False,
     ),
@@ -877,7 +878,8 @@ REASONS.update({
     ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].max()) if len(full) else 0.0, (), "
      "limits)"): "equivalent: the branch holds one point at most, whose least and largest z are the same",
     ("check_limits | return LimitReport(0.0, -1, math.inf, -1, float(-full[:, 2].min()) if len(full) else 1.0, (), "
-     "limits)"): "equivalent in use: an empty polyline's depth; every caller passes two points or more (plans, missions)",
+     "limits)"):
+        "equivalent in use: an empty polyline's depth; every caller passes two points or more (plans, missions)",
     "corner_indices | if tolerance <= 0.0 and len(p) < 3:":
         ("equivalent in use: tolerance 0 comes from turn_radius_m = 0, when no turn is checked; Douglas-Peucker at 0 "
          "only drops exactly collinear vertices (the reported tightest turn of an unlimited vehicle may change)"),

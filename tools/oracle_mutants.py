@@ -1,6 +1,7 @@
 """Plant the hand-written mutants of docs/mutants.md one at a time and check a test kills each.
 
-Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/oracles/test_oracles.py tests/oracles/test_safety.py] [NAME ...]``
+Usage: ``.venv/bin/python tools/oracle_mutants.py [--tests tests/oracles/test_oracles.py
+tests/oracles/test_safety.py] [NAME ...]``
 
 Each mutant is one textual replacement in one source file.  The file is restored afterwards
 (also on Ctrl-C).  Numba's on-disk cache is pointed at a fresh directory per mutant, so a
