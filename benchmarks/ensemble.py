@@ -230,7 +230,7 @@ def main() -> None:
         return
     intervals = tuple(args.intervals)
     t0 = time.perf_counter()
-    from auvplan.parallel import Runner  # 0 workers: in this process
+    from auvplan.runtime.parallel import Runner  # 0 workers: in this process
 
     rows = Runner(workers=args.workers).map(functools.partial(pair_row, intervals=intervals), list(range(args.pairs)),
                                             on_result=lambda i, row: print(i, json.dumps(row), flush=True)).results

@@ -54,7 +54,7 @@ def _table(run) -> list[dict]:
 
 def _timed(workers: int) -> tuple[object, dict]:
     from auvplan.app.sweep import sweep_scenario
-    from auvplan.parallel import Runner
+    from auvplan.runtime.parallel import Runner
 
     with tempfile.TemporaryDirectory() as cache:
         os.environ["XDG_CACHE_HOME"] = cache  # no checkpoint of another run
@@ -67,7 +67,7 @@ def _timed(workers: int) -> tuple[object, dict]:
 
 def _killed_and_resumed(out: Path, kill_at: int) -> tuple[object, dict]:
     from auvplan.app.sweep import sweep_scenario
-    from auvplan.parallel import Runner
+    from auvplan.runtime.parallel import Runner
 
     cmd = [sys.executable, "-m", "auvplan", "-q", "plan", ARGS[0], "--depart-between", *ARGS[1], "--step", ARGS[2],
            "--workers", "2", "--out", str(out), "--force"]

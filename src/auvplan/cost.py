@@ -28,7 +28,7 @@
     current; only the divisor is the constant V, so still water is finite: ρ V² ds).
 
 The currents at all midpoints come from the field in one vectorised call; everything else is one
-compiled pass (:func:`auvplan._jit.kernel`) over the segments of the population that sums every
+compiled pass (:func:`auvplan.runtime.jit.kernel`) over the segments of the population that sums every
 term per path, so a population of 50 paths × 200 samples costs about a third of a millisecond.
 """
 
@@ -40,10 +40,10 @@ from typing import TypedDict
 
 import numpy as np
 
-from ._jit import jit_enabled, kernel
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
-from .crab import crab_speed, makes_headway
+from .runtime.jit import jit_enabled, kernel
 from .world import UniformCurrent, World
+from .world.crab import crab_speed, makes_headway
 from .world.terrain import (
     TerrainKernelData,
     box_floor_kernel,

@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from auvplan._jit import kernel, source_stamp
+from auvplan.runtime.jit import kernel, source_stamp
 
 CALLEE = """
-from auvplan._jit import kernel
+from auvplan.runtime.jit import kernel
 
 
 @kernel
@@ -22,7 +22,7 @@ def bump(x):
 """
 
 CALLER = """
-from auvplan._jit import kernel
+from auvplan.runtime.jit import kernel
 
 from .callee import bump
 

@@ -1,4 +1,4 @@
-"""The one mapper of independent tasks (auvplan.parallel): same results in this process, on threads and on
+"""The one mapper of independent tasks (auvplan.runtime.parallel): same results in this process, on threads and on
 worker processes; a failed task run again; a crashed job resumed from its checkpoints without recomputing
 what it had finished."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from auvplan.errors import AuvplanError
-from auvplan.parallel import Runner, forget, task_key
+from auvplan.runtime.parallel import Runner, forget, task_key
 
 
 def _draw(seed: int) -> np.ndarray:

@@ -9,7 +9,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from auvplan import _jit
+from auvplan.runtime import jit as _jit
 from auvplan.world.kernels import ellipsoid as ellipsoid_kernels
 from auvplan.world.kernels.ellipsoid import foot_point, foot_point_kernel, foot_point_numpy
 from auvplan.world.obstacles import Ellipsoid

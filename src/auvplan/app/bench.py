@@ -33,7 +33,7 @@ def bench(spec: Any, out: str | Path, force: bool = False, workers: int = 2, sch
     resume : bool
         Complete an interrupted sweep in ``out``.
     retries : int
-        Runs again of a chunk of runs that fails (:class:`auvplan.parallel.Runner`).
+        Runs again of a chunk of runs that fails (:class:`auvplan.runtime.parallel.Runner`).
 
     Returns
     -------

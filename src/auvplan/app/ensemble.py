@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 
 from .._types import Status
-from ..parallel import Runner
 from ..planners.base import PlanResult
+from ..runtime.parallel import Runner
 from ..sim import Mission
 from ..world import CurrentField, World
 
@@ -33,7 +33,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
     seed : int
         The planner's seed.
     runner : Runner, optional
-        Where the robust candidates are planned (:class:`auvplan.parallel.Runner`; this process by default).
+        Where the robust candidates are planned (:class:`auvplan.runtime.parallel.Runner`; this process by default).
 
     Returns
     -------

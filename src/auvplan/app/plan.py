@@ -12,8 +12,8 @@ from . import ReporterFor, silent
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
-    from ..parallel import Runner
     from ..planners import PlanResult
+    from ..runtime.parallel import Runner
     from ..sim import RunRecord
     from ..world import World
 
@@ -41,7 +41,8 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     reporter : callable
         Builds the progress reporter.
     runner : Runner, optional
-        Where the robust plan's candidates are planned (:class:`auvplan.parallel.Runner`; this process by default).
+        Where the robust plan's candidates are planned (:class:`auvplan.runtime.parallel.Runner`; this process
+        by default).
 
     Returns
     -------

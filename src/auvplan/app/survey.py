@@ -15,7 +15,7 @@ from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
 from ..io.safeio import RESULT_NAMES, prepare_out
 from ..io.scenario import loader as scenario_io
-from ..parallel import Runner
+from ..runtime.parallel import Runner
 from ..sim import Mission
 from ..survey.run import SurveyRun, run_survey
 from ..world import World
@@ -44,7 +44,7 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     say : callable
         Receives a line at each stage.
     runner : Runner, optional
-        Where the independent transits are planned (:class:`auvplan.parallel.Runner`; this process by default).
+        Where the independent transits are planned (:class:`auvplan.runtime.parallel.Runner`; this process by default).
 
     Returns
     -------

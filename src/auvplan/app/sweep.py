@@ -15,7 +15,7 @@ import numpy as np
 from .._version import __version__
 from ..errors import AuvplanError
 from ..io.safeio import atomic_write, prepare_out, save_figure
-from ..parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
+from ..runtime.parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
@@ -160,7 +160,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     progress : callable
         Called with (the scenario's name, departures done, departures in all).
     runner : Runner, optional
-        Where the departures run (:class:`auvplan.parallel.Runner`: this process by default, local workers or a
+        Where the departures run (:class:`auvplan.runtime.parallel.Runner`: this process by default, local workers or a
         dask scheduler); each finished departure is checkpointed in ``out/.auvplan-tasks`` (or the user's cache
         folder without ``out``) until the sweep's files are written, so a killed sweep run again plans only the
         departures it had not finished.

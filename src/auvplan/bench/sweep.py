@@ -35,10 +35,10 @@ from ..io.outdir import OutputError, check_inside
 from ..io.safeio import claim
 from ..io.scenario import loader as scenario_io
 from ..io.scenario.specs import Scenario
-from ..parallel import Runner
 from ..planners import PIPELINES, PlanResult, plan, reference, with_reference
 from ..planners.grid.planner import on_cost_function
 from ..planners.registry import known, names
+from ..runtime.parallel import Runner
 from ..sim import RunRecord, mission_route, planning_problem, run_mission, simulate
 from ..world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, Sphere, WaypointMotion, World
 from .members import expand_members, member_columns, member_world, parse_label
@@ -345,13 +345,13 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
 
 
 def _chunk(spec: SweepSpec, task: tuple[str, str, str, tuple[int, ...]]) -> list[Row]:
-    """:func:`run_chunk` as a task of :meth:`auvplan.parallel.Runner.map` (the spec shared)."""
+    """:func:`run_chunk` as a task of :meth:`auvplan.runtime.parallel.Runner.map` (the spec shared)."""
     return run_chunk(task, spec)
 
 
 def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = None, resume: bool = False,
           progress: bool = True, retries: int = 1) -> list[Row]:
-    """Run the sweep on dask.distributed (:class:`auvplan.parallel.Runner`) and return every row (string values,
+    """Run the sweep on dask.distributed (:class:`auvplan.runtime.parallel.Runner`) and return every row (string values,
     sorted by key).
 
     Parameters

@@ -175,7 +175,7 @@ def emit(record: dict[str, Any], as_json: bool, human: str) -> None:
 
 
 def runner_of(args: argparse.Namespace) -> Any:
-    """The :class:`auvplan.parallel.Runner` of ``--workers``, ``--scheduler`` and ``--retries``.
+    """The :class:`auvplan.runtime.parallel.Runner` of ``--workers``, ``--scheduler`` and ``--retries``.
 
     Parameters
     ----------
@@ -187,7 +187,7 @@ def runner_of(args: argparse.Namespace) -> Any:
     Runner
         Where the job's independent tasks run.
     """
-    from ..parallel import Runner
+    from ..runtime.parallel import Runner
 
     return Runner(workers=getattr(args, "workers", None) or 0, scheduler=getattr(args, "scheduler", None),
                   retries=getattr(args, "retries", 1))

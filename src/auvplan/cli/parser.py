@@ -161,7 +161,7 @@ def _shared(s: Any, *keys: str) -> None:
 
 def _cluster(s: Any, workers: int | None) -> None:
     """``--workers N | --scheduler ADDR`` and ``--retries N``: where a job's independent tasks run
-    (:mod:`auvplan.parallel`; ``workers`` None: in this process unless one is given)."""
+    (:mod:`auvplan.runtime.parallel`; ``workers`` None: in this process unless one is given)."""
     g = s.add_mutually_exclusive_group()
     g.add_argument("--workers", type=_POSITIVE, default=workers,
                    help="local dask worker processes (a LocalCluster)"

@@ -27,8 +27,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
-from ..crab import crab_speed, makes_headway
 from ..world import World
+from ..world.crab import crab_speed, makes_headway
 from .power import WH, EnergyModel
 
 __all__ = ["Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]

@@ -24,8 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import RngLike
-from ..parallel import Runner
 from ..planners.base import PlanResult
+from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..world import CurrentField, World
 from ..world.ensemble_fields import MeanCurrent
@@ -113,7 +113,7 @@ class _Shared:
 
 
 def _candidate_task(shared: _Shared, task: tuple[str, CurrentField | None]) -> Candidate:
-    """One candidate as a task of :meth:`auvplan.parallel.Runner.map`."""
+    """One candidate as a task of :meth:`auvplan.runtime.parallel.Runner.map`."""
     return _candidate(shared.world, shared.mission, task[0], task[1], shared.members, shared.seed)
 
 
@@ -142,7 +142,7 @@ def plan_robust(world: World, mission: Mission, members: Sequence[tuple[str, Cur
     seed : Generator, int or None
         Seed of every candidate's planner (the mission's by default).
     runner : Runner, optional
-        Where the candidates are planned and scored (:class:`auvplan.parallel.Runner`; this process by
+        Where the candidates are planned and scored (:class:`auvplan.runtime.parallel.Runner`; this process by
         default): each is one task, seeded by ``seed``, so the choice does not depend on the workers.
 
     Returns

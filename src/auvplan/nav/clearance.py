@@ -26,8 +26,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._jit import kernel
 from .._types import BoolArray, FloatArray
+from ..runtime.jit import kernel
 from ..world import World
 from ..world.terrain import Terrain, elevation_kernel
 

@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._jit import jit_enabled, kernel
 from .._types import ArrayLike, FloatArray, IntArray
 from ..geometry import as_points
+from ..runtime.jit import jit_enabled, kernel
 
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline

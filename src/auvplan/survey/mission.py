@@ -18,10 +18,10 @@ from numpy.typing import NDArray
 
 from .._types import Status
 from ..nav import NavParams
-from ..parallel import Runner
 from ..path.flyable import VehicleLimits
 from ..path.legs import helm_check
 from ..planners.base import PlanResult, Progress
+from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..world import World
 from .frame import Frame
@@ -354,7 +354,7 @@ class _Transit:
 
 
 def _transit(shared: _Transit, leg: tuple[Any, Any, str]) -> tuple[PlanResult, NDArray[np.float64] | None]:
-    """One transit (out or home) as a task of :meth:`auvplan.parallel.Runner.map`."""
+    """One transit (out or home) as a task of :meth:`auvplan.runtime.parallel.Runner.map`."""
     a, b, _ = leg
     m = replace(shared.mission, start=(float(a[0]), float(a[1]), float(a[2])),
                 goal=(float(b[0]), float(b[1]), float(b[2])), route=())
@@ -404,7 +404,7 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
         Progress of the transit planner (in this process).
     runner : Runner, optional
         Where the two transits (out and home, independent plans with the same seed) are planned
-        (:class:`auvplan.parallel.Runner`; this process by default).
+        (:class:`auvplan.runtime.parallel.Runner`; this process by default).
 
     Returns
     -------

@@ -11,8 +11,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..parallel import Runner
 from ..planners.base import Progress
+from ..runtime.parallel import Runner
 from ..sim import Mission, RunRecord, simulate
 from ..world import World
 from .coverage import Coverage, Lawnmower, fan_right, footprints, lawnmower, measure

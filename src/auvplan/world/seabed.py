@@ -37,8 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._jit import kernel
 from .._types import FloatArray
+from ..runtime.jit import kernel
 
 __all__ = ["SeabedFit", "affine_margin", "cell_extremes", "conservative_nodes", "data_at", "fit_report"]
 

@@ -28,10 +28,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._jit import kernel
 from .._types import ArrayLike, FloatArray, IntArray
 from ..errors import DataError
 from ..geometry import as_points
+from ..runtime.jit import kernel
 from .currents import CurrentField
 
 __all__ = ["HarmonicTables", "TidalCurrent", "predict_speed", "unix_time"]

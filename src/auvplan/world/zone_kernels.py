@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
-from .._jit import kernel
 from .._types import BoolArray, FloatArray, IntArray
+from ..runtime.jit import kernel
 
 __all__ = ["candidates_kernel"]  # the others are the internals of auvplan.world.zones
 

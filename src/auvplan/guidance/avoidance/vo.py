@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..._jit import kernel
+from ...runtime.jit import kernel
 from ...world.terrain import elevation_kernel
 
 __all__ = ["CFG", "closest_approach", "predicted_preference", "predicted_preference_windows", "vo_choose",

@@ -36,8 +36,8 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import brentq
 
-from ..._jit import kernel
 from ..._types import ArrayLike, BoolArray, FloatArray
+from ...runtime.jit import kernel
 
 __all__ = ["AxialBody", "frame"]
 

@@ -24,8 +24,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ..._jit import kernel
 from ..._types import ArrayLike, BoolArray, FloatArray
+from ...runtime.jit import kernel
 from ...world import Ellipsoid
 
 __all__ = ["carlson_rd", "ellipsoid_coefficients", "ellipsoid_disturbance", "EllipsoidBody", "design_ellipsoid_body"]

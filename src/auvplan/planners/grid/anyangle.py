@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..._jit import kernel
 from ..._types import FloatArray
 from ...cost import energy_kernel
+from ...runtime.jit import kernel
 
 __all__ = ["link_guess", "link_exact"]
 

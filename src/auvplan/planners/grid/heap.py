@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..._jit import kernel
 from ..._types import FloatArray
+from ...runtime.jit import kernel
 
 __all__ = ["push", "pop"]
 

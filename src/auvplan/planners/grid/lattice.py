@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..._jit import kernel
 from ..._types import ArrayLike, FloatArray, IntArray
 from ...cost import energy_kernel
+from ...runtime.jit import kernel
 from ...world import World
 from .anyangle import link_exact, link_guess
 from .heap import pop as _pop

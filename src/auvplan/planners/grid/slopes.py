@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from ..._jit import kernel
 from ..._types import FloatArray
+from ...runtime.jit import kernel
 from ...world import Terrain
 
 __all__ = ["column_slopes"]

@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import math
 
-from ..._jit import kernel
 from ..._types import BoolArray, FloatArray
+from ...runtime.jit import kernel
 from .kernels import Float32Array
 
 __all__ = ["CAP", "bilinear", "cubic", "current2", "mid_current", "best_heading", "front_step", "shoot"]

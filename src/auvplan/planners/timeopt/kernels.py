@@ -33,9 +33,9 @@ from typing import TypeAlias
 import numpy as np
 import numpy.typing as npt
 
-from ..._jit import kernel
 from ..._types import FloatArray
-from ...crab import HOLD, crab_speed
+from ...runtime.jit import kernel
+from ...world.crab import HOLD, crab_speed
 
 __all__ = ["HOLD", "current_at", "track_speed", "leg_time", "leg_reach", "polyline_times",
            "Float32Array"]

@@ -36,8 +36,8 @@ import math
 import numpy as np
 from scipy.ndimage import maximum_filter
 
-from ..._jit import kernel
 from ..._types import BoolArray, FloatArray, IntArray
+from ...runtime.jit import kernel
 from .kernels import Float32Array, leg_reach, leg_time
 from .tail import tail_leg
 

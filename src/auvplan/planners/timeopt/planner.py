@@ -366,7 +366,7 @@ def departure_row(problem: PlanningProblem, spec: PlannerSpec, ts: TimeSetup,
                   depart: float) -> tuple[SweepRow, tuple[FloatArray, float, BoolArray | None] | None]:
     """One departure of a sweep: its timed plan, and the straight line and steady-current plan flown beside it.
 
-    Depends only on its arguments (one departure is one task of a parallel sweep, :mod:`auvplan.parallel`).
+    Depends only on its arguments (one departure is one task of a parallel sweep, :mod:`auvplan.runtime.parallel`).
 
     Parameters
     ----------

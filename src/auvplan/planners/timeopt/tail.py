@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import math
 
-from ..._jit import kernel
 from ..._types import FloatArray
-from ...crab import HOLD, crab_speed
+from ...runtime.jit import kernel
+from ...world.crab import HOLD, crab_speed
 from .kernels import Float32Array, current_at
 
 __all__ = ["tail_speed", "tail_leg"]

@@ -23,8 +23,8 @@ import math
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
-from ...crab import crab_speed
 from ...world import CurrentField
+from ...world.crab import crab_speed
 
 __all__ = ["track_speed", "fly_times"]
 

@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from ..._jit import jit_enabled, kernel
 from ..._types import FloatArray
+from ...runtime.jit import jit_enabled, kernel
 
 __all__ = ["foot_point", "foot_point_kernel", "foot_point_numpy"]
 

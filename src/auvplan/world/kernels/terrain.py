@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import math
 
-from ..._jit import kernel
 from ..._types import FloatArray
+from ...runtime.jit import kernel
 
 __all__ = ["elevation_kernel", "min_altitude_kernel", "lipschitz_bound_kernel", "box_floor_kernel",
            "walk_min_kernel"]

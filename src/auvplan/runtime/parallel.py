@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Generic, TypeVar
 
-from .errors import AuvplanError, require
+from ..errors import AuvplanError, require
 
 __all__ = ["Runner", "MapResult", "task_key", "cache_folder", "forget", "CHECKPOINTS"]
 
