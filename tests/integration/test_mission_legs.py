@@ -25,26 +25,7 @@ from auvplan.planners import plan as plan_global
 from auvplan.sim.band import altitude_band_metrics
 from auvplan.sim.pipeline import fitted_route, planned_route, planning_problem, run_mission
 from auvplan.sim.result import RunRecord
-
-RIDGE = """
-name = "ridge"
-seed = 1
-[bounds]
-x = [0.0, 2000.0]
-y = [0.0, 400.0]
-z = [-120.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 100.0
-cell_m = 5.0
-ridge_x = 1000.0
-ridge_width = 60.0
-height = 40.0
-[mission]
-start = [100.0, 200.0, -80.0]
-goal = [1900.0, 200.0, -80.0]
-min_altitude_m = 10.0
-"""
+from helpers import RIDGE, build_toml
 
 
 def test_helm_check_judges_each_leg_as_given_where_the_plan_check_merges() -> None:
@@ -70,7 +51,7 @@ def test_helm_check_judges_each_leg_as_given_where_the_plan_check_merges() -> No
 
 
 def test_merge_short_legs_drops_near_duplicates_but_not_corners_or_unsafe_ends() -> None:
-    world, _ = scenario_io.build(scenario_io.loads(RIDGE, "t.toml"))
+    world, _ = build_toml(RIDGE)
     w = np.array([[100.0, 200.0, -80.0], [400.0, 200.0, -80.0], [400.0, 200.0, -80.0], [400.02, 200.0, -80.0],
                   [700.0, 250.0, -80.0], [700.5, 250.0, -80.0], [1900.0, 200.0, -80.0]])
     keep = merge_short_legs(world, w, 1.0, fixed=[1, 4], max_pitch_deg=20.0)

@@ -9,7 +9,6 @@ import math
 import numpy as np
 import pytest
 
-from auvplan.io.scenario import loader as scenario_io
 from auvplan.path.flyable import (
     PITCH_SLACK_DEG,
     VehicleLimits,
@@ -20,6 +19,7 @@ from auvplan.path.flyable import (
     merge_close,
 )
 from auvplan.planners.vehicle_limits import repair_pitch, vertex_floors
+from helpers import RIDGE, build_toml
 
 # legs: 0 climbs 20 m down over 100 m (11.31°), 1 level, 2 level after a 90° turn, 3 after another 90° turn
 # dives 470 m over 100 m (77.99°) to 500 m; fly-by radii: leg 1 100 / (0 + tan 45°) = 100, leg 2
@@ -89,24 +89,6 @@ def test_merge_close_keeps_the_ends_and_drops_only_what_is_closer_than_tol() -> 
     # replaces the last kept vertex, not another
 
 
-RIDGE = """
-name = "ridge"
-[bounds]
-x = [0.0, 2000.0]
-y = [0.0, 400.0]
-z = [-120.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 100.0
-cell_m = 5.0
-ridge_x = 1000.0
-ridge_width = 60.0
-height = 40.0
-[mission]
-start = [100.0, 200.0, -80.0]
-goal = [1900.0, 200.0, -80.0]
-min_altitude_m = 10.0
-"""
 
 
 def _highest(world, a, b) -> float:  # type: ignore[no-untyped-def]
@@ -117,7 +99,7 @@ def _highest(world, a, b) -> float:  # type: ignore[no-untyped-def]
 
 
 def test_vertex_floors_are_each_vertex_highest_adjacent_leg_floor() -> None:
-    world, _ = scenario_io.build(scenario_io.loads(RIDGE, "t.toml"))
+    world, _ = build_toml(RIDGE)
     path = np.array([[100.0, 200.0, -80.0], [500.0, 200.0, -80.0], [1900.0, 200.0, -80.0]])
     legs = [_highest(world, path[k], path[k + 1]) + 10.0 for k in range(2)]  # dense samples, min altitude 10 m
     assert legs[0] == pytest.approx(-90.0, abs=1e-3) and legs[1] > -60.0
@@ -130,7 +112,7 @@ def test_repair_pitch_is_the_lowest_profile_within_the_limit() -> None:
     """Across the 40 m ridge at -80 m with a 12° limit: the repaired profile keeps the ends and the track, never
     passes under a vertex's floor + 0.05 m, and its steepest leg is exactly the limit less the slack (the lowest
     such profile: any slower climb would start earlier than needed)."""
-    world, _ = scenario_io.build(scenario_io.loads(RIDGE, "t.toml"))
+    world, _ = build_toml(RIDGE)
     x = np.linspace(100.0, 1900.0, 91)
     path = np.column_stack([x, np.full_like(x, 200.0), np.full_like(x, -80.0)])
     fixed = repair_pitch(world, path, 12.0)
@@ -161,7 +143,7 @@ def test_enforce_limits_repairs_only_what_it_can_and_says_why_not() -> None:
     from auvplan.planners.vehicle_limits import enforce_limits
     from auvplan.sim.pipeline import planning_problem
 
-    world, mission = scenario_io.build(scenario_io.loads(RIDGE, "t.toml"))
+    world, mission = build_toml(RIDGE)
     problem = planning_problem(world, mission)
     assert problem.limits is not None and problem.limits.max_pitch_deg == 20.0
     rise = 100.0 * math.tan(math.radians(30.0))

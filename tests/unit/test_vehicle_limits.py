@@ -34,32 +34,9 @@ from auvplan.planners import plan
 from auvplan.planners.base import PlanResult
 from auvplan.planners.vehicle_limits import enforce_limits
 from auvplan.sim.pipeline import mission_route, planned_route, planning_problem
+from helpers import RIDGE_ROUTE, build_toml, ridge_toml
 
-RIDGE = """
-name = "ridge"
-seed = 1
-[bounds]
-x = [0.0, 2000.0]
-y = [0.0, 400.0]
-z = [-120.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 100.0
-cell_m = 5.0
-ridge_x = 1000.0
-ridge_width = 60.0
-height = 40.0
-[mission]
-start = [100.0, 200.0, -80.0]
-goal = [1900.0, 200.0, -80.0]
-route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]
-min_altitude_m = 10.0
-follow_altitude_m = 20.0
-"""
-
-
-def _build(text: str) -> tuple:  # type: ignore[type-arg]
-    return scenario_io.build(scenario_io.loads(text, "t.toml"))
+RIDGE = ridge_toml(route=True, follow_altitude_m=20.0)
 
 
 # ---------------------------------------------------------------------- geometry against independent computations
@@ -129,7 +106,7 @@ def test_pitch_profile_keeps_limit_floor_and_ends() -> None:
 
 # ---------------------------------------------------------------------- the mission builder
 def test_ridge_steeper_than_the_pitch_limit_is_climbed_early() -> None:
-    world, mission = _build(RIDGE)
+    world, mission = build_toml(RIDGE)
     assert mission.vehicle.max_pitch_deg == 20.0  # the REMUS-class default
     planned, route = planned_route(world, mission, 1)
     assert planned is None and route is not None
@@ -153,19 +130,17 @@ def test_ridge_steeper_than_the_pitch_limit_is_climbed_early() -> None:
     assert [(v.leg, v.limit) for v in report.violations] == [(1, "max_pitch_deg"), (2, "max_pitch_deg")]
 
 
-ZIGZAG = RIDGE.replace('follow_altitude_m = 20.0', '').replace(
-    'route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]',
-    'route = [[100.0, 200.0, -80.0], [106.0, 204.0, -80.0], [112.0, 200.0, -80.0], [118.0, 204.0, -80.0], '
-    '[1900.0, 200.0, -80.0]]')
+ZIGZAG = ridge_toml() + ('route = [[100.0, 200.0, -80.0], [106.0, 204.0, -80.0], [112.0, 200.0, -80.0], '
+                         '[118.0, 204.0, -80.0], [1900.0, 200.0, -80.0]]\n')
 
 
 def test_zigzag_tighter_than_the_turn_radius_is_infeasible() -> None:
-    world, mission = _build(ZIGZAG)
+    world, mission = build_toml(ZIGZAG)
     planned, route = planned_route(world, mission, 1)
     assert route is None and planned is not None and planned.status is Status.INFEASIBLE
     assert "leg 1: its turns fit a radius of 5.4 m only < turn_radius_m = 10" in planned.message
     # (7.2 m legs, 67° turns: 2 x 10 tan(33.7°) = 13.3 m needed); at a 3 m turn radius 4 m fit
-    world, mission = _build(ZIGZAG.replace("[mission]", "[vehicle]\nturn_radius_m = 3.0\n[mission]"))
+    world, mission = build_toml(ZIGZAG.replace("[mission]", "[vehicle]\nturn_radius_m = 3.0\n[mission]"))
     planned, route = planned_route(world, mission, 1)
     assert planned is None and route is not None and len(route) == 5
 
@@ -173,10 +148,10 @@ def test_zigzag_tighter_than_the_turn_radius_is_infeasible() -> None:
 def test_fitted_turns_keep_their_tangent_lengths() -> None:
     # terrain following along a route that turns 90° on the ridge's crest: the profile changes
     # there, yet no waypoint lies inside the turn region (R tan 45° = 10 m from the corner)
-    text = RIDGE.replace('route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]',
+    text = RIDGE.replace(RIDGE_ROUTE,
                          'route = [[100.0, 200.0, -80.0], [1000.0, 200.0, -40.0], [1000.0, 380.0, -40.0]]').replace(
         "goal = [1900.0, 200.0, -80.0]", "goal = [1000.0, 380.0, -40.0]")
-    world, mission = _build(text)
+    world, mission = build_toml(text)
     _, route = planned_route(world, mission, 1)
     assert route is not None
     corner = np.flatnonzero((route[:, 0] == 1000.0) & (route[:, 1] == 200.0))
@@ -209,12 +184,12 @@ def test_every_planner_result_is_held_to_the_limits() -> None:
 def test_depth_rating_bounds_the_mission() -> None:
     text = RIDGE.replace("[mission]", "[vehicle]\nmax_depth_m = 50.0\n[mission]")
     with pytest.raises(ScenarioError, match="deeper than max_depth 50"):
-        _build(text)
+        build_toml(text)
 
 
 def test_mission_check_flags_a_steep_leg_and_a_tight_turn(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     scen = tmp_path / "ridge.toml"
-    scen.write_text(RIDGE.replace("follow_altitude_m = 20.0", ""))
+    scen.write_text(ridge_toml(route=True))
     f = tmp_path / "mission.csv"
     f.write_text("x,y,z\n100,200,-80\n500,200,-80\n520,200,-60\n800,200,-60\n803,203,-60\n1900,203,-60\n")
     assert cli.main(["mission", "check", str(f), "--scenario", str(scen), "--json"]) == 1
@@ -232,7 +207,7 @@ def test_mission_check_flags_a_steep_leg_and_a_tight_turn(tmp_path: Path, capsys
 def test_plan_result_message_names_leg_and_limit() -> None:
     r = PlanResult(Status.EXACT, np.array([[0, 0, -50], [10, 0, -50], [10, 3, -50]], float), 1.0, {}, 1, 1, 0.0,
                    np.empty(0), "grid")
-    world, mission = _build(RIDGE)
+    world, mission = build_toml(RIDGE)
     out = enforce_limits(planning_problem(world, mission), mission.planner, r)
     assert out.status is Status.INFEASIBLE
     assert out.message.endswith("leg 1: its turns fit a radius of 3.0 m only < turn_radius_m = 10")
@@ -264,11 +239,11 @@ def test_terrain_following_holds_the_altitude_over_the_turn_arc() -> None:
     """A 90° turn on the ridge's flank: the fly-by arc cuts the corner towards the crest, over
     seabed higher than under either leg; the altitude is held over the arc (flyby_arcs), not
     only over the polyline."""
-    text = RIDGE.replace('route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]',
+    text = RIDGE.replace(RIDGE_ROUTE,
                          'route = [[1015.0, 20.0, -50.0], [1015.0, 300.0, -50.0], [100.0, 300.0, -80.0]]').replace(
         "start = [100.0, 200.0, -80.0]", "start = [1015.0, 20.0, -50.0]").replace(
         "goal = [1900.0, 200.0, -80.0]", "goal = [100.0, 300.0, -80.0]")
-    world, mission = _build(text)
+    world, mission = build_toml(text)
     _, route = planned_route(world, mission, 1)
     assert route is not None
     k = int(np.flatnonzero((route[:, 0] == 1015.0) & (route[:, 1] == 300.0))[0])
@@ -292,13 +267,13 @@ def test_planned_mission_drops_corners_whose_turns_do_not_fit() -> None:
     """A planned path with a 4 m jog (two 53° turns on 5 m legs: 10 m needs 2 x 5 m): the mission
     builder drops the jog where the straight leg is free; with an obstacle on the straight it drops
     other corners, keeping every leg's envelope free."""
-    world, mission = _build(RIDGE.replace("follow_altitude_m = 20.0", ""))
+    world, mission = build_toml(ridge_toml(route=True))
     path = np.array([[100, 200, -80], [500, 200, -80], [503, 204, -80], [506, 200, -80], [800, 200, -80]], float)
     assert not check_limits(path, VehicleLimits(20.0, 10.0)).ok
     route = mission_route(world, mission, path)
     assert check_limits(route, VehicleLimits(20.0, 10.0)).ok
     assert np.all(route[:, 1] == 200.0)  # the jog is gone
-    blocked = _build(RIDGE.replace("follow_altitude_m = 20.0", "") + """
+    blocked = build_toml(ridge_toml(route=True) + """
 [[obstacles]]
 center = [503.0, 199.0, -80.0]
 radius = 1.5
