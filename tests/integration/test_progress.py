@@ -3,12 +3,9 @@ an ETA on stderr, and nothing under --json."""
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 from test_timeopt import CASES, GOAL, SPEC, START, V, uniform_world
 
-from auvplan.cli import main
 from auvplan.planners import PlanningProblem
 from auvplan.planners.timeopt.planner import departure_sweep
 
@@ -21,13 +18,10 @@ def test_departure_sweep_calls_progress_after_every_departure():
     assert calls == [(1, 3), (2, 3), (3, 3)] and len(rows) == 3
 
 
-def test_cli_sweep_shows_departures_done_and_eta_and_is_quiet_under_json(capsys):
-    args = ["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+6h", "--step", "6h"]
-    assert main(args) == 0
-    captured = capsys.readouterr()
-    assert "departures of juan-de-fuca-tides" in captured.err and "2/2" in captured.err
-    assert "<" in captured.err.split("2/2", 1)[1]  # tqdm's elapsed<remaining: the ETA
-    assert "best departure" in captured.out
-    assert main([*args, "--json"]) == 0
-    captured = capsys.readouterr()
-    assert "departures of" not in captured.err and json.loads(captured.out)["summary"]["feasible_departures"] == 2
+def test_cli_sweep_shows_departures_done_and_eta_and_is_quiet_under_json(jdf_sweeps):
+    out, err = jdf_sweeps["text"]
+    assert "departures of juan-de-fuca-tides" in err and "2/2" in err
+    assert "<" in err.split("2/2", 1)[1]  # tqdm's elapsed<remaining: the ETA
+    assert "best departure" in out
+    doc, err, _ = jdf_sweeps["json"]
+    assert "departures of" not in err and doc["summary"]["feasible_departures"] == 2
