@@ -24,25 +24,26 @@ def stable(rows):
 
 
 @pytest.fixture(scope="module")
-def one_worker(tmp_path_factory):
-    return sweep(SPEC, tmp_path_factory.mktemp("w1"), workers=1, progress=False)
+def in_process(tmp_path_factory):
+    """The sweep run in this process (``workers=0``: no dask), the rows the dask runs must give."""
+    return sweep(SPEC, tmp_path_factory.mktemp("w0"), workers=0, progress=False)
 
 
-def test_two_workers_give_the_same_rows_as_one(one_worker, tmp_path):
+def test_two_workers_give_the_same_rows_as_this_process(in_process, tmp_path):
     two = sweep(SPEC, tmp_path, workers=2, progress=False)
-    assert len(one_worker) == 2 * 2 * 3
-    assert stable(two) == stable(one_worker)
+    assert len(in_process) == 2 * 2 * 3
+    assert stable(two) == stable(in_process)
     assert len({tuple(r[k] for k in KEY) for r in two}) == len(two)
     assert {r["status"] for r in two if r["guidance"] == "hybrid"} == {"EXACT"}  # LOS ignores obstacles
 
 
-def test_an_existing_sweep_is_not_overwritten(one_worker, tmp_path):
-    sweep(SweepSpec(scenarios=("track-single",), seeds=1), tmp_path, workers=1, progress=False)
+def test_an_existing_sweep_is_not_overwritten(in_process, tmp_path):
+    sweep(SweepSpec(scenarios=("track-single",), seeds=1), tmp_path, workers=0, progress=False)
     with pytest.raises(AuvplanError, match="--resume"):
-        sweep(SweepSpec(scenarios=("track-single",), seeds=1), tmp_path, workers=1, progress=False)
+        sweep(SweepSpec(scenarios=("track-single",), seeds=1), tmp_path, workers=0, progress=False)
 
 
-def test_killed_sweep_resumes_without_duplicates(one_worker, tmp_path):
+def test_killed_sweep_resumes_without_duplicates(in_process, tmp_path):
     out = tmp_path / "killed"
     args = [sys.executable, "-m", "auvplan.cli", "bench", "--scenarios", "track-single", "track-double",
             "--guidance", "hybrid", "los", "--seeds", "3", "--chunk", "1", "--workers", "1", "--out", str(out)]
@@ -54,23 +55,23 @@ def test_killed_sweep_resumes_without_duplicates(one_worker, tmp_path):
     proc.wait()
     partial = read_rows(out / "rows.csv")
     assert 3 <= len(partial) < 12  # killed midway, finished rows kept
-    rows = sweep(SPEC, out, workers=1, resume=True, progress=False)
-    assert stable(rows) == stable(one_worker)
+    rows = sweep(SPEC, out, workers=0, resume=True, progress=False)
+    assert stable(rows) == stable(in_process)
     with open(out / "rows.csv") as fh:
         assert sum(1 for _ in fh) == 1 + 12  # header + each run once
     keys = [tuple(h["key"]) for h in read_histories(out / "histories.jsonl")]
     assert sorted(keys) == sorted(tuple(r[k] for k in KEY) for r in rows)  # one history per row, no duplicate
 
 
-def test_summary_matches_the_rows(one_worker):
-    table = summarise(one_worker)
+def test_summary_matches_the_rows(in_process):
+    table = summarise(in_process)
     assert [(t["scenario"], t["guidance"], t["runs"]) for t in table] == [
         ("track-double", "hybrid", 3), ("track-double", "los", 3), ("track-single", "hybrid", 3),
         ("track-single", "los", 3)]
     for t in table:
-        rs = [r for r in one_worker if (r["scenario"], r["guidance"]) == (t["scenario"], t["guidance"])]
+        rs = [r for r in in_process if (r["scenario"], r["guidance"]) == (t["scenario"], t["guidance"])]
         assert t["success_rate"] == np.mean([r["status"] == "EXACT" for r in rs])
-    cpu = [float(r["cpu_s"]) for r in one_worker if r["scenario"] == "track-double" and r["guidance"] == "los"]
+    cpu = [float(r["cpu_s"]) for r in in_process if r["scenario"] == "track-double" and r["guidance"] == "los"]
     assert table[1]["cpu_s_median"] == pytest.approx(np.median(cpu))
 
 
@@ -87,17 +88,18 @@ def test_bad_sweep_names_are_errors():
 
 def test_planner_labels_pick_the_pipeline(tmp_path):
     """``iabc/progressive`` and ``iabc/document`` run those pipelines: the rows' costs are the plans'
-    of ``plan`` with the same spec and seed (an independent call), and differ from each other."""
+    of ``plan`` with the same spec and seed (an independent call), and differ from each other.  On showcase (a
+    7 km flight, its planner iabc: 2 rows in ~3 s in this process; marcus-wake-deep's 140 km flights took ~40 s)."""
     from dataclasses import replace
 
     from auvplan.io.scenario import loader as scenario_io
     from auvplan.planners import plan
     from auvplan.sim import planning_problem
 
-    spec = SweepSpec(scenarios=("marcus-wake-deep",), planners=("iabc/progressive", "iabc/document"),
+    spec = SweepSpec(scenarios=("showcase",), planners=("iabc/progressive", "iabc/document"),
                      guidance=("hybrid",), seeds=1, budget=600)
-    rows = {r["planner"]: r for r in sweep(spec, tmp_path, workers=1, progress=False)}
-    world, mission = scenario_io.build(scenario_io.load("marcus-wake-deep"))
+    rows = {r["planner"]: r for r in sweep(spec, tmp_path, workers=0, progress=False)}
+    world, mission = scenario_io.build(scenario_io.load("showcase"))
     for label in ("iabc/progressive", "iabc/document"):
         pspec = replace(mission.planner, budget=600, pipeline=label.split("/")[1])
         r = plan(planning_problem(world, mission), pspec, rng=0)
