@@ -26,7 +26,7 @@ from auvplan.io.scenario import build as build_io
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.io.scenario.validate import _TOP_KEYS
 from auvplan.planners import plan
-from auvplan.sim import planning_problem, run_mission
+from auvplan.sim import pipeline, planning_problem, run_mission
 from auvplan.world import World
 from scenario_mutations import BUILTINS, documents
 
@@ -96,14 +96,33 @@ def test_mutated_documents_give_a_world_or_a_named_error(case):
 
 
 def _plan_and_fly(doc) -> None:
-    """What ``plan`` and ``run`` do after ``validate``'s checks, on a small budget and a short flight."""
+    """What ``plan`` and ``run`` do after ``validate``'s checks, on a small budget and a short flight.  A mission
+    that plans is planned once: ``run_mission`` makes the very call ``plan`` makes (same problem, spec and seed),
+    whose result is checked as it comes out; a fixed route is flown unplanned, so ``plan`` is called for it."""
     sc = scenario_io.from_dict(doc, SOURCE, BASE)
     world, mission = scenario_io.build(sc)
     spec = replace(mission.planner, budget=min(mission.planner.budget or 10**9, 300), iterations=3)
     mission = replace(mission, planner=spec, sim=replace(mission.sim, max_time=20.0))
-    result = plan(planning_problem(world, mission), spec, mission.seed)
+    if mission.route:
+        result = plan(planning_problem(world, mission), spec, mission.seed)
+        assert np.isfinite(result.path).all()
+        run_mission(world, mission, mission.seed)
+        return
+    plans, original = [], pipeline.global_plan
+
+    def planned(problem, pspec, seed, progress=None):  # the pipeline's plan(planning_problem(...), spec, seed)
+        result = original(problem, pspec, seed, progress)
+        plans.append((problem, pspec, seed, result))
+        return result
+
+    pipeline.global_plan = planned
+    try:
+        run_mission(world, mission, mission.seed)
+    finally:
+        pipeline.global_plan = original
+    problem, pspec, seed, result = plans[0]  # the first: the global plan, before any contract round
+    assert pspec == spec and seed == mission.seed and np.array_equal(problem.start, mission.start)
     assert np.isfinite(result.path).all()
-    run_mission(world, mission, mission.seed)
 
 
 @pytest.mark.parametrize("name", sorted(BUILTINS))
