@@ -176,68 +176,20 @@ def _chromium() -> str | None:
     return shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def test_report_in_a_headless_browser(run_dir, world_mission, tmp_path):
-    """Chromium opens the report offline: no console error, the 3D plot and the metrics table
-    render, and the time slider moves the vehicle."""
-    browser = _chromium()
-    if browser is None:
+@pytest.fixture(scope="module")
+def browser():
+    """Headless Chromium, launched once for the module's pages (each test opens its own page)."""
+    path = _chromium()
+    if path is None:
         if os.environ.get("CI"):
             pytest.fail("Chromium is not installed on CI (tools/install-chromium.sh should have installed it)")
         pytest.skip("Chromium is not installed (Debian package 'chromium'; tools/install-chromium.sh)")
     sync_api = pytest.importorskip("playwright.sync_api")
     with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=browser,
+        b = p.chromium.launch(executable_path=path,
                               args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"])
-        page = b.new_page(viewport={"width": 1300, "height": 900})
-        errors, requests = [], []
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.on("request", lambda r: requests.append(r.url) if not r.url.startswith(("file:", "data:", "blob:"))
-                else None)
-        page.goto((run_dir / "report.html").as_uri())
-        page.wait_for_selector("#view3d canvas", state="attached", timeout=30_000)
-        page.wait_for_timeout(1500)
-        assert page.evaluate("() => document.getElementById('view3d').layout.scene !== undefined")
-        assert page.locator("#metrics tr").count() >= 10
-        vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
-        x0 = page.evaluate(vehicle)
-        look = page.evaluate("""() => {
-            const v = document.getElementById('view3d'), m = document.getElementById('planview');
-            const seabed = v.data.find(t => t.name === 'seabed'), chart = m.data.find(t => t.name === 'seabed');
-            const meshes = v._fullData.filter(t => t.type === 'mesh3d' && t.x.length).map(t => {
-                const n = t.x.length, c = [t.x, t.y, t.z].map(a => (Math.max(...a) + Math.min(...a)) / 2);
-                let r = 0;
-                for (let i = 0; i < n; i++) r = Math.max(r, Math.hypot(t.x[i] - c[0], t.y[i] - c[1], t.z[i] - c[2]));
-                return {name: t.name, radius: r, stated: t.meta.radius};
-            });
-            return {seabed: JSON.stringify([seabed.colorscale, seabed.cmin, seabed.cmax]),
-                    chart: JSON.stringify([chart.colorscale, chart.zmin, chart.zmax]),
-                    zrange: v.layout.scene.zaxis.range, meshes: meshes,
-                    labels: v.layout.sliders[0].steps.map(s => s.label),
-                    graticule: m.layout.annotations.map(a => a.text)};
-        }""")
-        rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
-        page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
-        page.wait_for_timeout(1500)
-        x1 = page.evaluate(vehicle)
-        page.screenshot(path=str(tmp_path / "report.png"))
+        yield b
         b.close()
-    assert errors == [] and requests == []
-    world, _ = world_mission
-    # One colour scale for the seabed: the 3D surface and the chart share its definition and range.
-    assert look["seabed"] == look["chart"]
-    b = world.bounds
-    assert b.zmin <= look["zrange"][0] < look["zrange"][1] <= b.zmax
-    radii = {o.name: o.shape.bounding_radius for o in world.moving}
-    drawn = {m["name"]: m for m in look["meshes"] if m["name"] in radii}
-    assert set(drawn) == set(radii)
-    for name, m in drawn.items():
-        assert m["stated"] == pytest.approx(radii[name]) and m["radius"] == pytest.approx(radii[name], rel=1e-3)
-    assert len(look["labels"]) > 10 and all(re.fullmatch(r"\d+:\d\d:\d\d", s) for s in look["labels"])
-    assert any(t.endswith("°E") for t in look["graticule"]) and any(t.endswith("°N") for t in look["graticule"])
-    record, _ = records.read_run(run_dir)
-    assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
-    assert (tmp_path / "report.png").stat().st_size > 50_000
 
 
 _CHART_JS = """() => {
@@ -259,26 +211,87 @@ _CHART_JS = """() => {
             coast: drawn.length, labels: boxes.map(b => b[4]), overlaps: overlaps};
 }"""
 
+_LOOK_JS = """() => {
+    const v = document.getElementById('view3d'), m = document.getElementById('planview');
+    const seabed = v.data.find(t => t.name === 'seabed'), chart = m.data.find(t => t.name === 'seabed');
+    const meshes = v._fullData.filter(t => t.type === 'mesh3d' && t.x.length).map(t => {
+        const n = t.x.length, c = [t.x, t.y, t.z].map(a => (Math.max(...a) + Math.min(...a)) / 2);
+        let r = 0;
+        for (let i = 0; i < n; i++) r = Math.max(r, Math.hypot(t.x[i] - c[0], t.y[i] - c[1], t.z[i] - c[2]));
+        return {name: t.name, radius: r, stated: t.meta.radius};
+    });
+    return {seabed: JSON.stringify([seabed.colorscale, seabed.cmin, seabed.cmax]),
+            chart: JSON.stringify([chart.colorscale, chart.zmin, chart.zmax]),
+            zrange: v.layout.scene.zaxis.range, meshes: meshes,
+            labels: v.layout.sliders[0].steps.map(s => s.label),
+            graticule: m.layout.annotations.map(a => a.text)};
+}"""
 
-def _chart_in_browser(html_path: Path) -> dict:
-    browser = _chromium()
-    if browser is None:
-        if os.environ.get("CI"):
-            pytest.fail("Chromium is not installed on CI (tools/install-chromium.sh should have installed it)")
-        pytest.skip("Chromium is not installed (Debian package 'chromium'; tools/install-chromium.sh)")
-    sync_api = pytest.importorskip("playwright.sync_api")
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=browser,
-                              args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"])
-        page = b.new_page(viewport={"width": 1300, "height": 900})
-        page.goto(html_path.as_uri())
-        page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
-        look = page.evaluate(_CHART_JS)
-        b.close()
+
+@pytest.fixture(scope="module")
+def report_in_browser(run_dir, browser, tmp_path_factory):
+    """The run's report opened once, offline, in Chromium: console errors and outside requests, the 3D plot's
+    and the chart's state (``_LOOK_JS``), the chart's labels (``_CHART_JS``, before any click), the vehicle's x
+    before and after a click on the time slider, and a screenshot."""
+    page = browser.new_page(viewport={"width": 1300, "height": 900})
+    errors, requests = [], []
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: requests.append(r.url) if not r.url.startswith(("file:", "data:", "blob:"))
+            else None)
+    page.goto((run_dir / "report.html").as_uri())
+    page.wait_for_selector("#view3d canvas", state="attached", timeout=30_000)
+    page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
+    page.wait_for_timeout(1500)
+    got = {"scene": page.evaluate("() => document.getElementById('view3d').layout.scene !== undefined"),
+           "metrics_rows": page.locator("#metrics tr").count(), "chart": page.evaluate(_CHART_JS)}
+    vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
+    got["x0"] = page.evaluate(vehicle)
+    got["look"] = page.evaluate(_LOOK_JS)
+    rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
+    page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
+    page.wait_for_timeout(1500)
+    got["x1"] = page.evaluate(vehicle)
+    got["screenshot"] = tmp_path_factory.mktemp("browser") / "report.png"
+    page.screenshot(path=str(got["screenshot"]))
+    page.close()
+    return {**got, "errors": errors, "requests": requests}
+
+
+def test_report_in_a_headless_browser(report_in_browser, run_dir, world_mission):
+    """Chromium opens the report offline: no console error, the 3D plot and the metrics table
+    render, and the time slider moves the vehicle."""
+    got, look = report_in_browser, report_in_browser["look"]
+    assert got["scene"] and got["metrics_rows"] >= 10
+    assert got["errors"] == [] and got["requests"] == []
+    world, _ = world_mission
+    # One colour scale for the seabed: the 3D surface and the chart share its definition and range.
+    assert look["seabed"] == look["chart"]
+    b = world.bounds
+    assert b.zmin <= look["zrange"][0] < look["zrange"][1] <= b.zmax
+    radii = {o.name: o.shape.bounding_radius for o in world.moving}
+    drawn = {m["name"]: m for m in look["meshes"] if m["name"] in radii}
+    assert set(drawn) == set(radii)
+    for name, m in drawn.items():
+        assert m["stated"] == pytest.approx(radii[name]) and m["radius"] == pytest.approx(radii[name], rel=1e-3)
+    assert len(look["labels"]) > 10 and all(re.fullmatch(r"\d+:\d\d:\d\d", s) for s in look["labels"])
+    assert any(t.endswith("°E") for t in look["graticule"]) and any(t.endswith("°N") for t in look["graticule"])
+    record, _ = records.read_run(run_dir)
+    x0, x1 = got["x0"], got["x1"]
+    assert x1 != x0 and record.sim.position[:, 0].min() <= x1 <= record.sim.position[:, 0].max()
+    assert got["screenshot"].stat().st_size > 50_000
+
+
+def _chart_in_browser(browser, html_path: Path) -> dict:
+    page = browser.new_page(viewport={"width": 1300, "height": 900})
+    page.goto(html_path.as_uri())
+    page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
+    look = page.evaluate(_CHART_JS)
+    page.close()
     return look
 
 
-def test_chart_of_a_real_coast_in_a_browser(tmp_path):
+def test_chart_of_a_real_coast_in_a_browser(browser, tmp_path):
     """The chart rules on a real area (admiralty-inlet: topobathy + GSHHG shoreline, 36 km): a dozen or
     so isobaths at a round interval, the coastline drawn, and no two labels overlapping on the page."""
     from auvplan.viz.chart import figure_plan_view
@@ -289,7 +302,7 @@ def test_chart_of_a_real_coast_in_a_browser(tmp_path):
     record = RunRecord("admiralty-inlet", 0, None, route, keys, None)
     page = tmp_path / "chart.html"
     figure_plan_view(world, record).write_html(page, include_plotlyjs=True, div_id="planview")
-    look = _chart_in_browser(page)
+    look = _chart_in_browser(browser, page)
     levels = np.array(look["isobaths"])
     assert 8 <= levels.size <= 25 and np.all(levels < 0)
     step = float(np.min(np.diff(np.sort(levels))))
@@ -299,6 +312,6 @@ def test_chart_of_a_real_coast_in_a_browser(tmp_path):
     assert look["overlaps"] == []
 
 
-def test_report_chart_labels_do_not_overlap(run_dir):
-    look = _chart_in_browser(run_dir / "report.html")
+def test_report_chart_labels_do_not_overlap(report_in_browser):
+    look = report_in_browser["chart"]  # the report's page as it loaded, before the slider was clicked
     assert look["overlaps"] == [] and look["isobaths"] and "K1" in look["labels"]
