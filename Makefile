@@ -6,7 +6,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz kill-points bench-regress bench-hard docs docs-bench bench-converge \
+.PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
 	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent
 
 $(STAMP): pyproject.toml
@@ -35,6 +35,10 @@ never-silent: $(STAMP)
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)
 	AUVPLAN_FUZZ_EXAMPLES=20000 AUVPLAN_FUZZ_PLAN_EXAMPLES=600 $(BIN)/python -m pytest -q tests/property/test_fuzz_scenarios.py
+
+# the oracles' seeded samples at full size: the exit rule of document 000's bodies from 60 starts (the suite: 20)
+oracles-full: $(STAMP)
+	AUVPLAN_EXIT_STARTS=60 $(BIN)/python -m pytest -q tests/oracles/test_oracles.py -k exit_rule_leaves
 
 # SIGKILL `run --out` at every atomic replace (before and after), re-run, check the folder is whole
 kill-points: $(STAMP)

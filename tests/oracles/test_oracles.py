@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from types import SimpleNamespace
 
 import numpy as np
@@ -906,10 +907,16 @@ def test_streamline_segment_clear_is_the_sampled_flow_clearance():
     assert _segment_clear(field, np.array([-30.0, 0.0, -50.0]), np.array([-7.5, 0.0, -50.0]))
 
 
+EXIT_STARTS = int(os.environ.get("AUVPLAN_EXIT_STARTS", "20"))
+"""Seeded starts of the exit-rule oracle: 20 in the suite (~0.4 s of CPU each, 17 of them through the direction
+search), 60 in ``make oracles-full``."""
+
+
 def test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface():
     """Starts inside the flow body of an ellipsoid (20 × 6 × 4 m, margin 1 m): the exit rule's last point
     lies outside every flow surface and within 1e-4 of the body's radius of it (the rule steps to
-    1e-6 R beyond the surface, by the normal or by bisection along the gradient); 60 seeded starts."""
+    1e-6 R beyond the surface, by the normal or by bisection along the gradient); :data:`EXIT_STARTS` seeded
+    starts (the first of the same 60 draws)."""
     from auvplan.planners.flow.stream import _exit_body
     from auvplan.world import Ellipsoid
 
@@ -921,6 +928,7 @@ def test_exit_rule_leaves_a_line_distribution_body_just_outside_its_surface():
     starts = rng.uniform(-1.0, 1.0, (400, 3)) * (20.0, 6.0, 4.0) + (0.0, 0.0, -50.0)
     inside = starts[field.distances(starts, "true").min(axis=-1) < 0][:60]
     assert len(inside) == 60
+    inside = inside[:EXIT_STARTS]
     for p in inside:
         out = _exit_body(field, p.copy())
         assert out, p
