@@ -47,7 +47,7 @@ kill-points: $(STAMP)
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
 # coverage and tracebacks see their lines (the kernels' own tests and the small ones of the
 # lattice, time-optimal and velocity-obstacle kernels; part of `make test`, ~1 min).  The exit-rule oracle of
-# document 000's bodies is left to the compiled run: its 60 exits search the field round the body (> 10 min
+# document 000's bodies is left to the compiled run: its 20 exits (60 in `make oracles-full`) search the field round the body (minutes
 # as plain Python)
 test-nojit: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -p no:cacheprovider tests/oracles/test_terrain.py tests/oracles/test_cost.py tests/oracles/test_cost_kernels.py \
