@@ -16,7 +16,10 @@ import math
 from .._types import BoolArray, FloatArray, IntArray
 from ..runtime.jit import kernel
 
-__all__ = ["candidates_kernel"]  # the others are the internals of auvplan.world.zones
+__all__ = ["FIELD_UNITS", "candidates_kernel", "field_kernel"]  # the others: internals of auvplan.world.zones
+
+#: The fine distance field's values are whole units of a fine cell / FIELD_UNITS (uint16).
+FIELD_UNITS = 64
 
 
 @kernel(inline="always")
@@ -220,7 +223,7 @@ def _far(px: float, py: float, fx0: float, fy0: float, f: float, fnx: int, fny: 
     ``p``'s cell, or the distance to the field's rectangle (which holds every footprint) outside it."""
     u, v = (px - fx0) / f, (py - fy0) / f
     if u >= 0.0 and v >= 0.0 and u < fnx and v < fny:
-        return float(bound[int(v), int(u)]) * f
+        return float(bound[int(v), int(u)]) * (f / FIELD_UNITS)
     return math.hypot(max(-u, u - fnx, 0.0), max(-v, v - fny, 0.0)) * f
 
 
@@ -409,3 +412,26 @@ def near_distance_kernel(p: FloatArray, floor: FloatArray, x0: float, y0: float,
                         d = math.hypot(dh, max(out_v, 0.0))
                     best = min(best, d)
         out[n] = best
+
+
+@kernel
+def field_kernel(xy: FloatArray, ring: IntArray, rings: IntArray, box: FloatArray, fx0: float, fy0: float, f: float,
+                 reach: float, out: FloatArray) -> None:
+    """The horizontal distance from each fine cell's centre to the nearest footprint, where it is below
+    ``reach`` (m): ``out (fny, fnx)``, filled with ``reach`` by the caller, lowered to the distance to every
+    polygon ``k`` (rings as in :func:`_meets_polygon`; 0 inside) over the cells of its box ``box[k]`` grown
+    by ``reach``."""
+    fny, fnx = out.shape
+    for k in range(box.shape[0]):
+        i0 = max(int(math.floor((box[k, 0] - reach - fx0) / f - 0.5)), 0)
+        i1 = min(int(math.ceil((box[k, 2] + reach - fx0) / f - 0.5)), fnx - 1)
+        j0 = max(int(math.floor((box[k, 1] - reach - fy0) / f - 0.5)), 0)
+        j1 = min(int(math.ceil((box[k, 3] + reach - fy0) / f - 0.5)), fny - 1)
+        for j in range(j0, j1 + 1):
+            py = fy0 + (j + 0.5) * f
+            for i in range(i0, i1 + 1):
+                if out[j, i] == 0.0:
+                    continue
+                px = fx0 + (i + 0.5) * f
+                edge, inside = _ring_distance(px, py, k, xy, ring, rings)
+                out[j, i] = min(out[j, i], 0.0 if inside else edge)

@@ -171,9 +171,8 @@ class Zones:
         """The broad phase's grid (:func:`.zone_parts.rasterise`)."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
-        if grid is not None:  # the fine lower-bound field: at most 4 x 4 per cell, about 500 000 cells (bytes)
-            sub = int(min(max(math.sqrt(5e5 / (grid[3] * grid[4])), 1.0), 4.0))
-            object.__setattr__(self, "_field", distance_field(grid, self._tree, sub))
+        if grid is not None:  # the fine lower-bound field (float32, about 1.5 million cells)
+            object.__setattr__(self, "_field", distance_field(grid, self._rings, self._bounds))
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
         """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.zone_kernels`);
