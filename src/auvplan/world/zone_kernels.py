@@ -21,6 +21,9 @@ __all__ = ["FIELD_UNITS", "candidates_kernel", "field_kernel"]  # the others: in
 #: The fine distance field's values are whole units of a fine cell / FIELD_UNITS (uint16).
 FIELD_UNITS = 64
 
+#: Legs of a polyline passed at once by one disc of the fine field (:func:`path_hits_kernel`).
+RUN = 4
+
 
 @kernel(inline="always")
 def _meets_box(ax: float, ay: float, dx: float, dy: float, x0: float, y0: float, x1: float, y1: float) -> bool:
@@ -335,23 +338,45 @@ def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, 
                      xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray, fx0: float, fy0: float,
                      f: float, fnx: int, fny: int, bound: FloatArray, mark: IntArray, hit: BoolArray, pairs: IntArray,
                      capacity: int) -> int:
-    """:func:`any_hits_kernel` over the legs of polylines ``p (P, S, 3)`` (each vertex's field value looked
-    up once): ``hit (P * (S - 1),)`` and the pairs' segment ``n = i (S - 1) + s``."""
+    """:func:`any_hits_kernel` over the legs of polylines ``p (P, S, 3)``: ``hit (P * (S - 1),)`` and the
+    pairs' segment ``n = i (S - 1) + s``.
+
+    The legs go in runs of :data:`RUN`: a run whose vertices all lie within the fine field's bound at the
+    centre of their box (a disc off every footprint, holding the run's legs: it is convex) is passed with
+    one look-up; otherwise leg by leg, each vertex's field value looked up once."""
     m = 0
     legs = p.shape[1] - 1
     for i in range(p.shape[0]):
-        ax, ay, az = p[i, 0, 0], p[i, 0, 1], p[i, 0, 2]
-        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
-        for s in range(legs):
-            n = i * legs + s
-            bx, by, bz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
-            fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
-            if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
-                hit[n] = False
-            else:
-                hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi,
-                                  seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
-            ax, ay, az, fa = bx, by, bz, fb
+        fa = -1.0  # not looked up yet
+        for s0 in range(0, legs, RUN):
+            s1 = min(s0 + RUN, legs)
+            lx, hx, ly, hy = p[i, s0, 0], p[i, s0, 0], p[i, s0, 1], p[i, s0, 1]
+            for s in range(s0 + 1, s1 + 1):
+                lx, hx = min(lx, p[i, s, 0]), max(hx, p[i, s, 0])
+                ly, hy = min(ly, p[i, s, 1]), max(hy, p[i, s, 1])
+            cx, cy = 0.5 * (lx + hx), 0.5 * (ly + hy)
+            rr = 0.0
+            for s in range(s0, s1 + 1):
+                rr = max(rr, (p[i, s, 0] - cx) ** 2 + (p[i, s, 1] - cy) ** 2)
+            r = _far(cx, cy, fx0, fy0, f, fnx, fny, bound)
+            if r * r > rr:
+                for s in range(s0, s1):
+                    hit[i * legs + s] = False
+                fa = -1.0
+                continue
+            ax, ay, az = p[i, s0, 0], p[i, s0, 1], p[i, s0, 2]
+            if fa < 0.0:
+                fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+            for s in range(s0, s1):
+                n = i * legs + s
+                bx, by, bz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
+                fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+                if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
+                    hit[n] = False
+                else:
+                    hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi,
+                                      seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
+                ax, ay, az, fa = bx, by, bz, fb
     return m
 
 
@@ -435,3 +460,28 @@ def field_kernel(xy: FloatArray, ring: IntArray, rings: IntArray, box: FloatArra
                 px = fx0 + (i + 0.5) * f
                 edge, inside = _ring_distance(px, py, k, xy, ring, rings)
                 out[j, i] = min(out[j, i], 0.0 if inside else edge)
+
+
+@kernel
+def clear_kernel(t: FloatArray, fx0: float, fy0: float, f: float, fnx: int, fny: int, bound: FloatArray,
+                 out: BoolArray) -> None:
+    """Which horizontal traces ``t (T, 2, 2)`` the fine field proves clear of every footprint: :func:`_clear`'s
+    march, given up after 24 discs (a long trace skirting a footprint: the cells' test is cheaper)."""
+    for n in range(t.shape[0]):
+        ax, ay, bx, by = t[n, 0, 0], t[n, 0, 1], t[n, 1, 0], t[n, 1, 1]
+        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+        fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+        dx, dy = bx - ax, by - ay
+        length = math.hypot(dx, dy)
+        out[n] = length < fa + fb
+        if out[n] or fa == 0.0 or fb == 0.0:
+            continue
+        s, sb = fa / length, 1.0 - fb / length
+        for _ in range(24):
+            r = _far(ax + s * dx, ay + s * dy, fx0, fy0, f, fnx, fny, bound)
+            if r == 0.0:
+                break
+            s += r / length
+            if s > sb:
+                out[n] = True
+                break

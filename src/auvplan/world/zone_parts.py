@@ -12,7 +12,8 @@ import shapely
 from .._types import FloatArray, IntArray
 from .terrain import Terrain
 
-__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_pieces"]
+__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_params", "clip_pieces",
+           "expand_groups"]
 
 
 def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatArray, h: FloatArray,
@@ -217,8 +218,51 @@ def traces(seg: FloatArray) -> np.ndarray:
     return out
 
 
+def clip_params(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, FloatArray, IntArray]:
+    """The parameter intervals of segments over their paired footprints (GEOS ``intersection``).
+
+    Parameters
+    ----------
+    seg : numpy.ndarray
+        Segments ``(K, 2, >=2)`` (m).
+    traces : numpy.ndarray of shapely geometries
+        Their horizontal traces ``(K,)`` (:func:`traces`).
+    geoms : numpy.ndarray of shapely geometries
+        The footprint paired with each ``(K,)``.
+
+    Returns
+    -------
+    t0, t1 : numpy.ndarray
+        ``(M,)`` each piece of a trace over its footprint is the segment over ``[t0, t1]`` (a vertical
+        segment over its footprint: ``[0, 1]``).
+    owner : numpy.ndarray of int
+        ``(M,)`` the pair each piece belongs to.
+    """
+    cut = shapely.intersection(traces, geoms)
+    parts, owner = shapely.get_parts(cut, return_index=True)
+    keep = ~shapely.is_empty(parts)
+    parts, owner = parts[keep], owner[keep].astype(np.intp)
+    if owner.size == 0:
+        return np.zeros(0), np.zeros(0), owner
+    xy, part = shapely.get_coordinates(parts, return_index=True)
+    o = owner[part]
+    a, d = seg[o, 0, :2], seg[o, 1, :2] - seg[o, 0, :2]
+    dd = np.einsum("ij,ij->i", d, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(dd > 0, np.einsum("ij,ij->i", xy - a, d) / dd, 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    n = parts.size
+    tmin = np.full(n, np.inf)
+    tmax = np.full(n, -np.inf)
+    np.minimum.at(tmin, part, t)
+    np.maximum.at(tmax, part, t)
+    vertical = np.all(seg[owner, 0, :2] == seg[owner, 1, :2], axis=-1)
+    tmin[vertical], tmax[vertical] = 0.0, 1.0  # a vertical segment over the footprint: all of it
+    return tmin, tmax, owner
+
+
 def clip_pieces(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, IntArray]:
-    """The 3D pieces of segments over their paired footprints.
+    """The 3D pieces of segments over their paired footprints (:func:`clip_params`).
 
     Parameters
     ----------
@@ -236,26 +280,33 @@ def clip_pieces(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple
     owner : numpy.ndarray of int
         ``(M,)`` the pair each piece belongs to.
     """
-    cut = shapely.intersection(traces, geoms)
-    parts, owner = shapely.get_parts(cut, return_index=True)
-    keep = ~shapely.is_empty(parts)
-    parts, owner = parts[keep], owner[keep]
+    tmin, tmax, owner = clip_params(seg, traces, geoms)
     if owner.size == 0:
-        return np.zeros((0, 2, 3)), owner.astype(np.intp)
-    xy, part = shapely.get_coordinates(parts, return_index=True)
-    o = owner[part]
-    a, d = seg[o, 0, :2], seg[o, 1, :2] - seg[o, 0, :2]
-    dd = np.einsum("ij,ij->i", d, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dd > 0, np.einsum("ij,ij->i", xy - a, d) / dd, 0.0)
-    t = np.clip(t, 0.0, 1.0)
-    n = parts.size
-    tmin = np.full(n, np.inf)
-    tmax = np.full(n, -np.inf)
-    np.minimum.at(tmin, part, t)
-    np.maximum.at(tmax, part, t)
+        return np.zeros((0, 2, 3)), owner
     sa, sb = seg[owner, 0], seg[owner, 1]
-    vertical = np.all(sa[:, :2] == sb[:, :2], axis=-1)
-    tmin[vertical], tmax[vertical] = 0.0, 1.0  # a vertical segment over the footprint: all of it
     pieces = np.stack([sa + tmin[:, None] * (sb - sa), sa + tmax[:, None] * (sb - sa)], axis=1)
-    return pieces, owner.astype(np.intp)
+    return pieces, owner
+
+
+def expand_groups(group: IntArray, wanted: IntArray) -> tuple[IntArray, IntArray]:
+    """Every (entry of ``wanted``, member of its group) pair.
+
+    Parameters
+    ----------
+    group : numpy.ndarray of int
+        ``(N,)`` the group of each member.
+    wanted : numpy.ndarray of int
+        ``(M,)`` groups asked for (repeats allowed).
+
+    Returns
+    -------
+    which, member : numpy.ndarray of int
+        The index into ``wanted`` and the member, one row per pair.
+    """
+    order = np.argsort(group, kind="stable")
+    counts = np.bincount(group, minlength=int(wanted.max(initial=-1)) + 1)
+    first = np.cumsum(counts) - counts
+    size = counts[wanted]
+    which = np.repeat(np.arange(wanted.size), size)
+    offset = np.arange(which.size) - np.repeat(np.cumsum(size) - size, size)
+    return which, order[first[wanted][which] + offset]
