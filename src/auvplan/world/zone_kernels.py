@@ -260,9 +260,10 @@ def _clear(ax: float, ay: float, bx: float, by: float, fa: float, fb: float, fx0
 def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: float, x0: float, y0: float,
           cell: float, nx: int, ny: int, start: IntArray, ids: IntArray, box: FloatArray, zlo: FloatArray,
           zhi: FloatArray, seabed: BoolArray, xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray,
-          mark: IntArray, pairs: IntArray, m: int, capacity: int) -> tuple[bool, int]:
+          mark: IntArray, pairs: IntArray, m: int, capacity: int) -> tuple[bool, int, int]:
     """The cells segment ``n``'s trace crosses: True at its first flat-band entry (pairs written for it
-    dropped), else its seabed-band candidates appended to ``pairs`` from ``m``; returns (entered, m)."""
+    dropped), else its seabed-band candidates appended to ``pairs`` from ``m``; returns (entered, m, the
+    zone entered or -1)."""
     i0 = max(int(math.floor((min(ax, bx) - x0) / cell)), 0)
     i1 = min(int(math.floor((max(ax, bx) - x0) / cell)), nx - 1)
     j0 = max(int(math.floor((min(ay, by) - y0) / cell)), 0)
@@ -298,8 +299,8 @@ def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: flo
                         pairs[1, m] = k
                     m += 1
                 elif _flat_hit(ax, ay, az, bx, by, bz, zlo[k], zhi[k], k, xy, ring, rings, disc):
-                    return True, first
-    return False, m
+                    return True, first, k
+    return False, m, -1
 
 
 @kernel
@@ -327,8 +328,8 @@ def any_hits_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int,
         if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
             hit[n] = False
             continue
-        hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, seabed, xy,
-                          ring, rings, disc, mark, pairs, m, capacity)
+        hit[n], m, _ = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, seabed,
+                             xy, ring, rings, disc, mark, pairs, m, capacity)
     return m
 
 
@@ -348,6 +349,7 @@ def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, 
     legs = p.shape[1] - 1
     for i in range(p.shape[0]):
         fa = -1.0  # not looked up yet
+        last = -1  # the flat-band zone the last entering leg entered
         for s0 in range(0, legs, RUN):
             s1 = min(s0 + RUN, legs)
             lx, hx, ly, hy = p[i, s0, 0], p[i, s0, 0], p[i, s0, 1], p[i, s0, 1]
@@ -373,9 +375,12 @@ def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, 
                 fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
                 if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
                     hit[n] = False
+                elif last >= 0 and _flat_hit(ax, ay, az, bx, by, bz, zlo[last], zhi[last], last, xy, ring, rings,
+                                             disc):
+                    hit[n] = True  # the zone the path's last entering leg entered: most often this one's too
                 else:
-                    hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi,
-                                      seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
+                    hit[n], m, last = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo,
+                                            zhi, seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
                 ax, ay, az, fa = bx, by, bz, fb
     return m
 
