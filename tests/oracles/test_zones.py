@@ -218,7 +218,9 @@ def test_the_cost_counts_a_segment_through_a_zone():
     assert evaluate_paths(world, path, model).violations[0] == 0
     zoned = type(world)(**{**world.__dict__, "zones": Zones((Zone("area", shapely.box(400, 400, 600, 600),
                                                                   top=40.0, bottom=60.0),), world.terrain)})
-    assert evaluate_paths(zoned, path, model).violations[0] == 1
+    terms = evaluate_paths(zoned, path, model)
+    assert terms.violations[0] == 1  # as deep as the leg: M per segment plus the slope per metre of its 800 m
+    assert terms.terrain[0] == pytest.approx(model.terrain_penalty + model.violation_slope * 800.0, rel=1e-9)
     assert evaluate_paths(zoned, path + [0.0, 0.0, -15.0], model).violations[0] == 0  # 65 m deep: below the band
 
 

@@ -490,3 +490,17 @@ def clear_kernel(t: FloatArray, fx0: float, fy0: float, f: float, fnx: int, fny:
             if s > sb:
                 out[n] = True
                 break
+
+
+@kernel
+def slack_kernel(p: FloatArray, hit: BoolArray, out: FloatArray) -> None:
+    """The swarm cost's zone slack of the legs of polylines ``p (P, S, 3)``: ``out (P, S - 1)`` is minus the
+    length of each leg ``hit`` flags (``hit (P * (S - 1),)``; at least 1 m), ``+inf`` elsewhere."""
+    legs = p.shape[1] - 1
+    for i in range(p.shape[0]):
+        for s in range(legs):
+            if hit[i * legs + s]:
+                dx, dy, dz = p[i, s + 1, 0] - p[i, s, 0], p[i, s + 1, 1] - p[i, s, 1], p[i, s + 1, 2] - p[i, s, 2]
+                out[i, s] = -max(math.sqrt(dx * dx + dy * dy + dz * dz), 1.0)
+            else:
+                out[i, s] = math.inf

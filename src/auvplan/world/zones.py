@@ -45,6 +45,7 @@ from .zone_kernels import (
     flat_hits_kernel,
     near_distance_kernel,
     path_hits_kernel,
+    slack_kernel,
 )
 from .zone_parts import clip_pieces, distance_field, expand_groups, rasterise
 from .zone_parts import rings as polygon_rings
@@ -355,8 +356,29 @@ class Zones:
             hit[cs[self._seabed_pairs(segments(idx), local, zi)]] = True
         return hit
 
+    def polyline_slack(self, points: ArrayLike) -> FloatArray:
+        """The swarm planners' zone slack of the legs of polylines: minus the length of each leg that enters
+        a zone (at least 1 m: a violation as deep as the leg), ``+inf`` for the others.
+
+        Parameters
+        ----------
+        points : array_like
+            Vertices ``(P, S, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(P, S - 1)`` (m).
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=float))
+        out = np.full((p.shape[0], max(p.shape[1] - 1, 0)), np.inf)
+        if not self.zones or out.size == 0:
+            return out
+        slack_kernel(p, self._path_hits(p), out)
+        return out
+
     def polyline_inside_lengths(self, points: ArrayLike) -> FloatArray:
-        """:meth:`inside_lengths` of the legs of polylines (for the swarm planners' cost).
+        """:meth:`inside_lengths` of the legs of polylines.
 
         Parameters
         ----------
@@ -368,14 +390,7 @@ class Zones:
         numpy.ndarray
             ``(P, S - 1)`` (m): the length of each leg that enters a zone (at least 1), else 0.
         """
-        p = np.asarray(points, dtype=float)
-        out = np.zeros((p.shape[0], max(p.shape[1] - 1, 0)))
-        if not self.zones or out.size == 0:
-            return out
-        legs = np.flatnonzero(self._path_hits(p))
-        if legs.size:
-            i, k = np.divmod(legs, out.shape[1])
-            out[i, k] = np.maximum(np.linalg.norm(p[i, k + 1] - p[i, k], axis=-1), 1.0)
+        out: FloatArray = np.maximum(-self.polyline_slack(points), 0.0)
         return out
 
     def _seabed_hits(self, seg: FloatArray, traces: np.ndarray, zi: IntArray) -> BoolArray:
