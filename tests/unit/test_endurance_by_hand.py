@@ -56,3 +56,43 @@ def test_reserve_broken_names_the_leg_where_the_reserve_is_entered() -> None:
     tiny = EnergyModel(battery_wh=0.5 * leg_wh)
     pnr = point_of_no_return(WORLD, tr, tiny, recovery=pts[-1])  # the boat waits 3 km away
     assert pnr.status is Status.INFEASIBLE and pnr.whole_mission is False and pnr.s_m == 0.0
+
+
+def test_a_pure_hold_has_no_ground_speed_and_a_budget_used_to_rounding_is_exact() -> None:
+    """A leg of zero length held 60 s (a hold at a waypoint): its mean speed over ground is undefined (NaN, not
+    0 m/s), its energy the hotel load P(0) x 60 s; the next 100 m at 1 m/s: 1 m/s, (15 + 5.82) W x 100 s.  A
+    battery whose budget is the flight's energy less 1e-9 Wh (rounding, under 1e-9 of the battery) is EXACT."""
+    from auvplan._types import Status
+    from auvplan.endurance.budget import budget_of
+    from auvplan.endurance.power import EnergyModel
+
+    pts = PTS[[0, 0, 1]]
+    tr = traverse(WORLD, pts, 1.0, 0.0, 10.0, dwell=[60.0, 0.0, 0.0])
+    b = budget_of(tr, EnergyModel())
+    assert np.isnan(b.speed_ground[0]) and b.speed_ground[1] == pytest.approx(1.0)
+    assert b.energy_leg_wh.tolist() == pytest.approx([15.0 * 60.0 / 3600.0, 20.82 * 100.0 / 3600.0])
+    used = float(b.cumulative_wh[-1])
+    tight = EnergyModel(battery_wh=(used - 1e-9) / 0.7)  # budget = battery x (0.9 usable - 0.2 reserve)
+    assert tight.budget_wh < used and used - tight.budget_wh < 1e-9 * tight.battery_wh
+    assert budget_of(tr, tight).status is Status.EXACT
+    assert budget_of(tr, EnergyModel(battery_wh=(used - 1e-6) / 0.7)).status is Status.RESERVE_BROKEN
+
+
+def test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_per_metre() -> None:
+    """Out 2.5 km east at 1 m/s, back home, then 5 km north; the return at 2.4 m/s costs more per metre
+    (b = P(2.4)/2.4 = 39.8 J/m) than going out (a = P(1)/1 = 20.8 J/m), so f(s) = a s + b d(s) - B rises to
+    2.5 km, falls back to home (5 km) and rises again: not monotonic.  With B = 35 Wh the first crossing is
+    s* = B / (a + b) = 2 080 m (the documented conservative answer), not the later one at 5 362 m."""
+    from auvplan._types import Status
+    from auvplan.endurance.pnr import point_of_no_return
+    from auvplan.endurance.power import EnergyModel
+
+    world = World(Bounds(-10000, 10000, -10000, 10000, -200, 0))
+    pts = np.array([[0.0, 0.0, -50.0], [2500.0, 0.0, -50.0], [0.0, 0.0, -50.0], [0.0, 5000.0, -50.0]])
+    model = EnergyModel(battery_wh=35.0 / 0.7)
+    tr = traverse(world, pts, 1.0, 0.0, 100.0)
+    a, b = float(model.power(1.0)) / 3600.0, float(model.power(2.4)) / 2.4 / 3600.0  # Wh per metre
+    assert 5000.0 * a < model.budget_wh < 2500.0 * (a + b)  # home at 5 km is inside the budget again
+    pnr = point_of_no_return(world, tr, model, speed=2.4)
+    assert pnr.status is Status.EXACT and pnr.leg == 0 and not pnr.whole_mission
+    assert pnr.s_m == pytest.approx(model.budget_wh / (a + b), abs=1.0)
