@@ -938,3 +938,23 @@ REASONS.update({
     "_words | if abs(tmp) < 1:": ("boundary: a CCC word whose middle arc is exactly 2pi - acos(+-1); "
                                   "the CSC words cover these configurations"),
 })
+
+# issue #49, third session: ladder's and tail-first's survivors (every mutant run; the rest killed by
+# tests/unit/test_ladder_by_hand.py and tests/unit/test_tail_by_hand.py), argued
+REASONS.update({
+    "plan_ladder | edges, screened, refined, won, why = (0, 0, 0, (cells[0], 1), '')":
+        ("equivalent: won's first value is never read: it is read after the loop only when best is not None, and "
+         "best and won are set together (a plan is won only by a refined rung, which sets both)"),
+    "plan_ladder | if best is not None and cost - best_screened > MARGIN * best_screened:":
+        ("equivalent: best_screened is a screened path cost (length, or the cost model's energy/time terms plus "
+         "penalties), never negative, so abs(best_screened) is best_screened"),
+    "read_tail | if not rows or 'tail_first' not in rows[1] or len(rows) != legs + 1:":
+        ("equivalent: csv.DictReader gives every row the header's keys (short rows filled with None), so rows[1] "
+         "has 'tail_first' exactly when rows[0] has; with a single row rows[1] raises IndexError, read as no flags "
+         "(None), as the original's legs + 1 == 1 rows give no tail-first leg"),
+    "read_tail | if math.hypot(*d) >= 1e-09:":
+        "boundary: a ROS Path leg exactly 1e-9 m long (no direction to judge the pose against)",
+    ("read_tail | flags[i] = math.cos(_yaw_of(poses[i]['pose']['orientation']) - math.atan2(d[1], d[0])) <= 0.0"):
+        ("equivalent: the cosine of a double is never exactly 0 (no double is an odd multiple of pi/2; the nearest, "
+         "fl(pi/2), gives 6.1e-17), so < 0 and <= 0 agree on every yaw"),
+})

@@ -149,12 +149,14 @@ def test_ros_path_flags_are_poses_facing_against_their_leg(tmp_path: Path) -> No
     assert read_tail(tmp_path / "m.yaml", 3) is None and read_tail(tmp_path / "m.yaml", 5) is None  # poses != legs + 1
 
 
-def test_a_zero_length_leg_is_not_judged(tmp_path: Path) -> None:
+def test_a_leg_without_length_is_not_judged(tmp_path: Path) -> None:
+    """Legs of 0 and of 1e-9 m (no direction: the reader's zero-length guard) are never flagged; the next leg
+    (east, the pose facing west: yaw 180°) is."""
     p = tmp_path / "z.yaml"
     p.write_text("poses:\n" + "".join(f"- pose: {{position: {{x: {x}, y: 0.0, z: -20.0}}, orientation: {{x: 0.0, "
-                                      f"y: 0.0, z: 1.0, w: 0.0}}}}\n" for x in (0.0, 0.0, 10.0)))
-    got = read_tail(p, 2)  # yaw 180°: leg 0 has no direction, leg 1 (east) is flown facing west
-    assert got is not None and got.tolist() == [False, True]
+                                      f"y: 0.0, z: 1.0, w: 0.0}}}}\n" for x in ("0.0", "0.0", "1.0e-09", "10.0")))
+    got = read_tail(p, 3)
+    assert got is not None and got.tolist() == [False, False, True]
 
 
 def test_other_suffixes_carry_no_flags(tmp_path: Path) -> None:
