@@ -96,3 +96,27 @@ def test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_p
     pnr = point_of_no_return(world, tr, model, speed=2.4)
     assert pnr.status is Status.EXACT and pnr.leg == 0 and not pnr.whole_mission
     assert pnr.s_m == pytest.approx(model.budget_wh / (a + b), abs=1.0)
+
+
+def test_the_way_back_retraces_half_a_metre_to_the_vertex_that_sees_home() -> None:
+    """A ridge at x = 500 m (crest 55.1 m deep, 5 m minimum altitude) that the level leg home -> (1000, 0) at
+    50 m clears by 5.1 m; the route then dives at x = 1000.  Half a metre down the dive the straight line
+    home passes the crest 4.85 m above it (blocked), so the way back retraces the 0.5 m to the vertex and
+    flies home from there: 1000.5 m at 1 m/s, P(1) x 1000.5 s (not the straight 1000.0001 m)."""
+    from auvplan.endurance.pnr import _return_energy
+    from auvplan.endurance.power import EnergyModel
+    from auvplan.world import Margins, Terrain
+
+    x = np.arange(-1000.0, 2001.0, 500.0)
+    z = np.where(x == 500.0, -55.1, -100.0)[None, :].repeat(3, axis=0)
+    world = World(Bounds(-1000, 2000, -1000, 1000, -200, 0), Terrain(x, np.array([-1000.0, 0.0, 1000.0]), z),
+                  margins=Margins(min_altitude=5.0))
+    pts = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 0.0, -90.0]])
+    assert world.path_free(pts) and not world.path_free(np.array([[1000.0, 0.0, -50.5], pts[0]]))
+    tr = traverse(world, pts, 1.0, 0.0, 100.0)
+    free_from = np.array([world.path_free(np.stack([q, pts[0]])) for q in pts])
+    model = EnergyModel()
+    e_out, e_ret, pos, t, leg = _return_energy(world, tr, model, 1000.5, pts[0], 1.0, free_from, 100.0)
+    assert leg == 1 and pos.tolist() == pytest.approx([1000.0, 0.0, -50.5]) and t == pytest.approx(1000.5)
+    assert e_out == pytest.approx(20.82 * 1000.5 / 3600.0, rel=1e-9)
+    assert e_ret == pytest.approx(20.82 * 1000.5 / 3600.0, rel=1e-9)
