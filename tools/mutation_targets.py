@@ -917,6 +917,12 @@ REASONS.update({
          "wider than total / 40 (test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_per_metre"
          ", whose f is not monotonic); a narrower hump is found or missed by either grid depending on where its "
          "points fall, so no test can prefer one without pinning the grid"),
+    "point_of_no_return | grid = np.linspace(0.0, total, max(3, samples) + 1)":
+        ("equivalent in use: max(3, samples) differs from max(2, samples) only for samples <= 2; both callers "
+         "(endurance.assess) pass the default 40"),
+    "point_of_no_return | if f0 >= 0:":
+        ("boundary: f(0) exactly 0, a return from the start to a rally point costing exactly the budget (home as the "
+         "recovery gives f(0) = -budget < 0: EnergyModel requires reserve < usable)"),
     "point_of_no_return | while hi - lo >= tol:": "equivalent within tol: one more bisection step at most",
     "point_of_no_return | if fm >= 0:": "boundary: a bisection midpoint exactly at the point of no return (f = 0)",
 })

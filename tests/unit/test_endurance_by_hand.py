@@ -66,11 +66,11 @@ def test_a_pure_hold_has_no_ground_speed_and_a_budget_used_to_rounding_is_exact(
     from auvplan.endurance.budget import budget_of
     from auvplan.endurance.power import EnergyModel
 
-    pts = PTS[[0, 0, 1]]
-    tr = traverse(WORLD, pts, 1.0, 0.0, 10.0, dwell=[60.0, 0.0, 0.0])
+    pts = PTS[[0, 0, 1, 2]]
+    tr = traverse(WORLD, pts, 1.0, 0.0, 10.0, dwell=[60.0, 0.0, 0.0, 0.0])
     b = budget_of(tr, EnergyModel())
-    assert np.isnan(b.speed_ground[0]) and b.speed_ground[1] == pytest.approx(1.0)
-    assert b.energy_leg_wh.tolist() == pytest.approx([15.0 * 60.0 / 3600.0, 20.82 * 100.0 / 3600.0])
+    assert np.isnan(b.speed_ground[0]) and b.speed_ground[1:].tolist() == pytest.approx([1.0, 1.0])
+    assert b.energy_leg_wh.tolist() == pytest.approx([15.0 * 60.0 / 3600.0] + [20.82 * 100.0 / 3600.0] * 2)
     used = float(b.cumulative_wh[-1])
     tight = EnergyModel(battery_wh=(used - 1e-9) / 0.7)  # budget = battery x (0.9 usable - 0.2 reserve)
     assert tight.budget_wh < used and used - tight.budget_wh < 1e-9 * tight.battery_wh
@@ -98,11 +98,13 @@ def test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_p
     assert pnr.s_m == pytest.approx(model.budget_wh / (a + b), abs=1.0)
 
 
-def test_the_way_back_retraces_half_a_metre_to_the_vertex_that_sees_home() -> None:
-    """A ridge at x = 500 m (crest 55.1 m deep, 5 m minimum altitude) that the level leg home -> (1000, 0) at
-    50 m clears by 5.1 m; the route then dives at x = 1000.  Half a metre down the dive the straight line
-    home passes the crest 4.85 m above it (blocked), so the way back retraces the 0.5 m to the vertex and
-    flies home from there: 1000.5 m at 1 m/s, P(1) x 1000.5 s (not the straight 1000.0001 m)."""
+def test_the_way_back_retraces_the_dive_to_the_vertex_that_sees_the_rally_point() -> None:
+    """A ridge at x = 500 m (crest 55.1 m deep, 5 m minimum altitude) that a level leg at 50 m clears by 5.1 m.
+    The route runs from x = -500 m east to x = 1000 m, then dives 10 m and 30 m more; the rally point is at x = 0.
+    Half a metre into the second dive the straight line to it passes the crest 0.15 m above (blocked), and so does
+    the line from the vertex 10 m up; the vertex at 50 m sees it: the way back retraces 0.5 + 10 m and flies
+    1000 m home, 1010.5 m at 1 m/s: P(1) x 1010.5 s (not the 1000.05 m straight line through the margin, nor
+    the retrace on to the start)."""
     from auvplan.endurance.pnr import _return_energy
     from auvplan.endurance.power import EnergyModel
     from auvplan.world import Margins, Terrain
@@ -111,12 +113,90 @@ def test_the_way_back_retraces_half_a_metre_to_the_vertex_that_sees_home() -> No
     z = np.where(x == 500.0, -55.1, -100.0)[None, :].repeat(3, axis=0)
     world = World(Bounds(-1000, 2000, -1000, 1000, -200, 0), Terrain(x, np.array([-1000.0, 0.0, 1000.0]), z),
                   margins=Margins(min_altitude=5.0))
-    pts = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 0.0, -90.0]])
-    assert world.path_free(pts) and not world.path_free(np.array([[1000.0, 0.0, -50.5], pts[0]]))
+    pts = np.array([[-500.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 0.0, -60.0], [1000.0, 0.0, -90.0]])
+    rally = np.array([0.0, 0.0, -50.0])
+    free_from = np.array([world.path_free(np.stack([q, rally])) for q in pts])
+    assert world.path_free(pts) and free_from.tolist() == [True, True, False, False]
+    assert not world.path_free(np.array([[1000.0, 0.0, -60.5], rally]))
     tr = traverse(world, pts, 1.0, 0.0, 100.0)
-    free_from = np.array([world.path_free(np.stack([q, pts[0]])) for q in pts])
-    model = EnergyModel()
-    e_out, e_ret, pos, t, leg = _return_energy(world, tr, model, 1000.5, pts[0], 1.0, free_from, 100.0)
-    assert leg == 1 and pos.tolist() == pytest.approx([1000.0, 0.0, -50.5]) and t == pytest.approx(1000.5)
-    assert e_out == pytest.approx(20.82 * 1000.5 / 3600.0, rel=1e-9)
-    assert e_ret == pytest.approx(20.82 * 1000.5 / 3600.0, rel=1e-9)
+    e_out, e_ret, pos, t, leg = _return_energy(world, tr, EnergyModel(), 1510.5, rally, 1.0, free_from, 100.0)
+    assert leg == 2 and pos.tolist() == pytest.approx([1000.0, 0.0, -60.5]) and t == pytest.approx(1510.5)
+    assert e_out == pytest.approx(20.82 * 1510.5 / 3600.0, rel=1e-9)
+    assert e_ret == pytest.approx(20.82 * 1010.5 / 3600.0, rel=1e-9)
+
+
+def test_positions_along_the_flight_by_distance() -> None:
+    """Traverse.at: the start at s <= 0, linear along each leg, the end past the route's length; a route ending
+    with a held zero-length leg (a surface fix at the last vertex) ends at that vertex."""
+    tr = traverse(WORLD, PTS[[0, 1, 2, 2]], [1.0, 2.0, 1.0], 0.0, 10.0, dwell=[0.0, 0.0, 30.0, 0.0])
+    for s, where, t in ((-5.0, PTS[0], 0.0), (0.0, PTS[0], 0.0), (0.5, [0.5, 0.0, -50.0], 0.5),
+                        (150.0, [150.0, 0.0, -50.0], 125.0), (1e6, PTS[2], 150.0), (200.0, PTS[2], 150.0)):
+        pos, at_t, _ = tr.at(s)
+        assert pos.tolist() == pytest.approx(list(where)) and at_t == pytest.approx(t), s
+
+
+def test_optimal_speed_is_the_least_energy_per_metre() -> None:
+    """v* = (P_hotel / (2 k))^(1/3) minimises (P_hotel + k v³) / v: against a bounded scalar minimisation."""
+    from scipy.optimize import minimize_scalar
+
+    from auvplan.endurance.power import optimal_speed
+
+    for hotel, k in ((15.0, 5.82), (40.0, 2.0), (5.0, 20.0)):
+        best = minimize_scalar(lambda v, h=hotel, kk=k: (h + kk * v**3) / v, bounds=(0.05, 10.0), method="bounded",
+                               options={"xatol": 1e-9})
+        assert optimal_speed(hotel, k) == pytest.approx(best.x, rel=1e-5)
+    assert optimal_speed(15.0, 5.82) == pytest.approx((15.0 / 11.64) ** (1 / 3)) and optimal_speed(0.0, 3.0) == 0.0
+
+
+def _blocked_world() -> World:
+    """A current against +x of 1.5 m/s from x = 400 to 600 m (0 at 300 and 700 m, linear between nodes)."""
+    from auvplan.world import GriddedCurrent
+
+    x = np.arange(-1000.0, 1001.0, 100.0)
+    u = np.where((x >= 400.0) & (x <= 600.0), -1.5, 0.0)
+    u = np.broadcast_to(u, (1, 2, x.size)).copy()
+    return World(Bounds(-1000, 1000, -1000, 1000, -200, 0),
+                 currents=GriddedCurrent(x, np.array([-1000.0, 1000.0]), np.array([0.0]), u, np.zeros_like(u)))
+
+
+def test_the_flight_stops_where_the_current_first_beats_the_vehicle() -> None:
+    """At 1 m/s along +x the current beats the vehicle from x = 366.7 m (u = -1.5 (x - 300) / 100 = -1): the
+    10 m step from 370 m is the first that cannot be flown; the flight ends there (no later vertex has a
+    time, the route's flown length is 370 m), and the message names leg 0 at 370 m, not a later point or leg."""
+    route = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 500.0, -50.0]])
+    tr = traverse(_blocked_world(), route, 1.0, 0.0, 10.0)
+    assert not tr.ok and tr.message.startswith("leg 0: the current beats the vehicle at [370.0, 0.0, -50.0]")
+    assert np.isnan(tr.times[1:]).all() and tr.node_s[-1] == pytest.approx(370.0)
+
+
+def test_traverse_samples_the_current_at_the_midpoint_of_a_diagonal_step() -> None:
+    """A following current u = 1e-3 x on a leg along (0.6, 0.8): V_g = 0.6 u + √(1 − (0.8 u)²); the time over
+    1000 m against the integral of 1 / V_g by quadrature (midpoint steps of 10 m: within 0.01 s)."""
+    from scipy.integrate import quad
+
+    from auvplan.world import GriddedCurrent
+
+    x = np.array([-1000.0, 1000.0])
+    u = np.broadcast_to(1e-3 * x, (1, 2, 2)).copy()
+    world = World(Bounds(-1000, 1000, -1000, 1000, -200, 0),
+                  currents=GriddedCurrent(x, np.array([-1000.0, 1000.0]), np.array([0.0]), u, np.zeros_like(u)))
+    route = np.array([[0.0, 0.0, -50.0], [600.0, 800.0, -50.0]])
+    tr = traverse(world, route, 1.0, 0.0, 10.0)
+    expect = quad(lambda s: 1.0 / (0.6e-3 * 0.6 * s + np.sqrt(1.0 - (0.8e-3 * 0.6 * s) ** 2)), 0.0, 1000.0)[0]
+    assert tr.times[-1] == pytest.approx(expect, abs=0.01)
+
+
+def test_a_leg_ending_exactly_on_the_reserve_does_not_enter_it() -> None:
+    """Three 1 km legs at 1 m/s (5.78 Wh each), the battery sized so that two legs use exactly the 70 % between
+    usable and reserve: the second leg ends on the reserve, the third enters it (named)."""
+    from auvplan._types import Status
+    from auvplan.endurance.budget import budget_of
+    from auvplan.endurance.power import EnergyModel
+
+    pts = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [2000.0, 0.0, -50.0], [3000.0, 0.0, -50.0]])
+    tr = traverse(WORLD, pts, 1.0, 0.0, 100.0)
+    two = float(budget_of(tr, EnergyModel()).cumulative_wh[1])
+    model = EnergyModel(battery_wh=two / 0.7)
+    b = budget_of(tr, model)
+    assert abs(b.remaining_wh[1] - model.reserve_wh) < 1e-12 * model.battery_wh
+    assert b.status is Status.RESERVE_BROKEN and "the reserve is entered on leg 2" in b.message, b.message
