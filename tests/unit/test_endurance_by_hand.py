@@ -100,11 +100,11 @@ def test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_p
 
 def test_the_way_back_retraces_the_dive_to_the_vertex_that_sees_the_rally_point() -> None:
     """A ridge at x = 500 m (crest 55.1 m deep, 5 m minimum altitude) that a level leg at 50 m clears by 5.1 m.
-    The route runs from x = -500 m east to x = 1000 m, then dives 10 m and 30 m more; the rally point is at x = 0.
-    Half a metre into the second dive the straight line to it passes the crest 0.15 m above (blocked), and so does
-    the line from the vertex 10 m up; the vertex at 50 m sees it: the way back retraces 0.5 + 10 m and flies
-    1000 m home, 1010.5 m at 1 m/s: P(1) x 1010.5 s (not the 1000.05 m straight line through the margin, nor
-    the retrace on to the start)."""
+    The route runs from x = -500 m east to x = 1000 m, dives 10 m, then heads north at 60 m; the rally point is at
+    x = 0.  Half a metre along the northward leg the straight line to it passes the crest 0.1 m above (blocked),
+    and so does the line from the bottom of the dive; the vertex at 50 m sees it: the way back retraces 0.5 m and
+    the 10 m dive and flies 1000 m home, 1010.5 m at 1 m/s: P(1) x 1010.5 s (not the corner cut to the top of
+    the dive, 1010.01 m, nor the straight line through the margin, nor the retrace on to the start)."""
     from auvplan.endurance.pnr import _return_energy
     from auvplan.endurance.power import EnergyModel
     from auvplan.world import Margins, Terrain
@@ -113,14 +113,14 @@ def test_the_way_back_retraces_the_dive_to_the_vertex_that_sees_the_rally_point(
     z = np.where(x == 500.0, -55.1, -100.0)[None, :].repeat(3, axis=0)
     world = World(Bounds(-1000, 2000, -1000, 1000, -200, 0), Terrain(x, np.array([-1000.0, 0.0, 1000.0]), z),
                   margins=Margins(min_altitude=5.0))
-    pts = np.array([[-500.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 0.0, -60.0], [1000.0, 0.0, -90.0]])
+    pts = np.array([[-500.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [1000.0, 0.0, -60.0], [1000.0, 300.0, -60.0]])
     rally = np.array([0.0, 0.0, -50.0])
     free_from = np.array([world.path_free(np.stack([q, rally])) for q in pts])
     assert world.path_free(pts) and free_from.tolist() == [True, True, False, False]
-    assert not world.path_free(np.array([[1000.0, 0.0, -60.5], rally]))
+    assert not world.path_free(np.array([[1000.0, 0.5, -60.0], rally]))
     tr = traverse(world, pts, 1.0, 0.0, 100.0)
     e_out, e_ret, pos, t, leg = _return_energy(world, tr, EnergyModel(), 1510.5, rally, 1.0, free_from, 100.0)
-    assert leg == 2 and pos.tolist() == pytest.approx([1000.0, 0.0, -60.5]) and t == pytest.approx(1510.5)
+    assert leg == 2 and pos.tolist() == pytest.approx([1000.0, 0.5, -60.0]) and t == pytest.approx(1510.5)
     assert e_out == pytest.approx(20.82 * 1510.5 / 3600.0, rel=1e-9)
     assert e_ret == pytest.approx(20.82 * 1010.5 / 3600.0, rel=1e-9)
 
