@@ -210,9 +210,12 @@ MODULES.update({
     ),
     # the survey's turns between lines (Dubins)
     "survey-turns": Target(_fns(TURNS, "_mod", "_words", "dubins", "sample_turn")),
-    # the ladder of lattices: the rungs' cells and which rung wins
+    # the ladder of lattices: the rungs' cells and which rung wins (issue 49's measured run: --tests
+    # tests/unit/test_ladder_by_hand.py tests/property/test_edges_properties.py::test_the_cheapest_rung_wins_the_ladder)
     "ladder": Target(_fns(LADDER, "_cells", "plan_ladder")),
-    # tail-first legs: the planner's tail speed and the mission files' flags
+    # tail-first legs: the planner's tail speed and the mission files' flags (measured: --tests
+    # tests/unit/test_tail_by_hand.py; tail_speed is a kernel: only its Python function, tail_speed.py_func, is
+    # seen mutated with the JIT on, as the compiled callers keep the original)
     "tail-first": Target(_fns(TAIL_PLAN, "tail_speed") + _fns(TAIL_IO, "any_tail", "refusal", "read_tail")),
     # the re-planning flight's verdict
     "replan": Target(_fns(REPLAN, "_finish", "Flight.arrived", "Flight.success")),
