@@ -968,3 +968,33 @@ REASONS.update({
         ("equivalent: the cosine of a double is never exactly 0 (no double is an odd multiple of pi/2; the nearest, "
          "fl(pi/2), gives 6.1e-17), so < 0 and <= 0 agree on every yaw"),
 })
+
+# issue #49, third session: endurance run whole (all 255) against tests/unit/test_endurance_by_hand.py; the
+# survivors not argued above
+_SCAN = ("not killed (scan resolution): the scan of f along the route moves or loses a point; the bisection from "
+         "the last point where f <= 0 still finds the first crossing of every hump of f wider than two scan "
+         "intervals (test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_per_metre), a "
+         "narrower one is found or missed by either grid depending on where its points fall")
+REASONS.update({
+    "traverse | p = np.asarray(points, dtype=float).reshape(-2, 3)": _NEG,
+    ("traverse | back = np.zeros(p.shape[0] - 1, dtype=bool) if tail is None else "
+     "np.asarray(tail, dtype=bool).reshape(-2)"): _NEG,
+    "traverse | nodes, node_s, node_t, node_leg = ([p[0]], [0.0], [depart], [1])":
+        ("equivalent: the first node's leg is never read: Traverse.at returns node_leg[j] with j >= 1 (clipped), "
+         "and budget_of does not read node_leg"),
+    "budget_of | ground = np.where(moving > 0, length / np.where(moving >= 0, moving, 1.0), np.nan)":
+        "equivalent: the inner guard only keeps the branch the outer np.where discards (moving = 0) finite",
+    "budget_of | ground = np.where(moving > 0, length / np.where(moving > 0, moving, 2.0), np.nan)":
+        "equivalent: the placeholder divisor's result is discarded by the outer np.where",
+    "budget_of | if margin <= -1e-09 * model.battery_wh:":
+        "boundary: a margin of exactly -1e-9 of the battery (Wh), the float tolerance itself",
+    "_return_energy | keep = np.r_[True, np.linalg.norm(np.diff(back, axis=0), axis=1) >= 1e-09]":
+        "boundary: return-route vertices exactly 1e-9 m apart",
+    "point_of_no_return | grid = np.linspace(1.0, total, max(2, samples) + 1)": _SCAN,
+    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) - 1)": _SCAN,
+    "point_of_no_return | for s in grid[2:]:": _SCAN,
+    "point_of_no_return | lo, r_lo = (1.0, r0)":
+        ("not killed (within tol): the bisection's lower end starts 1 m (the default tol) along the route; it "
+         "differs only for a point of no return within the first metre"),
+    "point_of_no_return | if fs >= 0:": "boundary: a scan point exactly at the point of no return (f = 0)",
+})

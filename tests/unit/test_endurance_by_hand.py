@@ -200,3 +200,127 @@ def test_a_leg_ending_exactly_on_the_reserve_does_not_enter_it() -> None:
     b = budget_of(tr, model)
     assert abs(b.remaining_wh[1] - model.reserve_wh) < 1e-12 * model.battery_wh
     assert b.status is Status.RESERVE_BROKEN and "the reserve is entered on leg 2" in b.message, b.message
+
+
+def test_route_and_step_checks_and_the_ground_speed_of_each_current_component() -> None:
+    """One point is not a route; ds must be positive (0.5 m is); a 6-point route without holds; the ground speed
+    along north in a northward current adds it (V + v), along east in it crabs (√(V² − v²)), an up current
+    along north is cross current."""
+    from auvplan.endurance.budget import ground_speed
+
+    with pytest.raises(ValueError, match="at least 2 points"):
+        traverse(WORLD, PTS[:1], 1.0, 0.0, 10.0)
+    for ds in (0.0, -1.0):
+        with pytest.raises(ValueError, match="ds must be positive"):
+            traverse(WORLD, PTS, 1.0, 0.0, ds)
+    assert traverse(WORLD, PTS, 1.0, 0.0, 0.5).times[-1] == pytest.approx(200.0)
+    six = np.array([[100.0 * k, 50.0 * (k % 2), -50.0] for k in range(6)])
+    tr = traverse(WORLD, six, 2.0, 10.0, 10.0)
+    assert tr.ok and tr.times[-1] == pytest.approx(10.0 + 5 * np.hypot(100.0, 50.0) / 2.0)
+    north, east = np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 0.0])
+    assert ground_speed(np.array([0.0, 0.5, 0.0]), north, 1.0) == pytest.approx(1.5)
+    assert ground_speed(np.array([0.0, 0.6, 0.0]), east, 1.0) == pytest.approx(0.8)
+    assert ground_speed(np.array([0.0, 0.0, 0.6]), north, 1.0) == pytest.approx(0.8)
+
+
+def test_short_legs_short_holds_and_the_power_law() -> None:
+    """A 0.5 m leg at 1 m/s is flown at 1 m/s over ground (its 0.5 s is a moving time like any other); a hold of
+    0.5 s delays what follows by 0.5 s; P(V) = P_hotel + k V³ at 2 m/s: 15 + 5.82 x 8 W."""
+    from auvplan.endurance.budget import budget_of
+    from auvplan.endurance.power import EnergyModel
+
+    pts = np.array([[0.0, 0.0, -50.0], [0.5, 0.0, -50.0], [100.5, 0.0, -50.0]])
+    tr = traverse(WORLD, pts, 1.0, 0.0, 10.0, dwell=[0.0, 0.5, 0.0])
+    assert tr.times.tolist() == pytest.approx([0.0, 0.5, 101.0])
+    assert budget_of(tr, EnergyModel()).speed_ground.tolist() == pytest.approx([1.0, 1.0])  # held time excluded
+    assert float(EnergyModel().power(2.0)) == pytest.approx(15.0 + 5.82 * 8.0)
+
+
+def test_the_midpoint_sample_is_taken_half_a_step_later_in_a_current_changing_in_time() -> None:
+    """A following current growing in time, u = 1e-3 t (uniform in space): ds/dt = 1 + 1e-3 t, so 1000 m take
+    t = (√(1 + 2e-3 x 1000) − 1) / 1e-3 = 732.05 s (midpoint steps of 10 m in space and half a step in time:
+    within 0.05 s)."""
+    from auvplan.world import GriddedCurrent
+
+    t_axis = np.array([0.0, 5000.0])
+    u = np.broadcast_to((1e-3 * t_axis)[:, None, None, None], (2, 1, 2, 2)).copy()
+    xy = np.array([-1000.0, 1000.0])
+    world = World(Bounds(-1000, 1000, -1000, 1000, -200, 0),
+                  currents=GriddedCurrent(xy, xy, np.array([0.0]), u, np.zeros_like(u), t=t_axis))
+    tr = traverse(world, np.array([[-500.0, 0.0, -50.0], [500.0, 0.0, -50.0]]), 1.0, 0.0, 10.0)
+    assert tr.times[-1] == pytest.approx((np.sqrt(3.0) - 1.0) / 1e-3, abs=0.05)
+
+
+def test_positions_along_one_step_legs_that_turn() -> None:
+    """With one sub-step per leg (ds longer than every leg) Traverse.at interpolates between the vertices of
+    the leg the distance falls on, not an extrapolation of the next or the previous leg."""
+    pts = np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0], [100.0, 100.0, -50.0], [0.0, 100.0, -50.0]])
+    tr = traverse(WORLD, pts, [1.0, 2.0, 1.0], 0.0, 1000.0)
+    assert tr.nodes.shape == (4, 3)
+    for s, where, t in ((50.0, [50.0, 0.0, -50.0], 50.0), (150.0, [100.0, 50.0, -50.0], 125.0),
+                        (300.0, [0.0, 100.0, -50.0], 250.0), (250.0, [50.0, 100.0, -50.0], 200.0)):
+        pos, at_t, leg = tr.at(s)
+        assert pos.tolist() == pytest.approx(where) and at_t == pytest.approx(t), s
+
+
+def test_return_route_computes_what_it_is_not_given_and_never_retraces_past_the_start() -> None:
+    """Without ``free_from`` the return route finds the vertex that sees the recovery point itself; when only a
+    vertex not yet flown sees it, there is no return route (None)."""
+    from auvplan.endurance.pnr import return_route
+    from auvplan.world import Margins, Terrain
+
+    x = np.arange(-1000.0, 2001.0, 500.0)
+    z = np.where(x == 500.0, -55.1, -100.0)[None, :].repeat(3, axis=0)
+    world = World(Bounds(-1000, 2000, -1000, 1000, -200, 0), Terrain(x, np.array([-1000.0, 0.0, 1000.0]), z),
+                  margins=Margins(min_altitude=5.0))
+    pts = np.array([[1000.0, 0.0, -50.0], [1000.0, 0.0, -60.0], [1000.0, 300.0, -60.0]])
+    pos = np.array([1000.0, 0.0, -55.0])
+    rally = np.array([0.0, 0.0, -50.0])
+    back = return_route(world, pts, pos, 0, rally)
+    assert back is not None and back.tolist() == [pos.tolist(), pts[0].tolist(), rally.tolist()]
+    assert return_route(world, pts, pos, 0, rally, np.array([False, False, True])) is None
+
+
+def test_point_of_no_return_reports_its_point_home_and_verdict() -> None:
+    """Still water, 1 km legs: with a large battery the vehicle can turn back anywhere (whole mission, at the
+    end point, its home the start, named); a rally point 1 km from the start that costs 0.5 Wh more than the
+    budget to reach is INFEASIBLE from the start (at the start); a flight the current blocks at 370 m stays
+    within reach up to there (not the whole mission); the way back from the recovery point itself costs 0."""
+    from auvplan._types import Status
+    from auvplan.endurance.pnr import _return_energy, point_of_no_return
+    from auvplan.endurance.power import EnergyModel
+
+    pts = np.array([[10.0, 20.0, -30.0], [710.0, 20.0, -30.0], [710.0, 520.0, -80.0]])
+    tr = traverse(WORLD, pts, 1.0, 0.0, 100.0)
+    whole = point_of_no_return(WORLD, tr, EnergyModel(battery_wh=1e4))
+    assert whole.status is Status.EXACT and whole.whole_mission and whole.leg == 1
+    assert whole.position == pytest.approx((710.0, 520.0, -80.0)) and whole.recovery == (10.0, 20.0, -30.0)
+    assert whole.s_m == pytest.approx(700.0 + np.hypot(500.0, 50.0))
+    assert whole.message == "home (the start) stays within reach with the reserve from every point of the mission"
+    rally = [10.0, -980.0, -30.0]
+    e_ret0 = float(EnergyModel().power(1.0)) * 1000.0 / 3600.0
+    none = point_of_no_return(WORLD, tr, EnergyModel(battery_wh=(e_ret0 - 0.5) / 0.7), recovery=rally)
+    assert none.status is Status.INFEASIBLE and none.s_m == 0.0 and none.position == pytest.approx(tuple(pts[0]))
+    assert none.message.startswith("the vehicle cannot reach the rally point [10.0, -980.0, -30.0] with its reserve")
+    route = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0]])
+    blocked = point_of_no_return(_blocked_world(), traverse(_blocked_world(), route, 1.0, 0.0, 10.0),
+                                 EnergyModel(battery_wh=1e4))
+    assert blocked.status is Status.EXACT and not blocked.whole_mission and blocked.s_m == pytest.approx(370.0)
+    assert blocked.message.endswith("stays within reach up to where the current blocks the mission")
+    free_from = np.ones(3, dtype=bool)
+    assert _return_energy(WORLD, tr, EnergyModel(), 0.0, pts[0], 1.0, free_from, 100.0)[1] == 0.0
+
+
+def test_a_leg_ending_a_rounding_under_the_reserve_does_not_enter_it() -> None:
+    """As above, the second leg ending 1e-10 of the battery under the reserve (within the 1e-9 tolerance): it
+    does not enter the reserve, the third does."""
+    from auvplan.endurance.budget import budget_of
+    from auvplan.endurance.power import EnergyModel
+
+    pts = np.array([[0.0, 0.0, -50.0], [1000.0, 0.0, -50.0], [2000.0, 0.0, -50.0], [3000.0, 0.0, -50.0]])
+    tr = traverse(WORLD, pts, 1.0, 0.0, 100.0)
+    two = float(budget_of(tr, EnergyModel()).cumulative_wh[1])
+    battery = two / (0.7 + 1e-10)  # usable - two = reserve - 1e-10 battery
+    b = budget_of(tr, EnergyModel(battery_wh=battery))
+    assert b.remaining_wh[1] - b.model.reserve_wh == pytest.approx(-1e-10 * battery, rel=1e-3)
+    assert "the reserve is entered on leg 2" in b.message, b.message
