@@ -16,7 +16,7 @@ import math
 from .._types import BoolArray, FloatArray, IntArray
 from ..runtime.jit import kernel
 
-__all__ = ["FIELD_UNITS", "candidates_kernel", "field_kernel"]  # the others: internals of auvplan.world.zones
+__all__ = ["FIELD_UNITS", "candidates_kernel"]  # the others are the internals of auvplan.world.zones
 
 #: The fine distance field's values are whole units of a fine cell / FIELD_UNITS (uint16).
 FIELD_UNITS = 64
