@@ -57,9 +57,11 @@ def scheduler():
 
 
 def test_in_process_and_two_workers_give_the_tasks_own_results_in_order(scheduler):
-    calls = []
+    calls, said = [], []
     one = Runner().map(_offset_draw, SEEDS, shared=10.0, progress=lambda d, n: calls.append((d, n)))
-    two = Runner(scheduler=scheduler).map(_offset_draw, SEEDS, shared=10.0)
+    two = Runner(scheduler=scheduler, announce=said.append).map(_offset_draw, SEEDS, shared=10.0)
+    assert said[0] == f"reaching the dask scheduler at {scheduler} …"  # a stage line: never silent (issue 56)
+    assert said[1].startswith("2 dask workers ready in ") and said[1].endswith(" s; 6 tasks to run")
     for a, b, e in zip(one.results, two.results, EXPECTED, strict=True):
         assert np.array_equal(a, 10.0 + e) and np.array_equal(b, a)  # bit for bit, in task order
     assert one.computed == two.computed == len(SEEDS) and one.reused == 0
@@ -161,6 +163,7 @@ def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_p
     two = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", runner=Runner(scheduler=scheduler))
     assert two.computed == 2 and [r.depart_s for r in two.rows] == [0.0, 21600.0]
     assert _table(two) == _table(resumed)  # bit for bit: durations, energies, points of no return
+    assert not (tmp_path / "cache" / "auvplan").exists()  # no empty folder left in the user's cache
     assert {k: v for k, v in two.summary.items() if k != "cpu_per_departure_s"} == {
         k: v for k, v in resumed.summary.items() if k != "cpu_per_departure_s"}
     assert all(np.isfinite(r.duration_s) and r.duration_s <= r.steady_duration_s * (1 + 1e-6) for r in two.rows)

@@ -185,9 +185,24 @@ def runner_of(args: argparse.Namespace) -> Any:
     Returns
     -------
     Runner
-        Where the job's independent tasks run.
+        Where the job's independent tasks run; starting its workers or reaching its scheduler is a stage line
+        on stderr (none with ``-q`` or ``--json``).
     """
     from ..runtime.parallel import Runner
 
+    quiet = getattr(args, "quiet", False) or getattr(args, "json", False)
     return Runner(workers=getattr(args, "workers", None) or 0, scheduler=getattr(args, "scheduler", None),
-                  retries=getattr(args, "retries", 1))
+                  retries=getattr(args, "retries", 1), announce=None if quiet else stage_line)
+
+
+def stage_line(text: str) -> None:
+    """``auvplan: TEXT`` on stderr above the live line (which keeps being redrawn beneath it).
+
+    Parameters
+    ----------
+    text : str
+        The stage.
+    """
+    from tqdm import tqdm
+
+    tqdm.write(f"auvplan: {text}", file=sys.stderr)

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .output import LIVE, emit, runner_of
+from .output import LIVE, emit, runner_of, stage_line
 
 if TYPE_CHECKING:
     from ..planners.timeopt.planner import SweepRow, SweepSummary
@@ -37,7 +37,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     try:
         run = sweep_scenario(args.scenario, args.depart_between, args.step, args.objective, args.out,
-                             getattr(args, "force", False), progress, runner_of(args))
+                             getattr(args, "force", False), progress, runner_of(args),
+                             (lambda text: None) if args.quiet or args.json else stage_line)
     finally:
         if bar is not None:
             bar.close()
