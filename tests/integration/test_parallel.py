@@ -76,6 +76,10 @@ def test_a_failed_task_runs_again(tmp_path, scheduler):
     (tmp_path / "ran-2").unlink()
     with pytest.raises(RuntimeError, match="first run of task 2"):
         Runner(retries=0).map(_flaky, tasks)  # no retry: the failure is the job's
+    (tmp_path / "ran-2").unlink()
+    with pytest.raises(RuntimeError, match="first run of task 2"):  # a job that fails before any checkpoint
+        Runner(retries=0, checkpoints=tmp_path / "ckpt").map(_flaky, tasks[4:5], [task_key("flaky", 2)])
+    assert not (tmp_path / "ckpt").exists()  # leaves no empty checkpoint folder behind
 
 
 @pytest.mark.parametrize("distributed", [False, True], ids=["in-process", "two-workers"])
