@@ -29,10 +29,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def progress(name: str, done: int, total: int) -> None:  # departures done / total and an ETA on stderr
         nonlocal bar
         if bar is None:
+            LIVE.end()  # the starting clock gives way to the sweep's bar (closed first: the bar takes its line)
             bar = tqdm(total=total, desc=f"departures of {name}", unit="dep", file=sys.stderr,
                        disable=args.quiet or args.json, mininterval=0.5)
-            LIVE.end()  # the starting clock gives way to the sweep's bar, redrawn in silences (issue 56)
-            LIVE.show(bar)
+            LIVE.show(bar)  # redrawn in silences (issue 56)
         bar.update(done - bar.n)
 
     try:

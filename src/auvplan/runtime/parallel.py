@@ -217,7 +217,7 @@ class Runner:
     def _dask(self, fn: Callable[..., R], shared: Any, todo: list[tuple[int, T]],
               arrived: Callable[[int, R], None]) -> None:
         require("dask", "bench")
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import as_completed
 
         log = logging.getLogger("distributed")  # its start-up lines only with -v (a root logger at INFO)
         level = log.level
@@ -225,16 +225,7 @@ class Runner:
             log.setLevel(logging.WARNING)
         say = self.announce or (lambda _: None)
         t0 = time.monotonic()
-        cluster = None
-        if self.scheduler:
-            say(f"reaching the dask scheduler at {self.scheduler} …")
-            client = Client(self.scheduler)
-        else:
-            say(f"starting {_count(self.workers, 'dask worker')} ({'processes' if self.processes else 'threads'}: "
-                "a LocalCluster) …")
-            cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=self.processes,
-                                   dashboard_address=None, silence_logs=logging.WARNING)
-            client = Client(cluster)
+        client, cluster = self._connect(say)
         futures: dict[Any, int] = {}
         try:
             n = len(client.scheduler_info().get("workers", {}))
@@ -248,8 +239,27 @@ class Runner:
             client.cancel(list(futures))
             client.close()
             if cluster is not None:
+                say("stopping the dask workers …")
+                # a worker still tearing down after 4 s is killed: dask's warning of it is no news here
+                log.setLevel(max(log.getEffectiveLevel(), logging.ERROR))
                 cluster.close()
             log.setLevel(level)
+
+    def _connect(self, say: Callable[[str], None]) -> tuple[Any, Any]:
+        """A client of the scheduler, or of a new ``LocalCluster`` (returned too, to be closed)."""
+        from dask.distributed import Client, LocalCluster
+
+        if self.scheduler:
+            say(f"reaching the dask scheduler at {self.scheduler} …")
+            return Client(self.scheduler), None
+        say(f"starting {_count(self.workers, 'dask worker')} ({'processes' if self.processes else 'threads'}: "
+            "a LocalCluster) …")
+        # the scheduler's HTTP server (health checks, no dashboard) on a free local port: on its default,
+        # 8787, taken by another cluster, dask warns on stderr
+        cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=self.processes,
+                               dashboard_address=None, silence_logs=logging.WARNING,
+                               scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
+        return Client(cluster), cluster
 
 
 def _count(n: int, noun: str) -> str:
