@@ -160,8 +160,10 @@ def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_p
     assert len(list((out / ".auvplan-tasks").glob("*.pkl"))) == 1
     monkeypatch.setattr(job, "_departure", real)
     job._SETUP.clear()  # a new process after the kill
-    resumed = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), force=True)
+    said: list[str] = []
+    resumed = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), force=True, stage=said.append)
     assert resumed.computed == 1  # the second departure only
+    assert said == [f"writing sweep.csv, sweep_summary.json, sweep.png to {out} …"]  # the tail is told
     assert not (out / ".auvplan-tasks").exists()  # the sweep's files are written: its checkpoints are gone
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     job._SETUP.clear()  # the workers build the sweep's lattice and table themselves
