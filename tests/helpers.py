@@ -41,3 +41,19 @@ def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tup
     code = proc.wait()
     gaps.append((time.monotonic() - last, "<exit>"))
     return code, gaps
+
+
+def coarse_tides(folder) -> str:
+    """``juan-de-fuca-tides`` (real bathymetry and tides) on a 2 km lattice of one level, the energy and point of
+    no return integrated every km: a cheap real departure sweep (a TOML file in ``folder``; its path)."""
+    from pathlib import Path
+
+    from auvplan.io.scenario.loader import resolve
+
+    text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
+    text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
+    assert "cell = 2000.0" in text and "levels = 1" in text
+    path = Path(folder) / "jdf-coarse.toml"
+    path.write_text(text + "\n[endurance]\nds_m = 1000.0\n", encoding="utf-8")
+    return str(path)
+

@@ -11,6 +11,7 @@ import pytest
 
 from auvplan.errors import AuvplanError
 from auvplan.runtime.parallel import Runner, forget, task_key
+from helpers import coarse_tides
 
 
 def _draw(seed: int) -> np.ndarray:
@@ -124,19 +125,6 @@ def test_checkpoints_never_go_through_a_link_and_a_cut_file_is_recomputed(tmp_pa
     assert task_key("a", 1) != task_key("a", 1.0000001) and len(task_key()) == 64
 
 
-def _coarse_tides(tmp_path: Path) -> Path:
-    """juan-de-fuca-tides (real bathymetry and tides) on a 2 km lattice of one level: a cheap real sweep."""
-    from auvplan.io.scenario.loader import resolve
-
-    text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
-    text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
-    assert "cell = 2000.0" in text and "levels = 1" in text
-    text += "\n[endurance]\nds_m = 1000.0\n"  # the energy and point of no return integrated every km
-    path = tmp_path / "jdf-coarse.toml"
-    path.write_text(text, encoding="utf-8")
-    return path
-
-
 def _table(run) -> list[dict]:
     """A sweep's rows without the CPU seconds (a measurement, not a result)."""
     return [{k: v for k, v in row.items() if k != "cpu_s"} for row in run.table]
@@ -145,7 +133,7 @@ def _table(run) -> list[dict]:
 def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_path, scheduler, monkeypatch):
     from auvplan.app import sweep as job
 
-    scenario, out = _coarse_tides(tmp_path), tmp_path / "out"
+    scenario, out = coarse_tides(tmp_path), tmp_path / "out"
     real, done = job._departure, []
 
     def killed_at_the_second(shared, depart):  # a crash after the first departure
