@@ -28,7 +28,8 @@ survey-flown: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_survey_corridor_flown.py
 
 # issue 56: a long mission (marcus-wake, a ~31 h flight, then its results, report and exports) in a fresh process,
-# every stderr line timed: no silent gap over 2 s (tests/heavy, ~10 min; the suite runs a small version)
+# every stderr line timed: no silent gap over 2 s (tests/heavy, 12 s CPU, 20-35 s at a load of 5; the suite runs a
+# small version)
 never-silent: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_never_silent_long.py
 
