@@ -48,3 +48,17 @@ def test_a_stage_after_another_is_drawn_once_stderr_was_quiet_for_quiet_s_in_all
     live.end()
     assert buf.getvalue()[len(drawn):].strip() == ""  # drawn within its delay, cleared all the same
     assert buf.getvalue() != drawn
+
+
+def test_a_stage_without_a_reporter_replaces_the_live_line(capsys):
+    """``survey``'s stages: the line, then the stage's clock in place of the one before (which used to stay
+    live, the stage's text written onto its line)."""
+    from auvplan.cli import output
+
+    output.starting("survey: starting")
+    first = output.LIVE.display
+    output.stage("planning and flying the survey")
+    assert first.disable and output.LIVE.display.desc == "planning and flying the survey"  # the first closed
+    output.finish()
+    assert output.LIVE.display is None
+    assert "auvplan: planning and flying the survey …\n" in capsys.readouterr().err

@@ -108,6 +108,23 @@ def starting(text: str) -> None:
     LIVE.show(_stage_clock(tqdm, text, False))
 
 
+def stage(text: str) -> None:
+    """A stage of a command that has no progress reporter (``survey``): its line on stderr, then its clock as
+    the live line, in place of the one before.
+
+    Parameters
+    ----------
+    text : str
+        The stage.
+    """
+    from tqdm import tqdm
+
+    LIVE.end()
+    tqdm.write(f"auvplan: {text} …", file=sys.stderr)
+    LIVE.said()
+    LIVE.show(_stage_clock(tqdm, text, False))
+
+
 def finish() -> None:
     """End the running command's live line (called by :func:`auvplan.cli.main` when a command returns)."""
     LIVE.end()
