@@ -62,3 +62,12 @@ def test_a_stage_without_a_reporter_replaces_the_live_line(capsys):
     output.finish()
     assert output.LIVE.display is None
     assert "auvplan: planning and flying the survey …\n" in capsys.readouterr().err
+
+
+def test_a_quiet_command_s_disabled_bars_pass_through():
+    """``-q``/``--json``: the bars are disabled (no ``start_t``): shown, ticked and ended without a word."""
+    live = _Live()
+    live.show(tqdm(total=3, disable=True))
+    assert not live.tick() and live.thread is None
+    live.end()
+    assert live.display is None and live.drawn == 0.0

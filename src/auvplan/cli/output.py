@@ -42,7 +42,7 @@ class _Live:
         """Make ``bar`` the live line (the thread starts with the first; :func:`finish` ends it, before the
         command prints its result)."""
         self._forget(self.display)
-        if self.display is None and not self.drawn and bar is not None:
+        if self.display is None and not self.drawn and bar is not None and not bar.disable:
             self.drawn = bar.start_t  # the command's first line: its own delay (nothing for a quick stage)
         self.display = bar
         if self.thread is None and bar is not None and not bar.disable:
