@@ -523,7 +523,7 @@ def test_serve_draws_the_band_of_the_mission_being_edited():
     import shapely
 
     from auvplan.nav.band import error_band
-    from auvplan.serve.navband import SIMPLIFY_M, nav_band
+    from auvplan.serve.session import SIMPLIFY_M, nav_band
     from auvplan.sim import Mission
 
     w, route, kinds, prof = _band_mission()  # its surfacing is the one waypoint at depth 0: read as the fix
