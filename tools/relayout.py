@@ -141,6 +141,10 @@ MOVES: dict[str, str] = {
     "io/data/tides.py": "io/data/ocean/tides.py",
     "io/data/roms.py": "io/data/ocean/roms.py",
     "io/data/vectors.py": "io/data/ocean/vectors.py",
+    "world/currents.py": "world/currents/fields.py",
+    "world/tides.py": "world/currents/tides.py",
+    "world/ensemble_fields.py": "world/currents/ensemble.py",
+    "world/crab.py": "world/currents/crab.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -199,6 +203,9 @@ PACKAGE_DOCS: dict[str, str] = {
     "guidance/mission": "The executable waypoint mission: built from a plan, its convex limits, and the mission "
                         "fitted to the vehicle.",
     "world/kernels": "The compiled kernels of the seabed's heightfield and of the ellipsoids' distances.",
+    "world/currents": "Ocean currents: the fields (uniform, Lamb-Oseen vortices, gridded; :mod:`.fields`), tidal "
+                      "currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the "
+                      "ground speed of a vehicle holding a line in them (:mod:`.crab`).",
     "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",

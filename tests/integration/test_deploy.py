@@ -35,7 +35,7 @@ from auvplan.io.scenario.defaults import PRESETS, energy_defaults
 from auvplan.io.scenario.saved import with_derived_frame
 from auvplan.sim import RunRecord
 from auvplan.sim.pipeline import fitted_route
-from auvplan.world.currents import GriddedCurrent
+from auvplan.world.currents.fields import GriddedCurrent
 
 SPEED = 1.5
 

@@ -119,7 +119,7 @@ def test_checkpoints_never_go_through_a_link_and_a_cut_file_is_recomputed(tmp_pa
 
 def _coarse_tides(tmp_path: Path) -> Path:
     """juan-de-fuca-tides (real bathymetry and tides) on a 2 km lattice of one level: a cheap real sweep."""
-    from auvplan.io.scenario.loader import resolve
+    from auvplan.io.scenario.builtins import resolve
 
     text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
     text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")

@@ -308,7 +308,7 @@ def test_the_closed_loop_holds_the_surface_dwell_drifting_with_the_current_at_ho
     from auvplan.endurance import EnergyModel, flown_energy
     from auvplan.sim import Mission, SimParams, simulate
     from auvplan.vehicles import VehicleParams
-    from auvplan.world.currents import UniformCurrent
+    from auvplan.world.currents.fields import UniformCurrent
 
     w = replace(_world(depth=300.0), currents=UniformCurrent((0.0, -0.05, 0.0)))  # across the track
     route = np.array([[1000.0, 6000.0, -250.0], [3000.0, 6000.0, -250.0], [4000.0, 6000.0, 0.0],

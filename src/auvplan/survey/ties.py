@@ -22,7 +22,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from ..world.currents import CurrentField
+from ..world.currents.fields import CurrentField
 from .frame import Frame, StraightFrame
 from .lines import SurveyLines
 

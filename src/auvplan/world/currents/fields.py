@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray
-from ..errors import DataError
-from ..geometry import as_points
-from ..runtime.jit import kernel
+from ..._types import ArrayLike, FloatArray
+from ...errors import DataError
+from ...geometry import as_points
+from ...runtime.jit import kernel
 
 __all__ = ["CurrentField", "UniformCurrent", "LambOseenVortices", "GriddedCurrent"]
 
