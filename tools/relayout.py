@@ -75,7 +75,7 @@ MOVES: dict[str, str] = {
     "io/elevation.py": "io/data/elevation.py",
     "io/currents.py": "io/data/ocean/currents.py",
     "io/tides.py": "io/data/ocean/tides.py",
-    "io/coast.py": "io/data/coast.py",
+    "io/coast.py": "io/data/vector/coast.py",
     "io/grids.py": "io/data/grids.py",
     "io/ncfile.py": "io/data/ncfile.py",
     "io/geo.py": "io/data/geo.py",
@@ -145,6 +145,10 @@ MOVES: dict[str, str] = {
     "world/tides.py": "world/currents/tides.py",
     "world/ensemble_fields.py": "world/currents/ensemble.py",
     "world/crab.py": "world/currents/crab.py",
+    "io/data/vector.py": "io/data/vector/reader.py",
+    "io/data/coast.py": "io/data/vector/coast.py",
+    "io/data/zones.py": "io/data/vector/zones.py",
+    "io/data/survey_area.py": "io/data/vector/areas.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -207,6 +211,8 @@ PACKAGE_DOCS: dict[str, str] = {
                       "currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the "
                       "ground speed of a vehicle holding a line in them (:mod:`.crab`).",
     "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
+    "io/data/vector": "Vector feature files: the one reader (:mod:`.reader`), coastlines (:mod:`.coast`), charted "
+                      "zones (:mod:`.zones`) and survey areas and centre lines (:mod:`.areas`).",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",
 }

@@ -275,7 +275,7 @@ def test_centre_line_from_a_projected_vector_file(tmp_path, driver):
     import pyogrio
     from pyproj import Transformer
 
-    from auvplan.io.data.survey_area import read_line_lonlat
+    from auvplan.io.data.vector.areas import read_line_lonlat
 
     lonlat = np.array([[-124.17, 48.345], [-124.07, 48.30], [-123.93, 48.29]])
     e, n = Transformer.from_crs("EPSG:4326", "EPSG:32610", always_xy=True).transform(lonlat[:, 0], lonlat[:, 1])

@@ -21,7 +21,7 @@ from ...survey.run import SurveyRun
 from ...survey.spec import SurveySpec
 from ...world import World
 from ..data.geo import LocalFrame
-from ..data.survey_area import read_area_lonlat, read_line_lonlat
+from ..data.vector.areas import read_area_lonlat, read_line_lonlat
 from ..safeio import atomic_write
 from .records import write_json
 

@@ -24,11 +24,11 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import load_terrain
-from ..data.coast import read_land
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
-from ..data.zones import read_zones
+from ..data.vector.coast import read_land
+from ..data.vector.zones import read_zones
 from .currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .geoinput import apply_altitudes, clip_to_data
 from .members import member_fields

@@ -31,7 +31,7 @@ import numpy as np
 
 from ...errors import DataError, ScenarioError
 from ..data.geo import LocalFrame
-from ..data.survey_area import read_area_lonlat, read_line_lonlat
+from ..data.vector.areas import read_area_lonlat, read_line_lonlat
 from .tables import MAX_MAGNITUDE, table_error
 
 __all__ = ["GeoInput", "AltitudeRef", "resolve_positions", "apply_altitudes", "bounds_margin", "clip_to_data",

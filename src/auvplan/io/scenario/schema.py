@@ -173,7 +173,7 @@ def _moving_schema() -> dict[str, Any]:
 
 
 def _zones_schema() -> dict[str, Any]:
-    """``[[zones]]`` (:mod:`auvplan.io.data.zones`): one geometry key, a depth band, a name."""
+    """``[[zones]]`` (:mod:`auvplan.io.data.vector.zones`): one geometry key, a depth band, a name."""
     pair = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
     depth = {"type": "number", "minimum": 0}
     props = {"name": {"type": "string", "minLength": 1},

@@ -21,9 +21,9 @@ from ...survey.spec import SurveySpec
 from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
-from ..data.coast import LandSpec
 from ..data.ocean.currents import CurrentsFileSpec, parse_time
-from ..data.zones import ZoneSpec
+from ..data.vector.coast import LandSpec
+from ..data.vector.zones import ZoneSpec
 from ..limits import Limits
 from .geoinput import GeoInput
 from .members import MemberSpec
@@ -343,7 +343,7 @@ class Scenario:
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
     zones : tuple of ZoneSpec
-        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
+        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.vector.zones`).
     navigation : NavParams or None
         The navigation error budget and its fixes (``[navigation]``, issue 52).
     """

@@ -32,7 +32,7 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
-from ..data.zones import parse_zones
+from ..data.vector.zones import parse_zones
 from ..limits import Limits
 from .defaults import apply_preset
 from .geoinput import resolve_positions

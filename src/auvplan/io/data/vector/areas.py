@@ -14,8 +14,8 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
-from ...errors import ScenarioError
-from .vector import read_vector
+from ....errors import ScenarioError
+from .reader import read_vector
 
 __all__ = ["read_layer", "read_area", "read_area_lonlat", "read_line_lonlat"]
 
