@@ -149,6 +149,12 @@ MOVES: dict[str, str] = {
     "io/data/coast.py": "io/data/vector/coast.py",
     "io/data/zones.py": "io/data/vector/zones.py",
     "io/data/survey_area.py": "io/data/vector/areas.py",
+    "survey/lines.py": "survey/lines/placement.py",
+    "survey/swath.py": "survey/lines/swath.py",
+    "survey/envelope.py": "survey/lines/envelope.py",
+    "survey/navspacing.py": "survey/lines/navspacing.py",
+    "survey/frame.py": "survey/lines/frame.py",
+    "survey/corridor.py": "survey/lines/corridor.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -211,6 +217,10 @@ PACKAGE_DOCS: dict[str, str] = {
                       "currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the "
                       "ground speed of a vehicle holding a line in them (:mod:`.crab`).",
     "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
+    "survey/lines": "Where a survey's lines go: the line frame (:mod:`.frame`), the sensor's swath (:mod:`.swath`), "
+                    "depth-adaptive placement with guaranteed overlap (:mod:`.placement`, its envelopes "
+                    ":mod:`.envelope`, its spacing under navigation error :mod:`.navspacing`) and corridor lines "
+                    "along a centre line (:mod:`.corridor`).",
     "io/data/vector": "Vector feature files: the one reader (:mod:`.reader`), coastlines (:mod:`.coast`), charted "
                       "zones (:mod:`.zones`) and survey areas and centre lines (:mod:`.areas`).",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "

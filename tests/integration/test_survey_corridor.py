@@ -16,11 +16,11 @@ import shapely
 from auvplan.cli import main
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.survey.frame import CurveFrame, round_corners
-from auvplan.survey.lines import LineParams, place_lines
+from auvplan.survey.lines.frame import CurveFrame, round_corners
+from auvplan.survey.lines.placement import LineParams, place_lines
+from auvplan.survey.lines.swath import Sensor
 from auvplan.survey.mission import plan_survey
 from auvplan.survey.run import planned_coverage
-from auvplan.survey.swath import Sensor
 
 
 def _radii(p):

@@ -23,8 +23,8 @@ import shapely
 from numpy.typing import NDArray
 
 from ..world.currents.fields import CurrentField
-from .frame import Frame, StraightFrame
-from .lines import SurveyLines
+from .lines.frame import Frame, StraightFrame
+from .lines.placement import SurveyLines
 
 __all__ = ["tie_lines", "tie_stations", "crab_margin"]
 

@@ -15,7 +15,7 @@ import shapely
 from numpy.typing import NDArray
 
 from ...errors import ScenarioError
-from ...survey.corridor import Corridor, build_corridor, default_bend_radius
+from ...survey.lines.corridor import Corridor, build_corridor, default_bend_radius
 from ...survey.mission import DEFAULT_TURN_RADIUS_M, SurveyParams, SurveyPlan
 from ...survey.run import SurveyRun
 from ...survey.spec import SurveySpec
