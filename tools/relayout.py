@@ -92,7 +92,7 @@ MOVES: dict[str, str] = {
     "io/roms.py": "io/data/ocean/roms.py",
     "io/vectors.py": "io/data/ocean/vectors.py",
     "io/inspect_frames.py": "io/data/inspect_frames.py",
-    "io/geoinput.py": "io/scenario/geoinput.py",
+    "io/geoinput.py": "io/scenario/inputs/geoinput.py",
     "io/names.py": "io/scenario/names.py",
     "io/energy.py": "io/missions/energy.py",
     "io/mission_speeds.py": "io/missions/speeds.py",
@@ -155,6 +155,10 @@ MOVES: dict[str, str] = {
     "survey/navspacing.py": "survey/lines/navspacing.py",
     "survey/frame.py": "survey/lines/frame.py",
     "survey/corridor.py": "survey/lines/corridor.py",
+    "io/scenario/geoinput.py": "io/scenario/inputs/geoinput.py",
+    "io/scenario/currentspan.py": "io/scenario/inputs/currentspan.py",
+    "io/scenario/members.py": "io/scenario/inputs/members.py",
+    "io/scenario/uncertainty.py": "io/scenario/inputs/uncertainty.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -217,6 +221,10 @@ PACKAGE_DOCS: dict[str, str] = {
                       "currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the "
                       "ground speed of a vehicle holding a line in them (:mod:`.crab`).",
     "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
+    "io/scenario/inputs": "What a scenario's inputs become in its World beyond the tables: geographic positions "
+                          "(:mod:`.geoinput`), currents needed past a file's time span (:mod:`.currentspan`), the "
+                          "members of a forecast ensemble (:mod:`.members`) and the seabed at a confidence "
+                          "(:mod:`.uncertainty`).",
     "survey/lines": "Where a survey's lines go: the line frame (:mod:`.frame`), the sensor's swath (:mod:`.swath`), "
                     "depth-adaptive placement with guaranteed overlap (:mod:`.placement`, its envelopes "
                     ":mod:`.envelope`, its spacing under navigation error :mod:`.navspacing`) and corridor lines "

@@ -14,7 +14,7 @@ from auvplan.cli import main
 from auvplan.ensemble import percentile, plan_robust, rank_key, score_route
 from auvplan.ensemble.score import EnsembleScore
 from auvplan.io.scenario import loader
-from auvplan.io.scenario.members import member_fields
+from auvplan.io.scenario.inputs.members import member_fields
 from auvplan.world import UniformCurrent
 from auvplan.world.currents.ensemble import MeanCurrent, PerturbedCurrent, ShiftedCurrent
 

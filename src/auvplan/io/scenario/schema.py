@@ -238,7 +238,7 @@ def scenario_schema() -> dict[str, Any]:
 GEO_POSITION: dict[str, Any] = {
     "type": "object",
     "description": "A geographic position (WGS 84, degrees) with a depth below the surface or an altitude above "
-                   "the seabed (m); see auvplan.io.scenario.geoinput.",
+                   "the seabed (m); see auvplan.io.scenario.inputs.geoinput.",
     "properties": {"lat": {"type": "number", "minimum": -90, "maximum": 90},
                    "lon": {"type": "number", "minimum": -360, "maximum": 360},
                    "depth": _number(False), "altitude": {"type": "number", "minimum": 0, "maximum": MAX_MAGNITUDE}},

@@ -18,15 +18,15 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...errors import DataError
-from ...world import CurrentField, UniformCurrent, World
-from ...world.currents.ensemble import PerturbedCurrent
-from .. import limits as _limits
-from ..data.geo import LocalFrame
-from ..data.ocean.currents import CurrentsFileSpec, read_currents
+from ....errors import DataError
+from ....world import CurrentField, UniformCurrent, World
+from ....world.currents.ensemble import PerturbedCurrent
+from ... import limits as _limits
+from ...data.geo import LocalFrame
+from ...data.ocean.currents import CurrentsFileSpec, read_currents
 
 if TYPE_CHECKING:
-    from .specs import Scenario
+    from ..specs import Scenario
 
 __all__ = ["PerturbationSpec", "MemberSpec", "member_fields", "scenario_members"]
 
