@@ -42,7 +42,7 @@ ARGS: list = ["juan-de-fuca-tides", ["+0h", "+25h"], "30min"]
 
 
 def _coarse(out: Path) -> str:
-    from auvplan.io.scenario.loader import resolve
+    from auvplan.io.scenario.builtins import resolve
 
     text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
     text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")

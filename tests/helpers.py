@@ -56,7 +56,7 @@ def coarse_tides(folder) -> str:
     no return integrated every km: a cheap real departure sweep (a TOML file in ``folder``; its path)."""
     from pathlib import Path
 
-    from auvplan.io.scenario.loader import resolve
+    from auvplan.io.scenario.builtins import resolve
 
     text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
     text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
