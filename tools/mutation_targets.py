@@ -180,7 +180,7 @@ UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.ser
 BUDGET, PNR, POWER = "auvplan.endurance.budget", "auvplan.endurance.pnr", "auvplan.endurance.power"
 SPEEDS = "auvplan.endurance.speeds"
 FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.vehicle_limits"
-GEOINPUT, LADDER = "auvplan.io.scenario.geoinput", "auvplan.planners.grid.ladder"
+GEOINPUT, LADDER = "auvplan.io.scenario.inputs.geoinput", "auvplan.planners.grid.ladder"
 TURNS, TAIL_IO, TAIL_PLAN = "auvplan.survey.turns", "auvplan.io.missions.tail", "auvplan.planners.timeopt.tail"
 REPLAN = "auvplan.ensemble.replan"
 MODULES.update({

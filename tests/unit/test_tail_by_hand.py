@@ -16,7 +16,7 @@ import pytest
 
 from auvplan.io.missions.tail import TAIL_FORMATS, any_tail, read_tail, refusal
 from auvplan.planners.timeopt.tail import tail_speed
-from auvplan.world.crab import HOLD
+from auvplan.world.currents.crab import HOLD
 
 
 @pytest.mark.parametrize("fn", ["compiled", "python"])

@@ -20,10 +20,10 @@ import numpy as np
 import shapely
 from pyproj import Transformer
 
-from ...errors import DataError
-from ...world.land import Land
-from .geo import LocalFrame
-from .vector import read_vector
+from ....errors import DataError
+from ....world.land import Land
+from ..geo import LocalFrame
+from .reader import read_vector
 
 __all__ = ["LandSpec", "BUILTIN_LAND", "read_land", "builtin_land_path"]
 

@@ -1,7 +1,7 @@
 """The one reader of vector feature files: GeoJSON, KML, Shapefile, GeoPackage, FileGDB, S-57 electronic
 charts and any other format GDAL reads (through pyogrio), in any CRS.
 
-Survey areas and centre lines (:mod:`.survey_area`), charted zones (:mod:`.zones`) and land polygons
+Survey areas and centre lines (:mod:`.areas`), charted zones (:mod:`.zones`) and land polygons
 (:mod:`.coast`) read their layers here; each keeps its own error type (a survey file is a scenario error,
 a zone or land file a data error) and its own message prefix (``file: [survey] file = '...'``).
 """
