@@ -17,7 +17,9 @@ system, ``os.wait4`` of the child: not wall time) of one fresh process:
 
 One warm-up run of every command per tree comes first (it writes the compiled kernels' caches), then
 ``--rounds`` rounds, previous / current in one round and current / previous in the next, so that both see
-the same load; each figure is the median over the rounds.  Beside ``plan``, the plan's own CPU: the same
+the same load; each figure is the median over the rounds.  The warm-up also fills the readers' cache
+(``~/.cache/auvplan/data``, :mod:`auvplan.io.data.cache`): the figures are those of a scenario run before on
+the machine; its first run pays the reading and regridding of its files once.  Beside ``plan``, the plan's own CPU: the same
 command run a second time inside one warm process (``auvplan.cli.main`` twice, the second timed), so that
 ``plan`` CPU − own CPU is what the front door adds (imports, first calls of compiled kernels).  Targets
 (issue #56): ``validate`` ≤ 1 s, ``plan`` ≤ own + 0.5 s, ``inspect`` ≤ 2 s, and current ≤ previous.  The
@@ -39,7 +41,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 OWN = r'''
-import contextlib, io, json, sys, time
+import contextlib, io, json, os, sys, time
+for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(var, "1")  # as the console script (auvplan.cli.main_entry) does
 from auvplan.cli import main
 args = json.loads(sys.argv[1])
 with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
