@@ -19,11 +19,13 @@ One warm-up run of every command per tree comes first (it writes the compiled ke
 ``--rounds`` rounds, previous / current in one round and current / previous in the next, so that both see
 the same load; each figure is the median over the rounds.  The warm-up also fills the readers' cache
 (``~/.cache/auvplan/data``, :mod:`auvplan.io.data.cache`): the figures are those of a scenario run before on
-the machine; its first run pays the reading and regridding of its files once.  Beside ``plan``, the plan's own CPU: the same
-command run a second time inside one warm process (``auvplan.cli.main`` twice, the second timed), so that
-``plan`` CPU − own CPU is what the front door adds (imports, first calls of compiled kernels).  Targets
-(issue #56): ``validate`` ≤ 1 s, ``plan`` ≤ own + 0.5 s, ``inspect`` ≤ 2 s, and current ≤ previous.  The
-load average is printed at the start and the end.  Exit status 1 when a target is missed.
+the machine; its first run pays the reading and regridding of its files once.
+
+Beside ``plan``, the plan's own CPU: the same command run a second time inside one warm process
+(``auvplan.cli.main`` twice, the second timed), so that ``plan`` CPU − own CPU is what the front door adds
+(imports, first calls of compiled kernels).  Targets (issue #56): ``validate`` ≤ 1 s, ``plan`` ≤ own + 0.5 s,
+``inspect`` ≤ 2 s, and current ≤ previous.  The load average is printed at the start and the end.  Exit
+status 1 when a target is missed.
 """
 
 from __future__ import annotations
@@ -121,8 +123,10 @@ def commands(prev: Path, cur: Path, grid: Path, names: list[str] | None) -> list
     return out
 
 
-def measure(prev: Path, cur: Path, cmds: list[tuple[str, list[str], bool]], rounds: int) -> dict[str, dict]:
-    """Median CPU of every command in both trees over interleaved rounds, and plans' own CPU (current)."""
+def measure(prev: Path, cur: Path, cmds: list[tuple[str, list[str], bool]], rounds: int,
+            partial: Path | None = None) -> dict[str, dict]:
+    """Median CPU of every command in both trees over interleaved rounds, and plans' own CPU (current);
+    every measure so far is written to ``partial`` (JSON) as it comes, so a time-boxed run keeps them."""
     runs: dict[str, dict[str, list[float]]] = {label: {"prev": [], "cur": [], "own": []} for label, _, _ in cmds}
     codes: dict[str, dict[str, int]] = {label: {} for label, _, _ in cmds}
     for label, argv, both in cmds:  # warm-up: the kernels' caches of both trees
@@ -136,6 +140,8 @@ def measure(prev: Path, cur: Path, cmds: list[tuple[str, list[str], bool]], roun
                     runs[label][side].append(cpu_of(tree, argv)[0])
             if argv[0] == "plan":
                 runs[label]["own"].append(own_cpu(cur, argv))
+            if partial is not None:
+                partial.write_text(json.dumps({"round": k + 1, "runs": runs, "load": os.getloadavg()[0]}))
         print(f"round {k + 1}/{rounds} done (load {os.getloadavg()[0]:.1f})", file=sys.stderr, flush=True)
     return {label: {side: (statistics.median(v) if v else None) for side, v in runs[label].items()}
             | {"codes": codes[label]} for label in runs}
@@ -187,7 +193,9 @@ def main(argv: list[str] | None = None) -> int:
         wt = Path(tmp) / "prev"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt), args.prev], check=True)
         try:
-            rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios), args.rounds)
+            Path(args.out).mkdir(parents=True, exist_ok=True)
+            rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios), args.rounds,
+                           Path(args.out) / "partial.json")
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)], check=False)
     text, ok = table(rows, args.prev, args.rounds, (load0, os.getloadavg()[0]))
