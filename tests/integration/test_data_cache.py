@@ -180,3 +180,38 @@ def test_a_warm_validate_reads_no_netcdf_stack(cache_on):
 
     assert modules("1") == [0, ["netCDF4", "scipy.interpolate", "xarray"]]  # the first run reads
     assert modules("1") == [0, []]  # (with the cache off: tests/integration/test_front_door.py)
+
+
+def test_a_reader_inside_a_reader_and_another_threads_records(cache_on, caplog):
+    """An inner reader's warning is kept once in the outer entry; a record another thread logs meanwhile is
+    shown as it comes and is not kept; the logger's level and propagation are restored."""
+    import threading
+
+    log = logging.getLogger("auvplan.io.data.test")
+    src = [DATA / "etopo1_chagos.nc"]
+    pack, unpack = (lambda v: ({"v": np.asarray(v)}, {})), (lambda a, m: float(a["v"]))
+
+    def inner():
+        log.warning("inner")
+        return 1.0
+
+    def outer():
+        t = threading.Thread(target=lambda: log.warning("other thread"))
+        t.start()
+        t.join()
+        log.warning("outer")
+        return cache.cached("inner", (), src, inner, pack, unpack) + 1.0
+
+    def run():
+        return cache.cached("outer", (), src, outer, pack, unpack)
+
+    with caplog.at_level(logging.WARNING, logger="auvplan"):
+        assert run() == 2.0
+        shown = [r.getMessage() for r in caplog.records]
+        caplog.clear()
+        assert run() == 2.0
+        replayed = [r.getMessage() for r in caplog.records]
+    assert shown.count("other thread") == 1 and shown.count("inner") == 1 and shown.count("outer") == 1
+    assert replayed == ["outer", "inner"]
+    root = logging.getLogger("auvplan")
+    assert root.propagate and not [h for h in root.handlers if type(h).__name__ == "_Tape"]

@@ -32,6 +32,7 @@ import logging
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
@@ -50,6 +51,9 @@ Packed = tuple[dict[str, np.ndarray], dict[str, Any]]
 
 _VERSION = 1
 """Layout of an entry (bumped when it changes)."""
+
+_LOGGING = threading.RLock()
+"""Held while a reader's log records are taken aside (:func:`_recorded`)."""
 
 
 def cache_enabled() -> bool:
@@ -153,30 +157,41 @@ def request_key(kind: str, request: Any, files: Sequence[Path]) -> str:
 
 
 class _Tape(logging.Handler):
-    """Keeps every record of the ``auvplan`` loggers while a reader runs."""
+    """Keeps every record of the ``auvplan`` loggers that the reader's thread emits while it runs; another
+    thread's records (``serve`` logs while a reader runs aside) go on to the root's handlers as they would."""
 
-    def __init__(self) -> None:
+    def __init__(self, threshold: int) -> None:
         super().__init__(logging.DEBUG)
         self.records: list[list[Any]] = []
+        self.owner, self.threshold = threading.get_ident(), threshold
 
     def emit(self, record: logging.LogRecord) -> None:
-        self.records.append([record.name, record.levelno, record.getMessage()])
+        if record.thread == self.owner:
+            self.records.append([record.name, record.levelno, record.getMessage()])
+        elif record.levelno >= self.threshold:
+            logging.getLogger().handle(record)
 
 
 def _recorded(compute: Callable[[], T]) -> tuple[T, list[list[Any]]]:
     """Run ``compute`` with the ``auvplan`` log records taken aside (every level), and return them."""
-    logger = logging.getLogger("auvplan")
-    tape, level, propagate = _Tape(), logger.level, logger.propagate
-    logger.addHandler(tape)
-    logger.setLevel(logging.DEBUG)
-    logger.propagate = False
-    try:
-        value = compute()
-    finally:
-        logger.removeHandler(tape)
-        logger.setLevel(level)
-        logger.propagate = propagate
-        _replay(tape.records)  # also when the reader failed: its warnings came before its error
+    with _LOGGING:  # the logger's level and propagation are the process's: one reader's tape at a time
+        logger = logging.getLogger("auvplan")
+        tape, level, propagate = _Tape(logger.getEffectiveLevel()), logger.level, logger.propagate
+        outer = [h for h in logger.handlers if isinstance(h, _Tape)]  # a reader inside a reader: its records
+        for h in outer:  # reach the outer tape once, when replayed
+            logger.removeHandler(h)
+        logger.addHandler(tape)
+        logger.setLevel(logging.DEBUG)
+        logger.propagate = False
+        try:
+            value = compute()
+        finally:
+            logger.removeHandler(tape)
+            for h in outer:
+                logger.addHandler(h)
+            logger.setLevel(level)
+            logger.propagate = propagate
+            _replay(tape.records)  # also when the reader failed: its warnings came before its error
     return value, tape.records
 
 
