@@ -162,9 +162,10 @@ def _target(label: str, row: dict) -> tuple[str, bool]:
 def table(rows: dict[str, dict], prev_rev: str, rounds: int, load: tuple[float, float],
           nice: int | None = None) -> tuple[str, bool]:
     """The markdown summary and whether every target (and current ≤ previous, 10 % noise) was met."""
+    nice = os.nice(0) if nice is None else nice
     lines = [f"Front door against the previous release ({prev_rev}), one run (`make bench-front`): CPU (user + "
              f"system) of one fresh `python -m auvplan` process, median of {rounds} interleaved rounds after a "
-             f"warm-up; niceness {os.nice(0) if nice is None else nice}; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end "
+             f"warm-up; niceness {nice}; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end "
              "(2 cores, shared).  own = the same `plan` run again in a warm process; ratio = current / previous.", "",
              f"| command | previous ({prev_rev}) s | current s | ratio | target | met |", "|---|---|---|---|---|---|"]
     ok = True
