@@ -17,10 +17,11 @@ result is never stale**:
 
 An entry is one ``.npz`` (the arrays and a JSON record), written to a temporary file and renamed into place
 (a reader in another process sees the whole entry or none); one that cannot be read back is recomputed and
-replaced.  Failures are not kept: a reader's error is raised again on every call.  The log records a reader
-emitted (a file's gaps filled, land found) are kept with its result and emitted again on every hit, at the
-levels the logging of that moment shows.  ``AUVPLAN_CACHE=0`` turns the cache off; ``auvplan`` never
-deletes what it did not write, and ``rm -r ~/.cache/auvplan/data`` is always safe.
+replaced; a result over 1 GiB of arrays is not kept (not to fill the disk).  Failures are not kept: a
+reader's error is raised again on every call.  The log records a reader emitted (a file's gaps filled, land
+found) are kept with its result and emitted again on every hit, at the levels the logging of that moment
+shows.  ``AUVPLAN_CACHE=0`` turns the cache off; entries are never deleted by auvplan, and
+``rm -r ~/.cache/auvplan/data`` is always safe.
 """
 
 from __future__ import annotations
@@ -51,6 +52,9 @@ Packed = tuple[dict[str, np.ndarray], dict[str, Any]]
 
 _VERSION = 1
 """Layout of an entry (bumped when it changes)."""
+
+_MAX_BYTES = 1 << 30
+"""A result larger than this (1 GiB of arrays) is not kept (not to fill the disk)."""
 
 _LOGGING = threading.RLock()
 """Held while a reader's log records are taken aside (:func:`_recorded`)."""
@@ -267,5 +271,6 @@ def cached(kind: str, request: Any, files: Sequence[Path], compute: Callable[[],
         return unpack(arrays, record["value"])
     value, records = _recorded(compute)
     arrays, meta = pack(value)
-    _store(path, arrays, {"version": _VERSION, "kind": kind, "value": meta, "log": records})
+    if sum(a.nbytes for a in arrays.values()) <= _MAX_BYTES:
+        _store(path, arrays, {"version": _VERSION, "kind": kind, "value": meta, "log": records})
     return value
