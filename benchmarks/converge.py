@@ -270,8 +270,9 @@ def family_figure(results: list[dict], args: argparse.Namespace) -> str:
 
 def cpu_figure(results: list[dict], args: argparse.Namespace, load: tuple[float, float]) -> str:
     lines = [f"`benchmarks/converge.py --cpu-seeds {args.cpu_seeds}` (median `time.process_time()` of one "
-             f"default plan at the scenario's budget, seeds 0–{args.cpu_seeds - 1}, the three codes interleaved "
-             f"seed by seed; release = {args.release_code}, base = {args.base_code}; load average "
+             f"default plan at the scenario's budget, seeds 0–{args.cpu_seeds - 1}, today's code and "
+             f"{' and '.join(args.cpu_peers)} interleaved seed by seed; release = {args.release_code}, "
+             f"base = {args.base_code}; load average "
              f"{load[0]:.1f} at the start, {load[1]:.1f} at the end, {os.cpu_count()} shared cores)", "",
              "| scenario | budget | today s | release s (ratio) | base s (ratio) |", "|---|---|---|---|---|"]
     for res in results:
@@ -281,7 +282,7 @@ def cpu_figure(results: list[dict], args: argparse.Namespace, load: tuple[float,
             return f"{med[k]:.3f} ({med['today'] / med[k]:.2f})" if np.isfinite(med.get(k, np.nan)) else "n/a"
 
         lines.append(f"| {res['scenario']} | {res['budget']} | {med['today']:.3f} | {ratio('release')} | "
-                     f"{ratio('base')} |")
+                     f"{ratio('base') if 'base' in med else 'not run'} |")
     return "\n".join(lines) + "\n"
 
 
@@ -297,6 +298,8 @@ def main() -> None:
     ap.add_argument("--cpu-scenarios", nargs="+", help="the CPU part on these only (default: every swarm built-in)")
     ap.add_argument("--release-code", default=release_peer.RELEASE_COMMIT)
     ap.add_argument("--base-code", default="986d447", help="the branch point (the default before issue 59)")
+    ap.add_argument("--cpu-peers", nargs="+", default=["release", "base"], choices=["release", "base"],
+                    help="the codes the CPU part times against today's (default both)")
     ap.add_argument("--out", default="results/converge")
     ap.add_argument("--figures", action="store_true", help="write docs/figures/converge-*.md")
     args = ap.parse_args()
@@ -331,12 +334,12 @@ def main() -> None:
             (out / "family.json").write_text(json.dumps(fam))
             done("converge-family", family_figure(fam, args))
         if "cpu" in args.parts:
-            if "base" not in peers:
+            if "base" in args.cpu_peers and "base" not in peers:
                 peers["base"] = release_peer.ReleasePeer(args.base_code)
             peers["release"] = release_peer.ReleasePeer(args.release_code)
             l0 = os.getloadavg()[0]
             names = args.cpu_scenarios or swarm_builtins()
-            res_cpu = cpu(names, args.cpu_seeds, {"release": peers["release"], "base": peers["base"]})
+            res_cpu = cpu(names, args.cpu_seeds, {k: peers[k] for k in args.cpu_peers})
             (out / "cpu.json").write_text(json.dumps(res_cpu))
             done("converge-cpu", cpu_figure(res_cpu, args, (l0, os.getloadavg()[0])))
     finally:

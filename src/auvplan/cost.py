@@ -43,7 +43,7 @@ import numpy as np
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .runtime.jit import jit_enabled, kernel
 from .world import UniformCurrent, World
-from .world.crab import crab_speed, makes_headway
+from .world.currents.crab import crab_speed, makes_headway
 from .world.terrain import (
     TerrainKernelData,
     box_floor_kernel,

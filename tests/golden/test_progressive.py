@@ -12,12 +12,15 @@ from auvplan.io.scenario import loader as scenario
 from auvplan.optim import OptimizeResult
 from auvplan.path import sample_population
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
+from auvplan.planners.swarm import planner as swarm_planner
 from auvplan.planners.swarm import problem as swarm_problem
-from auvplan.planners.swarm.progressive import Elite, coarse_count, coarse_stage, refit
+from auvplan.planners.swarm.progressive import COARSE_ELITE, Elite, coarse_count, coarse_stage, refit
 from auvplan.planners.swarm.seeding import fit_control_points
 from auvplan.sim import planning_problem
 from helpers import flat_world
 
+MARCUS_FIELD_BEST = 537_040.0
+"""The best cost known on marcus-wake-field (``--reference``, docs/convergence.md)."""
 CHAGOS_REFERENCE = 489_326.0  # reference() on the conservative seabed (issue 30; was 491 967 on the cubic one)
 """The best cost any method found on chagos-banks (docs/bench_hard.md: the refined lattice plan)."""
 
@@ -133,21 +136,59 @@ def chagos():
 
 def test_progressive_iabc_alone_finds_the_route_on_chagos(chagos):
     """IABC alone, 10 000 evaluations: in the document pipeline seeds 1–3 end 0.9–2.4 % above the
-    best cost known; coarse to fine each ends EXACT, two of three within 1 % and all within 3.5 %.
-    Re-pinned for the conservative seabed (issue 30): on the cubic one every seed ended within 1 %;
-    on the data's own surface seeds 1 and 2 end at +0.23 % and +0.31 %, seed 3 at +3.05 % (measured
-    against ``reference()``, 489 326). The coarse stage spends exactly 20 % of the budget (a trace entry
-    at 2 000 evaluations)."""
+    best cost known; coarse to fine each ends EXACT within 1 % (measured +0.33, +0.47, +0.51 % against
+    ``reference()``, 489 326, with the coarse stage aiming at an elite share, issue 59; seed 3 ended at
+    +3.05 % with the stage aiming at the best source). The coarse stage spends exactly 20 % of the
+    budget (a trace entry at 2 000 evaluations)."""
     world, prob, spec = chagos
     gaps = []
     for seed in (1, 2, 3):
         r = plan(prob, spec, rng=seed)
         assert r.status is Status.EXACT and world.path_free(r.path), r.message
         gaps.append(r.cost / CHAGOS_REFERENCE - 1)
-        assert r.cost <= 1.035 * CHAGOS_REFERENCE, (seed, gaps[-1])
+        assert r.cost <= 1.01 * CHAGOS_REFERENCE, (seed, gaps[-1])
         assert r.evaluations == 10_000 and 2000 in r.trace[:, 0]
         assert np.all(np.diff(r.trace[:, 1]) <= 0) and r.trace[-1, 1] == pytest.approx(r.cost)
-    assert sorted(gaps)[1] <= 0.01, gaps
+    assert sorted(gaps)[1] <= 0.006, gaps
+
+
+def test_coarse_stage_colony_aims_at_an_elite_share_and_the_full_stage_at_the_best(monkeypatch):
+    """The two stages' IABC settings, read from the specs the pipeline hands its optimiser: the coarse
+    stage (3 control points) at ``elite = COARSE_ELITE`` (or the user's share when larger), the full
+    stage (6) at the user's own ``elite``; the default (seeded) pipeline is not touched."""
+    world = flat_world(depth=200.0)
+    prob = PlanningProblem(world, np.array([100.0, 100.0, -50.0]), np.array([900.0, 800.0, -60.0]), speed=1.5)
+    seen = []
+    real = swarm_planner.run_optimizer
+
+    def spy(s, task, g, progress=None):
+        seen.append((s.control_points, s.iabc.elite))
+        return real(s, task, g, progress)
+
+    monkeypatch.setattr(swarm_planner, "run_optimizer", spy)
+    spec = PlannerSpec(pipeline="progressive", control_points=6, population=8, budget=200, samples=40)
+    for elite in (0.0, 0.5):
+        plan(prob, replace(spec, iabc=replace(spec.iabc, elite=elite)), rng=0)
+    plan(prob, replace(spec, pipeline="seeded", seed_nodes=1000), rng=0)
+    assert seen == [(3, COARSE_ELITE), (6, 0.0), (3, 0.5), (6, 0.5), (6, 0.0)]
+
+
+def test_progressive_iabc_alone_threads_the_gap_on_marcus_wake_field():
+    """The corridor choice on the seamount field (issue 59): seeds 1 and 3 ended in the open detour
+    north of the chain, +13.7 %, when the coarse stage's colony aimed its pull and its mutants at its
+    best source (it collapsed onto the first feasible corridor within ~1 000 evaluations); aiming at
+    the best 30 % they thread the gap (measured +0.13 and +0.12 %).  Independent check of the corridor:
+    the path crosses the diagonal x + y = 210 km between the two seamounts (x - y near +19 km), not at
+    x - y ~ -107 km."""
+    world, mission = scenario.build(scenario.load("marcus-wake-field"))
+    prob = planning_problem(world, mission)
+    spec = replace(mission.planner, pipeline="progressive")
+    for seed in (1, 3):
+        r = plan(prob, spec, rng=seed)
+        assert r.status is Status.EXACT and world.path_free(r.path), r.message
+        assert r.cost <= 1.01 * MARCUS_FIELD_BEST, (seed, r.cost / MARCUS_FIELD_BEST - 1)
+        cross = r.path[np.argmin(np.abs(r.path[:, 0] + r.path[:, 1] - 210e3))]
+        assert 0.0 < cross[0] - cross[1] < 40e3, cross
 
 
 def test_progressive_is_reproducible(chagos):

@@ -18,9 +18,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from .frame import Frame, StraightFrame
-from .lines import SurveyLines
-from .swath import Seabed, Sensor, swath_reach
+from .lines.frame import Frame, StraightFrame
+from .lines.placement import SurveyLines
+from .lines.swath import Seabed, Sensor, swath_reach
 
 __all__ = ["Coverage", "footprints", "measure", "lawnmower", "Lawnmower", "fan_right", "cut_spans"]
 
@@ -210,8 +210,8 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     The overlap of two adjacent footprints is measured on the cut across the nominal direction (the
     centre line's normal for a corridor) at every station both lines are placed over (not on a run-in)
     where their seam is inside the area: the share
-    of the narrower swath across the track (:func:`auvplan.survey.lines.pair_overlap`; a side-scan's:
-    how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.sidescan_overlap`).
+    of the narrower swath across the track (:func:`auvplan.survey.lines.placement.pair_overlap`; a side-scan's:
+    how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.placement.sidescan_overlap`).
 
     Parameters
     ----------

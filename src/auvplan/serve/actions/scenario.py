@@ -14,9 +14,9 @@ from typing import Any
 import numpy as np
 
 from ...errors import AuvplanError
+from ...io import limits as _limits
 from ...io.scenario import loader as scenario_io
 from ...sim import mission_route
-from ..bounds import edit_budget
 from ..check import CheckResult
 from ..session import EDITABLE_TABLES, Session
 from ..tomlout import dumps
@@ -140,7 +140,8 @@ def _rebuild(session: Session, doc: dict[str, Any]) -> None:
     session.roots.confine(sc)
     world, mission = scenario_io.build(sc, terrain=session.world.terrain)
     w, plan, flight, flight_of = session.waypoints, session.plan, session.flight, session.flight_of
-    edit_budget(world, mission, w, "the mission")  # before the new settings become the session's
+    # the work of checking it under the new settings, before they become the session's
+    _limits.check_route_endurance("serve: the mission", w, mission.endurance.ds_m)
     same_vehicle = doc.get("vehicle") == session.doc.get("vehicle")
     session.set_scenario(sc, text, session.source, session.base_dir, world, mission)
     with session.lock:

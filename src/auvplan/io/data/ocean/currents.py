@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ....errors import DataError
-from ....world.currents import GriddedCurrent
+from ....world.currents.fields import GriddedCurrent
 from ...limits import check_declared
 from ..geo import LocalFrame
 from ..grids import HorizontalGrid, axis_kind, horizontal_grid

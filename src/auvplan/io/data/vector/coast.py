@@ -20,9 +20,9 @@ import numpy as np
 import shapely
 from pyproj import CRS, Transformer
 
-from ...errors import DataError
-from ...world.land import Land
-from .geo import LocalFrame
+from ....errors import DataError
+from ....world.land import Land
+from ..geo import LocalFrame
 
 __all__ = ["LandSpec", "BUILTIN_LAND", "read_land", "builtin_land_path"]
 

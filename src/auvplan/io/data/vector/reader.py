@@ -1,7 +1,7 @@
 """The one reader of vector feature files: GeoJSON, KML, Shapefile, GeoPackage, FileGDB, S-57 electronic
 charts and any other format GDAL reads (through pyogrio), in any CRS.
 
-Survey areas and centre lines (:mod:`.survey_area`) and charted zones (:mod:`.zones`) read their
+Survey areas and centre lines (:mod:`.areas`) and charted zones (:mod:`.zones`) read their
 layers here; each keeps its own error type (a survey file is a scenario error, a zone file a data
 error) and its own message prefix (``file: [survey] file = '...'``).
 """
