@@ -11,6 +11,10 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
+# The readers' on-disk cache (auvplan.io.data.cache) is off in the tests, so that a test that changes a reader
+# or a file sees its own computation; tests/unit/test_data_cache.py turns it on in a folder of its own.
+os.environ.setdefault("AUVPLAN_CACHE", "0")
+
 import pytest  # noqa: E402
 
 from auvplan.io.scenario import loader as sc  # noqa: E402
