@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent bench-workers
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,9 +28,15 @@ survey-flown: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_survey_corridor_flown.py
 
 # issue 56: a long mission (marcus-wake, a ~31 h flight, then its results, report and exports) in a fresh process,
-# every stderr line timed: no silent gap over 2 s (tests/heavy, ~10 min; the suite runs a small version)
+# every stderr line timed: no silent gap over 2 s (tests/heavy, 12 s CPU, 20-35 s at a load of 5; the suite runs a
+# small version)
 never-silent: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_never_silent_long.py
+
+# issue 56: the Monte Carlo benchmarks (montecarlo, avoidance, formation, gap) on tiny cases with 1 and with 2 dask
+# worker processes: the same rows but for the timing fields (tests/heavy, minutes)
+bench-workers: $(STAMP)
+	$(BIN)/python -m pytest -q -s tests/heavy/test_benchmarks_workers.py
 
 # the scenario property tests at 10x the suite's size (20 000 mutated documents, 600 planned and flown)
 fuzz: $(STAMP)

@@ -37,8 +37,11 @@ that does not arrive gets the same oracle from its own state when the mover it h
 Per set: arrivals, contacts (obstacle or seabed, UNAVOIDABLE included), deadlocks, timeouts,
 runs where an escape fired (``escapes`` > 0: document 004's random sub-goal, fired by its
 local-minimum count or by the stalled route progress, :meth:`auvplan.guidance.avoidance.local.LocalAvoidance.stalled`)
-and of those the runs that arrived, the smallest
-obstacle distance.  Writes ``rows.jsonl`` and ``summary.md`` to ``--out`` and, with ``--figure``, the
+and of those the runs that arrived, the smallest obstacle distance.  The runs go to dask.distributed
+(``--workers N``, default 2; ``--scheduler ADDR``; ``--retries N``: ``benchmarks/parallel_runs.py``), rows reach
+``rows.jsonl`` as they finish (``--resume`` runs only the missing ones) and come back in task order: the same
+on 1 and N workers but for the timing fields.  Writes ``rows.jsonl`` and ``summary.md`` to ``--out`` and, with
+``--figure``, the
 same summary as a figure file (``docs/figures/avoidance-monte-carlo.md``, quoted in docs/avoidance.md by
 its ``<!-- figure: avoidance-monte-carlo -->`` marker; ``tools/docs_figures.py sync`` copies it).
 """
@@ -49,8 +52,8 @@ import argparse
 import json
 import math
 import os
+import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
 
@@ -63,6 +66,9 @@ from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import mission_route, planning_problem, run_mission, simulate
 from auvplan.vehicles import VehicleState
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from parallel_runs import add_arguments, run_all, where  # noqa: E402
 
 SCENARIO = "avoidance-gauntlet"
 SETS = ("fast-movers", "gauntlet", "gauntlet-randomised", "avoidance-net")
@@ -177,7 +183,6 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=100)
     ap.add_argument("--first", type=int, default=0, help="first seed")
-    ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--sets", nargs="+", default=list(SETS), choices=SETS)
     ap.add_argument("--avoidance", nargs="+", default=["predictive"])
     ap.add_argument("--out", default="results/bench-avoidance")
@@ -185,6 +190,7 @@ def main(argv=None) -> int:
                     "only the missing (set, seed, avoidance) tasks; the summary covers all rows")
     ap.add_argument("--figure", default=None, help="figure file to write the summary to "
                     "(docs/figures/avoidance-monte-carlo.md)")
+    add_arguments(ap, workers=2)
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -202,17 +208,19 @@ def main(argv=None) -> int:
     n_seeds = {k: min(args.seeds, NET_SEEDS) if k == "avoidance-net" else args.seeds for k in args.sets}
     tasks = [(k, s, a, route, keys) for k in args.sets for a in args.avoidance
              for s in range(args.first, args.first + n_seeds[k]) if (k, s, a) not in done]
-    with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "a" if resumed else "w") as fh:
-        for row in pool.map(one, tasks, chunksize=2):
-            rows.append(row)
+    with open(out / "rows.jsonl", "a" if resumed else "w") as fh:  # the checkpoint: --resume runs the rest
+
+        def arrived(row: dict) -> None:
             fh.write(json.dumps(row) + "\n")
             fh.flush()
+
+        rows += run_all(args, one, tasks, arrived)
     wall = time.perf_counter() - t0
     text = summary(rows)
     end = os.getloadavg()
     text += (f"\n`{' '.join(['benchmarks/avoidance.py', '--seeds', str(args.seeds), '--first', str(args.first)])}` "
              f"(avoidance {', '.join(args.avoidance)}, fast movers seeded 20000 + seed, gauntlet planned with the "
-             f"seed): {len(rows) - resumed} runs in {wall:.0f} s wall on {args.workers} workers"
+             f"seed): {len(rows) - resumed} runs in {wall:.0f} s wall on {where(args)}"
              f"{f' (and {resumed} rows of earlier runs resumed)' if resumed else ''}, machine load (1, 5, 15 min) "
              f"{', '.join(f'{v:.1f}' for v in load)} at the start, {', '.join(f'{v:.1f}' for v in end)} at the end.\n")
     bad = [r for r in rows if not r["arrived"]]

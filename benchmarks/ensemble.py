@@ -38,8 +38,8 @@ import numpy as np
 from auvplan.ensemble import plan_robust
 from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 from auvplan.io.scenario import loader as scenario
-from auvplan.io.scenario.members import scenario_members
-from auvplan.world.ensemble_fields import PerturbedCurrent
+from auvplan.io.scenario.inputs.members import scenario_members
+from auvplan.world.currents.ensemble import PerturbedCurrent
 
 
 @functools.lru_cache(maxsize=1)

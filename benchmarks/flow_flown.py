@@ -8,7 +8,7 @@ follower: hybrid, los, ilos) with its obstacles replaced by each scene of ``benc
 spheres). Starts: the same seeded near-surface starts as flow_fig78.py (0.5-5 m from a real surface, equal
 numbers per obstacle). Each start runs the whole default pipeline (:func:`auvplan.sim.pipeline.run_mission`:
 flyable flow plan -> mission waypoints -> turn fit -> the clearance contract of
-:func:`auvplan.sim.pipeline.kept_route` -> key waypoints -> closed-loop simulation).
+:func:`auvplan.sim.pipeline.kept_fit` -> key waypoints -> closed-loop simulation).
 
 Columns: flown = plans the planner returned OK under the contract; refused = the rest, by reason (those the
 contract refused are marked ``contract:``; every one with its message in ``refused.csv``); arrived = of the

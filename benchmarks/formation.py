@@ -9,7 +9,9 @@ speeds ×0.6–1.2, starts shifted ±150 m along and across, the circle's phase 
 ``rows.csv`` (one row per seed) and ``summary.md``: arrivals, collisions with the seabed, obstacles
 and each other, least vehicle distance, altitude and obstacle distance, formation error RMS/max per
 vehicle (median and worst over seeds), and the CPU per vehicle-step against the single-vehicle
-simulator flying the same route in the same run (the peer), with the machine's load.
+simulator flying the same route in the same run (the peer), with the machine's load.  The seeds go to
+dask.distributed (``--workers N``, default 1; ``--scheduler ADDR``; ``--retries N``:
+``benchmarks/parallel_runs.py``); the rows are the same on 1 and N workers but for ``cpu_s``.
 """
 
 from __future__ import annotations
@@ -17,8 +19,8 @@ from __future__ import annotations
 import argparse
 import csv
 import os
+import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +30,9 @@ from auvplan.guidance.formation.error import SETTLE_M
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate
 from auvplan.sim.formation import run_formation
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from parallel_runs import add_arguments, run_all  # noqa: E402
 
 SCENARIO = "chagos-formation"
 
@@ -112,14 +117,13 @@ def summary(rows: list[dict], peer_cpu: float, peer_steps: int, load: str) -> st
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=100)
-    ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--out", default="results/bench-formation")
+    add_arguments(ap, workers=1)
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     load0 = os.getloadavg()
-    with ProcessPoolExecutor(args.workers) as pool:
-        rows = list(pool.map(one, range(args.seeds)))
+    rows = run_all(args, one, range(args.seeds))  # in seed order, whatever order they finish in
     peer_cpu, peer_steps = peer()
     load1 = os.getloadavg()
     keys = sorted({k for r in rows for k in r}, key=lambda k: (k != "seed", k))

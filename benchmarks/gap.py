@@ -7,7 +7,9 @@ For each scenario: the reference's cost and what won it, the best planner result
 which seed), and the reference's excess over it, ``100 (reference - best) / best`` — the most
 negative gap any run would report.  The target is an excess ≤ 0.05 % everywhere.  Also per
 planner: its best and median gap to the reference.  Rows go to ``rows.jsonl`` as they finish
-(``--resume`` keeps them), the table to ``gap.md``.
+(``--resume`` keeps them), the table to ``gap.md``.  The plans go to dask.distributed (``--workers N``,
+default 2; ``--scheduler ADDR``; ``--retries N``: ``benchmarks/parallel_runs.py``); the rows, in task order,
+are the same on 1 and N workers but for ``cpu_s`` and ``wall_s``.
 
     nice -n 5 .venv/bin/python benchmarks/gap.py --seeds 10 --workers 2 --out results/bench-gap
 """
@@ -19,11 +21,13 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from parallel_runs import add_arguments, run_all, where  # noqa: E402
 
 PLANNING = ("marcus-wake", "salish-shelf", "admiralty-inlet", "dynamic-terrain", "showcase")
 HARD = ("ninetyeast-ridge", "new-england-seamounts", "chagos-banks", "marcus-wake-deep")
@@ -49,6 +53,11 @@ def run(scenario: str, planner: str, seed: int, budget: int) -> dict:
     return {"scenario": scenario, "planner": planner, "seed": seed, "status": r.status.value, "cost": r.cost,
             "evaluations": r.evaluations, "budget": spec.evaluations, "message": r.message,
             "cpu_s": time.process_time() - c0, "wall_s": time.perf_counter() - t0}
+
+
+def _run(task: tuple[str, str, int, int]) -> dict:
+    """:func:`run` of one task ``(scenario, planner, seed, budget)``."""
+    return run(*task)
 
 
 def summary(rows: list[dict]) -> list[dict]:
@@ -90,9 +99,9 @@ def main(argv=None) -> int:
     ap.add_argument("--planners", nargs="+", default=list(PLANNERS))
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--budget", type=int, default=0, help="evaluations per plan (0: the scenario's)")
-    ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--out", default="results/bench-gap")
+    add_arguments(ap, workers=2)
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -103,16 +112,16 @@ def main(argv=None) -> int:
     tasks = [(s, "reference", 0) for s in args.scenarios] + \
             [(s, p, k) for s in args.scenarios for p in args.planners for k in range(args.seeds)]
     tasks = [t for t in tasks if t not in done]
-    print(f"{len(tasks)} plans on {args.workers} workers, load {os.getloadavg()[0]:.1f}", flush=True)
-    with path.open("a" if args.resume else "w") as fh, ProcessPoolExecutor(args.workers) as pool:
-        futures = [pool.submit(run, s, p, k, args.budget) for s, p, k in tasks]
-        for f in as_completed(futures):
-            r = f.result()
-            rows.append(r)
+    print(f"{len(tasks)} plans on {where(args)}, load {os.getloadavg()[0]:.1f}", flush=True)
+    with path.open("a" if args.resume else "w") as fh:
+
+        def arrived(r: dict) -> None:
             fh.write(json.dumps(r) + "\n")
             fh.flush()
             print(f"{r['scenario']:22s} {r['planner']:9s} {r['seed']:2d} {r['status']:10s} {r['cost']:.8g} "
                   f"{r['wall_s']:6.1f} s", flush=True)
+
+        rows += run_all(args, _run, [(*t, args.budget) for t in tasks], arrived)
     summ = summary(rows)
     (out / "summary.json").write_text(json.dumps(summ, indent=2) + "\n")
     text = table(summ) + f"\nload average at the end: {os.getloadavg()}\n"

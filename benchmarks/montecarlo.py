@@ -1,6 +1,7 @@
 """Monte Carlo of local avoidance on ``dynamic-terrain`` (or another scenario) with randomised obstacle tracks.
 
     .venv/bin/python benchmarks/montecarlo.py --seeds 1000 --workers 2 --out results/bench-mc
+    .venv/bin/python benchmarks/montecarlo.py --seeds 1000 --scheduler tcp://host:8786   # a cluster
     .venv/bin/python benchmarks/montecarlo.py --scenario avoidance-gauntlet --avoidance predictive apf --seeds 12
 
 Each avoidance variant (``--avoidance``, default the scenario's own) flies the same seeds in the
@@ -15,6 +16,10 @@ escapes, path-length overhead over the global path, mean compute time of one APF
 and — for the "re-plan the remaining path" strategy the document argues against — the time one
 re-plan takes (the swarm planner from the vehicle's position at its first encounter to the goal,
 with the obstacles frozen as static spheres), i.e. the reaction time of each strategy.
+
+The seeds run on dask.distributed (``--workers N``, ``--scheduler ADDR``, ``--retries N``: the Runner of
+``auvplan bench``, ``benchmarks/parallel_runs.py``); rows reach ``rows.jsonl`` as they finish, the summary takes
+them in seed order, and all but the timing fields are the same on 1 and N workers.
 """
 
 from __future__ import annotations
@@ -22,8 +27,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
 
@@ -35,6 +40,9 @@ from auvplan.io.scenario import loader as sc
 from auvplan.planners import PlanningProblem, plan
 from auvplan.sim import mission_route, planning_problem, simulate
 from auvplan.world import Sphere
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from parallel_runs import add_arguments, run_all, where  # noqa: E402
 
 
 def one(args) -> dict:
@@ -75,7 +83,7 @@ def _summary(rows: list[dict], args, avoidance: str, wall: float) -> str:
     replans = [r["replan_s"] for r in rows if r["replan_s"] is not None]
     replan = f"median {np.median(replans):.3f} s ({len(replans)} encounters)" if replans else "no encounter"
     return (
-        f"# {args.scenario} Monte Carlo, {avoidance}: {n} seeds, {args.workers} workers, {wall:.0f} s wall\n\n"
+        f"# {args.scenario} Monte Carlo, {avoidance}: {n} seeds, {where(args)}, {wall:.0f} s wall\n\n"
         f"- arrival: {sum(r['arrived'] for r in rows)}/{n} ({100 * np.mean([r['arrived'] for r in rows]):.1f} %)\n"
         f"- terrain collisions: {sum(r['terrain_collision'] for r in rows)}\n"
         f"- obstacle collisions not flagged UNAVOIDABLE: {sum(r['obstacle_collision_unflagged'] for r in rows)}\n"
@@ -93,10 +101,10 @@ def _summary(rows: list[dict], args, avoidance: str, wall: float) -> str:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, default=1000)
-    ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--out", default="results/bench-mc")
     ap.add_argument("--scenario", default="dynamic-terrain")
     ap.add_argument("--avoidance", nargs="+", default=None, help="variants (default: the scenario's own)")
+    add_arguments(ap, workers=2)
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -108,15 +116,16 @@ def main(argv=None) -> int:
     keys = key_waypoints(route, world)
     load = os.getloadavg()
     texts = []
-    with ProcessPoolExecutor(args.workers) as pool, open(out / "rows.jsonl", "w") as fh:
+    with open(out / "rows.jsonl", "w") as fh:
+
+        def arrived(row: dict) -> None:
+            fh.write(json.dumps(row) + "\n")
+            fh.flush()
+
         for avoidance in variants:
             t0 = time.perf_counter()
-            rows = []
             tasks = [(s, route, keys, length, args.scenario, avoidance) for s in range(args.seeds)]
-            for row in pool.map(one, tasks, chunksize=4):
-                rows.append(row)
-                fh.write(json.dumps(row) + "\n")
-                fh.flush()
+            rows = run_all(args, one, tasks, arrived)
             texts.append(_summary(rows, args, avoidance, time.perf_counter() - t0))
     text = "\n".join(texts) + "\nmachine load (1, 5, 15 min) at the start: " + ", ".join(f"{v:.1f}" for v in load)
     text += "\n"

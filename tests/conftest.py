@@ -11,9 +11,9 @@ import os
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
-import contextlib  # noqa: E402
-import io  # noqa: E402
-import json  # noqa: E402
+# The readers' on-disk cache (auvplan.io.data.cache) is off in the tests, so that a test that changes a reader
+# or a file sees its own computation; tests/unit/test_data_cache.py turns it on in a folder of its own.
+os.environ.setdefault("AUVPLAN_CACHE", "0")
 
 import pytest  # noqa: E402
 
@@ -34,24 +34,3 @@ def salish():
     s = sc.load("salish-shelf")
     w, m = sc.build(s)
     return s, w, m
-
-
-@pytest.fixture(scope="session")
-def jdf_sweeps(tmp_path_factory):
-    """The departure sweep of juan-de-fuca-tides over two departures (+0h, +6h: 2 x ~5 s of label search at CI),
-    run once per session through ``auvplan.cli.main`` and shared by the tests of its CLI (test_timeopt) and of its
-    progress (test_progress): ``{"text": (stdout, stderr), "json": (document, stderr, out folder)}``, the first as
-    a person reads it, the second under ``--json --out`` with the end given as an absolute time."""
-    from auvplan.cli import main
-
-    runs = {}
-    out = tmp_path_factory.mktemp("jdf-sweep")
-    for kind, extra in (("text", ["+6h"]), ("json", ["2026-06-15T06:00:00Z", "--out", str(out), "--json"])):
-        stdout, stderr = io.StringIO(), io.StringIO()
-        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
-            code = main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", extra[0], "--step", "6h",
-                         *extra[1:]])
-        assert code == 0, stderr.getvalue()
-        runs[kind] = (stdout.getvalue(), stderr.getvalue())
-    text_out, json_err = runs["json"]
-    return {"text": runs["text"], "json": (json.loads(text_out), json_err, out)}

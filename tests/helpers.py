@@ -55,7 +55,8 @@ def flat_world(depth: float = 100.0, size: float = 1000.0, min_altitude: float =
 def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tuple[float, str]]]:
     """Run ``argv`` and time its stderr (issue 56): ``(exit code, [(seconds since the previous stderr line or
     the start, the line)])``, the last entry the time from the last line to the exit (``"<exit>"``).  Lines
-    end at ``\\n`` or at a progress bar's ``\\r``; stdout is discarded."""
+    end at ``\\n`` or at a progress bar's ``\\r``; a line is timed when its first characters arrive (a bar
+    is drawn as ``\\r`` and its text, the ``\\r`` ending it comes with the next draw); stdout is discarded."""
     import os
     import subprocess
     import time
@@ -64,17 +65,40 @@ def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tup
     proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     assert proc.stderr is not None
     gaps: list[tuple[float, str]] = []
-    buf = b""
+    buf, timed = b"", -1  # timed: index in gaps of the unfinished line in buf, once it showed characters
     while chunk := os.read(proc.stderr.fileno(), 4096):
-        buf += chunk
-        *done, buf = buf.replace(b"\r", b"\n").split(b"\n")
-        for line in done:
-            if line.strip():
-                now = time.monotonic()
+        now = time.monotonic()
+        *done, buf = (buf + chunk).replace(b"\r", b"\n").split(b"\n")
+        for k, line in enumerate(done):
+            if k == 0 and timed >= 0:  # finished now, shown when it began
+                gaps[timed] = (gaps[timed][0], line.decode(errors="replace"))
+            elif line.strip():
                 gaps.append((now - last, line.decode(errors="replace")))
                 last = now
+        timed = -1 if done else timed
+        if buf.strip() and timed < 0:
+            gaps.append((now - last, buf.decode(errors="replace")))
+            last, timed = now, len(gaps) - 1
+        elif timed >= 0:
+            gaps[timed] = (gaps[timed][0], buf.decode(errors="replace"))
         if time.monotonic() - t0 > timeout:
             proc.kill()
     code = proc.wait()
     gaps.append((time.monotonic() - last, "<exit>"))
     return code, gaps
+
+
+def coarse_tides(folder) -> str:
+    """``juan-de-fuca-tides`` (real bathymetry and tides) on a 2 km lattice of one level, the energy and point of
+    no return integrated every km: a cheap real departure sweep (a TOML file in ``folder``; its path)."""
+    from pathlib import Path
+
+    from auvplan.io.scenario.builtins import resolve
+
+    text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
+    text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
+    assert "cell = 2000.0" in text and "levels = 1" in text
+    path = Path(folder) / "jdf-coarse.toml"
+    path.write_text(text + "\n[endurance]\nds_m = 1000.0\n", encoding="utf-8")
+    return str(path)
+

@@ -220,7 +220,7 @@ def lofoten_robust() -> dict[str, str]:
     lofoten-two-models --json``'s choice; the member times of both plans from :func:`auvplan.ensemble.plan_robust`)."""
     from auvplan.ensemble import plan_robust
     from auvplan.io.scenario import loader as scenario
-    from auvplan.io.scenario.members import scenario_members
+    from auvplan.io.scenario.inputs.members import scenario_members
 
     sc = scenario.load("lofoten-two-models")
     world, mission = scenario.build(sc)

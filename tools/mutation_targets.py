@@ -180,7 +180,7 @@ UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.ser
 BUDGET, PNR, POWER = "auvplan.endurance.budget", "auvplan.endurance.pnr", "auvplan.endurance.power"
 SPEEDS = "auvplan.endurance.speeds"
 FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.vehicle_limits"
-GEOINPUT, LADDER = "auvplan.io.scenario.geoinput", "auvplan.planners.grid.ladder"
+GEOINPUT, LADDER = "auvplan.io.scenario.inputs.geoinput", "auvplan.planners.grid.ladder"
 TURNS, TAIL_IO, TAIL_PLAN = "auvplan.survey.turns", "auvplan.io.missions.tail", "auvplan.planners.timeopt.tail"
 REPLAN = "auvplan.ensemble.replan"
 MODULES.update({
@@ -210,9 +210,12 @@ MODULES.update({
     ),
     # the survey's turns between lines (Dubins)
     "survey-turns": Target(_fns(TURNS, "_mod", "_words", "dubins", "sample_turn")),
-    # the ladder of lattices: the rungs' cells and which rung wins
+    # the ladder of lattices: the rungs' cells and which rung wins (issue 49's measured run: --tests
+    # tests/unit/test_ladder_by_hand.py tests/property/test_edges_properties.py::test_the_cheapest_rung_wins_the_ladder)
     "ladder": Target(_fns(LADDER, "_cells", "plan_ladder")),
-    # tail-first legs: the planner's tail speed and the mission files' flags
+    # tail-first legs: the planner's tail speed and the mission files' flags (measured: --tests
+    # tests/unit/test_tail_by_hand.py; tail_speed is a kernel: only its Python function, tail_speed.py_func, is
+    # seen mutated with the JIT on, as the compiled callers keep the original)
     "tail-first": Target(_fns(TAIL_PLAN, "tail_speed") + _fns(TAIL_IO, "any_tail", "refusal", "read_tail")),
     # the re-planning flight's verdict
     "replan": Target(_fns(REPLAN, "_finish", "Flight.arrived", "Flight.success")),
@@ -901,8 +904,6 @@ REASONS.update({
 })
 
 # issue #49, second session: endurance's survivors (a seeded sample of 40), argued
-_MONO = ("equivalent while f(s) = energy out + energy back - budget rises along the route (every test and built-in: "
-         "the energy out grows faster than the way back shrinks); the grid only brackets the first crossing")
 REASONS.update({
     "budget_of | ground = np.where(moving >= 0, length / np.where(moving > 0, moving, 1.0), np.nan)":
         ("reporting only: a leg with no moving time (a pure dwell) reports ground speed length / 1 = 0 m/s instead of "
@@ -914,8 +915,17 @@ REASONS.update({
     "_return_energy | keep = np.r_[True, np.linalg.norm(np.diff(back, axis=0), axis=1) > 1.000000001]":
         ("not killed (sub-metre): return-route vertices closer than 1 m to the previous one are dropped; the way "
          "back changes by under a metre per dropped vertex"),
-    "point_of_no_return | grid = np.linspace(0.0, total, min(2, samples) + 1)": _MONO,
-    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) + 2)": _MONO,
+    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) + 2)":
+        ("not killed (scan resolution): 42 scan points instead of 41; both find the first crossing of a hump of f "
+         "wider than total / 40 (test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_per_metre"
+         ", whose f is not monotonic); a narrower hump is found or missed by either grid depending on where its "
+         "points fall, so no test can prefer one without pinning the grid"),
+    "point_of_no_return | grid = np.linspace(0.0, total, max(3, samples) + 1)":
+        ("equivalent in use: max(3, samples) differs from max(2, samples) only for samples <= 2; both callers "
+         "(endurance.assess) pass the default 40"),
+    "point_of_no_return | if f0 >= 0:":
+        ("boundary: f(0) exactly 0, a return from the start to a rally point costing exactly the budget (home as the "
+         "recovery gives f(0) = -budget < 0: EnergyModel requires reserve < usable)"),
     "point_of_no_return | while hi - lo >= tol:": "equivalent within tol: one more bisection step at most",
     "point_of_no_return | if fm >= 0:": "boundary: a bisection midpoint exactly at the point of no return (f = 0)",
 })
@@ -937,4 +947,54 @@ REASONS.update({
                             "configuration of the tests hits"),
     "_words | if abs(tmp) < 1:": ("boundary: a CCC word whose middle arc is exactly 2pi - acos(+-1); "
                                   "the CSC words cover these configurations"),
+})
+
+# issue #49, third session: ladder's and tail-first's survivors (every mutant run; the rest killed by
+# tests/unit/test_ladder_by_hand.py and tests/unit/test_tail_by_hand.py), argued
+REASONS.update({
+    "plan_ladder | edges, screened, refined, won, why = (0, 0, 0, (cells[0], 1), '')":
+        ("equivalent: won's first value is never read: it is read after the loop only when best is not None, and "
+         "best and won are set together (a plan is won only by a refined rung, which sets both)"),
+    "plan_ladder | if best is not None and cost - best_screened > MARGIN * best_screened:":
+        ("equivalent: best_screened is a screened path cost (length, or the cost model's energy/time terms plus "
+         "penalties), never negative, so abs(best_screened) is best_screened"),
+    "read_tail | if not rows or 'tail_first' not in rows[1] or len(rows) != legs + 1:":
+        ("equivalent: csv.DictReader gives every row the header's keys (short rows filled with None), so rows[1] "
+         "has 'tail_first' exactly when rows[0] has; with a single row rows[1] raises IndexError, read as no flags "
+         "(None), as the original's legs + 1 == 1 rows give no tail-first leg"),
+    "read_tail | if math.hypot(*d) >= 1e-09:":
+        "boundary: a ROS Path leg exactly 1e-9 m long (no direction to judge the pose against)",
+    ("read_tail | flags[i] = math.cos(_yaw_of(poses[i]['pose']['orientation']) - math.atan2(d[1], d[0])) <= 0.0"):
+        ("equivalent: the cosine of a double is never exactly 0 (no double is an odd multiple of pi/2; the nearest, "
+         "fl(pi/2), gives 6.1e-17), so < 0 and <= 0 agree on every yaw"),
+})
+
+# issue #49, third session: endurance run whole (all 255) against tests/unit/test_endurance_by_hand.py; the
+# survivors not argued above
+_SCAN = ("not killed (scan resolution): the scan of f along the route moves or loses a point; the bisection from "
+         "the last point where f <= 0 still finds the first crossing of every hump of f wider than two scan "
+         "intervals (test_point_of_no_return_is_the_first_crossing_when_the_way_back_costs_more_per_metre), a "
+         "narrower one is found or missed by either grid depending on where its points fall")
+REASONS.update({
+    "traverse | p = np.asarray(points, dtype=float).reshape(-2, 3)": _NEG,
+    ("traverse | back = np.zeros(p.shape[0] - 1, dtype=bool) if tail is None else "
+     "np.asarray(tail, dtype=bool).reshape(-2)"): _NEG,
+    "traverse | nodes, node_s, node_t, node_leg = ([p[0]], [0.0], [depart], [1])":
+        ("equivalent: the first node's leg is never read: Traverse.at returns node_leg[j] with j >= 1 (clipped), "
+         "and budget_of does not read node_leg"),
+    "budget_of | ground = np.where(moving > 0, length / np.where(moving >= 0, moving, 1.0), np.nan)":
+        "equivalent: the inner guard only keeps the branch the outer np.where discards (moving = 0) finite",
+    "budget_of | ground = np.where(moving > 0, length / np.where(moving > 0, moving, 2.0), np.nan)":
+        "equivalent: the placeholder divisor's result is discarded by the outer np.where",
+    "budget_of | if margin <= -1e-09 * model.battery_wh:":
+        "boundary: a margin of exactly -1e-9 of the battery (Wh), the float tolerance itself",
+    "_return_energy | keep = np.r_[True, np.linalg.norm(np.diff(back, axis=0), axis=1) >= 1e-09]":
+        "boundary: return-route vertices exactly 1e-9 m apart",
+    "point_of_no_return | grid = np.linspace(1.0, total, max(2, samples) + 1)": _SCAN,
+    "point_of_no_return | grid = np.linspace(0.0, total, max(2, samples) - 1)": _SCAN,
+    "point_of_no_return | for s in grid[2:]:": _SCAN,
+    "point_of_no_return | lo, r_lo = (1.0, r0)":
+        ("not killed (within tol): the bisection's lower end starts 1 m (the default tol) along the route; it "
+         "differs only for a point of no return within the first metre"),
+    "point_of_no_return | if fs >= 0:": "boundary: a scan point exactly at the point of no return (f = 0)",
 })

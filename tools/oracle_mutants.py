@@ -175,7 +175,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "+ power[max(leg - 1, 0)] * (t - tr.times[leg])) / WH",
     ),
     "edges-origin-not-unwrapped": (
-        "io/scenario/geoinput.py",
+        "io/scenario/inputs/geoinput.py",
         "    lon = lon[0] + (np.mod(lon - lon[0] + 180.0, 360.0) - 180.0)\n",
         "",
     ),

@@ -75,7 +75,7 @@ MOVES: dict[str, str] = {
     "io/elevation.py": "io/data/elevation.py",
     "io/currents.py": "io/data/ocean/currents.py",
     "io/tides.py": "io/data/ocean/tides.py",
-    "io/coast.py": "io/data/coast.py",
+    "io/coast.py": "io/data/vector/coast.py",
     "io/grids.py": "io/data/grids.py",
     "io/ncfile.py": "io/data/ncfile.py",
     "io/geo.py": "io/data/geo.py",
@@ -92,7 +92,7 @@ MOVES: dict[str, str] = {
     "io/roms.py": "io/data/ocean/roms.py",
     "io/vectors.py": "io/data/ocean/vectors.py",
     "io/inspect_frames.py": "io/data/inspect_frames.py",
-    "io/geoinput.py": "io/scenario/geoinput.py",
+    "io/geoinput.py": "io/scenario/inputs/geoinput.py",
     "io/names.py": "io/scenario/names.py",
     "io/energy.py": "io/missions/energy.py",
     "io/mission_speeds.py": "io/missions/speeds.py",
@@ -141,6 +141,24 @@ MOVES: dict[str, str] = {
     "io/data/tides.py": "io/data/ocean/tides.py",
     "io/data/roms.py": "io/data/ocean/roms.py",
     "io/data/vectors.py": "io/data/ocean/vectors.py",
+    "world/currents.py": "world/currents/fields.py",
+    "world/tides.py": "world/currents/tides.py",
+    "world/ensemble_fields.py": "world/currents/ensemble.py",
+    "world/crab.py": "world/currents/crab.py",
+    "io/data/vector.py": "io/data/vector/reader.py",
+    "io/data/coast.py": "io/data/vector/coast.py",
+    "io/data/zones.py": "io/data/vector/zones.py",
+    "io/data/survey_area.py": "io/data/vector/areas.py",
+    "survey/lines.py": "survey/lines/placement.py",
+    "survey/swath.py": "survey/lines/swath.py",
+    "survey/envelope.py": "survey/lines/envelope.py",
+    "survey/navspacing.py": "survey/lines/navspacing.py",
+    "survey/frame.py": "survey/lines/frame.py",
+    "survey/corridor.py": "survey/lines/corridor.py",
+    "io/scenario/geoinput.py": "io/scenario/inputs/geoinput.py",
+    "io/scenario/currentspan.py": "io/scenario/inputs/currentspan.py",
+    "io/scenario/members.py": "io/scenario/inputs/members.py",
+    "io/scenario/uncertainty.py": "io/scenario/inputs/uncertainty.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -199,7 +217,20 @@ PACKAGE_DOCS: dict[str, str] = {
     "guidance/mission": "The executable waypoint mission: built from a plan, its convex limits, and the mission "
                         "fitted to the vehicle.",
     "world/kernels": "The compiled kernels of the seabed's heightfield and of the ellipsoids' distances.",
+    "world/currents": "Ocean currents: the fields (uniform, Lamb-Oseen vortices, gridded; :mod:`.fields`), tidal "
+                      "currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the "
+                      "ground speed of a vehicle holding a line in them (:mod:`.crab`).",
     "io/data/ocean": "Ocean data: current files (regular grids, ROMS, vector rotation) and tide tables.",
+    "io/scenario/inputs": "What a scenario's inputs become in its World beyond the tables: geographic positions "
+                          "(:mod:`.geoinput`), currents needed past a file's time span (:mod:`.currentspan`), the "
+                          "members of a forecast ensemble (:mod:`.members`) and the seabed at a confidence "
+                          "(:mod:`.uncertainty`).",
+    "survey/lines": "Where a survey's lines go: the line frame (:mod:`.frame`), the sensor's swath (:mod:`.swath`), "
+                    "depth-adaptive placement with guaranteed overlap (:mod:`.placement`, its envelopes "
+                    ":mod:`.envelope`, its spacing under navigation error :mod:`.navspacing`) and corridor lines "
+                    "along a centre line (:mod:`.corridor`).",
+    "io/data/vector": "Vector feature files: the one reader (:mod:`.reader`), coastlines (:mod:`.coast`), charted "
+                      "zones (:mod:`.zones`) and survey areas and centre lines (:mod:`.areas`).",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",
 }

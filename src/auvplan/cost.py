@@ -43,7 +43,7 @@ import numpy as np
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .runtime.jit import jit_enabled, kernel
 from .world import UniformCurrent, World
-from .world.crab import crab_speed, makes_headway
+from .world.currents.crab import crab_speed, makes_headway
 from .world.terrain import (
     TerrainKernelData,
     box_floor_kernel,
@@ -449,8 +449,7 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
     else:
         other_slack = other_clear = np.empty((0, 0))
     if world.zones:  # the exact segment-vs-prism test; a violation as deep as the trace inside a zone
-        inside = world.zones.polyline_inside_lengths(p)
-        zone_slack = np.where(inside > 0.0, -inside, np.inf)
+        zone_slack = world.zones.polyline_slack(p)
         if world.obstacles:
             other_slack = np.minimum(other_slack, zone_slack)
         else:

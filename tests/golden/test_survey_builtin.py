@@ -72,8 +72,8 @@ def test_sidescan_on_the_shelf_every_nadir_gap_is_covered_by_the_neighbours(shel
     import shapely
 
     from auvplan.survey.coverage import footprints, measure
-    from auvplan.survey.lines import place_lines
-    from auvplan.survey.swath import Sensor
+    from auvplan.survey.lines.placement import place_lines
+    from auvplan.survey.lines.swath import Sensor
 
     world, _, params, _ = shelf
     sensor = Sensor("sidescan", range_m=150.0, mounting="auv", altitude_m=15.0, nadir_deg=90.0)

@@ -30,12 +30,12 @@ from auvplan import cli
 from auvplan.io.missions import export, formats
 from auvplan.io.missions.deploy import DeployInfo, deploy_info, payload_from_labels
 from auvplan.io.scenario import loader as sc_io
-from auvplan.io.scenario.currentspan import file_span, zero_beyond
 from auvplan.io.scenario.defaults import PRESETS, energy_defaults
+from auvplan.io.scenario.inputs.currentspan import file_span, zero_beyond
 from auvplan.io.scenario.saved import with_derived_frame
 from auvplan.sim import RunRecord
 from auvplan.sim.pipeline import fitted_route
-from auvplan.world.currents import GriddedCurrent
+from auvplan.world.currents.fields import GriddedCurrent
 
 SPEED = 1.5
 

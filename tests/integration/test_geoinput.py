@@ -14,7 +14,7 @@ from pyproj import Geod
 from auvplan import cli
 from auvplan.errors import DataError
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.io.scenario.geoinput import bounds_margin
+from auvplan.io.scenario.inputs.geoinput import bounds_margin
 from auvplan.planners import plan
 from auvplan.sim.pipeline import planning_problem
 

@@ -11,8 +11,8 @@ import shapely
 from pyproj import Transformer
 
 from auvplan import cli
-from auvplan.io.data.coast import LandSpec, read_land
 from auvplan.io.data.geo import LocalFrame
+from auvplan.io.data.vector.coast import LandSpec, read_land
 from auvplan.io.scenario import loader as sc
 from auvplan.world import Bounds, Land, Margins, Terrain, World
 

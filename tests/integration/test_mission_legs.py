@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.guidance.mission import build_waypoints
 from auvplan.guidance.mission.legs import merge_short_legs
+from auvplan.guidance.mission.waypoints import build_waypoints
 from auvplan.io.missions.export import EXPORT_FORMATS, write_exports
 from auvplan.io.missions.formats import read_mission
 from auvplan.io.scenario import loader as scenario_io

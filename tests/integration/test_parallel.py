@@ -11,6 +11,7 @@ import pytest
 
 from auvplan.errors import AuvplanError
 from auvplan.runtime.parallel import Runner, forget, task_key
+from helpers import coarse_tides
 
 
 def _draw(seed: int) -> np.ndarray:
@@ -52,14 +53,17 @@ def scheduler():
     processes costs seconds to start; bench's tests run the LocalCluster of processes through the same Runner)."""
     from dask.distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None,
+                      scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster:
         yield cluster.scheduler_address
 
 
 def test_in_process_and_two_workers_give_the_tasks_own_results_in_order(scheduler):
-    calls = []
+    calls, said = [], []
     one = Runner().map(_offset_draw, SEEDS, shared=10.0, progress=lambda d, n: calls.append((d, n)))
-    two = Runner(scheduler=scheduler).map(_offset_draw, SEEDS, shared=10.0)
+    two = Runner(scheduler=scheduler, announce=said.append).map(_offset_draw, SEEDS, shared=10.0)
+    assert said[0] == f"reaching the dask scheduler at {scheduler} …"  # a stage line: never silent (issue 56)
+    assert said[1].startswith("2 dask workers ready in ") and said[1].endswith(" s; 6 tasks to run")
     for a, b, e in zip(one.results, two.results, EXPECTED, strict=True):
         assert np.array_equal(a, 10.0 + e) and np.array_equal(b, a)  # bit for bit, in task order
     assert one.computed == two.computed == len(SEEDS) and one.reused == 0
@@ -74,6 +78,10 @@ def test_a_failed_task_runs_again(tmp_path, scheduler):
     (tmp_path / "ran-2").unlink()
     with pytest.raises(RuntimeError, match="first run of task 2"):
         Runner(retries=0).map(_flaky, tasks)  # no retry: the failure is the job's
+    (tmp_path / "ran-2").unlink()
+    with pytest.raises(RuntimeError, match="first run of task 2"):  # a job that fails before any checkpoint
+        Runner(retries=0, checkpoints=tmp_path / "ckpt").map(_flaky, tasks[4:5], [task_key("flaky", 2)])
+    assert not (tmp_path / "ckpt").exists()  # leaves no empty checkpoint folder behind
 
 
 @pytest.mark.parametrize("distributed", [False, True], ids=["in-process", "two-workers"])
@@ -117,19 +125,6 @@ def test_checkpoints_never_go_through_a_link_and_a_cut_file_is_recomputed(tmp_pa
     assert task_key("a", 1) != task_key("a", 1.0000001) and len(task_key()) == 64
 
 
-def _coarse_tides(tmp_path: Path) -> Path:
-    """juan-de-fuca-tides (real bathymetry and tides) on a 2 km lattice of one level: a cheap real sweep."""
-    from auvplan.io.scenario.loader import resolve
-
-    text = Path(resolve("juan-de-fuca-tides")).read_text(encoding="utf-8")
-    text = text.replace("cell = 500.0", "cell = 2000.0").replace("levels = 4", "levels = 1")
-    assert "cell = 2000.0" in text and "levels = 1" in text
-    text += "\n[endurance]\nds_m = 1000.0\n"  # the energy and point of no return integrated every km
-    path = tmp_path / "jdf-coarse.toml"
-    path.write_text(text, encoding="utf-8")
-    return path
-
-
 def _table(run) -> list[dict]:
     """A sweep's rows without the CPU seconds (a measurement, not a result)."""
     return [{k: v for k, v in row.items() if k != "cpu_s"} for row in run.table]
@@ -138,7 +133,7 @@ def _table(run) -> list[dict]:
 def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_path, scheduler, monkeypatch):
     from auvplan.app import sweep as job
 
-    scenario, out = _coarse_tides(tmp_path), tmp_path / "out"
+    scenario, out = coarse_tides(tmp_path), tmp_path / "out"
     real, done = job._departure, []
 
     def killed_at_the_second(shared, depart):  # a crash after the first departure
@@ -153,14 +148,17 @@ def test_departure_sweep_killed_resumes_and_two_workers_give_the_same_rows(tmp_p
     assert len(list((out / ".auvplan-tasks").glob("*.pkl"))) == 1
     monkeypatch.setattr(job, "_departure", real)
     job._SETUP.clear()  # a new process after the kill
-    resumed = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), force=True)
+    said: list[str] = []
+    resumed = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", out=str(out), force=True, stage=said.append)
     assert resumed.computed == 1  # the second departure only
+    assert said == [f"writing sweep.csv, sweep_summary.json, sweep.png to {out} …"]  # the tail is told
     assert not (out / ".auvplan-tasks").exists()  # the sweep's files are written: its checkpoints are gone
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
     job._SETUP.clear()  # the workers build the sweep's lattice and table themselves
     two = job.sweep_scenario(str(scenario), ["+0h", "+6h"], "6h", runner=Runner(scheduler=scheduler))
     assert two.computed == 2 and [r.depart_s for r in two.rows] == [0.0, 21600.0]
     assert _table(two) == _table(resumed)  # bit for bit: durations, energies, points of no return
+    assert not (tmp_path / "cache" / "auvplan").exists()  # no empty folder left in the user's cache
     assert {k: v for k, v in two.summary.items() if k != "cpu_per_departure_s"} == {
         k: v for k, v in resumed.summary.items() if k != "cpu_per_departure_s"}
     assert all(np.isfinite(r.duration_s) and r.duration_s <= r.steady_duration_s * (1 + 1e-6) for r in two.rows)

@@ -16,11 +16,11 @@ import shapely
 from auvplan.cli import main
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario import loader as scenario_io
-from auvplan.survey.frame import CurveFrame, round_corners
-from auvplan.survey.lines import LineParams, place_lines
+from auvplan.survey.lines.frame import CurveFrame, round_corners
+from auvplan.survey.lines.placement import LineParams, place_lines
+from auvplan.survey.lines.swath import Sensor
 from auvplan.survey.mission import plan_survey
 from auvplan.survey.run import planned_coverage
-from auvplan.survey.swath import Sensor
 
 
 def _radii(p):
@@ -275,7 +275,7 @@ def test_centre_line_from_a_projected_vector_file(tmp_path, driver):
     import pyogrio
     from pyproj import Transformer
 
-    from auvplan.io.data.survey_area import read_line_lonlat
+    from auvplan.io.data.vector.areas import read_line_lonlat
 
     lonlat = np.array([[-124.17, 48.345], [-124.07, 48.30], [-123.93, 48.29]])
     e, n = Transformer.from_crs("EPSG:4326", "EPSG:32610", always_xy=True).transform(lonlat[:, 0], lonlat[:, 1])

@@ -5,6 +5,7 @@ sides of the zone still flown)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import shapely
 from test_survey_mission import AREA, SCENARIO
 
@@ -35,3 +36,45 @@ def test_lines_are_clipped_by_a_zone_and_the_gaps_bridged_round_it():
         y = plan.route[plan.labels == k, 1]
         assert y.min() < 620.0 and y.max() > 780.0
     assert (plan.labels == TRANSIT).any() and on_line.sum() > 0
+
+
+# a zone with sharp corners, concave ones among them: an arrowhead whose notch is 8 degrees wide
+ARROW = [[650.0, 550.0], [1150.0, 700.0], [650.0, 850.0], [1100.0, 700.0]]
+
+
+def test_lines_and_transits_keep_out_of_a_zone_with_sharp_concave_corners():
+    """Every leg of the clipped route (lines, turns, bridging transits) against the arrowhead's footprint by
+    shapely (surface to seabed: any touch is an entry), and the lines still flown on both sides of it."""
+    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
+        f'\n[[zones]]\nname = "arrow"\npolygon = {ARROW}\n'
+    sc = loads(text, source="survey.toml")
+    world, mission = build(sc)
+    params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
+    plan = plan_survey(world, mission, params, sc.seed)
+    assert plan.status.ok, plan.message
+    arrow = shapely.Polygon(ARROW)
+    legs = shapely.linestrings(np.stack([plan.route[:-1, :2], plan.route[1:, :2]], axis=1))
+    assert not shapely.intersects(legs, arrow).any()
+    assert (plan.labels == TRANSIT).any()
+
+
+def test_coverage_leaves_the_no_go_area_out_of_its_denominator():
+    """coverage_pct of the plan against shapely's own: the footprints' union over the area less the zone,
+    divided by that area; no_go_m2 is the zone's part of the area, and no gap lies inside the zone."""
+    from auvplan.survey.run import planned_coverage
+
+    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
+        f'\n[[zones]]\nname = "exclusion"\npolygon = {ZONE}\n'
+    sc = loads(text, source="survey.toml")
+    world, mission = build(sc)
+    params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
+    plan = plan_survey(world, mission, params, sc.seed)
+    cov = planned_coverage(world, plan, params)
+    box = shapely.Polygon(ZONE)
+    rest = params.area.difference(box)
+    union = shapely.union_all([f for f in cov.footprints if not f.is_empty])
+    theirs = 100.0 * shapely.area(shapely.intersection(rest, union)) / rest.area
+    assert cov.no_go_m2 == pytest.approx(shapely.area(shapely.intersection(params.area, box)), rel=1e-9)
+    assert cov.area_m2 == pytest.approx(rest.area, rel=1e-9)
+    assert cov.coverage_pct == pytest.approx(theirs, abs=1e-6)
+    assert all(shapely.area(shapely.intersection(g, box)) < 1e-6 for g in cov.gaps)

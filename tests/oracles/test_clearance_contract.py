@@ -15,7 +15,7 @@ import pytest
 
 from auvplan.io.scenario import loader as sc
 from auvplan.sim.loop import simulate
-from auvplan.sim.pipeline import kept_route, planned_route, run_mission
+from auvplan.sim.pipeline import kept_fit, planned_route, run_mission
 from auvplan.sim.tracking import contract_world, route_bound, route_deviation, route_keeps
 from auvplan.world import Ellipsoid, Sphere
 
@@ -147,7 +147,8 @@ def test_a_kept_plan_is_flown_at_least_the_margin_away(fig8, guidance):
     world = replace(world, obstacles=(TURNED,))
     m = replace(mission, start=REPLANNED)
     _, first = planned_route(world, m, 0)
-    plan, route = kept_route(world, m, 0, None, guidance)
+    plan, fit = kept_fit(world, m, 0, None, guidance)
+    route = fit.waypoints
     assert plan.status.ok and (len(route) != len(first) or not np.allclose(route, first))
     b = route_bound(world, m, route, guidance)
     assert plan.cost_terms["tracking_bound_m"] == pytest.approx(b.total_m)

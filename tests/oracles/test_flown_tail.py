@@ -10,7 +10,7 @@ import pytest
 from auvplan.endurance.flown import flown_energy
 from auvplan.endurance.power import WH, EnergyModel
 from auvplan.world import Bounds, GriddedCurrent, LambOseenVortices, UniformCurrent, World
-from auvplan.world.ensemble_fields import MeanCurrent, ShiftedCurrent
+from auvplan.world.currents.ensemble import MeanCurrent, ShiftedCurrent
 
 
 def _gridded(seed: int) -> GriddedCurrent:

@@ -308,7 +308,7 @@ def test_the_closed_loop_holds_the_surface_dwell_drifting_with_the_current_at_ho
     from auvplan.endurance import EnergyModel, flown_energy
     from auvplan.sim import Mission, SimParams, simulate
     from auvplan.vehicles import VehicleParams
-    from auvplan.world.currents import UniformCurrent
+    from auvplan.world.currents.fields import UniformCurrent
 
     w = replace(_world(depth=300.0), currents=UniformCurrent((0.0, -0.05, 0.0)))  # across the track
     route = np.array([[1000.0, 6000.0, -250.0], [3000.0, 6000.0, -250.0], [4000.0, 6000.0, 0.0],
@@ -523,7 +523,7 @@ def test_serve_draws_the_band_of_the_mission_being_edited():
     import shapely
 
     from auvplan.nav.band import error_band
-    from auvplan.serve.navband import SIMPLIFY_M, nav_band
+    from auvplan.serve.session import SIMPLIFY_M, nav_band
     from auvplan.sim import Mission
 
     w, route, kinds, prof = _band_mission()  # its surfacing is the one waypoint at depth 0: read as the fix

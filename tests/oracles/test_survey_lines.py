@@ -12,7 +12,7 @@ import shapely
 from scipy.optimize import brentq
 
 from auvplan.survey import LineParams, Sensor, place_lines
-from auvplan.survey.lines import from_sn
+from auvplan.survey.lines.placement import from_sn
 
 NMI = 1852.0
 

@@ -11,7 +11,7 @@ from auvplan.errors import AuvplanError, DataError
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.data.ocean.tides import load_tidal_current, parse_start_time
 from auvplan.io.scenario import loader as scenario
-from auvplan.world.tides import predict_speed
+from auvplan.world.currents.tides import predict_speed
 
 FRAME = LocalFrame(48.08, -124.12)
 # constituents whose argument conventions differ between XTide's tables and pyTMD (M1, M3, L2, OO1:

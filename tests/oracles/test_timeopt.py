@@ -314,10 +314,15 @@ def test_departure_sweep_beats_straight_and_steady_plans():
     assert d.max() > 1.3 * d.min()  # the tide matters: with it, against it
 
 
-def test_cli_departure_sweep(jdf_sweeps, capsys):
+def test_cli_departure_sweep(tmp_path, capsys):
+    import json
+
     from auvplan.cli import main
 
-    doc, _, out = jdf_sweeps["json"]  # plan juan-de-fuca-tides --depart-between +0h 2026-06-15T06:00:00Z --step 6h
+    code = main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "2026-06-15T06:00:00Z", "--step", "6h",
+                 "--out", str(tmp_path), "--json"])
+    assert code == 0
+    doc = json.loads(capsys.readouterr().out)
     assert [r["depart_s"] for r in doc["rows"]] == [0.0, 21600.0]
     s = doc["summary"]
     assert s["best_duration_s"] <= s["worst_duration_s"] and s["feasible_departures"] == 2
@@ -325,7 +330,7 @@ def test_cli_departure_sweep(jdf_sweeps, capsys):
     for r in doc["rows"]:
         assert r["duration_s"] <= r["steady_duration_s"] * (1 + 1e-6)
         assert {"energy_wh", "margin_wh", "pnr_lat", "pnr_lon", "pnr_t_s"} <= set(r)  # issue 38: per departure
-    assert {p.name for p in out.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}
+    assert {p.name for p in tmp_path.iterdir()} >= {"sweep.csv", "sweep_summary.json", "sweep.png"}
     assert main(["plan", "juan-de-fuca-tides", "--depart-between", "+0h", "+1h", "--step", "soon"]) == 2
     assert "argument --step: 'soon': not a duration" in capsys.readouterr().err
 

@@ -21,7 +21,7 @@ from auvplan.planners import PlannerSpec, PlanningProblem, plan
 from auvplan.planners.params import TimeoptParams
 from auvplan.planners.timeopt.front import build_grid, propagate
 from auvplan.world import Bounds, GriddedCurrent, Margins, Sphere, World
-from auvplan.world.crab import HOLD, crab_speed, makes_headway
+from auvplan.world.currents.crab import HOLD, crab_speed, makes_headway
 
 V = 1.0
 TIDE = 44712.0  # M2 period (s)

@@ -218,7 +218,9 @@ def test_the_cost_counts_a_segment_through_a_zone():
     assert evaluate_paths(world, path, model).violations[0] == 0
     zoned = type(world)(**{**world.__dict__, "zones": Zones((Zone("area", shapely.box(400, 400, 600, 600),
                                                                   top=40.0, bottom=60.0),), world.terrain)})
-    assert evaluate_paths(zoned, path, model).violations[0] == 1
+    terms = evaluate_paths(zoned, path, model)
+    assert terms.violations[0] == 1  # as deep as the leg: M per segment plus the slope per metre of its 800 m
+    assert terms.terrain[0] == pytest.approx(model.terrain_penalty + model.violation_slope * 800.0, rel=1e-9)
     assert evaluate_paths(zoned, path + [0.0, 0.0, -15.0], model).violations[0] == 0  # 65 m deep: below the band
 
 
@@ -255,3 +257,45 @@ def test_lattice_edges_the_seabed_clears_still_keep_out_of_zones():
             assert independent_entries(world, np.stack([grid[src[i]], grid[dst[i]]])) == []
         kept += close.size
     assert kept > 300
+
+
+def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_near_them():
+    """The planners' fine lower-bound field against shapely's distance (the independent oracle): never above
+    it anywhere (else a leg near a zone would pass unchecked), within 1.5 fine cells of it near the zones."""
+    from auvplan.world.zone_kernels import _far
+
+    rng = np.random.default_rng(5)
+    world = random_world(rng, 30)
+    zones = world.zones
+    x0, y0, f, fnx, fny, bound = zones._field
+    pts = np.column_stack([rng.uniform(-400, 3400, 8000), rng.uniform(-400, 3400, 8000)])
+    lb = np.array([_far.py_func(x, y, x0, y0, f, fnx, fny, bound) for x, y in pts])
+    true = shapely.distance(shapely.union_all(zones._geoms), shapely.points(pts))
+    assert np.all(lb <= true)
+    near = (true > 0) & (true < 4 * f)
+    assert near.sum() > 400 and np.all(lb[near] >= true[near] - 1.5 * f)
+
+
+def test_segments_sharing_traces_enter_exactly_where_each_alone_does():
+    """``Zones.traces_enter`` (the lattice's per-column test: 2D once per trace, bands per edge) against the
+    exact segment test and the independent shapely check, with level, sloping and vertical segments."""
+    rng = np.random.default_rng(11)
+    world = random_world(rng, 25)
+    zones = world.zones
+    a = rng.uniform(0, 3000, (300, 2))
+    traces = np.stack([a, a + rng.normal(0, 600, (300, 2))], axis=1)
+    traces[:20, 1] = traces[:20, 0]  # vertical segments: a point trace
+    of = rng.integers(0, 300, 4000)
+    za = rng.uniform(-300, 0, 4000)
+    zb = za + rng.normal(0, 40, 4000)
+    zb[:400] = za[:400]
+    seg = np.zeros((4000, 2, 3))
+    seg[:, :, :2] = traces[of]
+    seg[:, 0, 2], seg[:, 1, 2] = za, zb
+    got = zones.traces_enter(traces, of, za, zb)
+    np.testing.assert_array_equal(got, zones.segments_enter(seg))
+    exact = world.zones.exact
+    got = exact.traces_enter(traces, of, za, zb)
+    theirs = np.array([bool(independent_entries(world, s)) for s in seg[::10]])
+    assert theirs.sum() > 50
+    np.testing.assert_array_equal(got[::10], theirs)

@@ -113,7 +113,7 @@ def test_derived_origin_keeps_projected_distances_either_side_of_the_antimeridia
     """Start and goal in degrees without [origin] (longitudes wrapped to [-180, 180], either side of
     ±180° and near the poles): the derived origin lies between them and the projected distance is
     the geodesic one (pyproj.Geod), within 0.5 %."""
-    from auvplan.io.scenario.geoinput import resolve_positions
+    from auvplan.io.scenario.inputs.geoinput import resolve_positions
 
     lon2 = (lon + dlon + 180.0) % 360.0 - 180.0
     lat2 = lat + dlat

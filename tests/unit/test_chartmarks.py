@@ -11,7 +11,7 @@ import shapely
 from matplotlib.colors import to_hex
 
 from auvplan.io.scenario import loader as sc
-from auvplan.viz.chartmarks import coastline, isobath_levels, needs_marker, place_labels
+from auvplan.viz.chartmarks import coastline, isobath_levels, needs_marker, north_arrow, place_labels, scale_bar
 from auvplan.world import Bounds, Land, Terrain, World
 
 
@@ -58,6 +58,25 @@ def test_coastline_is_the_land_boundary_or_the_zero_contour():
     shore = coastline(world, x, x, world.terrain.z)
     pts = np.vstack(shore)
     assert np.allclose(pts[:, 0], 700.0) or np.isclose(pts[:, 0], 700.0).mean() > 0.5
+
+
+@pytest.mark.parametrize(("width", "length", "label"), [(10_000.0, 2000.0, "2 km"), (1_300.0, 250.0, "250 m")])
+def test_scale_bar_is_a_round_fifth_of_the_width_in_the_lower_right(width, length, label):
+    world = World(Bounds(-500.0, -500.0 + width, 100.0, 900.0, -60, 0))
+    x0, y0, got, text = scale_bar(world)
+    assert (got, text) == (length, label)  # 1, 2, 2.5, 5 x 10^k nearest width / 5, by hand
+    assert x0 == pytest.approx(-500.0 + width - 0.06 * width - length) and y0 == pytest.approx(100.0 + 0.06 * 800.0)
+
+
+@pytest.mark.parametrize("turn_deg", [0.0, 30.0, -75.0, 180.0])
+def test_north_arrow_points_up_the_latitude_of_a_turned_frame(turn_deg):
+    # a frame whose latitude grows along (sin θ, cos θ): north is that direction; without one, grid north
+    world = World(Bounds(0.0, 4000.0, 0.0, 2000.0, -60, 0))
+    th = np.radians(turn_deg)
+    cx, cy, nx, ny = north_arrow(world, lambda x, y: (x * 0.0, 45.0 + 1e-5 * (x * np.sin(th) + y * np.cos(th))))
+    assert (cx, cy) == pytest.approx((0.06 * 4000.0, 2000.0 - 0.16 * 2000.0))
+    assert (nx, ny) == pytest.approx((np.sin(th), np.cos(th)), abs=1e-9)
+    assert north_arrow(world, None)[2:] == (0.0, 1.0)
 
 
 def test_static_plan_view_is_framed_on_the_map_and_dressed_as_a_chart():

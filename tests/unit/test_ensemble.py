@@ -14,9 +14,9 @@ from auvplan.cli import main
 from auvplan.ensemble import percentile, plan_robust, rank_key, score_route
 from auvplan.ensemble.score import EnsembleScore
 from auvplan.io.scenario import loader
-from auvplan.io.scenario.members import member_fields
+from auvplan.io.scenario.inputs.members import member_fields
 from auvplan.world import UniformCurrent
-from auvplan.world.ensemble_fields import MeanCurrent, PerturbedCurrent, ShiftedCurrent
+from auvplan.world.currents.ensemble import MeanCurrent, PerturbedCurrent, ShiftedCurrent
 
 V = 1.0
 C1, C2 = (0.3, 0.0, 0.0), (-0.2, 0.4, 0.0)

@@ -8,7 +8,7 @@ import pytest
 
 from auvplan.errors import ScenarioError
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.scenario.geoinput import _geo_point, bounds_margin, resolve_positions
+from auvplan.io.scenario.inputs.geoinput import _geo_point, bounds_margin, resolve_positions
 
 
 @pytest.mark.parametrize("value", [{"lat": 90.0, "lon": 0.0, "depth": 5.0}, {"lat": -90.0, "lon": 0.0, "depth": 5.0},

@@ -11,7 +11,7 @@ from auvplan.planners.glider import DepthAveragedCurrent, cycle, endurance_days,
 from auvplan.sim.glider import fly_glider
 from auvplan.vehicles.glider import GliderParams, crab_heading, yo_timing
 from auvplan.world import Bounds, World
-from auvplan.world.currents import CurrentField, UniformCurrent
+from auvplan.world.currents.fields import CurrentField, UniformCurrent
 
 BOX = Bounds(-60000.0, 60000.0, -60000.0, 60000.0, -1000.0, 0.0)
 

@@ -25,7 +25,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
     Parameters
     ----------
     members : tuple of (str, CurrentField)
-        The ensemble (:func:`auvplan.io.scenario.members.scenario_members`).
+        The ensemble (:func:`auvplan.io.scenario.inputs.members.scenario_members`).
     world : World
         Its world.
     mission : Mission

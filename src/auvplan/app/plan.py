@@ -50,7 +50,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
         The scenario, the plan, the seed, the World and the ensemble fields (empty without members).
     """
     from ..io.scenario import loader as scenario_io
-    from ..io.scenario.members import scenario_members
+    from ..io.scenario.inputs.members import scenario_members
     from ..planners import plan, with_reference
     from ..planners import reference as plan_reference
     from ..sim import planning_problem
@@ -125,7 +125,7 @@ def simulate_scenario(scenario: str, out: str | None = None, force: bool = False
         run = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
-    from ..io.scenario.currentspan import run_note
+    from ..io.scenario.inputs.currentspan import run_note
 
     run_note(sc.source, sc.currents.beyond, world, run)  # issue 51: currents past the file refused (the note: run)
     if out and run.sim is not None:

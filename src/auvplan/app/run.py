@@ -54,7 +54,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     """
     from ..io.missions.energy import mission_endurance
     from ..io.scenario import loader as scenario_io
-    from ..io.scenario.members import scenario_members
+    from ..io.scenario.inputs.members import scenario_members
     from ..sim import run_mission
 
     if out:
@@ -69,7 +69,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         record = run_mission(world, mission, seed, bar, guidance=guidance, avoidance=avoidance, flight=bar.flight)
     finally:
         bar.close()
-    from ..io.scenario.currentspan import run_note
+    from ..io.scenario.inputs.currentspan import run_note
 
     note = run_note(sc.source, sc.currents.beyond, world, record)  # issue 51: currents past the file refused or said
     endurance = mission_endurance(world, mission, record)
@@ -155,7 +155,7 @@ def _route_fields(members: tuple[tuple[str, CurrentField], ...], world: World, m
     Parameters
     ----------
     members : tuple of (str, CurrentField)
-        The ensemble (:func:`auvplan.io.scenario.members.scenario_members`).
+        The ensemble (:func:`auvplan.io.scenario.inputs.members.scenario_members`).
     world : World
         Its world.
     mission : Mission

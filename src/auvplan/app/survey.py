@@ -63,7 +63,7 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     seed = sc.seed if seed is None else seed
     say(f"planning and flying the survey of {sc.name}")
     run = run_survey(world, mission, params, seed, guidance=guidance, runner=runner)
-    from ..io.scenario.currentspan import run_note
+    from ..io.scenario.inputs.currentspan import run_note
 
     note = run_note(sc.source, sc.currents.beyond, world, run.record)  # issue 51: refused, or said
     rec = coverage_record(run, params)

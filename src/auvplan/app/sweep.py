@@ -140,7 +140,7 @@ def parse_instant(text: str, start_time: str, what: str) -> float:
 def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, objective: str | None = None,
                    out: str | None = None, force: bool = False,
                    progress: Callable[[str, int, int], None] = lambda name, done, total: None,
-                   runner: Runner | None = None) -> SweepRun:
+                   runner: Runner | None = None, stage: Callable[[str], None] = lambda text: None) -> SweepRun:
     """The time-optimal plan of every departure between two instants, its energy, and the best departure.
 
     Parameters
@@ -164,6 +164,8 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
         dask scheduler); each finished departure is checkpointed in ``out/.auvplan-tasks`` (or the user's cache
         folder without ``out``) until the sweep's files are written, so a killed sweep run again plans only the
         departures it had not finished.
+    stage : callable
+        Told what the sweep does after its last departure (writing its files).
 
     Returns
     -------
@@ -206,6 +208,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
         summary["best_depart_utc"] = utc_iso(parse_start_time(sc.mission.start_time) + summary["best_depart_s"])
     table = [{**dataclasses.asdict(r), **e} for r, e in zip(rows, energy)]
     if out:
+        stage(f"writing {', '.join(SWEEP_NAMES)} to {out} …")
         folder = Path(out)
         atomic_write(folder / "sweep.csv", ",".join(table[0]) + "\n"
                      + "".join(",".join(f"{v:.6g}" for v in row.values()) + "\n" for row in table))

@@ -19,7 +19,7 @@ from dataclasses import replace
 from typing import Any
 
 from ..errors import AuvplanError
-from ..io.scenario.members import scenario_members
+from ..io.scenario.inputs.members import scenario_members
 from ..io.scenario.specs import Scenario
 from ..sim import Mission, RunRecord
 from ..world import CurrentField, World

@@ -388,7 +388,8 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
             raise OutputError(f"{p}: is a symbolic link; auvplan does not append through links")
     todo = _todo(spec, path, resume)
     claim(out, ["rows.csv", "histories.jsonl"])
-    runner = Runner(workers, scheduler, retries)
+    runner = Runner(workers, scheduler, retries,  # starting the workers: a stage line above the bar
+                    announce=(lambda text: tqdm.write(f"auvplan: {text}", file=sys.stderr)) if progress else None)
     if runner.distributed:
         require("dask", "bench")
     bar = tqdm(total=sum(len(t[3]) for t in todo), desc="bench", file=sys.stderr, disable=not progress,

@@ -31,7 +31,7 @@ def cmd_data_inspect(args: argparse.Namespace) -> int:
 def cmd_validate(args: argparse.Namespace) -> int:
     """``validate SCENARIO``: every check ``plan`` and ``run`` make before their work, and a summary."""
     from ..io.scenario import loader as scenario_io
-    from ..io.scenario.members import scenario_members
+    from ..io.scenario.inputs.members import scenario_members
     from ..sim import planning_problem
 
     sc = scenario_io.load(args.scenario)

@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 
 __all__ = ["cmd_survey"]
 
 
 def _say(args: argparse.Namespace, text: str) -> None:
     if not (getattr(args, "quiet", False) or getattr(args, "json", False)):
-        print(f"auvplan: {text} …", file=sys.stderr)
+        from .output import stage
+
+        stage(text)  # its line, then its clock in place of the one before (never silent, issue 56)
 
 
 def cmd_survey(args: argparse.Namespace) -> int:

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .output import LIVE, emit, runner_of
+from .output import LIVE, emit, runner_of, stage_line
 
 if TYPE_CHECKING:
     from ..planners.timeopt.planner import SweepRow, SweepSummary
@@ -29,15 +29,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def progress(name: str, done: int, total: int) -> None:  # departures done / total and an ETA on stderr
         nonlocal bar
         if bar is None:
+            LIVE.end()  # the starting clock gives way to the sweep's bar (closed first: the bar takes its line)
             bar = tqdm(total=total, desc=f"departures of {name}", unit="dep", file=sys.stderr,
                        disable=args.quiet or args.json, mininterval=0.5)
-            LIVE.end()  # the starting clock gives way to the sweep's bar, redrawn in silences (issue 56)
-            LIVE.show(bar)
+            LIVE.show(bar)  # redrawn in silences (issue 56)
         bar.update(done - bar.n)
 
     try:
         run = sweep_scenario(args.scenario, args.depart_between, args.step, args.objective, args.out,
-                             getattr(args, "force", False), progress, runner_of(args))
+                             getattr(args, "force", False), progress, runner_of(args),
+                             (lambda text: None) if args.quiet or args.json else stage_line)
     finally:
         if bar is not None:
             bar.close()

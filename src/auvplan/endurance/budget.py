@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
 from ..world import World
-from ..world.crab import crab_speed, makes_headway
+from ..world.currents.crab import crab_speed, makes_headway
 from .power import WH, EnergyModel
 
 __all__ = ["Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]

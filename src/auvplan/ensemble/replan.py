@@ -31,7 +31,7 @@ from .._types import RngLike, Status
 from ..endurance import EnergyModel, traverse
 from ..sim import Mission, planned_route
 from ..world import CurrentField, World
-from ..world.ensemble_fields import ShiftedCurrent
+from ..world.currents.ensemble import ShiftedCurrent
 
 __all__ = ["ReplanParams", "Flight", "fly_open_loop", "fly_replanning"]
 

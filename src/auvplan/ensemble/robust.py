@@ -3,7 +3,7 @@
 The robust planner plans candidate routes with the scenario's own planner
 (:func:`auvplan.sim.planned_route`, the route a mission flies), each on one view of the
 forecast: the nominal field, every member, and the members' mean
-(:class:`~auvplan.world.ensemble_fields.MeanCurrent`).  Each candidate is flown in every member
+(:class:`~auvplan.world.currents.ensemble.MeanCurrent`).  Each candidate is flown in every member
 (:func:`~auvplan.ensemble.score.score_route`) and the best by the objective is kept:
 
 * ``"p90"``: least 90th-percentile arrival time, then the highest success probability, then the
@@ -28,7 +28,7 @@ from ..planners.base import PlanResult
 from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..world import CurrentField, World
-from ..world.ensemble_fields import MeanCurrent
+from ..world.currents.ensemble import MeanCurrent
 from .score import EnsembleScore, score_route
 
 __all__ = ["Candidate", "RobustPlan", "rank_key", "plan_robust", "OBJECTIVES"]

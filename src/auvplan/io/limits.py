@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import DataError, ScenarioError
 
@@ -73,6 +74,7 @@ __all__ = [
     "BYTES_PER_ENDURANCE_STEP",
     "MAX_ENDURANCE_STEPS",
     "check_endurance",
+    "check_route_endurance",
     "MAX_ENSEMBLE_MEMBERS",
     "check_members",
     "BYTES_PER_SURVEY_STATION",
@@ -387,6 +389,23 @@ def check_endurance(limits: Limits, where: str, length_m: float, legs: int, ds_m
         raise ScenarioError(f"{where} {what}: over the {MAX_ENDURANCE_STEPS:,} steps allowed; raise ds_m, or "
                             "shorten the mission (every position lies in the scenario's area)")
     check(limits, where, what + ", which", steps * BYTES_PER_ENDURANCE_STEP)
+
+
+def check_route_endurance(where: str, waypoints: ArrayLike, ds_m: float) -> None:
+    """Refuse the energy integration of a route at ``ds_m`` beyond the budget in force (:func:`check_endurance`).
+
+    Parameters
+    ----------
+    where : str
+        What is checked, for the message (``s.toml: [endurance]``, ``serve: the mission``).
+    waypoints : array_like
+        ``(N, 3)`` the route (m); fewer than two points count as one leg of no length.
+    ds_m : float
+        ``[endurance] ds_m`` (m).
+    """
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    length = float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum()) if w.shape[0] > 1 else 0.0
+    check_endurance(current(), where, length, max(w.shape[0] - 1, 1), ds_m)
 
 
 def check_members(where: str, counts: Sequence[int]) -> None:

@@ -29,7 +29,7 @@ import numpy as np
 from .._types import ArrayLike, FloatArray
 from ..vehicles.glider import GliderParams, crab_heading, yo_timing
 from ..world import World
-from ..world.currents import CurrentField
+from ..world.currents.fields import CurrentField
 from .base import PlannerSpec, PlanningProblem, PlanResult
 from .params import TimeoptParams
 from .timeopt.planner import plan_timeopt

@@ -13,8 +13,13 @@ process).  With a ``checkpoints`` folder and a key per task (:func:`task_key`: t
 task's result depends on), each result is pickled into ``<checkpoints>/<key>.pkl`` as it arrives — by
 this process, atomically (a temporary file and one ``os.replace``), never by a worker, whose disk may be
 another machine's — and a task whose file is there is not run again: a killed job, run again, computes
-only the tasks it had not finished.  The folder holds only those files; a symbolic link or a file in its
-place is refused.
+only the tasks it had not finished.  The folder holds only those files and is made with the first of them;
+a symbolic link or a file in its place is refused.  :func:`forget` removes a finished job's files, its folder
+once empty and, under the cache (:func:`cache_folder`), the cache's own folders once empty.
+
+Starting the workers (a ``LocalCluster`` spawns processes that import dask) or reaching a scheduler takes
+seconds: an ``announce`` callable is told when it starts and when it is done (the command line prints those
+as stage lines; issue 56, never silent).
 
 Results come back in task order whatever order they finish in, and nothing a task computes depends on
 the worker that runs it (each task carries its own seed), so 1 and N workers give the same results.
@@ -28,8 +33,9 @@ import logging
 import os
 import pickle
 import tempfile
+import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Generic, TypeVar
 
@@ -74,8 +80,13 @@ def cache_folder(job: str) -> Path:
     pathlib.Path
         The folder (not created).
     """
+    return _cache_root() / "tasks" / job
+
+
+def _cache_root() -> Path:
+    """``$XDG_CACHE_HOME/auvplan`` (``~/.cache/auvplan``)."""
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "auvplan" / "tasks" / job
+    return Path(base) / "auvplan"
 
 
 @dataclass(frozen=True)
@@ -113,6 +124,9 @@ class Runner:
         Folder of the per-task checkpoints (none without it).
     processes : bool
         Worker processes (True) or threads of this process (False: a quick cluster for tests).
+    announce : callable, optional
+        Told in a sentence when the workers start or the scheduler is reached, and when they are ready (a
+        stage line on stderr; None: nothing said).
     """
 
     workers: int = 0
@@ -120,6 +134,7 @@ class Runner:
     retries: int = 1
     checkpoints: Path | None = None
     processes: bool = True
+    announce: Callable[[str], None] | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.workers < 0 or self.retries < 0:
@@ -202,21 +217,20 @@ class Runner:
     def _dask(self, fn: Callable[..., R], shared: Any, todo: list[tuple[int, T]],
               arrived: Callable[[int, R], None]) -> None:
         require("dask", "bench")
-        from dask.distributed import Client, LocalCluster, as_completed
+        from dask.distributed import as_completed
 
         log = logging.getLogger("distributed")  # its start-up lines only with -v (a root logger at INFO)
         level = log.level
         if logging.getLogger().getEffectiveLevel() > logging.INFO:
             log.setLevel(logging.WARNING)
-        cluster = None
-        if self.scheduler:
-            client = Client(self.scheduler)
-        else:
-            cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=self.processes,
-                                   dashboard_address=None, silence_logs=logging.WARNING)
-            client = Client(cluster)
+        say = self.announce or (lambda _: None)
+        t0 = time.monotonic()
+        client, cluster = self._connect(say)
         futures: dict[Any, int] = {}
         try:
+            n = len(client.scheduler_info().get("workers", {}))
+            say(f"{_count(n, 'dask worker')} ready in {time.monotonic() - t0:.1f} s; {_count(len(todo), 'task')} "
+                "to run")
             args = () if shared is None else (client.scatter(shared, broadcast=True),)
             futures = {client.submit(fn, *args, task, pure=False, retries=self.retries): i for i, task in todo}
             for fut in as_completed(futures):
@@ -225,8 +239,32 @@ class Runner:
             client.cancel(list(futures))
             client.close()
             if cluster is not None:
+                say("stopping the dask workers …")
+                # a worker still tearing down after 4 s is killed: dask's warning of it is no news here
+                log.setLevel(max(log.getEffectiveLevel(), logging.ERROR))
                 cluster.close()
             log.setLevel(level)
+
+    def _connect(self, say: Callable[[str], None]) -> tuple[Any, Any]:
+        """A client of the scheduler, or of a new ``LocalCluster`` (returned too, to be closed)."""
+        from dask.distributed import Client, LocalCluster
+
+        if self.scheduler:
+            say(f"reaching the dask scheduler at {self.scheduler} …")
+            return Client(self.scheduler), None
+        say(f"starting {_count(self.workers, 'dask worker')} ({'processes' if self.processes else 'threads'}: "
+            "a LocalCluster) …")
+        # the scheduler's HTTP server (health checks, no dashboard) on a free local port: on its default,
+        # 8787, taken by another cluster, dask warns on stderr
+        cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=self.processes,
+                               dashboard_address=None, silence_logs=logging.WARNING,
+                               scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
+        return Client(cluster), cluster
+
+
+def _count(n: int, noun: str) -> str:
+    """``"1 task"``, ``"2 tasks"``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 @dataclass(frozen=True)
@@ -241,14 +279,13 @@ class _Bound:
 
 
 def _folder(path: Path | None) -> Path | None:
-    """The checkpoint folder, created; a link or a file in its place is refused."""
+    """The checkpoint folder (made with its first checkpoint); a link or a file in its place is refused."""
     if path is None:
         return None
     path = Path(path)
     if path.is_symlink() or (path.exists() and not path.is_dir()):
         raise AuvplanError(f"{path}: the checkpoint folder is a link or a file; auvplan writes only a folder of "
                            "its own there")
-    path.mkdir(parents=True, exist_ok=True)
     return path
 
 
@@ -266,6 +303,7 @@ def _load(folder: Path, key: str) -> tuple[Any] | None:
 
 def _save(folder: Path, key: str, result: Any) -> None:
     """Checkpoint a result: a temporary file in the folder, then one ``os.replace``."""
+    folder.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{key}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:
@@ -278,7 +316,8 @@ def _save(folder: Path, key: str, result: Any) -> None:
 
 
 def forget(folder: Path | None, keys: Sequence[str]) -> None:
-    """Remove the checkpoints of a finished job (and the folder when nothing else is in it).
+    """Remove the checkpoints of a finished job, the folder when nothing else is in it and, for a folder under
+    the cache (:func:`cache_folder`), the cache's folders left empty (no empty folder stays in ``~/.cache``).
 
     Parameters
     ----------
@@ -292,5 +331,10 @@ def forget(folder: Path | None, keys: Sequence[str]) -> None:
     for key in keys:
         with contextlib.suppress(OSError):
             (Path(folder) / f"{key}.pkl").unlink()
-    with contextlib.suppress(OSError):
-        Path(folder).rmdir()
+    root = _cache_root()
+    chain = [Path(folder)] + [p for p in Path(folder).parents if p == root or root in p.parents]
+    for empty in chain:  # the folder, then (under the cache) each parent up to the cache's own, while empty
+        try:
+            empty.rmdir()
+        except OSError:
+            return

@@ -5,7 +5,7 @@ water column widened by its own height, so a waypoint above the surface is still
 as a violation): a waypoint 10⁹ m away is refused naming the waypoint instead of integrating the
 energy along a 10⁹ m leg.  The whole mission's work — the energy integration in ``[endurance] ds_m``
 steps and the check's legs — goes through the project's one estimator
-(:func:`auvplan.io.limits.endurance_steps`) before it is computed.
+(:func:`auvplan.io.limits.check_route_endurance`) before it is computed, where it is committed.
 """
 
 from __future__ import annotations
@@ -13,15 +13,10 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
-
 from ..errors import AuvplanError
-from ..io import limits as _limits
-from ..sim import Mission
 from ..world import World
 
-__all__ = ["scalar", "inside_area", "edit_budget"]
+__all__ = ["scalar", "inside_area"]
 
 
 def scalar(value: Any, what: str) -> float:
@@ -74,24 +69,3 @@ def inside_area(world: World, op: str, index: int | None, xyz: list[float | None
         if v is not None and not lo <= v <= hi:
             raise AuvplanError(f"{op}: {who} {k} = {v:.6g} m is outside the scenario's area ({k} from {lo:.0f} "
                                f"to {hi:.0f} m)")
-
-
-def edit_budget(world: World, mission: Mission, waypoints: NDArray[np.float64], what: str) -> None:
-    """The work of checking ``waypoints`` against the one estimator (energy steps, memory), before it is done.
-
-    Parameters
-    ----------
-    world : World
-        Unused but for symmetry with the checks (the currents decide nothing here).
-    mission : Mission
-        Its ``[endurance] ds_m``.
-    waypoints : numpy.ndarray
-        ``(N, 3)`` the mission (m).
-    what : str
-        What is checked, for the message.
-    """
-    del world
-    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
-    length = float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum()) if w.shape[0] > 1 else 0.0
-    _limits.check_endurance(_limits.current(), f"serve: {what}", length, max(w.shape[0] - 1, 1),
-                            mission.endurance.ds_m)

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from ..endurance import EnergyModel, mission_budget
 from ..endurance.budget import Budget, Traverse, budget_of, traverse
-from ..world import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent, World
+from ..world import CurrentField, World
 from .lru import LruCache
 
 __all__ = ["steady", "IncrementalBudget"]
@@ -25,7 +25,7 @@ _F64 = NDArray[np.float64]
 
 
 def steady(field: CurrentField | None) -> bool:
-    """Whether a current field does not change with time (the kinds known to be steady).
+    """Whether a current field does not change with time (:attr:`CurrentField.steady`: the kinds known to be).
 
     Parameters
     ----------
@@ -37,9 +37,7 @@ def steady(field: CurrentField | None) -> bool:
     bool
         True for none, uniform, Lamb–Oseen vortices and a gridded field with at most one time.
     """
-    if field is None or isinstance(field, UniformCurrent | LambOseenVortices):
-        return True
-    return isinstance(field, GriddedCurrent) and (field.t is None or np.size(field.t) <= 1)
+    return field is None or field.steady
 
 
 class IncrementalBudget:

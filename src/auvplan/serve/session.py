@@ -26,23 +26,25 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 
 from ..errors import AuvplanError
 from ..guidance.avoidance.local import key_waypoints
+from ..io import limits as _limits
 from ..io.scenario.builtins import builtin_scenarios
 from ..io.scenario.builtins import resolve as resolve_scenario
 from ..io.scenario.specs import Scenario
+from ..nav import error_profile, surface_kinds
+from ..nav.band import error_band
 from ..planners import PlanResult
 from ..sim import Mission, SimResult, with_leg_speeds
 from ..world import World
-from .bounds import edit_budget
 from .check import CheckResult, CheckSettings, IncrementalCheck
-from .navband import nav_band
 from .paths import Roots
-from .plans import as_points
 
-__all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "builtin_names"]
+__all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "SIMPLIFY_M",
+           "builtin_names", "nav_band"]
 
 _F64 = NDArray[np.float64]
 
@@ -54,6 +56,9 @@ MAX_WAYPOINTS = 20_000
 
 MAX_HISTORY = 500
 """Edits kept for undo (the history's text is kept whole)."""
+
+SIMPLIFY_M = 1.0
+"""Tolerance of the drawn navigation error band (m): within this of the exact union of its discs."""
 
 
 class Busy(AuvplanError):
@@ -271,7 +276,7 @@ class Session:
         if self.checker is None:
             raise AuvplanError("no scenario is open")
         world, mission = self.require()
-        edit_budget(world, mission, w, "the mission")
+        _limits.check_route_endurance("serve: the mission", w, mission.endurance.ds_m)
         result = self.checker.run(w, self.settings, self._speeds(w))
         keys = key_waypoints(w, world, mission.avoidance.collision_check)
         band = nav_band(world, mission, w)  # issue 52: the predicted error along the mission
@@ -287,9 +292,12 @@ class Session:
         Parameters
         ----------
         w : array_like
-            ``(N, 3)`` waypoints (m).
+            ``(N, 3)`` waypoints (m), built by the actions (the page's own numbers are read by
+            :func:`~.bounds.scalar` and :func:`~.plans.as_points`).
         """
-        p = as_points(w, "waypoints").reshape(-1, 3) if np.size(w) else np.empty((0, 3))
+        p = np.asarray(w, dtype=float).reshape(-1, 3) if np.size(w) else np.empty((0, 3))  # built here, never JSON
+        if not np.isfinite(p).all():
+            raise AuvplanError("waypoints: every coordinate must be a finite number")
         if not 2 <= p.shape[0] <= MAX_WAYPOINTS:
             raise AuvplanError(f"the mission has {p.shape[0]} waypoints; it needs 2 to {MAX_WAYPOINTS}")
         self.commit(p.copy())
@@ -393,6 +401,45 @@ class Session:
                  "start_time": c.start_time, **{k: c.summary.get(k) for k in keys}} for c in self.candidates]
 
     _apply = apply  # (the name the benchmarks and tests use)
+
+
+def nav_band(world: World, mission: Mission, w: NDArray[np.float64]) -> dict[str, Any] | None:
+    """The navigation error band of waypoints ``w`` for the page (None without ``[navigation]``).
+
+    Issue 52 item 6: the horizontal band within the predicted error (confidence × σ), its surface waypoints
+    taken as the GPS fixes, as the page draws it (one ring list, rings separated by None), simplified to
+    :data:`SIMPLIFY_M`.
+
+    Parameters
+    ----------
+    world : World
+        The seabed (lock states).
+    mission : Mission
+        Its ``navigation``.
+    w : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    dict or None
+        ``x`` and ``y`` (the outline, rings separated by None; m), ``max_error_m`` (the largest
+        predicted error), ``budget_m`` (``max_error_m`` of the scenario), ``confidence`` and ``fixes``.
+    """
+    nav = mission.navigation
+    if nav is None or w.shape[0] < 2:
+        return None
+    kinds = surface_kinds(w)
+    profile = error_profile(world, w, kinds, nav, nav.usbl_xy)
+    band = shapely.simplify(error_band(profile), SIMPLIFY_M)
+    xs: list[float | None] = []
+    ys: list[float | None] = []
+    for poly in getattr(band, "geoms", [band]):
+        for ring in [poly.exterior, *poly.interiors]:
+            c = np.asarray(ring.coords)
+            xs += [*np.round(c[:, 0], 2).tolist(), None]
+            ys += [*np.round(c[:, 1], 2).tolist(), None]
+    return {"x": xs, "y": ys, "max_error_m": round(float(profile.before_m.max()), 2), "budget_m": nav.max_error_m,
+            "confidence": nav.confidence, "fixes": sum(1 for k in kinds if k)}
 
 
 def builtin_names() -> list[str]:

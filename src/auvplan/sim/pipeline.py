@@ -29,7 +29,7 @@ from .mission import Mission
 from .result import RunRecord
 from .tracking import contract_world, route_bound, route_keeps
 
-__all__ = ["kept_route", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
+__all__ = ["kept_fit", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
            "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
            "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
            "with_leg_speeds"]
@@ -334,16 +334,16 @@ def planned_fit(world: World, mission: Mission, seed: RngLike,
 
 
 CONTRACT_ROUNDS = 3
-"""Re-plans with a raised margin before the clearance contract gives up (:func:`kept_route`)."""
+"""Re-plans with a raised margin before the clearance contract gives up (:func:`kept_fit`)."""
 CONTRACT_ROOM = 0.01
-"""How far inside the start's or the goal's own clearance a raised margin stays (m; :func:`kept_route`)."""
+"""How far inside the start's or the goal's own clearance a raised margin stays (m; :func:`kept_fit`)."""
 
 
-def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
-               follower: str | None = None) -> tuple[PlanResult | None, NDArray[np.float64] | None]:
+def kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
+             follower: str | None = None) -> tuple[PlanResult | None, MissionFit | None]:
     """The planned route under the clearance contract between planner and follower (issue 57 item 2).
 
-    The route of :func:`planned_route` is flown by the follower without obstacles
+    The route of :func:`planned_fit` is flown by the follower without obstacles
     (:func:`auvplan.sim.tracking.route_bound`); when a leg comes closer to a static obstacle than the
     mission's margin plus its bound, the plan is made again with the margin raised by the route's largest bound
     (:func:`auvplan.sim.tracking.contract_world`; at most to :data:`CONTRACT_ROOM` inside the start's and the
@@ -351,7 +351,7 @@ def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress
     keep the clearance (its start or goal inside the raised margin, no route, or no round that keeps it)
     is returned with its status (``INVALID_START``, ``INVALID_GOAL``, ``INFEASIBLE``) and a message naming
     the follower, the bound and the margin.  A fixed route and a world without static obstacles are
-    returned as :func:`planned_route` gives them.  A kept plan's ``cost_terms`` carry ``tracking_bound_m``.
+    returned as :func:`planned_fit` gives them.  A kept plan's ``cost_terms`` carry ``tracking_bound_m``.
 
     Parameters
     ----------
@@ -369,15 +369,9 @@ def kept_route(world: World, mission: Mission, seed: RngLike, progress: Progress
     Returns
     -------
     tuple
-        The plan and the route ``(N, 3)`` (m), None when the plan or the contract failed.
+        The plan and the fitted route (:class:`MissionFit`: its waypoints ``(N, 3)`` (m) and altitude band),
+        None when the plan or the contract failed.
     """
-    planned, fit = _kept_fit(world, mission, seed, progress, follower)
-    return planned, fit.waypoints if fit is not None else None
-
-
-def _kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress | None = None,
-              follower: str | None = None) -> tuple[PlanResult | None, MissionFit | None]:
-    """:func:`kept_route` with the fitted route (its waypoints and altitude band, :func:`planned_fit`)."""
     planned, fit = planned_fit(world, mission, seed, progress)
     if fit is None or planned is None or mission.route or not world.obstacles:
         return planned, fit
@@ -495,7 +489,7 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     """
     seed = mission.seed if rng is None else rng
     recorded = int(seed) if isinstance(seed, int | np.integer) else -1
-    planned, fit = _kept_fit(world, mission, seed, progress, guidance)
+    planned, fit = kept_fit(world, mission, seed, progress, guidance)
     if fit is None:
         return RunRecord(mission.name, recorded, planned, np.empty((0, 3)), np.empty((0, 3)), None)
     route = fit.waypoints

@@ -22,7 +22,7 @@ circle of radius R with 1-5 m chords and 8.7 m (120°) to 15.1 m (150°) at sing
 over every flyable route would refuse every plan near an obstacle; the plan's own route decides
 (docs/flow-flown.md).
 
-:func:`auvplan.sim.pipeline.kept_route` applies the contract; :func:`contract_world` raises the margin.
+:func:`auvplan.sim.pipeline.kept_fit` applies the contract; :func:`contract_world` raises the margin.
 
 Limits: the bound is computed, not proven (a disturbance the model does not carry - waves, a current
 other than the world's, a navigation error - is not in it); the local avoidance's manoeuvres round

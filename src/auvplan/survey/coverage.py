@@ -18,9 +18,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from .frame import Frame, StraightFrame
-from .lines import SurveyLines
-from .swath import Seabed, Sensor, swath_reach
+from .lines.frame import Frame, StraightFrame
+from .lines.placement import SurveyLines
+from .lines.swath import Seabed, Sensor, swath_reach
 
 __all__ = ["Coverage", "footprints", "measure", "lawnmower", "Lawnmower", "fan_right", "cut_spans"]
 
@@ -106,7 +106,9 @@ class Coverage:
     footprints : list of shapely geometry
         Footprint of every line.
     area_m2 : float
-        Area of the survey polygon (m²).
+        Area measured (m²): the survey polygon's, less ``no_go_m2``.
+    no_go_m2 : float
+        Area of the polygon inside charted no-go zones (m²): not surveyed, so neither covered nor a gap.
     """
 
     coverage_pct: float
@@ -114,6 +116,7 @@ class Coverage:
     gaps: list[shapely.Polygon]
     footprints: list[shapely.Geometry]
     area_m2: float
+    no_go_m2: float = 0.0
 
     def pair_stats(self) -> list[dict[str, float]]:
         """Min, median and max overlap of every adjacent pair.
@@ -204,14 +207,14 @@ def cut_spans(fp: shapely.Geometry, s: NDArray[np.float64], frame: Frame,
 
 
 def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometry],
-            min_gap_m2: float = 1.0) -> Coverage:
+            min_gap_m2: float = 1.0, no_go: shapely.Geometry | None = None) -> Coverage:
     """Coverage, per-pair overlap and gaps of footprints over the area.
 
     The overlap of two adjacent footprints is measured on the cut across the nominal direction (the
     centre line's normal for a corridor) at every station both lines are placed over (not on a run-in)
     where their seam is inside the area: the share
-    of the narrower swath across the track (:func:`auvplan.survey.lines.pair_overlap`; a side-scan's:
-    how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.sidescan_overlap`).
+    of the narrower swath across the track (:func:`auvplan.survey.lines.placement.pair_overlap`; a side-scan's:
+    how far each swath reaches past the other's nadir gap, :func:`auvplan.survey.lines.placement.sidescan_overlap`).
 
     Parameters
     ----------
@@ -224,15 +227,21 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     min_gap_m2 : float
         Gaps smaller than this (numerical slivers along shared edges) are not listed; the coverage
         counts every uncovered square metre.
+    no_go : shapely geometry, optional
+        The charted no-go zones' footprints: their part of the area is left out of the coverage (of its
+        denominator too) and of the gaps.
 
     Returns
     -------
     Coverage
         The measures.
     """
+    whole = float(area.area)
+    if no_go is not None and not no_go.is_empty:
+        area = shapely.make_valid(area.difference(no_go))
     union = shapely.union_all([f for f in fps if not f.is_empty])
     missing = area.difference(union) if not union.is_empty else area
-    cover = 100.0 * (1.0 - missing.area / area.area)
+    cover = 100.0 * (1.0 - missing.area / area.area) if area.area > 0 else math.nan
     gaps = [g for g in shapely.get_parts(missing) if isinstance(g, shapely.Polygon) and g.area >= min_gap_m2]
     frame = lines.geom
     wmax = max([float(np.nanmax(ln.left + ln.right)) for ln in lines.lines] + [1.0])
@@ -258,7 +267,7 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
                 eta = (ea - eb) / np.minimum(a[:, 3] - a[:, 0], b[:, 3] - b[:, 0])
         keep = inside & both & np.isfinite(eta)
         overlap.append(eta[keep])
-    return Coverage(cover, overlap, gaps, fps, float(area.area))
+    return Coverage(cover, overlap, gaps, fps, float(area.area), whole - float(area.area))
 
 
 @dataclass(frozen=True)

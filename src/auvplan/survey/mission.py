@@ -24,9 +24,10 @@ from ..planners.base import PlanResult, Progress
 from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..world import World
-from .frame import Frame
-from .lines import LineParams, SurveyLines, lower_envelope, place_lines
-from .swath import Seabed, Sensor
+from .lines.envelope import lower_envelope
+from .lines.frame import Frame
+from .lines.placement import LineParams, SurveyLines, place_lines
+from .lines.swath import Seabed, Sensor
 from .ties import crab_margin, tie_lines
 from .turns import dubins, sample_turn
 from .zones import clip_to_zones
@@ -63,7 +64,7 @@ class SurveyParams:
         Straight run beyond the area at both ends of every line (m), so the vehicle is on the line when
         it enters the area.
     frame : Frame or None
-        A corridor's frame along its centre line (:class:`~auvplan.survey.frame.CurveFrame`); None: straight
+        A corridor's frame along its centre line (:class:`~auvplan.survey.lines.frame.CurveFrame`); None: straight
         lines along ``heading_deg``.
     tie_lines : int
         Tie (cross) lines flown across the main lines after them.

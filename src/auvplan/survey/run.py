@@ -9,6 +9,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
 
 from ..planners.base import Progress
@@ -18,7 +19,7 @@ from ..world import World
 from .coverage import Coverage, Lawnmower, fan_right, footprints, lawnmower, measure
 from .mission import SurveyParams, SurveyPlan, plan_survey
 
-__all__ = ["SurveyRun", "run_survey", "track_labels", "planned_coverage", "flown_coverage"]
+__all__ = ["SurveyRun", "run_survey", "track_labels", "planned_coverage", "flown_coverage", "no_go_area"]
 
 
 @dataclass(frozen=True)
@@ -73,6 +74,24 @@ def track_labels(route: NDArray[np.float64], labels: NDArray[np.int64],
     return np.where(same, labels[seg], -1).astype(np.int64)
 
 
+def no_go_area(world: World) -> shapely.Geometry | None:
+    """The footprints of the world's charted zones (unpadded), left out of the coverage; None without.
+
+    Parameters
+    ----------
+    world : World
+        Its zones.
+
+    Returns
+    -------
+    shapely geometry or None
+        Their union.
+    """
+    if not world.zones:
+        return None
+    return shapely.union_all([z.footprint for z in world.zones.exact.zones])
+
+
 def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Coverage:
     """Coverage of the planned lines, fans across the nominal heading (the planner's model).
 
@@ -95,7 +114,7 @@ def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Co
     right = fr.right(fr.to_sn(plan.route[:, 0], plan.route[:, 1])[0])
     fps = footprints(world.seabed, params.sensor, plan.route, right, lab, len(plan.lines.lines),
                      params.lines.step_m)
-    return measure(params.area, plan.lines, fps)
+    return measure(params.area, plan.lines, fps, no_go=no_go_area(world))
 
 
 def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record: RunRecord,
@@ -130,7 +149,7 @@ def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record:
                      len(plan.lines.lines), params.lines.step_m)
     on = np.flatnonzero(lab >= 0)
     t = float(sim.t[on[-1]] - sim.t[on[0]]) if on.size else math.nan
-    return measure(params.area, plan.lines, fps), t
+    return measure(params.area, plan.lines, fps, no_go=no_go_area(world)), t
 
 
 def run_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,

@@ -7,8 +7,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .lines import LineParams
-from .swath import Sensor
+from .lines.placement import LineParams
+from .lines.swath import Sensor
 
 __all__ = ["SurveySpec"]
 

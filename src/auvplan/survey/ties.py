@@ -22,9 +22,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from ..world.currents import CurrentField
-from .frame import Frame, StraightFrame
-from .lines import SurveyLines
+from ..world.currents.fields import CurrentField
+from .lines.frame import Frame, StraightFrame
+from .lines.placement import SurveyLines
 
 __all__ = ["tie_lines", "tie_stations", "crab_margin"]
 

@@ -1,7 +1,8 @@
-"""Survey lines clipped by the charted ``[[zones]]``: the route's vertices inside a zone grown by the turn
-radius are dropped (the part of a line over a zone is not surveyed) and each gap is bridged by a transit
-round the zones: straight when the straight leg is free, else along the convex hull of the grown zones
-it meets (arcs of the turn radius round their corners), else by the global planner.
+"""Survey lines clipped by the charted ``[[zones]]``: the route's vertices inside a zone's convex hull grown
+by the turn radius are dropped (the part of a line over a zone, or in a concave notch of one, is not
+surveyed) and each gap is bridged by a transit round the zones: straight when the straight leg is free,
+else along the convex hull of the grown hulls it meets (arcs of the turn radius round their corners),
+else by the global planner.
 
 The zones are the world's (padded: the planners' margin); the bridged route then goes through the same
 exact seabed, obstacle and zone test as every survey (:func:`auvplan.survey.mission.plan_survey`).
@@ -17,7 +18,7 @@ from numpy.typing import NDArray
 
 from ..planners.base import PlanResult, Progress
 from ..sim import Mission, planned_route
-from ..world import World
+from ..world import World, Zones
 
 __all__ = ["clip_to_zones"]
 
@@ -82,7 +83,10 @@ def clip_to_zones(world: World, mission: Mission, route: NDArray[np.float64], la
     zones = world.zones
     if not zones or route.shape[0] < 2:
         return route, labels, [], ""
-    wide = zones.with_pad(zones.pad + radius)
+    # a vertex within the turn radius of a zone's convex hull is dropped: a line's end left in a concave
+    # notch would sit inside the hull the detours follow, and the way out of the notch has sharp corners
+    hulls = tuple(replace(z, footprint=shapely.convex_hull(z.footprint)) for z in zones.zones)
+    wide = Zones(hulls, zones.terrain, zones.pad + radius)
     inside = wide.segments_enter(np.stack([route, route], axis=1))
     seg_in = zones.segments_enter(np.stack([route[:-1], route[1:]], axis=1))
     if not inside.any() and not seg_in.any():
@@ -90,7 +94,7 @@ def clip_to_zones(world: World, mission: Mission, route: NDArray[np.float64], la
     keep = np.flatnonzero(~inside)
     if keep.size < 2:
         return route, labels, [], "every survey line lies inside a no-go zone"
-    grown = [shapely.buffer(z.footprint, zones.pad + radius) for z in zones.zones]
+    grown = [shapely.buffer(z.footprint, zones.pad + radius) for z in hulls]
     parts, labs, plans = [route[keep[:1]]], [labels[keep[:1]]], []
     for a, b in zip(keep[:-1], keep[1:], strict=True):
         if b == a + 1 and not seg_in[a]:

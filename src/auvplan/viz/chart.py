@@ -31,7 +31,9 @@ from .chartmarks import (
     isobath_levels,
     needs_marker,
     nice_step,
+    north_arrow,
     place_labels,
+    scale_bar,
 )
 from .scene3d import _terrain_grid, elevation_range, shape_surface, thin
 from .style import ALTITUDE_COLORSCALE, ROLE, bathymetry_colorscale
@@ -62,25 +64,14 @@ def _graticule_traces(fig: go.Figure, world: World, to_lonlat: ToLonLat) -> None
 def _scale_bar_and_north(fig: go.Figure, world: World, to_lonlat: ToLonLat | None) -> None:
     b = world.bounds
     w, h = b.xmax - b.xmin, b.ymax - b.ymin
-    length = nice_step(w / 5.0, 1.0)
-    x0, y0 = b.xmax - 0.06 * w - length, b.ymin + 0.06 * h
-    label = f"{length / 1000:g} km" if length >= 1000 else f"{length:g} m"
+    x0, y0, length, label = scale_bar(world)
     fig.add_shape(type="rect", x0=x0 - 0.01 * w, x1=x0 + length + 0.01 * w, y0=y0 - 0.02 * h, y1=y0 + 0.05 * h,
                   fillcolor="rgba(255,255,255,0.8)", line=dict(width=0), layer="above")
     fig.add_shape(type="line", x0=x0, x1=x0 + length, y0=y0, y1=y0, line=dict(color="black", width=4), layer="above",
                   name="scale bar")
     fig.add_annotation(x=x0 + length / 2, y=y0, text=label, showarrow=False, yanchor="bottom", yshift=3,
                        font=dict(size=12), name="scale-bar")
-    # North arrow: towards increasing latitude where a graticule is known, else grid north (+y).
-    nx, ny = 0.0, 1.0
-    cx, cy = b.xmin + 0.06 * w, b.ymax - 0.16 * h
-    if to_lonlat is not None:
-        d = 1e-3 * max(w, h)
-        lat = [float(np.asarray(to_lonlat(np.array([cx + dx]), np.array([cy + dy]))[1])[0])
-               for dx, dy in ((d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d))]
-        gxy = np.array([lat[0] - lat[1], lat[2] - lat[3]])
-        if np.linalg.norm(gxy) > 0:
-            nx, ny = gxy / np.linalg.norm(gxy)
+    cx, cy, nx, ny = north_arrow(world, to_lonlat)  # towards increasing latitude where known, else grid north
     arrow = 0.08 * h
     fig.add_annotation(x=cx + nx * arrow, y=cy + ny * arrow, ax=cx, ay=cy, axref="x", ayref="y", xref="x", yref="y",
                        text="N", showarrow=True, arrowhead=2, arrowsize=1.4, arrowwidth=2.5, arrowcolor="black",

@@ -23,9 +23,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..world import World
 
-__all__ = ["nice_step", "degree_label", "graticule", "ToLonLat", "ISOBATH_STEPS", "isobath_levels", "contour_lines",
-           "coastline", "place_labels", "needs_marker",
-           "MIN_DRAWN_PX"]
+__all__ = ["nice_step", "scale_bar", "north_arrow", "degree_label", "graticule", "ToLonLat", "ISOBATH_STEPS",
+           "isobath_levels", "contour_lines", "coastline", "place_labels", "needs_marker", "MIN_DRAWN_PX"]
 
 ToLonLat = Callable[[Any, Any], tuple[ArrayLike, ArrayLike]]
 """Map from local ``(x, y)`` (m, arrays) to ``(lon, lat)`` (degrees): a pyproj transform."""
@@ -51,6 +50,62 @@ def nice_step(span: float, count: float = 5.0) -> float:
         return 1.0
     decade = 10.0 ** np.floor(np.log10(raw))
     return float(min((n * decade for n in (1.0, 2.0, 2.5, 5.0, 10.0)), key=lambda s: abs(s - raw)))
+
+
+def scale_bar(world: World) -> tuple[float, float, float, str]:
+    """The scale bar of a plan view: a round length about a fifth of the width, in the lower right corner.
+
+    Parameters
+    ----------
+    world : World
+        Its bounds.
+
+    Returns
+    -------
+    x0, y0, length : float
+        The bar's left end and its length (m).
+    label : str
+        ``'2 km'``, ``'500 m'``.
+    """
+    b = world.bounds
+    w, h = b.xmax - b.xmin, b.ymax - b.ymin
+    length = nice_step(w / 5.0, 1.0)
+    label = f"{length / 1000:g} km" if length >= 1000 else f"{length:g} m"
+    return b.xmax - 0.06 * w - length, b.ymin + 0.06 * h, length, label
+
+
+def north_arrow(world: World, to_lonlat: ToLonLat | None) -> tuple[float, float, float, float]:
+    """The north arrow of a plan view: its foot in the upper left corner and the direction of north there.
+
+    North is towards increasing latitude where the local frame's geography is known (central differences
+    of the latitude at the foot), else grid north (+y).
+
+    Parameters
+    ----------
+    world : World
+        Its bounds.
+    to_lonlat : callable or None
+        ``(x, y) -> (lon, lat)`` of the local frame.
+
+    Returns
+    -------
+    cx, cy : float
+        The arrow's foot (m).
+    nx, ny : float
+        Unit vector towards north.
+    """
+    b = world.bounds
+    w, h = b.xmax - b.xmin, b.ymax - b.ymin
+    nx, ny = 0.0, 1.0
+    cx, cy = b.xmin + 0.06 * w, b.ymax - 0.16 * h
+    if to_lonlat is not None:
+        d = 1e-3 * max(w, h)
+        lat = [float(np.asarray(to_lonlat(np.array([cx + dx]), np.array([cy + dy]))[1])[0])
+               for dx, dy in ((d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d))]
+        g = np.array([lat[0] - lat[1], lat[2] - lat[3]])
+        if np.linalg.norm(g) > 0:
+            nx, ny = g / np.linalg.norm(g)
+    return cx, cy, float(nx), float(ny)
 
 
 def degree_label(value: float, axis: str, step: float) -> str:

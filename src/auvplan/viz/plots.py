@@ -30,7 +30,7 @@ from .._types import Status
 from ..path import arc_length
 from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
-from .chartmarks import ToLonLat, coastline, degree_label, graticule, isobath_levels, nice_step
+from .chartmarks import ToLonLat, coastline, degree_label, graticule, isobath_levels, nice_step, north_arrow, scale_bar
 from .scene3d import elevation_range, shape_surface
 from .style import ALTITUDE_COLORSCALE, LAND_COLORS, ROLE, bathymetry_cmap
 
@@ -96,21 +96,11 @@ def _chart_marks(ax: Axes, world: World, to_lonlat: ToLonLat | None) -> None:
             elif axis == "lat" and b.ymin + 0.05 * h < end[1] < b.ymax - 0.05 * h:
                 ax.text(b.xmax - 0.005 * w, end[1], degree_label(v, axis, step), ha="right", va="center", fontsize=6,
                         bbox=box)
-    length = nice_step(w / 5.0, 1.0)
-    x0, y0 = b.xmax - 0.06 * w - length, b.ymin + 0.06 * h
+    x0, y0, length, label = scale_bar(world)
     ax.add_patch(Rectangle((x0 - 0.01 * w, y0 - 0.02 * h), length + 0.02 * w, 0.08 * h, color="white", alpha=0.8))
     ax.plot([x0, x0 + length], [y0, y0], color="black", lw=3, solid_capstyle="butt")
-    ax.text(x0 + length / 2, y0 + 0.012 * h, f"{length / 1000:g} km" if length >= 1000 else f"{length:g} m",
-            ha="center", va="bottom", fontsize=8)
-    nx, ny = 0.0, 1.0
-    cx, cy = b.xmin + 0.06 * w, b.ymax - 0.16 * h
-    if to_lonlat is not None:
-        d = 1e-3 * max(w, h)
-        lat = [float(np.asarray(to_lonlat(np.array([cx + dx]), np.array([cy + dy]))[1])[0])
-               for dx, dy in ((d, 0.0), (-d, 0.0), (0.0, d), (0.0, -d))]
-        g = np.array([lat[0] - lat[1], lat[2] - lat[3]])
-        if np.linalg.norm(g) > 0:
-            nx, ny = g / np.linalg.norm(g)
+    ax.text(x0 + length / 2, y0 + 0.012 * h, label, ha="center", va="bottom", fontsize=8)
+    cx, cy, nx, ny = north_arrow(world, to_lonlat)
     arrow = 0.08 * h
     ax.annotate("N", xy=(cx + nx * arrow, cy + ny * arrow), xytext=(cx, cy), ha="center", va="top", fontsize=10,
                 arrowprops=dict(arrowstyle="-|>", color="black", lw=1.5))

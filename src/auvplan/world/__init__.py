@@ -1,11 +1,11 @@
 """World model: seabed, currents, obstacles and the World that combines them."""
 
-from .currents import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent
+from .currents.fields import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent
+from .currents.tides import HarmonicTables, TidalCurrent
 from .land import Land
 from .moving import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion, WaypointMotion
 from .obstacles import Ellipsoid, Sphere
 from .terrain import Terrain
-from .tides import HarmonicTables, TidalCurrent
 from .world import Bounds, Margins, World
 from .zones import Zone, ZoneApproach, Zones
 

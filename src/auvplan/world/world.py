@@ -18,7 +18,7 @@ import numpy as np
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..errors import DataError
 from ..geometry import as_points
-from .currents import CurrentField, UniformCurrent
+from .currents.fields import CurrentField, UniformCurrent
 from .land import Land
 from .moving import MovingObstacle
 from .obstacles import Shape

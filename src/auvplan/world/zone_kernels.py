@@ -16,7 +16,13 @@ import math
 from .._types import BoolArray, FloatArray, IntArray
 from ..runtime.jit import kernel
 
-__all__ = ["candidates_kernel"]  # the others are the internals of auvplan.world.zones
+__all__ = ["FIELD_UNITS", "candidates_kernel"]  # the others are the internals of auvplan.world.zones
+
+#: The fine distance field's values are whole units of a fine cell / FIELD_UNITS (uint16).
+FIELD_UNITS = 64
+
+#: Legs of a polyline passed at once by one disc of the fine field (:func:`path_hits_kernel`).
+RUN = 4
 
 
 @kernel(inline="always")
@@ -220,7 +226,7 @@ def _far(px: float, py: float, fx0: float, fy0: float, f: float, fnx: int, fny: 
     ``p``'s cell, or the distance to the field's rectangle (which holds every footprint) outside it."""
     u, v = (px - fx0) / f, (py - fy0) / f
     if u >= 0.0 and v >= 0.0 and u < fnx and v < fny:
-        return float(bound[int(v), int(u)]) * f
+        return float(bound[int(v), int(u)]) * (f / FIELD_UNITS)
     return math.hypot(max(-u, u - fnx, 0.0), max(-v, v - fny, 0.0)) * f
 
 
@@ -254,9 +260,10 @@ def _clear(ax: float, ay: float, bx: float, by: float, fa: float, fb: float, fx0
 def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: float, x0: float, y0: float,
           cell: float, nx: int, ny: int, start: IntArray, ids: IntArray, box: FloatArray, zlo: FloatArray,
           zhi: FloatArray, seabed: BoolArray, xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray,
-          mark: IntArray, pairs: IntArray, m: int, capacity: int) -> tuple[bool, int]:
+          mark: IntArray, pairs: IntArray, m: int, capacity: int) -> tuple[bool, int, int]:
     """The cells segment ``n``'s trace crosses: True at its first flat-band entry (pairs written for it
-    dropped), else its seabed-band candidates appended to ``pairs`` from ``m``; returns (entered, m)."""
+    dropped), else its seabed-band candidates appended to ``pairs`` from ``m``; returns (entered, m, the
+    zone entered or -1)."""
     i0 = max(int(math.floor((min(ax, bx) - x0) / cell)), 0)
     i1 = min(int(math.floor((max(ax, bx) - x0) / cell)), nx - 1)
     j0 = max(int(math.floor((min(ay, by) - y0) / cell)), 0)
@@ -292,8 +299,8 @@ def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: flo
                         pairs[1, m] = k
                     m += 1
                 elif _flat_hit(ax, ay, az, bx, by, bz, zlo[k], zhi[k], k, xy, ring, rings, disc):
-                    return True, first
-    return False, m
+                    return True, first, k
+    return False, m, -1
 
 
 @kernel
@@ -321,8 +328,8 @@ def any_hits_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int,
         if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
             hit[n] = False
             continue
-        hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, seabed, xy,
-                          ring, rings, disc, mark, pairs, m, capacity)
+        hit[n], m, _ = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, seabed,
+                             xy, ring, rings, disc, mark, pairs, m, capacity)
     return m
 
 
@@ -332,23 +339,49 @@ def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, 
                      xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray, fx0: float, fy0: float,
                      f: float, fnx: int, fny: int, bound: FloatArray, mark: IntArray, hit: BoolArray, pairs: IntArray,
                      capacity: int) -> int:
-    """:func:`any_hits_kernel` over the legs of polylines ``p (P, S, 3)`` (each vertex's field value looked
-    up once): ``hit (P * (S - 1),)`` and the pairs' segment ``n = i (S - 1) + s``."""
+    """:func:`any_hits_kernel` over the legs of polylines ``p (P, S, 3)``: ``hit (P * (S - 1),)`` and the
+    pairs' segment ``n = i (S - 1) + s``.
+
+    The legs go in runs of :data:`RUN`: a run whose vertices all lie within the fine field's bound at the
+    centre of their box (a disc off every footprint, holding the run's legs: it is convex) is passed with
+    one look-up; otherwise leg by leg, each vertex's field value looked up once."""
     m = 0
     legs = p.shape[1] - 1
     for i in range(p.shape[0]):
-        ax, ay, az = p[i, 0, 0], p[i, 0, 1], p[i, 0, 2]
-        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
-        for s in range(legs):
-            n = i * legs + s
-            bx, by, bz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
-            fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
-            if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
-                hit[n] = False
-            else:
-                hit[n], m = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi,
-                                  seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
-            ax, ay, az, fa = bx, by, bz, fb
+        fa = -1.0  # not looked up yet
+        last = -1  # the flat-band zone the last entering leg entered
+        for s0 in range(0, legs, RUN):
+            s1 = min(s0 + RUN, legs)
+            lx, hx, ly, hy = p[i, s0, 0], p[i, s0, 0], p[i, s0, 1], p[i, s0, 1]
+            for s in range(s0 + 1, s1 + 1):
+                lx, hx = min(lx, p[i, s, 0]), max(hx, p[i, s, 0])
+                ly, hy = min(ly, p[i, s, 1]), max(hy, p[i, s, 1])
+            cx, cy = 0.5 * (lx + hx), 0.5 * (ly + hy)
+            rr = 0.0
+            for s in range(s0, s1 + 1):
+                rr = max(rr, (p[i, s, 0] - cx) ** 2 + (p[i, s, 1] - cy) ** 2)
+            r = _far(cx, cy, fx0, fy0, f, fnx, fny, bound)
+            if r * r > rr:
+                for s in range(s0, s1):
+                    hit[i * legs + s] = False
+                fa = -1.0
+                continue
+            ax, ay, az = p[i, s0, 0], p[i, s0, 1], p[i, s0, 2]
+            if fa < 0.0:
+                fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+            for s in range(s0, s1):
+                n = i * legs + s
+                bx, by, bz = p[i, s + 1, 0], p[i, s + 1, 1], p[i, s + 1, 2]
+                fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+                if _clear(ax, ay, bx, by, fa, fb, fx0, fy0, f, fnx, fny, bound):
+                    hit[n] = False
+                elif last >= 0 and _flat_hit(ax, ay, az, bx, by, bz, zlo[last], zhi[last], last, xy, ring, rings,
+                                             disc):
+                    hit[n] = True  # the zone the path's last entering leg entered: most often this one's too
+                else:
+                    hit[n], m, last = _scan(n, ax, ay, az, bx, by, bz, x0, y0, cell, nx, ny, start, ids, box, zlo,
+                                            zhi, seabed, xy, ring, rings, disc, mark, pairs, m, capacity)
+                ax, ay, az, fa = bx, by, bz, fb
     return m
 
 
@@ -409,3 +442,65 @@ def near_distance_kernel(p: FloatArray, floor: FloatArray, x0: float, y0: float,
                         d = math.hypot(dh, max(out_v, 0.0))
                     best = min(best, d)
         out[n] = best
+
+
+@kernel
+def field_kernel(xy: FloatArray, ring: IntArray, rings: IntArray, box: FloatArray, fx0: float, fy0: float, f: float,
+                 reach: float, out: FloatArray) -> None:
+    """The horizontal distance from each fine cell's centre to the nearest footprint, where it is below
+    ``reach`` (m): ``out (fny, fnx)``, filled with ``reach`` by the caller, lowered to the distance to every
+    polygon ``k`` (rings as in :func:`_meets_polygon`; 0 inside) over the cells of its box ``box[k]`` grown
+    by ``reach``."""
+    fny, fnx = out.shape
+    for k in range(box.shape[0]):
+        i0 = max(int(math.floor((box[k, 0] - reach - fx0) / f - 0.5)), 0)
+        i1 = min(int(math.ceil((box[k, 2] + reach - fx0) / f - 0.5)), fnx - 1)
+        j0 = max(int(math.floor((box[k, 1] - reach - fy0) / f - 0.5)), 0)
+        j1 = min(int(math.ceil((box[k, 3] + reach - fy0) / f - 0.5)), fny - 1)
+        for j in range(j0, j1 + 1):
+            py = fy0 + (j + 0.5) * f
+            for i in range(i0, i1 + 1):
+                if out[j, i] == 0.0:
+                    continue
+                px = fx0 + (i + 0.5) * f
+                edge, inside = _ring_distance(px, py, k, xy, ring, rings)
+                out[j, i] = min(out[j, i], 0.0 if inside else edge)
+
+
+@kernel
+def clear_kernel(t: FloatArray, fx0: float, fy0: float, f: float, fnx: int, fny: int, bound: FloatArray,
+                 out: BoolArray) -> None:
+    """Which horizontal traces ``t (T, 2, 2)`` the fine field proves clear of every footprint: :func:`_clear`'s
+    march, given up after 24 discs (a long trace skirting a footprint: the cells' test is cheaper)."""
+    for n in range(t.shape[0]):
+        ax, ay, bx, by = t[n, 0, 0], t[n, 0, 1], t[n, 1, 0], t[n, 1, 1]
+        fa = _far(ax, ay, fx0, fy0, f, fnx, fny, bound)
+        fb = _far(bx, by, fx0, fy0, f, fnx, fny, bound)
+        dx, dy = bx - ax, by - ay
+        length = math.hypot(dx, dy)
+        out[n] = length < fa + fb
+        if out[n] or fa == 0.0 or fb == 0.0:
+            continue
+        s, sb = fa / length, 1.0 - fb / length
+        for _ in range(24):
+            r = _far(ax + s * dx, ay + s * dy, fx0, fy0, f, fnx, fny, bound)
+            if r == 0.0:
+                break
+            s += r / length
+            if s > sb:
+                out[n] = True
+                break
+
+
+@kernel
+def slack_kernel(p: FloatArray, hit: BoolArray, out: FloatArray) -> None:
+    """The swarm cost's zone slack of the legs of polylines ``p (P, S, 3)``: ``out (P, S - 1)`` is minus the
+    length of each leg ``hit`` flags (``hit (P * (S - 1),)``; at least 1 m), ``+inf`` elsewhere."""
+    legs = p.shape[1] - 1
+    for i in range(p.shape[0]):
+        for s in range(legs):
+            if hit[i * legs + s]:
+                dx, dy, dz = p[i, s + 1, 0] - p[i, s, 0], p[i, s + 1, 1] - p[i, s, 1], p[i, s + 1, 2] - p[i, s, 2]
+                out[i, s] = -max(math.sqrt(dx * dx + dy * dy + dz * dz), 1.0)
+            else:
+                out[i, s] = math.inf

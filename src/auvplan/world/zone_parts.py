@@ -12,7 +12,8 @@ import shapely
 from .._types import FloatArray, IntArray
 from .terrain import Terrain
 
-__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_pieces"]
+__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_params", "clip_pieces",
+           "expand_groups"]
 
 
 def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatArray, h: FloatArray,
@@ -72,45 +73,54 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
             top, np.asarray(reach, dtype=float))
 
 
-def distance_field(grid: tuple[Any, ...], tree: shapely.STRtree, sub: int = 8) -> tuple[Any, ...]:
-    """A lower bound of the horizontal distance to every footprint on a grid ``sub`` times finer than the
-    broad phase's: the fine cells the footprints touch, their Euclidean distance transform (centre to
-    centre, in fine cells) less the cells' diagonal.
+def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, IntArray, FloatArray],
+                   boxes: FloatArray, cells: float = 1.5e6) -> tuple[Any, ...]:
+    """A lower bound of the horizontal distance to every footprint on a grid finer than the broad phase's.
 
-    For a point ``p`` in fine cell ``c`` and any footprint point ``q`` (in a touched cell ``c'``),
-    ``|p - q| >= (|c - c'| - sqrt 2) f``: the value stored for ``c`` is never above the true distance.
+    The fine cells split each broad-phase cell ``sub`` times along each axis (``sub`` up to 16, about
+    ``cells`` fine cells in all).  Within ``R`` (six fine cells) of a footprint's box each fine cell
+    holds its centre's exact distance to the nearest footprint (:func:`.zone_kernels.field_kernel`) less
+    half the cell's diagonal; everywhere it holds at least the distance from its centre to the centre of
+    the nearest cell whose centre lies within half a diagonal of a footprint (every cell a footprint
+    touches is one), less a diagonal (scipy's Euclidean distance transform).  A point ``p`` of cell
+    ``c`` and a footprint point ``q`` of such a cell ``c'`` are at least ``|c - c'| - sqrt 2`` cells
+    apart, so no value is above the true distance from any point of its cell.  Values are stored in
+    units of ``f / 64`` (:data:`FIELD_UNITS`), rounded down, with a millionth of the grid's extent off.
 
     Parameters
     ----------
     grid : tuple
         :func:`rasterise`'s grid.
-    tree : shapely.STRtree
-        The footprints.
-    sub : int, default 8
-        Fine cells per broad-phase cell along each axis.
+    polygons : tuple
+        :func:`rings` of the footprints.
+    boxes : numpy.ndarray
+        The footprints' bounding boxes ``(Z, 4)`` (m).
+    cells : float, default 1.5e6
+        About how many fine cells.
 
     Returns
     -------
     tuple
         ``(x0, y0, f, nx, ny, bound)``: corner, fine cell size and counts, and the bound ``(ny, nx)`` in
-        whole fine cells (uint8, rounded down, at most 255).
+        units of ``f / FIELD_UNITS`` (uint16).
     """
     from scipy.ndimage import distance_transform_edt
 
-    x0, y0, cell, nx, ny, start = grid[:6]
+    from .zone_kernels import FIELD_UNITS, field_kernel
+
+    x0, y0, cell, nx, ny = grid[:5]
+    sub = int(min(max(math.sqrt(cells / (nx * ny)), 1.0), 16.0))
     f = cell / sub
-    occupied = np.flatnonzero(np.diff(start) > 0)
-    cj, ci = np.divmod(occupied, nx)
-    sj, si = np.divmod(np.arange(sub * sub), sub)
-    fi = (ci[:, None] * sub + si[None, :]).ravel()
-    fj = (cj[:, None] * sub + sj[None, :]).ravel()
-    boxes = shapely.box(x0 + fi * f, y0 + fj * f, x0 + (fi + 1) * f, y0 + (fj + 1) * f)
-    touched = np.unique(tree.query(boxes, predicate="intersects")[0])
-    free = np.ones((ny * sub, nx * sub), dtype=bool)
-    free[fj[touched], fi[touched]] = False
-    d = np.asarray(distance_transform_edt(free), dtype=float) - math.sqrt(2.0)
-    bound = np.floor(np.clip(d, 0.0, 255.0)).astype(np.uint8)  # whole fine cells, rounded down: one byte each
-    return x0, y0, f, nx * sub, ny * sub, np.ascontiguousarray(bound)
+    near = 6.0 * f
+    d = np.full((ny * sub, nx * sub), near)
+    xy, ring, rings_, _ = polygons
+    field_kernel(xy, ring, rings_, np.ascontiguousarray(boxes, dtype=float), x0, y0, f, near, d)
+    half = f * math.sqrt(0.5)
+    far = (np.asarray(distance_transform_edt(d > half), dtype=float) - math.sqrt(2.0)) * f
+    slack = 1e-6 * max(abs(x0), abs(y0), abs(x0 + nx * cell), abs(y0 + ny * cell), cell)
+    bound = np.maximum(np.minimum(d, near) - half, far) - slack
+    units = np.floor(np.clip(bound * (FIELD_UNITS / f), 0.0, 65535.0)).astype(np.uint16)
+    return x0, y0, f, nx * sub, ny * sub, np.ascontiguousarray(units)
 
 
 def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
@@ -208,8 +218,51 @@ def traces(seg: FloatArray) -> np.ndarray:
     return out
 
 
+def clip_params(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, FloatArray, IntArray]:
+    """The parameter intervals of segments over their paired footprints (GEOS ``intersection``).
+
+    Parameters
+    ----------
+    seg : numpy.ndarray
+        Segments ``(K, 2, >=2)`` (m).
+    traces : numpy.ndarray of shapely geometries
+        Their horizontal traces ``(K,)`` (:func:`traces`).
+    geoms : numpy.ndarray of shapely geometries
+        The footprint paired with each ``(K,)``.
+
+    Returns
+    -------
+    t0, t1 : numpy.ndarray
+        ``(M,)`` each piece of a trace over its footprint is the segment over ``[t0, t1]`` (a vertical
+        segment over its footprint: ``[0, 1]``).
+    owner : numpy.ndarray of int
+        ``(M,)`` the pair each piece belongs to.
+    """
+    cut = shapely.intersection(traces, geoms)
+    parts, owner = shapely.get_parts(cut, return_index=True)
+    keep = ~shapely.is_empty(parts)
+    parts, owner = parts[keep], owner[keep].astype(np.intp)
+    if owner.size == 0:
+        return np.zeros(0), np.zeros(0), owner
+    xy, part = shapely.get_coordinates(parts, return_index=True)
+    o = owner[part]
+    a, d = seg[o, 0, :2], seg[o, 1, :2] - seg[o, 0, :2]
+    dd = np.einsum("ij,ij->i", d, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(dd > 0, np.einsum("ij,ij->i", xy - a, d) / dd, 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    n = parts.size
+    tmin = np.full(n, np.inf)
+    tmax = np.full(n, -np.inf)
+    np.minimum.at(tmin, part, t)
+    np.maximum.at(tmax, part, t)
+    vertical = np.all(seg[owner, 0, :2] == seg[owner, 1, :2], axis=-1)
+    tmin[vertical], tmax[vertical] = 0.0, 1.0  # a vertical segment over the footprint: all of it
+    return tmin, tmax, owner
+
+
 def clip_pieces(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple[FloatArray, IntArray]:
-    """The 3D pieces of segments over their paired footprints.
+    """The 3D pieces of segments over their paired footprints (:func:`clip_params`).
 
     Parameters
     ----------
@@ -227,26 +280,33 @@ def clip_pieces(seg: FloatArray, traces: np.ndarray, geoms: np.ndarray) -> tuple
     owner : numpy.ndarray of int
         ``(M,)`` the pair each piece belongs to.
     """
-    cut = shapely.intersection(traces, geoms)
-    parts, owner = shapely.get_parts(cut, return_index=True)
-    keep = ~shapely.is_empty(parts)
-    parts, owner = parts[keep], owner[keep]
+    tmin, tmax, owner = clip_params(seg, traces, geoms)
     if owner.size == 0:
-        return np.zeros((0, 2, 3)), owner.astype(np.intp)
-    xy, part = shapely.get_coordinates(parts, return_index=True)
-    o = owner[part]
-    a, d = seg[o, 0, :2], seg[o, 1, :2] - seg[o, 0, :2]
-    dd = np.einsum("ij,ij->i", d, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dd > 0, np.einsum("ij,ij->i", xy - a, d) / dd, 0.0)
-    t = np.clip(t, 0.0, 1.0)
-    n = parts.size
-    tmin = np.full(n, np.inf)
-    tmax = np.full(n, -np.inf)
-    np.minimum.at(tmin, part, t)
-    np.maximum.at(tmax, part, t)
+        return np.zeros((0, 2, 3)), owner
     sa, sb = seg[owner, 0], seg[owner, 1]
-    vertical = np.all(sa[:, :2] == sb[:, :2], axis=-1)
-    tmin[vertical], tmax[vertical] = 0.0, 1.0  # a vertical segment over the footprint: all of it
     pieces = np.stack([sa + tmin[:, None] * (sb - sa), sa + tmax[:, None] * (sb - sa)], axis=1)
-    return pieces, owner.astype(np.intp)
+    return pieces, owner
+
+
+def expand_groups(group: IntArray, wanted: IntArray) -> tuple[IntArray, IntArray]:
+    """Every (entry of ``wanted``, member of its group) pair.
+
+    Parameters
+    ----------
+    group : numpy.ndarray of int
+        ``(N,)`` the group of each member.
+    wanted : numpy.ndarray of int
+        ``(M,)`` groups asked for (repeats allowed).
+
+    Returns
+    -------
+    which, member : numpy.ndarray of int
+        The index into ``wanted`` and the member, one row per pair.
+    """
+    order = np.argsort(group, kind="stable")
+    counts = np.bincount(group, minlength=int(wanted.max(initial=-1)) + 1)
+    first = np.cumsum(counts) - counts
+    size = counts[wanted]
+    which = np.repeat(np.arange(wanted.size), size)
+    offset = np.arange(which.size) - np.repeat(np.cumsum(size) - size, size)
+    return which, order[first[wanted][which] + offset]

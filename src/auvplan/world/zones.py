@@ -38,8 +38,16 @@ import shapely
 from .._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ..errors import DataError
 from .terrain import Terrain
-from .zone_kernels import any_hits_kernel, candidates_kernel, flat_hits_kernel, near_distance_kernel, path_hits_kernel
-from .zone_parts import clip_pieces, distance_field, rasterise
+from .zone_kernels import (
+    any_hits_kernel,
+    candidates_kernel,
+    clear_kernel,
+    flat_hits_kernel,
+    near_distance_kernel,
+    path_hits_kernel,
+    slack_kernel,
+)
+from .zone_parts import clip_pieces, distance_field, expand_groups, rasterise
 from .zone_parts import rings as polygon_rings
 from .zone_parts import samples as leg_samples
 from .zone_parts import traces as trace_geoms
@@ -171,9 +179,8 @@ class Zones:
         """The broad phase's grid (:func:`.zone_parts.rasterise`)."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
-        if grid is not None:  # the fine lower-bound field: at most 4 x 4 per cell, about 500 000 cells (bytes)
-            sub = int(min(max(math.sqrt(5e5 / (grid[3] * grid[4])), 1.0), 4.0))
-            object.__setattr__(self, "_field", distance_field(grid, self._tree, sub))
+        if grid is not None:  # the fine lower-bound field (float32, about 1.5 million cells)
+            object.__setattr__(self, "_field", distance_field(grid, self._rings, self._bounds))
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
         """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.zone_kernels`);
@@ -189,10 +196,16 @@ class Zones:
         seg, zone : numpy.ndarray of int
             The candidate pairs, sorted by segment.
         """
+        if self._grid is None:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        return self._candidates(segments, self._grid[8], self._grid[9])
+
+    def _candidates(self, segments: ArrayLike, zlo: Any, zhi: Any) -> tuple[IntArray, IntArray]:
+        """:meth:`candidates` with the bands ``zlo``/``zhi`` ``(Z,)`` (z up, m) in place of the grid's."""
         s = np.ascontiguousarray(np.asarray(segments, dtype=float).reshape(-1, 2, 3))
         if self._grid is None or s.shape[0] == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-        x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, _ = self._grid
+        x0, y0, cell, nx, ny, start, ids, box = self._grid[:8]
         args = (s, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi)
         mark = np.full(len(self.zones), -1, dtype=np.intp)
         pairs = np.empty((2, 2 * s.shape[0] + 64), dtype=np.intp)
@@ -343,8 +356,29 @@ class Zones:
             hit[cs[self._seabed_pairs(segments(idx), local, zi)]] = True
         return hit
 
+    def polyline_slack(self, points: ArrayLike) -> FloatArray:
+        """The swarm planners' zone slack of the legs of polylines: minus the length of each leg that enters
+        a zone (at least 1 m: a violation as deep as the leg), ``+inf`` for the others.
+
+        Parameters
+        ----------
+        points : array_like
+            Vertices ``(P, S, 3)`` (m).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(P, S - 1)`` (m).
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=float))
+        out = np.full((p.shape[0], max(p.shape[1] - 1, 0)), np.inf)
+        if not self.zones or out.size == 0:
+            return out
+        slack_kernel(p, self._path_hits(p), out)
+        return out
+
     def polyline_inside_lengths(self, points: ArrayLike) -> FloatArray:
-        """:meth:`inside_lengths` of the legs of polylines (for the swarm planners' cost).
+        """:meth:`inside_lengths` of the legs of polylines.
 
         Parameters
         ----------
@@ -356,14 +390,7 @@ class Zones:
         numpy.ndarray
             ``(P, S - 1)`` (m): the length of each leg that enters a zone (at least 1), else 0.
         """
-        p = np.asarray(points, dtype=float)
-        out = np.zeros((p.shape[0], max(p.shape[1] - 1, 0)))
-        if not self.zones or out.size == 0:
-            return out
-        legs = np.flatnonzero(self._path_hits(p))
-        if legs.size:
-            i, k = np.divmod(legs, out.shape[1])
-            out[i, k] = np.maximum(np.linalg.norm(p[i, k + 1] - p[i, k], axis=-1), 1.0)
+        out: FloatArray = np.maximum(-self.polyline_slack(points), 0.0)
         return out
 
     def _seabed_hits(self, seg: FloatArray, traces: np.ndarray, zi: IntArray) -> BoolArray:
@@ -395,6 +422,71 @@ class Zones:
         if not self.zones:
             return np.zeros(lead, dtype=bool)
         return self._any_hits(s.reshape(-1, 2, 3)).reshape(lead)
+
+    def traces_enter(self, traces: ArrayLike, trace_of: ArrayLike, za: ArrayLike, zb: ArrayLike) -> BoolArray:
+        """:meth:`segments_enter` of segments that share horizontal traces (a lattice's edges along one
+        direction from the nodes of one column).
+
+        Each trace is marched over the fine field and, unless proven clear, tested once in 2D against the
+        footprints its cells list (the compiled test with the bands set aside).  A segment over a trace
+        that meets footprint ``k`` enters prism ``k`` when its z-range lies within the band (z is linear
+        along it and the trace meets the footprint somewhere), not when the ranges are apart; only the
+        others take the exact test.
+
+        Parameters
+        ----------
+        traces : array_like
+            Horizontal traces ``(T, 2, 2)`` (m).
+        trace_of : array_like of int
+            ``(N,)`` the trace of each segment.
+        za, zb : array_like
+            ``(N,)`` each segment's z at the trace's start and end (m, up).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``, True where the segment enters (or touches) a prism.
+        """
+        t = np.ascontiguousarray(np.asarray(traces, dtype=float).reshape(-1, 2, 2))
+        of = np.asarray(trace_of, dtype=np.intp).reshape(-1)
+        za, zb = np.asarray(za, dtype=float).reshape(-1), np.asarray(zb, dtype=float).reshape(-1)
+        out = np.zeros(of.size, dtype=bool)
+        if not self.zones or of.size == 0:
+            return out
+        clear = np.zeros(t.shape[0], dtype=bool)
+        fx0, fy0, f, fnx, fny, bound = self._field
+        clear_kernel(t, fx0, fy0, f, fnx, fny, bound, clear)
+        near = np.flatnonzero(~clear)
+        flat = np.zeros((near.size, 2, 3))
+        flat[:, :, :2] = t[near]
+        every = np.full(len(self.zones), np.inf)
+        cs, zi = self._candidates(flat, -every, every)
+        met = np.empty(cs.size, dtype=bool)
+        flat_hits_kernel(flat, cs, zi, -every, every, *self._rings, met)
+        which, n = expand_groups(of, near[cs[met]])
+        k = zi[met][which]
+        lo, hi = np.minimum(za[n], zb[n]), np.maximum(za[n], zb[n])
+        assert self._grid is not None
+        sea = self._seabed[k]
+        apart = (hi < self._zlo[k]) | (lo > self._grid[9][k])
+        within = ~sea & (lo >= self._zlo[k]) & (hi <= self._zhi[k])
+        out[n[within]] = True
+        rest = np.flatnonzero(~apart & ~within & ~out[n])
+        if rest.size:
+            seg = np.empty((rest.size, 2, 3))
+            seg[:, :, :2] = t[of[n[rest]]]
+            seg[:, 0, 2], seg[:, 1, 2] = za[n[rest]], zb[n[rest]]
+            idx = np.arange(rest.size)
+            hit = np.zeros(rest.size, dtype=bool)
+            f = ~sea[rest]
+            if f.any():
+                got = np.empty(int(f.sum()), dtype=bool)
+                flat_hits_kernel(seg, idx[f], k[rest][f], self._zlo, self._zhi, *self._rings, got)
+                hit[f] = got
+            if (~f).any():
+                hit[~f] = self._seabed_pairs(seg, idx[~f], k[rest][~f])
+            out[n[rest][hit]] = True
+        return out
 
     def envelopes_enter(self, a: ArrayLike, b: ArrayLike) -> BoolArray:
         """Where the vertical envelope of a leg (its horizontal trace times the depths between its

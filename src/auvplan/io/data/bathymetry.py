@@ -458,6 +458,9 @@ def load_terrain(
 ) -> Terrain:
     """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``.
 
+    The result is kept on disk under a key of the file's bytes, the request and the code
+    (:mod:`auvplan.io.data.cache`): the same scenario's seabed is modelled once.
+
     Parameters
     ----------
     spec : TerrainSpec
@@ -474,6 +477,27 @@ def load_terrain(
     Terrain
         The seabed in the local frame (m, up positive).
     """
+    from .cache import cached
+
+    path = _topobathy_path() if spec.builtin == "matplotlib-topobathy" else (
+        builtin_terrain_path(spec.builtin) if spec.builtin else Path(spec.file))
+    if not path.is_absolute() and base_dir is not None:
+        path = base_dir / path
+    request = (spec, None if frame is None else (frame.lat0, frame.lon0), extent_m)
+    return cached("terrain", request, [path], lambda: _load_terrain(spec, frame, path, extent_m), _pack, _unpack)
+
+
+def _topobathy_path() -> Path:
+    """Where matplotlib keeps ``topobathy.npz`` (found without importing matplotlib)."""
+    from importlib.util import find_spec
+
+    found = find_spec("matplotlib")
+    where = list(found.submodule_search_locations or []) if found is not None else []
+    return Path(where[0] if where else ".") / "mpl-data" / "sample_data" / "topobathy.npz"
+
+
+def _load_terrain(spec: TerrainSpec, frame: LocalFrame | None, path: Path,
+                  extent_m: tuple[float, float, float, float] | None) -> Terrain:
     common: dict[str, Any] = dict(box=spec.box, extent_m=extent_m, resample_m=spec.resample_m, method=spec.method,
                                   nan_policy=spec.nan_policy)
     if spec.builtin == "matplotlib-topobathy":
@@ -481,7 +505,15 @@ def load_terrain(
         if frame is None:
             frame = LocalFrame(float(lat.mean()), float(lon.mean()))
         return terrain_from_lonlat(lon, lat, topo, frame=frame, name="matplotlib:topobathy.npz", **common)
-    path = builtin_terrain_path(spec.builtin) if spec.builtin else Path(spec.file)
-    if not path.is_absolute() and base_dir is not None:
-        path = base_dir / path
     return read_bathymetry(path, frame=frame, variable=spec.variable, positive=spec.positive, **common)
+
+
+def _pack(t: Terrain) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    fit = None if t.fit is None else [t.fit.method, t.fit.excess_max_m, t.fit.excess_mean_m, t.fit.deficit_max_m]
+    return {"x": t.x, "y": t.y, "z": t.z}, {"name": t.name, "fit": fit}
+
+
+def _unpack(arrays: dict[str, np.ndarray], meta: dict[str, Any]) -> Terrain:
+    fit = meta["fit"]
+    return Terrain(arrays["x"], arrays["y"], arrays["z"], name=meta["name"],
+                   fit=None if fit is None else SeabedFit(str(fit[0]), *map(float, fit[1:])))

@@ -38,14 +38,18 @@ def _engine() -> type[BackendEntrypoint]:
     return NetCDF4BackendEntrypoint
 
 
-def _variables(path: Path) -> list[str]:
+def _variables(path: Path) -> tuple[list[str], bool]:
+    """The variables' lines, and whether an eastward/x velocity is among them (the file opened once)."""
     try:
         with xr.open_dataset(path, decode_times=False, engine=_engine()) as ds:
             out = [f"  {k}{tuple(map(str, v.dims))} {v.dtype}" + (f" [{v.attrs['units']}]" if "units" in v.attrs
                                                                    else "") for k, v in ds.variables.items()]
+            has_current = _find(ds, "u", "", str(path), False) is not None
+    except DataError:
+        raise
     except Exception as exc:  # any unreadable file: say so, do not crash
         raise DataError(f"{path}: cannot read as NetCDF or GeoTIFF ({exc})") from exc
-    return ["variables:", *out]
+    return ["variables:", *out], has_current
 
 
 def _bathymetry(path: Path) -> list[str]:
@@ -68,7 +72,8 @@ def _bathymetry(path: Path) -> list[str]:
 def _window(eg: ElevationGrid, z: np.ndarray, factor: float,
             max_nodes: float) -> tuple[HorizontalGrid, np.ndarray, str]:
     """The grid and data, or their centre part whose model at ``factor`` times the data's cell has at most
-    ``max_nodes`` nodes (issue 56: a 1 MB file's finest model had 2 million nodes, ~10 s), and the note."""
+    ``max_nodes`` nodes (issue 56: a 1 MB file's finest model had 2 million nodes, ~10 s; at most 130 000
+    nodes a model, the five models still cost ~2 s of CPU, at 40 000 ~0.6 s), and the note."""
     grid = eg.grid
     nr, nc = grid.rows.size, grid.cols.size
     shrink = math.sqrt(max_nodes * factor**2 / (nr * nc))
@@ -80,7 +85,7 @@ def _window(eg: ElevationGrid, z: np.ndarray, factor: float,
     return part, z[r0:r0 + wr, c0:c0 + wc], f" (the centre {wr} x {wc} data nodes)"
 
 
-def _seabed_costs(eg: ElevationGrid, max_nodes: float = 1.3e5) -> list[str]:
+def _seabed_costs(eg: ElevationGrid, max_nodes: float = 4e4) -> list[str]:
     """What the conservative seabed model costs (its height above the data) at a few cell sizes (a model
     over ``max_nodes`` nodes is measured on the data's centre part)."""
     grid = eg.grid
@@ -171,9 +176,8 @@ def inspect_file(path: str | Path) -> str:
         raise DataError(f"{path}: file not found")
     if is_geotiff(path):
         return "\n".join([f"{path}: GeoTIFF", *_bathymetry(path)])
-    lines = [f"{path}: NetCDF", *_variables(path)]
-    with xr.open_dataset(path, decode_times=False, engine=_engine()) as ds:
-        has_current = _find(ds, "u", "", str(path), False) is not None
+    variables, has_current = _variables(path)
+    lines = [f"{path}: NetCDF", *variables]
     bathy = _bathymetry(path)
     if not (has_current and "not usable" in bathy[0]):  # a current file is not expected to be a seabed
         lines += bathy

@@ -182,7 +182,7 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
     """
     if record.route.shape[0] < 2:
         return None
-    _check_steps(mission, record.route, f"{mission.name}: [endurance]")
+    _limits.check_route_endurance(f"{mission.name}: [endurance]", record.route, mission.endurance.ds_m)
     sim = record.sim
     track = (sim.t, sim.position, sim.progress) if sim is not None and sim.t.size > 1 else None
     tail = record_tail(record)  # legs the follower flew tail-first: timed with the other root
@@ -191,13 +191,6 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
     dwell = nav.dwell_s if nav is not None and len(nav.dwell_s) == record.route.shape[0] else None
     return assess(world, record.route, mission.vehicle, mission.endurance, track=track, speeds=speeds, tail=tail,
                   dwell=dwell)
-
-
-def _check_steps(mission: Mission, waypoints: NDArray[np.float64], where: str) -> None:
-    """The energy integration of ``waypoints`` at ``[endurance] ds_m`` against the one estimator (before it runs)."""
-    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
-    length = float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum())
-    _limits.check_endurance(_limits.current(), where, length, w.shape[0] - 1, mission.endurance.ds_m)
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
@@ -226,7 +219,7 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
         return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
     if not np.isfinite(waypoints).all():
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
-    _check_steps(mission, waypoints, f"{path}: energy at [endurance]")
+    _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
     model = EnergyModel.from_vehicle(mission.vehicle)
     carried = file_leg_speeds(path, waypoints.shape[0] - 1)
     speeds = mission.vehicle.speed if carried is None else carried

@@ -117,7 +117,8 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
     Returns
     -------
     numpy.ndarray of bool or None
-        ``(legs,)`` flags; None when the file has no tail-first leg or does not say.
+        ``(legs,)`` flags; None when the file has no tail-first leg or does not say.  (A ROS Path leg of
+        1e-9 m or less has no direction and is never flagged.)
 
     Raises
     ------

@@ -13,49 +13,23 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS
 
 from ...errors import ScenarioError
-from ...survey.corridor import Corridor, build_corridor, default_bend_radius
+from ...survey.lines.corridor import Corridor, build_corridor, default_bend_radius
 from ...survey.mission import DEFAULT_TURN_RADIUS_M, SurveyParams, SurveyPlan
 from ...survey.run import SurveyRun
 from ...survey.spec import SurveySpec
 from ...world import World
 from ..data.geo import LocalFrame
-from ..data.survey_area import read_area_lonlat, read_layer, read_line_lonlat
+from ..data.vector.areas import read_area_lonlat, read_line_lonlat
 from ..safeio import atomic_write
 from .records import write_json
 
-__all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "read_area", "write_survey", "coverage_record",
+__all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "write_survey", "coverage_record",
            "nav_spacing_record"]
 
 SURVEY_NAMES = ("lines.csv", "coverage.json", "gaps.geojson", "coverage.png")
 """Files a survey writes into ``--out`` besides the run files and the mission exports."""
-
-
-def read_area(path: Path, layer: str, where: str) -> tuple[shapely.Polygon, CRS]:
-    """The largest polygon of a vector file's layer and the file's CRS (WGS 84 when it has none).
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        GeoJSON, KML, shapefile, GeoPackage or any vector format GDAL reads.
-    layer : str
-        Layer name ('' for the first).
-    where : str
-        ``file: [survey]`` for messages.
-
-    Returns
-    -------
-    tuple
-        The polygon (in the file's coordinates) and its ``pyproj.CRS``.
-    """
-    geoms, crs = read_layer(path, layer, where)
-    polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
-    if not polys:
-        raise ScenarioError(f"{where} file = {str(path)!r}: no polygon in "
-                            f"{f'layer {layer!r}' if layer else 'its first layer'}")
-    return max(polys, key=lambda p: p.area), crs
 
 
 def _path(name: str, base_dir: Path | None) -> Path:
@@ -231,7 +205,10 @@ def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
         "corridor": params.frame is not None,
         "lines": n,
         "heading_deg": math.degrees(plan.lines.heading) % 360.0,
-        "area_m2": planned.area_m2,
+        "area_m2": planned.area_m2 + planned.no_go_m2,
+        "no_go_m2": planned.no_go_m2,
+        "coverage_of": "the area less its part inside charted no-go zones (no_go_m2): not surveyed, so neither "
+                       "covered nor a gap",
         "planned": {"coverage_pct": planned.coverage_pct, "overlap_min_pct": planned.overlap_min_pct,
                     "overlap_max_pct": planned.overlap_max_pct, "pairs": planned.pair_stats(),
                     "gap_area_m2": planned.gap_area_m2},

@@ -24,17 +24,17 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import load_terrain
-from ..data.coast import read_land
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
-from ..data.zones import read_zones
-from .currentspan import check_span, file_span, lower_bound_s, zero_beyond
-from .geoinput import apply_altitudes, clip_to_data
-from .members import member_fields
+from ..data.vector.coast import read_land
+from ..data.vector.zones import read_zones
+from .inputs.currentspan import check_span, file_span, lower_bound_s, zero_beyond
+from .inputs.geoinput import apply_altitudes, clip_to_data
+from .inputs.members import member_fields
+from .inputs.uncertainty import seabed_at_confidence
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
-from .uncertainty import seabed_at_confidence
 from .validate import from_dict
 
 __all__ = ["build", "check_plan_sizes"]
@@ -293,7 +293,7 @@ def _navigation(s: Scenario, world: World) -> NavParams | None:
 
 
 def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
-    """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`auvplan.io.scenario.geoinput`)."""
+    """Positions given as ``altitude`` above the seabed, placed on the terrain (:mod:`.inputs.geoinput`)."""
     assert s.geo is not None
     if terrain is None:
         ref = s.geo.altitudes[0]

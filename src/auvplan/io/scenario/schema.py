@@ -173,7 +173,7 @@ def _moving_schema() -> dict[str, Any]:
 
 
 def _zones_schema() -> dict[str, Any]:
-    """``[[zones]]`` (:mod:`auvplan.io.data.zones`): one geometry key, a depth band, a name."""
+    """``[[zones]]`` (:mod:`auvplan.io.data.vector.zones`): one geometry key, a depth band, a name."""
     pair = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
     depth = {"type": "number", "minimum": 0}
     props = {"name": {"type": "string", "minLength": 1},
@@ -238,7 +238,7 @@ def scenario_schema() -> dict[str, Any]:
 GEO_POSITION: dict[str, Any] = {
     "type": "object",
     "description": "A geographic position (WGS 84, degrees) with a depth below the surface or an altitude above "
-                   "the seabed (m); see auvplan.io.scenario.geoinput.",
+                   "the seabed (m); see auvplan.io.scenario.inputs.geoinput.",
     "properties": {"lat": {"type": "number", "minimum": -90, "maximum": 90},
                    "lon": {"type": "number", "minimum": -360, "maximum": 360},
                    "depth": _number(False), "altitude": {"type": "number", "minimum": 0, "maximum": MAX_MAGNITUDE}},

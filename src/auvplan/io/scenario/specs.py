@@ -21,12 +21,12 @@ from ...survey.spec import SurveySpec
 from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
-from ..data.coast import LandSpec
 from ..data.ocean.currents import CurrentsFileSpec, parse_time
-from ..data.zones import ZoneSpec
+from ..data.vector.coast import LandSpec
+from ..data.vector.zones import ZoneSpec
 from ..limits import Limits
-from .geoinput import GeoInput
-from .members import MemberSpec
+from .inputs.geoinput import GeoInput
+from .inputs.members import MemberSpec
 
 __all__ = [
     "Scenario",
@@ -178,11 +178,11 @@ class CurrentsSpec:
     tides : str
         A built-in tidal station set or a station JSON file.
     members : tuple of MemberSpec
-        A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.members`): plans are scored in
+        A forecast ensemble (issue 39, :mod:`auvplan.io.scenario.inputs.members`): plans are scored in
         every member; the nominal field is the one above, or the first member when none is given.
     beyond : str
         What a mission lasting longer than the current file's time span does (issue 51,
-        :mod:`auvplan.io.scenario.currentspan`): ``"refuse"`` (exit 2, the default), ``"hold"`` (the last
+        :mod:`auvplan.io.scenario.inputs.currentspan`): ``"refuse"`` (exit 2, the default), ``"hold"`` (the last
         field held) or ``"zero"`` (no current after the file).
     """
 
@@ -337,13 +337,13 @@ class Scenario:
     formation : Formation or None
         Several vehicles in formation (``[formation]`` and ``[[vehicles]]``).
     geo : GeoInput or None
-        What its geographic positions left for the build (:mod:`auvplan.io.scenario.geoinput`).
+        What its geographic positions left for the build (:mod:`auvplan.io.scenario.inputs.geoinput`).
     endurance : EnduranceParams
         Recovery point, rally points and the speed choice of the energy budget (``[endurance]``).
     survey : SurveySpec or None
         A coverage survey of an area (``[survey]``).
     zones : tuple of ZoneSpec
-        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.zones`).
+        Charted no-go zones (``[[zones]]``, :mod:`auvplan.io.data.vector.zones`).
     navigation : NavParams or None
         The navigation error budget and its fixes (``[navigation]``, issue 52).
     """

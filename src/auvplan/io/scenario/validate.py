@@ -32,10 +32,10 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
-from ..data.zones import parse_zones
+from ..data.vector.zones import parse_zones
 from ..limits import Limits
 from .defaults import apply_preset
-from .geoinput import resolve_positions
+from .inputs.geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error

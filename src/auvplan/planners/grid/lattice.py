@@ -192,17 +192,37 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
     delta = int((off[0] * free.shape[1] + off[1]) * free.shape[2] + off[2])
     unsure = np.flatnonzero(state == 2)
     tests = [(world, unsure)]
-    if world.zones and unsure.size:  # the edges the seabed clears: the zones' own (compiled) test is enough
+    if world.zones and unsure.size:  # the zones first, one clip per column's trace; then the rest without them
+        entered = _zone_entries(world, unsure, delta, free.shape[2], coords)
+        state[unsure[entered]] = 0
+        unsure = unsure[~entered]
         seabed_state = np.empty_like(state)
         _offset_states(free, altitude, np.full_like(obstacle, np.inf), *args, seabed_state)
-        sure = seabed_state[unsure] == 1
-        tests = [(world, unsure[~sure]), (replace(world, terrain=None, land=None), unsure[sure])]
+        sure = seabed_state[unsure] == 1  # the seabed clears these: the static obstacles alone are left
+        rest = replace(world, zones=None)
+        tests = [(rest, unsure[~sure])]
+        if world.obstacles:
+            tests.append((replace(rest, terrain=None, land=None), unsure[sure]))
+        else:
+            state[unsure[sure]] = 1
     for w, ids in tests:
         for c0 in range(0, ids.size, 200_000):
             u = ids[c0:c0 + 200_000]
             seg = np.stack([coords(u), coords(u + delta)], axis=1)
             state[u] = w.segments_free(seg, moving=False, ends_free=True)
     return state
+
+
+def _zone_entries(world: World, u: Any, delta: int, nz: int, coords: Callable[[Any], FloatArray]) -> Any:
+    """Which edges ``u -> u + delta`` enter a zone (:meth:`Zones.traces_enter`): a node's x and y are its
+    column's (``u // nz``), so the edges from one column share one horizontal trace."""
+    assert world.zones is not None
+    column = u // nz  # sorted, as u is
+    new = np.r_[True, column[1:] != column[:-1]]
+    rep = u[new]
+    traces = np.stack([coords(rep)[:, :2], coords(rep + delta)[:, :2]], axis=1)
+    level = coords(np.arange(nz))[:, 2]  # the levels of column 0: every column's
+    return world.zones.traces_enter(traces, np.cumsum(new) - 1, level[u % nz], level[(u + delta) % nz])
 
 
 def lattice_slopes(world: World, shape: tuple[int, ...], steps: ArrayLike,

@@ -35,7 +35,7 @@ import numpy.typing as npt
 
 from ..._types import FloatArray
 from ...runtime.jit import kernel
-from ...world.crab import HOLD, crab_speed
+from ...world.currents.crab import HOLD, crab_speed
 
 __all__ = ["HOLD", "current_at", "track_speed", "leg_time", "leg_reach", "polyline_times",
            "Float32Array"]

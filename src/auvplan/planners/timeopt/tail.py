@@ -23,7 +23,7 @@ import math
 
 from ..._types import FloatArray
 from ...runtime.jit import kernel
-from ...world.crab import HOLD, crab_speed
+from ...world.currents.crab import HOLD, crab_speed
 from .kernels import Float32Array, current_at
 
 __all__ = ["tail_speed", "tail_leg"]

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..._types import ArrayLike, FloatArray
 from ...world import CurrentField
-from ...world.crab import crab_speed
+from ...world.currents.crab import crab_speed
 
 __all__ = ["track_speed", "fly_times"]
 

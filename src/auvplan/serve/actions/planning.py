@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..bounds import edit_budget
+from ...io import limits as _limits
 from ..check import CheckResult
 from ..plans import flown, plan_area, replanned, survey_table
 from ..session import Session
@@ -68,7 +68,7 @@ def plan_survey(session: Session, doc: dict[str, Any], what: str, epoch: int | N
     with session.write_lock:
         if epoch is not None:
             session.require_epoch(epoch, "the survey")
-        edit_budget(world, mission, s.route, "the survey")
+        _limits.check_route_endurance("serve: the survey", s.route, mission.endurance.ds_m)
         with session.lock:
             session.doc, session.text, session.sc = s.doc, s.text, s.scenario
             session.survey_area, session.plan = s.area, None

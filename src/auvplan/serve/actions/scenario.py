@@ -14,9 +14,9 @@ from typing import Any
 import numpy as np
 
 from ...errors import AuvplanError
+from ...io import limits as _limits
 from ...io.scenario import loader as scenario_io
 from ...sim import mission_route
-from ..bounds import edit_budget
 from ..check import CheckResult
 from ..session import EDITABLE_TABLES, Session
 from ..tomlout import dumps
@@ -78,7 +78,8 @@ def _open_results(session: Session, out: Path) -> None:
 
 def set_initial_route(session: Session) -> None:
     """The scenario's fixed route, else the straight start → goal line made into a mission (floors
-    raised over the seabed: :func:`auvplan.sim.mission_route`).
+    raised over the seabed: :func:`auvplan.sim.mission_route`), or, where that line enters a charted zone,
+    the coarse lattice path round the zones (:func:`auvplan.planners.swarm.seeding.coarse_reference`).
 
     Parameters
     ----------
@@ -92,8 +93,21 @@ def set_initial_route(session: Session) -> None:
     if session.sc is not None and session.sc.survey is not None:  # the scenario's own survey
         plan_survey(session, session.doc, "the scenario's [survey]")
         return
+    session.set_waypoints(mission_route(world, mission, _draft_line(world, mission)))
+
+
+def _draft_line(world: Any, mission: Any) -> Any:
+    """The straight start → goal line; where it enters a charted zone, the swarm planners' coarse lattice
+    path round the zones instead (a draft the page opens with must not cross its own no-go zones: on
+    ``chagos-reefs`` the straight line crosses Salomon atoll's reef)."""
     line = np.linspace(np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float), 50)
-    session.set_waypoints(mission_route(world, mission, line))
+    if not world.zones or not world.zones.exact.segments_enter(np.stack([line[:-1], line[1:]], axis=1)).any():
+        return line
+    from ...planners.swarm.seeding import coarse_reference
+    from ...sim.pipeline import planning_problem
+
+    _, path = coarse_reference(planning_problem(world, mission), mission.planner)
+    return path if path.shape[0] >= 2 else line
 
 
 def set_value(session: Session, table: str, key: str, value: Any) -> CheckResult:
@@ -140,7 +154,8 @@ def _rebuild(session: Session, doc: dict[str, Any]) -> None:
     session.roots.confine(sc)
     world, mission = scenario_io.build(sc, terrain=session.world.terrain)
     w, plan, flight, flight_of = session.waypoints, session.plan, session.flight, session.flight_of
-    edit_budget(world, mission, w, "the mission")  # before the new settings become the session's
+    # the work of checking it under the new settings, before they become the session's
+    _limits.check_route_endurance("serve: the mission", w, mission.endurance.ds_m)
     same_vehicle = doc.get("vehicle") == session.doc.get("vehicle")
     session.set_scenario(sc, text, session.source, session.base_dir, world, mission)
     with session.lock:

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ....errors import DataError
-from ....world.currents import GriddedCurrent
+from ....world.currents.fields import GriddedCurrent
 from ...limits import check_declared
 from ..geo import LocalFrame
 from ..grids import HorizontalGrid, axis_kind, horizontal_grid
@@ -315,6 +315,9 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
                   member: tuple[str, int] | None = None) -> GriddedCurrent:
     """Read the current file of ``spec`` into the local frame over ``extent_m`` (default: the data's own).
 
+    The result is kept on disk under a key of the file's bytes, the request and the code
+    (:mod:`auvplan.io.data.cache`): the same file is regridded once for the same scenario.
+
     Parameters
     ----------
     spec : CurrentsFileSpec
@@ -340,9 +343,30 @@ def read_currents(spec: CurrentsFileSpec, frame: LocalFrame | None, *, base_dir:
     DataError
         Naming the file, the variable and the fault (missing variable, units, uncovered area or time).
     """
+    from ..cache import cached
+
     path = Path(spec.path)
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
+    request = (spec, None if frame is None else (frame.lat0, frame.lon0), extent_m, start_time, member)
+    return cached("currents", request, [path], lambda: _read(spec, frame, path, extent_m, start_time, member),
+                  _pack, _unpack)
+
+
+def _pack(c: GriddedCurrent) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    arrays = {k: np.asarray(getattr(c, k)) for k in ("x", "y", "z", "u", "v", "w", "t") if getattr(c, k) is not None}
+    return arrays, {"name": c.name}
+
+
+def _unpack(arrays: dict[str, np.ndarray], meta: dict[str, Any]) -> GriddedCurrent:
+    return GriddedCurrent(arrays["x"], arrays["y"], arrays["z"], arrays["u"], arrays["v"], arrays.get("w"),
+                          arrays.get("t"), name=str(meta["name"]))
+
+
+def _read(spec: CurrentsFileSpec, frame: LocalFrame | None, path: Path,
+          extent_m: tuple[float, float, float, float] | None, start_time: str,
+          member: tuple[str, int] | None) -> GriddedCurrent:
+    """:func:`read_currents` without the cache."""
     src = str(path)
     with _open(path, src) as ds:
         if member is not None:  # one realisation of an ensemble file

@@ -1,5 +1,5 @@
 """Read tidal-current station files (the JSON cut from XTide's harmonics by ``tools/cut_tides.py``)
-and build a :class:`~auvplan.world.tides.TidalCurrent` in a scenario's local frame.
+and build a :class:`~auvplan.world.currents.tides.TidalCurrent` in a scenario's local frame.
 
 Built-in: ``juan-de-fuca`` — 78 NOAA current station depths at 20 sites of the Strait of Juan de Fuca
 and the south of the San Juan Islands (Debian ``xtide-data``, public domain; NOT FOR NAVIGATION),
@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import Geod
 
 from ....errors import DataError
-from ....world.tides import HarmonicTables, TidalCurrent
+from ....world.currents.tides import HarmonicTables, TidalCurrent
 from ..geo import LocalFrame
 from .currents import parse_time
 

@@ -14,13 +14,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from ...errors import DataError, ScenarioError
-from ...world import Terrain
-from ...world.uncertainty import slope_sigma, worst_case
-from ..data.bathymetry import load_terrain
-from ..data.geo import LocalFrame
-from .specs import Scenario
-from .tables import table_error
+from ....errors import DataError, ScenarioError
+from ....world import Terrain
+from ....world.uncertainty import slope_sigma, worst_case
+from ...data.bathymetry import load_terrain
+from ...data.geo import LocalFrame
+from ..specs import Scenario
+from ..tables import table_error
 
 __all__ = ["seabed_at_confidence", "uncertainty_layer"]
 

@@ -14,10 +14,10 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
-from ...errors import ScenarioError
-from .vector import read_vector
+from ....errors import ScenarioError
+from .reader import read_vector
 
-__all__ = ["read_layer", "read_area_lonlat", "read_line_lonlat"]
+__all__ = ["read_layer", "read_area", "read_area_lonlat", "read_line_lonlat"]
 
 
 def read_layer(path: Path, layer: str, where: str, key: str = "file") -> tuple[list[shapely.Geometry], CRS]:
@@ -49,6 +49,33 @@ def _to_lonlat(xy: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:
     return np.column_stack([lon, lat])
 
 
+def read_area(path: Path, layer: str, where: str, key: str = "file") -> tuple[shapely.Polygon, CRS]:
+    """The largest polygon of a vector file's layer and the file's CRS (WGS 84 when it has none).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The vector file.
+    layer : str
+        Layer name ('' for the first).
+    where : str
+        ``file: [survey]`` for messages.
+    key : str
+        The key that named the file.
+
+    Returns
+    -------
+    tuple
+        The polygon (in the file's coordinates) and its ``pyproj.CRS``.
+    """
+    geoms, crs = read_layer(path, layer, where, key)
+    polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
+    if not polys:
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: no polygon in "
+                            f"{f'layer {layer!r}' if layer else 'its first layer'}")
+    return max(polys, key=lambda p: p.area), crs
+
+
 def read_area_lonlat(path: Path, layer: str, where: str, key: str = "file") -> NDArray[np.float64]:
     """The exterior ring of the largest polygon of a layer, as ``(M, 2)`` longitude/latitude (deg).
 
@@ -68,12 +95,8 @@ def read_area_lonlat(path: Path, layer: str, where: str, key: str = "file") -> N
     numpy.ndarray
         ``(M, 2)`` lon/lat of the ring (closed).
     """
-    geoms, crs = read_layer(path, layer, where, key)
-    polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
-    if not polys:
-        raise ScenarioError(f"{where} {key} = {str(path)!r}: no polygon in "
-                            f"{f'layer {layer!r}' if layer else 'its first layer'}")
-    return _to_lonlat(np.asarray(max(polys, key=lambda p: p.area).exterior.coords)[:, :2], crs)
+    poly, crs = read_area(path, layer, where, key)
+    return _to_lonlat(np.asarray(poly.exterior.coords)[:, :2], crs)
 
 
 def read_line_lonlat(path: Path, layer: str, where: str, key: str = "centerline_file") -> NDArray[np.float64]:

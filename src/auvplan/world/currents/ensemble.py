@@ -18,9 +18,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray
-from ..geometry import as_points
-from .currents import CurrentField
+from ..._types import ArrayLike, FloatArray
+from ...geometry import as_points
+from .fields import CurrentField
 
 __all__ = ["PerturbedCurrent", "MeanCurrent", "ShiftedCurrent"]
 

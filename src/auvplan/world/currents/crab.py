@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 
-from ..runtime.jit import kernel
+from ...runtime.jit import kernel
 
 __all__ = ["HOLD", "crab_speed", "makes_headway"]
 

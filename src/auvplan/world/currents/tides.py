@@ -28,11 +28,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray, IntArray
-from ..errors import DataError
-from ..geometry import as_points
-from ..runtime.jit import kernel
-from .currents import CurrentField
+from ..._types import ArrayLike, FloatArray, IntArray
+from ...errors import DataError
+from ...geometry import as_points
+from ...runtime.jit import kernel
+from .fields import CurrentField
 
 __all__ = ["HarmonicTables", "TidalCurrent", "predict_speed", "unix_time"]
 

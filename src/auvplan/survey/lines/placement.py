@@ -5,7 +5,7 @@ Frame: the lines run along the compass heading ``ψ`` (unit ``d = (sin ψ, cos �
 points across, to the right.  A point is ``s d + c n``.  Stations ``s_k`` cut the area every
 ``station_m``; at each station the area spans ``[lo_k, hi_k]`` across (its cross-section) and a line is
 its across offset ``c_k``.  The swath of a line at a station reaches ``r⁻_k`` to the left and ``r⁺_k``
-to the right (:func:`auvplan.survey.swath.swath_reach`, fans across ``n``): edges ``E⁻ = c - r⁻`` and
+to the right (:func:`auvplan.survey.lines.swath.swath_reach`, fans across ``n``): edges ``E⁻ = c - r⁻`` and
 ``E⁺ = c + r⁺``.  The overlap of two adjacent swaths at a station is ``(E⁺_a - E⁻_b) / min(W_a, W_b)``
 (``W = r⁻ + r⁺``), the narrower swath's share — on a plane the same ratio as along the slope.
 
@@ -449,7 +449,7 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
     params : LineParams
         Overlap bounds, station spacing, bend and pitch limits.
     frame : Frame, optional
-        The line frame (a corridor's :class:`~auvplan.survey.frame.CurveFrame`); default straight along
+        The line frame (a corridor's :class:`~auvplan.survey.lines.frame.CurveFrame`); default straight along
         ``heading``.
 
     Returns

@@ -29,10 +29,10 @@ from typing import Any
 
 import numpy as np
 
-from ...errors import DataError, ScenarioError
-from ..data.geo import LocalFrame
-from ..data.survey_area import read_area_lonlat, read_line_lonlat
-from .tables import MAX_MAGNITUDE, table_error
+from ....errors import DataError, ScenarioError
+from ...data.geo import LocalFrame
+from ...data.vector.areas import read_area_lonlat, read_line_lonlat
+from ..tables import MAX_MAGNITUDE, table_error
 
 __all__ = ["GeoInput", "AltitudeRef", "resolve_positions", "apply_altitudes", "bounds_margin", "clip_to_data",
            "MIN_MARGIN_M", "MARGIN_FRACTION"]

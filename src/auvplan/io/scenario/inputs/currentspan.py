@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...errors import DataError
-from ...sim import RunRecord
-from ...world import World
-from ...world.currents import CurrentField, GriddedCurrent
+from ....errors import DataError
+from ....sim import RunRecord
+from ....world import World
+from ....world.currents.fields import CurrentField, GriddedCurrent
 
 __all__ = ["BEYOND", "ZERO_RAMP_S", "zero_beyond", "file_span", "lower_bound_s", "check_span", "run_note"]
 

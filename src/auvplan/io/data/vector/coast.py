@@ -18,11 +18,12 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import CRS, Transformer
+from pyproj import Transformer
 
-from ...errors import DataError
-from ...world.land import Land
-from .geo import LocalFrame
+from ....errors import DataError
+from ....world.land import Land
+from ..geo import LocalFrame
+from .reader import read_vector
 
 __all__ = ["LandSpec", "BUILTIN_LAND", "read_land", "builtin_land_path"]
 
@@ -76,32 +77,18 @@ def builtin_land_path(name: str) -> Path:
 
 
 def _read_polygons(path: Path, layer: str, src: str) -> tuple[Any, Any]:
-    import pyogrio
-
-    if not path.is_file():
-        raise DataError(f"{src}: land file not found")
-    try:
-        meta, _, wkb, _ = pyogrio.raw.read(path, layer=layer or None, read_geometry=True, columns=[])
-    except Exception as exc:  # GDAL raises several types for unreadable files and missing layers
-        raise DataError(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''} ({exc})") \
-            from exc
-    geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
-    geoms = np.asarray([g for g in geoms if g is not None and not g.is_empty], dtype=object)
+    """The union of a layer's polygons and its CRS (:func:`.vector.read_vector`)."""
+    read = read_vector(path, src, DataError, layer=layer)
+    geoms = np.asarray(read.present(), dtype=object)
     kinds = shapely.get_type_id(geoms) if geoms.size else np.empty(0, dtype=int)
     polys = geoms[np.isin(kinds, (3, 6))]
     if polys.size == 0:
         found = sorted({g.geom_type for g in geoms}) or ["nothing"]
         raise DataError(f"{src}: geometry: no polygons (found {', '.join(found)}); land must be given as "
                         "closed polygons, e.g. GSHHG level 1 or OpenStreetMap land polygons")
-    crs_text = meta.get("crs")
-    if not crs_text:
+    if not read.crs_stated:
         log.warning("%s: no CRS; taken as WGS 84 longitude/latitude", src)
-        crs_text = "EPSG:4326"
-    try:
-        crs = CRS.from_user_input(crs_text)
-    except Exception as exc:  # pyproj's CRSError
-        raise DataError(f"{src}: crs {crs_text!r} is not usable ({exc})") from exc
-    return shapely.union_all(shapely.make_valid(polys)), crs
+    return shapely.union_all(shapely.make_valid(polys)), read.crs
 
 
 def read_land(spec: LandSpec, frame: LocalFrame, extent_m: tuple[float, float, float, float], *,

@@ -1,9 +1,9 @@
 """The one reader of vector feature files: GeoJSON, KML, Shapefile, GeoPackage, FileGDB, S-57 electronic
 charts and any other format GDAL reads (through pyogrio), in any CRS.
 
-Survey areas and centre lines (:mod:`.survey_area`) and charted zones (:mod:`.zones`) read their
-layers here; each keeps its own error type (a survey file is a scenario error, a zone file a data
-error) and its own message prefix (``file: [survey] file = '...'``).
+Survey areas and centre lines (:mod:`.areas`), charted zones (:mod:`.zones`) and land polygons
+(:mod:`.coast`) read their layers here; each keeps its own error type (a survey file is a scenario error,
+a zone or land file a data error) and its own message prefix (``file: [survey] file = '...'``).
 """
 
 from __future__ import annotations
@@ -30,11 +30,14 @@ class VectorLayer:
         The layer's CRS (WGS 84 longitude/latitude when the file states none).
     fields : dict of str to numpy.ndarray
         The attribute columns read (empty unless asked for), aligned with ``geometries``.
+    crs_stated : bool
+        Whether the file states its CRS (else ``crs`` is WGS 84 by assumption).
     """
 
     geometries: np.ndarray
     crs: CRS
     fields: dict[str, np.ndarray]
+    crs_stated: bool = True
 
     def present(self) -> list[shapely.Geometry]:
         """The non-empty geometries, in file order.
@@ -87,4 +90,5 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])] if fields else []
-    return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)))
+    return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)),
+                       bool(meta.get("crs")))

@@ -6,7 +6,7 @@ file's member dimension), ``{ uniform = [u, v, w] }``, or
 ``{ perturbation = { count, spread_mps, correlation_m, seed } }`` which stands for ``count`` members
 made from the nominal ``[currents]`` field (its ``uniform``, ``vortices``, ``file`` or ``tides``)
 plus a smooth random perturbation of the stated spread and correlation length
-(:class:`auvplan.world.ensemble_fields.PerturbedCurrent`).  An optional ``name`` labels the member.
+(:class:`auvplan.world.currents.ensemble.PerturbedCurrent`).  An optional ``name`` labels the member.
 
 The nominal field, the one a plan is made on unless ``[planner] robust`` says otherwise, is the
 ``[currents]`` field when the table gives one, else the first member.
@@ -18,15 +18,15 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ...errors import DataError
-from ...world import CurrentField, UniformCurrent, World
-from ...world.ensemble_fields import PerturbedCurrent
-from .. import limits as _limits
-from ..data.geo import LocalFrame
-from ..data.ocean.currents import CurrentsFileSpec, read_currents
+from ....errors import DataError
+from ....world import CurrentField, UniformCurrent, World
+from ....world.currents.ensemble import PerturbedCurrent
+from ... import limits as _limits
+from ...data.geo import LocalFrame
+from ...data.ocean.currents import CurrentsFileSpec, read_currents
 
 if TYPE_CHECKING:
-    from .specs import Scenario
+    from ..specs import Scenario
 
 __all__ = ["PerturbationSpec", "MemberSpec", "member_fields", "scenario_members"]
 

@@ -27,10 +27,10 @@ import numpy as np
 import shapely
 from pyproj import Transformer
 
-from ...errors import DataError, ScenarioError
-from ...world import Terrain, Zone, Zones
-from .geo import LocalFrame
-from .vector import read_vector
+from ....errors import DataError, ScenarioError
+from ....world import Terrain, Zone, Zones
+from ..geo import LocalFrame
+from .reader import read_vector
 
 __all__ = ["ZoneSpec", "parse_zones", "read_zones"]
 

@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._types import ArrayLike, FloatArray
-from ..errors import DataError
-from ..geometry import as_points
-from ..runtime.jit import kernel
+from ..._types import ArrayLike, FloatArray
+from ...errors import DataError
+from ...geometry import as_points
+from ...runtime.jit import kernel
 
 __all__ = ["CurrentField", "UniformCurrent", "LambOseenVortices", "GriddedCurrent"]
 
@@ -68,8 +68,9 @@ class CurrentField:
     def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
         """The field at points, each at its own time (a recorded track).
 
-        The base class asks :meth:`velocity` once per point; the fields of this module and the tides
-        answer the whole array at once, with the same values (``tests/test_flown_tail.py``).
+        A :attr:`steady` field is asked once for all the points; any other field once per point,
+        unless it answers the whole array at once itself (the gridded field, the tides), with the same
+        values (``tests/test_flown_tail.py``).
 
         Parameters
         ----------
@@ -84,8 +85,21 @@ class CurrentField:
             Velocities ``(N, 3)`` (m/s).
         """
         p = as_points(points).reshape(-1, 3)
+        if self.steady:
+            return self.velocity(p)
         tt = np.broadcast_to(np.asarray(times, dtype=float).reshape(-1), (p.shape[0],))
         return np.array([self.velocity(q, float(s)) for q, s in zip(p, tt)]).reshape(-1, 3)
+
+    @property
+    def steady(self) -> bool:
+        """Whether the field does not change with time (False unless a kind says so).
+
+        Returns
+        -------
+        bool
+            True for the uniform current, Lamb–Oseen vortices and a gridded field with at most one time.
+        """
+        return False
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box.
@@ -146,22 +160,10 @@ class UniformCurrent(CurrentField):
         out[...] = self.vector  # broadcast into a fresh array (cheaper than broadcast_to + copy per step)
         return out
 
-    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
-        """The field at points, each at its own time: steady, one call (:meth:`CurrentField.velocity_at`).
-
-        Parameters
-        ----------
-        points : array_like
-            Points ``(N, 3)`` (m).
-        times : array_like
-            Times ``(N,)`` (s), one per point.
-
-        Returns
-        -------
-        numpy.ndarray
-            Velocities ``(N, 3)`` (m/s).
-        """
-        return self.velocity(as_points(points).reshape(-1, 3))
+    @property
+    def steady(self) -> bool:
+        """True: the field does not change with time (:meth:`CurrentField.velocity_at` asks it once)."""
+        return True
 
     @property
     def max_speed(self) -> float:
@@ -247,22 +249,10 @@ class LambOseenVortices(CurrentField):
             _vortex_sum(flat, self.centers, self.gamma, self.delta, q, np.exp(e, out=e), out)
         return out.reshape(p.shape)
 
-    def velocity_at(self, points: ArrayLike, times: ArrayLike) -> FloatArray:
-        """The field at points, each at its own time: steady, one call (:meth:`CurrentField.velocity_at`).
-
-        Parameters
-        ----------
-        points : array_like
-            Points ``(N, 3)`` (m).
-        times : array_like
-            Times ``(N,)`` (s), one per point.
-
-        Returns
-        -------
-        numpy.ndarray
-            Velocities ``(N, 3)`` (m/s).
-        """
-        return self.velocity(as_points(points).reshape(-1, 3))
+    @property
+    def steady(self) -> bool:
+        """True: the field does not change with time (:meth:`CurrentField.velocity_at` asks it once)."""
+        return True
 
     def vorticity(self, points: ArrayLike) -> FloatArray:
         """Vertical vorticity ω_z — the quantity of document 002's eq. 3.
@@ -398,6 +388,11 @@ class GriddedCurrent(CurrentField):
         out = np.empty_like(flat)
         _interpolate_at(self._data, *self._axes, flat, tt, out)
         return out
+
+    @property
+    def steady(self) -> bool:
+        """Whether the field has at most one time (it then does not change with time)."""
+        return self.t is None or np.size(self.t) <= 1
 
     def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
         """Whether the field is defined over the whole horizontal box.

@@ -1,5 +1,5 @@
 """Survey line spacing under the relative navigation error of adjacent lines (issue 52 item 5,
-``docs/navigation.md``): the margin :func:`auvplan.survey.lines.place_lines` brings each next line closer by.
+``docs/navigation.md``): the margin :func:`auvplan.survey.lines.placement.place_lines` brings each next line closer by.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from .frame import Frame, StraightFrame
 
 if TYPE_CHECKING:
-    from .lines import LineParams, SurveyLine
+    from .placement import LineParams, SurveyLine
 
 __all__ = ["nav_margin"]
 

@@ -1,13 +1,13 @@
 """Corridor surveys: lines parallel to a pipeline's or cable's centre line, following its bends.
 
-The centre line's corners are rounded (:func:`~auvplan.survey.frame.round_corners`, shapely's
+The centre line's corners are rounded (:func:`~auvplan.survey.lines.frame.round_corners`, shapely's
 ``offset_curve`` out and back) to a radius larger than half the corridor plus the vehicle's turn radius,
-so the line frame along it (:class:`~auvplan.survey.frame.CurveFrame`) is one to one over the corridor,
+so the line frame along it (:class:`~auvplan.survey.lines.frame.CurveFrame`) is one to one over the corridor,
 no line parallel to the centre line crosses itself at a bend and each turns with at least the vehicle's
 radius.  The corridor is the band ``|n| <= w(s) / 2`` about the rounded centre line: shapely's flat-capped
 buffer for a constant width, the band between the two offset curves for widths given per vertex
 (interpolated along the line).  The lines are then placed in that frame as over any area
-(:func:`~auvplan.survey.lines.place_lines`): depth-adaptive, the overlap held at every station.
+(:func:`~auvplan.survey.lines.placement.place_lines`): depth-adaptive, the overlap held at every station.
 """
 
 from __future__ import annotations
