@@ -1,0 +1,115 @@
+"""The elastic band's array work, compiled: one pass's candidate moves and its choice among them.
+
+:func:`auvplan.planners.grid.band._relax` spent half its time in some forty small numpy operations per
+pass (normals, the five moves, the segment arrays, the choice and the step updates), each a few
+microseconds on a path of 10–500 points: on the short built-ins the polish (14 relaxations of 2–4 sweeps)
+cost 0.025–0.05 s per plan, most of it in that overhead (issue 59's CPU A/B).  These kernels do the same
+arithmetic in two calls per pass, with numpy's IEEE operations (``fastmath=False``) in numpy's order, so
+the band moves the points to the same bits (``tests/unit/test_band_kernels.py`` checks them against the
+numpy formulation).  The world's queries (the segments' cost in the current, the exact segment test)
+stay where they were.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..._types import FloatArray, IntArray
+from ...runtime.jit import kernel
+
+__all__ = ["band_choose", "band_moves"]
+
+
+@kernel(fastmath=False)
+def band_moves(p: FloatArray, i: IntArray, alpha: FloatArray, delta: FloatArray, ends: FloatArray,
+               tips: FloatArray) -> None:  # pragma: no cover - compiled
+    """Fill the segments of each point ``i`` and of its five moves.
+
+    For point ``b = p[i]`` between ``a = p[i-1]`` and ``c = p[i+1]``: the pull towards the neighbours'
+    midpoint by ``alpha[i]`` and moves of ``±delta[i]`` along two unit normals of the chord ``c - a``
+    (``t × z``, or ``t × x`` for a steep chord, and ``t`` × that).  ``ends[:6]`` / ``tips[:6]`` are the
+    segments ``a -> move`` (move 0 is ``b`` itself), ``ends[6:]`` / ``tips[6:]`` the segments
+    ``move -> c``.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        The path ``(n, 3)``.
+    i : numpy.ndarray
+        The interior points to move ``(m,)``.
+    alpha, delta : numpy.ndarray
+        Per point of the path ``(n,)``: pull fraction and normal step.
+    ends, tips : numpy.ndarray
+        Outputs ``(12, m, 3)``.
+    """
+    for j in range(i.shape[0]):
+        k = i[j]
+        t0 = p[k + 1, 0] - p[k - 1, 0]
+        t1 = p[k + 1, 1] - p[k - 1, 1]
+        t2 = p[k + 1, 2] - p[k - 1, 2]
+        norm = np.sqrt((t0 * t0 + t2 * t2) + t1 * t1)  # numpy's einsum order for three terms
+        if norm <= 1e-12:
+            t0, t1, t2 = 1.0, 0.0, 0.0
+        else:
+            t0, t1, t2 = t0 / norm, t1 / norm, t2 / norm
+        if abs(t2) >= 0.9:
+            u0, u1, u2 = 0.0, t2, -t1
+        else:
+            u0, u1, u2 = t1, -t0, 0.0
+        un = np.sqrt((u0 * u0 + u2 * u2) + u1 * u1)
+        u0, u1, u2 = u0 / un, u1 / un, u2 / un
+        v0 = t1 * u2 - t2 * u1
+        v1 = t2 * u0 - t0 * u2
+        v2 = t0 * u1 - t1 * u0
+        d, al = delta[k], alpha[k]
+        for x in range(3):
+            a, b, c = p[k - 1, x], p[k, x], p[k + 1, x]
+            u = (u0, u1, u2)[x]
+            v = (v0, v1, v2)[x]
+            du, dv = d * u, d * v
+            moves = (b, b + al * (0.5 * (a + c) - b), b + du, b - du, b + dv, b - dv)
+            for s in range(6):
+                ends[s, j, x] = a
+                tips[s, j, x] = moves[s]
+                ends[6 + s, j, x] = moves[s]
+                tips[6 + s, j, x] = c
+
+
+@kernel(fastmath=False)
+def band_choose(p: FloatArray, i: IntArray, tips: FloatArray, new: FloatArray, alpha: FloatArray,
+                delta: FloatArray, step: float) -> None:  # pragma: no cover - compiled
+    """Move each point ``i`` to its cheapest finite move and update its steps, in place.
+
+    ``new (5, m)``: the two segments' cost of each move (``inf`` where the move does not lower the cost
+    or is not free).  The first cheapest wins (numpy's ``argmin``); a pull that wins grows ``alpha`` by
+    half (at most 1), a normal move grows ``delta`` by half (at most ``step``); every other point halves
+    the step that did not win.
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        The path ``(n, 3)``, updated.
+    i : numpy.ndarray
+        The points moved ``(m,)``.
+    tips : numpy.ndarray
+        :func:`band_moves`'s output: ``tips[s]`` holds move ``s``.
+    new : numpy.ndarray
+        ``(5, m)`` costs of moves 1–5.
+    alpha, delta : numpy.ndarray
+        ``(n,)``, updated.
+    step : float
+        The level's spacing (the largest ``delta``).
+    """
+    for j in range(i.shape[0]):
+        k, best = 0, new[0, j]
+        for s in range(1, 5):
+            if new[s, j] < best:
+                k, best = s, new[s, j]
+        q = i[j]
+        pulled = pushed = False
+        if np.isfinite(best):
+            for x in range(3):
+                p[q, x] = tips[k + 1, j, x]
+            pulled, pushed = k == 0, k > 0
+        alpha[q] = min(alpha[q] * 1.5, 1.0) if pulled else alpha[q] * 0.5
+        delta[q] = min(delta[q] * 1.5, step) if pushed else delta[q] * 0.5

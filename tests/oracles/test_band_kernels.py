@@ -1,0 +1,124 @@
+"""Issue 59 (CPU): the elastic band's compiled pass and the polish's give-up.
+
+The band's array work is compiled (:mod:`auvplan.planners.grid.band_kernels`); the oracle is the numpy
+formulation it replaced, written out here (normals from ``band._normals``, the five moves, numpy's
+``argmin`` and the step updates), which must move every point to the same bits on paths that exercise
+each branch: a zero chord, steep chords, points blocked by a sphere, a current that varies in space.
+The give-up (:func:`auvplan.planners.grid.band.gives_up`) is checked by hand and on a real plan: the
+lattice candidate's refinement stops early and the plan is the same, to the bit, as with it run out.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from auvplan.cost import CostModel
+from auvplan.planners.grid import band
+from auvplan.world import Sphere
+from auvplan.world.currents.fields import LambOseenVortices
+from helpers import flat_world
+
+
+def _relax_numpy(world, p, model, objective, iterations, step):
+    """The band as it was before the kernels (numpy throughout): the oracle."""
+    p = p.copy()
+    n = p.shape[0]
+    alpha, delta, tol = np.full(n, 0.5), np.full(n, 0.5 * step), 1e-3 * step
+    for _ in range(iterations):
+        for every in (np.arange(1, n - 1, 2), np.arange(2, n - 1, 2)):
+            i = every[(alpha[every] > 1e-3) | (delta[every] > tol)]
+            if i.size == 0:
+                continue
+            m = i.size
+            a, b, c = p[i - 1], p[i], p[i + 1]
+            n1, n2 = band._normals(c - a)
+            d = delta[i, None]
+            pts = np.stack([b, b + alpha[i, None] * (0.5 * (a + c) - b), b + d * n1, b - d * n1, b + d * n2,
+                            b - d * n2])
+            cost = band.edge_cost(world, np.concatenate([np.broadcast_to(a, (6, m, 3)), pts]),
+                                  np.concatenate([pts, np.broadcast_to(c, (6, m, 3))]), model, objective)
+            both = cost[:6] + cost[6:]
+            better = both[1:] < both[0] - 1e-9 * np.abs(both[0])
+            for kk, jj in zip(*np.nonzero(better), strict=True):
+                seg = np.array([[a[jj], pts[kk + 1, jj]], [pts[kk + 1, jj], c[jj]]])
+                better[kk, jj] = world.segments_free(seg, moving=False).all()
+            new = np.where(better, both[1:], np.inf)
+            k = np.argmin(new, axis=0)
+            ok = np.isfinite(new[k, np.arange(m)])
+            p[i[ok]] = pts[k[ok] + 1, np.flatnonzero(ok)]
+            pulled, pushed = ok & (k == 0), ok & (k > 0)
+            alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
+            delta[i[pushed]] = np.minimum(delta[i[pushed]] * 1.5, step)
+            alpha[i[~pulled]] *= 0.5
+            delta[i[~pushed]] *= 0.5
+    return p
+
+
+@pytest.fixture(scope="module")
+def scene():
+    """A sphere in the way, a vortex current, and a zig-zag path with a zero chord and steep chords."""
+    world = flat_world(depth=400.0, size=2000.0, obstacles=(Sphere(np.array([1000.0, 1000.0, -200.0]), 150.0),),
+                       obstacle=10.0, min_depth=10.0)
+    world = replace(world, currents=LambOseenVortices(np.array([[900.0, 1300.0], [1400.0, 600.0]]),
+                                                      np.array([1500.0, -1000.0]), np.array([300.0, 200.0])))
+    rng = np.random.default_rng(7)
+    t = np.linspace(0.0, 1.0, 41)[:, None]
+    p = np.array([100.0, 700.0, -200.0]) * (1 - t) + np.array([1900.0, 800.0, -200.0]) * t
+    p[1:-1] += rng.normal(0.0, 25.0, (39, 3))
+    p[10], p[12] = p[9] + [0.0, 0.0, 30.0], p[9] + [0.0, 0.0, 60.0]  # steep chords
+    p[20] = p[18]  # p[19]'s neighbours coincide: a zero chord
+    assert world.path_free(p)
+    return world, p
+
+
+@pytest.mark.parametrize("objective", ["cost", "length"])
+@pytest.mark.parametrize("step", [40.0, 400.0])
+def test_the_compiled_band_moves_every_point_to_the_same_bits_as_numpy(scene, objective, step):
+    world, p = scene
+    model = CostModel(speed=1.5)
+    want = _relax_numpy(world, p, model, objective, 4, step)
+    got = band._relax(world, p, model, objective, 4, step)
+    assert np.abs(want - p).max() > 1.0  # the band did move points: the comparison has teeth
+    assert got.tobytes() == want.tobytes()
+
+
+def test_level_count_and_give_up_by_hand():
+    """1/8 … 1/512 of the length is 7 levels, … 1/2048 is 9, … 1/64 is 4; a refinement at 110 against a
+    target of 100 gives up with 2 levels left gaining at most 4 each (110 - 8 >= 100), not at most 6."""
+    assert [band.level_count(f) for f in (512.0, 2048.0, 64.0, 8.0, 4.0)] == [7, 9, 4, 1, 0]
+    assert band.gives_up(110.0, 100.0, 4.0, 2) and not band.gives_up(110.0, 100.0, 6.0, 2)
+    assert band.gives_up(100.0, 100.0, 50.0, 0) and not band.gives_up(99.9, 100.0, 0.0, 0)
+
+
+def test_the_lattice_candidate_gives_up_and_the_plan_is_the_same(monkeypatch):
+    """showcase: the seeding lattice's polygon (+0.08 % above the spline, within ``LATTICE_WITHIN``) gains
+    nothing on its first level, so its refinement stops after one level instead of seven; the plan, its
+    path and its convergence verdict are the same, to the bit, as with the refinement run out."""
+    from auvplan.io.scenario import loader as sc
+    from auvplan.planners import plan
+    from auvplan.planners.grid import planner as gp
+    from auvplan.sim import planning_problem
+
+    world, mission = sc.build(sc.load("showcase"))
+    prob, spec = planning_problem(world, mission), mission.planner
+    levels: list[tuple[float | None, int]] = []
+    real = band._converge
+
+    def spy(*args, target=None, **kwargs):
+        out = real(*args, target=target, **kwargs)
+        levels.append((target, out[2]))
+        return out
+
+    monkeypatch.setattr(gp, "_converge", spy)
+    quick = plan(prob, spec, rng=1)
+    gave_up = list(levels)
+    levels.clear()
+    monkeypatch.setattr(gp, "_converge", lambda *a, target=None, **k: spy(*a, target=None, **k))
+    full = plan(prob, spec, rng=1)
+    assert [n for t, n in gave_up if t is not None] == [1] and [n for _, n in levels] == [7, 7]
+    assert quick.cost == full.cost and quick.path.tobytes() == full.path.tobytes()
+    assert quick.converged is full.converged is True
+    assert quick.work["polish_lattice_cost"] >= quick.cost
