@@ -267,8 +267,12 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
         Where the current beats the vehicle (no ground speed along the segment).
     """
     arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
-    lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
-    a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
+    if len(arrays) == 2 and arrays[0].shape == arrays[1].shape:  # nothing to broadcast (the elastic band's case)
+        lead = arrays[0].shape[:-1]
+        a, b, *given = (np.ascontiguousarray(v.reshape(-1, 3)) for v in arrays)
+    else:
+        lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
+        a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
     c = _midpoint_currents(world, a[None], b[None])[0] if current is None else given[0]  # (N, 3) or (1, 3)
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)

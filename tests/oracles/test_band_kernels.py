@@ -122,3 +122,27 @@ def test_the_lattice_candidate_gives_up_and_the_plan_is_the_same(monkeypatch):
     assert quick.cost == full.cost and quick.path.tobytes() == full.path.tobytes()
     assert quick.converged is full.converged is True
     assert quick.work["polish_lattice_cost"] >= quick.cost
+
+
+def test_the_compiled_box_test_answers_as_the_numpy_comparisons():
+    """``World.segments_free``'s convex part (:mod:`auvplan.world.kernels.box`) against numpy's comparisons
+    on segments with ends exactly on each face, just outside it, NaN and infinite coordinates, in a
+    world with a depth band (min 10 m, max 300 m) and no seabed, in shapes ``(2, 3)`` and ``(4, 5, 2, 3)``."""
+    from auvplan.world import Bounds, Margins, World
+
+    b = Bounds(-50.0, 950.0, 20.0, 1020.0, -400.0, 0.0)
+    world = World(b, None, margins=Margins(min_altitude=0.0, min_depth=10.0, max_depth=300.0))
+    rng = np.random.default_rng(3)
+    faces = np.array([[-50.0, 950.0], [20.0, 1020.0], [-300.0, -10.0]])
+    s = rng.uniform(-60.0, 1030.0, (4, 5, 2, 3))
+    s[..., 2] = rng.uniform(-310.0, 0.0, (4, 5, 2))
+    for k, (axis, side) in enumerate([(0, 0), (0, 1), (1, 0), (1, 1), (2, 0), (2, 1)]):
+        s[0, k % 5, k % 2, axis] = faces[axis, side]  # on the face: inside
+        s[1, k % 5, k % 2, axis] = np.nextafter(faces[axis, side], np.inf if side else -np.inf)  # just out
+    s[2, 0, 0, 0], s[2, 1, 1, 2], s[2, 2, 0, 1], s[2, 3, 1, 2] = np.nan, np.nan, np.inf, -np.inf
+    z = s[..., 2]
+    with np.errstate(invalid="ignore"):
+        want = np.all(-z >= 10.0, axis=-1) & np.all(-z <= 300.0, axis=-1) & b.contains(s).all(axis=-1)
+    got = world.segments_free(s)
+    assert got.shape == want.shape and (got == want).all() and 3 < want.sum() < want.size - 3
+    assert bool(world.segments_free(s[0, 1])) == bool(want[0, 1])

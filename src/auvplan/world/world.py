@@ -19,6 +19,7 @@ from .._types import ArrayLike, BoolArray, FloatArray
 from ..errors import DataError
 from ..geometry import as_points
 from .currents.fields import CurrentField, UniformCurrent
+from .kernels.box import segments_in_box
 from .land import Land
 from .moving import MovingObstacle
 from .obstacles import Shape
@@ -374,9 +375,12 @@ class World:
         if ends_free:
             ok = np.ones(s.shape[:-2], dtype=bool)
         else:
-            z = s[..., 2]
-            ok = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
-            ok &= self.bounds.contains(s).all(axis=-1)
+            flat = np.ascontiguousarray(s.reshape(-1, 2, 3))
+            ok = np.empty(flat.shape[0], dtype=bool)  # both ends in the depth band and the box (convex)
+            b = self.bounds
+            segments_in_box(flat, float(m.min_depth), float(m.max_depth),
+                            np.array([b.xmin, b.xmax, b.ymin, b.ymax, b.zmin, b.zmax], dtype=float), ok)
+            ok = ok.reshape(s.shape[:-2])
         if self.terrain is not None:
             alt = self.terrain.segment_min_altitude(s, threshold=m.min_altitude, end_altitudes=end_altitudes)
             ok &= alt >= m.min_altitude

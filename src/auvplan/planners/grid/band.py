@@ -21,7 +21,7 @@ from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
 from ..common import cost_model_for, plan_terms
-from .band_kernels import band_choose, band_moves
+from .band_kernels import band_choose, band_gains, band_moves
 
 __all__ = ["edge_cost", "gives_up", "level_count", "path_cost", "resample_free"]
 
@@ -133,15 +133,13 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
             m = i.size
             ends, tips = np.empty((12, m, 3)), np.empty((12, m, 3))  # a -> each move, each move -> c
             band_moves(p, i, alpha, delta, ends, tips)
-            cost = edge_cost(world, ends, tips, model, objective)
-            both = cost[:6] + cost[6:]
-            old, new = both[0], both[1:]
-            better = new < old - 1e-9 * np.abs(old)
+            new, better = np.empty((5, m)), np.empty((5, m), dtype=bool)
+            band_gains(edge_cost(world, ends, tips, model, objective), new, better)
             kk, jj = np.nonzero(better)
             if kk.size:  # only the moves that lower the cost go through the exact segment test
                 seg = np.stack([ends[kk + 1, jj], tips[kk + 1, jj], ends[kk + 7, jj], tips[kk + 7, jj]], axis=1)
                 better[kk, jj] = world.segments_free(seg.reshape(-1, 2, 2, 3), moving=False).all(axis=-1)
-            band_choose(p, i, tips, np.where(better, new, np.inf), alpha, delta, float(step))
+            band_choose(p, i, tips, new, better, alpha, delta, float(step))
         if np.all(alpha[1:-1] <= 1e-3) and np.all(delta[1:-1] <= tol):
             break
     return p

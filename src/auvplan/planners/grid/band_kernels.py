@@ -4,7 +4,7 @@
 pass (normals, the five moves, the segment arrays, the choice and the step updates), each a few
 microseconds on a path of 10–500 points: on the short built-ins the polish (14 relaxations of 2–4 sweeps)
 cost 0.025–0.05 s per plan, most of it in that overhead (issue 59's CPU A/B).  These kernels do the same
-arithmetic in two calls per pass, with numpy's IEEE operations (``fastmath=False``) in numpy's order, so
+arithmetic in three calls per pass, with numpy's IEEE operations (``fastmath=False``) in numpy's order, so
 the band moves the points to the same bits (``tests/unit/test_band_kernels.py`` checks them against the
 numpy formulation).  The world's queries (the segments' cost in the current, the exact segment test)
 stay where they were.
@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..._types import FloatArray, IntArray
+from ..._types import BoolArray, FloatArray, IntArray
 from ...runtime.jit import kernel
 
-__all__ = ["band_choose", "band_moves"]
+__all__ = ["band_choose", "band_gains", "band_moves"]
 
 
 @kernel(fastmath=False)
@@ -76,14 +76,35 @@ def band_moves(p: FloatArray, i: IntArray, alpha: FloatArray, delta: FloatArray,
 
 
 @kernel(fastmath=False)
-def band_choose(p: FloatArray, i: IntArray, tips: FloatArray, new: FloatArray, alpha: FloatArray,
-                delta: FloatArray, step: float) -> None:  # pragma: no cover - compiled
-    """Move each point ``i`` to its cheapest finite move and update its steps, in place.
+def band_gains(cost: FloatArray, new: FloatArray, better: BoolArray) -> None:  # pragma: no cover - compiled
+    """The two segments' cost of each move and whether it lowers the point's cost.
 
-    ``new (5, m)``: the two segments' cost of each move (``inf`` where the move does not lower the cost
-    or is not free).  The first cheapest wins (numpy's ``argmin``); a pull that wins grows ``alpha`` by
-    half (at most 1), a normal move grows ``delta`` by half (at most ``step``); every other point halves
-    the step that did not win.
+    Parameters
+    ----------
+    cost : numpy.ndarray
+        ``(12, m)``: the costs of :func:`band_moves`'s segments.
+    new : numpy.ndarray
+        ``(5, m)``, filled: the cost of moves 1–5 (``a -> move -> c``).
+    better : numpy.ndarray
+        ``(5, m)`` of bool, filled: where a move's cost is below the point's own by more than 1e-9 of it.
+    """
+    for j in range(cost.shape[1]):
+        old = cost[0, j] + cost[6, j]
+        bar = old - 1e-9 * abs(old)
+        for s in range(5):
+            v = cost[s + 1, j] + cost[s + 7, j]
+            new[s, j] = v
+            better[s, j] = v < bar
+
+
+@kernel(fastmath=False)
+def band_choose(p: FloatArray, i: IntArray, tips: FloatArray, new: FloatArray, better: BoolArray,
+                alpha: FloatArray, delta: FloatArray, step: float) -> None:  # pragma: no cover - compiled
+    """Move each point ``i`` to its cheapest move that is ``better``, and update its steps, in place.
+
+    The first cheapest wins (numpy's ``argmin`` over the costs with ``inf`` where a move is not better);
+    a pull that wins grows ``alpha`` by half (at most 1), a normal move grows ``delta`` by half (at most
+    ``step``); every other point halves the step that did not win.
 
     Parameters
     ----------
@@ -94,17 +115,20 @@ def band_choose(p: FloatArray, i: IntArray, tips: FloatArray, new: FloatArray, a
     tips : numpy.ndarray
         :func:`band_moves`'s output: ``tips[s]`` holds move ``s``.
     new : numpy.ndarray
-        ``(5, m)`` costs of moves 1–5.
+        ``(5, m)`` costs of moves 1–5 (:func:`band_gains`).
+    better : numpy.ndarray
+        ``(5, m)`` of bool: the moves that lower the cost and are free.
     alpha, delta : numpy.ndarray
         ``(n,)``, updated.
     step : float
         The level's spacing (the largest ``delta``).
     """
     for j in range(i.shape[0]):
-        k, best = 0, new[0, j]
-        for s in range(1, 5):
-            if new[s, j] < best:
-                k, best = s, new[s, j]
+        k, best = 0, np.inf
+        for s in range(5):
+            v = new[s, j] if better[s, j] else np.inf
+            if v < best:
+                k, best = s, v
         q = i[j]
         pulled = pushed = False
         if np.isfinite(best):

@@ -16,15 +16,15 @@ optimiser's problem: it is not counted in the budget and its CPU is reported apa
 
 The seeding lattice's own path is a second candidate (``lattice``): its taut polygon (document 004's
 key waypoints), polished the same way with ``2 * spec.polish`` sweeps, wins where the spline cannot
-take the route's detail.  Its polish gives up (:func:`~auvplan.planners.grid.band.gives_up`) once the
-levels left, each gaining as much as its best level so far, could not bring it below the best plan so far:
-below that it neither wins nor counts as evidence against convergence (:mod:`.convergence`).  On
-showcase it gains nothing on its first level and stops there (1 level of 7); on 24 plans of the eight hard
-problems and 18 of nine short built-ins every plan was the same, to the bit, as with it run out.  On chagos-banks the cheap route climbs to the depth ceiling over a narrow
+take the route's detail.  On chagos-banks the cheap route climbs to the depth ceiling over a narrow
 saddle 10 km before the goal (seabed 500 m deep under a 400 m ceiling and a 100 m altitude floor):
 the splines of every seed pass beside it, 2–3 km longer, and no band move crosses the shoal between,
 while the lattice's path already threads it (+0.05 % from the best known against the splines'
-+0.08 … +0.36 %).
++0.08 … +0.36 %).  Its polish gives up (:func:`~auvplan.planners.grid.band.gives_up`) once the levels
+left, each gaining as much as its best level so far, could not bring it below the best plan so far: there
+it neither wins nor counts as evidence against convergence (:mod:`.convergence`).  On showcase it gains
+nothing on its first level and stops there (1 level of 7); on 24 plans of the eight hard problems and 18
+of nine short built-ins every plan was the same, to the bit, as with it run out.
 
 The plan's own path lifted to the depth ceiling (interior points 1 m below it, :data:`LIFT_BELOW`; only
 when the world has a ceiling) is a third candidate, polished first with ``spec.polish`` sweeps when its
