@@ -375,12 +375,12 @@ class World:
         if ends_free:
             ok = np.ones(s.shape[:-2], dtype=bool)
         else:
-            flat = np.ascontiguousarray(s.reshape(-1, 2, 3))
-            ok = np.empty(flat.shape[0], dtype=bool)  # both ends in the depth band and the box (convex)
+            inside = np.empty(s.shape[:-2], dtype=bool)  # both ends in the depth band and the box (convex)
             b = self.bounds
-            segments_in_box(flat, float(m.min_depth), float(m.max_depth),
-                            np.array([b.xmin, b.xmax, b.ymin, b.ymax, b.zmin, b.zmax], dtype=float), ok)
-            ok = ok.reshape(s.shape[:-2])
+            segments_in_box(np.ascontiguousarray(s.reshape(-1, 2, 3)), float(m.min_depth), float(m.max_depth),
+                            np.array([b.xmin, b.xmax, b.ymin, b.ymax, b.zmin, b.zmax], dtype=float),
+                            inside.reshape(-1))
+            ok = inside
         if self.terrain is not None:
             alt = self.terrain.segment_min_altitude(s, threshold=m.min_altitude, end_altitudes=end_altitudes)
             ok &= alt >= m.min_altitude
