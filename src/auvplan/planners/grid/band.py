@@ -21,7 +21,7 @@ from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
 from ..common import cost_model_for, plan_terms
-from .band_kernels import band_choose, band_gains, band_moves
+from .band_kernels import band_choose, band_gains, band_moves, band_segments, chord_lengths
 
 __all__ = ["edge_cost", "gives_up", "level_count", "path_cost", "resample_free"]
 
@@ -48,7 +48,13 @@ def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, obje
     numpy.ndarray
         ``(...)``; ``inf`` where the current beats the vehicle.
     """
-    length: FloatArray = np.linalg.norm(b - a, axis=-1)
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.shape == b.shape and a.ndim >= 2:  # the band's and the lattice's case: one compiled pass, the same bits
+        length: FloatArray = np.empty(a.shape[:-1])
+        chord_lengths(np.ascontiguousarray(a).reshape(-1, 3), np.ascontiguousarray(b).reshape(-1, 3),
+                      length.reshape(-1))
+    else:
+        length = np.linalg.norm(b - a, axis=-1)
     if objective == "length":
         return length
     units, _, _, blocked = segment_energy(world, a, b, model, current)
@@ -137,8 +143,9 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
             band_gains(edge_cost(world, ends, tips, model, objective), new, better)
             kk, jj = np.nonzero(better)
             if kk.size:  # only the moves that lower the cost go through the exact segment test
-                seg = np.stack([ends[kk + 1, jj], tips[kk + 1, jj], ends[kk + 7, jj], tips[kk + 7, jj]], axis=1)
-                better[kk, jj] = world.segments_free(seg.reshape(-1, 2, 2, 3), moving=False).all(axis=-1)
+                seg = np.empty((kk.size, 2, 2, 3))
+                band_segments(ends, tips, kk, jj, seg)
+                better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
             band_choose(p, i, tips, new, better, alpha, delta, float(step))
         if np.all(alpha[1:-1] <= 1e-3) and np.all(delta[1:-1] <= tol):
             break

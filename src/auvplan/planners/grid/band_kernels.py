@@ -17,7 +17,7 @@ import numpy as np
 from ..._types import BoolArray, FloatArray, IntArray
 from ...runtime.jit import kernel
 
-__all__ = ["band_choose", "band_gains", "band_moves"]
+__all__ = ["band_choose", "band_gains", "band_moves", "band_segments", "chord_lengths"]
 
 
 @kernel(fastmath=False)
@@ -137,3 +137,42 @@ def band_choose(p: FloatArray, i: IntArray, tips: FloatArray, new: FloatArray, b
             pulled, pushed = k == 0, k > 0
         alpha[q] = min(alpha[q] * 1.5, 1.0) if pulled else alpha[q] * 0.5
         delta[q] = min(delta[q] * 1.5, step) if pushed else delta[q] * 0.5
+
+
+@kernel(fastmath=False)
+def band_segments(ends: FloatArray, tips: FloatArray, kk: IntArray, jj: IntArray,
+                  out: FloatArray) -> None:  # pragma: no cover - compiled
+    """The two segments of each move ``(kk + 1, jj)`` for the exact test: ``out[r] = (a -> move, move -> c)``.
+
+    Parameters
+    ----------
+    ends, tips : numpy.ndarray
+        :func:`band_moves`'s output ``(12, m, 3)``.
+    kk, jj : numpy.ndarray
+        Move (0–4 for moves 1–5) and point of each row ``(r,)``.
+    out : numpy.ndarray
+        ``(r, 2, 2, 3)``, filled.
+    """
+    for r in range(kk.shape[0]):
+        s, j = kk[r] + 1, jj[r]
+        for x in range(3):
+            out[r, 0, 0, x] = ends[s, j, x]
+            out[r, 0, 1, x] = tips[s, j, x]
+            out[r, 1, 0, x] = ends[s + 6, j, x]
+            out[r, 1, 1, x] = tips[s + 6, j, x]
+
+
+@kernel(fastmath=False)
+def chord_lengths(a: FloatArray, b: FloatArray, out: FloatArray) -> None:  # pragma: no cover - compiled
+    """``|b - a|`` of each row, as ``numpy.linalg.norm(b - a, axis=-1)`` computes it (``(x² + y²) + z²``).
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray
+        ``(N, 3)``.
+    out : numpy.ndarray
+        ``(N,)``, filled.
+    """
+    for k in range(a.shape[0]):
+        dx, dy, dz = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
+        out[k] = np.sqrt((dx * dx + dy * dy) + dz * dz)
