@@ -158,3 +158,27 @@ def test_chord_lengths_are_numpys_norm_to_the_bit():
     got = band.edge_cost(None, a, b, CostModel(), "length")  # the length objective never asks the world
     assert got.tobytes() == np.linalg.norm(b - a, axis=-1).tobytes()
     assert band.edge_cost(None, a[0, 0], b[0, 0], CostModel(), "length") == np.linalg.norm(b[0, 0] - a[0, 0])
+
+
+def test_the_fronts_depth_schedule_table_is_the_field_slice_by_slice():
+    """``build_grid`` with a depth schedule asks the field once per depth for all that depth's times
+    (:meth:`CurrentField.sample`) instead of once per time slice (juan-de-fuca-tides: 1.2 -> 0.3 s of a
+    3-4 s plan, the same plan): every slice must still be the field at that slice's own depth and time.  A
+    gridded current varying in x, y, z and t, a schedule diving 20 -> 180 m and back (10-min slices over
+    6 h), against the field's ``velocity`` slice by slice: the same float32 table, to the bit."""
+    from auvplan.planners.timeopt.front import build_grid
+    from auvplan.world import GriddedCurrent
+
+    ax, zax, tax = np.linspace(0.0, 2000.0, 5), np.array([-400.0, -200.0, -100.0, 0.0]), np.linspace(0, 7 * 3600, 8)
+    T, Z, Y, X = np.meshgrid(tax, zax, ax, ax, indexing="ij")
+    u = 0.3 * np.sin(X / 700.0 + T / 9000.0) + Z / 500.0
+    v = 0.2 * np.cos(Y / 500.0 - T / 7000.0) * (1.0 + Z / 400.0)
+    world = replace(flat_world(depth=400.0, size=2000.0), currents=GriddedCurrent(ax, ax, zax, u, v, t=tax))
+    schedule = (np.array([0.0, 3 * 3600.0, 6 * 3600.0]), np.array([-20.0, -180.0, -20.0]))
+    g = build_grid(world, (0.0, 0.0), (2000.0, 2000.0), 250.0, (-20.0, -20.0), 0.0, 6 * 3600.0, 600.0, schedule)
+    zt = np.round(np.interp(g.dt * np.arange(g.cur.shape[0]), *schedule))
+    xx, yy = np.meshgrid(*(250.0 * np.arange(n) for n in g.cur.shape[1:3]), indexing="ij")
+    want = np.stack([world.currents.velocity(np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, z)], axis=1),
+                                             g.dt * k)[:, :2] for k, z in enumerate(zt)])
+    assert 10 < np.unique(zt).size < zt.size  # many depths, and slices that share one
+    assert g.cur.tobytes() == want.reshape(g.cur.shape).astype(np.float32).tobytes()
