@@ -66,7 +66,7 @@ def scene():
                                                       np.array([1500.0, -1000.0]), np.array([300.0, 200.0])))
     rng = np.random.default_rng(7)
     t = np.linspace(0.0, 1.0, 41)[:, None]
-    p = np.array([100.0, 700.0, -200.0]) * (1 - t) + np.array([1900.0, 800.0, -200.0]) * t
+    p = np.array([100.0, 800.0, -200.0]) * (1 - t) + np.array([1900.0, 800.0, -200.0]) * t
     p[1:-1] += rng.normal(0.0, 25.0, (39, 3))
     p[10], p[12] = p[9] + [0.0, 0.0, 30.0], p[9] + [0.0, 0.0, 60.0]  # steep chords
     p[20] = p[18]  # p[19]'s neighbours coincide: a zero chord
@@ -83,6 +83,18 @@ def test_the_compiled_band_moves_every_point_to_the_same_bits_as_numpy(scene, ob
     got = band._relax(world, p, model, objective, 4, step)
     assert np.abs(want - p).max() > 1.0  # the band did move points: the comparison has teeth
     assert got.tobytes() == want.tobytes()
+    # the rows handed to the exact test: (a -> move, move -> c) of each move, as numpy's fancy indexing
+    from auvplan.planners.grid.band_kernels import band_moves, band_segments
+
+    i = np.arange(1, p.shape[0] - 1, 2)
+    ends, tips = np.empty((12, i.size, 3)), np.empty((12, i.size, 3))
+    band_moves(p, i, np.full(p.shape[0], 0.5), np.full(p.shape[0], 0.5 * step), ends, tips)
+    kk, jj = np.nonzero(np.random.default_rng(5).random((5, i.size)) < 0.5)
+    seg = np.empty((kk.size, 2, 2, 3))
+    band_segments(ends, tips, kk, jj, seg)
+    moves = tips[kk + 1, jj]
+    want = np.stack([np.stack([p[i[jj] - 1], moves], 1), np.stack([moves, p[i[jj] + 1]], 1)], 1)
+    np.testing.assert_array_equal(seg, want)
 
 
 def test_level_count_and_give_up_by_hand():
