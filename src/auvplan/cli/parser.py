@@ -356,11 +356,11 @@ def main(argv: list[str] | None = None) -> int:
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        print(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing written",
-              file=sys.stderr)
+        _last_line(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing "
+                   "written")
         return 130
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
-        print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
+        _last_line(f"auvplan: error: {_one_line(exc)}")
         return 2
     finally:
         undo()
@@ -375,6 +375,15 @@ _CLOCKED = ("plan", "simulate", "run", "survey", "report", "export", "demo")
 
 def _nothing() -> None:
     """Nothing to undo."""
+
+
+def _last_line(text: str) -> None:
+    """The command's last line on stderr, on a line of its own: the live line (a stage's clock drawn after a
+    silence) is ended first, not written onto."""
+    from .output import finish
+
+    finish()
+    print(text, file=sys.stderr)
 
 
 def _collect_warnings() -> Callable[[], None]:

@@ -1,7 +1,8 @@
-"""Issue 56's live line through the glider's command (``run``/``plan`` of a glider scenario), which the live-line
-tests never took: its stages are written on a line of their own in place of the command's starting clock (they
-were printed onto the clock's line, "… 00:04auvplan: planning …", and the clock "run: starting" stayed live
-through the whole flight), and the clock is gone before the result goes to stdout."""
+"""Issue 56's live line through what its tests never took: a command failing once its clock was drawn (the error
+line was written onto the clock's), and the glider's command (``run``/``plan`` of a glider scenario), whose
+stages were printed onto the clock's line ("… 00:04auvplan: planning …") with the clock "run: starting" live
+through the whole flight and over the result: now each stage is a line of its own in place of the clock, and the
+clock is gone before the result goes to stdout."""
 
 from __future__ import annotations
 
@@ -46,3 +47,23 @@ def test_a_quiet_glider_command_says_nothing(monkeypatch, capsys):
     monkeypatch.setattr("auvplan.app.glider.glider_scenario", fake_job)
     assert glider.cmd_glider(argparse.Namespace(scenario="g", quiet=True, json=False, out=None)) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_an_error_after_a_drawn_clock_is_a_line_of_its_own(monkeypatch, capsys):
+    """A command failing once its clock was drawn (a damaged current file found after seconds of reading the
+    seabed): the one error line is not written onto the clock's ("… 00:03auvplan: error: …" before)."""
+    from auvplan.cli import main
+    from auvplan.errors import AuvplanError
+
+    def fails(args):
+        bar = output.LIVE.display
+        bar.delay = 0  # drawn, as the live thread draws it after a silence of QUIET_S
+        bar.refresh()
+        raise AuvplanError("x.toml: [currents] file = 'bad.nc': damaged")
+
+    monkeypatch.setattr("auvplan.cli.run.cmd_run", fails)
+    assert main(["run", "x.toml"]) == 2
+    err = capsys.readouterr().err
+    assert "auvplan: run: starting" in err  # the clock was drawn ...
+    before = err[:err.index("auvplan: error: x.toml: [currents] file = 'bad.nc': damaged\n")]
+    assert before.endswith(("\r", "\n"))  # ... and cleared: the error starts its line (was "… 00:00auvplan: …")
