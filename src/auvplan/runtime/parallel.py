@@ -217,7 +217,7 @@ class Runner:
     def _dask(self, fn: Callable[..., R], shared: Any, todo: list[tuple[int, T]],
               arrived: Callable[[int, R], None]) -> None:
         require("dask", "bench")
-        from dask.distributed import as_completed
+        from dask.distributed import KilledWorker, as_completed
 
         log = logging.getLogger("distributed")  # its start-up lines only with -v (a root logger at INFO)
         level = log.level
@@ -234,7 +234,13 @@ class Runner:
             args = () if shared is None else (client.scatter(shared, broadcast=True),)
             futures = {client.submit(fn, *args, task, pure=False, retries=self.retries): i for i, task in todo}
             for fut in as_completed(futures):
-                arrived(futures[fut], fut.result())
+                try:
+                    result = fut.result()
+                except KilledWorker as exc:  # the worker process died under it (killed: out of memory?)
+                    raise AuvplanError(f"task {futures[fut] + 1} of the job: every dask worker that ran it died while "
+                                       "running it (killed, out of memory?); the tasks finished before are kept "
+                                       "when the job checkpoints them: run it again with fewer --workers") from exc
+                arrived(futures[fut], result)
         finally:
             client.cancel(list(futures))
             client.close()
