@@ -67,3 +67,23 @@ def test_an_error_after_a_drawn_clock_is_a_line_of_its_own(monkeypatch, capsys):
     assert "auvplan: run: starting" in err  # the clock was drawn ...
     before = err[:err.index("auvplan: error: x.toml: [currents] file = 'bad.nc': damaged\n")]
     assert before.endswith(("\r", "\n"))  # ... and cleared: the error starts its line (was "… 00:00auvplan: …")
+
+
+def test_a_failed_plan_of_simulate_is_a_line_of_its_own(monkeypatch, capsys):
+    """``simulate`` whose global plan failed once the clock was drawn: its verdict starts its own line."""
+    from types import SimpleNamespace
+
+    from auvplan.cli import main
+
+    def fake_job(*args, **kw):
+        bar = output.LIVE.display
+        bar.delay = 0
+        bar.refresh()  # the clock drawn, as after a silence
+        plan = SimpleNamespace(status=SimpleNamespace(value="INFEASIBLE"), message="no path")
+        return None, SimpleNamespace(sim=None, plan=plan), 1
+
+    monkeypatch.setattr("auvplan.app.plan.simulate_scenario", fake_job)
+    assert main(["simulate", "x.toml"]) == 1
+    err = capsys.readouterr().err
+    before = err[:err.index("auvplan: the global plan failed (INFEASIBLE): no path\n")]
+    assert "reading the scenario" in before and before.endswith(("\r", "\n"))
