@@ -87,3 +87,28 @@ def test_a_failed_plan_of_simulate_is_a_line_of_its_own(monkeypatch, capsys):
     err = capsys.readouterr().err
     before = err[:err.index("auvplan: the global plan failed (INFEASIBLE): no path\n")]
     assert "reading the scenario" in before and before.endswith(("\r", "\n"))
+
+
+def test_a_warning_logged_under_a_drawn_clock_is_a_line_of_its_own(capsys):
+    """A reader's warning (replayed from the cache when the read ends, seconds into the stage) under the command
+    line's log handler: its own line, the clock redrawn beneath ("… 00:02WARNING auvplan…" before)."""
+    import logging
+
+    handler = output.LogLines()
+    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    log = logging.getLogger("auvplan.test.live")
+    log.addHandler(handler)
+    log.propagate = False
+    try:
+        output.starting("reading the scenario and its data")
+        bar = output.LIVE.display
+        bar.delay = 0
+        bar.refresh()  # the clock drawn, as after a silence
+        log.warning("the box reaches beyond the data; clipped")
+    finally:
+        output.finish()
+        log.removeHandler(handler)
+        log.propagate = True
+    err = capsys.readouterr().err
+    before = err[:err.index("WARNING auvplan.test.live: the box reaches beyond the data; clipped\n")]
+    assert "reading the scenario" in before and before.endswith(("\r", "\n"))

@@ -338,7 +338,9 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
         undo = _collect_warnings()
     else:
-        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+        from .output import LogLines  # on stderr above the live line (issue 56), never onto a drawn clock
+
+        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, handlers=[LogLines()],
                             format="%(levelname)s %(name)s: %(message)s")
     try:
         if _writes_html(args):  # checked before any work is done
