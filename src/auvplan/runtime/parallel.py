@@ -32,6 +32,7 @@ import hashlib
 import logging
 import os
 import pickle
+import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
@@ -53,6 +54,9 @@ CHECKPOINTS = ".auvplan-tasks"
 def task_key(*parts: object) -> str:
     """The key of a task: the SHA-256 of the ``repr`` of everything its result depends on.
 
+    Numpy arrays among them (a moving obstacle's waypoints in a scenario) are written whole and to the last
+    bit (numpy's own ``repr`` rounds to 8 digits and elides all but the ends of an array over 1000 values).
+
     Parameters
     ----------
     *parts : object
@@ -64,7 +68,11 @@ def task_key(*parts: object) -> str:
     str
         64 hexadecimal digits.
     """
-    return hashlib.sha256(repr(parts).encode()).hexdigest()
+    import numpy as np
+
+    with np.printoptions(threshold=sys.maxsize, floatmode="unique"):
+        text = repr(parts)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def cache_folder(job: str) -> Path:
