@@ -5,6 +5,7 @@ changes, and two links to one file read with the same request."""
 from __future__ import annotations
 
 import logging
+import os
 from pathlib import Path
 
 import numpy as np
@@ -119,3 +120,22 @@ def test_two_links_to_one_file_replay_their_own_names(cache_on, tmp_path, caplog
         with caplog.at_level(logging.WARNING, logger="auvplan"):
             assert read(path) == 1.0
         assert [r.getMessage() for r in caplog.records] == [f"{path}: 3 gaps filled"]
+
+
+def test_a_file_read_again_unchanged_is_hashed_once_an_edit_again(cache_on, tmp_path, monkeypatch):
+    """Each member of an ensemble file is one read through the cache (``read_currents(member=…)``): the file was
+    hashed whole for every member (50 members of a 1 GB file: 50 GB hashed on a warm run).  Oracle: the digests
+    counted — one for the unchanged file whatever the requests, one more after each edit, even one that keeps
+    the size and the modification time (the change time moves), and the key then changes."""
+    path = tmp_path / "ens.nc"
+    path.write_bytes(b"member data " * 1000)
+    path.touch()
+    counted: list[Path] = []
+    real = cache._digest
+    monkeypatch.setattr(cache, "_digest", lambda p: counted.append(p) or real(p))
+    keys = [cache.request_key("currents", ("ens.nc", ("member", j)), [path]) for j in range(5)]
+    assert len(set(keys)) == 5 and len(counted) == 1
+    st = path.stat()
+    path.write_bytes(b"MEMBER DATA " * 1000)  # same size ...
+    os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns))  # ... and modification time
+    assert cache.request_key("currents", ("ens.nc", ("member", 0)), [path]) != keys[0] and len(counted) == 2
