@@ -34,3 +34,18 @@ def salish():
     s = sc.load("salish-shelf")
     w, m = sc.build(s)
     return s, w, m
+
+
+def pytest_collection_finish(session):
+    """mypy's run over src/ (~40 s of CPU on a fresh checkout) starts as soon as the tests are collected when
+    its test is among them, and goes on beside the suite (tests/static/lint_runs.py)."""
+    if any(item.nodeid.endswith("test_lint.py::test_mypy_clean") for item in session.items):
+        import lint_runs
+
+        lint_runs.start("mypy")
+
+
+def pytest_sessionfinish(session):
+    import lint_runs
+
+    lint_runs.stop_all()
