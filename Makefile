@@ -58,7 +58,7 @@ kill-points: $(STAMP)
 
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
 # coverage and tracebacks see their lines (the kernels' own tests and the small ones of the
-# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, run beside its pytest; ~3 min).  The exit-rule oracle of
+# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, run beside its pytest; ~110 s of CPU).  The exit-rule oracle of
 # document 000's bodies is left to the compiled run: its 20 exits (60 in `make oracles-full`) search the field round the body (minutes
 # as plain Python)
 test-nojit: $(STAMP)
