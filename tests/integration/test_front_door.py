@@ -66,27 +66,3 @@ def test_validate_and_plan_import_what_their_files_need() -> None:
                              ["validate", "marcus-wake"])
     assert after[0] == after[1] == set(), after
     assert "xarray" in after[2] and not after[2] & {"scipy.stats", "matplotlib", "plotly"}, after
-
-
-UNNEEDED = ("xarray", "pandas", "dask", "pyogrio", "netCDF4", "scipy.interpolate", "scipy.stats", "matplotlib")
-"""What ``validate`` of a built-in whose files were read before never needs (issue 56)."""
-
-
-def test_validate_with_its_files_kept_imports_no_reader_stack(tmp_path, monkeypatch) -> None:
-    """The readers' cache on (a folder of the test's own) and filled by a first process: then ``validate chagos-reefs`` (an
-    ETOPO1 cut-out, and Natural Earth's reef lines as zones) in a second process imports none of the NetCDF or
-    vector readers (xarray, pandas, dask, pyogrio, netCDF4), and the B-spline basis of a swarm plan no
-    ``scipy.interpolate``; numba stays (it evaluates the seabed).  A kept coastline opens no file either
-    (``test_kept_vectors.py``)."""
-    monkeypatch.setenv("AUVPLAN_CACHE", "1")
-    monkeypatch.setenv("AUVPLAN_CACHE_DIR", str(tmp_path / "cache"))
-    fill = "from auvplan.io.scenario import loader\nloader.build(loader.load('chagos-reefs'))"
-    subprocess.run([sys.executable, "-c", fill], check=True)  # reads the files and keeps them
-    probe = ("import contextlib, io, json, sys\nfrom auvplan.cli import main\n"
-             "with contextlib.redirect_stdout(io.StringIO()):\n    code = main(['validate', 'chagos-reefs'])\n"
-             "from auvplan.path.curves import basis_matrix\nbasis_matrix(9, 200, 1)\n"
-             f"print(json.dumps([code, sorted(m for m in {UNNEEDED!r} + ('numba',) if m in sys.modules)]))")
-    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    code, heavy = json.loads(run.stdout.strip().splitlines()[-1])
-    assert code == 0, run.stderr
-    assert heavy == ["numba"], heavy

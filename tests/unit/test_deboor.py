@@ -36,6 +36,10 @@ def test_uneven_knots_and_parameters_outside_the_base_interval() -> None:
     for order in range(4):
         want, got = _scipy(knots, 8, u, order), basis(knots, 8, u, order)
         assert np.array_equal(got.view(np.int64), want.view(np.int64)), order
+    triple = np.r_[np.zeros(4), 0.3, 0.5, 0.5, 0.5, 0.8, np.ones(4)]  # a triple inner knot: empty spans inside
+    for order in range(2):
+        want, got = _scipy(triple, 9, u, order), basis(triple, 9, u, order)
+        assert np.array_equal(got.view(np.int64), want.view(np.int64)), order
 
 
 def test_positions_sum_to_one_and_bad_orders_are_refused() -> None:

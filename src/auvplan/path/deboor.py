@@ -50,7 +50,7 @@ def _deboor(t: FloatArray, k: int, ell: np.ndarray, u: FloatArray) -> FloatArray
         h[:, 0] = 0.0
         for n in range(1, j + 1):
             xb, xa = t[ell + n], t[ell + n - j]
-            same = xb == xa
+            same = xb == xa  # SciPy's guard; never true inside a non-empty span t[l] < t[l+1]
             with np.errstate(divide="ignore", invalid="ignore"):
                 w = hh[:, n - 1] / (xb - xa)
             h[:, n - 1] = np.where(same, h[:, n - 1], h[:, n - 1] + w * (xb - u))

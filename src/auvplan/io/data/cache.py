@@ -105,7 +105,8 @@ def code_stamp() -> str:
             names = sorted(n for n in os.listdir(entry or ".") if n.endswith((".dist-info", ".egg-info")))
         except OSError:
             continue
-        h.update("\0".join(names).encode() + b"\0")
+        if names:  # a folder without distributions (a test or source folder on the path) changes nothing
+            h.update("\0".join(names).encode() + b"\0")
     return h.hexdigest()
 
 
