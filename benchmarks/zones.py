@@ -30,7 +30,7 @@ from dataclasses import replace
 import numpy as np
 import shapely
 
-from auvplan.planners import PlannerSpec, PlanningProblem, plan, reference
+from auvplan.planners import PlannerSpec, PlanningProblem, PlanResult, plan, reference
 from auvplan.planners.params import GridParams, TimeoptParams
 from auvplan.world import Bounds, Margins, Terrain, UniformCurrent, World, Zone, Zones
 
@@ -124,10 +124,10 @@ def spec_for(name: str) -> PlannerSpec:
     return PlannerSpec(name=name, population=12, budget=600, polish=0)
 
 
-def path_digest(result: object) -> str:
+def path_digest(result: PlanResult) -> str:
     """A short hash of a plan's status and path bytes: two runs planned the same iff their digests agree."""
-    path = np.ascontiguousarray(getattr(result, "path", np.empty((0, 3))), dtype=float)
-    status = getattr(result, "status").value
+    path = np.ascontiguousarray(result.path, dtype=float)
+    status = result.status.value
     return hashlib.sha256(status.encode() + path.tobytes()).hexdigest()[:16]
 
 
