@@ -124,8 +124,9 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
 
 
 def inner_centres(geoms: np.ndarray) -> np.ndarray:
-    """A point deep inside each polygon: the centre of its largest part's maximum inscribed circle (to 1 %
-    of the part's size), in one vectorised GEOS call.
+    """A point deep inside each polygon: the centre of its largest part's maximum inscribed circle (to 5 %
+    of the part's size: 1 % costs 0.35 s for 1 000 zones, 5 % 0.06 s, the radius 3 % smaller at worst on
+    Natural Earth's reefs), in one vectorised GEOS call.
 
     Parameters
     ----------
@@ -145,7 +146,7 @@ def inner_centres(geoms: np.ndarray) -> np.ndarray:
     first = order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
     big = parts[first]
     size = np.sqrt(np.maximum(area[first], 1e-12))
-    return np.asarray(shapely.get_point(shapely.maximum_inscribed_circle(big, tolerance=0.01 * size), 0), dtype=object)
+    return np.asarray(shapely.get_point(shapely.maximum_inscribed_circle(big, tolerance=0.05 * size), 0), dtype=object)
 
 
 def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
