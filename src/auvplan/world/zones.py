@@ -374,7 +374,7 @@ class Zones:
         x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, _ = self._grid
         args = (data, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, self._seabed, *self._rings, *self._field)
         mark = np.full(len(self.zones), -1, dtype=np.intp)
-        pairs = np.empty((2, count // 8 + 64), dtype=np.intp)  # seabed-band candidates are few; else a second pass
+        pairs = np.empty((2, count + 64), dtype=np.intp)
         m = kernel(*args, mark, hit, pairs, pairs.shape[1])
         if m > pairs.shape[1]:
             pairs = np.empty((2, m), dtype=np.intp)
