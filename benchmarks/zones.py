@@ -144,6 +144,7 @@ def montecarlo(missions: int, planners: list[str], seed: int, n_zones: int,
             digests[name] = []
         rng = np.random.default_rng(seed)
         ok = entries = blocked = 0
+        failed: dict[str, str] = {}  # mission: status -> message, of the plans not reported feasible
         t0 = time.process_time()
         for m in range(missions):
             world = random_world(rng, n_zones)
@@ -155,12 +156,16 @@ def montecarlo(missions: int, planners: list[str], seed: int, n_zones: int,
             if result.status.ok:
                 ok += 1
                 entries += len(independent_entries(world, result.path))
+            else:
+                failed[f"{m}: {result.status.value}"] = result.message[:120]
             if (m + 1) % 100 == 0 and m + 1 < missions:  # a partial count survives a time box
                 print(json.dumps({name: {"missions": m + 1, "straight_line_enters": blocked, "feasible": ok,
                                          "entries": entries, "cpu_s": round(time.process_time() - t0, 1)}}),
                       flush=True)
         out[name] = {"missions": missions, "straight_line_enters": blocked, "feasible": ok, "entries": entries,
                      "cpu_s": round(time.process_time() - t0, 1)}
+        if failed:
+            print(json.dumps({name: {"not_feasible": failed}}), flush=True)
         print(json.dumps({name: out[name]}), flush=True)
     return out
 
