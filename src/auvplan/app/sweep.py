@@ -193,7 +193,8 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     b = world.bounds
     check_plan_sizes(sc, (b.xmax - b.xmin, b.ymax - b.ymin), t1 - t0, timeopt=True)  # the table: sweep + horizon
     departs = np.arange(t0, t1 + 0.5 * dt, dt)
-    job = _Sweep(task_key("sweep", __version__, repr(sc), repr(spec), t0, t1), planning_problem(world, mission),
+    job = _Sweep(task_key("sweep", __version__, repr(sc), repr(spec), t0, t1, _input_stamps(sc)),
+                 planning_problem(world, mission),
                  spec, mission, float(departs.min()), float(departs.max()))
     keys = [task_key(job.key, float(d)) for d in departs]
     runner = replace(runner or Runner(), checkpoints=Path(out) / CHECKPOINTS if out else cache_folder("sweep"))
@@ -218,6 +219,44 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
         save_figure(folder / "sweep.png", sweep_figure(rows, f"{sc.name}: departure sweep"), dpi=120)
     forget(runner.checkpoints, keys)  # the results are out: a re-run starts afresh
     return SweepRun(sc, rows, energy, summary, table, t0, dt, done.computed)
+
+
+def _input_stamps(sc: Scenario) -> list[Any]:
+    """What a sweep's checkpoints depend on besides the scenario's text: every data file it names (size, time
+    and SHA-256 of the bytes: a current forecast downloaded again under the same name is another sweep) and
+    the code (:func:`auvplan.io.data.cache.code_stamp`: an edit of auvplan within one version).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario (relative names resolve against its folder).
+
+    Returns
+    -------
+    list
+        The stamps, in a fixed order (a file that cannot be read: its name alone).
+    """
+    from ..io.data.cache import code_stamp, file_stamp
+    from ..io.data.ocean.currents import CurrentsFileSpec
+    from ..io.data.ocean.tides import BUILTIN_TIDES
+
+    def named(f: Any) -> str:
+        return f.path if isinstance(f, CurrentsFileSpec) else str(f or "")
+
+    c = sc.currents
+    names = [sc.terrain.file if sc.terrain is not None else "", named(c.file),
+             c.tides if c.tides and c.tides not in BUILTIN_TIDES else "", *[named(m.file) for m in c.members],
+             sc.land.file if sc.land is not None else "",
+             *[z.file for z in sc.zones],
+             *([sc.survey.file, sc.survey.centerline_file] if sc.survey is not None else [])]
+    stamps: list[Any] = [code_stamp()]
+    for name in filter(None, names):
+        path = Path(name) if Path(name).is_absolute() or sc.base_dir is None else sc.base_dir / name
+        try:
+            stamps.append(file_stamp(path))
+        except OSError:
+            stamps.append(str(path))
+    return stamps
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 from typing import Any
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
@@ -40,9 +39,14 @@ def cmd_glider(args: argparse.Namespace) -> int:
 
     def say(text: str) -> None:
         if not quiet:
-            print(f"auvplan: {text}", file=sys.stderr)
+            from .output import stage
+
+            stage(text)  # its line, then its clock in place of the command's starting clock (issue 56)
 
     sc, rec = glider_scenario(args.scenario, getattr(args, "out", None), getattr(args, "force", False), say)
+    from .output import finish
+
+    finish()  # the live line, before the result
     if getattr(args, "json", False):
         print(json.dumps(rec, allow_nan=False, default=str))
     else:

@@ -5,6 +5,7 @@ in :mod:`auvplan.app`)."""
 from __future__ import annotations
 
 import json
+import logging
 import sys
 import threading
 import time
@@ -98,6 +99,24 @@ QUIET_S = 0.75
 
 LIVE = _Live()
 """The live line of the running command (ended by :func:`finish`)."""
+
+
+class LogLines(logging.Handler):
+    """The command line's log records on stderr above the live line (:func:`stage_line`'s way): a warning that
+    comes while a stage's clock is drawn (a reader's, replayed from the cache when the read ends) is a line of
+    its own, not written onto the clock's; the clock is redrawn beneath it."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        """Write one record (the handler's format) with ``tqdm.write``."""
+        try:
+            text = self.format(record)
+        except Exception:  # logging's own rule: a record that does not format is reported, not raised
+            self.handleError(record)
+            return
+        from tqdm import tqdm
+
+        tqdm.write(text, file=sys.stderr)
+        LIVE.said()
 
 
 def starting(text: str) -> None:

@@ -338,7 +338,9 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
         undo = _collect_warnings()
     else:
-        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, stream=sys.stderr,
+        from .output import LogLines  # on stderr above the live line (issue 56), never onto a drawn clock
+
+        logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, handlers=[LogLines()],
                             format="%(levelname)s %(name)s: %(message)s")
     try:
         if _writes_html(args):  # checked before any work is done
@@ -356,11 +358,11 @@ def main(argv: list[str] | None = None) -> int:
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        print(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing written",
-              file=sys.stderr)
+        _last_line(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing "
+                   "written")
         return 130
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
-        print(f"auvplan: error: {_one_line(exc)}", file=sys.stderr)
+        _last_line(f"auvplan: error: {_one_line(exc)}")
         return 2
     finally:
         undo()
@@ -375,6 +377,15 @@ _CLOCKED = ("plan", "simulate", "run", "survey", "report", "export", "demo")
 
 def _nothing() -> None:
     """Nothing to undo."""
+
+
+def _last_line(text: str) -> None:
+    """The command's last line on stderr, on a line of its own: the live line (a stage's clock drawn after a
+    silence) is ended first, not written onto."""
+    from .output import finish
+
+    finish()
+    print(text, file=sys.stderr)
 
 
 def _collect_warnings() -> Callable[[], None]:

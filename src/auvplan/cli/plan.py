@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from ..errors import AuvplanError
-from .output import emit, reporter, runner_of
+from .output import emit, finish, reporter, runner_of
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
@@ -79,6 +79,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                                       args.avoidance, args.seed, args.full, reporter(args.quiet or args.json))
     if run.sim is None:
         assert run.plan is not None  # no flight without a route: the plan failed
+        finish()  # the live line, before the verdict
         print(f"auvplan: the global plan failed ({run.plan.status.value}): {run.plan.message}", file=sys.stderr)
         return 1
     result = run.sim

@@ -32,6 +32,7 @@ import hashlib
 import logging
 import os
 import pickle
+import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
@@ -53,6 +54,9 @@ CHECKPOINTS = ".auvplan-tasks"
 def task_key(*parts: object) -> str:
     """The key of a task: the SHA-256 of the ``repr`` of everything its result depends on.
 
+    Numpy arrays among them (a moving obstacle's waypoints in a scenario) are written whole and to the last
+    bit (numpy's own ``repr`` rounds to 8 digits and elides all but the ends of an array over 1000 values).
+
     Parameters
     ----------
     *parts : object
@@ -64,7 +68,11 @@ def task_key(*parts: object) -> str:
     str
         64 hexadecimal digits.
     """
-    return hashlib.sha256(repr(parts).encode()).hexdigest()
+    import numpy as np
+
+    with np.printoptions(threshold=sys.maxsize, floatmode="unique"):
+        text = repr(parts)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def cache_folder(job: str) -> Path:
@@ -217,7 +225,7 @@ class Runner:
     def _dask(self, fn: Callable[..., R], shared: Any, todo: list[tuple[int, T]],
               arrived: Callable[[int, R], None]) -> None:
         require("dask", "bench")
-        from dask.distributed import as_completed
+        from dask.distributed import KilledWorker, as_completed
 
         log = logging.getLogger("distributed")  # its start-up lines only with -v (a root logger at INFO)
         level = log.level
@@ -234,7 +242,13 @@ class Runner:
             args = () if shared is None else (client.scatter(shared, broadcast=True),)
             futures = {client.submit(fn, *args, task, pure=False, retries=self.retries): i for i, task in todo}
             for fut in as_completed(futures):
-                arrived(futures[fut], fut.result())
+                try:
+                    result = fut.result()
+                except KilledWorker as exc:  # the worker process died under it (killed: out of memory?)
+                    raise AuvplanError(f"task {futures[fut] + 1} of the job: every dask worker that ran it died while "
+                                       "running it (killed, out of memory?); the tasks finished before are kept "
+                                       "when the job checkpoints them: run it again with fewer --workers") from exc
+                arrived(futures[fut], result)
         finally:
             client.cancel(list(futures))
             client.close()

@@ -74,13 +74,21 @@ def track_labels(route: NDArray[np.float64], labels: NDArray[np.int64],
     return np.where(same, labels[seg], -1).astype(np.int64)
 
 
-def no_go_area(world: World) -> shapely.Geometry | None:
-    """The footprints of the world's charted zones (unpadded), left out of the coverage; None without.
+def no_go_area(world: World, plan: SurveyPlan | None = None) -> shapely.Geometry | None:
+    """The footprints of the world's charted zones (unpadded) that the survey keeps out of, left out of the
+    coverage; None without.
+
+    A zone whose depth band the survey lines pass over or under (a cable's band near the seabed under lines
+    flown higher, a band below the seabed the lines follow) is flown over: its part of the area is surveyed,
+    so it is neither left out of the coverage nor counted in ``no_go_m2``.
 
     Parameters
     ----------
     world : World
         Its zones.
+    plan : SurveyPlan, optional
+        The survey: a zone one of its lines' legs crosses (in plan view) is not a no-go area of it (without a
+        plan, every zone is).
 
     Returns
     -------
@@ -89,7 +97,13 @@ def no_go_area(world: World) -> shapely.Geometry | None:
     """
     if not world.zones:
         return None
-    return shapely.union_all([z.footprint for z in world.zones.exact.zones])
+    zones = [z.footprint for z in world.zones.exact.zones]
+    if plan is not None and plan.route.shape[0] > 1:
+        lab = plan.labels
+        on = (lab[:-1] >= 0) & (lab[:-1] == lab[1:])  # the legs of the survey lines (not turns, not transits)
+        legs = shapely.linestrings(np.stack([plan.route[:-1, :2], plan.route[1:, :2]], axis=1)[on])
+        zones = [z for z in zones if not shapely.intersects(legs, z).any()]
+    return shapely.union_all(zones) if zones else None
 
 
 def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Coverage:
@@ -114,7 +128,7 @@ def planned_coverage(world: World, plan: SurveyPlan, params: SurveyParams) -> Co
     right = fr.right(fr.to_sn(plan.route[:, 0], plan.route[:, 1])[0])
     fps = footprints(world.seabed, params.sensor, plan.route, right, lab, len(plan.lines.lines),
                      params.lines.step_m)
-    return measure(params.area, plan.lines, fps, no_go=no_go_area(world))
+    return measure(params.area, plan.lines, fps, no_go=no_go_area(world, plan))
 
 
 def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record: RunRecord,
@@ -149,7 +163,7 @@ def flown_coverage(world: World, plan: SurveyPlan, params: SurveyParams, record:
                      len(plan.lines.lines), params.lines.step_m)
     on = np.flatnonzero(lab >= 0)
     t = float(sim.t[on[-1]] - sim.t[on[0]]) if on.size else math.nan
-    return measure(params.area, plan.lines, fps, no_go=no_go_area(world)), t
+    return measure(params.area, plan.lines, fps, no_go=no_go_area(world, plan)), t
 
 
 def run_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,

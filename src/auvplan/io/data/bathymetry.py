@@ -27,6 +27,7 @@ depth and is treated as no-go).
 from __future__ import annotations
 
 import logging
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
@@ -40,7 +41,7 @@ from pyproj import Transformer
 from ...errors import DataError
 from ...world.seabed import SeabedFit
 from ...world.terrain import Terrain
-from .elevation import read_elevation
+from .elevation import is_geotiff, read_elevation
 from .geo import LocalFrame, normalise_lon
 from .grids import HorizontalGrid, horizontal_grid
 from .regrid import data_span
@@ -458,7 +459,8 @@ def load_terrain(
 ) -> Terrain:
     """Obtain the terrain described by ``spec`` (file or built-in) in ``frame``.
 
-    The result is kept on disk under a key of the file's bytes, the request and the code
+    The result is kept on disk under a key of the file's bytes (a GeoTIFF's with those of the sidecar files
+    GDAL reads with it: ``.aux.xml``, a world file …), the request and the code
     (:mod:`auvplan.io.data.cache`): the same scenario's seabed is modelled once.
 
     Parameters
@@ -484,7 +486,27 @@ def load_terrain(
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
     request = (spec, None if frame is None else (frame.lat0, frame.lon0), extent_m)
-    return cached("terrain", request, [path], lambda: _load_terrain(spec, frame, path, extent_m), _pack, _unpack)
+    return cached("terrain", request, [path, *_sidecars(path)], lambda: _load_terrain(spec, frame, path, extent_m),
+                  _pack, _unpack)
+
+
+_SIDECARS = (".aux.xml", ".aux", ".tfw", ".tifw", ".tiffw", ".wld", ".tab", ".prj", ".msk", ".ovr", ".rpb", ".imd")
+"""Endings of the files next to a GeoTIFF that GDAL reads with it (after its name or its stem, any case): a
+georeferencing, a CRS, a nodata value, a mask or overviews that change what the raster reads as."""
+
+
+def _sidecars(path: Path) -> list[Path]:
+    """The sidecar files of a GeoTIFF that are there (:data:`_SIDECARS`; none for another format)."""
+    if not is_geotiff(path):
+        return []
+    try:
+        names = sorted(os.listdir(path.parent))
+    except OSError:
+        return []
+    heads = (path.name.lower(), path.stem.lower())
+    found = [path.parent / n for n in names
+             if n != path.name and any(n.lower() == h + e for h in heads for e in _SIDECARS)]
+    return [p for p in found if p.is_file()]
 
 
 def _topobathy_path() -> Path:

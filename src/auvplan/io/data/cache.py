@@ -8,7 +8,8 @@ a reader's result is kept in ``$AUVPLAN_CACHE_DIR`` (default ``$XDG_CACHE_HOME/a
 result is never stale**:
 
 * every data file's SHA-256 of its bytes, its size and its modification time (an edited, replaced or
-  touched file is a new key);
+  touched file is a new key; a file is hashed once a process while its inode and times stay the same: the
+  members of an ensemble file are one hash, not one a member);
 * the request: the reader's arguments (``[terrain]``/``[currents]`` table, the frame's origin, the extent,
   the start time, the memory budget in force, which is part of a reader's verdict);
 * the code: a SHA-256 of every ``.py`` file of the ``auvplan`` package, and the names (with their
@@ -109,7 +110,7 @@ def code_stamp() -> str:
 
 
 def file_stamp(path: Path) -> list[Any]:
-    """``[resolved path, size, mtime (ns), SHA-256 of the bytes]`` of a data file.
+    """``[absolute path, size, mtime (ns), SHA-256 of the bytes]`` of a data file.
 
     Parameters
     ----------
@@ -127,11 +128,30 @@ def file_stamp(path: Path) -> list[Any]:
         When the file cannot be read (the caller then reads without the cache, for the reader's message).
     """
     st = path.stat()
+    seen = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+    digest = _DIGESTS.get(seen)
+    if digest is None:
+        digest = _digest(path)
+        _DIGESTS[seen] = digest
+    # the path as given (made absolute), not resolved: a reader's names and log lines are the given path's,
+    # so two links to one file are two entries (each replays its own file's name)
+    return [os.path.abspath(path), st.st_size, st.st_mtime_ns, digest]
+
+
+_DIGESTS: dict[tuple[int, ...], str] = {}
+"""The SHA-256 of the files this process hashed, by their device, inode, size, modification and change times:
+a file read again unchanged (each member of an ensemble file, the nominal field and the uncertainty layer of
+one file) is hashed once, not once a read; any write or ``touch`` changes the change time (which no program
+can set back), so an edited file is hashed again."""
+
+
+def _digest(path: Path) -> str:
+    """SHA-256 of a file's bytes (read in 1 MiB blocks)."""
     h = hashlib.sha256()
     with path.open("rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
             h.update(block)
-    return [str(path.resolve()), st.st_size, st.st_mtime_ns, h.hexdigest()]
+    return h.hexdigest()
 
 
 def request_key(kind: str, request: Any, files: Sequence[Path]) -> str:
@@ -206,14 +226,18 @@ def _replay(records: list[list[Any]]) -> None:
 
 
 def _load(path: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]] | None:
-    """An entry's arrays and record, or None when it is missing or cannot be read."""
+    """An entry's arrays and record, or None when it is missing or cannot be read (cut short, bytes flipped:
+    the zip's CRC, a damaged header, a record of another layout)."""
     try:
         with np.load(path, allow_pickle=False) as npz:
             arrays = {k: npz[k] for k in npz.files}
         record = json.loads(str(arrays.pop("__record__")))
-    except (OSError, ValueError, KeyError, EOFError):
+    except Exception:  # zipfile and numpy raise many types for a damaged file (BadZipFile, NotImplementedError …)
         return None
-    return (arrays, record) if isinstance(record, dict) and record.get("version") == _VERSION else None
+    ok = isinstance(record, dict) and record.get("version") == _VERSION and "value" in record \
+        and isinstance(record.get("log"), list) \
+        and all(isinstance(r, list) and len(r) == 3 and isinstance(r[1], int) for r in record["log"])
+    return (arrays, record) if ok else None
 
 
 def _store(path: Path, arrays: dict[str, np.ndarray], record: dict[str, Any]) -> None:
@@ -267,8 +291,13 @@ def cached(kind: str, request: Any, files: Sequence[Path], compute: Callable[[],
     hit = _load(path)
     if hit is not None:
         arrays, record = hit
-        _replay(record["log"])
-        return unpack(arrays, record["value"])
+        try:
+            value = unpack(arrays, record["value"])
+        except Exception:  # a damaged entry that still unzips (a member's name flipped): recomputed, replaced
+            pass
+        else:
+            _replay(record["log"])
+            return value
     value, records = _recorded(compute)
     arrays, meta = pack(value)
     if sum(a.nbytes for a in arrays.values()) <= _MAX_BYTES:

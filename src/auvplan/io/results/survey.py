@@ -207,8 +207,8 @@ def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:
         "heading_deg": math.degrees(plan.lines.heading) % 360.0,
         "area_m2": planned.area_m2 + planned.no_go_m2,
         "no_go_m2": planned.no_go_m2,
-        "coverage_of": "the area less its part inside charted no-go zones (no_go_m2): not surveyed, so neither "
-                       "covered nor a gap",
+        "coverage_of": "the area less its part inside charted no-go zones (no_go_m2; not a zone whose depth band "
+                       "the lines fly over): not surveyed, so neither covered nor a gap",
         "planned": {"coverage_pct": planned.coverage_pct, "overlap_min_pct": planned.overlap_min_pct,
                     "overlap_max_pct": planned.overlap_max_pct, "pairs": planned.pair_stats(),
                     "gap_area_m2": planned.gap_area_m2},

@@ -2,7 +2,8 @@
 reads, through pyogrio), in any CRS, returned as longitude/latitude (WGS 84) for the scenario's local frame.
 
 A polygon layer gives the survey area (its largest polygon); a line layer gives a corridor's centre line
-(its longest line; a multi-line is joined end to end when its parts touch).
+(its longest line; a multi-line is joined end to end when its parts touch).  An area or a line crossing the
+antimeridian, cut in two at ±180° as GeoJSON writers do (RFC 7946 §3.1.9), is joined again first.
 """
 
 from __future__ import annotations
@@ -49,6 +50,16 @@ def _to_lonlat(xy: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:
     return np.column_stack([lon, lat])
 
 
+def _antimeridian(parts: list[shapely.Geometry], crs: CRS) -> tuple[list[shapely.Geometry], bool]:
+    """Parts of a lon/lat layer cut at the antimeridian (RFC 7946 §3.1.9), those from -180° moved east by 360°
+    so that both halves meet at +180° again (the local frame normalises the longitudes); and whether any was."""
+    if not crs.is_geographic or not any(p.bounds[2] >= 180.0 - 1e-9 for p in parts):
+        return parts, False
+    west = [p.bounds[0] <= -180.0 + 1e-9 for p in parts]
+    moved = [shapely.transform(p, lambda xy: xy + [360.0, 0.0]) if w else p for p, w in zip(parts, west, strict=True)]
+    return moved, any(west)
+
+
 def read_area(path: Path, layer: str, where: str, key: str = "file") -> tuple[shapely.Polygon, CRS]:
     """The largest polygon of a vector file's layer and the file's CRS (WGS 84 when it has none).
 
@@ -70,6 +81,9 @@ def read_area(path: Path, layer: str, where: str, key: str = "file") -> tuple[sh
     """
     geoms, crs = read_layer(path, layer, where, key)
     polys = [p for g in geoms for p in shapely.get_parts(g) if isinstance(p, shapely.Polygon)]
+    polys, moved = _antimeridian(polys, crs)
+    if moved:  # the halves of an area cut at ±180°: one polygon again
+        polys = [p for p in shapely.get_parts(shapely.union_all(polys)) if isinstance(p, shapely.Polygon)]
     if not polys:
         raise ScenarioError(f"{where} {key} = {str(path)!r}: no polygon in "
                             f"{f'layer {layer!r}' if layer else 'its first layer'}")
@@ -122,7 +136,7 @@ def read_line_lonlat(path: Path, layer: str, where: str, key: str = "centerline_
     lines = []
     for g in geoms:
         if isinstance(g, shapely.MultiLineString):
-            g = shapely.line_merge(g)
+            g = shapely.line_merge(shapely.MultiLineString(_antimeridian(list(shapely.get_parts(g)), crs)[0]))
         lines += [p for p in shapely.get_parts(g) if isinstance(p, shapely.LineString)]
     if not lines:
         raise ScenarioError(f"{where} {key} = {str(path)!r}: no line in "
