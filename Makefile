@@ -18,10 +18,16 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/auvplan demo --out results/demo
 
+# pytest over the suite, and beside it the kernels' run with numba off (test-nojit: one process each, so the
+# two cores of CI are both used; mypy's run starts beside them too, tests/static/lint_runs.py).  The numba-off
+# run's output is kept in a file and shown after the suite's; make test fails if either run fails
 test: $(STAMP)
 	@bash tools/install-chromium.sh
-	$(BIN)/python -m pytest
-	$(MAKE) --no-print-directory test-nojit
+	@log=$$(mktemp); $(MAKE) --no-print-directory test-nojit > $$log 2>&1 & pid=$$!; \
+	trap 'kill $$pid 2>/dev/null' INT TERM; \
+	$(BIN)/python -m pytest; main=$$?; wait $$pid; nojit=$$?; \
+	echo "== make test-nojit (numba off; run beside the suite above):"; cat $$log; rm -f $$log; \
+	test $$main -eq 0 && test $$nojit -eq 0
 
 # the corridor built-in flown: coverage, overlap by an independent ray cast, turns, exports (tests/heavy, minutes)
 survey-flown: $(STAMP)
@@ -52,7 +58,7 @@ kill-points: $(STAMP)
 
 # the compiled kernels' modules with numba switched off: the kernels run as plain Python, so
 # coverage and tracebacks see their lines (the kernels' own tests and the small ones of the
-# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, ~1 min).  The exit-rule oracle of
+# lattice, time-optimal and velocity-obstacle kernels; part of `make test`, run beside its pytest; ~110 s of CPU).  The exit-rule oracle of
 # document 000's bodies is left to the compiled run: its 20 exits (60 in `make oracles-full`) search the field round the body (minutes
 # as plain Python)
 test-nojit: $(STAMP)

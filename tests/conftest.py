@@ -34,3 +34,35 @@ def salish():
     s = sc.load("salish-shelf")
     w, m = sc.build(s)
     return s, w, m
+
+
+@pytest.fixture(scope="session")
+def lofoten_plan(tmp_path_factory):
+    """``auvplan plan lofoten-two-models --out DIR --json`` (the robust plan over two real current models), run
+    once for the tests that read it: (exit code, DIR, the JSON record or None)."""
+    import contextlib
+    import io
+    import json
+
+    from auvplan.cli import main
+
+    out = tmp_path_factory.mktemp("lofoten") / "lofoten"
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        code = main(["plan", "lofoten-two-models", "--out", str(out), "--json"])
+    return code, out, json.loads(printed.getvalue()) if code == 0 else None
+
+
+def pytest_collection_finish(session):
+    """mypy's run over src/ (~40 s of CPU on a fresh checkout) starts as soon as the tests are collected when
+    its test is among them, and goes on beside the suite (tests/static/lint_runs.py)."""
+    if any(item.nodeid.endswith("test_lint.py::test_mypy_clean") for item in session.items):
+        import lint_runs
+
+        lint_runs.start("mypy")
+
+
+def pytest_sessionfinish(session):
+    import lint_runs
+
+    lint_runs.stop_all()

@@ -42,7 +42,7 @@ import numpy as np
 
 from ._types import ArrayLike, BoolArray, FloatArray, IntArray
 from .runtime.jit import jit_enabled, kernel
-from .world import UniformCurrent, World
+from .world import Sphere, UniformCurrent, World
 from .world.currents.crab import crab_speed, makes_headway
 from .world.terrain import (
     TerrainKernelData,
@@ -228,8 +228,15 @@ def _obstacle_slack(world: World, a: FloatArray, b: FloatArray) -> tuple[FloatAr
     m = world.margins
     slack = np.full(a.shape[:-1], np.inf)
     clearance = np.full(a.shape[:-1], np.inf)
-    ends = np.stack([a, b], axis=-2)
-    for shape in world.obstacles:
+    spheres = [o for o in world.obstacles if type(o) is Sphere] if jit_enabled() else []
+    if spheres:  # all the spheres in one compiled pass, numpy's arithmetic in numpy's order
+        _sphere_slack(np.ascontiguousarray(a).reshape(-1, 3), np.ascontiguousarray(b).reshape(-1, 3),
+                      np.array([o.center for o in spheres], dtype=float).reshape(-1, 3),
+                      np.array([o.radius for o in spheres], dtype=float), float(m.obstacle),
+                      slack.reshape(-1), clearance.reshape(-1))
+    others = [o for o in world.obstacles if not any(o is q for q in spheres)]
+    ends = np.stack([a, b], axis=-2) if others else a
+    for shape in others:
         d = np.minimum(shape.distance(a), shape.distance(b))
         touch = shape.segments_hit(ends, 0.0)
         hit = shape.segments_hit(ends, m.obstacle) if m.obstacle > 0 else touch
@@ -237,6 +244,33 @@ def _obstacle_slack(world: World, a: FloatArray, b: FloatArray) -> tuple[FloatAr
         # a segment can pass through an obstacle with both ends outside: charge at least a metre
         slack = np.minimum(slack, np.where(hit, np.minimum(d - m.obstacle, -1.0), d - m.obstacle))
     return slack, clearance
+
+
+@kernel(fastmath=False)
+def _sphere_slack(a: FloatArray, b: FloatArray, centers: FloatArray, radii: FloatArray, margin: float,
+                  slack: FloatArray, clearance: FloatArray) -> None:  # pragma: no cover - compiled
+    """:func:`_obstacle_slack`'s loop over spheres, compiled: for each segment ``a -> b (N, 3)`` and sphere,
+    the ends' signed distance (:meth:`Sphere.distance`), the exact hit test (:meth:`Sphere.segments_hit`,
+    the centre's distance to the segment as :func:`~auvplan.geometry.point_segment_distance` computes it:
+    numpy's ``einsum`` sums three terms as ``(x + z) + y``, its ``norm`` as ``(x + y) + z``), folded into
+    ``slack`` and ``clearance`` ``(N,)`` in place."""
+    for k in range(a.shape[0]):
+        for j in range(radii.shape[0]):
+            cx, cy, cz, r = centers[j, 0], centers[j, 1], centers[j, 2], radii[j]
+            ax, ay, az = a[k, 0] - cx, a[k, 1] - cy, a[k, 2] - cz
+            bx, by, bz = b[k, 0] - cx, b[k, 1] - cy, b[k, 2] - cz
+            d = min(np.sqrt((ax * ax + ay * ay) + az * az) - r, np.sqrt((bx * bx + by * by) + bz * bz) - r)
+            dx, dy, dz = b[k, 0] - a[k, 0], b[k, 1] - a[k, 1], b[k, 2] - a[k, 2]
+            dd = (dx * dx + dz * dz) + dy * dy
+            px, py, pz = cx - a[k, 0], cy - a[k, 1], cz - a[k, 2]
+            t = ((px * dx + pz * dz) + py * dy) / (dd if dd > 0.0 else 1.0)
+            t = min(max(t, 0.0), 1.0)
+            qx, qy, qz = cx - (a[k, 0] + t * dx), cy - (a[k, 1] + t * dy), cz - (a[k, 2] + t * dz)
+            dist = np.sqrt((qx * qx + qy * qy) + qz * qz)
+            touch = dist < r + 0.0
+            hit = dist < r + margin if margin > 0 else touch
+            clearance[k] = min(clearance[k], min(d, 0.0) if touch else d)
+            slack[k] = min(slack[k], min(d - margin, -1.0) if hit else d - margin)
 
 
 def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
@@ -267,8 +301,12 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
         Where the current beats the vehicle (no ground speed along the segment).
     """
     arrays = [np.asarray(v, dtype=float) for v in ((a, b) if current is None else (a, b, current))]
-    lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
-    a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
+    if len(arrays) == 2 and arrays[0].shape == arrays[1].shape:  # nothing to broadcast (the elastic band's case)
+        lead = arrays[0].shape[:-1]
+        a, b, *given = (np.ascontiguousarray(v.reshape(-1, 3)) for v in arrays)
+    else:
+        lead = np.broadcast_shapes(*(v.shape[:-1] for v in arrays))
+        a, b, *given = (np.ascontiguousarray(np.broadcast_to(v, lead + (3,)).reshape(-1, 3)) for v in arrays)
     c = _midpoint_currents(world, a[None], b[None])[0] if current is None else given[0]  # (N, 3) or (1, 3)
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)

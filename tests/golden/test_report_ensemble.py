@@ -4,7 +4,6 @@ success probability agree with numpy on the members' own numbers (an independent
 
 from __future__ import annotations
 
-import json
 from html.parser import HTMLParser
 
 import numpy as np
@@ -47,10 +46,9 @@ class _Cells(HTMLParser):
             self.th = data.strip()
 
 
-def test_the_report_shows_every_members_arrival_energy_and_the_spread(tmp_path, capsys):
-    out = tmp_path / "lofoten"
-    assert cli.main(["plan", "lofoten-two-models", "--out", str(out), "--json"]) == 0
-    plan = json.loads(capsys.readouterr().out)
+def test_the_report_shows_every_members_arrival_energy_and_the_spread(lofoten_plan):
+    code, out, plan = lofoten_plan  # plan --out --json, once for this and tests/unit/test_ensemble.py
+    assert code == 0
     assert cli.main(["report", str(out)]) == 0
     page = (out / "report.html").read_text(encoding="utf-8")
     cells = _Cells()

@@ -106,8 +106,15 @@ def test_start_time_parsing():
         parse_start_time("tomorrow")
 
 
-def test_tidal_scenario_builds_and_needs_a_start_time():
-    world, mission = scenario.build(scenario.load("juan-de-fuca-tides"))
+@pytest.fixture(scope="module")
+def tides_scenario():
+    """(World, Mission) of the built-in juan-de-fuca-tides, built once for the tests below (12 s of CPU with
+    numba off: its seabed's kernels run as plain Python in ``make test-nojit``)."""
+    return scenario.build(scenario.load("juan-de-fuca-tides"))
+
+
+def test_tidal_scenario_builds_and_needs_a_start_time(tides_scenario):
+    world, mission = tides_scenario
     assert type(world.currents).__name__ == "TidalCurrent"
     assert world.currents.velocity(mission.start, 3600.0)[:2].any()
     text = scenario.resolve("juan-de-fuca-tides").read_text()
@@ -117,17 +124,17 @@ def test_tidal_scenario_builds_and_needs_a_start_time():
         scenario.loads(text.replace("2026-06-15T00:00:00Z", "soon"))
 
 
-def test_report_animates_a_tidal_current_and_not_a_steady_one():
+def test_report_animates_a_tidal_current_and_not_a_steady_one(tides_scenario, salish):
     import plotly.graph_objects as go
 
     from auvplan.viz.scene3d import _current_frames, _currents
 
-    world, mission = scenario.build(scenario.load("juan-de-fuca-tides"))
+    world, mission = tides_scenario
     path = np.stack([mission.start, mission.goal])
     fig = go.Figure(_currents(world, path))
     times = np.linspace(0.0, 6 * 3600.0, 7)
     idx, v = _current_frames(fig, world, times)
     assert v.shape == (7, len(fig.data[idx].x), 3) and not np.allclose(v[0], v[3])
     assert fig.data[idx].cmax == pytest.approx(np.linalg.norm(v, axis=2).max())
-    steady, _ = scenario.build(scenario.load("salish-shelf"))
+    _, steady, _ = salish  # the session's salish-shelf (tests/conftest.py)
     assert _current_frames(go.Figure(_currents(steady, path)), steady, times) is None

@@ -219,12 +219,13 @@ def test_open_loop_drifts_by_the_forecast_error_times_the_planned_time(two):
     assert len(rp.plan_cpu_s) == rp.replans + 1
 
 
-def test_real_two_models_robust_p90_below_the_nominal(capsys):
+def test_real_two_models_robust_p90_below_the_nominal(lofoten_plan):
     """lofoten-two-models (Arctic-20km forecast, Nordic-4km hindcast, Feb 2016): the nominal plan, made on the
     forecast, is slowed by the coastal current the forecast misses; the robust plan's P90 over both models is
-    lower, and so is its arrival in the other model (the truth).  Pinned from benchmarks/ensemble.py (±2 %)."""
-    assert main(["plan", "lofoten-two-models", "--json"]) == 0
-    rec = json.loads(capsys.readouterr().out)
+    lower, and so is its arrival in the other model (the truth).  Pinned from benchmarks/ensemble.py (±2 %).
+    ``plan --json``'s record, shared with tests/golden/test_report_ensemble.py (tests/conftest.py)."""
+    code, _, rec = lofoten_plan
+    assert code == 0
     assert rec["robust"] == "p90" and rec["robust_candidate"] != "nominal"
     assert rec["arrival_p90_s"] < rec["nominal"]["arrival_p90_s"] - 3600.0
     assert rec["arrival_p90_s"] == pytest.approx(77871.3, rel=0.02)

@@ -9,8 +9,8 @@ That curve does not pass through its end control points, so auvplan uses
 clamped (open-uniform) knots: the interior spans are the uniform segments above
 and the curve starts at the start and ends at the goal.  Because the knots are
 fixed for a given number of control points, sampling a whole population is one
-matrix product with the basis matrix ``(S, K)`` (``scipy.interpolate.BSpline``
-builds it): ``(P, K, 3) -> (P, S, 3)``.
+matrix product with the basis matrix ``(S, K)`` (:mod:`.deboor` builds it: ``scipy.interpolate.BSpline``'s
+values, bit for bit): ``(P, K, 3) -> (P, S, 3)``.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ import numpy as np
 from .._types import ArrayLike, FloatArray, IntArray
 from ..geometry import as_points
 from ..runtime.jit import jit_enabled, kernel
+from . import deboor
 
 if TYPE_CHECKING:
     from scipy.interpolate import BSpline
@@ -89,14 +90,10 @@ def clamped_knots(n_control: int, degree: int = 3) -> FloatArray:
 
 @lru_cache(maxsize=64)
 def _basis(n_control: int, n_samples: int, order: int) -> FloatArray:
-    knots = clamped_knots(n_control)
-    u = np.linspace(0.0, 1.0, n_samples)
-    from scipy.interpolate import BSpline  # imported when used: ~0.4 s of a command's start (#56)
-
-    spline = BSpline(knots, np.eye(n_control), 3)
-    if order:
-        spline = spline.derivative(order)
-    m: FloatArray = np.ascontiguousarray(spline(u))
+    # scipy.interpolate.BSpline(knots, eye, 3).derivative(order)(u), bit for bit, without importing
+    # scipy.interpolate (~0.2 s of a command's start, #56): see .deboor
+    m: FloatArray = np.ascontiguousarray(deboor.basis(clamped_knots(n_control), n_control,
+                                                      np.linspace(0.0, 1.0, n_samples), order))
     m.setflags(write=False)
     return m
 

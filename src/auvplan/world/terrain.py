@@ -317,7 +317,9 @@ class Terrain:
         numpy.ndarray
             Minimum altitude over each segment ``(...)`` (m).
         """
-        a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        if a.shape != b.shape:
+            a, b = np.broadcast_arrays(a, b)
         lead = a.shape[:-1]
         a = np.ascontiguousarray(a.reshape(-1, 3))
         b = np.ascontiguousarray(b.reshape(-1, 3))

@@ -18,7 +18,9 @@ import numpy as np
 from .._types import ArrayLike, BoolArray, FloatArray
 from ..errors import DataError
 from ..geometry import as_points
+from ..runtime.jit import jit_enabled
 from .currents.fields import CurrentField, UniformCurrent
+from .kernels.box import segments_in_box
 from .land import Land
 from .moving import MovingObstacle
 from .obstacles import Shape
@@ -374,9 +376,7 @@ class World:
         if ends_free:
             ok = np.ones(s.shape[:-2], dtype=bool)
         else:
-            z = s[..., 2]
-            ok = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
-            ok &= self.bounds.contains(s).all(axis=-1)
+            ok = self._ends_inside(s)
         if self.terrain is not None:
             alt = self.terrain.segment_min_altitude(s, threshold=m.min_altitude, end_altitudes=end_altitudes)
             ok &= alt >= m.min_altitude
@@ -396,6 +396,19 @@ class World:
             flat[idx] = ~self.zones.segments_enter(s.reshape(-1, 2, 3)[idx])
             ok = flat.reshape(np.shape(ok))
         return ok
+
+    def _ends_inside(self, s: FloatArray) -> BoolArray:
+        """Where both ends of the segments ``s (..., 2, 3)`` are in the depth band and the bounds (convex: the
+        whole segment is then), compiled (:mod:`auvplan.world.kernels.box`; numpy's comparisons without numba)."""
+        m, b = self.margins, self.bounds
+        if not jit_enabled():
+            z = s[..., 2]
+            ok: BoolArray = np.all(-z >= m.min_depth, axis=-1) & np.all(-z <= m.max_depth, axis=-1)
+            return ok & b.contains(s).all(axis=-1)
+        inside = np.empty(s.shape[:-2], dtype=bool)
+        segments_in_box(np.ascontiguousarray(s.reshape(-1, 2, 3)), float(m.min_depth), float(m.max_depth),
+                        np.array([b.xmin, b.xmax, b.ymin, b.ymax, b.zmin, b.zmax], dtype=float), inside.reshape(-1))
+        return inside
 
     def zone_at(self, point: ArrayLike) -> str:
         """The names of the zones a point is inside (for messages).

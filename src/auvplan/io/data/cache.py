@@ -97,16 +97,28 @@ def code_stamp() -> str:
         Hex digest; computed once per process (~10 ms).
     """
     h = hashlib.sha256(f"{_VERSION}\0{sys.version}\0".encode())
-    root = Path(__file__).resolve().parents[2]
-    for path in sorted(root.rglob("*.py")):
-        h.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    root = str(Path(__file__).resolve().parents[2])
+    for rel in _py_files(root):
+        with open(os.path.join(root, rel), "rb") as fh:
+            h.update(rel.encode() + b"\0" + fh.read() + b"\0")
     for entry in sys.path:  # the installed distributions with their versions: numpy-2.4.6.dist-info …
         try:
             names = sorted(n for n in os.listdir(entry or ".") if n.endswith((".dist-info", ".egg-info")))
         except OSError:
             continue
-        h.update("\0".join(names).encode() + b"\0")
+        if names:  # a folder without distributions (a test or source folder on the path) changes nothing
+            h.update("\0".join(names).encode() + b"\0")
     return h.hexdigest()
+
+
+def _py_files(root: str) -> list[str]:
+    """The ``.py`` files under ``root``, as sorted paths relative to it (``os.walk``: a third of ``rglob``'s cost)."""
+    out = []
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        rel = os.path.relpath(folder, root)
+        out += [name if rel == "." else os.path.join(rel, name) for name in files if name.endswith(".py")]
+    return sorted(out)
 
 
 def file_stamp(path: Path) -> list[Any]:

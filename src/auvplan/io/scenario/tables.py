@@ -11,6 +11,7 @@ and the value.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import types
 import typing
@@ -118,6 +119,13 @@ def _type_name(tp: Any) -> str:
     return {float: "a number", int: "an integer", bool: "true or false", str: "a string"}.get(tp, str(tp))
 
 
+@functools.cache
+def _type_hints(cls: type) -> dict[str, Any]:
+    """``typing.get_type_hints(cls)``, once per class (evaluating the string annotations compiles each of them:
+    a scenario document builds a few dozen tables, a hostile-document fuzz run thousands)."""
+    return typing.get_type_hints(cls)
+
+
 def build_dataclass(cls: type, table: dict[str, Any], where: str, *, skip: tuple[str, ...] = ()) -> Any:
     """Instantiate the frozen dataclass ``cls`` from a TOML ``table``.
 
@@ -139,7 +147,7 @@ def build_dataclass(cls: type, table: dict[str, Any], where: str, *, skip: tuple
     """
     if not isinstance(table, dict):
         raise ScenarioError(f"{where}: expected a table, got {table!r}")
-    hints = typing.get_type_hints(cls)
+    hints = _type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init and not f.name.startswith("_")}
     for key in table:
         if key not in fields and key not in skip:

@@ -21,8 +21,9 @@ from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
 from ..base import PlannerSpec, PlanningProblem
 from ..common import cost_model_for, plan_terms
+from .band_kernels import band_choose, band_gains, band_moves, band_segments, chord_lengths
 
-__all__ = ["edge_cost", "path_cost", "resample_free"]
+__all__ = ["edge_cost", "gives_up", "level_count", "path_cost", "resample_free"]
 
 
 def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
@@ -47,7 +48,13 @@ def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, obje
     numpy.ndarray
         ``(...)``; ``inf`` where the current beats the vehicle.
     """
-    length: FloatArray = np.linalg.norm(b - a, axis=-1)
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.shape == b.shape and a.ndim >= 2:  # the band's and the lattice's case: one compiled pass, the same bits
+        length: FloatArray = np.empty(a.shape[:-1])
+        chord_lengths(np.ascontiguousarray(a).reshape(-1, 3), np.ascontiguousarray(b).reshape(-1, 3),
+                      length.reshape(-1))
+    else:
+        length = np.linalg.norm(b - a, axis=-1)
     if objective == "length":
         return length
     units, _, _, blocked = segment_energy(world, a, b, model, current)
@@ -130,41 +137,16 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
             if i.size == 0:
                 continue
             m = i.size
-            a, b, c = p[i - 1], p[i], p[i + 1]
-            n1, n2 = _normals(c - a)
-            d = delta[i, None]
-            ends = np.empty((2, 6, m, 3))  # segment starts and ends: the point, then its five moves
-            pts = ends[1, :6]
-            pts[0] = b
-            pts[1] = b + alpha[i, None] * (0.5 * (a + c) - b)
-            dn = d * n1
-            pts[2], pts[3] = b + dn, b - dn
-            dn = d * n2
-            pts[4], pts[5] = b + dn, b - dn
-            ends[0] = a
-            tips = np.empty((2, 6, m, 3))
-            tips[0] = pts
-            tips[1] = c
-            cost = edge_cost(world, ends.reshape(12, m, 3), tips.reshape(12, m, 3), model, objective)
-            both = cost[:6] + cost[6:]
-            old, new = both[0], both[1:]
-            better = new < old - 1e-9 * np.abs(old)
+            ends, tips = np.empty((12, m, 3)), np.empty((12, m, 3))  # a -> each move, each move -> c
+            band_moves(p, i, alpha, delta, ends, tips)
+            new, better = np.empty((5, m)), np.empty((5, m), dtype=bool)
+            band_gains(edge_cost(world, ends, tips, model, objective), new, better)
             kk, jj = np.nonzero(better)
-            if kk.size:
-                q = pts[kk + 1, jj]
+            if kk.size:  # only the moves that lower the cost go through the exact segment test
                 seg = np.empty((kk.size, 2, 2, 3))
-                seg[:, 0, 0], seg[:, 0, 1], seg[:, 1, 0], seg[:, 1, 1] = a[jj], q, q, c[jj]
+                band_segments(ends, tips, kk, jj, seg)
                 better[kk, jj] = world.segments_free(seg, moving=False).all(axis=-1)
-            new = np.where(better, new, np.inf)
-            k = np.argmin(new, axis=0)
-            ok = np.isfinite(new[k, np.arange(m)])
-            p[i[ok]] = pts[k[ok] + 1, np.flatnonzero(ok)]
-            pulled = ok & (k == 0)
-            alpha[i[pulled]] = np.minimum(alpha[i[pulled]] * 1.5, 1.0)
-            pushed = ok & (k > 0)
-            delta[i[pushed]] = np.minimum(delta[i[pushed]] * 1.5, step)
-            alpha[i[~pulled]] *= 0.5
-            delta[i[~pushed]] *= 0.5
+            band_choose(p, i, tips, new, better, alpha, delta, float(step))
         if np.all(alpha[1:-1] <= 1e-3) and np.all(delta[1:-1] <= tol):
             break
     return p
@@ -188,34 +170,85 @@ def _refine(world: World, raw: np.ndarray, model: CostModel, objective: str, cel
 
 
 def _converge(problem: PlanningProblem, spec: PlannerSpec, path: np.ndarray, model: CostModel,
-              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0) -> tuple[np.ndarray, float, int]:
+              iterations: int, tol: float, cycles: int = 6, finest: float = 2048.0,
+              target: float | None = None) -> tuple[np.ndarray, float, int]:
     """Refine until the cost stops improving, the same way whatever the lattice: cycles of
     levels, each level resampling the best path so far every 1/8, 1/16, … 1/``finest`` of its length
     (:func:`resample_free`), relaxing it with steps of that spacing (and, for the length
     objective, dropping the vertices that hold nothing up) and keeping it only when cheaper and
     free; the cycles stop when one gains less than ``tol`` (relative), or after ``cycles``.
 
+    With a ``target`` (a cost the caller needs the path to beat, else the refinement is of no use to it)
+    the refinement gives up after a level when the remaining levels of the cycle, each gaining as much as
+    the best level so far, could not bring the cost below it (:func:`gives_up`).
+
     Returns the path, its cost and the number of levels run.
     """
     world, objective = problem.world, spec.grid.objective
     best, best_cost = path, path_cost(problem, spec, path)["total"]
     length = float(polyline_length(path))
-    levels = 0
+    levels, steps = 0, level_count(finest)
     for _ in range(cycles):
-        before = best_cost
+        before, gain = best_cost, 0.0
         spacing = length / 8.0
-        while spacing >= length / finest:
+        for step in range(steps):
             levels += 1
             cand = _relax(world, resample_free(world, best, spacing), model, objective, iterations, spacing)
             if objective == "length":
                 cand = key_waypoints(cand, world)
             cost = path_cost(problem, spec, cand)["total"]
             if cost < best_cost and world.path_free(cand):
+                gain = max(gain, best_cost - cost)
                 best, best_cost = cand, cost
+            if target is not None and gives_up(best_cost, target, gain, steps - step - 1):
+                return best, best_cost, levels
             spacing *= 0.5
         if before - best_cost < tol * max(abs(before), 1e-12):
             break
     return best, best_cost, levels
+
+
+def level_count(finest: float) -> int:
+    """Levels per cycle of :func:`_converge`: spacings 1/8, 1/16, … down to 1/``finest`` of the length
+    (the finest kept when ``finest`` is not a power of two times 8).
+
+    Parameters
+    ----------
+    finest : float
+        The finest level's spacing as a fraction of the length (1/``finest``).
+
+    Returns
+    -------
+    int
+        The number of levels (0 when ``finest`` < 8).
+    """
+    n, spacing = 0, 1.0 / 8.0
+    while spacing >= 1.0 / finest:
+        n, spacing = n + 1, spacing * 0.5
+    return n
+
+
+def gives_up(cost: float, target: float, gain: float, remaining: int) -> bool:
+    """Whether a refinement at ``cost`` cannot reach below ``target`` in ``remaining`` levels that each
+    gain at most ``gain`` (the best single level's gain so far).
+
+    Parameters
+    ----------
+    cost : float
+        The refined path's cost after the level just run.
+    target : float
+        The cost to beat.
+    gain : float
+        The largest gain of one level so far (0: no level has gained).
+    remaining : int
+        Levels left in the cycle.
+
+    Returns
+    -------
+    bool
+        True when ``cost - remaining * gain >= target``.
+    """
+    return cost - remaining * gain >= target
 
 
 def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:

@@ -79,7 +79,8 @@ def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefere
     return plan_lattice(problem, spec, reference)
 
 
-def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult, finest: float = 2048.0) -> PlanResult:
+def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult, finest: float = 2048.0,
+                target: float | None = None) -> PlanResult:
     """``result`` with its path refined to convergence on the planner's cost function (the lattice
     reference's own refinement) when that is cheaper and free, else ``result`` unchanged.
 
@@ -93,6 +94,9 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult,
         A plan of any planner.
     finest : float, default 2048
         The finest level's spacing as a fraction of the length (1/``finest``).
+    target : float, optional
+        A cost the refined path is of no use above: the refinement gives up when it cannot reach below
+        it (:func:`~auvplan.planners.grid.band.gives_up`).
 
     Returns
     -------
@@ -103,7 +107,7 @@ def refine_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult,
         return result
     params = spec.grid
     path, cost, levels = _converge(problem, spec, np.asarray(result.path, dtype=float), cost_model_for(problem, spec),
-                                   params.relax_iterations, params.converge_tol, finest=finest)
+                                   params.relax_iterations, params.converge_tol, finest=finest, target=target)
     if not cost < result.cost or not problem.world.path_free(path):
         return result
     terms = path_cost(problem, spec, path)

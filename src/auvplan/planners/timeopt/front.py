@@ -199,8 +199,11 @@ def build_grid(world: World, lower: ArrayLike, upper: ArrayLike, h: float, z: tu
         zt = np.round(np.interp(times, schedule[0], schedule[1]))
         depths, level = np.unique(zt, return_inverse=True)
         frees = [free_at([float(d)]) for d in depths]
-        cur = np.stack([world.currents.velocity(np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, zt[k])], axis=1),
-                                                float(times[k]))[:, :2] for k in range(nt)])
+        cur = np.empty((nt, xx.size, 2))
+        for k, d in enumerate(depths):  # the slices at one depth in one call (the field's own series)
+            at = np.flatnonzero(level == k)
+            cur[at] = world.currents.sample(np.stack([xx.ravel(), yy.ravel(), np.full(xx.size, d)], axis=1),
+                                            times[at])[..., :2]
     return FrontGrid(lo, float(h), np.stack(frees), np.stack([_obstacle(f, h) for f in frees]),
                      np.asarray(level, dtype=np.int64), np.ascontiguousarray(cur.reshape(nt, n[0], n[1], 2),
                                                                              dtype=np.float32),

@@ -23,6 +23,7 @@ from pyproj import Transformer
 from ....errors import DataError
 from ....world.land import Land
 from ..geo import LocalFrame
+from .kept import kept_geometries
 from .reader import read_vector
 
 __all__ = ["LandSpec", "BUILTIN_LAND", "read_land", "builtin_land_path"]
@@ -120,6 +121,16 @@ def read_land(spec: LandSpec, frame: LocalFrame, extent_m: tuple[float, float, f
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
     src = str(path)
+    request = (spec, src, frame.lat0, frame.lon0, tuple(float(v) for v in extent_m), float(margin_m))
+    geometry = kept_geometries("land", request, path,
+                               lambda: [("land", _land_geometry(path, spec, src, frame, extent_m, margin_m))])[0][1]
+    name = spec.builtin or path.name
+    return Land(geometry, name=name)
+
+
+def _land_geometry(path: Path, spec: LandSpec, src: str, frame: LocalFrame,
+                   extent_m: tuple[float, float, float, float], margin_m: float) -> Any:
+    """The layer's land polygons densified, projected into ``frame`` and clipped to the widened extent."""
     geom, crs = _read_polygons(path, spec.layer, src)
     geom = shapely.segmentize(geom, 0.005 if crs.is_geographic else 500.0)
     to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
@@ -135,7 +146,6 @@ def read_land(spec: LandSpec, frame: LocalFrame, extent_m: tuple[float, float, f
     clipped = shapely.make_valid(clipped)
     parts = [p for p in shapely.get_parts(clipped) if shapely.get_type_id(p) in (3, 6)]
     geometry = shapely.union_all(parts) if parts else shapely.MultiPolygon()
-    name = spec.builtin or path.name
     if geometry.is_empty:
         log.info("%s: no land inside the operating area", src)
-    return Land(geometry, name=name)
+    return geometry

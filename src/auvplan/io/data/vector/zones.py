@@ -30,6 +30,7 @@ from pyproj import Transformer
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
 from ..geo import LocalFrame
+from .kept import kept_geometries
 from .reader import read_vector
 
 __all__ = ["ZoneSpec", "parse_zones", "read_zones"]
@@ -203,10 +204,18 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
 
 def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
                box: Any) -> list[tuple[str, Any]]:
-    """Named local-frame geometries of the file's features that reach ``box`` (m)."""
+    """Named local-frame geometries of the file's features that reach ``box`` (m), kept in the readers'
+    cache (:mod:`.kept`: read once per file, table, origin and extent)."""
     path = Path(spec.file)
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
+    request = (spec, str(path), None if frame is None else (frame.lat0, frame.lon0),
+               tuple(float(v) for v in shapely.bounds(box)))
+    return kept_geometries("zones", request, path, lambda: _read_features(spec, frame, path, box))
+
+
+def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: Any) -> list[tuple[str, Any]]:
+    """:func:`_read_file` without the cache."""
     src = f"{spec.where_} file = {str(path)!r}"
     found = read_vector(path, src, DataError, layer=spec.layer, where=spec.where, fields=True)
     crs = found.crs
