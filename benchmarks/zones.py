@@ -20,6 +20,7 @@ from the start and goal (median of repeats, JIT warmed up first), and the ratio.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import statistics
@@ -29,7 +30,7 @@ from dataclasses import replace
 import numpy as np
 import shapely
 
-from auvplan.planners import PlannerSpec, PlanningProblem, plan, reference
+from auvplan.planners import PlannerSpec, PlanningProblem, PlanResult, plan, reference
 from auvplan.planners.params import GridParams, TimeoptParams
 from auvplan.world import Bounds, Margins, Terrain, UniformCurrent, World, Zone, Zones
 
@@ -123,27 +124,48 @@ def spec_for(name: str) -> PlannerSpec:
     return PlannerSpec(name=name, population=12, budget=600, polish=0)
 
 
-def montecarlo(missions: int, planners: list[str], seed: int, n_zones: int) -> dict[str, dict[str, float]]:
-    """Entries of the feasible plans over ``missions`` random missions per planner."""
+def path_digest(result: PlanResult) -> str:
+    """A short hash of a plan's status and path bytes: two runs planned the same iff their digests agree."""
+    path = np.ascontiguousarray(result.path, dtype=float)
+    status = result.status.value
+    return hashlib.sha256(status.encode() + path.tobytes()).hexdigest()[:16]
+
+
+def montecarlo(missions: int, planners: list[str], seed: int, n_zones: int,
+               digests: dict[str, list[str]] | None = None) -> dict[str, dict[str, float]]:
+    """Entries of the feasible plans over ``missions`` random missions per planner.
+
+    ``digests``, when given, receives each planner's per-mission :func:`path_digest` (to compare two
+    versions of the code mission by mission).
+    """
     out: dict[str, dict[str, float]] = {}
     for name in planners:
+        if digests is not None:
+            digests[name] = []
         rng = np.random.default_rng(seed)
         ok = entries = blocked = 0
+        failed: dict[str, str] = {}  # mission: status -> message, of the plans not reported feasible
         t0 = time.process_time()
         for m in range(missions):
             world = random_world(rng, n_zones)
             problem = PlanningProblem(world, free_point(rng, world), free_point(rng, world), speed=1.5)
             blocked += bool(world.zones.exact.segments_enter(np.stack([problem.start, problem.goal])[None])[0])
             result = plan(problem, spec_for(name), rng=m)
+            if digests is not None:
+                digests[name].append(path_digest(result))
             if result.status.ok:
                 ok += 1
                 entries += len(independent_entries(world, result.path))
+            else:
+                failed[f"{m}: {result.status.value}"] = result.message[:120]
             if (m + 1) % 100 == 0 and m + 1 < missions:  # a partial count survives a time box
                 print(json.dumps({name: {"missions": m + 1, "straight_line_enters": blocked, "feasible": ok,
                                          "entries": entries, "cpu_s": round(time.process_time() - t0, 1)}}),
                       flush=True)
         out[name] = {"missions": missions, "straight_line_enters": blocked, "feasible": ok, "entries": entries,
                      "cpu_s": round(time.process_time() - t0, 1)}
+        if failed:
+            print(json.dumps({name: {"not_feasible": failed}}), flush=True)
         print(json.dumps({name: out[name]}), flush=True)
     return out
 
@@ -249,6 +271,7 @@ def main() -> None:
     m.add_argument("--planners", nargs="+", default=["iabc", "abc", "ga", "pso", "de", "grid", "timeopt"])
     m.add_argument("--zones", type=int, default=20)
     m.add_argument("--seed", type=int, default=53)
+    m.add_argument("--digests", default="", help="write each plan's path digest here (JSON, per planner)")
     c = sub.add_parser("cpu")
     c.add_argument("--scenario", default="marcus-wake")
     c.add_argument("--planner", default="iabc")
@@ -260,7 +283,17 @@ def main() -> None:
         p.add_argument("--figure-md", default="", help="also write docs/figures/<NAME>.md")
     args = ap.parse_args()
     if args.cmd == "montecarlo":
-        res = montecarlo(args.missions, args.planners, args.seed, args.zones)
+        import signal
+        import sys
+
+        signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # a time box still writes the digests
+        digests: dict[str, list[str]] = {}
+        try:
+            res = montecarlo(args.missions, args.planners, args.seed, args.zones, digests)
+        finally:
+            if args.digests:
+                with open(args.digests, "w") as fh:
+                    json.dump(digests, fh)
     elif args.cmd == "cpu":
         res = cpu(args.scenario, args.zones, args.repeats, args.planner)
     else:

@@ -4,6 +4,7 @@ distances, the readers of every vector format, the planners' final word, ``missi
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -299,3 +300,59 @@ def test_segments_sharing_traces_enter_exactly_where_each_alone_does():
     theirs = np.array([bool(independent_entries(world, s)) for s in seg[::10]])
     assert theirs.sum() > 50
     np.testing.assert_array_equal(got[::10], theirs)
+
+
+def test_legs_grazing_corners_and_band_faces_enter_exactly_where_shapely_says():
+    """The compiled passes (cell pass-by test, fine-field march, discs, edges) on legs that only touch a prism:
+    through a footprint's corner from outside, along an edge, level on a band's top or bottom face, ending on
+    a face, and a hair (1e-9 m) off each; the closed prism counts touching as entering."""
+    box = Zone("box", shapely.box(100.0, 100.0, 300.0, 200.0), top=20.0, bottom=60.0)
+    tri = Zone("tri", shapely.Polygon([(500.0, 100.0), (700.0, 100.0), (600.0, 300.0)]))
+    world = replace(flat_world(depth=100.0), zones=Zones((box, tri)))
+    legs = []
+    for (cx, cy), (dx, dy) in (((100, 100), (1, -1)), ((300, 100), (1, 1)), ((300, 200), (-1, 1)),
+                               ((100, 200), (1, 1)), ((500, 100), (1, 1)), ((700, 100), (-1, 1))):
+        for z in (-20.0, -40.0, -60.0, -19.0, -61.0):  # top face, inside, bottom face, above, below the band
+            legs.append([[cx - 50 * dx, cy - 50 * dy, z], [cx + 50 * dx, cy + 50 * dy, z]])
+            legs.append([[cx - 50 * dx, cy - 50 * dy + 1e-9, z], [cx + 50 * dx, cy + 50 * dy + 1e-9, z]])
+    for z0, z1 in ((-10.0, -20.0), (-70.0, -60.0), (-10.0, -20.0 + 1e-9), (-70.0, -60.0 - 1e-9)):
+        legs.append([[200.0, 150.0 + 60.0, z0], [200.0, 150.0, z1]])  # ending on the top / bottom face
+        legs.append([[50.0, 200.0, z0], [350.0, 200.0, z1]])  # along the north edge
+        legs.append([[50.0, 200.0 + 1e-9, z1], [350.0, 200.0 + 1e-9, z1]])
+    seg = np.array(legs)
+    theirs = np.array([bool(independent_entries(world, s)) for s in seg])
+    assert 20 < theirs.sum() < len(seg) - 20
+    zones = world.zones
+    np.testing.assert_array_equal(zones.segments_enter(seg), theirs)
+    np.testing.assert_array_equal(np.isin(np.arange(len(seg)), zones.entries(seg)[0]), theirs)
+    np.testing.assert_array_equal(zones.polyline_slack(seg)[:, 0] < 0, theirs)
+
+
+def test_the_unpadded_set_a_padded_one_derives_answers_as_one_built_alone():
+    """``Zones.exact`` shares the padded set's cell lists and fine field: every query answers as a set built
+    from the footprints alone (and the entries as the independent shapely check)."""
+    rng = np.random.default_rng(21)
+    world = random_world(rng, 30)
+    derived, alone = world.zones.exact, Zones(world.zones.zones, world.terrain)
+    assert derived._field is world.zones._field
+    p = np.column_stack([rng.uniform(0, 3000, 200), rng.uniform(0, 3000, 200), rng.uniform(-250, -5, 200)])
+    # and level legs across each flat band's footprint half a metre above its top / below its bottom (inside
+    # the padded prism only) and on the face
+    flat = [z for z in world.zones.zones if z.above_seabed is None and z.top > 1.0 and math.isfinite(z.bottom)]
+    for z in flat:
+        c = shapely.get_coordinates(shapely.centroid(z.footprint))[0]
+        for depth in (z.top - 0.5, z.top, z.bottom, z.bottom + 0.5):
+            p = np.vstack([p, [c[0] - 900.0, c[1], -depth], [c[0] + 900.0, c[1], -depth]])
+    seg = np.stack([p[:-1], p[1:]], axis=1)
+    a, b = derived.entries(seg), alone.entries(seg)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+    assert {(int(s) + 1, derived.names[int(z)]) for s, z in zip(*a)} == set(independent_entries(world, p))
+    np.testing.assert_array_equal(derived.segments_enter(seg), alone.segments_enter(seg))
+    np.testing.assert_array_equal(derived.polyline_slack(p[None]), alone.polyline_slack(p[None]))
+    np.testing.assert_array_equal(derived.signed_distance(p, exact=True), alone.signed_distance(p, exact=True))
+    near = alone.signed_distance(p) < 2.0 * alone._grid[2]
+    np.testing.assert_array_equal(derived.signed_distance(p)[near], alone.signed_distance(p)[near])
+    assert derived.clearance(p) == alone.clearance(p)
+    tail = p[-30:]  # the level legs across the bands
+    assert [z.as_dict() for z in derived.approach(tail)] == [z.as_dict() for z in alone.approach(tail)]

@@ -62,6 +62,17 @@ def _row_cells(j: int, ax: float, ay: float, dx: float, dy: float, x0: float, y0
     return max(c0, i0), min(c1, i1)
 
 
+@kernel(inline="always")
+def _passes_by(ax: float, ay: float, dx: float, dy: float, cx0: float, cy0: float, cell: float) -> bool:
+    """Whether the line through ``a`` along ``d`` passes the cell ``[cx0, cx0 + cell] x [cy0, cy0 + cell]``
+    by: all four corners strictly on one side of it."""
+    s0 = dx * (cy0 - ay) - dy * (cx0 - ax)
+    s1 = dx * (cy0 - ay) - dy * (cx0 + cell - ax)
+    s2 = dx * (cy0 + cell - ay) - dy * (cx0 - ax)
+    s3 = dx * (cy0 + cell - ay) - dy * (cx0 + cell - ax)
+    return (s0 > 0 and s1 > 0 and s2 > 0 and s3 > 0) or (s0 < 0 and s1 < 0 and s2 < 0 and s3 < 0)
+
+
 @kernel
 def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int, ny: int, start: IntArray,
                       ids: IntArray, box: FloatArray, zlo: FloatArray, zhi: FloatArray, mark: IntArray,
@@ -111,13 +122,7 @@ def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: in
                 c = j * nx + i
                 if start[c] == start[c + 1]:
                     continue
-                cx0 = x0 + i * cell
-                # the line passes the cell by when all four corners lie strictly on one side of it
-                s0 = dx * (cy0 - ay) - dy * (cx0 - ax)
-                s1 = dx * (cy0 - ay) - dy * (cx0 + cell - ax)
-                s2 = dx * (cy0 + cell - ay) - dy * (cx0 - ax)
-                s3 = dx * (cy0 + cell - ay) - dy * (cx0 + cell - ax)
-                if (s0 > 0 and s1 > 0 and s2 > 0 and s3 > 0) or (s0 < 0 and s1 < 0 and s2 < 0 and s3 < 0):
+                if _passes_by(ax, ay, dx, dy, x0 + i * cell, cy0, cell):
                     continue
                 for q in range(start[c], start[c + 1]):
                     k = ids[q]
@@ -278,12 +283,7 @@ def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: flo
             c = j * nx + i
             if start[c] == start[c + 1]:
                 continue
-            cx0 = x0 + i * cell
-            s0 = dx * (cy0 - ay) - dy * (cx0 - ax)
-            s1 = dx * (cy0 - ay) - dy * (cx0 + cell - ax)
-            s2 = dx * (cy0 + cell - ay) - dy * (cx0 - ax)
-            s3 = dx * (cy0 + cell - ay) - dy * (cx0 + cell - ax)
-            if (s0 > 0 and s1 > 0 and s2 > 0 and s3 > 0) or (s0 < 0 and s1 < 0 and s2 < 0 and s3 < 0):
+            if _passes_by(ax, ay, dx, dy, x0 + i * cell, cy0, cell):
                 continue
             for q in range(start[c], start[c + 1]):
                 k = ids[q]

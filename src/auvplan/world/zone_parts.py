@@ -12,7 +12,7 @@ import shapely
 from .._types import FloatArray, IntArray
 from .terrain import Terrain
 
-__all__ = ["rasterise", "distance_field", "rings", "samples", "traces", "clip_params", "clip_pieces",
+__all__ = ["rasterise", "distance_field", "inner_centres", "rings", "samples", "traces", "clip_params", "clip_pieces",
            "expand_groups"]
 
 
@@ -123,13 +123,42 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
     return x0, y0, f, nx * sub, ny * sub, np.ascontiguousarray(units)
 
 
-def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
+def inner_centres(geoms: np.ndarray) -> np.ndarray:
+    """A point deep inside each polygon: the centre of its largest part's maximum inscribed circle (to 5 %
+    of the part's size: 1 % costs 0.35 s for 1 000 zones, 5 % 0.06 s, the radius 3 % smaller at worst on
+    Natural Earth's reefs), in one vectorised GEOS call.
+
+    Parameters
+    ----------
+    geoms : numpy.ndarray of shapely geometries
+        Polygons or multipolygons ``(Z,)``.
+
+    Returns
+    -------
+    numpy.ndarray of shapely Points
+        ``(Z,)``.
+    """
+    if geoms.size == 0:
+        return np.zeros(0, dtype=object)
+    parts, owner = shapely.get_parts(geoms, return_index=True)
+    area = shapely.area(parts)
+    order = np.lexsort((-area, owner))  # per polygon, its largest part first
+    first = order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
+    big = parts[first]
+    size = np.sqrt(np.maximum(area[first], 1e-12))
+    return np.asarray(shapely.get_point(shapely.maximum_inscribed_circle(big, tolerance=0.05 * size), 0), dtype=object)
+
+
+def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatArray, IntArray, IntArray, FloatArray]:
     """Every polygon's rings as flat arrays for the compiled test, and two discs per polygon.
 
     Parameters
     ----------
     geoms : numpy.ndarray of shapely geometries
         Polygons or multipolygons ``(Z,)``.
+    centres : numpy.ndarray of shapely Points, optional
+        The discs' centres (:func:`inner_centres` of ``geoms`` or of polygons inside them: a padded
+        zone reuses its footprint's); computed when absent.
 
     Returns
     -------
@@ -140,9 +169,9 @@ def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray, FloatArray
     rings : numpy.ndarray of int
         Per polygon ring offsets ``(Z + 1,)`` into ``ring``.
     disc : numpy.ndarray
-        ``(Z, 4)``: a centre ``(x, y)`` inside the polygon (its largest part's maximum inscribed
-        circle), a radius ``r_in`` within which every point is inside (the centre's distance to the
-        boundary, less a millionth) and a radius ``r_out`` holding every vertex (plus a millionth).
+        ``(Z, 4)``: a centre ``(x, y)`` (``centres``), a radius ``r_in`` within which every point is
+        inside (the centre's distance to the boundary less a millionth, 0 for a centre outside) and a
+        radius ``r_out`` holding every vertex (plus a millionth).
     """
     xy_parts: list[FloatArray] = []
     ring = [0]
@@ -156,17 +185,18 @@ def rings(geoms: np.ndarray) -> tuple[FloatArray, IntArray, IntArray, FloatArray
         rings.append(len(ring) - 1)
     xy = np.ascontiguousarray(np.concatenate(xy_parts)) if xy_parts else np.zeros((0, 2))
     disc = np.zeros((len(geoms), 4))
-    for k, g in enumerate(geoms):
-        parts = shapely.get_parts(g)
-        big = parts[int(np.argmax(shapely.area(parts)))]
-        size = math.sqrt(max(shapely.area(big), 1e-12))
-        centre = shapely.get_point(shapely.maximum_inscribed_circle(big, tolerance=0.01 * size), 0)
-        r_in = float(shapely.distance(centre, shapely.boundary(g))) if shapely.contains(g, centre) else 0.0
-        cx, cy = shapely.get_coordinates(centre)[0]
-        v = shapely.get_coordinates(g)
-        r_out = float(np.hypot(v[:, 0] - cx, v[:, 1] - cy).max())
-        scale = max(abs(cx), abs(cy), r_out, 1.0)
-        disc[k] = cx, cy, max(r_in - 1e-6 * scale, 0.0), r_out + 1e-6 * scale
+    if len(geoms):
+        geoms = np.asarray(geoms, dtype=object)
+        centres = inner_centres(geoms) if centres is None else centres
+        c = shapely.get_coordinates(centres)
+        r_in = np.where(shapely.contains(geoms, centres), shapely.distance(centres, shapely.boundary(geoms)), 0.0)
+        counts = shapely.get_num_coordinates(geoms)
+        v = shapely.get_coordinates(geoms)
+        owner = np.repeat(np.arange(len(geoms)), counts)
+        r_out = np.zeros(len(geoms))
+        np.maximum.at(r_out, owner, np.hypot(v[:, 0] - c[owner, 0], v[:, 1] - c[owner, 1]))
+        scale = np.maximum.reduce([np.abs(c[:, 0]), np.abs(c[:, 1]), r_out, np.ones(len(geoms))])
+        disc[:] = np.column_stack([c, np.maximum(r_in - 1e-6 * scale, 0.0), r_out + 1e-6 * scale])
     return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp), disc
 
 

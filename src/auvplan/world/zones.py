@@ -47,7 +47,7 @@ from .zone_kernels import (
     path_hits_kernel,
     slack_kernel,
 )
-from .zone_parts import clip_pieces, distance_field, expand_groups, rasterise
+from .zone_parts import clip_pieces, distance_field, expand_groups, inner_centres, rasterise
 from .zone_parts import rings as polygon_rings
 from .zone_parts import samples as leg_samples
 from .zone_parts import traces as trace_geoms
@@ -150,6 +150,7 @@ class Zones:
     _grid: tuple[Any, ...] | None = field(init=False, repr=False)
     _field: tuple[Any, ...] = field(init=False, repr=False)
     _rings: tuple[FloatArray, IntArray, IntArray, FloatArray] = field(init=False, repr=False)
+    _centres: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         zs = tuple(self.zones)
@@ -160,9 +161,16 @@ class Zones:
             raise DataError(f"zone {bad!r}: above_seabed_m needs a seabed (a [terrain])")
         if not (math.isfinite(self.pad) and self.pad >= 0):
             raise DataError(f"zones: pad must be a non-negative number, got {self.pad}")
-        geoms = np.array([z.footprint for z in zs], dtype=object)
-        if self.pad > 0 and geoms.size:
-            geoms = shapely.buffer(geoms, self.pad, join_style="mitre")
+        footprints = np.array([z.footprint for z in zs], dtype=object)
+        object.__setattr__(self, "_centres", inner_centres(footprints))
+        geoms = shapely.buffer(footprints, self.pad, join_style="mitre") if self.pad > 0 and zs else footprints
+        self._set_prisms(geoms, h)
+        self._rasterise()
+
+    def _set_prisms(self, geoms: np.ndarray, h: FloatArray) -> None:
+        """The footprints (grown by the pad), their R-tree, rings and discs, and the bands grown by the pad."""
+        zs = self.zones
+        geoms = np.array(geoms, dtype=object)
         shapely.prepare(geoms)
         object.__setattr__(self, "_geoms", geoms)
         object.__setattr__(self, "_tree", shapely.STRtree(geoms))
@@ -172,8 +180,7 @@ class Zones:
         object.__setattr__(self, "_h", h + self.pad)
         object.__setattr__(self, "_seabed", np.isfinite(h))
         object.__setattr__(self, "_bounds", shapely.bounds(geoms).reshape(-1, 4))
-        object.__setattr__(self, "_rings", polygon_rings(geoms))
-        self._rasterise()
+        object.__setattr__(self, "_rings", polygon_rings(geoms, self._centres))
 
     def _rasterise(self) -> None:
         """The broad phase's grid (:func:`.zone_parts.rasterise`)."""
@@ -259,9 +266,31 @@ class Zones:
             return self
         cached: Zones | None = self.__dict__.get("_exact")
         if cached is None:
-            cached = Zones(self.zones, self.terrain)
+            cached = self._unpadded()
             object.__setattr__(self, "_exact", cached)
         return cached
+
+    def _unpadded(self) -> Zones:
+        """:attr:`exact` built from this padded set: its own footprints, bands, rings and R-tree (the exact
+        tests and distances), the discs' centres shared, and the broad phase's cell lists and the fine field
+        shared (a padded prism holds the unpadded one: its cells are a superset and its distances lower
+        bounds); only the grid's bands, which the compiled flat-band test uses exactly, are its own."""
+        out = object.__new__(Zones)
+        for name, value in (("zones", self.zones), ("terrain", self.terrain), ("pad", 0.0),
+                            ("_centres", self._centres)):
+            object.__setattr__(out, name, value)
+        h = self._h - self.pad
+        out._set_prisms(np.array([z.footprint for z in self.zones], dtype=object), h)
+        if self._grid is None:
+            object.__setattr__(out, "_grid", None)
+            return out
+        top = out._zhi.copy()
+        sea = self._seabed
+        top[sea] = self._grid[9][sea] - self.pad  # the highest seabed under the (padded) box plus the height
+        bottom = np.where(sea, -np.inf, out._zlo)
+        object.__setattr__(out, "_grid", (*self._grid[:8], bottom, top, self._grid[10]))
+        object.__setattr__(out, "_field", self._field)
+        return out
 
     @property
     def names(self) -> list[str]:
@@ -286,7 +315,7 @@ class Zones:
         Returns
         -------
         seg, zone : numpy.ndarray of int
-            Indices of the entering pairs (each pair once), sorted by segment.
+            Indices of the entering pairs (each pair once), sorted by segment, then zone.
         """
         s = np.asarray(segments, dtype=float).reshape(-1, 2, 3)
         empty = np.zeros(0, dtype=np.intp)
@@ -305,7 +334,8 @@ class Zones:
         if seabed.any():
             sub = np.flatnonzero(seabed)
             hit[sub] = self._seabed_pairs(s, cs[sub], zi[sub])
-        return cs[hit], zi[hit]
+        order = np.lexsort((zi[hit], cs[hit]))  # the broad phase lists a segment's zones in cell order
+        return cs[hit][order], zi[hit][order]
 
     def _seabed_pairs(self, s: FloatArray, cs: IntArray, zi: IntArray) -> BoolArray:
         """Exact test of the (segment, seabed-band zone) pairs: the footprint met by the trace (GEOS), then
@@ -338,9 +368,9 @@ class Zones:
 
     def _compiled_hits(self, kernel: Any, data: FloatArray, count: int, segments: Any) -> BoolArray:
         """Run a compiled any-hit pass, then test its seabed-band candidates exactly (GEOS and the terrain)."""
-        hit = np.zeros(count, dtype=bool)
         if self._grid is None or count == 0:
-            return hit
+            return np.zeros(count, dtype=bool)
+        hit = np.empty(count, dtype=bool)  # the kernel writes every entry
         x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, _ = self._grid
         args = (data, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, self._seabed, *self._rings, *self._field)
         mark = np.full(len(self.zones), -1, dtype=np.intp)
@@ -371,9 +401,9 @@ class Zones:
             ``(P, S - 1)`` (m).
         """
         p = np.ascontiguousarray(np.asarray(points, dtype=float))
-        out = np.full((p.shape[0], max(p.shape[1] - 1, 0)), np.inf)
-        if not self.zones or out.size == 0:
-            return out
+        if not self.zones or p.shape[1] < 2 or p.shape[0] == 0:
+            return np.full((p.shape[0], max(p.shape[1] - 1, 0)), np.inf)
+        out = np.empty((p.shape[0], p.shape[1] - 1))  # the kernel writes every entry
         slack_kernel(p, self._path_hits(p), out)
         return out
 
