@@ -183,6 +183,22 @@ def test_scenario_files_outside_the_served_folders_are_refused(served, tmp_path_
     assert session.source == opened  # nothing was read, the open scenario stays
 
 
+def test_a_zone_file_outside_the_served_folders_is_refused(served, tmp_path_factory):
+    """A ``[[zones]] file`` is a data file the scenario names like its currents: confined too (it was read from
+    anywhere: :func:`auvplan.io.scenario.specs.named_files` left it out)."""
+    session, client, root = served
+    outside = tmp_path_factory.mktemp("charts")
+    (outside / "z.geojson").write_text('{"type": "FeatureCollection", "features": []}')
+    opened = session.source
+    doc = {**tomllib.loads(session.text), "zones": [{"name": "cable", "file": f"../{outside.name}/z.geojson"}]}
+    (root / "zonefile.toml").write_text(dumps(doc), encoding="utf-8")
+    r = client.post("/api/open", json={"scenario": "zonefile.toml"})
+    assert r.status_code == 400, r.text
+    err = r.json()["error"]
+    assert "outside the served folders" in err and "[[zones]] #1 file" in err and "zonefile.toml" in err, err
+    assert session.source == opened
+
+
 # ---------------------------------------------------------------- the request itself
 _BAD_BODIES = [
     ("text/plain", b'{"op": "move"}', "must be JSON"), ("", b"{}", "must be JSON"),

@@ -237,20 +237,10 @@ def _input_stamps(sc: Scenario) -> list[Any]:
         The stamps, in a fixed order (a file that cannot be read: its name alone).
     """
     from ..io.data.cache import code_stamp, file_stamp
-    from ..io.data.ocean.currents import CurrentsFileSpec
-    from ..io.data.ocean.tides import BUILTIN_TIDES
+    from ..io.scenario.specs import named_files
 
-    def named(f: Any) -> str:
-        return f.path if isinstance(f, CurrentsFileSpec) else str(f or "")
-
-    c = sc.currents
-    names = [sc.terrain.file if sc.terrain is not None else "", named(c.file),
-             c.tides if c.tides and c.tides not in BUILTIN_TIDES else "", *[named(m.file) for m in c.members],
-             sc.land.file if sc.land is not None else "",
-             *[z.file for z in sc.zones],
-             *([sc.survey.file, sc.survey.centerline_file] if sc.survey is not None else [])]
     stamps: list[Any] = [code_stamp()]
-    for name in filter(None, names):
+    for _, name in named_files(sc):
         path = Path(name) if Path(name).is_absolute() or sc.base_dir is None else sc.base_dir / name
         try:
             stamps.append(file_stamp(path))

@@ -13,42 +13,9 @@ from importlib import resources
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
 from ..errors import AuvplanError
-from ..io.data.ocean.tides import BUILTIN_TIDES
-from ..io.scenario.specs import Scenario
+from ..io.scenario.specs import Scenario, named_files
 
-__all__ = ["PathRefused", "Roots", "named_files"]
-
-
-def named_files(sc: Scenario) -> list[tuple[str, str]]:
-    """Every data file a scenario names, as ``(key, name as written)``.
-
-    Parameters
-    ----------
-    sc : Scenario
-        The scenario.
-
-    Returns
-    -------
-    list of (str, str)
-        ``[terrain] file``, ``[currents] file``, a tide station file, each member's file, ``[land] file``,
-        ``[survey] file``.
-    """
-    out: list[tuple[str, str]] = []
-    if sc.terrain is not None and sc.terrain.file:
-        out.append(("[terrain] file", sc.terrain.file))
-    c = sc.currents
-    if c.file is not None:
-        out.append(("[currents] file", c.file if isinstance(c.file, str) else c.file.path))
-    if c.tides and c.tides not in BUILTIN_TIDES:
-        out.append(("[currents] tides", c.tides))
-    for i, m in enumerate(c.members):
-        if m.file is not None:
-            out.append((f"[currents] members[{i}] file", m.file if isinstance(m.file, str) else m.file.path))
-    if sc.land is not None and sc.land.file:
-        out.append(("[land] file", sc.land.file))
-    if sc.survey is not None and sc.survey.file:
-        out.append(("[survey] file", sc.survey.file))
-    return out
+__all__ = ["PathRefused", "Roots"]
 
 
 class PathRefused(AuvplanError):

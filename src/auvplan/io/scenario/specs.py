@@ -22,6 +22,7 @@ from ...vehicles import VehicleParams
 from ...world import MovingObstacle
 from ..data.bathymetry import TerrainSpec
 from ..data.ocean.currents import CurrentsFileSpec, parse_time
+from ..data.ocean.tides import BUILTIN_TIDES
 from ..data.vector.coast import LandSpec
 from ..data.vector.zones import ZoneSpec
 from ..limits import Limits
@@ -38,6 +39,7 @@ __all__ = [
     "MissionSpec",
     "GuidanceSpec",
     "SECTIONS",
+    "named_files",
 ]
 
 
@@ -385,3 +387,39 @@ SECTIONS: dict[str, type] = {
     "survey": SurveySpec, "navigation": NavParams,
 }
 """The tables that map onto one dataclass each (the loader and :mod:`auvplan.io.scenario.schema` share it)."""
+
+
+def named_files(sc: Scenario) -> list[tuple[str, str]]:
+    """Every data file a scenario names, as ``(key, name as written)`` — what ``serve`` confines to its
+    folders and what a departure sweep's checkpoints are keyed on.
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+
+    Returns
+    -------
+    list of (str, str)
+        ``[terrain] file``, ``[currents] file``, a tide station file, each member's file, ``[land] file``,
+        each ``[[zones]] file``, ``[survey] file`` and ``centerline_file``, in that order.
+    """
+    def name(f: str | CurrentsFileSpec) -> str:
+        return f if isinstance(f, str) else f.path
+
+    out: list[tuple[str, str]] = []
+    if sc.terrain is not None and sc.terrain.file:
+        out.append(("[terrain] file", sc.terrain.file))
+    c = sc.currents
+    if c.file is not None:
+        out.append(("[currents] file", name(c.file)))
+    if c.tides and c.tides not in BUILTIN_TIDES:
+        out.append(("[currents] tides", c.tides))
+    out += [(f"[currents] members[{i}] file", name(m.file)) for i, m in enumerate(c.members) if m.file is not None]
+    if sc.land is not None and sc.land.file:
+        out.append(("[land] file", sc.land.file))
+    out += [(f"[[zones]] #{i + 1} file", z.file) for i, z in enumerate(sc.zones) if z.file]
+    if sc.survey is not None:
+        out += [(f"[survey] {key}", f) for key, f in (("file", sc.survey.file),
+                                                       ("centerline_file", sc.survey.centerline_file)) if f]
+    return out
