@@ -11,8 +11,9 @@ import pyogrio
 import pytest
 import shapely
 
+from auvplan.io.data import cache
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.data.vector import coast, kept
+from auvplan.io.data.vector import coast
 from auvplan.io.data.vector import zones as zones_io
 from auvplan.io.data.vector.coast import LandSpec, read_land
 from auvplan.io.data.vector.zones import ZoneSpec
@@ -84,6 +85,6 @@ def test_an_edited_sidecar_file_is_read_again(cache_on, tmp_path):
     shp = path.read_bytes()
     assert names() == ["c: Old Range"]
     write("New Range")
-    assert path.read_bytes() == shp and {p.suffix for p in kept.dataset_files(path)} >= {".shp", ".dbf", ".prj"}
+    assert path.read_bytes() == shp and {p.suffix for p in cache.dataset_files(path)} >= {".shp", ".dbf", ".prj"}
     assert names() == ["c: New Range"]
     assert len(list(cache_on.glob("zones-*.npz"))) == 2

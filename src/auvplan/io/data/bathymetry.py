@@ -27,7 +27,6 @@ depth and is treated as no-go).
 from __future__ import annotations
 
 import logging
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from importlib import resources
@@ -479,34 +478,15 @@ def load_terrain(
     Terrain
         The seabed in the local frame (m, up positive).
     """
-    from .cache import cached
+    from .cache import cached, dataset_files
 
     path = _topobathy_path() if spec.builtin == "matplotlib-topobathy" else (
         builtin_terrain_path(spec.builtin) if spec.builtin else Path(spec.file))
     if not path.is_absolute() and base_dir is not None:
         path = base_dir / path
     request = (spec, None if frame is None else (frame.lat0, frame.lon0), extent_m)
-    return cached("terrain", request, [path, *_sidecars(path)], lambda: _load_terrain(spec, frame, path, extent_m),
-                  _pack, _unpack)
-
-
-_SIDECARS = (".aux.xml", ".aux", ".tfw", ".tifw", ".tiffw", ".wld", ".tab", ".prj", ".msk", ".ovr", ".rpb", ".imd")
-"""Endings of the files next to a GeoTIFF that GDAL reads with it (after its name or its stem, any case): a
-georeferencing, a CRS, a nodata value, a mask or overviews that change what the raster reads as."""
-
-
-def _sidecars(path: Path) -> list[Path]:
-    """The sidecar files of a GeoTIFF that are there (:data:`_SIDECARS`; none for another format)."""
-    if not is_geotiff(path):
-        return []
-    try:
-        names = sorted(os.listdir(path.parent))
-    except OSError:
-        return []
-    heads = (path.name.lower(), path.stem.lower())
-    found = [path.parent / n for n in names
-             if n != path.name and any(n.lower() == h + e for h in heads for e in _SIDECARS)]
-    return [p for p in found if p.is_file()]
+    files = dataset_files(path) if is_geotiff(path) else [path]  # a GeoTIFF with the sidecars GDAL reads
+    return cached("terrain", request, files, lambda: _load_terrain(spec, frame, path, extent_m), _pack, _unpack)
 
 
 def _topobathy_path() -> Path:

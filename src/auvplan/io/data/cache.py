@@ -43,7 +43,7 @@ import numpy as np
 
 from ..limits import current
 
-__all__ = ["cache_dir", "cache_enabled", "cached", "code_stamp", "file_stamp", "request_key"]
+__all__ = ["cache_dir", "cache_enabled", "cached", "code_stamp", "dataset_files", "file_stamp", "request_key"]
 
 T = TypeVar("T")
 """What a reader returns."""
@@ -119,6 +119,28 @@ def _py_files(root: str) -> list[str]:
         rel = os.path.relpath(folder, root)
         out += [name if rel == "." else os.path.join(rel, name) for name in files if name.endswith(".py")]
     return sorted(out)
+
+
+def dataset_files(path: Path) -> list[Path]:
+    """The files a data set is made of: ``path`` and its siblings named ``stem.*`` in any case (a shapefile's
+    ``.dbf``, ``.prj``, ``.shx``; a GeoTIFF's ``.tif.aux.xml``, world file, ``.ovr`` that GDAL reads with it).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file a scenario names.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``[path]`` first, then the sibling files in name order (none when the folder cannot be listed).
+    """
+    head = path.stem.lower() + "."
+    try:
+        names = sorted(n for n in os.listdir(path.parent) if n != path.name and n.lower().startswith(head))
+    except OSError:
+        names = []
+    return [path, *(p for p in (path.parent / n for n in names) if p.is_file())]
 
 
 def file_stamp(path: Path) -> list[Any]:

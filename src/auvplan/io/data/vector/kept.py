@@ -17,32 +17,12 @@ from typing import Any
 import numpy as np
 import shapely
 
-from ..cache import cached
+from ..cache import cached, dataset_files
 
-__all__ = ["dataset_files", "kept_geometries"]
+__all__ = ["kept_geometries"]
 
 Named = list[tuple[str, Any]]
 """Named local-frame geometries."""
-
-
-def dataset_files(path: Path) -> list[Path]:
-    """The files a vector data set is made of: ``path`` and its siblings ``stem.*`` (sorted).
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        The file the scenario names.
-
-    Returns
-    -------
-    list of pathlib.Path
-        ``[path]`` first, then the sidecar files (``.dbf``, ``.prj``, ``.shx``, ``.cpg`` …) in name order.
-    """
-    try:
-        siblings = sorted(p for p in path.parent.glob(f"{path.stem}.*") if p.is_file() and p != path)
-    except OSError:
-        siblings = []
-    return [path, *siblings]
 
 
 def _pack(named: Named) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
@@ -69,7 +49,8 @@ def kept_geometries(kind: str, request: Any, path: Path, compute: Callable[[], N
         Everything besides the files that the result depends on (the table, the frame's origin, the
         extent); its ``repr`` must be exact.
     path : pathlib.Path
-        The vector file (its sidecar files are part of the key, :func:`dataset_files`).
+        The vector file (its sidecar files are part of the key,
+        :func:`~auvplan.io.data.cache.dataset_files`).
     compute : callable
         The reader: ``() -> [(name, geometry), ...]``.
 
