@@ -228,14 +228,15 @@ def _obstacle_slack(world: World, a: FloatArray, b: FloatArray) -> tuple[FloatAr
     m = world.margins
     slack = np.full(a.shape[:-1], np.inf)
     clearance = np.full(a.shape[:-1], np.inf)
-    spheres = [o for o in world.obstacles if type(o) is Sphere] if jit_enabled() else []
+    compiled = jit_enabled()
+    spheres = [o for o in world.obstacles if compiled and type(o) is Sphere]
     if spheres:  # all the spheres in one compiled pass, numpy's arithmetic in numpy's order
         _sphere_slack(np.ascontiguousarray(a).reshape(-1, 3), np.ascontiguousarray(b).reshape(-1, 3),
                       np.array([o.center for o in spheres], dtype=float).reshape(-1, 3),
                       np.array([o.radius for o in spheres], dtype=float), float(m.obstacle),
                       slack.reshape(-1), clearance.reshape(-1))
-    others = [o for o in world.obstacles if not any(o is q for q in spheres)]
-    ends = np.stack([a, b], axis=-2) if others else a
+    others = [o for o in world.obstacles if not (compiled and type(o) is Sphere)]
+    ends = np.stack([a, b], axis=-2) if others else a  # not stacked when no shape is left to ask
     for shape in others:
         d = np.minimum(shape.distance(a), shape.distance(b))
         touch = shape.segments_hit(ends, 0.0)
