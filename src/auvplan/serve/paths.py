@@ -77,7 +77,8 @@ class Roots:
         sc : Scenario
             The scenario about to be built.
         """
-        data = Path(str(resources.files("auvplan.data"))).resolve()
+        data = Path(str(resources.files("auvplan") / "data")).resolve()  # as the readers find it (auvplan.data is
+        # a namespace package: its files() is a MultiplexedPath, whose str is no path)
         for key, name in named_files(sc):
             p = Path(name)
             if not p.is_absolute() and sc.base_dir is not None:
