@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 # OpenBLAS's worker threads spin while they wait: on a loaded 2-core machine each small LAPACK call (scipy's
 # Delaunay barycentric transforms under LinearNDInterpolator, small solves) then costs up to seconds of CPU
@@ -55,11 +56,18 @@ def lofoten_plan(tmp_path_factory):
 
 def pytest_collection_finish(session):
     """mypy's run over src/ (~40 s of CPU on a fresh checkout) starts as soon as the tests are collected when
-    its test is among them, and goes on beside the suite (tests/static/lint_runs.py)."""
-    if any(item.nodeid.endswith("test_lint.py::test_mypy_clean") for item in session.items):
-        import lint_runs
+    its test is among them, and goes on beside the suite (tests/static/lint_runs.py).  So does the kernels'
+    warm-up (tests/warm_kernels.py: the charted zones' kernels, ~40 s of compiling on a fresh checkout, into
+    numba's cache before the zones' tests need them) when numba compiles and the session is a long one that
+    holds those tests."""
+    import lint_runs
 
+    if any(item.nodeid.endswith("test_lint.py::test_mypy_clean") for item in session.items):
         lint_runs.start("mypy")
+    from auvplan.runtime.jit import jit_enabled
+
+    if jit_enabled() and len(session.items) > 500 and any("/test_zones" in item.nodeid for item in session.items):
+        lint_runs.start("python", str(Path(__file__).with_name("warm_kernels.py")), nice=False)
 
 
 def pytest_sessionfinish(session):

@@ -44,6 +44,14 @@ def build_toml(text: str, source: str = "t.toml") -> tuple:  # type: ignore[type
     return scenario_io.build(scenario_io.loads(text, source))
 
 
+def no_seabed() -> np.ndarray:
+    """The seabed coefficients ``(1, 1, 4)`` a kernel is given for a world without a seabed (never read): read-only
+    like a :class:`Terrain`'s, so that the kernel is not compiled a second time for a writable array."""
+    coef = np.zeros((1, 1, 4))
+    coef.setflags(write=False)
+    return coef
+
+
 def flat_world(depth: float = 100.0, size: float = 1000.0, min_altitude: float = 5.0, obstacles=(), **kw) -> World:
     """Open square world over a flat seabed."""
     x = np.linspace(0.0, size, 21)

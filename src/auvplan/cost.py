@@ -311,8 +311,8 @@ def segment_energy(world: World, a: ArrayLike, b: ArrayLike, model: CostModel,
     c = _midpoint_currents(world, a[None], b[None])[0] if current is None else given[0]  # (N, 3) or (1, 3)
     units, energy_j, dt = (np.empty(a.shape[0]) for _ in range(3))
     blocked = np.empty(a.shape[0], dtype=bool)
-    _segment_energies(a, b, c, model.speed, propulsion_power(model), energy_mode(model), units, energy_j, dt,
-                      blocked)
+    _segment_energies(_read_only(a), _read_only(b), _read_only(c), float(model.speed), propulsion_power(model),
+                      energy_mode(model), units, energy_j, dt, blocked)
     return units.reshape(lead), energy_j.reshape(lead), dt.reshape(lead), blocked.reshape(lead)
 
 
@@ -329,7 +329,7 @@ def propulsion_power(model: CostModel) -> float:
     float
         Hotel load + drag_k · V³ (W).
     """
-    return model.hotel_power + model.drag_k * model.speed**3
+    return float(model.hotel_power + model.drag_k * model.speed**3)
 
 
 @kernel
@@ -499,9 +499,10 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
     out = np.empty((7, p.shape[0]))
     _path_terms(p, current, other_slack, other_clear, bool(world.obstacles) or bool(world.zones), terrain, cell_max,
                 world.terrain is not None,
-                m.min_altitude, np.inf if exact else m.min_altitude,
-                np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax]), m.min_depth, m.max_depth,
-                model.speed, propulsion_power(model), energy_mode(model), out)
+                float(m.min_altitude), np.inf if exact else float(m.min_altitude),  # floats: one compiled kernel
+                np.array([bd.xmin, bd.xmax, bd.ymin, bd.ymax, bd.zmin, bd.zmax], dtype=float), float(m.min_depth),
+                float(m.max_depth),
+                float(model.speed), propulsion_power(model), energy_mode(model), out)
     length, violations, depth, units, energy_j, duration, clearance = out
     counts = violations.astype(np.intp)
     terrain_cost = model.terrain_penalty * counts + model.violation_slope * depth
@@ -539,6 +540,14 @@ def _midpoints(a: FloatArray, b: FloatArray, out: FloatArray) -> None:
         for s in range(a.shape[1]):
             for d in range(3):
                 out[i, s, d] = 0.5 * (a[i, s, d] + b[i, s, d])
+
+
+def _read_only(a: FloatArray) -> FloatArray:
+    """A read-only view of ``a`` (no copy): a kernel's input typed the same whether or not the caller's array was
+    writable, so that it is compiled once."""
+    view = a.view()
+    view.setflags(write=False)
+    return view
 
 
 def _no_terrain() -> TerrainKernelData:

@@ -108,14 +108,21 @@ def test_shuttle_image_is_its_return_mirrored_about_the_turning_point():
     assert mem.images([7], c[None], v[None], [15.0], p=[40.0, 120.0, -100.0])[0].shape == (1, 3)  # beside the lane
 
 
+@pytest.fixture(scope="module")
+def gauntlet():
+    """avoidance-gauntlet's (World, Mission) and its default plan's route: the four fast-mover seeds below fly
+    the same plan (planned once here, as benchmarks/avoidance.py plans it once for all its seeds)."""
+    w, m = sc.build(sc.load("avoidance-gauntlet"))
+    return w, m, mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
+
+
 @pytest.mark.parametrize("seed", [16, 28])
-def test_fast_shuttle_trap_runs_down_the_old_avoidance_and_not_the_sweep(seed):
+def test_fast_shuttle_trap_runs_down_the_old_avoidance_and_not_the_sweep(gauntlet, seed):
     """Fast-mover Monte Carlo seeds 16 and 28 (benchmarks/avoidance.py) on avoidance-gauntlet's seabed and
     default plan (the seeds of 0–39 where the old avoidance is hit; they depend on the plan: seeds 1 and 3
     before the planner's polish of issue 35): without the sweep images the vehicle is run down; with them
     it arrives with no contact and more than 5 m clear."""
-    w, m = sc.build(sc.load("avoidance-gauntlet"))
-    route = mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
+    w, m, route = gauntlet
     world = fast_movers(w, route, m.vehicle.speed, seed)
     old = simulate(world, replace(m, avoidance=replace(m.avoidance, sweep=False)), route=route, rng=seed)
     assert old.metrics["collisions"] == 1 and not old.arrived
@@ -125,14 +132,13 @@ def test_fast_shuttle_trap_runs_down_the_old_avoidance_and_not_the_sweep(seed):
 
 
 @pytest.mark.parametrize("seed", [37, 57])
-def test_fast_orbit_runs_down_the_tangent_prediction_and_not_the_ctrv_one(seed):
+def test_fast_orbit_runs_down_the_tangent_prediction_and_not_the_ctrv_one(gauntlet, seed):
     """Fast-mover Monte Carlo seeds 37 and 57 (the two contacts left with the sweep images alone): a 26–29 m
     sphere orbiting a route point at 2.9 m/s (75–80 m radius).  Predicted on its tangent it runs the vehicle
     down although the brute-force oracle finds hundreds of safe constant manoeuvres at detection
     (benchmarks/avoidance.py, its ``avoidable`` oracle); predicted on its CTRV arc
     (:mod:`auvplan.guidance.avoidance.turning`) the vehicle arrives with no contact."""
-    w, m = sc.build(sc.load("avoidance-gauntlet"))
-    route = mission_route(w, m, plan(planning_problem(w, m), m.planner, rng=m.seed).path)
+    w, m, route = gauntlet
     world = fast_movers(w, route, m.vehicle.speed, seed)
     old = simulate(world, replace(m, avoidance=replace(m.avoidance, turn_model=False)), route=route, rng=seed)
     assert old.metrics["collisions"] == 1 and not old.arrived

@@ -108,7 +108,8 @@ def test_the_compiled_band_moves_every_point_to_the_same_bits_as_numpy(scene, ob
     i = np.arange(1, p.shape[0] - 1, 2)
     ends, tips = np.empty((12, i.size, 3)), np.empty((12, i.size, 3))
     band_moves(p, i, np.full(p.shape[0], 0.5), np.full(p.shape[0], 0.5 * step), ends, tips)
-    kk, jj = np.nonzero(np.random.default_rng(5).random((5, i.size)) < 0.5)
+    picked = np.random.default_rng(5).random((5, i.size)) < 0.5
+    kk, jj = (np.ascontiguousarray(v) for v in np.nonzero(picked))  # C, as band.py passes them
     seg = np.empty((kk.size, 2, 2, 3))
     band_segments(ends, tips, kk, jj, seg)
     moves = tips[kk + 1, jj]

@@ -27,11 +27,15 @@ def tool(name: str) -> str:
     return str(exe) if exe.exists() else (shutil.which(name) or name)
 
 
-def start(*command: str) -> None:
-    """Start ``command`` (a console script and its arguments) in the repository's root, once."""
+def start(*command: str, nice: bool = True) -> None:
+    """Start ``command`` (a console script and its arguments) in the repository's root, once; ``nice``: at nice
+    10 where ``nice`` exists, so that it fills the core the suite leaves idle and never slows the suite's own
+    process (the kernels' warm-up, tests/warm_kernels.py, runs at the suite's priority: it works for the suite)."""
     if command not in _RUNS:
         out = tempfile.TemporaryFile()
-        proc = subprocess.Popen([tool(command[0]), *command[1:]], cwd=ROOT, stdout=out, stderr=subprocess.STDOUT)
+        nice_cmd = ["nice", "-n", "10"] if nice and shutil.which("nice") else []
+        proc = subprocess.Popen([*nice_cmd, tool(command[0]), *command[1:]], cwd=ROOT, stdout=out,
+                                stderr=subprocess.STDOUT)
         _RUNS[command] = (proc, out)
 
 

@@ -20,6 +20,7 @@ from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import Mission, SimParams, mission_route, planning_problem, simulate
 from auvplan.world import Bounds, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
+from helpers import no_seabed
 
 PIN = json.loads((Path(__file__).parents[1] / "data" / "dynamic_terrain_apf_pin.json").read_text())
 
@@ -109,7 +110,7 @@ def test_vo_choice_clearance_matches_a_fine_simulation_of_its_track():
     C, V, R = np.array([[150.0, 5.0, -100.0]]), np.array([[-2.0, 0.0, 0.0]]), np.array([30.0])
     H = np.radians(np.arange(0.0, 360.0, 10.0))
     P, S = np.zeros(1), np.array([1.5])
-    i, j, k, clear, safe = vo_choose(p, v, np.zeros(3), C, V, R, H, P, S, np.array([1.0, 0, 0]), np.zeros((1, 1, 4)),
+    i, j, k, clear, safe = vo_choose(p, v, np.zeros(3), C, V, R, H, P, S, np.array([1.0, 0, 0]), no_seabed(),
                                      _cfg(), np.array([0.5, 0.3, 0.15, 0.3, 0.6]))
     assert safe and clear >= 10.0
     psi = H[i]
@@ -123,7 +124,7 @@ def test_vo_choice_clearance_matches_a_fine_simulation_of_its_track():
     assert np.linalg.norm(track - obst, axis=1).min() - 30.0 == pytest.approx(clear, abs=1e-3)
     # the straight-on command is in the collision cone
     _, _, _, c0, s0 = vo_choose(p, v, np.zeros(3), C, V, R, np.array([np.pi / 2]), P, S, np.array([1.0, 0, 0]),
-                                np.zeros((1, 1, 4)), _cfg(), np.array([0.5, 0.3, 0.15, 0.3, 0.6]))
+                                no_seabed(), _cfg(), np.array([0.5, 0.3, 0.15, 0.3, 0.6]))
     assert not s0 and c0 < 0.0
 
 
@@ -236,7 +237,7 @@ def _vertical_choice(seabed: float | None, z_hi: float = -5.0):
     C, V, R = np.array([[250.0, 0.0, -100.0]]), np.array([[-2.0, 0.0, 0.0]]), np.array([20.0])
     pitches = np.radians([0.0, -24.0, 24.0])
     if seabed is None:
-        coef, extra = np.zeros((1, 1, 4)), dict(terrain=0.0)
+        coef, extra = no_seabed(), dict(terrain=0.0)
     else:
         x = np.linspace(-500.0, 500.0, 11)
         coef, x0, y0, dx, dy = Terrain(x, x, np.full((11, 11), seabed)).kernel_data[:5]

@@ -20,6 +20,7 @@ from auvplan.guidance.avoidance.vo import (
 )
 from auvplan.vehicles import VehicleParams, VehicleState
 from auvplan.world import Bounds, CircleMotion, LinearMotion, MovingObstacle, Sphere, WaypointMotion, World
+from helpers import no_seabed
 
 ORBIT = CircleMotion((100.0, 200.0, -50.0), 80.0, 2 * math.pi * 80.0 / 2.9, 0.3)  # 2.9 m/s, counter-clockwise
 
@@ -86,7 +87,7 @@ def test_windowed_velocity_obstacles():
     p, v = np.zeros(3), np.array([0.0, 1.5, 0.0])
     C, V, R = np.array([[0.0, 60.0, 0.0]]), np.zeros((1, 3)), np.array([10.0])
     H, P, S = np.radians(np.arange(-90.0, 91.0, 10.0)), np.array([0.0]), np.array([1.5])
-    pref, coef, wts = np.array([0.0, 1.0, 0.0]), np.zeros((1, 1, 4)), np.array([0.5, 0.3, 0.15, 0.3, 0.6])
+    pref, coef, wts = np.array([0.0, 1.0, 0.0]), no_seabed(), np.array([0.5, 0.3, 0.15, 0.3, 0.6])
     open_w = np.array([[0.0, math.inf]])
     assert vo_choose(p, v, np.zeros(3), C, V, R, H, P, S, pref, coef, _cfg(), wts) == \
         vo_choose_windows(p, v, np.zeros(3), C, V, R, open_w, H, P, S, pref, coef, _cfg(), wts)

@@ -106,7 +106,8 @@ class Terrain:
             object.__setattr__(self, name, value)
         # bilinear coefficients per cell: zb = a + b u + c v + e u v, u, v in [0, 1]
         z00, z10, z01, z11 = z[:-1, :-1], z[:-1, 1:], z[1:, :-1], z[1:, 1:]
-        coef = np.stack([z00, z10 - z00, z01 - z00, z00 - z10 - z01 + z11], axis=-1)
+        # C order whatever z's (np.stack follows a transposed z's layout): the kernels are compiled for C arrays
+        coef = np.ascontiguousarray(np.stack([z00, z10 - z00, z01 - z00, z00 - z10 - z01 + z11], axis=-1))
         coef.setflags(write=False)
         object.__setattr__(self, "_coef", coef)
         # steepest slope of the bilinear surface (its Lipschitz constant): per cell the
@@ -328,7 +329,8 @@ class Terrain:
             ga = gb = out  # not read: the kernel computes the end altitudes itself
             known = False
         else:
-            ga, gb = (np.ascontiguousarray(np.broadcast_to(np.asarray(g, dtype=float), lead).reshape(-1))
+            # writable C arrays, as ``out`` above: one compiled kernel
+            ga, gb = (np.require(np.broadcast_to(np.asarray(g, dtype=float), lead).reshape(-1), requirements=("C", "W"))
                       for g in end_altitudes)
             known = True
         _min_altitudes(*self.kernel_data, a, b, ga, gb, known, float(threshold), out)

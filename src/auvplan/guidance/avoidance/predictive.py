@@ -47,6 +47,11 @@ __all__ = ["TrackEstimator", "PredictiveAvoidance"]
 _F64 = NDArray[np.float64]
 """Array of float64 (units as documented per parameter)."""
 
+# the seabed coefficients of a world without one: read-only like a Terrain's, so that vo_choose_windows is
+# compiled once (numba types a writable array apart from a read-only one: a second ~5 s compile)
+_NO_SEABED = np.zeros((1, 1, 4))
+_NO_SEABED.setflags(write=False)
+
 WEIGHTS = np.array([0.5, 0.3, 0.15, 0.3, 0.6])
 """Costs of a safe candidate beyond its angle to the preferred direction (rad per unit):
 relative speed change, pitch change (rad), change from the previous choice (rad), clearance
@@ -152,7 +157,7 @@ class PredictiveAvoidance(LocalAvoidance):
         self.z_lo = max(b.zmin, -m.max_depth) + VERTICAL_BUFFER
         self.altitude = m.min_altitude + VERTICAL_BUFFER
         self.terrain = world.terrain is not None
-        tk = world.terrain.kernel_data[:5] if world.terrain is not None else (np.zeros((1, 1, 4)), 0.0, 0.0, 1.0, 1.0)
+        tk = world.terrain.kernel_data[:5] if world.terrain is not None else (_NO_SEABED, 0.0, 0.0, 1.0, 1.0)
         self.coef = tk[0]
         self.cfg = np.zeros(len(CFG))
         self.cfg[5:] = (self.r_max, self.lag, params.horizon, params.margin, self.z_lo, self.z_hi, float(self.terrain),

@@ -154,7 +154,7 @@ def ellipsoid_disturbance(q: ArrayLike, U: ArrayLike, a: ArrayLike) -> FloatArra
         ``(N, 3)`` (m/s); U + this is tangent to the surface on it.
     """
     q = np.ascontiguousarray(np.asarray(q, dtype=float).reshape(-1, 3))
-    U = np.ascontiguousarray(np.broadcast_to(np.asarray(U, dtype=float), q.shape))
+    U = np.require(np.broadcast_to(np.asarray(U, dtype=float), q.shape), requirements=("C", "W"))  # writable as below
     a = np.asarray(a, dtype=float)
     out: FloatArray = _disturbance(q, U, a, ellipsoid_coefficients(a))
     return out

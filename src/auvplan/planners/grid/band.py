@@ -141,7 +141,7 @@ def _relax(world: World, p: np.ndarray, model: CostModel, objective: str, iterat
             band_moves(p, i, alpha, delta, ends, tips)
             new, better = np.empty((5, m)), np.empty((5, m), dtype=bool)
             band_gains(edge_cost(world, ends, tips, model, objective), new, better)
-            kk, jj = np.nonzero(better)
+            kk, jj = (np.ascontiguousarray(k) for k in np.nonzero(better))  # C whatever their count: one kernel
             if kk.size:  # only the moves that lower the cost go through the exact segment test
                 seg = np.empty((kk.size, 2, 2, 3))
                 band_segments(ends, tips, kk, jj, seg)

@@ -327,8 +327,8 @@ class GriddedCurrent(CurrentField):
     _data: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        axes = [np.asarray(a, dtype=float).reshape(-1) for a in (self.x, self.y, self.z)]
-        tax = np.zeros(1) if self.t is None else np.asarray(self.t, dtype=float).reshape(-1)
+        axes = [np.ascontiguousarray(a, dtype=float).reshape(-1) for a in (self.x, self.y, self.z)]  # C: one kernel
+        tax = np.zeros(1) if self.t is None else np.ascontiguousarray(self.t, dtype=float).reshape(-1)
         comps = [np.asarray(c, dtype=float) for c in (self.u, self.v)]
         comps.append(np.zeros_like(comps[0]) if self.w is None else np.asarray(self.w, dtype=float))
         shape = (tax.size, axes[2].size, axes[1].size, axes[0].size)
