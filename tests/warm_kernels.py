@@ -2,10 +2,12 @@
 
 On a fresh checkout (CI) every kernel is compiled on its first call: ~130 s of the suite's CPU, all in the one
 pytest process.  ``tests/conftest.py`` starts this script as soon as the tests are collected, on the core the
-suite leaves idle (like mypy's run, ``static/lint_runs.py``): it makes the calls of a real workload whose
-kernels the suite first needs minutes after its start (the charted zones' broad phase and exact tests: ~40 s
-of compiling, first called by tests/integration/test_zones_*.py), so that numba's cache holds them by then and
-the suite loads them instead of compiling them.  It checks nothing and changes no test: a kernel it has not
+suite leaves idle (like mypy's run, ``static/lint_runs.py``): it makes the calls of real workloads whose
+kernels the suite first needs a minute or more after its start, in the order the suite needs them (the default
+plan of avoidance-gauntlet: tests/golden/test_avoid_scenes.py's fast movers; the robust plan of
+lofoten-two-models: the conftest's ``lofoten_plan``; the charted zones' broad phase and exact tests: ~40 s of
+compiling, first called by tests/integration/test_zones_*.py), so that numba's cache holds them by then and the
+suite loads them instead of compiling them.  It checks nothing and changes no test: a kernel it has not
 compiled yet when the suite needs it is compiled by the suite as before (numba writes its cache files
 atomically), and a kernel whose source changed is compiled again (``auvplan.runtime.jit``'s stamp).  With a
 warm cache it only loads them and plans (a few seconds).
@@ -16,6 +18,29 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+
+
+def gauntlet() -> None:
+    """avoidance-gauntlet's default plan (the call of tests/golden/test_avoid_scenes.py's ``gauntlet`` fixture)."""
+    from auvplan.io.scenario import loader as sc
+    from auvplan.planners import plan
+    from auvplan.sim import planning_problem
+
+    world, mission = sc.build(sc.load("avoidance-gauntlet"))
+    plan(planning_problem(world, mission), mission.planner, rng=mission.seed)
+
+
+def lofoten() -> None:
+    """``auvplan plan lofoten-two-models`` (the robust plan over two current models: tests/conftest.py's
+    ``lofoten_plan``), into a temporary folder."""
+    import contextlib
+    import io
+    import tempfile
+
+    from auvplan.cli import main
+
+    with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
+        main(["-q", "plan", "lofoten-two-models", "--out", f"{tmp}/lofoten", "--json"])
 
 
 def zones() -> None:
@@ -43,7 +68,7 @@ def zones() -> None:
 
 def main() -> None:
     """The workloads, each on its own: one that fails (a renamed scenario, a changed call) leaves the others."""
-    for work in (zones,):
+    for work in (gauntlet, lofoten, zones):
         try:
             work()
         except Exception as exc:  # noqa: BLE001 - a warm-up only: the suite's own tests report real failures
