@@ -25,3 +25,23 @@ def test_the_derived_exact_set_s_seabed_band_is_the_zone_s_own_height(depth, h, 
     seg = np.array([[[300.0, 500.0, v], [700.0, 500.0, v]] for v in z])
     np.testing.assert_array_equal(derived.segments_enter(seg), alone.segments_enter(seg))
     np.testing.assert_array_equal(derived.polyline_slack(seg), alone.polyline_slack(seg))
+
+
+def test_a_zone_file_with_no_feature_in_the_area_is_kept_too(tmp_path, monkeypatch):
+    """Oracle: the reader runs once.  An empty result (no feature reaches the operating area) failed to unpack
+    (``zip(strict=True)`` of no names with one start): every warm run read the file again."""
+    from auvplan.io.data.vector.kept import kept_geometries
+
+    monkeypatch.setenv("AUVPLAN_CACHE", "1")
+    monkeypatch.setenv("AUVPLAN_CACHE_DIR", str(tmp_path / "cache"))
+    path = tmp_path / "zones.geojson"
+    path.write_text('{"type": "FeatureCollection", "features": []}')
+    calls = []
+    for _ in range(2):
+        assert kept_geometries("zones", ("empty",), path, lambda: calls.append(1) or []) == []
+    assert len(calls) == 1
+    one = [("a", shapely.box(0.0, 0.0, 1.0, 1.0))]
+    for _ in range(2):
+        got = kept_geometries("zones", ("one",), path, lambda: calls.append(1) or one)
+        assert got[0][0] == "a" and shapely.equals_exact(got[0][1], one[0][1], 0.0)
+    assert len(calls) == 2
