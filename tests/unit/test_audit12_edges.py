@@ -45,3 +45,79 @@ def test_a_zone_file_with_no_feature_in_the_area_is_kept_too(tmp_path, monkeypat
         got = kept_geometries("zones", ("one",), path, lambda: calls.append(1) or one)
         assert got[0][0] == "a" and shapely.equals_exact(got[0][1], one[0][1], 0.0)
     assert len(calls) == 2
+
+
+_HELD_TOML = """
+name = "held-zone"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 3000.0]
+y = [0.0, 1000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 200.0
+cell_m = 100.0
+[mission]
+start = [100.0, 500.0, -150.0]
+goal = [2100.0, 500.0, -10.0]
+min_altitude_m = 20.0
+min_depth_m = 5.0
+max_depth_m = 300.0
+[[zones]]
+name = "channel"
+polygon = [[600.0, 300.0], [900.0, 300.0], [900.0, 700.0], [600.0, 700.0]]
+top_m = 0.0
+bottom_m = 50.0
+[[zones]]
+name = "mid"
+polygon = [[2650.0, 300.0], [2700.0, 300.0], [2700.0, 700.0], [2650.0, 700.0]]
+top_m = 15.0
+bottom_m = 40.0
+"""
+
+
+def test_mission_check_flies_a_held_depth_mission_through_the_zones_as_its_executor(tmp_path, capsys):
+    """Oracle: the executor's track by hand.  A MOOS mission (depth held per leg) from 150 m to 10 m over 2 km
+    climbs at 15° within 522 m and crosses the surface channel (0-50 m, x 600-900) at 10 m, where its straight
+    leg passes 87-108 m deep: ``mission check`` tested the straight legs only and said OK (exit 0).  A second
+    climbs 140 m on a 400 m leg (19.3°, within the vehicle's 20°) and, at 15°, finishes the climb 122 m into the
+    next, level leg (outside that leg's envelope): at x 2650-2700 it is 30-17 m deep, in the 15-40 m band there."""
+    import json
+
+    from auvplan.cli import main
+    from auvplan.io.missions import formats
+
+    scen = tmp_path / "held.toml"
+    scen.write_text(_HELD_TOML)
+    early = tmp_path / "early.moos"
+    early.write_text(formats.to_moos(np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]]), 1.5))
+    ramp = tmp_path / "ramp.csv"  # the same leg flown as a ramp: below the channel, clear
+    ramp.write_text("x,y,z\n100,500,-150\n2100,500,-10\n")
+    late = tmp_path / "late.moos"
+    late.write_text(formats.to_moos(np.array([[2200.0, 500.0, -150.0], [2600.0, 500.0, -10.0],
+                                              [2900.0, 500.0, -10.0]]), 1.5))
+    codes, zones = [], []
+    for f in (early, ramp, late):
+        codes.append(main(["mission", "check", str(f), "--scenario", str(scen), "--json"]))
+        zones.append({z["name"]: z["entered_legs"] for z in json.loads(capsys.readouterr().out)["zones"]})
+    assert codes == [1, 0, 1]
+    assert zones == [{"channel": [1], "mid": []}, {"channel": [], "mid": []}, {"channel": [], "mid": [2]}]
+
+
+def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_executor():
+    """Oracle: as above (the page's check said the same as ``mission check``: the straight legs only)."""
+    from auvplan.io.scenario.build import build
+    from auvplan.io.scenario.loader import loads
+    from auvplan.serve.check import CheckSettings, IncrementalCheck
+
+    world, mission = build(loads(_HELD_TOML, source="held.toml"))
+    checker = IncrementalCheck(world, mission)
+    w = np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]])
+    held = checker.run(w, CheckSettings("held", 15.0))
+    assert held.summary["zone_entries"] == 1 and not held.summary["ok"]
+    assert [v["text"] for v in held.violations if v["kind"] == "zone"] == ["leg 0: enters no-go zone 'channel'"]
+    ramp = checker.run(w, CheckSettings("ramp", 15.0))
+    assert ramp.summary["zone_entries"] == 0
