@@ -121,3 +121,24 @@ def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_ex
     assert [v["text"] for v in held.violations if v["kind"] == "zone"] == ["leg 0: enters no-go zone 'channel'"]
     ramp = checker.run(w, CheckSettings("ramp", 15.0))
     assert ramp.summary["zone_entries"] == 0
+
+
+def test_a_sweep_s_key_holds_every_file_of_a_named_data_set(tmp_path):
+    """Oracle: the readers' own list of a data set's files (``dataset_files``: a shapefile's ``.dbf`` and ``.prj``,
+    a GeoTIFF's ``.aux.xml``).  The departure sweep's checkpoint key stamped the named file alone, so a zone
+    shapefile whose attributes (``where`` filters on them) or projection were edited between a kill and the
+    resume read the old departures back."""
+    from auvplan.app.sweep import _input_stamps
+    from auvplan.io.scenario.loader import loads
+
+    for suffix in (".shp", ".shx", ".dbf", ".prj"):
+        (tmp_path / f"zones{suffix}").write_bytes(b"v1" + suffix.encode())
+    text = _HELD_TOML.split("[[zones]]")[0] + '[[zones]]\nname = "charted"\nfile = "zones.shp"\nwhere = "KIND = 1"\n'
+    sc = loads(text, source=str(tmp_path / "s.toml"), base_dir=tmp_path)
+    first = _input_stamps(sc)
+    assert _input_stamps(sc) == first
+    for suffix in (".dbf", ".prj"):
+        (tmp_path / f"zones{suffix}").write_bytes(b"v2, longer" + suffix.encode())
+        again = _input_stamps(sc)
+        assert again != first
+        first = again
