@@ -12,6 +12,8 @@ from test_survey_mission import AREA, SCENARIO
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import loads
+from auvplan.path.flyable import VehicleLimits
+from auvplan.path.legs import helm_check
 from auvplan.survey.mission import TRANSIT, plan_survey
 
 ZONE = [[700.0, 620.0], [1000.0, 620.0], [1000.0, 780.0], [700.0, 780.0]]  # metres: a box inside the area
@@ -56,6 +58,10 @@ def test_lines_and_transits_keep_out_of_a_zone_with_sharp_concave_corners():
     legs = shapely.linestrings(np.stack([plan.route[:-1, :2], plan.route[1:, :2]], axis=1))
     assert not shapely.intersects(legs, arrow).any()
     assert (plan.labels == TRANSIT).any()
+    # the bridges round the arrow join the lines by turns a helm flies at the vehicle's radius, as `mission
+    # check` judges the exported waypoints (their corners turned at 6.0 m against 10 m before)
+    report = helm_check(plan.route, VehicleLimits(90.0, params.turn_radius_m), min_leg=0.0)
+    assert report.tightest_turn_m >= params.turn_radius_m * (1.0 - 1e-9), report.violations[:2]
 
 
 def test_coverage_leaves_the_no_go_area_out_of_its_denominator():
