@@ -32,7 +32,22 @@ each waypoint lies more than ``TRACK_FRACTION`` · R off its neighbours' chord, 
 
 
 def turn_between(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
-    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated)."""
+    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated).
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        ``(>= 2, 3)`` points whose last leg gives the heading the turn starts from (m).
+    b : numpy.ndarray
+        ``(>= 2, 3)`` points whose first leg gives the heading the turn ends with (m).
+    radius : float
+        The vehicle's turn radius (m).
+
+    Returns
+    -------
+    tuple
+        The turn's inner points ``(K, 3)`` (m) and its Dubins word.
+    """
     h0 = math.atan2(a[-1, 1] - a[-2, 1], a[-1, 0] - a[-2, 0])
     h1 = math.atan2(b[1, 1] - b[0, 1], b[1, 0] - b[0, 0])
     # sampled every radian at most, the arcs' chords turn by up to 1 rad at each vertex; a fly-by
@@ -61,7 +76,23 @@ def join_transit(world: World, a: NDArray[np.float64], b: NDArray[np.float64], r
     The transit's vertex next to the line (``b[1]`` home, ``a[-2]`` out) is reached by the survey's own turn
     (:func:`turn_between`) instead of a corner at the line's end, so that every fly-by turn fits ``radius`` as a helm
     flies it; kept only when the turn is clear of the seabed and obstacles (else the corner stays, and the
-    mission's checks report it).  Returns the turn's inner points (possibly none).
+    mission's checks report it).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles and zones.
+    a, b : numpy.ndarray
+        ``(N, 3)`` the line's points and the transit's (home), or the transit's and the line's (out) (m).
+    radius : float
+        The vehicle's turn radius (m).
+    home : bool
+        From a line's end to a transit (True) or from a transit to a line's start (False).
+
+    Returns
+    -------
+    numpy.ndarray
+        The turn's inner points ``(K, 3)`` (m; possibly none).
     """
     if a.shape[0] < 2 or b.shape[0] < 2:
         return np.empty((0, 3))
