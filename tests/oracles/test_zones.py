@@ -263,7 +263,7 @@ def test_lattice_edges_the_seabed_clears_still_keep_out_of_zones():
 def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_near_them():
     """The planners' fine lower-bound field against shapely's distance (the independent oracle): never above
     it anywhere (else a leg near a zone would pass unchecked), within 1.5 fine cells of it near the zones."""
-    from auvplan.world.zone_kernels import _far
+    from auvplan.world.zones.kernels import _far
 
     rng = np.random.default_rng(5)
     world = random_world(rng, 30)

@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 import shapely
 
-from .._types import FloatArray, IntArray
-from .terrain import Terrain
+from ..._types import FloatArray, IntArray
+from ..terrain import Terrain
 
 __all__ = ["rasterise", "band_tops", "distance_field", "inner_centres", "rings", "samples", "traces", "clip_params",
            "clip_pieces", "expand_groups"]
@@ -18,7 +18,7 @@ __all__ = ["rasterise", "band_tops", "distance_field", "inner_centres", "rings",
 
 def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatArray, h: FloatArray,
               terrain: Terrain | None) -> tuple[Any, ...]:
-    """The broad phase's grid (:mod:`.zone_kernels`): the zones listed per cell, each zone's bounding
+    """The broad phase's grid (:mod:`.kernels`): the zones listed per cell, each zone's bounding
     box and band (a seabed band up to the highest seabed under its box), and each cell's distance
     (in cells) to the nearest cell that lists a zone.
 
@@ -101,7 +101,7 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
 
     The fine cells split each broad-phase cell ``sub`` times along each axis (``sub`` up to 16, about
     ``cells`` fine cells in all).  Within ``R`` (six fine cells) of a footprint's box each fine cell
-    holds its centre's exact distance to the nearest footprint (:func:`.zone_kernels.field_kernel`) less
+    holds its centre's exact distance to the nearest footprint (:func:`.kernels.field_kernel`) less
     half the cell's diagonal; everywhere it holds at least the distance from its centre to the centre of
     the nearest cell whose centre lies within half a diagonal of a footprint (every cell a footprint
     touches is one), less a diagonal (scipy's Euclidean distance transform).  A point ``p`` of cell
@@ -128,7 +128,7 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
     """
     from scipy.ndimage import distance_transform_edt
 
-    from .zone_kernels import FIELD_UNITS, field_kernel
+    from .kernels import FIELD_UNITS, field_kernel
 
     x0, y0, cell, nx, ny = grid[:5]
     sub = int(min(max(math.sqrt(cells / (nx * ny)), 1.0), 16.0))
