@@ -28,7 +28,8 @@ class FileCheck:
     Attributes
     ----------
     record : dict
-        Its JSON record (``mission check --json``).
+        Its JSON record (``mission check --json``): ``ok`` is the file's verdict (every check, as the exit code),
+        ``check_ok`` the seabed, obstacles, surface, depth band and bounds alone.
     check : MissionCheck
         The file re-flown under its format's depth semantics.
     vehicle : LimitReport
@@ -112,9 +113,10 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
             rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
                                                                     points[1:] if fmt == "qgc" else points, Path(name))
-        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
-                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
-                             tuple(zones), tuple(nav_lines)))
+        ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok
+        # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
+        rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
+        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines)))
     return sc, out
 
 
