@@ -4,8 +4,11 @@ code before its fix)."""
 from __future__ import annotations
 
 import json
+import math
 
+import numpy as np
 import pytest
+import shapely
 
 _TOML = """
 name = "surfaces"
@@ -63,3 +66,60 @@ def test_mission_check_json_ok_is_the_exit_code_s_verdict(tmp_path, capsys, name
 def test_mission_check_json_ok_is_true_when_every_check_passes(tmp_path, capsys):
     code, rec = _check(tmp_path, capsys, "fine.csv", "x,y,z\n100,500,-150\n2100,500,-10\n")
     assert code == 0 and rec["ok"] is True and rec["check_ok"] is True
+
+
+def _prism_distance(poly: shapely.Polygon, top: float, bottom: float, p: np.ndarray) -> float:
+    """Least 3D distance of points ``(N, 3)`` to a prism between depths ``top`` and ``bottom`` (m), by shapely."""
+    horizontal = shapely.distance(poly, shapely.points(p[:, 0], p[:, 1]))
+    depth = -p[:, 2]
+    vertical = np.maximum(0.0, np.maximum(top - depth, depth - bottom))
+    return float(np.hypot(horizontal, vertical).min())
+
+
+def test_a_held_mission_s_closest_approach_is_measured_on_the_executor_s_track(tmp_path, capsys):
+    """Oracle: shapely on the executor's track sampled every 0.5 m, built by hand.  A MOOS mission climbing from
+    150 m to 10 m over 2 km levels at 10 m within 140 / tan 15° = 522.5 m, and flies over the 0-5 m band (x 600-900)
+    5 m below it; its straight leg passes it 94-115 m deep.  ``mission check`` reported the straight leg's
+    89 m, the track's 5 m is the clearance the vehicle keeps."""
+    from auvplan.io.missions import formats
+
+    w = np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]])
+    code, rec = _check(tmp_path, capsys, "early.moos", formats.to_moos(w, 1.5))
+    level = np.array([100.0 + 140.0 / math.tan(math.radians(15.0)), 500.0, -10.0])
+    s = np.linspace(0.0, 1.0, 4001)[:, None]
+    track = np.vstack([w[0] + s * (level - w[0]), level + s * (w[1] - level)])
+    poly = shapely.box(600.0, 300.0, 900.0, 700.0)
+    oracle, straight = _prism_distance(poly, 0.0, 5.0, track), _prism_distance(poly, 0.0, 5.0, w[0] + s * (w[1] - w[0]))
+    assert abs(oracle - 5.0) < 1e-9 and straight > 80.0
+    (zone,) = rec["zones"]
+    assert code == 0 and zone["entered_legs"] == [] and abs(zone["closest_m"] - oracle) < 0.5
+    assert rec["zones_measured_on"] == "the executor's track at 15° pitch"
+    code, rec = _check(tmp_path, capsys, "early.csv", "x,y,z\n100,500,-150\n2100,500,-10\n")  # a ramp: its leg
+    assert rec["zones_measured_on"] == "the straight legs" and abs(rec["zones"][0]["closest_m"] - straight) < 12.5
+
+
+@pytest.mark.parametrize("pitch", [8.0, 30.0])
+def test_the_held_closest_approach_follows_the_pitch(tmp_path, capsys, pitch):
+    """Oracle: as above at another ``--pitch``: the track levels at x = 100 + 140 / tan(pitch)."""
+    from auvplan.io.missions import formats
+
+    w = np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]])
+    rec = _check(tmp_path, capsys, "p.moos", formats.to_moos(w, 1.5), _TOML, "--pitch", str(pitch))[1]
+    level = np.array([100.0 + 140.0 / math.tan(math.radians(pitch)), 500.0, -10.0])
+    s = np.linspace(0.0, 1.0, 4001)[:, None]
+    track = np.vstack([w[0] + s * (level - w[0]), level + s * (w[1] - level)])
+    oracle = _prism_distance(shapely.box(600.0, 300.0, 900.0, 700.0), 0.0, 5.0, track)
+    assert abs(rec["zones"][0]["closest_m"] - oracle) < 12.5
+
+
+def test_a_held_leg_whose_envelope_alone_enters_reports_no_clearance(tmp_path, capsys):
+    """Oracle: the envelope (10-150 m deep) meets a 60-120 m band at x 1500-1800 that the track (10 m) and the
+    straight leg (52-31 m) pass above: entered, so its closest approach is 0, not the track's 50 m."""
+    from auvplan.io.missions import formats
+
+    slow = '[[zones]]\nname = "slow"\npolygon = [[1500.0, 300.0], [1800.0, 300.0], [1800.0, 700.0], [1500.0, 700.0]]\n'
+    w = np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]])
+    scenario = _TOML + slow + "top_m = 60.0\nbottom_m = 120.0\n"
+    code, rec = _check(tmp_path, capsys, "e.moos", formats.to_moos(w, 1.5), scenario)
+    assert code == 1 and rec["ok"] is False
+    assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [1]}

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from ..world import World
     from ..world.zones import ZoneApproach
 
-__all__ = ["FileCheck", "check_missions", "navigation_check"]
+__all__ = ["FileCheck", "check_missions", "navigation_check", "zones_measured_on"]
 
 
 @dataclass(frozen=True)
@@ -107,6 +107,7 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         zones = _zone_approach(world, points[1:] if fmt == "qgc" else points, check.semantics, pitch)
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
+            rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch)
         zones_ok = not any(z.entered_legs for z in zones)
         nav_ok = True
         nav_lines: list[str] = []
@@ -120,24 +121,45 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     return sc, out
 
 
+def zones_measured_on(semantics: str, pitch: float) -> str:
+    """What a file's closest approach to the zones is measured on, in words (``zones_measured_on``).
+
+    Parameters
+    ----------
+    semantics : str
+        The format's depth semantics: ``"held"`` (MOOS-IvP) or ``"ramp"``.
+    pitch : float
+        Pitch (deg) at which a depth-holding executor changes depth.
+
+    Returns
+    -------
+    str
+        ``"the executor's track at 15° pitch"`` or ``"the straight legs"``.
+    """
+    return f"the executor's track at {pitch:g}° pitch" if semantics == "held" else "the straight legs"
+
+
 def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: float) -> list[ZoneApproach]:
-    """The closest approach to each charted zone and the legs entering it (exact): the straight legs, and for a
-    held depth (MOOS-IvP) also each leg's envelope and the executor's track at ``pitch`` (deg)."""
+    """The closest approach to each charted zone and the legs entering it (exact), under the format's depth
+    semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
+    the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
+    straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`."""
     if not world.zones:
         return []
     from dataclasses import replace
 
+    from ..guidance.mission.waypoints import held_track
     from ..guidance.mission.zone_legs import held_zone_entries
 
     exact = world.zones.exact
-    out = exact.approach(points)
     if semantics != "held":
-        return out
+        return exact.approach(points)
+    out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
+    seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))
     legs, zi = held_zone_entries(exact, points, pitch)
     for j, z in enumerate(out):
-        entered = tuple(sorted({*z.entered_legs, *(int(k) + 1 for k in legs[zi == j])}))
-        if entered != z.entered_legs:
-            out[j] = replace(z, closest_m=min(z.closest_m, 0.0), entered_legs=entered)
+        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in legs[zi == j])}))
+        out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
     return out
 
 

@@ -91,7 +91,8 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
         for z in c.zones:
             legs = ", ".join(str(k) for k in z.entered_legs)
             print(f"{name} zone {z.name!r}: " + (f"FAIL — entered by leg{'s' if len(z.entered_legs) > 1 else ''} "
-                  f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m"))
+                  f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m "
+                  f"(on {c.record['zones_measured_on']})"))
         if sc.mission.confidence:
             print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
                   f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")
