@@ -123,3 +123,119 @@ def test_a_held_leg_whose_envelope_alone_enters_reports_no_clearance(tmp_path, c
     code, rec = _check(tmp_path, capsys, "e.moos", formats.to_moos(w, 1.5), scenario)
     assert code == 1 and rec["ok"] is False
     assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [1]}
+
+
+def test_the_seabed_following_track_has_the_exact_extremes_of_a_bilinear_seabed():
+    """Oracle: the seabed sampled every 2 cm along a diagonal leg over a random bilinear grid (its elevation a
+    quadratic in each cell along the leg).  Every vertex lies on the commanded altitude above the seabed, and the
+    track's shallowest and deepest vertices are the sampled extremes."""
+    from auvplan.guidance.mission.terrain_legs import terrain_track
+    from auvplan.world.terrain import Terrain
+
+    rng = np.random.default_rng(12)
+    t = Terrain(np.arange(0.0, 501.0, 50.0), np.arange(0.0, 301.0, 30.0), rng.uniform(-120.0, -20.0, (11, 11)))
+    w = np.array([[10.0, 5.0, -60.0], [470.0, 290.0, 0.0], [480.0, 20.0, -90.0]])
+    w[1, 2] = float(t.elevation(470.0, 290.0)) + 12.0  # altitudes: 60 + zb(w0) ... 12 ... ends at w2's
+    track, leg = terrain_track(t, w, [True, False])
+    assert leg[-1] == 1 and (leg[:-1] == 0).all() and np.array_equal(track[-1], w[-1])
+    ha = w[0, 2] - float(t.elevation(10.0, 5.0))
+    s = np.linspace(0.0, 1.0, 27_000)  # 540 m / 2 cm
+    xy = w[0, :2] + s[:, None] * (w[1, :2] - w[0, :2])
+    z = t.elevation(xy[:, 0], xy[:, 1]) + ha + s * (12.0 - ha)
+    on = track[:-1]
+    sv = np.hypot(*(on[:, :2] - w[0, :2]).T) / np.hypot(*(w[1, :2] - w[0, :2]))
+    np.testing.assert_allclose(on[:, 2], t.elevation(on[:, 0], on[:, 1]) + ha + sv * (12.0 - ha), atol=1e-9)
+    # between two vertices the track is monotone: its extremes, every kink (grid line) and every turn, are vertices
+    k = np.clip(np.searchsorted(sv, s, side="right") - 1, 0, sv.size - 2)
+    lo, hi = np.minimum(on[k, 2], on[k + 1, 2]), np.maximum(on[k, 2], on[k + 1, 2])
+    assert ((z >= lo - 1e-6) & (z <= hi + 1e-6)).all()
+    assert z.max() - 1e-9 <= on[:, 2].max() and z.min() + 1e-9 >= on[:, 2].min()
+
+
+_RIDGE = """
+name = "ridge-shallows"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 10000.0]
+y = [0.0, 2000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 200.0
+cell_m = 100.0
+ridge_x = 5000.0
+ridge_width = 2000.0
+height = 150.0
+[mission]
+start = [500.0, 1000.0, -150.0]
+goal = [9500.0, 1000.0, -150.0]
+min_altitude_m = 20.0
+min_depth_m = 5.0
+max_depth_m = 300.0
+[[zones]]
+name = "shallows"
+polygon = [[4000.0, 0.0], [6000.0, 0.0], [6000.0, 2000.0], [4000.0, 2000.0]]
+top_m = 0.0
+bottom_m = 20.0
+"""
+
+
+def _plan(items: list[tuple[float, float, int, float]]) -> str:
+    """A QGC plan by hand: home on the surface above the first item, then ``(x, y, frame, altitude)`` items."""
+    from auvplan.io.data.geo import LocalFrame
+
+    f = LocalFrame(48.0, -125.0)
+    ll = [f.inverse(x, y) for x, y, _, _ in items]
+    return json.dumps({"fileType": "Plan", "version": 1, "groundStation": "QGroundControl", "mission": {
+        "plannedHomePosition": [float(ll[0][1]), float(ll[0][0]), 0.0], "items": [
+            {"type": "SimpleItem", "command": 16, "frame": fr, "params": [0, 2, 0, None, float(lat), float(lon), h]}
+            for (_, _, fr, h), (lon, lat) in zip(items, ll, strict=True)]}})
+
+
+def _ridge_oracle(x0: float, x1: float, h: float) -> np.ndarray:
+    """The seabed-following track by hand: the analytic ridge (200 m deep, a 50 m deep crest at x = 5 km, 2 km
+    flanks) sampled every 0.5 m, ``h`` above it."""
+    x = np.linspace(x0, x1, int((x1 - x0) / 0.5) + 1)
+    zb = -200.0 + 150.0 * np.clip(1.0 - np.abs(x - 5000.0) / 2000.0, 0.0, None)
+    return np.column_stack([x, np.full_like(x, 1000.0), zb + h])
+
+
+def test_a_terrain_frame_plan_over_the_ridge_is_checked_as_flown(tmp_path, capsys):
+    """Oracle: the track sampled by hand.  Items 100 m above the 125 m deep seabed at x = 4 and 6 km: the straight
+    leg runs 25 m deep, 25 m over the 50 m deep crest (OK, and under the 0-20 m shallows: "shallows: OK" before);
+    ArduSub, holding 100 m above the seabed, climbs with it and would leave the water 50 m over the crest, through
+    the shallows."""
+    code, rec = _check(tmp_path, capsys, "ridge.plan", _plan([(4000.0, 1000.0, 10, 100.0),
+                                                               (6000.0, 1000.0, 10, 100.0)]), _RIDGE)
+    track = _ridge_oracle(4000.0, 6000.0, 100.0)
+    poly = shapely.box(4000.0, 0.0, 6000.0, 2000.0)
+    depth = -track[:, 2]
+    inside = shapely.contains_xy(poly, track[:, 0], track[:, 1]) & (depth >= 0.0) & (depth <= 20.0)
+    assert inside.any() and depth.min() == pytest.approx(-50.0)
+    assert rec["check_ok"] is True  # the straight legs alone: what was checked before
+    tf = rec["terrain_following"]
+    assert code == 1 and rec["ok"] is False and tf["ok"] is False and tf["legs"] == [1]
+    assert tf["shallowest_m"] == pytest.approx(float(depth.min()), abs=1e-6) and tf["above_surface_legs"] == [1]
+    assert tf["min_altitude_m"] == pytest.approx(100.0, abs=1e-6)
+    (zone,) = rec["zones"]
+    assert zone["entered_legs"] == [1] and zone["closest_m"] == pytest.approx(-10.0)  # 10 m inside the 20 m band
+    plan = _plan([(4000.0, 1000.0, 10, 100.0), (6000.0, 1000.0, 10, 100.0)])
+    code, rec = _check(tmp_path, capsys, "ridge.plan", plan, _RIDGE.split("[[zones]]")[0])
+    assert code == 1 and rec["ok"] is False and rec["check_ok"] is True  # without the zone: the track alone fails
+
+
+def test_a_terrain_frame_plan_clear_of_the_shallows_is_measured_on_its_track(tmp_path, capsys):
+    """Oracle: as above, 25 m above the seabed from x = 3.5 to 6.5 km: the crest at 25 m deep, 5 m under the
+    shallows (shapely on the sampled track), least altitude 25 m; the straight leg (137.5 m deep) meets the ridge."""
+    _, rec = _check(tmp_path, capsys, "low.plan", _plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]),
+                    _RIDGE)
+    track = _ridge_oracle(3500.0, 6500.0, 25.0)
+    oracle = _prism_distance(shapely.box(4000.0, 0.0, 6000.0, 2000.0), 0.0, 20.0, track)
+    tf = rec["terrain_following"]
+    assert tf["ok"] is True and tf["shallowest_m"] == pytest.approx(25.0, abs=1e-6)
+    assert tf["min_altitude_m"] == pytest.approx(25.0, abs=1e-6) and rec["check_ok"] is False
+    (zone,) = rec["zones"]
+    assert zone["entered_legs"] == [] and abs(zone["closest_m"] - oracle) < 0.5 and oracle == pytest.approx(5.0)
+    assert "terrain-frame" in rec["zones_measured_on"]

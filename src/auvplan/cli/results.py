@@ -86,6 +86,8 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
               + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
         print(f"{name}: {c.energy_line}")
         print(f"{name}: {c.deploy_line}")
+        if c.terrain_following:  # a .plan's terrain-frame legs, flown following the seabed
+            print(f"{name} {c.terrain_following}")
         for line in c.navigation:  # issue 52
             print(f"{name} {line}")
         for z in c.zones:
