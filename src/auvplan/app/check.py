@@ -249,7 +249,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
         ("outside the bounds", bad["outside_bounds_legs"])) if v]
     if c.obstacle_hits:
         broken.append(f"{c.obstacle_hits} segments meet an obstacle")
-    line = (f"terrain-following legs (MAV_FRAME 10) {', '.join(map(str, legs))}: {'OK' if c.ok else 'FAIL'} — "
+    named = ", ".join(map(str, legs)) if len(legs) <= 5 else f"{len(legs)} legs of {len(follow)}"
+    line = (f"terrain-following legs (MAV_FRAME 10: {named}): {'OK' if c.ok else 'FAIL'} — "
             + "".join(f"{b}; " for b in broken)
             + f"flown at the commanded altitude above the seabed: least altitude {c.min_altitude_m:.2f} m (required "
               f"{c.required_altitude_m:g} m), shallowest {rec['shallowest_m']:.2f} m, deepest {rec['deepest_m']:.2f} m")
