@@ -91,3 +91,27 @@ def test_the_serve_command_refuses_it_in_one_line_unread(tmp_path, reads, capsys
     assert main(["serve", str(root / "geo.toml"), "--no-browser"]) == 2
     err = capsys.readouterr().err.strip()
     assert reads == [] and len(err.splitlines()) == 1 and "[survey] file = " in err and "outside the served" in err
+
+
+def test_a_results_folder_and_a_rebuild_refuse_it_unread(tmp_path, reads, monkeypatch):
+    """The two other sites that hand scenario text to the loader: a results folder opened (its stored
+    ``scenario.toml``) and a rebuild after a key is set (the session's document)."""
+    import tomllib
+
+    from auvplan.io.results import folder, records
+    from auvplan.serve.actions import scenario as actions
+    from auvplan.serve.session import Session
+
+    root, outside = tmp_path / "served", tmp_path / "outside"
+    (root / "run").mkdir(parents=True)
+    outside.mkdir()
+    text = _GEO.format(key="file", name=str(outside / "a.geojson"))
+    monkeypatch.setattr(records, "read_run", lambda out: (None, text))  # the folder's record: only its text is used
+    monkeypatch.setattr(folder, "scenario_base", lambda out: out)
+    session = Session(Roots.of([root]))
+    with pytest.raises(PathRefused, match=r"scenario.toml: \[survey\] file = .*outside the served folders"):
+        actions._open_results(session, root / "run")
+    session.world, session.source, session.base_dir = object(), str(root / "geo.toml"), root  # as if opened
+    with pytest.raises(PathRefused, match="outside the served folders"):
+        actions._rebuild(session, tomllib.loads(text))
+    assert reads == []
