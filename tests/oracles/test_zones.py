@@ -356,3 +356,21 @@ def test_the_unpadded_set_a_padded_one_derives_answers_as_one_built_alone():
     assert derived.clearance(p) == alone.clearance(p)
     tail = p[-30:]  # the level legs across the bands
     assert [z.as_dict() for z in derived.approach(tail)] == [z.as_dict() for z in alone.approach(tail)]
+
+
+def test_views_of_a_set_keep_its_class_and_answer_as_sets_built_alone():
+    """``with_pad`` and ``exact`` (built in :mod:`auvplan.world.zones.index`, below the queries) are the
+    full :class:`Zones`: every query of the package answers, as a set built alone with that pad does."""
+    rng = np.random.default_rng(5)
+    world = random_world(rng, 12)
+    zones = world.zones
+    assert zones.with_pad(zones.pad) is zones and zones.exact.exact is zones.exact
+    grown, alone = zones.with_pad(6.0), Zones(zones.zones, world.terrain, pad=6.0)
+    assert type(grown) is Zones and type(zones.exact) is Zones and grown.pad == 6.0
+    p = np.column_stack([rng.uniform(0, 3000, 120), rng.uniform(0, 3000, 120), rng.uniform(-250, -5, 120)])
+    a, b = p[:-1], p[1:]
+    got, want = grown.envelopes_enter(a, b), alone.envelopes_enter(a, b)
+    assert 5 < want.sum() < len(a) - 5
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_array_equal(grown.polyline_slack(p[None]), alone.polyline_slack(p[None]))
+    np.testing.assert_array_equal(grown.signed_distance(p, exact=True), alone.signed_distance(p, exact=True))
