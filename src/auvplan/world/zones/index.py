@@ -93,7 +93,7 @@ class ZoneIndex:
         """The broad phase's grid (:func:`.parts.rasterise`)."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
-        if grid is not None:  # the fine lower-bound field (float32, about 1.5 million cells)
+        if grid is not None:  # the fine lower-bound field (two bytes a cell, about 400 000 cells)
             object.__setattr__(self, "_field", distance_field(grid, self._rings, self._bounds))
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
