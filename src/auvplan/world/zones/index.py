@@ -14,7 +14,7 @@ from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ...errors import DataError
 from ..terrain import Terrain
 from .kernels import candidates_kernel
-from .parts import distance_field, inner_centres, rasterise
+from .parts import band_tops, distance_field, inner_centres, rasterise
 from .parts import rings as polygon_rings
 from .spec import Zone
 
@@ -186,14 +186,17 @@ class ZoneIndex:
         for name, value in (("zones", self.zones), ("terrain", self.terrain), ("pad", 0.0),
                             ("_centres", self._centres)):
             object.__setattr__(out, name, value)
-        h = self._h - self.pad
+        # the zones' own heights, not (h + pad) - pad: that is an ulp off (0.2 -> 0.19999999999999996), and the
+        # exact set must answer at a band's face as a set built alone
+        h = np.array([np.nan if z.above_seabed is None else z.above_seabed for z in self.zones], dtype=float)
         out._set_prisms(np.array([z.footprint for z in self.zones], dtype=object), h)
         if self._grid is None:
             object.__setattr__(out, "_grid", None)
             return out
-        top = out._zhi.copy()
         sea = self._seabed
-        top[sea] = self._grid[9][sea] - self.pad  # the highest seabed under the (padded) box plus the height
+        # the highest seabed under its own box plus the height, as a set built alone has it (the padded top less
+        # the pad is an ulp off, either way: a leg on the face was no candidate, or one an ulp above it was)
+        top = band_tops(out._bounds, out._zhi, h, self.terrain)
         bottom = np.where(sea, -np.inf, out._zlo)
         object.__setattr__(out, "_grid", (*self._grid[:8], bottom, top, self._grid[10]))
         object.__setattr__(out, "_field", self._field)

@@ -12,8 +12,8 @@ import shapely
 from ..._types import FloatArray, IntArray
 from ..terrain import Terrain
 
-__all__ = ["rasterise", "distance_field", "inner_centres", "rings", "samples", "traces", "clip_params", "clip_pieces",
-           "expand_groups"]
+__all__ = ["rasterise", "band_tops", "distance_field", "inner_centres", "rings", "samples", "traces", "clip_params",
+           "clip_pieces", "expand_groups"]
 
 
 def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatArray, h: FloatArray,
@@ -55,7 +55,33 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
     start = np.zeros(nx * ny + 1, dtype=np.intp)
     np.add.at(start, ci + 1, 1)
     start = np.cumsum(start)
-    top = zhi.copy()
+    top = band_tops(b, zhi, h, terrain)
+    bottom = np.where(np.isfinite(h), -np.inf, zlo)
+    flagged = np.diff(start) > 0
+    reach = distance_transform_edt(~flagged.reshape(ny, nx))
+    return (float(lo[0]), float(lo[1]), cell, nx, ny, start, zi.astype(np.intp), np.ascontiguousarray(b), bottom,
+            top, np.asarray(reach, dtype=float))
+
+
+def band_tops(b: FloatArray, zhi: FloatArray, h: FloatArray, terrain: Terrain | None) -> FloatArray:
+    """The broad phase's band tops: a flat band's own (``zhi``), a seabed band's the highest seabed under
+    its box plus its height.
+
+    Parameters
+    ----------
+    b : numpy.ndarray
+        The zones' bounding boxes ``(Z, 4)`` (m).
+    zhi, h : numpy.ndarray
+        Tops of flat bands (z up, m) and heights of seabed bands (``nan`` else), ``(Z,)``.
+    terrain : Terrain or None
+        The seabed of the seabed bands.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(Z,)`` (z up, m).
+    """
+    top = np.array(zhi, dtype=float)
     sea = np.flatnonzero(np.isfinite(h))
     if sea.size:  # a seabed band reaches the highest seabed under the zone's box plus its height
         assert terrain is not None
@@ -66,11 +92,7 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
             i0, i1 = max(np.searchsorted(x, x0, "right") - 1, 0), min(np.searchsorted(x, x1, "left"), x.size - 1)
             j0, j1 = max(np.searchsorted(y, y0, "right") - 1, 0), min(np.searchsorted(y, y1, "left"), y.size - 1)
             top[k] = z[j0:j1 + 1, i0:i1 + 1].max() + h[k]
-    bottom = np.where(np.isfinite(h), -np.inf, zlo)
-    flagged = np.diff(start) > 0
-    reach = distance_transform_edt(~flagged.reshape(ny, nx))
-    return (float(lo[0]), float(lo[1]), cell, nx, ny, start, zi.astype(np.intp), np.ascontiguousarray(b), bottom,
-            top, np.asarray(reach, dtype=float))
+    return top
 
 
 def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, IntArray, FloatArray],

@@ -260,24 +260,43 @@ class SegmentQueries(ZoneIndex):
         numpy.ndarray of bool
             ``(K,)``, True where the envelope enters or touches a prism.
         """
-        a, b = np.asarray(a, dtype=float).reshape(-1, 3), np.asarray(b, dtype=float).reshape(-1, 3)
+        a = np.asarray(a, dtype=float).reshape(-1, 3)
         out = np.zeros(a.shape[0], dtype=bool)
+        out[self.envelope_entries(a, b)[0]] = True
+        return out
+
+    def envelope_entries(self, a: ArrayLike, b: ArrayLike) -> tuple[IntArray, IntArray]:
+        """Every (leg, zone) pair where the leg's vertical envelope (:meth:`envelopes_enter`) meets the zone.
+
+        Parameters
+        ----------
+        a, b : array_like
+            Leg starts and ends ``(K, 3)`` (m).
+
+        Returns
+        -------
+        leg, zone : numpy.ndarray of int
+            The pairs (each once), sorted by leg, then zone.
+        """
+        a, b = np.asarray(a, dtype=float).reshape(-1, 3), np.asarray(b, dtype=float).reshape(-1, 3)
+        empty = np.zeros(0, dtype=np.intp)
         if not self.zones or a.shape[0] == 0:
-            return out
+            return empty, empty
         low = np.minimum(a[:, 2], b[:, 2])
         seg = np.stack([a, b], axis=1)
         traces = trace_geoms(seg)
         si, zi = self._tree.query(traces, predicate="intersects")
+        hit = np.zeros(si.size, dtype=bool)
         seabed = np.isfinite(self._h[zi])
         flat = ~seabed
-        out[si[flat][(low[si[flat]] <= self._zhi[zi[flat]])
-                     & (np.maximum(a[si[flat], 2], b[si[flat], 2]) >= self._zlo[zi[flat]])]] = True
+        hit[flat] = (low[si[flat]] <= self._zhi[zi[flat]]) & (np.maximum(a[si[flat], 2], b[si[flat], 2])
+                                                              >= self._zlo[zi[flat]])
         if seabed.any():  # the envelope's lowest edge: the leg flown flat at its deeper end
             level = seg[si[seabed]].copy()
             level[:, :, 2] = low[si[seabed], None]
-            hit = self._seabed_hits(level, traces[si[seabed]], zi[seabed])
-            out[si[seabed][hit]] = True
-        return out
+            hit[seabed] = self._seabed_hits(level, traces[si[seabed]], zi[seabed])
+        order = np.lexsort((zi[hit], si[hit]))
+        return si[hit][order].astype(np.intp), zi[hit][order].astype(np.intp)
 
     def inside_lengths(self, segments: ArrayLike) -> FloatArray:
         """A violation depth for the cost: the length of each segment that enters a zone (m, at
