@@ -345,7 +345,7 @@ def main() -> None:
     q.add_argument("--load", default="", help="replay the populations saved by --save (same --scenario, --zones)")
     g = sub.add_parser("gap")
     g.add_argument("--scenario", default="chagos-reefs")
-    for p in (m, c, q, g):
+    for p in (m, c, g):
         p.add_argument("--figure-md", default="", help="also write docs/figures/<NAME>.md")
     args = ap.parse_args()
     if args.cmd == "montecarlo":
@@ -367,7 +367,7 @@ def main() -> None:
     else:
         res = gap(args.scenario)
     print(json.dumps(res))
-    if args.figure_md:
+    if getattr(args, "figure_md", ""):
         import sys
 
         _figure(args.figure_md, _figure_text(args.cmd, res, " ".join(sys.argv[1:])))
