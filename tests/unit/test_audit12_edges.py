@@ -72,6 +72,11 @@ polygon = [[600.0, 300.0], [900.0, 300.0], [900.0, 700.0], [600.0, 700.0]]
 top_m = 0.0
 bottom_m = 50.0
 [[zones]]
+name = "slow"
+polygon = [[1500.0, 300.0], [1800.0, 300.0], [1800.0, 700.0], [1500.0, 700.0]]
+top_m = 60.0
+bottom_m = 120.0
+[[zones]]
 name = "mid"
 polygon = [[2650.0, 300.0], [2700.0, 300.0], [2700.0, 700.0], [2650.0, 700.0]]
 top_m = 15.0
@@ -84,7 +89,9 @@ def test_mission_check_flies_a_held_depth_mission_through_the_zones_as_its_execu
     climbs at 15° within 522 m and crosses the surface channel (0-50 m, x 600-900) at 10 m, where its straight
     leg passes 87-108 m deep: ``mission check`` tested the straight legs only and said OK (exit 0).  A second
     climbs 140 m on a 400 m leg (19.3°, within the vehicle's 20°) and, at 15°, finishes the climb 122 m into the
-    next, level leg (outside that leg's envelope): at x 2650-2700 it is 30-17 m deep, in the 15-40 m band there."""
+    next, level leg (outside that leg's envelope): at x 2650-2700 it is 30-17 m deep, in the 15-40 m band there.
+    The first mission's envelope (150-10 m) also meets the 60-120 m band at x 1500-1800, which its straight leg
+    (52-31 m deep) and the 15° track (10 m) pass above: a vehicle climbing slower than 15° flies through it."""
     import json
 
     from auvplan.cli import main
@@ -104,7 +111,8 @@ def test_mission_check_flies_a_held_depth_mission_through_the_zones_as_its_execu
         codes.append(main(["mission", "check", str(f), "--scenario", str(scen), "--json"]))
         zones.append({z["name"]: z["entered_legs"] for z in json.loads(capsys.readouterr().out)["zones"]})
     assert codes == [1, 0, 1]
-    assert zones == [{"channel": [1], "mid": []}, {"channel": [], "mid": []}, {"channel": [], "mid": [2]}]
+    assert zones == [{"channel": [1], "slow": [1], "mid": []}, {"channel": [], "slow": [], "mid": []},
+                     {"channel": [], "slow": [], "mid": [2]}]
 
 
 def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_executor():
@@ -117,8 +125,9 @@ def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_ex
     checker = IncrementalCheck(world, mission)
     w = np.array([[100.0, 500.0, -150.0], [2100.0, 500.0, -10.0]])
     held = checker.run(w, CheckSettings("held", 15.0))
-    assert held.summary["zone_entries"] == 1 and not held.summary["ok"]
-    assert [v["text"] for v in held.violations if v["kind"] == "zone"] == ["leg 0: enters no-go zone 'channel'"]
+    assert held.summary["zone_entries"] == 2 and not held.summary["ok"]
+    assert [v["text"] for v in held.violations if v["kind"] == "zone"] == ["leg 0: enters no-go zone 'channel'",
+                                                                           "leg 0: enters no-go zone 'slow'"]
     ramp = checker.run(w, CheckSettings("ramp", 15.0))
     assert ramp.summary["zone_entries"] == 0
 

@@ -241,9 +241,11 @@ def _input_stamps(sc: Scenario) -> list[Any]:
     from ..io.scenario.specs import named_files
 
     stamps: list[Any] = [code_stamp()]
-    for _, name in named_files(sc):
+    for key, name in named_files(sc):
         path = Path(name) if Path(name).is_absolute() or sc.base_dir is None else sc.base_dir / name
-        for f in dataset_files(path):  # with its sidecars, as the readers' cache keys it: a shapefile's .dbf, .prj
+        # a vector file or a GeoTIFF with its sidecars, as the readers' cache keys it (a shapefile's .dbf, .prj);
+        # a current or tide file alone (no sidecars: a sibling forecast.2024.nc is another data set)
+        for f in [path] if key.startswith("[currents]") else dataset_files(path):
             try:
                 stamps.append(file_stamp(f))
             except OSError:
