@@ -93,7 +93,7 @@ class ZoneIndex:
         """The broad phase's grid (:func:`.parts.rasterise`)."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
-        if grid is not None:  # the fine lower-bound field (float32, about 1.5 million cells)
+        if grid is not None:  # the fine lower-bound field (two bytes a cell, about 400 000 cells)
             object.__setattr__(self, "_field", distance_field(grid, self._rings, self._bounds))
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
@@ -156,9 +156,23 @@ class ZoneIndex:
         Returns
         -------
         Zones
-            The same class; ``self`` when ``pad`` is the current one.
+            The same class; ``self`` when ``pad`` is the current one.  A smaller pad is derived from this
+            set (:meth:`_derived`: its cell lists and fine field shared, about a tenth of a build), a larger
+            one built anew; either answers as a set built alone with that pad.
         """
-        return self if pad == self.pad else type(self)(self.zones, self.terrain, pad)
+        if pad == self.pad:
+            return self
+        if pad == 0.0:
+            return self.exact
+        if 0.0 < pad < self.pad:
+            kept: dict[float, Self] = self.__dict__.setdefault("_smaller", {})
+            if pad not in kept:
+                derived = self._derived(pad)
+                if derived is None:  # a grown footprint not inside this set's: built alone
+                    derived = type(self)(self.zones, self.terrain, pad)
+                kept[pad] = derived
+            return kept[pad]
+        return type(self)(self.zones, self.terrain, pad)
 
     @property
     def exact(self) -> Self:
@@ -173,30 +187,37 @@ class ZoneIndex:
             return self
         cached: Self | None = self.__dict__.get("_exact")
         if cached is None:
-            cached = self._unpadded()
+            cached = self._derived(0.0)
+            assert cached is not None  # a footprint is inside its padded self
             object.__setattr__(self, "_exact", cached)
         return cached
 
-    def _unpadded(self) -> Self:
-        """:attr:`exact` built from this padded set: its own footprints, bands, rings and R-tree (the exact
-        tests and distances), the discs' centres shared, and the broad phase's cell lists and the fine field
-        shared (a padded prism holds the unpadded one: its cells are a superset and its distances lower
-        bounds); only the grid's bands, which the compiled flat-band test uses exactly, are its own."""
+    def _derived(self, pad: float) -> Self | None:
+        """The set with a smaller pad (:attr:`exact` for 0) built from this one: its own footprints, bands,
+        rings and R-tree (the exact tests and distances), the discs' centres shared, and the broad phase's cell
+        lists and the fine field shared (this set's prisms hold the smaller ones: its cells are a superset and
+        its distances lower bounds); only the grid's bands, which the compiled flat-band test uses exactly, are
+        its own.  None when a footprint grown by ``pad`` is not inside this set's (mitred joins are checked,
+        not assumed)."""
         out = object.__new__(type(self))
-        for name, value in (("zones", self.zones), ("terrain", self.terrain), ("pad", 0.0),
+        for name, value in (("zones", self.zones), ("terrain", self.terrain), ("pad", pad),
                             ("_centres", self._centres)):
             object.__setattr__(out, name, value)
+        footprints = np.array([z.footprint for z in self.zones], dtype=object)
+        geoms = shapely.buffer(footprints, pad, join_style="mitre") if pad > 0 and self.zones else footprints
+        if pad > 0 and self.zones and not bool(np.all(shapely.covers(self._geoms, geoms))):
+            return None
         # the zones' own heights, not (h + pad) - pad: that is an ulp off (0.2 -> 0.19999999999999996), and the
         # exact set must answer at a band's face as a set built alone
         h = np.array([np.nan if z.above_seabed is None else z.above_seabed for z in self.zones], dtype=float)
-        out._set_prisms(np.array([z.footprint for z in self.zones], dtype=object), h)
+        out._set_prisms(geoms, h)
         if self._grid is None:
             object.__setattr__(out, "_grid", None)
             return out
         sea = self._seabed
         # the highest seabed under its own box plus the height, as a set built alone has it (the padded top less
         # the pad is an ulp off, either way: a leg on the face was no candidate, or one an ulp above it was)
-        top = band_tops(out._bounds, out._zhi, h, self.terrain)
+        top = band_tops(out._bounds, out._zhi, out._h, self.terrain)
         bottom = np.where(sea, -np.inf, out._zlo)
         object.__setattr__(out, "_grid", (*self._grid[:8], bottom, top, self._grid[10]))
         object.__setattr__(out, "_field", self._field)
