@@ -60,9 +60,25 @@ def _commands_import(*commands: list[str]) -> list[set[str]]:
 def test_validate_and_plan_import_what_their_files_need() -> None:
     """flow-spheres (bodies in a uniform flow, no file): neither ``validate`` nor ``plan`` imports xarray (and
     with it pandas, dask, pint, jinja2), scipy.stats or a plotting library; then marcus-wake, whose ETOPO1
-    cut-out is read through xarray (which brings pandas, and dask and pint to check for their arrays): no
+    cut-out is read through xarray (which brings pandas; not dask or pint: no indexes are built): no
     statistics or plotting still."""
     after = _commands_import(["validate", "flow-spheres"], ["plan", "flow-spheres", "--json"],
                              ["validate", "marcus-wake"])
     assert after[0] == after[1] == set(), after
     assert "xarray" in after[2] and not after[2] & {"scipy.stats", "matplotlib", "plotly"}, after
+
+
+def test_inspect_of_a_seabed_imports_no_optimiser_filter_or_duck_array_library() -> None:
+    """``data inspect`` of a seabed file (issue 56): its edge searches are Brent's bounded method without
+    scipy.optimize, its window maxima without scipy.ndimage, its conservative models do not interpolate
+    (scipy.interpolate), and xarray opens the file without building the indexes that import dask and pint."""
+    from importlib import resources
+
+    path = str(resources.files("auvplan") / "data" / "etopo1_seed_marcus_wake.nc")
+    probe = ("import contextlib, io, json, sys\nfrom auvplan.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             f"    code = main(['data', 'inspect', {path!r}])\n"
+             "print(json.dumps([code, sorted(m for m in sys.modules if m in ('scipy.optimize', 'scipy.ndimage', "
+             "'scipy.interpolate', 'dask', 'pint', 'xarray'))]))")
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert json.loads(run.stdout.strip().splitlines()[-1]) == [0, ["xarray"]], run.stderr
