@@ -82,3 +82,27 @@ def test_inspect_of_a_seabed_imports_no_optimiser_filter_or_duck_array_library()
              "'scipy.interpolate', 'dask', 'pint', 'xarray'))]))")
     run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert json.loads(run.stdout.strip().splitlines()[-1]) == [0, ["xarray"]], run.stderr
+
+
+def test_kernels_are_made_when_first_used_and_validate_of_a_clear_mission_loads_none(tmp_path) -> None:
+    """Defining the kernels imports no numba; ``validate`` of a mission whose start and goal are well clear
+    of the seabed decides them in numpy and loads none (issue 56); the first kernel used puts every
+    kernel's dispatcher in place of its stand-in, in the module that defines it and in those that import it
+    (the cost pass's copy of the terrain's kernel), and a stand-in pickles by name."""
+    from helpers import RIDGE
+
+    (tmp_path / "ridge.toml").write_text(RIDGE)
+    probe = ("import contextlib, io, json, pickle, sys\nfrom auvplan.cli import main\n"
+             "import auvplan.cost as cost, auvplan.world.kernels.terrain as kt\n"
+             "before = [type(kt.elevation_kernel).__name__, type(cost.elevation_kernel).__name__]\n"
+             "same = pickle.loads(pickle.dumps(kt.elevation_kernel)) is kt.elevation_kernel\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    code = main(['validate', {str(tmp_path / 'ridge.toml')!r}])\n"
+             "clear = 'numba' not in sys.modules\n"
+             "import numpy as np\nkt._elevations(np.zeros((1, 1, 4)), 0.0, 0.0, 1.0, 1.0, np.zeros(1), np.zeros(1), "
+             "np.zeros(1))\n"
+             "after = [type(kt.elevation_kernel).__name__, cost.elevation_kernel is kt.elevation_kernel]\n"
+             "print(json.dumps([code, 'OK' in out.getvalue(), clear, before, same, after]))")
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert got == [0, True, True, ["_Deferred", "_Deferred"], True, ["CPUDispatcher", True]], run.stderr

@@ -241,13 +241,47 @@ class World:
             constraints are ``+inf``.
         """
         p = as_points(points)
+        m = self.margins
+        if self.terrain is None:
+            altitude = np.full(p.shape[:-1], np.inf)
+        else:
+            altitude = self.terrain.altitude(p) - m.min_altitude
+        return self._clearances(p, altitude, t, moving)
+
+    def clearly_free(self, point: ArrayLike, t: float = 0.0) -> bool:
+        """Whether :meth:`explain` would find nothing at ``point``, decided with the seabed in numpy.
+
+        Every slack but the seabed's is the one :meth:`clearances` computes; the altitude comes from
+        :meth:`Terrain.elevation_bounds` and must exceed its bound, so that the compiled seabed cannot
+        put the point below ``min_altitude``.  False says only "not clearly": ask :meth:`explain`.
+        ``validate`` checks its start and goal so without loading a compiled kernel (issue 56).
+
+        Parameters
+        ----------
+        point : array_like
+            One point ``(3,)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+
+        Returns
+        -------
+        bool
+            True when every slack is ≥ 0 with the seabed's rounding to spare.
+        """
+        p = as_points(np.asarray(point, dtype=float))
+        if p.shape != (3,) or not np.all(np.isfinite(p)):
+            return False
+        altitude = np.asarray(np.inf)
+        if self.terrain is not None:
+            zb, err = self.terrain.elevation_bounds(p[0], p[1])
+            altitude = p[2] - zb - self.margins.min_altitude - err
+        return all(float(v) >= 0.0 for v in self._clearances(p, altitude, t, True).values())
+
+    def _clearances(self, p: FloatArray, altitude: FloatArray, t: float, moving: bool) -> dict[str, FloatArray]:
+        """:meth:`clearances` of the points ``p (..., 3)`` given their altitude slack."""
         shape = p.shape[:-1]
         m = self.margins
-        out: dict[str, FloatArray] = {}
-        if self.terrain is None:
-            out["altitude"] = np.full(shape, np.inf)
-        else:
-            out["altitude"] = self.terrain.altitude(p) - m.min_altitude
+        out: dict[str, FloatArray] = {"altitude": altitude}
         out["surface"] = -p[..., 2] - m.min_depth
         out["max_depth"] = m.max_depth + p[..., 2]
         out["bounds"] = self.bounds.slack(p)
