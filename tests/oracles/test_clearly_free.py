@@ -3,7 +3,8 @@
 :meth:`Terrain.elevation_bounds` (numpy) must lie within its bound of :meth:`Terrain.elevation` (the
 compiled kernel, fused multiply-adds) everywhere, edges and outside included, on a rough non-square grid
 with an origin far from zero; :meth:`World.clearly_free` may say True only where :meth:`World.explain`
-finds nothing, also for points within a rounding of ``min_altitude`` above the seabed.
+finds nothing, also for points within a rounding of ``min_altitude`` above the seabed and about a turned
+ellipsoid at the obstacle margin (its distance a compiled foot-point search).
 """
 
 from __future__ import annotations
@@ -64,3 +65,24 @@ def test_clearly_free_only_where_explain_finds_nothing(with_sphere):
         said += clear
         free += not why
     assert said >= 0.4 * free  # the fast path is taken for most free points (those well clear)
+
+
+
+def test_clearly_free_near_a_turned_ellipsoid_only_where_explain_finds_nothing():
+    """Points about an ellipsoid turned by yaw, pitch and roll, at the obstacle margin and around it: the
+    lower bound never calls free a point the compiled foot-point distance puts within the margin."""
+    from auvplan.world import Ellipsoid
+
+    e = Ellipsoid((0.0, 0.0, -500.0), (300.0, 120.0, 60.0), yaw=0.7, pitch=0.3, roll=-0.5)
+    w = World(Bounds(-1000.0, 1000.0, -1000.0, 1000.0, -1000.0, 0.0), None, obstacles=(e,),
+              margins=Margins(obstacle=15.0))
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(200, 3))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    pts = np.asarray(e.center) + u * rng.uniform(40.0, 700.0, (200, 1))
+    said = 0
+    for p in pts:
+        clear, why = w.clearly_free(p), w.explain(p)
+        assert not (clear and why), (p, why)
+        said += clear
+    assert said > 50
