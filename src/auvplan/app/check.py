@@ -101,8 +101,9 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
                "deploy": deploy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
-        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test)
-        zones = world.zones.exact.approach(points[1:] if fmt == "qgc" else points) if world.zones else []
+        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
+        # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
+        zones = _zone_approach(world, points[1:] if fmt == "qgc" else points, check.semantics, pitch)
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
         zones_ok = not any(z.entered_legs for z in zones)
@@ -115,6 +116,27 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
                              check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
                              tuple(zones), tuple(nav_lines)))
     return sc, out
+
+
+def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: float) -> list[ZoneApproach]:
+    """The closest approach to each charted zone and the legs entering it (exact): the straight legs, and for a
+    held depth (MOOS-IvP) also each leg's envelope and the executor's track at ``pitch`` (deg)."""
+    if not world.zones:
+        return []
+    from dataclasses import replace
+
+    from ..guidance.mission.zone_legs import held_zone_entries
+
+    exact = world.zones.exact
+    out = exact.approach(points)
+    if semantics != "held":
+        return out
+    legs, zi = held_zone_entries(exact, points, pitch)
+    for j, z in enumerate(out):
+        entered = tuple(sorted({*z.entered_legs, *(int(k) + 1 for k in legs[zi == j])}))
+        if entered != z.entered_legs:
+            out[j] = replace(z, closest_m=min(z.closest_m, 0.0), entered_legs=entered)
+    return out
 
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray,
