@@ -12,9 +12,16 @@ from the start and goal (median of repeats, JIT warmed up first), and the ratio.
 
 ``gap``: the default plan against ``--reference`` on ``chagos-reefs`` (same zones), in percent.
 
+``passes``: the zones' pass over the swarm's populations alone (``Zones.polyline_slack``, most of the zones'
+part of a plan), measured at a few per cent instead of the plans' ±0.2 in the ratio: the populations the
+cost asks about in ``--plans`` default plans of the ``cpu`` problem are recorded, then replayed (best of
+``--repeats``), with a digest of the answers so two versions of the code can be compared on the same
+populations (``--save FILE`` keeps them, ``--load FILE`` replays them).
+
     python benchmarks/zones.py montecarlo --missions 1000 --planners iabc grid timeopt
     python benchmarks/zones.py cpu --scenario marcus-wake --zones 1000
     python benchmarks/zones.py gap
+    python benchmarks/zones.py passes --save /tmp/pops.npz   # then, on another version: --load /tmp/pops.npz
 """
 
 from __future__ import annotations
@@ -195,15 +202,8 @@ def scattered_zones(world: World, start: np.ndarray, goal: np.ndarray, n: int, s
 
 def cpu(scenario: str, n_zones: int, repeats: int, planner: str) -> dict[str, float]:
     """CPU of the default plan without and with ``n_zones`` zones."""
-    from auvplan.io.scenario.build import build
-    from auvplan.io.scenario.loader import load
-    from auvplan.sim.pipeline import planning_problem
-
-    world, mission = build(load(scenario))
-    world = replace(world, zones=None)
-    base = planning_problem(world, mission)
-    zoned = replace(base, world=replace(world, zones=scattered_zones(world, base.start, base.goal, n_zones, 7)))
-    spec = replace(mission.planner, name=planner)
+    base, zoned, spec = _cpu_problems(scenario, n_zones)
+    spec = replace(spec, name=planner)
     plan(zoned, spec, rng=0)  # compile every kernel once
     plan(base, spec, rng=0)
     times: dict[str, list[float]] = {"none": [], "zones": []}
@@ -217,6 +217,64 @@ def cpu(scenario: str, n_zones: int, repeats: int, planner: str) -> dict[str, fl
     return {"scenario": scenario, "planner": planner, "zones": n_zones, "cpu_none_s": round(med["none"], 3),
             "cpu_zones_s": round(med["zones"], 3), "ratio": round(med["zones"] / med["none"], 2),
             "load_1min": os.getloadavg()[0]}
+
+
+def _cpu_problems(scenario: str, n_zones: int) -> tuple[PlanningProblem, PlanningProblem, PlannerSpec]:
+    """The ``cpu`` problem without and with ``n_zones`` scattered zones, and the scenario's planner."""
+    from auvplan.io.scenario.build import build
+    from auvplan.io.scenario.loader import load
+    from auvplan.sim.pipeline import planning_problem
+
+    world, mission = build(load(scenario))
+    world = replace(world, zones=None)
+    base = planning_problem(world, mission)
+    zoned = replace(base, world=replace(world, zones=scattered_zones(world, base.start, base.goal, n_zones, 7)))
+    return base, zoned, mission.planner
+
+
+def passes(scenario: str, n_zones: int, plans: int, repeats: int, planner: str, save: str = "",
+           load_from: str = "") -> dict[str, float | str]:
+    """CPU of the zones' pass over the populations of ``plans`` plans (per plan; ``load_from``: the
+    populations saved by an earlier run with ``save``, of as many plans), replayed."""
+    _, zoned, spec = _cpu_problems(scenario, n_zones)
+    zones = zoned.world.zones
+    assert zones is not None
+    if load_from:
+        with np.load(load_from) as data:
+            pops = [data[k] for k in sorted(data.files, key=lambda k: int(k[1:]))]
+    else:
+        pops = []
+        asked = type(zones).polyline_slack
+
+        def record(self: Zones, points: np.ndarray) -> np.ndarray:
+            pops.append(np.array(points, dtype=float))
+            return asked(self, points)
+
+        type(zones).polyline_slack = record  # type: ignore[method-assign]
+        try:
+            for r in range(plans):
+                plan(zoned, replace(spec, name=planner), rng=r)
+        finally:
+            type(zones).polyline_slack = asked  # type: ignore[method-assign]
+        if save:
+            np.savez(save, **{f"p{i}": p for i, p in enumerate(pops)})
+    digest = hashlib.sha256()
+    entering = 0
+    for p in pops:
+        slack = np.ascontiguousarray(zones.polyline_slack(p))
+        digest.update(slack.tobytes())
+        entering += int(np.isfinite(slack).sum())
+    best = np.inf
+    for _ in range(repeats):
+        t = time.process_time()
+        for p in pops:
+            zones.polyline_slack(p)
+        best = min(best, time.process_time() - t)
+    legs = sum(p.shape[0] * (p.shape[1] - 1) for p in pops)
+    return {"scenario": scenario, "zones": n_zones, "plans": plans, "calls": len(pops), "legs_per_plan": legs // plans,
+            "entering_legs": entering, "pass_s_per_plan": round(best / plans, 4),
+            "ns_per_leg": round(1e9 * best / legs, 1),
+            "slack_digest": digest.hexdigest()[:16], "load_1min": os.getloadavg()[0]}
 
 
 def gap(scenario: str) -> dict[str, float]:
@@ -277,6 +335,14 @@ def main() -> None:
     c.add_argument("--planner", default="iabc")
     c.add_argument("--zones", type=int, default=1000)
     c.add_argument("--repeats", type=int, default=5)
+    q = sub.add_parser("passes")
+    q.add_argument("--scenario", default="marcus-wake")
+    q.add_argument("--planner", default="iabc")
+    q.add_argument("--zones", type=int, default=1000)
+    q.add_argument("--plans", type=int, default=3)
+    q.add_argument("--repeats", type=int, default=5)
+    q.add_argument("--save", default="", help="keep the recorded populations here (.npz)")
+    q.add_argument("--load", default="", help="replay the populations saved by --save (same --scenario, --zones)")
     g = sub.add_parser("gap")
     g.add_argument("--scenario", default="chagos-reefs")
     for p in (m, c, g):
@@ -296,10 +362,12 @@ def main() -> None:
                     json.dump(digests, fh)
     elif args.cmd == "cpu":
         res = cpu(args.scenario, args.zones, args.repeats, args.planner)
+    elif args.cmd == "passes":
+        res = passes(args.scenario, args.zones, args.plans, args.repeats, args.planner, args.save, args.load)
     else:
         res = gap(args.scenario)
     print(json.dumps(res))
-    if args.figure_md:
+    if getattr(args, "figure_md", ""):
         import sys
 
         _figure(args.figure_md, _figure_text(args.cmd, res, " ".join(sys.argv[1:])))

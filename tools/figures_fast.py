@@ -195,7 +195,7 @@ def terrain_follow() -> dict[str, str]:
     v = checks[0]["vehicle"]
     lines = [c for c in checks if c["semantics"] != "held"]
     held = [c for c in checks if c["semantics"] == "held"]
-    ok = all(c["ok"] for c in checks)
+    ok = all(c["check_ok"] for c in checks)  # the re-flown check (altitude); "ok" is every check
     vehicle_ok = all(c["vehicle"]["ok"] for c in checks)
     violations = sum(len(c["vehicle"]["violations"]) for c in checks)
     alt = (f"least {min(c['min_altitude_m'] for c in lines):.2f} m on the 3D-line formats"

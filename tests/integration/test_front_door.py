@@ -60,9 +60,51 @@ def _commands_import(*commands: list[str]) -> list[set[str]]:
 def test_validate_and_plan_import_what_their_files_need() -> None:
     """flow-spheres (bodies in a uniform flow, no file): neither ``validate`` nor ``plan`` imports xarray (and
     with it pandas, dask, pint, jinja2), scipy.stats or a plotting library; then marcus-wake, whose ETOPO1
-    cut-out is read through xarray (which brings pandas, and dask and pint to check for their arrays): no
+    cut-out is read through xarray (which brings pandas; not dask or pint: no indexes are built): no
     statistics or plotting still."""
     after = _commands_import(["validate", "flow-spheres"], ["plan", "flow-spheres", "--json"],
                              ["validate", "marcus-wake"])
     assert after[0] == after[1] == set(), after
     assert "xarray" in after[2] and not after[2] & {"scipy.stats", "matplotlib", "plotly"}, after
+
+
+def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_duck_arrays(tmp_path) -> None:
+    """Issue 56, in one fresh interpreter.  Defining the kernels imports no numba, and ``validate`` of a mission
+    whose start and goal are well clear of the seabed decides them in numpy and loads none; then ``data
+    inspect`` of a seabed file: its edge searches are Brent's bounded method without scipy.optimize, its
+    window maxima without scipy.ndimage, its conservative models do not interpolate (scipy.interpolate), and
+    xarray opens the file without building the indexes that import dask and pint; its first kernel put every
+    kernel's dispatcher in place of its stand-in, in the module that defines it and in those that import it
+    (the cost pass's copy of the terrain's kernel); a stand-in pickles by name."""
+    import netCDF4
+    import numpy as np
+
+    from helpers import RIDGE
+
+    (tmp_path / "ridge.toml").write_text(RIDGE)
+    seabed = str(tmp_path / "seabed.nc")  # 40 x 56 nodes at 0.02 deg: five small models
+    with netCDF4.Dataset(seabed, "w") as nc:
+        for name, values, units in (("lat", np.linspace(10.0, 10.78, 40), "degrees_north"),
+                                    ("lon", np.linspace(150.0, 151.1, 56), "degrees_east")):
+            nc.createDimension(name, values.size)
+            nc.createVariable(name, "f8", (name,))[:] = values
+            nc[name].units = units
+        e = nc.createVariable("elevation", "f8", ("lat", "lon"))
+        e[:] = -3000.0 + 900.0 * np.sin(np.arange(40)[:, None] * 0.7) * np.cos(np.arange(56)[None, :] * 0.4)
+        e.units, e.positive = "m", "up"
+    probe = ("import contextlib, io, json, pickle, sys\nfrom auvplan.cli import main\n"
+             "import auvplan.cost as cost, auvplan.world.kernels.terrain as kt\n"
+             "before = [type(kt.elevation_kernel).__name__, type(cost.elevation_kernel).__name__]\n"
+             "same = pickle.loads(pickle.dumps(kt.elevation_kernel)) is kt.elevation_kernel\n"
+             "with contextlib.redirect_stdout(io.StringIO()) as out:\n"
+             f"    code = main(['validate', {str(tmp_path / 'ridge.toml')!r}])\n"
+             "clear = 'numba' not in sys.modules\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n"
+             f"    code += main(['data', 'inspect', {seabed!r}])\n"
+             "mods = sorted(m for m in sys.modules if m in ('scipy.optimize', 'scipy.ndimage', 'scipy.interpolate', "
+             "'dask', 'pint', 'xarray'))\n"
+             "after = [type(kt.elevation_kernel).__name__, cost.elevation_kernel is kt.elevation_kernel]\n"
+             "print(json.dumps([code, 'OK' in out.getvalue(), clear, before, same, mods, after]))")
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert got == [0, True, True, ["_Deferred", "_Deferred"], True, ["xarray"], ["CPUDispatcher", True]], run.stderr

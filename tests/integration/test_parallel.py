@@ -108,6 +108,11 @@ def test_a_crashed_job_resumes_without_recomputing_its_finished_tasks(tmp_path, 
     assert len(list(work.glob("computed-*"))) == again.computed  # the finished ones were not run again
     assert sorted(arrived) == list(range(len(SEEDS)))
     assert all(np.array_equal(a, e) for a, e in zip(again.results, EXPECTED, strict=True))
+    (ckpt / f".{keys[0]}.k1ll3d_x.tmp").write_bytes(b"\x80\x05half")  # what a kill -9 mid-write leaves
+    (ckpt / "other.pkl").write_bytes(b"not this job's")
+    forget(ckpt, keys)
+    assert sorted(p.name for p in ckpt.iterdir()) == ["other.pkl"]  # the job's files gone, nothing else
+    (ckpt / "other.pkl").unlink()
     forget(ckpt, keys)
     assert not ckpt.exists()
 

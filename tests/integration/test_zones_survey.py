@@ -12,18 +12,30 @@ from test_survey_mission import AREA, SCENARIO
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import loads
+from auvplan.path.flyable import VehicleLimits
+from auvplan.path.legs import helm_check
 from auvplan.survey.mission import TRANSIT, plan_survey
 
 ZONE = [[700.0, 620.0], [1000.0, 620.0], [1000.0, 780.0], [700.0, 780.0]]  # metres: a box inside the area
 
 
-def test_lines_are_clipped_by_a_zone_and_the_gaps_bridged_round_it():
-    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
-        f'\n[[zones]]\nname = "exclusion"\npolygon = {ZONE}\n'
-    sc = loads(text, source="survey.toml")
+def zone_survey(zone: str) -> tuple:
+    """(world, params, plan) of the test survey with one ``[[zones]]`` table's body added."""
+    sc = loads(SCENARIO.format(area=AREA, mounting="surface", extra="") + f"\n[[zones]]\n{zone}\n",
+               source="survey.toml")
     world, mission = build(sc)
     params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
-    plan = plan_survey(world, mission, params, sc.seed)
+    return world, params, plan_survey(world, mission, params, sc.seed)
+
+
+@pytest.fixture(scope="module")
+def box_survey():
+    """The survey round the box zone, planned once for the tests below."""
+    return zone_survey(f'name = "exclusion"\npolygon = {ZONE}')
+
+
+def test_lines_are_clipped_by_a_zone_and_the_gaps_bridged_round_it(box_survey):
+    _, _, plan = box_survey
     assert plan.status.ok, plan.message
     box = shapely.Polygon(ZONE)
     legs = shapely.linestrings(np.stack([plan.route[:-1, :2], plan.route[1:, :2]], axis=1))
@@ -45,30 +57,24 @@ ARROW = [[650.0, 550.0], [1150.0, 700.0], [650.0, 850.0], [1100.0, 700.0]]
 def test_lines_and_transits_keep_out_of_a_zone_with_sharp_concave_corners():
     """Every leg of the clipped route (lines, turns, bridging transits) against the arrowhead's footprint by
     shapely (surface to seabed: any touch is an entry), and the lines still flown on both sides of it."""
-    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
-        f'\n[[zones]]\nname = "arrow"\npolygon = {ARROW}\n'
-    sc = loads(text, source="survey.toml")
-    world, mission = build(sc)
-    params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
-    plan = plan_survey(world, mission, params, sc.seed)
+    _, params, plan = zone_survey(f'name = "arrow"\npolygon = {ARROW}')
     assert plan.status.ok, plan.message
     arrow = shapely.Polygon(ARROW)
     legs = shapely.linestrings(np.stack([plan.route[:-1, :2], plan.route[1:, :2]], axis=1))
     assert not shapely.intersects(legs, arrow).any()
     assert (plan.labels == TRANSIT).any()
+    # the bridges round the arrow join the lines by turns a helm flies at the vehicle's radius, as `mission
+    # check` judges the exported waypoints (their corners turned at 6.0 m against 10 m before)
+    report = helm_check(plan.route, VehicleLimits(90.0, params.turn_radius_m), min_leg=0.0)
+    assert report.tightest_turn_m >= params.turn_radius_m * (1.0 - 1e-9), report.violations[:2]
 
 
-def test_coverage_leaves_the_no_go_area_out_of_its_denominator():
+def test_coverage_leaves_the_no_go_area_out_of_its_denominator(box_survey):
     """coverage_pct of the plan against shapely's own: the footprints' union over the area less the zone,
     divided by that area; no_go_m2 is the zone's part of the area, and no gap lies inside the zone."""
     from auvplan.survey.run import planned_coverage
 
-    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
-        f'\n[[zones]]\nname = "exclusion"\npolygon = {ZONE}\n'
-    sc = loads(text, source="survey.toml")
-    world, mission = build(sc)
-    params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
-    plan = plan_survey(world, mission, params, sc.seed)
+    world, params, plan = box_survey
     cov = planned_coverage(world, plan, params)
     box = shapely.Polygon(ZONE)
     rest = params.area.difference(box)

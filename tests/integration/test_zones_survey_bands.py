@@ -7,26 +7,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from test_survey_mission import AREA, SCENARIO
+from test_zones_survey import ZONE, zone_survey
 
-from auvplan.io.results.survey import survey_params
-from auvplan.io.scenario.build import build
-from auvplan.io.scenario.loader import loads
-from auvplan.survey.mission import plan_survey
 from auvplan.survey.run import planned_coverage
-
-ZONE = [[700.0, 620.0], [1000.0, 620.0], [1000.0, 780.0], [700.0, 780.0]]
 
 
 def test_a_zone_the_lines_fly_over_is_surveyed_not_no_go():
     """Oracle: shapely — the plan's line legs cross the zone, and the coverage is the footprints' union over
     the whole area divided by the whole area (no_go_m2 = 0)."""
-    text = SCENARIO.format(area=AREA, mounting="surface", extra="") + \
-        f'\n[[zones]]\nname = "cable"\npolygon = {ZONE}\nabove_seabed_m = 1.0\n'
-    sc = loads(text, source="survey.toml")
-    world, mission = build(sc)
-    params = survey_params(sc.survey, world, mission.vehicle, None, "survey.toml: [survey]")
-    plan = plan_survey(world, mission, params, sc.seed)
+    world, params, plan = zone_survey(f'name = "cable"\npolygon = {ZONE}\nabove_seabed_m = 1.0')
     assert plan.status.ok, plan.message
     lab = plan.labels
     on = (lab[:-1] >= 0) & (lab[:-1] == lab[1:])

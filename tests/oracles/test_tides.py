@@ -132,9 +132,11 @@ def test_report_animates_a_tidal_current_and_not_a_steady_one(tides_scenario, sa
     world, mission = tides_scenario
     path = np.stack([mission.start, mission.goal])
     fig = go.Figure(_currents(world, path))
-    times = np.linspace(0.0, 6 * 3600.0, 7)
+    times = np.linspace(2 * 3600.0, 8 * 3600.0, 7)  # the fastest frame is neither the first nor the last
     idx, v = _current_frames(fig, world, times)
     assert v.shape == (7, len(fig.data[idx].x), 3) and not np.allclose(v[0], v[3])
-    assert fig.data[idx].cmax == pytest.approx(np.linalg.norm(v, axis=2).max())
+    peak = np.linalg.norm(v, axis=2).max(axis=1)
+    assert 0 < int(np.argmax(peak)) < len(times) - 1  # a scale from one end frame only would be caught
+    assert fig.data[idx].cmax == pytest.approx(peak.max())
     _, steady, _ = salish  # the session's salish-shelf (tests/conftest.py)
     assert _current_frames(go.Figure(_currents(steady, path)), steady, times) is None

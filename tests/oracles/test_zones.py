@@ -260,20 +260,33 @@ def test_lattice_edges_the_seabed_clears_still_keep_out_of_zones():
     assert kept > 300
 
 
-def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_near_them():
+@pytest.mark.parametrize("cells, stretch", [(None, 1.0), (2e3, 1.0), (3e4, 3.0)])
+def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_near_them(cells, stretch):
     """The planners' fine lower-bound field against shapely's distance (the independent oracle): never above
-    it anywhere (else a leg near a zone would pass unchecked), within 1.5 fine cells of it near the zones."""
-    from auvplan.world.zone_kernels import _far
+    it anywhere (else a leg near a zone would pass unchecked), within 1.5 fine cells of it near the zones;
+    with the default size, with one fine cell per broad-phase cell (a set of a thousand zones gets few per
+    cell), and on footprints stretched three times along x (a grid twice as wide as it is tall)."""
+    from auvplan.world.zones.kernels import _far
+    from auvplan.world.zones.parts import distance_field
 
     rng = np.random.default_rng(5)
     world = random_world(rng, 30)
     zones = world.zones
-    x0, y0, f, fnx, fny, bound = zones._field
-    pts = np.column_stack([rng.uniform(-400, 3400, 8000), rng.uniform(-400, 3400, 8000)])
+    if stretch != 1.0:
+        stretched = [replace(z, footprint=shapely.affinity.scale(z.footprint, stretch, 1.0, origin=(0, 0)))
+                     for z in zones.zones if z.above_seabed is None]
+        zones = Zones(tuple(stretched), pad=zones.pad)
+        assert zones._grid[3] >= 2 * zones._grid[4]  # twice as many columns as rows
+    field = zones._field if cells is None else distance_field(zones._grid, zones._rings, zones._bounds, cells=cells)
+    x0, y0, f, fnx, fny, bound = field
+    if cells is not None:
+        assert fnx % zones._grid[3] == 0 and fnx < 16 * zones._grid[3] and (cells > 1e4 or fnx == zones._grid[3])
+    pts = np.column_stack([rng.uniform(-400, 3000 * stretch + 400, 8000), rng.uniform(-400, 3400, 8000)])
     lb = np.array([_far.py_func(x, y, x0, y0, f, fnx, fny, bound) for x, y in pts])
     true = shapely.distance(shapely.union_all(zones._geoms), shapely.points(pts))
     assert np.all(lb <= true)
-    near = (true > 0) & (true < 4 * f)
+    inside = (pts[:, 0] > x0) & (pts[:, 0] < x0 + fnx * f) & (pts[:, 1] > y0) & (pts[:, 1] < y0 + fny * f)
+    near = (true > 0) & (true < 4 * f) & inside  # outside the field's rectangle: the distance to the rectangle
     assert near.sum() > 400 and np.all(lb[near] >= true[near] - 1.5 * f)
 
 
@@ -356,3 +369,70 @@ def test_the_unpadded_set_a_padded_one_derives_answers_as_one_built_alone():
     assert derived.clearance(p) == alone.clearance(p)
     tail = p[-30:]  # the level legs across the bands
     assert [z.as_dict() for z in derived.approach(tail)] == [z.as_dict() for z in alone.approach(tail)]
+
+
+def test_views_of_a_set_keep_its_class_and_answer_as_sets_built_alone():
+    """``with_pad`` and ``exact`` (built in :mod:`auvplan.world.zones.index`, below the queries) are the
+    full :class:`Zones`: every query of the package answers, as a set built alone with that pad does."""
+    rng = np.random.default_rng(5)
+    world = random_world(rng, 12)
+    zones = world.zones
+    assert zones.with_pad(zones.pad) is zones and zones.exact.exact is zones.exact
+    grown, alone = zones.with_pad(6.0), Zones(zones.zones, world.terrain, pad=6.0)
+    assert type(grown) is Zones and type(zones.exact) is Zones and grown.pad == 6.0
+    p = np.column_stack([rng.uniform(0, 3000, 120), rng.uniform(0, 3000, 120), rng.uniform(-250, -5, 120)])
+    a, b = p[:-1], p[1:]
+    got, want = grown.envelopes_enter(a, b), alone.envelopes_enter(a, b)
+    assert 5 < want.sum() < len(a) - 5
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_array_equal(grown.polyline_slack(p[None]), alone.polyline_slack(p[None]))
+    np.testing.assert_array_equal(grown.signed_distance(p, exact=True), alone.signed_distance(p, exact=True))
+
+
+@pytest.mark.parametrize("pad", [0.05, 0.6])
+def test_a_smaller_pad_derived_from_a_set_answers_as_a_set_built_alone(pad, monkeypatch):
+    """``with_pad`` below the set's pad (the mission builder's 5 cm) shares the set's cell lists and fine field
+    and answers as a set built alone with that pad: entries (level legs a centimetre either side of the grown
+    bands' faces), the compiled passes, exact distances, distances near the zones; kept per pad.  When a
+    grown footprint were not inside the set's, it is built alone."""
+    rng = np.random.default_rng(8)
+    world = random_world(rng, 16)
+    zones = world.zones
+    derived, alone = zones.with_pad(pad), Zones(zones.zones, world.terrain, pad=pad)
+    assert derived._field is zones._field and zones.with_pad(pad) is derived and derived.pad == pad
+    for k in (8, 9):  # the broad phase's bands (bottoms, tops: a seabed band's over the highest seabed) its own
+        np.testing.assert_array_equal(derived._grid[k], alone._grid[k])
+    p = np.column_stack([rng.uniform(0, 3000, 160), rng.uniform(0, 3000, 160), rng.uniform(-250, -5, 160)])
+    for z in zones.zones:  # level legs across flat bands just inside / outside the grown band's faces
+        if z.above_seabed is None and z.top > 1.0 and math.isfinite(z.bottom):
+            c = shapely.get_coordinates(shapely.centroid(z.footprint))[0]
+            for depth in (z.top - pad - 0.01, z.top - pad + 0.01, z.bottom + pad - 0.01, z.bottom + pad + 0.01):
+                p = np.vstack([p, [c[0] - 900.0, c[1], -depth], [c[0] + 900.0, c[1], -depth]])
+    t = world.terrain
+    gx, gy = np.meshgrid(t.x, t.y)
+    tops = 0
+    for z in zones.zones:  # and a centimetre under a grown seabed band's top over the highest node in its box
+        if z.above_seabed is not None:
+            box = shapely.buffer(z.footprint, pad, join_style="mitre")
+            x0, y0, x1, y1 = shapely.bounds(box)
+            inbox = (gx >= x0) & (gx <= x1) & (gy >= y0) & (gy <= y1)
+            if inbox.any():
+                k = np.flatnonzero(inbox.ravel())[np.argmax(np.asarray(t.z).ravel()[inbox.ravel()])]
+                x, y, zt = gx.ravel()[k], gy.ravel()[k], np.asarray(t.z).ravel()[k]
+                if shapely.contains_xy(box, x, y):
+                    level = zt + z.above_seabed + pad - 0.01
+                    p = np.vstack([p, [x - 5.0, y, level], [x + 5.0, y, level]])
+                    tops += 1
+    assert tops >= 2
+    seg = np.stack([p[:-1], p[1:]], axis=1)
+    a, b = derived.entries(seg), alone.entries(seg)
+    assert 10 < a[0].size and np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    np.testing.assert_array_equal(derived.segments_enter(seg), alone.segments_enter(seg))
+    np.testing.assert_array_equal(derived.envelopes_enter(p[:-1], p[1:]), alone.envelopes_enter(p[:-1], p[1:]))
+    np.testing.assert_array_equal(derived.polyline_slack(p[None]), alone.polyline_slack(p[None]))
+    np.testing.assert_array_equal(derived.signed_distance(p, exact=True), alone.signed_distance(p, exact=True))
+    near = alone.signed_distance(p) < 2.0 * alone._grid[2]
+    np.testing.assert_array_equal(derived.signed_distance(p)[near], alone.signed_distance(p)[near])
+    monkeypatch.setattr(shapely, "covers", lambda a, b: np.zeros(np.broadcast(a, b).shape, dtype=bool))
+    rebuilt = Zones(zones.zones, world.terrain, pad=1.0).with_pad(pad)
+    assert rebuilt._field is not zones._field and np.array_equal(rebuilt.entries(seg)[0], b[0])

@@ -137,14 +137,14 @@ def test_survey_turns_fit_the_turn_radius_leg_by_leg(radius, spacing, heading, l
     """Two parallel lines joined by the survey's turn (lines `spacing` apart, any heading, narrower or
     wider than 2R): every waypoint of line end + turn + next line start fits a fly-by turn of R judged
     leg by leg (the check of `mission check`)."""
-    from auvplan.survey.mission import _turn
+    from auvplan.survey.joins import turn_between
 
     u = np.array([math.sin(heading), math.cos(heading), 0.0])
     n = np.array([u[1], -u[0], 0.0])
     a = np.array([[0.0, 0.0, -50.0], [length / 2, 0.0, -50.0], [length, 0.0, -50.0]])
     a = a[:, :1] * u + np.array([0.0, 0.0, -50.0])
     b = a[::-1] + spacing * n + np.array([0.0, 0.0, dz])
-    inner, _ = _turn(a, b, radius)
+    inner, _ = turn_between(a, b, radius)
     route = np.vstack([a, inner, b])
     rep = helm_check(route, VehicleLimits(90.0, radius), min_leg=0.0)
     assert rep.tightest_turn_m >= radius * (1.0 - 1e-9), rep.message

@@ -18,7 +18,7 @@ if TYPE_CHECKING:
     from ..world import World
     from ..world.zones import ZoneApproach
 
-__all__ = ["FileCheck", "check_missions", "navigation_check"]
+__all__ = ["FileCheck", "check_missions", "navigation_check", "terrain_following_check", "zones_measured_on"]
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,8 @@ class FileCheck:
     Attributes
     ----------
     record : dict
-        Its JSON record (``mission check --json``).
+        Its JSON record (``mission check --json``): ``ok`` is the file's verdict (every check, as the exit code),
+        ``check_ok`` the seabed, obstacles, surface, depth band and bounds alone.
     check : MissionCheck
         The file re-flown under its format's depth semantics.
     vehicle : LimitReport
@@ -43,6 +44,8 @@ class FileCheck:
         The closest approach to each charted zone and the legs entering it (empty without zones).
     navigation : tuple of str
         ``[navigation]``: the predicted error of every leg and the verdict, one line each (issue 52).
+    terrain_following : str
+        A ``.plan``'s terrain-frame legs flown following the seabed: the verdict, one line (empty without).
     """
 
     record: dict[str, Any]
@@ -53,6 +56,7 @@ class FileCheck:
     ok: bool
     zones: tuple[ZoneApproach, ...] = ()
     navigation: tuple[str, ...] = ()
+    terrain_following: str = ""
 
 
 def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
@@ -101,20 +105,156 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
                "deploy": deploy}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
-        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test)
-        zones = world.zones.exact.approach(points[1:] if fmt == "qgc" else points) if world.zones else []
+        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
+        # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
+        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
+        if fmt == "qgc" and world.terrain is not None:
+            from ..io.missions.terrain_frame import terrain_legs
+
+            follow = terrain_legs(Path(name))
+            if not follow.any():
+                follow = None
+        tf_ok = True
+        tf_line = ""
+        if follow is not None:
+            rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow)
+        zones = _zone_approach(world, points[1:] if fmt == "qgc" else points, check.semantics, pitch,
+                               None if follow is None else follow[1:])
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
+            rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
         zones_ok = not any(z.entered_legs for z in zones)
         nav_ok = True
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
             rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
                                                                     points[1:] if fmt == "qgc" else points, Path(name))
-        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line,
-                             check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok,
-                             tuple(zones), tuple(nav_lines)))
+        ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
+        # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
+        rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
+        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
+                             tf_line))
     return sc, out
+
+
+def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> str:
+    """What a file's closest approach to the zones is measured on, in words (``zones_measured_on``).
+
+    Parameters
+    ----------
+    semantics : str
+        The format's depth semantics: ``"held"`` (MOOS-IvP) or ``"ramp"``.
+    pitch : float
+        Pitch (deg) at which a depth-holding executor changes depth.
+    terrain : bool, optional
+        A ``.plan`` with terrain-frame legs (flown following the seabed).
+
+    Returns
+    -------
+    str
+        ``"the executor's track at 15° pitch"``, ``"the straight legs"`` or ``"the straight legs and the
+        seabed-following track of the terrain-frame legs"``.
+    """
+    if semantics == "held":
+        return f"the executor's track at {pitch:g}° pitch"
+    return "the straight legs and the seabed-following track of the terrain-frame legs" if terrain else \
+        "the straight legs"
+
+
+def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: float,
+                   follow: np.ndarray | None = None) -> list[ZoneApproach]:
+    """The closest approach to each charted zone and the legs entering it (exact), under the format's depth
+    semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
+    the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
+    straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`;
+    the legs ``follow`` marks (a ``.plan``'s terrain frame) also on the seabed-following track."""
+    if not world.zones:
+        return []
+    from dataclasses import replace
+
+    from ..guidance.mission.waypoints import held_track
+    from ..guidance.mission.zone_legs import held_zone_entries
+
+    exact = world.zones.exact
+    if semantics != "held":
+        if follow is None or world.terrain is None:
+            return exact.approach(points)
+        from ..guidance.mission.terrain_legs import terrain_track
+
+        track, seg_leg = terrain_track(world.terrain, points, follow)
+        out = exact.approach(track)  # the least over what is flown: the straight legs and the following ones
+        seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))
+        for j, z in enumerate(out):
+            entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]),
+                                    *(int(seg_leg[k - 1]) + 1 for k in z.entered_legs)}))
+            out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
+        return out
+    out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
+    seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))
+    legs, zi = held_zone_entries(exact, points, pitch)
+    for j, z in enumerate(out):
+        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in legs[zi == j])}))
+        out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
+    return out
+
+
+def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[dict[str, Any], bool, str]:
+    """A ``.plan``'s terrain-frame legs flown as ArduSub flies them: at the commanded altitude above the seabed
+    between items (:func:`~auvplan.guidance.mission.terrain_legs.terrain_track`), re-flown against the seabed, the
+    obstacles, the surface, the depth band and the bounds (the track's shallowest and deepest points are its
+    vertices, so the waypoint tests are exact on it).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins, depth band and bounds.
+    points : numpy.ndarray
+        ``(N, 3)`` the plan's waypoints, home first (m).
+    follow : numpy.ndarray of bool
+        ``(N - 1,)`` the legs flown following the seabed.
+
+    Returns
+    -------
+    record : dict
+        ``ok``, ``legs`` (the following legs; leg k joins items k and k + 1, as the zones' legs), ``min_altitude_m``,
+        ``shallowest_m``, ``deepest_m``, ``above_surface_legs``, ``outside_depth_band_legs``,
+        ``outside_bounds_legs``, ``obstacle_hits``, ``vertices``.
+    ok : bool
+        Whether the track keeps every limit.
+    line : str
+        The verdict, one line.
+    """
+    from ..guidance.mission.terrain_legs import terrain_track
+    from ..guidance.mission.waypoints import fly_check
+
+    assert world.terrain is not None
+    track, seg_leg = terrain_track(world.terrain, points, follow)
+    c = fly_check(world, track, "ramp", launch=True)
+    lim = c.limits
+    assert lim is not None
+
+    def legs_of(vertices: tuple[int, ...]) -> list[int]:
+        return sorted({int(seg_leg[v - 1]) for v in vertices if v > 0})
+
+    legs = [int(k) for k in np.flatnonzero(follow)]
+    bad = {"above_surface_legs": legs_of(lim.above_surface), "outside_depth_band_legs": legs_of(lim.outside_depth_band),
+           "outside_bounds_legs": legs_of(lim.outside_bounds)}
+    rec: dict[str, Any] = {"ok": bool(c.ok), "legs": legs,
+           "min_altitude_m": c.min_altitude_m, "required_altitude_m": c.required_altitude_m,
+           "shallowest_m": float(-track[1:, 2].max()), "deepest_m": float(-track[1:, 2].min()),
+           **bad, "obstacle_hits": c.obstacle_hits, "vertices": int(track.shape[0])}
+    broken = [f"{what} on leg{'s' if len(v) > 1 else ''} {', '.join(map(str, v))}" for what, v in (
+        ("above the sea surface", bad["above_surface_legs"]),
+        (f"outside the depth band ({lim.min_depth_m:g}-{lim.max_depth_m:g} m)", bad["outside_depth_band_legs"]),
+        ("outside the bounds", bad["outside_bounds_legs"])) if v]
+    if c.obstacle_hits:
+        broken.append(f"{c.obstacle_hits} segments meet an obstacle")
+    named = ", ".join(map(str, legs)) if len(legs) <= 5 else f"{len(legs)} legs of {len(follow)}"
+    line = (f"terrain-following legs (MAV_FRAME 10: {named}): {'OK' if c.ok else 'FAIL'} — "
+            + "".join(f"{b}; " for b in broken)
+            + f"flown at the commanded altitude above the seabed: least altitude {c.min_altitude_m:.2f} m (required "
+              f"{c.required_altitude_m:g} m), shallowest {rec['shallowest_m']:.2f} m, deepest {rec['deepest_m']:.2f} m")
+    return rec, bool(c.ok), line
 
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray,

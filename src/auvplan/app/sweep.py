@@ -222,8 +222,9 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
 
 
 def _input_stamps(sc: Scenario) -> list[Any]:
-    """What a sweep's checkpoints depend on besides the scenario's text: every data file it names (size, time
-    and SHA-256 of the bytes: a current forecast downloaded again under the same name is another sweep) and
+    """What a sweep's checkpoints depend on besides the scenario's text: every data file it names, with the
+    files of its data set (size, time and SHA-256 of the bytes: a current forecast downloaded again under the
+    same name is another sweep; a shapefile's ``.dbf``, a GeoTIFF's ``.aux.xml``) and
     the code (:func:`auvplan.io.data.cache.code_stamp`: an edit of auvplan within one version).
 
     Parameters
@@ -236,16 +237,19 @@ def _input_stamps(sc: Scenario) -> list[Any]:
     list
         The stamps, in a fixed order (a file that cannot be read: its name alone).
     """
-    from ..io.data.cache import code_stamp, file_stamp
+    from ..io.data.cache import code_stamp, dataset_files, file_stamp
     from ..io.scenario.specs import named_files
 
     stamps: list[Any] = [code_stamp()]
-    for _, name in named_files(sc):
+    for key, name in named_files(sc):
         path = Path(name) if Path(name).is_absolute() or sc.base_dir is None else sc.base_dir / name
-        try:
-            stamps.append(file_stamp(path))
-        except OSError:
-            stamps.append(str(path))
+        # a vector file or a GeoTIFF with its sidecars, as the readers' cache keys it (a shapefile's .dbf, .prj);
+        # a current or tide file alone (no sidecars: a sibling forecast.2024.nc is another data set)
+        for f in [path] if key.startswith("[currents]") else dataset_files(path):
+            try:
+                stamps.append(file_stamp(f))
+            except OSError:
+                stamps.append(str(f))
     return stamps
 
 

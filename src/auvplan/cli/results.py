@@ -86,12 +86,15 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
               + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
         print(f"{name}: {c.energy_line}")
         print(f"{name}: {c.deploy_line}")
+        if c.terrain_following:  # a .plan's terrain-frame legs, flown following the seabed
+            print(f"{name} {c.terrain_following}")
         for line in c.navigation:  # issue 52
             print(f"{name} {line}")
         for z in c.zones:
             legs = ", ".join(str(k) for k in z.entered_legs)
             print(f"{name} zone {z.name!r}: " + (f"FAIL — entered by leg{'s' if len(z.entered_legs) > 1 else ''} "
-                  f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m"))
+                  f"{legs}" if z.entered_legs else f"OK — closest approach {z.closest_m:.1f} m "
+                  f"(on {c.record['zones_measured_on']})"))
         if sc.mission.confidence:
             print(f"{name}: clearance {check.min_altitude_m:.2f} m at {100 * sc.mission.confidence:g} % "
                   f"(above the worst-case seabed, [terrain] uncertainty; required {check.required_altitude_m:g} m)")

@@ -14,6 +14,13 @@ cache entry is stamped with a hash of *every* source file of its package that de
 where numba would put it (``__pycache__`` beside the module, ``NUMBA_CACHE_DIR`` when set, or the
 user-wide cache for read-only installs).  Should numba's internals change, caching is switched
 off rather than risked (``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python).
+
+**numba is imported when the first kernel runs, not when kernels are defined.**  ``@kernel`` returns a
+stand-in; the first call of any kernel makes every kernel's dispatcher and puts each in place of its
+stand-in in every module that holds it (:class:`_Deferred`), so that a command that runs no kernel —
+``validate`` of a scenario whose files are cached, a start and goal well clear of the seabed — does not pay
+numba's import and registries (~0.6 s of CPU, issue 56).  The dispatchers and the machine code are the
+ones an eager decorator makes.
 """
 
 from __future__ import annotations
@@ -21,11 +28,11 @@ from __future__ import annotations
 import functools
 import hashlib
 import sys
+import threading
+import types
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
-
-from numba import njit
 
 __all__ = ["jit_enabled", "kernel", "source_stamp"]
 
@@ -96,6 +103,8 @@ def _stamped_cache(dispatcher: Any) -> Any:
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
+    from numba import njit
+
     dispatcher = njit(**{**_SETTINGS, **options})(fn)
     if hasattr(dispatcher, "enable_caching"):  # not with NUMBA_DISABLE_JIT=1
         try:
@@ -127,8 +136,9 @@ def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     Returns
     -------
     numba dispatcher or decorator
-        The compiled kernel, or a decorator that makes one.  For the type checker the kernel has
-        the signature of ``fn`` (a numba dispatcher is called like the function it compiles).
+        The compiled kernel (a stand-in called like it until the first kernel runs), or a decorator
+        that makes one.  For the type checker the kernel has the signature of ``fn`` (a numba
+        dispatcher is called like the function it compiles).
 
     Raises
     ------
@@ -138,5 +148,87 @@ def kernel(fn: Callable[..., Any] | None = None, **options: Any) -> Any:
     if "cache" in options:
         raise TypeError("kernel() manages numba's cache itself; do not pass cache=")
     if fn is None:
-        return functools.partial(_compile, options=options)
+        return functools.partial(_deferred, options=options)
+    return _deferred(fn, options)
+
+
+class _Deferred:
+    """A kernel whose numba dispatcher is made when the first kernel is used (numba is imported then).
+
+    Importing numba costs ~0.3 s of a command's start, and loading the first cached kernel ~0.25 s more
+    (numba's registries): ``validate`` and ``data inspect`` paths that run no kernel need neither
+    (issue 56).  At the first call (or attribute read) of any deferred kernel, :func:`_make_all` makes
+    the dispatchers of every kernel defined so far and puts each in place of its stand-in wherever a
+    module holds it (``from .kernels import k`` included), so that numba, compiling a caller, finds its
+    callees as dispatchers (inlined with ``inline="always"`` as before) and Python calls go straight to
+    numba; kernels defined afterwards are dispatchers at once.  The compiled code is the same.
+    """
+
+    def __init__(self, fn: Callable[..., Any], options: dict[str, Any]) -> None:
+        functools.update_wrapper(self, fn)
+        self._fn, self._options = fn, options
+        self._made: Any = None
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return _made(self)(*args, **kwargs)
+
+    def __getattr__(self, name: str) -> Any:  # signatures, stats … of the dispatcher
+        if name.startswith("__") or name in ("_fn", "_options", "_made"):
+            raise AttributeError(name)
+        if name == "py_func":  # the Python function compiled (the docs' tests read it): no numba for it
+            return self._fn
+        return getattr(_made(self), name)
+
+    def __reduce__(self) -> tuple[Any, tuple[str, str]]:  # pickled by reference, as a module-level function
+        return _by_name, (self._fn.__module__, self._fn.__qualname__)
+
+
+_PENDING: list[_Deferred] = []
+"""Kernels defined, their dispatchers not made yet."""
+
+_MADE = threading.Event()
+"""Set once :func:`_make_all` has run: kernels are then made at definition."""
+
+_LOCK = threading.Lock()
+
+
+def _deferred(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
+    if _MADE.is_set():
+        return _compile(fn, options)
+    stand_in = _Deferred(fn, options)
+    with _LOCK:
+        if not _MADE.is_set():
+            _PENDING.append(stand_in)
+            return stand_in
     return _compile(fn, options)
+
+
+def _made(stand_in: _Deferred) -> Any:
+    if stand_in._made is None:
+        _make_all()
+    return stand_in._made
+
+
+def _make_all() -> None:
+    """Make every pending kernel's dispatcher and put it in place of its stand-in in every module."""
+    with _LOCK:
+        if _MADE.is_set():
+            return
+        for k in _PENDING:
+            k._made = _compile(k._fn, k._options)
+        for module in list(sys.modules.values()):
+            names = getattr(module, "__dict__", None) if isinstance(module, types.ModuleType) else None
+            for name, value in list((names or {}).items()):
+                if type(value) is _Deferred:
+                    names[name] = value._made  # type: ignore[index]
+        _PENDING.clear()
+        _MADE.set()
+
+
+def _by_name(module: str, qualname: str) -> Any:
+    import importlib
+
+    obj: Any = importlib.import_module(module)
+    for part in qualname.split("."):
+        obj = getattr(obj, part)
+    return obj

@@ -330,8 +330,9 @@ def _save(folder: Path, key: str, result: Any) -> None:
 
 
 def forget(folder: Path | None, keys: Sequence[str]) -> None:
-    """Remove the checkpoints of a finished job, the folder when nothing else is in it and, for a folder under
-    the cache (:func:`cache_folder`), the cache's folders left empty (no empty folder stays in ``~/.cache``).
+    """Remove the checkpoints of a finished job (with the temporaries a killed write left), the folder when
+    nothing else is in it and, for a folder under the cache (:func:`cache_folder`), the cache's folders left
+    empty (no empty folder stays in ``~/.cache``).
 
     Parameters
     ----------
@@ -342,9 +343,10 @@ def forget(folder: Path | None, keys: Sequence[str]) -> None:
     """
     if folder is None or Path(folder).is_symlink() or not Path(folder).is_dir():
         return
-    for key in keys:
-        with contextlib.suppress(OSError):
-            (Path(folder) / f"{key}.pkl").unlink()
+    for key in keys:  # each checkpoint and any temporary of it a kill left half-written (``.KEY.XXXX.tmp``)
+        for p in [Path(folder) / f"{key}.pkl", *Path(folder).glob(f".{key}.*.tmp")]:
+            with contextlib.suppress(OSError):
+                p.unlink()
     root = _cache_root()
     chain = [Path(folder)] + [p for p in Path(folder).parents if p == root or root in p.parents]
     for empty in chain:  # the folder, then (under the cache) each parent up to the cache's own, while empty

@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from ..endurance import EnergyModel
 from ..guidance.mission.limits import waypoint_limits
 from ..guidance.mission.waypoints import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
+from ..guidance.mission.zone_legs import held_zone_entries
 from ..path.legs import helm_check
 from ..sim import Mission
 from ..sim.pipeline import vehicle_limits
@@ -200,8 +201,13 @@ class IncrementalCheck:
             violations.append({"leg": v.leg, "kind": v.limit, "value": v.value, "text": v.text})
         zones = self.world.zones
         entered = 0
-        if zones and len(w) > 1:  # the charted zones themselves, leg by leg (as ``mission check``)
+        if zones and len(w) > 1:  # the charted zones themselves, leg by leg (as ``mission check``): the straight
+            # legs, and for a held depth each leg's envelope and the executor's track too
             seg, zi = zones.exact.entries(np.stack([w[:-1], w[1:]], axis=1))
+            if settings.semantics == "held":
+                hl, hz = held_zone_entries(zones.exact, w, settings.pitch_deg)
+                pairs = np.unique(np.column_stack([np.r_[seg, hl], np.r_[zi, hz]]), axis=0).reshape(-1, 2)
+                seg, zi = pairs[:, 0], pairs[:, 1]
             entered = int(seg.size)
             for leg, k in zip(seg, zi, strict=True):
                 name = zones.names[int(k)]

@@ -7,6 +7,7 @@ followed) must still lie inside one, so a link pointing out of a folder is refus
 
 from __future__ import annotations
 
+import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from importlib import resources
@@ -70,23 +71,55 @@ class Roots:
         """Refuse a scenario that names a data file outside the served folders (and the package's own data).
 
         Relative names resolve against the scenario's folder, links are followed: a currents or tide file
-        by relative path (``../../elsewhere/c.nc``) is refused before it is read.
+        by relative path (``../../elsewhere/c.nc``) is refused before it is read.  The files the loader itself
+        reads (a ``[survey]`` area, to derive the bounds) are refused before it, by :meth:`confine_text`.
 
         Parameters
         ----------
         sc : Scenario
             The scenario about to be built.
         """
+        for key, name in named_files(sc):
+            self._confine_one(sc.source, sc.base_dir, key, name)
+
+    def confine_text(self, text: str, source: str, base_dir: Path | None) -> None:
+        """Refuse scenario text naming, outside the served folders, a file the scenario loader reads itself.
+
+        The loader reads a ``[survey] file`` or ``centerline_file`` to derive the bounds of a scenario given in
+        degrees (:func:`auvplan.io.scenario.inputs.geoinput.resolve_positions`): call this before it, then
+        :meth:`confine` on the scenario it returns (the other files, read when the world is built).  Text that
+        is not TOML is left to the loader's own message.
+
+        Parameters
+        ----------
+        text : str
+            The scenario's TOML.
+        source : str
+            Its name, for messages.
+        base_dir : pathlib.Path or None
+            The folder relative names resolve against.
+        """
+        try:
+            doc = tomllib.loads(text)
+        except (tomllib.TOMLDecodeError, RecursionError):
+            return
+        survey = doc.get("survey")
+        if isinstance(survey, dict):
+            for key in ("file", "centerline_file"):
+                name = survey.get(key)
+                if isinstance(name, str) and name:
+                    self._confine_one(source, base_dir, f"[survey] {key}", name)
+
+    def _confine_one(self, source: str, base_dir: Path | str | None, key: str, name: str) -> None:
         data = Path(str(resources.files("auvplan") / "data")).resolve()  # as the readers find it (auvplan.data is
         # a namespace package: its files() is a MultiplexedPath, whose str is no path)
-        for key, name in named_files(sc):
-            p = Path(name)
-            if not p.is_absolute() and sc.base_dir is not None:
-                p = Path(sc.base_dir) / p
-            real = p.resolve()
-            if not (self.inside(real) or real == data or real.is_relative_to(data)):
-                raise PathRefused(f"{sc.source}: {key} = {name!r}: outside the served folders "
-                                  f"({', '.join(map(str, self.folders))}); serve its folder too (--root)")
+        p = Path(name)
+        if not p.is_absolute() and base_dir is not None:
+            p = Path(base_dir) / p
+        real = p.resolve()
+        if not (self.inside(real) or real == data or real.is_relative_to(data)):
+            raise PathRefused(f"{source}: {key} = {name!r}: outside the served folders "
+                              f"({', '.join(map(str, self.folders))}); serve its folder too (--root)")
 
     def resolve(self, name: str, must_exist: bool = True) -> Path:
         """The path of ``name`` inside the served folders, or :class:`PathRefused`.

@@ -135,6 +135,8 @@ def plan_area(world: World, mission: Mission, doc: dict[str, Any], source: str,
     from ..survey.mission import plan_survey
 
     text = dumps(doc)
+    if roots is not None:  # the survey file the loader reads (to derive the bounds), before it does
+        roots.confine_text(text, source, base_dir)
     sc = scenario_io.loads(text, source, base_dir=base_dir)
     if roots is not None:
         roots.confine(sc)

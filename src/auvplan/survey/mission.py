@@ -18,22 +18,17 @@ from numpy.typing import NDArray
 
 from .._types import Status
 from ..nav import NavParams
-from ..path.flyable import VehicleLimits
-from ..path.legs import helm_check
 from ..planners.base import PlanResult, Progress
 from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..world import World
+from .joins import join_bridges, join_transit, turn_between
 from .lines.envelope import lower_envelope
 from .lines.frame import Frame
 from .lines.placement import LineParams, SurveyLines, place_lines
 from .lines.swath import Seabed, Sensor
 from .ties import crab_margin, tie_lines
-from .turns import dubins, sample_turn
 from .zones import clip_to_zones
-
-_WIDEN_TRIES = 40
-"""Turns re-drawn 3 % wider at most this often (a factor 3.3) before the last one is kept."""
 
 __all__ = ["SurveyParams", "SurveyPlan", "plan_survey", "survey_route", "choose_heading", "nav_spacing", "TURN",
            "TRANSIT", "DEFAULT_TURN_RADIUS_M"]
@@ -219,58 +214,6 @@ def _line_points(lines: SurveyLines, k: int, forward: bool, run_in: float) -> ND
     return p
 
 
-_HALF_STEP_RAD = 1.0
-"""Largest turn of the sampled arcs between two waypoints of a survey turn (rad): coarse enough that
-each waypoint lies more than ``TRACK_FRACTION`` · R off its neighbours' chord, so the check of
-:func:`auvplan.path.flyable.check_limits` judges the waypoints as given, not a simplified track."""
-
-
-def _turn(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
-    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated)."""
-    h0 = math.atan2(a[-1, 1] - a[-2, 1], a[-1, 0] - a[-2, 0])
-    h1 = math.atan2(b[1, 1] - b[0, 1], b[1, 0] - b[0, 0])
-    # sampled every radian at most, the arcs' chords turn by up to 1 rad at each vertex; a fly-by
-    # turn there fits r cos(0.5) only, so the arcs are drawn at r / cos(0.5) and the waypoints a
-    # vehicle flies by fit ``radius`` (the check of ``mission check``, :func:`auvplan.path.flyable.check_limits`)
-    # Where a short arc meets the next one (an LRL turn between lines a little over 2R apart) the chords
-    # at the junction may turn by more than that: the turn is re-drawn 3 % wider until every waypoint of
-    # line end, turn and next line start fits ``radius`` as a helm flies it (issue #49's leg-by-leg check).
-    r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)
-    for _ in range(_WIDEN_TRIES):
-        t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
-        pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]
-        frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
-        inner = np.column_stack([pts[:, :2], a[-1, 2] + frac * (b[0, 2] - a[-1, 2])])
-        around = np.vstack([a[-2:], inner, b[:2]])
-        if helm_check(around, VehicleLimits(90.0, radius), min_leg=0.0).tightest_turn_m >= radius:
-            break
-        r *= 1.03
-    return inner, t.word
-
-
-def _join(world: World, a: NDArray[np.float64], b: NDArray[np.float64], radius: float,
-          home: bool) -> NDArray[np.float64]:
-    """The turn that joins a line's end ``a`` to a transit ``b`` (or a transit ``a`` to a line's start ``b``).
-
-    The transit's vertex next to the line (``b[1]`` home, ``a[-2]`` out) is reached by the survey's own turn
-    (:func:`_turn`) instead of a corner at the line's end, so that every fly-by turn fits ``radius`` as a helm
-    flies it; kept only when the turn is clear of the seabed and obstacles (else the corner stays, and the
-    mission's checks report it).  Returns the turn's inner points (possibly none).
-    """
-    if a.shape[0] < 2 or b.shape[0] < 2:
-        return np.empty((0, 3))
-    if home:  # from the line's end to the transit's second vertex
-        head = a[-2:]
-        tail = b[1:3] if b.shape[0] >= 3 else np.stack([b[1], 2.0 * b[1] - b[0]])
-        turn, _ = _turn(head, tail, radius)
-        whole = np.vstack([head[-1:], turn, tail[:1]])
-    else:  # out: from the transit's last-but-one vertex to the line's start
-        head = a[-3:-1] if a.shape[0] >= 3 else np.stack([2.0 * a[0] - a[1], a[0]])
-        turn, _ = _turn(head, b[:2], radius)
-        whole = np.vstack([head[-1:], turn, b[:1]])
-    return turn if world.path_free(whole) else np.empty((0, 3))
-
-
 def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
                  min_depth: float) -> tuple[NDArray[np.float64], NDArray[np.int64], tuple[str, ...]]:
     """Lines (alternating directions) and turns as one route, with its depth held within the pitch limit.
@@ -296,7 +239,7 @@ def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
     for k in range(len(lines.lines)):
         pts = _line_points(lines, k, k % 2 == 0, params.run_in_m)
         if prev is not None:
-            turn, word = _turn(prev, pts, params.turn_radius_m)
+            turn, word = turn_between(prev, pts, params.turn_radius_m)
             parts.append(turn)
             labels.append(np.full(turn.shape[0], TURN))
             words.append(word)
@@ -307,7 +250,7 @@ def survey_route(world: World, lines: SurveyLines, params: SurveyParams,
     for j, pts in enumerate(tie_lines(lines, params.tie_lines, params.run_in_m,
                                       from_end=n % 2 == 1, step=params.lines.station_m)):
         assert prev is not None
-        turn, word = _turn(prev, pts, params.turn_radius_m)
+        turn, word = turn_between(prev, pts, params.turn_radius_m)
         parts += [turn, pts]
         labels += [np.full(turn.shape[0], TURN), np.full(pts.shape[0], n + j)]
         words.append(word)
@@ -438,6 +381,7 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     if world.zones and not message:  # lines clipped by the no-go zones, the gaps bridged round them
         route, labels, transits, message = clip_to_zones(world, mission, route, labels, TRANSIT, seed, progress,
                                                            params.turn_radius_m)
+        route, labels = join_bridges(world, route, labels, TRANSIT, params.turn_radius_m)
     message = message or _check(world, route, labels)
     parts, labs = [route], [labels]
     legs = [] if message else [(a, b, where) for a, b, where in ((mission.start, route[0], "out"),
@@ -450,11 +394,11 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
             message = f"the transit {where} failed ({planned.status.value}): {planned.message}"
             break
         if where == "out":
-            path = np.vstack([path[:-1], _join(world, path, route[:2], params.turn_radius_m, home=False)])
+            path = np.vstack([path[:-1], join_transit(world, path, route[:2], params.turn_radius_m, home=False)])
             parts.insert(0, path)
             labs.insert(0, np.full(path.shape[0], TRANSIT))
         else:
-            path = np.vstack([_join(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
+            path = np.vstack([join_transit(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
             parts.append(path)
             labs.append(np.full(path.shape[0], TRANSIT))
     status = Status.EXACT if not message else Status.INFEASIBLE

@@ -40,7 +40,8 @@ import numpy as np
 from .._types import FloatArray
 from ..runtime.jit import kernel
 
-__all__ = ["SeabedFit", "affine_margin", "cell_extremes", "conservative_nodes", "data_at", "fit_report"]
+__all__ = ["SeabedFit", "affine_margin", "cell_extremes", "conservative_nodes", "data_at", "fit_report",
+           "window_max"]
 
 
 @dataclass(frozen=True)
@@ -330,8 +331,6 @@ def affine_margin(z: FloatArray, fr: FloatArray, fc: FloatArray, corners_r: Floa
         over the model's extent) of the true index position from the affine one, times the data's steepest
         change per index along each axis around the cell.
     """
-    from scipy import ndimage
-
     z = np.asarray(z, dtype=float)
     out = np.zeros((fr.shape[0] - 1, fr.shape[1] - 1))
     reach = int(np.ceil(max(np.abs(np.diff(fr, axis=0)).max(), np.abs(np.diff(fr, axis=1)).max(),
@@ -349,9 +348,44 @@ def affine_margin(z: FloatArray, fr: FloatArray, fc: FloatArray, corners_r: Floa
                 dev = max(dev, float(np.abs(f2[:, b, a] - (o + 0.5 * a * ea + 0.5 * b * eb)).max()))
         step = np.abs(np.diff(z, axis=axis))
         step = np.pad(step, ((0, 1), (0, 0)) if axis == 0 else ((0, 0), (0, 1)), mode="edge")
-        local = ndimage.maximum_filter(step, size=2 * reach + 1, mode="nearest")
+        local = window_max(step, reach)
         out += 2.0 * dev * local[jr, jc]
     return out
+
+
+def _run_max(a: FloatArray, width: int, axis: int) -> FloatArray:
+    """``out[i] = max(a[i : i + width])`` along ``axis`` (``a.shape[axis] - width + 1`` values): maxima over
+    runs of doubling length (a sparse table), then two overlapping runs; O(n log width)."""
+    a = np.moveaxis(a, axis, 0)
+    run, span = a, 1
+    while 2 * span <= width:
+        run = np.maximum(run[:-span], run[span:])
+        span *= 2
+    n = a.shape[0] - width + 1
+    out: FloatArray = np.moveaxis(np.maximum(run[:n], run[width - span:width - span + n]), 0, axis)
+    return out
+
+
+def window_max(a: FloatArray, reach: int) -> FloatArray:
+    """Largest value of the square ``(2 reach + 1)²`` window about each element of a 2-D array, the edges
+    continued with their own values: ``scipy.ndimage.maximum_filter(a, size=2 * reach + 1,
+    mode="nearest")`` without importing ``scipy.ndimage`` (~0.1 s of a command's start, issue 56).  A
+    maximum is exact, so the two agree bit for bit.
+
+    Parameters
+    ----------
+    a : numpy.ndarray
+        2-D array.
+    reach : int
+        Half-width of the window (≥ 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        The window maxima, the shape of ``a``.
+    """
+    padded = np.pad(np.asarray(a), reach, mode="edge")
+    return _run_max(_run_max(padded, 2 * reach + 1, 0), 2 * reach + 1, 1)
 
 
 def fit_report(z: FloatArray, fr: FloatArray, fc: FloatArray, zn: FloatArray, method: str) -> SeabedFit:

@@ -195,6 +195,36 @@ class Terrain:
         """
         return elevation_kernel(*self._kernel[:5], x, y)
 
+    def elevation_bounds(self, x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray]:
+        """:meth:`elevation` in numpy, without the compiled kernel, and how far from it it can be.
+
+        The kernel may fuse multiplications and additions and multiply by a reciprocal (its fast-math
+        flags), so its bits differ from numpy's by a few roundings of the terms
+        ``a + b u + c v + e u v``; the bound is 64 roundings of their magnitudes, times the grid
+        coordinates' size (which the cell fractions ``u``, ``v`` inherit).  ``validate`` decides a point
+        well above the seabed with this alone and never loads a compiled kernel (issue 56).
+
+        Parameters
+        ----------
+        x, y : array_like
+            Easting and northing (m), finite; broadcast together.
+
+        Returns
+        -------
+        zb : numpy.ndarray
+            Seabed elevation (m), within ``err`` of :meth:`elevation`.
+        err : numpy.ndarray
+            The bound (m).
+        """
+        fx = np.abs((np.asarray(x, dtype=float) - self.x[0]) / self.dx)
+        fy = np.abs((np.asarray(y, dtype=float) - self.y[0]) / self.dy)
+        i, j, u, v = self._locate(x, y)
+        a, b, c, e = np.moveaxis(self._coef[j, i], -1, 0)
+        zb: FloatArray = a + b * u + c * v + e * u * v
+        size = np.abs(a) + np.abs(b) + np.abs(c) + np.abs(e)
+        err: FloatArray = 64.0 * np.finfo(float).eps * size * (2.0 + fx + fy)
+        return zb, err
+
     def gradient(self, x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray]:
         """Slope of the bilinear surface (zero across a clamped edge).
 

@@ -10,7 +10,7 @@ bounds.  A point is free when its clearance is ≥ 0.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,7 +23,7 @@ from .currents.fields import CurrentField, UniformCurrent
 from .kernels.box import segments_in_box
 from .land import Land
 from .moving import MovingObstacle
-from .obstacles import Shape
+from .obstacles import Ellipsoid, Shape
 from .terrain import Terrain
 from .zones import Zones
 
@@ -241,30 +241,69 @@ class World:
             constraints are ``+inf``.
         """
         p = as_points(points)
+        m = self.margins
+        if self.terrain is None:
+            altitude = np.full(p.shape[:-1], np.inf)
+        else:
+            altitude = self.terrain.altitude(p) - m.min_altitude
+        return self._clearances(p, altitude, t, moving)
+
+    def clearly_free(self, point: ArrayLike, t: float = 0.0) -> bool:
+        """Whether :meth:`explain` would find nothing at ``point``, decided with the seabed in numpy.
+
+        Every slack but the seabed's and an ellipsoid's is the one :meth:`clearances` computes; the
+        altitude comes from :meth:`Terrain.elevation_bounds` and must exceed its bound, so that the
+        compiled seabed cannot put the point below ``min_altitude``; an ellipsoid's distance is its
+        :meth:`~Ellipsoid.lower_bound_distance` less a micrometre per metre of its size (the exact one
+        is a compiled foot-point search).  False says only "not clearly": ask :meth:`explain`.
+        ``validate`` checks its start and goal so without loading a compiled kernel (issue 56).
+
+        Parameters
+        ----------
+        point : array_like
+            One point ``(3,)`` (m).
+        t : float, default 0.0
+            Time at which the moving obstacles are placed (s).
+
+        Returns
+        -------
+        bool
+            True when every slack is ≥ 0 with the seabed's rounding to spare.
+        """
+        p = as_points(np.asarray(point, dtype=float))
+        if p.shape != (3,) or not np.all(np.isfinite(p)):
+            return False
+        altitude = np.asarray(np.inf)
+        if self.terrain is not None:
+            zb, err = self.terrain.elevation_bounds(p[0], p[1])
+            altitude = p[2] - zb - self.margins.min_altitude - err
+        return all(float(v) >= 0.0 for v in self._clearances(p, altitude, t, True, _lower_distance).values())
+
+    def _clearances(self, p: FloatArray, altitude: FloatArray, t: float, moving: bool,
+                    distance: Callable[[Shape, FloatArray], FloatArray] | None = None) -> dict[str, FloatArray]:
+        """:meth:`clearances` of the points ``p (..., 3)`` given their altitude slack (and the obstacles'
+        distance, by default each shape's own)."""
         shape = p.shape[:-1]
         m = self.margins
-        out: dict[str, FloatArray] = {}
-        if self.terrain is None:
-            out["altitude"] = np.full(shape, np.inf)
-        else:
-            out["altitude"] = self.terrain.altitude(p) - m.min_altitude
+        out: dict[str, FloatArray] = {"altitude": altitude}
         out["surface"] = -p[..., 2] - m.min_depth
         out["max_depth"] = m.max_depth + p[..., 2]
         out["bounds"] = self.bounds.slack(p)
-        out["obstacles"] = self._obstacle_slack(self.obstacles, p)
+        out["obstacles"] = self._obstacle_slack(self.obstacles, p, distance)
         if moving:
             shapes = tuple(o.at(t) for o in self.moving if o.active(t))
-            out["moving"] = self._obstacle_slack(shapes, p)
+            out["moving"] = self._obstacle_slack(shapes, p, distance)
         else:
             out["moving"] = np.full(shape, np.inf)
         out["land"] = np.full(shape, np.inf) if self.land is None else self.land.signed_distance(p)
         out["zones"] = np.full(shape, np.inf) if not self.zones else self.zones.signed_distance(p)
         return out
 
-    def _obstacle_slack(self, shapes: Iterable[Shape], p: FloatArray) -> FloatArray:
+    def _obstacle_slack(self, shapes: Iterable[Shape], p: FloatArray,
+                        distance: Callable[[Shape, FloatArray], FloatArray] | None = None) -> FloatArray:
         d = np.full(p.shape[:-1], np.inf)
         for s in shapes:
-            d = np.minimum(d, s.distance(p) - self.margins.obstacle)
+            d = np.minimum(d, (s.distance(p) if distance is None else distance(s, p)) - self.margins.obstacle)
         return d
 
     def clearance(self, points: ArrayLike, t: float = 0.0, moving: bool = True) -> FloatArray:
@@ -450,3 +489,12 @@ class World:
         if p.shape[0] < 2:
             return bool(self.is_free(p, t, moving).all())
         return bool(self.segments_free(np.stack([p[:-1], p[1:]], axis=1), t, moving).all())
+
+
+def _lower_distance(shape: Shape, p: FloatArray) -> FloatArray:
+    """A shape's distance, or for an ellipsoid a lower bound of it found without a compiled kernel, less its
+    rounding (:meth:`World.clearly_free`)."""
+    if isinstance(shape, Ellipsoid):
+        lower: FloatArray = shape.lower_bound_distance(p) - 1e-6 * (1.0 + shape.bounding_radius)
+        return lower
+    return shape.distance(p)

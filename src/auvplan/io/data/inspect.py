@@ -25,6 +25,7 @@ from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
 from .inspect_frames import frame_lines, gap_line, roms_lines
+from .ncfile import no_index
 from .ocean.currents import _find, _z_axis, velocity_factor
 from .ocean.roms import is_s_coordinate
 from .regrid import _native_cell
@@ -41,7 +42,7 @@ def _engine() -> type[BackendEntrypoint]:
 def _variables(path: Path) -> tuple[list[str], bool]:
     """The variables' lines, and whether an eastward/x velocity is among them (the file opened once)."""
     try:
-        with xr.open_dataset(path, decode_times=False, engine=_engine()) as ds:
+        with xr.open_dataset(path, decode_times=False, engine=_engine(), **no_index()) as ds:
             out = [f"  {k}{tuple(map(str, v.dims))} {v.dtype}" + (f" [{v.attrs['units']}]" if "units" in v.attrs
                                                                    else "") for k, v in ds.variables.items()]
             has_current = _find(ds, "u", "", str(path), False) is not None

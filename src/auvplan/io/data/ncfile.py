@@ -20,7 +20,7 @@ from ...errors import DataError
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["open_dataset", "variable_values", "check_dims"]
+__all__ = ["open_dataset", "no_index", "variable_values", "check_dims"]
 
 _CDF = (b"CDF\x01", b"CDF\x02", b"CDF\x05")
 _HDF5 = b"\x89HDF\r\n\x1a\n"
@@ -105,11 +105,34 @@ def open_dataset(path: Path, what: str, **kwargs: Any) -> xr.Dataset:
         from xarray.backends import NetCDF4BackendEntrypoint
 
         kwargs.setdefault("engine", NetCDF4BackendEntrypoint)
-        return xr.open_dataset(path, **kwargs)
+        return xr.open_dataset(path, **(no_index() | kwargs))
     except Exception as exc:  # xarray and the HDF5 library raise many types for damaged files
         text = " ".join(str(exc).split())
         fault = "truncated" if "truncat" in text.lower() or "eof" in text.lower() else "damaged or unreadable"
         raise DataError(f"{path}: {fault} NetCDF file ({text[:200]})") from exc
+
+
+def no_index() -> dict[str, Any]:
+    """``{"create_default_indexes": False}`` where xarray takes it (2025.7 and later), else ``{}``.
+
+    The readers index by position only (``isel``, ``transpose``, numpy on ``.values``): the pandas indexes
+    xarray builds for every dimension coordinate are never used, and building the first one imports dask
+    and pint to test for their array types (~0.2 s of a command's start, issue 56).
+
+    Returns
+    -------
+    dict
+        Keyword arguments for :func:`xarray.open_dataset`.
+    """
+    import xarray as xr
+
+    return {"create_default_indexes": False} if _takes_index_flag(xr.open_dataset) else {}
+
+
+def _takes_index_flag(fn: Any) -> bool:
+    import inspect
+
+    return "create_default_indexes" in inspect.signature(fn).parameters
 
 
 def variable_values(da: xr.DataArray, src: str) -> NDArray[np.float64]:

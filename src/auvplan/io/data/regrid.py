@@ -20,10 +20,11 @@ from pyproj import Transformer
 
 from ...errors import DataError
 from ..limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
+from .bounded_min import bounded_min
 from .geo import LocalFrame, normalise_lon
 from .grids import _F64, HorizontalGrid
 
-__all__ = ["data_span", "to_local", "inscribed_extent"]
+__all__ = ["covered_source", "data_span", "to_local", "inscribed_extent"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -57,8 +58,9 @@ def _from_source(grid: HorizontalGrid, frame: LocalFrame, r: ArrayLike, c: Array
 def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, float, float, float]:
     """Largest axis-aligned local rectangle inside the data's footprint.
 
-    Each side is the extreme of the projected edge found by sampling and then refined by a
-    bounded scalar minimisation, and moved 1 mm inwards; curvilinear grids use their outer node rows.
+    Each side is the extreme of the projected edge found by sampling and then refined by Brent's
+    bounded minimisation (:func:`~auvplan.io.data.bounded_min.bounded_min`), and moved 1 mm inwards;
+    curvilinear grids use their outer node rows.
 
     Parameters
     ----------
@@ -97,11 +99,9 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
         vals = f(s)
         k = int(np.argmin(vals))
         lo, hi = s[max(k - 1, 0)], s[min(k + 1, s.size - 1)]
-        from scipy.optimize import minimize_scalar  # imported when used (#56)
-
-        res = minimize_scalar(lambda q, f=f: float(f(q)), bounds=(lo, hi), method="bounded",
-                              options={"xatol": 1e-12})
-        best = min(float(vals[k]), float(res.fun))
+        # scipy.optimize's bounded Brent, step for step, without importing scipy.optimize (issue 56)
+        _, fun, _ = bounded_min(lambda q: float(f(q)), lo, hi, xatol=1e-12)
+        best = min(float(vals[k]), fun)
         out[side] = -sign * best + sign * 1e-3
     return _inside_footprint(grid, frame, (out["west"], out["east"], out["south"], out["north"]))
 
@@ -266,13 +266,30 @@ def _from_curvilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
     return out
 
 
-def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _F64, gy: _F64, method: str,
-                      what: str) -> _F64:
-    """Layers ``flat (L, nrow, ncol)`` at the local nodes: one ``RegularGridInterpolator`` per layer."""
+def covered_source(grid: HorizontalGrid, frame: LocalFrame, gx: _F64, gy: _F64, what: str) -> tuple[_F64, _F64]:
+    """Source (row, column) coordinates of the local nodes ``(gx, gy)`` of a rectilinear grid, checked to lie
+    within the data (1e-6 of a cell); an uncovered side is a :class:`~auvplan.errors.DataError` naming it.
+
+    Parameters
+    ----------
+    grid : HorizontalGrid
+        A rectilinear grid (``lonlat``, ``projected`` or ``local``).
+    frame : LocalFrame
+        The local frame.
+    gx, gy : numpy.ndarray
+        Local node coordinates (m), same shape.
+    what : str
+        Name used in error messages.
+
+    Returns
+    -------
+    qr, qc : numpy.ndarray
+        Row and column coordinates in the data's own units, the shape of ``gx``.
+    """
     if grid.kind == "local":
-        qr, qc = gy.ravel(), gx.ravel()
+        qr, qc = gy, gx
     else:
-        qr, qc = (a.ravel() for a in _to_source(grid, frame, gx, gy))
+        qr, qc = _to_source(grid, frame, gx, gy)
     tol_r = 1e-6 * float(np.min(np.diff(grid.rows)))
     tol_c = 1e-6 * float(np.min(np.diff(grid.cols)))
     sides = _uncovered(grid, qr, qc, tol_r, tol_c)
@@ -281,6 +298,13 @@ def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _
             f"{what}: the data ({data_span(grid)}) do not cover the requested extent {_extent_text(gx, gy)}: "
             f"uncovered on the {' and '.join(sides)} side{'s' if len(sides) > 1 else ''}"
         )
+    return qr, qc
+
+
+def _from_rectilinear(grid: HorizontalGrid, frame: LocalFrame, flat: _F64, gx: _F64, gy: _F64, method: str,
+                      what: str) -> _F64:
+    """Layers ``flat (L, nrow, ncol)`` at the local nodes: one ``RegularGridInterpolator`` per layer."""
+    qr, qc = (a.ravel() for a in covered_source(grid, frame, gx, gy, what))
     if method in ("cubic", "quintic", "pchip") and min(grid.rows.size, grid.cols.size) < 4:
         method = "linear"
     q = np.column_stack([np.clip(qr, grid.rows[0], grid.rows[-1]), np.clip(qc, grid.cols[0], grid.cols[-1])])

@@ -24,7 +24,7 @@ from ...errors import DataError
 from ...world.seabed import SeabedFit, affine_margin, conservative_nodes, fit_report
 from .geo import LocalFrame
 from .grids import HorizontalGrid
-from .regrid import _target_axes, _to_source, to_local
+from .regrid import _target_axes, _to_source, covered_source, to_local
 
 __all__ = ["METHODS", "MAX_NODES", "node_indices", "model_seabed"]
 
@@ -60,6 +60,11 @@ def node_indices(grid: HorizontalGrid, frame: LocalFrame | None, x: _F64, y: _F6
         r, c = gy, gx
     else:
         r, c = _to_source(grid, frame, gx, gy)
+    return _fractional(grid, r, c)
+
+
+def _fractional(grid: HorizontalGrid, r: _F64, c: _F64) -> tuple[_F64, _F64]:
+    """:func:`node_indices` from the nodes' source coordinates ``(r, c)``."""
     rows, cols = np.asarray(grid.rows, dtype=float), np.asarray(grid.cols, dtype=float)
     fr = np.interp(r, rows, np.arange(rows.size, dtype=float))
     fc = np.interp(c, cols, np.arange(cols.size, dtype=float))
@@ -124,11 +129,18 @@ def model_seabed(grid: HorizontalGrid, z: _F64, frame: LocalFrame, *,
         raise DataError(f"{what}: a {x[1] - x[0]:.3g} m cell over {x[-1] - x[0]:.0f} x {y[-1] - y[0]:.0f} m gives "
                         f"{x.size} x {y.size} nodes (more than {MAX_NODES:.0e}); set a larger resample_m, or "
                         "limit the area ([bounds] or [terrain] box)")
-    x, y, zn = to_local(grid, z, frame, extent_m=(x[0], x[-1], y[0], y[-1]), cell_m=float(x[1] - x[0]) if
-                        cell_m is None else cell_m, method=base, what=what)
-    if grid.kind == "curvilinear":
-        return x, y, zn, None
-    fr, fc = node_indices(grid, frame, x, y)
+    extent, cell = (x[0], x[-1], y[0], y[-1]), float(x[1] - x[0]) if cell_m is None else cell_m
+    if method == "conservative" and grid.kind != "curvilinear":
+        # the nodes' values come from conservative_nodes: to_local's interpolation would be thrown away, so
+        # only its axes and coverage check are made, and the nodes are projected once (issue 56)
+        x, y = _target_axes(grid, frame, extent, cell, what)
+        gx, gy = np.meshgrid(x, y)
+        fr, fc = _fractional(grid, *covered_source(grid, frame, gx, gy, what))
+    else:
+        x, y, zn = to_local(grid, z, frame, extent_m=extent, cell_m=cell, method=base, what=what)
+        if grid.kind == "curvilinear":
+            return x, y, zn, None
+        fr, fc = node_indices(grid, frame, x, y)
     data = np.asarray(z, dtype=float)
     if method == "conservative":
         margin: _F64 | float = 0.0

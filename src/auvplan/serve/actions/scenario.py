@@ -41,6 +41,7 @@ def open_scenario(session: Session, target: str) -> None:
             _open_results(session, path)
         else:
             text = path.read_text(encoding="utf-8") if path.is_file() else ""
+            session.roots.confine_text(text, str(path), path.parent)  # what the loader reads, before it does
             sc = scenario_io.load(path)
             session.roots.confine(sc)
             world, mission = scenario_io.build(sc)
@@ -61,6 +62,7 @@ def _open_results(session: Session, out: Path) -> None:
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
     base = results.scenario_base(out)
+    session.roots.confine_text(text, str(out / "scenario.toml"), base)
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=base)
     session.roots.confine(sc)
     world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
@@ -150,6 +152,7 @@ def _rebuild(session: Session, doc: dict[str, Any]) -> None:
     """Validate ``doc`` with the scenario loader and rebuild the world (the same terrain)."""
     assert session.world is not None
     text = dumps(doc)
+    session.roots.confine_text(text, session.source, session.base_dir)
     sc = scenario_io.loads(text, session.source, base_dir=session.base_dir)
     session.roots.confine(sc)
     world, mission = scenario_io.build(sc, terrain=session.world.terrain)

@@ -34,7 +34,7 @@ def _pack(named: Named) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
 
 def _unpack(arrays: dict[str, np.ndarray], record: dict[str, Any]) -> Named:
     data, ends = arrays["wkb"].tobytes(), [int(e) for e in arrays["ends"]]
-    starts = [0, *ends[:-1]]
+    starts = [0, *ends][:len(ends)]  # none for no geometry (a file with no feature in the area)
     return [(str(n), shapely.from_wkb(data[a:b])) for n, a, b in zip(record["names"], starts, ends, strict=True)]
 
 

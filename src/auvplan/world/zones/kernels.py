@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
-from .._types import BoolArray, FloatArray, IntArray
-from ..runtime.jit import kernel
+from ..._types import BoolArray, FloatArray, IntArray
+from ...runtime.jit import kernel
 
 __all__ = ["FIELD_UNITS", "candidates_kernel"]  # the others are the internals of auvplan.world.zones
 
@@ -313,7 +313,7 @@ def any_hits_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: int,
     flat-band zone (the search stops at the first); the seabed-band candidates of every other segment
     are written to ``pairs (2, capacity)`` while they fit (the caller tests them exactly).
 
-    A segment the fine field ``bound`` (:func:`.zone_parts.distance_field`) proves clear of every
+    A segment the fine field ``bound`` (:func:`.parts.distance_field`) proves clear of every
     footprint (:func:`_clear`) is passed at once.  Otherwise the same grid and scratch as
     :func:`candidates_kernel`; ``zlo``/``zhi`` are the grid's bands (a flat band exactly), ``seabed``
     flags the seabed bands.  Returns the number of seabed pairs (more than ``capacity``: call again

@@ -1,0 +1,98 @@
+"""The track of a waypoint mission whose legs follow the seabed (ArduSub: QGroundControl items in the terrain
+frame, ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` = 10).
+
+Between two items such an executor does not fly the straight 3D line: it holds an altitude above the seabed,
+going from the altitude it leaves the first item at to the second item's (ArduPilot's terrain-relative
+navigation interpolates the altitude target along the leg).  Over a ridge between two items the vehicle climbs
+with the seabed and can come shallower than either item — above a charted shallows band, or out of the water —
+where the straight line passes below.
+
+On a bilinear seabed the elevation along a horizontal line is a quadratic inside each grid cell, and the
+altitude target is linear in the leg's parameter: the track's depth is a quadratic on each piece between two
+grid-line crossings.  :func:`terrain_track` therefore places a vertex at every crossing and at the extremum of
+each piece's quadratic: the track's shallowest and deepest points are vertices (exact), and between vertices
+the chord stays within the quadratic's sag of it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..._types import FloatArray, IntArray
+from ...geometry import as_points
+from ...world.terrain import Terrain
+
+__all__ = ["terrain_track"]
+
+
+def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
+    """The leg's parameters (0..1) where it crosses a grid line, with both ends."""
+    s = [np.array([0.0, 1.0])]
+    for axis, grid in ((0, terrain.x), (1, terrain.y)):
+        d = float(b[axis] - a[axis])
+        if d != 0.0:
+            t = (np.asarray(grid, dtype=float) - a[axis]) / d
+            s.append(t[(t > 0.0) & (t < 1.0)])
+    return np.unique(np.concatenate(s))
+
+
+def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, IntArray]:
+    """Return the track flown when the legs ``follow`` marks hold an altitude above the seabed.
+
+    Leg ``k`` (waypoint ``k`` to ``k + 1``) marked in ``follow`` is flown at an altitude above ``terrain`` going
+    linearly (in the leg's horizontal parameter) from waypoint ``k``'s altitude to waypoint ``k + 1``'s; an
+    unmarked leg is the straight 3D line.
+
+    Parameters
+    ----------
+    terrain : Terrain
+        The seabed.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed.
+
+    Returns
+    -------
+    track : numpy.ndarray
+        ``(M, 3)`` polyline (m): the waypoints, and on each following leg a vertex at every grid-line crossing and
+        at every extremum of the depth between two crossings.
+    leg : numpy.ndarray of int
+        ``(M - 1,)``: the leg (from 0) of each segment of the track.
+    """
+    w = as_points(waypoints).reshape(-1, 3)
+    f = np.asarray(follow, dtype=bool).reshape(-1)
+    if f.size != max(w.shape[0] - 1, 0):
+        raise ValueError(f"follow has {f.size} flags for {max(w.shape[0] - 1, 0)} legs")
+    pts: list[FloatArray] = [w[:1]]
+    legs: list[IntArray] = []
+    for k in range(w.shape[0] - 1):
+        a, b = w[k], w[k + 1]
+        if not f[k]:
+            pts.append(b[None, :])
+            legs.append(np.array([k]))
+            continue
+        ha = float(a[2] - terrain.elevation(a[0], a[1]))
+        hb = float(b[2] - terrain.elevation(b[0], b[1]))
+
+        def z_at(s: FloatArray, a: FloatArray = a, b: FloatArray = b, ha: float = ha, hb: float = hb) -> FloatArray:
+            xy = a[:2] + s[:, None] * (b[:2] - a[:2])
+            return np.asarray(terrain.elevation(xy[:, 0], xy[:, 1]), dtype=float) + ha + s * (hb - ha)
+
+        s = _pieces(terrain, a, b)
+        s0, s1 = s[:-1], s[1:]
+        z0, zm, z1 = z_at(s0), z_at(0.5 * (s0 + s1)), z_at(s1)
+        q2 = 2.0 * (z0 - 2.0 * zm + z1)  # z = z0 + q1 t + q2 t^2 on each piece, t in [0, 1]
+        q1 = z1 - z0 - q2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -1.0)
+        inner = (t > 0.0) & (t < 1.0)
+        s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner]]))[1:]
+        xy = a[:2] + s[:, None] * (b[:2] - a[:2])
+        z = z_at(s)
+        z[-1] = b[2]  # the item itself, as the file places it
+        pts.append(np.column_stack([xy, z]))
+        legs.append(np.full(s.size, k))
+    leg = np.concatenate(legs) if legs else np.zeros(0, dtype=np.intp)
+    return np.vstack(pts), leg.astype(np.intp)

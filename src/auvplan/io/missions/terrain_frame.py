@@ -1,0 +1,45 @@
+"""The legs of a QGroundControl ``.plan`` its vehicle flies following the seabed: those ending at an item in
+the terrain frame (``MAV_FRAME_GLOBAL_TERRAIN_ALT`` = 10; ArduSub holds the altitude above the seabed between
+items, :mod:`auvplan.guidance.mission.terrain_legs`), read back for ``auvplan mission check``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ..._types import BoolArray
+from ..jsonfile import read_bounded_text
+from .readers import MAX_MISSION_BYTES
+
+__all__ = ["TERRAIN_FRAME", "terrain_legs"]
+
+TERRAIN_FRAME = 10
+"""``MAV_FRAME_GLOBAL_TERRAIN_ALT``: an item's altitude is above the terrain (QGC altitude mode 4)."""
+
+
+def terrain_legs(path: str | Path) -> BoolArray:
+    """Which legs of a ``.plan`` (home first, as :func:`auvplan.io.missions.readers.parse_qgc_plan` reads it) end
+    at a terrain-frame waypoint item.
+
+    The first leg, from the home on the surface down to the first item, is the launch: flown as a straight
+    descent (its depth band is exempt, as in :func:`~auvplan.guidance.mission.waypoints.fly_check`), never
+    marked.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A ``.plan`` file :func:`~auvplan.io.missions.readers.read_mission` has read.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        One flag per leg (the waypoint items' count; the home leg's first and False).
+    """
+    doc = json.loads(read_bounded_text(Path(path), MAX_MISSION_BYTES, "a mission file"))
+    frames = [item.get("frame") for item in doc["mission"]["items"] if item.get("command") == 16]
+    flags = np.array([f == TERRAIN_FRAME for f in frames], dtype=bool)
+    if flags.size:
+        flags[0] = False
+    return flags
