@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 # OpenBLAS's worker threads spin while they wait: on a loaded 2-core machine each small LAPACK call (scipy's
@@ -67,7 +68,7 @@ def pytest_collection_finish(session):
     from auvplan.runtime.jit import jit_enabled
 
     if jit_enabled() and len(session.items) > 500 and any("/test_zones" in item.nodeid for item in session.items):
-        lint_runs.start("python", str(Path(__file__).with_name("warm_kernels.py")), nice=False)
+        lint_runs.start(sys.executable, str(Path(__file__).with_name("warm_kernels.py")), nice=False)
 
 
 def pytest_sessionfinish(session):

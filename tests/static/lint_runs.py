@@ -22,7 +22,9 @@ _RUNS: dict[tuple[str, ...], tuple[subprocess.Popen, IO[bytes]]] = {}
 
 
 def tool(name: str) -> str:
-    """The console script ``name`` of this interpreter's environment (else the one on PATH)."""
+    """The console script ``name`` of this interpreter's environment (else the one on PATH); a path as it is."""
+    if Path(name).is_absolute():
+        return name
     exe = Path(sys.executable).with_name(name)
     return str(exe) if exe.exists() else (shutil.which(name) or name)
 
