@@ -167,17 +167,21 @@ def join_bridges(world: World, route: NDArray[np.float64], labels: NDArray[np.in
     if idx.size == 0:
         return route, labels
     parts, labs, last = [], [], 0
+    before = route[0]  # the vertex the joined route has before ``route[last]`` (read when a bridge was joined)
     for run in np.split(idx, np.flatnonzero(np.diff(idx) > 1) + 1):
         a, b = int(run[0]) - 1, int(run[-1]) + 1
         if a < 1 or b > route.shape[0] - 2:  # no line leg on one side to turn from or onto
             continue
-        if _fits(world, route[a - 1:b + 2], radius):  # its corners already fly as turns of the radius
+        # the vertex flown before ``a``: the joined route's (a bridge ending at ``a`` was replaced), not the input's
+        seq = np.vstack([route[a - 1] if a - 1 >= last else before, route[a:b + 2]])
+        if _fits(world, seq, radius):  # its corners already fly as turns of the radius
             continue
-        inner = _bridge(world, route[a - 1:b + 2], radius)
+        inner = _bridge(world, seq, radius)
         if inner is None:
             continue
         parts += [route[last:a + 1], inner]
         labs += [labels[last:a + 1], np.full(inner.shape[0], transit, dtype=np.int64)]
+        before = inner[-1] if inner.shape[0] else route[a]
         last = b
     parts.append(route[last:])
     labs.append(labels[last:])
