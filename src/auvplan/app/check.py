@@ -176,24 +176,22 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
     from ..guidance.mission.zone_legs import held_zone_entries
 
     exact = world.zones.exact
-    if semantics != "held":
-        if follow is None or world.terrain is None:
-            return exact.approach(points)
+    if semantics != "held" and (follow is None or world.terrain is None):
+        return exact.approach(points)
+    seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))  # the straight legs, as every format
+    if semantics == "held":
+        out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
+        legs, zi = held_zone_entries(exact, points, pitch)
+        more = [legs[zi == j] for j in range(len(out))]
+    else:
         from ..guidance.mission.terrain_legs import terrain_track
 
+        assert world.terrain is not None and follow is not None
         track, seg_leg = terrain_track(world.terrain, points, follow)
         out = exact.approach(track)  # the least over what is flown: the straight legs and the following ones
-        seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))
-        for j, z in enumerate(out):
-            entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]),
-                                    *(int(seg_leg[k - 1]) + 1 for k in z.entered_legs)}))
-            out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
-        return out
-    out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
-    seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))
-    legs, zi = held_zone_entries(exact, points, pitch)
+        more = [seg_leg[np.asarray(z.entered_legs, dtype=np.intp) - 1] for z in out]
     for j, z in enumerate(out):
-        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in legs[zi == j])}))
+        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in more[j])}))
         out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
     return out
 
