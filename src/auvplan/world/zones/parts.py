@@ -194,9 +194,10 @@ def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatAr
     rings : numpy.ndarray of int
         Per polygon ring offsets ``(Z + 1,)`` into ``ring``.
     disc : numpy.ndarray
-        ``(Z, 4)``: a centre ``(x, y)`` (``centres``), a radius ``r_in`` within which every point is
+        ``(Z, 10)``: a centre ``(x, y)`` (``centres``), a radius ``r_in`` within which every point is
         inside (the centre's distance to the boundary less a millionth, 0 for a centre outside) and a
-        radius ``r_out`` holding every vertex (plus a millionth).
+        radius ``r_out`` holding every vertex (plus a millionth); then the same about a segment
+        (:func:`capsules`): its ends ``(ax, ay, bx, by)``, ``c_in`` and ``c_out``.
     """
     xy_parts: list[FloatArray] = []
     ring = [0]
@@ -222,7 +223,57 @@ def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatAr
         np.maximum.at(r_out, owner, np.hypot(v[:, 0] - c[owner, 0], v[:, 1] - c[owner, 1]))
         scale = np.maximum.reduce([np.abs(c[:, 0]), np.abs(c[:, 1]), r_out, np.ones(len(geoms))])
         disc[:] = np.column_stack([c, np.maximum(r_in - 1e-6 * scale, 0.0), r_out + 1e-6 * scale])
+    disc = np.ascontiguousarray(np.column_stack([disc, capsules(np.asarray(geoms, dtype=object))]))
     return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp), disc
+
+
+def capsules(geoms: np.ndarray) -> FloatArray:
+    """Two capsules about one segment per polygon, along its long axis (the minimum rotated rectangle's
+    centre line, shortened by half the rectangle's width at each end: a cable corridor's own line).
+
+    Every point within ``c_in`` of the segment is inside the polygon (the segment's distance to the
+    boundary less a millionth, when the polygon contains it; else 0), and every vertex lies within
+    ``c_out`` (plus a millionth).  A trace passing nearer than ``c_in`` enters the footprint, one
+    passing further than ``c_out`` misses it: long thin footprints, where a disc settles nothing,
+    are settled without their edges.
+
+    Parameters
+    ----------
+    geoms : numpy.ndarray of shapely geometries
+        Polygons or multipolygons ``(Z,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(Z, 6)``: ``(ax, ay, bx, by, c_in, c_out)``; ``(x, y, x, y, 0, inf)`` (settling nothing) where
+        the rectangle is degenerate.
+    """
+    out = np.zeros((len(geoms), 6))
+    out[:, 5] = np.inf
+    if not len(geoms):
+        return out
+    env = shapely.oriented_envelope(geoms)
+    ok = (shapely.get_type_id(env) == 3) & (shapely.get_num_coordinates(env) == 5)
+    if not ok.any():
+        return out
+    g = geoms[ok]
+    c = shapely.get_coordinates(env[ok]).reshape(-1, 5, 2)
+    e1, e2 = c[:, 1] - c[:, 0], c[:, 2] - c[:, 1]
+    l1, l2 = np.hypot(e1[:, 0], e1[:, 1]), np.hypot(e2[:, 0], e2[:, 1])
+    long = np.where((l1 >= l2)[:, None], e1, e2)
+    length, width = np.maximum(l1, l2), np.minimum(l1, l2)
+    half = np.maximum(0.5 * (length - width), 0.0)
+    u = long / np.maximum(length, 1e-300)[:, None]
+    mid = c[:, :4].mean(axis=1)
+    a, b = mid - half[:, None] * u, mid + half[:, None] * u
+    axis = np.where(half > 0, shapely.linestrings(np.stack([a, b], axis=1)), shapely.points(a))
+    c_in = np.where(shapely.contains(g, axis), shapely.distance(axis, shapely.boundary(g)), 0.0)
+    v, owner = shapely.get_coordinates(g), np.repeat(np.arange(g.size), shapely.get_num_coordinates(g))
+    c_out = np.zeros(g.size)
+    np.maximum.at(c_out, owner, shapely.distance(shapely.points(v), axis[owner]))
+    scale = np.maximum.reduce([np.abs(a).max(axis=1), np.abs(b).max(axis=1), c_out, np.ones(g.size)])
+    out[ok] = np.column_stack([a, b, np.maximum(c_in - 1e-6 * scale, 0.0), c_out + 1e-6 * scale])
+    return out
 
 
 def samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
