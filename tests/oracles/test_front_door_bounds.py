@@ -107,7 +107,7 @@ def test_the_size_check_decides_as_the_compiled_one(monkeypatch, sensor):
             for over, mb in ((True, 1e-3 * nbytes / 2**20), (True, np.nextafter(nbytes, 0.0) / 2**20),
                              (False, nbytes / 2**20), (False, (1 + 1e-9) * nbytes / 2**20), (False, 1e3 * nbytes)):
                 with _limits.budget(_limits.Limits(memory_mb=mb)):
-                    def call() -> None:
+                    def call(params: SurveyParams = params, world: World = world) -> None:
                         sv.check_survey_size(params, world, "s.toml: [survey]")
                     before = calls[0]
                     fast = _outcome(call)
@@ -129,10 +129,12 @@ def test_the_seabed_check_decides_as_the_compiled_one(monkeypatch, min_depth):
         for _ in range(12):
             area = _area(world, rng)
             before = calls[0]
-            fast = _outcome(lambda: sv._check_seabed(area, world, "s.toml: [survey]"))
+            def call(area: shapely.Polygon = area, world: World = world) -> None:
+                sv._check_seabed(area, world, "s.toml: [survey]")
+            fast = _outcome(call)
             decided += calls[0] == before
             total += 1
-            assert fast == _forced(monkeypatch, lambda: sv._check_seabed(area, world, "s.toml: [survey]"))
+            assert fast == _forced(monkeypatch, call)
             outcomes.add(fast == "ok")
     assert outcomes == {True, False}  # dry and wet areas both met
     assert decided >= total // 3
