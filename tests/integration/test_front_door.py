@@ -70,7 +70,8 @@ def test_validate_and_plan_import_what_their_files_need() -> None:
 
 def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_duck_arrays(tmp_path) -> None:
     """Issue 56, in one fresh interpreter.  Defining the kernels imports no numba, and ``validate`` of a mission
-    whose start and goal are well clear of the seabed decides them in numpy and loads none; then ``data
+    whose start and goal are well clear of the seabed decides them in numpy and loads none, nor for its survey
+    (the area under water and the size checks decided by the numpy seabed's bound); then ``data
     inspect`` of a seabed file: its edge searches are Brent's bounded method without scipy.optimize, its
     window maxima without scipy.ndimage, its conservative models do not interpolate (scipy.interpolate), and
     xarray opens the file without building the indexes that import dask and pint; its first kernel put every
@@ -83,7 +84,9 @@ def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_du
 
     from helpers import RIDGE
 
-    (tmp_path / "ridge.toml").write_text(RIDGE)
+    survey = ('[survey]\npolygon_xy = [[300.0, 50.0], [800.0, 50.0], [800.0, 350.0], [300.0, 350.0]]\n'
+              'sensor = "multibeam"\nopening_deg = 120.0\nmounting = "surface"\noverlap = [0.10, 0.20]\n')
+    (tmp_path / "ridge.toml").write_text(RIDGE + survey)
     seabed = str(tmp_path / "seabed.nc")  # 40 x 56 nodes at 0.02 deg: five small models
     with netCDF4.Dataset(seabed, "w") as nc:
         for name, values, units in (("lat", np.linspace(10.0, 10.78, 40), "degrees_north"),
