@@ -998,3 +998,36 @@ REASONS.update({
          "differs only for a point of no return within the first metre"),
     "point_of_no_return | if fs >= 0:": "boundary: a scan point exactly at the point of no return (f = 0)",
 })
+
+# wave 12's safety- and verdict-deciding code (the session of 6 Dec 2026 from 17:00): validate's numpy seabed
+# bound, the terrain-frame and held-depth zone checks of `mission check`, its verdicts, the survey's bridges
+# round zones, and the front door's SciPy stand-ins whose results feed every seabed model
+WORLD_ZONES_SEGMENTS = "auvplan.world.zones.segments"
+TERRAIN_LEGS, ZONE_LEGS = "auvplan.guidance.mission.terrain_legs", "auvplan.guidance.mission.zone_legs"
+APP_CHECK, JOINS = "auvplan.app.check", "auvplan.survey.joins"
+BOUNDED_MIN, SEABED = "auvplan.io.data.bounded_min", "auvplan.world.seabed"
+MODULES.update({
+    # validate's "clearly free" start and goal: the numpy seabed and its bound, the ellipsoid's lower bound
+    "clearly-free": Target(
+        _fns(WORLD, "World.clearly_free", "_lower_distance") + _fns(TERRAIN, "Terrain.elevation_bounds"),
+    ),
+    # a .plan's terrain-frame legs flown at the commanded altitude above the seabed
+    "terrain-track": Target(_fns(TERRAIN_LEGS, "_pieces", "terrain_track")),
+    # the zones a held-depth executor may enter: each leg's envelope and the executor's track
+    "zone-legs": Target(
+        _fns(ZONE_LEGS, "_track_legs", "held_zone_entries")
+        + _fns(WORLD_ZONES_SEGMENTS, "SegmentQueries.envelope_entries"),
+    ),
+    # mission check's verdicts (ok, check_ok; the exit code is max(0 if ok else 1)), the zones' closest approach
+    # and entries, the terrain-following check
+    "mission-verdict": Target(
+        ((APP_CHECK, "check_missions", "follow = None", "out.append(FileCheck("),)
+        + _fns(APP_CHECK, "_zone_approach", "terrain_following_check"),
+    ),
+    # the survey's bridges round zones joined by turns, and the turn's fit-and-clear test
+    "survey-joins": Target(_fns(JOINS, "_fits", "_bridge", "join_bridges")),
+    # data inspect's extents (SciPy's bounded Brent, bit for bit) and the projection margin's window maximum
+    "front-door": Target(
+        _fns(BOUNDED_MIN, "_sign", "bounded_min") + _fns(SEABED, "_run_max", "window_max"),
+    ),
+})
