@@ -1031,3 +1031,50 @@ MODULES.update({
         _fns(BOUNDED_MIN, "_sign", "bounded_min") + _fns(SEABED, "_run_max", "window_max"),
     ),
 })
+
+# wave 12's targets (run 6 Dec 2026 evening): the survivors argued equivalent or float boundaries
+_DUP = ("equivalent: a parameter of exactly 0 or 1 is the leg's own end, already in the list; np.unique drops the "
+        "duplicate (-0.0 == 0.0)")
+_FLAT = "equivalent: the placeholder of a flat piece only has to lie outside (0, 1), which -1, 1 and -2 all do"
+_PARABOLA_EMPTY = ("equivalent: with q = 0 the parabola's test abs(p) < abs(0.5 q r) = 0 fails whatever p's sign, "
+                   "and the golden step is taken")
+_STEP = ("equivalent for xatol > 0 (the only caller passes 1e-12): a step is at least tol1 = sqrt(2.2e-16) |xf| + "
+         "xatol / 3, more than half an ulp of xf, so x never equals xf")
+_FLOATEQ = ("boundary: needs two computed doubles exactly equal (SciPy's own strictness); no seeded search of 9 000 "
+            "cases hit it")
+REASONS.update({
+    "_pieces | s.append(t[(t >= 0.0) & (t < 1.0)])": _DUP,
+    "_pieces | s.append(t[(t > 0.0) & (t <= 1.0)])": _DUP,
+    "terrain_track | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "terrain_track | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    "terrain_track | t = np.where(np.abs(q2) >= 1e-12, -q1 / (2.0 * q2), -1.0)":
+        "boundary: a piece's curvature term exactly 1e-12 m; then its extremum or none, both within 1e-12 m of a chord",
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), 1.0)": _FLAT,
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -2.0)": _FLAT,
+    "terrain_track | inner = (t >= 0.0) & (t < 1.0)":
+        "equivalent: t = 0 gives s0 + 0 (s1 - s0) = s0 exactly, a duplicate np.unique drops",
+    "terrain_track | inner = (t > 0.0) & (t <= 1.0)":
+        ("boundary: t exactly 1 (q1 = -2 q2 to the bit) adds s0 + (s1 - s0), s1 or an ulp from it: a vertex on the "
+         "track within an ulp of another"),
+    "bounded_min | rat = e = 1.0":
+        ("equivalent: with e = 1 the first pass tries the parabola through three equal points (r = q = p = 0), "
+         "which fails, and the golden step sets e and rat; with tol1 >= 1 no parabola is tried"),
+    "bounded_min | while abs(xf - xm) >= tol2 - 0.5 * (b - a):": _FLOATEQ,
+    "bounded_min | if abs(e) >= tol1:": _FLOATEQ,
+    "bounded_min | if q >= 0.0:": _PARABOLA_EMPTY,
+    "bounded_min | if abs(p) <= abs(0.5 * q * r) and p > q * (a - xf) and (p < q * (b - xf)):": _FLOATEQ,
+    "bounded_min | rat = (p - 0.0) / q":
+        ("equivalent: p - 0.0 and p + 0.0 differ only for p = -0.0, giving rat = -0.0 instead of 0.0: the same x, "
+         "_sign(-0.0) = 1, the same abs(e)"),
+    "bounded_min | if x - a <= tol2 or b - x < tol2:": _FLOATEQ,
+    "bounded_min | if x - a < tol2 or b - x <= tol2:": _FLOATEQ,
+    "bounded_min | rat = tol1 / _sign(xm - xf)": "equivalent: _sign is +1 or -1 (or NaN), so dividing is multiplying",
+    "bounded_min | if x > xf:": _STEP,
+    "bounded_min | if x <= xf:": _STEP,
+    "_run_max | while 2 * span < width:":
+        ("equivalent: stopping one doubling earlier leaves span >= width / 2, and two overlapping runs of span still "
+         "cover each window of width"),
+    ("_run_max | out: FloatArray = np.moveaxis(np.maximum(run[:n], run[width - span:width + span + n]), 0, "
+     "axis)"): ("equivalent: the slice's end is past the run's length (width - span + n = len(run)), so it is "
+                "clipped there"),
+})
