@@ -1,0 +1,123 @@
+""":func:`auvplan.survey.joins.join_bridges` on bridges by hand: what it must keep, where it must leave the corners,
+and that a joined bridge flies as turns of the radius (``helm_check``, as ``mission check``) clear of obstacles
+and zones (shapely on the footprint, ``World.path_free``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+
+from auvplan.path.flyable import VehicleLimits
+from auvplan.path.legs import helm_check
+from auvplan.survey.joins import join_bridges
+from auvplan.survey.mission import TRANSIT
+from auvplan.world import Zone, Zones
+from auvplan.world.obstacles import Sphere
+from auvplan.world.terrain import Terrain
+from auvplan.world.world import Bounds, World
+
+
+def _world(obstacles=(), zones=None, y=(-400.0, 400.0)) -> World:
+    x, yy = np.linspace(-300.0, 1300.0, 9), np.linspace(y[0], y[1], 5)
+    t = Terrain(x, yy, np.full((5, 9), -200.0))
+    return World(bounds=Bounds(-300.0, 1300.0, y[0], y[1], -200.0, 0.0), terrain=t, obstacles=obstacles,
+                 zones=None if zones is None else Zones(zones, t))
+
+
+def _route(xy, lab) -> tuple[np.ndarray, np.ndarray]:
+    return np.array([(a, b, -50.0) for a, b in xy], dtype=float), np.array(lab, dtype=np.int64)
+
+
+def _tightest(route: np.ndarray, radius: float) -> float:
+    return float(helm_check(route, VehicleLimits(90.0, radius), min_leg=0.0).tightest_turn_m)
+
+
+# a line along y = 0 crossing a box (270..430 x -30..30) bridged 60 m to its side: corners of 50 deg whose fly-by
+# turns fit 83.4 m only
+BOX = shapely.box(270.0, -30.0, 430.0, 30.0)
+SHARP = [(0, 0), (100, 0), (200, 0), (250, 60), (450, 60), (500, 0), (600, 0), (700, 0)]
+SHARP_LAB = [0, 0, 0, TRANSIT, TRANSIT, 0, 0, 0]
+
+
+def _kept_in_order(route, labels, joined, lab) -> bool:
+    """Every line vertex of the input is in the output, in order, with its label; every added vertex is a
+    transit's."""
+    k = 0
+    for p, lb in zip(joined, lab, strict=True):
+        if k < len(route) and np.array_equal(p, route[k]) and lb == labels[k]:
+            k += 1
+        elif lb != TRANSIT:
+            return False
+    return k == len(route) or all(labels[k:] == TRANSIT)
+
+
+@pytest.mark.parametrize("radius", [100.0, 150.0])
+def test_a_sharp_bridge_is_joined_by_turns_clear_of_the_zone(radius):
+    box = BOX
+    world = _world(zones=(Zone("box", box),))
+    route, labels = _route(SHARP, SHARP_LAB)
+    assert _tightest(route, radius) < radius
+    joined, lab = join_bridges(world, route, labels, TRANSIT, radius)
+    assert lab.dtype == np.int64 and lab.shape == joined.shape[:1] and joined.shape[0] > route.shape[0]
+    assert _tightest(joined, radius) >= radius * (1.0 - 1e-9)
+    legs = shapely.linestrings(np.stack([joined[:-1, :2], joined[1:, :2]], axis=1))
+    assert not shapely.intersects(legs, box).any() and world.path_free(joined)
+    line = labels != TRANSIT
+    assert _kept_in_order(route[line], labels[line], joined[lab != TRANSIT], lab[lab != TRANSIT])
+    assert np.array_equal(joined[0], route[0]) and np.array_equal(joined[-1], route[-1])
+
+
+def test_a_bridge_whose_corners_fly_already_is_left_as_it_is():
+    """Corners of 10 deg at most, a 5 m radius: each fits as a fly-by turn; nothing to join."""
+    route, labels = _route([(0, 0), (200, 0), (400, 0), (600, 30), (800, 30), (1000, 0), (1200, 0)],
+                           [0, 0, 0, TRANSIT, TRANSIT, 0, 0])
+    world = _world()
+    assert _tightest(route, 5.0) >= 5.0
+    joined, lab = join_bridges(world, route, labels, TRANSIT, 5.0)
+    assert np.array_equal(joined, route) and np.array_equal(lab, labels)
+
+
+@pytest.mark.parametrize("cut", [slice(3, None), slice(2, None), slice(None, 6), slice(None, 5)])
+def test_a_bridge_without_a_line_leg_on_each_side_keeps_its_corners(cut):
+    """The sharp bridge with the route starting on it, with one line vertex before it (no leg to turn from), with
+    one after it, or ending on it: left as it is (the full route is joined, test above)."""
+    route, labels = _route(SHARP[cut], SHARP_LAB[cut])
+    joined, out = join_bridges(_world(zones=(Zone("box", BOX),)), route, labels, TRANSIT, 100.0)
+    assert np.array_equal(joined, route) and np.array_equal(out, labels)
+
+
+@pytest.mark.parametrize(("y", "sphere"), [((-35.0, 250.0), None), ((-400.0, 400.0), (200.0, 277.0))])
+def test_a_bridge_no_turn_fits_keeps_its_corners(y, sphere):
+    """The joining turns of a 100 m radius swing 277 m to the side: with the bounds 250 m off the line, or a sphere
+    on the turn in, none fits; the corners stay (the mission's checks report them)."""
+    obstacles = () if sphere is None else (Sphere((*sphere, -50.0), 20.0),)
+    world = _world(obstacles=obstacles, zones=(Zone("box", BOX),), y=y)
+    route, labels = _route(SHARP, SHARP_LAB)
+    joined, lab = join_bridges(world, route, labels, TRANSIT, 100.0)
+    assert np.array_equal(joined, route) and np.array_equal(lab, labels)
+
+
+def test_a_sphere_beside_the_turns_leaves_them_joined_and_clear():
+    """A sphere inside the turns' loop (300, 200): the joined route keeps clear of it and of the box."""
+    world = _world(obstacles=(Sphere((300.0, 200.0, -50.0), 20.0),), zones=(Zone("box", BOX),))
+    route, labels = _route(SHARP, SHARP_LAB)
+    joined, lab = join_bridges(world, route, labels, TRANSIT, 100.0)
+    assert joined.shape[0] > route.shape[0] and world.path_free(joined)
+    assert _tightest(joined, 100.0) >= 100.0 * (1.0 - 1e-9)
+
+
+def test_two_bridges_on_one_line_are_both_joined():
+    """The sharp bridge twice along one line, 500 m apart, each round its box: both bridges' corners become
+    turns, clear of both boxes."""
+    xy = SHARP[:-1] + [(x + 500, y) for x, y in SHARP[1:]]
+    lab = SHARP_LAB[:-1] + SHARP_LAB[1:]
+    boxes = (Zone("box", BOX), Zone("box 2", shapely.box(770.0, -30.0, 930.0, 30.0)))
+    world = _world(zones=boxes)
+    route, labels = _route(xy, lab)
+    joined, out = join_bridges(world, route, labels, TRANSIT, 100.0)
+    assert _tightest(joined, 100.0) >= 100.0 * (1.0 - 1e-9) and world.path_free(joined)
+    runs = np.flatnonzero(np.diff(np.r_[0, (out == TRANSIT).astype(int)]) == 1)
+    assert runs.size == 2 and joined.shape[0] >= route.shape[0] + 20
+    line = labels != TRANSIT
+    assert _kept_in_order(route[line], labels[line], joined[out != TRANSIT], out[out != TRANSIT])
