@@ -129,3 +129,16 @@ def test_held_zone_entries_are_the_envelopes_and_the_sampled_executor_track(seed
     got = list(zip(leg.tolist(), zi.tolist(), strict=True))
     assert got == sorted(env | trk) and leg.dtype == np.intp and zi.dtype == np.intp
     assert (1, 0) in trk - env  # the track enters where its legs' envelopes do not
+
+
+@pytest.mark.parametrize("x0", [0.0, 5.0e5])
+def test_a_depth_change_ending_on_the_last_waypoint_is_charged_to_the_last_leg(x0):
+    """By hand: the last leg's descent ends within a rounding of its waypoint (``held_track`` then places its corner
+    on the waypoint itself, 500 km from the origin): the zone round the end is entered by the last leg (1, from 0)
+    only, never by a leg 2 the mission does not have (it was: legs [1, 2])."""
+    slope = np.tan(np.radians(15.0))
+    need = 100.0 * (1.0 - 1e-14)
+    w = np.array([[x0 - 200.0, 0.0, -10.0], [x0, 0.0, -10.0], [x0 + 100.0, 0.0, -10.0 - need * slope]])
+    zs = Zones((Zone("end", shapely.box(x0 + 50.0, -10.0, x0 + 150.0, 10.0)),), None)
+    leg, zi = held_zone_entries(zs, w, 15.0)
+    assert leg.tolist() == [1] and zi.tolist() == [0]
