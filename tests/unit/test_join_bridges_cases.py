@@ -52,11 +52,13 @@ def _kept_in_order(route, labels, joined, lab) -> bool:
     return k == len(route) or all(labels[k:] == TRANSIT)
 
 
-@pytest.mark.parametrize("radius", [100.0, 150.0])
-def test_a_sharp_bridge_is_joined_by_turns_clear_of_the_zone(radius):
+@pytest.mark.parametrize(("radius", "cut"), [(100.0, slice(None)), (150.0, slice(None)), (100.0, slice(1, None)),
+                                             (100.0, slice(None, -1))])
+def test_a_sharp_bridge_is_joined_by_turns_clear_of_the_zone(radius, cut):
+    """Also with a single line leg before the bridge, or after it (the least a turn needs)."""
     box = BOX
     world = _world(zones=(Zone("box", box),))
-    route, labels = _route(SHARP, SHARP_LAB)
+    route, labels = _route(SHARP[cut], SHARP_LAB[cut])
     assert _tightest(route, radius) < radius
     joined, lab = join_bridges(world, route, labels, TRANSIT, radius)
     assert lab.dtype == np.int64 and lab.shape == joined.shape[:1] and joined.shape[0] > route.shape[0]
@@ -119,5 +121,38 @@ def test_two_bridges_on_one_line_are_both_joined():
     assert _tightest(joined, 100.0) >= 100.0 * (1.0 - 1e-9) and world.path_free(joined)
     runs = np.flatnonzero(np.diff(np.r_[0, (out == TRANSIT).astype(int)]) == 1)
     assert runs.size == 2 and joined.shape[0] >= route.shape[0] + 20
+    line = labels != TRANSIT
+    assert _kept_in_order(route[line], labels[line], joined[out != TRANSIT], out[out != TRANSIT])
+
+
+_SHIFTED = [(x + 500, y) for x, y in SHARP[1:]]  # the sharp bridge 500 m on, round a second box
+_BOX2 = Zone("box 2", shapely.box(770.0, -30.0, 930.0, 30.0))
+
+
+@pytest.mark.parametrize(("xy", "lab", "zones"), [
+    ([(0, 60), (150, 60), (200, 0), (300, 0), (400, 0), (500, 0), (600, 0)], [TRANSIT, TRANSIT, 0, 0, 0, 0, 0], ()),
+    ([(0, 0), (100, 0), (200, 0), (300, 20), (400, 20), (500, 0), (600, 0)], [0, 0, 0, TRANSIT, TRANSIT, 0, 0], ()),
+    (SHARP[:-1], SHARP_LAB[:-1], (Zone("box", BOX), Zone("on the loop", shapely.box(140.0, 150.0, 260.0, 400.0)))),
+], ids=["route starts on a bridge", "corners already fly", "no turn fits"])
+def test_a_bridge_left_as_it_is_does_not_stop_the_next_one(xy, lab, zones):
+    """The first bridge is left alone (for each of the three reasons); the sharp one after it is still joined."""
+    route, labels = _route(xy + _SHIFTED, lab + SHARP_LAB[1:])
+    world = _world(zones=(*zones, _BOX2))
+    joined, out = join_bridges(world, route, labels, TRANSIT, 100.0)
+    n = len(xy)
+    assert np.array_equal(joined[:n], route[:n]) and np.array_equal(out[:n], labels[:n])
+    assert joined.shape[0] == route.shape[0] + 14 and world.path_free(joined[n - 2:])
+    assert _tightest(joined[n - 2:], 100.0) >= 100.0 * (1.0 - 1e-9)
+
+
+def test_two_bridges_with_two_line_vertices_between_are_both_joined():
+    """The second bridge turns from the line vertex the joined route keeps before it (two between the bridges)."""
+    xy = SHARP[:-1] + [(650, 60), (850, 60), (900, 0), (1000, 0), (1100, 0)]
+    lab = SHARP_LAB[:-1] + [TRANSIT, TRANSIT, 0, 0, 0]
+    world = _world(zones=(Zone("box", BOX), Zone("box 2", shapely.box(670.0, -30.0, 830.0, 30.0))))
+    route, labels = _route(xy, lab)
+    joined, out = join_bridges(world, route, labels, TRANSIT, 100.0)
+    assert joined.shape[0] == route.shape[0] + 28 and world.path_free(joined)
+    assert _tightest(joined, 100.0) >= 100.0 * (1.0 - 1e-9)
     line = labels != TRANSIT
     assert _kept_in_order(route[line], labels[line], joined[out != TRANSIT], out[out != TRANSIT])
