@@ -156,3 +156,13 @@ def test_two_bridges_with_two_line_vertices_between_are_both_joined():
     assert _tightest(joined, 100.0) >= 100.0 * (1.0 - 1e-9)
     line = labels != TRANSIT
     assert _kept_in_order(route[line], labels[line], joined[out != TRANSIT], out[out != TRANSIT])
+
+
+@pytest.mark.parametrize("centre", [(243.75, 20.5), (205.5, 81.5)], ids=["first leg of the turn in", "its last leg"])
+def test_a_sphere_on_a_turn_s_first_or_last_leg_is_kept_clear(centre):
+    """A small sphere on the first leg of the turn that joins the sharp bridge (from the line's end to the turn's
+    first point), or on its last one (into the transit): whatever is kept is clear of it (``World.path_free``)."""
+    world = _world(obstacles=(Sphere((*centre, -50.0), 5.0),), zones=(Zone("box", BOX),))
+    route, labels = _route(SHARP, SHARP_LAB)
+    joined, _ = join_bridges(world, route, labels, TRANSIT, 100.0)
+    assert world.path_free(route) and world.path_free(joined)
