@@ -90,8 +90,16 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     world, mission = scenario_io.build(sc)
     out = []
     for name in files:
-        check, fmt = check_mission_file(Path(name), world, pitch)
-        points = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)[0]
+        points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
+        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
+        if fmt == "qgc" and world.terrain is not None:
+            from ..io.missions.terrain_frame import terrain_legs
+
+            follow = terrain_legs(Path(name))
+            if not follow.any():
+                follow = None
+        # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
+        check, fmt = check_mission_file(Path(name), world, pitch, follow)
         deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
@@ -107,13 +115,6 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
             rec["clearance_confidence"] = sc.mission.confidence
         # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
         # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
-        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
-        if fmt == "qgc" and world.terrain is not None:
-            from ..io.missions.terrain_frame import terrain_legs
-
-            follow = terrain_legs(Path(name))
-            if not follow.any():
-                follow = None
         tf_ok = True
         tf_line = ""
         if follow is not None:

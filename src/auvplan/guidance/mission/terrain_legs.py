@@ -21,9 +21,12 @@ from numpy.typing import ArrayLike
 
 from ..._types import FloatArray, IntArray
 from ...geometry import as_points
+from ...world import World
 from ...world.terrain import Terrain
+from .limits import waypoint_limits
+from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["terrain_track"]
+__all__ = ["check_as_flown", "terrain_track"]
 
 
 def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
@@ -96,3 +99,46 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
         legs.append(np.full(s.size, k))
     leg = np.concatenate(legs) if legs else np.zeros(0, dtype=np.intp)
     return np.vstack(pts), leg.astype(np.intp)
+
+
+def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True) -> MissionCheck:
+    """:func:`~auvplan.guidance.mission.waypoints.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
+    they are flown: on the seabed-following track (:func:`terrain_track`), not on the straight line between their
+    items, which such an executor does not fly.
+
+    Each marked leg's least altitude, obstacle contact and least obstacle distance are those of its track's
+    segments (exact on each segment, as for a straight leg); unmarked legs are the straight 3D legs.  The surface,
+    depth band and bounds are tested at the waypoints (``limits``), as ``fly_check`` does; the track's own
+    extremes between items are ``mission check``'s terrain-following verdict.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed (without a seabed none is).
+    launch : bool, optional
+        Waypoint 0 is a launch point on the surface (exempt from the depth band).
+
+    Returns
+    -------
+    MissionCheck
+        Per leg as flown; ``semantics`` ``"ramp"``.
+    """
+    w = as_points(waypoints).reshape(-1, 3)
+    f = np.asarray(follow, dtype=bool).reshape(-1)
+    alt, hits, dist = leg_figures(world, w[:-1], w[1:], "ramp")
+    if world.terrain is not None and f.any():
+        track, seg_leg = terrain_track(world.terrain, w, f)
+        on = f[seg_leg]
+        t_alt, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
+        alt[f], hits[f], dist[f] = np.inf, False, np.inf
+        np.minimum.at(alt, seg_leg[on], t_alt)
+        np.logical_or.at(hits, seg_leg[on], t_hits)
+        np.minimum.at(dist, seg_leg[on], t_dist)
+    m = world.margins
+    k = int(np.argmin(alt)) if np.isfinite(alt).any() else -1
+    return MissionCheck("ramp", float(alt.min()), k, float(dist.min()) if dist.size else np.inf, int(hits.sum()), alt,
+                        m.min_altitude, m.obstacle, limits=waypoint_limits(world, w, launch))
