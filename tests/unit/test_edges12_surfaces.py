@@ -271,3 +271,17 @@ def test_the_seabed_check_s_least_altitude_is_the_track_s(tmp_path, capsys):
     assert straight.min() < 0.0 and altitude.min() == pytest.approx(25.0)
     assert rec["min_altitude_m"] == pytest.approx(float(altitude.min()), abs=1e-6) and rec["min_altitude_leg"] == 1
     assert code == 0 and rec["check_ok"] is True
+
+
+def test_a_terrain_frame_leg_over_a_steep_ridge_breaks_the_pitch_limit_as_flown(tmp_path, capsys):
+    """Oracle: a ridge 150 m high on 300 m flanks slopes atan(150 / 300) = 26.57°; items 25 m above the flat seabed
+    on both sides: the straight leg is level (0°), the seabed-following flight climbs and dives at 26.57° > 20°."""
+    steep = _RIDGE.split("[[zones]]")[0].replace("ridge_width = 2000.0", "ridge_width = 300.0") + \
+        '[vehicle]\nmax_pitch_deg = 20.0\n'
+    code, rec = _check(tmp_path, capsys, "steep.plan", _plan([(4000.0, 1000.0, 10, 25.0), (6000.0, 1000.0, 10, 25.0)]),
+                       steep)
+    slope = math.degrees(math.atan(150.0 / 300.0))
+    v = rec["vehicle"]
+    assert code == 1 and v["max_pitch_deg"] == pytest.approx(slope, abs=1e-6) and v["max_pitch_leg"] == 0
+    assert [(x["leg"], x["limit"]) for x in v["violations"]] == [(0, "max_pitch_deg")]
+    assert rec["terrain_following"]["ok"] is True  # the track itself keeps its altitude: the helm cannot fly it

@@ -104,7 +104,10 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
+        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
+        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                             pitch=flown[0], depth=flown[1])
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
@@ -136,6 +139,15 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
                              tf_line))
     return sc, out
+
+
+def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A ``.plan``'s legs' steepest pitch and greatest depth as flown, after its launch leg (as the helm check)."""
+    from ..guidance.mission.terrain_legs import flown_pitch_depth
+
+    assert world.terrain is not None
+    pitch, depth = flown_pitch_depth(world.terrain, points, follow)
+    return pitch[1:], depth[1:]
 
 
 def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> str:
