@@ -1,0 +1,88 @@
+"""Audit 14 of wave 12's code: each test failed on the code before its fix."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import shapely
+
+_SWEEP_TOML = """
+name = "gdb-zones"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 3000.0]
+y = [0.0, 1000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 200.0
+cell_m = 100.0
+[mission]
+start = [100.0, 500.0, -150.0]
+goal = [2100.0, 500.0, -10.0]
+[[zones]]
+name = "charted"
+file = "zones.gdb"
+where = "KIND = 1"
+"""
+
+
+def _write_gdb(path, box, kind):
+    from pyogrio.raw import write
+
+    write(str(path), geometry=shapely.to_wkb(np.array([shapely.box(*box)])), field_data=[np.array([kind], np.int32)],
+          fields=["KIND"], driver="OpenFileGDB", geometry_type="Polygon", crs="EPSG:4326", layer="zones")
+
+
+def test_a_sweep_s_key_holds_the_files_inside_a_file_geodatabase_folder(tmp_path):
+    """Oracle: the data the zones reader reads (``read_vector`` of the ``.gdb`` folder).  A ``[[zones]] file`` may
+    name a FileGDB folder; the departure sweep's checkpoint key stamped it by its name alone (a folder has no bytes to
+    hash: ``file_stamp`` raised and the name was kept), so zones moved or re-attributed in the geodatabase between a
+    kill and the resume read the old departures back."""
+    from auvplan.app.sweep import _input_stamps
+    from auvplan.io.data.vector.reader import read_vector
+    from auvplan.io.scenario.loader import loads
+
+    gdb = tmp_path / "zones.gdb"
+    _write_gdb(gdb, (-124.99, 48.001, -124.98, 48.004), 1)
+    sc = loads(_SWEEP_TOML, source=str(tmp_path / "s.toml"), base_dir=tmp_path)
+    first = _input_stamps(sc)
+    assert _input_stamps(sc) == first
+    before = read_vector(gdb, "t", ValueError, where="KIND = 1", fields=True).present()
+    shutil.rmtree(gdb)
+    _write_gdb(gdb, (-124.97, 48.001, -124.96, 48.004), 1)  # the zone moved ~730 m east
+    after = read_vector(gdb, "t", ValueError, where="KIND = 1", fields=True).present()
+    assert not before[0].equals(after[0])  # the reader sees another zone ...
+    assert _input_stamps(sc) != first  # ... so the sweep's key must change
+
+
+def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
+    """Oracle: the compiled seabed (:meth:`World.explain`).  On a grid line the compiled kernel's cell fraction (a
+    reciprocal multiplication) may fall in the next cell; the numpy bound counted the coefficients of its own cell
+    only, so beside a cliff (a 0.5 m-deep flat cell next to 300 m and 5 km steps, cells 1.7 m, origin 1000 km out)
+    the compiled value lay up to 30 bounds off, and ``validate``'s fast path called free 8 points 1e-13 m inside
+    ``min_altitude`` that ``explain`` refuses."""
+    from auvplan.world import Bounds, Margins, Terrain, World
+
+    said = 0
+    for cliff in (5000.0, 300.0, -300.0):
+        x = 1e6 + 1.7 * np.arange(40)
+        y = np.arange(3.0)
+        z = np.full((3, 40), -1.0)
+        z[:, np.arange(40) % 4 >= 2] += cliff  # flat cells at 1 m between cliffs
+        t = Terrain(x, y, z)
+        xs = (x[1:-1, None] + np.arange(-4, 5) * np.spacing(x[1:-1])[:, None]).ravel()  # a few ulps about each line
+        ys = np.full_like(xs, 0.5)
+        est, err = t.elevation_bounds(xs, ys)
+        exact = t.elevation(xs, ys)
+        assert np.all(np.abs(est - exact) <= err)
+        w = World(Bounds(x[0], x[-1], y[0], y[-1], -6000.0, 0.0), t, margins=Margins(min_altitude=0.5))
+        for p in np.column_stack([xs, ys, np.nextafter(est + 0.5 + err, np.inf)]):  # just clear by the bound
+            if p[2] < 0.0:
+                clear = w.clearly_free(p)
+                assert not (clear and w.explain(p)), p
+                said += clear
+    assert said > 0  # the fast path still answers there
