@@ -1012,7 +1012,7 @@ MODULES.update({
         _fns(WORLD, "World.clearly_free", "_lower_distance") + _fns(TERRAIN, "Terrain.elevation_bounds"),
     ),
     # a .plan's terrain-frame legs flown at the commanded altitude above the seabed
-    "terrain-track": Target(_fns(TERRAIN_LEGS, "_pieces", "terrain_track")),
+    "terrain-track": Target(_fns(TERRAIN_LEGS, "_pieces", "_following_leg", "_flags", "terrain_track")),
     # the zones a held-depth executor may enter: each leg's envelope and the executor's track
     "zone-legs": Target(
         _fns(ZONE_LEGS, "_track_legs", "held_zone_entries")
