@@ -1161,3 +1161,10 @@ REASONS.update({
     "Terrain.elevation_bounds | near = self._coef[np.clip(j - dj, 0, ny - 1), np.clip(i + di, 0, nx - 1)]": _SYM,
     "Terrain.elevation_bounds | near = self._coef[np.clip(j + dj, 0, ny - 1), np.clip(i - di, 0, nx - 1)]": _SYM,
 })
+# main's split of terrain_track (_following_leg, _flags): the same survivors under the new names
+REASONS.update({
+    "_flags | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "_flags | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    **{k.replace("terrain_track |", "_following_leg |"): v for k, v in REASONS.items()
+       if k.startswith("terrain_track | t = np.where") or k.startswith("terrain_track | inner =")},
+})
