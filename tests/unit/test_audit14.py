@@ -86,3 +86,27 @@ def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
                 assert not (clear and w.explain(p)), p
                 said += clear
     assert said > 0  # the fast path still answers there
+
+
+def test_mission_check_never_passes_a_file_it_did_not_check(tmp_path, capsys, monkeypatch):
+    """Oracle: the exit code of the CSV checked alone (1: it enters a zone).  Given a glider file among the files,
+    ``mission check`` checked the glider files only and exited with their verdict: a passing ``goto_l10.ma`` beside
+    a CSV entering a zone gave exit 0, the CSV never read.  Now the mix is refused (exit 2, naming both)."""
+    import auvplan.app.glider as glider
+    from auvplan.cli import main
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(_SWEEP_TOML.split("[[zones]]")[0] + '[[zones]]\nname = "box"\n'
+                    'polygon = [[600.0, 300.0], [900.0, 300.0], [900.0, 700.0], [600.0, 700.0]]\n')
+    csv = tmp_path / "m.csv"
+    csv.write_text("x,y,z\n100,500,-3\n2100,500,-3\n")  # 3 m deep through the surface-to-seabed box
+    ma = tmp_path / "goto_l10.ma"
+    ma.write_text("behavior_name=goto_list\n")
+    monkeypatch.setattr(glider, "check_glider_files", lambda scenario, names: [
+        {"file": n, "format": "slocum", "waypoints": 2, "radius_m": 10.0, "arrived": True, "flown_duration_s": 1.0,
+         "energy_wh": 1.0, "battery_wh": 100.0, "ok": True, "message": ""} for n in names])  # a glider file that passes
+    assert main(["mission", "check", str(csv), "--scenario", str(scen)]) == 1
+    capsys.readouterr()
+    assert main(["mission", "check", str(ma), str(csv), "--scenario", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert "goto_l10.ma" in err and "m.csv" in err and len(err.strip().splitlines()) == 1
