@@ -998,3 +998,83 @@ REASONS.update({
          "differs only for a point of no return within the first metre"),
     "point_of_no_return | if fs >= 0:": "boundary: a scan point exactly at the point of no return (f = 0)",
 })
+
+# wave 12's safety- and verdict-deciding code (the session of 6 Dec 2026 from 17:00): validate's numpy seabed
+# bound, the terrain-frame and held-depth zone checks of `mission check`, its verdicts, the survey's bridges
+# round zones, and the front door's SciPy stand-ins whose results feed every seabed model
+WORLD_ZONES_SEGMENTS = "auvplan.world.zones.segments"
+TERRAIN_LEGS, ZONE_LEGS = "auvplan.guidance.mission.terrain_legs", "auvplan.guidance.mission.zone_legs"
+APP_CHECK, JOINS = "auvplan.app.check", "auvplan.survey.joins"
+BOUNDED_MIN, SEABED = "auvplan.io.data.bounded_min", "auvplan.world.seabed"
+MODULES.update({
+    # validate's "clearly free" start and goal: the numpy seabed and its bound, the ellipsoid's lower bound
+    "clearly-free": Target(
+        _fns(WORLD, "World.clearly_free", "_lower_distance") + _fns(TERRAIN, "Terrain.elevation_bounds"),
+    ),
+    # a .plan's terrain-frame legs flown at the commanded altitude above the seabed
+    "terrain-track": Target(_fns(TERRAIN_LEGS, "_pieces", "terrain_track")),
+    # the zones a held-depth executor may enter: each leg's envelope and the executor's track
+    "zone-legs": Target(
+        _fns(ZONE_LEGS, "_track_legs", "held_zone_entries")
+        + _fns(WORLD_ZONES_SEGMENTS, "SegmentQueries.envelope_entries"),
+    ),
+    # mission check's verdicts (ok, check_ok; the exit code is max(0 if ok else 1)), the zones' closest approach
+    # and entries, the terrain-following check
+    "mission-verdict": Target(
+        ((APP_CHECK, "check_missions", "follow = None", "out.append(FileCheck("),)
+        + _fns(APP_CHECK, "_zone_approach", "terrain_following_check"),
+    ),
+    # the survey's bridges round zones joined by turns, and the turn's fit-and-clear test
+    "survey-joins": Target(_fns(JOINS, "_fits", "_bridge", "join_bridges")),
+    # data inspect's extents (SciPy's bounded Brent, bit for bit) and the projection margin's window maximum
+    "front-door": Target(
+        _fns(BOUNDED_MIN, "_sign", "bounded_min") + _fns(SEABED, "_run_max", "window_max"),
+    ),
+})
+
+# wave 12's targets (run 6 Dec 2026 evening): the survivors argued equivalent or float boundaries
+_DUP = ("equivalent: a parameter of exactly 0 or 1 is the leg's own end, already in the list; np.unique drops the "
+        "duplicate (-0.0 == 0.0)")
+_FLAT = "equivalent: the placeholder of a flat piece only has to lie outside (0, 1), which -1, 1 and -2 all do"
+_PARABOLA_EMPTY = ("equivalent: with q = 0 the parabola's test abs(p) < abs(0.5 q r) = 0 fails whatever p's sign, "
+                   "and the golden step is taken")
+_STEP = ("equivalent for xatol > 0 (the only caller passes 1e-12): a step is at least tol1 = sqrt(2.2e-16) |xf| + "
+         "xatol / 3, more than half an ulp of xf, so x never equals xf")
+_FLOATEQ = ("boundary: needs two computed doubles exactly equal (SciPy's own strictness); no seeded search of 9 000 "
+            "cases hit it")
+REASONS.update({
+    "_pieces | s.append(t[(t >= 0.0) & (t < 1.0)])": _DUP,
+    "_pieces | s.append(t[(t > 0.0) & (t <= 1.0)])": _DUP,
+    "terrain_track | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "terrain_track | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    "terrain_track | t = np.where(np.abs(q2) >= 1e-12, -q1 / (2.0 * q2), -1.0)":
+        "boundary: a piece's curvature term exactly 1e-12 m; then its extremum or none, both within 1e-12 m of a chord",
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), 1.0)": _FLAT,
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -2.0)": _FLAT,
+    "terrain_track | inner = (t >= 0.0) & (t < 1.0)":
+        "equivalent: t = 0 gives s0 + 0 (s1 - s0) = s0 exactly, a duplicate np.unique drops",
+    "terrain_track | inner = (t > 0.0) & (t <= 1.0)":
+        ("boundary: t exactly 1 (q1 = -2 q2 to the bit) adds s0 + (s1 - s0), s1 or an ulp from it: a vertex on the "
+         "track within an ulp of another"),
+    "bounded_min | rat = e = 1.0":
+        ("equivalent: with e = 1 the first pass tries the parabola through three equal points (r = q = p = 0), "
+         "which fails, and the golden step sets e and rat; with tol1 >= 1 no parabola is tried"),
+    "bounded_min | while abs(xf - xm) >= tol2 - 0.5 * (b - a):": _FLOATEQ,
+    "bounded_min | if abs(e) >= tol1:": _FLOATEQ,
+    "bounded_min | if q >= 0.0:": _PARABOLA_EMPTY,
+    "bounded_min | if abs(p) <= abs(0.5 * q * r) and p > q * (a - xf) and (p < q * (b - xf)):": _FLOATEQ,
+    "bounded_min | rat = (p - 0.0) / q":
+        ("equivalent: p - 0.0 and p + 0.0 differ only for p = -0.0, giving rat = -0.0 instead of 0.0: the same x, "
+         "_sign(-0.0) = 1, the same abs(e)"),
+    "bounded_min | if x - a <= tol2 or b - x < tol2:": _FLOATEQ,
+    "bounded_min | if x - a < tol2 or b - x <= tol2:": _FLOATEQ,
+    "bounded_min | rat = tol1 / _sign(xm - xf)": "equivalent: _sign is +1 or -1 (or NaN), so dividing is multiplying",
+    "bounded_min | if x > xf:": _STEP,
+    "bounded_min | if x <= xf:": _STEP,
+    "_run_max | while 2 * span < width:":
+        ("equivalent: stopping one doubling earlier leaves span >= width / 2, and two overlapping runs of span still "
+         "cover each window of width"),
+    ("_run_max | out: FloatArray = np.moveaxis(np.maximum(run[:n], run[width - span:width + span + n]), 0, "
+     "axis)"): ("equivalent: the slice's end is past the run's length (width - span + n = len(run)), so it is "
+                "clipped there"),
+})

@@ -90,13 +90,24 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     world, mission = scenario_io.build(sc)
     out = []
     for name in files:
-        check, fmt = check_mission_file(Path(name), world, pitch)
-        points = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)[0]
+        points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
+        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
+        if fmt == "qgc" and world.terrain is not None:
+            from ..io.missions.terrain_frame import terrain_legs
+
+            follow = terrain_legs(Path(name))
+            if not follow.any():
+                follow = None
+        # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
+        check, fmt = check_mission_file(Path(name), world, pitch, follow)
         deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
+        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
+        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                             pitch=flown[0], depth=flown[1])
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
@@ -107,13 +118,6 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
             rec["clearance_confidence"] = sc.mission.confidence
         # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
         # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
-        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
-        if fmt == "qgc" and world.terrain is not None:
-            from ..io.missions.terrain_frame import terrain_legs
-
-            follow = terrain_legs(Path(name))
-            if not follow.any():
-                follow = None
         tf_ok = True
         tf_line = ""
         if follow is not None:
@@ -135,6 +139,15 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
                              tf_line))
     return sc, out
+
+
+def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A ``.plan``'s legs' steepest pitch and greatest depth as flown, after its launch leg (as the helm check)."""
+    from ..guidance.mission.terrain_legs import flown_pitch_depth
+
+    assert world.terrain is not None
+    pitch, depth = flown_pitch_depth(world.terrain, points, follow)
+    return pitch[1:], depth[1:]
 
 
 def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> str:
