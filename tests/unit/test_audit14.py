@@ -92,7 +92,8 @@ def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
 def test_mission_check_never_passes_a_file_it_did_not_check(tmp_path, capsys, monkeypatch):
     """Oracle: the exit code of the CSV checked alone (1: it enters a zone).  Given a glider file among the files,
     ``mission check`` checked the glider files only and exited with their verdict: a passing ``goto_l10.ma`` beside
-    a CSV entering a zone gave exit 0, the CSV never read.  Now the mix is refused (exit 2, naming both)."""
+    a CSV entering a zone gave exit 0, the CSV never read.  Now the mix is refused (exit 2, naming both).  And a CSV
+    named ``targets_v2.csv`` was read as a Seaglider ``targets`` file (exit 2): it is checked as the CSV it is."""
     import auvplan.app.glider as glider
     from auvplan.cli import main
 
@@ -111,6 +112,10 @@ def test_mission_check_never_passes_a_file_it_did_not_check(tmp_path, capsys, mo
     assert main(["mission", "check", str(ma), str(csv), "--scenario", str(scen)]) == 2
     err = capsys.readouterr().err
     assert "goto_l10.ma" in err and "m.csv" in err and len(err.strip().splitlines()) == 1
+    # a CSV whose name starts with "targets" is a CSV (was taken for a Seaglider targets file: exit 2, unread)
+    named = tmp_path / "targets_v2.csv"
+    named.write_text(csv.read_text())
+    assert main(["mission", "check", str(named), "--scenario", str(scen)]) == 1
 
 
 def test_a_terrain_frame_leg_enters_a_zone_only_where_its_track_does(tmp_path, capsys):
