@@ -1,0 +1,72 @@
+"""Hostile input, round 4: the surfaces of the last two waves (charted ``[[zones]]``, corridor surveys, the
+dask flags, mission files) attacked where no earlier round had.
+
+Each case asserts the contract: exit 2 (or ``ScenarioError``/``DataError``) with one line naming the file,
+the key and the value; never a traceback, never minutes of work before the refusal.  docs/hostile-input.md
+lists every case tried, handled before or fixed here.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from auvplan.cli import main
+
+PLANE = """
+name = "plane"
+seed = 2
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [-500.0, 5500.0]
+y = [-1500.0, 3500.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 50.0
+slope = [-0.01, -0.02]
+cell_m = 25.0
+[currents]
+uniform = [0.0, 0.1, 0.0]
+[mission]
+start = [200.0, -300.0, -2.0]
+goal = [200.0, -300.0, -2.0]
+min_altitude_m = 5.0
+min_depth_m = 2.0
+max_depth_m = 300.0
+[vehicle]
+speed = 1.5
+[planner]
+name = "iabc"
+population = 16
+iterations = 12
+control_points = 3
+samples = 50
+"""
+
+
+def _refused(tmp_path, capsys, text, *needles, command=("validate",)):
+    """``auvplan validate`` (or ``command``) of the scenario ``text``: exit 2, one line naming ``needles``."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(text, encoding="utf-8")
+    assert main([*command, str(scen)]) == 2
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    assert err.startswith(f"auvplan: error: {scen}: "), err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+# ---------------------------------------------------------------- corridor surveys
+@pytest.mark.parametrize(("survey", "needles"), [
+    # a centre line that crosses itself (was: AttributeError 'MultiLineString' ... offset_curve)
+    ("centerline_xy = [[500.0, 0.0], [4500.0, 2500.0], [4500.0, 0.0], [500.0, 2500.0]]\nwidth_m = 300.0",
+     ("[survey] centerline", "crosses itself")),
+    # a bend radius too large for the legs (the same traceback)
+    ("centerline_xy = [[500.0, 0.0], [2500.0, 2500.0], [4500.0, 0.0], [5000.0, 2000.0]]\nwidth_m = 300.0\n"
+     "bend_radius_m = 1e4", ("[survey] centerline", "cannot be rounded to 10000 m")),
+])
+def test_a_corridor_that_cannot_be_built_is_refused_naming_the_key(tmp_path, capsys, survey, needles):
+    _refused(tmp_path, capsys, PLANE + "[survey]\n" + survey + "\n", *needles)
