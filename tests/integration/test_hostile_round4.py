@@ -44,6 +44,7 @@ iterations = 12
 control_points = 3
 samples = 50
 """
+TRANSIT = PLANE.replace("goal = [200.0, -300.0, -2.0]", "goal = [5000.0, 3000.0, -10.0]")
 
 
 def _refused(tmp_path, capsys, text, *needles, command=("validate",)):
@@ -70,3 +71,22 @@ def _refused(tmp_path, capsys, text, *needles, command=("validate",)):
 ])
 def test_a_corridor_that_cannot_be_built_is_refused_naming_the_key(tmp_path, capsys, survey, needles):
     _refused(tmp_path, capsys, PLANE + "[survey]\n" + survey + "\n", *needles)
+
+
+# ---------------------------------------------------------------- [[zones]] written in the scenario
+@pytest.mark.parametrize(("zone", "needles"), [
+    # metres GEOS cannot take (was: GEOSException orientationIndex encountered NaN/Inf, a traceback)
+    ("polygon = [[-1e300, -1e300], [1e300, -1e300], [1e300, 1e300]]", ("[[zones]] #1 polygon", "[-1e+300, -1e+300]")),
+    # a radius GEOS cannot buffer (was: 'ValueError: setting an array element with a sequence', 13 lines)
+    ("point = [1000.0, 1000.0]\nradius_m = 1e300", ("[[zones]] #1 radius_m = 1e+300",)),
+    ("line = [[0.0, 0.0], [1000.0, 0.0]]\nbuffer_m = 1e15", ("[[zones]] #1 buffer_m = 1000000000000000.0",)),
+])
+def test_a_zone_of_astronomic_size_is_refused_naming_the_key(tmp_path, capsys, zone, needles):
+    _refused(tmp_path, capsys, TRANSIT + '[[zones]]\nname = "z"\n' + zone + "\n", *needles, "circumference")
+
+
+def test_a_zone_at_the_bound_is_accepted():
+    from auvplan.io.data.vector.zones import parse_zones
+
+    (spec,) = parse_zones([{"name": "z", "point": [4.0e7, 0.0], "radius_m": 4.0e7}], "s.toml")
+    assert spec.coords == ((4.0e7, 0.0),) and spec.radius_m == 4.0e7
