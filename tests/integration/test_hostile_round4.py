@@ -90,3 +90,23 @@ def test_a_zone_at_the_bound_is_accepted():
 
     (spec,) = parse_zones([{"name": "z", "point": [4.0e7, 0.0], "radius_m": 4.0e7}], "s.toml")
     assert spec.coords == ((4.0e7, 0.0),) and spec.radius_m == 4.0e7
+
+
+# ---------------------------------------------------------------- where the tasks run
+@pytest.mark.parametrize("command", [("plan", "track-arc", "--depart-between", "+0h", "+30min"), ("bench",),
+                                     ("survey", "shelf-survey")])
+def test_a_cluster_of_100000_workers_is_a_usage_error(capsys, monkeypatch, command):
+    """``--workers 100000`` spawned a LocalCluster of 100 000 processes (the machine froze, > 180 s)."""
+    import os
+
+    monkeypatch.setattr("auvplan.runtime.parallel.Runner._connect",
+                        lambda *a: pytest.fail("the cluster was started"))
+    assert main([*command, "--workers", "100000"]) == 2
+    err = capsys.readouterr().err
+    cap = max(4, 4 * (os.cpu_count() or 1))
+    assert f"argument --workers: 100000 must be <= {cap} (4 worker processes per CPU" in err
+    assert err.strip().splitlines()[-1].startswith(f"auvplan {command[0]}: error: argument --workers")
+    # the bound itself parses (the parser alone: nothing runs)
+    from auvplan.cli.parser import _parser
+
+    assert _parser().parse_args(["bench", "--workers", str(cap)]).workers == cap
