@@ -110,3 +110,26 @@ def test_a_cluster_of_100000_workers_is_a_usage_error(capsys, monkeypatch, comma
     from auvplan.cli.parser import _parser
 
     assert _parser().parse_args(["bench", "--workers", str(cap)]).workers == cap
+
+
+@pytest.mark.parametrize("address", ["garbage", "tcp://[::1", "tcp://127.0.0.1:99999", ""])
+def test_a_scheduler_address_dask_cannot_parse_is_a_usage_error(capsys, address):
+    """It surfaced after the job's set-up as ``auvplan: error: ValueError: missing port number in address``."""
+    assert main(["plan", "track-arc", "--depart-between", "+0h", "+30min", "--scheduler", address]) == 2
+    err = capsys.readouterr().err
+    assert f"argument --scheduler: {address!r} is not a dask scheduler address" in err
+
+
+def test_no_scheduler_at_the_address_names_the_flag():
+    """A closed port: one line naming ``--scheduler`` and the address, not ``OSError: Timed out ...``."""
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("distributed")
+    from auvplan.errors import AuvplanError
+    from auvplan.runtime.parallel import Runner
+
+    with dask.config.set({"distributed.comm.timeouts.connect": "0.5s"}), \
+            pytest.raises(AuvplanError, match=r"^--scheduler 'tcp://127.0.0.1:1': no dask scheduler reached there \("):
+        Runner(scheduler="tcp://127.0.0.1:1").map(abs, [1, 2])
+    from auvplan.cli.parser import _parser
+
+    assert _parser().parse_args(["bench", "--scheduler", "tcp://127.0.0.1:8786"]).scheduler == "tcp://127.0.0.1:8786"

@@ -14,6 +14,7 @@ import importlib
 import logging
 import math
 import os
+import re
 import sys
 from collections.abc import Callable, Collection, Iterator
 from typing import Any
@@ -41,6 +42,21 @@ def _int_at_least(low: int, high: int | None = None, why: str = "") -> Callable[
 
     parse.__name__ = f"integer >= {low}" if high is None else f"integer in [{low}, {high}]"
     return parse
+
+
+_ADDRESS = re.compile(r"((tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):[0-9]{1,5}|inproc://\S+")
+
+
+def _scheduler(text: str) -> str:
+    """An argparse type: a dask scheduler's address, ``[tcp://]host:port`` (checked before any work: a bad
+    one used to surface after the job's set-up as dask's ``ValueError: missing port number``)."""
+    port = text.rpartition(":")[2]
+    if not _ADDRESS.fullmatch(text) or (port.isdigit() and not 0 < int(port) < 65536):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a dask scheduler address (e.g. tcp://host:8786)")
+    return text
+
+
+_scheduler.__name__ = "scheduler address"
 
 
 class _Choices(Collection[str]):
@@ -170,7 +186,8 @@ def _cluster(s: Any, workers: int | None) -> None:
     g.add_argument("--workers", type=_WORKERS, default=workers,
                    help="local dask worker processes (a LocalCluster)"
                         + (f"; default {workers}" if workers else "; default: this process, no dask"))
-    g.add_argument("--scheduler", help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
+    g.add_argument("--scheduler", type=_scheduler,
+                   help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
     s.add_argument("--retries", type=_SEED, default=1, help="runs again of a task that fails (default 1)")
 
 
