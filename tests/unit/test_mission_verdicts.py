@@ -49,7 +49,8 @@ def test_zones_of_a_terrain_frame_plan_on_its_track():
     zone "straight" (45-55 m deep, x 300..400): the straight leg 1 and its track, the same line (the seabed is flat
     there); zone "under" (45-55 m, x 620..680): only the straight leg 2, which ArduSub does not fly: the track is 2-38
     m deep over the ridge's flank there, and deepens 0.6 m a metre beyond x = 680, so it passes the zone's corner
-    (680, 45 m) at 7 / sqrt(1 + 0.6^2) = 6.00 m (the track's vertex at x = 680: 7 m); zone "deep" (70-80 m, x 800..850): nothing."""
+    (680, 45 m) at 7 / sqrt(1 + 0.6^2) = 6.00 m (the track's vertex at x = 680: 7 m); zone "deep" (70-80 m,
+    x 800..850): nothing."""
     from auvplan.world.terrain import Terrain
     from auvplan.world.world import Bounds, Margins, World
 
