@@ -5,6 +5,7 @@ from __future__ import annotations
 import shutil
 
 import numpy as np
+import pytest
 import shapely
 
 _SWEEP_TOML = """
@@ -86,3 +87,55 @@ def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
                 assert not (clear and w.explain(p)), p
                 said += clear
     assert said > 0  # the fast path still answers there
+
+
+def test_mission_check_never_passes_a_file_it_did_not_check(tmp_path, capsys, monkeypatch):
+    """Oracle: the exit code of the CSV checked alone (1: it enters a zone).  Given a glider file among the files,
+    ``mission check`` checked the glider files only and exited with their verdict: a passing ``goto_l10.ma`` beside
+    a CSV entering a zone gave exit 0, the CSV never read.  Now the mix is refused (exit 2, naming both).  And a CSV
+    named ``targets_v2.csv`` was read as a Seaglider ``targets`` file (exit 2): it is checked as the CSV it is."""
+    import auvplan.app.glider as glider
+    from auvplan.cli import main
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(_SWEEP_TOML.split("[[zones]]")[0] + '[[zones]]\nname = "box"\n'
+                    'polygon = [[600.0, 300.0], [900.0, 300.0], [900.0, 700.0], [600.0, 700.0]]\n')
+    csv = tmp_path / "m.csv"
+    csv.write_text("x,y,z\n100,500,-3\n2100,500,-3\n")  # 3 m deep through the surface-to-seabed box
+    ma = tmp_path / "goto_l10.ma"
+    ma.write_text("behavior_name=goto_list\n")
+    monkeypatch.setattr(glider, "check_glider_files", lambda scenario, names: [
+        {"file": n, "format": "slocum", "waypoints": 2, "radius_m": 10.0, "arrived": True, "flown_duration_s": 1.0,
+         "energy_wh": 1.0, "battery_wh": 100.0, "ok": True, "message": ""} for n in names])  # a glider file that passes
+    assert main(["mission", "check", str(csv), "--scenario", str(scen)]) == 1
+    capsys.readouterr()
+    assert main(["mission", "check", str(ma), str(csv), "--scenario", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert "goto_l10.ma" in err and "m.csv" in err and len(err.strip().splitlines()) == 1
+    # a CSV whose name starts with "targets" is a CSV (was taken for a Seaglider targets file: exit 2, unread)
+    named = tmp_path / "targets_v2.csv"
+    named.write_text(csv.read_text())
+    assert main(["mission", "check", str(named), "--scenario", str(scen)]) == 1
+
+
+def test_a_terrain_frame_leg_enters_a_zone_only_where_its_track_does(tmp_path, capsys):
+    """Oracle: the seabed-following track sampled every 0.5 m over the analytic ridge (``test_edges12_surfaces``).
+    Items 25 m above the seabed at x = 3.5 and 6.5 km fly 25 m over the crest, 10 m above a cable band (seabed +
+    15 m) laid over it; the straight line between them (137.5 m deep) runs under the 50 m deep crest, through the
+    band, but ArduSub does not fly it.  The seabed check is the track's (exit 0 without the zone); the zones still
+    counted the straight leg: "zone 'cable': FAIL — entered by leg 1", exit 1."""
+    from test_edges12_surfaces import _RIDGE, _check, _plan, _ridge_oracle
+
+    cable = ('[[zones]]\nname = "cable"\npolygon = [[4000.0, 0.0], [6000.0, 0.0], [6000.0, 2000.0], [4000.0, 2000.0]]'
+             '\nabove_seabed_m = 15.0\n')
+    track = _ridge_oracle(3500.0, 6500.0, 25.0)
+    seabed = track[:, 2] - 25.0
+    on = (track[:, 0] >= 4000.0) & (track[:, 0] <= 6000.0)
+    straight = np.interp(track[:, 0], [3500.0, 6500.0], track[[0, -1], 2])
+    assert (track[on, 2] - seabed[on]).min() == pytest.approx(25.0)  # flown: 10 m above the band
+    assert (straight[on] - seabed[on]).min() < 15.0  # the straight line: inside it (below the crest)
+    code, rec = _check(tmp_path, capsys, "low.plan", _plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]),
+                       _RIDGE.split("[[zones]]")[0] + cable)
+    (zone,) = rec["zones"]
+    assert zone["entered_legs"] == [] and 9.0 < zone["closest_m"] <= 10.0  # 10 m, less the seabed band's slope bound
+    assert code == 0 and rec["ok"] is True and rec["check_ok"] is True

@@ -180,7 +180,8 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
     semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
     the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
     straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`;
-    the legs ``follow`` marks (a ``.plan``'s terrain frame) also on the seabed-following track."""
+    the legs ``follow`` marks (a ``.plan``'s terrain frame) on their seabed-following track instead of the straight
+    line between their items, which ArduSub does not fly."""
     if not world.zones:
         return []
     from dataclasses import replace
@@ -203,6 +204,8 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
         track, seg_leg = terrain_track(world.terrain, points, follow)
         out = exact.approach(track)  # the least over what is flown: the straight legs and the following ones
         more = [seg_leg[np.asarray(z.entered_legs, dtype=np.intp) - 1] for z in out]
+        flown = ~follow[seg]  # a terrain-frame leg's straight line is not flown: its track alone enters or not
+        seg, si = seg[flown], si[flown]
     for j, z in enumerate(out):
         entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in more[j])}))
         out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
