@@ -1168,3 +1168,10 @@ REASONS.update({
     **{k.replace("terrain_track |", "_following_leg |"): v for k, v in REASONS.items()
        if k.startswith("terrain_track | t = np.where") or k.startswith("terrain_track | inner =")},
 })
+# main since 27efd1d: a terrain-frame leg's straight line is not flown (its track alone enters)
+REASONS.update({
+    "_zone_approach | seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=2))":
+        ("equivalent since the straight line of a terrain-frame leg is dropped: the straight legs kept (not "
+         "terrain-frame) are flown as themselves in terrain_track's track, whose entries (more) already hold "
+         "theirs; the garbage segments' entries are filtered or repeat them"),
+})
