@@ -69,14 +69,18 @@ def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
     from auvplan.world import Bounds, Margins, Terrain, World
 
     said = 0
-    for cliff in (5000.0, 300.0, -300.0):
-        x = 1e6 + 1.7 * np.arange(40)
-        y = np.arange(3.0)
+    for cliff, along_y in ((5000.0, False), (300.0, False), (-300.0, False), (5000.0, True), (300.0, True)):
+        g = 1e6 + 1.7 * np.arange(40)
         z = np.full((3, 40), -1.0)
         z[:, np.arange(40) % 4 >= 2] += cliff  # flat cells at 1 m between cliffs
-        t = Terrain(x, y, z)
-        xs = (x[1:-1, None] + np.arange(-4, 5) * np.spacing(x[1:-1])[:, None]).ravel()  # a few ulps about each line
-        ys = np.full_like(xs, 0.5)
+        lines = (g[1:-1, None] + np.arange(-4, 5) * np.spacing(g[1:-1])[:, None]).ravel()  # ulps about each line
+        across = np.full_like(lines, 0.5)
+        if along_y:  # the same cliffs across the other axis (a 40 x 3 grid)
+            x, y, t = np.arange(3.0), g, Terrain(np.arange(3.0), g, z.T.copy())
+            xs, ys = across, lines
+        else:
+            x, y, t = g, np.arange(3.0), Terrain(g, np.arange(3.0), z)
+            xs, ys = lines, across
         est, err = t.elevation_bounds(xs, ys)
         exact = t.elevation(xs, ys)
         assert np.all(np.abs(est - exact) <= err)
