@@ -69,14 +69,18 @@ def test_clearly_free_beside_a_cliff_only_where_explain_finds_nothing():
     from auvplan.world import Bounds, Margins, Terrain, World
 
     said = 0
-    for cliff in (5000.0, 300.0, -300.0):
-        x = 1e6 + 1.7 * np.arange(40)
-        y = np.arange(3.0)
+    for cliff, along_y in ((5000.0, False), (300.0, False), (-300.0, False), (5000.0, True), (300.0, True)):
+        g = 1e6 + 1.7 * np.arange(40)
         z = np.full((3, 40), -1.0)
         z[:, np.arange(40) % 4 >= 2] += cliff  # flat cells at 1 m between cliffs
-        t = Terrain(x, y, z)
-        xs = (x[1:-1, None] + np.arange(-4, 5) * np.spacing(x[1:-1])[:, None]).ravel()  # a few ulps about each line
-        ys = np.full_like(xs, 0.5)
+        lines = (g[1:-1, None] + np.arange(-4, 5) * np.spacing(g[1:-1])[:, None]).ravel()  # ulps about each line
+        across = np.full_like(lines, 0.5)
+        if along_y:  # the same cliffs across the other axis (a 40 x 3 grid)
+            x, y, t = np.arange(3.0), g, Terrain(np.arange(3.0), g, z.T.copy())
+            xs, ys = across, lines
+        else:
+            x, y, t = g, np.arange(3.0), Terrain(g, np.arange(3.0), z)
+            xs, ys = lines, across
         est, err = t.elevation_bounds(xs, ys)
         exact = t.elevation(xs, ys)
         assert np.all(np.abs(est - exact) <= err)
@@ -139,3 +143,53 @@ def test_a_terrain_frame_leg_enters_a_zone_only_where_its_track_does(tmp_path, c
     (zone,) = rec["zones"]
     assert zone["entered_legs"] == [] and 9.0 < zone["closest_m"] <= 10.0  # 10 m, less the seabed band's slope bound
     assert code == 0 and rec["ok"] is True and rec["check_ok"] is True
+
+
+_HILL = """name = "hill"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [-200.0, 2200.0]
+y = [0.0, 1000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "hills"
+depth = 100.0
+hills = [[1000.0, 500.0, 25.0, 150.0]]
+cell_m = 20.0
+[mission]
+start = [0.0, 500.0, -60.0]
+goal = [2000.0, 500.0, -60.0]
+min_altitude_m = 10.0
+follow_altitude_m = 40.0
+[[zones]]
+name = "band"
+polygon = [[800.0, 300.0], [1200.0, 300.0], [1200.0, 700.0], [800.0, 700.0]]
+top_m = 40.0
+bottom_m = 50.0
+"""
+
+
+def test_moos_altitude_floor_never_lifts_the_vehicle_off_the_checked_depth(tmp_path):
+    """Oracle: a 25 m Gaussian hill on a 100 m seabed (its crest on a grid node, 75 m deep) under a leg held 60 m
+    deep, 40 m above the seabed at both ends: the leg's least altitude is 15 m, at the crest.  A
+    ``BHV_MinAltitudeX`` of 40 m (the ends' altitude, before) lifts pHelmIvP (its priority above the depth's) to 35 m
+    deep over the crest, through the 40-50 m band ``mission check`` passed at the held 60 m; the floor is now 15 m,
+    which the charted seabed never triggers."""
+    import re
+
+    from auvplan.io.missions.deploy import deploy_info
+    from auvplan.io.missions.formats import to_moos
+    from auvplan.io.scenario import loader as sc_io
+
+    scen = tmp_path / "hill.toml"
+    scen.write_text(_HILL)
+    world, mission = sc_io.build(sc_io.load(str(scen)))
+    w = np.array([[0.0, 500.0, -60.0], [2000.0, 500.0, -60.0]])
+    text = to_moos(w, 1.5, deploy=deploy_info(world, mission, w, 1.5))
+    (floor,) = [float(v) for v in re.findall(r"min_altitude = ([0-9.]+)", text)]
+    x = np.linspace(0.0, 2000.0, 200_001)
+    seabed = np.asarray(world.seabed(x, np.full_like(x, 500.0)))
+    assert -seabed.max() == pytest.approx(75.0, abs=1e-9) and floor == pytest.approx(-60.0 - seabed.max(), abs=1e-3)
+    assert floor <= 15.0 + 1e-3 and (-60.0 - seabed >= floor - 1e-3).all()  # never above the leg's altitude

@@ -105,6 +105,11 @@ class DeployInfo:
         follows the seabed on the leg into them — those where that flight keeps the vehicle's pitch limit
         (:func:`auvplan.guidance.mission.terrain_legs.flown_pitch_depth`); the others at their planned depth, whose
         straight leg the fitted mission keeps within it.  None: every waypoint with an altitude.
+    leg_floor : numpy.ndarray or None
+        ``(N - 1,)`` with ``altitude``: each leg's least altitude on the chart at its held depth (the leg's envelope,
+        :func:`auvplan.guidance.mission.waypoints.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
+        a floor above it would lift the vehicle off the depth ``mission check`` judged wherever the charted seabed
+        rises between two waypoints.  None: no bound beyond the waypoints' altitudes.
     """
 
     origin: tuple[float, float] | None
@@ -113,6 +118,7 @@ class DeployInfo:
     altitude: NDArray[np.float64] | None = None
     follow_altitude_m: float = 0.0
     terrain_items: NDArray[np.bool_] | None = None
+    leg_floor: NDArray[np.float64] | None = None
 
 
 def payload_from_labels(labels: ArrayLike) -> NDArray[np.bool_]:
@@ -208,12 +214,15 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     env = Envelope(tuple((float(x), float(y)) for x, y in poly), float(depth), float(world.margins.min_altitude),
                    round(predicted * TIMEOUT_FACTOR, 1), predicted, TIMEOUT_FACTOR,
                    _exclusions(world, shapely.Polygon(poly), track))
-    altitude = items = None
+    altitude = items = floor = None
     if mission.follow_altitude_m > 0 and world.terrain is not None:
+        from ...guidance.mission.waypoints import leg_figures
+
         altitude = w[:, 2] - np.asarray(world.seabed(w[:, 0], w[:, 1]), dtype=float)
         items = _terrain_items(world, w, mission.vehicle.max_pitch_deg)
+        floor = leg_figures(world, w[:-1], w[1:], "held")[0] if len(w) > 1 else np.zeros(0)
     pay = None if payload is None or not np.any(payload) else np.asarray(payload, dtype=bool)
-    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items)
+    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor)
 
 
 def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -> NDArray[np.bool_]:
