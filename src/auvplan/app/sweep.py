@@ -180,7 +180,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
 def _input_stamps(sc: Scenario) -> list[Any]:
     """What a sweep's checkpoints depend on besides the scenario's text: every data file it names, with the
     files of its data set (size, time and SHA-256 of the bytes: a current forecast downloaded again under the
-    same name is another sweep; a shapefile's ``.dbf``, a GeoTIFF's ``.aux.xml``) and
+    same name is another sweep; a shapefile's ``.dbf``, a GeoTIFF's ``.aux.xml``, every file of a FileGDB folder) and
     the code (:func:`auvplan.io.data.cache.code_stamp`: an edit of auvplan within one version).
 
     Parameters
@@ -202,10 +202,12 @@ def _input_stamps(sc: Scenario) -> list[Any]:
         # a vector file or a GeoTIFF with its sidecars, as the readers' cache keys it (a shapefile's .dbf, .prj);
         # a current or tide file alone (no sidecars: a sibling forecast.2024.nc is another data set)
         for f in [path] if key.startswith("[currents]") else dataset_files(path):
-            try:
-                stamps.append(file_stamp(f))
-            except OSError:
-                stamps.append(str(f))
+            # a folder the reader opens (a FileGDB ``.gdb``): every file in it, not its name alone
+            for g in sorted(p for p in f.rglob("*") if p.is_file()) if f.is_dir() else [f]:
+                try:
+                    stamps.append(file_stamp(g))
+                except OSError:
+                    stamps.append(str(g))
     return stamps
 
 

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from ...guidance.mission.terrain_legs import check_as_flown
 from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
@@ -333,7 +334,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
         raise DataError(f"{path}: not a readable {fmt} mission ({' '.join(str(exc).split())[:200]})") from exc
 
 
-def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
+def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
+                       follow: NDArray[np.bool_] | None = None) -> tuple[MissionCheck, str]:
     """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
 
     Parameters
@@ -344,6 +346,9 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
         Seabed, static obstacles and margins (its origin for geographic formats).
     pitch_deg : float, optional
         Pitch at which held depths change (degrees).
+    follow : numpy.ndarray of bool, optional
+        A ``.plan``'s legs flown following the seabed (:func:`auvplan.io.missions.terrain_frame.terrain_legs`):
+        measured on that track (:func:`auvplan.guidance.mission.terrain_legs.check_as_flown`).
 
     Returns
     -------
@@ -363,4 +368,8 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
     if len(waypoints) < 2:
         raise DataError(f"{path}: the mission has {len(waypoints)} waypoint{'' if len(waypoints) == 1 else 's'}; "
                         "at least 2 are needed (a start and a goal)")
+    if follow is not None and follow.any():
+        if semantics != "ramp" or follow.size != len(waypoints) - 1:
+            raise ValueError(f"follow: {follow.size} flags for a {semantics} mission of {len(waypoints)} waypoints")
+        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc"), fmt
     return fly_check(world, waypoints, semantics, pitch_deg, launch=fmt == "qgc"), fmt
