@@ -36,7 +36,8 @@ def terrain_legs(path: str | Path) -> BoolArray:
     Returns
     -------
     numpy.ndarray of bool
-        One flag per leg (the count of positions :func:`~auvplan.io.missions.qgc_items.plan_items` reads; the home leg's first and False).
+        One flag per leg (one per position :func:`~auvplan.io.missions.qgc_items.plan_items` reads; the home
+        leg's first and False).
     """
     doc = json.loads(read_bounded_text(Path(path), MAX_MISSION_BYTES, "a mission file"))
     frames = [it.frame for it in plan_items(doc) if it.moves]  # the reader's legs (the same walk)
