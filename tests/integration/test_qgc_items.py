@@ -18,6 +18,7 @@ import shapely
 from auvplan import cli
 from auvplan.errors import DataError
 from auvplan.io.data.geo import LocalFrame
+from auvplan.io.missions.deploy_read import read_deploy
 from auvplan.io.missions.formats import read_mission, to_qgc_plan
 from auvplan.io.missions.qgc_items import plan_items
 from auvplan.io.missions.speeds import read_leg_speeds
@@ -170,8 +171,9 @@ def test_patterns_whose_items_the_file_does_not_hold_are_refused(tmp_path, kind,
 
 def test_loiters_at_a_point_and_a_pattern_s_items_are_read_as_flown_and_counted_alike(tmp_path):
     """A LOITER_TIME without a radius is its point; a corridor scan's generated items (a camera trigger and a speed
-    change among them, both skipped) are read in their place and in their frames (the second one terrain-following).
-    Oracle: the positions given, in order; terrain_legs and the speeds count the same legs as the reader."""
+    change among them, both skipped) are read in their place and in their frames (the second one terrain-following),
+    then a relay. Oracle: the positions given, in order; terrain_legs, the speeds and the payload events count the
+    same legs as the reader."""
     frame = LocalFrame(16.0, 145.0)
     corridor = _survey(frame, [(5000.0, 6000.0), (6000.0, 6500.0)], -120.0)
     corridor["complexItemType"] = "CorridorScan"
@@ -179,7 +181,10 @@ def test_loiters_at_a_point_and_a_pattern_s_items_are_read_as_flown_and_counted_
     gen[2]["frame"], gen[2]["params"][6] = 10, 40.0  # 40 m above the seabed
     gen.insert(1, {"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": 0, "frame": 2,
                    "params": [1, 1.2, -1, 0, 0, 0, 0]})
-    items = [_item(frame, 3000.0, 6000.0, -100.0, 19, radius=0), corridor, _item(frame, 7000.0, 6000.0, -100.0)]
+    relay = {"type": "SimpleItem", "autoContinue": True, "command": 181, "doJumpId": 0, "frame": 2,
+             "params": [0, 1, 0, 0, 0, 0, 0]}
+    items = [_item(frame, 3000.0, 6000.0, -100.0, 19, radius=0), corridor, relay,
+             _item(frame, 7000.0, 6000.0, -100.0)]
     path = tmp_path / "m.plan"
     path.write_text(json.dumps(_plan((16.0, 145.0), (1000.0, 6000.0), items)))
     pts, semantics, fmt = read_mission(path, (16.0, 145.0), lambda x, y: np.full(np.shape(x), -300.0))
@@ -187,6 +192,8 @@ def test_loiters_at_a_point_and_a_pattern_s_items_are_read_as_flown_and_counted_
     assert fmt == "qgc" and np.allclose(pts, want, atol=1e-6)
     assert terrain_legs(path).tolist() == [False, False, True, False]
     assert read_leg_speeds(path, 4).tolist() == [1.5, 1.5, 1.2, 1.2]
+    deploy = read_deploy(path)  # the relay after the corridor's last item: waypoint 2 (from 0, after the home)
+    assert deploy.payload_events == [(2, True)] and deploy.altitude_legs == 1
 
 
 def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_path):
