@@ -14,6 +14,7 @@ import importlib
 import logging
 import math
 import os
+import re
 import sys
 from collections.abc import Callable, Collection, Iterator
 from typing import Any
@@ -24,8 +25,9 @@ from ..errors import AuvplanError, require
 __all__ = ["main", "main_entry"]
 
 
-def _int_at_least(low: int, high: int | None = None) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``low`` (and <= ``high``; a clear usage error otherwise, before any work)."""
+def _int_at_least(low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
+    """An argparse type: an integer >= ``low`` (and <= ``high``, for the reason ``why``; a clear usage error
+    otherwise, before any work)."""
 
     def parse(text: str) -> int:
         try:
@@ -35,11 +37,26 @@ def _int_at_least(low: int, high: int | None = None) -> Callable[[str], int]:
         if value < low:
             raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
         if high is not None and value > high:
-            raise argparse.ArgumentTypeError(f"{value} must be <= {high}")
+            raise argparse.ArgumentTypeError(f"{value} must be <= {high}{f' ({why})' if why else ''}")
         return value
 
     parse.__name__ = f"integer >= {low}" if high is None else f"integer in [{low}, {high}]"
     return parse
+
+
+_ADDRESS = re.compile(r"((tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):[0-9]{1,5}|inproc://\S+")
+
+
+def _scheduler(text: str) -> str:
+    """An argparse type: a dask scheduler's address, ``[tcp://]host:port`` (checked before any work: a bad
+    one used to surface after the job's set-up as dask's ``ValueError: missing port number``)."""
+    port = text.rpartition(":")[2]
+    if not _ADDRESS.fullmatch(text) or (port.isdigit() and not 0 < int(port) < 65536):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a dask scheduler address (e.g. tcp://host:8786)")
+    return text
+
+
+_scheduler.__name__ = "scheduler address"
 
 
 class _Choices(Collection[str]):
@@ -82,6 +99,9 @@ _BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOID
 
 _SEED = _int_at_least(0)
 _POSITIVE = _int_at_least(1)
+_CPUS = os.cpu_count() or 1
+_WORKERS = _int_at_least(1, max(4, 4 * _CPUS), f"4 worker processes per CPU at most; this machine has {_CPUS}")
+"""``--workers``: a LocalCluster of 100 000 processes froze the machine before its first task."""
 
 _MAX_SWEEP_S = 366 * 86400.0
 """Longest departure step and farthest departure offset of a sweep (a year: tide tables are per year)."""
@@ -89,7 +109,7 @@ _MAX_SWEEP_S = 366 * 86400.0
 
 def _step(text: str) -> str:
     """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from ..app.sweep import parse_duration
+    from ..app.durations import parse_duration
 
     try:
         value = parse_duration(text, "--step")
@@ -102,7 +122,7 @@ def _step(text: str) -> str:
 
 def _departure(text: str) -> str:
     """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from ..app.sweep import is_offset, parse_duration
+    from ..app.durations import is_offset, parse_duration
 
     if is_offset(text):
         try:
@@ -163,10 +183,11 @@ def _cluster(s: Any, workers: int | None) -> None:
     """``--workers N | --scheduler ADDR`` and ``--retries N``: where a job's independent tasks run
     (:mod:`auvplan.runtime.parallel`; ``workers`` None: in this process unless one is given)."""
     g = s.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=_POSITIVE, default=workers,
+    g.add_argument("--workers", type=_WORKERS, default=workers,
                    help="local dask worker processes (a LocalCluster)"
                         + (f"; default {workers}" if workers else "; default: this process, no dask"))
-    g.add_argument("--scheduler", help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
+    g.add_argument("--scheduler", type=_scheduler,
+                   help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
     s.add_argument("--retries", type=_SEED, default=1, help="runs again of a task that fails (default 1)")
 
 

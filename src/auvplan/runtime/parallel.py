@@ -265,7 +265,11 @@ class Runner:
 
         if self.scheduler:
             say(f"reaching the dask scheduler at {self.scheduler} …")
-            return Client(self.scheduler), None
+            try:
+                return Client(self.scheduler), None
+            except (OSError, ValueError, TypeError) as exc:  # no scheduler there, or an address dask cannot parse
+                text = " ".join(str(exc).split()) or type(exc).__name__
+                raise AuvplanError(f"--scheduler {self.scheduler!r}: no dask scheduler reached there ({text})") from exc
         say(f"starting {_count(self.workers, 'dask worker')} ({'processes' if self.processes else 'threads'}: "
             "a LocalCluster) …")
         # the scheduler's HTTP server (health checks, no dashboard) on a free local port: on its default,

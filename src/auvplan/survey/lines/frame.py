@@ -237,9 +237,13 @@ def round_corners(points: Arr, radius: float, step_deg: float = 1.0) -> Arr:
     if radius <= 0:
         return np.asarray(line.coords)
     q = max(4, int(math.ceil(90.0 / step_deg)))
+    if not line.is_simple:
+        raise ValueError("the centre line crosses itself; a corridor needs a line that does not")
     for side in (1.0, -1.0):
         out = line.offset_curve(side * radius, quad_segs=q, join_style="round")
-        back = out.offset_curve(-side * radius, quad_segs=q, join_style="round")
+        # a radius too large for the legs splits the offset line in pieces (a MultiLineString)
+        back = out.offset_curve(-side * radius, quad_segs=q, join_style="round") \
+            if isinstance(out, shapely.LineString) and not out.is_empty else None
         if not isinstance(back, shapely.LineString) or back.is_empty:
             raise ValueError(f"the centre line cannot be rounded to {radius:.0f} m (a corner too tight for its legs)")
         line = back

@@ -40,6 +40,8 @@ log = logging.getLogger(__name__)
 _KEYS = ("name", "polygon", "line", "buffer_m", "point", "radius_m", "top_m", "bottom_m", "above_seabed_m",
          "file", "layer", "where")
 _GEO_REACH_DEG = 5.0
+_MAX_M = 4.0e7
+"""Largest coordinate, distance or depth a table may give (m): beyond it GEOS's arithmetic overflows."""
 _NAME_FIELDS = ("OBJNAM", "NOBJNM", "name", "NAME", "Name")
 _QUAD_SEGS = 16
 _INSCRIBED = math.cos(math.pi / (4 * _QUAD_SEGS))
@@ -90,6 +92,8 @@ def _num(where: str, key: str, value: Any, positive: bool = False) -> float:
             or (positive and value == 0):
         raise ScenarioError(f"{where} {key} = {value!r}: expected a {'positive' if positive else 'non-negative'} "
                             "number")
+    if value > _MAX_M:
+        raise ScenarioError(f"{where} {key} = {value!r}: over {_MAX_M:g} m (the Earth's circumference)")
     return float(value)
 
 
@@ -101,6 +105,10 @@ def _pairs(where: str, key: str, value: Any, n_min: int) -> tuple[tuple[float, f
     if not ok:
         shape = "[a, b]" if key == "point" else f"an array of at least {n_min} [a, b] pairs"
         raise ScenarioError(f"{where} {key} = {str(value)[:60]}: expected {shape} ([lat, lon] or metres [x, y])")
+    far = next((p for p in pts if max(abs(p[0]), abs(p[1])) > _MAX_M), None)
+    if far is not None:
+        raise ScenarioError(f"{where} {key}: the pair {far} lies over {_MAX_M:g} m (the Earth's circumference) "
+                            "from the origin")
     return tuple((float(p[0]), float(p[1])) for p in pts)
 
 

@@ -1,0 +1,135 @@
+"""Hostile input, round 4: the surfaces of the last two waves (charted ``[[zones]]``, corridor surveys, the
+dask flags, mission files) attacked where no earlier round had.
+
+Each case asserts the contract: exit 2 (or ``ScenarioError``/``DataError``) with one line naming the file,
+the key and the value; never a traceback, never minutes of work before the refusal.  docs/hostile-input.md
+lists every case tried, handled before or fixed here.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from auvplan.cli import main
+
+PLANE = """
+name = "plane"
+seed = 2
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [-500.0, 5500.0]
+y = [-1500.0, 3500.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 50.0
+slope = [-0.01, -0.02]
+cell_m = 25.0
+[currents]
+uniform = [0.0, 0.1, 0.0]
+[mission]
+start = [200.0, -300.0, -2.0]
+goal = [200.0, -300.0, -2.0]
+min_altitude_m = 5.0
+min_depth_m = 2.0
+max_depth_m = 300.0
+[vehicle]
+speed = 1.5
+[planner]
+name = "iabc"
+population = 16
+iterations = 12
+control_points = 3
+samples = 50
+"""
+TRANSIT = PLANE.replace("goal = [200.0, -300.0, -2.0]", "goal = [5000.0, 3000.0, -10.0]")
+
+
+def _refused(tmp_path, capsys, text, *needles, command=("validate",)):
+    """``auvplan validate`` (or ``command``) of the scenario ``text``: exit 2, one line naming ``needles``."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(text, encoding="utf-8")
+    assert main([*command, str(scen)]) == 2
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    assert err.startswith(f"auvplan: error: {scen}: "), err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+# ---------------------------------------------------------------- corridor surveys
+@pytest.mark.parametrize(("survey", "needles"), [
+    # a centre line that crosses itself (was: AttributeError 'MultiLineString' ... offset_curve)
+    ("centerline_xy = [[500.0, 0.0], [4500.0, 2500.0], [4500.0, 0.0], [500.0, 2500.0]]\nwidth_m = 300.0",
+     ("[survey] centerline", "crosses itself")),
+    # a bend radius too large for the legs (the same traceback)
+    ("centerline_xy = [[500.0, 0.0], [2500.0, 2500.0], [4500.0, 0.0], [5000.0, 2000.0]]\nwidth_m = 300.0\n"
+     "bend_radius_m = 1e4", ("[survey] centerline", "cannot be rounded to 10000 m")),
+])
+def test_a_corridor_that_cannot_be_built_is_refused_naming_the_key(tmp_path, capsys, survey, needles):
+    _refused(tmp_path, capsys, PLANE + "[survey]\n" + survey + "\n", *needles)
+
+
+# ---------------------------------------------------------------- [[zones]] written in the scenario
+@pytest.mark.parametrize(("zone", "needles"), [
+    # metres GEOS cannot take (was: GEOSException orientationIndex encountered NaN/Inf, a traceback)
+    ("polygon = [[-1e300, -1e300], [1e300, -1e300], [1e300, 1e300]]", ("[[zones]] #1 polygon", "[-1e+300, -1e+300]")),
+    # a radius GEOS cannot buffer (was: 'ValueError: setting an array element with a sequence', 13 lines)
+    ("point = [1000.0, 1000.0]\nradius_m = 1e300", ("[[zones]] #1 radius_m = 1e+300",)),
+    ("line = [[0.0, 0.0], [1000.0, 0.0]]\nbuffer_m = 1e15", ("[[zones]] #1 buffer_m = 1000000000000000.0",)),
+])
+def test_a_zone_of_astronomic_size_is_refused_naming_the_key(tmp_path, capsys, zone, needles):
+    _refused(tmp_path, capsys, TRANSIT + '[[zones]]\nname = "z"\n' + zone + "\n", *needles, "circumference")
+
+
+def test_a_zone_at_the_bound_is_accepted():
+    from auvplan.io.data.vector.zones import parse_zones
+
+    (spec,) = parse_zones([{"name": "z", "point": [4.0e7, 0.0], "radius_m": 4.0e7}], "s.toml")
+    assert spec.coords == ((4.0e7, 0.0),) and spec.radius_m == 4.0e7
+
+
+# ---------------------------------------------------------------- where the tasks run
+@pytest.mark.parametrize("command", [("plan", "track-arc", "--depart-between", "+0h", "+30min"), ("bench",),
+                                     ("survey", "shelf-survey")])
+def test_a_cluster_of_100000_workers_is_a_usage_error(capsys, monkeypatch, command):
+    """``--workers 100000`` spawned a LocalCluster of 100 000 processes (the machine froze, > 180 s)."""
+    import os
+
+    monkeypatch.setattr("auvplan.runtime.parallel.Runner._connect",
+                        lambda *a: pytest.fail("the cluster was started"))
+    assert main([*command, "--workers", "100000"]) == 2
+    err = capsys.readouterr().err
+    cap = max(4, 4 * (os.cpu_count() or 1))
+    assert f"argument --workers: 100000 must be <= {cap} (4 worker processes per CPU" in err
+    assert err.strip().splitlines()[-1].startswith(f"auvplan {command[0]}: error: argument --workers")
+    # the bound itself parses (the parser alone: nothing runs)
+    from auvplan.cli.parser import _parser
+
+    assert _parser().parse_args(["bench", "--workers", str(cap)]).workers == cap
+
+
+@pytest.mark.parametrize("address", ["garbage", "tcp://[::1", "tcp://127.0.0.1:99999", ""])
+def test_a_scheduler_address_dask_cannot_parse_is_a_usage_error(capsys, address):
+    """It surfaced after the job's set-up as ``auvplan: error: ValueError: missing port number in address``."""
+    assert main(["plan", "track-arc", "--depart-between", "+0h", "+30min", "--scheduler", address]) == 2
+    err = capsys.readouterr().err
+    assert f"argument --scheduler: {address!r} is not a dask scheduler address" in err
+
+
+def test_no_scheduler_at_the_address_names_the_flag():
+    """A closed port: one line naming ``--scheduler`` and the address, not ``OSError: Timed out ...``."""
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("distributed")
+    from auvplan.errors import AuvplanError
+    from auvplan.runtime.parallel import Runner
+
+    with dask.config.set({"distributed.comm.timeouts.connect": "0.5s"}), \
+            pytest.raises(AuvplanError, match=r"^--scheduler 'tcp://127.0.0.1:1': no dask scheduler reached there \("):
+        Runner(scheduler="tcp://127.0.0.1:1").map(abs, [1, 2])
+    from auvplan.cli.parser import _parser
+
+    assert _parser().parse_args(["bench", "--scheduler", "tcp://127.0.0.1:8786"]).scheduler == "tcp://127.0.0.1:8786"
