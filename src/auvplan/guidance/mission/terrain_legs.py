@@ -30,15 +30,24 @@ from .waypoints import MissionCheck, leg_figures
 __all__ = ["check_as_flown", "flown_pitch_depth", "terrain_track"]
 
 
+_MERGE = 1e-9
+"""Grid-line crossings closer than this (in the leg's parameter) are one: a leg through a grid node crosses its
+two lines at parameters a rounding apart, and the sliver between them lies in neither cell the leg flies over."""
+
+
 def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
-    """The leg's parameters (0..1) where it crosses a grid line, with both ends."""
-    s = [np.array([0.0, 1.0])]
+    """The leg's parameters (0..1) where it crosses a grid line, with both ends (crossings within :data:`_MERGE`
+    of one another or of an end merged)."""
+    s = []
     for axis, grid in ((0, terrain.x), (1, terrain.y)):
         d = float(b[axis] - a[axis])
         if d != 0.0:
             t = (np.asarray(grid, dtype=float) - a[axis]) / d
-            s.append(t[(t > 0.0) & (t < 1.0)])
-    return np.unique(np.concatenate(s))
+            s.append(t[(t > _MERGE) & (t < 1.0 - _MERGE)])
+    inner = np.unique(np.concatenate(s)) if s else np.zeros(0)
+    inner = inner[np.r_[True, np.diff(inner) > _MERGE]] if inner.size else inner
+    out: FloatArray = np.concatenate([[0.0], inner, [1.0]])
+    return out
 
 
 def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, float]:
@@ -59,7 +68,13 @@ def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[Floa
     q1 = z1 - z0 - q2
     length = float(np.hypot(*(b[:2] - a[:2])))
     if length > 0.0:
-        slope = float((np.maximum(np.abs(q1), np.abs(q1 + 2.0 * q2)) / ((s1 - s0) * length)).max())
+        # the tangent from the surface's gradient (linear along a piece: extrapolated from its quarter points to
+        # its ends), not from differences of depths, which a short piece divides into noise
+        ux, uy = (b[:2] - a[:2]) / length
+        quarter = a[:2] + np.concatenate([s0 + 0.25 * (s1 - s0), s0 + 0.75 * (s1 - s0)])[:, None] * (b[:2] - a[:2])
+        gx, gy = terrain.gradient(quarter[:, 0], quarter[:, 1])
+        ga, gb = np.split(gx * ux + gy * uy + (hb - ha) / length, 2)
+        slope = float(np.maximum(np.abs(1.5 * ga - 0.5 * gb), np.abs(1.5 * gb - 0.5 * ga)).max())
     else:
         slope = 0.0 if b[2] == a[2] else np.inf
     with np.errstate(divide="ignore", invalid="ignore"):
