@@ -1,0 +1,73 @@
+"""Audit 15 of wave 12's code: each test failed on the code before its fix."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+
+import numpy as np
+import pytest
+
+_TRENCH = """
+name = "trench"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 10000.0]
+y = [0.0, 2000.0]
+z = [-400.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 200.0
+cell_m = 100.0
+ridge_x = 5000.0
+ridge_width = 2000.0
+height = -100.0
+[mission]
+start = [500.0, 1000.0, -150.0]
+goal = [9500.0, 1000.0, -150.0]
+min_altitude_m = 20.0
+min_depth_m = 5.0
+max_depth_m = 350.0
+follow_altitude_m = 25.0
+"""
+
+
+def _check_json(path, scenario) -> tuple[int, dict]:
+    from auvplan import cli
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        code = cli.main(["mission", "check", str(path), "--scenario", str(scenario), "--json"])
+    return code, json.loads(buf.getvalue())
+
+
+@pytest.mark.parametrize(("headroom", "frame"), [(1e-5, 3), (1e-3, 10)])
+def test_a_plan_s_terrain_frame_leg_keeps_the_pitch_limit_once_written(tmp_path, headroom, frame):
+    """Oracle: a trench 100 m deep on 2 km flanks, sloping atan(0.05) = 2.8624 deg; items 25.0004 and 25.0006 m
+    above its rims at x = 4 and 6 km (the straight leg level, 225 m deep, clear of the seabed).  Following the
+    seabed, the leg dives and climbs at 2.8624 deg, ``headroom`` under the limit; the file's millimetre altitudes
+    (25.000, 25.001) add 1 mm of rise over 2 km, +1.9e-5 deg: with 1e-5 deg of headroom the written leg broke the
+    limit (the export wrote it in the terrain frame, mission check of that file: 2.8624338 > 2.8624152, exit 1);
+    it is now written at its planned depth (frame 3, the level straight leg), and with 1e-3 deg it stays terrain."""
+    from auvplan.io.missions.deploy import deploy_info
+    from auvplan.io.missions.formats import to_qgc_plan
+    from auvplan.io.scenario import loader as sc_io
+
+    limit = math.degrees(math.atan(0.05)) + headroom
+    scen = tmp_path / "s.toml"
+    scen.write_text(_TRENCH + f"[vehicle]\nmax_pitch_deg = {limit!r}\n")
+    world, mission = sc_io.build(sc_io.load(str(scen)))
+    rims = [float(world.seabed(x, 1000.0)) for x in (4000.0, 6000.0)]
+    assert rims == pytest.approx([-250.0, -250.0])
+    w = np.array([[4000.0, 1000.0, rims[0] + 25.0004], [6000.0, 1000.0, rims[1] + 25.0006]])
+    doc = to_qgc_plan(w, world.origin, 1.5, deploy=deploy_info(world, mission, w, 1.5, None, None))
+    assert [i["frame"] for i in doc["mission"]["items"]] == [10, frame]
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(doc))
+    code, rec = _check_json(path, scen)
+    assert code == 0 and rec["ok"] is True and rec["vehicle"]["violations"] == []
+    assert rec["vehicle"]["max_pitch_deg"] <= limit
