@@ -71,3 +71,31 @@ def test_a_plan_s_terrain_frame_leg_keeps_the_pitch_limit_once_written(tmp_path,
     code, rec = _check_json(path, scen)
     assert code == 0 and rec["ok"] is True and rec["vehicle"]["violations"] == []
     assert rec["vehicle"]["max_pitch_deg"] <= limit
+
+
+def test_a_plan_s_vehicle_legs_are_numbered_as_the_rest_of_its_report(tmp_path):
+    """Oracle: the legs by hand.  A ``.plan`` read home first: leg 0 the launch, leg 1 the flat one from x = 3 to 4
+    km, leg 2 across a ridge 150 m high on 300 m flanks (26.57 deg as flown > 20), whose track, 25 m above the
+    crest, enters a 0-30 m band over it.  The vehicle line judged the legs after the launch and numbered them from
+    there: 'leg 1: pitch 26.6°' named the flat leg of the terrain-following and zone lines (its JSON
+    ``max_pitch_leg`` and ``violations[].leg`` 1 for their 2)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_edges12_surfaces import _RIDGE, _plan
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(_RIDGE.split("[[zones]]")[0].replace("ridge_width = 2000.0", "ridge_width = 300.0")
+                    + '[vehicle]\nmax_pitch_deg = 20.0\n[[zones]]\nname = "crest"\n'
+                    + "polygon = [[4900.0, 0.0], [5100.0, 0.0], [5100.0, 2000.0], [4900.0, 2000.0]]\n"
+                    + "top_m = 0.0\nbottom_m = 30.0\n")
+    path = tmp_path / "steep.plan"
+    path.write_text(_plan([(3000.0, 1000.0, 10, 25.0), (4000.0, 1000.0, 10, 25.0), (6000.0, 1000.0, 10, 25.0)]))
+    code, rec = _check_json(path, scen)
+    v = rec["vehicle"]
+    assert code == 1 and rec["terrain_following"]["legs"] == [1, 2]
+    (zone,) = rec["zones"]
+    assert zone["entered_legs"] == [2]
+    assert v["max_pitch_leg"] == 2 and [(x["leg"], x["limit"]) for x in v["violations"]] == [(2, "max_pitch_deg")]
+    assert v["violations"][0]["text"].startswith("leg 2: pitch 26.6°")

@@ -108,6 +108,8 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
         vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
                              pitch=flown[0], depth=flown[1])
+        if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+            vlimits = _from_home(vlimits)
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
@@ -139,6 +141,18 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
                              tf_line))
     return sc, out
+
+
+def _from_home(report: LimitReport) -> LimitReport:
+    """A ``.plan``'s helm report (judged after its launch leg) with its legs numbered from the home, leg 0 the launch,
+    as every other line of the file's report numbers them."""
+    from dataclasses import replace
+
+    def shift(k: int) -> int:
+        return k + 1 if k >= 0 else k
+
+    return replace(report, max_pitch_leg=shift(report.max_pitch_leg), tightest_turn_leg=shift(report.tightest_turn_leg),
+                   violations=tuple(replace(v, leg=v.leg + 1) for v in report.violations))
 
 
 def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
