@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
 _TRENCH = """
 name = "trench"
@@ -99,3 +100,30 @@ def test_a_plan_s_vehicle_legs_are_numbered_as_the_rest_of_its_report(tmp_path):
     assert zone["entered_legs"] == [2]
     assert v["max_pitch_leg"] == 2 and [(x["leg"], x["limit"]) for x in v["violations"]] == [(2, "max_pitch_deg")]
     assert v["violations"][0]["text"].startswith("leg 2: pitch 26.6°")
+
+
+def test_a_terrain_frame_leg_across_a_saddle_cell_is_measured_on_its_curve():
+    """Oracle: the analytic track.  A saddle cell 100 x 200 m (corners 100 m deep, the far one 140 m): along its
+    diagonal the seabed is ``-100 - 40 t^2``, and a leg 30 m above it flies ``-70 - 40 t^2``, 78.1-82.1 m deep over
+    a box round the middle (t = 0.45..0.55, shapely on the track sampled every 1e-4): inside a 0-85 m band.  The
+    track was the one chord between the items (no grid line crossed, no extremum), 88-92 m deep there: the zone
+    'OK', and the held 30 m read as 20 m (the chord's altitude at the middle)."""
+    from auvplan.app.check import _zone_approach
+    from auvplan.guidance.mission.terrain_legs import check_as_flown
+    from auvplan.world import Zone, Zones
+    from auvplan.world.terrain import Terrain
+    from auvplan.world.world import Bounds, Margins, World
+
+    t = Terrain(np.array([0.0, 100.0]), np.array([0.0, 200.0]), np.array([[-100.0, -100.0], [-100.0, -140.0]]))
+    box = shapely.box(45.0, 90.0, 55.0, 110.0)
+    world = World(Bounds(0.0, 100.0, 0.0, 200.0, -200.0, 0.0), t, margins=Margins(min_altitude=25.0),
+                  zones=Zones((Zone("band", box, top=0.0, bottom=85.0),), t))
+    pts = np.array([[0.0, 0.0, -70.0], [100.0, 200.0, -110.0]])
+    s = np.linspace(0.0, 1.0, 10_001)
+    depth = 70.0 + 40.0 * s**2
+    over = shapely.contains_xy(box, 100.0 * s, 200.0 * s)
+    assert over.any() and depth[over].max() < 85.0  # the track is in the band over the box
+    (zone,) = _zone_approach(world, pts, "ramp", 15.0, np.array([True]))
+    assert zone.entered_legs == (1,)
+    check = check_as_flown(world, pts, np.array([True]), launch=False)
+    assert check.min_altitude_m == pytest.approx(30.0, abs=0.011) and check.ok

@@ -10,8 +10,10 @@ where the straight line passes below.
 On a bilinear seabed the elevation along a horizontal line is a quadratic inside each grid cell, and the
 altitude target is linear in the leg's parameter: the track's depth is a quadratic on each piece between two
 grid-line crossings.  :func:`terrain_track` therefore places a vertex at every crossing and at the extremum of
-each piece's quadratic: the track's shallowest and deepest points are vertices (exact), and between vertices
-the chord stays within the quadratic's sag of it.
+each piece's quadratic: the track's shallowest and deepest points are vertices (exact); and it divides each piece
+so that the chord between two vertices stays within :data:`SAG_M` of the curve (a quadratic's chord over a
+parameter span ``d`` sags ``|q2| d^2 / 4``; across a saddle cell the whole piece's chord sagged metres: a zone over
+the middle of the leg entered by the track and missed by its chord, an altitude read metres under the one held).
 """
 
 from __future__ import annotations
@@ -27,7 +29,10 @@ from ...world.terrain import Terrain
 from .limits import waypoint_limits
 from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["check_as_flown", "flown_pitch_depth", "terrain_track"]
+__all__ = ["SAG_M", "check_as_flown", "flown_pitch_depth", "terrain_track"]
+
+SAG_M = 0.01
+"""The most the track's chords stand off the seabed-following curve they stand for (m)."""
 
 
 _MERGE = 1e-9
@@ -80,7 +85,10 @@ def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[Floa
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -1.0)
     inner = (t > 0.0) & (t < 1.0)
-    s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner]]))[1:]
+    n = np.clip(np.ceil(np.sqrt(np.abs(q2) / (4.0 * SAG_M))), 1, 100_000).astype(np.intp)  # sag |q2| / (4 n^2)
+    k = np.repeat(np.arange(n.size), n - 1)
+    sub = s0[k] + (s1 - s0)[k] * (np.arange(k.size) - np.repeat(np.cumsum(n - 1) - (n - 1), n - 1) + 1) / n[k]
+    s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner], sub]))[1:]
     z = z_at(s)
     z[-1] = b[2]  # the item itself, as the file places it
     return s, z, slope
@@ -114,7 +122,7 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
     -------
     track : numpy.ndarray
         ``(M, 3)`` polyline (m): the waypoints, and on each following leg a vertex at every grid-line crossing and
-        at every extremum of the depth between two crossings.
+        at every extremum of the depth between two crossings, and between them within :data:`SAG_M` of the curve.
     leg : numpy.ndarray of int
         ``(M - 1,)``: the leg (from 0) of each segment of the track.
     """
