@@ -127,3 +127,58 @@ def test_a_terrain_frame_leg_across_a_saddle_cell_is_measured_on_its_curve():
     assert zone.entered_legs == (1,)
     check = check_as_flown(world, pts, np.array([True]), launch=False)
     assert check.min_altitude_m == pytest.approx(30.0, abs=0.011) and check.ok
+
+
+_BUMP = """
+name = "bump"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 2000.0]
+y = [0.0, 2000.0]
+z = [-100.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 40.0
+cell_m = 10.0
+ridge_x = 1100.0
+ridge_width = 30.0
+height = 4.0
+[mission]
+start = [500.0, 1000.0, -15.0]
+goal = [1500.0, 1000.0, -15.0]
+min_altitude_m = 20.0
+max_depth_m = 90.0
+follow_altitude_m = 25.0
+"""
+
+
+@pytest.mark.parametrize("limit", ["min_depth_m = 12.0\n", 'min_depth_m = 5.0\n[[zones]]\nname = "shoal"\n'
+                                   "polygon = [[1090.0, 0.0], [1110.0, 0.0], [1110.0, 2000.0], [1090.0, 2000.0]]\n"
+                                   "top_m = 0.0\nbottom_m = 13.0\n"])
+def test_a_plan_s_terrain_frame_leg_keeps_what_its_straight_leg_keeps(tmp_path, limit):
+    """Oracle: by hand.  A 4 m bump (crest 36 m deep at x = 1.1 km, 30 m flanks) on a 40 m deep seabed; items 15 m
+    deep (25 m above it) at x = 1.0, 1.2 and 1.3 km: the straight legs pass the crest 21 m above it (as a CSV:
+    exit 0).  ArduSub following the seabed on leg 1 climbs with the bump to 11 m deep: above a 12 m min_depth_m, or
+    into a 0-13 m zone over the crest.  The export wrote it in the terrain frame (only its pitch, 7.6 deg, was
+    judged) and mission check of that .plan failed (exit 1); it is now written at its planned depth."""
+    from auvplan.io.missions.deploy import deploy_info
+    from auvplan.io.missions.formats import to_qgc_plan
+    from auvplan.io.scenario import loader as sc_io
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(_BUMP.replace("max_depth_m = 90.0\n", "max_depth_m = 90.0\n" + limit.split("[[zones]]")[0])
+                    + ("[[zones]]" + limit.split("[[zones]]")[1] if "[[zones]]" in limit else ""))
+    world, mission = sc_io.build(sc_io.load(str(scen)))
+    assert float(world.seabed(1100.0, 1000.0)) == pytest.approx(-36.0)
+    w = np.array([[1000.0, 1000.0, -15.0], [1200.0, 1000.0, -15.0], [1300.0, 1000.0, -15.0]])
+    csv = tmp_path / "m.csv"
+    csv.write_text("x,y,z\n" + "\n".join(f"{x},{y},{z}" for x, y, z in w) + "\n")
+    assert _check_json(csv, scen)[0] == 0
+    doc = to_qgc_plan(w, world.origin, 1.5, deploy=deploy_info(world, mission, w, 1.5, None, None))
+    assert [i["frame"] for i in doc["mission"]["items"]] == [10, 3, 10]
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(doc))
+    code, rec = _check_json(path, scen)
+    assert code == 0 and rec["ok"] is True and rec["terrain_following"]["legs"] == [2]
