@@ -182,3 +182,28 @@ def test_a_plan_s_terrain_frame_leg_keeps_what_its_straight_leg_keeps(tmp_path, 
     path.write_text(json.dumps(doc))
     code, rec = _check_json(path, scen)
     assert code == 0 and rec["ok"] is True and rec["terrain_following"]["legs"] == [2]
+
+
+def test_a_plan_s_navigation_is_judged_on_its_terrain_frame_track(tmp_path):
+    """Oracle: the analytic ridge (crest 50 m deep at x = 5 km on 2 km flanks, slope 0.075).  Items 25 m above the
+    seabed at x = 3.5 and 6.5 km: ArduSub flies 25 m above the flanks, so within a horizontal error r the seabed
+    comes at most 0.075 r higher: least uncertain altitude 25 - 0.075 r (a lower bound's sampling may read a little
+    under it).  The navigation check measured the straight leg (137.5 m deep, through the crest): 'least altitude
+    within it -87.6 m — TOUCHES', navigation FAIL, exit 1, on a file whose seabed check reads 25 m."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_edges12_surfaces import _RIDGE, _plan
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(_RIDGE.split("[[zones]]")[0].replace("min_depth_m = 5.0", "min_depth_m = 0.0")
+                    + "[navigation]\ndrift_pct = 0.5\ndrift_pct_no_lock = 1.5\ndvl_range_m = 100.0\n"
+                    + "fix_error_m = 3.0\nmax_error_m = 60.0\n")
+    path = tmp_path / "low.plan"
+    path.write_text(_plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]))
+    code, rec = _check_json(path, scen)
+    (leg,) = rec["navigation"]["legs"]
+    least = 25.0 - 0.075 * leg["nav_error_m"]
+    assert leg["leg"] == 1 and leg["clear"] and least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
+    assert leg["lock"] == 1.0 and rec["navigation"]["ok"] and code == 0 and rec["min_altitude_m"] == pytest.approx(25.0)
