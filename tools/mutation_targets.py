@@ -1146,3 +1146,32 @@ REASONS.update({
         ("not killed: the shared-vertex case turns from the joined turn's last-but-one point, on the same final arc; "
          "the result still fits R as flown (test_two_bridges_sharing_a_vertex_fly_as_turns_of_the_radius)"),
 })
+# audit 14's neighbouring cells of Terrain.elevation_bounds (merged from main, re-run 21:10 UTC)
+_SHARED = ("not killed (the bound's slack): a cell's coefficients come from its four nodes, which it shares with the "
+           "cells on either side, so the cell itself or the one two over sees the same cliff within a small factor, "
+           "and the bound has ~60x to spare (none of 120 000 points beside cliffs on grid lines outside it)")
+_SYM = "equivalent: the offsets (-1, 0, 1) are symmetric, so subtracting them runs over the same cells"
+REASONS.update({
+    "Terrain.elevation_bounds | for dj in (-2, 0, 1):": _SHARED,
+    "Terrain.elevation_bounds | for dj in (-1, 1, 1):": _SHARED,
+    "Terrain.elevation_bounds | for dj in (-1, 0, 2):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-2, 0, 1):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-1, 1, 1):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-1, 0, 2):": _SHARED,
+    "Terrain.elevation_bounds | near = self._coef[np.clip(j - dj, 0, ny - 1), np.clip(i + di, 0, nx - 1)]": _SYM,
+    "Terrain.elevation_bounds | near = self._coef[np.clip(j + dj, 0, ny - 1), np.clip(i - di, 0, nx - 1)]": _SYM,
+})
+# main's split of terrain_track (_following_leg, _flags): the same survivors under the new names
+REASONS.update({
+    "_flags | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "_flags | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    **{k.replace("terrain_track |", "_following_leg |"): v for k, v in REASONS.items()
+       if k.startswith("terrain_track | t = np.where") or k.startswith("terrain_track | inner =")},
+})
+# main since 27efd1d: a terrain-frame leg's straight line is not flown (its track alone enters)
+REASONS.update({
+    "_zone_approach | seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=2))":
+        ("equivalent since the straight line of a terrain-frame leg is dropped: the straight legs kept (not "
+         "terrain-frame) are flown as themselves in terrain_track's track, whose entries (more) already hold "
+         "theirs; the garbage segments' entries are filtered or repeat them"),
+})

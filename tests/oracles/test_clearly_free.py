@@ -168,3 +168,20 @@ def test_clearly_free_keeps_its_pad_of_a_micrometre_per_metre_off_an_ellipsoid()
     for off, free, clear in ((-0.5 * pad, False, False), (0.5 * pad, True, False), (pad + 0.5e-6, True, True)):
         p = np.asarray(e.center) + axis * (60.0 + 15.0 + off)
         assert (not w.explain(p), w.clearly_free(p)) == (free, clear), off
+
+
+def test_the_bound_covers_the_compiled_seabed_beside_isolated_cliffs_on_grid_lines():
+    """Oracle: the compiled kernel.  40 grids of nodes 0.5 m deep with one in seven raised or sunk 300 m to 5 km
+    (cliffs beside flat cells), non-square cells of 0.5-3 m up to 1 000 km from the origin, points on the grid lines
+    (where the kernel may take the neighbouring cell, on either side) and between them."""
+    rng = np.random.default_rng(14)
+    for _ in range(40):
+        nx, ny = int(rng.integers(4, 30)), int(rng.integers(4, 30))
+        x = float(rng.choice([0.0, 1e6, -1e6])) + np.arange(nx) * rng.uniform(0.5, 3.0)
+        y = float(rng.choice([0.0, 7e5, -3e5])) + np.arange(ny) * rng.uniform(0.5, 3.0)
+        z = np.where(rng.random((ny, nx)) < 0.15, rng.choice([300.0, -300.0, 5000.0], (ny, nx)), -0.5)
+        t = Terrain(x, y, z)
+        px, py = rng.uniform(x[0], x[-1], 3000), rng.uniform(y[0], y[-1], 3000)
+        px[:1000], py[1000:2000] = rng.choice(x, 1000), rng.choice(y, 1000)
+        est, err = t.elevation_bounds(px, py)
+        assert np.all(np.abs(est - t.elevation(px, py)) <= err)

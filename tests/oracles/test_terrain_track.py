@@ -87,3 +87,15 @@ def test_a_leg_ending_before_its_depth_turns_has_no_vertex_past_its_end():
     assert (np.diff(s) > 0.0).all() and s[-1] == 1.0 and (np.diff(track[:, 2]) < 0.0).all()
     np.testing.assert_allclose(track[:-1, 2], -175.0 + (48.6 * s[:-1] - 120.0) * s[:-1], atol=1e-9)
     assert (48.6 * np.diff(s) ** 2 / 4.0).max() <= 0.01
+
+
+def test_the_flown_pitch_of_short_and_vertical_terrain_frame_legs():
+    """By hand on a flat seabed: a 0.5 m leg climbing 0.1 m flies at atan(0.2) (not a vertical one); a leg with no
+    horizontal length is level (0 deg) when it keeps its depth, vertical (90 deg) when it changes it."""
+    from auvplan.guidance.mission.terrain_legs import flown_pitch_depth
+
+    t = Terrain(np.array([0.0, 10.0]), np.array([0.0, 10.0]), np.full((2, 2), -50.0))
+    w = np.array([[2.0, 2.0, -20.0], [2.5, 2.0, -19.9], [2.5, 2.0, -19.9], [2.5, 2.0, -25.0]])
+    pitch, depth = flown_pitch_depth(t, w, [True, True, True])
+    np.testing.assert_allclose(pitch, [np.degrees(np.arctan(0.2)), 0.0, 90.0], rtol=1e-9)
+    np.testing.assert_allclose(depth, [20.0, 19.9, 25.0])

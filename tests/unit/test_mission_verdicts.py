@@ -116,3 +116,26 @@ def test_a_plan_s_navigation_is_the_csv_s_of_the_same_waypoints(tmp_path, capsys
     csv, plan = recs
     assert [r["leg"] for r in csv["legs"]] == [1, 2, 3] and csv["ok"] is False
     assert plan["legs"] == csv["legs"] and plan["fixes"] == csv["fixes"] and plan["ok"] == csv["ok"]
+
+
+def test_zones_of_a_plan_whose_second_leg_is_a_straight_item():
+    """As above with leg 2 in a straight frame (ArduSub flies it as the line between its items, 50 m deep): it
+    enters "crest" (0-55 m) and "under" (45-55 m) on its own line; leg 1 (terrain frame, over the flat seabed: its
+    track the same line) enters "straight"; "deep" stays 20 m below both."""
+    from auvplan.world.terrain import Terrain
+    from auvplan.world.world import Bounds, Margins, World
+
+    x, y = np.arange(0.0, 1001.0, 20.0), np.array([0.0, 1000.0])
+    zb = -100.0 + 60.0 * np.clip(1.0 - np.abs(x - 600.0) / 100.0, 0.0, None)
+    t = Terrain(x, y, np.tile(zb, (2, 1)))
+    zones = (Zone("crest", shapely.box(480.5, 0.0, 900.0, 1000.0), top=0.0, bottom=55.0),
+             Zone("under", shapely.box(620.0, 0.0, 680.0, 1000.0), top=45.0, bottom=55.0),
+             Zone("straight", shapely.box(300.0, 0.0, 400.0, 1000.0), top=45.0, bottom=55.0),
+             Zone("deep", shapely.box(800.0, 0.0, 850.0, 1000.0), top=70.0, bottom=80.0))
+    world = World(Bounds(0.0, 1000.0, 0.0, 1000.0, -100.0, 0.0), t, zones=Zones(zones, t), margins=Margins())
+    pts = np.array([[200.0, 500.0, -50.0], [480.0, 500.0, -50.0], [900.0, 500.0, -50.0]])
+    got = {z.name: z for z in _zone_approach(world, pts, "ramp", 15.0, np.array([True, False]))}
+    assert got["crest"].entered_legs == (2,) and got["under"].entered_legs == (2,)
+    assert got["straight"].entered_legs == (1,) and got["deep"].entered_legs == ()
+    assert got["under"].closest_m == pytest.approx(-5.0)  # 50 m deep in the 45-55 m band: 5 m inside either face
+    assert got["deep"].closest_m == pytest.approx(20.0)
