@@ -133,3 +133,13 @@ def test_no_scheduler_at_the_address_names_the_flag():
     from auvplan.cli.parser import _parser
 
     assert _parser().parse_args(["bench", "--scheduler", "tcp://127.0.0.1:8786"]).scheduler == "tcp://127.0.0.1:8786"
+
+
+# ---------------------------------------------------------------- the planner's budget on the command line
+def test_a_budget_of_hours_on_the_command_line_is_refused_as_the_key_is(capsys, monkeypatch):
+    """``[planner] budget = 1e12`` was refused at load, ``plan --budget 1e12`` ran for hours (> 180 s seen)."""
+    monkeypatch.setattr("auvplan.planners.plan", lambda *a, **k: pytest.fail("the plan ran"))
+    assert main(["plan", "track-arc", "--budget", str(10**12)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("auvplan: error: --budget: budget = 1000000000000 evaluations × samples = "), err
+    assert "path samples to cost, over the 2e+09 allowed" in err
