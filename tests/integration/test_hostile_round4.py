@@ -143,3 +143,59 @@ def test_a_budget_of_hours_on_the_command_line_is_refused_as_the_key_is(capsys, 
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("auvplan: error: --budget: budget = 1000000000000 evaluations × samples = "), err
     assert "path samples to cost, over the 2e+09 allowed" in err
+
+
+# ---------------------------------------------------------------- [[zones]] read from files
+def _geojson(path, rings, crs=None):
+    import json
+
+    doc = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "big"}, "geometry": {"type": "Polygon", "coordinates": [ring]}}
+        for ring in rings]}
+    if crs:
+        doc["crs"] = {"type": "name", "properties": {"name": crs}}
+    path.write_text(json.dumps(doc).replace('"NAN"', "NaN"), encoding="utf-8")
+    return path
+
+
+_EARTH = [[-180.0, -90.0], [180.0, -90.0], [180.0, 90.0], [-180.0, 90.0], [-180.0, -90.0]]
+_HEMISPHERE = [[-179.0, -89.0], [-1.0, -89.0], [-1.0, 89.0], [-179.0, 89.0], [-179.0, -89.0]]
+
+
+@pytest.mark.parametrize("lon0", [-125.0, 179.95], ids=["pacific", "antimeridian"])
+@pytest.mark.parametrize("ring", [_EARTH, _HEMISPHERE], ids=["earth", "hemisphere"])
+def test_a_zone_the_size_of_the_earth_holds_the_start(tmp_path, capsys, ring, lon0):
+    """The whole Earth projected into a shape that held nothing (validate said OK); a hemisphere took minutes
+    to index (> 180 s).  Cut to the area, each holds the start: the scenario is refused naming the zone."""
+    if lon0 > 0 and ring is _HEMISPHERE:  # the hemisphere about the seam, its longitudes past 180
+        ring = [[x + 270.0, y] for x, y in ring]
+    _geojson(tmp_path / "z.geojson", [ring])
+    text = TRANSIT.replace("lon = -125.0", f"lon = {lon0}") + '[[zones]]\nname = "chart"\nfile = "z.geojson"\n'
+    _refused(tmp_path, capsys, text, "[mission] start", "inside a no-go zone (chart: big)")
+
+
+@pytest.mark.parametrize(("ring", "crs", "needles"), [
+    ([[-125.0, 48.0], [-124.99, 48.0], [-124.99, 95.0], [-125.0, 48.0]], "EPSG:4326",
+     ("(-124.99, 95) is not a longitude/latitude",)),  # a latitude of 95: was dropped with a warning
+    ([[-125.0, 48.0], [-124.99, 48.0], [-124.99, "NAN"], [-125.0, 48.0]], "EPSG:4326",
+     ("a coordinate is not a number",)),  # NaN: two RuntimeWarnings of two lines each, then OK
+])
+def test_a_feature_that_is_not_on_the_earth_is_refused_naming_it(tmp_path, capsys, ring, crs, needles):
+    _geojson(tmp_path / "z.geojson", [ring], crs)
+    text = TRANSIT + '[[zones]]\nname = "chart"\nfile = "z.geojson"\n'
+    _refused(tmp_path, capsys, text, "[[zones]] #1 file = ", "z.geojson': feature 'big': ", *needles)
+
+
+def test_a_shapefile_in_metres_without_its_crs_is_refused_saying_so(tmp_path, capsys):
+    """No ``.prj``: read as longitude/latitude, its metres were dropped as 'no feature reaches the area'."""
+    import numpy as np
+    import pyogrio.raw
+    import shapely
+
+    wkb = np.array([shapely.to_wkb(shapely.box(1000.0, 1000.0, 2000.0, 2000.0))], dtype=object)
+    with pytest.warns(UserWarning, match="crs"):
+        pyogrio.raw.write(tmp_path / "z.shp", wkb, [np.array(["big"], dtype=object)], ["name"],
+                          driver="ESRI Shapefile", geometry_type="Polygon", crs=None)
+    text = TRANSIT + '[[zones]]\nname = "chart"\nfile = "z.shp"\n'
+    _refused(tmp_path, capsys, text, "z.shp': feature 'big': (1000, 2000) is not a longitude/latitude; the file "
+             "states no CRS")
