@@ -199,3 +199,26 @@ def test_a_shapefile_in_metres_without_its_crs_is_refused_saying_so(tmp_path, ca
     text = TRANSIT + '[[zones]]\nname = "chart"\nfile = "z.shp"\n'
     _refused(tmp_path, capsys, text, "z.shp': feature 'big': (1000, 2000) is not a longitude/latitude; the file "
              "states no CRS")
+
+
+@pytest.mark.parametrize(("zone", "needles"), [
+    # [lat, lon] across the antimeridian, far from the origin: read as metres, a zone 358 m long at the
+    # origin, accepted silently (validate OK) 1.6 km off the area
+    ("polygon = [[-7.0, 179.0], [-7.0, -179.0], [-6.0, -179.0], [-6.0, 179.0]]",
+     ("[[zones]] #1 polygon = [[-7.0, 179.0]", "wholly outside the operating area (x 600 .. 6500, y -2500 .. 4500 m)",
+      "read as metres [x, y], not all being within 5° of [origin] lat = 48, lon = -125")),
+    ("point = [-20000.0, 0.0]\nradius_m = 100.0", ("[[zones]] #1 point = [[-20000.0, 0.0]]", "wholly outside")),
+])
+def test_a_zone_written_far_outside_the_area_is_refused(tmp_path, capsys, zone, needles):
+    east = TRANSIT.replace("x = [-500.0, 5500.0]", "x = [1600.0, 5500.0]").replace(
+        "start = [200.0, -300.0, -2.0]", "start = [2000.0, -300.0, -2.0]")  # the origin 1.6 km off the area
+    _refused(tmp_path, capsys, east + '[[zones]]\nname = "z"\n' + zone + "\n", *needles)
+
+
+def test_a_zone_outside_the_bounds_whose_buffer_reaches_them_is_kept():
+    """The neighbour accepted: a point 1.5 km beyond the bounds' margin whose radius reaches the area."""
+    from auvplan.io.data.vector.zones import parse_zones, read_zones
+
+    specs = parse_zones([{"name": "w", "point": [-3000.0, 0.0], "radius_m": 2000.0}], "s.toml")
+    zones = read_zones(specs, None, None, (-500.0, 5500.0, -1500.0, 3500.0))
+    assert len(zones.zones) == 1 and zones.zones[0].footprint.bounds[2] > -1500.0

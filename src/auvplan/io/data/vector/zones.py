@@ -194,6 +194,19 @@ def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
     return xy
 
 
+def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> None:
+    """Refuse a zone written in the scenario that lies wholly outside the area (``box``, m): [lat, lon] pairs
+    beyond 5° of the origin are read as metres, and such a zone was accepted silently, far from anything."""
+    reach = shapely.buffer(geom, spec.buffer_m + spec.radius_m) if spec.kind != "polygon" else geom
+    if shapely.intersects(reach, box):
+        return
+    x0, y0, x1, y1 = shapely.bounds(box)
+    why = "" if frame is None else (f"; its pairs were read as metres [x, y], not all being within "
+                                    f"{_GEO_REACH_DEG:g}° of [origin] lat = {frame.lat0:g}, lon = {frame.lon0:g}")
+    raise ScenarioError(f"{spec.where_} {spec.kind} = {str([list(c) for c in spec.coords])[:60]}: the zone lies "
+                        f"wholly outside the operating area (x {x0:.0f} .. {x1:.0f}, y {y0:.0f} .. {y1:.0f} m){why}")
+
+
 def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
     """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
     kind = shapely.get_type_id(geom)
@@ -351,6 +364,7 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
             xy = _to_local(spec, frame)
             geom = {"polygon": shapely.Polygon, "line": shapely.LineString}.get(spec.kind, shapely.Point)(
                 xy if spec.kind != "point" else xy[0])
+            _reaches(spec, geom, box, frame)
             named = [(spec.name, geom)]
         for name, geom in named:
             footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_} {name!r}")
