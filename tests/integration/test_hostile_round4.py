@@ -222,3 +222,19 @@ def test_a_zone_outside_the_bounds_whose_buffer_reaches_them_is_kept():
     specs = parse_zones([{"name": "w", "point": [-3000.0, 0.0], "radius_m": 2000.0}], "s.toml")
     zones = read_zones(specs, None, None, (-500.0, 5500.0, -1500.0, 3500.0))
     assert len(zones.zones) == 1 and zones.zones[0].footprint.bounds[2] > -1500.0
+
+
+# ---------------------------------------------------------------- mission files
+@pytest.mark.parametrize(("name", "text", "needle"), [
+    ("m.csv", "x,y,z\n1e300,1e300,1e300\n-1e300,0,0\n", "waypoint 0 = (1e+300, 1e+300, 1e+300) m lies over 4e+07 m"),
+    ("m.csv", "x,y,z\n200,-300,-10\n5000,3000,-1e308\n", "waypoint 1 = (5000, 3000, -1e+308) m lies over"),
+])
+def test_a_mission_waypoint_off_the_earth_is_refused_in_one_line(tmp_path, capsys, name, text, needle):
+    """Was: numpy's overflow RuntimeWarnings (4 to 6 lines), then 'over a inf m mission of 2 legs'."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(TRANSIT, encoding="utf-8")
+    mission = tmp_path / name
+    mission.write_text(text, encoding="utf-8")
+    assert main(["mission", "check", str(mission), "--scenario", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"auvplan: error: {mission}: {needle}"), err
