@@ -238,3 +238,9 @@ def test_a_mission_waypoint_off_the_earth_is_refused_in_one_line(tmp_path, capsy
     assert main(["mission", "check", str(mission), "--scenario", str(scen)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and err.startswith(f"auvplan: error: {mission}: {needle}"), err
+
+
+def test_a_zone_name_with_a_newline_is_refused(tmp_path, capsys):
+    """Was accepted: the one-line error folded it into 'inside a no-go zone (a b)', a name no zone has."""
+    zone = '[[zones]]\nname = "a\\nb"\npolygon = [[-1000.0, -1000.0], [1000.0, -1000.0], [1000.0, 1000.0]]\n'
+    _refused(tmp_path, capsys, TRANSIT + zone, "[[zones]] #1 name = 'a\\nb': a control character")

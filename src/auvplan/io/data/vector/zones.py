@@ -121,6 +121,9 @@ def _one(table: Any, where: str) -> ZoneSpec:
     name = table.get("name", "")
     if not isinstance(name, str) or not name.strip():
         raise ScenarioError(f"{where} name = {name!r}: expected a non-empty string")
+    if any(not c.isprintable() for c in name):  # a newline in a name split every message naming the zone
+        raise ScenarioError(f"{where} name = {name!r}: a control character in a zone's name (it is printed in "
+                            "messages of one line, the report and the exports)")
     given = [k for k in ("polygon", "line", "point", "file") if k in table]
     if len(given) != 1:
         raise ScenarioError(f"{where} {name!r}: give exactly one of polygon, line, point, file (got "
