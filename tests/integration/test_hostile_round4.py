@@ -244,3 +244,14 @@ def test_a_zone_name_with_a_newline_is_refused(tmp_path, capsys):
     """Was accepted: the one-line error folded it into 'inside a no-go zone (a b)', a name no zone has."""
     zone = '[[zones]]\nname = "a\\nb"\npolygon = [[-1000.0, -1000.0], [1000.0, -1000.0], [1000.0, 1000.0]]\n'
     _refused(tmp_path, capsys, TRANSIT + zone, "[[zones]] #1 name = 'a\\nb': a control character")
+
+
+def test_a_corridor_a_nanometre_wide_is_checked_without_exploding(tmp_path, capsys):
+    """The seabed check sampled the area every sqrt(area)/40: 4.6e7 x 7.4e7 points for a corridor 1e-9 m
+    wide ('out of memory (24.1 PiB)', naming no key).  Sampled at most 400 x 400 over its box, it is checked
+    (under water everywhere on the plane) and the survey is validated."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(PLANE + "[survey]\ncenterline_xy = [[500.0, 0.0], [4500.0, 2500.0]]\nwidth_m = 1e-9\n")
+    assert main(["validate", str(scen)]) == 0
+    out, err = capsys.readouterr()
+    assert "OK" in out and "corridor of 4.71e-12 km²" in out and "error" not in err
