@@ -255,3 +255,17 @@ def test_a_corridor_a_nanometre_wide_is_checked_without_exploding(tmp_path, caps
     assert main(["validate", str(scen)]) == 0
     out, err = capsys.readouterr()
     assert "OK" in out and "corridor of 4.71e-12 km²" in out and "error" not in err
+
+
+# ---------------------------------------------------------------- time-optimal planner options
+def test_a_billion_headings_is_refused_at_load():
+    """``[planner.timeopt] headings = 1e9`` validated OK; ``plan`` allocated its sines and cosines (16 GB) and
+    was still swapping after 60 s.  The neighbour, 360 (a heading every degree), loads."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader
+
+    text = TRANSIT.replace('name = "iabc"', 'name = "timeopt"') + "[planner.timeopt]\nheadings = {}\n"
+    with pytest.raises(ScenarioError, match=r"^s.toml: \[planner.timeopt\] headings = 1000000000: must lie in "
+                                            r"\[4, 360\]"):
+        loader.loads(text.format(10**9), "s.toml")
+    assert loader.loads(text.format(360), "s.toml") is not None
