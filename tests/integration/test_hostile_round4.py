@@ -269,3 +269,24 @@ def test_a_billion_headings_is_refused_at_load():
                                             r"\[4, 360\]"):
         loader.loads(text.format(10**9), "s.toml")
     assert loader.loads(text.format(360), "s.toml") is not None
+
+
+# ---------------------------------------------------------------- glider keys
+@pytest.mark.parametrize(("value", "needle"), [
+    ("1.0", "compressibility = 1 /Pa: the hull would shrink by 2.01e+06 of its volume"),
+    ("1e-8", "the glider cannot climb at the mid depth of its yo (105 m; vertical speeds -0.326 / 0 m/s)"),
+])
+def test_a_glider_that_cannot_climb_is_refused_at_load(value, needle):
+    """``compressibility = 1e-8`` (or 1) validated OK, and ``plan`` died in the yo's timing with a traceback
+    (``ZeroDivisionError``: no steady climb with the ballast pumped).  The default (5e-10) loads."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader
+    from auvplan.io.scenario.builtins import resolve
+
+    text = resolve("glider-lofoten").read_text(encoding="utf-8")
+    bad = text.replace("[vehicle.glider]\n", f"[vehicle.glider]\ncompressibility = {value}\n", 1)
+    with pytest.raises(ScenarioError, match=r"^g.toml: \[vehicle.glider\] ") as err:
+        loader.loads(bad, "g.toml")
+    assert needle in str(err.value) and "\n" not in str(err.value)
+    assert loader.loads(text.replace("[vehicle.glider]\n", "[vehicle.glider]\ncompressibility = 5e-10\n", 1),
+                        "g.toml") is not None
