@@ -124,13 +124,16 @@ def write_grid(path: Path, megabytes: float = 1.0) -> Path:
     return path
 
 
-def commands(prev: Path, cur: Path, grid: Path, names: list[str] | None) -> list[tuple[str, list[str], bool]]:
-    """``(label, argv, in the previous release too)`` of every measured command."""
+def commands(prev: Path, cur: Path, grid: Path, names: list[str] | None,
+             validate_only: list[str] | None = None) -> list[tuple[str, list[str], bool]]:
+    """``(label, argv, in the previous release too)`` of every measured command (``validate_only``: built-ins
+    whose ``validate`` alone is measured)."""
     old = set(builtins(prev))
     out = [("--version", ["--version"], True), ("data inspect (1 MB NetCDF)", ["data", "inspect", str(grid)], True)]
     for name in names or builtins(cur):
         out.append((f"validate {name}", ["validate", name], name in old))
         out.append((f"plan {name} --json", ["plan", name, "--json"], name in old))
+    out += [(f"validate {name}", ["validate", name], name in old) for name in validate_only or ()]
     return out
 
 
@@ -214,6 +217,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--prev", default="f5c6a15", help="the previous release's commit (default: the release)")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--scenarios", nargs="*", help="built-ins to run (default: every built-in)")
+    ap.add_argument("--validate-only", nargs="*", default=[], help="built-ins whose validate alone is measured")
     ap.add_argument("--out", default="results/bench-front")
     ap.add_argument("--figure-md", default="", help="also write docs/figures/NAME.md")
     ap.add_argument("--from-partial", type=float, nargs=2, metavar=("LOAD0", "LOAD1"),
@@ -230,7 +234,7 @@ def main(argv: list[str] | None = None) -> int:
             Path(args.out).mkdir(parents=True, exist_ok=True)
             for tree in (wt, ROOT):
                 byte_compile(tree)
-            rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios), args.rounds,
+            rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios, args.validate_only), args.rounds,
                            Path(args.out) / "partial.json")
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)], check=False)

@@ -998,3 +998,180 @@ REASONS.update({
          "differs only for a point of no return within the first metre"),
     "point_of_no_return | if fs >= 0:": "boundary: a scan point exactly at the point of no return (f = 0)",
 })
+
+# wave 12's safety- and verdict-deciding code (the session of 6 Dec 2026 from 17:00): validate's numpy seabed
+# bound, the terrain-frame and held-depth zone checks of `mission check`, its verdicts, the survey's bridges
+# round zones, and the front door's SciPy stand-ins whose results feed every seabed model
+WORLD_ZONES_SEGMENTS = "auvplan.world.zones.segments"
+TERRAIN_LEGS, ZONE_LEGS = "auvplan.guidance.mission.terrain_legs", "auvplan.guidance.mission.zone_legs"
+APP_CHECK, JOINS = "auvplan.app.check", "auvplan.survey.joins"
+BOUNDED_MIN, SEABED = "auvplan.io.data.bounded_min", "auvplan.world.seabed"
+MODULES.update({
+    # validate's "clearly free" start and goal: the numpy seabed and its bound, the ellipsoid's lower bound
+    "clearly-free": Target(
+        _fns(WORLD, "World.clearly_free", "_lower_distance") + _fns(TERRAIN, "Terrain.elevation_bounds"),
+    ),
+    # a .plan's terrain-frame legs flown at the commanded altitude above the seabed
+    "terrain-track": Target(_fns(TERRAIN_LEGS, "_pieces", "_following_leg", "_flags", "terrain_track")),
+    # the zones a held-depth executor may enter: each leg's envelope and the executor's track
+    "zone-legs": Target(
+        _fns(ZONE_LEGS, "_track_legs", "held_zone_entries")
+        + _fns(WORLD_ZONES_SEGMENTS, "SegmentQueries.envelope_entries"),
+    ),
+    # mission check's verdicts (ok, check_ok; the exit code is max(0 if ok else 1)), the zones' closest approach
+    # and entries, the terrain-following check
+    "mission-verdict": Target(
+        ((APP_CHECK, "check_missions", "follow = None", "out.append(FileCheck("),)
+        + _fns(APP_CHECK, "_zone_approach", "terrain_following_check"),
+    ),
+    # the survey's bridges round zones joined by turns, and the turn's fit-and-clear test
+    "survey-joins": Target(_fns(JOINS, "_fits", "_bridge", "join_bridges")),
+    # data inspect's extents (SciPy's bounded Brent, bit for bit) and the projection margin's window maximum
+    "front-door": Target(
+        _fns(BOUNDED_MIN, "_sign", "bounded_min") + _fns(SEABED, "_run_max", "window_max"),
+    ),
+})
+
+# wave 12's targets (run 6 Dec 2026 evening): the survivors argued equivalent or float boundaries
+_DUP = ("equivalent: a parameter of exactly 0 or 1 is the leg's own end, already in the list; np.unique drops the "
+        "duplicate (-0.0 == 0.0)")
+_FLAT = "equivalent: the placeholder of a flat piece only has to lie outside (0, 1), which -1, 1 and -2 all do"
+_PARABOLA_EMPTY = ("equivalent: with q = 0 the parabola's test abs(p) < abs(0.5 q r) = 0 fails whatever p's sign, "
+                   "and the golden step is taken")
+_STEP = ("equivalent for xatol > 0 (the only caller passes 1e-12): a step is at least tol1 = sqrt(2.2e-16) |xf| + "
+         "xatol / 3, more than half an ulp of xf, so x never equals xf")
+_FLOATEQ = ("boundary: needs two computed doubles exactly equal (SciPy's own strictness); no seeded search of 12 000 "
+            "cases hit it")
+REASONS.update({
+    "_pieces | s.append(t[(t >= 0.0) & (t < 1.0)])": _DUP,
+    "_pieces | s.append(t[(t > 0.0) & (t <= 1.0)])": _DUP,
+    "terrain_track | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "terrain_track | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    "terrain_track | t = np.where(np.abs(q2) >= 1e-12, -q1 / (2.0 * q2), -1.0)":
+        "boundary: a piece's curvature term exactly 1e-12 m; then its extremum or none, both within 1e-12 m of a chord",
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), 1.0)": _FLAT,
+    "terrain_track | t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -2.0)": _FLAT,
+    "terrain_track | inner = (t >= 0.0) & (t < 1.0)":
+        "equivalent: t = 0 gives s0 + 0 (s1 - s0) = s0 exactly, a duplicate np.unique drops",
+    "terrain_track | inner = (t > 0.0) & (t <= 1.0)":
+        ("boundary: t exactly 1 (q1 = -2 q2 to the bit) adds s0 + (s1 - s0), s1 or an ulp from it: a vertex on the "
+         "track within an ulp of another"),
+    "bounded_min | rat = e = 1.0":
+        ("equivalent: with e = 1 the first pass tries the parabola through three equal points (r = q = p = 0), "
+         "which fails, and the golden step sets e and rat; with tol1 >= 1 no parabola is tried"),
+    "bounded_min | while abs(xf - xm) >= tol2 - 0.5 * (b - a):": _FLOATEQ,
+    "bounded_min | if abs(e) >= tol1:": _FLOATEQ,
+    "bounded_min | if q >= 0.0:": _PARABOLA_EMPTY,
+    "bounded_min | if abs(p) <= abs(0.5 * q * r) and p > q * (a - xf) and (p < q * (b - xf)):": _FLOATEQ,
+    "bounded_min | rat = (p - 0.0) / q":
+        ("equivalent: p - 0.0 and p + 0.0 differ only for p = -0.0, giving rat = -0.0 instead of 0.0: the same x, "
+         "_sign(-0.0) = 1, the same abs(e)"),
+    "bounded_min | if x - a <= tol2 or b - x < tol2:": _FLOATEQ,
+    "bounded_min | if x - a < tol2 or b - x <= tol2:": _FLOATEQ,
+    "bounded_min | rat = tol1 / _sign(xm - xf)": "equivalent: _sign is +1 or -1 (or NaN), so dividing is multiplying",
+    "bounded_min | if x > xf:": _STEP,
+    "bounded_min | if x <= xf:": _STEP,
+    "_run_max | while 2 * span < width:":
+        ("equivalent: stopping one doubling earlier leaves span >= width / 2, and two overlapping runs of span still "
+         "cover each window of width"),
+    ("_run_max | out: FloatArray = np.moveaxis(np.maximum(run[:n], run[width - span:width + span + n]), 0, "
+     "axis)"): ("equivalent: the slice's end is past the run's length (width - span + n = len(run)), so it is "
+                "clipped there"),
+})
+_ORDER = ("not killed (order of the tries): the final check of the whole bridge [head, inner, tail] tests every "
+          "inner leg and corner, so a laxer or stricter pre-check of the turn in only changes which entry, exit "
+          "or direct turn is tried next; no bridge of the tests tells")
+REASONS.update({
+    "_track_legs | legs = np.empty(track.shape[0] + 1, dtype=np.intp)":
+        "equivalent: the two extra trailing entries are never read (indexed by segments < M - 1)",
+    "held_zone_entries | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    ("held_zone_entries | pairs = np.unique(np.concatenate([np.column_stack([legs, zi]), np.column_stack("
+     "[_track_legs(w, track)[seg], tz])]), axis=0).reshape(-2, 2)"): _NEG,
+    "held_zone_entries | if not zones and w.shape[0] < 2:":
+        ("equivalent: with zones and one waypoint the rest gives the same empty integer arrays (no leg, a "
+         "one-point track; test_one_leg_one_waypoint_and_no_zones)"),
+    "held_zone_entries | if not zones or w.shape[1] < 2:":
+        "equivalent: shape[1] is 3; one waypoint then runs through the rest, which gives the same empty arrays",
+    ("SegmentQueries.envelope_entries | a, b = (np.asarray(a, dtype=float).reshape(-2, 3), np.asarray(b, "
+     "dtype=float).reshape(-1, 3))"): _NEG,
+    ("SegmentQueries.envelope_entries | a, b = (np.asarray(a, dtype=float).reshape(-1, 3), np.asarray(b, "
+     "dtype=float).reshape(-2, 3))"): _NEG,
+    "SegmentQueries.envelope_entries | if not self.zones and a.shape[0] == 0:":
+        "equivalent: no legs query the R-tree with nothing and give the same empty intp arrays",
+    "SegmentQueries.envelope_entries | if not self.zones or a.shape[1] == 0:":
+        "equivalent: shape[1] is 3; no legs then query the R-tree with nothing: the same empty intp arrays",
+    "terrain_following_check | return sorted({int(seg_leg[v - 1]) for v in vertices if v >= 0})":
+        ("equivalent in use: fly_check(..., launch=True) exempts vertex 0 (the plan's home) from the waypoint "
+         "limits, so it is never listed"),
+    "_fits | tight = helm_check(whole, VehicleLimits(90.0, radius), min_leg=1.0).tightest_turn_m":
+        "equivalent: min_leg only adds 'min_leg_m' violations; tightest_turn_m does not depend on it",
+    "_fits | return bool(tight > radius * (1.0 - 1e-09) and world.path_free(whole[1:-1]))":
+        "boundary: a turn fitting exactly R (1 - 1e-9)",
+    "_fits | return bool(tight >= radius / (1.0 - 1e-09) and world.path_free(whole[1:-1]))":
+        ("boundary: turn_between draws every turn until it fits R (not R - 1e-9 R); a corner between R (1 - 1e-9) "
+         "and R (1 + 1e-9) would have to fit to a few parts in 1e9"),
+    "_fits | return bool(tight >= radius * (1.0 + 1e-09) and world.path_free(whole[1:-1]))":
+        ("boundary: turn_between draws every turn until it fits R (not R - 1e-9 R); a corner between R (1 - 1e-9) "
+         "and R (1 + 1e-9) would have to fit to a few parts in 1e9"),
+    "_fits | return bool(tight >= radius * (1.0 - 1e-09) and world.path_free(whole[1:-2]))":
+        ("not killed: the turn in's last leg is an inner leg of the whole bridge too, whose check rejects the same "
+         "bridge (test_a_sphere_on_a_turn_s_first_or_last_leg_is_kept_clear: the result is clear either way)"),
+    "_bridge | for k in range(1, m - 2):":
+        "equivalent: k = m - 2 has no exit to try (range(m - 2, k, -1) is empty) and breaks to the direct turn anyway",
+    "_bridge | t_in, _ = turn_between(head, d[k:k + 3], radius)":
+        "equivalent: turn_between reads the first two points of its second argument only",
+    "_bridge | if not _fits(world, np.vstack([head, t_in, d[k:k - 2]]), radius):": _ORDER,
+    "_bridge | if not _fits(world, np.vstack([head, t_in, d[k:k + 3]]), radius):": _ORDER,
+    "_bridge | for j in range(m - 2, k, -2):": _ORDER,
+    "_bridge | t_out, _ = turn_between(d[j - 2:j + 1], tail, radius)":
+        "equivalent: turn_between reads the last two points of its first argument only",
+    "_bridge | continue": _ORDER,
+    "join_bridges | if idx.size == 1:":
+        ("not killed (equivalent in use): with one transit vertex _bridge has no exit to try (m = 3), only the "
+         "direct turn along the clipped line, through the zone the gap is for; searched 5 offsets x 5 radii x 2 "
+         "boxes: none joined, as with the mutant"),
+    "join_bridges | before = route[1]":
+        "equivalent: before is read only when a - 1 < last, after a bridge was joined, which sets it",
+    "join_bridges | seq = np.vstack([route[a - 1] if a - 1 > last else before, route[a:b + 2]])":
+        ("not killed: with two line vertices between bridges the mutant turns from the previous turn's last point "
+         "instead of the line vertex after it; both lie on the line's approach, and the joined result still fits "
+         "and is clear (test_two_bridges_with_two_line_vertices_between_are_both_joined)"),
+    "join_bridges | seq = np.vstack([route[a - 1] if a - 2 >= last else before, route[a:b + 2]])":
+        ("not killed: with two line vertices between bridges the mutant turns from the previous turn's last point "
+         "instead of the line vertex after it; both lie on the line's approach, and the joined result still fits "
+         "and is clear (test_two_bridges_with_two_line_vertices_between_are_both_joined)"),
+    "join_bridges | before = inner[-1] if inner.shape[1] else route[a]":
+        "equivalent in use: inner.shape[1] is 3; an empty inner (a turn without a point) was never produced",
+    "join_bridges | before = inner[-2] if inner.shape[0] else route[a]":
+        ("not killed: the shared-vertex case turns from the joined turn's last-but-one point, on the same final arc; "
+         "the result still fits R as flown (test_two_bridges_sharing_a_vertex_fly_as_turns_of_the_radius)"),
+})
+# audit 14's neighbouring cells of Terrain.elevation_bounds (merged from main, re-run 21:10 UTC)
+_SHARED = ("not killed (the bound's slack): a cell's coefficients come from its four nodes, which it shares with the "
+           "cells on either side, so the cell itself or the one two over sees the same cliff within a small factor, "
+           "and the bound has ~60x to spare (none of 120 000 points beside cliffs on grid lines outside it)")
+_SYM = "equivalent: the offsets (-1, 0, 1) are symmetric, so subtracting them runs over the same cells"
+REASONS.update({
+    "Terrain.elevation_bounds | for dj in (-2, 0, 1):": _SHARED,
+    "Terrain.elevation_bounds | for dj in (-1, 1, 1):": _SHARED,
+    "Terrain.elevation_bounds | for dj in (-1, 0, 2):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-2, 0, 1):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-1, 1, 1):": _SHARED,
+    "Terrain.elevation_bounds | for di in (-1, 0, 2):": _SHARED,
+    "Terrain.elevation_bounds | near = self._coef[np.clip(j - dj, 0, ny - 1), np.clip(i + di, 0, nx - 1)]": _SYM,
+    "Terrain.elevation_bounds | near = self._coef[np.clip(j + dj, 0, ny - 1), np.clip(i - di, 0, nx - 1)]": _SYM,
+})
+# main's split of terrain_track (_following_leg, _flags): the same survivors under the new names
+REASONS.update({
+    "_flags | w = as_points(waypoints).reshape(-2, 3)": _NEG,
+    "_flags | f = np.asarray(follow, dtype=bool).reshape(-2)": _NEG,
+    **{k.replace("terrain_track |", "_following_leg |"): v for k, v in REASONS.items()
+       if k.startswith("terrain_track | t = np.where") or k.startswith("terrain_track | inner =")},
+})
+# main since 27efd1d: a terrain-frame leg's straight line is not flown (its track alone enters)
+REASONS.update({
+    "_zone_approach | seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=2))":
+        ("equivalent since the straight line of a terrain-frame leg is dropped: the straight legs kept (not "
+         "terrain-frame) are flown as themselves in terrain_track's track, whose entries (more) already hold "
+         "theirs; the garbage segments' entries are filtered or repeat them"),
+})

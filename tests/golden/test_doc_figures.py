@@ -192,6 +192,8 @@ HAND_TYPED_DOC_SECTIONS = {
         "docs: `make mutants` (hours of CPU), not re-run in wave 6",
     ("docs/mutants.md", "3. Issue 49: the bugs that survived the wave's suite, and the new modules"):
         "docs: tools/oracle_mutants.py edges-* and tools/mutate.py runs (hours of CPU), issue 49",
+    ("docs/mutants.md", "4. Wave 12's safety code (6 Dec 2026, evening)"):
+        "docs: tools/mutate.py runs of wave 12's safety code (about 40 min of a heavy slot), wave 13",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
         "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",

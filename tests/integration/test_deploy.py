@@ -121,6 +121,29 @@ def tf(tmp_path_factory):
     return world, mission, w, payload, out, predicted
 
 
+def _followed_pitch(world, a: np.ndarray, b: np.ndarray) -> float:
+    """The steepest pitch of the leg flown following the seabed (altitude linear from a's to b's), sampled every
+    0.25 m (degrees)."""
+    n = max(int(np.hypot(*(b[:2] - a[:2])) / 0.25), 1) + 1
+    s = np.linspace(0.0, 1.0, n)
+    xy = a[:2] + s[:, None] * (b[:2] - a[:2])
+    ha, hb = a[2] - world.seabed(a[0], a[1]), b[2] - world.seabed(b[0], b[1])
+    z = world.seabed(xy[:, 0], xy[:, 1]) + ha + s * (hb - ha)
+    dl = np.hypot(*(b[:2] - a[:2])) / (n - 1)
+    return float(np.degrees(np.arctan(np.abs(np.diff(z)).max() / dl)))
+
+
+def _checked(path: Path, scenario: str) -> dict:
+    """``auvplan mission check --json`` of one file: its record."""
+    import contextlib
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        cli.main(["mission", "check", str(path), "--scenario", scenario, "--json"])
+    doc = json.loads(buf.getvalue())
+    return doc if "file" in doc else doc["files"][0]
+
+
 def planted(world) -> np.ndarray:
     """Points just outside the bounds (1 m past the east side, 1 m past the north side)."""
     b = world.bounds
@@ -175,9 +198,20 @@ def test_qgc_plan_carries_geofence_terrain_frame_and_relay_items(tf):
     to_geo = aeqd(world.origin)
     lon, lat = to_geo.transform(planted(world)[:, 0], planted(world)[:, 1])
     assert not any(inside(inc, p) for p in np.column_stack([lat, lon]))
-    # terrain frame: the altitude above the chart's seabed the mission was planned at
-    assert all(i["frame"] == 10 and i["AltitudeMode"] == 4 for i in wps)
-    np.testing.assert_allclose([i["params"][6] for i in wps], w[:, 2] - world.seabed(w[:, 0], w[:, 1]), atol=1e-3)
+    # terrain frame: the altitude above the chart's seabed the mission was planned at, on every leg ArduSub can
+    # follow the seabed within the pitch limit (oracle: the track sampled every 0.25 m); the others at their depth
+    frame = np.array([i["frame"] for i in wps])
+    steep = np.array([_followed_pitch(world, w[k - 1], w[k]) for k in range(1, len(w))])
+    limit = mission.vehicle.max_pitch_deg
+    assert frame[0] == 10 and set(frame) == {3, 10} and doc["mission"]["globalPlanAltitudeMode"] == 0
+    assert (steep[frame[1:] == 10] <= limit + 0.05).all() and (steep[frame[1:] == 3] > limit - 0.05).all()
+    assert 0 < (frame == 3).sum() < 0.05 * len(wps)  # a few legs over the steepest slopes
+    height = np.where(frame == 10, w[:, 2] - world.seabed(w[:, 0], w[:, 1]), w[:, 2])
+    np.testing.assert_allclose([i["params"][6] for i in wps], height, atol=1e-3)
+    assert all(i["AltitudeMode"] == (4 if f == 10 else 1) for i, f in zip(wps, frame, strict=True))
+    rec = _checked(out / "mission.plan", "marcus-terrain-follow")  # and flown as written, within the limits
+    assert rec["ok"] is True and rec["vehicle"]["violations"] == [] and rec["vehicle"]["max_pitch_deg"] <= limit
+    assert rec["terrain_following"]["legs"] == [k for k in range(1, len(wps)) if frame[k] == 10]
     got, k = [], -1
     for i in items:
         k += i["command"] == 16

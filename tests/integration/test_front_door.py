@@ -70,18 +70,23 @@ def test_validate_and_plan_import_what_their_files_need() -> None:
 
 def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_duck_arrays(tmp_path) -> None:
     """Issue 56, in one fresh interpreter.  Defining the kernels imports no numba, and ``validate`` of a mission
-    whose start and goal are well clear of the seabed decides them in numpy and loads none; then ``data
+    whose start and goal are well clear of the seabed decides them in numpy and loads none, nor for its survey
+    (the area under water and the size checks decided by the numpy seabed's bound); then ``data
     inspect`` of a seabed file: its edge searches are Brent's bounded method without scipy.optimize, its
     window maxima without scipy.ndimage, its conservative models do not interpolate (scipy.interpolate), and
     xarray opens the file without building the indexes that import dask and pint; its first kernel put every
     kernel's dispatcher in place of its stand-in, in the module that defines it and in those that import it
-    (the cost pass's copy of the terrain's kernel); a stand-in pickles by name."""
+    (the cost pass's copy of the terrain's kernel); a stand-in pickles by name.  numba's registries loaded
+    without scipy.linalg (:class:`auvplan.runtime.jit._BlasProbe`), numba's ``ensure_blas`` back in both its
+    modules, the hook gone, and numba's BLAS flag what importing SciPy's BLAS says."""
     import netCDF4
     import numpy as np
 
     from helpers import RIDGE
 
-    (tmp_path / "ridge.toml").write_text(RIDGE)
+    survey = ('[survey]\npolygon_xy = [[300.0, 50.0], [800.0, 50.0], [800.0, 350.0], [300.0, 350.0]]\n'
+              'sensor = "multibeam"\nopening_deg = 120.0\nmounting = "surface"\noverlap = [0.10, 0.20]\n')
+    (tmp_path / "ridge.toml").write_text(RIDGE + survey)
     seabed = str(tmp_path / "seabed.nc")  # 40 x 56 nodes at 0.02 deg: five small models
     with netCDF4.Dataset(seabed, "w") as nc:
         for name, values, units in (("lat", np.linspace(10.0, 10.78, 40), "degrees_north"),
@@ -104,7 +109,13 @@ def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_du
              "mods = sorted(m for m in sys.modules if m in ('scipy.optimize', 'scipy.ndimage', 'scipy.interpolate', "
              "'dask', 'pint', 'xarray'))\n"
              "after = [type(kt.elevation_kernel).__name__, cost.elevation_kernel is kt.elevation_kernel]\n"
-             "print(json.dumps([code, 'OK' in out.getvalue(), clear, before, same, mods, after]))")
+             "import numba.np.arraymath as am, numba.np.linalg as la, auvplan.runtime.jit as jit\n"
+             "blas = ['scipy.linalg' in sys.modules, am.ensure_blas is la.ensure_blas, la.ensure_blas.__module__, "
+             "any(type(f) is jit._BlasProbe for f in sys.meta_path)]\n"
+             "import scipy.linalg.cython_blas\n"  # numba's own question, asked after: BLAS is there
+             "blas.append(am._HAVE_BLAS)\n"
+             "print(json.dumps([code, 'OK' in out.getvalue(), clear, before, same, mods, after, blas]))")
     run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     got = json.loads(run.stdout.strip().splitlines()[-1])
-    assert got == [0, True, True, ["_Deferred", "_Deferred"], True, ["xarray"], ["CPUDispatcher", True]], run.stderr
+    assert got == [0, True, True, ["_Deferred", "_Deferred"], True, ["xarray"], ["CPUDispatcher", True],
+                   [False, True, "numba.np.linalg", False, True]], run.stderr

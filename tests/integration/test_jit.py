@@ -30,12 +30,19 @@ from .callee import bump
 @kernel
 def twice(x):
     return 2.0 * bump(x)
+
+
+@kernel
+def unused(x):
+    return x
 """
 
 
 def _run(root: Path, env: dict) -> float:
-    r = subprocess.run([sys.executable, "-c", "import kpkg.caller as c; print(c.twice(1.0))"], cwd=root, env=env,
-                       capture_output=True, text=True, check=True)
+    """``twice(1.0)`` in a fresh process; a kernel never called has no on-disk cache object made (issue 56)."""
+    code = ("import kpkg.caller as c; v = c.twice(1.0)\n"
+            "assert c.unused._cache._made is None and c.twice._cache._made is not None\nprint(v)")
+    r = subprocess.run([sys.executable, "-c", code], cwd=root, env=env, capture_output=True, text=True, check=True)
     return float(r.stdout.strip())
 
 

@@ -53,6 +53,45 @@ def test_bounded_min_is_scipys_bounded_brent(name):
     assert (x, fun, nfev) == (float(res.x), float(res.fun), res.nfev)
 
 
+SHAPES = {
+    "eighths": lambda x: round(8.0 * x) / 8.0, "thirds": lambda x: math.floor(3.0 * x),
+    "double well": lambda x: (x * x - 1.0) ** 2, "square root": lambda x: abs(x) ** 0.5,
+    "parabola": lambda x: (x - 0.3) ** 2, "wiggly": lambda x: math.sin(7.0 * x) + 0.1 * x,
+    "quantised V": lambda x: round(512.0 * abs(x - 0.1)) / 512.0,
+}
+# (shape, offset, lo, hi, xatol, maxfun): intervals a few tolerances wide, far from zero on either side, step
+# functions whose equal values tie the comparisons, and the parabolic step's acceptance tests (seeded search)
+EDGES = [
+    ("eighths", 1e6, 999999.9931462468, 1000000.0005185803, 3.395646773377549e-12, 20),
+    ("thirds", -1e6, -1000000.0024967787, -999999.9886617817, 2.014159680966892e-08, 500),
+    ("double well", 0.0, -3.9660896885767014e-10, 1.7195760427261648e-10, 1.327144827927598e-10, 500),
+    ("double well", -34.0643430080014, -34.06434300800365, -34.06434300799819, 2.2001034839940736e-06, 500),
+    ("thirds", 0.5495851898175845, 0.5139007189971465, 0.5616670019224091, 1.0450074038944738e-11, 500),
+    ("square root", 224.17821377482892, 224.17820339110992, 224.1782165283611, 5.882587025626004e-07, 500),
+    ("square root", 0.0909315831274542, 0.09092310280795494, 0.09096047278696905, 3.3583229066495267e-12, 20),
+    ("parabola", 0.0, -0.6122109426477688, 0.5100120214083482, 0.00012141845567677517, 20),
+    ("double well", 0.0, -5.068912532049851, 4.8596821391208165, 2.1612428711078274e-07, 7),
+    ("wiggly", 0.0, -3.1440592209902016, 1.4890060647857766, 3.07410305439782e-08, 500),
+    ("quantised V", -0.878724386962543, -0.9253453069826731, 2.0823431482737638, 1.8075672167099404e-07, 500),
+    ("quantised V", 0.0, -1.996689306803087, 5.638168402946205, 2.092159983970347e-10, 500),
+]
+
+
+@pytest.mark.parametrize("case", EDGES, ids=[f"{c[0]}-{k}" for k, c in enumerate(EDGES)])
+def test_bounded_min_is_scipys_at_its_tolerances_ties_and_far_from_zero(case):
+    """Oracle: SciPy, as above, where the tolerance, the ties of equal values and the parabola's acceptance decide
+    the steps."""
+    shape, c, lo, hi, xatol, maxfun = case
+    seen_ours: list[float] = []
+    seen_scipy: list[float] = []
+    x, fun, nfev = bounded_min(lambda q: seen_ours.append(q) or SHAPES[shape](q - c), lo, hi, xatol=xatol,
+                               maxfun=maxfun)
+    res = minimize_scalar(lambda q: seen_scipy.append(float(q)) or SHAPES[shape](float(q) - c), bounds=(lo, hi),
+                          method="bounded", options={"xatol": xatol, "maxiter": maxfun})
+    assert seen_ours == seen_scipy
+    assert (x, fun, nfev) == (float(res.x), float(res.fun), res.nfev)
+
+
 def test_bounded_min_stops_at_maxfun_and_refuses_bad_bounds():
     x, _, nfev = bounded_min(lambda q: math.sin(50.0 * q), 0.0, 10.0, xatol=1e-14, maxfun=7)
     res = minimize_scalar(lambda q: math.sin(50.0 * q), bounds=(0.0, 10.0), method="bounded",

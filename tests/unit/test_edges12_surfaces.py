@@ -228,14 +228,60 @@ def test_a_terrain_frame_plan_over_the_ridge_is_checked_as_flown(tmp_path, capsy
 
 def test_a_terrain_frame_plan_clear_of_the_shallows_is_measured_on_its_track(tmp_path, capsys):
     """Oracle: as above, 25 m above the seabed from x = 3.5 to 6.5 km: the crest at 25 m deep, 5 m under the
-    shallows (shapely on the sampled track), least altitude 25 m; the straight leg (137.5 m deep) meets the ridge."""
-    _, rec = _check(tmp_path, capsys, "low.plan", _plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]),
-                    _RIDGE)
+    shallows (shapely on the sampled track), least altitude 25 m; the straight leg (137.5 m deep) meets the ridge,
+    but ArduSub does not fly it: the seabed check is the track's too, and the file passes."""
+    code, rec = _check(tmp_path, capsys, "low.plan", _plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]),
+                       _RIDGE)
     track = _ridge_oracle(3500.0, 6500.0, 25.0)
     oracle = _prism_distance(shapely.box(4000.0, 0.0, 6000.0, 2000.0), 0.0, 20.0, track)
     tf = rec["terrain_following"]
     assert tf["ok"] is True and tf["shallowest_m"] == pytest.approx(25.0, abs=1e-6)
-    assert tf["min_altitude_m"] == pytest.approx(25.0, abs=1e-6) and rec["check_ok"] is False
+    assert tf["min_altitude_m"] == pytest.approx(25.0, abs=1e-6)
+    straight_crest = -137.5 - (-200.0 + 150.0)  # the straight leg's altitude over the 50 m deep crest: -87.5 m
+    assert straight_crest < 0.0 and rec["min_altitude_m"] == pytest.approx(25.0, abs=1e-6)
+    assert rec["check_ok"] is True and rec["ok"] is True and code == 0 and rec["obstacle_hits"] == 0
     (zone,) = rec["zones"]
     assert zone["entered_legs"] == [] and abs(zone["closest_m"] - oracle) < 0.5 and oracle == pytest.approx(5.0)
     assert "terrain-frame" in rec["zones_measured_on"]
+
+
+def test_the_seabed_check_meets_an_obstacle_on_the_seabed_following_track(tmp_path, capsys):
+    """Oracle: the track 25 m above the analytic ridge is 25 m deep over the crest (x = 5 km); a 5 m sphere there
+    sits on it, 112.5 m above the straight leg (137.5 m deep).  Measured as flown the leg meets it: one hit, exit 1."""
+    sphere = '[[obstacles]]\ntype = "sphere"\ncenter = [5000.0, 1000.0, -25.0]\nradius = 5.0\n'
+    scenario = _RIDGE.split("[[zones]]")[0] + sphere
+    track = _ridge_oracle(3500.0, 6500.0, 25.0)
+    oracle = float(np.min(np.linalg.norm(track - [5000.0, 1000.0, -25.0], axis=1))) - 5.0
+    assert oracle == pytest.approx(-5.0, abs=0.01)
+    code, rec = _check(tmp_path, capsys, "low.plan", _plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]),
+                       scenario)
+    assert code == 1 and rec["check_ok"] is False and rec["obstacle_hits"] == 1
+    assert rec["min_obstacle_distance_m"] <= 0.0 and rec["terrain_following"]["obstacle_hits"] >= 1
+
+
+def test_the_seabed_check_s_least_altitude_is_the_track_s(tmp_path, capsys):
+    """Oracle: items 60 m then 25 m above the seabed across the ridge; the track's altitude goes linearly from 60 to
+    25 m (least 25 m, at the second item), the launch leg's least is 60 m and the straight leg meets the crest."""
+    code, rec = _check(tmp_path, capsys, "taper.plan",
+                       _plan([(3500.0, 1000.0, 10, 60.0), (6500.0, 1000.0, 10, 25.0)]), _RIDGE.split("[[zones]]")[0])
+    x = np.linspace(3500.0, 6500.0, 6001)
+    seabed = -200.0 + 150.0 * np.clip(1.0 - np.abs(x - 5000.0) / 2000.0, 0.0, None)
+    altitude = 60.0 + (25.0 - 60.0) * (x - 3500.0) / 3000.0  # the track's, above the seabed
+    straight = np.interp(x, [3500.0, 6500.0], [seabed[0] + 60.0, seabed[-1] + 25.0]) - seabed
+    assert straight.min() < 0.0 and altitude.min() == pytest.approx(25.0)
+    assert rec["min_altitude_m"] == pytest.approx(float(altitude.min()), abs=1e-6) and rec["min_altitude_leg"] == 1
+    assert code == 0 and rec["check_ok"] is True
+
+
+def test_a_terrain_frame_leg_over_a_steep_ridge_breaks_the_pitch_limit_as_flown(tmp_path, capsys):
+    """Oracle: a ridge 150 m high on 300 m flanks slopes atan(150 / 300) = 26.57°; items 25 m above the flat seabed
+    on both sides: the straight leg is level (0°), the seabed-following flight climbs and dives at 26.57° > 20°."""
+    steep = _RIDGE.split("[[zones]]")[0].replace("ridge_width = 2000.0", "ridge_width = 300.0") + \
+        '[vehicle]\nmax_pitch_deg = 20.0\n'
+    code, rec = _check(tmp_path, capsys, "steep.plan", _plan([(4000.0, 1000.0, 10, 25.0), (6000.0, 1000.0, 10, 25.0)]),
+                       steep)
+    slope = math.degrees(math.atan(150.0 / 300.0))
+    v = rec["vehicle"]
+    assert code == 1 and v["max_pitch_deg"] == pytest.approx(slope, abs=1e-6) and v["max_pitch_leg"] == 0
+    assert [(x["leg"], x["limit"]) for x in v["violations"]] == [(0, "max_pitch_deg")]
+    assert rec["terrain_following"]["ok"] is True  # the track itself keeps its altitude: the helm cannot fly it

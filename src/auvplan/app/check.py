@@ -90,13 +90,24 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     world, mission = scenario_io.build(sc)
     out = []
     for name in files:
-        check, fmt = check_mission_file(Path(name), world, pitch)
-        points = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)[0]
+        points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
+        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
+        if fmt == "qgc" and world.terrain is not None:
+            from ..io.missions.terrain_frame import terrain_legs
+
+            follow = terrain_legs(Path(name))
+            if not follow.any():
+                follow = None
+        # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
+        check, fmt = check_mission_file(Path(name), world, pitch, follow)
         deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle))
+        # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
+        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
+        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                             pitch=flown[0], depth=flown[1])
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
@@ -107,13 +118,6 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
             rec["clearance_confidence"] = sc.mission.confidence
         # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
         # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
-        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
-        if fmt == "qgc" and world.terrain is not None:
-            from ..io.missions.terrain_frame import terrain_legs
-
-            follow = terrain_legs(Path(name))
-            if not follow.any():
-                follow = None
         tf_ok = True
         tf_line = ""
         if follow is not None:
@@ -135,6 +139,15 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
                              tf_line))
     return sc, out
+
+
+def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A ``.plan``'s legs' steepest pitch and greatest depth as flown, after its launch leg (as the helm check)."""
+    from ..guidance.mission.terrain_legs import flown_pitch_depth
+
+    assert world.terrain is not None
+    pitch, depth = flown_pitch_depth(world.terrain, points, follow)
+    return pitch[1:], depth[1:]
 
 
 def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> str:
@@ -167,7 +180,8 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
     semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
     the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
     straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`;
-    the legs ``follow`` marks (a ``.plan``'s terrain frame) also on the seabed-following track."""
+    the legs ``follow`` marks (a ``.plan``'s terrain frame) on their seabed-following track instead of the straight
+    line between their items, which ArduSub does not fly."""
     if not world.zones:
         return []
     from dataclasses import replace
@@ -190,6 +204,8 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
         track, seg_leg = terrain_track(world.terrain, points, follow)
         out = exact.approach(track)  # the least over what is flown: the straight legs and the following ones
         more = [seg_leg[np.asarray(z.entered_legs, dtype=np.intp) - 1] for z in out]
+        flown = ~follow[seg]  # a terrain-frame leg's straight line is not flown: its track alone enters or not
+        seg, si = seg[flown], si[flown]
     for j, z in enumerate(out):
         entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in more[j])}))
         out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)

@@ -16,6 +16,7 @@ from .._version import __version__
 from ..errors import AuvplanError
 from ..io.safeio import atomic_write, prepare_out, save_figure
 from ..runtime.parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
+from .durations import is_offset, parse_duration
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
@@ -61,51 +62,6 @@ class SweepRun:
     t0: float
     step: float
     computed: int = 0
-
-
-def parse_duration(text: str, what: str) -> float:
-    """Seconds of '15min', '900s', '2h', '1.5h' or a bare number of seconds.
-
-    Parameters
-    ----------
-    text : str
-        The duration.
-    what : str
-        The option it came from, for the message.
-
-    Returns
-    -------
-    float
-        Seconds.
-    """
-    units = {"s": 1.0, "sec": 1.0, "min": 60.0, "m": 60.0, "h": 3600.0, "d": 86400.0}
-    t = text.strip().lower().lstrip("+")
-    for unit in sorted(units, key=len, reverse=True):
-        if t.endswith(unit):
-            t, scale = t[: -len(unit)], units[unit]
-            break
-    else:
-        scale = 1.0
-    try:
-        return float(t) * scale
-    except ValueError:
-        raise AuvplanError(f"{what} {text!r}: not a duration (e.g. 15min, 900s, 2h)") from None
-
-
-def is_offset(text: str) -> bool:
-    """Whether a departure is an offset after start_time ('+6h', '900') rather than a date-time.
-
-    Parameters
-    ----------
-    text : str
-        The departure.
-
-    Returns
-    -------
-    bool
-        True for an offset.
-    """
-    return text.startswith("+") or text[:1].isdigit() and not any(c in text for c in "-:T")
 
 
 def parse_instant(text: str, start_time: str, what: str) -> float:
@@ -224,7 +180,7 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
 def _input_stamps(sc: Scenario) -> list[Any]:
     """What a sweep's checkpoints depend on besides the scenario's text: every data file it names, with the
     files of its data set (size, time and SHA-256 of the bytes: a current forecast downloaded again under the
-    same name is another sweep; a shapefile's ``.dbf``, a GeoTIFF's ``.aux.xml``) and
+    same name is another sweep; a shapefile's ``.dbf``, a GeoTIFF's ``.aux.xml``, every file of a FileGDB folder) and
     the code (:func:`auvplan.io.data.cache.code_stamp`: an edit of auvplan within one version).
 
     Parameters
@@ -246,10 +202,12 @@ def _input_stamps(sc: Scenario) -> list[Any]:
         # a vector file or a GeoTIFF with its sidecars, as the readers' cache keys it (a shapefile's .dbf, .prj);
         # a current or tide file alone (no sidecars: a sibling forecast.2024.nc is another data set)
         for f in [path] if key.startswith("[currents]") else dataset_files(path):
-            try:
-                stamps.append(file_stamp(f))
-            except OSError:
-                stamps.append(str(f))
+            # a folder the reader opens (a FileGDB ``.gdb``): every file in it, not its name alone
+            for g in sorted(p for p in f.rglob("*") if p.is_file()) if f.is_dir() else [f]:
+                try:
+                    stamps.append(file_stamp(g))
+                except OSError:
+                    stamps.append(str(g))
     return stamps
 
 

@@ -109,7 +109,7 @@ _MAX_SWEEP_S = 366 * 86400.0
 
 def _step(text: str) -> str:
     """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from ..app.sweep import parse_duration
+    from ..app.durations import parse_duration
 
     try:
         value = parse_duration(text, "--step")
@@ -122,7 +122,7 @@ def _step(text: str) -> str:
 
 def _departure(text: str) -> str:
     """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from ..app.sweep import is_offset, parse_duration
+    from ..app.durations import is_offset, parse_duration
 
     if is_offset(text):
         try:

@@ -65,6 +65,12 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
     from ..io.results import records
 
     gliders = [f for f in args.files if is_glider_file(Path(f))]
+    others = [f for f in args.files if f not in gliders]
+    if gliders and others:  # two vehicles' checks: never one file's verdict for both (the others went unchecked)
+        from ..errors import AuvplanError
+
+        raise AuvplanError(f"mission check: {gliders[0]} is a glider file and {others[0]} is not: check glider files "
+                           "and other mission files in separate runs")
     if gliders:  # issue 58: Slocum goto_lNN.ma and Seaglider targets, read back and flown by the scenario's glider
         from .glider import glider_checks
 

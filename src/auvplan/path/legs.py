@@ -86,7 +86,8 @@ def waypoint_budget(points: ArrayLike) -> int:
     return int(WAYPOINTS_PER_KM * length / 1000.0) + WAYPOINTS_FLOOR
 
 
-def helm_check(points: ArrayLike, limits: VehicleLimits, min_leg: float | None = None) -> LimitReport:
+def helm_check(points: ArrayLike, limits: VehicleLimits, min_leg: float | None = None, pitch: ArrayLike | None = None,
+               depth: ArrayLike | None = None) -> LimitReport:
     """Check every leg of a waypoint mission as given against the shortest leg and the vehicle's limits.
 
     Parameters
@@ -97,6 +98,10 @@ def helm_check(points: ArrayLike, limits: VehicleLimits, min_leg: float | None =
         Pitch limit, turn radius and depth rating.
     min_leg : float, optional
         Shortest leg allowed (m, 3D); :func:`shortest_leg` of ``limits`` by default.
+    pitch, depth : array_like, optional
+        ``(N - 1,)``: each leg's steepest pitch (degrees, absolute) and greatest depth (m) as its executor flies it,
+        where that is not the straight leg between its ends (a leg following the seabed,
+        :func:`auvplan.guidance.mission.terrain_legs.flown_pitch_depth`); by default the straight leg's.
 
     Returns
     -------
@@ -109,9 +114,9 @@ def helm_check(points: ArrayLike, limits: VehicleLimits, min_leg: float | None =
         return LimitReport(0.0, -1, math.inf, -1, float(-p[:, 2].min()) if len(p) else 0.0, (), limits)
     shortest = shortest_leg(limits) if min_leg is None else float(min_leg)
     length = np.linalg.norm(np.diff(p, axis=0), axis=1)
-    pitch = np.abs(leg_pitch_deg(p))
+    pitch = np.abs(leg_pitch_deg(p)) if pitch is None else np.asarray(pitch, dtype=float).reshape(len(p) - 1)
     radius = leg_turn_radius(p) if limits.turn_radius_m > 0.0 else np.full(len(p) - 1, math.inf)
-    depth = -np.minimum(p[:-1, 2], p[1:, 2])
+    depth = -np.minimum(p[:-1, 2], p[1:, 2]) if depth is None else np.asarray(depth, dtype=float).reshape(len(p) - 1)
     tol = 1e-9
     bad: list[LimitViolation] = []
     for k in range(len(p) - 1):

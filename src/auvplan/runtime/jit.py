@@ -20,13 +20,19 @@ stand-in; the first call of any kernel makes every kernel's dispatcher and puts 
 stand-in in every module that holds it (:class:`_Deferred`), so that a command that runs no kernel —
 ``validate`` of a scenario whose files are cached, a start and goal well clear of the seabed — does not pay
 numba's import and registries (~0.6 s of CPU, issue 56).  The dispatchers and the machine code are the
-ones an eager decorator makes.
+ones an eager decorator makes.  Each kernel's on-disk cache object is made at its first compile
+(:class:`_CacheOnUse`: ~0.4 ms a kernel, paid before for every kernel defined), and numba's registries load
+without importing ``scipy.linalg`` for their BLAS check (:class:`_BlasProbe`: the same question asked of
+the installed files; ~0.1-0.2 s).  What is left at a kernel's first call is numba's own floor: its import
+(~0.2-0.3 s), its typing and lowering registries (~0.2-0.3 s), ~3 ms a cached kernel (LLVM).
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
+import os
 import sys
 import threading
 import types
@@ -70,10 +76,15 @@ def source_stamp(root: str) -> str:
         Hex digest; computed once per process and directory.
     """
     h = hashlib.sha256()
-    for path in sorted(Path(root).rglob("*.py")):
-        data = path.read_bytes()
+    files = []
+    for folder, dirs, names in os.walk(root):  # a third of Path.rglob's cost (~5 ms of a command's start)
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        files += [os.path.relpath(os.path.join(folder, n), root) for n in names if n.endswith(".py")]
+    for rel in sorted(files):
+        with open(os.path.join(root, rel), "rb") as fh:
+            data = fh.read()
         if b"@kernel" in data:
-            h.update(str(path.relative_to(root)).encode() + b"\0" + data + b"\0")
+            h.update(rel.encode() + b"\0" + data + b"\0")
     return h.hexdigest()
 
 
@@ -83,11 +94,10 @@ def _package_root(py_func: Callable[..., Any]) -> str:
     return str(Path(file).resolve().parent)
 
 
-def _stamped_cache(dispatcher: Any) -> Any:
-    """A numba ``FunctionCache`` for ``dispatcher`` whose source stamp is :func:`source_stamp`."""
+@functools.cache
+def _cache_class(root: str) -> Any:
+    """numba's ``FunctionCache`` whose source stamp is :func:`source_stamp` of ``root`` (one class a package)."""
     from numba.core import caching
-
-    root = _package_root(dispatcher.py_func)
 
     def stamped(base: Any) -> Any:
         return type("Stamped" + base.__name__, (base,), {"get_source_stamp": lambda self: source_stamp(root)})
@@ -99,7 +109,35 @@ def _stamped_cache(dispatcher: Any) -> Any:
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
 
-    return KernelCache(dispatcher.py_func)  # type: ignore[no-untyped-call]  # numba.core.caching is untyped
+    return KernelCache
+
+
+def _stamped_cache(dispatcher: Any) -> Any:
+    """A numba ``FunctionCache`` for ``dispatcher`` whose source stamp is :func:`source_stamp`."""
+    return _cache_class(_package_root(dispatcher.py_func))(dispatcher.py_func)
+
+
+class _CacheOnUse:
+    """A kernel's on-disk cache (:func:`_stamped_cache`), made when numba first reads it (the kernel's first
+    compile): making one finds its folder and tries a file there (~0.4 ms), which a command would otherwise
+    pay for every kernel defined, not only those it runs (issue 56).  numba reads a dispatcher's cache only
+    through its attributes (``load_overload``, ``save_overload``, ``flush``, ``cache_path``)."""
+
+    def __init__(self, dispatcher: Any) -> None:
+        self._dispatcher: Any = dispatcher
+        self._made: Any = None
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        if self._made is None:
+            try:
+                self._made = _stamped_cache(self._dispatcher)
+            except (AttributeError, ImportError, TypeError, RuntimeError):  # pragma: no cover - numba changed
+                from numba.core.caching import NullCache
+
+                self._made = NullCache()  # no on-disk cache: always correct, only slower to start
+        return getattr(self._made, name)
 
 
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
@@ -107,10 +145,7 @@ def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
 
     dispatcher = njit(**{**_SETTINGS, **options})(fn)
     if hasattr(dispatcher, "enable_caching"):  # not with NUMBA_DISABLE_JIT=1
-        try:
-            dispatcher._cache = _stamped_cache(dispatcher)
-        except (AttributeError, ImportError, TypeError, RuntimeError):  # pragma: no cover - numba changed
-            pass  # no on-disk cache: always correct, only slower to start
+        dispatcher._cache = _CacheOnUse(dispatcher)
     return dispatcher
 
 
@@ -209,11 +244,61 @@ def _made(stand_in: _Deferred) -> Any:
     return stand_in._made
 
 
+class _BlasProbe:
+    """An import hook that lets numba's registries load without importing ``scipy.linalg`` (issue 56).
+
+    numba's first kernel (also one loaded from the disk cache) loads every registry of numba's, and one of them,
+    ``numba.np.arraymath``, asks at its import whether BLAS is there by importing ``scipy.linalg.cython_blas``:
+    all of ``scipy.linalg`` (~0.1–0.2 s of CPU, and numpy.f2py through SciPy's array API), which no kernel of
+    auvplan's uses.  Just before that module runs (its name looked up on ``sys.meta_path``, once), numba's
+    ``ensure_blas`` is replaced for that one call by :func:`_blas_installed`, the same question asked of the
+    files, and put back at once; a kernel that does use BLAS (``np.dot``) imports it through numba as before.
+    """
+
+    def find_spec(self, name: str, path: Any = None, target: Any = None) -> None:
+        if name != "numba.np.arraymath":
+            return None
+        with contextlib.suppress(ValueError):
+            sys.meta_path.remove(self)
+        linalg: Any = sys.modules.get("numba.np.linalg")
+        real = getattr(linalg, "ensure_blas", None)
+        if linalg is None or real is None or "scipy.linalg" in sys.modules:
+            return None
+
+        def ensure_blas() -> None:  # called once, by arraymath's module-level check
+            linalg.ensure_blas = real
+            caller = sys._getframe(1).f_globals  # arraymath's (its name read already): numba's own from now on
+            if caller.get("ensure_blas") is ensure_blas:
+                caller["ensure_blas"] = real
+            if not _blas_installed():
+                raise ImportError("scipy 0.16+ is required for linear algebra")  # numba's own words
+
+        linalg.ensure_blas = ensure_blas
+        return None  # found by the next finder, as always
+
+
+def _blas_installed() -> bool:
+    """Whether SciPy's ``linalg.cython_blas`` extension is installed (found, not imported)."""
+    import importlib.machinery
+    import importlib.util
+
+    scipy: Any = sys.modules.get("scipy")
+    try:
+        spec: Any = None if scipy is not None else importlib.util.find_spec("scipy")
+        places = list(scipy.__path__ if scipy is not None else spec.submodule_search_locations)
+    except (AttributeError, ImportError, TypeError, ValueError):
+        return False
+    return any((Path(p) / "linalg" / f"cython_blas{suffix}").is_file()
+               for p in places for suffix in importlib.machinery.EXTENSION_SUFFIXES)
+
+
 def _make_all() -> None:
     """Make every pending kernel's dispatcher and put it in place of its stand-in in every module."""
     with _LOCK:
         if _MADE.is_set():
             return
+        if "numba.np.arraymath" not in sys.modules and not any(type(f) is _BlasProbe for f in sys.meta_path):
+            sys.meta_path.insert(0, _BlasProbe())
         for k in _PENDING:
             k._made = _compile(k._fn, k._options)
         for module in list(sys.modules.values()):

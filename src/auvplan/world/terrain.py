@@ -200,8 +200,9 @@ class Terrain:
 
         The kernel may fuse multiplications and additions and multiply by a reciprocal (its fast-math
         flags), so its bits differ from numpy's by a few roundings of the terms
-        ``a + b u + c v + e u v``; the bound is 64 roundings of their magnitudes, times the grid
-        coordinates' size (which the cell fractions ``u``, ``v`` inherit).  ``validate`` decides a point
+        ``a + b u + c v + e u v``; the bound is 64 roundings of their magnitudes (the largest of this cell's and
+        its neighbours': on a grid line the kernel may take the next cell), times the grid coordinates' size (which
+        the cell fractions ``u``, ``v`` inherit).  ``validate`` decides a point
         well above the seabed with this alone and never loads a compiled kernel (issue 56).
 
         Parameters
@@ -221,7 +222,14 @@ class Terrain:
         i, j, u, v = self._locate(x, y)
         a, b, c, e = np.moveaxis(self._coef[j, i], -1, 0)
         zb: FloatArray = a + b * u + c * v + e * u * v
-        size = np.abs(a) + np.abs(b) + np.abs(c) + np.abs(e)
+        # on a grid line the kernel's cell fraction (a reciprocal's rounding off numpy's) may fall in the
+        # neighbouring cell: its coefficients (a cliff beside a flat cell) count as well as this cell's
+        ny, nx = self._coef.shape[:2]
+        size = np.zeros(np.shape(zb))
+        for dj in (-1, 0, 1):
+            for di in (-1, 0, 1):
+                near = self._coef[np.clip(j + dj, 0, ny - 1), np.clip(i + di, 0, nx - 1)]
+                size = np.maximum(size, np.abs(near).sum(axis=-1))
         err: FloatArray = 64.0 * np.finfo(float).eps * size * (2.0 + fx + fy)
         return zb, err
 

@@ -19,11 +19,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._types import FloatArray, IntArray
+from ..._types import BoolArray, FloatArray, IntArray
 from ...geometry import as_points
+from ...path.flyable import leg_pitch_deg
+from ...world import World
 from ...world.terrain import Terrain
+from .limits import waypoint_limits
+from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["terrain_track"]
+__all__ = ["check_as_flown", "flown_pitch_depth", "terrain_track"]
 
 
 def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
@@ -35,6 +39,44 @@ def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
             t = (np.asarray(grid, dtype=float) - a[axis]) / d
             s.append(t[(t > 0.0) & (t < 1.0)])
     return np.unique(np.concatenate(s))
+
+
+def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, float]:
+    """The track of one leg following the seabed from ``a`` to ``b``: its vertices' parameters (after 0, up to 1)
+    and depths, and its steepest slope ``|dz/dl|`` (the tangent's, exact: largest at the ends of a quadratic piece;
+    ``inf`` for a leg with no horizontal length that changes depth)."""
+    ha = float(a[2] - terrain.elevation(a[0], a[1]))
+    hb = float(b[2] - terrain.elevation(b[0], b[1]))
+
+    def z_at(s: FloatArray) -> FloatArray:
+        xy = a[:2] + s[:, None] * (b[:2] - a[:2])
+        return np.asarray(terrain.elevation(xy[:, 0], xy[:, 1]), dtype=float) + ha + s * (hb - ha)
+
+    s = _pieces(terrain, a, b)
+    s0, s1 = s[:-1], s[1:]
+    z0, zm, z1 = z_at(s0), z_at(0.5 * (s0 + s1)), z_at(s1)
+    q2 = 2.0 * (z0 - 2.0 * zm + z1)  # z = z0 + q1 t + q2 t^2 on each piece, t in [0, 1]
+    q1 = z1 - z0 - q2
+    length = float(np.hypot(*(b[:2] - a[:2])))
+    if length > 0.0:
+        slope = float((np.maximum(np.abs(q1), np.abs(q1 + 2.0 * q2)) / ((s1 - s0) * length)).max())
+    else:
+        slope = 0.0 if b[2] == a[2] else np.inf
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -1.0)
+    inner = (t > 0.0) & (t < 1.0)
+    s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner]]))[1:]
+    z = z_at(s)
+    z[-1] = b[2]  # the item itself, as the file places it
+    return s, z, slope
+
+
+def _flags(waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, BoolArray]:
+    w = as_points(waypoints).reshape(-1, 3)
+    f = np.asarray(follow, dtype=bool).reshape(-1)
+    if f.size != max(w.shape[0] - 1, 0):
+        raise ValueError(f"follow has {f.size} flags for {max(w.shape[0] - 1, 0)} legs")
+    return w, f
 
 
 def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, IntArray]:
@@ -61,10 +103,7 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
     leg : numpy.ndarray of int
         ``(M - 1,)``: the leg (from 0) of each segment of the track.
     """
-    w = as_points(waypoints).reshape(-1, 3)
-    f = np.asarray(follow, dtype=bool).reshape(-1)
-    if f.size != max(w.shape[0] - 1, 0):
-        raise ValueError(f"follow has {f.size} flags for {max(w.shape[0] - 1, 0)} legs")
+    w, f = _flags(waypoints, follow)
     pts: list[FloatArray] = [w[:1]]
     legs: list[IntArray] = []
     for k in range(w.shape[0] - 1):
@@ -73,26 +112,83 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
             pts.append(b[None, :])
             legs.append(np.array([k]))
             continue
-        ha = float(a[2] - terrain.elevation(a[0], a[1]))
-        hb = float(b[2] - terrain.elevation(b[0], b[1]))
-
-        def z_at(s: FloatArray, a: FloatArray = a, b: FloatArray = b, ha: float = ha, hb: float = hb) -> FloatArray:
-            xy = a[:2] + s[:, None] * (b[:2] - a[:2])
-            return np.asarray(terrain.elevation(xy[:, 0], xy[:, 1]), dtype=float) + ha + s * (hb - ha)
-
-        s = _pieces(terrain, a, b)
-        s0, s1 = s[:-1], s[1:]
-        z0, zm, z1 = z_at(s0), z_at(0.5 * (s0 + s1)), z_at(s1)
-        q2 = 2.0 * (z0 - 2.0 * zm + z1)  # z = z0 + q1 t + q2 t^2 on each piece, t in [0, 1]
-        q1 = z1 - z0 - q2
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -1.0)
-        inner = (t > 0.0) & (t < 1.0)
-        s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner]]))[1:]
+        s, z, _ = _following_leg(terrain, a, b)
         xy = a[:2] + s[:, None] * (b[:2] - a[:2])
-        z = z_at(s)
-        z[-1] = b[2]  # the item itself, as the file places it
         pts.append(np.column_stack([xy, z]))
         legs.append(np.full(s.size, k))
     leg = np.concatenate(legs) if legs else np.zeros(0, dtype=np.intp)
     return np.vstack(pts), leg.astype(np.intp)
+
+
+def flown_pitch_depth(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, FloatArray]:
+    """Each leg's steepest pitch and greatest depth as flown: on a leg ``follow`` marks, the seabed-following
+    track's (:func:`terrain_track`; the pitch of its steepest tangent, where the vehicle must climb or dive with
+    the seabed, and its deepest vertex, exact); on the others the straight leg's.
+
+    Parameters
+    ----------
+    terrain : Terrain
+        The seabed.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed.
+
+    Returns
+    -------
+    pitch : numpy.ndarray
+        ``(N - 1,)`` steepest pitch (degrees, absolute), for :func:`auvplan.path.legs.helm_check`.
+    depth : numpy.ndarray
+        ``(N - 1,)`` greatest depth (m, positive down).
+    """
+    w, f = _flags(waypoints, follow)
+    pitch = np.abs(leg_pitch_deg(w)) if w.shape[0] > 1 else np.zeros(0)
+    depth = -np.minimum(w[:-1, 2], w[1:, 2])
+    for k in np.flatnonzero(f):
+        _, z, slope = _following_leg(terrain, w[k], w[k + 1])
+        pitch[k] = max(float(np.degrees(np.arctan(slope))), pitch[k])
+        depth[k] = max(float(-z.min()), -float(w[k, 2]))
+    return pitch, depth
+
+
+def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True) -> MissionCheck:
+    """:func:`~auvplan.guidance.mission.waypoints.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
+    they are flown: on the seabed-following track (:func:`terrain_track`), not on the straight line between their
+    items, which such an executor does not fly.
+
+    Each marked leg's least altitude, obstacle contact and least obstacle distance are those of its track's
+    segments (exact on each segment, as for a straight leg); unmarked legs are the straight 3D legs.  The surface,
+    depth band and bounds are tested at the waypoints (``limits``), as ``fly_check`` does; the track's own
+    extremes between items are ``mission check``'s terrain-following verdict.
+
+    Parameters
+    ----------
+    world : World
+        Seabed, static obstacles and margins.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed (without a seabed none is).
+    launch : bool, optional
+        Waypoint 0 is a launch point on the surface (exempt from the depth band).
+
+    Returns
+    -------
+    MissionCheck
+        Per leg as flown; ``semantics`` ``"ramp"``.
+    """
+    w = as_points(waypoints).reshape(-1, 3)
+    f = np.asarray(follow, dtype=bool).reshape(-1)
+    alt, hits, dist = leg_figures(world, w[:-1], w[1:], "ramp")
+    if world.terrain is not None and f.any():
+        track, seg_leg = terrain_track(world.terrain, w, f)
+        on = f[seg_leg]
+        t_alt, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
+        alt[f], hits[f], dist[f] = np.inf, False, np.inf
+        np.minimum.at(alt, seg_leg[on], t_alt)
+        np.logical_or.at(hits, seg_leg[on], t_hits)
+        np.minimum.at(dist, seg_leg[on], t_dist)
+    m = world.margins
+    k = int(np.argmin(alt)) if np.isfinite(alt).any() else -1
+    return MissionCheck("ramp", float(alt.min()), k, float(dist.min()) if dist.size else np.inf, int(hits.sum()), alt,
+                        m.min_altitude, m.obstacle, limits=waypoint_limits(world, w, launch))

@@ -24,12 +24,13 @@ __all__ = ["held_zone_entries"]
 
 def _track_legs(w: np.ndarray, track: np.ndarray) -> IntArray:
     """The leg (from 0) of each segment of :func:`held_track`'s polyline: per leg it adds a corner where a depth
-    change ends (when it ends inside the leg) and the leg's end, whose horizontal position is the waypoint's."""
+    change ends (when it ends inside the leg) and the leg's end, whose horizontal position is the waypoint's.  A
+    corner within a rounding of the leg's end lands on the waypoint itself: the last leg's then stays the last."""
     legs = np.empty(track.shape[0] - 1, dtype=np.intp)
     leg = 0
     for k in range(1, track.shape[0]):
         legs[k - 1] = leg
-        if leg + 1 < w.shape[0] and track[k, 0] == w[leg + 1, 0] and track[k, 1] == w[leg + 1, 1]:
+        if leg + 2 < w.shape[0] and track[k, 0] == w[leg + 1, 0] and track[k, 1] == w[leg + 1, 1]:
             leg += 1
     return legs
 

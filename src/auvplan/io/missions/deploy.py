@@ -100,6 +100,16 @@ class DeployInfo:
         terrain-following; None otherwise.
     follow_altitude_m : float
         The target altitude of terrain following (m; 0: off).
+    terrain_items : numpy.ndarray of bool or None
+        ``(N,)`` with ``altitude``: the waypoints a QGroundControl plan writes in the terrain frame, so that ArduSub
+        follows the seabed on the leg into them — those where that flight keeps the vehicle's pitch limit
+        (:func:`auvplan.guidance.mission.terrain_legs.flown_pitch_depth`); the others at their planned depth, whose
+        straight leg the fitted mission keeps within it.  None: every waypoint with an altitude.
+    leg_floor : numpy.ndarray or None
+        ``(N - 1,)`` with ``altitude``: each leg's least altitude on the chart at its held depth (the leg's envelope,
+        :func:`auvplan.guidance.mission.waypoints.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
+        a floor above it would lift the vehicle off the depth ``mission check`` judged wherever the charted seabed
+        rises between two waypoints.  None: no bound beyond the waypoints' altitudes.
     """
 
     origin: tuple[float, float] | None
@@ -107,6 +117,8 @@ class DeployInfo:
     payload: NDArray[np.bool_] | None = None
     altitude: NDArray[np.float64] | None = None
     follow_altitude_m: float = 0.0
+    terrain_items: NDArray[np.bool_] | None = None
+    leg_floor: NDArray[np.float64] | None = None
 
 
 def payload_from_labels(labels: ArrayLike) -> NDArray[np.bool_]:
@@ -202,8 +214,26 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     env = Envelope(tuple((float(x), float(y)) for x, y in poly), float(depth), float(world.margins.min_altitude),
                    round(predicted * TIMEOUT_FACTOR, 1), predicted, TIMEOUT_FACTOR,
                    _exclusions(world, shapely.Polygon(poly), track))
-    altitude = None
+    altitude = items = floor = None
     if mission.follow_altitude_m > 0 and world.terrain is not None:
+        from ...guidance.mission.waypoints import leg_figures
+
         altitude = w[:, 2] - np.asarray(world.seabed(w[:, 0], w[:, 1]), dtype=float)
+        items = _terrain_items(world, w, mission.vehicle.max_pitch_deg)
+        floor = leg_figures(world, w[:-1], w[1:], "held")[0] if len(w) > 1 else np.zeros(0)
     pay = None if payload is None or not np.any(payload) else np.asarray(payload, dtype=bool)
-    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m))
+    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor)
+
+
+def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -> NDArray[np.bool_]:
+    """The waypoints whose leg in can be flown following the seabed within the pitch limit (the first: the launch
+    leg, never followed); a leg already steeper than the limit as a straight line keeps the terrain frame."""
+    from ...guidance.mission.terrain_legs import flown_pitch_depth
+    from ...path.flyable import leg_pitch_deg
+
+    assert world.terrain is not None
+    items = np.ones(len(w), dtype=bool)
+    if len(w) > 1:
+        pitch = flown_pitch_depth(world.terrain, w, np.ones(len(w) - 1, dtype=bool))[0]
+        items[1:] = (pitch <= max_pitch_deg + 1e-9) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-9)
+    return items

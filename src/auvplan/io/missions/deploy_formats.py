@@ -11,7 +11,9 @@ as each mission format carries them (issue 51; docs/missions.md "Hand it to the 
   ``MISSION_COMPLETE = true`` at the last point, after which no behaviour runs (the helm all-stops).  Payload:
   ``PAYLOAD = on|off`` posted by the ``runflag`` of the leg where it switches (``initialize PAYLOAD = off``, the
   waypoint ``endflag`` turns it off).  Terrain following: one ``BHV_MinAltitudeX`` per leg (``min_altitude``:
-  depth ≤ water depth − altitude from the altimeter) beside the leg's ``BHV_ConstantDepth``, the bound.
+  depth ≤ water depth − altitude from the altimeter) beside the leg's ``BHV_ConstantDepth``, the bound; never above
+  the leg's least charted altitude at its held depth (``DeployInfo.leg_floor``), so that over the chart it never
+  lifts the vehicle off the depths ``mission check`` judged — only a seabed shallower than charted does.
 * **QGroundControl** (``mission.plan``): ``geoFence.polygons`` — one ``inclusion: true`` polygon (the bounds)
   and one ``inclusion: false`` per exclusion; terrain-following items in ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` (10,
   QGC ``AltitudeMode`` 4 = ``AltitudeModeTerrainFrame``) with the altitude above the seabed; payload
@@ -120,7 +122,8 @@ def moos_leg_extras(deploy: DeployInfo | None, leg: int) -> tuple[list[str], lis
             inside.append(f"  runflag   = PAYLOAD = {'on' if on[leg] else 'off'}")
     after: list[str] = []
     if deploy.altitude is not None:
-        a = min(deploy.follow_altitude_m or np.inf, float(deploy.altitude[leg]), float(deploy.altitude[leg + 1]))
+        a = min(deploy.follow_altitude_m or np.inf, float(deploy.altitude[leg]), float(deploy.altitude[leg + 1]),
+                np.inf if deploy.leg_floor is None else float(deploy.leg_floor[leg]))  # never above the checked leg
         after = ["", "Behavior = BHV_MinAltitudeX", "{", f"  name         = altitude_{leg}",
                  f"  pwt          = {ALTITUDE_PWT}", "  condition    = DEPLOY = true",
                  f"  condition    = WPT_INDEX = {leg}", "  condition    = RETURN = false",

@@ -181,6 +181,12 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
 
 
 # ---------------------------------------------------------------------- QGroundControl / ArduSub
+def _global_mode(items: list[dict[str, Any]]) -> int:
+    """QGroundControl's plan-wide altitude mode: 1 relative, 4 terrain frame, 0 mixed (each item its own)."""
+    modes = {item["AltitudeMode"] for item in items if "AltitudeMode" in item}
+    return modes.pop() if len(modes) == 1 else 0 if modes else 1
+
+
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
                 acceptance_radius: float = 5.0, deploy: DeployInfo | None = None) -> dict[str, Any]:
     """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
@@ -215,10 +221,15 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     v = leg_speeds(speed, len(p) - 1)
     items: list[dict[str, Any]] = []
     alt = deploy.altitude if deploy is not None else None
+    terrain = None if alt is None or deploy is None else deploy.terrain_items
     events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
     for i, (la, lo, z) in enumerate(zip(lat, lon, p[:, 2])):
         # terrain following: the altitude above the seabed in MAV_FRAME_GLOBAL_TERRAIN_ALT (10, QGC mode 4)
-        h, frame_id, mode = (round(float(z), 3), 3, 1) if alt is None else (round(float(alt[i]), 3), 10, 4)
+        # (a leg too steep to follow the seabed within the pitch limit: its straight leg, at the planned depth)
+        if alt is not None and (terrain is None or bool(terrain[i])):
+            h, frame_id, mode = round(float(alt[i]), 3), 10, 4
+        else:
+            h, frame_id, mode = round(float(z), 3), 3, 1
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
@@ -233,7 +244,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
             "geoFence": dfmt.qgc_geofence(deploy, frame),
             "rallyPoints": {"points": [], "version": 2},
             "mission": {"version": 2, "firmwareType": 3, "vehicleType": 12, "cruiseSpeed": speed, "hoverSpeed": speed,
-                        "globalPlanAltitudeMode": 1 if alt is None else 4,
+                        "globalPlanAltitudeMode": _global_mode(items),
                         "plannedHomePosition": [round(float(lat[0]), 9), round(float(lon[0]), 9), 0],
                         "items": items}}
 

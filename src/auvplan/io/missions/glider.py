@@ -318,9 +318,12 @@ def is_glider_file(path: Path) -> bool:
     Returns
     -------
     bool
-        By its name.
+        By its name (a ``targets…`` name with a mission format's suffix, ``targets.csv``, is that format).
     """
-    return (path.suffix == ".ma" and path.name.startswith("goto_l")) or path.name.startswith("targets")
+    from .readers import MISSION_SUFFIXES  # a "targets_v2.csv" is a CSV mission, not a Seaglider targets file
+
+    return (path.suffix == ".ma" and path.name.startswith("goto_l")) or (
+        path.name.startswith("targets") and path.suffix.lower() not in MISSION_SUFFIXES)
 
 
 def read_glider_waypoints(path: Path, origin: tuple[float, float]) -> tuple[np.ndarray, float, str]:

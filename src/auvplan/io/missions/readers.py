@@ -18,10 +18,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from ...guidance.mission.terrain_legs import check_as_flown
 from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
+from .qgc_items import plan_items
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -139,23 +141,27 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
     Returns
     -------
     numpy.ndarray
-        ``(N + 1, 3)`` (m): home (on the surface) then every ``MAV_CMD_NAV_WAYPOINT`` item
-        (relative-altitude and terrain frames).
+        ``(N + 1, 3)`` (m): home (on the surface) then every position the vehicle goes to, in order
+        (:func:`auvplan.io.missions.qgc_items.plan_items`: waypoints, loiters without a radius, a survey's or
+        corridor scan's generated waypoints; relative-altitude and terrain frames).
+
+    Raises
+    ------
+    DataError
+        Naming the item (``mission.items[i]``) that moves the vehicle in a way the check cannot follow
+        (``DO_JUMP``, return to launch, land, a spline, an unknown command or pattern), or a bad frame.
     """
+    items = [it for it in plan_items(doc) if it.moves]  # the shared walk: refuses what it cannot follow
     try:
-        mission = doc["mission"]
-        home = mission["plannedHomePosition"]
+        home = doc["mission"]["plannedHomePosition"]
         rows = [(float(home[0]), float(home[1]), 0.0)]
         terrain: list[bool] = []
-        for i, item in enumerate(mission["items"]):
-            if item.get("command") != 16:
-                continue
-            if item.get("frame") not in (3, 6, 10) or (item.get("frame") == 10 and seabed is None):
-                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative "
+        for it in items:
+            if it.frame not in (3, 6, 10) or (it.frame == 10 and seabed is None):
+                raise DataError(f"QGC plan: {it.where}.frame = {it.frame}: expected 3 (relative "
                                 "alt), or 10 (terrain alt) with a seabed")
-            prm = item["params"]
-            rows.append((float(prm[4]), float(prm[5]), float(prm[6])))
-            terrain.append(item.get("frame") == 10)
+            rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            terrain.append(it.frame == 10)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     a = np.array(rows)
@@ -349,7 +355,8 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
         raise DataError(f"{path}: not a readable {fmt} mission ({' '.join(str(exc).split())[:200]})") from exc
 
 
-def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) -> tuple[MissionCheck, str]:
+def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
+                       follow: NDArray[np.bool_] | None = None) -> tuple[MissionCheck, str]:
     """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
 
     Parameters
@@ -360,6 +367,9 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
         Seabed, static obstacles and margins (its origin for geographic formats).
     pitch_deg : float, optional
         Pitch at which held depths change (degrees).
+    follow : numpy.ndarray of bool, optional
+        A ``.plan``'s legs flown following the seabed (:func:`auvplan.io.missions.terrain_frame.terrain_legs`):
+        measured on that track (:func:`auvplan.guidance.mission.terrain_legs.check_as_flown`).
 
     Returns
     -------
@@ -379,4 +389,8 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0) 
     if len(waypoints) < 2:
         raise DataError(f"{path}: the mission has {len(waypoints)} waypoint{'' if len(waypoints) == 1 else 's'}; "
                         "at least 2 are needed (a start and a goal)")
+    if follow is not None and follow.any():
+        if semantics != "ramp" or follow.size != len(waypoints) - 1:
+            raise ValueError(f"follow: {follow.size} flags for a {semantics} mission of {len(waypoints)} waypoints")
+        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc"), fmt
     return fly_check(world, waypoints, semantics, pitch_deg, launch=fmt == "qgc"), fmt

@@ -82,8 +82,11 @@ def _check_seabed(area: shapely.Polygon, world: World, where: str) -> None:
     gx, gy = np.meshgrid(np.arange(ax0, ax1 + g, g), np.arange(ay0, ay1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
     px, py = np.r_[ring[:, 0], gx[inside]], np.r_[ring[:, 1], gy[inside]]
-    zb = world.seabed(px, py)
-    bad = ~np.isfinite(zb) | (zb >= -max(world.margins.min_depth, 0.0))
+    below = -max(world.margins.min_depth, 0.0)
+    if bool(np.all(_seabed_bounds(world, px, py)[1] < below)):  # under water even at the bound: no kernel needed
+        return
+    zb = world.seabed(px, py)  # perhaps not: the compiled seabed decides, and names the point
+    bad = ~np.isfinite(zb) | (zb >= below)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise ScenarioError(f"{where} area: the seabed at ({px[i]:.0f}, {py[i]:.0f}) m is {zb[i]:.1f} m, not under "
@@ -158,18 +161,59 @@ def check_survey_size(params: SurveyParams, world: World, where: str) -> None:
     x0, y0, x1, y1 = params.area.bounds
     gx, gy = np.meshgrid(np.linspace(x0, x1, 48), np.linspace(y0, y1, 48))
     inside = shapely.contains_xy(params.area, gx, gy)
+    lines, diag = params.lines, math.hypot(x1 - x0, y1 - y0)
+    within = _swath_bounds(params, world, gx[inside], gy[inside])
+    if within is not None:
+        try:  # within the ceilings at the least spacing and the widest swath: so at the seabed's own (monotone)
+            _limits.check_survey(_limits.current(), where, diag, diag, within[0], lines.station_m, lines.step_m,
+                                 within[1])
+            return
+        except ScenarioError:
+            pass  # perhaps over: the compiled seabed decides, and words the message
     depth = -world.seabed(gx[inside], gy[inside]) if inside.any() else np.array([])
     depth = depth[np.isfinite(depth) & (depth > 0)]
-    sensor, lines = params.sensor, params.lines
     if depth.size == 0:
         raise ScenarioError(f"{where} polygon: no water under the area (the seabed is above the surface there)")
+    spacing, swath = _swath(params, depth)
+    _limits.check_survey(_limits.current(), where, diag, diag, spacing, lines.station_m, lines.step_m, swath)
+
+
+def _swath(params: SurveyParams, depth: NDArray[np.float64]) -> tuple[float, float]:
+    """The mean line spacing and the widest swath over the water ``depth`` (m, > 0) of the samples."""
+    sensor = params.sensor
     height = np.full(depth.shape, sensor.altitude_m) if sensor.mounting == "auv" else depth
     reach = np.asarray(sensor.flat_reach(height), dtype=float)
-    spacing = 2.0 * reach * (1.0 - lines.overlap_max)
-    mean_spacing = 1.0 / float(np.mean(1.0 / np.maximum(spacing, 1e-300)))
-    diag = math.hypot(x1 - x0, y1 - y0)
-    _limits.check_survey(_limits.current(), where, diag, diag, mean_spacing, lines.station_m, lines.step_m,
-                         2.0 * float(reach.max()))
+    spacing = 2.0 * reach * (1.0 - params.lines.overlap_max)
+    return 1.0 / float(np.mean(1.0 / np.maximum(spacing, 1e-300))), 2.0 * float(reach.max())
+
+
+def _swath_bounds(params: SurveyParams, world: World, x: NDArray[np.float64],
+                  y: NDArray[np.float64]) -> tuple[float, float] | None:
+    """A lower bound of :func:`_swath`'s spacing and an upper bound of its swath over the compiled seabed at
+    ``x, y``, from the seabed in numpy (:func:`_seabed_bounds`); None when a sample may be dry or wet.
+
+    Every step of :func:`_swath` is monotone in each depth (a reach grows or shrinks with the height, the
+    harmonic mean grows with each spacing; IEEE rounding keeps that order), so the least of the reaches at
+    the two ends of each depth's interval bounds the spacing below and the greatest the swath above."""
+    if x.size == 0:
+        return None
+    lo, hi = _seabed_bounds(world, x, y)
+    wet, dry = hi < 0.0, lo >= 0.0  # depth > 0 at either end, or at neither (a NaN is neither: None)
+    if not bool(np.all(wet | dry)) or not wet.any():
+        return None
+    ends = [_swath(params, -z[wet]) for z in (lo, hi)]  # one sensor: every reach is least at the same end
+    return min(s for s, _ in ends), max(w for _, w in ends)
+
+
+def _seabed_bounds(world: World, x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64],
+                                                                                           NDArray[np.float64]]:
+    """``(lo, hi)``: the compiled seabed :meth:`World.seabed` at ``x, y`` lies within, from the numpy one
+    (:meth:`Terrain.elevation_bounds`, a rounding further out each side): no compiled kernel (issue 56)."""
+    if world.terrain is None:
+        inf = np.full(np.shape(x), -np.inf)
+        return inf, inf
+    zb, err = world.terrain.elevation_bounds(x, y)
+    return np.nextafter(zb - err, -np.inf), np.nextafter(zb + err, np.inf)
 
 
 def coverage_record(run: SurveyRun, params: SurveyParams) -> dict[str, Any]:

@@ -5,6 +5,7 @@ goal, route and vehicles against it (and the simulation's record against the mem
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import replace
 
@@ -24,6 +25,7 @@ from ...world import (
 )
 from .. import limits as _limits
 from ..data.bathymetry import load_terrain
+from ..data.cache import cached
 from ..data.geo import LocalFrame
 from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
@@ -306,7 +308,16 @@ def _place_altitudes(s: Scenario, terrain: Terrain | None) -> Scenario:
     def seabed(x: float, y: float) -> float:
         return float(terrain.elevation(x, y)) if x0 <= x <= x1 and y0 <= y <= y1 else math.nan
 
-    placed = from_dict(apply_altitudes(s.geo, seabed), s.source, s.base_dir)
+    # the compiled seabed's values (they are printed and planned from, to the bit), kept in the readers' cache
+    # under the grid's and the points' bits: a second validate or plan loads no compiled kernel for them (#56)
+    points = tuple((float(ref.x), float(ref.y)) for ref in s.geo.altitudes)
+    coef, *origin = terrain.kernel_data[:5]
+    grid = hashlib.sha256(coef.tobytes() + repr((coef.shape, origin)).encode()).hexdigest()
+    z = cached("seabed-at", (grid, points), (), lambda: np.array([seabed(x, y) for x, y in points]),
+               lambda a: ({"z": a}, {}), lambda arrays, _: arrays["z"])
+    at = dict(zip(points, z.tolist()))
+    placed = from_dict(apply_altitudes(s.geo, lambda x, y: at[(x, y)] if (x, y) in at else seabed(x, y)),
+                       s.source, s.base_dir)
     return replace(s, mission=placed.mission, obstacles=placed.obstacles, moving=placed.moving,
                    formation=placed.formation)
 

@@ -34,7 +34,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..._types import ArrayLike, BoolArray, FloatArray
 from ...runtime.jit import kernel
@@ -261,6 +260,8 @@ class AxialBody:
         tuple of float
             Body-frame x of the front and rear stagnation points (m).
         """
+        from scipy.optimize import brentq  # here: a plan round an ellipsoid never asks (scipy.optimize, ~0.3 s)
+
         lo, hi = self.singular_range
         span = max(hi - lo, 1e-9 * self.a1)
         xf = brentq(self._axial_speed, lo - 1e4 * max(span, 1.0), lo - 1e-9 * span, xtol=1e-13 * span)

@@ -10,8 +10,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.spatial import ConvexHull
 
 from ..._types import ArrayLike, FloatArray
 from ...world.obstacles import Ellipsoid, Shape
@@ -209,6 +207,8 @@ def _concave_envelope(x: FloatArray, rho: FloatArray, n: int = 160) -> tuple[Flo
     """The least concave majorant of meridian points (the upper chain of their convex hull with the axis),
     sampled at ``n`` abscissae from the first to the last point."""
     pts = np.column_stack([np.concatenate([x, [x.min(), x.max()]]), np.concatenate([rho, [0.0, 0.0]])])
+    from scipy.spatial import ConvexHull  # here: the ellipsoid's plan never asks (issue 56)
+
     hull = pts[ConvexHull(pts).vertices]
     xs = np.linspace(x.min(), x.max(), n)
     top = np.zeros(n)
@@ -341,6 +341,8 @@ def design_document_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, mar
     k = np.flatnonzero(np.diff(np.sign(vals)) != 0)
     if k.size == 0:
         raise ValueError(f"document sizing: no (m, a2) gives x_s = {xs:g} and R0 = {R0:g}")
+    from scipy.optimize import brentq  # here: the ellipsoid's plan never asks (scipy.optimize, ~0.3 s)
+
     a2 = brentq(front, grid[k[0]], grid[k[0] + 1])
     return _pair(c, basis, a1, Q, m_for(a2), a2, kind="document")
 

@@ -19,7 +19,6 @@ Convention (as :mod:`auvplan.planners.flow`): u = +∇φ; a sink of strength m a
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..._types import ArrayLike, FloatArray
 
@@ -299,6 +298,8 @@ def rankine_stagnation_points(m: float, a2: float, Q: float, a1: float) -> tuple
 
     lo = -a2 - 1e-9 * a2
     far = -a2 - 1e6 * max(a2, 1.0)
+    from scipy.optimize import brentq  # here: a plan round an ellipsoid never asks (issue 56)
+
     xf = brentq(front, far, lo, xtol=1e-14 * a2, rtol=1e-14)
     xr = brentq(rear, a2 * (1 + 1e-9), a1 * (1 - 1e-12), xtol=1e-14 * a2, rtol=1e-14)
     return float(xf), float(xr)
@@ -326,5 +327,7 @@ def rankine_radius(m: float, a2: float, Q: float, a1: float) -> float:
     def f(R: float) -> float:
         value: float = 0.5 * Q * (1.0 - a1 / np.hypot(a1, R)) - m * a2 / np.hypot(a2, R)
         return value
+
+    from scipy.optimize import brentq  # here: a plan round an ellipsoid never asks (issue 56)
 
     return float(brentq(f, 1e-12 * a2, 1e6 * max(a1, a2), xtol=1e-13 * a2, rtol=1e-14))

@@ -1,5 +1,5 @@
 """The zones' index: the prisms (grown by the pad, or :attr:`ZoneIndex.exact`), their R-tree, the broad
-phase's cell grid and the fine lower-bound field, built once; the broad phase's candidate pairs."""
+phase's cell grid, built once, and the fine lower-bound field, at its first use; the broad phase's candidate pairs."""
 
 from __future__ import annotations
 
@@ -55,7 +55,6 @@ class ZoneIndex:
     _seabed: BoolArray = field(init=False, repr=False)
     _bounds: FloatArray = field(init=False, repr=False)
     _grid: tuple[Any, ...] | None = field(init=False, repr=False)
-    _field: tuple[Any, ...] = field(init=False, repr=False)
     _rings: tuple[FloatArray, IntArray, IntArray, FloatArray] = field(init=False, repr=False)
     _centres: np.ndarray = field(init=False, repr=False)
 
@@ -90,11 +89,23 @@ class ZoneIndex:
         object.__setattr__(self, "_rings", polygon_rings(geoms, self._centres))
 
     def _rasterise(self) -> None:
-        """The broad phase's grid (:func:`.parts.rasterise`)."""
+        """The broad phase's grid (:func:`.parts.rasterise`); the fine field is made when first used."""
         grid = rasterise(self._bounds, self._tree, self._zlo, self._zhi, self._h, self.terrain) if self.zones else None
         object.__setattr__(self, "_grid", grid)
-        if grid is not None:  # the fine lower-bound field (two bytes a cell, about 400 000 cells)
-            object.__setattr__(self, "_field", distance_field(grid, self._rings, self._bounds))
+
+    @property
+    def _field(self) -> tuple[Any, ...]:
+        """The fine lower-bound field (:func:`.parts.distance_field`, two bytes a cell, about 400 000 cells),
+        made at its first use (the segment passes) and kept: a point query, as ``validate``'s start and goal,
+        never needs it, nor its compiled kernel (issue 56).  A set derived with a smaller pad shares its
+        parent's (:meth:`_derived`)."""
+        made: tuple[Any, ...] | None = self.__dict__.get("_fine")
+        if made is None:
+            parent = self.__dict__.get("_fine_of")
+            assert self._grid is not None
+            made = parent._field if parent is not None else distance_field(self._grid, self._rings, self._bounds)
+            object.__setattr__(self, "_fine", made)
+        return made
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
         """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.kernels`);
@@ -220,7 +231,7 @@ class ZoneIndex:
         top = band_tops(out._bounds, out._zhi, out._h, self.terrain)
         bottom = np.where(sea, -np.inf, out._zlo)
         object.__setattr__(out, "_grid", (*self._grid[:8], bottom, top, self._grid[10]))
-        object.__setattr__(out, "_field", self._field)
+        object.__setattr__(out, "_fine_of", self)  # this set's fine field, made when either first uses it
         return out
 
     @property

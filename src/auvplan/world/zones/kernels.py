@@ -24,8 +24,12 @@ FIELD_UNITS = 64
 #: Legs of a polyline passed at once by one disc of the fine field (:func:`path_hits_kernel`).
 RUN = 4
 
+# Only the field's look-up and march (:func:`_far`, :func:`_clear`), run for every leg, are inlined by numba
+# (``inline="always"``): the swarm's pass is as fast as with every helper inlined (0.0512 vs 0.0510 s a plan
+# replayed; 5.6 % slower with none) and the two any-hit passes compile in half the time.
 
-@kernel(inline="always")
+
+@kernel
 def _meets_box(ax: float, ay: float, dx: float, dy: float, x0: float, y0: float, x1: float, y1: float) -> bool:
     """Whether the segment ``a + t d, t in [0, 1]`` meets the closed box (slab clipping)."""
     t0, t1 = 0.0, 1.0
@@ -44,7 +48,7 @@ def _meets_box(ax: float, ay: float, dx: float, dy: float, x0: float, y0: float,
     return t0 <= t1
 
 
-@kernel(inline="always")
+@kernel
 def _row_cells(j: int, ax: float, ay: float, dx: float, dy: float, x0: float, y0: float, cell: float, i0: int,
                i1: int) -> tuple[int, int]:
     """The columns of row ``j`` (within ``i0..i1``) the segment ``a + t d`` can cross: the x-range of its
@@ -62,7 +66,7 @@ def _row_cells(j: int, ax: float, ay: float, dx: float, dy: float, x0: float, y0
     return max(c0, i0), min(c1, i1)
 
 
-@kernel(inline="always")
+@kernel
 def _passes_by(ax: float, ay: float, dx: float, dy: float, cx0: float, cy0: float, cell: float) -> bool:
     """Whether the line through ``a`` along ``d`` passes the cell ``[cx0, cx0 + cell] x [cy0, cy0 + cell]``
     by: all four corners strictly on one side of it."""
@@ -138,18 +142,18 @@ def candidates_kernel(seg: FloatArray, x0: float, y0: float, cell: float, nx: in
     return m
 
 
-@kernel(inline="always")
+@kernel
 def _orient(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> float:
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
 
 
-@kernel(inline="always")
+@kernel
 def _on(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> bool:
     """Whether ``c``, collinear with ``a b``, lies on the closed segment."""
     return min(ax, bx) <= cx <= max(ax, bx) and min(ay, by) <= cy <= max(ay, by)
 
 
-@kernel(inline="always")
+@kernel
 def _segments_meet(ax: float, ay: float, bx: float, by: float, cx: float, cy: float, dx: float, dy: float) -> bool:
     """Whether the closed segments ``a b`` and ``c d`` share a point (orientation tests)."""
     o1, o2 = _orient(ax, ay, bx, by, cx, cy), _orient(ax, ay, bx, by, dx, dy)
@@ -160,7 +164,7 @@ def _segments_meet(ax: float, ay: float, bx: float, by: float, cx: float, cy: fl
             or (o3 == 0 and _on(cx, cy, dx, dy, ax, ay)) or (o4 == 0 and _on(cx, cy, dx, dy, bx, by)))
 
 
-@kernel(inline="always")
+@kernel
 def _meets_polygon(ax: float, ay: float, bx: float, by: float, k: int, xy: FloatArray, ring: IntArray,
                    rings: IntArray) -> bool:
     """Whether the closed segment ``a b`` meets the closed polygon ``k`` (its rings ``rings[k]:rings[k+1]``,
@@ -180,7 +184,7 @@ def _meets_polygon(ax: float, ay: float, bx: float, by: float, k: int, xy: Float
     return inside
 
 
-@kernel(inline="always")
+@kernel
 def _flat_hit(ax: float, ay: float, az: float, bx: float, by: float, bz: float, lo: float, hi: float, k: int,
               xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray) -> bool:
     """Whether the segment ``a b`` enters the prism of polygon ``k`` times the flat band ``[lo, hi]``: the
@@ -261,7 +265,7 @@ def _clear(ax: float, ay: float, bx: float, by: float, fa: float, fb: float, fx0
     return False
 
 
-@kernel(inline="always")
+@kernel
 def _scan(n: int, ax: float, ay: float, az: float, bx: float, by: float, bz: float, x0: float, y0: float,
           cell: float, nx: int, ny: int, start: IntArray, ids: IntArray, box: FloatArray, zlo: FloatArray,
           zhi: FloatArray, seabed: BoolArray, xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray,
@@ -385,7 +389,7 @@ def path_hits_kernel(p: FloatArray, x0: float, y0: float, cell: float, nx: int, 
     return m
 
 
-@kernel(inline="always")
+@kernel
 def _ring_distance(px: float, py: float, k: int, xy: FloatArray, ring: IntArray, rings: IntArray) -> tuple[float, bool]:
     """Distance from ``p`` to the boundary of polygon ``k`` and whether ``p`` is inside (even-odd rule)."""
     best = math.inf
