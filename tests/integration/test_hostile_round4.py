@@ -290,3 +290,17 @@ def test_a_glider_that_cannot_climb_is_refused_at_load(value, needle):
     assert needle in str(err.value) and "\n" not in str(err.value)
     assert loader.loads(text.replace("[vehicle.glider]\n", "[vehicle.glider]\ncompressibility = 5e-10\n", 1),
                         "g.toml") is not None
+
+
+def test_a_geometry_collection_is_refused_naming_the_file_and_the_feature(tmp_path, capsys):
+    """The refusal named the scenario and the feature but not the file that holds it."""
+    import json
+
+    ring = [[-125.0, 48.0], [-124.99, 48.0], [-124.99, 48.01], [-125.0, 48.0]]
+    gc = {"type": "GeometryCollection", "geometries": [{"type": "Polygon", "coordinates": [ring]},
+                                                       {"type": "Point", "coordinates": [-125.0, 48.0]}]}
+    (tmp_path / "z.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "mix"}, "geometry": gc}]}), encoding="utf-8")
+    text = TRANSIT + '[[zones]]\nname = "chart"\nfile = "z.geojson"\nradius_m = 10.0\n'
+    _refused(tmp_path, capsys, text, "[[zones]] #1 file = 'z.geojson': 'chart: mix': unsupported geometry "
+             "GeometryCollection (a zone is a polygon")

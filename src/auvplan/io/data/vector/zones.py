@@ -223,7 +223,8 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
         if not radius_m:
             raise ScenarioError(f"{where}: {geom.geom_type} features need radius_m")
         return shapely.buffer(geom, radius_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
-    raise DataError(f"{where}: unsupported geometry {geom.geom_type}")
+    raise DataError(f"{where}: unsupported geometry {geom.geom_type} (a zone is a polygon, a line or a point; "
+                    "split the collection into its parts)")
 
 
 def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
@@ -370,7 +371,8 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
             _reaches(spec, geom, box, frame)
             named = [(spec.name, geom)]
         for name, geom in named:
-            footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_} {name!r}")
+            source = f" file = {spec.file!r}:" if spec.kind == "file" else ""  # which file holds the feature
+            footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_}{source} {name!r}")
             try:
                 zones.append(Zone(name, footprint, spec.top_m, spec.bottom_m, spec.above_seabed_m))
             except DataError as exc:
