@@ -304,3 +304,26 @@ def test_a_geometry_collection_is_refused_naming_the_file_and_the_feature(tmp_pa
     text = TRANSIT + '[[zones]]\nname = "chart"\nfile = "z.geojson"\nradius_m = 10.0\n'
     _refused(tmp_path, capsys, text, "[[zones]] #1 file = 'z.geojson': 'chart: mix': unsupported geometry "
              "GeometryCollection (a zone is a polygon")
+
+
+@pytest.mark.parametrize(("name", "text"), [
+    ("m.csv", "x,y,z,speed\n200,-300,-10,0\n5000,3000,-10,1e300\n"),
+    ("m.plan", '{"fileType": "Plan", "mission": {"cruiseSpeed": 1.5, "plannedHomePosition": [48.0, -125.0, 0],'
+               ' "items": [{"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, 1e300, -1, 0, 0, 0, 0]},'
+               ' {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, null, 48.01, -124.99, -10]}]}}'),
+])
+def test_a_leg_speed_of_1e300_is_refused_naming_the_leg(tmp_path, capsys, name, text):
+    """A ``MAV_CMD_DO_CHANGE_SPEED`` (or a CSV ``speed``) of 1e300 m/s was flown: numpy's overflow warnings on
+    stderr (4 lines) around the verdict.  The neighbour, 100 m/s, is read as carried."""
+    from auvplan.io.missions.speeds import read_leg_speeds
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(TRANSIT, encoding="utf-8")
+    mission = tmp_path / name
+    mission.write_text(text, encoding="utf-8")
+    assert main(["mission", "check", str(mission), "--scenario", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"auvplan: error: {mission}: leg "), err
+    assert "speed 1e+300 m/s (carried by the file) is over 100 m/s" in err
+    mission.write_text(text.replace("1e300", "100"), encoding="utf-8")
+    assert read_leg_speeds(mission, 1)[-1] == 100.0
