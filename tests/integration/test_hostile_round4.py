@@ -327,3 +327,16 @@ def test_a_leg_speed_of_1e300_is_refused_naming_the_leg(tmp_path, capsys, name, 
     assert "speed 1e+300 m/s (carried by the file) is over 100 m/s" in err
     mission.write_text(text.replace("1e300", "100"), encoding="utf-8")
     assert read_leg_speeds(mission, 1)[-1] == 100.0
+
+
+def test_a_nanometre_substep_is_refused_at_load():
+    """``[planner.timeopt] substep = 1e-9`` validated OK and ``plan`` integrated each edge for ever (> 60 s);
+    the neighbour, cell / 1000, loads."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader
+
+    text = TRANSIT.replace('name = "iabc"', 'name = "timeopt"') + "[planner.timeopt]\ncell = 100.0\nsubstep = {}\n"
+    with pytest.raises(ScenarioError, match=r"^s.toml: \[planner.timeopt\] substep = 1e-09 m: 1e\+11 sub-steps per "
+                                            r"cell of 100 m, over the 1000 allowed"):
+        loader.build(loader.loads(text.format(1e-9), "s.toml"))
+    loader.build(loader.loads(text.format(0.1), "s.toml"))
