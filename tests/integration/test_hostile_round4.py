@@ -340,3 +340,16 @@ def test_a_nanometre_substep_is_refused_at_load():
                                             r"cell of 100 m, over the 1000 allowed"):
         loader.build(loader.loads(text.format(1e-9), "s.toml"))
     loader.build(loader.loads(text.format(0.1), "s.toml"))
+
+
+def test_a_departure_three_million_years_on_is_refused_naming_the_key():
+    """``depart_s = 1e14`` validated OK; ``plan`` on a tidal scenario stopped with 'tidal prediction: years
+    3170900-3170900 outside the tables', naming no key.  Bounded as ``--depart-between``'s offsets are."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader
+
+    text = TRANSIT.replace('name = "iabc"', 'name = "timeopt"') + "[planner.timeopt]\ndepart_s = {}\n"
+    with pytest.raises(ScenarioError, match=r"^s.toml: \[planner.timeopt\] depart_s = 1e\+14 s: must lie within "
+                                            r"366 d of \[mission\] start_time"):
+        loader.loads(text.format(1e14), "s.toml")
+    assert loader.loads(text.format(-366 * 86400.0), "s.toml").planner.timeopt.depart_s == -366 * 86400.0
