@@ -353,3 +353,21 @@ def test_a_departure_three_million_years_on_is_refused_naming_the_key():
                                             r"366 d of \[mission\] start_time"):
         loader.loads(text.format(1e14), "s.toml")
     assert loader.loads(text.format(-366 * 86400.0), "s.toml").planner.timeopt.depart_s == -366 * 86400.0
+
+
+@pytest.mark.parametrize("speed", ['"fast"', "null", "true", "[1]"])
+def test_a_speed_command_whose_speed_is_not_a_number_is_refused(tmp_path, capsys, speed):
+    """A ``MAV_CMD_DO_CHANGE_SPEED`` of ``"fast"`` was ignored silently: the check flew the vehicle's speed,
+    which the file does not ask for.  Exit 2, one line naming the file and the item."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(TRANSIT, encoding="utf-8")
+    mission = tmp_path / "m.plan"
+    mission.write_text('{"fileType": "Plan", "mission": {"cruiseSpeed": 1.5, "plannedHomePosition": [48.0, -125.0, 0],'
+                       ' "items": [{"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, ' + speed +
+                       ', -1, 0, 0, 0, 0]}, {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0,'
+                       ' null, 48.01, -124.99, -10]}]}}', encoding="utf-8")
+    assert main(["mission", "check", str(mission), "--scenario", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"auvplan: error: {mission}: QGC plan: MAV_CMD_DO_CHANGE_SPEED at "
+                                                   "mission.items[0]: speed "), err
+    assert err.rstrip().endswith("is not a number")

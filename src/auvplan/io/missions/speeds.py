@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from .qgc_items import plan_items
+from .qgc_items import PlanItem, plan_items
 
 __all__ = ["read_leg_speeds"]
 
@@ -52,9 +52,24 @@ def _qgc(doc: dict[str, Any], legs: int) -> list[float] | None:
     for it in plan_items(doc):  # the reader's legs (the same walk)
         if it.moves:
             out.append(speed)  # the leg that reaches this position
-        elif it.command == 178 and float(it.params[1]) > 0:
-            speed = float(it.params[1])
+        elif it.command == 178 and _speed(it) > 0:
+            speed = _speed(it)
     return out if len(out) == legs else None
+
+
+class _BadSpeed(Exception):
+    """A speed command whose speed is not a number (raised past the readers' 'carries none' handling)."""
+
+
+def _speed(it: PlanItem) -> float:
+    """The speed of a ``MAV_CMD_DO_CHANGE_SPEED`` item (param 2, m/s; -1 or 0: unchanged)."""
+    value = it.params[1] if len(it.params) > 1 else None
+    try:
+        if isinstance(value, bool):
+            raise TypeError(value)
+        return float(value)  # type: ignore[arg-type]  # checked: a number or refused
+    except (TypeError, ValueError):
+        raise _BadSpeed(f"MAV_CMD_DO_CHANGE_SPEED at {it.where}: speed {value!r} is not a number") from None
 
 
 def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
@@ -86,6 +101,8 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
             v = np.atleast_1d(rows["speed"])[1:].tolist() if "speed" in names else None
         else:
             v = None
+    except _BadSpeed as exc:  # the vehicle would not fly the speed the check assumed
+        raise DataError(f"{path}: QGC plan: {exc}") from None
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError):
         return None
     if v is None or len(v) != legs:
