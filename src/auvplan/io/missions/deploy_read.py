@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from ...errors import DataError
 from ..data.geo import LocalFrame
+from .qgc_items import plan_items
 from .readers import KML_NS, MISSION_SUFFIXES
 
 __all__ = ["FileDeploy", "read_deploy", "csv_datum", "check_deploy", "file_deploy_check", "DATUM_TOLERANCE_M"]
@@ -97,13 +98,13 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
     fence = doc.get("geoFence") or {}
     inc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if p.get("inclusion")]
     exc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if not p.get("inclusion", True)]
-    events, wp = [], -1
-    for item in doc["mission"]["items"]:
-        if item.get("command") == 16:
+    events, wp, alt = [], -1, 0
+    for it in plan_items(doc):  # the reader's waypoints (the same walk)
+        if it.moves:
             wp += 1
-        elif item.get("command") == 181:
-            events.append((wp, float(item["params"][1]) > 0))
-    alt = sum(1 for i in doc["mission"]["items"] if i.get("command") == 16 and i.get("frame") == 10)
+            alt += it.frame == 10
+        elif it.command == 181:
+            events.append((wp, float(it.params[1]) > 0))
     return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
 
 

@@ -23,6 +23,7 @@ from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
+from .qgc_items import plan_items
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -140,23 +141,27 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
     Returns
     -------
     numpy.ndarray
-        ``(N + 1, 3)`` (m): home (on the surface) then every ``MAV_CMD_NAV_WAYPOINT`` item
-        (relative-altitude and terrain frames).
+        ``(N + 1, 3)`` (m): home (on the surface) then every position the vehicle goes to, in order
+        (:func:`auvplan.io.missions.qgc_items.plan_items`: waypoints, loiters without a radius, a survey's or
+        corridor scan's generated waypoints; relative-altitude and terrain frames).
+
+    Raises
+    ------
+    DataError
+        Naming the item (``mission.items[i]``) that moves the vehicle in a way the check cannot follow
+        (``DO_JUMP``, return to launch, land, a spline, an unknown command or pattern), or a bad frame.
     """
+    items = [it for it in plan_items(doc) if it.moves]  # the shared walk: refuses what it cannot follow
     try:
-        mission = doc["mission"]
-        home = mission["plannedHomePosition"]
+        home = doc["mission"]["plannedHomePosition"]
         rows = [(float(home[0]), float(home[1]), 0.0)]
         terrain: list[bool] = []
-        for i, item in enumerate(mission["items"]):
-            if item.get("command") != 16:
-                continue
-            if item.get("frame") not in (3, 6, 10) or (item.get("frame") == 10 and seabed is None):
-                raise DataError(f"QGC plan: mission.items[{i}].frame = {item.get('frame')}: expected 3 (relative "
+        for it in items:
+            if it.frame not in (3, 6, 10) or (it.frame == 10 and seabed is None):
+                raise DataError(f"QGC plan: {it.where}.frame = {it.frame}: expected 3 (relative "
                                 "alt), or 10 (terrain alt) with a seabed")
-            prm = item["params"]
-            rows.append((float(prm[4]), float(prm[5]), float(prm[6])))
-            terrain.append(item.get("frame") == 10)
+            rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            terrain.append(it.frame == 10)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     a = np.array(rows)

@@ -22,6 +22,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .qgc_items import plan_items
+
 __all__ = ["read_leg_speeds"]
 
 
@@ -46,11 +48,11 @@ def _qgc(doc: dict[str, Any], legs: int) -> list[float] | None:
     mission = doc["mission"]
     speed = float(mission.get("cruiseSpeed") or 0.0)
     out: list[float] = []
-    for item in mission["items"]:
-        if item.get("command") == 16:
-            out.append(speed)  # the leg that reaches this waypoint
-        elif item.get("command") == 178 and float(item["params"][1]) > 0:
-            speed = float(item["params"][1])
+    for it in plan_items(doc):  # the reader's legs (the same walk)
+        if it.moves:
+            out.append(speed)  # the leg that reaches this position
+        elif it.command == 178 and float(it.params[1]) > 0:
+            speed = float(it.params[1])
     return out if len(out) == legs else None
 
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from ..._types import BoolArray
 from ..jsonfile import read_bounded_text
+from .qgc_items import plan_items
 from .readers import MAX_MISSION_BYTES
 
 __all__ = ["TERRAIN_FRAME", "terrain_legs"]
@@ -21,7 +22,7 @@ TERRAIN_FRAME = 10
 
 def terrain_legs(path: str | Path) -> BoolArray:
     """Which legs of a ``.plan`` (home first, as :func:`auvplan.io.missions.readers.parse_qgc_plan` reads it) end
-    at a terrain-frame waypoint item.
+    at a terrain-frame item (a waypoint, a loiter read as one, a survey's generated waypoint).
 
     The first leg, from the home on the surface down to the first item, is the launch: flown as a straight
     descent (its depth band is exempt, as in :func:`~auvplan.guidance.mission.waypoints.fly_check`), never
@@ -35,10 +36,11 @@ def terrain_legs(path: str | Path) -> BoolArray:
     Returns
     -------
     numpy.ndarray of bool
-        One flag per leg (the waypoint items' count; the home leg's first and False).
+        One flag per leg (one per position :func:`~auvplan.io.missions.qgc_items.plan_items` reads; the home
+        leg's first and False).
     """
     doc = json.loads(read_bounded_text(Path(path), MAX_MISSION_BYTES, "a mission file"))
-    frames = [item.get("frame") for item in doc["mission"]["items"] if item.get("command") == 16]
+    frames = [it.frame for it in plan_items(doc) if it.moves]  # the reader's legs (the same walk)
     flags = np.array([f == TERRAIN_FRAME for f in frames], dtype=bool)
     if flags.size:
         flags[0] = False
