@@ -281,11 +281,11 @@ def test_mission_check_of_a_2d_geojson_exits_2_in_one_line(tmp_path, capsys):
     assert cli.main(["mission", "check", str(p), "--scenario", "marcus-wake"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"{p}: " in err and "without an altitude" in err, err
-    far = tmp_path / "far.csv"  # a 10⁹ m leg: the energy integration is refused before it runs
-    far.write_text("x,y,z\n0,0,-100\n1000000000,0,-100\n")
+    far = tmp_path / "far.csv"  # a 10⁹ m leg: refused before the energy integration runs (since round 4 by the
+    far.write_text("x,y,z\n0,0,-100\n1000000000,0,-100\n")  # reader, a waypoint beyond the Earth's circumference)
     assert cli.main(["mission", "check", str(far), "--scenario", "marcus-wake"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and f"{far}: energy at [endurance] ds_m = 100 m over a 1e+09 m" in err, err
+    assert err.count("\n") == 1 and f"{far}: waypoint 1 = (1e+09, 0, -100) m lies over 4e+07 m" in err, err
 
 
 # ---------------------------------------------------------------- --port

@@ -82,7 +82,11 @@ def test_a_leg_ending_before_its_depth_turns_has_no_vertex_past_its_end():
     t = Terrain(np.array([0.0, 100.0]), np.array([0.0, 100.0]), np.array([[-300.0, -300.0], [-300.0, -240.0]]))
     w = np.array([[0.0, 0.0, -175.0], [90.0, 90.0, -300.0 + 48.6 + 5.0]])
     track, leg = terrain_track(t, w, [True])
-    assert np.array_equal(track[-1], w[-1]) and track.shape[0] == 2 and leg.tolist() == [0]
+    assert np.array_equal(track[-1], w[-1]) and (leg == 0).all()
+    s = track[:, 0] / 90.0  # the vertices within SAG_M of the curve (audit 15), all on the leg, none past its end
+    assert (np.diff(s) > 0.0).all() and s[-1] == 1.0 and (np.diff(track[:, 2]) < 0.0).all()
+    np.testing.assert_allclose(track[:-1, 2], -175.0 + (48.6 * s[:-1] - 120.0) * s[:-1], atol=1e-9)
+    assert (48.6 * np.diff(s) ** 2 / 4.0).max() <= 0.01
 
 
 def test_the_flown_pitch_of_short_and_vertical_terrain_frame_legs():

@@ -281,3 +281,19 @@ radius = 1.5
     kept = fit_turns(path, blocked[0], 10.0)
     assert envelopes_free(blocked[0], kept[:-1], kept[1:]).all() and check_limits(kept, VehicleLimits(20.0, 10.0)).ok
     assert not np.all(kept[:, 1] == 200.0)  # the straight leg meets the obstacle: the mission cuts another way
+
+
+def test_a_turn_wider_than_the_earth_reads_straight():
+    """Three points on a line, the middle one 1 nm off it (a lat/lon file's rounding): the fly-by radius is finite
+    but absurd (~1e12 m); the helm line says the legs are straight, while a real 41 m turn is printed."""
+    from auvplan.path.flyable import STRAIGHT_M, leg_turn_radius
+    from auvplan.path.legs import helm_check
+
+    p = np.array([[0.0, 0.0, -10.0], [500.0, 1e-9, -10.0], [1000.0, 0.0, -10.0]])
+    r = leg_turn_radius(p)
+    assert np.isfinite(r).all() and r.min() > STRAIGHT_M
+    report = helm_check(p, VehicleLimits(20.0, 10.0, 300.0))
+    assert "tightest turn none (straight)" in report.summary
+    bent = np.array([[0.0, 0.0, -10.0], [100.0, 0.0, -10.0], [200.0, 100.0, -10.0]])
+    assert f"tightest turn {helm_check(bent, VehicleLimits(20.0, 10.0, 300.0)).tightest_turn_m:.1f} m" in \
+        helm_check(bent, VehicleLimits(20.0, 10.0, 300.0)).summary

@@ -108,6 +108,8 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
         vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
                              pitch=flown[0], depth=flown[1])
+        if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+            vlimits = _from_home(vlimits)
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
@@ -132,13 +134,26 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
             rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
-                                                                    points[1:] if fmt == "qgc" else points, Path(name))
+                                                                    points[1:] if fmt == "qgc" else points, Path(name),
+                                                                    None if follow is None else follow[1:])
         ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
         # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
         rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
                              tf_line))
     return sc, out
+
+
+def _from_home(report: LimitReport) -> LimitReport:
+    """A ``.plan``'s helm report (judged after its launch leg) with its legs numbered from the home, leg 0 the launch,
+    as every other line of the file's report numbers them."""
+    from dataclasses import replace
+
+    def shift(k: int) -> int:
+        return k + 1 if k >= 0 else k
+
+    return replace(report, max_pitch_leg=shift(report.max_pitch_leg), tightest_turn_leg=shift(report.tightest_turn_leg),
+                   violations=tuple(replace(v, leg=v.leg + 1) for v in report.violations))
 
 
 def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -271,8 +286,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     return rec, bool(c.ok), line
 
 
-def navigation_check(world: World, nav: NavParams, points: np.ndarray,
-                     mission_file: Path | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
+                     follow: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
 
@@ -286,6 +301,10 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray,
         ``(N, 3)`` the mission's waypoints (m).
     mission_file : pathlib.Path, optional
         The mission file (its folder's ``fixes.csv``).
+    follow : numpy.ndarray of bool, optional
+        ``(N - 1,)`` the legs flown following the seabed (a ``.plan``'s terrain frame): predicted and tested on
+        that track (:func:`~auvplan.guidance.mission.terrain_legs.terrain_track`), not on the straight line between
+        their items, which ArduSub does not fly.
 
     Returns
     -------
@@ -303,7 +322,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray,
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy) if follow is None or world.terrain is None else \
+        _navigation_as_flown(world, nav, points, kinds, follow)
     b = c.budget
     legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
@@ -318,3 +338,38 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray,
            "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
     return rec, c.ok, lines
+
+
+def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
+                         follow: np.ndarray) -> Any:
+    """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
+    gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
+    from ..guidance.mission.terrain_legs import terrain_track
+    from ..nav import check_navigation
+    from ..nav.budget import NavBudget
+    from ..nav.mission import NavCheck
+
+    assert world.terrain is not None
+    track, seg = terrain_track(world.terrain, points, follow)
+    ends = np.r_[0, np.flatnonzero(np.r_[seg[1:] != seg[:-1], True]) + 1]  # each waypoint's vertex on the track
+    on_track = [""] * len(track)
+    for j, kind in zip(ends, kinds, strict=True):
+        on_track[j] = kind
+    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy)
+    n = len(points) - 1
+    err, alt = np.full(n, -np.inf), np.full(n, np.inf)
+    np.maximum.at(err, seg, c.budget.leg_error_m)
+    np.minimum.at(alt, seg, c.leg_uncertain_altitude_m)
+    clear = np.ones(n, dtype=bool)
+    np.logical_and.at(clear, seg, c.leg_clear)
+    length = np.hypot(*np.diff(track[:, :2], axis=0).T) + 1e-300  # a vertical leg: its one segment's lock
+    lock = np.bincount(seg, c.budget.leg_lock * length, n) / np.bincount(seg, length, n)
+    msg = ""
+    if (over := np.flatnonzero(err > nav.max_error_m * (1.0 + 1e-9))).size:
+        msg = f"leg {over[0] + 1}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
+    elif not clear.all():
+        k = int(np.flatnonzero(~clear)[0])
+        msg = (f"leg {k + 1}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
+               f"{alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+    budget = NavBudget(c.budget.error_m[ends], err, lock, kinds, c.budget.max_error_m)
+    return NavCheck(budget, alt, clear, not msg, msg)

@@ -49,6 +49,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     tuple
         The scenario, the plan, the seed, the World and the ensemble fields (empty without members).
     """
+    from ..io.limits import check_plan_work
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.inputs.members import scenario_members
     from ..planners import plan, with_reference
@@ -63,8 +64,9 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     spec = mission.planner
     if planner:
         spec = replace(spec, name=planner)
-    if budget is not None:
+    if budget is not None:  # bounded as the [planner] keys are (was: 1e12 ran for hours)
         spec = replace(spec, budget=budget)
+        check_plan_work("--budget:", spec.population, spec.iterations, budget, spec.samples)
     if pipeline:
         spec = replace(spec, pipeline=pipeline)
     seed = sc.seed if seed is None else seed

@@ -29,7 +29,7 @@ from .pitch import cone_max, cone_min, pitch_profile
 
 __all__ = ["VehicleLimits", "LimitViolation", "LimitReport", "leg_pitch_deg", "turn_angles", "leg_turn_radius",
            "check_limits", "flyby_arcs", "merge_close", "corner_indices", "MIN_LEG_M", "MERGE_FRACTION",
-           "PITCH_SLACK_DEG", "TRACK_FRACTION", "cone_max", "cone_min", "pitch_profile"]
+           "PITCH_SLACK_DEG", "STRAIGHT_M", "TRACK_FRACTION", "cone_max", "cone_min", "pitch_profile"]
 
 _F64 = NDArray[np.float64]
 """Array of float64 (units as documented per parameter)."""
@@ -37,6 +37,9 @@ _F64 = NDArray[np.float64]
 PITCH_SLACK_DEG = 0.05
 """Pitch kept below the limit by the mission builder and the planners' repair, so that the rounding
 of exported coordinates (1 mm) cannot take a leg of 2.5 m or more over the limit."""
+STRAIGHT_M = 4.0e7
+"""A fly-by radius wider than the Earth's circumference (m) is printed as a straight leg: its turn is the rounding
+of the file's coordinates (:attr:`LimitReport.summary`)."""
 MIN_LEG_M = 1e-6
 """Legs shorter than this horizontally have no heading (a vertical leg: its pitch is 90°)."""
 TRACK_FRACTION = 0.1
@@ -185,7 +188,8 @@ class LimitReport:
             E.g. ``largest pitch 12.3° (leg 4; max_pitch_deg 20), tightest turn 41.0 m (leg 7; ...``.
         """
         lim = self.limits
-        turn = (f"{self.tightest_turn_m:.1f} m (leg {self.tightest_turn_leg})" if math.isfinite(self.tightest_turn_m)
+        # a radius wider than the Earth is a straight leg whose ends were rounded (lat/lon in a file)
+        turn = (f"{self.tightest_turn_m:.1f} m (leg {self.tightest_turn_leg})" if self.tightest_turn_m <= STRAIGHT_M
                 else "none (straight)")
         return (f"largest pitch {self.max_pitch_deg:.1f}° (leg {self.max_pitch_leg}; max_pitch_deg "
                 f"{lim.max_pitch_deg:g}), tightest turn {turn} (turn_radius_m {lim.turn_radius_m:g}), deepest "

@@ -229,8 +229,10 @@ class TimeoptParams:
     def __post_init__(self) -> None:
         if self.method not in ("front", "lattice"):
             raise ValueError(f"method = {self.method!r}: choose 'front' or 'lattice'")
-        if self.headings < 4:
-            raise ValueError(f"headings = {self.headings}: must be >= 4")
+        if not abs(self.depart_s) <= 366 * 86400.0:  # as --depart-between's offsets; 1e14 s: a year 3170900 tide
+            raise ValueError(f"depart_s = {self.depart_s:g} s: must lie within 366 d of [mission] start_time")
+        if not 4 <= self.headings <= 360:  # 1e9 allocated its sines and cosines: 16 GB, a minute of swapping
+            raise ValueError(f"headings = {self.headings}: must lie in [4, 360] (360: a heading every degree)")
         if self.labels not in ("auto", "single", "multi"):
             raise ValueError(f"labels = {self.labels!r}: choose 'auto', 'single' or 'multi'")
         if self.label_dt < 0 or self.max_labels < 1:

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import ArrayLike, FloatArray
+from ..errors import DataError
 
 __all__ = ["GliderParams", "Glide", "steady_glide", "attack_angle", "pitch_for_speed", "YoTiming", "yo_timing",
            "G", "crab_heading"]
@@ -137,6 +138,19 @@ class GliderParams:
             raise ValueError(f"yos = {self.yos}: must be >= 1")
         if self.pump_efficiency > 1:
             raise ValueError(f"pump_efficiency = {self.pump_efficiency}: must be <= 1")
+        shrink = self.compressibility * self.neutral_density * G * self.dive_depth_m
+        if shrink > 0.1:  # 1/Pa made the hull's volume negative at depth: a ZeroDivisionError in the yo's timing
+            raise ValueError(f"compressibility = {self.compressibility:g} /Pa: the hull would shrink by "
+                             f"{shrink:.3g} of its volume at dive_depth_m = {self.dive_depth_m:g} (at most 0.1)")
+        th = math.radians(self.pitch_deg)  # the deepest yo's mid depth: where the hull is the most compressed
+        mid = self.neutral_density * G * 0.5 * (self.climb_depth_m + self.dive_depth_m)
+        w = steady_glide(self, np.array([-th, th]), np.array([-self.ballast_cc, self.ballast_cc]),
+                         self.neutral_density, mid).w
+        if not float(w[0]) < 0.0 < float(w[1]):
+            raise ValueError(f"ballast_cc = {self.ballast_cc:g}, compressibility = {self.compressibility:g} /Pa: the "
+                             f"glider cannot {'climb' if w[1] <= 0 else 'dive'} at the mid depth of its yo "
+                             f"({0.5 * (self.climb_depth_m + self.dive_depth_m):g} m; vertical speeds "
+                             f"{float(w[0]):.3g} / {float(w[1]):.3g} m/s)")
 
     @property
     def volume_m3(self) -> float:
@@ -341,6 +355,10 @@ def yo_timing(params: GliderParams, top_m: float, bottom_m: float, density: floa
     w_d, w_c = float(gl.w[0]), float(gl.w[1])
     u_d, u_c = float(gl.u[0]), float(gl.u[1])
     span = bottom_m - top_m
+    if not w_d < 0.0 < w_c:  # the ballast cannot offset the hull's compression (or the water's density) there
+        raise DataError(f"the glider cannot {'climb' if w_c <= 0 else 'dive'} between {top_m:g} and {bottom_m:g} m "
+                        f"in water of {density:g} kg/m³ (vertical speeds {w_d:.3g} / {w_c:.3g} m/s): more "
+                        "ballast_cc, or a stiffer hull (compressibility)")
     dive_s, climb_s = span / -w_d, span / w_c
     pump = density * G * bottom_m * 2e-6 * params.ballast_cc / params.pump_efficiency
     return YoTiming(dive_s, climb_s, u_d * dive_s + u_c * climb_s, pump, w_d, w_c, u_d, u_c)

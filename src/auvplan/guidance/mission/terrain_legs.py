@@ -10,8 +10,10 @@ where the straight line passes below.
 On a bilinear seabed the elevation along a horizontal line is a quadratic inside each grid cell, and the
 altitude target is linear in the leg's parameter: the track's depth is a quadratic on each piece between two
 grid-line crossings.  :func:`terrain_track` therefore places a vertex at every crossing and at the extremum of
-each piece's quadratic: the track's shallowest and deepest points are vertices (exact), and between vertices
-the chord stays within the quadratic's sag of it.
+each piece's quadratic: the track's shallowest and deepest points are vertices (exact); and it divides each piece
+so that the chord between two vertices stays within :data:`SAG_M` of the curve (a quadratic's chord over a
+parameter span ``d`` sags ``|q2| d^2 / 4``; across a saddle cell the whole piece's chord sagged metres: a zone over
+the middle of the leg entered by the track and missed by its chord, an altitude read metres under the one held).
 """
 
 from __future__ import annotations
@@ -27,18 +29,30 @@ from ...world.terrain import Terrain
 from .limits import waypoint_limits
 from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["check_as_flown", "flown_pitch_depth", "terrain_track"]
+__all__ = ["SAG_M", "check_as_flown", "flown_pitch_depth", "terrain_track"]
+
+SAG_M = 0.01
+"""The most the track's chords stand off the seabed-following curve they stand for (m)."""
+
+
+_MERGE = 1e-9
+"""Grid-line crossings closer than this (in the leg's parameter) are one: a leg through a grid node crosses its
+two lines at parameters a rounding apart, and the sliver between them lies in neither cell the leg flies over."""
 
 
 def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
-    """The leg's parameters (0..1) where it crosses a grid line, with both ends."""
-    s = [np.array([0.0, 1.0])]
+    """The leg's parameters (0..1) where it crosses a grid line, with both ends (crossings within :data:`_MERGE`
+    of one another or of an end merged)."""
+    s = []
     for axis, grid in ((0, terrain.x), (1, terrain.y)):
         d = float(b[axis] - a[axis])
         if d != 0.0:
             t = (np.asarray(grid, dtype=float) - a[axis]) / d
-            s.append(t[(t > 0.0) & (t < 1.0)])
-    return np.unique(np.concatenate(s))
+            s.append(t[(t > _MERGE) & (t < 1.0 - _MERGE)])
+    inner = np.unique(np.concatenate(s)) if s else np.zeros(0)
+    inner = inner[np.r_[True, np.diff(inner) > _MERGE]] if inner.size else inner
+    out: FloatArray = np.concatenate([[0.0], inner, [1.0]])
+    return out
 
 
 def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray, float]:
@@ -59,13 +73,22 @@ def _following_leg(terrain: Terrain, a: FloatArray, b: FloatArray) -> tuple[Floa
     q1 = z1 - z0 - q2
     length = float(np.hypot(*(b[:2] - a[:2])))
     if length > 0.0:
-        slope = float((np.maximum(np.abs(q1), np.abs(q1 + 2.0 * q2)) / ((s1 - s0) * length)).max())
+        # the tangent from the surface's gradient (linear along a piece: extrapolated from its quarter points to
+        # its ends), not from differences of depths, which a short piece divides into noise
+        ux, uy = (b[:2] - a[:2]) / length
+        quarter = a[:2] + np.concatenate([s0 + 0.25 * (s1 - s0), s0 + 0.75 * (s1 - s0)])[:, None] * (b[:2] - a[:2])
+        gx, gy = terrain.gradient(quarter[:, 0], quarter[:, 1])
+        ga, gb = np.split(gx * ux + gy * uy + (hb - ha) / length, 2)
+        slope = float(np.maximum(np.abs(1.5 * ga - 0.5 * gb), np.abs(1.5 * gb - 0.5 * ga)).max())
     else:
         slope = 0.0 if b[2] == a[2] else np.inf
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(np.abs(q2) > 1e-12, -q1 / (2.0 * q2), -1.0)
     inner = (t > 0.0) & (t < 1.0)
-    s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner]]))[1:]
+    n = np.clip(np.ceil(np.sqrt(np.abs(q2) / (4.0 * SAG_M))), 1, 100_000).astype(np.intp)  # sag |q2| / (4 n^2)
+    k = np.repeat(np.arange(n.size), n - 1)
+    sub = s0[k] + (s1 - s0)[k] * (np.arange(k.size) - np.repeat(np.cumsum(n - 1) - (n - 1), n - 1) + 1) / n[k]
+    s = np.unique(np.concatenate([s, s0[inner] + t[inner] * (s1 - s0)[inner], sub]))[1:]
     z = z_at(s)
     z[-1] = b[2]  # the item itself, as the file places it
     return s, z, slope
@@ -99,7 +122,7 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
     -------
     track : numpy.ndarray
         ``(M, 3)`` polyline (m): the waypoints, and on each following leg a vertex at every grid-line crossing and
-        at every extremum of the depth between two crossings.
+        at every extremum of the depth between two crossings, and between them within :data:`SAG_M` of the curve.
     leg : numpy.ndarray of int
         ``(M - 1,)``: the leg (from 0) of each segment of the track.
     """

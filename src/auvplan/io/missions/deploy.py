@@ -27,7 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 from ...sim import Mission
 from ...world import World
 
-__all__ = ["TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels", "payload_events"]
+__all__ = ["ROUNDED_RISE_M", "TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels",
+           "payload_events"]
 
 TIMEOUT_FACTOR = 1.5
 """Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
@@ -225,9 +226,39 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor)
 
 
+ROUNDED_RISE_M = 1.5e-3
+"""The most the writing of a terrain-frame leg can change its rise along it: the ``.plan`` carries each item's
+altitude to the millimetre (0.5 mm at each end) and its position to 1e-9 degree (0.1 mm, whose seabed under a 4:1
+slope moves 0.5 mm); a leg followed within the pitch limit only by less is written at its planned depth."""
+
+
+def _followed_free(world: World, w: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Per leg: its seabed-following track keeps every limit ``mission check`` judges it by (the seabed, static
+    obstacles, the surface, the depth band, the bounds and the zones), as the straight leg the fit made does."""
+    from ...guidance.mission.limits import waypoint_limits
+    from ...guidance.mission.terrain_legs import terrain_track
+    from ...guidance.mission.waypoints import leg_figures
+
+    assert world.terrain is not None
+    track, leg = terrain_track(world.terrain, w, np.ones(len(w) - 1, dtype=bool))
+    alt, bad, _ = leg_figures(world, track[:-1], track[1:], "ramp")
+    bad |= alt < world.margins.min_altitude
+    lim = waypoint_limits(world, track)
+    vertices = np.array([*lim.above_surface, *lim.outside_depth_band, *lim.outside_bounds], dtype=np.intp)
+    bad[vertices[vertices > 0] - 1] = True  # vertex v ends segment v - 1
+    if world.zones:
+        bad[world.zones.exact.entries(np.stack([track[:-1], track[1:]], axis=1))[0]] = True
+    free = np.ones(len(w) - 1, dtype=bool)
+    free[leg[bad]] = False
+    return free
+
+
 def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -> NDArray[np.bool_]:
-    """The waypoints whose leg in can be flown following the seabed within the pitch limit (the first: the launch
-    leg, never followed); a leg already steeper than the limit as a straight line keeps the terrain frame."""
+    """The waypoints whose leg in can be flown following the seabed within the pitch limit once written
+    (:data:`ROUNDED_RISE_M` over the leg's length on its steepest tangent; the first: the launch leg, never
+    followed) and clear of everything its straight leg is (:func:`_followed_free`: over a bump the straight leg
+    passes 20 m above, the track climbs with the seabed, out of the depth band or into a zone); a leg already as
+    steep as a straight line keeps the terrain frame."""
     from ...guidance.mission.terrain_legs import flown_pitch_depth
     from ...path.flyable import leg_pitch_deg
 
@@ -235,5 +266,9 @@ def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -
     items = np.ones(len(w), dtype=bool)
     if len(w) > 1:
         pitch = flown_pitch_depth(world.terrain, w, np.ones(len(w) - 1, dtype=bool))[0]
-        items[1:] = (pitch <= max_pitch_deg + 1e-9) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-9)
+        with np.errstate(divide="ignore"):
+            rounded = np.degrees(np.arctan(np.tan(np.radians(pitch)) + ROUNDED_RISE_M /
+                                           np.hypot(*np.diff(w[:, :2], axis=0).T)))
+        items[1:] = ((rounded <= max_pitch_deg + 1e-9) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-9)) & \
+            _followed_free(world, w)
     return items

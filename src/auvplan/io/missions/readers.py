@@ -316,21 +316,37 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
         raise DataError(f"{path}: a {fmt} mission is geographic: the scenario needs an [origin]")
     text = read_bounded_text(path, MAX_MISSION_BYTES, "a mission file")
     frame = LocalFrame(*origin) if origin is not None else None
+    waypoints, semantics = _parse(path, fmt, text, frame, seabed)
+    size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=-1, initial=0.0)
+    if (size > MAX_WAYPOINT_M).any():  # 1e300 used to leak numpy's overflow warnings and an 'inf m mission'
+        k = int(np.argmax(size > MAX_WAYPOINT_M))
+        raise DataError(f"{path}: waypoint {k} = ({', '.join(f'{v:.6g}' for v in waypoints[k])}) m lies over "
+                        f"{MAX_WAYPOINT_M:g} m (the Earth's circumference) from the origin")
+    return waypoints, semantics, fmt
+
+
+MAX_WAYPOINT_M = 4.0e7
+"""Largest coordinate of a waypoint in the local frame (m): beyond it the arithmetic of a leg overflows."""
+
+
+def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
+           seabed: Callable[[Any, Any], Any] | None) -> tuple[NDArray[np.float64], str]:
+    """:func:`read_mission`'s parsing of ``text`` in the format ``fmt``: waypoints and depth semantics."""
     try:
         if fmt == "moos":
-            return parse_moos(text), "held", fmt
+            return parse_moos(text), "held"
         if fmt == "ros":
-            return parse_ros_path(text), "ramp", fmt
+            return parse_ros_path(text), "ramp"
         if fmt == "csv":
             rows = np.genfromtxt(path, delimiter=",", names=True)
-            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp", fmt
+            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp"
         assert frame is not None  # the geographic formats need an origin (checked above)
         if fmt == "gpx":
-            return parse_gpx(text, frame), "ramp", fmt
+            return parse_gpx(text, frame), "ramp"
         if fmt == "kml":
-            return _kml_mission(text, frame), "ramp", fmt
+            return _kml_mission(text, frame), "ramp"
         doc = json.loads(text)
-        return (parse_qgc_plan(doc, frame, seabed) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp", fmt
+        return (parse_qgc_plan(doc, frame, seabed) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp"
     except DataError as exc:
         raise DataError(f"{path}: {exc}") from exc
     except RecursionError:

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ...errors import DataError
 from .qgc_items import plan_items
 
 __all__ = ["read_leg_speeds"]
@@ -90,4 +91,12 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
     if v is None or len(v) != legs:
         return None
     a = np.asarray(v, dtype=float)
+    fast = np.flatnonzero(np.isfinite(a) & (a > MAX_SPEED_MPS))
+    if fast.size:  # 1e300 m/s was flown: numpy's overflow warnings, then an energy of inf
+        raise DataError(f"{path}: leg {int(fast[0])}'s speed {a[fast[0]]:g} m/s (carried by the file) is over "
+                        f"{MAX_SPEED_MPS:g} m/s: not a vehicle's speed")
     return a if bool(np.all(np.isfinite(a))) and bool(np.all(a > 0)) else None
+
+
+MAX_SPEED_MPS = 100.0
+"""Fastest leg speed a mission file may carry (m/s); an AUV or a glider flies at a few m/s."""

@@ -76,7 +76,9 @@ def _check_seabed(area: shapely.Polygon, world: World, where: str) -> None:
         raise ScenarioError(f"{where} area x [{ax0:.0f}, {ax1:.0f}] y [{ay0:.0f}, {ay1:.0f}] m: beyond the terrain's "
                             f"data x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}]")
     ring = np.asarray(shapely.segmentize(area, max(math.sqrt(area.area) / 50.0, 1.0)).exterior.coords)
-    g = math.sqrt(area.area) / 40.0
+    # about 40 x 40 samples over a compact area, never more than 400 x 400 over its box (a corridor 1e-9 m
+    # wide asked for 1e8 x 1e8: 'out of memory (90.1 PiB)' after 19 s, naming no key)
+    g = max(math.sqrt(area.area) / 40.0, max(ax1 - ax0, ay1 - ay0) / 400.0)
     gx, gy = np.meshgrid(np.arange(ax0, ax1 + g, g), np.arange(ay0, ay1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
     px, py = np.r_[ring[:, 0], gx[inside]], np.r_[ring[:, 1], gy[inside]]

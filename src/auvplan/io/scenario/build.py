@@ -39,6 +39,9 @@ from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 from .validate import from_dict
 
+MAX_SUBSTEPS = 1000
+"""Most sub-steps of the time-optimal planner's travel-time integration per lattice cell (``substep``)."""
+
 __all__ = ["build", "check_plan_sizes"]
 
 
@@ -146,6 +149,10 @@ def check_plan_sizes(s: Scenario, span: tuple[float, float], sweep_s: float = 0.
                       f"cell = {p.cell:g}, levels = {p.levels}, dt = {p.dt:g} s, horizon_s = {horizon:.6g} s"
                       + (f" (with a {sweep_s:.6g} s departure sweep)" if sweep_s else "")
                       + f": a lattice of {nodes:.3g} nodes × a current table of {steps:.3g} steps, which", nbytes)
+        cell = p.cell or max(span) / 100.0  # timeplan.setup's automatic cell
+        if p.substep and cell / p.substep > MAX_SUBSTEPS:  # 1e-9 m integrated each edge for ever (> 60 s)
+            raise ScenarioError(f"{s.source}: [planner.timeopt] substep = {p.substep:g} m: {cell / p.substep:.3g} "
+                                f"sub-steps per cell of {cell:g} m, over the {MAX_SUBSTEPS} allowed (0: cell / 2)")
     if s.formation is not None:
         fp = s.formation.params
         samples = (length / fp.sample_m + 2.0) * s.formation.n

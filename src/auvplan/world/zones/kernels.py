@@ -189,9 +189,10 @@ def _flat_hit(ax: float, ay: float, az: float, bx: float, by: float, bz: float, 
               xy: FloatArray, ring: IntArray, rings: IntArray, disc: FloatArray) -> bool:
     """Whether the segment ``a b`` enters the prism of polygon ``k`` times the flat band ``[lo, hi]``: the
     segment parameter cut to the band (z is linear along it), the trace over that interval against the
-    polygon.  ``disc[k] = (x, y, r_in, r_out)``: the disc of radius ``r_in`` about ``(x, y)`` lies inside
+    polygon.  ``disc[k, :4] = (x, y, r_in, r_out)``: the disc of radius ``r_in`` about ``(x, y)`` lies inside
     the polygon (a trace passing nearer is in), the one of radius ``r_out`` holds it (a trace passing
-    further is out); between them the edges decide."""
+    further is out); then the same with the capsules about a segment ``disc[k, 4:]``
+    (:func:`.parts.capsules`: a cable corridor's edges are seldom walked); between them the edges decide."""
     dz = bz - az
     if dz == 0.0:
         if az < lo or az > hi:
@@ -216,7 +217,32 @@ def _flat_hit(ax: float, ay: float, az: float, bx: float, by: float, bz: float, 
         return True
     if d2 > disc[k, 3] * disc[k, 3]:
         return False
+    e2 = _segment_distance2(cx, cy, ex, ey, disc[k, 4], disc[k, 5], disc[k, 6], disc[k, 7])
+    if e2 < disc[k, 8] * disc[k, 8]:
+        return True
+    if e2 > disc[k, 9] * disc[k, 9]:
+        return False
     return _meets_polygon(cx, cy, ex, ey, k, xy, ring, rings)
+
+
+@kernel
+def _point_distance2(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
+    """The squared distance from ``p`` to the closed segment ``a b``."""
+    ex, ey = bx - ax, by - ay
+    ee = ex * ex + ey * ey
+    t = 0.0 if ee == 0.0 else min(max(((px - ax) * ex + (py - ay) * ey) / ee, 0.0), 1.0)
+    qx, qy = ax + t * ex - px, ay + t * ey - py
+    return qx * qx + qy * qy
+
+
+@kernel
+def _segment_distance2(ax: float, ay: float, bx: float, by: float, cx: float, cy: float, dx: float,
+                       dy: float) -> float:
+    """The squared distance between the closed segments ``a b`` and ``c d`` (0 where they meet)."""
+    if _segments_meet(ax, ay, bx, by, cx, cy, dx, dy):
+        return 0.0
+    return min(_point_distance2(ax, ay, cx, cy, dx, dy), _point_distance2(bx, by, cx, cy, dx, dy),
+               _point_distance2(cx, cy, ax, ay, bx, by), _point_distance2(dx, dy, ax, ay, bx, by))
 
 
 @kernel

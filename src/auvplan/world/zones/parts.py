@@ -194,9 +194,10 @@ def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatAr
     rings : numpy.ndarray of int
         Per polygon ring offsets ``(Z + 1,)`` into ``ring``.
     disc : numpy.ndarray
-        ``(Z, 4)``: a centre ``(x, y)`` (``centres``), a radius ``r_in`` within which every point is
+        ``(Z, 10)``: a centre ``(x, y)`` (``centres``), a radius ``r_in`` within which every point is
         inside (the centre's distance to the boundary less a millionth, 0 for a centre outside) and a
-        radius ``r_out`` holding every vertex (plus a millionth).
+        radius ``r_out`` holding every vertex (plus a millionth); then the same about a segment
+        (:func:`capsules`): its ends ``(ax, ay, bx, by)``, ``c_in`` and ``c_out``.
     """
     xy_parts: list[FloatArray] = []
     ring = [0]
@@ -222,8 +223,69 @@ def rings(geoms: np.ndarray, centres: np.ndarray | None = None) -> tuple[FloatAr
         np.maximum.at(r_out, owner, np.hypot(v[:, 0] - c[owner, 0], v[:, 1] - c[owner, 1]))
         scale = np.maximum.reduce([np.abs(c[:, 0]), np.abs(c[:, 1]), r_out, np.ones(len(geoms))])
         disc[:] = np.column_stack([c, np.maximum(r_in - 1e-6 * scale, 0.0), r_out + 1e-6 * scale])
+    disc = np.ascontiguousarray(np.column_stack([disc, capsules(np.asarray(geoms, dtype=object))]))
     return xy, np.asarray(ring, dtype=np.intp), np.asarray(rings, dtype=np.intp), disc
 
+
+def capsules(geoms: np.ndarray) -> FloatArray:
+    """Two capsules about one segment per polygon, along the principal axis of its vertices and
+    shortened by half the polygon's width across it at each end (a cable corridor's own line).
+
+    Every point within ``c_in`` of the segment is inside the polygon (the segment's distance to the
+    boundary less a millionth, when the polygon contains it and is at least twice as long as wide;
+    else 0), and every vertex lies within ``c_out`` (plus a millionth).  A trace passing nearer than
+    ``c_in`` enters the footprint, one passing further than ``c_out`` misses it: long thin
+    footprints, where a disc settles nothing, are settled without their edges.
+
+    Parameters
+    ----------
+    geoms : numpy.ndarray of shapely geometries
+        Polygons or multipolygons ``(Z,)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(Z, 6)``: ``(ax, ay, bx, by, c_in, c_out)``.
+    """
+    out = np.zeros((len(geoms), 6))
+    if not len(geoms):
+        return out
+    counts = shapely.get_num_coordinates(geoms)
+    v, owner = shapely.get_coordinates(geoms), np.repeat(np.arange(len(geoms)), counts)
+    z = len(geoms)
+    n = np.maximum(counts, 1)[:, None]
+    mean = np.column_stack([np.bincount(owner, v[:, 0], z), np.bincount(owner, v[:, 1], z)]) / n
+    d = v - mean[owner]
+    sxx, syy = np.bincount(owner, d[:, 0] ** 2, len(geoms)), np.bincount(owner, d[:, 1] ** 2, len(geoms))
+    angle = 0.5 * np.arctan2(2.0 * np.bincount(owner, d[:, 0] * d[:, 1], len(geoms)), sxx - syy)
+    u = np.column_stack([np.cos(angle), np.sin(angle)])
+    along, across = np.einsum("ij,ij->i", d, u[owner]), d[:, 1] * u[owner, 0] - d[:, 0] * u[owner, 1]
+    lo, hi, left, right = (np.full(len(geoms), x) for x in (np.inf, -np.inf, np.inf, -np.inf))
+    np.minimum.at(lo, owner, along)
+    np.maximum.at(hi, owner, along)
+    np.minimum.at(left, owner, across)
+    np.maximum.at(right, owner, across)
+    width, mid = right - left, 0.5 * (left + right)
+    s0, s1 = lo + 0.5 * width, hi - 0.5 * width
+    s0, s1 = np.where(s1 > s0, s0, 0.5 * (lo + hi)), np.where(s1 > s0, s1, 0.5 * (lo + hi))
+    normal = np.column_stack([-u[:, 1], u[:, 0]])
+    a = mean + s0[:, None] * u + mid[:, None] * normal
+    b = mean + s1[:, None] * u + mid[:, None] * normal
+    # every vertex's distance to the segment
+    e = b - a
+    ee = np.maximum((e**2).sum(axis=1), 1e-300)
+    t = np.clip(((v - a[owner]) * e[owner]).sum(axis=1) / ee[owner], 0.0, 1.0)
+    c_out = np.zeros(len(geoms))
+    np.maximum.at(c_out, owner, np.hypot(*(a[owner] + t[:, None] * e[owner] - v).T))
+    c_in = np.zeros(len(geoms))
+    thin = np.flatnonzero(hi - lo >= 2.0 * width)
+    if thin.size:
+        axis = shapely.linestrings(np.stack([a[thin], b[thin]], axis=1))
+        g = geoms[thin]
+        c_in[thin] = np.where(shapely.contains(g, axis), shapely.distance(axis, shapely.boundary(g)), 0.0)
+    scale = np.maximum.reduce([np.abs(a).max(axis=1), np.abs(b).max(axis=1), c_out, np.ones(len(geoms))])
+    out[:] = np.column_stack([a, b, np.maximum(c_in - 1e-6 * scale, 0.0), c_out + 1e-6 * scale])
+    return out
 
 def samples(legs: FloatArray, step: float, max_samples: int) -> FloatArray:
     """Points along legs, ends included.

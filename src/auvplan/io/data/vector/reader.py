@@ -8,6 +8,8 @@ a zone or land file a data error) and its own message prefix (``file: [survey] f
 
 from __future__ import annotations
 
+import logging
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,6 +18,8 @@ import shapely
 from pyproj import CRS
 
 __all__ = ["VectorLayer", "read_vector"]
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -79,16 +83,21 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     if not path.exists():
         raise error(f"{src}: not found")
     try:
-        meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
-                                                 read_geometry=True, columns=None if fields else [])
+        with warnings.catch_warnings(record=True) as said:  # GDAL's warnings: one line each, not Python's two
+            warnings.simplefilter("always")
+            meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
+                                                     read_geometry=True, columns=None if fields else [])
     except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
         raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
+    for w in said:
+        log.warning("%s: %s", src, " ".join(str(w.message).split()))
     try:
         crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
     except Exception as exc:  # pyproj's CRSError
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
-    geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
+        geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])] if fields else []
     return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)),
                        bool(meta.get("crs")))

@@ -121,6 +121,9 @@ def _one(table: Any, where: str) -> ZoneSpec:
     name = table.get("name", "")
     if not isinstance(name, str) or not name.strip():
         raise ScenarioError(f"{where} name = {name!r}: expected a non-empty string")
+    if any(not c.isprintable() for c in name):  # a newline in a name split every message naming the zone
+        raise ScenarioError(f"{where} name = {name!r}: a control character in a zone's name (it is printed in "
+                            "messages of one line, the report and the exports)")
     given = [k for k in ("polygon", "line", "point", "file") if k in table]
     if len(given) != 1:
         raise ScenarioError(f"{where} {name!r}: give exactly one of polygon, line, point, file (got "
@@ -194,6 +197,19 @@ def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
     return xy
 
 
+def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> None:
+    """Refuse a zone written in the scenario that lies wholly outside the area (``box``, m): [lat, lon] pairs
+    beyond 5° of the origin are read as metres, and such a zone was accepted silently, far from anything."""
+    reach = shapely.buffer(geom, spec.buffer_m + spec.radius_m) if spec.kind != "polygon" else geom
+    if shapely.intersects(reach, box):
+        return
+    x0, y0, x1, y1 = shapely.bounds(box)
+    why = "" if frame is None else (f"; its pairs were read as metres [x, y], not all being within "
+                                    f"{_GEO_REACH_DEG:g}° of [origin] lat = {frame.lat0:g}, lon = {frame.lon0:g}")
+    raise ScenarioError(f"{spec.where_} {spec.kind} = {str([list(c) for c in spec.coords])[:60]}: the zone lies "
+                        f"wholly outside the operating area (x {x0:.0f} .. {x1:.0f}, y {y0:.0f} .. {y1:.0f} m){why}")
+
+
 def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
     """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
     kind = shapely.get_type_id(geom)
@@ -207,7 +223,8 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
         if not radius_m:
             raise ScenarioError(f"{where}: {geom.geom_type} features need radius_m")
         return shapely.buffer(geom, radius_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
-    raise DataError(f"{where}: unsupported geometry {geom.geom_type}")
+    raise DataError(f"{where}: unsupported geometry {geom.geom_type} (a zone is a polygon, a line or a point; "
+                    "split the collection into its parts)")
 
 
 def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,
@@ -240,21 +257,71 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         x, y = frame.forward(lon, lat)
         return np.column_stack([x, y])
 
+    window = _lonlat_window(frame, box, spec.buffer_m + spec.radius_m) if crs.is_geographic and frame else None
     out = []
     for i, g in enumerate(geoms):
         if g is None or g.is_empty:
             continue
+        tag = str(label[i]).strip() if label is not None and label[i] not in (None, "") else f"#{i + 1}"
         g = shapely.force_2d(g)
+        _check_coordinates(g, crs.is_geographic, found.crs_stated, f"{src}: feature {tag!r}")
+        if window is not None:
+            g = _clip_lonlat(g, window)
+            if g.is_empty:
+                continue
         if crs.is_geographic and shapely.get_type_id(g) not in (0, 4):
             g = shapely.segmentize(g, 0.005)  # about 500 m: straight in the local frame, not in degrees
         local = shapely.transform(g, project)
         if not shapely.intersects(local, box):
             continue
-        tag = str(label[i]).strip() if label is not None and label[i] not in (None, "") else f"#{i + 1}"
         out.append((f"{spec.name}: {tag}", local))
     if not out:
         log.warning("%s: no feature reaches the operating area", src)
     return out
+
+
+def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> None:
+    """Refuse a feature with a coordinate that is not a number, or not a longitude/latitude in a geographic CRS
+    (a file without a CRS is read as WGS 84: metres there are the likely cause, said so)."""
+    xy = shapely.get_coordinates(g)
+    if not np.isfinite(xy).all():
+        raise DataError(f"{where}: a coordinate is not a number (NaN or infinite)")
+    if geographic and xy.size and (np.abs(xy[:, 1]).max() > 90.0 or np.abs(xy[:, 0]).max() > 540.0):
+        k = int(np.argmax(np.maximum(np.abs(xy[:, 1]) - 90.0, np.abs(xy[:, 0]) - 540.0)))
+        why = "" if stated else ("; the file states no CRS, so it was read as longitude/latitude (WGS 84): give it "
+                                 "its CRS (a .prj beside a shapefile)")
+        raise DataError(f"{where}: ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}) is not a longitude/latitude{why}")
+
+
+def _lonlat_window(frame: LocalFrame, box: Any, reach_m: float) -> tuple[float, float, float, float]:
+    """The longitude/latitude box (deg) holding the operating area ``box`` (m) grown by ``reach_m`` and a
+    tenth; its longitudes continue past ±180 where the area crosses the antimeridian."""
+    x0, y0, x1, y1 = shapely.bounds(box) + np.array([-reach_m, -reach_m, reach_m, reach_m])
+    edge = np.linspace(0.0, 1.0, 33)
+    x = np.r_[x0 + (x1 - x0) * edge, np.full(33, x1), x1 - (x1 - x0) * edge, np.full(33, x0)]
+    y = np.r_[np.full(33, y0), y0 + (y1 - y0) * edge, np.full(33, y1), y1 - (y1 - y0) * edge]
+    lon, lat = frame.inverse(x, y)
+    lon = frame.lon0 + (np.asarray(lon) - frame.lon0 + 180.0) % 360.0 - 180.0
+    dlon, dlat = 0.1 * float(np.ptp(lon)) + 0.01, 0.1 * float(np.ptp(lat)) + 0.01
+    return (float(lon.min()) - dlon, max(float(np.min(lat)) - dlat, -90.0), float(lon.max()) + dlon,
+            min(float(np.max(lat)) + dlat, 90.0))
+
+
+def _clip_lonlat(g: Any, window: tuple[float, float, float, float]) -> Any:
+    """A feature (lon/lat) cut to ``window`` when it reaches well beyond it: a chart-wide or planet-sized
+    polygon made a footprint of thousands of kilometres and hundreds of thousands of vertices (a hemisphere
+    took minutes to index; the whole Earth projected into a shape that held nothing).  A feature near the
+    area is kept whole."""
+    w0, s0, w1, s1 = window
+    gx0, gy0, gx1, gy1 = shapely.bounds(g)
+    mx, my = 3.0 * (w1 - w0), 3.0 * (s1 - s0)
+    if w0 - mx <= gx0 and gx1 <= w1 + mx and s0 - my <= gy0 and gy1 <= s1 + my:
+        return g
+    parts = [shapely.transform(shapely.clip_by_rect(shapely.make_valid(g), w0 + k, s0, w1 + k, s1),
+                               lambda xy, k=k: xy - np.array([k, 0.0]))
+             for k in (-360.0, 0.0, 360.0)]
+    return shapely.union_all([p for p in parts if not p.is_empty]) if any(not p.is_empty for p in parts) \
+        else shapely.Polygon()
 
 
 def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: Terrain | None,
@@ -301,9 +368,11 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
             xy = _to_local(spec, frame)
             geom = {"polygon": shapely.Polygon, "line": shapely.LineString}.get(spec.kind, shapely.Point)(
                 xy if spec.kind != "point" else xy[0])
+            _reaches(spec, geom, box, frame)
             named = [(spec.name, geom)]
         for name, geom in named:
-            footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_} {name!r}")
+            source = f" file = {spec.file!r}:" if spec.kind == "file" else ""  # which file holds the feature
+            footprint = _footprint(geom, spec.buffer_m, spec.radius_m, f"{spec.where_}{source} {name!r}")
             try:
                 zones.append(Zone(name, footprint, spec.top_m, spec.bottom_m, spec.above_seabed_m))
             except DataError as exc:
