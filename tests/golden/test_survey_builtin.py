@@ -32,6 +32,20 @@ def test_builtin_survey_covers_the_area_with_every_overlap_in_bounds(shelf):
     assert depth.max() - depth.min() > 40.0  # a real slope: the area shoals by more than 40 m
 
 
+def test_builtin_survey_mission_has_no_leg_shorter_than_the_vehicle_allows(shelf):
+    """`mission check` failed every export of shelf-survey (and strait-corridor) on the vehicle's helm: the
+    transits out and home began and ended with legs of 7 and 2 cm beside the launch point (shortest leg 0.1 m)."""
+    from auvplan.path.legs import helm_check, shortest_leg
+    from auvplan.sim.pipeline import vehicle_limits
+
+    _, mission, _, plan = shelf
+    lim = vehicle_limits(mission.vehicle)
+    assert np.linalg.norm(np.diff(plan.route, axis=0), axis=1).min() >= shortest_leg(lim)
+    assert helm_check(plan.route, lim).ok
+    np.testing.assert_allclose(plan.route[[0, -1]], [mission.start, mission.goal], atol=1e-9)
+    assert plan.labels.shape == (len(plan.route),)
+
+
 def test_builtin_survey_saves_lines_against_the_fixed_lawnmower(shelf):
     world, _, params, plan = shelf
     mower = lawnmower(world.seabed, params.area, params.sensor, plan.lines.heading, params.lines.overlap_min,

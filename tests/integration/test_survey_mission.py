@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from auvplan.cli import main
+from auvplan.io.safeio import written
 from auvplan.survey.turns import dubins, sample_turn
 
 SCENARIO = """
@@ -115,6 +116,9 @@ def test_survey_cli_contract_and_every_export_passes_mission_check(tmp_path, cap
     checks = json.loads(capsys.readouterr().out)
     assert len(checks) == 7 and all(c["ok"] for c in checks)
     assert (out / "coverage.png").stat().st_size > 10_000
+    # every file the survey wrote is in the folder's manifest, so the same command can write the folder again
+    # (coverage.png was written around it: `survey --out D` twice refused its own coverage.png)
+    assert {"coverage.png", "lines.csv", "coverage.json", "gaps.geojson", "report.html"} <= written(out)
 
 
 def test_auv_mounting_holds_the_altitude(tmp_path, capsys):

@@ -13,7 +13,7 @@ from ..errors import ScenarioError
 from ..io.missions import export
 from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
-from ..io.safeio import RESULT_NAMES, prepare_out
+from ..io.safeio import RESULT_NAMES, prepare_out, save_figure
 from ..io.scenario import loader as scenario_io
 from ..runtime.parallel import Runner
 from ..sim import Mission
@@ -84,8 +84,9 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, formats, full, deploy)
         from ..viz.survey import coverage_map
 
-        coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)).savefig(
-            folder / "coverage.png", dpi=110)
+        save_figure(folder / "coverage.png",  # atomically, and into the manifest (a re-run adopts it)
+                    coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)),
+                    dpi=110)
         _report(folder, world, run, rec, text, mission)
     return sc, rec
 

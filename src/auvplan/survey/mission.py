@@ -17,10 +17,13 @@ import shapely
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..guidance.mission.legs import merge_short_legs
 from ..nav import NavParams
+from ..path.legs import shortest_leg
 from ..planners.base import PlanResult, Progress
 from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
+from ..sim.pipeline import vehicle_limits
 from ..world import World
 from .joins import join_bridges, join_transit, turn_between
 from .lines.envelope import lower_envelope
@@ -402,5 +405,11 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
             parts.append(path)
             labs.append(np.full(path.shape[0], TRANSIT))
     status = Status.EXACT if not message else Status.INFEASIBLE
-    return SurveyPlan(status, message, lines, np.vstack(parts), np.concatenate(labs).astype(np.int64), words,
-                      tuple(transits), _turn_radius(p), pitch, margin)
+    route, labels = np.vstack(parts), np.concatenate(labs).astype(np.int64)
+    # a transit's planned path can begin or end millimetres from the launch point: legs the vehicle's helm
+    # refuses (shorter than the shortest leg); the transits lose such an end where safe, the survey keeps all
+    lim = vehicle_limits(mission.vehicle)
+    keep = merge_short_legs(world, route, shortest_leg(lim), fixed=np.flatnonzero(labels != TRANSIT),
+                            max_pitch_deg=lim.max_pitch_deg)
+    return SurveyPlan(status, message, lines, route[keep], labels[keep], words, tuple(transits), _turn_radius(p),
+                      pitch, margin)

@@ -1,0 +1,70 @@
+"""A results folder's ``scenario.toml`` keeps the user's text, relative data paths and all: loaded as the
+``--scenario`` of ``mission check`` (README, "Hand it to the vehicle"), those paths resolve against the original
+scenario's folder recorded in ``source.json``, not against the results folder (``chagos-reefs``' reef file,
+``../ne_10m_reefs_chagos.geojson``, was 'not found', exit 2)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from auvplan.cli import main
+from auvplan.errors import ScenarioError
+from auvplan.io.scenario import loader
+
+ZONES = """{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {"name": "box"},
+ "geometry": {"type": "Polygon", "coordinates": [[[-124.990, 48.008], [-124.986, 48.008], [-124.986, 48.012],
+ [-124.990, 48.012], [-124.990, 48.008]]]}}]}"""
+
+SCENARIO = """name = "rel-zone"
+seed = 1
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 2000.0]
+y = [0.0, 2000.0]
+z = [-100.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 80.0
+cell_m = 50.0
+[[zones]]
+name = "area"
+file = "zones.geojson"     # relative to this file's folder
+[mission]
+start = [200.0, 1000.0, -30.0]
+goal = [1800.0, 1000.0, -30.0]
+min_altitude_m = 5.0
+[vehicle]
+speed = 1.5
+[planner]
+name = "grid"
+"""
+
+
+def test_mission_check_against_the_results_folder_scenario_finds_its_relative_zone_file(tmp_path, capsys):
+    src = tmp_path / "src"
+    src.mkdir()
+    (src / "zones.geojson").write_text(ZONES)
+    (src / "s.toml").write_text(SCENARIO)
+    out = tmp_path / "out"
+    assert main(["-q", "plan", str(src / "s.toml"), "--out", str(out)]) == 0
+    assert main(["-q", "export", str(out), "--format", "csv"]) == 0
+    capsys.readouterr()
+    # the straight line y = 1000 crosses the box (x 745-1043 m, y 890-1334 m): the plan goes round it, 1 m off
+    assert main(["mission", "check", str(out / "mission.csv"), "--scenario", str(out / "scenario.toml")]) == 0
+    cap = capsys.readouterr()
+    assert "zone 'area: box': OK — closest approach" in cap.out, cap.err
+    assert loader.load(out / "scenario.toml").base_dir == src
+
+    again = tmp_path / "again"  # a results folder of a run of that folder's scenario.toml: followed to the source
+    again.mkdir()
+    (again / "scenario.toml").write_text((out / "scenario.toml").read_text())
+    (again / "source.json").write_text(json.dumps({"scenario_source": str(out / "scenario.toml")}))
+    assert loader.load(again / "scenario.toml").base_dir == src
+
+    (again / "source.json").write_text("[1, 2]")
+    with pytest.raises(ScenarioError, match=r"source.json: malformed .*scenario_source"):
+        loader.load(again / "scenario.toml")
