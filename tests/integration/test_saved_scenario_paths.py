@@ -68,3 +68,30 @@ def test_mission_check_against_the_results_folder_scenario_finds_its_relative_zo
     (again / "source.json").write_text("[1, 2]")
     with pytest.raises(ScenarioError, match=r"source.json: malformed .*scenario_source"):
         loader.load(again / "scenario.toml")
+
+
+def test_report_and_serve_follow_source_json_through_re_runs_as_the_loader_does(tmp_path, monkeypatch):
+    """``report``/``export``/``serve`` read a results folder's scenario against
+    :func:`~auvplan.io.results.folder.scenario_base`: one hop only, so a re-run's folder resolved against the
+    first results folder (audit 16: its ``zones.geojson`` 'not found' there, or a stale copy read).  Oracle:
+    the same folder as the loader; a relative ``scenario_source`` from its ``source.json``'s folder, not the
+    working directory."""
+    from auvplan.io.jsonfile import source_base
+    from auvplan.io.results import folder
+
+    src, out, again = (tmp_path / n for n in ("src", "out", "again"))
+    for d in (src, out, again):
+        d.mkdir()
+    (src / "s.toml").write_text(SCENARIO)
+    (out / "scenario.toml").write_text(SCENARIO)
+    (out / "source.json").write_text(json.dumps({"scenario_source": str(src / "s.toml")}))
+    (again / "scenario.toml").write_text(SCENARIO)
+    (again / "source.json").write_text(json.dumps({"scenario_source": str(out / "scenario.toml")}))
+    assert folder.scenario_base(again) == src == source_base(again / "scenario.toml")
+    (again / "source.json").write_text(json.dumps({"scenario_source": "../out/scenario.toml"}))
+    monkeypatch.chdir(src)  # from the working directory, '../out' would be tmp_path/out too: go deeper
+    (src / "deep").mkdir()
+    monkeypatch.chdir(src / "deep")
+    assert folder.scenario_base(again) == src
+    (again / "source.json").write_text(json.dumps({"scenario_source": str(again / "scenario.toml")}))  # a cycle
+    assert folder.scenario_base(again) == again

@@ -115,3 +115,25 @@ def test_a_results_folder_and_a_rebuild_refuse_it_unread(tmp_path, reads, monkey
     with pytest.raises(PathRefused, match="outside the served folders"):
         actions._rebuild(session, tomllib.loads(text))
     assert reads == []
+
+
+def test_a_results_folder_scenario_whose_source_json_leads_outside_is_refused_unread(tmp_path, reads):
+    """A served folder's ``scenario.toml`` with a ``source.json`` beside it (a results folder's, or a hostile one)
+    has its relative names resolved by the loader against the folder ``source.json`` names (audit 16: the check
+    resolved them against the served folder, then the loader read ``outside/area.geojson``).  Oracle: the reader
+    is never called; the refusal names the key."""
+    import json
+
+    from auvplan.serve.actions.scenario import open_scenario
+    from auvplan.serve.session import Session
+
+    root, outside = tmp_path / "served", tmp_path / "outside"
+    root.mkdir()
+    outside.mkdir()
+    (outside / "area.geojson").write_text("{}")
+    (root / "area.geojson").write_text("{}")  # what the served-folder reading of the name would have checked
+    (root / "scenario.toml").write_text(_GEO.format(key="file", name="area.geojson"))
+    (root / "source.json").write_text(json.dumps({"scenario_source": str(outside / "s.toml")}))
+    with pytest.raises(PathRefused, match=r"\[survey\] file = 'area.geojson': outside the served folders"):
+        open_scenario(Session(Roots.of([root])), "scenario.toml")
+    assert reads == []

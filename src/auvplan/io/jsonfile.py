@@ -12,9 +12,9 @@ import math
 from pathlib import Path
 from typing import Any
 
-from ..errors import DataError
+from ..errors import DataError, ScenarioError
 
-__all__ = ["MAX_JSON_BYTES", "read_json", "read_bounded_text"]
+__all__ = ["MAX_JSON_BYTES", "read_json", "read_bounded_text", "source_base"]
 
 
 MAX_JSON_BYTES = 64 * 1024 * 1024
@@ -88,3 +88,40 @@ def _finite_float(text: str) -> float:
     if not math.isfinite(v):
         raise ValueError(f"number {text[:40]} is out of range")
     return v
+
+
+def source_base(path: Path) -> Path:
+    """The folder a scenario file's relative data paths resolve against: its own, or for a results folder's
+    ``scenario.toml`` (a ``source.json`` beside it: the user's text kept as written, relative paths and all)
+    the original scenario's folder, followed through a results folder run again (at most 8 hops; a relative
+    ``scenario_source`` is read from the folder of its ``source.json``, never from the working directory).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The scenario file.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder.
+
+    Raises
+    ------
+    ScenarioError
+        Naming a malformed ``source.json``.
+    """
+    path = Path(path)
+    seen: set[Path] = set()
+    while path.name == "scenario.toml" and (path.parent / "source.json").is_file() and len(seen) < 8:
+        seen.add(path)
+        src = path.parent / "source.json"
+        data = read_json(src)  # bounded in size and nesting, names the file
+        try:
+            path = src.parent / str(data["scenario_source"])
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ScenarioError(f"{src}: malformed ({type(exc).__name__}: {exc}); expected "
+                                '{"scenario_source": "/path/to/scenario.toml"}') from exc
+        if path in seen:
+            break
+    return path.parent

@@ -19,7 +19,7 @@ import numpy as np
 from ...errors import DataError
 from ...world import Terrain
 from ...world.seabed import SeabedFit
-from ..jsonfile import read_json
+from ..jsonfile import source_base
 from ..safeio import atomic_write
 
 __all__ = ["TERRAIN_FILE", "save_terrain", "load_terrain", "scenario_base"]
@@ -95,15 +95,7 @@ def scenario_base(out: Path) -> Path:
     Returns
     -------
     pathlib.Path
-        The original scenario's folder recorded in ``source.json``, or ``out`` itself.
+        The original scenario's folder recorded in ``source.json`` (followed through a results folder run
+        again: :func:`auvplan.io.jsonfile.source_base`), or ``out`` itself.
     """
-    out = Path(out)
-    src = out / "source.json"
-    if not src.is_file():
-        return out
-    data = read_json(src)  # bounded in size and nesting, names the file
-    try:
-        return Path(str(data["scenario_source"])).parent
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise DataError(f"{src}: malformed ({type(exc).__name__}: {exc}); expected "
-                        '{"scenario_source": "/path/to/scenario.toml"}') from exc
+    return source_base(Path(out) / "scenario.toml")

@@ -31,7 +31,7 @@ import tomllib
 from pathlib import Path
 
 from ...errors import ScenarioError
-from ..jsonfile import read_json
+from ..jsonfile import source_base
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .specs import Scenario
@@ -64,26 +64,7 @@ def load(scenario: str | Path) -> Scenario:
         line = data[: exc.start].count(b"\n") + 1
         raise ScenarioError(f"{path}: line {line}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset "
                             f"{exc.start}); save the scenario as UTF-8") from exc
-    return loads(text, source=str(path), base_dir=_base_dir(path))
-
-
-def _base_dir(path: Path) -> Path:
-    """The folder a scenario file's relative data paths resolve against: its own, or for a results folder's
-    ``scenario.toml`` (a ``source.json`` beside it: the user's text kept as written, relative paths and all)
-    the original scenario's folder, followed through a results folder run again (at most 8 hops)."""
-    seen: set[Path] = set()
-    while path.name == "scenario.toml" and (path.parent / "source.json").is_file() and len(seen) < 8:
-        seen.add(path)
-        src = path.parent / "source.json"
-        data = read_json(src)  # bounded in size and nesting, names the file
-        try:
-            path = Path(str(data["scenario_source"]))
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ScenarioError(f"{src}: malformed ({type(exc).__name__}: {exc}); expected "
-                                '{"scenario_source": "/path/to/scenario.toml"}') from exc
-        if path in seen:
-            break
-    return path.parent
+    return loads(text, source=str(path), base_dir=source_base(path))
 
 
 def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:

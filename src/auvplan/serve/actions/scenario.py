@@ -40,12 +40,16 @@ def open_scenario(session: Session, target: str) -> None:
         if path.is_dir():
             _open_results(session, path)
         else:
+            from ...io.jsonfile import source_base
+
             text = path.read_text(encoding="utf-8") if path.is_file() else ""
-            session.roots.confine_text(text, str(path), path.parent)  # what the loader reads, before it does
+            # what the loader reads, before it does, against the folder it reads from (a results folder's
+            # scenario.toml: the original scenario's folder its source.json names)
+            session.roots.confine_text(text, str(path), source_base(path) if path.is_file() else path.parent)
             sc = scenario_io.load(path)
             session.roots.confine(sc)
             world, mission = scenario_io.build(sc)
-            session.set_scenario(sc, text, str(path), path.parent, world, mission)
+            session.set_scenario(sc, text, str(path), sc.base_dir, world, mission)
         with session.lock:
             session.history, session.undo_stack, session.candidates = [], [], []
         session.record("open", f"opened {target}")
