@@ -95,3 +95,23 @@ def test_report_and_serve_follow_source_json_through_re_runs_as_the_loader_does(
     assert folder.scenario_base(again) == src
     (again / "source.json").write_text(json.dumps({"scenario_source": str(again / "scenario.toml")}))  # a cycle
     assert folder.scenario_base(again) == again
+
+
+def test_a_results_folder_run_again_into_itself_keeps_its_original_source(tmp_path):
+    """``plan DIR/scenario.toml --out DIR --force`` recorded DIR/scenario.toml as its own source (audit 16):
+    the original folder was lost and the next load said '[[zones]] #1 file = 'DIR/zones.geojson': not found'.
+    Oracle: ``source.json`` names the original file; the folder's scenario still loads against it."""
+    from auvplan.app.results import save_context
+
+    src, out = tmp_path / "src", tmp_path / "out"
+    src.mkdir()
+    out.mkdir()
+    (src / "zones.geojson").write_text(ZONES)
+    (src / "s.toml").write_text(SCENARIO)
+    world, _ = loader.build(loader.load(src / "s.toml"))
+    save_context(out, str(src / "s.toml"), world)  # the first run's folder
+    (out / "scenario.toml").write_text(SCENARIO)
+    sc = loader.load(out / "scenario.toml")
+    save_context(out, sc.source, world)  # what the second run writes last, into the same folder
+    assert json.loads((out / "source.json").read_text()) == {"scenario_source": str((src / "s.toml").resolve())}
+    assert loader.load(out / "scenario.toml").base_dir == src

@@ -63,10 +63,14 @@ def save_context(out: Path, source: str, world: World) -> None:
     world : World
         The world (its terrain is saved).
     """
+    from ..io.jsonfile import scenario_origin
     from ..io.results import folder as results
     from ..io.results import records
 
-    records.write_json(out / "source.json", {"scenario_source": str(Path(source).resolve())})
+    # the original scenario, followed now: a results folder's scenario.toml run again into its own folder
+    # (--force) recorded itself, and its relative data paths were lost ('zones.geojson': not found)
+    origin = scenario_origin(Path(source).resolve()).resolve()
+    records.write_json(out / "source.json", {"scenario_source": str(origin)})
     results.save_terrain(out, world.terrain)
 
 

@@ -14,7 +14,7 @@ from typing import Any
 
 from ..errors import DataError, ScenarioError
 
-__all__ = ["MAX_JSON_BYTES", "read_json", "read_bounded_text", "source_base"]
+__all__ = ["MAX_JSON_BYTES", "read_json", "read_bounded_text", "source_base", "scenario_origin"]
 
 
 MAX_JSON_BYTES = 64 * 1024 * 1024
@@ -93,8 +93,7 @@ def _finite_float(text: str) -> float:
 def source_base(path: Path) -> Path:
     """The folder a scenario file's relative data paths resolve against: its own, or for a results folder's
     ``scenario.toml`` (a ``source.json`` beside it: the user's text kept as written, relative paths and all)
-    the original scenario's folder, followed through a results folder run again (at most 8 hops; a relative
-    ``scenario_source`` is read from the folder of its ``source.json``, never from the working directory).
+    the original scenario's folder (:func:`scenario_origin`'s).
 
     Parameters
     ----------
@@ -105,6 +104,30 @@ def source_base(path: Path) -> Path:
     -------
     pathlib.Path
         The folder.
+
+    Raises
+    ------
+    ScenarioError
+        Naming a malformed ``source.json``.
+    """
+    return scenario_origin(path).parent
+
+
+def scenario_origin(path: Path) -> Path:
+    """The scenario file a results folder's ``scenario.toml`` was first read from: ``source.json``'s
+    ``scenario_source`` followed through a results folder run again (at most 8 hops; a relative
+    ``scenario_source`` is read from the folder of its ``source.json``, never from the working directory),
+    or ``path`` itself.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The scenario file.
+
+    Returns
+    -------
+    pathlib.Path
+        The original scenario file.
 
     Raises
     ------
@@ -124,4 +147,4 @@ def source_base(path: Path) -> Path:
                                 '{"scenario_source": "/path/to/scenario.toml"}') from exc
         if path in seen:
             break
-    return path.parent
+    return path
