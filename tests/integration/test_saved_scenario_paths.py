@@ -115,3 +115,22 @@ def test_a_results_folder_run_again_into_itself_keeps_its_original_source(tmp_pa
     save_context(out, sc.source, world)  # what the second run writes last, into the same folder
     assert json.loads((out / "source.json").read_text()) == {"scenario_source": str((src / "s.toml").resolve())}
     assert loader.load(out / "scenario.toml").base_dir == src
+
+
+def test_force_never_removes_the_scenario_the_command_reads(tmp_path, capsys):
+    """``run DIR/scenario.toml --out DIR --force`` on a folder ``plan`` wrote removed the plan's files, the
+    scenario among them, then said 'no such scenario file' (audit 16: the folder emptied, nothing written).
+    Oracle: refused naming the file, exit 2, every file still there."""
+    from auvplan.io.outdir import session
+    from auvplan.io.safeio import atomic_write, prepare_out
+
+    out = tmp_path / "out"
+    with session():  # the folder as `plan` left it
+        prepare_out(out, job="plan")
+    atomic_write(out / "scenario.toml", SCENARIO)
+    atomic_write(out / "run.json", "{}")
+    before = sorted(p.name for p in out.iterdir())
+    assert main(["run", str(out / "scenario.toml"), "--out", str(out), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{out / 'scenario.toml'}: the file this `auvplan run` reads; --force" in err
+    assert sorted(p.name for p in out.iterdir()) == before

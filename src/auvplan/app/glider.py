@@ -125,7 +125,7 @@ def glider_scenario(scenario: str, out: str | None = None, force: bool = False,
     from ..sim.glider import fly_glider
 
     if out:
-        prepare_out(out, GLIDER_NAMES, force=force, job="glider")
+        prepare_out(out, GLIDER_NAMES, force=force, job="glider", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     g = mission.vehicle.glider

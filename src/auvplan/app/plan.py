@@ -58,7 +58,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     from .ensemble import ensemble_plan
 
     if out is not None:
-        prepare_out(out, RESULT_NAMES, force=force, job="plan")
+        prepare_out(out, RESULT_NAMES, force=force, job="plan", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     spec = mission.planner
@@ -118,7 +118,7 @@ def simulate_scenario(scenario: str, out: str | None = None, force: bool = False
     from ..sim import run_mission
 
     if out is not None:
-        prepare_out(out, RESULT_NAMES, force=force, job="simulate")
+        prepare_out(out, RESULT_NAMES, force=force, job="simulate", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     seed = sc.seed if seed is None else seed

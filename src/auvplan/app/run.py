@@ -58,7 +58,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
     from ..sim import run_mission
 
     if out:
-        prepare_out(out, RESULT_NAMES, force=force, job="run")
+        prepare_out(out, RESULT_NAMES, force=force, job="run", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     if planner:

@@ -54,7 +54,7 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         The coverage record (:func:`auvplan.io.results.survey.coverage_record`).
     """
     if out:
-        prepare_out(out, (*RESULT_NAMES, *SURVEY_NAMES), force=force, job="survey")
+        prepare_out(out, (*RESULT_NAMES, *SURVEY_NAMES), force=force, job="survey", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     if sc.survey is None:
         raise ScenarioError(f"{sc.source}: no [survey] table (polygon, sensor, opening_deg, mounting, overlap)")

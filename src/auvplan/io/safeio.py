@@ -117,8 +117,9 @@ def _record(folder: Path, names: Iterable[str], job: str = "") -> None:
         _replace(folder / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
 
 
-def _one_job(out: Path, job: str, force: bool) -> None:
-    """One results folder = one job: refuse a folder another command wrote (with ``force``, remove its files)."""
+def _one_job(out: Path, job: str, force: bool, inputs: Iterable[Path | str] = ()) -> None:
+    """One results folder = one job: refuse a folder another command wrote (with ``force``, remove its files,
+    unless one is a file the command reads: ``inputs``)."""
     was = written_by(out)
     if not job or not was or was == job:
         return
@@ -126,10 +127,14 @@ def _one_job(out: Path, job: str, force: bool) -> None:
         raise OutputError(f"{out}: holds the results of `auvplan {was}` ({MANIFEST} job = {was!r}); a results folder "
                           f"holds one job, `auvplan {job}` would mix its files with them — choose another --out, or "
                           "pass --force to remove that job's files first")
-    for name in sorted(written(out)):
-        p = out / name
-        if p.is_file() and not p.is_symlink():
-            p.unlink()
+    doomed = [out / n for n in sorted(written(out)) if (out / n).is_file() and not (out / n).is_symlink()]
+    read = {Path(i).resolve() for i in inputs if Path(i).is_file()}
+    kept = next((p for p in doomed if p.resolve() in read), None)
+    if kept is not None:  # was: the scenario removed, then 'no such scenario file', the folder emptied
+        raise OutputError(f"{kept}: the file this `auvplan {job}` reads; --force would remove it with `auvplan "
+                          f"{was}`'s files — copy it out of {out}, or choose another --out")
+    for p in doomed:
+        p.unlink()
     _replace(out / MANIFEST, (json.dumps({"files": [], "job": job}, indent=1) + "\n").encode())
 
 
@@ -266,7 +271,7 @@ def _clean_temporaries(out: Path, names: list[str]) -> None:
 
 
 def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, force: bool = False,
-                job: str = "") -> Path:
+                job: str = "", inputs: Iterable[Path | str] = ()) -> Path:
     """Check an output folder before any work: creatable, writable, locked, and no user file in the way.
 
     The folder is locked for this process (:func:`auvplan.io.outdir.acquire`; a second auvplan
@@ -285,6 +290,8 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         The command writing the folder (``run``, ``survey`` …), recorded in the manifest: a folder
         another command wrote is refused, naming that command (with ``force`` its files are removed
         first). '' for commands that add to a folder (``report``, ``export``).
+    inputs : iterable of path, optional
+        Files the command reads (its scenario): ``force`` never removes one of them (refused instead).
 
     Returns
     -------
@@ -308,7 +315,7 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         raise OutputError(f"{out}: the output folder is not writable")
     outdir.acquire(out)
     try:
-        _one_job(out, job, force)
+        _one_job(out, job, force, inputs)
         _check_names(out, names, force)
         _clean_temporaries(out, names)
     except OutputError:
