@@ -146,8 +146,12 @@ min_depth_m = 0.0
     (82, None, r"MAV_CMD_NAV_SPLINE_WAYPOINT \(82; the spline leaves the straight leg between its items\)"),
     (20, None, r"MAV_CMD_NAV_RETURN_TO_LAUNCH \(20; its way back is not in the file\)"),
     (21, None, r"MAV_CMD_NAV_LAND \(21; its descent is not in the file\)"),
-    (18, 30.0, r"MAV_CMD_NAV_LOITER_TURNS \(18\) circling 30.0 m around its point"),
-    (31, 5, r"MAV_CMD_NAV_LOITER_TO_ALT \(31\) circling 5 m around its point"),
+    (17, 30.0, r"MAV_CMD_NAV_LOITER_UNLIM \(17\) circling 30.0 m around its point"),
+    # ArduSub's do_circle flies CIRCLE_RADIUS (10 m by default) when the radius is 0; it skips LOITER_TO_ALT
+    # (audit 16: both were read as their point)
+    (18, 0, r"MAV_CMD_NAV_LOITER_TURNS \(18; ArduSub circles its point, at CIRCLE_RADIUS when its radius is 0\)"),
+    (18, 30.0, r"MAV_CMD_NAV_LOITER_TURNS \(18; ArduSub circles its point, at CIRCLE_RADIUS when its radius is 0\)"),
+    (31, 0, r"MAV_CMD_NAV_LOITER_TO_ALT \(31; ArduSub skips it and goes on to the next item\)"),
 ])
 def test_items_that_move_the_vehicle_off_the_file_are_refused(tmp_path, command, radius, named):
     frame = LocalFrame(16.0, 145.0)

@@ -7,9 +7,11 @@ What moves the vehicle is either read as what it flies or refused (``mission che
 will fly, never a part of it):
 
 - ``MAV_CMD_NAV_WAYPOINT`` (16): its position.
-- The loiters ``MAV_CMD_NAV_LOITER_UNLIM`` (17), ``_TURNS`` (18), ``_TIME`` (19) and ``_TO_ALT`` (31) with a
-  radius of 0 (param 3; param 2 for 31) or none: the vehicle goes to the point and holds it there, so they are
-  read as a waypoint; with a radius it circles away from the point: refused.
+- The loiters ``MAV_CMD_NAV_LOITER_UNLIM`` (17) and ``_TIME`` (19) with a radius of 0 (param 3) or none: the
+  vehicle goes to the point and holds it there (ArduSub's ``do_loiter_unlimited``), so they are read as a
+  waypoint; with a radius: refused.  ``_TURNS`` (18) is refused whatever its radius: ArduSub's ``do_circle``
+  circles the point at its radius, or at ``CIRCLE_RADIUS`` (10 m by default) when it is 0; so is ``_TO_ALT``
+  (31), which ArduSub does not fly (its ``start_command`` skips it: the vehicle goes on to the next item).
 - A ``ComplexItem`` ``"survey"`` or ``"CorridorScan"``: the mission items QGC generated for it, which the file
   stores under ``TransectStyleComplexItem.Items`` (QGC uploads exactly these; ``VisualTransectPoints`` is only
   the drawing), walked in order under the same rules. ``"StructureScan"`` stores no items (QGC regenerates them
@@ -34,8 +36,7 @@ __all__ = ["NAV_WAYPOINT", "LOITERS", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS"
 NAV_WAYPOINT = 16
 """``MAV_CMD_NAV_WAYPOINT``."""
 
-LOITERS = {17: ("MAV_CMD_NAV_LOITER_UNLIM", 2), 18: ("MAV_CMD_NAV_LOITER_TURNS", 2),
-           19: ("MAV_CMD_NAV_LOITER_TIME", 2), 31: ("MAV_CMD_NAV_LOITER_TO_ALT", 1)}
+LOITERS = {17: ("MAV_CMD_NAV_LOITER_UNLIM", 2), 19: ("MAV_CMD_NAV_LOITER_TIME", 2)}
 """The loiters at a position: command → (name, index of its radius parameter)."""
 
 HARMLESS = {178: "MAV_CMD_DO_CHANGE_SPEED", 181: "MAV_CMD_DO_SET_RELAY", 203: "MAV_CMD_DO_DIGICAM_CONTROL",
@@ -46,7 +47,9 @@ HARMLESS = {178: "MAV_CMD_DO_CHANGE_SPEED", 181: "MAV_CMD_DO_SET_RELAY", 203: "M
 REFUSED = {82: ("MAV_CMD_NAV_SPLINE_WAYPOINT", "the spline leaves the straight leg between its items"),
            20: ("MAV_CMD_NAV_RETURN_TO_LAUNCH", "its way back is not in the file"),
            21: ("MAV_CMD_NAV_LAND", "its descent is not in the file"),
-           177: ("MAV_CMD_DO_JUMP", "repeats part of the mission")}
+           177: ("MAV_CMD_DO_JUMP", "repeats part of the mission"),
+           18: ("MAV_CMD_NAV_LOITER_TURNS", "ArduSub circles its point, at CIRCLE_RADIUS when its radius is 0"),
+           31: ("MAV_CMD_NAV_LOITER_TO_ALT", "ArduSub skips it and goes on to the next item")}
 """Commands that move the vehicle in a way the file does not give: command → (name, why)."""
 
 TRANSECT_PATTERNS = ("survey", "CorridorScan")
