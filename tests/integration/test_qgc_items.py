@@ -213,7 +213,9 @@ def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_pa
     path = tmp_path / "m.plan"
     path.write_text(json.dumps(doc))
     got, _, _ = read_mission(path, origin)
-    assert np.allclose(got, np.vstack([[*pts[0, :2], 0.0], pts]), atol=1e-3)  # home on the surface, then the items
+    flown = pts.copy()
+    flown[0, 2] = -0.01  # the surface a centimetre deep (ArduSub reads 0 as "hold the current altitude")
+    assert np.allclose(got, np.vstack([[*pts[0, :2], 0.0], flown]), atol=1e-3)  # home on the surface, the items
     assert read_leg_speeds(path, 4).tolist() == [1.0, 1.0, 1.5, 2.0]  # the launch at the cruise speed, then leg i's
 
 
@@ -222,3 +224,21 @@ def test_the_walk_names_a_malformed_generated_item(tmp_path):
     doc["mission"]["items"][0]["TransectStyleComplexItem"]["Items"][0]["params"] = [0, 0]
     with pytest.raises(DataError, match=r"mission\.items\[0\]\.TransectStyleComplexItem\.Items\[0\]\.params has 2"):
         plan_items(doc)
+
+
+@pytest.mark.parametrize("alt", [0.0, -0.004, 0.009])
+def test_an_item_at_altitude_zero_is_refused_and_the_export_writes_the_surface_a_centimetre_deep(tmp_path, alt):
+    """ArduSub stores an item's altitude in whole centimetres and its do_nav_wp reads 0 as "keep the current
+    altitude": a waypoint at 0 m (the surface) was read as the surface while the vehicle flies level to it
+    (audit 16; track-arc's goal is at z = 0).  Oracle: refused naming the item; to_qgc_plan's surface point is
+    written at -0.01 m and reads back there."""
+    frame = LocalFrame(16.0, 145.0)
+    items = [_item(frame, 3000.0, 6000.0, -100.0), _item(frame, 4000.0, 6000.0, alt)]
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(_plan((16.0, 145.0), (1000.0, 6000.0), items)))
+    with pytest.raises(DataError, match=r"mission\.items\[1\]: altitude .* 'hold the current altitude'"):
+        read_mission(path, (16.0, 145.0))
+    doc = to_qgc_plan([[0.0, 0.0, 0.0], [100.0, 0.0, -20.0], [200.0, 0.0, alt]], (16.0, 145.0), 1.0)
+    assert [it["params"][6] for it in doc["mission"]["items"]] == [-0.01, -20.0, -0.01]
+    path.write_text(json.dumps(doc))
+    assert np.allclose(read_mission(path, (16.0, 145.0))[0][1:, 2], [-0.01, -20.0, -0.01])

@@ -41,6 +41,7 @@ from .readers import (
     GPX_NS,
     MAX_MISSION_BYTES,
     MISSION_SUFFIXES,
+    ZERO_ALT_M,
     check_mission_file,
     parse_gpx,
     parse_moos,
@@ -229,7 +230,9 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
         if alt is not None and (terrain is None or bool(terrain[i])):
             h, frame_id, mode = round(float(alt[i]), 3), 10, 4
         else:
+            # ArduSub reads an altitude under 1 cm as "keep the current altitude": the surface is 1 cm deep
             h, frame_id, mode = round(float(z), 3), 3, 1
+            h = -ZERO_ALT_M if abs(h) < ZERO_ALT_M else h
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],

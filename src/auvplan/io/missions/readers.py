@@ -36,7 +36,12 @@ __all__ = [
     "parse_ros_path",
     "read_mission",
     "check_mission_file",
+    "ZERO_ALT_M",
 ]
+
+ZERO_ALT_M = 0.01
+"""ArduSub stores an item's altitude in whole centimetres and reads 0 as "keep the current altitude"
+(``do_nav_wp``, ``do_loiter_unlimited``): an altitude under a centimetre is not the point the file gives."""
 
 
 MAX_MISSION_BYTES = 256 * 1024 * 1024
@@ -164,6 +169,11 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
             terrain.append(it.frame == 10)
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
+    kept = next((it for it, r in zip(items, rows[1:], strict=True) if abs(r[2]) < ZERO_ALT_M), None)
+    if kept is not None:  # stored in whole centimetres: 0 is "keep the current altitude" (do_nav_wp), not the surface
+        raise DataError(f"QGC plan: {kept.where}: altitude {float(kept.params[6]):g} m: ArduSub reads an altitude "
+                        f"under {ZERO_ALT_M:g} m as 'hold the current altitude' and flies there level, not to it; "
+                        f"not checked (write -{ZERO_ALT_M:g} for the surface)")
     a = np.array(rows)
     x, y = frame.forward(a[:, 1], a[:, 0])
     z = a[:, 2].copy()
