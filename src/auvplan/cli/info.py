@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
+from typing import Any
 
 __all__: list[str] = []  # handlers: CLI internals, not library API
 
@@ -50,6 +52,8 @@ def cmd_validate(args: argparse.Namespace) -> int:
             lines.append(f"  {t.fit.describe()}")
     lines.append(f"  start {list(mission.start)} goal {list(mission.goal)}; "
                  f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
+    if world.zones:
+        lines.append(_zones_line(world.zones.zones))
     if members:
         lines.append(f"  {len(members)} current members: {', '.join(n for n, _ in members[:8])}"
                      + (" ..." if len(members) > 8 else "") + f"; [planner] robust = {mission.planner.robust!r}")
@@ -66,6 +70,19 @@ def cmd_validate(args: argparse.Namespace) -> int:
     # issue 51: OK only once every check above has passed (an error is exit 2 with nothing printed on stdout)
     print("\n".join([f"{sc.source}: OK — {sc.name}", *lines]))
     return 0
+
+
+def _zones_line(zones: tuple[Any, ...]) -> str:
+    """``validate``'s line on the charted zones: how many, their names and depth bands (the first few)."""
+    def band(z: Any) -> str:
+        if z.above_seabed is not None:
+            return f"{z.above_seabed:g} m above the seabed"
+        low = "the seabed" if math.isinf(z.bottom) else f"{z.bottom:g} m"
+        return f"{'the surface' if z.top == 0 else f'{z.top:g} m'} to {low}"
+
+    shown = "; ".join(f"{z.name!r} ({band(z)})" for z in zones[:4])
+    return f"  {len(zones)} charted zone{'s' if len(zones) != 1 else ''} kept out of: {shown}" + \
+        (f"; ... ({len(zones) - 4} more)" if len(zones) > 4 else "")
 
 
 def cmd_scenario_new(args: argparse.Namespace) -> int:
