@@ -18,6 +18,8 @@ the middle of the leg entered by the track and missed by its chord, an altitude 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -29,7 +31,7 @@ from ...world.terrain import Terrain
 from .limits import waypoint_limits
 from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["SAG_M", "check_as_flown", "flown_pitch_depth", "terrain_track"]
+__all__ = ["SAG_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track", "terrain_track"]
 
 SAG_M = 0.01
 """The most the track's chords stand off the seabed-following curve they stand for (m)."""
@@ -102,6 +104,72 @@ def _flags(waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, BoolArr
     return w, f
 
 
+@dataclass(frozen=True, eq=False)
+class FlownTrack:
+    """A waypoint mission as flown when the legs ``follow`` marks hold an altitude above the seabed
+    (:func:`flown_track`).
+
+    Attributes
+    ----------
+    track : numpy.ndarray
+        ``(M, 3)`` polyline (m), as :func:`terrain_track` returns it.
+    leg : numpy.ndarray of int
+        ``(M - 1,)``: the leg (from 0) of each segment of the track.
+    pitch : numpy.ndarray
+        ``(N - 1,)`` each leg's steepest pitch (degrees, absolute): a following leg's steepest tangent, the
+        others' straight pitch.
+    depth : numpy.ndarray
+        ``(N - 1,)`` each leg's greatest depth (m, positive down; the track's deepest vertex, exact).
+    """
+
+    track: FloatArray
+    leg: IntArray
+    pitch: FloatArray
+    depth: FloatArray
+
+
+def flown_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> FlownTrack:
+    """Return the track, and each leg's steepest pitch and greatest depth, flown when the legs ``follow`` marks
+    hold an altitude above the seabed (each leg's track computed once; :func:`terrain_track` and
+    :func:`flown_pitch_depth` are its parts).
+
+    Parameters
+    ----------
+    terrain : Terrain
+        The seabed.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed.
+
+    Returns
+    -------
+    FlownTrack
+        The track, its segments' legs, and per leg the steepest pitch and the greatest depth.
+    """
+    w, f = _flags(waypoints, follow)
+    pts: list[FloatArray] = [w[:1]]
+    legs: list[IntArray] = []
+    pitch = np.abs(leg_pitch_deg(w)) if w.shape[0] > 1 else np.zeros(0)
+    for k in range(w.shape[0] - 1):
+        a, b = w[k], w[k + 1]
+        if not f[k]:
+            pts.append(b[None, :])
+            legs.append(np.array([k]))
+            continue
+        s, z, slope = _following_leg(terrain, a, b)
+        pitch[k] = max(float(np.degrees(np.arctan(slope))), pitch[k])
+        xy = a[:2] + s[:, None] * (b[:2] - a[:2])
+        pts.append(np.column_stack([xy, z]))
+        legs.append(np.full(s.size, k))
+    track = np.vstack(pts)
+    leg = (np.concatenate(legs) if legs else np.zeros(0, dtype=np.intp)).astype(np.intp)
+    low = np.full(max(w.shape[0] - 1, 0), np.inf)  # each leg's deepest vertex: its segments' ends
+    np.minimum.at(low, leg, track[:-1, 2])
+    np.minimum.at(low, leg, track[1:, 2])
+    return FlownTrack(track, leg, pitch, -low)
+
+
 def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, IntArray]:
     """Return the track flown when the legs ``follow`` marks hold an altitude above the seabed.
 
@@ -126,26 +194,13 @@ def terrain_track(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> 
     leg : numpy.ndarray of int
         ``(M - 1,)``: the leg (from 0) of each segment of the track.
     """
-    w, f = _flags(waypoints, follow)
-    pts: list[FloatArray] = [w[:1]]
-    legs: list[IntArray] = []
-    for k in range(w.shape[0] - 1):
-        a, b = w[k], w[k + 1]
-        if not f[k]:
-            pts.append(b[None, :])
-            legs.append(np.array([k]))
-            continue
-        s, z, _ = _following_leg(terrain, a, b)
-        xy = a[:2] + s[:, None] * (b[:2] - a[:2])
-        pts.append(np.column_stack([xy, z]))
-        legs.append(np.full(s.size, k))
-    leg = np.concatenate(legs) if legs else np.zeros(0, dtype=np.intp)
-    return np.vstack(pts), leg.astype(np.intp)
+    flown = flown_track(terrain, waypoints, follow)
+    return flown.track, flown.leg
 
 
 def flown_pitch_depth(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """Each leg's steepest pitch and greatest depth as flown: on a leg ``follow`` marks, the seabed-following
-    track's (:func:`terrain_track`; the pitch of its steepest tangent, where the vehicle must climb or dive with
+    track's (:func:`flown_track`; the pitch of its steepest tangent, where the vehicle must climb or dive with
     the seabed, and its deepest vertex, exact); on the others the straight leg's.
 
     Parameters
@@ -164,14 +219,8 @@ def flown_pitch_depth(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike)
     depth : numpy.ndarray
         ``(N - 1,)`` greatest depth (m, positive down).
     """
-    w, f = _flags(waypoints, follow)
-    pitch = np.abs(leg_pitch_deg(w)) if w.shape[0] > 1 else np.zeros(0)
-    depth = -np.minimum(w[:-1, 2], w[1:, 2])
-    for k in np.flatnonzero(f):
-        _, z, slope = _following_leg(terrain, w[k], w[k + 1])
-        pitch[k] = max(float(np.degrees(np.arctan(slope))), pitch[k])
-        depth[k] = max(float(-z.min()), -float(w[k, 2]))
-    return pitch, depth
+    flown = flown_track(terrain, waypoints, follow)
+    return flown.pitch, flown.depth
 
 
 def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True) -> MissionCheck:
@@ -200,14 +249,17 @@ def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch
     MissionCheck
         Per leg as flown; ``semantics`` ``"ramp"``.
     """
-    w = as_points(waypoints).reshape(-1, 3)
-    f = np.asarray(follow, dtype=bool).reshape(-1)
-    alt, hits, dist = leg_figures(world, w[:-1], w[1:], "ramp")
-    if world.terrain is not None and f.any():
+    w, f = _flags(waypoints, follow)
+    if world.terrain is None or not f.any():
+        f = np.zeros_like(f)
+    n = max(w.shape[0] - 1, 0)
+    alt, hits, dist = np.full(n, np.inf), np.zeros(n, dtype=bool), np.full(n, np.inf)
+    alt[~f], hits[~f], dist[~f] = leg_figures(world, w[:-1][~f], w[1:][~f], "ramp")  # the straight legs flown
+    if f.any():
+        assert world.terrain is not None
         track, seg_leg = terrain_track(world.terrain, w, f)
         on = f[seg_leg]
         t_alt, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
-        alt[f], hits[f], dist[f] = np.inf, False, np.inf
         np.minimum.at(alt, seg_leg[on], t_alt)
         np.logical_or.at(hits, seg_leg[on], t_hits)
         np.minimum.at(dist, seg_leg[on], t_dist)

@@ -232,15 +232,14 @@ altitude to the millimetre (0.5 mm at each end) and its position to 1e-9 degree 
 slope moves 0.5 mm); a leg followed within the pitch limit only by less is written at its planned depth."""
 
 
-def _followed_free(world: World, w: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Per leg: its seabed-following track keeps every limit ``mission check`` judges it by (the seabed, static
-    obstacles, the surface, the depth band, the bounds and the zones), as the straight leg the fit made does."""
+def _followed_free(world: World, w: NDArray[np.float64], track: NDArray[np.float64],
+                   leg: NDArray[np.intp]) -> NDArray[np.bool_]:
+    """Per leg: its seabed-following track (``track``, its segments' legs ``leg``) keeps every limit ``mission
+    check`` judges it by (the seabed, static obstacles, the surface, the depth band, the bounds and the zones), as
+    the straight leg the fit made does."""
     from ...guidance.mission.limits import waypoint_limits
-    from ...guidance.mission.terrain_legs import terrain_track
     from ...guidance.mission.waypoints import leg_figures
 
-    assert world.terrain is not None
-    track, leg = terrain_track(world.terrain, w, np.ones(len(w) - 1, dtype=bool))
     alt, bad, _ = leg_figures(world, track[:-1], track[1:], "ramp")
     bad |= alt < world.margins.min_altitude
     lim = waypoint_limits(world, track)
@@ -259,16 +258,17 @@ def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -
     followed) and clear of everything its straight leg is (:func:`_followed_free`: over a bump the straight leg
     passes 20 m above, the track climbs with the seabed, out of the depth band or into a zone); a leg already as
     steep as a straight line keeps the terrain frame."""
-    from ...guidance.mission.terrain_legs import flown_pitch_depth
+    from ...guidance.mission.terrain_legs import flown_track
     from ...path.flyable import leg_pitch_deg
 
     assert world.terrain is not None
     items = np.ones(len(w), dtype=bool)
     if len(w) > 1:
-        pitch = flown_pitch_depth(world.terrain, w, np.ones(len(w) - 1, dtype=bool))[0]
+        flown = flown_track(world.terrain, w, np.ones(len(w) - 1, dtype=bool))  # every leg followed, once
+        pitch = flown.pitch
         with np.errstate(divide="ignore"):
             rounded = np.degrees(np.arctan(np.tan(np.radians(pitch)) + ROUNDED_RISE_M /
                                            np.hypot(*np.diff(w[:, :2], axis=0).T)))
         items[1:] = ((rounded <= max_pitch_deg + 1e-9) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-9)) & \
-            _followed_free(world, w)
+            _followed_free(world, w, flown.track, flown.leg)
     return items
