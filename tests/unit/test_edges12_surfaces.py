@@ -220,7 +220,8 @@ def test_a_terrain_frame_plan_over_the_ridge_is_checked_as_flown(tmp_path, capsy
     assert tf["shallowest_m"] == pytest.approx(float(depth.min()), abs=1e-6) and tf["above_surface_legs"] == [1]
     assert tf["min_altitude_m"] == pytest.approx(100.0, abs=1e-6)
     (zone,) = rec["zones"]
-    assert zone["entered_legs"] == [1] and zone["closest_m"] == pytest.approx(-10.0)  # 10 m inside the 20 m band
+    # (the launch, leg 0, descends from the home through the shallows' 0-20 m at x = 4 km, on its face)
+    assert zone["entered_legs"] == [0, 1] and zone["closest_m"] == pytest.approx(-10.0)  # 10 m inside the 20 m band
     plan = _plan([(4000.0, 1000.0, 10, 100.0), (6000.0, 1000.0, 10, 100.0)])
     code, rec = _check(tmp_path, capsys, "ridge.plan", plan, _RIDGE.split("[[zones]]")[0])
     assert code == 1 and rec["ok"] is False and rec["check_ok"] is True  # without the zone: the track alone fails

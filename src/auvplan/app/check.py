@@ -124,8 +124,9 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         tf_line = ""
         if follow is not None:
             rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow)
-        zones = _zone_approach(world, points[1:] if fmt == "qgc" else points, check.semantics, pitch,
-                               None if follow is None else follow[1:])
+        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item)
+        first = 0 if fmt == "qgc" else 1
+        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=first)
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
             rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
@@ -133,9 +134,8 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         nav_ok = True
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
-            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
-                                                                    points[1:] if fmt == "qgc" else points, Path(name),
-                                                                    None if follow is None else follow[1:])
+            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
+                                                                    follow, first=first)
         ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
         # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
         rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
@@ -190,13 +190,14 @@ def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> st
 
 
 def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: float,
-                   follow: np.ndarray | None = None) -> list[ZoneApproach]:
+                   follow: np.ndarray | None = None, first: int = 1) -> list[ZoneApproach]:
     """The closest approach to each charted zone and the legs entering it (exact), under the format's depth
     semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
     the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
     straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`;
     the legs ``follow`` marks (a ``.plan``'s terrain frame) on their seabed-following track instead of the straight
-    line between their items, which ArduSub does not fly."""
+    line between their items, which ArduSub does not fly.  The leg joining ``points[k]`` and ``points[k + 1]`` is
+    named ``k + first``."""
     if not world.zones:
         return []
     from dataclasses import replace
@@ -205,8 +206,8 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
     from ..guidance.mission.zone_legs import held_zone_entries
 
     exact = world.zones.exact
-    if semantics != "held" and (follow is None or world.terrain is None):
-        return exact.approach(points)
+    if semantics != "held" and (follow is None or world.terrain is None):  # Zones.approach: legs from 1
+        return [replace(z, entered_legs=tuple(k - 1 + first for k in z.entered_legs)) for z in exact.approach(points)]
     seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))  # the straight legs, as every format
     if semantics == "held":
         out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
@@ -222,7 +223,7 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
         flown = ~follow[seg]  # a terrain-frame leg's straight line is not flown: its track alone enters or not
         seg, si = seg[flown], si[flown]
     for j, z in enumerate(out):
-        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in more[j])}))
+        entered = tuple(sorted({*(int(k) + first for k in seg[si == j]), *(int(k) + first for k in more[j])}))
         out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
     return out
 
@@ -287,7 +288,7 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
-                     follow: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     follow: np.ndarray | None = None, first: int = 1) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
 
@@ -305,6 +306,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         ``(N - 1,)`` the legs flown following the seabed (a ``.plan``'s terrain frame): predicted and tested on
         that track (:func:`~auvplan.guidance.mission.terrain_legs.terrain_track`), not on the straight line between
         their items, which ArduSub does not fly.
+    first : int, optional
+        The number of the first leg (``mission check``: 0, each leg named by the waypoint it leaves).
 
     Returns
     -------
@@ -322,10 +325,10 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy) if follow is None or world.terrain is None else \
-        _navigation_as_flown(world, nav, points, kinds, follow)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first) \
+        if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first)
     b = c.budget
-    legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
             for k in range(len(b.leg_error_m))]
     lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
@@ -341,7 +344,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
-                         follow: np.ndarray) -> Any:
+                         follow: np.ndarray, first: int = 1) -> Any:
     """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
     gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
     from ..guidance.mission.terrain_legs import terrain_track
@@ -366,10 +369,10 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     lock = np.bincount(seg, c.budget.leg_lock * length, n) / np.bincount(seg, length, n)
     msg = ""
     if (over := np.flatnonzero(err > nav.max_error_m * (1.0 + 1e-9))).size:
-        msg = f"leg {over[0] + 1}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
+        msg = f"leg {over[0] + first}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + 1}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
+        msg = (f"leg {k + first}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
                f"{alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
     budget = NavBudget(c.budget.error_m[ends], err, lock, kinds, c.budget.max_error_m)
     return NavCheck(budget, alt, clear, not msg, msg)

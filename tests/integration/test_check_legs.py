@@ -1,0 +1,99 @@
+"""``mission check`` judges every leg the vehicle flies, a ``.plan``'s launch too, and names each leg the same way in
+every line: leg k leaves waypoint k, waypoint 0 the file's first (a ``.plan``'s home, so its leg 0 is the launch).
+Oracles: the legs' geometry by hand (where a straight leg crosses a prism, where it passes over a ridge's crest)."""
+
+from __future__ import annotations
+
+import json
+
+from auvplan.cli import main
+from auvplan.io.data.geo import LocalFrame
+
+# the analytic ridge: 200 m deep, a 50 m deep crest at x = 1250 m on 500 m flanks; a surface band over x 150-225 m
+# near the launch, and a 30-45 m band over the crest
+_TOML = """
+name = "legs"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 2500.0]
+y = [0.0, 500.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 200.0
+cell_m = 25.0
+ridge_x = 1250.0
+ridge_width = 500.0
+height = 150.0
+[mission]
+start = [375.0, 250.0, -40.0]
+goal = [2250.0, 250.0, -40.0]
+min_altitude_m = 20.0
+min_depth_m = 0.0
+max_depth_m = 300.0
+[[zones]]
+name = "harbour shallows"
+polygon = [[150.0, 200.0], [225.0, 200.0], [225.0, 300.0], [150.0, 300.0]]
+top_m = 0.0
+bottom_m = 5.0
+[[zones]]
+name = "crest cable"
+polygon = [[1200.0, 0.0], [1300.0, 0.0], [1300.0, 500.0], [1200.0, 500.0]]
+top_m = 30.0
+bottom_m = 45.0
+"""
+_NAV = """[navigation]
+drift_pct = 0.5
+drift_pct_no_lock = 1.5
+dvl_range_m = 100.0
+fix_error_m = 3.0
+max_error_m = 200.0
+"""
+
+
+def _plan(home: tuple[float, float], items: list[tuple[float, float, float]]) -> str:
+    """A QGC plan by hand: the home on the surface at ``home``, then ``(x, y, z)`` items (frame 3)."""
+    f = LocalFrame(48.0, -125.0)
+    hlon, hlat = f.inverse(*home)
+    ll = [f.inverse(x, y) for x, y, _ in items]
+    return json.dumps({"fileType": "Plan", "version": 1, "groundStation": "QGroundControl", "mission": {
+        "plannedHomePosition": [float(hlat), float(hlon), 0.0], "items": [
+            {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 2, 0, None, float(lat), float(lon), z]}
+            for (_, _, z), (lon, lat) in zip(items, ll, strict=True)]}})
+
+
+def _check(tmp_path, capsys, name: str, text: str, scenario: str = _TOML,  # type: ignore[no-untyped-def]
+           human: bool = True) -> tuple[int, dict, str]:
+    """The JSON record of ``mission check`` and, if asked, its human output (the same exit code)."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(scenario)
+    f = tmp_path / name
+    f.write_text(text)
+    capsys.readouterr()
+    code = main(["mission", "check", str(f), "--scenario", str(scen), "--json"])
+    rec = json.loads(capsys.readouterr().out)
+    if human:
+        assert main(["mission", "check", str(f), "--scenario", str(scen)]) == code
+    return code, rec, capsys.readouterr().out
+
+
+def test_a_plan_s_launch_leg_through_a_zone_fails_the_check(tmp_path, capsys) -> None:
+    """ArduSub flies from its home to the first item: home on the surface at x = 75 m, first item 10 m deep at
+    x = 300 m, so the launch leg is 10 (x - 75) / 225 m deep: 3.3-6.7 m over the 0-5 m band's x 150-225 m (in
+    it from x = 150 to 187.5).  The items' own legs (10-20 m deep) pass under it and 30 m over the crest.  The zone
+    check took the plan's legs after the home (exit 0); the seabed check took the launch: now every check has it,
+    leg 0."""
+    depth_at = [10.0 * (x - 75.0) / 225.0 for x in (150.0, 187.5, 225.0)]
+    assert depth_at[0] < 5.0 <= depth_at[1] < depth_at[2]  # the launch leg enters the band by hand
+    items = [(300.0, 250.0, -10.0), (750.0, 250.0, -20.0), (2250.0, 250.0, -20.0)]
+    code, rec, out = _check(tmp_path, capsys, "launch.plan", _plan((75.0, 250.0), items), _TOML + _NAV)
+    zone = {z["name"]: z for z in rec["zones"]}["harbour shallows"]
+    assert code == 1 and rec["ok"] is False and zone["entered_legs"] == [0] and zone["closest_m"] <= 0.0
+    assert "zone 'harbour shallows': FAIL — entered by leg 0" in out
+    # the navigation check flies the launch too: one record per leg the seabed check flies, numbered alike
+    assert [leg["leg"] for leg in rec["navigation"]["legs"]] == list(range(rec["legs"])) == [0, 1, 2]
+    # the same items with the home above the first (the launch a vertical descent): no entry, exit 0
+    code, rec, _ = _check(tmp_path, capsys, "above.plan", _plan((300.0, 250.0), items), human=False)
+    assert code == 0 and {z["name"]: z["entered_legs"] for z in rec["zones"]}["harbour shallows"] == []
