@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+import pytest
+
 from auvplan.cli import main
 from auvplan.io.data.geo import LocalFrame
 
@@ -97,3 +100,27 @@ def test_a_plan_s_launch_leg_through_a_zone_fails_the_check(tmp_path, capsys) ->
     # the same items with the home above the first (the launch a vertical descent): no entry, exit 0
     code, rec, _ = _check(tmp_path, capsys, "above.plan", _plan((300.0, 250.0), items), human=False)
     assert code == 0 and {z["name"]: z["entered_legs"] for z in rec["zones"]}["harbour shallows"] == []
+
+
+@pytest.mark.parametrize(("name", "first"), [("crest.csv", 0), ("crest.plan", 1)])
+def test_a_leg_entering_a_zone_and_touching_the_seabed_is_one_leg_number_in_every_line(tmp_path, capsys, name,
+                                                                                       first) -> None:
+    """Waypoints 40 m deep at x = 375, 750, 1750 and 2250 m: the leg from x = 750 to 1750 m passes 10 m over the
+    50 m deep crest (under min_altitude_m 20) and through the 30-45 m band over it (both by hand); a .plan's home
+    above the first waypoint adds the launch as leg 0.  The seabed line named it leg 1 and the zone line leg 2 (a
+    CSV)."""
+    w = np.array([[375.0, 250.0, -40.0], [750.0, 250.0, -40.0], [1750.0, 250.0, -40.0], [2250.0, 250.0, -40.0]])
+    crest = -200.0 + 150.0  # the seabed at x = 1250 m, on leg 1 (x 750-1750 m)
+    assert -40.0 - crest == 10.0 and -45.0 <= -40.0 <= -30.0
+    text = "x,y,z\n" + "".join(f"{x:g},{y:g},{z:g}\n" for x, y, z in w) if name.endswith(".csv") else \
+        _plan((375.0, 250.0), [tuple(p) for p in w])
+    code, rec, out = _check(tmp_path, capsys, name, text, _TOML + _NAV)
+    leg = 1 + first
+    zone = {z["name"]: z for z in rec["zones"]}["crest cable"]
+    assert code == 1 and rec["min_altitude_leg"] == leg and zone["entered_legs"] == [leg]
+    assert rec["min_altitude_m"] == pytest.approx(10.0, abs=1e-6)
+    assert f"least altitude 10.00 m (required 20 m, leg {leg})" in out
+    assert f"zone 'crest cable': FAIL — entered by leg {leg}" in out
+    nav = rec["navigation"]["legs"]
+    assert [r["leg"] for r in nav] == list(range(rec["legs"])) and not nav[leg]["clear"]
+    assert f"leg {leg}: predicted error" in out and "— TOUCHES" in out.split(f"leg {leg}: predicted error")[1]

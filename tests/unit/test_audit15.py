@@ -205,5 +205,6 @@ def test_a_plan_s_navigation_is_judged_on_its_terrain_frame_track(tmp_path):
     code, rec = _check_json(path, scen)
     launch, leg = rec["navigation"]["legs"]  # the launch (leg 0, the home down to the first item) flown too
     least = 25.0 - 0.075 * leg["nav_error_m"]
-    assert launch["leg"] == 0 and launch["clear"] and leg["leg"] == 1 and leg["clear"] and least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
+    assert launch["leg"] == 0 and launch["clear"] and leg["leg"] == 1 and leg["clear"]
+    assert least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
     assert leg["lock"] == 1.0 and rec["navigation"]["ok"] and code == 0 and rec["min_altitude_m"] == pytest.approx(25.0)

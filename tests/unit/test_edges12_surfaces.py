@@ -122,7 +122,7 @@ def test_a_held_leg_whose_envelope_alone_enters_reports_no_clearance(tmp_path, c
     scenario = _TOML + slow + "top_m = 60.0\nbottom_m = 120.0\n"
     code, rec = _check(tmp_path, capsys, "e.moos", formats.to_moos(w, 1.5), scenario)
     assert code == 1 and rec["ok"] is False
-    assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [1]}
+    assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [0]}  # leg 0 leaves waypoint 0
 
 
 def test_the_seabed_following_track_has_the_exact_extremes_of_a_bilinear_seabed():

@@ -124,9 +124,10 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         tf_line = ""
         if follow is not None:
             rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow)
-        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item)
-        first = 0 if fmt == "qgc" else 1
-        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=first)
+        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
+        # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
+        # home, its launch; docs/missions.md)
+        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0)
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
             rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
@@ -135,7 +136,7 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
             rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
-                                                                    follow, first=first)
+                                                                    follow, first=0)
         ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
         # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
         rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
