@@ -56,14 +56,15 @@ max_error_m = 200.0
 """
 
 
-def _plan(home: tuple[float, float], items: list[tuple[float, float, float]]) -> str:
-    """A QGC plan by hand: the home on the surface at ``home``, then ``(x, y, z)`` items (frame 3)."""
+def _plan(home: tuple[float, float], items: list[tuple[float, float, float]], frame: int = 3) -> str:
+    """A QGC plan by hand: the home on the surface at ``home``, then ``(x, y, z)`` items (frame 3; frame 10: ``z``
+    is the altitude above the seabed)."""
     f = LocalFrame(48.0, -125.0)
     hlon, hlat = f.inverse(*home)
     ll = [f.inverse(x, y) for x, y, _ in items]
     return json.dumps({"fileType": "Plan", "version": 1, "groundStation": "QGroundControl", "mission": {
         "plannedHomePosition": [float(hlat), float(hlon), 0.0], "items": [
-            {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 2, 0, None, float(lat), float(lon), z]}
+            {"type": "SimpleItem", "command": 16, "frame": frame, "params": [0, 2, 0, None, float(lat), float(lon), z]}
             for (_, _, z), (lon, lat) in zip(items, ll, strict=True)]}})
 
 
@@ -124,3 +125,23 @@ def test_a_leg_entering_a_zone_and_touching_the_seabed_is_one_leg_number_in_ever
     nav = rec["navigation"]["legs"]
     assert [r["leg"] for r in nav] == list(range(rec["legs"])) and not nav[leg]["clear"]
     assert f"leg {leg}: predicted error" in out and "— TOUCHES" in out.split(f"leg {leg}: predicted error")[1]
+
+
+def test_a_terrain_frame_plan_s_track_is_made_once_for_every_check(tmp_path, capsys, monkeypatch) -> None:
+    """Items 30 m above the ridge's flanks, in the terrain frame: the seabed check, the helm, the terrain-following
+    verdict, the zones and the navigation all measure the seabed-following track; it was made five times.  Oracle:
+    the same record with the track made by each check on its own (the shared one withheld)."""
+    import auvplan.app.check as app_check
+    import auvplan.guidance.mission.terrain_legs as terrain_legs
+
+    items = [(500.0, 250.0, 30.0), (1000.0, 250.0, 30.0), (2000.0, 250.0, 30.0)]
+    made = []
+    real = terrain_legs.flown_track
+    monkeypatch.setattr(terrain_legs, "flown_track", lambda *a: made.append(1) or real(*a))
+    _, once, _ = _check(tmp_path, capsys, "t.plan", _plan((500.0, 250.0), items, frame=10), _TOML + _NAV, human=False)
+    assert len(made) == 1 and once["terrain_following"]["legs"] == [1, 2] and once["zones"] and once["navigation"]
+    shared = app_check._terrain_frame
+    monkeypatch.setattr(app_check, "_terrain_frame", lambda *a: (shared(*a)[0], None))
+    made.clear()
+    _, each, _ = _check(tmp_path, capsys, "t.plan", _plan((500.0, 250.0), items, frame=10), _TOML + _NAV, human=False)
+    assert len(made) == 1 + 5 and each == once  # the withheld track, then each of the five checks its own

@@ -223,7 +223,8 @@ def flown_pitch_depth(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike)
     return flown.pitch, flown.depth
 
 
-def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True) -> MissionCheck:
+def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True, *,
+                   flown: FlownTrack | None = None) -> MissionCheck:
     """:func:`~auvplan.guidance.mission.waypoints.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
     they are flown: on the seabed-following track (:func:`terrain_track`), not on the straight line between their
     items, which such an executor does not fly.
@@ -243,6 +244,8 @@ def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch
         ``(N - 1,)``: the legs flown following the seabed (without a seabed none is).
     launch : bool, optional
         Waypoint 0 is a launch point on the surface (exempt from the depth band).
+    flown : FlownTrack, optional
+        :func:`flown_track` of these waypoints and flags, when the caller has it (not computed again).
 
     Returns
     -------
@@ -257,7 +260,7 @@ def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch
     alt[~f], hits[~f], dist[~f] = leg_figures(world, w[:-1][~f], w[1:][~f], "ramp")  # the straight legs flown
     if f.any():
         assert world.terrain is not None
-        track, seg_leg = terrain_track(world.terrain, w, f)
+        track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, w, f)
         on = f[seg_leg]
         t_alt, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
         np.minimum.at(alt, seg_leg[on], t_alt)

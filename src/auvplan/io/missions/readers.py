@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from ...guidance.mission.terrain_legs import check_as_flown
+from ...guidance.mission.terrain_legs import FlownTrack, check_as_flown
 from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
@@ -366,7 +366,8 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
 
 
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
-                       follow: NDArray[np.bool_] | None = None) -> tuple[MissionCheck, str]:
+                       follow: NDArray[np.bool_] | None = None, flown: FlownTrack | None = None
+                       ) -> tuple[MissionCheck, str]:
     """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
 
     Parameters
@@ -380,6 +381,9 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
     follow : numpy.ndarray of bool, optional
         A ``.plan``'s legs flown following the seabed (:func:`auvplan.io.missions.terrain_frame.terrain_legs`):
         measured on that track (:func:`auvplan.guidance.mission.terrain_legs.check_as_flown`).
+    flown : FlownTrack, optional
+        That track (:func:`auvplan.guidance.mission.terrain_legs.flown_track` of the file's waypoints and
+        ``follow``), when the caller has it.
 
     Returns
     -------
@@ -402,5 +406,5 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
     if follow is not None and follow.any():
         if semantics != "ramp" or follow.size != len(waypoints) - 1:
             raise ValueError(f"follow: {follow.size} flags for a {semantics} mission of {len(waypoints)} waypoints")
-        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc"), fmt
+        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc", flown=flown), fmt
     return fly_check(world, waypoints, semantics, pitch_deg, launch=fmt == "qgc"), fmt
