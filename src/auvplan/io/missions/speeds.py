@@ -108,7 +108,7 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
     if v is None or len(v) != legs:
         return None
     a = np.asarray(v, dtype=float)
-    fast = np.flatnonzero(np.isfinite(a) & (a > MAX_SPEED_MPS))
+    fast = np.flatnonzero(a > MAX_SPEED_MPS)  # inf too (it dropped every carried speed); a NaN carries none
     if fast.size:  # 1e300 m/s was flown: numpy's overflow warnings, then an energy of inf
         raise DataError(f"{path}: leg {int(fast[0])}'s speed {a[fast[0]]:g} m/s (carried by the file) is over "
                         f"{MAX_SPEED_MPS:g} m/s: not a vehicle's speed")
