@@ -10,9 +10,10 @@ will fly, never a part of it):
 - The loiters ``MAV_CMD_NAV_LOITER_UNLIM`` (17) and ``_TIME`` (19) with a radius of 0 (param 3) or none: the
   vehicle goes to the point and holds it there (ArduSub's ``do_loiter_unlimited``), so they are read as a
   waypoint; with a radius: refused.  ``_UNLIM`` never completes (ArduSub's ``verify_loiter_unlimited``): only
-  as the last position; before it, refused (the items after it are never flown).  ``_TURNS`` (18) is refused whatever its radius: ArduSub's ``do_circle``
-  circles the point at its radius, or at ``CIRCLE_RADIUS`` (10 m by default) when it is 0; so is ``_TO_ALT``
-  (31), which ArduSub does not fly (its ``start_command`` skips it: the vehicle goes on to the next item).
+  as the last position; before it, refused (the items after it are never flown).  ``_TURNS`` (18) is refused
+  whatever its radius: ArduSub's ``do_circle`` circles the point at its radius, or at ``CIRCLE_RADIUS`` (10 m
+  by default) when it is 0; so is ``_TO_ALT`` (31), which ArduSub does not fly (its ``start_command`` skips it:
+  the vehicle goes on to the next item).
 - A ``ComplexItem`` ``"survey"`` or ``"CorridorScan"``: the mission items QGC generated for it, which the file
   stores under ``TransectStyleComplexItem.Items`` (QGC uploads exactly these; ``VisualTransectPoints`` is only
   the drawing), walked in order under the same rules. ``"StructureScan"`` stores no items (QGC regenerates them
@@ -32,7 +33,8 @@ from typing import Any
 
 from ...errors import DataError
 
-__all__ = ["NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem", "plan_items"]
+__all__ = ["NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
+           "plan_items"]
 
 NAV_WAYPOINT = 16
 """``MAV_CMD_NAV_WAYPOINT``."""

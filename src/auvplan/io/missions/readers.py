@@ -180,7 +180,8 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
         raise DataError(f"QGC plan: {kept.where}: altitude {float(kept.params[6]):g} m: ArduSub reads an altitude "
                         f"under {ZERO_ALT_M:g} m as 'hold the current altitude' and flies there level, not to it; "
                         f"not checked (write -{ZERO_ALT_M:g} for the surface)")
-    null = next((it for it, r in zip(items, rows[1:], strict=True) if max(abs(r[0]), abs(r[1])) < ZERO_LATLON_DEG), None)
+    null = next((it for it, r in zip(items, rows[1:], strict=True) if max(abs(r[0]), abs(r[1])) < ZERO_LATLON_DEG),
+                None)
     if null is not None:  # stored in 1e-7 degrees: (0, 0) is "stay where you are" (do_nav_wp, do_loiter_unlimited)
         raise DataError(f"QGC plan: {null.where}: at latitude {float(null.params[4]):g}, longitude "
                         f"{float(null.params[5]):g}: ArduSub reads (0, 0) as 'the current position' and goes to the "
