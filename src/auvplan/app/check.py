@@ -269,12 +269,18 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     line : str
         The verdict, one line.
     """
-    from ..guidance.mission.terrain_legs import terrain_track
+    from dataclasses import replace
+
+    from ..guidance.mission.terrain_legs import followed_altitude, terrain_track
     from ..guidance.mission.waypoints import fly_check
 
     assert world.terrain is not None
     track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)
     c = fly_check(world, track, "ramp", launch=True)
+    # a following leg's altitude is the one it holds (exact), not its chords' (a centimetre under it over a crest)
+    seg_alt = np.where(follow[seg_leg], followed_altitude(world.terrain, points, follow)[seg_leg], c.leg_altitude_m)
+    c = replace(c, leg_altitude_m=seg_alt, min_altitude_m=float(seg_alt.min()),
+                min_altitude_leg=int(np.argmin(seg_alt)))
     lim = c.limits
     assert lim is not None
 

@@ -37,11 +37,17 @@ __all__ = [
     "read_mission",
     "check_mission_file",
     "ZERO_ALT_M",
+    "ZERO_LATLON_DEG",
 ]
 
 ZERO_ALT_M = 0.01
 """ArduSub stores an item's altitude in whole centimetres and reads 0 as "keep the current altitude"
 (``do_nav_wp``, ``do_loiter_unlimited``): an altitude under a centimetre is not the point the file gives."""
+
+
+ZERO_LATLON_DEG = 1e-7
+"""ArduSub stores an item's position in 1e-7 degrees and reads latitude and longitude both 0 as "the current
+position" (``do_nav_wp``, ``do_loiter_unlimited``): an item within this of (0°, 0°) is not the point the file gives."""
 
 
 MAX_MISSION_BYTES = 256 * 1024 * 1024
@@ -174,6 +180,12 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
         raise DataError(f"QGC plan: {kept.where}: altitude {float(kept.params[6]):g} m: ArduSub reads an altitude "
                         f"under {ZERO_ALT_M:g} m as 'hold the current altitude' and flies there level, not to it; "
                         f"not checked (write -{ZERO_ALT_M:g} for the surface)")
+    null = next((it for it, r in zip(items, rows[1:], strict=True) if max(abs(r[0]), abs(r[1])) < ZERO_LATLON_DEG),
+                None)
+    if null is not None:  # stored in 1e-7 degrees: (0, 0) is "stay where you are" (do_nav_wp, do_loiter_unlimited)
+        raise DataError(f"QGC plan: {null.where}: at latitude {float(null.params[4]):g}, longitude "
+                        f"{float(null.params[5]):g}: ArduSub reads (0, 0) as 'the current position' and goes to the "
+                        f"item's altitude where it is, not to the point; not checked (move it by {ZERO_LATLON_DEG:g}°)")
     a = np.array(rows)
     x, y = frame.forward(a[:, 1], a[:, 0])
     z = a[:, 2].copy()
