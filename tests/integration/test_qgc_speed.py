@@ -141,8 +141,13 @@ def test_per_leg_speeds_are_kept(tmp_path):
     assert [(it["command"], it["params"][1]) for it in items if it["command"] == 178] == [
         (178, 0.8), (178, 0.8), (178, 1.7), (178, 1.2)]
     assert [it["command"] for it in items] == [178, 16, 178, 16, 178, 16, 178, 16]
+    lon, lat = LocalFrame(*ORIGIN).inverse(np.array([-400.0, 5400.0, 5400.0, -400.0]),
+                                           np.array([-1400.0, -1400.0, 3400.0, 3400.0]))
+    doc["geoFence"]["polygons"] = [{"inclusion": True, "polygon": [[float(a), float(b)] for a, b in zip(lat, lon)],
+                                    "version": 1}]  # the envelope: its predicted time, after the launch, too
     code, rec = _check(tmp_path, doc)
     want = np.r_[0.8, v]
     assert code == 0 and rec["speed_assumed_legs"] == [] and rec["energy"]["leg_speeds_mps"] == pytest.approx(want)
+    assert rec["deploy"]["envelope"]["predicted_s"] == pytest.approx(float(np.sum(LEGS[1:] / v)), rel=1e-7)
     assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-7)
     assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(want), rel=1e-7)
