@@ -8,7 +8,8 @@ the ``route`` of a :class:`~auvplan.sim.RunRecord`):
   ``BHV_ConstantDepth`` per leg, active while ``DEPLOY = true`` and ``WPT_INDEX`` (posted by the
   waypoint behaviour: the index of the point it is heading to) is that leg.  Depth is **held**
   per leg (semantics ``"held"``).
-* ``mission.plan`` — QGroundControl plan for ArduSub: ``MAV_CMD_NAV_WAYPOINT`` (16) items in
+* ``mission.plan`` — QGroundControl plan for ArduSub: a leading ``MAV_CMD_DO_CHANGE_SPEED`` (178) at
+  the planned speed (QGroundControl never uploads ``cruiseSpeed``), then ``MAV_CMD_NAV_WAYPOINT`` (16) items in
   ``MAV_FRAME_GLOBAL_RELATIVE_ALT`` (3), altitude = −depth relative to a home on the surface above
   the start; ArduSub's WPNav flies the 3D line (semantics ``"ramp"``), starting from home.
 * ``mission.gpx`` — GPX 1.1: the mission as a route (``rte``, ``ele`` = z, negative below sea
