@@ -151,3 +151,18 @@ def test_per_leg_speeds_are_kept(tmp_path):
     assert rec["deploy"]["envelope"]["predicted_s"] == pytest.approx(float(np.sum(LEGS[1:] / v)), rel=1e-7)
     assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-7)
     assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(want), rel=1e-7)
+
+
+def test_a_format_without_speeds_names_every_leg_judged_at_the_vehicle_s_speed(tmp_path):
+    from auvplan.io.missions.formats import to_gpx
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(SCENARIO, encoding="utf-8")
+    path = tmp_path / "m.gpx"
+    path.write_text(to_gpx(POINTS, ORIGIN), encoding="utf-8")
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert cli.main(["mission", "check", str(path), "--scenario", str(scen), "--json"]) == 0
+    rec = json.loads(buf.getvalue())
+    assert rec["speed_assumed_legs"] == [0, 1, 2] and rec["speed_assumed_mps"] == 1.0
+    assert rec["energy"]["duration_s"] == pytest.approx(LEGS[1:].sum() / 1.0, rel=1e-7)
