@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from ..guidance.mission.flycheck import MissionCheck
     from ..guidance.mission.terrain_legs import FlownTrack
-    from ..guidance.mission.waypoints import MissionCheck
     from ..io.scenario.specs import Scenario
     from ..nav import NavParams
     from ..path.flyable import LimitReport
@@ -222,7 +222,7 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
         return []
     from dataclasses import replace
 
-    from ..guidance.mission.waypoints import held_track
+    from ..guidance.mission.flycheck import held_track
     from ..guidance.mission.zone_legs import held_zone_entries
 
     exact = world.zones.exact
@@ -279,8 +279,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     """
     from dataclasses import replace
 
+    from ..guidance.mission.flycheck import fly_check
     from ..guidance.mission.terrain_legs import followed_altitude, terrain_track
-    from ..guidance.mission.waypoints import fly_check
 
     assert world.terrain is not None
     track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)

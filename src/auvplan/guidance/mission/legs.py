@@ -13,7 +13,7 @@ corners), and only where the leg that replaces the two is safe:
   whatever is merged): a vertex moved by a few centimetres can cut a corner into the seabed over a crest or
   into a zone, and a ramp executor flies the straight leg, so a merge in a mission whose envelopes are not
   free (a climb over a crest) must be proven by this test, not by the envelope's;
-* its envelope (depth held at either end, :func:`auvplan.guidance.mission.waypoints.envelopes_free`) is free,
+* its envelope (depth held at either end, :func:`auvplan.guidance.mission.envelopes.envelopes_free`) is free,
   or one of the two legs it replaces was not free already (the merge loses no safety the mission had);
 * its pitch is at most the larger of the limit and the steeper of the two legs it replaces.
 
@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 from ..._types import FloatArray, IntArray
 from ...path.flyable import leg_pitch_deg
 from ...world import World
-from .waypoints import envelopes_free
+from .envelopes import envelopes_free
 
 __all__ = ["merge_short_legs"]
 

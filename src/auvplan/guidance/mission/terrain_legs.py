@@ -28,8 +28,8 @@ from ...geometry import as_points
 from ...path.flyable import leg_pitch_deg
 from ...world import World
 from ...world.terrain import Terrain
+from .flycheck import MissionCheck, leg_figures
 from .limits import waypoint_limits
-from .waypoints import MissionCheck, leg_figures
 
 __all__ = ["SAG_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track", "followed_altitude",
            "terrain_track"]
@@ -251,7 +251,7 @@ def followed_altitude(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike)
 
 def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True, *,
                    flown: FlownTrack | None = None) -> MissionCheck:
-    """:func:`~auvplan.guidance.mission.waypoints.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
+    """:func:`~auvplan.guidance.mission.flycheck.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
     they are flown: on the seabed-following track (:func:`terrain_track`), not on the straight line between their
     items, which such an executor does not fly.
 

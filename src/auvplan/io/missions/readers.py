@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from ...guidance.mission.flycheck import MissionCheck, fly_check
 from ...guidance.mission.terrain_legs import FlownTrack, check_as_flown
-from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
@@ -380,7 +380,7 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
                        follow: NDArray[np.bool_] | None = None, flown: FlownTrack | None = None
                        ) -> tuple[MissionCheck, str]:
-    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
+    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.flycheck.fly_check`).
 
     Parameters
     ----------
