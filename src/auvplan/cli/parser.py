@@ -197,8 +197,17 @@ def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
     ``--help`` and ``--version`` import nothing of the library)."""
     s = sub.add_parser(name, help=help)
     _shared(s, *shared)
+    _chatter(s, argparse.SUPPRESS)  # also after the command (`auvplan run X -q`); absent there: the top level's
     s.set_defaults(func=func)
     return s
+
+
+def _chatter(p: argparse.ArgumentParser, default: Any) -> None:
+    """``-v``/``--verbose`` and ``-q``/``--quiet`` on ``p`` (each command's with ``default`` ``SUPPRESS``, so that
+    a flag given before the command is not reset by the command's parser)."""
+    p.add_argument("-v", "--verbose", action="store_true", default=default, help="log progress details to stderr")
+    p.add_argument("-q", "--quiet", action="store_true", default=default,
+                   help="no progress bars or stage lines on stderr")
 
 
 def _info_commands(sub: Any) -> None:
@@ -325,8 +334,7 @@ def _bench_commands(sub: Any) -> None:
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
-    p.add_argument("-v", "--verbose", action="store_true", help="log progress details to stderr")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bars or stage lines on stderr")
+    _chatter(p, False)
     sub = p.add_subparsers(dest="command", required=True)
     _info_commands(sub)
     _flight_commands(sub)
@@ -348,7 +356,7 @@ def main(argv: list[str] | None = None) -> int:
     -------
     int
         The exit code: 0 success, 1 a mission or plan that failed (a status), 2 bad input or a
-        missing optional dependency (one line on stderr), 130 interrupted.
+        missing optional dependency (one line on stderr), 130 interrupted, 141 stdout's reader gone (``| head``).
     """
     parser = _parser()
     try:
@@ -382,6 +390,9 @@ def main(argv: list[str] | None = None) -> int:
         _last_line(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing "
                    "written")
         return 130
+    except BrokenPipeError:  # the reader went away (`auvplan scenarios | head -1`): nothing to say, as a tool
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # killed by SIGPIPE; the flush at exit
+        return 141  # writes to /dev/null (128 + SIGPIPE, as 130 is 128 + SIGINT)
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         _last_line(f"auvplan: error: {_one_line(exc)}")
         return 2

@@ -165,14 +165,24 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
     items = [it for it in plan_items(doc) if it.moves]  # the shared walk: refuses what it cannot follow
     try:
         home = doc["mission"]["plannedHomePosition"]
-        rows = [(float(home[0]), float(home[1]), 0.0)]
+        try:
+            rows = [(float(home[0]), float(home[1]), 0.0)]
+        except (TypeError, ValueError) as exc:
+            raise DataError(f"QGC plan: mission.plannedHomePosition = {home!r}: [latitude, longitude, altitude] "
+                            "must be numbers") from exc
         terrain: list[bool] = []
         for it in items:
             if it.frame not in (3, 6, 10) or (it.frame == 10 and seabed is None):
-                raise DataError(f"QGC plan: {it.where}.frame = {it.frame}: expected 3 (relative "
+                raise DataError(f"QGC plan: {it.where}.frame = {it.frame!r}: expected 3 (relative "
                                 "alt), or 10 (terrain alt) with a seabed")
-            rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            try:
+                rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            except (TypeError, ValueError) as exc:  # e.g. null: name the item and its values
+                raise DataError(f"QGC plan: {it.where}.params[4:7] = {list(it.params[4:7])!r}: latitude, "
+                                "longitude and altitude must be numbers") from exc
             terrain.append(it.frame == 10)
+    except DataError:
+        raise  # it names the item already: not "missing or malformed key (QGC plan: …)"
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     kept = next((it for it, r in zip(items, rows[1:], strict=True) if abs(r[2]) < ZERO_ALT_M), None)

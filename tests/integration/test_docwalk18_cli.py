@@ -1,0 +1,79 @@
+"""What a newcomer following the README and docs/missions.md met (docwalk 18), each pinned.
+
+* ``-q``/``-v`` after the command (``auvplan run X --out D -q``): the README's "``-q`` or ``--json`` silence
+  them" was refused (``unrecognized arguments: -q``, exit 2) unless written before the command.
+* ``auvplan scenarios | head -1``: the reader going away was reported as ``auvplan: error: BrokenPipeError``,
+  exit 2 (bad input); now silent, 141 (128 + SIGPIPE, as 130 is 128 + SIGINT).
+* A ``.plan`` edited by hand (one item's ``frame``, a ``null`` coordinate): the line wrapped the item's own message
+  in ``missing or malformed key (QGC plan: …)``, printed ``frame = "3"`` as ``frame = 3: expected 3``, and a null
+  altitude as a bare ``float() argument must be …`` naming no item.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from auvplan.cli.parser import _parser
+from auvplan.errors import DataError
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.missions.readers import parse_qgc_plan
+
+
+@pytest.mark.parametrize(("argv", "quiet", "verbose"), [
+    (["run", "s.toml", "--out", "d", "-q"], True, False),   # after the command (refused before)
+    (["-q", "run", "s.toml", "--out", "d"], True, False),   # before it: not reset by the command's parser
+    (["run", "s.toml", "--out", "d"], False, False),
+    (["mission", "check", "m.csv", "--scenario", "s", "--verbose"], False, True),
+    (["-v", "scenario", "new", "x.toml"], False, True),
+])
+def test_quiet_and_verbose_are_read_on_either_side_of_the_command(argv: list[str], quiet: bool,
+                                                                  verbose: bool) -> None:
+    args = _parser().parse_args(argv)
+    assert (args.quiet, args.verbose) == (quiet, verbose)
+
+
+def test_a_reader_gone_away_is_no_error() -> None:
+    p = subprocess.Popen([sys.executable, "-m", "auvplan", "scenarios"], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE)
+    assert p.stdout is not None and p.stderr is not None
+    p.stdout.close()  # `| head -0`: the pipe is closed before the first line
+    err = p.stderr.read().decode()
+    assert p.wait(timeout=60) == 141
+    assert err == ""  # was "auvplan: error: BrokenPipeError: [Errno 32] Broken pipe", exit 2
+
+
+def _plan(**change: object) -> dict[str, object]:
+    """A two-waypoint ``.plan`` (a leading 178, as the export writes) with item 1's keys changed."""
+    items: list[dict[str, object]] = [
+        {"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, 1.5, -1, 0, 0, 0, 0]},
+        {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, None, 48.001, -125.0, -20.0]},
+        {"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, None, 48.002, -125.0, -30.0]},
+    ]
+    items[1].update(change)
+    return {"mission": {"items": items, "plannedHomePosition": [48.001, -125.0, 0]}}
+
+
+FRAME = LocalFrame(48.0, -125.0)
+
+
+def test_a_hand_edited_plan_reads_back_and_its_refusals_name_the_item_once() -> None:
+    w = parse_qgc_plan(_plan(), FRAME)  # the oracle of the reading: 3 points, the home on the surface
+    assert w.shape == (3, 3) and w[0, 2] == 0.0 and list(w[1:, 2]) == [-20.0, -30.0]
+    with pytest.raises(DataError) as exc:
+        parse_qgc_plan(_plan(frame=0), FRAME)  # MAV_FRAME_GLOBAL: altitudes above mean sea level
+    assert str(exc.value) == ("QGC plan: mission.items[1].frame = 0: expected 3 (relative alt), or 10 (terrain alt) "
+                              "with a seabed")  # was wrapped in "missing or malformed key (QGC plan: …)"
+    with pytest.raises(DataError, match=r"mission\.items\[1\]\.frame = '3': expected 3 "):
+        parse_qgc_plan(_plan(frame="3"), FRAME)  # a string: read "frame = 3: expected 3"
+    with pytest.raises(DataError) as exc:
+        parse_qgc_plan(_plan(params=[0, 0, 0, None, 48.001, -125.0, None]), FRAME)
+    assert str(exc.value) == ("QGC plan: mission.items[1].params[4:7] = [48.001, -125.0, None]: latitude, longitude "
+                              "and altitude must be numbers")
+    doc = _plan()
+    doc["mission"]["plannedHomePosition"] = [None, -125.0, 0]  # type: ignore[index]
+    with pytest.raises(DataError, match=r"^QGC plan: mission\.plannedHomePosition = \[None, -125\.0, 0\]: "):
+        parse_qgc_plan(json.loads(json.dumps(doc)), FRAME)
