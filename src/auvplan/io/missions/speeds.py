@@ -131,8 +131,12 @@ def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | Non
     if fast.size:  # 1e300 m/s was flown: numpy's overflow warnings, then an energy of inf
         raise DataError(f"{path}: leg {int(fast[0])}'s speed {a[fast[0]]:g} m/s (carried by the file) is over "
                         f"{MAX_SPEED_MPS:g} m/s: not a vehicle's speed")
-    known = np.isfinite(a) if suffix == ".plan" else np.ones(a.shape, dtype=bool)  # a .plan's NaN: before a 178
-    if not known.any() or not bool(np.all(np.isfinite(a[known]))) or not bool(np.all(a[known] > 0)):
+    slow = np.flatnonzero(a <= 0)  # a CSV's 0 or -1.5 (a .plan's 178 of speed <= 0 changes nothing: NaN here)
+    if slow.size:  # it dropped every speed the file carries, all judged at the vehicle's speed as "not in the file"
+        raise DataError(f"{path}: leg {int(slow[0])}'s speed {a[slow[0]]:g} m/s (carried by the file) is not "
+                        "positive: no vehicle flies it (leave it empty: judged at the vehicle's speed, named)")
+    known = np.isfinite(a)  # NaN: not in the file (a .plan's legs before its first 178, a CSV's empty speed cell)
+    if not known.any():
         return None
     return a, first
 
