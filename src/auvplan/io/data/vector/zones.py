@@ -340,8 +340,9 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         if not shapely.intersects(local, box):
             continue
         out.append((f"{spec.name}: {tag}", local))
-    if not out:
-        log.warning("%s: no feature reaches the operating area", src)
+    if not out:  # a filter that selects nothing is said as such, not as features too far away
+        where = f" matches where = {spec.where!r}" if spec.where else f" in layer {spec.layer!r}" if spec.layer else ""
+        log.warning("%s: %s", src, f"no feature{where}" if not len(geoms) else "no feature reaches the operating area")
     return out
 
 
