@@ -198,16 +198,17 @@ class RouteTracker:
         numpy.ndarray
             ``(N,)`` distances (m), whatever the active leg.
         """
+        import shapely
+
         pts = as_points(points)[..., :2].reshape(-1, 2)
-        a, b = self.w[None, :-1, :2], self.w[None, 1:, :2]
-        d = b - a
-        dd = np.maximum((d * d).sum(-1), 1e-12)
         out = np.empty(pts.shape[0])
-        chunk = max(1, 2_000_000 // a.shape[1])  # bounded memory for long routes
-        for k in range(0, pts.shape[0], chunk):
-            p = pts[k:k + chunk, None, :]
-            t = np.clip(((p - a) * d).sum(-1) / dd, 0.0, 1.0)
-            out[k:k + chunk] = np.linalg.norm(p - (a + t[..., None] * d), axis=-1).min(axis=1)
+        if not pts.shape[0]:
+            return out
+        # the nearest leg of each point from an R-tree of the legs (GEOS's exact point-segment distance): every
+        # point against every leg took 45 s after marcus-terrain-follow's flight (343 400 samples x 1 593 legs)
+        legs = shapely.linestrings(np.stack([self.w[:-1, :2], self.w[1:, :2]], axis=1))
+        near, dist = shapely.STRtree(legs).query_nearest(shapely.points(pts), return_distance=True, all_matches=False)
+        out[near[0]] = dist
         return out
 
 
