@@ -42,3 +42,17 @@ def test_a_filter_that_selects_nothing_is_said_as_such(tmp_path: Path, caplog: p
         assert len(_zones(tmp_path, "cat = 3").names) == 0
     assert [r.getMessage() for r in caplog.records] == [  # was "no feature reaches the operating area"
         f"s.toml: [[zones]] #1 file = '{tmp_path / 'chart.geojson'}': no feature matches where = 'cat = 3'"]
+
+
+def test_a_zone_outside_the_area_says_how_its_pairs_were_read() -> None:
+    """docs/zones.md's example pasted into another area: its [lat, lon] pairs were said to be "read as metres"."""
+    from auvplan.errors import AuvplanError
+
+    far = [[48.5, -125.5], [48.5, -125.4], [48.6, -125.4]]  # degrees, 60 km from the 2 km area: read as degrees
+    with pytest.raises(AuvplanError, match=r"outside the operating area .*; its pairs were read as \[lat, lon\] about "
+                                           r"\[origin\] lat = 48, lon = -125$"):
+        read_zones(parse_zones([{"name": "range", "polygon": far}], "s.toml"), FRAME, None, (0.0, 2000.0, 0.0, 2000.0))
+    metres = [[90000.0, 0.0], [91000.0, 0.0], [91000.0, 1000.0]]  # metres, 90 km away: the hint stays
+    with pytest.raises(AuvplanError, match=r"read as metres \[x, y\], not all being within 5° of \[origin\]"):
+        read_zones(parse_zones([{"name": "range", "polygon": metres}], "s.toml"), FRAME, None,
+                   (0.0, 2000.0, 0.0, 2000.0))

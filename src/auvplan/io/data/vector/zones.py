@@ -193,8 +193,7 @@ def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
     xy = np.asarray(spec.coords, dtype=float)
     if frame is None:
         return xy
-    near = (np.abs(xy[:, 0] - frame.lat0) <= _GEO_REACH_DEG) & \
-        (np.abs((xy[:, 1] - frame.lon0 + 180.0) % 360.0 - 180.0) <= _GEO_REACH_DEG)
+    near = _near_origin(xy, frame)
     if near.all():
         x, y = frame.forward(xy[:, 1], xy[:, 0])
         return np.column_stack([x, y])
@@ -204,6 +203,12 @@ def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
     return xy
 
 
+def _near_origin(xy: np.ndarray, frame: LocalFrame) -> np.ndarray:
+    """Which pairs ``[a, b]`` lie within 5° of the origin as ``[lat, lon]``."""
+    return np.asarray((np.abs(xy[:, 0] - frame.lat0) <= _GEO_REACH_DEG)
+                      & (np.abs((xy[:, 1] - frame.lon0 + 180.0) % 360.0 - 180.0) <= _GEO_REACH_DEG))
+
+
 def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> None:
     """Refuse a zone written in the scenario that lies wholly outside the area (``box``, m): [lat, lon] pairs
     beyond 5° of the origin are read as metres, and such a zone was accepted silently, far from anything."""
@@ -211,8 +216,11 @@ def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> N
     if shapely.intersects(reach, box):
         return
     x0, y0, x1, y1 = shapely.bounds(box)
-    why = "" if frame is None else (f"; its pairs were read as metres [x, y], not all being within "
-                                    f"{_GEO_REACH_DEG:g}° of [origin] lat = {frame.lat0:g}, lon = {frame.lon0:g}")
+    about = "" if frame is None else f"[origin] lat = {frame.lat0:g}, lon = {frame.lon0:g}"
+    why = "" if frame is None else (  # read as degrees: the place is wrong, not the units
+        f"; its pairs were read as [lat, lon] about {about}" if _near_origin(np.asarray(spec.coords, dtype=float),
+                                                                            frame).all()
+        else f"; its pairs were read as metres [x, y], not all being within {_GEO_REACH_DEG:g}° of {about}")
     raise ScenarioError(f"{spec.where_} {spec.kind} = {str([list(c) for c in spec.coords])[:60]}: the zone lies "
                         f"wholly outside the operating area (x {x0:.0f} .. {x1:.0f}, y {y0:.0f} .. {y1:.0f} m){why}")
 
