@@ -56,3 +56,12 @@ def test_a_zone_outside_the_area_says_how_its_pairs_were_read() -> None:
     with pytest.raises(AuvplanError, match=r"read as metres \[x, y\], not all being within 5° of \[origin\]"):
         read_zones(parse_zones([{"name": "range", "polygon": metres}], "s.toml"), FRAME, None,
                    (0.0, 2000.0, 0.0, 2000.0))
+
+
+def test_a_zone_table_without_a_name_is_said_to_have_none() -> None:
+    from auvplan.errors import AuvplanError
+
+    with pytest.raises(AuvplanError, match=r"^s\.toml: \[\[zones\]\] #1 has no name: every zone needs one"):
+        parse_zones([{"point": [100.0, 100.0], "radius_m": 5.0}], "s.toml")  # was "name = '': expected a non-empty"
+    with pytest.raises(AuvplanError, match=r"name = '': expected a non-empty string"):
+        parse_zones([{"name": "", "point": [100.0, 100.0], "radius_m": 5.0}], "s.toml")

@@ -118,7 +118,9 @@ def _one(table: Any, where: str) -> ZoneSpec:
     for key in table:
         if key not in _KEYS:
             raise ScenarioError(f"{where} unknown key {key!r} (allowed: {', '.join(_KEYS)})")
-    name = table.get("name", "")
+    if "name" not in table:  # said as missing, not as "name = ''"
+        raise ScenarioError(f"{where} has no name: every zone needs one (messages, the chart and the exports name it)")
+    name = table["name"]
     if not isinstance(name, str) or not name.strip():
         raise ScenarioError(f"{where} name = {name!r}: expected a non-empty string")
     if any(not c.isprintable() for c in name):  # a newline in a name split every message naming the zone
