@@ -77,3 +77,19 @@ def test_a_hand_edited_plan_reads_back_and_its_refusals_name_the_item_once() -> 
     doc["mission"]["plannedHomePosition"] = [None, -125.0, 0]  # type: ignore[index]
     with pytest.raises(DataError, match=r"^QGC plan: mission\.plannedHomePosition = \[None, -125\.0, 0\]: "):
         parse_qgc_plan(json.loads(json.dumps(doc)), FRAME)
+
+
+def test_validate_prints_the_derived_start_and_goal_to_the_centimetre(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """README's "Your own area": positions in degrees were printed as [-5375.523770336695, -13277.39385155641, …]."""
+    from auvplan.cli import main
+
+    scen = tmp_path / "geo.toml"
+    scen.write_text('name = "geo"\n[origin]\nlat = 48.0\nlon = -125.0\n[bounds]\nx = [-3000.0, 3000.0]\n'
+                    'y = [-3000.0, 3000.0]\nz = [-300.0, 0.0]\n[terrain.synthetic]\nkind = "plane"\ndepth = 100.0\n'
+                    'cell_m = 100.0\n[mission]\nstart = { lat = 47.99, lon = -125.01, depth = 20.0 }\n'
+                    'goal = { lat = 48.01, lon = -124.99, depth = 30.0 }\n')
+    assert main(["validate", str(scen)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("  start "))
+    (sx, sy), (gx, gy) = (FRAME.forward([lon], [lat]) for lat, lon in ((47.99, -125.01), (48.01, -124.99)))
+    want = f"  start [{sx[0]:.2f}, {sy[0]:.2f}, -20.00] goal [{gx[0]:.2f}, {gy[0]:.2f}, -30.00] m; "  # pyproj's
+    assert line.startswith(want), line

@@ -50,7 +50,10 @@ def cmd_validate(args: argparse.Namespace) -> int:
                      f"seabed {t.z.min():.0f} .. {t.z.max():.0f} m")
         if t.fit is not None:
             lines.append(f"  {t.fit.describe()}")
-    lines.append(f"  start {list(mission.start)} goal {list(mission.goal)}; "
+    def at(p: Any) -> str:  # a point derived from degrees read to the centimetre, not to 1e-12 m
+        return "[" + ", ".join(f"{float(v) + 0.0:.2f}" for v in p) + "]"
+
+    lines.append(f"  start {at(mission.start)} goal {at(mission.goal)} m; "
                  f"{len(world.obstacles)} static and {len(world.moving)} moving obstacles")
     if world.zones:
         lines.append(_zones_line(world.zones.zones))
