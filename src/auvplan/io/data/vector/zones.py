@@ -251,12 +251,21 @@ def _made_valid(geom: Any, where: str) -> Any:
     one of its two lobes."""
     if shapely.is_valid(geom):
         return geom
-    parts = [g for g in shapely.get_parts(shapely.make_valid(geom)) if shapely.get_type_id(g) in (3, 6)]
+    parts = [g for g in shapely.get_parts(_repaired(geom)) if shapely.get_type_id(g) in (3, 6)]
     out = shapely.union_all(parts) if parts else shapely.Polygon()
     if where:
         log.warning("%s: not a valid polygon (%s): made valid (shapely.make_valid), its %d polygonal parts kept",
                     where, shapely.is_valid_reason(geom), len(shapely.get_parts(out)))
     return out
+
+
+def _repaired(geom: Any) -> Any:
+    """``shapely.make_valid`` keeping a polygon's area: its rings' structure (shells unioned, holes subtracted),
+    not the default rebuild from the linework with the even-odd rule, which made a part lying inside another
+    part (GEOS's "Nested shells": a chart's area with a sub-area as a second part) a hole of the zone."""
+    if shapely.get_type_id(geom) in (3, 6):
+        return shapely.make_valid(geom, method="structure", keep_collapsed=False)
+    return shapely.make_valid(geom)
 
 
 def _polygonal(geom: Any, where: str) -> Any:
@@ -316,14 +325,12 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
 
     window = _lonlat_window(frame, box, spec.buffer_m + spec.radius_m) if crs.is_geographic and frame else None
     out = []
-    tags = [str(v).strip() if v not in (None, "") else "" for v in label] if label is not None else [""] * len(geoms)
-    seen = {t: tags.count(t) for t in set(tags)}
+    named = _feature_names([str(v).strip() if v not in (None, "") else "" for v in label] if label is not None
+                           else [""] * len(geoms))
     for i, g in enumerate(geoms):
         if g is None or g.is_empty:
             continue
-        # a chart repeats a name on several features (parts of one area): each keeps its feature number, so that
-        # every zone's name is its own
-        tag = (f"{tags[i]} #{i + 1}" if seen[tags[i]] > 1 else tags[i]) if tags[i] else f"#{i + 1}"
+        tag = named[i]
         g = shapely.force_2d(g)
         _check_coordinates(g, crs.is_geographic, found.crs_stated, f"{src}: feature {tag!r}")
         if window is not None:
@@ -343,6 +350,22 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
     if not out:
         log.warning("%s: no feature reaches the operating area", src)
     return out
+
+
+def _feature_names(tags: list[str]) -> list[str]:
+    """Each feature's name: its own (``tags``, ``""`` for none), numbered ``name #k`` by its feature number where
+    several share it (a chart repeats a name on the parts of one area), and where a numbered name is another
+    feature's own (a feature named ``"A #2"`` beside two named ``"A"``), that one numbered too: every zone's name
+    its own.  A feature without a name is ``#k``."""
+    out = [t or f"#{i + 1}" for i, t in enumerate(tags)]
+    numbered = [not t for t in tags]
+    while True:
+        seen = {n: out.count(n) for n in set(out)}
+        clash = [i for i, n in enumerate(out) if seen[n] > 1 and not numbered[i]]
+        if not clash:
+            return out
+        for i in clash:  # " #k" with k the feature's own number: two numbered names never match
+            out[i], numbered[i] = f"{out[i]} #{i + 1}", True
 
 
 def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> None:
@@ -382,7 +405,7 @@ def _clip_lonlat(g: Any, window: tuple[float, float, float, float]) -> Any:
     mx, my = 3.0 * (w1 - w0), 3.0 * (s1 - s0)
     if w0 - mx <= gx0 and gx1 <= w1 + mx and s0 - my <= gy0 and gy1 <= s1 + my:
         return g
-    parts = [shapely.transform(shapely.clip_by_rect(shapely.make_valid(g), w0 + k, s0, w1 + k, s1),
+    parts = [shapely.transform(shapely.clip_by_rect(_repaired(g), w0 + k, s0, w1 + k, s1),
                                lambda xy, k=k: xy - np.array([k, 0.0]))
              for k in (-360.0, 0.0, 360.0)]
     return shapely.union_all([p for p in parts if not p.is_empty]) if any(not p.is_empty for p in parts) \
