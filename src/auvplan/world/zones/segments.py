@@ -10,8 +10,10 @@ import numpy as np
 import shapely
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
+from .bound import clear_kernel
+from .exact import flat_hits_kernel
 from .index import ZoneIndex
-from .kernels import any_hits_kernel, clear_kernel, flat_hits_kernel, path_hits_kernel, slack_kernel
+from .kernels import any_hits_kernel, path_hits_kernel, slack_kernel
 from .parts import clip_pieces, expand_groups
 from .parts import traces as trace_geoms
 
@@ -212,7 +214,7 @@ class SegmentQueries(ZoneIndex):
         if not self.zones or of.size == 0:
             return out
         clear = np.zeros(t.shape[0], dtype=bool)
-        fx0, fy0, f, fnx, fny, bound = self._field
+        fx0, fy0, f, fnx, fny, bound = self._field[:6]
         clear_kernel(t, fx0, fy0, f, fnx, fny, bound, clear)
         near = np.flatnonzero(~clear)
         flat = np.zeros((near.size, 2, 3))
