@@ -28,13 +28,14 @@ __all__ = ["FIELD_UNITS", "SLABS"]  # the kernels are the internals of auvplan.w
 FIELD_UNITS = 64
 
 #: Depth slabs of the fine field (its planes: one per slab and one for every zone).  On the ``cpu`` problem of
-#: ``benchmarks/zones.py`` (1 000 zones over marcus-wake) 8 slabs leave 3.5 % of the swarm's legs to the
-#: cell scan against 7.2 % with one plane, for 7 planes more to build (0.05 s) and hold (5 MB).
+#: ``benchmarks/zones.py`` (1 000 zones over marcus-wake) slabs leave 3.5 % of the swarm's legs to the cells
+#: against 7.2 % with one plane; with 4 the swarm's pass takes 0.063-0.069 s a plan against 0.072-0.077 s with 1
+#: (in the plan, paired), 6 and 8 the same as 4, 2 no gain; 4 planes more hold 3 MB and build in ~0.01 s.
 SLABS = 4
 
-# Only the field's look-up and march (:func:`_far`, :func:`_clear`), run for every leg, are inlined by numba
-# (``inline="always"``): the swarm's pass is as fast as with every helper inlined (0.0512 vs 0.0510 s a plan
-# replayed; 5.6 % slower with none) and the two any-hit passes compile in half the time.
+# Only the field's look-up, march and slabs (:func:`_far`, :func:`_clear`, :func:`_slab`), run for every leg, are
+# inlined by numba (``inline="always"``): the swarm's pass is as fast as with every helper inlined (0.0512 vs
+# 0.0510 s a plan replayed; 5.6 % slower with none) and the two any-hit passes compile in half the time.
 
 
 @kernel(inline="always")
