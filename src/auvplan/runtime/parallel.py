@@ -311,9 +311,9 @@ def _handshake(address: str, wait: float) -> None:
                                           wait)
         except TimeoutError as exc:  # connect's own timeouts are OSErrors naming the address
             raise OSError(f"connected, but no dask handshake came back within {wait:g} s") from exc
-        except OSError:
+        except (OSError, ValueError, TypeError):  # the Runner's own message names them (a TLS setup's too)
             raise
-        except Exception as exc:  # a frame of garbage: MemoryError, a decoding error ...
+        except Exception as exc:  # a frame of garbage read as a length: MemoryError ...
             raise OSError(f"something answered, but not a dask scheduler ({type(exc).__name__}; the dashboard's "
                           "port?)") from exc
         await comm.close()
