@@ -1175,3 +1175,35 @@ REASONS.update({
          "terrain-frame) are flown as themselves in terrain_track's track, whose entries (more) already hold "
          "theirs; the garbage segments' entries are filtered or repeat them"),
 })
+
+# wave 13's new and changed code (the session of 6 Dec 2026 from 20:00, d226df0..00dc173): the .plan's item walk
+# and what reads it (waypoints, terrain-frame legs, deploy record), mission check as flown, the export's
+# terrain-frame items and MOOS floor, the CLI's durations, numba's BLAS probe, validate's numpy survey bounds
+QGC_ITEMS, TERRAIN_FRAME = "auvplan.io.missions.qgc_items", "auvplan.io.missions.terrain_frame"
+DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.deploy_read"
+DURATIONS, JIT = "auvplan.app.durations", "auvplan.runtime.jit"
+SURVEY_RESULTS = "auvplan.io.results.survey"
+MODULES.update({
+    # the seabed-following track once per leg: its pitch, its deepest vertex, the check measured on it
+    "flown-track": Target(_fns(TERRAIN_LEGS, "_following_leg", "flown_track", "check_as_flown")),
+    # a .plan's items in the vehicle's order, and the readers that share the walk
+    "qgc-walk": Target(
+        _fns(QGC_ITEMS, "_simple", "_pattern", "plan_items") + _fns(TERRAIN_FRAME, "terrain_legs")
+        + _fns(DEPLOY_READ, "_qgc") + _fns(FORMATS, "parse_qgc_plan", "read_mission", "_parse", "check_mission_file"),
+    ),
+    # the export's terrain-frame items and the MOOS altitude floor (DeployInfo.leg_floor)
+    "deploy-terrain": Target(
+        ((DEPLOY, "deploy_info", "altitude = items = floor = None", "pay = None"),)
+        + _fns(DEPLOY, "_followed_free", "_terrain_items"),
+    ),
+    # the command line's durations and departure offsets
+    "durations": Target(_fns(DURATIONS, "parse_duration", "is_offset")),
+    # numba's registries loaded without scipy.linalg, and each kernel's cache made at its first compile
+    "blas-probe": Target(
+        _fns(JIT, "_BlasProbe.find_spec", "_blas_installed", "_CacheOnUse.__getattr__", "_probe_blas"),
+    ),
+    # validate's survey checks decided by the numpy seabed's bound (the compiled seabed when not conclusive)
+    "survey-bounds": Target(
+        _fns(SURVEY_RESULTS, "_check_seabed", "check_survey_size", "_swath", "_swath_bounds", "_seabed_bounds"),
+    ),
+})
