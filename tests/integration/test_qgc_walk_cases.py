@@ -128,3 +128,30 @@ def test_the_deploy_record_counts_the_walk_s_terrain_frame_legs(tmp_path):
     plan = tmp_path / "m.plan"
     plan.write_text(json.dumps(_plan(ORIGIN, (1000.0, 6000.0), [loiter, survey])))
     assert read_deploy(plan).altitude_legs == 2 == int(terrain_legs(plan).sum()) + 1  # the launch leg's never flagged
+
+
+def test_a_plan_s_home_is_the_launch_and_a_csv_s_first_point_is_not(tmp_path):
+    """Relative-altitude items (no terrain frame) checked with a 5 m depth band: the .plan's home on the surface
+    is its launch, exempt; the same points in a CSV file start on the surface, outside the band (waypoint 0)."""
+    world = _ridge_world()
+    plan = tmp_path / "m.plan"
+    plan.write_text(json.dumps(_plan(ORIGIN, (100.0, 200.0), [_item(FRAME, 300.0, 200.0, -30.0),
+                                                               _item(FRAME, 500.0, 200.0, -30.0)])))
+    pts, _, _ = read_mission(plan, ORIGIN)
+    csv = tmp_path / "m.csv"
+    csv.write_text("x,y,z\n" + "".join(f"{float(x)!r},{float(y)!r},{float(z)!r}\n" for x, y, z in pts))
+    got = {path.suffix: check_mission_file(path, world)[0].limits for path in (plan, csv)}
+    assert got[".plan"] is not None and got[".plan"].outside_depth_band == ()
+    assert got[".csv"] is not None and got[".csv"].outside_depth_band == (0,)
+
+
+def test_a_waypoint_at_the_earth_s_circumference_is_read_and_one_beyond_is_named(tmp_path):
+    """The bound is 4e7 m from the origin, inclusive: a waypoint exactly there is read; the first one past it is
+    named, not one at it."""
+    at = tmp_path / "at.csv"
+    at.write_text("x,y,z\n40000000,0,-10\n0,40000000,-10\n")
+    assert read_mission(at)[0][:, :2].max() == 4.0e7
+    past = tmp_path / "past.csv"
+    past.write_text("x,y,z\n40000000,0,-10\n50000000,0,-10\n")
+    with pytest.raises(DataError, match=r"past\.csv: waypoint 1 = \(5e\+07, 0, -10\) m lies over 4e\+07 m"):
+        read_mission(past)
