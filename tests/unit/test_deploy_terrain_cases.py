@@ -90,3 +90,17 @@ def test_a_leg_as_steep_followed_as_straight_keeps_the_terrain_frame():
     world = flat_world(depth=100.0, min_altitude=5.0)
     w = np.array([[100.0, 500.0, -20.0], [150.0, 500.0, -50.0], [400.0, 500.0, -50.0]])
     assert _terrain_items(world, w, 15.0).tolist() == [True, True, True]
+
+
+@pytest.mark.parametrize(("limit", "terrain"), [(1.3, False), (1.6, True)])
+def test_a_leg_steeper_followed_than_straight_and_over_the_limit_is_written_at_its_depth(limit, terrain):
+    """test_terrain_legs_pitch's saddle (1 km x 1 km cell, elevation h u v, h = 14.142 m): the diagonal leg from
+    10 m to 20 m above the seabed climbs at (h + 10) / 1414.2 (0.978 deg) straight, at most (2 h + 10) / 1414.2
+    (1.551 deg) followed: over a 1.3 deg limit the item is written at its planned depth, under 1.6 deg in the
+    terrain frame."""
+    h = 14.142
+    terrain_ = Terrain(np.array([0.0, 1000.0]), np.array([0.0, 1000.0]),
+                       np.array([[-100.0, -100.0], [-100.0, -100.0 + h]]), name="saddle")
+    world = World(Bounds(0.0, 1000.0, 0.0, 1000.0, -150.0, 0.0), terrain_, margins=Margins(min_altitude=5.0))
+    w = np.array([[0.0, 0.0, -90.0], [1000.0, 1000.0, -100.0 + h + 20.0]])
+    assert _terrain_items(world, w, limit).tolist() == [True, terrain]
