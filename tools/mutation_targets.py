@@ -1207,3 +1207,80 @@ MODULES.update({
         _fns(SURVEY_RESULTS, "_check_seabed", "check_survey_size", "_swath", "_swath_bounds", "_seabed_bounds"),
     ),
 })
+
+# wave 13's targets (run 6 Dec 2026, 22:55-23:25 UTC): the survivors argued (docs/mutants.md section 5)
+_ONE_WP = ("equivalent: with one waypoint leg_pitch_deg gives no leg either (np.diff of one row), and with none "
+           "the same empty array")
+_BELOW_LIMIT = "boundary: a leg's pitch within 1e-9 deg of the limit (or of its straight pitch), the tolerance itself"
+_ALWAYS_TWO = ("equivalent in use: deploy_info's only caller (export.deploy_for) passes a mission's waypoints, a start "
+               "and a goal at least; with one waypoint leg_figures of no leg gives the same empty array")
+_FALLBACK = ("equivalent: it only makes the numpy bound inconclusive (or stricter) more often, and the compiled seabed "
+             "then decides the same verdict (the bound path never passes what the compiled one refuses)")
+REASONS.update({
+    "_following_leg | n = np.clip(np.ceil(np.sqrt(np.abs(q2) / (4.0 * SAG_M))), 1, 100001).astype(np.intp)":
+        ("equivalent in use: the cap binds only for a piece whose curvature term |q2| exceeds 4e8 m (1e5 chords of "
+         "a 1 cm sag), 20 000 times the Earth's relief in one grid cell"),
+    "flown_track | pitch = np.abs(leg_pitch_deg(w)) if w.shape[0] >= 1 else np.zeros(0)": _ONE_WP,
+    "flown_track | pitch = np.abs(leg_pitch_deg(w)) if w.shape[1] > 1 else np.zeros(0)": _ONE_WP,
+    "check_as_flown | n = max(w.shape[0] - 1, 1)":
+        ("equivalent: with one waypoint the original fails too (alt.min() of no leg: ValueError), and its callers "
+         "refuse a mission of fewer than 2 waypoints first (check_mission_file)"),
+    "check_as_flown | k = int(np.argmin(alt)) if np.isfinite(alt).all() else -1":
+        ("equivalent: the legs' altitudes are all finite (a seabed, clamped to its edge beyond its data) or all "
+         "infinite (none), so any = all"),
+    ("_qgc | exc = [np.asarray(p['polygon'], dtype=float) for p in fence.get('polygons', []) if not "
+     "p.get('inclusion', False)]"):
+        ("not killed (not this wave's line): a fence polygon without an 'inclusion' key, which QGC's plan format "
+         "requires, is read as neither an inclusion nor an exclusion; the mutant reads it as an exclusion"),
+    ("parse_qgc_plan | kept = next((it for it, r in zip(items, rows[1:], strict=False) if abs(r[2]) < ZERO_ALT_M), "
+     "None)"): "equivalent: rows holds the home and one row per item, so the two sequences are always as long",
+    "parse_qgc_plan | if t.any() or seabed is not None:":
+        ("equivalent: without a terrain-frame item z[t] += ... adds to no element; a terrain-frame item without a "
+         "seabed was refused above"),
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=1.0).max(axis=-1, "
+     "initial=0.0)"): "equivalent: a NaN counted as 0 m or 1 m is under the 4e7 m bound either way",
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=1, "
+     "initial=0.0)"): "equivalent: the array is 2-D (np.atleast_2d), where axis 1 is axis -1",
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=-1, "
+     "initial=1.0)"): "equivalent: a floor of 1 m instead of 0 m is under the 4e7 m bound either way",
+    "deploy_info | floor = leg_figures(world, w[:-1], w[1:], 'held')[0] if len(w) >= 1 else np.zeros(0)": _ALWAYS_TWO,
+    "deploy_info | floor = leg_figures(world, w[:-1], w[1:], 'held')[0] if len(w) > 1 else np.zeros(1)": _ALWAYS_TWO,
+    "_terrain_items | if len(w) >= 1:":
+        "equivalent: with one waypoint items[1:] is empty whatever the flight of no leg gives",
+    ("_terrain_items | rounded = np.degrees(np.arctan(np.tan(np.radians(pitch)) + ROUNDED_RISE_M / np.hypot(*np.diff("
+     "w[:, :3], axis=0).T)))"):
+        ("equivalent: np.hypot's third positional argument is its output array, so hypot(dx, dy, dz) still returns "
+         "the horizontal length (written over dz's temporary)"),
+    ("_terrain_items | items[1:] = ((rounded < max_pitch_deg + 1e-09) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-09)) "
+     "& _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    ("_terrain_items | items[1:] = ((rounded <= max_pitch_deg - 1e-09) | (pitch <= np.abs(leg_pitch_deg(w)) + "
+     "1e-09)) & _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    ("_terrain_items | items[1:] = ((rounded <= max_pitch_deg + 1e-09) | (pitch < np.abs(leg_pitch_deg(w)) + 1e-09)) "
+     "& _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    "parse_duration | for unit in sorted(units, key=len, reverse=False):":
+        ("equivalent: no unit (s, sec, min, m, h, d) ends another, so at most one matches a text's end and the "
+         "order of the tries does not matter"),
+    "_check_seabed | if bool(np.all(_seabed_bounds(world, px, py)[1] <= below)):":
+        ("equivalent: the upper bound is a rounding above the numpy seabed plus its error, so the compiled seabed "
+         "lies strictly under it; at hi == below the compiled check passes the area as the mutant does"),
+    "check_survey_size | gx, gy = np.meshgrid(np.linspace(x0, x1, 49), np.linspace(y0, y1, 48))":
+        ("not killed (the estimate's sampling): 48 or 49 samples a side change the harmonic mean of the spacing "
+         "by the seabed's variation between samples; the estimate is pinned nowhere (flat seabeds cannot tell)"),
+    "check_survey_size | gx, gy = np.meshgrid(np.linspace(x0, x1, 48), np.linspace(y0, y1, 49))":
+        ("not killed (the estimate's sampling): 48 or 49 samples a side change the harmonic mean of the spacing "
+         "by the seabed's variation between samples; the estimate is pinned nowhere (flat seabeds cannot tell)"),
+    "check_survey_size | if depth.size == 1:":
+        ("equivalent in use: it needs exactly one of the 48 x 48 samples under water, in an area _check_seabed "
+         "found under water at every one of its denser samples just before"),
+    "_swath_bounds | if x.size == 1:": _FALLBACK,
+    "_swath_bounds | wet, dry = (hi <= 0.0, lo >= 0.0)":
+        ("equivalent: a sample whose bound reaches exactly 0 counted as water gives a zero reach, hence a smaller "
+         "least spacing: the bound's check can only fail, and the compiled seabed decides"),
+    "_swath_bounds | wet, dry = (hi < 0.0, lo > 0.0)": _FALLBACK,
+    "_seabed_bounds | inf = np.full(np.shape(x), np.inf)":
+        ("equivalent in use: reached only without a seabed, which a survey refuses first ('a survey needs a seabed "
+         "([terrain])'); _check_seabed asserts one"),
+    "_seabed_bounds | return (np.nextafter(zb - err, np.inf), np.nextafter(zb + err, np.inf))":
+        ("not killed (the bound's slack): the lower end moves two roundings inward, within the ~60x slack of "
+         "Terrain.elevation_bounds' error (clearly-free's survivors)"),
+})
