@@ -1284,3 +1284,31 @@ REASONS.update({
         ("not killed (the bound's slack): the lower end moves two roundings inward, within the ~60x slack of "
          "Terrain.elevation_bounds' error (clearly-free's survivors)"),
 })
+
+# mutants17's second round: mission check of a .plan as flown beyond the seabed check (its helm report numbered from
+# the home, its legs' pitch and depth, its navigation on the seabed-following track) and its leg speeds (the walk)
+APP_SPEEDS = "auvplan.io.missions.speeds"
+MODULES.update({
+    "check-as-flown": Target(
+        _fns(APP_CHECK, "_from_home", "_flown_pitch_depth", "_navigation_as_flown")
+        + _fns(APP_SPEEDS, "_qgc", "_speed", "read_leg_speeds"),
+    ),
+})
+_NAV_EDGE = ("boundary: a leg's predicted error within 1e-9 of max_error_m times itself, the tolerance "
+             "check_navigation uses too")
+REASONS.update({
+    "_navigation_as_flown | for j, kind in zip(ends, kinds, strict=False):":
+        "equivalent: ends holds one track vertex per waypoint (the first, then each leg's last), as kinds one kind",
+    ("_navigation_as_flown | length = np.hypot(*np.diff(track[:, :2], axis=0).T) - 1e-300"):
+        ("equivalent: +-1e-300 vanishes beside any positive length, and a vertical leg's one segment of length 0 "
+         "gives lock x (-1e-300) / (-1e-300), its own lock, as with +1e-300"),
+    ("_navigation_as_flown | length = np.hypot(*np.diff(track[:, :3], axis=0).T) + 1e-300"):
+        "equivalent: np.hypot's third positional argument is its output array (the horizontal length still)",
+    "_navigation_as_flown | if (over := np.flatnonzero(err >= nav.max_error_m * (1.0 + 1e-09))).size:": _NAV_EDGE,
+    "_navigation_as_flown | if (over := np.flatnonzero(err > nav.max_error_m / (1.0 + 1e-09))).size:": _NAV_EDGE,
+    "_navigation_as_flown | if (over := np.flatnonzero(err > nav.max_error_m * (1.0 - 1e-09))).size:": _NAV_EDGE,
+    "_speed | value = it.params[1] if len(it.params) >= 1 else None":
+        "equivalent: plan_items refuses an item without exactly 7 parameters, so params[1] is always there",
+    "_speed | value = it.params[1] if len(it.params) > 2 else None":
+        "equivalent: plan_items refuses an item without exactly 7 parameters, so params[1] is always there",
+})

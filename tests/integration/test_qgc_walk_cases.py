@@ -20,6 +20,7 @@ from auvplan.io.missions.deploy_read import read_deploy
 from auvplan.io.missions.formats import check_mission_file, read_mission, to_moos
 from auvplan.io.missions.qgc_items import plan_items
 from auvplan.io.missions.readers import parse_qgc_plan
+from auvplan.io.missions.speeds import read_leg_speeds
 from auvplan.io.missions.terrain_frame import terrain_legs
 from auvplan.world import Bounds, Margins, Terrain, World
 
@@ -155,3 +156,32 @@ def test_a_waypoint_at_the_earth_s_circumference_is_read_and_one_beyond_is_named
     past.write_text("x,y,z\n40000000,0,-10\n50000000,0,-10\n")
     with pytest.raises(DataError, match=r"past\.csv: waypoint 1 = \(5e\+07, 0, -10\) m lies over 4e\+07 m"):
         read_mission(past)
+
+
+def _speed(v: float) -> dict:
+    return {"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": 0, "frame": 2,
+            "params": [1, v, -1, 0, 0, 0, 0]}
+
+
+def test_leg_speeds_keep_the_speed_a_zero_command_leaves_and_take_a_slow_one(tmp_path):
+    """Cruise 1.5 m/s; a DO_CHANGE_SPEED of 0 (ArduPilot: unchanged) after item 1, one of 0.8 m/s after item 2:
+    the legs into items 1, 2, 3 at 1.5, 1.5, 0.8; a plan with no cruise speed and no command carries none."""
+    items = [_item(FRAME, 3000.0, 6000.0, -100.0), _speed(0.0), _item(FRAME, 4000.0, 6000.0, -100.0), _speed(0.8),
+             _item(FRAME, 5000.0, 6000.0, -100.0)]
+    doc = _plan(ORIGIN, (1000.0, 6000.0), items)
+    plan = tmp_path / "m.plan"
+    plan.write_text(json.dumps(doc))
+    assert read_leg_speeds(plan, 3).tolist() == [1.5, 1.5, 0.8]
+    del doc["mission"]["cruiseSpeed"]
+    doc["mission"]["items"] = [it for it in items if it["command"] == 16]
+    plan.write_text(json.dumps(doc))
+    assert read_leg_speeds(plan, 3) is None
+
+
+@pytest.mark.parametrize("bad", ["nan", "inf", "0", "-1"])
+def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
+    path = tmp_path / "m.csv"
+    path.write_text(f"x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,{bad}\n300,0,-10,1.4\n")
+    assert read_leg_speeds(path, 3) is None
+    path.write_text("x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,1.3\n300,0,-10,1.4\n")
+    assert read_leg_speeds(path, 3).tolist() == [1.2, 1.3, 1.4]
