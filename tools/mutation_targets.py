@@ -34,7 +34,8 @@ SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.avoidance.local"
 FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
-MISSION, LIMITS = "auvplan.guidance.mission.waypoints", "auvplan.guidance.mission.limits"
+ENVELOPES, FLYCHECK = "auvplan.guidance.mission.envelopes", "auvplan.guidance.mission.flycheck"
+LIMITS = "auvplan.guidance.mission.limits"
 FORMATS = "auvplan.io.missions.readers"
 FORMATION = "auvplan.sim.formation"
 
@@ -148,9 +149,9 @@ MODULES.update({
     # the mission envelope (exact seabed, exact rectangle-vs-obstacle), the re-flying check and its verdict,
     # the executor model, and the surface / depth band / bounds at the waypoints
     "mission": Target(
-        _fns(MISSION, "leg_floors", "_unit_frame", "_parallelogram_distance", "_corners", "envelope_hits",
-             "envelopes_free", "MissionCheck.ok", "_sphere_rect_distance", "_sampled_rect_distance", "held_track",
-             "fly_check")
+        _fns(ENVELOPES, "leg_floors", "_unit_frame", "_parallelogram_distance", "envelope_corners", "envelope_hits",
+             "envelopes_free", "_sphere_rect_distance", "_sampled_rect_distance", "rect_distance")
+        + _fns(FLYCHECK, "MissionCheck.ok", "held_track", "fly_check")
         + _fns(LIMITS, "WaypointLimits.ok", "waypoint_limits"),
     ),
     # the mission readers: what `mission check` re-flies is what these parse

@@ -12,7 +12,9 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.cli import main
-from auvplan.guidance.mission.waypoints import build_waypoints, envelope_hits, envelopes_free, fly_check
+from auvplan.guidance.mission.envelopes import envelope_hits, envelopes_free
+from auvplan.guidance.mission.flycheck import fly_check
+from auvplan.guidance.mission.waypoints import build_waypoints
 from auvplan.io.missions import export, formats
 from auvplan.io.results import records
 from auvplan.io.scenario import loader as sc
@@ -250,7 +252,7 @@ def test_decimate_keeps_the_extremes():
 
 
 def test_held_track_changes_depth_at_the_pitch_and_carries_the_lag_over():
-    from auvplan.guidance.mission.waypoints import held_track
+    from auvplan.guidance.mission.flycheck import held_track
 
     w = np.array([[0.0, 0.0, -100.0], [100.0, 0.0, -50.0], [200.0, 0.0, -50.0]])
     np.testing.assert_allclose(held_track(w, 45.0), [[0, 0, -100], [50, 0, -50], [100, 0, -50], [200, 0, -50]],

@@ -231,7 +231,7 @@ def test_mission_check_fails_a_planted_mission_naming_the_zone_and_the_leg(tmp_p
     planted.write_text("x,y,z\n140000,180000,-100\n150000,182000,-100\n170000,186000,-100\n190000,190000,-100\n")
     assert main(["mission", "check", str(planted), "--scenario", "chagos-reefs"]) == 1
     out = capsys.readouterr().out
-    assert "zone 'reef: Salomon Islands': FAIL — entered by leg 2" in out
+    assert "zone 'reef: Salomon Islands': FAIL — entered by leg 1" in out  # leaving waypoint 1 (from 0)
     assert "zone 'reef: Blenheim Reef': OK — closest approach" in out
 
 

@@ -203,7 +203,8 @@ def test_a_plan_s_navigation_is_judged_on_its_terrain_frame_track(tmp_path):
     path = tmp_path / "low.plan"
     path.write_text(_plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]))
     code, rec = _check_json(path, scen)
-    (leg,) = rec["navigation"]["legs"]
+    launch, leg = rec["navigation"]["legs"]  # the launch (leg 0, the home down to the first item) flown too
     least = 25.0 - 0.075 * leg["nav_error_m"]
-    assert leg["leg"] == 1 and leg["clear"] and least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
+    assert launch["leg"] == 0 and launch["clear"] and leg["leg"] == 1 and leg["clear"]
+    assert least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
     assert leg["lock"] == 1.0 and rec["navigation"]["ok"] and code == 0 and rec["min_altitude_m"] == pytest.approx(25.0)

@@ -42,12 +42,15 @@ from typing import Any, Generic, TypeVar
 
 from ..errors import AuvplanError, require
 
-__all__ = ["Runner", "MapResult", "task_key", "cache_folder", "forget", "CHECKPOINTS"]
+__all__ = ["Runner", "MapResult", "task_key", "cache_folder", "forget", "CHECKPOINTS", "SCHEDULER_CONNECT_S"]
 
 T = TypeVar("T")
 R = TypeVar("R")
 
 CHECKPOINTS = ".auvplan-tasks"
+SCHEDULER_CONNECT_S = 5.0
+"""Longest wait to reach a ``--scheduler`` (s; dask's ``distributed.comm.timeouts.connect`` when shorter): a
+scheduler that is up answers in milliseconds, and dask's own 30 s kept a dead address silent for half a minute."""
 """Name of the checkpoint folder inside a job's output folder."""
 
 
@@ -264,12 +267,18 @@ class Runner:
         from dask.distributed import Client, LocalCluster
 
         if self.scheduler:
+            import dask
+            from dask.utils import parse_timedelta
+
+            wait = min(float(parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s") or 0.0)
+                       or SCHEDULER_CONNECT_S, SCHEDULER_CONNECT_S)
             say(f"reaching the dask scheduler at {self.scheduler} …")
             try:
-                return Client(self.scheduler), None
+                return Client(self.scheduler, timeout=wait), None
             except (OSError, ValueError, TypeError) as exc:  # no scheduler there, or an address dask cannot parse
                 text = " ".join(str(exc).split()) or type(exc).__name__
-                raise AuvplanError(f"--scheduler {self.scheduler!r}: no dask scheduler reached there ({text})") from exc
+                raise AuvplanError(f"--scheduler {self.scheduler!r}: no dask scheduler reached there within {wait:g} s "
+                                   f"({text})") from exc
         say(f"starting {_count(self.workers, 'dask worker')} ({'processes' if self.processes else 'threads'}: "
             "a LocalCluster) …")
         # the scheduler's HTTP server (health checks, no dashboard) on a free local port: on its default,

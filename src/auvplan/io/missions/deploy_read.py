@@ -300,18 +300,20 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
               duration: float) -> dict[str, Any]:
     """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
     pts = w[:, :2]
-    if info.geographic:
-        if origin is None:
+    assert info.polygon is not None
+    rings = [info.polygon, *info.exclusions]
+    if info.geographic:  # [lat, lon] rings compared in the local frame, where the envelope was made: in degrees a
+        if origin is None:  # ring across the antimeridian (179.99 and -179.99) went round the Earth the other way
             raise DataError("a geographic envelope needs the scenario's [origin]")
-        lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
-        pts = np.column_stack([lat, lon])
+        frame = LocalFrame(*origin)
+        rings = [np.column_stack(frame.forward(r[:, 1], r[:, 0])) for r in rings]
     track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
     reasons = []
-    region = shapely.Polygon(info.polygon)
+    region = shapely.Polygon(rings[0])
     if not region.covers(track):
         outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
         reasons.append(f"the mission leaves the envelope's polygon ({outside} waypoints outside)")
-    hit = [k for k, e in enumerate(info.exclusions) if shapely.Polygon(e).intersects(track)]
+    hit = [k for k, e in enumerate(rings[1:]) if shapely.Polygon(e).intersects(track)]
     if hit:
         reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
     lim = info.limits
@@ -322,7 +324,7 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
     if "max_time_s" in lim and duration > lim["max_time_s"]:
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
-    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),  # type: ignore[arg-type]
+    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
 
 

@@ -32,6 +32,7 @@ from .. import limits as _limits
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
+from .speeds import read_holds
 from .speeds import read_leg_speeds as file_leg_speeds
 from .tail import read_tail
 
@@ -194,7 +195,8 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
-    """A mission file's energy budget from the scenario's start time, at the speeds the file carries.
+    """A mission file's energy budget from the scenario's start time, at the speeds the file carries, with the
+    time a ``.plan`` holds at a waypoint or a timed loiter spent there at hotel power (:func:`read_holds`).
 
     Parameters
     ----------
@@ -225,7 +227,11 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     speeds = mission.vehicle.speed if carried is None else carried
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
     nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
-    dwell = None if nav is None else [nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)]
+    dwell: NDArray[np.float64] | None = None if nav is None else \
+        np.array([nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)])
+    held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there (hotel power)
+    if held is not None:
+        dwell = held if dwell is None else dwell + held
     b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
            "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}

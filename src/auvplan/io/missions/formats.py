@@ -42,6 +42,7 @@ from .readers import (
     MAX_MISSION_BYTES,
     MISSION_SUFFIXES,
     ZERO_ALT_M,
+    ZERO_LATLON_DEG,
     check_mission_file,
     parse_gpx,
     parse_moos,
@@ -233,6 +234,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
             # ArduSub reads an altitude under 1 cm as "keep the current altitude": the surface is 1 cm deep
             h, frame_id, mode = round(float(z), 3), 3, 1
             h = -ZERO_ALT_M if abs(h) < ZERO_ALT_M else h
+        if max(abs(la), abs(lo)) < ZERO_LATLON_DEG:  # ArduSub reads (0, 0) as "stay where you are": 1.1 cm north
+            la = ZERO_LATLON_DEG
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],

@@ -10,6 +10,10 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
 
 Other formats carry no speed (None).
+
+A ``.plan`` also carries the time held at a position (:func:`read_holds`): a ``MAV_CMD_NAV_WAYPOINT``'s or a
+``MAV_CMD_NAV_LOITER_TIME``'s param 1 (whole seconds: ArduSub's ``loiter_time_max``), spent there before the next
+leg.
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ from numpy.typing import NDArray
 from ...errors import DataError
 from .qgc_items import PlanItem, plan_items
 
-__all__ = ["read_leg_speeds"]
+__all__ = ["MAX_HOLD_S", "read_holds", "read_leg_speeds"]
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -108,7 +112,7 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
     if v is None or len(v) != legs:
         return None
     a = np.asarray(v, dtype=float)
-    fast = np.flatnonzero(np.isfinite(a) & (a > MAX_SPEED_MPS))
+    fast = np.flatnonzero(a > MAX_SPEED_MPS)  # inf too (it dropped every carried speed); a NaN carries none
     if fast.size:  # 1e300 m/s was flown: numpy's overflow warnings, then an energy of inf
         raise DataError(f"{path}: leg {int(fast[0])}'s speed {a[fast[0]]:g} m/s (carried by the file) is over "
                         f"{MAX_SPEED_MPS:g} m/s: not a vehicle's speed")
@@ -117,3 +121,39 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
 
 MAX_SPEED_MPS = 100.0
 """Fastest leg speed a mission file may carry (m/s); an AUV or a glider flies at a few m/s."""
+
+
+MAX_HOLD_S = 65535.0
+"""Longest hold an item can carry (s): ArduPilot stores param 1 of a waypoint or a timed loiter in 16 bits."""
+
+
+def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
+    """The time a ``.plan`` holds at each of its ``points`` (home first) before the next leg (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file (already read once by :func:`auvplan.io.missions.formats.read_mission`).
+    points : int
+        Its number of points (the home and each position :func:`auvplan.io.missions.qgc_items.plan_items` reads).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(points,)`` seconds (the home's 0; whole seconds as ArduSub counts them); None for another format, a
+        file without a hold, or one that does not match.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".plan":
+        return None
+    try:
+        moves = [it for it in plan_items(json.loads(path.read_text(encoding="utf-8"))) if it.moves]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError, DataError):
+        return None
+    hold = [0.0]
+    for it in moves:
+        p1 = it.params[0] if it.command in (16, 19) else 0  # an unlimited loiter is the last position: no leg after
+        if isinstance(p1, bool) or not isinstance(p1, (int, float)) or not p1 > 0:
+            p1 = 0  # null (QGC's NaN) or none: no hold
+        hold.append(float(np.floor(min(float(p1), MAX_HOLD_S))))
+    return np.asarray(hold) if len(hold) == points and any(hold) else None
