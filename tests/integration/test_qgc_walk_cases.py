@@ -12,8 +12,8 @@ import pytest
 from test_qgc_items import _item, _plan, _survey
 
 from auvplan.errors import DataError
+from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.guidance.mission.terrain_legs import check_as_flown
-from auvplan.guidance.mission.waypoints import fly_check
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions import deploy_read
 from auvplan.io.missions.deploy_read import read_deploy
@@ -178,10 +178,16 @@ def test_leg_speeds_keep_the_speed_a_zero_command_leaves_and_take_a_slow_one(tmp
     assert read_leg_speeds(plan, 3) is None
 
 
-@pytest.mark.parametrize("bad", ["nan", "inf", "0", "-1"])
+@pytest.mark.parametrize("bad", ["nan", "-inf", "0", "-1", "inf"])
 def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
+    """A leg speed of nan, -inf, 0 or -1: the file carries no speeds (the vehicle's are flown); +inf is refused
+    naming the leg, as any over 100 m/s (audit 17)."""
     path = tmp_path / "m.csv"
     path.write_text(f"x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,{bad}\n300,0,-10,1.4\n")
-    assert read_leg_speeds(path, 3) is None
+    if bad == "inf":
+        with pytest.raises(DataError, match=r"m\.csv: leg 1's speed inf m/s \(carried by the file\) is over 100"):
+            read_leg_speeds(path, 3)
+    else:
+        assert read_leg_speeds(path, 3) is None
     path.write_text("x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,1.3\n300,0,-10,1.4\n")
     assert read_leg_speeds(path, 3).tolist() == [1.2, 1.3, 1.4]

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.guidance.mission.terrain_legs import check_as_flown, flown_track
-from auvplan.guidance.mission.waypoints import fly_check
 from auvplan.world import Bounds, Margins, Sphere, World
 from helpers import flat_world
 
