@@ -1313,3 +1313,15 @@ REASONS.update({
     "_speed | value = it.params[1] if len(it.params) > 2 else None":
         "equivalent: plan_items refuses an item without exactly 7 parameters, so params[1] is always there",
 })
+# main since audit 17 (f821d60): +inf is refused with the speeds over 100 m/s before this line
+REASONS.update({
+    "read_leg_speeds | return a if bool(np.any(np.isfinite(a))) and bool(np.all(a > 0)) else None":
+        ("equivalent since audit 17: +inf is refused above (a > MAX_SPEED_MPS), and NaN and -inf fail a > 0, so "
+         "all(a > 0) alone keeps only finite speeds"),
+})
+# main since audit 17 (11e2491): the null-island refusal walks the same two sequences
+REASONS.update({
+    ("parse_qgc_plan | null = next((it for it, r in zip(items, rows[1:], strict=False) if max(abs(r[0]), abs(r[1])) "
+     "< ZERO_LATLON_DEG), None)"):
+        "equivalent: rows holds the home and one row per item, so the two sequences are always as long",
+})

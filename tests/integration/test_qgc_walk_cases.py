@@ -191,3 +191,15 @@ def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
         assert read_leg_speeds(path, 3) is None
     path.write_text("x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,1.3\n300,0,-10,1.4\n")
     assert read_leg_speeds(path, 3).tolist() == [1.2, 1.3, 1.4]
+
+
+def test_items_on_the_equator_or_the_prime_meridian_are_read():
+    """Audit 17 refuses an item within 1e-7 deg of (0, 0) (ArduSub's 'current position'); one on the equator at
+    5 deg west, or on the prime meridian at 3 deg south, is a point like any other: read, 100 m deep."""
+    frame = LocalFrame(-1.5, -2.5)
+    items = [{"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": 0, "frame": 3,
+              "params": [0, 0, 0, None, lat, lon, -100.0]} for lat, lon in ((0.0, -5.0), (-3.0, 0.0))]
+    doc = {"mission": {"plannedHomePosition": [-1.5, -2.5, 0], "items": items}}
+    got = parse_qgc_plan(doc, frame)
+    x, y = frame.forward(np.array([-5.0, 0.0]), np.array([0.0, -3.0]))
+    assert np.allclose(got[1:], np.column_stack([x, y, [-100.0, -100.0]]), atol=1e-6)
