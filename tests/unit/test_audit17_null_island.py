@@ -40,6 +40,6 @@ def test_the_export_of_a_waypoint_at_0_0_moves_it_a_centimetre_north_and_reads_b
     pts = np.array([[-500.0, 300.0, -20.0], [0.0, 0.0, -20.0], [400.0, -200.0, -20.0]])
     doc = to_qgc_plan(pts, (0.0, 0.0), 1.5)
     w = parse_qgc_plan(doc, frame)
-    lat, lon = doc["mission"]["items"][1]["params"][4:6]
+    lat, lon = doc["mission"]["items"][2]["params"][4:6]  # after the leading DO_CHANGE_SPEED and the first point
     assert lat == 1e-7 and abs(lon) < 1e-7
     assert np.allclose(w[1:], pts, atol=0.02) and 0.005 < w[2, 1] < 0.02  # 1.1 cm north

@@ -47,6 +47,9 @@ class FileCheck:
         ``[navigation]``: the predicted error of every leg and the verdict, one line each (issue 52).
     terrain_following : str
         A ``.plan``'s terrain-frame legs flown following the seabed: the verdict, one line (empty without).
+    speed_line : str
+        The legs whose speed the file does not carry, judged at the vehicle's speed, one line (empty when it
+        carries every leg's; ``speed_assumed_legs`` in the record).
     """
 
     record: dict[str, Any]
@@ -58,6 +61,7 @@ class FileCheck:
     zones: tuple[ZoneApproach, ...] = ()
     navigation: tuple[str, ...] = ()
     terrain_following: str = ""
+    speed_line: str = ""
 
 
 def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
@@ -106,11 +110,15 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
             vlimits = _from_home(vlimits)
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
+        # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
+        speed_line = energy.pop("speed_assumed_line", "")
+        assumed = energy.pop("speed_assumed_legs", [])
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
         energy["defaults"] = defaults
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
-               "deploy": deploy}
+               "deploy": deploy, "speed_assumed_legs": assumed,
+               "speed_assumed_mps": mission.vehicle.speed if assumed else None}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
         # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
@@ -136,7 +144,7 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
         rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
-                             tf_line))
+                             tf_line, speed_line))
     return sc, out
 
 

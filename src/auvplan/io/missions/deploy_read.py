@@ -331,7 +331,7 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
                       min_altitude_m: float, speed: float) -> tuple[dict[str, Any], str]:
     """:func:`check_deploy` of a file read by ``mission check`` (its leg speeds from the file where it has
-    them, else ``speed``) and the result in one line.
+    them, else ``speed``: :func:`~auvplan.io.missions.speeds.judged_leg_speeds`) and the result in one line.
 
     Parameters
     ----------
@@ -356,11 +356,11 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
         ``datum …; envelope OK|FAIL|none …; payload …``.
     """
     from .formats import planned_times
-    from .speeds import read_leg_speeds
+    from .speeds import judged_leg_speeds
 
     w = points[1:] if fmt == "qgc" else points
-    v = read_leg_speeds(path, len(w) - 1)
-    duration = float(planned_times(w, speed if v is None else v)[-1]) if len(w) > 1 else 0.0
+    v = judged_leg_speeds(path, len(points) - 1, speed).speeds  # a .plan's launch leg first: not timed
+    duration = float(planned_times(w, v[1:] if fmt == "qgc" else v)[-1]) if len(w) > 1 else 0.0
     rec = check_deploy(path, origin, points, min_altitude_m, duration)
     d, e = rec["datum"], rec["envelope"]
     datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d
