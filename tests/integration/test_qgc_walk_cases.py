@@ -164,18 +164,18 @@ def _speed(v: float) -> dict:
 
 
 def test_leg_speeds_keep_the_speed_a_zero_command_leaves_and_take_a_slow_one(tmp_path):
-    """Cruise 1.5 m/s; a DO_CHANGE_SPEED of 0 (ArduPilot: unchanged) after item 1, one of 0.8 m/s after item 2:
-    the legs into items 1, 2, 3 at 1.5, 1.5, 0.8; a plan with no cruise speed and no command carries none."""
-    items = [_item(FRAME, 3000.0, 6000.0, -100.0), _speed(0.0), _item(FRAME, 4000.0, 6000.0, -100.0), _speed(0.8),
-             _item(FRAME, 5000.0, 6000.0, -100.0)]
+    """A DO_CHANGE_SPEED of 1.2 m/s after item 1, one of 0 (ArduPilot: unchanged) after item 2, one of 0.8 m/s
+    after item 3: the legs into items 1 to 4 at NaN (before any command: not in the file), 1.2, 1.2, 0.8; a plan
+    with no command carries none."""
+    items = [_item(FRAME, 3000.0, 6000.0, -100.0), _speed(1.2), _item(FRAME, 4000.0, 6000.0, -100.0), _speed(0.0),
+             _item(FRAME, 5000.0, 6000.0, -100.0), _speed(0.8), _item(FRAME, 6000.0, 6000.0, -100.0)]
     doc = _plan(ORIGIN, (1000.0, 6000.0), items)
     plan = tmp_path / "m.plan"
     plan.write_text(json.dumps(doc))
-    assert read_leg_speeds(plan, 3).tolist() == [1.5, 1.5, 0.8]
-    del doc["mission"]["cruiseSpeed"]
+    np.testing.assert_array_equal(read_leg_speeds(plan, 4), [np.nan, 1.2, 1.2, 0.8])
     doc["mission"]["items"] = [it for it in items if it["command"] == 16]
     plan.write_text(json.dumps(doc))
-    assert read_leg_speeds(plan, 3) is None
+    assert read_leg_speeds(plan, 4) is None
 
 
 @pytest.mark.parametrize("bad", ["nan", "-inf", "0", "-1", "inf"])
