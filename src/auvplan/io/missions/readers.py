@@ -173,6 +173,8 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
                                 "alt), or 10 (terrain alt) with a seabed")
             rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
             terrain.append(it.frame == 10)
+    except DataError:
+        raise  # names the item already (a DataError is a ValueError: not a "malformed key")
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     kept = next((it for it, r in zip(items, rows[1:], strict=True) if abs(r[2]) < ZERO_ALT_M), None)
