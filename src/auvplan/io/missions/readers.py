@@ -23,10 +23,11 @@ from ...guidance.mission.waypoints import MissionCheck, fly_check
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
-from .qgc_items import plan_items
+from .qgc_items import PlanItem, plan_items
 
 __all__ = [
     "MAX_MISSION_BYTES",
+    "csv_columns",
     "MISSION_SUFFIXES",
     "GPX_NS",
     "KML_NS",
@@ -165,8 +166,10 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
             if it.frame not in (3, 6, 10) or (it.frame == 10 and seabed is None):
                 raise DataError(f"QGC plan: {it.where}.frame = {it.frame}: expected 3 (relative "
                                 "alt), or 10 (terrain alt) with a seabed")
-            rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            rows.append((_param(it, 4), _param(it, 5), _param(it, 6)))
             terrain.append(it.frame == 10)
+    except DataError:
+        raise
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     kept = next((it for it, r in zip(items, rows[1:], strict=True) if abs(r[2]) < ZERO_ALT_M), None)
@@ -181,6 +184,16 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
     if t.any() and seabed is not None:
         z[t] += np.asarray(seabed(x[t], y[t]), dtype=float)
     return np.column_stack([x, y, z])
+
+
+def _param(item: PlanItem, k: int) -> float:
+    """An item's position parameter, a JSON number: ``true`` was read as latitude 1° (a mission near the equator
+    checked and failed), a string as whatever ``float`` made of it, where QGC reads both as 0."""
+    v = item.params[k]
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise DataError(f"QGC plan: {item.where}.params[{k}] = {json.dumps(v)[:40]}: expected a number "
+                        f"({('latitude', 'longitude', 'altitude')[k - 4]})")
+    return float(v)
 
 
 # ---------------------------------------------------------------------- GPX 1.1, KML
@@ -339,6 +352,48 @@ MAX_WAYPOINT_M = 4.0e7
 """Largest coordinate of a waypoint in the local frame (m): beyond it the arithmetic of a leg overflows."""
 
 
+def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.float64]]:
+    """The named numeric columns of a CSV mission's text (the header names them; those absent are left out).
+
+    A spreadsheet's byte-order mark made the first column ``\ufeffx`` ('no field of name x'), and 10⁶ columns
+    took numpy's named reader 3 minutes per read: here only the wanted columns are converted.
+
+    Parameters
+    ----------
+    text : str
+        The file's text (universal newlines).
+    wanted : tuple of str
+        Column names.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        One float array per wanted column the header has, a value per data row.
+
+    Raises
+    ------
+    ValueError
+        On a row shorter than a wanted column's place, or a value that is not a number.
+    """
+    lines = [ln for ln in text.lstrip("\ufeff").split("\n") if ln.strip() and not ln.lstrip().startswith("#")]
+    names = [n.strip().strip('"') for n in lines[0].split(",")] if lines else []
+    cols = {k: names.index(k) for k in wanted if k in names}
+    rows = [ln.split(",") for ln in lines[1:]]
+    short = next((i for i, r in enumerate(rows) if len(r) <= max(cols.values(), default=-1)), None)
+    if short is not None:
+        raise ValueError(f"line {short + 2} has {len(rows[short])} fields; the header has {len(names)}")
+    return {k: np.array([float(r[c]) for r in rows], dtype=float) for k, c in cols.items()}
+
+
+def _csv_mission(text: str) -> NDArray[np.float64]:
+    """The ``x, y, z`` waypoints of a CSV mission (:func:`csv_columns`)."""
+    cols = csv_columns(text, ("x", "y", "z"))
+    missing = next((k for k in ("x", "y", "z") if k not in cols), None)
+    if missing is not None:
+        raise ValueError(f"no field of name {missing}")
+    return np.column_stack([cols["x"], cols["y"], cols["z"]]).reshape(-1, 3)
+
+
 def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
            seabed: Callable[[Any, Any], Any] | None) -> tuple[NDArray[np.float64], str]:
     """:func:`read_mission`'s parsing of ``text`` in the format ``fmt``: waypoints and depth semantics."""
@@ -348,8 +403,7 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
         if fmt == "ros":
             return parse_ros_path(text), "ramp"
         if fmt == "csv":
-            rows = np.genfromtxt(path, delimiter=",", names=True)
-            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp"
+            return _csv_mission(text), "ramp"
         assert frame is not None  # the geographic formats need an origin (checked above)
         if fmt == "gpx":
             return parse_gpx(text, frame), "ramp"

@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 
 from ...errors import DataError
 from .qgc_items import PlanItem, plan_items
+from .readers import csv_columns
 
 __all__ = ["read_leg_speeds"]
 
@@ -96,9 +97,8 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
         elif suffix == ".plan":
             v = _qgc(json.loads(text), legs)
         elif suffix == ".csv":
-            rows = np.genfromtxt(path, delimiter=",", names=True)
-            names = rows.dtype.names or ()
-            v = np.atleast_1d(rows["speed"])[1:].tolist() if "speed" in names else None
+            speed = csv_columns(text, ("speed",)).get("speed")
+            v = None if speed is None else speed[1:].tolist()
         else:
             v = None
     except _BadSpeed as exc:  # the vehicle would not fly the speed the check assumed
