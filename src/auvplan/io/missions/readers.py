@@ -27,6 +27,7 @@ from .qgc_items import PlanItem, plan_items
 
 __all__ = [
     "MAX_MISSION_BYTES",
+    "MAX_MISSION_WAYPOINTS",
     "csv_columns",
     "MISSION_SUFFIXES",
     "GPX_NS",
@@ -340,6 +341,9 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
     text = read_bounded_text(path, MAX_MISSION_BYTES, "a mission file")
     frame = LocalFrame(*origin) if origin is not None else None
     waypoints, semantics = _parse(path, fmt, text, frame, seabed)
+    if len(waypoints) > MAX_MISSION_WAYPOINTS:  # 10⁶ .plan items were checked for 110-210 s, 5·10⁵ KML points 44 s
+        raise DataError(f"{path}: {len(waypoints):,} waypoints, over the {MAX_MISSION_WAYPOINTS:,} a mission file may "
+                        "have (a vehicle's mission holds hundreds to thousands)")
     size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=-1, initial=0.0)
     if (size > MAX_WAYPOINT_M).any():  # 1e300 used to leak numpy's overflow warnings and an 'inf m mission'
         k = int(np.argmax(size > MAX_WAYPOINT_M))
@@ -350,6 +354,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
 
 MAX_WAYPOINT_M = 4.0e7
 """Largest coordinate of a waypoint in the local frame (m): beyond it the arithmetic of a leg overflows."""
+MAX_MISSION_WAYPOINTS = 100_000
+"""Most waypoints a mission file may have: every check walks them in Python (a .plan of 10⁵ items: 25 s)."""
 
 
 def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.float64]]:
