@@ -66,13 +66,13 @@ def test_gdal_reads_a_vector_file_off_the_network():
 
 
 # ---------------------------------------------------------------- zone files that cost too much
-def test_a_polygon_of_60000_vertices_is_made_lean_and_still_contains_itself():
+def test_a_polygon_of_25000_vertices_is_made_lean_and_still_contains_itself():
     """A 300 m ring of 10⁶ vertices rounded to 10⁻⁷° (the brief's input): GEOS's pad buffer took 110 s and
     7.8 GB, then ``std::bad_alloc`` (a traceback).  Oracle: the footprint contains every vertex and edge of the
     ring, lies within 0.2 m of it (simplified within 0.1, grown by 0.2) and has a few hundred vertices."""
     from auvplan.io.data.vector.zones import _footprint
 
-    t = np.linspace(0.0, 2 * np.pi, 60_000, endpoint=False)
+    t = np.linspace(0.0, 2 * np.pi, 25_000, endpoint=False)
     rng = np.random.default_rng(17)
     ring = np.c_[300 * np.cos(t), 300 * np.sin(t)] + rng.uniform(-0.005, 0.005, (t.size, 2))  # 1 cm rounding
     poly = shapely.make_valid(shapely.Polygon(ring))
@@ -218,3 +218,27 @@ def test_a_mission_file_of_more_waypoints_than_allowed_is_refused(tmp_path, monk
         read_mission(tmp_path / "m.csv")
     (tmp_path / "m.csv").write_text("x,y,z\n" + "".join(f"{k},0,-5\n" for k in range(3)), encoding="utf-8")
     assert read_mission(tmp_path / "m.csv")[0].shape == (3, 3)
+
+
+# ---------------------------------------------------------------- the scenario's other data files
+_NO_TERRAIN = TRANSIT[:TRANSIT.index("[terrain.synthetic]")] + TRANSIT[TRANSIT.index("[currents]"):]
+_TIDES = TRANSIT.replace("[currents]\nuniform = [0.0, 0.1, 0.0]", '[currents]\ntides = "t.json"').replace(
+    "[mission]\n", '[mission]\nstart_time = "2024-01-01T00:00:00Z"\n')
+
+
+@pytest.mark.parametrize(("text", "name", "needle"), [
+    # the GeoTIFF sniff opened the FIFO to read its magic number: blocked for ever
+    (_NO_TERRAIN + '[terrain]\nfile = "t.tif"\n', "t.tif", "t.tif: the bathymetry file is not a regular file"),
+    (TRANSIT.replace("uniform = [0.0, 0.1, 0.0]", 'file = "c.nc"'), "c.nc",
+     "c.nc: the current file is not a regular file"),  # was 'current file not found'
+    (_TIDES, "t.json", "[currents] tides = 't.json': not a regular file"),  # read_text: blocked for ever
+])
+def test_a_data_file_that_is_a_fifo_is_refused_not_waited_on(tmp_path, capsys, text, name, needle):
+    os.mkfifo(tmp_path / name)
+    _refused(tmp_path, capsys, text, needle)
+
+
+def test_a_tide_file_linked_to_dev_zero_is_refused(tmp_path, capsys):
+    """read_text of /dev/zero filled the memory."""
+    (tmp_path / "t.json").symlink_to("/dev/zero")
+    _refused(tmp_path, capsys, _TIDES, "[currents] tides = 't.json': not a regular file")
