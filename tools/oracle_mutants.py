@@ -129,17 +129,17 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     # issue #31: ways of passing an unsafe mission (killed by tests/oracles/test_safety.py)
     "mission-ok-ignores-executor": (
-        "guidance/mission/waypoints.py",
+        "guidance/mission/flycheck.py",
         "alt = min(self.min_altitude_m, self.executor_min_altitude_m)",
         "alt = self.min_altitude_m",
     ),
     "mission-ellipsoid-inflated-by-largest-axis": (
-        "guidance/mission/waypoints.py",
+        "guidance/mission/envelopes.py",
         "(1.0 + margin / min(shape.semi_axes))",
         "(1.0 + margin / max(shape.semi_axes))",
     ),
     "mission-ramp-check-without-margin": (
-        "guidance/mission/waypoints.py",
+        "guidance/mission/flycheck.py",
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), m.obstacle)",
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), 0.0)",
     ),

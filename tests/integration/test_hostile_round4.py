@@ -128,11 +128,39 @@ def test_no_scheduler_at_the_address_names_the_flag():
     from auvplan.runtime.parallel import Runner
 
     with dask.config.set({"distributed.comm.timeouts.connect": "0.5s"}), \
-            pytest.raises(AuvplanError, match=r"^--scheduler 'tcp://127.0.0.1:1': no dask scheduler reached there \("):
+            pytest.raises(AuvplanError, match=r"^--scheduler 'tcp://127.0.0.1:1': no dask scheduler reached there "
+                          r"within 0.5 s \("):  # dask's own connect timeout, when under SCHEDULER_CONNECT_S
         Runner(scheduler="tcp://127.0.0.1:1").map(abs, [1, 2])
     from auvplan.cli.parser import _parser
 
     assert _parser().parse_args(["bench", "--scheduler", "tcp://127.0.0.1:8786"]).scheduler == "tcp://127.0.0.1:8786"
+
+
+def test_a_dead_scheduler_is_given_up_after_the_short_connect_timeout(monkeypatch):
+    """dask waits ``distributed.comm.timeouts.connect`` (30 s) on an address where nothing answers: the Runner
+    passes its own bound, 5 s (SCHEDULER_CONNECT_S), and says it.  Oracle: the timeout handed to ``Client``."""
+    pytest.importorskip("distributed")
+    import dask
+    import dask.distributed
+
+    from auvplan.errors import AuvplanError
+    from auvplan.runtime import parallel
+    from auvplan.runtime.parallel import SCHEDULER_CONNECT_S, Runner
+
+    seen = {}
+
+    def dead(address, timeout=None, **kw):  # type: ignore[no-untyped-def]
+        seen.update(address=address, timeout=timeout)
+        raise OSError(f"Timed out trying to connect to {address} after {timeout} s")
+
+    monkeypatch.setattr(dask.distributed, "Client", dead)
+    # the handshake heard first, within the same bound (audit18: dask's Client waits for it with none)
+    monkeypatch.setattr(parallel, "_handshake", lambda address, wait: seen.update(handshake=wait))
+    assert dask.config.get("distributed.comm.timeouts.connect") == "30s" and SCHEDULER_CONNECT_S == 5.0
+    with pytest.raises(AuvplanError, match=r"^--scheduler 'tcp://10.255.255.1:8786': no dask scheduler reached "
+                                           r"there within 5 s \(Timed out"):
+        Runner(scheduler="tcp://10.255.255.1:8786").map(abs, [1, 2])
+    assert seen == {"handshake": 5.0, "address": "tcp://10.255.255.1:8786", "timeout": 5.0}
 
 
 # ---------------------------------------------------------------- the planner's budget on the command line

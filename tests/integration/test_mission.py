@@ -12,7 +12,9 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.cli import main
-from auvplan.guidance.mission.waypoints import build_waypoints, envelope_hits, envelopes_free, fly_check
+from auvplan.guidance.mission.envelopes import envelope_hits, envelopes_free
+from auvplan.guidance.mission.flycheck import fly_check
+from auvplan.guidance.mission.waypoints import build_waypoints
 from auvplan.io.missions import export, formats
 from auvplan.io.results import records
 from auvplan.io.scenario import loader as sc
@@ -140,7 +142,8 @@ def test_exports_parse_with_real_libraries(ridge, tmp_path):
     plan_doc = json.loads((tmp_path / "mission.plan").read_text())
     assert plan_doc["fileType"] == "Plan" and plan_doc["mission"]["vehicleType"] == 12  # MAV_TYPE_SUBMARINE
     items = plan_doc["mission"]["items"]
-    assert all(i["command"] == 16 and i["frame"] == 3 and i["params"][6] < 0 for i in items)
+    assert items[0]["command"] == 178 and items[0]["params"][:3] == [1, 1.5, -1]  # the planned speed, leading
+    assert all(i["command"] == 16 and i["frame"] == 3 and i["params"][6] < 0 for i in items[1:])
     assert plan_doc["mission"]["plannedHomePosition"][2] == 0
     text = (tmp_path / "mission.moos").read_text()
     assert "initialize   DEPLOY = false" in text and text.count("BHV_ConstantDepth") == len(w) - 1
@@ -250,7 +253,7 @@ def test_decimate_keeps_the_extremes():
 
 
 def test_held_track_changes_depth_at_the_pitch_and_carries_the_lag_over():
-    from auvplan.guidance.mission.waypoints import held_track
+    from auvplan.guidance.mission.flycheck import held_track
 
     w = np.array([[0.0, 0.0, -100.0], [100.0, 0.0, -50.0], [200.0, 0.0, -50.0]])
     np.testing.assert_allclose(held_track(w, 45.0), [[0, 0, -100], [50, 0, -50], [100, 0, -50], [200, 0, -50]],

@@ -195,7 +195,7 @@ def test_loiters_at_a_point_and_a_pattern_s_items_are_read_as_flown_and_counted_
     want = [[1000, 6000, 0], [3000, 6000, -100], [5000, 6000, -120], [6000, 6500, -260], [7000, 6000, -100]]
     assert fmt == "qgc" and np.allclose(pts, want, atol=1e-6)
     assert terrain_legs(path).tolist() == [False, False, True, False]
-    assert read_leg_speeds(path, 4).tolist() == [1.5, 1.5, 1.2, 1.2]
+    assert np.array_equal(read_leg_speeds(path, 4), [np.nan, np.nan, 1.2, 1.2], equal_nan=True)  # not cruiseSpeed
     deploy = read_deploy(path)  # the relay after the corridor's last item: waypoint 2 (from 0, after the home)
     assert deploy.payload_events == [(2, True)] and deploy.altitude_legs == 1
 
@@ -206,7 +206,7 @@ def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_pa
     pts = np.array([[1000.0, 6000.0, 0.0], [3000.0, 6000.0, -150.0], [9000.0, 7000.0, -150.0],
                     [15000.0, 6000.0, -10.0]])
     doc = to_qgc_plan(pts, origin, np.array([1.0, 1.5, 2.0]))
-    doc["mission"]["items"].insert(2, {"type": "SimpleItem", "autoContinue": True, "command": 181, "doJumpId": 0,
+    doc["mission"]["items"].insert(3, {"type": "SimpleItem", "autoContinue": True, "command": 181, "doJumpId": 0,
                                        "frame": 2, "params": [0, 1, 0, 0, 0, 0, 0]})
     walk = plan_items(doc)
     assert {it.command for it in walk if not it.moves} == {178, 181} and sum(it.moves for it in walk) == 4
@@ -216,7 +216,7 @@ def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_pa
     flown = pts.copy()
     flown[0, 2] = -0.01  # the surface a centimetre deep (ArduSub reads 0 as "hold the current altitude")
     assert np.allclose(got, np.vstack([[*pts[0, :2], 0.0], flown]), atol=1e-3)  # home on the surface, the items
-    assert read_leg_speeds(path, 4).tolist() == [1.0, 1.0, 1.5, 2.0]  # the launch at the cruise speed, then leg i's
+    assert read_leg_speeds(path, 4).tolist() == [1.0, 1.0, 1.5, 2.0]  # the launch at the leading 178's, then leg i's
 
 
 def test_the_walk_names_a_malformed_generated_item(tmp_path):
@@ -239,6 +239,6 @@ def test_an_item_at_altitude_zero_is_refused_and_the_export_writes_the_surface_a
     with pytest.raises(DataError, match=r"mission\.items\[1\]: altitude .* 'hold the current altitude'"):
         read_mission(path, (16.0, 145.0))
     doc = to_qgc_plan([[0.0, 0.0, 0.0], [100.0, 0.0, -20.0], [200.0, 0.0, alt]], (16.0, 145.0), 1.0)
-    assert [it["params"][6] for it in doc["mission"]["items"]] == [-0.01, -20.0, -0.01]
+    assert [it["params"][6] for it in doc["mission"]["items"]] == [0, -0.01, -20.0, -0.01]  # a leading 178, the items
     path.write_text(json.dumps(doc))
     assert np.allclose(read_mission(path, (16.0, 145.0))[0][1:, 2], [-0.01, -20.0, -0.01])

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from auvplan import cli
-from auvplan.guidance.mission.waypoints import fly_check
+from auvplan.guidance.mission.flycheck import fly_check
 
 pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")

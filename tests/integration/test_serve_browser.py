@@ -12,7 +12,7 @@ import pytest
 
 from auvplan import cli
 from auvplan.cli.serve import make_session
-from auvplan.guidance.mission.waypoints import fly_check
+from auvplan.guidance.mission.flycheck import fly_check
 from serve_helpers import chromium, running
 
 pytest.importorskip("starlette")

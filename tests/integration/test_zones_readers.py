@@ -174,3 +174,24 @@ buffer_m = 1000.0
         ring = np.allclose(closed[0], closed[-1])
         low = 2 * 1000.0 * length * (0.9 if ring else 0.998)  # a closed ring's buffer overlaps itself inside
         assert low < a < (2 * 1000.0 * length + math.pi * 1000.0**2) * 1.004, name
+
+
+@pytest.mark.parametrize(("suffix", "driver"), [("shp", "ESRI Shapefile"), ("fgb", "FlatGeobuf"),
+                                                ("gdb", "OpenFileGDB"), ("gpkg", "GPKG")])
+def test_an_attribute_filter_selects_the_same_features_with_or_without_the_fields(tmp_path, suffix, driver):
+    """Oracle: the filter applied by hand to the chart's RESARE features (their OBJNAM).  Without ``fields=True`` the
+    reader asked GDAL for no column, and the shapefile, FlatGeobuf and FileGDB drivers then matched no feature."""
+    from auvplan.io.data.vector.reader import read_vector
+
+    geoms, fields = _features("RESARE")
+    names = np.array([n if n else "" for n in fields["OBJNAM"]], dtype=object)
+    path = tmp_path / f"areas.{suffix}"
+    pyogrio.raw.write(path, np.array(shapely.to_wkb(geoms), dtype=object), [names], ["OBJNAM"], driver=driver,
+                      crs="EPSG:4326", geometry_type="Polygon", layer="areas")
+    want = [g for g, n in zip(geoms, names, strict=True) if n == "Naval Research Laboratory"]
+    assert len(want) == 1 < len(geoms)
+    for asked in (False, True):
+        got = read_vector(path, "t", ValueError, where="OBJNAM = 'Naval Research Laboratory'", fields=asked)
+        (g,) = got.present()  # a FileGDB's polygon reads back a multipolygon: compared as areas
+        assert shapely.area(shapely.symmetric_difference(g, want[0])) < 1e-9 * shapely.area(want[0])
+        assert bool(got.fields) is asked  # the columns are returned only when asked for

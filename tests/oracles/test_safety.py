@@ -15,15 +15,9 @@ from test_mission import _RIDGE_TOML
 
 from auvplan.cost import CostModel, evaluate_paths
 from auvplan.guidance.formation.keeping import FormationParams
+from auvplan.guidance.mission.envelopes import envelope_hits, envelopes_free, leg_floors
+from auvplan.guidance.mission.flycheck import MissionCheck, fly_check, held_track
 from auvplan.guidance.mission.limits import waypoint_limits
-from auvplan.guidance.mission.waypoints import (
-    MissionCheck,
-    envelope_hits,
-    envelopes_free,
-    fly_check,
-    held_track,
-    leg_floors,
-)
 from auvplan.planners.grid.lattice import edge_states, node_fields
 from auvplan.sim.formation import _contact
 from auvplan.world import Bounds, Ellipsoid, LinearMotion, Margins, MovingObstacle, Sphere, Terrain, World
@@ -313,7 +307,7 @@ def test_parallelogram_distance_by_hand():
     of an envelope) with the foot inside (5 m) and outside, near its corner (1, 1, 5) from o + e2 + ...;
     a 1 mm square (the plane, 5 m exactly, not the edges' 5.000000025 m); a vertical segment (e1 = 0);
     a point."""
-    from auvplan.guidance.mission.waypoints import _parallelogram_distance
+    from auvplan.guidance.mission.envelopes import _parallelogram_distance
 
     o = np.array([[-1.0, -1.0, 5.0], [-1.5, -1.0, 5.0], [1.0, 1.0, 5.0], [-5e-4, -5e-4, 5.0], [3.0, 4.0, -1.0],
                   [3.0, 4.0, 0.0]])
@@ -344,7 +338,7 @@ def test_parallelogram_distance_at_exactly_the_degeneracy_threshold_is_the_edges
     threshold is 1e-12 * 1e-300 = 1e-312, equal in floating point), the origin at its centre in its
     plane: the edges are L / 2 away (the plane's distance would be 0).  A square of side 2 m (det = 16, far
     above the threshold) with the same origin: the plane, 0."""
-    from auvplan.guidance.mission.waypoints import _parallelogram_distance
+    from auvplan.guidance.mission.envelopes import _parallelogram_distance
 
     side = 1e-78
     assert side**4 == 1e-12 * 1e-300  # the boundary itself, exact in floating point
@@ -402,7 +396,7 @@ def test_sampled_ellipsoid_distance_is_the_exact_one_to_the_sampling():
     """An ellipsoid with equal semi-axes is a sphere, whose rectangle distance is exact: the 0.25 m
     sampled distance over random envelopes (a vertical leg, short and long legs) is never below it and
     at most 0.03 m above it (half the grid's diagonal squared over the radius, here far less)."""
-    from auvplan.guidance.mission.waypoints import _corners, _sampled_rect_distance, _sphere_rect_distance
+    from auvplan.guidance.mission.envelopes import _sampled_rect_distance, _sphere_rect_distance, envelope_corners
 
     sphere, round_ellipsoid = Sphere((0.0, 0.0, -50.0), 6.0), Ellipsoid((0.0, 0.0, -50.0), (6.0, 6.0, 6.0))
     rng = np.random.default_rng(3)
@@ -410,7 +404,7 @@ def test_sampled_ellipsoid_distance_is_the_exact_one_to_the_sampling():
     b = a + rng.uniform([-20, -20, -15], [20, 20, 15], (25, 3))
     b[0, :2] = a[0, :2]  # a vertical leg
     b[1] = a[1] + [0.1, 0.0, 0.0]  # a 0.1 m leg
-    o, e1, e2 = _corners(a, b)
+    o, e1, e2 = envelope_corners(a, b)
     exact = _sphere_rect_distance(sphere, o, e1, e2)
     sampled = _sampled_rect_distance(round_ellipsoid, o, e1, e2, 0.25)
     assert np.all(sampled >= exact - 1e-9) and np.all(sampled - exact < 0.03)

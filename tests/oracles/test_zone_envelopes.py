@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import shapely
 
-from auvplan.guidance.mission.waypoints import held_track
+from auvplan.guidance.mission.flycheck import held_track
 from auvplan.guidance.mission.zone_legs import held_zone_entries
 from auvplan.world import Zone, Zones
 from auvplan.world.terrain import Terrain

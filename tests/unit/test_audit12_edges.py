@@ -111,8 +111,8 @@ def test_mission_check_flies_a_held_depth_mission_through_the_zones_as_its_execu
         codes.append(main(["mission", "check", str(f), "--scenario", str(scen), "--json"]))
         zones.append({z["name"]: z["entered_legs"] for z in json.loads(capsys.readouterr().out)["zones"]})
     assert codes == [1, 0, 1]
-    assert zones == [{"channel": [1], "slow": [1], "mid": []}, {"channel": [], "slow": [], "mid": []},
-                     {"channel": [], "slow": [], "mid": [2]}]
+    assert zones == [{"channel": [0], "slow": [0], "mid": []}, {"channel": [], "slow": [], "mid": []},
+                     {"channel": [], "slow": [], "mid": [1]}]  # leg k leaves waypoint k (from 0)
 
 
 def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_executor():

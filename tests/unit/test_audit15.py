@@ -66,7 +66,7 @@ def test_a_plan_s_terrain_frame_leg_keeps_the_pitch_limit_once_written(tmp_path,
     assert rims == pytest.approx([-250.0, -250.0])
     w = np.array([[4000.0, 1000.0, rims[0] + 25.0004], [6000.0, 1000.0, rims[1] + 25.0006]])
     doc = to_qgc_plan(w, world.origin, 1.5, deploy=deploy_info(world, mission, w, 1.5, None, None))
-    assert [i["frame"] for i in doc["mission"]["items"]] == [10, frame]
+    assert [i["frame"] for i in doc["mission"]["items"]] == [2, 10, frame]  # the leading DO_CHANGE_SPEED, the items
     path = tmp_path / "m.plan"
     path.write_text(json.dumps(doc))
     code, rec = _check_json(path, scen)
@@ -177,7 +177,7 @@ def test_a_plan_s_terrain_frame_leg_keeps_what_its_straight_leg_keeps(tmp_path, 
     csv.write_text("x,y,z\n" + "\n".join(f"{x},{y},{z}" for x, y, z in w) + "\n")
     assert _check_json(csv, scen)[0] == 0
     doc = to_qgc_plan(w, world.origin, 1.5, deploy=deploy_info(world, mission, w, 1.5, None, None))
-    assert [i["frame"] for i in doc["mission"]["items"]] == [10, 3, 10]
+    assert [i["frame"] for i in doc["mission"]["items"]] == [2, 10, 3, 10]  # the leading DO_CHANGE_SPEED, the items
     path = tmp_path / "m.plan"
     path.write_text(json.dumps(doc))
     code, rec = _check_json(path, scen)
@@ -203,7 +203,8 @@ def test_a_plan_s_navigation_is_judged_on_its_terrain_frame_track(tmp_path):
     path = tmp_path / "low.plan"
     path.write_text(_plan([(3500.0, 1000.0, 10, 25.0), (6500.0, 1000.0, 10, 25.0)]))
     code, rec = _check_json(path, scen)
-    (leg,) = rec["navigation"]["legs"]
+    launch, leg = rec["navigation"]["legs"]  # the launch (leg 0, the home down to the first item) flown too
     least = 25.0 - 0.075 * leg["nav_error_m"]
-    assert leg["leg"] == 1 and leg["clear"] and least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
+    assert launch["leg"] == 0 and launch["clear"] and leg["leg"] == 1 and leg["clear"]
+    assert least - 0.5 <= leg["uncertain_altitude_m"] <= least + 0.01
     assert leg["lock"] == 1.0 and rec["navigation"]["ok"] and code == 0 and rec["min_altitude_m"] == pytest.approx(25.0)

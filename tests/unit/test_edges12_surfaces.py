@@ -122,7 +122,7 @@ def test_a_held_leg_whose_envelope_alone_enters_reports_no_clearance(tmp_path, c
     scenario = _TOML + slow + "top_m = 60.0\nbottom_m = 120.0\n"
     code, rec = _check(tmp_path, capsys, "e.moos", formats.to_moos(w, 1.5), scenario)
     assert code == 1 and rec["ok"] is False
-    assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [1]}
+    assert rec["zones"][1] == {"name": "slow", "closest_m": 0.0, "entered_legs": [0]}  # leg 0 leaves waypoint 0
 
 
 def test_the_seabed_following_track_has_the_exact_extremes_of_a_bilinear_seabed():
@@ -220,7 +220,8 @@ def test_a_terrain_frame_plan_over_the_ridge_is_checked_as_flown(tmp_path, capsy
     assert tf["shallowest_m"] == pytest.approx(float(depth.min()), abs=1e-6) and tf["above_surface_legs"] == [1]
     assert tf["min_altitude_m"] == pytest.approx(100.0, abs=1e-6)
     (zone,) = rec["zones"]
-    assert zone["entered_legs"] == [1] and zone["closest_m"] == pytest.approx(-10.0)  # 10 m inside the 20 m band
+    # (the launch, leg 0, descends from the home through the shallows' 0-20 m at x = 4 km, on its face)
+    assert zone["entered_legs"] == [0, 1] and zone["closest_m"] == pytest.approx(-10.0)  # 10 m inside the 20 m band
     plan = _plan([(4000.0, 1000.0, 10, 100.0), (6000.0, 1000.0, 10, 100.0)])
     code, rec = _check(tmp_path, capsys, "ridge.plan", plan, _RIDGE.split("[[zones]]")[0])
     assert code == 1 and rec["ok"] is False and rec["check_ok"] is True  # without the zone: the track alone fails

@@ -328,7 +328,7 @@ def test_exports_carry_the_speed_of_each_leg():
     assert "updates        = WPT_UPDATE" in moos and formats.parse_moos(moos) == pytest.approx(pts)
     plan = formats.to_qgc_plan(pts, (48.0, -124.0), v)
     change = [it["params"][1] for it in plan["mission"]["items"] if it["command"] == 178]
-    assert change == [1.0, 2.0]
+    assert change == [1.0, 1.0, 2.0]  # the launch's (the leading item), then after waypoint i leg i's
     back = formats.parse_qgc_plan(plan, LocalFrame(48.0, -124.0))
     assert back[1:] == pytest.approx(pts, abs=1e-3)
     rows = formats.mission_csv(pts, None, v).splitlines()

@@ -14,8 +14,9 @@ import shapely
 from auvplan import cli
 from auvplan._types import Status
 from auvplan.errors import ScenarioError
+from auvplan.guidance.mission.envelopes import envelopes_free
 from auvplan.guidance.mission.fit import fit_turns
-from auvplan.guidance.mission.waypoints import envelopes_free, fly_check
+from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.path import resample_polyline
 from auvplan.path.flyable import (

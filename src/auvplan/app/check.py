@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..guidance.mission.waypoints import MissionCheck
+    from ..guidance.mission.flycheck import MissionCheck
+    from ..guidance.mission.terrain_legs import FlownTrack
     from ..io.scenario.specs import Scenario
     from ..nav import NavParams
     from ..path.flyable import LimitReport
@@ -46,6 +47,9 @@ class FileCheck:
         ``[navigation]``: the predicted error of every leg and the verdict, one line each (issue 52).
     terrain_following : str
         A ``.plan``'s terrain-frame legs flown following the seabed: the verdict, one line (empty without).
+    speed_line : str
+        The legs whose speed the file does not carry, judged at the vehicle's speed, one line (empty when it
+        carries every leg's; ``speed_assumed_legs`` in the record).
     """
 
     record: dict[str, Any]
@@ -57,6 +61,7 @@ class FileCheck:
     zones: tuple[ZoneApproach, ...] = ()
     navigation: tuple[str, ...] = ()
     terrain_following: str = ""
+    speed_line: str = ""
 
 
 def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
@@ -91,31 +96,29 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     out = []
     for name in files:
         points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
-        follow = None  # a .plan's terrain-frame items: flown at their altitude above the seabed between items
-        if fmt == "qgc" and world.terrain is not None:
-            from ..io.missions.terrain_frame import terrain_legs
-
-            follow = terrain_legs(Path(name))
-            if not follow.any():
-                follow = None
+        follow, track = _terrain_frame(world, Path(name), fmt, points)
         # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
-        check, fmt = check_mission_file(Path(name), world, pitch, follow)
+        check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
         deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                                 mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
         # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
-        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow)
+        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
         vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
                              pitch=flown[0], depth=flown[1])
         if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
             vlimits = _from_home(vlimits)
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
+        # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
+        speed_line = energy.pop("speed_assumed_line", "")
+        assumed = energy.pop("speed_assumed_legs", [])
         defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
         energy_line += "".join(f"; {d}" for d in defaults)
         energy["defaults"] = defaults
         rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
-               "deploy": deploy}
+               "deploy": deploy, "speed_assumed_legs": assumed,
+               "speed_assumed_mps": mission.vehicle.speed if assumed else None}
         if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
             rec["clearance_confidence"] = sc.mission.confidence
         # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
@@ -123,9 +126,11 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         tf_ok = True
         tf_line = ""
         if follow is not None:
-            rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow)
-        zones = _zone_approach(world, points[1:] if fmt == "qgc" else points, check.semantics, pitch,
-                               None if follow is None else follow[1:])
+            rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow, track)
+        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
+        # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
+        # home, its launch; docs/missions.md)
+        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0, flown=track)
         if zones:
             rec["zones"] = [z.as_dict() for z in zones]
             rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
@@ -133,14 +138,13 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         nav_ok = True
         nav_lines: list[str] = []
         if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
-            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation,
-                                                                    points[1:] if fmt == "qgc" else points, Path(name),
-                                                                    None if follow is None else follow[1:])
+            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
+                                                                    follow, first=0, flown=track)
         ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
         # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
         rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
         out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
-                             tf_line))
+                             tf_line, speed_line))
     return sc, out
 
 
@@ -156,13 +160,28 @@ def _from_home(report: LimitReport) -> LimitReport:
                    violations=tuple(replace(v, leg=v.leg + 1) for v in report.violations))
 
 
-def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _flown_pitch_depth(world: World, points: np.ndarray, follow: np.ndarray,
+                       flown: FlownTrack | None = None) -> tuple[np.ndarray, np.ndarray]:
     """A ``.plan``'s legs' steepest pitch and greatest depth as flown, after its launch leg (as the helm check)."""
     from ..guidance.mission.terrain_legs import flown_pitch_depth
 
     assert world.terrain is not None
-    pitch, depth = flown_pitch_depth(world.terrain, points, follow)
+    pitch, depth = (flown.pitch, flown.depth) if flown is not None else flown_pitch_depth(world.terrain, points, follow)
     return pitch[1:], depth[1:]
+
+
+def _terrain_frame(world: World, path: Path, fmt: str, points: np.ndarray) -> tuple[np.ndarray | None,
+                                                                                   FlownTrack | None]:
+    """A ``.plan``'s legs flown at their altitude above the seabed (its terrain-frame items), and their track, made
+    once for every check of the file (the seabed's, the helm's pitch and depth, the terrain-following verdict, the
+    zones and the navigation); ``(None, None)`` for any other file or without one."""
+    if fmt != "qgc" or world.terrain is None:
+        return None, None
+    from ..guidance.mission.terrain_legs import flown_track
+    from ..io.missions.terrain_frame import terrain_legs
+
+    follow = terrain_legs(path)
+    return (follow, flown_track(world.terrain, points, follow)) if follow.any() else (None, None)
 
 
 def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> str:
@@ -190,23 +209,25 @@ def zones_measured_on(semantics: str, pitch: float, terrain: bool = False) -> st
 
 
 def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: float,
-                   follow: np.ndarray | None = None) -> list[ZoneApproach]:
+                   follow: np.ndarray | None = None, first: int = 1,
+                   flown: FlownTrack | None = None) -> list[ZoneApproach]:
     """The closest approach to each charted zone and the legs entering it (exact), under the format's depth
     semantics: the straight legs (a ramp), or for a held depth (MOOS-IvP) the executor's track at ``pitch`` (deg) —
     the closest approach the least over that track, the entries each leg's envelope's and the track's (and the
     straight leg's, which its envelope holds), as :func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`;
     the legs ``follow`` marks (a ``.plan``'s terrain frame) on their seabed-following track instead of the straight
-    line between their items, which ArduSub does not fly."""
+    line between their items, which ArduSub does not fly.  The leg joining ``points[k]`` and ``points[k + 1]`` is
+    named ``k + first``; ``flown`` is the track of ``follow``'s legs when the caller has it."""
     if not world.zones:
         return []
     from dataclasses import replace
 
-    from ..guidance.mission.waypoints import held_track
+    from ..guidance.mission.flycheck import held_track
     from ..guidance.mission.zone_legs import held_zone_entries
 
     exact = world.zones.exact
-    if semantics != "held" and (follow is None or world.terrain is None):
-        return exact.approach(points)
+    if semantics != "held" and (follow is None or world.terrain is None):  # Zones.approach: legs from 1
+        return [replace(z, entered_legs=tuple(k - 1 + first for k in z.entered_legs)) for z in exact.approach(points)]
     seg, si = exact.entries(np.stack([points[:-1], points[1:]], axis=1))  # the straight legs, as every format
     if semantics == "held":
         out = exact.approach(held_track(points, pitch))  # the distance the vehicle keeps, not its straight legs'
@@ -216,18 +237,19 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
         from ..guidance.mission.terrain_legs import terrain_track
 
         assert world.terrain is not None and follow is not None
-        track, seg_leg = terrain_track(world.terrain, points, follow)
+        track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)
         out = exact.approach(track)  # the least over what is flown: the straight legs and the following ones
         more = [seg_leg[np.asarray(z.entered_legs, dtype=np.intp) - 1] for z in out]
-        flown = ~follow[seg]  # a terrain-frame leg's straight line is not flown: its track alone enters or not
-        seg, si = seg[flown], si[flown]
+        straight = ~follow[seg]  # a terrain-frame leg's straight line is not flown: its track alone enters or not
+        seg, si = seg[straight], si[straight]
     for j, z in enumerate(out):
-        entered = tuple(sorted({*(int(k) + 1 for k in seg[si == j]), *(int(k) + 1 for k in more[j])}))
+        entered = tuple(sorted({*(int(k) + first for k in seg[si == j]), *(int(k) + first for k in more[j])}))
         out[j] = replace(z, closest_m=min(z.closest_m, 0.0) if entered else z.closest_m, entered_legs=entered)
     return out
 
 
-def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray) -> tuple[dict[str, Any], bool, str]:
+def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray,
+                            flown: FlownTrack | None = None) -> tuple[dict[str, Any], bool, str]:
     """A ``.plan``'s terrain-frame legs flown as ArduSub flies them: at the commanded altitude above the seabed
     between items (:func:`~auvplan.guidance.mission.terrain_legs.terrain_track`), re-flown against the seabed, the
     obstacles, the surface, the depth band and the bounds (the track's shallowest and deepest points are its
@@ -241,6 +263,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
         ``(N, 3)`` the plan's waypoints, home first (m).
     follow : numpy.ndarray of bool
         ``(N - 1,)`` the legs flown following the seabed.
+    flown : FlownTrack, optional
+        Their track (:func:`~auvplan.guidance.mission.terrain_legs.flown_track`), when the caller has it.
 
     Returns
     -------
@@ -253,12 +277,18 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     line : str
         The verdict, one line.
     """
-    from ..guidance.mission.terrain_legs import terrain_track
-    from ..guidance.mission.waypoints import fly_check
+    from dataclasses import replace
+
+    from ..guidance.mission.flycheck import fly_check
+    from ..guidance.mission.terrain_legs import followed_altitude, terrain_track
 
     assert world.terrain is not None
-    track, seg_leg = terrain_track(world.terrain, points, follow)
+    track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)
     c = fly_check(world, track, "ramp", launch=True)
+    # a following leg's altitude is the one it holds (exact), not its chords' (a centimetre under it over a crest)
+    seg_alt = np.where(follow[seg_leg], followed_altitude(world.terrain, points, follow)[seg_leg], c.leg_altitude_m)
+    c = replace(c, leg_altitude_m=seg_alt, min_altitude_m=float(seg_alt.min()),
+                min_altitude_leg=int(np.argmin(seg_alt)))
     lim = c.limits
     assert lim is not None
 
@@ -287,7 +317,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
-                     follow: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     follow: np.ndarray | None = None, first: int = 1,
+                     flown: FlownTrack | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
 
@@ -305,6 +336,10 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         ``(N - 1,)`` the legs flown following the seabed (a ``.plan``'s terrain frame): predicted and tested on
         that track (:func:`~auvplan.guidance.mission.terrain_legs.terrain_track`), not on the straight line between
         their items, which ArduSub does not fly.
+    first : int, optional
+        The number of the first leg (``mission check``: 0, each leg named by the waypoint it leaves).
+    flown : FlownTrack, optional
+        The track of ``follow``'s legs, when the caller has it.
 
     Returns
     -------
@@ -322,10 +357,11 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy) if follow is None or world.terrain is None else \
-        _navigation_as_flown(world, nav, points, kinds, follow)
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first) \
+        if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
+                                                                              flown)
     b = c.budget
-    legs = [{"leg": k + 1, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
             for k in range(len(b.leg_error_m))]
     lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
@@ -341,7 +377,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
-                         follow: np.ndarray) -> Any:
+                         follow: np.ndarray, first: int = 1, flown: FlownTrack | None = None) -> Any:
     """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
     gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
     from ..guidance.mission.terrain_legs import terrain_track
@@ -350,7 +386,7 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     from ..nav.mission import NavCheck
 
     assert world.terrain is not None
-    track, seg = terrain_track(world.terrain, points, follow)
+    track, seg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)
     ends = np.r_[0, np.flatnonzero(np.r_[seg[1:] != seg[:-1], True]) + 1]  # each waypoint's vertex on the track
     on_track = [""] * len(track)
     for j, kind in zip(ends, kinds, strict=True):
@@ -366,10 +402,10 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     lock = np.bincount(seg, c.budget.leg_lock * length, n) / np.bincount(seg, length, n)
     msg = ""
     if (over := np.flatnonzero(err > nav.max_error_m * (1.0 + 1e-9))).size:
-        msg = f"leg {over[0] + 1}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
+        msg = f"leg {over[0] + first}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + 1}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
+        msg = (f"leg {k + first}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
                f"{alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
     budget = NavBudget(c.budget.error_m[ends], err, lock, kinds, c.budget.max_error_m)
     return NavCheck(budget, alt, clear, not msg, msg)

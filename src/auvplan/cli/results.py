@@ -90,6 +90,8 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
               f"{check.min_altitude_leg}), {obstacles}{held}")
         print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
               + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
+        if c.speed_line:  # legs the file does not give a speed for: judged at the vehicle's
+            print(f"{name}: {c.speed_line}")
         print(f"{name}: {c.energy_line}")
         print(f"{name}: {c.deploy_line}")
         if c.terrain_following:  # a .plan's terrain-frame legs, flown following the seabed

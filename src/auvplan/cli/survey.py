@@ -42,8 +42,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
                 f"{rec['overlap_max_pct']:.1f} %, {rec['flown']['gaps']} gaps)" if rec["flown"] else "")
              + f"\n  survey {rec['survey_length_m'] / 1e3:.1f} km"
              + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
-             + f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']} lines, "
-               f"{m['lines_saved']} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
+             + _versus_lawnmower(m)
              + (f"\n  {rec['nav_spacing']['text']}" if rec.get("nav_spacing") else "")
              + (f"\n  {rec['message']}" if rec["message"] else "")
              + "".join(f"\n  note: {n}" for n in rec.get("notes", [])))
@@ -57,6 +56,15 @@ def cmd_survey(args: argparse.Namespace) -> int:
         if args.out:
             print(f"results in {args.out}/")
     return 0 if rec["status"] in ("EXACT", "APPROXIMATE") else 1
+
+
+def _versus_lawnmower(m: dict[str, float]) -> str:
+    """The comparison with the fixed lawnmower, where the survey saves something; else what the lawnmower flies
+    (a corridor as wide as two swaths is two lines either way: a "saving" of minus the bends' length)."""
+    head = f"; fixed lawnmower for {m['shallowest_m']:.0f} m: {m['lines']:.0f} lines"
+    if m["lines_saved"] > 0 or m["line_length_saved_m"] > 0.0:
+        return head + f", {m['lines_saved']:.0f} lines and {m['line_length_saved_m'] / 1e3:.1f} km of line saved"
+    return head + f", {m['line_length_m'] / 1e3:.1f} km: the depth-adaptive spacing saves no line here"
 
 
 def _json(rec: dict[str, object]) -> str:

@@ -47,7 +47,8 @@ class NavCheck:
 
 
 def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
-                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> NavCheck:
+                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
+                     first_leg: int = 1) -> NavCheck:
     """Predict a mission's error and test its legs under it (what ``mission check`` prints per leg).
 
     Parameters
@@ -64,6 +65,8 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         The USBL ship's local position (m).
     step : float, optional
         Sampling of the altitude schedule and of the clearance test (m).
+    first_leg : int, optional
+        The number the message gives the first leg (``mission check``: 0, a leg named by the waypoint it leaves).
 
     Returns
     -------
@@ -78,11 +81,12 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
     msg = ""
     if over.size:
         k = int(over[0])
-        msg = f"leg {k + 1}: predicted error {budget.leg_error_m[k]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
+        msg = (f"leg {k + first_leg}: predicted error {budget.leg_error_m[k]:.1f} m exceeds max_error_m "
+               f"{nav.max_error_m:g} m")
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + 1}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an obstacle "
-               f"comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+        msg = (f"leg {k + first_leg}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an "
+               f"obstacle comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
     return NavCheck(budget, alt, clear, not msg, msg)
 
 

@@ -1,13 +1,13 @@
 """``mission check`` of a mission held in memory, re-checking only the legs an edit changed.
 
 The figures are those of ``auvplan mission check`` on the mission's exported file
-(:func:`auvplan.guidance.mission.waypoints.fly_check` under the executor's depth semantics,
+(:func:`auvplan.guidance.mission.flycheck.fly_check` under the executor's depth semantics,
 :func:`auvplan.path.flyable.check_limits` against the ``[vehicle]``, the energy budget of
 :func:`auvplan.endurance.mission_budget` from the scenario's start time; in a steady current each
 leg's flight is cached too, :mod:`auvplan.serve.budget`).  Each leg's seabed and
-obstacle figures depend on its two ends only (:func:`~auvplan.guidance.mission.waypoints.leg_figures`), and
+obstacle figures depend on its two ends only (:func:`~auvplan.guidance.mission.flycheck.leg_figures`), and
 each segment of the held-depth executor's track on its own ends
-(:func:`~auvplan.guidance.mission.waypoints.segment_figures`): both are kept in a cache keyed by the ends'
+(:func:`~auvplan.guidance.mission.flycheck.segment_figures`): both are kept in a cache keyed by the ends'
 coordinates, so moving one waypoint re-checks two legs and the few track segments that moved.
 """
 
@@ -21,8 +21,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..endurance import EnergyModel
+from ..guidance.mission.flycheck import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
 from ..guidance.mission.limits import waypoint_limits
-from ..guidance.mission.waypoints import SEMANTICS, MissionCheck, held_track, leg_figures, segment_figures
 from ..guidance.mission.zone_legs import held_zone_entries
 from ..path.legs import helm_check
 from ..sim import Mission
@@ -130,7 +130,7 @@ class IncrementalCheck:
         return arr[:, 0], arr[:, 1].astype(np.int64), len(missing)
 
     def fly_check(self, waypoints: _F64, settings: CheckSettings) -> tuple[MissionCheck, NDArray[np.bool_], int]:
-        """:func:`auvplan.guidance.mission.waypoints.fly_check`, from cached leg figures.
+        """:func:`auvplan.guidance.mission.flycheck.fly_check`, from cached leg figures.
 
         Parameters
         ----------

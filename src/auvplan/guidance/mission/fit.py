@@ -27,7 +27,7 @@ split points closer to a chord's ends are not taken, and near-duplicates left ar
 :func:`auvplan.guidance.mission.legs.merge_short_legs`), each turn region reaches ``TURN_SLACK`` R past its
 tangent points, and the mission keeps its waypoint budget (:func:`auvplan.path.legs.waypoint_budget`: the
 tolerance is doubled until it does), so that every leg of every export holds the limits judged on its own
-(issue 49).  The exact envelope test (:func:`auvplan.guidance.mission.waypoints.envelopes_free`) then checks the
+(issue 49).  The exact envelope test (:func:`auvplan.guidance.mission.envelopes.envelopes_free`) then checks the
 static obstacles, and :func:`auvplan.path.legs.helm_check` the result leg by leg; where the pitch limit keeps
 the schedule off ``follow_altitude ± tolerance`` the :class:`AltitudeBand` says so.
 """
@@ -54,8 +54,8 @@ from ...path.pitch import (
     pitch_profile,
 )
 from ...world import World
+from .envelopes import envelopes_free
 from .legs import merge_short_legs
-from .waypoints import envelopes_free
 
 __all__ = ["MissionFit", "AltitudeBand", "fit_mission", "fit_turns", "flown_distance", "TURN_SLACK"]
 
@@ -383,7 +383,7 @@ def fit_turns(waypoints: FloatArray, world: World, radius: float, rounds: int = 
     For a planned mission (not a route the operator wrote): while some leg's turns need more than
     its length (:func:`auvplan.path.flyable.leg_turn_radius` below ``radius``), the sharper interior
     corner at its ends is removed when the new leg's envelope is free
-    (:func:`auvplan.guidance.mission.waypoints.envelopes_free`); a corner that cannot go stays, and the check
+    (:func:`auvplan.guidance.mission.envelopes.envelopes_free`); a corner that cannot go stays, and the check
     of :func:`fit_mission` then names it.
 
     Parameters

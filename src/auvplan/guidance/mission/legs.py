@@ -7,7 +7,13 @@ ends are rounded, or a turn no vehicle makes.  :func:`merge_short_legs` drops on
 shorter than the shortest leg allowed, never the mission's ends or its fixed vertices (an operator's
 corners), and only where the leg that replaces the two is safe:
 
-* its envelope (depth held at either end, :func:`auvplan.guidance.mission.waypoints.envelopes_free`) is free,
+* the straight leg is free by the exact test every export's check applies (:meth:`World.segments_free` without
+  the moving obstacles: the seabed's exact walk, the static obstacles' margins, land, the charted zones'
+  segment-vs-prism test), or one of the two straight legs it replaces was not (the check refuses that mission
+  whatever is merged): a vertex moved by a few centimetres can cut a corner into the seabed over a crest or
+  into a zone, and a ramp executor flies the straight leg, so a merge in a mission whose envelopes are not
+  free (a climb over a crest) must be proven by this test, not by the envelope's;
+* its envelope (depth held at either end, :func:`auvplan.guidance.mission.envelopes.envelopes_free`) is free,
   or one of the two legs it replaces was not free already (the merge loses no safety the mission had);
 * its pitch is at most the larger of the limit and the steeper of the two legs it replaces.
 
@@ -22,7 +28,7 @@ from numpy.typing import ArrayLike
 from ..._types import FloatArray, IntArray
 from ...path.flyable import leg_pitch_deg
 from ...world import World
-from .waypoints import envelopes_free
+from .envelopes import envelopes_free
 
 __all__ = ["merge_short_legs"]
 
@@ -35,6 +41,11 @@ def _droppable(world: World, q: FloatArray, j: int, max_pitch_deg: float) -> boo
     old = q[j - 1:j + 2]
     new_pitch = abs(float(leg_pitch_deg(np.stack([a, b]))[0]))
     if new_pitch > max(max_pitch_deg, float(np.abs(leg_pitch_deg(old)).max())) + 1e-9:
+        return False
+    # the straight legs: the exact test (the ends are the mission's own, so their point limits are unchanged)
+    segs = np.stack([np.stack([a, b]), old[:2], old[1:]])
+    free = world.segments_free(segs, moving=False, ends_free=True)
+    if not free[0] and free[1:].all():
         return False
     if bool(envelopes_free(world, a[None], b[None])[0]):
         return True

@@ -1,6 +1,6 @@
 """The convex limits of a waypoint mission: the sea surface, the scenario's depth band and bounds.
 
-The seabed and the obstacles need the legs' exact geometry (:func:`auvplan.guidance.mission.waypoints.fly_check`);
+The seabed and the obstacles need the legs' exact geometry (:func:`auvplan.guidance.mission.flycheck.fly_check`);
 these three limits do not.  Each is convex (a half-space or a box), and under both depth
 semantics a vehicle's depth on a leg stays between depths the mission itself names: ``"ramp"``
 moves linearly from one end to the other; ``"held"`` lies in the leg's envelope (between its two

@@ -28,10 +28,11 @@ from ...geometry import as_points
 from ...path.flyable import leg_pitch_deg
 from ...world import World
 from ...world.terrain import Terrain
+from .flycheck import MissionCheck, leg_figures
 from .limits import waypoint_limits
-from .waypoints import MissionCheck, leg_figures
 
-__all__ = ["SAG_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track", "terrain_track"]
+__all__ = ["SAG_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track", "followed_altitude",
+           "terrain_track"]
 
 SAG_M = 0.01
 """The most the track's chords stand off the seabed-following curve they stand for (m)."""
@@ -223,13 +224,40 @@ def flown_pitch_depth(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike)
     return flown.pitch, flown.depth
 
 
-def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True) -> MissionCheck:
-    """:func:`~auvplan.guidance.mission.waypoints.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
+def followed_altitude(terrain: Terrain, waypoints: ArrayLike, follow: ArrayLike) -> FloatArray:
+    """Each leg's least altitude above the seabed as flown, exactly, where ``follow`` marks it: the altitude held
+    goes linearly from one item's to the next's, so its least is the lesser of the two (the track's chords read
+    up to :data:`SAG_M` under it over a crest: a leg held at ``min_altitude_m`` failed by a centimetre).
+
+    Parameters
+    ----------
+    terrain : Terrain
+        The seabed.
+    waypoints : array_like
+        ``(N, 3)`` mission waypoints (m).
+    follow : array_like of bool
+        ``(N - 1,)``: the legs flown following the seabed.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N - 1,)`` the least altitude (m) of each marked leg; ``inf`` on the others.
+    """
+    w, f = _flags(waypoints, follow)
+    held = w[:, 2] - np.asarray(terrain.elevation(w[:, 0], w[:, 1]), dtype=float)  # each item's altitude
+    out: FloatArray = np.where(f, np.minimum(held[:-1], held[1:]), np.inf)
+    return out
+
+
+def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch: bool = True, *,
+                   flown: FlownTrack | None = None) -> MissionCheck:
+    """:func:`~auvplan.guidance.mission.flycheck.fly_check` (``"ramp"``) with the legs ``follow`` marks measured as
     they are flown: on the seabed-following track (:func:`terrain_track`), not on the straight line between their
     items, which such an executor does not fly.
 
-    Each marked leg's least altitude, obstacle contact and least obstacle distance are those of its track's
-    segments (exact on each segment, as for a straight leg); unmarked legs are the straight 3D legs.  The surface,
+    Each marked leg's least altitude is the altitude it holds (:func:`followed_altitude`, exact), its obstacle
+    contact and least obstacle distance those of its track's segments (exact on each segment, as for a straight
+    leg); unmarked legs are the straight 3D legs.  The surface,
     depth band and bounds are tested at the waypoints (``limits``), as ``fly_check`` does; the track's own
     extremes between items are ``mission check``'s terrain-following verdict.
 
@@ -243,6 +271,8 @@ def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch
         ``(N - 1,)``: the legs flown following the seabed (without a seabed none is).
     launch : bool, optional
         Waypoint 0 is a launch point on the surface (exempt from the depth band).
+    flown : FlownTrack, optional
+        :func:`flown_track` of these waypoints and flags, when the caller has it (not computed again).
 
     Returns
     -------
@@ -257,10 +287,10 @@ def check_as_flown(world: World, waypoints: ArrayLike, follow: ArrayLike, launch
     alt[~f], hits[~f], dist[~f] = leg_figures(world, w[:-1][~f], w[1:][~f], "ramp")  # the straight legs flown
     if f.any():
         assert world.terrain is not None
-        track, seg_leg = terrain_track(world.terrain, w, f)
+        track, seg_leg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, w, f)
         on = f[seg_leg]
-        t_alt, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
-        np.minimum.at(alt, seg_leg[on], t_alt)
+        _, t_hits, t_dist = leg_figures(world, track[:-1][on], track[1:][on], "ramp")
+        alt[f] = followed_altitude(world.terrain, w, f)[f]  # the altitude held, not its chords' (under a crest)
         np.logical_or.at(hits, seg_leg[on], t_hits)
         np.minimum.at(dist, seg_leg[on], t_dist)
     m = world.margins

@@ -4,8 +4,8 @@ A straight 3D leg is what a ``"ramp"`` executor flies (ArduSub, the polyline for
 segment test decides it.  A ``"held"`` executor (MOOS-IvP: one depth per leg) changes depth at a finite pitch
 from wherever the previous leg left it: on a leg it lies anywhere in the leg's envelope (the vertical rectangle
 between its two ends' depths), and a change not finished when a leg ends carries on into the next, outside that
-leg's envelope (:func:`~auvplan.guidance.mission.waypoints.held_track`).  :func:`held_zone_entries` tests both,
-as :func:`~auvplan.guidance.mission.waypoints.fly_check` does for the seabed and the obstacles: a mission that
+leg's envelope (:func:`~auvplan.guidance.mission.flycheck.held_track`).  :func:`held_zone_entries` tests both,
+as :func:`~auvplan.guidance.mission.flycheck.fly_check` does for the seabed and the obstacles: a mission that
 climbs early through a band its straight legs pass under is caught.
 """
 
@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from ..._types import IntArray
 from ...geometry import as_points
 from ...world.zones import Zones
-from .waypoints import held_track
+from .flycheck import held_track
 
 __all__ = ["held_zone_entries"]
 

@@ -15,6 +15,9 @@ result is never stale**:
 * the code: a SHA-256 of every ``.py`` file of the ``auvplan`` package, and the names (with their
   versions) of every installed distribution, so that an edit of auvplan or an upgrade of numpy, scipy,
   numba, netCDF4, xarray or pyproj makes every entry a miss.
+* the machine (:func:`host_stamp`): the compiled kernels a reader runs (the seabed's, with fused
+  multiply-adds where the CPU has them) give other bits on another CPU, so a cache folder shared between
+  machines (a network home, a copied ``~/.cache``) or a ``NUMBA_CPU_NAME`` set keeps one entry per CPU.
 
 An entry is one ``.npz`` (the arrays and a JSON record), written to a temporary file and renamed into place
 (a reader in another process sees the whole entry or none); one that cannot be read back is recomputed and
@@ -32,6 +35,7 @@ import hashlib
 import json
 import logging
 import os
+import platform
 import sys
 import tempfile
 import threading
@@ -43,7 +47,8 @@ import numpy as np
 
 from ..limits import current
 
-__all__ = ["cache_dir", "cache_enabled", "cached", "code_stamp", "dataset_files", "file_stamp", "request_key"]
+__all__ = ["cache_dir", "cache_enabled", "cached", "code_stamp", "dataset_files", "file_stamp", "host_stamp",
+           "request_key"]
 
 T = TypeVar("T")
 """What a reader returns."""
@@ -96,7 +101,7 @@ def code_stamp() -> str:
     str
         Hex digest; computed once per process (~10 ms).
     """
-    h = hashlib.sha256(f"{_VERSION}\0{sys.version}\0".encode())
+    h = hashlib.sha256(f"{_VERSION}\0{sys.version}\0{host_stamp()}\0".encode())
     root = str(Path(__file__).resolve().parents[2])
     for rel in _py_files(root):
         with open(os.path.join(root, rel), "rb") as fh:
@@ -109,6 +114,34 @@ def code_stamp() -> str:
         if names:  # a folder without distributions (a test or source folder on the path) changes nothing
             h.update("\0".join(names).encode() + b"\0")
     return h.hexdigest()
+
+
+@functools.cache
+def host_stamp() -> str:
+    """The CPU compiled kernels are built for: numba compiles for the host's (``NUMBA_CPU_NAME`` and
+    ``NUMBA_CPU_FEATURES`` override it) and its fast-math kernels fuse multiply-adds where the CPU has them, so
+    the bits of a kernel's results (the seabed under an altitude position, a seabed model's nodes) are the CPU's.
+
+    Read from ``/proc/cpuinfo`` (the first processor's model and flags; ~1 ms), not from numba or llvmlite,
+    whose import the cache is there to spare (issue 56); elsewhere from :mod:`platform`.
+
+    Returns
+    -------
+    str
+        The machine's architecture, the overrides, and the first processor's model and flags.
+    """
+    parts = [platform.machine(), os.environ.get("NUMBA_CPU_NAME", ""), os.environ.get("NUMBA_CPU_FEATURES", "")]
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                if not line.strip() and len(parts) > 3:
+                    break  # the first processor's block
+                if line.split(":", 1)[0].strip() in ("model name", "flags", "Features", "CPU implementer",
+                                                      "CPU part"):
+                    parts.append(" ".join(line.split()))
+    except OSError:
+        parts.append(platform.processor())
+    return "\0".join(parts)
 
 
 def _py_files(root: str) -> list[str]:

@@ -108,7 +108,7 @@ class DeployInfo:
         straight leg the fitted mission keeps within it.  None: every waypoint with an altitude.
     leg_floor : numpy.ndarray or None
         ``(N - 1,)`` with ``altitude``: each leg's least altitude on the chart at its held depth (the leg's envelope,
-        :func:`auvplan.guidance.mission.waypoints.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
+        :func:`auvplan.guidance.mission.flycheck.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
         a floor above it would lift the vehicle off the depth ``mission check`` judged wherever the charted seabed
         rises between two waypoints.  None: no bound beyond the waypoints' altitudes.
     """
@@ -217,7 +217,7 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
                    _exclusions(world, shapely.Polygon(poly), track))
     altitude = items = floor = None
     if mission.follow_altitude_m > 0 and world.terrain is not None:
-        from ...guidance.mission.waypoints import leg_figures
+        from ...guidance.mission.flycheck import leg_figures
 
         altitude = w[:, 2] - np.asarray(world.seabed(w[:, 0], w[:, 1]), dtype=float)
         items = _terrain_items(world, w, mission.vehicle.max_pitch_deg)
@@ -237,8 +237,8 @@ def _followed_free(world: World, w: NDArray[np.float64], track: NDArray[np.float
     """Per leg: its seabed-following track (``track``, its segments' legs ``leg``) keeps every limit ``mission
     check`` judges it by (the seabed, static obstacles, the surface, the depth band, the bounds and the zones), as
     the straight leg the fit made does."""
+    from ...guidance.mission.flycheck import leg_figures
     from ...guidance.mission.limits import waypoint_limits
-    from ...guidance.mission.waypoints import leg_figures
 
     alt, bad, _ = leg_figures(world, track[:-1], track[1:], "ramp")
     bad |= alt < world.margins.min_altitude

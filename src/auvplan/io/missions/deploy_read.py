@@ -300,18 +300,20 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
               duration: float) -> dict[str, Any]:
     """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
     pts = w[:, :2]
-    if info.geographic:
-        if origin is None:
+    assert info.polygon is not None
+    rings = [info.polygon, *info.exclusions]
+    if info.geographic:  # [lat, lon] rings compared in the local frame, where the envelope was made: in degrees a
+        if origin is None:  # ring across the antimeridian (179.99 and -179.99) went round the Earth the other way
             raise DataError("a geographic envelope needs the scenario's [origin]")
-        lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
-        pts = np.column_stack([lat, lon])
+        frame = LocalFrame(*origin)
+        rings = [np.column_stack(frame.forward(r[:, 1], r[:, 0])) for r in rings]
     track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
     reasons = []
-    region = shapely.Polygon(info.polygon)
+    region = shapely.Polygon(rings[0])
     if not region.covers(track):
         outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
         reasons.append(f"the mission leaves the envelope's polygon ({outside} waypoints outside)")
-    hit = [k for k, e in enumerate(info.exclusions) if shapely.Polygon(e).intersects(track)]
+    hit = [k for k, e in enumerate(rings[1:]) if shapely.Polygon(e).intersects(track)]
     if hit:
         reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
     lim = info.limits
@@ -322,14 +324,14 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
     if "max_time_s" in lim and duration > lim["max_time_s"]:
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
-    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),  # type: ignore[arg-type]
+    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
 
 
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
                       min_altitude_m: float, speed: float) -> tuple[dict[str, Any], str]:
     """:func:`check_deploy` of a file read by ``mission check`` (its leg speeds from the file where it has
-    them, else ``speed``) and the result in one line.
+    them, else ``speed``: :func:`~auvplan.io.missions.speeds.judged_leg_speeds`) and the result in one line.
 
     Parameters
     ----------
@@ -354,11 +356,11 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
         ``datum …; envelope OK|FAIL|none …; payload …``.
     """
     from .formats import planned_times
-    from .speeds import read_leg_speeds
+    from .speeds import judged_leg_speeds
 
     w = points[1:] if fmt == "qgc" else points
-    v = read_leg_speeds(path, len(w) - 1)
-    duration = float(planned_times(w, speed if v is None else v)[-1]) if len(w) > 1 else 0.0
+    v = judged_leg_speeds(path, len(points) - 1, speed).speeds  # a .plan's launch leg first: not timed
+    duration = float(planned_times(w, v[1:] if fmt == "qgc" else v)[-1]) if len(w) > 1 else 0.0
     rec = check_deploy(path, origin, points, min_altitude_m, duration)
     d, e = rec["datum"], rec["envelope"]
     datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d

@@ -32,7 +32,7 @@ from .. import limits as _limits
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
-from .speeds import read_leg_speeds as file_leg_speeds
+from .speeds import judged_leg_speeds, read_holds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
@@ -194,7 +194,8 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
-    """A mission file's energy budget from the scenario's start time, at the speeds the file carries.
+    """A mission file's energy budget from the scenario's start time, at the speeds the file carries, with the
+    time a ``.plan`` holds at a waypoint or a timed loiter spent there at hotel power (:func:`read_holds`).
 
     Parameters
     ----------
@@ -208,7 +209,9 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     Returns
     -------
     record : dict
-        ``energy_status``, ``energy_wh``, ``margin_wh``, ``duration_s``, ``energy_message``, ``leg_speeds_mps``.
+        ``energy_status``, ``energy_wh``, ``margin_wh``, ``duration_s``, ``energy_message``, ``leg_speeds_mps``,
+        ``speed_assumed_legs`` and ``speed_assumed_line`` (the legs whose speed the file does not carry, judged at
+        the vehicle's speed: :func:`~auvplan.io.missions.speeds.judged_leg_speeds`).
     ok : bool
         Whether the reserve is kept.
     line : str
@@ -221,14 +224,21 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
     model = EnergyModel.from_vehicle(mission.vehicle)
-    carried = file_leg_speeds(path, waypoints.shape[0] - 1)
-    speeds = mission.vehicle.speed if carried is None else carried
+    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed)  # the vehicle's where not carried
+    speeds = judged.speeds
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
     nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
-    dwell = None if nav is None else [nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)]
-    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell)
+    dwell: NDArray[np.float64] | None = None if nav is None else \
+        np.array([nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)])
+    held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there (hotel power)
+    if held is not None:
+        dwell = held if dwell is None else dwell + held
+    # ArduSub holds the item against the current (its position controller): the power of that current's speed
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell,
+                       None if held is None else held > 0)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist()}
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
+           "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
     return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
 
 

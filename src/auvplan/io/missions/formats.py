@@ -8,7 +8,8 @@ the ``route`` of a :class:`~auvplan.sim.RunRecord`):
   ``BHV_ConstantDepth`` per leg, active while ``DEPLOY = true`` and ``WPT_INDEX`` (posted by the
   waypoint behaviour: the index of the point it is heading to) is that leg.  Depth is **held**
   per leg (semantics ``"held"``).
-* ``mission.plan`` — QGroundControl plan for ArduSub: ``MAV_CMD_NAV_WAYPOINT`` (16) items in
+* ``mission.plan`` — QGroundControl plan for ArduSub: a leading ``MAV_CMD_DO_CHANGE_SPEED`` (178) at
+  the planned speed (QGroundControl never uploads ``cruiseSpeed``), then ``MAV_CMD_NAV_WAYPOINT`` (16) items in
   ``MAV_FRAME_GLOBAL_RELATIVE_ALT`` (3), altitude = −depth relative to a home on the surface above
   the start; ArduSub's WPNav flies the 3D line (semantics ``"ramp"``), starting from home.
 * ``mission.gpx`` — GPX 1.1: the mission as a route (``rte``, ``ele`` = z, negative below sea
@@ -42,6 +43,7 @@ from .readers import (
     MAX_MISSION_BYTES,
     MISSION_SUFFIXES,
     ZERO_ALT_M,
+    ZERO_LATLON_DEG,
     check_mission_file,
     parse_gpx,
     parse_moos,
@@ -188,14 +190,26 @@ def _global_mode(items: list[dict[str, Any]]) -> int:
     return modes.pop() if len(modes) == 1 else 0 if modes else 1
 
 
+def _change_speed(speed: float, jump_id: int) -> dict[str, Any]:
+    """A ``MAV_CMD_DO_CHANGE_SPEED`` item as QGroundControl writes its mission's flight speed (``SpeedSection``):
+    param 1 the speed type (1: ground speed), param 2 the speed (m/s; ArduSub's ``do_change_speed`` sets WPNav's
+    horizontal speed to it), param 3 the throttle (−1: unchanged), ``MAV_FRAME_MISSION`` (2)."""
+    return {"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": jump_id, "frame": 2,
+            "params": [1, round(speed, 4), -1, 0, 0, 0, 0]}
+
+
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
                 acceptance_radius: float = 5.0, deploy: DeployInfo | None = None) -> dict[str, Any]:
     """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
 
     Home on the surface above the first point, one ``MAV_CMD_NAV_WAYPOINT`` per point with
-    altitude = z (negative: depth) relative to home.  With a speed per leg that varies, a
-    ``MAV_CMD_DO_CHANGE_SPEED`` (178; speed type 1, the speed, throttle −1) after waypoint i sets
-    the speed of leg i (ArduSub's WPNav horizontal speed).
+    altitude = z (negative: depth) relative to home.  The plan's first item is a
+    ``MAV_CMD_DO_CHANGE_SPEED`` (178; speed type 1, the speed, throttle −1: QGroundControl's own
+    "Mission Start" flight speed) at the first leg's speed: ArduSub's ``do_change_speed`` sets WPNav's
+    horizontal speed from it, so the launch from home and every leg after it fly the planned speed
+    (``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates: never uploaded, the vehicle
+    would fly its ``WPNAV_SPEED`` parameter).  With a speed per leg that varies, a 178 after
+    waypoint i sets the speed of leg i.
 
     Parameters
     ----------
@@ -220,7 +234,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
-    items: list[dict[str, Any]] = []
+    first = float(v[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
+    items: list[dict[str, Any]] = [] if not first > 0 else [_change_speed(first, 1)]  # the launch's speed
     alt = deploy.altitude if deploy is not None else None
     terrain = None if alt is None or deploy is None else deploy.terrain_items
     events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
@@ -233,13 +248,14 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
             # ArduSub reads an altitude under 1 cm as "keep the current altitude": the surface is 1 cm deep
             h, frame_id, mode = round(float(z), 3), 3, 1
             h = -ZERO_ALT_M if abs(h) < ZERO_ALT_M else h
+        if max(abs(la), abs(lo)) < ZERO_LATLON_DEG:  # ArduSub reads (0, 0) as "stay where you are": 1.1 cm north
+            la = ZERO_LATLON_DEG
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
         if _varies(v) and i < v.size:
-            items.append({"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": len(items) + 1,
-                          "frame": 2, "params": [1, round(float(v[i]), 4), -1, 0, 0, 0, 0]})
+            items.append(_change_speed(float(v[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
     speed = float(v[0]) if v.size else 0.0

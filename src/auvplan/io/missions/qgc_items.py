@@ -9,9 +9,11 @@ will fly, never a part of it):
 - ``MAV_CMD_NAV_WAYPOINT`` (16): its position.
 - The loiters ``MAV_CMD_NAV_LOITER_UNLIM`` (17) and ``_TIME`` (19) with a radius of 0 (param 3) or none: the
   vehicle goes to the point and holds it there (ArduSub's ``do_loiter_unlimited``), so they are read as a
-  waypoint; with a radius: refused.  ``_TURNS`` (18) is refused whatever its radius: ArduSub's ``do_circle``
-  circles the point at its radius, or at ``CIRCLE_RADIUS`` (10 m by default) when it is 0; so is ``_TO_ALT``
-  (31), which ArduSub does not fly (its ``start_command`` skips it: the vehicle goes on to the next item).
+  waypoint; with a radius: refused.  ``_UNLIM`` never completes (ArduSub's ``verify_loiter_unlimited``): only
+  as the last position; before it, refused (the items after it are never flown).  ``_TURNS`` (18) is refused
+  whatever its radius: ArduSub's ``do_circle`` circles the point at its radius, or at ``CIRCLE_RADIUS`` (10 m
+  by default) when it is 0; so is ``_TO_ALT`` (31), which ArduSub does not fly (its ``start_command`` skips it:
+  the vehicle goes on to the next item).
 - A ``ComplexItem`` ``"survey"`` or ``"CorridorScan"``: the mission items QGC generated for it, which the file
   stores under ``TransectStyleComplexItem.Items`` (QGC uploads exactly these; ``VisualTransectPoints`` is only
   the drawing), walked in order under the same rules. ``"StructureScan"`` stores no items (QGC regenerates them
@@ -31,13 +33,18 @@ from typing import Any
 
 from ...errors import DataError
 
-__all__ = ["NAV_WAYPOINT", "LOITERS", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem", "plan_items"]
+__all__ = ["NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
+           "plan_items"]
 
 NAV_WAYPOINT = 16
 """``MAV_CMD_NAV_WAYPOINT``."""
 
 LOITERS = {17: ("MAV_CMD_NAV_LOITER_UNLIM", 2), 19: ("MAV_CMD_NAV_LOITER_TIME", 2)}
 """The loiters at a position: command → (name, index of its radius parameter)."""
+
+LOITER_UNLIM = 17
+"""``MAV_CMD_NAV_LOITER_UNLIM``: ArduSub's ``verify_loiter_unlimited`` never completes, so it is read as its point
+only as the last position (where a mission's end holds the vehicle anyway); before it: refused."""
 
 HARMLESS = {178: "MAV_CMD_DO_CHANGE_SPEED", 181: "MAV_CMD_DO_SET_RELAY", 203: "MAV_CMD_DO_DIGICAM_CONTROL",
             206: "MAV_CMD_DO_SET_CAM_TRIGG_DIST", 2000: "MAV_CMD_IMAGE_START_CAPTURE",
@@ -154,6 +161,12 @@ def plan_items(doc: Mapping[str, Any]) -> list[PlanItem]:
                 out.extend(_pattern(item, where))
             else:
                 out.append(_simple(item, where))
+        moves = [it for it in out if it.moves]
+        held = next((it for it in moves[:-1] if it.command == LOITER_UNLIM), None)
+        if held is not None:  # its verify never completes: the vehicle holds there, the rest is never flown
+            raise _refuse(held.where, f"MAV_CMD_NAV_LOITER_UNLIM ({LOITER_UNLIM}) before the last position (ArduSub "
+                                      "holds its point until the mission is stopped: the items after it are never "
+                                      "flown)")
         return out
     except (KeyError, IndexError, TypeError, AttributeError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc

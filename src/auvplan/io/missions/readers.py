@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from ...guidance.mission.terrain_legs import check_as_flown
-from ...guidance.mission.waypoints import MissionCheck, fly_check
+from ...guidance.mission.flycheck import MissionCheck, fly_check
+from ...guidance.mission.terrain_legs import FlownTrack, check_as_flown
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
@@ -39,11 +39,17 @@ __all__ = [
     "read_mission",
     "check_mission_file",
     "ZERO_ALT_M",
+    "ZERO_LATLON_DEG",
 ]
 
 ZERO_ALT_M = 0.01
 """ArduSub stores an item's altitude in whole centimetres and reads 0 as "keep the current altitude"
 (``do_nav_wp``, ``do_loiter_unlimited``): an altitude under a centimetre is not the point the file gives."""
+
+
+ZERO_LATLON_DEG = 1e-7
+"""ArduSub stores an item's position in 1e-7 degrees and reads latitude and longitude both 0 as "the current
+position" (``do_nav_wp``, ``do_loiter_unlimited``): an item within this of (0°, 0°) is not the point the file gives."""
 
 
 MAX_MISSION_BYTES = 256 * 1024 * 1024
@@ -170,7 +176,7 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
             rows.append((_param(it, 4), _param(it, 5), _param(it, 6)))
             terrain.append(it.frame == 10)
     except DataError:
-        raise
+        raise  # names the item already (a DataError is a ValueError: not a "malformed key")
     except (KeyError, IndexError, TypeError, ValueError) as exc:
         raise DataError(f"QGC plan: missing or malformed key ({exc})") from exc
     kept = next((it for it, r in zip(items, rows[1:], strict=True) if abs(r[2]) < ZERO_ALT_M), None)
@@ -178,6 +184,12 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
         raise DataError(f"QGC plan: {kept.where}: altitude {float(kept.params[6]):g} m: ArduSub reads an altitude "
                         f"under {ZERO_ALT_M:g} m as 'hold the current altitude' and flies there level, not to it; "
                         f"not checked (write -{ZERO_ALT_M:g} for the surface)")
+    null = next((it for it, r in zip(items, rows[1:], strict=True) if max(abs(r[0]), abs(r[1])) < ZERO_LATLON_DEG),
+                None)
+    if null is not None:  # stored in 1e-7 degrees: (0, 0) is "stay where you are" (do_nav_wp, do_loiter_unlimited)
+        raise DataError(f"QGC plan: {null.where}: at latitude {float(null.params[4]):g}, longitude "
+                        f"{float(null.params[5]):g}: ArduSub reads (0, 0) as 'the current position' and goes to the "
+                        f"item's altitude where it is, not to the point; not checked (move it by {ZERO_LATLON_DEG:g}°)")
     a = np.array(rows)
     x, y = frame.forward(a[:, 1], a[:, 0])
     z = a[:, 2].copy()
@@ -426,8 +438,9 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
 
 
 def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
-                       follow: NDArray[np.bool_] | None = None) -> tuple[MissionCheck, str]:
-    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.waypoints.fly_check`).
+                       follow: NDArray[np.bool_] | None = None, flown: FlownTrack | None = None
+                       ) -> tuple[MissionCheck, str]:
+    """Re-fly a mission file under its format's depth semantics (:func:`auvplan.guidance.mission.flycheck.fly_check`).
 
     Parameters
     ----------
@@ -440,6 +453,9 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
     follow : numpy.ndarray of bool, optional
         A ``.plan``'s legs flown following the seabed (:func:`auvplan.io.missions.terrain_frame.terrain_legs`):
         measured on that track (:func:`auvplan.guidance.mission.terrain_legs.check_as_flown`).
+    flown : FlownTrack, optional
+        That track (:func:`auvplan.guidance.mission.terrain_legs.flown_track` of the file's waypoints and
+        ``follow``), when the caller has it.
 
     Returns
     -------
@@ -462,5 +478,5 @@ def check_mission_file(path: str | Path, world: World, pitch_deg: float = 15.0,
     if follow is not None and follow.any():
         if semantics != "ramp" or follow.size != len(waypoints) - 1:
             raise ValueError(f"follow: {follow.size} flags for a {semantics} mission of {len(waypoints)} waypoints")
-        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc"), fmt
+        return check_as_flown(world, waypoints, follow, launch=fmt == "qgc", flown=flown), fmt
     return fly_check(world, waypoints, semantics, pitch_deg, launch=fmt == "qgc"), fmt

@@ -5,17 +5,27 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
 * MOOS (``.moos``/``.bhv``): leg i's ``runflag = WPT_UPDATE = speed=v`` in the depth behaviour of
   ``WPT_INDEX = i``, else the waypoint behaviour's ``speed`` (the deploy point is waypoint 0, so leg
   0 of the file's points is leg 0 here);
-* QGroundControl (``.plan``): home → first item at ``cruiseSpeed``, then each
-  ``MAV_CMD_DO_CHANGE_SPEED`` (178) sets the speed of the legs after it;
+* QGroundControl (``.plan``): each ``MAV_CMD_DO_CHANGE_SPEED`` (178) sets the speed of the legs after it
+  (param 2, m/s: ArduSub's ``do_change_speed`` sets WPNav's horizontal speed); the legs before the first carry
+  none (NaN): ArduSub flies them at its ``WPNAV_SPEED`` parameter (cm/s; AC_WPNav's default 1000, 500 in older
+  releases), which the file does not hold.  ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of
+  the mission's time, never uploaded to the vehicle: not read as a speed;
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
 
-Other formats carry no speed (None).
+Other formats carry no speed (None).  :func:`judged_leg_speeds` fills the legs a file does not carry at the
+scenario vehicle's speed and names them (``mission check``'s ``speed_assumed_legs``).
+
+A ``.plan`` also carries the time held at a position (:func:`read_holds`): a ``MAV_CMD_NAV_WAYPOINT``'s or a
+``MAV_CMD_NAV_LOITER_TIME``'s param 1 (whole seconds: ArduSub's ``loiter_time_max``), spent there before the next
+leg.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -26,7 +36,7 @@ from ...errors import DataError
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
-__all__ = ["read_leg_speeds"]
+__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -46,16 +56,17 @@ def _moos(text: str, legs: int) -> list[float] | None:
     return v
 
 
-def _qgc(doc: dict[str, Any], legs: int) -> list[float] | None:
-    mission = doc["mission"]
-    speed = float(mission.get("cruiseSpeed") or 0.0)
+def _qgc(doc: dict[str, Any], legs: int) -> tuple[list[float], str | None] | None:
+    """The legs' speeds (NaN before the first speed command: not in the file) and where that command is."""
+    speed, first = math.nan, None  # not cruiseSpeed: QGroundControl never uploads it
     out: list[float] = []
     for it in plan_items(doc):  # the reader's legs (the same walk)
         if it.moves:
             out.append(speed)  # the leg that reaches this position
         elif it.command == 178 and _speed(it) > 0:
             speed = _speed(it)
-    return out if len(out) == legs else None
+            first = it.where if first is None else first
+    return (out, first) if len(out) == legs else None
 
 
 class _BadSpeed(Exception):
@@ -86,16 +97,24 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
     Returns
     -------
     numpy.ndarray or None
-        ``(legs,)`` positive speeds (m/s); None when the format carries none or they do not match.
+        ``(legs,)`` positive speeds (m/s), a ``.plan``'s legs before its first speed command NaN (not in the file:
+        :func:`judged_leg_speeds`); None when the format carries none or they do not match.
     """
-    path = Path(path)
+    v = _read(Path(path), legs)
+    return None if v is None else v[0]
+
+
+def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | None:
+    """:func:`read_leg_speeds` and, for a ``.plan``, where its first speed command is."""
     suffix = path.suffix.lower()
+    first = None
     try:
         text = path.read_text(encoding="utf-8")
         if suffix in (".moos", ".bhv"):
             v = _moos(text, legs)
         elif suffix == ".plan":
-            v = _qgc(json.loads(text), legs)
+            got = _qgc(json.loads(text), legs)
+            v, first = (None, None) if got is None else got
         elif suffix == ".csv":
             speed = csv_columns(text, ("speed",)).get("speed")
             v = None if speed is None else speed[1:].tolist()
@@ -108,12 +127,117 @@ def read_leg_speeds(path: str | Path, legs: int) -> NDArray[np.float64] | None:
     if v is None or len(v) != legs:
         return None
     a = np.asarray(v, dtype=float)
-    fast = np.flatnonzero(np.isfinite(a) & (a > MAX_SPEED_MPS))
+    fast = np.flatnonzero(a > MAX_SPEED_MPS)  # inf too (it dropped every carried speed); a NaN carries none
     if fast.size:  # 1e300 m/s was flown: numpy's overflow warnings, then an energy of inf
         raise DataError(f"{path}: leg {int(fast[0])}'s speed {a[fast[0]]:g} m/s (carried by the file) is over "
                         f"{MAX_SPEED_MPS:g} m/s: not a vehicle's speed")
-    return a if bool(np.all(np.isfinite(a))) and bool(np.all(a > 0)) else None
+    known = np.isfinite(a) if suffix == ".plan" else np.ones(a.shape, dtype=bool)  # a .plan's NaN: before a 178
+    if not known.any() or not bool(np.all(np.isfinite(a[known]))) or not bool(np.all(a[known] > 0)):
+        return None
+    return a, first
+
+
+@dataclass(frozen=True)
+class JudgedSpeeds:
+    """The speed ``mission check`` judges each leg of a mission file at.
+
+    Parameters
+    ----------
+    speeds : numpy.ndarray
+        ``(legs,)`` m/s: the file's, and ``assumed_mps`` where it carries none.
+    assumed_legs : tuple of int
+        The legs whose speed is not in the file (numbered from 0: a ``.plan``'s launch from its home is leg 0).
+    assumed_mps : float
+        The scenario vehicle's speed, at which they are judged (m/s).
+    line : str
+        Which legs and why, one line; empty when the file carries every leg's speed.
+    """
+
+    speeds: NDArray[np.float64]
+    assumed_legs: tuple[int, ...]
+    assumed_mps: float
+    line: str
+
+
+def judged_leg_speeds(path: str | Path, legs: int, speed: float) -> JudgedSpeeds:
+    """The speed of each leg of a mission file as the vehicle will fly it, the legs it does not carry at ``speed``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    legs : int
+        Its number of legs (a ``.plan``'s launch from its home included).
+    speed : float
+        The scenario vehicle's speed (m/s).
+
+    Returns
+    -------
+    JudgedSpeeds
+        The speeds, the legs judged at ``speed`` and the line that says so (a ``.plan``: ``leg speeds before
+        mission.items[3] not in the file: ArduSub flies its WPNAV_SPEED parameter; judged at 1 m/s``).
+    """
+    path = Path(path)
+    got = _read(path, legs)
+    v, first = (np.full(legs, np.nan), None) if got is None else got
+    assumed = tuple(int(k) for k in np.flatnonzero(~np.isfinite(v)))
+    line = ""
+    if assumed:
+        if path.suffix.lower() == ".plan":
+            where = f"before {first}" if first is not None else "(no MAV_CMD_DO_CHANGE_SPEED)"
+            line = (f"leg speeds {where} not in the file: ArduSub flies its WPNAV_SPEED parameter; judged at "
+                    f"{speed:g} m/s (legs {_ranges(assumed)})")
+        else:
+            line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
+    return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
+
+
+def _ranges(legs: tuple[int, ...]) -> str:
+    """``0-4, 7``: consecutive legs as a range."""
+    out: list[str] = []
+    for k in legs:
+        if out and k == int(out[-1].split("-")[-1]) + 1:
+            out[-1] = f"{out[-1].split('-')[0]}-{k}"
+        else:
+            out.append(str(k))
+    return ", ".join(out)
 
 
 MAX_SPEED_MPS = 100.0
 """Fastest leg speed a mission file may carry (m/s); an AUV or a glider flies at a few m/s."""
+
+
+MAX_HOLD_S = 65535.0
+"""Longest hold an item can carry (s): ArduPilot stores param 1 of a waypoint or a timed loiter in 16 bits."""
+
+
+def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
+    """The time a ``.plan`` holds at each of its ``points`` (home first) before the next leg (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file (already read once by :func:`auvplan.io.missions.formats.read_mission`).
+    points : int
+        Its number of points (the home and each position :func:`auvplan.io.missions.qgc_items.plan_items` reads).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(points,)`` seconds (the home's 0; whole seconds as ArduSub counts them); None for another format, a
+        file without a hold, or one that does not match.
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".plan":
+        return None
+    try:
+        moves = [it for it in plan_items(json.loads(path.read_text(encoding="utf-8"))) if it.moves]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError, DataError):
+        return None
+    hold = [0.0]
+    for it in moves:
+        p1 = it.params[0] if it.command in (16, 19) else 0  # an unlimited loiter is the last position: no leg after
+        if isinstance(p1, bool) or not isinstance(p1, (int, float)) or not p1 > 0:
+            p1 = 0  # null (QGC's NaN) or none: no hold
+        hold.append(float(np.floor(min(float(p1), MAX_HOLD_S))))
+    return np.asarray(hold) if len(hold) == points and any(hold) else None

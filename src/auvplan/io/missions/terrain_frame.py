@@ -25,7 +25,7 @@ def terrain_legs(path: str | Path) -> BoolArray:
     at a terrain-frame item (a waypoint, a loiter read as one, a survey's generated waypoint).
 
     The first leg, from the home on the surface down to the first item, is the launch: flown as a straight
-    descent (its depth band is exempt, as in :func:`~auvplan.guidance.mission.waypoints.fly_check`), never
+    descent (its depth band is exempt, as in :func:`~auvplan.guidance.mission.flycheck.fly_check`), never
     marked.
 
     Parameters

@@ -72,7 +72,8 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     layer : str, default ''
         Layer name ('' for the first); for S-57 charts the object class (``CBLSUB``, ``WRECKS`` ...).
     where : str, default ''
-        An OGR SQL attribute filter ('' for every feature).
+        An OGR SQL attribute filter ('' for every feature); it selects the same features with or without
+        ``fields``.
     fields : bool, default False
         Also read the attribute columns.
 
@@ -90,8 +91,10 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         # GDAL kept off the network; its warnings one line each, not Python's two
         with offline(), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
+            # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers test
+            # the filter on the fields asked for, and no field asked for matched no feature
             meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
-                                                     read_geometry=True, columns=None if fields else [])
+                                                     read_geometry=True, columns=None if fields or where else [])
     except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
         raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
@@ -103,6 +106,6 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
         geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
-    names = [str(n) for n in meta.get("fields", [])] if fields else []
-    return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)),
+    names = [str(n) for n in meta.get("fields", [])]
+    return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)) if fields else {},
                        bool(meta.get("crs")))

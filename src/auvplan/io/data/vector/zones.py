@@ -179,7 +179,14 @@ def parse_zones(tables: Any, source: str) -> tuple[ZoneSpec, ...]:
     """
     if not isinstance(tables, list):
         raise ScenarioError(f"{source}: zones = {str(tables)[:60]}: expected an array of tables [[zones]]")
-    return tuple(_one(t, f"{source}: [[zones]] #{i + 1}") for i, t in enumerate(tables))
+    specs = tuple(_one(t, f"{source}: [[zones]] #{i + 1}") for i, t in enumerate(tables))
+    first: dict[str, str] = {}
+    for spec in specs:  # every message, drawing and export names a zone: two of one name are one to a reader
+        if spec.name in first:
+            raise ScenarioError(f"{spec.where_} name = {spec.name!r}: already the name of {first[spec.name]}; "
+                                "each zone needs its own name")
+        first[spec.name] = spec.where_.rsplit(": ", 1)[-1]
+    return specs
 
 
 def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
@@ -211,11 +218,70 @@ def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> N
                         f"wholly outside the operating area (x {x0:.0f} .. {x1:.0f}, y {y0:.0f} .. {y1:.0f} m){why}")
 
 
+_SLIVER_M = 1e-3
+"""A footprint whose mean width (twice its area over its perimeter) is under this (m) encloses no area: points on a
+line, a ring folded on itself, or such a line projected from degrees (a few micrometres of curvature)."""
+
+
+def _mean_width(g: Any) -> float:
+    """Twice the area over the perimeter (m): a strip's width, half a disc's radius; 0 for a sliver."""
+    perimeter = float(shapely.length(shapely.boundary(g))) if not g.is_empty else 0.0
+    return 2.0 * float(g.area) / perimeter if perimeter > 0.0 else 0.0
+
+
+def _drawn_polygon(spec: ZoneSpec, xy: np.ndarray) -> None:
+    """Refuse a ``polygon`` written in the scenario that is not one: fewer than 3 distinct points, no area (its
+    points on a line), or edges that cross (vertices out of order: made valid, a rectangle with two corners
+    swapped keeps two triangles of half its area, so the operator is asked, not guessed for)."""
+    value = f"{spec.where_} polygon = {str([list(c) for c in spec.coords])[:60]}"
+    distinct = len(np.unique(xy, axis=0))
+    if distinct < 3:
+        raise ScenarioError(f"{value}: {distinct} distinct points; a polygon needs at least 3")
+    poly = shapely.Polygon(xy)
+    if _mean_width(_made_valid(poly, "")) < _SLIVER_M:  # a crossing ring's signed areas cancel: the valid parts
+        raise ScenarioError(f"{value}: encloses no area (its points lie on a line)")
+    if not shapely.is_valid(poly):
+        raise ScenarioError(f"{value}: not a simple polygon ({shapely.is_valid_reason(poly)}, local m): list its "
+                            "vertices in order round the zone, its edges meeting only at their ends")
+
+
+def _made_valid(geom: Any, where: str) -> Any:
+    """A polygon feature's valid polygonal parts (empty when it has none): an invalid one (a self-crossing ring, a
+    chart's self-touching part) made valid with ``shapely.make_valid`` and said so (a warning, when ``where``
+    names it).  GEOS's other operations do not keep an invalid polygon's area: ``segmentize`` of a bow tie kept
+    one of its two lobes."""
+    if shapely.is_valid(geom):
+        return geom
+    parts = [g for g in shapely.get_parts(_repaired(geom)) if shapely.get_type_id(g) in (3, 6)]
+    out = shapely.union_all(parts) if parts else shapely.Polygon()
+    if where:
+        log.warning("%s: not a valid polygon (%s): made valid (shapely.make_valid), its %d polygonal parts kept",
+                    where, shapely.is_valid_reason(geom), len(shapely.get_parts(out)))
+    return out
+
+
+def _repaired(geom: Any) -> Any:
+    """``shapely.make_valid`` keeping a polygon's area: its rings' structure (shells unioned, holes subtracted),
+    not the default rebuild from the linework with the even-odd rule, which made a part lying inside another
+    part (GEOS's "Nested shells": a chart's area with a sub-area as a second part) a hole of the zone."""
+    if shapely.get_type_id(geom) in (3, 6):
+        return shapely.make_valid(geom, method="structure", keep_collapsed=False)
+    return shapely.make_valid(geom)
+
+
+def _polygonal(geom: Any, where: str) -> Any:
+    """A polygon feature as a valid footprint (:func:`_made_valid`); one enclosing no area refused."""
+    out = _made_valid(geom, where)
+    if _mean_width(out) < _SLIVER_M:
+        raise ScenarioError(f"{where}: the polygon encloses no area (mean width {_mean_width(out):.2g} m)")
+    return out
+
+
 def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
     """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
     kind = shapely.get_type_id(geom)
     if kind in (3, 6):
-        return lean(shapely.make_valid(geom))  # a million vertices: simplified, grown to contain them (.dense)
+        return lean(_polygonal(geom, where))  # a million vertices: simplified, grown to contain them (.dense)
     if kind in (1, 2, 5):
         if not buffer_m:
             raise ScenarioError(f"{where}: {geom.geom_type} features need buffer_m (a corridor's half-width)")
@@ -260,16 +326,22 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
 
     window = _lonlat_window(frame, box, spec.buffer_m + spec.radius_m) if crs.is_geographic and frame else None
     out = []
+    named = _feature_names([str(v).strip() if v not in (None, "") else "" for v in label] if label is not None
+                           else [""] * len(geoms))
     for i, g in enumerate(geoms):
         if g is None or g.is_empty:
             continue
-        tag = str(label[i]).strip() if label is not None and label[i] not in (None, "") else f"#{i + 1}"
+        tag = named[i]
         g = shapely.force_2d(g)
         _check_coordinates(g, crs.is_geographic, found.crs_stated, f"{src}: feature {tag!r}")
         if window is not None:
             g = _clip_lonlat(g, window)
             if g.is_empty:
                 continue
+        if shapely.get_type_id(g) in (3, 6):  # made valid here: GEOS's operations below do not keep its area
+            g = _made_valid(g, f"{src}: feature {tag!r}")
+            if g.is_empty:
+                raise DataError(f"{src}: feature {tag!r}: the polygon encloses no area")
         if crs.is_geographic and shapely.get_type_id(g) not in (0, 4):
             g = shapely.segmentize(g, 0.005)  # about 500 m: straight in the local frame, not in degrees
         local = shapely.transform(g, project)
@@ -280,6 +352,22 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
     if not out:
         log.warning("%s: no feature reaches the operating area", src)
     return out
+
+
+def _feature_names(tags: list[str]) -> list[str]:
+    """Each feature's name: its own (``tags``, ``""`` for none), numbered ``name #k`` by its feature number where
+    several share it (a chart repeats a name on the parts of one area), and where a numbered name is another
+    feature's own (a feature named ``"A #2"`` beside two named ``"A"``), that one numbered too: every zone's name
+    its own.  A feature without a name is ``#k``."""
+    out = [t or f"#{i + 1}" for i, t in enumerate(tags)]
+    numbered = [not t for t in tags]
+    while True:
+        seen = {n: out.count(n) for n in set(out)}
+        clash = [i for i, n in enumerate(out) if seen[n] > 1 and not numbered[i]]
+        if not clash:
+            return out
+        for i in clash:  # " #k" with k the feature's own number: two numbered names never match
+            out[i], numbered[i] = f"{out[i]} #{i + 1}", True
 
 
 def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> None:
@@ -336,7 +424,7 @@ def _clip_lonlat(g: Any, window: tuple[float, float, float, float]) -> Any:
     mx, my = 3.0 * (w1 - w0), 3.0 * (s1 - s0)
     if w0 - mx <= gx0 and gx1 <= w1 + mx and s0 - my <= gy0 and gy1 <= s1 + my:
         return g
-    parts = [shapely.transform(shapely.clip_by_rect(shapely.make_valid(g), w0 + k, s0, w1 + k, s1),
+    parts = [shapely.transform(shapely.clip_by_rect(_repaired(g), w0 + k, s0, w1 + k, s1),
                                lambda xy, k=k: xy - np.array([k, 0.0]))
              for k in (-360.0, 0.0, 360.0)]
     return shapely.union_all([p for p in parts if not p.is_empty]) if any(not p.is_empty for p in parts) \
@@ -385,6 +473,8 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
             named = _read_file(spec, frame, base_dir, box)
         else:
             xy = _to_local(spec, frame)
+            if spec.kind == "polygon":
+                _drawn_polygon(spec, xy)
             geom = {"polygon": shapely.Polygon, "line": shapely.LineString}.get(spec.kind, shapely.Point)(
                 xy if spec.kind != "point" else xy[0])
             _reaches(spec, geom, box, frame)
