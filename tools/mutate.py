@@ -366,6 +366,7 @@ class _Coverage:
     def __init__(self, codes: set) -> None:
         self.codes, self.current = codes, ""
         self.lines: dict[str, set[tuple[str, int]]] = {}
+        self.unknown: set[str] = set()  # tests during which the tracer was switched off: run for every mutant
 
     def _local(self, frame, event: str, _arg):  # noqa: ANN001, ANN202
         if event == "line":
@@ -390,7 +391,18 @@ class _Coverage:
         sys.settrace(None)
         threading.settrace(None)  # type: ignore[arg-type]
 
+    def rearm(self, nodeid: str) -> None:
+        """After test ``nodeid``: when the tracer is no longer installed (CPython removes a trace function that
+        raises, e.g. a RecursionError hit inside it by a test of deep recursion: every later test then read as
+        covering nothing, and their mutants as survivors without a run), mark the test's coverage unknown and
+        put the tracer back."""
+        if sys.gettrace() != self._global:  # noqa: PLR1714 - a bound method: equal, not identical
+            self.unknown.add(nodeid)
+            self.start()
+
     def covers(self, nodeid: str, filename: str, lo: int, hi: int) -> bool:
+        if nodeid in self.unknown:
+            return True
         seen = self.lines.get(nodeid, set())
         return any((filename, k) in seen for k in range(lo, hi + 1))
 
@@ -418,6 +430,8 @@ def _run_items(items: list, record: str | None = None, limit: float = 0.0, cover
         if limit > 0:
             signal.setitimer(signal.ITIMER_PROF, limit)
         reports = runtestprotocol(item, nextitem=items[k + 1] if k + 1 < len(items) else None, log=False)
+        if cover is not None:
+            cover.rearm(item.nodeid)
         if limit > 0:
             left = signal.setitimer(signal.ITIMER_PROF, 0)[0]
             if left == 0.0 and any(r.failed and "_TooSlow" in str(r.longrepr) for r in reports):

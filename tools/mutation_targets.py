@@ -1176,3 +1176,152 @@ REASONS.update({
          "terrain-frame) are flown as themselves in terrain_track's track, whose entries (more) already hold "
          "theirs; the garbage segments' entries are filtered or repeat them"),
 })
+
+# wave 13's new and changed code (the session of 6 Dec 2026 from 20:00, d226df0..00dc173): the .plan's item walk
+# and what reads it (waypoints, terrain-frame legs, deploy record), mission check as flown, the export's
+# terrain-frame items and MOOS floor, the CLI's durations, numba's BLAS probe, validate's numpy survey bounds
+QGC_ITEMS, TERRAIN_FRAME = "auvplan.io.missions.qgc_items", "auvplan.io.missions.terrain_frame"
+DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.deploy_read"
+DURATIONS, JIT = "auvplan.app.durations", "auvplan.runtime.jit"
+SURVEY_RESULTS = "auvplan.io.results.survey"
+MODULES.update({
+    # the seabed-following track once per leg: its pitch, its deepest vertex, the check measured on it
+    "flown-track": Target(_fns(TERRAIN_LEGS, "_following_leg", "flown_track", "check_as_flown")),
+    # a .plan's items in the vehicle's order, and the readers that share the walk
+    "qgc-walk": Target(
+        _fns(QGC_ITEMS, "_simple", "_pattern", "plan_items") + _fns(TERRAIN_FRAME, "terrain_legs")
+        + _fns(DEPLOY_READ, "_qgc") + _fns(FORMATS, "parse_qgc_plan", "read_mission", "_parse", "check_mission_file"),
+    ),
+    # the export's terrain-frame items and the MOOS altitude floor (DeployInfo.leg_floor)
+    "deploy-terrain": Target(
+        ((DEPLOY, "deploy_info", "altitude = items = floor = None", "pay = None"),)
+        + _fns(DEPLOY, "_followed_free", "_terrain_items"),
+    ),
+    # the command line's durations and departure offsets
+    "durations": Target(_fns(DURATIONS, "parse_duration", "is_offset")),
+    # numba's registries loaded without scipy.linalg, and each kernel's cache made at its first compile
+    "blas-probe": Target(
+        _fns(JIT, "_BlasProbe.find_spec", "_blas_installed", "_CacheOnUse.__getattr__", "_probe_blas"),
+    ),
+    # validate's survey checks decided by the numpy seabed's bound (the compiled seabed when not conclusive)
+    "survey-bounds": Target(
+        _fns(SURVEY_RESULTS, "_check_seabed", "check_survey_size", "_swath", "_swath_bounds", "_seabed_bounds"),
+    ),
+})
+
+# wave 13's targets (run 6 Dec 2026, 22:55-23:25 UTC): the survivors argued (docs/mutants.md section 5)
+_ONE_WP = ("equivalent: with one waypoint leg_pitch_deg gives no leg either (np.diff of one row), and with none "
+           "the same empty array")
+_BELOW_LIMIT = "boundary: a leg's pitch within 1e-9 deg of the limit (or of its straight pitch), the tolerance itself"
+_ALWAYS_TWO = ("equivalent in use: deploy_info's only caller (export.deploy_for) passes a mission's waypoints, a start "
+               "and a goal at least; with one waypoint leg_figures of no leg gives the same empty array")
+_FALLBACK = ("equivalent: it only makes the numpy bound inconclusive (or stricter) more often, and the compiled seabed "
+             "then decides the same verdict (the bound path never passes what the compiled one refuses)")
+REASONS.update({
+    "_following_leg | n = np.clip(np.ceil(np.sqrt(np.abs(q2) / (4.0 * SAG_M))), 1, 100001).astype(np.intp)":
+        ("equivalent in use: the cap binds only for a piece whose curvature term |q2| exceeds 4e8 m (1e5 chords of "
+         "a 1 cm sag), 20 000 times the Earth's relief in one grid cell"),
+    "flown_track | pitch = np.abs(leg_pitch_deg(w)) if w.shape[0] >= 1 else np.zeros(0)": _ONE_WP,
+    "flown_track | pitch = np.abs(leg_pitch_deg(w)) if w.shape[1] > 1 else np.zeros(0)": _ONE_WP,
+    "check_as_flown | n = max(w.shape[0] - 1, 1)":
+        ("equivalent: with one waypoint the original fails too (alt.min() of no leg: ValueError), and its callers "
+         "refuse a mission of fewer than 2 waypoints first (check_mission_file)"),
+    "check_as_flown | k = int(np.argmin(alt)) if np.isfinite(alt).all() else -1":
+        ("equivalent: the legs' altitudes are all finite (a seabed, clamped to its edge beyond its data) or all "
+         "infinite (none), so any = all"),
+    ("_qgc | exc = [np.asarray(p['polygon'], dtype=float) for p in fence.get('polygons', []) if not "
+     "p.get('inclusion', False)]"):
+        ("not killed (not this wave's line): a fence polygon without an 'inclusion' key, which QGC's plan format "
+         "requires, is read as neither an inclusion nor an exclusion; the mutant reads it as an exclusion"),
+    ("parse_qgc_plan | kept = next((it for it, r in zip(items, rows[1:], strict=False) if abs(r[2]) < ZERO_ALT_M), "
+     "None)"): "equivalent: rows holds the home and one row per item, so the two sequences are always as long",
+    "parse_qgc_plan | if t.any() or seabed is not None:":
+        ("equivalent: without a terrain-frame item z[t] += ... adds to no element; a terrain-frame item without a "
+         "seabed was refused above"),
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=1.0).max(axis=-1, "
+     "initial=0.0)"): "equivalent: a NaN counted as 0 m or 1 m is under the 4e7 m bound either way",
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=1, "
+     "initial=0.0)"): "equivalent: the array is 2-D (np.atleast_2d), where axis 1 is axis -1",
+    ("read_mission | size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=-1, "
+     "initial=1.0)"): "equivalent: a floor of 1 m instead of 0 m is under the 4e7 m bound either way",
+    "deploy_info | floor = leg_figures(world, w[:-1], w[1:], 'held')[0] if len(w) >= 1 else np.zeros(0)": _ALWAYS_TWO,
+    "deploy_info | floor = leg_figures(world, w[:-1], w[1:], 'held')[0] if len(w) > 1 else np.zeros(1)": _ALWAYS_TWO,
+    "_terrain_items | if len(w) >= 1:":
+        "equivalent: with one waypoint items[1:] is empty whatever the flight of no leg gives",
+    ("_terrain_items | rounded = np.degrees(np.arctan(np.tan(np.radians(pitch)) + ROUNDED_RISE_M / np.hypot(*np.diff("
+     "w[:, :3], axis=0).T)))"):
+        ("equivalent: np.hypot's third positional argument is its output array, so hypot(dx, dy, dz) still returns "
+         "the horizontal length (written over dz's temporary)"),
+    ("_terrain_items | items[1:] = ((rounded < max_pitch_deg + 1e-09) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-09)) "
+     "& _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    ("_terrain_items | items[1:] = ((rounded <= max_pitch_deg - 1e-09) | (pitch <= np.abs(leg_pitch_deg(w)) + "
+     "1e-09)) & _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    ("_terrain_items | items[1:] = ((rounded <= max_pitch_deg + 1e-09) | (pitch < np.abs(leg_pitch_deg(w)) + 1e-09)) "
+     "& _followed_free(world, w, flown.track, flown.leg)"): _BELOW_LIMIT,
+    "parse_duration | for unit in sorted(units, key=len, reverse=False):":
+        ("equivalent: no unit (s, sec, min, m, h, d) ends another, so at most one matches a text's end and the "
+         "order of the tries does not matter"),
+    "_check_seabed | if bool(np.all(_seabed_bounds(world, px, py)[1] <= below)):":
+        ("equivalent: the upper bound is a rounding above the numpy seabed plus its error, so the compiled seabed "
+         "lies strictly under it; at hi == below the compiled check passes the area as the mutant does"),
+    "check_survey_size | gx, gy = np.meshgrid(np.linspace(x0, x1, 49), np.linspace(y0, y1, 48))":
+        ("not killed (the estimate's sampling): 48 or 49 samples a side change the harmonic mean of the spacing "
+         "by the seabed's variation between samples; the estimate is pinned nowhere (flat seabeds cannot tell)"),
+    "check_survey_size | gx, gy = np.meshgrid(np.linspace(x0, x1, 48), np.linspace(y0, y1, 49))":
+        ("not killed (the estimate's sampling): 48 or 49 samples a side change the harmonic mean of the spacing "
+         "by the seabed's variation between samples; the estimate is pinned nowhere (flat seabeds cannot tell)"),
+    "check_survey_size | if depth.size == 1:":
+        ("equivalent in use: it needs exactly one of the 48 x 48 samples under water, in an area _check_seabed "
+         "found under water at every one of its denser samples just before"),
+    "_swath_bounds | if x.size == 1:": _FALLBACK,
+    "_swath_bounds | wet, dry = (hi <= 0.0, lo >= 0.0)":
+        ("equivalent: a sample whose bound reaches exactly 0 counted as water gives a zero reach, hence a smaller "
+         "least spacing: the bound's check can only fail, and the compiled seabed decides"),
+    "_swath_bounds | wet, dry = (hi < 0.0, lo > 0.0)": _FALLBACK,
+    "_seabed_bounds | inf = np.full(np.shape(x), np.inf)":
+        ("equivalent in use: reached only without a seabed, which a survey refuses first ('a survey needs a seabed "
+         "([terrain])'); _check_seabed asserts one"),
+    "_seabed_bounds | return (np.nextafter(zb - err, np.inf), np.nextafter(zb + err, np.inf))":
+        ("not killed (the bound's slack): the lower end moves two roundings inward, within the ~60x slack of "
+         "Terrain.elevation_bounds' error (clearly-free's survivors)"),
+})
+
+# mutants17's second round: mission check of a .plan as flown beyond the seabed check (its helm report numbered from
+# the home, its legs' pitch and depth, its navigation on the seabed-following track) and its leg speeds (the walk)
+APP_SPEEDS = "auvplan.io.missions.speeds"
+MODULES.update({
+    "check-as-flown": Target(
+        _fns(APP_CHECK, "_from_home", "_flown_pitch_depth", "_navigation_as_flown")
+        + _fns(APP_SPEEDS, "_qgc", "_speed", "read_leg_speeds"),
+    ),
+})
+_NAV_EDGE = ("boundary: a leg's predicted error within 1e-9 of max_error_m times itself, the tolerance "
+             "check_navigation uses too")
+REASONS.update({
+    "_navigation_as_flown | for j, kind in zip(ends, kinds, strict=False):":
+        "equivalent: ends holds one track vertex per waypoint (the first, then each leg's last), as kinds one kind",
+    ("_navigation_as_flown | length = np.hypot(*np.diff(track[:, :2], axis=0).T) - 1e-300"):
+        ("equivalent: +-1e-300 vanishes beside any positive length, and a vertical leg's one segment of length 0 "
+         "gives lock x (-1e-300) / (-1e-300), its own lock, as with +1e-300"),
+    ("_navigation_as_flown | length = np.hypot(*np.diff(track[:, :3], axis=0).T) + 1e-300"):
+        "equivalent: np.hypot's third positional argument is its output array (the horizontal length still)",
+    "_navigation_as_flown | if (over := np.flatnonzero(err >= nav.max_error_m * (1.0 + 1e-09))).size:": _NAV_EDGE,
+    "_navigation_as_flown | if (over := np.flatnonzero(err > nav.max_error_m / (1.0 + 1e-09))).size:": _NAV_EDGE,
+    "_navigation_as_flown | if (over := np.flatnonzero(err > nav.max_error_m * (1.0 - 1e-09))).size:": _NAV_EDGE,
+    "_speed | value = it.params[1] if len(it.params) >= 1 else None":
+        "equivalent: plan_items refuses an item without exactly 7 parameters, so params[1] is always there",
+    "_speed | value = it.params[1] if len(it.params) > 2 else None":
+        "equivalent: plan_items refuses an item without exactly 7 parameters, so params[1] is always there",
+})
+# main since audit 17 (f821d60): +inf is refused with the speeds over 100 m/s before this line
+REASONS.update({
+    "read_leg_speeds | return a if bool(np.any(np.isfinite(a))) and bool(np.all(a > 0)) else None":
+        ("equivalent since audit 17: +inf is refused above (a > MAX_SPEED_MPS), and NaN and -inf fail a > 0, so "
+         "all(a > 0) alone keeps only finite speeds"),
+})
+# main since audit 17 (11e2491): the null-island refusal walks the same two sequences
+REASONS.update({
+    ("parse_qgc_plan | null = next((it for it, r in zip(items, rows[1:], strict=False) if max(abs(r[0]), abs(r[1])) "
+     "< ZERO_LATLON_DEG), None)"):
+        "equivalent: rows holds the home and one row per item, so the two sequences are always as long",
+})

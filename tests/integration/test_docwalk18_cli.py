@@ -6,7 +6,7 @@
   exit 2 (bad input); now silent, 141 (128 + SIGPIPE, as 130 is 128 + SIGINT).
 * A ``.plan`` edited by hand (one item's ``frame``, a ``null`` coordinate): the line wrapped the item's own message
   in ``missing or malformed key (QGC plan: …)``, printed ``frame = "3"`` as ``frame = 3: expected 3``, and a null
-  altitude as a bare ``float() argument must be …`` naming no item.
+  altitude as a bare ``float() argument must be …`` naming no item (main's ``_param`` names it now, audit 18).
 """
 
 from __future__ import annotations
@@ -71,8 +71,7 @@ def test_a_hand_edited_plan_reads_back_and_its_refusals_name_the_item_once() -> 
         parse_qgc_plan(_plan(frame="3"), FRAME)  # a string: read "frame = 3: expected 3"
     with pytest.raises(DataError) as exc:
         parse_qgc_plan(_plan(params=[0, 0, 0, None, 48.001, -125.0, None]), FRAME)
-    assert str(exc.value) == ("QGC plan: mission.items[1].params[4:7] = [48.001, -125.0, None]: latitude, longitude "
-                              "and altitude must be numbers")
+    assert str(exc.value) == "QGC plan: mission.items[1].params[6] = null: expected a number (altitude)"
     doc = _plan()
     doc["mission"]["plannedHomePosition"] = [None, -125.0, 0]  # type: ignore[index]
     with pytest.raises(DataError, match=r"^QGC plan: mission\.plannedHomePosition = \[None, -125\.0, 0\]: "):

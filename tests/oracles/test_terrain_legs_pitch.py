@@ -33,6 +33,9 @@ def test_the_steepest_pitch_is_the_track_s_tangent_not_its_chord(length, width, 
     assert depth[0] == pytest.approx(float(-z.min()), abs=1e-6)
     assert pitch[1] == pytest.approx(math.degrees(math.atan2(abs(-50.0 - b[2]), length)), rel=1e-12)
     assert depth[1] == pytest.approx(max(-b[2], 50.0))
+    back, back_depth = flown_pitch_depth(terrain, [b, a], [True])  # the same curve flown the other way
+    assert back[0] == pytest.approx(math.degrees(math.atan(tangent)), rel=1e-9)  # its steepest end is its first
+    assert back_depth[0] == pytest.approx(depth[0], abs=1e-9)
 
 
 @pytest.mark.parametrize(("x0", "y0", "dx", "dy"), [(123456.789, 98765.4321, 7.3, 14.6), (0.1, 0.7, 0.3, 0.3),

@@ -266,7 +266,7 @@ def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_n
     it anywhere (else a leg near a zone would pass unchecked), within 1.5 fine cells of it near the zones;
     with the default size, with one fine cell per broad-phase cell (a set of a thousand zones gets few per
     cell), and on footprints stretched three times along x (a grid twice as wide as it is tall)."""
-    from auvplan.world.zones.kernels import _far
+    from auvplan.world.zones.bound import _far
     from auvplan.world.zones.parts import distance_field
 
     rng = np.random.default_rng(5)
@@ -278,11 +278,12 @@ def test_the_fine_field_never_exceeds_the_distance_to_a_footprint_and_is_tight_n
         zones = Zones(tuple(stretched), pad=zones.pad)
         assert zones._grid[3] >= 2 * zones._grid[4]  # twice as many columns as rows
     field = zones._field if cells is None else distance_field(zones._grid, zones._rings, zones._bounds, cells=cells)
-    x0, y0, f, fnx, fny, bound = field
+    x0, y0, f, fnx, fny, bound = field[:6]
+    every = bound.shape[0] - 1  # the plane of every zone
     if cells is not None:
         assert fnx % zones._grid[3] == 0 and fnx < 16 * zones._grid[3] and (cells > 1e4 or fnx == zones._grid[3])
     pts = np.column_stack([rng.uniform(-400, 3000 * stretch + 400, 8000), rng.uniform(-400, 3400, 8000)])
-    lb = np.array([_far.py_func(x, y, x0, y0, f, fnx, fny, bound) for x, y in pts])
+    lb = np.array([_far.py_func(x, y, every, every, x0, y0, f, fnx, fny, bound) for x, y in pts])
     true = shapely.distance(shapely.union_all(zones._geoms), shapely.points(pts))
     assert np.all(lb <= true)
     inside = (pts[:, 0] > x0) & (pts[:, 0] < x0 + fnx * f) & (pts[:, 1] > y0) & (pts[:, 1] < y0 + fny * f)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from auvplan.world.zones.kernels import flat_hits_kernel
+from auvplan.world.zones.exact import flat_hits_kernel
 from auvplan.world.zones.parts import capsules, rings
 
 

@@ -31,7 +31,7 @@ from ..world import World
 from ..world.currents.crab import crab_speed, makes_headway
 from .power import WH, EnergyModel
 
-__all__ = ["Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]
+__all__ = ["HOLD_SAMPLES", "Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]
 
 F64 = NDArray[np.float64]
 
@@ -60,6 +60,11 @@ def ground_speed(current: F64, tangent: F64, speed: float, tail: bool = False) -
     g = float(crab_speed(float(c[0]), float(c[1]), float(c[2]), float(e[0]), float(e[1]), float(e[2]), speed,
                          bool(tail), 1.0))
     return g if makes_headway(g) else math.nan
+
+
+HOLD_SAMPLES = 16
+"""The instants a hold against the current is sampled at (the midpoints of its equal parts: exact in a steady
+current, second order in a tide)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,6 +96,10 @@ class Traverse:
         ``(N - 1,)`` legs flown tail-first.
     dwell : numpy.ndarray
         ``(N,)`` time held at each vertex before the next leg (a surface fix's ``surface_s``; s).
+    hold_water : numpy.ndarray
+        ``(N, HOLD_SAMPLES)`` where a vertex is held against the current (``station``): the through-water speed
+        that takes at the midpoints of the hold's equal parts (the current's speed there, m/s); empty: every dwell
+        drifts (hotel power).
     """
 
     points: F64
@@ -104,6 +113,7 @@ class Traverse:
     message: str = ""
     tail: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
     dwell: F64 = field(default_factory=lambda: np.zeros(0))
+    hold_water: F64 = field(default_factory=lambda: np.zeros((0, HOLD_SAMPLES)))
 
     @property
     def duration(self) -> float:
@@ -132,7 +142,8 @@ class Traverse:
 
 
 def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart: float = 0.0,
-             ds: float = 100.0, tail: ArrayLike | None = None, dwell: ArrayLike | None = None) -> Traverse:
+             ds: float = 100.0, tail: ArrayLike | None = None, dwell: ArrayLike | None = None,
+             station: ArrayLike | None = None) -> Traverse:
     """Fly a route through the world's currents at each leg's through-water speed (module notes).
 
     Parameters
@@ -152,6 +163,10 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     dwell : array_like, optional
         ``(N,)`` time held at each vertex before the next leg (s; a surface fix's ``surface_s``,
         :mod:`auvplan.nav`): the next leg departs that much later.
+    station : array_like of bool, optional
+        ``(N,)`` the vertices whose dwell holds the point against the current (an ArduSub waypoint's or timed
+        loiter's hold: its position controller keeps the vehicle on the item), at the through-water speed of
+        the current there (``Traverse.hold_water``); the others drift (a surface fix).
 
     Returns
     -------
@@ -169,6 +184,9 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         raise ValueError(f"tail needs one flag per leg ({v.size}), got {back.size}")
     hold = np.zeros(p.shape[0]) if dwell is None else np.broadcast_to(np.asarray(dwell, dtype=float),
                                                                        (p.shape[0],)).copy()
+    held_on = np.zeros(p.shape[0], dtype=bool) if station is None else np.broadcast_to(
+        np.asarray(station, dtype=bool), (p.shape[0],))
+    water = np.zeros((p.shape[0] if held_on.any() else 0, HOLD_SAMPLES))
     times = np.full(p.shape[0], math.nan)
     times[0] = depart
     nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
@@ -177,6 +195,9 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     for i in range(p.shape[0] - 1):
         a, b = p[i], p[i + 1]
         if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
+            if held_on[i]:  # against the current: its speed at the midpoints of the hold's parts
+                mid = t + (np.arange(HOLD_SAMPLES) + 0.5) * float(hold[i]) / HOLD_SAMPLES
+                water[i] = [float(np.linalg.norm(cur.velocity(a, float(tk)))) for tk in mid]
             t += float(hold[i])
             nodes.append(a.copy())
             node_s.append(s_along)
@@ -209,7 +230,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
             break
         times[i + 1] = t
     return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
-                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold)
+                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water)
 
 
 @dataclass(frozen=True, eq=False)
@@ -300,7 +321,7 @@ class Budget:
 
 def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: ArrayLike | float | None = None,
                    depart: float = 0.0, ds: float = 100.0, tail: ArrayLike | None = None,
-                   dwell: ArrayLike | None = None) -> Budget:
+                   dwell: ArrayLike | None = None, station: ArrayLike | None = None) -> Budget:
     """Budget a route leg by leg in the world's currents from ``depart`` (module notes).
 
     Parameters
@@ -322,6 +343,9 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         ``(N - 1,)`` legs flown tail-first (module notes).
     dwell : array_like, optional
         ``(N,)`` time held at each vertex (s): at hotel power, counted in the leg that follows.
+    station : array_like of bool, optional
+        ``(N,)`` the vertices whose dwell holds the point against the current: at the power of moving through
+        the water at the current's speed there (:func:`traverse`).
 
     Returns
     -------
@@ -329,7 +353,7 @@ def mission_budget(world: World, route: ArrayLike, model: EnergyModel, speeds: A
         Per-leg times, speeds and energies, and the verdict.
     """
     v = model.best_speed if speeds is None else speeds
-    return budget_of(traverse(world, route, v, depart, ds, tail, dwell), model)
+    return budget_of(traverse(world, route, v, depart, ds, tail, dwell, station), model)
 
 
 def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
@@ -352,7 +376,10 @@ def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
     t_start, t_end = tr.times[:-1], tr.times[1:]
     dur = t_end - t_start
     held = tr.dwell[:-1] if tr.dwell.size == p.shape[0] else np.zeros(dur.shape)  # at the leg's start vertex
-    energy = np.asarray((model.power(tr.speeds) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)
+    rest = model.power(0.0) * np.ones(dur.shape)  # a dwell's power: drifting, or holding against the current
+    if tr.hold_water.shape[0] == p.shape[0]:
+        rest = np.asarray(model.power(tr.hold_water[:-1]), dtype=float).mean(axis=1)
+    energy = np.asarray((model.power(tr.speeds) * (dur - held) + rest * held) / WH, dtype=float)
     cum = np.cumsum(energy)
     remaining = model.usable_wh - cum
     with np.errstate(invalid="ignore", divide="ignore"):

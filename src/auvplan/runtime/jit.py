@@ -292,13 +292,19 @@ def _blas_installed() -> bool:
                for p in places for suffix in importlib.machinery.EXTENSION_SUFFIXES)
 
 
+def _probe_blas() -> None:
+    """Put a :class:`_BlasProbe` first on ``sys.meta_path`` (ahead of the finder that would find numba's
+    ``arraymath``), unless that module is loaded already or a probe is there."""
+    if "numba.np.arraymath" not in sys.modules and not any(type(f) is _BlasProbe for f in sys.meta_path):
+        sys.meta_path.insert(0, _BlasProbe())
+
+
 def _make_all() -> None:
     """Make every pending kernel's dispatcher and put it in place of its stand-in in every module."""
     with _LOCK:
         if _MADE.is_set():
             return
-        if "numba.np.arraymath" not in sys.modules and not any(type(f) is _BlasProbe for f in sys.meta_path):
-            sys.meta_path.insert(0, _BlasProbe())
+        _probe_blas()
         for k in _PENDING:
             k._made = _compile(k._fn, k._options)
         for module in list(sys.modules.values()):

@@ -48,10 +48,12 @@ T = TypeVar("T")
 R = TypeVar("R")
 
 CHECKPOINTS = ".auvplan-tasks"
-SCHEDULER_CONNECT_S = 5.0
-"""Longest wait to reach a ``--scheduler`` (s; dask's ``distributed.comm.timeouts.connect`` when shorter): a
-scheduler that is up answers in milliseconds, and dask's own 30 s kept a dead address silent for half a minute."""
 """Name of the checkpoint folder inside a job's output folder."""
+
+SCHEDULER_CONNECT_S = 5.0
+"""Longest wait to reach a ``--scheduler`` and hear its handshake (s; dask's ``distributed.comm.timeouts.connect``
+when shorter): a scheduler that is up answers in milliseconds, and dask's own 30 s kept a dead address silent for
+half a minute."""
 
 
 def task_key(*parts: object) -> str:
@@ -274,6 +276,7 @@ class Runner:
                        or SCHEDULER_CONNECT_S, SCHEDULER_CONNECT_S)
             say(f"reaching the dask scheduler at {self.scheduler} …")
             try:
+                _handshake(self.scheduler, wait)
                 return Client(self.scheduler, timeout=wait), None
             except (OSError, ValueError, TypeError) as exc:  # no scheduler there, or an address dask cannot parse
                 text = " ".join(str(exc).split()) or type(exc).__name__
@@ -287,6 +290,36 @@ class Runner:
                                dashboard_address=None, silence_logs=logging.WARNING,
                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
         return Client(cluster), cluster
+
+
+def _handshake(address: str, wait: float) -> None:
+    """Connect to the scheduler at ``address`` and hear its handshake within ``wait`` (s), or raise ``OSError``.
+
+    dask's ``Client`` bounds the TCP connection by its timeout, then waits for the handshake with none: an address
+    that accepts and stays silent (another service on the port, a proxy) hung the job for good; one that answers
+    something else (an HTTP server: the dashboard's port 8787) was read as a frame of exabytes, a ``MemoryError``
+    traceback.  Run on a thread of its own (its own event loop, whatever the caller runs)."""
+    import asyncio
+    from concurrent.futures import ThreadPoolExecutor
+
+    from distributed.comm.core import connect
+    from distributed.security import Security
+
+    async def reach() -> None:
+        try:
+            comm = await asyncio.wait_for(connect(address, timeout=wait, **Security().get_connection_args("client")),
+                                          wait)
+        except TimeoutError as exc:  # connect's own timeouts are OSErrors naming the address
+            raise OSError(f"connected, but no dask handshake came back within {wait:g} s") from exc
+        except (OSError, ValueError, TypeError):  # the Runner's own message names them (a TLS setup's too)
+            raise
+        except Exception as exc:  # a frame of garbage read as a length: MemoryError ...
+            raise OSError(f"something answered, but not a dask scheduler ({type(exc).__name__}; the dashboard's "
+                          "port?)") from exc
+        await comm.close()
+
+    with ThreadPoolExecutor(1) as pool:
+        pool.submit(asyncio.run, reach()).result()
 
 
 def _count(n: int, noun: str) -> str:

@@ -233,7 +233,9 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there (hotel power)
     if held is not None:
         dwell = held if dwell is None else dwell + held
-    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell)
+    # ArduSub holds the item against the current (its position controller): the power of that current's speed
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell,
+                       None if held is None else held > 0)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
            "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}

@@ -27,7 +27,9 @@ thousand zones cost a bulk index query, not a thousand tests.  Its queries, vect
 
 The package: :mod:`.spec` (:class:`Zone`, :class:`ZoneApproach`), :mod:`.index` (the prisms, padded or
 :attr:`Zones.exact`, their R-tree, the broad phase's grid and fine field), :mod:`.segments` (the segment
-queries), :mod:`.points` (the point queries: :class:`Zones`), :mod:`.kernels` (compiled) and :mod:`.parts`
+queries), :mod:`.points` (the point queries: :class:`Zones`), the compiled parts (:mod:`.kernels`: the any-hit
+passes, over :mod:`.broad`: the cells' walk, :mod:`.bound`: the fine field per depth slab, and :mod:`.exact`:
+the exact tests) and :mod:`.parts`
 (geometry helpers).
 """
 

@@ -13,7 +13,7 @@ import shapely
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
 from ...errors import DataError
 from ..terrain import Terrain
-from .kernels import candidates_kernel
+from .broad import candidates_kernel
 from .parts import band_tops, distance_field, inner_centres, rasterise
 from .parts import rings as polygon_rings
 from .spec import Zone
@@ -95,10 +95,11 @@ class ZoneIndex:
 
     @property
     def _field(self) -> tuple[Any, ...]:
-        """The fine lower-bound field (:func:`.parts.distance_field`, two bytes a cell, about 400 000 cells),
-        made at its first use (the segment passes) and kept: a point query, as ``validate``'s start and goal,
-        never needs it, nor its compiled kernel (issue 56).  A set derived with a smaller pad shares its
-        parent's (:meth:`_derived`)."""
+        """The fine lower-bound field (:func:`.parts.distance_field`: about 400 000 cells of two bytes in a plane
+        per depth slab and one for every zone), made at its first use (the segment passes) and kept: a point
+        query, as ``validate``'s start and goal, never needs it, nor its compiled kernel (issue 56).  A set
+        derived with a smaller pad shares its parent's (:meth:`_derived`: its prisms, bands included, lie in the
+        parent's, so the parent's slab planes bound its distances too)."""
         made: tuple[Any, ...] | None = self.__dict__.get("_fine")
         if made is None:
             parent = self.__dict__.get("_fine_of")
@@ -108,7 +109,7 @@ class ZoneIndex:
         return made
 
     def candidates(self, segments: ArrayLike) -> tuple[IntArray, IntArray]:
-        """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.kernels`);
+        """The broad phase: the (segment, zone) pairs the exact test must look at (:mod:`.broad`);
         every other pair provably does not meet.
 
         Parameters
@@ -131,7 +132,7 @@ class ZoneIndex:
         if self._grid is None or s.shape[0] == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
         x0, y0, cell, nx, ny, start, ids, box = self._grid[:8]
-        args = (s, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi)
+        args = (s, x0, y0, cell, nx, ny, start, ids, box, zlo, zhi, self._seabed, *self._rings)
         mark = np.full(len(self.zones), -1, dtype=np.intp)
         pairs = np.empty((2, 2 * s.shape[0] + 64), dtype=np.intp)
         m = candidates_kernel(*args, mark, pairs, pairs.shape[1])

@@ -12,7 +12,7 @@ import numpy as np
 import shapely
 
 from ..._types import ArrayLike, FloatArray, IntArray
-from .kernels import near_distance_kernel
+from .exact import near_distance_kernel
 from .parts import samples as leg_samples
 from .segments import SegmentQueries
 from .spec import ZoneApproach

@@ -10,8 +10,10 @@ import numpy as np
 import shapely
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
+from .bound import clear_kernel
+from .exact import flat_hits_kernel
 from .index import ZoneIndex
-from .kernels import any_hits_kernel, clear_kernel, flat_hits_kernel, path_hits_kernel, slack_kernel
+from .kernels import any_hits_kernel, path_hits_kernel, slack_kernel
 from .parts import clip_pieces, expand_groups
 from .parts import traces as trace_geoms
 
@@ -66,13 +68,22 @@ class SegmentQueries(ZoneIndex):
         return cs[hit][order], zi[hit][order]
 
     def _seabed_pairs(self, s: FloatArray, cs: IntArray, zi: IntArray) -> BoolArray:
-        """Exact test of the (segment, seabed-band zone) pairs: the footprint met by the trace (GEOS), then
-        :meth:`_seabed_hits`."""
+        """Exact test of the (segment, seabed-band zone) pairs: a segment whose least altitude over its whole
+        length (the terrain's exact walk) is above the band's height, by a millionth of the figures against
+        rounding, is above it over every piece too; the others take the footprint met by the trace (GEOS),
+        then :meth:`_seabed_hits`."""
+        assert self.terrain is not None
         hit = np.zeros(cs.size, dtype=bool)
         idx, si = np.unique(cs, return_inverse=True)
-        traces = trace_geoms(s[idx])
-        meet = shapely.intersects(self._geoms[zi], traces[si])
-        sub = np.flatnonzero(meet)
+        seg = s[idx]
+        low, h = self.terrain.segment_min_altitude(seg)[si], self._h[zi]
+        scale = 1.0 + np.abs(h) + np.abs(seg[si, :, 2]).max(axis=1)
+        maybe = np.flatnonzero(~(low > h + 1e-6 * scale))
+        if maybe.size == 0:
+            return hit
+        traces = trace_geoms(seg)
+        meet = shapely.intersects(self._geoms[zi[maybe]], traces[si[maybe]])
+        sub = maybe[meet]
         hit[sub] = self._seabed_hits(s[cs[sub]], traces[si[sub]], zi[sub])
         return hit
 
@@ -212,7 +223,7 @@ class SegmentQueries(ZoneIndex):
         if not self.zones or of.size == 0:
             return out
         clear = np.zeros(t.shape[0], dtype=bool)
-        fx0, fy0, f, fnx, fny, bound = self._field
+        fx0, fy0, f, fnx, fny, bound = self._field[:6]
         clear_kernel(t, fx0, fy0, f, fnx, fny, bound, clear)
         near = np.flatnonzero(~clear)
         flat = np.zeros((near.size, 2, 3))

@@ -30,6 +30,7 @@ from pyproj import Transformer
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
 from ..geo import LocalFrame
+from .dense import check_zone_count, check_zone_vertices, lean
 from .kept import kept_geometries
 from .reader import read_vector
 
@@ -261,12 +262,21 @@ def _made_valid(geom: Any, where: str) -> Any:
     one of its two lobes."""
     if shapely.is_valid(geom):
         return geom
-    parts = [g for g in shapely.get_parts(shapely.make_valid(geom)) if shapely.get_type_id(g) in (3, 6)]
+    parts = [g for g in shapely.get_parts(_repaired(geom)) if shapely.get_type_id(g) in (3, 6)]
     out = shapely.union_all(parts) if parts else shapely.Polygon()
     if where:
         log.warning("%s: not a valid polygon (%s): made valid (shapely.make_valid), its %d polygonal parts kept",
                     where, shapely.is_valid_reason(geom), len(shapely.get_parts(out)))
     return out
+
+
+def _repaired(geom: Any) -> Any:
+    """``shapely.make_valid`` keeping a polygon's area: its rings' structure (shells unioned, holes subtracted),
+    not the default rebuild from the linework with the even-odd rule, which made a part lying inside another
+    part (GEOS's "Nested shells": a chart's area with a sub-area as a second part) a hole of the zone."""
+    if shapely.get_type_id(geom) in (3, 6):
+        return shapely.make_valid(geom, method="structure", keep_collapsed=False)
+    return shapely.make_valid(geom)
 
 
 def _polygonal(geom: Any, where: str) -> Any:
@@ -281,7 +291,7 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
     """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
     kind = shapely.get_type_id(geom)
     if kind in (3, 6):
-        return _polygonal(geom, where)
+        return lean(_polygonal(geom, where))  # a million vertices: simplified, grown to contain them (.dense)
     if kind in (1, 2, 5):
         if not buffer_m:
             raise ScenarioError(f"{where}: {geom.geom_type} features need buffer_m (a corridor's half-width)")
@@ -326,14 +336,12 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
 
     window = _lonlat_window(frame, box, spec.buffer_m + spec.radius_m) if crs.is_geographic and frame else None
     out = []
-    tags = [str(v).strip() if v not in (None, "") else "" for v in label] if label is not None else [""] * len(geoms)
-    seen = {t: tags.count(t) for t in set(tags)}
+    named = _feature_names([str(v).strip() if v not in (None, "") else "" for v in label] if label is not None
+                           else [""] * len(geoms))
     for i, g in enumerate(geoms):
         if g is None or g.is_empty:
             continue
-        # a chart repeats a name on several features (parts of one area): each keeps its feature number, so that
-        # every zone's name is its own
-        tag = (f"{tags[i]} #{i + 1}" if seen[tags[i]] > 1 else tags[i]) if tags[i] else f"#{i + 1}"
+        tag = named[i]
         g = shapely.force_2d(g)
         _check_coordinates(g, crs.is_geographic, found.crs_stated, f"{src}: feature {tag!r}")
         if window is not None:
@@ -350,10 +358,27 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         if not shapely.intersects(local, box):
             continue
         out.append((f"{spec.name}: {tag}", local))
+        check_zone_count(len(out), src, DataError)
     if not out:  # a filter that selects nothing is said as such, not as features too far away
         where = f" matches where = {spec.where!r}" if spec.where else f" in layer {spec.layer!r}" if spec.layer else ""
         log.warning("%s: %s", src, f"no feature{where}" if not len(geoms) else "no feature reaches the operating area")
     return out
+
+
+def _feature_names(tags: list[str]) -> list[str]:
+    """Each feature's name: its own (``tags``, ``""`` for none), numbered ``name #k`` by its feature number where
+    several share it (a chart repeats a name on the parts of one area), and where a numbered name is another
+    feature's own (a feature named ``"A #2"`` beside two named ``"A"``), that one numbered too: every zone's name
+    its own.  A feature without a name is ``#k``."""
+    out = [t or f"#{i + 1}" for i, t in enumerate(tags)]
+    numbered = [not t for t in tags]
+    while True:
+        seen = {n: out.count(n) for n in set(out)}
+        clash = [i for i, n in enumerate(out) if seen[n] > 1 and not numbered[i]]
+        if not clash:
+            return out
+        for i in clash:  # " #k" with k the feature's own number: two numbered names never match
+            out[i], numbered[i] = f"{out[i]} #{i + 1}", True
 
 
 def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> None:
@@ -367,6 +392,23 @@ def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> No
         why = "" if stated else ("; the file states no CRS, so it was read as longitude/latitude (WGS 84): give it "
                                  "its CRS (a .prj beside a shapefile)")
         raise DataError(f"{where}: ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}) is not a longitude/latitude{why}")
+    if geographic:
+        _check_seam(g, where)
+
+
+def _check_seam(g: Any, where: str) -> None:
+    """Refuse an edge that jumps more than 180° of longitude (but not the 360° of a whole-Earth box): a reef drawn
+    across the antimeridian as 179.99 → -179.99 is, read as written, the band round the Earth without it, and
+    the zone was the area's complement (10.7 km² kept out, the reef's 1.7 km² open)."""
+    for part in shapely.get_parts(shapely.get_rings(g) if shapely.get_type_id(g) in (3, 6) else g):
+        xy = shapely.get_coordinates(part)
+        jump = np.abs(np.diff(xy[:, 0])) if len(xy) > 1 else np.empty(0)
+        bad = np.flatnonzero((jump > 180.0) & (jump < 360.0))
+        if bad.size:
+            a, b = xy[bad[0]], xy[bad[0] + 1]
+            raise DataError(f"{where}: its edge ({a[0]:.6g}, {a[1]:.6g}) → ({b[0]:.6g}, {b[1]:.6g}) spans "
+                            f"{jump[bad[0]]:.6g}° of longitude, the long way round the Earth; across the antimeridian "
+                            "continue the longitudes past ±180 (180.01) or split the feature there (RFC 7946 §3.1.9)")
 
 
 def _lonlat_window(frame: LocalFrame, box: Any, reach_m: float) -> tuple[float, float, float, float]:
@@ -393,7 +435,7 @@ def _clip_lonlat(g: Any, window: tuple[float, float, float, float]) -> Any:
     mx, my = 3.0 * (w1 - w0), 3.0 * (s1 - s0)
     if w0 - mx <= gx0 and gx1 <= w1 + mx and s0 - my <= gy0 and gy1 <= s1 + my:
         return g
-    parts = [shapely.transform(shapely.clip_by_rect(shapely.make_valid(g), w0 + k, s0, w1 + k, s1),
+    parts = [shapely.transform(shapely.clip_by_rect(_repaired(g), w0 + k, s0, w1 + k, s1),
                                lambda xy, k=k: xy - np.array([k, 0.0]))
              for k in (-360.0, 0.0, 360.0)]
     return shapely.union_all([p for p in parts if not p.is_empty]) if any(not p.is_empty for p in parts) \
@@ -455,6 +497,8 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
                 zones.append(Zone(name, footprint, spec.top_m, spec.bottom_m, spec.above_seabed_m))
             except DataError as exc:
                 raise ScenarioError(f"{spec.where_}: {exc}") from exc
+    check_zone_count(len(zones), specs[0].where_.split(":")[0] if specs else "", ScenarioError)
+    check_zone_vertices([z.footprint for z in zones], specs[0].where_.split(":")[0] if specs else "", ScenarioError)
     try:
         return Zones(tuple(zones), terrain, pad=pad_m)
     except DataError as exc:
