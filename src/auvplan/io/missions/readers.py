@@ -374,7 +374,7 @@ MAX_MISSION_WAYPOINTS = 100_000
 """Most waypoints a mission file may have: every check walks them in Python (a .plan of 10⁵ items: 25 s)."""
 
 
-def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.float64]]:
+def csv_columns(text: str, wanted: tuple[str, ...], empty: float | None = None) -> dict[str, NDArray[np.float64]]:
     """The named numeric columns of a CSV mission's text (the header names them; those absent are left out).
 
     A spreadsheet's byte-order mark made the first column ``\ufeffx`` ('no field of name x'), and 10⁶ columns
@@ -386,6 +386,8 @@ def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.floa
         The file's text (universal newlines).
     wanted : tuple of str
         Column names.
+    empty : float, optional
+        The value of an empty cell (None: an empty cell is not a number).
 
     Returns
     -------
@@ -404,7 +406,10 @@ def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.floa
     short = next((i for i, r in enumerate(rows) if len(r) <= max(cols.values(), default=-1)), None)
     if short is not None:
         raise ValueError(f"line {short + 2} has {len(rows[short])} fields; the header has {len(names)}")
-    return {k: np.array([float(r[c]) for r in rows], dtype=float) for k, c in cols.items()}
+    def num(cell: str) -> float:
+        return empty if empty is not None and not cell.strip() else float(cell)
+
+    return {k: np.array([num(r[c]) for r in rows], dtype=float) for k, c in cols.items()}
 
 
 def _csv_mission(text: str) -> NDArray[np.float64]:

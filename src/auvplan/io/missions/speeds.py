@@ -116,7 +116,7 @@ def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | Non
             got = _qgc(json.loads(text), legs)
             v, first = (None, None) if got is None else got
         elif suffix == ".csv":
-            speed = csv_columns(text, ("speed",)).get("speed")
+            speed = csv_columns(text, ("speed",), empty=math.nan).get("speed")  # empty: that leg's not in the file
             v = None if speed is None else speed[1:].tolist()
         else:
             v = None
