@@ -92,3 +92,18 @@ def test_validate_prints_the_derived_start_and_goal_to_the_centimetre(tmp_path, 
     (sx, sy), (gx, gy) = (FRAME.forward([lon], [lat]) for lat, lon in ((47.99, -125.01), (48.01, -124.99)))
     want = f"  start [{sx[0]:.2f}, {sy[0]:.2f}, -20.00] goal [{gx[0]:.2f}, {gy[0]:.2f}, -30.00] m; "  # pyproj's
     assert line.startswith(want), line
+
+
+def test_the_template_s_zone_example_uncommented_is_a_zone(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """README: ``scenario new`` writes "every key"; it had no [[zones]] (nor a word on [survey], [navigation] …)."""
+    from auvplan.cli import main
+    from auvplan.io.scenario.schema import template
+
+    text = template("t")
+    start = text.index("# [[zones]]")
+    block = text[start:text.index("\n\n", start)]
+    assert "[survey]" in text and "[navigation]" in text and "[land]" in text  # named, with their docs
+    path = tmp_path / "t.toml"
+    path.write_text(text.replace(block, "\n".join(line[2:] for line in block.splitlines())))
+    assert main(["validate", str(path)]) == 0
+    assert "1 charted zone kept out of: 'wreck' (20 m above the seabed)" in capsys.readouterr().out

@@ -362,6 +362,16 @@ def template(name: str = "my-mission") -> str:
         "# start = [1500.0, 0.0, -40.0]",
         "# velocity = [0.0, 0.5, 0.0]",
         "",
+        "# [[zones]]  # a charted no-go zone: polygon, line + buffer_m, point + radius_m, or file (docs/zones.md)",
+        '# name = "wreck"',
+        "# point = [1000.0, 600.0]  # [x, y] m, or [lat, lon] with [origin]",
+        "# radius_m = 50.0",
+        "# above_seabed_m = 20.0  # the band: the 20 m above the seabed; or top_m / bottom_m (depths, positive down)",
+        "",
+        "# Optional tables not written out here (every key: docs/scenario-reference.md): [land] coastlines as no-go,",
+        "# [survey] coverage lines (docs/survey.md), [navigation] dead reckoning and fixes (docs/navigation.md),",
+        "# [[vehicles]] and [formation] several vehicles (docs/guide.md).",
+        "",
     ]
     mission = {"start": (100.0, 1000.0, -40.0), "goal": (1900.0, 1000.0, -40.0), "min_altitude_m": 10.0}
     body = _commented_table("mission", specs.MissionSpec, mission)
