@@ -107,3 +107,18 @@ def test_the_template_s_zone_example_uncommented_is_a_zone(tmp_path, capsys) -> 
     path.write_text(text.replace(block, "\n".join(line[2:] for line in block.splitlines())))
     assert main(["validate", str(path)]) == 0
     assert "1 charted zone kept out of: 'wreck' (20 m above the seabed)" in capsys.readouterr().out
+
+
+def test_one_violation_is_one(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """docs/missions.md's 4 mm leg (`leg 1: 0.004 m long < the shortest leg 0.1 m`) printed "1 violations"."""
+    from auvplan.cli import main
+
+    scen = tmp_path / "s.toml"
+    scen.write_text('name = "s"\n[bounds]\nx = [0.0, 2000.0]\ny = [0.0, 2000.0]\nz = [-300.0, 0.0]\n'
+                    '[terrain.synthetic]\nkind = "plane"\ndepth = 100.0\ncell_m = 100.0\n'
+                    '[mission]\nstart = [100.0, 1000.0, -40.0]\ngoal = [1900.0, 1000.0, -40.0]\n')
+    csv = tmp_path / "short.csv"
+    csv.write_text("x,y,z\n100,1000,-40\n500,1000,-40\n500.004,1000,-40\n1900,1000,-40\n")
+    assert main(["mission", "check", str(csv), "--scenario", str(scen)]) == 1
+    line = next(x for x in capsys.readouterr().out.splitlines() if " vehicle: " in x)
+    assert line.endswith("; 1 violation: leg 1: 0.004 m long < the shortest leg 0.1 m"), line

@@ -88,8 +88,9 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
         print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}least altitude "
               f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
               f"{check.min_altitude_leg}), {obstacles}{held}")
+        n = len(vlimits.violations)
         print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
-              + (f"; {len(vlimits.violations)} violations: {vlimits.message}" if not vlimits.ok else ""))
+              + (f"; {n} violation{'' if n == 1 else 's'}: {vlimits.message}" if not vlimits.ok else ""))
         if c.speed_line:  # legs the file does not give a speed for: judged at the vehicle's
             print(f"{name}: {c.speed_line}")
         print(f"{name}: {c.energy_line}")

@@ -35,11 +35,12 @@ def cmd_survey(args: argparse.Namespace) -> int:
     sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
                               args.full, lambda text: _say(args, text), runner_of(args))
     m = rec["lawnmower"]
+    gaps = rec["flown"]["gaps"] if rec["flown"] else 0
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "
              f"planned coverage {rec['planned']['coverage_pct']:.2f} % (overlap {rec['planned']['overlap_min_pct']:.1f}"
              f"–{rec['planned']['overlap_max_pct']:.1f} %)"
              + (f", flown {rec['coverage_pct']:.2f} % (overlap {rec['overlap_min_pct']:.1f}–"
-                f"{rec['overlap_max_pct']:.1f} %, {rec['flown']['gaps']} gaps)" if rec["flown"] else "")
+                f"{rec['overlap_max_pct']:.1f} %, {gaps} gap{'' if gaps == 1 else 's'})" if rec["flown"] else "")
              + f"\n  survey {rec['survey_length_m'] / 1e3:.1f} km"
              + (f" in {rec['survey_time_s'] / 3600:.2f} h" if math.isfinite(rec["survey_time_s"]) else "")
              + _versus_lawnmower(m)
