@@ -45,3 +45,10 @@ def test_no_samples_by_legs_array_is_made() -> None:
     finally:
         tracemalloc.stop()
     assert peak < 8e6  # was 1 000 x 2 000 x 2 float64 a chunk (32 MB, several at once): O(N M) work
+
+
+def test_a_point_at_no_finite_place_has_no_distance() -> None:
+    """As the brute force: NaN for a NaN sample, inf for an infinite one (never a value left from np.empty)."""
+    w = np.array([[0.0, 0.0, -1.0], [100.0, 0.0, -1.0], [100.0, 100.0, -1.0]])
+    got = RouteTracker(w, 10.0).cross_track(np.array([[50.0, 5.0, 0.0], [np.nan, 0.0, 0.0], [np.inf, 0.0, 0.0]]))
+    assert got[0] == 5.0 and np.isnan(got[1]) and got[2] == np.inf

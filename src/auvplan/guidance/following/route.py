@@ -201,14 +201,16 @@ class RouteTracker:
         import shapely
 
         pts = as_points(points)[..., :2].reshape(-1, 2)
-        out = np.empty(pts.shape[0])
-        if not pts.shape[0]:
+        out = np.where(np.isnan(pts).any(axis=1), np.nan, np.inf)  # a point not at a finite place: no distance
+        ok = np.flatnonzero(np.isfinite(pts).all(axis=1))
+        if not ok.size:
             return out
         # the nearest leg of each point from an R-tree of the legs (GEOS's exact point-segment distance): every
         # point against every leg took 45 s after marcus-terrain-follow's flight (343 400 samples x 1 593 legs)
         legs = shapely.linestrings(np.stack([self.w[:-1, :2], self.w[1:, :2]], axis=1))
-        near, dist = shapely.STRtree(legs).query_nearest(shapely.points(pts), return_distance=True, all_matches=False)
-        out[near[0]] = dist
+        near, dist = shapely.STRtree(legs).query_nearest(shapely.points(pts[ok]), return_distance=True,
+                                                         all_matches=False)
+        out[ok[near[0]]] = dist
         return out
 
 
