@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import stat
 from pathlib import Path
 from typing import Any
 
@@ -41,13 +42,20 @@ def read_bounded_text(path: Path, limit: int, what: str) -> str:
     Raises
     ------
     DataError
-        Naming the file when it is larger, unreadable or not UTF-8.
+        Naming the file when it is larger, unreadable, not UTF-8, or not a regular file (a FIFO, a device).
     """
     try:
-        size = path.stat().st_size
-        if size > limit:
-            raise DataError(f"{path}: {size:,} bytes, over the {limit:,} {what} may have")
-        return path.read_text(encoding="utf-8")
+        st = path.stat()
+        if not stat.S_ISREG(st.st_mode):  # a FIFO blocked for ever, /dev/zero filled the memory
+            kind = "a FIFO" if stat.S_ISFIFO(st.st_mode) else "a folder" if stat.S_ISDIR(st.st_mode) else "a device"
+            raise DataError(f"{path}: is {kind}, not a regular file; {what} is read whole")
+        if st.st_size > limit:
+            raise DataError(f"{path}: {st.st_size:,} bytes, over the {limit:,} {what} may have")
+        with path.open("rb") as fh:
+            data = fh.read(limit + 1)  # the size said is not trusted: it may grow while read
+        if len(data) > limit:
+            raise DataError(f"{path}: over the {limit:,} bytes {what} may have")
+        return data.decode("utf-8").replace("\r\n", "\n").replace("\r", "\n")  # as read_text: universal newlines
     except (OSError, UnicodeDecodeError) as exc:
         raise DataError(f"{path}: cannot read ({exc})") from exc
 

@@ -57,8 +57,8 @@ class Land:
         g = self.geometry
         if not isinstance(g, shapely.Geometry) or shapely.get_type_id(g) not in (3, 6, 7):
             raise DataError(f"land {self.name!r}: expected polygons, got {type(g).__name__}")
-        if not shapely.is_valid(g):
-            g = shapely.make_valid(g)
+        if not shapely.is_valid(g):  # by the rings' structure: a part drawn inside another stays land (the default
+            g = shapely.make_valid(g, method="structure", keep_collapsed=False)  # even-odd rebuild made it a hole)
         g = shapely.union_all(shapely.get_parts(g)) if not g.is_empty else g
         object.__setattr__(self, "geometry", g)
         shapely.prepare(g)

@@ -96,6 +96,8 @@ def is_geotiff(path: Path) -> bool:
     bool
         True for a (Geo)TIFF file.
     """
+    if not path.is_file():  # a FIFO: opening it to read the magic number blocked for ever
+        return False
     try:
         with open(path, "rb") as fh:
             head = fh.read(4)

@@ -81,7 +81,8 @@ def open_dataset(path: Path, what: str, **kwargs: Any) -> xr.Dataset:
     """
     path = Path(path)
     if not path.is_file():
-        raise DataError(f"{path}: {what} file not found")
+        raise DataError(f"{path}: {what} file not found" if not path.exists() else
+                        f"{path}: the {what} file is not a regular file (a FIFO, a device or a folder)")
     try:
         with path.open("rb") as fh:
             head = fh.read(96)

@@ -23,10 +23,12 @@ from ...guidance.mission.terrain_legs import FlownTrack, check_as_flown
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
-from .qgc_items import plan_items
+from .qgc_items import PlanItem, plan_items
 
 __all__ = [
     "MAX_MISSION_BYTES",
+    "MAX_MISSION_WAYPOINTS",
+    "csv_columns",
     "MISSION_SUFFIXES",
     "GPX_NS",
     "KML_NS",
@@ -171,7 +173,7 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
             if it.frame not in (3, 6, 10) or (it.frame == 10 and seabed is None):
                 raise DataError(f"QGC plan: {it.where}.frame = {it.frame}: expected 3 (relative "
                                 "alt), or 10 (terrain alt) with a seabed")
-            rows.append((float(it.params[4]), float(it.params[5]), float(it.params[6])))
+            rows.append((_param(it, 4), _param(it, 5), _param(it, 6)))
             terrain.append(it.frame == 10)
     except DataError:
         raise  # names the item already (a DataError is a ValueError: not a "malformed key")
@@ -195,6 +197,16 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
     if t.any() and seabed is not None:
         z[t] += np.asarray(seabed(x[t], y[t]), dtype=float)
     return np.column_stack([x, y, z])
+
+
+def _param(item: PlanItem, k: int) -> float:
+    """An item's position parameter, a JSON number: ``true`` was read as latitude 1° (a mission near the equator
+    checked and failed), a string as whatever ``float`` made of it, where QGC reads both as 0."""
+    v = item.params[k]
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise DataError(f"QGC plan: {item.where}.params[{k}] = {json.dumps(v)[:40]}: expected a number "
+                        f"({('latitude', 'longitude', 'altitude')[k - 4]})")
+    return float(v)
 
 
 # ---------------------------------------------------------------------- GPX 1.1, KML
@@ -341,6 +353,9 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
     text = read_bounded_text(path, MAX_MISSION_BYTES, "a mission file")
     frame = LocalFrame(*origin) if origin is not None else None
     waypoints, semantics = _parse(path, fmt, text, frame, seabed)
+    if len(waypoints) > MAX_MISSION_WAYPOINTS:  # 10⁶ .plan items were checked for 110-210 s, 5·10⁵ KML points 44 s
+        raise DataError(f"{path}: {len(waypoints):,} waypoints, over the {MAX_MISSION_WAYPOINTS:,} a mission file may "
+                        "have (a vehicle's mission holds hundreds to thousands)")
     size = np.nan_to_num(np.abs(np.atleast_2d(waypoints)), nan=0.0).max(axis=-1, initial=0.0)
     if (size > MAX_WAYPOINT_M).any():  # 1e300 used to leak numpy's overflow warnings and an 'inf m mission'
         k = int(np.argmax(size > MAX_WAYPOINT_M))
@@ -351,6 +366,50 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
 
 MAX_WAYPOINT_M = 4.0e7
 """Largest coordinate of a waypoint in the local frame (m): beyond it the arithmetic of a leg overflows."""
+MAX_MISSION_WAYPOINTS = 100_000
+"""Most waypoints a mission file may have: every check walks them in Python (a .plan of 10⁵ items: 25 s)."""
+
+
+def csv_columns(text: str, wanted: tuple[str, ...]) -> dict[str, NDArray[np.float64]]:
+    """The named numeric columns of a CSV mission's text (the header names them; those absent are left out).
+
+    A spreadsheet's byte-order mark made the first column ``\ufeffx`` ('no field of name x'), and 10⁶ columns
+    took numpy's named reader 3 minutes per read: here only the wanted columns are converted.
+
+    Parameters
+    ----------
+    text : str
+        The file's text (universal newlines).
+    wanted : tuple of str
+        Column names.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        One float array per wanted column the header has, a value per data row.
+
+    Raises
+    ------
+    ValueError
+        On a row shorter than a wanted column's place, or a value that is not a number.
+    """
+    lines = [ln for ln in text.lstrip("\ufeff").split("\n") if ln.strip() and not ln.lstrip().startswith("#")]
+    names = [n.strip().strip('"') for n in lines[0].split(",")] if lines else []
+    cols = {k: names.index(k) for k in wanted if k in names}
+    rows = [ln.split(",") for ln in lines[1:]]
+    short = next((i for i, r in enumerate(rows) if len(r) <= max(cols.values(), default=-1)), None)
+    if short is not None:
+        raise ValueError(f"line {short + 2} has {len(rows[short])} fields; the header has {len(names)}")
+    return {k: np.array([float(r[c]) for r in rows], dtype=float) for k, c in cols.items()}
+
+
+def _csv_mission(text: str) -> NDArray[np.float64]:
+    """The ``x, y, z`` waypoints of a CSV mission (:func:`csv_columns`)."""
+    cols = csv_columns(text, ("x", "y", "z"))
+    missing = next((k for k in ("x", "y", "z") if k not in cols), None)
+    if missing is not None:
+        raise ValueError(f"no field of name {missing}")
+    return np.column_stack([cols["x"], cols["y"], cols["z"]]).reshape(-1, 3)
 
 
 def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
@@ -362,8 +421,7 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
         if fmt == "ros":
             return parse_ros_path(text), "ramp"
         if fmt == "csv":
-            rows = np.genfromtxt(path, delimiter=",", names=True)
-            return np.column_stack([np.atleast_1d(rows[k]) for k in ("x", "y", "z")]), "ramp"
+            return _csv_mission(text), "ramp"
         assert frame is not None  # the geographic formats need an origin (checked above)
         if fmt == "gpx":
             return parse_gpx(text, frame), "ramp"

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from ...errors import DataError
 from .qgc_items import PlanItem, plan_items
+from .readers import csv_columns
 
 __all__ = ["MAX_HOLD_S", "JudgedSpeeds", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
 
@@ -115,9 +116,8 @@ def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | Non
             got = _qgc(json.loads(text), legs)
             v, first = (None, None) if got is None else got
         elif suffix == ".csv":
-            rows = np.genfromtxt(path, delimiter=",", names=True)
-            names = rows.dtype.names or ()
-            v = np.atleast_1d(rows["speed"])[1:].tolist() if "speed" in names else None
+            speed = csv_columns(text, ("speed",)).get("speed")
+            v = None if speed is None else speed[1:].tolist()
         else:
             v = None
     except _BadSpeed as exc:  # the vehicle would not fly the speed the check assumed

@@ -12,6 +12,7 @@ hold control characters or path separators, or start with a dot.
 from __future__ import annotations
 
 import re
+import unicodedata
 from collections.abc import Sequence
 
 from ...errors import ScenarioError
@@ -21,6 +22,10 @@ __all__ = ["SCENARIO_NAME", "check_scenario_name", "check_vehicle_folders"]
 
 SCENARIO_NAME = re.compile(r"[^\x00-\x1f\x7f/\\.][^\x00-\x1f\x7f/\\]{0,127}")
 """A scenario name: 1-128 characters, no control character, no '/' or '\\', not starting with '.'."""
+
+_INVISIBLE = ("Cc", "Cf", "Zl", "Zp")
+"""Unicode categories refused in a scenario name besides :data:`SCENARIO_NAME`'s: C1 controls, format characters
+(U+202E right-to-left override turned the messages and the report's title around) and line separators."""
 
 _RESERVED = ("figures", "formation.json", "slots.csv", "scenario.toml", "report.html", "terrain.npz", "source.json",
              ".auvplan-manifest.json", ".auvplan.lock")
@@ -37,9 +42,9 @@ def check_scenario_name(source: str, name: str) -> None:
     name : str
         The scenario's ``name``.
     """
-    if not SCENARIO_NAME.fullmatch(name):
+    if not SCENARIO_NAME.fullmatch(name) or any(unicodedata.category(c) in _INVISIBLE for c in name):
         raise table_error(f"{source}:", "name", name, "a scenario name is 1-128 characters without control "
-                          "characters, '/' or '\\', not starting with '.'")
+                          "or invisible formatting characters, '/' or '\\', not starting with '.'")
 
 
 def check_vehicle_folders(source: str, names: Sequence[str]) -> None:

@@ -22,7 +22,29 @@ from ..session import EDITABLE_TABLES, Session
 from ..tomlout import dumps
 from .planning import plan_survey
 
-__all__ = ["open_scenario", "set_initial_route", "set_value"]
+__all__ = ["MAX_VALUE_ITEMS", "MAX_VALUE_DEPTH", "open_scenario", "set_initial_route", "set_value"]
+
+MAX_VALUE_ITEMS = 10_000
+"""Most numbers, strings and containers one value set by the page may hold (a 10⁶-number ``start``, 4 MB
+within the body limit, held the scenario's lock for 14.5 s before the loader refused it)."""
+MAX_VALUE_DEPTH = 16
+"""Deepest nesting of one value set by the page (800 levels answered a bare 'RecursionError', naming nothing)."""
+
+
+def _check_value(table: str, key: str, value: Any) -> None:
+    """Refuse a value too large or too deep for a scenario key before it is copied, written and parsed."""
+    count, stack = 0, [(value, 0)]
+    while stack:
+        v, depth = stack.pop()
+        count += 1
+        if depth > MAX_VALUE_DEPTH or count > MAX_VALUE_ITEMS:
+            what = f"nested over {MAX_VALUE_DEPTH} deep" if depth > MAX_VALUE_DEPTH else \
+                f"over {MAX_VALUE_ITEMS:,} items"
+            raise AuvplanError(f"[{table}] {key}: a value {what}; no scenario key takes one")
+        if isinstance(v, str) and len(v) > MAX_VALUE_ITEMS:
+            raise AuvplanError(f"[{table}] {key}: a string of {len(v):,} characters, over {MAX_VALUE_ITEMS:,}")
+        children = v.values() if isinstance(v, dict) else v if isinstance(v, list) else ()
+        stack.extend((c, depth + 1) for c in children)
 
 
 def open_scenario(session: Session, target: str) -> None:
@@ -142,6 +164,7 @@ def set_value(session: Session, table: str, key: str, value: Any) -> CheckResult
         t = doc.setdefault(table, {})
         if not isinstance(t, dict) or not isinstance(key, str):
             raise AuvplanError(f"[{table}] {key!r}: not a key of a table")
+        _check_value(table, key, value)
         if value is None:
             t.pop(key, None)
         else:

@@ -19,6 +19,7 @@ from pyproj import Geod
 
 from ....errors import DataError
 from ....world.currents.tides import HarmonicTables, TidalCurrent
+from ...jsonfile import MAX_JSON_BYTES, read_bounded_text
 from ..geo import LocalFrame
 from .currents import parse_time
 
@@ -84,11 +85,14 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
         path = Path(source)
         if not path.is_absolute() and base_dir is not None:
             path = base_dir / path
+        if path.exists() and not path.is_file():  # a FIFO blocked for ever, /dev/zero filled the memory
+            raise DataError(f"tides = {source!r}: not a regular file (a FIFO, a device or a folder)")
         try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise DataError(f"tides = {source!r}: cannot read ({exc.strerror}); built-in: "
-                            f"{', '.join(BUILTIN_TIDES)}") from exc
+            text = read_bounded_text(path, MAX_JSON_BYTES, "a tidal station file")
+        except DataError as exc:
+            cause = exc.__cause__
+            why = cause.strerror if isinstance(cause, OSError) else str(exc).removeprefix(f"{path}: ")
+            raise DataError(f"tides = {source!r}: cannot read ({why}); built-in: {', '.join(BUILTIN_TIDES)}") from exc
         where = str(path)
     try:
         doc = json.loads(text)

@@ -89,7 +89,14 @@ def _read_polygons(path: Path, layer: str, src: str) -> tuple[Any, Any]:
                         "closed polygons, e.g. GSHHG level 1 or OpenStreetMap land polygons")
     if not read.crs_stated:
         log.warning("%s: no CRS; taken as WGS 84 longitude/latitude", src)
-    return shapely.union_all(shapely.make_valid(polys)), read.crs
+    return shapely.union_all(_valid(polys)), read.crs
+
+
+def _valid(geoms: Any) -> Any:
+    """Invalid polygons made valid by their rings' structure (shells unioned, holes subtracted): a part drawn
+    inside another stays land (the default rebuild by the even-odd rule made it a hole); valid ones as they are."""
+    out = np.where(shapely.is_valid(geoms), geoms, shapely.make_valid(geoms, method="structure", keep_collapsed=False))
+    return out[()] if out.ndim == 0 else out  # one geometry in, one out
 
 
 def read_land(spec: LandSpec, frame: LocalFrame, extent_m: tuple[float, float, float, float], *,
@@ -143,7 +150,7 @@ def _land_geometry(path: Path, spec: LandSpec, src: str, frame: LocalFrame,
     local = shapely.transform(geom, project)
     x0, x1, y0, y1 = extent_m
     clipped = shapely.clip_by_rect(local, x0 - margin_m, y0 - margin_m, x1 + margin_m, y1 + margin_m)
-    clipped = shapely.make_valid(clipped)
+    clipped = _valid(clipped)
     parts = [p for p in shapely.get_parts(clipped) if shapely.get_type_id(p) in (3, 6)]
     geometry = shapely.union_all(parts) if parts else shapely.MultiPolygon()
     if geometry.is_empty:

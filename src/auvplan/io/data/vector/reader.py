@@ -17,6 +17,8 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
+from .guard import check_source, offline
+
 __all__ = ["VectorLayer", "read_vector"]
 
 log = logging.getLogger(__name__)
@@ -65,7 +67,8 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     src : str
         Message prefix naming the file and the key that named it, e.g. ``"s.toml: [[zones]] file = 'a.gpkg'"``.
     error : type of Exception
-        Raised (with a message starting with ``src``) when the file is missing, unreadable or its CRS unusable.
+        Raised (with a message starting with ``src``) when the file is missing, unreadable or its CRS unusable,
+        is a FIFO or a device, or only describes other sources (an OGR VRT, a WFS; :mod:`.guard`).
     layer : str, default ''
         Layer name ('' for the first); for S-57 charts the object class (``CBLSUB``, ``WRECKS`` ...).
     where : str, default ''
@@ -83,8 +86,10 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
 
     if not path.exists():
         raise error(f"{src}: not found")
+    check_source(path, src, error)  # no FIFO, device or description of other sources (.guard)
     try:
-        with warnings.catch_warnings(record=True) as said:  # GDAL's warnings: one line each, not Python's two
+        # GDAL kept off the network; its warnings one line each, not Python's two
+        with offline(), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
             # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers test
             # the filter on the fields asked for, and no field asked for matched no feature

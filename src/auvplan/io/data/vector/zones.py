@@ -30,6 +30,7 @@ from pyproj import Transformer
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
 from ..geo import LocalFrame
+from .dense import check_zone_count, check_zone_vertices, lean
 from .kept import kept_geometries
 from .reader import read_vector
 
@@ -280,7 +281,7 @@ def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
     """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
     kind = shapely.get_type_id(geom)
     if kind in (3, 6):
-        return _polygonal(geom, where)
+        return lean(_polygonal(geom, where))  # a million vertices: simplified, grown to contain them (.dense)
     if kind in (1, 2, 5):
         if not buffer_m:
             raise ScenarioError(f"{where}: {geom.geom_type} features need buffer_m (a corridor's half-width)")
@@ -347,6 +348,7 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         if not shapely.intersects(local, box):
             continue
         out.append((f"{spec.name}: {tag}", local))
+        check_zone_count(len(out), src, DataError)
     if not out:
         log.warning("%s: no feature reaches the operating area", src)
     return out
@@ -379,6 +381,23 @@ def _check_coordinates(g: Any, geographic: bool, stated: bool, where: str) -> No
         why = "" if stated else ("; the file states no CRS, so it was read as longitude/latitude (WGS 84): give it "
                                  "its CRS (a .prj beside a shapefile)")
         raise DataError(f"{where}: ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}) is not a longitude/latitude{why}")
+    if geographic:
+        _check_seam(g, where)
+
+
+def _check_seam(g: Any, where: str) -> None:
+    """Refuse an edge that jumps more than 180° of longitude (but not the 360° of a whole-Earth box): a reef drawn
+    across the antimeridian as 179.99 → -179.99 is, read as written, the band round the Earth without it, and
+    the zone was the area's complement (10.7 km² kept out, the reef's 1.7 km² open)."""
+    for part in shapely.get_parts(shapely.get_rings(g) if shapely.get_type_id(g) in (3, 6) else g):
+        xy = shapely.get_coordinates(part)
+        jump = np.abs(np.diff(xy[:, 0])) if len(xy) > 1 else np.empty(0)
+        bad = np.flatnonzero((jump > 180.0) & (jump < 360.0))
+        if bad.size:
+            a, b = xy[bad[0]], xy[bad[0] + 1]
+            raise DataError(f"{where}: its edge ({a[0]:.6g}, {a[1]:.6g}) → ({b[0]:.6g}, {b[1]:.6g}) spans "
+                            f"{jump[bad[0]]:.6g}° of longitude, the long way round the Earth; across the antimeridian "
+                            "continue the longitudes past ±180 (180.01) or split the feature there (RFC 7946 §3.1.9)")
 
 
 def _lonlat_window(frame: LocalFrame, box: Any, reach_m: float) -> tuple[float, float, float, float]:
@@ -467,6 +486,8 @@ def read_zones(specs: tuple[ZoneSpec, ...], frame: LocalFrame | None, terrain: T
                 zones.append(Zone(name, footprint, spec.top_m, spec.bottom_m, spec.above_seabed_m))
             except DataError as exc:
                 raise ScenarioError(f"{spec.where_}: {exc}") from exc
+    check_zone_count(len(zones), specs[0].where_.split(":")[0] if specs else "", ScenarioError)
+    check_zone_vertices([z.footprint for z in zones], specs[0].where_.split(":")[0] if specs else "", ScenarioError)
     try:
         return Zones(tuple(zones), terrain, pad=pad_m)
     except DataError as exc:
