@@ -74,3 +74,13 @@ def test_the_last_item_s_hold_is_flown_before_the_mission_completes(tmp_path, co
     assert rec[1800.9]["duration_s"] - rec[0]["duration_s"] == pytest.approx(1800.0, abs=1e-6)  # whole seconds
     assert rec[1800.9]["energy_wh"] - rec[0]["energy_wh"] == pytest.approx(hotel * 0.5, rel=1e-9)
     assert len(rec[1800.9]["leg_speeds_mps"]) == len(rec[0]["leg_speeds_mps"]) == 3  # the file's legs, no more
+
+
+def test_a_reserve_broken_in_the_last_item_s_hold_is_named_so_not_a_leg_the_file_lacks(tmp_path):
+    """3 legs (0-2) and 3000 s held at the last item on a 35 Wh battery: the hold breaks the reserve, not 'leg 3'."""
+    scen = tmp_path / "s.toml"
+    scen.write_text(_SCENARIO + "[vehicle]\nbattery_wh = 35.0\n")
+    world, mission = loader.build(loader.load(str(scen)))
+    rec, ok, line = mission_file_energy(world, mission, _plan(tmp_path, [0, 0, 3000]))
+    assert not ok and rec["energy_status"] == "RESERVE_BROKEN"
+    assert line.endswith("the reserve is entered in the hold at the last item") and "leg 3" not in line

@@ -242,10 +242,13 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     # ArduSub holds the item against the current (its position controller): the power of that current's speed
     b = mission_budget(world, route, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
     legs = waypoints.shape[0] - 1
+    message = b.message
+    if route is not waypoints and message.endswith(f"entered on leg {legs}"):  # the leg of no length: the hold
+        message = message.removesuffix(f"on leg {legs}") + "in the hold at the last item"
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water[:legs].tolist(),
+           "duration_s": b.duration_s, "energy_message": message, "leg_speeds_mps": b.speed_water[:legs].tolist(),
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
-    return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
+    return rec, b.status.ok, f"energy {b.status.value} — {message}"
 
 
 def sweep_energy(world: World, mission: Mission, plans: list[Any],
