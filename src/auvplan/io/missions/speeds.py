@@ -215,6 +215,17 @@ MAX_HOLD_S = 65535.0
 """Longest hold an item can carry (s): ArduPilot stores param 1 of a waypoint or a timed loiter in 16 bits."""
 
 
+def _refuse_holds(path: Path, moves: list[PlanItem]) -> None:
+    """Refuse a hold ArduPilot cannot store: ``AP_Mission`` copies param 1 into the 16-bit ``cmd.p1``
+    (``mavlink_int_to_mission_cmd``), so a negative hold or one over :data:`MAX_HOLD_S` is not what the vehicle
+    holds (the float's conversion is undefined: it wraps or saturates by platform)."""
+    for it in moves:
+        p1 = it.params[0] if it.command in (16, 19) else 0
+        if isinstance(p1, (int, float)) and not isinstance(p1, bool) and (p1 < 0 or p1 > MAX_HOLD_S):
+            raise DataError(f"{path}: QGC plan: {it.where}.params[0] = {p1!r}: a hold ArduPilot cannot store "
+                            f"(whole seconds 0-{MAX_HOLD_S:.0f}: AP_Mission keeps it in 16 bits)")
+
+
 def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
     """The time a ``.plan`` holds at each of its ``points`` (home first) before the next leg (module notes).
 
@@ -230,6 +241,11 @@ def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
     numpy.ndarray or None
         ``(points,)`` seconds (the home's 0; whole seconds as ArduSub counts them); None for another format, a
         file without a hold, or one that does not match.
+
+    Raises
+    ------
+    DataError
+        If a hold is negative or over :data:`MAX_HOLD_S` (ArduPilot stores it in 16 bits), naming the item.
     """
     path = Path(path)
     if path.suffix.lower() != ".plan":
@@ -243,5 +259,6 @@ def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
         p1 = it.params[0] if it.command in (16, 19) else 0  # an unlimited loiter is the last position: no leg after
         if isinstance(p1, bool) or not isinstance(p1, (int, float)) or not p1 > 0:
             p1 = 0  # null (QGC's NaN) or none: no hold
-        hold.append(float(np.floor(min(float(p1), MAX_HOLD_S))))
+        hold.append(float(np.floor(float(p1))))
+    _refuse_holds(path, moves)
     return np.asarray(hold) if len(hold) == points and any(hold) else None
