@@ -122,3 +122,16 @@ def test_one_violation_is_one(tmp_path, capsys) -> None:  # type: ignore[no-unty
     assert main(["mission", "check", str(csv), "--scenario", str(scen)]) == 1
     line = next(x for x in capsys.readouterr().out.splitlines() if " vehicle: " in x)
     assert line.endswith("; 1 violation: leg 1: 0.004 m long < the shortest leg 0.1 m"), line
+
+
+def test_a_results_folder_given_as_the_scenario_names_its_saved_scenario(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """README: `mission check DIR/mission.* --scenario DIR/scenario.toml`; `--scenario DIR` said "no such scenario
+    file, and not a built-in scenario (35 names)"."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario.builtins import resolve
+
+    (tmp_path / "scenario.toml").write_text('name = "s"\n')
+    with pytest.raises(ScenarioError, match=r"a folder, not a scenario file; the scenario its run saved is .*/"
+                                            r"scenario\.toml$"):
+        resolve(tmp_path)
+    assert resolve(tmp_path / "scenario.toml") == tmp_path / "scenario.toml"

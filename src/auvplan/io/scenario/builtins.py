@@ -49,5 +49,8 @@ def resolve(scenario: str | Path) -> Path:
     builtin = resources.files("auvplan") / "data" / "scenarios" / f"{scenario}.toml"
     if builtin.is_file():
         return Path(str(builtin))
+    if (p / "scenario.toml").is_file():  # a results folder (`--scenario DIR`): its saved scenario named
+        raise ScenarioError(f"{scenario}: a folder, not a scenario file; the scenario its run saved is "
+                            f"{p / 'scenario.toml'}")
     names = ", ".join(builtin_scenarios())
     raise ScenarioError(f"{scenario}: no such scenario file, and not a built-in scenario ({names})")
