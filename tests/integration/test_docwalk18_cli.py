@@ -135,3 +135,19 @@ def test_a_results_folder_given_as_the_scenario_names_its_saved_scenario(tmp_pat
                                             r"scenario\.toml$"):
         resolve(tmp_path)
     assert resolve(tmp_path / "scenario.toml") == tmp_path / "scenario.toml"
+
+
+def test_a_refused_point_from_degrees_is_printed_to_the_centimetre(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    """README's degrees example with a REMUS 100 (rated 100 m): `start = [-5375.523770336695, …]: not a free point`."""
+    from auvplan.cli import main
+
+    scen = tmp_path / "geo.toml"
+    scen.write_text('name = "geo"\n[origin]\nlat = 48.0\nlon = -125.0\n[bounds]\nx = [-3000.0, 3000.0]\n'
+                    'y = [-3000.0, 3000.0]\nz = [-300.0, 0.0]\n[terrain.synthetic]\nkind = "plane"\ndepth = 250.0\n'
+                    'cell_m = 100.0\n[vehicle]\nmax_depth_m = 100.0\n[mission]\n'
+                    'start = { lat = 47.99, lon = -125.01, depth = 200.0 }\ngoal = { lat = 48.01, lon = -124.99, '
+                    'depth = 30.0 }\n')
+    assert main(["validate", str(scen)]) == 2
+    (sx, sy), = [FRAME.forward([-125.01], [47.99])]
+    err = capsys.readouterr().err
+    assert f"[mission] start = [{sx[0]:.2f}, {sy[0]:.2f}, -200.00] m: not a free point: deeper than" in err, err

@@ -67,10 +67,11 @@ def _synthetic_terrain(spec: SyntheticTerrainSpec, bounds: BoundsSpec, src: str)
 def _check_point(world: World, point: tuple[float, ...], key: str, src: str) -> None:
     p = np.asarray(point, dtype=float)
     table = "" if key.startswith("[") else "[mission] "
+    at = "[" + ", ".join(f"{v + 0.0:.2f}" for v in p) + "] m"  # to the cm: one from degrees had 15 decimals
     if not world.bounds.contains(p):
         b = world.bounds
         raise ScenarioError(
-            f"{src}: {table}{key} = {list(point)}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
+            f"{src}: {table}{key} = {at}: outside the bounds x [{b.xmin:.0f}, {b.xmax:.0f}] "
             f"y [{b.ymin:.0f}, {b.ymax:.0f}] z [{b.zmin:.0f}, {b.zmax:.0f}]"
         )
     if world.clearly_free(p):  # decided in numpy: no compiled kernel loaded for a point well clear (issue 56)
@@ -79,7 +80,7 @@ def _check_point(world: World, point: tuple[float, ...], key: str, src: str) -> 
     if why:
         seabed = float(world.seabed(p[0], p[1]))
         extra = f" (seabed at {seabed:.1f} m)" if np.isfinite(seabed) else ""
-        raise ScenarioError(f"{src}: {table}{key} = {list(point)}: not a free point: {why}{extra}")
+        raise ScenarioError(f"{src}: {table}{key} = {at}: not a free point: {why}{extra}")
 
 
 def _check_terrain_size(s: Scenario, extent: tuple[float, float, float, float] | None) -> None:
