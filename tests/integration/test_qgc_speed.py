@@ -67,9 +67,9 @@ def _check(tmp_path, doc, json_out=True):
     return code, (json.loads(buf.getvalue()) if json_out else buf.getvalue())
 
 
-def _qgc_written(speed_item_after=None):
+def _qgc_written(speed_item_after=None, speed=1.5):
     """A plan as QGroundControl saves one (its keys and item layout): cruise and hover speed 1.5 m/s, no speed
-    command unless ``speed_item_after`` (then a 178 at 1.5 m/s after that waypoint, as QGC writes one)."""
+    command unless ``speed_item_after`` (then a 178 at ``speed`` m/s after that waypoint, as QGC writes one)."""
     lon, lat = LocalFrame(*ORIGIN).inverse(POINTS[:, 0], POINTS[:, 1])
     items = []
     for k, (la, lo, z) in enumerate(zip(lat, lon, POINTS[:, 2])):
@@ -78,7 +78,7 @@ def _qgc_written(speed_item_after=None):
                       "params": [0, 0, 0, None, float(la), float(lo), float(z)], "type": "SimpleItem"})
         if k == speed_item_after:
             items.append({"autoContinue": True, "command": 178, "doJumpId": len(items) + 1, "frame": 2,
-                          "params": [1, 1.5, -1, 0, 0, 0, 0], "type": "SimpleItem"})
+                          "params": [1, speed, -1, 0, 0, 0, 0], "type": "SimpleItem"})
     return {"fileType": "Plan", "geoFence": {"circles": [], "polygons": [], "version": 2},
             "groundStation": "QGroundControl",
             "mission": {"cruiseSpeed": 1.5, "firmwareType": 3, "globalPlanAltitudeMode": 1, "hoverSpeed": 1.5,
@@ -109,8 +109,18 @@ def test_a_plan_qgc_wrote_without_a_speed_command_is_judged_at_the_vehicle_s_spe
     assert rec["energy"]["leg_speeds_mps"] == pytest.approx([1.0] * 4)
     assert rec["energy"]["duration_s"] == pytest.approx(LEGS.sum() / 1.0, rel=1e-9)  # not / 1.5
     _, text = _check(tmp_path, _qgc_written(), json_out=False)
-    assert (f"{tmp_path / 'm.plan'}: leg speeds (no MAV_CMD_DO_CHANGE_SPEED) not in the file: ArduSub flies its "
-            "WPNAV_SPEED parameter; judged at 1 m/s (legs 0-3)\n") in text
+    assert (f"{tmp_path / 'm.plan'}: leg speeds (no MAV_CMD_DO_CHANGE_SPEED above 0 before them) not in the file: "
+            "ArduSub flies its WPNAV_SPEED parameter; judged at 1 m/s (legs 0-3)\n") in text
+
+
+@pytest.mark.parametrize("after, speed", [(0, 0.0), (0, -1.0), (3, 1.5)])
+def test_speed_commands_that_set_no_leg_s_speed_are_named_as_such(tmp_path, after, speed):
+    """A 178 whose speed is 0 or -1 (ArduSub keeps the speed it has) or one after the last position sets no leg's
+    speed: every leg judged at the vehicle's 1.0 m/s, and the line does not say the file has no speed command."""
+    code, rec = _check(tmp_path, _qgc_written(speed_item_after=after, speed=speed))
+    assert code == 0 and rec["speed_assumed_legs"] == [0, 1, 2, 3]
+    _, text = _check(tmp_path, _qgc_written(speed_item_after=after, speed=speed), json_out=False)
+    assert "leg speeds (no MAV_CMD_DO_CHANGE_SPEED above 0 before them) not in the file" in text
 
 
 def test_legs_before_a_late_speed_command_are_named_and_the_rest_fly_its_speed(tmp_path):

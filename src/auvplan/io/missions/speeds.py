@@ -188,7 +188,7 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float) -> JudgedSpeeds
     line = ""
     if assumed:
         if path.suffix.lower() == ".plan":
-            where = f"before {first}" if first is not None else "(no MAV_CMD_DO_CHANGE_SPEED)"
+            where = f"before {first}" if first is not None else "(no MAV_CMD_DO_CHANGE_SPEED above 0 before them)"
             line = (f"leg speeds {where} not in the file: ArduSub flies its WPNAV_SPEED parameter; judged at "
                     f"{speed:g} m/s (legs {_ranges(assumed)})")
         else:
