@@ -50,3 +50,10 @@ def test_an_empty_speed_cell_is_that_legs_speed_only(tmp_path: Path) -> None:
 def test_a_speed_not_positive_is_refused_naming_the_leg(tmp_path: Path, value: str) -> None:
     with pytest.raises(DataError, match=rf"m\.csv: leg 1's speed {value} m/s \(carried by the file\) is not positive"):
         judged_leg_speeds(_csv(tmp_path, {2: value}), 4, 1.5)  # was: every leg at 1.5 m/s, "not in the file"
+
+
+@pytest.mark.parametrize("value", ["abc", "1.5 m/s", "fast"])
+def test_a_speed_that_is_not_a_number_is_refused_naming_the_line_and_value(tmp_path: Path, value: str) -> None:
+    """A typed-in word was read as 'no speed column': every leg judged at the vehicle's speed, silently."""
+    with pytest.raises(DataError, match=rf"m\.csv: line 4: speed = '{value}' is not a number"):
+        judged_leg_speeds(_csv(tmp_path, {2: value}), 4, 1.5)  # the file's line 4: header, then rows 0, 1, 2

@@ -406,10 +406,15 @@ def csv_columns(text: str, wanted: tuple[str, ...], empty: float | None = None) 
     short = next((i for i, r in enumerate(rows) if len(r) <= max(cols.values(), default=-1)), None)
     if short is not None:
         raise ValueError(f"line {short + 2} has {len(rows[short])} fields; the header has {len(names)}")
-    def num(cell: str) -> float:
-        return empty if empty is not None and not cell.strip() else float(cell)
+    def num(cell: str, line: int, name: str) -> float:
+        if empty is not None and not cell.strip():
+            return empty
+        try:
+            return float(cell)
+        except ValueError:
+            raise ValueError(f"line {line}: {name} = {cell.strip()!r} is not a number") from None
 
-    return {k: np.array([num(r[c]) for r in rows], dtype=float) for k, c in cols.items()}
+    return {k: np.array([num(r[c], i + 2, k) for i, r in enumerate(rows)], dtype=float) for k, c in cols.items()}
 
 
 def _csv_mission(text: str) -> NDArray[np.float64]:

@@ -70,7 +70,8 @@ def _qgc(doc: dict[str, Any], legs: int) -> tuple[list[float], str | None] | Non
 
 
 class _BadSpeed(Exception):
-    """A speed command whose speed is not a number (raised past the readers' 'carries none' handling)."""
+    """A speed that is not a number (a ``.plan``'s speed command, a CSV's cell), raised past the readers' 'carries
+    none' handling."""
 
 
 def _speed(it: PlanItem) -> float:
@@ -116,12 +117,15 @@ def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | Non
             got = _qgc(json.loads(text), legs)
             v, first = (None, None) if got is None else got
         elif suffix == ".csv":
-            speed = csv_columns(text, ("speed",), empty=math.nan).get("speed")  # empty: that leg's not in the file
+            try:
+                speed = csv_columns(text, ("speed",), empty=math.nan).get("speed")  # empty: that leg's not in the file
+            except ValueError as exc:  # a word typed in: it dropped the column, the vehicle's speed judged silently
+                raise _BadSpeed(str(exc)) from None
             v = None if speed is None else speed[1:].tolist()
         else:
             v = None
     except _BadSpeed as exc:  # the vehicle would not fly the speed the check assumed
-        raise DataError(f"{path}: QGC plan: {exc}") from None
+        raise DataError(f"{path}: {'QGC plan: ' if suffix == '.plan' else ''}{exc}") from None
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError):
         return None
     if v is None or len(v) != legs:
