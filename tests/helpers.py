@@ -6,6 +6,22 @@ import numpy as np
 
 from auvplan.world import Bounds, Margins, Terrain, World
 
+# the holds tests' scene (test_audit17_holds, test_audit18_holds_current, test_audit19_plan_holds): a 3 km square
+# south of the equator with no seabed, the mission along y = 1000 m at 15 m deep
+HOLDS = """
+name = "holds"
+[origin]
+lat = -7.0
+lon = 70.8
+[bounds]
+x = [0.0, 3000.0]
+y = [0.0, 3000.0]
+z = [-100.0, 0.0]
+[mission]
+start = [500.0, 1000.0, -15.0]
+goal = [2500.0, 1000.0, -15.0]
+"""
+
 # the limits tests' scene (test_vehicle_limits, test_limits_by_hand, test_mission_legs): a ridge 40 m high and 60 m
 # wide across a 2 km x 400 m box at x = 1000 m, over a 100 m deep seabed on 5 m cells; the mission crosses it at -80 m
 RIDGE_ROUTE = "route = [[100.0, 200.0, -80.0], [1900.0, 200.0, -80.0]]"

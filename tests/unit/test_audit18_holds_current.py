@@ -17,20 +17,9 @@ from auvplan.endurance import EnergyModel
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.energy import mission_file_energy
 from auvplan.io.scenario import loader
+from helpers import HOLDS
 
-_SCENARIO = """
-name = "holds in a current"
-[origin]
-lat = -7.0
-lon = 70.8
-[bounds]
-x = [0.0, 3000.0]
-y = [0.0, 3000.0]
-z = [-100.0, 0.0]
-[mission]
-start = [500.0, 1000.0, -15.0]
-goal = [2500.0, 1000.0, -15.0]
-"""
+_SCENARIO = HOLDS.replace('name = "holds"', 'name = "holds in a current"')
 
 
 def _plan(frame: LocalFrame, hold: float) -> str:
