@@ -1325,3 +1325,15 @@ REASONS.update({
      "< ZERO_LATLON_DEG), None)"):
         "equivalent: rows holds the home and one row per item, so the two sequences are always as long",
 })
+
+# ---- round 6 (7 Dec 2026, after midnight; docs/mutants.md section 6): this session's new code
+# the speeds' rewrite (a .plan's legs before its first speed command carry none; the holds and their 16-bit limit)
+# and the QGC writer's leading MAV_CMD_DO_CHANGE_SPEED
+QGC_WRITER = "auvplan.io.missions.formats"
+MODULES.update({
+    "speeds-rewrite": Target(
+        _fns(APP_SPEEDS, "_qgc", "_read", "judged_leg_speeds", "_ranges", "_refuse_holds", "read_holds")
+        + _fns(QGC_WRITER, "_change_speed")
+        + ((QGC_WRITER, "to_qgc_plan", "v = leg_speeds(speed", "alt = deploy.altitude"),),
+    ),
+})
