@@ -1337,3 +1337,11 @@ MODULES.update({
         + ((QGC_WRITER, "to_qgc_plan", "v = leg_speeds(speed", "alt = deploy.altitude"),),
     ),
 })
+REASONS.update({
+    "_refuse_holds | p1 = it.params[0] if it.command in (16, 19) else 1":
+        ("equivalent: a position that is not a waypoint or a timed loiter holds no stored time; 0 and 1 both lie "
+         "within the 16-bit range 0-65535, so neither is refused"),
+    "read_holds | if isinstance(p1, bool) or not isinstance(p1, (int, float)) or (not p1 >= 0):":
+        ("equivalent: it differs only at p1 = 0 (and -0.0), read as 0 s either way; NaN fails both comparisons, a "
+         "negative hold is 0 here under both and refused just after (_refuse_holds)"),
+})
