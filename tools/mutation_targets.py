@@ -1345,3 +1345,16 @@ REASONS.update({
         ("equivalent: it differs only at p1 = 0 (and -0.0), read as 0 s either way; NaN fails both comparisons, a "
          "negative hold is 0 here under both and refused just after (_refuse_holds)"),
 })
+
+# the vector files' guard (a FIFO, a device, an OGR VRT / WFS / pipeline refused by its first bytes; GDAL offline)
+# and the dense zone files' bounds (a footprint of >10 000 vertices simplified and grown; the zone and vertex caps)
+GUARD, DENSE = "auvplan.io.data.vector.guard", "auvplan.io.data.vector.dense"
+MODULES.update({
+    "vector-guard": Target(
+        _fns(GUARD, "check_source", "offline") + _fns(DENSE, "lean", "check_zone_count", "check_zone_vertices"),
+    ),
+})
+REASONS.update({
+    "check_zone_vertices | total = int(shapely.get_num_coordinates(footprints).sum()) if footprints else 1":
+        "equivalent: no footprint counts 0 or 1 vertex, both far under the 2,000,000 allowed",
+})
