@@ -1358,3 +1358,10 @@ REASONS.update({
     "check_zone_vertices | total = int(shapely.get_num_coordinates(footprints).sum()) if footprints else 1":
         "equivalent: no footprint counts 0 or 1 vertex, both far under the 2,000,000 allowed",
 })
+
+# merge_short_legs' exact test of the straight leg (2c32d2a) and the zone reader's repair and names (audit 18)
+MISSION_LEGS, VZONES = "auvplan.guidance.mission.legs", "auvplan.io.data.vector.zones"
+MODULES.update({
+    "merge-exact": Target(_fns(MISSION_LEGS, "_droppable", "merge_short_legs")),
+    "zone-names": Target(_fns(VZONES, "_repaired", "_feature_names")),
+})

@@ -196,6 +196,8 @@ HAND_TYPED_DOC_SECTIONS = {
         "docs: tools/mutate.py runs of wave 12's safety code (about 40 min of a heavy slot), wave 13",
     ("docs/mutants.md", "5. Wave 13's new code (6 Dec 2026, night)"):
         "docs: tools/mutate.py runs of wave 13's new code (18 min of a heavy slot), mutants17",
+    ("docs/mutants.md", "6. This session's new code (7 Dec 2026, after midnight)"):
+        "docs: tools/mutate.py runs of the session's new code (about 10 min of a heavy slot), mutants19",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
         "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",
