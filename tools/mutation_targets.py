@@ -1365,3 +1365,40 @@ MODULES.update({
     "merge-exact": Target(_fns(MISSION_LEGS, "_droppable", "merge_short_legs")),
     "zone-names": Target(_fns(VZONES, "_repaired", "_feature_names")),
 })
+_MERGE_TOL = ("boundary: a merged leg's pitch within 1e-9 deg of the limit or of the steeper old leg, the tolerance "
+              "itself")
+_MERGE_ENDS = ("equivalent: the mission's ends are kept by both guards (pinned and 0 < j < len(q) - 1); the mutant "
+               "drops one of the two, the other still keeps them")
+REASONS.update({
+    "_droppable | if float(np.linalg.norm(b - a)) < 0.0:":
+        ("not killed (conservative): a new leg of no length (A, V, A) then goes through the general tests (pitch 0, "
+         "the exact test of the point A, its envelope), which can only keep V more often, never merge unsafely"),
+    "_droppable | if float(np.linalg.norm(b + a)) <= 0.0:":
+        ("not killed (conservative): a new leg of no length (A, V, A) then goes through the general tests (pitch 0, "
+         "the exact test of the point A, its envelope), which can only keep V more often, never merge unsafely"),
+    "_droppable | if new_pitch >= max(max_pitch_deg, float(np.abs(leg_pitch_deg(old)).max())) + 1e-09:": _MERGE_TOL,
+    "_droppable | if new_pitch > max(max_pitch_deg, float(np.abs(leg_pitch_deg(old)).max())) - 1e-09:": _MERGE_TOL,
+    "_droppable | free = world.segments_free(segs, moving=True, ends_free=True)":
+        ("not killed: no test merges next to a moving obstacle (at t = 0 it would make the new or an old leg not "
+         "free: fewer merges, or one allowed through the envelopes where only an old leg met it)"),
+    "_droppable | free = world.segments_free(segs, moving=False, ends_free=False)":
+        ("equivalent in safety: the convex tests then decided by the ends differ only where an end of the new leg, "
+         "a waypoint of the mission, breaks a depth limit or the bounds: that end's old leg fails too, and the "
+         "mission fails its check at that waypoint whatever is merged"),
+    "merge_short_legs | w = np.asarray(waypoints, dtype=float).reshape(-2, 3)":
+        "equivalent: numpy infers the length of any negative dimension, -2 as -1",
+    "merge_short_legs | if n < 3 and min_leg <= 0.0:":
+        ("equivalent: with fewer than 3 waypoints no vertex is interior (every short leg stuck), with min_leg <= 0 "
+         "no leg is shorter: the loop keeps every waypoint, as the early return"),
+    "merge_short_legs | if n < 3 or min_leg < 0.0:":
+        "equivalent: with min_leg = 0 no leg is shorter than 0, so the loop keeps every waypoint",
+    "merge_short_legs | pinned[[0, -1]] = False": _MERGE_ENDS,
+    "merge_short_legs | continue":
+        "equivalent: with no short leg left every later pass finds none either (only time: at most n passes)",
+    "merge_short_legs | if 0 <= j < len(q) - 1 and (not pinned[idx[j]]) and _droppable(world, q, j, max_pitch_deg):":
+        _MERGE_ENDS,
+    "merge_short_legs | if 0 < j <= len(q) - 1 and (not pinned[idx[j]]) and _droppable(world, q, j, max_pitch_deg):":
+        _MERGE_ENDS,
+    "merge_short_legs | if 0 < j < len(q) + 1 and (not pinned[idx[j]]) and _droppable(world, q, j, max_pitch_deg):":
+        _MERGE_ENDS,
+})

@@ -71,3 +71,12 @@ def test_a_merge_steeper_than_the_limit_and_both_old_legs_is_refused(b, goes):
 def test_an_end_that_comes_back_to_the_point_before_it_goes():
     w = _line(-100.0, 0.0, 0.3, 0.0, 100.0)  # A (fixed), V 0.3 m on, A again: A -> A has no length
     assert merge_short_legs(FLAT, w, 1.0, fixed=[1]).tolist() == [0, 1, 4]
+
+
+def test_a_merge_next_to_a_leg_already_too_low_goes():
+    """A (the start) 5 m over the seabed, under the 10 m margin: A -> V is not free already, V -> B is; the merged
+    A -> B is not free either, and the merge loses no safety the mission had (module notes): V goes."""
+    w = np.array([[0.0, 0.0, -105.0], [20.0, 0.0, -95.0], [200.0, 0.0, -50.0]])
+    assert not FLAT.segments_free(np.stack([w[:2], w[::2]]), moving=False, ends_free=True).any()
+    assert FLAT.segments_free(w[None, 1:], moving=False, ends_free=True).all()
+    assert merge_short_legs(FLAT, w, 50.0).tolist() == [0, 2]
