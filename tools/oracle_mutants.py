@@ -38,12 +38,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "gx = np.abs(coef[..., 1])",
     ),
     "grid-edges-skip-collision-test": (
-        "planners/grid/lattice.py",
+        "planners/grid/lattice/edges.py",
         "state[u] = world.segments_free(seg, moving=False, ends_free=True)",
         "state[u] = True",
     ),
     "grid-backward-edge-costed-forward": (
-        "planners/grid/lattice.py",
+        "planners/grid/lattice/dijkstra.py",
         "ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]",
         "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
@@ -63,12 +63,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "-(m / (FOUR_PI * b))[:, None]",
     ),
     "cost-vertical-current-ignored": (
-        "cost.py",
+        "cost/energy.py",
         "c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy + cz * cz",
         "c_par = (cx * ex + cy * ey) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy",
     ),
     "cost-vertical-current-not-along-track": (
-        "cost.py",
+        "cost/energy.py",
         "c_par = (cx * ex + cy * ey + cz * ez) / ds",
         "c_par = (cx * ex + cy * ey) / ds",
     ),
@@ -144,12 +144,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), 0.0)",
     ),
     "cost-point-slack-no-floor": (
-        "cost.py",
+        "cost/paths.py",
         "                       z - box[4], box[5] - z)",
         "                       box[5] - z)",
     ),
     "lattice-sure-free-horizontal-half-length": (
-        "planners/grid/lattice.py",
+        "planners/grid/lattice/edges.py",
         "0.5 * float(np.linalg.norm(d)), float(d[2]),",
         "0.5 * float(np.hypot(d[0], d[1])), float(d[2]),",
     ),
