@@ -1380,9 +1380,6 @@ REASONS.update({
          "the exact test of the point A, its envelope), which can only keep V more often, never merge unsafely"),
     "_droppable | if new_pitch >= max(max_pitch_deg, float(np.abs(leg_pitch_deg(old)).max())) + 1e-09:": _MERGE_TOL,
     "_droppable | if new_pitch > max(max_pitch_deg, float(np.abs(leg_pitch_deg(old)).max())) - 1e-09:": _MERGE_TOL,
-    "_droppable | free = world.segments_free(segs, moving=True, ends_free=True)":
-        ("not killed: no test merges next to a moving obstacle (at t = 0 it would make the new or an old leg not "
-         "free: fewer merges, or one allowed through the envelopes where only an old leg met it)"),
     "_droppable | free = world.segments_free(segs, moving=False, ends_free=False)":
         ("equivalent in safety: the convex tests then decided by the ends differ only where an end of the new leg, "
          "a waypoint of the mission, breaks a depth limit or the bounds: that end's old leg fails too, and the "

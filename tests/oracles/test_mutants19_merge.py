@@ -80,3 +80,20 @@ def test_a_merge_next_to_a_leg_already_too_low_goes():
     assert not FLAT.segments_free(np.stack([w[:2], w[::2]]), moving=False, ends_free=True).any()
     assert FLAT.segments_free(w[None, 1:], moving=False, ends_free=True).all()
     assert merge_short_legs(FLAT, w, 50.0).tolist() == [0, 2]
+
+
+def test_a_moving_obstacle_does_not_decide_a_merge():
+    """The merge is judged on the static world (module notes: the export's check, without the moving obstacles): a
+    drifting sphere parked at t = 0 on the chord A -> B, 0.3 m from both old legs (radius 0.1 m), changes nothing;
+    a static sphere there keeps V."""
+    from dataclasses import replace
+
+    from auvplan.world import LinearMotion, MovingObstacle, Sphere
+
+    w = np.array([[-100.0, 0.0, -50.0], [0.0, 0.0, -50.0], [0.6, 0.0, -50.0], [0.6, 50.0, -50.0],
+                  [0.6, 100.0, -50.0]])
+    ball = Sphere((0.3, 25.0, -50.0), 0.1)
+    drifting = replace(FLAT, moving=(MovingObstacle(ball, LinearMotion((0.3, 25.0, -50.0), (0.0, 0.0, 0.0))),))
+    assert not drifting.segments_free(w[None, [1, 3]], moving=True, ends_free=True)[0]  # it lies on the chord
+    assert merge_short_legs(drifting, w, 1.0, fixed=[1]).tolist() == [0, 1, 3, 4]
+    assert merge_short_legs(replace(FLAT, obstacles=(ball,)), w, 1.0, fixed=[1]).tolist() == [0, 1, 2, 3, 4]
