@@ -179,16 +179,20 @@ def test_leg_speeds_keep_the_speed_a_zero_command_leaves_and_take_a_slow_one(tmp
 
 
 @pytest.mark.parametrize("bad", ["nan", "-inf", "0", "-1", "inf"])
-def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
-    """A leg speed of nan, -inf, 0 or -1: the file carries no speeds (the vehicle's are flown); +inf is refused
-    naming the leg, as any over 100 m/s (audit 17)."""
+def test_a_csv_whose_leg_speed_is_not_a_speed_is_named(tmp_path, bad):
+    """A leg speed of nan is that leg's speed not in the file (judged at the vehicle's, the others kept: docwalk
+    18); -inf, 0 or -1 is refused naming the leg as not positive (docwalk 18), +inf as over 100 m/s (audit 17)."""
     path = tmp_path / "m.csv"
     path.write_text(f"x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,{bad}\n300,0,-10,1.4\n")
     if bad == "inf":
         with pytest.raises(DataError, match=r"m\.csv: leg 1's speed inf m/s \(carried by the file\) is over 100"):
             read_leg_speeds(path, 3)
+    elif bad == "nan":
+        np.testing.assert_array_equal(read_leg_speeds(path, 3), [1.2, np.nan, 1.4])
     else:
-        assert read_leg_speeds(path, 3) is None
+        want = rf"m\.csv: leg 1's speed {bad} m/s \(carried by the file\) is not positive"
+        with pytest.raises(DataError, match=want):
+            read_leg_speeds(path, 3)
     path.write_text("x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,1.3\n300,0,-10,1.4\n")
     assert read_leg_speeds(path, 3).tolist() == [1.2, 1.3, 1.4]
 
