@@ -326,7 +326,7 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"deepest waypoint {deepest:.2f} m > max_depth {lim['max_depth_m']:g} m")
     if lim.get("min_altitude_m", 0) > 0 and min_alt < lim["min_altitude_m"] - 1e-3:
         reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
-    if "max_time_s" in lim and duration > lim["max_time_s"]:
+    if "max_time_s" in lim and not duration <= lim["max_time_s"]:  # never arriving (the energy check's nan/inf) too
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
     return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
