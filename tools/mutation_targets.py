@@ -27,8 +27,10 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 
 TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
-COST = "auvplan.cost"
-GRID, LATTICE = "auvplan.planners.grid.reference", "auvplan.planners.grid.lattice"
+COST_ENERGY, COST_PATHS = "auvplan.cost.energy", "auvplan.cost.paths"
+GRID = "auvplan.planners.grid.reference"
+NODES, EDGES = "auvplan.planners.grid.lattice.nodes", "auvplan.planners.grid.lattice.edges"
+DIJKSTRA = "auvplan.planners.grid.lattice.dijkstra"
 HEAP = "auvplan.planners.grid.heap"
 SIM_EVENTS, SIM_LOOP = "auvplan.sim.events", "auvplan.sim.loop"
 LOCAL = "auvplan.guidance.avoidance.local"
@@ -64,18 +66,18 @@ MODULES: dict[str, Target] = {
     ),
     # the energy/duration kernel and the path terms (violations, clearance)
     "cost": Target(
-        _fns(COST, "_obstacle_slack", "segment_energy", "energy_kernel", "_segment_energies", "_point_slack",
-             "_path_terms", "evaluate_paths"),
+        _fns(COST_PATHS, "_obstacle_slack") + _fns(COST_ENERGY, "segment_energy", "energy_kernel", "_segment_energies")
+        + _fns(COST_PATHS, "_point_slack", "_path_terms", "evaluate_paths"),
         ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "-k", "cost or energy or seabed"),
         jit=False,
     ),
-    # the lattice (planners/grid/lattice.py): free nodes and their safe single-precision fields, the edge
+    # the lattice (planners/grid/lattice/): free nodes and their safe single-precision fields, the edge
     # test's shortcut (seabed Lipschitz bound, obstacle distance) and its exact fallback, edge bits,
     # edge weights, the indexed binary heap and the Dijkstra/A* search, the free-edge list; and
     # the links of the goal and starts to the lattice
     "grid": Target(
-        _fns(LATTICE, "down32", "node_fields", "_offset_states", "edge_states", "_set_bits", "edge_bits",
-             "_edge_weight", "_heuristic", "_settle_link", "_search", "search", "free_edges")
+        _fns(NODES, "down32", "node_fields") + _fns(EDGES, "_offset_states", "edge_states", "_set_bits", "edge_bits")
+        + _fns(DIJKSTRA, "_edge_weight", "_heuristic", "_settle_link", "_search", "search") + _fns(EDGES, "free_edges")
         + _fns(HEAP, "_sift_up", "_sift_down", "push", "pop")
         + _fns(GRID, "GridReference._connect"),
         tuple(f"tests/oracles/test_oracles.py::test_{t}" for t in (
@@ -167,7 +169,7 @@ MODULES.update({
     # (its importing files, test_planner.py and the whole of test_oracles.py with the kernels as Python, did
     # not fit issue #31's session on the shared machine: run against the cost target's tests + test_safety.py)
     "cost-constraints": Target(
-        _fns(COST, "_point_slack", "_obstacle_slack", "_path_terms"),
+        _fns(COST_PATHS, "_point_slack", "_obstacle_slack", "_path_terms"),
         ("tests/oracles/test_cost.py", "tests/oracles/test_oracles.py", "tests/oracles/test_safety.py",
          "-k", "cost or energy or seabed or "
          "test_safety"),

@@ -38,12 +38,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "gx = np.abs(coef[..., 1])",
     ),
     "grid-edges-skip-collision-test": (
-        "planners/grid/lattice.py",
-        "state[u] = world.segments_free(seg, moving=False, ends_free=True)",
+        "planners/grid/lattice/edges.py",
+        "state[u] = w.segments_free(seg, moving=False, ends_free=True)",
         "state[u] = True",
     ),
     "grid-backward-edge-costed-forward": (
-        "planners/grid/lattice.py",
+        "planners/grid/lattice/dijkstra.py",
         "ex, ey, ez = vec[s, 0], vec[s, 1], vec[s, 2]",
         "ex, ey, ez = vec[s % 13, 0], vec[s % 13, 1], vec[s % 13, 2]",
     ),
@@ -63,12 +63,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "-(m / (FOUR_PI * b))[:, None]",
     ),
     "cost-vertical-current-ignored": (
-        "cost.py",
+        "cost/energy.py",
         "c_par = (cx * ex + cy * ey + cz * ez) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy + cz * cz",
         "c_par = (cx * ex + cy * ey) / ds if ds > 0.0 else 0.0\n    c2 = cx * cx + cy * cy",
     ),
     "cost-vertical-current-not-along-track": (
-        "cost.py",
+        "cost/energy.py",
         "c_par = (cx * ex + cy * ey + cz * ez) / ds",
         "c_par = (cx * ex + cy * ey) / ds",
     ),
@@ -144,12 +144,12 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "hits |= shape.segments_hit(np.stack([a, b], axis=1), 0.0)",
     ),
     "cost-point-slack-no-floor": (
-        "cost.py",
+        "cost/paths.py",
         "                       z - box[4], box[5] - z)",
         "                       box[5] - z)",
     ),
     "lattice-sure-free-horizontal-half-length": (
-        "planners/grid/lattice.py",
+        "planners/grid/lattice/edges.py",
         "0.5 * float(np.linalg.norm(d)), float(d[2]),",
         "0.5 * float(np.hypot(d[0], d[1])), float(d[2]),",
     ),
@@ -166,8 +166,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     # issue #49: the eight bugs that survived the suite, each caught by tests/property/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
-        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
-        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + model.power(0.0) * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + rest * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + rest * held) / WH, dtype=float)",
     ),
     "edges-pnr-previous-legs-power": (
         "endurance/pnr.py",
@@ -180,7 +180,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "",
     ),
     "edges-survey-turn-fix-undone": (
-        "survey/mission.py",
+        "survey/joins.py",
         "r = radius / math.cos(_HALF_STEP_RAD / 2.0) * (1.0 + 1e-9)",
         "r = radius",
     ),
@@ -195,9 +195,9 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "if status is Status.EXACT and energy > model.usable_wh:",
     ),
     "edges-serve-cache-time-varying": (
-        "serve/budget.py",
-        "return isinstance(field, GriddedCurrent) and (field.t is None or np.size(field.t) <= 1)",
-        "return isinstance(field, GriddedCurrent)",
+        "world/currents/fields.py",
+        "return self.t is None or np.size(self.t) <= 1",
+        "return True",
     ),
     "edges-ladder-finest-wins": (
         "planners/grid/ladder.py",
@@ -217,7 +217,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     ),
     "edges-mission-check-merges-legs": (
         "app/check.py",
-        "vlimits = helm_check(points[1:] if fmt == \"qgc\" else points, vehicle_limits(mission.vehicle))",
+        "vlimits = helm_check(points[1:] if fmt == \"qgc\" else points, vehicle_limits(mission.vehicle),\n"
+        "                             pitch=flown[0], depth=flown[1])",
         "vlimits = __import__(\"auvplan.path.flyable\", fromlist=[\"_\"]).check_limits(points[1:] if fmt == \"qgc\" "
         "else points, vehicle_limits(mission.vehicle))",
     ),

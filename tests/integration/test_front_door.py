@@ -98,7 +98,7 @@ def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_du
         e[:] = -3000.0 + 900.0 * np.sin(np.arange(40)[:, None] * 0.7) * np.cos(np.arange(56)[None, :] * 0.4)
         e.units, e.positive = "m", "up"
     probe = ("import contextlib, io, json, pickle, sys\nfrom auvplan.cli import main\n"
-             "import auvplan.cost as cost, auvplan.world.kernels.terrain as kt\n"
+             "import auvplan.cost.paths as cost, auvplan.world.kernels.terrain as kt\n"
              "before = [type(kt.elevation_kernel).__name__, type(cost.elevation_kernel).__name__]\n"
              "same = pickle.loads(pickle.dumps(kt.elevation_kernel)) is kt.elevation_kernel\n"
              "with contextlib.redirect_stdout(io.StringIO()) as out:\n"

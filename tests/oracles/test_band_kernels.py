@@ -218,12 +218,12 @@ def test_the_fronts_depth_schedule_table_is_the_field_slice_by_slice():
 
 @pytest.mark.parametrize("margin", [0.0, 10.0])
 def test_the_compiled_sphere_slack_is_the_numpy_loop_to_the_bit(margin):
-    """``cost._obstacle_slack`` folds every sphere in one compiled pass (track-multi: 9 spheres, 80 % of its
+    """``cost.paths._obstacle_slack`` folds every sphere in one compiled pass (track-multi: 9 spheres, 80 % of its
     swarm's CPU in the per-sphere numpy loop); the oracle is that loop (``Sphere.distance`` and
     ``Sphere.segments_hit``, numpy's ``einsum``/``norm``): the same slack and clearance to the bit on
     segments through, beside and inside three spheres and an ellipsoid (the loop's own path), zero-length
     segments included, with and without a margin."""
-    from auvplan.cost import _obstacle_slack
+    from auvplan.cost.paths import _obstacle_slack
     from auvplan.world import Ellipsoid
 
     spheres = [Sphere(np.array([500.0, 500.0, -100.0]), 40.0), Sphere(np.array([560.0, 520.0, -90.0]), 25.0),

@@ -848,7 +848,7 @@ def test_lattice_astar_heuristic_is_c_min_times_the_distance_to_the_start():
     """A*'s heuristic at every node of a 7 × 5 × 4 lattice (offset origin, unequal steps) is
     ``c_min`` times the node's straight distance to the start, computed from the node's own (i, j, k);
     ``c_min = 0`` (Dijkstra) gives 0 everywhere."""
-    from auvplan.planners.grid.lattice import _heuristic
+    from auvplan.planners.grid.lattice.dijkstra import _heuristic
 
     shape = (7, 5, 4)
     steps, origin = np.array([0.7, 1.9, 0.4]), np.array([120.0, -35.0, -60.0])

@@ -97,13 +97,14 @@ def test_lattice_memory_grows_with_nodes_not_edges():
 def test_field_equals_scipy_dijkstra_on_the_same_graph(objective):
     """The compiled cost-to-go field (inline-key heap, precomputed direction steps and lengths) is
     scipy.sparse.csgraph's Dijkstra on the same graph: the free edges of :func:`edge_states`, each
-    weighted by its length or by :func:`auvplan.planners.grid.lattice._edge_weight`'s cost in a
+    weighted by its length or by :func:`auvplan.planners.grid.lattice.dijkstra._edge_weight`'s cost in a
     sheared current (mean of the two nodes' currents), and the goal's links."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import dijkstra
 
     from auvplan.cost import energy_mode, propulsion_power
-    from auvplan.planners.grid.lattice import OFFSETS, _edge_weight
+    from auvplan.planners.grid.lattice import OFFSETS
+    from auvplan.planners.grid.lattice.dijkstra import _edge_weight
     world = replace(_ridge_world(), currents=LambOseenVortices(np.array([[120.0, 200.0]]), np.array([300.0]),
                                                                np.array([60.0])))
     model = CostModel()
