@@ -122,13 +122,17 @@ def test_check_mission_file_measures_a_terrain_frame_leg_on_its_track(tmp_path):
 
 
 def test_the_deploy_record_counts_the_walk_s_terrain_frame_legs(tmp_path):
-    """A loiter and a survey's generated item in the terrain frame count as altitude legs, as the reader's."""
+    """A loiter and a survey's generated item in the terrain frame count as altitude legs, as the reader's; the
+    launch leg (home to item 0) never, as the terrain-following check's legs."""
     survey = _survey(FRAME, [(5000.0, 6000.0), (6000.0, 6000.0)], 30.0)
     survey["TransectStyleComplexItem"]["Items"][0]["frame"] = 10
     loiter = _item(FRAME, 3000.0, 6000.0, 25.0, 19, fr=10, radius=0)
     plan = tmp_path / "m.plan"
     plan.write_text(json.dumps(_plan(ORIGIN, (1000.0, 6000.0), [loiter, survey])))
-    assert read_deploy(plan).altitude_legs == 2 == int(terrain_legs(plan).sum()) + 1  # the launch leg's never flagged
+    assert read_deploy(plan).altitude_legs == 1 == int(terrain_legs(plan).sum())  # the launch leg's never counted
+    # after a first item at its depth, both legs into them (consist19: the deploy line counted items, launch too)
+    plan.write_text(json.dumps(_plan(ORIGIN, (1000.0, 6000.0), [_item(FRAME, 2000.0, 6000.0, -50.0), loiter, survey])))
+    assert read_deploy(plan).altitude_legs == 2 == int(terrain_legs(plan).sum())
 
 
 def test_a_plan_s_home_is_the_launch_and_a_csv_s_first_point_is_not(tmp_path):
