@@ -61,7 +61,7 @@ def test_mission_check_reads_the_exports_back_and_fails_a_shoal_waypoint(run, tm
         assert r["ok"] and r["waypoints"] == len(rec["waypoints"]) and r["radius_m"] == 1000.0
         assert abs(r["flown_duration_s"] - rec["flown_duration_s"]) / rec["flown_duration_s"] < 0.02
     assert got[0]["yo"]["d_target_altitude"] == 10.0 and got[0]["yo"]["num_half_cycles_to_do"] == 6
-    assert not got[2]["ok"] and got[2]["shallow_waypoints"] == [2] and got[2]["blocked_legs"] == [2, 3]
+    assert not got[2]["ok"] and got[2]["shallow_waypoints"] == [2] and got[2]["blocked_legs"] == [1, 2]
     assert not got[2]["arrived"] and "not flown" in got[2]["message"]
 
 

@@ -122,13 +122,17 @@ def test_check_mission_file_measures_a_terrain_frame_leg_on_its_track(tmp_path):
 
 
 def test_the_deploy_record_counts_the_walk_s_terrain_frame_legs(tmp_path):
-    """A loiter and a survey's generated item in the terrain frame count as altitude legs, as the reader's."""
+    """A loiter and a survey's generated item in the terrain frame count as altitude legs, as the reader's; the
+    launch leg (home to item 0) never, as the terrain-following check's legs."""
     survey = _survey(FRAME, [(5000.0, 6000.0), (6000.0, 6000.0)], 30.0)
     survey["TransectStyleComplexItem"]["Items"][0]["frame"] = 10
     loiter = _item(FRAME, 3000.0, 6000.0, 25.0, 19, fr=10, radius=0)
     plan = tmp_path / "m.plan"
     plan.write_text(json.dumps(_plan(ORIGIN, (1000.0, 6000.0), [loiter, survey])))
-    assert read_deploy(plan).altitude_legs == 2 == int(terrain_legs(plan).sum()) + 1  # the launch leg's never flagged
+    assert read_deploy(plan).altitude_legs == 1 == int(terrain_legs(plan).sum())  # the launch leg's never counted
+    # after a first item at its depth, both legs into them (consist19: the deploy line counted items, launch too)
+    plan.write_text(json.dumps(_plan(ORIGIN, (1000.0, 6000.0), [_item(FRAME, 2000.0, 6000.0, -50.0), loiter, survey])))
+    assert read_deploy(plan).altitude_legs == 2 == int(terrain_legs(plan).sum())
 
 
 def test_a_plan_s_home_is_the_launch_and_a_csv_s_first_point_is_not(tmp_path):
@@ -179,9 +183,9 @@ def test_leg_speeds_keep_the_speed_a_zero_command_leaves_and_take_a_slow_one(tmp
 
 
 @pytest.mark.parametrize("bad", ["nan", "-inf", "0", "-1", "inf"])
-def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
-    """A leg speed of nan: that leg's speed not in the file (NaN, judged at the vehicle's); -inf, 0 or -1 refused
-    naming the leg (not positive), +inf as any over 100 m/s (audit 17)."""
+def test_a_csv_whose_leg_speed_is_not_a_speed_is_named(tmp_path, bad):
+    """A leg speed of nan is that leg's speed not in the file (judged at the vehicle's, the others kept: docwalk
+    18); -inf, 0 or -1 is refused naming the leg as not positive (docwalk 18), +inf as over 100 m/s (audit 17)."""
     path = tmp_path / "m.csv"
     path.write_text(f"x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,{bad}\n300,0,-10,1.4\n")
     if bad == "inf":
@@ -190,8 +194,8 @@ def test_a_csv_whose_leg_speed_is_not_a_speed_carries_none(tmp_path, bad):
     elif bad == "nan":
         np.testing.assert_array_equal(read_leg_speeds(path, 3), [1.2, np.nan, 1.4])
     else:
-        with pytest.raises(DataError, match=rf"m\.csv: leg 1's speed {float(bad):g} m/s \(carried by the file\) is "
-                                            "not positive"):
+        want = rf"m\.csv: leg 1's speed {bad} m/s \(carried by the file\) is not positive"
+        with pytest.raises(DataError, match=want):
             read_leg_speeds(path, 3)
     path.write_text("x,y,z,speed\n0,0,-10,1.0\n100,0,-10,1.2\n200,0,-10,1.3\n300,0,-10,1.4\n")
     assert read_leg_speeds(path, 3).tolist() == [1.2, 1.3, 1.4]

@@ -46,9 +46,9 @@ def test_an_exported_plan_lies_in_its_own_geofence_across_the_antimeridian(tmp_p
     path = tmp_path / "m.plan"
     path.write_text(json.dumps(to_qgc_plan(w, world.origin, 1.5, deploy=deploy_info(world, mission, w, 1.5))))
     points = read_mission(path, world.origin, world.seabed)[0]
-    rec, line = file_deploy_check(path, world.origin, points, "qgc", 50.0, 1.5)
+    rec, line = file_deploy_check(path, world.origin, points, "qgc", 50.0, 3000.0)
     assert rec["envelope"]["ok"], line
     far = points.copy()
     far[2, :2] += 50_000.0  # a waypoint 70 km off: outside the envelope
-    rec, line = file_deploy_check(path, world.origin, far, "qgc", 50.0, 1.5)
+    rec, line = file_deploy_check(path, world.origin, far, "qgc", 50.0, 3000.0)
     assert not rec["envelope"]["ok"] and "1 waypoints outside" in line, line

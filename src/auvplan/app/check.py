@@ -99,8 +99,6 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         follow, track = _terrain_frame(world, Path(name), fmt, points)
         # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
         check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
-        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
-                                                mission.vehicle.speed)  # issue 51: datum, envelope, payload
         # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
         # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
         # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
@@ -110,6 +108,9 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
             vlimits = _from_home(vlimits)
         energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
+        # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
+        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
+                                                float(energy.get("duration_s", 0.0)))
         # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
         speed_line = energy.pop("speed_assumed_line", "")
         assumed = energy.pop("speed_assumed_legs", [])

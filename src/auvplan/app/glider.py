@@ -168,8 +168,9 @@ def check_glider_files(scenario: str, names: list[str]) -> list[dict[str, Any]]:
     Returns
     -------
     list of dict
-        Per file ``file``, ``format``, ``waypoints``, ``radius_m``, ``shallow_waypoints`` (1-based),
-        ``blocked_legs`` (1-based, leg 1 from the start), ``yo`` (the yo file's arguments, when read),
+        Per file ``file``, ``format``, ``waypoints``, ``radius_m``, ``shallow_waypoints`` (the file's from 1: the
+        start is waypoint 0), ``blocked_legs`` (leg k leaves waypoint k, from 0: leg 0 from the start), ``yo`` (the
+        yo file's arguments, when read),
         ``arrived``, ``flown_duration_s`` (until within the capture radius of the last waypoint),
         ``energy_wh``, ``battery_wh``, ``ok`` and ``message``.
     """
@@ -208,7 +209,9 @@ def _check_file(world: Any, mission: Any, alt: float, path: Path, wps: Any, radi
     z = -g.climb_depth_m
     pts = np.vstack([np.asarray(mission.start, dtype=float)[:2], wps])
     seg = np.stack([np.c_[pts[:-1], np.full(len(wps), z)], np.c_[pts[1:], np.full(len(wps), z)]], axis=1)
-    blocked = [int(k) + 1 for k in np.flatnonzero(~world.segments_free(seg, moving=False))]
+    # leg k leaves waypoint k, from 0 (docs/missions.md "Leg numbers"): leg 0 leaves the start, waypoint 0, as a
+    # .plan's home; the file's waypoints are 1 on, as their limits name them
+    blocked = [int(k) for k in np.flatnonzero(~world.segments_free(seg, moving=False))]
     if blocked:
         problems.append(f"legs {blocked} cross land, the seabed or an obstacle at {g.climb_depth_m:g} m")
     yo: dict[str, float] = {}

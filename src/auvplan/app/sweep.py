@@ -14,7 +14,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import AuvplanError
-from ..io.safeio import atomic_write, prepare_out, save_figure
+from ..io.safeio import atomic_write, discard_on_failure, prepare_out, save_figure
 from ..runtime.parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
 from .durations import is_offset, parse_duration
 
@@ -128,14 +128,22 @@ def sweep_scenario(scenario: str, depart_between: Sequence[str], step: str, obje
     SweepRun
         The scenario, the rows, each departure's energy, the summary, the table, the first departure and the step.
     """
+    with discard_on_failure(out):  # a sweep that fails before its files leaves no folder it made (as run)
+        if out is not None:
+            prepare_out(out, SWEEP_NAMES, force=force, job="sweep")
+        return _sweep(scenario, depart_between, step, objective, out, progress, runner, stage)
+
+
+def _sweep(scenario: str, depart_between: Sequence[str], step: str, objective: str | None, out: str | None,
+           progress: Callable[[str, int, int], None], runner: Runner | None,
+           stage: Callable[[str], None]) -> SweepRun:
+    """:func:`sweep_scenario` after its folder is prepared."""
     from ..io.results import records
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.build import check_plan_sizes
     from ..planners.timeopt.planner import sweep_summary
     from ..sim import planning_problem
 
-    if out is not None:
-        prepare_out(out, SWEEP_NAMES, force=force, job="sweep")
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     spec = replace(mission.planner, name="timeopt")

@@ -22,7 +22,7 @@ from pathlib import Path
 
 from ..errors import AuvplanError
 
-__all__ = ["LOCK", "OutputError", "acquire", "release_all", "session", "root_of", "check_inside",
+__all__ = ["LOCK", "OutputError", "acquire", "release", "release_all", "session", "root_of", "check_inside",
            "stale_temporaries"]
 
 LOCK = ".auvplan.lock"
@@ -77,6 +77,20 @@ def acquire(folder: Path) -> None:
     os.ftruncate(fd, 0)
     os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
     _HELD[key] = fd
+
+
+def release(folder: Path) -> None:
+    """Release the output folder ``folder`` if this process locked it (the lock file stays, unlocked).
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The folder given to :func:`acquire`.
+    """
+    fd = _HELD.pop(_key(folder), None)
+    if fd is not None:
+        with contextlib.suppress(OSError):
+            os.close(fd)
 
 
 def release_all() -> None:

@@ -16,7 +16,7 @@ import io
 import json
 import os
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +24,7 @@ from . import outdir
 from .outdir import OutputError
 
 __all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
-           "written_by", "save_figure"]
+           "written_by", "save_figure", "discard_on_failure"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -345,6 +345,61 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
     except OSError as exc:
         raise OutputError(f"{out}: the output folder is not writable ({exc.strerror or exc})") from exc
     return out
+
+
+@contextlib.contextmanager
+def discard_on_failure(folder: Path | str | None) -> Iterator[None]:
+    """Remove, when the block fails, the output folder it created (:func:`prepare_out`) and wrote no result into.
+
+    Only what auvplan puts there before any result goes: the lock, a manifest that lists no file, and empty
+    folders (a checkpoint folder no task reached); then the folder and the parents the block created, each only if
+    empty.  A folder that existed before the block is never removed, nor one holding any other file (a finished
+    task's checkpoint stays, for the run again to read back).
+
+    Parameters
+    ----------
+    folder : pathlib.Path or str or None
+        The ``--out`` folder (None: nothing to do).
+
+    Yields
+    ------
+    None
+        The block runs; its exception is raised again after the clean-up.
+    """
+    top = None
+    if folder is not None:
+        path = Path(os.path.abspath(folder))
+        while not os.path.lexists(path):  # the highest folder missing: the block creates it and below
+            top, path = path, path.parent
+    try:
+        yield
+    except BaseException:
+        if top is not None:
+            _discard(Path(os.path.abspath(folder or ".")), top)
+        raise
+
+
+def _discard(out: Path, top: Path) -> None:
+    """:func:`discard_on_failure`'s clean-up of ``out``, created with the missing parents up to ``top``."""
+    if out.is_symlink() or not out.is_dir() or written(out):
+        return
+    outdir.release(out)
+    for name in (outdir.LOCK, MANIFEST):
+        with contextlib.suppress(OSError):
+            (out / name).unlink()
+    for root, dirs, _ in os.walk(out, topdown=False):  # empty folders only (a link or a full one: rmdir refuses)
+        for d in dirs:
+            with contextlib.suppress(OSError):
+                os.rmdir(os.path.join(root, d))
+    path = out
+    while True:
+        try:
+            path.rmdir()
+        except OSError:
+            return
+        if path == top:
+            return
+        path = path.parent
 
 
 def save_figure(path: Path, fig: Any, dpi: int = 130) -> Path:

@@ -8,7 +8,11 @@
   (:func:`csv_datum`).  A file without a datum (written before issue 51) is read as before, and said so.
 * **Envelope** — it must contain the mission: every leg inside the polygon and outside the exclusions,
   the deepest waypoint within ``max_depth``, the least re-flown altitude at or above ``min_altitude``, the
-  predicted duration within ``max_time``.  A file that carries none is reported (``envelope: null``).
+  predicted duration within ``max_time`` — the energy check's duration (through the current, with a ``.plan``'s
+  launch leg and holds): the time-out is judged against what the mission will take.  A file that carries none is
+  reported (``envelope: null``).
+* **Altitude legs** — counted as legs, as the terrain-following check counts them: a ``.plan``'s launch leg (home
+  to its first item) is never one, even when that item is in the terrain frame.
 """
 
 from __future__ import annotations
@@ -55,7 +59,7 @@ class FileDeploy:
     payload_events : list of (int, bool)
         ``(waypoint, on)`` where the file switches the sensor.
     altitude_legs : int
-        Legs the file flies at an altitude above the seabed (terrain following).
+        Legs the file flies at an altitude above the seabed (terrain following); a ``.plan``'s launch leg never.
     """
 
     datum: tuple[float, float] | None = None
@@ -102,7 +106,7 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
     for it in plan_items(doc):  # the reader's waypoints (the same walk)
         if it.moves:
             wp += 1
-            alt += it.frame == 10
+            alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
     return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
@@ -258,7 +262,7 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
     min_altitude_m : float
         The least altitude of the mission re-flown under the file's semantics (m).
     duration_s : float
-        The mission's predicted duration at the file's speeds (s).
+        The mission's predicted duration (s): through the current, with a ``.plan``'s launch leg and holds.
 
     Returns
     -------
@@ -322,16 +326,19 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"deepest waypoint {deepest:.2f} m > max_depth {lim['max_depth_m']:g} m")
     if lim.get("min_altitude_m", 0) > 0 and min_alt < lim["min_altitude_m"] - 1e-3:
         reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
-    if "max_time_s" in lim and duration > lim["max_time_s"]:
+    if "max_time_s" in lim and not duration <= lim["max_time_s"]:  # never arriving (the energy check's nan/inf) too
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
     return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
 
 
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
-                      min_altitude_m: float, speed: float) -> tuple[dict[str, Any], str]:
-    """:func:`check_deploy` of a file read by ``mission check`` (its leg speeds from the file where it has
-    them, else ``speed``: :func:`~auvplan.io.missions.speeds.judged_leg_speeds`) and the result in one line.
+                      min_altitude_m: float, duration_s: float) -> tuple[dict[str, Any], str]:
+    """:func:`check_deploy` of a file read by ``mission check`` and the result in one line.
+
+    The envelope's time-out is judged against what the mission will really take: ``duration_s``, the energy
+    check's duration (:func:`~auvplan.io.missions.energy.mission_file_energy`: through the current, a ``.plan``'s
+    launch leg and its holds included), the same figure both lines print.
 
     Parameters
     ----------
@@ -345,8 +352,8 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
         Its format (:data:`auvplan.io.missions.readers.MISSION_SUFFIXES`).
     min_altitude_m : float
         Its least re-flown altitude (m).
-    speed : float
-        The vehicle's speed (m/s), for a file without speeds.
+    duration_s : float
+        The mission's duration as the energy check predicts it (s).
 
     Returns
     -------
@@ -355,13 +362,7 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
     line : str
         ``datum …; envelope OK|FAIL|none …; payload …``.
     """
-    from .formats import planned_times
-    from .speeds import judged_leg_speeds
-
-    w = points[1:] if fmt == "qgc" else points
-    v = judged_leg_speeds(path, len(points) - 1, speed).speeds  # a .plan's launch leg first: not timed
-    duration = float(planned_times(w, v[1:] if fmt == "qgc" else v)[-1]) if len(w) > 1 else 0.0
-    rec = check_deploy(path, origin, points, min_altitude_m, duration)
+    rec = check_deploy(path, origin, points, min_altitude_m, duration_s)
     d, e = rec["datum"], rec["envelope"]
     datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d
              else ("geographic coordinates" if fmt in ("qgc", "gpx", "geojson", "kml") else "no datum in the file"))
