@@ -22,7 +22,8 @@ __all__ = ["LEAN_FROM", "LEAN_TOL_M", "MAX_ZONES", "MAX_ZONE_VERTICES", "lean", 
 LEAN_FROM = 10_000
 """A polygon footprint with more vertices than this is made lean (:func:`lean`); fewer are kept exactly."""
 LEAN_TOL_M = 0.1
-"""Simplification tolerance of :func:`lean` (m); the footprint grows by at most twice this."""
+"""Simplification tolerance of :func:`lean` (m); the footprint grows by at most three times this (the simplified
+outline lies within it of the original, then the buffer adds twice it: 0.29 m measured over a 0.09 m zigzag)."""
 MAX_ZONES = 20_000
 """Most zones the features of the files may make in the area."""
 MAX_ZONE_VERTICES = 2_000_000
