@@ -195,7 +195,8 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
     """A mission file's energy budget from the scenario's start time, at the speeds the file carries, with the
-    time a ``.plan`` holds at a waypoint or a timed loiter spent there at hotel power (:func:`read_holds`).
+    time a ``.plan`` holds at a waypoint or a timed loiter (:func:`read_holds`, the last item's included) spent
+    holding the item against the current there.
 
     Parameters
     ----------
@@ -230,7 +231,7 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
     dwell: NDArray[np.float64] | None = None if nav is None else \
         np.array([nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)])
-    held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there (hotel power)
+    held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there
     if held is not None:
         dwell = held if dwell is None else dwell + held
     route, station = waypoints, None if held is None else held > 0
