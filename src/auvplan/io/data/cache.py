@@ -36,6 +36,7 @@ import json
 import logging
 import os
 import platform
+import stat
 import sys
 import tempfile
 import threading
@@ -192,9 +193,12 @@ def file_stamp(path: Path) -> list[Any]:
     Raises
     ------
     OSError
-        When the file cannot be read (the caller then reads without the cache, for the reader's message).
+        When the file cannot be read, or is not a regular file (a FIFO, a device: hashed, it would block or never
+        end), the caller then reads without the cache, for the reader's message.
     """
     st = path.stat()
+    if not stat.S_ISREG(st.st_mode):  # a FIFO or a device: hashing it would block or never end; the reader refuses it
+        raise OSError(f"{path}: not a regular file")
     seen = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
     digest = _DIGESTS.get(seen)
     if digest is None:
