@@ -174,7 +174,8 @@ def inspect_file(path: str | Path) -> str:
     """
     path = Path(path)
     if not path.is_file():
-        raise DataError(f"{path}: file not found")
+        raise DataError(f"{path}: file not found" if not path.exists() else
+                        f"{path}: not a regular file (a FIFO, a device or a folder)")
     if is_geotiff(path):
         return "\n".join([f"{path}: GeoTIFF", *_bathymetry(path)])
     variables, has_current = _variables(path)
