@@ -234,22 +234,13 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there
     if held is not None:
         dwell = held if dwell is None else dwell + held
-    route, station = waypoints, None if held is None else held > 0
-    if held is not None and held[-1] > 0:  # the last item's hold is flown too (ArduSub's verify_nav_wp waits it out
-        # before the mission completes): a leg of no length after it, so that the budget holds there
-        route, speeds = np.vstack([waypoints, waypoints[-1:]]), np.r_[speeds, speeds[-1]]
-        tail = None if tail is None else np.r_[np.asarray(tail, dtype=bool), False]
-        dwell, station = np.r_[dwell, 0.0], np.r_[station, False]
+    station = None if held is None else held > 0  # the last item's hold too: the budget flies it before the end
     # ArduSub holds the item against the current (its position controller): the power of that current's speed
-    b = mission_budget(world, route, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
-    legs = waypoints.shape[0] - 1
-    message = b.message
-    if route is not waypoints and message.endswith(f"entered on leg {legs}"):  # the leg of no length: the hold
-        message = message.removesuffix(f"on leg {legs}") + "in the hold at the last item"
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": message, "leg_speeds_mps": b.speed_water[:legs].tolist(),
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
-    return rec, b.status.ok, f"energy {b.status.value} — {message}"
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}"
 
 
 def sweep_energy(world: World, mission: Mission, plans: list[Any],
