@@ -166,8 +166,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     # issue #49: the eight bugs that survived the suite, each caught by tests/property/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
-        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + rest * held) / WH, dtype=float)",
-        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + rest * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds) * moving + rest * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds[0]) * moving + rest * held) / WH, dtype=float)",
     ),
     "edges-pnr-previous-legs-power": (
         "endurance/pnr.py",
