@@ -218,7 +218,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     "edges-mission-check-merges-legs": (
         "app/check.py",
         "vlimits = helm_check(points[1:] if fmt == \"qgc\" else points, vehicle_limits(mission.vehicle),\n"
-        "                             pitch=flown[0], depth=flown[1])",
+        "                         pitch=flown[0], depth=flown[1])",
         "vlimits = __import__(\"auvplan.path.flyable\", fromlist=[\"_\"]).check_limits(points[1:] if fmt == \"qgc\" "
         "else points, vehicle_limits(mission.vehicle))",
     ),

@@ -83,71 +83,76 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     checks : list of FileCheck
         One per file, in order.
     """
+    from ..io.missions.parsed import parse_once
+    from ..io.scenario import loader as scenario_io
+
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    with parse_once():  # each file's JSON parsed and its items walked once by all the readers below
+        return sc, [_check_file(sc, world, mission, name, pitch) for name in files]
+
+
+def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
+    """One file of :func:`check_missions`."""
     from ..io.missions.deploy_read import file_deploy_check
     from ..io.missions.energy import file_energy_holds
     from ..io.missions.formats import check_mission_file, read_mission
-    from ..io.scenario import loader as scenario_io
     from ..io.scenario.defaults import energy_defaults
     from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
 
-    sc = scenario_io.load(scenario)
-    world, mission = scenario_io.build(sc)
-    out = []
-    for name in files:
-        points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
-        follow, track = _terrain_frame(world, Path(name), fmt, points)
-        # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
-        check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
-        # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-        # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-        # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
-        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
-        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
-                             pitch=flown[0], depth=flown[1])
-        if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
-            vlimits = _from_home(vlimits)
-        energy, energy_ok, energy_line, held_water = file_energy_holds(world, mission, Path(name))
-        # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
-        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
-                                                float(energy.get("duration_s", 0.0)))
-        # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
-        speed_line = energy.pop("speed_assumed_line", "")
-        assumed = energy.pop("speed_assumed_legs", [])
-        defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
-        energy_line += "".join(f"; {d}" for d in defaults)
-        energy["defaults"] = defaults
-        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
-               "deploy": deploy, "speed_assumed_legs": assumed,
-               "speed_assumed_mps": mission.vehicle.speed if assumed else None}
-        if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
-            rec["clearance_confidence"] = sc.mission.confidence
-        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
-        # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
-        tf_ok = True
-        tf_line = ""
-        if follow is not None:
-            rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow, track)
-        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
-        # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
-        # home, its launch; docs/missions.md)
-        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0, flown=track)
-        if zones:
-            rec["zones"] = [z.as_dict() for z in zones]
-            rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
-        zones_ok = not any(z.entered_legs for z in zones)
-        nav_ok = True
-        nav_lines: list[str] = []
-        if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
-            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
-                                                                    follow, first=0, flown=track,
-                                                                    held_water_m=held_water)
-        ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
-        # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
-        rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
-        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
-                             tf_line, speed_line))
-    return sc, out
+    points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
+    follow, track = _terrain_frame(world, Path(name), fmt, points)
+    # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
+    check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
+    # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
+    # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
+    # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
+    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
+    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                         pitch=flown[0], depth=flown[1])
+    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+        vlimits = _from_home(vlimits)
+    energy, energy_ok, energy_line, held_water = file_energy_holds(world, mission, Path(name))
+    # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
+    deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
+                                            float(energy.get("duration_s", 0.0)))
+    # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
+    speed_line = energy.pop("speed_assumed_line", "")
+    assumed = energy.pop("speed_assumed_legs", [])
+    defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
+    energy_line += "".join(f"; {d}" for d in defaults)
+    energy["defaults"] = defaults
+    rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
+           "deploy": deploy, "speed_assumed_legs": assumed,
+           "speed_assumed_mps": mission.vehicle.speed if assumed else None}
+    if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
+        rec["clearance_confidence"] = sc.mission.confidence
+    # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
+    # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
+    tf_ok = True
+    tf_line = ""
+    if follow is not None:
+        rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow, track)
+    # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
+    # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
+    # home, its launch; docs/missions.md)
+    zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0, flown=track)
+    if zones:
+        rec["zones"] = [z.as_dict() for z in zones]
+        rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
+    zones_ok = not any(z.entered_legs for z in zones)
+    nav_ok = True
+    nav_lines: list[str] = []
+    if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
+        rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
+                                                                follow, first=0, flown=track,
+                                                                held_water_m=held_water)
+    ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
+    # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
+    rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
+    return FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines), tf_line,
+                     speed_line)
 
 
 def _from_home(report: LimitReport) -> LimitReport:
