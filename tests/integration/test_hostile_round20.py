@@ -1,0 +1,223 @@
+"""Hostile input, round 20: the command-line flags, the names a scenario gives, the page's small endpoints.
+
+Each case is one an earlier round had not tried, with what it did before (docs/hostile-input.md, "Round 20"):
+exit 2 (or ``AuvplanError``/``ScenarioError``, HTTP 400) with one line naming the flag, key or file and its
+value, at once; the neighbour of each bound accepted.
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from auvplan.cli import main
+from auvplan.errors import AuvplanError, ScenarioError
+
+
+def _one_error_line(capsys, *needles):
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.count("\n") == 1, err
+    for needle in needles:
+        assert needle in err, err
+    return err
+
+
+# ---------------------------------------------------------------- bench: how many runs a sweep may hold
+def test_a_billion_seeds_is_refused_before_any_task_is_listed(tmp_path, capsys, monkeypatch):
+    """``bench --seeds 1000000000`` built its task list for minutes, filling the memory (> 60 s, killed)."""
+    from auvplan.bench.sweep import SweepSpec
+
+    monkeypatch.setattr(SweepSpec, "tasks", lambda self: pytest.fail("tasks were listed"))
+    assert main(["bench", "--scenarios", "track-single", "--seeds", "1000000000", "--out", str(tmp_path / "b")]) == 2
+    _one_error_line(capsys, "auvplan: error: --seeds 1000000000: over the 100,000 runs a sweep may hold")
+    assert not (tmp_path / "b").exists()
+
+
+def test_the_runs_are_counted_over_every_axis_and_the_bound_itself_is_listed_quickly():
+    """Over the variants: 2 planners × 60 000 seeds refused before a cell is built.  At the bound, 10 000
+    chunks of 10 seeds are listed (the duplicate check scanned the list once per chunk: quadratic)."""
+    from auvplan.bench.sweep import MAX_RUNS, SweepSpec
+
+    with pytest.raises(AuvplanError, match=r"^the sweep holds 120,000 runs \(scenarios × members × planners"):
+        SweepSpec(("track-single",), ("iabc", "ga"), seeds=60_000).tasks()
+    tasks = SweepSpec(("track-single",), ("iabc",), seeds=MAX_RUNS, chunk=10).tasks()
+    assert len(tasks) == MAX_RUNS // 10
+    assert tasks[-1] == ("track-single", "route", "hybrid", tuple(range(MAX_RUNS - 10, MAX_RUNS)))
+    # a repeated cell (a scenario flying a fixed route: every planner is 'route') is still listed once
+    assert SweepSpec(("track-single",), ("scenario", "iabc"), seeds=3, chunk=2).tasks() == [
+        ("track-single", "route", "hybrid", (0, 1)), ("track-single", "route", "hybrid", (2,))]
+
+
+@pytest.mark.parametrize(("value", "ok"), [("101", False), ("1000000000", False), ("100", True), ("0", True)])
+def test_retries_are_bounded(capsys, value, ok):
+    """``--retries 1000000000`` re-ran a task that fails for good a billion times."""
+    from auvplan.cli.parser import _parser
+
+    if ok:
+        assert _parser().parse_args(["bench", "--retries", value]).retries == int(value)
+        return
+    with pytest.raises(SystemExit):
+        _parser().parse_args(["survey", "shelf-survey", "--retries", value])
+    assert f"argument --retries: {value} must be <= 100" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------- what is there, but is not a file
+@pytest.mark.parametrize("kind", ["folder", "fifo", "empty"])
+def test_a_scenario_that_is_not_a_file_is_named_for_what_it_is(tmp_path, capsys, kind):
+    """A folder, a FIFO or ``''`` was 'no such scenario file, and not a built-in scenario (<35 names>)'."""
+    target = {"folder": tmp_path, "fifo": tmp_path / "s.toml", "empty": ""}[kind]
+    if kind == "fifo":
+        os.mkfifo(target)
+    assert main(["validate", str(target)]) == 2
+    want = {"folder": "a folder, not a scenario file", "fifo": "not a regular file (a FIFO, a device or a socket)",
+            "empty": "'': an empty scenario name"}[kind]
+    err = _one_error_line(capsys, want)
+    assert "no such scenario file" not in err
+
+
+@pytest.mark.parametrize("kind", ["folder", "fifo"])
+def test_data_inspect_of_what_is_not_a_file_says_so(tmp_path, capsys, kind):
+    """``data inspect`` of a folder or a FIFO said 'file not found'."""
+    target = tmp_path / "x.nc"
+    os.mkfifo(target) if kind == "fifo" else target.mkdir()
+    assert main(["data", "inspect", str(target)]) == 2
+    _one_error_line(capsys, f"{target}: not a regular file (a FIFO, a device or a folder)")
+
+
+# ---------------------------------------------------------------- ensemble member names
+_TWO = """
+name = "m"
+[origin]
+lat = 68.0
+lon = 13.0
+[bounds]
+x = [0.0, 1000.0]
+y = [0.0, 1000.0]
+z = [-100.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 80.0
+[currents]
+uniform = [0.1, 0.0, 0.0]
+members = [{{ name = {a}, uniform = [0.1, 0.0, 0.0] }}, {{ name = {b}, uniform = [0.0, 0.1, 0.0] }}]
+[mission]
+start = [100.0, 100.0, -10.0]
+goal = [900.0, 900.0, -10.0]
+"""
+
+
+@pytest.mark.parametrize(("a", "b", "needle"), [
+    ('"a@b"', '"c"', "name = 'a@b': a member's name"),  # bench's label s@a@b read back as member 'b'
+    ('"x~3"', '"c"', "name = 'x~3': a member's name"),  # read back as member 'x', perturbation seed 3
+    ('"a\\u202eb"', '"c"', "name = 'a\\u202eb': a member's name"),  # reversed every message naming it
+    ('"a\\nb"', '"c"', "name = 'a\\nb': a member's name"),
+    ('"' + "x" * 65 + '"', '"c"', "a member's name is 1-64 characters"),
+    ('"same"', '"same"', "[currents] members: two members are named 'same'"),  # bench --members same: the first
+])
+def test_a_member_name_that_breaks_labels_or_lines_is_refused(a, b, needle):
+    from auvplan.io.scenario import loader
+
+    with pytest.raises(ScenarioError) as err:
+        loader.loads(_TWO.format(a=a, b=b), "s.toml")
+    assert needle in str(err.value) and "\n" not in str(err.value) and str(err.value).startswith("s.toml: ")
+
+
+def test_plain_member_names_and_unnamed_members_load():
+    from auvplan.io.scenario import loader
+
+    sc = loader.loads(_TWO.format(a='"arctic-20km_v2.1"', b='""'), "s.toml")
+    assert [m.name for m in sc.currents.members] == ["arctic-20km_v2.1", ""]
+
+
+# ---------------------------------------------------------------- a flight of too many time steps
+def test_a_flight_of_1e306_steps_is_refused_naming_speed_and_dt():
+    """A survey (start = goal: the load-time estimate saw a 0 m mission) at ``[vehicle] speed = 1e-300``:
+    ``validate`` OK, then ``survey`` died on 'ValueError: Maximum allowed dimension exceeded'."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from auvplan.io.scenario import loader
+    from auvplan.io.scenario.build import build
+    from auvplan.sim import simulate
+
+    sc = loader.loads(_TWO.format(a='"a"', b='"b"'), "s.toml")
+    world, mission = build(sc)
+    slow = replace(mission, vehicle=replace(mission.vehicle, speed=1e-300))
+    route = np.array([[100.0, 100.0, -10.0], [900.0, 100.0, -10.0], [900.0, 900.0, -10.0]])
+    with pytest.raises(AuvplanError, match=r"^\[sim\] dt = 0.1 s over a time limit of 4.8e\+303 s \(3 × the 1600 m "
+                                           r"route at \[vehicle\] speed = 1e-300 m/s\): 4.8e\+304 time steps, over the "
+                                           r"20,000,000"):
+        simulate(world, slow, route=route, avoidance="none", keys=np.empty((0, 3)))
+
+
+def test_the_step_bound_accepts_its_end():
+    from auvplan.sim.loop import MAX_SIM_STEPS, _check_steps
+
+    _check_steps(MAX_SIM_STEPS * 0.1, 0.1, 1.0, 1.0, True)  # at the bound (dt 0.1 s: 23 days)
+    with pytest.raises(AuvplanError, match=r"\[sim\] max_time\): 2e\+07 time steps"):
+        _check_steps(MAX_SIM_STEPS * 0.1 * 1.000001, 0.1, 1.0, 1.0, True)
+
+
+# ---------------------------------------------------------------- the page's small endpoints
+@pytest.fixture(scope="module")
+def served(tmp_path_factory):
+    pytest.importorskip("starlette")
+    from starlette.testclient import TestClient
+
+    from auvplan.cli.serve import make_session
+    from auvplan.serve.app import LOCAL_HOSTS, make_app
+
+    session = make_session("track-single", [str(tmp_path_factory.mktemp("served20"))])
+    return session, TestClient(make_app(session, (*LOCAL_HOSTS, "testserver")))
+
+
+@pytest.mark.parametrize("name", [{"a": 1}, [1], 5, "a\nb", "\u202e", "\x00"])
+def test_a_candidate_name_that_is_not_plain_text_is_400(served, name):
+    """Kept as ``str(value)`` ("{'a': 1}") or with a newline / U+202E in the candidates' table."""
+    session, client = served
+    before = len(session.candidates)
+    r = client.post("/api/keep", json={"name": name})
+    assert r.status_code == 400 and r.json()["error"].startswith("auvplan: error: keep name = ")
+    assert len(session.candidates) == before
+    assert client.post("/api/keep", json={"name": "mine 2"}).status_code == 200  # the neighbour
+    assert session.candidates[-1].name == "mine 2"
+
+
+@pytest.mark.parametrize(("body", "needle"), [
+    ({"semantics": "HELD", "pitch": 15}, "check semantics = 'HELD': choose one of held, ramp"),  # was '--pitch 15: …'
+    ({"semantics": "held", "pitch": "x"}, "check pitch = 'x': expected a number of degrees"),
+    ({"semantics": "held", "pitch": True}, "check pitch = 'True': expected a number"),  # was read as 1°
+    ({"semantics": "held", "pitch": 0}, "check pitch = 0.0: must be a finite angle in (0, 90]"),
+])
+def test_each_check_setting_is_named_by_its_own_error(served, body, needle):
+    session, client = served
+    r = client.post("/api/check", json=body)
+    assert r.status_code == 400 and needle in r.json()["error"] and "--pitch" not in r.json()["error"], r.json()
+    assert client.post("/api/check", json={"semantics": "ramp", "pitch": 90}).status_code == 200
+
+
+def test_an_error_line_quoting_a_megabyte_is_cut(served):
+    """``/api/plan`` with a planner name of 10⁶ characters answered an error line of a megabyte."""
+    session, client = served
+    r = client.post("/api/plan", json={"planner": "x" * 1_000_000})
+    error = r.json()["error"]
+    assert r.status_code == 400 and error.startswith("auvplan: error: --planner 'xxx")
+    assert len(error) < 2100 and error.endswith("… (1,000,071 characters)"), error[-80:]
+
+
+# ---------------------------------------------------------------- --out
+@pytest.mark.parametrize("command", [("plan", "track-single"), ("simulate", "track-single"), ("run", "track-single"),
+                                     ("survey", "shelf-survey"), ("bench",), ("demo",)])
+@pytest.mark.parametrize(("out", "needle"), [("", "'': an empty folder name"), ("  ", "'  ': an empty folder name"),
+                                             ("a\nb", "'a\\nb': a control or formatting character")])
+def test_an_empty_or_control_character_out_is_a_usage_error(capsys, command, out, needle):
+    """``plan --out ''`` (an unset shell variable) wrote its files into the current folder; ``--out 'a<LF>b'`` made
+    a folder every one-line message named 'a b'."""
+    from auvplan.cli.parser import _parser
+
+    with pytest.raises(SystemExit):
+        _parser().parse_args([*command, "--out", out])
+    assert f"argument --out: {needle}" in capsys.readouterr().err
+    assert _parser().parse_args([*command, "--out", "résultats 2"]).out == "résultats 2"  # the neighbour
