@@ -270,7 +270,8 @@ def _flight_commands(sub: Any) -> None:
     s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
                  "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "survey:cmd_survey",
                  "scenario", "guidance", "seed")
-    s.add_argument("--out", type=_out_folder, help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
+    s.add_argument("--out", type=_out_folder,
+                   help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
     _shared(s, "full", "force", "json")
     _cluster(s, None)
 
@@ -336,7 +337,8 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     _cluster(s, 2)
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
-    s.add_argument("--out", type=_out_folder, default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
+    s.add_argument("--out", type=_out_folder, default="results/bench",
+                   help="folder of rows.csv, summary.csv/md and figures")
     _shared(s, "force")
     s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "run:cmd_demo")
     s.add_argument("--out", type=_out_folder, default="auvplan-demo", help="results directory (default: auvplan-demo)")
