@@ -221,3 +221,71 @@ def test_an_empty_or_control_character_out_is_a_usage_error(capsys, command, out
         _parser().parse_args([*command, "--out", out])
     assert f"argument --out: {needle}" in capsys.readouterr().err
     assert _parser().parse_args([*command, "--out", "résultats 2"]).out == "résultats 2"  # the neighbour
+
+
+# ---------------------------------------------------------------- tidal station files
+def _set(path, value):
+    def change(doc):
+        *head, last = path
+        for p in head:
+            doc = doc[p]
+        if value is _DEL:
+            del doc[last]
+        else:
+            doc[last] = value
+    return change
+
+
+_DEL = object()
+_ST = "stations[0] (Rosario Strait (Depth 155.1ft), Washington Current harmonics)"
+_TIDE_CASES = [  # each was a traceback (TypeError, IndexError, AttributeError, OverflowError, KeyError) or read as is
+    (("first_year",), None, "first_year = None: expected a year in 1678..2261"),  # TypeError: int() argument
+    (("first_year",), float("inf"), "first_year = inf: expected a year"),  # OverflowError
+    (("constituents",), 5, "constituents: expected a list of 1 to 400 entries (got int)"),  # TypeError: not iterable
+    (("equilibrium_deg",), 0, "equilibrium_deg: expected a list of 29 entries (got int)"),  # IndexError
+    (("node_factor", 6, 5), {}, "node_factor[6][5] (M3, 2025) = {}: expected a finite number in [0, 10]"),
+    (("speed_deg_per_hour", 5), 1e308, "speed_deg_per_hour[5] (M2) = 1e+308: expected a finite number in [0, 360]"),
+    (("stations", 0, "amplitude_m_s"), 3, f"{_ST} amplitude_m_s: expected an object"),  # AttributeError: .get
+    (("stations", 0, "amplitude_m_s", "M2"), float("nan"), f"{_ST} amplitude_m_s['M2'] = nan: expected a finite"),
+    (("stations", 0, "phase_deg", "M2"), None, f"{_ST} phase_deg['M2'] = None: expected a finite number"),  # read NaN
+    (("stations", 0, "amplitude_m_s", "m2"), 1.0, f"{_ST} amplitude_m_s: 'm2' is not one of the file's constituents"),
+    (("stations", 0, "lat"), True, f"{_ST} lat = True: expected a finite number in [-90, 90]"),  # read as 1°
+    (("stations", 0, "lon"), float("inf"), f"{_ST} lon = inf: expected a finite number"),  # numpy warnings, then NaN
+    (("stations", 0, "zone_hours"), float("nan"), f"{_ST} zone_hours = nan"),
+    (("stations", 0, "name"), _DEL, "stations[0] name = 'None': expected the station's name"),  # KeyError: 'name'
+    (("stations", 0, "depth_m"), _DEL, f"{_ST}: no depth_m"),
+    (("stations",), [], "stations: expected a list of 1 to 10,000 entries (got a list of 0)"),
+    (("stations", 0), "x", "stations[0]: expected a station object (got str)"),
+]
+
+
+@pytest.mark.parametrize(("path", "value", "needle"), _TIDE_CASES,
+                         ids=[".".join(map(str, p)) for p, _, _ in _TIDE_CASES])
+def test_a_tide_file_value_of_the_wrong_kind_is_refused_naming_it(tmp_path, path, value, needle):
+    import json
+    from importlib import resources
+
+    from auvplan.errors import DataError
+    from auvplan.io.data.ocean.tides import read_tide_file
+
+    doc = json.loads(resources.files("auvplan.data").joinpath("tides_rotary.json").read_text(encoding="utf-8"))
+    _set(path, value)(doc)
+    f = tmp_path / "t.json"
+    f.write_text(json.dumps(doc), encoding="utf-8")
+    with pytest.raises(DataError) as err:
+        read_tide_file(str(f))
+    assert str(err.value).startswith(f"{f}: ") and needle in str(err.value) and "\n" not in str(err.value), err.value
+
+
+@pytest.mark.parametrize("name", ["juan-de-fuca", "rotary"])
+def test_the_built_in_station_files_pass_the_check(name):
+    from auvplan.io.data.ocean.tides import BUILTIN_TIDES, read_tide_file
+
+    doc = read_tide_file(name if name in BUILTIN_TIDES else str(_data("tides_rotary.json")))
+    assert len(doc["stations"]) == {"juan-de-fuca": 78, "rotary": 2}[name] and doc["first_year"] == 2020
+
+
+def _data(name):
+    from importlib import resources
+
+    return resources.files("auvplan.data").joinpath(name)
