@@ -289,3 +289,23 @@ def _data(name):
     from importlib import resources
 
     return resources.files("auvplan.data").joinpath(name)
+
+
+# ---------------------------------------------------------------- moving obstacles' names
+@pytest.mark.parametrize(("name", "ok"), [("a\u202eb", False), ("a\nb", False), ("x" * 129, False), ("", True),
+                                          ("ferry «Ærø» 2", True)])
+def test_a_moving_obstacle_name_with_control_characters_is_refused(name, ok):
+    """Accepted before: a collision message naming 'a<U+202E>b' printed the rest of its line reversed."""
+    import json
+
+    from auvplan.io.scenario import loader
+
+    text = _TWO.format(a='"a"', b='"b"') + (
+        f"[[moving]]\nname = {json.dumps(name)}\ntype = \"sphere\"\nradius = 10.0\nmotion = \"linear\"\n"
+        "start = [500.0, 200.0, -10.0]\nvelocity = [0.0, 1.0, 0.0]\n")
+    if ok:
+        assert loader.loads(text, "s.toml").moving[0].name == name
+        return
+    with pytest.raises(ScenarioError, match=r"^s.toml: \[\[moving\]\] #1 name = .*: a moving obstacle's name is up to "
+                                            r"128 characters without control"):
+        loader.loads(text, "s.toml")
