@@ -309,3 +309,33 @@ def test_a_moving_obstacle_name_with_control_characters_is_refused(name, ok):
     with pytest.raises(ScenarioError, match=r"^s.toml: \[\[moving\]\] #1 name = .*: a moving obstacle's name is up to "
                                             r"128 characters without control"):
         loader.loads(text, "s.toml")
+
+
+# ---------------------------------------------------------------- serve --host / --port
+@pytest.mark.parametrize(("host", "needle"), [
+    ("garbage.invalid", "--host 'garbage.invalid': cannot serve on this address"),  # was: uvicorn's ERROR, exit 3
+    ("999.1.1.1", "--host '999.1.1.1': cannot serve on this address"),
+    ("", "--host '': an empty address; --host 0.0.0.0 serves on every interface"),  # was: served on every interface
+])
+def test_an_address_the_machine_cannot_serve_on_names_host(monkeypatch, capsys, host, needle):
+    """``--port 0`` skipped the check: 'serving on http://garbage.invalid:0/', then uvicorn's 'ERROR: [Errno -2]',
+    exit 3; with a port the fault was blamed on ``--port``."""
+    import uvicorn
+
+    monkeypatch.setattr(uvicorn.Server, "run", lambda self: pytest.fail("the server was started"))
+    monkeypatch.setattr("auvplan.cli.serve.make_session", lambda *a: pytest.fail("the scenario was loaded"))
+    assert main(["serve", "track-single", "--no-browser", "--port", "0", "--host", host]) == 2
+    err = _one_error_line(capsys, f"auvplan: error: {needle}")
+    assert "warning" not in err and "--port" not in err
+
+
+def test_port_0_prints_the_real_address_and_loopback_gets_no_warning(monkeypatch, capsys):
+    """The page's address was printed as 'http://127.0.0.1:0/' (the port the kernel had not chosen yet); ``::1``
+    was warned about as reachable by anyone and printed without brackets."""
+    import uvicorn
+
+    seen = {}
+    monkeypatch.setattr(uvicorn.Server, "run", lambda self: seen.update(port=self.config.port, host=self.config.host))
+    assert main(["serve", "track-single", "--no-browser", "--port", "0", "--host", "localhost"]) == 0
+    err = capsys.readouterr().err
+    assert seen["port"] > 0 and f"on http://localhost:{seen['port']}/ (folders:" in err and "warning" not in err
