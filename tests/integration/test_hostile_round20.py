@@ -7,6 +7,7 @@ value, at once; the neighbour of each bound accepted.
 
 from __future__ import annotations
 
+import math
 import os
 
 import pytest
@@ -339,3 +340,51 @@ def test_port_0_prints_the_real_address_and_loopback_gets_no_warning(monkeypatch
     assert main(["serve", "track-single", "--no-browser", "--port", "0", "--host", "localhost"]) == 0
     err = capsys.readouterr().err
     assert seen["port"] > 0 and f"on http://localhost:{seen['port']}/ (folders:" in err and "warning" not in err
+
+
+# ---------------------------------------------------------------- a tampered run.npz
+def _results(folder, **change):
+    import json
+
+    import numpy as np
+
+    n = 5
+    arrays = {"route": np.array([[0.0, 0.0, -20.0], [600.0, 0.0, -20.0]]), "keys": np.array([[0.0, 0.0, -20.0]]),
+              "sim_t": np.arange(n) * 0.1, "sim_position": np.column_stack([np.arange(n), np.zeros(n), -np.ones(n)]),
+              "sim_obstacle_distance": np.zeros((n, 0))}
+    arrays.update({f"sim_{k}": np.zeros(n) for k in ("heading", "speed", "rudder", "cross_track", "route_error",
+                                                      "progress", "altitude")})
+    arrays.update(change)
+    folder.mkdir()
+    np.savez(folder / "run.npz", **arrays)
+    sim = {"status": "EXACT", "arrived": True, "guidance": "los", "events": [[0.4, "arrival", "x"]]}
+    (folder / "run.json").write_text(json.dumps({"scenario": "s", "seed": 1, "plan": None, "simulation": sim}))
+    return folder
+
+
+_NAN3 = [[0.0, 0.0, -20.0], [float("nan"), 0.0, -20.0]]
+_NPZ_CASES = [  # report: each was a traceback (IndexError) or a ValueError naming no file
+    ({"route": _NAN3}, "member 'route' holds a value that is not finite (row 1)"),  # cannot convert float NaN to int
+    ({"route": [[0.0, 0.0], [1.0, 1.0]]}, "member 'route' has the shape (2, 2), not (N, 3)"),
+    ({"sim_t": [0.0, 0.1, 0.2]}, "member 'sim_position' has the shape (5, 3), not (3, 3)"),  # IndexError
+    ({"sim_t": [0.4, 0.3, 0.2, 0.1, 0.0]}, "member 'sim_t' ((5,)) is not a finite, non-decreasing time series"),
+    ({"sim_position": [[0.0, 0.0]] * 5}, "member 'sim_position' has the shape (5, 2), not (5, 3)"),  # IndexError
+    ({"sim_position": [[math.inf, 0.0, 0.0]] * 5}, "member 'sim_position' holds a value that is not finite (row 0)"),
+    ({"sim_heading": [0.0] * 4}, "member 'sim_heading' has 4 rows, 'sim_t' 5"),  # IndexError: boolean index
+]
+
+
+@pytest.mark.parametrize(("change", "needle"), _NPZ_CASES, ids=[next(iter(c)) + str(i) for i, (c, _) in
+                                                                 enumerate(_NPZ_CASES)])
+def test_a_tampered_run_npz_is_blamed_on_its_member(tmp_path, change, needle):
+    import numpy as np
+
+    from auvplan.errors import DataError
+    from auvplan.io.results.readback import read_run
+
+    folder = _results(tmp_path / "r", **{k: np.asarray(v, dtype=float) for k, v in change.items()})
+    with pytest.raises(DataError) as err:
+        read_run(folder)
+    assert str(err.value) == f"{folder / 'run.npz'}: {needle}"
+    record, _ = read_run(_results(tmp_path / "ok"))  # the untampered neighbour reads
+    assert record.sim is not None and record.sim.position.shape == (5, 3) and record.route.shape == (2, 3)
