@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import os
 
+import numpy as np
 import pytest
 
 from auvplan.cli import main
@@ -388,3 +389,42 @@ def test_a_tampered_run_npz_is_blamed_on_its_member(tmp_path, change, needle):
     assert str(err.value) == f"{folder / 'run.npz'}: {needle}"
     record, _ = read_run(_results(tmp_path / "ok"))  # the untampered neighbour reads
     assert record.sim is not None and record.sim.position.shape == (5, 3) and record.route.shape == (2, 3)
+
+
+# ---------------------------------------------------------------- current files: magnitudes
+def _current_file(path, u, units="m s-1"):
+    import numpy as np
+    import xarray as xr
+
+    lat, lon = np.linspace(47.9, 48.2, 6), np.linspace(-125.9, -125.4, 7)
+    field = np.full((1, lat.size, lon.size), 0.3)
+    uo = field.copy()
+    uo[0, 2, 3] = u
+    dims = ("time", "latitude", "longitude")
+    ds = xr.Dataset({"uo": (dims, uo, {"units": units, "standard_name": "eastward_sea_water_velocity"}),
+                     "vo": (dims, field, {"units": units, "standard_name": "northward_sea_water_velocity"})},
+                    coords={"time": np.array(["2024-03-01T00:00"], dtype="datetime64[ns]"),
+                            "latitude": ("latitude", lat, {"units": "degrees_north"}),
+                            "longitude": ("longitude", lon, {"units": "degrees_east"})})
+    ds.to_netcdf(path)
+    return path
+
+
+@pytest.mark.parametrize(("u", "units", "needle"), [
+    (1e30, "m s-1", "variable 'uo' holds 1e+30 m/s (at lat 48.0200, lon -125.6500, level 0, time 0; 1 such values): "
+                    "over the 50 m/s"),  # an undeclared fill value: validate OK, flown as a current of 1e30 m/s
+    (6000.0, "cm s-1", "variable 'uo' holds 60 m/s"),  # over the bound after the units
+    (math.inf, "m s-1", "variable 'uo' holds an infinite value (1 of them)"),
+])
+def test_a_current_no_ocean_has_is_refused_naming_the_variable(tmp_path, u, units, needle):
+    from auvplan.errors import DataError
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
+
+    frame, box = LocalFrame(48.05, -125.65), (-5000.0, 5000.0, -5000.0, 5000.0)
+    with pytest.raises(DataError) as err:
+        read_currents(CurrentsFileSpec(str(_current_file(tmp_path / "c.nc", u, units))), frame, extent_m=box)
+    assert needle in str(err.value) and "\n" not in str(err.value), err.value
+    ok = read_currents(CurrentsFileSpec(str(_current_file(tmp_path / "ok.nc", 4900.0, "cm s-1"))), frame,
+                       extent_m=box)  # the neighbour: 49 m/s at a node, under the bound, is read (regridded)
+    assert 10.0 < np.nanmax(np.abs(ok.u)) <= 49.0
