@@ -428,3 +428,49 @@ def test_a_current_no_ocean_has_is_refused_naming_the_variable(tmp_path, u, unit
     ok = read_currents(CurrentsFileSpec(str(_current_file(tmp_path / "ok.nc", 4900.0, "cm s-1"))), frame,
                        extent_m=box)  # the neighbour: 49 m/s at a node, under the bound, is read (regridded)
     assert 10.0 < np.nanmax(np.abs(ok.u)) <= 49.0
+
+
+# ---------------------------------------------------------------- bench --resume of an edited rows.csv
+def _rows_csv(path, *rows):
+    from auvplan.bench import COLUMNS
+
+    def line(seed, status="EXACT", guidance="hybrid"):
+        values = {k: "" for k in COLUMNS} | {"scenario": "track-single", "planner": "route", "guidance": guidance,
+                                             "seed": seed, "status": status, "wall_s": "0.5"}
+        return ",".join(values[k] for k in COLUMNS) + "\r\n"
+
+    path.write_text(",".join(COLUMNS) + "\r\n" + "".join(line(*r) for r in rows), encoding="utf-8", newline="")
+    return path
+
+
+@pytest.mark.parametrize(("rows", "kept"), [
+    ([("0",), ("x",)], ["0"]),  # the resumed sweep ended in 'ValueError: invalid literal for int()'
+    ([("0",), ("1e400",)], ["0"]),
+    ([("0",), ("1", "EXACT", "hy\x00brid")], ["0"]),  # a NUL reached the figures' labels
+    ([("0",), ("1",)], ["0", "1"]),  # the neighbour: both count
+])
+def test_a_row_whose_seed_or_text_is_not_a_rows_is_run_again(tmp_path, rows, kept):
+    from auvplan.bench import read_rows
+
+    assert [r["seed"] for r in read_rows(_rows_csv(tmp_path / "rows.csv", *rows))] == kept
+
+
+@pytest.mark.parametrize(("text", "needle"), [
+    ("a,b,c\r\n1,2,3\r\n", "its first line is not the header `auvplan bench` writes ('a,b,c'…)"),  # rows appended
+    ("\x89PNG\r\n\x1a\n" * 3, "its first line is not the header"),
+    (None, "line 2 is not a row of `auvplan bench` (field larger than field limit (131072))"),  # a traceback
+])
+def test_a_rows_csv_bench_did_not_write_is_not_resumed(tmp_path, text, needle):
+    from auvplan.bench import SweepSpec, _todo
+
+    path = tmp_path / "rows.csv"
+    if text is None:
+        _rows_csv(path, ("0",))
+        path.write_text(path.read_text() + "a" * 200_000 + "\r\n")
+    else:
+        path.write_text(text, encoding="latin-1")
+    before = path.read_bytes()
+    with pytest.raises(AuvplanError) as err:
+        _todo(SweepSpec(("track-single",), seeds=2), path, resume=True)
+    assert str(err.value).startswith(f"{path}: {needle}") and "\n" not in str(err.value), err.value
+    assert path.read_bytes() == before  # nothing appended under another header
