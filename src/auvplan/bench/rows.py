@@ -44,8 +44,10 @@ def read_rows(path: Path) -> list[Row]:
 
     A row counts only when its line ends with a newline (a line an interruption cut short, even
     one cut inside its last field, is left out and its run done again by ``--resume``), it has
-    every column, its ``status`` is a status and its ``wall_s`` a number; of two rows with the
-    same key (a tampered file) the first is kept.
+    every column, its ``status`` is a status, its ``wall_s`` a number, its ``seed`` an integer ≥ 0 and no
+    value holds a control character; of two rows with the same key (a tampered file) the first is kept.
+    A file whose first line is not :data:`COLUMNS`' header, or holding a line the csv module cannot
+    read, is refused (:class:`~auvplan.errors.AuvplanError`): a sweep never appends to it.
 
     Parameters
     ----------
