@@ -474,3 +474,12 @@ def test_a_rows_csv_bench_did_not_write_is_not_resumed(tmp_path, text, needle):
         _todo(SweepSpec(("track-single",), seeds=2), path, resume=True)
     assert str(err.value).startswith(f"{path}: {needle}") and "\n" not in str(err.value), err.value
     assert path.read_bytes() == before  # nothing appended under another header
+
+
+@pytest.mark.parametrize("name", ["results", "m.plan"])
+def test_mission_check_of_a_folder_says_it_is_a_folder(tmp_path, capsys, name):
+    """Was "unknown mission format ''" for a folder (and for a folder named m.plan, whatever the reader said)."""
+    folder = tmp_path / name
+    folder.mkdir()
+    assert main(["mission", "check", str(folder), "--scenario", "track-single"]) == 2
+    _one_error_line(capsys, f"auvplan: error: {folder}: a folder, not a mission file")
