@@ -483,3 +483,21 @@ def test_mission_check_of_a_folder_says_it_is_a_folder(tmp_path, capsys, name):
     folder.mkdir()
     assert main(["mission", "check", str(folder), "--scenario", "track-single"]) == 2
     _one_error_line(capsys, f"auvplan: error: {folder}: a folder, not a mission file")
+
+
+# ---------------------------------------------------------------- [endurance] return_speed
+@pytest.mark.parametrize(("value", "ok"), [(100.0, False), (1e-300, False), (0.49, False), (0.5, True), (2.5, True),
+                                           (0.0, True)])
+def test_a_return_speed_the_vehicle_cannot_fly_is_refused(value, ok):
+    """``return_speed = 100`` (max_speed 2.5) costed the return at 100 m/s ('699.6 Wh back'); ``1e-300`` printed
+    'turn back by 0.00 km: 0.0 Wh out, 0.0 Wh back'.  Both validated OK."""
+    from auvplan.io.scenario import loader
+
+    tables = f"[vehicle]\nmin_speed = 0.5\nmax_speed = 2.5\n[endurance]\nreturn_speed = {value!r}\n"
+    text = _TWO.format(a='"a"', b='"b"') + tables
+    if ok:
+        assert loader.loads(text, "s.toml").endurance.return_speed == value
+        return
+    with pytest.raises(ScenarioError, match=rf"^s.toml: \[endurance\] return_speed = {value!r}: outside the vehicle's "
+                                            r"speeds \[min_speed 0.5, max_speed 2.5\] m/s"):
+        loader.loads(text, "s.toml")
