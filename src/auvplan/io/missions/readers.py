@@ -350,6 +350,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
     """
     path = Path(path)
     fmt = MISSION_SUFFIXES.get(path.suffix.lower())
+    if path.is_dir():  # was "unknown mission format ''" (hostile round 20)
+        raise DataError(f"{path}: a folder, not a mission file; name the file (e.g. {path / 'mission.plan'})")
     if fmt is None:
         raise DataError(f"{path}: unknown mission format {path.suffix!r}; "
                         f"expected one of {', '.join(sorted(MISSION_SUFFIXES))}")
