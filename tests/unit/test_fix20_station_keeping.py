@@ -72,8 +72,8 @@ def _plan(tmp_path, holds, command: int = 16):
 _VEHICLE = "[vehicle]\nspeed = 1.5\nmax_speed = 1.5\n"
 
 
-@pytest.mark.parametrize("command", [16, 19])
-@pytest.mark.parametrize(("holds", "waypoint"), [([0, 600, 0], 2), ([0, 0, 600], 3), ([0, 600, 600], 2)])
+@pytest.mark.parametrize(("holds", "waypoint", "command"),
+                         [([0, 600, 0], 2, 16), ([0, 0, 600], 3, 19), ([0, 0, 600], 3, 16), ([0, 600, 600], 2, 19)])
 def test_a_hold_in_a_current_faster_than_the_vehicle_is_infeasible_naming_the_waypoint(tmp_path, command, holds,
                                                                                        waypoint):
     """2 m/s along the track (+x): every leg makes headway (2 + 1.5 m/s over ground) but no hold can be kept."""
