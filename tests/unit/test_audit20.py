@@ -1,0 +1,111 @@
+"""Audit 20 of wave 14's code (``git diff 00dc173``).
+
+1. A ``.plan``'s ``MAV_CMD_DO_CHANGE_SPEED`` is a horizontal speed.  ArduSub's ``do_change_speed`` sets WPNav's
+   horizontal speed (``set_speed_NE_cms``), and WPNav flies a leg at the speed along it that keeps that horizontal
+   speed (ArduPilot's ``kinematic_limit`` in ``AP_Math/control.cpp``: ``max_xy / xy_length`` of the unit
+   direction, until the vertical limit binds).  The export wrote the planned through-water speed v into the
+   command, so ArduSub flew a leg pitched at γ at ``v / cos γ`` (6.4 % more at 20°), and ``mission check`` read the
+   command as the speed along the leg: a dive of 90 m over 275 m was judged 289.4 s at 1 m/s where ArduSub takes
+   275 s at 1.052 m/s through the water.  Now the export commands ``v cos γ`` and the check flies the command at
+   ``v / cos γ``.  Oracles: time = horizontal length / commanded speed, energy = P(v / cos γ) × that time (still
+   water), and each written command × the leg's length over its horizontal length = the planned speed (np.hypot).
+2. The readers' cache keyed the compiled seabed's bits on the CPU (audit 17), not on whether numba compiles at
+   all: ``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python, whose seabed differs from the compiled one by
+   ulps at 54 % of 300 points of marcus-wake (3.6e-12 m at most), so a folder written by one run served its bits
+   to the other.  Oracle: the key changes with ``NUMBA_DISABLE_JIT`` and with nothing else.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from auvplan.endurance import EnergyModel
+from auvplan.io.data import cache
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.missions.energy import mission_file_energy
+from auvplan.io.missions.formats import to_qgc_plan
+from auvplan.io.scenario import loader
+from helpers import HOLDS
+
+# home on the surface above item 0 (5 m down), a dive of 90 m over 275 m, then 1 000 m level; still water
+ITEMS = np.array([[500.0, 1000.0, -5.0], [775.0, 1000.0, -95.0], [1775.0, 1000.0, -95.0]])
+
+
+def _world(tmp_path):
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS, encoding="utf-8")
+    return loader.build(loader.load(str(scen)))
+
+
+def _qgc_plan(tmp_path, frame: LocalFrame, speed: float):
+    """As QGroundControl writes one: a speed item, then the waypoints (relative altitude)."""
+    items = [{"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, speed, -1, 0, 0, 0, 0]}]
+    for x, y, z in ITEMS:
+        lon, lat = frame.inverse(x, y)
+        items.append({"type": "SimpleItem", "command": 16, "frame": 3,
+                      "params": [0, 0, 0, None, float(lat), float(lon), float(z)]})
+    lon, lat = frame.inverse(*ITEMS[0, :2])
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps({"mission": {"plannedHomePosition": [float(lat), float(lon), 0], "items": items}}))
+    return path
+
+
+@pytest.mark.parametrize("speed", [1.0, 1.6])
+def test_a_speed_command_is_flown_level_so_a_dive_goes_faster_through_the_water(tmp_path, speed):
+    world, mission = _world(tmp_path)
+    rec, ok, _ = mission_file_energy(world, mission, _qgc_plan(tmp_path, LocalFrame(*world.origin), speed))
+    flat, dz = 275.0, 90.0
+    along = speed * np.hypot(flat, dz) / flat  # kinematic_limit: max_xy / xy_length (vz 0.33-0.52 m/s: unbound)
+    assert rec["leg_speeds_mps"] == pytest.approx([speed, along, speed], rel=1e-6)  # the launch: as commanded
+    assert rec["duration_s"] == pytest.approx((5.0 + flat + 1000.0) / speed, rel=1e-6)  # was 289.4 s for 275
+    power = EnergyModel.from_vehicle(mission.vehicle).power
+    want = (float(power(speed)) * 1005.0 / speed + float(power(along)) * flat / speed) / 3600.0
+    assert ok and rec["energy_wh"] == pytest.approx(want, rel=1e-6)
+
+
+@pytest.mark.parametrize("speed", [1.5, [0.8, 1.7, 1.2]])
+def test_the_export_commands_the_level_speed_that_flies_the_planned_one(tmp_path, speed):
+    pts = np.array([[0.0, 0.0, -10.0], [300.0, -40.0, -60.0], [900.0, 400.0, -20.0], [1900.0, 400.0, -20.0]])
+    d = np.diff(pts, axis=0)
+    plan = to_qgc_plan(pts, (-33.9, 151.3), speed)  # southern and eastern hemispheres
+    v = np.broadcast_to(np.asarray(speed, dtype=float), (3,))
+    cmd = [it["params"][1] for it in plan["mission"]["items"] if it["command"] == 178]
+    flown = np.asarray(cmd[1:] if len(cmd) > 1 else cmd * 3) * np.linalg.norm(d, axis=1) / np.hypot(d[:, 0], d[:, 1])
+    assert flown == pytest.approx(v, abs=1e-4)  # what ArduSub flies through the water: the plan's speed
+    assert cmd[0] == pytest.approx(v[0] * np.hypot(300.0, 40.0) / np.linalg.norm(d[0]), abs=5e-5)
+    # and mission check of it gives the planned time back (still water)
+    world, mission = _world(tmp_path)
+    path = tmp_path / "e.plan"
+    path.write_text(json.dumps(to_qgc_plan(ITEMS, world.origin, v[:2] if np.ndim(speed) else speed)))
+    rec = mission_file_energy(world, mission, path)[0]
+    legs = np.linalg.norm(np.diff(ITEMS, axis=0), axis=1)
+    launch = v[0] * 275.0 / legs[0]  # vertical: at the first leg's command (WPNAV_SPEED_DN is not in the file)
+    assert rec["duration_s"] == pytest.approx(5.0 / launch + float(np.sum(legs / v[:2])), rel=1e-4)
+
+
+@pytest.fixture()
+def _fresh_stamps():
+    for f in (cache.code_stamp, cache.host_stamp):
+        f.cache_clear()
+    yield
+    for f in (cache.code_stamp, cache.host_stamp):
+        f.cache_clear()
+
+
+def test_the_cache_key_tells_compiled_kernels_from_plain_python(monkeypatch, _fresh_stamps):
+    def key() -> str:
+        for f in (cache.code_stamp, cache.host_stamp):
+            f.cache_clear()
+        return cache.request_key("seabed-at", ("grid", ((1.0, 2.0),)), [])
+
+    monkeypatch.delenv("NUMBA_DISABLE_JIT", raising=False)
+    compiled = key()
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")  # the kernels as plain Python: other bits
+    assert key() != compiled
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "0")  # numba's own reading: 0 compiles
+    assert key() == compiled
+    monkeypatch.delenv("NUMBA_DISABLE_JIT")
+    assert key() == compiled
