@@ -74,12 +74,12 @@ def _plan() -> dict:
     return doc
 
 
-def _by_hand(points: np.ndarray, v: np.ndarray | float, hold: float) -> float:
+def _by_hand(points: np.ndarray, speed: np.ndarray | float, hold: float) -> float:
     """Each straight leg at the ground speed that keeps the vehicle on it through a uniform current, plus the hold
-    (``v`` through the water: one, or one per leg)."""
+    (``speed`` through the water: one, or one per leg)."""
     c = np.array([*CURRENT, 0.0])
     t = hold
-    for a, b, v in zip(points[:-1], points[1:], np.broadcast_to(v, (len(points) - 1,))):
+    for a, b, v in zip(points[:-1], points[1:], np.broadcast_to(speed, (len(points) - 1,))):
         length = float(np.linalg.norm(b - a))
         uc = float(np.dot((b - a) / length, c))
         t += length / (uc + np.sqrt(v * v - c @ c + uc * uc))
