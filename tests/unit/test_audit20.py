@@ -109,3 +109,67 @@ def test_the_cache_key_tells_compiled_kernels_from_plain_python(monkeypatch, _fr
     assert key() == compiled
     monkeypatch.delenv("NUMBA_DISABLE_JIT")
     assert key() == compiled
+
+
+# ---------------------------------------------------------------- 3. a FIFO beside a zone file
+def _unblock_later(fifo, seconds: float = 3.0):
+    """A writer that opens and closes ``fifo`` after ``seconds`` (a reader blocked on it then reads an empty file),
+    so that the code before the fix fails this test instead of hanging it."""
+    import os
+    import threading
+    import time
+
+    def run() -> None:
+        deadline = time.monotonic() + seconds + 5.0
+        time.sleep(seconds)
+        while time.monotonic() < deadline:
+            try:
+                os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))  # ENXIO while no reader: nothing blocked
+            except OSError:
+                time.sleep(0.05)
+
+    threading.Thread(target=run, daemon=True).start()
+
+
+@pytest.mark.parametrize("sidecar", ["z.dbf", "z.shx", "Z.PRJ"])
+def test_a_fifo_beside_a_shapefile_is_refused_not_waited_on(tmp_path, capsys, sidecar):
+    """GDAL opens a shapefile's .dbf/.shx/.prj beside it: a FIFO there blocked ``validate`` for ever (killed after
+    20 s) though the guard refused a FIFO named as the file itself."""
+    import os
+
+    import shapely
+    from pyogrio.raw import write
+
+    from auvplan.cli import main
+
+    geom = np.array([shapely.to_wkb(shapely.box(70.80, -7.0, 70.81, -6.99))], dtype=object)
+    write(str(tmp_path / "z.shp"), geom, [np.array(["a"], dtype=object)], ["name"], geometry_type="Polygon",
+          crs="EPSG:4326", driver="ESRI Shapefile")
+    for p in tmp_path.glob("z.*"):
+        if p.name.lower() == sidecar.lower():
+            p.unlink()
+    os.mkfifo(tmp_path / sidecar)
+    _unblock_later(tmp_path / sidecar)
+    (tmp_path / "s.toml").write_text(HOLDS + '[[zones]]\nname = "chart"\nfile = "z.shp"\n', encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"file = '{tmp_path / 'z.shp'}': '{sidecar}' beside it: is a FIFO" in err, err
+
+
+def test_a_fifo_inside_a_filegdb_folder_is_refused(tmp_path):
+    import os
+
+    from auvplan.errors import DataError
+    from auvplan.io.data.vector.guard import check_source
+
+    gdb = tmp_path / "z.gdb"
+    gdb.mkdir()
+    (gdb / "a00000001.gdbtable").write_bytes(b"\0" * 8)
+    check_source(gdb, "src", DataError)  # regular files: read by GDAL
+    os.mkfifo(gdb / "a00000004.gdbtable")
+    with pytest.raises(DataError, match=r"^src: 'a00000004\.gdbtable' beside it: is a FIFO"):
+        check_source(gdb, "src", DataError)
+    (tmp_path / "y.geojson").write_text("{}", encoding="utf-8")
+    os.mkfifo(tmp_path / "y2.geojson")  # another name: not GDAL's to open
+    os.mkfifo(tmp_path / "yz.geojson")
+    check_source(tmp_path / "y.geojson", "src", DataError)
