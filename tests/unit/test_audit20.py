@@ -13,6 +13,9 @@
    all: ``NUMBA_DISABLE_JIT=1`` runs the kernels as plain Python, whose seabed differs from the compiled one by
    ulps at 54 % of 300 points of marcus-wake (3.6e-12 m at most), so a folder written by one run served its bits
    to the other.  Oracle: the key changes with ``NUMBA_DISABLE_JIT`` and with nothing else.
+3. The vector guard refused a FIFO named as a zone file, not one GDAL opens beside it (a shapefile's ``.dbf``,
+   ``.shx``, ``.prj``; a FileGDB folder's files): ``validate`` hung for ever.  Oracle: exit 2, one line naming
+   the FIFO (a writer unblocks it after 3 s, so the code before the fix fails here instead of hanging).
 """
 
 from __future__ import annotations
