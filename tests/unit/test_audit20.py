@@ -16,6 +16,8 @@
 3. The vector guard refused a FIFO named as a zone file, not one GDAL opens beside it (a shapefile's ``.dbf``,
    ``.shx``, ``.prj``; a FileGDB folder's files): ``validate`` hung for ever.  Oracle: exit 2, one line naming
    the FIFO (a writer unblocks it after 3 s, so the code before the fix fails here instead of hanging).
+4. A geographic envelope was tested in the local (azimuthal) frame since audit 17; ArduPilot's fence has straight
+   edges in latitude/longitude.  Oracle: shapely in latitude/longitude (the fence's own test).
 """
 
 from __future__ import annotations
@@ -176,3 +178,38 @@ def test_a_fifo_inside_a_filegdb_folder_is_refused(tmp_path):
     os.mkfifo(tmp_path / "y2.geojson")  # another name: not GDAL's to open
     os.mkfifo(tmp_path / "yz.geojson")
     check_source(tmp_path / "y.geojson", "src", DataError)
+
+
+# ---------------------------------------------------------------- 4. a geofence's edges as ArduPilot draws them
+@pytest.mark.parametrize(("lat0", "lon0"), [(68.0, 15.0), (-68.0, -60.0)])
+def test_a_hand_drawn_geofence_is_tested_with_ardupilot_s_straight_latitude_longitude_edges(tmp_path, lat0, lon0):
+    """ArduPilot tests its polygon fence with straight edges in latitude/longitude (``Polygon_outside`` on
+    ``points_lla``); ``mission check`` tested the local (azimuthal) frame since audit 17, where a 100 km edge at 68°
+    bows 494 m poleward of it: a waypoint 300 m inside the local square's poleward side passed, and breached."""
+    import shapely
+
+    from auvplan.io.missions.deploy_read import file_deploy_check
+    from auvplan.io.missions.formats import read_mission
+
+    frame = LocalFrame(lat0, lon0)
+    side = 300.0 if lat0 > 0 else -300.0  # the poleward side
+    w = np.array([[0.0, 0.0, -20.0], [0.0, np.sign(side) * 50_000.0 - side, -20.0], [1000.0, 0.0, -20.0]])
+    doc = to_qgc_plan(w, (lat0, lon0), 1.0)
+    corners = np.array([(-5e4, -5e4), (5e4, -5e4), (5e4, 5e4), (-5e4, 5e4)])
+    lon, lat = frame.inverse(corners[:, 0], corners[:, 1])
+    doc["geoFence"]["polygons"] = [{"inclusion": True, "version": 1,
+                                    "polygon": [[float(a), float(b)] for a, b in zip(lat, lon)]}]
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(doc))
+    points = read_mission(path, (lat0, lon0))[0]
+    plon, plat = frame.inverse(points[:, 0], points[:, 1])  # the oracle: shapely in latitude/longitude
+    inside = shapely.covers(shapely.Polygon(np.column_stack([lon, lat])), shapely.points(plon, plat))
+    assert inside.tolist() == [True, True, False, True]  # the second item is outside ArduPilot's fence
+    rec, line = file_deploy_check(path, (lat0, lon0), points, "qgc", 50.0, 3000.0)
+    assert not rec["envelope"]["ok"] and "(1 waypoints outside)" in line, line
+    w[1, 1] = np.sign(side) * 50_000.0 - 2 * side - side  # 900 m inside: inside both
+    doc2 = to_qgc_plan(w, (lat0, lon0), 1.0)
+    doc2["geoFence"] = doc["geoFence"]
+    path.write_text(json.dumps(doc2))
+    points = read_mission(path, (lat0, lon0))[0]
+    assert file_deploy_check(path, (lat0, lon0), points, "qgc", 50.0, 3000.0)[0]["envelope"]["ok"]

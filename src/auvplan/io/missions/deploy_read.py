@@ -306,11 +306,10 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
     pts = w[:, :2]
     assert info.polygon is not None
     rings = [info.polygon, *info.exclusions]
-    if info.geographic:  # [lat, lon] rings compared in the local frame, where the envelope was made: in degrees a
-        if origin is None:  # ring across the antimeridian (179.99 and -179.99) went round the Earth the other way
+    if info.geographic:  # [lat, lon] rings: compared in latitude/longitude, as ArduPilot's fence tests them
+        if origin is None:
             raise DataError("a geographic envelope needs the scenario's [origin]")
-        frame = LocalFrame(*origin)
-        rings = [np.column_stack(frame.forward(r[:, 1], r[:, 0])) for r in rings]
+        rings, pts = _planar_latlon(rings, pts, origin)
     track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
     reasons = []
     region = shapely.Polygon(rings[0])
@@ -330,6 +329,23 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
     return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
+
+
+def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[float, float]
+                   ) -> tuple[list[NDArray[np.float64]], NDArray[np.float64]]:
+    """The envelope's ``[lat, lon]`` rings and the local points as ``(longitude, latitude)`` about the origin's
+    longitude (unwrapped: a ring across the antimeridian, 179.99 and -179.99, is the small one, not the band round
+    the Earth), where each edge is the straight line ArduPilot's fence tests (``Polygon_outside`` on latitude and
+    longitude, ``AC_PolyFence_loader::breached``).  In the local frame (azimuthal) an edge is another line: a
+    100 km edge at 68° N bows ~400 m from it, so a mission near a hand-drawn fence's side passed and breached."""
+    lon0 = float(origin[1])
+
+    def unwrap(lon: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray((lon - lon0 + 180.0) % 360.0 - 180.0, dtype=float)
+
+    lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
+    return ([np.column_stack([unwrap(np.asarray(r)[:, 1]), np.asarray(r)[:, 0]]) for r in rings],
+            np.column_stack([unwrap(np.asarray(lon)), np.asarray(lat)]))
 
 
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
