@@ -18,6 +18,8 @@
    the FIFO (a writer unblocks it after 3 s, so the code before the fix fails here instead of hanging).
 4. A geographic envelope was tested in the local (azimuthal) frame since audit 17; ArduPilot's fence has straight
    edges in latitude/longitude.  Oracle: shapely in latitude/longitude (the fence's own test).
+5. A ``.plan`` item beyond ±90° latitude or ±180° longitude, which AP_Mission refuses at upload, was read as pyproj
+   wraps it (180.0005° as -179.9995°) and passed.  Oracle: ArduPilot's check_lat/check_lng ranges.
 """
 
 from __future__ import annotations
@@ -213,3 +215,27 @@ def test_a_hand_drawn_geofence_is_tested_with_ardupilot_s_straight_latitude_long
     path.write_text(json.dumps(doc2))
     points = read_mission(path, (lat0, lon0))[0]
     assert file_deploy_check(path, (lat0, lon0), points, "qgc", 50.0, 3000.0)[0]["envelope"]["ok"]
+
+
+# ---------------------------------------------------------------- 5. a position ArduPilot refuses at upload
+@pytest.mark.parametrize(("lat", "lon"), [(-60.0003, 180.0005), (-60.0, -180.0005), (90.0005, 179.999)])
+def test_a_plan_item_outside_the_latitude_longitude_ranges_is_refused_naming_it(tmp_path, lat, lon):
+    """AP_Mission's ``check_lat``/``check_lng`` refuse an item beyond ±90° / ±180° (the upload fails): a ``.plan``
+    near the antimeridian with an item at 180.0005° was read as -179.9995° (pyproj wraps) and passed the check."""
+    from auvplan.errors import DataError
+    from auvplan.io.missions.formats import read_mission
+
+    origin = (-60.0, 179.9995)
+    doc = to_qgc_plan(np.array([[0.0, 0.0, -10.0], [20.0, 0.0, -10.0], [40.0, 0.0, -10.0]]), origin, 1.0)
+    wps = [it for it in doc["mission"]["items"] if it["command"] == 16]
+    assert abs(wps[1]["params"][5]) > 179.9  # the legs near the antimeridian
+    kept = wps[1]["params"][4:6]
+    wps[1]["params"][4], wps[1]["params"][5] = lat, lon
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(doc))
+    with pytest.raises(DataError, match=rf"mission\.items\[2\]: latitude {lat:g}, longitude {lon:g}: outside "
+                                        r"\[-90, 90\] x \[-180, 180\], which ArduPilot refuses"):
+        read_mission(path, origin)
+    wps[1]["params"][4:6] = kept  # in range: read
+    path.write_text(json.dumps(doc))
+    assert read_mission(path, origin)[0].shape == (4, 3)
