@@ -20,6 +20,8 @@
    edges in latitude/longitude.  Oracle: shapely in latitude/longitude (the fence's own test).
 5. A ``.plan`` item beyond ±90° latitude or ±180° longitude, which AP_Mission refuses at upload, was read as pyproj
    wraps it (180.0005° as -179.9995°) and passed.  Oracle: ArduPilot's check_lat/check_lng ranges.
+6. A ``.plan`` geofence's circles were ignored: a mission through an exclusion circle passed 'envelope OK'.
+   Oracle: the legs' distance to the centre by hand against the radius, 10 m either side of it.
 """
 
 from __future__ import annotations
@@ -239,3 +241,46 @@ def test_a_plan_item_outside_the_latitude_longitude_ranges_is_refused_naming_it(
     wps[1]["params"][4:6] = kept  # in range: read
     path.write_text(json.dumps(doc))
     assert read_mission(path, origin)[0].shape == (4, 3)
+
+
+# ---------------------------------------------------------------- 6. a geofence's circles
+@pytest.mark.parametrize(("lat0", "lon0"), [(48.0, -125.0), (-33.9, 151.3)])
+def test_a_mission_through_an_exclusion_circle_of_its_geofence_fails_the_envelope(tmp_path, lat0, lon0):
+    """QGroundControl's geofence holds circles too (``{"circle": {"center": [lat, lon], "radius": r}, "inclusion":
+    false}``) and ArduPilot keeps the vehicle out of an exclusion circle; ``mission check`` read only the polygons:
+    a mission straight through a 200 m exclusion circle passed 'envelope OK'.  Oracle: the leg's distance to the
+    circle's centre by hand (0 m through it, 400 m beside it) against its radius."""
+    from auvplan.io.missions.deploy_read import file_deploy_check
+    from auvplan.io.missions.formats import read_mission
+
+    frame = LocalFrame(lat0, lon0)
+    w = np.array([[0.0, 0.0, -20.0], [3000.0, 0.0, -20.0]])
+    doc = to_qgc_plan(w, (lat0, lon0), 1.0)
+    box = np.array([(-1000.0, -1000.0), (4000.0, -1000.0), (4000.0, 1000.0), (-1000.0, 1000.0)])
+    lon, lat = frame.inverse(box[:, 0], box[:, 1])
+    doc["geoFence"]["polygons"] = [{"inclusion": True, "version": 1,
+                                    "polygon": [[float(a), float(b)] for a, b in zip(lat, lon)]}]
+    path = tmp_path / "m.plan"
+    ns = to_qgc_plan(np.array([[1500.0, -900.0, -20.0], [1500.0, 900.0, -20.0]]), (lat0, lon0), 1.0)["mission"]
+    # an east-west leg beside a centre north of it, a north-south leg beside one east of it: 190 m (inside the
+    # 200 m circle) and 215 m (outside the 64-gon around it, 200.24 m)
+    for (dx, dy), ok in [((0.0, 0.0), False), ((0.0, 190.0), False), ((0.0, 215.0), True), ((190.0, 0.0), False),
+                         ((215.0, 0.0), True)]:
+        doc["mission"] = ns if dx else to_qgc_plan(w, (lat0, lon0), 1.0)["mission"]
+        clon, clat = frame.inverse(np.array([1500.0 + dx]), np.array([dy]))
+        doc["geoFence"]["circles"] = [{"circle": {"center": [float(clat[0]), float(clon[0])], "radius": 200.0},
+                                       "inclusion": False, "version": 1}]
+        path.write_text(json.dumps(doc))
+        points = read_mission(path, (lat0, lon0))[0]
+        rec, line = file_deploy_check(path, (lat0, lon0), points, "qgc", 50.0, 3000.0)
+        assert rec["envelope"]["ok"] is ok, line
+        assert ok or "crosses exclusion polygon [0]" in line, line
+    # an inclusion circle alone is the envelope: the mission 3 km long leaves a 1 km one
+    doc["mission"] = to_qgc_plan(w, (lat0, lon0), 1.0)["mission"]
+    clon, clat = frame.inverse(np.array([0.0]), np.array([0.0]))
+    doc["geoFence"] = {"polygons": [], "version": 2,
+                       "circles": [{"circle": {"center": [float(clat[0]), float(clon[0])], "radius": 1000.0},
+                                    "inclusion": True, "version": 1}]}
+    path.write_text(json.dumps(doc))
+    rec, line = file_deploy_check(path, (lat0, lon0), read_mission(path, (lat0, lon0))[0], "qgc", 50.0, 3000.0)
+    assert not rec["envelope"]["ok"] and "leaves the envelope's polygon (1 waypoints outside)" in line, line

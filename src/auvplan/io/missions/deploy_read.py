@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -102,6 +103,12 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
     fence = doc.get("geoFence") or {}
     inc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if p.get("inclusion")]
     exc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if not p.get("inclusion", True)]
+    # its circles (QGroundControl draws them too; ArduPilot keeps the vehicle out of an exclusion circle): were
+    # ignored, a mission through one passed; as polygons, an exclusion's around its circle, an inclusion's inside
+    circles = [(_circle_ring(c["circle"]["center"], c["circle"]["radius"], not c.get("inclusion", True)),
+                bool(c.get("inclusion", True))) for c in fence.get("circles", [])]
+    exc += [ring for ring, inclusion in circles if not inclusion]
+    inc += [ring for ring, inclusion in circles if inclusion]
     events, wp, alt = [], -1, 0
     for it in plan_items(doc):  # the reader's waypoints (the same walk)
         if it.moves:
@@ -110,6 +117,27 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
     return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
+
+
+CIRCLE_SIDES = 64
+"""Sides of the polygon a ``.plan``'s fence circle is tested as (:func:`_circle_ring`)."""
+
+
+def _circle_ring(center: Any, radius: Any, around: bool) -> NDArray[np.float64]:
+    """A QGroundControl fence circle as a ``[lat, lon]`` ring of :data:`CIRCLE_SIDES` sides: its vertices on the
+    circle (inside the disc: an inclusion) or pushed out by ``1 / cos(pi / sides)`` (around it: an exclusion), the
+    circle as ArduPilot measures it (metres north and east at ``LATLON_TO_M`` a 1e-7 degree, east scaled by the
+    cosine of the latitude)."""
+    lat, lon, r = float(center[0]), float(center[1]), float(radius)
+    if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(r) and r > 0.0):
+        raise DataError(f"QGC plan: geoFence circle at {center!r}, radius {radius!r}: expected a centre and a "
+                        "positive radius (m)")
+    k = np.arange(CIRCLE_SIDES) * (2.0 * math.pi / CIRCLE_SIDES)
+    reach = r / math.cos(math.pi / CIRCLE_SIDES) if around else r
+    per_deg = 111318.84502145034  # ArduPilot's LATLON_TO_M x 1e7
+    dlat = reach * np.sin(k) / per_deg
+    dlon = reach * np.cos(k) / (per_deg * max(math.cos(math.radians(lat)), 1e-9))
+    return np.column_stack([lat + dlat, lon + dlon])
 
 
 def _yaml(text: str) -> FileDeploy:
