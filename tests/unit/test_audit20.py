@@ -21,7 +21,8 @@
 5. A ``.plan`` item beyond ±90° latitude or ±180° longitude, which AP_Mission refuses at upload, was read as pyproj
    wraps it (180.0005° as -179.9995°) and passed.  Oracle: ArduPilot's check_lat/check_lng ranges.
 6. A ``.plan`` geofence's circles were ignored: a mission through an exclusion circle passed 'envelope OK'.
-   Oracle: the legs' distance to the centre by hand against the radius, 10 m either side of it.
+   Oracle: the legs' distance to the centre by hand against the radius, 10 m either side of it.  And only its
+   first inclusion polygon was tested, where ArduPilot keeps the vehicle inside every inclusion (by default).
 """
 
 from __future__ import annotations
@@ -284,3 +285,34 @@ def test_a_mission_through_an_exclusion_circle_of_its_geofence_fails_the_envelop
     path.write_text(json.dumps(doc))
     rec, line = file_deploy_check(path, (lat0, lon0), read_mission(path, (lat0, lon0))[0], "qgc", 50.0, 3000.0)
     assert not rec["envelope"]["ok"] and "leaves the envelope's polygon (1 waypoints outside)" in line, line
+
+
+def test_every_inclusion_of_a_geofence_holds_the_mission(tmp_path):
+    """ArduPilot keeps the vehicle inside every inclusion polygon and circle of its fence (their intersection,
+    unless FENCE_OPTIONS asks for their union); ``mission check`` tested the first inclusion polygon only."""
+    from auvplan.io.missions.deploy_read import file_deploy_check
+    from auvplan.io.missions.formats import read_mission
+
+    origin = (48.0, -125.0)
+    frame = LocalFrame(*origin)
+    w = np.array([[0.0, 0.0, -20.0], [3000.0, 0.0, -20.0]])
+    doc = to_qgc_plan(w, origin, 1.0)
+
+    def box(x0: float, x1: float) -> dict:
+        lon, lat = frame.inverse(np.array([x0, x1, x1, x0]), np.array([-500.0, -500.0, 500.0, 500.0]))
+        return {"inclusion": True, "version": 1, "polygon": [[float(a), float(b)] for a, b in zip(lat, lon)]}
+
+    path = tmp_path / "m.plan"
+    for second, ok in [((-1000.0, 4000.0), True), ((-1000.0, 2000.0), False)]:  # the mission reaches x = 3000 m
+        doc["geoFence"]["polygons"] = [box(-1000.0, 4000.0), box(*second)]
+        path.write_text(json.dumps(doc))
+        rec, line = file_deploy_check(path, origin, read_mission(path, origin)[0], "qgc", 50.0, 3000.0)
+        assert rec["envelope"]["ok"] is ok, line
+        assert ok or "leaves the fence's inclusion 2 (1 waypoints outside)" in line, line
+    clon, clat = frame.inverse(np.array([0.0]), np.array([0.0]))  # and an inclusion circle of 1 km beside them
+    doc["geoFence"]["polygons"] = [box(-1000.0, 4000.0)]
+    doc["geoFence"]["circles"] = [{"circle": {"center": [float(clat[0]), float(clon[0])], "radius": 1000.0},
+                                   "inclusion": True, "version": 1}]
+    path.write_text(json.dumps(doc))
+    rec, line = file_deploy_check(path, origin, read_mission(path, origin)[0], "qgc", 50.0, 3000.0)
+    assert not rec["envelope"]["ok"] and "leaves the fence's inclusion 2" in line, line

@@ -61,6 +61,9 @@ class FileDeploy:
         ``(waypoint, on)`` where the file switches the sensor.
     altitude_legs : int
         Legs the file flies at an altitude above the seabed (terrain following); a ``.plan``'s launch leg never.
+    inclusions : list of numpy.ndarray
+        A ``.plan`` fence's other inclusion polygons and circles (as polygons), in the same coordinates: ArduPilot
+        keeps the vehicle inside every one (``AC_PolyFence_loader::breached``, without ``FENCE_OPTIONS``' union).
     """
 
     datum: tuple[float, float] | None = None
@@ -70,6 +73,7 @@ class FileDeploy:
     limits: dict[str, float] = field(default_factory=dict)
     payload_events: list[tuple[int, bool]] = field(default_factory=list)
     altitude_legs: int = 0
+    inclusions: list[NDArray[np.float64]] = field(default_factory=list)
 
 
 _NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
@@ -116,7 +120,7 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
             alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
-    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:])
 
 
 CIRCLE_SIDES = 64
@@ -333,18 +337,20 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
     """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
     pts = w[:, :2]
     assert info.polygon is not None
-    rings = [info.polygon, *info.exclusions]
+    rings = [info.polygon, *info.inclusions, *info.exclusions]
     if info.geographic:  # [lat, lon] rings: compared in latitude/longitude, as ArduPilot's fence tests them
         if origin is None:
             raise DataError("a geographic envelope needs the scenario's [origin]")
         rings, pts = _planar_latlon(rings, pts, origin)
     track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
     reasons = []
-    region = shapely.Polygon(rings[0])
-    if not region.covers(track):
-        outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
-        reasons.append(f"the mission leaves the envelope's polygon ({outside} waypoints outside)")
-    hit = [k for k, e in enumerate(rings[1:]) if shapely.Polygon(e).intersects(track)]
+    for k, ring in enumerate(rings[:1 + len(info.inclusions)]):  # inside every one (ArduPilot's default)
+        region = shapely.Polygon(ring)
+        if not region.covers(track):
+            outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
+            which = "the envelope's polygon" if k == 0 else f"the fence's inclusion {k + 1}"
+            reasons.append(f"the mission leaves {which} ({outside} waypoints outside)")
+    hit = [k for k, e in enumerate(rings[1 + len(info.inclusions):]) if shapely.Polygon(e).intersects(track)]
     if hit:
         reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
     lim = info.limits
