@@ -40,6 +40,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
 
+from . import cacheload
+
 __all__ = ["jit_enabled", "kernel", "source_stamp"]
 
 #: A function compiled by :func:`kernel`; the dispatcher is called with the same arguments.
@@ -108,6 +110,11 @@ def _cache_class(root: str) -> Any:
 
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
+
+        def load_overload(self, sig: Any, target_context: Any) -> Any:  # numba's registries when compiling
+            if cacheload.use_deferred(target_context):
+                return cacheload.load_overload(self, sig, target_context)
+            return super().load_overload(sig, target_context)  # type: ignore[no-untyped-call]
 
     return KernelCache
 
@@ -260,9 +267,14 @@ class _BlasProbe:
             return None
         with contextlib.suppress(ValueError):
             sys.meta_path.remove(self)
-        linalg: Any = sys.modules.get("numba.np.linalg")
+        if "scipy.linalg" in sys.modules:
+            return None
+        import importlib
+
+        # numba's registries import linalg first; a cached kernel's environment may import arraymath alone
+        linalg: Any = importlib.import_module("numba.np.linalg")
         real = getattr(linalg, "ensure_blas", None)
-        if linalg is None or real is None or "scipy.linalg" in sys.modules:
+        if real is None:
             return None
 
         def ensure_blas() -> None:  # called once, by arraymath's module-level check
