@@ -1,7 +1,7 @@
 """The guard of the deferred cache load (``runtime.cacheload``, issue 56): which cached kernels may be loaded
 without numba's registries (nopython code, nothing lifted or re-initialised, every declared symbol resolvable
 now), the switch and the numba versions, and the load itself on stand-ins: NRT first, numba's full refresh
-for anything not deferrable, nothing on a miss.  (A real warm process: ``tests/integration/test_cacheload.py``.)"""
+for anything not deferrable, nothing on a miss.  (A real warm process: ``tests/integration/test_cacheload_warm.py``.)"""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ _KEEP = ctypes.c_double(1.0)  # the address a known symbol points at, alive for 
 ll.add_symbol("auvplan_test_known_symbol", ctypes.addressof(_KEEP))
 
 
-def _bitcode(declared: list[str]) -> bytes:
+def _module(declared: list[str]):  # noqa: ANN202
     """An LLVM module defining ``caller``, which calls every function named in ``declared`` (declared only)."""
     module = ir.Module(name="t")
     fnty = ir.FunctionType(ir.DoubleType(), [ir.DoubleType()])
@@ -30,12 +30,25 @@ def _bitcode(declared: list[str]) -> bytes:
     for name in declared:
         value = builder.call(ir.Function(module, fnty, name=name), [value])
     builder.ret(value)
-    return bytes(ll.parse_assembly(str(module)).as_bitcode())
+    return ll.parse_assembly(str(module))
+
+
+def _bitcode(declared: list[str]) -> bytes:
+    return bytes(_module(declared).as_bitcode())
+
+
+def _object(declared: list[str]) -> bytes:
+    """The module's machine code as this platform's object file (ELF on Linux), as numba caches it."""
+    ll.initialize_native_target()  # as numba's code generator does
+    ll.initialize_native_asmprinter()
+    machine = ll.Target.from_default_triple().create_target_machine(codemodel="jitdefault")
+    return bytes(machine.emit_object(_module(declared)))
 
 
 def _payload(declared: list[str], objectmode: bool = False, lifted: tuple = (), reload_init: tuple = (),
-             kind: str = "object") -> tuple:
-    libdata = ("lib", kind, (b"object code", _bitcode(declared)))
+             kind: str = "object", elf: bool = True) -> tuple:
+    obj = _object(declared) if elf else b"not an object file numba wrote"
+    libdata = ("lib", kind, (obj, _bitcode(declared)))
     return (libdata, None, None, None, objectmode, list(lifted), "", list(reload_init), ())
 
 
@@ -50,14 +63,28 @@ def _context(defined: set[str] | None = None) -> types.SimpleNamespace:
     return ctx
 
 
-def test_a_kernel_is_deferrable_only_when_every_declared_symbol_resolves_now():
+@pytest.mark.parametrize("elf", [True, False], ids=["object-file", "bitcode"])
+def test_a_kernel_is_deferrable_only_when_every_symbol_it_needs_resolves_now(elf):
+    """Read from the object file's symbol table (ELF), else from the bitcode's declarations."""
+    if elf and cacheload._elf_undefined(_object([])) is None:
+        pytest.skip("this platform's object files are not ELF: the bitcode is read")
     ctx = _context(defined={"in_numba_s_engine"})
-    assert cacheload.deferrable(_payload([]), ctx)
-    assert cacheload.deferrable(_payload(["auvplan_test_known_symbol", "in_numba_s_engine"]), ctx)
-    assert "auvplan_test_unknown_symbol" not in cacheload._declared_symbols(_bitcode(["x"]))
-    assert cacheload._declared_symbols(_bitcode(["auvplan_test_unknown_symbol"])) == ["auvplan_test_unknown_symbol"]
+    assert cacheload.deferrable(_payload([], elf=elf), ctx)
+    assert cacheload.deferrable(_payload(["auvplan_test_known_symbol", "in_numba_s_engine"], elf=elf), ctx)
     # a symbol only a registry would add (numba's hash secret is one): numba's full refresh first
-    assert not cacheload.deferrable(_payload(["auvplan_test_known_symbol", "auvplan_test_unknown_symbol"]), ctx)
+    assert not cacheload.deferrable(_payload(["auvplan_test_known_symbol", "auvplan_test_unknown_symbol"], elf=elf),
+                                    ctx)
+
+
+def test_the_symbols_read_from_the_object_file_and_from_the_bitcode():
+    names = ["auvplan_test_unknown_symbol", "auvplan_test_known_symbol"]
+    assert sorted(cacheload._declared_symbols(_bitcode(names))) == sorted(names)
+    undefined = cacheload._elf_undefined(_object(names))
+    if undefined is not None:
+        assert sorted(undefined) == sorted(names)
+    assert cacheload._elf_undefined(b"\x7fELF\x01\x01 a 32-bit one") is None
+    cut = (("lib", "object", (b"\x7fELF\x02\x01 cut short", b"")), None, None, None, False, [], "", [], ())
+    assert not cacheload.deferrable(cut, _context())  # not an object file numba wrote: numba's own load
 
 
 @pytest.mark.parametrize("change", [dict(objectmode=True), dict(lifted=("loop",)), dict(reload_init=(print,)),
