@@ -143,7 +143,7 @@ def deferrable(payload: tuple[Any, ...], target_context: Any) -> bool:
 
 
 def load_overload(cache: Any, sig: Any, target_context: Any) -> Any:
-    """numba's ``Cache.load_overload`` with the registries' refresh deferred when :func:`deferrable`.
+    """Load a cached kernel as numba's ``Cache.load_overload``, the refresh deferred when :func:`deferrable`.
 
     Parameters
     ----------
@@ -178,5 +178,17 @@ def load_overload(cache: Any, sig: Any, target_context: Any) -> Any:
 
 
 def use_deferred(target_context: Any) -> bool:
-    """Whether the next load may be deferred: :func:`enabled` and the registries not in yet."""
+    """Whether the next load may skip numba's refresh.
+
+    Parameters
+    ----------
+    target_context : numba.core.cpu.CPUContext
+        The context to load into.
+
+    Returns
+    -------
+    bool
+        :func:`enabled`, and numba's registries not installed yet (after a compile they are, and the refresh
+        costs nothing: numba's own load is used).
+    """
     return enabled() and not _registries_loaded(target_context)
