@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..._types import BoolArray, FloatArray, IntArray
 from ...runtime.jit import kernel
 
@@ -155,31 +157,56 @@ def near_distance_kernel(p: FloatArray, floor: FloatArray, x0: float, y0: float,
     A flat band ``[zlo, zhi]``: ``hypot(d_h, max(d_v, 0))`` outside, ``-min(edge, depth inside)``
     inside.  A seabed band (``h`` finite): the vertical term ``(z - floor - h) / slope`` with ``floor``
     the seabed under each point.  ``mark (Z,)`` is scratch filled with -1 by the caller.
+
+    A point with the same ``x, y`` as the one before it (a lattice column's nodes) reuses that point's zones
+    and their horizontal distances, in the same order (the same answers: only the vertical terms differ).
     """
+    near = np.empty(mark.size, dtype=np.intp)
+    edges = np.empty(mark.size)
+    insides = np.empty(mark.size, dtype=np.bool_)
+    count = 0
     for n in range(p.shape[0]):
         px, py, pz = p[n, 0], p[n, 1], p[n, 2]
-        i = int(math.floor((px - x0) / cell))
-        j = int(math.floor((py - y0) / cell))
+        if n == 0 or px != p[n - 1, 0] or py != p[n - 1, 1]:
+            count = _near_zones(px, py, n, x0, y0, cell, nx, ny, start, ids, reach, xy, ring, rings, mark, near,
+                                edges, insides)
         best = out[n]
-        for jj in range(max(j - reach, 0), min(j + reach, ny - 1) + 1):
-            for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 1):
-                c = jj * nx + ii
-                for q in range(start[c], start[c + 1]):
-                    k = ids[q]
-                    if mark[k] == n:
-                        continue
-                    mark[k] = n
-                    edge, inside = _ring_distance(px, py, k, xy, ring, rings)
-                    dh = 0.0 if inside else edge
-                    if math.isnan(h[k]):
-                        out_v = max(zlo[k] - pz, pz - zhi[k])
-                        in_v = min(pz - zlo[k], zhi[k] - pz)
-                    else:
-                        out_v = (pz - floor[n] - h[k]) / slope
-                        in_v = -out_v
-                    if dh == 0.0 and out_v <= 0.0:
-                        d = -min(edge, in_v)
-                    else:
-                        d = math.hypot(dh, max(out_v, 0.0))
-                    best = min(best, d)
+        for q in range(count):
+            k, edge, inside = near[q], edges[q], insides[q]
+            dh = 0.0 if inside else edge
+            if math.isnan(h[k]):
+                out_v = max(zlo[k] - pz, pz - zhi[k])
+                in_v = min(pz - zlo[k], zhi[k] - pz)
+            else:
+                out_v = (pz - floor[n] - h[k]) / slope
+                in_v = -out_v
+            if dh == 0.0 and out_v <= 0.0:
+                d = -min(edge, in_v)
+            else:
+                d = math.hypot(dh, max(out_v, 0.0))
+            best = min(best, d)
         out[n] = best
+
+
+@kernel
+def _near_zones(px: float, py: float, n: int, x0: float, y0: float, cell: float, nx: int, ny: int, start: IntArray,
+                ids: IntArray, reach: int, xy: FloatArray, ring: IntArray, rings: IntArray, mark: IntArray,
+                near: IntArray, edges: FloatArray, insides: BoolArray) -> int:
+    """The zones listed within ``reach`` cells of point ``(px, py)`` (each once, marked ``n``, in the cells'
+    order) and the point's horizontal distance to each footprint's edges and whether it is inside, into
+    ``near``, ``edges``, ``insides``; returns their count."""
+    i = int(math.floor((px - x0) / cell))
+    j = int(math.floor((py - y0) / cell))
+    count = 0
+    for jj in range(max(j - reach, 0), min(j + reach, ny - 1) + 1):
+        for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 1):
+            c = jj * nx + ii
+            for q in range(start[c], start[c + 1]):
+                k = ids[q]
+                if mark[k] == n:
+                    continue
+                mark[k] = n
+                near[count] = k
+                edges[count], insides[count] = _ring_distance(px, py, k, xy, ring, rings)
+                count += 1
+    return count
