@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from .._types import Status
+from ..errors import AuvplanError
 
 __all__ = ["Row", "KEY", "COLUMNS", "TIMING", "read_rows", "read_histories", "summarise"]
 
@@ -43,8 +44,10 @@ def read_rows(path: Path) -> list[Row]:
 
     A row counts only when its line ends with a newline (a line an interruption cut short, even
     one cut inside its last field, is left out and its run done again by ``--resume``), it has
-    every column, its ``status`` is a status and its ``wall_s`` a number; of two rows with the
-    same key (a tampered file) the first is kept.
+    every column, its ``status`` is a status, its ``wall_s`` a number, its ``seed`` an integer ≥ 0 and no
+    value holds a control character; of two rows with the same key (a tampered file) the first is kept.
+    A file whose first line is not :data:`COLUMNS`' header, or holding a line the csv module cannot
+    read, is refused (:class:`~auvplan.errors.AuvplanError`): a sweep never appends to it.
 
     Parameters
     ----------
@@ -61,12 +64,24 @@ def read_rows(path: Path) -> list[Row]:
         return []
     data = path.read_bytes()
     text = data[:data.rfind(b"\n") + 1].decode("utf-8", "replace")  # complete lines only
+    header = text.partition("\n")[0].rstrip("\r")
+    if text and header != ",".join(COLUMNS):  # rows appended under another header made a file no reader reads
+        raise AuvplanError(f"{path}: its first line is not the header `auvplan bench` writes ({header[:60]!r}…); "
+                           "not resumed — choose another --out")
     rows: dict[tuple[str, ...], Row] = {}
-    for r in csv.DictReader(io.StringIO(text, newline="")):
-        # short or over-long (two lines run together) rows are dropped
-        if None in r or None in r.values() or r.get("status") not in _STATUSES or not _is_number(r.get("wall_s")):
-            continue
-        rows.setdefault(_key(r), r)
+    reader = csv.DictReader(io.StringIO(text, newline=""))
+    try:
+        for r in reader:
+            # short or over-long (two lines run together) rows are dropped; so is a row whose seed is not a seed
+            # (it ended the resumed sweep in 'ValueError: invalid literal for int()') or that holds a control
+            # character (a NUL in a label reached the figures: hostile round 20)
+            if None in r or None in r.values() or r.get("status") not in _STATUSES or not _is_number(r.get("wall_s")) \
+                    or not str(r.get("seed")).isdigit() or not all(str(v).isprintable() for v in r.values()):
+                continue
+            rows.setdefault(_key(r), r)
+    except csv.Error as exc:  # a field over the csv module's limit (131 072 characters): was a traceback
+        raise AuvplanError(f"{path}: line {reader.line_num} is not a row of `auvplan bench` ({exc}); not resumed — "
+                           "choose another --out") from None
     return list(rows.values())
 
 

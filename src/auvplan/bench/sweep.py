@@ -44,7 +44,12 @@ from ..world import CircleMotion, LinearMotion, MovingObstacle, RandomWalkMotion
 from .members import expand_members, member_columns, member_world, parse_label
 from .rows import COLUMNS, Row, _cut_partial_line, _key, read_rows
 
-__all__ = ["SweepSpec", "perturb_moving", "fast_movers", "run_chunk", "sweep"]
+__all__ = ["SweepSpec", "perturb_moving", "fast_movers", "run_chunk", "sweep", "MAX_RUNS"]
+
+MAX_RUNS = 100_000
+"""Most runs (plan + flight) one sweep may hold, over all its cells and seeds: a run takes a second or more, so
+100 000 are a day of work or more on a laptop.  ``--seeds 1000000000`` used to build its list of tasks for
+minutes, filling the memory, before the first run (hostile round 20)."""
 
 @dataclass(frozen=True)
 class SweepSpec:
@@ -115,6 +120,9 @@ class SweepSpec:
                 raise AuvplanError(f"unknown guidance {g!r}; choose from scenario, hybrid, los, ilos")
         if self.seeds < 1 or self.chunk < 1 or self.budget < 0:
             raise AuvplanError("need seeds >= 1, chunk >= 1 and budget >= 0")
+        if self.seeds > MAX_RUNS:
+            raise AuvplanError(f"--seeds {self.seeds}: over the {MAX_RUNS:,} runs a sweep may hold (a day of work "
+                               "or more); sweep fewer seeds, or split the sweep")
 
     def tasks(self) -> list[tuple[str, str, str, tuple[int, ...]]]:
         """List the sweep's tasks: chunks of seeds of one cell, in a fixed order.
@@ -127,18 +135,25 @@ class SweepSpec:
         list of (str, str, str, tuple of int)
             ``(scenario, planner, guidance, seeds)`` chunks.
         """
-        out = []
+        out: list[tuple[str, str, str, tuple[int, ...]]] = []
+        runs = 0
         for s0 in self.scenarios:
             sc = scenario_io.load(s0)
             own_planner = "route" if sc.mission.route else sc.planner.name
             labels = [s0]
             if self.members != ("scenario",) or self.member_seeds:
                 labels = expand_members(s0, sc, scenario_io.build(sc)[0], self.members, self.member_seeds)
+            runs += len(labels) * len(self.planners) * len(self.guidance) * len(self.avoidance) * self.seeds
+            if runs > MAX_RUNS:  # counted before the cells are built (at most: a repeated cell is run once)
+                raise AuvplanError(f"the sweep holds {runs:,} runs (scenarios × members × planners × guidance × "
+                                   f"avoidance × --seeds {self.seeds}), over the {MAX_RUNS:,} allowed (a day of work "
+                                   "or more); sweep fewer seeds or fewer variants")
             out += self._cells(labels, sc, own_planner)
         return out
 
     def _cells(self, labels: list[str], sc: Scenario, own_planner: str) -> list[tuple[str, str, str, tuple[int, ...]]]:
         out: list[tuple[str, str, str, tuple[int, ...]]] = []
+        seen: set[tuple[str, str, str, int]] = set()  # a cell once ('scenario' may name a listed planner)
         for s in labels:
             for p in self.planners:
                 p = own_planner if p == "scenario" or own_planner == "route" else p
@@ -147,9 +162,9 @@ class SweepSpec:
                         g = sc.guidance.name if g0 == "scenario" else g0
                         g = g if a == "scenario" else f"{g}+{a}"
                         for lo in range(0, self.seeds, self.chunk):
-                            cell = (s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds))))
-                            if cell not in out:
-                                out.append(cell)
+                            if (s, p, g, lo) not in seen:  # (a list scan here was quadratic in the chunks)
+                                seen.add((s, p, g, lo))
+                                out.append((s, p, g, tuple(range(lo, min(lo + self.chunk, self.seeds)))))
         return out
 
 

@@ -102,9 +102,21 @@ _POSITIVE = _int_at_least(1)
 _CPUS = os.cpu_count() or 1
 _WORKERS = _int_at_least(1, max(4, 4 * _CPUS), f"4 worker processes per CPU at most; this machine has {_CPUS}")
 """``--workers``: a LocalCluster of 100 000 processes froze the machine before its first task."""
+_RETRIES = _int_at_least(0, 100, "a task that fails 100 times fails for a reason")
+"""``--retries``: 10⁹ ran a task that fails for good 10⁹ times (hostile round 20)."""
 
 _MAX_SWEEP_S = 366 * 86400.0
 """Longest departure step and farthest departure offset of a sweep (a year: tide tables are per year)."""
+
+
+def _out_folder(text: str) -> str:
+    """``--out``: a folder path, not empty (``--out "$UNSET"`` wrote into the current folder) and without control
+    characters (a newline made a folder each one-line message named wrongly; hostile round 20)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"{text!r}: an empty folder name (the current folder is --out .)")
+    if any(not c.isprintable() for c in text):
+        raise argparse.ArgumentTypeError(f"{text!r}: a control or formatting character in the folder name")
+    return text
 
 
 def _step(text: str) -> str:
@@ -188,7 +200,7 @@ def _cluster(s: Any, workers: int | None) -> None:
                         + (f"; default {workers}" if workers else "; default: this process, no dask"))
     g.add_argument("--scheduler", type=_scheduler,
                    help="address of a running dask scheduler, e.g. tcp://host:8786 (docs/parallel.md)")
-    s.add_argument("--retries", type=_SEED, default=1, help="runs again of a task that fails (default 1)")
+    s.add_argument("--retries", type=_RETRIES, default=1, help="runs again of a task that fails (default 1)")
 
 
 def _command(sub: Any, name: str, help: str, func: str, *shared: str) -> Any:
@@ -236,7 +248,7 @@ def _flight_commands(sub: Any) -> None:
                          "alone) or progressive (alone, coarse to fine)"))
     s.add_argument("--reference", action="store_true",
                    help="also plan the grid reference and report reference_cost and gap_pct")
-    s.add_argument("--out", help="write metrics.json, path.csv and the scenario here")
+    s.add_argument("--out", type=_out_folder, help="write metrics.json, path.csv and the scenario here")
     _shared(s, "force", "json")
     s.add_argument("--depart-between", nargs=2, metavar=("T0", "T1"), type=_departure,
                    help="sweep the departure time (ISO 8601 UTC, or +6h after [mission] start_time) with the "
@@ -247,18 +259,19 @@ def _flight_commands(sub: Any) -> None:
 
     s = _command(sub, "simulate", "simulate the vehicle flying the route (or the mission of the plan), as `run`",
                  "plan:cmd_simulate", "scenario", "guidance", "avoidance", "seed")
-    s.add_argument("--out", help="write sim_metrics.json and track.csv here")
+    s.add_argument("--out", type=_out_folder, help="write sim_metrics.json and track.csv here")
     _shared(s, "full", "force", "json")
 
     s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "run:cmd_run",
                  "scenario", "planner", "guidance", "avoidance", "seed")
-    s.add_argument("--out", help="write every result file here")
+    s.add_argument("--out", type=_out_folder, help="write every result file here")
     _shared(s, "full", "force", "json")
 
     s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
                  "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "survey:cmd_survey",
                  "scenario", "guidance", "seed")
-    s.add_argument("--out", help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
+    s.add_argument("--out", type=_out_folder,
+                   help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
     _shared(s, "full", "force", "json")
     _cluster(s, None)
 
@@ -324,10 +337,11 @@ def _bench_commands(sub: Any) -> None:
     s.add_argument("--chunk", type=_POSITIVE, default=10, help="seeds per dask task")
     _cluster(s, 2)
     s.add_argument("--resume", action="store_true", help="complete an interrupted sweep in --out")
-    s.add_argument("--out", default="results/bench", help="folder of rows.csv, summary.csv/md and figures")
+    s.add_argument("--out", type=_out_folder, default="results/bench",
+                   help="folder of rows.csv, summary.csv/md and figures")
     _shared(s, "force")
     s = _command(sub, "demo", "run the built-in default scenario (showcase) end to end", "run:cmd_demo")
-    s.add_argument("--out", default="auvplan-demo", help="results directory (default: auvplan-demo)")
+    s.add_argument("--out", type=_out_folder, default="auvplan-demo", help="results directory (default: auvplan-demo)")
     _shared(s, "force")
 
 

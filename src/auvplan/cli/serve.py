@@ -107,18 +107,44 @@ def server_config(app: Any, host: str = DEFAULT_HOST, port: int = 8765) -> Any:
                           server_header=False, proxy_headers=False)
 
 
-def _port_free(host: str, port: int) -> None:
-    """Refuse a port another program listens on, before the scenario is loaded."""
+def _port_free(host: str, port: int) -> int:
+    """Refuse an address this machine cannot serve on, or a port another program listens on, before the scenario
+    is loaded; returns the port (``--port 0``: a free one, chosen here so that the page's address printed is the
+    real one, not ``:0``).  ``--port 0`` is tried too; a fault of the address
+    names ``--host`` (it named ``--port``; with ``--port 0`` uvicorn's own 'ERROR: [Errno -2] Name or service not
+    known' came after the 'serving on' line, exit 3: hostile round 20)."""
+    import errno
     import socket
 
-    if port == 0:
-        return
+    if not host.strip():  # '' listens on every interface
+        raise AuvplanError(f"--host {host!r}: an empty address; --host 0.0.0.0 serves on every interface")
     try:
-        with socket.create_server((host, port)):
-            pass
+        with socket.create_server((host, port), family=_family(host)) as sock:
+            return int(sock.getsockname()[1])
     except OSError as exc:
-        raise AuvplanError(f"--port {port}: cannot serve on {host}:{port} ({exc.strerror or exc}); "
-                           "choose another --port") from None
+        why = exc.strerror or str(exc)
+        if exc.errno is None or exc.errno < 0 or exc.errno in (errno.EADDRNOTAVAIL, errno.EAFNOSUPPORT, errno.EINVAL):
+            # (a name that does not resolve: getaddrinfo's negative codes, which create_server passes on)
+            raise AuvplanError(f"--host {host!r}: cannot serve on this address ({why}); give an address of this "
+                               "machine, e.g. 127.0.0.1") from None
+        raise AuvplanError(f"--port {port}: cannot serve on {host}:{port} ({why}); choose another --port") from None
+
+
+def _loopback(host: str) -> bool:
+    """Whether ``host`` is this machine only (``localhost``, 127.0.0.0/8, ``::1``)."""
+    import ipaddress
+
+    try:
+        return host == "localhost" or ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def _family(host: str) -> Any:
+    """``AF_INET6`` for an IPv6 literal, else ``AF_INET``."""
+    import socket
+
+    return socket.AF_INET6 if ":" in host else socket.AF_INET
 
 
 def cmd_serve(args: argparse.Namespace) -> int:
@@ -141,14 +167,14 @@ def cmd_serve(args: argparse.Namespace) -> int:
 
     from ..serve.app import LOCAL_HOSTS, make_app
 
-    if args.host != DEFAULT_HOST:
+    port = _port_free(args.host, args.port)
+    if args.host != DEFAULT_HOST and not _loopback(args.host):
         print(f"auvplan: warning: serving on {args.host}: anyone who can reach this address can edit and save "
               "missions in the served folders", file=sys.stderr)
-    _port_free(args.host, args.port)
     session = make_session(args.target, args.root)
     hosts = LOCAL_HOSTS if args.host == DEFAULT_HOST else (*LOCAL_HOSTS, args.host)
-    server = uvicorn.Server(server_config(make_app(session, hosts), args.host, args.port))
-    url = f"http://{args.host}:{args.port}/"
+    server = uvicorn.Server(server_config(make_app(session, hosts), args.host, port))
+    url = f"http://{f'[{args.host}]' if ':' in args.host else args.host}:{port}/"
     print(f"auvplan serve: {session.sc.name if session.sc else ''} on {url} (folders: "
           f"{', '.join(map(str, session.roots.folders))}); Ctrl-C stops", file=sys.stderr)
     if not args.no_browser:  # once the server listens

@@ -46,6 +46,9 @@ LOCAL_HOSTS = ("127.0.0.1", "localhost")
 MAX_BODY_BYTES = 4 * 1024 * 1024
 """Largest request body (a 20 000-point polygon is well under)."""
 
+MAX_ERROR_CHARS = 2000
+"""Longest error line a request is answered with (the value it quotes cut)."""
+
 WRITER_THREADS = 4
 """Threads the POST requests share (they take turns on the session's ``write_lock`` anyway): a burst of them
 waits in this queue, not in the thread pool that ``GET /api/state`` and ``/api/chart`` are answered from."""
@@ -70,6 +73,8 @@ def one_line(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     if not (isinstance(exc, AuvplanError) and text):
         text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+    if len(text) > MAX_ERROR_CHARS:  # a 4 MB planner name came back whole in the error (hostile round 20)
+        text = f"{text[:MAX_ERROR_CHARS]}… ({len(text):,} characters)"
     return f"auvplan: error: {text}"
 
 
@@ -351,7 +356,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/plan", api(lambda d: planning.replan(session, d.get("planner") or None, d.get("seed"))
                                and None), methods=["POST"]),
         Route("/api/fly", api(lambda d: planning.fly(session)), methods=["POST"]),
-        Route("/api/keep", api(lambda d: editing.keep(session, str(d.get("name", ""))) and None), methods=["POST"]),
+        Route("/api/keep", api(lambda d: editing.keep(session, d.get("name", "")) and None), methods=["POST"]),
         Route("/api/choose", api(lambda d: editing.choose(session, _index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status, as_rng
+from ..errors import AuvplanError
 from ..guidance.avoidance.local import LocalAvoidance, key_waypoints
 from ..guidance.avoidance.predictive import PredictiveAvoidance
 from ..guidance.following.hybrid import HybridGuidance
@@ -238,6 +239,23 @@ def _moving_tracks(world: World, n_steps: int, dt: float) -> tuple[NDArray[np.fl
     return tracks, velocities
 
 
+MAX_SIM_STEPS = 20_000_000
+"""Most time steps one closed-loop flight may take (its noise, tracks and record are allocated for them; at
+~0.1 ms a step, half an hour of work).  A survey's lines at ``[vehicle] speed = 1e-300`` asked numpy for
+10³⁰⁶ steps ('Maximum allowed dimension exceeded', naming no key; hostile round 20): the load-time estimate
+sees the straight line from start to goal, which a survey (start = goal) makes 0 m long."""
+
+
+def _check_steps(max_time: float, dt: float, length_m: float, speed: float, given: bool) -> None:
+    """Refuse a flight of more than :data:`MAX_SIM_STEPS` time steps, naming the keys that make it."""
+    steps = max_time / dt
+    if not steps <= MAX_SIM_STEPS:  # nan and inf too
+        why = "[sim] max_time" if given else f"3 × the {length_m:.4g} m route at [vehicle] speed = {speed:g} m/s"
+        raise AuvplanError(f"[sim] dt = {dt:g} s over a time limit of {max_time:.4g} s ({why}): {steps:.3g} time "
+                           f"steps, over the {MAX_SIM_STEPS:,} a flight may take; raise the speed or dt, or set a "
+                           "shorter [sim] max_time")
+
+
 def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: str | None, rng: RngLike,
            avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None,
            fix_kinds: Sequence[str] | None = None) -> _Run:
@@ -253,12 +271,12 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
                      (math.atan2(first[0], first[1]) + (math.pi if guide.route.tail[0] else 0.0)) % (2 * math.pi),
                      vp.speed)  # (heading against a first leg flown tail-first)
     max_time = st.max_time or 3.0 * guide.route.total_length / vp.speed + 120.0
-    n_steps = int(math.ceil(max_time / st.dt))
     waves = vp.wave_sigma_r > 0 or vp.wave_sigma_v > 0
     fixes, dwell = _fix_waypoints(mission, waypoints, fix_kinds)
     if fixes and not st.max_time:  # the dwells are flown time too
         max_time += sum(dwell)
-        n_steps = int(math.ceil(max_time / st.dt))
+    _check_steps(max_time, st.dt, guide.route.total_length, vp.speed, bool(st.max_time))
+    n_steps = int(math.ceil(max_time / st.dt))
     noise = gen.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
     tracks, velocities = _moving_tracks(world, n_steps, st.dt)
     drift: NavDrift | None = None

@@ -173,8 +173,9 @@ def inspect_file(path: str | Path) -> str:
         A human-readable report: variables, and the file read as bathymetry and as currents.
     """
     path = Path(path)
-    if not path.is_file():
-        raise DataError(f"{path}: file not found")
+    if not path.is_file():  # a folder, a FIFO or a device said 'file not found' (hostile round 20)
+        raise DataError(f"{path}: file not found" if not path.exists() else
+                        f"{path}: not a regular file (a FIFO, a device or a folder)")
     if is_geotiff(path):
         return "\n".join([f"{path}: GeoTIFF", *_bathymetry(path)])
     variables, has_current = _variables(path)

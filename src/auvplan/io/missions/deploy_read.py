@@ -18,7 +18,6 @@
 from __future__ import annotations
 
 import csv
-import json
 import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -31,6 +30,7 @@ from numpy.typing import NDArray
 
 from ...errors import DataError
 from ..data.geo import LocalFrame
+from . import parsed
 from .qgc_items import plan_items
 from .readers import KML_NS, MISSION_SUFFIXES
 
@@ -233,11 +233,11 @@ def read_deploy(path: str | Path) -> FileDeploy:
         if fmt == "moos":
             return _moos(text)
         if fmt == "qgc":
-            return _qgc(json.loads(text))
+            return _qgc(parsed.loads(text))
         if fmt == "ros":
             return _yaml(text)
         if fmt == "geojson":
-            return _geojson(json.loads(text))
+            return _geojson(parsed.loads(text))
         if fmt == "kml":
             return _kml(text)
         if fmt == "csv":

@@ -23,6 +23,7 @@ from ...guidance.mission.terrain_legs import FlownTrack, check_as_flown
 from ...world import World
 from ..data.geo import LocalFrame
 from ..jsonfile import read_bounded_text
+from . import parsed
 from .qgc_items import PlanItem, plan_items
 
 __all__ = [
@@ -349,6 +350,8 @@ def read_mission(path: str | Path, origin: tuple[float, float] | None = None,
     """
     path = Path(path)
     fmt = MISSION_SUFFIXES.get(path.suffix.lower())
+    if path.is_dir():  # was "unknown mission format ''" (hostile round 20)
+        raise DataError(f"{path}: a folder, not a mission file; name the file (e.g. {path / 'mission.plan'})")
     if fmt is None:
         raise DataError(f"{path}: unknown mission format {path.suffix!r}; "
                         f"expected one of {', '.join(sorted(MISSION_SUFFIXES))}")
@@ -441,7 +444,7 @@ def _parse(path: Path, fmt: str, text: str, frame: LocalFrame | None,
             return parse_gpx(text, frame), "ramp"
         if fmt == "kml":
             return _kml_mission(text, frame), "ramp"
-        doc = json.loads(text)
+        doc = parsed.loads(text)
         return (parse_qgc_plan(doc, frame, seabed) if fmt == "qgc" else _geojson_mission(doc, frame)), "ramp"
     except DataError as exc:
         raise DataError(f"{path}: {exc}") from exc

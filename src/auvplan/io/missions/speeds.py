@@ -22,7 +22,6 @@ leg.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from dataclasses import dataclass
@@ -33,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
+from . import parsed
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
@@ -114,7 +114,7 @@ def _read(path: Path, legs: int) -> tuple[NDArray[np.float64], str | None] | Non
         if suffix in (".moos", ".bhv"):
             v = _moos(text, legs)
         elif suffix == ".plan":
-            got = _qgc(json.loads(text), legs)
+            got = _qgc(parsed.loads(text), legs)
             v, first = (None, None) if got is None else got
         elif suffix == ".csv":
             try:
@@ -255,7 +255,7 @@ def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
     if path.suffix.lower() != ".plan":
         return None
     try:
-        moves = [it for it in plan_items(json.loads(path.read_text(encoding="utf-8"))) if it.moves]
+        moves = [it for it in plan_items(parsed.loads(path.read_text(encoding="utf-8"))) if it.moves]
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError, IndexError, DataError):
         return None
     hold = [0.0]

@@ -93,10 +93,41 @@ class _Arrays(dict[str, Any]):
         return self[key] if key in self else default
 
 
+def _points(arr: Mapping[str, Any], key: str, rows: int | None = None) -> None:
+    """Member ``key`` (when present) is ``(rows, 3)`` finite points."""
+    if key not in arr:
+        return
+    a = arr[key]
+    if a.ndim != 2 or a.shape[1] != 3 or (rows is not None and a.shape[0] != rows):
+        want = f"({rows if rows is not None else 'N'}, 3)"
+        raise _ArrayFault(f"member {key!r} has the shape {a.shape}, not {want}")
+    ok = np.isfinite(a).all(axis=1)
+    if not ok.all():
+        raise _ArrayFault(f"member {key!r} holds a value that is not finite (row {int(np.argmin(ok))})")
+
+
+def _check_arrays(arr: Mapping[str, Any], flown: bool) -> None:
+    """The members' shapes agree and the positions are finite (a tampered ``run.npz`` was an ``IndexError``
+    traceback, or 'cannot convert float NaN to integer' naming no file: hostile round 20)."""
+    for key in ("route", "keys", "plan_path"):
+        _points(arr, key)
+    if not flown:
+        return
+    t = arr["sim_t"]
+    if t.ndim != 1 or not np.isfinite(t).all() or (np.diff(t) < 0).any():
+        raise _ArrayFault(f"member 'sim_t' ({t.shape}) is not a finite, non-decreasing time series")
+    _points(arr, "sim_position", t.shape[0])
+    for k in SIM_ARRAYS[2:]:
+        a = arr[f"sim_{k}"]
+        if a.ndim not in (1, 2) or a.shape[0] != t.shape[0]:
+            raise _ArrayFault(f"member 'sim_{k}' has {a.shape[0] if a.ndim else 0} rows, 'sim_t' {t.shape[0]}")
+
+
 def _record_from(rec: dict[str, Any], arr: Mapping[str, Any]) -> RunRecord:
     from ...planners.base import PlanResult
     from ...sim import RunRecord, SimResult
 
+    _check_arrays(arr, rec.get("simulation") is not None)
     plan = None
     p = rec.get("plan")
     if p is not None:

@@ -52,5 +52,10 @@ def resolve(scenario: str | Path) -> Path:
     if (p / "scenario.toml").is_file():  # a results folder (`--scenario DIR`): its saved scenario named
         raise ScenarioError(f"{scenario}: a folder, not a scenario file; the scenario its run saved is "
                             f"{p / 'scenario.toml'}")
+    if not str(scenario).strip():  # Path('') is the current folder
+        raise ScenarioError(f"{str(scenario)!r}: an empty scenario name; give a TOML file or a built-in scenario")
+    if p.is_dir() or p.exists():  # was 'no such scenario file' for what is there (hostile round 20)
+        kind = "a folder" if p.is_dir() else "not a regular file (a FIFO, a device or a socket)"
+        raise ScenarioError(f"{scenario}: {kind}, not a scenario file; give a TOML file or a built-in scenario")
     names = ", ".join(builtin_scenarios())
     raise ScenarioError(f"{scenario}: no such scenario file, and not a built-in scenario ({names})")

@@ -203,6 +203,10 @@ class CurrentsSpec:
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
         if kinds > 1:
             raise ValueError("give only one of 'uniform', 'vortices', 'file' and 'tides'")
+        named = [m.name for m in self.members if m.name]
+        if len(set(named)) < len(named):  # two members of one name: bench --members picked the first alone
+            twice = next(n for n in named if named.count(n) > 1)
+            raise ValueError(f"members: two members are named {twice!r}; each needs its own name")
 
 
 @dataclass(frozen=True)

@@ -179,6 +179,9 @@ def _moving(table: dict[str, Any], where: str, bounds_xy: tuple[float, float, fl
     name = table.get("name", "")
     if not isinstance(name, str):
         raise table_error(where, "name", name, "expected a string")
+    if len(name) > 128 or any(not c.isprintable() for c in name):  # U+202E reversed every message naming it
+        raise table_error(where, "name", name[:80], "a moving obstacle's name is up to 128 characters without "
+                          "control or formatting characters (messages name it on one line)")
     return MovingObstacle(shape, motion, name, float(appears), float(disappears))
 
 
@@ -251,6 +254,13 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
     zones = parse_zones(data.get("zones", []), source)
+    vehicle = build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
+                              f"{source}: [vehicle]")
+    endurance = _section(data, "endurance", source)
+    ret = endurance.return_speed
+    if ret and not vehicle.min_speed <= ret <= vehicle.max_speed:  # 100 m/s or 1e-300 m/s: a return costed at it
+        raise table_error(f"{source}: [endurance]", "return_speed", ret, f"outside the vehicle's speeds [min_speed "
+                          f"{vehicle.min_speed:g}, max_speed {vehicle.max_speed:g}] m/s (0: its cruise speed)")
     return Scenario(
         name=name,
         description=description.strip(),
@@ -265,8 +275,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         obstacles=obstacles,
         moving=moving,
         mission=mission,
-        vehicle=build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
-                                f"{source}: [vehicle]"),
+        vehicle=vehicle,
         planner=planner,
         guidance=_section(data, "guidance", source),
         avoidance=_section(data, "avoidance", source),
@@ -276,7 +285,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         land=land,
         formation=formation,
         geo=geo,
-        endurance=_section(data, "endurance", source),
+        endurance=endurance,
         survey=survey,
         zones=zones,
         navigation=_section(data, "navigation", source) if "navigation" in data else None,

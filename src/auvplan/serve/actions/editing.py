@@ -120,10 +120,12 @@ def set_check(session: Session, semantics: str, pitch_deg: float) -> CheckResult
     CheckResult
         The new check.
     """
-    try:
-        settings = CheckSettings(str(semantics), float(pitch_deg))
+    if isinstance(pitch_deg, bool) or not isinstance(pitch_deg, (int, float)):
+        raise AuvplanError(f"check pitch = {str(pitch_deg)[:80]!r}: expected a number of degrees")
+    try:  # each setting named by its own message (a bad semantics was blamed on '--pitch 15': hostile round 20)
+        settings = CheckSettings(str(semantics)[:80], float(pitch_deg))
     except (TypeError, ValueError, OverflowError) as exc:
-        raise AuvplanError(f"--pitch {pitch_deg!r}: {exc}") from None
+        raise AuvplanError(f"check {exc}") from None
     with session.write_lock:
         session.settings = settings
         return session.commit(session.waypoints)
@@ -144,6 +146,10 @@ def keep(session: Session, name: str = "") -> Candidate:
     Candidate
         The kept candidate.
     """
+    if name is not None and not isinstance(name, str) or any(not c.isprintable() for c in name or ""):
+        # was kept as str(value) ("{'a': 1}"), a newline or U+202E in the candidates' table (hostile round 20)
+        raise AuvplanError(f"keep name = {str(name)[:80]!r}: a candidate's name is text without control or "
+                           "formatting characters")
     with session.lock:
         label = (name or f"edited {len(session.candidates) + 1}").strip()[:80]
         return session.keep_current(label, "edited", session.plan)

@@ -183,6 +183,9 @@ def _component(ds: xr.Dataset, name: str, dims: Sequence[str], flips: Sequence[b
     for axis, flip in enumerate(flips):
         if flip:
             arr = np.flip(arr, axis=axis)
+    if np.isinf(arr).any():
+        raise DataError(f"{src}: variable {name!r} holds an infinite value ({int(np.isinf(arr).sum()):,} of them); "
+                        "declare a fill value as _FillValue")
     units = str(da.attrs.get("units", "")).strip()
     if units:
         arr = arr * velocity_factor(units, f"{src}: variable {name!r}")
@@ -397,12 +400,25 @@ def _read(spec: CurrentsFileSpec, frame: LocalFrame | None, path: Path,
     return _finish(grid, t, z, comps, "z" in lead, names, frame, extent_m, path)
 
 
+MAX_CURRENT_MPS = 50.0
+"""Largest current speed a file may hold, after its units (the fastest tidal races run at 8-11 m/s; hostile
+round 20: a component of 1e30, ROMS's usual fill value left undeclared, passed ``validate``)."""
+
+
 def _finish(grid: HorizontalGrid, t: NDArray[np.float64] | None, z: NDArray[np.float64],
             comps: dict[str, np.ndarray], has_z: bool, names: dict[str, str | None], frame: LocalFrame | None,
             extent_m: tuple[float, float, float, float] | None, path: Path) -> GriddedCurrent:
     """East/north components on the source grid → land filled, regridded into the local frame."""
     src = str(path)
     shape = (1 if t is None else t.size, z.size, *comps["u"].shape[-2:])
+    for c, arr in comps.items():  # 1e30 m/s (an undeclared fill value, a wrong scale_factor) was read as a current
+        big = np.abs(np.where(np.isfinite(arr), arr, 0.0)) > MAX_CURRENT_MPS
+        if big.any():
+            at = tuple(int(i) for i in np.unravel_index(int(np.argmax(big)), shape))
+            raise DataError(f"{src}: variable {names[c]!r} holds {float(arr.reshape(shape)[at]):.3g} m/s (at "
+                            f"{_where(grid, at[2], at[3])}, level {at[1]}, time {at[0]}; "
+                            f"{int(big.sum()):,} such values): over the {MAX_CURRENT_MPS:g} m/s no ocean current "
+                            "reaches; declare a fill value as _FillValue, or check the units and scale_factor")
     land = 0
     for c in comps:
         gaps, first = open_water_gaps(comps[c].reshape(shape))

@@ -140,6 +140,9 @@ def _destagger(ds: xr.Dataset, name: str, axis: int, n_rho: tuple[int, int], fac
     """``(T, S, ny-2, nx-2)`` values at the interior rho points from the staggered ``name``."""
     da = ds[name]
     arr = np.array(da.values, dtype=float) * factor
+    if np.isinf(arr).any():  # numpy's RuntimeWarnings in the interpolation, then 'every value is missing'
+        raise DataError(f"{src}: variable {name!r} holds an infinite value ({int(np.isinf(arr).sum()):,} of them); "
+                        "declare a fill value as _FillValue")
     if arr.ndim == 3:
         arr = arr[None]
     mask_name = f"mask_{name}"

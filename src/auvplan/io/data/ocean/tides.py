@@ -21,6 +21,7 @@ from ....world.currents.tides import HarmonicTables, TidalCurrent
 from ...jsonfile import MAX_JSON_BYTES, read_bounded_text
 from ..geo import LocalFrame
 from .currents import parse_time
+from .tidecheck import check_tide_doc
 
 __all__ = ["BUILTIN_TIDES", "parse_start_time", "utc_iso", "read_tide_file", "load_tidal_current"]
 
@@ -103,6 +104,7 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
         raise DataError(f"{where}: not a tidal station file ({exc})") from exc
     if not isinstance(doc, dict):
         raise DataError(f"{where}: not a tidal station file (not a JSON object)")
+    check_tide_doc(doc, where)
     return doc
 
 

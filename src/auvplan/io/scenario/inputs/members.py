@@ -116,6 +116,11 @@ class MemberSpec:
                              f"(got {', '.join(kinds) or 'none'})")
         if self.dimension and self.file is None:
             raise ValueError(f"dimension = {self.dimension!r}: a member dimension needs a 'file'")
+        if len(self.name) > 64 or any(not c.isprintable() or c in "@~," for c in self.name):
+            # a name of '@' or '~' was cut apart by bench's scenario@member~seed labels, a control character split
+            # the one-line messages naming the member (hostile round 20)
+            raise ValueError(f"name = {self.name[:80]!r}: a member's name is 1-64 characters without '@', '~', ',' "
+                             "or control and formatting characters (it labels rows and messages)")
 
     @property
     def count(self) -> int:
