@@ -107,3 +107,71 @@ def test_a_corner_too_sharp_for_the_frame_is_refused_with_its_message():
     w = np.array([300.0])
     with pytest.raises(ValueError, match="too sharp"):
         build_corridor(pts, w, default_bend_radius(w, 10.0))
+
+
+# --- gliders ---------------------------------------------------------------------------------------------
+
+
+class _Wall:
+    """A flat 1000 m seabed with a wall rising at ``grade`` from ``x0`` to a 100 m plateau; no current."""
+
+    def __init__(self, x0: float, grade: float) -> None:
+        self.x0, self.grade = x0, grade
+        self.currents = self
+
+    def seabed(self, x, y):
+        return np.clip(-1000.0 + self.grade * (np.asarray(x, dtype=float) - self.x0), -1000.0, -100.0)
+
+    def velocity(self, p, t):
+        return np.zeros((len(p), 3))
+
+
+@pytest.mark.parametrize(("x0", "grade"), [(1700.0, 1.0), (1500.0, 1.0), (1650.0, 0.7)])
+def test_a_glider_never_flies_under_the_seabed_it_climbs_towards(x0, grade):
+    """The altimeter turned dives only and a climb was never checked against the seabed: a Slocum climbing at
+    ~26° into a 45° wall flew on 33 m inside the rock (x0 = 1700) and reported ``arrived``.  Oracle: the
+    seabed under every track sample (and every tenth of every step); a flight that meets it ends grounded."""
+    from auvplan.sim.glider import fly_glider
+    from auvplan.vehicles.glider import GliderParams
+
+    world = _Wall(x0, grade)
+    g = GliderParams(dive_depth_m=200.0, yos=3, capture_radius_m=500.0)
+    tr = fly_glider(world, g, (0.0, 0.0), [(4000.0, 0.0)], 0.0, min_altitude=10.0, max_s=6 * 3600.0)
+    p = np.linspace(tr.xyz[:-1], tr.xyz[1:], 11, axis=1).reshape(-1, 3)
+    clearance = p[:, 2] - world.seabed(p[:, 0], p[:, 1])
+    if tr.reason == "arrived":
+        assert clearance.min() >= 0.0, f"{-clearance.min():.1f} m under the seabed, reported arrived"
+    else:
+        assert tr.reason == "grounded" and clearance.min() >= -2.0  # stopped within a step of the contact
+
+
+@pytest.mark.parametrize(("mission_max", "rating"), [("max_depth_m = 100.0", ""), ("", "max_depth_m = 150.0")])
+def test_a_dive_deeper_than_the_depth_band_is_refused_naming_the_key(mission_max, rating):
+    """``dive_depth_m = 200`` with ``[mission] max_depth_m = 100`` (or a 150 m rating) was accepted and the
+    glider dived to 200 m (and yo10.ma sent it there)."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader as scenario_io
+
+    text = f"""
+name = "deep-glider"
+[bounds]
+x = [-1000.0, 30000.0]
+y = [-5000.0, 5000.0]
+z = [-500.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 400.0
+slope = [0.0, 0.0]
+cell_m = 500.0
+[mission]
+start = [0.0, 0.0, -10.0]
+goal = [20000.0, 0.0, -10.0]
+{mission_max}
+[vehicle]
+type = "glider"
+{rating}
+[vehicle.glider]
+dive_depth_m = 200.0
+"""
+    with pytest.raises(ScenarioError, match=r"deep-glider.toml: \[vehicle.glider\] dive_depth_m = 200"):
+        scenario_io.build(scenario_io.loads(text, "deep-glider.toml"))
