@@ -175,3 +175,59 @@ dive_depth_m = 200.0
 """
     with pytest.raises(ScenarioError, match=r"deep-glider.toml: \[vehicle.glider\] dive_depth_m = 200"):
         scenario_io.build(scenario_io.loads(text, "deep-glider.toml"))
+
+
+GLIDER_CHECK = """
+name = "yo-check"
+[origin]
+lat = 60.0
+lon = 5.0
+[bounds]
+x = [-2000.0, 8000.0]
+y = [-3000.0, 3000.0]
+z = [-500.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 400.0
+slope = [0.0, 0.0]
+cell_m = 500.0
+[mission]
+start = [0.0, 0.0, -10.0]
+goal = [4000.0, 0.0, -10.0]
+min_altitude_m = 10.0
+max_depth_m = 300.0
+[vehicle]
+type = "glider"
+[vehicle.glider]
+dive_depth_m = 200.0
+capture_radius_m = 500.0
+[planner]
+name = "timeopt"
+"""
+
+
+@pytest.mark.parametrize(("edit", "needle"), [
+    (("d_target_depth(m) 200", "d_target_depth(m) 900"), "yo10.ma: d_target_depth 900 m is deeper than the depth "
+                                                         "band's 300 m"),
+    (("c_target_depth(m) 10", "c_target_depth(m) 250"), "yo10.ma: climb_depth_m = 250"),
+    (None, ""),
+])
+def test_mission_check_reads_the_yo_file_s_depths_as_the_glider_does(tmp_path, edit, needle):
+    """``mission check`` read yo10.ma for its altitude only: a file sending the glider to 900 m through a 300 m
+    band, or climbing to 250 m only to dive to 200, was flown with the scenario's yos and passed."""
+    from auvplan.app.glider import check_glider_files
+    from auvplan.io.missions.glider import slocum_files
+    from auvplan.vehicles.glider import GliderParams
+
+    scen = tmp_path / "yo-check.toml"
+    scen.write_text(GLIDER_CHECK)
+    files = slocum_files(np.array([[2000.0, 0.0], [4000.0, 0.0]]), (60.0, 5.0),
+                         GliderParams(dive_depth_m=200.0, capture_radius_m=500.0), 10.0)
+    if edit:
+        assert edit[0] in files["yo10.ma"]
+        files["yo10.ma"] = files["yo10.ma"].replace(*edit)
+    for name, text in files.items():
+        (tmp_path / name).write_text(text)
+    (rec,) = check_glider_files(str(scen), [str(tmp_path / "goto_l10.ma")])
+    assert rec["ok"] is (not needle), rec["message"]
+    assert needle in rec["message"]
