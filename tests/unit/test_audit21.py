@@ -8,6 +8,7 @@ of the centre line covers exactly the points that close to it inside the frame's
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -79,15 +80,21 @@ def test_the_corridor_surveyed_holds_the_corridor_about_the_given_centre_line(an
     assert np.all(inside[given]), f"{int((given & ~inside).sum())} samples of the corridor left out"
 
 
+@functools.lru_cache(maxsize=2)
+def _bent_lines(angle, turn, width):
+    """The lines over a flat seabed of the corridor about the bent centre line (shared by the tests below)."""
+    pts = _bent(angle, turn)
+    w = np.array([width])
+    c = build_corridor(pts, w, default_bend_radius(w, 10.0))
+    sensor = Sensor(opening_deg=OPENING)
+    return pts, place_lines(lambda x, y: np.full(np.shape(x), -DEPTH), c.area, sensor, c.frame.heading,
+                            LineParams(surface_z=-DRAFT), c.frame)
+
+
 @pytest.mark.parametrize(("angle", "turn", "widths"), CASES[:2])
 def test_the_planned_swaths_cover_the_given_corridor_at_a_sharp_bend(angle, turn, widths):
     """Before: 98.65 % (left turn) and 97.86 % (right turn) of the corridor covered, the survey reporting 100 %."""
-    pts = _bent(angle, turn)
-    w = np.asarray(widths[:1])
-    c = build_corridor(pts, w, default_bend_radius(w, 10.0))
-    sensor = Sensor(opening_deg=OPENING)
-    lines = place_lines(lambda x, y: np.full(np.shape(x), -DEPTH), c.area, sensor, c.frame.heading,
-                        LineParams(surface_z=-DRAFT), c.frame)
+    pts, lines = _bent_lines(angle, turn, widths[0])
     assert lines.complete
     reach = (DEPTH - DRAFT) * math.tan(math.radians(OPENING / 2))
     q = _samples(pts, 400.0, 8.0)
@@ -99,6 +106,28 @@ def test_the_planned_swaths_cover_the_given_corridor_at_a_sharp_bend(angle, turn
             best = np.minimum(best, _seg_dist(q, a, b)[0])
     covered = 100.0 * np.mean(best <= reach + 0.5)
     assert covered >= 99.9, f"{covered:.2f} % of the corridor under the swaths"
+
+
+@pytest.mark.parametrize("turn", [1.0, -1.0])
+def test_tie_lines_spread_along_a_corridor_with_a_line_only_at_its_bend(turn):
+    """A line added only over the bend's outer wedge (stations 34-45 of 70) drew the ties there: two ties, at
+    stations 34 and 45 (36 and 43 for the left turn), instead of three spread along.  Oracle: the even shares
+    of the stations (11.5, 34.5, 57.5 of 70) within a station, and each tie meeting (within 1 m: the wedge's
+    line may start on the tie's cut) every main line flown at its station."""
+    import shapely
+
+    from auvplan.survey.ties import tie_lines, tie_stations
+
+    _, lines = _bent_lines(75.0, turn, 300.0)
+    k = lines.stations.size
+    partial = [ln for ln in lines.lines if ln.last - ln.first < 0.5 * (k - 1)]
+    assert partial  # the bend's line
+    idx = tie_stations(lines, 3)
+    np.testing.assert_allclose(idx, (np.arange(3) + 0.5) / 3 * (k - 1), atol=1.0)
+    for i, tie in zip(idx, tie_lines(lines, 3, 60.0, False, 20.0), strict=True):
+        on = [j for j, ln in enumerate(lines.lines) if ln.first <= i <= ln.last]
+        assert all(shapely.distance(shapely.LineString(tie[:, :2]), shapely.LineString(lines.waypoints(j)[:, :2]))
+                   < 1.0 for j in on)
 
 
 def test_a_corner_too_sharp_for_the_frame_is_refused_with_its_message():
