@@ -166,8 +166,8 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     # issue #49: the eight bugs that survived the suite, each caught by tests/property/test_edges_properties.py
     "edges-budget-first-leg-speed": (
         "endurance/budget.py",
-        "energy = np.asarray((model.power(tr.speeds) * (dur - held) + rest * held) / WH, dtype=float)",
-        "energy = np.asarray((model.power(tr.speeds[0]) * (dur - held) + rest * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds) * moving + rest * held) / WH, dtype=float)",
+        "energy = np.asarray((model.power(tr.speeds[0]) * moving + rest * held) / WH, dtype=float)",
     ),
     "edges-pnr-previous-legs-power": (
         "endurance/pnr.py",
@@ -218,7 +218,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
     "edges-mission-check-merges-legs": (
         "app/check.py",
         "vlimits = helm_check(points[1:] if fmt == \"qgc\" else points, vehicle_limits(mission.vehicle),\n"
-        "                             pitch=flown[0], depth=flown[1])",
+        "                         pitch=flown[0], depth=flown[1])",
         "vlimits = __import__(\"auvplan.path.flyable\", fromlist=[\"_\"]).check_limits(points[1:] if fmt == \"qgc\" "
         "else points, vehicle_limits(mission.vehicle))",
     ),

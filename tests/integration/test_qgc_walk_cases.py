@@ -103,7 +103,7 @@ def test_check_mission_file_measures_a_terrain_frame_leg_on_its_track(tmp_path):
     world = _ridge_world()
     items = [_item(FRAME, 200.0, 200.0, 20.0, fr=10), _item(FRAME, 1800.0, 200.0, 20.0, fr=10)]
     plan = tmp_path / "m.plan"
-    plan.write_text(json.dumps(_plan(ORIGIN, (100.0, 200.0), items)))
+    plan.write_text(json.dumps(_plan(ORIGIN, (200.0, 200.0), items)))  # home above item 0: the launch (fix20)
     follow = terrain_legs(plan)
     assert follow.tolist() == [False, True]
     pts, _, _ = read_mission(plan, ORIGIN, world.seabed)
@@ -137,11 +137,16 @@ def test_the_deploy_record_counts_the_walk_s_terrain_frame_legs(tmp_path):
 
 def test_a_plan_s_home_is_the_launch_and_a_csv_s_first_point_is_not(tmp_path):
     """Relative-altitude items (no terrain frame) checked with a 5 m depth band: the .plan's home on the surface
-    is its launch, exempt; the same points in a CSV file start on the surface, outside the band (waypoint 0)."""
+    is its launch, exempt; the same points in a CSV file start on the surface, outside the band (waypoint 0).
+    fix20: only a home above item 0 is exempt; one 200 m away starts ArduSub's straight dive (waypoint 0)."""
     world = _ridge_world()
+    items = [_item(FRAME, 300.0, 200.0, -30.0), _item(FRAME, 500.0, 200.0, -30.0)]
+    away = tmp_path / "away.plan"
+    away.write_text(json.dumps(_plan(ORIGIN, (100.0, 200.0), items)))
+    limits = check_mission_file(away, world)[0].limits
+    assert limits is not None and limits.outside_depth_band == (0,) and limits.launch_run_m == pytest.approx(200.0)
     plan = tmp_path / "m.plan"
-    plan.write_text(json.dumps(_plan(ORIGIN, (100.0, 200.0), [_item(FRAME, 300.0, 200.0, -30.0),
-                                                               _item(FRAME, 500.0, 200.0, -30.0)])))
+    plan.write_text(json.dumps(_plan(ORIGIN, (300.0, 200.0), items)))
     pts, _, _ = read_mission(plan, ORIGIN)
     csv = tmp_path / "m.csv"
     csv.write_text("x,y,z\n" + "".join(f"{float(x)!r},{float(y)!r},{float(z)!r}\n" for x, y, z in pts))

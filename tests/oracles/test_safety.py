@@ -268,10 +268,13 @@ def test_the_depth_band_under_each_format_and_the_launch_point_of_a_plan(tmp_pat
             assert check.ok == ok and check.limits is not None, name
             assert check.limits.outside_depth_band == (() if ok else (first + 1,)), name
             assert check.limits.launch == (name == "m.plan")
-    limits = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]], launch=True)
+    limits = waypoint_limits(world, [[600.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]], launch=True)
     assert limits.ok and limits.depth_range() == (150.0, 150.0)
-    assert waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]]).outside_depth_band == (0,)
-    launched = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -2.0], [700.0, 1000.0, -150.0]], True)
+    assert waypoint_limits(world, [[600.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]]).outside_depth_band == (0,)
+    # fix20: a home 100 m from above the first item is no launch point (ArduSub dives the straight leg from it)
+    offset = waypoint_limits(world, [[500.0, 1000.0, 0.0], [600.0, 1000.0, -150.0]], launch=True)
+    assert offset.outside_depth_band == (0,) and not offset.launch and offset.launch_run_m == 100.0
+    launched = waypoint_limits(world, [[600.0, 1000.0, 0.0], [600.0, 1000.0, -2.0], [700.0, 1000.0, -150.0]], True)
     assert launched.outside_depth_band == (1,) and launched.depth_range() == (2.0, 150.0)
 
 

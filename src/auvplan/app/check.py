@@ -83,70 +83,76 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     checks : list of FileCheck
         One per file, in order.
     """
-    from ..io.missions.deploy_read import file_deploy_check
-    from ..io.missions.energy import mission_file_energy
-    from ..io.missions.formats import check_mission_file, read_mission
+    from ..io.missions.parsed import parse_once
     from ..io.scenario import loader as scenario_io
+
+    sc = scenario_io.load(scenario)
+    world, mission = scenario_io.build(sc)
+    with parse_once():  # each file's JSON parsed and its items walked once by all the readers below
+        return sc, [_check_file(sc, world, mission, name, pitch) for name in files]
+
+
+def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
+    """One file of :func:`check_missions`."""
+    from ..io.missions.deploy_read import file_deploy_check
+    from ..io.missions.energy import file_energy_holds
+    from ..io.missions.formats import check_mission_file, read_mission
     from ..io.scenario.defaults import energy_defaults
     from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
 
-    sc = scenario_io.load(scenario)
-    world, mission = scenario_io.build(sc)
-    out = []
-    for name in files:
-        points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
-        follow, track = _terrain_frame(world, Path(name), fmt, points)
-        # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
-        check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
-        # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-        # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-        # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
-        flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
-        vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
-                             pitch=flown[0], depth=flown[1])
-        if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
-            vlimits = _from_home(vlimits)
-        energy, energy_ok, energy_line = mission_file_energy(world, mission, Path(name))
-        # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
-        deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
-                                                float(energy.get("duration_s", 0.0)))
-        # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
-        speed_line = energy.pop("speed_assumed_line", "")
-        assumed = energy.pop("speed_assumed_legs", [])
-        defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
-        energy_line += "".join(f"; {d}" for d in defaults)
-        energy["defaults"] = defaults
-        rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
-               "deploy": deploy, "speed_assumed_legs": assumed,
-               "speed_assumed_mps": mission.vehicle.speed if assumed else None}
-        if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
-            rec["clearance_confidence"] = sc.mission.confidence
-        # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
-        # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
-        tf_ok = True
-        tf_line = ""
-        if follow is not None:
-            rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow, track)
-        # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
-        # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
-        # home, its launch; docs/missions.md)
-        zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0, flown=track)
-        if zones:
-            rec["zones"] = [z.as_dict() for z in zones]
-            rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
-        zones_ok = not any(z.entered_legs for z in zones)
-        nav_ok = True
-        nav_lines: list[str] = []
-        if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
-            rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
-                                                                    follow, first=0, flown=track)
-        ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
-        # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
-        rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
-        out.append(FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines),
-                             tf_line, speed_line))
-    return sc, out
+    points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
+    follow, track = _terrain_frame(world, Path(name), fmt, points)
+    # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
+    check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
+    # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
+    # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
+    # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
+    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
+    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                         pitch=flown[0], depth=flown[1])
+    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+        vlimits = _from_home(vlimits)
+    energy, energy_ok, energy_line, held_water = file_energy_holds(world, mission, Path(name))
+    # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
+    deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
+                                            float(energy.get("duration_s", 0.0)))
+    # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
+    speed_line = energy.pop("speed_assumed_line", "")
+    assumed = energy.pop("speed_assumed_legs", [])
+    defaults = energy_defaults(sc)  # issue 51: a verdict resting on a default names it
+    energy_line += "".join(f"; {d}" for d in defaults)
+    energy["defaults"] = defaults
+    rec = {"file": name, "format": fmt, **check.as_dict(), "vehicle": vlimits.as_dict(), "energy": energy,
+           "deploy": deploy, "speed_assumed_legs": assumed,
+           "speed_assumed_mps": mission.vehicle.speed if assumed else None}
+    if sc.mission.confidence:  # issue 39: checked against the worst-case seabed at that confidence
+        rec["clearance_confidence"] = sc.mission.confidence
+    # charted no-go zones: the closest approach to each, and the legs that enter it (exact test), under the
+    # format's depth semantics (a held depth: every leg's envelope and the executor's track, as the seabed)
+    tf_ok = True
+    tf_line = ""
+    if follow is not None:
+        rec["terrain_following"], tf_ok, tf_line = terrain_following_check(world, points, follow, track)
+    # every check on every leg, a .plan's launch too (ArduSub flies from its home to the first item), each leg
+    # named by the waypoint it leaves, as the seabed check names it (leg 0 leaves the first waypoint: a .plan's
+    # home, its launch; docs/missions.md)
+    zones = _zone_approach(world, points, check.semantics, pitch, follow, first=0, flown=track)
+    if zones:
+        rec["zones"] = [z.as_dict() for z in zones]
+        rec["zones_measured_on"] = zones_measured_on(check.semantics, pitch, follow is not None)
+    zones_ok = not any(z.entered_legs for z in zones)
+    nav_ok = True
+    nav_lines: list[str] = []
+    if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
+        rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
+                                                                follow, first=0, flown=track,
+                                                                held_water_m=held_water)
+    ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
+    # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
+    rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
+    return FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines), tf_line,
+                     speed_line)
 
 
 def _from_home(report: LimitReport) -> LimitReport:
@@ -318,8 +324,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
-                     follow: np.ndarray | None = None, first: int = 1,
-                     flown: FlownTrack | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
+                     held_water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
 
@@ -341,6 +347,9 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         The number of the first leg (``mission check``: 0, each leg named by the waypoint it leaves).
     flown : FlownTrack, optional
         The track of ``follow``'s legs, when the caller has it.
+    held_water_m : numpy.ndarray, optional
+        ``(N,)`` the distance moved through the water holding each waypoint (a ``.plan``'s holds,
+        :func:`~auvplan.io.missions.energy.file_energy_holds`): its drift without bottom lock.
 
     Returns
     -------
@@ -358,9 +367,9 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first) \
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m) \
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
-                                                                              flown)
+                                                                              flown, held_water_m)
     b = c.budget
     legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
@@ -378,7 +387,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
-                         follow: np.ndarray, first: int = 1, flown: FlownTrack | None = None) -> Any:
+                         follow: np.ndarray, first: int = 1, flown: FlownTrack | None = None,
+                         held_water_m: np.ndarray | None = None) -> Any:
     """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
     gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
     from ..guidance.mission.terrain_legs import terrain_track
@@ -392,7 +402,11 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     on_track = [""] * len(track)
     for j, kind in zip(ends, kinds, strict=True):
         on_track[j] = kind
-    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy)
+    held = None
+    if held_water_m is not None:  # each waypoint's hold at its vertex of the track
+        held = np.zeros(len(track))
+        held[ends] = held_water_m
+    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy, held_water_m=held)
     n = len(points) - 1
     err, alt = np.full(n, -np.inf), np.full(n, np.inf)
     np.maximum.at(err, seg, c.budget.leg_error_m)
@@ -408,5 +422,8 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
         k = int(np.flatnonzero(~clear)[0])
         msg = (f"leg {k + first}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
                f"{alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+    elif c.budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
+        msg = (f"waypoint {n}: predicted error {c.budget.error_m[-1]:.1f} m at the end of its hold exceeds "
+               f"max_error_m {nav.max_error_m:g} m")
     budget = NavBudget(c.budget.error_m[ends], err, lock, kinds, c.budget.max_error_m)
     return NavCheck(budget, alt, clear, not msg, msg)

@@ -16,6 +16,14 @@ current and second order in time-varying ones.  The leg's energy is ``P(V) × du
 (:class:`~auvplan.endurance.power.EnergyModel`).  Where the current beats the vehicle
 (V < |c⊥| or V_g ≤ 0) the leg cannot be flown and the budget's status is ``INFEASIBLE``; when
 the mission would eat into the reserve, ``RESERVE_BROKEN``.
+
+A vertex held **on station** (an ArduSub waypoint's or timed loiter's hold: its position controller keeps the
+vehicle on the item) moves the vehicle through the water at the current's speed |c| there for the hold's time.
+Its power is ``P(|c|)``; where |c| exceeds the vehicle's top speed (``EnergyModel.max_speed``, what its thrusters
+can give: the position controller is not bound to the leg's speed while holding) the vehicle cannot hold its
+position and the budget is ``INFEASIBLE``, naming the waypoint, as for a leg the current blocks.  A hold on station
+at the last vertex is flown before the mission ends (ArduSub's ``verify_nav_wp`` waits it out): it is counted in
+the last leg (its ``t_end`` and energy), and a reserve entered during it is named so.
 """
 
 from __future__ import annotations
@@ -100,6 +108,8 @@ class Traverse:
         ``(N, HOLD_SAMPLES)`` where a vertex is held against the current (``station``): the through-water speed
         that takes at the midpoints of the hold's equal parts (the current's speed there, m/s); empty: every dwell
         drifts (hotel power).
+    end_hold : float
+        Time held on station at the last vertex before the mission ends (s; 0 unless that vertex is ``station``).
     """
 
     points: F64
@@ -114,11 +124,12 @@ class Traverse:
     tail: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, dtype=bool))
     dwell: F64 = field(default_factory=lambda: np.zeros(0))
     hold_water: F64 = field(default_factory=lambda: np.zeros((0, HOLD_SAMPLES)))
+    end_hold: float = 0.0
 
     @property
     def duration(self) -> float:
-        """Time from the first to the last vertex (s); ``nan`` when not ``ok``."""
-        return float(self.times[-1] - self.times[0])
+        """Time from the first to the last vertex, its hold on station included (s); ``nan`` when not ``ok``."""
+        return float(self.times[-1] + self.end_hold - self.times[0])
 
     def at(self, s: float) -> tuple[F64, float, int]:
         """Position, time and leg at distance ``s`` along the route (linear between nodes).
@@ -166,7 +177,9 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     station : array_like of bool, optional
         ``(N,)`` the vertices whose dwell holds the point against the current (an ArduSub waypoint's or timed
         loiter's hold: its position controller keeps the vehicle on the item), at the through-water speed of
-        the current there (``Traverse.hold_water``); the others drift (a surface fix).
+        the current there (``Traverse.hold_water``); the others drift (a surface fix).  The last vertex's dwell
+        counts only when it is held on station (``Traverse.end_hold``: the mission ends after it); a drift there
+        (a surface fix at the goal) is after the mission.
 
     Returns
     -------
@@ -196,8 +209,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         a, b = p[i], p[i + 1]
         if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
             if held_on[i]:  # against the current: its speed at the midpoints of the hold's parts
-                mid = t + (np.arange(HOLD_SAMPLES) + 0.5) * float(hold[i]) / HOLD_SAMPLES
-                water[i] = [float(np.linalg.norm(cur.velocity(a, float(tk)))) for tk in mid]
+                water[i] = _held_water(world, a, t, float(hold[i]))
             t += float(hold[i])
             nodes.append(a.copy())
             node_s.append(s_along)
@@ -229,8 +241,21 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         if not ok:
             break
         times[i + 1] = t
+    end = float(hold[-1]) if ok and held_on[-1] and hold[-1] > 0.0 else 0.0
+    if end > 0.0:  # held on station at the last vertex before the mission ends: a node at the hold's end
+        water[-1] = _held_water(world, p[-1], t, end)
+        nodes.append(p[-1].copy())
+        node_s.append(s_along)
+        node_t.append(t + end)
+        node_leg.append(p.shape[0] - 2)
     return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
-                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water)
+                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water, end)
+
+
+def _held_water(world: World, point: F64, t: float, hold: float) -> list[float]:
+    """The current's speed at ``point`` at the midpoints of a hold's :data:`HOLD_SAMPLES` equal parts (m/s)."""
+    mid = t + (np.arange(HOLD_SAMPLES) + 0.5) * hold / HOLD_SAMPLES
+    return [float(np.linalg.norm(world.currents.velocity(point, float(tk)))) for tk in mid]
 
 
 @dataclass(frozen=True, eq=False)
@@ -373,30 +398,56 @@ def budget_of(tr: Traverse, model: EnergyModel) -> Budget:
     """
     p = tr.points
     length = np.linalg.norm(np.diff(p, axis=0), axis=1)
-    t_start, t_end = tr.times[:-1], tr.times[1:]
+    t_start, t_end = tr.times[:-1], tr.times[1:].copy()
+    t_end[-1] += tr.end_hold  # the last vertex's hold on station ends the last leg
     dur = t_end - t_start
     held = tr.dwell[:-1] if tr.dwell.size == p.shape[0] else np.zeros(dur.shape)  # at the leg's start vertex
     rest = model.power(0.0) * np.ones(dur.shape)  # a dwell's power: drifting, or holding against the current
+    end_wh = 0.0
     if tr.hold_water.shape[0] == p.shape[0]:
-        rest = np.asarray(model.power(tr.hold_water[:-1]), dtype=float).mean(axis=1)
-    energy = np.asarray((model.power(tr.speeds) * (dur - held) + rest * held) / WH, dtype=float)
+        hold_power = np.asarray(model.power(tr.hold_water), dtype=float).mean(axis=1)
+        rest, end_wh = hold_power[:-1], float(hold_power[-1] * tr.end_hold / WH)
+    moving = (tr.times[1:] - t_start) - held  # flying: from the departure to the arrival
+    energy = np.asarray((model.power(tr.speeds) * moving + rest * held) / WH, dtype=float)
     cum = np.cumsum(energy)
+    energy[-1] += end_wh
+    cum[-1] += end_wh
     remaining = model.usable_wh - cum
     with np.errstate(invalid="ignore", divide="ignore"):
-        moving = dur - held
         ground = np.where(moving > 0, length / np.where(moving > 0, moving, 1.0), np.nan)
-    if not tr.ok:
-        status, message = Status.INFEASIBLE, f"the mission cannot be flown: {tr.message}"
-    else:
-        margin = model.budget_wh - float(cum[-1])
-        if margin < -1e-9 * model.battery_wh:
-            status = Status.RESERVE_BROKEN
-            over = int(np.argmax(remaining < model.reserve_wh - 1e-9 * model.battery_wh))
-            message = (f"RESERVE BROKEN: the mission needs {cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget "
-                       f"({model.battery_wh:g} Wh × ({model.usable_fraction:g} usable − {model.reserve:g} reserve)); "
-                       f"short by {-margin:.1f} Wh, the reserve is entered on leg {over}")
-        else:
-            status = Status.EXACT
-            message = (f"{cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget: margin {margin:.1f} Wh, "
-                       f"{remaining[-1]:.1f} Wh left at the end (reserve {model.reserve_wh:.1f} Wh)")
+    status, message = _verdict(tr, model, cum, remaining, end_wh)
     return Budget(status, message, model, t_start, t_end, length, tr.speeds, ground, energy, cum, remaining, tr)
+
+
+def _blocked_hold(tr: Traverse, model: EnergyModel) -> str:
+    """Where the first hold on station meets a current faster than the vehicle's top speed: the reason, or ``""``
+    (a hold past a leg the current blocks is never sampled: its row is zeros, the blocked leg comes first)."""
+    if tr.hold_water.shape[0] != tr.points.shape[0]:
+        return ""
+    over = np.flatnonzero(tr.hold_water.max(axis=1) > model.max_speed)
+    if over.size == 0:
+        return ""
+    k = int(over[0])
+    return (f"the hold at waypoint {k}: the current ({float(tr.hold_water[k].max()):.2f} m/s at "
+            f"{np.round(tr.points[k], 1).tolist()}, t = {float(tr.times[k]):.0f} s) beats the vehicle's top speed "
+            f"{model.max_speed:g} m/s: it cannot hold its position")
+
+
+def _verdict(tr: Traverse, model: EnergyModel, cum: F64, remaining: F64, end_wh: float) -> tuple[Status, str]:
+    """The budget's status and message (module notes)."""
+    blocked = _blocked_hold(tr, model)
+    if blocked or not tr.ok:
+        return Status.INFEASIBLE, f"the mission cannot be flown: {blocked or tr.message}"
+    margin = model.budget_wh - float(cum[-1])
+    if margin < -1e-9 * model.battery_wh:
+        floor = model.reserve_wh - 1e-9 * model.battery_wh
+        over = int(np.argmax(remaining < floor))
+        where = f"on leg {over}"
+        if over == cum.size - 1 and end_wh > 0 and remaining[-1] + end_wh >= floor:  # after the last leg's flight
+            where = "in the hold at the last item"
+        return Status.RESERVE_BROKEN, (
+            f"RESERVE BROKEN: the mission needs {cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget "
+            f"({model.battery_wh:g} Wh × ({model.usable_fraction:g} usable − {model.reserve:g} reserve)); "
+            f"short by {-margin:.1f} Wh, the reserve is entered {where}")
+    return Status.EXACT, (f"{cum[-1]:.1f} Wh of a {model.budget_wh:.1f} Wh budget: margin {margin:.1f} Wh, "
+                          f"{remaining[-1]:.1f} Wh left at the end (reserve {model.reserve_wh:.1f} Wh)")

@@ -14,6 +14,13 @@ and the drift adds to the error of the last fix in quadrature (the two are indep
 
 A GPS fix at the surface sets ``σ_fix = fix_error_m`` and ``D = 0``; a USBL fix sets
 ``σ_fix = error_pct / 100 × slant range``; the mission starts with a fix (``fix_error_m``).
+
+A hold at a waypoint at depth (a ``.plan``'s waypoint or timed loiter holding the item against the current) keeps
+the vehicle still over the ground but moves it through the water by ``w = ∫|c| dt``.  With bottom lock the DVL
+measures the ground velocity (zero): D does not grow.  Without it the vehicle dead-reckons on water track, whose
+error is ``drift_pct_no_lock`` per metre through the water: D grows by ``w · drift_pct_no_lock / 100`` during the
+hold, counted before the leg that leaves the waypoint (at the last waypoint, in its error after the hold).  A hold
+at a fix (the surface) adds nothing.
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ from ..world import World
 from .params import NavParams
 
 __all__ = ["NavBudget", "ErrorProfile", "sample_route", "lock_fraction", "drift_increments", "sigma_profile",
-           "fix_sigma", "mission_budget", "error_profile", "DEFAULT_STEP_M"]
+           "fix_sigma", "hold_drift", "mission_budget", "error_profile", "DEFAULT_STEP_M"]
 
 DEFAULT_STEP_M = 50.0
 """Longest horizontal sampling interval of the altitude schedule (m)."""
@@ -198,6 +205,35 @@ def sigma_profile(inc: ArrayLike, resets: ArrayLike, sigma_fix: ArrayLike, sigma
     return before, after
 
 
+def hold_drift(alt: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
+               held_water_m: ArrayLike | None) -> FloatArray:
+    """The growth of D while holding at each waypoint (module notes): ``w · drift_pct_no_lock / 100`` without
+    bottom lock at a waypoint that is not a fix, else 0.
+
+    Parameters
+    ----------
+    alt : array_like
+        ``(N,)`` the altitude at each waypoint (m).
+    kinds : tuple of str
+        ``(N,)`` the fix at each waypoint.
+    nav : NavParams
+        ``dvl_range_m`` and the rate without lock.
+    held_water_m : array_like or None
+        ``(N,)`` the distance moved through the water while holding at each waypoint (m); None: no hold.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` (m).
+    """
+    a = np.asarray(alt, dtype=float)
+    if held_water_m is None:
+        return np.zeros(a.shape)
+    w = np.asarray(held_water_m, dtype=float).reshape(a.shape)
+    out: FloatArray = np.where((a > nav.dvl_range_m) & ~np.array([bool(k) for k in kinds]), w * nav.rate(False), 0.0)
+    return out
+
+
 def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float, float] | None) -> float:
     """The σ right after a fix of ``kind`` at ``point``.
 
@@ -227,7 +263,8 @@ def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float,
 
 
 def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
-                   usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> NavBudget:
+                   usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
+                   held_water_m: ArrayLike | None = None) -> NavBudget:
     """The predicted error along a mission whose fixes are known (:class:`NavBudget`).
 
     Parameters
@@ -244,6 +281,8 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         The USBL ship's local position (m).
     step : float, optional
         Sampling of the altitude schedule (m).
+    held_water_m : array_like, optional
+        ``(N,)`` the distance moved through the water while holding at each waypoint (m; module notes).
 
     Returns
     -------
@@ -256,6 +295,9 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
     ds, alt, leg, vertex = sample_route(world, p, step)
     lock = lock_fraction(alt, nav.dvl_range_m)
     inc = drift_increments(ds, lock, nav)
+    held = hold_drift(alt[vertex], kinds, nav, held_water_m)
+    inc[vertex[:-1]] += held[:-1]  # the hold before the leg that leaves the waypoint: its first interval
+    inc = np.r_[inc, held[-1]]  # the last waypoint's hold: an interval of its own after the arrival
     fixes = [i for i, k in enumerate(kinds) if k and i > 0]
     before, after = sigma_profile(inc, vertex[fixes], [fix_sigma(nav, kinds[i], p[i], usbl_xy) for i in fixes],
                                   fix_sigma(nav, kinds[0] or "gps", p[0], usbl_xy))
@@ -263,7 +305,7 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
     leg_error = c * before[vertex[1:]]  # σ grows along a leg: its largest is on arrival
     share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(
         np.bincount(leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)
-    error = c * after[vertex]
+    error = c * after[np.r_[vertex[:-1], vertex[-1] + 1]]  # the last waypoint's after its hold
     return NavBudget(error, leg_error, share, tuple(kinds), float(max(leg_error.max(initial=0.0), error.max())))
 
 

@@ -48,7 +48,7 @@ class NavCheck:
 
 def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                      usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                     first_leg: int = 1) -> NavCheck:
+                     first_leg: int = 1, held_water_m: ArrayLike | None = None) -> NavCheck:
     """Predict a mission's error and test its legs under it (what ``mission check`` prints per leg).
 
     Parameters
@@ -67,6 +67,9 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         Sampling of the altitude schedule and of the clearance test (m).
     first_leg : int, optional
         The number the message gives the first leg (``mission check``: 0, a leg named by the waypoint it leaves).
+    held_water_m : array_like, optional
+        ``(N,)`` the distance moved through the water while holding at each waypoint (m;
+        :func:`~auvplan.nav.budget.hold_drift`): the drift of a hold at depth without bottom lock.
 
     Returns
     -------
@@ -74,7 +77,7 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         The verdict.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
-    budget = mission_budget(world, p, kinds, nav, usbl_xy, step)
+    budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m)
     # a leg over the budget fails on its error; its clearance is tested at the budget (the scan stays bounded)
     alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step)
     over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 + 1e-9))
@@ -87,6 +90,9 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         k = int(np.flatnonzero(~clear)[0])
         msg = (f"leg {k + first_leg}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an "
                f"obstacle comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+    elif budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
+        msg = (f"waypoint {p.shape[0] - 1}: predicted error {budget.error_m[-1]:.1f} m at the end of its hold "
+               f"exceeds max_error_m {nav.max_error_m:g} m")
     return NavCheck(budget, alt, clear, not msg, msg)
 
 

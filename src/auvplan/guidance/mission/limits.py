@@ -11,6 +11,12 @@ two ends do, and the waypoints decide: :func:`waypoint_limits` lists the ones th
 A QGroundControl ``.plan`` starts from its home, the launch point on the surface above the
 first item: the first leg is the descent from the surface, so the depth band applies from the
 first mission item on (``launch=True``); the surface and the bounds still apply to the home.
+The exemption holds only for a home above the first item (within :data:`LAUNCH_ABOVE_M`): ArduSub
+flies the launch leg as a straight line from where the vehicle is to the item's position and depth
+(``AC_WPNav::set_wp_destination`` from the stopping point, ``calculate_straight_leg``), so from a home
+elsewhere (a plan QGroundControl wrote with the vehicle's own home) the vehicle runs shallower than
+``min_depth_m`` over a horizontal stretch: the home is then judged against the band like any waypoint,
+and the reason names the launch leg's horizontal run.
 """
 
 from __future__ import annotations
@@ -24,7 +30,11 @@ from numpy.typing import ArrayLike, NDArray
 from ...geometry import as_points
 from ...world import Bounds, World
 
-__all__ = ["WaypointLimits", "WaypointLimitsDict", "waypoint_limits"]
+__all__ = ["LAUNCH_ABOVE_M", "WaypointLimits", "WaypointLimitsDict", "waypoint_limits"]
+
+LAUNCH_ABOVE_M = 0.05
+"""A launch point at most this far horizontally from the first item is above it (m): four of MAVLink's 1e-7°
+position quanta (1.1 cm), so a home written at the item's own latitude and longitude passes whatever rounding."""
 
 _F64 = NDArray[np.float64]
 """Array of float64 (m)."""
@@ -73,7 +83,9 @@ class WaypointLimits:
     bounds : Bounds
         The scenario's bounds.
     launch : bool
-        Whether waypoint 0 is a launch point on the surface (exempt from the depth band).
+        Whether waypoint 0 is a launch point on the surface above waypoint 1 (exempt from the depth band).
+    launch_run_m : float
+        A launch point that is not above waypoint 1: the launch leg's horizontal run (m; 0 otherwise).
     """
 
     waypoints: _F64
@@ -84,6 +96,7 @@ class WaypointLimits:
     max_depth_m: float
     bounds: Bounds
     launch: bool = False
+    launch_run_m: float = 0.0
 
     @property
     def ok(self) -> bool:
@@ -129,11 +142,13 @@ class WaypointLimits:
                        f"above it)")
         if self.outside_depth_band:
             k = self.outside_depth_band[0]
-            depth = -w[k, 2]
+            depth = 0.0 - w[k, 2]  # a home at z = 0 reads 0.00, not -0.00
             side = (f"deeper than max_depth_m = {self.max_depth_m:g}" if depth > self.max_depth_m
                     else f"shallower than min_depth_m = {self.min_depth_m:g}")
+            run = (f"; the launch point is {self.launch_run_m:.1f} m from above waypoint 1: ArduSub dives the "
+                   f"straight launch leg" if k == 0 and self.launch_run_m > 0 else "")
             out.append(f"{_count(self.outside_depth_band)} outside the depth band (waypoint {k} at depth "
-                       f"{depth:.2f} m, {side})")
+                       f"{depth:.2f} m, {side}{run})")
         if self.outside_bounds:
             k = self.outside_bounds[0]
             b = self.bounds
@@ -159,7 +174,8 @@ def waypoint_limits(world: World, waypoints: ArrayLike, launch: bool = False) ->
     waypoints : array_like
         ``(N, 3)`` mission waypoints (local frame, m, z up).
     launch : bool, optional
-        Waypoint 0 is a launch point on the surface (a ``.plan``'s home): exempt from the depth band.
+        Waypoint 0 is a launch point on the surface (a ``.plan``'s home): exempt from the depth band when it is
+        above waypoint 1 (within :data:`LAUNCH_ABOVE_M`; module notes).
 
     Returns
     -------
@@ -171,6 +187,8 @@ def waypoint_limits(world: World, waypoints: ArrayLike, launch: bool = False) ->
     depth = -w[:, 2]
     above = w[:, 2] > 0.0
     band = (depth >= m.min_depth) & (depth <= m.max_depth) | above
+    run = float(np.hypot(*(w[1, :2] - w[0, :2]))) if launch and w.shape[0] > 1 else 0.0
+    launch = launch and run <= LAUNCH_ABOVE_M
     if launch:
         band[:1] = True
     at_most_surface = np.column_stack([w[:, :2], np.minimum(w[:, 2], 0.0)])
@@ -180,4 +198,4 @@ def waypoint_limits(world: World, waypoints: ArrayLike, launch: bool = False) ->
         return tuple(int(k) for k in np.flatnonzero(bad))
 
     return WaypointLimits(w.copy(), where(above), where(~band), where(~inside), float(m.min_depth),
-                          float(m.max_depth), world.bounds, launch)
+                          float(m.max_depth), world.bounds, launch, 0.0 if launch else run)

@@ -36,7 +36,7 @@ from .speeds import judged_leg_speeds, read_holds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
-           "mission_file_energy", "sweep_energy"]
+           "mission_file_energy", "file_energy_holds", "sweep_energy"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -194,6 +194,32 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
+    """:func:`file_energy_holds` without the holds (its first three values).
+
+    Parameters
+    ----------
+    world : World
+        Currents (and the origin of geographic formats).
+    mission : Mission
+        Vehicle, power model, battery and ``[endurance] ds_m``.
+    path : pathlib.Path
+        The mission file.
+
+    Returns
+    -------
+    record : dict
+        As :func:`file_energy_holds`.
+    ok : bool
+        Whether the reserve is kept.
+    line : str
+        The verdict in one line.
+    """
+    rec, ok, line, _ = file_energy_holds(world, mission, path)
+    return rec, ok, line
+
+
+def file_energy_holds(world: World, mission: Mission,
+                      path: Path) -> tuple[JsonDict, bool, str, NDArray[np.float64] | None]:
     """A mission file's energy budget from the scenario's start time, at the speeds the file carries, with the
     time a ``.plan`` holds at a waypoint or a timed loiter (:func:`read_holds`, the last item's included) spent
     holding the item against the current there.
@@ -217,15 +243,20 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
         Whether the reserve is kept.
     line : str
         The verdict in one line.
+    held_water_m : numpy.ndarray or None
+        ``(N,)`` the distance the vehicle moves through the water holding each waypoint against the current (the
+        hold's time × the current's mean speed there, m; the navigation budget's drift without bottom lock,
+        :func:`auvplan.nav.budget.hold_drift`); None without a hold.
     """
     waypoints = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)[0]
     if waypoints.shape[0] < 2:
-        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly"
+        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly", None
     if not np.isfinite(waypoints).all():
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
     model = EnergyModel.from_vehicle(mission.vehicle)
-    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed)  # the vehicle's where not carried
+    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed, waypoints)  # the vehicle's
+    # where not carried; a .plan's commanded (horizontal) speed as WPNav flies it along each leg
     speeds = judged.speeds
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
     nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
@@ -234,22 +265,15 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there
     if held is not None:
         dwell = held if dwell is None else dwell + held
-    route, station = waypoints, None if held is None else held > 0
-    if held is not None and held[-1] > 0:  # the last item's hold is flown too (ArduSub's verify_nav_wp waits it out
-        # before the mission completes): a leg of no length after it, so that the budget holds there
-        route, speeds = np.vstack([waypoints, waypoints[-1:]]), np.r_[speeds, speeds[-1]]
-        tail = None if tail is None else np.r_[np.asarray(tail, dtype=bool), False]
-        dwell, station = np.r_[dwell, 0.0], np.r_[station, False]
+    station = None if held is None else held > 0  # the last item's hold too: the budget flies it before the end
     # ArduSub holds the item against the current (its position controller): the power of that current's speed
-    b = mission_budget(world, route, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
-    legs = waypoints.shape[0] - 1
-    message = b.message
-    if route is not waypoints and message.endswith(f"entered on leg {legs}"):  # the leg of no length: the hold
-        message = message.removesuffix(f"on leg {legs}") + "in the hold at the last item"
+    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": message, "leg_speeds_mps": b.speed_water[:legs].tolist(),
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
-    return rec, b.status.ok, f"energy {b.status.value} — {message}"
+    water = b.traverse.hold_water
+    moved = None if held is None or water.shape[0] != held.size else held * water.mean(axis=1)
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved
 
 
 def sweep_energy(world: World, mission: Mission, plans: list[Any],

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...errors import DataError
+from .parsed import remembered
 
 __all__ = ["NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
            "plan_items"]
@@ -150,6 +151,11 @@ def plan_items(doc: Mapping[str, Any]) -> list[PlanItem]:
         Naming the item (``mission.items[i]``) and its command or type when it moves the vehicle in a way the
         check cannot follow, or when the file is malformed.
     """
+    return list(remembered("plan_items", doc, lambda: _walk(doc)))  # once per document in mission check (.parsed)
+
+
+def _walk(doc: Mapping[str, Any]) -> list[PlanItem]:
+    """:func:`plan_items` without the memo."""
     try:
         items = doc["mission"]["items"]
         if not isinstance(items, list):

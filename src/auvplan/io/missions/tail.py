@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ...errors import DataError
+from . import parsed
 
 __all__ = ["TAIL_FORMATS", "any_tail", "refusal", "read_tail"]
 
@@ -138,7 +139,7 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
                 return None
             flags = np.array([r["tail_first"].strip() == "1" for r in rows[1:]])
         elif suffix in (".geojson", ".json"):
-            for f in json.loads(text).get("features", []):
+            for f in parsed.loads(text).get("features", []):
                 props = f.get("properties") or {}
                 if props.get("name") == "mission":
                     flags[_leg_indices(path, props.get("tail_first_legs", []), legs)] = True

@@ -4,13 +4,13 @@ items, :mod:`auvplan.guidance.mission.terrain_legs`), read back for ``auvplan mi
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from ..._types import BoolArray
 from ..jsonfile import read_bounded_text
+from . import parsed
 from .qgc_items import plan_items
 from .readers import MAX_MISSION_BYTES
 
@@ -39,7 +39,7 @@ def terrain_legs(path: str | Path) -> BoolArray:
         One flag per leg (one per position :func:`~auvplan.io.missions.qgc_items.plan_items` reads; the home
         leg's first and False).
     """
-    doc = json.loads(read_bounded_text(Path(path), MAX_MISSION_BYTES, "a mission file"))
+    doc = parsed.loads(read_bounded_text(Path(path), MAX_MISSION_BYTES, "a mission file"))
     frames = [it.frame for it in plan_items(doc) if it.moves]  # the reader's legs (the same walk)
     flags = np.array([f == TERRAIN_FRAME for f in frames], dtype=bool)
     if flags.size:

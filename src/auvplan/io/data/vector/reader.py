@@ -12,12 +12,16 @@ import logging
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from pyproj import CRS
 
 from .guard import check_source, offline
+from .jsoncrs import check_geojson_crs
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["VectorLayer", "read_vector"]
 
@@ -67,7 +71,8 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     src : str
         Message prefix naming the file and the key that named it, e.g. ``"s.toml: [[zones]] file = 'a.gpkg'"``.
     error : type of Exception
-        Raised (with a message starting with ``src``) when the file is missing, unreadable or its CRS unusable,
+        Raised (with a message starting with ``src``) when the file is missing, unreadable or its CRS unusable
+        (a GeoJSON ``crs`` member GDAL could not build, :mod:`.jsoncrs`),
         is a FIFO or a device, or only describes other sources (an OGR VRT, a WFS; :mod:`.guard`).
     layer : str, default ''
         Layer name ('' for the first); for S-57 charts the object class (``CBLSUB``, ``WRECKS`` ...).
@@ -100,10 +105,13 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
     for w in said:
         log.warning("%s: %s", src, " ".join(str(w.message).split()))
+    from pyproj import CRS  # where a file is projected (issue 56)
+
     try:
         crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
     except Exception as exc:  # pyproj's CRSError
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
+    check_geojson_crs(path, src, error, crs)  # a GeoJSON crs GDAL could not build is read as WGS 84, silently
     with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
         geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])]

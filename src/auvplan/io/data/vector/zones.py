@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import Transformer
 
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
@@ -325,6 +324,8 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         raise ScenarioError(f"{src}: geographic features need [origin] lat/lon")
     label = next((found.fields[f] for f in _NAME_FIELDS if f in found.fields), None)
     geoms = found.geometries
+    from pyproj import Transformer  # where a file is projected (issue 56)
+
     to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
     def project(xy: np.ndarray) -> np.ndarray:
