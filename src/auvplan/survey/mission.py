@@ -25,6 +25,7 @@ from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..sim.pipeline import vehicle_limits
 from ..world import World
+from .held import held_safe
 from .joins import join_bridges, join_transit, turn_between
 from .lines.envelope import lower_envelope
 from .lines.frame import Frame
@@ -411,5 +412,9 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     lim = vehicle_limits(mission.vehicle)
     keep = merge_short_legs(world, route, shortest_leg(lim), fixed=np.flatnonzero(labels != TRANSIT),
                             max_pitch_deg=lim.max_pitch_deg)
-    return SurveyPlan(status, message, lines, route[keep], labels[keep], words, tuple(transits), _turn_radius(p),
-                      pitch, margin)
+    # survey22: every leg also under held depth (MOOS), as `run`'s exports: failing legs split, or said
+    route, labels, held = held_safe(world, route[keep], labels[keep], params.lines.pitch_max_deg,
+                                    shortest_leg(lim), {TURN: "a turn", TRANSIT: "a transit"})
+    if held and not message:
+        status, message = Status.INFEASIBLE, held
+    return SurveyPlan(status, message, lines, route, labels, words, tuple(transits), _turn_radius(p), pitch, margin)
