@@ -12,7 +12,9 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
   ``γ`` at the speed along it that keeps the horizontal one (ArduPilot's ``kinematic_limit``: ``v / cos γ``, until
   the vertical limit ``WPNAV_SPEED_UP``/``_DN`` binds, at ``tan γ`` over their ratio to it), so the speed through
   the water is the command's times :func:`along_track_factor`; a vertical leg (the launch from a home above the
-  first item) flies at the vertical limit, which the file does not hold either: judged at the command's speed.
+  first item) flies at the vertical limit, which the file does not hold either: judged at the command's speed,
+  and so is the vertical limit of every leg (:func:`flown_speed_factor`: ``v / max(cos γ, |sin γ|)``, continuous up
+  to the vertical; without it a waypoint 2 cm beside a plumb dive of 90 m was flown at 4 500 m/s).
   ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of the mission's time, never uploaded to
   the vehicle: not read as a speed;
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
@@ -41,7 +43,8 @@ from . import parsed
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
-__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "along_track_factor", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
+__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "along_track_factor", "flown_speed_factor", "judged_leg_speeds", "read_holds",
+           "read_leg_speeds"]
 
 
 def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -62,6 +65,29 @@ def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
     flat = np.hypot(d[:, 0], d[:, 1])
     full = np.linalg.norm(d, axis=1)
     return np.where(flat > 0.0, full / np.where(flat > 0.0, flat, 1.0), 1.0)
+
+
+def flown_speed_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The speed along each leg per unit of commanded speed, as ``mission check`` judges a ``.plan`` (module notes).
+
+    ArduPilot's ``kinematic_limit`` with the horizontal and the vertical limit both the command's speed (the file
+    holds no ``WPNAV_SPEED_UP``/``_DN``; a vertical leg is judged at the command's speed): :func:`along_track_factor`
+    up to 45°, ``1 / |sin γ|`` steeper.
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N - 1,)`` the leg's length over the larger of its horizontal and vertical lengths; 1 for a leg of no length.
+    """
+    d = np.diff(np.asarray(points, dtype=float), axis=0)
+    span = np.maximum(np.hypot(d[:, 0], d[:, 1]), np.abs(d[:, 2]))
+    full = np.linalg.norm(d, axis=1)
+    return np.where(span > 0.0, full / np.where(span > 0.0, span, 1.0), 1.0)
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -206,7 +232,7 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
         The scenario vehicle's speed (m/s).
     points : numpy.ndarray, optional
         ``(legs + 1, 3)`` the file's waypoints (m): a ``.plan``'s speed commands are horizontal, so each leg they
-        set is flown at their speed times :func:`along_track_factor` through the water (without: as written).
+        set is flown at their speed times :func:`flown_speed_factor` through the water (without: as written).
 
     Returns
     -------
@@ -227,7 +253,7 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
         else:
             line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
     if points is not None and path.suffix.lower() == ".plan":  # WPNav keeps the horizontal speed: faster on a slope
-        v = v * along_track_factor(points)
+        v = v * flown_speed_factor(points)  # up to the vertical limit
     return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
 
 

@@ -1,0 +1,69 @@
+"""Audit 22 of this session's merges (``git diff 6bd4b09``).
+
+1. ``mission check`` flew a ``.plan``'s speed command at ``v / cos γ`` along every leg (audit 20) with no vertical
+   limit, so a leg that drops almost straight down was judged at thousands of m/s: a waypoint 2 cm beside the one
+   above it, 90 m deeper (one MAVLink position quantum from a plumb dive, which a hand-made or QGroundControl
+   plan easily has), was flown at 4 500 m/s for 2.9 × 10⁶ Wh, RESERVE_BROKEN, where the plumb dive next to it is
+   judged at the command's speed (6.3 Wh).  ArduPilot's ``kinematic_limit`` (``AP_Math/control.cpp``) bounds the
+   speed along a leg by the vertical limit too (``max_z / |dir.z|``); the file does not hold
+   ``WPNAV_SPEED_UP``/``_DN``, and a vertical leg is judged at the command's speed, so the vertical limit is taken
+   as that speed on every leg.  Oracle: ``kinematic_limit`` transcribed from ArduPilot below.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from auvplan.io.data.geo import LocalFrame
+from auvplan.io.missions.energy import mission_file_energy
+from auvplan.io.scenario import loader
+from helpers import HOLDS
+
+
+def kinematic_limit(direction, max_xy: float, max_z_pos: float, max_z_neg: float) -> float:
+    """ArduPilot's ``kinematic_limit`` (AP_Math/control.cpp), line for line: the largest speed along
+    ``direction`` (x, y, z up) within the horizontal and vertical limits."""
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    xy = math.hypot(d[0], d[1])
+    if xy == 0.0:
+        return max_z_pos if d[2] > 0 else max_z_neg
+    if d[2] == 0.0:
+        return max_xy
+    slope = d[2] / xy
+    if slope > 0:
+        return max_xy / xy if abs(slope) < max_z_pos / max_xy else abs(max_z_pos / d[2])
+    return max_xy / xy if abs(slope) < max_z_neg / max_xy else abs(max_z_neg / d[2])
+
+
+def _plan(tmp_path, frame: LocalFrame, items, speed: float):
+    its = [{"type": "SimpleItem", "command": 178, "frame": 2, "params": [1, speed, -1, 0, 0, 0, 0]}]
+    for x, y, z in items:
+        lon, lat = frame.inverse(x, y)
+        its.append({"type": "SimpleItem", "command": 16, "frame": 3,
+                    "params": [0, 0, 0, None, float(lat), float(lon), float(z)]})
+    lon, lat = frame.inverse(*items[0][:2])
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps({"mission": {"plannedHomePosition": [float(lat), float(lon), 0], "items": its}}))
+    return path
+
+
+@pytest.mark.parametrize(("offset", "dz"), [(0.0, -90.0), (0.02, -90.0), (0.5, -90.0), (40.0, -90.0),
+                                            (90.0, -90.0), (300.0, -90.0), (0.3, 60.0), (20.0, 60.0)])
+def test_a_near_vertical_leg_is_flown_within_the_vertical_limit(tmp_path, offset, dz):
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS, encoding="utf-8")
+    world, mission = loader.build(loader.load(str(scen)))
+    speed = 1.2
+    items = [[500.0, 1000.0, -100.0], [500.0 + offset, 1000.0, -100.0 + dz], [1500.0, 1000.0, -100.0 + dz]]
+    rec = mission_file_energy(world, mission, _plan(tmp_path, LocalFrame(*world.origin), items, speed))[0]
+    p = np.array([[500.0, 1000.0, 0.0], *items])  # the launch from the home above item 0
+    want = [kinematic_limit(b - a, speed, speed, speed) for a, b in zip(p[:-1], p[1:])]
+    assert rec["leg_speeds_mps"] == pytest.approx(want, rel=1e-5)  # offset 2 cm: 5 400 m/s before
+    legs = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    assert rec["duration_s"] == pytest.approx(float(np.sum(legs / np.array(want))), rel=1e-5)
+    assert rec["energy_status"] == "EXACT"  # RESERVE_BROKEN by 10⁶ Wh before
