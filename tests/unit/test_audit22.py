@@ -8,6 +8,10 @@
    speed along a leg by the vertical limit too (``max_z / |dir.z|``); the file does not hold
    ``WPNAV_SPEED_UP``/``_DN``, and a vertical leg is judged at the command's speed, so the vertical limit is taken
    as that speed on every leg.  Oracle: ``kinematic_limit`` transcribed from ArduPilot below.
+2. A hold on station sampled the current at 16 instants however long it was (up to 65 535 s): a hold of 16 periods
+   of a current ``1 + sin`` (4 000 s) sampled it once a period, always at sin = 0, so a current that passes the
+   vehicle's 1.8 m/s top speed every period was 'EXACT' at P(1 m/s) for the whole 64 000 s.  Oracle: the
+   current's peak by hand against the top speed, and the mean of P(1 + sin) over whole periods by fine quadrature.
 """
 
 from __future__ import annotations
@@ -18,9 +22,13 @@ import math
 import numpy as np
 import pytest
 
+from auvplan._types import Status
+from auvplan.endurance import EnergyModel
+from auvplan.endurance.budget import mission_budget
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.energy import mission_file_energy
 from auvplan.io.scenario import loader
+from auvplan.world.currents.fields import CurrentField
 from helpers import HOLDS
 
 
@@ -67,3 +75,48 @@ def test_a_near_vertical_leg_is_flown_within_the_vertical_limit(tmp_path, offset
     legs = np.linalg.norm(np.diff(p, axis=0), axis=1)
     assert rec["duration_s"] == pytest.approx(float(np.sum(legs / np.array(want))), rel=1e-5)
     assert rec["energy_status"] == "EXACT"  # RESERVE_BROKEN by 10⁶ Wh before
+
+
+PERIOD = 4000.0
+
+
+class _Surge(CurrentField):
+    """``(1 + sin(2π t / PERIOD), 0, 0)`` m/s everywhere."""
+
+    def velocity(self, points, t=0.0):
+        out = np.zeros(np.asarray(points, dtype=float).shape)
+        out[..., 0] = 1.0 + math.sin(2.0 * math.pi * t / PERIOD)
+        return out
+
+    @property
+    def steady(self) -> bool:
+        return False
+
+    @property
+    def max_speed(self) -> float:
+        return 2.0
+
+
+@pytest.mark.parametrize("periods", [16, 8])
+def test_a_long_hold_samples_the_current_often_enough_to_see_its_peaks(tmp_path, periods):
+    from dataclasses import replace
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS, encoding="utf-8")
+    world = replace(loader.build(loader.load(str(scen)))[0], currents=_Surge())
+    route = np.array([[0.0, 0.0, -15.0], [1000.0, 0.0, -15.0], [2000.0, 0.0, -15.0]])
+    hold = periods * PERIOD  # 64 000 s: within a .plan's 65 535 s
+
+    def budget(max_speed):
+        dwell = np.array([0.0, hold, 0.0])
+        return mission_budget(world, route, EnergyModel(max_speed=max_speed), 1.2, 0.0, 50.0, None, dwell, dwell > 0)
+
+    blocked = budget(1.8)  # 1 + sin passes 1.8 m/s for 819 s of every period
+    assert blocked.status is Status.INFEASIBLE and "the hold at waypoint 1" in blocked.message
+    b = budget(2.05)
+    model = EnergyModel(max_speed=2.05)
+    t = np.linspace(0.0, PERIOD, 200001)
+    mean_power = float(np.mean(model.power(1.0 + np.sin(2.0 * math.pi * t[:-1] / PERIOD))))  # whole periods
+    moving = float(b.t_end[1] - b.t_start[1]) - hold
+    held_wh = float(b.energy_leg_wh[1]) - float(model.power(b.speed_water[1])) * moving / 3600.0
+    assert b.status is Status.EXACT and held_wh == pytest.approx(mean_power * hold / 3600.0, rel=1e-3)
