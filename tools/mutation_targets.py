@@ -1401,3 +1401,37 @@ REASONS.update({
     "merge_short_legs | if 0 < j < len(q) + 1 and (not pinned[idx[j]]) and _droppable(world, q, j, max_pitch_deg):":
         _MERGE_ENDS,
 })
+
+# ---- round 7 (7 Dec 2026, ~02:30; docs/mutants.md section 7, mutants20): this session's hostile20/fix20 code
+# holds on station (the last item's hold, Traverse.end_hold) and their drift without bottom lock, the launch band,
+# the readers' new guards (a GeoJSON's CRS, a tide file, the 50 m/s current cap, run.npz's arrays, bench rows),
+# the simulation's step cap and the zones' nearest-distance kernel
+END_BUDGET, NAV_BUDGET, NAV_MISSION = "auvplan.endurance.budget", "auvplan.nav.budget", "auvplan.nav.mission"
+PARSED, MEN = "auvplan.io.missions.parsed", "auvplan.io.missions.energy"
+JSONCRS, TIDECHECK = "auvplan.io.data.vector.jsoncrs", "auvplan.io.data.ocean.tidecheck"
+OCURRENTS, READBACK, ROWS = "auvplan.io.data.ocean.currents", "auvplan.io.results.readback", "auvplan.bench.rows"
+ZEXACT = "auvplan.world.zones.exact"
+MODULES.update({
+    "hold-station": Target(
+        _fns(END_BUDGET, "Traverse.duration", "_held_water", "budget_of", "_blocked_hold", "_verdict")
+        + ((END_BUDGET, "traverse", "end = float(hold[-1])", "return Traverse("),),
+    ),
+    "hold-drift": Target(
+        _fns(NAV_BUDGET, "hold_drift", "mission_budget")
+        + ((NAV_MISSION, "check_navigation", "budget = mission_budget(", "grown in the last waypoint's hold"),),
+    ),
+    "launch-band": Target(
+        ((LIMITS, "waypoint_limits"), (LIMITS, "WaypointLimits.reasons", "if self.outside_depth_band:",
+                                       "outside the depth band (waypoint")),
+    ),
+    "parse-once": Target(_fns(PARSED, "parse_once", "loads", "remembered") + _fns(MEN, "file_energy_holds")),
+    "readers20": Target(
+        _fns(JSONCRS, "_stated", "check_geojson_crs")
+        + _fns(TIDECHECK, "_number", "_list", "_tables", "_station", "check_tide_doc")
+        + ((OCURRENTS, "_component", "if np.isinf(arr).any():", "declare a fill value as _FillValue"),
+           (OCURRENTS, "_finish", "for c, arr in comps.items():", "raise DataError(")),
+    ),
+    "readback-rows": Target(_fns(READBACK, "_points", "_check_arrays") + _fns(ROWS, "read_rows")),
+    "step-cap": Target(_fns(SIM_LOOP, "_check_steps")),
+    "zones-near": Target(_fns(ZEXACT, "near_distance_kernel", "_near_zones"), jit=False),
+})
