@@ -101,7 +101,8 @@ def test_a_zero_length_leg_has_no_ground_speed(world):
 @pytest.mark.parametrize("where", ["hold", "flight"])
 def test_the_reserve_entered_in_the_last_hold_or_in_the_last_flight_is_named_so(world, where):
     """60 s held in 0.5 m/s: P(0.5) x 60 s = 0.26 Wh (under 1 Wh); the battery's budget (0.9 - 0.2) B put between
-    the flight's and the flight + hold's energy (the hold), or between legs 1's and 2's cumulated energy (the flight)."""
+    the flight's and the flight + hold's energy (the hold), or between legs 1's and 2's cumulated energy (the
+    flight)."""
     tr = _held(world, 60.0, _Field(a=0.2, b=1e-4))
     e = budget_of(tr, EnergyModel(max_speed=2.0))
     hold_wh = float(EnergyModel().power(0.5)) * 60.0 / WH

@@ -48,7 +48,8 @@ _RANGES = ([(("stations", 0, k), lo, hi) for k, lo, hi in _STATION]
               (("node_factor", 0, 0), 0.0, 10.0)])
 
 
-@pytest.mark.parametrize(("path", "lo", "hi"), _RANGES, ids=[str(r[0][2] if r[0][0] == "stations" else r[0][0]) for r in _RANGES])
+@pytest.mark.parametrize(("path", "lo", "hi"), _RANGES,
+                         ids=[str(r[0][2] if r[0][0] == "stations" else r[0][0]) for r in _RANGES])
 def test_each_tide_range_takes_its_ends_and_refuses_the_next_float(path, lo, hi):
     for v in (lo, hi):
         check_tide_doc(_set(_doc(), path, v), "t.json")
