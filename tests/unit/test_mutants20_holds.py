@@ -83,6 +83,7 @@ def test_the_last_vertex_hold_is_a_node_at_its_end_at_the_current_of_that_vertex
     assert b.t_end[-1] == pytest.approx(tr.times[-1] + 600.0)
     short = _held(world, 0.5, _Field(a=0.2, b=1e-4))  # half a second held is a hold
     assert short.end_hold == 0.5 and short.duration == pytest.approx(flown + 0.5, abs=1e-9)
+    assert short.node_t[-1] == pytest.approx(short.times[-1] + 0.5) and short.hold_water[-1, 0] == pytest.approx(0.5)
 
 
 def test_the_hold_is_sampled_at_the_midpoints_of_its_parts(world):
