@@ -1435,3 +1435,53 @@ MODULES.update({
     "step-cap": Target(_fns(SIM_LOOP, "_check_steps")),
     "zones-near": Target(_fns(ZEXACT, "near_distance_kernel", "_near_zones"), jit=False),
 })
+_SHAPE_ONLY = "equivalent: dur only gives the shape of held and rest (every figure uses t_end, t_start and moving)"
+_RESERVE_TOL = ("boundary: the verdict's 1e-9 x battery_wh tolerance itself (a margin or a remaining energy exactly at "
+                "the reserve's floor)")
+REASONS.update({
+    "budget_of | dur = t_end + t_start": _SHAPE_ONLY,
+    "budget_of | rest = model.power(0.0) / np.ones(dur.shape)": "equivalent: a division by ones",
+    "_verdict | if margin <= -1e-09 * model.battery_wh:": _RESERVE_TOL,
+    "_verdict | over = int(np.argmax(remaining <= floor))": _RESERVE_TOL,
+    "_verdict | if over == cum.size - 1 and end_wh > 0 and (remaining[-1] + end_wh > floor):": _RESERVE_TOL,
+    "_verdict | if over == cum.size - 1 and end_wh >= 0 and (remaining[-1] + end_wh >= floor):":
+        ("equivalent: with end_wh = 0 the test is remaining[-1] >= floor, false whenever the reserve is entered on "
+         "the last leg (remaining[over] < floor)"),
+    "traverse | end = float(hold[-1]) if ok and held_on[-1] and (hold[-1] >= 0.0) else 0.0":
+        "equivalent: a hold of 0 s gives end = 0.0 either way, and no node is added (if end > 0.0)",
+    "waypoint_limits | w = as_points(waypoints).reshape(-2, 3)":
+        "equivalent: numpy infers the length of any negative dimension, -2 as -1",
+    ("WaypointLimits.reasons | side = f'deeper than max_depth_m = {self.max_depth_m:g}' if depth >= self.max_depth_m "
+     "else f'shallower than min_depth_m = {self.min_depth_m:g}'"):
+        "equivalent: a waypoint at exactly max_depth_m is in the band, never listed outside it",
+    "check_geojson_crs | if data.find(b'\"crs\"') <= 0:":
+        ("equivalent: a file whose first bytes are \"crs\" is a JSON string, not an object: it is left alone a few "
+         "lines below (not a dict) either way"),
+    "check_geojson_crs | if data.find(b'\"crs\"') < 1:":
+        ("equivalent: a file whose first bytes are \"crs\" is a JSON string, not an object: it is left alone a few "
+         "lines below (not a dict) either way"),
+    "_number | span = '' if (lo, hi) == (math.inf, math.inf) else f' in [{lo:g}, {hi:g}]'":
+        "equivalent: every caller passes both ends, so (lo, hi) is never (-inf, inf) and the range is always named",
+    ("_finish | big = np.abs(np.where(np.isfinite(arr), arr, 1.0)) > MAX_CURRENT_MPS"):
+        "equivalent: the placeholder of a NaN (a land cell) is 0 or 1 m/s, both far under the 50 m/s cap",
+})
+_MINLENGTH = ("equivalent: every leg holds at least one sample, so np.bincount's own length is already N - 1; a "
+              "smaller minlength changes nothing")
+_LEG_EDGE = "boundary: a leg's predicted error within 1e-9 of max_error_m times itself, the tolerance itself"
+REASONS.update({
+    "mission_budget | p = np.asarray(points, dtype=float).reshape(-2, 3)":
+        "equivalent: numpy infers the length of any negative dimension, -2 as -1",
+    "mission_budget | fixes = [i for i, k in enumerate(kinds) if k and i >= 0]":
+        ("equivalent: a fix at waypoint 0 resets sigma_profile at sample 0 to the start's own sigma (fix_sigma of "
+         "kinds[0]), with D = 0 there: the same profile"),
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 2) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)"): _MINLENGTH,
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 2), 1e-12)"): _MINLENGTH,
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 1), 1.000000000001)"):
+        "equivalent: the floor only divides a leg of no length, whose locked length is 0 too: 0 either way",
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m >= nav.max_error_m * (1.0 + 1e-09))": _LEG_EDGE,
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m / (1.0 + 1e-09))": _LEG_EDGE,
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 - 1e-09))": _LEG_EDGE,
+})
