@@ -5,6 +5,7 @@ memo and gives the outer one back."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from auvplan.io.missions import parsed
@@ -49,3 +50,54 @@ def test_a_nested_block_has_its_own_memo_and_gives_the_outer_one_back():
             assert parsed.loads("[1]") is not a
         assert parsed.loads("[1]") is a
     assert parsed.loads("[1]") is not a
+
+
+def _mission(tmp_path, holds, current=0.5):
+    import json
+
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.scenario import loader
+    from helpers import HOLDS
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS + f"[currents]\nuniform = [0.0, {current}, 0.0]\n")
+    world, mission = loader.build(loader.load(str(scen)))
+    frame = LocalFrame(-7.0, 70.8)
+    items = []
+    for x, p1 in zip((500.0, 1500.0, 2500.0), holds):
+        lon, lat = frame.inverse(x, 1000.0)
+        items.append({"type": "SimpleItem", "command": 16, "frame": 3,
+                      "params": [p1, 0, 0, None, float(lat), float(lon), -15.0]})
+    lon, lat = frame.inverse(500.0, 1000.0)
+    plan = tmp_path / "m.plan"
+    plan.write_text(json.dumps({"mission": {"plannedHomePosition": [float(lat), float(lon), 0], "items": items}}))
+    return world, mission, plan
+
+
+def test_the_water_moved_through_in_each_hold_is_the_hold_times_the_current(tmp_path):
+    """Uniform 0.5 m/s: holds of 0, 600 and 300 s at the three items (home first, no hold): 0, 0, 300 and 150 m."""
+    from auvplan.io.missions.energy import file_energy_holds
+
+    world, mission, plan = _mission(tmp_path, [0, 600, 300])
+    rec, ok, _line, moved = file_energy_holds(world, mission, plan)
+    assert ok and rec["energy_status"] == "EXACT" and len(rec["leg_speeds_mps"]) == 3
+    np.testing.assert_allclose(moved, [0.0, 0.0, 300.0, 150.0], rtol=1e-9)
+    assert file_energy_holds(world, mission, _mission(tmp_path, [0, 0, 0])[2])[3] is None  # no hold: None
+
+
+def test_a_two_point_plan_is_flown(tmp_path):
+    """Home above item 1 and one more item 1000 m east (no current): one leg of P(V) x 1000 / V; the vertical launch
+    leg of 15 m first."""
+    import json
+
+    from auvplan.endurance import EnergyModel
+    from auvplan.io.missions.energy import file_energy_holds
+
+    world, mission, plan = _mission(tmp_path, [0, 0, 0], current=0.0)
+    doc = json.loads(plan.read_text())
+    doc["mission"]["items"] = doc["mission"]["items"][:1]  # home and one item: two waypoints, one 15 m leg
+    plan.write_text(json.dumps(doc))
+    rec, ok, _line, moved = file_energy_holds(world, mission, plan)
+    v = mission.vehicle.speed
+    want = float(EnergyModel.from_vehicle(mission.vehicle).power(v)) * 15.0 / v / 3600.0
+    assert ok and moved is None and rec["energy_wh"] == pytest.approx(want, rel=1e-6)
