@@ -36,3 +36,36 @@ def test_a_position_row_that_is_not_finite_is_named():
     arr["route"] = np.zeros((2, 2))
     with pytest.raises(readback._ArrayFault, match=r"member 'route' has the shape \(2, 2\), not \(N, 3\)"):
         readback._check_arrays(arr, flown=False)
+
+
+def _rows(path, seeds, newline="\r\n", tail=""):
+    from auvplan.bench import COLUMNS
+
+    def line(seed):
+        values = {k: "" for k in COLUMNS} | {"scenario": "track-single", "planner": "route", "guidance": "hybrid",
+                                             "seed": seed, "status": "EXACT", "wall_s": "0.5"}
+        return ",".join(values[k] for k in COLUMNS) + newline
+
+    path.write_text(",".join(COLUMNS) + newline + "".join(line(s) for s in seeds) + tail, encoding="utf-8",
+                    newline="")
+    return path
+
+
+def test_a_bad_row_is_skipped_not_the_end_of_the_file(tmp_path):
+    """The rows after a dropped one are read (a seed 'x' first, then 0 and 1)."""
+    from auvplan.bench import read_rows
+
+    assert [r["seed"] for r in read_rows(_rows(tmp_path / "r.csv", ["x", "0", "1"]))] == ["0", "1"]
+
+
+def test_complete_lines_are_read_whatever_their_ending_and_a_partial_one_is_not(tmp_path):
+    """LF-only lines keep their last field; a line cut by a kill (no newline) is left for the sweep to redo; a file
+    cut inside its header (no newline yet) holds no row and is no foreign file."""
+    from auvplan.bench import COLUMNS, read_rows
+
+    rows = read_rows(_rows(tmp_path / "lf.csv", ["0", "1"], newline="\n"))
+    assert [r["seed"] for r in rows] == ["0", "1"] and all(None not in r.values() for r in rows)
+    cut = read_rows(_rows(tmp_path / "cut.csv", ["0"], tail="track-single,route,hy"))
+    assert [r["seed"] for r in cut] == ["0"]
+    (tmp_path / "head.csv").write_text(",".join(COLUMNS)[:7], encoding="utf-8")
+    assert read_rows(tmp_path / "head.csv") == []
