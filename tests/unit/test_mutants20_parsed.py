@@ -75,13 +75,14 @@ def _mission(tmp_path, holds, current=0.5):
 
 
 def test_the_water_moved_through_in_each_hold_is_the_hold_times_the_current(tmp_path):
-    """Uniform 0.5 m/s: holds of 0, 600 and 300 s at the three items (home first, no hold): 0, 0, 300 and 150 m."""
+    """Uniform 0.5 m/s: holds of 0, 600 and 1 s (the least a .plan holds) at the three items (home first, no hold):
+    0, 0, 300 and 0.5 m."""
     from auvplan.io.missions.energy import file_energy_holds
 
-    world, mission, plan = _mission(tmp_path, [0, 600, 300])
+    world, mission, plan = _mission(tmp_path, [0, 600, 1])
     rec, ok, _line, moved = file_energy_holds(world, mission, plan)
     assert ok and rec["energy_status"] == "EXACT" and len(rec["leg_speeds_mps"]) == 3
-    np.testing.assert_allclose(moved, [0.0, 0.0, 300.0, 150.0], rtol=1e-9)
+    np.testing.assert_allclose(moved, [0.0, 0.0, 300.0, 0.5], rtol=1e-9)
     assert file_energy_holds(world, mission, _mission(tmp_path, [0, 0, 0])[2])[3] is None  # no hold: None
 
 
