@@ -1485,3 +1485,77 @@ REASONS.update({
     "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m / (1.0 + 1e-09))": _LEG_EDGE,
     "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 - 1e-09))": _LEG_EDGE,
 })
+# mutants20's survivors of parse-once (file_energy_holds) and zones-near, argued or left open
+REASONS.update({
+    'loads | if hit is not None and (hit[1] is text or hit[0] == text):':
+        'equivalent: hit[0] is text implies hit[0] == text; the equality decides alone (the identity is a shortcut)',
+    ('file_energy_holds | waypoints = read_mission(path, world.origin, world.seabed if world.terrain is None els'
+     'e None)[0]'):
+        ('not killed (a line moved unchanged from mission_file_energy): the seabed handed to the reader only mat'
+         'ters for a terrain-frame .plan on a world with a seabed, which no energy test reads'),
+    'file_energy_holds | if waypoints.shape[1] < 2:':
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 1.0}, True, 'energy: a single point, n"
+     "othing to fly', None)"):
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 0.0}, False, 'energy: a single point, "
+     "nothing to fly', None)"):
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    'file_energy_holds | if not np.isfinite(waypoints).any():':
+        'equivalent: read_mission refuses a waypoint that is not finite before this line (the guard is a second one)',
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is not None else np.array([nav.surface'
+     "_s if k == 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+     "f k != 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+     "f k == 'gps' else 1.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    'file_energy_holds | station = None if held is None else held >= 0':
+        'equivalent: a vertex of no hold marked on station holds for 0 s: traverse acts only where the hold is > 0',
+    'near_distance_kernel | count = 1':
+        'equivalent: count is always set at the first point (n == 0) before it is read',
+    'near_distance_kernel | if n != 0 or px != p[n - 1, 0] or py != p[n - 1, 1]:':
+        ('not killed (only time): n != 0 recomputes the zones at each point, the same answers; the first point t'
+         'hen reads count 0 and finds no zone: NOT equivalent at n = 0, open'),
+    'near_distance_kernel | if n == 1 or px != p[n - 1, 0] or py != p[n - 1, 1]:':
+        'not killed: the column test on the first point; open',
+    'near_distance_kernel | if n == 0 or px != p[n - 1, 1] or py != p[n - 1, 1]:':
+        'not killed: the column test compares x with the point before it; open',
+    'near_distance_kernel | if n == 0 or px != p[n - 1, 0] or py != p[n - 1, 2]:':
+        'not killed: the column test compares y with the point before it; open',
+    'near_distance_kernel | if dh == 0.0 and out_v < 0.0:':
+        ("boundary: a point exactly on a zone's floor or ceiling (out_v = 0) inside its footprint: -min(edge, 0)"
+         ' = 0 and hypot(0, 0) = 0 either way'),
+    'near_distance_kernel | if dh == 0.0 and out_v <= 1.0:':
+        'not killed: open (inside the footprint, 0 < out_v <= 1 m then reads as inside)',
+    '_near_zones | for jj in range(min(j - reach, 0), min(j + reach, ny - 1) + 1):':
+        ("equivalent in value: a negative start row wraps to other cells' lists: more zones measured exactly, th"
+         'e minimum unchanged'),
+    '_near_zones | for jj in range(max(j - reach, 1), min(j + reach, ny - 1) + 1):':
+        "not killed: the scan skips row 0 of the cells; open (no test puts a zone listed only in the grid's first row)",
+    '_near_zones | for jj in range(max(j - reach, 0), min(j + reach, ny - 2) + 1):':
+        'not killed: the scan skips the last row; open',
+    '_near_zones | for ii in range(min(i - reach, 0), min(i + reach, nx - 1) + 1):':
+        ("equivalent in value: a negative start column reads other cells' lists: more zones measured, the minimu"
+         'm unchanged'),
+    '_near_zones | for ii in range(max(i - reach, 1), min(i + reach, nx - 1) + 1):':
+        'not killed: the scan skips column 0; open',
+    '_near_zones | for ii in range(max(i - reach, 0), max(i + reach, nx - 1) + 1):':
+        'equivalent in value: more columns scanned, more zones measured exactly, the minimum unchanged',
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx + 1) + 1):':
+        "equivalent in value: more columns scanned (wrapping to the next row's cells), the minimum unchanged",
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 2) + 1):':
+        'not killed: the scan skips the last column; open',
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 2):':
+        'not killed: the scan skips the last column; open',
+    '_near_zones | for q in range(start[c], start[c + 2]):':
+        "equivalent in value: a cell's list read with the next cell's, more zones measured, the minimum unchanged",
+})
