@@ -119,3 +119,21 @@ def test_kernels_wait_for_their_first_use_and_inspect_imports_no_optimiser_or_du
     got = json.loads(run.stdout.strip().splitlines()[-1])
     assert got == [0, True, True, ["_Deferred", "_Deferred"], True, ["xarray"], ["CPUDispatcher", True],
                    [False, True, "numba.np.linalg", False, True]], run.stderr
+
+
+def test_a_plan_without_files_imports_no_pyproj_and_flies_nothing() -> None:
+    """Issue 56: ``plan flow-spheres`` (no file) projects nothing, so pyproj is not imported (a ``LocalFrame``
+    makes its transformers at their first use), and a plan flies no mission: ``auvplan.sim`` loads its loop
+    and pipeline, and with them guidance, only when they are read."""
+    probe = ("import contextlib, io, json, sys\nfrom auvplan.cli import main\n"
+             "with contextlib.redirect_stdout(io.StringIO()):\n    code = main(['plan', 'flow-spheres', '--json'])\n"
+             "print(json.dumps([code, sorted(sys.modules)]))")
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    code, modules = json.loads(run.stdout.strip().splitlines()[-1])
+    assert code == 0 and "auvplan.sim.problem" in modules, run.stderr
+    late = ("pyproj", "auvplan.sim.loop", "auvplan.sim.pipeline", "auvplan.guidance.mission")
+    assert not [m for m in modules if m in late or m.startswith("pyproj.")], modules
+    import auvplan.sim as sim
+
+    assert sim.run_mission.__module__ == "auvplan.sim.pipeline" and "simulate" in dir(sim)
+    assert sim.planning_problem is sys.modules["auvplan.sim.pipeline"].planning_problem

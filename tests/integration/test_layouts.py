@@ -288,3 +288,6 @@ def test_data_inspect_reports_what_was_detected(tmp_path, capsys):
     assert "GeoTIFF" in out and "projected grid" in out and "UTM zone 57N" in out
     assert cli.main(["data", "inspect", str(tmp_path / "none.nc")]) == 2
     assert "none.nc: file not found" in capsys.readouterr().err
+    # a folder (or a FIFO) exists: not "file not found" (docwalk20: a FIFO read "file not found")
+    assert cli.main(["data", "inspect", str(tmp_path)]) == 2
+    assert f"{tmp_path}: not a regular file (a FIFO, a device or a folder)" in capsys.readouterr().err

@@ -216,7 +216,11 @@ def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_pa
     flown = pts.copy()
     flown[0, 2] = -0.01  # the surface a centimetre deep (ArduSub reads 0 as "hold the current altitude")
     assert np.allclose(got, np.vstack([[*pts[0, :2], 0.0], flown]), atol=1e-3)  # home on the surface, the items
-    assert read_leg_speeds(path, 4).tolist() == [1.0, 1.0, 1.5, 2.0]  # the launch at the leading 178's, then leg i's
+    # the launch at the leading 178's, then leg i's; each a level speed (audit 20: WPNav flies it at v / cos γ)
+    from auvplan.io.missions.speeds import along_track_factor
+
+    cos0 = 2000.0 / np.hypot(2000.0, 150.0)
+    assert read_leg_speeds(path, 4) * along_track_factor(got) == pytest.approx([cos0, 1.0, 1.5, 2.0], abs=1e-4)
 
 
 def test_the_walk_names_a_malformed_generated_item(tmp_path):
@@ -239,6 +243,8 @@ def test_an_item_at_altitude_zero_is_refused_and_the_export_writes_the_surface_a
     with pytest.raises(DataError, match=r"mission\.items\[1\]: altitude .* 'hold the current altitude'"):
         read_mission(path, (16.0, 145.0))
     doc = to_qgc_plan([[0.0, 0.0, 0.0], [100.0, 0.0, -20.0], [200.0, 0.0, alt]], (16.0, 145.0), 1.0)
-    assert [it["params"][6] for it in doc["mission"]["items"]] == [0, -0.01, -20.0, -0.01]  # a leading 178, the items
+    items = doc["mission"]["items"]  # a leading 178, the items (a level speed command after each: audit 20)
+    assert items[0]["command"] == 178
+    assert [it["params"][6] for it in items if it["command"] == 16] == [-0.01, -20.0, -0.01]
     path.write_text(json.dumps(doc))
     assert np.allclose(read_mission(path, (16.0, 145.0))[0][1:, 2], [-0.01, -20.0, -0.01])

@@ -54,6 +54,9 @@ POINTS = np.array([[200.0, -300.0, -10.0], [1500.0, -300.0, -30.0], [1500.0, 120
                    [4000.0, 2000.0, -20.0]])
 # the legs as the check flies them: the launch from the home on the surface above the first point, then the items
 LEGS = np.r_[10.0, np.linalg.norm(np.diff(POINTS, axis=0), axis=1)]
+# each leg's horizontal length over its length (the launch is vertical: 1): WPNav flies a 178's speed v level,
+# at v / cos γ along the leg (audit 20)
+COS = np.r_[1.0, np.hypot(*np.diff(POINTS, axis=0)[:, :2].T) / LEGS[1:]]
 
 
 def _check(tmp_path, doc, json_out=True):
@@ -95,11 +98,16 @@ def _energy_wh(speeds):
 def test_the_export_begins_with_a_speed_command_at_the_planned_speed():
     """Byte-level: the first item, before any NAV item, is QGC's own "Mission Start" speed item (speed type 1, the
     speed in param 2, throttle -1, MAV_FRAME_MISSION)."""
-    items = to_qgc_plan(POINTS, ORIGIN, 1.5)["mission"]["items"]
+    items = to_qgc_plan(POINTS[[0, 2, 3]] * [1, 1, 0] - [0, 0, 20], ORIGIN, 1.5)["mission"]["items"]  # level legs
     assert json.dumps(items[0]) == ('{"type": "SimpleItem", "autoContinue": true, "command": 178, "doJumpId": 1, '
                                     '"frame": 2, "params": [1, 1.5, -1, 0, 0, 0, 0]}')
-    assert [it["command"] for it in items] == [178, 16, 16, 16, 16]
-    assert [it["doJumpId"] for it in items] == [1, 2, 3, 4, 5]
+    assert [it["command"] for it in items] == [178, 16, 16, 16]
+    assert [it["doJumpId"] for it in items] == [1, 2, 3, 4]
+    # the speed is horizontal (audit 20: WPNav keeps a 178's speed level): the climbs and dives of POINTS are
+    # commanded at 1.5 cos γ, each after its waypoint
+    items = to_qgc_plan(POINTS, ORIGIN, 1.5)["mission"]["items"]
+    assert [it["params"][1] for it in items if it["command"] == 178] == pytest.approx(
+        np.r_[COS[1], COS[1:]] * 1.5, abs=5e-5)
 
 
 def test_a_plan_qgc_wrote_without_a_speed_command_is_judged_at_the_vehicle_s_speed_and_says_so(tmp_path):
@@ -125,7 +133,7 @@ def test_speed_commands_that_set_no_leg_s_speed_are_named_as_such(tmp_path, afte
 
 def test_legs_before_a_late_speed_command_are_named_and_the_rest_fly_its_speed(tmp_path):
     code, rec = _check(tmp_path, _qgc_written(speed_item_after=1))  # the 178 is mission.items[2]
-    want = np.array([1.0, 1.0, 1.5, 1.5])
+    want = np.array([1.0, 1.0, 1.5, 1.5]) / np.r_[1.0, 1.0, COS[2:]]  # the 178's speed is level (audit 20)
     assert code == 0 and rec["speed_assumed_legs"] == [0, 1] and rec["energy"]["leg_speeds_mps"] == pytest.approx(want)
     assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-9)
     _, text = _check(tmp_path, _qgc_written(speed_item_after=1), json_out=False)
@@ -138,8 +146,9 @@ def test_the_export_is_judged_at_its_planned_speed(tmp_path):
     code, rec = _check(tmp_path, to_qgc_plan(POINTS, ORIGIN, 1.5))
     assert code == 0 and rec["speed_assumed_legs"] == [] and rec["speed_assumed_mps"] is None
     # (the export writes lat/lon to 1e-9 degree: its legs are the planned ones to 0.1 mm)
-    assert rec["energy"]["duration_s"] == pytest.approx(LEGS.sum() / 1.5, rel=1e-7)
-    assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(np.full(4, 1.5)), rel=1e-7)
+    # (the export writes lat/lon to 1e-9 degree, and each leg's level speed 1.5 cos γ to 1e-4 m/s)
+    assert rec["energy"]["duration_s"] == pytest.approx(LEGS.sum() / 1.5, rel=1e-4)
+    assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(np.r_[1.5 * COS[1], np.full(3, 1.5)]), rel=1e-4)
     assert "leg speeds" not in _check(tmp_path, to_qgc_plan(POINTS, ORIGIN, 1.5), json_out=False)[1]
 
 
@@ -148,20 +157,21 @@ def test_per_leg_speeds_are_kept(tmp_path):
     v = np.array([0.8, 1.7, 1.2])
     doc = to_qgc_plan(POINTS, ORIGIN, v)
     items = doc["mission"]["items"]
-    assert [(it["command"], it["params"][1]) for it in items if it["command"] == 178] == [
-        (178, 0.8), (178, 0.8), (178, 1.7), (178, 1.2)]
+    assert [it["params"][1] for it in items if it["command"] == 178] == pytest.approx(
+        np.r_[0.8, v] * np.r_[COS[1], COS[1:]], abs=5e-5)  # level speeds (audit 20)
     assert [it["command"] for it in items] == [178, 16, 178, 16, 178, 16, 178, 16]
     lon, lat = LocalFrame(*ORIGIN).inverse(np.array([-400.0, 5400.0, 5400.0, -400.0]),
                                            np.array([-1400.0, -1400.0, 3400.0, 3400.0]))
     doc["geoFence"]["polygons"] = [{"inclusion": True, "polygon": [[float(a), float(b)] for a, b in zip(lat, lon)],
                                     "version": 1}]  # the envelope: its predicted time, after the launch, too
     code, rec = _check(tmp_path, doc)
-    want = np.r_[0.8, v]
-    assert code == 0 and rec["speed_assumed_legs"] == [] and rec["energy"]["leg_speeds_mps"] == pytest.approx(want)
-    assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-7)
+    want = np.r_[0.8 * COS[1], v]  # the launch is vertical: at the first leg's level speed
+    assert code == 0 and rec["speed_assumed_legs"] == [] and rec["energy"]["leg_speeds_mps"] == pytest.approx(
+        want, abs=1e-4)
+    assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-4)
     # the envelope's time-out judged against the same duration, the launch included (consist19)
     assert rec["deploy"]["envelope"]["predicted_s"] == rec["energy"]["duration_s"]
-    assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(want), rel=1e-7)
+    assert rec["energy"]["energy_wh"] == pytest.approx(_energy_wh(want), rel=1e-4)
 
 
 def test_a_format_without_speeds_names_every_leg_judged_at_the_vehicle_s_speed(tmp_path):

@@ -5,6 +5,7 @@ a fresh interpreter: ``tests/integration/test_front_door.py``; a forked mutant c
 
 from __future__ import annotations
 
+import importlib
 import importlib.util
 import os
 import sys
@@ -79,17 +80,35 @@ def test_the_probe_swaps_ensure_blas_for_arraymath_s_one_call_and_puts_numba_s_b
     assert linalg.ensure_blas is real and elsewhere["ensure_blas"] == "not the stand-in"
 
 
-@pytest.mark.parametrize("missing", ["linalg", "ensure_blas"])
-def test_the_probe_leaves_numba_alone_when_scipy_linalg_is_loaded_or_numba_s_linalg_is_not(monkeypatch, missing):
+def test_the_probe_leaves_numba_alone_when_scipy_linalg_is_loaded_or_numba_s_linalg_has_no_check(monkeypatch):
     probe, other, linalg, real, _ = _armed(monkeypatch, scipy_linalg=True)
     assert probe.find_spec("numba.np.arraymath") is None and sys.meta_path == [other] and linalg.ensure_blas is real
     probe, other, linalg, real, _ = _armed(monkeypatch)
-    if missing == "linalg":
-        monkeypatch.delitem(sys.modules, "numba.np.linalg")
-    else:
-        del linalg.ensure_blas
+    del linalg.ensure_blas
     assert probe.find_spec("numba.np.arraymath") is None and sys.meta_path == [other]
-    assert getattr(linalg, "ensure_blas", None) is (real if missing == "linalg" else None)
+    assert getattr(linalg, "ensure_blas", None) is None
+
+
+def test_the_probe_imports_numba_s_linalg_when_arraymath_comes_first(monkeypatch):
+    """A kernel loaded from the disk cache without numba's registries (``runtime.cacheload``) rebuilds its
+    environments by importing their modules: ``numba.np.arraymath`` may come before ``numba.np.linalg``, whose
+    check the probe must still swap (else all of ``scipy.linalg`` is imported, ~0.2 s)."""
+    probe, other, linalg, real, calls = _armed(monkeypatch)
+    monkeypatch.delitem(sys.modules, "numba.np.linalg")
+    imported: list[str] = []
+
+    def import_module(name: str) -> object:
+        imported.append(name)
+        sys.modules[name] = linalg
+        return linalg
+
+    monkeypatch.setattr(importlib, "import_module", import_module)
+    assert probe.find_spec("numba.np.arraymath") is None and sys.meta_path == [other]
+    assert imported == ["numba.np.linalg"] and linalg.ensure_blas is not real
+    monkeypatch.setattr(jit, "_blas_installed", lambda: True)
+    arraymath = {"ensure_blas": linalg.ensure_blas}
+    exec("ensure_blas()", arraymath)  # noqa: S102
+    assert linalg.ensure_blas is real and arraymath["ensure_blas"] is real and calls == []
 
 
 def test_the_blas_question_asked_of_the_files_before_scipy_is_imported_and_of_a_broken_scipy(monkeypatch):

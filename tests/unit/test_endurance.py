@@ -328,7 +328,9 @@ def test_exports_carry_the_speed_of_each_leg():
     assert "updates        = WPT_UPDATE" in moos and formats.parse_moos(moos) == pytest.approx(pts)
     plan = formats.to_qgc_plan(pts, (48.0, -124.0), v)
     change = [it["params"][1] for it in plan["mission"]["items"] if it["command"] == 178]
-    assert change == [1.0, 1.0, 2.0]  # the launch's (the leading item), then after waypoint i leg i's
+    # the launch's (the leading item), then after waypoint i leg i's, horizontal (audit 20: WPNav keeps a 178's
+    # speed level, so leg 0, 10 m down over 300 m, is commanded at 1.0 cos γ)
+    assert change == [round(300 / np.hypot(300, 10), 4), round(300 / np.hypot(300, 10), 4), 2.0]
     back = formats.parse_qgc_plan(plan, LocalFrame(48.0, -124.0))
     assert back[1:] == pytest.approx(pts, abs=1e-3)
     rows = formats.mission_csv(pts, None, v).splitlines()
@@ -388,6 +390,8 @@ def test_mission_files_give_back_the_speed_of_each_leg(tmp_path):
     assert read_leg_speeds(tmp_path / "m.moos", 3) == pytest.approx(v)
     assert read_leg_speeds(tmp_path / "m.csv", 3) == pytest.approx(v)
     # QGC: home on the surface is a waypoint too, reached at the first leg's speed
-    assert read_leg_speeds(tmp_path / "m.plan", 4) == pytest.approx([1.0, *v])
+    # (the speeds it commands are horizontal, audit 20: leg 0 dives 10 m over 300 m, the launch is vertical)
+    cos0 = 300 / np.hypot(300, 10)
+    assert read_leg_speeds(tmp_path / "m.plan", 4) == pytest.approx([cos0, cos0, 2.0, 1.25], abs=5e-5)
     assert formats.read_mission(tmp_path / "m.plan", (48.0, -124.0))[0].shape == (5, 3)
     assert read_leg_speeds(tmp_path / "m.moos", 2) is None  # not the file's legs

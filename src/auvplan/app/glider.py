@@ -187,6 +187,25 @@ def check_glider_files(scenario: str, names: list[str]) -> list[dict[str, Any]]:
                                                                                                    strict=True)]
 
 
+def _yo_glider(g: Any, yo: dict[str, float], max_depth: float, name: str) -> tuple[Any, list[str]]:
+    """The scenario's glider flying the yo file's depths and yos (as the glider reads them), or why it cannot.
+
+    The file's ``d_target_depth`` must lie within the scenario's depth band (``[mission]`` / ``[vehicle]``
+    ``max_depth_m``); its ``d_target_depth``, ``c_target_depth`` and ``num_half_cycles_to_do`` replace the
+    scenario's ``dive_depth_m``, ``climb_depth_m`` and ``yos`` for the flight (a yo file checked only for its
+    altitude let a 900 m dive through a 300 m band and flew the scenario's yos instead of the file's)."""
+    from dataclasses import replace
+
+    dive = yo.get("d_target_depth", g.dive_depth_m)
+    if dive > max_depth:
+        return g, [f"{name}: d_target_depth {dive:g} m is deeper than the depth band's {max_depth:g} m"]
+    try:
+        return replace(g, dive_depth_m=dive, climb_depth_m=yo.get("c_target_depth", g.climb_depth_m),
+                       yos=max(1, int(yo.get("num_half_cycles_to_do", 2 * g.yos)) // 2)), []
+    except ValueError as exc:
+        return g, [f"{name}: {exc}"]
+
+
 def _check_file(world: Any, mission: Any, alt: float, path: Path, wps: Any, radius: float,
                 fmt: str) -> dict[str, Any]:
     """One file of :func:`check_glider_files`."""
@@ -222,6 +241,8 @@ def _check_file(world: Any, mission: Any, alt: float, path: Path, wps: Any, radi
             if yo.get("d_target_altitude", alt) < alt:
                 problems.append(f"{yo_file.name}: d_target_altitude {yo['d_target_altitude']:g} m is below "
                                 f"min_altitude_m {alt:g} m")
+            g, why = _yo_glider(g, yo, world.margins.max_depth, yo_file.name)
+            problems += why
     rec = {"file": str(path), "format": fmt, "waypoints": len(wps), "radius_m": radius, "outside_waypoints": outside,
            "shallow_waypoints": shallow, "blocked_legs": blocked, "yo": yo, "arrived": False, "flown_duration_s": None,
            "energy_wh": None, "battery_wh": g.battery_wh}

@@ -52,8 +52,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     from ..io.limits import check_plan_work
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.inputs.members import scenario_members
-    from ..planners import plan, with_reference
-    from ..planners import reference as plan_reference
+    from ..planners import plan
     from ..sim import planning_problem
     from .ensemble import ensemble_plan
 
@@ -81,7 +80,10 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
             result = plan(problem, spec, seed, bar)
     finally:
         bar.close()
-    if reference:
+    if reference:  # the grid planner's modules only here (issue 56)
+        from ..planners import reference as plan_reference
+        from ..planners import with_reference
+
         bar.stage("reference: the converged lattice plan and the seeded iabc, pso, de at twice the budget")
         result = with_reference(result, problem, spec, plan_reference(problem, spec))
     return sc, result, seed, world, ensemble

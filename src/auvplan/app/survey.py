@@ -19,6 +19,7 @@ from ..runtime.parallel import Runner
 from ..sim import Mission
 from ..survey.run import SurveyRun, run_survey
 from ..world import World
+from .results import save_context
 
 __all__ = ["survey_scenario"]
 
@@ -78,6 +79,9 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
 
         text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
         records.write_run(folder, run.record, with_derived_frame(text, world), full)  # issue 51: derived frame
+        # the scenario file's path and the terrain, as `run --out` keeps them: the folder's scenario.toml names its
+        # data files relative to the scenario's own folder (`mission check --scenario DIR/scenario.toml`, `export`)
+        save_context(folder, sc.source, world)
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
         deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
                                    payload_from_labels(run.plan.labels))  # issue 51: envelope, payload

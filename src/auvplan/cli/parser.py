@@ -177,7 +177,8 @@ _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "seed": (("--seed",), {"type": _SEED, "help": "random seed >= 0 (default: the scenario's)"}),
     "full": (("--full",), {"action": "store_true",
                            "help": "tracks at full resolution (default: every 20 m / 30 s)"}),
-    "force": (("--force",), {"action": "store_true", "help": "overwrite files in --out that auvplan did not write"}),
+    "force": (("--force",), {"action": "store_true",
+                             "help": "overwrite files in the results folder (--out or DIR) not written by auvplan"}),
     "json": (("--json",), {"action": "store_true", "help": "print one JSON object on stdout"}),
     "dir": (("dir",), {"help": "results directory written by `auvplan run --out` or `demo`"}),
 }

@@ -10,13 +10,48 @@ the fewest surfacings, and clearance under the error (issue 52; ``docs/navigatio
 
 from __future__ import annotations
 
-from .budget import ErrorProfile, NavBudget, error_profile, mission_budget
-from .clearance import leg_slack, safe_radius, uncertain_clearance
-from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
-from .mission import NavCheck, NavPlan, check_navigation, fix_times, navigation_of, plan_navigation, surface_kinds
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .params import NavParams, UsblParams
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers only
+    from .budget import ErrorProfile, NavBudget, error_profile, mission_budget
+    from .clearance import leg_slack, safe_radius, uncertain_clearance
+    from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
+    from .mission import (
+        NavCheck,
+        NavPlan,
+        check_navigation,
+        fix_times,
+        navigation_of,
+        plan_navigation,
+        surface_kinds,
+    )
 
 __all__ = ["NavParams", "UsblParams", "NavBudget", "ErrorProfile", "error_profile", "mission_budget",
            "safe_radius", "leg_slack", "uncertain_clearance", "FixPlan", "apply_fixes", "best_period",
            "periodic_fixes", "plan_fixes", "route_profile", "NavCheck", "NavPlan", "check_navigation", "fix_times",
            "navigation_of", "plan_navigation", "surface_kinds"]
+
+_LAZY = {name: f"auvplan.nav.{module}" for module, names in (
+    ("budget", ("ErrorProfile", "NavBudget", "error_profile", "mission_budget")),
+    ("clearance", ("leg_slack", "safe_radius", "uncertain_clearance")),
+    ("fixes", ("FixPlan", "apply_fixes", "best_period", "periodic_fixes", "plan_fixes", "route_profile")),
+    ("mission", ("NavCheck", "NavPlan", "check_navigation", "fix_times", "navigation_of", "plan_navigation",
+                 "surface_kinds"))) for name in names}
+"""Loaded on first access: a scenario's ``[navigation]`` table (:class:`NavParams`) is read for every plan, its
+budget and fixes computed for few (issue 56)."""
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'auvplan.nav' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

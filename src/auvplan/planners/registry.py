@@ -29,7 +29,6 @@ from __future__ import annotations
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
-from importlib import metadata
 from typing import Any, Literal
 
 __all__ = ["PlannerEntry", "REGISTRY", "register", "get", "names", "known", "load_plugins", "ENTRY_POINTS",
@@ -270,6 +269,8 @@ def load_plugins() -> None:
     if _PLUGINS_LOADED:
         return
     _PLUGINS_LOADED = True
+    from importlib import metadata  # ~15 ms of imports (email, zipfile …): only when a name is not built in
+
     for ep in metadata.entry_points(group=ENTRY_POINTS):
         ep.load()  # importing the module registers its planners
 

@@ -23,8 +23,10 @@ numba's import and registries (~0.6 s of CPU, issue 56).  The dispatchers and th
 ones an eager decorator makes.  Each kernel's on-disk cache object is made at its first compile
 (:class:`_CacheOnUse`: ~0.4 ms a kernel, paid before for every kernel defined), and numba's registries load
 without importing ``scipy.linalg`` for their BLAS check (:class:`_BlasProbe`: the same question asked of
-the installed files; ~0.1-0.2 s).  What is left at a kernel's first call is numba's own floor: its import
-(~0.2-0.3 s), its typing and lowering registries (~0.2-0.3 s), ~3 ms a cached kernel (LLVM).
+the installed files; ~0.1-0.2 s).  A kernel found in the disk cache is loaded without numba's typing and
+lowering registries when its machine code needs nothing they add (:mod:`auvplan.runtime.cacheload`; ~0.2 s,
+``AUVPLAN_NUMBA_REFRESH=1`` for numba's own load).  What is left at a kernel's first call is numba's own
+floor: its import (~0.2-0.3 s) and ~3 ms a cached kernel (LLVM).
 """
 
 from __future__ import annotations
@@ -39,6 +41,8 @@ import types
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
+
+from . import cacheload
 
 __all__ = ["jit_enabled", "kernel", "source_stamp"]
 
@@ -108,6 +112,11 @@ def _cache_class(root: str) -> Any:
 
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
+
+        def load_overload(self, sig: Any, target_context: Any) -> Any:  # numba's registries when compiling
+            if cacheload.use_deferred(target_context):
+                return cacheload.load_overload(self, sig, target_context)
+            return super().load_overload(sig, target_context)  # type: ignore[no-untyped-call]
 
     return KernelCache
 
@@ -253,6 +262,8 @@ class _BlasProbe:
     auvplan's uses.  Just before that module runs (its name looked up on ``sys.meta_path``, once), numba's
     ``ensure_blas`` is replaced for that one call by :func:`_blas_installed`, the same question asked of the
     files, and put back at once; a kernel that does use BLAS (``np.dot``) imports it through numba as before.
+    numba's linalg is imported first when it is not yet (a kernel loaded from the disk cache without the
+    registries, :mod:`auvplan.runtime.cacheload`, imports arraymath alone for its environment).
     """
 
     def find_spec(self, name: str, path: Any = None, target: Any = None) -> None:
@@ -260,9 +271,14 @@ class _BlasProbe:
             return None
         with contextlib.suppress(ValueError):
             sys.meta_path.remove(self)
-        linalg: Any = sys.modules.get("numba.np.linalg")
+        if "scipy.linalg" in sys.modules:
+            return None
+        import importlib
+
+        # numba's registries import linalg first; a cached kernel's environment may import arraymath alone
+        linalg: Any = importlib.import_module("numba.np.linalg")
         real = getattr(linalg, "ensure_blas", None)
-        if linalg is None or real is None or "scipy.linalg" in sys.modules:
+        if real is None:
             return None
 
         def ensure_blas() -> None:  # called once, by arraymath's module-level check

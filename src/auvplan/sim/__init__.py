@@ -8,23 +8,31 @@ Each idea has its module; every public name is importable from :mod:`auvplan.sim
 * :mod:`~auvplan.sim.result`: what a run produced (:class:`SimResult`, :class:`SimMetrics`,
   :class:`RunRecord`, :func:`decimate`);
 * :mod:`~auvplan.sim.pipeline`: plan → mission route → key waypoints → simulation (:func:`run_mission`);
-* :mod:`~auvplan.sim.band`: a terrain-following run's altitude against its band (``metrics.json``).
+* :mod:`~auvplan.sim.band`: a terrain-following run's altitude against its band (``metrics.json``);
+* :mod:`~auvplan.sim.problem`: a mission's planning problem (:func:`planning_problem`).
+
+The loop's and the pipeline's names are imported at their first access (``plan`` needs neither).
 """
 
 from __future__ import annotations
 
-from .loop import make_guidance, simulate
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .mission import Mission, SimParams, SimSettings
-from .pipeline import (
-    mission_route,
-    planned_route,
-    planning_problem,
-    record_tail,
-    route_from_path,
-    run_mission,
-    with_leg_speeds,
-)
 from .result import RunRecord, SimMetrics, SimResult, decimate
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers only
+    from .loop import make_guidance, simulate
+    from .pipeline import (
+        mission_route,
+        planned_route,
+        record_tail,
+        route_from_path,
+        run_mission,
+        with_leg_speeds,
+    )
+    from .problem import planning_problem
 
 __all__ = [
     "SimParams",
@@ -44,3 +52,23 @@ __all__ = [
     "with_leg_speeds",
     "record_tail",
 ]
+
+_LAZY = {name: "auvplan.sim.loop" for name in ("make_guidance", "simulate")} | {
+    name: "auvplan.sim.pipeline" for name in ("mission_route", "planned_route", "record_tail",
+                                                "route_from_path", "run_mission", "with_leg_speeds")} | {
+    "planning_problem": "auvplan.sim.problem"}
+"""Loaded on first access: a plan builds a :class:`Mission` and flies nothing (issue 56: guidance, vehicles'
+dynamics and the pipeline are not imported for ``plan``)."""
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'auvplan.sim' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -69,7 +69,8 @@ class GliderTrack:
         (s; ``inf`` when never): the time to compare with a plan's arrival.
     reason : str
         ``"arrived"``, ``"grounded"`` (over land or a seabed with no room for a yo: shallower than
-        ``climb_depth_m`` + ``min_altitude``) or ``"timeout"``.
+        ``climb_depth_m`` + ``min_altitude``; or a climb into a seabed rising more steeply than it, whose
+        altimeter turns dives only) or ``"timeout"``.
     """
 
     t: FloatArray
@@ -144,8 +145,11 @@ class _Flight:
         if self.phase == _SURFACE:
             self.surface_left -= dt
             self.pos[2] = 0.0
-        elif self.phase == _DIVE:
-            seabed = -float(world.seabed(np.array([self.pos[0]]), np.array([self.pos[1]]))[0])
+            return False
+        seabed = -float(world.seabed(np.array([self.pos[0]]), np.array([self.pos[1]]))[0])
+        if self.phase == _CLIMB and depth > seabed:  # a climb into a seabed rising faster: it hits the bottom
+            return True
+        if self.phase == _DIVE:
             bottom = min(g.dive_depth_m, seabed - self.alt)
             if bottom < g.climb_depth_m:  # aground: land, or no room for a yo
                 return True

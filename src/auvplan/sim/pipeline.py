@@ -17,15 +17,14 @@ from ..guidance.mission.legs import merge_short_legs
 from ..guidance.mission.waypoints import build_waypoints, default_tolerance
 from ..nav.mission import NavPlan, plan_navigation
 from ..path import resample_polyline
-from ..path.flyable import VehicleLimits
 from ..path.legs import helm_check, shortest_leg
 from ..planners import plan as global_plan
-from ..planners.base import PlanningProblem, PlanResult, Progress
-from ..vehicles import VehicleParams
+from ..planners.base import PlanResult, Progress
 from ..world import World
 from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
+from .problem import planning_problem, vehicle_limits
 from .result import RunRecord
 from .tracking import contract_world, route_bound, route_keeps
 
@@ -33,43 +32,6 @@ __all__ = ["kept_fit", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
            "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
            "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
            "with_leg_speeds"]
-
-
-def planning_problem(world: World, mission: Mission) -> PlanningProblem:
-    """Build the global planning problem of a mission in a world.
-
-    Parameters
-    ----------
-    world : World
-        Environment.
-    mission : Mission
-        End points and vehicle figures (speed, hotel power, drag).
-
-    Returns
-    -------
-    PlanningProblem
-        Start, goal (m), speed (m/s), hotel power (W), drag factor (W s³/m³) and the vehicle's
-        limits (pitch, turn radius, depth rating) in the world.
-    """
-    v = mission.vehicle
-    return PlanningProblem(world, np.asarray(mission.start, dtype=float), np.asarray(mission.goal, dtype=float),
-                           v.speed, v.hotel_power, v.drag_k, vehicle_limits(v))
-
-
-def vehicle_limits(vehicle: VehicleParams) -> VehicleLimits:
-    """The limits a vehicle's plans and missions are held to.
-
-    Parameters
-    ----------
-    vehicle : VehicleParams
-        The ``[vehicle]`` table.
-
-    Returns
-    -------
-    VehicleLimits
-        ``max_pitch_deg``, ``turn_radius_m`` and ``max_depth_m``.
-    """
-    return VehicleLimits(vehicle.max_pitch_deg, vehicle.turn_radius_m, vehicle.max_depth_m)
 
 
 def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:

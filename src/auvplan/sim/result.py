@@ -5,15 +5,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import TypedDict
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._types import Status
-from ..nav.mission import NavPlan
 from ..path import arc_length, polyline_length
 from ..planners.base import PlanResult
+
+if TYPE_CHECKING:  # a run's navigation plan; the plan of `plan` has none (issue 56)
+    from ..nav.mission import NavPlan
 
 __all__ = ["SimResult", "SimMetrics", "RunRecord", "decimate"]
 

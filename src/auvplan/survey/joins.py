@@ -32,7 +32,7 @@ each waypoint lies more than ``TRACK_FRACTION`` · R off its neighbours' chord, 
 
 
 def turn_between(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) -> tuple[NDArray[np.float64], str]:
-    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated).
+    """Inner points of the turn from the end of line points ``a`` to the start of ``b`` (z interpolated along it).
 
     Parameters
     ----------
@@ -60,7 +60,11 @@ def turn_between(a: NDArray[np.float64], b: NDArray[np.float64], radius: float) 
     for _ in range(_WIDEN_TRIES):
         t = dubins((a[-1, 0], a[-1, 1], h0), (b[0, 0], b[0, 1], h1), r)
         pts = sample_turn(t, r * _HALF_STEP_RAD)[1:-1]
-        frac = np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
+        # z along the turn's horizontal length, not by its vertices' count: a 0.5 m chord beside a 170 m one
+        # took as much of the depth change (81 degrees of pitch, docwalk20)
+        xy = np.vstack([a[-1:, :2], pts[:, :2], b[:1, :2]])
+        run = np.r_[0.0, np.cumsum(np.hypot(*np.diff(xy, axis=0).T))]
+        frac = run[1:-1] / run[-1] if run[-1] > 0.0 else np.linspace(0.0, 1.0, pts.shape[0] + 2)[1:-1]
         inner = np.column_stack([pts[:, :2], a[-1, 2] + frac * (b[0, 2] - a[-1, 2])])
         around = np.vstack([a[-2:], inner, b[:2]])
         if helm_check(around, VehicleLimits(90.0, radius), min_leg=0.0).tightest_turn_m >= radius:

@@ -3,9 +3,10 @@ that the vehicle's crab angle in a cross-current takes away.
 
 **Tie lines.** ``count`` lines across the main lines, along the cut across the nominal direction (the
 centre line's normal for a corridor) at stations evenly spread along the survey, each at the station
-nearest its even share where every main line is flown, from ``run_in`` before the first main line to
-``run_in`` past the last: each crosses every main line.  They are flown after the main lines, starting
-from the end where the last main line ends, in alternating directions.
+nearest its even share where every main line is flown (where one line fewer is, and so on, when those
+stations span less than half the survey: a line only at a corridor's bend), from ``run_in`` before the first
+main line to ``run_in`` past the last: each crosses every main line flown there.  They are flown after the
+main lines, starting from the end where the last main line ends, in alternating directions.
 
 **Crab margin.** In a current ``v`` across the track the vehicle holds the line by heading into it, at a
 crab angle ``ψ = asin(v / U)`` (``U`` its speed through the water); the fan turns with the heading, so its
@@ -30,7 +31,8 @@ __all__ = ["tie_lines", "tie_stations", "crab_margin"]
 
 
 def tie_stations(lines: SurveyLines, count: int) -> list[int]:
-    """The stations of the tie lines: evenly spread, each moved to the nearest station where every line is flown.
+    """The stations of the tie lines: evenly spread, each moved to the nearest station where the most lines are
+    flown (every line, unless the stations where every line is flown span less than half the survey).
 
     Parameters
     ----------
@@ -50,7 +52,13 @@ def tie_stations(lines: SurveyLines, count: int) -> list[int]:
     flown = np.zeros(k, dtype=int)
     for ln in lines.lines:
         flown[ln.active] += 1
-    best = np.flatnonzero(flown == flown.max())
+    # the stations where the most lines are flown, unless they span less than half the survey: a line added
+    # only at a corridor's bend (its outer wedge) put all three ties of a 3.5 km corridor within 2.2 km of it,
+    # two of them 50 m apart; then the stations where one line fewer is flown, and so on
+    for m in range(int(flown.max()), 0, -1):
+        best = np.flatnonzero(flown >= m)
+        if best[-1] - best[0] >= 0.5 * (k - 1):
+            break
     target = (np.arange(count) + 0.5) / count * (k - 1)
     return sorted({int(best[np.argmin(np.abs(best - t))]) for t in target})
 

@@ -282,6 +282,23 @@ def _simplify(s: FloatArray, z: FloatArray, floor: FloatArray, allowed: BoolArra
     return np.flatnonzero(keep)
 
 
+def _plumb_kept(w: FloatArray, reach: float) -> IntArray:
+    """Indices of ``w`` kept: the ends, and the interior vertices but those less than ``reach`` horizontally
+    from the vertex kept before them or, at the end, from the last (a vertical or near-vertical leg, as a
+    floor lifted above a survey line's start makes).  The fitted schedule changes depth along the track within
+    the pitch limit, so two vertices at one horizontal place would become one point: a leg shorter than the
+    shortest leg, which no merge may remove (both are the mission's corners); ``reach`` is the horizontal
+    span whose leg at the profile's steepest is the shortest leg, so a mission that fits keeps every vertex."""
+    keep = [0]
+    for i in range(1, len(w) - 1):
+        if float(np.hypot(*(w[i, :2] - w[keep[-1], :2]))) >= reach:
+            keep.append(i)
+    while len(keep) > 1 and float(np.hypot(*(w[keep[-1], :2] - w[-1, :2]))) < reach:
+        keep.pop()
+    out: IntArray = np.asarray([*keep, len(w) - 1], dtype=np.intp)
+    return out
+
+
 def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, follow_altitude: float = 0.0,
                 tolerance: float = 1.0, slack: float = 0.05) -> MissionFit:
     """Fit a mission's depth schedule to a vehicle's pitch limit and turns, optionally following the terrain.
@@ -310,6 +327,9 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
     if len(w) < 2:
         return MissionFit(w.copy(), check_limits(w, limits), True, "")
+    slope = math.tan(math.radians(max(limits.max_pitch_deg - PITCH_SLACK_DEG, 0.5 * limits.max_pitch_deg)))
+    min_leg = max(shortest_leg(limits), FITTED_LEG_M if limits.max_pitch_deg < 90.0 else 0.0)
+    w = w[_plumb_kept(w, min_leg / math.hypot(1.0, slope))]
     radius = limits.turn_radius_m
     s, dpsi, t, arc = _corner_geometry(w, radius)
     # a conservative seabed is lifted cell by cell: its peaks lie anywhere in a cell, so sample finely
@@ -320,7 +340,6 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     m = world.margins
     floor = _floors(world, p, region, arcs, m.min_altitude + slack)
     floor[[0, -1]] = -np.inf
-    slope = math.tan(math.radians(max(limits.max_pitch_deg - PITCH_SLACK_DEG, 0.5 * limits.max_pitch_deg)))
     if follow_altitude > 0.0:
         # hold at least the altitude: climbs the vehicle cannot follow start early (cone_max)
         # (the seabed under the point, or the highest under its turn's arc: not the conservative floor)
@@ -336,7 +355,6 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
                           deepest=-min(m.max_depth, limits.max_depth_m))
     z[[0, -1]] = w[[0, -1], 2]
     corners = np.flatnonzero(region == -2)  # the mission's own vertices (its ends and corners)
-    min_leg = max(shortest_leg(limits), FITTED_LEG_M if limits.max_pitch_deg < 90.0 else 0.0)
     while True:  # the waypoint budget: a coarser tolerance (a wider band) until the mission fits it
         keep = _simplify(sf, z, floor, region < 0, corners, tolerance, min_leg)
         fixed = np.flatnonzero(np.isin(keep, corners))

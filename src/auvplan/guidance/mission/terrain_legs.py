@@ -31,8 +31,8 @@ from ...world.terrain import Terrain
 from .flycheck import MissionCheck, leg_figures
 from .limits import waypoint_limits
 
-__all__ = ["SAG_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track", "followed_altitude",
-           "terrain_track"]
+__all__ = ["SAG_M", "END_MERGE_M", "FlownTrack", "check_as_flown", "flown_pitch_depth", "flown_track",
+           "followed_altitude", "terrain_track"]
 
 SAG_M = 0.01
 """The most the track's chords stand off the seabed-following curve they stand for (m)."""
@@ -42,16 +42,23 @@ _MERGE = 1e-9
 """Grid-line crossings closer than this (in the leg's parameter) are one: a leg through a grid node crosses its
 two lines at parameters a rounding apart, and the sliver between them lies in neither cell the leg flies over."""
 
+END_MERGE_M = 1e-3
+"""A grid-line crossing closer than this to a leg's end (m, horizontally) is the end: the files carry positions to
+0.1 mm (a ``.plan``'s 1e-9 degree), so a leg the export placed on a grid line reads back a fraction of a
+millimetre to either side of it, and the sliver of the next cell would lend the whole leg that cell's slope
+(``mariana-nav``'s leg 534 read 24.8 degrees for the 19.98 it flies)."""
+
 
 def _pieces(terrain: Terrain, a: np.ndarray, b: np.ndarray) -> FloatArray:
     """The leg's parameters (0..1) where it crosses a grid line, with both ends (crossings within :data:`_MERGE`
-    of one another or of an end merged)."""
+    of one another, or within :data:`END_MERGE_M` of an end, merged)."""
     s = []
+    end = max(_MERGE, END_MERGE_M / max(float(np.hypot(*(b[:2] - a[:2]))), 1e-300))
     for axis, grid in ((0, terrain.x), (1, terrain.y)):
         d = float(b[axis] - a[axis])
         if d != 0.0:
             t = (np.asarray(grid, dtype=float) - a[axis]) / d
-            s.append(t[(t > _MERGE) & (t < 1.0 - _MERGE)])
+            s.append(t[(t > end) & (t < 1.0 - end)])
     inner = np.unique(np.concatenate(s)) if s else np.zeros(0)
     inner = inner[np.r_[True, np.diff(inner) > _MERGE]] if inner.size else inner
     out: FloatArray = np.concatenate([[0.0], inner, [1.0]])

@@ -35,7 +35,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from pyproj import Transformer
 
 from ...errors import DataError
 from ...world.seabed import SeabedFit
@@ -208,6 +207,8 @@ def _crop(grid: HorizontalGrid, z: _F64, box: tuple[float, ...], name: str) -> t
             lo0, lo1 = lo0 - 360.0, lo1 - 360.0
         r_lo, r_hi, c_lo, c_hi = la0, la1, lo0, lo1
     else:
+        from pyproj import Transformer
+
         tr = Transformer.from_crs("EPSG:4326", grid.crs, always_xy=True)
         c_lo, r_lo, c_hi, r_hi = tr.transform_bounds(lo0, la0, lo1, la1, densify_pts=101)
     if r_hi < grid.rows[0] or r_lo > grid.rows[-1] or c_hi < grid.cols[0] or c_lo > grid.cols[-1]:
@@ -431,6 +432,8 @@ def read_bathymetry(
 
 def _centre_lonlat(grid: HorizontalGrid) -> tuple[float, float]:
     if grid.kind == "projected":
+        from pyproj import Transformer
+
         tr = Transformer.from_crs(grid.crs, "EPSG:4326", always_xy=True)
         lon, lat = tr.transform(float(np.mean(grid.cols)), float(np.mean(grid.rows)))
         return float(lon), float(lat)

@@ -36,6 +36,7 @@ import json
 import logging
 import os
 import platform
+import stat
 import sys
 import tempfile
 import threading
@@ -120,7 +121,8 @@ def code_stamp() -> str:
 def host_stamp() -> str:
     """The CPU compiled kernels are built for: numba compiles for the host's (``NUMBA_CPU_NAME`` and
     ``NUMBA_CPU_FEATURES`` override it) and its fast-math kernels fuse multiply-adds where the CPU has them, so
-    the bits of a kernel's results (the seabed under an altitude position, a seabed model's nodes) are the CPU's.
+    the bits of a kernel's results (the seabed under an altitude position, a seabed model's nodes) are the CPU's;
+    and whether they are compiled at all (``NUMBA_DISABLE_JIT``: plain Python gives other bits).
 
     Read from ``/proc/cpuinfo`` (the first processor's model and flags; ~1 ms), not from numba or llvmlite,
     whose import the cache is there to spare (issue 56); elsewhere from :mod:`platform`.
@@ -130,7 +132,11 @@ def host_stamp() -> str:
     str
         The machine's architecture, the overrides, and the first processor's model and flags.
     """
-    parts = [platform.machine(), os.environ.get("NUMBA_CPU_NAME", ""), os.environ.get("NUMBA_CPU_FEATURES", "")]
+    # NUMBA_DISABLE_JIT: the kernels run as plain Python, whose seabed differs from the compiled one by ulps at
+    # half the points (numba reads any integer: "0" compiles, as unset)
+    nojit = os.environ.get("NUMBA_DISABLE_JIT", "").strip()
+    parts = [platform.machine(), os.environ.get("NUMBA_CPU_NAME", ""), os.environ.get("NUMBA_CPU_FEATURES", ""),
+             "" if nojit in ("", "0") else "plain Python"]
     try:
         with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
             for line in fh:
@@ -192,9 +198,12 @@ def file_stamp(path: Path) -> list[Any]:
     Raises
     ------
     OSError
-        When the file cannot be read (the caller then reads without the cache, for the reader's message).
+        When the file cannot be read, or is not a regular file (a FIFO, a device: hashed, it would block or never
+        end), the caller then reads without the cache, for the reader's message.
     """
     st = path.stat()
+    if not stat.S_ISREG(st.st_mode):  # a FIFO or a device: hashing it would block or never end; the reader refuses it
+        raise OSError(f"{path}: not a regular file")
     seen = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
     digest = _DIGESTS.get(seen)
     if digest is None:

@@ -9,10 +9,13 @@ never see latitudes or longitudes.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from pyproj import Transformer
+
+if TYPE_CHECKING:
+    from pyproj import Transformer
 
 __all__ = ["LocalFrame", "normalise_lon"]
 
@@ -37,6 +40,9 @@ def normalise_lon(lon: ArrayLike) -> NDArray[np.float64]:
 class LocalFrame:
     """Azimuthal equidistant frame about ``(lat0, lon0)`` (degrees).
 
+    The projections (pyproj ``Transformer``) are made at the first :meth:`forward` or :meth:`inverse`: a plan
+    whose files come from the readers' cache never projects, and does not import pyproj (issue 56).
+
     Parameters
     ----------
     lat0 : float
@@ -47,16 +53,25 @@ class LocalFrame:
 
     lat0: float
     lon0: float
-    _fwd: Transformer = field(init=False, repr=False, compare=False)
-    _inv: Transformer = field(init=False, repr=False, compare=False)
+    _fwd: Transformer | None = field(init=False, repr=False, compare=False, default=None)
+    _inv: Transformer | None = field(init=False, repr=False, compare=False, default=None)
 
     def __post_init__(self) -> None:
         if not (-90.0 <= self.lat0 <= 90.0) or not np.isfinite(self.lon0):
             raise ValueError(f"origin must be a valid latitude/longitude, got ({self.lat0}, {self.lon0})")
-        lon0 = float(normalise_lon(self.lon0))
-        proj = f"+proj=aeqd +lat_0={self.lat0} +lon_0={lon0} +datum=WGS84 +units=m +no_defs"
-        object.__setattr__(self, "_fwd", Transformer.from_crs("EPSG:4326", proj, always_xy=True))
-        object.__setattr__(self, "_inv", Transformer.from_crs(proj, "EPSG:4326", always_xy=True))
+
+    def _transformer(self, name: str) -> Any:
+        """The forward (``_fwd``) or inverse (``_inv``) projection, made at its first use."""
+        made = getattr(self, name)
+        if made is None:
+            from pyproj import Transformer
+
+            lon0 = float(normalise_lon(self.lon0))
+            proj = f"+proj=aeqd +lat_0={self.lat0} +lon_0={lon0} +datum=WGS84 +units=m +no_defs"
+            ends = ("EPSG:4326", proj) if name == "_fwd" else (proj, "EPSG:4326")
+            made = Transformer.from_crs(*ends, always_xy=True)
+            object.__setattr__(self, name, made)
+        return made
 
     def forward(self, lon: ArrayLike, lat: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Project longitude/latitude into the local frame.
@@ -71,7 +86,7 @@ class LocalFrame:
         x, y : numpy.ndarray
             East and north of the origin (m).
         """
-        x, y = self._fwd.transform(normalise_lon(lon), np.asarray(lat, dtype=float))
+        x, y = self._transformer("_fwd").transform(normalise_lon(lon), np.asarray(lat, dtype=float))
         return np.asarray(x), np.asarray(y)
 
     def inverse(self, x: ArrayLike, y: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -87,5 +102,5 @@ class LocalFrame:
         lon, lat : numpy.ndarray
             Longitude in ``[-180, 180)`` and latitude (degrees, WGS84).
         """
-        lon, lat = self._inv.transform(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        lon, lat = self._transformer("_inv").transform(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         return normalise_lon(lon), np.asarray(lat)

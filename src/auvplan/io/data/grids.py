@@ -24,7 +24,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
-from pyproj import CRS
 
 from ...errors import DataError
 from ..limits import check_declared
@@ -32,6 +31,7 @@ from .geo import normalise_lon
 
 if TYPE_CHECKING:
     import xarray as xr
+    from pyproj import CRS
 
 __all__ = ["HorizontalGrid", "crs_line", "axis_kind", "horizontal_grid"]
 
@@ -186,6 +186,8 @@ def _crs_of(ds: xr.Dataset, da: xr.DataArray, src: str) -> CRS | None:
     gm = gm.split(":")[0].strip()
     if gm not in ds.variables:
         raise DataError(f"{src}: variable {da.name!r}: grid_mapping variable {gm!r} not found")
+    from pyproj import CRS  # a projected grid's files only (issue 56: a plan from the cache needs no pyproj)
+
     try:
         return CRS.from_cf(dict(ds[gm].attrs))
     except Exception as exc:  # pyproj raises CRSError and others for incomplete mappings

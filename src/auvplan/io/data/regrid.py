@@ -12,17 +12,19 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from pyproj import Transformer
 
 from ...errors import DataError
 from ..limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
 from .bounded_min import bounded_min
 from .geo import LocalFrame, normalise_lon
 from .grids import _F64, HorizontalGrid
+
+if TYPE_CHECKING:  # where a file is projected (issue 56)
+    from pyproj import Transformer
 
 __all__ = ["covered_source", "data_span", "to_local", "inscribed_extent"]
 
@@ -32,6 +34,8 @@ def _transformer(src: Any, dst: Any) -> Transformer:
     """pyproj's transformation ``src`` → ``dst`` (lon/lat order), built once per pair: building one costs ~30 ms
     and :func:`inscribed_extent`'s edge search transforms some 300 times per grid (Transformer objects are
     thread-safe since pyproj 3.1)."""
+    from pyproj import Transformer
+
     return Transformer.from_crs(src, dst, always_xy=True)
 
 

@@ -257,7 +257,8 @@ def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -
     (:data:`ROUNDED_RISE_M` over the leg's length on its steepest tangent; the first: the launch leg, never
     followed) and clear of everything its straight leg is (:func:`_followed_free`: over a bump the straight leg
     passes 20 m above, the track climbs with the seabed, out of the depth band or into a zone); a leg already as
-    steep as a straight line keeps the terrain frame."""
+    steep as a straight line keeps the terrain frame; a waypoint within :data:`ROUNDED_RISE_M` of the depth
+    band's edges (the surface, ``min_depth_m``, ``max_depth_m``) keeps its depth."""
     from ...guidance.mission.terrain_legs import flown_track
     from ...path.flyable import leg_pitch_deg
 
@@ -271,4 +272,9 @@ def _terrain_items(world: World, w: NDArray[np.float64], max_pitch_deg: float) -
                                            np.hypot(*np.diff(w[:, :2], axis=0).T)))
         items[1:] = ((rounded <= max_pitch_deg + 1e-9) | (pitch <= np.abs(leg_pitch_deg(w)) + 1e-9)) & \
             _followed_free(world, w, flown.track, flown.leg)
+    # a waypoint on an edge of the depth band (a surface fix, a leg at the deepest allowed) keeps its depth: an
+    # altitude to the millimetre over the seabed at the rounded position reads back a fraction of a millimetre
+    # above the surface or below max_depth_m, and a surface fix is no altitude an altimeter holds
+    m = world.margins
+    items &= (w[:, 2] < -max(m.min_depth, 0.0) - ROUNDED_RISE_M) & (w[:, 2] > -m.max_depth + ROUNDED_RISE_M)
     return items

@@ -18,6 +18,7 @@
 from __future__ import annotations
 
 import csv
+import math
 import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
@@ -60,6 +61,9 @@ class FileDeploy:
         ``(waypoint, on)`` where the file switches the sensor.
     altitude_legs : int
         Legs the file flies at an altitude above the seabed (terrain following); a ``.plan``'s launch leg never.
+    inclusions : list of numpy.ndarray
+        A ``.plan`` fence's other inclusion polygons and circles (as polygons), in the same coordinates: ArduPilot
+        keeps the vehicle inside every one (``AC_PolyFence_loader::breached``, without ``FENCE_OPTIONS``' union).
     """
 
     datum: tuple[float, float] | None = None
@@ -69,6 +73,7 @@ class FileDeploy:
     limits: dict[str, float] = field(default_factory=dict)
     payload_events: list[tuple[int, bool]] = field(default_factory=list)
     altitude_legs: int = 0
+    inclusions: list[NDArray[np.float64]] = field(default_factory=list)
 
 
 _NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
@@ -102,6 +107,12 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
     fence = doc.get("geoFence") or {}
     inc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if p.get("inclusion")]
     exc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if not p.get("inclusion", True)]
+    # its circles (QGroundControl draws them too; ArduPilot keeps the vehicle out of an exclusion circle): were
+    # ignored, a mission through one passed; as polygons, an exclusion's around its circle, an inclusion's inside
+    circles = [(_circle_ring(c["circle"]["center"], c["circle"]["radius"], not c.get("inclusion", True)),
+                bool(c.get("inclusion", True))) for c in fence.get("circles", [])]
+    exc += [ring for ring, inclusion in circles if not inclusion]
+    inc += [ring for ring, inclusion in circles if inclusion]
     events, wp, alt = [], -1, 0
     for it in plan_items(doc):  # the reader's waypoints (the same walk)
         if it.moves:
@@ -109,7 +120,28 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
             alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
-    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt)
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:])
+
+
+CIRCLE_SIDES = 64
+"""Sides of the polygon a ``.plan``'s fence circle is tested as (:func:`_circle_ring`)."""
+
+
+def _circle_ring(center: Any, radius: Any, around: bool) -> NDArray[np.float64]:
+    """A QGroundControl fence circle as a ``[lat, lon]`` ring of :data:`CIRCLE_SIDES` sides: its vertices on the
+    circle (inside the disc: an inclusion) or pushed out by ``1 / cos(pi / sides)`` (around it: an exclusion), the
+    circle as ArduPilot measures it (metres north and east at ``LATLON_TO_M`` a 1e-7 degree, east scaled by the
+    cosine of the latitude)."""
+    lat, lon, r = float(center[0]), float(center[1]), float(radius)
+    if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(r) and r > 0.0):
+        raise DataError(f"QGC plan: geoFence circle at {center!r}, radius {radius!r}: expected a centre and a "
+                        "positive radius (m)")
+    k = np.arange(CIRCLE_SIDES) * (2.0 * math.pi / CIRCLE_SIDES)
+    reach = r / math.cos(math.pi / CIRCLE_SIDES) if around else r
+    per_deg = 111318.84502145034  # ArduPilot's LATLON_TO_M x 1e7
+    dlat = reach * np.sin(k) / per_deg
+    dlon = reach * np.cos(k) / (per_deg * max(math.cos(math.radians(lat)), 1e-9))
+    return np.column_stack([lat + dlat, lon + dlon])
 
 
 def _yaml(text: str) -> FileDeploy:
@@ -305,19 +337,20 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
     """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
     pts = w[:, :2]
     assert info.polygon is not None
-    rings = [info.polygon, *info.exclusions]
-    if info.geographic:  # [lat, lon] rings compared in the local frame, where the envelope was made: in degrees a
-        if origin is None:  # ring across the antimeridian (179.99 and -179.99) went round the Earth the other way
+    rings = [info.polygon, *info.inclusions, *info.exclusions]
+    if info.geographic:  # [lat, lon] rings: compared in latitude/longitude, as ArduPilot's fence tests them
+        if origin is None:
             raise DataError("a geographic envelope needs the scenario's [origin]")
-        frame = LocalFrame(*origin)
-        rings = [np.column_stack(frame.forward(r[:, 1], r[:, 0])) for r in rings]
+        rings, pts = _planar_latlon(rings, pts, origin)
     track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
     reasons = []
-    region = shapely.Polygon(rings[0])
-    if not region.covers(track):
-        outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
-        reasons.append(f"the mission leaves the envelope's polygon ({outside} waypoints outside)")
-    hit = [k for k, e in enumerate(rings[1:]) if shapely.Polygon(e).intersects(track)]
+    for k, ring in enumerate(rings[:1 + len(info.inclusions)]):  # inside every one (ArduPilot's default)
+        region = shapely.Polygon(ring)
+        if not region.covers(track):
+            outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
+            which = "the envelope's polygon" if k == 0 else f"the fence's inclusion {k + 1}"
+            reasons.append(f"the mission leaves {which} ({outside} waypoints outside)")
+    hit = [k for k, e in enumerate(rings[1 + len(info.inclusions):]) if shapely.Polygon(e).intersects(track)]
     if hit:
         reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
     lim = info.limits
@@ -330,6 +363,23 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
         reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
     return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
+
+
+def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[float, float]
+                   ) -> tuple[list[NDArray[np.float64]], NDArray[np.float64]]:
+    """The envelope's ``[lat, lon]`` rings and the local points as ``(longitude, latitude)`` about the origin's
+    longitude (unwrapped: a ring across the antimeridian, 179.99 and -179.99, is the small one, not the band round
+    the Earth), where each edge is the straight line ArduPilot's fence tests (``Polygon_outside`` on latitude and
+    longitude, ``AC_PolyFence_loader::breached``).  In the local frame (azimuthal) an edge is another line: a
+    100 km edge at 68° N bows ~400 m from it, so a mission near a hand-drawn fence's side passed and breached."""
+    lon0 = float(origin[1])
+
+    def unwrap(lon: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray((lon - lon0 + 180.0) % 360.0 - 180.0, dtype=float)
+
+    lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
+    return ([np.column_stack([unwrap(np.asarray(r)[:, 1]), np.asarray(r)[:, 0]]) for r in rings],
+            np.column_stack([unwrap(np.asarray(lon)), np.asarray(lat)]))
 
 
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,

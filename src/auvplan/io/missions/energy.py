@@ -255,7 +255,8 @@ def file_energy_holds(world: World, mission: Mission,
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
     model = EnergyModel.from_vehicle(mission.vehicle)
-    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed)  # the vehicle's where not carried
+    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed, waypoints)  # the vehicle's
+    # where not carried; a .plan's commanded (horizontal) speed as WPNav flies it along each leg
     speeds = judged.speeds
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
     nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power

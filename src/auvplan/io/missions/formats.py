@@ -51,6 +51,7 @@ from .readers import (
     parse_ros_path,
     read_mission,
 )
+from .speeds import along_track_factor
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -209,7 +210,11 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     horizontal speed from it, so the launch from home and every leg after it fly the planned speed
     (``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates: never uploaded, the vehicle
     would fly its ``WPNAV_SPEED`` parameter).  With a speed per leg that varies, a 178 after
-    waypoint i sets the speed of leg i.
+    waypoint i sets the speed of leg i.  The speed written is horizontal: WPNav keeps a 178's speed in
+    the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
+    ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
+    (:func:`~auvplan.io.missions.speeds.along_track_factor`): the vehicle flies the planned speed through
+    the water, not up to 6 % more at a 20° pitch.
 
     Parameters
     ----------
@@ -234,7 +239,9 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
-    first = float(v[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
+    # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
+    horizontal = v / along_track_factor(p) if v.size else v
+    first = float(horizontal[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
     items: list[dict[str, Any]] = [] if not first > 0 else [_change_speed(first, 1)]  # the launch's speed
     alt = deploy.altitude if deploy is not None else None
     terrain = None if alt is None or deploy is None else deploy.terrain_items
@@ -254,8 +261,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
-        if _varies(v) and i < v.size:
-            items.append(_change_speed(float(v[i]), len(items) + 1))
+        if _varies(horizontal) and i < v.size:
+            items.append(_change_speed(float(horizontal[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
     speed = float(v[0]) if v.size else 0.0

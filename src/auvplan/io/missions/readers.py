@@ -189,6 +189,13 @@ def parse_qgc_plan(doc: dict[str, Any], frame: LocalFrame,
         raise DataError(f"QGC plan: {kept.where}: altitude {float(kept.params[6]):g} m: ArduSub reads an altitude "
                         f"under {ZERO_ALT_M:g} m as 'hold the current altitude' and flies there level, not to it; "
                         f"not checked (write -{ZERO_ALT_M:g} for the surface)")
+    wide = next((it for it, r in zip(items, rows[1:], strict=True) if not (abs(r[0]) <= 90.0 and abs(r[1]) <= 180.0)),
+                None)
+    if wide is not None:  # AP_Mission's check_lat/check_lng refuse the item: the upload fails (MAV_MISSION_INVALID_
+        # PARAM5_X/6_Y); read as it wraps (181° as -179°), it was checked at a place the vehicle never receives
+        raise DataError(f"QGC plan: {wide.where}: latitude {float(wide.params[4]):g}, longitude "
+                        f"{float(wide.params[5]):g}: outside [-90, 90] x [-180, 180], which ArduPilot refuses at "
+                        "upload (AP_Mission check_lat/check_lng); not checked")
     null = next((it for it, r in zip(items, rows[1:], strict=True) if max(abs(r[0]), abs(r[1])) < ZERO_LATLON_DEG),
                 None)
     if null is not None:  # stored in 1e-7 degrees: (0, 0) is "stay where you are" (do_nav_wp, do_loiter_unlimited)

@@ -8,8 +8,13 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
 * QGroundControl (``.plan``): each ``MAV_CMD_DO_CHANGE_SPEED`` (178) sets the speed of the legs after it
   (param 2, m/s: ArduSub's ``do_change_speed`` sets WPNav's horizontal speed); the legs before the first carry
   none (NaN): ArduSub flies them at its ``WPNAV_SPEED`` parameter (cm/s; AC_WPNav's default 1000, 500 in older
-  releases), which the file does not hold.  ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of
-  the mission's time, never uploaded to the vehicle: not read as a speed;
+  releases), which the file does not hold.  The speed is horizontal: WPNav flies a leg climbing or diving at
+  ``γ`` at the speed along it that keeps the horizontal one (ArduPilot's ``kinematic_limit``: ``v / cos γ``, until
+  the vertical limit ``WPNAV_SPEED_UP``/``_DN`` binds, at ``tan γ`` over their ratio to it), so the speed through
+  the water is the command's times :func:`along_track_factor`; a vertical leg (the launch from a home above the
+  first item) flies at the vertical limit, which the file does not hold either: judged at the command's speed.
+  ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of the mission's time, never uploaded to
+  the vehicle: not read as a speed;
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
 
 Other formats carry no speed (None).  :func:`judged_leg_speeds` fills the legs a file does not carry at the
@@ -36,7 +41,27 @@ from . import parsed
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
-__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
+__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "along_track_factor", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
+
+
+def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The speed along each leg per unit of horizontal speed, as ArduSub's WPNav flies a ``.plan`` (module notes).
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N - 1,)`` the leg's length over its horizontal length (``1 / cos γ``); 1 for a vertical leg or one of no
+        length (no horizontal speed to scale).
+    """
+    d = np.diff(np.asarray(points, dtype=float), axis=0)
+    flat = np.hypot(d[:, 0], d[:, 1])
+    full = np.linalg.norm(d, axis=1)
+    return np.where(flat > 0.0, full / np.where(flat > 0.0, flat, 1.0), 1.0)
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -167,7 +192,8 @@ class JudgedSpeeds:
     line: str
 
 
-def judged_leg_speeds(path: str | Path, legs: int, speed: float) -> JudgedSpeeds:
+def judged_leg_speeds(path: str | Path, legs: int, speed: float,
+                      points: NDArray[np.float64] | None = None) -> JudgedSpeeds:
     """The speed of each leg of a mission file as the vehicle will fly it, the legs it does not carry at ``speed``.
 
     Parameters
@@ -178,6 +204,9 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float) -> JudgedSpeeds
         Its number of legs (a ``.plan``'s launch from its home included).
     speed : float
         The scenario vehicle's speed (m/s).
+    points : numpy.ndarray, optional
+        ``(legs + 1, 3)`` the file's waypoints (m): a ``.plan``'s speed commands are horizontal, so each leg they
+        set is flown at their speed times :func:`along_track_factor` through the water (without: as written).
 
     Returns
     -------
@@ -197,6 +226,8 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float) -> JudgedSpeeds
                     f"{speed:g} m/s (legs {_ranges(assumed)})")
         else:
             line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
+    if points is not None and path.suffix.lower() == ".plan":  # WPNav keeps the horizontal speed: faster on a slope
+        v = v * along_track_factor(points)
     return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
 
 

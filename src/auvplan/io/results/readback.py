@@ -7,16 +7,17 @@ from __future__ import annotations
 import zipfile
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..._types import Status
 from ...errors import DataError
-from ...planners.base import PlanResult
-from ...sim import RunRecord, SimResult
 from ..jsonfile import read_json
 from ..limits import check_npz
+
+if TYPE_CHECKING:  # imported where a run is read back: a plan's writer needs only SIM_ARRAYS (issue 56)
+    from ...sim import RunRecord
 
 __all__ = ["SIM_ARRAYS", "read_run"]
 
@@ -123,6 +124,9 @@ def _check_arrays(arr: Mapping[str, Any], flown: bool) -> None:
 
 
 def _record_from(rec: dict[str, Any], arr: Mapping[str, Any]) -> RunRecord:
+    from ...planners.base import PlanResult
+    from ...sim import RunRecord, SimResult
+
     _check_arrays(arr, rec.get("simulation") is not None)
     plan = None
     p = rec.get("plan")

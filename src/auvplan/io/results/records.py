@@ -10,18 +10,19 @@ import json
 import math
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ...nav.mission import NavPlan
-from ...planners.base import PlanResult
-from ...sim import RunRecord, SimResult, decimate
-from ...world.seabed import SeabedFit
-from ..data.geo import LocalFrame
 from ..safeio import atomic_write
 from .readback import SIM_ARRAYS, read_run
+
+if TYPE_CHECKING:  # a plan's JSON needs none of these (issue 56: `plan` imports what the plan runs)
+    from ...nav.mission import NavPlan
+    from ...planners.base import PlanResult
+    from ...sim import RunRecord, SimResult
+    from ...world.seabed import SeabedFit
 
 __all__ = [
     "JsonDict",
@@ -186,6 +187,8 @@ def write_path_csv(path: Path, points: ArrayLike, header: str = "x,y,z",
     rows = np.asarray(points, dtype=float).reshape(-1, len(header.split(",")))
     fmt = ["%.3f"] * rows.shape[1]
     if origin is not None:
+        from ..data.geo import LocalFrame  # pyproj: only for a geographic origin
+
         lon, lat = LocalFrame(*origin).inverse(rows[:, xy[0]], rows[:, xy[1]])
         rows = np.column_stack([rows, lat, lon])
         header, fmt = header + ",lat,lon", fmt + ["%.8f", "%.8f"]
@@ -223,6 +226,8 @@ def write_plan(out_dir: Path, result: PlanResult, scenario: str, seed: int, scen
     out.mkdir(parents=True, exist_ok=True)
     record = plan_record(result, scenario, seed)
     if origin is not None and result.path.size:  # the plan's vertices in degrees beside the metres
+        from ..data.geo import LocalFrame  # pyproj: only for a geographic origin
+
         lon, lat = LocalFrame(*origin).inverse(result.path[:, 0], result.path[:, 1])
         record["waypoints_lat_lon"] = [[round(float(a), 8), round(float(b), 8)] for a, b in zip(lat, lon)]
     write_json(out / "metrics.json", record)
@@ -299,6 +304,8 @@ def write_sim(out_dir: Path, result: SimResult, scenario: str, seed: int, avoida
     out.mkdir(parents=True, exist_ok=True)
     record = sim_record(result, scenario, seed, avoidance)
     write_json(out / "sim_metrics.json", record)
+    from ...sim import decimate
+
     result = result if full else decimate(result)
     cols = np.column_stack([result.t, result.position, result.heading, result.speed, result.rudder,
                             result.route_error])
@@ -411,6 +418,8 @@ def write_navigation(out_dir: Path, nav: NavPlan, origin: tuple[float, float] | 
     idx = [i for i, k in enumerate(nav.kinds) if k]
     p = nav.points[idx]
     if origin is not None and p.size:
+        from ..data.geo import LocalFrame  # pyproj: only for a geographic origin
+
         lon, lat = LocalFrame(*origin).inverse(p[:, 0], p[:, 1])
     else:
         lon = lat = np.full(len(idx), np.nan)

@@ -231,6 +231,10 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         raise table_error(f"{src}: [vehicle]", "max_depth_m", rating, f"the depth rating must exceed [mission] "
                           f"min_depth_m = {m.min_depth_m:g}")
     margins = Margins(m.min_altitude_m, min_depth, min(m.max_depth_m, rating), m.obstacle_margin_m)
+    dive = s.vehicle.glider.dive_depth_m if s.vehicle.type == "glider" else 0.0
+    if dive > margins.max_depth:  # the yo's bottom is not clipped: say so
+        raise table_error(f"{src}: [vehicle.glider]", "dive_depth_m", dive, f"deeper than the depth band's "
+                          f"{margins.max_depth:g} m ([mission] max_depth_m, [vehicle] max_depth_m)")
     try:
         world = World(
             bounds=bounds,

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from .frame import CurveFrame, round_corners
 
-__all__ = ["Corridor", "build_corridor", "default_bend_radius"]
+__all__ = ["Corridor", "build_corridor", "default_bend_radius", "given_band"]
 
 
 @dataclass(frozen=True)
@@ -101,4 +101,49 @@ def build_corridor(points: NDArray[np.float64], widths: NDArray[np.float64], ben
         area = shapely.make_valid(shapely.Polygon(np.r_[np.column_stack([lx, ly]), np.column_stack([rx, ry])[::-1]]))
     if not isinstance(area, shapely.Polygon) or area.is_empty:
         raise ValueError("the corridor about the centre line is not a simple band (does the line cross itself?)")
+    # the band about the rounded line misses the outside of every bend of the given line (R (sec(θ/2) - 1)
+    # deep: 335 m at a 90° corner rounded to 810 m): the corridor to cover is the band about the line as given
+    # too, so the union is surveyed; its outer edge must stay where the frame is one to one
+    area = shapely.make_valid(shapely.union(area, given_band(p, w)))
+    if not isinstance(area, shapely.Polygon):
+        raise ValueError("the corridor about the centre line is not a simple band (does the line cross itself?)")
+    ring = np.asarray(shapely.segmentize(area, 10.0).exterior.coords)
+    off = float(np.max(shapely.distance(shapely.points(ring), frame.line)))
+    if off > frame.n_limit:
+        raise ValueError(f"a corner is too sharp for the corridor: its outer edge lies {off:.0f} m off the centre "
+                         f"line rounded to {bend_radius:.0f} m, beyond the {frame.n_limit:.0f} m where the lines' "
+                         "frame is one to one (soften the corner with more vertices, or narrow the corridor)")
     return Corridor(area, frame, rounded, float(bend_radius))
+
+
+def given_band(points: NDArray[np.float64], widths: NDArray[np.float64]) -> shapely.Polygon:
+    """The corridor about the centre line as given (its corners not rounded), flat at its two ends.
+
+    Every point within half the width of the polyline: shapely's flat-capped buffer with round joins for one
+    width; for widths per vertex, each leg's band (the width interpolated along it) and a disc of the
+    vertex's half width at every inner vertex.
+
+    Parameters
+    ----------
+    points : numpy.ndarray
+        ``(M, 2)`` the centre line's vertices (m).
+    widths : numpy.ndarray
+        ``(M,)`` the full width at every vertex, or ``(1,)`` one width (m).
+
+    Returns
+    -------
+    shapely.Polygon
+        The band (m).
+    """
+    p = np.asarray(points, dtype=float)
+    w = np.asarray(widths, dtype=float).reshape(-1)
+    if w.size == 1:
+        return shapely.LineString(p).buffer(0.5 * float(w[0]), cap_style="flat", join_style="round", quad_segs=45)
+    parts = []
+    for i in range(p.shape[0] - 1):
+        d = p[i + 1] - p[i]
+        r = np.array([d[1], -d[0]]) / max(float(np.hypot(*d)), 1e-12)
+        a, b = 0.5 * w[i] * r, 0.5 * w[i + 1] * r
+        parts.append(shapely.Polygon([p[i] - a, p[i + 1] - b, p[i + 1] + b, p[i] + a]))
+    parts += [shapely.Point(p[i]).buffer(0.5 * float(w[i]), quad_segs=45) for i in range(1, p.shape[0] - 1)]
+    return shapely.make_valid(shapely.union_all(parts))

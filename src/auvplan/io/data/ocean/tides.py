@@ -15,7 +15,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from pyproj import Geod
 
 from ....errors import DataError
 from ....world.currents.tides import HarmonicTables, TidalCurrent
@@ -112,6 +111,8 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
 def _local_directions(frame: LocalFrame, lon: ArrayLike, lat: ArrayLike, bearing_deg: ArrayLike) -> NDArray[np.float64]:
     """Unit vectors in the local frame of compass bearings at geographic points (1 km along the
     geodesic, so the frame's meridian convergence is accounted for)."""
+    from pyproj import Geod  # where a file is projected (issue 56)
+
     lon2, lat2, _ = Geod(ellps="WGS84").fwd(lon, lat, bearing_deg, np.full(np.shape(lon), 1000.0))
     x0, y0 = frame.forward(lon, lat)
     x1, y1 = frame.forward(lon2, lat2)

@@ -27,13 +27,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
-from pyproj import Geod, Transformer
 
 from ....errors import DataError
 from ..grids import HorizontalGrid
 
 if TYPE_CHECKING:
     import xarray as xr
+    from pyproj import Geod
 
 __all__ = ["VectorFrame", "vector_frame", "grid_angle", "to_east_north", "GRID_X_NAMES"]
 
@@ -45,7 +45,6 @@ GRID_X_NAMES = ("sea_water_x_velocity", "x_sea_water_velocity", "grid_eastward_s
 _EAST_NAMES = ("eastward_sea_water_velocity", "eastward_sea_water_velocity_assuming_no_tide",
                "surface_eastward_sea_water_velocity", "baroclinic_eastward_sea_water_velocity",
                "barotropic_eastward_sea_water_velocity")
-_SPHERE = Geod(ellps="sphere")
 
 
 @dataclass(frozen=True)
@@ -105,8 +104,12 @@ def vector_frame(ds: xr.Dataset, u_name: str, grid: HorizontalGrid) -> VectorFra
     return VectorFrame(False, "east/north (latitude/longitude axes, no grid-relative name)")
 
 
-def _azimuth_alpha(lon0: _F64, lat0: _F64, lon1: _F64, lat1: _F64, geod: Geod = _SPHERE) -> _F64:
-    """Angle counter-clockwise from east (rad) of the geodesic from point 0 to point 1."""
+def _azimuth_alpha(lon0: _F64, lat0: _F64, lon1: _F64, lat1: _F64, geod: Geod | None = None) -> _F64:
+    """Angle counter-clockwise from east (rad) of the geodesic from point 0 to point 1 (on a sphere unless
+    ``geod`` is given)."""
+    from pyproj import Geod  # where a file is projected (issue 56)
+
+    geod = Geod(ellps="sphere") if geod is None else geod
     az, _, _ = geod.inv(lon0, lat0, lon1, lat1)
     return np.deg2rad(90.0 - np.asarray(az, dtype=float))
 
@@ -153,11 +156,13 @@ def grid_angle(ds: xr.Dataset, grid: HorizontalGrid, frame: VectorFrame, dims: t
     if grid.kind == "projected" and grid.crs is not None:
         cx, cy = np.meshgrid(grid.cols, grid.rows)
         h = 1e-3 * float(min(np.min(np.diff(grid.cols)), np.min(np.diff(grid.rows))))
+        from pyproj import Geod, Transformer
+
         tr = Transformer.from_crs(grid.crs, "EPSG:4326", always_xy=True)
         lon0, lat0 = tr.transform(cx - 0.5 * h, cy)
         lon1, lat1 = tr.transform(cx + 0.5 * h, cy)
         # the projection's own ellipsoid (a rotated pole turns a sphere)
-        geod = _SPHERE if grid.crs.is_geographic else (grid.crs.get_geod() or Geod(ellps="WGS84"))
+        geod = None if grid.crs.is_geographic else (grid.crs.get_geod() or Geod(ellps="WGS84"))
         return _azimuth_alpha(lon0, lat0, lon1, lat1, geod)
     if grid.kind == "curvilinear":
         lat, lon = np.asarray(grid.rows, dtype=float), np.asarray(grid.cols, dtype=float)

@@ -9,14 +9,17 @@ antimeridian, cut in two at ±180° as GeoJSON writers do (RFC 7946 §3.1.9), is
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS, Transformer
 
 from ....errors import ScenarioError
 from .reader import read_vector
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["read_layer", "read_area", "read_area_lonlat", "read_line_lonlat"]
 
@@ -46,6 +49,8 @@ def read_layer(path: Path, layer: str, where: str, key: str = "file") -> tuple[l
 
 
 def _to_lonlat(xy: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:
+    from pyproj import Transformer  # where a file is projected (issue 56)
+
     lon, lat = Transformer.from_crs(crs, "EPSG:4326", always_xy=True).transform(xy[:, 0], xy[:, 1])
     return np.column_stack([lon, lat])
 

@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import Transformer
 
 from ....errors import DataError
 from ....world.land import Land
@@ -140,6 +139,8 @@ def _land_geometry(path: Path, spec: LandSpec, src: str, frame: LocalFrame,
     """The layer's land polygons densified, projected into ``frame`` and clipped to the widened extent."""
     geom, crs = _read_polygons(path, spec.layer, src)
     geom = shapely.segmentize(geom, 0.005 if crs.is_geographic else 500.0)
+    from pyproj import Transformer  # where a file is projected (issue 56)
+
     to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
     def project(xy: np.ndarray) -> np.ndarray:

@@ -14,9 +14,10 @@ from __future__ import annotations
 import json
 import mmap
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from pyproj import CRS
+if TYPE_CHECKING:  # pyproj where a file is read (issue 56: a plan from the readers' cache needs none)
+    from pyproj import CRS
 
 __all__ = ["check_geojson_crs"]
 
@@ -68,6 +69,8 @@ def check_geojson_crs(path: Path, src: str, error: type[Exception], read: CRS) -
     member = doc["crs"]
     shown = json.dumps(member)[:200]
     given = _stated(member)
+    from pyproj import CRS
+
     try:
         stated = CRS.from_user_input(given) if given is not None else None
     except Exception as exc:  # pyproj's CRSError

@@ -12,13 +12,16 @@ import logging
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-from pyproj import CRS
 
 from .guard import check_source, offline
 from .jsoncrs import check_geojson_crs
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["VectorLayer", "read_vector"]
 
@@ -102,6 +105,8 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
     for w in said:
         log.warning("%s: %s", src, " ".join(str(w.message).split()))
+    from pyproj import CRS  # where a file is projected (issue 56)
+
     try:
         crs = CRS.from_user_input(meta.get("crs") or "EPSG:4326")
     except Exception as exc:  # pyproj's CRSError

@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 import shapely
-from pyproj import Transformer
 
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
@@ -258,13 +257,14 @@ def _drawn_polygon(spec: ZoneSpec, xy: np.ndarray) -> None:
 def _made_valid(geom: Any, where: str) -> Any:
     """A polygon feature's valid polygonal parts (empty when it has none): an invalid one (a self-crossing ring, a
     chart's self-touching part) made valid with ``shapely.make_valid`` and said so (a warning, when ``where``
-    names it).  GEOS's other operations do not keep an invalid polygon's area: ``segmentize`` of a bow tie kept
+    names it and an area is left: the callers refuse one with none, and a warning before that refusal said it
+    was kept).  GEOS's other operations do not keep an invalid polygon's area: ``segmentize`` of a bow tie kept
     one of its two lobes."""
     if shapely.is_valid(geom):
         return geom
     parts = [g for g in shapely.get_parts(_repaired(geom)) if shapely.get_type_id(g) in (3, 6)]
     out = shapely.union_all(parts) if parts else shapely.Polygon()
-    if where:
+    if where and not out.is_empty:  # one with no area left is refused by the caller, not warned of
         log.warning("%s: not a valid polygon (%s): made valid (shapely.make_valid), its %d polygonal parts kept",
                     where, shapely.is_valid_reason(geom), len(shapely.get_parts(out)))
     return out
@@ -325,6 +325,8 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
         raise ScenarioError(f"{src}: geographic features need [origin] lat/lon")
     label = next((found.fields[f] for f in _NAME_FIELDS if f in found.fields), None)
     geoms = found.geometries
+    from pyproj import Transformer  # where a file is projected (issue 56)
+
     to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
     def project(xy: np.ndarray) -> np.ndarray:
