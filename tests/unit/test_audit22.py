@@ -6,8 +6,9 @@
    plan easily has), was flown at 4 500 m/s for 2.9 × 10⁶ Wh, RESERVE_BROKEN, where the plumb dive next to it is
    judged at the command's speed (6.3 Wh).  ArduPilot's ``kinematic_limit`` (``AP_Math/control.cpp``) bounds the
    speed along a leg by the vertical limit too (``max_z / |dir.z|``); the file does not hold
-   ``WPNAV_SPEED_UP``/``_DN``, and a vertical leg is judged at the command's speed, so the vertical limit is taken
-   as that speed on every leg.  Oracle: ``kinematic_limit`` transcribed from ArduPilot below.
+   ``WPNAV_SPEED_UP``/``_DN``: AC_WPNav's defaults (2.5/1.5 m/s) or the command, whichever is faster, are taken (a
+   leg of our own export steeper than 45° is flown at the planned speed with the defaults); a vertical leg is still
+   judged at the command's speed (audit 20).  Oracle: ``kinematic_limit`` transcribed from ArduPilot below.
 2. A hold on station sampled the current at 16 instants however long it was (up to 65 535 s): a hold of 16 periods
    of a current ``1 + sin`` (4 000 s) sampled it once a period, always at sin = 0, so a current that passes the
    vehicle's 1.8 m/s top speed every period was 'EXACT' at P(1 m/s) for the whole 64 000 s.  Oracle: the
@@ -61,7 +62,7 @@ def _plan(tmp_path, frame: LocalFrame, items, speed: float):
 
 
 @pytest.mark.parametrize(("offset", "dz"), [(0.0, -90.0), (0.02, -90.0), (0.5, -90.0), (40.0, -90.0),
-                                            (90.0, -90.0), (300.0, -90.0), (0.3, 60.0), (20.0, 60.0)])
+                                            (90.0, -90.0), (300.0, -90.0), (0.3, 60.0), (20.0, 60.0), (60.0, 60.0)])
 def test_a_near_vertical_leg_is_flown_within_the_vertical_limit(tmp_path, offset, dz):
     scen = tmp_path / "s.toml"
     scen.write_text(HOLDS, encoding="utf-8")
@@ -70,8 +71,10 @@ def test_a_near_vertical_leg_is_flown_within_the_vertical_limit(tmp_path, offset
     items = [[500.0, 1000.0, -100.0], [500.0 + offset, 1000.0, -100.0 + dz], [1500.0, 1000.0, -100.0 + dz]]
     rec = mission_file_energy(world, mission, _plan(tmp_path, LocalFrame(*world.origin), items, speed))[0]
     p = np.array([[500.0, 1000.0, 0.0], *items])  # the launch from the home above item 0
-    want = [kinematic_limit(b - a, speed, speed, speed) for a, b in zip(p[:-1], p[1:])]
+    want = [speed if np.hypot(*(b - a)[:2]) == 0.0 else kinematic_limit(b - a, speed, max(speed, 2.5), max(speed, 1.5))
+            for a, b in zip(p[:-1], p[1:])]
     assert rec["leg_speeds_mps"] == pytest.approx(want, rel=1e-5)  # offset 2 cm: 5 400 m/s before
+    assert offset == 0.0 or max(want) > speed  # the oracle is not the command itself
     legs = np.linalg.norm(np.diff(p, axis=0), axis=1)
     assert rec["duration_s"] == pytest.approx(float(np.sum(legs / np.array(want))), rel=1e-5)
     assert rec["energy_status"] == "EXACT"  # RESERVE_BROKEN by 10⁶ Wh before
@@ -120,3 +123,20 @@ def test_a_long_hold_samples_the_current_often_enough_to_see_its_peaks(tmp_path,
     moving = float(b.t_end[1] - b.t_start[1]) - hold
     held_wh = float(b.energy_leg_wh[1]) - float(model.power(b.speed_water[1])) * moving / 3600.0
     assert b.status is Status.EXACT and held_wh == pytest.approx(mean_power * hold / 3600.0, rel=1e-3)
+
+
+def test_our_export_of_a_leg_steeper_than_45_degrees_checks_at_the_planned_speed(tmp_path):
+    """The export commands v cos γ (audit 20); with AC_WPNav's default descent limit (1.5 m/s ≥ v sin γ) ArduSub
+    flies v along the leg, and so does the check (bounded by the command alone it judged v cot γ: 0.58 v at 60°)."""
+    from auvplan.io.missions.formats import to_qgc_plan
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS, encoding="utf-8")
+    world, mission = loader.build(loader.load(str(scen)))
+    pts = np.array([[500.0, 1000.0, -5.0], [552.0, 1000.0, -95.0], [1500.0, 1000.0, -95.0]])  # 60° then level
+    path = tmp_path / "e.plan"
+    path.write_text(json.dumps(to_qgc_plan(pts, world.origin, 1.1)))
+    rec = mission_file_energy(world, mission, path)[0]
+    gamma = math.atan2(90.0, 52.0)
+    assert rec["leg_speeds_mps"][1:] == pytest.approx([1.1, 1.1], abs=2e-4)
+    assert rec["leg_speeds_mps"][0] == pytest.approx(1.1 * math.cos(gamma), abs=1e-4)  # the launch: as commanded
