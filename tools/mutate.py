@@ -189,6 +189,7 @@ class Mutant:
     status: str = "not run"
     seconds: float = 0.0
     end_line: int = 0  # the changed node's last line (the node spans line..end_line)
+    first_line: int = 0  # the first line of the statement holding the node (0: ``line``): the tracer's span
     tests_run: int = -1  # how many tests covered the changed lines (-1: the whole selection, no coverage)
 
 
@@ -234,6 +235,24 @@ def _span(fn: ast.FunctionDef, source: str, spec: tuple[str, ...]) -> tuple[int,
     return start, end - 1
 
 
+def _statement_starts(fn: ast.FunctionDef) -> dict[int, int]:
+    """For each expression node of ``fn`` (by ``id``), the first line of its innermost statement.  A constant
+    tuple over several lines is one ``LOAD_CONST`` carrying its statement's first line (mutants20: ``_station``'s
+    ``for key, lo, hi in ((...), (...), ...)``): the tracer never sees the lines of its later elements, so the
+    tests that run a mutant there are those that run its statement."""
+    out: dict[int, int] = {}
+
+    def visit(n: ast.AST, start: int) -> None:
+        if isinstance(n, ast.stmt):
+            start = n.lineno
+        out[id(n)] = start
+        for child in ast.iter_child_nodes(n):
+            visit(child, start)
+
+    visit(fn, fn.lineno)
+    return out
+
+
 def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, ...], ...],
              sources: dict[str, str] | None = None) -> list[tuple[Mutant, int, int]]:
     """Every mutant of the named functions (or of their marked parts): (record, node index, operation index)."""
@@ -244,6 +263,7 @@ def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, ...], ...
         fn = _function_node(trees[modname], name)
         lo, hi = _span(fn, (sources or {}).get(modname, ""), spec)
         original = ast.unparse(fn)
+        starts = _statement_starts(fn)
         for i, node in enumerate(_walk(fn)):
             line = getattr(node, "lineno", fn.lineno)
             if not lo <= line <= hi:
@@ -255,7 +275,7 @@ def generate(trees: dict[str, ast.Module], functions: tuple[tuple[str, ...], ...
                     continue  # no change, or a duplicate of an earlier mutant
                 seen.add((name, source))
                 m = Mutant(len(out) + 1, modname, name, line, kind, _snippet(node), _snippet(new_node),
-                           end_line=getattr(node, "end_lineno", None) or line)
+                           end_line=getattr(node, "end_lineno", None) or line, first_line=starts.get(id(node), line))
                 out.append((m, i, j))
     return out
 
@@ -560,7 +580,8 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             m, i, j = todo.pop(0)
             chosen, limit = list(items), timeout
             if cover is not None:  # only the tests that execute the changed lines (same order)
-                chosen = [it for it in items if cover.covers(it.nodeid, files[m.module], m.line, m.end_line)]
+                chosen = [it for it in items
+                          if cover.covers(it.nodeid, files[m.module], min(m.first_line or m.line, m.line), m.end_line)]
                 m.tests_run = len(chosen)
                 limit = args.timeout or max(10.0, 3.0 * sum(durations.get(it.nodeid, 0.0) for it in chosen))
                 if not chosen:  # no test reaches the change: it survives without running anything

@@ -1401,3 +1401,161 @@ REASONS.update({
     "merge_short_legs | if 0 < j < len(q) + 1 and (not pinned[idx[j]]) and _droppable(world, q, j, max_pitch_deg):":
         _MERGE_ENDS,
 })
+
+# ---- round 7 (7 Dec 2026, ~02:30; docs/mutants.md section 7, mutants20): this session's hostile20/fix20 code
+# holds on station (the last item's hold, Traverse.end_hold) and their drift without bottom lock, the launch band,
+# the readers' new guards (a GeoJSON's CRS, a tide file, the 50 m/s current cap, run.npz's arrays, bench rows),
+# the simulation's step cap and the zones' nearest-distance kernel
+END_BUDGET, NAV_BUDGET, NAV_MISSION = "auvplan.endurance.budget", "auvplan.nav.budget", "auvplan.nav.mission"
+PARSED, MEN = "auvplan.io.missions.parsed", "auvplan.io.missions.energy"
+JSONCRS, TIDECHECK = "auvplan.io.data.vector.jsoncrs", "auvplan.io.data.ocean.tidecheck"
+OCURRENTS, READBACK, ROWS = "auvplan.io.data.ocean.currents", "auvplan.io.results.readback", "auvplan.bench.rows"
+ZEXACT = "auvplan.world.zones.exact"
+MODULES.update({
+    "hold-station": Target(
+        _fns(END_BUDGET, "Traverse.duration", "_held_water", "budget_of", "_blocked_hold", "_verdict")
+        + ((END_BUDGET, "traverse", "end = float(hold[-1])", "return Traverse("),),
+    ),
+    "hold-drift": Target(
+        _fns(NAV_BUDGET, "hold_drift", "mission_budget")
+        + ((NAV_MISSION, "check_navigation", "budget = mission_budget(", "grown in the last waypoint's hold"),),
+    ),
+    "launch-band": Target(
+        ((LIMITS, "waypoint_limits"), (LIMITS, "WaypointLimits.reasons", "if self.outside_depth_band:",
+                                       "outside the depth band (waypoint")),
+    ),
+    "parse-once": Target(_fns(PARSED, "parse_once", "loads", "remembered") + _fns(MEN, "file_energy_holds")),
+    "readers20": Target(
+        _fns(JSONCRS, "_stated", "check_geojson_crs")
+        + _fns(TIDECHECK, "_number", "_list", "_tables", "_station", "check_tide_doc")
+        + ((OCURRENTS, "_component", "if np.isinf(arr).any():", "declare a fill value as _FillValue"),
+           (OCURRENTS, "_finish", "for c, arr in comps.items():", "raise DataError(")),
+    ),
+    "readback-rows": Target(_fns(READBACK, "_points", "_check_arrays") + _fns(ROWS, "read_rows")),
+    "step-cap": Target(_fns(SIM_LOOP, "_check_steps")),
+    "zones-near": Target(_fns(ZEXACT, "near_distance_kernel", "_near_zones"), jit=False),
+})
+_SHAPE_ONLY = "equivalent: dur only gives the shape of held and rest (every figure uses t_end, t_start and moving)"
+_RESERVE_TOL = ("boundary: the verdict's 1e-9 x battery_wh tolerance itself (a margin or a remaining energy exactly at "
+                "the reserve's floor)")
+REASONS.update({
+    "budget_of | dur = t_end + t_start": _SHAPE_ONLY,
+    "budget_of | rest = model.power(0.0) / np.ones(dur.shape)": "equivalent: a division by ones",
+    "_verdict | if margin <= -1e-09 * model.battery_wh:": _RESERVE_TOL,
+    "_verdict | over = int(np.argmax(remaining <= floor))": _RESERVE_TOL,
+    "_verdict | if over == cum.size - 1 and end_wh > 0 and (remaining[-1] + end_wh > floor):": _RESERVE_TOL,
+    "_verdict | if over == cum.size - 1 and end_wh >= 0 and (remaining[-1] + end_wh >= floor):":
+        ("equivalent: with end_wh = 0 the test is remaining[-1] >= floor, false whenever the reserve is entered on "
+         "the last leg (remaining[over] < floor)"),
+    "traverse | end = float(hold[-1]) if ok and held_on[-1] and (hold[-1] >= 0.0) else 0.0":
+        "equivalent: a hold of 0 s gives end = 0.0 either way, and no node is added (if end > 0.0)",
+    "waypoint_limits | w = as_points(waypoints).reshape(-2, 3)":
+        "equivalent: numpy infers the length of any negative dimension, -2 as -1",
+    ("WaypointLimits.reasons | side = f'deeper than max_depth_m = {self.max_depth_m:g}' if depth >= self.max_depth_m "
+     "else f'shallower than min_depth_m = {self.min_depth_m:g}'"):
+        "equivalent: a waypoint at exactly max_depth_m is in the band, never listed outside it",
+    "check_geojson_crs | if data.find(b'\"crs\"') <= 0:":
+        ("equivalent: a file whose first bytes are \"crs\" is a JSON string, not an object: it is left alone a few "
+         "lines below (not a dict) either way"),
+    "check_geojson_crs | if data.find(b'\"crs\"') < 1:":
+        ("equivalent: a file whose first bytes are \"crs\" is a JSON string, not an object: it is left alone a few "
+         "lines below (not a dict) either way"),
+    "_number | span = '' if (lo, hi) == (math.inf, math.inf) else f' in [{lo:g}, {hi:g}]'":
+        "equivalent: every caller passes both ends, so (lo, hi) is never (-inf, inf) and the range is always named",
+    ("_finish | big = np.abs(np.where(np.isfinite(arr), arr, 1.0)) > MAX_CURRENT_MPS"):
+        "equivalent: the placeholder of a NaN (a land cell) is 0 or 1 m/s, both far under the 50 m/s cap",
+})
+_MINLENGTH = ("equivalent: every leg holds at least one sample, so np.bincount's own length is already N - 1; a "
+              "smaller minlength changes nothing")
+_LEG_EDGE = "boundary: a leg's predicted error within 1e-9 of max_error_m times itself, the tolerance itself"
+REASONS.update({
+    "mission_budget | p = np.asarray(points, dtype=float).reshape(-2, 3)":
+        "equivalent: numpy infers the length of any negative dimension, -2 as -1",
+    "mission_budget | fixes = [i for i, k in enumerate(kinds) if k and i >= 0]":
+        ("equivalent: a fix at waypoint 0 resets sigma_profile at sample 0 to the start's own sigma (fix_sigma of "
+         "kinds[0]), with D = 0 there: the same profile"),
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 2) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)"): _MINLENGTH,
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 2), 1e-12)"): _MINLENGTH,
+    ("mission_budget | share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(np.bincount("
+     "leg, weights=ds, minlength=p.shape[0] - 1), 1.000000000001)"):
+        "equivalent: the floor only divides a leg of no length, whose locked length is 0 too: 0 either way",
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m >= nav.max_error_m * (1.0 + 1e-09))": _LEG_EDGE,
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m / (1.0 + 1e-09))": _LEG_EDGE,
+    "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 - 1e-09))": _LEG_EDGE,
+})
+# mutants20's survivors of parse-once (file_energy_holds) and zones-near, argued or left open
+REASONS.update({
+    'loads | if hit is not None and (hit[1] is text or hit[0] == text):':
+        'equivalent: hit[0] is text implies hit[0] == text; the equality decides alone (the identity is a shortcut)',
+    ('file_energy_holds | waypoints = read_mission(path, world.origin, world.seabed if world.terrain is None els'
+     'e None)[0]'):
+        ('not killed (a line moved unchanged from mission_file_energy): the seabed handed to the reader only mat'
+         'ters for a terrain-frame .plan on a world with a seabed, which no energy test reads'),
+    'file_energy_holds | if waypoints.shape[1] < 2:':
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 1.0}, True, 'energy: a single point, n"
+     "othing to fly', None)"):
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 0.0}, False, 'energy: a single point, "
+     "nothing to fly', None)"):
+        ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
+         'ints first'),
+    'file_energy_holds | if not np.isfinite(waypoints).any():':
+        'equivalent: read_mission refuses a waypoint that is not finite before this line (the guard is a second one)',
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is not None else np.array([nav.surface'
+     "_s if k == 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+     "f k != 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+     "f k == 'gps' else 1.0 for k in surface_kinds(waypoints)])"):
+        ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
+         "_endurance pin it through the planner's path, not through a file"),
+    'file_energy_holds | station = None if held is None else held >= 0':
+        'equivalent: a vertex of no hold marked on station holds for 0 s: traverse acts only where the hold is > 0',
+    'near_distance_kernel | count = 1':
+        'equivalent: count is always set at the first point (n == 0) before it is read',
+    'near_distance_kernel | if n != 0 or px != p[n - 1, 0] or py != p[n - 1, 1]:':
+        ('not killed (only time): n != 0 recomputes the zones at each point, the same answers; the first point t'
+         'hen reads count 0 and finds no zone: NOT equivalent at n = 0, open'),
+    'near_distance_kernel | if n == 1 or px != p[n - 1, 0] or py != p[n - 1, 1]:':
+        'not killed: the column test on the first point; open',
+    'near_distance_kernel | if n == 0 or px != p[n - 1, 1] or py != p[n - 1, 1]:':
+        'not killed: the column test compares x with the point before it; open',
+    'near_distance_kernel | if n == 0 or px != p[n - 1, 0] or py != p[n - 1, 2]:':
+        'not killed: the column test compares y with the point before it; open',
+    'near_distance_kernel | if dh == 0.0 and out_v < 0.0:':
+        ("boundary: a point exactly on a zone's floor or ceiling (out_v = 0) inside its footprint: -min(edge, 0)"
+         ' = 0 and hypot(0, 0) = 0 either way'),
+    'near_distance_kernel | if dh == 0.0 and out_v <= 1.0:':
+        'not killed: open (inside the footprint, 0 < out_v <= 1 m then reads as inside)',
+    '_near_zones | for jj in range(min(j - reach, 0), min(j + reach, ny - 1) + 1):':
+        ("equivalent in value: a negative start row wraps to other cells' lists: more zones measured exactly, th"
+         'e minimum unchanged'),
+    '_near_zones | for jj in range(max(j - reach, 1), min(j + reach, ny - 1) + 1):':
+        "not killed: the scan skips row 0 of the cells; open (no test puts a zone listed only in the grid's first row)",
+    '_near_zones | for jj in range(max(j - reach, 0), min(j + reach, ny - 2) + 1):':
+        'not killed: the scan skips the last row; open',
+    '_near_zones | for ii in range(min(i - reach, 0), min(i + reach, nx - 1) + 1):':
+        ("equivalent in value: a negative start column reads other cells' lists: more zones measured, the minimu"
+         'm unchanged'),
+    '_near_zones | for ii in range(max(i - reach, 1), min(i + reach, nx - 1) + 1):':
+        'not killed: the scan skips column 0; open',
+    '_near_zones | for ii in range(max(i - reach, 0), max(i + reach, nx - 1) + 1):':
+        'equivalent in value: more columns scanned, more zones measured exactly, the minimum unchanged',
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx + 1) + 1):':
+        "equivalent in value: more columns scanned (wrapping to the next row's cells), the minimum unchanged",
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 2) + 1):':
+        'not killed: the scan skips the last column; open',
+    '_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 1) + 2):':
+        'not killed: the scan skips the last column; open',
+    '_near_zones | for q in range(start[c], start[c + 2]):':
+        "equivalent in value: a cell's list read with the next cell's, more zones measured, the minimum unchanged",
+})

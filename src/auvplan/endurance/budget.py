@@ -39,7 +39,8 @@ from ..world import World
 from ..world.currents.crab import crab_speed, makes_headway
 from .power import WH, EnergyModel
 
-__all__ = ["HOLD_SAMPLES", "Traverse", "Budget", "traverse", "mission_budget", "budget_of", "ground_speed"]
+__all__ = ["HOLD_SAMPLES", "HOLD_STEP_S", "Traverse", "Budget", "traverse", "mission_budget", "budget_of",
+           "ground_speed"]
 
 F64 = NDArray[np.float64]
 
@@ -72,7 +73,12 @@ def ground_speed(current: F64, tangent: F64, speed: float, tail: bool = False) -
 
 HOLD_SAMPLES = 16
 """The instants a hold against the current is sampled at (the midpoints of its equal parts: exact in a steady
-current, second order in a tide)."""
+current, second order in a tide), at least: more in a current that varies when the hold is longer than
+``HOLD_SAMPLES`` × :data:`HOLD_STEP_S`."""
+
+HOLD_STEP_S = 600.0
+"""Longest time between two samples of a hold in a current that varies (s): 16 samples of a 64 000 s hold (a
+``.plan`` holds up to 65 535 s) were 4 000 s apart and saw a current of that period at one phase only."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,9 +111,9 @@ class Traverse:
     dwell : numpy.ndarray
         ``(N,)`` time held at each vertex before the next leg (a surface fix's ``surface_s``; s).
     hold_water : numpy.ndarray
-        ``(N, HOLD_SAMPLES)`` where a vertex is held against the current (``station``): the through-water speed
-        that takes at the midpoints of the hold's equal parts (the current's speed there, m/s); empty: every dwell
-        drifts (hotel power).
+        ``(N, K)`` where a vertex is held against the current (``station``): the through-water speed that takes at
+        the midpoints of the hold's K equal parts (the current's speed there, m/s; K = :data:`HOLD_SAMPLES`, more for
+        a hold longer than K × :data:`HOLD_STEP_S` in a current that varies); empty: every dwell drifts (hotel power).
     end_hold : float
         Time held on station at the last vertex before the mission ends (s; 0 unless that vertex is ``station``).
     """
@@ -199,7 +205,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
                                                                        (p.shape[0],)).copy()
     held_on = np.zeros(p.shape[0], dtype=bool) if station is None else np.broadcast_to(
         np.asarray(station, dtype=bool), (p.shape[0],))
-    water = np.zeros((p.shape[0] if held_on.any() else 0, HOLD_SAMPLES))
+    water = np.zeros((p.shape[0] if held_on.any() else 0, _hold_samples(world, hold[held_on])))
     times = np.full(p.shape[0], math.nan)
     times[0] = depart
     nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
@@ -209,7 +215,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         a, b = p[i], p[i + 1]
         if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
             if held_on[i]:  # against the current: its speed at the midpoints of the hold's parts
-                water[i] = _held_water(world, a, t, float(hold[i]))
+                water[i] = _held_water(world, a, t, float(hold[i]), water.shape[1])
             t += float(hold[i])
             nodes.append(a.copy())
             node_s.append(s_along)
@@ -243,7 +249,7 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
         times[i + 1] = t
     end = float(hold[-1]) if ok and held_on[-1] and hold[-1] > 0.0 else 0.0
     if end > 0.0:  # held on station at the last vertex before the mission ends: a node at the hold's end
-        water[-1] = _held_water(world, p[-1], t, end)
+        water[-1] = _held_water(world, p[-1], t, end, water.shape[1])
         nodes.append(p[-1].copy())
         node_s.append(s_along)
         node_t.append(t + end)
@@ -252,9 +258,18 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
                     np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water, end)
 
 
-def _held_water(world: World, point: F64, t: float, hold: float) -> list[float]:
-    """The current's speed at ``point`` at the midpoints of a hold's :data:`HOLD_SAMPLES` equal parts (m/s)."""
-    mid = t + (np.arange(HOLD_SAMPLES) + 0.5) * hold / HOLD_SAMPLES
+def _hold_samples(world: World, holds: F64) -> int:
+    """The samples of every hold: :data:`HOLD_SAMPLES`, or as many as keep the longest's :data:`HOLD_STEP_S` apart
+    in a current that varies."""
+    longest = float(np.max(holds, initial=0.0))
+    if not np.isfinite(longest) or getattr(world.currents, "steady", False):
+        return HOLD_SAMPLES
+    return max(HOLD_SAMPLES, math.ceil(longest / HOLD_STEP_S))
+
+
+def _held_water(world: World, point: F64, t: float, hold: float, samples: int) -> list[float]:
+    """The current's speed at ``point`` at the midpoints of a hold's ``samples`` equal parts (m/s)."""
+    mid = t + (np.arange(samples) + 0.5) * hold / samples
     return [float(np.linalg.norm(world.currents.velocity(point, float(tk)))) for tk in mid]
 
 

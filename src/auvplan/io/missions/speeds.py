@@ -13,6 +13,8 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
   the vertical limit ``WPNAV_SPEED_UP``/``_DN`` binds, at ``tan γ`` over their ratio to it), so the speed through
   the water is the command's times :func:`along_track_factor`; a vertical leg (the launch from a home above the
   first item) flies at the vertical limit, which the file does not hold either: judged at the command's speed.
+  Every other leg is bounded by the vertical limit too, AC_WPNav's default or the command, whichever is faster
+  (:func:`flown_speeds`; without it a waypoint 2 cm beside a plumb dive of 90 m was flown at 4 500 m/s).
   ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of the mission's time, never uploaded to
   the vehicle: not read as a speed;
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
@@ -41,7 +43,8 @@ from . import parsed
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
-__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "along_track_factor", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
+__all__ = ["MAX_HOLD_S", "JudgedSpeeds", "WPNAV_SPEED_DN_MPS", "WPNAV_SPEED_UP_MPS", "along_track_factor",
+           "flown_speeds", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
 
 
 def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -62,6 +65,42 @@ def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
     flat = np.hypot(d[:, 0], d[:, 1])
     full = np.linalg.norm(d, axis=1)
     return np.where(flat > 0.0, full / np.where(flat > 0.0, flat, 1.0), 1.0)
+
+
+WPNAV_SPEED_UP_MPS = 2.5
+"""AC_WPNav's default climb limit ``WPNAV_SPEED_UP`` (250 cm/s; the file does not hold it)."""
+WPNAV_SPEED_DN_MPS = 1.5
+"""AC_WPNav's default descent limit ``WPNAV_SPEED_DN`` (150 cm/s; the file does not hold it)."""
+
+
+def flown_speeds(commands: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The speed along each leg of a ``.plan`` as WPNav flies its commanded horizontal speed (module notes).
+
+    ArduPilot's ``kinematic_limit``: ``v / cos γ`` until the vertical limit binds, then ``v_z / |sin γ|``, with the
+    vertical limits AC_WPNav's defaults (:data:`WPNAV_SPEED_UP_MPS`, :data:`WPNAV_SPEED_DN_MPS`) or the command,
+    whichever is faster; a vertical leg (no horizontal run) at the command's speed, as documented.
+
+    Parameters
+    ----------
+    commands : numpy.ndarray
+        ``(N - 1,)`` each leg's commanded horizontal speed (m/s; NaN: not in the file, kept).
+    points : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N - 1,)`` (m/s).
+    """
+    d = np.diff(np.asarray(points, dtype=float), axis=0)
+    flat, rise = np.hypot(d[:, 0], d[:, 1]), d[:, 2]
+    full = np.linalg.norm(d, axis=1)
+    v = np.asarray(commands, dtype=float)
+    vz = np.maximum(v, np.where(rise > 0.0, WPNAV_SPEED_UP_MPS, WPNAV_SPEED_DN_MPS))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        along = np.minimum(v * full / flat, vz * full / np.abs(rise))
+    out: NDArray[np.float64] = np.where(flat > 0.0, along, v)
+    return out
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -206,7 +245,7 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
         The scenario vehicle's speed (m/s).
     points : numpy.ndarray, optional
         ``(legs + 1, 3)`` the file's waypoints (m): a ``.plan``'s speed commands are horizontal, so each leg they
-        set is flown at their speed times :func:`along_track_factor` through the water (without: as written).
+        set is flown at :func:`flown_speeds` of their speed through the water (without: as written).
 
     Returns
     -------
@@ -227,7 +266,7 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
         else:
             line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
     if points is not None and path.suffix.lower() == ".plan":  # WPNav keeps the horizontal speed: faster on a slope
-        v = v * along_track_factor(points)
+        v = flown_speeds(v, points)  # up to the vertical limit
     return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
 
 
