@@ -1,4 +1,5 @@
-"""Move auvplan to one folder per method (issue 33) and rewrite every reference to the old module paths.
+"""Move auvplan to one folder per method (issue 33), then to fewer parts (issue 50), and rewrite every reference to
+the old module paths.
 
 Two modes::
 
@@ -6,8 +7,9 @@ Two modes::
     python tools/relayout.py --imports-only  # rewrite only (e.g. after merging a branch on the old layout)
 
 Both are idempotent: a file already at its new place is not moved again, and a reference already on the
-new layout is left as it is (a second run changes nothing).  The rewrite covers, in src/, tests/,
-benchmarks/, tools/, docs/, README.md, Makefile and pyproject.toml:
+new layout is left as it is (a second run changes nothing).  A file moved twice (``planners/flow_params.py`` ->
+``planners/params.py`` -> ``planners/core/params.py``) is sent straight to its last place.  The rewrite
+covers, in src/, tests/, benchmarks/, tools/, docs/, README.md, Makefile and pyproject.toml:
 
 - Python imports (absolute, relative, ``from package import module [as name]``, ``import a.b [as c]``),
   with each imported name sent to the module that now defines it (:data:`SYMBOLS`, then re-exports
@@ -31,6 +33,7 @@ import ast
 import re
 import subprocess
 import sys
+import textwrap
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
@@ -159,6 +162,43 @@ MOVES: dict[str, str] = {
     "io/scenario/currentspan.py": "io/scenario/inputs/currentspan.py",
     "io/scenario/members.py": "io/scenario/inputs/members.py",
     "io/scenario/uncertainty.py": "io/scenario/inputs/uncertainty.py",
+    # issue 50, fewer parts: what every planner shares in one package, the glider beside the method it runs on
+    "planners/base.py": "planners/core/base.py",
+    "planners/params.py": "planners/core/params.py",
+    "planners/registry.py": "planners/core/registry.py",
+    "planners/common.py": "planners/core/common.py",
+    "planners/zone_check.py": "planners/core/zone_check.py",
+    "planners/vehicle_limits.py": "planners/core/vehicle_limits.py",
+    "planners/glider.py": "planners/timeopt/glider.py",
+    # io's guards of files in and out in one package
+    "io/jsonfile.py": "io/files/jsonfile.py",
+    "io/limits.py": "io/files/limits.py",
+    "io/outdir.py": "io/files/outdir.py",
+    "io/safeio.py": "io/files/safeio.py",
+    # reading mission files back (``mission check``) apart from writing them: io/missions under 12 modules
+    "io/missions/readers.py": "io/missions/readback/readers.py",
+    "io/missions/qgc_items.py": "io/missions/readback/qgc_items.py",
+    "io/missions/speeds.py": "io/missions/readback/speeds.py",
+    "io/missions/terrain_frame.py": "io/missions/readback/terrain_frame.py",
+    "io/missions/fixes.py": "io/missions/readback/fixes.py",
+    "io/missions/deploy_read.py": "io/missions/readback/deploy_read.py",
+    # the bench sweep is the bench job's; a route flown in every current member is a simulation
+    "app/bench.py": "app/bench/job.py",
+    "bench/__init__.py": "app/bench/__init__.py",
+    "bench/sweep.py": "app/bench/sweep.py",
+    "bench/rows.py": "app/bench/rows.py",
+    "bench/members.py": "app/bench/members.py",
+    "ensemble/__init__.py": "sim/ensemble/__init__.py",
+    "ensemble/score.py": "sim/ensemble/score.py",
+    "ensemble/robust.py": "sim/ensemble/robust.py",
+    "ensemble/replan.py": "sim/ensemble/replan.py",
+    # what the planning page asks of the library, as data in, data out, is a job: serve keeps its state and actions
+    "serve/check.py": "app/page/check.py",
+    "serve/budget.py": "app/page/budget.py",
+    "serve/lru.py": "app/page/lru.py",
+    "serve/plans.py": "app/page/plans.py",
+    "serve/paths.py": "app/page/paths.py",
+    "serve/tomlout.py": "app/page/tomlout.py",
 }
 
 # module renames done after the move (whole modules merged into another)
@@ -168,7 +208,7 @@ LATER_MODULES: dict[str, str] = {
 
 # old modules that became packages re-exporting the old module's public names (issue 50): ``from auvplan.path
 # import BSplinePath``, ``from auvplan import cli`` and ``import auvplan.vehicles`` keep working and are left alone
-KEEP: frozenset[str] = frozenset({"auvplan.cli", "auvplan.path", "auvplan.vehicles"})
+KEEP: frozenset[str] = frozenset({"auvplan.cli", "auvplan.path", "auvplan.vehicles", "auvplan.app.bench"})
 
 # (old module, name) -> new module, for names moved out of their file after the move; applied only
 # once the new module defines the name
@@ -198,6 +238,9 @@ SYMBOLS: dict[tuple[str, str], str] = {
        for n in ("cmd_report", "cmd_export")},
     ("auvplan.planners.base", "GridParams"): "auvplan.planners.params",
     ("auvplan", "__version__"): "auvplan._version",
+    # issue 50: a polyline's path cost is every planner's (the lattice's band, the swarm's polish, the limits)
+    **{(m, "path_cost"): "auvplan.planners.core.common" for m in ("auvplan.planners.grid.band",
+                                                                  "auvplan.planners.grid.planner")},
 }
 
 PACKAGE_DOCS: dict[str, str] = {
@@ -231,6 +274,22 @@ PACKAGE_DOCS: dict[str, str] = {
                     "along a centre line (:mod:`.corridor`).",
     "io/data/vector": "Vector feature files: the one reader (:mod:`.reader`), coastlines (:mod:`.coast`), charted "
                       "zones (:mod:`.zones`) and survey areas and centre lines (:mod:`.areas`).",
+    "planners/core": "What every planner shares: the interface (:mod:`.base`), the settings of the methods "
+                     "(:mod:`.params`), the registry, the plug-in point (:mod:`.registry`), the cost function and "
+                     "end-point check (:mod:`.common`), and the zones' and the vehicle's last word on a plan "
+                     "(:mod:`.zone_check`, :mod:`.vehicle_limits`).",
+    "io/files": "Files in and out, guarded: bounded JSON reading (:mod:`.jsonfile`), a scenario's resource budget "
+                "checked before allocation (:mod:`.limits`), the locked ``--out`` folders (:mod:`.outdir`) and "
+                "atomic writes that never overwrite a user's file (:mod:`.safeio`).",
+    "io/missions/readback": "Mission files read back (``auvplan mission check``): the parsers of every format "
+                            "(:mod:`.readers`, a ``.plan``'s items :mod:`.qgc_items`), each leg's speed "
+                            "(:mod:`.speeds`), the terrain-following legs (:mod:`.terrain_frame`), the position "
+                            "fixes (:mod:`.fixes`) and what makes the file deployable (:mod:`.deploy_read`).",
+    "app/page": "The jobs of the planning page (``auvplan serve``), data in, data out: the mission check and the "
+                "energy budget of a mission held in memory, re-flying only the legs an edit changed (:mod:`.check`, "
+                ":mod:`.budget`, their per-leg cache :mod:`.lru`), the surveys, plans and flights it asks for "
+                "(:mod:`.plans`), file access confined to the folders it was started with (:mod:`.paths`) and a "
+                "scenario written back as TOML (:mod:`.tomlout`).",
     "app": "The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, and the "
            "one writer of a results folder.",
 }
@@ -253,6 +312,12 @@ def module_map() -> dict[str, str]:
     """Old dotted module -> new dotted module."""
     out = {_mod(old): _mod(new) for old, new in MOVES.items()}
     out.update(LATER_MODULES)
+    for old, new in out.items():  # a module moved twice (``planners/flow_params.py`` -> ``planners/params.py``
+        seen = {old}  # -> ``planners/core/params.py``): straight to its last place
+        while new in out and new not in seen and out[new] != new and new not in KEEP:  # a package kept its name
+            seen.add(new)
+            new = out[new]
+        out[old] = new
     return out
 
 
@@ -362,12 +427,17 @@ def where_now(tree: Tree, module: str, name: str) -> tuple[str, str]:
     if sub in KEEP or module in KEEP and tree.defines(module, name):
         return module, name  # a package that re-exports its old module's names
     moved_sub = new_module(sub)
+    moved_pkg = new_module(module)
+    if moved_sub is not None and moved_pkg is not None and name in tree.names(moved_pkg) \
+            and tree.names(moved_pkg)[name] != f"{moved_pkg}:{name}":  # ``from auvplan.bench import sweep``: the
+        return tree.origin(moved_pkg, name), name  # function its package re-exports, not its module ``sweep``
     if tree.exists(sub) and moved_sub is None:
         return module, name  # a module of the new tree
     if moved_sub is not None:  # ``from auvplan.io import scenario``: an old module imported by name
         parent, leaf = moved_sub.rsplit(".", 1)
         return parent, leaf
     target = SYMBOLS.get((module, name))
+    target = MODULES.get(target, target) if target is not None else None  # a target that moved since
     if target is not None and tree.defines(target, name):
         return target, name
     moved = new_module(module)
@@ -382,7 +452,10 @@ def _valid(tree: Tree, module: str, names: list[str]) -> bool:
         return True  # an old module: rewritten below
     if not tree.exists(module):
         return False
-    return all(n == "*" or tree.defines(module, n) for n in names)
+    # an old module or a moved name imported from where it was (``from .. import limits`` in io/scenario/build.py):
+    # on the new layout as written, rewritten below
+    return all(n == "*" or tree.defines(module, n) or new_module(f"{module}.{n}") is not None
+               or (module, n) in SYMBOLS for n in names)
 
 
 # ------------------------------------------------------------------------------------- rewriting Python
@@ -541,7 +614,8 @@ def _paths(text: str) -> str:
         if old.rsplit("/", 1)[-1] in BASENAMES:
             text = re.sub(r"(?<![\w./])" + re.escape(old.rsplit("/", 1)[-1]) + r"(?!\w)", new, text)
         # a file of the package root (``flyable.py``) is not one of a folder (``path/flyable.py``, its new place)
-        before = r"(?<![\w./])" if "/" not in old else r"(?<![\w.])"
+        # and a folder moved into another (``bench/sweep.py`` -> ``app/bench/sweep.py``) is not its new place
+        before = r"(?<![\w./])" if "/" not in old or new.endswith("/" + old) else r"(?<![\w.])"
         pat = re.compile(before + r"((?:src/)?auvplan/)?" + re.escape(old) + r"(?!\w)")
         text = pat.sub(lambda m, new=new: (m.group(1) or "") + new, text)
     return text
@@ -579,7 +653,8 @@ def move_files() -> list[str]:
     for folder, doc in PACKAGE_DOCS.items():
         init = SRC / "auvplan" / folder / "__init__.py"
         if init.parent.is_dir() and not init.exists():
-            init.write_text(f'"""{doc}"""\n\n__all__: list[str] = []\n')
+            text = textwrap.fill(f'"""{doc}"""', 117, break_long_words=False, break_on_hyphens=False)
+            init.write_text(f"{text}\n\n__all__: list[str] = []\n")
             git("add", str(init))
     return moved
 
@@ -633,7 +708,7 @@ def fix_contracts() -> bool:
         lines.append(line)
     new = "".join(lines)
     sim = re.search(r'containers = \["auvplan\.sim"\]\nlayers = \[\n', new)
-    if sim and '"formation"' not in new[sim.end(): new.find("]", sim.end())]:
+    if sim and not re.search(r'"[^"]*\bformation\b', new[sim.end(): new.find("]", sim.end())]):
         new = (new[: sim.end()] + '    "formation",  # several vehicles: the pipeline\'s route, one loop per vehicle\n'
                + new[sim.end():])
     if new != text:
