@@ -8,7 +8,7 @@ Three sets of missions, each seed flown once per avoidance variant (``--avoidanc
 
 ``fast-movers``
     The held-out kind of case: ``avoidance-gauntlet``'s real seamount flank (ETOPO1, 100 m) and
-    global plan (scenario seed), and per seed (:func:`auvplan.bench.fast_movers`) six spheres of
+    global plan (scenario seed), and per seed (:func:`auvplan.app.bench.sweep.fast_movers`) six spheres of
     15–30 m radius at 1.8–3.0 m/s (1.2–2× the vehicle's 1.5 m/s), each timed to meet the vehicle on
     the route at a random 10–90 % of its length (±40 s): straight runs at any angle to the route,
     shuttles 300 m across or along it, orbits of 60–100 m radius about it.
@@ -17,7 +17,7 @@ Three sets of missions, each seed flown once per avoidance variant (``--avoidanc
     random sub-goals); the obstacles' tracks are the file's.
 ``gauntlet-randomised``
     The README's kind: the scenario's plan (its seed), each seed re-drawing every moving
-    obstacle's track (:func:`auvplan.bench.perturb_moving`).
+    obstacle's track (:func:`auvplan.app.bench.sweep.perturb_moving`).
 ``avoidance-net``
     The built-in where document 004's escape is needed (a towed trawl net the vehicle steers into),
     the first ``NET_SEEDS`` seeds: the escapes must fire and the runs arrive.
@@ -59,7 +59,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.bench import fast_movers, perturb_moving
+from auvplan.app.bench.sweep import fast_movers, perturb_moving
 from auvplan.guidance.avoidance.local import key_waypoints
 from auvplan.guidance.avoidance.oracle import best_constant_manoeuvre
 from auvplan.io.scenario import loader as sc

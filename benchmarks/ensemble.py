@@ -8,9 +8,9 @@ nominal member) and its Nordic-4km hindcast (the truth) off Lofoten, 2-4 Februar
 start/goal pairs at 50 m depth, more than 20 km apart, in free water, are drawn with a seeded generator
 (seed = pair index); each is
 
-* planned robustly (:func:`auvplan.ensemble.plan_robust`, ``p90``) and nominally (on the forecast), both
+* planned robustly (:func:`auvplan.sim.ensemble.robust.plan_robust`, ``p90``) and nominally (on the forecast), both
   flown in both members: the P90 over the two members and the arrival in the other member (the truth);
-* flown through the truth (:mod:`auvplan.ensemble.replan`): the oracle (planned on the truth), open loop
+* flown through the truth (:mod:`auvplan.sim.ensemble.replan`): the oracle (planned on the truth), open loop
   (the forecast's plan flown to its end, then a fix and homing) and re-planned on the forecast from a fix
   every ``interval`` seconds; the loss is open loop minus oracle, the recovered share
   (open loop − re-planned) / loss, summed over the pairs where the open loop arrives.
@@ -35,10 +35,10 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.ensemble import plan_robust
-from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 from auvplan.io.scenario import loader as scenario
 from auvplan.io.scenario.inputs.members import scenario_members
+from auvplan.sim.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
+from auvplan.sim.ensemble.robust import plan_robust
 from auvplan.world.currents.ensemble import PerturbedCurrent
 
 

@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.io.scenario import loader as sc
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.design import design_body
 from auvplan.planners.flow.field import FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
-from auvplan.planners.params import FlowParams
 from auvplan.world import Ellipsoid, Sphere
 
 ELLIPSOID = Ellipsoid((0.0, 0.0, 0.0), (8.0, 4.0, 3.0))

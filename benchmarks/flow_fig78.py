@@ -30,12 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.body import frame
 from auvplan.planners.flow.design import design_body, offset_surface
 from auvplan.planners.flow.field import SAG_PAD, FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
 from auvplan.planners.flow.turning import flyable_path
-from auvplan.planners.params import FlowParams
 from auvplan.vehicles import VehicleParams
 from auvplan.world import Ellipsoid, Sphere
 

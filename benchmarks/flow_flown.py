@@ -32,8 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from auvplan.io.scenario import loader as sc
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.field import FlowField
-from auvplan.planners.params import FlowParams
 from auvplan.sim.pipeline import run_mission
 from auvplan.sim.tracking import route_deviation
 

@@ -4,7 +4,7 @@
 
 ``chagos-formation`` (three vehicles, 600 m line abreast, reshaped to a column through the channel
 saddle, re-formed, then a wedge; Lamb–Oseen eddy; three moving obstacles).  Seed 0 flies the
-scenario's obstacle tracks; every other seed re-draws them (:func:`auvplan.bench.perturb_moving`:
+scenario's obstacle tracks; every other seed re-draws them (:func:`auvplan.app.bench.sweep.perturb_moving`:
 speeds ×0.6–1.2, starts shifted ±150 m along and across, the circle's phase anywhere).  Writes
 ``rows.csv`` (one row per seed) and ``summary.md``: arrivals, collisions with the seabed, obstacles
 and each other, least vehicle distance, altitude and obstacle distance, formation error RMS/max per
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.bench import perturb_moving
+from auvplan.app.bench.sweep import perturb_moving
 from auvplan.guidance.formation.error import SETTLE_M
 from auvplan.io.scenario import loader as sc
 from auvplan.sim import simulate

@@ -50,7 +50,7 @@ def measure(cell: float, scenario: str, repeats: int = REPEATS) -> dict:
     """One cell size on one scenario (see the module notes)."""
     from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridParams, GridReference, plan_grid
-    from auvplan.planners.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, search_box
     from auvplan.planners.grid.lattice import node_fields
     from auvplan.sim import planning_problem
 
@@ -126,7 +126,7 @@ def _lattice_paths(prob, spec, converged) -> dict:
     """The raw lattice path (26 directions, and with any-angle links of 16 cells) on the planner's cost:
     its cost and length beside the converged reference's (``converged``)."""
     from auvplan.planners import plan_grid
-    from auvplan.planners.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, search_box
     from auvplan.planners.grid.planner import GridReference as Ref
     from auvplan.planners.grid.planner import path_cost
 

@@ -25,7 +25,7 @@ def main(argv: list[str] | None = None) -> int:
     from auvplan.cost import energy_mode, propulsion_power
     from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridReference
-    from auvplan.planners.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, search_box
     from auvplan.planners.grid.anyangle import _piece_cost
     from auvplan.planners.grid.lattice import node_fields
     from auvplan.planners.grid.planner import path_cost

@@ -62,8 +62,8 @@ def paths(starts):
     world, mission = sc.build(sc.load("flow-fig8"))
     obstacles = (ALIGNED,) + SPHERES
     world = replace(world, obstacles=obstacles)
+    from auvplan.planners.core.params import FlowParams
     from auvplan.planners.flow.field import FlowField
-    from auvplan.planners.params import FlowParams
     field = FlowField(obstacles, GOAL, FlowParams(), MARGIN)
     for k, p in enumerate(near_surface_starts(obstacles, field, starts, 1)):
         res = plan(planning_problem(world, replace(mission, start=tuple(p))), mission.planner, 0)

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.bench import perturb_moving
+from auvplan.app.bench.sweep import perturb_moving
 from auvplan.guidance.avoidance.local import key_waypoints
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import PlanningProblem, plan

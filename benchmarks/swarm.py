@@ -35,7 +35,7 @@ import numpy as np
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import PLANNERS, SWARM, plan
-from auvplan.planners.common import search_box
+from auvplan.planners.core.common import search_box
 from auvplan.planners.swarm.problem import make_objective
 from auvplan.sim import planning_problem
 

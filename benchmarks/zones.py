@@ -38,7 +38,7 @@ import numpy as np
 import shapely
 
 from auvplan.planners import PlannerSpec, PlanningProblem, PlanResult, plan, reference
-from auvplan.planners.params import GridParams, TimeoptParams
+from auvplan.planners.core.params import GridParams, TimeoptParams
 from auvplan.world import Bounds, Margins, Terrain, UniformCurrent, World, Zone, Zones
 
 SIZE = 3000.0

@@ -114,7 +114,7 @@ def departures() -> str:
     from dataclasses import replace
 
     from auvplan.io.scenario.loader import build, load
-    from auvplan.planners.glider import plan_glider
+    from auvplan.planners.timeopt.glider import plan_glider
     from auvplan.sim.glider import fly_glider
 
     sc = load("glider-lofoten")
@@ -143,7 +143,7 @@ def picture(path: Path) -> None:
     import matplotlib.pyplot as plt
 
     from auvplan.io.scenario.loader import build, load
-    from auvplan.planners.glider import DepthAveragedCurrent, cycle, plan_glider
+    from auvplan.planners.timeopt.glider import DepthAveragedCurrent, cycle, plan_glider
     from auvplan.sim.glider import fly_glider
 
     sc = load("glider-lofoten")

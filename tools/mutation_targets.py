@@ -38,7 +38,7 @@ FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
 ENVELOPES, FLYCHECK = "auvplan.guidance.mission.envelopes", "auvplan.guidance.mission.flycheck"
 LIMITS = "auvplan.guidance.mission.limits"
-FORMATS = "auvplan.io.missions.readers"
+FORMATS = "auvplan.io.missions.readback.readers"
 FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
@@ -179,13 +179,13 @@ MODULES.update({
 
 # issue #49: the modules of the survey / endurance / uncertainty / serve / geographic-input / vehicle-limits /
 # ladder / tail-first wave, each against every test file that imports it (the list of targets the issue asks for)
-UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.serve.budget", "auvplan.serve.lru"
+UNCERTAINTY, SERVE_BUDGET, SERVE_LRU = "auvplan.world.uncertainty", "auvplan.app.page.budget", "auvplan.app.page.lru"
 BUDGET, PNR, POWER = "auvplan.endurance.budget", "auvplan.endurance.pnr", "auvplan.endurance.power"
 SPEEDS = "auvplan.endurance.speeds"
-FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.vehicle_limits"
+FLYABLE, PLAN_LIMITS = "auvplan.path.flyable", "auvplan.planners.core.vehicle_limits"
 GEOINPUT, LADDER = "auvplan.io.scenario.inputs.geoinput", "auvplan.planners.grid.ladder"
 TURNS, TAIL_IO, TAIL_PLAN = "auvplan.survey.turns", "auvplan.io.missions.tail", "auvplan.planners.timeopt.tail"
-REPLAN = "auvplan.ensemble.replan"
+REPLAN = "auvplan.sim.ensemble.replan"
 MODULES.update({
     # the bathymetric uncertainty: the slope rule's sigma and the worst-case seabed
     "uncertainty": Target(_fns(UNCERTAINTY, "z_score", "slope_sigma", "worst_case")),
@@ -1182,8 +1182,8 @@ REASONS.update({
 # wave 13's new and changed code (the session of 6 Dec 2026 from 20:00, d226df0..00dc173): the .plan's item walk
 # and what reads it (waypoints, terrain-frame legs, deploy record), mission check as flown, the export's
 # terrain-frame items and MOOS floor, the CLI's durations, numba's BLAS probe, validate's numpy survey bounds
-QGC_ITEMS, TERRAIN_FRAME = "auvplan.io.missions.qgc_items", "auvplan.io.missions.terrain_frame"
-DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.deploy_read"
+QGC_ITEMS, TERRAIN_FRAME = "auvplan.io.missions.readback.qgc_items", "auvplan.io.missions.readback.terrain_frame"
+DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.readback.deploy_read"
 DURATIONS, JIT = "auvplan.app.durations", "auvplan.runtime.jit"
 SURVEY_RESULTS = "auvplan.io.results.survey"
 MODULES.update({
@@ -1290,7 +1290,7 @@ REASONS.update({
 
 # mutants17's second round: mission check of a .plan as flown beyond the seabed check (its helm report numbered from
 # the home, its legs' pitch and depth, its navigation on the seabed-following track) and its leg speeds (the walk)
-APP_SPEEDS = "auvplan.io.missions.speeds"
+APP_SPEEDS = "auvplan.io.missions.readback.speeds"
 MODULES.update({
     "check-as-flown": Target(
         _fns(APP_CHECK, "_from_home", "_flown_pitch_depth", "_navigation_as_flown")
@@ -1409,7 +1409,7 @@ REASONS.update({
 END_BUDGET, NAV_BUDGET, NAV_MISSION = "auvplan.endurance.budget", "auvplan.nav.budget", "auvplan.nav.mission"
 PARSED, MEN = "auvplan.io.missions.parsed", "auvplan.io.missions.energy"
 JSONCRS, TIDECHECK = "auvplan.io.data.vector.jsoncrs", "auvplan.io.data.ocean.tidecheck"
-OCURRENTS, READBACK, ROWS = "auvplan.io.data.ocean.currents", "auvplan.io.results.readback", "auvplan.bench.rows"
+OCURRENTS, READBACK, ROWS = "auvplan.io.data.ocean.currents", "auvplan.io.results.readback", "auvplan.app.bench.rows"
 ZEXACT = "auvplan.world.zones.exact"
 MODULES.update({
     "hold-station": Target(

@@ -190,7 +190,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "h = min(float(np.max(np.diff(x))), float(np.max(np.diff(y))))",
     ),
     "edges-replan-reserve-ignored": (
-        "ensemble/replan.py",
+        "sim/ensemble/replan.py",
         "if status is Status.EXACT and energy > model.budget_wh:",
         "if status is Status.EXACT and energy > model.usable_wh:",
     ),

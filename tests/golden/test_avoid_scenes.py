@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.bench import fast_movers
+from auvplan.app.bench.sweep import fast_movers
 from auvplan.guidance.avoidance.sweep import SweepMemory
 from auvplan.guidance.formation.plan import plan_formation
 from auvplan.io.scenario import loader as sc

@@ -12,7 +12,7 @@ from auvplan.io.results import records
 from auvplan.io.scenario import loader as sc
 from auvplan.path import polyline_length
 from auvplan.planners import plan
-from auvplan.planners.common import cost_model_for, search_box
+from auvplan.planners.core.common import cost_model_for, search_box
 from auvplan.planners.grid.planner import GridReference
 from auvplan.planners.swarm.seeding import SEED_DETOUR, coarse_reference
 from auvplan.sim import planning_problem

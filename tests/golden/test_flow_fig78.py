@@ -10,9 +10,9 @@ import pytest
 from auvplan._types import Status
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.field import SAG_PAD, FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
-from auvplan.planners.params import FlowParams
 from auvplan.sim import planning_problem
 from auvplan.sim.pipeline import run_mission
 from auvplan.world import Ellipsoid, Sphere

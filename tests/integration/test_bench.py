@@ -12,7 +12,8 @@ import time
 import numpy as np
 import pytest
 
-from auvplan.bench import COLUMNS, KEY, TIMING, SweepSpec, read_histories, read_rows, summarise, sweep
+from auvplan.app.bench.rows import COLUMNS, KEY, TIMING, read_histories, read_rows, summarise
+from auvplan.app.bench.sweep import SweepSpec, sweep
 from auvplan.errors import AuvplanError
 
 SPEC = SweepSpec(scenarios=("track-single", "track-double"), planners=("scenario",), guidance=("hybrid", "los"),

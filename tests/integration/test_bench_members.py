@@ -13,8 +13,8 @@ import pytest
 
 import auvplan
 from auvplan import cli
-from auvplan.bench import SweepSpec, run_chunk
-from auvplan.bench.members import member_label, parse_label
+from auvplan.app.bench.members import member_label, parse_label
+from auvplan.app.bench.sweep import SweepSpec, run_chunk
 from auvplan.errors import AuvplanError
 
 DATA = Path(auvplan.__file__).parent / "data"

@@ -14,8 +14,10 @@ import pytest
 import auvplan.sim
 from auvplan import cli
 from auvplan._types import Status
-from auvplan.bench import COLUMNS, SweepSpec, sweep
-from auvplan.io.safeio import MANIFEST, OutputError, atomic_write, prepare_out, written
+from auvplan.app.bench.rows import COLUMNS
+from auvplan.app.bench.sweep import SweepSpec, sweep
+from auvplan.io.files.outdir import OutputError
+from auvplan.io.files.safeio import MANIFEST, atomic_write, prepare_out, written
 
 
 def run_cli(capsys, *argv):

@@ -16,11 +16,11 @@ import netCDF4
 import numpy as np
 import pytest
 
-from auvplan.io import limits
 from auvplan.io.data import cache
 from auvplan.io.data.bathymetry import TerrainSpec, builtin_terrain_path, load_terrain
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
+from auvplan.io.files import limits
 
 DATA = Path(builtin_terrain_path("etopo1-chagos")).parent
 CHAGOS = LocalFrame(-6.0, 71.8)

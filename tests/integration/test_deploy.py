@@ -447,7 +447,7 @@ def test_json_leaves_stderr_empty(tmp_path, capsys):
 def test_land_becomes_exclusions_and_a_route_across_it_fails(tmp_path):
     """admiralty-inlet (GSHHG shorelines): the land inside the bounds is the geofence's exclusions; a short leg
     in open water stays clear of them, the straight line over the Quimper Peninsula crosses them."""
-    from auvplan.io.missions.deploy_read import check_deploy
+    from auvplan.io.missions.readback.deploy_read import check_deploy
 
     world, mission = sc_io.build(sc_io.load("admiralty-inlet"))
     across = np.array([mission.start, mission.goal])

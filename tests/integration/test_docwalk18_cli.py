@@ -20,7 +20,7 @@ import pytest
 from auvplan.cli.parser import _parser
 from auvplan.errors import DataError
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.missions.readers import parse_qgc_plan
+from auvplan.io.missions.readback.readers import parse_qgc_plan
 
 
 @pytest.mark.parametrize(("argv", "quiet", "verbose"), [

@@ -13,7 +13,7 @@ import pytest
 
 from auvplan.errors import DataError
 from auvplan.io.missions.formats import mission_csv
-from auvplan.io.missions.speeds import judged_leg_speeds
+from auvplan.io.missions.readback.speeds import judged_leg_speeds
 
 POINTS = np.array([[0.0, 0.0, -20.0], [500.0, 0.0, -30.0], [900.0, 300.0, -30.0], [900.0, 900.0, -25.0],
                    [1500.0, 900.0, -40.0]])

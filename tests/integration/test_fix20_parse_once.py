@@ -12,7 +12,8 @@ import json
 
 from auvplan.app import check as app_check
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.missions import parsed, qgc_items
+from auvplan.io.missions import parsed
+from auvplan.io.missions.readback import qgc_items
 from helpers import HOLDS
 
 

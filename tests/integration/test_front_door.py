@@ -35,7 +35,7 @@ def test_scenarios_reads_the_list_without_the_loader_or_the_planners() -> None:
 
 def test_a_planner_choice_imports_the_registry_only_when_read() -> None:
     got = _imported_by("from auvplan import cli\ncli.main(['plan', '--help'])")
-    assert "auvplan.planners.registry" in got  # the --planner choices, read for the help
+    assert "auvplan.planners.core.registry" in got  # the --planner choices, read for the help
     methods = tuple(f"auvplan.planners.{m}." for m in ("flow", "swarm", "grid", "timeopt"))
     assert not [m for m in got if m.startswith(methods)], got
 
@@ -131,7 +131,7 @@ def test_a_plan_without_files_imports_no_pyproj_and_flies_nothing() -> None:
     run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     code, modules = json.loads(run.stdout.strip().splitlines()[-1])
     assert code == 0 and "auvplan.sim.problem" in modules, run.stderr
-    late = ("pyproj", "auvplan.sim.loop", "auvplan.sim.pipeline", "auvplan.guidance.mission")
+    late = ("pyproj", "auvplan.sim.loop", "auvplan.sim.pipeline", "auvplan.guidance.mission.waypoints")
     assert not [m for m in modules if m in late or m.startswith("pyproj.")], modules
     import auvplan.sim as sim
 

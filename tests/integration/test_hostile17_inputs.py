@@ -199,7 +199,7 @@ def test_a_csv_mission_with_a_byte_order_mark_and_mixed_line_ends_is_read(tmp_pa
                                      .encode("utf-8"))
     w, _, fmt = read_mission(tmp_path / "m.csv")
     assert fmt == "csv" and w.tolist() == [[200, -300, -2], [1000, 0, -10], [5000, 3000, -10]]
-    from auvplan.io.missions.speeds import read_leg_speeds
+    from auvplan.io.missions.readback.speeds import read_leg_speeds
 
     assert read_leg_speeds(tmp_path / "m.csv", 2).tolist() == [1.5, 2.0]
 
@@ -230,8 +230,8 @@ def test_a_scenario_name_with_an_invisible_control_is_refused(name):
 def test_a_mission_file_of_more_waypoints_than_allowed_is_refused(tmp_path, monkeypatch):
     """A .plan of 10⁶ items was checked for 110-210 s (parsed 8 times), a KML of 2·10⁶ points refused by the
     endurance bound after 54 s; now refused when read (13 s and 11 s, the parsing)."""
-    from auvplan.io.missions import readers
     from auvplan.io.missions.formats import read_mission
+    from auvplan.io.missions.readback import readers
 
     monkeypatch.setattr(readers, "MAX_MISSION_WAYPOINTS", 3)
     (tmp_path / "m.csv").write_text("x,y,z\n" + "".join(f"{k},0,-5\n" for k in range(4)), encoding="utf-8")

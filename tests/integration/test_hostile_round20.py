@@ -28,7 +28,7 @@ def _one_error_line(capsys, *needles):
 # ---------------------------------------------------------------- bench: how many runs a sweep may hold
 def test_a_billion_seeds_is_refused_before_any_task_is_listed(tmp_path, capsys, monkeypatch):
     """``bench --seeds 1000000000`` built its task list for minutes, filling the memory (> 60 s, killed)."""
-    from auvplan.bench.sweep import SweepSpec
+    from auvplan.app.bench.sweep import SweepSpec
 
     monkeypatch.setattr(SweepSpec, "tasks", lambda self: pytest.fail("tasks were listed"))
     assert main(["bench", "--scenarios", "track-single", "--seeds", "1000000000", "--out", str(tmp_path / "b")]) == 2
@@ -39,7 +39,7 @@ def test_a_billion_seeds_is_refused_before_any_task_is_listed(tmp_path, capsys, 
 def test_the_runs_are_counted_over_every_axis_and_the_bound_itself_is_listed_quickly():
     """Over the variants: 2 planners × 60 000 seeds refused before a cell is built.  At the bound, 10 000
     chunks of 10 seeds are listed (the duplicate check scanned the list once per chunk: quadratic)."""
-    from auvplan.bench.sweep import MAX_RUNS, SweepSpec
+    from auvplan.app.bench.sweep import MAX_RUNS, SweepSpec
 
     with pytest.raises(AuvplanError, match=r"^the sweep holds 120,000 runs \(scenarios × members × planners"):
         SweepSpec(("track-single",), ("iabc", "ga"), seeds=60_000).tasks()
@@ -432,7 +432,7 @@ def test_a_current_no_ocean_has_is_refused_naming_the_variable(tmp_path, u, unit
 
 # ---------------------------------------------------------------- bench --resume of an edited rows.csv
 def _rows_csv(path, *rows):
-    from auvplan.bench import COLUMNS
+    from auvplan.app.bench.rows import COLUMNS
 
     def line(seed, status="EXACT", guidance="hybrid"):
         values = {k: "" for k in COLUMNS} | {"scenario": "track-single", "planner": "route", "guidance": guidance,
@@ -450,7 +450,7 @@ def _rows_csv(path, *rows):
     ([("0",), ("1",)], ["0", "1"]),  # the neighbour: both count
 ])
 def test_a_row_whose_seed_or_text_is_not_a_rows_is_run_again(tmp_path, rows, kept):
-    from auvplan.bench import read_rows
+    from auvplan.app.bench.rows import read_rows
 
     assert [r["seed"] for r in read_rows(_rows_csv(tmp_path / "rows.csv", *rows))] == kept
 
@@ -461,7 +461,7 @@ def test_a_row_whose_seed_or_text_is_not_a_rows_is_run_again(tmp_path, rows, kep
     (None, "line 2 is not a row of `auvplan bench` (field larger than field limit (131072))"),  # a traceback
 ])
 def test_a_rows_csv_bench_did_not_write_is_not_resumed(tmp_path, text, needle):
-    from auvplan.bench import SweepSpec, _todo
+    from auvplan.app.bench.sweep import SweepSpec, _todo
 
     path = tmp_path / "rows.csv"
     if text is None:

@@ -19,11 +19,11 @@ import pytest
 
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
-from auvplan.io import limits
+from auvplan.io.files import limits
+from auvplan.io.files.outdir import OutputError, release_all
+from auvplan.io.files.safeio import MANIFEST, atomic_write, prepare_out, written_by
 from auvplan.io.missions.formats import read_mission
 from auvplan.io.missions.tail import read_tail
-from auvplan.io.outdir import OutputError, release_all
-from auvplan.io.safeio import MANIFEST, atomic_write, prepare_out, written_by
 from auvplan.io.scenario import loader
 from auvplan.io.scenario.builtins import resolve
 
@@ -35,7 +35,7 @@ def _doc(name: str = "flow-spheres") -> dict:
 
 
 def _toml(doc: dict) -> str:
-    from auvplan.serve.tomlout import dumps
+    from auvplan.app.page.tomlout import dumps
 
     return dumps(doc)
 

@@ -343,7 +343,7 @@ def test_a_geometry_collection_is_refused_naming_the_file_and_the_feature(tmp_pa
 def test_a_leg_speed_of_1e300_is_refused_naming_the_leg(tmp_path, capsys, name, text):
     """A ``MAV_CMD_DO_CHANGE_SPEED`` (or a CSV ``speed``) of 1e300 m/s was flown: numpy's overflow warnings on
     stderr (4 lines) around the verdict.  The neighbour, 100 m/s, is read as carried."""
-    from auvplan.io.missions.speeds import read_leg_speeds
+    from auvplan.io.missions.readback.speeds import read_leg_speeds
 
     scen = tmp_path / "s.toml"
     scen.write_text(TRANSIT, encoding="utf-8")

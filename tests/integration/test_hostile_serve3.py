@@ -24,10 +24,10 @@ pytest.importorskip("uvicorn")
 import httpx  # noqa: E402
 from starlette.testclient import TestClient  # noqa: E402
 
+from auvplan.app.page.tomlout import dumps  # noqa: E402
 from auvplan.cli.serve import make_session  # noqa: E402
 from auvplan.serve.actions import planning as planning_mod  # noqa: E402
 from auvplan.serve.app import LOCAL_HOSTS, MAX_BODY_BYTES, make_app  # noqa: E402
-from auvplan.serve.tomlout import dumps  # noqa: E402
 from serve_helpers import running  # noqa: E402
 
 TEST_HOSTS = (*LOCAL_HOSTS, "testserver")

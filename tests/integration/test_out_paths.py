@@ -13,9 +13,10 @@ from hypothesis import strategies as st
 
 from auvplan import cli
 from auvplan.errors import ScenarioError
-from auvplan.io import outdir
+from auvplan.io.files import outdir
+from auvplan.io.files.outdir import OutputError
+from auvplan.io.files.safeio import atomic_write, prepare_out, written
 from auvplan.io.results import records
-from auvplan.io.safeio import OutputError, atomic_write, prepare_out, written
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.sim import RunRecord
 
@@ -140,7 +141,7 @@ def test_the_resolved_path_must_stay_inside(tmp_path):
 
 
 def test_bench_never_appends_through_a_linked_rows_csv(tmp_path):
-    from auvplan.bench import SweepSpec, sweep
+    from auvplan.app.bench.sweep import SweepSpec, sweep
 
     out, victim = tmp_path / "b", tmp_path / "victim.csv"
     out.mkdir()

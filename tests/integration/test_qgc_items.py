@@ -18,11 +18,11 @@ import shapely
 from auvplan import cli
 from auvplan.errors import DataError
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.missions.deploy_read import read_deploy
 from auvplan.io.missions.formats import read_mission, to_qgc_plan
-from auvplan.io.missions.qgc_items import plan_items
-from auvplan.io.missions.speeds import read_leg_speeds
-from auvplan.io.missions.terrain_frame import terrain_legs
+from auvplan.io.missions.readback.deploy_read import read_deploy
+from auvplan.io.missions.readback.qgc_items import plan_items
+from auvplan.io.missions.readback.speeds import read_leg_speeds
+from auvplan.io.missions.readback.terrain_frame import terrain_legs
 
 _REEFS = (-7.0, 70.8)  # chagos-reefs' origin
 _CAM = {"type": "SimpleItem", "autoContinue": True, "command": 206, "doJumpId": 0, "frame": 2,
@@ -217,7 +217,7 @@ def test_auvplan_s_own_plan_with_speeds_and_relays_reads_as_its_waypoints(tmp_pa
     flown[0, 2] = -0.01  # the surface a centimetre deep (ArduSub reads 0 as "hold the current altitude")
     assert np.allclose(got, np.vstack([[*pts[0, :2], 0.0], flown]), atol=1e-3)  # home on the surface, the items
     # the launch at the leading 178's, then leg i's; each a level speed (audit 20: WPNav flies it at v / cos γ)
-    from auvplan.io.missions.speeds import along_track_factor
+    from auvplan.io.missions.readback.speeds import along_track_factor
 
     cos0 = 2000.0 / np.hypot(2000.0, 150.0)
     assert read_leg_speeds(path, 4) * along_track_factor(got) == pytest.approx([cos0, 1.0, 1.5, 2.0], abs=1e-4)

@@ -15,13 +15,13 @@ from auvplan.errors import DataError
 from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.guidance.mission.terrain_legs import check_as_flown
 from auvplan.io.data.geo import LocalFrame
-from auvplan.io.missions import deploy_read
-from auvplan.io.missions.deploy_read import read_deploy
 from auvplan.io.missions.formats import check_mission_file, read_mission, to_moos
-from auvplan.io.missions.qgc_items import plan_items
-from auvplan.io.missions.readers import parse_qgc_plan
-from auvplan.io.missions.speeds import read_leg_speeds
-from auvplan.io.missions.terrain_frame import terrain_legs
+from auvplan.io.missions.readback import deploy_read
+from auvplan.io.missions.readback.deploy_read import read_deploy
+from auvplan.io.missions.readback.qgc_items import plan_items
+from auvplan.io.missions.readback.readers import parse_qgc_plan
+from auvplan.io.missions.readback.speeds import read_leg_speeds
+from auvplan.io.missions.readback.terrain_frame import terrain_legs
 from auvplan.world import Bounds, Margins, Terrain, World
 
 ORIGIN = (16.0, 145.0)

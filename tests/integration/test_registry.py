@@ -17,8 +17,8 @@ from auvplan._types import RngLike, Status
 from auvplan.errors import ScenarioError
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import PLANNERS, REGISTRY, PlannerSpec, PlanningProblem, PlanResult, plan, register
-from auvplan.planners.base import Progress
-from auvplan.planners.registry import get, names
+from auvplan.planners.core.base import Progress
+from auvplan.planners.core.registry import get, names
 from auvplan.sim import planning_problem
 
 

@@ -19,11 +19,11 @@ from hypothesis import strategies as st
 
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
-from auvplan.io import limits
 from auvplan.io.data.elevation import read_elevation
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
-from auvplan.io.limits import BudgetError, Limits, budget
+from auvplan.io.files import limits
+from auvplan.io.files.limits import BudgetError, Limits, budget
 from auvplan.io.scenario import loader as scenario_io
 
 SIZES = st.integers(min_value=2, max_value=400_000)

@@ -76,7 +76,7 @@ def test_report_and_serve_follow_source_json_through_re_runs_as_the_loader_does(
     first results folder (audit 16: its ``zones.geojson`` 'not found' there, or a stale copy read).  Oracle:
     the same folder as the loader; a relative ``scenario_source`` from its ``source.json``'s folder, not the
     working directory."""
-    from auvplan.io.jsonfile import source_base
+    from auvplan.io.files.jsonfile import source_base
     from auvplan.io.results import folder
 
     src, out, again = (tmp_path / n for n in ("src", "out", "again"))
@@ -121,8 +121,8 @@ def test_force_never_removes_the_scenario_the_command_reads(tmp_path, capsys):
     """``run DIR/scenario.toml --out DIR --force`` on a folder ``plan`` wrote removed the plan's files, the
     scenario among them, then said 'no such scenario file' (audit 16: the folder emptied, nothing written).
     Oracle: refused naming the file, exit 2, every file still there."""
-    from auvplan.io.outdir import session
-    from auvplan.io.safeio import atomic_write, prepare_out
+    from auvplan.io.files.outdir import session
+    from auvplan.io.files.safeio import atomic_write, prepare_out
 
     out = tmp_path / "out"
     with session():  # the folder as `plan` left it

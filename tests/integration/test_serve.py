@@ -17,10 +17,10 @@ pytest.importorskip("starlette")
 pytest.importorskip("uvicorn")
 from starlette.testclient import TestClient  # noqa: E402
 
+from auvplan.app.page.check import CheckSettings, IncrementalCheck  # noqa: E402
+from auvplan.app.page.tomlout import dumps  # noqa: E402
 from auvplan.cli.serve import DEFAULT_HOST, make_session, server_config  # noqa: E402
 from auvplan.serve.app import make_app  # noqa: E402
-from auvplan.serve.check import CheckSettings, IncrementalCheck  # noqa: E402
-from auvplan.serve.tomlout import dumps  # noqa: E402
 
 
 @pytest.fixture(scope="module")

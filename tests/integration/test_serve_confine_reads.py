@@ -7,8 +7,8 @@ import pytest
 
 pytest.importorskip("starlette")
 
+from auvplan.app.page.paths import PathRefused, Roots  # noqa: E402
 from auvplan.errors import ScenarioError  # noqa: E402
-from auvplan.serve.paths import PathRefused, Roots  # noqa: E402
 
 _GEO = """name = "geo"
 [terrain.synthetic]
@@ -70,7 +70,7 @@ def test_the_page_s_survey_of_a_file_outside_is_refused_unread(tmp_path, reads):
     """The page's ``survey`` action (``plan_area``) validates the document with the loader too."""
     import tomllib
 
-    from auvplan.serve.plans import plan_area
+    from auvplan.app.page.plans import plan_area
 
     root, outside = tmp_path / "served", tmp_path / "outside"
     root.mkdir()

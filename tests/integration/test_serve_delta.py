@@ -105,8 +105,8 @@ def test_a_move_sends_one_waypoint_and_the_page_copy_equals_the_server(tmp_path)
 def test_the_incremental_budget_equals_mission_budget_after_edits(tmp_path):
     """In a steady current the legs' flights are cached: the budget equals ``mission_budget`` flown whole
     (showcase: Lamb–Oseen vortices), and only the moved waypoint's two legs are flown again."""
+    from auvplan.app.page.budget import IncrementalBudget, steady
     from auvplan.endurance import EnergyModel, mission_budget
-    from auvplan.serve.budget import IncrementalBudget, steady
 
     session = make_session("showcase", [str(tmp_path)])
     world, mission = session.world, session.mission

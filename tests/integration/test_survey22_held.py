@@ -1,6 +1,6 @@
 """A survey's export flown with depth held per leg (MOOS-IvP): every leg's envelope and the executor's track
 clear the seabed by ``min_altitude`` (oracle: the exact held-depth check of ``auvplan mission check``,
-:func:`~auvplan.io.missions.readers.check_mission_file`, on the written ``mission.moos``).
+:func:`~auvplan.io.missions.readback.readers.check_mission_file`, on the written ``mission.moos``).
 
 The hard case is real: a side-scan survey with a tie line on the flank of the Mariana arc (shipped ETOPO1,
 resampled to 500 m), whose main-to-tie-line turn and transit legs climb the slope.  Before survey22 the
@@ -14,7 +14,7 @@ import pytest
 
 from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.io.missions.formats import to_moos
-from auvplan.io.missions.readers import check_mission_file
+from auvplan.io.missions.readback.readers import check_mission_file
 from auvplan.io.results.survey import survey_params
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import loads

@@ -23,7 +23,7 @@ from auvplan.errors import DataError
 from auvplan.io.missions import export
 from auvplan.io.missions import formats as mfmt
 from auvplan.io.missions.energy import mission_file_energy
-from auvplan.io.missions.readers import read_mission
+from auvplan.io.missions.readback.readers import read_mission
 from auvplan.io.missions.tail import TAIL_FORMATS, read_tail
 from auvplan.io.results.readback import read_run
 from auvplan.io.results.records import write_run
@@ -101,7 +101,7 @@ def test_run_npz_keeps_the_flags(tail_run, tmp_path: Path):
 
 def test_read_tail_of_a_malformed_file_says_nothing(tmp_path: Path):
     """A file that does not parse carries no flags (None), never a traceback; the reader of the waypoints
-    names the file (auvplan.io.missions.readers)."""
+    names the file (auvplan.io.missions.readback.readers)."""
     for name, text in (("m.yaml", "poses: [\n"), ("m.csv", "x,y\n1"), ("m.kml", "<kml"), ("m.geojson", "{")):
         (tmp_path / name).write_text(text)
         assert read_tail(tmp_path / name, 3) is None

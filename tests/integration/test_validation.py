@@ -13,9 +13,9 @@ import xarray as xr
 
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
-from auvplan.io import limits
 from auvplan.io.data.bathymetry import read_bathymetry
 from auvplan.io.data.geo import LocalFrame
+from auvplan.io.files import limits
 from auvplan.io.scenario import build as bld
 from auvplan.io.scenario import loader as sc
 from auvplan.world import RandomWalkMotion

@@ -8,6 +8,7 @@ import pytest
 from auvplan._types import Status
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.elements import (
     rankine_indicator,
     rankine_radius,
@@ -23,7 +24,6 @@ from auvplan.planners.flow.field import (
     blend_weights,
 )
 from auvplan.planners.flow.stream import integrate_streamlines
-from auvplan.planners.params import FlowParams
 from auvplan.sim import planning_problem
 from auvplan.world import Ellipsoid, Sphere
 

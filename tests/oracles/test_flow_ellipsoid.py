@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.special import elliprd
 
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.design import offset_surface
 from auvplan.planners.flow.ellipsoid import (
     EllipsoidBody,
@@ -16,7 +17,6 @@ from auvplan.planners.flow.ellipsoid import (
 )
 from auvplan.planners.flow.field import FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
-from auvplan.planners.params import FlowParams
 from auvplan.world import Ellipsoid
 
 AXES = np.array([8.5, 4.5, 3.5])

@@ -11,10 +11,10 @@ import pytest
 from auvplan._types import Status
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.field import FlowField
 from auvplan.planners.flow.stream import integrate_streamlines
 from auvplan.planners.flow.turning import turn_limited_path
-from auvplan.planners.params import FlowParams
 from auvplan.sim import planning_problem
 from auvplan.world import Sphere
 

@@ -17,7 +17,7 @@ import pytest
 import shapely
 
 from auvplan.errors import ScenarioError
-from auvplan.io import limits as _limits
+from auvplan.io.files import limits as _limits
 from auvplan.io.results import survey as sv
 from auvplan.survey.lines.placement import LineParams
 from auvplan.survey.lines.swath import Sensor

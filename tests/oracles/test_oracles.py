@@ -28,9 +28,9 @@ from auvplan.optim import Problem, Termination, minimize
 from auvplan.optim.bee import IABC, IABCParams, chaotic_uniform_population, rank_probabilities
 from auvplan.optim.ga import polynomial_mutation, sbx
 from auvplan.planners import GridParams, GridReference
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.elements import sphere_exact_velocity
 from auvplan.planners.flow.field import SAG_PAD, FlowField
-from auvplan.planners.params import FlowParams
 from auvplan.planners.swarm.problem import along_track_order
 from auvplan.sim import Mission, simulate
 from auvplan.world import Bounds, Margins, Sphere, Terrain, UniformCurrent, World

@@ -12,10 +12,10 @@ import math
 import numpy as np
 import pytest
 
+from auvplan.planners.core.params import FlowParams
 from auvplan.planners.flow.elements import sink_velocity
 from auvplan.planners.flow.field import FlowField
 from auvplan.planners.flow.stream import MAX_CORRECTIONS, integrate_streamlines
-from auvplan.planners.params import FlowParams
 from auvplan.world import Ellipsoid, Sphere
 
 GOAL = np.array([30.0, 0.0, 0.0])

@@ -12,7 +12,7 @@ from scipy.optimize import brentq, fsolve
 
 from auvplan._types import FloatArray, Status
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.params import TimeoptParams
+from auvplan.planners.core.params import TimeoptParams
 from auvplan.planners.timeopt.kernels import leg_reach, leg_time
 from auvplan.planners.timeopt.planner import departure_sweep
 from auvplan.planners.timeopt.search import CurrentTable, timed_traverse

@@ -18,7 +18,7 @@ from scipy.optimize import brentq
 from auvplan._types import Status
 from auvplan.endurance import ground_speed
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.params import TimeoptParams
+from auvplan.planners.core.params import TimeoptParams
 from auvplan.planners.timeopt.front import build_grid, propagate
 from auvplan.world import Bounds, GriddedCurrent, Margins, Sphere, World
 from auvplan.world.currents.crab import HOLD, crab_speed, makes_headway

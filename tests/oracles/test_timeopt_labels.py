@@ -18,7 +18,7 @@ from test_timeopt import least_time_ode
 from auvplan._types import Status
 from auvplan.io.scenario import loader as scenario
 from auvplan.planners import PlannerSpec, PlanningProblem, plan
-from auvplan.planners.params import TimeoptParams
+from auvplan.planners.core.params import TimeoptParams
 from auvplan.planners.timeopt.labels import fifo_holds, label_width
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, GriddedCurrent, Margins, World

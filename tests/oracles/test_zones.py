@@ -18,7 +18,7 @@ from auvplan.errors import ScenarioError
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import loads
 from auvplan.planners import PlannerSpec, PlanningProblem, plan, register
-from auvplan.planners.registry import REGISTRY
+from auvplan.planners.core.registry import REGISTRY
 from auvplan.world import Zone, Zones
 from helpers import flat_world
 
@@ -190,8 +190,8 @@ def test_a_planner_that_cannot_honour_zones_is_refused():
 
 def test_a_plan_through_a_zone_is_never_feasible_and_names_zone_and_leg():
     from auvplan._types import Status
-    from auvplan.planners.base import PlanResult
-    from auvplan.planners.common import plan_terms
+    from auvplan.planners.core.base import PlanResult
+    from auvplan.planners.core.common import plan_terms
 
     @register("straight_zoned", iterative=False, description="a straight line (test)", capabilities=("zones",))
     def straight(problem, spec, rng=None, progress=None):

@@ -178,7 +178,7 @@ def test_slope_sigma_on_non_square_rotated_planes(dx, aspect, gx, gy, floor, nx,
 def test_a_flight_over_its_reserve_is_never_exact(duration, battery, speed) -> None:  # type: ignore[no-untyped-def]
     """A re-planning flight that reaches its goal: EXACT only when P(V) × duration ≤ the budget, else
     RESERVE_BROKEN, and the energy is P(V) × duration either way."""
-    from auvplan.ensemble.replan import ReplanParams, _finish
+    from auvplan.sim.ensemble.replan import ReplanParams, _finish
     from auvplan.sim.mission import Mission
     from auvplan.vehicles import VehicleParams
 
@@ -210,7 +210,7 @@ def _tidal_world(period: float, amp: float) -> World:
 def test_serve_energy_cache_equals_the_uncached_budget_in_a_time_varying_current(period, amp, moves) -> None:  # type: ignore[no-untyped-def]
     """The page's cached budget after each edit (a waypoint moved) equals mission_budget flown whole in
     a current that changes in time and place (a moved leg changes every later leg's timing)."""
-    from auvplan.serve.budget import IncrementalBudget
+    from auvplan.app.page.budget import IncrementalBudget
 
     world = _tidal_world(period, amp)
     model = _model()
@@ -236,7 +236,7 @@ def test_the_cheapest_rung_wins_the_ladder(costs, monkeypatch_session) -> None: 
     """Rungs with given refined costs (finest first): the ladder's plan is the cheapest rung's (the
     coarser one on a tie), named in the message, and its history (coarse to fine) never rises."""
     from auvplan.planners import GridParams, PlannerSpec, PlanningProblem, plan_grid
-    from auvplan.planners.base import PlanResult
+    from auvplan.planners.core.base import PlanResult
     from auvplan.planners.grid import ladder
 
     cells = [100.0 * 2**i for i in range(len(costs))]
@@ -299,7 +299,7 @@ def test_uncertainty_rejects_what_it_cannot_use() -> None:
 def test_serve_cache_reuses_only_unchanged_legs_in_steady_fields(kind: str) -> None:
     """In a steady field the cached budget equals mission_budget (times and energies) and flies only the
     legs an edit changed (two when an interior waypoint moves); fields with a time axis are not steady."""
-    from auvplan.serve.budget import IncrementalBudget, steady
+    from auvplan.app.page.budget import IncrementalBudget, steady
 
     x = np.linspace(-20_000.0, 20_000.0, 3)
     u = np.full((1, 1, 3, 3), 0.2) * np.linspace(0.5, 1.5, 3)[None, None, None, :]
@@ -327,7 +327,7 @@ def test_serve_cache_reuses_only_unchanged_legs_in_steady_fields(kind: str) -> N
 
 
 def test_lru_cache_forgets_the_least_recently_used() -> None:
-    from auvplan.serve.lru import LruCache
+    from auvplan.app.page.lru import LruCache
 
     c = LruCache(size=2)
     c.put(b"a", (1.0,))
@@ -343,7 +343,7 @@ def test_a_re_plan_flight_is_judged_on_its_whole_track_and_its_arrival() -> None
     arrival and the energy of the time flown (P(V) × last time); at exactly the arrival radius the
     flight has arrived (EXACT, arrival = the last time); short of it the vehicle homes on a plan and the
     arrival is the homing leg's end (later than the track's last time)."""
-    from auvplan.ensemble.replan import ReplanParams, _finish
+    from auvplan.sim.ensemble.replan import ReplanParams, _finish
     from auvplan.sim.mission import Mission
     from auvplan.vehicles import VehicleParams
 
@@ -378,7 +378,7 @@ def test_a_re_plan_flight_is_judged_on_its_whole_track_and_its_arrival() -> None
 def test_serve_cache_falls_back_to_the_whole_flight_where_the_current_beats_the_vehicle() -> None:
     """A 2 m/s eastward current against a 1.5 m/s vehicle on the westward leg: the cached budget is the
     whole flight's, INFEASIBLE with the same message (place and time) as mission_budget."""
-    from auvplan.serve.budget import IncrementalBudget
+    from auvplan.app.page.budget import IncrementalBudget
 
     world = _open_world(size=20_000.0, currents=UniformCurrent((2.0, 0.0, 0.0)))
     w = np.array([[-8000.0, 0.0, -100.0], [-3000.0, 0.0, -100.0], [-6000.0, 500.0, -100.0]])

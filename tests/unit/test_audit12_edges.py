@@ -117,9 +117,9 @@ def test_mission_check_flies_a_held_depth_mission_through_the_zones_as_its_execu
 
 def test_the_page_s_check_flies_a_held_depth_mission_through_the_zones_as_its_executor():
     """Oracle: as above (the page's check said the same as ``mission check``: the straight legs only)."""
+    from auvplan.app.page.check import CheckSettings, IncrementalCheck
     from auvplan.io.scenario.build import build
     from auvplan.io.scenario.loader import loads
-    from auvplan.serve.check import CheckSettings, IncrementalCheck
 
     world, mission = build(loads(_HELD_TOML, source="held.toml"))
     checker = IncrementalCheck(world, mission)

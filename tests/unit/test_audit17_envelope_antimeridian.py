@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from auvplan.io.missions.deploy import deploy_info
-from auvplan.io.missions.deploy_read import file_deploy_check
 from auvplan.io.missions.formats import read_mission, to_qgc_plan
+from auvplan.io.missions.readback.deploy_read import file_deploy_check
 from auvplan.io.scenario import loader
 
 _SCENARIO = """

@@ -15,7 +15,7 @@ import pytest
 from auvplan.endurance import EnergyModel
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.energy import mission_file_energy
-from auvplan.io.missions.speeds import read_holds
+from auvplan.io.missions.readback.speeds import read_holds
 from auvplan.io.scenario import loader
 from helpers import HOLDS
 

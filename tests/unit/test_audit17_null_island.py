@@ -13,7 +13,7 @@ import pytest
 from auvplan.errors import DataError
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.formats import to_qgc_plan
-from auvplan.io.missions.readers import parse_qgc_plan
+from auvplan.io.missions.readback.readers import parse_qgc_plan
 
 
 def _doc(lat: float, lon: float) -> dict:

@@ -1,4 +1,4 @@
-"""Audit 17: a QGroundControl ``.plan`` read as ArduSub executes it (:mod:`auvplan.io.missions.qgc_items`).
+"""Audit 17: a QGroundControl ``.plan`` read as ArduSub executes it (:mod:`auvplan.io.missions.readback.qgc_items`).
 
 ``MAV_CMD_NAV_LOITER_UNLIM`` (17) never completes in ArduSub (``Sub::verify_loiter_unlimited`` returns false):
 the vehicle holds that point until the mission is stopped, and no item after it is flown.  It was read as a
@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 
 from auvplan.errors import DataError
-from auvplan.io.missions.qgc_items import plan_items
+from auvplan.io.missions.readback.qgc_items import plan_items
 
 
 def _wp(command: int, lat: float, lon: float, alt: float) -> dict[str, Any]:

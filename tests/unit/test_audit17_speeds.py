@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from auvplan.errors import DataError
-from auvplan.io.missions.speeds import read_leg_speeds
+from auvplan.io.missions.readback.speeds import read_leg_speeds
 
 _PLAN = ('{"mission": {"cruiseSpeed": 1.5, "plannedHomePosition": [0, 0, 0], "items": ['
          '{"type": "SimpleItem", "command": 16, "frame": 3, "params": [0, 0, 0, null, 0.001, 0.001, -5]},'

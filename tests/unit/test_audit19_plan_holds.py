@@ -19,7 +19,7 @@ from auvplan.endurance import EnergyModel
 from auvplan.errors import DataError
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.energy import mission_file_energy
-from auvplan.io.missions.speeds import read_holds
+from auvplan.io.missions.readback.speeds import read_holds
 from auvplan.io.scenario import loader
 from helpers import HOLDS
 

@@ -193,8 +193,8 @@ def test_a_hand_drawn_geofence_is_tested_with_ardupilot_s_straight_latitude_long
     bows 494 m poleward of it: a waypoint 300 m inside the local square's poleward side passed, and breached."""
     import shapely
 
-    from auvplan.io.missions.deploy_read import file_deploy_check
     from auvplan.io.missions.formats import read_mission
+    from auvplan.io.missions.readback.deploy_read import file_deploy_check
 
     frame = LocalFrame(lat0, lon0)
     side = 300.0 if lat0 > 0 else -300.0  # the poleward side
@@ -251,8 +251,8 @@ def test_a_mission_through_an_exclusion_circle_of_its_geofence_fails_the_envelop
     false}``) and ArduPilot keeps the vehicle out of an exclusion circle; ``mission check`` read only the polygons:
     a mission straight through a 200 m exclusion circle passed 'envelope OK'.  Oracle: the leg's distance to the
     circle's centre by hand (0 m through it, 400 m beside it) against its radius."""
-    from auvplan.io.missions.deploy_read import file_deploy_check
     from auvplan.io.missions.formats import read_mission
+    from auvplan.io.missions.readback.deploy_read import file_deploy_check
 
     frame = LocalFrame(lat0, lon0)
     w = np.array([[0.0, 0.0, -20.0], [3000.0, 0.0, -20.0]])
@@ -290,8 +290,8 @@ def test_a_mission_through_an_exclusion_circle_of_its_geofence_fails_the_envelop
 def test_every_inclusion_of_a_geofence_holds_the_mission(tmp_path):
     """ArduPilot keeps the vehicle inside every inclusion polygon and circle of its fence (their intersection,
     unless FENCE_OPTIONS asks for their union); ``mission check`` tested the first inclusion polygon only."""
-    from auvplan.io.missions.deploy_read import file_deploy_check
     from auvplan.io.missions.formats import read_mission
+    from auvplan.io.missions.readback.deploy_read import file_deploy_check
 
     origin = (48.0, -125.0)
     frame = LocalFrame(*origin)

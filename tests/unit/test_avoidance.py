@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from auvplan._types import Status
-from auvplan.bench import perturb_moving
+from auvplan.app.bench.sweep import perturb_moving
 from auvplan.guidance.avoidance.local import apf_force
 from auvplan.guidance.avoidance.params import AvoidanceParams
 from auvplan.guidance.avoidance.point_model import run_point_model

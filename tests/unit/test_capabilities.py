@@ -16,9 +16,9 @@ from test_registry import SCENARIO, StraightParams, straight
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import REGISTRY, plan, register
+from auvplan.planners.core.registry import CAPABILITIES, PLANNERS, get, has
 from auvplan.planners.grid.band import path_cost
 from auvplan.planners.grid.planner import on_cost_function
-from auvplan.planners.registry import CAPABILITIES, PLANNERS, get, has
 from auvplan.sim import planning_problem
 
 

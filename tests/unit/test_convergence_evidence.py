@@ -8,7 +8,7 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.io.results import records
-from auvplan.planners.base import PlanResult
+from auvplan.planners.core.base import PlanResult
 from auvplan.planners.swarm.convergence import CORRIDOR_MARGIN, assess
 
 

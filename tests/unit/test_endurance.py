@@ -341,7 +341,7 @@ def test_exports_carry_the_speed_of_each_leg():
 def test_departure_sweep_reports_energy_margin_and_pnr_for_every_departure():
     from auvplan.endurance import departure_endurance
     from auvplan.planners import PlannerSpec, PlanningProblem
-    from auvplan.planners.params import TimeoptParams
+    from auvplan.planners.core.params import TimeoptParams
     from auvplan.planners.timeopt.planner import departure_sweep
     from auvplan.world import GriddedCurrent, Margins
 
@@ -380,7 +380,7 @@ def test_bad_endurance_input_exits_2_naming_the_key(tmp_path, capsys, endurance,
 
 def test_mission_files_give_back_the_speed_of_each_leg(tmp_path):
     from auvplan.io.missions import formats
-    from auvplan.io.missions.speeds import read_leg_speeds
+    from auvplan.io.missions.readback.speeds import read_leg_speeds
 
     pts = np.array([[0.0, 0.0, -10.0], [300.0, 0.0, -20.0], [300.0, 400.0, -20.0], [0.0, 400.0, -20.0]])
     v = [1.0, 2.0, 1.25]

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from auvplan.cost import ENERGY_READINGS, CostModel, energy_mode, evaluate_paths
-from auvplan.planners.base import PlannerSpec
+from auvplan.planners.core.base import PlannerSpec
 from auvplan.world import Bounds, UniformCurrent, World
 
 
@@ -61,7 +61,7 @@ def test_lattice_reference_costs_its_edges_under_the_scenarios_reading(energy):
     scenario's reading (it used the physical energy for ``document-vehicle``, whose still water is
     ρ V² per metre, not P / V)."""
     from auvplan.planners import GridParams, GridReference, PlanningProblem
-    from auvplan.planners.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, search_box
 
     world = World(Bounds(0.0, 200.0, 0.0, 200.0, -200.0, 0.0))
     prob = PlanningProblem(world, [10.0, 10.0, -190.0], [100.0, 100.0, -100.0], 1.5)

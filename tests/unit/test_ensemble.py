@@ -11,10 +11,10 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.cli import main
-from auvplan.ensemble import percentile, plan_robust, rank_key, score_route
-from auvplan.ensemble.score import EnsembleScore
 from auvplan.io.scenario import loader
 from auvplan.io.scenario.inputs.members import member_fields
+from auvplan.sim.ensemble.robust import plan_robust, rank_key
+from auvplan.sim.ensemble.score import EnsembleScore, percentile, score_route
 from auvplan.world import UniformCurrent
 from auvplan.world.currents.ensemble import MeanCurrent, PerturbedCurrent, ShiftedCurrent
 
@@ -200,7 +200,7 @@ def test_open_loop_drifts_by_the_forecast_error_times_the_planned_time(two):
     goal + (c_true - c_forecast) T_forecast; with a perfect forecast it arrives at the closed-form time."""
     from dataclasses import replace
 
-    from auvplan.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
+    from auvplan.sim.ensemble.replan import ReplanParams, fly_open_loop, fly_replanning
 
     _, world, mission, _ = two
     c_true = (0.3, -0.2, 0.0)

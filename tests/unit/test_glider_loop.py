@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from auvplan.planners.glider import DepthAveragedCurrent, cycle, endurance_days, surfacings
+from auvplan.planners.timeopt.glider import DepthAveragedCurrent, cycle, endurance_days, surfacings
 from auvplan.sim.glider import fly_glider
 from auvplan.vehicles.glider import GliderParams, crab_heading, yo_timing
 from auvplan.world import Bounds, World

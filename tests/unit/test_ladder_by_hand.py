@@ -19,8 +19,8 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.planners import GridParams, PlannerSpec, PlanningProblem
-from auvplan.planners.base import PlanResult
-from auvplan.planners.common import search_box
+from auvplan.planners.core.base import PlanResult
+from auvplan.planners.core.common import search_box
 from auvplan.planners.grid import ladder
 from auvplan.world import Bounds, Margins, Terrain, World
 

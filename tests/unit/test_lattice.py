@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from auvplan.cost import CostModel
-from auvplan.io.limits import lattice_bytes
+from auvplan.io.files.limits import lattice_bytes
 from auvplan.planners import GridParams, GridReference
-from auvplan.planners.common import cost_model_for, search_box
+from auvplan.planners.core.common import cost_model_for, search_box
 from auvplan.planners.grid.lattice import HALF, edge_states, node_fields
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, LambOseenVortices, Margins, Sphere, Terrain, UniformCurrent, World

@@ -18,7 +18,7 @@ from auvplan.path.flyable import (
     leg_turn_radius,
     merge_close,
 )
-from auvplan.planners.vehicle_limits import repair_pitch, vertex_floors
+from auvplan.planners.core.vehicle_limits import repair_pitch, vertex_floors
 from helpers import RIDGE, build_toml
 
 # legs: 0 climbs 20 m down over 100 m (11.31°), 1 level, 2 level after a 90° turn, 3 after another 90° turn
@@ -139,8 +139,8 @@ def test_enforce_limits_repairs_only_what_it_can_and_says_why_not() -> None:
 
     from auvplan._types import Status
     from auvplan.planners import PlannerSpec
-    from auvplan.planners.base import PlanResult
-    from auvplan.planners.vehicle_limits import enforce_limits
+    from auvplan.planners.core.base import PlanResult
+    from auvplan.planners.core.vehicle_limits import enforce_limits
     from auvplan.sim.pipeline import planning_problem
 
     world, mission = build_toml(RIDGE)

@@ -1,4 +1,4 @@
-"""Round 6 of docs/mutants.md: what the speeds' rewrite's tests missed (``io/missions/speeds.py``'s holds and the QGC
+"""Round 6 of docs/mutants.md: what the speeds' rewrite's tests missed (``io/missions/readback/speeds.py``'s holds and the QGC
 writer's leading ``MAV_CMD_DO_CHANGE_SPEED``), each case worked by hand.
 
 * A ``MAV_CMD_NAV_LOITER_UNLIM`` (17) as the last position holds nothing the budget counts: its param 1 is no hold
@@ -17,7 +17,7 @@ import pytest
 
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.formats import to_qgc_plan
-from auvplan.io.missions.speeds import read_holds, read_leg_speeds
+from auvplan.io.missions.readback.speeds import read_holds, read_leg_speeds
 
 ORIGIN = (-7.0, 70.8)
 

@@ -39,7 +39,7 @@ def test_a_position_row_that_is_not_finite_is_named():
 
 
 def _rows(path, seeds, newline="\r\n", tail=""):
-    from auvplan.bench import COLUMNS
+    from auvplan.app.bench.rows import COLUMNS
 
     def line(seed):
         values = {k: "" for k in COLUMNS} | {"scenario": "track-single", "planner": "route", "guidance": "hybrid",
@@ -53,7 +53,7 @@ def _rows(path, seeds, newline="\r\n", tail=""):
 
 def test_a_bad_row_is_skipped_not_the_end_of_the_file(tmp_path):
     """The rows after a dropped one are read (a seed 'x' first, then 0 and 1)."""
-    from auvplan.bench import read_rows
+    from auvplan.app.bench.rows import read_rows
 
     assert [r["seed"] for r in read_rows(_rows(tmp_path / "r.csv", ["x", "0", "1"]))] == ["0", "1"]
 
@@ -61,7 +61,7 @@ def test_a_bad_row_is_skipped_not_the_end_of_the_file(tmp_path):
 def test_complete_lines_are_read_whatever_their_ending_and_a_partial_one_is_not(tmp_path):
     """LF-only lines keep their last field; a line cut by a kill (no newline) is left for the sweep to redo; a file
     cut inside its header (no newline yet) holds no row and is no foreign file."""
-    from auvplan.bench import COLUMNS, read_rows
+    from auvplan.app.bench.rows import COLUMNS, read_rows
 
     rows = read_rows(_rows(tmp_path / "lf.csv", ["0", "1"], newline="\n"))
     assert [r["seed"] for r in rows] == ["0", "1"] and all(None not in r.values() for r in rows)

@@ -32,8 +32,8 @@ from auvplan.path.pitch import (
     pitch_profile,
 )
 from auvplan.planners import plan
-from auvplan.planners.base import PlanResult
-from auvplan.planners.vehicle_limits import enforce_limits
+from auvplan.planners.core.base import PlanResult
+from auvplan.planners.core.vehicle_limits import enforce_limits
 from auvplan.sim.pipeline import mission_route, planned_route, planning_problem
 from helpers import RIDGE_ROUTE, build_toml, ridge_toml
 

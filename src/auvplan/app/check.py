@@ -94,9 +94,9 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
 
 def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
     """One file of :func:`check_missions`."""
-    from ..io.missions.deploy_read import file_deploy_check
     from ..io.missions.energy import file_energy_holds
     from ..io.missions.formats import check_mission_file, read_mission
+    from ..io.missions.readback.deploy_read import file_deploy_check
     from ..io.scenario.defaults import energy_defaults
     from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
@@ -185,7 +185,7 @@ def _terrain_frame(world: World, path: Path, fmt: str, points: np.ndarray) -> tu
     if fmt != "qgc" or world.terrain is None:
         return None, None
     from ..guidance.mission.terrain_legs import flown_track
-    from ..io.missions.terrain_frame import terrain_legs
+    from ..io.missions.readback.terrain_frame import terrain_legs
 
     follow = terrain_legs(path)
     return (follow, flown_track(world.terrain, points, follow)) if follow.any() else (None, None)
@@ -327,7 +327,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
                      follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
                      held_water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
-    ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.fixes.fix_kinds`).
+    ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
 
     Parameters
     ----------
@@ -361,7 +361,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     lines : list of str
         One line per leg and the verdict.
     """
-    from ..io.missions.fixes import fix_kinds
+    from ..io.missions.readback.fixes import fix_kinds
     from ..nav import check_navigation, surface_kinds
 
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._types import Status
-from ..planners.base import PlanResult
+from ..planners.core.base import PlanResult
 from ..runtime.parallel import Runner
 from ..sim import Mission
 from ..world import CurrentField, World
@@ -20,7 +20,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
     """The plan to report and its ensemble fields for ``plan --json``.
 
     With ``[planner] robust = "none"`` the nominal plan is kept; otherwise the robust plan
-    (:func:`auvplan.ensemble.plan_robust`).  Either is flown in every member.
+    (:func:`auvplan.sim.ensemble.robust.plan_robust`).  Either is flown in every member.
 
     Parameters
     ----------
@@ -44,7 +44,7 @@ def ensemble_plan(members: tuple[tuple[str, CurrentField], ...], world: World, m
         ``members`` (each ``name``, ``arrival_s``, ``status``, ``success``, ``energy_wh``, ``heading_deg``)
         and ``nominal`` (the nominal plan's P50, P90 and success probability).
     """
-    from ..ensemble import plan_robust
+    from ..sim.ensemble.robust import plan_robust
 
     robust = plan_robust(world, mission, members, mission.planner.robust, seed, runner)
     chosen = robust.chosen

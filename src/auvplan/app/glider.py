@@ -32,7 +32,7 @@ def glider_record(name: str, plan: Any, flown: Any, naive: Any, depart: float) -
     name : str
         Scenario name.
     plan : GliderPlan
-        The plan (:func:`auvplan.planners.glider.plan_glider`).
+        The plan (:func:`auvplan.planners.timeopt.glider.plan_glider`).
     flown, naive : GliderTrack
         The plan flown in the closed loop, and the nose-at-the-goal pilot's flight.
     depart : float
@@ -76,8 +76,8 @@ def _csv(header: list[str], rows: Any) -> str:
 
 def _write(folder: Path, origin: tuple[float, float] | None, plan: Any, flown: Any, rec: dict[str, Any],
            glider: Any, min_altitude: float) -> None:
+    from ..io.files.safeio import atomic_write
     from ..io.missions.glider import seaglider_targets, slocum_files
-    from ..io.safeio import atomic_write
 
     atomic_write(folder / "glider.json", json.dumps(rec, indent=1, allow_nan=False, default=str) + "\n")
     times = plan.times
@@ -119,9 +119,9 @@ def glider_scenario(scenario: str, out: str | None = None, force: bool = False,
     (Scenario, dict)
         The scenario and the record (:func:`glider_record`).
     """
-    from ..io.safeio import prepare_out
+    from ..io.files.safeio import prepare_out
     from ..io.scenario import loader as scenario_io
-    from ..planners.glider import plan_glider
+    from ..planners.timeopt.glider import plan_glider
     from ..sim.glider import fly_glider
 
     if out:
@@ -248,7 +248,7 @@ def _check_file(world: Any, mission: Any, alt: float, path: Path, wps: Any, radi
            "energy_wh": None, "battery_wh": g.battery_wh}
     if problems:  # not flown: the waypoints themselves are wrong
         return {**rec, "ok": False, "message": "; ".join(problems) + " (not flown)"}
-    from ..planners.glider import cycle
+    from ..planners.timeopt.glider import cycle
 
     depart = mission.planner.timeopt.depart_s
     limit = 3.0 * float(np.hypot(*np.diff(pts, axis=0).T).sum()) / cycle(g).speed + 86400.0

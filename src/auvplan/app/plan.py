@@ -7,7 +7,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..io.safeio import RESULT_NAMES, prepare_out
+from ..io.files.safeio import RESULT_NAMES, prepare_out
 from . import ReporterFor, silent
 
 if TYPE_CHECKING:
@@ -49,7 +49,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     tuple
         The scenario, the plan, the seed, the World and the ensemble fields (empty without members).
     """
-    from ..io.limits import check_plan_work
+    from ..io.files.limits import check_plan_work
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.inputs.members import scenario_members
     from ..planners import plan

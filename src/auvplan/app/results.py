@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import AuvplanError
-from ..io.safeio import atomic_write, prepare_out, save_figure
+from ..io.files.safeio import atomic_write, prepare_out, save_figure
 
 if TYPE_CHECKING:
     from ..endurance import Endurance
@@ -63,7 +63,7 @@ def save_context(out: Path, source: str, world: World) -> None:
     world : World
         The world (its terrain is saved).
     """
-    from ..io.jsonfile import scenario_origin
+    from ..io.files.jsonfile import scenario_origin
     from ..io.results import folder as results
     from ..io.results import records
 
@@ -113,7 +113,7 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
     Parameters
     ----------
     out : pathlib.Path
-        The folder, prepared by the caller (:func:`auvplan.io.safeio.prepare_out`).
+        The folder, prepared by the caller (:func:`auvplan.io.files.safeio.prepare_out`).
     world, mission : World, Mission
         What was flown.
     record : RunRecord
@@ -282,7 +282,7 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
 def _navigation(out: Path, world: World, mission: Mission, route: np.ndarray, flown: bool) -> NavPlan | None:
     """A results folder's navigation read back (issue 52): the fixes in its route (surface waypoints, and the
     USBL fixes of its ``fixes.csv``) with their budget; a plan without a flight gets its fixes planned."""
-    from ..io.missions.fixes import fix_kinds
+    from ..io.missions.readback.fixes import fix_kinds
     from ..nav import navigation_of
     from ..sim.pipeline import navigation_plan
 

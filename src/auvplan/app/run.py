@@ -8,7 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..io.safeio import RESULT_NAMES, atomic_write, prepare_out
+from ..io.files.safeio import RESULT_NAMES, atomic_write, prepare_out
 from . import ReporterFor, silent
 from .results import save_context, scenario_text, write_results
 
@@ -171,7 +171,7 @@ def _route_fields(members: tuple[tuple[str, CurrentField], ...], world: World, m
     """
     import numpy as np
 
-    from ..ensemble import score_route
+    from ..sim.ensemble.score import score_route
 
     p = np.asarray(route, dtype=float).reshape(-1, 3)
     if not members or p.shape[0] < 2:

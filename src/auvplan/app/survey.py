@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ScenarioError
+from ..io.files.safeio import RESULT_NAMES, prepare_out, save_figure
 from ..io.missions import export
 from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
-from ..io.safeio import RESULT_NAMES, prepare_out, save_figure
 from ..io.scenario import loader as scenario_io
 from ..runtime.parallel import Runner
 from ..sim import Mission
@@ -99,7 +99,7 @@ def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: 
     """``report.html``: the run's report with the survey's coverage map, headline figures and line table (and
     under ``[navigation]`` the error band along the survey and the error against time)."""
     from ..io.data.geo import LocalFrame
-    from ..io.safeio import atomic_write
+    from ..io.files.safeio import atomic_write
     from ..viz.report import build_report
     from ..viz.survey import line_table, survey_section
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import AuvplanError
-from ..io.safeio import atomic_write, discard_on_failure, prepare_out, save_figure
+from ..io.files.safeio import atomic_write, discard_on_failure, prepare_out, save_figure
 from ..runtime.parallel import CHECKPOINTS, Runner, cache_folder, forget, task_key
 from .durations import is_offset, parse_duration
 

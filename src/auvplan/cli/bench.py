@@ -9,8 +9,8 @@ __all__: list[str] = []  # handlers: CLI internals, not library API
 
 def cmd_bench(args: argparse.Namespace) -> int:
     """``bench``: the sweep, its summary printed and where its files are."""
-    from ..app.bench import bench
-    from ..bench import SweepSpec
+    from ..app.bench.job import bench
+    from ..app.bench.sweep import SweepSpec
 
     spec = SweepSpec(tuple(args.scenarios), tuple(args.planners), tuple(args.guidance), args.seeds, args.budget,
                      args.reference, args.randomise, args.plan_once, args.chunk, tuple(args.avoidance),

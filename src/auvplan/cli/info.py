@@ -90,7 +90,7 @@ def _zones_line(zones: tuple[Any, ...]) -> str:
 
 def cmd_scenario_new(args: argparse.Namespace) -> int:
     """``scenario new [FILE]``: a commented scenario template (to FILE, or stdout)."""
-    from ..io.safeio import write_new
+    from ..io.files.safeio import write_new
     from ..io.scenario.schema import template
 
     text = template(Path(args.file).stem if args.file else "my-mission")

@@ -80,8 +80,8 @@ class _Choices(Collection[str]):
 
 
 def _planner_names() -> tuple[str, ...]:
-    """The registered planners (:mod:`auvplan.planners.registry`): built-in and plugged in."""
-    from ..planners.registry import names
+    """The registered planners (:mod:`auvplan.planners.core.registry`): built-in and plugged in."""
+    from ..planners.core.registry import names
 
     return names()
 
@@ -92,7 +92,7 @@ def _names_in(module: str, name: str) -> Callable[[], tuple[str, ...]]:
 
 
 _AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"))
-_PIPELINES = _Choices(_names_in("auvplan.planners.registry", "PIPELINES"))
+_PIPELINES = _Choices(_names_in("auvplan.planners.core.registry", "PIPELINES"))
 _FORMATS = _Choices(_names_in("auvplan.io.missions.export", "EXPORT_FORMATS"))
 _BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"), ("scenario",))
 
@@ -395,7 +395,7 @@ def main(argv: list[str] | None = None) -> int:
             starting(f"{args.command}: starting")  # issue 56: a clock from the first second (the imports)
         module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
         handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
-        from ..io import outdir
+        from ..io.files import outdir
 
         with outdir.session():  # the --out folders this command locked are released when it ends
             code: int = handler(args)

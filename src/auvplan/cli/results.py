@@ -21,7 +21,7 @@ __all__: list[str] = []  # handlers: CLI internals, not library API
 
 def _load(args: argparse.Namespace) -> tuple[Path, RunRecord, str, World, Mission]:
     from ..app.results import FIGURES, load_results
-    from ..io.safeio import RESULT_NAMES
+    from ..io.files.safeio import RESULT_NAMES
 
     names = [*RESULT_NAMES, *(FIGURES if getattr(args, "figures", False) else ())] if args.command == "report" \
         else [f"mission.{f}" for f in args.format]

@@ -72,8 +72,8 @@ def make_session(target: str | None, roots: list[str] | None = None) -> Any:
     auvplan.serve.session.Session
         The opened session.
     """
+    from ..app.page.paths import Roots
     from ..serve.actions.scenario import open_scenario
-    from ..serve.paths import Roots
     from ..serve.session import Session
 
     folders = served_folders(target, roots)

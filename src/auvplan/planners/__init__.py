@@ -1,6 +1,6 @@
 """Global planners: swarm optimisers over B-splines (document 002), streamlines (document 000), the
 lattice reference and the time-optimal planner, one package each, behind one interface and one registry
-(:mod:`auvplan.planners.registry`, the plug-in point).
+(:mod:`auvplan.planners.core.registry`, the plug-in point).
 
 The planners themselves are imported when first used (``plan_flow`` … below are loaded on access), so
 naming, checking or registering a planner imports none of them.
@@ -11,9 +11,9 @@ from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from .._types import RngLike
-from .base import PlannerSpec, PlanningProblem, PlanResult, Progress
-from .params import GridParams
-from .registry import PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, register
+from .core.base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from .core.params import GridParams
+from .core.registry import PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, register
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from .flow.planner import plan_flow
@@ -34,7 +34,7 @@ _LAZY = {
     "with_reference": "auvplan.planners.grid.planner",
     "plan_swarm": "auvplan.planners.swarm.planner",
     "plan_timeopt": "auvplan.planners.timeopt.planner",
-    "enforce_limits": "auvplan.planners.vehicle_limits",
+    "enforce_limits": "auvplan.planners.core.vehicle_limits",
 }
 
 
@@ -71,17 +71,17 @@ def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,
     PlanResult
         Status, path, cost terms and history; a failure is a status, never an exception.  With
         ``problem.limits`` the result is held to the vehicle's limits
-        (:func:`~auvplan.planners.vehicle_limits.enforce_limits`: pitch repaired, else ``INFEASIBLE``).
+        (:func:`~auvplan.planners.core.vehicle_limits.enforce_limits`: pitch repaired, else ``INFEASIBLE``).
         A plan whose path enters one of the world's ``[[zones]]`` is ``INFEASIBLE``, naming the zone and
-        the leg (:func:`~auvplan.planners.zone_check.hold_to_zones`).
+        the leg (:func:`~auvplan.planners.core.zone_check.hold_to_zones`).
 
     Raises
     ------
     ScenarioError
         If the world has zones and the planner cannot keep out of them (``flow``).
     """
-    from .vehicle_limits import enforce_limits
-    from .zone_check import hold_to_zones, refuse_unless_zones
+    from .core.vehicle_limits import enforce_limits
+    from .core.zone_check import hold_to_zones, refuse_unless_zones
 
     entry = get(spec.name)
     refuse_unless_zones(problem, entry)
@@ -131,7 +131,7 @@ def reference(problem: PlanningProblem, spec: PlannerSpec, swarms: tuple[str, ..
                                                                budget=2 * spec.evaluations), seed))
         if run.status.ok and run.cost < best.cost:
             best, label = run, f"{name} (seeded, {2 * spec.evaluations} evaluations, refined)"
-    from .zone_check import hold_to_zones
+    from .core.zone_check import hold_to_zones
 
     message = (f"{grid.message}; best of {1 + len(swarms)} (lattice, {', '.join(swarms)} at twice the budget, "
                f"each refined): {label}")

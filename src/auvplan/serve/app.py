@@ -30,10 +30,10 @@ from starlette.requests import Request
 from starlette.responses import HTMLResponse, JSONResponse, Response
 from starlette.routing import Route
 
+from ..app.page.check import CheckResult
 from ..errors import AuvplanError
 from ..sim import RunRecord
 from .actions import editing, planning, scenario
-from .check import CheckResult
 from .delta import Revisions, StaleRevision
 from .session import Busy, Session, Superseded, builtin_names
 

@@ -5,7 +5,7 @@ water column widened by its own height, so a waypoint above the surface is still
 as a violation): a waypoint 10⁹ m away is refused naming the waypoint instead of integrating the
 energy along a 10⁹ m leg.  The whole mission's work — the energy integration in ``[endurance] ds_m``
 steps and the check's legs — goes through the project's one estimator
-(:func:`auvplan.io.limits.check_route_endurance`) before it is computed, where it is committed.
+(:func:`auvplan.io.files.limits.check_route_endurance`) before it is computed, where it is committed.
 """
 
 from __future__ import annotations

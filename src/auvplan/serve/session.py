@@ -29,9 +29,11 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from ..app.page.check import CheckResult, CheckSettings, IncrementalCheck
+from ..app.page.paths import Roots
 from ..errors import AuvplanError
 from ..guidance.avoidance.local import key_waypoints
-from ..io import limits as _limits
+from ..io.files import limits as _limits
 from ..io.scenario.builtins import builtin_scenarios
 from ..io.scenario.builtins import resolve as resolve_scenario
 from ..io.scenario.specs import Scenario
@@ -40,8 +42,6 @@ from ..nav.band import error_band
 from ..planners import PlanResult
 from ..sim import Mission, SimResult, with_leg_speeds
 from ..world import World
-from .check import CheckResult, CheckSettings, IncrementalCheck
-from .paths import Roots
 
 __all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "SIMPLIFY_M",
            "builtin_names", "nav_band"]

@@ -29,7 +29,7 @@ from ..guidance.formation.error import error_figures
 from ..guidance.formation.keeping import FormationParams
 from ..guidance.formation.plan import FormationPlan, plan_formation
 from ..guidance.formation.steer import FormationCommand, formation_command
-from ..planners.base import PlanResult, Progress
+from ..planners.core.base import PlanResult, Progress
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from .events import FAR, _deadlocked, _distance, _obstacle_shapes, _progressed

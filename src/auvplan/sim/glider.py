@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._types import ArrayLike, FloatArray, IntArray
-from ..planners.glider import cycle
+from ..planners.timeopt.glider import cycle
 from ..vehicles.glider import GliderParams, crab_heading, yo_timing
 from ..world import World
 

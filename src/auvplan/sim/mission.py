@@ -11,7 +11,7 @@ from ..guidance.following.hybrid import HybridParams
 from ..guidance.following.los import LosParams
 from ..guidance.formation.keeping import Formation
 from ..nav.params import NavParams
-from ..planners.base import PlannerSpec
+from ..planners.core.base import PlannerSpec
 from ..vehicles import VehicleParams
 
 __all__ = ["SimParams", "SimSettings", "Mission"]

@@ -19,7 +19,7 @@ from ..nav.mission import NavPlan, plan_navigation
 from ..path import resample_polyline
 from ..path.legs import helm_check, shortest_leg
 from ..planners import plan as global_plan
-from ..planners.base import PlanResult, Progress
+from ..planners.core.base import PlanResult, Progress
 from ..world import World
 from .band import altitude_band_metrics
 from .loop import simulate

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..path.flyable import VehicleLimits
-from ..planners.base import PlanningProblem
+from ..planners.core.base import PlanningProblem
 from ..vehicles import VehicleParams
 from ..world import World
 from .mission import Mission

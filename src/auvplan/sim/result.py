@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from .._types import Status
 from ..path import arc_length, polyline_length
-from ..planners.base import PlanResult
+from ..planners.core.base import PlanResult
 
 if TYPE_CHECKING:  # a run's navigation plan; the plan of `plan` has none (issue 56)
     from ..nav.mission import NavPlan

@@ -20,7 +20,7 @@ from .._types import Status
 from ..guidance.mission.legs import merge_short_legs
 from ..nav import NavParams
 from ..path.legs import shortest_leg
-from ..planners.base import PlanResult, Progress
+from ..planners.core.base import PlanResult, Progress
 from ..runtime.parallel import Runner
 from ..sim import Mission, planned_route
 from ..sim.pipeline import vehicle_limits

@@ -12,7 +12,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from ..planners.base import Progress
+from ..planners.core.base import Progress
 from ..runtime.parallel import Runner
 from ..sim import Mission, RunRecord, simulate
 from ..world import World

@@ -16,7 +16,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from ..planners.base import PlanResult, Progress
+from ..planners.core.base import PlanResult, Progress
 from ..sim import Mission, planned_route
 from ..world import World, Zones
 

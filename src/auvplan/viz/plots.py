@@ -421,7 +421,7 @@ def bench_figures(rows: Sequence[Mapping[str, Any]], folder: Path, save: SaveFig
     Parameters
     ----------
     rows : sequence of mapping
-        Rows of ``rows.csv`` (:data:`auvplan.bench.COLUMNS`), values as read from the file.
+        Rows of ``rows.csv`` (:data:`auvplan.app.bench.rows.COLUMNS`), values as read from the file.
     folder : pathlib.Path
         Output folder (exists).
     save : callable, optional

@@ -236,11 +236,11 @@ def build_bench_report(rows: Sequence[Mapping[str, Any]], summary: Sequence[Mapp
     Parameters
     ----------
     rows : sequence of mapping
-        Rows of ``rows.csv`` (:data:`auvplan.bench.COLUMNS`).
+        Rows of ``rows.csv`` (:data:`auvplan.app.bench.rows.COLUMNS`).
     summary : sequence of mapping
-        One row per cell (:func:`auvplan.bench.summarise`).
+        One row per cell (:func:`auvplan.app.bench.rows.summarise`).
     histories : sequence of mapping
-        Convergence records (:func:`auvplan.bench.read_histories`): ``key``, ``history`` and
+        Convergence records (:func:`auvplan.app.bench.rows.read_histories`): ``key``, ``history`` and
         optionally ``trace`` (evaluations, best cost).
 
     Returns

@@ -46,7 +46,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from ..limits import current
+from ..files.limits import current
 
 __all__ = ["cache_dir", "cache_enabled", "cached", "code_stamp", "dataset_files", "file_stamp", "host_stamp",
            "request_key"]

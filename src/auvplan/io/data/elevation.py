@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from ..limits import check_declared
+from ..files.limits import check_declared
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
 from .ncfile import check_dims, open_dataset, variable_values
 

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...errors import DataError
-from ..limits import check_declared
+from ..files.limits import check_declared
 from .geo import normalise_lon
 
 if TYPE_CHECKING:

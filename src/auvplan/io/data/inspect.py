@@ -19,7 +19,7 @@ import xarray as xr
 from xarray.backends import BackendEntrypoint, NetCDF4BackendEntrypoint
 
 from ...errors import DataError
-from ..limits import BudgetError, check_declared
+from ..files.limits import BudgetError, check_declared
 from .bathymetry import _centre_lonlat, _fill_nan
 from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ...errors import DataError
-from ..limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
+from ..files.limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
 from .bounded_min import bounded_min
 from .geo import LocalFrame, normalise_lon
 from .grids import _F64, HorizontalGrid

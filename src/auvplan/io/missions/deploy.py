@@ -1,7 +1,7 @@
 """What makes an exported mission deployable (issue 51): its datum, its safety envelope, its payload events
 and the altitude of its terrain-following legs, built once from the World and Mission and written by
 every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; read back by
-:mod:`auvplan.io.missions.deploy_read`).
+:mod:`auvplan.io.missions.readback.deploy_read`).
 
 * **Datum** — the geodetic origin ``(lat, lon)`` of the local frame (WGS 84, pyproj's azimuthal
   equidistant about it: :class:`auvplan.io.data.geo.LocalFrame`).

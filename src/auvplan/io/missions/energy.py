@@ -28,11 +28,11 @@ from ...errors import DataError
 from ...nav import surface_kinds
 from ...sim import Mission, RunRecord, record_tail, with_leg_speeds
 from ...world import World
-from .. import limits as _limits
 from ..data.geo import LocalFrame
+from ..files import limits as _limits
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
-from .speeds import judged_leg_speeds, read_holds
+from .readback.speeds import judged_leg_speeds, read_holds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
@@ -238,7 +238,7 @@ def file_energy_holds(world: World, mission: Mission,
     record : dict
         ``energy_status``, ``energy_wh``, ``margin_wh``, ``duration_s``, ``energy_message``, ``leg_speeds_mps``,
         ``speed_assumed_legs`` and ``speed_assumed_line`` (the legs whose speed the file does not carry, judged at
-        the vehicle's speed: :func:`~auvplan.io.missions.speeds.judged_leg_speeds`).
+        the vehicle's speed: :func:`~auvplan.io.missions.readback.speeds.judged_leg_speeds`).
     ok : bool
         Whether the reserve is kept.
     line : str

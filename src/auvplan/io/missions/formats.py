@@ -23,7 +23,7 @@ the ``route`` of a :class:`~auvplan.sim.RunRecord`):
 
 :func:`read_mission` parses any of them back to local waypoints and their depth semantics;
 :func:`check_mission_file` re-flies the file against a World (``auvplan mission check``); both live in
-:mod:`auvplan.io.missions.readers`, with the parsers, and are re-exported here.
+:mod:`auvplan.io.missions.readback.readers`, with the parsers, and are re-exported here.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
 from .deploy import DeployInfo, payload_events
-from .readers import (
+from .readback.readers import (
     GPX_NS,
     MAX_MISSION_BYTES,
     MISSION_SUFFIXES,
@@ -51,7 +51,7 @@ from .readers import (
     parse_ros_path,
     read_mission,
 )
-from .speeds import along_track_factor
+from .readback.speeds import along_track_factor
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -213,7 +213,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     waypoint i sets the speed of leg i.  The speed written is horizontal: WPNav keeps a 178's speed in
     the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
-    (:func:`~auvplan.io.missions.speeds.along_track_factor`): the vehicle flies the planned speed through
+    (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
     the water, not up to 6 % more at a 20° pitch.
 
     Parameters

@@ -320,7 +320,7 @@ def is_glider_file(path: Path) -> bool:
     bool
         By its name (a ``targets…`` name with a mission format's suffix, ``targets.csv``, is that format).
     """
-    from .readers import MISSION_SUFFIXES  # a "targets_v2.csv" is a CSV mission, not a Seaglider targets file
+    from .readback.readers import MISSION_SUFFIXES  # a "targets_v2.csv" is a CSV mission, not a Seaglider targets file
 
     return (path.suffix == ".ma" and path.name.startswith("goto_l")) or (
         path.name.startswith("targets") and path.suffix.lower() not in MISSION_SUFFIXES)

@@ -111,7 +111,7 @@ def read_tail(path: str | Path, legs: int) -> NDArray[np.bool_] | None:
     Parameters
     ----------
     path : str or pathlib.Path
-        The mission file (already readable by :func:`auvplan.io.missions.readers.read_mission`).
+        The mission file (already readable by :func:`auvplan.io.missions.readback.readers.read_mission`).
     legs : int
         Its number of legs.
 

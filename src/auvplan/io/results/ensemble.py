@@ -25,7 +25,7 @@ def write_ensemble(out: Path, fields: dict[str, Any]) -> None:
     fields : dict
         The ``plan --json`` ensemble fields, or empty.
     """
-    from ..safeio import atomic_write
+    from ..files.safeio import atomic_write
 
     path = Path(out) / ENSEMBLE_FILE
     if not fields:

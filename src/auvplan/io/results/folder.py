@@ -19,8 +19,8 @@ import numpy as np
 from ...errors import DataError
 from ...world import Terrain
 from ...world.seabed import SeabedFit
-from ..jsonfile import source_base
-from ..safeio import atomic_write
+from ..files.jsonfile import source_base
+from ..files.safeio import atomic_write
 
 __all__ = ["TERRAIN_FILE", "save_terrain", "load_terrain", "scenario_base"]
 
@@ -96,6 +96,6 @@ def scenario_base(out: Path) -> Path:
     -------
     pathlib.Path
         The original scenario's folder recorded in ``source.json`` (followed through a results folder run
-        again: :func:`auvplan.io.jsonfile.source_base`), or ``out`` itself.
+        again: :func:`auvplan.io.files.jsonfile.source_base`), or ``out`` itself.
     """
     return source_base(Path(out) / "scenario.toml")

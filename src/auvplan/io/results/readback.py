@@ -13,8 +13,8 @@ import numpy as np
 
 from ..._types import Status
 from ...errors import DataError
-from ..jsonfile import read_json
-from ..limits import check_npz
+from ..files.jsonfile import read_json
+from ..files.limits import check_npz
 
 if TYPE_CHECKING:  # imported where a run is read back: a plan's writer needs only SIM_ARRAYS (issue 56)
     from ...sim import RunRecord
@@ -124,7 +124,7 @@ def _check_arrays(arr: Mapping[str, Any], flown: bool) -> None:
 
 
 def _record_from(rec: dict[str, Any], arr: Mapping[str, Any]) -> RunRecord:
-    from ...planners.base import PlanResult
+    from ...planners.core.base import PlanResult
     from ...sim import RunRecord, SimResult
 
     _check_arrays(arr, rec.get("simulation") is not None)

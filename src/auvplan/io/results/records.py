@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..safeio import atomic_write
+from ..files.safeio import atomic_write
 from .readback import SIM_ARRAYS, read_run
 
 if TYPE_CHECKING:  # a plan's JSON needs none of these (issue 56: `plan` imports what the plan runs)
     from ...nav.mission import NavPlan
-    from ...planners.base import PlanResult
+    from ...planners.core.base import PlanResult
     from ...sim import RunRecord, SimResult
     from ...world.seabed import SeabedFit
 
@@ -124,7 +124,7 @@ def write_text(path: Path, text: str | bytes) -> Path:
     """Write one result file, text (UTF-8) or bytes.
 
     Every writer of this module goes through here, and here through
-    :func:`auvplan.io.safeio.atomic_write` (temp file + rename, never through a symlink).
+    :func:`auvplan.io.files.safeio.atomic_write` (temp file + rename, never through a symlink).
 
     Parameters
     ----------

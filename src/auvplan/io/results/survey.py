@@ -22,7 +22,7 @@ from ...survey.spec import SurveySpec
 from ...world import World
 from ..data.geo import LocalFrame
 from ..data.vector.areas import read_area_lonlat, read_line_lonlat
-from ..safeio import atomic_write
+from ..files.safeio import atomic_write
 from .records import write_json
 
 __all__ = ["SURVEY_NAMES", "survey_params", "check_survey_size", "write_survey", "coverage_record",
@@ -156,7 +156,7 @@ def check_survey_size(params: SurveyParams, world: World, where: str) -> None:
     where : str
         ``file: [survey]`` for messages.
     """
-    from .. import limits as _limits
+    from ..files import limits as _limits
 
     x0, y0, x1, y1 = params.area.bounds
     gx, gy = np.meshgrid(np.linspace(x0, x1, 48), np.linspace(y0, y1, 48))
@@ -291,7 +291,7 @@ def write_survey(out: Path, run: SurveyRun, params: SurveyParams, origin: tuple[
     Parameters
     ----------
     out : pathlib.Path
-        Results folder (checked by :func:`~auvplan.io.safeio.prepare_out`).
+        Results folder (checked by :func:`~auvplan.io.files.safeio.prepare_out`).
     run : SurveyRun
         The survey.
     params : SurveyParams

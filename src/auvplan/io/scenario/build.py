@@ -23,7 +23,6 @@ from ...world import (
     UniformCurrent,
     World,
 )
-from .. import limits as _limits
 from ..data.bathymetry import load_terrain
 from ..data.cache import cached
 from ..data.geo import LocalFrame
@@ -31,6 +30,7 @@ from ..data.ocean.currents import read_currents
 from ..data.ocean.tides import load_tidal_current, parse_start_time
 from ..data.vector.coast import read_land
 from ..data.vector.zones import read_zones
+from ..files import limits as _limits
 from .inputs.currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .inputs.geoinput import apply_altitudes, clip_to_data
 from .inputs.members import member_fields

@@ -31,7 +31,7 @@ import tomllib
 from pathlib import Path
 
 from ...errors import ScenarioError
-from ..jsonfile import source_base
+from ..files.jsonfile import source_base
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .specs import Scenario

@@ -15,7 +15,7 @@ from ...guidance.following.hybrid import HybridParams
 from ...guidance.following.los import LosParams
 from ...guidance.formation.keeping import Formation, FormationParams
 from ...nav.params import NavParams
-from ...planners.base import PlannerSpec
+from ...planners.core.base import PlannerSpec
 from ...sim import SimParams
 from ...survey.spec import SurveySpec
 from ...vehicles import VehicleParams
@@ -25,7 +25,7 @@ from ..data.ocean.currents import CurrentsFileSpec, parse_time
 from ..data.ocean.tides import BUILTIN_TIDES
 from ..data.vector.coast import LandSpec
 from ..data.vector.zones import ZoneSpec
-from ..limits import Limits
+from ..files.limits import Limits
 from .inputs.geoinput import GeoInput
 from .inputs.members import MemberSpec
 

@@ -18,8 +18,8 @@ import numpy as np
 
 from ...errors import ScenarioError
 from ...guidance.formation.keeping import Formation, VehicleSpec
-from ...planners import registry
-from ...planners.base import PlannerSpec
+from ...planners.core import registry
+from ...planners.core.base import PlannerSpec
 from ...sim import SimParams
 from ...world import (
     CircleMotion,
@@ -30,10 +30,10 @@ from ...world import (
     Sphere,
     WaypointMotion,
 )
-from .. import limits as _limits
 from ..data.bathymetry import TerrainSpec
 from ..data.vector.zones import parse_zones
-from ..limits import Limits
+from ..files import limits as _limits
+from ..files.limits import Limits
 from .defaults import apply_preset
 from .inputs.geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
@@ -192,7 +192,7 @@ def _section(data: dict[str, Any], key: str, src: str) -> Any:
 
 def _planner(table: Any, src: str) -> PlannerSpec:
     """``[planner]``, with the ``[planner.<name>]`` table of a planner registered from outside the package
-    read into its registered settings type (:func:`auvplan.planners.registry.register`)."""
+    read into its registered settings type (:func:`auvplan.planners.core.registry.register`)."""
     where = f"{src}: [planner]"
     builtin = {f.name for f in dataclasses.fields(PlannerSpec)}
     outside = {k: v for k, v in table.items() if isinstance(v, dict) and k not in builtin and registry.known(k)} \

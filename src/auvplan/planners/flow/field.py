@@ -41,7 +41,7 @@ import numpy as np
 from ..._types import ArrayLike, BoolArray, FloatArray
 from ...world import Ellipsoid, Sphere
 from ...world.obstacles import Shape
-from ..params import FlowParams
+from ..core.params import FlowParams
 from .body import AxialBody, frame
 from .design import design_body
 from .elements import (

@@ -10,9 +10,9 @@ import numpy as np
 from ..._types import ArrayLike, Status
 from ...path import polyline_length
 from ...world import World
-from ..base import PlanningProblem, PlanResult
-from ..common import check_endpoints
-from ..params import FlowParams
+from ..core.base import PlanningProblem, PlanResult
+from ..core.common import check_endpoints
+from ..core.params import FlowParams
 from .field import FlowField
 from .stream import integrate_streamlines
 from .turning import flyable_path

@@ -34,7 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..._types import ArrayLike, BoolArray, FloatArray, IntArray
-from ..params import FlowParams
+from ..core.params import FlowParams
 from .field import FlowField, _norm
 
 __all__ = ["Streamlines", "integrate_streamlines"]

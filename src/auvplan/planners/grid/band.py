@@ -19,8 +19,8 @@ from ...cost import CostModel, evaluate_paths, segment_energy
 from ...guidance.avoidance.local import key_waypoints
 from ...path import arc_length, densify, polyline_length, resample_polyline
 from ...world import World
-from ..base import PlannerSpec, PlanningProblem
-from ..common import cost_model_for, plan_terms
+from ..core.base import PlannerSpec, PlanningProblem
+from ..core.common import cost_model_for, plan_terms
 from .band_kernels import band_choose, band_gains, band_moves, band_segments, chord_lengths
 
 __all__ = ["edge_cost", "gives_up", "level_count", "path_cost", "resample_free"]
@@ -268,7 +268,7 @@ def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> d
     Returns
     -------
     dict of str to float
-        ``total`` and the terms of :func:`~auvplan.planners.common.plan_terms`.
+        ``total`` and the terms of :func:`~auvplan.planners.core.common.plan_terms`.
     """
     path = np.asarray(path, dtype=float)
     spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)

@@ -32,9 +32,9 @@ from ..._types import FloatArray, Status
 from ...cost import CostModel
 from ...guidance.avoidance.local import key_waypoints
 from ...path import sample_population
-from ..base import PlannerSpec, PlanningProblem, PlanResult
-from ..common import check_endpoints, cost_model_for, search_box
-from ..params import GridParams
+from ..core.base import PlannerSpec, PlanningProblem, PlanResult
+from ..core.common import check_endpoints, cost_model_for, search_box
+from ..core.params import GridParams
 from .band import _converge, _refine, path_cost
 from .reference import GridReference, auto_cell
 

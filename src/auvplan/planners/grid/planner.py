@@ -34,9 +34,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..base import PlannerSpec, PlanningProblem, PlanResult
-from ..common import cost_model_for
-from ..registry import has
+from ..core.base import PlannerSpec, PlanningProblem, PlanResult
+from ..core.common import cost_model_for
+from ..core.registry import has
 from .band import _converge, edge_cost, path_cost, resample_free
 from .ladder import plan_ladder, plan_lattice
 from .reference import GridReference, auto_cell

@@ -17,7 +17,7 @@ import numpy as np
 from ..._types import ArrayLike, FloatArray
 from ...cost import CostModel, energy_mode, propulsion_power
 from ...world import World
-from ..params import GridParams
+from ..core.params import GridParams
 from .band import edge_cost
 from .lattice import down32, edge_bits, node_fields, search
 

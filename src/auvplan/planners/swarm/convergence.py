@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 
-from ..base import PlanResult
+from ..core.base import PlanResult
 from .polish import LATTICE_WITHIN
 
 __all__ = ["CORRIDOR_MARGIN", "assess"]

@@ -58,8 +58,8 @@ from ...optim import (
     pattern_search,
 )
 from ...path import sample_population
-from ..base import PlannerSpec, PlanningProblem, PlanResult, Progress
-from ..common import (
+from ..core.base import PlannerSpec, PlanningProblem, PlanResult, Progress
+from ..core.common import (
     check_endpoints,
     cost_model_for,
     plan_terms,

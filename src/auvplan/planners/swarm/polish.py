@@ -46,7 +46,7 @@ import numpy as np
 from ..._types import FloatArray
 from ...guidance.avoidance.local import key_waypoints
 from ...path.flyable import check_limits
-from ..base import PlannerSpec, PlanningProblem, PlanResult
+from ..core.base import PlannerSpec, PlanningProblem, PlanResult
 from ..grid.planner import path_cost, refine_plan
 
 __all__ = ["LATTICE_WITHIN", "LIFT_BELOW", "LIFT_WITHIN", "POLISH_FINEST", "POLISH_TOLERANCE", "polish_polyline"]

@@ -15,8 +15,8 @@ from ...cost import CostTerms, evaluate_paths
 from ...optim import Problem
 from ...optim.base import Objective
 from ...path import sample_population
-from ..base import PlannerSpec, PlanningProblem
-from ..common import cost_model_for, search_box
+from ..core.base import PlannerSpec, PlanningProblem
+from ..core.common import cost_model_for, search_box
 
 __all__ = ["make_objective", "spline_problem", "control_polygon", "along_track_order"]
 

@@ -39,7 +39,7 @@ from ..._types import ArrayLike, FloatArray
 from ...optim import OptimizeResult, Problem
 from ...optim.base import Objective
 from ...path import sample_population
-from ..base import PlannerSpec, PlanningProblem
+from ..core.base import PlannerSpec, PlanningProblem
 from .problem import control_polygon, spline_problem
 from .seeding import fit_control_points
 

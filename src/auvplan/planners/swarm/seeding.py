@@ -23,8 +23,8 @@ from ..._types import ArrayLike, FloatArray, IntArray
 from ...guidance.avoidance.local import key_waypoints
 from ...path import basis_matrix, polyline_length, resample_polyline
 from ...world import World
-from ..base import PlannerSpec, PlanningProblem
-from ..common import cost_model_for, search_box
+from ..core.base import PlannerSpec, PlanningProblem
+from ..core.common import cost_model_for, search_box
 from ..grid.planner import GridReference
 
 __all__ = ["SEED_DETOUR", "SEED_LADDER", "SEED_LADDER_MAX", "STRAIGHT", "coarse_reference", "compositions",

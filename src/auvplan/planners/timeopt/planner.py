@@ -20,8 +20,8 @@ import numpy as np
 from ..._types import ArrayLike, BoolArray, FloatArray, Status
 from ...cost import evaluate_paths
 from ...path import polyline_length
-from ..base import PlannerSpec, PlanningProblem, PlanResult
-from ..common import check_endpoints, cost_model_for, search_box
+from ..core.base import PlannerSpec, PlanningProblem, PlanResult
+from ..core.common import check_endpoints, cost_model_for, search_box
 from .front import FrontGrid, build_grid
 from .front_plan import front_flight
 from .search import (

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...app.page.check import CheckResult, CheckSettings
+from ...app.page.plans import nearest_leg
 from ...errors import AuvplanError
 from ..bounds import inside_area, scalar
-from ..check import CheckResult, CheckSettings
-from ..plans import nearest_leg
 from ..session import Candidate, Session
 
 __all__ = ["edit", "undo", "set_check", "keep", "choose"]

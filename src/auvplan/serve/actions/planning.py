@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from ...io import limits as _limits
-from ..check import CheckResult
-from ..plans import flown, plan_area, replanned, survey_table
+from ...app.page.check import CheckResult
+from ...app.page.plans import flown, plan_area, replanned, survey_table
+from ...io.files import limits as _limits
 from ..session import Session
 
 __all__ = ["survey", "plan_survey", "replan", "fly"]

@@ -17,9 +17,9 @@ from typing import Any
 
 from ...app.results import write_results
 from ...errors import AuvplanError
-from ...io import outdir
+from ...io.files import outdir
+from ...io.files.safeio import RESULT_NAMES, atomic_write, prepare_out
 from ...io.results import records
-from ...io.safeio import RESULT_NAMES, atomic_write, prepare_out
 from ...sim import RunRecord
 from ..session import Session
 

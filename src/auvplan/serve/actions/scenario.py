@@ -2,7 +2,7 @@
 
 Loading and rebuilding run aside (:meth:`~auvplan.serve.session.Session.long_work`: a second long
 request is refused, never queued); every file the scenario names is confined to the served folders
-(:meth:`~auvplan.serve.paths.Roots.confine`) before it is read.
+(:meth:`~auvplan.app.page.paths.Roots.confine`) before it is read.
 """
 
 from __future__ import annotations
@@ -13,13 +13,13 @@ from typing import Any
 
 import numpy as np
 
+from ...app.page.check import CheckResult
+from ...app.page.tomlout import dumps
 from ...errors import AuvplanError
-from ...io import limits as _limits
+from ...io.files import limits as _limits
 from ...io.scenario import loader as scenario_io
 from ...sim import mission_route
-from ..check import CheckResult
 from ..session import EDITABLE_TABLES, Session
-from ..tomlout import dumps
 from .planning import plan_survey
 
 __all__ = ["MAX_VALUE_ITEMS", "MAX_VALUE_DEPTH", "open_scenario", "set_initial_route", "set_value"]
@@ -62,7 +62,7 @@ def open_scenario(session: Session, target: str) -> None:
         if path.is_dir():
             _open_results(session, path)
         else:
-            from ...io.jsonfile import source_base
+            from ...io.files.jsonfile import source_base
 
             text = path.read_text(encoding="utf-8") if path.is_file() else ""
             # what the loader reads, before it does, against the folder it reads from (a results folder's

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from ....errors import DataError
 from ....world.currents.fields import GriddedCurrent
-from ...limits import check_declared
+from ...files.limits import check_declared
 from ..geo import LocalFrame
 from ..grids import HorizontalGrid, axis_kind, horizontal_grid
 from ..ncfile import open_dataset

@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ....errors import DataError
 from ....world.currents.tides import HarmonicTables, TidalCurrent
-from ...jsonfile import MAX_JSON_BYTES, read_bounded_text
+from ...files.jsonfile import MAX_JSON_BYTES, read_bounded_text
 from ..geo import LocalFrame
 from .currents import parse_time
 from .tidecheck import check_tide_doc

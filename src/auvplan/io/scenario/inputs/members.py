@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING
 from ....errors import DataError
 from ....world import CurrentField, UniformCurrent, World
 from ....world.currents.ensemble import PerturbedCurrent
-from ... import limits as _limits
 from ...data.geo import LocalFrame
 from ...data.ocean.currents import CurrentsFileSpec, read_currents
+from ...files import limits as _limits
 
 if TYPE_CHECKING:
     from ..specs import Scenario

@@ -1,0 +1,429 @@
+"""Reading back what makes a mission file deployable (issue 51) and checking it against the scenario
+(``auvplan mission check``): the file's datum, its safety envelope and its payload events
+(:mod:`auvplan.io.missions.deploy_formats` says where each format keeps them).
+
+* **Datum** — a local-coordinate file (MOOS, ROS 2 YAML, CSV) whose datum differs from the scenario's
+  ``[origin]`` by more than 1 cm is refused (:class:`~auvplan.errors.DataError`, exit 2): its metres would be
+  placed elsewhere.  The CSV's datum is the origin its ``lat``/``lon`` columns put at x = y = 0
+  (:func:`csv_datum`).  A file without a datum (written before issue 51) is read as before, and said so.
+* **Envelope** — it must contain the mission: every leg inside the polygon and outside the exclusions,
+  the deepest waypoint within ``max_depth``, the least re-flown altitude at or above ``min_altitude``, the
+  predicted duration within ``max_time`` — the energy check's duration (through the current, with a ``.plan``'s
+  launch leg and holds): the time-out is judged against what the mission will take.  A file that carries none is
+  reported (``envelope: null``).
+* **Altitude legs** — counted as legs, as the terrain-following check counts them: a ``.plan``'s launch leg (home
+  to its first item) is never one, even when that item is in the terrain frame.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from ....errors import DataError
+from ...data.geo import LocalFrame
+from .. import parsed
+from .qgc_items import plan_items
+from .readers import KML_NS, MISSION_SUFFIXES
+
+__all__ = ["FileDeploy", "read_deploy", "csv_datum", "check_deploy", "file_deploy_check", "DATUM_TOLERANCE_M"]
+
+DATUM_TOLERANCE_M = 0.01
+"""Largest distance (m) between a file's datum and the scenario's origin that is taken as the same datum."""
+
+
+@dataclass(frozen=True)
+class FileDeploy:
+    """What a mission file says beside its waypoints.
+
+    Attributes
+    ----------
+    datum : tuple of float or None
+        ``(lat, lon)`` of the file's local frame.
+    polygon : numpy.ndarray or None
+        ``(M, 2)`` the envelope's region: local x, y (MOOS, YAML) or lat, lon (QGC, GeoJSON, KML).
+    geographic : bool
+        Whether ``polygon`` and ``exclusions`` are lat, lon.
+    exclusions : list of numpy.ndarray
+        Exclusion polygons, in the same coordinates.
+    limits : dict
+        ``max_depth_m``, ``min_altitude_m``, ``max_time_s`` where the file gives them.
+    payload_events : list of (int, bool)
+        ``(waypoint, on)`` where the file switches the sensor.
+    altitude_legs : int
+        Legs the file flies at an altitude above the seabed (terrain following); a ``.plan``'s launch leg never.
+    inclusions : list of numpy.ndarray
+        A ``.plan`` fence's other inclusion polygons and circles (as polygons), in the same coordinates: ArduPilot
+        keeps the vehicle inside every one (``AC_PolyFence_loader::breached``, without ``FENCE_OPTIONS``' union).
+    """
+
+    datum: tuple[float, float] | None = None
+    polygon: NDArray[np.float64] | None = None
+    geographic: bool = False
+    exclusions: list[NDArray[np.float64]] = field(default_factory=list)
+    limits: dict[str, float] = field(default_factory=dict)
+    payload_events: list[tuple[int, bool]] = field(default_factory=list)
+    altitude_legs: int = 0
+    inclusions: list[NDArray[np.float64]] = field(default_factory=list)
+
+
+_NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
+
+
+def _moos(text: str) -> FileDeploy:
+    body = re.sub(r"//[^\n]*", "", text)
+    lat = re.search(rf"^\s*LatOrigin\s*=\s*{_NUM}", body, re.M)
+    lon = re.search(rf"^\s*LongOrigin\s*=\s*{_NUM}", body, re.M)
+    datum = (float(lat.group(1)), float(lon.group(1))) if lat and lon else None
+    poly, limits = None, {}
+    m = re.search(r"Behavior\s*=\s*BHV_OpRegion\s*\{([^}]*)\}", body)
+    if m:
+        kv = dict((k.strip().lower(), v.strip()) for k, v in (ln.split("=", 1) for ln in m.group(1).splitlines()
+                                                               if "=" in ln))
+        if "polygon" in kv:
+            poly = np.array([[float(c) for c in pt.split(",")[:2]] for pt in kv["polygon"].split(":")])
+        limits = {f"{k}_{'m' if k != 'max_time' else 's'}": float(kv[k])
+                  for k in ("max_depth", "min_altitude", "max_time") if k in kv}
+    events = []
+    for blk in re.finditer(r"Behavior\s*=\s*BHV_ConstantDepth\s*\{([^}]*)\}", body):
+        idx = re.search(r"WPT_INDEX\s*==?\s*(\d+)", blk.group(1))
+        flag = re.search(r"runflag\s*=\s*PAYLOAD\s*=\s*(on|off)", blk.group(1))
+        if idx and flag:
+            events.append((int(idx.group(1)), flag.group(1) == "on"))
+    alt = len(re.findall(r"Behavior\s*=\s*BHV_MinAltitudeX", body))
+    return FileDeploy(datum, poly, False, [], limits, sorted(events), alt)
+
+
+def _qgc(doc: dict[str, Any]) -> FileDeploy:
+    fence = doc.get("geoFence") or {}
+    inc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if p.get("inclusion")]
+    exc = [np.asarray(p["polygon"], dtype=float) for p in fence.get("polygons", []) if not p.get("inclusion", True)]
+    # its circles (QGroundControl draws them too; ArduPilot keeps the vehicle out of an exclusion circle): were
+    # ignored, a mission through one passed; as polygons, an exclusion's around its circle, an inclusion's inside
+    circles = [(_circle_ring(c["circle"]["center"], c["circle"]["radius"], not c.get("inclusion", True)),
+                bool(c.get("inclusion", True))) for c in fence.get("circles", [])]
+    exc += [ring for ring, inclusion in circles if not inclusion]
+    inc += [ring for ring, inclusion in circles if inclusion]
+    events, wp, alt = [], -1, 0
+    for it in plan_items(doc):  # the reader's waypoints (the same walk)
+        if it.moves:
+            wp += 1
+            alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
+        elif it.command == 181:
+            events.append((wp, float(it.params[1]) > 0))
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:])
+
+
+CIRCLE_SIDES = 64
+"""Sides of the polygon a ``.plan``'s fence circle is tested as (:func:`_circle_ring`)."""
+
+
+def _circle_ring(center: Any, radius: Any, around: bool) -> NDArray[np.float64]:
+    """A QGroundControl fence circle as a ``[lat, lon]`` ring of :data:`CIRCLE_SIDES` sides: its vertices on the
+    circle (inside the disc: an inclusion) or pushed out by ``1 / cos(pi / sides)`` (around it: an exclusion), the
+    circle as ArduPilot measures it (metres north and east at ``LATLON_TO_M`` a 1e-7 degree, east scaled by the
+    cosine of the latitude)."""
+    lat, lon, r = float(center[0]), float(center[1]), float(radius)
+    if not (math.isfinite(lat) and math.isfinite(lon) and math.isfinite(r) and r > 0.0):
+        raise DataError(f"QGC plan: geoFence circle at {center!r}, radius {radius!r}: expected a centre and a "
+                        "positive radius (m)")
+    k = np.arange(CIRCLE_SIDES) * (2.0 * math.pi / CIRCLE_SIDES)
+    reach = r / math.cos(math.pi / CIRCLE_SIDES) if around else r
+    per_deg = 111318.84502145034  # ArduPilot's LATLON_TO_M x 1e7
+    dlat = reach * np.sin(k) / per_deg
+    dlon = reach * np.cos(k) / (per_deg * max(math.cos(math.radians(lat)), 1e-9))
+    return np.column_stack([lat + dlat, lon + dlon])
+
+
+def _yaml(text: str) -> FileDeploy:
+    import yaml
+
+    doc = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))  # libyaml when built with it
+    d = doc.get("datum")
+    datum = (float(d["lat"]), float(d["lon"])) if isinstance(d, dict) else None
+    env = doc.get("envelope") or {}
+    poly = np.asarray(env["polygon"], dtype=float) if "polygon" in env else None
+    limits = {k: float(env[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in env}
+    events = [(int(e["waypoint"]), bool(e["sensor"])) for e in doc.get("payload_events") or []]
+    return FileDeploy(datum, poly, False, [], limits, events, 0)
+
+
+def _geojson(doc: dict[str, Any]) -> FileDeploy:
+    poly, exc, limits, events, alt = None, [], {}, [], 0
+    for f in doc.get("features", []):
+        props = f.get("properties") or {}
+        if props.get("name") in ("envelope", "exclusion"):
+            ring = np.asarray(f["geometry"]["coordinates"][0], dtype=float)[:-1, ::-1]  # lat, lon
+            if props["name"] == "envelope":
+                poly = ring
+                limits = {k: float(props[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in props}
+            else:
+                exc.append(ring)
+        elif props.get("name") == "mission":
+            events = [(int(e["waypoint"]), e["sensor"] == "on") for e in props.get("payload_events", [])]
+            alt = len(props.get("altitude_m", [])) and len(props["altitude_m"]) - 1
+    return FileDeploy(None, poly, True, exc, limits, events, alt)
+
+
+def _kml(text: str) -> FileDeploy:
+    ns = {"k": KML_NS}
+    poly, exc, events = None, [], []
+    limits: dict[str, float] = {}
+    for pm in ET.fromstring(text).iter(f"{{{KML_NS}}}Placemark"):
+        name = pm.findtext("k:name", namespaces=ns) or ""
+        data = {d.get("name"): d.findtext("k:value", namespaces=ns) or "" for d in pm.iter(f"{{{KML_NS}}}Data")}
+        if name in ("envelope", "exclusion"):
+            c = pm.find("k:Polygon/k:outerBoundaryIs/k:LinearRing/k:coordinates", ns)
+            ring = np.array([[float(v) for v in s.split(",")[:2]]
+                             for s in ((c.text if c is not None else "") or "").split()])[:-1, ::-1]
+            if name == "envelope":
+                poly = ring
+                limits = {k: float(data[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in data}
+            else:
+                exc.append(ring)
+        elif name == "mission" and "payload_events" in data:
+            events = [(int(a), b == "on") for a, b in (e.split(":") for e in data["payload_events"].split())]
+    return FileDeploy(None, poly, True, exc, limits, events, 0)
+
+
+def csv_datum(lat: NDArray[np.float64], lon: NDArray[np.float64], x: NDArray[np.float64],
+              y: NDArray[np.float64]) -> tuple[float, float] | None:
+    """The origin whose local frame puts each ``(lat, lon)`` at its ``(x, y)``: a fixed-point iteration
+    moving a guess by the mean residual (converges in a few steps; None without lat/lon).
+
+    Parameters
+    ----------
+    lat, lon, x, y : numpy.ndarray
+        The CSV's columns (degrees, m).
+
+    Returns
+    -------
+    tuple of float or None
+        ``(lat, lon)`` of the file's datum.
+    """
+    ok = np.isfinite(lat) & np.isfinite(lon) & np.isfinite(x) & np.isfinite(y)
+    if not ok.any():
+        return None
+    lat, lon, x, y = lat[ok], lon[ok], x[ok], y[ok]
+    frame = LocalFrame(float(lat[0]), float(lon[0]))
+    o_lon, o_lat = frame.inverse(np.array([-x[0]]), np.array([-y[0]]))
+    guess = (float(o_lat[0]), float(o_lon[0]))
+    for _ in range(8):
+        fx, fy = LocalFrame(*guess).forward(lon, lat)
+        rx, ry = float(np.mean(fx - x)), float(np.mean(fy - y))
+        g_lon, g_lat = LocalFrame(*guess).inverse(np.array([rx]), np.array([ry]))
+        guess = (float(g_lat[0]), float(g_lon[0]))
+        if np.hypot(rx, ry) < 1e-6:
+            break
+    return guess
+
+
+def _csv(text: str) -> FileDeploy:
+    rows = list(csv.DictReader(text.splitlines()))
+    if not rows:
+        return FileDeploy()
+
+    def col(k: str) -> NDArray[np.float64]:
+        return np.array([float(r[k]) if r.get(k) not in (None, "") else np.nan for r in rows])
+
+    datum = csv_datum(col("lat"), col("lon"), col("x"), col("y")) if "lat" in rows[0] else None
+    events = []
+    if "payload" in rows[0]:
+        p = np.array([r["payload"].strip() == "1" for r in rows])
+        prev = np.r_[False, p[:-1]]
+        events = [(int(i), bool(p[i])) for i in np.flatnonzero(p != prev)]
+    alt = len(rows) - 1 if "altitude" in rows[0] else 0
+    return FileDeploy(datum, None, False, [], {}, events, alt)
+
+
+def read_deploy(path: str | Path) -> FileDeploy:
+    """What a mission file carries beside its waypoints (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A file :func:`auvplan.io.missions.readback.readers.read_mission` reads.
+
+    Returns
+    -------
+    FileDeploy
+        Its datum, envelope, payload events and terrain-following legs (empty where it says nothing).
+    """
+    path = Path(path)
+    fmt = MISSION_SUFFIXES.get(path.suffix.lower())
+    text = path.read_text(encoding="utf-8")
+    try:
+        if fmt == "moos":
+            return _moos(text)
+        if fmt == "qgc":
+            return _qgc(parsed.loads(text))
+        if fmt == "ros":
+            return _yaml(text)
+        if fmt == "geojson":
+            return _geojson(parsed.loads(text))
+        if fmt == "kml":
+            return _kml(text)
+        if fmt == "csv":
+            return _csv(text)
+    except (ValueError, KeyError, TypeError, AttributeError, IndexError, ET.ParseError) as exc:
+        raise DataError(f"{path}: the datum, envelope or payload events cannot be read ({exc})") from exc
+    return FileDeploy()
+
+
+def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints: NDArray[np.float64],
+                 min_altitude_m: float, duration_s: float) -> dict[str, Any]:
+    """Check a file's datum against the scenario and its envelope against its mission (module notes).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    origin : tuple of float or None
+        The scenario's ``[origin]``.
+    waypoints : numpy.ndarray
+        ``(N, 3)`` the file's mission in the scenario's local frame (m).
+    min_altitude_m : float
+        The least altitude of the mission re-flown under the file's semantics (m).
+    duration_s : float
+        The mission's predicted duration (s): through the current, with a ``.plan``'s launch leg and holds.
+
+    Returns
+    -------
+    dict
+        ``datum`` (``lat``, ``lon``, ``offset_m``, or None), ``envelope`` (its limits and ``ok``, ``reasons``,
+        or None), ``payload_events``, ``altitude_legs`` and ``ok``.
+
+    Raises
+    ------
+    DataError
+        When the file's datum differs from the scenario's origin (or the scenario has none).
+    """
+    info = read_deploy(path)
+    out: dict[str, Any] = {"datum": None, "envelope": None, "altitude_legs": info.altitude_legs,
+                           "payload_events": [{"waypoint": i, "sensor": "on" if on else "off"}
+                                              for i, on in info.payload_events]}
+    if info.datum is not None:
+        if origin is None:
+            raise DataError(f"{path}: the file's datum is lat {info.datum[0]:.9f}, lon {info.datum[1]:.9f} but the "
+                            "scenario has no [origin]: its local coordinates cannot be placed")
+        dx, dy = LocalFrame(*origin).forward(np.array([info.datum[1]]), np.array([info.datum[0]]))
+        off = float(np.hypot(dx[0], dy[0]))
+        if off > DATUM_TOLERANCE_M:
+            raise DataError(f"{path}: datum lat {info.datum[0]:.9f}, lon {info.datum[1]:.9f} differs from the "
+                            f"scenario's [origin] lat {origin[0]:.9f}, lon {origin[1]:.9f} ({off:.2f} m apart): its "
+                            "local coordinates would be placed that far off")
+        out["datum"] = {"lat": info.datum[0], "lon": info.datum[1], "offset_m": off}
+    if info.polygon is not None:
+        out["envelope"] = _envelope(info, origin, waypoints, min_altitude_m, duration_s)
+    elif info.datum is not None and MISSION_SUFFIXES.get(Path(path).suffix.lower()) in ("moos", "ros"):
+        # written since issue 51 (it has a datum), in a format that carries an envelope, but without one
+        out["envelope"] = {"ok": False, "vertices": 0, "exclusions": 0, "predicted_s": duration_s,
+                           "reasons": ["the file has a datum but no envelope (BHV_OpRegion / envelope removed)"]}
+    out["ok"] = out["envelope"] is None or out["envelope"]["ok"]
+    return out
+
+
+def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[np.float64], min_alt: float,
+              duration: float) -> dict[str, Any]:
+    """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
+    pts = w[:, :2]
+    assert info.polygon is not None
+    rings = [info.polygon, *info.inclusions, *info.exclusions]
+    if info.geographic:  # [lat, lon] rings: compared in latitude/longitude, as ArduPilot's fence tests them
+        if origin is None:
+            raise DataError("a geographic envelope needs the scenario's [origin]")
+        rings, pts = _planar_latlon(rings, pts, origin)
+    track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
+    reasons = []
+    for k, ring in enumerate(rings[:1 + len(info.inclusions)]):  # inside every one (ArduPilot's default)
+        region = shapely.Polygon(ring)
+        if not region.covers(track):
+            outside = int(np.sum(~shapely.covers(region, shapely.points(pts))))
+            which = "the envelope's polygon" if k == 0 else f"the fence's inclusion {k + 1}"
+            reasons.append(f"the mission leaves {which} ({outside} waypoints outside)")
+    hit = [k for k, e in enumerate(rings[1 + len(info.inclusions):]) if shapely.Polygon(e).intersects(track)]
+    if hit:
+        reasons.append(f"the mission crosses exclusion polygon{'s' if len(hit) > 1 else ''} {hit}")
+    lim = info.limits
+    deepest = float(-w[:, 2].min())
+    if "max_depth_m" in lim and deepest > lim["max_depth_m"] + 1e-3:
+        reasons.append(f"deepest waypoint {deepest:.2f} m > max_depth {lim['max_depth_m']:g} m")
+    if lim.get("min_altitude_m", 0) > 0 and min_alt < lim["min_altitude_m"] - 1e-3:
+        reasons.append(f"least altitude {min_alt:.2f} m < min_altitude {lim['min_altitude_m']:g} m")
+    if "max_time_s" in lim and not duration <= lim["max_time_s"]:  # never arriving (the energy check's nan/inf) too
+        reasons.append(f"predicted duration {duration:.0f} s > max_time {lim['max_time_s']:g} s")
+    return {**lim, "vertices": len(info.polygon), "exclusions": len(info.exclusions),
+            "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
+
+
+def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[float, float]
+                   ) -> tuple[list[NDArray[np.float64]], NDArray[np.float64]]:
+    """The envelope's ``[lat, lon]`` rings and the local points as ``(longitude, latitude)`` about the origin's
+    longitude (unwrapped: a ring across the antimeridian, 179.99 and -179.99, is the small one, not the band round
+    the Earth), where each edge is the straight line ArduPilot's fence tests (``Polygon_outside`` on latitude and
+    longitude, ``AC_PolyFence_loader::breached``).  In the local frame (azimuthal) an edge is another line: a
+    100 km edge at 68° N bows ~400 m from it, so a mission near a hand-drawn fence's side passed and breached."""
+    lon0 = float(origin[1])
+
+    def unwrap(lon: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray((lon - lon0 + 180.0) % 360.0 - 180.0, dtype=float)
+
+    lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
+    return ([np.column_stack([unwrap(np.asarray(r)[:, 1]), np.asarray(r)[:, 0]]) for r in rings],
+            np.column_stack([unwrap(np.asarray(lon)), np.asarray(lat)]))
+
+
+def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
+                      min_altitude_m: float, duration_s: float) -> tuple[dict[str, Any], str]:
+    """:func:`check_deploy` of a file read by ``mission check`` and the result in one line.
+
+    The envelope's time-out is judged against what the mission will really take: ``duration_s``, the energy
+    check's duration (:func:`~auvplan.io.missions.energy.mission_file_energy`: through the current, a ``.plan``'s
+    launch leg and its holds included), the same figure both lines print.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The mission file.
+    origin : tuple of float or None
+        The scenario's ``[origin]``.
+    points : numpy.ndarray
+        ``(N, 3)`` the file's waypoints (a QGC plan's surface home first).
+    fmt : str
+        Its format (:data:`auvplan.io.missions.readback.readers.MISSION_SUFFIXES`).
+    min_altitude_m : float
+        Its least re-flown altitude (m).
+    duration_s : float
+        The mission's duration as the energy check predicts it (s).
+
+    Returns
+    -------
+    record : dict
+        :func:`check_deploy`'s record.
+    line : str
+        ``datum …; envelope OK|FAIL|none …; payload …``.
+    """
+    rec = check_deploy(path, origin, points, min_altitude_m, duration_s)
+    d, e = rec["datum"], rec["envelope"]
+    datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d
+             else ("geographic coordinates" if fmt in ("qgc", "gpx", "geojson", "kml") else "no datum in the file"))
+    if e is None:
+        env = "envelope: none in the file (the operator must add one)"
+    else:
+        env = (f"envelope {'OK' if e['ok'] else 'FAIL'} — polygon of {e['vertices']} vertices"
+               + (f", {e['exclusions']} exclusions" if e["exclusions"] else "")
+               + "".join(f", {k} {e[k]:g}" for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in e)
+               + f" (predicted {e['predicted_s']:.0f} s)" + "".join(f"; {r}" for r in e["reasons"]))
+    n = len(rec["payload_events"])
+    pay = f"{n} payload events" if n else "no payload events"
+    alt = f"; {rec['altitude_legs']} legs at altitude" if rec["altitude_legs"] else ""
+    return rec, f"{datum}; {env}; {pay}{alt}"
