@@ -217,7 +217,8 @@ def terrain_follow() -> dict[str, str]:
 
 def lofoten_robust() -> dict[str, str]:
     """The robust plan against the nominal one in both models of ``lofoten-two-models`` (``auvplan plan
-    lofoten-two-models --json``'s choice; the member times of both plans from :func:`auvplan.sim.ensemble.robust.plan_robust`)."""
+    lofoten-two-models --json``'s choice; the member times of both plans from
+    :func:`auvplan.sim.ensemble.robust.plan_robust`)."""
     from auvplan.io.scenario import loader as scenario
     from auvplan.io.scenario.inputs.members import scenario_members
     from auvplan.sim.ensemble.robust import plan_robust

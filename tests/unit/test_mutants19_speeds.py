@@ -1,5 +1,5 @@
-"""Round 6 of docs/mutants.md: what the speeds' rewrite's tests missed (``io/missions/readback/speeds.py``'s holds and the QGC
-writer's leading ``MAV_CMD_DO_CHANGE_SPEED``), each case worked by hand.
+"""Round 6 of docs/mutants.md: what the speeds' rewrite's tests missed (``io/missions/readback/speeds.py``'s holds and
+the QGC writer's leading ``MAV_CMD_DO_CHANGE_SPEED``), each case worked by hand.
 
 * A ``MAV_CMD_NAV_LOITER_UNLIM`` (17) as the last position holds nothing the budget counts: its param 1 is no hold
   (ArduSub loiters there until the operator acts); only a waypoint's (16) or a timed loiter's (19) param 1 is.

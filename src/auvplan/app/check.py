@@ -327,7 +327,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
                      follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
                      held_water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
-    ``fixes.csv`` beside it, when there is one, adds its USBL fixes (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
+    ``fixes.csv`` beside it, when there is one, adds its USBL fixes
+    (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
 
     Parameters
     ----------

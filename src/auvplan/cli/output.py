@@ -1,6 +1,6 @@
 """What the commands of the command line share: progress on stderr and their output (a human line, or one JSON
-object with ``--json``).  The check of ``--out`` before any work is each job's (:func:`auvplan.io.files.safeio.prepare_out`
-in :mod:`auvplan.app`)."""
+object with ``--json``).  The check of ``--out`` before any work is each job's
+(:func:`auvplan.io.files.safeio.prepare_out` in :mod:`auvplan.app`)."""
 
 from __future__ import annotations
 

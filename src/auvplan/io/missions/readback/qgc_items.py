@@ -1,7 +1,7 @@
 """The items of a QGroundControl ``.plan`` in the order its vehicle executes them: the one walk every reader of a
-``.plan`` shares (its waypoints :func:`auvplan.io.missions.readback.readers.parse_qgc_plan`, its terrain-following legs
-:func:`auvplan.io.missions.readback.terrain_frame.terrain_legs`, its speeds and its payload events), so that they count the
-same legs.
+``.plan`` shares (its waypoints :func:`auvplan.io.missions.readback.readers.parse_qgc_plan`, its
+terrain-following legs :func:`auvplan.io.missions.readback.terrain_frame.terrain_legs`, its speeds and its payload
+events), so that they count the same legs.
 
 What moves the vehicle is either read as what it flies or refused (``mission check`` must judge what the vehicle
 will fly, never a part of it):

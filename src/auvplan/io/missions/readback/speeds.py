@@ -308,7 +308,8 @@ def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
     path : str or pathlib.Path
         The mission file (already read once by :func:`auvplan.io.missions.formats.read_mission`).
     points : int
-        Its number of points (the home and each position :func:`auvplan.io.missions.readback.qgc_items.plan_items` reads).
+        Its number of points (the home and each position
+        :func:`auvplan.io.missions.readback.qgc_items.plan_items` reads).
 
     Returns
     -------

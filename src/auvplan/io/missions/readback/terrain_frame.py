@@ -21,8 +21,8 @@ TERRAIN_FRAME = 10
 
 
 def terrain_legs(path: str | Path) -> BoolArray:
-    """Which legs of a ``.plan`` (home first, as :func:`auvplan.io.missions.readback.readers.parse_qgc_plan` reads it) end
-    at a terrain-frame item (a waypoint, a loiter read as one, a survey's generated waypoint).
+    """Which legs of a ``.plan`` (home first, as :func:`auvplan.io.missions.readback.readers.parse_qgc_plan` reads
+    it) end at a terrain-frame item (a waypoint, a loiter read as one, a survey's generated waypoint).
 
     The first leg, from the home on the surface down to the first item, is the launch: flown as a straight
     descent (its depth band is exempt, as in :func:`~auvplan.guidance.mission.flycheck.fly_check`), never
