@@ -126,9 +126,8 @@ def _lattice_paths(prob, spec, converged) -> dict:
     """The raw lattice path (26 directions, and with any-angle links of 16 cells) on the planner's cost:
     its cost and length beside the converged reference's (``converged``)."""
     from auvplan.planners import plan_grid
-    from auvplan.planners.core.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, path_cost, search_box
     from auvplan.planners.grid.planner import GridReference as Ref
-    from auvplan.planners.grid.planner import path_cost
 
     out: dict = {}
     lo, hi = search_box(prob)

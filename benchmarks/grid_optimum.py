@@ -1,8 +1,8 @@
 """An optimum independent of the lattice: scipy's L-BFGS-B over the interior vertices of a polyline.
 
 The polyline starts on the straight line from start to goal (no lattice, no elastic band) and its
-``K`` interior vertices move freely to minimise the planner's cost (:func:`auvplan.planners.grid.
-planner.path_cost`, the same cost the lattice reference reports); the result is checked free.  As
+``K`` interior vertices move freely to minimise the planner's cost (:func:`auvplan.planners.core.
+common.path_cost`, the same cost the lattice reference reports); the result is checked free.  As
 ``K`` doubles its cost falls towards the continuous optimum, which tells whether a reference that
 does not improve with a finer lattice is flat because it is already optimal (docs/performance.md,
 "The lattice: cost against cell size").  Only meaningful where the straight line's neighbourhood is
@@ -25,7 +25,7 @@ from scipy.optimize import minimize
 def optimum(scenario: str, segments: int) -> tuple[float, bool, float]:
     """Cost, whether the path is free, and CPU seconds of the L-BFGS-B polyline of ``segments`` segments."""
     from auvplan.io.scenario import loader as sc
-    from auvplan.planners.grid.planner import path_cost
+    from auvplan.planners.core.common import path_cost
     from auvplan.sim import planning_problem
 
     world, mission = sc.build(sc.load(scenario))

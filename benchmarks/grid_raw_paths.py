@@ -2,7 +2,7 @@
 cell's own lattice model (docs/lattice.md, wave 7).
 
 For each cell, the raw any-angle lattice path (no refinement) is costed (a) exactly, on the planner's cost
-function (:func:`auvplan.planners.grid.planner.path_cost`), and (b) in the lattice model of every cell of
+function (:func:`auvplan.planners.core.common.path_cost`), and (b) in the lattice model of every cell of
 the study: the segment cut into pieces of at most half a cell along its longest axis, each piece costed in
 the current of its nearest node (:func:`auvplan.planners.grid.anyangle._piece_cost`, the any-angle links'
 own model).  Its length, its summed climb ``Σ|dz|`` and its least clearance are printed too.  If a finer
@@ -25,10 +25,9 @@ def main(argv: list[str] | None = None) -> int:
     from auvplan.cost import energy_mode, propulsion_power
     from auvplan.io.scenario import loader as sc
     from auvplan.planners import GridReference
-    from auvplan.planners.core.common import cost_model_for, search_box
+    from auvplan.planners.core.common import cost_model_for, path_cost, search_box
     from auvplan.planners.grid.anyangle import _piece_cost
     from auvplan.planners.grid.lattice import node_fields
-    from auvplan.planners.grid.planner import path_cost
     from auvplan.sim import planning_problem
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

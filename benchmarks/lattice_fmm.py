@@ -29,8 +29,7 @@ import numpy as np
 from auvplan.io.scenario import loader as sc
 from auvplan.path import polyline_length
 from auvplan.planners import GridParams, GridReference, plan_grid
-from auvplan.planners.core.common import cost_model_for, search_box
-from auvplan.planners.grid.band import path_cost
+from auvplan.planners.core.common import cost_model_for, path_cost, search_box
 from auvplan.planners.grid.lattice import edge_bits, node_fields, search
 from auvplan.sim import planning_problem
 

@@ -21,8 +21,7 @@ import numpy as np
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import GridParams, plan
-from auvplan.planners.core.common import search_box
-from auvplan.planners.grid.band import path_cost
+from auvplan.planners.core.common import path_cost, search_box
 from auvplan.sim import planning_problem
 
 

@@ -14,7 +14,7 @@ import pytest
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
-from auvplan.planners.grid.planner import path_cost
+from auvplan.planners.core.common import path_cost
 from auvplan.planners.swarm import polish
 from auvplan.sim import planning_problem
 

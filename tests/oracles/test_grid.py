@@ -9,8 +9,8 @@ import pytest
 
 from auvplan._types import Status
 from auvplan.planners import GridParams, GridReference, PlannerSpec, PlanningProblem, plan, plan_grid, with_reference
-from auvplan.planners.core.common import cost_model_for, search_box
-from auvplan.planners.grid.band import edge_cost, path_cost
+from auvplan.planners.core.common import cost_model_for, path_cost, search_box
+from auvplan.planners.grid.band import edge_cost
 from auvplan.sim import planning_problem
 from auvplan.world import Bounds, Margins, Sphere, Terrain, World
 from helpers import flat_world

@@ -4,7 +4,7 @@ The oracle: the built-in planners are registered through the same :func:`registe
 entries are indistinguishable in kind), and the one behaviour that depends on a capability today — whether a
 plan's cost is re-computed by the project's path cost — follows the declaration for any planner, built-in
 or not (a plug-in that declares ``path_cost`` keeps its own cost; the same plug-in without it is re-costed
-to exactly :func:`auvplan.planners.grid.band.path_cost`).
+to exactly :func:`auvplan.planners.core.common.path_cost`).
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from test_registry import SCENARIO, StraightParams, straight
 
 from auvplan.io.scenario import loader as sc
 from auvplan.planners import REGISTRY, plan, register
+from auvplan.planners.core.common import path_cost
 from auvplan.planners.core.registry import CAPABILITIES, PLANNERS, get, has
-from auvplan.planners.grid.band import path_cost
 from auvplan.planners.grid.planner import on_cost_function
 from auvplan.sim import planning_problem
 

@@ -1,15 +1,17 @@
 """What every planner shares: the cost function a plan is scored on, the search box, the end-point
-check, and a plan's cost terms (used by the swarm, lattice, time-optimal and flow planners alike)."""
+check, a plan's cost terms and a polyline's cost (used by the swarm, lattice, time-optimal and flow planners
+alike, and by the vehicle's limits)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..._types import FloatArray, Status
-from ...cost import CostModel, CostRow
+from ..._types import ArrayLike, FloatArray, Status
+from ...cost import CostModel, CostRow, evaluate_paths
+from ...path import densify, polyline_length
 from .base import PlannerSpec, PlanningProblem
 
-__all__ = ["cost_model_for", "search_box", "check_endpoints", "plan_terms"]
+__all__ = ["cost_model_for", "search_box", "check_endpoints", "plan_terms", "path_cost"]
 
 
 def cost_model_for(problem: PlanningProblem, spec: PlannerSpec) -> CostModel:
@@ -114,3 +116,29 @@ def plan_terms(row: CostRow, spec: PlannerSpec) -> dict[str, float]:
         "violations": row["violations"],
         "collisions": row["violations"],  # deprecated alias of "violations" (CHANGELOG 0.2.0)
     }
+
+
+def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:
+    """Cost terms of a polyline under the planner's cost function, as in :class:`PlanResult.cost_terms`.
+
+    Segments no longer than 1/``spec.samples`` of the path, vertices kept.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World and vehicle figures.
+    spec : PlannerSpec
+        Cost settings and samples per path.
+    path : array_like
+        Vertices ``(N, 3)`` (m).
+
+    Returns
+    -------
+    dict of str to float
+        ``total`` and the terms of :func:`~auvplan.planners.core.common.plan_terms`.
+    """
+    path = np.asarray(path, dtype=float)
+    spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
+    terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
+    row = terms.row(0)
+    return {"total": row["total"], **plan_terms(row, spec)}

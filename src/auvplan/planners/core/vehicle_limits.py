@@ -21,8 +21,8 @@ from ..._types import FloatArray, Status
 from ...path.flyable import PITCH_SLACK_DEG, check_limits
 from ...path.pitch import pitch_profile
 from ...world import World
-from ..grid.band import path_cost
 from .base import PlannerSpec, PlanningProblem, PlanResult
+from .common import path_cost
 from .registry import has
 
 __all__ = ["enforce_limits", "repair_pitch", "vertex_floors"]

@@ -6,8 +6,8 @@ path, the latter keeping vertices where a resampled segment would collide (exact
 :func:`_relax` moves each interior vertex towards its neighbours' midpoint or along the path's two
 normals when that lowers the cost of its two segments and keeps both free; :func:`_refine` runs the
 band coarse to fine, and :func:`_converge` until halving the spacing no longer lowers the exact cost
-(:func:`path_cost`).  Used by :mod:`auvplan.planners.grid` (and :func:`~auvplan.planners.grid.planner.refine_plan`
-for any planner's path).
+(:func:`~auvplan.planners.core.common.path_cost`).  Used by :mod:`auvplan.planners.grid` (and
+:func:`~auvplan.planners.grid.planner.refine_plan` for any planner's path).
 """
 
 from __future__ import annotations
@@ -15,15 +15,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
-from ...cost import CostModel, evaluate_paths, segment_energy
+from ...cost import CostModel, segment_energy
 from ...guidance.avoidance.local import key_waypoints
-from ...path import arc_length, densify, polyline_length, resample_polyline
+from ...path import arc_length, polyline_length, resample_polyline
 from ...world import World
 from ..core.base import PlannerSpec, PlanningProblem
-from ..core.common import cost_model_for, plan_terms
+from ..core.common import path_cost
 from .band_kernels import band_choose, band_gains, band_moves, band_segments, chord_lengths
 
-__all__ = ["edge_cost", "gives_up", "level_count", "path_cost", "resample_free"]
+__all__ = ["edge_cost", "gives_up", "level_count", "resample_free"]
 
 
 def edge_cost(world: World, a: FloatArray, b: FloatArray, model: CostModel, objective: str,
@@ -249,29 +249,3 @@ def gives_up(cost: float, target: float, gain: float, remaining: int) -> bool:
         True when ``cost - remaining * gain >= target``.
     """
     return cost - remaining * gain >= target
-
-
-def path_cost(problem: PlanningProblem, spec: PlannerSpec, path: ArrayLike) -> dict[str, float]:
-    """Cost terms of a polyline under the planner's cost function, as in :class:`PlanResult.cost_terms`.
-
-    Segments no longer than 1/``spec.samples`` of the path, vertices kept.
-
-    Parameters
-    ----------
-    problem : PlanningProblem
-        World and vehicle figures.
-    spec : PlannerSpec
-        Cost settings and samples per path.
-    path : array_like
-        Vertices ``(N, 3)`` (m).
-
-    Returns
-    -------
-    dict of str to float
-        ``total`` and the terms of :func:`~auvplan.planners.core.common.plan_terms`.
-    """
-    path = np.asarray(path, dtype=float)
-    spacing = max(float(polyline_length(path)) / spec.samples, 1e-9)
-    terms = evaluate_paths(problem.world, densify(path, spacing)[None], cost_model_for(problem, spec), exact=True)
-    row = terms.row(0)
-    return {"total": row["total"], **plan_terms(row, spec)}

@@ -33,9 +33,9 @@ from ...cost import CostModel
 from ...guidance.avoidance.local import key_waypoints
 from ...path import sample_population
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
-from ..core.common import check_endpoints, cost_model_for, search_box
+from ..core.common import check_endpoints, cost_model_for, path_cost, search_box
 from ..core.params import GridParams
-from .band import _converge, _refine, path_cost
+from .band import _converge, _refine
 from .reference import GridReference, auto_cell
 
 __all__ = ["MARGIN", "SCREEN", "SWEEPS", "plan_ladder", "plan_lattice"]

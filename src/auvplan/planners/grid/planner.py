@@ -35,14 +35,14 @@ from dataclasses import replace
 import numpy as np
 
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
-from ..core.common import cost_model_for
+from ..core.common import cost_model_for, path_cost
 from ..core.registry import has
-from .band import _converge, edge_cost, path_cost, resample_free
+from .band import _converge, edge_cost, resample_free
 from .ladder import plan_ladder, plan_lattice
 from .reference import GridReference, auto_cell
 
 __all__ = ["GridReference", "plan_grid", "refine_plan", "auto_cell", "edge_cost", "on_cost_function",
-           "path_cost", "resample_free", "with_reference"]
+           "resample_free", "with_reference"]
 
 
 def plan_grid(problem: PlanningProblem, spec: PlannerSpec, reference: GridReference | None = None) -> PlanResult:

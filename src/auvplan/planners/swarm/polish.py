@@ -47,7 +47,8 @@ from ..._types import FloatArray
 from ...guidance.avoidance.local import key_waypoints
 from ...path.flyable import check_limits
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
-from ..grid.planner import path_cost, refine_plan
+from ..core.common import path_cost
+from ..grid.planner import refine_plan
 
 __all__ = ["LATTICE_WITHIN", "LIFT_BELOW", "LIFT_WITHIN", "POLISH_FINEST", "POLISH_TOLERANCE", "polish_polyline"]
 
