@@ -37,12 +37,12 @@ CASES = [
     ("from auvplan.io import export, records\n",
      "from auvplan.io.missions import export\nfrom auvplan.io.results import records\n"),
     ("from auvplan.planners.swarm_problem import check_endpoints, spline_problem\n",
-     "from auvplan.planners.common import check_endpoints\n"
+     "from auvplan.planners.core.common import check_endpoints\n"
      "from auvplan.planners.swarm.problem import spline_problem\n"),
     ("from auvplan.planners.flow import FlowField, plan_flow\n",
      "from auvplan.planners.flow.field import FlowField\nfrom auvplan.planners.flow.planner import plan_flow\n"),
     ("from auvplan.planners.timeopt_params import TimeoptParams\n",
-     "from auvplan.planners.params import TimeoptParams\n"),
+     "from auvplan.planners.core.params import TimeoptParams\n"),  # moved twice: straight to its last place
     ("from auvplan.sim_formation import run_formation\n", "from auvplan.sim.formation import run_formation\n"),
     ("import auvplan.planners.lattice as lat\n", "import auvplan.planners.grid.lattice as lat\n"),
     ('FLOW = "auvplan.planners.flow"\n', 'FLOW = "auvplan.planners.flow.field"\n'),
@@ -59,6 +59,14 @@ CASES = [
     ("from auvplan.path import BSplinePath\nfrom auvplan import cli\n",  # packages re-exporting their old module
      "from auvplan.path import BSplinePath\nfrom auvplan import cli\n"),
     ("from auvplan.cli_run import run_scenario\n", "from auvplan.app.run import run_scenario\n"),
+    # issue 50, second round: a function its moved package re-exports (not the submodule of the same name), a
+    # package that kept its name and a folder moved into another, left alone on a second run, a moved name
+    ("from auvplan.bench import SweepSpec, sweep\n", "from auvplan.app.bench.sweep import SweepSpec, sweep\n"),
+    ("from auvplan.app.bench import bench\n", "from auvplan.app.bench.job import bench\n"),
+    ('"""See :mod:`auvplan.bench`, bench/sweep.py and :func:`auvplan.ensemble.score_route`."""\n',
+     '"""See :mod:`auvplan.app.bench`, app/bench/sweep.py and :func:`auvplan.sim.ensemble.score.score_route`."""\n'),
+    ("from auvplan.planners.grid.planner import path_cost, refine_plan\n",
+     "from auvplan.planners.core.common import path_cost\nfrom auvplan.planners.grid.planner import refine_plan\n"),
 ]
 
 
@@ -71,7 +79,14 @@ def test_relative_imports_of_a_moved_file_are_resolved_at_its_old_place(rl):
     # planners/grid.py, merged from a branch on the old layout, now at planners/grid/planner.py
     old = "from .._types import Status\nfrom .swarm_problem import cost_model_for\nfrom .lattice import search\n"
     got = _rewrite(rl, old, "src/auvplan/planners/grid/planner.py")
-    assert got == "from ..._types import Status\nfrom ..common import cost_model_for\nfrom .lattice import search\n"
+    assert got == ("from ..._types import Status\nfrom ..core.common import cost_model_for\n"
+                   "from .lattice import search\n")
+
+
+def test_an_old_module_imported_from_its_old_package_is_not_resolved_at_the_files_old_place(rl):
+    # io/scenario/build.py (once io/build.py) imports io/limits.py, now io/files/limits.py, by name
+    got = _rewrite(rl, "from .. import limits as _limits\n", "src/auvplan/io/scenario/build.py")
+    assert got == "from ..files import limits as _limits\n"
 
 
 def test_every_old_module_has_a_home(rl):
