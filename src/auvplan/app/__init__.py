@@ -1,5 +1,6 @@
-"""The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, bench, mission
-check, and the one writer of a results folder (:mod:`.results`).
+"""The jobs the command line and the planning page both run: plan, run, survey, sweep, ensemble, bench (its
+sweeps: :mod:`.bench`), mission check, the planning page's own (:mod:`.page`), and the one writer of a results
+folder (:mod:`.results`).
 
 A job takes plain values (a scenario name or file, an output folder, overrides), reports its progress to a
 :class:`Reporter` the caller builds, and returns data; it prints nothing (the command line prints, the page
