@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 from .._types import RngLike
 from .core.base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .core.params import GridParams
-from .core.registry import PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, register
+from .core.registry import CAPABILITIES, PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, has, register
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from .flow.planner import plan_flow
@@ -21,8 +21,8 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from .swarm.planner import plan_swarm
     from .timeopt.planner import plan_timeopt
 
-__all__ = ["PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference", "PlanResult", "PlannerEntry",
-           "enforce_limits",
+__all__ = ["CAPABILITIES", "has", "PIPELINES", "PLANNERS", "REGISTRY", "SWARM", "GridParams", "GridReference",
+           "PlanResult", "PlannerEntry", "enforce_limits",
            "PlannerSpec", "PlanningProblem", "get", "plan", "plan_flow", "plan_grid", "plan_swarm", "plan_timeopt",
            "REFERENCE_SWARMS", "reference", "register", "refine_plan", "with_reference"]
 
