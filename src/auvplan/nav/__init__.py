@@ -10,9 +10,9 @@ the fewest surfacings, and clearance under the error (issue 52; ``docs/navigatio
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from ..runtime.lazy import lazy_attributes
 from .params import NavParams, UsblParams
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
@@ -44,14 +44,4 @@ _LAZY = {name: f"auvplan.nav.{module}" for module, names in (
 budget and fixes computed for few (issue 56)."""
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'auvplan.nav' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, __all__)

@@ -6,11 +6,11 @@ The planners themselves are imported when first used (``plan_flow`` … below ar
 naming, checking or registering a planner imports none of them.
 """
 
-import importlib
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from .._types import RngLike
+from ..runtime.lazy import lazy_attributes
 from .core.base import PlannerSpec, PlanningProblem, PlanResult, Progress
 from .core.params import GridParams
 from .core.registry import CAPABILITIES, PIPELINES, PLANNERS, REGISTRY, SWARM, PlannerEntry, get, has, register
@@ -38,17 +38,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'auvplan.planners' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, __all__)
 
 
 def plan(problem: PlanningProblem, spec: PlannerSpec, rng: RngLike = None,

@@ -16,9 +16,9 @@ The loop's and the pipeline's names are imported at their first access (``plan``
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from ..runtime.lazy import lazy_attributes
 from .mission import Mission, SimParams, SimSettings
 from .result import RunRecord, SimMetrics, SimResult, decimate
 
@@ -61,14 +61,4 @@ _LAZY = {name: "auvplan.sim.loop" for name in ("make_guidance", "simulate")} | {
 dynamics and the pipeline are not imported for ``plan``)."""
 
 
-def __getattr__(name: str) -> Any:
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'auvplan.sim' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, __all__)

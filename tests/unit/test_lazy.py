@@ -1,0 +1,25 @@
+"""The packages' names loaded on first access (auvplan.runtime.lazy): loaded from their module, kept, listed."""
+
+import importlib
+import subprocess
+import sys
+
+import pytest
+
+
+@pytest.mark.parametrize("package", ["auvplan", "auvplan.nav", "auvplan.sim", "auvplan.planners"])
+def test_every_exported_name_resolves_to_its_defining_module_and_unknown_names_are_named(package):
+    mod = importlib.import_module(package)
+    for name in mod.__all__:
+        assert getattr(mod, name) is not None
+        assert name in dir(mod)
+    with pytest.raises(AttributeError, match=rf"module '{package}' has no attribute 'no_such_name'"):
+        mod.no_such_name  # noqa: B018
+
+
+def test_a_name_is_loaded_on_first_access_only_and_kept():
+    code = ("import sys, auvplan.sim as s; assert 'auvplan.sim.loop' not in sys.modules; "
+            "f = s.simulate; assert 'auvplan.sim.loop' in sys.modules; "
+            "assert s.__dict__['simulate'] is f is sys.modules['auvplan.sim.loop'].simulate; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "ok"
