@@ -11,6 +11,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -134,6 +135,28 @@ def test_stale_temporaries_of_auvplan_files_are_removed_and_others_kept(tmp_path
     (out / ".notes.txt.q1w2e3r4.tmp").write_text("the user's")
     prepare_out(out)
     assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST, LOCK, "run.json", ".notes.txt.q1w2e3r4.tmp"])
+
+
+def test_a_kill_during_the_writability_probe_leaves_nothing_the_next_run_keeps(tmp_path, monkeypatch):
+    """CI saw it: a SIGKILL while the probe file was open left it for good (the re-run never removed it)."""
+    out = tmp_path / "r"
+    left = []
+    real = tempfile.NamedTemporaryFile
+
+    def killed(*args, **kwargs):  # the file is created, then the process dies before it closes
+        f = real(*args, **{**kwargs, "delete": False})
+        f.close()
+        left.append(Path(f.name))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(tempfile, "NamedTemporaryFile", killed)
+    with pytest.raises(KeyboardInterrupt):
+        prepare_out(out, job="run")
+    monkeypatch.setattr(tempfile, "NamedTemporaryFile", real)
+    assert len(left) == 1 and left[0].exists() and left[0].parent == out
+    outdir.release_all()
+    prepare_out(out, job="run")
+    assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST, LOCK])
 
 
 def test_the_manifest_names_a_file_before_it_is_written(tmp_path, monkeypatch):

@@ -338,7 +338,8 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
                 _record((out / n).parent, [(out / n).name])
         if job and written_by(out) != job:
             _record(out, [], job)
-        probe = tempfile.NamedTemporaryFile(dir=out, prefix=".auvplan-probe.", delete=True)
+        # named as a temporary of the manifest: a kill before it closes leaves what the next run cleans up
+        probe = tempfile.NamedTemporaryFile(dir=out, prefix=f".{MANIFEST}.", suffix=".tmp", delete=True)
         probe.close()
     except OutputError:
         raise
