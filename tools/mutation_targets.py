@@ -1559,3 +1559,19 @@ REASONS.update({
     '_near_zones | for q in range(start[c], start[c + 2]):':
         "equivalent in value: a cell's list read with the next cell's, more zones measured, the minimum unchanged",
 })
+
+# ---- round 8 (7 Dec 2026, ~04:40; docs/mutants.md section 8, mutants21): code no mutation run had seen:
+# the deferred load of a cached kernel (issue 56; its hook in jit.KernelCache.load_overload has no mutation
+# site under these operators, planted by hand instead), the packages' lazy names, the --out folder's safety
+# (prepare_out and its helpers, the atomic write, the clean-up on failure, the lock, the stale temporaries)
+CACHELOAD, LAZY = "auvplan.runtime.cacheload", "auvplan.runtime.lazy"
+SAFEIO, OUTDIR = "auvplan.io.files.safeio", "auvplan.io.files.outdir"
+MODULES.update({
+    "cacheload": Target(_fns(CACHELOAD, "enabled", "_registries_loaded", "_declared_symbols", "_elf_undefined",
+                             "deferrable", "load_overload", "use_deferred")),
+    "lazy": Target(_fns(LAZY, "lazy_attributes")),
+    "out-folder": Target(
+        _fns(SAFEIO, "prepare_out", "_clean_temporaries", "_one_job", "_check_names", "_discard", "discard_on_failure",
+             "atomic_write")
+        + _fns(OUTDIR, "acquire", "release", "release_all", "session", "stale_temporaries")),
+})
