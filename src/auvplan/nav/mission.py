@@ -4,7 +4,7 @@ error at every waypoint and leg, and the clearance under that error (issue 52; `
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -115,11 +115,15 @@ class NavPlan:
     fixed_period : tuple of (float, FixPlan) or None
         The best fixed period with the same largest error and its fixes (``fixes = "plan"`` only).
     times_s : numpy.ndarray
-        ``(F,)`` planned time of each fix (s from the start, at the cruise speed, earlier dwells included).
+        ``(F,)`` planned time of each fix (s from the start, earlier dwells included): at the cruise speed in
+        still water, or from :attr:`vertex_times_s` once the mission is timed (:meth:`timed`).
     params : NavParams or None
         The error model the figures come from (the error band and the error against time redraw from it).
     speed : float
         The cruise speed the times are planned at (m/s).
+    vertex_times_s : numpy.ndarray or None
+        ``(N,)`` planned arrival at each waypoint (s) through the World's current at the legs' own speeds
+        (:func:`auvplan.sim.pipeline.timed_navigation`); None: at the cruise speed in still water.
     """
 
     points: FloatArray
@@ -131,6 +135,25 @@ class NavPlan:
     times_s: FloatArray
     params: NavParams | None = None
     speed: float = math.nan
+    vertex_times_s: FloatArray | None = None
+
+    def timed(self, vertex_times_s: ArrayLike) -> NavPlan:
+        """The same plan with its waypoints' planned arrival times (and so its fixes' times) given.
+
+        Parameters
+        ----------
+        vertex_times_s : array_like
+            ``(N,)`` arrival at each waypoint (s from the start, earlier dwells included).
+
+        Returns
+        -------
+        NavPlan
+            ``times_s`` the arrivals at the fixes.
+        """
+        t = np.asarray(vertex_times_s, dtype=float).reshape(-1)
+        if t.shape != (self.points.shape[0],):
+            raise ValueError(f"{t.size} arrival times for {self.points.shape[0]} waypoints")
+        return replace(self, times_s=t[[i for i, k in enumerate(self.kinds) if k]], vertex_times_s=t)
 
     @property
     def ok(self) -> bool:
