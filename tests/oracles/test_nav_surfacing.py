@@ -100,3 +100,13 @@ def test_vertical_legs_survive_the_fixes():
     slope = np.abs(np.diff(p.points[:, 2]))[h > 0] / h[h > 0]
     assert slope.max() <= math.tan(math.radians(20.0))
     assert p.check.budget.max_error_m <= NAV.max_error_m
+
+
+def test_an_obstacle_within_the_error_is_named_not_an_infinite_altitude():
+    """A leg passing 40 m from a sphere with 70 m of error and no seabed: the check fails naming the obstacle
+    (before: "the seabed or an obstacle comes within inf m")."""
+    world = _world(obstacles=[Sphere((3000.0, 340.0, -500.0), 300.0)])
+    route = np.array([[0.0, 0.0, -500.0], [6000.0, 0.0, -500.0]])
+    c = check_navigation(world, route, ("", ""), NAV)
+    assert world.segments_free(_legs(route), moving=False).all()
+    assert not c.ok and "static obstacle" in c.message and "inf" not in c.message, c.message

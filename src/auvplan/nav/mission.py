@@ -17,7 +17,7 @@ from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes
 from .params import NavParams
 
 __all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times",
-           "navigation_of"]
+           "navigation_of", "clearance_failure"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,12 +88,37 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
                f"{nav.max_error_m:g} m")
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + first_leg}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an "
-               f"obstacle comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+        msg = clearance_failure(k + first_leg, float(budget.leg_error_m[k]), float(alt[k]), world)
     elif budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
         msg = (f"waypoint {p.shape[0] - 1}: predicted error {budget.error_m[-1]:.1f} m at the end of its hold "
                f"exceeds max_error_m {nav.max_error_m:g} m")
     return NavCheck(budget, alt, clear, not msg, msg)
+
+
+def clearance_failure(leg: int, error: float, altitude: float, world: World) -> str:
+    """Why a leg is not clear under its error: the seabed (its least uncertain altitude under ``min_altitude_m``),
+    else a static obstacle within its margin plus the error.
+
+    Parameters
+    ----------
+    leg : int
+        The leg's number in the message.
+    error : float
+        Its predicted error (m).
+    altitude : float
+        Its least altitude above the seabed within the error (m; ``inf`` without a seabed).
+    world : World
+        The margins.
+
+    Returns
+    -------
+    str
+        The message.
+    """
+    head = f"leg {leg}: within its predicted error {error:.1f} m"
+    if altitude < world.margins.min_altitude:
+        return f"{head} the seabed comes within {altitude:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)"
+    return f"{head} a static obstacle comes within its margin {world.margins.obstacle:g} m"
 
 
 @dataclass(frozen=True, eq=False)
