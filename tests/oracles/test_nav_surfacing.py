@@ -43,7 +43,7 @@ def test_a_surfacing_keeps_out_of_a_no_go_zone_and_an_obstacle(blocker):
         world = _world(zones=Zones((Zone("firing range", shapely.box(1500, -1000, 3000, 1000), 0.0, 100.0),)))
     else:
         world = _world(obstacles=[Sphere((2500.0, 0.0, 0.0), 300.0)])
-    p = plan_navigation(world, route, NAV, 20.0, 1.5)
+    p = plan_navigation(world, route, NAV, 20.0, 1.5, compare=False)
     assert p.ok, p.message
     assert world.segments_free(_legs(p.points), moving=False).all()
     assert p.kinds.count("gps") == 1
@@ -57,7 +57,7 @@ def test_no_fix_lifts_the_start_or_the_goal():
     (its climb cut short by the start).  The mission must still start and end where the route does, so the
     fix is at least 500 / tanθ from either end (before: the start was lifted to 91 m)."""
     route = np.array([[0.0, 0.0, -500.0], [10100.0, 0.0, -500.0]])
-    p = plan_navigation(_world(), route, NAV, 20.0, 1.5)
+    p = plan_navigation(_world(), route, NAV, 20.0, 1.5, compare=False)
     assert p.ok, p.message
     np.testing.assert_array_equal(p.points[[0, -1]], route)
     s_fix = p.points[[k == "gps" for k in p.kinds], 0]
@@ -88,7 +88,7 @@ def test_vertical_legs_survive_the_fixes():
     began at 273 m instead of 10 m); every other leg within the pitch limit; the error within E."""
     route = np.array([[0, 0, -10.0], [0, 0, -500], [20000, 0, -500], [20000, 0, -800], [30000, 0, -800],
                       [30000, 0, -20]])
-    p = plan_navigation(_world(), route, NAV, 20.0, 1.5)
+    p = plan_navigation(_world(), route, NAV, 20.0, 1.5, compare=False)
     assert p.ok, p.message
     np.testing.assert_array_equal(p.points[[0, -1]], route[[0, -1]])
     fixes = p.points[[k == "gps" for k in p.kinds], 0]
@@ -110,3 +110,16 @@ def test_an_obstacle_within_the_error_is_named_not_an_infinite_altitude():
     c = check_navigation(world, route, ("", ""), NAV)
     assert world.segments_free(_legs(route), moving=False).all()
     assert not c.ok and "static obstacle" in c.message and "inf" not in c.message, c.message
+
+
+def test_a_mission_that_goes_nowhere_needs_no_fix_and_an_impossible_budget_is_a_status():
+    """Start = goal: nothing travelled, the launch fix's 2 × 5 m holds, no fix (before: "no choice of fixes",
+    not ok).  A budget of 10.01 m at 2σ with 5 m fixes: the 250 m candidates already reach 11.2 m, so no plan
+    exists: ok False with the reason naming max_error_m, no exception."""
+    here = np.array([[0.0, 0.0, -500.0], [0.0, 0.0, -500.0]])
+    still = plan_navigation(_world(), here, NAV, 20.0, 1.5, compare=False)
+    assert still.ok and "gps" not in still.kinds and still.check.budget.max_error_m == 2 * 5.0
+    tight = NavParams(drift_pct_no_lock=1.0, max_error_m=10.01, confidence=2.0, fix_error_m=5.0)
+    route = np.array([[0.0, 0.0, -500.0], [10000.0, 0.0, -500.0]])
+    p = plan_navigation(_world(), route, tight, 20.0, 1.5, compare=False)
+    assert not p.ok and "max_error_m = 10.01 m" in p.message

@@ -270,6 +270,8 @@ def plan_fixes(prof: RouteProfile, nav: NavParams, speed: float, spacing: float 
     FixPlan
         The fixes; ``ok`` False (with the reason) when no choice of candidates keeps the budget.
     """
+    if prof.s.size < 2:  # start and goal at one place: nothing is travelled, the launch fix holds
+        return FixPlan(True, np.empty(0), (), nav.confidence * nav.fix_error_m, 0.0)
     nodes = _nodes(prof, nav, spacing, speed, usbl_xy)
     best: list[tuple[int, float, float] | None] = [None] * len(nodes)  # (fixes, time, worst error)
     prev = [-1] * len(nodes)
