@@ -123,3 +123,17 @@ def test_a_mission_that_goes_nowhere_needs_no_fix_and_an_impossible_budget_is_a_
     route = np.array([[0.0, 0.0, -500.0], [10000.0, 0.0, -500.0]])
     p = plan_navigation(_world(), route, tight, 20.0, 1.5, compare=False)
     assert not p.ok and "max_error_m = 10.01 m" in p.message
+
+
+def test_a_probability_given_as_the_confidence_is_refused():
+    """``[mission] confidence = 0.95`` is a probability; ``[navigation] confidence`` a multiple of σ: 0.95 there
+    would budget 0.95 σ, 59 % of a circular error, not 95 % (before: accepted without a word).  Exit 2's error names
+    the file, the key and the value."""
+    from auvplan.errors import ScenarioError
+    from auvplan.io.scenario import loader
+
+    text = ('name = "t"\n[bounds]\nx = [0.0, 1000.0]\ny = [0.0, 1000.0]\nz = [-500.0, 0.0]\n[mission]\n'
+            'start = [100.0, 100.0, -400.0]\ngoal = [900.0, 900.0, -400.0]\nmin_depth_m = 0.0\n[navigation]\n')
+    assert loader.loads(text + "confidence = 1.0\n", "t.toml").navigation.confidence == 1.0
+    with pytest.raises(ScenarioError, match=r"t\.toml: \[navigation\].*confidence.*0\.95.*not a probability"):
+        loader.loads(text + "confidence = 0.95\n", "t.toml")
