@@ -119,6 +119,10 @@ def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
     return np.broadcast_to(v, (legs,)).astype(float)
 
 
+SPEED_DECIMALS = 4
+"""Decimals of a ``.plan``'s speed command (0.1 mm/s)."""
+
+
 def _varies(v: NDArray[np.float64]) -> bool:
     return bool(v.size) and bool(np.ptp(v) > 1e-9)
 
@@ -196,7 +200,7 @@ def _change_speed(speed: float, jump_id: int) -> dict[str, Any]:
     param 1 the speed type (1: ground speed), param 2 the speed (m/s; ArduSub's ``do_change_speed`` sets WPNav's
     horizontal speed to it), param 3 the throttle (−1: unchanged), ``MAV_FRAME_MISSION`` (2)."""
     return {"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": jump_id, "frame": 2,
-            "params": [1, round(speed, 4), -1, 0, 0, 0, 0]}
+            "params": [1, round(speed, SPEED_DECIMALS), -1, 0, 0, 0, 0]}
 
 
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
@@ -243,6 +247,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     horizontal = v / along_track_factor(p) if v.size else v
     first = float(horizontal[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
     items: list[dict[str, Any]] = [] if not first > 0 else [_change_speed(first, 1)]  # the launch's speed
+    said = round(first, SPEED_DECIMALS)  # the command in force: a 178 only where it changes (AP_Mission's capacity)
     alt = deploy.altitude if deploy is not None else None
     terrain = None if alt is None or deploy is None else deploy.terrain_items
     events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
@@ -261,7 +266,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
-        if _varies(horizontal) and i < v.size:
+        if i < v.size and round(float(horizontal[i]), SPEED_DECIMALS) != said:
+            said = round(float(horizontal[i]), SPEED_DECIMALS)
             items.append(_change_speed(float(horizontal[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
