@@ -91,7 +91,8 @@ def test_the_export_commands_the_level_speed_that_flies_the_planned_one(tmp_path
         elif it["command"] == 16:
             cmd.append(now)
     flown = np.asarray(cmd[1:]) * np.linalg.norm(d, axis=1) / np.hypot(d[:, 0], d[:, 1])
-    assert flown == pytest.approx(v, abs=1e-4)  # what ArduSub flies through the water: the plan's speed
+    assert flown == pytest.approx(v, rel=0.0025 + 1e-4)  # what ArduSub flies through the water: the plan's speed
+    # (within formats.SPEED_BAND, 0.25 %: a new 178 only where the speed the command flies leaves it, export22)
     assert cmd[0] == pytest.approx(v[0] * np.hypot(300.0, 40.0) / np.linalg.norm(d[0]), abs=5e-5)
     # and mission check of it gives the planned time back (still water)
     world, mission = _world(tmp_path)
@@ -100,7 +101,7 @@ def test_the_export_commands_the_level_speed_that_flies_the_planned_one(tmp_path
     rec = mission_file_energy(world, mission, path)[0]
     legs = np.linalg.norm(np.diff(ITEMS, axis=0), axis=1)
     launch = 1.5  # vertical: at AC_WPNav's default WPNAV_SPEED_DN (not in the file; export22)
-    assert rec["duration_s"] == pytest.approx(5.0 / launch + float(np.sum(legs / v[:2])), rel=1e-4)
+    assert rec["duration_s"] == pytest.approx(5.0 / launch + float(np.sum(legs / v[:2])), rel=0.0026)
 
 
 @pytest.fixture()

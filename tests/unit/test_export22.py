@@ -91,3 +91,48 @@ def test_a_fence_across_the_antimeridian_is_judged_as_ardupilot_reads_it(tmp_pat
     assert any(outside) == straddles  # the oracle sees the breach exactly when the ring crosses ±180°
     if straddles:
         assert "waypoints outside" in line
+
+
+def test_a_plan_beyond_ardupilot_s_mission_storage_is_refused_naming_the_limit(tmp_path):
+    """AP_Mission holds ``(storage − 4) // 15`` commands, the home included (``num_commands_max``); the most is a
+    64 KiB ``BRD_SD_MISSION`` file, 0xFFFF bytes.  Oracle: the StorageManager areas summed by hand."""
+    from auvplan.errors import DataError
+
+    sub_16k = 2506 + 2132 + 5204  # StorageMission areas for a non-copter vehicle, 16 KiB of storage
+    assert [(b - 4) // 15 for b in (sub_16k, 2 * sub_16k, 0xFFFF)] == [655, 1312, 4368]
+    n = 4368  # waypoints: + the leading 178 + the home = 4 370 commands
+    pts = np.column_stack([np.arange(n) * 10.0, np.zeros(n), np.full(n, -20.0)])
+    with pytest.raises(DataError, match=r"4367 items \+ the home = 4368 commands|4369 items \+ the home = 4370 "
+                                        r"commands > AP_Mission's capacity: 655 .* 1312 .* 4368"):
+        to_qgc_plan(pts, (10.0, 20.0), 1.0)
+    doc = to_qgc_plan(pts[:4366], (10.0, 20.0), 1.0)  # 4 367 items + the home: the most any board holds
+    assert len(doc["mission"]["items"]) == 4367
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(doc))
+    assert read_mission(path, (10.0, 20.0))[0].shape == (4367, 3)
+    doc["mission"]["items"].append(dict(doc["mission"]["items"][-1], doJumpId=4368))
+    path.write_text(json.dumps(doc))
+    with pytest.raises(DataError, match=r"4368 items \+ the home = 4369 commands > AP_Mission's capacity"):
+        read_mission(path, (10.0, 20.0))
+
+
+def test_pitched_legs_share_a_command_while_they_fly_within_the_band():
+    """A seeded terrain-following profile (pitch 0-12°): a 178 after every waypoint before; now each leg's command in
+    force, flown at command / cos γ (WPNav), stays within 0.25 % of the planned speed, with far fewer commands."""
+    rng = np.random.default_rng(22)
+    n = 400
+    x = np.cumsum(rng.uniform(20.0, 60.0, n))
+    pitch = 12.0 * np.sin(2.0 * np.pi * x[:-1] / 3000.0) + rng.normal(0.0, 0.3, n - 1)  # hills, a little noise
+    dz = np.tan(np.radians(pitch)) * np.diff(x)
+    pts = np.column_stack([x, np.zeros(n), -200.0 + np.r_[0.0, np.cumsum(dz)]])
+    v = 1.5
+    items = to_qgc_plan(pts, (10.0, 20.0), v)["mission"]["items"]
+    now, cmd = None, []
+    for it in items:
+        now = it["params"][1] if it["command"] == 178 else now
+        cmd += [now] if it["command"] == 16 else []
+    d = np.diff(pts, axis=0)
+    flown = np.asarray(cmd[1:]) * np.linalg.norm(d, axis=1) / np.abs(d[:, 0])  # by hand: v_xy / cos γ
+    assert np.all(np.abs(flown - v) <= 0.0025 * v + 1e-4)
+    n178 = sum(it["command"] == 178 for it in items)
+    assert n178 < (n - 1) / 2  # 127 (measured); 400 before, one after every waypoint

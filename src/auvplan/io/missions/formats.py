@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ...errors import DataError
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
 from .deploy import DeployInfo, payload_events
@@ -51,6 +52,7 @@ from .readback.readers import (
     parse_ros_path,
     read_mission,
 )
+from .readback.qgc_items import AP_MISSION_MAX_COMMANDS, capacity_note
 from .readback.speeds import along_track_factor
 
 __all__ = [
@@ -121,6 +123,10 @@ def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
 
 SPEED_DECIMALS = 4
 """Decimals of a ``.plan``'s speed command (0.1 mm/s)."""
+SPEED_BAND = 0.0025
+"""A ``.plan`` keeps its speed command while the speed it flies along each leg stays within 0.25 % of the
+planned one (a new ``MAV_CMD_DO_CHANGE_SPEED`` only beyond it: AP_Mission's capacity,
+:data:`auvplan.io.missions.readback.qgc_items.AP_MISSION_CAPACITY`)."""
 
 
 def _varies(v: NDArray[np.float64]) -> bool:
@@ -213,8 +219,9 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     "Mission Start" flight speed) at the first leg's speed: ArduSub's ``do_change_speed`` sets WPNav's
     horizontal speed from it, so the launch from home and every leg after it fly the planned speed
     (``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates: never uploaded, the vehicle
-    would fly its ``WPNAV_SPEED`` parameter).  With a speed per leg that varies, a 178 after
-    waypoint i sets the speed of leg i.  The speed written is horizontal: WPNav keeps a 178's speed in
+    would fly its ``WPNAV_SPEED`` parameter).  A 178 after waypoint i sets the speed of leg i, written only
+    where the speed the command in force would fly along leg i leaves :data:`SPEED_BAND` of the planned one (a 178
+    after every waypoint made 3 184 items of 1 594 waypoints; AP_Mission holds 655, 1 312 or at most 4 368).  The speed written is horizontal: WPNav keeps a 178's speed in
     the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
     (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
@@ -244,7 +251,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
     # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
-    horizontal = v / along_track_factor(p) if v.size else v
+    factor = along_track_factor(p)
+    horizontal = v / factor if v.size else v
     first = float(horizontal[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
     items: list[dict[str, Any]] = [] if not first > 0 else [_change_speed(first, 1)]  # the launch's speed
     said = round(first, SPEED_DECIMALS)  # the command in force: a 178 only where it changes (AP_Mission's capacity)
@@ -266,11 +274,14 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
                       "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
-        if i < v.size and round(float(horizontal[i]), SPEED_DECIMALS) != said:
-            said = round(float(horizontal[i]), SPEED_DECIMALS)
+        if i < v.size and abs(said * float(factor[i]) - float(v[i])) > SPEED_BAND * float(v[i]):
+            said = round(float(horizontal[i]), SPEED_DECIMALS)  # the speed it flies left the band: a new command
             items.append(_change_speed(float(horizontal[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
+    if len(items) + 1 > AP_MISSION_MAX_COMMANDS:
+        raise DataError(f"QGC plan: {len(items)} items + the home = {len(items) + 1} commands > {capacity_note()}: "
+                        "no ArduPilot vehicle can hold it (split the mission)")
     speed = float(v[0]) if v.size else 0.0
     return {"fileType": "Plan", "version": 1, "groundStation": "QGroundControl",
             "geoFence": dfmt.qgc_geofence(deploy, frame),
