@@ -39,6 +39,7 @@ from ...errors import DataError
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
 from .deploy import DeployInfo, payload_events
+from .readback.qgc_items import AP_MISSION_MAX_COMMANDS, capacity_note
 from .readback.readers import (
     GPX_NS,
     MAX_MISSION_BYTES,
@@ -52,7 +53,6 @@ from .readback.readers import (
     parse_ros_path,
     read_mission,
 )
-from .readback.qgc_items import AP_MISSION_MAX_COMMANDS, capacity_note
 from .readback.speeds import along_track_factor
 
 __all__ = [
@@ -221,8 +221,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     (``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates: never uploaded, the vehicle
     would fly its ``WPNAV_SPEED`` parameter).  A 178 after waypoint i sets the speed of leg i, written only
     where the speed the command in force would fly along leg i leaves :data:`SPEED_BAND` of the planned one (a 178
-    after every waypoint made 3 184 items of 1 594 waypoints; AP_Mission holds 655, 1 312 or at most 4 368).  The speed written is horizontal: WPNav keeps a 178's speed in
-    the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
+    after every waypoint made 3 184 items of 1 594 waypoints; AP_Mission holds 655, 1 312 or at most 4 368).
+    The speed written is horizontal: WPNav keeps a 178's speed in the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
     (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
     the water, not up to 6 % more at a 20° pitch.

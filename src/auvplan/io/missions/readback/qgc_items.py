@@ -34,7 +34,8 @@ from typing import Any
 from ....errors import DataError
 from ..parsed import remembered
 
-__all__ = ["AP_MISSION_CAPACITY", "AP_MISSION_COMMAND_BYTES", "AP_MISSION_MAX_COMMANDS", "NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
+__all__ = ["AP_MISSION_CAPACITY", "AP_MISSION_COMMAND_BYTES", "AP_MISSION_MAX_COMMANDS", "NAV_WAYPOINT", "LOITERS",
+           "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
            "capacity_note", "plan_items"]
 
 NAV_WAYPOINT = 16
