@@ -222,7 +222,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     would fly its ``WPNAV_SPEED`` parameter).  A 178 after waypoint i sets the speed of leg i, written only
     where the speed the command in force would fly along leg i leaves :data:`SPEED_BAND` of the planned one (a 178
     after every waypoint made 3 184 items of 1 594 waypoints; AP_Mission holds 655, 1 312 or at most 4 368).
-    The speed written is horizontal: WPNav keeps a 178's speed in the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
+    The speed written is horizontal: WPNav keeps a 178's speed in the horizontal and flies a leg climbing or
+    diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
     (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
     the water, not up to 6 % more at a 20° pitch.
