@@ -146,7 +146,13 @@ AP_MISSION_MAX_COMMANDS = AP_MISSION_CAPACITY["microSD"]
 
 
 def capacity_note() -> str:
-    """AP_Mission's capacities in words, for messages."""
+    """AP_Mission's capacities in words, for messages.
+
+    Returns
+    -------
+    str
+        ``AP_Mission's capacity: 655 commands on a 16 KiB-storage board, …``.
+    """
     c = AP_MISSION_CAPACITY
     return (f"AP_Mission's capacity: {c['16 KiB']} commands on a 16 KiB-storage board, {c['32 KiB']} on 32 KiB, "
             f"{c['microSD']} at most with BRD_SD_MISSION = 64")
