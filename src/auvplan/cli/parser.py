@@ -395,15 +395,16 @@ def main(argv: list[str] | None = None) -> int:
             starting(f"{args.command}: starting")  # issue 56: a clock from the first second (the imports)
         module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
         handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
-        from ..io.files import outdir
+        from ..io.files import safeio
 
-        with outdir.session():  # the --out folders this command locked are released when it ends
+        with safeio.session():  # the --out folders: released when it ends; what a failure made there, removed
             code: int = handler(args)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        _last_line(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing "
-                   "written")
+        partial = isinstance(out, str) and os.path.isdir(out)
+        _last_line(f"auvplan: interrupted; partial results in {out}" if partial else "auvplan: interrupted; "
+                   "nothing written")
         return 130
     except BrokenPipeError:  # the reader went away (`auvplan scenarios | head -1`): nothing to say, as a tool
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # killed by SIGPIPE; the flush at exit
