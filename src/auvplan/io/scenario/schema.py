@@ -169,7 +169,8 @@ def _moving_schema() -> dict[str, Any]:
             m = table_schema(mcls)
             props = {**s["properties"], **m["properties"],
                      "type": {"const": shape}, "motion": {"const": motion},
-                     "name": {"type": "string", "minLength": 1}, "appears": _number(False), "disappears": _number(False)}
+                     "name": {"type": "string", "minLength": 1}, "appears": _number(False),
+                     "disappears": _number(False)}
             req = sorted({*s.get("required", []), *m.get("required", []), "motion"} - {"type"} |
                          ({"type"} if shape != "sphere" else set()))
             alts.append({"type": "object", "properties": props, "required": req, "additionalProperties": False})
