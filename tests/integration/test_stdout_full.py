@@ -25,7 +25,7 @@ def _into_dev_full(*args: str) -> subprocess.CompletedProcess[str]:
                               text=True, timeout=120)
 
 
-@pytest.mark.parametrize("args", [("scenarios",), ("--help",), ("scenario", "schema")])
+@pytest.mark.parametrize("args", [("scenarios",), ("--help",)])
 def test_a_full_stdout_is_named_in_one_line_exit_2(args):
     done = _into_dev_full(*args)
     assert (done.returncode, done.stderr) == (2, LINE), done.stderr[-600:]
