@@ -1,6 +1,7 @@
 """``key = ''`` for a string key whose default is unset ('' or none) was read as absent: ``[currents] tides = ''``
 loaded a scenario with no current at all, ``[terrain] positive = ''`` auto-detected, a zone's ``layer = ''`` read
-every layer.  Each is now refused, naming the file, the table, the key and the value (exit 2 at the command line)."""
+every layer.  Each is now refused, naming the file, the table, the key and the value (exit 2 at the command line).
+A ``name`` may still be '' (an unnamed member or moving obstacle: tests/integration/test_hostile_round20.py)."""
 
 from __future__ import annotations
 
@@ -33,14 +34,10 @@ CASES = [  # (the document's tables after BASE, the table as the message names i
     (MISSION + "[currents]\nfile = { path = 'c.nc', u = '' }\n", "[currents.file]", "u"),
     (MISSION + "[currents]\nfile = { path = 'c.nc', v = '' }\n", "[currents.file]", "v"),
     (MISSION + "[currents]\nfile = { path = 'c.nc', w = '' }\n", "[currents.file]", "w"),
-    (MISSION + "[currents]\nuniform = [0.1, 0.0, 0.0]\nmembers = [{ name = '', uniform = [0.1, 0.0, 0.0] }]\n",
-     "[currents.members[0]]", "name"),
     (MISSION + "[currents]\nuniform = [0.1, 0.0, 0.0]\nmembers = [{ name = 'a', file = '' }]\n",
      "[currents.members[0]]", "file"),
     (MISSION + "[currents]\nuniform = [0.1, 0.0, 0.0]\nmembers = [{ file = 'm.nc', dimension = '' }]\n",
      "[currents.members[0]]", "dimension"),
-    (MISSION + "[[moving]]\nname = ''\nradius = 5.0\nmotion = 'linear'\nstart = [0.0, 0.0, -50.0]\n"
-     "velocity = [1.0, 0.0, 0.0]\n", "[[moving]] #1", "name"),
     (MISSION + "[terrain]\nfile = ''\n", "[terrain]", "file"),
     (MISSION + "[terrain]\nbuiltin = ''\n", "[terrain]", "builtin"),
     (MISSION + "[terrain]\nfile = 'b.nc'\nvariable = ''\n", "[terrain]", "variable"),
@@ -79,7 +76,7 @@ def _unset_string_keys(cls: type, seen: set[type]) -> list[str]:
             continue
         tp = hints[f.name]
         args = {tp, *typing.get_args(tp), *(a for t in typing.get_args(tp) for a in typing.get_args(t))}
-        if str in args and f.default in ("", None):
+        if str in args and f.default in ("", None) and f.name != "name":  # a name may be '' (unnamed: round 20)
             out.append(f"{cls.__name__}.{f.name}")
         for a in args:
             if dataclasses.is_dataclass(a):

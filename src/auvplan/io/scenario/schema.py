@@ -131,7 +131,7 @@ def table_schema(cls: type, skip: tuple[str, ...] = ()) -> dict[str, Any]:
         if name in skip:
             continue
         p = _type_schema(tp)
-        if not req and default in ("", None):  # '' is refused, not read as unset (the loader's tables)
+        if not req and default in ("", None) and name != "name":  # '' refused, not read as unset (a name: unnamed)
             for alt in p.get("anyOf", [p]):
                 if alt.get("type") == "string":
                     alt["minLength"] = 1
@@ -169,8 +169,7 @@ def _moving_schema() -> dict[str, Any]:
             m = table_schema(mcls)
             props = {**s["properties"], **m["properties"],
                      "type": {"const": shape}, "motion": {"const": motion},
-                     "name": {"type": "string", "minLength": 1}, "appears": _number(False),
-                     "disappears": _number(False)}
+                     "name": {"type": "string"}, "appears": _number(False), "disappears": _number(False)}
             req = sorted({*s.get("required", []), *m.get("required", []), "motion"} - {"type"} |
                          ({"type"} if shape != "sphere" else set()))
             alts.append({"type": "object", "properties": props, "required": req, "additionalProperties": False})

@@ -4,7 +4,8 @@ One mechanism serves every scenario section: the dataclass's field names are
 the allowed keys (unknown keys are errors), its type hints are the allowed
 types (``float``, ``int``, ``bool``, ``str``, fixed and variable tuples, nested
 dataclasses and tuples of them), and its ``__post_init__`` checks ranges.  A string key whose default
-is '' (unset: a file, a variable name, the tides) refuses an explicit '' instead of reading it as absent.
+is '' (unset: a file, a variable name, the tides) refuses an explicit '' instead of reading it as absent (a
+``name`` may be '': unnamed).
 Every error is a :class:`ScenarioError` naming the file, the table, the key
 and the value.
 """
@@ -174,7 +175,7 @@ def build_dataclass(cls: type, table: dict[str, Any], where: str, *, skip: tuple
     for name in fields:
         if name in table:
             kwargs[name] = _convert(table[name], hints[name], where, name)
-            if kwargs[name] == "" and fields[name].default in ("", None):
+            if kwargs[name] == "" and fields[name].default in ("", None) and name != "name":  # a name may be ''
                 raise table_error(where, name, "", _EMPTY)  # was read as absent (a file, a variable, the tides)
     missing = [
         n for n, f in fields.items()

@@ -179,8 +179,6 @@ def _moving(table: dict[str, Any], where: str, bounds_xy: tuple[float, float, fl
     name = table.get("name", "")
     if not isinstance(name, str):
         raise table_error(where, "name", name, "expected a string")
-    if "name" in table and not name:  # was read as unnamed
-        raise table_error(where, "name", name, "an empty string is not a value (omit the key to leave it unset)")
     if len(name) > 128 or any(not c.isprintable() for c in name):  # U+202E reversed every message naming it
         raise table_error(where, "name", name[:80], "a moving obstacle's name is up to 128 characters without "
                           "control or formatting characters (messages name it on one line)")
