@@ -3,7 +3,8 @@
 * ``AP_Mission::mavlink_int_to_mission_cmd`` copies a waypoint's or a timed loiter's param 1 (a float) into the
   16-bit ``cmd.p1``: a hold that truncates over 65535 s or below 0 is not the hold the vehicle flies (the
   conversion is undefined: it wraps on one platform and saturates on another); 65535.5 and -0.5 truncate to 65535
-  and 0, which fit: held so (edges21, the C++ rule the executor's ``cmd.p1 = packet.param1`` follows).  ``read_holds`` clamped 1e9 to 65535 s and read -5 as no
+  and 0, which fit: held so (edges21, the C++ rule the executor's ``cmd.p1 = packet.param1`` follows).
+  ``read_holds`` clamped 1e9 to 65535 s and read -5 as no
   hold: now refused (exit 2), naming the item and its value.
 * ArduSub's ``verify_nav_wp`` waits the hold out at every waypoint, the last one too, before the mission completes;
   the budget held only at the start of a leg, so the last item's hold was left out of the file's energy and time.

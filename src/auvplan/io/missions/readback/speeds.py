@@ -153,7 +153,7 @@ def _speed(it: PlanItem) -> float:
     try:
         if isinstance(value, bool):
             raise TypeError(value)
-        return float(value)  # type: ignore[arg-type]  # checked: a number or refused
+        return float(value)  # checked: a number or refused
     except (TypeError, ValueError):
         raise _BadSpeed(f"MAV_CMD_DO_CHANGE_SPEED at {it.where}: speed {value!r} is not a number") from None
 
