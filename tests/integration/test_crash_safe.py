@@ -95,28 +95,37 @@ def test_a_run_killed_from_outside_is_completed_by_a_re_run(tmp_path):
     _assert_whole(out)
 
 
-_SLOW_WRITES = """
+_HELD_AT_FIRST_RESULT = """
 import os, time
-_real = os.replace
+from pathlib import Path
+_real, _gate = os.replace, Path({gate!r})
 def _replace(a, b, **kw):
-    time.sleep(0.1)
+    if not Path(b).name.startswith(".auvplan") and not _gate.exists():  # the first result file: wait for the test
+        Path(str(_gate) + ".waiting").touch()
+        while not _gate.exists():
+            time.sleep(0.01)
     _real(a, b, **kw)
 os.replace = _replace
 """
-"""Make every atomic replace of the first run slow, so that the second starts while it writes."""
+"""Hold the first run at its first result file (lock taken, manifest written) until the file ``gate`` exists,
+so that the second run starts while the first one writes, however loaded the machine."""
 
 
 def test_two_runs_into_one_folder_one_is_refused(tmp_path, capsys):
-    out = tmp_path / "r"
-    code = f"import sys\n{_SLOW_WRITES}\nfrom auvplan import cli\nsys.exit(cli.main(sys.argv[1:]))"
+    out, gate = tmp_path / "r", tmp_path / "gate"
+    code = f"import sys\n{_HELD_AT_FIRST_RESULT.format(gate=str(gate))}\nfrom auvplan import cli\n" \
+           "sys.exit(cli.main(sys.argv[1:]))"
     first = subprocess.Popen([sys.executable, "-c", code, "-q", "run", SCENARIO, "--out", str(out)],
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
-        while not (out / MANIFEST).exists() and first.poll() is None:
-            time.sleep(0.01)  # polls a state: the first run is writing (and holds the lock)
+        waiting = Path(str(gate) + ".waiting")
+        while not waiting.exists() and first.poll() is None:
+            time.sleep(0.01)  # polls a state: the first run holds the lock and waits at its first result
+        assert first.poll() is None, first.stderr.read()[-400:]
         code2 = cli.main(["-q", "run", SCENARIO, "--out", str(out)])
         err = capsys.readouterr().err
     finally:
+        gate.touch()
         assert first.wait(timeout=300) == 0, first.stderr.read()[-400:]
     assert code2 == 2 and err.count("\n") == 1, err
     assert f"another auvplan process (pid {first.pid}) is writing into this folder" in err

@@ -118,7 +118,13 @@ def test_save_then_mission_check_agrees_with_the_page(browser, tmp_path, capsys)
         page.mouse.down()
         page.mouse.move(box["x"] + 400, box["y"] + 350, steps=4)
         page.mouse.up()
-        page.wait_for_timeout(300)
+        # the chart follows asynchronously (two relayouts): wait for the state, not for a fixed pause
+        try:
+            page.wait_for_function(f"() => {{ const [o, c] = ({ranges})(); return o[0][0] !== {before[0][0][0]!r} "
+                                   "&& [0, 1].every(k => [0, 1].every(j => Math.abs(o[k][j] - c[k][j]) <= 1.0)) && "
+                                   "[2, 3].every(k => Math.abs(o[k] - c[k]) <= 0.5); }", timeout=30_000)
+        except sync_api.TimeoutError:
+            pass  # the assertions below name what did not follow
         overlay, chart = page.evaluate(ranges)
         assert overlay[0] != before[0][0]  # it moved
         np.testing.assert_allclose(overlay[0], chart[0], atol=1.0)
