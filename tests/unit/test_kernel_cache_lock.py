@@ -1,36 +1,38 @@
 """Two processes compiling one kernel at once (the suite and tests/warm_kernels.py beside it on CI, two dask
-workers on a fresh install): numba writes a kernel's index, then the data file it names, each atomically but
-not the pair.  A reader between the two read the new index and the data file of that number an older source
-left (numbered files are reused after an edit): the old machine code.  auvplan reads and writes them under one
-lock of the index (:func:`auvplan.runtime.jit._locked_file_class`)."""
+workers on a fresh install), or one killed as it writes: numba writes a kernel's index, then the data file it
+names, each atomically but not the pair.  A reader between the two (or any reader after a kill between them)
+read the new index and the data file of that number an older source left (numbered files are reused after an
+edit): the old machine code.  auvplan writes the data file first, then the index, and reads and writes them
+under one lock of the index (:func:`auvplan.runtime.jit._locked_file_class`)."""
 
 from __future__ import annotations
 
 import threading
 
+import pytest
+
 from auvplan.runtime.jit import _locked_file_class
 
 
-def test_a_kernel_s_cache_entry_is_never_read_between_its_index_and_its_data(tmp_path):
-    files = _locked_file_class()
+def _entry(folder, stamp: str):
+    return _locked_file_class()(cache_path=str(folder), filename_base="kernel-12.py311", source_stamp=stamp)
 
-    def entry(stamp: str):
-        return files(cache_path=str(tmp_path), filename_base="kernel-12.py311", source_stamp=stamp)
 
-    entry("the source before an edit").save("sig", b"old machine code")  # its index and data file 1
-    writer, reader = entry("the source now"), entry("the source now")
-    indexed, go = threading.Event(), threading.Event()
+def test_a_kernel_s_cache_entry_is_never_read_while_it_is_written(tmp_path):
+    _entry(tmp_path, "the source before an edit").save("sig", b"old machine code")  # its index and data file 1
+    writer, reader = _entry(tmp_path, "the source now"), _entry(tmp_path, "the source now")
+    writing, go = threading.Event(), threading.Event()
     real = writer._save_data
 
-    def paused(name, data):  # the writer between its index (written: the new source's, naming file 1) and file 1
-        indexed.set()
+    def paused(name, data):  # the writer in the middle of its entry
+        writing.set()
         assert go.wait(60)
         real(name, data)
 
     writer._save_data = paused
     w = threading.Thread(target=writer.save, args=("sig", b"new machine code"), daemon=True)
     w.start()
-    assert indexed.wait(60)
+    assert writing.wait(60)
     got: dict[str, object] = {}
     r = threading.Thread(target=lambda: got.setdefault("code", reader.load("sig")), daemon=True)
     r.start()
@@ -40,3 +42,19 @@ def test_a_kernel_s_cache_entry_is_never_read_between_its_index_and_its_data(tmp
     w.join(60)
     r.join(60)
     assert waited and got["code"] == b"new machine code", got
+
+
+def test_a_kill_while_a_kernel_is_written_never_leaves_old_machine_code_named(tmp_path):
+    _entry(tmp_path, "the source before an edit").save("sig", b"old machine code")
+    killed = _entry(tmp_path, "the source now")
+
+    def dies(name, data):  # the process is killed as it writes the data file
+        raise KeyboardInterrupt
+
+    killed._save_data = dies
+    with pytest.raises(KeyboardInterrupt):
+        killed.save("sig", b"new machine code")
+    assert _entry(tmp_path, "the source now").load("sig") is None  # compiled again, never the old code
+    again = _entry(tmp_path, "the source now")
+    again.save("sig", b"new machine code")
+    assert _entry(tmp_path, "the source now").load("sig") == b"new machine code"

@@ -136,9 +136,11 @@ def _locked_file_class() -> Any:
     the data file it names, so that another process compiling the same kernel at once (the suite and
     ``tests/warm_kernels.py``, two dask workers on a fresh install) could read the index between the two and
     load a data file of an older source (numbered files are reused after an edit) or another signature's, or
-    two writers numbering their entries alike leave an index naming the other's machine code.  Without a lock
-    file (a folder it cannot be made in) numba's own reads and writes go on as before."""
+    two writers numbering their entries alike leave an index naming the other's machine code; and a process
+    killed between the two left that index for good.  Here the data file is written first, then the index that
+    names it, both under the lock.  Without a lock file (a folder it cannot be made in) they go on unlocked."""
     import fcntl
+    import itertools
 
     from numba.core import caching
 
@@ -157,8 +159,20 @@ def _locked_file_class() -> Any:
                 os.close(fd)  # drops the lock
 
         def save(self, key: Any, data: Any) -> None:
+            """numba's ``save`` with the data file written before the index names it (numba: the index first, so
+            that a kill between the two left an index naming a data file of an older source)."""
             with self._locked(fcntl.LOCK_EX):
-                super().save(key, data)  # type: ignore[no-untyped-call]
+                overloads = self._load_index()  # type: ignore[no-untyped-call]
+                name = overloads.get(key)
+                if name is None:
+                    taken = set(overloads.values())
+                    for i in itertools.count(1):
+                        name = self._data_name(i)  # type: ignore[no-untyped-call]
+                        if name not in taken:
+                            break
+                self._save_data(name, data)  # type: ignore[no-untyped-call]
+                if overloads.get(key) != name:
+                    self._save_index({**overloads, key: name})  # type: ignore[no-untyped-call]
 
         def load(self, key: Any) -> Any:
             with self._locked(fcntl.LOCK_SH):
