@@ -2,7 +2,8 @@
 (a 31 h mission, tests/heavy/test_never_silent_long.py): a job of the command line's shape run in a fresh
 process — its reporter, a stage that sleeps, one that computes in Python holding the GIL, a flight whose
 expected duration is overrun by half (the bar used to stop at 100 %), then the result — every stderr line
-timed (``-q`` and ``--json`` leaving stderr empty: tests/integration/test_cli.py, test_deploy.py)."""
+timed inside the job's process, less the time the machine did not run it (tests/timed_stderr.py; ``-q`` and
+``--json`` leaving stderr empty: tests/integration/test_cli.py, test_deploy.py)."""
 
 from __future__ import annotations
 
