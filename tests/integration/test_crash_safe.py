@@ -235,45 +235,34 @@ def test_report_figures_are_recorded_so_a_second_report_needs_no_force(tmp_path,
 def test_a_bench_killed_as_it_makes_its_rows_file_is_resumed(tmp_path, monkeypatch):
     """The kill point between the making of ``rows.csv`` (its header written) and the manifest naming it: the
     folder then held a file of auvplan's that ``bench --resume`` refused as a user's ('a file auvplan did not
-    write is in the way').  Every file bench makes is named before it exists; the resume completes."""
+    write is in the way').  Every file bench opens in its folder is named before (the manifest's rule, for the
+    files it appends to in place); the resume completes."""
     import importlib
 
     from auvplan.app.bench.job import bench
 
     sweep_mod = importlib.import_module("auvplan.app.bench.sweep")  # the module (the package exports its function)
-
     spec = SweepSpec(scenarios=(SCENARIO,), guidance=("los",), seeds=2)
-    real = sweep_mod._todo
+    out, late = tmp_path / "b", []
+    real_todo, real_open = sweep_mod._todo, Path.open
 
     def killed_after(*args, **kwargs):  # rows.csv made (header), then the process dies
-        real(*args, **kwargs)
+        real_todo(*args, **kwargs)
         raise KeyboardInterrupt
-
-    out = tmp_path / "b"
-    monkeypatch.setattr(sweep_mod, "_todo", killed_after)
-    with pytest.raises(KeyboardInterrupt):
-        bench(spec, out, workers=0)
-    monkeypatch.setattr(sweep_mod, "_todo", real)
-    outdir.release_all()
-    assert (out / "rows.csv").is_file()
-    _, rows, _ = bench(spec, out, workers=0, resume=True)
-    assert [r["seed"] for r in rows] == ["0", "1"]
-    names = {p.name for p in out.iterdir()}
-    assert names - {MANIFEST, LOCK} <= written(out) and not [n for n in names if n.endswith(".tmp")], names
-
-
-def test_every_file_bench_makes_in_its_folder_is_named_before_it_is_opened(tmp_path, monkeypatch):
-    """The rule of the manifest (named before written) for the files bench appends to in place."""
-    from auvplan.app.bench.job import bench
-
-    out, late = tmp_path / "b", []
-    real = Path.open
 
     def spy(self, mode="r", *args, **kwargs):
         if any(c in mode for c in "wax") and self.parent == out and self.name not in written(out):
             late.append(self.name)
-        return real(self, mode, *args, **kwargs)
+        return real_open(self, mode, *args, **kwargs)
 
     monkeypatch.setattr(Path, "open", spy)
-    bench(SweepSpec(scenarios=(SCENARIO,), guidance=("los",), seeds=1), out, workers=0)
-    assert late == []
+    monkeypatch.setattr(sweep_mod, "_todo", killed_after)
+    with pytest.raises(KeyboardInterrupt):
+        bench(spec, out, workers=0)
+    monkeypatch.setattr(sweep_mod, "_todo", real_todo)
+    outdir.release_all()
+    assert (out / "rows.csv").is_file() and late == []
+    _, rows, _ = bench(spec, out, workers=0, resume=True)
+    assert [r["seed"] for r in rows] == ["0", "1"] and late == []
+    names = {p.name for p in out.iterdir()}
+    assert names - {MANIFEST, LOCK} <= written(out) and not [n for n in names if n.endswith(".tmp")], names
