@@ -169,12 +169,21 @@ class _BadSpeed(Exception):
 
 
 def _speed(it: PlanItem) -> float:
-    """The speed of a ``MAV_CMD_DO_CHANGE_SPEED`` item (param 2, m/s; -1 or 0: unchanged)."""
+    """The speed of a ``MAV_CMD_DO_CHANGE_SPEED`` item (param 2, m/s; -1, 0 or null: unchanged).
+
+    ArduSub changes its speed only for a speed above 0 (``Sub::do_change_speed``, ArduSub/commands_logic.cpp:
+    ``if (cmd.content.speed.target_ms > 0) { wp_nav.set_speed_NE_cms(...) }``, the float copied unchecked by
+    ``AP_Mission::mavlink_int_to_mission_cmd``: ``cmd.content.speed.target_ms = packet.param2``).  QGroundControl
+    writes a NaN parameter as null: NaN > 0 is false, so a null speed changes nothing (it was refused as 'not a
+    number').
+    """
     value = it.params[1] if len(it.params) > 1 else None
+    if value is None:
+        return math.nan  # QGC's NaN: ArduSub keeps its speed
     try:
         if isinstance(value, bool):
             raise TypeError(value)
-        return float(value)  # type: ignore[arg-type]  # checked: a number or refused
+        return float(value)  # checked: a number or refused
     except (TypeError, ValueError):
         raise _BadSpeed(f"MAV_CMD_DO_CHANGE_SPEED at {it.where}: speed {value!r} is not a number") from None
 
@@ -326,14 +335,17 @@ MAX_HOLD_S = 65535.0
 
 
 def _refuse_holds(path: Path, moves: list[PlanItem]) -> None:
-    """Refuse a hold ArduPilot cannot store: ``AP_Mission`` copies param 1 into the 16-bit ``cmd.p1``
-    (``mavlink_int_to_mission_cmd``), so a negative hold or one over :data:`MAX_HOLD_S` is not what the vehicle
-    holds (the float's conversion is undefined: it wraps or saturates by platform)."""
+    """Refuse a hold ArduPilot cannot store: ``AP_Mission::mavlink_int_to_mission_cmd`` copies param 1 (a float)
+    into the 16-bit unsigned ``cmd.p1`` (``cmd.p1 = packet.param1;``), which ``Sub::do_nav_wp`` holds
+    (``loiter_time_max = cmd.p1``).  C++ converts a float to an integer by truncation, defined when the truncated
+    value fits: 65535.5 holds 65535 s and -0.5 holds 0 (as :func:`read_holds` reads them); a hold that truncates
+    below 0 or above :data:`MAX_HOLD_S` (-1, 65536) is undefined (it wraps or saturates by platform): refused."""
     for it in moves:
         p1 = it.params[0] if it.command in (16, 19) else 0
-        if isinstance(p1, (int, float)) and not isinstance(p1, bool) and (p1 < 0 or p1 > MAX_HOLD_S):
+        if isinstance(p1, (int, float)) and not isinstance(p1, bool) and not -1.0 < p1 < MAX_HOLD_S + 1.0:
             raise DataError(f"{path}: QGC plan: {it.where}.params[0] = {p1!r}: a hold ArduPilot cannot store "
-                            f"(whole seconds 0-{MAX_HOLD_S:.0f}: AP_Mission keeps it in 16 bits)")
+                            f"(truncated to whole seconds it must lie in 0-{MAX_HOLD_S:.0f}: AP_Mission keeps it "
+                            "in 16 bits)")
 
 
 def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:
