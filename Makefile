@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile bench-nav bench-front never-silent bench-workers
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -138,6 +138,10 @@ bench-serve-hostile: $(STAMP)
 	$(BIN)/python benchmarks/serve_hostile.py --figure
 # issue 52: planned fixes flown with a drifting estimate, and the same route with perfect navigation (200 seeds
 # each, two processes; docs/navigation.md)
+# independent oracles of timeopt (Zermelo in a shear, an independent flight, FIFO) and of the navigation error
+# bound (Rice, Monte Carlo): benchmarks/audit_oracles.py, a few minutes of CPU
+audit-oracles: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/audit_oracles.py --out results/audit-oracles
 bench-nav: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part planned & \
 	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part perfect; wait

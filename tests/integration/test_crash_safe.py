@@ -8,6 +8,7 @@ import csv
 import io
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -218,3 +219,113 @@ def test_report_figures_are_recorded_so_a_second_report_needs_no_force(tmp_path,
     figs = {p.name for p in (out / "figures").iterdir()} - {MANIFEST}
     assert {"plan_view.png", "profiles.svg"} <= figs and figs == written(out / "figures")
     assert cli.main(["report", str(out), "--figures"]) == 0, capsys.readouterr().err
+
+
+# ---- mutants21 (docs/mutants.md section 8): the folder's lock, its clean-up on failure, and what --force removes
+
+
+def test_the_lock_file_names_its_holder_and_a_second_holder_is_refused_naming_it(tmp_path):
+    """Held by another open file (as another process would hold it; no process, no timing): refused, naming the
+    pid written in the lock file, '?' when it is empty; ours names this process, an ordinary 0644 file."""
+    import fcntl
+    import stat
+
+    for text, named in (("4242\n", "pid 4242"), ("", "pid ?")):
+        out = tmp_path / f"held{len(text)}"
+        out.mkdir()
+        (out / LOCK).write_text(text)
+        fd = os.open(out / LOCK, os.O_RDWR)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            holder = rf"another auvplan process \({re.escape(named)}\) is writing"
+            with pytest.raises(outdir.OutputError, match=holder):
+                prepare_out(out)
+        finally:
+            os.close(fd)
+    out = prepare_out(tmp_path / "mine")
+    assert (out / LOCK).read_text() == f"{os.getpid()}\n"
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE((out / LOCK).stat().st_mode) == 0o644 & ~mask
+
+
+def test_a_released_folder_can_be_locked_again_and_a_linked_lock_file_is_refused(tmp_path):
+    import fcntl
+
+    out = prepare_out(tmp_path / "r")
+    fd = os.open(out / LOCK, os.O_RDWR)
+    try:
+        with pytest.raises(BlockingIOError):  # held by prepare_out's descriptor
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        outdir.release(out)
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # released: the descriptor was closed
+    finally:
+        os.close(fd)
+    linked = tmp_path / "l"
+    linked.mkdir()
+    (linked / LOCK).symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(outdir.OutputError, match=r"\.auvplan\.lock: is a symbolic link; auvplan does not follow it"):
+        prepare_out(linked)
+    assert not (tmp_path / "elsewhere").exists()
+
+
+def test_missing_parents_are_made_and_links_named_like_temporaries_are_left(tmp_path):
+    """prepare_out and atomic_write make every missing folder of their path; a symbolic link named like a
+    temporary, or the temporaries behind a linked --out, are not auvplan's to remove."""
+    out = prepare_out(tmp_path / "a" / "b" / "out")
+    assert sorted(p.name for p in out.iterdir()) == [LOCK]
+    atomic_write(tmp_path / "c" / "d" / "x.json", "{}")
+    assert (tmp_path / "c" / "d" / "x.json").read_text() == "{}"
+    user = tmp_path / "user.txt"
+    user.write_text("mine")
+    (out / ".run.json.q1w2e3r4.tmp").symlink_to(user)
+    real = tmp_path / "real"
+    real.mkdir()
+    (real / ".run.json.a1s2d3f4.tmp").write_text("{")
+    (tmp_path / "linked").symlink_to(real)
+    outdir.release_all()
+    prepare_out(out)
+    prepare_out(tmp_path / "linked")
+    assert (out / ".run.json.q1w2e3r4.tmp").is_symlink() and user.read_text() == "mine"
+    assert (real / ".run.json.a1s2d3f4.tmp").read_text() == "{"
+
+
+def test_force_removes_another_job_s_files_even_when_a_kill_left_a_name_without_its_file(tmp_path):
+    """The manifest names a file before it is written: a run killed there leaves a name without a file; --force
+    for another job removes the files that are there (not a link) and starts the manifest afresh."""
+    out = prepare_out(tmp_path / "r", job="run")
+    atomic_write(out / "track.csv", "t\n")
+    (tmp_path / "user.csv").write_text("mine")
+    (out / "path.csv").symlink_to(tmp_path / "user.csv")
+    (out / MANIFEST).write_text(json.dumps({"files": ["path.csv", "run.json", "track.csv"], "job": "run"}))
+    outdir.release_all()
+    prepare_out(out, ["path.csv"], job="plan", force=True)
+    assert not (out / "track.csv").exists() and (tmp_path / "user.csv").read_text() == "mine"
+    assert json.loads((out / MANIFEST).read_text())["job"] == "plan"
+
+
+def test_a_failed_block_removes_the_folders_it_made_and_nothing_else(tmp_path, monkeypatch):
+    """discard_on_failure: the new --out, its empty checkpoint folders (nested) and the parents made for it go;
+    a folder holding a result, one that existed, and the working folder stay; the block's error is raised."""
+    from auvplan.io.files.safeio import discard_on_failure
+
+    monkeypatch.chdir(tmp_path)  # a clean-up of the working folder instead of --out would show here
+    (tmp_path / "keep").mkdir()
+    with pytest.raises(RuntimeError, match="planner failed"):
+        with discard_on_failure(tmp_path / "new" / "deeper" / "out"):
+            out = prepare_out(tmp_path / "new" / "deeper" / "out", job="sweep")
+            (out / ".auvplan-tasks" / "a" / "b").mkdir(parents=True)
+            raise RuntimeError("planner failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep"]
+    with pytest.raises(RuntimeError):
+        with discard_on_failure(tmp_path / "done"):
+            atomic_write(prepare_out(tmp_path / "done") / "run.json", "{}")
+            raise RuntimeError("after a result")
+    assert sorted(p.name for p in (tmp_path / "done").iterdir()) == sorted([LOCK, MANIFEST, "run.json"])
+    with pytest.raises(RuntimeError):
+        with discard_on_failure(tmp_path / "keep"):
+            prepare_out(tmp_path / "keep")
+            raise RuntimeError("an existing folder")
+    with pytest.raises(RuntimeError), discard_on_failure(None):
+        raise RuntimeError("no --out")
+    assert (tmp_path / "keep").is_dir() and (tmp_path / "keep" / LOCK).exists()

@@ -395,7 +395,7 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     from ..guidance.mission.terrain_legs import terrain_track
     from ..nav import check_navigation
     from ..nav.budget import NavBudget
-    from ..nav.mission import NavCheck
+    from ..nav.mission import NavCheck, clearance_failure
 
     assert world.terrain is not None
     track, seg = (flown.track, flown.leg) if flown is not None else terrain_track(world.terrain, points, follow)
@@ -421,8 +421,7 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
         msg = f"leg {over[0] + first}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + first}: within its predicted error {err[k]:.1f} m the seabed or an obstacle comes within "
-               f"{alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+        msg = clearance_failure(k + first, float(err[k]), float(alt[k]), world)
     elif c.budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
         msg = (f"waypoint {n}: predicted error {c.budget.error_m[-1]:.1f} m at the end of its hold exceeds "
                f"max_error_m {nav.max_error_m:g} m")

@@ -282,13 +282,16 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
 def _navigation(out: Path, world: World, mission: Mission, route: np.ndarray, flown: bool) -> NavPlan | None:
     """A results folder's navigation read back (issue 52): the fixes in its route (surface waypoints, and the
     USBL fixes of its ``fixes.csv``) with their budget; a plan without a flight gets its fixes planned."""
+    from ..io.missions.energy import read_leg_speeds
     from ..io.missions.readback.fixes import fix_kinds
     from ..nav import navigation_of
-    from ..sim.pipeline import navigation_plan
+    from ..sim.pipeline import navigation_plan, timed_navigation
 
     nav = mission.navigation
     assert nav is not None
     if not flown:
         return navigation_plan(world, mission, route)
     kinds, _ = fix_kinds(route, out / "mission.csv", world.origin)
-    return navigation_of(world, route, kinds, nav, mission.vehicle.speed, nav.usbl_xy)
+    speeds = read_leg_speeds(out, route.shape[0] - 1)  # the fixes' times as run timed them
+    timed = mission if speeds is None else replace(mission, leg_speeds=tuple(float(v) for v in speeds))
+    return timed_navigation(world, timed, navigation_of(world, route, kinds, nav, mission.vehicle.speed, nav.usbl_xy))

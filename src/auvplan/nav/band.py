@@ -71,9 +71,11 @@ def error_band(profile: ErrorProfile, max_intervals: int = 800, quad_segs: int =
     return shapely.union_all(hulls)
 
 
-def profile_times(profile: ErrorProfile, speed: float, dwell_s: ArrayLike | float = 0.0) -> FloatArray:
+def profile_times(profile: ErrorProfile, speed: float, dwell_s: ArrayLike | float = 0.0,
+                  points: ArrayLike | None = None, vertex_times_s: ArrayLike | None = None) -> FloatArray:
     """Planned time at each sample: the distance travelled at the cruise speed and the dwells at the fixes
-    passed before it (the dwell at a fix follows its sample).
+    passed before it (the dwell at a fix follows its sample); or, given the waypoints' planned arrivals (through
+    the current at the legs' speeds), those at the waypoints and linear in the distance along each leg.
 
     Parameters
     ----------
@@ -83,6 +85,10 @@ def profile_times(profile: ErrorProfile, speed: float, dwell_s: ArrayLike | floa
         Cruise speed (m/s).
     dwell_s : array_like or float, optional
         Time held at each fix, in order (or one value for all; s).
+    points : array_like, optional
+        ``(N, 3)`` the mission's waypoints (the profile's), with ``vertex_times_s``.
+    vertex_times_s : array_like, optional
+        ``(N,)`` planned arrival at each waypoint (s; :attr:`auvplan.nav.NavPlan.vertex_times_s`).
 
     Returns
     -------
@@ -91,6 +97,18 @@ def profile_times(profile: ErrorProfile, speed: float, dwell_s: ArrayLike | floa
     """
     fix = np.flatnonzero(profile.fix)
     held = np.broadcast_to(np.asarray(dwell_s, dtype=float), fix.shape)
+    if points is not None and vertex_times_s is not None:
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        arrive = np.asarray(vertex_times_s, dtype=float).reshape(-1)
+        sv = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+        depart = arrive.copy()  # leaving each waypoint: after the dwell of a fix there
+        at_fix = np.searchsorted(sv, profile.s_m[fix] - 1e-6)  # the profile's fixes are waypoints
+        np.add.at(depart, np.minimum(at_fix, depart.size - 1), held)
+        # a sample at a waypoint (up to rounding) is timed on the leg that arrives there
+        leg = np.clip(np.searchsorted(sv, profile.s_m - 1e-6, side="left") - 1, 0, max(sv.size - 2, 0))
+        span = np.maximum(sv[leg + 1] - sv[leg], 1e-12)
+        timed: FloatArray = depart[leg] + (profile.s_m - sv[leg]) / span * (arrive[leg + 1] - depart[leg])
+        return timed
     extra = np.zeros(profile.s_m.size)
     np.add.at(extra, np.minimum(fix + 1, extra.size - 1), held)
     out: FloatArray = profile.s_m / speed + np.cumsum(extra)

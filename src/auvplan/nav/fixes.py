@@ -20,16 +20,17 @@ climb, which bounds the scan (``docs/navigation.md`` gives the argument).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._types import BoolArray, FloatArray
+from .._types import FloatArray
 from ..world import World
 from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
 from .clearance import safe_radius
 from .params import NavParams
+from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack
 
 __all__ = ["RouteProfile", "route_profile", "FixPlan", "plan_fixes", "periodic_fixes", "best_period",
            "apply_fixes", "PITCH_SHARE"]
@@ -56,6 +57,11 @@ class RouteProfile:
         ``(M,)`` flying time along the route at the cruise speed (s).
     tan_pitch : float
         Slope of a fix's climb and dive.
+    world : World or None
+        The World whose exact segment test a surfacing's climb and dive must pass
+        (:func:`~auvplan.nav.surfacing.surfacing_slack`).
+    _surfacing : dict
+        :func:`~auvplan.nav.surfacing.surfacing_slack`'s answers by sample (a memo; not set by callers).
     """
 
     s: FloatArray
@@ -64,6 +70,8 @@ class RouteProfile:
     r_safe: FloatArray
     t: FloatArray
     tan_pitch: float
+    world: World | None = None
+    _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
 
 
 def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
@@ -91,9 +99,8 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         The samples.
     """
     p = np.asarray(route, dtype=float).reshape(-1, 3)
-    h = np.hypot(*np.diff(p[:, :2], axis=0).T)
-    keep = np.r_[True, h > 1e-9]
-    p, h = p[keep], h[h > 1e-9]
+    p = p[np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > 1e-9, axis=1)]]  # a repeated waypoint is one
+    h = np.hypot(*np.diff(p[:, :2], axis=0).T)  # a vertical leg (h = 0) stays: one interval, no drift
     n = np.maximum(np.ceil(h / step), 1).astype(np.intp)
     leg = np.repeat(np.arange(n.size), n)
     k = np.arange(leg.size) - np.repeat(np.cumsum(n) - n, n)
@@ -105,7 +112,7 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
     t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))] / speed
-    return RouteProfile(s, xyz, zb, r_safe, t, math.tan(math.radians(PITCH_SHARE * max_pitch_deg)))
+    return RouteProfile(s, xyz, zb, r_safe, t, math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world)
 
 
 @dataclass(frozen=True)
@@ -128,6 +135,12 @@ def _lifted(prof: RouteProfile, k0: int, k1: int, ends: tuple[_Node, _Node]) -> 
     return z
 
 
+def _surfacings_allow(prof: RouteProfile, a: _Node, b: _Node) -> float:
+    """The largest error the surfacings at the ends of a stretch allow near static obstacles (m): its error is
+    largest at its end, so a stretch whose largest error is within this keeps both clear."""
+    return min((surfacing_slack(prof, n.k) for n in (a, b) if n.kind == "gps"), default=math.inf)
+
+
 def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bool, float]:
     """Whether the stretch between fixes ``a`` and ``b`` keeps the error within E and the uncertain clearance,
     and its largest error (confidence × σ, m)."""
@@ -136,7 +149,7 @@ def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bo
     inc = drift_increments(np.diff(prof.s[a.k:b.k + 1]), lock_fraction(alt, nav.dvl_range_m), nav)
     err = nav.confidence * np.hypot(a.sigma, np.cumsum(inc))
     worst = float(err[-1]) if err.size else nav.confidence * a.sigma
-    ok = worst <= nav.max_error_m and bool(np.all(err <= prof.r_safe[a.k:b.k]))
+    ok = worst <= min(nav.max_error_m, _surfacings_allow(prof, a, b)) and bool(np.all(err <= prof.r_safe[a.k:b.k]))
     return ok, worst
 
 
@@ -194,7 +207,8 @@ def _nodes(prof: RouteProfile, nav: NavParams, spacing: float, speed: float,
     every = max(1, int(round(spacing / max(prof.s[-1] / max(m - 1, 1), 1e-9))))
     nodes = [_Node(0, "start", nav.fix_error_m, 0.0)]
     for k in range(every, m - 1, every):
-        nodes.append(_Node(k, "gps", nav.fix_error_m, _surface_cost(prof, nav, k, speed)))
+        if surfacing_ok(prof, k):  # a climb that lifts an end or enters a zone is no candidate
+            nodes.append(_Node(k, "gps", nav.fix_error_m, _surface_cost(prof, nav, k, speed)))
         if usbl_xy is not None:
             nodes.append(_Node(k, "usbl", fix_sigma(nav, "usbl", prof.xyz[k], usbl_xy), 0.0))
     nodes.append(_Node(m - 1, "goal", 0.0, 0.0))
@@ -256,6 +270,8 @@ def plan_fixes(prof: RouteProfile, nav: NavParams, speed: float, spacing: float 
     FixPlan
         The fixes; ``ok`` False (with the reason) when no choice of candidates keeps the budget.
     """
+    if prof.s.size < 2:  # start and goal at one place: nothing is travelled, the launch fix holds
+        return FixPlan(True, np.empty(0), (), nav.confidence * nav.fix_error_m, 0.0)
     nodes = _nodes(prof, nav, spacing, speed, usbl_xy)
     best: list[tuple[int, float, float] | None] = [None] * len(nodes)  # (fixes, time, worst error)
     prev = [-1] * len(nodes)
@@ -272,7 +288,7 @@ def plan_fixes(prof: RouteProfile, nav: NavParams, speed: float, spacing: float 
             if b.k >= nominal[2]:
                 break
             ok, worst = _stretch_from(prof, nav, a, b, nominal)
-            if not ok:
+            if not ok or worst > _surfacings_allow(prof, a, b):
                 continue
             cand = (bi[0] + (b.kind in ("gps", "usbl")), bi[1] + b.cost, max(bi[2], worst))
             bj = best[j]
@@ -310,14 +326,16 @@ def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: flo
     nav : NavParams
         The error model and E.
     period : float
-        Flying time between fixes (s), measured along the route at the cruise speed.
+        Flying time between fixes (s), measured along the route at the cruise speed.  A fix whose climb
+        would begin before the start or whose dive would end after the goal is skipped.
     speed : float
         Cruise speed (m/s).
 
     Returns
     -------
     FixPlan
-        The fixes and whether they keep the budget.
+        The fixes and whether they keep the budget (not when a surfacing cannot be flown:
+        :func:`~auvplan.nav.surfacing.surfacing_ok`).
     """
     ks: list[int] = []
     t0 = 0.0
@@ -325,8 +343,14 @@ def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: flo
         k = int(np.searchsorted(prof.t, t0 + period, side="left"))
         if k >= prof.s.size - 1:
             break
-        ks.append(k)
+        if clear_of_ends(prof, k):  # the timer fires where the vehicle can surface and regain the goal
+            ks.append(k)
         t0 = float(prof.t[k])
+    blocked = [k for k in ks if not surfacing_ok(prof, k)]
+    if blocked:
+        return FixPlan(False, prof.s[ks], ("gps",) * len(ks), math.inf, math.nan,
+                       f"a fix every {period:.0f} s surfaces at {prof.s[blocked[0]] / 1000:.2f} km along the route "
+                       "through the seabed, an obstacle or a no-go zone")
     chain = [_Node(0, "start", nav.fix_error_m, 0.0)] + [_Node(k, "gps", nav.fix_error_m, 0.0) for k in ks] \
         + [_Node(prof.s.size - 1, "goal", 0.0, 0.0)]
     ok, worst = True, 0.0
@@ -376,73 +400,3 @@ def best_period(prof: RouteProfile, nav: NavParams, speed: float, max_error: flo
             return period, plan
         period -= resolution
     return None
-
-
-def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
-                tan_pitch: float) -> tuple[FloatArray, tuple[str, ...]]:
-    """The mission with its fixes: surfacings (a waypoint at depth 0) and USBL fix waypoints on the track.
-
-    The depth schedule becomes ``max(z_route(s), max_f −tanθ |s − s_f|)`` over the same horizontal
-    track: its breakpoints are the route's vertices, the fixes and every crossing of a climb or dive
-    with a leg or with another fix's; a route vertex the envelope lifts is kept (its bend stays).
-
-    Parameters
-    ----------
-    route : array_like
-        ``(N, 3)`` waypoints (m).
-    s_fix : array_like
-        ``(F,)`` the fixes along the horizontal track (m).
-    kinds : tuple of str
-        ``(F,)`` ``"gps"`` or ``"usbl"``.
-    tan_pitch : float
-        Slope of the climbs and dives.
-
-    Returns
-    -------
-    points : numpy.ndarray
-        ``(N', 3)`` waypoints.
-    kinds : tuple of str
-        ``(N',)`` the fix at each (``""`` elsewhere).
-    """
-    p = np.asarray(route, dtype=float).reshape(-1, 3)
-    sf = np.asarray(s_fix, dtype=float).reshape(-1)
-    if sf.size == 0:
-        return p.copy(), ("",) * p.shape[0]
-    sv = np.r_[0.0, np.cumsum(np.hypot(*np.diff(p[:, :2], axis=0).T))]
-    gps = sf[[k == "gps" for k in kinds]] if sf.size else sf
-    brk = [sv, sf]
-    for f in gps:  # crossings of each climb/dive with each leg
-        for sign in (-1.0, 1.0):
-            slope_v = -sign * tan_pitch  # V(s) = -tan * |s - f| = tan*(s - f) before f (sign -1), -tan*(s - f) after
-            dz, ds = np.diff(p[:, 2]), np.diff(sv)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                # z_route(s) = z0 + (dz/ds)(s - s0) meets V(s) = slope_v (s - f)
-                s_cross = (p[:-1, 2] - dz / ds * sv[:-1] + slope_v * f) / (slope_v - dz / ds)
-            inside = np.isfinite(s_cross) & (s_cross > sv[:-1]) & (s_cross < sv[1:])
-            brk.append(s_cross[inside])
-    if gps.size > 1:
-        brk.append(0.5 * (gps[1:] + gps[:-1]))
-    s = np.unique(np.concatenate(brk))
-    s = s[(s >= 0.0) & (s <= sv[-1])]
-    s = s[np.r_[True, np.diff(s) > 1e-6]]  # breakpoints closer than a micrometre are one
-    x, y, z = (np.interp(s, sv, p[:, i]) for i in range(3))
-    for f in gps:
-        z = np.maximum(z, -tan_pitch * np.abs(s - f))
-    pts = np.column_stack([x, y, z])
-    out_kinds = [""] * s.size
-    for f, kind in zip(sf, kinds, strict=True):
-        out_kinds[int(np.argmin(np.abs(s - f)))] = kind
-    keep = _needed(pts, s, sv, out_kinds)
-    return pts[keep], tuple(k for k, m in zip(out_kinds, keep, strict=True) if m)
-
-
-
-def _needed(pts: FloatArray, s: FloatArray, sv: FloatArray, kinds: list[str]) -> BoolArray:
-    """Breakpoints to keep: route vertices, fixes, and wherever the depth schedule bends."""
-    keep = np.zeros(s.size, dtype=bool)
-    keep[[0, -1]] = True
-    vertex = np.abs(sv[np.clip(np.searchsorted(sv, s), 0, sv.size - 1)] - s) <= 1e-6
-    keep |= vertex | np.array([bool(k) for k in kinds])
-    slope = np.diff(pts[:, 2]) / np.maximum(np.diff(s), 1e-12)
-    keep[1:-1] |= np.abs(np.diff(slope)) > 1e-9
-    return keep

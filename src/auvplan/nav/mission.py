@@ -4,7 +4,7 @@ error at every waypoint and leg, and the clearance under that error (issue 52; `
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -17,7 +17,7 @@ from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes
 from .params import NavParams
 
 __all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times",
-           "navigation_of"]
+           "navigation_of", "clearance_failure"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,12 +88,37 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
                f"{nav.max_error_m:g} m")
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = (f"leg {k + first_leg}: within its predicted error {budget.leg_error_m[k]:.1f} m the seabed or an "
-               f"obstacle comes within {alt[k]:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)")
+        msg = clearance_failure(k + first_leg, float(budget.leg_error_m[k]), float(alt[k]), world)
     elif budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
         msg = (f"waypoint {p.shape[0] - 1}: predicted error {budget.error_m[-1]:.1f} m at the end of its hold "
                f"exceeds max_error_m {nav.max_error_m:g} m")
     return NavCheck(budget, alt, clear, not msg, msg)
+
+
+def clearance_failure(leg: int, error: float, altitude: float, world: World) -> str:
+    """Why a leg is not clear under its error: the seabed (its least uncertain altitude under ``min_altitude_m``),
+    else a static obstacle within its margin plus the error.
+
+    Parameters
+    ----------
+    leg : int
+        The leg's number in the message.
+    error : float
+        Its predicted error (m).
+    altitude : float
+        Its least altitude above the seabed within the error (m; ``inf`` without a seabed).
+    world : World
+        The margins.
+
+    Returns
+    -------
+    str
+        The message.
+    """
+    head = f"leg {leg}: within its predicted error {error:.1f} m"
+    if altitude < world.margins.min_altitude:
+        return f"{head} the seabed comes within {altitude:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)"
+    return f"{head} a static obstacle comes within its margin {world.margins.obstacle:g} m"
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,11 +140,15 @@ class NavPlan:
     fixed_period : tuple of (float, FixPlan) or None
         The best fixed period with the same largest error and its fixes (``fixes = "plan"`` only).
     times_s : numpy.ndarray
-        ``(F,)`` planned time of each fix (s from the start, at the cruise speed, earlier dwells included).
+        ``(F,)`` planned time of each fix (s from the start, earlier dwells included): at the cruise speed in
+        still water, or from :attr:`vertex_times_s` once the mission is timed (:meth:`timed`).
     params : NavParams or None
         The error model the figures come from (the error band and the error against time redraw from it).
     speed : float
         The cruise speed the times are planned at (m/s).
+    vertex_times_s : numpy.ndarray or None
+        ``(N,)`` planned arrival at each waypoint (s) through the World's current at the legs' own speeds
+        (:func:`auvplan.sim.pipeline.timed_navigation`); None: at the cruise speed in still water.
     """
 
     points: FloatArray
@@ -131,6 +160,25 @@ class NavPlan:
     times_s: FloatArray
     params: NavParams | None = None
     speed: float = math.nan
+    vertex_times_s: FloatArray | None = None
+
+    def timed(self, vertex_times_s: ArrayLike) -> NavPlan:
+        """The same plan with its waypoints' planned arrival times (and so its fixes' times) given.
+
+        Parameters
+        ----------
+        vertex_times_s : array_like
+            ``(N,)`` arrival at each waypoint (s from the start, earlier dwells included).
+
+        Returns
+        -------
+        NavPlan
+            ``times_s`` the arrivals at the fixes.
+        """
+        t = np.asarray(vertex_times_s, dtype=float).reshape(-1)
+        if t.shape != (self.points.shape[0],):
+            raise ValueError(f"{t.size} arrival times for {self.points.shape[0]} waypoints")
+        return replace(self, times_s=t[[i for i, k in enumerate(self.kinds) if k]], vertex_times_s=t)
 
     @property
     def ok(self) -> bool:

@@ -55,7 +55,8 @@ class NavParams:
     max_error_m : float
         The budget E: confidence × σ may not exceed it anywhere (m).
     confidence : float
-        The σ multiple used for E and for the clearances (e.g. 2: the 2DRMS circle, 98 % for a circular error).
+        The σ multiple used for E and for the clearances, at least 1 (e.g. 2: the 2DRMS circle, 98 % for a
+        circular error).
     fixes : str or float
         ``"plan"`` (fixes placed by the planner), a period in seconds (a fix every period, as
         MOOS-IvP's ``BHV_PeriodicSurface``) or ``"none"`` (the budget only).
@@ -85,8 +86,9 @@ class NavParams:
                 raise ValueError(f"{key} = {v}: must be in (0, 100) % of the distance travelled")
         if not self.dvl_range_m >= 0.0 or not self.fix_error_m >= 0.0 or not self.surface_s >= 0.0:
             raise ValueError("dvl_range_m, fix_error_m and surface_s must be >= 0")
-        if not self.confidence > 0.0:
-            raise ValueError(f"confidence = {self.confidence}: must be > 0")
+        if not self.confidence >= 1.0:  # [mission] confidence is a probability: 0.95 here would be 0.95 σ (59 %)
+            raise ValueError(f"confidence = {self.confidence}: a multiple of σ, at least 1 (2: the 2DRMS circle, 98 %; "
+                             "3: 99.99 %), not a probability as [mission] confidence is")
         if not self.max_error_m > self.confidence * self.fix_error_m:
             raise ValueError(f"max_error_m = {self.max_error_m}: must exceed confidence × fix_error_m "
                              f"= {self.confidence * self.fix_error_m:g} m")

@@ -203,6 +203,7 @@ class _Run:
     fixed: int = 0  # fixes up to this waypoint index are taken
     dwell: tuple[float, ...] = ()  # the time held at each waypoint (surface_s at a surface fix; s)
     hold_until: float = -math.inf  # the dwell under way ends at this time (s)
+    regain: bool = False  # back from a dwell's drift behind the active leg's start: the way back counts as progress
 
     def nav_error(self) -> float:
         """The estimate's horizontal error now (m; 0 with perfect navigation)."""
@@ -320,12 +321,14 @@ def _fixes_passed(run: _Run, t: float, rp: RoutePoint) -> None:
 
 def _hold(run: _Run, cur: NDArray[np.float64]) -> None:
     """One ``dt`` of the dwell at a surface fix: propulsion off (the hotel load only), the vehicle drifts
-    with the current; GPS holds its estimate; the deadlock watch restarts after it."""
+    with the current; GPS holds its estimate; the deadlock watch restarts after it, from where the drift left the
+    vehicle (a head current carries it back along the route: regaining that is progress, not a stall)."""
     s, dt = run.state, run.mission.sim.dt
     s.x += float(cur[0]) * dt
     s.y += float(cur[1]) * dt
     run.vel = (float(cur[0]), float(cur[1]), 0.0)
     run.best_time = run.hold_until
+    run.best_progress, run.regain = -math.inf, True
 
 
 def _depth_band(shape: Shape) -> tuple[float, float]:
@@ -394,8 +397,10 @@ def _step_events(run: _Run, t: float, pos: NDArray[np.float64], alt: float, dist
         run.events.append((t, "arrival", f"within {st.arrival_radius:g} m of the last waypoint"))
         run.status = Status.EXACT
         return True
-    if _progressed(rp.progress, run.best_progress):
-        run.best_progress, run.best_time = rp.progress, t
+    regain = min(rp.along, 0.0) if run.regain else 0.0  # behind the leg's start after a dwell (m, ≤ 0)
+    run.regain = run.regain and rp.along < 0.0
+    if _progressed(rp.progress + regain, run.best_progress):
+        run.best_progress, run.best_time = rp.progress + regain, t
     elif _deadlocked(t, run.best_time, st.deadlock_time,
                      None if local is None else partial(local.stalled, pos, t, run.best_time)):
         tried = f" ({local.escapes} escapes tried)" if local is not None else ""

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
-from ..endurance import EnergyModel, choose_speeds
+from ..endurance import EnergyModel, choose_speeds, traverse
 from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
 from ..guidance.mission.legs import merge_short_legs
@@ -31,7 +31,7 @@ from .tracking import contract_world, route_bound, route_keeps
 __all__ = ["kept_fit", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
            "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
            "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
-           "with_leg_speeds"]
+           "with_leg_speeds", "timed_navigation"]
 
 
 def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
@@ -418,7 +418,37 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     if nav is None:
         return None
     v = mission.vehicle
-    return plan_navigation(world, route, nav, v.max_pitch_deg, v.speed, nav.usbl_xy)
+    return timed_navigation(world, mission, plan_navigation(world, route, nav, v.max_pitch_deg, v.speed, nav.usbl_xy))
+
+
+def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
+    """The fixes' planned times through the World's current at each leg's speed (``fixes.csv`` ``t_s``).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Its leg speeds (one per leg of ``nav.points``; else the cruise speed).
+    nav : NavPlan
+        The mission's waypoints, fixes and dwells.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+
+    Returns
+    -------
+    NavPlan
+        ``nav`` with its waypoints' arrival times (:meth:`~auvplan.nav.NavPlan.timed`); unchanged where the
+        current beats the vehicle on a leg (the endurance check says so).
+    """
+    p = nav.points
+    if p.shape[0] < 2:
+        return nav
+    legs = p.shape[0] - 1
+    speeds = mission.leg_speeds if len(mission.leg_speeds) == legs else mission.vehicle.speed
+    back = None if tail is None or np.asarray(tail).size != legs else tail
+    tr = traverse(world, p, speeds, 0.0, tail=back, dwell=nav.dwell_s)
+    return nav.timed(tr.times) if tr.ok else nav
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
@@ -463,6 +493,8 @@ def run_mission(world: World, mission: Mission, rng: RngLike = None,
     keys = key_waypoints(route, world, mission.avoidance.collision_check)
     tail = route_tail(route, planned.path, planned.tail) if planned is not None else None
     mission = with_leg_speeds(world, mission, route, tail)
+    if nav is not None and mission.leg_speeds:  # the fixes' times at the speeds chosen for the legs
+        nav = timed_navigation(world, mission, nav, tail)
     if planned is not None and (planned.cost_terms.get("drift_back_m", 0.0) > 0.0  # a timed plan the tide pushes
                                 or planned.cost_terms.get("tail_first_legs", 0) > 0):  # (or carries slowly)
         wait = max(mission.sim.deadlock_time, float(planned.cost_terms["duration_s"]))  # back a while: no deadlock

@@ -117,7 +117,7 @@ def figure_nav_error(profile: ErrorProfile, nav: NavPlan, record: RunRecord | No
         Error (m) against time (h).
     """
     dwell = nav.dwell_s[[i for i, k in enumerate(nav.kinds) if k]]
-    t = profile_times(profile, nav.speed, dwell if dwell.size else 0.0)
+    t = profile_times(profile, nav.speed, dwell if dwell.size else 0.0, nav.points, nav.vertex_times_s)
     fix = np.flatnonzero(profile.fix)
     held = dict(zip(fix.tolist(), dwell.tolist(), strict=True))
     tx: list[float] = []

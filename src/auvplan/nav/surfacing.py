@@ -1,0 +1,227 @@
+"""A GPS fix's surfacing: the mission's depth schedule with its climbs and dives, and whether a surfacing can
+be flown (``docs/navigation.md``, "Fixes planned with the fewest surfacings").
+
+A surfacing at ``s_f`` along the route's horizontal track lifts the schedule to the upper envelope
+``max(z_route(s), −tanθ |s − s_f|)`` (:func:`apply_fixes`).  It can be flown when its climb begins after the
+start and its dive ends before the goal (else the envelope would lift the start or the goal: the mission
+would neither begin nor end there, and the climb from the start's depth would break the pitch limit), and
+when its climb and dive pass the World's exact static segment test (seabed, obstacles, no-go zones, land,
+bounds), as the route's own legs did.  Near a static obstacle it allows only the horizontal uncertainty
+that keeps its climb and dive clear of the obstacle's margin (:func:`surfacing_slack`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .._types import BoolArray, FloatArray
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers only
+    from ..world import World
+    from .fixes import RouteProfile
+
+__all__ = ["apply_fixes", "surfacing_slack", "surfacing_ok", "surfacing_legs", "clear_of_ends"]
+
+R_MAX = 1.0e5
+"""Largest horizontal uncertainty the obstacle slack is searched to (m); beyond it the slack is ``inf``."""
+
+
+def surfacing_slack(prof: RouteProfile, k: int) -> float:
+    """The largest horizontal uncertainty a surfacing at sample ``k`` allows, ``-1`` when it cannot be flown.
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route and its World.
+    k : int
+        The sample of the surfacing.
+
+    Returns
+    -------
+    float
+        ``-1``: it would lift the start or the goal, or its climb or dive fails the World's exact static segment
+        test; else the largest ``r`` (m, bisection to a centimetre) with its climb and dive clear of every static
+        obstacle by the obstacle margin plus ``r`` (``inf`` without obstacles).  Memoised on ``prof``.
+    """
+    k = int(k)
+    if k not in prof._surfacing:
+        prof._surfacing[k] = _slack(prof, k)
+    return prof._surfacing[k]
+
+
+def surfacing_ok(prof: RouteProfile, k: int) -> bool:
+    """Whether a surfacing at sample ``k`` can be flown (:func:`surfacing_slack` ≥ 0).
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route and its World.
+    k : int
+        The sample of the surfacing.
+
+    Returns
+    -------
+    bool
+        It lifts neither end and its climb and dive pass the World's exact static segment test.
+    """
+    return surfacing_slack(prof, k) >= 0.0
+
+
+def clear_of_ends(prof: RouteProfile, k: int) -> bool:
+    """A surfacing at sample ``k`` lifts neither the start nor the goal (its climb and dive fit in the route).
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route.
+    k : int
+        The sample of the surfacing.
+
+    Returns
+    -------
+    bool
+        ``−tanθ s_k ≤ z_start`` and ``−tanθ (L − s_k) ≤ z_goal``.
+    """
+    sk, tan = float(prof.s[k]), prof.tan_pitch
+    return bool(-tan * sk <= prof.xyz[0, 2] + 1e-9 and -tan * (float(prof.s[-1]) - sk) <= prof.xyz[-1, 2] + 1e-9)
+
+
+def _slack(prof: RouteProfile, k: int) -> float:
+    if not clear_of_ends(prof, k):
+        return -1.0
+    world = prof.world
+    if world is None:
+        return np.inf
+    seg = surfacing_legs(prof, k)
+    if seg.shape[0] and not world.segments_free(seg, moving=False).all():
+        return -1.0
+    return _obstacle_slack(world, seg)
+
+
+def surfacing_legs(prof: RouteProfile, k: int) -> FloatArray:
+    """The legs of a surfacing's climb and dive at sample ``k``.
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route.
+    k : int
+        The sample of the surfacing.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K, 2, 3)`` the mission's legs that lie on the climb or the dive (m).
+    """
+    sk, tan = float(prof.s[k]), prof.tan_pitch
+    reach = float(-prof.xyz[:, 2].min()) / tan  # no climb is longer than this
+    lo, hi = np.searchsorted(prof.s, [sk - reach, sk + reach])
+    lo, hi = max(int(lo) - 1, 0), min(int(hi) + 1, prof.s.size)
+    pts, _ = apply_fixes(prof.xyz[lo:hi], [sk - prof.s[lo]], ("gps",), tan)
+    s = np.r_[0.0, np.cumsum(np.hypot(*np.diff(pts[:, :2], axis=0).T))]
+    on = np.abs(pts[:, 2] + tan * np.abs(s - (sk - prof.s[lo]))) <= 1e-6  # on the climb or the dive
+    legs = on[:-1] & on[1:]
+    out: FloatArray = np.stack([pts[:-1][legs], pts[1:][legs]], axis=1)
+    return out
+
+
+def _obstacle_slack(world: World, seg: FloatArray) -> float:
+    """Largest ``r`` with no static obstacle within its margin plus ``r`` of the legs (bisection)."""
+    shapes = list(world.obstacles)
+    if not shapes or seg.shape[0] == 0:
+        return np.inf
+
+    def hit(r: float) -> bool:
+        return any(bool(sh.segments_hit(seg, world.margins.obstacle + r).any()) for sh in shapes)
+
+    if not hit(R_MAX):
+        return np.inf
+    lo, hi = 0.0, R_MAX
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if hit(mid) else (mid, hi)
+    return lo
+
+
+def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
+                tan_pitch: float) -> tuple[FloatArray, tuple[str, ...]]:
+    """The mission with its fixes: surfacings (a waypoint at depth 0) and USBL fix waypoints on the track.
+
+    The depth schedule becomes ``max(z_route(s), max_f −tanθ |s − s_f|)`` over the same horizontal
+    track: its breakpoints are the route's vertices, the fixes and every crossing of a climb or dive
+    with a leg or with another fix's; a route vertex the envelope lifts is kept (its bend stays).
+
+    Parameters
+    ----------
+    route : array_like
+        ``(N, 3)`` waypoints (m).
+    s_fix : array_like
+        ``(F,)`` the fixes along the horizontal track (m).
+    kinds : tuple of str
+        ``(F,)`` ``"gps"`` or ``"usbl"``.
+    tan_pitch : float
+        Slope of the climbs and dives.
+
+    Returns
+    -------
+    points : numpy.ndarray
+        ``(N', 3)`` waypoints.
+    kinds : tuple of str
+        ``(N',)`` the fix at each (``""`` elsewhere).
+    """
+    p = np.asarray(route, dtype=float).reshape(-1, 3)
+    sf = np.asarray(s_fix, dtype=float).reshape(-1)
+    if sf.size == 0:
+        return p.copy(), ("",) * p.shape[0]
+    h = np.hypot(*np.diff(p[:, :2], axis=0).T)
+    sv = np.r_[0.0, np.cumsum(h)]
+    gps = sf[[k == "gps" for k in kinds]]
+    brk = [sf]
+    for f in gps:  # crossings of each climb/dive with each leg
+        for sign in (-1.0, 1.0):
+            slope_v = -sign * tan_pitch  # V(s) = -tan * |s - f| = tan*(s - f) before f (sign -1), -tan*(s - f) after
+            dz = np.diff(p[:, 2])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                # z_route(s) = z0 + (dz/h)(s - s0) meets V(s) = slope_v (s - f)
+                s_cross = (p[:-1, 2] - dz / h * sv[:-1] + slope_v * f) / (slope_v - dz / h)
+            brk.append(s_cross[np.isfinite(s_cross) & (s_cross > sv[:-1]) & (s_cross < sv[1:])])
+    if gps.size > 1:
+        brk.append(0.5 * (gps[1:] + gps[:-1]))
+    # per leg, so that a vertical leg (no horizontal length) keeps both its ends: the route's vertices, then
+    # each leg's breakpoints strictly inside it
+    b = np.unique(np.concatenate(brk))
+    leg = np.searchsorted(sv, b, side="right") - 1
+    inside = (leg >= 0) & (leg < h.size) & (b - sv[np.clip(leg, 0, sv.size - 1)] > 1e-6)
+    b, leg = b[inside], leg[inside]
+    inside = sv[leg + 1] - b > 1e-6
+    b, leg = b[inside], leg[inside]
+    s = np.r_[sv, b]
+    order = np.lexsort((s, np.r_[np.arange(sv.size) - 0.5, leg]))  # vertex i before leg i's inner breakpoints
+    s = s[order]
+    vertex = order < sv.size
+    f_leg = np.clip((b - sv[leg]) / np.where(h[leg] > 0.0, h[leg], 1.0), 0.0, 1.0)[:, None]
+    pts = np.vstack([p, p[leg] + f_leg * (p[leg + 1] - p[leg])])[order]
+    for f in gps:
+        pts[:, 2] = np.maximum(pts[:, 2], -tan_pitch * np.abs(s - f))
+    out_kinds = [""] * s.size
+    for f, kind in zip(sf, kinds, strict=True):
+        out_kinds[int(np.argmin(np.abs(s - f)))] = kind
+    keep = _needed(pts, s, vertex, out_kinds)
+    pts, out_kinds = pts[keep], [k for k, m in zip(out_kinds, keep, strict=True) if m]
+    same = np.r_[False, np.all(np.abs(np.diff(pts, axis=0)) <= 1e-9, axis=1)]  # a vertical leg lifted whole
+    for i in np.flatnonzero(same)[::-1]:  # the repeat is merged into the point before it, with its fix
+        out_kinds[i - 1] = out_kinds[i - 1] or out_kinds[i]
+    return pts[~same], tuple(k for k, d in zip(out_kinds, same, strict=True) if not d)
+
+
+def _needed(pts: FloatArray, s: FloatArray, vertex: BoolArray, kinds: list[str]) -> BoolArray:
+    """Breakpoints to keep: route vertices, fixes, and wherever the depth schedule bends."""
+    keep = np.zeros(s.size, dtype=bool)
+    keep[[0, -1]] = True
+    keep |= vertex | np.array([bool(k) for k in kinds])
+    slope = np.diff(pts[:, 2]) / np.maximum(np.diff(s), 1e-12)
+    keep[1:-1] |= np.abs(np.diff(slope)) > 1e-9
+    return keep
