@@ -40,6 +40,8 @@ def test_terrain_following_line_names_up_to_five_legs(n, named):
     rec, ok, line = terrain_following_check(w, pts, np.r_[False, np.ones(n, dtype=bool)])
     assert ok and rec["legs"] == list(range(1, n + 1)) and f"(MAV_FRAME 10: {named})" in line
     assert rec["shallowest_m"] == pytest.approx(10.0) and rec["deepest_m"] == pytest.approx(50.0)
+    assert line.endswith("; needs an ArduSub that flies terrain-frame items (its Sub::start_command accepting "
+                         "ABOVE_TERRAIN): one accepting only ABOVE_HOME says 'BAD NAV AltFrame' and skips each of them")
 
 
 def test_zones_of_a_terrain_frame_plan_on_its_track():

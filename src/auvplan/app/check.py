@@ -19,7 +19,8 @@ if TYPE_CHECKING:
     from ..world import World
     from ..world.zones import ZoneApproach
 
-__all__ = ["FileCheck", "check_missions", "navigation_check", "terrain_following_check", "zones_measured_on"]
+__all__ = ["FIRMWARE_NOTE", "FileCheck", "check_missions", "navigation_check", "terrain_following_check",
+           "zones_measured_on"]
 
 
 @dataclass(frozen=True)
@@ -255,6 +256,11 @@ def _zone_approach(world: World, points: np.ndarray, semantics: str, pitch: floa
     return out
 
 
+FIRMWARE_NOTE = ("needs an ArduSub that flies terrain-frame items (its Sub::start_command accepting ABOVE_TERRAIN): "
+                 "one accepting only ABOVE_HOME says 'BAD NAV AltFrame' and skips each of them")
+"""What the terrain-following line says of the firmware (docs/missions.md, "Terrain-frame items and the firmware")."""
+
+
 def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray,
                             flown: FlownTrack | None = None) -> tuple[dict[str, Any], bool, str]:
     """A ``.plan``'s terrain-frame legs flown as ArduSub flies them: at the commanded altitude above the seabed
@@ -319,7 +325,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     line = (f"terrain-following legs (MAV_FRAME 10: {named}): {'OK' if c.ok else 'FAIL'} — "
             + "".join(f"{b}; " for b in broken)
             + f"flown at the commanded altitude above the seabed: least altitude {c.min_altitude_m:.2f} m (required "
-              f"{c.required_altitude_m:g} m), shallowest {rec['shallowest_m']:.2f} m, deepest {rec['deepest_m']:.2f} m")
+              f"{c.required_altitude_m:g} m), shallowest {rec['shallowest_m']:.2f} m, deepest {rec['deepest_m']:.2f} m"
+            + f"; {FIRMWARE_NOTE}")
     return rec, bool(c.ok), line
 
 
