@@ -94,7 +94,7 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
 
 def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
     """One file of :func:`check_missions`."""
-    from ..io.missions.energy import file_energy_holds
+    from ..io.missions.energy import file_energy_flight
     from ..io.missions.formats import check_mission_file, read_mission
     from ..io.missions.readback.deploy_read import file_deploy_check
     from ..io.scenario.defaults import energy_defaults
@@ -113,7 +113,7 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
                          pitch=flown[0], depth=flown[1])
     if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
         vlimits = _from_home(vlimits)
-    energy, energy_ok, energy_line, held_water = file_energy_holds(world, mission, Path(name))
+    energy, energy_ok, energy_line, held_water, leg_water = file_energy_flight(world, mission, Path(name))
     # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
     deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                             float(energy.get("duration_s", 0.0)))
@@ -147,7 +147,7 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
         rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
                                                                 follow, first=0, flown=track,
-                                                                held_water_m=held_water)
+                                                                held_water_m=held_water, water_m=leg_water)
     ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
     # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
     rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
@@ -325,7 +325,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
                      follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
-                     held_water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     held_water_m: np.ndarray | None = None,
+                     water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes
     (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
@@ -351,6 +352,9 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     held_water_m : numpy.ndarray, optional
         ``(N,)`` the distance moved through the water holding each waypoint (a ``.plan``'s holds,
         :func:`~auvplan.io.missions.energy.file_energy_holds`): its drift without bottom lock.
+    water_m : numpy.ndarray, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water as the energy check flew it
+        (:func:`~auvplan.io.missions.energy.file_energy_flight`): the drift without bottom lock; default: still water.
 
     Returns
     -------
@@ -368,9 +372,10 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m) \
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m,
+                         water_m=water_m) \
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
-                                                                              flown, held_water_m)
+                                                                              flown, held_water_m, water_m)
     b = c.budget
     legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
@@ -389,12 +394,12 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
                          follow: np.ndarray, first: int = 1, flown: FlownTrack | None = None,
-                         held_water_m: np.ndarray | None = None) -> Any:
+                         held_water_m: np.ndarray | None = None, water_m: np.ndarray | None = None) -> Any:
     """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
     gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
     from ..guidance.mission.terrain_legs import terrain_track
     from ..nav import check_navigation
-    from ..nav.budget import NavBudget
+    from ..nav.budget import NavBudget, water_lengths
     from ..nav.mission import NavCheck, clearance_failure
 
     assert world.terrain is not None
@@ -407,7 +412,9 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     if held_water_m is not None:  # each waypoint's hold at its vertex of the track
         held = np.zeros(len(track))
         held[ends] = held_water_m
-    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy, held_water_m=held)
+    # each file leg's water distance shared over its track's segments by their horizontal length
+    seg_water = water_lengths(np.hypot(*np.diff(track[:, :2], axis=0).T), seg, water_m)
+    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy, held_water_m=held, water_m=seg_water)
     n = len(points) - 1
     err, alt = np.full(n, -np.inf), np.full(n, np.inf)
     np.maximum.at(err, seg, c.budget.leg_error_m)

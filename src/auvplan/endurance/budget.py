@@ -154,7 +154,7 @@ class Traverse:
         moves = np.linalg.norm(d, axis=1) > 0.0  # a dwell's node does not move: its hold is not a leg's
         run = self.speeds[leg] * dt
         w = np.where(moves, np.sqrt(np.maximum(run * run - d[:, 2] ** 2, 0.0)), 0.0)
-        out = np.bincount(leg, w, self.points.shape[0] - 1)
+        out = np.asarray(np.bincount(leg, w, self.points.shape[0] - 1), dtype=float)
         out[~np.isfinite(self.times[1:])] = math.nan
         return out
 
