@@ -97,6 +97,7 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     from ..io.missions.energy import file_energy_flight
     from ..io.missions.formats import check_mission_file, read_mission
     from ..io.missions.readback.deploy_read import file_deploy_check
+    from ..io.missions.readback.dwell import read_dwells
     from ..io.scenario.defaults import energy_defaults
     from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
@@ -147,7 +148,8 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
         rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
                                                                 follow, first=0, flown=track,
-                                                                held_water_m=held_water, water_m=leg_water)
+                                                                held_water_m=held_water, water_m=leg_water,
+                                                                dwell_s=read_dwells(Path(name), len(points)))
     ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
     # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
     rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
@@ -326,7 +328,8 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
                      follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
                      held_water_m: np.ndarray | None = None,
-                     water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     water_m: np.ndarray | None = None,
+                     dwell_s: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes
     (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
@@ -355,6 +358,9 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     water_m : numpy.ndarray, optional
         ``(N - 1,)`` each leg's horizontal distance through the water as the energy check flew it
         (:func:`~auvplan.io.missions.energy.file_energy_flight`): the drift without bottom lock; default: still water.
+    dwell_s : numpy.ndarray, optional
+        ``(N,)`` the file's wait at each waypoint (:func:`~auvplan.io.missions.readback.dwell.read_dwells`; None: the
+        format carries none): a surface fix that waits less than ``surface_s`` fails (no time for its GPS fix).
 
     Returns
     -------
@@ -377,19 +383,26 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
                                                                               flown, held_water_m, water_m)
     b = c.budget
+    message, ok = c.message, c.ok
+    short = [] if dwell_s is None else [i for i, k in enumerate(kinds)
+                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
+    if short and ok:  # the file surfaces but does not wait there for its fix
+        i = short[0]
+        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
+                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"), False
     legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
             for k in range(len(b.leg_error_m))]
     lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
              f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
-    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
+    lines.append(f"navigation: {'OK' if ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
                  f"{f' and {usbl} USBL fixes' if usbl else ''} (from {source}), predicted "
                  f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
-                 + (f"; {c.message}" if c.message else ""))
-    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k), "usbl_fixes": usbl,
+                 + (f"; {message}" if message else ""))
+    rec = {"ok": ok, "message": message, "fixes": sum(1 for k in kinds if k), "usbl_fixes": usbl,
            "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
-    return rec, c.ok, lines
+    return rec, ok, lines
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],

@@ -15,6 +15,7 @@ from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
 from ..guidance.mission.legs import merge_short_legs
 from ..guidance.mission.waypoints import build_waypoints, default_tolerance
+from ..nav.fixes import best_period, route_profile
 from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..path import resample_polyline
 from ..path.legs import helm_check, shortest_leg
@@ -426,12 +427,16 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
         ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0) if tr.ok else None
     budget = nav
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
-        planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio)
+        planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
+                                  compare=False)
         timed = timed_navigation(world, mission, replace(planned, params=nav))
         over = timed.check.budget.max_error_m / nav.max_error_m
         if timed.ok or not planned.fixes.ok or over <= 1.0:
-            return timed
+            break
         budget = replace(budget, max_error_m=budget.max_error_m / over * (1.0 - 1e-3))  # plan within E / overshoot
+    if nav.fixes == "plan" and planned.fixes.ok:  # the best fixed period with the planned fixes' largest error
+        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio)
+        timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
     return timed
 
 

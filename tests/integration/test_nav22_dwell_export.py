@@ -1,0 +1,76 @@
+"""The exported mission files carry the wait at each surface fix (``surface_s``) and ``mission check`` reads it
+back from the file (``docs/navigation.md``; helper nav22).
+
+Oracle: the plan's own flight through the current with its dwells (``auvplan.endurance.mission_budget`` with
+``NavPlan.dwell_s``); the waits read back from a ``.plan`` (param 1 of each surfacing's ``NAV_WAYPOINT``) and a
+MOOS file (a ``BHV_StationKeep`` per surfacing) sit at the plan's surface fixes and nowhere else; a file whose
+waits are removed is budgeted without them (the file, not the scenario).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from auvplan.cli import main
+from auvplan.endurance import EnergyModel
+from auvplan.endurance import mission_budget as energy_budget
+from auvplan.io.missions import export
+from auvplan.io.missions.readback.dwell import moos_dwells, read_dwells
+from auvplan.sim.result import RunRecord
+
+
+@pytest.fixture(scope="module")
+def mariana(tmp_path_factory, mariana_nav_plan):
+    world, mission, _, plan = mariana_nav_plan
+    assert plan is not None and plan.ok
+    out = tmp_path_factory.mktemp("nav22")
+    record = RunRecord("mariana-nav", 1, None, plan.points, np.empty((0, 3)), None, plan)
+    export.write_exports(out, record, world.origin, mission.vehicle.speed, ("plan", "moos", "csv"))
+    return world, mission, plan, out
+
+
+def _check(path, capsys) -> tuple[int, dict]:
+    code = main(["mission", "check", str(path), "--scenario", "mariana-nav", "--json"])
+    return code, json.loads(capsys.readouterr().out)
+
+
+def test_each_file_waits_at_its_surface_fixes_and_the_check_reads_the_plan_time_back(mariana, capsys):
+    world, mission, plan, out = mariana
+    fixes = np.array([k == "gps" for k in plan.kinds])
+    assert fixes.sum() == 6 and mission.navigation.surface_s == 120.0
+    doc = json.loads((out / "mission.plan").read_text())
+    holds = [it["params"][0] for it in doc["mission"]["items"] if it["command"] == 16]
+    np.testing.assert_array_equal(holds, np.where(fixes, 120, 0))  # param 1 at the surfacings only
+    n = len(plan.points)
+    np.testing.assert_array_equal(read_dwells(out / "mission.plan", n + 1), np.r_[0.0, plan.dwell_s])  # home first
+    np.testing.assert_array_equal(moos_dwells((out / "mission.moos").read_text(), n), plan.dwell_s)
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    planned = energy_budget(world, plan.points, model, mission.vehicle.speed, dwell=plan.dwell_s)
+    for name in ("mission.moos", "mission.csv"):  # the csv carries no wait: the scenario's surface_s
+        rec = _check(out / name, capsys)[1]
+        assert rec["navigation"]["ok"] and rec["energy"]["energy_status"] == "EXACT", rec
+        assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s, abs=0.5)
+        assert rec["energy"]["energy_wh"] == pytest.approx(planned.energy_wh, rel=1e-6)
+    rec = _check(out / "mission.plan", capsys)[1]  # its launch from home (a dive at the start) more
+    assert rec["navigation"]["ok"] and rec["energy"]["energy_status"] == "EXACT", rec
+    dive = rec["energy"]["leg_speeds_mps"][0]  # ArduSub's descent from home, as the check judges the file's speeds
+    launch = energy_budget(world, np.vstack([[*plan.points[0, :2], 0.0], plan.points[:1]]), model, dive).duration_s
+    assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s + launch, abs=2.0)
+
+
+def test_a_file_without_its_waits_is_budgeted_without_them(mariana, capsys, tmp_path):
+    world, mission, plan, out = mariana
+    doc = json.loads((out / "mission.plan").read_text())
+    for it in doc["mission"]["items"]:
+        if it["command"] == 16:
+            it["params"][0] = 0
+    bare = tmp_path / "bare.plan"
+    bare.write_text(json.dumps(doc))
+    waited = _check(out / "mission.plan", capsys)[1]["energy"]["duration_s"]
+    code, rec = _check(bare, capsys)
+    assert waited - rec["energy"]["duration_s"] == pytest.approx(plan.dwell_s.sum(), abs=1.0)
+    assert code == 1 and "surface_s" in rec["navigation"]["message"]  # a surfacing that does not wait: no fix
+    assert not rec["navigation"]["ok"]
