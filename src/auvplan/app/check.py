@@ -386,7 +386,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     message, ok = c.message, c.ok
     short = [] if dwell_s is None else [i for i, k in enumerate(kinds)
                                         if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
-    if short and ok:  # the file surfaces but does not wait there for its fix
+    if short and ok and dwell_s is not None:  # the file surfaces but does not wait there for its fix
         i = short[0]
         message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
                        f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"), False
