@@ -74,3 +74,16 @@ def test_a_file_without_its_waits_is_budgeted_without_them(mariana, capsys, tmp_
     assert waited - rec["energy"]["duration_s"] == pytest.approx(plan.dwell_s.sum(), abs=1.0)
     assert code == 1 and "surface_s" in rec["navigation"]["message"]  # a surfacing that does not wait: no fix
     assert not rec["navigation"]["ok"]
+
+
+def test_the_longest_hold_ardupilot_stores_is_exported_and_read_back_and_one_more_second_is_refused(tmp_path):
+    from auvplan.errors import DataError
+    from auvplan.io.missions.formats import to_moos, to_qgc_plan
+
+    pts = np.array([[0.0, 0.0, -5.0], [100.0, 0.0, 0.0], [200.0, 0.0, -5.0]])
+    path = tmp_path / "m.plan"
+    path.write_text(json.dumps(to_qgc_plan(pts, (10.0, 10.0), 1.5, dwell=[0.0, 65534.2, 0.0])))
+    np.testing.assert_array_equal(read_dwells(path, 4), [0.0, 0.0, 65535.0, 0.0])  # home first; rounded up
+    with pytest.raises(DataError, match="waypoint 1 waits 65535.5 s"):
+        to_qgc_plan(pts, (10.0, 10.0), 1.5, dwell=[0.0, 65535.5, 0.0])
+    np.testing.assert_array_equal(moos_dwells(to_moos(pts, 1.5, dwell=[0.0, 90.5, 0.0]), 3), [0.0, 91.0, 0.0])

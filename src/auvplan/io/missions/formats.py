@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ...errors import DataError
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
 from .deploy import DeployInfo, payload_events
@@ -124,12 +125,16 @@ def _varies(v: NDArray[np.float64]) -> bool:
 
 
 # ---------------------------------------------------------------------- MOOS-IvP
-def _dwells(dwell: ArrayLike | None, n: int) -> NDArray[np.float64]:
+def _dwells(dwell: ArrayLike | None, n: int, what: str = "", limit: float = math.inf) -> NDArray[np.float64]:
     """Each waypoint's wait (s), whole seconds rounded up (the fix gets at least its ``surface_s``); the last
     waypoint's is after the mission: none."""
     d = np.zeros(n) if dwell is None else np.asarray(dwell, dtype=float).reshape(-1)
-    if d.shape != (n,) or not np.all(np.isfinite(d)) or np.any(d < 0.0) or np.any(d > MAX_HOLD_S):
-        raise ValueError(f"dwell: one wait per waypoint ({n}), 0-{MAX_HOLD_S:.0f} s (ArduPilot's 16-bit hold)")
+    if d.shape != (n,) or not np.all(np.isfinite(d)) or np.any(d < 0.0):
+        raise ValueError(f"dwell: one finite wait ≥ 0 per waypoint ({n}), got {d.size}")
+    if np.any(np.ceil(d[:-1] - 1e-9) > limit):
+        k = int(np.flatnonzero(np.ceil(d[:-1] - 1e-9) > limit)[0])
+        raise DataError(f"{what}: waypoint {k} waits {d[k]:g} s ([navigation] surface_s): over {limit:.0f} s, the "
+                        "longest hold ArduPilot stores (16 bits); not exported")
     out: NDArray[np.float64] = np.ceil(d - 1e-9)
     if n:
         out[-1] = 0.0
@@ -282,7 +287,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
-    waits = _dwells(dwell, len(p))
+    waits = _dwells(dwell, len(p), "mission.plan", MAX_HOLD_S)
     # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
     horizontal = v / along_track_factor(p) if v.size else v
     first = float(horizontal[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
