@@ -55,10 +55,15 @@ def test_each_file_waits_at_its_surface_fixes_and_the_check_reads_the_plan_time_
         assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s, abs=0.5)
         assert rec["energy"]["energy_wh"] == pytest.approx(planned.energy_wh, rel=1e-6)
     rec = _check(out / "mission.plan", capsys)[1]  # its launch from home (a dive at the start) more
-    assert rec["navigation"]["ok"] and rec["energy"]["energy_status"] == "EXACT", rec
+    assert rec["energy"]["energy_status"] == "EXACT", rec
     dive = rec["energy"]["leg_speeds_mps"][0]  # ArduSub's descent from home, as the check judges the file's speeds
     launch = energy_budget(world, np.vstack([[*plan.points[0, :2], 0.0], plan.points[:1]]), model, dive).duration_s
     assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s + launch, abs=2.0)
+    # the launch dives 1 500 m over home in the 0.051 m/s current without lock: D grows by at most |c|·T·1 %, which
+    # the plan (starting at depth) does not budget: 299.7 m planned, 300.5 m read back (open in docs/navigation.md)
+    nav = mission.navigation
+    grown = nav.confidence * nav.rate(False) * float(np.hypot(-0.05, 0.01)) * launch
+    assert plan.check.budget.max_error_m < rec["navigation"]["nav_error_max_m"] <= plan.check.budget.max_error_m + grown
 
 
 def test_a_file_without_its_waits_is_budgeted_without_them(mariana, capsys, tmp_path):
@@ -72,7 +77,8 @@ def test_a_file_without_its_waits_is_budgeted_without_them(mariana, capsys, tmp_
     waited = _check(out / "mission.plan", capsys)[1]["energy"]["duration_s"]
     code, rec = _check(bare, capsys)
     assert waited - rec["energy"]["duration_s"] == pytest.approx(plan.dwell_s.sum(), abs=1.0)
-    assert code == 1 and "surface_s" in rec["navigation"]["message"]  # a surfacing that does not wait: no fix
+    assert code == 1 and rec["navigation"]["message"].startswith("waypoint ")  # a surfacing without a wait: no fix
+    assert "less than surface_s 120 s for its GPS fix (6 surface fixes so)" in rec["navigation"]["message"]
     assert not rec["navigation"]["ok"]
 
 

@@ -105,3 +105,15 @@ def test_mission_check_and_the_budget_take_the_water_distance_and_a_vertical_leg
     assert w[1] == pytest.approx(8000.0 * v / math.sqrt(v * v - c * c), rel=1e-9)
     got = check_navigation(world, pts, ("", "", ""), NAV, water_m=w).budget.error_m[-1]
     assert got == pytest.approx(_closed(NAV.rate(False) * w.sum()), rel=1e-9)
+
+
+def test_a_dwell_is_no_leg_s_water_even_where_the_sub_steps_miss_the_vertex_by_rounding():
+    """Still water: each leg's water distance is its horizontal length, a surface dwell between them or not (the
+    dwell's node repeats the vertex, which the last sub-step reaches only to rounding: before, its 120 s counted as
+    180 m of the next leg's water run, 3.9× on a 62.5 m leg of mariana-nav)."""
+    pts = np.array([[1000.1, 3000.3, -200.7], [1062.6, 3000.3, -177.9], [1125.1, 3000.3, -0.7],
+                    [7000.3, 3100.9, -200.1]])
+    h = np.hypot(*np.diff(pts[:, :2], axis=0).T)
+    for dwell in (None, [0.0, 0.0, 120.0, 0.0], [0.0, 300.0, 120.0, 0.0]):
+        w = traverse(_world(3000.0), pts, 1.5, dwell=dwell).leg_water_m()
+        np.testing.assert_allclose(w, h, rtol=1e-9)

@@ -386,10 +386,11 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     message, ok = c.message, c.ok
     short = [] if dwell_s is None else [i for i, k in enumerate(kinds)
                                         if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
-    if short and ok and dwell_s is not None:  # the file surfaces but does not wait there for its fix
+    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
         i = short[0]
         message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
-                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"), False
+                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
+                       + (f"; {message}" if message else "")), False
     legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
             for k in range(len(b.leg_error_m))]

@@ -151,7 +151,7 @@ class Traverse:
         d = np.diff(self.nodes, axis=0)
         dt = np.diff(self.node_t)
         leg = self.node_leg[1:]
-        moves = np.linalg.norm(d, axis=1) > 0.0  # a dwell's node does not move: its hold is not a leg's
+        moves = np.linalg.norm(d, axis=1) > 1e-6  # a dwell's node does not move (its vertex to rounding): no leg's
         run = self.speeds[leg] * dt
         w = np.where(moves, np.sqrt(np.maximum(run * run - d[:, 2] ** 2, 0.0)), 0.0)
         out = np.asarray(np.bincount(leg, w, self.points.shape[0] - 1), dtype=float)
