@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import os
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 # OpenBLAS's worker threads spin while they wait: on a loaded 2-core machine each small LAPACK call (scipy's
@@ -16,6 +18,14 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 # The readers' on-disk cache (auvplan.io.data.cache) is off in the tests, so that a test that changes a reader
 # or a file sees its own computation; tests/unit/test_data_cache.py turns it on in a folder of its own.
 os.environ.setdefault("AUVPLAN_CACHE", "0")
+
+# The user's cache folder ($XDG_CACHE_HOME, ~/.cache) is the session's own: a job run without --out keeps its
+# checkpoints in $XDG_CACHE_HOME/auvplan/tasks (a departure sweep), keyed on its inputs and auvplan's version but not
+# on the code, so that checkpoints left there by a killed run of other code (another checkout on the machine)
+# would be read back as this run's rows, and two runs of one job at once would share one folder.  Subprocesses
+# inherit it; removed when the session ends.
+_CACHE_HOME = tempfile.mkdtemp(prefix="auvplan-tests-cache-")
+os.environ["XDG_CACHE_HOME"] = _CACHE_HOME
 
 import pytest  # noqa: E402
 
@@ -86,3 +96,4 @@ def pytest_sessionfinish(session):
     import lint_runs
 
     lint_runs.stop_all()
+    shutil.rmtree(_CACHE_HOME, ignore_errors=True)

@@ -76,7 +76,8 @@ def flat_world(depth: float = 100.0, size: float = 1000.0, min_altitude: float =
                  margins=Margins(min_altitude=min_altitude, **kw), name="flat")
 
 
-def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tuple[float, str]]]:
+def stderr_gaps(argv: list[str], timeout: float = 3600.0, env: dict[str, str] | None = None,
+                ) -> tuple[int, list[tuple[float, str]]]:
     """Run ``argv`` and time its stderr (issue 56): ``(exit code, [(seconds since the previous stderr line or
     the start, the line)])``, the last entry the time from the last line to the exit (``"<exit>"``).  Lines
     end at ``\\n`` or at a progress bar's ``\\r``; a line is timed when its first characters arrive (a bar
@@ -86,7 +87,7 @@ def stderr_gaps(argv: list[str], timeout: float = 3600.0) -> tuple[int, list[tup
     import time
 
     t0 = last = time.monotonic()
-    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
     assert proc.stderr is not None
     gaps: list[tuple[float, str]] = []
     buf, timed = b"", -1  # timed: index in gaps of the unfinished line in buf, once it showed characters

@@ -1559,3 +1559,44 @@ REASONS.update({
     '_near_zones | for q in range(start[c], start[c + 2]):':
         "equivalent in value: a cell's list read with the next cell's, more zones measured, the minimum unchanged",
 })
+
+# ---- round 8 (7 Dec 2026, ~04:40; docs/mutants.md section 8, mutants21): code no mutation run had seen:
+# the deferred load of a cached kernel (issue 56; its hook in jit.KernelCache.load_overload has no mutation
+# site under these operators, planted by hand instead), the packages' lazy names, the --out folder's safety
+# (prepare_out and its helpers, the atomic write, the clean-up on failure, the lock, the stale temporaries)
+CACHELOAD, LAZY = "auvplan.runtime.cacheload", "auvplan.runtime.lazy"
+SAFEIO, OUTDIR = "auvplan.io.files.safeio", "auvplan.io.files.outdir"
+MODULES.update({
+    "cacheload": Target(_fns(CACHELOAD, "enabled", "_registries_loaded", "_declared_symbols", "_elf_undefined",
+                             "deferrable", "load_overload", "use_deferred")),
+    "lazy": Target(_fns(LAZY, "lazy_attributes")),
+    "out-folder": Target(
+        _fns(SAFEIO, "prepare_out", "_clean_temporaries", "_one_job", "_check_names", "_discard", "discard_on_failure",
+             "atomic_write")
+        + _fns(OUTDIR, "acquire", "release", "release_all", "session", "stale_temporaries")),
+})
+# mutants21: round 8's survivors, and zones-near's (section 7) argued anew
+_EDGE_ROW = ("equivalent in value: the grid starts one cell before the lowest footprint and ends at least one past "
+             "the highest, so its first and last row and column list only zones their inner neighbour lists too "
+             "(test_zones_columns.py pins it); the neighbour is scanned for every point within two cells of a "
+             "zone, and a point whose scan held only the edge row or column is over two cells from every zone: "
+             "the cap either way")
+REASONS.update({
+    "prepare_out | if job or written_by(out) != job:":
+        "equivalent: with job = '' the added call _record(out, [], '') writes nothing (no new name, no job to set)",
+    "_one_job | _replace(out / MANIFEST, (json.dumps({'files': [], 'job': job}, indent=2) + '\\n').encode())":
+        "equivalent: the manifest's layout only; every reader parses its JSON",
+    "acquire | holder = os.pread(fd, 33, 0).decode('ascii', 'replace').strip() or '?'":
+        "equivalent: the holder wrote its pid and a newline, at most 8 bytes (pid_max <= 2^22): 32 or 33 bytes read "
+        "the same",
+    "acquire | os.ftruncate(fd, 1)":
+        "equivalent: the pid written next at offset 0 covers the byte kept (a pid and its newline are >= 2 bytes)",
+    "near_distance_kernel | if dh == 0.0 and out_v <= 1.0:":
+        ("equivalent: in_v = -out_v for both kinds of band (min(z - lo, hi - z) = -max(lo - z, z - hi)), so with "
+         "dh = 0 and out_v > 0 the inside branch gives -min(edge, -out_v) = out_v (edge >= 0), the outside "
+         "branch hypot(0, out_v) = out_v; NaN takes the outside branch under both"),
+    "_near_zones | for jj in range(max(j - reach, 1), min(j + reach, ny - 1) + 1):": _EDGE_ROW,
+    "_near_zones | for jj in range(max(j - reach, 0), min(j + reach, ny - 2) + 1):": _EDGE_ROW,
+    "_near_zones | for ii in range(max(i - reach, 1), min(i + reach, nx - 1) + 1):": _EDGE_ROW,
+    "_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 2) + 1):": _EDGE_ROW,
+})

@@ -200,6 +200,9 @@ HAND_TYPED_DOC_SECTIONS = {
         "docs: tools/mutate.py runs of the session's new code (about 10 min of a heavy slot), mutants19",
     ("docs/mutants.md", "7. The session's hostile20 and fix20 code (7 Dec 2026, ~02:30)"):
         "docs: tools/mutate.py runs of the session's hostile20/fix20 code (about 25 min of heavy slots), mutants20",
+    ("docs/mutants.md", "8. Never mutated before: cached kernels, lazy names, the --out folder (7 Dec 2026, ~04:30)"):
+        "docs: tools/mutate.py runs of cacheload, lazy, the --out folder and zones-near (8.5 min of heavy slots), "
+        "mutants21",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
         "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",

@@ -3,11 +3,11 @@ completes without duplicates, and the summary agrees with the rows."""
 
 from __future__ import annotations
 
-import os
+import csv
+import json
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -25,9 +25,16 @@ def stable(rows):
 
 
 @pytest.fixture(scope="module")
-def in_process(tmp_path_factory):
-    """The sweep run in this process (``workers=0``: no dask), the rows the dask runs must give."""
-    return sweep(SPEC, tmp_path_factory.mktemp("w0"), workers=0, progress=False)
+def in_process_out(tmp_path_factory):
+    """The folder of the sweep run in this process (``workers=0``: no dask) and its rows, the rows the dask runs
+    must give."""
+    out = tmp_path_factory.mktemp("w0")
+    return out, sweep(SPEC, out, workers=0, progress=False)
+
+
+@pytest.fixture(scope="module")
+def in_process(in_process_out):
+    return in_process_out[1]
 
 
 def test_two_workers_give_the_same_rows_as_this_process(in_process, tmp_path):
@@ -44,24 +51,73 @@ def test_an_existing_sweep_is_not_overwritten(in_process, tmp_path):
         sweep(SweepSpec(scenarios=("track-single",), seeds=1), tmp_path, workers=0, progress=False)
 
 
-def test_killed_sweep_resumes_without_duplicates(in_process, tmp_path):
-    out = tmp_path / "killed"
-    args = [sys.executable, "-m", "auvplan.cli", "bench", "--scenarios", "track-single", "track-double",
-            "--guidance", "hybrid", "los", "--seeds", "3", "--chunk", "1", "--workers", "1", "--out", str(out)]
-    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    deadline = time.time() + 120
-    while time.time() < deadline and len(read_rows(out / "rows.csv")) < 3:
-        time.sleep(0.2)
-    os.killpg(proc.pid, signal.SIGKILL)
-    proc.wait()
-    partial = read_rows(out / "rows.csv")
-    assert 3 <= len(partial) < 12  # killed midway, finished rows kept
-    rows = sweep(SPEC, out, workers=0, resume=True, progress=False)
+_KILLED_AFTER_ROWS = """
+import os, signal
+import tqdm
+_real, _n = tqdm.tqdm.update, [0]
+def _update(self, n=1):
+    _real(self, n)
+    _n[0] += n
+    if _n[0] == {k}:  # the k-th row and its history flushed: the whole group (workers too) killed
+        os.killpg(os.getpgid(0), signal.SIGKILL)
+tqdm.tqdm.update = _update
+"""
+
+
+def _assert_each_run_once(out, rows, in_process):
     assert stable(rows) == stable(in_process)
     with open(out / "rows.csv") as fh:
         assert sum(1 for _ in fh) == 1 + 12  # header + each run once
     keys = [tuple(h["key"]) for h in read_histories(out / "histories.jsonl")]
     assert sorted(keys) == sorted(tuple(r[k] for k in KEY) for r in rows)  # one history per row, no duplicate
+
+
+def test_killed_sweep_resumes_without_duplicates(in_process, tmp_path):
+    """A real SIGKILL of the command (and its dask worker) after its third row, at a point the command itself
+    picks (no race with a poll: killed midway however loaded the machine), then ``--resume`` in this process."""
+    out = tmp_path / "killed"
+    code = f"import sys\n{_KILLED_AFTER_ROWS.format(k=3)}\nfrom auvplan import cli\nsys.exit(cli.main(sys.argv[1:]))"
+    args = [sys.executable, "-c", code, "bench", "--scenarios", "track-single", "track-double",
+            "--guidance", "hybrid", "los", "--seeds", "3", "--chunk", "1", "--workers", "1", "--out", str(out)]
+    proc = subprocess.run(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                          start_new_session=True, timeout=600)
+    assert proc.returncode == -signal.SIGKILL, proc.stderr[-400:]
+    partial = read_rows(out / "rows.csv")
+    assert len(partial) == 3  # killed midway, finished rows kept
+    rows = sweep(SPEC, out, workers=0, resume=True, progress=False)
+    _assert_each_run_once(out, rows, in_process)
+
+
+def _cut(text: bytes, at: float) -> bytes:
+    return text[:int(len(text) * at)]
+
+
+def _last_line(text: bytes) -> tuple[bytes, bytes]:
+    """``text`` split before its last line."""
+    k = text.rstrip(b"\n").rfind(b"\n") + 1
+    return text[:k], text[k:]
+
+
+@pytest.mark.parametrize("state", ["nothing", "history only", "history cut", "row cut", "both whole"])
+def test_a_kill_at_each_point_of_a_row_s_write_resumes_to_each_run_once(in_process_out, tmp_path, state):
+    """The points a kill can land at while a row arrives (its history line written and flushed, then its row),
+    made on disk from the whole sweep's files: the last row's history whole or cut, its row absent or cut;
+    ``--resume`` runs that row again and leaves each run once in both files."""
+    whole, in_process = in_process_out
+    out = tmp_path / "k"
+    out.mkdir()
+    rows_head, last_row = _last_line((whole / "rows.csv").read_bytes())
+    hist_head, last_hist = _last_line((whole / "histories.jsonl").read_bytes())
+    assert json.loads(last_hist)["key"] == next(csv.reader([last_row.decode()]))[:4]  # the same run's two lines
+    hist, row = {"nothing": (b"", b""), "history only": (last_hist, b""), "history cut": (_cut(last_hist, 0.5), b""),
+                 "row cut": (last_hist, _cut(last_row, 0.6)), "both whole": (last_hist, last_row)}[state]
+    (out / "rows.csv").write_bytes(rows_head + row)
+    (out / "histories.jsonl").write_bytes(hist_head + hist)
+    assert len(read_rows(out / "rows.csv")) == (12 if state == "both whole" else 11)
+    rows = sweep(SPEC, out, workers=0, resume=True, progress=False)
+    _assert_each_run_once(out, rows, in_process)
+    assert (out / "histories.jsonl").read_text().count("\n") == (12 if state in ("nothing", "history cut",
+                                                                                 "both whole") else 13)
 
 
 def test_summary_matches_the_rows(in_process):

@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -37,10 +38,13 @@ def test_quiet_and_verbose_are_read_on_either_side_of_the_command(argv: list[str
 
 
 def test_a_reader_gone_away_is_no_error() -> None:
-    p = subprocess.Popen([sys.executable, "-m", "auvplan", "scenarios"], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE)
-    assert p.stdout is not None and p.stderr is not None
-    p.stdout.close()  # `| head -0`: the pipe is closed before the first line
+    read, write = os.pipe()
+    os.close(read)  # `| head -0`: the pipe is closed before the first line (before the command starts: no race)
+    try:
+        p = subprocess.Popen([sys.executable, "-m", "auvplan", "scenarios"], stdout=write, stderr=subprocess.PIPE)
+    finally:
+        os.close(write)
+    assert p.stderr is not None
     err = p.stderr.read().decode()
     assert p.wait(timeout=60) == 141
     assert err == ""  # was "auvplan: error: BrokenPipeError: [Errno 32] Broken pipe", exit 2

@@ -102,9 +102,9 @@ def _cost(n: int) -> float:
     best = float("inf")
     text = _hostile_moos(n)
     for _ in range(5):
-        t0 = time.process_time()
+        t0 = time.thread_time()  # this thread's CPU: not another thread's of the process (a server's, dask's)
         assert _moos_blocks(text) == []
-        best = min(best, time.process_time() - t0)
+        best = min(best, time.thread_time() - t0)
     return best
 
 

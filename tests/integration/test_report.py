@@ -233,16 +233,21 @@ def report_in_browser(run_dir, browser, tmp_path_factory):
     """The run's report opened once, offline, in Chromium: console errors and outside requests, the 3D plot's
     and the chart's state (``_LOOK_JS``), the chart's labels (``_CHART_JS``, before any click), the vehicle's x
     before and after a click on the time slider, and a screenshot."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
     page = browser.new_page(viewport={"width": 1300, "height": 900})
+    page.set_default_timeout(120_000)  # a safety net on a loaded machine (the waits end on a state), not an oracle
     errors, requests = [], []
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.on("request", lambda r: requests.append(r.url) if not r.url.startswith(("file:", "data:", "blob:"))
             else None)
     page.goto((run_dir / "report.html").as_uri())
-    page.wait_for_selector("#view3d canvas", state="attached", timeout=30_000)
-    page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
-    page.wait_for_timeout(1500)
+    page.wait_for_selector("#view3d canvas", state="attached", timeout=120_000)
+    page.wait_for_selector("#planview .annotation", state="attached", timeout=120_000)
+    page.wait_for_selector("#view3d .slider-rail-rect", state="visible", timeout=120_000)  # both plots drawn
+    page.evaluate("() => document.fonts.ready.then(() => new Promise(r => requestAnimationFrame(() => "
+                  "requestAnimationFrame(r))))")  # and laid out with their fonts: two frames since
     got = {"scene": page.evaluate("() => document.getElementById('view3d').layout.scene !== undefined"),
            "metrics_rows": page.locator("#metrics tr").count(), "chart": page.evaluate(_CHART_JS)}
     vehicle = "() => document.getElementById('view3d').data.find(t => t.name === 'vehicle').x[0]"
@@ -250,7 +255,10 @@ def report_in_browser(run_dir, browser, tmp_path_factory):
     got["look"] = page.evaluate(_LOOK_JS)
     rail = page.locator("#view3d .slider-rail-rect").first.bounding_box()
     page.mouse.click(rail["x"] + 0.7 * rail["width"], rail["y"] + rail["height"] / 2)
-    page.wait_for_timeout(1500)
+    try:  # the slider's frame is drawn asynchronously: wait for the vehicle to move (no fixed pause)
+        page.wait_for_function(f"() => ({vehicle})() !== {json.dumps(got['x0'])}", timeout=120_000)
+    except PlaywrightTimeout:
+        pass  # the test's assertion names it: the vehicle did not move
     got["x1"] = page.evaluate(vehicle)
     got["screenshot"] = tmp_path_factory.mktemp("browser") / "report.png"
     page.screenshot(path=str(got["screenshot"]))
@@ -284,8 +292,9 @@ def test_report_in_a_headless_browser(report_in_browser, run_dir, world_mission)
 
 def _chart_in_browser(browser, html_path: Path) -> dict:
     page = browser.new_page(viewport={"width": 1300, "height": 900})
+    page.set_default_timeout(120_000)  # a safety net on a loaded machine (the waits end on a state), not an oracle
     page.goto(html_path.as_uri())
-    page.wait_for_selector("#planview .annotation", state="attached", timeout=30_000)
+    page.wait_for_selector("#planview .annotation", state="attached", timeout=120_000)
     look = page.evaluate(_CHART_JS)
     page.close()
     return look

@@ -30,12 +30,13 @@ def browser():
 
 def _page(browser, url):
     page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.set_default_timeout(120_000)  # a safety net on a loaded machine (the waits end on a state), not an oracle
     errors, outside = [], []
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.on("request", lambda r: outside.append(r.url) if not r.url.startswith((url, "data:", "blob:")) else None)
     page.goto(url + "/")
-    page.wait_for_selector("body[data-ready='1']", timeout=30_000)
+    page.wait_for_selector("body[data-ready='1']", timeout=120_000)
     return page, errors, outside
 
 
@@ -118,7 +119,13 @@ def test_save_then_mission_check_agrees_with_the_page(browser, tmp_path, capsys)
         page.mouse.down()
         page.mouse.move(box["x"] + 400, box["y"] + 350, steps=4)
         page.mouse.up()
-        page.wait_for_timeout(300)
+        # the chart follows asynchronously (two relayouts): wait for the state, not for a fixed pause
+        try:
+            page.wait_for_function(f"() => {{ const [o, c] = ({ranges})(); return o[0][0] !== {before[0][0][0]!r} "
+                                   "&& [0, 1].every(k => [0, 1].every(j => Math.abs(o[k][j] - c[k][j]) <= 1.0)) && "
+                                   "[2, 3].every(k => Math.abs(o[k] - c[k]) <= 0.5); }", timeout=120_000)
+        except sync_api.TimeoutError:
+            pass  # the assertions below name what did not follow
         overlay, chart = page.evaluate(ranges)
         assert overlay[0] != before[0][0]  # it moved
         np.testing.assert_allclose(overlay[0], chart[0], atol=1.0)
@@ -146,7 +153,7 @@ def test_draw_an_area_and_get_a_survey(browser, tmp_path):
         for c in corners:
             page.mouse.click(*page.evaluate("([x, y]) => window.auvplan.toPx(x, y)", list(c)))
         page.click("#finish-area")
-        page.wait_for_selector("#history li:has-text('survey of a drawn area')", state="attached", timeout=60_000)
+        page.wait_for_selector("#history li:has-text('survey of a drawn area')", state="attached", timeout=120_000)
         area = np.array(session.survey_area)
         w = np.array(page.evaluate("() => window.auvplan.waypoints()"))
         assert not errors, errors

@@ -149,3 +149,40 @@ def test_loads_after_the_registries_are_in_take_numba_s_own_path(monkeypatch):
     assert not cacheload.use_deferred(types.SimpleNamespace(_registries={builtin_registry: object()}))
     monkeypatch.setattr(cacheload, "enabled", lambda: False)
     assert not cacheload.use_deferred(types.SimpleNamespace(_registries={}))
+
+
+def test_the_tested_range_takes_both_its_ends(monkeypatch):
+    """TESTED is a range, first and last inclusive (one version today: a wider range keeps its first end;
+    mutants21: the first end read as the last was not seen with both ends equal)."""
+    import numba
+
+    monkeypatch.delenv(cacheload.ENV_VAR, raising=False)
+    monkeypatch.setattr(cacheload, "TESTED", ((0, 66), (0, 68)))
+    for version, on in (("0.65.1", False), ("0.66.0", True), ("0.67.2", True), ("0.68.1", True), ("0.69.0", False)):
+        monkeypatch.setattr(numba, "__version__", version)
+        assert cacheload.enabled() is on, version
+
+
+def test_auvplan_s_kernel_cache_defers_exactly_when_use_deferred_says(monkeypatch):
+    """The hook in ``jit.KernelCache.load_overload``: :func:`cacheload.load_overload` when
+    :func:`cacheload.use_deferred` (the switch, the versions, no registries yet), numba's own load otherwise
+    (after a compile, or with ``AUVPLAN_NUMBA_REFRESH=1``).  No mutation site: planted by hand (mutants21)."""
+    from numba.core import caching
+
+    from auvplan.runtime import jit
+
+    def probe(x):  # noqa: ANN001, ANN202
+        return x
+
+    cache = jit._cache_class(jit._package_root(probe))(probe)
+    calls: list[str] = []
+    monkeypatch.setattr(cacheload, "load_overload", lambda c, sig, ctx: calls.append("auvplan") or "a")
+    monkeypatch.setattr(caching.Cache, "load_overload", lambda self, sig, ctx: calls.append("numba") or "n")
+    for deferred, path in ((True, "auvplan"), (False, "numba")):
+        monkeypatch.setattr(cacheload, "use_deferred", lambda ctx, d=deferred: d)
+        assert cache.load_overload("sig", object()) == path[0] and calls[-1] == path
+    monkeypatch.undo()
+    monkeypatch.setenv(cacheload.ENV_VAR, "1")  # the switch, through use_deferred itself
+    monkeypatch.setattr(cacheload, "load_overload", lambda c, sig, ctx: calls.append("auvplan") or "a")
+    monkeypatch.setattr(caching.Cache, "load_overload", lambda self, sig, ctx: calls.append("numba") or "n")
+    assert cache.load_overload("sig", types.SimpleNamespace(_registries={})) == "n"

@@ -23,3 +23,23 @@ def test_a_name_is_loaded_on_first_access_only_and_kept():
             "assert s.__dict__['simulate'] is f is sys.modules['auvplan.sim.loop'].simulate; print('ok')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "ok"
+
+
+def test_lazy_attributes_of_a_fresh_package_load_keep_list_and_refuse(monkeypatch):
+    """On a package made here (the installed packages' hooks were made at their import, before any test):
+    a listed name is the defining module's object, kept in the namespace; ``dir`` lists the exported names
+    before they are loaded; a name not listed raises AttributeError naming the package (mutants21)."""
+    import json
+    import math
+    import types
+
+    from auvplan.runtime.lazy import lazy_attributes
+
+    pkg = types.ModuleType("auvplan_lazy_probe")
+    monkeypatch.setitem(sys.modules, pkg.__name__, pkg)
+    getattr_, dir_ = lazy_attributes(pkg.__name__, {"sqrt": "math", "dumps": "json"}, ["sqrt", "dumps"])
+    assert {"sqrt", "dumps"} <= set(dir_()) and "sqrt" not in vars(pkg)
+    assert getattr_("sqrt") is math.sqrt and vars(pkg)["sqrt"] is math.sqrt and "dumps" not in vars(pkg)
+    assert getattr_("dumps") is json.dumps
+    with pytest.raises(AttributeError, match=r"^module 'auvplan_lazy_probe' has no attribute 'loads'$"):
+        getattr_("loads")  # defined by json, but not listed

@@ -113,12 +113,72 @@ def _cache_class(root: str) -> Any:
     class KernelCache(caching.FunctionCache):
         _impl_class = KernelCacheImpl
 
+        def __init__(self, py_func: Any) -> None:
+            super().__init__(py_func)  # type: ignore[no-untyped-call]
+            self._cache_file = _locked_file_class()(cache_path=self._cache_path,
+                                                    filename_base=self._impl.filename_base,
+                                                    source_stamp=self._impl.locator.get_source_stamp())
+
         def load_overload(self, sig: Any, target_context: Any) -> Any:  # numba's registries when compiling
             if cacheload.use_deferred(target_context):
                 return cacheload.load_overload(self, sig, target_context)
             return super().load_overload(sig, target_context)  # type: ignore[no-untyped-call]
 
     return KernelCache
+
+
+@functools.cache
+def _locked_file_class() -> Any:
+    """numba's ``IndexDataCacheFile`` (a kernel's index ``.nbi`` and its data files ``.N.nbc``) read and written
+    under a lock of the index (``flock`` on ``.nbi.lock`` beside it: shared to read, exclusive to write).
+
+    numba writes each file atomically but not the pair: a process that saves a signature writes the index, then
+    the data file it names, so that another process compiling the same kernel at once (the suite and
+    ``tests/warm_kernels.py``, two dask workers on a fresh install) could read the index between the two and
+    load a data file of an older source (numbered files are reused after an edit) or another signature's, or
+    two writers numbering their entries alike leave an index naming the other's machine code; and a process
+    killed between the two left that index for good.  Here the data file is written first, then the index that
+    names it, both under the lock.  Without a lock file (a folder it cannot be made in) they go on unlocked."""
+    import fcntl
+    import itertools
+
+    from numba.core import caching
+
+    class LockedIndexDataCacheFile(caching.IndexDataCacheFile):
+        @contextlib.contextmanager
+        def _locked(self, how: int) -> Any:
+            try:
+                fd = os.open(self._index_path + ".lock", os.O_RDWR | os.O_CREAT, 0o666)
+            except OSError:
+                yield
+                return
+            try:
+                fcntl.flock(fd, how)
+                yield
+            finally:
+                os.close(fd)  # drops the lock
+
+        def save(self, key: Any, data: Any) -> None:
+            """numba's ``save`` with the data file written before the index names it (numba: the index first, so
+            that a kill between the two left an index naming a data file of an older source)."""
+            with self._locked(fcntl.LOCK_EX):
+                overloads = self._load_index()  # type: ignore[no-untyped-call]
+                name = overloads.get(key)
+                if name is None:
+                    taken = set(overloads.values())
+                    for i in itertools.count(1):
+                        name = self._data_name(i)  # type: ignore[no-untyped-call]
+                        if name not in taken:
+                            break
+                self._save_data(name, data)  # type: ignore[no-untyped-call]
+                if overloads.get(key) != name:
+                    self._save_index({**overloads, key: name})  # type: ignore[no-untyped-call]
+
+        def load(self, key: Any) -> Any:
+            with self._locked(fcntl.LOCK_SH):
+                return super().load(key)  # type: ignore[no-untyped-call]
+
+    return LockedIndexDataCacheFile
 
 
 def _stamped_cache(dispatcher: Any) -> Any:

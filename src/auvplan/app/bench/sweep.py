@@ -401,8 +401,7 @@ def sweep(spec: SweepSpec, out: Path, workers: int = 1, scheduler: str | None = 
         check_inside(p)
         if p.is_symlink():
             raise OutputError(f"{p}: is a symbolic link; auvplan does not append through links")
-    todo = _todo(spec, path, resume)
-    claim(out, ["rows.csv", "histories.jsonl"])
+    todo = _todo(spec, path, resume)  # rows.csv and histories.jsonl named in the manifest before they exist
     runner = Runner(workers, scheduler, retries,  # starting the workers: a stage line above the bar
                     announce=(lambda text: tqdm.write(f"auvplan: {text}", file=sys.stderr)) if progress else None)
     if runner.distributed:
@@ -434,6 +433,9 @@ def _todo(spec: SweepSpec, path: Path, resume: bool) -> list[tuple[str, str, str
     done = read_rows(path)  # complete lines only: a row cut anywhere in its line is run again
     if path.exists() and not resume:
         raise AuvplanError(f"{path} exists: pass --resume to complete that sweep, or choose another --out")
+    # named before either file is made: a kill between the two would leave a rows.csv of auvplan's that the
+    # manifest does not list, which --resume then refuses as a user's file
+    claim(path.parent, [path.name, "histories.jsonl"])
     have = {_key(r) for r in done}
     todo = []
     for scenario, planner, guidance, seeds in spec.tasks():
