@@ -1008,7 +1008,7 @@ REASONS.update({
 WORLD_ZONES_SEGMENTS = "auvplan.world.zones.segments"
 TERRAIN_LEGS, ZONE_LEGS = "auvplan.guidance.mission.terrain_legs", "auvplan.guidance.mission.zone_legs"
 APP_CHECK, JOINS = "auvplan.app.check", "auvplan.survey.joins"
-BOUNDED_MIN, SEABED = "auvplan.io.data.bounded_min", "auvplan.world.seabed"
+BOUNDED_MIN, SEABED = "auvplan.optim.bounded_min", "auvplan.world.seabed"
 MODULES.update({
     # validate's "clearly free" start and goal: the numpy seabed and its bound, the ellipsoid's lower bound
     "clearly-free": Target(

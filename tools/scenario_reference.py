@@ -118,7 +118,9 @@ def reference() -> str:
            "key at its default; how to use each part: [guide.md](guide.md#scenarios).", "",
            "A position (`start`, `goal`, `route` points, obstacle centres) is either `[x, y, z]` in the local "
            "frame (m, x east, y north, z up) or a table `{ lat, lon, depth }` / `{ lat, lon, altitude }` "
-           "(degrees WGS 84; metres below the surface or above the seabed).", "", "## Top-level keys", "",
+           "(degrees WGS 84; metres below the surface or above the seabed). A string key with no default (a file, "
+           "a variable name, `tides`, `start_time`) is left unset by omitting it: `key = ''` is refused, naming the "
+           "key.", "", "## Top-level keys", "",
            "| key | type | default | description |", "| --- | --- | --- | --- |"]
     required = set(schema.get("required", ()))
     sections: list[tuple[str, dict[str, Any]]] = []

@@ -51,3 +51,30 @@ def test_strait_corridor_flown_covers_it_with_the_overlap_held(tmp_path, capsys)
     assert ray.size >= 20 and ray.min() >= 0.10 - 0.005 and ray.max() <= 0.20 + 0.02
     mains = [shapely.LineString(p[:, :2]) for p in plan.line_waypoints()]
     assert all(shapely.LineString(t[:, :2]).crosses(m) for t in plan.tie_waypoints() for m in mains)
+
+
+def test_strait_corridor_reads_the_current_after_12_h():
+    """The crab angle's margin read the current over 12 h; strait-corridor flies 12.5 h (oracle: a current zero for
+    12.2 h, then the built-in's own (0.1, 0.15) m/s, gives the built-in's margin; before: 0, the lines placed for
+    still water).  Measured: 0.00407 (the steady built-in) and the same with the late current."""
+    import dataclasses
+
+    from test_crab_whole_flight import LateCurrent
+
+    from auvplan.survey.mission import _lines_for_flight
+    from auvplan.world.currents.fields import UniformCurrent
+
+    sc = scenario_io.load("strait-corridor")
+    world, mission = scenario_io.build(sc)
+    assert isinstance(world.currents, UniformCurrent)
+    params = survey_params(sc.survey, world, mission.vehicle, sc.base_dir, "strait-corridor: [survey]")
+    heading = params.frame.heading if params.frame is not None else 0.0
+
+    class LateBuiltin(LateCurrent):
+        def velocity(self, points, t=0.0):
+            return world.currents.velocity(points, t) * (1.0 if t > self.after_s else 0.0)
+
+    steady = _lines_for_flight(world, mission, params, world.seabed, heading)[0]
+    late = dataclasses.replace(world, currents=LateBuiltin(0.0, 12.2 * 3600.0))
+    margin, _, _, route, _, _ = _lines_for_flight(late, mission, params, world.seabed, heading)
+    assert steady > 0.0 and margin == steady, (steady, margin)

@@ -73,6 +73,16 @@ def test_keyboard_interrupt_exits_130_naming_the_folder(capsys, tmp_path, monkey
     monkeypatch.setattr(auvplan.sim, "run_mission", interrupted)
     code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "r")
     assert code == 130
+    assert err.strip().splitlines()[-1] == f"auvplan: interrupted; nothing written into {tmp_path / 'r'}"
+    assert not (tmp_path / "r").exists()  # before any result: the folder it made is not left behind
+
+    def interrupted_writing(*args, **kwargs):  # after a result file was written
+        atomic_write(tmp_path / "r" / "run.json", "{}")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(auvplan.sim, "run_mission", interrupted_writing)
+    code, _, err = run_cli(capsys, "run", "track-single", "--out", tmp_path / "r")
+    assert code == 130
     assert err.strip().splitlines()[-1] == f"auvplan: interrupted; partial results in {tmp_path / 'r'}"
     assert not [p for p in (tmp_path / "r").iterdir() if p.name.endswith(".tmp")]  # nothing half-written
 

@@ -114,6 +114,7 @@ def test_the_envelope_s_time_is_the_energy_check_s_and_legs_are_counted_once(tmp
     d = np.diff(points, axis=0)
     flat = np.hypot(d[:, 0], d[:, 1])
     v = np.asarray(leg_cmd) * np.where(flat > 0, np.linalg.norm(d, axis=1) / np.where(flat > 0, flat, 1), 1.0)
+    v = np.where(flat > 0, v, 1.5)  # a vertical leg (the launch): AC_WPNav's default WPNAV_SPEED_DN (export22)
     want = _by_hand(points, v, HOLD_S)
     assert rec["energy"]["duration_s"] == pytest.approx(want, rel=1e-6)
     assert rec["deploy"]["envelope"]["predicted_s"] == rec["energy"]["duration_s"]

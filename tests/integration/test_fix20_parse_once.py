@@ -55,7 +55,7 @@ def test_a_plan_is_parsed_and_walked_once_with_the_same_records(tmp_path, monkey
     each = app_check.check_missions(scen, [plan], 15.0)[1][0]
     assert counts["parse"] >= 6 and counts["walk"] >= 6
     assert json.dumps(once.record, sort_keys=True) == json.dumps(each.record, sort_keys=True)
-    assert once.record["energy"]["leg_speeds_mps"] == [1.2, 1.2, 1.2]  # the file's speed: it was read
+    assert once.record["energy"]["leg_speeds_mps"] == [1.5, 1.2, 1.2]  # the launch dive: WPNAV_SPEED_DN
 
 
 def test_an_edited_file_is_parsed_again(tmp_path):

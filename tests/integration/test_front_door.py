@@ -5,6 +5,7 @@ import none of the library's numerical layers; each command imports what it need
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -137,3 +138,26 @@ def test_a_plan_without_files_imports_no_pyproj_and_flies_nothing() -> None:
 
     assert sim.run_mission.__module__ == "auvplan.sim.pipeline" and "simulate" in dir(sim)
     assert sim.planning_problem is sys.modules["auvplan.sim.pipeline"].planning_problem
+
+
+SCIPY_LATE = ("scipy.ndimage", "scipy.optimize", "scipy.interpolate", "scipy.spatial", "scipy.sparse", "scipy.linalg")
+"""SciPy's subpackages a time-optimal plan and a zoned scenario's raster no longer import (~0.2-0.45 s)."""
+
+
+def test_time_optimal_plans_and_zone_rasters_import_no_scipy_subpackage() -> None:
+    """Issue 56: ``plan rotary-tide`` (the time-optimal planner: its front's active band, its shot's bounded
+    Brent refinement) and ``validate chagos-reefs`` (the zones' raster and its distance transform) run
+    ``auvplan.world.kernels.edt`` and ``auvplan.optim.bounded_min`` (SciPy's values, bit for bit:
+    tests/oracles/test_edt.py, test_front_door_search.py), not scipy.ndimage or scipy.optimize.  The readers'
+    cache is off, so the files are read as on a first run (the test does not depend on the cache's state)."""
+    probe = ("import contextlib, io, json, sys\nfrom auvplan.cli import main\nout = []\n"
+             "for argv in (['plan', 'rotary-tide', '--json'], ['validate', 'chagos-reefs']):\n"
+             "    with contextlib.redirect_stdout(io.StringIO()):\n        code = main(argv)\n"
+             "    out.append([code, sorted(m for m in sys.modules if m.startswith('scipy.'))])\n"
+             "print(json.dumps(out))")
+    env = {**os.environ, "AUVPLAN_CACHE": "0"}
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True, env=env)
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert [code for code, _ in got] == [0, 0], run.stderr
+    for _, modules in got:
+        assert not [m for m in modules if m.startswith(SCIPY_LATE)], modules

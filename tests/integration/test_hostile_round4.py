@@ -383,10 +383,11 @@ def test_a_departure_three_million_years_on_is_refused_naming_the_key():
     assert loader.loads(text.format(-366 * 86400.0), "s.toml").planner.timeopt.depart_s == -366 * 86400.0
 
 
-@pytest.mark.parametrize("speed", ['"fast"', "null", "true", "[1]"])
+@pytest.mark.parametrize("speed", ['"fast"', "true", "[1]"])
 def test_a_speed_command_whose_speed_is_not_a_number_is_refused(tmp_path, capsys, speed):
     """A ``MAV_CMD_DO_CHANGE_SPEED`` of ``"fast"`` was ignored silently: the check flew the vehicle's speed,
-    which the file does not ask for.  Exit 2, one line naming the file and the item."""
+    which the file does not ask for.  Exit 2, one line naming the file and the item.  (``null``, QGroundControl's
+    NaN, is no longer refused: ArduSub keeps its speed, as for -1 and 0 — tests/unit/test_plan_speed_null.py.)"""
     scen = tmp_path / "s.toml"
     scen.write_text(TRANSIT, encoding="utf-8")
     mission = tmp_path / "m.plan"

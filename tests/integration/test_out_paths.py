@@ -96,6 +96,8 @@ def test_a_vehicle_folder_that_is_a_link_is_never_written_through(tmp_path):
     (out / "port").symlink_to(elsewhere)
     with pytest.raises(OutputError, match="symbolic link"):
         prepare_out(out, ["formation.json", "port/run.json"])
+    assert not outdir.held(out) and not (out / outdir.LOCK).exists()  # refused: no lock kept, none left behind
+    outdir.acquire(out)  # locked, as by a prepare_out that passed
     with pytest.raises(OutputError, match="port: is a symbolic link below the output folder"):
         records.write_run(out / "port", _tiny_record())  # a writer that skipped prepare_out's check
     assert sorted(p.name for p in elsewhere.iterdir()) == ["run.json"]

@@ -1,7 +1,7 @@
 """What ``data inspect`` no longer imports scipy.optimize and scipy.ndimage for (issue 56), against the
 libraries themselves and a brute-force search.
 
-* :func:`~auvplan.io.data.bounded_min.bounded_min` is SciPy's bounded Brent step for step: the same
+* :func:`~auvplan.optim.bounded_min.bounded_min` is SciPy's bounded Brent step for step: the same
   points, the same bits (``x``, ``fun``, ``nfev``) as ``minimize_scalar(method="bounded")``;
 * :func:`~auvplan.io.data.regrid.inscribed_extent`'s sides against a dense two-stage search of each
   projected edge, on non-square windows far north and south, turned in the frame (an origin away from
@@ -23,10 +23,10 @@ from scipy import ndimage
 from scipy.optimize import minimize_scalar
 
 from auvplan.io.data import regrid
-from auvplan.io.data.bounded_min import bounded_min
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.data.grids import HorizontalGrid
 from auvplan.io.data.seabed_model import _projection_margin, model_seabed, node_indices
+from auvplan.optim.bounded_min import bounded_min
 from auvplan.world.seabed import conservative_nodes, window_max
 
 FUNCTIONS = {

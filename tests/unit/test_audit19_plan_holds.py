@@ -1,8 +1,10 @@
 """Audit 19: a ``.plan``'s holds as ArduPilot stores and flies them.
 
 * ``AP_Mission::mavlink_int_to_mission_cmd`` copies a waypoint's or a timed loiter's param 1 (a float) into the
-  16-bit ``cmd.p1``: a hold over 65535 s or below 0 is not the hold the vehicle flies (the conversion is undefined:
-  it wraps on one platform and saturates on another).  ``read_holds`` clamped 1e9 to 65535 s and read -5 as no
+  16-bit ``cmd.p1``: a hold that truncates over 65535 s or below 0 is not the hold the vehicle flies (the
+  conversion is undefined: it wraps on one platform and saturates on another); 65535.5 and -0.5 truncate to 65535
+  and 0, which fit: held so (edges21, the C++ rule the executor's ``cmd.p1 = packet.param1`` follows).
+  ``read_holds`` clamped 1e9 to 65535 s and read -5 as no
   hold: now refused (exit 2), naming the item and its value.
 * ArduSub's ``verify_nav_wp`` waits the hold out at every waypoint, the last one too, before the mission completes;
   the budget held only at the start of a leg, so the last item's hold was left out of the file's energy and time.
@@ -39,7 +41,7 @@ def _plan(tmp_path, holds: list[object], command: int = 16):
     return path
 
 
-@pytest.mark.parametrize("hold", [65536, 70000, 1e9, 65535.5, -5, -0.5])
+@pytest.mark.parametrize("hold", [65536, 70000, 1e9, -5, -1])
 @pytest.mark.parametrize("command", [16, 19])
 def test_a_hold_ardupilot_cannot_store_in_16_bits_is_refused_naming_the_item(tmp_path, hold, command):
     path = _plan(tmp_path, [0, hold, 0], command)
@@ -47,7 +49,8 @@ def test_a_hold_ardupilot_cannot_store_in_16_bits_is_refused_naming_the_item(tmp
         read_holds(path, 4)
 
 
-@pytest.mark.parametrize(("hold", "want"), [(65535, 65535.0), (65534.9, 65534.0), (0, None), (None, None)])
+@pytest.mark.parametrize(("hold", "want"), [(65535, 65535.0), (65534.9, 65534.0), (0, None), (None, None),
+                                            (65535.5, 65535.0), (-0.5, None)])  # C++ truncates: both fit 16 bits
 def test_a_hold_within_16_bits_is_read_in_whole_seconds(tmp_path, hold, want):
     got = read_holds(_plan(tmp_path, [0, hold, 0]), 4)
     assert (got is None) if want is None else got.tolist() == [0.0, 0.0, want, 0.0]

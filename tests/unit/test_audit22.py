@@ -71,8 +71,7 @@ def test_a_near_vertical_leg_is_flown_within_the_vertical_limit(tmp_path, offset
     items = [[500.0, 1000.0, -100.0], [500.0 + offset, 1000.0, -100.0 + dz], [1500.0, 1000.0, -100.0 + dz]]
     rec = mission_file_energy(world, mission, _plan(tmp_path, LocalFrame(*world.origin), items, speed))[0]
     p = np.array([[500.0, 1000.0, 0.0], *items])  # the launch from the home above item 0
-    want = [speed if np.hypot(*(b - a)[:2]) == 0.0 else kinematic_limit(b - a, speed, max(speed, 2.5), max(speed, 1.5))
-            for a, b in zip(p[:-1], p[1:])]
+    want = [kinematic_limit(b - a, speed, 2.5, 1.5) for a, b in zip(p[:-1], p[1:])]  # export22: AC_WPNav's defaults
     assert rec["leg_speeds_mps"] == pytest.approx(want, rel=1e-5)  # offset 2 cm: 5 400 m/s before
     assert offset == 0.0 or max(want) > speed  # the oracle is not the command itself
     legs = np.linalg.norm(np.diff(p, axis=0), axis=1)
@@ -137,6 +136,36 @@ def test_our_export_of_a_leg_steeper_than_45_degrees_checks_at_the_planned_speed
     path = tmp_path / "e.plan"
     path.write_text(json.dumps(to_qgc_plan(pts, world.origin, 1.1)))
     rec = mission_file_energy(world, mission, path)[0]
-    gamma = math.atan2(90.0, 52.0)
     assert rec["leg_speeds_mps"][1:] == pytest.approx([1.1, 1.1], abs=2e-4)
-    assert rec["leg_speeds_mps"][0] == pytest.approx(1.1 * math.cos(gamma), abs=1e-4)  # the launch: as commanded
+    assert rec["leg_speeds_mps"][0] == pytest.approx(kinematic_limit([0, 0, -1], 1.1, 2.5, 1.5))  # launch: v_z (1.5)
+    assert not rec["speed_assumed_line"]  # 1.1 sin 60° = 0.95 m/s < 1.5: the default does not bind
+
+
+@pytest.mark.parametrize(("speed", "dz", "run"), [(2.0, -90.0, 52.0), (3.4, 90.0, 52.0), (1.1, -90.0, 52.0),
+                                                  (3.0, -90.0, 107.26), (4.5, 90.0, 107.26)])
+def test_a_speed_command_does_not_raise_the_vertical_limit(tmp_path, speed, dz, run):
+    """export22: ArduSub's ``do_change_speed`` is ``wp_nav.set_speed_xy`` only (``ArduSub/commands_logic.cpp``), so a
+    60° leg of our export commanded fast enough is held to AC_WPNav's default ``WPNAV_SPEED_DN`` 1.5 m/s
+    (``WPNAV_SPEED_UP`` 2.5 climbing): the leg's time is max(horizontal / v cos γ, |rise| / v_z).  Before, the
+    command raised the vertical limit (judged at 2 m/s along the leg, flown at 1.73).  Oracle: ``kinematic_limit``."""
+    from auvplan.io.missions.formats import to_qgc_plan
+
+    scen = tmp_path / "s.toml"
+    scen.write_text(HOLDS, encoding="utf-8")
+    world, mission = loader.build(loader.load(str(scen)))
+    z0 = -5.0 if dz < 0 else -100.0
+    pts = np.array([[500.0, 1000.0, z0], [500.0 + run, 1000.0, z0 + dz], [1500.0, 1000.0, z0 + dz]])  # 60°/40°
+    path = tmp_path / "e.plan"
+    path.write_text(json.dumps(to_qgc_plan(pts, world.origin, speed)))
+    rec = mission_file_energy(world, mission, path)[0]
+    d = pts[1] - pts[0]
+    command = speed * math.cos(math.atan2(abs(dz), run))  # the export's; 40°: 2.3 > 1.5 m/s
+    want = kinematic_limit(d, command, 2.5, 1.5)
+    assert rec["leg_speeds_mps"][1] == pytest.approx(want, rel=1e-4)
+    vz = 2.5 if dz > 0 else 1.5
+    binds = speed * abs(d[2]) / np.linalg.norm(d) > vz
+    assert (want < speed - 1e-3) == binds  # the oracle differs from the planned speed exactly when v_z binds
+    assert ("legs 1)" in rec["speed_assumed_line"] and "WPNAV_SPEED_DN 1.5" in rec["speed_assumed_line"]) == binds
+    legs = np.linalg.norm(np.diff(np.array([[500.0, 1000.0, 0.0], *pts]), axis=0), axis=1)
+    flat = np.hypot(d[0], d[1])
+    assert legs[1] / rec["leg_speeds_mps"][1] == pytest.approx(max(flat / command, abs(dz) / vz), rel=1e-4)

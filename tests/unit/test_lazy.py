@@ -7,7 +7,8 @@ import sys
 import pytest
 
 
-@pytest.mark.parametrize("package", ["auvplan", "auvplan.nav", "auvplan.sim", "auvplan.planners"])
+@pytest.mark.parametrize("package", ["auvplan", "auvplan.nav", "auvplan.sim", "auvplan.planners", "auvplan.endurance",
+                                     "auvplan.survey"])
 def test_every_exported_name_resolves_to_its_defining_module_and_unknown_names_are_named(package):
     mod = importlib.import_module(package)
     for name in mod.__all__:
@@ -21,6 +22,16 @@ def test_a_name_is_loaded_on_first_access_only_and_kept():
     code = ("import sys, auvplan.sim as s; assert 'auvplan.sim.loop' not in sys.modules; "
             "f = s.simulate; assert 'auvplan.sim.loop' in sys.modules; "
             "assert s.__dict__['simulate'] is f is sys.modules['auvplan.sim.loop'].simulate; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "ok"
+
+
+def test_a_name_its_submodule_shadows_is_the_name_after_any_first_access():
+    """``auvplan.endurance.assess`` is a function of the submodule ``assess``: importing that submodule for
+    another name (``Endurance``) binds the package's ``assess`` to the module, which the lazy loader puts back."""
+    code = ("import types, auvplan.endurance as e; from auvplan.endurance import Endurance; "
+            "from auvplan.endurance import assess; assert not isinstance(assess, types.ModuleType); "
+            "assert assess is e.assess is __import__('sys').modules['auvplan.endurance.assess'].assess; print('ok')")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "ok"
 

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import AuvplanError
+from ..errors import AuvplanError, DataError
 from ..io.files.safeio import atomic_write, prepare_out, save_figure
 
 if TYPE_CHECKING:
@@ -193,8 +193,13 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     formats, notes = export.exportable(record, [f for f in export.EXPORT_FORMATS
                                                 if frame is not None or f not in export.GEOGRAPHIC])
     speeds = planned_speeds(out, record, mission)
-    export.write_exports(out, record, world.origin, speeds, formats, full,
-                         export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record)))
+    deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))
+    export.write_exports(out, record, world.origin, speeds, [f for f in formats if f != "plan"], full, deploy)
+    if "plan" in formats:
+        try:
+            export.write_exports(out, record, world.origin, speeds, ["plan"], full, deploy)
+        except DataError as exc:  # ArduPilot cannot hold it (AP_Mission's capacity, a fence across ±180°)
+            notes = [*notes, f"mission.plan left out: {exc}"]
     if endurance is None:
         endurance = mission_endurance(world, mission, record)
     metrics = records.summary_metrics(record)

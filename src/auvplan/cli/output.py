@@ -1,16 +1,19 @@
 """What the commands of the command line share: progress on stderr and their output (a human line, or one JSON
-object with ``--json``).  The check of ``--out`` before any work is each job's
-(:func:`auvplan.io.files.safeio.prepare_out` in :mod:`auvplan.app`)."""
+object with ``--json``) into a stdout that names itself when it cannot be written (:func:`named_stdout`).  The check
+of ``--out`` before any work is each job's (:func:`auvplan.io.files.safeio.prepare_out` in :mod:`auvplan.app`)."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import sys
 import threading
 import time
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Any, TextIO
+
+from ..errors import AuvplanError
 
 if TYPE_CHECKING:
     import argparse
@@ -304,3 +307,65 @@ def stage_line(text: str) -> None:
 
     tqdm.write(f"auvplan: {text}", file=sys.stderr)
     LIVE.said()
+
+
+# stdout that names itself (``auvplan scenarios > /dev/full``: a write or flush failing with an OSError raised
+# 'OSError: [Errno 28] No space left on device' from wherever the command printed, without its culprit;
+# BrokenPipeError, the reader gone (``| head``), passes unchanged: exit 141)
+class StdoutError(AuvplanError, OSError):
+    """Standard output cannot be written (names stdout and why)."""
+
+
+class _Named:
+    """``sys.stdout`` whose write and flush failures name it (every other attribute is the stream's)."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise _named(exc) from exc
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise _named(exc) from exc
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
+def _named(exc: OSError) -> StdoutError:
+    return StdoutError(f"stdout: cannot write the command's output ({exc.strerror or exc})")
+
+
+@contextlib.contextmanager
+def named_stdout() -> Iterator[None]:
+    """Run one command with ``sys.stdout`` naming itself on a write failure, and flush it before leaving.
+
+    Yields
+    ------
+    None
+        The command runs; a failure to write stdout raises :class:`StdoutError`.
+
+    Raises
+    ------
+    StdoutError
+        When stdout cannot be written (in the command, or when its output is flushed at the end).
+    """
+    real = sys.stdout
+    sys.stdout = _Named(real)
+    try:
+        yield
+    finally:
+        try:
+            sys.stdout.flush()  # also after --help's SystemExit: its text is still in the buffer
+        finally:
+            sys.stdout = real

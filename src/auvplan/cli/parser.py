@@ -10,6 +10,7 @@ stdout; progress and messages go to stderr.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import logging
 import math
@@ -17,6 +18,7 @@ import os
 import re
 import sys
 from collections.abc import Callable, Collection, Iterator
+from pathlib import Path
 from typing import Any
 
 from .._version import __version__
@@ -346,8 +348,23 @@ def _bench_commands(sub: Any) -> None:
     _shared(s, "force")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, except that ``--help`` or ``--version`` into a stdout that cannot be written is an error
+    (argparse ignores it: ``auvplan --help > /dev/full`` exited 0, silent)."""
+
+    def _print_message(self, message: str, file: Any = None) -> None:
+        if not message:
+            return
+        file = file or sys.stderr
+        try:
+            file.write(message)
+        except OSError:
+            if file is sys.stdout:  # :func:`.output.named_stdout` names it
+                raise
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
+    p = _Parser(prog="auvplan", description="Plan, check and simulate 3D AUV missions.")
     p.add_argument("--version", action="version", version=f"auvplan {__version__}")
     _chatter(p, False)
     sub = p.add_subparsers(dest="command", required=True)
@@ -373,11 +390,18 @@ def main(argv: list[str] | None = None) -> int:
         The exit code: 0 success, 1 a mission or plan that failed (a status), 2 bad input or a
         missing optional dependency (one line on stderr), 130 interrupted, 141 stdout's reader gone (``| head``).
     """
+    from .output import StdoutError, named_stdout
+
     parser = _parser()
     try:
-        args = parser.parse_args(argv)
+        with named_stdout():  # --help, --version
+            args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
         return int(exc.code or 0)
+    except StdoutError as exc:
+        return _stdout_lost(exc)
+    from ..io.files import safeio
+
     undo: Callable[[], None] = _nothing
     if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
         undo = _collect_warnings()
@@ -395,19 +419,21 @@ def main(argv: list[str] | None = None) -> int:
             starting(f"{args.command}: starting")  # issue 56: a clock from the first second (the imports)
         module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
         handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
-        from ..io.files import outdir
-
-        with outdir.session():  # the --out folders this command locked are released when it ends
-            code: int = handler(args)
+        from ..io.files import safeio
+        with safeio.session(), named_stdout():  # the --out folders released, what a failure made removed; stdout
+            code: int = handler(args)  # named when it cannot be written (> /dev/full)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        _last_line(f"auvplan: interrupted; partial results in {out}" if out else "auvplan: interrupted; nothing "
-                   "written")
+        partial = isinstance(out, str) and bool(safeio.written(Path(out)))  # none: what it made there is gone
+        _last_line(f"auvplan: interrupted; partial results in {out}" if partial else "auvplan: interrupted; "
+                   f"nothing written{f' into {out}' if out else ''}")
         return 130
     except BrokenPipeError:  # the reader went away (`auvplan scenarios | head -1`): nothing to say, as a tool
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # killed by SIGPIPE; the flush at exit
         return 141  # writes to /dev/null (128 + SIGPIPE, as 130 is 128 + SIGINT)
+    except StdoutError as exc:
+        return _stdout_lost(exc)
     except (AuvplanError, ValueError, OSError, MemoryError, RecursionError) as exc:
         _last_line(f"auvplan: error: {_one_line(exc)}")
         return 2
@@ -420,6 +446,15 @@ def main(argv: list[str] | None = None) -> int:
 
 _CLOCKED = ("plan", "simulate", "run", "survey", "report", "export", "demo")
 """The commands whose stages show on stderr (:mod:`.output`): a clock runs from their start."""
+
+
+def _stdout_lost(exc: BaseException) -> int:
+    """Stdout cannot be written: say so on stderr (exit 2); what it still buffers goes to /dev/null, not to a second
+    error when Python flushes it at exit."""
+    with contextlib.suppress(OSError, ValueError, AttributeError):  # a stream without a descriptor: nothing to do
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    _last_line(f"auvplan: error: {exc}")
+    return 2
 
 
 def _nothing() -> None:

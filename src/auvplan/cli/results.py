@@ -79,15 +79,18 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
     for c in checks if not args.json else ():
         name, check, vlimits = c.record["file"], c.check, c.vehicle
         fmt = c.record["format"]
+        seabed = bool(np.isfinite(check.min_altitude_m))  # inf: the scenario has no seabed (nothing to clear)
         held = (f"; flown at {check.pitch_deg:g}° pitch: least altitude {check.executor_min_altitude_m:.2f} m"
-                if check.semantics == "held" else "")
+                if check.semantics == "held" and seabed else "")
+        altitude = (f"least altitude {check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
+                    f"{check.min_altitude_leg})" if seabed else
+                    "no seabed in the scenario: altitude not checked (the sea surface, depth band and bounds were)")
         obstacles = (f"least obstacle distance {check.min_obstacle_distance_m:.2f} m (margin "
                      f"{check.obstacle_margin_m:g} m), {check.obstacle_hits} legs meet an obstacle"
                      if np.isfinite(check.min_obstacle_distance_m) else "no static obstacle in the scenario")
         limits = "".join(f"{r}; " for r in (check.limits.reasons() if check.limits is not None else []))
-        print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}least altitude "
-              f"{check.min_altitude_m:.2f} m (required {check.required_altitude_m:g} m, leg "
-              f"{check.min_altitude_leg}), {obstacles}{held}")
+        print(f"{name} ({fmt}, depth {check.semantics}): {'OK' if check.ok else 'FAIL'} — {limits}{altitude}, "
+              f"{obstacles}{held}")
         n = len(vlimits.violations)
         print(f"{name} vehicle: {'OK' if vlimits.ok else 'FAIL'} — {vlimits.summary}"
               + (f"; {n} violation{'' if n == 1 else 's'}: {vlimits.message}" if not vlimits.ok else ""))

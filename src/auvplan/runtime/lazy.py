@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import sys
+import types
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
@@ -37,6 +38,9 @@ def lazy_attributes(package: str, names: Mapping[str, str],
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
         value = getattr(importlib.import_module(module), name)
         namespace[name] = value
+        for other, where in names.items():  # a submodule named like a name it exports (``endurance.assess``):
+            if isinstance(namespace.get(other), types.ModuleType) and where in sys.modules:  # importing it
+                namespace[other] = getattr(sys.modules[where], other)  # bound the module: the name, as eagerly
         return value
 
     def dir_() -> list[str]:

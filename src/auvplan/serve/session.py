@@ -29,9 +29,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from ..app.page.budget import leg_water_m
 from ..app.page.check import CheckResult, CheckSettings, IncrementalCheck
 from ..app.page.paths import Roots
-from ..endurance import traverse
 from ..errors import AuvplanError
 from ..guidance.avoidance.local import key_waypoints
 from ..io.files import limits as _limits
@@ -435,9 +435,9 @@ def nav_band(world: World, mission: Mission, w: NDArray[np.float64],
     if nav is None or w.shape[0] < 2:
         return None
     kinds = surface_kinds(w)
-    flown = traverse(world, w, mission.vehicle.speed if speeds is None else speeds,
-                     dwell=np.array([nav.surface_s if k else 0.0 for k in kinds]))
-    profile = error_profile(world, w, kinds, nav, nav.usbl_xy, water_m=flown.leg_water_m() if flown.ok else None)
+    water = leg_water_m(world, w, mission.vehicle.speed if speeds is None else speeds,
+                        np.array([nav.surface_s if k else 0.0 for k in kinds]))
+    profile = error_profile(world, w, kinds, nav, nav.usbl_xy, water_m=water)
     band = shapely.simplify(error_band(profile), SIMPLIFY_M)
     xs: list[float | None] = []
     ys: list[float | None] = []

@@ -5,9 +5,11 @@ executor changes depth at the start of a leg and then holds it: on a long climbi
 leg it flies level at the deeper end's depth under rising seabed.  :func:`held_safe` re-checks every leg's
 envelope (:func:`~auvplan.guidance.mission.flycheck.leg_figures`, the exact test ``auvplan mission check``
 applies: depth anywhere between the two ends') and splits each failing leg in halves along its 3D line
-until every piece's envelope clears the seabed and the obstacles, or the pieces would be shorter than the
-vehicle's shortest leg; the executor's own track (:func:`~auvplan.guidance.mission.flycheck.held_track`)
-is then flown too.  What cannot be fixed is said, naming the leg, so the survey is not reported exact.
+until every piece's envelope clears the seabed, the obstacles and the no-go zones' depth bands (a leg that
+changes depth; a level leg in a band cannot be mended so), or the pieces would be shorter than the vehicle's
+shortest leg; the executor's own track (:func:`~auvplan.guidance.mission.flycheck.held_track`) is then flown
+too, and the zones checked on both (:func:`~auvplan.guidance.mission.zone_legs.held_zone_entries`).  What
+cannot be fixed is said, naming the leg, so the survey is not reported exact.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..guidance.mission.flycheck import held_track, leg_figures, segment_figures
+from ..guidance.mission.zone_legs import held_zone_entries
 from ..world import World
 
 __all__ = ["held_safe", "held_failures"]
@@ -43,6 +46,14 @@ def held_failures(world: World, route: NDArray[np.float64]) -> tuple[NDArray[np.
     """
     alt, hits, _ = leg_figures(world, route[:-1], route[1:], "held")
     return (alt < world.margins.min_altitude - 1e-6) | hits, alt
+
+
+def _zone_legs(world: World, route: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """``(N - 1,)`` bool: the leg's held-depth envelope (any depth between its ends') enters a zone's depth band."""
+    out = np.zeros(max(route.shape[0] - 1, 0), dtype=bool)
+    if world.zones and route.shape[0] >= 2:
+        out[world.zones.exact.envelope_entries(route[:-1], route[1:])[0]] = True
+    return out
 
 
 def _split(route: NDArray[np.float64], labels: NDArray[np.int64],
@@ -88,8 +99,10 @@ def held_safe(world: World, route: NDArray[np.float64], labels: NDArray[np.int64
     m = world.margins
     while True:
         bad, alt = held_failures(world, route)
+        zoned = _zone_legs(world, route)  # a depth-changing leg's envelope in a zone's band: split, as for the seabed
         length = np.hypot(*np.diff(route[:, :2], axis=0).T)
-        fix = np.flatnonzero(bad & (0.5 * np.linalg.norm(np.diff(route, axis=0), axis=1) >= max(min_leg, 1e-3)))
+        fixable = bad | (zoned & (np.abs(np.diff(route[:, 2])) > 1e-6))
+        fix = np.flatnonzero(fixable & (0.5 * np.linalg.norm(np.diff(route, axis=0), axis=1) >= max(min_leg, 1e-3)))
         if not fix.size:
             break
         route, labels = _split(route, labels, fix)
@@ -100,6 +113,14 @@ def held_safe(world: World, route: NDArray[np.float64], labels: NDArray[np.int64
         return route, labels, (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
                                f"{route[i, 2]:.0f})) fails the held-depth check: least altitude {alt[i]:.2f} m < "
                                f"min_altitude {m.min_altitude:g} m or an obstacle's margin")
+    if world.zones:  # every leg's envelope and the executor's track, as `mission check` of the mission.moos
+        legs, zi = held_zone_entries(world.zones.exact, route, pitch_deg)
+        if legs.size:
+            i, lab = int(legs[0]), int(labels[int(legs[0])])
+            what = f"line {lab}" if lab >= 0 else names.get(lab, "a join")
+            return route, labels, (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
+                                   f"{route[i, 2]:.0f})) enters no-go zone {world.zones.names[int(zi[0])]!r} when "
+                                   f"flown with depth held at {pitch_deg:g}° pitch (the zone's depth band holds it)")
     trk = held_track(route, pitch_deg)
     seg_alt, seg_hits = segment_figures(world, trk[:-1], trk[1:])
     low = seg_alt < m.min_altitude - 1e-6

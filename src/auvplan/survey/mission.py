@@ -334,6 +334,49 @@ def nav_spacing(nav: NavParams | None, params: SurveyParams) -> tuple[float, flo
     return nav.confidence * rate, 2.0 * params.run_in_m + 2.0 * math.pi * params.turn_radius_m
 
 
+FLIGHT_SLACK = 1.25
+"""The flight's span, over which the crab angle's current is read: its straight length (out, the lines, home) at the
+vehicle's speed through the water, times this (transits round the seabed, a head current)."""
+
+
+MAX_SPAN_H = 24.0 * 60
+"""Longest span the crab angle's current is read over (60 days, read hourly; a vehicle creeping along its lines
+would be read for years)."""
+
+
+def _lines_for_flight(world: World, mission: Mission, params: SurveyParams, seabed: Seabed, heading: float
+                      ) -> tuple[float, LineParams, SurveyLines, NDArray[np.float64], NDArray[np.int64], Any]:
+    """The lines and their route, placed with the crab angle's overlap margin of the current over the whole flight.
+
+    The margin reads the current every hour from the start; the flight's length is known once the lines are placed,
+    so a time-varying current is read over 12 h first, then (lines placed again) over the flight's estimated span
+    (:data:`FLIGHT_SLACK`) until the span read covers it (strait-corridor flies 12.5 h: a current after 12 h was
+    never read).  Returns the margin, the line parameters, the lines, the route, its labels and its words.
+    """
+    surface_z = -max(world.margins.min_depth, 0.0)
+    rel, turn = nav_spacing(mission.navigation, params)  # issue 52: adjacent lines' relative error
+    speed, hours = mission.vehicle.speed, 12.0
+    for _ in range(4):
+        margin = crab_margin(world.currents, params.area, surface_z, speed, params.frame, heading,
+                             0.5 * (1.0 - params.lines.overlap_min), hours) if params.hold_overlap else 0.0
+        line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin, nav_rel_per_m=rel,
+                              nav_turn_m=turn)
+        lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
+        route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
+                                            max(world.margins.min_depth, 0.0))
+        if not params.hold_overlap or world.currents.steady or not route.size or speed <= 0:
+            break
+        length = (math.dist(mission.start, route[0]) + float(np.linalg.norm(np.diff(route, axis=0), axis=1).sum())
+                  + math.dist(route[-1], mission.goal))
+        span_h = FLIGHT_SLACK * length / speed / 3600.0
+        if span_h <= hours:
+            break
+        if hours >= MAX_SPAN_H:
+            break
+        hours = float(min(math.ceil(span_h), MAX_SPAN_H))
+    return margin, line_params, lines, route, labels, words
+
+
 def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int = 0,
                 progress: Progress | None = None, runner: Runner | None = None) -> SurveyPlan:
     """Plan a survey mission: lines, turns, depth, checks and the transits out and home.
@@ -368,14 +411,7 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
         heading = choose_heading(seabed, params)
     else:
         heading = math.radians(params.heading_deg)
-    surface_z = -max(world.margins.min_depth, 0.0)
-    margin = crab_margin(world.currents, params.area, surface_z, mission.vehicle.speed, params.frame, heading,
-                         0.5 * (1.0 - params.lines.overlap_min)) if params.hold_overlap else 0.0
-    rel, turn = nav_spacing(mission.navigation, params)  # issue 52: adjacent lines' relative error
-    line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin, nav_rel_per_m=rel, nav_turn_m=turn)
-    lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
-    route, labels, words = survey_route(world, lines, replace(params, lines=line_params),
-                                        max(world.margins.min_depth, 0.0))
+    margin, line_params, lines, route, labels, words = _lines_for_flight(world, mission, params, seabed, heading)
     survey = labels != TRANSIT
     p = route[survey]
     dh = np.hypot(*np.diff(p[:, :2], axis=0).T)

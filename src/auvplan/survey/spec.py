@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from .lines.placement import LineParams
-from .lines.swath import Sensor
+if TYPE_CHECKING:  # imported where a survey is checked or placed (issue 56: a scenario without one needs neither)
+    from .lines.placement import LineParams
+    from .lines.swath import Sensor
 
 __all__ = ["SurveySpec"]
 
@@ -125,6 +127,8 @@ class SurveySpec:
             raise ValueError(f"heading_deg = {self.heading_deg}: must be finite")
         if self.station_m < 0 or self.step_m < 0 or self.run_in_m < 0:
             raise ValueError("station_m, step_m and run_in_m must be >= 0")
+        from .lines.placement import LineParams
+
         self.sensor_model()
         LineParams(self.overlap[0], self.overlap[1], 1.0, self.max_bend_deg, self.pitch_max_deg)
 
@@ -160,6 +164,8 @@ class SurveySpec:
         Sensor
             Kind, opening or range, mounting and altitude.
         """
+        from .lines.swath import Sensor
+
         return Sensor(self.sensor, self.opening_deg, self.range_m, self.mounting, self.altitude_m,
                       nadir_deg=self.nadir_deg)
 
@@ -176,6 +182,8 @@ class SurveySpec:
         LineParams
             Overlap bounds, stations, sampling, bend and pitch limits.
         """
+        from .lines.placement import LineParams
+
         station = self.station_m or min(max(cell_m / 4.0, 10.0), 100.0)
         step = self.step_m or min(max(cell_m / 10.0, 1.0), 20.0)
         return LineParams(self.overlap[0], self.overlap[1], station, self.max_bend_deg, self.pitch_max_deg,

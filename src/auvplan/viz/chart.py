@@ -36,7 +36,7 @@ from .chartmarks import (
     scale_bar,
 )
 from .scene3d import _terrain_grid, elevation_range, shape_surface, thin
-from .style import ALTITUDE_COLORSCALE, ROLE, bathymetry_colorscale
+from .style import ALTITUDE_COLORSCALE, ROLE, bathymetry_colorscale, plotly_text
 
 __all__ = ["figure_plan_view", "nice_step", "graticule", "degree_label", "ToLonLat"]
 
@@ -218,7 +218,7 @@ def _zones(fig: go.Figure, world: World) -> list[tuple[list[tuple[float, float]]
         ys = np.concatenate([np.append(r[:, 1], np.nan) for r in rings])
         fig.add_trace(go.Scatter(x=xs, y=ys, mode="lines", fill="toself", name="no-go zones", legendgroup="zones",
                                  showlegend=first, meta=dict(kind="zone", name=z.name), hoverinfo="text",
-                                 text=f"{z.name}: {z.band}", line=dict(color="rgb(190,0,120)", width=1.2),
+                                 text=plotly_text(f"{z.name}: {z.band}"), line=dict(color="rgb(190,0,120)", width=1.2),
                                  fillcolor="rgba(190,0,120,0.25)"))
         first = False
         c = shapely.get_coordinates(shapely.point_on_surface(shown))[0]

@@ -32,7 +32,7 @@ from ..sim import RunRecord
 from ..world import Ellipsoid, Sphere, World
 from .chartmarks import ToLonLat, coastline, degree_label, graticule, isobath_levels, nice_step, north_arrow, scale_bar
 from .scene3d import elevation_range, shape_surface
-from .style import ALTITUDE_COLORSCALE, LAND_COLORS, ROLE, bathymetry_cmap
+from .style import ALTITUDE_COLORSCALE, LAND_COLORS, ROLE, bathymetry_cmap, mpl_text
 
 __all__ = ["plan_view", "profiles", "convergence", "algorithm_paths", "streamlines", "write_mission_figures",
            "bench_figures", "SaveFigure"]
@@ -147,7 +147,7 @@ def _zones(ax: Axes, world: World) -> None:
                 i = 1
         if not shown.is_empty:
             c = shapely.get_coordinates(shapely.point_on_surface(shown))[0]
-            ax.annotate(z.name, (float(c[0]), float(c[1])), fontsize=7, color="#96005f", ha="center",
+            ax.annotate(mpl_text(z.name), (float(c[0]), float(c[1])), fontsize=7, color="#96005f", ha="center",
                         bbox=dict(boxstyle="round,pad=0.1", fc="white", alpha=0.6, lw=0))
 
 
@@ -185,7 +185,7 @@ def plan_view(world: World, record: RunRecord, to_lonlat: ToLonLat | None = None
             ax.plot(c[:, 0], c[:, 1], ":", color=ROLE["moving"], lw=0.8, label="moving obstacles" if m == 0 else None)
     ax.set_xlabel("x east (m)")
     ax.set_ylabel("y north (m)")
-    ax.set_title(f"{record.scenario}: {record.status.value}")
+    ax.set_title(mpl_text(f"{record.scenario}: {record.status.value}"))
     b = world.bounds
     drawn = [record.route] if record.route.size else []
     if record.sim is not None and record.sim.t.size:
@@ -405,7 +405,7 @@ def write_mission_figures(folder: Path, world: World, record: RunRecord,
     figs = {"plan_view": plan_view(world, record, to_lonlat),
             "profiles": profiles(record, world.margins.min_altitude)}
     if record.plan is not None and record.plan.history.size:
-        figs["convergence"] = convergence({record.plan.planner: record.plan.history})
+        figs["convergence"] = convergence({mpl_text(record.plan.planner): record.plan.history})
     written = []
     for name, fig in figs.items():
         for fmt in formats:

@@ -36,7 +36,7 @@ except ImportError as exc:  # plotly is the optional `report` extra
     raise ImportError(PLOTLY_MISSING) from exc
 from .chart import ToLonLat, figure_plan_view
 from .scene3d import figure_3d, thin
-from .style import LAND_COLORS, ROLE
+from .style import LAND_COLORS, ROLE, plotly_text
 
 __all__ = ["build_report", "build_bench_report", "figure_profiles", "figure_convergence"]
 
@@ -110,7 +110,8 @@ def figure_convergence(record: RunRecord) -> go.Figure:
     fig = go.Figure()
     if record.plan is not None and record.plan.history.size:
         h = record.plan.history
-        fig.add_trace(go.Scatter(x=np.arange(1, h.size + 1), y=h, mode="lines+markers", name=record.plan.planner))
+        fig.add_trace(go.Scatter(x=np.arange(1, h.size + 1), y=h, mode="lines+markers",
+                                 name=plotly_text(record.plan.planner)))
     fig.update_layout(xaxis_title="iteration", yaxis_title="best cost", height=380, title="convergence")
     return fig
 

@@ -26,7 +26,7 @@ else:
         import plotly.graph_objects as go
     except ImportError:  # plotly is the optional `report` extra; the geometry helpers here work without it
         go = MissingPlotly()
-from .style import ROLE, bathymetry_colorscale, speed_colorscale
+from .style import ROLE, bathymetry_colorscale, plotly_text, speed_colorscale
 
 __all__ = ["figure_3d", "shape_surface", "shape_mesh", "vertical_exaggeration", "z_range", "hms", "FRAMES",
            "MAX_POINTS"]
@@ -295,7 +295,7 @@ def _moving_meshes(world: World, times: NDArray[np.float64], n: int = 11) -> tup
         centres = np.asarray(o.motion.position(times), dtype=float).reshape(times.size, 3)
         alive = (o.appears <= times) & (times < o.disappears)
         per_time = [vertices + c if a else np.empty((0, 3)) for c, a in zip(centres, alive)]
-        trace = _mesh(per_time[0], tri, o.name or f"moving obstacle {m}", ROLE["moving"], 0.55)
+        trace = _mesh(per_time[0], tri, plotly_text(o.name or f"moving obstacle {m}"), ROLE["moving"], 0.55)
         trace.update(meta=dict(kind="moving", radius=float(o.shape.bounding_radius)))
         traces.append(trace)
         frames.append(per_time)
@@ -395,7 +395,8 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
     if record.plan is not None and record.plan.path.size:
         p = record.plan.path
         fig.add_trace(go.Scatter3d(x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="lines",
-                                   name=f"global path ({record.plan.planner})", line=dict(color=ROLE["path"], width=5)))
+                                   name=plotly_text(f"global path ({record.plan.planner})"),
+                                   line=dict(color=ROLE["path"], width=5)))
     for t in _labels(record):
         fig.add_trace(t)
     if record.sim is not None and record.sim.t.size:
@@ -412,5 +413,6 @@ def figure_3d(world: World, record: RunRecord, exaggeration: float | None = None
                    aspectmode="manual", aspectratio=dict(x=sx / big, y=sy / big, z=sz * ve / big)),
         meta=dict(vertical_exaggeration=ve),
         height=760, margin=dict(l=0, r=0, t=40, b=0), legend=dict(x=0.0, y=1.0, bgcolor="rgba(255,255,255,0.7)"),
-        title=f"{record.scenario} — seed {record.seed}: {record.status.value} (vertical exaggeration ×{ve:g})")
+        title=plotly_text(f"{record.scenario} — seed {record.seed}: {record.status.value} (vertical exaggeration "
+                          f"×{ve:g})"))
     return fig

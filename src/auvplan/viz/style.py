@@ -13,12 +13,14 @@ short of its pale green, so a shelf never reads as land. Current speed uses cmoc
 
 from __future__ import annotations
 
+import html
+
 import cmocean
 import numpy as np
 from matplotlib.colors import LinearSegmentedColormap, Normalize
 
-__all__ = ["BATHY_CMAP", "SPEED_CMAP", "LAND_COLORS", "ROLE", "ALTITUDE_COLORSCALE", "bathymetry_stops",
-           "bathymetry_colorscale", "bathymetry_cmap", "speed_colorscale", "SEA_LEVEL_M"]
+__all__ = ["plotly_text", "mpl_text", "BATHY_CMAP", "SPEED_CMAP", "LAND_COLORS", "ROLE", "ALTITUDE_COLORSCALE",
+           "bathymetry_stops", "bathymetry_colorscale", "bathymetry_cmap", "speed_colorscale", "SEA_LEVEL_M"]
 
 BATHY_CMAP = cmocean.cm.topo
 """Colour map of seabed and land elevation: lower half water, upper half land."""
@@ -49,6 +51,43 @@ _N = 24
 
 _WATER_TOP = 0.38
 _WATER_OFFSHORE = 0.34
+
+
+def plotly_text(text: str) -> str:
+    """A label (a scenario's, a planner's, a zone's name) as plotly draws it: literally.
+
+    Plotly reads a subset of HTML in its texts (``<b>``, ``<br>``, ``<a href>``, entities): a name holding
+    ``<b>`` set the rest of a legend in bold.  Its ``<``, ``>`` and ``&`` are written as entities, which plotly
+    draws as the characters.
+
+    Parameters
+    ----------
+    text : str
+        The label.
+
+    Returns
+    -------
+    str
+        The label with ``<``, ``>`` and ``&`` escaped.
+    """
+    return html.escape(text, quote=False)
+
+
+def mpl_text(text: str) -> str:
+    """A label as matplotlib draws it: literally (``$`` escaped; between two ``$`` it is mathtext, which fails to
+    draw on a malformed formula).
+
+    Parameters
+    ----------
+    text : str
+        The label.
+
+    Returns
+    -------
+    str
+        The label with every ``$`` escaped.
+    """
+    return text.replace("$", r"\$")
 
 
 def _hex(rgba: np.ndarray) -> list[str]:

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from pyproj import Transformer
 
-__all__ = ["LocalFrame", "normalise_lon"]
+__all__ = ["LocalFrame", "forward_kept", "normalise_lon"]
 
 
 def normalise_lon(lon: ArrayLike) -> NDArray[np.float64]:
@@ -104,3 +104,36 @@ class LocalFrame:
         """
         lon, lat = self._transformer("_inv").transform(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         return normalise_lon(lon), np.asarray(lat)
+
+
+def forward_kept(frame: LocalFrame, lon: ArrayLike, lat: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``frame.forward(lon, lat)``, kept in the readers' cache: pyproj's own numbers, computed once.
+
+    The key is the frame's origin and the bits of the positions (pyproj's version is in the cache's code
+    stamp), so that a scenario parsed before projects nothing and imports no pyproj (~0.1 s of a command's
+    start, issue 56); with ``AUVPLAN_CACHE=0`` it is ``frame.forward``.
+
+    Parameters
+    ----------
+    frame : LocalFrame
+        The local frame.
+    lon, lat : array_like
+        Longitude and latitude (degrees, WGS84), as :meth:`LocalFrame.forward` takes them.
+
+    Returns
+    -------
+    x, y : numpy.ndarray
+        East and north of the origin (m): :meth:`LocalFrame.forward`'s arrays.
+    """
+    from .cache import cached
+
+    lon_a, lat_a = np.asarray(lon, dtype=float), np.asarray(lat, dtype=float)
+
+    def compute() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return frame.forward(lon, lat)
+
+    request = (float(frame.lat0), float(frame.lon0), lon_a.shape, lon_a.tobytes().hex(), lat_a.shape,
+               lat_a.tobytes().hex())
+    xy: tuple[NDArray[np.float64], NDArray[np.float64]] = cached(
+        "positions", request, (), compute, lambda v: ({"x": v[0], "y": v[1]}, {}), lambda a, _: (a["x"], a["y"]))
+    return xy

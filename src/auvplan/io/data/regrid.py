@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ...errors import DataError
+from ...optim.bounded_min import bounded_min
 from ..files.limits import BYTES_PER_TERRAIN_NODE, BudgetError, check, current, grid_nodes
-from .bounded_min import bounded_min
 from .geo import LocalFrame, normalise_lon
 from .grids import _F64, HorizontalGrid
 
@@ -63,7 +63,7 @@ def inscribed_extent(grid: HorizontalGrid, frame: LocalFrame) -> tuple[float, fl
     """Largest axis-aligned local rectangle inside the data's footprint.
 
     Each side is the extreme of the projected edge found by sampling and then refined by Brent's
-    bounded minimisation (:func:`~auvplan.io.data.bounded_min.bounded_min`), and moved 1 mm inwards;
+    bounded minimisation (:func:`~auvplan.optim.bounded_min.bounded_min`), and moved 1 mm inwards;
     curvilinear grids use their outer node rows.
 
     Parameters

@@ -2,7 +2,8 @@
 
 :func:`acquire` takes an exclusive ``flock`` on ``DIR/.auvplan.lock`` (a second auvplan writing
 into the same folder is refused at once, naming the holder's process id; the kernel drops the lock
-when the holder exits or is killed, so a crashed run never blocks the next) and registers ``DIR``
+when the holder exits or is killed, so a crashed run never blocks the next; a lock file removed meanwhile by a
+refused command is noticed, and the lock taken again on the file now named) and registers ``DIR``
 as an output root.  :func:`check_inside` is called by every writer before it writes: the path,
 taken as written (no link resolved), must lie below its root; no folder between the root and the
 file may be a symbolic link (auvplan never writes through a link at any level below ``--out``);
@@ -22,7 +23,7 @@ from pathlib import Path
 
 from ...errors import AuvplanError
 
-__all__ = ["LOCK", "OutputError", "acquire", "release", "release_all", "session", "root_of", "check_inside",
+__all__ = ["LOCK", "OutputError", "acquire", "held", "release", "release_all", "session", "root_of", "check_inside",
            "stale_temporaries"]
 
 LOCK = ".auvplan.lock"
@@ -61,6 +62,25 @@ def acquire(folder: Path) -> None:
     if key in _HELD:
         return
     path = Path(key) / LOCK
+    for _ in range(8):  # a refused command removes the lock file it made: locked, it must still be the file named
+        fd = _lock(path, folder)
+        try:
+            now = os.stat(path, follow_symlinks=False)
+        except OSError:
+            now = None
+        mine = os.fstat(fd)
+        if now is not None and (now.st_dev, now.st_ino) == (mine.st_dev, mine.st_ino):
+            break
+        os.close(fd)
+    else:
+        raise OutputError(f"{path}: the lock file keeps being replaced; is another program removing it?")
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+    _HELD[key] = fd
+
+
+def _lock(path: Path, folder: Path) -> int:
+    """Open ``path`` (created) and take its exclusive ``flock``: the descriptor, or the holder named."""
     try:
         fd = os.open(path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o644)
     except OSError as exc:
@@ -74,9 +94,23 @@ def acquire(folder: Path) -> None:
         os.close(fd)
         raise OutputError(f"{folder}: another auvplan process (pid {holder}) is writing into this folder; "
                           "wait for it to finish, or choose another --out") from exc
-    os.ftruncate(fd, 0)
-    os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-    _HELD[key] = fd
+    return fd
+
+
+def held(folder: Path) -> bool:
+    """Whether this process holds the lock of the output folder ``folder``.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        An output folder.
+
+    Returns
+    -------
+    bool
+        True after :func:`acquire` and before :func:`release`.
+    """
+    return _key(folder) in _HELD
 
 
 def release(folder: Path) -> None:

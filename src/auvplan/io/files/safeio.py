@@ -17,6 +17,7 @@ import json
 import os
 import tempfile
 from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +25,7 @@ from . import outdir
 from .outdir import OutputError
 
 __all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
-           "written_by", "save_figure", "discard_on_failure"]
+           "written_by", "save_figure", "discard_on_failure", "session"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -307,6 +308,29 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
     names = list(names)
     if out.exists() and not out.is_dir():
         raise OutputError(f"{out}: --out names an existing file, not a folder")
+    key = os.path.abspath(out)
+    if not (outdir.held(out) and key in _MADE):  # prepared again by the command that locked it: what it made first
+        _MADE[key] = _made_by_now(Path(key))
+    made = _MADE[key]
+    try:
+        _prepare(out, names, force, job, inputs)
+    except BaseException:
+        _undo(Path(key), made)  # refused: the disk as it was found (issue: an empty lock was left behind)
+        _MADE.pop(key, None)
+        raise
+    return out
+
+
+def _made_by_now(out: Path) -> _Made:
+    """What :func:`prepare_out` of ``out`` (absolute) will create: the highest folder missing, lock, manifest."""
+    top, path = None, out
+    while not os.path.lexists(path):
+        top, path = path, path.parent
+    return _Made(top, not os.path.lexists(out / outdir.LOCK), not os.path.lexists(out / MANIFEST))
+
+
+def _prepare(out: Path, names: list[str], force: bool, job: str, inputs: Iterable[Path | str]) -> None:
+    """:func:`prepare_out`'s checks, which may create the folder, its lock and its manifest."""
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -345,7 +369,79 @@ def prepare_out(folder: Path | str, names: Iterable[str] = RESULT_NAMES, *, forc
         raise
     except OSError as exc:
         raise OutputError(f"{out}: the output folder is not writable ({exc.strerror or exc})") from exc
-    return out
+
+
+@dataclass(frozen=True)
+class _Made:
+    """What :func:`prepare_out` created for an output folder (removed again when its command fails)."""
+
+    top: Path | None
+    """The highest folder it created (None: the folder existed)."""
+    lock: bool
+    """It created the lock file."""
+    manifest: bool
+    """It created the manifest."""
+
+
+_MADE: dict[str, _Made] = {}
+"""The output folders :func:`prepare_out` prepared in this process (absolute path → what it created)."""
+
+
+def _undo(out: Path, made: _Made) -> None:
+    """Remove what :func:`prepare_out` created for ``out`` and no result needs: the lock file (while held), a manifest
+    that lists no file, and the folders it created, each only if empty."""
+    if not out.is_dir() or out.is_symlink():
+        return
+    if made.manifest and not written(out):
+        with contextlib.suppress(OSError):
+            (out / MANIFEST).unlink()
+    if made.lock and outdir.held(out):  # never a lock another process holds (acquire re-checks the file it locked)
+        with contextlib.suppress(OSError):
+            (out / outdir.LOCK).unlink()
+    outdir.release(out)
+    if made.top is not None:
+        _remove_empty(out, made.top)
+
+
+def _remove_empty(out: Path, top: Path) -> None:
+    """Remove the empty folders below ``out``, then ``out`` and its parents up to ``top``, each only if empty."""
+    for root, dirs, _ in os.walk(out, topdown=False):  # empty folders only (a link or a full one: rmdir refuses)
+        for d in dirs:
+            with contextlib.suppress(OSError):
+                os.rmdir(os.path.join(root, d))
+    path = out
+    while True:
+        try:
+            path.rmdir()
+        except OSError:
+            return
+        if path == top:
+            return
+        path = path.parent
+
+
+@contextlib.contextmanager
+def session() -> Iterator[None]:
+    """One command's output folders: locked while it runs and released after (:func:`auvplan.io.files.outdir.session`);
+    when it fails, what :func:`prepare_out` created for them and no result needs is removed (a refused command leaves
+    the disk as it found it: no lock file, no empty manifest, no folder it made).
+
+    Yields
+    ------
+    None
+        The command runs; its exception is raised again after the clean-up.
+    """
+    before = set(_MADE)
+    with outdir.session():
+        try:
+            yield
+        except BaseException:
+            for key in [k for k in _MADE if k not in before]:
+                _undo(Path(key), _MADE[key])
+            raise
+        finally:
+            for key in set(_MADE) - before:
+                _MADE.pop(key, None)
 
 
 @contextlib.contextmanager
@@ -388,19 +484,7 @@ def _discard(out: Path, top: Path) -> None:
     for name in (outdir.LOCK, MANIFEST):
         with contextlib.suppress(OSError):
             (out / name).unlink()
-    for root, dirs, _ in os.walk(out, topdown=False):  # empty folders only (a link or a full one: rmdir refuses)
-        for d in dirs:
-            with contextlib.suppress(OSError):
-                os.rmdir(os.path.join(root, d))
-    path = out
-    while True:
-        try:
-            path.rmdir()
-        except OSError:
-            return
-        if path == top:
-            return
-        path = path.parent
+    _remove_empty(out, top)
 
 
 def save_figure(path: Path, fig: Any, dpi: int = 130) -> Path:

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ...errors import DataError
 from ..data.geo import LocalFrame
 from .deploy import DeployInfo, Envelope, payload_events
 
@@ -157,6 +158,18 @@ def geo_ring(frame: LocalFrame, poly: tuple[tuple[float, float], ...], per_edge:
     return np.column_stack([lat, lon])
 
 
+def _refuse_antimeridian(ring: NDArray[np.float64], what: str) -> None:
+    """Refuse a fence ring across ±180° longitude: ArduPilot tests its fence on the stored latitude and longitude as a
+    plane (``Polygon_outside`` in ``AC_PolyFence_loader::breached``, no wrap), so it would read the region round the
+    other side of the Earth; several inclusions are intersected by default (``FENCE_OPTIONS``), so no split holds."""
+    lon = np.asarray(ring, dtype=float)[:, 1]
+    if lon.size and float(np.max(np.abs(np.diff(np.r_[lon, lon[:1]])))) > 180.0:
+        raise DataError(f"QGC plan: {what} crosses ±180° longitude (from {lon.min():.6f} to {lon.max():.6f}): "
+                        "ArduPilot tests a fence in latitude/longitude degrees without wrapping "
+                        "(AC_PolyFence_loader::breached) and would read the region round the other side of the "
+                        "Earth; no .plan geofence can hold it")
+
+
 def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]:
     """The ``geoFence`` of a QGC plan: the bounds as inclusion, the exclusions (version 2).
 
@@ -177,6 +190,7 @@ def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]
     if env is not None:
         for poly, inc in [(env.polygon, True), *((e, False) for e in env.exclusions)]:
             ring = geo_ring(frame, poly, 8 if inc else 1)
+            _refuse_antimeridian(ring, "the envelope's polygon" if inc else f"exclusion {len(polys)}")
             polys.append({"inclusion": inc, "polygon": [[round(float(a), 9), round(float(b), 9)] for a, b in ring],
                           "version": 1})
     return {"circles": [], "polygons": polys, "version": 2}

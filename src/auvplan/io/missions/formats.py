@@ -39,6 +39,7 @@ from ...errors import DataError
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
 from .deploy import DeployInfo, payload_events
+from .readback.qgc_items import AP_MISSION_MAX_COMMANDS, capacity_note
 from .readback.readers import (
     GPX_NS,
     MAX_MISSION_BYTES,
@@ -118,6 +119,14 @@ def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
     if v.ndim and v.size != legs:
         raise ValueError(f"{v.size} leg speeds for {legs} legs")
     return np.broadcast_to(v, (legs,)).astype(float)
+
+
+SPEED_DECIMALS = 4
+"""Decimals of a ``.plan``'s speed command (0.1 mm/s)."""
+SPEED_BAND = 0.0025
+"""A ``.plan`` keeps its speed command while the speed it flies along each leg stays within 0.25 % of the
+planned one (a new ``MAV_CMD_DO_CHANGE_SPEED`` only beyond it: AP_Mission's capacity,
+:data:`auvplan.io.missions.readback.qgc_items.AP_MISSION_CAPACITY`)."""
 
 
 def _varies(v: NDArray[np.float64]) -> bool:
@@ -240,7 +249,7 @@ def _change_speed(speed: float, jump_id: int) -> dict[str, Any]:
     param 1 the speed type (1: ground speed), param 2 the speed (m/s; ArduSub's ``do_change_speed`` sets WPNav's
     horizontal speed to it), param 3 the throttle (−1: unchanged), ``MAV_FRAME_MISSION`` (2)."""
     return {"type": "SimpleItem", "autoContinue": True, "command": 178, "doJumpId": jump_id, "frame": 2,
-            "params": [1, round(speed, 4), -1, 0, 0, 0, 0]}
+            "params": [1, round(speed, SPEED_DECIMALS), -1, 0, 0, 0, 0]}
 
 
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
@@ -254,9 +263,11 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     "Mission Start" flight speed) at the first leg's speed: ArduSub's ``do_change_speed`` sets WPNav's
     horizontal speed from it, so the launch from home and every leg after it fly the planned speed
     (``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates: never uploaded, the vehicle
-    would fly its ``WPNAV_SPEED`` parameter).  With a speed per leg that varies, a 178 after
-    waypoint i sets the speed of leg i.  The speed written is horizontal: WPNav keeps a 178's speed in
-    the horizontal and flies a leg climbing or diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
+    would fly its ``WPNAV_SPEED`` parameter).  A 178 after waypoint i sets the speed of leg i, written only
+    where the speed the command in force would fly along leg i leaves :data:`SPEED_BAND` of the planned one (a 178
+    after every waypoint made 3 184 items of 1 594 waypoints; AP_Mission holds 655, 1 312 or at most 4 368).
+    The speed written is horizontal: WPNav keeps a 178's speed in the horizontal and flies a leg climbing or
+    diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
     (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
     the water, not up to 6 % more at a 20° pitch.  A wait at a waypoint (a surface fix's ``surface_s``) is its
@@ -289,9 +300,11 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     v = leg_speeds(speed, len(p) - 1)
     waits = _dwells(dwell, len(p), "mission.plan", MAX_HOLD_S)
     # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
-    horizontal = v / along_track_factor(p) if v.size else v
+    factor = along_track_factor(p)
+    horizontal = v / factor if v.size else v
     first = float(horizontal[0]) if v.size else float(np.ravel(speed)[0]) if np.size(speed) else 0.0
     items: list[dict[str, Any]] = [] if not first > 0 else [_change_speed(first, 1)]  # the launch's speed
+    said = round(first, SPEED_DECIMALS)  # the command in force: a 178 only where it changes (AP_Mission's capacity)
     alt = deploy.altitude if deploy is not None else None
     terrain = None if alt is None or deploy is None else deploy.terrain_items
     events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
@@ -310,10 +323,14 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
                       "frame": frame_id, "params": [int(waits[i]), acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
-        if _varies(horizontal) and i < v.size:
+        if i < v.size and abs(said * float(factor[i]) - float(v[i])) > SPEED_BAND * float(v[i]):
+            said = round(float(horizontal[i]), SPEED_DECIMALS)  # the speed it flies left the band: a new command
             items.append(_change_speed(float(horizontal[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
+    if len(items) + 1 > AP_MISSION_MAX_COMMANDS:
+        raise DataError(f"QGC plan: {len(items)} items + the home = {len(items) + 1} commands > {capacity_note()}: "
+                        "no ArduPilot vehicle can hold it (split the mission)")
     speed = float(v[0]) if v.size else 0.0
     return {"fileType": "Plan", "version": 1, "groundStation": "QGroundControl",
             "geoFence": dfmt.qgc_geofence(deploy, frame),

@@ -66,6 +66,8 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
         return _record_from(rec, _Arrays(arr, files["run.npz"])), text
     except _ArrayFault as exc:
         raise DataError(f"{files['run.npz']}: {exc}") from exc
+    except _Fault as exc:  # a label of the wrong type or size: named before it reaches a report
+        raise DataError(f"{files['run.json']}: {exc}") from exc
     except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError, OverflowError) as exc:
         raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
 
@@ -123,33 +125,119 @@ def _check_arrays(arr: Mapping[str, Any], flown: bool) -> None:
             raise _ArrayFault(f"member 'sim_{k}' has {a.shape[0] if a.ndim else 0} rows, 'sim_t' {t.shape[0]}")
 
 
+LABEL_MAX = 200
+"""Longest label read back from ``run.json`` (a scenario's name is at most 128 characters, a planner's or a guidance
+law's a word): a longer one is a hand-edited or hostile file, refused before it reaches a report."""
+
+MESSAGE_MAX = 4000
+"""Longest message read back (a planner's or an event's sentence)."""
+
+
+class _Fault(Exception):
+    """A value of ``run.json`` of the wrong type or size (the message names its key and value)."""
+
+
+class _Fields:
+    """One table of ``run.json`` read with its types checked: a label is a short printable string, a number a JSON
+    number (not a boolean or a string of digits), an integer an integer; a wrong one is a :class:`_Fault` naming the
+    key (``plan.planner = 5: expected a string``)."""
+
+    def __init__(self, table: Any, where: str) -> None:
+        if not isinstance(table, dict):
+            raise _Fault(f"{where.rstrip('.') or 'the run record'} = {_shown(table)}: expected an object")
+        self.table, self.where = table, where
+
+    def _get(self, key: str, default: Any) -> Any:
+        if key not in self.table and default is _REQUIRED:
+            raise _Fault(f"{self.where}{key}: missing")
+        return self.table.get(key, default)
+
+    def text(self, key: str, default: Any = None, longest: int = LABEL_MAX) -> str:
+        v = self._get(key, _REQUIRED if default is None else default)
+        if not isinstance(v, str):
+            raise _Fault(f"{self.where}{key} = {_shown(v)}: expected a string")
+        if len(v) > longest:
+            raise _Fault(f"{self.where}{key}: a string of {len(v)} characters (at most {longest} here)")
+        if not v.replace("\n", " ").isprintable():  # no control character (a message: line breaks)
+            raise _Fault(f"{self.where}{key} = {_shown(v)}: a control or formatting character")
+        return v
+
+    def status(self, key: str) -> Status:
+        v = self.text(key)
+        try:
+            return Status(v)
+        except ValueError:
+            raise _Fault(f"{self.where}{key} = {_shown(v)}: not a status ({', '.join(x.value for x in Status)})") \
+                from None
+
+    def number(self, key: str, value: Any = None) -> float:
+        v = self.table.get(key) if value is None else value
+        if v is None:
+            return float("nan")
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise _Fault(f"{self.where}{key} = {_shown(v)}: expected a number")
+        return float(v)
+
+    def integer(self, key: str, default: Any = 0) -> int:
+        v = self._get(key, default)
+        if v is None:
+            return 0
+        if isinstance(v, bool) or not isinstance(v, int):
+            raise _Fault(f"{self.where}{key} = {_shown(v)}: expected an integer")
+        return v
+
+
+_REQUIRED = object()
+
+
+def _shown(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 60 else f"{text[:57]}..."
+
+
+def _events(s: _Fields) -> tuple[tuple[Any, ...], ...]:
+    """``simulation.events``: ``[t, kind, text]`` rows (a time, a label, a message)."""
+    rows = s.table.get("events", [])
+    if not isinstance(rows, list):
+        raise _Fault(f"simulation.events = {_shown(rows)}: expected a list of [time, kind, text]")
+    out = []
+    for i, e in enumerate(rows):
+        if not isinstance(e, list) or len(e) != 3:
+            raise _Fault(f"simulation.events[{i}] = {_shown(e)}: expected [time, kind, text]")
+        row = _Fields({"time": e[0], "kind": e[1], "text": e[2]}, f"simulation.events[{i}].")
+        out.append((row.number("time"), row.text("kind"), row.text("text", longest=MESSAGE_MAX)))
+    return tuple(out)
+
+
 def _record_from(rec: dict[str, Any], arr: Mapping[str, Any]) -> RunRecord:
     from ...planners.core.base import PlanResult
     from ...sim import RunRecord, SimResult
 
+    top = _Fields(rec, "")
     _check_arrays(arr, rec.get("simulation") is not None)
     plan = None
-    p = rec.get("plan")
-    if p is not None:
-        terms = {k: _num(p.get(k)) for k in ("length_m", "energy_j", "duration_s", "min_clearance_m")}
-        terms.update({k: _num(v) for k, v in (p.get("cost_terms") or {}).items()})
-        terms["collisions"] = int(p.get("collisions") or 0)
-        plan = PlanResult(Status(p["status"]), arr.get("plan_path", np.empty((0, 3))), _num(p.get("cost")), terms,
-                          int(p.get("evaluations") or 0), int(p.get("iterations") or 0),
-                          _num(p.get("wall_time_s")), arr.get("plan_history", np.empty(0)), p["planner"],
-                          None, p.get("message") or "",
+    if rec.get("plan") is not None:
+        p = _Fields(rec["plan"], "plan.")
+        terms = {k: p.number(k) for k in ("length_m", "energy_j", "duration_s", "min_clearance_m")}
+        cost_terms = _Fields(p.table.get("cost_terms") or {}, "plan.cost_terms.")
+        terms.update({k: cost_terms.number(k) for k in cost_terms.table})
+        terms["collisions"] = p.integer("collisions")
+        plan = PlanResult(p.status("status"), arr.get("plan_path", np.empty((0, 3))), p.number("cost"), terms,
+                          p.integer("evaluations"), p.integer("iterations"), p.number("wall_time_s"),
+                          arr.get("plan_history", np.empty(0)), p.text("planner"), None,
+                          p.text("message", "", longest=MESSAGE_MAX) if p.table.get("message") is not None else "",
                           **({"tail": arr["plan_tail"] > 0.5} if "plan_tail" in arr else {}))
     sim = None
-    s = rec.get("simulation")
-    if s is not None:
-        sim = SimResult(status=Status(s["status"]), arrived=bool(s["arrived"]),
+    if rec.get("simulation") is not None:
+        s = _Fields(rec["simulation"], "simulation.")
+        arrived = s.table.get("arrived")
+        if not isinstance(arrived, bool):
+            raise _Fault(f"simulation.arrived = {_shown(arrived)}: expected true or false")
+        sim = SimResult(status=s.status("status"), arrived=arrived,
                         **{k: arr[f"sim_{k}"] for k in SIM_ARRAYS},
-                        events=tuple(tuple(e) for e in s.get("events", [])), guidance=s["guidance"],
-                        wall_time_s=_num(s.get("wall_time_s")), escapes=int(s.get("escapes") or 0),
-                        avoidance=s.get("avoidance", "none"))
+                        events=_events(s), guidance=s.text("guidance"),
+                        wall_time_s=s.number("wall_time_s"), escapes=s.integer("escapes"),
+                        avoidance=s.text("avoidance", "none"))
     route = arr.get("route", np.empty((0, 3)))
-    return RunRecord(str(rec["scenario"]), int(rec["seed"]), plan, route, arr.get("keys", route[:0]), sim)
-
-
-def _num(v: Any) -> float:
-    return float("nan") if v is None else float(v)
+    return RunRecord(top.text("scenario"), top.integer("seed", _REQUIRED), plan, route, arr.get("keys", route[:0]),
+                     sim)

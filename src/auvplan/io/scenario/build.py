@@ -26,14 +26,9 @@ from ...world import (
 from ..data.bathymetry import load_terrain
 from ..data.cache import cached
 from ..data.geo import LocalFrame
-from ..data.ocean.currents import read_currents
-from ..data.ocean.tides import load_tidal_current, parse_start_time
-from ..data.vector.coast import read_land
-from ..data.vector.zones import read_zones
 from ..files import limits as _limits
 from .inputs.currentspan import check_span, file_span, lower_bound_s, zero_beyond
 from .inputs.geoinput import apply_altitudes, clip_to_data
-from .inputs.members import member_fields
 from .inputs.uncertainty import seabed_at_confidence
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
@@ -213,7 +208,9 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             check_plan_sizes(s, (bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin))
         currents = _currents(s, frame, bounds)
     land = None
-    if s.land is not None:
+    if s.land is not None:  # the readers a scenario uses are imported when it does (issue 56)
+        from ..data.vector.coast import read_land
+
         if frame is None:
             raise ScenarioError(f"{src}: [land] needs [origin] lat/lon (the polygons are geographic)")
         try:
@@ -222,6 +219,8 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             raise DataError(f"{src}: [land] {exc}") from exc
     zones = None
     if s.zones:
+        from ..data.vector.zones import read_zones
+
         zones = read_zones(s.zones, frame, terrain, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax),
                            base_dir=s.base_dir)
     m = s.mission
@@ -372,6 +371,8 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
             currents = LambOseenVortices(np.array([(q.x, q.y) for q in v]), np.array([q.gamma for q in v]),
                                          np.array([q.delta for q in v]))
         elif c.file is not None:
+            from ..data.ocean.currents import read_currents  # the readers a scenario uses, when it does (issue 56)
+
             currents = read_currents(c.file, frame, base_dir=s.base_dir, extent_m=box,  # type: ignore[arg-type]
                                      start_time=s.mission.start_time)
             if c.beyond == "zero" and file_span(currents, "hold") is not None:  # issue 51: no current after it
@@ -380,9 +381,13 @@ def _currents(s: Scenario, frame: LocalFrame | None, bounds: Bounds) -> CurrentF
             if frame is None or not s.mission.start_time:
                 raise ScenarioError(f"{src}: [currents] tides = {c.tides!r} needs [origin] lat/lon and "
                                     "[mission] start_time (ISO 8601, UTC)")
+            from ..data.ocean.tides import load_tidal_current, parse_start_time
+
             currents = load_tidal_current(c.tides, frame, parse_start_time(s.mission.start_time),
                                           base_dir=s.base_dir)
         elif c.members and not any(c.uniform):  # an ensemble alone: its first member is the nominal field
+            from .inputs.members import member_fields
+
             return member_fields(c.members, UniformCurrent(), frame, box, source=src, base_dir=s.base_dir,
                                  start_time=s.mission.start_time, first_only=True)[0][1]
         else:

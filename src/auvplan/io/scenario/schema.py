@@ -131,6 +131,10 @@ def table_schema(cls: type, skip: tuple[str, ...] = ()) -> dict[str, Any]:
         if name in skip:
             continue
         p = _type_schema(tp)
+        if not req and default in ("", None) and name != "name":  # '' refused, not read as unset (a name: unnamed)
+            for alt in p.get("anyOf", [p]):
+                if alt.get("type") == "string":
+                    alt["minLength"] = 1
         if docs.get(name):
             p = {"description": docs[name], **p}
         if req:
@@ -182,7 +186,8 @@ def _zones_schema() -> dict[str, Any]:
              "point": pair, "buffer_m": {"type": "number", "exclusiveMinimum": 0},
              "radius_m": {"type": "number", "exclusiveMinimum": 0}, "top_m": depth, "bottom_m": depth,
              "above_seabed_m": {"type": "number", "exclusiveMinimum": 0},
-             "file": {"type": "string", "minLength": 1}, "layer": {"type": "string"}, "where": {"type": "string"}}
+             "file": {"type": "string", "minLength": 1}, "layer": {"type": "string", "minLength": 1},
+             "where": {"type": "string", "minLength": 1}}
     item = {"type": "object", "properties": props, "required": ["name"], "additionalProperties": False,
             "oneOf": [{"required": [k]} for k in ("polygon", "line", "point", "file")]}
     return {"type": "array", "items": item, "description": "Charted no-go zones: a footprint ([lat, lon] or "

@@ -3,7 +3,9 @@
 One mechanism serves every scenario section: the dataclass's field names are
 the allowed keys (unknown keys are errors), its type hints are the allowed
 types (``float``, ``int``, ``bool``, ``str``, fixed and variable tuples, nested
-dataclasses and tuples of them), and its ``__post_init__`` checks ranges.
+dataclasses and tuples of them), and its ``__post_init__`` checks ranges.  A string key whose default
+is '' (unset: a file, a variable name, the tides) refuses an explicit '' instead of reading it as absent (a
+``name`` may be '': unnamed).
 Every error is a :class:`ScenarioError` naming the file, the table, the key
 and the value.
 """
@@ -24,6 +26,10 @@ __all__ = ["build_dataclass", "table_error", "MAX_MAGNITUDE"]
 MAX_MAGNITUDE = 1.0e15
 """Largest magnitude of any number in a scenario: beyond it products and squares of scenario
 values overflow or lose every significant digit (coordinates of the whole Earth are ~4e7 m)."""
+
+
+_EMPTY = "an empty string is not a value (omit the key to leave it unset)"
+"""Why ``key = ''`` is refused for a string key whose default is '' (unset): it was silently read as absent."""
 
 
 def table_error(where: str, key: str, value: Any, problem: str) -> ScenarioError:
@@ -62,6 +68,9 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
                 return _convert(value, alt, where, key)
             except ScenarioError as exc:
                 errors.append(exc)
+        fits = [e for a, e in zip(alts, errors) if _fits(value, a)]
+        if len(fits) == 1:  # the alternative the value is written as says what is wrong inside it
+            raise fits[0]
         if len(errors) == 1:
             raise errors[0]
         return _raise(table_error(where, key, value, "expected " + " or ".join(_type_name(a) for a in alts)))
@@ -105,6 +114,15 @@ def _convert(value: Any, tp: Any, where: str, key: str) -> Any:
     if tp is Any:
         return value
     raise TypeError(f"unsupported field type {tp!r} for {key}")  # a programming error, not user input
+
+
+def _fits(value: Any, tp: Any) -> bool:
+    """Whether ``value`` is written as the TOML kind of type ``tp`` (a table for a dataclass, an array for a tuple)."""
+    if dataclasses.is_dataclass(tp):
+        return isinstance(value, dict)
+    if typing.get_origin(tp) is tuple:
+        return isinstance(value, (list, tuple))
+    return isinstance(value, str) if tp is str else False
 
 
 def _raise(exc: Exception) -> NoReturn:
@@ -157,6 +175,8 @@ def build_dataclass(cls: type, table: dict[str, Any], where: str, *, skip: tuple
     for name in fields:
         if name in table:
             kwargs[name] = _convert(table[name], hints[name], where, name)
+            if kwargs[name] == "" and fields[name].default in ("", None) and name != "name":  # a name may be ''
+                raise table_error(where, name, "", _EMPTY)  # was read as absent (a file, a variable, the tides)
     missing = [
         n for n, f in fields.items()
         if n not in kwargs and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING

@@ -34,10 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
-from scipy import ndimage
 
 from ..._types import ArrayLike, BoolArray, FloatArray
 from ...world import World
+from ...world.kernels.edt import dilate_cross, distance_transform
 from .front_kernels import CAP, best_heading, cubic, current2, front_step, mid_current
 from .kernels import Float32Array
 
@@ -144,8 +144,8 @@ def _obstacle(free: BoolArray, h: float) -> Float32Array:
     free = _sealed(free)
     if free.all():
         return np.full(free.shape, -1e9, dtype=np.float32)
-    inside = ndimage.distance_transform_edt(~free)
-    outside = ndimage.distance_transform_edt(free)
+    inside = distance_transform(~free)  # scipy.ndimage's distance_transform_edt, bit for bit
+    outside = distance_transform(free)
     return np.asarray(np.where(free, 0.5 - outside, inside - 0.5) * h, dtype=np.float32)
 
 
@@ -297,7 +297,7 @@ def propagate(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: float,
         arrival = times[0]
     while not math.isfinite(arrival) and times[-1] + step <= t_end:
         out = np.empty_like(phis[-1])
-        active = ndimage.binary_dilation(np.abs(phis[-1]) < cap, iterations=reach)
+        active = dilate_cross(np.abs(phis[-1]) < cap, reach)  # scipy.ndimage's binary_dilation
         front_step(phis[-1], out, grid.g_at(times[-1] + step), active, cur, ox, oy, h, t0, dt,
                    times[-1] + 0.5 * step, step, speed, *_trig(headings))
         a, b = cubic(phis[-1], ox, oy, h, q[0], q[1]), cubic(out, ox, oy, h, q[0], q[1])

@@ -34,10 +34,10 @@ import heapq
 import math
 
 import numpy as np
-from scipy.ndimage import maximum_filter
 
 from ..._types import BoolArray, FloatArray, IntArray
 from ...runtime.jit import kernel
+from ...world.kernels.edt import window_any
 from .kernels import Float32Array, leg_reach, leg_time
 from .tail import tail_leg
 
@@ -106,7 +106,7 @@ def strong_nodes(cur: Float32Array, t0: float, dt: float, depart: float, t_end: 
     """
     fast = _speeds(cur, t0, dt, depart, t_end) >= speed
     size = (2 * reach + 3, 2 * reach + 3, 3)
-    grown: BoolArray = maximum_filter(fast, size=size, mode="nearest").reshape(-1)
+    grown: BoolArray = window_any(fast, size).reshape(-1)  # scipy.ndimage.maximum_filter, mode "nearest"
     return grown
 
 

@@ -21,9 +21,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..._types import ArrayLike, FloatArray
+from ...optim.bounded_min import bounded_min
 from .front import FrontGrid
 from .front_kernels import shoot
 
@@ -104,8 +104,7 @@ def refine_shot(grid: FrontGrid, start: ArrayLike, goal: ArrayLike, depart: floa
     vals = np.array([miss(c) for c in cands])
     i = int(np.argmin(vals))
     d = cands[1] - cands[0]
-    res = minimize_scalar(miss, bounds=(cands[i] - d, cands[i] + d), method="bounded", options={"xatol": 1e-9})
-    best = float(res.x)
+    best, _, _ = bounded_min(miss, cands[i] - d, cands[i] + d, xatol=1e-9)  # SciPy's bounded Brent, bit for bit
     if miss(best) > tol:
         return None
     shoot(*args, s[0], s[1], best, depart, step, speed, out)

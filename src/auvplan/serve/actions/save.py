@@ -17,7 +17,7 @@ from typing import Any
 
 from ...app.results import write_results
 from ...errors import AuvplanError
-from ...io.files import outdir
+from ...io.files import safeio
 from ...io.files.safeio import RESULT_NAMES, atomic_write, prepare_out
 from ...io.results import records
 from ...sim import RunRecord
@@ -61,7 +61,7 @@ def save_results(session: Session, name: str) -> Path:
         text, source = session.text, session.source
         history = list(session.history)
         candidates = session.candidate_rows()
-    with outdir.session():  # the folder is locked while it is written, released after
+    with safeio.session():  # the folder is locked while it is written, released after (a refusal leaves no lock)
         _write(out, session, record, text, source, history, candidates)
     return out
 

@@ -10,6 +10,7 @@ import numpy as np
 import shapely
 
 from ..._types import FloatArray, IntArray
+from ..kernels.edt import distance_transform
 from ..terrain import Terrain
 
 __all__ = ["rasterise", "band_tops", "distance_field", "inner_centres", "rings", "samples", "traces", "clip_params",
@@ -38,8 +39,6 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
     tuple
         ``(x0, y0, cell, nx, ny, start, ids, boxes, bottom, top, reach)``.
     """
-    from scipy.ndimage import distance_transform_edt
-
     lo, hi = b[:, :2].min(axis=0), b[:, 2:].max(axis=0)
     span = float((hi - lo).max())
     size = float(np.median(np.maximum(b[:, 2] - b[:, 0], b[:, 3] - b[:, 1])))
@@ -58,7 +57,7 @@ def rasterise(b: FloatArray, tree: shapely.STRtree, zlo: FloatArray, zhi: FloatA
     top = band_tops(b, zhi, h, terrain)
     bottom = np.where(np.isfinite(h), -np.inf, zlo)
     flagged = np.diff(start) > 0
-    reach = distance_transform_edt(~flagged.reshape(ny, nx))
+    reach = distance_transform(~flagged.reshape(ny, nx))
     return (float(lo[0]), float(lo[1]), cell, nx, ny, start, zi.astype(np.intp), np.ascontiguousarray(b), bottom,
             top, np.asarray(reach, dtype=float))
 
@@ -136,8 +135,6 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
         for every zone), and the slabs (:func:`.bound._slab`: slab ``s`` holds ``z`` with
         ``s <= (z - z0) * zinv < s + 1``, the first and the last open, ``top`` the last).
     """
-    from scipy.ndimage import distance_transform_edt
-
     from .bound import FIELD_UNITS, SLABS, field_kernel, slabs_kernel
 
     x0, y0, cell, nx, ny, _, _, _, bottom, top = grid[:10]
@@ -156,7 +153,7 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
     xy, ring, rings_, _ = polygons
     field_kernel(xy, ring, rings_, np.ascontiguousarray(boxes, dtype=float), lo, hi, x0, y0, f, near, d)
     half = f * math.sqrt(0.5)
-    far = (np.asarray(distance_transform_edt(d[-1] > half), dtype=float) - math.sqrt(2.0)) * f
+    far = (np.asarray(distance_transform(d[-1] > half), dtype=float) - math.sqrt(2.0)) * f
     slack = 1e-6 * max(abs(x0), abs(y0), abs(x0 + nx * cell), abs(y0 + ny * cell), cell)
     units = np.empty(d.shape, dtype=np.uint16)
     for s in range(count + 1):

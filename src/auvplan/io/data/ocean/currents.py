@@ -80,7 +80,7 @@ class CurrentsFileSpec:
 
     def __post_init__(self) -> None:
         if not self.path:
-            raise ValueError("path: the current file name is empty")
+            raise ValueError("path = '': the current file name is empty")
 
 
 def parse_time(text: str) -> np.datetime64:

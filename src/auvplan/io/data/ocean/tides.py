@@ -19,7 +19,8 @@ from numpy.typing import ArrayLike, NDArray
 from ....errors import DataError
 from ....world.currents.tides import HarmonicTables, TidalCurrent
 from ...files.jsonfile import MAX_JSON_BYTES, read_bounded_text
-from ..geo import LocalFrame
+from ..cache import cached
+from ..geo import LocalFrame, forward_kept
 from .currents import parse_time
 from .tidecheck import check_tide_doc
 
@@ -110,14 +111,23 @@ def read_tide_file(source: str, base_dir: Path | None = None) -> dict[str, Any]:
 
 def _local_directions(frame: LocalFrame, lon: ArrayLike, lat: ArrayLike, bearing_deg: ArrayLike) -> NDArray[np.float64]:
     """Unit vectors in the local frame of compass bearings at geographic points (1 km along the
-    geodesic, so the frame's meridian convergence is accounted for)."""
-    from pyproj import Geod  # where a file is projected (issue 56)
+    geodesic, so the frame's meridian convergence is accounted for), kept in the readers' cache under the
+    origin and the bits of the points and bearings: a station file read before imports no pyproj (issue 56)."""
 
-    lon2, lat2, _ = Geod(ellps="WGS84").fwd(lon, lat, bearing_deg, np.full(np.shape(lon), 1000.0))
-    x0, y0 = frame.forward(lon, lat)
-    x1, y1 = frame.forward(lon2, lat2)
-    d = np.column_stack([x1 - x0, y1 - y0])
-    unit: NDArray[np.float64] = d / np.linalg.norm(d, axis=1, keepdims=True)
+    def compute() -> NDArray[np.float64]:
+        from pyproj import Geod  # where a file is projected (issue 56)
+
+        lon2, lat2, _ = Geod(ellps="WGS84").fwd(lon, lat, bearing_deg, np.full(np.shape(lon), 1000.0))
+        x0, y0 = frame.forward(lon, lat)
+        x1, y1 = frame.forward(lon2, lat2)
+        d = np.column_stack([x1 - x0, y1 - y0])
+        unit: NDArray[np.float64] = d / np.linalg.norm(d, axis=1, keepdims=True)
+        return unit
+
+    parts = [np.asarray(v, dtype=float) for v in (lon, lat, bearing_deg)]
+    request = (float(frame.lat0), float(frame.lon0), *((a.shape, a.tobytes().hex()) for a in parts))
+    unit: NDArray[np.float64] = cached("tide-directions", request, (), compute, lambda u: ({"unit": u}, {}),
+                                       lambda a, _: a["unit"])
     return unit
 
 
@@ -162,7 +172,7 @@ def load_tidal_current(source: str, frame: LocalFrame, start_time: float, *, bas
         raise DataError(f"tides = {source!r}: station records incomplete ({exc})") from exc
     keys = list(dict.fromkeys(zip(lat.tolist(), lon.tolist())))
     site = np.array([keys.index(k) for k in zip(lat.tolist(), lon.tolist())])
-    sx, sy = frame.forward(np.array([k[1] for k in keys]), np.array([k[0] for k in keys]))
+    sx, sy = forward_kept(frame, np.array([k[1] for k in keys]), np.array([k[0] for k in keys]))
     return TidalCurrent(
         tables=tables,
         site_xy=np.column_stack([sx, sy]),

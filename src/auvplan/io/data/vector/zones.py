@@ -151,8 +151,11 @@ def _one(table: Any, where: str) -> ZoneSpec:
         if key in table:
             if kind != "file":
                 raise ScenarioError(f"{where} {key} = {table[key]!r}: only with file")
-            if not isinstance(table[key], str) or (key == "file" and not table[key]):
+            if not isinstance(table[key], str):
                 raise ScenarioError(f"{where} {key} = {table[key]!r}: expected a string")
+            if not table[key]:  # layer = '' and where = '' were read as absent
+                raise ScenarioError(f"{where} {key} = '': an empty string is not a value (omit the key to leave it "
+                                    "unset)")
             kw[key] = table[key]
     coords = () if kind == "file" else _pairs(where, kind, table[kind], {"polygon": 3, "line": 2, "point": 1}[kind])
     return ZoneSpec(where, name.strip(), kind, coords, top_m=top, bottom_m=bottom, **kw)

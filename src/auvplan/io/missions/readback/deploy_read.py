@@ -323,7 +323,8 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
                             "local coordinates would be placed that far off")
         out["datum"] = {"lat": info.datum[0], "lon": info.datum[1], "offset_m": off}
     if info.polygon is not None:
-        out["envelope"] = _envelope(info, origin, waypoints, min_altitude_m, duration_s)
+        out["envelope"] = _envelope(info, origin, waypoints, min_altitude_m, duration_s,
+                                    raw=Path(path).suffix.lower() == ".plan")
     elif info.datum is not None and MISSION_SUFFIXES.get(Path(path).suffix.lower()) in ("moos", "ros"):
         # written since issue 51 (it has a datum), in a format that carries an envelope, but without one
         out["envelope"] = {"ok": False, "vertices": 0, "exclusions": 0, "predicted_s": duration_s,
@@ -333,16 +334,17 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
 
 
 def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[np.float64], min_alt: float,
-              duration: float) -> dict[str, Any]:
-    """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time."""
+              duration: float, raw: bool = False) -> dict[str, Any]:
+    """Whether the envelope contains the mission: legs in the polygon and off the exclusions, depth, altitude, time
+    (``raw``: a ``.plan``'s fence, in ArduPilot's longitudes, :func:`_planar_latlon`)."""
     pts = w[:, :2]
     assert info.polygon is not None
     rings = [info.polygon, *info.inclusions, *info.exclusions]
     if info.geographic:  # [lat, lon] rings: compared in latitude/longitude, as ArduPilot's fence tests them
         if origin is None:
             raise DataError("a geographic envelope needs the scenario's [origin]")
-        rings, pts = _planar_latlon(rings, pts, origin)
-    track = shapely.LineString(pts) if len(pts) > 1 else shapely.Point(pts[0])
+        rings, pts = _planar_latlon(rings, pts, origin, raw)
+    track = _track(pts, raw and info.geographic)
     reasons = []
     for k, ring in enumerate(rings[:1 + len(info.inclusions)]):  # inside every one (ArduPilot's default)
         region = shapely.Polygon(ring)
@@ -365,20 +367,45 @@ def _envelope(info: FileDeploy, origin: tuple[float, float] | None, w: NDArray[n
             "deepest_m": deepest, "predicted_s": duration, "ok": not reasons, "reasons": reasons}
 
 
-def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[float, float]
+def _track(pts: NDArray[np.float64], raw: bool) -> Any:
+    """The mission's legs as one shapely geometry; in raw longitudes a leg across ±180° (flown the short way, as
+    ArduPilot's ``Location::get_distance_NE`` does) is cut there into its two pieces."""
+    if len(pts) < 2:
+        return shapely.Point(pts[0])
+    if not raw:
+        return shapely.LineString(pts)
+    pieces: list[list[tuple[float, float]]] = [[(float(pts[0, 0]), float(pts[0, 1]))]]
+    for (x0, y0), (x1, y1) in zip(pts[:-1], pts[1:]):
+        step = (x1 - x0 + 180.0) % 360.0 - 180.0  # the short way
+        if abs(x0 + step) > 180.0:  # crosses the antimeridian: end at ±180, go on from ∓180
+            edge = math.copysign(180.0, x0 + step)
+            y = y0 + (y1 - y0) * (edge - x0) / step
+            pieces[-1].append((edge, y))
+            pieces.append([(-edge, y)])
+        pieces[-1].append((float(x1), float(y1)))
+    return shapely.MultiLineString([p for p in pieces if len(p) > 1])
+
+
+def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[float, float], raw: bool = False
                    ) -> tuple[list[NDArray[np.float64]], NDArray[np.float64]]:
     """The envelope's ``[lat, lon]`` rings and the local points as ``(longitude, latitude)`` about the origin's
     longitude (unwrapped: a ring across the antimeridian, 179.99 and -179.99, is the small one, not the band round
     the Earth), where each edge is the straight line ArduPilot's fence tests (``Polygon_outside`` on latitude and
     longitude, ``AC_PolyFence_loader::breached``).  In the local frame (azimuthal) an edge is another line: a
-    100 km edge at 68° N bows ~400 m from it, so a mission near a hand-drawn fence's side passed and breached."""
-    lon0 = float(origin[1])
+    100 km edge at 68° N bows ~400 m from it, so a mission near a hand-drawn fence's side passed and breached.
+
+    ``raw`` (a ``.plan``): ArduPilot tests its fence on the stored longitudes as they are (``Polygon_outside`` on
+    the ``int32`` latitude and longitude, no wrap: ``AC_PolyFence_loader::breached``), so a ring with vertices at
+    179.99 and -179.99 is the band round the other side of the Earth there, and is judged so; the points are
+    wrapped into [-180, 180]."""
+    lon0 = 0.0 if raw else float(origin[1])
 
     def unwrap(lon: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.asarray((lon - lon0 + 180.0) % 360.0 - 180.0, dtype=float)
 
     lon, lat = LocalFrame(*origin).inverse(pts[:, 0], pts[:, 1])
-    return ([np.column_stack([unwrap(np.asarray(r)[:, 1]), np.asarray(r)[:, 0]]) for r in rings],
+    ring_lon = (lambda r: np.asarray(r, dtype=float)[:, 1]) if raw else (lambda r: unwrap(np.asarray(r)[:, 1]))
+    return ([np.column_stack([ring_lon(r), np.asarray(r)[:, 0]]) for r in rings],
             np.column_stack([unwrap(np.asarray(lon)), np.asarray(lat)]))
 
 

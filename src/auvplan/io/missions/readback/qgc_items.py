@@ -34,8 +34,9 @@ from typing import Any
 from ....errors import DataError
 from ..parsed import remembered
 
-__all__ = ["NAV_WAYPOINT", "LOITERS", "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
-           "plan_items"]
+__all__ = ["AP_MISSION_CAPACITY", "AP_MISSION_COMMAND_BYTES", "AP_MISSION_MAX_COMMANDS", "NAV_WAYPOINT", "LOITERS",
+           "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
+           "capacity_note", "plan_items"]
 
 NAV_WAYPOINT = 16
 """``MAV_CMD_NAV_WAYPOINT``."""
@@ -132,6 +133,31 @@ def _pattern(item: Mapping[str, Any], where: str) -> list[PlanItem]:
     return [_simple(sub, f"{where}.TransectStyleComplexItem.Items[{j}]") for j, sub in enumerate(generated)]
 
 
+AP_MISSION_COMMAND_BYTES = 15
+"""Bytes of one stored mission command (``AP_MISSION_EEPROM_COMMAND_SIZE``, ``AP_Mission.h``)."""
+AP_MISSION_CAPACITY = {"16 KiB": 655, "32 KiB": 1312, "microSD": 4368}
+"""Commands AP_Mission holds, the home (command 0) included: ``(storage − 4) / 15``
+(``AP_Mission::num_commands_max``) over ``StorageManager.cpp``'s ``StorageMission`` areas for a non-copter
+vehicle (ArduSub): 2 506 + 2 132 + 5 204 = 9 842 bytes on a board with 16 KiB of storage (Pixhawk 1, fmuv3),
+19 684 bytes with 32 KiB (FRAM: Cube, Pixhawk 4), and the most a ``BRD_SD_MISSION`` file can hold (64 KiB,
+``StorageAccess::attach_file`` caps it at 0xFFFF bytes)."""
+AP_MISSION_MAX_COMMANDS = AP_MISSION_CAPACITY["microSD"]
+"""The most commands any ArduPilot board holds (:data:`AP_MISSION_CAPACITY`)."""
+
+
+def capacity_note() -> str:
+    """AP_Mission's capacities in words, for messages.
+
+    Returns
+    -------
+    str
+        ``AP_Mission's capacity: 655 commands on a 16 KiB-storage board, …``.
+    """
+    c = AP_MISSION_CAPACITY
+    return (f"AP_Mission's capacity: {c['16 KiB']} commands on a 16 KiB-storage board, {c['32 KiB']} on 32 KiB, "
+            f"{c['microSD']} at most with BRD_SD_MISSION = 64")
+
+
 def plan_items(doc: Mapping[str, Any]) -> list[PlanItem]:
     """Walk a ``.plan``'s mission items in the order the vehicle executes them (module notes).
 
@@ -167,6 +193,9 @@ def _walk(doc: Mapping[str, Any]) -> list[PlanItem]:
                 out.extend(_pattern(item, where))
             else:
                 out.append(_simple(item, where))
+        if len(out) + 1 > AP_MISSION_MAX_COMMANDS:  # the home is command 0
+            raise DataError(f"QGC plan: mission.items: {len(out)} items + the home = {len(out) + 1} commands > "
+                            f"{capacity_note()}: no ArduPilot vehicle can hold it (the upload fails)")
         moves = [it for it in out if it.moves]
         held = next((it for it in moves[:-1] if it.command == LOITER_UNLIM), None)
         if held is not None:  # its verify never completes: the vehicle holds there, the rest is never flown

@@ -11,10 +11,12 @@ The legs are those of :func:`auvplan.io.missions.formats.read_mission`'s waypoin
   releases), which the file does not hold.  The speed is horizontal: WPNav flies a leg climbing or diving at
   ``γ`` at the speed along it that keeps the horizontal one (ArduPilot's ``kinematic_limit``: ``v / cos γ``, until
   the vertical limit ``WPNAV_SPEED_UP``/``_DN`` binds, at ``tan γ`` over their ratio to it), so the speed through
-  the water is the command's times :func:`along_track_factor`; a vertical leg (the launch from a home above the
-  first item) flies at the vertical limit, which the file does not hold either: judged at the command's speed.
-  Every other leg is bounded by the vertical limit too, AC_WPNav's default or the command, whichever is faster
-  (:func:`flown_speeds`; without it a waypoint 2 cm beside a plumb dive of 90 m was flown at 4 500 m/s).
+  the water is the command's times :func:`along_track_factor`.  ArduSub's ``do_change_speed`` sets the horizontal
+  speed only, whatever the speed type (param 1; ``ArduSub/commands_logic.cpp``: ``wp_nav.set_speed_xy``), and a
+  ``.plan`` holds no parameter, so the vertical limit is AC_WPNav's default (``WPNAV_SPEED_UP`` 2.5 m/s,
+  ``WPNAV_SPEED_DN`` 1.5 m/s, ``AC_WPNav.cpp``): every leg is flown at ``min(v / cos γ, v_z / |sin γ|)``, a vertical
+  leg (the launch from a home above the first item) at ``v_z`` (:func:`flown_speeds`; the leg's time is
+  ``max(horizontal / v, rise / v_z)``).  The legs where the default binds are named (:func:`vertical_bound_legs`).
   ``cruiseSpeed`` and ``hoverSpeed`` are QGroundControl's estimates of the mission's time, never uploaded to
   the vehicle: not read as a speed;
 * CSV: the ``speed`` column, row i (i ≥ 1) the leg that reaches it.
@@ -44,7 +46,7 @@ from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
 
 __all__ = ["MAX_HOLD_S", "JudgedSpeeds", "WPNAV_SPEED_DN_MPS", "WPNAV_SPEED_UP_MPS", "along_track_factor",
-           "flown_speeds", "judged_leg_speeds", "read_holds", "read_leg_speeds"]
+           "flown_speeds", "judged_leg_speeds", "read_holds", "read_leg_speeds", "vertical_bound_legs"]
 
 
 def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -73,12 +75,20 @@ WPNAV_SPEED_DN_MPS = 1.5
 """AC_WPNav's default descent limit ``WPNAV_SPEED_DN`` (150 cm/s; the file does not hold it)."""
 
 
+def _vertical_limits(points: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    """Each leg's horizontal and vertical run, 3D length and AC_WPNav's default vertical limit for its sense."""
+    d = np.diff(np.asarray(points, dtype=float), axis=0)
+    flat, rise = np.hypot(d[:, 0], d[:, 1]), d[:, 2]
+    vz = np.where(rise > 0.0, WPNAV_SPEED_UP_MPS, WPNAV_SPEED_DN_MPS)
+    return flat, rise, np.linalg.norm(d, axis=1), vz
+
+
 def flown_speeds(commands: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.float64]:
     """The speed along each leg of a ``.plan`` as WPNav flies its commanded horizontal speed (module notes).
 
     ArduPilot's ``kinematic_limit``: ``v / cos γ`` until the vertical limit binds, then ``v_z / |sin γ|``, with the
-    vertical limits AC_WPNav's defaults (:data:`WPNAV_SPEED_UP_MPS`, :data:`WPNAV_SPEED_DN_MPS`) or the command,
-    whichever is faster; a vertical leg (no horizontal run) at the command's speed, as documented.
+    vertical limits AC_WPNav's defaults (:data:`WPNAV_SPEED_UP_MPS`, :data:`WPNAV_SPEED_DN_MPS`: ArduSub's speed
+    command never sets them); a vertical leg (no horizontal run) at ``v_z``.
 
     Parameters
     ----------
@@ -92,15 +102,35 @@ def flown_speeds(commands: NDArray[np.float64], points: NDArray[np.float64]) -> 
     numpy.ndarray
         ``(N - 1,)`` (m/s).
     """
-    d = np.diff(np.asarray(points, dtype=float), axis=0)
-    flat, rise = np.hypot(d[:, 0], d[:, 1]), d[:, 2]
-    full = np.linalg.norm(d, axis=1)
+    flat, rise, full, vz = _vertical_limits(points)
     v = np.asarray(commands, dtype=float)
-    vz = np.maximum(v, np.where(rise > 0.0, WPNAV_SPEED_UP_MPS, WPNAV_SPEED_DN_MPS))
     with np.errstate(divide="ignore", invalid="ignore"):
         along = np.minimum(v * full / flat, vz * full / np.abs(rise))
-    out: NDArray[np.float64] = np.where(flat > 0.0, along, v)
+    out: NDArray[np.float64] = np.where(flat > 0.0, along, np.where(np.isfinite(v) & (full > 0.0), vz, v))
     return out
+
+
+def vertical_bound_legs(commands: NDArray[np.float64], points: NDArray[np.float64]) -> tuple[int, ...]:
+    """The legs of a ``.plan`` flown slower than their command along the leg: AC_WPNav's default vertical limit binds.
+
+    Parameters
+    ----------
+    commands : numpy.ndarray
+        ``(N - 1,)`` each leg's commanded horizontal speed (m/s; NaN: not in the file, never named).
+    points : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+
+    Returns
+    -------
+    tuple of int
+        The legs with a horizontal run whose vertical speed ``v tan γ`` the command would ask is over the default
+        (1 mm/s slack); a vertical leg has no command to honour (flown at ``v_z``, module notes).
+    """
+    flat, rise, _, vz = _vertical_limits(points)
+    v = np.asarray(commands, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        asked = np.where(flat > 0.0, v * np.abs(rise) / flat, 0.0)  # a vertical leg: flown at v_z, no command
+    return tuple(int(k) for k in np.flatnonzero(np.isfinite(v) & (asked > vz + 1e-3)))
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
@@ -139,12 +169,21 @@ class _BadSpeed(Exception):
 
 
 def _speed(it: PlanItem) -> float:
-    """The speed of a ``MAV_CMD_DO_CHANGE_SPEED`` item (param 2, m/s; -1 or 0: unchanged)."""
+    """The speed of a ``MAV_CMD_DO_CHANGE_SPEED`` item (param 2, m/s; -1, 0 or null: unchanged).
+
+    ArduSub changes its speed only for a speed above 0 (``Sub::do_change_speed``, ArduSub/commands_logic.cpp:
+    ``if (cmd.content.speed.target_ms > 0) { wp_nav.set_speed_NE_cms(...) }``, the float copied unchecked by
+    ``AP_Mission::mavlink_int_to_mission_cmd``: ``cmd.content.speed.target_ms = packet.param2``).  QGroundControl
+    writes a NaN parameter as null: NaN > 0 is false, so a null speed changes nothing (it was refused as 'not a
+    number').
+    """
     value = it.params[1] if len(it.params) > 1 else None
+    if value is None:
+        return math.nan  # QGC's NaN: ArduSub keeps its speed
     try:
         if isinstance(value, bool):
             raise TypeError(value)
-        return float(value)  # type: ignore[arg-type]  # checked: a number or refused
+        return float(value)  # checked: a number or refused
     except (TypeError, ValueError):
         raise _BadSpeed(f"MAV_CMD_DO_CHANGE_SPEED at {it.where}: speed {value!r} is not a number") from None
 
@@ -266,6 +305,12 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
         else:
             line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
     if points is not None and path.suffix.lower() == ".plan":  # WPNav keeps the horizontal speed: faster on a slope
+        bound = vertical_bound_legs(v, points)
+        if bound:
+            line = "; ".join([*([line] if line else []), (
+                f"vertical limit not in the file (ArduSub's speed command sets the horizontal speed only): AC_WPNav's "
+                f"defaults WPNAV_SPEED_UP {WPNAV_SPEED_UP_MPS:g} / WPNAV_SPEED_DN {WPNAV_SPEED_DN_MPS:g} m/s bind, "
+                f"those legs flown slower than commanded (legs {_ranges(bound)})")])
         v = flown_speeds(v, points)  # up to the vertical limit
     return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
 
@@ -290,14 +335,17 @@ MAX_HOLD_S = 65535.0
 
 
 def _refuse_holds(path: Path, moves: list[PlanItem]) -> None:
-    """Refuse a hold ArduPilot cannot store: ``AP_Mission`` copies param 1 into the 16-bit ``cmd.p1``
-    (``mavlink_int_to_mission_cmd``), so a negative hold or one over :data:`MAX_HOLD_S` is not what the vehicle
-    holds (the float's conversion is undefined: it wraps or saturates by platform)."""
+    """Refuse a hold ArduPilot cannot store: ``AP_Mission::mavlink_int_to_mission_cmd`` copies param 1 (a float)
+    into the 16-bit unsigned ``cmd.p1`` (``cmd.p1 = packet.param1;``), which ``Sub::do_nav_wp`` holds
+    (``loiter_time_max = cmd.p1``).  C++ converts a float to an integer by truncation, defined when the truncated
+    value fits: 65535.5 holds 65535 s and -0.5 holds 0 (as :func:`read_holds` reads them); a hold that truncates
+    below 0 or above :data:`MAX_HOLD_S` (-1, 65536) is undefined (it wraps or saturates by platform): refused."""
     for it in moves:
         p1 = it.params[0] if it.command in (16, 19) else 0
-        if isinstance(p1, (int, float)) and not isinstance(p1, bool) and (p1 < 0 or p1 > MAX_HOLD_S):
+        if isinstance(p1, (int, float)) and not isinstance(p1, bool) and not -1.0 < p1 < MAX_HOLD_S + 1.0:
             raise DataError(f"{path}: QGC plan: {it.where}.params[0] = {p1!r}: a hold ArduPilot cannot store "
-                            f"(whole seconds 0-{MAX_HOLD_S:.0f}: AP_Mission keeps it in 16 bits)")
+                            f"(truncated to whole seconds it must lie in 0-{MAX_HOLD_S:.0f}: AP_Mission keeps it "
+                            "in 16 bits)")
 
 
 def read_holds(path: str | Path, points: int) -> NDArray[np.float64] | None:

@@ -30,7 +30,8 @@ from typing import Any
 import numpy as np
 
 from ....errors import DataError, ScenarioError
-from ...data.geo import LocalFrame
+from ...data.cache import cached
+from ...data.geo import LocalFrame, forward_kept
 from ...data.vector.areas import read_area_lonlat, read_line_lonlat
 from ..tables import MAX_MAGNITUDE, table_error
 
@@ -268,8 +269,8 @@ def resolve_positions(data: dict[str, Any], source: str, base_dir: Path | None =
         doc["origin"] = {"lat": origin[0], "lon": origin[1]}
     frame = LocalFrame(*origin)
     altitudes = []
-    for path, where, key, (lat, lon, kind, h), _ in found:
-        x, y = (float(v) for v in frame.forward(lon, lat))
+    xy = _projected(frame, [(g[1], g[0]) for _, _, _, g, _ in found])
+    for (path, where, key, (_, _, kind, h), _), (x, y) in zip(found, xy.tolist(), strict=True):
         _set(doc, path, [x, y, -h if kind == "depth" else 0.0])
         if kind == "altitude":
             altitudes.append(AltitudeRef(path, where, key, x, y, h))
@@ -285,7 +286,7 @@ def resolve_positions(data: dict[str, Any], source: str, base_dir: Path | None =
         xs, ys = [p[1] for p in mission], [p[2] for p in mission]
         survey = _survey_points(data, base_dir)
         if survey:  # the survey area is part of the mission: the derived box holds it too
-            sx, sy = frame.forward(np.array([p[1] for p in survey]), np.array([p[0] for p in survey]))
+            sx, sy = forward_kept(frame, np.array([p[1] for p in survey]), np.array([p[0] for p in survey]))
             w = _survey_pad(data)
             xs += [float(np.min(sx)) - w, float(np.max(sx)) + w]
             ys += [float(np.min(sy)) - w, float(np.max(sy)) + w]
@@ -295,6 +296,20 @@ def resolve_positions(data: dict[str, Any], source: str, base_dir: Path | None =
         doc["bounds"] = box
     return GeoInput(origin, derived, bounds_derived, tuple(mission), tuple(altitudes), doc)
 
+
+
+def _projected(frame: LocalFrame, lonlat: list[tuple[float, float]]) -> np.ndarray:
+    """``(N, 2)`` east and north (m) of each ``(lon, lat)``: pyproj's, one point at a time, kept in the readers'
+    cache under the origin and the positions (:func:`~auvplan.io.data.cache.cached`; pyproj's version is in its
+    code stamp), so that a scenario parsed before imports no pyproj (~0.1 s of a command's start, issue 56)."""
+
+    def compute() -> np.ndarray:
+        return np.array([[float(v) for v in frame.forward(lon, lat)] for lon, lat in lonlat],
+                        dtype=np.float64).reshape(-1, 2)
+
+    request = (float(frame.lat0), float(frame.lon0), tuple((float(lon), float(lat)) for lon, lat in lonlat))
+    xy: np.ndarray = cached("positions", request, (), compute, lambda a: ({"xy": a}, {}), lambda arr, _: arr["xy"])
+    return xy
 
 def _get(doc: dict[str, Any], path: tuple[str | int, ...]) -> Any:
     node: Any = doc

@@ -2,13 +2,15 @@
 ``scipy.optimize.minimize_scalar(method="bounded")`` takes it.
 
 :func:`auvplan.io.data.regrid.inscribed_extent` refines each side of a grid's footprint with it (20
-searches for ``data inspect``'s five seabed models).  Importing ``scipy.optimize`` for them cost ~0.33 s of
-CPU of a 2 s command (issue 56); this is the same algorithm — golden-section steps and parabolic
-interpolation (Brent 1973, ch. 5; Forsythe, Malcolm & Moler 1977, ``fmin``), the acceptance tests, the
-tolerance ``sqrt(eps) |x| + xatol / 3`` and the function-count limit of SciPy 1.17's
-``_minimize_scalar_bounded`` — in the same floating-point operations, so that it evaluates the function at
-the same points and returns the same bits (``tests/oracles/test_bounded_min.py`` checks this against
-SciPy itself): the extents, and every seabed model and plan made from them, are unchanged.
+searches for ``data inspect``'s five seabed models), and the time-optimal planner's shot refinement
+(:func:`auvplan.planners.timeopt.zermelo.refine_shot`) its heading.  Importing ``scipy.optimize`` for them
+cost ~0.33 s of CPU of a 2 s command, and ~0.2 s of a time-optimal plan's start (issue 56); this is the
+same algorithm — golden-section steps and parabolic interpolation (Brent 1973, ch. 5; Forsythe, Malcolm &
+Moler 1977, ``fmin``), the acceptance tests, the tolerance ``sqrt(eps) |x| + xatol / 3`` and the
+function-count limit of SciPy 1.17's ``_minimize_scalar_bounded`` — in the same floating-point operations,
+so that it evaluates the function at the same points and returns the same bits
+(``tests/oracles/test_front_door_search.py`` checks this against SciPy itself): the extents, and every
+seabed model and plan made from them, are unchanged.
 """
 
 from __future__ import annotations
