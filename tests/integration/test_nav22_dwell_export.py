@@ -58,7 +58,9 @@ def test_each_file_waits_at_its_surface_fixes_and_the_check_reads_the_plan_time_
     assert rec["energy"]["energy_status"] == "EXACT", rec
     dive = rec["energy"]["leg_speeds_mps"][0]  # ArduSub's descent from home, as the check judges the file's speeds
     launch = energy_budget(world, np.vstack([[*plan.points[0, :2], 0.0], plan.points[:1]]), model, dive).duration_s
-    assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s + launch, abs=2.0)
+    # to 10 s in 15.7 h: the legs as ArduSub's WPNav flies the .plan's horizontal speed commands (docs/missions.md),
+    # 3 s off the plan's; the waits themselves to 1 s below (with and without them)
+    assert rec["energy"]["duration_s"] == pytest.approx(planned.duration_s + launch, abs=10.0)
     # the launch dives 1 500 m over home in the 0.051 m/s current without lock: D grows by at most |c|·T·1 %, which
     # the plan (starting at depth) does not budget: 299.7 m planned, 300.5 m read back (open in docs/navigation.md)
     nav = mission.navigation
