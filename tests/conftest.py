@@ -65,6 +65,17 @@ def lofoten_plan(tmp_path_factory):
     return code, out, json.loads(printed.getvalue()) if code == 0 else None
 
 
+@pytest.fixture(scope="session")
+def mariana_nav_plan():
+    """(World, Mission, route, NavPlan) of the built-in mariana-nav: its route (seed 1) with its fixes planned
+    (``auvplan.sim.pipeline.navigation_plan``, ~5 s), once for the tests that read it."""
+    from auvplan.sim.pipeline import navigation_plan, planned_route
+
+    world, mission = sc.build(sc.load("mariana-nav"))
+    _, route = planned_route(world, mission, 1)
+    return world, mission, route, navigation_plan(world, mission, route)
+
+
 def pytest_collection_finish(session):
     """mypy's run over src/ (~40 s of CPU on a fresh checkout) starts as soon as the tests are collected when
     its test is among them, and goes on beside the suite (tests/static/lint_runs.py).  So does the kernels'

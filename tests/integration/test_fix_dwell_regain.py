@@ -32,7 +32,7 @@ speed = 1.5
 max_pitch_deg = 20.0
 [navigation]
 drift_pct_no_lock = 2.0
-max_error_m = 130.0
+max_error_m = 250.0
 confidence = 2.0
 surface_s = 300.0
 [avoidance]
@@ -44,7 +44,9 @@ record_every = 20
 
 
 def test_a_dwell_drifted_back_by_a_head_current_is_regained_not_a_deadlock():
-    """One fix at 2.2 km, 300 s adrift in 0.7 m/s against a 1.5 m/s vehicle (210 m back, longer to regain than
+    """One fix (E = 250 m at 2 σ: the 5 km leg moves 9.4 km through the water against 0.7 m/s, 375 m without a
+    fix; nav22: 130 m, one fix before the water distance, now takes three), 300 s adrift in 0.7 m/s against a
+    1.5 m/s vehicle (210 m back, longer to regain than
     the default 120 s deadlock watch): it arrives, in the closed form's time to 1 % (before: DEADLOCK at 2917 s,
     'no progress along the route for 121 s')."""
     world, mission = loader.build(loader.loads(SCENARIO, "dwell-regain.toml"))

@@ -251,19 +251,16 @@ min_depth_m = 0.0
         loader.build(loader.loads(base.replace("min_depth_m = 0.0", "min_depth_m = 5.0"), "t.toml"))
 
 
-def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path, capsys):
+def test_mariana_nav_plans_fewer_fixes_than_the_best_period_and_mission_check_fails_without_them(tmp_path, capsys,
+                                                                                               mariana_nav_plan):
     import json
 
     from auvplan.cli import main
     from auvplan.endurance import EnergyModel
     from auvplan.endurance import mission_budget as energy_budget
     from auvplan.io.missions.formats import mission_csv
-    from auvplan.io.scenario import loader
-    from auvplan.sim.pipeline import navigation_plan, planned_route
 
-    world, mission = loader.build(loader.load("mariana-nav"))
-    _, route = planned_route(world, mission, 1)
-    plan = navigation_plan(world, mission, route)
+    world, mission, route, plan = mariana_nav_plan
     assert plan is not None and plan.ok
     m = plan.metrics()
     assert m["fixes"] <= 0.8 * m["fixes_fixed_period"]  # issue 52: at least 20 % fewer

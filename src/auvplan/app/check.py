@@ -95,9 +95,10 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
 
 def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
     """One file of :func:`check_missions`."""
-    from ..io.missions.energy import file_energy_holds
+    from ..io.missions.energy import file_energy_flight
     from ..io.missions.formats import check_mission_file, read_mission
     from ..io.missions.readback.deploy_read import file_deploy_check
+    from ..io.missions.readback.dwell import read_dwells
     from ..io.scenario.defaults import energy_defaults
     from ..path.legs import helm_check
     from ..sim.pipeline import vehicle_limits
@@ -114,7 +115,7 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
                          pitch=flown[0], depth=flown[1])
     if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
         vlimits = _from_home(vlimits)
-    energy, energy_ok, energy_line, held_water = file_energy_holds(world, mission, Path(name))
+    energy, energy_ok, energy_line, held_water, leg_water = file_energy_flight(world, mission, Path(name))
     # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
     deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
                                             float(energy.get("duration_s", 0.0)))
@@ -148,7 +149,8 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     if mission.navigation is not None:  # issue 52: the predicted error per leg and the clearance under it
         rec["navigation"], nav_ok, nav_lines = navigation_check(world, mission.navigation, points, Path(name),
                                                                 follow, first=0, flown=track,
-                                                                held_water_m=held_water)
+                                                                held_water_m=held_water, water_m=leg_water,
+                                                                dwell_s=read_dwells(Path(name), len(points)))
     ok = check.ok and vlimits.ok and energy_ok and deploy["ok"] and zones_ok and nav_ok and tf_ok
     # the top-level verdict is the exit code's: every check that fails the file (the seabed's alone: check_ok)
     rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
@@ -332,7 +334,9 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
 
 def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_file: Path | None = None,
                      follow: np.ndarray | None = None, first: int = 1, flown: FlownTrack | None = None,
-                     held_water_m: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
+                     held_water_m: np.ndarray | None = None,
+                     water_m: np.ndarray | None = None,
+                     dwell_s: np.ndarray | None = None) -> tuple[dict[str, Any], bool, list[str]]:
     """``mission check`` under ``[navigation]``: the file's surface waypoints are its GPS fixes, and the
     ``fixes.csv`` beside it, when there is one, adds its USBL fixes
     (:func:`auvplan.io.missions.readback.fixes.fix_kinds`).
@@ -358,6 +362,12 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     held_water_m : numpy.ndarray, optional
         ``(N,)`` the distance moved through the water holding each waypoint (a ``.plan``'s holds,
         :func:`~auvplan.io.missions.energy.file_energy_holds`): its drift without bottom lock.
+    water_m : numpy.ndarray, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water as the energy check flew it
+        (:func:`~auvplan.io.missions.energy.file_energy_flight`): the drift without bottom lock; default: still water.
+    dwell_s : numpy.ndarray, optional
+        ``(N,)`` the file's wait at each waypoint (:func:`~auvplan.io.missions.readback.dwell.read_dwells`; None: the
+        format carries none): a surface fix that waits less than ``surface_s`` fails (no time for its GPS fix).
 
     Returns
     -------
@@ -375,33 +385,42 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
     usbl = sum(1 for k in kinds if k == "usbl")
-    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m) \
+    c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m,
+                         water_m=water_m) \
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
-                                                                              flown, held_water_m)
+                                                                              flown, held_water_m, water_m)
     b = c.budget
+    message, ok = c.message, c.ok
+    short = [] if dwell_s is None else [i for i, k in enumerate(kinds)
+                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
+    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
+        i = short[0]
+        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
+                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
+                       + (f"; {message}" if message else "")), False
     legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
              "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
             for k in range(len(b.leg_error_m))]
     lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
              f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
-    lines.append(f"navigation: {'OK' if c.ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
+    lines.append(f"navigation: {'OK' if ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
                  f"{f' and {usbl} USBL fixes' if usbl else ''} (from {source}), predicted "
                  f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
-                 + (f"; {c.message}" if c.message else ""))
-    rec = {"ok": c.ok, "message": c.message, "fixes": sum(1 for k in kinds if k), "usbl_fixes": usbl,
+                 + (f"; {message}" if message else ""))
+    rec = {"ok": ok, "message": message, "fixes": sum(1 for k in kinds if k), "usbl_fixes": usbl,
            "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
-    return rec, c.ok, lines
+    return rec, ok, lines
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
                          follow: np.ndarray, first: int = 1, flown: FlownTrack | None = None,
-                         held_water_m: np.ndarray | None = None) -> Any:
+                         held_water_m: np.ndarray | None = None, water_m: np.ndarray | None = None) -> Any:
     """:func:`auvplan.nav.check_navigation` on the seabed-following track of the legs ``follow`` marks, its figures
     gathered back per leg: the largest error, the bottom lock over the leg's length, the least clearance."""
     from ..guidance.mission.terrain_legs import terrain_track
     from ..nav import check_navigation
-    from ..nav.budget import NavBudget
+    from ..nav.budget import NavBudget, water_lengths
     from ..nav.mission import NavCheck, clearance_failure
 
     assert world.terrain is not None
@@ -414,7 +433,9 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
     if held_water_m is not None:  # each waypoint's hold at its vertex of the track
         held = np.zeros(len(track))
         held[ends] = held_water_m
-    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy, held_water_m=held)
+    # each file leg's water distance shared over its track's segments by their horizontal length
+    seg_water = water_lengths(np.hypot(*np.diff(track[:, :2], axis=0).T), seg, water_m)
+    c = check_navigation(world, track, tuple(on_track), nav, nav.usbl_xy, held_water_m=held, water_m=seg_water)
     n = len(points) - 1
     err, alt = np.full(n, -np.inf), np.full(n, np.inf)
     np.maximum.at(err, seg, c.budget.leg_error_m)

@@ -137,6 +137,27 @@ class Traverse:
         """Time from the first to the last vertex, its hold on station included (s); ``nan`` when not ``ok``."""
         return float(self.times[-1] + self.end_hold - self.times[0])
 
+    def leg_water_m(self) -> F64:
+        """Each leg's horizontal distance through the water (m): over every sub-step that moves, the through-water
+        run ``V·Δt`` less its vertical part (the current is horizontal), ``sqrt((V Δt)² − Δz²)``; in still water the
+        leg's horizontal length.  The navigation budget's drift without bottom lock grows with it
+        (:mod:`auvplan.nav.budget`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N - 1,)`` (m); ``nan`` for legs not flown (``ok`` False).
+        """
+        d = np.diff(self.nodes, axis=0)
+        dt = np.diff(self.node_t)
+        leg = self.node_leg[1:]
+        moves = np.linalg.norm(d, axis=1) > 1e-6  # a dwell's node does not move (its vertex to rounding): no leg's
+        run = self.speeds[leg] * dt
+        w = np.where(moves, np.sqrt(np.maximum(run * run - d[:, 2] ** 2, 0.0)), 0.0)
+        out = np.asarray(np.bincount(leg, w, self.points.shape[0] - 1), dtype=float)
+        out[~np.isfinite(self.times[1:])] = math.nan
+        return out
+
     def at(self, s: float) -> tuple[F64, float, int]:
         """Position, time and leg at distance ``s`` along the route (linear between nodes).
 

@@ -2,8 +2,13 @@
 
 Model.  Dead reckoning makes the horizontal position error σ (1σ, radial RMS) grow linearly with the
 horizontal distance travelled: by ``drift_pct / 100`` per metre where the DVL has bottom lock (the
-altitude, from the mission's depth schedule over the World's seabed, is at most ``dvl_range_m``) and
-by ``drift_pct_no_lock / 100`` where it has not.  Legs are sampled every ``step`` metres and each
+altitude, from the mission's depth schedule over the World's seabed, is at most ``dvl_range_m``: the DVL
+measures the velocity over the ground, so that error is a share of the ground distance) and by
+``drift_pct_no_lock / 100`` per metre travelled **through the water** where it has not (water track: the
+current is the unknown).  A leg's horizontal water distance ``W`` comes from flying it through the World's
+current at its speed (:meth:`auvplan.endurance.Traverse.leg_water_m`); its no-lock intervals count
+``Δs · W / h`` (``h`` the leg's horizontal length; in still water ``W = h``, against a steady head current
+``c`` on a level leg ``W = h · V / (V − c)``).  Legs are sampled every ``step`` metres and each
 interval is split where the (linearly interpolated) altitude crosses ``dvl_range_m``, so
 
     D(s) = Σ rate_k · Δs_k   (summed since the last fix),
@@ -35,7 +40,7 @@ from ..world import World
 from .params import NavParams
 
 __all__ = ["NavBudget", "ErrorProfile", "sample_route", "lock_fraction", "drift_increments", "sigma_profile",
-           "fix_sigma", "hold_drift", "mission_budget", "error_profile", "DEFAULT_STEP_M"]
+           "fix_sigma", "hold_drift", "mission_budget", "error_profile", "water_lengths", "DEFAULT_STEP_M"]
 
 DEFAULT_STEP_M = 50.0
 """Longest horizontal sampling interval of the altitude schedule (m)."""
@@ -149,17 +154,19 @@ def lock_fraction(alt: ArrayLike, dvl_range: float) -> FloatArray:
     return np.where(l0 == l1, l0.astype(float), np.where(l0, c, 1.0 - c))
 
 
-def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams) -> FloatArray:
-    """The growth of σ over each interval: ``Δs × (f · drift_pct + (1 − f) · drift_pct_no_lock) / 100``.
+def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams, ds_water: ArrayLike | None = None) -> FloatArray:
+    """The growth of σ over each interval: ``(f · Δs · drift_pct + (1 − f) · Δw · drift_pct_no_lock) / 100``.
 
     Parameters
     ----------
     ds : array_like
-        ``(M - 1,)`` horizontal lengths (m).
+        ``(M - 1,)`` horizontal lengths over the ground (m).
     lock : array_like
         ``(M - 1,)`` lock shares (:func:`lock_fraction`).
     nav : NavParams
         The rates.
+    ds_water : array_like, optional
+        ``(M - 1,)`` horizontal lengths through the water (m; :func:`water_lengths`); default ``ds`` (still water).
 
     Returns
     -------
@@ -167,7 +174,40 @@ def drift_increments(ds: ArrayLike, lock: ArrayLike, nav: NavParams) -> FloatArr
         ``(M - 1,)`` (m).
     """
     f = np.asarray(lock, dtype=float)
-    out: FloatArray = np.asarray(ds, dtype=float) * (f * nav.rate(True) + (1.0 - f) * nav.rate(False))
+    g = np.asarray(ds, dtype=float)
+    w = g if ds_water is None else np.asarray(ds_water, dtype=float)
+    out: FloatArray = g * f * nav.rate(True) + w * (1.0 - f) * nav.rate(False)
+    return out
+
+
+def water_lengths(ds: ArrayLike, leg: ArrayLike, water_m: ArrayLike | None) -> FloatArray | None:
+    """Each interval's horizontal length through the water: its leg's water distance ``W`` shared in proportion
+    to the intervals' ground lengths (a vertical leg's, ``h = 0``, in equal parts).
+
+    Parameters
+    ----------
+    ds : array_like
+        ``(M - 1,)`` horizontal ground lengths (m).
+    leg : array_like of int
+        ``(M - 1,)`` the leg of each interval.
+    water_m : array_like or None
+        ``(L,)`` each leg's horizontal distance through the water (m); None: still water.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(M - 1,)`` (m); None for still water.
+    """
+    if water_m is None:
+        return None
+    g = np.asarray(ds, dtype=float)
+    k = np.asarray(leg, dtype=np.intp)
+    w = np.asarray(water_m, dtype=float).reshape(-1)
+    if not np.all(np.isfinite(w)) or w.size <= int(k.max(initial=-1)):
+        raise ValueError(f"{w.size} water distances for {int(k.max(initial=-1)) + 1} legs (finite, one per leg)")
+    h = np.bincount(k, g, w.size)
+    n = np.bincount(k, minlength=w.size)
+    out: FloatArray = np.where(h[k] > 0.0, g * w[k] / np.where(h[k] > 0.0, h[k], 1.0), w[k] / np.maximum(n[k], 1))
     return out
 
 
@@ -264,7 +304,7 @@ def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float,
 
 def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                    usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                   held_water_m: ArrayLike | None = None) -> NavBudget:
+                   held_water_m: ArrayLike | None = None, water_m: ArrayLike | None = None) -> NavBudget:
     """The predicted error along a mission whose fixes are known (:class:`NavBudget`).
 
     Parameters
@@ -283,6 +323,8 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         Sampling of the altitude schedule (m).
     held_water_m : array_like, optional
         ``(N,)`` the distance moved through the water while holding at each waypoint (m; module notes).
+    water_m : array_like, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water (m; module notes); default: still water.
 
     Returns
     -------
@@ -294,7 +336,7 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         raise ValueError(f"{len(kinds)} fix kinds for {p.shape[0]} waypoints")
     ds, alt, leg, vertex = sample_route(world, p, step)
     lock = lock_fraction(alt, nav.dvl_range_m)
-    inc = drift_increments(ds, lock, nav)
+    inc = drift_increments(ds, lock, nav, water_lengths(ds, leg, water_m))
     held = hold_drift(alt[vertex], kinds, nav, held_water_m)
     inc[vertex[:-1]] += held[:-1]  # the hold before the leg that leaves the waypoint: its first interval
     inc = np.r_[inc, held[-1]]  # the last waypoint's hold: an interval of its own after the arrival
@@ -310,7 +352,8 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
 
 
 def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
-                  usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M) -> ErrorProfile:
+                  usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
+                  water_m: ArrayLike | None = None) -> ErrorProfile:
     """The predicted error at every sample of a mission whose fixes are known (:class:`ErrorProfile`); the
     same samples and σ as :func:`mission_budget`.
 
@@ -328,6 +371,8 @@ def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
         The USBL ship's local position (m).
     step : float, optional
         Sampling (m).
+    water_m : array_like, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water (m); default: still water.
 
     Returns
     -------
@@ -336,7 +381,7 @@ def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     ds, alt, leg, vertex = sample_route(world, p, step)
-    inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav)
+    inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav, water_lengths(ds, leg, water_m))
     fixes = [i for i, k in enumerate(kinds) if k and i > 0]
     before, after = sigma_profile(inc, vertex[fixes], [fix_sigma(nav, kinds[i], p[i], usbl_xy) for i in fixes],
                                   fix_sigma(nav, kinds[0] or "gps", p[0], usbl_xy))

@@ -55,6 +55,9 @@ class RouteProfile:
         ``(M - 1,)`` the largest horizontal uncertainty each interval allows (:func:`~.clearance.safe_radius`).
     t : numpy.ndarray
         ``(M,)`` flying time along the route at the cruise speed (s).
+    wr : numpy.ndarray
+        ``(M - 1,)`` each interval's horizontal distance through the water over its ground length (its route
+        leg's; 1 in still water): the drift without bottom lock grows with the water distance.
     tan_pitch : float
         Slope of a fix's climb and dive.
     world : World or None
@@ -69,13 +72,14 @@ class RouteProfile:
     zb: FloatArray
     r_safe: FloatArray
     t: FloatArray
+    wr: FloatArray
     tan_pitch: float
     world: World | None = None
     _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
 
 
 def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
-                  step: float = DEFAULT_STEP_M) -> RouteProfile:
+                  step: float = DEFAULT_STEP_M, water_ratio: ArrayLike | None = None) -> RouteProfile:
     """Sample a route for fix planning (:class:`RouteProfile`).
 
     Parameters
@@ -92,6 +96,8 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         Cruise speed (m/s).
     step : float, optional
         Sampling (m).
+    water_ratio : array_like, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water over its horizontal length; default 1.
 
     Returns
     -------
@@ -99,7 +105,11 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         The samples.
     """
     p = np.asarray(route, dtype=float).reshape(-1, 3)
-    p = p[np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > 1e-9, axis=1)]]  # a repeated waypoint is one
+    keep = np.r_[True, np.any(np.abs(np.diff(p, axis=0)) > 1e-9, axis=1)]  # a repeated waypoint is one
+    ratio = np.ones(p.shape[0] - 1) if water_ratio is None else np.asarray(water_ratio, dtype=float).reshape(-1)
+    if ratio.shape != (p.shape[0] - 1,) or not np.all(np.isfinite(ratio)):
+        raise ValueError(f"{ratio.size} water ratios for {p.shape[0] - 1} legs (finite, one per leg)")
+    p, ratio = p[keep], ratio[keep[1:]]
     h = np.hypot(*np.diff(p[:, :2], axis=0).T)  # a vertical leg (h = 0) stays: one interval, no drift
     n = np.maximum(np.ceil(h / step), 1).astype(np.intp)
     leg = np.repeat(np.arange(n.size), n)
@@ -112,7 +122,7 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
     t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))] / speed
-    return RouteProfile(s, xyz, zb, r_safe, t, math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world)
+    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world)
 
 
 @dataclass(frozen=True)
@@ -146,7 +156,8 @@ def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bo
     and its largest error (confidence × σ, m)."""
     z = _lifted(prof, a.k, b.k, (a, b))
     alt = z - prof.zb[a.k:b.k + 1]
-    inc = drift_increments(np.diff(prof.s[a.k:b.k + 1]), lock_fraction(alt, nav.dvl_range_m), nav)
+    ds = np.diff(prof.s[a.k:b.k + 1])
+    inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav, ds * prof.wr[a.k:b.k])
     err = nav.confidence * np.hypot(a.sigma, np.cumsum(inc))
     worst = float(err[-1]) if err.size else nav.confidence * a.sigma
     ok = worst <= min(nav.max_error_m, _surfacings_allow(prof, a, b)) and bool(np.all(err <= prof.r_safe[a.k:b.k]))
@@ -157,7 +168,8 @@ def _nominal(prof: RouteProfile, nav: NavParams, a: _Node) -> tuple[FloatArray, 
     """From fix ``a`` to the goal without another fix: depth schedule, drift ``D`` at each sample, and the
     first sample past which no stretch from ``a`` can be feasible (lifting the schedule only loses lock)."""
     z = _lifted(prof, a.k, prof.s.size - 1, (a, a))
-    inc = drift_increments(np.diff(prof.s[a.k:]), lock_fraction(z - prof.zb[a.k:], nav.dvl_range_m), nav)
+    ds = np.diff(prof.s[a.k:])
+    inc = drift_increments(ds, lock_fraction(z - prof.zb[a.k:], nav.dvl_range_m), nav, ds * prof.wr[a.k:])
     d = np.r_[0.0, np.cumsum(inc)]
     err = nav.confidence * np.hypot(a.sigma, d[1:])
     bad = np.flatnonzero((err > nav.max_error_m) | (err > prof.r_safe[a.k:]))
@@ -180,8 +192,9 @@ def _stretch_from(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node,
     j0 = w0 + (int(lifted[-1]) if lifted.size else 0)  # the climb leaves the schedule after this sample
     v = v[j0 - w0:]
     zz = np.maximum(z[j0:i + 1], v)
-    inc = drift_increments(np.diff(prof.s[a.k + j0:b.k + 1]), lock_fraction(zz - prof.zb[a.k + j0:b.k + 1],
-                                                                            nav.dvl_range_m), nav)
+    ds = np.diff(prof.s[a.k + j0:b.k + 1])
+    inc = drift_increments(ds, lock_fraction(zz - prof.zb[a.k + j0:b.k + 1], nav.dvl_range_m), nav,
+                           ds * prof.wr[a.k + j0:b.k])
     err = nav.confidence * np.hypot(a.sigma, d[j0] + np.cumsum(inc))
     worst = float(err[-1]) if err.size else nav.confidence * float(np.hypot(a.sigma, d[j0]))
     ok = worst <= nav.max_error_m and bool(np.all(err <= prof.r_safe[a.k + j0:b.k]))

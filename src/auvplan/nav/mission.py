@@ -17,7 +17,7 @@ from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes
 from .params import NavParams
 
 __all__ = ["NavCheck", "NavPlan", "check_navigation", "plan_navigation", "surface_kinds", "fix_times",
-           "navigation_of", "clearance_failure"]
+           "navigation_of", "clearance_failure", "through_water"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -48,7 +48,8 @@ class NavCheck:
 
 def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                      usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                     first_leg: int = 1, held_water_m: ArrayLike | None = None) -> NavCheck:
+                     first_leg: int = 1, held_water_m: ArrayLike | None = None,
+                     water_m: ArrayLike | None = None) -> NavCheck:
     """Predict a mission's error and test its legs under it (what ``mission check`` prints per leg).
 
     Parameters
@@ -70,6 +71,9 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
     held_water_m : array_like, optional
         ``(N,)`` the distance moved through the water while holding at each waypoint (m;
         :func:`~auvplan.nav.budget.hold_drift`): the drift of a hold at depth without bottom lock.
+    water_m : array_like, optional
+        ``(N - 1,)`` each leg's horizontal distance through the water (m;
+        :meth:`auvplan.endurance.Traverse.leg_water_m`): the drift without bottom lock; default: still water.
 
     Returns
     -------
@@ -77,7 +81,7 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         The verdict.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
-    budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m)
+    budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m, water_m)
     # a leg over the budget fails on its error; its clearance is tested at the budget (the scan stays bounded)
     alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step)
     over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 + 1e-9))
@@ -149,6 +153,9 @@ class NavPlan:
     vertex_times_s : numpy.ndarray or None
         ``(N,)`` planned arrival at each waypoint (s) through the World's current at the legs' own speeds
         (:func:`auvplan.sim.pipeline.timed_navigation`); None: at the cruise speed in still water.
+    leg_water_m : numpy.ndarray or None
+        ``(N - 1,)`` each leg's horizontal distance through the water, flown as :attr:`vertex_times_s` (m); the
+        budget's drift without bottom lock grows with it (:func:`through_water`); None: still water.
     """
 
     points: FloatArray
@@ -161,6 +168,7 @@ class NavPlan:
     params: NavParams | None = None
     speed: float = math.nan
     vertex_times_s: FloatArray | None = None
+    leg_water_m: FloatArray | None = None
 
     def timed(self, vertex_times_s: ArrayLike) -> NavPlan:
         """The same plan with its waypoints' planned arrival times (and so its fixes' times) given.
@@ -253,7 +261,7 @@ def fix_times(points: ArrayLike, kinds: tuple[str, ...], dwell_s: ArrayLike, spe
 
 def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                    spacing: float = 250.0, compare: bool = True) -> NavPlan:
+                    spacing: float = 250.0, compare: bool = True, water_ratio: ArrayLike | None = None) -> NavPlan:
     """Fixes for a route as ``[navigation] fixes`` asks, and the mission that carries them.
 
     Parameters
@@ -276,6 +284,11 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
         Distance between candidate fix points (m).
     compare : bool, optional
         With ``fixes = "plan"``, also find the best fixed period with the same largest error.
+    water_ratio : array_like, optional
+        ``(N - 1,)`` each route leg's horizontal distance through the water over its horizontal length (the route
+        flown through the current, :meth:`auvplan.endurance.Traverse.leg_water_m`): the fixes are planned with the
+        drift without lock grown over the water distance; default 1 (still water).  The mission with its fixes
+        is checked in still water here; :func:`through_water` checks it as flown.
 
     Returns
     -------
@@ -283,7 +296,7 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
         The mission; ``ok`` False with the reason when the budget or the clearance cannot be kept.
     """
     r = np.asarray(route, dtype=float).reshape(-1, 3)
-    prof = route_profile(world, r, nav, max_pitch_deg, speed, step)
+    prof = route_profile(world, r, nav, max_pitch_deg, speed, step, water_ratio)
     if nav.fixes == "plan":
         fp = plan_fixes(prof, nav, speed, spacing, usbl_xy)
     elif nav.period_s is not None:
@@ -334,3 +347,32 @@ def navigation_of(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
     fp = FixPlan(True, s[idx], tuple(kinds[i] for i in idx), check.budget.max_error_m,
                  float(dwell.sum()))
     return NavPlan(p, tuple(kinds), dwell, check, fp, None, fix_times(p, kinds, dwell, speed), nav, speed)
+
+
+def through_water(world: World, plan: NavPlan, water_m: ArrayLike, step: float = DEFAULT_STEP_M) -> NavPlan:
+    """The plan's budget and clearance checked again with each leg's drift without bottom lock grown over its
+    distance through the water (``docs/navigation.md``).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, obstacles, margins.
+    plan : NavPlan
+        The mission and its error model (``params``).
+    water_m : array_like
+        ``(N - 1,)`` each leg's horizontal distance through the water (m;
+        :meth:`auvplan.endurance.Traverse.leg_water_m`).
+    step : float, optional
+        Sampling (m).
+
+    Returns
+    -------
+    NavPlan
+        ``check`` and ``leg_water_m`` replaced; ``plan`` itself without an error model.
+    """
+    if plan.params is None:
+        return plan
+    w = np.asarray(water_m, dtype=float).reshape(-1)
+    nav = plan.params
+    check = check_navigation(world, plan.points, plan.kinds, nav, nav.usbl_xy, step, water_m=w)
+    return replace(plan, check=check, leg_water_m=w)

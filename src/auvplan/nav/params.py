@@ -39,15 +39,17 @@ class NavParams:
     """How the dead-reckoned position error grows and where it is reset (``[navigation]``).
 
     The horizontal error σ (1σ, radial RMS) grows by ``drift_pct`` % of the horizontal distance
-    travelled while the DVL has bottom lock (altitude ≤ ``dvl_range_m``), by ``drift_pct_no_lock`` %
-    without; a fix resets it to ``fix_error_m``.  The reported error is ``confidence`` × σ.
+    travelled over the ground while the DVL has bottom lock (altitude ≤ ``dvl_range_m``), by ``drift_pct_no_lock`` %
+    of the horizontal distance travelled through the water without; a fix resets it to ``fix_error_m``.  The
+    reported error is ``confidence`` × σ.
 
     Attributes
     ----------
     drift_pct : float
         Error growth with bottom lock, % of the horizontal distance travelled (e.g. 0.3).
     drift_pct_no_lock : float
-        Error growth without bottom lock (water track), % of the distance (e.g. 2.0).
+        Error growth without bottom lock (water track), % of the horizontal distance travelled through the water
+        (e.g. 2.0).
     dvl_range_m : float
         The DVL locks on the bottom when the altitude is at most this (m).
     fix_error_m : float
@@ -61,7 +63,7 @@ class NavParams:
         ``"plan"`` (fixes placed by the planner), a period in seconds (a fix every period, as
         MOOS-IvP's ``BHV_PeriodicSurface``) or ``"none"`` (the budget only).
     surface_s : float
-        Time at the surface per fix (s).
+        Time at the surface per fix (s); the exported ``.plan`` and MOOS file wait it at each surfacing.
     usbl : UsblParams or None
         Optional USBL aiding from a ship: a second kind of fix, taken at depth.
     _usbl_xy : tuple of float or None

@@ -29,6 +29,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from ..app.page.budget import leg_water_m
 from ..app.page.check import CheckResult, CheckSettings, IncrementalCheck
 from ..app.page.paths import Roots
 from ..errors import AuvplanError
@@ -277,9 +278,10 @@ class Session:
             raise AuvplanError("no scenario is open")
         world, mission = self.require()
         _limits.check_route_endurance("serve: the mission", w, mission.endurance.ds_m)
-        result = self.checker.run(w, self.settings, self._speeds(w))
+        speeds = self._speeds(w)
+        result = self.checker.run(w, self.settings, speeds)
         keys = key_waypoints(w, world, mission.avoidance.collision_check)
-        band = nav_band(world, mission, w)  # issue 52: the predicted error along the mission
+        band = nav_band(world, mission, w, speeds)  # issue 52: the predicted error along the mission
         with self.lock:
             if not np.array_equal(w, self.waypoints):
                 self.epoch += 1
@@ -403,7 +405,8 @@ class Session:
     _apply = apply  # (the name the benchmarks and tests use)
 
 
-def nav_band(world: World, mission: Mission, w: NDArray[np.float64]) -> dict[str, Any] | None:
+def nav_band(world: World, mission: Mission, w: NDArray[np.float64],
+             speeds: float | NDArray[np.float64] | None = None) -> dict[str, Any] | None:
     """The navigation error band of waypoints ``w`` for the page (None without ``[navigation]``).
 
     Issue 52 item 6: the horizontal band within the predicted error (confidence × σ), its surface waypoints
@@ -418,6 +421,9 @@ def nav_band(world: World, mission: Mission, w: NDArray[np.float64]) -> dict[str
         Its ``navigation``.
     w : numpy.ndarray
         ``(N, 3)`` waypoints (m).
+    speeds : float or numpy.ndarray, optional
+        Each leg's through-water speed (m/s; default the vehicle's): the legs flown through the current give the
+        drift without bottom lock over their water distance (:meth:`auvplan.endurance.Traverse.leg_water_m`).
 
     Returns
     -------
@@ -429,7 +435,9 @@ def nav_band(world: World, mission: Mission, w: NDArray[np.float64]) -> dict[str
     if nav is None or w.shape[0] < 2:
         return None
     kinds = surface_kinds(w)
-    profile = error_profile(world, w, kinds, nav, nav.usbl_xy)
+    water = leg_water_m(world, w, mission.vehicle.speed if speeds is None else speeds,
+                        np.array([nav.surface_s if k else 0.0 for k in kinds]))
+    profile = error_profile(world, w, kinds, nav, nav.usbl_xy, water_m=water)
     band = shapely.simplify(error_band(profile), SIMPLIFY_M)
     xs: list[float | None] = []
     ys: list[float | None] = []

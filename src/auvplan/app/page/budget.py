@@ -18,7 +18,7 @@ from ...endurance.budget import Budget, Traverse, budget_of, traverse
 from ...world import CurrentField, World
 from .lru import LruCache
 
-__all__ = ["steady", "IncrementalBudget"]
+__all__ = ["steady", "IncrementalBudget", "leg_water_m"]
 
 _F64 = NDArray[np.float64]
 """Array of float64 (m, m/s)."""
@@ -93,3 +93,28 @@ class IncrementalBudget:
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
         tr = Traverse(p, v, times, p.copy(), s, times.copy(), np.r_[0, np.arange(n)].astype(np.int64))
         return budget_of(tr, self.model), len(missing)
+
+
+def leg_water_m(world: World, w: NDArray[np.float64], speeds: float | NDArray[np.float64],
+                dwell: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """Each leg's horizontal distance through the water, the mission flown through the current at its legs' speeds
+    (:meth:`auvplan.endurance.Traverse.leg_water_m`; the page's navigation band, ``docs/navigation.md``).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    w : numpy.ndarray
+        ``(N, 3)`` waypoints (m).
+    speeds : float or numpy.ndarray
+        Through-water speed, one or one per leg (m/s).
+    dwell : numpy.ndarray
+        ``(N,)`` time held at each waypoint (s).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(N - 1,)`` (m); None where the current beats the vehicle.
+    """
+    flown = traverse(world, w, speeds, dwell=dwell)
+    return flown.leg_water_m() if flown.ok else None

@@ -32,11 +32,12 @@ from ..data.geo import LocalFrame
 from ..files import limits as _limits
 from ..results.records import JsonDict, jsonable, write_json, write_text
 from .formats import read_mission
-from .readback.speeds import judged_leg_speeds, read_holds
+from .readback.dwell import read_dwells
+from .readback.speeds import judged_leg_speeds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
-           "mission_file_energy", "file_energy_holds", "sweep_energy"]
+           "mission_file_energy", "file_energy_holds", "file_energy_flight", "sweep_energy"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -220,6 +221,27 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
 
 def file_energy_holds(world: World, mission: Mission,
                       path: Path) -> tuple[JsonDict, bool, str, NDArray[np.float64] | None]:
+    """:func:`file_energy_flight` without the legs' water distances (its first four values).
+
+    Parameters
+    ----------
+    world : World
+        Currents (and the origin of geographic formats).
+    mission : Mission
+        Vehicle, power model, battery and ``[endurance] ds_m``.
+    path : pathlib.Path
+        The mission file.
+
+    Returns
+    -------
+    tuple
+        As :func:`file_energy_flight`'s first four.
+    """
+    return file_energy_flight(world, mission, path)[:4]
+
+
+def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
+        JsonDict, bool, str, NDArray[np.float64] | None, NDArray[np.float64] | None]:
     """A mission file's energy budget from the scenario's start time, at the speeds the file carries, with the
     time a ``.plan`` holds at a waypoint or a timed loiter (:func:`read_holds`, the last item's included) spent
     holding the item against the current there.
@@ -247,10 +269,20 @@ def file_energy_holds(world: World, mission: Mission,
         ``(N,)`` the distance the vehicle moves through the water holding each waypoint against the current (the
         hold's time × the current's mean speed there, m; the navigation budget's drift without bottom lock,
         :func:`auvplan.nav.budget.hold_drift`); None without a hold.
+    water_m : numpy.ndarray or None
+        ``(N - 1,)`` each leg's horizontal distance through the water as flown
+        (:meth:`auvplan.endurance.Traverse.leg_water_m`: the navigation budget's drift without bottom lock);
+        None where the current beats the vehicle.
+
+    Notes
+    -----
+    The wait at a surface fix (``[navigation]``) is the file's where the format carries one (a ``.plan``'s hold, a
+    MOOS ``BHV_StationKeep``: :func:`~auvplan.io.missions.readback.dwell.read_dwells`), spent adrift at hotel power
+    as the plan budgets it; else the scenario's ``surface_s``.  A ``.plan``'s hold elsewhere is held on station.
     """
     waypoints = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)[0]
     if waypoints.shape[0] < 2:
-        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly", None
+        return {"energy_status": "EXACT", "energy_wh": 0.0}, True, "energy: a single point, nothing to fly", None, None
     if not np.isfinite(waypoints).all():
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
@@ -259,12 +291,14 @@ def file_energy_holds(world: World, mission: Mission,
     # where not carried; a .plan's commanded (horizontal) speed as WPNav flies it along each leg
     speeds = judged.speeds
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
-    nav = mission.navigation  # issue 52: the dwell at each surface fix, held at hotel power
-    dwell: NDArray[np.float64] | None = None if nav is None else \
-        np.array([nav.surface_s if k == "gps" else 0.0 for k in surface_kinds(waypoints)])
-    held = read_holds(path, waypoints.shape[0])  # a .plan's waypoint or timed loiter holding there
-    if held is not None:
-        dwell = held if dwell is None else dwell + held
+    nav = mission.navigation  # issue 52: the dwell at each surface fix, adrift at hotel power
+    surface = np.array([k == "gps" for k in surface_kinds(waypoints)]) if nav is not None \
+        else np.zeros(waypoints.shape[0], dtype=bool)
+    waits = read_dwells(path, waypoints.shape[0])  # the file's own waits (a .plan's holds, a MOOS station keep)
+    dwell: NDArray[np.float64] | None = None if nav is None else np.where(surface, nav.surface_s, 0.0)
+    if waits is not None:
+        dwell = waits
+    held = None if waits is None or not np.any(waits * ~surface) else np.where(surface, 0.0, waits)
     station = None if held is None else held > 0  # the last item's hold too: the budget flies it before the end
     # ArduSub holds the item against the current (its position controller): the power of that current's speed
     b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
@@ -273,7 +307,8 @@ def file_energy_holds(world: World, mission: Mission,
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
     water = b.traverse.hold_water
     moved = None if held is None or water.shape[0] != held.size else held * water.mean(axis=1)
-    return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved
+    flown = b.traverse.leg_water_m() if b.traverse.ok else None
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved, flown
 
 
 def sweep_energy(world: World, mission: Mission, plans: list[Any],

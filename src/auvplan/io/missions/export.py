@@ -346,6 +346,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     waypoints = mission_waypoints(record)
     tail = record_tail(record) if record.route.size else None
     deploy = deploy if deploy is not None else DeployInfo(origin)
+    nav = record.nav  # a surface fix's wait (surface_s) in the formats that carry one (.plan, .moos)
+    dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
     for fmt in formats:
         if fmt not in EXPORT_FORMATS:
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
@@ -359,14 +361,13 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         elif fmt == "kml":
             text = to_kml(record, origin, full, deploy)
         elif fmt == "csv":
-            nav = record.nav
             text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
                                     if nav is not None and len(nav.points) == len(waypoints) else None)
         elif fmt == "moos":
-            text = mfmt.to_moos(waypoints, speed, deploy=deploy)
+            text = mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
         elif fmt == "plan":
             assert origin is not None  # _frame(origin) raised otherwise
-            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy), indent=1) + "\n"
+            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell), indent=1) + "\n"
         elif fmt == "gpx":
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)

@@ -53,7 +53,7 @@ from .readback.readers import (
     parse_ros_path,
     read_mission,
 )
-from .readback.speeds import along_track_factor
+from .readback.speeds import MAX_HOLD_S, along_track_factor
 
 __all__ = [
     "MAX_MISSION_BYTES",
@@ -134,8 +134,35 @@ def _varies(v: NDArray[np.float64]) -> bool:
 
 
 # ---------------------------------------------------------------------- MOOS-IvP
+def _dwells(dwell: ArrayLike | None, n: int, what: str = "", limit: float = math.inf) -> NDArray[np.float64]:
+    """Each waypoint's wait (s), whole seconds rounded up (the fix gets at least its ``surface_s``); the last
+    waypoint's is after the mission: none."""
+    d = np.zeros(n) if dwell is None else np.asarray(dwell, dtype=float).reshape(-1)
+    if d.shape != (n,) or not np.all(np.isfinite(d)) or np.any(d < 0.0):
+        raise ValueError(f"dwell: one finite wait ≥ 0 per waypoint ({n}), got {d.size}")
+    if np.any(np.ceil(d[:-1] - 1e-9) > limit):
+        k = int(np.flatnonzero(np.ceil(d[:-1] - 1e-9) > limit)[0])
+        raise DataError(f"{what}: waypoint {k} waits {d[k]:g} s ([navigation] surface_s): over {limit:.0f} s, the "
+                        "longest hold ArduPilot stores (16 bits); not exported")
+    out: NDArray[np.float64] = np.ceil(d - 1e-9)
+    if n:
+        out[-1] = 0.0
+    return out
+
+
+def _moos_dwell(name: str, j: int, wait: float) -> list[str]:
+    """The behaviour that waits at waypoint ``j`` (a surface fix): heading on from it (``WPT_INDEX = j``) the
+    vehicle keeps station for ``wait`` seconds while ``DWELL`` pauses the waypoint and depth behaviours."""
+    return ["", "Behavior = BHV_StationKeep", "{", f"  name                = {name}_dwell_{j}",
+            "  pwt                 = 100",
+            "  condition           = DEPLOY = true", f"  condition           = WPT_INDEX = {j}",
+            "  runflag             = DWELL = true", "  endflag             = DWELL = false",
+            f"  duration            = {wait:g}", "  duration_idle_decay = false", "  center_activate     = true",
+            "  inner_radius        = 5", "  outer_radius        = 15", "}"]
+
+
 def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
-            deploy: DeployInfo | None = None) -> str:
+            deploy: DeployInfo | None = None, dwell: ArrayLike | None = None) -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
 
     ``BHV_Waypoint`` posts ``WPT_INDEX`` = index (from 0) of the point it heads to, so leg i, from
@@ -145,6 +172,11 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
     its parameter updates from ``WPT_UPDATE`` (``updates``): leg i is flown at v_i.
     :func:`auvplan.guidance.mission.waypoints.build_waypoints` chose the depths so that the
     vehicle stays clear of the seabed whatever depth it holds between a leg's two end depths.
+    A wait at waypoint j (a surface fix's ``surface_s``) is a ``BHV_StationKeep`` conditioned on
+    ``WPT_INDEX = j`` (the waypoint behaviour heading on from it) for ``duration`` seconds: its ``runflag``
+    ``DWELL = true`` pauses the waypoint and depth behaviours (``condition = DWELL = false``) and a
+    ``BHV_ConstantDepth`` holds the surface (depth 0) until its ``endflag`` (read back by
+    :func:`auvplan.io.missions.readback.dwell.moos_dwells`).
 
     Parameters
     ----------
@@ -156,6 +188,8 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
         Mission name, in the file's comments.
     deploy : DeployInfo, optional
         Datum, envelope, payload and terrain-following altitudes (:mod:`auvplan.io.missions.deploy_formats`).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; :attr:`auvplan.nav.NavPlan.dwell_s`), rounded up to whole seconds.
 
     Returns
     -------
@@ -164,6 +198,8 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
     """
     p = np.asarray(points, dtype=float)
     v = leg_speeds(speed, len(p) - 1)
+    waits = _dwells(dwell, len(p))
+    paused = ["  condition      = DWELL = false"] if waits.any() else []
     per_leg = _varies(v)
     x0, y0, z0 = p[0]
     pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
@@ -174,11 +210,12 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
              "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
              *dfmt.moos_datum(deploy.origin if deploy is not None else None),
              "initialize   DEPLOY = false", "initialize   RETURN = false",
+             *(["initialize   DWELL = false"] if paused else []),
              *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
              *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
              "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
              "  condition      = DEPLOY = true", "  condition      = RETURN = false",
-             *(["  condition      = ABORT = false"] if dep else []),
+             *(["  condition      = ABORT = false"] if dep else []), *paused,
              "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
              *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
              "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
@@ -188,9 +225,15 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
         lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_depth_{i}", "  pwt       = 100",
                   "  condition = DEPLOY = true", f"  condition = WPT_INDEX = {i}",
                   *(["  condition = RETURN = false", "  condition = ABORT = false"] if dep else []),
+                  *(["  condition = DWELL = false"] if paused else []),
                   f"  depth     = {-z:.3f}", "  duration  = no-time-limit", *inside]
         lines += [f"  runflag   = WPT_UPDATE = speed={v[i]:g}", "}"] if per_leg else ["}"]
         lines += after
+    for j in np.flatnonzero(waits):
+        lines += _moos_dwell(name, int(j), float(waits[j]))
+    if paused:  # at the surface while a fix's wait runs
+        lines += ["", "Behavior = BHV_ConstantDepth", "{", f"  name      = {name}_surface", "  pwt       = 100",
+                  "  condition = DWELL = true", "  depth     = 0", "  duration  = no-time-limit", "}"]
     return "\n".join(lines) + "\n"
 
 
@@ -210,7 +253,8 @@ def _change_speed(speed: float, jump_id: int) -> dict[str, Any]:
 
 
 def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | ArrayLike,
-                acceptance_radius: float = 5.0, deploy: DeployInfo | None = None) -> dict[str, Any]:
+                acceptance_radius: float = 5.0, deploy: DeployInfo | None = None,
+                dwell: ArrayLike | None = None) -> dict[str, Any]:
     """Make a QGroundControl ``.plan`` (JSON) for ArduSub.
 
     Home on the surface above the first point, one ``MAV_CMD_NAV_WAYPOINT`` per point with
@@ -226,7 +270,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     diving at ``γ`` at ``1 / cos γ`` times it (ArduPilot's
     ``kinematic_limit``), so leg i's command is its planned speed times ``cos γ``
     (:func:`~auvplan.io.missions.readback.speeds.along_track_factor`): the vehicle flies the planned speed through
-    the water, not up to 6 % more at a 20° pitch.
+    the water, not up to 6 % more at a 20° pitch.  A wait at a waypoint (a surface fix's ``surface_s``) is its
+    ``MAV_CMD_NAV_WAYPOINT`` param 1, the hold in whole seconds (rounded up; at most 65 535, ArduPilot's 16 bits).
 
     Parameters
     ----------
@@ -241,6 +286,8 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     deploy : DeployInfo, optional
         Envelope (the geofence), payload (relay items) and terrain-following altitudes (terrain frame items;
         :mod:`auvplan.io.missions.deploy_formats`).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; :attr:`auvplan.nav.NavPlan.dwell_s`).
 
     Returns
     -------
@@ -251,6 +298,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     frame = LocalFrame(*origin)
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
+    waits = _dwells(dwell, len(p), "mission.plan", MAX_HOLD_S)
     # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
     factor = along_track_factor(p)
     horizontal = v / factor if v.size else v
@@ -272,7 +320,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
         if max(abs(la), abs(lo)) < ZERO_LATLON_DEG:  # ArduSub reads (0, 0) as "stay where you are": 1.1 cm north
             la = ZERO_LATLON_DEG
         items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
-                      "frame": frame_id, "params": [0, acceptance_radius, 0, None, round(float(la), 9),
+                      "frame": frame_id, "params": [int(waits[i]), acceptance_radius, 0, None, round(float(la), 9),
                                                     round(float(lo), 9), h],
                       "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
         if i < v.size and abs(said * float(factor[i]) - float(v[i])) > SPEED_BAND * float(v[i]):
