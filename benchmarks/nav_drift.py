@@ -29,7 +29,8 @@ from auvplan.endurance import EnergyModel
 from auvplan.endurance import mission_budget as energy_budget
 from auvplan.io.scenario import loader as scenario
 from auvplan.sim import simulate
-from auvplan.sim.pipeline import navigation_plan, planned_route
+from auvplan.sim.navigation import navigation_plan
+from auvplan.sim.pipeline import planned_route
 
 
 def fly(world, mission, route, kinds, seeds, log):  # type: ignore[no-untyped-def]

@@ -68,8 +68,9 @@ def lofoten_plan(tmp_path_factory):
 @pytest.fixture(scope="session")
 def mariana_nav_plan():
     """(World, Mission, route, NavPlan) of the built-in mariana-nav: its route (seed 1) with its fixes planned
-    (``auvplan.sim.pipeline.navigation_plan``, ~5 s), once for the tests that read it."""
-    from auvplan.sim.pipeline import navigation_plan, planned_route
+    (``auvplan.sim.navigation.navigation_plan``, ~5 s), once for the tests that read it."""
+    from auvplan.sim.navigation import navigation_plan
+    from auvplan.sim.pipeline import planned_route
 
     world, mission = sc.build(sc.load("mariana-nav"))
     _, route = planned_route(world, mission, 1)

@@ -19,7 +19,7 @@ import pytest
 from auvplan.endurance import traverse
 from auvplan.nav import NavParams, check_navigation, navigation_of
 from auvplan.sim import Mission
-from auvplan.sim.pipeline import timed_navigation
+from auvplan.sim.navigation import timed_navigation
 from auvplan.world import Bounds, Margins, Terrain, World
 from auvplan.world.currents.fields import GriddedCurrent, UniformCurrent
 

@@ -15,7 +15,7 @@ import numpy as np
 from auvplan.io.scenario import loader
 from auvplan.nav.band import profile_times
 from auvplan.nav.budget import error_profile
-from auvplan.sim.pipeline import navigation_plan, timed_navigation
+from auvplan.sim.navigation import navigation_plan, timed_navigation
 
 CURRENT = np.array([0.3, -0.2, 0.0])
 SCENARIO = """name = "fix-times"

@@ -290,7 +290,7 @@ def _navigation(out: Path, world: World, mission: Mission, route: np.ndarray, fl
     from ..io.missions.energy import read_leg_speeds
     from ..io.missions.readback.fixes import fix_kinds
     from ..nav import navigation_of
-    from ..sim.pipeline import navigation_plan, timed_navigation
+    from ..sim.navigation import navigation_plan, timed_navigation
 
     nav = mission.navigation
     assert nav is not None

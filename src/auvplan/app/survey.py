@@ -116,7 +116,7 @@ def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: 
     nav = mission.navigation
     if nav is not None and record.route.shape[0] >= 2:  # issue 52: the survey's own error budget drawn
         from ..nav import navigation_of, surface_kinds
-        from ..sim.pipeline import timed_navigation  # flown through the current: its drift over the water
+        from ..sim.navigation import timed_navigation  # flown through the current: its drift over the water
 
         record = replace(record, nav=timed_navigation(world, mission, navigation_of(
             world, record.route, surface_kinds(record.route), nav, mission.vehicle.speed, nav.usbl_xy)))

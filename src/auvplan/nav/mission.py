@@ -152,7 +152,7 @@ class NavPlan:
         The cruise speed the times are planned at (m/s).
     vertex_times_s : numpy.ndarray or None
         ``(N,)`` planned arrival at each waypoint (s) through the World's current at the legs' own speeds
-        (:func:`auvplan.sim.pipeline.timed_navigation`); None: at the cruise speed in still water.
+        (:func:`auvplan.sim.navigation.timed_navigation`); None: at the cruise speed in still water.
     leg_water_m : numpy.ndarray or None
         ``(N - 1,)`` each leg's horizontal distance through the water, flown as :attr:`vertex_times_s` (m); the
         budget's drift without bottom lock grows with it (:func:`through_water`); None: still water.

@@ -8,6 +8,8 @@ Each idea has its module; every public name is importable from :mod:`auvplan.sim
 * :mod:`~auvplan.sim.result`: what a run produced (:class:`SimResult`, :class:`SimMetrics`,
   :class:`RunRecord`, :func:`decimate`);
 * :mod:`~auvplan.sim.pipeline`: plan → mission route → key waypoints → simulation (:func:`run_mission`);
+* :mod:`~auvplan.sim.navigation`: the navigation budget as flown (``[navigation]``: its fixes and each leg's drift
+  through the water);
 * :mod:`~auvplan.sim.band`: a terrain-following run's altitude against its band (``metrics.json``);
 * :mod:`~auvplan.sim.problem`: a mission's planning problem (:func:`planning_problem`).
 

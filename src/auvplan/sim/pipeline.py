@@ -10,13 +10,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
-from ..endurance import EnergyModel, choose_speeds, traverse
+from ..endurance import EnergyModel, choose_speeds
 from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
 from ..guidance.mission.legs import merge_short_legs
 from ..guidance.mission.waypoints import build_waypoints, default_tolerance
-from ..nav.fixes import best_period, route_profile
-from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..path import resample_polyline
 from ..path.legs import helm_check, shortest_leg
 from ..planners import plan as global_plan
@@ -25,14 +23,15 @@ from ..world import World
 from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
+from .navigation import navigation_plan, timed_navigation
 from .problem import planning_problem, vehicle_limits
 from .result import RunRecord
 from .tracking import contract_world, route_bound, route_keeps
 
 __all__ = ["kept_fit", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
-           "navigation_plan", "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
+           "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
            "mission_route", "timed_waypoints", "route_tail", "record_tail", "planned_route", "planned_fit",
-           "with_leg_speeds", "timed_navigation"]
+           "with_leg_speeds"]
 
 
 def route_from_path(path: ArrayLike, spacing: float) -> NDArray[np.float64]:
@@ -396,80 +395,6 @@ def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: Arra
         length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
         sim = replace(sim, max_time=3.0 * length / float(plan.speeds.min()) + 120.0)
     return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
-
-
-def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
-    """The route's position fixes and navigation budget (``[navigation]``; :func:`auvplan.nav.plan_navigation`).
-
-    Parameters
-    ----------
-    world : World
-        Seabed, obstacles, margins.
-    mission : Mission
-        Its ``navigation`` settings and vehicle (pitch limit, speed).
-    route : array_like
-        ``(N, 3)`` the route (m).
-
-    Returns
-    -------
-    NavPlan or None
-        None for a mission without ``[navigation]`` (perfect navigation).
-    """
-    nav = mission.navigation
-    if nav is None:
-        return None
-    v = mission.vehicle
-    p = np.asarray(route, dtype=float).reshape(-1, 3)
-    ratio = None
-    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed
-        tr = traverse(world, p, v.speed)
-        h = np.hypot(*np.diff(p[:, :2], axis=0).T)
-        ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0) if tr.ok else None
-    budget = nav
-    for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
-        planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
-                                  compare=False)
-        timed = timed_navigation(world, mission, replace(planned, params=nav))
-        over = timed.check.budget.max_error_m / nav.max_error_m
-        if timed.ok or not planned.fixes.ok or over <= 1.0:
-            break
-        budget = replace(budget, max_error_m=budget.max_error_m / over * (1.0 - 1e-3))  # plan within E / overshoot
-    if nav.fixes == "plan" and planned.fixes.ok:  # the best fixed period with the planned fixes' largest error
-        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio)
-        timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
-    return timed
-
-
-def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
-    """The fixes' planned times through the World's current at each leg's speed (``fixes.csv`` ``t_s``), and
-    the budget checked again with each leg's drift without bottom lock over its distance through the water
-    (:func:`auvplan.nav.mission.through_water`).
-
-    Parameters
-    ----------
-    world : World
-        Its currents.
-    mission : Mission
-        Its leg speeds (one per leg of ``nav.points``; else the cruise speed).
-    nav : NavPlan
-        The mission's waypoints, fixes and dwells.
-    tail : array_like of bool, optional
-        ``(N - 1,)`` legs flown tail-first.
-
-    Returns
-    -------
-    NavPlan
-        ``nav`` with its waypoints' arrival times (:meth:`~auvplan.nav.NavPlan.timed`) and its legs' water
-        distances; unchanged where the current beats the vehicle on a leg (the endurance check says so).
-    """
-    p = nav.points
-    if p.shape[0] < 2:
-        return nav
-    legs = p.shape[0] - 1
-    speeds = mission.leg_speeds if len(mission.leg_speeds) == legs else mission.vehicle.speed
-    back = None if tail is None or np.asarray(tail).size != legs else tail
-    tr = traverse(world, p, speeds, 0.0, tail=back, dwell=nav.dwell_s)
-    return through_water(world, nav.timed(tr.times), tr.leg_water_m()) if tr.ok else nav
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,
