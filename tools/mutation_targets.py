@@ -1424,7 +1424,7 @@ MODULES.update({
         ((LIMITS, "waypoint_limits"), (LIMITS, "WaypointLimits.reasons", "if self.outside_depth_band:",
                                        "outside the depth band (waypoint")),
     ),
-    "parse-once": Target(_fns(PARSED, "parse_once", "loads", "remembered") + _fns(MEN, "file_energy_holds")),
+    "parse-once": Target(_fns(PARSED, "parse_once", "loads", "remembered") + _fns(MEN, "file_energy_flight")),
     "readers20": Target(
         _fns(JSONCRS, "_stated", "check_geojson_crs")
         + _fns(TIDECHECK, "_number", "_list", "_tables", "_station", "check_tide_doc")
@@ -1485,40 +1485,41 @@ REASONS.update({
     "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m / (1.0 + 1e-09))": _LEG_EDGE,
     "check_navigation | over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 - 1e-09))": _LEG_EDGE,
 })
-# mutants20's survivors of parse-once (file_energy_holds) and zones-near, argued or left open
+# mutants20's survivors of parse-once (file_energy_holds then, its body now file_energy_flight's) and zones-near,
+# argued or left open
 REASONS.update({
     'loads | if hit is not None and (hit[1] is text or hit[0] == text):':
         'equivalent: hit[0] is text implies hit[0] == text; the equality decides alone (the identity is a shortcut)',
-    ('file_energy_holds | waypoints = read_mission(path, world.origin, world.seabed if world.terrain is None els'
+    ('file_energy_flight | waypoints = read_mission(path, world.origin, world.seabed if world.terrain is None els'
      'e None)[0]'):
         ('not killed (a line moved unchanged from mission_file_energy): the seabed handed to the reader only mat'
          'ters for a terrain-frame .plan on a world with a seabed, which no energy test reads'),
-    'file_energy_holds | if waypoints.shape[1] < 2:':
+    'file_energy_flight | if waypoints.shape[1] < 2:':
         ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
          'ints first'),
-    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 1.0}, True, 'energy: a single point, n"
+    ("file_energy_flight | return ({'energy_status': 'EXACT', 'energy_wh': 1.0}, True, 'energy: a single point, n"
      "othing to fly', None)"):
         ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
          'ints first'),
-    ("file_energy_holds | return ({'energy_status': 'EXACT', 'energy_wh': 0.0}, False, 'energy: a single point, "
+    ("file_energy_flight | return ({'energy_status': 'EXACT', 'energy_wh': 0.0}, False, 'energy: a single point, "
      "nothing to fly', None)"):
         ('not killed (moved unchanged): a one-point file; the readers refuse a .plan or CSV of fewer than two po'
          'ints first'),
-    'file_energy_holds | if not np.isfinite(waypoints).any():':
+    'file_energy_flight | if not np.isfinite(waypoints).any():':
         'equivalent: read_mission refuses a waypoint that is not finite before this line (the guard is a second one)',
-    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is not None else np.array([nav.surface'
+    ('file_energy_flight | dwell: NDArray[np.float64] | None = None if nav is not None else np.array([nav.surface'
      "_s if k == 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
         ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
          "_endurance pin it through the planner's path, not through a file"),
-    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+    ('file_energy_flight | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
      "f k != 'gps' else 0.0 for k in surface_kinds(waypoints)])"):
         ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
          "_endurance pin it through the planner's path, not through a file"),
-    ('file_energy_holds | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
+    ('file_energy_flight | dwell: NDArray[np.float64] | None = None if nav is None else np.array([nav.surface_s i'
      "f k == 'gps' else 1.0 for k in surface_kinds(waypoints)])"):
         ("not killed (moved unchanged, issue 52): the surface fixes' dwell in a file's energy; test_nav and test"
          "_endurance pin it through the planner's path, not through a file"),
-    'file_energy_holds | station = None if held is None else held >= 0':
+    'file_energy_flight | station = None if held is None else held >= 0':
         'equivalent: a vertex of no hold marked on station holds for 0 s: traverse acts only where the hold is > 0',
     'near_distance_kernel | count = 1':
         'equivalent: count is always set at the first point (n == 0) before it is read',

@@ -77,13 +77,13 @@ def _mission(tmp_path, holds, current=0.5):
 def test_the_water_moved_through_in_each_hold_is_the_hold_times_the_current(tmp_path):
     """Uniform 0.5 m/s: holds of 0, 600 and 1 s (the least a .plan holds) at the three items (home first, no hold):
     0, 0, 300 and 0.5 m."""
-    from auvplan.io.missions.energy import file_energy_holds
+    from auvplan.io.missions.energy import file_energy_flight
 
     world, mission, plan = _mission(tmp_path, [0, 600, 1])
-    rec, ok, _line, moved = file_energy_holds(world, mission, plan)
+    rec, ok, _line, moved, _ = file_energy_flight(world, mission, plan)
     assert ok and rec["energy_status"] == "EXACT" and len(rec["leg_speeds_mps"]) == 3
     np.testing.assert_allclose(moved, [0.0, 0.0, 300.0, 0.5], rtol=1e-9)
-    assert file_energy_holds(world, mission, _mission(tmp_path, [0, 0, 0])[2])[3] is None  # no hold: None
+    assert file_energy_flight(world, mission, _mission(tmp_path, [0, 0, 0])[2])[3] is None  # no hold: None
 
 
 def test_a_two_point_plan_is_flown(tmp_path):
@@ -92,13 +92,13 @@ def test_a_two_point_plan_is_flown(tmp_path):
     import json
 
     from auvplan.endurance import EnergyModel
-    from auvplan.io.missions.energy import file_energy_holds
+    from auvplan.io.missions.energy import file_energy_flight
 
     world, mission, plan = _mission(tmp_path, [0, 0, 0], current=0.0)
     doc = json.loads(plan.read_text())
     doc["mission"]["items"] = doc["mission"]["items"][:1]  # home and one item: two waypoints, one 15 m leg
     plan.write_text(json.dumps(doc))
-    rec, ok, _line, moved = file_energy_holds(world, mission, plan)
+    rec, ok, _line, moved, _ = file_energy_flight(world, mission, plan)
     v = mission.vehicle.speed
     want = float(EnergyModel.from_vehicle(mission.vehicle).power(v)) * 15.0 / v / 3600.0
     assert ok and moved is None and rec["energy_wh"] == pytest.approx(want, rel=1e-6)

@@ -361,7 +361,7 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         The track of ``follow``'s legs, when the caller has it.
     held_water_m : numpy.ndarray, optional
         ``(N,)`` the distance moved through the water holding each waypoint (a ``.plan``'s holds,
-        :func:`~auvplan.io.missions.energy.file_energy_holds`): its drift without bottom lock.
+        :func:`~auvplan.io.missions.energy.file_energy_flight`): its drift without bottom lock.
     water_m : numpy.ndarray, optional
         ``(N - 1,)`` each leg's horizontal distance through the water as the energy check flew it
         (:func:`~auvplan.io.missions.energy.file_energy_flight`): the drift without bottom lock; default: still water.

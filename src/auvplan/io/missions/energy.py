@@ -37,7 +37,7 @@ from .readback.speeds import judged_leg_speeds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
-           "mission_file_energy", "file_energy_holds", "file_energy_flight", "sweep_energy"]
+           "mission_file_energy", "file_energy_flight", "sweep_energy"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -195,7 +195,7 @@ def mission_endurance(world: World, mission: Mission, record: RunRecord) -> Endu
 
 
 def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[JsonDict, bool, str]:
-    """:func:`file_energy_holds` without the holds (its first three values).
+    """:func:`file_energy_flight`'s verdict alone (its first three values).
 
     Parameters
     ----------
@@ -209,35 +209,14 @@ def mission_file_energy(world: World, mission: Mission, path: Path) -> tuple[Jso
     Returns
     -------
     record : dict
-        As :func:`file_energy_holds`.
+        As :func:`file_energy_flight`.
     ok : bool
         Whether the reserve is kept.
     line : str
         The verdict in one line.
     """
-    rec, ok, line, _ = file_energy_holds(world, mission, path)
+    rec, ok, line, _, _ = file_energy_flight(world, mission, path)
     return rec, ok, line
-
-
-def file_energy_holds(world: World, mission: Mission,
-                      path: Path) -> tuple[JsonDict, bool, str, NDArray[np.float64] | None]:
-    """:func:`file_energy_flight` without the legs' water distances (its first four values).
-
-    Parameters
-    ----------
-    world : World
-        Currents (and the origin of geographic formats).
-    mission : Mission
-        Vehicle, power model, battery and ``[endurance] ds_m``.
-    path : pathlib.Path
-        The mission file.
-
-    Returns
-    -------
-    tuple
-        As :func:`file_energy_flight`'s first four.
-    """
-    return file_energy_flight(world, mission, path)[:4]
 
 
 def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
