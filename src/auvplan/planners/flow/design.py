@@ -51,6 +51,21 @@ def offset_surface(obstacle: Shape, margin: float, n: int = 60) -> FloatArray:
     return np.asarray(obstacle.center) + (obstacle.radius + margin) * dirs
 
 
+def _axis(obstacle: Shape, target: ArrayLike) -> tuple[FloatArray, FloatArray, float, FloatArray]:
+    """The body's frame: the obstacle's centre ``c``, the target ``T``, their distance ``a1`` (the target sink's place
+    on the axis) and the basis whose first column points from ``c`` to ``T`` (every sizing's)."""
+    c = np.asarray(obstacle.center, dtype=float)
+    T = np.asarray(target, dtype=float)
+    return c, T, float(np.linalg.norm(T - c)), frame(T - c)
+
+
+def _smallest(best: AxialBody | None, T: FloatArray, c: FloatArray) -> AxialBody:
+    """The smallest containing body a search found, or the error that none contains the obstacle."""
+    if best is None:
+        raise ValueError(f"the target {tuple(T)} is too close to the obstacle at {tuple(c)}: no body contains it")
+    return best
+
+
 def _meridian(points: FloatArray, center: FloatArray, basis: FloatArray) -> tuple[FloatArray, FloatArray]:
     q = (points - center) @ basis
     return q[:, 0], np.hypot(q[:, 1], q[:, 2])
@@ -134,10 +149,7 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
     ValueError
         If no fitted distribution contains the obstacle (the target too close to it).
     """
-    c = np.asarray(obstacle.center, dtype=float)
-    T = np.asarray(target, dtype=float)
-    a1 = float(np.linalg.norm(T - c))
-    basis = frame(T - c)
+    c, T, a1, basis = _axis(obstacle, target)
     # 0.1 % of the size on top: the surface between the sampled points (azimuth steps of 1.5°)
     x_all, rho_all = _meridian(offset_surface(obstacle, margin + pad + 1e-3 * obstacle.bounding_radius), c, basis)
     x, rho = _envelope(x_all, rho_all)
@@ -181,9 +193,7 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
         if (best is None or good.volume < best.volume) and _contains(good, x_all, rho_all, outer=True) \
                 and _no_dents(good):
             best = good
-    if best is None:
-        raise ValueError(f"the target {tuple(T)} is too close to the obstacle at {tuple(c)}: no body contains it")
-    return best
+    return _smallest(best, T, c)
 
 
 def _no_dents(body: AxialBody, depth: float = 0.02) -> bool:
@@ -265,10 +275,7 @@ def design_pair_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
     ValueError
         If no pair contains the obstacle (the target too close to it).
     """
-    c = np.asarray(obstacle.center, dtype=float)
-    T = np.asarray(target, dtype=float)
-    a1 = float(np.linalg.norm(T - c))
-    basis = frame(T - c)
+    c, T, a1, basis = _axis(obstacle, target)
     x, rho = _envelope(*_meridian(offset_surface(obstacle, margin + pad + 1e-3 * obstacle.bounding_radius), c, basis))
     half = 0.5 * (x.max() - x.min())
     best: AxialBody | None = None
@@ -285,9 +292,7 @@ def design_pair_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
             body = _pair(c, basis, a1, Q, hi, a2)
             if (best is None or body.volume < best.volume) and _contains(body, x, rho, outer=True):
                 best = body
-    if best is None:
-        raise ValueError(f"the target {tuple(T)} is too close to the obstacle at {tuple(c)}: no body contains it")
-    return best
+    return _smallest(best, T, c)
 
 
 def design_document_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin: float = 0.0,
@@ -321,10 +326,7 @@ def design_document_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, mar
     ValueError
         If no (m, a₂) meets the two conditions.
     """
-    c = np.asarray(obstacle.center, dtype=float)
-    T = np.asarray(target, dtype=float)
-    a1 = float(np.linalg.norm(T - c))
-    basis = frame(T - c)
+    c, _, a1, basis = _axis(obstacle, target)
     x, rho = _meridian(offset_surface(obstacle, margin + pad, 40), c, basis)
     xs, R0 = float(-x.min()), float(rho.max())
 
