@@ -322,6 +322,28 @@ class PlanResult:
     converged: bool | None = None
     convergence: str = ""
 
+    @classmethod
+    def failure(cls, status: Status, message: str, planner: str, wall_time_s: float = 0.0) -> PlanResult:
+        """A planner's result without a path: its failure status and why, nothing found, no work counted.
+
+        Parameters
+        ----------
+        status : Status
+            The failure (``INVALID_START``, ``INVALID_GOAL``, ``INFEASIBLE`` …).
+        message : str
+            Why, for the user.
+        planner : str
+            Name of the planner.
+        wall_time_s : float, default 0.0
+            Wall-clock time spent before the failure (s).
+
+        Returns
+        -------
+        PlanResult
+            An empty path ``(0, 3)``, ``inf`` cost, no cost terms, no evaluations or iterations, an empty history.
+        """
+        return cls(status, np.empty((0, 3)), float("inf"), {}, 0, 0, wall_time_s, np.empty(0), planner, None, message)
+
     @property
     def gap(self) -> float:
         """Cost minus the grid reference's cost.

@@ -91,7 +91,7 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
         bad = (Status.INFEASIBLE,
                "field = 'uniform' has no sink at the goal (document 000 Fig. 5 baseline): use it in benchmarks")
     if bad is not None:
-        return PlanResult(bad[0], np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), "flow", None, bad[1])
+        return PlanResult.failure(bad[0], bad[1], "flow")
     field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
     sl = integrate_streamlines(field, problem.start[None], params)
     plane, why = None, ""

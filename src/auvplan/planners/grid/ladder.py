@@ -63,8 +63,7 @@ did; skipping it saves a convergence, 0.15–0.6 s, where a finer rung does not 
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
-    return PlanResult(status, np.empty((0, 3)), float("inf"), {}, 0, 0, time.perf_counter() - t0, np.empty(0),
-                      "grid", None, message)
+    return PlanResult.failure(status, message, "grid", time.perf_counter() - t0)
 
 
 def _lattice(problem: PlanningProblem, model: CostModel, params: GridParams, reference: GridReference | None,

@@ -142,10 +142,6 @@ def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
     return minimize(problem, optimizer, termination, progress)
 
 
-def _failure(status: Status, message: str, name: str) -> PlanResult:
-    return PlanResult(status, np.empty((0, 3)), float("inf"), {}, 0, 0, 0.0, np.empty(0), name, None, message)
-
-
 def _budgets(spec: PlannerSpec) -> tuple[int | None, int]:
     """Evaluations of the optimiser (None: iteration cap only) and of the refinement."""
     if spec.pipeline == "document":
@@ -184,7 +180,7 @@ def plan_swarm(
     t0 = time.perf_counter()
     bad = check_endpoints(problem)
     if bad is not None:
-        return _failure(bad[0], bad[1], spec.name)
+        return PlanResult.failure(bad[0], bad[1], spec.name)
     gen = as_rng(rng)
     budget, refine = _budgets(spec)
     lattice, x0, count, work = None, None, 0, {}

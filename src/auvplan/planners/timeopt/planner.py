@@ -213,8 +213,7 @@ def flown(problem: PlanningProblem, ts: TimeSetup, tp: TimedPath) -> TimedPath:
 
 
 def _failure(status: Status, message: str, t0: float) -> PlanResult:
-    return PlanResult(status, np.empty((0, 3)), math.inf, {}, 0, 0, time.perf_counter() - t0, np.empty(0),
-                      "timeopt", None, message)
+    return PlanResult.failure(status, message, "timeopt", time.perf_counter() - t0)
 
 
 def _result(problem: PlanningProblem, spec: PlannerSpec, tp: TimedPath, ts: TimeSetup, t0: float) -> PlanResult:
