@@ -29,7 +29,7 @@ import numpy as np
 from ..._types import ArrayLike, FloatArray
 from ...vehicles.glider import GliderParams, crab_heading, yo_timing
 from ...world import World
-from ...world.currents.fields import CurrentField
+from ...world.currents.ensemble import DerivedCurrent
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
 from ..core.params import TimeoptParams
 from .planner import plan_timeopt
@@ -37,7 +37,7 @@ from .planner import plan_timeopt
 __all__ = ["DepthAveragedCurrent", "Cycle", "cycle", "GliderPlan", "plan_glider", "surfacings", "endurance_days"]
 
 
-class DepthAveragedCurrent(CurrentField):
+class DepthAveragedCurrent(DerivedCurrent):
     """The current averaged over a glider's depth band (module notes, step 1).
 
     Parameters
@@ -92,26 +92,6 @@ class DepthAveragedCurrent(CurrentField):
             v = (1.0 - self.surface_share) * v + self.surface_share * self.base.velocity(top, t)
         v[:, 2] = 0.0
         return np.asarray(v.reshape(p.shape), dtype=float)
-
-    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the base field covers the horizontal box.
-
-        Parameters
-        ----------
-        xmin, xmax, ymin, ymax : float
-            The box (m).
-
-        Returns
-        -------
-        bool
-            The base field's :meth:`CurrentField.covers`.
-        """
-        return self.base.covers(xmin, xmax, ymin, ymax)
-
-    @property
-    def max_speed(self) -> float:
-        """The base field's bound (m/s)."""
-        return self.base.max_speed
 
 
 @dataclass(frozen=True)

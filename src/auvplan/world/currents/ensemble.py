@@ -8,6 +8,8 @@
 * :class:`MeanCurrent` — the member-wise mean of several fields.
 * :class:`ShiftedCurrent` — a field seen from a later clock: ``velocity(p, t) = base(p, t0 + t)``
   (re-planning from a vehicle's state mid-mission).
+* :class:`DerivedCurrent` — what a field made from one base field (the perturbed and shifted fields, the glider's
+  depth average) takes from it: its domain and its speed bound.
 """
 
 from __future__ import annotations
@@ -22,11 +24,46 @@ from ..._types import ArrayLike, FloatArray
 from ...geometry import as_points
 from .fields import CurrentField
 
-__all__ = ["PerturbedCurrent", "MeanCurrent", "ShiftedCurrent"]
+__all__ = ["DerivedCurrent", "PerturbedCurrent", "MeanCurrent", "ShiftedCurrent"]
+
+
+class DerivedCurrent(CurrentField):
+    """A current field made from one other field, :attr:`base`: defined where the base is, as fast at the most.
+
+    A kind sets ``base`` (a dataclass field, or in its constructor) and its own :meth:`velocity`; a kind that can be
+    faster than its base (:class:`PerturbedCurrent`) gives its own :attr:`max_speed`.
+
+    Attributes
+    ----------
+    base : CurrentField
+        The field it is made from.
+    """
+
+    base: CurrentField
+
+    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
+        """Whether the field is defined over the whole horizontal box (the base's).
+
+        Parameters
+        ----------
+        xmin, xmax, ymin, ymax : float
+            The box (m).
+
+        Returns
+        -------
+        bool
+            The base field's :meth:`CurrentField.covers`.
+        """
+        return self.base.covers(xmin, xmax, ymin, ymax)
+
+    @property
+    def max_speed(self) -> float:
+        """The base field's bound (m/s)."""
+        return self.base.max_speed
 
 
 @dataclass(frozen=True, eq=False)
-class PerturbedCurrent(CurrentField):
+class PerturbedCurrent(DerivedCurrent):
     """A base current plus a smooth random horizontal perturbation (module notes).
 
     Parameters
@@ -99,21 +136,6 @@ class PerturbedCurrent(CurrentField):
         """
         out: FloatArray = self.base.velocity(points, t) + self.perturbation(points)
         return out
-
-    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the field is defined over the whole horizontal box (the base's).
-
-        Parameters
-        ----------
-        xmin, xmax, ymin, ymax : float
-            The box (m).
-
-        Returns
-        -------
-        bool
-            True when every point of the box is inside the field's domain.
-        """
-        return self.base.covers(xmin, xmax, ymin, ymax)
 
     @property
     def max_speed(self) -> float:
@@ -197,7 +219,7 @@ class MeanCurrent(CurrentField):
 
 
 @dataclass(frozen=True, eq=False)
-class ShiftedCurrent(CurrentField):
+class ShiftedCurrent(DerivedCurrent):
     """A field read from a later clock: ``velocity(p, t) = base.velocity(p, t0 + t)``.
 
     Parameters
@@ -244,23 +266,3 @@ class ShiftedCurrent(CurrentField):
             Velocities ``(N, 3)`` (m/s).
         """
         return self.base.velocity_at(points, self.t0 + np.asarray(times, dtype=float))
-
-    def covers(self, xmin: float, xmax: float, ymin: float, ymax: float) -> bool:
-        """Whether the field is defined over the whole horizontal box (the base's).
-
-        Parameters
-        ----------
-        xmin, xmax, ymin, ymax : float
-            The box (m).
-
-        Returns
-        -------
-        bool
-            True when every point of the box is inside the field's domain.
-        """
-        return self.base.covers(xmin, xmax, ymin, ymax)
-
-    @property
-    def max_speed(self) -> float:
-        """The base's bound."""
-        return self.base.max_speed
