@@ -19,7 +19,10 @@ __all__ = ["Reporter", "Silent", "ReporterFor", "silent"]
 
 
 class Reporter(Protocol):
-    """What a job reports its progress to: the planner's iterations, the flight's simulated time, stages."""
+    """What a job reports its progress to: the planner's iterations, the flight's simulated time, stages.
+
+    Each method does nothing here: :class:`Silent` subclasses the protocol to be the reporter that reports nothing.
+    """
 
     def __call__(self, iteration: int, best: float) -> None:
         """The planner's callback.
@@ -56,42 +59,8 @@ class Reporter(Protocol):
         """The job is over."""
 
 
-class Silent:
-    """A reporter that reports nothing (the planning page, scripts)."""
-
-    def __call__(self, iteration: int, best: float) -> None:
-        """Nothing.
-
-        Parameters
-        ----------
-        iteration : int
-            Iterations done.
-        best : float
-            Best cost so far.
-        """
-
-    def flight(self, t: float, expected: float) -> None:
-        """Nothing.
-
-        Parameters
-        ----------
-        t : float
-            Simulated seconds flown.
-        expected : float
-            About how many the flight takes (s).
-        """
-
-    def stage(self, text: str) -> None:
-        """Nothing.
-
-        Parameters
-        ----------
-        text : str
-            What the job is doing.
-        """
-
-    def close(self) -> None:
-        """Nothing."""
+class Silent(Reporter):
+    """A reporter that reports nothing (the planning page, scripts): the protocol's own bodies, which do nothing."""
 
 
 ReporterFor = Callable[["PlannerSpec", str], Reporter]
