@@ -46,6 +46,88 @@ min_altitude_m = 10.0
 """
 
 
+# the wide ridge of the mission-file tests (test_mission, test_edges12_surfaces), after its ``name``: a ridge 150 m
+# high and 2 km wide across a 10 km x 2 km box at x = 5 km, over a 200 m deep seabed on 100 m cells; the mission
+# crosses it 150 m deep
+WIDE_RIDGE = """
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 10000.0]
+y = [0.0, 2000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "ridge"
+depth = 200.0
+cell_m = 100.0
+ridge_x = 5000.0
+ridge_width = 2000.0
+height = 150.0
+[mission]
+start = [500.0, 1000.0, -150.0]
+goal = [9500.0, 1000.0, -150.0]
+min_altitude_m = 20.0
+min_depth_m = 5.0
+max_depth_m = 300.0
+"""
+
+# the sloping plane of the survey and hostile-input tests (test_survey_corridor, test_hostile_round4), after its
+# ``name``: a 6 km x 5 km box over a seabed 50 m deep at the origin sloping down to the north-east, a 0.1 m/s current
+# to the north, the mission a loop from (200, -300) 2 m deep, a small IABC
+SLOPING_PLANE = """
+seed = 2
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [-500.0, 5500.0]
+y = [-1500.0, 3500.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 50.0
+slope = [-0.01, -0.02]
+cell_m = 25.0
+[currents]
+uniform = [0.0, 0.1, 0.0]
+[mission]
+start = [200.0, -300.0, -2.0]
+goal = [200.0, -300.0, -2.0]
+min_altitude_m = 5.0
+min_depth_m = 2.0
+max_depth_m = 300.0
+[vehicle]
+speed = 1.5
+[planner]
+name = "iabc"
+population = 16
+iterations = 12
+control_points = 3
+samples = 50
+"""
+
+# the zones' plane (test_audit12_edges, test_edges12_surfaces, test_audit14), after its ``name`` and up to the end of
+# ``[mission]``'s start and goal: a 3 km x 1 km box over a flat seabed 200 m deep on 100 m cells, the mission from
+# (100, 500) 150 m deep up to (2100, 500) 10 m deep
+ZONES_PLANE = """
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 3000.0]
+y = [0.0, 1000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "plane"
+depth = 200.0
+cell_m = 100.0
+[mission]
+start = [100.0, 500.0, -150.0]
+goal = [2100.0, 500.0, -10.0]
+"""
+
+
 def ridge_toml(*, route: bool = False, follow_altitude_m: float | None = None) -> str:
     """:data:`RIDGE` with, if asked, the straight route written out (:data:`RIDGE_ROUTE`) and a terrain-following
     altitude (``follow_altitude_m = ...``), as the last lines of ``[mission]``."""

@@ -11,39 +11,9 @@ from __future__ import annotations
 import pytest
 
 from auvplan.cli import main
+from helpers import SLOPING_PLANE
 
-PLANE = """
-name = "plane"
-seed = 2
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [-500.0, 5500.0]
-y = [-1500.0, 3500.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "plane"
-depth = 50.0
-slope = [-0.01, -0.02]
-cell_m = 25.0
-[currents]
-uniform = [0.0, 0.1, 0.0]
-[mission]
-start = [200.0, -300.0, -2.0]
-goal = [200.0, -300.0, -2.0]
-min_altitude_m = 5.0
-min_depth_m = 2.0
-max_depth_m = 300.0
-[vehicle]
-speed = 1.5
-[planner]
-name = "iabc"
-population = 16
-iterations = 12
-control_points = 3
-samples = 50
-"""
+PLANE = '\nname = "plane"' + SLOPING_PLANE
 TRANSIT = PLANE.replace("goal = [200.0, -300.0, -2.0]", "goal = [5000.0, 3000.0, -10.0]")
 
 

@@ -21,35 +21,14 @@ from auvplan.io.scenario import loader as sc
 from auvplan.planners import plan
 from auvplan.sim import RunRecord, SimResult, decimate, mission_route, planning_problem, route_from_path
 from auvplan.world import Sphere
+from helpers import WIDE_RIDGE
 
 ORIGIN = (48.0, -125.0)
 _ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
            "obstacle_distance")
 MIN_ALT = 20.0
 
-_RIDGE_TOML = """
-name = "ridge-check"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 10000.0]
-y = [0.0, 2000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 200.0
-cell_m = 100.0
-ridge_x = 5000.0
-ridge_width = 2000.0
-height = 150.0
-[mission]
-start = [500.0, 1000.0, -150.0]
-goal = [9500.0, 1000.0, -150.0]
-min_altitude_m = 20.0
-min_depth_m = 5.0
-max_depth_m = 300.0
-"""
+_RIDGE_TOML = '\nname = "ridge-check"' + WIDE_RIDGE
 
 
 @pytest.fixture(scope="module")

@@ -21,6 +21,7 @@ from auvplan.survey.lines.placement import LineParams, place_lines
 from auvplan.survey.lines.swath import Sensor
 from auvplan.survey.mission import plan_survey
 from auvplan.survey.run import planned_coverage
+from helpers import SLOPING_PLANE
 
 
 def _radii(p):
@@ -50,38 +51,7 @@ def test_rounded_centre_line_and_its_parallels_turn_within_the_radius():
         assert _radii(par[::3]).min() >= (r - abs(off)) * 0.9
 
 
-PLANE = """
-name = "plane-corridor"
-seed = 2
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [-500.0, 5500.0]
-y = [-1500.0, 3500.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "plane"
-depth = 50.0
-slope = [-0.01, -0.02]
-cell_m = 25.0
-[currents]
-uniform = [0.0, 0.1, 0.0]
-[mission]
-start = [200.0, -300.0, -2.0]
-goal = [200.0, -300.0, -2.0]
-min_altitude_m = 5.0
-min_depth_m = 2.0
-max_depth_m = 300.0
-[vehicle]
-speed = 1.5
-[planner]
-name = "iabc"
-population = 16
-iterations = 12
-control_points = 3
-samples = 50
-[survey]
+PLANE = '\nname = "plane-corridor"' + SLOPING_PLANE + """[survey]
 centerline_xy = [[0.0, 0.0], [2000.0, 0.0], [3300.0, 1500.0], [4800.0, 1500.0]]
 widths_m = [240.0, 300.0, 300.0, 200.0]
 opening_deg = 120.0

@@ -7,7 +7,7 @@ import pytest
 import shapely
 
 from auvplan.world import Zone, Zones
-from helpers import flat_world
+from helpers import ZONES_PLANE, flat_world
 
 
 @pytest.mark.parametrize(("depth", "h", "pad"), [(0.5, 0.2, 1.0), (0.5, 0.15, 1.0), (1.0, 0.3, 3.0),
@@ -47,23 +47,7 @@ def test_a_zone_file_with_no_feature_in_the_area_is_kept_too(tmp_path, monkeypat
     assert len(calls) == 2
 
 
-_HELD_TOML = """
-name = "held-zone"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 3000.0]
-y = [0.0, 1000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "plane"
-depth = 200.0
-cell_m = 100.0
-[mission]
-start = [100.0, 500.0, -150.0]
-goal = [2100.0, 500.0, -10.0]
-min_altitude_m = 20.0
+_HELD_TOML = '\nname = "held-zone"' + ZONES_PLANE + """min_altitude_m = 20.0
 min_depth_m = 5.0
 max_depth_m = 300.0
 [[zones]]

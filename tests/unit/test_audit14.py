@@ -8,23 +8,9 @@ import numpy as np
 import pytest
 import shapely
 
-_SWEEP_TOML = """
-name = "gdb-zones"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 3000.0]
-y = [0.0, 1000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "plane"
-depth = 200.0
-cell_m = 100.0
-[mission]
-start = [100.0, 500.0, -150.0]
-goal = [2100.0, 500.0, -10.0]
-[[zones]]
+from helpers import ZONES_PLANE
+
+_SWEEP_TOML = '\nname = "gdb-zones"' + ZONES_PLANE + """[[zones]]
 name = "charted"
 file = "zones.gdb"
 where = "KIND = 1"

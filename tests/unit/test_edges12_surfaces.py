@@ -10,23 +10,9 @@ import numpy as np
 import pytest
 import shapely
 
-_TOML = """
-name = "surfaces"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 3000.0]
-y = [0.0, 1000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "plane"
-depth = 200.0
-cell_m = 100.0
-[mission]
-start = [100.0, 500.0, -150.0]
-goal = [2100.0, 500.0, -10.0]
-min_altitude_m = 20.0
+from helpers import WIDE_RIDGE, ZONES_PLANE
+
+_TOML = '\nname = "surfaces"' + ZONES_PLANE + """min_altitude_m = 20.0
 min_depth_m = 1.0
 max_depth_m = 300.0
 [[zones]]
@@ -152,29 +138,7 @@ def test_the_seabed_following_track_has_the_exact_extremes_of_a_bilinear_seabed(
     assert z.max() - 1e-9 <= on[:, 2].max() and z.min() + 1e-9 >= on[:, 2].min()
 
 
-_RIDGE = """
-name = "ridge-shallows"
-[origin]
-lat = 48.0
-lon = -125.0
-[bounds]
-x = [0.0, 10000.0]
-y = [0.0, 2000.0]
-z = [-300.0, 0.0]
-[terrain.synthetic]
-kind = "ridge"
-depth = 200.0
-cell_m = 100.0
-ridge_x = 5000.0
-ridge_width = 2000.0
-height = 150.0
-[mission]
-start = [500.0, 1000.0, -150.0]
-goal = [9500.0, 1000.0, -150.0]
-min_altitude_m = 20.0
-min_depth_m = 5.0
-max_depth_m = 300.0
-[[zones]]
+_RIDGE = '\nname = "ridge-shallows"' + WIDE_RIDGE + """[[zones]]
 name = "shallows"
 polygon = [[4000.0, 0.0], [6000.0, 0.0], [6000.0, 2000.0], [4000.0, 2000.0]]
 top_m = 0.0
