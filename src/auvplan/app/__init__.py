@@ -34,6 +34,7 @@ class Reporter(Protocol):
         best : float
             Best cost so far.
         """
+        return None
 
     def flight(self, t: float, expected: float) -> None:
         """The simulation's callback.
@@ -45,6 +46,7 @@ class Reporter(Protocol):
         expected : float
             About how many the flight takes (s).
         """
+        return None
 
     def stage(self, text: str) -> None:
         """A stage without a bar.
@@ -54,9 +56,11 @@ class Reporter(Protocol):
         text : str
             What the job is doing.
         """
+        return None
 
     def close(self) -> None:
         """The job is over."""
+        return None
 
 
 class Silent(Reporter):
