@@ -182,7 +182,8 @@ async function show(st) {
     document.body.dataset.ok = String(c.ok);
     const exec = c.executor_min_altitude_m !== null && c.semantics === "held"
       ? `; held-depth executor ${fmt(c.executor_min_altitude_m, 2, " m")}` : "";
-    $("min-alt").textContent = `${fmt(c.min_altitude_m, 2, " m")} (leg ${c.min_altitude_leg}; required ${fmt(c.required_altitude_m, 0, " m")})${exec}`;
+    $("min-alt").textContent = c.min_altitude_leg === null ? `no seabed: not checked (required ${fmt(c.required_altitude_m, 0, " m")})`
+      : `${fmt(c.min_altitude_m, 2, " m")} (leg ${c.min_altitude_leg}; required ${fmt(c.required_altitude_m, 0, " m")})${exec}`;
     $("min-alt").dataset.value = c.min_altitude_m;
     $("turn").textContent = c.tightest_turn_m === null ? "none (straight)" : `${fmt(c.tightest_turn_m, 1, " m")} (leg ${c.tightest_turn_leg})`;
     $("pitch").textContent = `${fmt(c.max_pitch_deg, 1, "°")} (leg ${c.max_pitch_leg})`;
