@@ -30,7 +30,11 @@ mutant, so only 19 mutants ran in half an hour.  Here:
   reference, including ``from module import kernel`` elsewhere, sees the mutant), runs
   ``pytest -x`` on the selection and exits.  Nothing is written to the source tree.
 * a child that has used more CPU time than the timeout (3x the unmutated run's; CPU, not wall time, as
-  the machine may be loaded) is killed and counted as ``timeout``, separately.
+  the machine may be loaded) is killed and counted as ``timeout``, separately; so is one that has run longer
+  than the wall-clock limit (``--wall``, default 10x the CPU timeout and at least 120 s): a mutant that makes a
+  test wait for ever (a lock, an event, a pipe, a subprocess that hangs) uses no CPU and stalled the run.  Each
+  child leads its own process group and the whole group is killed (a test's hung subprocess too); the record
+  says which limit (``timeout``: ``"cpu"`` or ``"wall"``), and the report counts the wall-clock ones apart.
 
 Operators (one change per mutant, AST level, in function bodies only; docstrings, annotations,
 default values, ``raise``/``assert`` statements and f-strings are left alone):
@@ -56,6 +60,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 import argparse  # noqa: E402
 import ast  # noqa: E402
+import contextlib  # noqa: E402
 import copy  # noqa: E402
 import importlib  # noqa: E402
 import inspect  # noqa: E402
@@ -67,6 +72,7 @@ import subprocess  # noqa: E402
 import sys  # noqa: E402
 import textwrap  # noqa: E402
 import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
 from dataclasses import asdict, dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -191,6 +197,7 @@ class Mutant:
     end_line: int = 0  # the changed node's last line (the node spans line..end_line)
     first_line: int = 0  # the first line of the statement holding the node (0: ``line``): the tracer's span
     tests_run: int = -1  # how many tests covered the changed lines (-1: the whole selection, no coverage)
+    timeout: str = ""  # which limit killed it: "cpu" or "wall" (status "timeout")
 
 
 def _function_node(tree: ast.Module, qualname: str) -> ast.FunctionDef:
@@ -475,9 +482,12 @@ def _fork(items: list, setup=None, quiet: bool = True) -> int:
     pass, ``1 + k`` when ``items[k]`` fails, 255 when the mutant cannot even be installed."""
     pid = os.fork()
     if pid:
+        with contextlib.suppress(OSError):  # (the child does the same: whichever runs first)
+            os.setpgid(pid, pid)
         return pid
     code = 1
     try:
+        os.setpgid(0, 0)  # its own process group: a timeout kills the tests' subprocesses with it
         if quiet:
             fd = os.open(os.devnull, os.O_WRONLY)
             os.dup2(fd, 1)
@@ -503,6 +513,32 @@ def _cpu_seconds(pid: int) -> float:
 def _outcome(status: int) -> tuple[str, int]:
     code = os.waitstatus_to_exitcode(status)
     return ("survived" if code == 0 else "killed"), code
+
+
+def _kill_group(pid: int) -> None:
+    """SIGKILL a mutant's child and every process of its group (the tests' subprocesses), and reap the child."""
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except OSError:  # not (yet) a group leader: the child alone
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGKILL)
+    with contextlib.suppress(ChildProcessError):
+        os.waitpid(pid, 0)
+
+
+def _reap(pid: int, started: float, cpu_limit: float, wall_limit: float,
+          now: Callable[[], float] = time.monotonic) -> tuple[str, int, str] | None:
+    """A running mutant's outcome: ``(status, exit code, which limit)`` when its child has exited or was killed
+    for a limit (``"cpu"``: more CPU seconds than ``cpu_limit``; ``"wall"``: running longer than ``wall_limit``
+    seconds since ``started``, by ``now``), else None (still running within both limits)."""
+    finished, status = os.waitpid(pid, os.WNOHANG)
+    if finished:
+        return (*_outcome(status), "")
+    over = "cpu" if _cpu_seconds(pid) > cpu_limit else "wall" if now() - started > wall_limit else ""
+    if not over:
+        return None
+    _kill_group(pid)
+    return "timeout", -9, over
 
 
 class _Driver:
@@ -573,7 +609,7 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
     fns = {(spec[0], spec[1]): _function_node(trees[spec[0]], spec[1]) for spec in target.functions}
     todo = [(m, i, j) for m, i, j in mutants if only is None or m.id in only]
     files = {name: inspect.getfile(mod) for name, mod in modules.items()}
-    running: dict[int, tuple[Mutant, float, list, float]] = {}
+    running: dict[int, tuple[Mutant, float, list, float, float]] = {}
     done = 0
     while todo or running:
         while todo and len(running) < args.jobs:
@@ -594,21 +630,17 @@ def run_mutants(name: str, items: list, args: argparse.Namespace) -> dict:
             def setup(new_fn=new_fn, mod=modules[m.module], qualname=m.function) -> None:
                 _install(mod, new_fn, qualname)
 
-            running[_fork(chosen, setup, quiet=not args.verbose)] = (m, time.monotonic(), chosen, limit)
+            wall = args.wall or max(120.0, 10.0 * limit)  # a hang that uses no CPU (a wait, a hung subprocess)
+            running[_fork(chosen, setup, quiet=not args.verbose)] = (m, time.monotonic(), chosen, limit, wall)
         time.sleep(0.01)
-        for pid, (m, t1, order, limit) in list(running.items()):
-            finished, status = os.waitpid(pid, os.WNOHANG)
-            if finished:
-                m.status, code = _outcome(status)
-                if 0 < code <= _KILLER_CODES and order[code - 1] in items:  # the killer goes first next time
-                    items.remove(order[code - 1])
-                    items.insert(0, order[code - 1])
-            elif _cpu_seconds(pid) > limit or time.monotonic() - t1 > 100 * limit:
-                os.kill(pid, signal.SIGKILL)
-                os.waitpid(pid, 0)
-                m.status, code = "timeout", -9
-            else:
+        for pid, (m, t1, order, limit, wall) in list(running.items()):
+            outcome = _reap(pid, t1, limit, wall)
+            if outcome is None:
                 continue
+            m.status, code, m.timeout = outcome
+            if 0 < code <= _KILLER_CODES and order[code - 1] in items:  # the killer goes first next time
+                items.remove(order[code - 1])
+                items.insert(0, order[code - 1])
             del running[pid]
             m.seconds = round(time.monotonic() - t1, 2)
             done += 1
@@ -626,7 +658,7 @@ def _record(name, target, items, baseline, baseline_cpu, timeout, args, mutants)
                                           for spec in target.functions],
             "tests": [item.nodeid for item in items], "baseline_s": round(baseline, 2),
             "slow": _SLOW.get(name, []), "test_limit_cpu_s": args.test_limit,
-            "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout,
+            "baseline_cpu_s": round(baseline_cpu, 2), "timeout_cpu_s": timeout, "timeout_wall_s": args.wall or None,
             "jobs": args.jobs, "sample": args.sample, "seed": args.seed,
             "jit": os.environ.get("NUMBA_DISABLE_JIT") != "1", "load": os.getloadavg(),
             "mutants": [asdict(m) for m, _i, _j in mutants]}
@@ -637,10 +669,11 @@ def summary(record: dict) -> dict:
     tested = [m for m in ms if m["status"] != "not run"]
     killed = sum(m["status"] == "killed" for m in tested)
     timeout = sum(m["status"] == "timeout" for m in tested)
+    wall = sum(m["status"] == "timeout" and m.get("timeout") == "wall" for m in tested)
     survived = [m for m in tested if m["status"] == "survived"]
     score = (killed + timeout) / len(tested) if tested else float("nan")
     return {"generated": len(ms), "tested": len(tested), "killed": killed, "timeout": timeout,
-            "survived": len(survived), "score": score, "survivors": survived}
+            "timeout_wall": wall, "survived": len(survived), "score": score, "survivors": survived}
 
 
 def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -674,6 +707,11 @@ def changed_lines(name: str) -> dict[int, tuple[str, str]]:
     return out
 
 
+def _timeouts(s: dict) -> str:
+    """The timeout cell: every mutant killed for a limit (caught), those killed by the wall-clock limit named."""
+    return f"{s['timeout']} ({s['timeout_wall']} wall)" if s.get("timeout_wall") else str(s["timeout"])
+
+
 def _key(m: dict) -> str:
     return f"{m['function']} | {m['change'][1]}"
 
@@ -685,7 +723,7 @@ def report(out: Path, names: list[str]) -> str:
             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     lines: list[str] = []
     dropped: list[str] = []
-    total = dict.fromkeys(("generated", "tested", "killed", "timeout", "survived"), 0)
+    total = dict.fromkeys(("generated", "tested", "killed", "timeout", "timeout_wall", "survived"), 0)
     for name in names:
         path = out / f"{name}.json"
         if not path.exists():
@@ -704,7 +742,7 @@ def report(out: Path, names: list[str]) -> str:
         for m in record["mutants"]:
             m["change"] = lines_of.get(m["id"], ("", ""))
         s = summary(record)
-        for k in ("generated", "tested", "killed", "timeout", "survived"):
+        for k in ("generated", "tested", "killed", "timeout", "timeout_wall", "survived"):
             total[k] += s[k]
         eq = sum(REASONS.get(_key(m), "").startswith("equivalent") for m in s["survivors"])
         score = f"{100 * s['score']:.2f} %"
@@ -713,7 +751,7 @@ def report(out: Path, names: list[str]) -> str:
             score += f" (95 % CI {100 * lo:.0f}-{100 * hi:.0f} %)"
         adjusted = (s["killed"] + s["timeout"]) / max(s["tested"] - eq, 1)
         rows.append(f"| {name} | {len(record['functions'])} | {len(record['tests'])} | {s['generated']} | "
-                    f"{s['tested']} | {s['killed']} | {s['timeout']} | {s['survived']} ({eq}) | {score} | "
+                    f"{s['tested']} | {s['killed']} | {_timeouts(s)} | {s['survived']} ({eq}) | {score} | "
                     f"{100 * adjusted:.2f} % |")
         total["equivalent"] = total.get("equivalent", 0) + eq
         for m in s["survivors"]:
@@ -724,7 +762,7 @@ def report(out: Path, names: list[str]) -> str:
     eq = total.get("equivalent", 0)
     adjusted = (total["killed"] + total["timeout"]) / max(total["tested"] - eq, 1)
     rows.append(f"| **all** | | | {total['generated']} | {total['tested']} | {total['killed']} | "
-                f"{total['timeout']} | {total['survived']} ({eq}) | {100 * score:.2f} % | {100 * adjusted:.2f} % |")
+                f"{_timeouts(total)} | {total['survived']} ({eq}) | {100 * score:.2f} % | {100 * adjusted:.2f} % |")
     head = ["| module | function:line | mutant (the changed line) | why it survives |", "| --- | --- | --- | --- |"]
     return ("\n".join(rows) + "\n\nTests run per module:\n\n" + "\n".join(dropped) + "\n\nSurvivors:\n\n"
             + "\n".join(head + lines) + "\n")
@@ -757,6 +795,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--only", help="comma-separated mutant ids")
     ap.add_argument("--timeout", type=float, default=0.0,
                     help="per-mutant CPU seconds (default 3x the baseline's, >= 10)")
+    ap.add_argument("--wall", type=float, default=0.0,
+                    help="per-mutant wall-clock seconds (default 10x the CPU timeout, >= 120): a mutant whose tests "
+                         "wait for ever is killed and counted as a timeout")
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once")
     ap.add_argument("--test-limit", type=float, default=30.0,
                     help="drop from a target's importing-file selection the tests whose unmutated run uses more "
@@ -808,7 +849,7 @@ def main(argv: list[str] | None = None) -> int:
         path.write_text(json.dumps(record, indent=1))
         s = summary(record)
         print(f"   {name}: generated {s['generated']}, tested {s['tested']}, killed {s['killed']}, "
-              f"timeout {s['timeout']}, survived {s['survived']}, score {100 * s['score']:.1f} % "
+              f"timeout {_timeouts(s)}, survived {s['survived']}, score {100 * s['score']:.1f} % "
               f"({record['wall_s']:.0f} s)", flush=True)
         for m in s["survivors"]:
             print(textwrap.indent(f"S {m['id']} {m['function']}:{m['line']} [{m['kind']}] "

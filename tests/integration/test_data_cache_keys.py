@@ -133,8 +133,11 @@ def test_a_file_read_again_unchanged_is_hashed_once_an_edit_again(cache_on, tmp_
     counted: list[Path] = []
     real = cache._digest
     monkeypatch.setattr(cache, "_digest", lambda p: counted.append(p) or real(p))
+    clock = cache._now_ns
+    monkeypatch.setattr(cache, "_now_ns", lambda: clock() + 10 * 10**9)  # read 10 s after its write: not racy
     keys = [cache.request_key("currents", ("ens.nc", ("member", j)), [path]) for j in range(5)]
     assert len(set(keys)) == 5 and len(counted) == 1
+    monkeypatch.setattr(cache, "_now_ns", clock)  # the edit is read at once (tests/.../test_edges17_cache_racy.py)
     st = path.stat()
     path.write_bytes(b"MEMBER DATA " * 1000)  # same size ...
     os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns))  # ... and modification time

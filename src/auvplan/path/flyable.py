@@ -119,6 +119,11 @@ class LimitViolation:
         return f"leg {self.leg}: depth {self.value:.1f} m > max_depth_m = {self.allowed:g}"
 
 
+def _leg(leg: int) -> int | None:
+    """A leg number as JSON has it: None (``null``) for the -1 that says there is none."""
+    return leg if leg >= 0 else None
+
+
 @dataclass(frozen=True, eq=False)
 class LimitReport:
     """A polyline checked against :class:`VehicleLimits`.
@@ -167,11 +172,12 @@ class LimitReport:
         -------
         dict
             ``ok``, ``max_pitch_deg``, ``max_pitch_leg``, ``tightest_turn_m``, ``tightest_turn_leg``,
-            ``deepest_m``, the ``limits`` and the ``violations`` (leg, limit, value, allowed, text).
+            ``deepest_m``, the ``limits`` and the ``violations`` (leg, limit, value, allowed, text); a leg that
+            is not there (no legs, a straight line) is None.
         """
         lim = self.limits
-        return {"ok": self.ok, "max_pitch_deg": self.max_pitch_deg, "max_pitch_leg": self.max_pitch_leg,
-                "tightest_turn_m": self.tightest_turn_m, "tightest_turn_leg": self.tightest_turn_leg,
+        return {"ok": self.ok, "max_pitch_deg": self.max_pitch_deg, "max_pitch_leg": _leg(self.max_pitch_leg),
+                "tightest_turn_m": self.tightest_turn_m, "tightest_turn_leg": _leg(self.tightest_turn_leg),
                 "deepest_m": self.max_depth_m,
                 "limits": {"max_pitch_deg": lim.max_pitch_deg, "turn_radius_m": lim.turn_radius_m,
                            "max_depth_m": lim.max_depth_m},

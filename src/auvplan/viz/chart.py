@@ -142,7 +142,7 @@ def _place(fig: go.Figure, world: World, labels: list[tuple[list[tuple[float, fl
         x, y = c[pos]
         style = dict(size=10, color="rgba(0,0,0,0.8)") if kind == "isobath" else \
             dict(size=11, color="rgb(150,0,95)") if kind == "zone" else dict(size=12, color="black")
-        fig.add_annotation(x=x, y=y, text=text, showarrow=False, font=style, name=f"label-{kind}",
+        fig.add_annotation(x=x, y=y, text=plotly_text(text), showarrow=False, font=style, name=f"label-{kind}",
                            bgcolor="rgba(255,255,255,0.55)" if kind == "isobath" else "rgba(255,255,255,0.8)",
                            borderpad=1)
 
@@ -196,7 +196,8 @@ def _obstacles(fig: go.Figure, world: World, record: RunRecord) -> None:
     fig.add_trace(go.Scatter(x=[c[0] for c, *_ in near], y=[c[1] for c, *_ in near], mode="markers",
                              name="moving obstacles (closest to the vehicle)", legendgroup="moving-near",
                              showlegend=False, hoverinfo="text",
-                             text=[f"{nm}, radius {r:g} m, closest at {tj:.0f} s" for _, r, nm, tj in near],
+                             text=[plotly_text(f"{nm}, radius {r:g} m, closest at {tj:.0f} s")
+                                   for _, r, nm, tj in near],
                              marker=dict(symbol="circle-open", size=9, color=ROLE["moving"], line=dict(width=2))))
 
 

@@ -17,6 +17,8 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
+from .style import plotly_text
+
 __all__ = ["ensemble_table", "figure_ensemble"]
 
 
@@ -95,7 +97,7 @@ def figure_ensemble(fields: Mapping[str, Any]) -> go.Figure:
         Two bar panels side by side; members that do not arrive have no bar and a red name.
     """
     members = list(fields.get("members") or [])
-    names = [str(m.get("name", "")) for m in members]
+    names = [plotly_text(str(m.get("name", ""))) for m in members]
     arrival = [_num(m.get("arrival_s")) / 3600 for m in members]
     energy = [_num(m.get("energy_wh")) for m in members]
     colour = ["seagreen" if m.get("success") else "firebrick" for m in members]

@@ -39,7 +39,9 @@ class MissionCheckDict(TypedDict):
         Whether the mission keeps the altitude and obstacle margins.
     min_altitude_m, required_altitude_m, min_obstacle_distance_m, obstacle_margin_m : float
         As in :class:`MissionCheck`.
-    min_altitude_leg, obstacle_hits, legs, executor_obstacle_hits : int
+    min_altitude_leg : int or None
+        The leg of the least altitude; None (JSON ``null``) when no leg was measured (no seabed in the scenario).
+    obstacle_hits, legs, executor_obstacle_hits : int
         As in :class:`MissionCheck`; ``legs`` the number of legs.
     pitch_deg, executor_min_altitude_m : float
         The executor model's pitch and least altitude.
@@ -51,7 +53,7 @@ class MissionCheckDict(TypedDict):
     semantics: str
     ok: bool
     min_altitude_m: float
-    min_altitude_leg: int
+    min_altitude_leg: int | None
     required_altitude_m: float
     min_obstacle_distance_m: float
     obstacle_hits: int
@@ -125,7 +127,8 @@ class MissionCheck:
             The scalar attributes, ``ok`` and the number of legs.
         """
         return {"semantics": self.semantics, "ok": self.ok, "min_altitude_m": self.min_altitude_m,
-                "min_altitude_leg": self.min_altitude_leg, "required_altitude_m": self.required_altitude_m,
+                "min_altitude_leg": self.min_altitude_leg if self.min_altitude_leg >= 0 else None,
+                "required_altitude_m": self.required_altitude_m,
                 "min_obstacle_distance_m": self.min_obstacle_distance_m, "obstacle_hits": self.obstacle_hits,
                 "obstacle_margin_m": self.obstacle_margin_m, "legs": int(self.leg_altitude_m.size),
                 "pitch_deg": self.pitch_deg, "executor_min_altitude_m": self.executor_min_altitude_m,

@@ -9,7 +9,10 @@ result is never stale**:
 
 * every data file's SHA-256 of its bytes, its size and its modification time (an edited, replaced or
   touched file is a new key; a file is hashed once a process while its inode and times stay the same: the
-  members of an ensemble file are one hash, not one a member);
+  members of an ensemble file are one hash, not one a member — but only once its change time is
+  :data:`_RACY_NS` older than the hashing: a file's times tick with the kernel's coarse clock (a few ms) or
+  the file system's (2 s on FAT), so a file rewritten in place within one tick, its ``mtime`` set back
+  (``os.utime``, ``cp -p``, ``rsync``), kept every time and served the old bytes' entry);
 * the request: the reader's arguments (``[terrain]``/``[currents]`` table, the frame's origin, the extent,
   the start time, the memory budget in force, which is part of a reader's verdict);
 * the code: a SHA-256 of every ``.py`` file of the ``auvplan`` package, and the names (with their
@@ -40,6 +43,7 @@ import stat
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypeVar
@@ -207,8 +211,10 @@ def file_stamp(path: Path) -> list[Any]:
     seen = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
     digest = _DIGESTS.get(seen)
     if digest is None:
+        start = _now_ns()
         digest = _digest(path)
-        _DIGESTS[seen] = digest
+        if max(st.st_ctime_ns, st.st_mtime_ns) < start - _RACY_NS:  # else a rewrite may keep every time (racy)
+            _DIGESTS[seen] = digest
     # the path as given (made absolute), not resolved: a reader's names and log lines are the given path's,
     # so two links to one file are two entries (each replays its own file's name)
     return [os.path.abspath(path), st.st_size, st.st_mtime_ns, digest]
@@ -218,7 +224,20 @@ _DIGESTS: dict[tuple[int, ...], str] = {}
 """The SHA-256 of the files this process hashed, by their device, inode, size, modification and change times:
 a file read again unchanged (each member of an ensemble file, the nominal field and the uncertainty layer of
 one file) is hashed once, not once a read; any write or ``touch`` changes the change time (which no program
-can set back), so an edited file is hashed again."""
+can set back), so an edited file is hashed again — once the time has ticked: a file changed within
+:data:`_RACY_NS` of its hashing is not kept here (two writes in one tick of the clock have one change time)."""
+
+
+_RACY_NS = 3_000_000_000
+"""A file whose change or modification time is this close to the clock (3 s: FAT's 2 s times, a coarse kernel
+clock's ticks, a network file system's clock a little off) is hashed again at every read, not remembered in
+:data:`_DIGESTS`: another write within the same tick would keep its times (git's "racily clean" entries).  The
+hash itself is cheap (the largest shipped file, 409 kB, 0.4-4.5 ms)."""
+
+
+def _now_ns() -> int:
+    """The wall clock (ns since the epoch), as a file's times are."""
+    return time.time_ns()
 
 
 def _digest(path: Path) -> str:

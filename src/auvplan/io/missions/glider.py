@@ -29,7 +29,9 @@ comment line; each target is one line ``NAME lat=DDMM.MMMM lon=DDDMM.MMMM radius
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
 from pathlib import Path
 from typing import Any
@@ -173,7 +175,11 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
 
 def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
                  number: int = 10) -> list[Path]:
-    """Write :func:`slocum_files` into ``folder`` (an existing file is never overwritten).
+    """Write :func:`slocum_files` into ``folder``: all of them or none, each atomically, never over an existing file.
+
+    Each file goes through :func:`auvplan.io.files.safeio.write_new` (a temporary file, flushed, renamed into
+    place): a crash mid-write leaves no torn file beside the pilot's own, and a failure after the first file
+    removes the files this call wrote.
 
     Parameters
     ----------
@@ -195,15 +201,22 @@ def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider:
     list of Path
         The files written.
     """
+    from ..files.safeio import write_new
+
     folder.mkdir(parents=True, exist_ok=True)
     files = slocum_files(points, origin, glider, min_altitude, number)
-    taken = [n for n in files if (folder / n).exists()]
+    taken = [n for n in files if os.path.lexists(folder / n)]
     if taken:
         raise DataError(f"{folder / taken[0]}: exists; auvplan never overwrites a mission file")
-    out = []
-    for n, text in files.items():
-        (folder / n).write_text(text)
-        out.append(folder / n)
+    out: list[Path] = []
+    try:
+        for n, text in files.items():
+            out.append(write_new(folder / n, text))
+    except BaseException:
+        for p in out:  # all or none: a goto list without its yo and surface files is not a mission
+            with contextlib.suppress(OSError):
+                p.unlink()
+        raise
     return out
 
 

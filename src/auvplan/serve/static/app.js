@@ -88,6 +88,9 @@ function drawRoute() {  // while dragging: at most once per frame
     Plotly.restyle(gd, { x: [W.map((p) => p[0])], y: [W.map((p) => p[1])] }, [base + T.route]);
   });
 }
+// a label as plotly draws it: literally (plotly reads <b>, <br>, <a href> and entities in its texts; a zone named
+// "<b>x</b>" was drawn as markup): auvplan.viz.style.plotly_text's escape, in the page
+function plotlyText(s) { return String(s).replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;"); }
 function badTraces() {
   const v = (S && S.check) ? S.check.violations : [];
   const byLeg = new Map();
@@ -97,7 +100,7 @@ function badTraces() {
     const a = W[leg], b = W[Math.min(leg + 1, W.length - 1)];
     if (!a || !b) return;
     xs.push(a[0], b[0], null); ys.push(a[1], b[1], null);
-    mx.push((a[0] + b[0]) / 2); my.push((a[1] + b[1]) / 2); txt.push(texts.join("<br>")); legs.push(leg);
+    mx.push((a[0] + b[0]) / 2); my.push((a[1] + b[1]) / 2); txt.push(texts.map(plotlyText).join("<br>")); legs.push(leg);
   });
   return { xs, ys, mx, my, txt, legs };
 }
@@ -179,7 +182,8 @@ async function show(st) {
     document.body.dataset.ok = String(c.ok);
     const exec = c.executor_min_altitude_m !== null && c.semantics === "held"
       ? `; held-depth executor ${fmt(c.executor_min_altitude_m, 2, " m")}` : "";
-    $("min-alt").textContent = `${fmt(c.min_altitude_m, 2, " m")} (leg ${c.min_altitude_leg}; required ${fmt(c.required_altitude_m, 0, " m")})${exec}`;
+    $("min-alt").textContent = c.min_altitude_leg === null ? `no seabed: not checked (required ${fmt(c.required_altitude_m, 0, " m")})`
+      : `${fmt(c.min_altitude_m, 2, " m")} (leg ${c.min_altitude_leg}; required ${fmt(c.required_altitude_m, 0, " m")})${exec}`;
     $("min-alt").dataset.value = c.min_altitude_m;
     $("turn").textContent = c.tightest_turn_m === null ? "none (straight)" : `${fmt(c.tightest_turn_m, 1, " m")} (leg ${c.tightest_turn_leg})`;
     $("pitch").textContent = `${fmt(c.max_pitch_deg, 1, "°")} (leg ${c.max_pitch_leg})`;
