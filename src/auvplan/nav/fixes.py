@@ -54,7 +54,8 @@ class RouteProfile:
     r_safe : numpy.ndarray
         ``(M - 1,)`` the largest horizontal uncertainty each interval allows (:func:`~.clearance.safe_radius`).
     t : numpy.ndarray
-        ``(M,)`` flying time along the route at the cruise speed (s).
+        ``(M,)`` flying time along the route at the cruise speed (s): through the World's current when the route's
+        flight is given (:func:`route_profile`), else in still water.
     wr : numpy.ndarray
         ``(M - 1,)`` each interval's horizontal distance through the water over its ground length (its route
         leg's; 1 in still water): the drift without bottom lock grows with the water distance.
@@ -84,7 +85,7 @@ class RouteProfile:
 
 def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
                   step: float = DEFAULT_STEP_M, water_ratio: ArrayLike | None = None,
-                  launch_m: float = 0.0) -> RouteProfile:
+                  launch_m: float = 0.0, flight: tuple[ArrayLike, ArrayLike] | None = None) -> RouteProfile:
     """Sample a route for fix planning (:class:`RouteProfile`).
 
     Parameters
@@ -105,6 +106,10 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         ``(N - 1,)`` each leg's horizontal distance through the water over its horizontal length; default 1.
     launch_m : float, optional
         The drift ``D`` the launch's dive adds by the start (:func:`~auvplan.nav.budget.launch_drift`, m).
+    flight : tuple of array_like, optional
+        ``(node_s, node_t)``: distance along the route (3D, m) and time (s) of the route flown through the current at
+        the cruise speed (:class:`auvplan.endurance.Traverse`); the samples' times are interpolated in it (the
+        periodic fixes' timer).  Default: still water, ``s / speed``.
 
     Returns
     -------
@@ -128,7 +133,8 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
-    t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))] / speed
+    s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
+    t = s3 / speed if flight is None else np.interp(s3, *(np.asarray(a, dtype=float) for a in flight))
     return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world,
                         float(launch_m))
 
@@ -354,7 +360,8 @@ def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: flo
     nav : NavParams
         The error model and E.
     period : float
-        Flying time between fixes (s), measured along the route at the cruise speed.  A fix whose climb
+        Flying time between fixes (s), measured along the route at the cruise speed (through the current when the
+        profile has the route's flight, :func:`route_profile`).  A fix whose climb
         would begin before the start or whose dive would end after the goal is skipped.
     speed : float
         Cruise speed (m/s).

@@ -270,7 +270,7 @@ def fix_times(points: ArrayLike, kinds: tuple[str, ...], dwell_s: ArrayLike, spe
 def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
                     spacing: float = 250.0, compare: bool = True, water_ratio: ArrayLike | None = None,
-                    launch_m: float = 0.0) -> NavPlan:
+                    launch_m: float = 0.0, flight: tuple[ArrayLike, ArrayLike] | None = None) -> NavPlan:
     """Fixes for a route as ``[navigation] fixes`` asks, and the mission that carries them.
 
     Parameters
@@ -301,6 +301,9 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
     launch_m : float, optional
         The drift the launch's dive adds by the route's start (m; :func:`~auvplan.nav.budget.launch_drift`): the
         fixes are planned from it.
+    flight : tuple of array_like, optional
+        ``(node_s, node_t)`` of the route flown through the current at the cruise speed: the periodic fixes (and the
+        best fixed period) are timed in it (:func:`~auvplan.nav.fixes.route_profile`); default: still water.
 
     Returns
     -------
@@ -308,7 +311,7 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
         The mission; ``ok`` False with the reason when the budget or the clearance cannot be kept.
     """
     r = np.asarray(route, dtype=float).reshape(-1, 3)
-    prof = route_profile(world, r, nav, max_pitch_deg, speed, step, water_ratio, launch_m)
+    prof = route_profile(world, r, nav, max_pitch_deg, speed, step, water_ratio, launch_m, flight)
     if nav.fixes == "plan":
         fp = plan_fixes(prof, nav, speed, spacing, usbl_xy)
     elif nav.period_s is not None:

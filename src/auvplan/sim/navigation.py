@@ -80,26 +80,29 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
         return None
     v = mission.vehicle
     p = np.asarray(route, dtype=float).reshape(-1, 3)
-    ratio, d0 = None, 0.0
+    ratio, d0, flight = None, 0.0, None
     if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed,
         flown = launch_flight(world, p, v.speed)  # launched from the surface
         h = np.hypot(*np.diff(p[:, :2], axis=0).T)
         if flown is not None:
             ratio = np.where(h > 0.0, flown[1] / np.where(h > 0.0, h, 1.0), 1.0)
             d0 = launch_drift(world, p[0], nav, flown[0])
-        elif (tr := traverse(world, p, v.speed)).ok:  # the current beats the dive, not the route: no launch counted
-            ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
+        tr = traverse(world, p, v.speed)  # from the start: the periodic fixes' timer through the current
+        if tr.ok:
+            flight = (tr.node_s, tr.node_t)
+            if flown is None:  # the current beats the dive, not the route: no launch counted
+                ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
     budget = nav
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
         planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
-                                  compare=False, launch_m=d0)
+                                  compare=False, launch_m=d0, flight=flight)
         timed = timed_navigation(world, mission, replace(planned, params=nav))
         over = timed.check.budget.max_error_m / nav.max_error_m
         if timed.ok or not planned.fixes.ok or over <= 1.0:
             break
         budget = replace(budget, max_error_m=budget.max_error_m / over * (1.0 - 1e-3))  # plan within E / overshoot
     if nav.fixes == "plan" and planned.fixes.ok:  # the best fixed period with the planned fixes' largest error
-        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio, launch_m=d0)
+        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio, launch_m=d0, flight=flight)
         timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
     return timed
 
