@@ -134,7 +134,8 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
     s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
-    t = s3 / speed if flight is None else np.interp(s3, *(np.asarray(a, dtype=float) for a in flight))
+    t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
+                                                    np.asarray(flight[1], dtype=float))
     return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world,
                         float(launch_m))
 
