@@ -5,7 +5,10 @@ Oracle: a level straight leg flown at through-water speed V against a uniform cu
 T = L / (V − c), so the vehicle moves V·T = L·V/(V − c) through the water, and without bottom lock
 σ = hypot(σ_fix, rate · V · L / (V − c)); a following current is c < 0; a current linear in time,
 c(t) = c0 + a t, gives L = (V − c0) T − a T² / 2 (solved for T); with bottom lock the DVL's error is a share
-of the ground distance, whatever the current.
+of the ground distance, whatever the current.  The mission is launched from the surface above its start (wave 17):
+the dive of depth d at the launch speed V0 = 1.5 m/s held over the point sinks at sqrt(V0² − c²) and moves
+w0 = c · d / sqrt(V0² − c²) through the water, its share without lock adding w0 · rate to D; the legs are flown
+after it (in a current that changes in time, from the launch's end).
 """
 
 from __future__ import annotations
@@ -47,19 +50,27 @@ def _closed(d: float) -> float:
     return NAV.confidence * math.hypot(NAV.fix_error_m, d)
 
 
+def _launch(c: float, depth: float, no_lock: float = 1.0) -> float:
+    """The launch's drift: ``depth`` dived at 1.5 m/s held over the point in a steady current of speed ``c``, its
+    share ``no_lock`` without lock."""
+    return no_lock * NAV.rate(False) * c * depth / math.sqrt(1.5 ** 2 - c * c)
+
+
 @pytest.mark.parametrize("c", [1.0, 0.5, -0.5])  # head currents (3× and 1.5×) and a following one
 def test_no_lock_error_grows_with_the_water_distance_in_a_steady_current(c):
     world = _world(3000.0, UniformCurrent((-c, 0.0, 0.0)))  # against the leg (east) for c > 0
     v, length = 1.5, 8000.0
     got = _error(world, LEG, (v,))
-    assert got == pytest.approx(_closed(NAV.rate(False) * v * length / (v - c)), rel=1e-9)
+    assert got == pytest.approx(_closed(NAV.rate(False) * v * length / (v - c) + _launch(abs(c), 200.0)), rel=1e-9)
     # still water: the ground distance, as before
     assert _error(_world(3000.0), LEG, (v,)) == pytest.approx(_closed(NAV.rate(False) * length), rel=1e-12)
 
 
 def test_with_bottom_lock_the_error_is_a_share_of_the_ground_distance_whatever_the_current():
     world = _world(250.0, UniformCurrent((-1.0, 0.0, 0.0)))  # 50 m altitude: lock all along
-    assert _error(world, LEG, (1.5,)) == pytest.approx(_closed(NAV.rate(True) * 8000.0), rel=1e-12)
+    # the launch: altitude 250 m at the surface, 50 m at the start, linear: without lock above 100 m, 3/4 of it
+    assert _error(world, LEG, (1.5,)) == pytest.approx(_closed(NAV.rate(True) * 8000.0 + _launch(1.0, 200.0, 0.75)),
+                                                       rel=1e-9)
 
 
 def test_each_leg_at_its_own_speed_and_a_climb():
@@ -77,9 +88,10 @@ def test_each_leg_at_its_own_speed_and_a_climb():
     g = float(e @ cur + math.sqrt((e @ cur) ** 2 - cur @ cur + 1.8 ** 2))
     t = length / g
     d_water += math.sqrt((1.8 * t) ** 2 - 300.0 ** 2)
-    assert _error(world, pts, speeds) == pytest.approx(_closed(NAV.rate(False) * d_water), rel=1e-9)
+    d = NAV.rate(False) * d_water + _launch(c, 500.0)
+    assert _error(world, pts, speeds) == pytest.approx(_closed(d), rel=1e-9)
     # the same legs all at the cruise speed (no leg speeds): another water distance
-    assert _error(world, pts) != pytest.approx(_closed(NAV.rate(False) * d_water), rel=1e-3)
+    assert _error(world, pts) != pytest.approx(_closed(d), rel=1e-3)
 
 
 def test_a_current_that_changes_in_time():
@@ -89,9 +101,23 @@ def test_a_current_that_changes_in_time():
     x, y, z = np.array([0.0, 12000.0]), np.array([0.0, 6000.0]), np.array([-6000.0, 0.0])
     u = -(c0 + a * tt)[:, None, None, None] * np.ones((2, 2, 2, 2))
     world = _world(3000.0, GriddedCurrent(x, y, z, u, np.zeros_like(u), t=tt, name="tide"))
+    # the launch: 200 m dived at 1.5 m/s, sinking at sqrt(1.5² − c(t)²) (its end t0 by bisection on the integral,
+    # Simpson's rule on 2 000 intervals), w0 = c0 t0 + a t0² / 2 through the water; the leg flown from t0
+    def sunk(t_end: float) -> float:
+        ts = np.linspace(0.0, t_end, 2001)
+        f = np.sqrt(1.5 ** 2 - (c0 + a * ts) ** 2)
+        return float((t_end / 6000.0) * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
+    lo, hi = 0.0, 1000.0
+    for _ in range(60):
+        lo, hi = ((lo + hi) / 2, hi) if sunk((lo + hi) / 2) < 200.0 else (lo, (lo + hi) / 2)
+    t0 = (lo + hi) / 2
+    w0 = c0 * t0 + a * t0 * t0 / 2.0
+    c1 = c0 + a * t0
+    t1 = ((v - c1) - math.sqrt((v - c1) ** 2 - 2.0 * a * length)) / a
+    assert _error(world, LEG, (v,)) == pytest.approx(_closed(NAV.rate(False) * (v * t1 + w0)), rel=2e-4)
+    # the planned times are the mission's from its start at t = 0 (the launch not among them)
     t = ((v - c0) - math.sqrt((v - c0) ** 2 - 2.0 * a * length)) / a
-    assert _error(world, LEG, (v,)) == pytest.approx(_closed(NAV.rate(False) * v * t), rel=2e-4)
-    assert traverse(world, LEG, v).times[-1] == pytest.approx(t, rel=2e-4)  # the same flight gives both
+    assert traverse(world, LEG, v).times[-1] == pytest.approx(t, rel=2e-4)
 
 
 def test_mission_check_and_the_budget_take_the_water_distance_and_a_vertical_leg_keeps_its_share():

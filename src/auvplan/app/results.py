@@ -258,8 +258,8 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
     Returns
     -------
     tuple
-        The folder, the run record (a plan without a flight gets its executable mission as route), the
-        scenario text, the World and the Mission.
+        The folder, the run record (a plan without a flight gets its executable mission as route, with the
+        position fixes ``[navigation]`` plans, as ``run`` flies it), the scenario text, the World and the Mission.
     """
     from ..io.results import folder as results
     from ..io.results import records
@@ -280,7 +280,10 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
         # a plan without a flight: export the executable mission, not the raw planned curve
         record = replace(record, route=mission_route(world, mission, record.plan.path))
     if mission.navigation is not None and record.nav is None and record.route.shape[0] >= 2:
-        record = replace(record, nav=_navigation(out, world, mission, record.route, flown))
+        nav = _navigation(out, world, mission, record.route, flown)
+        # a plan's mission carries its fixes, as run's does: the surfacings (depth 0) and USBL fix waypoints, so that
+        # its exports surface, wait surface_s there (.plan param 1, MOOS station keep) and pass their check
+        record = replace(record, nav=nav, route=record.route if flown or nav is None else nav.points)
     return out, record, text, world, mission
 
 

@@ -26,6 +26,14 @@ measures the ground velocity (zero): D does not grow.  Without it the vehicle de
 error is ``drift_pct_no_lock`` per metre through the water: D grows by ``w · drift_pct_no_lock / 100`` during the
 hold, counted before the leg that leaves the waypoint (at the last waypoint, in its error after the hold).  A hold
 at a fix (the surface) adds nothing.
+
+The launch.  The vehicle starts at the surface above the mission's first waypoint (its GPS fix there) and dives to
+it, as a ``.plan`` flies its launch from its home: a vertical leg from :func:`launch_point`, flown at
+:data:`LAUNCH_DIVE_MPS` through the current, that moves the vehicle ``w0`` through the water while it holds its
+position.  Given ``launch_water_m = w0``, the budget is that of the mission with the launch as its first leg (the
+same samples, lock shares and increments as ``mission check`` computes on the ``.plan`` read back, home first), its
+figures given for the mission's own waypoints and legs: the launch's drift is counted in ``D``, the fix's error
+``σ_fix`` is the surface's.  :func:`launch_drift` is that ``D`` at the first waypoint, where the fix planner starts.
 """
 
 from __future__ import annotations
@@ -40,10 +48,16 @@ from ..world import World
 from .params import NavParams
 
 __all__ = ["NavBudget", "ErrorProfile", "sample_route", "lock_fraction", "drift_increments", "sigma_profile",
-           "fix_sigma", "hold_drift", "mission_budget", "error_profile", "water_lengths", "DEFAULT_STEP_M"]
+           "fix_sigma", "hold_drift", "mission_budget", "error_profile", "water_lengths", "DEFAULT_STEP_M",
+           "LAUNCH_DIVE_MPS", "launch_point", "launch_drift"]
 
 DEFAULT_STEP_M = 50.0
 """Longest horizontal sampling interval of the altitude schedule (m)."""
+
+LAUNCH_DIVE_MPS = 1.5
+"""The launch's descent speed through the water (m/s): a ``.plan``'s launch from its home, a vertical leg, is flown
+at AC_WPNav's default ``WPNAV_SPEED_DN`` (150 cm/s; :mod:`auvplan.io.missions.readback.speeds`), which the file
+cannot set."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -302,9 +316,68 @@ def fix_sigma(nav: NavParams, kind: str, point: ArrayLike, usbl_xy: tuple[float,
     return nav.fix_error_m
 
 
+def launch_point(points: ArrayLike) -> FloatArray:
+    """The launch: the surface above the mission's first waypoint (a ``.plan``'s home).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` waypoints (m), N ≥ 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` (m).
+    """
+    home: FloatArray = np.asarray(points, dtype=float).reshape(-1, 3)[0].copy()
+    home[2] = 0.0
+    return home
+
+
+def _launched(p: FloatArray, kinds: tuple[str, ...], held_water_m: ArrayLike | None, water_m: ArrayLike | None,
+              launch_water_m: float) -> tuple[FloatArray, tuple[str, ...], FloatArray, FloatArray]:
+    """The mission with its launch as the first leg (module notes): waypoints, fixes, holds, water distances."""
+    h = np.hypot(*np.diff(p[:, :2], axis=0).T)
+    water = h if water_m is None else np.asarray(water_m, dtype=float).reshape(-1)
+    held = np.zeros(p.shape[0]) if held_water_m is None else np.asarray(held_water_m, dtype=float).reshape(-1)
+    return (np.vstack([launch_point(p), p]), ("", *kinds), np.r_[0.0, held],
+            np.r_[float(launch_water_m), water])
+
+
+def launch_drift(world: World, start: ArrayLike, nav: NavParams, launch_water_m: float,
+                 step: float = DEFAULT_STEP_M) -> float:
+    """The drift ``D`` the launch's dive adds by the mission's first waypoint (module notes): the increment the
+    budget of the mission launched from :func:`launch_point` counts over its first leg.
+
+    Parameters
+    ----------
+    world : World
+        The seabed (the lock at the surface and at the start).
+    start : array_like
+        ``(3,)`` the mission's first waypoint (m).
+    nav : NavParams
+        The rates.
+    launch_water_m : float
+        The distance the dive moves through the water (m).
+    step : float, optional
+        Sampling (m).
+
+    Returns
+    -------
+    float
+        ``D`` (m): ``(1 − f) · w0 · drift_pct_no_lock / 100``, ``f`` the dive's share with lock.
+    """
+    p = np.asarray(start, dtype=float).reshape(1, 3)
+    p = np.vstack([launch_point(p), p])
+    ds, alt, leg, _ = sample_route(world, p, step)
+    return float(drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav,
+                                  water_lengths(ds, leg, [float(launch_water_m)])).sum())
+
+
 def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                    usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                   held_water_m: ArrayLike | None = None, water_m: ArrayLike | None = None) -> NavBudget:
+                   held_water_m: ArrayLike | None = None, water_m: ArrayLike | None = None,
+                   launch_water_m: float | None = None) -> NavBudget:
     """The predicted error along a mission whose fixes are known (:class:`NavBudget`).
 
     Parameters
@@ -325,15 +398,22 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         ``(N,)`` the distance moved through the water while holding at each waypoint (m; module notes).
     water_m : array_like, optional
         ``(N - 1,)`` each leg's horizontal distance through the water (m; module notes); default: still water.
+    launch_water_m : float, optional
+        The launch's distance through the water (m; module notes): the budget counts the dive from the surface
+        above the first waypoint; None: the mission starts at its first waypoint with ``σ = fix_error_m``.
 
     Returns
     -------
     NavBudget
-        Errors at the waypoints and on the legs.
+        Errors at the waypoints and on the legs (the launch's largest error counts in ``max_error_m``).
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if len(kinds) != p.shape[0]:
         raise ValueError(f"{len(kinds)} fix kinds for {p.shape[0]} waypoints")
+    cut = 0
+    if launch_water_m is not None:
+        p, kinds, held_water_m, water_m = _launched(p, kinds, held_water_m, water_m, launch_water_m)
+        cut = 1
     ds, alt, leg, vertex = sample_route(world, p, step)
     lock = lock_fraction(alt, nav.dvl_range_m)
     inc = drift_increments(ds, lock, nav, water_lengths(ds, leg, water_m))
@@ -348,12 +428,13 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
     share = np.bincount(leg, weights=lock * ds, minlength=p.shape[0] - 1) / np.maximum(
         np.bincount(leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)
     error = c * after[np.r_[vertex[:-1], vertex[-1] + 1]]  # the last waypoint's after its hold
-    return NavBudget(error, leg_error, share, tuple(kinds), float(max(leg_error.max(initial=0.0), error.max())))
+    worst = float(max(leg_error.max(initial=0.0), error.max()))
+    return NavBudget(error[cut:], leg_error[cut:], share[cut:], tuple(kinds[cut:]), worst)
 
 
 def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                   usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                  water_m: ArrayLike | None = None) -> ErrorProfile:
+                  water_m: ArrayLike | None = None, launch_water_m: float | None = None) -> ErrorProfile:
     """The predicted error at every sample of a mission whose fixes are known (:class:`ErrorProfile`); the
     same samples and σ as :func:`mission_budget`.
 
@@ -373,13 +454,19 @@ def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
         Sampling (m).
     water_m : array_like, optional
         ``(N - 1,)`` each leg's horizontal distance through the water (m); default: still water.
+    launch_water_m : float, optional
+        The launch's distance through the water (m; :func:`mission_budget`); its dive counts in ``D``.
 
     Returns
     -------
     ErrorProfile
-        The samples and the error before and after each.
+        The samples and the error before and after each (from the first waypoint, the launch's drift counted).
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
+    cut = 0
+    if launch_water_m is not None:
+        p, kinds, _, water_m = _launched(p, kinds, None, water_m, launch_water_m)
+        cut = 1  # the launch's one interval (a vertical leg): its first sample is the home
     ds, alt, leg, vertex = sample_route(world, p, step)
     inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav, water_lengths(ds, leg, water_m))
     fixes = [i for i, k in enumerate(kinds) if k and i > 0]
@@ -387,8 +474,8 @@ def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
                                   fix_sigma(nav, kinds[0] or "gps", p[0], usbl_xy))
     n = np.diff(vertex)
     k = np.arange(leg.size) - np.repeat(vertex[:-1], n)
-    xyz = np.vstack([p[leg] + (k / n[leg])[:, None] * (p[leg + 1] - p[leg]), p[-1:]])
+    xyz = np.vstack([p[leg] + (k / n[leg])[:, None] * (p[leg + 1] - p[leg]), p[-1:]])[cut:]
     s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
-    fix = np.zeros(xyz.shape[0], dtype=bool)
+    fix = np.zeros(before.size, dtype=bool)
     fix[vertex[fixes]] = True
-    return ErrorProfile(xyz, s, nav.confidence * before, nav.confidence * after, fix)
+    return ErrorProfile(xyz, s, nav.confidence * before[cut:], nav.confidence * after[cut:], fix[cut:])

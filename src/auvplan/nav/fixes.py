@@ -54,7 +54,8 @@ class RouteProfile:
     r_safe : numpy.ndarray
         ``(M - 1,)`` the largest horizontal uncertainty each interval allows (:func:`~.clearance.safe_radius`).
     t : numpy.ndarray
-        ``(M,)`` flying time along the route at the cruise speed (s).
+        ``(M,)`` flying time along the route at the cruise speed (s): through the World's current when the route's
+        flight is given (:func:`route_profile`), else in still water.
     wr : numpy.ndarray
         ``(M - 1,)`` each interval's horizontal distance through the water over its ground length (its route
         leg's; 1 in still water): the drift without bottom lock grows with the water distance.
@@ -63,6 +64,9 @@ class RouteProfile:
     world : World or None
         The World whose exact segment test a surfacing's climb and dive must pass
         (:func:`~auvplan.nav.surfacing.surfacing_slack`).
+    d0 : float
+        The drift ``D`` at the start: the launch's dive from the surface (:func:`~auvplan.nav.budget.launch_drift`;
+        0 when not counted).
     _surfacing : dict
         :func:`~auvplan.nav.surfacing.surfacing_slack`'s answers by sample (a memo; not set by callers).
     """
@@ -75,11 +79,13 @@ class RouteProfile:
     wr: FloatArray
     tan_pitch: float
     world: World | None = None
+    d0: float = 0.0
     _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
 
 
 def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
-                  step: float = DEFAULT_STEP_M, water_ratio: ArrayLike | None = None) -> RouteProfile:
+                  step: float = DEFAULT_STEP_M, water_ratio: ArrayLike | None = None,
+                  launch_m: float = 0.0, flight: tuple[ArrayLike, ArrayLike] | None = None) -> RouteProfile:
     """Sample a route for fix planning (:class:`RouteProfile`).
 
     Parameters
@@ -98,6 +104,12 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         Sampling (m).
     water_ratio : array_like, optional
         ``(N - 1,)`` each leg's horizontal distance through the water over its horizontal length; default 1.
+    launch_m : float, optional
+        The drift ``D`` the launch's dive adds by the start (:func:`~auvplan.nav.budget.launch_drift`, m).
+    flight : tuple of array_like, optional
+        ``(node_s, node_t)``: distance along the route (3D, m) and time (s) of the route flown through the current at
+        the cruise speed (:class:`auvplan.endurance.Traverse`); the samples' times are interpolated in it (the
+        periodic fixes' timer).  Default: still water, ``s / speed``.
 
     Returns
     -------
@@ -121,18 +133,23 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
-    t = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))] / speed
-    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world)
+    s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
+    t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
+                                                    np.asarray(flight[1], dtype=float))
+    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world,
+                        float(launch_m))
 
 
 @dataclass(frozen=True)
 class _Node:
-    """A fix candidate: sample index, kind (``start``, ``goal``, ``gps``, ``usbl``), σ after it (m), cost (s)."""
+    """A fix candidate: sample index, kind (``start``, ``goal``, ``gps``, ``usbl``), σ after it (m), cost (s), and
+    the drift ``D`` it leaves with (m: the launch's at the start, 0 after a fix)."""
 
     k: int
     kind: str
     sigma: float
     cost: float
+    d: float = 0.0
 
 
 def _lifted(prof: RouteProfile, k0: int, k1: int, ends: tuple[_Node, _Node]) -> FloatArray:
@@ -158,8 +175,8 @@ def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bo
     alt = z - prof.zb[a.k:b.k + 1]
     ds = np.diff(prof.s[a.k:b.k + 1])
     inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav, ds * prof.wr[a.k:b.k])
-    err = nav.confidence * np.hypot(a.sigma, np.cumsum(inc))
-    worst = float(err[-1]) if err.size else nav.confidence * a.sigma
+    err = nav.confidence * np.hypot(a.sigma, a.d + np.cumsum(inc))
+    worst = float(err[-1]) if err.size else nav.confidence * float(np.hypot(a.sigma, a.d))
     ok = worst <= min(nav.max_error_m, _surfacings_allow(prof, a, b)) and bool(np.all(err <= prof.r_safe[a.k:b.k]))
     return ok, worst
 
@@ -170,7 +187,7 @@ def _nominal(prof: RouteProfile, nav: NavParams, a: _Node) -> tuple[FloatArray, 
     z = _lifted(prof, a.k, prof.s.size - 1, (a, a))
     ds = np.diff(prof.s[a.k:])
     inc = drift_increments(ds, lock_fraction(z - prof.zb[a.k:], nav.dvl_range_m), nav, ds * prof.wr[a.k:])
-    d = np.r_[0.0, np.cumsum(inc)]
+    d = a.d + np.r_[0.0, np.cumsum(inc)]
     err = nav.confidence * np.hypot(a.sigma, d[1:])
     bad = np.flatnonzero((err > nav.max_error_m) | (err > prof.r_safe[a.k:]))
     return z, d, prof.s.size if bad.size == 0 else a.k + int(bad[0]) + 1
@@ -213,12 +230,17 @@ def _surface_cost(prof: RouteProfile, nav: NavParams, k: int, speed: float) -> f
     return float(extra) / speed + nav.surface_s
 
 
+def _start(prof: RouteProfile, nav: NavParams) -> _Node:
+    """The start: the launch's surface fix and the drift of its dive."""
+    return _Node(0, "start", nav.fix_error_m, 0.0, prof.d0)
+
+
 def _nodes(prof: RouteProfile, nav: NavParams, spacing: float, speed: float,
            usbl_xy: tuple[float, float] | None) -> list[_Node]:
     """Start, the candidates (GPS, and USBL when configured) in route order, goal."""
     m = prof.s.size
     every = max(1, int(round(spacing / max(prof.s[-1] / max(m - 1, 1), 1e-9))))
-    nodes = [_Node(0, "start", nav.fix_error_m, 0.0)]
+    nodes = [_start(prof, nav)]
     for k in range(every, m - 1, every):
         if surfacing_ok(prof, k):  # a climb that lifts an end or enters a zone is no candidate
             nodes.append(_Node(k, "gps", nav.fix_error_m, _surface_cost(prof, nav, k, speed)))
@@ -284,11 +306,11 @@ def plan_fixes(prof: RouteProfile, nav: NavParams, speed: float, spacing: float 
         The fixes; ``ok`` False (with the reason) when no choice of candidates keeps the budget.
     """
     if prof.s.size < 2:  # start and goal at one place: nothing is travelled, the launch fix holds
-        return FixPlan(True, np.empty(0), (), nav.confidence * nav.fix_error_m, 0.0)
+        return FixPlan(True, np.empty(0), (), nav.confidence * math.hypot(nav.fix_error_m, prof.d0), 0.0)
     nodes = _nodes(prof, nav, spacing, speed, usbl_xy)
     best: list[tuple[int, float, float] | None] = [None] * len(nodes)  # (fixes, time, worst error)
     prev = [-1] * len(nodes)
-    best[0] = (0, 0.0, nav.confidence * nav.fix_error_m)
+    best[0] = (0, 0.0, nav.confidence * math.hypot(nav.fix_error_m, prof.d0))
     for i, a in enumerate(nodes[:-1]):
         bi = best[i]
         if bi is None:
@@ -339,7 +361,8 @@ def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: flo
     nav : NavParams
         The error model and E.
     period : float
-        Flying time between fixes (s), measured along the route at the cruise speed.  A fix whose climb
+        Flying time between fixes (s), measured along the route at the cruise speed (through the current when the
+        profile has the route's flight, :func:`route_profile`).  A fix whose climb
         would begin before the start or whose dive would end after the goal is skipped.
     speed : float
         Cruise speed (m/s).
@@ -364,7 +387,7 @@ def periodic_fixes(prof: RouteProfile, nav: NavParams, period: float, speed: flo
         return FixPlan(False, prof.s[ks], ("gps",) * len(ks), math.inf, math.nan,
                        f"a fix every {period:.0f} s surfaces at {prof.s[blocked[0]] / 1000:.2f} km along the route "
                        "through the seabed, an obstacle or a no-go zone")
-    chain = [_Node(0, "start", nav.fix_error_m, 0.0)] + [_Node(k, "gps", nav.fix_error_m, 0.0) for k in ks] \
+    chain = [_start(prof, nav)] + [_Node(k, "gps", nav.fix_error_m, 0.0) for k in ks] \
         + [_Node(prof.s.size - 1, "goal", 0.0, 0.0)]
     ok, worst = True, 0.0
     for a, b in zip(chain[:-1], chain[1:], strict=True):

@@ -49,7 +49,7 @@ class NavCheck:
 def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,
                      usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
                      first_leg: int = 1, held_water_m: ArrayLike | None = None,
-                     water_m: ArrayLike | None = None) -> NavCheck:
+                     water_m: ArrayLike | None = None, launch_water_m: float | None = None) -> NavCheck:
     """Predict a mission's error and test its legs under it (what ``mission check`` prints per leg).
 
     Parameters
@@ -74,6 +74,10 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
     water_m : array_like, optional
         ``(N - 1,)`` each leg's horizontal distance through the water (m;
         :meth:`auvplan.endurance.Traverse.leg_water_m`): the drift without bottom lock; default: still water.
+    launch_water_m : float, optional
+        The launch's distance through the water, its dive from the surface above the first waypoint counted in the
+        drift (m; :func:`~auvplan.nav.budget.mission_budget`); None: not counted (a file whose legs hold their
+        launch, a ``.plan`` read back home first, or one that starts at the first waypoint).
 
     Returns
     -------
@@ -81,7 +85,7 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
         The verdict.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
-    budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m, water_m)
+    budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m, water_m, launch_water_m)
     # a leg over the budget fails on its error; its clearance is tested at the budget (the scan stays bounded)
     alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step)
     over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 + 1e-9))
@@ -156,6 +160,9 @@ class NavPlan:
     leg_water_m : numpy.ndarray or None
         ``(N - 1,)`` each leg's horizontal distance through the water, flown as :attr:`vertex_times_s` (m); the
         budget's drift without bottom lock grows with it (:func:`through_water`); None: still water.
+    launch_water_m : float or None
+        The launch's distance through the water (its dive from the surface above the first waypoint, flown as a
+        ``.plan`` flies it: :func:`auvplan.sim.navigation.timed_navigation`); None: the launch not counted.
     """
 
     points: FloatArray
@@ -169,6 +176,7 @@ class NavPlan:
     speed: float = math.nan
     vertex_times_s: FloatArray | None = None
     leg_water_m: FloatArray | None = None
+    launch_water_m: float | None = None
 
     def timed(self, vertex_times_s: ArrayLike) -> NavPlan:
         """The same plan with its waypoints' planned arrival times (and so its fixes' times) given.
@@ -261,7 +269,8 @@ def fix_times(points: ArrayLike, kinds: tuple[str, ...], dwell_s: ArrayLike, spe
 
 def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
                     usbl_xy: tuple[float, float] | None = None, step: float = DEFAULT_STEP_M,
-                    spacing: float = 250.0, compare: bool = True, water_ratio: ArrayLike | None = None) -> NavPlan:
+                    spacing: float = 250.0, compare: bool = True, water_ratio: ArrayLike | None = None,
+                    launch_m: float = 0.0, flight: tuple[ArrayLike, ArrayLike] | None = None) -> NavPlan:
     """Fixes for a route as ``[navigation] fixes`` asks, and the mission that carries them.
 
     Parameters
@@ -289,6 +298,12 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
         flown through the current, :meth:`auvplan.endurance.Traverse.leg_water_m`): the fixes are planned with the
         drift without lock grown over the water distance; default 1 (still water).  The mission with its fixes
         is checked in still water here; :func:`through_water` checks it as flown.
+    launch_m : float, optional
+        The drift the launch's dive adds by the route's start (m; :func:`~auvplan.nav.budget.launch_drift`): the
+        fixes are planned from it.
+    flight : tuple of array_like, optional
+        ``(node_s, node_t)`` of the route flown through the current at the cruise speed: the periodic fixes (and the
+        best fixed period) are timed in it (:func:`~auvplan.nav.fixes.route_profile`); default: still water.
 
     Returns
     -------
@@ -296,7 +311,7 @@ def plan_navigation(world: World, route: ArrayLike, nav: NavParams, max_pitch_de
         The mission; ``ok`` False with the reason when the budget or the clearance cannot be kept.
     """
     r = np.asarray(route, dtype=float).reshape(-1, 3)
-    prof = route_profile(world, r, nav, max_pitch_deg, speed, step, water_ratio)
+    prof = route_profile(world, r, nav, max_pitch_deg, speed, step, water_ratio, launch_m, flight)
     if nav.fixes == "plan":
         fp = plan_fixes(prof, nav, speed, spacing, usbl_xy)
     elif nav.period_s is not None:
@@ -349,7 +364,8 @@ def navigation_of(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: 
     return NavPlan(p, tuple(kinds), dwell, check, fp, None, fix_times(p, kinds, dwell, speed), nav, speed)
 
 
-def through_water(world: World, plan: NavPlan, water_m: ArrayLike, step: float = DEFAULT_STEP_M) -> NavPlan:
+def through_water(world: World, plan: NavPlan, water_m: ArrayLike, step: float = DEFAULT_STEP_M,
+                  launch_water_m: float | None = None) -> NavPlan:
     """The plan's budget and clearance checked again with each leg's drift without bottom lock grown over its
     distance through the water (``docs/navigation.md``).
 
@@ -364,15 +380,18 @@ def through_water(world: World, plan: NavPlan, water_m: ArrayLike, step: float =
         :meth:`auvplan.endurance.Traverse.leg_water_m`).
     step : float, optional
         Sampling (m).
+    launch_water_m : float, optional
+        The launch's distance through the water (m): its dive counted in the drift (:func:`check_navigation`).
 
     Returns
     -------
     NavPlan
-        ``check`` and ``leg_water_m`` replaced; ``plan`` itself without an error model.
+        ``check``, ``leg_water_m`` and ``launch_water_m`` replaced; ``plan`` itself without an error model.
     """
     if plan.params is None:
         return plan
     w = np.asarray(water_m, dtype=float).reshape(-1)
     nav = plan.params
-    check = check_navigation(world, plan.points, plan.kinds, nav, nav.usbl_xy, step, water_m=w)
-    return replace(plan, check=check, leg_water_m=w)
+    check = check_navigation(world, plan.points, plan.kinds, nav, nav.usbl_xy, step, water_m=w,
+                             launch_water_m=launch_water_m)
+    return replace(plan, check=check, leg_water_m=w, launch_water_m=launch_water_m)

@@ -3,9 +3,11 @@
 The same model as the budget (:mod:`auvplan.nav.budget`), drawn: at the launch and at every fix the
 error restarts from the fix's own error ``e_fix`` (each axis normal with variance ``σ_fix² / 2``) and a
 drift direction ``u`` is drawn (each axis normal with variance ``1 / 2``); between fixes the error is the
-random walk whose every step is ``rate · Δs · u``, with ``rate`` the bottom-lock or no-lock share of the
-distance ``Δs`` travelled (the DVL sees the true seabed).  So ``e(s) = e_fix + D(s) u`` with
-``D = Σ rate Δs``, and ``E|e|² = σ_fix² + D²``: exactly the budget's σ².  A step held between fixes (a
+random walk whose every step is ``rate · Δs · u``: with bottom lock (the DVL sees the true seabed) ``rate`` the
+bottom-lock share and ``Δs`` the horizontal distance over the ground, without it (water track) the no-lock share
+and ``Δs`` the horizontal distance through the water (the step's ground displacement less the current's), as the
+budget counts them.  So ``e(s) = e_fix + D(s) u`` with ``D = Σ rate Δs``, and ``E|e|² = σ_fix² + D²``: exactly the
+budget's σ².  A step held between fixes (a
 heading or scale bias, as a DVL's is) is what makes σ linear in distance; white steps would grow as
 √distance and flatter the budget.
 """
@@ -67,14 +69,20 @@ class NavDrift:
         """
         self.reset(fix_sigma(self.nav, kind, point, self.nav.usbl_xy))
 
-    def advance(self, distance: float, altitude: float) -> None:
-        """Move ``distance`` metres horizontally at ``altitude`` above the seabed.
+    def advance(self, distance: float, altitude: float, water: float | None = None) -> None:
+        """Move ``distance`` metres horizontally over the ground, ``water`` through the water, at ``altitude`` above
+        the seabed.
 
         Parameters
         ----------
         distance : float
-            Horizontal distance travelled (m).
+            Horizontal distance travelled over the ground (m): the drift with bottom lock.
         altitude : float
             True altitude above the seabed (m): bottom lock within ``dvl_range_m``.
+        water : float, optional
+            Horizontal distance travelled through the water (m): the drift without bottom lock; default
+            ``distance`` (still water).
         """
-        self.error = self.error + self.nav.rate(altitude <= self.nav.dvl_range_m) * distance * self.u
+        lock = altitude <= self.nav.dvl_range_m
+        run = distance if lock or water is None else water
+        self.error = self.error + self.nav.rate(lock) * run * self.u

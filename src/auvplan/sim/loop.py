@@ -138,7 +138,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
             else:
                 _steer(run, k, psi_d, pitch_cmd, rp, cur)
                 if run.drift is not None:
-                    run.drift.advance(math.hypot(s.x - pos[0], s.y - pos[1]), alt)
+                    _drift(run.drift, s, pos, alt, cur, dt)
             if run.fixes:
                 _fixes_passed(run, (k + 1) * dt, rp)
     else:
@@ -408,6 +408,14 @@ def _step_events(run: _Run, t: float, pos: NDArray[np.float64], alt: float, dist
         run.status = Status.DEADLOCK
         return True
     return False
+
+
+def _drift(drift: NavDrift, s: VehicleState, pos: NDArray[np.float64], alt: float, cur: NDArray[np.float64],
+           dt: float) -> None:
+    """The estimate's drift over one step from ``pos``: over the ground and through the water (the step's current,
+    which the vehicle model adds over ``dt``, taken out)."""
+    dx, dy = s.x - float(pos[0]), s.y - float(pos[1])
+    drift.advance(math.hypot(dx, dy), alt, math.hypot(dx - float(cur[0]) * dt, dy - float(cur[1]) * dt))
 
 
 def _steer(run: _Run, k: int, psi_d: float, pitch_cmd: float | None, rp: RoutePoint, cur: NDArray[np.float64]) -> None:

@@ -1,6 +1,9 @@
 """A mission's navigation budget as it is flown (``[navigation]``, issue 52): the route's position fixes planned
 (:func:`navigation_plan`) and checked again with each leg flown through the World's current at its own speed, its
-drift without bottom lock over its distance through the water (:func:`timed_navigation`)."""
+drift without bottom lock over its distance through the water (:func:`timed_navigation`).  Both count the launch: the
+dive from the surface above the start to it, flown as a ``.plan`` flies its launch from its home (a vertical leg at
+:data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS`), so that the budget planned is the one ``mission check`` finds in the
+exported ``.plan`` (:func:`launch_flight`)."""
 
 from __future__ import annotations
 
@@ -10,12 +13,49 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..endurance import traverse
+from ..nav.budget import LAUNCH_DIVE_MPS, launch_drift, launch_point
 from ..nav.fixes import best_period, route_profile
 from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..world import World
 from .mission import Mission
 
-__all__ = ["navigation_plan", "timed_navigation"]
+__all__ = ["navigation_plan", "timed_navigation", "launch_flight"]
+
+
+def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, tail: ArrayLike | None = None,
+                  dwell: ArrayLike | None = None) -> tuple[float, np.ndarray] | None:
+    """The mission flown from its launch, as a ``.plan`` is (``mission check``): the dive from the surface above the
+    first waypoint at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS`, then its legs, one flight through the current.
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    points : array_like
+        ``(N, 3)`` the mission's waypoints (m), N ≥ 2.
+    speeds : array_like or float
+        Each leg's speed ``(N - 1,)`` or one (m/s).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+    dwell : array_like, optional
+        ``(N,)`` time held at each waypoint (s).
+
+    Returns
+    -------
+    tuple or None
+        The launch's and each leg's ``(N - 1,)`` horizontal distance through the water (m); None where the current
+        beats the vehicle.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    legs = p.shape[0] - 1
+    v = np.r_[LAUNCH_DIVE_MPS, np.broadcast_to(np.asarray(speeds, dtype=float), (legs,))]
+    back = None if tail is None else np.r_[False, np.asarray(tail, dtype=bool).reshape(-1)]
+    held = None if dwell is None else np.r_[0.0, np.asarray(dwell, dtype=float).reshape(-1)]
+    tr = traverse(world, np.vstack([launch_point(p), p]), v, 0.0, tail=back, dwell=held)
+    if not tr.ok:
+        return None
+    w = tr.leg_water_m()
+    return float(w[0]), w[1:]
 
 
 def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
@@ -40,22 +80,29 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
         return None
     v = mission.vehicle
     p = np.asarray(route, dtype=float).reshape(-1, 3)
-    ratio = None
-    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed
-        tr = traverse(world, p, v.speed)
+    ratio, d0, flight = None, 0.0, None
+    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed,
+        flown = launch_flight(world, p, v.speed)  # launched from the surface
         h = np.hypot(*np.diff(p[:, :2], axis=0).T)
-        ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0) if tr.ok else None
+        if flown is not None:
+            ratio = np.where(h > 0.0, flown[1] / np.where(h > 0.0, h, 1.0), 1.0)
+            d0 = launch_drift(world, p[0], nav, flown[0])
+        tr = traverse(world, p, v.speed)  # from the start: the periodic fixes' timer through the current
+        if tr.ok:
+            flight = (tr.node_s, tr.node_t)
+            if flown is None:  # the current beats the dive, not the route: no launch counted
+                ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
     budget = nav
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
         planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
-                                  compare=False)
+                                  compare=False, launch_m=d0, flight=flight)
         timed = timed_navigation(world, mission, replace(planned, params=nav))
         over = timed.check.budget.max_error_m / nav.max_error_m
         if timed.ok or not planned.fixes.ok or over <= 1.0:
             break
         budget = replace(budget, max_error_m=budget.max_error_m / over * (1.0 - 1e-3))  # plan within E / overshoot
     if nav.fixes == "plan" and planned.fixes.ok:  # the best fixed period with the planned fixes' largest error
-        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio)
+        prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio, launch_m=d0, flight=flight)
         timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
     return timed
 
@@ -63,7 +110,8 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
 def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
     """The fixes' planned times through the World's current at each leg's speed (``fixes.csv`` ``t_s``), and
     the budget checked again with each leg's drift without bottom lock over its distance through the water
-    (:func:`auvplan.nav.mission.through_water`).
+    (:func:`auvplan.nav.mission.through_water`), the launch's dive counted, flown first (:func:`launch_flight`;
+    the times are the mission's from its first waypoint).
 
     Parameters
     ----------
@@ -89,4 +137,9 @@ def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLi
     speeds = mission.leg_speeds if len(mission.leg_speeds) == legs else mission.vehicle.speed
     back = None if tail is None or np.asarray(tail).size != legs else tail
     tr = traverse(world, p, speeds, 0.0, tail=back, dwell=nav.dwell_s)
-    return through_water(world, nav.timed(tr.times), tr.leg_water_m()) if tr.ok else nav
+    if not tr.ok:
+        return nav
+    flown = launch_flight(world, p, speeds, back, nav.dwell_s)
+    if flown is None:  # the current beats the dive: the legs' own water distances, the launch not counted
+        return through_water(world, nav.timed(tr.times), tr.leg_water_m())
+    return through_water(world, nav.timed(tr.times), flown[1], launch_water_m=flown[0])

@@ -44,7 +44,8 @@ def nav_profile(world: World, nav: NavPlan) -> ErrorProfile | None:
     """
     if nav.params is None or nav.points.shape[0] < 2:
         return None
-    return error_profile(world, nav.points, nav.kinds, nav.params, nav.params.usbl_xy, water_m=nav.leg_water_m)
+    return error_profile(world, nav.points, nav.kinds, nav.params, nav.params.usbl_xy, water_m=nav.leg_water_m,
+                         launch_water_m=nav.launch_water_m)
 
 
 def band_outline(band: shapely.Geometry) -> tuple[np.ndarray, np.ndarray]:

@@ -338,8 +338,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     Raises
     ------
     DataError
-        For an unknown format, a geographic one without an origin, or one that cannot carry the mission's
-        tail-first legs (:func:`exportable`).
+        For an unknown format, a geographic one without an origin, one that cannot carry the mission's
+        tail-first legs (:func:`exportable`), or a mission with USBL fixes and no ``fixes.csv`` beside it.
     """
     out = Path(out_dir)
     written = []
@@ -348,6 +348,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     deploy = deploy if deploy is not None else DeployInfo(origin)
     nav = record.nav  # a surface fix's wait (surface_s) in the formats that carry one (.plan, .moos)
     dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
+    if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
+        raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
+                        "without a flight): `auvplan run` the scenario to export them")
     for fmt in formats:
         if fmt not in EXPORT_FORMATS:
             raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")

@@ -41,6 +41,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ....errors import DataError
+from ....nav.budget import LAUNCH_DIVE_MPS
 from .. import parsed
 from .qgc_items import PlanItem, plan_items
 from .readers import csv_columns
@@ -71,8 +72,9 @@ def along_track_factor(points: NDArray[np.float64]) -> NDArray[np.float64]:
 
 WPNAV_SPEED_UP_MPS = 2.5
 """AC_WPNav's default climb limit ``WPNAV_SPEED_UP`` (250 cm/s; the file does not hold it)."""
-WPNAV_SPEED_DN_MPS = 1.5
-"""AC_WPNav's default descent limit ``WPNAV_SPEED_DN`` (150 cm/s; the file does not hold it)."""
+WPNAV_SPEED_DN_MPS = LAUNCH_DIVE_MPS
+"""AC_WPNav's default descent limit ``WPNAV_SPEED_DN`` (150 cm/s; the file does not hold it): the navigation budget
+flies the launch at it (:data:`auvplan.nav.budget.LAUNCH_DIVE_MPS`)."""
 
 
 def _vertical_limits(points: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
