@@ -1601,3 +1601,59 @@ REASONS.update({
     "_near_zones | for ii in range(max(i - reach, 1), min(i + reach, nx - 1) + 1):": _EDGE_ROW,
     "_near_zones | for ii in range(max(i - reach, 0), min(i + reach, nx - 2) + 1):": _EDGE_ROW,
 })
+# ---- round 9 (7 Dec 2026, ~07:00; docs/mutants.md section 9, audit-w17): the last two waves' code no mutation run
+# had seen: the exact distance transform and the morphology that stand in for scipy.ndimage (issue 56), the waits a
+# mission file carries and their read-back (nav22), a .plan's speeds as WPNav flies them (export22), mission check's
+# surface-fix wait
+EDT = "auvplan.world.kernels.edt"
+DWELL, QGC_SPEEDS = "auvplan.io.missions.readback.dwell", "auvplan.io.missions.readback.speeds"
+MFORMATS = "auvplan.io.missions.formats"
+MODULES.update({
+    "edt": Target(_fns(EDT, "_columns", "_rows_offsets", "_rows_envelope", "distance_transform", "dilate_cross",
+                       "window_any"), jit=False),
+    "dwell": Target(
+        _fns(DWELL, "moos_dwells", "read_dwells") + _fns(MFORMATS, "_dwells", "_varies")
+        + ((MFORMATS, "to_moos", "waits = _dwells(", "return \"\\n\".join(lines)"),
+           (APP_CHECK, "navigation_check", "short = [] if dwell_s", "legs = [{")),
+    ),
+    "wpnav-speeds": Target(_fns(QGC_SPEEDS, "along_track_factor", "_vertical_limits", "flown_speeds",
+                                "vertical_bound_legs", "_moos")),
+})
+# audit-w17 (round 9): the survivors argued (docs/mutants.md section 9)
+_PATHS = ("equivalent in value: both row passes are exact (the least squared distance, an integer, then one correctly "
+          "rounded square root), so which one a mask takes changes only the time (tests/oracles/test_edt.py runs both "
+          "on every mask)")
+_UNREAD = ("equivalent: breakpoint 0 (zn[0] / zd[0], -infinity) is never read: the pop test reads zn[k] only for "
+           "k > 0 and the query zn[j_k + 1] only for j_k < k; a value written at index 1 is overwritten by the next "
+           "parabola's push before any read")
+_TIE = ("equivalent: at a breakpoint equal to the one compared the two parabolas (or three) give the same value there, "
+        "and every value is taken at whole columns")
+_NO_LOWER = ("equivalent in value: an offset d with d * d >= max(d2) cannot lower any value (g2 >= 0), so going on "
+             "past it changes nothing but the time")
+REASONS.update({
+    "_rows_offsets | if dd > d2.max():": _NO_LOWER,
+    "_rows_offsets | continue": _NO_LOWER,
+    "_rows_envelope | zn = np.empty(nx + 2, dtype=np.int64)":
+        "equivalent: a longer buffer; at most nx parabolas, so indices up to nx are used either way",
+    "_rows_envelope | zd = np.empty(nx + 2, dtype=np.int64)":
+        "equivalent: a longer buffer; at most nx parabolas, so indices up to nx are used either way",
+    "_rows_envelope | k = -2":
+        "equivalent: any negative k skips the pop loop (while k >= 0) and takes the first-parabola branch (k < 0)",
+    "_rows_envelope | if k >= 0 and num * zd[k] <= zn[k] * den:":
+        "equivalent: at k = 0 zd[0] = 0 and zn[0] = -1, so num * 0 <= -den is false (den > 0): never popped",
+    "_rows_envelope | if k > 0 and num * zd[k] < zn[k] * den:": _TIE,
+    "_rows_envelope | if k <= 0:":
+        "equivalent: after the pop loop k is -1 (no parabola yet) or >= 1 (the loop ends on a push), never 0",
+    "_rows_envelope | if k < 1:":
+        "equivalent: after the pop loop k is -1 (no parabola yet) or >= 1 (the loop ends on a push), never 0",
+    "_rows_envelope | v[0], zn[1], zd[0] = (q, -1, 0)": _UNREAD,
+    "_rows_envelope | v[0], zn[0], zd[1] = (q, -1, 0)": _UNREAD,
+    "_rows_envelope | v[0], zn[0], zd[0] = (q, 1, 0)": _UNREAD,
+    "_rows_envelope | v[0], zn[0], zd[0] = (q, -2, 0)": _UNREAD,
+    "_rows_envelope | v[0], zn[0], zd[0] = (q, -1, 1)": _UNREAD,
+    "_rows_envelope | while j_k < k and zn[j_k + 1] <= j * zd[j_k + 1]:": _TIE,
+    "distance_transform | if ny * nx * nx < SMALL:": _PATHS,
+    "distance_transform | if ny * nx * nx > SMALL:": _PATHS,
+    "distance_transform | if ny * nx / nx <= SMALL:": _PATHS,
+    "distance_transform | if ny / nx * nx <= SMALL:": _PATHS,
+})

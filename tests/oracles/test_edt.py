@@ -43,3 +43,53 @@ def test_dilation_and_window_or_are_scipys() -> None:
         size = tuple(int(2 * rng.integers(0, 4) + 1) for _ in range(3))
         got = edt.window_any(m3, size)
         assert got.dtype == bool and np.array_equal(got, ndimage.maximum_filter(m3, size=size, mode="nearest"))
+
+
+def _counting(monkeypatch) -> dict[str, int]:
+    """scipy.ndimage's three functions, each call counted (the answers SciPy's own)."""
+    calls = {"distance_transform_edt": 0, "binary_dilation": 0, "maximum_filter": 0}
+    for name in calls:
+        real = getattr(ndimage, name)
+
+        def counted(*args, _real=real, _name=name, **kwargs):
+            calls[_name] += 1
+            return _real(*args, **kwargs)
+
+        monkeypatch.setattr(ndimage, name, counted)
+    return calls
+
+
+def test_the_covered_cases_never_call_scipy_and_the_others_are_scipys(monkeypatch) -> None:
+    """Issue 56's contract: a 2D mask with a false element, a dilation of at least one step and an odd window are
+    computed here, without SciPy (a command's start imports no scipy.ndimage); what is not covered (a mask with no
+    false element, an empty or 3D mask, iterations 0 — SciPy's 'until nothing changes' —, an even window and its
+    origin) is SciPy's own answer.  Oracle: SciPy (the call count, and its values from the originals)."""
+    dt, dil, mf = ndimage.distance_transform_edt, ndimage.binary_dilation, ndimage.maximum_filter
+    calls = _counting(monkeypatch)
+    rng = np.random.default_rng(3)
+    covered = [rng.random((5, 9)) < 0.6, np.array([[False]]), np.array([[True, False, True]]), np.eye(4, 1) == 0]
+    for m in covered:
+        assert np.array_equal(edt.distance_transform(m), dt(m))
+        for it in (1, 2):
+            assert np.array_equal(edt.dilate_cross(~m, it), dil(~m, iterations=it))
+        for size in ((1, 1), (1, 3), (3, 5)):
+            assert np.array_equal(edt.window_any(m, size), mf(m, size=size, mode="nearest"))
+    assert calls == {"distance_transform_edt": 0, "binary_dilation": 0, "maximum_filter": 0}
+    # handed to SciPy: each call counted, the value SciPy's
+    m = rng.random((6, 7)) < 0.3
+    m[0, 0] = True
+    cases = [(edt.distance_transform, np.ones((3, 4), bool), lambda a: dt(a)),
+             (edt.distance_transform, np.zeros((0, 3), bool), lambda a: dt(a)),
+             (edt.distance_transform, rng.random((3, 4, 2)) < 0.5, lambda a: dt(a)),
+             (lambda a: edt.dilate_cross(a, 0), m, lambda a: dil(a, iterations=0)),
+             (lambda a: edt.window_any(a, (2, 3)), m, lambda a: mf(a, size=(2, 3), mode="nearest")),
+             (lambda a: edt.window_any(a, (3, 4)), m, lambda a: mf(a, size=(3, 4), mode="nearest")),
+             (lambda a: edt.window_any(a, (3,)), m, lambda a: mf(a, size=(3,), mode="nearest"))]
+    for k, (ours, theirs, a) in enumerate((c[0], c[2], c[1]) for c in cases):
+        before = sum(calls.values())
+        if k == 6:  # a size for fewer axes than the mask has: SciPy refuses it, as ours does
+            with pytest.raises(RuntimeError):
+                ours(a)
+        else:
+            assert np.array_equal(ours(a), theirs(a)), k
+        assert sum(calls.values()) == before + 1, k

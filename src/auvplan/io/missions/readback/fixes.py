@@ -1,6 +1,8 @@
 """The position fixes of a mission file read back (issue 52, ``docs/navigation.md``).
 
-A surface waypoint (depth within 0.5 m) after the first is a GPS fix whatever the file's format.  A USBL
+A surface waypoint (depth within 0.5 m) after the mission's first is a GPS fix whatever the file's format (a
+``.plan``'s points are read home first: its mission starts at point 1, launched from the home on the surface above
+it, and a start at the surface is no fix there either).  A USBL
 fix is taken at depth: no mission format has a field for it, so it lives in the results folder's
 ``fixes.csv`` (``lat, lon, t_s, kind``) written beside every export.  :func:`fix_kinds` reads that file
 when it lies beside the mission file and marks the waypoint each row names (the nearest waypoint, within
@@ -98,7 +100,8 @@ def fix_kinds(points: ArrayLike, mission_file: Path,
     Returns
     -------
     kinds : tuple of str
-        ``(N,)`` ``""``, ``"gps"`` or ``"usbl"``.
+        ``(N,)`` ``""``, ``"gps"`` or ``"usbl"``; none at the mission's start (a ``.plan``'s home and its first
+        item: its launch is no fix to wait for).
     source : str
         Where the fixes were read from, for the check's verdict.
 
@@ -109,6 +112,8 @@ def fix_kinds(points: ArrayLike, mission_file: Path,
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     kinds = list(surface_kinds(p))
+    start = 1 if Path(mission_file).suffix.lower() == ".plan" else 0  # read home first: the mission's start is 1
+    kinds[:start + 1] = [""] * len(kinds[:start + 1])
     companion = Path(mission_file).with_name("fixes.csv")
     if origin is None or not companion.is_file() or companion.resolve() == Path(mission_file).resolve():
         return tuple(kinds), "the surface waypoints"
@@ -122,6 +127,6 @@ def fix_kinds(points: ArrayLike, mission_file: Path,
             raise DataError(f"{companion}: row {n}: the {kind} fix is {d[i]:.1f} m from the nearest "
                             f"{'surface ' if kind == 'gps' else ''}waypoint of {mission_file} "
                             f"(at most {MATCH_TOLERANCE_M:g} m): not this mission's fixes")
-        if i > 0:
+        if i > start:
             kinds[i] = kind
     return tuple(kinds), f"the surface waypoints and {companion.name}"

@@ -136,19 +136,29 @@ def vertical_bound_legs(commands: NDArray[np.float64], points: NDArray[np.float6
 
 
 def _moos(text: str, legs: int) -> list[float] | None:
+    """The legs' speeds as the helm flies them: the waypoint behaviour's ``speed``, changed from leg i on by leg i's
+    ``runflag = X = speed=v`` when the behaviour takes its updates from ``X`` (``updates = X``): MOOS-IvP's
+    ``IvPBehavior::checkUpdates`` sets the parameter for good, so a leg without its own update keeps the last."""
     text = re.sub(r"//[^\n]*", "", text)
-    base = re.search(r"Behavior\s*=\s*BHV_Waypoint\s*\{[^}]*?\n\s*speed\s*=\s*([-\d.eE+]+)", text)
-    if base is None:
+    block = re.search(r"Behavior\s*=\s*BHV_Waypoint\s*\{([^}]*)\}", text)
+    base = None if block is None else re.search(r"(?:^|\n)\s*speed\s*=\s*([-\d.eE+]+)", block.group(1))
+    if block is None or base is None:
         return None
-    v = [float(base.group(1))] * legs
+    takes = re.search(r"(?:^|\n)\s*updates\s*=\s*(\w+)\s*(?:\n|$)", block.group(1))
+    flags: dict[int, float] = {}
     for m in re.finditer(r"Behavior\s*=\s*BHV_ConstantDepth\s*\{([^}]*)\}", text):
         body = m.group(1)
         idx = re.search(r"WPT_INDEX\s*==?\s*(\d+)", body)
-        flag = re.search(r"runflag\s*=\s*WPT_UPDATE\s*=\s*speed\s*=\s*([-\d.eE+]+)", body)
+        flag = None if takes is None else re.search(
+            rf"runflag\s*=\s*{takes.group(1)}\s*=\s*speed\s*=\s*([-\d.eE+]+)", body)
         if idx and int(idx.group(1)) >= legs:
             return None  # the file has more legs than the mission it was read as
         if idx and flag:
-            v[int(idx.group(1))] = float(flag.group(1))
+            flags[int(idx.group(1))] = float(flag.group(1))
+    v, speed = [], float(base.group(1))
+    for i in range(legs):  # an update holds until the next one
+        speed = flags.get(i, speed)
+        v.append(speed)
     return v
 
 
