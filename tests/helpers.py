@@ -128,6 +128,28 @@ goal = [2100.0, 500.0, -10.0]
 """
 
 
+# the flat sea of the mission-file verdict tests (test_qgc_items, test_mission_verdicts), after its ``name``: a 16 km x
+# 12 km box off Guam (16 N, 145 E) over a flat seabed 300 m deep on 500 m cells, the mission across it at the surface
+FLAT_SEA = """seed = 1
+[origin]
+lat = 16.0
+lon = 145.0
+[bounds]
+x = [0.0, 16000.0]
+y = [0.0, 12000.0]
+z = [-600.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 300.0
+cell_m = 500.0
+[mission]
+start = [1000.0, 6000.0, 0.0]
+goal = [15000.0, 6000.0, 0.0]
+min_altitude_m = 20.0
+min_depth_m = 0.0
+"""
+
+
 def ridge_toml(*, route: bool = False, follow_altitude_m: float | None = None) -> str:
     """:data:`RIDGE` with, if asked, the straight route written out (:data:`RIDGE_ROUTE`) and a terrain-following
     altitude (``follow_altitude_m = ...``), as the last lines of ``[mission]``."""

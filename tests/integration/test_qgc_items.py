@@ -23,6 +23,7 @@ from auvplan.io.missions.readback.deploy_read import read_deploy
 from auvplan.io.missions.readback.qgc_items import plan_items
 from auvplan.io.missions.readback.speeds import read_leg_speeds
 from auvplan.io.missions.readback.terrain_frame import terrain_legs
+from helpers import FLAT_SEA
 
 _REEFS = (-7.0, 70.8)  # chagos-reefs' origin
 _CAM = {"type": "SimpleItem", "autoContinue": True, "command": 206, "doJumpId": 0, "frame": 2,
@@ -121,25 +122,7 @@ def test_what_the_check_cannot_follow_exits_2_naming_the_item(tmp_path, capsys, 
     assert re.search(rf"{named} at mission\.items\[2\]: not checked$", err.strip())
 
 
-_FLAT_TOML = """name = "flat-300"
-seed = 1
-[origin]
-lat = 16.0
-lon = 145.0
-[bounds]
-x = [0.0, 16000.0]
-y = [0.0, 12000.0]
-z = [-600.0, 0.0]
-[terrain.synthetic]
-kind = "flat"
-depth = 300.0
-cell_m = 500.0
-[mission]
-start = [1000.0, 6000.0, 0.0]
-goal = [15000.0, 6000.0, 0.0]
-min_altitude_m = 20.0
-min_depth_m = 0.0
-"""
+_FLAT_TOML = 'name = "flat-300"\n' + FLAT_SEA
 
 
 @pytest.mark.parametrize(("command", "radius", "named"), [

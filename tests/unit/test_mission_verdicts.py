@@ -14,7 +14,7 @@ import shapely
 
 from auvplan.app.check import _zone_approach, terrain_following_check
 from auvplan.world import Zone, Zones
-from helpers import flat_world
+from helpers import FLAT_SEA, flat_world
 
 
 def test_terrain_following_legs_extremes_and_vertices_by_hand():
@@ -73,25 +73,7 @@ def test_zones_of_a_terrain_frame_plan_on_its_track():
     assert got["deep"].closest_m == pytest.approx(20.0)  # the straight leg 2 and the track at 50 m, 20 m above it
 
 
-_NAV_TOML = """name = "nav-verdicts"
-seed = 1
-[origin]
-lat = 16.0
-lon = 145.0
-[bounds]
-x = [0.0, 16000.0]
-y = [0.0, 12000.0]
-z = [-600.0, 0.0]
-[terrain.synthetic]
-kind = "flat"
-depth = 300.0
-cell_m = 500.0
-[mission]
-start = [1000.0, 6000.0, 0.0]
-goal = [15000.0, 6000.0, 0.0]
-min_altitude_m = 20.0
-min_depth_m = 0.0
-[navigation]
+_NAV_TOML = 'name = "nav-verdicts"\n' + FLAT_SEA + """[navigation]
 drift_pct = 0.5
 drift_pct_no_lock = 1.5
 dvl_range_m = 100.0

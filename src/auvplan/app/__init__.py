@@ -19,10 +19,7 @@ __all__ = ["Reporter", "Silent", "ReporterFor", "silent"]
 
 
 class Reporter(Protocol):
-    """What a job reports its progress to: the planner's iterations, the flight's simulated time, stages.
-
-    Each method does nothing here: :class:`Silent` subclasses the protocol to be the reporter that reports nothing.
-    """
+    """What a job reports its progress to: the planner's iterations, the flight's simulated time, stages."""
 
     def __call__(self, iteration: int, best: float) -> None:
         """The planner's callback.
@@ -34,7 +31,6 @@ class Reporter(Protocol):
         best : float
             Best cost so far.
         """
-        return None
 
     def flight(self, t: float, expected: float) -> None:
         """The simulation's callback.
@@ -46,7 +42,6 @@ class Reporter(Protocol):
         expected : float
             About how many the flight takes (s).
         """
-        return None
 
     def stage(self, text: str) -> None:
         """A stage without a bar.
@@ -56,15 +51,47 @@ class Reporter(Protocol):
         text : str
             What the job is doing.
         """
-        return None
 
     def close(self) -> None:
         """The job is over."""
-        return None
 
 
-class Silent(Reporter):
-    """A reporter that reports nothing (the planning page, scripts): the protocol's own bodies, which do nothing."""
+class Silent:
+    """A reporter that reports nothing (the planning page, scripts)."""
+
+    def __call__(self, iteration: int, best: float) -> None:
+        """Nothing.
+
+        Parameters
+        ----------
+        iteration : int
+            Iterations done.
+        best : float
+            Best cost so far.
+        """
+
+    def flight(self, t: float, expected: float) -> None:
+        """Nothing.
+
+        Parameters
+        ----------
+        t : float
+            Simulated seconds flown.
+        expected : float
+            About how many the flight takes (s).
+        """
+
+    def stage(self, text: str) -> None:
+        """Nothing.
+
+        Parameters
+        ----------
+        text : str
+            What the job is doing.
+        """
+
+    def close(self) -> None:
+        """Nothing."""
 
 
 ReporterFor = Callable[["PlannerSpec", str], Reporter]

@@ -61,6 +61,15 @@ def sink_velocity(p: ArrayLike, target: ArrayLike, m: float = 1.0) -> FloatArray
     return u
 
 
+def _toward(center: ArrayLike, target: ArrayLike) -> tuple[FloatArray, FloatArray, float, FloatArray]:
+    """The sphere's centre ``c``, the target sink ``T``, their distance ``b`` and the unit vector ``e`` from ``c`` to
+    ``T`` (the axis of both sphere fields)."""
+    c = np.asarray(center, dtype=float)
+    T = np.asarray(target, dtype=float)
+    b = float(np.linalg.norm(T - c))
+    return c, T, b, (T - c) / b
+
+
 def sphere_exact_velocity(p: ArrayLike, center: ArrayLike, radius: float, target: ArrayLike,
                           m: float = 1.0) -> FloatArray:
     """Sink at ``target`` plus its exact image in the sphere (Weiss's sphere theorem).
@@ -84,11 +93,8 @@ def sphere_exact_velocity(p: ArrayLike, center: ArrayLike, radius: float, target
         Velocity ``(..., 3)`` (m/s); tangent to the sphere on its surface.
     """
     p = np.asarray(p, dtype=float)
-    c = np.asarray(center, dtype=float)
-    T = np.asarray(target, dtype=float)
+    c, T, b, e = _toward(center, target)
     a = float(radius)
-    b = float(np.linalg.norm(T - c))
-    e = (T - c) / b
     L = a * a / b
     Bs = c + L * e
     q0 = p - c
@@ -106,10 +112,7 @@ def _document_terms(p: ArrayLike, center: ArrayLike, radius: float,
                     target: ArrayLike) -> tuple[FloatArray, ...]:
     """Shared geometry of document 000's sphere field: p, T, e, q, r (keepdims), x = q·e, g, g′."""
     p = np.asarray(p, dtype=float)
-    c = np.asarray(center, dtype=float)
-    T = np.asarray(target, dtype=float)
-    b = float(np.linalg.norm(T - c))
-    e = (T - c) / b
+    c, T, b, e = _toward(center, target)
     q = p - c
     r = np.linalg.norm(q, axis=-1, keepdims=True)
     x = (q @ e)[..., None]
