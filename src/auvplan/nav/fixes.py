@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike
 from .._types import FloatArray
 from ..world import World
 from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
-from .clearance import safe_radius
+from .clearance import safe_radius, zone_safe_radius
 from .params import NavParams
 from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack
 
@@ -133,6 +133,8 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
+    if world.zones:  # and the charted no-go zones within the error at the leg's depth
+        r_safe = np.minimum(r_safe, zone_safe_radius(world, xyz[:-1], xyz[1:], nav.max_error_m))
     s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
     t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
                                                     np.asarray(flight[1], dtype=float))
@@ -345,7 +347,8 @@ def _why(prof: RouteProfile, nav: NavParams) -> str:
     tight = np.flatnonzero(prof.r_safe < nav.confidence * nav.fix_error_m)
     if tight.size:
         k = int(tight[0])
-        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed is within {prof.r_safe[k]:.0f} m "
+        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed or a no-go zone is within "
+                f"{prof.r_safe[k]:.0f} m "
                 f"horizontally of the leg, less than confidence × fix_error_m = {nav.confidence * nav.fix_error_m:g} m")
     return (f"no choice of fixes every candidate point keeps the error within max_error_m = {nav.max_error_m:g} m "
             "and the uncertain clearance")
