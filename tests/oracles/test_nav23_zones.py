@@ -114,3 +114,41 @@ def test_the_fix_planner_keeps_the_error_off_a_zone(tmp_path):
     end = plan.check.budget.leg_error_m[-1]
     assert end < 200.0
     assert check_navigation(world, plan.points, plan.kinds, nav).ok
+
+
+def test_a_surfacing_keeps_its_climb_out_of_reach_of_a_shallow_zone(tmp_path):
+    """A zone from the surface to 50 m deep, 150 m north of a 14 km leg at 200 m between x = 4 and 7 km: the leg
+    never reaches its band, a surfacing's climb does.  The fewest fixes is one, and the earliest that reaches the goal
+    within E = 400 m (about x = 5.2 km, 168 m of error on arrival) would climb 150 m from the zone: the planner surfaces
+    where its climb's error keeps the zone out of reach (before: there, and its own check failed the climb's leg)."""
+    from dataclasses import replace
+
+    import shapely
+
+    from auvplan.sim.navigation import navigation_plan
+
+    text = open(_scenario(tmp_path, 150.0, "top_m = 0.0\nbottom_m = 50.0")).read()
+    text = text.replace("[[8500.0, 3150.0], [9500.0, 3150.0], [9500.0, 3650.0], [8500.0, 3650.0]]",
+                        "[[4000.0, 3150.0], [7000.0, 3150.0], [7000.0, 3650.0], [4000.0, 3650.0]]")
+    text = text.replace("x = [0.0, 12000.0]", "x = [0.0, 16000.0]").replace("goal = [9000.0", "goal = [15000.0")
+    path = tmp_path / "shallow.toml"
+    path.write_text(text)
+    world, mission = sc.build(sc.load(str(path)))
+    nav = replace(mission.navigation, fixes="plan", max_error_m=400.0, surface_s=60.0)
+    leg = np.array([[1000.0, 3000.0, -200.0], [15000.0, 3000.0, -200.0]])
+    plan = navigation_plan(world, replace(mission, navigation=nav), leg)
+    assert plan is not None and plan.ok, plan.message
+    assert plan.fixes.count == 1 and plan.check.ok
+    # independently: every leg of the mission that reaches the band (0-50 m deep) keeps the zone farther than its
+    # predicted error (the band's part of the leg, its horizontal distance to the footprint)
+    zone = shapely.Polygon([(4000.0, 3150.0), (7000.0, 3150.0), (7000.0, 3650.0), (4000.0, 3650.0)])
+    p = plan.points
+    for k in range(len(p) - 1):
+        a, b = p[k], p[k + 1]
+        if max(a[2], b[2]) < -50.0:
+            continue
+        t0 = 0.0 if a[2] >= -50.0 else (-50.0 - a[2]) / (b[2] - a[2])
+        t1 = 1.0 if b[2] >= -50.0 else (-50.0 - a[2]) / (b[2] - a[2])
+        q0, q1 = a[:2] + t0 * (b[:2] - a[:2]), a[:2] + t1 * (b[:2] - a[:2])
+        part = shapely.LineString([q0, q1]) if np.hypot(*(q1 - q0)) > 0 else shapely.Point(q0)
+        assert part.distance(zone) > plan.check.budget.leg_error_m[k], k
