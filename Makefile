@@ -145,7 +145,7 @@ audit-oracles: $(STAMP)
 bench-nav: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part planned & \
 	nice -n 5 $(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part perfect; wait
-	$(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part summary --figure nav-drift
+	$(BIN)/python benchmarks/nav_drift.py --scenario mariana-nav --seeds 200 --out results/nav --part summary --figure nav-drift-w17
 # every figure and picture of the docs from its measurement (docs/README.md): the demo, the mission
 # table and the quick figures of tools/figures_fast.py (~8 min), the report's screenshots (headless Chromium), the scenario reference, the architecture
 # picture, then the figures copied into the docs; tests/golden/test_doc_figures.py keeps them in step

@@ -112,3 +112,17 @@ def test_deep_launch_in_a_strong_cross_current(deep_launch, tmp_path, capsys):
     assert plan.check.budget.error_m[0] == pytest.approx(nav.confidence * math.hypot(nav.fix_error_m, d0), rel=1e-6)
     # the first stretch is planned to the budget: without the launch's 13.4 m it would be over it
     assert plan.check.budget.max_error_m > nav.max_error_m - 3.0
+
+
+def test_the_page_band_counts_the_launch_as_the_check_does(deep_launch):
+    """``serve``'s band under the mission being edited: its largest error is the planner's and the ``.plan``'s."""
+    from auvplan.serve.session import nav_band
+
+    _, world, mission, plan = deep_launch
+    got = nav_band(world, mission, plan.points)
+    assert got is not None and got["fixes"] == plan.fixes.count
+    assert got["max_error_m"] == pytest.approx(plan.check.budget.max_error_m, abs=0.01)
+    i = plan.kinds.index("gps")  # the mission up to its first fix: the launch's drift in the error on arrival there
+    first = nav_band(world, mission, plan.points[:i + 1])
+    assert first is not None
+    assert first["max_error_m"] == pytest.approx(plan.check.budget.leg_error_m[i - 1], abs=0.01)

@@ -39,7 +39,7 @@ def test_periodic_fixes_are_timed_through_a_current_that_changes_in_time():
     world = World(Bounds(0.0, 12000.0, 0.0, 6000.0, -6000.0, 0.0),
                   Terrain(x, y, np.full((13, 25), -3000.0), name="flat"), currents=cur,
                   margins=Margins(min_altitude=20.0, min_depth=0.0), name="flat")
-    nav = NavParams(drift_pct=0.3, drift_pct_no_lock=1.0, dvl_range_m=100.0, fix_error_m=3.0, max_error_m=5000.0,
+    nav = NavParams(drift_pct=0.3, drift_pct_no_lock=1.0, dvl_range_m=100.0, fix_error_m=3.0, max_error_m=300.0,
                     confidence=2.0, fixes=4000.0, surface_s=60.0)
     mission = Mission("t", tuple(ROUTE[0]), tuple(ROUTE[-1]), navigation=nav,
                       vehicle=VehicleParams(speed=V, max_pitch_deg=20.0))

@@ -449,7 +449,8 @@ def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds
         msg = f"leg {over[0] + first}: predicted error {err[over[0]]:.1f} m exceeds max_error_m {nav.max_error_m:g} m"
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = clearance_failure(k + first, float(err[k]), float(alt[k]), world)
+        on = np.flatnonzero(seg == k)  # the leg's pieces of the track
+        msg = clearance_failure(k + first, float(err[k]), float(alt[k]), world, np.stack([track[on], track[on + 1]], 1))
     elif c.budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
         msg = (f"waypoint {n}: predicted error {c.budget.error_m[-1]:.1f} m at the end of its hold exceeds "
                f"max_error_m {nav.max_error_m:g} m")

@@ -17,6 +17,11 @@ at most ``2 L h`` plus what the grown radius adds.  ``tests/oracles/test_nav.py`
 independent brute-force sampling.  :func:`safe_radius` is its inverse (bisection on ``r``: the least
 altitude only falls as ``r`` grows).  Static obstacles are tested with their exact segment test at the
 margin plus ``r`` (a ball of radius ``r`` contains the horizontal disc: this errs only on the safe side).
+Charted no-go zones (:mod:`auvplan.world.zones`, unpadded) by :func:`zone_within`: a leg is not clear when a point
+of a prism lies within ``r`` horizontally of the leg at the leg's own depth — for a band between two depths exactly
+(the sub-segment whose depth is in the band, its horizontal trace's distance to the footprint at most ``r``), for a
+band from the seabed up to ``h`` on the safe side (the trace within ``r`` of the footprint and the leg's least
+altitude within ``r``, :func:`leg_slack` over the whole stadium, at most ``h``).
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 from numpy.typing import ArrayLike
 
 from .._types import BoolArray, FloatArray
@@ -31,7 +37,8 @@ from ..runtime.jit import kernel
 from ..world import World
 from ..world.terrain import Terrain, elevation_kernel
 
-__all__ = ["lattice_step", "leg_slack", "safe_radius", "pieces", "leg_uncertain_altitude", "uncertain_clearance"]
+__all__ = ["lattice_step", "leg_slack", "safe_radius", "pieces", "leg_uncertain_altitude", "uncertain_clearance",
+           "zone_within", "zone_safe_radius"]
 
 _MAX_NODES = 50_000_000
 """Most lattice nodes one test may visit; beyond it the test refuses the leg (-inf)."""
@@ -251,4 +258,110 @@ def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step
     for shape in world.obstacles:
         for k in np.flatnonzero(ok):
             ok[k] = not bool(shape.segments_hit(seg[k:k + 1], world.margins.obstacle + float(r[k]))[0])
+    if world.zones and ok.any():
+        near = np.flatnonzero(ok)
+        ok[near] = zone_within(world, seg[near], r[near]) < 0
     return alt, ok
+
+
+def _band_trace(a: FloatArray, b: FloatArray, lo: float, hi: float) -> shapely.Geometry | None:
+    """The horizontal trace of the part of segment ``a → b`` whose depth lies in ``[lo, hi]`` (z linear along it)."""
+    dz = b[2] - a[2]
+    if dz == 0.0:
+        t0, t1 = (0.0, 1.0) if lo <= a[2] <= hi else (1.0, 0.0)
+    else:
+        ta, tb = (lo - a[2]) / dz, (hi - a[2]) / dz
+        t0, t1 = max(min(ta, tb), 0.0), min(max(ta, tb), 1.0)
+    if t0 > t1:
+        return None
+    p0, p1 = a[:2] + t0 * (b[:2] - a[:2]), a[:2] + t1 * (b[:2] - a[:2])
+    return shapely.linestrings([p0, p1]) if t1 > t0 else shapely.points(p0)
+
+
+def zone_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.ndarray:
+    """The first charted no-go zone within each segment's horizontal uncertainty (module notes), ``-1`` for none.
+
+    Parameters
+    ----------
+    world : World
+        Its zones (unpadded: :attr:`~auvplan.world.zones.Zones.exact`) and, for seabed bands, its terrain.
+    segments : array_like
+        ``(K, 2, 3)`` the legs (m).
+    radius : array_like
+        ``(K,)`` or scalar horizontal uncertainty of each (m).
+
+    Returns
+    -------
+    numpy.ndarray of int
+        ``(K,)`` the index of a zone (``world.zones.zones``) a point of whose prism lies within the radius of the
+        segment at its depth; ``-1`` where none does.
+    """
+    seg = np.asarray(segments, dtype=float).reshape(-1, 2, 3)
+    r = np.broadcast_to(np.asarray(radius, dtype=float), (seg.shape[0],))
+    out = np.full(seg.shape[0], -1, dtype=np.intp)
+    if not world.zones or seg.shape[0] == 0:
+        return out
+    specs = world.zones.exact.zones
+    geoms = np.array([z.footprint for z in specs], dtype=object)
+    tree = shapely.STRtree(geoms)
+    traces = shapely.linestrings(seg[:, :, :2])
+    ks, js = tree.query(traces, predicate="dwithin", distance=r)  # the broad phase: the footprints within reach
+    for k, j in zip(ks.tolist(), js.tolist(), strict=True):
+        if out[k] >= 0:
+            continue
+        z, a, b = specs[j], seg[k, 0], seg[k, 1]
+        if z.above_seabed is None:
+            part = _band_trace(a, b, -z.bottom, -z.top)
+            hit = part is not None and float(shapely.distance(part, geoms[j])) <= r[k]
+        else:  # the band's top within reach is at most the highest seabed within r of the leg plus its height
+            hit = world.terrain is not None and float(leg_slack(world.terrain, a, b, r[k])[0]) <= z.above_seabed
+        if hit:
+            out[k] = j
+    return out
+
+
+def zone_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float, tol: float = 0.5) -> FloatArray:
+    """The largest horizontal uncertainty each segment allows near the charted zones (the inverse of
+    :func:`zone_within`): for a band between two depths the distance from the part of the segment in the band to the
+    footprint, less a micrometre; for a seabed band by bisection.
+
+    Parameters
+    ----------
+    world : World
+        Its zones and terrain.
+    a, b : array_like
+        ``(K, 3)`` the segments' ends (m).
+    r_max : float
+        Largest radius looked at (m): a segment with no zone within it gets ``inf``.
+    tol : float, optional
+        Bisection tolerance (m; the radius returned is on the safe side).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` (m): :func:`zone_within` finds no zone for any radius up to it.
+    """
+    seg = np.stack([np.atleast_2d(np.asarray(a, dtype=float)), np.atleast_2d(np.asarray(b, dtype=float))], axis=1)
+    out = np.full(seg.shape[0], np.inf)
+    if not world.zones or seg.shape[0] == 0:
+        return out
+    specs = world.zones.exact.zones
+    geoms = np.array([z.footprint for z in specs], dtype=object)
+    ks, js = shapely.STRtree(geoms).query(shapely.linestrings(seg[:, :, :2]), predicate="dwithin", distance=r_max)
+    for k, j in zip(ks.tolist(), js.tolist(), strict=True):
+        z, p, q = specs[j], seg[k, 0], seg[k, 1]
+        if z.above_seabed is None:
+            part = _band_trace(p, q, -z.bottom, -z.top)
+            r = math.inf if part is None else float(shapely.distance(part, geoms[j])) * (1.0 - 1e-12) - 1e-6
+        else:
+            def hit(x: float, p: FloatArray = p, q: FloatArray = q, h: float = z.above_seabed) -> bool:
+                return world.terrain is not None and float(leg_slack(world.terrain, p, q, x)[0]) <= h
+            if not hit(r_max):
+                continue
+            lo, hi = 0.0, r_max
+            while hi - lo > tol and not hit(0.0):  # (in the band's reach on the line itself: no radius is safe)
+                mid = 0.5 * (lo + hi)
+                lo, hi = (lo, mid) if hit(mid) else (mid, hi)
+            r = lo
+        out[k] = min(out[k], max(r, 0.0))
+    return out

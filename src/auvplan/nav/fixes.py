@@ -28,9 +28,9 @@ from numpy.typing import ArrayLike
 from .._types import FloatArray
 from ..world import World
 from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
-from .clearance import safe_radius
+from .clearance import safe_radius, zone_safe_radius
 from .params import NavParams
-from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack
+from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack, surfacing_zone_slack
 
 __all__ = ["RouteProfile", "route_profile", "FixPlan", "plan_fixes", "periodic_fixes", "best_period",
            "apply_fixes", "PITCH_SHARE"]
@@ -67,8 +67,15 @@ class RouteProfile:
     d0 : float
         The drift ``D`` at the start: the launch's dive from the surface (:func:`~auvplan.nav.budget.launch_drift`;
         0 when not counted).
+    reach : float
+        The largest error any stretch may have (the budget E, m): how far the surfacings' zone slack is searched.
+    dive_error : float
+        A bound of the error along a surfacing's dive (m): confidence × σ after a GPS fix and a dive's longest
+        horizontal run without lock at the route's largest water ratio.
     _surfacing : dict
         :func:`~auvplan.nav.surfacing.surfacing_slack`'s answers by sample (a memo; not set by callers).
+    _zone_slack : dict
+        :func:`~auvplan.nav.surfacing.surfacing_zone_slack`'s answers by sample (a memo; not set by callers).
     """
 
     s: FloatArray
@@ -80,7 +87,10 @@ class RouteProfile:
     tan_pitch: float
     world: World | None = None
     d0: float = 0.0
+    reach: float = math.inf
+    dive_error: float = 0.0
     _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
+    _zone_slack: dict[int, float] = field(default_factory=dict, repr=False)
 
 
 def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg: float, speed: float,
@@ -133,11 +143,15 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
         r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
     else:
         r_safe = np.full(xyz.shape[0] - 1, np.inf)
+    if world.zones:  # and the charted no-go zones within the error at the leg's depth
+        r_safe = np.minimum(r_safe, zone_safe_radius(world, xyz[:-1], xyz[1:], nav.max_error_m))
     s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
     t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
                                                     np.asarray(flight[1], dtype=float))
-    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], math.tan(math.radians(PITCH_SHARE * max_pitch_deg)), world,
-                        float(launch_m))
+    tan = math.tan(math.radians(PITCH_SHARE * max_pitch_deg))
+    run = float(-xyz[:, 2].min()) / tan * float(max(ratio.max(initial=1.0), 1.0))  # a dive's longest water run
+    dive = nav.confidence * math.hypot(nav.fix_error_m, run * max(nav.rate(False), nav.rate(True)))
+    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], tan, world, float(launch_m), float(nav.max_error_m), dive)
 
 
 @dataclass(frozen=True)
@@ -163,9 +177,11 @@ def _lifted(prof: RouteProfile, k0: int, k1: int, ends: tuple[_Node, _Node]) -> 
 
 
 def _surfacings_allow(prof: RouteProfile, a: _Node, b: _Node) -> float:
-    """The largest error the surfacings at the ends of a stretch allow near static obstacles (m): its error is
-    largest at its end, so a stretch whose largest error is within this keeps both clear."""
-    return min((surfacing_slack(prof, n.k) for n in (a, b) if n.kind == "gps"), default=math.inf)
+    """The largest error the surfacings at the ends of a stretch allow near static obstacles and, for the climb to
+    its end, near the charted zones (m): its error is largest at its end, so a stretch whose largest error is within
+    this keeps them clear."""
+    climb = surfacing_zone_slack(prof, b.k) if b.kind == "gps" else math.inf
+    return min([climb, *(surfacing_slack(prof, n.k) for n in (a, b) if n.kind == "gps")])
 
 
 def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bool, float]:
@@ -345,7 +361,8 @@ def _why(prof: RouteProfile, nav: NavParams) -> str:
     tight = np.flatnonzero(prof.r_safe < nav.confidence * nav.fix_error_m)
     if tight.size:
         k = int(tight[0])
-        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed is within {prof.r_safe[k]:.0f} m "
+        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed or a no-go zone is within "
+                f"{prof.r_safe[k]:.0f} m "
                 f"horizontally of the leg, less than confidence × fix_error_m = {nav.confidence * nav.fix_error_m:g} m")
     return (f"no choice of fixes every candidate point keeps the error within max_error_m = {nav.max_error_m:g} m "
             "and the uncertain clearance")

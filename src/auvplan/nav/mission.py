@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 from .._types import BoolArray, FloatArray
 from ..world import World
 from .budget import DEFAULT_STEP_M, NavBudget, mission_budget
-from .clearance import uncertain_clearance
+from .clearance import uncertain_clearance, zone_within
 from .fixes import FixPlan, apply_fixes, best_period, periodic_fixes, plan_fixes, route_profile
 from .params import NavParams
 
@@ -96,16 +96,19 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
                f"{nav.max_error_m:g} m")
     elif not clear.all():
         k = int(np.flatnonzero(~clear)[0])
-        msg = clearance_failure(k + first_leg, float(budget.leg_error_m[k]), float(alt[k]), world)
+        msg = clearance_failure(k + first_leg, float(budget.leg_error_m[k]), float(alt[k]), world,
+                                np.stack([p[k:k + 1], p[k + 1:k + 2]], axis=1))
     elif budget.error_m[-1] > nav.max_error_m * (1.0 + 1e-9):  # grown in the last waypoint's hold
         msg = (f"waypoint {p.shape[0] - 1}: predicted error {budget.error_m[-1]:.1f} m at the end of its hold "
                f"exceeds max_error_m {nav.max_error_m:g} m")
     return NavCheck(budget, alt, clear, not msg, msg)
 
 
-def clearance_failure(leg: int, error: float, altitude: float, world: World) -> str:
+def clearance_failure(leg: int, error: float, altitude: float, world: World,
+                      segments: ArrayLike | None = None) -> str:
     """Why a leg is not clear under its error: the seabed (its least uncertain altitude under ``min_altitude_m``),
-    else a static obstacle within its margin plus the error.
+    else a charted no-go zone within the error (:func:`~auvplan.nav.clearance.zone_within`), else a static obstacle
+    within its margin plus the error.
 
     Parameters
     ----------
@@ -116,7 +119,9 @@ def clearance_failure(leg: int, error: float, altitude: float, world: World) -> 
     altitude : float
         Its least altitude above the seabed within the error (m; ``inf`` without a seabed).
     world : World
-        The margins.
+        The margins and the zones.
+    segments : array_like, optional
+        ``(K, 2, 3)`` the leg (or the pieces of its track, m): the zone within the error is named.
 
     Returns
     -------
@@ -126,6 +131,11 @@ def clearance_failure(leg: int, error: float, altitude: float, world: World) -> 
     head = f"leg {leg}: within its predicted error {error:.1f} m"
     if altitude < world.margins.min_altitude:
         return f"{head} the seabed comes within {altitude:.1f} m (min_altitude_m {world.margins.min_altitude:g} m)"
+    if segments is not None and world.zones:
+        hit = zone_within(world, segments, error)
+        if (hit >= 0).any():
+            name = world.zones.exact.zones[int(hit[hit >= 0][0])].name
+            return f"{head} the no-go zone {name!r} comes within it (horizontally, at the leg's depth)"
     return f"{head} a static obstacle comes within its margin {world.margins.obstacle:g} m"
 
 

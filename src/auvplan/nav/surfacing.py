@@ -7,7 +7,8 @@ start and its dive ends before the goal (else the envelope would lift the start 
 would neither begin nor end there, and the climb from the start's depth would break the pitch limit), and
 when its climb and dive pass the World's exact static segment test (seabed, obstacles, no-go zones, land,
 bounds), as the route's own legs did.  Near a static obstacle it allows only the horizontal uncertainty
-that keeps its climb and dive clear of the obstacle's margin (:func:`surfacing_slack`).
+that keeps its climb and dive clear of the obstacle's margin, near a charted no-go zone only the one that keeps
+the zone out of reach at their depths (:func:`surfacing_slack`; :func:`~auvplan.nav.clearance.zone_safe_radius`).
 """
 
 from __future__ import annotations
@@ -18,12 +19,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._types import BoolArray, FloatArray
+from .clearance import zone_safe_radius
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from ..world import World
     from .fixes import RouteProfile
 
-__all__ = ["apply_fixes", "surfacing_slack", "surfacing_ok", "surfacing_legs", "clear_of_ends"]
+__all__ = ["apply_fixes", "surfacing_slack", "surfacing_zone_slack", "surfacing_ok", "surfacing_legs",
+           "clear_of_ends"]
 
 R_MAX = 1.0e5
 """Largest horizontal uncertainty the obstacle slack is searched to (m); beyond it the slack is ``inf``."""
@@ -43,8 +46,9 @@ def surfacing_slack(prof: RouteProfile, k: int) -> float:
     -------
     float
         ``-1``: it would lift the start or the goal, or its climb or dive fails the World's exact static segment
-        test; else the largest ``r`` (m, bisection to a centimetre) with its climb and dive clear of every static
-        obstacle by the obstacle margin plus ``r`` (``inf`` without obstacles).  Memoised on ``prof``.
+        test, or a charted zone comes within ``prof.dive_error`` of its dive at the dive's depths (the error just
+        after the fix); else the largest ``r`` (m, bisection to a centimetre) with its climb and dive clear of every
+        static obstacle by the obstacle margin plus ``r`` (``inf`` without obstacles).  Memoised on ``prof``.
     """
     k = int(k)
     if k not in prof._surfacing:
@@ -98,7 +102,40 @@ def _slack(prof: RouteProfile, k: int) -> float:
     seg = surfacing_legs(prof, k)
     if seg.shape[0] and not world.segments_free(seg, moving=False).all():
         return -1.0
+    if world.zones and seg.shape[0]:  # the dive, just after the fix: its error is at most prof.dive_error
+        dive = seg[seg[:, 1, 2] < seg[:, 0, 2]]
+        if dive.shape[0] and zone_safe_radius(world, dive[:, 0], dive[:, 1], prof.dive_error).min() < prof.dive_error:
+            return -1.0
     return _obstacle_slack(world, seg)
+
+
+def surfacing_zone_slack(prof: RouteProfile, k: int) -> float:
+    """The largest error on arrival at a surfacing at sample ``k`` that keeps the charted zones out of reach of its
+    climb at the climb's depths (:func:`~auvplan.nav.clearance.zone_safe_radius`): the stretch that ends there must
+    stay within it (the error only grows along it).  Its dive is judged on :func:`surfacing_slack`.
+
+    Parameters
+    ----------
+    prof : RouteProfile
+        The route and its World.
+    k : int
+        The sample of the surfacing.
+
+    Returns
+    -------
+    float
+        (m): ``inf`` without a zone within ``prof.reach``.  Memoised on ``prof``.
+    """
+    k = int(k)
+    if k not in prof._zone_slack:
+        world, out = prof.world, np.inf
+        if world is not None and world.zones:
+            seg = surfacing_legs(prof, k)
+            climb = seg[seg[:, 1, 2] > seg[:, 0, 2]]
+            if climb.shape[0]:
+                out = float(zone_safe_radius(world, climb[:, 0], climb[:, 1], min(R_MAX, prof.reach)).min())
+        prof._zone_slack[k] = out
+    return prof._zone_slack[k]
 
 
 def surfacing_legs(prof: RouteProfile, k: int) -> FloatArray:

@@ -42,6 +42,7 @@ from ..nav import error_profile, surface_kinds
 from ..nav.band import error_band
 from ..planners import PlanResult
 from ..sim import Mission, SimResult, with_leg_speeds
+from ..sim.navigation import launch_flight
 from ..world import World
 
 __all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "SIMPLIFY_M",
@@ -423,7 +424,8 @@ def nav_band(world: World, mission: Mission, w: NDArray[np.float64],
         ``(N, 3)`` waypoints (m).
     speeds : float or numpy.ndarray, optional
         Each leg's through-water speed (m/s; default the vehicle's): the legs flown through the current give the
-        drift without bottom lock over their water distance (:meth:`auvplan.endurance.Traverse.leg_water_m`).
+        drift without bottom lock over their water distance (:meth:`auvplan.endurance.Traverse.leg_water_m`), the
+        launch's dive from the surface above the first waypoint counted (:func:`auvplan.sim.navigation.launch_flight`).
 
     Returns
     -------
@@ -435,9 +437,11 @@ def nav_band(world: World, mission: Mission, w: NDArray[np.float64],
     if nav is None or w.shape[0] < 2:
         return None
     kinds = surface_kinds(w)
-    water = leg_water_m(world, w, mission.vehicle.speed if speeds is None else speeds,
-                        np.array([nav.surface_s if k else 0.0 for k in kinds]))
-    profile = error_profile(world, w, kinds, nav, nav.usbl_xy, water_m=water)
+    v = mission.vehicle.speed if speeds is None else speeds
+    dwell = np.array([nav.surface_s if k else 0.0 for k in kinds])
+    flown = launch_flight(world, w, v, dwell=dwell)  # launched from the surface, as the exported .plan is checked
+    water, launch = (leg_water_m(world, w, v, dwell), None) if flown is None else (flown[1], flown[0])
+    profile = error_profile(world, w, kinds, nav, nav.usbl_xy, water_m=water, launch_water_m=launch)
     band = shapely.simplify(error_band(profile), SIMPLIFY_M)
     xs: list[float | None] = []
     ys: list[float | None] = []
