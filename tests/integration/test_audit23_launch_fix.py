@@ -82,3 +82,20 @@ def test_the_wait_at_a_real_surfacing_is_still_required(files, tmp_path):
     nav = c.record["navigation"]
     assert not nav["ok"] and nav["message"].startswith("waypoint 4: waits 0 s at the surface"), nav["message"]
     assert nav["fixes"] == 1
+
+
+@pytest.mark.parametrize(("hold", "depth", "ok"), [(120, 0.0, True), (119, 0.0, False), (0, -0.5, False),
+                                                   (120, -0.5, True), (0, -0.51, True)])
+def test_a_surfacing_waits_its_surface_s_to_the_second(files, tmp_path, hold, depth, ok):
+    """The surfacing's hold against surface_s = 120 s (whole seconds, as ArduSub counts them): 119 s fails; a
+    waypoint 0.5 m deep is at the surface (a fix that must wait), 0.51 m is not (no fix, no wait)."""
+    doc = json.loads((files / "m.plan").read_text())
+    wps = [it for it in doc["mission"]["items"] if it["command"] == 16]
+    wps[3]["params"][0] = hold
+    if depth:
+        wps[3]["params"][6] = wps[3]["Altitude"] = depth
+    path = tmp_path / "h.plan"
+    path.write_text(json.dumps(doc))
+    _, (c,) = check_missions(str(files / "s.toml"), [str(path)], 15.0)
+    nav = c.record["navigation"]
+    assert nav["ok"] is ok and nav["fixes"] == (0 if depth < -0.5 else 1), nav["message"]
