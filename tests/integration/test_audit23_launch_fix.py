@@ -99,3 +99,26 @@ def test_a_surfacing_waits_its_surface_s_to_the_second(files, tmp_path, hold, de
     _, (c,) = check_missions(str(files / "s.toml"), [str(path)], 15.0)
     nav = c.record["navigation"]
     assert nav["ok"] is ok and nav["fixes"] == (0 if depth < -0.5 else 1), nav["message"]
+
+
+def test_a_mission_that_ends_at_the_surface_needs_no_wait_there(files, tmp_path):
+    """Recovered at the surface: the last waypoint is a fix of no leg (the mission is over), the exporters write no
+    wait there (its wait is after the mission) and the energy check counts none; the check asked its surface_s, so
+    the run's own .plan and .moos of such a mission failed (`mariana-nav` ending at the surface: 'waypoint 775: waits
+    0 s at the surface') while its .csv passed.  Oracle: all three formats pass with the mid-mission wait held; that
+    surfacing without its wait still fails in the .plan and the .moos."""
+    pts = np.vstack([POINTS[:-1], [[4300.0, 0.0, 0.0]]])
+    dwell = np.array([0.0, 0.0, 0.0, 120.0, 0.0, 120.0])  # the plan's fix at the end: not written (after the mission)
+    for waits, ok in ((dwell, True), (np.zeros(6), False)):
+        (tmp_path / "e.plan").write_text(json.dumps(formats.to_qgc_plan(pts, ORIGIN, 1.5, dwell=waits)))
+        (tmp_path / "e.moos").write_text(formats.to_moos(pts, 1.5, dwell=waits))
+        (tmp_path / "e.csv").write_text(formats.mission_csv(pts, ORIGIN, 1.5))
+        _, checks = check_missions(str(files / "s.toml"), [str(tmp_path / n) for n in ("e.plan", "e.moos", "e.csv")],
+                                   15.0)
+        for c in checks:
+            nav = c.record["navigation"]
+            want = ok or c.record["format"] == "csv"  # the csv carries no wait: the scenario's surface_s
+            assert nav["ok"] is want and nav["fixes"] == 2, (c.record["file"], nav["message"])
+            if not want:
+                point = 4 if c.record["format"] == "qgc" else 3  # its home first
+                assert nav["message"].startswith(f"waypoint {point}: waits 0 s"), nav["message"]
