@@ -1665,12 +1665,12 @@ REASONS.update({
         "equivalent: numpy takes any negative size as the one unknown dimension: reshape(-2) flattens as -1 does",
     "_varies | return bool(v.size) and bool(np.ptp(v) >= 1e-09)":
         "boundary: per-leg speeds whose spread is exactly 1e-9 m/s",
-    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds) if k == 'gps' and "
-     "points[i, 2] <= 0.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
-    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds) if k == 'gps' and "
-     "-points[i, 2] <= 1.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
-    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds) if k == 'gps' and "
-     "-points[i, 2] <= 0.5 and (dwell_s[i] <= nav.surface_s - 0.5)]"):
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and points[i, 2] <= 0.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and -points[i, 2] <= 1.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and -points[i, 2] <= 0.5 and (dwell_s[i] <= nav.surface_s - 0.5)]"):
         ("boundary: a wait of exactly surface_s - 0.5 s (a .plan holds whole seconds: never; a MOOS duration "
          "could); 119 s for 120 fails and 120 passes under both (test_audit23_launch_fix.py)"),
     "along_track_factor | return np.where(flat > 0.0, full / np.where(flat >= 0.0, flat, 1.0), 1.0)":

@@ -122,3 +122,16 @@ def test_a_mission_that_ends_at_the_surface_needs_no_wait_there(files, tmp_path)
             if not want:
                 point = 4 if c.record["format"] == "qgc" else 3  # its home first
                 assert nav["message"].startswith(f"waypoint {point}: waits 0 s"), nav["message"]
+
+
+def test_a_surfacing_just_before_the_end_still_waits(files, tmp_path):
+    """The surfacing is the waypoint before the last (then a surface leg to the recovery point): its fix serves that
+    leg, so its wait is still asked (only the last waypoint's is not)."""
+    pts = np.array([[0.0, 0.0, 0.0], [300.0, 0.0, -50.0], [2000.0, 0.0, -50.0], [2300.0, 0.0, 0.0],
+                    [2400.0, 0.0, 0.0]])
+    (tmp_path / "b.plan").write_text(json.dumps(formats.to_qgc_plan(pts, ORIGIN, 1.5)))
+    (tmp_path / "b.moos").write_text(formats.to_moos(pts, 1.5, dwell=np.zeros(5)))
+    _, checks = check_missions(str(files / "s.toml"), [str(tmp_path / "b.plan"), str(tmp_path / "b.moos")], 15.0)
+    for c, point in zip(checks, (4, 3), strict=True):
+        nav = c.record["navigation"]
+        assert not nav["ok"] and nav["message"].startswith(f"waypoint {point}: waits 0 s"), nav["message"]
