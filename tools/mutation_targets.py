@@ -1657,3 +1657,33 @@ REASONS.update({
     "distance_transform | if ny * nx / nx <= SMALL:": _PATHS,
     "distance_transform | if ny / nx * nx <= SMALL:": _PATHS,
 })
+_GPS_SURFACE = ("equivalent: a 'gps' fix is only ever a waypoint within 0.5 m of the surface (surface_kinds, and "
+                "fix_kinds matches a fixes.csv gps row to surface waypoints only), so the depth test is always true "
+                "for it")
+REASONS.update({
+    "_dwells | d = np.zeros(n) if dwell is None else np.asarray(dwell, dtype=float).reshape(-2)":
+        "equivalent: numpy takes any negative size as the one unknown dimension: reshape(-2) flattens as -1 does",
+    "_varies | return bool(v.size) and bool(np.ptp(v) >= 1e-09)":
+        "boundary: per-leg speeds whose spread is exactly 1e-9 m/s",
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and points[i, 2] <= 0.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and -points[i, 2] <= 1.5 and (dwell_s[i] < nav.surface_s - 0.5)]"): _GPS_SURFACE,
+    ("navigation_check | short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1]) if k == 'gps' "
+     "and -points[i, 2] <= 0.5 and (dwell_s[i] <= nav.surface_s - 0.5)]"):
+        ("boundary: a wait of exactly surface_s - 0.5 s (a .plan holds whole seconds: never; a MOOS duration "
+         "could); 119 s for 120 fails and 120 passes under both (test_audit23_launch_fix.py)"),
+    "along_track_factor | return np.where(flat > 0.0, full / np.where(flat >= 0.0, flat, 1.0), 1.0)":
+        ("equivalent in value: the inner placeholder divides only where the outer where takes 1.0 (a plumb or empty "
+         "leg); the mutant divides by 0 there (a RuntimeWarning), its inf or nan discarded"),
+    "along_track_factor | return np.where(flat > 0.0, full / np.where(flat > 0.0, flat, 2.0), 1.0)":
+        "equivalent: the placeholder is used only where the outer where takes 1.0 (a plumb or empty leg)",
+    "_vertical_limits | vz = np.where(rise >= 0.0, WPNAV_SPEED_UP_MPS, WPNAV_SPEED_DN_MPS)":
+        ("equivalent: a level leg's vertical limit never binds (flown_speeds: v_z * full / 0 = inf against the "
+         "command's; vertical_bound_legs: it asks 0 m/s vertically)"),
+    "vertical_bound_legs | asked = np.where(flat > 0.0, v * np.abs(rise) / flat, 1.0)":
+        ("equivalent: a plumb leg then 'asks' 1 m/s, under both defaults plus the slack (1.501, 2.501): never named "
+         "either way"),
+    ("vertical_bound_legs | return tuple((int(k) for k in np.flatnonzero(np.isfinite(v) & (asked >= vz + "
+     "0.001))))"): "boundary: a leg asking exactly the default plus the 1 mm/s slack",
+})

@@ -82,3 +82,56 @@ def test_the_wait_at_a_real_surfacing_is_still_required(files, tmp_path):
     nav = c.record["navigation"]
     assert not nav["ok"] and nav["message"].startswith("waypoint 4: waits 0 s at the surface"), nav["message"]
     assert nav["fixes"] == 1
+
+
+@pytest.mark.parametrize(("hold", "depth", "ok"), [(120, 0.0, True), (119, 0.0, False), (0, -0.5, False),
+                                                   (120, -0.5, True), (0, -0.51, True)])
+def test_a_surfacing_waits_its_surface_s_to_the_second(files, tmp_path, hold, depth, ok):
+    """The surfacing's hold against surface_s = 120 s (whole seconds, as ArduSub counts them): 119 s fails; a
+    waypoint 0.5 m deep is at the surface (a fix that must wait), 0.51 m is not (no fix, no wait)."""
+    doc = json.loads((files / "m.plan").read_text())
+    wps = [it for it in doc["mission"]["items"] if it["command"] == 16]
+    wps[3]["params"][0] = hold
+    if depth:
+        wps[3]["params"][6] = wps[3]["Altitude"] = depth
+    path = tmp_path / "h.plan"
+    path.write_text(json.dumps(doc))
+    _, (c,) = check_missions(str(files / "s.toml"), [str(path)], 15.0)
+    nav = c.record["navigation"]
+    assert nav["ok"] is ok and nav["fixes"] == (0 if depth < -0.5 else 1), nav["message"]
+
+
+def test_a_mission_that_ends_at_the_surface_needs_no_wait_there(files, tmp_path):
+    """Recovered at the surface: the last waypoint is a fix of no leg (the mission is over), the exporters write no
+    wait there (its wait is after the mission) and the energy check counts none; the check asked its surface_s, so
+    the run's own .plan and .moos of such a mission failed (`mariana-nav` ending at the surface: 'waypoint 775: waits
+    0 s at the surface') while its .csv passed.  Oracle: all three formats pass with the mid-mission wait held; that
+    surfacing without its wait still fails in the .plan and the .moos."""
+    pts = np.vstack([POINTS[:-1], [[4300.0, 0.0, 0.0]]])
+    dwell = np.array([0.0, 0.0, 0.0, 120.0, 0.0, 120.0])  # the plan's fix at the end: not written (after the mission)
+    for waits, ok in ((dwell, True), (np.zeros(6), False)):
+        (tmp_path / "e.plan").write_text(json.dumps(formats.to_qgc_plan(pts, ORIGIN, 1.5, dwell=waits)))
+        (tmp_path / "e.moos").write_text(formats.to_moos(pts, 1.5, dwell=waits))
+        (tmp_path / "e.csv").write_text(formats.mission_csv(pts, ORIGIN, 1.5))
+        _, checks = check_missions(str(files / "s.toml"), [str(tmp_path / n) for n in ("e.plan", "e.moos", "e.csv")],
+                                   15.0)
+        for c in checks:
+            nav = c.record["navigation"]
+            want = ok or c.record["format"] == "csv"  # the csv carries no wait: the scenario's surface_s
+            assert nav["ok"] is want and nav["fixes"] == 2, (c.record["file"], nav["message"])
+            if not want:
+                point = 4 if c.record["format"] == "qgc" else 3  # its home first
+                assert nav["message"].startswith(f"waypoint {point}: waits 0 s"), nav["message"]
+
+
+def test_a_surfacing_just_before_the_end_still_waits(files, tmp_path):
+    """The surfacing is the waypoint before the last (then a surface leg to the recovery point): its fix serves that
+    leg, so its wait is still asked (only the last waypoint's is not)."""
+    pts = np.array([[0.0, 0.0, 0.0], [300.0, 0.0, -50.0], [2000.0, 0.0, -50.0], [2300.0, 0.0, 0.0],
+                    [2400.0, 0.0, 0.0]])
+    (tmp_path / "b.plan").write_text(json.dumps(formats.to_qgc_plan(pts, ORIGIN, 1.5)))
+    (tmp_path / "b.moos").write_text(formats.to_moos(pts, 1.5, dwell=np.zeros(5)))
+    _, checks = check_missions(str(files / "s.toml"), [str(tmp_path / "b.plan"), str(tmp_path / "b.moos")], 15.0)
+    for c, point in zip(checks, (4, 3), strict=True):
+        nav = c.record["navigation"]
+        assert not nav["ok"] and nav["message"].startswith(f"waypoint {point}: waits 0 s"), nav["message"]

@@ -56,3 +56,12 @@ def test_a_leg_without_its_update_keeps_the_last_one(tmp_path):
     text = text[:a] + text[a:b].replace(line, "") + text[b:]
     (tmp_path / "m.moos").write_text(text)
     np.testing.assert_array_equal(read_leg_speeds(tmp_path / "m.moos", 4), [1.0, 2.0, 2.0, 1.2])
+
+
+def test_a_waypoint_behaviour_without_a_speed_carries_none(tmp_path):
+    """No ``speed`` in the waypoint behaviour: the file carries no speed (judged at the vehicle's), whatever its
+    depth behaviours' updates say."""
+    text = formats.to_moos(POINTS, [1.0, 2.0, 0.7, 1.2])
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("  speed "))
+    (tmp_path / "m.moos").write_text(text)
+    assert read_leg_speeds(tmp_path / "m.moos", 4) is None

@@ -367,7 +367,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
         (:func:`~auvplan.io.missions.energy.file_energy_flight`): the drift without bottom lock; default: still water.
     dwell_s : numpy.ndarray, optional
         ``(N,)`` the file's wait at each waypoint (:func:`~auvplan.io.missions.readback.dwell.read_dwells`; None: the
-        format carries none): a surface fix that waits less than ``surface_s`` fails (no time for its GPS fix).
+        format carries none): a surface fix that waits less than ``surface_s`` fails (no time for its GPS fix); the
+        last waypoint's fix serves no leg and needs no wait.
 
     Returns
     -------
@@ -391,7 +392,8 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
                                                                               flown, held_water_m, water_m)
     b = c.budget
     message, ok = c.message, c.ok
-    short = [] if dwell_s is None else [i for i, k in enumerate(kinds)
+    # the last waypoint's fix is no leg's (the mission is over): its wait is after the mission, written by no export
+    short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1])
                                         if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
     if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
         i = short[0]

@@ -74,8 +74,10 @@ __all__ = [
 ]
 
 
-def planned_times(waypoints: ArrayLike, speed: float | ArrayLike) -> NDArray[np.float64]:
-    """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs.
+def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
+                  dwell: ArrayLike | None = None) -> NDArray[np.float64]:
+    """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs, after the waits at the
+    waypoints before it.
 
     Parameters
     ----------
@@ -83,6 +85,9 @@ def planned_times(waypoints: ArrayLike, speed: float | ArrayLike) -> NDArray[np.
         ``(N, 3)`` waypoints (m).
     speed : float or array_like
         Planned speed (m/s), one for all legs or ``(N - 1,)`` one per leg.
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; a surface fix's ``surface_s``, :attr:`auvplan.nav.NavPlan.dwell_s`):
+        a waypoint is reached after the waits of those before it (its own follows its arrival).
 
     Returns
     -------
@@ -92,6 +97,11 @@ def planned_times(waypoints: ArrayLike, speed: float | ArrayLike) -> NDArray[np.
     w = np.asarray(waypoints, dtype=float)
     legs = np.linalg.norm(np.diff(w, axis=0), axis=1)
     times: NDArray[np.float64] = np.r_[0.0, np.cumsum(legs / leg_speeds(speed, legs.size))]
+    if dwell is not None:
+        d = np.asarray(dwell, dtype=float).reshape(-1)
+        if d.shape != times.shape:
+            raise ValueError(f"dwell: one wait per waypoint ({times.size}), got {d.size}")
+        times = times + np.r_[0.0, np.cumsum(d[:-1])]
     return times
 
 
@@ -391,7 +401,8 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
 
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
 def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map",
-                tail: ArrayLike | None = None, deploy: DeployInfo | None = None) -> str:
+                tail: ArrayLike | None = None, deploy: DeployInfo | None = None,
+                dwell: ArrayLike | None = None) -> str:
     """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
 
     Parameters
@@ -407,6 +418,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         :mod:`auvplan.io.missions.tail`).
     deploy : DeployInfo, optional
         Top-level ``datum: {lat, lon}``, ``envelope`` and ``payload_events``.
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s): the stamps after it are that much later (:func:`planned_times`).
 
     Returns
     -------
@@ -414,7 +427,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         The YAML text.
     """
     p = np.asarray(points, dtype=float)
-    t = planned_times(p, speed)
+    t = planned_times(p, speed, dwell)
     d = np.diff(p, axis=0)
     d = np.vstack([d, d[-1:]]) if len(d) else np.zeros((1, 3))
     yaw = np.arctan2(d[:, 1], d[:, 0])  # ENU yaw: counter-clockwise from east
@@ -439,7 +452,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 # ---------------------------------------------------------------------- CSV
 def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
                 tail: ArrayLike | None = None, deploy: DeployInfo | None = None,
-                nav_error: ArrayLike | None = None) -> str:
+                nav_error: ArrayLike | None = None, dwell: ArrayLike | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -460,6 +473,9 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     nav_error : array_like, optional
         ``(N,)`` the predicted navigation error at each waypoint, after any fix there (confidence × σ,
         :mod:`auvplan.nav`): then a last column ``nav_error_m``.
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s): the planned times after it are that much later
+        (:func:`planned_times`).
 
     Returns
     -------
@@ -481,7 +497,7 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
             + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")
             + ("" if ne is None else ",nav_error_m")]
-    for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed), v)):
+    for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed, dwell), v)):
         rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
                               "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
                              + ([] if k is None else [str(k[i])]) + ([] if alt is None else [f"{alt[i]:.3f}"])
