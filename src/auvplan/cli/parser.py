@@ -400,7 +400,7 @@ def main(argv: list[str] | None = None) -> int:
         return int(exc.code or 0)
     except StdoutError as exc:
         return _stdout_lost(exc)
-    from ..io.files import safeio
+    from ..io.files import manifest, safeio
 
     undo: Callable[[], None] = _nothing
     if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
@@ -425,7 +425,7 @@ def main(argv: list[str] | None = None) -> int:
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        partial = isinstance(out, str) and bool(safeio.written(Path(out)))  # none: what it made there is gone
+        partial = isinstance(out, str) and bool(manifest.written(Path(out)))  # none: what it made there is gone
         _last_line(f"auvplan: interrupted; partial results in {out}" if partial else "auvplan: interrupted; "
                    f"nothing written{f' into {out}' if out else ''}")
         return 130
