@@ -16,8 +16,9 @@ from auvplan import cli
 from auvplan._types import Status
 from auvplan.app.bench.rows import COLUMNS
 from auvplan.app.bench.sweep import SweepSpec, sweep
+from auvplan.io.files.manifest import MANIFEST, written
 from auvplan.io.files.outdir import OutputError
-from auvplan.io.files.safeio import MANIFEST, atomic_write, prepare_out, written
+from auvplan.io.files.safeio import atomic_write, prepare_out
 
 
 def run_cli(capsys, *argv):

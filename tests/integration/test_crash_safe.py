@@ -24,8 +24,9 @@ from auvplan.app.bench.job import BENCH_NAMES as _BENCH_NAMES
 from auvplan.app.bench.rows import COLUMNS, KEY, read_rows
 from auvplan.app.bench.sweep import SweepSpec, _todo
 from auvplan.io.files import outdir
+from auvplan.io.files.manifest import MANIFEST, written
 from auvplan.io.files.outdir import LOCK
-from auvplan.io.files.safeio import MANIFEST, atomic_write, prepare_out, save_figure, written
+from auvplan.io.files.safeio import atomic_write, prepare_out, save_figure
 from auvplan.viz.plots import bench_figures
 
 SCENARIO = "track-single"  # the fastest built-in `run` (about 3 s)

@@ -67,7 +67,7 @@ def test_zone_and_moving_obstacle_names_are_escaped_in_the_chart():
     route = np.array([mission.start, mission.goal])
     fig = figure_plan_view(world, RunRecord("labels", 1, None, route, route, sim))  # type: ignore[arg-type]
     texts = _texts(fig)
-    for raw, esc in ESCAPED.items():
+    for raw in ESCAPED:
         assert not any(raw in s for s in texts), raw  # never the markup itself
     assert any(ESCAPED[ZONE] == s for s in texts)  # the zone's label on the chart
     assert any(ESCAPED[ZONE] + ": " in s for s in texts)  # its hover

@@ -19,6 +19,7 @@ from auvplan.vehicles.glider import GliderParams
 PTS = np.array([[0.0, 0.0], [4000.0, 1500.0], [9000.0, -2500.0]])
 ORIGIN = (67.25, 13.75)
 GLIDER = GliderParams(yos=3, surface_every_s=7200.0)
+CYCLE = dict(yos=3, underwater_s=6879.0)  # the planned cycle (planners.timeopt.glider.cycle)
 
 
 def _pilot_folder(tmp_path):
@@ -46,7 +47,7 @@ def test_a_failure_at_the_second_file_leaves_the_folder_as_it_was(tmp_path, monk
 
     monkeypatch.setattr(os, "replace", failing)
     with pytest.raises(OSError):
-        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0)
+        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0, **CYCLE)
     monkeypatch.setattr(os, "replace", real)
     assert len(calls) == 2  # each file renamed into place (atomic), the second one failed
     assert _listing(folder) == mine  # no torn file, no temporary, no goto list without its yo file
@@ -60,7 +61,7 @@ def test_a_crash_while_the_bytes_are_written_leaves_no_torn_file(tmp_path, monke
 
     monkeypatch.setattr(os, "fsync", crash)
     with pytest.raises(OSError):
-        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0)
+        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0, **CYCLE)
     monkeypatch.undo()
     assert _listing(folder) == mine
 
@@ -70,13 +71,13 @@ def test_an_existing_file_is_refused_before_anything_is_written(tmp_path):
     (folder / "yo10.ma").write_text("behavior_name=yo\n# the pilot's\n")
     mine = {**mine, "yo10.ma": "behavior_name=yo\n# the pilot's\n"}
     with pytest.raises(DataError, match="yo10.ma: exists"):
-        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0)
+        write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0, **CYCLE)
     assert _listing(folder) == mine
 
 
 def test_the_files_written_are_the_behaviour_files(tmp_path):
     folder, mine = _pilot_folder(tmp_path)
-    written = write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0)
-    want = slocum_files(PTS, ORIGIN, GLIDER, 12.0)
+    written = write_slocum(folder, PTS, ORIGIN, GLIDER, 12.0, **CYCLE)
+    want = slocum_files(PTS, ORIGIN, GLIDER, 12.0, **CYCLE)
     assert [p.name for p in written] == list(want)
     assert _listing(folder) == {**mine, **want}

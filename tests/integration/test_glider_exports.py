@@ -17,6 +17,7 @@ import pytest
 
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.glider import from_ddmm, seaglider_targets, slocum_files, to_ddmm
+from auvplan.planners.timeopt.glider import cycle
 from auvplan.vehicles.glider import GliderParams
 
 B_ARG = re.compile(r"^\s*b_arg:\s+(\w+)\((\w+)\)\s+(-?\d+(?:\.\d+)?)\s*(?:#.*)?$")
@@ -59,7 +60,8 @@ def test_slocum_files_parse_and_hold_the_waypoints(origin):
     rng = np.random.default_rng(58)
     pts = np.cumsum(rng.uniform(-3000.0, 3000.0, (7, 2)), axis=0)
     g = GliderParams(yos=4, dive_depth_m=350.0, climb_depth_m=15.0, surface_every_s=7200.0)
-    files = slocum_files(pts, origin, g, min_altitude=12.0, number=10)
+    c = cycle(g)  # 2 yos of 4030 s fit in 7200 s: the plan surfaces after 2 (test_edges17_slocum_surfacing.py)
+    files = slocum_files(pts, origin, g, min_altitude=12.0, number=10, yos=c.yos, underwater_s=c.underwater_s)
     assert set(files) == {"goto_l10.ma", "yo10.ma", "surfac10.ma", "surfac11.ma"}
     name, args, wps = _ma(files["goto_l10.ma"])
     assert name == "goto_list" and args["num_waypoints"] == ("nodim", 7.0) and len(wps) == 7
@@ -70,13 +72,14 @@ def test_slocum_files_parse_and_hold_the_waypoints(origin):
     assert np.abs(got[:, 0] - lat).max() * 111e3 < 0.5  # 0.0001' is 0.19 m
     assert np.abs(dlon * np.cos(np.radians(lat))).max() * 111e3 < 0.5
     name, args, _ = _ma(files["yo10.ma"])
-    assert name == "yo" and args["num_half_cycles_to_do"][1] == 8 and args["d_target_depth"] == ("m", 350.0)
+    assert name == "yo" and args["num_half_cycles_to_do"][1] == 2 * c.yos == 4
+    assert args["d_target_depth"] == ("m", 350.0)
     assert args["c_target_depth"] == ("m", 15.0) and args["d_target_altitude"] == ("m", 12.0)
     assert args["d_pitch_value"][1] == pytest.approx(-math.radians(26.0), abs=1e-4) and args["end_action"][1] == 2
     name, args, _ = _ma(files["surfac10.ma"])
     assert name == "surface" and args["start_when"][1] == 2 and args["end_action"][1] == 2
     name, args, _ = _ma(files["surfac11.ma"])
-    assert args["start_when"][1] == 12 and args["when_secs"] == ("sec", 7200.0)
+    assert args["start_when"][1] == 12 and args["when_secs"] == ("sec", math.ceil(c.underwater_s * 3 / 2))
 
 
 def test_no_time_surfacing_file_without_surface_every_s():

@@ -20,8 +20,9 @@ import pytest
 from auvplan import cli
 from auvplan.errors import DataError, ScenarioError
 from auvplan.io.files import limits
+from auvplan.io.files.manifest import MANIFEST, written_by
 from auvplan.io.files.outdir import OutputError, release_all
-from auvplan.io.files.safeio import MANIFEST, atomic_write, prepare_out, written_by
+from auvplan.io.files.safeio import atomic_write, prepare_out
 from auvplan.io.missions.formats import read_mission
 from auvplan.io.missions.tail import read_tail
 from auvplan.io.scenario import loader

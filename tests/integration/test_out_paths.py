@@ -14,8 +14,9 @@ from hypothesis import strategies as st
 from auvplan import cli
 from auvplan.errors import ScenarioError
 from auvplan.io.files import outdir
+from auvplan.io.files.manifest import written
 from auvplan.io.files.outdir import OutputError
-from auvplan.io.files.safeio import atomic_write, prepare_out, written
+from auvplan.io.files.safeio import atomic_write, prepare_out
 from auvplan.io.results import records
 from auvplan.io.scenario import loader as scenario_io
 from auvplan.sim import RunRecord

@@ -12,8 +12,9 @@ import pytest
 
 from auvplan import cli
 from auvplan.io.files import outdir, safeio
+from auvplan.io.files.manifest import MANIFEST
 from auvplan.io.files.outdir import LOCK
-from auvplan.io.files.safeio import MANIFEST, prepare_out
+from auvplan.io.files.safeio import prepare_out
 
 BAD = 'name = "bad"\n[terrain]\nbuiltin = "nosuch"\n'  # loads no [mission]: refused after --out is prepared
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from auvplan.cli import main
-from auvplan.io.files.safeio import written
+from auvplan.io.files.manifest import written
 from auvplan.survey.turns import dubins, sample_turn
 
 SCENARIO = """

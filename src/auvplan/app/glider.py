@@ -94,7 +94,8 @@ def _write(folder: Path, origin: tuple[float, float] | None, plan: Any, flown: A
         return
     (folder / "slocum").mkdir(exist_ok=True)
     (folder / "seaglider").mkdir(exist_ok=True)
-    for n, text in slocum_files(plan.waypoints, origin, glider, min_altitude).items():
+    for n, text in slocum_files(plan.waypoints, origin, glider, min_altitude, yos=plan.cycle.yos,
+                                underwater_s=plan.cycle.underwater_s).items():
         atomic_write(folder / "slocum" / n, text)
     atomic_write(folder / "seaglider" / "targets", seaglider_targets(plan.waypoints, origin, glider.capture_radius_m))
 

@@ -263,6 +263,7 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
     """
     from ..io.results import folder as results
     from ..io.results import records
+    from ..io.results.readback import check_scenario
     from ..io.scenario import loader as scenario_io
     from ..sim import mission_route
 
@@ -273,6 +274,7 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
     record, text = records.read_run(out)
     if not text:
         raise AuvplanError(f"{out}/scenario.toml: missing — the report needs the scenario to rebuild the world")
+    check_scenario(out)  # the scenario the run saved, not one put there after it
     sc = scenario_io.loads(text, str(out / "scenario.toml"), base_dir=results.scenario_base(out))
     world, mission = scenario_io.build(sc, terrain=results.load_terrain(out))
     flown = bool(record.route.size)

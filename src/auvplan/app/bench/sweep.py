@@ -31,8 +31,8 @@ from numpy.typing import ArrayLike
 from ...errors import AuvplanError, require
 from ...guidance.avoidance.local import key_waypoints
 from ...guidance.avoidance.params import AVOIDANCE
+from ...io.files.manifest import claim
 from ...io.files.outdir import OutputError, check_inside
-from ...io.files.safeio import claim
 from ...io.scenario import loader as scenario_io
 from ...io.scenario.specs import Scenario
 from ...planners import PIPELINES, PlanResult, plan, reference, with_reference

@@ -3,7 +3,7 @@
 Every result file goes through :func:`atomic_write`: the bytes go to a temporary file in the
 same folder, are flushed to disk, and replace the target with one ``os.replace`` — a reader (or
 an interrupted run) sees the old file or the new one, never half of one.  The folder's
-``.auvplan-manifest.json`` lists the files auvplan wrote there; a file that is not in it (a
+``.auvplan-manifest.json`` (:mod:`.manifest`) lists the files auvplan wrote there; a file that is not in it (a
 user's own ``mission.csv``) is never replaced unless the caller adopted it first
 (:func:`prepare_out` with ``force=True``), and a symbolic link is never written through (with
 ``force`` the link itself is replaced, its target is left alone).
@@ -22,13 +22,11 @@ from pathlib import Path
 from typing import Any
 
 from . import outdir
+from .manifest import MANIFEST, _record, _replace, written, written_by
 from .outdir import OutputError
 
-__all__ = ["MANIFEST", "RESULT_NAMES", "OutputError", "atomic_write", "claim", "write_new", "prepare_out", "written",
-           "written_by", "save_figure", "discard_on_failure", "session"]
-
-MANIFEST = ".auvplan-manifest.json"
-"""Name of the manifest file in an output folder."""
+__all__ = ["RESULT_NAMES", "OutputError", "atomic_write", "write_new", "prepare_out", "save_figure",
+           "discard_on_failure", "session"]
 
 RESULT_NAMES = (
     "run.json", "run.npz", "metrics.json", "path.csv", "route.csv", "keys.csv", "sim_metrics.json", "track.csv",
@@ -38,84 +36,6 @@ RESULT_NAMES = (
     "ensemble.json", "fixes.csv",
 )
 """File names a command may write into ``--out`` (checked before any work starts)."""
-
-
-def written(folder: Path) -> set[str]:
-    """Return the names of the files auvplan wrote into ``folder`` (its manifest).
-
-    Parameters
-    ----------
-    folder : pathlib.Path
-        An output folder.
-
-    Returns
-    -------
-    set of str
-        File names; empty when there is no manifest or it is unreadable.
-    """
-    p = Path(folder) / MANIFEST
-    if p.is_symlink() or not p.is_file():
-        return set()
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-        return {str(n) for n in data.get("files", [])} if isinstance(data, dict) else set()
-    except (OSError, ValueError):
-        return set()
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
-
-
-def _replace(path: Path, data: bytes) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600; results are ordinary files
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)  # replaces a link itself, never its target
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-def written_by(folder: Path) -> str:
-    """The command whose results a folder holds (its manifest's ``job``; '' when it does not say).
-
-    Parameters
-    ----------
-    folder : pathlib.Path
-        An output folder.
-
-    Returns
-    -------
-    str
-        ``run``, ``survey``, ``plan`` … or ''.
-    """
-    p = Path(folder) / MANIFEST
-    if p.is_symlink() or not p.is_file():
-        return ""
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
-        return ""
-    job = data.get("job", "") if isinstance(data, dict) else ""
-    return job if isinstance(job, str) else ""
-
-
-def _record(folder: Path, names: Iterable[str], job: str = "") -> None:
-    have, was = written(folder), written_by(folder)
-    new = have | set(names)
-    if new != have or (job and job != was):
-        doc: dict[str, object] = {"files": sorted(new)}
-        if job or was:
-            doc["job"] = job or was
-        _replace(folder / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
 
 
 def _one_job(out: Path, job: str, force: bool, inputs: Iterable[Path | str] = ()) -> None:
@@ -171,19 +91,6 @@ def write_new(path: Path, data: str, *, force: bool = False) -> Path:
     except OSError as exc:
         raise OutputError(f"{path}: cannot write ({exc.strerror or exc})") from exc
     return path
-
-
-def claim(folder: Path, names: Iterable[str]) -> None:
-    """Record files auvplan writes in ``folder`` by other means (append-only logs) in its manifest.
-
-    Parameters
-    ----------
-    folder : pathlib.Path
-        The output folder.
-    names : iterable of str
-        File names to record.
-    """
-    _record(Path(folder), names)
 
 
 def atomic_write(path: Path, data: bytes | str) -> Path:

@@ -15,7 +15,9 @@ as each mission format carries them (issue 51; docs/missions.md "Hand it to the 
   the leg's least charted altitude at its held depth (``DeployInfo.leg_floor``), so that over the chart it never
   lifts the vehicle off the depths ``mission check`` judged — only a seabed shallower than charted does.
 * **QGroundControl** (``mission.plan``): ``geoFence.polygons`` — one ``inclusion: true`` polygon (the bounds)
-  and one ``inclusion: false`` per exclusion; terrain-following items in ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` (10,
+  and one ``inclusion: false`` per exclusion, within ArduPilot's fence storage (:data:`FENCE_STORAGE_BYTES`;
+  exclusions that do not fit are simplified inside their land, :func:`fence_exclusions`); terrain-following
+  items in ``MAV_FRAME_GLOBAL_TERRAIN_ALT`` (10,
   QGC ``AltitudeMode`` 4 = ``AltitudeModeTerrainFrame``) with the altitude above the seabed; payload
   ``MAV_CMD_DO_SET_RELAY`` (181; relay 0, 1 = on, 0 = off) after the waypoint where it switches.
 * **ROS 2 YAML**: top-level ``datum: {lat, lon}``, ``envelope`` and ``payload_events``.
@@ -37,12 +39,20 @@ from ..data.geo import LocalFrame
 from .deploy import DeployInfo, Envelope, payload_events
 
 __all__ = ["moos_datum", "moos_envelope", "moos_leg_extras", "qgc_geofence", "qgc_relay", "yaml_extras",
-           "geo_ring", "mission_props", "envelope_props", "envelope_rings", "ALTITUDE_PWT", "RELAY"]
+           "geo_ring", "mission_props", "envelope_props", "envelope_rings", "fence_bytes", "fence_exclusions",
+           "ALTITUDE_PWT", "RELAY", "FENCE_STORAGE_BYTES"]
 
 ALTITUDE_PWT = 200
 """Priority weight of the terrain-following altitude behaviour (above the depth bound's 100)."""
 RELAY = 181
 """MAVLink ``MAV_CMD_DO_SET_RELAY``: param1 relay instance, param2 setting (1 on, 0 off)."""
+FENCE_STORAGE_BYTES = 672
+"""ArduSub's fence storage on a board with 16 KiB or more (a Pixhawk): its ``StorageFence`` areas of 160 + 256 +
+256 bytes (``StorageManager.cpp``, the layout of every vehicle but Copter; ``max_items()`` = 672 / 8 = 84, "84
+fence points on Pixhawk").  ``AC_PolyFence_loader::write_fence`` refuses a fence whose
+``fence_storage_space_required`` exceeds it ("Fence exceeds storage size"): 4 bytes of header, per polygon 1
+type + 1 count byte and 8 per vertex, and the end-of-storage byte after them (:func:`fence_bytes`) — one polygon
+of at most 83 vertices.  (``BRD_SD_FENCE`` can move it to an SD card; the default is kept.)"""
 
 
 def moos_datum(origin: tuple[float, float] | None) -> list[str]:
@@ -170,6 +180,93 @@ def _refuse_antimeridian(ring: NDArray[np.float64], what: str) -> None:
                         "Earth; no .plan geofence can hold it")
 
 
+def fence_bytes(vertices: list[int]) -> int:
+    """Bytes of ArduPilot's fence storage that polygons take (``AC_PolyFence_loader``, :data:`FENCE_STORAGE_BYTES`).
+
+    Parameters
+    ----------
+    vertices : list of int
+        Each polygon's number of vertices.
+
+    Returns
+    -------
+    int
+        4 (header) + Σ (2 + 8 n) + 1 (end of storage).
+    """
+    return 4 + sum(2 + 8 * int(n) for n in vertices) + 1
+
+
+def fence_exclusions(exclusions: tuple[tuple[tuple[float, float], ...], ...],
+                     budget: int) -> tuple[tuple[tuple[float, float], ...], ...]:
+    """Exclusion polygons that fit in ``budget`` bytes of fence storage, each inside the one it stands for.
+
+    When they do not fit as they are, ears are clipped (a convex vertex whose triangle holds no other vertex of its
+    polygon is removed: the polygon stays simple and loses that triangle, so it stays inside the land it stands
+    for, and the fence never fires where the mission may go), always the ear of least area over all the polygons,
+    until they fit; a polygon down to a triangle is dropped whole when its area is the least to lose.  This is
+    Visvalingam-Whyatt's simplification, restricted to the removals that only shrink.
+
+    Parameters
+    ----------
+    exclusions : tuple of polygons
+        ``(x, y)`` vertices in the local frame (m), not closed.
+    budget : int
+        Bytes left for them (each polygon takes 2 + 8 n).
+
+    Returns
+    -------
+    tuple of polygons
+        ``exclusions`` when they fit, else their clipped polygons, in the same order (those dropped left out).
+    """
+    if fence_bytes([len(e) for e in exclusions]) - 5 <= budget:
+        return exclusions
+    rings = [_ccw(np.asarray(e, dtype=float)) for e in exclusions if len(e) >= 3]
+    best = [_least_ear(v) for v in rings]
+    used = sum(2 + 8 * len(v) for v in rings)
+    while used > budget:
+        k = min((k for k in range(len(rings)) if rings[k].size), key=lambda k: best[k][0])
+        i = best[k][1]
+        if i < 0:  # a triangle (or no ear left): the whole polygon goes
+            used -= 2 + 8 * len(rings[k])
+            rings[k] = rings[k][:0]
+            continue
+        rings[k] = np.delete(rings[k], i, axis=0)
+        used -= 8
+        best[k] = _least_ear(rings[k])
+    return tuple(tuple((float(x), float(y)) for x, y in v) for v in rings if v.size)
+
+
+def _ccw(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A ring counter-clockwise, without repeated consecutive vertices."""
+    v = v[np.any(v != np.roll(v, 1, axis=0), axis=1)] if len(v) > 1 else v
+    area = 0.5 * float(np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1]))
+    return v if area >= 0 else v[::-1].copy()
+
+
+def _least_ear(v: NDArray[np.float64]) -> tuple[float, int]:
+    """The ear of ``v`` (counter-clockwise) of least area, as ``(area, index)``; ``(area of v, -1)`` for a triangle
+    or a polygon without an ear to clip (then it is only ever dropped whole)."""
+    n = len(v)
+    whole = 0.5 * abs(float(np.sum(v[:, 0] * np.roll(v[:, 1], -1) - np.roll(v[:, 0], -1) * v[:, 1])))
+    if n <= 3:
+        return whole, -1
+    a, c = np.roll(v, 1, axis=0), np.roll(v, -1, axis=0)
+    area = 0.5 * ((v[:, 0] - a[:, 0]) * (c[:, 1] - v[:, 1]) - (v[:, 1] - a[:, 1]) * (c[:, 0] - v[:, 0]))
+    for i in np.argsort(area):
+        if area[i] < 0:  # reflex: removing it would add area outside the land
+            continue
+        p, q, r = v[i - 1], v[i], v[(i + 1) % n]
+        others = np.delete(v, [(i - 1) % n, i, (i + 1) % n], axis=0)
+        if not np.any((_left(p, q, others) >= 0) & (_left(q, r, others) >= 0) & (_left(r, p, others) >= 0)):
+            return float(area[i]), int(i)
+    return whole, -1
+
+
+def _left(s: NDArray[np.float64], t: NDArray[np.float64], pts: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Twice the signed area of (s, t, each point): positive on the left of s → t."""
+    return np.asarray((t[0] - s[0]) * (pts[:, 1] - s[1]) - (t[1] - s[1]) * (pts[:, 0] - s[0]))
+
+
 def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]:
     """The ``geoFence`` of a QGC plan: the bounds as inclusion, the exclusions (version 2).
 
@@ -188,8 +285,15 @@ def qgc_geofence(deploy: DeployInfo | None, frame: LocalFrame) -> dict[str, Any]
     polys: list[dict[str, Any]] = []
     env = deploy.envelope if deploy is not None else None
     if env is not None:
-        for poly, inc in [(env.polygon, True), *((e, False) for e in env.exclusions)]:
-            ring = geo_ring(frame, poly, 8 if inc else 1)
+        inclusion = geo_ring(frame, env.polygon, 8)
+        need = fence_bytes([len(inclusion)])
+        if need > FENCE_STORAGE_BYTES:  # the operating region itself: never cut (it would fire inside it)
+            raise DataError(f"QGC plan: the geofence's inclusion polygon has {len(inclusion)} vertices ({need} bytes); "
+                            f"ArduPilot's fence storage holds {FENCE_STORAGE_BYTES} bytes, one polygon of at most "
+                            f"{(FENCE_STORAGE_BYTES - 7) // 8} vertices (AC_PolyFence_loader::write_fence)")
+        exclusions = fence_exclusions(env.exclusions, FENCE_STORAGE_BYTES - need)
+        for poly, inc in [(env.polygon, True), *((e, False) for e in exclusions)]:
+            ring = inclusion if inc else geo_ring(frame, poly, 1)
             _refuse_antimeridian(ring, "the envelope's polygon" if inc else f"exclusion {len(polys)}")
             polys.append({"inclusion": inc, "polygon": [[round(float(a), 9), round(float(b), 9)] for a, b in ring],
                           "version": 1})

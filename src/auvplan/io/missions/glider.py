@@ -14,12 +14,17 @@ arguments sit between ``<start:b_arg>`` and ``<end:b_arg>``, one per line as
   ``num_legs_to_run`` the number of waypoints (stop at the last);
 * ``yoNN.ma`` (``behavior_name=yo``): ``d_target_depth``, ``d_target_altitude`` (``min_altitude``),
   ``c_target_depth`` (``climb_depth_m``), ``d_/c_use_pitch`` 3 (servo) with ``d_/c_pitch_value`` in
-  radians, ``num_half_cycles_to_do`` = 2 × ``yos`` and ``end_action`` 2 (resume: after the surfacing
-  the yo starts again);
-* ``surfacNN.ma`` (``behavior_name=surface``): ``start_when`` 2 (``BAW_PITCH_IDLE``: when the yo has
-  done its half cycles, i.e. every ``yos`` yos), ``end_action`` 2 (resume), ``gps_wait_time``
-  ``surface_time_s``; with ``surface_every_s`` a second one, ``start_when`` 12
-  (``BAW_NOCOMM_SECS``) and ``when_secs`` = ``surface_every_s``.
+  radians, ``num_half_cycles_to_do`` = 2 × the yos of a planned cycle (``yos``, or with ``surface_every_s``
+  as many as fit in it: the planner's and the flight's "first top after ``surface_every_s``") and
+  ``end_action`` 2 (resume: after the surfacing the yo starts again);
+* ``surfacNN.ma`` (``behavior_name=surface``): ``start_when`` 2 (``BAW_PITCH_IDLE``: when the yo has done its
+  half cycles, at the top of the last climb), ``end_action`` 2 (resume), ``gps_wait_time`` ``surface_time_s``:
+  every planned surfacing; with ``surface_every_s`` a second one, ``start_when`` 12 (``BAW_NOCOMM_SECS``: when
+  there has been no comms for ``when_secs``, wherever the glider is) as a safety net only, ``when_secs`` = the
+  cycle's planned time underwater × (yos + 1) / yos (one yo more, with its share of the first dive and the last
+  climb), so that a nominal cycle never reaches it.  (It was ``surface_every_s``: the time elapses before the
+  first top after it, so every cycle was cut short mid-dive and the glider came up from depth, not where or when
+  the plan surfaced.)
 
 **Seaglider** (University of Washington APL, *Seaglider File Formats Manual* v66, "targets"; the
 same syntax as the targets files of NOAA's ``agate`` toolbox, ``makeTargetsFile.m``): ``/`` starts a
@@ -99,7 +104,8 @@ def _b_args(args: list[tuple[str, Any, str]]) -> list[str]:
 
 
 def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
-                 number: int = 10, name: str = "auvplan") -> dict[str, str]:
+                 number: int = 10, name: str = "auvplan", *, yos: int | None = None,
+                 underwater_s: float | None = None) -> dict[str, str]:
     """The Slocum behaviour files of a glider mission (module notes).
 
     Parameters
@@ -116,6 +122,12 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
         The files' number NN (``goto_lNN.ma``, ``yoNN.ma``, ``surfacNN.ma``; 10-99).
     name : str, default "auvplan"
         Mission name for the comments.
+    yos : int, optional
+        Yos between two surfacings as planned (:attr:`auvplan.planners.timeopt.glider.Cycle.yos`; default
+        ``glider.yos``, the count when ``surface_every_s`` is 0).
+    underwater_s : float, optional
+        A planned cycle's time underwater (s; :attr:`~auvplan.planners.timeopt.glider.Cycle.underwater_s`):
+        the no-comms safety net's ``when_secs`` is that × (yos + 1) / yos.  Required with ``surface_every_s``.
 
     Returns
     -------
@@ -124,6 +136,12 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     """
     if not 10 <= number <= 98:
         raise ValueError(f"number = {number}: Slocum behaviour files are numbered 10-99")
+    yos = glider.yos if yos is None else int(yos)
+    if yos < 1:
+        raise ValueError(f"yos = {yos}: a cycle has at least one yo")
+    if glider.surface_every_s > 0 and not (underwater_s is not None and underwater_s > 0):
+        raise ValueError("surface_every_s is set: the no-comms surfacing needs the planned cycle's underwater_s "
+                         "(a cycle's time underwater), else it would fire mid-dive")
     pts = _latlon(points, origin)
     pitch = math.radians(glider.pitch_deg)
     goto = ["behavior_name=goto_list", f"# goto_l{number}.ma: {name}, {len(pts)} surfacing waypoints written by "
@@ -139,9 +157,9 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
             "<end:waypoints>"]
     yo = ["behavior_name=yo", f"# yo{number}.ma: {name}, climb {glider.climb_depth_m:g} m, dive "
           f"{glider.dive_depth_m:g} m, altitude {min_altitude:g} m, pitch {glider.pitch_deg:g} deg, "
-          f"{glider.yos} yos per surfacing",
+          f"{yos} yos per surfacing",
           *_b_args([("start_when(enum)", 2, "BAW_PITCH_IDLE"),
-                    ("num_half_cycles_to_do(nodim)", 2 * glider.yos, "dives + climbs between surfacings"),
+                    ("num_half_cycles_to_do(nodim)", 2 * yos, "dives + climbs between surfacings"),
                     ("d_target_depth(m)", f"{glider.dive_depth_m:g}", ""),
                     ("d_target_altitude(m)", f"{min_altitude:g}", ""),
                     ("d_use_pitch(enum)", 3, "servo"),
@@ -152,7 +170,7 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
                     ("c_pitch_value(X)", f"{pitch:.4f}", f"{glider.pitch_deg:g} deg"),
                     ("end_action(enum)", 2, "resume")])]
     surf = ["behavior_name=surface", f"# surfac{number}.ma: {name}, surface when the yo has done its "
-            f"{glider.yos} yos",
+            f"{yos} yos",
             *_b_args([("start_when(enum)", 2, "BAW_PITCH_IDLE"),
                       ("end_action(enum)", 2, "resume"),
                       ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
@@ -161,10 +179,12 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     out = {f"goto_l{number}.ma": "\n".join(goto) + "\n", f"yo{number}.ma": "\n".join(yo) + "\n",
            f"surfac{number}.ma": "\n".join(surf) + "\n"}
     if glider.surface_every_s > 0:
-        every = ["behavior_name=surface", f"# surfac{number + 1}.ma: {name}, surface every "
-                 f"{glider.surface_every_s:.0f} s without comms",
+        assert underwater_s is not None
+        secs = math.ceil(underwater_s * (yos + 1) / yos)  # a cycle and one yo more: never in a nominal cycle
+        every = ["behavior_name=surface", f"# surfac{number + 1}.ma: {name}, safety net: surface after {secs} s "
+                 f"without comms (a planned cycle is {underwater_s:.0f} s underwater; surfac{number} surfaces it)",
                  *_b_args([("start_when(enum)", 12, "BAW_NOCOMM_SECS"),
-                           ("when_secs(sec)", f"{glider.surface_every_s:.0f}", ""),
+                           ("when_secs(sec)", f"{secs}", "the cycle's time underwater and one yo"),
                            ("end_action(enum)", 2, "resume"),
                            ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
                            ("c_use_pitch(enum)", 3, "servo"),
@@ -174,7 +194,7 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
 
 
 def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
-                 number: int = 10) -> list[Path]:
+                 number: int = 10, *, yos: int | None = None, underwater_s: float | None = None) -> list[Path]:
     """Write :func:`slocum_files` into ``folder``: all of them or none, each atomically, never over an existing file.
 
     Each file goes through :func:`auvplan.io.files.safeio.write_new` (a temporary file, flushed, renamed into
@@ -195,6 +215,8 @@ def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider:
         Least altitude above the seabed (m).
     number : int, default 10
         The files' number NN.
+    yos, underwater_s : int, float, optional
+        The planned cycle, as :func:`slocum_files`.
 
     Returns
     -------
@@ -204,7 +226,7 @@ def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider:
     from ..files.safeio import write_new
 
     folder.mkdir(parents=True, exist_ok=True)
-    files = slocum_files(points, origin, glider, min_altitude, number)
+    files = slocum_files(points, origin, glider, min_altitude, number, yos=yos, underwater_s=underwater_s)
     taken = [n for n in files if os.path.lexists(folder / n)]
     if taken:
         raise DataError(f"{folder / taken[0]}: exists; auvplan never overwrites a mission file")

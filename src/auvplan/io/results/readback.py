@@ -1,9 +1,12 @@
 """Reading a results folder back: the :class:`~auvplan.sim.RunRecord` that
 :func:`auvplan.io.results.records.write_run` wrote as ``run.json`` + ``run.npz`` (:func:`read_run`), every
-missing or malformed member named with its file."""
+missing or malformed member named with its file, and whether the folder's ``scenario.toml`` is still the one
+the run wrote (:func:`check_scenario`)."""
 
 from __future__ import annotations
 
+import hashlib
+import re
 import zipfile
 from collections.abc import Mapping
 from pathlib import Path
@@ -19,7 +22,7 @@ from ..files.limits import check_npz
 if TYPE_CHECKING:  # imported where a run is read back: a plan's writer needs only SIM_ARRAYS (issue 56)
     from ...sim import RunRecord
 
-__all__ = ["SIM_ARRAYS", "read_run"]
+__all__ = ["SIM_ARRAYS", "read_run", "scenario_sha256", "check_scenario"]
 
 
 SIM_ARRAYS = ("t", "position", "heading", "speed", "rudder", "cross_track", "route_error", "progress", "altitude",
@@ -70,6 +73,58 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
         raise DataError(f"{files['run.json']}: {exc}") from exc
     except (KeyError, TypeError, ValueError, AttributeError, IndexError, UnicodeDecodeError, OverflowError) as exc:
         raise DataError(f"{files['run.json']}: malformed run record ({type(exc).__name__}: {exc})") from exc
+
+
+def scenario_sha256(data: str | bytes) -> str:
+    """The SHA-256 of a results folder's ``scenario.toml`` as written (its UTF-8 bytes), kept in ``run.json``.
+
+    Parameters
+    ----------
+    data : str or bytes
+        The file's text, or its bytes as read back.
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
+    return hashlib.sha256(data.encode("utf-8") if isinstance(data, str) else data).hexdigest()
+
+
+def check_scenario(out_dir: Path) -> None:
+    """Refuse a results folder whose ``scenario.toml`` is not the one its run wrote (replaced or edited after it).
+
+    ``run.json``'s ``scenario_sha256`` is the SHA-256 of the scenario text the run saved: a report or export of
+    the run in another scenario's world would draw a mix (the run's track over another seabed, its exports judged
+    against other bounds).  A folder written before the field existed is not checked.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        The results folder.
+
+    Raises
+    ------
+    DataError
+        One line naming ``scenario.toml``, both digests' first 12 digits and what to do; or naming ``run.json``'s
+        key when its value is not a SHA-256.
+    """
+    out = Path(out_dir)
+    rec = read_json(out / "run.json")
+    want = rec.get("scenario_sha256") if isinstance(rec, dict) else None
+    if want is None:
+        return
+    if not isinstance(want, str) or not re.fullmatch(r"[0-9a-f]{64}", want):
+        raise DataError(f"{out / 'run.json'}: scenario_sha256 = {_shown(want)}: expected 64 hexadecimal digits")
+    path = out / "scenario.toml"
+    try:
+        got = scenario_sha256(path.read_bytes())
+    except OSError:
+        return  # missing: the caller names it
+    if got != want:
+        raise DataError(f"{path}: not the scenario this run saved (SHA-256 {got[:12]}…, run.json's scenario_sha256 "
+                        f"{want[:12]}…): it was replaced or edited after the run, and a report or export would mix "
+                        "this run with another world — restore it, or run the scenario again")
 
 
 class _ArrayFault(Exception):

@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..files.safeio import atomic_write
-from .readback import SIM_ARRAYS, read_run
+from .readback import SIM_ARRAYS, read_run, scenario_sha256
 
 if TYPE_CHECKING:  # a plan's JSON needs none of these (issue 56: `plan` imports what the plan runs)
     from ...nav.mission import NavPlan
@@ -386,6 +386,8 @@ def write_run(out_dir: Path, record: RunRecord, scenario_text: str = "", full: b
     if scenario_text:
         write_text(out / "scenario.toml", scenario_text)
     rec = run_record(record)
+    if scenario_text:  # report/export refuse the folder once its scenario.toml is replaced (check_scenario)
+        rec["scenario_sha256"] = scenario_sha256(scenario_text)
     write_json(out / "run.json", rec)
     arrays = {"route": record.route, "keys": record.keys}
     if record.plan is not None:

@@ -108,12 +108,16 @@ class Cycle:
         Through-water horizontal distance (m).
     energy_j : float
         Hotel, surface and pump energy (J).
+    yos : int
+        Yos between two surfacings: ``yos``, or with ``surface_every_s`` as many as fit in it (at least one) —
+        what the Slocum ``yoNN.ma`` counts (``num_half_cycles_to_do``).
     """
 
     duration_s: float
     underwater_s: float
     distance_m: float
     energy_j: float
+    yos: int = 0
 
     @property
     def speed(self) -> float:
@@ -151,7 +155,7 @@ def cycle(glider: GliderParams, bottom_m: float | None = None, density: float = 
     under = n * yo_s + extra_s
     dist = n * yo.distance_m + top / -yo.w_dive * yo.u_dive + top / yo.w_climb * yo.u_climb
     energy = (under + g.surface_time_s) * g.hotel_w + g.surface_time_s * g.surface_power_w + n * yo.pump_j
-    return Cycle(under + g.surface_time_s, under, dist, energy)
+    return Cycle(under + g.surface_time_s, under, dist, energy, n)
 
 
 def endurance_days(glider: GliderParams, bottom_m: float | None = None) -> float:

@@ -13,160 +13,36 @@ import argparse
 import contextlib
 import importlib
 import logging
-import math
 import os
-import re
 import sys
-from collections.abc import Callable, Collection, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .._version import __version__
-from ..errors import AuvplanError, require
+from ..._version import __version__
+from ...errors import AuvplanError, require
+from .argtypes import (
+    _AVOIDANCE,
+    _BENCH_AVOIDANCE,
+    _FORMATS,
+    _PIPELINES,
+    _POSITIVE,
+    _RETRIES,
+    _SEED,
+    _WORKERS,
+    _Choices,
+    _departure,
+    _int_at_least,
+    _out_folder,
+    _pitch,
+    _planner_names,
+    _scheduler,
+    _step,
+)
 
 __all__ = ["main", "main_entry"]
 
 
-def _int_at_least(low: int, high: int | None = None, why: str = "") -> Callable[[str], int]:
-    """An argparse type: an integer >= ``low`` (and <= ``high``, for the reason ``why``; a clear usage error
-    otherwise, before any work)."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"{value} must be >= {low}")
-        if high is not None and value > high:
-            raise argparse.ArgumentTypeError(f"{value} must be <= {high}{f' ({why})' if why else ''}")
-        return value
-
-    parse.__name__ = f"integer >= {low}" if high is None else f"integer in [{low}, {high}]"
-    return parse
-
-
-_ADDRESS = re.compile(r"((tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):[0-9]{1,5}|inproc://\S+")
-
-
-def _scheduler(text: str) -> str:
-    """An argparse type: a dask scheduler's address, ``[tcp://]host:port`` (checked before any work: a bad
-    one used to surface after the job's set-up as dask's ``ValueError: missing port number``)."""
-    port = text.rpartition(":")[2]
-    if not _ADDRESS.fullmatch(text) or (port.isdigit() and not 0 < int(port) < 65536):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a dask scheduler address (e.g. tcp://host:8786)")
-    return text
-
-
-_scheduler.__name__ = "scheduler address"
-
-
-class _Choices(Collection[str]):
-    """argparse ``choices`` read when first needed (a ``--planner`` value, or that command's ``--help``;
-    each such argument has a ``metavar``, else argparse would list the choices when the parser is built)."""
-
-    def __init__(self, load: Callable[[], Collection[str]], extra: tuple[str, ...] = ()) -> None:
-        self._load, self._extra = load, extra
-
-    def _get(self) -> tuple[str, ...]:
-        return (*self._extra, *self._load())  # read each time: a planner may be registered after the parser
-
-    def __contains__(self, value: object) -> bool:
-        return value in self._get()
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._get())
-
-    def __len__(self) -> int:
-        return len(self._get())
-
-
-def _planner_names() -> tuple[str, ...]:
-    """The registered planners (:mod:`auvplan.planners.core.registry`): built-in and plugged in."""
-    from ..planners.core.registry import names
-
-    return names()
-
-
-def _names_in(module: str, name: str) -> Callable[[], tuple[str, ...]]:
-    """A loader of the tuple ``module.name`` (imported when the choices are first read)."""
-    return lambda: tuple(getattr(importlib.import_module(module), name))
-
-
-_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"))
-_PIPELINES = _Choices(_names_in("auvplan.planners.core.registry", "PIPELINES"))
-_FORMATS = _Choices(_names_in("auvplan.io.missions.export", "EXPORT_FORMATS"))
-_BENCH_AVOIDANCE = _Choices(_names_in("auvplan.guidance.avoidance.local", "AVOIDANCE"), ("scenario",))
-
-
-_SEED = _int_at_least(0)
-_POSITIVE = _int_at_least(1)
-_CPUS = os.cpu_count() or 1
-_WORKERS = _int_at_least(1, max(4, 4 * _CPUS), f"4 worker processes per CPU at most; this machine has {_CPUS}")
-"""``--workers``: a LocalCluster of 100 000 processes froze the machine before its first task."""
-_RETRIES = _int_at_least(0, 100, "a task that fails 100 times fails for a reason")
-"""``--retries``: 10⁹ ran a task that fails for good 10⁹ times (hostile round 20)."""
-
-_MAX_SWEEP_S = 366 * 86400.0
-"""Longest departure step and farthest departure offset of a sweep (a year: tide tables are per year)."""
-
-
-def _out_folder(text: str) -> str:
-    """``--out``: a folder path, not empty (``--out "$UNSET"`` wrote into the current folder) and without control
-    characters (a newline made a folder each one-line message named wrongly; hostile round 20)."""
-    if not text.strip():
-        raise argparse.ArgumentTypeError(f"{text!r}: an empty folder name (the current folder is --out .)")
-    if any(not c.isprintable() for c in text):
-        raise argparse.ArgumentTypeError(f"{text!r}: a control or formatting character in the folder name")
-    return text
-
-
-def _step(text: str) -> str:
-    """An argparse type: a finite duration in (0, 366 d] ('15min', '900s', '2h'); the text is kept."""
-    from ..app.durations import parse_duration
-
-    try:
-        value = parse_duration(text, "--step")
-    except AuvplanError as exc:
-        raise argparse.ArgumentTypeError(str(exc).removeprefix("--step ")) from None
-    if not (math.isfinite(value) and 0 < value <= _MAX_SWEEP_S):
-        raise argparse.ArgumentTypeError(f"{text!r}: a step must lie in (0 s, 366 d]")
-    return text
-
-
-def _departure(text: str) -> str:
-    """An argparse type: an offset within 366 d after start_time ('+6h') or an ISO 8601 time in 1678..2261."""
-    from ..app.durations import is_offset, parse_duration
-
-    if is_offset(text):
-        try:
-            value = parse_duration(text, "--depart-between")
-        except AuvplanError as exc:
-            raise argparse.ArgumentTypeError(str(exc).removeprefix("--depart-between ")) from None
-        if not (math.isfinite(value) and abs(value) <= _MAX_SWEEP_S):
-            raise argparse.ArgumentTypeError(f"{text!r}: an offset must lie within 366 d of [mission] start_time")
-        return text
-    from ..io.data.ocean.currents import parse_time
-
-    try:
-        parse_time(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
-    return text
-
-
-def _pitch(text: str) -> float:
-    """An argparse type: a finite pitch angle in (0, 90] degrees."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-    if not 0.0 < value <= 90.0:  # also refuses nan and inf
-        raise argparse.ArgumentTypeError(f"{text} must be a finite angle in (0, 90] degrees")
-    return value
-
-
-_pitch.__name__ = "pitch in (0, 90] degrees"
 
 
 _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
@@ -390,7 +266,7 @@ def main(argv: list[str] | None = None) -> int:
         The exit code: 0 success, 1 a mission or plan that failed (a status), 2 bad input or a
         missing optional dependency (one line on stderr), 130 interrupted, 141 stdout's reader gone (``| head``).
     """
-    from .output import StdoutError, named_stdout
+    from ..output import StdoutError, named_stdout
 
     parser = _parser()
     try:
@@ -400,13 +276,13 @@ def main(argv: list[str] | None = None) -> int:
         return int(exc.code or 0)
     except StdoutError as exc:
         return _stdout_lost(exc)
-    from ..io.files import safeio
+    from ...io.files import manifest, safeio
 
     undo: Callable[[], None] = _nothing
     if getattr(args, "json", False):  # issue 51: warnings go into the JSON object, stderr stays empty on success
         undo = _collect_warnings()
     else:
-        from .output import LogLines  # on stderr above the live line (issue 56), never onto a drawn clock
+        from ..output import LogLines  # on stderr above the live line (issue 56), never onto a drawn clock
 
         logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, handlers=[LogLines()],
                             format="%(levelname)s %(name)s: %(message)s")
@@ -414,18 +290,18 @@ def main(argv: list[str] | None = None) -> int:
         if _writes_html(args):  # checked before any work is done
             require("plotly", "report")
         if args.command in _CLOCKED and not (args.quiet or getattr(args, "json", False)):
-            from .output import starting
+            from ..output import starting
 
             starting(f"{args.command}: starting")  # issue 56: a clock from the first second (the imports)
         module, _, name = args.func.partition(":")  # "<command group module>:<handler>"
         handler = getattr(importlib.import_module(f"auvplan.cli.{module}"), name)
-        from ..io.files import safeio
+        from ...io.files import safeio
         with safeio.session(), named_stdout():  # the --out folders released, what a failure made removed; stdout
             code: int = handler(args)  # named when it cannot be written (> /dev/full)
         return code
     except KeyboardInterrupt:
         out = getattr(args, "out", None)
-        partial = isinstance(out, str) and bool(safeio.written(Path(out)))  # none: what it made there is gone
+        partial = isinstance(out, str) and bool(manifest.written(Path(out)))  # none: what it made there is gone
         _last_line(f"auvplan: interrupted; partial results in {out}" if partial else "auvplan: interrupted; "
                    f"nothing written{f' into {out}' if out else ''}")
         return 130
@@ -439,7 +315,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     finally:
         undo()
-        from .output import finish
+        from ..output import finish
 
         finish()  # the live progress line (issue 56)
 
@@ -464,7 +340,7 @@ def _nothing() -> None:
 def _last_line(text: str) -> None:
     """The command's last line on stderr, on a line of its own: the live line (a stage's clock drawn after a
     silence) is ended first, not written onto."""
-    from .output import finish
+    from ..output import finish
 
     finish()
     print(text, file=sys.stderr)
@@ -475,7 +351,7 @@ def _collect_warnings() -> Callable[[], None]:
     (:data:`auvplan.cli.output.JSON_WARNINGS`) instead of stderr; returns what undoes it."""
     import warnings
 
-    from .output import JSON_WARNINGS
+    from ..output import JSON_WARNINGS
 
     JSON_WARNINGS.clear()
 
