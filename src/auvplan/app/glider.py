@@ -194,15 +194,19 @@ def _yo_glider(g: Any, yo: dict[str, float], max_depth: float, name: str) -> tup
     The file's ``d_target_depth`` must lie within the scenario's depth band (``[mission]`` / ``[vehicle]``
     ``max_depth_m``); its ``d_target_depth``, ``c_target_depth`` and ``num_half_cycles_to_do`` replace the
     scenario's ``dive_depth_m``, ``climb_depth_m`` and ``yos`` for the flight (a yo file checked only for its
-    altitude let a 900 m dive through a 300 m band and flew the scenario's yos instead of the file's)."""
+    altitude let a 900 m dive through a 300 m band and flew the scenario's yos instead of the file's); a file that
+    counts its half cycles is flown at that count, the scenario's ``surface_every_s`` dropped (a Slocum flies
+    ``num_half_cycles_to_do`` whatever the time: :func:`auvplan.vehicles.glider.yos_per_cycle`)."""
     from dataclasses import replace
 
     dive = yo.get("d_target_depth", g.dive_depth_m)
     if dive > max_depth:
         return g, [f"{name}: d_target_depth {dive:g} m is deeper than the depth band's {max_depth:g} m"]
     try:
+        counted = "num_half_cycles_to_do" in yo
         return replace(g, dive_depth_m=dive, climb_depth_m=yo.get("c_target_depth", g.climb_depth_m),
-                       yos=max(1, int(yo.get("num_half_cycles_to_do", 2 * g.yos)) // 2)), []
+                       yos=max(1, int(yo["num_half_cycles_to_do"]) // 2) if counted else g.yos,
+                       surface_every_s=0.0 if counted else g.surface_every_s), []
     except ValueError as exc:
         return g, [f"{name}: {exc}"]
 

@@ -3,9 +3,11 @@
 The glider (:mod:`auvplan.vehicles.glider`) flies steady dives and climbs between
 ``climb_depth_m`` and ``dive_depth_m`` (at least ``min_altitude`` above the seabed, from its
 altimeter), at the flight model's vertical and horizontal speeds through the water, while the
-World's current at its own depth and time carries it.  It surfaces after ``yos`` yos or once
-``surface_every_s`` has passed, stays ``surface_time_s`` at the surface drifting with the surface
-current, takes a fix, and then:
+World's current at its own depth and time carries it.  It surfaces after the yos of a planned cycle
+(:func:`auvplan.vehicles.glider.yos_per_cycle`: ``yos``, or with ``surface_every_s`` up to the first top at or
+after that long, the first dive included), counted as the Slocum's ``yoNN.ma`` counts them
+(``num_half_cycles_to_do``) whatever their time (the altimeter shortens a yo, not the count), stays
+``surface_time_s`` at the surface drifting with the surface current, takes a fix, and then:
 
 * estimates the depth-averaged current the way a Slocum does (``m_water_vx/vy``): the fix less
   its dead-reckoned position, over the time since the previous fix;
@@ -30,7 +32,7 @@ import numpy as np
 
 from .._types import ArrayLike, FloatArray, IntArray
 from ..planners.timeopt.glider import cycle
-from ..vehicles.glider import GliderParams, crab_heading, yo_timing
+from ..vehicles.glider import GliderParams, crab_heading, yo_timing, yos_per_cycle
 from ..world import World
 
 __all__ = ["GliderTrack", "fly_glider"]
@@ -98,6 +100,7 @@ class _Flight:
                  correct: bool, min_altitude: float, density: float) -> None:
         self.g, self.wps, self.correct, self.alt, self.rho = g, wps, correct, min_altitude, density
         self.yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m, density)
+        self.n = yos_per_cycle(g, self.yo)  # the planned cycle's yos, as yoNN.ma counts them (was timed since the fix)
         self.v_eff = cycle(g, density=density).speed  # the crab holds the course over the cycle, surface drift too
         self.pos = np.array([*np.asarray(start, dtype=float)[:2], 0.0])
         self.t, self.phase, self.k, self.yos = t0, _SURFACE, 0, 0
@@ -157,11 +160,11 @@ class _Flight:
                 self.pos[2] = -bottom  # the inflection (the step's overshoot of at most |w| dt is not flown)
                 shallow = bottom < g.climb_depth_m + 5.0  # hardly room for a yo: climb out and surface
                 self.phase, self.inflections = _CLIMB, self.inflections + 1
-                self.yos = g.yos if shallow else self.yos + 1
+                self.yos = self.n if shallow else self.yos + 1
                 e = self.rho * 9.81 * bottom * 2e-6 * g.ballast_cc / g.pump_efficiency
                 self.pump, self.energy = self.pump + e, self.energy + e
         else:
-            due = self.yos >= g.yos or (g.surface_every_s > 0 and self.t - self.last_fix_t >= g.surface_every_s)
+            due = self.yos >= self.n
             if depth <= (0.0 if due else g.climb_depth_m):
                 self.pos[2] = 0.0 if due else -g.climb_depth_m
                 if due:

@@ -37,7 +37,7 @@ from .._types import ArrayLike, FloatArray
 from ..errors import DataError
 
 __all__ = ["GliderParams", "Glide", "steady_glide", "attack_angle", "pitch_for_speed", "YoTiming", "yo_timing",
-           "G", "crab_heading"]
+           "yos_per_cycle", "G", "crab_heading"]
 
 #: Gravity (m/s²).
 G = 9.81
@@ -81,7 +81,8 @@ class GliderParams:
     yos : int
         Yos between surfacings.
     surface_every_s : float
-        Surface at the top of the first climb after this long underwater (s); 0: by ``yos`` only.
+        Surface at the first yo top at or after this long underwater, the first dive from the surface included
+        (s; at most ``yos`` yos, at least one: :func:`yos_per_cycle`); 0: by ``yos`` only.
     surface_time_s : float
         Time at the surface per surfacing (s): fix, data, new waypoints.
     hotel_w : float
@@ -362,6 +363,34 @@ def yo_timing(params: GliderParams, top_m: float, bottom_m: float, density: floa
     dive_s, climb_s = span / -w_d, span / w_c
     pump = density * G * bottom_m * 2e-6 * params.ballast_cc / params.pump_efficiency
     return YoTiming(dive_s, climb_s, u_d * dive_s + u_c * climb_s, pump, w_d, w_c, u_d, u_c)
+
+
+def yos_per_cycle(params: GliderParams, yo: YoTiming) -> int:
+    """Yos between two surfacings: the one rule of the planner's cycle, the flight and the Slocum ``yoNN.ma``.
+
+    A cycle leaves the surface, dives to the bottom, climbs to ``climb_depth_m`` (the top of yo 1), and so on;
+    the top of yo k is reached ``climb_depth_m / |w_dive| + k (dive_s + climb_s)`` after leaving the surface.
+    With ``surface_every_s`` the glider surfaces at the first top at or after that long underwater (a top within
+    10⁻⁹ yo of it counts as at it), at most ``yos`` yos and at least one; without it after ``yos`` yos.  A Slocum
+    flies the count written into ``num_half_cycles_to_do`` (twice this), whatever the time.
+
+    Parameters
+    ----------
+    params : GliderParams
+        The glider (``yos``, ``surface_every_s``, ``climb_depth_m``).
+    yo : YoTiming
+        Its yo between ``climb_depth_m`` and the bottom (:func:`yo_timing`).
+
+    Returns
+    -------
+    int
+        Yos per cycle, in ``[1, yos]``.
+    """
+    if params.surface_every_s <= 0:
+        return params.yos
+    first_s = params.climb_depth_m / -yo.w_dive  # the first dive, from the surface down to climb_depth_m
+    k = math.ceil((params.surface_every_s - first_s) / (yo.dive_s + yo.climb_s) - 1e-9)
+    return min(params.yos, max(1, k))
 
 
 def crab_heading(bearing: float, speed: float, current: ArrayLike) -> float:

@@ -15,7 +15,8 @@ arguments sit between ``<start:b_arg>`` and ``<end:b_arg>``, one per line as
 * ``yoNN.ma`` (``behavior_name=yo``): ``d_target_depth``, ``d_target_altitude`` (``min_altitude``),
   ``c_target_depth`` (``climb_depth_m``), ``d_/c_use_pitch`` 3 (servo) with ``d_/c_pitch_value`` in
   radians, ``num_half_cycles_to_do`` = 2 × the yos of a planned cycle (``yos``, or with ``surface_every_s``
-  as many as fit in it: the planner's and the flight's "first top after ``surface_every_s``") and
+  up to the first top at or after it, the first dive from the surface included: the one rule of the planner,
+  the flight and these files, :func:`auvplan.vehicles.glider.yos_per_cycle`) and
   ``end_action`` 2 (resume: after the surfacing the yo starts again);
 * ``surfacNN.ma`` (``behavior_name=surface``): ``start_when`` 2 (``BAW_PITCH_IDLE``: when the yo has done its
   half cycles, at the top of the last climb), ``end_action`` 2 (resume), ``gps_wait_time`` ``surface_time_s``:
@@ -123,8 +124,9 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     name : str, default "auvplan"
         Mission name for the comments.
     yos : int, optional
-        Yos between two surfacings as planned (:attr:`auvplan.planners.timeopt.glider.Cycle.yos`; default
-        ``glider.yos``, the count when ``surface_every_s`` is 0).
+        Yos between two surfacings as planned (:attr:`auvplan.planners.timeopt.glider.Cycle.yos`, by
+        :func:`auvplan.vehicles.glider.yos_per_cycle`; default ``glider.yos``, the count when ``surface_every_s``
+        is 0).  Required with ``surface_every_s``.
     underwater_s : float, optional
         A planned cycle's time underwater (s; :attr:`~auvplan.planners.timeopt.glider.Cycle.underwater_s`):
         the no-comms safety net's ``when_secs`` is that × (yos + 1) / yos.  Required with ``surface_every_s``.
@@ -136,12 +138,15 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     """
     if not 10 <= number <= 98:
         raise ValueError(f"number = {number}: Slocum behaviour files are numbered 10-99")
-    yos = glider.yos if yos is None else int(yos)
-    if yos < 1:
-        raise ValueError(f"yos = {yos}: a cycle has at least one yo")
     if glider.surface_every_s > 0 and not (underwater_s is not None and underwater_s > 0):
         raise ValueError("surface_every_s is set: the no-comms surfacing needs the planned cycle's underwater_s "
                          "(a cycle's time underwater), else it would fire mid-dive")
+    if glider.surface_every_s > 0 and yos is None:
+        raise ValueError("surface_every_s is set: yoNN.ma needs the planned cycle's yos (Cycle.yos, the first top at "
+                         "or after surface_every_s), not glider.yos")
+    yos = glider.yos if yos is None else int(yos)
+    if yos < 1:
+        raise ValueError(f"yos = {yos}: a cycle has at least one yo")
     pts = _latlon(points, origin)
     pitch = math.radians(glider.pitch_deg)
     goto = ["behavior_name=goto_list", f"# goto_l{number}.ma: {name}, {len(pts)} surfacing waypoints written by "

@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
-from ...vehicles.glider import GliderParams, crab_heading, yo_timing
+from ...vehicles.glider import GliderParams, crab_heading, yo_timing, yos_per_cycle
 from ...world import World
 from ...world.currents.ensemble import DerivedCurrent
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
@@ -109,8 +109,9 @@ class Cycle:
     energy_j : float
         Hotel, surface and pump energy (J).
     yos : int
-        Yos between two surfacings: ``yos``, or with ``surface_every_s`` as many as fit in it (at least one) —
-        what the Slocum ``yoNN.ma`` counts (``num_half_cycles_to_do``).
+        Yos between two surfacings (:func:`auvplan.vehicles.glider.yos_per_cycle`: ``yos``, or with
+        ``surface_every_s`` up to the first top at or after that long underwater, the first dive included) —
+        what the Slocum ``yoNN.ma`` counts (``num_half_cycles_to_do``) and the flight flies.
     """
 
     duration_s: float
@@ -141,15 +142,13 @@ def cycle(glider: GliderParams, bottom_m: float | None = None, density: float = 
     -------
     Cycle
         The first dive from the surface, ``yos`` yos to ``climb_depth_m`` and the last climb to the
-        surface (when ``surface_every_s`` is set, as many yos as fit in it, at least one).
+        surface (when ``surface_every_s`` is set, up to the first top at or after it: ``yos_per_cycle``).
     """
     g = glider
     bottom = g.dive_depth_m if bottom_m is None else bottom_m
     yo = yo_timing(g, g.climb_depth_m, bottom, density)
     yo_s = yo.dive_s + yo.climb_s
-    n = g.yos
-    if g.surface_every_s > 0:
-        n = min(n, max(1, math.ceil(g.surface_every_s / yo_s)))
+    n = yos_per_cycle(g, yo)  # the first top at or after surface_every_s, the first dive included (was ceil(S / yo_s))
     top = g.climb_depth_m
     extra_s = top / -yo.w_dive + top / yo.w_climb  # the first dive from and the last climb to the surface
     under = n * yo_s + extra_s
