@@ -39,8 +39,8 @@ from ..data.geo import LocalFrame
 from .deploy import DeployInfo, Envelope, payload_events
 
 __all__ = ["moos_datum", "moos_envelope", "moos_leg_extras", "qgc_geofence", "qgc_relay", "yaml_extras",
-           "geo_ring", "mission_props", "envelope_props", "envelope_rings", "fence_bytes", "fence_exclusions",
-           "ALTITUDE_PWT", "RELAY", "FENCE_STORAGE_BYTES"]
+           "geo_ring", "mission_props", "envelope_props", "envelope_rings", "fence_bytes", "fence_storage_problem",
+           "fence_exclusions", "ALTITUDE_PWT", "RELAY", "FENCE_STORAGE_BYTES"]
 
 ALTITUDE_PWT = 200
 """Priority weight of the terrain-following altitude behaviour (above the depth bound's 100)."""
@@ -180,20 +180,49 @@ def _refuse_antimeridian(ring: NDArray[np.float64], what: str) -> None:
                         "Earth; no .plan geofence can hold it")
 
 
-def fence_bytes(vertices: list[int]) -> int:
-    """Bytes of ArduPilot's fence storage that polygons take (``AC_PolyFence_loader``, :data:`FENCE_STORAGE_BYTES`).
+def fence_bytes(vertices: list[int], circles: int = 0) -> int:
+    """Bytes of ArduPilot's fence storage that polygons and circles take (``AC_PolyFence_loader``,
+    :data:`FENCE_STORAGE_BYTES`).
 
     Parameters
     ----------
     vertices : list of int
         Each polygon's number of vertices.
+    circles : int, default 0
+        Circles (a ``.plan``'s ``geoFence.circles``): 1 type byte, 4 + 4 of latitude and longitude and 4 of radius.
 
     Returns
     -------
     int
-        4 (header) + Σ (2 + 8 n) + 1 (end of storage).
+        4 (header) + Σ (2 + 8 n) + 13 per circle + 1 (end of storage: ``fence_storage_space_required`` leaves it
+        out, but ``write_fence`` writes it after the fence and ``scan_eeprom`` reads the fence back up to it).
     """
-    return 4 + sum(2 + 8 * int(n) for n in vertices) + 1
+    return 4 + sum(2 + 8 * int(n) for n in vertices) + 13 * int(circles) + 1
+
+
+def fence_storage_problem(vertices: list[int], circles: int = 0) -> str | None:
+    """Why ArduPilot would refuse to store a fence (:func:`fence_bytes` over :data:`FENCE_STORAGE_BYTES`), or None.
+
+    Parameters
+    ----------
+    vertices : list of int
+        Each polygon's number of vertices.
+    circles : int, default 0
+        Circles.
+
+    Returns
+    -------
+    str or None
+        One clause naming the bytes and the limit, None when it fits.
+    """
+    need = fence_bytes(vertices, circles)
+    if need <= FENCE_STORAGE_BYTES:
+        return None
+    what = f"{len(vertices)} polygons of {sum(vertices)} vertices" + (f" and {circles} circles" if circles else "")
+    return (f"the geofence ({what}) takes {need} bytes of fence storage with its end-of-storage byte, more than the "
+            f"{FENCE_STORAGE_BYTES} bytes of ArduPilot's (a 16 KiB board; one polygon of at most "
+            f"{(FENCE_STORAGE_BYTES - 7) // 8} vertices): ArduSub cannot store it (AC_PolyFence_loader::write_fence: "
+            "\"Fence exceeds storage size\", or the end-of-storage marker past the storage)")
 
 
 def fence_exclusions(exclusions: tuple[tuple[tuple[float, float], ...], ...],

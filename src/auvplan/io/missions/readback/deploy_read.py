@@ -11,6 +11,10 @@
   predicted duration within ``max_time`` — the energy check's duration (through the current, with a ``.plan``'s
   launch leg and holds): the time-out is judged against what the mission will take.  A file that carries none is
   reported (``envelope: null``).
+* **Fence storage** — a ``.plan``'s ``geoFence`` (every polygon and circle, as ArduPilot stores them) must fit its
+  fence storage (:func:`auvplan.io.missions.deploy_formats.fence_storage_problem`, the export's own rule: 672
+  bytes on a 16 KiB board), else ArduSub refuses the upload; only the export was held to it, and a user's own
+  ``.plan`` with a fence of 84 vertices passed.
 * **Altitude legs** — counted as legs, as the terrain-following check counts them: a ``.plan``'s launch leg (home
   to its first item) is never one, even when that item is in the terrain frame.
 """
@@ -32,6 +36,7 @@ from numpy.typing import NDArray
 from ....errors import DataError
 from ...data.geo import LocalFrame
 from .. import parsed
+from ..deploy_formats import FENCE_STORAGE_BYTES, fence_bytes, fence_storage_problem
 from .qgc_items import plan_items
 from .readers import KML_NS, MISSION_SUFFIXES
 
@@ -64,6 +69,9 @@ class FileDeploy:
     inclusions : list of numpy.ndarray
         A ``.plan`` fence's other inclusion polygons and circles (as polygons), in the same coordinates: ArduPilot
         keeps the vehicle inside every one (``AC_PolyFence_loader::breached``, without ``FENCE_OPTIONS``' union).
+    fence_items : tuple of (list of int, int) or None
+        A ``.plan`` fence as ArduPilot stores it: each polygon's vertex count (inclusions and exclusions) and the
+        number of circles (:func:`auvplan.io.missions.deploy_formats.fence_bytes`); None for other formats.
     """
 
     datum: tuple[float, float] | None = None
@@ -74,6 +82,7 @@ class FileDeploy:
     payload_events: list[tuple[int, bool]] = field(default_factory=list)
     altitude_legs: int = 0
     inclusions: list[NDArray[np.float64]] = field(default_factory=list)
+    fence_items: tuple[list[int], int] | None = None
 
 
 _NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
@@ -120,7 +129,8 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
             alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
-    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:])
+    stored = ([len(p["polygon"]) for p in fence.get("polygons", [])], len(fence.get("circles", [])))
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:], stored)
 
 
 CIRCLE_SIDES = 64
@@ -300,7 +310,8 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
     -------
     dict
         ``datum`` (``lat``, ``lon``, ``offset_m``, or None), ``envelope`` (its limits and ``ok``, ``reasons``,
-        or None), ``payload_events``, ``altitude_legs`` and ``ok``.
+        or None), ``payload_events``, ``altitude_legs``, a ``.plan``'s ``fence_storage`` (``bytes``,
+        ``limit_bytes``, ``ok``, ``reason``) and ``ok``.
 
     Raises
     ------
@@ -329,7 +340,12 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
         # written since issue 51 (it has a datum), in a format that carries an envelope, but without one
         out["envelope"] = {"ok": False, "vertices": 0, "exclusions": 0, "predicted_s": duration_s,
                            "reasons": ["the file has a datum but no envelope (BHV_OpRegion / envelope removed)"]}
-    out["ok"] = out["envelope"] is None or out["envelope"]["ok"]
+    if info.fence_items is not None:  # a .plan's fence must fit ArduPilot's storage, else ArduSub refuses it
+        vertices, circles = info.fence_items
+        why = fence_storage_problem(vertices, circles)
+        out["fence_storage"] = {"bytes": fence_bytes(vertices, circles), "limit_bytes": FENCE_STORAGE_BYTES,
+                                "ok": why is None, "reason": why}
+    out["ok"] = (out["envelope"] is None or out["envelope"]["ok"]) and out.get("fence_storage", {}).get("ok", True)
     return out
 
 
@@ -453,4 +469,6 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
     n = len(rec["payload_events"])
     pay = f"{n} payload events" if n else "no payload events"
     alt = f"; {rec['altitude_legs']} legs at altitude" if rec["altitude_legs"] else ""
-    return rec, f"{datum}; {env}; {pay}{alt}"
+    fence = rec.get("fence_storage")
+    store = f"; geofence FAIL — {fence['reason']}" if fence and not fence["ok"] else ""
+    return rec, f"{datum}; {env}; {pay}{alt}{store}"
