@@ -1,12 +1,12 @@
 """The Slocum files surface the glider where the plan does: at the top of the last climb of a planned cycle, never
 mid-dive.
 
-With ``surface_every_s`` the planner and the flight surface at the first top after that long (docs/gliders.md:
-as many yos as fit in it), but ``surfac11.ma`` said ``start_when`` 12 (``BAW_NOCOMM_SECS``: no comms for
-``when_secs``, wherever the glider is) with ``when_secs`` = ``surface_every_s`` and ``yo10.ma`` counted
-``yos`` yos: the time elapsed before the first top after it, so every cycle was cut short mid-dive.  Now the yo
-file counts the planned cycle's yos (``surfac10.ma``, BAW_PITCH_IDLE, surfaces at its last top) and the no-comms
-surfacing is a safety net a nominal cycle never reaches.
+With ``surface_every_s`` the planner and the flight surface at the first top at or after that long, the first dive
+included (docs/gliders.md "Yos per cycle: one rule"), but ``surfac11.ma`` said ``start_when`` 12
+(``BAW_NOCOMM_SECS``: no comms for ``when_secs``, wherever the glider is) with ``when_secs`` = ``surface_every_s``
+and ``yo10.ma`` counted ``yos`` yos: the time elapsed before the first top after it, so every cycle was cut short
+mid-dive. Now the yo file counts the planned cycle's yos (``surfac10.ma``, BAW_PITCH_IDLE, surfaces at its last top)
+and the no-comms surfacing is a safety net a nominal cycle never reaches.
 
 The oracle reads the files with its own parser (test_glider_exports') and times the cycle they describe with the
 flight model's yo (:func:`auvplan.vehicles.glider.yo_timing`): a first dive from the surface, yos between the
@@ -26,7 +26,8 @@ from auvplan.vehicles.glider import GliderParams, yo_timing
 
 PTS = np.array([[0.0, 0.0], [6000.0, 2000.0], [12000.0, -1000.0]])
 
-GLIDERS = [  # the time cap binding (7200 s is 1.8 yos of 4030 s), the yos cap binding, a time just past 1 yo,
+GLIDERS = [  # the time cap binding (7200 s is 1.8 yos of 4030 s), the yos cap binding, a time just past 1 yo
+    # (2300 s: 1 yo, its top at 2309 s with the first dive; the planner said 2 before test_glider_yos_per_cycle),
     GliderParams(yos=4, dive_depth_m=350.0, climb_depth_m=15.0, surface_every_s=7200.0),  # shallow, many yos
     GliderParams(yos=3, surface_every_s=7200.0),
     GliderParams(yos=9, surface_every_s=2300.0),
