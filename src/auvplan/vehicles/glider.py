@@ -20,8 +20,9 @@ Reference values (Merckelbach et al. 2010, table 2, Slocum G1/G2 shallow): S = 0
 
 A dive cycle (a *yo*) dives from ``climb_depth_m`` to ``dive_depth_m`` (or ``min_altitude_m``
 above the seabed, whichever is shallower) with ΔV = −``ballast_cc`` at pitch −``pitch_deg`` and
-climbs back with +``ballast_cc`` at +``pitch_deg``; the glider surfaces after ``yos`` yos or once
-``surface_every_s`` has passed, and stays ``surface_time_s`` at the surface (GPS fix, Iridium).
+climbs back with +``ballast_cc`` at +``pitch_deg``; the glider surfaces after ``yos`` yos or at the first top at or
+after ``surface_every_s`` underwater (:func:`yos_per_cycle`), and stays ``surface_time_s`` at the surface (GPS fix,
+Iridium).
 Energy: hotel power all the time, ``surface_power_w`` more at the surface, and the pump's work
 p ΔV / η_pump at every inflection at depth (the climb's pumping against the pressure).
 """
