@@ -23,7 +23,7 @@ __all__ = ["navigation_plan", "timed_navigation", "launch_flight"]
 
 
 def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, tail: ArrayLike | None = None,
-                  dwell: ArrayLike | None = None) -> tuple[float, np.ndarray] | None:
+                  dwell: ArrayLike | None = None) -> tuple[float, np.ndarray, np.ndarray] | None:
     """The mission flown from its launch, as a ``.plan`` is (``mission check``): the dive from the surface above the
     first waypoint at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS`, then its legs, one flight through the current.
 
@@ -43,8 +43,9 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
     Returns
     -------
     tuple or None
-        The launch's and each leg's ``(N - 1,)`` horizontal distance through the water (m); None where the current
-        beats the vehicle.
+        The launch's and each leg's ``(N - 1,)`` horizontal distance through the water (m), and the arrival at each
+        waypoint ``(N,)`` (s from the arrival at the first, dwells included: the legs flown in the current as it is
+        once the dive is over); None where the current beats the vehicle.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     legs = p.shape[0] - 1
@@ -55,7 +56,7 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
     if not tr.ok:
         return None
     w = tr.leg_water_m()
-    return float(w[0]), w[1:]
+    return float(w[0]), w[1:], tr.times[1:] - tr.times[1]
 
 
 def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
@@ -110,8 +111,9 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
 def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
     """The fixes' planned times through the World's current at each leg's speed (``fixes.csv`` ``t_s``), and
     the budget checked again with each leg's drift without bottom lock over its distance through the water
-    (:func:`auvplan.nav.mission.through_water`), the launch's dive counted, flown first (:func:`launch_flight`;
-    the times are the mission's from its first waypoint).
+    (:func:`auvplan.nav.mission.through_water`), the launch's dive counted, flown first (:func:`launch_flight`).
+    The times are those of that one flight (in a current that changes in time, the legs flown once the dive is
+    over, as the exported ``.plan``'s check flies them), counted from the arrival at the first waypoint.
 
     Parameters
     ----------
@@ -142,4 +144,5 @@ def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLi
     flown = launch_flight(world, p, speeds, back, nav.dwell_s)
     if flown is None:  # the current beats the dive: the legs' own water distances, the launch not counted
         return through_water(world, nav.timed(tr.times), tr.leg_water_m())
-    return through_water(world, nav.timed(tr.times), flown[1], launch_water_m=flown[0])
+    # the times of the flight the budget counts (and the .plan's check flies): the legs after the launch's dive
+    return through_water(world, nav.timed(flown[2]), flown[1], launch_water_m=flown[0])
