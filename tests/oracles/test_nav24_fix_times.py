@@ -51,8 +51,7 @@ def _integrate(t: float, rate) -> float:
 def _oracle(launch: bool) -> np.ndarray:
     t = 0.0
     if launch:
-        depth = -POINTS[0, 2]
-        t = _integrate(0.0, lambda tt: math.sqrt(V * V - _u(tt) ** 2) / depth)
+        t = _dive()
     arrive = [t]
     for i in range(len(POINTS) - 1):
         d = POINTS[i + 1] - POINTS[i]
@@ -70,14 +69,23 @@ def _oracle(launch: bool) -> np.ndarray:
     return a - a[0]
 
 
-def test_fix_times_are_the_launched_flights_in_a_reversing_current():
-    x, y = np.linspace(0.0, 12000.0, 25), np.linspace(0.0, 6000.0, 13)  # non-square grid
-    tt = np.array([0.0, 10000.0])
+def _world() -> World:
+    x, y = np.linspace(0.0, 14000.0, 29), np.linspace(0.0, 6000.0, 13)  # non-square grid
+    tt = np.array([0.0, 20000.0])
     u = (U0 - B * tt)[:, None, None, None] * np.ones((2, 2, 2, 2))  # linear in time: the field's interpolation, exact
     cur = GriddedCurrent(x[[0, -1]], y[[0, -1]], np.array([-6000.0, 0.0]), u, np.zeros_like(u), t=tt, name="tide")
-    world = World(Bounds(0.0, 12000.0, 0.0, 6000.0, -6000.0, 0.0),
-                  Terrain(x, y, np.full((13, 25), -3000.0), name="flat"), currents=cur,
-                  margins=Margins(min_altitude=20.0, min_depth=0.0), name="flat")
+    return World(Bounds(0.0, 14000.0, 0.0, 6000.0, -6000.0, 0.0),
+                 Terrain(x, y, np.full((13, 29), -3000.0), name="flat"), currents=cur,
+                 margins=Margins(min_altitude=20.0, min_depth=0.0), name="flat")
+
+
+def _dive() -> float:
+    """The launch's duration: held over the start, sinking at sqrt(V² − u²) for 1 000 m."""
+    return _integrate(0.0, lambda tt: math.sqrt(V * V - _u(tt) ** 2) / -POINTS[0, 2])
+
+
+def test_fix_times_are_the_launched_flights_in_a_reversing_current():
+    world = _world()
     nav = NavParams(drift_pct=0.3, drift_pct_no_lock=1.0, dvl_range_m=100.0, fix_error_m=3.0, max_error_m=3000.0,
                     confidence=2.0, fixes="none", surface_s=SURFACE_S)
     mission = Mission("t", tuple(POINTS[0]), tuple(POINTS[-1]), navigation=nav,
@@ -89,3 +97,34 @@ def test_fix_times_are_the_launched_flights_in_a_reversing_current():
     np.testing.assert_allclose(plan.vertex_times_s, expected, atol=0.5)
     np.testing.assert_allclose(plan.times_s, expected[[2]], atol=0.5)  # fixes.csv's t_s
     assert abs(expected[2] - from_zero[2]) > 50.0  # the legs flown from t = 0 would put the fix elsewhere in time
+
+
+def test_a_fix_period_is_timed_on_the_launched_flight():
+    """``fixes = 2500`` on one level leg of 12 km at 1 000 m, the same current: after the dive (T_d, integrated) the
+    ground speed is V + u(T_d + τ), so the distance flown by τ after the first waypoint is
+    s(τ) = g0 τ − B τ² / 2 with g0 = V + U0 − B T_d, and τ(s) = (g0 − sqrt(g0² − 2 B s)) / B (closed form); the timer
+    fires on the route's samples (every 50 m) as in ``test_nav23_periodic``: fixes at 4.95 and 8.90 km.  Before, on the
+    legs flown from t = 0 (g0 = V + U0): at 5.25 and 9.50 km."""
+    from auvplan.sim.navigation import navigation_plan
+
+    route = np.array([[1000.0, 3000.0, -1000.0], [13000.0, 3000.0, -1000.0]])
+    nav = NavParams(drift_pct=0.3, drift_pct_no_lock=1.0, dvl_range_m=100.0, fix_error_m=3.0, max_error_m=3000.0,
+                    confidence=2.0, fixes=2500.0, surface_s=SURFACE_S)
+    mission = Mission("t", tuple(route[0]), tuple(route[-1]), navigation=nav,
+                      vehicle=VehicleParams(speed=V, max_pitch_deg=30.0))
+    plan = navigation_plan(_world(), mission, route)
+    assert plan is not None
+    s = np.linspace(0.0, 12000.0, 241)
+
+    def timer(g0: float) -> list[float]:
+        tau = (g0 - np.sqrt(g0 * g0 - 2.0 * B * s)) / B
+        out, t0 = [], 0.0
+        while (k := int(np.searchsorted(tau, t0 + nav.fixes, side="left"))) < s.size - 1:
+            if 1000.0 / math.tan(math.radians(0.999 * 30.0)) <= s[k] <= s[-1] - 1000.0 / math.tan(
+                    math.radians(0.999 * 30.0)):  # a surfacing within the leg (the climb and dive at the pitch limit)
+                out.append(float(s[k]))
+            t0 = float(tau[k])
+        return out
+    expected, from_zero = timer(V + U0 - B * _dive()), timer(V + U0)
+    assert len(expected) == 2 and abs(from_zero[0] - expected[0]) > 250.0
+    np.testing.assert_allclose(plan.fixes.s, expected, atol=50.0 + 1e-9)  # to one sample of the traverse's rounding
