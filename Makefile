@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers nav-plan-run
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,10 @@ test: $(STAMP)
 # the corridor built-in flown: coverage, overlap by an independent ray cast, turns, exports (tests/heavy, minutes)
 survey-flown: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_survey_corridor_flown.py
+
+# plan + export and run write the same mission files on the same route (mariana-nav without its fixed route; ~15 s)
+nav-plan-run: $(STAMP)
+	$(BIN)/python -m pytest -q -s tests/heavy/test_nav24_plan_run.py
 
 # issue 56: a long mission (marcus-wake, a ~31 h flight, then its results, report and exports) in a fresh process,
 # every stderr line timed: no silent gap over 2 s (tests/heavy, 12 s CPU, 20-35 s at a load of 5; the suite runs a

@@ -69,3 +69,41 @@ def test_a_plan_folder_with_usbl_fixes_refuses_in_one_line(tmp_path, capsys):
     assert "Traceback" not in text and len(err) == 1, text
     assert "USBL fixes" in err[0] and "fixes.csv" in err[0] and str(out) in err[0], err
     assert not (out / "mission.csv").exists()
+
+
+def _track_distance(points: np.ndarray, q) -> float:
+    """Horizontal distance from a point to a polyline (its legs' traces)."""
+    a, b = points[:-1, :2], points[1:, :2]
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", np.asarray(q, dtype=float) - a, d) / np.maximum((d * d).sum(1), 1e-12), 0, 1)
+    return float(np.min(np.linalg.norm(a + t[:, None] * d - np.asarray(q, dtype=float), axis=1)))
+
+
+def test_plan_and_run_budget_different_routes_and_each_file_checks(exported, mariana_nav_plan, capsys, tmp_path):
+    """``plan mariana-nav`` plans start → goal with the global planner (74.5 km, 7 fixes); ``run mariana-nav`` flies
+    the scenario's fixed ``[mission] route`` (79.0 km, 6 fixes): different routes, so different fixes, each file
+    within E by ``mission check`` (``docs/navigation.md``, "plan and run"; helper nav2).  Oracle: the files' tracks
+    against the two routes' own vertices (the fixed route's corner at (166, 50) km, the planned path's nodes), and
+    the check of each file; the same scenario without a fixed route exports the very file ``run`` writes
+    (``tests/heavy/test_nav24_plan_run.py``)."""
+    from auvplan.io.results import records
+
+    world, mission, route, plan = mariana_nav_plan
+    corner = mission.route[1][:2]  # the fixed route's first corner
+    path = records.read_run(exported)[0].plan.path  # the plan folder's planned path (path.csv)
+    mine = read_mission(exported / "mission.plan", world.origin, world.seabed)[0][1:]  # its home first
+    assert _track_distance(route, corner) < 1.0 and _track_distance(plan.points, corner) < 1.0  # run's: the route
+    assert _track_distance(mine, corner) > 5000.0  # the plan folder's file does not fly the fixed route (9.0 km) ...
+    assert max(_track_distance(mine, q) for q in path[::25, :2]) < 50.0  # ... but the planned path (15 m)
+    from auvplan.io.missions import export
+    from auvplan.sim.result import RunRecord
+
+    export.write_exports(tmp_path, RunRecord("mariana-nav", 1, None, plan.points, np.empty((0, 3)), None, plan),
+                         world.origin, mission.vehicle.speed, ("plan",))  # run's mission, as run exports it
+    for path, fixes in ((exported / "mission.plan", 7), (tmp_path / "mission.plan", 6)):
+        capsys.readouterr()
+        assert main(["mission", "check", str(path), "--scenario", "mariana-nav", "--json"]) == 0
+        rec = json.loads(capsys.readouterr().out)
+        rec = rec["files"][0] if "files" in rec else rec
+        assert rec["navigation"]["ok"] and rec["navigation"]["fixes"] == fixes, rec["navigation"]
+        assert rec["navigation"]["nav_error_max_m"] <= mission.navigation.max_error_m

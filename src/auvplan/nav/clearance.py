@@ -38,7 +38,7 @@ from ..world import World
 from ..world.terrain import Terrain, elevation_kernel
 
 __all__ = ["lattice_step", "leg_slack", "safe_radius", "pieces", "leg_uncertain_altitude", "uncertain_clearance",
-           "zone_within", "zone_safe_radius"]
+           "zone_within", "zone_safe_radius", "obstacle_within", "obstacle_safe_radius", "hazard_safe_radius"]
 
 _MAX_NODES = 50_000_000
 """Most lattice nodes one test may visit; beyond it the test refuses the leg (-inf)."""
@@ -255,9 +255,9 @@ def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step
     alt = leg_uncertain_altitude(world, p, r, step)
     ok = alt >= world.margins.min_altitude
     seg = np.stack([p[:-1], p[1:]], axis=1)
-    for shape in world.obstacles:
-        for k in np.flatnonzero(ok):
-            ok[k] = not bool(shape.segments_hit(seg[k:k + 1], world.margins.obstacle + float(r[k]))[0])
+    if world.obstacles and ok.any():
+        near = np.flatnonzero(ok)
+        ok[near] = obstacle_within(world, seg[near], r[near]) < 0
     if world.zones and ok.any():
         near = np.flatnonzero(ok)
         ok[near] = zone_within(world, seg[near], r[near]) < 0
@@ -364,4 +364,92 @@ def zone_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float, tol
                 lo, hi = (lo, mid) if hit(mid) else (mid, hi)
             r = lo
         out[k] = min(out[k], max(r, 0.0))
+    return out
+
+
+def obstacle_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.ndarray:
+    """The first static obstacle within each segment's obstacle margin plus its horizontal uncertainty, ``-1`` for
+    none (each shape's exact segment test at ``margin + r``: a ball of radius ``r`` contains the horizontal disc).
+
+    Parameters
+    ----------
+    world : World
+        Its static obstacles and margins.
+    segments : array_like
+        ``(K, 2, 3)`` the legs (m).
+    radius : array_like
+        ``(K,)`` or scalar horizontal uncertainty of each (m).
+
+    Returns
+    -------
+    numpy.ndarray of int
+        ``(K,)`` the index of an obstacle (``world.obstacles``) within the margin plus the radius; ``-1`` where none.
+    """
+    seg = np.asarray(segments, dtype=float).reshape(-1, 2, 3)
+    r = np.broadcast_to(np.asarray(radius, dtype=float), (seg.shape[0],))
+    out = np.full(seg.shape[0], -1, dtype=np.intp)
+    for j, shape in enumerate(world.obstacles):
+        for k in np.flatnonzero(out < 0):
+            if bool(shape.segments_hit(seg[k:k + 1], world.margins.obstacle + float(r[k]))[0]):
+                out[k] = j
+    return out
+
+
+def obstacle_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float) -> FloatArray:
+    """The largest horizontal uncertainty each segment allows near the static obstacles (the inverse of
+    :func:`obstacle_within`): the least distance of the segment to each obstacle's surface
+    (:meth:`~auvplan.world.obstacles.Sphere.segment_distance`, the figure its exact segment test compares with the
+    margin) less the margin, less a micrometre.
+
+    Parameters
+    ----------
+    world : World
+        Its static obstacles and margins.
+    a, b : array_like
+        ``(K, 3)`` the segments' ends (m).
+    r_max : float
+        Largest radius looked at (m): a segment with no obstacle within it gets ``inf``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` (m): :func:`obstacle_within` finds no obstacle for any radius up to it; 0 when not even ``r = 0``.
+    """
+    seg = np.stack([np.atleast_2d(np.asarray(a, dtype=float)), np.atleast_2d(np.asarray(b, dtype=float))], axis=1)
+    out = np.full(seg.shape[0], np.inf)
+    for shape in world.obstacles:
+        near = shape.segments_hit(seg, world.margins.obstacle + float(r_max))  # the broad phase: within reach
+        if near.any():
+            gap = shape.segment_distance(seg[near]) - world.margins.obstacle
+            out[near] = np.minimum(out[near], np.maximum(gap * (1.0 - 1e-12) - 1e-6, 0.0))
+    return out
+
+
+def hazard_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float) -> FloatArray:
+    """The largest horizontal uncertainty each segment allows: the least of the seabed's (:func:`safe_radius`),
+    the charted zones' (:func:`zone_safe_radius`) and the static obstacles' (:func:`obstacle_safe_radius`) — every
+    hazard :func:`uncertain_clearance` tests under the error (the fix planner's safe radius).
+
+    Parameters
+    ----------
+    world : World
+        Seabed, zones, static obstacles and margins.
+    a, b : array_like
+        ``(K, 3)`` the segments' ends (m).
+    r_max : float
+        Largest radius looked at (m): a segment clear of every hazard within it gets ``inf``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K,)`` (m).
+    """
+    pa, pb = np.atleast_2d(np.asarray(a, dtype=float)), np.atleast_2d(np.asarray(b, dtype=float))
+    out = np.full(pa.shape[0], np.inf)
+    if world.terrain is not None:
+        out = safe_radius(world.terrain, pa, pb, world.margins.min_altitude, r_max)
+    if world.zones:
+        out = np.minimum(out, zone_safe_radius(world, pa, pb, r_max))
+    if world.obstacles:
+        out = np.minimum(out, obstacle_safe_radius(world, pa, pb, r_max))
     return out

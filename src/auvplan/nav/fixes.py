@@ -25,10 +25,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._types import FloatArray
+from .._types import FloatArray, IntArray
 from ..world import World
 from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
-from .clearance import safe_radius, zone_safe_radius
+from .clearance import hazard_safe_radius
 from .params import NavParams
 from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack, surfacing_zone_slack
 
@@ -52,7 +52,8 @@ class RouteProfile:
     zb : numpy.ndarray
         ``(M,)`` seabed under them (m; ``-inf`` without terrain).
     r_safe : numpy.ndarray
-        ``(M - 1,)`` the largest horizontal uncertainty each interval allows (:func:`~.clearance.safe_radius`).
+        ``(M - 1,)`` the largest horizontal uncertainty each interval allows near the seabed, the charted zones and
+        the static obstacles (:func:`~.clearance.hazard_safe_radius`).
     t : numpy.ndarray
         ``(M,)`` flying time along the route at the cruise speed (s): through the World's current when the route's
         flight is given (:func:`route_profile`), else in still water.
@@ -72,6 +73,10 @@ class RouteProfile:
     dive_error : float
         A bound of the error along a surfacing's dive (m): confidence × σ after a GPS fix and a dive's longest
         horizontal run without lock at the route's largest water ratio.
+    leg : numpy.ndarray or None
+        ``(M - 1,)`` the route leg of each interval (nondecreasing): ``mission check`` tests a leg's whole length
+        under its largest error (on arrival), so an interval must allow the error at its leg's end (or at the
+        stretch's, if earlier); None: each interval its own leg.
     _surfacing : dict
         :func:`~auvplan.nav.surfacing.surfacing_slack`'s answers by sample (a memo; not set by callers).
     _zone_slack : dict
@@ -89,6 +94,7 @@ class RouteProfile:
     d0: float = 0.0
     reach: float = math.inf
     dive_error: float = 0.0
+    leg: IntArray | None = None
     _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
     _zone_slack: dict[int, float] = field(default_factory=dict, repr=False)
 
@@ -139,19 +145,15 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     xyz = np.vstack([p[leg] + (k / n[leg])[:, None] * (p[leg + 1] - p[leg]), p[-1:]])
     s = np.r_[0.0, np.cumsum((h / n)[leg])]
     zb = world.seabed(xyz[:, 0], xyz[:, 1])
-    if world.terrain is not None:
-        r_safe = safe_radius(world.terrain, xyz[:-1], xyz[1:], world.margins.min_altitude, nav.max_error_m)
-    else:
-        r_safe = np.full(xyz.shape[0] - 1, np.inf)
-    if world.zones:  # and the charted no-go zones within the error at the leg's depth
-        r_safe = np.minimum(r_safe, zone_safe_radius(world, xyz[:-1], xyz[1:], nav.max_error_m))
+    r_safe = hazard_safe_radius(world, xyz[:-1], xyz[1:], nav.max_error_m)  # seabed, zones, obstacles
     s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
     t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
                                                     np.asarray(flight[1], dtype=float))
     tan = math.tan(math.radians(PITCH_SHARE * max_pitch_deg))
     run = float(-xyz[:, 2].min()) / tan * float(max(ratio.max(initial=1.0), 1.0))  # a dive's longest water run
     dive = nav.confidence * math.hypot(nav.fix_error_m, run * max(nav.rate(False), nav.rate(True)))
-    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], tan, world, float(launch_m), float(nav.max_error_m), dive)
+    return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], tan, world, float(launch_m), float(nav.max_error_m), dive,
+                        leg.astype(np.intp))
 
 
 @dataclass(frozen=True)
@@ -184,6 +186,18 @@ def _surfacings_allow(prof: RouteProfile, a: _Node, b: _Node) -> float:
     return min([climb, *(surfacing_slack(prof, n.k) for n in (a, b) if n.kind == "gps")])
 
 
+def _clear(prof: RouteProfile, k0: int, err: FloatArray) -> bool:
+    """Whether the intervals ``k0, k0 + 1, …`` of a stretch, whose errors on arrival are ``err`` (nondecreasing), keep
+    the uncertain clearance as ``mission check`` tests it: each its route leg's largest error within the stretch
+    (at the leg's end, or the stretch's) within its safe radius."""
+    if err.size == 0:
+        return True
+    if prof.leg is not None:
+        leg = prof.leg[k0:k0 + err.size]
+        err = err[np.searchsorted(leg, leg, side="right") - 1]
+    return bool(np.all(err <= prof.r_safe[k0:k0 + err.size]))
+
+
 def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bool, float]:
     """Whether the stretch between fixes ``a`` and ``b`` keeps the error within E and the uncertain clearance,
     and its largest error (confidence × σ, m)."""
@@ -193,7 +207,7 @@ def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bo
     inc = drift_increments(ds, lock_fraction(alt, nav.dvl_range_m), nav, ds * prof.wr[a.k:b.k])
     err = nav.confidence * np.hypot(a.sigma, a.d + np.cumsum(inc))
     worst = float(err[-1]) if err.size else nav.confidence * float(np.hypot(a.sigma, a.d))
-    ok = worst <= min(nav.max_error_m, _surfacings_allow(prof, a, b)) and bool(np.all(err <= prof.r_safe[a.k:b.k]))
+    ok = worst <= min(nav.max_error_m, _surfacings_allow(prof, a, b)) and _clear(prof, a.k, err)
     return ok, worst
 
 
@@ -216,8 +230,9 @@ def _stretch_from(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node,
     if b.k >= stop:
         return False, math.inf
     i = b.k - a.k
-    if b.kind != "gps":
-        return True, nav.confidence * float(np.hypot(a.sigma, d[i]))
+    if b.kind != "gps":  # the nominal schedule up to b
+        return _clear(prof, a.k, nav.confidence * np.hypot(a.sigma, d[1:i + 1])), \
+            nav.confidence * float(np.hypot(a.sigma, d[i]))
     reach = float(-z[:i + 1].min()) / prof.tan_pitch  # no climb starts further back than this
     w0 = max(0, int(np.searchsorted(prof.s, prof.s[b.k] - reach)) - 1 - a.k)
     v = -prof.tan_pitch * (prof.s[b.k] - prof.s[a.k + w0:b.k + 1])
@@ -230,7 +245,8 @@ def _stretch_from(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node,
                            ds * prof.wr[a.k + j0:b.k])
     err = nav.confidence * np.hypot(a.sigma, d[j0] + np.cumsum(inc))
     worst = float(err[-1]) if err.size else nav.confidence * float(np.hypot(a.sigma, d[j0]))
-    ok = worst <= nav.max_error_m and bool(np.all(err <= prof.r_safe[a.k + j0:b.k]))
+    before = nav.confidence * np.hypot(a.sigma, d[1:j0 + 1])  # up to the climb: the nominal schedule's
+    ok = worst <= nav.max_error_m and _clear(prof, a.k, np.r_[before, err])
     return ok, worst
 
 
@@ -361,7 +377,7 @@ def _why(prof: RouteProfile, nav: NavParams) -> str:
     tight = np.flatnonzero(prof.r_safe < nav.confidence * nav.fix_error_m)
     if tight.size:
         k = int(tight[0])
-        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed or a no-go zone is within "
+        return (f"at {prof.s[k] / 1000:.2f} km along the route the seabed, a no-go zone or an obstacle is within "
                 f"{prof.r_safe[k]:.0f} m "
                 f"horizontally of the leg, less than confidence × fix_error_m = {nav.confidence * nav.fix_error_m:g} m")
     return (f"no choice of fixes every candidate point keeps the error within max_error_m = {nav.max_error_m:g} m "

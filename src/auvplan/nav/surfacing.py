@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._types import BoolArray, FloatArray
-from .clearance import zone_safe_radius
+from .clearance import obstacle_safe_radius, zone_safe_radius
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from ..world import World
@@ -47,7 +47,7 @@ def surfacing_slack(prof: RouteProfile, k: int) -> float:
     float
         ``-1``: it would lift the start or the goal, or its climb or dive fails the World's exact static segment
         test, or a charted zone comes within ``prof.dive_error`` of its dive at the dive's depths (the error just
-        after the fix); else the largest ``r`` (m, bisection to a centimetre) with its climb and dive clear of every
+        after the fix); else the largest ``r`` (m) with its climb and dive clear of every
         static obstacle by the obstacle margin plus ``r`` (``inf`` without obstacles).  Memoised on ``prof``.
     """
     k = int(k)
@@ -106,7 +106,7 @@ def _slack(prof: RouteProfile, k: int) -> float:
         dive = seg[seg[:, 1, 2] < seg[:, 0, 2]]
         if dive.shape[0] and zone_safe_radius(world, dive[:, 0], dive[:, 1], prof.dive_error).min() < prof.dive_error:
             return -1.0
-    return _obstacle_slack(world, seg)
+    return _obstacle_slack(world, seg, min(R_MAX, prof.reach))
 
 
 def surfacing_zone_slack(prof: RouteProfile, k: int) -> float:
@@ -165,22 +165,12 @@ def surfacing_legs(prof: RouteProfile, k: int) -> FloatArray:
     return out
 
 
-def _obstacle_slack(world: World, seg: FloatArray) -> float:
-    """Largest ``r`` with no static obstacle within its margin plus ``r`` of the legs (bisection)."""
-    shapes = list(world.obstacles)
-    if not shapes or seg.shape[0] == 0:
+def _obstacle_slack(world: World, seg: FloatArray, reach: float) -> float:
+    """Largest ``r`` up to ``reach`` with no static obstacle within its margin plus ``r`` of the legs (the route's
+    own test, :func:`~auvplan.nav.clearance.obstacle_safe_radius`; ``inf`` when clear at ``reach``)."""
+    if not world.obstacles or seg.shape[0] == 0:
         return np.inf
-
-    def hit(r: float) -> bool:
-        return any(bool(sh.segments_hit(seg, world.margins.obstacle + r).any()) for sh in shapes)
-
-    if not hit(R_MAX):
-        return np.inf
-    lo, hi = 0.0, R_MAX
-    while hi - lo > 0.01:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if hit(mid) else (mid, hi)
-    return lo
+    return float(obstacle_safe_radius(world, seg[:, 0], seg[:, 1], reach).min())
 
 
 def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],

@@ -8,6 +8,7 @@ exported ``.plan`` (:func:`launch_flight`)."""
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -19,11 +20,34 @@ from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..world import World
 from .mission import Mission
 
-__all__ = ["navigation_plan", "timed_navigation", "launch_flight"]
+__all__ = ["navigation_plan", "timed_navigation", "launch_flight", "LaunchFlight"]
+
+
+class LaunchFlight(NamedTuple):
+    """A mission flown from its launch (:func:`launch_flight`); times and distances from the first waypoint.
+
+    Attributes
+    ----------
+    launch_water_m : float
+        The dive's horizontal distance through the water (m).
+    leg_water_m : numpy.ndarray
+        ``(N - 1,)`` each leg's (m).
+    times_s : numpy.ndarray
+        ``(N,)`` arrival at each waypoint (s from the arrival at the first, dwells included).
+    node_s, node_t : numpy.ndarray
+        The flight's sub-step nodes after the dive: distance along the mission (3D, m) and time (s), both from the
+        first waypoint.
+    """
+
+    launch_water_m: float
+    leg_water_m: np.ndarray
+    times_s: np.ndarray
+    node_s: np.ndarray
+    node_t: np.ndarray
 
 
 def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, tail: ArrayLike | None = None,
-                  dwell: ArrayLike | None = None) -> tuple[float, np.ndarray] | None:
+                  dwell: ArrayLike | None = None) -> LaunchFlight | None:
     """The mission flown from its launch, as a ``.plan`` is (``mission check``): the dive from the surface above the
     first waypoint at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS`, then its legs, one flight through the current.
 
@@ -42,9 +66,9 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
 
     Returns
     -------
-    tuple or None
-        The launch's and each leg's ``(N - 1,)`` horizontal distance through the water (m); None where the current
-        beats the vehicle.
+    LaunchFlight or None
+        The launch's and each leg's horizontal distance through the water, and the legs' times, flown in the current
+        as it is once the dive is over (from the first waypoint); None where the current beats the vehicle.
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     legs = p.shape[0] - 1
@@ -55,7 +79,10 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
     if not tr.ok:
         return None
     w = tr.leg_water_m()
-    return float(w[0]), w[1:]
+    dive = float(np.linalg.norm(p[0] - launch_point(p)))
+    after = tr.node_s >= dive - 1e-9  # the nodes from the first waypoint on
+    return LaunchFlight(float(w[0]), w[1:], tr.times[1:] - tr.times[1], tr.node_s[after] - dive,
+                        tr.node_t[after] - tr.times[1])
 
 
 def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
@@ -84,13 +111,14 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed,
         flown = launch_flight(world, p, v.speed)  # launched from the surface
         h = np.hypot(*np.diff(p[:, :2], axis=0).T)
-        if flown is not None:
-            ratio = np.where(h > 0.0, flown[1] / np.where(h > 0.0, h, 1.0), 1.0)
-            d0 = launch_drift(world, p[0], nav, flown[0])
-        tr = traverse(world, p, v.speed)  # from the start: the periodic fixes' timer through the current
-        if tr.ok:
-            flight = (tr.node_s, tr.node_t)
-            if flown is None:  # the current beats the dive, not the route: no launch counted
+        if flown is not None:  # the periodic fixes' timer through the current on the same flight, after the dive
+            ratio = np.where(h > 0.0, flown.leg_water_m / np.where(h > 0.0, h, 1.0), 1.0)
+            d0 = launch_drift(world, p[0], nav, flown.launch_water_m)
+            flight = (flown.node_s, flown.node_t)
+        else:
+            tr = traverse(world, p, v.speed)  # the current beats the dive, not the route: no launch counted
+            if tr.ok:
+                flight = (tr.node_s, tr.node_t)
                 ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
     budget = nav
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
@@ -110,8 +138,9 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
 def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
     """The fixes' planned times through the World's current at each leg's speed (``fixes.csv`` ``t_s``), and
     the budget checked again with each leg's drift without bottom lock over its distance through the water
-    (:func:`auvplan.nav.mission.through_water`), the launch's dive counted, flown first (:func:`launch_flight`;
-    the times are the mission's from its first waypoint).
+    (:func:`auvplan.nav.mission.through_water`), the launch's dive counted, flown first (:func:`launch_flight`).
+    The times are those of that one flight (in a current that changes in time, the legs flown once the dive is
+    over, as the exported ``.plan``'s check flies them), counted from the arrival at the first waypoint.
 
     Parameters
     ----------
@@ -142,4 +171,5 @@ def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLi
     flown = launch_flight(world, p, speeds, back, nav.dwell_s)
     if flown is None:  # the current beats the dive: the legs' own water distances, the launch not counted
         return through_water(world, nav.timed(tr.times), tr.leg_water_m())
-    return through_water(world, nav.timed(tr.times), flown[1], launch_water_m=flown[0])
+    # the times of the flight the budget counts (and the .plan's check flies): the legs after the launch's dive
+    return through_water(world, nav.timed(flown.times_s), flown.leg_water_m, launch_water_m=flown.launch_water_m)
