@@ -68,8 +68,9 @@ def describe_navigation(nav: NavPlan) -> list[str]:
     m, b = nav.metrics(), nav.check.budget
     if not nav.ok:
         return [f"  navigation: NOT SAFE — {nav.message}"]
+    least = float(nav.check.leg_uncertain_altitude_m.min())
     head = (f"  navigation: {m['fixes']} fixes, predicted error at most {m['nav_error_max_m']:.1f} m, every leg "
-            f"clear of the seabed within it (least {float(nav.check.leg_uncertain_altitude_m.min()):.1f} m)")
+            f"clear of the seabed, obstacles and no-go zones within it (least altitude {least:.1f} m)")
     if m["fixes_fixed_period"] is not None:
         head += f"; a fix every {m['fixed_period_s']:.0f} s would need {m['fixes_fixed_period']}"
     idx = [i for i, k in enumerate(nav.kinds) if k]
