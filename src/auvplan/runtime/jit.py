@@ -42,7 +42,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
 
-from . import cacheload
+from . import aot, cacheload
 
 __all__ = ["jit_enabled", "kernel", "source_stamp"]
 
@@ -60,6 +60,11 @@ def jit_enabled() -> bool:
     bool
         numba's ``DISABLE_JIT`` setting, negated.
     """
+    if "numba" not in sys.modules and not os.path.exists(".numba_config.yaml"):  # numba's other source of it
+        try:  # numba's own reading of the variable (any integer; unset is 0), without importing numba (issue 56)
+            return not int(os.environ.get("NUMBA_DISABLE_JIT", "").strip() or 0)
+        except ValueError:
+            pass  # numba warns and takes its default: let it
     from numba import config
 
     return not bool(config.DISABLE_JIT)  # type: ignore[attr-defined]  # numba.config sets it at import
@@ -272,12 +277,19 @@ class _Deferred:
         functools.update_wrapper(self, fn)
         self._fn, self._options = fn, options
         self._made: Any = None
+        self._aot: Any = None  # {args key: compiled function} of this kernel (aot.table), {} when none
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        if self._made is None and not kwargs:
+            compiled = self._aot if self._aot is not None else _aot_of(self)
+            if compiled:
+                run = compiled.get(aot.args_key(args)) or compiled.get(aot.args_key(args, canonical=True))
+                if run is not None:  # the exact argument types it was built for: numba's own machine code
+                    return run(*args)
         return _made(self)(*args, **kwargs)
 
     def __getattr__(self, name: str) -> Any:  # signatures, stats … of the dispatcher
-        if name.startswith("__") or name in ("_fn", "_options", "_made"):
+        if name.startswith("__") or name in ("_fn", "_options", "_made", "_aot"):
             raise AttributeError(name)
         if name == "py_func":  # the Python function compiled (the docs' tests read it): no numba for it
             return self._fn
@@ -305,6 +317,16 @@ def _deferred(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
             _PENDING.append(stand_in)
             return stand_in
     return _compile(fn, options)
+
+
+def _aot_of(stand_in: _Deferred) -> dict[Any, Any]:
+    """The kernel's ahead-of-time functions (:func:`auvplan.runtime.aot.table`), looked up once."""
+    try:
+        found = aot.table(_package_root(stand_in._fn)).get(f"{stand_in._fn.__module__}:{stand_in._fn.__qualname__}")
+    except (KeyError, AttributeError):  # a kernel outside a package (``__main__``)
+        found = None
+    stand_in._aot = found or {}
+    return stand_in._aot
 
 
 def _made(stand_in: _Deferred) -> Any:
