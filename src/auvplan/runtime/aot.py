@@ -7,9 +7,9 @@ sources into one C extension (``numba.pycc``: numpy alone at import, ~0.3 ms), w
 options and the host's CPU and features, so that its machine code computes the same bits as the JIT's.  At a
 kernel's call, before numba is imported (:class:`auvplan.runtime.jit._Deferred`), :func:`table` gives the
 compiled functions of that kernel keyed on their argument types, and :func:`args_key` the key of the call's
-arguments as numba would type them (:func:`arg_key`: dtype, dimensions, layout, writeable and aligned of an
-array; the numba type of a scalar; a tuple element by element): an exact match runs the compiled function, and
-anything else — a type never built, a keyword argument, a value numba would type otherwise (a Python int past
+arguments as numba would type them (:func:`arg_key`: dtype, dimensions, layout and writeable of an array;
+the numba type of a scalar; a tuple element by element): an exact match runs the compiled function, and anything
+else — a type never built, a keyword argument, a value numba would type otherwise (a Python int past
 int64, an ndarray subclass) — goes to numba as before.  Nothing is ever converted.
 
 **Never stale.**  The module's name hashes :func:`build_key`: the kernels' :func:`~auvplan.runtime.jit.source_stamp`
@@ -33,7 +33,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
-__all__ = ["DIR_VAR", "ENV_VAR", "PREFIX", "arg_key", "args_key", "build_key", "enabled", "folder",
+__all__ = ["DIR_VAR", "ENV_VAR", "MISSES", "PREFIX", "arg_key", "args_key", "build_key", "enabled", "folder",
            "module_name", "runtime_key", "table"]
 
 ENV_VAR = "AUVPLAN_AOT"
@@ -41,6 +41,10 @@ ENV_VAR = "AUVPLAN_AOT"
 
 DIR_VAR = "AUVPLAN_AOT_DIR"
 """The folder of the built modules, when set (else :func:`folder`'s default)."""
+
+MISSES: list[str] = []
+"""Kernels (``module:qualname``) called in this process with argument types their built module lacks, or with
+keywords: numba was used from then on (what ``tools/identity_dump.py`` and the tests read)."""
 
 PREFIX = "_auvplan_kernels_"
 """The start of a built module's name (then 20 hex digits of :func:`build_key`'s hash)."""
@@ -85,10 +89,10 @@ def _key_into(value: Any, out: list[Any], canonical: bool) -> bool:
     t = type(value)
     scalars = _SCALARS or _numpy_scalars()
     if t is _ARRAY[0]:
-        n = value.flags.num  # numpy's flag bits: 1 C-, 2 F-contiguous, 0x100 aligned, 0x400 writeable
+        n = value.flags.num  # numpy's flag bits: 1 C-, 2 F-contiguous, 0x400 writeable
         dtype = _CANONICAL.get(value.dtype) if canonical else value.dtype
         out.append(id(dtype))
-        out.append(value.ndim << 16 | n & 0x500 | (1 if n & 1 else n & 2))
+        out.append(value.ndim << 16 | n & 0x400 | (1 if n & 1 else n & 2))
         return True
     name = scalars.get(t)
     if name is not None:
@@ -121,9 +125,10 @@ def arg_key(value: Any, canonical: bool = False) -> tuple[Any, ...] | None:
         For a ``numpy.ndarray`` (exactly): the identity of its dtype object (numpy's dtypes of numbers are one
         object each, so another object never matches) and ``ndim << 16 | flags | layout``, layout 1 for
         C-contiguous (also when F-contiguous too, as numba types it), 2 for F-contiguous, 0 for any, flags the
-        writeable (0x400) and aligned (0x100) bits.  For a scalar numba's type name (``"float64"``, ``"int64"``,
-        ``"bool"`` …).  For a tuple its elements' keys between ``"("`` and ``")"``.  None for a value of no
-        known type or a Python int past int64 (numba types it uint64): never matched.
+        writeable bit (0x400; numba's type of an array is read-only or not, and always aligned).  For a scalar
+        numba's type name (``"float64"``, ``"int64"``, ``"bool"`` …).  For a tuple its elements' keys between
+        ``"("`` and ``")"``.  None for a value of no known type or a Python int past int64 (numba types it uint64):
+        never matched.
     """
     out: list[Any] = []
     return tuple(out) if _key_into(value, out, canonical) else None
@@ -152,7 +157,7 @@ def args_key(args: tuple[Any, ...], canonical: bool = False) -> tuple[Any, ...] 
         if t is array and not canonical:
             n = v.flags.num
             out.append(id(v.dtype))
-            out.append(v.ndim << 16 | n & 0x500 | (1 if n & 1 else n & 2))
+            out.append(v.ndim << 16 | n & 0x400 | (1 if n & 1 else n & 2))
         elif t is float:
             out.append("float64")
         elif not _key_into(v, out, canonical):
@@ -199,9 +204,11 @@ def runtime_key(built: list[Any]) -> tuple[Any, ...]:
             out.append(")")
         elif len(key) == 5:
             dtype_str, ndim, layout, writeable, aligned = key
+            if not aligned:  # numba.typeof never gives it: no call is of this type
+                raise ValueError(f"unaligned array key {key!r}")
             dtype = _CANONICAL.setdefault(np.dtype(dtype_str), np.dtype(dtype_str))
             out.append(id(dtype))
-            out.append(int(ndim) << 16 | (0x400 if writeable else 0) | (0x100 if aligned else 0) | _LAYOUTS[layout])
+            out.append(int(ndim) << 16 | (0x400 if writeable else 0) | _LAYOUTS[layout])
         else:
             raise ValueError(f"unknown argument key {key!r}")
 

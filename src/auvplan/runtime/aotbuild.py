@@ -91,7 +91,7 @@ def type_key(t: Any) -> Any:
             dtype = numpy_support.as_dtype(t.dtype)
         except (NotImplementedError, TypeError):
             return None
-        if dtype.kind not in "biufc":
+        if dtype.kind not in "biufc" or not t.aligned:  # numba.typeof's arrays are aligned (also when not)
             return None
         return [dtype.str, t.ndim, t.layout, bool(t.mutable), bool(t.aligned)]
     if type(t) in (types.Integer, types.Float, types.Boolean, types.Complex):

@@ -27,6 +27,11 @@ the installed files; ~0.1-0.2 s).  A kernel found in the disk cache is loaded wi
 lowering registries when its machine code needs nothing they add (:mod:`auvplan.runtime.cacheload`; ~0.2 s,
 ``AUVPLAN_NUMBA_REFRESH=1`` for numba's own load).  What is left at a kernel's first call is numba's own
 floor: its import (~0.2-0.3 s) and ~3 ms a cached kernel (LLVM).
+
+**Kernels compiled ahead of time run without numba.**  After ``auvplan kernels build`` (:mod:`auvplan.runtime.aotbuild`:
+every signature numba's cache holds, compiled by ``numba.pycc`` into one C extension with the kernel's own options
+for the host's CPU and features: the JIT's bits), a stand-in's call whose argument types match a built signature
+exactly runs the built function (:mod:`auvplan.runtime.aot`); any other call makes the dispatchers as above.
 """
 
 from __future__ import annotations
@@ -280,12 +285,14 @@ class _Deferred:
         self._aot: Any = None  # {args key: compiled function} of this kernel (aot.table), {} when none
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        if self._made is None and not kwargs:
+        if self._made is None:
             compiled = self._aot if self._aot is not None else _aot_of(self)
             if compiled:
-                run = compiled.get(aot.args_key(args)) or compiled.get(aot.args_key(args, canonical=True))
+                run = None if kwargs else (compiled.get(aot.args_key(args))
+                                           or compiled.get(aot.args_key(args, canonical=True)))
                 if run is not None:  # the exact argument types it was built for: numba's own machine code
                     return run(*args)
+                aot.MISSES.append(f"{self._fn.__module__}:{self._fn.__qualname__}")
         return _made(self)(*args, **kwargs)
 
     def __getattr__(self, name: str) -> Any:  # signatures, stats … of the dispatcher
