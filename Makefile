@@ -15,8 +15,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[all,test]'
 	touch $(STAMP)
 
+# then the kernels the demo compiled, compiled ahead of time (auvplan kernels build: a C compiler; ~40 s once, nothing
+# when up to date): later commands start without importing numba.  Without a compiler, one line and numba as before
 demo: $(STAMP)
 	$(BIN)/auvplan demo --out results/demo
+	@$(BIN)/auvplan kernels build || true
 
 # pytest over the suite, and beside it the kernels' run with numba off (test-nojit: one process each, so the
 # two cores of CI are both used; mypy's run starts beside them too, tests/static/lint_runs.py).  The numba-off

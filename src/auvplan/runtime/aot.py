@@ -223,7 +223,7 @@ def _version_file(package: str) -> str:
         spec = importlib.util.find_spec(package)
     except (ImportError, ValueError):
         return ""
-    origin = getattr(spec, "origin", None)
+    origin: str | None = getattr(spec, "origin", None)
     if not origin:
         return ""
     try:
@@ -234,7 +234,7 @@ def _version_file(package: str) -> str:
 
 def _cpu() -> str:
     """The first processor's model and flags (``/proc/cpuinfo``), else :func:`platform.processor`."""
-    parts = []
+    parts: list[str] = []
     try:
         with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
             for line in fh:

@@ -174,11 +174,11 @@ def _symbol(qualified: str, keys: list[Any]) -> str:
 
 def _compiler_class() -> Any:
     """pycc's ``CC`` compiling each kernel with its dispatcher's options for the host's CPU and features."""
-    from numba.core import codegen
-    from numba.core.compiler import Flags
-    from numba.core.registry import cpu_target
-    from numba.pycc import CC
-    from numba.pycc import compiler as pycc
+    codegen: Any = importlib.import_module("numba.core.codegen")  # numba's untyped modules, as Any
+    compiler: Any = importlib.import_module("numba.core.compiler")
+    registry: Any = importlib.import_module("numba.core.registry")
+    pycc: Any = importlib.import_module("numba.pycc.compiler")
+    cc_module: Any = importlib.import_module("numba.pycc.cc")
 
     class HostCodegen(codegen.AOTCPUCodegen):  # type: ignore[misc]
         def _customize_tm_features(self) -> str:
@@ -187,7 +187,7 @@ def _compiler_class() -> Any:
     class HostModuleCompiler(pycc.ModuleCompiler):  # type: ignore[misc]
         def __init__(self, entries: Any, name: str, use_nrt: bool, options: dict[int, Any]) -> None:
             super().__init__(entries, name, use_nrt, cpu_name="host")
-            self.context = cpu_target.target_context.subtarget(
+            self.context = registry.cpu_target.target_context.subtarget(
                 _internal_codegen=HostCodegen(name, cpu_name="host"), aot_mode=True)
             self._options = options
 
@@ -198,7 +198,7 @@ def _compiler_class() -> Any:
             def compile_extra(typing: Any, target: Any, func: Any, args: Any, return_type: Any, flags: Any,
                               locals: Any, library: Any) -> Any:
                 dispatcher = options[id(func)]
-                own = Flags()  # the dispatcher's, as numba's JIT makes them (Dispatcher._compile_core)
+                own: Any = compiler.Flags()  # the dispatcher's, as numba's JIT makes them (Dispatcher._compile_core)
                 dispatcher.targetdescr.options.parse_as_flags(own, dispatcher.targetoptions)
                 own.no_compile, own.nrt = flags.no_compile, flags.nrt
                 return original(typing, target, func, args, return_type, own, locals=dispatcher.locals,
@@ -210,15 +210,15 @@ def _compiler_class() -> Any:
             finally:
                 pycc.compile_extra = original
 
-    class HostCC(CC):  # type: ignore[misc]
+    class HostCC(cc_module.CC):  # type: ignore[misc]
         options: dict[int, Any] = {}
 
         def _compile_object_files(self, build_dir: str) -> Any:
-            compiler = HostModuleCompiler(self._export_entries, self._basename, self._use_nrt, self.options)
-            compiler.external_init_function = self._init_function
+            module_compiler = HostModuleCompiler(self._export_entries, self._basename, self._use_nrt, self.options)
+            module_compiler.external_init_function = self._init_function
             temp_obj = os.path.join(build_dir, os.path.splitext(self._output_file)[0] + ".o")
-            compiler.write_native_object(temp_obj, wrap=True)
-            return [temp_obj], compiler.dll_exports
+            module_compiler.write_native_object(temp_obj, wrap=True)
+            return [temp_obj], module_compiler.dll_exports
 
     return HostCC
 
@@ -235,7 +235,7 @@ def _plan(dispatchers: list[Any]) -> tuple[dict[str, list[tuple[str, list[Any], 
             if None in keys:
                 skipped += 1
                 continue
-            plan.setdefault(qualified, []).append((_symbol(qualified, keys), keys, sig, d))  # type: ignore[arg-type]
+            plan.setdefault(qualified, []).append((_symbol(qualified, keys), keys, sig, d))
     return plan, skipped
 
 
@@ -292,8 +292,7 @@ def build(package: str = "auvplan", where: Path | None = None) -> Built:
 def _compile(plan: dict[str, list[tuple[str, list[Any], Any, Any]]], name: str, folder: Path,
              manifest: dict[str, Any]) -> None:
     """Build the module in a temporary folder beside ``folder``'s, then move it and its manifest into place."""
-    from numba.core import typing
-
+    typing: Any = importlib.import_module("numba.core.typing")
     cc_class = _compiler_class()
     tmp = Path(tempfile.mkdtemp(prefix=name + ".", dir=folder))
     try:
@@ -315,6 +314,5 @@ def _compile(plan: dict[str, list[tuple[str, list[Any], Any, Any]]], name: str, 
 
 
 def _entry(symbol: str, sig: Any, func: Any) -> Any:
-    from numba.pycc.compiler import ExportEntry
-
-    return ExportEntry(symbol, sig, func)
+    pycc: Any = importlib.import_module("numba.pycc.compiler")
+    return pycc.ExportEntry(symbol, sig, func)

@@ -328,12 +328,14 @@ def _deferred(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
 
 def _aot_of(stand_in: _Deferred) -> dict[Any, Any]:
     """The kernel's ahead-of-time functions (:func:`auvplan.runtime.aot.table`), looked up once."""
+    found: dict[Any, Any] | None
     try:
         found = aot.table(_package_root(stand_in._fn)).get(f"{stand_in._fn.__module__}:{stand_in._fn.__qualname__}")
     except (KeyError, AttributeError):  # a kernel outside a package (``__main__``)
         found = None
-    stand_in._aot = found or {}
-    return stand_in._aot
+    compiled: dict[Any, Any] = found or {}
+    stand_in._aot = compiled
+    return compiled
 
 
 def _made(stand_in: _Deferred) -> Any:
