@@ -239,12 +239,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", default="results/bench-front")
     ap.add_argument("--figure-md", default="", help="also write docs/figures/NAME.md")
     ap.add_argument("--no-kernels-build", action="store_true",
-                    help="measure without `auvplan kernels build` (numba's cache alone, as before it)")
+                    help="measure without kernels compiled ahead of time (numba's cache alone: AUVPLAN_AOT=0)")
     ap.add_argument("--from-partial", type=float, nargs=2, metavar=("LOAD0", "LOAD1"),
                     help="no run: the table of OUT/partial.json (a time-boxed run), the load averages given")
     args = ap.parse_args(argv)
     if args.from_partial:
         return _from_partial(args)
+    if args.no_kernels_build:  # nor a module built before: numba's cache alone (auvplan.runtime.aot)
+        os.environ["AUVPLAN_AOT"] = "0"
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="auvplan-front-") as tmp:
         grid = write_grid(Path(tmp) / "grid_1mb.nc")

@@ -57,6 +57,11 @@ def horner(c, t):
 def weighted(pair, w):
     a, s = pair
     return (a * w).sum() * s + {bias}
+
+
+@kernel
+def never_before(x):
+    return 2.0 * x
 """
 
 CALLS = """
@@ -192,6 +197,20 @@ def test_a_call_of_any_other_type_goes_to_numba(built):
         """
     r = _py(code, root, AUVPLAN_AOT_DIR=str(where))
     assert r.returncode == 0 and "fell back" in r.stdout, r.stderr
+
+
+def test_a_kernel_the_module_lacks_goes_to_numba(built):
+    """A kernel never compiled before the build is not in the module: its call is a miss, numba runs it."""
+    root, where = built
+    code = """
+        import sys
+        import apkg.k as k
+        from auvplan.runtime import aot
+        print(k.never_before(1.5), aot.MISSES, "numba" in sys.modules)
+        """
+    r = _py(code, root, AUVPLAN_AOT_DIR=str(where))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["3.0", "['apkg.k:never_before']", "True"]
 
 
 VALUES = [

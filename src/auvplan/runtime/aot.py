@@ -43,8 +43,9 @@ DIR_VAR = "AUVPLAN_AOT_DIR"
 """The folder of the built modules, when set (else :func:`folder`'s default)."""
 
 MISSES: list[str] = []
-"""Kernels (``module:qualname``) called in this process with argument types their built module lacks, or with
-keywords: numba was used from then on (what ``tools/identity_dump.py`` and the tests read)."""
+"""Kernels (``module:qualname``) called in this process, a module being built, that it lacks, or with argument
+types it lacks, or with keywords: numba was used from then on (what ``tools/identity_dump.py`` and the tests
+read)."""
 
 PREFIX = "_auvplan_kernels_"
 """The start of a built module's name (then 20 hex digits of :func:`build_key`'s hash)."""

@@ -287,7 +287,7 @@ class _Deferred:
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         if self._made is None:
             compiled = self._aot if self._aot is not None else _aot_of(self)
-            if compiled:
+            if compiled is not _NO_MODULE:
                 run = None if kwargs else (compiled.get(aot.args_key(args))
                                            or compiled.get(aot.args_key(args, canonical=True)))
                 if run is not None:  # the exact argument types it was built for: numba's own machine code
@@ -326,14 +326,19 @@ def _deferred(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
     return _compile(fn, options)
 
 
+_NO_MODULE: dict[Any, Any] = {}
+"""A kernel's ahead-of-time functions when no module is built for its package (else its own dict, empty when the
+module lacks the kernel: a call is then a miss)."""
+
+
 def _aot_of(stand_in: _Deferred) -> dict[Any, Any]:
     """The kernel's ahead-of-time functions (:func:`auvplan.runtime.aot.table`), looked up once."""
-    found: dict[Any, Any] | None
     try:
-        found = aot.table(_package_root(stand_in._fn)).get(f"{stand_in._fn.__module__}:{stand_in._fn.__qualname__}")
+        table = aot.table(_package_root(stand_in._fn))
     except (KeyError, AttributeError):  # a kernel outside a package (``__main__``)
-        found = None
-    compiled: dict[Any, Any] = found or {}
+        table = {}
+    compiled: dict[Any, Any] = (table.get(f"{stand_in._fn.__module__}:{stand_in._fn.__qualname__}", {}) if table
+                                else _NO_MODULE)
     stand_in._aot = compiled
     return compiled
 
