@@ -319,12 +319,12 @@ def _serve_command(sub: Any) -> None:
 
 
 def _kernels_command(sub: Any) -> None:
-    """``kernels build``: the kernels compiled ahead of time (:mod:`auvplan.cli.kernels`)."""
+    """``kernels build``: the kernels compiled ahead of time (:mod:`auvplan.cli.info`)."""
     s = sub.add_parser("kernels", help="compile the kernels ahead of time: commands then start without numba")
     ksub = s.add_subparsers(dest="kernels_command", required=True)
     b = _command(ksub, "build", "compile every kernel numba has compiled here (after planning each SCENARIO) into "
                  "one extension module (a C compiler is needed; without one, numba as before)",
-                 "kernels:cmd_kernels_build")
+                 "info:cmd_kernels_build")
     b.add_argument("scenarios", nargs="*", metavar="SCENARIO", help="built-in names or TOML files to plan first")
 
 
