@@ -12,7 +12,8 @@ cannot express (literals, omitted arguments, records, lists …) are left to num
 The module is written under an exclusive ``flock`` of the folder's ``.lock`` file, built in a temporary folder
 beside it and moved into place with ``os.replace`` (the module first, then its manifest: a process reading
 between the two finds a manifest whose functions are named by their kernel and types, so an older manifest
-names either the same function or none).  A module that already holds every signature is left as it is.
+names either the same function or none).  A module that already holds every signature is left as it is; in the
+package's own folder, the modules of older sources (and this Python) are removed.
 A build that cannot be done (no C compiler, Python's headers missing, a kernel pycc refuses) raises
 :class:`BuildError` with one line: the kernels then run through numba as before.
 """
@@ -276,6 +277,8 @@ def build(package: str = "auvplan", where: Path | None = None) -> Built:
     try:
         folder.mkdir(parents=True, exist_ok=True)
         with _locked(folder / (aot.PREFIX + "build.lock")):
+            if where is None:
+                _remove_stale(folder, name)
             with contextlib.suppress(OSError, ValueError):
                 old = json.loads((folder / (name + ".json")).read_text(encoding="utf-8"))
                 if old == manifest and path.is_file():
@@ -287,6 +290,18 @@ def build(package: str = "auvplan", where: Path | None = None) -> Built:
         text = " ".join(str(exc).split()) or type(exc).__name__
         raise BuildError(f"{type(exc).__name__}: {text[:300]}") from exc
     return Built(path, len(plan), count, skipped, time.monotonic() - t0)
+
+
+def _remove_stale(folder: Path, name: str) -> None:
+    """Remove the modules of older sources (this Python's, another name) from the package's own folder, with their
+    manifests: never found again (their names hash other stamps), ~1.5 MB each."""
+    suffix = importlib.machinery.EXTENSION_SUFFIXES[0]
+    for path in folder.glob(aot.PREFIX + "*" + suffix):
+        old = path.name[: -len(suffix)]
+        if old != name:
+            for stale in (path, folder / (old + ".json")):
+                with contextlib.suppress(OSError):
+                    stale.unlink()
 
 
 def _compile(plan: dict[str, list[tuple[str, list[Any], Any, Any]]], name: str, folder: Path,
