@@ -7,7 +7,8 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
-	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers nav-plan-run
+	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers \
+	aot-identity nav-plan-run
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -15,8 +16,11 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e '.[all,test]'
 	touch $(STAMP)
 
+# then the kernels the demo compiled, compiled ahead of time (auvplan kernels build: a C compiler; ~40 s once, nothing
+# when up to date): later commands start without importing numba.  Without a compiler, one line and numba as before
 demo: $(STAMP)
 	$(BIN)/auvplan demo --out results/demo
+	@$(BIN)/auvplan kernels build || true
 
 # pytest over the suite, and beside it the kernels' run with numba off (test-nojit: one process each, so the
 # two cores of CI are both used; mypy's run starts beside them too, tests/static/lint_runs.py).  The numba-off
@@ -38,6 +42,16 @@ survey-flown: $(STAMP)
 # plan + export and run write the same mission files on the same route (mariana-nav without its fixed route; ~15 s)
 nav-plan-run: $(STAMP)
 	$(BIN)/python -m pytest -q -s tests/heavy/test_nav24_plan_run.py
+
+# issue 56: the kernels compiled ahead of time give numba's JIT's bits: every built-in's plans and flights dumped with
+# the JIT (which fills numba's cache), the kernels built, dumped again with the module; 0 arrays may differ and the
+# second run says numba was not imported (docs/performance.md; ~1 min of CPU once the kernels are compiled)
+aot-identity: $(STAMP)
+	@tmp=$$(mktemp -d); \
+	AUVPLAN_AOT=0 nice -n 5 $(BIN)/python tools/identity_dump.py --out $$tmp/jit.npz > $$tmp/jit.log && \
+	$(BIN)/auvplan kernels build && \
+	AUVPLAN_AOT=1 nice -n 5 $(BIN)/python tools/identity_dump.py --out $$tmp/aot.npz | tail -1 && \
+	$(BIN)/python tools/identity_dump.py --compare $$tmp/jit.npz $$tmp/aot.npz; code=$$?; rm -rf $$tmp; exit $$code
 
 # issue 56: a long mission (marcus-wake, a ~31 h flight, then its results, report and exports) in a fresh process,
 # every stderr line timed: no silent gap over 2 s (tests/heavy, 12 s CPU, 20-35 s at a load of 5; the suite runs a

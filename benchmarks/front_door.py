@@ -15,13 +15,16 @@ system, ``os.wait4`` of the child: not wall time) of one fresh process:
 * ``data inspect FILE`` of a 1 MB NetCDF bathymetry grid written for the run (lat/lon axes, a float64
   ``elevation`` variable with CF attributes).
 
-One warm-up run of each command per tree comes first (just before its first measure: it writes the compiled
-kernels' caches), then ``--rounds`` rounds, previous / current in one round and current / previous in the
-next, so that both see the same load; each figure is the median over the rounds.  The warm-up also fills
-the readers' cache (``~/.cache/auvplan/data``, :mod:`auvplan.io.data.cache`): the figures are those of a
-scenario run before on the machine; its first run pays the reading and regridding of its files once.
-Both trees are byte-compiled first (:func:`byte_compile`), as installing auvplan does: an environment with
-``PYTHONDONTWRITEBYTECODE=1`` (this machine's) would otherwise make every process compile the sources again.
+One warm-up run of each command per tree comes first (it writes the compiled kernels' caches), then
+``auvplan kernels build`` in the current tree (the kernels the warm-ups compiled, compiled ahead of time into
+one extension module: a later command runs them without importing numba; ``--no-kernels-build`` measures
+numba's cache alone, each warm-up then just before its command's first measure), then ``--rounds`` rounds,
+previous / current in one round and current / previous in the next, so that both see the same load; each figure is
+the median over the rounds. The warm-up also fills the readers' cache (``~/.cache/auvplan/data``,
+:mod:`auvplan.io.data.cache`): the figures are those of a scenario run before on the machine; its first run pays the
+reading and regridding of its files once. Both trees are byte-compiled first (:func:`byte_compile`), as installing
+auvplan does: an environment with ``PYTHONDONTWRITEBYTECODE=1`` (this machine's) would otherwise make every
+process compile the sources again.
 
 Beside ``plan``, the plan's own CPU: the same command run a second time inside one warm process
 (``auvplan.cli.main`` twice, the second timed), so that ``plan`` CPU − own CPU is what the front door adds
@@ -137,15 +140,30 @@ def commands(prev: Path, cur: Path, grid: Path, names: list[str] | None,
     return out
 
 
+def build_kernels(cur: Path) -> str:
+    """``auvplan kernels build`` in the current tree (the kernels the warm-ups compiled, ahead of time): its line."""
+    env = {**os.environ, "PYTHONPATH": str(cur / "src")}
+    r = subprocess.run([sys.executable, "-m", "auvplan", "kernels", "build"], env=env, cwd=tempfile.gettempdir(),
+                       capture_output=True, text=True, timeout=1800)
+    return (r.stdout or r.stderr).strip()
+
+
 def measure(prev: Path, cur: Path, cmds: list[tuple[str, list[str], bool]], rounds: int,
-            partial: Path | None = None) -> dict[str, dict]:
+            partial: Path | None = None, kernels: bool = True) -> dict[str, dict]:
     """Median CPU of every command in both trees over interleaved rounds, and plans' own CPU (current);
-    every measure so far is written to ``partial`` (JSON) as it comes, so a time-boxed run keeps them."""
+    every measure so far is written to ``partial`` (JSON) as it comes, so a time-boxed run keeps them.
+    ``kernels``: every command's warm-up first, then ``auvplan kernels build`` in the current tree (a release
+    before it has no such step), then the rounds."""
     runs: dict[str, dict[str, list[float]]] = {label: {"prev": [], "cur": [], "own": []} for label, _, _ in cmds}
     codes: dict[str, dict[str, int]] = {label: {} for label, _, _ in cmds}
+    if kernels:
+        for label, argv, both in cmds:
+            for side, tree in (("prev", prev), ("cur", cur)) if both else (("cur", cur),):
+                codes[label][side] = cpu_of(tree, argv)[1]
+        print(f"kernels build: {build_kernels(cur)}", file=sys.stderr, flush=True)
     for k in range(rounds):
         for label, argv, both in cmds:
-            if k == 0:  # warm-up of this command (the kernels' and readers' caches of both trees) just before it
+            if k == 0 and not kernels:  # warm-up of this command (the kernels' and readers' caches) just before it
                 for side, tree in (("prev", prev), ("cur", cur)) if both else (("cur", cur),):
                     codes[label][side] = cpu_of(tree, argv)[1]
             order = (("prev", prev), ("cur", cur)) if k % 2 == 0 else (("cur", cur), ("prev", prev))
@@ -220,11 +238,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--validate-only", nargs="*", default=[], help="built-ins whose validate alone is measured")
     ap.add_argument("--out", default="results/bench-front")
     ap.add_argument("--figure-md", default="", help="also write docs/figures/NAME.md")
+    ap.add_argument("--no-kernels-build", action="store_true",
+                    help="measure without kernels compiled ahead of time (numba's cache alone: AUVPLAN_AOT=0)")
     ap.add_argument("--from-partial", type=float, nargs=2, metavar=("LOAD0", "LOAD1"),
                     help="no run: the table of OUT/partial.json (a time-boxed run), the load averages given")
     args = ap.parse_args(argv)
     if args.from_partial:
         return _from_partial(args)
+    if args.no_kernels_build:  # nor a module built before: numba's cache alone (auvplan.runtime.aot)
+        os.environ["AUVPLAN_AOT"] = "0"
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="auvplan-front-") as tmp:
         grid = write_grid(Path(tmp) / "grid_1mb.nc")
@@ -235,10 +257,13 @@ def main(argv: list[str] | None = None) -> int:
             for tree in (wt, ROOT):
                 byte_compile(tree)
             rows = measure(wt, ROOT, commands(wt, ROOT, grid, args.scenarios, args.validate_only), args.rounds,
-                           Path(args.out) / "partial.json")
+                           Path(args.out) / "partial.json", kernels=not args.no_kernels_build)
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)], check=False)
     text, ok = table(rows, args.prev, args.rounds, (load0, os.getloadavg()[0]))
+    text = text.replace("as an install does;", "as an install does; " + (
+        "numba's cache alone (`--no-kernels-build`);" if args.no_kernels_build else
+        "the current tree's kernels compiled ahead of time after the warm-up (`auvplan kernels build`);"), 1)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "summary.md").write_text(text)

@@ -19,6 +19,11 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 # or a file sees its own computation; tests/unit/test_data_cache.py turns it on in a folder of its own.
 os.environ.setdefault("AUVPLAN_CACHE", "0")
 
+# The kernels compiled ahead of time (auvplan.runtime.aot: `auvplan kernels build`) are not used in the tests, so
+# that a module built in this checkout does not decide which machine code a test runs (it gives the JIT's bits;
+# tests/integration/test_aot.py builds its own and checks that); subprocesses inherit it.
+os.environ.setdefault("AUVPLAN_AOT", "0")
+
 # The user's cache folder ($XDG_CACHE_HOME, ~/.cache) is the session's own: a job run without --out keeps its
 # checkpoints in $XDG_CACHE_HOME/auvplan/tasks (a departure sweep), keyed on its inputs and auvplan's version but not
 # on the code, so that checkpoints left there by a killed run of other code (another checkout on the machine)

@@ -198,6 +198,10 @@ def main(argv: list[str] | None = None) -> int:
     data = collect(args.budget, args.max_time, args.only)
     np.savez_compressed(args.out, **data)  # type: ignore[arg-type]
     print(f"{len(data)} arrays written to {args.out}")
+    from auvplan.runtime import aot  # which machine code ran: the kernels compiled ahead of time, or numba's JIT
+
+    print(f"numba imported: {'numba' in sys.modules}; kernels compiled ahead of time: "
+          f"{'off' if not aot.enabled() else 'first miss ' + aot.MISSES[0] if aot.MISSES else 'every call bound'}")
     return 0
 
 

@@ -1,5 +1,5 @@
 """``scenarios``, ``validate``, ``data inspect`` and ``scenario new|schema``: what is there, and is this file
-right — read and printed."""
+right — read and printed; and ``kernels build`` (the kernels compiled ahead of time, issue 56)."""
 
 from __future__ import annotations
 
@@ -107,4 +107,30 @@ def cmd_scenario_schema(args: argparse.Namespace) -> int:
     from ..io.scenario.schema import scenario_schema
 
     sys.stdout.write(json.dumps(scenario_schema(), indent=2) + "\n")
+    return 0
+
+
+def cmd_kernels_build(args: argparse.Namespace) -> int:
+    """``kernels build [SCENARIO ...]``: plan each SCENARIO (a process each: its kernels compiled into numba's cache),
+    then compile every kernel signature numba's cache holds for the current sources into one extension module
+    (:mod:`auvplan.runtime.aotbuild`).  A build that cannot be done is one line on stderr and exit 1: the kernels
+    then run through numba, as before."""
+    import subprocess
+
+    from ..runtime.aotbuild import BuildError, build
+
+    for name in args.scenarios:
+        done = subprocess.run([sys.executable, "-m", "auvplan", "-q", "plan", name, "--json"],
+                              stdout=subprocess.DEVNULL, check=False)
+        if done.returncode == 2:  # its one line is on stderr already
+            return 2
+    try:
+        built = build()
+    except BuildError as exc:
+        print(f"auvplan: kernels not compiled ahead of time ({exc}); they run through numba as before",
+              file=sys.stderr)
+        return 1
+    done_how = "up to date" if built.seconds == 0 else f"built in {built.seconds:.0f} s"
+    line = f"kernels: {built.signatures} signatures of {built.kernels} kernels in {built.path} ({done_how})"
+    print(line + (f"; {built.skipped} left to numba (types it binds at run time)" if built.skipped else ""))
     return 0

@@ -27,6 +27,11 @@ the installed files; ~0.1-0.2 s).  A kernel found in the disk cache is loaded wi
 lowering registries when its machine code needs nothing they add (:mod:`auvplan.runtime.cacheload`; ~0.2 s,
 ``AUVPLAN_NUMBA_REFRESH=1`` for numba's own load).  What is left at a kernel's first call is numba's own
 floor: its import (~0.2-0.3 s) and ~3 ms a cached kernel (LLVM).
+
+**Kernels compiled ahead of time run without numba.**  After ``auvplan kernels build`` (:mod:`auvplan.runtime.aotbuild`:
+every signature numba's cache holds, compiled by ``numba.pycc`` into one C extension with the kernel's own options
+for the host's CPU and features: the JIT's bits), a stand-in's call whose argument types match a built signature
+exactly runs the built function (:mod:`auvplan.runtime.aot`); any other call makes the dispatchers as above.
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, overload
 
-from . import cacheload
+from . import aot, cacheload
 
 __all__ = ["jit_enabled", "kernel", "source_stamp"]
 
@@ -60,6 +65,11 @@ def jit_enabled() -> bool:
     bool
         numba's ``DISABLE_JIT`` setting, negated.
     """
+    if "numba" not in sys.modules and not os.path.exists(".numba_config.yaml"):  # numba's other source of it
+        try:  # numba's own reading of the variable (any integer; unset is 0), without importing numba (issue 56)
+            return not int(os.environ.get("NUMBA_DISABLE_JIT", "").strip() or 0)
+        except ValueError:
+            pass  # numba warns and takes its default: let it
     from numba import config
 
     return not bool(config.DISABLE_JIT)  # type: ignore[attr-defined]  # numba.config sets it at import
@@ -272,12 +282,21 @@ class _Deferred:
         functools.update_wrapper(self, fn)
         self._fn, self._options = fn, options
         self._made: Any = None
+        self._aot: Any = None  # {args key: compiled function} of this kernel (aot.table), {} when none
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        if self._made is None:
+            compiled = self._aot if self._aot is not None else _aot_of(self)
+            if compiled is not _NO_MODULE:
+                run = None if kwargs else (compiled.get(aot.args_key(args))
+                                           or compiled.get(aot.args_key(args, canonical=True)))
+                if run is not None:  # the exact argument types it was built for: numba's own machine code
+                    return run(*args)
+                aot.MISSES.append(f"{self._fn.__module__}:{self._fn.__qualname__}")
         return _made(self)(*args, **kwargs)
 
     def __getattr__(self, name: str) -> Any:  # signatures, stats … of the dispatcher
-        if name.startswith("__") or name in ("_fn", "_options", "_made"):
+        if name.startswith("__") or name in ("_fn", "_options", "_made", "_aot"):
             raise AttributeError(name)
         if name == "py_func":  # the Python function compiled (the docs' tests read it): no numba for it
             return self._fn
@@ -305,6 +324,23 @@ def _deferred(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
             _PENDING.append(stand_in)
             return stand_in
     return _compile(fn, options)
+
+
+_NO_MODULE: dict[Any, Any] = {}
+"""A kernel's ahead-of-time functions when no module is built for its package (else its own dict, empty when the
+module lacks the kernel: a call is then a miss)."""
+
+
+def _aot_of(stand_in: _Deferred) -> dict[Any, Any]:
+    """The kernel's ahead-of-time functions (:func:`auvplan.runtime.aot.table`), looked up once."""
+    try:
+        table = aot.table(_package_root(stand_in._fn))
+    except (KeyError, AttributeError):  # a kernel outside a package (``__main__``)
+        table = {}
+    compiled: dict[Any, Any] = (table.get(f"{stand_in._fn.__module__}:{stand_in._fn.__qualname__}", {}) if table
+                                else _NO_MODULE)
+    stand_in._aot = compiled
+    return compiled
 
 
 def _made(stand_in: _Deferred) -> Any:

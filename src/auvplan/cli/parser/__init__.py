@@ -194,6 +194,16 @@ def _serve_command(sub: Any) -> None:
     s.add_argument("--no-browser", action="store_true", help="do not open the page in the browser")
 
 
+def _kernels_command(sub: Any) -> None:
+    """``kernels build``: the kernels compiled ahead of time (:mod:`auvplan.cli.info`)."""
+    s = sub.add_parser("kernels", help="compile the kernels ahead of time: commands then start without numba")
+    ksub = s.add_subparsers(dest="kernels_command", required=True)
+    b = _command(ksub, "build", "compile every kernel numba has compiled here (after planning each SCENARIO) into "
+                 "one extension module (a C compiler is needed; without one, numba as before)",
+                 "info:cmd_kernels_build")
+    b.add_argument("scenarios", nargs="*", metavar="SCENARIO", help="built-in names or TOML files to plan first")
+
+
 def _bench_commands(sub: Any) -> None:
     """``bench`` and ``demo``."""
     s = _command(sub, "bench", "sweep scenarios x planners x guidance x seeds on dask (rows.csv + summary)",
@@ -249,6 +259,7 @@ def _parser() -> argparse.ArgumentParser:
     _result_commands(sub)
     _bench_commands(sub)
     _serve_command(sub)
+    _kernels_command(sub)
     return p
 
 
