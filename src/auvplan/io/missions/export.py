@@ -348,6 +348,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     deploy = deploy if deploy is not None else DeployInfo(origin)
     nav = record.nav  # a surface fix's wait (surface_s): held in .plan and .moos, in the times of .csv and .yaml
     dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
+    # the times as the mission is flown through the current (fixes.csv's): the .csv's and the .yaml's too
+    times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
     if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
         raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
                         "without a flight): `auvplan run` the scenario to export them")
@@ -365,7 +367,7 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             text = to_kml(record, origin, full, deploy)
         elif fmt == "csv":
             text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
-                                    if nav is not None and len(nav.points) == len(waypoints) else None, dwell)
+                                    if nav is not None and len(nav.points) == len(waypoints) else None, dwell, times)
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
         elif fmt == "plan":
@@ -375,6 +377,6 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
-            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell)
+            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell, times=times)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written
