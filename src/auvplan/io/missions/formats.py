@@ -487,7 +487,7 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     Returns
     -------
     str
-        The CSV text (m, degrees, s, m/s).
+        The CSV text (m, degrees, s, m/s); no ``-0.000`` (a waypoint at the surface is at depth ``0.000``).
     """
     p = np.asarray(points, dtype=float)
     if origin is not None:
@@ -505,11 +505,16 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
             + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")
             + ("" if ne is None else ",nav_error_m")]
     for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, _times(p, speed, dwell, times), v)):
-        rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
-                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
+        rows.append(",".join([_mm(x), _mm(y), _mm(z), "" if np.isnan(la) else f"{la:.9f}",
+                              "" if np.isnan(lo) else f"{lo:.9f}", _mm(-z), f"{tt:.2f}", f"{s:.4f}"]
                              + ([] if k is None else [str(k[i])]) + ([] if alt is None else [f"{alt[i]:.3f}"])
                              + ([] if pay is None else [str(pay[i])]) + ([] if ne is None else [f"{ne[i]:.2f}"])))
     return "\n".join(rows) + "\n"
+
+
+def _mm(v: float) -> str:
+    """A length to the millimetre, never ``-0.000`` (a value that rounds to zero is written ``0.000``)."""
+    return f"{round(float(v), 3) + 0.0:.3f}"
 
 
 def _times(p: NDArray[np.float64], speed: float | ArrayLike, dwell: ArrayLike | None,
