@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import io
+import math
 
 import numpy as np
 
@@ -27,3 +28,25 @@ def test_no_negative_zero_in_the_csv():
         assert float(r["y"]) == round(p[1], 3)
     assert [r["depth"] for r in rows][:5] == ["0.000", "20.000", "0.000", "0.000", "0.000"]
     assert rows[2]["z"] == "0.000" and rows[1]["y"] == "0.000"
+
+
+def test_no_negative_zero_in_the_other_metric_exports(tmp_path):
+    """The same in ``mission.yaml`` (positions), ``.gpx`` (``ele``), ``.kml`` and ``.geojson`` (altitudes): a surface
+    fix was ``z: -0.000`` / ``<ele>-0.000</ele>`` / ``,-0.000`` / ``-0.0``."""
+    import json
+    import re
+
+    from auvplan.io.missions import export
+    from auvplan.sim.result import RunRecord
+
+    record = RunRecord("zero", 1, None, POINTS, POINTS[1:2], None)
+    export.write_exports(tmp_path, record, (10.0, 20.0), 1.5, ("yaml", "gpx", "kml", "geojson"))
+    for fmt in ("yaml", "gpx", "kml"):
+        text = (tmp_path / f"mission.{fmt}").read_text()
+        if fmt == "yaml":  # the positions (not the orientations' quaternions)
+            text = " ".join(re.findall(r"position: \{[^}]*\}", text))
+        assert not re.findall(r"-0\.0+(?!\d)", text), fmt
+        assert len(re.findall(r"(?<![\d.])0\.000(?!\d)", text)) >= 4, fmt  # the surface points, written as 0.000
+    doc = json.loads((tmp_path / "mission.geojson").read_text())
+    z = [c[2] for f in doc["features"] if f["geometry"]["type"] == "LineString" for c in f["geometry"]["coordinates"]]
+    assert all(math.copysign(1.0, v) > 0 for v in z if v == 0.0) and 0.0 in z

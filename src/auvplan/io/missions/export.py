@@ -111,7 +111,7 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
 
     def coords(p: NDArray[np.float64]) -> list[list[float]]:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return [[round(float(a), 9), round(float(b), 9), round(float(z), 3)] for a, b, z in zip(lon, lat, p[:, 2])]
+        return [_lon_lat_z(a, b, z) for a, b, z in zip(lon, lat, p[:, 2])]
 
     def line(p: NDArray[np.float64]) -> JsonDict:
         """A LineString, or a MultiLineString cut at the antimeridian (RFC 7946 §3.1.9; :mod:`.antimeridian`)."""
@@ -119,8 +119,7 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
         pieces = antimeridian.cut_line(c)
         if len(pieces) == 1:
             return {"type": "LineString", "coordinates": c}
-        return {"type": "MultiLineString", "coordinates": [[[round(float(a), 9), round(float(b), 9), round(float(z), 3)]
-                                                            for a, b, z in q] for q in pieces]}
+        return {"type": "MultiLineString", "coordinates": [[_lon_lat_z(*c) for c in q] for q in pieces]}
 
     props = {"name": "track" if record.sim is not None else "plan", **jsonable(summary_metrics(record))}
     feats = [{"type": "Feature", "geometry": line(track), "properties": props}]
@@ -145,6 +144,11 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
         props = dfmt.envelope_props(deploy.envelope) if kind == "envelope" else {"name": kind}  # type: ignore[union-attr, arg-type]
         feats.append({"type": "Feature", "geometry": geometry, "properties": props})
     return {"type": "FeatureCollection", "features": feats}
+
+
+def _lon_lat_z(lon: float, lat: float, z: float) -> list[float]:
+    """A GeoJSON position: 1e-9 degree, 1 mm, never -0.0 (a surface point is at 0.0)."""
+    return [round(float(lon), 9), round(float(lat), 9), round(float(z), 3) + 0.0]
 
 
 def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False,
@@ -181,7 +185,7 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
 
     def rounded(p: NDArray[np.float64]) -> NDArray[np.float64]:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return np.column_stack([np.round(lon, 9), np.round(lat, 9), np.round(p[:, 2], 3)])
+        return np.column_stack([np.round(lon, 9), np.round(lat, 9), np.round(p[:, 2], 3) + 0.0])  # no -0.000
 
     def text(c: NDArray[np.float64]) -> str:
         return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in c)

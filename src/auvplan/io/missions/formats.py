@@ -385,7 +385,7 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
         for k, (lo, la, z) in enumerate(zip(lon, lat, p[:, 2])):
             e = ET.SubElement(parent, f"{{{GPX_NS}}}{tag}", {"lat": f"{la:.9f}", "lon": f"{lo:.9f}"})
-            ET.SubElement(e, f"{{{GPX_NS}}}ele").text = f"{z:.3f}"
+            ET.SubElement(e, f"{{{GPX_NS}}}ele").text = _mm(z)
             if label:
                 ET.SubElement(e, f"{{{GPX_NS}}}name").text = f"{label}{k}"
 
@@ -447,7 +447,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         sec = int(tt)
         lines += [f"- header: {{stamp: {{sec: {sec}, nanosec: {int(round((tt - sec) * 1e9)) % 1_000_000_000}}}, "
                   f"frame_id: {frame_id}}}",
-                  f"  pose: {{position: {{x: {x:.3f}, y: {y:.3f}, z: {z:.3f}}}, "
+                  f"  pose: {{position: {{x: {_mm(x)}, y: {_mm(y)}, z: {_mm(z)}}}, "
                   f"orientation: {{x: {qx:.6f}, y: {qy:.6f}, z: {qz:.6f}, w: {qw:.6f}}}}}"]
     return "\n".join(lines) + "\n"
 
