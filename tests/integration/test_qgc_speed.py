@@ -115,34 +115,38 @@ def test_the_export_begins_with_a_speed_command_at_the_planned_speed():
 
 
 def test_a_plan_qgc_wrote_without_a_speed_command_is_judged_at_the_vehicle_s_speed_and_says_so(tmp_path):
-    """cruiseSpeed 1.5 is not what the vehicle flies: every leg judged at the scenario's 1.0 m/s, named."""
+    """cruiseSpeed 1.5 is not what the vehicle flies: every leg with a horizontal run judged at the scenario's 1.0
+    m/s, named; the vertical launch at WPNAV_SPEED_DN, as with a speed command (the command sets the horizontal
+    speed only: export2, wave 17; it was judged at 1.0 m/s here and at 1.5 with a command)."""
     code, rec = _check(tmp_path, _qgc_written())
-    assert code == 0 and rec["speed_assumed_legs"] == [0, 1, 2, 3] and rec["speed_assumed_mps"] == 1.0
-    assert rec["energy"]["leg_speeds_mps"] == pytest.approx([1.0] * 4)
-    assert rec["energy"]["duration_s"] == pytest.approx(LEGS.sum() / 1.0, rel=1e-9)  # not / 1.5
+    assert code == 0 and rec["speed_assumed_legs"] == [1, 2, 3] and rec["speed_assumed_mps"] == 1.0
+    assert rec["energy"]["leg_speeds_mps"] == pytest.approx([1.5, 1.0, 1.0, 1.0])
+    assert rec["energy"]["duration_s"] == pytest.approx(LEGS[0] / 1.5 + LEGS[1:].sum() / 1.0, rel=1e-9)
     _, text = _check(tmp_path, _qgc_written(), json_out=False)
     assert (f"{tmp_path / 'm.plan'}: leg speeds (no MAV_CMD_DO_CHANGE_SPEED above 0 before them) not in the file: "
-            "ArduSub flies its WPNAV_SPEED parameter; judged at 1 m/s (legs 0-3)\n") in text
+            "ArduSub flies its WPNAV_SPEED parameter; judged at 1 m/s (legs 1-3)\n") in text
 
 
 @pytest.mark.parametrize("after, speed", [(0, 0.0), (0, -1.0), (3, 1.5)])
 def test_speed_commands_that_set_no_leg_s_speed_are_named_as_such(tmp_path, after, speed):
     """A 178 whose speed is 0 or -1 (ArduSub keeps the speed it has) or one after the last position sets no leg's
-    speed: every leg judged at the vehicle's 1.0 m/s, and the line does not say the file has no speed command."""
+    speed: every leg judged at the vehicle's 1.0 m/s (the vertical launch at WPNAV_SPEED_DN), and the line does not
+    say the file has no speed command."""
     code, rec = _check(tmp_path, _qgc_written(speed_item_after=after, speed=speed))
-    assert code == 0 and rec["speed_assumed_legs"] == [0, 1, 2, 3]
+    assert code == 0 and rec["speed_assumed_legs"] == [1, 2, 3]
     _, text = _check(tmp_path, _qgc_written(speed_item_after=after, speed=speed), json_out=False)
     assert "leg speeds (no MAV_CMD_DO_CHANGE_SPEED above 0 before them) not in the file" in text
 
 
 def test_legs_before_a_late_speed_command_are_named_and_the_rest_fly_its_speed(tmp_path):
     code, rec = _check(tmp_path, _qgc_written(speed_item_after=1))  # the 178 is mission.items[2]
-    want = np.array([1.0, 1.0, 1.5, 1.5]) / np.r_[1.0, 1.0, COS[2:]]  # the 178's speed is level (audit 20)
-    assert code == 0 and rec["speed_assumed_legs"] == [0, 1] and rec["energy"]["leg_speeds_mps"] == pytest.approx(want)
+    # the 178's speed is level (audit 20); the vertical launch at WPNAV_SPEED_DN before it too (export2)
+    want = np.array([1.5, 1.0, 1.5, 1.5]) / np.r_[1.0, 1.0, COS[2:]]
+    assert code == 0 and rec["speed_assumed_legs"] == [1] and rec["energy"]["leg_speeds_mps"] == pytest.approx(want)
     assert rec["energy"]["duration_s"] == pytest.approx(float(np.sum(LEGS / want)), rel=1e-9)
     _, text = _check(tmp_path, _qgc_written(speed_item_after=1), json_out=False)
     assert ("leg speeds before mission.items[2] not in the file: ArduSub flies its WPNAV_SPEED parameter; judged at "
-            "1 m/s (legs 0-1)") in text
+            "1 m/s (legs 1)") in text
 
 
 def test_the_export_is_judged_at_its_planned_speed(tmp_path):

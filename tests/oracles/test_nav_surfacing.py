@@ -17,11 +17,12 @@ import shapely
 
 from auvplan.nav import NavParams, check_navigation, plan_navigation
 from auvplan.nav.fixes import PITCH_SHARE
+from auvplan.nav.surfacing import CLIMB_SLACK_DEG
 from auvplan.world import Bounds, Margins, Sphere, World, Zone, Zones
 
 NAV = NavParams(drift_pct=0.3, drift_pct_no_lock=1.0, max_error_m=200.0, confidence=2.0, fix_error_m=5.0)
 REACH = math.sqrt((200.0 / 2) ** 2 - 5.0**2) / 0.01  # the distance after a fix at which 2σ reaches E (m)
-TAN = math.tan(math.radians(PITCH_SHARE * 20.0))
+TAN = math.tan(math.radians(min(PITCH_SHARE * 20.0, 20.0 - CLIMB_SLACK_DEG)))  # the climbs' slope (19.95°)
 
 
 def _world(**kw) -> World:

@@ -30,13 +30,14 @@ from ..world import World
 from .budget import DEFAULT_STEP_M, drift_increments, fix_sigma, lock_fraction
 from .clearance import hazard_safe_radius
 from .params import NavParams
-from .surfacing import apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack, surfacing_zone_slack
+from .surfacing import CLIMB_SLACK_DEG, apply_fixes, clear_of_ends, surfacing_ok, surfacing_slack, surfacing_zone_slack
 
 __all__ = ["RouteProfile", "route_profile", "FixPlan", "plan_fixes", "periodic_fixes", "best_period",
            "apply_fixes", "PITCH_SHARE"]
 
 PITCH_SHARE = 0.999
-"""Share of the pitch limit the fix's climb and dive use (the limit itself, kept inside its check's rounding)."""
+"""Share of the pitch limit the fix's climb and dive use (the limit itself, kept inside its check's rounding), at
+most the limit less :data:`~auvplan.nav.surfacing.CLIMB_SLACK_DEG` (the rounding of the exported coordinates)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,7 +150,7 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     s3 = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(xyz, axis=0), axis=1))]
     t = s3 / speed if flight is None else np.interp(s3, np.asarray(flight[0], dtype=float),
                                                     np.asarray(flight[1], dtype=float))
-    tan = math.tan(math.radians(PITCH_SHARE * max_pitch_deg))
+    tan = math.tan(math.radians(min(PITCH_SHARE * max_pitch_deg, max_pitch_deg - CLIMB_SLACK_DEG)))
     run = float(-xyz[:, 2].min()) / tan * float(max(ratio.max(initial=1.0), 1.0))  # a dive's longest water run
     dive = nav.confidence * math.hypot(nav.fix_error_m, run * max(nav.rate(False), nav.rate(True)))
     return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], tan, world, float(launch_m), float(nav.max_error_m), dive,

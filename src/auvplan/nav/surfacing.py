@@ -26,7 +26,17 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers only
     from .fixes import RouteProfile
 
 __all__ = ["apply_fixes", "surfacing_slack", "surfacing_zone_slack", "surfacing_ok", "surfacing_legs",
-           "clear_of_ends"]
+           "clear_of_ends", "SHORTEST_FIX_LEG_M", "CLIMB_SLACK_DEG"]
+
+SHORTEST_FIX_LEG_M = 2.5
+"""Shortest leg (3D, m) :func:`apply_fixes` leaves where it splits the route: the exported mission's
+:data:`auvplan.path.legs.FITTED_LEG_M` (kept equal by a test; ``nav`` does not import ``path``), so that the
+rounding of the exported coordinates cannot take a climb or dive at the pitch limit over it."""
+CLIMB_SLACK_DEG = 0.05
+"""Pitch (degrees) a fix's climb and dive keep below the limit at least: the mission builder's
+:data:`auvplan.path.flyable.PITCH_SLACK_DEG` (kept equal by a test), which the millimetre rounding of a leg of
+:data:`SHORTEST_FIX_LEG_M` or more cannot use up (0.02°, ``PITCH_SHARE`` of a 20° limit, it could: 19.98° read
+20.0008° on a 2.6 m leg)."""
 
 R_MAX = 1.0e5
 """Largest horizontal uncertainty the obstacle slack is searched to (m); beyond it the slack is ``inf``."""
@@ -205,6 +215,7 @@ def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
         return p.copy(), ("",) * p.shape[0]
     h = np.hypot(*np.diff(p[:, :2], axis=0).T)
     sv = np.r_[0.0, np.cumsum(h)]
+    sf = _snap(sf, sv, p[:, 2], tan_pitch)
     gps = sf[[k == "gps" for k in kinds]]
     brk = [sf]
     for f in gps:  # crossings of each climb/dive with each leg
@@ -238,10 +249,57 @@ def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
         out_kinds[int(np.argmin(np.abs(s - f)))] = kind
     keep = _needed(pts, s, vertex, out_kinds)
     pts, out_kinds = pts[keep], [k for k, m in zip(out_kinds, keep, strict=True) if m]
+    vertex = vertex[keep]
     same = np.r_[False, np.all(np.abs(np.diff(pts, axis=0)) <= 1e-9, axis=1)]  # a vertical leg lifted whole
     for i in np.flatnonzero(same)[::-1]:  # the repeat is merged into the point before it, with its fix
         out_kinds[i - 1] = out_kinds[i - 1] or out_kinds[i]
-    return pts[~same], tuple(k for k, d in zip(out_kinds, same, strict=True) if not d)
+        vertex[i - 1] |= vertex[i]
+    pts, vertex, out_kinds = pts[~same], vertex[~same], [k for k, d in zip(out_kinds, same, strict=True) if not d]
+    kept = _merge_short(pts, vertex | np.array([bool(k) for k in out_kinds]))
+    return pts[kept], tuple(out_kinds[i] for i in kept)
+
+
+def _snap(sf: FloatArray, sv: FloatArray, z: FloatArray, tan_pitch: float) -> FloatArray:
+    """Each fix closer than :data:`SHORTEST_FIX_LEG_M` to a route vertex moved to the nearest place that is a vertex
+    or that far from every vertex (a fix and a vertex are both kept: closer, their leg would be shorter than the
+    rule) and that lifts neither the start nor the goal higher than the fix did (a move of less than the rule)."""
+    out = sf.copy()
+    ends = (0, sv.size - 1)
+    for i, f in enumerate(sf):
+        if not 0.0 < np.abs(sv - f).min() < SHORTEST_FIX_LEG_M:
+            continue
+        near = sv[np.abs(sv - f) < 2.0 * SHORTEST_FIX_LEG_M]
+        cand = np.unique(np.r_[near, near - SHORTEST_FIX_LEG_M, near + SHORTEST_FIX_LEG_M])
+        cand = cand[(cand >= sv[0]) & (cand <= sv[-1])]
+        gap = np.abs(sv[None, :] - cand[:, None]).min(axis=1)
+        ok = (gap == 0.0) | (gap >= SHORTEST_FIX_LEG_M - 1e-9)
+        for e in ends:  # the climb or dive reaches no end higher than the fix's own did
+            ok &= -tan_pitch * np.abs(sv[e] - cand) <= max(z[e], -tan_pitch * abs(sv[e] - f))
+        if ok.any():
+            out[i] = cand[ok][np.argmin(np.abs(cand[ok] - f))]
+    return out
+
+
+def _merge_short(pts: FloatArray, fixed: BoolArray) -> list[int]:
+    """The points kept so that no leg is shorter than :data:`SHORTEST_FIX_LEG_M` (3D): of a shorter leg, its end
+    that is neither a route vertex, a fix nor an end of the mission is dropped.  Such a point is a crossing of a
+    climb or dive with a route leg (or two fixes' dives meeting), a kink of the upper envelope of lines over one
+    route leg: the chord that replaces it lies on that leg's horizontal track, above the envelope (never nearer
+    the seabed), and its pitch lies between those of the two legs it joins (never steeper)."""
+    fixed = fixed.copy()
+    fixed[[0, -1]] = True
+    idx = list(range(pts.shape[0]))
+    i = 0
+    while i < len(idx) - 1:
+        a, b = idx[i], idx[i + 1]
+        if np.linalg.norm(pts[b] - pts[a]) >= SHORTEST_FIX_LEG_M or (fixed[a] and fixed[b]):
+            i += 1
+        elif not fixed[b]:
+            del idx[i + 1]
+        else:
+            del idx[i]
+            i = max(i - 1, 0)
+    return idx
 
 
 def _needed(pts: FloatArray, s: FloatArray, vertex: BoolArray, kinds: list[str]) -> BoolArray:

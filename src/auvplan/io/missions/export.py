@@ -18,6 +18,7 @@ from ...sim import Mission, RunRecord, decimate, record_tail
 from ...world import World
 from ..data.geo import LocalFrame
 from ..results.records import JsonDict, jsonable, summary_metrics, write_text
+from . import antimeridian
 from . import deploy_formats as dfmt
 from . import formats as mfmt
 from .deploy import DeployInfo, deploy_info
@@ -110,28 +111,44 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
 
     def coords(p: NDArray[np.float64]) -> list[list[float]]:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return [[round(float(a), 9), round(float(b), 9), round(float(z), 3)] for a, b, z in zip(lon, lat, p[:, 2])]
+        return [_lon_lat_z(a, b, z) for a, b, z in zip(lon, lat, p[:, 2])]
+
+    def line(p: NDArray[np.float64]) -> JsonDict:
+        """A LineString, or a MultiLineString cut at the antimeridian (RFC 7946 §3.1.9; :mod:`.antimeridian`)."""
+        c = coords(p)
+        pieces = antimeridian.cut_line(c)
+        if len(pieces) == 1:
+            return {"type": "LineString", "coordinates": c}
+        return {"type": "MultiLineString", "coordinates": [[_lon_lat_z(*c) for c in q] for q in pieces]}
 
     props = {"name": "track" if record.sim is not None else "plan", **jsonable(summary_metrics(record))}
-    feats = [{"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(track)}, "properties": props}]
+    feats = [{"type": "Feature", "geometry": line(track), "properties": props}]
     if record.plan is not None and record.plan.path.shape[0] >= 2 and record.sim is not None:
-        feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": coords(record.plan.path)},
+        feats.append({"type": "Feature", "geometry": line(record.plan.path),
                       "properties": {"name": "global plan", "planner": record.plan.planner}})
     if record.keys.size:
         feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
                       "properties": {"name": "key waypoints"}})
-    mission = coords(mission_waypoints(record))
+    mission = line(mission_waypoints(record))
     mp: JsonDict = {"name": "mission", "depth_semantics": "linear along each leg"}
     tail = record_tail(record)
     if tail is not None and any_tail(tail):
         mp["tail_first_legs"] = [int(i) for i in np.flatnonzero(tail)]  # (auvplan.io.missions.tail)
     mp.update(dfmt.mission_props(deploy))
-    feats.append({"type": "Feature", "geometry": {"type": "LineString", "coordinates": mission}, "properties": mp})
+    feats.append({"type": "Feature", "geometry": mission, "properties": mp})
     for kind, ring in dfmt.envelope_rings(deploy, frame):
-        closed = [[round(float(b), 9), round(float(a), 9)] for a, b in np.vstack([ring, ring[:1]])]
+        parts = [[[[round(float(a), 9), round(float(b), 9)] for a, b in np.vstack([r, r[:1]])]]
+                 for r in antimeridian.cut_ring(ring[:, 1], ring[:, 0])]  # [lon, lat]; across ±180°: cut
+        geometry = ({"type": "Polygon", "coordinates": parts[0]} if len(parts) == 1
+                    else {"type": "MultiPolygon", "coordinates": parts})
         props = dfmt.envelope_props(deploy.envelope) if kind == "envelope" else {"name": kind}  # type: ignore[union-attr, arg-type]
-        feats.append({"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [closed]}, "properties": props})
+        feats.append({"type": "Feature", "geometry": geometry, "properties": props})
     return {"type": "FeatureCollection", "features": feats}
+
+
+def _lon_lat_z(lon: float, lat: float, z: float) -> list[float]:
+    """A GeoJSON position: 1e-9 degree, 1 mm, never -0.0 (a surface point is at 0.0)."""
+    return [round(float(lon), 9), round(float(lat), 9), round(float(z), 3) + 0.0]
 
 
 def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = False,
@@ -166,16 +183,23 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
     doc = ET.SubElement(root, f"{{{ns}}}Document")
     ET.SubElement(doc, f"{{{ns}}}name").text = f"auvplan {record.scenario} seed {record.seed}"
 
-    def text(p: NDArray[np.float64]) -> str:
+    def rounded(p: NDArray[np.float64]) -> NDArray[np.float64]:
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in zip(lon, lat, p[:, 2]))
+        return np.column_stack([np.round(lon, 9), np.round(lat, 9), np.round(p[:, 2], 3) + 0.0])  # no -0.000
+
+    def text(c: NDArray[np.float64]) -> str:
+        return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in c)
 
     def line(name: str, p: NDArray[np.float64]) -> None:
+        """A LineString, or a MultiGeometry of LineStrings cut at the antimeridian (:mod:`.antimeridian`)."""
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = name
-        ls = ET.SubElement(pm, f"{{{ns}}}LineString")
-        ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
-        ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(p)
+        pieces = antimeridian.cut_line(rounded(p))
+        parent = pm if len(pieces) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
+        for q in pieces:
+            ls = ET.SubElement(parent, f"{{{ns}}}LineString")
+            ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
+            ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(q)
 
     track, _ = _track(record, full)
     line("track" if record.sim is not None else "plan", track)
@@ -194,16 +218,19 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
         if kind == "envelope":
             _extended(pm, {k: str(v) for k, v in dfmt.envelope_props(deploy.envelope).items()  # type: ignore[union-attr, arg-type]
                            if k != "name"}, ns)
-        outer = ET.SubElement(ET.SubElement(ET.SubElement(pm, f"{{{ns}}}Polygon"), f"{{{ns}}}outerBoundaryIs"),
-                              f"{{{ns}}}LinearRing")
-        ET.SubElement(outer, f"{{{ns}}}coordinates").text = " ".join(
-            f"{b:.9f},{a:.9f}" for a, b in np.vstack([ring, ring[:1]]))
+        parts = antimeridian.cut_ring(ring[:, 1], ring[:, 0])  # [lon, lat]; across ±180°: a MultiGeometry
+        parent = pm if len(parts) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
+        for r in parts:
+            outer = ET.SubElement(ET.SubElement(ET.SubElement(parent, f"{{{ns}}}Polygon"),
+                                                f"{{{ns}}}outerBoundaryIs"), f"{{{ns}}}LinearRing")
+            ET.SubElement(outer, f"{{{ns}}}coordinates").text = " ".join(
+                f"{a:.9f},{b:.9f}" for a, b in np.vstack([r, r[:1]]))
     for i, k in enumerate(record.keys):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
         pt = ET.SubElement(pm, f"{{{ns}}}Point")
         ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
-        ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(k[None])
+        ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(rounded(k[None]))
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
@@ -348,6 +375,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     deploy = deploy if deploy is not None else DeployInfo(origin)
     nav = record.nav  # a surface fix's wait (surface_s): held in .plan and .moos, in the times of .csv and .yaml
     dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
+    # the times as the mission is flown through the current (fixes.csv's): the .csv's and the .yaml's too
+    times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
     if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
         raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
                         "without a flight): `auvplan run` the scenario to export them")
@@ -365,7 +394,7 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             text = to_kml(record, origin, full, deploy)
         elif fmt == "csv":
             text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
-                                    if nav is not None and len(nav.points) == len(waypoints) else None, dwell)
+                                    if nav is not None and len(nav.points) == len(waypoints) else None, dwell, times)
         elif fmt == "moos":
             text = mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
         elif fmt == "plan":
@@ -375,6 +404,6 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
         else:
-            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell)
+            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell, times=times)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written

@@ -385,7 +385,7 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
         lon, lat = frame.inverse(p[:, 0], p[:, 1])
         for k, (lo, la, z) in enumerate(zip(lon, lat, p[:, 2])):
             e = ET.SubElement(parent, f"{{{GPX_NS}}}{tag}", {"lat": f"{la:.9f}", "lon": f"{lo:.9f}"})
-            ET.SubElement(e, f"{{{GPX_NS}}}ele").text = f"{z:.3f}"
+            ET.SubElement(e, f"{{{GPX_NS}}}ele").text = _mm(z)
             if label:
                 ET.SubElement(e, f"{{{GPX_NS}}}name").text = f"{label}{k}"
 
@@ -402,7 +402,7 @@ def to_gpx(points: ArrayLike, origin: tuple[float, float], track: ArrayLike | No
 # ---------------------------------------------------------------------- ROS 2 nav_msgs/Path
 def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "map",
                 tail: ArrayLike | None = None, deploy: DeployInfo | None = None,
-                dwell: ArrayLike | None = None) -> str:
+                dwell: ArrayLike | None = None, times: ArrayLike | None = None) -> str:
     """Write a ``nav_msgs/msg/Path`` as YAML (ENU local frame; stamps = planned times).
 
     Parameters
@@ -420,6 +420,9 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         Top-level ``datum: {lat, lon}``, ``envelope`` and ``payload_events``.
     dwell : array_like, optional
         ``(N,)`` the wait at each waypoint (s): the stamps after it are that much later (:func:`planned_times`).
+    times : array_like, optional
+        ``(N,)`` the planned arrival at each waypoint (s), as the mission is flown (through the current, the waits
+        counted: :attr:`auvplan.nav.NavPlan.vertex_times_s`); default :func:`planned_times` (still water).
 
     Returns
     -------
@@ -427,7 +430,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         The YAML text.
     """
     p = np.asarray(points, dtype=float)
-    t = planned_times(p, speed, dwell)
+    t = _times(p, speed, dwell, times)
     d = np.diff(p, axis=0)
     d = np.vstack([d, d[-1:]]) if len(d) else np.zeros((1, 3))
     yaw = np.arctan2(d[:, 1], d[:, 0])  # ENU yaw: counter-clockwise from east
@@ -444,7 +447,7 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
         sec = int(tt)
         lines += [f"- header: {{stamp: {{sec: {sec}, nanosec: {int(round((tt - sec) * 1e9)) % 1_000_000_000}}}, "
                   f"frame_id: {frame_id}}}",
-                  f"  pose: {{position: {{x: {x:.3f}, y: {y:.3f}, z: {z:.3f}}}, "
+                  f"  pose: {{position: {{x: {_mm(x)}, y: {_mm(y)}, z: {_mm(z)}}}, "
                   f"orientation: {{x: {qx:.6f}, y: {qy:.6f}, z: {qz:.6f}, w: {qw:.6f}}}}}"]
     return "\n".join(lines) + "\n"
 
@@ -452,7 +455,8 @@ def to_ros_path(points: ArrayLike, speed: float | ArrayLike, frame_id: str = "ma
 # ---------------------------------------------------------------------- CSV
 def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: float | ArrayLike,
                 tail: ArrayLike | None = None, deploy: DeployInfo | None = None,
-                nav_error: ArrayLike | None = None, dwell: ArrayLike | None = None) -> str:
+                nav_error: ArrayLike | None = None, dwell: ArrayLike | None = None,
+                times: ArrayLike | None = None) -> str:
     """Write the mission waypoints as CSV: ``x, y, z, lat, lon, depth, time`` (planned arrival, s) and
     ``speed`` (m/s through the water on the leg that reaches the waypoint; the first leg's on the first row).
 
@@ -476,11 +480,14 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     dwell : array_like, optional
         ``(N,)`` the wait at each waypoint (s): the planned times after it are that much later
         (:func:`planned_times`).
+    times : array_like, optional
+        ``(N,)`` the planned arrival at each waypoint (s), as the mission is flown (through the current, the waits
+        counted: :attr:`auvplan.nav.NavPlan.vertex_times_s`); default :func:`planned_times` (still water).
 
     Returns
     -------
     str
-        The CSV text (m, degrees, s, m/s).
+        The CSV text (m, degrees, s, m/s); no ``-0.000`` (a waypoint at the surface is at depth ``0.000``).
     """
     p = np.asarray(points, dtype=float)
     if origin is not None:
@@ -497,9 +504,25 @@ def mission_csv(points: ArrayLike, origin: tuple[float, float] | None, speed: fl
     rows = ["x,y,z,lat,lon,depth,time,speed" + ("" if k is None else ",tail_first")
             + ("" if alt is None else ",altitude") + ("" if pay is None else ",payload")
             + ("" if ne is None else ",nav_error_m")]
-    for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, planned_times(p, speed, dwell), v)):
-        rows.append(",".join([f"{x:.3f}", f"{y:.3f}", f"{z:.3f}", "" if np.isnan(la) else f"{la:.9f}",
-                              "" if np.isnan(lo) else f"{lo:.9f}", f"{-z:.3f}", f"{tt:.2f}", f"{s:.4f}"]
+    for i, ((x, y, z), la, lo, tt, s) in enumerate(zip(p, lat, lon, _times(p, speed, dwell, times), v)):
+        rows.append(",".join([_mm(x), _mm(y), _mm(z), "" if np.isnan(la) else f"{la:.9f}",
+                              "" if np.isnan(lo) else f"{lo:.9f}", _mm(-z), f"{tt:.2f}", f"{s:.4f}"]
                              + ([] if k is None else [str(k[i])]) + ([] if alt is None else [f"{alt[i]:.3f}"])
                              + ([] if pay is None else [str(pay[i])]) + ([] if ne is None else [f"{ne[i]:.2f}"])))
     return "\n".join(rows) + "\n"
+
+
+def _mm(v: float) -> str:
+    """A length to the millimetre, never ``-0.000`` (a value that rounds to zero is written ``0.000``)."""
+    return f"{round(float(v), 3) + 0.0:.3f}"
+
+
+def _times(p: NDArray[np.float64], speed: float | ArrayLike, dwell: ArrayLike | None,
+           times: ArrayLike | None) -> NDArray[np.float64]:
+    """The arrival at each waypoint: ``times`` as given (one per waypoint) or :func:`planned_times`."""
+    if times is None:
+        return planned_times(p, speed, dwell)
+    t = np.asarray(times, dtype=float).reshape(-1)
+    if t.size != p.shape[0]:
+        raise ValueError(f"times: one per waypoint ({p.shape[0]}), got {t.size}")
+    return t

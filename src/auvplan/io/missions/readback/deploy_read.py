@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 from ....errors import DataError
 from ...data.geo import LocalFrame
 from .. import parsed
+from ..antimeridian import join_rings
 from ..deploy_formats import FENCE_STORAGE_BYTES, fence_bytes, fence_storage_problem
 from .qgc_items import plan_items
 from .readers import KML_NS, MISSION_SUFFIXES
@@ -172,7 +173,9 @@ def _geojson(doc: dict[str, Any]) -> FileDeploy:
     for f in doc.get("features", []):
         props = f.get("properties") or {}
         if props.get("name") in ("envelope", "exclusion"):
-            ring = np.asarray(f["geometry"]["coordinates"][0], dtype=float)[:-1, ::-1]  # lat, lon
+            g = f["geometry"]
+            parts = g["coordinates"] if g.get("type") == "MultiPolygon" else [g["coordinates"]]  # cut at ±180°
+            ring = join_rings([np.asarray(p[0], dtype=float) for p in parts])[:, ::-1]  # lat, lon
             if props["name"] == "envelope":
                 poly = ring
                 limits = {k: float(props[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in props}
@@ -192,9 +195,10 @@ def _kml(text: str) -> FileDeploy:
         name = pm.findtext("k:name", namespaces=ns) or ""
         data = {d.get("name"): d.findtext("k:value", namespaces=ns) or "" for d in pm.iter(f"{{{KML_NS}}}Data")}
         if name in ("envelope", "exclusion"):
-            c = pm.find("k:Polygon/k:outerBoundaryIs/k:LinearRing/k:coordinates", ns)
-            ring = np.array([[float(v) for v in s.split(",")[:2]]
-                             for s in ((c.text if c is not None else "") or "").split()])[:-1, ::-1]
+            outer = "k:Polygon/k:outerBoundaryIs/k:LinearRing/k:coordinates"
+            cs = pm.findall(outer, ns) or pm.findall(f"k:MultiGeometry/{outer}", ns)  # cut at ±180°: the pieces
+            ring = join_rings([np.array([[float(v) for v in s.split(",")[:2]] for s in (c.text or "").split()])
+                               for c in cs] or [np.empty((0, 2))])[:, ::-1]
             if name == "envelope":
                 poly = ring
                 limits = {k: float(data[k]) for k in ("max_depth_m", "min_altitude_m", "max_time_s") if k in data}

@@ -24,6 +24,7 @@ from ....world import World
 from ...data.geo import LocalFrame
 from ...files.jsonfile import read_bounded_text
 from .. import parsed
+from ..antimeridian import join_line
 from .qgc_items import PlanItem, plan_items
 
 __all__ = [
@@ -281,8 +282,9 @@ def parse_ros_path(text: str) -> NDArray[np.float64]:
 
 
 # ---------------------------------------------------------------------- GeoJSON, KML
-def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str) -> NDArray[np.float64]:
-    """``(N, 3)`` lon, lat, altitude (a line of points) projected to the local frame; anything else named."""
+def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str, project: bool = True) -> NDArray[np.float64]:
+    """``(N, 3)`` lon, lat, altitude (a line of points) projected to the local frame (as read unless ``project``);
+    anything else named."""
     if c.ndim != 2:
         shape = {0: "not a list of points", 1: "one point"}.get(c.ndim, f"nested {c.ndim} deep (a polygon?)")
         raise DataError(f"the {what} coordinates are {shape}; a mission is a line of [lon, lat, altitude] points")
@@ -295,6 +297,8 @@ def _lon_lat_alt(c: NDArray[np.float64], frame: LocalFrame, what: str) -> NDArra
     if not (np.all(np.abs(c[:, 1]) <= 90.0) and np.all(np.abs(c[:, 0]) <= 360.0)):
         bad = int(np.flatnonzero(~((np.abs(c[:, 1]) <= 90.0) & (np.abs(c[:, 0]) <= 360.0)))[0])
         raise DataError(f"the {what} point {bad} = {c[bad].tolist()}: not a lon, lat in degrees")
+    if not project:
+        return c
     x, y = frame.forward(c[:, 0], c[:, 1])
     return np.column_stack([x, y, c[:, 2]])
 
@@ -308,8 +312,15 @@ def _geojson_mission(doc: dict[str, Any], frame: LocalFrame) -> NDArray[np.float
             geometry = f.get("geometry") or {}
             if not isinstance(geometry, dict) or "coordinates" not in geometry:
                 raise DataError("GeoJSON: the feature 'mission' has no geometry coordinates")
-            c = np.asarray(geometry["coordinates"], dtype=float)
-            return _lon_lat_alt(c, frame, f"GeoJSON feature 'mission' ({geometry.get('type', '?')})")
+            what = f"GeoJSON feature 'mission' ({geometry.get('type', '?')})"
+            if geometry.get("type") == "MultiLineString":  # cut at the antimeridian (RFC 7946 §3.1.9): joined
+                pieces = geometry["coordinates"]
+                if not isinstance(pieces, list) or not pieces:
+                    raise DataError(f"the {what} coordinates are not a list of lines")
+                c = join_line([_lon_lat_alt(np.asarray(q, dtype=float), frame, what, project=False) for q in pieces])
+            else:
+                c = np.asarray(geometry["coordinates"], dtype=float)
+            return _lon_lat_alt(c, frame, what)
     raise DataError("GeoJSON: no feature with properties.name = 'mission'")
 
 
@@ -317,13 +328,19 @@ def _kml_mission(text: str, frame: LocalFrame) -> np.ndarray:
     ns = {"k": KML_NS}
     for pm in _xml(text, "KML").iter(f"{{{KML_NS}}}Placemark"):
         if (pm.findtext("k:name", namespaces=ns) or "") == "mission":
-            coords = pm.find("k:LineString/k:coordinates", ns)
-            if coords is None or not (coords.text or "").strip():
+            what = "KML Placemark 'mission'"
+            # a MultiGeometry of LineStrings: the line cut at the antimeridian (auvplan.io.missions.antimeridian)
+            lines = pm.findall("k:LineString/k:coordinates", ns) or pm.findall("k:MultiGeometry/k:LineString/"
+                                                                              "k:coordinates", ns)
+            if not lines or not all((c.text or "").strip() for c in lines):
                 raise DataError("KML: the Placemark 'mission' has no LineString coordinates")
-            rows = [[float(v) for v in s.split(",")] for s in coords.text.split()]  # type: ignore[union-attr]
-            if len({len(r) for r in rows}) > 1:
+            rows = [[[float(v) for v in s.split(",")] for s in (c.text or "").split()] for c in lines]
+            if len({len(r) for q in rows for r in q}) > 1:
                 raise DataError("KML: the Placemark 'mission' mixes points with and without an altitude")
-            return _lon_lat_alt(np.array(rows, dtype=float), frame, "KML Placemark 'mission'")
+            if len(rows) == 1:
+                return _lon_lat_alt(np.array(rows[0], dtype=float), frame, what)
+            joined = join_line([_lon_lat_alt(np.array(q, dtype=float), frame, what, project=False) for q in rows])
+            return _lon_lat_alt(joined, frame, what)
     raise DataError("KML: no Placemark named 'mission'")
 
 

@@ -90,7 +90,8 @@ def flown_speeds(commands: NDArray[np.float64], points: NDArray[np.float64]) -> 
 
     ArduPilot's ``kinematic_limit``: ``v / cos γ`` until the vertical limit binds, then ``v_z / |sin γ|``, with the
     vertical limits AC_WPNav's defaults (:data:`WPNAV_SPEED_UP_MPS`, :data:`WPNAV_SPEED_DN_MPS`: ArduSub's speed
-    command never sets them); a vertical leg (no horizontal run) at ``v_z``.
+    command never sets them); a vertical leg (no horizontal run) at ``v_z``, with a command in force or none (the
+    launch of a ``.plan`` without one dives at ``WPNAV_SPEED_DN`` too, not at ArduSub's ``WPNAV_SPEED``).
 
     Parameters
     ----------
@@ -102,13 +103,14 @@ def flown_speeds(commands: NDArray[np.float64], points: NDArray[np.float64]) -> 
     Returns
     -------
     numpy.ndarray
-        ``(N - 1,)`` (m/s).
+        ``(N - 1,)`` (m/s; NaN: a leg with a horizontal run and no command).
     """
     flat, rise, full, vz = _vertical_limits(points)
     v = np.asarray(commands, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         along = np.minimum(v * full / flat, vz * full / np.abs(rise))
-    out: NDArray[np.float64] = np.where(flat > 0.0, along, np.where(np.isfinite(v) & (full > 0.0), vz, v))
+    # a vertical leg at v_z whatever the command (none too): the command sets the horizontal speed only
+    out: NDArray[np.float64] = np.where(flat > 0.0, along, np.where(full > 0.0, vz, v))
     return out
 
 
@@ -307,7 +309,9 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
     path = Path(path)
     got = _read(path, legs)
     v, first = (np.full(legs, np.nan), None) if got is None else got
-    assumed = tuple(int(k) for k in np.flatnonzero(~np.isfinite(v)))
+    pts = points if path.suffix.lower() == ".plan" else None
+    flown = v if pts is None else flown_speeds(v, pts)
+    assumed = tuple(int(k) for k in np.flatnonzero(~np.isfinite(flown)))  # a .plan's vertical legs: at v_z
     line = ""
     if assumed:
         if path.suffix.lower() == ".plan":
@@ -316,15 +320,14 @@ def judged_leg_speeds(path: str | Path, legs: int, speed: float,
                     f"{speed:g} m/s (legs {_ranges(assumed)})")
         else:
             line = f"leg speeds not in the file: judged at the vehicle's speed {speed:g} m/s (legs {_ranges(assumed)})"
-    if points is not None and path.suffix.lower() == ".plan":  # WPNav keeps the horizontal speed: faster on a slope
-        bound = vertical_bound_legs(v, points)
+    if pts is not None:  # WPNav keeps the horizontal speed: faster on a slope, up to the vertical limit
+        bound = vertical_bound_legs(v, pts)
         if bound:
             line = "; ".join([*([line] if line else []), (
                 f"vertical limit not in the file (ArduSub's speed command sets the horizontal speed only): AC_WPNav's "
                 f"defaults WPNAV_SPEED_UP {WPNAV_SPEED_UP_MPS:g} / WPNAV_SPEED_DN {WPNAV_SPEED_DN_MPS:g} m/s bind, "
                 f"those legs flown slower than commanded (legs {_ranges(bound)})")])
-        v = flown_speeds(v, points)  # up to the vertical limit
-    return JudgedSpeeds(np.where(np.isfinite(v), v, float(speed)), assumed, float(speed), line)
+    return JudgedSpeeds(np.where(np.isfinite(flown), flown, float(speed)), assumed, float(speed), line)
 
 
 def _ranges(legs: tuple[int, ...]) -> str:
