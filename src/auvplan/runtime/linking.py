@@ -1,6 +1,7 @@
-"""Every kernel runs its own machine code: calls between kernels bound inside the caller (issue: last bits
-depended on whether numba compiled the kernels in this process or loaded them from its disk cache).
+"""Every kernel runs its own machine code: its calls to other kernels are bound inside it, whatever was loaded before.
 
+A result's last bits depended on whether numba compiled the kernels in this process or loaded them from its
+disk cache (and, in a process that loaded them, on which kernel ran first).
 numba links a kernel's callees into the caller's LLVM module as ``linkonce_odr`` copies (numba's
 ``CPUCodeLibrary._get_module_for_linking``: "to allow for multiple definitions, inlining, and removal of unused
 exports"), then optimises the caller's module once more.  A callee LLVM does not inline stays a *call* to a
