@@ -58,22 +58,35 @@ def bind_locally(module: Any) -> int:
     return changed
 
 
-class OwnCodeLibrary(JITCodeLibrary):  # type: ignore[misc]  # numba is untyped
-    """numba's JIT code library whose module, once optimised, calls only its own copies of other functions."""
+class OwnCodeLibrary(JITCodeLibrary):
+    """The JIT code library of numba whose module, once optimised, calls only its own copies of other functions."""
 
     def _optimize_final_module(self) -> None:
-        super()._optimize_final_module()
+        super()._optimize_final_module()  # type: ignore[no-untyped-call]  # numba is untyped
         bind_locally(self._final_module)
 
 
-class OwnCodeCompiler(Compiler):  # type: ignore[misc]  # numba is untyped
-    """numba's default compiler (``pipeline_class``) lowering into an :class:`OwnCodeLibrary`."""
+class OwnCodeCompiler(Compiler):
+    """The default compiler of numba (its ``pipeline_class``) lowering into an :class:`OwnCodeLibrary`."""
 
     def compile_extra(self, func: Any) -> Any:
+        """Compile ``func`` as numba's ``Compiler.compile_extra``, into an :class:`OwnCodeLibrary`.
+
+        Parameters
+        ----------
+        func : callable
+            The Python function of the kernel.
+
+        Returns
+        -------
+        numba.core.compiler.CompileResult
+            numba's result; its library is an :class:`OwnCodeLibrary` unless a library was given or the
+            target's codegen makes another kind of library (then numba's own, unchanged).
+        """
         codegen = self.state.targetctx.codegen()
         if self.state.library is None and getattr(codegen, "_library_class", None) is JITCodeLibrary:
             # numba's NativeLowering makes a JITCodeLibrary just so when none is given
-            library = OwnCodeLibrary(codegen, func.__qualname__)
-            library.enable_object_caching()
+            library = OwnCodeLibrary(codegen, func.__qualname__)  # type: ignore[no-untyped-call]
+            library.enable_object_caching()  # type: ignore[no-untyped-call]
             self.state.library = library
-        return super().compile_extra(func)
+        return super().compile_extra(func)  # type: ignore[no-untyped-call]
