@@ -1,5 +1,5 @@
-"""A kernel computes the same bits whether this process compiled it, loaded it from numba's disk cache, or
-loaded its callee first (``auvplan.runtime.linking``).
+"""A kernel computes the same bits whether this process compiled it, loaded it from numba's disk cache,
+loaded its callee first, or compiled it against its callee loaded from the cache (``auvplan.runtime.linking``).
 
 The kernel is the seabed's ``cell_extremes``, which calls ``_segment`` (another kernel, not inlined by LLVM).
 Before the fix, a process that compiled it called ``_segment``'s own machine code and a process that loaded
@@ -60,6 +60,10 @@ def test_kernel_bits_equal_compiled_and_cached(tmp_path: Path) -> None:
         compiled, bits = _run({**env, **extra}, how)
         assert compiled == 0, f"{how} {extra}: compiled, not loaded from the cache"
         assert bits == fresh, f"{how} {extra}: the cached kernel's bits differ from the compiled one's"
+    for f in (tmp_path / "numba").rglob("seabed.cell_extremes-*"):  # the callee cached, its caller not
+        f.unlink()
+    compiled, bits = _run(env, "plain")
+    assert compiled == 1 and bits == fresh, "compiled against the cached callee: other bits"
 
 
 IR = """
