@@ -8,7 +8,7 @@ STAMP := $(VENV)/.installed
 
 .PHONY: demo test test-nojit survey-flown mutants typecheck lint bench clean fuzz oracles-full kill-points bench-regress bench-hard docs docs-bench bench-converge \
 	bench-flow-flown bench-zones bench-timeopt-front bench-serve-hostile audit-oracles bench-nav bench-front never-silent bench-workers \
-	aot-identity nav-plan-run
+	aot-identity nav-plan-run bench-kernel-link
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -117,6 +117,11 @@ bench-regress: $(STAMP)
 # worktree), interleaved rounds, load stated; writes docs/figures/bench-front.md (docs/performance.md)
 bench-front: $(STAMP)
 	nice -n 5 $(BIN)/python benchmarks/front_door.py --prev $(PREV) --rounds 3 --figure-md bench-front --out results/bench-front
+# what binding each kernel's calls inside its own code costs (runtime/linking.py): CPU of `plan` compiling its
+# kernels into an empty numba cache and loading them, against the commit before it, interleaved (docs/performance.md)
+LINK_PREV ?= 45c929ae
+bench-kernel-link: $(STAMP)
+	nice -n 5 $(BIN)/python benchmarks/kernel_link.py --prev $(LINK_PREV) --rounds 3
 # the default plan on the six hard problems against the previous release's CODE (f5c6a15, in a git worktree,
 # interleaved seed by seed) and its settings on today's code; writes docs/figures/bench-hard-default.md
 # (and the `--reference` solver's CPU against REFERENCE_PEER's code, the wave's branch point)

@@ -222,7 +222,9 @@ class _CacheOnUse:
 def _compile(fn: Callable[..., Any], options: dict[str, Any]) -> Any:
     from numba import njit
 
-    dispatcher = njit(**{**_SETTINGS, **options})(fn)
+    from .linking import OwnCodeCompiler  # calls between kernels bound inside the caller (runtime/linking.py)
+
+    dispatcher = njit(**{**_SETTINGS, "pipeline_class": OwnCodeCompiler, **options})(fn)
     if hasattr(dispatcher, "enable_caching"):  # not with NUMBA_DISABLE_JIT=1
         dispatcher._cache = _CacheOnUse(dispatcher)
     return dispatcher
