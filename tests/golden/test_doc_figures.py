@@ -203,6 +203,9 @@ HAND_TYPED_DOC_SECTIONS = {
     ("docs/mutants.md", "8. Never mutated before: cached kernels, lazy names, the --out folder (7 Dec 2026, ~04:30)"):
         "docs: tools/mutate.py runs of cacheload, lazy, the --out folder and zones-near (8.5 min of heavy slots), "
         "mutants21",
+    ("docs/mutants.md", "9. The last two waves' code no run had seen: the exact EDT, the waits in mission files, a "
+                        "`.plan` as WPNav flies it (7 Dec 2026, ~07:00, audit-w17)"):
+        "docs: tools/mutate.py runs of edt, dwell and wpnav-speeds (heavy slots), audit-w17",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
         "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",
