@@ -136,6 +136,19 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     dict
         File name → text.
     """
+    yos = _cycle_yos(glider, number, yos, underwater_s)
+    pitch = math.radians(glider.pitch_deg)
+    out = {f"goto_l{number}.ma": _goto_file(_latlon(points, origin), glider, number, name),
+           f"yo{number}.ma": _yo_file(glider, min_altitude, number, name, yos, pitch),
+           f"surfac{number}.ma": _surface_file(glider, number, name, yos, pitch)}
+    if glider.surface_every_s > 0:
+        assert underwater_s is not None
+        out[f"surfac{number + 1}.ma"] = _nocomm_file(glider, number, name, yos, underwater_s, pitch)
+    return out
+
+
+def _cycle_yos(glider: Any, number: int, yos: int | None, underwater_s: float | None) -> int:
+    """The yos of a planned cycle the files are written for, the arguments checked (:func:`slocum_files`)."""
     if not 10 <= number <= 98:
         raise ValueError(f"number = {number}: Slocum behaviour files are numbered 10-99")
     if glider.surface_every_s > 0 and not (underwater_s is not None and underwater_s > 0):
@@ -147,8 +160,11 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
     yos = glider.yos if yos is None else int(yos)
     if yos < 1:
         raise ValueError(f"yos = {yos}: a cycle has at least one yo")
-    pts = _latlon(points, origin)
-    pitch = math.radians(glider.pitch_deg)
+    return yos
+
+
+def _goto_file(pts: list[tuple[float, float]], glider: Any, number: int, name: str) -> str:
+    """``goto_lNN.ma``: the surfacing waypoints ``(lat, lon)``, run once, each reached within the capture radius."""
     goto = ["behavior_name=goto_list", f"# goto_l{number}.ma: {name}, {len(pts)} surfacing waypoints written by "
             "auvplan (planned in dive cycles against the depth-averaged current)",
             *_b_args([("num_legs_to_run(nodim)", len(pts), "run the list once, stop at the last"),
@@ -160,6 +176,11 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
             "<start:waypoints>", "#   LON (DDDMM.MMMM)  LAT (DDMM.MMMM)",
             *(f"    {to_ddmm(lon):.4f}    {to_ddmm(lat):.4f}    # {k + 1}" for k, (lat, lon) in enumerate(pts)),
             "<end:waypoints>"]
+    return "\n".join(goto) + "\n"
+
+
+def _yo_file(glider: Any, min_altitude: float, number: int, name: str, yos: int, pitch: float) -> str:
+    """``yoNN.ma``: ``yos`` dives and climbs between two surfacings, at ``pitch`` (rad)."""
     yo = ["behavior_name=yo", f"# yo{number}.ma: {name}, climb {glider.climb_depth_m:g} m, dive "
           f"{glider.dive_depth_m:g} m, altitude {min_altitude:g} m, pitch {glider.pitch_deg:g} deg, "
           f"{yos} yos per surfacing",
@@ -174,6 +195,11 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
                     ("c_use_pitch(enum)", 3, "servo"),
                     ("c_pitch_value(X)", f"{pitch:.4f}", f"{glider.pitch_deg:g} deg"),
                     ("end_action(enum)", 2, "resume")])]
+    return "\n".join(yo) + "\n"
+
+
+def _surface_file(glider: Any, number: int, name: str, yos: int, pitch: float) -> str:
+    """``surfacNN.ma``: every planned surfacing, at the top of the yo's last climb."""
     surf = ["behavior_name=surface", f"# surfac{number}.ma: {name}, surface when the yo has done its "
             f"{yos} yos",
             *_b_args([("start_when(enum)", 2, "BAW_PITCH_IDLE"),
@@ -181,21 +207,21 @@ def slocum_files(points: Any, origin: tuple[float, float], glider: Any, min_alti
                       ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
                       ("c_use_pitch(enum)", 3, "servo"),
                       ("c_pitch_value(X)", f"{pitch:.4f}", "")])]
-    out = {f"goto_l{number}.ma": "\n".join(goto) + "\n", f"yo{number}.ma": "\n".join(yo) + "\n",
-           f"surfac{number}.ma": "\n".join(surf) + "\n"}
-    if glider.surface_every_s > 0:
-        assert underwater_s is not None
-        secs = math.ceil(underwater_s * (yos + 1) / yos)  # a cycle and one yo more: never in a nominal cycle
-        every = ["behavior_name=surface", f"# surfac{number + 1}.ma: {name}, safety net: surface after {secs} s "
-                 f"without comms (a planned cycle is {underwater_s:.0f} s underwater; surfac{number} surfaces it)",
-                 *_b_args([("start_when(enum)", 12, "BAW_NOCOMM_SECS"),
-                           ("when_secs(sec)", f"{secs}", "the cycle's time underwater and one yo"),
-                           ("end_action(enum)", 2, "resume"),
-                           ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
-                           ("c_use_pitch(enum)", 3, "servo"),
-                           ("c_pitch_value(X)", f"{pitch:.4f}", "")])]
-        out[f"surfac{number + 1}.ma"] = "\n".join(every) + "\n"
-    return out
+    return "\n".join(surf) + "\n"
+
+
+def _nocomm_file(glider: Any, number: int, name: str, yos: int, underwater_s: float, pitch: float) -> str:
+    """``surfac(NN+1).ma``: the no-comms safety net, a planned cycle and one yo more underwater (module notes)."""
+    secs = math.ceil(underwater_s * (yos + 1) / yos)  # a cycle and one yo more: never in a nominal cycle
+    every = ["behavior_name=surface", f"# surfac{number + 1}.ma: {name}, safety net: surface after {secs} s "
+             f"without comms (a planned cycle is {underwater_s:.0f} s underwater; surfac{number} surfaces it)",
+             *_b_args([("start_when(enum)", 12, "BAW_NOCOMM_SECS"),
+                       ("when_secs(sec)", f"{secs}", "the cycle's time underwater and one yo"),
+                       ("end_action(enum)", 2, "resume"),
+                       ("gps_wait_time(s)", f"{glider.surface_time_s:.0f}", ""),
+                       ("c_use_pitch(enum)", 3, "servo"),
+                       ("c_pitch_value(X)", f"{pitch:.4f}", "")])]
+    return "\n".join(every) + "\n"
 
 
 def write_slocum(folder: Path, points: Any, origin: tuple[float, float], glider: Any, min_altitude: float,
