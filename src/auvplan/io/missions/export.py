@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -108,42 +108,51 @@ def to_geojson(record: RunRecord, origin: tuple[float, float] | None, full: bool
     """
     frame = _frame(origin)
     track, _ = _track(record, full)
-
-    def coords(p: NDArray[np.float64]) -> list[list[float]]:
-        lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return [_lon_lat_z(a, b, z) for a, b, z in zip(lon, lat, p[:, 2])]
-
-    def line(p: NDArray[np.float64]) -> JsonDict:
-        """A LineString, or a MultiLineString cut at the antimeridian (RFC 7946 §3.1.9; :mod:`.antimeridian`)."""
-        c = coords(p)
-        pieces = antimeridian.cut_line(c)
-        if len(pieces) == 1:
-            return {"type": "LineString", "coordinates": c}
-        return {"type": "MultiLineString", "coordinates": [[_lon_lat_z(*c) for c in q] for q in pieces]}
-
     props = {"name": "track" if record.sim is not None else "plan", **jsonable(summary_metrics(record))}
-    feats = [{"type": "Feature", "geometry": line(track), "properties": props}]
+    feats = [{"type": "Feature", "geometry": _geojson_line(frame, track), "properties": props}]
     if record.plan is not None and record.plan.path.shape[0] >= 2 and record.sim is not None:
-        feats.append({"type": "Feature", "geometry": line(record.plan.path),
+        feats.append({"type": "Feature", "geometry": _geojson_line(frame, record.plan.path),
                       "properties": {"name": "global plan", "planner": record.plan.planner}})
     if record.keys.size:
-        feats.append({"type": "Feature", "geometry": {"type": "MultiPoint", "coordinates": coords(record.keys)},
-                      "properties": {"name": "key waypoints"}})
-    mission = line(mission_waypoints(record))
+        keys = {"type": "MultiPoint", "coordinates": _coords(frame, record.keys)}
+        feats.append({"type": "Feature", "geometry": keys, "properties": {"name": "key waypoints"}})
+    mission = _geojson_line(frame, mission_waypoints(record))
     mp: JsonDict = {"name": "mission", "depth_semantics": "linear along each leg"}
     tail = record_tail(record)
     if tail is not None and any_tail(tail):
         mp["tail_first_legs"] = [int(i) for i in np.flatnonzero(tail)]  # (auvplan.io.missions.tail)
     mp.update(dfmt.mission_props(deploy))
     feats.append({"type": "Feature", "geometry": mission, "properties": mp})
-    for kind, ring in dfmt.envelope_rings(deploy, frame):
-        parts = [[[[round(float(a), 9), round(float(b), 9)] for a, b in np.vstack([r, r[:1]])]]
-                 for r in antimeridian.cut_ring(ring[:, 1], ring[:, 0])]  # [lon, lat]; across ±180°: cut
+    for kind, rings in _envelope_pieces(deploy, frame):
+        parts = [[[[round(float(a), 9), round(float(b), 9)] for a, b in r]] for r in rings]  # [lon, lat]
         geometry = ({"type": "Polygon", "coordinates": parts[0]} if len(parts) == 1
                     else {"type": "MultiPolygon", "coordinates": parts})
         props = dfmt.envelope_props(deploy.envelope) if kind == "envelope" else {"name": kind}  # type: ignore[union-attr, arg-type]
         feats.append({"type": "Feature", "geometry": geometry, "properties": props})
     return {"type": "FeatureCollection", "features": feats}
+
+
+def _coords(frame: LocalFrame, p: NDArray[np.float64]) -> list[list[float]]:
+    """GeoJSON positions of local points ``(N, 3)`` (:func:`_lon_lat_z`)."""
+    lon, lat = frame.inverse(p[:, 0], p[:, 1])
+    return [_lon_lat_z(a, b, z) for a, b, z in zip(lon, lat, p[:, 2])]
+
+
+def _geojson_line(frame: LocalFrame, p: NDArray[np.float64]) -> JsonDict:
+    """A LineString, or a MultiLineString cut at the antimeridian (RFC 7946 §3.1.9; :mod:`.antimeridian`)."""
+    c = _coords(frame, p)
+    pieces = antimeridian.cut_line(c)
+    if len(pieces) == 1:
+        return {"type": "LineString", "coordinates": c}
+    return {"type": "MultiLineString", "coordinates": [[_lon_lat_z(*c) for c in q] for q in pieces]}
+
+
+def _envelope_pieces(deploy: DeployInfo | None,
+                     frame: LocalFrame) -> Iterator[tuple[str, list[NDArray[np.float64]]]]:
+    """Each ring of the envelope and its exclusions (:func:`~.deploy_formats.envelope_rings`) as closed rings
+    ``[lon, lat]``, cut at the antimeridian (:func:`~.antimeridian.cut_ring`: one ring when it does not cross)."""
+    for kind, ring in dfmt.envelope_rings(deploy, frame):
+        yield kind, [np.vstack([r, r[:1]]) for r in antimeridian.cut_ring(ring[:, 1], ring[:, 0])]
 
 
 def _lon_lat_z(lon: float, lat: float, z: float) -> list[float]:
@@ -182,56 +191,65 @@ def to_kml(record: RunRecord, origin: tuple[float, float] | None, full: bool = F
     root = ET.Element(f"{{{ns}}}kml")
     doc = ET.SubElement(root, f"{{{ns}}}Document")
     ET.SubElement(doc, f"{{{ns}}}name").text = f"auvplan {record.scenario} seed {record.seed}"
-
-    def rounded(p: NDArray[np.float64]) -> NDArray[np.float64]:
-        lon, lat = frame.inverse(p[:, 0], p[:, 1])
-        return np.column_stack([np.round(lon, 9), np.round(lat, 9), np.round(p[:, 2], 3) + 0.0])  # no -0.000
-
-    def text(c: NDArray[np.float64]) -> str:
-        return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in c)
-
-    def line(name: str, p: NDArray[np.float64]) -> None:
-        """A LineString, or a MultiGeometry of LineStrings cut at the antimeridian (:mod:`.antimeridian`)."""
-        pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
-        ET.SubElement(pm, f"{{{ns}}}name").text = name
-        pieces = antimeridian.cut_line(rounded(p))
-        parent = pm if len(pieces) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
-        for q in pieces:
-            ls = ET.SubElement(parent, f"{{{ns}}}LineString")
-            ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
-            ET.SubElement(ls, f"{{{ns}}}coordinates").text = text(q)
-
     track, _ = _track(record, full)
-    line("track" if record.sim is not None else "plan", track)
+    _kml_line(doc, ns, frame, "track" if record.sim is not None else "plan", track)
     if record.plan is not None and record.sim is not None and record.plan.path.shape[0] >= 2:
-        line("global plan", record.plan.path)
-    line("mission", mission_waypoints(record))
+        _kml_line(doc, ns, frame, "global plan", record.plan.path)
+    _kml_line(doc, ns, frame, "mission", mission_waypoints(record))
     tail = record_tail(record)
     extra = {k: _kml_value(v) for k, v in dfmt.mission_props(deploy).items()}
     if tail is not None and any_tail(tail):  # (auvplan.io.missions.tail)
         extra["tail_first_legs"] = " ".join(str(int(i)) for i in np.flatnonzero(tail))
     if extra:
         _extended(doc.findall(f"{{{ns}}}Placemark")[-1], extra, ns)
-    for kind, ring in dfmt.envelope_rings(deploy, frame):
+    for kind, rings in _envelope_pieces(deploy, frame):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = kind
         if kind == "envelope":
             _extended(pm, {k: str(v) for k, v in dfmt.envelope_props(deploy.envelope).items()  # type: ignore[union-attr, arg-type]
                            if k != "name"}, ns)
-        parts = antimeridian.cut_ring(ring[:, 1], ring[:, 0])  # [lon, lat]; across ±180°: a MultiGeometry
-        parent = pm if len(parts) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
-        for r in parts:
-            outer = ET.SubElement(ET.SubElement(ET.SubElement(parent, f"{{{ns}}}Polygon"),
-                                                f"{{{ns}}}outerBoundaryIs"), f"{{{ns}}}LinearRing")
-            ET.SubElement(outer, f"{{{ns}}}coordinates").text = " ".join(
-                f"{a:.9f},{b:.9f}" for a, b in np.vstack([r, r[:1]]))
+        _kml_polygons(pm, ns, rings)
     for i, k in enumerate(record.keys):
         pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
         ET.SubElement(pm, f"{{{ns}}}name").text = f"key {i}"
         pt = ET.SubElement(pm, f"{{{ns}}}Point")
         ET.SubElement(pt, f"{{{ns}}}altitudeMode").text = "absolute"
-        ET.SubElement(pt, f"{{{ns}}}coordinates").text = text(rounded(k[None]))
+        ET.SubElement(pt, f"{{{ns}}}coordinates").text = _kml_text(_kml_rounded(frame, k[None]))
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def _kml_rounded(frame: LocalFrame, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``[lon, lat, z]`` of local points ``(N, 3)``: 1e-9 degree, 1 mm, never -0.000."""
+    lon, lat = frame.inverse(p[:, 0], p[:, 1])
+    return np.column_stack([np.round(lon, 9), np.round(lat, 9), np.round(p[:, 2], 3) + 0.0])  # no -0.000
+
+
+def _kml_text(c: NDArray[np.float64]) -> str:
+    """KML ``coordinates`` text of ``[lon, lat, z]`` rows."""
+    return " ".join(f"{a:.9f},{b:.9f},{z:.3f}" for a, b, z in c)
+
+
+def _kml_line(doc: ET.Element, ns: str, frame: LocalFrame, name: str, p: NDArray[np.float64]) -> None:
+    """A placemark ``name``: a LineString, or a MultiGeometry of LineStrings cut at the antimeridian
+    (:mod:`.antimeridian`)."""
+    pm = ET.SubElement(doc, f"{{{ns}}}Placemark")
+    ET.SubElement(pm, f"{{{ns}}}name").text = name
+    pieces = antimeridian.cut_line(_kml_rounded(frame, p))
+    parent = pm if len(pieces) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
+    for q in pieces:
+        ls = ET.SubElement(parent, f"{{{ns}}}LineString")
+        ET.SubElement(ls, f"{{{ns}}}altitudeMode").text = "absolute"
+        ET.SubElement(ls, f"{{{ns}}}coordinates").text = _kml_text(q)
+
+
+def _kml_polygons(pm: ET.Element, ns: str, rings: list[NDArray[np.float64]]) -> None:
+    """A placemark's Polygon of one closed ring ``[lon, lat]``, or a MultiGeometry of those cut at the antimeridian
+    (:func:`_envelope_pieces`)."""
+    parent = pm if len(rings) == 1 else ET.SubElement(pm, f"{{{ns}}}MultiGeometry")
+    for r in rings:
+        outer = ET.SubElement(ET.SubElement(ET.SubElement(parent, f"{{{ns}}}Polygon"),
+                                            f"{{{ns}}}outerBoundaryIs"), f"{{{ns}}}LinearRing")
+        ET.SubElement(outer, f"{{{ns}}}coordinates").text = " ".join(f"{a:.9f},{b:.9f}" for a, b in r)
 
 
 def _kml_value(v: object) -> str:
