@@ -14,6 +14,9 @@ every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; rea
 * **Altitude** — with ``[mission] follow_altitude_m``, every leg is terrain-following: the planned altitude
   above the chart's seabed at each waypoint, flown by the vehicle's altimeter where the format can say so,
   with the planned depth schedule as the bound (never deeper than planned).
+* **Planned times** — the arrival at each waypoint at the planned speed (one, or one per leg) after the waits
+  before it (:func:`planned_times`, :func:`leg_speeds`): the predicted duration here, the stamps of every format
+  (re-exported by :mod:`auvplan.io.missions.formats`).
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ from ...sim import Mission
 from ...world import World
 
 __all__ = ["ROUNDED_RISE_M", "TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels",
-           "payload_events"]
+           "payload_events", "planned_times", "leg_speeds"]
 
 TIMEOUT_FACTOR = 1.5
 """Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
@@ -122,6 +125,63 @@ class DeployInfo:
     leg_floor: NDArray[np.float64] | None = None
 
 
+def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
+                  dwell: ArrayLike | None = None) -> NDArray[np.float64]:
+    """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs, after the waits at the
+    waypoints before it.
+
+    Parameters
+    ----------
+    waypoints : array_like
+        ``(N, 3)`` waypoints (m).
+    speed : float or array_like
+        Planned speed (m/s), one for all legs or ``(N - 1,)`` one per leg.
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; a surface fix's ``surface_s``, :attr:`auvplan.nav.NavPlan.dwell_s`):
+        a waypoint is reached after the waits of those before it (its own follows its arrival).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` times (s), 0 at the first point.
+    """
+    w = np.asarray(waypoints, dtype=float)
+    legs = np.linalg.norm(np.diff(w, axis=0), axis=1)
+    times: NDArray[np.float64] = np.r_[0.0, np.cumsum(legs / leg_speeds(speed, legs.size))]
+    if dwell is not None:
+        d = np.asarray(dwell, dtype=float).reshape(-1)
+        if d.shape != times.shape:
+            raise ValueError(f"dwell: one wait per waypoint ({times.size}), got {d.size}")
+        times = times + np.r_[0.0, np.cumsum(d[:-1])]
+    return times
+
+
+def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
+    """One planned speed per leg: ``speed`` repeated, or the ``(legs,)`` speeds given (issue 38).
+
+    Parameters
+    ----------
+    speed : float or array_like
+        One speed for all legs or one per leg (m/s).
+    legs : int
+        Number of legs.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(legs,)`` speeds (m/s).
+
+    Raises
+    ------
+    ValueError
+        When per-leg speeds do not match the legs.
+    """
+    v = np.asarray(speed, dtype=float)
+    if v.ndim and v.size != legs:
+        raise ValueError(f"{v.size} leg speeds for {legs} legs")
+    return np.broadcast_to(v, (legs,)).astype(float)
+
+
 def payload_from_labels(labels: ArrayLike) -> NDArray[np.bool_]:
     """The sensor state of each leg of a survey route: on along a line, off on turns and transits.
 
@@ -202,8 +262,6 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     DeployInfo
         What the exports carry.
     """
-    from .formats import planned_times
-
     w = np.asarray(waypoints, dtype=float)
     b = world.bounds
     poly = ((b.xmin, b.ymin), (b.xmax, b.ymin), (b.xmax, b.ymax), (b.xmin, b.ymax))

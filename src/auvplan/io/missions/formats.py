@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from ...errors import DataError
 from ..data.geo import LocalFrame
 from . import deploy_formats as dfmt
-from .deploy import DeployInfo, payload_events
+from .deploy import DeployInfo, leg_speeds, payload_events, planned_times
 from .readback.qgc_items import AP_MISSION_MAX_COMMANDS, capacity_note
 from .readback.readers import (
     GPX_NS,
@@ -72,63 +72,6 @@ __all__ = [
     "read_mission",
     "check_mission_file",
 ]
-
-
-def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
-                  dwell: ArrayLike | None = None) -> NDArray[np.float64]:
-    """Compute the planned arrival time at each waypoint at ``speed`` along the 3D legs, after the waits at the
-    waypoints before it.
-
-    Parameters
-    ----------
-    waypoints : array_like
-        ``(N, 3)`` waypoints (m).
-    speed : float or array_like
-        Planned speed (m/s), one for all legs or ``(N - 1,)`` one per leg.
-    dwell : array_like, optional
-        ``(N,)`` the wait at each waypoint (s; a surface fix's ``surface_s``, :attr:`auvplan.nav.NavPlan.dwell_s`):
-        a waypoint is reached after the waits of those before it (its own follows its arrival).
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(N,)`` times (s), 0 at the first point.
-    """
-    w = np.asarray(waypoints, dtype=float)
-    legs = np.linalg.norm(np.diff(w, axis=0), axis=1)
-    times: NDArray[np.float64] = np.r_[0.0, np.cumsum(legs / leg_speeds(speed, legs.size))]
-    if dwell is not None:
-        d = np.asarray(dwell, dtype=float).reshape(-1)
-        if d.shape != times.shape:
-            raise ValueError(f"dwell: one wait per waypoint ({times.size}), got {d.size}")
-        times = times + np.r_[0.0, np.cumsum(d[:-1])]
-    return times
-
-
-def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
-    """One planned speed per leg: ``speed`` repeated, or the ``(legs,)`` speeds given (issue 38).
-
-    Parameters
-    ----------
-    speed : float or array_like
-        One speed for all legs or one per leg (m/s).
-    legs : int
-        Number of legs.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``(legs,)`` speeds (m/s).
-
-    Raises
-    ------
-    ValueError
-        When per-leg speeds do not match the legs.
-    """
-    v = np.asarray(speed, dtype=float)
-    if v.ndim and v.size != legs:
-        raise ValueError(f"{v.size} leg speeds for {legs} legs")
-    return np.broadcast_to(v, (legs,)).astype(float)
 
 
 SPEED_DECIMALS = 4
