@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._types import BoolArray, FloatArray
+from .._types import BoolArray, FloatArray, IntArray
 from .clearance import obstacle_safe_radius, zone_safe_radius
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers only
@@ -217,6 +217,30 @@ def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
     sv = np.r_[0.0, np.cumsum(h)]
     sf = _snap(sf, sv, p[:, 2], tan_pitch)
     gps = sf[[k == "gps" for k in kinds]]
+    b, leg = _breakpoints(p, h, sv, sf, gps, tan_pitch)
+    s = np.r_[sv, b]
+    order = np.lexsort((s, np.r_[np.arange(sv.size) - 0.5, leg]))  # vertex i before leg i's inner breakpoints
+    s = s[order]
+    vertex = order < sv.size
+    f_leg = np.clip((b - sv[leg]) / np.where(h[leg] > 0.0, h[leg], 1.0), 0.0, 1.0)[:, None]
+    pts = np.vstack([p, p[leg] + f_leg * (p[leg + 1] - p[leg])])[order]
+    for f in gps:
+        pts[:, 2] = np.maximum(pts[:, 2], -tan_pitch * np.abs(s - f))
+    out_kinds = [""] * s.size
+    for f, kind in zip(sf, kinds, strict=True):
+        out_kinds[int(np.argmin(np.abs(s - f)))] = kind
+    keep = _needed(pts, s, vertex, out_kinds)
+    pts, out_kinds = pts[keep], [k for k, m in zip(out_kinds, keep, strict=True) if m]
+    vertex = vertex[keep]
+    pts, vertex, out_kinds = _drop_repeats(pts, vertex, out_kinds)
+    kept = _merge_short(pts, vertex | np.array([bool(k) for k in out_kinds]))
+    return pts[kept], tuple(out_kinds[i] for i in kept)
+
+
+def _breakpoints(p: FloatArray, h: FloatArray, sv: FloatArray, sf: FloatArray, gps: FloatArray,
+                 tan_pitch: float) -> tuple[FloatArray, IntArray]:
+    """The breakpoints :func:`apply_fixes` adds strictly inside the legs, in order, and the leg of each: the fixes,
+    every crossing of a climb or dive with a leg, and the midpoints between two surfacings."""
     brk = [sf]
     for f in gps:  # crossings of each climb/dive with each leg
         for sign in (-1.0, 1.0):
@@ -236,27 +260,19 @@ def apply_fixes(route: ArrayLike, s_fix: ArrayLike, kinds: tuple[str, ...],
     b, leg = b[inside], leg[inside]
     inside = sv[leg + 1] - b > 1e-6
     b, leg = b[inside], leg[inside]
-    s = np.r_[sv, b]
-    order = np.lexsort((s, np.r_[np.arange(sv.size) - 0.5, leg]))  # vertex i before leg i's inner breakpoints
-    s = s[order]
-    vertex = order < sv.size
-    f_leg = np.clip((b - sv[leg]) / np.where(h[leg] > 0.0, h[leg], 1.0), 0.0, 1.0)[:, None]
-    pts = np.vstack([p, p[leg] + f_leg * (p[leg + 1] - p[leg])])[order]
-    for f in gps:
-        pts[:, 2] = np.maximum(pts[:, 2], -tan_pitch * np.abs(s - f))
-    out_kinds = [""] * s.size
-    for f, kind in zip(sf, kinds, strict=True):
-        out_kinds[int(np.argmin(np.abs(s - f)))] = kind
-    keep = _needed(pts, s, vertex, out_kinds)
-    pts, out_kinds = pts[keep], [k for k, m in zip(out_kinds, keep, strict=True) if m]
-    vertex = vertex[keep]
+    return b, leg
+
+
+def _drop_repeats(pts: FloatArray, vertex: BoolArray,
+                  out_kinds: list[str]) -> tuple[FloatArray, BoolArray, list[str]]:
+    """The points without a repeat of the one before (a vertical leg the envelope lifted whole), its fix and its
+    being a vertex merged into that one."""
     same = np.r_[False, np.all(np.abs(np.diff(pts, axis=0)) <= 1e-9, axis=1)]  # a vertical leg lifted whole
     for i in np.flatnonzero(same)[::-1]:  # the repeat is merged into the point before it, with its fix
         out_kinds[i - 1] = out_kinds[i - 1] or out_kinds[i]
         vertex[i - 1] |= vertex[i]
     pts, vertex, out_kinds = pts[~same], vertex[~same], [k for k, d in zip(out_kinds, same, strict=True) if not d]
-    kept = _merge_short(pts, vertex | np.array([bool(k) for k in out_kinds]))
-    return pts[kept], tuple(out_kinds[i] for i in kept)
+    return pts, vertex, out_kinds
 
 
 def _snap(sf: FloatArray, sv: FloatArray, z: FloatArray, tan_pitch: float) -> FloatArray:
