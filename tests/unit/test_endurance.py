@@ -318,11 +318,11 @@ def test_run_flies_the_chosen_leg_speeds(tmp_path, capsys):
 
 def test_exports_carry_the_speed_of_each_leg():
     from auvplan.io.data.geo import LocalFrame
-    from auvplan.io.missions import formats
+    from auvplan.io.missions import deploy, formats
 
     pts = np.array([[0.0, 0.0, -10.0], [300.0, 0.0, -20.0], [300.0, 400.0, -20.0]])
     v = [1.0, 2.0]
-    assert formats.planned_times(pts, v) == pytest.approx([0.0, np.hypot(300, 10) / 1.0, np.hypot(300, 10) + 200.0])
+    assert deploy.planned_times(pts, v) == pytest.approx([0.0, np.hypot(300, 10) / 1.0, np.hypot(300, 10) + 200.0])
     moos = formats.to_moos(pts, v)
     assert "runflag   = WPT_UPDATE = speed=1" in moos and "runflag   = WPT_UPDATE = speed=2" in moos
     assert "updates        = WPT_UPDATE" in moos and formats.parse_moos(moos) == pytest.approx(pts)

@@ -67,8 +67,6 @@ __all__ = [
     "to_ros_path",
     "parse_ros_path",
     "mission_csv",
-    "planned_times",
-    "leg_speeds",
     "read_mission",
     "check_mission_file",
 ]
