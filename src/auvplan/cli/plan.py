@@ -53,9 +53,29 @@ def cmd_plan(args: argparse.Namespace) -> int:
              + (f"\n  {result.message}" if result.message else "")
              + (f"\n  not converged ({result.convergence})" if result.converged is False else "")
              + (f"\n  grid reference cost {result.reference_cost:.6g}, gap {result.gap_pct:+.2f} %"
-                if args.reference else ""))
+                if args.reference else "") + route_note(len(sc.mission.route)))
     emit(record, args.json, human)
     return 0 if result.status.ok else 1
+
+
+def route_note(waypoints: int) -> str:
+    """The line of ``plan`` for a scenario with a fixed ``[mission] route``: ``run`` flies it, ``plan`` does not.
+
+    Parameters
+    ----------
+    waypoints : int
+        How many waypoints the scenario's ``[mission] route`` holds (0: none, no line).
+
+    Returns
+    -------
+    str
+        ``""``, or a line (with its leading newline) saying that this plan goes from start to goal, and that the
+        route ``run`` flies and exports is the scenario's.
+    """
+    if not waypoints:
+        return ""
+    return (f"\n  note: the scenario's [mission] route ({waypoints} waypoint{'' if waypoints == 1 else 's'}) is what "
+            "`run` flies and exports; this plan goes from start to goal without it")
 
 
 def work_note(work: dict[str, float]) -> str:
