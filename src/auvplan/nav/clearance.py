@@ -389,9 +389,8 @@ def obstacle_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.
     r = np.broadcast_to(np.asarray(radius, dtype=float), (seg.shape[0],))
     out = np.full(seg.shape[0], -1, dtype=np.intp)
     for j, shape in enumerate(world.obstacles):
-        for k in np.flatnonzero(out < 0):
-            if bool(shape.segments_hit(seg[k:k + 1], world.margins.obstacle + float(r[k]))[0]):
-                out[k] = j
+        k = np.flatnonzero(out < 0)
+        out[k[shape.segments_hit(seg[k], world.margins.obstacle + r[k])]] = j
     return out
 
 

@@ -159,10 +159,10 @@ def route_keeps(world: World, route: ArrayLike, clearance: ArrayLike) -> int:
     w = np.asarray(route, dtype=float).reshape(-1, 3)
     legs = np.stack([w[:-1], w[1:]], axis=1)
     need = np.broadcast_to(np.asarray(clearance, dtype=float), (legs.shape[0],))
-    for i in range(legs.shape[0]):
-        if any(bool(ob.segments_hit(legs[i:i + 1], float(need[i]))[0]) for ob in world.obstacles):
-            return i
-    return -1
+    hit = np.zeros(legs.shape[0], dtype=bool)
+    for ob in world.obstacles:
+        hit |= ob.segments_hit(legs, need)
+    return int(np.argmax(hit)) if hit.any() else -1
 
 
 def contract_world(world: World, bound: float) -> World:

@@ -111,15 +111,15 @@ class Sphere:
         g: FloatArray = r / np.where(n > 0, n, 1.0)
         return g
 
-    def segments_hit(self, segments: ArrayLike, margin: float = 0.0) -> BoolArray:
+    def segments_hit(self, segments: ArrayLike, margin: ArrayLike = 0.0) -> BoolArray:
         """Exact test: where a segment comes closer than ``margin`` to the surface.
 
         Parameters
         ----------
         segments : array_like
             Start and end points ``(..., 2, 3)`` (m).
-        margin : float, default 0.0
-            Required distance from the surface (m).
+        margin : float or array_like, default 0.0
+            Required distance from the surface (m): one for all, or one per segment (``(...)``).
 
         Returns
         -------
@@ -127,7 +127,8 @@ class Sphere:
             ``(...)``, True for segments that come closer than ``margin``.
         """
         s = np.asarray(segments, dtype=float)
-        return point_segment_distance(np.asarray(self.center), s[..., 0, :], s[..., 1, :]) < self.radius + margin
+        m = np.asarray(margin, dtype=float)
+        return point_segment_distance(np.asarray(self.center), s[..., 0, :], s[..., 1, :]) < self.radius + m
 
     def segment_distance(self, segments: ArrayLike) -> FloatArray:
         """Least signed distance to the surface along each segment (exact): :meth:`segments_hit` at ``margin`` is
@@ -334,7 +335,7 @@ class Ellipsoid:
         bound: FloatArray = (s - 1.0) * min(self.semi_axes)
         return bound
 
-    def segments_hit(self, segments: ArrayLike, margin: float = 0.0) -> BoolArray:
+    def segments_hit(self, segments: ArrayLike, margin: ArrayLike = 0.0) -> BoolArray:
         """Exact test: where a segment comes closer than ``margin`` to the surface.
 
         Without a margin, the segment against the unit sphere in scaled coordinates.  With one, the
@@ -347,8 +348,8 @@ class Ellipsoid:
         ----------
         segments : array_like
             Start and end points ``(..., 2, 3)`` (m).
-        margin : float, default 0.0
-            Required distance from the surface (m).
+        margin : float or array_like, default 0.0
+            Required distance from the surface (m): one for all, or one per segment (``(...)``).
 
         Returns
         -------
@@ -359,13 +360,14 @@ class Ellipsoid:
         a = self.to_body(s[..., 0, :]) / np.asarray(self.semi_axes)
         b = self.to_body(s[..., 1, :]) / np.asarray(self.semi_axes)
         touch = point_segment_distance(np.zeros(3), a, b) < 1.0
-        if margin <= 0:
+        m = np.broadcast_to(np.asarray(margin, dtype=float), touch.shape)
+        if not (m > 0).any():
             return touch
-        scale = 1.0 + margin / min(self.semi_axes)
-        near = (point_segment_distance(np.zeros(3), a / scale, b / scale) < 1.0) & ~touch
+        scale = (1.0 + m / min(self.semi_axes))[..., None]
+        near = (point_segment_distance(np.zeros(3), a / scale, b / scale) < 1.0) & ~touch & (m > 0)
         hit = touch.copy()
         if near.any():
-            hit[near] = self._segment_min_distance(s[near]) < margin
+            hit[near] = self._segment_min_distance(s[near]) < m[near]
         return hit
 
     def _segment_min_distance(self, seg: FloatArray) -> FloatArray:
