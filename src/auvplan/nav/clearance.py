@@ -302,17 +302,14 @@ def zone_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.ndar
     if not world.zones or seg.shape[0] == 0:
         return out
     specs = world.zones.exact.zones
-    geoms = np.array([z.footprint for z in specs], dtype=object)
-    tree = shapely.STRtree(geoms)
-    traces = shapely.linestrings(seg[:, :, :2])
-    ks, js = tree.query(traces, predicate="dwithin", distance=r)  # the broad phase: the footprints within reach
+    ks, js = world.zones.exact.traces_near(seg, r)  # the broad phase: the footprints within reach
     for k, j in zip(ks.tolist(), js.tolist(), strict=True):
         if out[k] >= 0:
             continue
         z, a, b = specs[j], seg[k, 0], seg[k, 1]
         if z.above_seabed is None:
             part = _band_trace(a, b, -z.bottom, -z.top)
-            hit = part is not None and float(shapely.distance(part, geoms[j])) <= r[k]
+            hit = part is not None and float(shapely.distance(part, z.footprint)) <= r[k]
         else:  # the band's top within reach is at most the highest seabed within r of the leg plus its height
             hit = world.terrain is not None and float(leg_slack(world.terrain, a, b, r[k])[0]) <= z.above_seabed
         if hit:
@@ -346,13 +343,12 @@ def zone_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float, tol
     if not world.zones or seg.shape[0] == 0:
         return out
     specs = world.zones.exact.zones
-    geoms = np.array([z.footprint for z in specs], dtype=object)
-    ks, js = shapely.STRtree(geoms).query(shapely.linestrings(seg[:, :, :2]), predicate="dwithin", distance=r_max)
+    ks, js = world.zones.exact.traces_near(seg, r_max)
     for k, j in zip(ks.tolist(), js.tolist(), strict=True):
         z, p, q = specs[j], seg[k, 0], seg[k, 1]
         if z.above_seabed is None:
             part = _band_trace(p, q, -z.bottom, -z.top)
-            r = math.inf if part is None else float(shapely.distance(part, geoms[j])) * (1.0 - 1e-12) - 1e-6
+            r = math.inf if part is None else float(shapely.distance(part, z.footprint)) * (1.0 - 1e-12) - 1e-6
         else:
             def hit(x: float, p: FloatArray = p, q: FloatArray = q, h: float = z.above_seabed) -> bool:
                 return world.terrain is not None and float(leg_slack(world.terrain, p, q, x)[0]) <= h

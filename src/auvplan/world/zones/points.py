@@ -177,6 +177,28 @@ class Zones(SegmentQueries):
         q[:, 2] = np.clip(p[2], lo, hi)
         return q, d
 
+    def traces_near(self, segments: ArrayLike, reach: ArrayLike) -> tuple[IntArray, IntArray]:
+        """The (segment, zone) pairs whose horizontal trace comes within ``reach`` of the zone's footprint (the
+        R-tree's ``dwithin``; the bands are not looked at): the broad phase of a test under a horizontal error.
+
+        Parameters
+        ----------
+        segments : array_like
+            Start and end points ``(N, 2, 3)`` (m).
+        reach : float or array_like
+            Horizontal distance (m): one for all, or ``(N,)`` one per segment.
+
+        Returns
+        -------
+        seg, zone : numpy.ndarray of int
+            The pairs (the R-tree's order).
+        """
+        s = np.asarray(segments, dtype=float).reshape(-1, 2, 3)
+        if not self.zones or s.shape[0] == 0:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        k, j = self._tree.query(shapely.linestrings(s[:, :, :2]), predicate="dwithin", distance=reach)
+        return k.astype(np.intp), j.astype(np.intp)
+
     def distances(self, points: ArrayLike) -> FloatArray:
         """Signed distance of every point to every zone (for reports: closest approach per zone).
 
