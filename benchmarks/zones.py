@@ -12,6 +12,10 @@ from the start and goal (median of repeats, JIT warmed up first), and the ratio.
 
 ``gap``: the default plan against ``--reference`` on ``chagos-reefs`` (same zones), in percent.
 
+``stall``: IABC's stop of a swarm stalled behind its lattice corridor against the same plans with it off (the
+default budget given explicitly): on the ``cpu`` problem with several zone counts and on the built-ins, how many
+plans stopped, how many kept the same path, the worst cost change and the evaluations spent.
+
 ``passes``: the zones' pass over the swarm's populations alone (``Zones.polyline_slack``, most of the zones'
 part of a plan), measured at a few per cent instead of the plans' ±0.2 in the ratio: the populations the
 cost asks about in ``--plans`` default plans of the ``cpu`` problem are recorded, then replayed (best of
@@ -21,6 +25,7 @@ populations (``--save FILE`` keeps them, ``--load FILE`` replays them).
     python benchmarks/zones.py montecarlo --missions 1000 --planners iabc grid timeopt
     python benchmarks/zones.py cpu --scenario marcus-wake --zones 1000
     python benchmarks/zones.py gap
+    python benchmarks/zones.py stall --zones 100 300 500 700 1000 1500 --seeds 24
     python benchmarks/zones.py passes --save /tmp/pops.npz   # then, on another version: --load /tmp/pops.npz
 """
 
@@ -200,10 +205,11 @@ def scattered_zones(world: World, start: np.ndarray, goal: np.ndarray, n: int, s
     return Zones(tuple(zones), world.terrain, pad=1.0)
 
 
-def cpu(scenario: str, n_zones: int, repeats: int, planner: str) -> dict[str, float]:
-    """CPU of the default plan without and with ``n_zones`` zones."""
+def cpu(scenario: str, n_zones: int, repeats: int, planner: str, budget: int = 0) -> dict[str, float]:
+    """CPU of the default plan without and with ``n_zones`` zones (``budget``: the plans' budget given
+    explicitly, spent exactly: IABC's stop of a stalled swarm off)."""
     base, zoned, spec = _cpu_problems(scenario, n_zones)
-    spec = replace(spec, name=planner)
+    spec = replace(spec, name=planner, budget=budget)
     plan(zoned, spec, rng=0)  # compile every kernel once
     plan(base, spec, rng=0)
     times: dict[str, list[float]] = {"none": [], "zones": []}
@@ -214,8 +220,10 @@ def cpu(scenario: str, n_zones: int, repeats: int, planner: str) -> dict[str, fl
             times[key].append(time.process_time() - t)
             assert res.status.ok, res.message
     med = {k: statistics.median(v) for k, v in times.items()}
-    return {"scenario": scenario, "planner": planner, "zones": n_zones, "cpu_none_s": round(med["none"], 3),
-            "cpu_zones_s": round(med["zones"], 3), "ratio": round(med["zones"] / med["none"], 2),
+    what = f"plan, `--budget {budget}`" if budget else "default plan"
+    return {"scenario": scenario, "planner": planner, "plan": what, "zones": n_zones,
+            "cpu_none_s": round(med["none"], 3), "cpu_zones_s": round(med["zones"], 3),
+            "ratio": round(med["zones"] / med["none"], 2),
             "load_1min": os.getloadavg()[0]}
 
 
@@ -277,6 +285,43 @@ def passes(scenario: str, n_zones: int, plans: int, repeats: int, planner: str, 
             "slack_digest": digest.hexdigest()[:16], "load_1min": os.getloadavg()[0]}
 
 
+def stall(scenario: str, counts: list[int], seeds: int, builtin_seeds: int) -> dict[str, dict[str, float]]:
+    """What IABC's stop of a swarm stalled behind its lattice corridor does to the plans: every default plan
+    (the stop on) against the same plan with the same budget given explicitly (spent exactly: the stop off),
+    same seed, path bytes.  On the ``cpu`` problem with each of ``counts`` zones (seeds 0 .. ``seeds`` - 1)
+    and on every built-in whose planner is the seeded IABC at its default budget (``builtin_seeds`` seeds)."""
+    from auvplan.io.scenario.build import build
+    from auvplan.io.scenario.builtins import builtin_scenarios
+    from auvplan.io.scenario.loader import load
+    from auvplan.sim.pipeline import planning_problem
+
+    cases: dict[str, list[tuple[PlanningProblem, PlannerSpec, int]]] = {}
+    for n in counts:
+        _, zoned, spec = _cpu_problems(scenario, n)
+        cases[f"`{scenario}` + {n} zones"] = [(zoned, spec, r) for r in range(seeds)]
+    for name in sorted(builtin_scenarios()):
+        world, mission = build(load(name))
+        spec = mission.planner
+        if spec.pipeline == "seeded" and spec.name == "iabc" and spec.budget == 0:
+            cases.setdefault("built-ins", []).extend((planning_problem(world, mission), spec, r)
+                                                     for r in range(builtin_seeds))
+    out: dict[str, dict[str, float]] = {}
+    for label, runs in cases.items():
+        stopped = same = 0
+        worst, evals, full_evals = 0.0, 0, 0
+        for problem, spec, r in runs:
+            a = plan(problem, spec, rng=r)
+            b = plan(problem, replace(spec, budget=spec.evaluations), rng=r)
+            stopped += "swarm_stopped_at_evaluations" in a.work
+            same += a.status == b.status and np.array_equal(a.path, b.path)
+            worst = max(worst, a.cost / b.cost - 1.0) if np.isfinite(a.cost + b.cost) else worst
+            evals, full_evals = evals + a.evaluations, full_evals + b.evaluations
+        out[label] = {"plans": len(runs), "stopped": stopped, "same_path": same, "worst_pct": 100.0 * worst,
+                      "evaluations_pct": 100.0 * evals / full_evals}
+        print(json.dumps({label: out[label]}), flush=True)
+    return out
+
+
 def gap(scenario: str) -> dict[str, float]:
     """The default plan's cost against the reference's, same zones."""
     from auvplan.io.scenario.build import build
@@ -310,9 +355,15 @@ def _figure_text(cmd: str, res: dict, argv: str) -> str:
                 "check) | CPU (s) |\n"
                 f"| --- | --- | --- | --- | --- | --- |\n{rows}\n\n`python benchmarks/zones.py {argv}`; "
                 f"load {load} at the end.")
+    if cmd == "stall":
+        rows = "\n".join(f"| {k} | {v['plans']} | {v['stopped']} | **{v['same_path']}** | {v['worst_pct']:+.3f} % | "
+                         f"{v['evaluations_pct']:.0f} % |" for k, v in res.items())
+        return ("| problem | plans | swarm stopped | same path as with the stop off | worst cost change | "
+                "evaluations spent |\n| --- | --- | --- | --- | --- | --- |\n"
+                f"{rows}\n\n`python benchmarks/zones.py {argv}`; load {load} at the end.")
     if cmd == "cpu":
         return (f"| problem | no zones | {res['zones']} zones | ratio |\n| --- | --- | --- | --- |\n"
-                f"| `{res['scenario']}`, `{res['planner']}` default plan | {res['cpu_none_s']} s CPU | "
+                f"| `{res['scenario']}`, `{res['planner']}` {res['plan']} | {res['cpu_none_s']} s CPU | "
                 f"{res['cpu_zones_s']} s CPU | **{res['ratio']}×** |\n\n`python benchmarks/zones.py {argv}` (median of "
                 f"repeats after a warm-up); load {load} at the end.")
     return (f"| scenario | default plan (`{res['planner']}`) | `--reference` | gap | least distance to a zone |\n"
@@ -335,6 +386,7 @@ def main() -> None:
     c.add_argument("--planner", default="iabc")
     c.add_argument("--zones", type=int, default=1000)
     c.add_argument("--repeats", type=int, default=5)
+    c.add_argument("--budget", type=int, default=0, help="an explicit budget (spent exactly: the stop off)")
     q = sub.add_parser("passes")
     q.add_argument("--scenario", default="marcus-wake")
     q.add_argument("--planner", default="iabc")
@@ -343,9 +395,14 @@ def main() -> None:
     q.add_argument("--repeats", type=int, default=5)
     q.add_argument("--save", default="", help="keep the recorded populations here (.npz)")
     q.add_argument("--load", default="", help="replay the populations saved by --save (same --scenario, --zones)")
+    t = sub.add_parser("stall")
+    t.add_argument("--scenario", default="marcus-wake")
+    t.add_argument("--zones", type=int, nargs="+", default=[100, 300, 500, 700, 1000, 1500])
+    t.add_argument("--seeds", type=int, default=24)
+    t.add_argument("--builtin-seeds", type=int, default=4)
     g = sub.add_parser("gap")
     g.add_argument("--scenario", default="chagos-reefs")
-    for p in (m, c, g):
+    for p in (m, c, g, t):
         p.add_argument("--figure-md", default="", help="also write docs/figures/<NAME>.md")
     args = ap.parse_args()
     if args.cmd == "montecarlo":
@@ -361,7 +418,9 @@ def main() -> None:
                 with open(args.digests, "w") as fh:
                     json.dump(digests, fh)
     elif args.cmd == "cpu":
-        res = cpu(args.scenario, args.zones, args.repeats, args.planner)
+        res = cpu(args.scenario, args.zones, args.repeats, args.planner, args.budget)
+    elif args.cmd == "stall":
+        res = stall(args.scenario, args.zones, args.seeds, args.builtin_seeds)
     elif args.cmd == "passes":
         res = passes(args.scenario, args.zones, args.plans, args.repeats, args.planner, args.save, args.load)
     else:

@@ -161,9 +161,9 @@ def test_coarse_stage_colony_aims_at_an_elite_share_and_the_full_stage_at_the_be
     seen = []
     real = swarm_planner.run_optimizer
 
-    def spy(s, task, g, progress=None):
+    def spy(s, task, g, progress=None, on_stall=None):
         seen.append((s.control_points, s.iabc.elite))
-        return real(s, task, g, progress)
+        return real(s, task, g, progress, on_stall)
 
     monkeypatch.setattr(swarm_planner, "run_optimizer", spy)
     spec = PlannerSpec(pipeline="progressive", control_points=6, population=8, budget=200, samples=40)

@@ -316,6 +316,9 @@ class Termination:
         Iterations without an improvement of more than ``stall_tolerance``.
     stall_tolerance : float, default 0.0
         Least improvement of the best value that resets the stall count.
+    on_stall : callable, optional
+        ``on_stall(best_f) -> bool``, asked when the stall count reaches ``stall_iterations``: True stops
+        the run (reason ``stall``), False resets the count and the run goes on.  None: the stall stops it.
 
     Raises
     ------
@@ -328,6 +331,7 @@ class Termination:
     max_time_s: float | None = None
     stall_iterations: int | None = None
     stall_tolerance: float = 0.0
+    on_stall: Callable[[float], bool] | None = None
 
     def __post_init__(self) -> None:
         if all(v is None for v in (self.max_iterations, self.max_evaluations, self.max_time_s)):
@@ -431,8 +435,10 @@ def minimize(
                 reason = "max_iterations"
                 break
             if termination.stall_iterations is not None and stall >= termination.stall_iterations:
-                reason = "stall"
-                break
+                if termination.on_stall is None or termination.on_stall(optimizer.best_f):
+                    reason = "stall"
+                    break
+                stall = 0
         if problem.remaining is not None and problem.remaining <= 0:
             if not finished:
                 history.append(optimizer.best_f)

@@ -67,7 +67,9 @@ class SweepSpec:
     seeds : int
         Seeds 0 .. seeds-1 per cell.
     budget : int
-        Objective evaluations per plan (0 = the scenario's).
+        Objective evaluations per plan (0 = the scenario's), spent exactly: the seeded pipeline's default
+        budget is pinned, so IABC's stop of a swarm stalled behind its lattice corridor never applies in a
+        sweep and every planner of a cell spends the same evaluations.
     reference : bool
         Also compute the grid reference once per cell and each run's gap to it.
     randomise : bool
@@ -322,7 +324,9 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     pspec = mission.planner
     if planner != "route":
         name, _, pipeline = planner.partition("/")
-        pspec = replace(pspec, name=name, budget=spec.budget or pspec.budget, pipeline=pipeline or pspec.pipeline)
+        pipeline = pipeline or pspec.pipeline  # the seeded pipeline's default budget pinned: spent exactly by all
+        budget = spec.budget or (pspec.evaluations if pipeline == "seeded" else pspec.budget)
+        pspec = replace(pspec, name=name, budget=budget, pipeline=pipeline)
     guidance, _, avoidance = guidance.partition("+")
     mission = replace(mission, planner=pspec, guidance=guidance)
     if avoidance:

@@ -25,13 +25,46 @@ from __future__ import annotations
 import math
 
 from ..core.base import PlanResult
-from .polish import LATTICE_WITHIN
+from .polish import LATTICE_WITHIN, LatticeCorridor
 
-__all__ = ["CORRIDOR_MARGIN", "assess"]
+__all__ = ["CORRIDOR_MARGIN", "STALL_ITERATIONS", "assess", "stalled_behind"]
 
 CORRIDOR_MARGIN = 0.003
 """Relative margin by which the lattice's polished corridor must beat the swarm's polished plan to count as
 evidence that the swarm has not converged (0.3 %, the issue's worst-case target)."""
+
+STALL_ITERATIONS = 20
+"""Iterations without an improvement of IABC's best after which the seeded pipeline, at its default budget,
+asks :func:`stalled_behind` whether to stop the swarm.  On 144 plans of ``marcus-wake`` with 100-1 500
+scattered zones (24 seeds each) every plan stopped at 20 kept the path it has with the whole budget; at 16,
+9 of the same 144 did not (+0.35 % at worst: swarms that broke out of stalls of 12-16 iterations into a
+cheaper corridor); ABC and PSO stopped at 20 changed 1 and 7 plans of 24 (up to +0.35 %), so the stop is
+IABC's only (``python benchmarks/zones.py stall``; docs/zones.md)."""
+
+
+def stalled_behind(corridor: LatticeCorridor, best: float) -> bool:
+    """Whether a swarm stalled at ``best`` is behind the seeding lattice's corridor: the corridor, polished
+    (once, kept for the final polish), ends more than :data:`CORRIDOR_MARGIN` below ``best``.
+
+    The final polish would then return the corridor's path unless the swarm, spending the rest of its
+    budget, found a path that polishes below it; a swarm that has not improved in
+    :data:`STALL_ITERATIONS` iterations is stopped instead (the plan says so).  Not asked when the corridor's
+    taut polygon is more than :data:`~auvplan.planners.swarm.polish.LATTICE_WITHIN` above ``best`` (the final
+    polish would not polish it either).
+
+    Parameters
+    ----------
+    corridor : LatticeCorridor
+        The seeding lattice's corridor.
+    best : float
+        The swarm's best value so far.
+
+    Returns
+    -------
+    bool
+        True to stop the swarm.
+    """
+    return corridor.within(best) and corridor.polished_cost() < (1.0 - CORRIDOR_MARGIN) * best
 
 
 def assess(result: PlanResult, seed_nodes: float, lattice_found: bool, fell_back: bool) -> tuple[bool | None, str]:

@@ -19,7 +19,15 @@ evolution.  Three pipelines (``PlannerSpec.pipeline``):
   polish are not objective evaluations of the optimiser's problem: they are outside the budget,
   and reported beside it in ``PlanResult.work`` (``seeding_lattice_nodes``, ``seeding_cpu_s``,
   ``polish_cpu_s``), so that a comparison at equal budgets is equal in the evaluations of the swarm,
-  with the seeding and the polish counted apart;
+  with the seeding and the polish counted apart.  IABC at its default budget (``budget = 0``) stops
+  early when its swarm has not improved in :data:`~auvplan.planners.swarm.convergence.STALL_ITERATIONS`
+  iterations and the seeding lattice's corridor, polished, is more than
+  :data:`~auvplan.planners.swarm.convergence.CORRIDOR_MARGIN` below its best
+  (:func:`~auvplan.planners.swarm.convergence.stalled_behind`): neither the rest of its budget nor the
+  refinement is spent, the corridor's polish is kept for the final polish, and the plan says so
+  (``message``, ``work["swarm_stopped_at_evaluations"]``).  In a dense field of no-go zones the swarm
+  stalls at its seeds from the start while the corridor wins the final polish anyway (docs/zones.md);
+  an explicit budget is always spent exactly;
 * ``"document"``: the algorithm alone, as in document 002 (IterMax iterations when no budget is
   given);
 * ``"progressive"``: the algorithm alone, coarse to fine (:mod:`auvplan.planners.swarm.progressive`):
@@ -38,7 +46,9 @@ not free.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
@@ -66,8 +76,8 @@ from ..core.common import (
     search_box,
 )
 from ..grid.planner import GridReference, plan_grid
-from .convergence import assess
-from .polish import polish_polyline
+from .convergence import CORRIDOR_MARGIN, STALL_ITERATIONS, assess, stalled_behind
+from .polish import LatticeCorridor, polish_polyline
 from .problem import (
     control_polygon,
     spline_problem,
@@ -113,7 +123,7 @@ def make_optimizer(spec: PlannerSpec, lower: FloatArray, upper: FloatArray, rng:
 
 
 def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
-                  progress: Progress | None = None) -> OptimizeResult:
+                  progress: Progress | None = None, on_stall: Callable[[float], bool] | None = None) -> OptimizeResult:
     """Run the optimiser of ``spec`` on ``problem`` until its budget is spent.
 
     Without a budget, for ``spec.iterations`` iterations.
@@ -128,6 +138,10 @@ def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
         The run's generator.
     progress : callable, optional
         ``progress(iteration, best_cost)`` after each iteration.
+    on_stall : callable, optional
+        ``on_stall(best_cost) -> bool`` after :data:`~auvplan.planners.swarm.convergence.STALL_ITERATIONS`
+        iterations without an improvement: True stops the run early (``reason`` ``"stall"``).  Not asked of
+        scipy's differential evolution.
 
     Returns
     -------
@@ -139,6 +153,8 @@ def run_optimizer(spec: PlannerSpec, problem: Problem, rng: np.random.Generator,
     optimizer = make_optimizer(spec, problem.lower, problem.upper, rng)
     termination = (Termination(max_iterations=spec.iterations) if problem.budget is None
                    else Termination(max_iterations=None, max_evaluations=problem.budget))
+    if on_stall is not None:
+        termination = replace(termination, stall_iterations=STALL_ITERATIONS, on_stall=on_stall)
     return minimize(problem, optimizer, termination, progress)
 
 
@@ -183,18 +199,12 @@ def plan_swarm(
         return PlanResult.failure(bad[0], bad[1], spec.name)
     gen = as_rng(rng)
     budget, refine = _budgets(spec)
-    lattice, x0, count, work = None, None, 0, {}
+    ref, lattice, x0, count = None, None, None, 0
+    work: dict[str, float] = {}
     if spec.pipeline == "seeded":
-        c0 = time.process_time()
-        ref, lattice = coarse_reference(problem, spec)
-        if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
-            lo3, hi3 = search_box(problem)
-            k = spec.control_points
-            count = max(1, int(round(spec.seed_fraction * spec.population)))
-            bases = lattice_seeds(lattice, problem.world, k, spec.samples)
-            x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
-        work = {"seeding_lattice_nodes": float(ref.nodes if ref is not None else 0),
-                "seeding_cpu_s": time.process_time() - c0}
+        ref, lattice, x0, count, work = _seeded(problem, spec, gen)
+    corridor = (LatticeCorridor(problem, spec, lattice) if spec.pipeline == "seeded" and spec.name == "iabc"
+                and spec.budget == 0 and spec.polish > 0 and lattice is not None and lattice.shape[0] >= 2 else None)
     coarse = None
     if spec.pipeline == "progressive" and budget is not None and budget >= 2 and coarse_count(spec.control_points) < \
             spec.control_points:
@@ -204,15 +214,17 @@ def plan_swarm(
     task = spline_problem(problem, spec, budget, x0)
     if x0 is not None and x0.shape[0] > count and spec.pipeline == "seeded":  # screen the candidates (counted)
         task.x0 = x0[np.argsort(task.evaluate(x0), kind="stable")[:count]]
-    opt = run_optimizer(spec, task, gen, progress)
+    opt = run_optimizer(spec, task, gen, progress, None if corridor is None else partial(stalled_behind, corridor))
     x, f, evals = opt.x, opt.f, task.evaluations  # the screening included
+    if opt.reason == "stall":
+        work = {**work, "swarm_stopped_at_evaluations": float(evals)}
     history, trace = opt.history, np.asarray(task.trace, dtype=float).reshape(-1, 2)
     if coarse is not None:  # the coarse stage's record first
         history = np.r_[coarse.history, history]
         trace = np.vstack([coarse.trace, trace + np.array([coarse.evaluations, 0.0])])
         trace[:, 1] = np.minimum.accumulate(trace[:, 1])
         evals += coarse.evaluations
-    if refine > 0:
+    if refine > 0 and opt.reason != "stall":
         feasible = _feasible(problem, spec, x)
         polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
         if polished.f <= f:
@@ -223,15 +235,42 @@ def plan_swarm(
         evals += polished.evaluations
     iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
     result = replace(_result(problem, spec, x, f, evals, iterations, history, trace), work=work)
+    if opt.reason == "stall":
+        result = replace(result, message="; ".join(m for m in (result.message, _stopped_note(spec, evals)) if m))
     fell_back = not result.status.ok
     if fell_back and spec.pipeline == "seeded" and lattice is not None and lattice.shape[0] >= 2:
         result = replace(_fallback(problem, spec, ref, result), work=work)
     if spec.pipeline == "seeded":
-        result = polish_polyline(problem, spec, result, lattice)
+        result = polish_polyline(problem, spec, result, lattice, corridor)
         converged, why = assess(result, work["seeding_lattice_nodes"], lattice is not None and lattice.shape[0] >= 2,
                                 fell_back)
         result = replace(result, converged=converged, convergence=why)
     return replace(result, wall_time_s=time.perf_counter() - t0)
+
+
+def _seeded(problem: PlanningProblem, spec: PlannerSpec, gen: np.random.Generator
+            ) -> tuple[GridReference | None, FloatArray, FloatArray | None, int, dict[str, float]]:
+    """The seeded pipeline's coarse lattice: its reference, its path, the candidate seeds, how many of
+    them seed the population, and the work done (outside the budget)."""
+    c0 = time.process_time()
+    ref, lattice = coarse_reference(problem, spec)
+    x0, count = None, 0
+    if lattice.shape[0] >= 2 and spec.seed_fraction > 0:
+        lo3, hi3 = search_box(problem)
+        k = spec.control_points
+        count = max(1, int(round(spec.seed_fraction * spec.population)))
+        bases = lattice_seeds(lattice, problem.world, k, spec.samples)
+        x0 = seed_candidates(bases, max(count, len(bases)), np.tile(lo3, k), np.tile(hi3, k), gen)
+    work = {"seeding_lattice_nodes": float(ref.nodes if ref is not None else 0),
+            "seeding_cpu_s": time.process_time() - c0}
+    return ref, lattice, x0, count, work
+
+
+def _stopped_note(spec: PlannerSpec, evaluations: int) -> str:
+    """The plan's note when the swarm stopped early, stalled behind the seeding lattice's corridor."""
+    return (f"the {spec.name} swarm stopped after {evaluations} of {spec.evaluations} evaluations: no better "
+            f"in {STALL_ITERATIONS} iterations, and the seeding lattice's corridor, polished, more than "
+            f"{100 * CORRIDOR_MARGIN:.1f} % below its best")
 
 
 def _feasible(problem: PlanningProblem, spec: PlannerSpec, x: FloatArray) -> bool:

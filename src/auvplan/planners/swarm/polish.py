@@ -43,14 +43,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..._types import FloatArray
+from ..._types import FloatArray, Status
 from ...guidance.avoidance.local import key_waypoints
 from ...path.flyable import check_limits
 from ..core.base import PlannerSpec, PlanningProblem, PlanResult
 from ..core.common import path_cost
 from ..grid.planner import refine_plan
 
-__all__ = ["LATTICE_WITHIN", "LIFT_BELOW", "LIFT_WITHIN", "POLISH_FINEST", "POLISH_TOLERANCE", "polish_polyline"]
+__all__ = ["LATTICE_WITHIN", "LIFT_BELOW", "LIFT_WITHIN", "POLISH_FINEST", "POLISH_TOLERANCE", "LatticeCorridor",
+           "polish_polyline"]
 
 POLISH_TOLERANCE = 0.5
 """Relative gain below which the lattice refinement stops after a cycle (0.5: after the first)."""
@@ -79,7 +80,7 @@ fraction above the spline's: on the six hard problems the lattice's polished pat
 
 
 def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult,
-                    lattice: FloatArray | None = None) -> PlanResult:
+                    lattice: FloatArray | None = None, corridor: LatticeCorridor | None = None) -> PlanResult:
     """The plan with its path polished as a polyline when that is cheaper and free.
 
     Parameters
@@ -93,6 +94,9 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
     lattice : numpy.ndarray, optional
         The seeding lattice's path ``(N, 3)`` (m) from the start to the goal: its taut polygon,
         polished with ``2 * spec.polish`` sweeps, is the second candidate.
+    corridor : LatticeCorridor, optional
+        The same lattice's corridor as the swarm's stall test saw it (:class:`LatticeCorridor`): its taut
+        polygon and, when the test polished it, that polish, used instead of polishing it again.
 
     Returns
     -------
@@ -109,15 +113,21 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
     c0 = time.process_time()
     out, costs = result, {}
     if result.status.ok and not np.array_equal(problem.start, problem.goal):  # a loop is not polished to a point
-        lifted, second = _lifted_plan(problem, spec, result), _lattice_plan(problem, spec, result, lattice)
+        if corridor is None and lattice is not None:
+            corridor = LatticeCorridor(problem, spec, lattice)
+        lifted = _lifted_plan(problem, spec, result)
+        second = None if corridor is None else corridor.candidate(result)
         spline = result.cost
         for candidate, sweeps, source in ((lifted, spec.polish, _LIFTED), (result, spec.polish, ""),
                                           (second, 2 * spec.polish, _LATTICE)):
             if candidate is None or (candidate is result and out is not result):
                 continue  # the spline's own polish is not run when its lifted path, polished, already won
-            settings = replace(spec, grid=replace(spec.grid, relax_iterations=sweeps, converge_tol=POLISH_TOLERANCE))
-            target = out.cost if source == _LATTICE else None  # it must beat the best so far to count
-            polished = refine_plan(problem, settings, candidate, finest=POLISH_FINEST, target=target)
+            ready = corridor.polished_plan(candidate) if source == _LATTICE and corridor is not None else None
+            if ready is not None:
+                polished = ready  # polished once already, run out, by the swarm's stall test
+            else:
+                target = out.cost if source == _LATTICE else None  # it must beat the best so far to count
+                polished = refine_plan(problem, _band(spec, sweeps), candidate, finest=POLISH_FINEST, target=target)
             found = polished is not candidate and bool(np.isfinite(polished.cost))
             if source == _LATTICE:
                 costs["polish_lattice_cost"] = polished.cost if found else float("inf")
@@ -136,16 +146,76 @@ _LATTICE = ", from the seeding lattice's taut path"
 _LIFTED = ", from the plan lifted to the depth ceiling"
 
 
-def _lattice_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult,
-                  lattice: FloatArray | None) -> PlanResult | None:
-    """The seeding lattice's taut polygon as a plan to polish (its cost ``inf``: the polish re-costs it), or
-    None (no lattice, or its cost more than :data:`LATTICE_WITHIN` above ``result``'s)."""
-    if lattice is None or lattice.shape[0] < 2:
-        return None
-    taut = key_waypoints(lattice, problem.world)
-    if not path_cost(problem, spec, taut)["total"] <= (1.0 + LATTICE_WITHIN) * result.cost:
-        return None  # too far above the spline for its polish to pay
-    return replace(result, path=taut, cost=float("inf"), control_points=None)
+class LatticeCorridor:
+    """The seeding lattice's taut polygon (document 004's key waypoints), costed once, and its polish, run
+    out at most once, shared by the swarm's stall test (:func:`~auvplan.planners.swarm.convergence.stalled_behind`)
+    and the final polish.
+
+    Parameters
+    ----------
+    problem : PlanningProblem
+        World, start, goal and vehicle figures.
+    spec : PlannerSpec
+        The cost function and ``spec.polish``.
+    lattice : numpy.ndarray
+        The seeding lattice's path ``(N, 3)`` (m) from the start to the goal.
+    """
+
+    def __init__(self, problem: PlanningProblem, spec: PlannerSpec, lattice: FloatArray) -> None:
+        self._problem, self._spec, self._lattice = problem, spec, lattice
+        self._taut: tuple[FloatArray, float] | None = None
+        self._polished: PlanResult | None = None
+
+    def taut(self) -> tuple[FloatArray, float] | None:
+        """The taut polygon and its cost (one evaluation, made once), or None when there is no lattice path."""
+        if self._lattice.shape[0] < 2:
+            return None
+        if self._taut is None:
+            taut = key_waypoints(self._lattice, self._problem.world)
+            self._taut = taut, float(path_cost(self._problem, self._spec, taut)["total"])
+        return self._taut
+
+    def within(self, cost: float) -> bool:
+        """Whether the taut polygon costs at most :data:`LATTICE_WITHIN` above ``cost`` (else its polish does
+        not pay)."""
+        taut = self.taut()
+        return taut is not None and taut[1] <= (1.0 + LATTICE_WITHIN) * cost
+
+    def candidate(self, result: PlanResult) -> PlanResult | None:
+        """The taut polygon as a plan to polish (its cost ``inf``: the polish re-costs it), or None (no
+        lattice path, or its cost more than :data:`LATTICE_WITHIN` above ``result``'s)."""
+        if not self.within(result.cost):
+            return None  # too far above the spline for its polish to pay
+        return replace(result, path=self.taut()[0], cost=float("inf"), control_points=None)  # type: ignore[index]
+
+    def polished_cost(self) -> float:
+        """The taut polygon's cost polished with ``2 * spec.polish`` sweeps per level and no target (made once,
+        kept for :meth:`polished_plan`); ``inf`` when the band found no cheaper free path."""
+        if self._polished is None:
+            taut = self.taut()
+            assert taut is not None
+            bare = PlanResult(Status.EXACT, taut[0], float("inf"), {}, 0, 0, 0.0, np.empty(0), "lattice")
+            self._polished = refine_plan(self._problem, _band(self._spec, 2 * self._spec.polish), bare,
+                                         finest=POLISH_FINEST)
+        return self._polished.cost
+
+    def polished_plan(self, candidate: PlanResult) -> PlanResult | None:
+        """``candidate`` (from :meth:`candidate`) as :func:`~auvplan.planners.grid.planner.refine_plan` run out
+        would return it, from the polish :meth:`polished_cost` made; None when that polish was not made."""
+        done = self._polished
+        if done is None:
+            return None
+        if not np.isfinite(done.cost):
+            return candidate  # the band found nothing: refine_plan returns its plan unchanged
+        terms = {**candidate.cost_terms, **done.cost_terms}
+        message = f"{candidate.message}; {done.message}".lstrip("; ")
+        return replace(candidate, path=done.path, cost=done.cost, cost_terms=terms, control_points=None,
+                       message=message)
+
+
+def _band(spec: PlannerSpec, sweeps: int) -> PlannerSpec:
+    """``spec`` with the polish's band settings: ``sweeps`` relaxation sweeps per level, one cycle."""
+    return replace(spec, grid=replace(spec.grid, relax_iterations=sweeps, converge_tol=POLISH_TOLERANCE))
 
 
 def _lifted_plan(problem: PlanningProblem, spec: PlannerSpec, result: PlanResult) -> PlanResult | None:
