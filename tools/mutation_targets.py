@@ -38,7 +38,7 @@ FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
 ENVELOPES, FLYCHECK = "auvplan.guidance.mission.envelopes", "auvplan.guidance.mission.flycheck"
 LIMITS = "auvplan.guidance.mission.limits"
-FORMATS = "auvplan.io.missions.readback.readers"
+FORMATS, PARSERS = "auvplan.io.missions.readback.readers", "auvplan.io.missions.readback.parsers"
 FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
@@ -158,8 +158,8 @@ MODULES.update({
     ),
     # the mission readers: what `mission check` re-flies is what these parse
     "formats": Target(
-        _fns(FORMATS, "_moos_blocks", "parse_moos", "parse_qgc_plan", "parse_gpx", "parse_ros_path",
-             "_geojson_mission", "_kml_mission", "read_mission", "check_mission_file"),
+        _fns(PARSERS, "_moos_blocks", "parse_moos", "parse_qgc_plan", "parse_gpx", "parse_ros_path",
+             "_geojson_mission", "_kml_mission") + _fns(FORMATS, "read_mission", "check_mission_file"),
     ),
     # the formation loop's contact rule and the stop it causes
     "formation": Target(
@@ -1192,7 +1192,8 @@ MODULES.update({
     # a .plan's items in the vehicle's order, and the readers that share the walk
     "qgc-walk": Target(
         _fns(QGC_ITEMS, "_simple", "_pattern", "plan_items") + _fns(TERRAIN_FRAME, "terrain_legs")
-        + _fns(DEPLOY_READ, "_qgc") + _fns(FORMATS, "parse_qgc_plan", "read_mission", "_parse", "check_mission_file"),
+        + _fns(DEPLOY_READ, "_qgc") + _fns(PARSERS, "parse_qgc_plan")
+        + _fns(FORMATS, "read_mission", "_parse", "check_mission_file"),
     ),
     # the export's terrain-frame items and the MOOS altitude floor (DeployInfo.leg_floor)
     "deploy-terrain": Target(
