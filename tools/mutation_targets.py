@@ -1364,9 +1364,10 @@ REASONS.update({
 
 # merge_short_legs' exact test of the straight leg (2c32d2a) and the zone reader's repair and names (audit 18)
 MISSION_LEGS, VZONES = "auvplan.guidance.mission.legs", "auvplan.io.data.vector.zones"
+VFOOTPRINTS = "auvplan.io.data.vector.footprints"
 MODULES.update({
     "merge-exact": Target(_fns(MISSION_LEGS, "_droppable", "merge_short_legs")),
-    "zone-names": Target(_fns(VZONES, "_repaired", "_feature_names")),
+    "zone-names": Target(_fns(VFOOTPRINTS, "_repaired") + _fns(VZONES, "_feature_names")),
 })
 _MERGE_TOL = ("boundary: a merged leg's pitch within 1e-9 deg of the limit or of the steeper old leg, the tolerance "
               "itself")
