@@ -27,6 +27,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 
 TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
+WORLD_LIMITS = "auvplan.world.limits"
 COST_ENERGY, COST_PATHS = "auvplan.cost.energy", "auvplan.cost.paths"
 GRID = "auvplan.planners.grid.reference"
 NODES, EDGES = "auvplan.planners.grid.lattice.nodes", "auvplan.planners.grid.lattice.edges"
@@ -56,7 +57,8 @@ MODULES: dict[str, Target] = {
     ),
     # the World's point and segment tests and the obstacles' exact distances and segment tests
     "world": Target(
-        _fns(WORLD, "Bounds.slack", "Bounds.contains", "World.clearances", "World._obstacle_slack",
+        _fns(WORLD_LIMITS, "Bounds.slack", "Bounds.contains")
+        + _fns(WORLD, "World.clearances", "World._obstacle_slack",
              "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
         + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
                "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
