@@ -27,6 +27,7 @@ def _fns(module: str, *names: str) -> tuple[tuple[str, str], ...]:
 
 TERRAIN, TERRAIN_KERNELS = "auvplan.world.terrain", "auvplan.world.kernels.terrain"
 WORLD, OBSTACLES = "auvplan.world.world", "auvplan.world.obstacles"
+WORLD_LIMITS = "auvplan.world.limits"
 COST_ENERGY, COST_PATHS = "auvplan.cost.energy", "auvplan.cost.paths"
 GRID = "auvplan.planners.grid.reference"
 NODES, EDGES = "auvplan.planners.grid.lattice.nodes", "auvplan.planners.grid.lattice.edges"
@@ -38,7 +39,7 @@ FLOW, STREAM = "auvplan.planners.flow.field", "auvplan.planners.flow.stream"
 ELEMENTS = "auvplan.planners.flow.elements"
 ENVELOPES, FLYCHECK = "auvplan.guidance.mission.envelopes", "auvplan.guidance.mission.flycheck"
 LIMITS = "auvplan.guidance.mission.limits"
-FORMATS = "auvplan.io.missions.readback.readers"
+FORMATS, PARSERS = "auvplan.io.missions.readback.readers", "auvplan.io.missions.readback.parsers"
 FORMATION = "auvplan.sim.formation"
 
 MODULES: dict[str, Target] = {
@@ -56,7 +57,8 @@ MODULES: dict[str, Target] = {
     ),
     # the World's point and segment tests and the obstacles' exact distances and segment tests
     "world": Target(
-        _fns(WORLD, "Bounds.slack", "Bounds.contains", "World.clearances", "World._obstacle_slack",
+        _fns(WORLD_LIMITS, "Bounds.slack", "Bounds.contains")
+        + _fns(WORLD, "World.clearances", "World._obstacle_slack",
              "World.clearance", "World.is_free", "World.segments_free", "World.path_free")
         + _fns(OBSTACLES, "Sphere.distance", "Sphere.segments_hit", "Ellipsoid._foot_point", "Ellipsoid.distance",
                "Ellipsoid.lower_bound_distance", "Ellipsoid.segments_hit", "Ellipsoid._segment_min_distance"),
@@ -158,8 +160,8 @@ MODULES.update({
     ),
     # the mission readers: what `mission check` re-flies is what these parse
     "formats": Target(
-        _fns(FORMATS, "_moos_blocks", "parse_moos", "parse_qgc_plan", "parse_gpx", "parse_ros_path",
-             "_geojson_mission", "_kml_mission", "read_mission", "check_mission_file"),
+        _fns(PARSERS, "_moos_blocks", "parse_moos", "parse_qgc_plan", "parse_gpx", "parse_ros_path",
+             "_geojson_mission", "_kml_mission") + _fns(FORMATS, "read_mission", "check_mission_file"),
     ),
     # the formation loop's contact rule and the stop it causes
     "formation": Target(
@@ -1192,7 +1194,8 @@ MODULES.update({
     # a .plan's items in the vehicle's order, and the readers that share the walk
     "qgc-walk": Target(
         _fns(QGC_ITEMS, "_simple", "_pattern", "plan_items") + _fns(TERRAIN_FRAME, "terrain_legs")
-        + _fns(DEPLOY_READ, "_qgc") + _fns(FORMATS, "parse_qgc_plan", "read_mission", "_parse", "check_mission_file"),
+        + _fns(DEPLOY_READ, "_qgc") + _fns(PARSERS, "parse_qgc_plan")
+        + _fns(FORMATS, "read_mission", "_parse", "check_mission_file"),
     ),
     # the export's terrain-frame items and the MOOS altitude floor (DeployInfo.leg_floor)
     "deploy-terrain": Target(
@@ -1363,9 +1366,10 @@ REASONS.update({
 
 # merge_short_legs' exact test of the straight leg (2c32d2a) and the zone reader's repair and names (audit 18)
 MISSION_LEGS, VZONES = "auvplan.guidance.mission.legs", "auvplan.io.data.vector.zones"
+VFOOTPRINTS = "auvplan.io.data.vector.footprints"
 MODULES.update({
     "merge-exact": Target(_fns(MISSION_LEGS, "_droppable", "merge_short_legs")),
-    "zone-names": Target(_fns(VZONES, "_repaired", "_feature_names")),
+    "zone-names": Target(_fns(VFOOTPRINTS, "_repaired") + _fns(VZONES, "_feature_names")),
 })
 _MERGE_TOL = ("boundary: a merged leg's pitch within 1e-9 deg of the limit or of the steeper old leg, the tolerance "
               "itself")

@@ -195,7 +195,7 @@ MUTANTS: dict[str, tuple[str, str, str]] = {
         "if status is Status.EXACT and energy > model.usable_wh:",
     ),
     "edges-serve-cache-time-varying": (
-        "world/currents/fields.py",
+        "world/currents/gridded.py",
         "return self.t is None or np.size(self.t) <= 1",
         "return True",
     ),

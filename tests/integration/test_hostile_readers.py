@@ -20,7 +20,7 @@ from auvplan.errors import DataError, ScenarioError
 from auvplan.io.data.elevation import read_elevation
 from auvplan.io.files.jsonfile import read_json
 from auvplan.io.missions.formats import read_mission
-from auvplan.io.missions.readback.readers import _moos_blocks
+from auvplan.io.missions.readback.parsers import _moos_blocks
 from auvplan.io.scenario import loader as scenario_io
 
 _BUILTINS = Path(__file__).parents[2] / "src" / "auvplan" / "data" / "scenarios"

@@ -19,7 +19,7 @@ import pytest
 from auvplan.errors import DataError
 from auvplan.io.missions import formats
 from auvplan.io.missions.readback.dwell import moos_dwells
-from auvplan.io.missions.readback.readers import _moos_blocks, parse_moos
+from auvplan.io.missions.readback.parsers import _moos_blocks, parse_moos
 
 POINTS = np.array([[0.0, 0.0, -20.0], [400.0, 0.0, -20.0], [800.0, 0.0, 0.0], [1200.0, 0.0, -20.0],
                    [1600.0, 0.0, -20.0]])

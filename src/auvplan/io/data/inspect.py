@@ -20,7 +20,7 @@ from xarray.backends import BackendEntrypoint, NetCDF4BackendEntrypoint
 
 from ...errors import DataError
 from ..files.limits import BudgetError, check_declared
-from .bathymetry import _centre_lonlat, _fill_nan
+from .bathymetry import _centre_lonlat
 from .elevation import ElevationGrid, is_geotiff, read_elevation
 from .geo import LocalFrame
 from .grids import HorizontalGrid, axis_kind, horizontal_grid
@@ -30,6 +30,7 @@ from .ocean.currents import _find, _z_axis, velocity_factor
 from .ocean.roms import is_s_coordinate
 from .regrid import _native_cell
 from .seabed_model import model_seabed
+from .terrain_grid import _fill_nan
 
 __all__ = ["inspect_file"]
 

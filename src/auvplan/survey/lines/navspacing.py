@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from .frame import Frame, StraightFrame
 
 if TYPE_CHECKING:
-    from .placement import LineParams, SurveyLine
+    from .lineset import LineParams, SurveyLine
 
 __all__ = ["nav_margin"]
 

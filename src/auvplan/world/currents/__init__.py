@@ -1,6 +1,6 @@
-"""Ocean currents: the fields (uniform, Lamb-Oseen vortices, gridded; :mod:`.fields`), tidal currents
-(:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the ground speed of a vehicle
-holding a line in them (:mod:`.crab`)."""
+"""Ocean currents: the fields (their interface :mod:`.base`; uniform and Lamb-Oseen vortices :mod:`.fields`, gridded
+:mod:`.gridded`), tidal currents (:mod:`.tides`), fields built from fields for ensembles (:mod:`.ensemble`) and the
+ground speed of a vehicle holding a line in them (:mod:`.crab`)."""
 
 from .ensemble import MeanCurrent, PerturbedCurrent, ShiftedCurrent
 from .fields import CurrentField, GriddedCurrent, LambOseenVortices, UniformCurrent

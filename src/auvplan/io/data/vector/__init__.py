@@ -1,5 +1,6 @@
 """Vector feature files: the one reader (:mod:`.reader`), coastlines (:mod:`.coast`), charted zones
-(:mod:`.zones`) and survey areas and centre lines (:mod:`.areas`)."""
+(:mod:`.zones`, their tables :mod:`.zone_tables` and footprints :mod:`.footprints`) and survey areas and centre
+lines (:mod:`.areas`)."""
 
 from .reader import VectorLayer, read_vector
 

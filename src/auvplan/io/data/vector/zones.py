@@ -13,13 +13,14 @@ Keys (docs/zones.md): ``name``; one of ``polygon = [[a, b], ...]``, ``line = [[a
 from the surface / to the seabed) or ``above_seabed_m``.  Pairs ``[a, b]`` are ``[lat, lon]`` when the
 scenario has an ``[origin]`` and every pair lies within 5° of it, otherwise metres ``[x, y]``.  Lines
 and points in a file need ``buffer_m`` / ``radius_m``.
+
+The tables are validated and their written geometry placed by :mod:`.zone_tables`, each feature made a footprint
+by :mod:`.footprints`; here the files are read and the zones made.
 """
 
 from __future__ import annotations
 
 import logging
-import math
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -29,282 +30,17 @@ import shapely
 from ....errors import DataError, ScenarioError
 from ....world import Terrain, Zone, Zones
 from ..geo import LocalFrame
-from .dense import check_zone_count, check_zone_vertices, lean
+from .dense import check_zone_count, check_zone_vertices
+from .footprints import _footprint, _made_valid, _repaired
 from .kept import kept_geometries
 from .reader import read_vector
+from .zone_tables import ZoneSpec, _drawn_polygon, _reaches, _to_local, parse_zones
 
 __all__ = ["ZoneSpec", "parse_zones", "read_zones"]
 
 log = logging.getLogger(__name__)
 
-_KEYS = ("name", "polygon", "line", "buffer_m", "point", "radius_m", "top_m", "bottom_m", "above_seabed_m",
-         "file", "layer", "where")
-_GEO_REACH_DEG = 5.0
-_MAX_M = 4.0e7
-"""Largest coordinate, distance or depth a table may give (m): beyond it GEOS's arithmetic overflows."""
 _NAME_FIELDS = ("OBJNAM", "NOBJNM", "name", "NAME", "Name")
-_QUAD_SEGS = 16
-_INSCRIBED = math.cos(math.pi / (4 * _QUAD_SEGS))
-"""A buffer's arcs are polygons inscribed in them; buffering by ``r / _INSCRIBED`` circumscribes the
-true arcs, so the footprint contains every point within ``r`` (never less, at most 0.12 % more)."""
-
-
-@dataclass(frozen=True)
-class ZoneSpec:
-    """One ``[[zones]]`` table, validated (nothing read from disk yet).
-
-    Attributes
-    ----------
-    where_ : str
-        ``file: [[zones]] #i`` for messages.
-    name : str
-        Zone name (prefix of the feature names for a file).
-    kind : {"polygon", "line", "point", "file"}
-        Which geometry key was given.
-    coords : tuple of tuple of float
-        The pairs of ``polygon``/``line``/``point`` (empty for a file).
-    buffer_m, radius_m : float
-        Half-width of a line's corridor, radius round a point (m; 0 when not given).
-    top_m, bottom_m : float
-        Depth band (m, positive down); ``bottom_m = inf`` reaches the seabed.
-    above_seabed_m : float or None
-        Height of a seabed band (m).
-    file, layer, where : str
-        Vector file, its layer (an S-57 object class) and an attribute filter.
-    """
-
-    where_: str
-    name: str
-    kind: str
-    coords: tuple[tuple[float, float], ...] = ()
-    buffer_m: float = 0.0
-    radius_m: float = 0.0
-    top_m: float = 0.0
-    bottom_m: float = math.inf
-    above_seabed_m: float | None = None
-    file: str = ""
-    layer: str = ""
-    where: str = ""
-
-
-def _num(where: str, key: str, value: Any, positive: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0 \
-            or (positive and value == 0):
-        raise ScenarioError(f"{where} {key} = {value!r}: expected a {'positive' if positive else 'non-negative'} "
-                            "number")
-    if value > _MAX_M:
-        raise ScenarioError(f"{where} {key} = {value!r}: over {_MAX_M:g} m (the Earth's circumference)")
-    return float(value)
-
-
-def _pairs(where: str, key: str, value: Any, n_min: int) -> tuple[tuple[float, float], ...]:
-    pts = [value] if key == "point" else value
-    ok = isinstance(pts, list) and len(pts) >= n_min and all(
-        isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
-                                                    and math.isfinite(c) for c in p) for p in pts)
-    if not ok:
-        shape = "[a, b]" if key == "point" else f"an array of at least {n_min} [a, b] pairs"
-        raise ScenarioError(f"{where} {key} = {str(value)[:60]}: expected {shape} ([lat, lon] or metres [x, y])")
-    far = next((p for p in pts if max(abs(p[0]), abs(p[1])) > _MAX_M), None)
-    if far is not None:
-        raise ScenarioError(f"{where} {key}: the pair {far} lies over {_MAX_M:g} m (the Earth's circumference) "
-                            "from the origin")
-    return tuple((float(p[0]), float(p[1])) for p in pts)
-
-
-def _one(table: Any, where: str) -> ZoneSpec:
-    if not isinstance(table, dict):
-        raise ScenarioError(f"{where}: expected a table, got {type(table).__name__}")
-    for key in table:
-        if key not in _KEYS:
-            raise ScenarioError(f"{where} unknown key {key!r} (allowed: {', '.join(_KEYS)})")
-    if "name" not in table:  # said as missing, not as "name = ''"
-        raise ScenarioError(f"{where} has no name: every zone needs one (messages, the chart and the exports name it)")
-    name = table["name"]
-    if not isinstance(name, str) or not name.strip():
-        raise ScenarioError(f"{where} name = {name!r}: expected a non-empty string")
-    if any(not c.isprintable() for c in name):  # a newline in a name split every message naming the zone
-        raise ScenarioError(f"{where} name = {name!r}: a control character in a zone's name (it is printed in "
-                            "messages of one line, the report and the exports)")
-    given = [k for k in ("polygon", "line", "point", "file") if k in table]
-    if len(given) != 1:
-        raise ScenarioError(f"{where} {name!r}: give exactly one of polygon, line, point, file (got "
-                            f"{', '.join(given) or 'none'})")
-    kind = given[0]
-    kw: dict[str, Any] = {}
-    for key in ("buffer_m", "radius_m"):
-        if key in table:
-            kw[key] = _num(where, key, table[key], positive=True)
-    if kind == "line" and "buffer_m" not in kw:
-        raise ScenarioError(f"{where} {name!r}: a line needs buffer_m (the corridor's half-width)")
-    if kind == "point" and "radius_m" not in kw:
-        raise ScenarioError(f"{where} {name!r}: a point needs radius_m")
-    if "above_seabed_m" in table:
-        if "top_m" in table or "bottom_m" in table:
-            raise ScenarioError(f"{where} {name!r}: above_seabed_m cannot be combined with top_m/bottom_m")
-        kw["above_seabed_m"] = _num(where, "above_seabed_m", table["above_seabed_m"], positive=True)
-    top = _num(where, "top_m", table["top_m"]) if "top_m" in table else 0.0
-    bottom = _num(where, "bottom_m", table["bottom_m"]) if "bottom_m" in table else math.inf
-    if not bottom > top:
-        raise ScenarioError(f"{where} bottom_m = {bottom:g}: must be deeper than top_m = {top:g}")
-    for key in ("file", "layer", "where"):
-        if key in table:
-            if kind != "file":
-                raise ScenarioError(f"{where} {key} = {table[key]!r}: only with file")
-            if not isinstance(table[key], str):
-                raise ScenarioError(f"{where} {key} = {table[key]!r}: expected a string")
-            if not table[key]:  # layer = '' and where = '' were read as absent
-                raise ScenarioError(f"{where} {key} = '': an empty string is not a value (omit the key to leave it "
-                                    "unset)")
-            kw[key] = table[key]
-    coords = () if kind == "file" else _pairs(where, kind, table[kind], {"polygon": 3, "line": 2, "point": 1}[kind])
-    return ZoneSpec(where, name.strip(), kind, coords, top_m=top, bottom_m=bottom, **kw)
-
-
-def parse_zones(tables: Any, source: str) -> tuple[ZoneSpec, ...]:
-    """Validate the ``[[zones]]`` array of a scenario.
-
-    Parameters
-    ----------
-    tables : list of dict
-        The parsed array of tables.
-    source : str
-        The scenario file, for messages.
-
-    Returns
-    -------
-    tuple of ZoneSpec
-        One per table.
-
-    Raises
-    ------
-    ScenarioError
-        On an unknown key, a missing or doubled geometry, or a bad value (naming file, key and value).
-    """
-    if not isinstance(tables, list):
-        raise ScenarioError(f"{source}: zones = {str(tables)[:60]}: expected an array of tables [[zones]]")
-    specs = tuple(_one(t, f"{source}: [[zones]] #{i + 1}") for i, t in enumerate(tables))
-    first: dict[str, str] = {}
-    for spec in specs:  # every message, drawing and export names a zone: two of one name are one to a reader
-        if spec.name in first:
-            raise ScenarioError(f"{spec.where_} name = {spec.name!r}: already the name of {first[spec.name]}; "
-                                "each zone needs its own name")
-        first[spec.name] = spec.where_.rsplit(": ", 1)[-1]
-    return specs
-
-
-def _to_local(spec: ZoneSpec, frame: LocalFrame | None) -> np.ndarray:
-    """The spec's pairs in the local frame: [lat, lon] within reach of the origin, else metres."""
-    xy = np.asarray(spec.coords, dtype=float)
-    if frame is None:
-        return xy
-    near = _near_origin(xy, frame)
-    if near.all():
-        x, y = frame.forward(xy[:, 1], xy[:, 0])
-        return np.column_stack([x, y])
-    if near.any():
-        raise ScenarioError(f"{spec.where_} {spec.kind}: some pairs look like [lat, lon] near the origin and some "
-                            "do not; give all in degrees or all in metres")
-    return xy
-
-
-def _near_origin(xy: np.ndarray, frame: LocalFrame) -> np.ndarray:
-    """Which pairs ``[a, b]`` lie within 5° of the origin as ``[lat, lon]``."""
-    return np.asarray((np.abs(xy[:, 0] - frame.lat0) <= _GEO_REACH_DEG)
-                      & (np.abs((xy[:, 1] - frame.lon0 + 180.0) % 360.0 - 180.0) <= _GEO_REACH_DEG))
-
-
-def _reaches(spec: ZoneSpec, geom: Any, box: Any, frame: LocalFrame | None) -> None:
-    """Refuse a zone written in the scenario that lies wholly outside the area (``box``, m): [lat, lon] pairs
-    beyond 5° of the origin are read as metres, and such a zone was accepted silently, far from anything."""
-    reach = shapely.buffer(geom, spec.buffer_m + spec.radius_m) if spec.kind != "polygon" else geom
-    if shapely.intersects(reach, box):
-        return
-    x0, y0, x1, y1 = shapely.bounds(box)
-    about = "" if frame is None else f"[origin] lat = {frame.lat0:g}, lon = {frame.lon0:g}"
-    why = "" if frame is None else (  # read as degrees: the place is wrong, not the units
-        f"; its pairs were read as [lat, lon] about {about}" if _near_origin(np.asarray(spec.coords, dtype=float),
-                                                                            frame).all()
-        else f"; its pairs were read as metres [x, y], not all being within {_GEO_REACH_DEG:g}° of {about}")
-    raise ScenarioError(f"{spec.where_} {spec.kind} = {str([list(c) for c in spec.coords])[:60]}: the zone lies "
-                        f"wholly outside the operating area (x {x0:.0f} .. {x1:.0f}, y {y0:.0f} .. {y1:.0f} m){why}")
-
-
-_SLIVER_M = 1e-3
-"""A footprint whose mean width (twice its area over its perimeter) is under this (m) encloses no area: points on a
-line, a ring folded on itself, or such a line projected from degrees (a few micrometres of curvature)."""
-
-
-def _mean_width(g: Any) -> float:
-    """Twice the area over the perimeter (m): a strip's width, half a disc's radius; 0 for a sliver."""
-    perimeter = float(shapely.length(shapely.boundary(g))) if not g.is_empty else 0.0
-    return 2.0 * float(g.area) / perimeter if perimeter > 0.0 else 0.0
-
-
-def _drawn_polygon(spec: ZoneSpec, xy: np.ndarray) -> None:
-    """Refuse a ``polygon`` written in the scenario that is not one: fewer than 3 distinct points, no area (its
-    points on a line), or edges that cross (vertices out of order: made valid, a rectangle with two corners
-    swapped keeps two triangles of half its area, so the operator is asked, not guessed for)."""
-    value = f"{spec.where_} polygon = {str([list(c) for c in spec.coords])[:60]}"
-    distinct = len(np.unique(xy, axis=0))
-    if distinct < 3:
-        raise ScenarioError(f"{value}: {distinct} distinct points; a polygon needs at least 3")
-    poly = shapely.Polygon(xy)
-    if _mean_width(_made_valid(poly, "")) < _SLIVER_M:  # a crossing ring's signed areas cancel: the valid parts
-        raise ScenarioError(f"{value}: encloses no area (its points lie on a line)")
-    if not shapely.is_valid(poly):
-        raise ScenarioError(f"{value}: not a simple polygon ({shapely.is_valid_reason(poly)}, local m): list its "
-                            "vertices in order round the zone, its edges meeting only at their ends")
-
-
-def _made_valid(geom: Any, where: str) -> Any:
-    """A polygon feature's valid polygonal parts (empty when it has none): an invalid one (a self-crossing ring, a
-    chart's self-touching part) made valid with ``shapely.make_valid`` and said so (a warning, when ``where``
-    names it and an area is left: the callers refuse one with none, and a warning before that refusal said it
-    was kept).  GEOS's other operations do not keep an invalid polygon's area: ``segmentize`` of a bow tie kept
-    one of its two lobes."""
-    if shapely.is_valid(geom):
-        return geom
-    parts = [g for g in shapely.get_parts(_repaired(geom)) if shapely.get_type_id(g) in (3, 6)]
-    out = shapely.union_all(parts) if parts else shapely.Polygon()
-    if where and not out.is_empty:  # one with no area left is refused by the caller, not warned of
-        log.warning("%s: not a valid polygon (%s): made valid (shapely.make_valid), its %d polygonal parts kept",
-                    where, shapely.is_valid_reason(geom), len(shapely.get_parts(out)))
-    return out
-
-
-def _repaired(geom: Any) -> Any:
-    """``shapely.make_valid`` keeping a polygon's area: its rings' structure (shells unioned, holes subtracted),
-    not the default rebuild from the linework with the even-odd rule, which made a part lying inside another
-    part (GEOS's "Nested shells": a chart's area with a sub-area as a second part) a hole of the zone."""
-    if shapely.get_type_id(geom) in (3, 6):
-        return shapely.make_valid(geom, method="structure", keep_collapsed=False)
-    return shapely.make_valid(geom)
-
-
-def _polygonal(geom: Any, where: str) -> Any:
-    """A polygon feature as a valid footprint (:func:`_made_valid`); one enclosing no area refused."""
-    out = _made_valid(geom, where)
-    if _mean_width(out) < _SLIVER_M:
-        raise ScenarioError(f"{where}: the polygon encloses no area (mean width {_mean_width(out):.2g} m)")
-    return out
-
-
-def _footprint(geom: Any, buffer_m: float, radius_m: float, where: str) -> Any:
-    """A polygon from a polygon, a line buffered by ``buffer_m`` or a point by ``radius_m`` (m)."""
-    kind = shapely.get_type_id(geom)
-    if kind in (3, 6):
-        return lean(_polygonal(geom, where))  # a million vertices: simplified, grown to contain them (.dense)
-    if kind in (1, 2, 5):
-        if not buffer_m:
-            raise ScenarioError(f"{where}: {geom.geom_type} features need buffer_m (a corridor's half-width)")
-        return shapely.buffer(geom, buffer_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
-    if kind in (0, 4):
-        if not radius_m:
-            raise ScenarioError(f"{where}: {geom.geom_type} features need radius_m")
-        return shapely.buffer(geom, radius_m / _INSCRIBED, quad_segs=_QUAD_SEGS)
-    raise DataError(f"{where}: unsupported geometry {geom.geom_type} (a zone is a polygon, a line or a point; "
-                    "split the collection into its parts)")
 
 
 def _read_file(spec: ZoneSpec, frame: LocalFrame | None, base_dir: Path | None,

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ....errors import DataError
-from .readers import _moos_blocks
+from .parsers import _moos_blocks
 from .speeds import read_holds
 
 __all__ = ["read_dwells", "moos_dwells", "DWELL_FORMATS"]
