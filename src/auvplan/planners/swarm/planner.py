@@ -225,14 +225,7 @@ def plan_swarm(
         trace[:, 1] = np.minimum.accumulate(trace[:, 1])
         evals += coarse.evaluations
     if refine > 0 and opt.reason != "stall":
-        feasible = _feasible(problem, spec, x)
-        polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
-        if polished.f <= f:
-            x, f = polished.x, polished.f
-        trace = np.vstack([trace, polished.trace + np.array([evals, 0.0])])
-        trace[:, 1] = np.minimum.accumulate(trace[:, 1])  # the polls' best against the incumbent
-        history = np.r_[history, f]
-        evals += polished.evaluations
+        x, f, history, trace, evals = _refine(problem, spec, refine, gen, (x, f, history, trace, evals))
     iterations = opt.iterations + (coarse.iterations if coarse is not None else 0)
     result = replace(_result(problem, spec, x, f, evals, iterations, history, trace), work=work)
     if opt.reason == "stall":
@@ -246,6 +239,23 @@ def plan_swarm(
                                 fell_back)
         result = replace(result, converged=converged, convergence=why)
     return replace(result, wall_time_s=time.perf_counter() - t0)
+
+
+_Record = tuple[FloatArray, float, FloatArray, FloatArray, int]
+
+
+def _refine(problem: PlanningProblem, spec: PlannerSpec, refine: int, gen: np.random.Generator,
+            record: _Record) -> _Record:
+    """The pattern search's refinement of the optimiser's best with ``refine`` evaluations: the record
+    ``(x, f, history, trace, evaluations)`` after it (strict when the best is feasible: never less safe)."""
+    x, f, history, trace, evals = record
+    feasible = _feasible(problem, spec, x)
+    polished = pattern_search(spline_problem(problem, spec, refine, strict=feasible), x, f, spec.refine, gen)
+    if polished.f <= f:
+        x, f = polished.x, polished.f
+    trace = np.vstack([trace, polished.trace + np.array([evals, 0.0])])
+    trace[:, 1] = np.minimum.accumulate(trace[:, 1])  # the polls' best against the incumbent
+    return x, f, np.r_[history, f], trace, evals + polished.evaluations
 
 
 def _seeded(problem: PlanningProblem, spec: PlannerSpec, gen: np.random.Generator
