@@ -1687,3 +1687,28 @@ REASONS.update({
     ("vertical_bound_legs | return tuple((int(k) for k in np.flatnonzero(np.isfinite(v) & (asked >= vz + "
      "0.001))))"): "boundary: a leg asking exactly the default plus the 1 mm/s slack",
 })
+# ---- round 10 (7 Dec 2026, ~09:15; docs/mutants.md section 10, mutants-w18): the last wave's new and changed code:
+# the antimeridian cut of the GeoJSON/KML exports and its read-back, the ahead-of-time kernels' argument-type keys
+# and their binding at a kernel's call, every kernel's own copies of its callees (linking), the .plan's fence
+# storage, a glider's yos per surfacing cycle, the launch's dive in the navigation budget, and the clearance under
+# the navigation error against static obstacles and charted zones (with the zones' R-tree broad phase)
+ANTIMERIDIAN, AOT, LINKING = "auvplan.io.missions.antimeridian", "auvplan.runtime.aot", "auvplan.runtime.linking"
+DEPLOY_FORMATS, GLIDER = "auvplan.io.missions.deploy_formats", "auvplan.vehicles.glider"
+NAV_BUDGET, NAV_CLEARANCE = "auvplan.nav.budget", "auvplan.nav.clearance"
+ZONE_POINTS = "auvplan.world.zones.points"
+MODULES.update({
+    "antimeridian": Target(_fns(ANTIMERIDIAN, "crosses", "cut_line", "join_line", "_same_cut", "cut_ring",
+                                "join_rings")),
+    "aot-keys": Target(
+        _fns(AOT, "_numpy_scalars", "_key_into", "arg_key", "args_key", "runtime_key")
+        + (("auvplan.runtime.jit", "_Deferred.__call__"),)),
+    "linking": Target(_fns(LINKING, "bind_locally", "OwnCodeLibrary._optimize_final_module",
+                           "OwnCodeCompiler.compile_extra")),
+    "fence-storage": Target(_fns(DEPLOY_FORMATS, "fence_bytes", "fence_storage_problem")),
+    "glider-yos": Target(_fns(GLIDER, "yos_per_cycle")),
+    "launch": Target(_fns(NAV_BUDGET, "launch_point", "_launched", "launch_drift", "mission_budget")),
+    "nav-hazards": Target(
+        _fns(NAV_CLEARANCE, "_band_trace", "zone_within", "zone_safe_radius", "obstacle_within",
+             "obstacle_safe_radius", "hazard_safe_radius")
+        + _fns(ZONE_POINTS, "Zones.traces_near")),
+})
