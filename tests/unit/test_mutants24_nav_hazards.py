@@ -80,8 +80,9 @@ def test_zone_within_is_a_zone_the_sampled_leg_reaches():
     got = zone_within(world, seg, r)
     decided = 0
     for k in range(len(seg)):
-        near = {j for j, z in enumerate(ZONES) if _sampled(seg[k], z)[0] <= r[k]}
-        far = {j for j, z in enumerate(ZONES) if _sampled(seg[k], z)[0] - _sampled(seg[k], z)[1] > r[k]}
+        per = [_sampled(seg[k], z) for z in ZONES]
+        near = {j for j, (d, _) in enumerate(per) if d <= r[k]}
+        far = {j for j, (d, step) in enumerate(per) if d - step > r[k]}
         if len(near) + len(far) < len(ZONES):
             continue  # a distance within a sample step of the radius
         decided += 1
@@ -194,3 +195,38 @@ def test_a_seabed_band_out_of_reach_allows_its_distance():
     assert float(hazard_safe_radius(world, a, b, 900.0)[0]) == r
     high = np.array([a, b]) + [0.0, 0.0, 50.0]  # 80 m above the seabed: over the band, never within it
     assert math.isinf(float(zone_safe_radius(world, high[0], high[1], 900.0)[0]))
+
+
+BOX = Zone("box", shapely.box(2000.0, 1000.0, 2400.0, 1400.0), top=50.0, bottom=150.0)
+
+
+@pytest.mark.parametrize(("a", "b", "d"), [
+    ((1500.0, 1200.0, -50.0), (1900.0, 1200.0, -50.0), 100.0),    # level, exactly at the band's top
+    ((1500.0, 1200.0, -150.0), (1900.0, 1200.0, -150.0), 100.0),  # level, exactly at its bottom
+    ((1300.0, 1200.0, -100.0), (1700.0, 1200.0, -100.0), 300.0),  # level inside it, its end 300 m short
+    ((1500.0, 1200.0, -30.0), (1900.0, 1200.0, -50.0), 100.0),    # a dive ending exactly at the top: one point
+    ((1500.0, 1200.0, -50.5), (1900.0, 1200.0, -49.5), 300.0),    # a climb of exactly 1 m out of the band at x 1700
+    ((1500.0, 1200.0, -20.0), (1900.0, 1200.0, -49.9), math.inf),  # a dive ending 10 cm over the band
+])
+def test_a_band_holds_its_faces_and_only_the_part_of_the_leg_in_it(a, b, d):
+    """The distance from the part of the leg whose depth is in [top, bottom] (faces included) to the footprint, by
+    hand: the check finds the zone a centimetre beyond it, not a centimetre short, and the safe radius is it."""
+    world = _world(zones=(BOX,))
+    seg = np.array([a, b])[None]
+    r = float(zone_safe_radius(world, seg[:, 0], seg[:, 1], 900.0)[0])
+    if math.isinf(d):
+        assert math.isinf(r) and zone_within(world, seg, 900.0)[0] == -1
+        return
+    assert r == pytest.approx(d - 1e-6, abs=1e-9)
+    assert zone_within(world, seg, d - 0.01)[0] == -1 and zone_within(world, seg, d + 0.01)[0] == 0
+
+
+def test_a_seabed_band_a_metre_off_allows_most_of_it():
+    """The pipeline's footprint 0.9 m beside the trace of a leg in its height: a radius within the bisection's 0.5 m
+    under 0.9 m (not 0: that is for a leg over the footprint itself)."""
+    world = _world(zones=(Zone("pipeline", shapely.box(3600, 300, 3700, 3200), above_seabed=60.0),))
+    a, b = np.array([3000.0, 1000.0, -370.0]), np.array([3599.1, 2000.0, -370.0])
+    r = float(zone_safe_radius(world, a, b, 900.0)[0])
+    assert 0.4 - 1e-9 <= r <= 0.9
+    over = float(zone_safe_radius(world, a + [650.0, 0.0, 0.0], b + [0.0, 0.0, 0.0], 900.0)[0])
+    assert over == 0.0  # the trace crosses the footprint
