@@ -1691,3 +1691,162 @@ REASONS.update({
     ("vertical_bound_legs | return tuple((int(k) for k in np.flatnonzero(np.isfinite(v) & (asked >= vz + "
      "0.001))))"): "boundary: a leg asking exactly the default plus the 1 mm/s slack",
 })
+# ---- round 10 (7 Dec 2026, ~09:15; docs/mutants.md section 10, mutants-w18): the last wave's new and changed code:
+# the antimeridian cut of the GeoJSON/KML exports and its read-back, the ahead-of-time kernels' argument-type keys
+# and their binding at a kernel's call, every kernel's own copies of its callees (linking), the .plan's fence
+# storage, a glider's yos per surfacing cycle, the launch's dive in the navigation budget, and the clearance under
+# the navigation error against static obstacles and charted zones (with the zones' R-tree broad phase)
+ANTIMERIDIAN, AOT, LINKING = "auvplan.io.missions.antimeridian", "auvplan.runtime.aot", "auvplan.runtime.linking"
+DEPLOY_FORMATS, GLIDER = "auvplan.io.missions.deploy_formats", "auvplan.vehicles.glider"
+NAV_BUDGET, NAV_CLEARANCE = "auvplan.nav.budget", "auvplan.nav.clearance"
+ZONE_POINTS = "auvplan.world.zones.points"
+MODULES.update({
+    "antimeridian": Target(_fns(ANTIMERIDIAN, "crosses", "cut_line", "join_line", "_same_cut", "cut_ring",
+                                "join_rings")),
+    "aot-keys": Target(
+        _fns(AOT, "_numpy_scalars", "_key_into", "arg_key", "args_key", "runtime_key")
+        + (("auvplan.runtime.jit", "_Deferred.__call__"),)),
+    "linking": Target(_fns(LINKING, "bind_locally", "OwnCodeLibrary._optimize_final_module",
+                           "OwnCodeCompiler.compile_extra")),
+    "fence-storage": Target(_fns(DEPLOY_FORMATS, "fence_bytes", "fence_storage_problem")),
+    "glider-yos": Target(_fns(GLIDER, "yos_per_cycle")),
+    "launch": Target(_fns(NAV_BUDGET, "launch_point", "_launched", "launch_drift", "mission_budget")),
+    "nav-hazards": Target(
+        _fns(NAV_CLEARANCE, "_band_trace", "zone_within", "zone_safe_radius", "obstacle_within",
+             "obstacle_safe_radius", "hazard_safe_radius")
+        + _fns(ZONE_POINTS, "Zones.traces_near")),
+})
+# mutants-w18 (round 10): the survivors argued (docs/mutants.md section 10)
+_NEG = "equivalent: numpy infers the length of any negative dimension, -2 as -1"
+_EDGE_TOL = ("boundary: a longitude (latitude, altitude) exactly _ON_EDGE_DEG (z_tol) from the edge (the other point); "
+             "the exports write 9 decimals, so 180 - 1e-9 is read 1.00000008e-9 away: never exactly at the tolerance")
+_STEP_180 = ("boundary: a step of exactly 180 degrees of longitude, as long either way round; the cut there is valid "
+             "too (every piece's steps stay within 180)")
+_WRAP = "equivalent: x - 180 and x + 180 are the same modulo 360"
+_LAYOUT = ("equivalent: bit 0 of numpy's flags (C-contiguous) is also the layout term's (1 if n & 1), so n & 1025 | "
+           "layout = n & 1024 | layout, and n & 3 = n & 2 where n & 1 is 0 (the only case it is read)")
+REASONS.update({
+    "crosses | return bool(np.any(d >= 180.0))": _STEP_180,
+    "cut_line | if abs(step) >= 180.0:": _STEP_180,
+    "cut_line | if p.shape[0] < 2 and (not crosses(p[:, 0])):":
+        "equivalent: a line of 0 or 1 points never crosses (the loop makes the same one piece), and a line of 2 or "
+        "more that does not cross goes through the loop without a cut: one piece, the line's points",
+    "cut_line | if p.shape[1] < 2 or not crosses(p[:, 0]):":
+        "equivalent: a line has at least 2 columns (lon, lat), and of fewer than 2 points it never crosses",
+    "cut_line | for a, b in zip(p[:-1], p[1:], strict=False):": "equivalent: p[:-1] and p[1:] are equally long",
+    "cut_line | b_un[0] = b[0] + (360.0 if step <= 0.0 else -360.0)":
+        "equivalent: reached only with |step| > 180, never with a step in [0, 1)",
+    "cut_line | b_un[0] = b[0] + (360.0 if step < 1.0 else -360.0)":
+        "equivalent: reached only with |step| > 180, never with a step in [0, 1)",
+    "cut_line | t = (edge - a[0]) / span if span != 0.0 else 1.0":
+        ("equivalent in what is read back: span is 0 only from a point on +-180 to one on -+180 (one meridian); the "
+         "cut is then at a (t = 0) or at b (t = 1), join_line drops the cut pair either way, and each written piece's "
+         "steps stay within 180"),
+    "join_line | arrs = [a.reshape(-2, a.shape[-1]) if a.ndim else a.reshape(0, 1) for a in arrs]": _NEG,
+    "join_line | arrs = [a.reshape(-1, a.shape[1]) if a.ndim else a.reshape(0, 1) for a in arrs]":
+        "equivalent: every piece the readers pass is (k, 3) (readers._lon_lat_alt refuses any other shape)",
+    "join_line | arrs = [a.reshape(-1, a.shape[-1]) if a.ndim else a.reshape(1, 1) for a in arrs]":
+        "equivalent: a piece is never a 0-d array (readers._lon_lat_alt refuses it before)",
+    "join_line | arrs = [a.reshape(-1, a.shape[-1]) if a.ndim else a.reshape(0, 2) for a in arrs]":
+        "equivalent: a piece is never a 0-d array (readers._lon_lat_alt refuses it before)",
+    "join_line | return np.vstack(out) if out else np.empty((1, 3))":
+        "equivalent: out always holds the first piece, so the else is never taken",
+    "join_line | return np.vstack(out) if out else np.empty((0, 4))":
+        "equivalent: out always holds the first piece, so the else is never taken",
+    ("_same_cut | on_edge = abs(abs(a[0]) - 180.0) < _ON_EDGE_DEG and abs(abs(b[0]) - 180.0) <= "
+     "_ON_EDGE_DEG"): _EDGE_TOL,
+    ("_same_cut | on_edge = abs(abs(a[0]) - 180.0) <= _ON_EDGE_DEG and abs(abs(b[0]) - 180.0) < "
+     "_ON_EDGE_DEG"): _EDGE_TOL,
+    ("_same_cut | return bool(on_edge and a.size == b.size and (abs(a[1] - b[1]) < _ON_EDGE_DEG) and "
+     "np.all(np.abs(a[2:] - b[2:]) <= z_tol))"): _EDGE_TOL,
+    ("_same_cut | return bool(on_edge and a.size == b.size and (abs(a[1] - b[1]) <= _ON_EDGE_DEG) and "
+     "np.all(np.abs(a[2:] - b[2:]) < z_tol))"): _EDGE_TOL,
+    "cut_ring | if not crosses(np.r_[lo, lo[:2]]):":
+        "equivalent: the added step lo[0] -> lo[1] is the ring's first edge, already among the steps",
+    "cut_ring | un = lo[0] + np.r_[0.0, np.cumsum((np.diff(lo) - 180.0) % 360.0 - 180.0)]": _WRAP,
+    "cut_ring | part = shapely.intersection(poly, shapely.box(-180.0 + k, -91.0, 180.0 + k, 90.0))":
+        "equivalent: latitudes lie within +-90 (the readers refuse others), so the box's latitude side never cuts",
+    "cut_ring | part = shapely.intersection(poly, shapely.box(-180.0 + k, -90.0, 180.0 + k, 91.0))":
+        "equivalent: latitudes lie within +-90 (the readers refuse others), so the box's latitude side never cuts",
+    "join_rings | arrs = [a[:-1] if a.shape[0] >= 1 and np.array_equal(a[0], a[-1]) else a for a in arrs]":
+        "equivalent: differs only for a ring of one point, which is no polygon (shapely refuses it either way)",
+    "join_rings | arrs = [a[:-1] if a.shape[1] > 1 and np.array_equal(a[0], a[-1]) else a for a in arrs]":
+        "equivalent: the rings are cut to 2 columns just before, so shape[1] is 2 > 1, and a 1-point ring is none",
+    "join_rings | arrs = [a[:-1] if a.shape[0] > 2 and np.array_equal(a[0], a[-1]) else a for a in arrs]":
+        "equivalent: differs only for a closed ring of 2 points, which is no polygon",
+    "join_rings | ref = float(arrs[1][0, 0])":
+        ("equivalent: the reference only fixes which whole turn the pieces are moved to: any vertex of a piece of a "
+         "ring cut at +-180 lies beside it, and the result is wrapped into [-180, 180) at the end"),
+    "join_rings | ref = float(arrs[0][1, 0])":
+        ("equivalent: the reference only fixes which whole turn the pieces are moved to: any vertex of a piece of a "
+         "ring cut at +-180 lies beside it, and the result is wrapped into [-180, 180) at the end"),
+    "join_rings | shift = 360.0 * round((float(np.mean(a[:, 0])) + ref) / 360.0)":
+        ("equivalent for pieces of a ring cut at +-180 less than 180 degrees wide: with ref and the means near +-180, "
+         "round((m + ref) / 360) - round((m' + ref) / 360) is the same whole turn as with m - ref (test_mutants24_"
+         "antimeridian rolls every piece's first vertex, at the equator too)"),
+    "join_rings | shift = 360.0 * round((float(np.mean(a[:, 0])) - ref) / 361.0)":
+        ("equivalent for pieces less than 180 degrees wide: |mean - ref| then never lies within the 0.5 degree "
+         "where dividing by 361 rounds otherwise (about 180)"),
+    "join_rings | return np.column_stack([(xy[:, 0] - 180.0) % 360.0 - 180.0, xy[:, 1]])": _WRAP,
+    ("OwnCodeCompiler.compile_extra | if self.state.library is None or getattr(codegen, '_library_class', None) is "
+     "JITCodeLibrary:"):
+        ("equivalent: the pipeline class's compile_extra is reached only from the dispatcher (numba/core/dispatcher.py "
+         "_compile_core), which passes no library; the paths that pass one (compile_internal, compile_ir) use "
+         "numba's Compiler or call compile_ir, never this method"),
+    "_key_into | out.append(value.ndim << 16 | n & 1025 | (1 if n & 1 else n & 2))": _LAYOUT,
+    "_key_into | out.append(value.ndim << 16 | n & 1024 | (1 if n & 1 else n & 3))": _LAYOUT,
+    "args_key | out.append(v.ndim << 16 | n & 1025 | (1 if n & 1 else n & 2))": _LAYOUT,
+    "args_key | out.append(v.ndim << 16 | n & 1024 | (1 if n & 1 else n & 3))": _LAYOUT,
+    "args_key | array = _ARRAY[0] if _ARRAY else _numpy_scalars() or _ARRAY[0]":
+        ("equivalent in value: on a process's first key only, arrays then go through _key_into, which keys them the "
+         "same way (id of the dtype, the same flags and layout)"),
+    "launch_point | home: FloatArray = np.asarray(points, dtype=float).reshape(-2, 3)[0].copy()": _NEG,
+    "_launched | water = h if water_m is None else np.asarray(water_m, dtype=float).reshape(-2)": _NEG,
+    ("_launched | held = np.zeros(p.shape[0]) if held_water_m is None else np.asarray(held_water_m, "
+     "dtype=float).reshape(-2)"): _NEG,
+    "_launched | h = np.hypot(*np.diff(p[:, :3], axis=0).T)":
+        ("equivalent: np.hypot's third positional argument is its out: hypot(dx, dy, out=dz) writes hypot(dx, dy) "
+         "into the temporary dz and returns it"),
+})
+_SCALE = ("equivalent: d (1 +- 1e-12) - 1e-6 stays under d for any distance under 1 000 km (d 1e-12 < 1e-6), and "
+          "r_max is the navigation's max_error_m")
+_NOT_FIRST = ("equivalent in the verdict: a segment whose pair with zone 0 hit goes on to its other pairs and may "
+              "name another zone that is also within (the R-tree's order of pairs is no meaningful order: the "
+              "docstring promises a zone within, -1 for none)")
+_TWO = "equivalent: the segments are (K, 2, 3): shape[1] is 2, and an empty K gives no pairs either way"
+REASONS.update({
+    "_band_trace | t0, t1 = (0.0, 1.0) if lo <= a[2] <= hi else (2.0, 0.0)":
+        "equivalent: any t0 > t1 = 0 gives None (the level leg outside the band)",
+    "_band_trace | return shapely.linestrings([p0, p1]) if t1 >= t0 else shapely.points(p0)":
+        "equivalent: a line of two equal points has the point's distance to a polygon (GEOS)",
+    "zone_within | seg = np.asarray(segments, dtype=float).reshape(-2, 2, 3)": _NEG,
+    "obstacle_within | seg = np.asarray(segments, dtype=float).reshape(-2, 2, 3)": _NEG,
+    "Zones.traces_near | s = np.asarray(segments, dtype=float).reshape(-2, 2, 3)": _NEG,
+    "zone_within | if not world.zones or seg.shape[1] == 0:": _TWO,
+    "zone_safe_radius | if not world.zones or seg.shape[1] == 0:": _TWO,
+    "Zones.traces_near | if not self.zones or s.shape[1] == 0:": _TWO,
+    "Zones.traces_near | if not self.zones and s.shape[0] == 0:":
+        "equivalent: the R-tree of no zones answers no pairs, and a query of no segments none",
+    "Zones.traces_near | k, j = self._tree.query(shapely.linestrings(s[:, :, :3]), predicate='dwithin', "
+    "distance=reach)": "equivalent: GEOS measures distances in the plane, the z of a 3-D line ignored",
+    "zone_within | for k, j in zip(ks.tolist(), js.tolist(), strict=False):":
+        "equivalent: the R-tree's pairs come as two arrays of one length",
+    "zone_safe_radius | for k, j in zip(ks.tolist(), js.tolist(), strict=False):":
+        "equivalent: the R-tree's pairs come as two arrays of one length",
+    "zone_within | if out[k] > 0:": _NOT_FIRST,
+    "zone_within | if out[k] >= 1:": _NOT_FIRST,
+    ("zone_within | hit = world.terrain is not None and float(leg_slack(world.terrain, a, b, r[k])[0]) < "
+     "z.above_seabed"): "boundary: a leg's least uncertain altitude exactly the band's height",
+    ("zone_safe_radius | r = math.inf if part is None else float(shapely.distance(part, z.footprint)) / (1.0 - "
+     "1e-12) - 1e-06"): _SCALE,
+    ("zone_safe_radius | r = math.inf if part is None else float(shapely.distance(part, z.footprint)) * (1.0 + "
+     "1e-12) - 1e-06"): _SCALE,
+    "obstacle_safe_radius | out[near] = np.minimum(out[near], np.maximum(gap / (1.0 - 1e-12) - 1e-06, 0.0))": _SCALE,
+    "obstacle_safe_radius | out[near] = np.minimum(out[near], np.maximum(gap * (1.0 + 1e-12) - 1e-06, 0.0))": _SCALE,
+    ("zone_safe_radius | return x > reach and world.terrain is not None and (float(leg_slack(world.terrain, p, q, "
+     "x)[0]) <= h)"): "boundary: a bisection's radius exactly the trace's distance to the footprint",
+    ("zone_safe_radius | return x >= reach and world.terrain is not None and (float(leg_slack(world.terrain, p, q, "
+     "x)[0]) < h)"): "boundary: a leg's least uncertain altitude exactly the band's height",
+    "zone_safe_radius | while hi - lo >= tol and (not hit(0.0)):":
+        "boundary: a bracket exactly tol wide is halved once more (a tighter radius, still on the safe side)",
+})

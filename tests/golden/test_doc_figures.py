@@ -206,6 +206,10 @@ HAND_TYPED_DOC_SECTIONS = {
     ("docs/mutants.md", "9. The last two waves' code no run had seen: the exact EDT, the waits in mission files, a "
                         "`.plan` as WPNav flies it (7 Dec 2026, ~07:00, audit-w17)"):
         "docs: tools/mutate.py runs of edt, dwell and wpnav-speeds (heavy slots), audit-w17",
+    ("docs/mutants.md", "10. The last wave's new code: the antimeridian cut, the ahead-of-time binding, each kernel's "
+                        "own callees, the fence storage, a glider's yos, the launch, the hazards under the error "
+                        "(7 Dec 2026, ~09:15, mutants-w18)"):
+        "docs: tools/mutate.py runs of round 10's seven targets (35 min of heavy slots), mutants-w18",
     ("docs/missions.md", "Every leg as a helm flies it"):
         "issue 49: measured on 6 Dec 2026 (fitted_route, exports, mission check, closed-loop pieces), not yet a "
         "docs_figures measurement; tests/integration/test_mission_legs.py holds the limits, the band and the flight",

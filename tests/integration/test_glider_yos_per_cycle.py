@@ -79,6 +79,9 @@ def test_the_yos_cap_and_at_least_one():
     yo = yo_timing(g, g.climb_depth_m, g.dive_depth_m)
     assert yos_per_cycle(g, yo) == 2 == cycle(g).yos
     assert yos_per_cycle(GliderParams(yos=4, surface_every_s=10.0), yo) == 1
+    for every in (0.5, 1.0):  # a second or less ("surface every yo"): the first top, still one yo (mutants24)
+        g = GliderParams(yos=4, surface_every_s=every)
+        assert yos_per_cycle(g, yo) == 1 == cycle(g).yos
     assert yos_per_cycle(GliderParams(yos=4), yo) == 4
 
 

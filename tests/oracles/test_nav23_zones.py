@@ -152,3 +152,23 @@ def test_a_surfacing_keeps_its_climb_out_of_reach_of_a_shallow_zone(tmp_path):
         q0, q1 = a[:2] + t0 * (b[:2] - a[:2]), a[:2] + t1 * (b[:2] - a[:2])
         part = shapely.LineString([q0, q1]) if np.hypot(*(q1 - q0)) > 0 else shapely.Point(q0)
         assert part.distance(zone) > plan.check.budget.leg_error_m[k], k
+
+
+@pytest.mark.parametrize(("d", "fixes"), [(330.0, 0), (200.0, 1)])
+def test_the_fix_planner_plans_near_a_seabed_band(tmp_path, d, fixes):
+    """A band from the seabed up to 850 m (the leg at 800 m above the seabed is in its height) whose footprint is
+    ``d`` off the leg's end: at 330 m the bare leg passes the check (320 m of error at its end), so the planner needs
+    no fix; at 200 m one.  Before (mutants24), ``zone_safe_radius`` tested the band's height without the footprint's
+    distance: a safe radius of 0 along the whole leg, and the planner refused both ("within 0 m horizontally of the
+    leg, less than confidence × fix_error_m = 6 m")."""
+    from dataclasses import replace
+
+    from auvplan.sim.navigation import navigation_plan
+
+    world, mission = sc.build(sc.load(_scenario(tmp_path, d, "above_seabed_m = 850.0")))
+    nav = replace(mission.navigation, fixes="plan", max_error_m=400.0, surface_s=60.0)
+    assert check_navigation(world, LEG, ("", ""), nav).ok is (fixes == 0)
+    plan = navigation_plan(world, replace(mission, navigation=nav), LEG)
+    assert plan is not None and plan.ok, plan.message
+    assert plan.fixes.count == fixes and plan.check.ok
+    assert check_navigation(world, plan.points, plan.kinds, nav).ok

@@ -320,7 +320,8 @@ def zone_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.ndar
 def zone_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float, tol: float = 0.5) -> FloatArray:
     """The largest horizontal uncertainty each segment allows near the charted zones (the inverse of
     :func:`zone_within`): for a band between two depths the distance from the part of the segment in the band to the
-    footprint, less a micrometre; for a seabed band by bisection.
+    footprint, less a micrometre; for a seabed band by bisection over the radii that reach the footprint from the
+    segment's trace (within ``tol`` below the least radius at which both the footprint and the band are within reach).
 
     Parameters
     ----------
@@ -349,9 +350,13 @@ def zone_safe_radius(world: World, a: ArrayLike, b: ArrayLike, r_max: float, tol
         if z.above_seabed is None:
             part = _band_trace(p, q, -z.bottom, -z.top)
             r = math.inf if part is None else float(shapely.distance(part, z.footprint)) * (1.0 - 1e-12) - 1e-6
-        else:
-            def hit(x: float, p: FloatArray = p, q: FloatArray = q, h: float = z.above_seabed) -> bool:
-                return world.terrain is not None and float(leg_slack(world.terrain, p, q, x)[0]) <= h
+        else:  # zone_within's test: the footprint within x of the trace and the leg's least altitude within x
+            reach = float(shapely.distance(shapely.linestrings([p[:2], q[:2]]), z.footprint))
+
+            def hit(x: float, p: FloatArray = p, q: FloatArray = q, h: float = z.above_seabed,
+                    reach: float = reach) -> bool:
+                return (x >= reach and world.terrain is not None
+                        and float(leg_slack(world.terrain, p, q, x)[0]) <= h)
             if not hit(r_max):
                 continue
             lo, hi = 0.0, r_max
