@@ -38,7 +38,7 @@ def test_lattice_candidate_takes_the_saddle_the_splines_miss(chagos, monkeypatch
     assert "from the seeding lattice's taut path" in r.message
     assert prob.world.path_free(r.path)
     assert r.cost <= CHAGOS_BEST * 1.001
-    monkeypatch.setattr(polish, "_lattice_plan", lambda *a: None)
+    monkeypatch.setattr(polish.LatticeCorridor, "candidate", lambda self, result: None)
     monkeypatch.setattr(polish, "_lifted_plan", lambda *a: None)
     alone = plan(prob, spec, rng=1)
     assert alone.cost > CHAGOS_BEST * 1.002 and r.cost < alone.cost

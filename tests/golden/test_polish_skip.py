@@ -46,14 +46,15 @@ def test_far_lattice_corridor_is_not_polished_and_nothing_is_lost(seamounts, mon
 
 
 def test_lattice_candidate_kept_exactly_within_the_margin(seamounts):
-    """``_lattice_plan`` keeps the taut polygon iff its cost (computed here independently) is at most
-    ``1 + LATTICE_WITHIN`` times the plan's: checked on both sides of the threshold."""
+    """``LatticeCorridor.candidate`` keeps the taut polygon iff its cost (computed here independently) is at
+    most ``1 + LATTICE_WITHIN`` times the plan's: checked on both sides of the threshold."""
     prob, spec = seamounts
     base = plan(prob, replace(spec, polish=0), rng=0)
     lattice = base.path  # any free start-goal polyline stands in for the lattice's path
     taut = path_cost(prob, spec, key_waypoints(lattice, prob.world))["total"]
     above = replace(base, cost=taut / (1.0 + polish.LATTICE_WITHIN) * 0.999)
     within = replace(base, cost=taut / (1.0 + polish.LATTICE_WITHIN) * 1.001)
-    assert polish._lattice_plan(prob, spec, above, lattice) is None
-    kept = polish._lattice_plan(prob, spec, within, lattice)
+    corridor = polish.LatticeCorridor(prob, spec, lattice)
+    assert corridor.candidate(above) is None
+    kept = corridor.candidate(within)
     assert kept is not None and kept.cost == float("inf")

@@ -167,7 +167,13 @@ class LatticeCorridor:
         self._polished: PlanResult | None = None
 
     def taut(self) -> tuple[FloatArray, float] | None:
-        """The taut polygon and its cost (one evaluation, made once), or None when there is no lattice path."""
+        """The taut polygon and its cost (one evaluation, made once).
+
+        Returns
+        -------
+        tuple of (numpy.ndarray, float) or None
+            The key waypoints ``(M, 3)`` (m) and their cost; None when there is no lattice path.
+        """
         if self._lattice.shape[0] < 2:
             return None
         if self._taut is None:
@@ -177,20 +183,48 @@ class LatticeCorridor:
 
     def within(self, cost: float) -> bool:
         """Whether the taut polygon costs at most :data:`LATTICE_WITHIN` above ``cost`` (else its polish does
-        not pay)."""
+        not pay).
+
+        Parameters
+        ----------
+        cost : float
+            A plan's cost.
+
+        Returns
+        -------
+        bool
+            False also when there is no lattice path.
+        """
         taut = self.taut()
         return taut is not None and taut[1] <= (1.0 + LATTICE_WITHIN) * cost
 
     def candidate(self, result: PlanResult) -> PlanResult | None:
-        """The taut polygon as a plan to polish (its cost ``inf``: the polish re-costs it), or None (no
-        lattice path, or its cost more than :data:`LATTICE_WITHIN` above ``result``'s)."""
+        """The taut polygon as a plan to polish.
+
+        Parameters
+        ----------
+        result : PlanResult
+            The plan whose fields the candidate takes and whose cost it is judged against.
+
+        Returns
+        -------
+        PlanResult or None
+            ``result`` with the taut polygon as its path and cost ``inf`` (the polish re-costs it); None when
+            there is no lattice path or it costs more than :data:`LATTICE_WITHIN` above ``result``.
+        """
         if not self.within(result.cost):
             return None  # too far above the spline for its polish to pay
         return replace(result, path=self.taut()[0], cost=float("inf"), control_points=None)  # type: ignore[index]
 
     def polished_cost(self) -> float:
         """The taut polygon's cost polished with ``2 * spec.polish`` sweeps per level and no target (made once,
-        kept for :meth:`polished_plan`); ``inf`` when the band found no cheaper free path."""
+        kept for :meth:`polished_plan`).
+
+        Returns
+        -------
+        float
+            The polished cost; ``inf`` when the band found no cheaper free path.
+        """
         if self._polished is None:
             taut = self.taut()
             assert taut is not None
@@ -200,8 +234,20 @@ class LatticeCorridor:
         return self._polished.cost
 
     def polished_plan(self, candidate: PlanResult) -> PlanResult | None:
-        """``candidate`` (from :meth:`candidate`) as :func:`~auvplan.planners.grid.planner.refine_plan` run out
-        would return it, from the polish :meth:`polished_cost` made; None when that polish was not made."""
+        """``candidate`` as :func:`~auvplan.planners.grid.planner.refine_plan` run out would return it, from the
+        polish :meth:`polished_cost` made.
+
+        Parameters
+        ----------
+        candidate : PlanResult
+            A plan from :meth:`candidate`.
+
+        Returns
+        -------
+        PlanResult or None
+            The polished plan (``candidate`` itself when the band found nothing); None when
+            :meth:`polished_cost` has not run.
+        """
         done = self._polished
         if done is None:
             return None
