@@ -37,6 +37,8 @@ class LaunchFlight(NamedTuple):
     node_s, node_t : numpy.ndarray
         The flight's sub-step nodes after the dive: distance along the mission (3D, m) and time (s), both from the
         first waypoint.
+    dive_s : float
+        The dive's duration (s): the arrival at the first waypoint after the launch.
     """
 
     launch_water_m: float
@@ -44,6 +46,7 @@ class LaunchFlight(NamedTuple):
     times_s: np.ndarray
     node_s: np.ndarray
     node_t: np.ndarray
+    dive_s: float = 0.0
 
 
 def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, tail: ArrayLike | None = None,
@@ -82,7 +85,7 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
     dive = float(np.linalg.norm(p[0] - launch_point(p)))
     after = tr.node_s >= dive - 1e-9  # the nodes from the first waypoint on
     return LaunchFlight(float(w[0]), w[1:], tr.times[1:] - tr.times[1], tr.node_s[after] - dive,
-                        tr.node_t[after] - tr.times[1])
+                        tr.node_t[after] - tr.times[1], float(tr.times[1] - tr.times[0]))
 
 
 def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:

@@ -8,7 +8,10 @@ every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; rea
 * **Envelope** — the operating region: the polygon of the world's ``[bounds]`` (x/y), the deepest depth the
   mission may reach (``[mission] max_depth_m`` clipped to the vehicle's rating), the least altitude above
   the seabed (``[mission] min_altitude_m``), the exclusion polygons of the ``[land]`` inside the bounds, and
-  a time-out: the predicted duration × :data:`TIMEOUT_FACTOR`.
+  a time-out: the predicted duration × :data:`TIMEOUT_FACTOR`, the duration the mission is flown in
+  (:func:`predicted_duration`: its launch's dive from the surface, its legs through the World's current at their
+  speeds, every wait at a surface fix), never the still-water time of the legs alone (:func:`mission_timeout`: the
+  one figure every format's time-out is).
 * **Payload** — one flag per leg: the sensor is on while the vehicle flies a survey line (legs joining two
   vertices of the same line), off on turns and transits; the events are the legs where it switches.
 * **Altitude** — with ``[mission] follow_altitude_m``, every leg is terrain-following: the planned altitude
@@ -31,7 +34,7 @@ from ...sim import Mission
 from ...world import World
 
 __all__ = ["ROUNDED_RISE_M", "TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels",
-           "payload_events", "planned_times", "leg_speeds"]
+           "payload_events", "planned_times", "leg_speeds", "predicted_duration", "mission_timeout"]
 
 TIMEOUT_FACTOR = 1.5
 """Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
@@ -156,6 +159,64 @@ def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
     return times
 
 
+def predicted_duration(world: World, waypoints: ArrayLike, speed: float | ArrayLike, dwell: ArrayLike | None = None,
+                       tail: ArrayLike | None = None) -> float:
+    """The time a mission takes as it is flown (s): launched at the surface above its first waypoint, the dive to it
+    (a vertical leg at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS` held over the point), then each leg through the
+    World's current at its speed, every wait at a waypoint (a surface fix's ``surface_s``) included — the flight the
+    navigation budget and the fixes' times count (:func:`auvplan.sim.navigation.launch_flight`).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    waypoints : array_like
+        ``(N, 3)`` the mission (m).
+    speed : float or array_like
+        Planned through-water speed, one or one per leg (m/s).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s); the last one's is after the mission (it is recovered there).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+
+    Returns
+    -------
+    float
+        The duration from the launch to the arrival at the last waypoint (s).  Where the current beats the vehicle
+        (the energy check refuses the mission) the legs and the dive at their speeds in still water, the waits
+        included.
+    """
+    from ...nav.budget import LAUNCH_DIVE_MPS
+    from ...sim.navigation import launch_flight
+
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    if len(w) < 2:
+        return 0.0
+    v = leg_speeds(speed, len(w) - 1)
+    back = None if tail is None or np.asarray(tail).size != len(w) - 1 else tail
+    flown = launch_flight(world, w, v, back, dwell)
+    if flown is not None:
+        return float(flown.dive_s + flown.times_s[-1])
+    return float(max(-w[0, 2], 0.0) / LAUNCH_DIVE_MPS + planned_times(w, v, dwell)[-1])
+
+
+def mission_timeout(predicted_s: float) -> float:
+    """The time-out every format carries (the MOOS helm's ``max_time``, the envelope's ``max_time_s``): the predicted
+    duration (:func:`predicted_duration`, or a longer simulated flight) × :data:`TIMEOUT_FACTOR`, to 0.1 s.
+
+    Parameters
+    ----------
+    predicted_s : float
+        The mission's predicted duration (s).
+
+    Returns
+    -------
+    float
+        The time-out (s).
+    """
+    return round(float(predicted_s) * TIMEOUT_FACTOR, 1)
+
+
 def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
     """One planned speed per leg: ``speed`` repeated, or the ``(legs,)`` speeds given (issue 38).
 
@@ -239,7 +300,8 @@ def _exclusions(world: World, box: shapely.Polygon,
 
 
 def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: float | ArrayLike,
-                flown_s: float | None = None, payload: ArrayLike | None = None) -> DeployInfo:
+                flown_s: float | None = None, payload: ArrayLike | None = None, dwell: ArrayLike | None = None,
+                tail: ArrayLike | None = None) -> DeployInfo:
     """The datum, envelope, payload and altitudes of a mission (module notes).
 
     Parameters
@@ -253,9 +315,13 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     speed : float or array_like
         Planned speed, or one per leg (m/s).
     flown_s : float, optional
-        Duration of the simulated flight (s): the prediction is the longer of it and the planned time.
+        Duration of the simulated flight (s): the prediction is the longer of it and :func:`predicted_duration`.
     payload : array_like of bool, optional
         ``(N - 1,)`` sensor state per leg (:func:`payload_from_labels`).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; a surface fix's ``surface_s``): the predicted duration counts it.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
 
     Returns
     -------
@@ -265,13 +331,13 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     w = np.asarray(waypoints, dtype=float)
     b = world.bounds
     poly = ((b.xmin, b.ymin), (b.xmax, b.ymin), (b.xmax, b.ymax), (b.xmin, b.ymax))
-    predicted = float(planned_times(w, speed)[-1]) if len(w) > 1 else 0.0
+    predicted = predicted_duration(world, w, speed, dwell, tail)
     if flown_s is not None and np.isfinite(flown_s):
         predicted = max(predicted, float(flown_s))
     depth = world.margins.max_depth if np.isfinite(world.margins.max_depth) else mission.vehicle.max_depth_m
     track = shapely.LineString(w[:, :2]) if len(w) > 1 else shapely.Point(w[0, :2])
     env = Envelope(tuple((float(x), float(y)) for x, y in poly), float(depth), float(world.margins.min_altitude),
-                   round(predicted * TIMEOUT_FACTOR, 1), predicted, TIMEOUT_FACTOR,
+                   mission_timeout(predicted), predicted, TIMEOUT_FACTOR,
                    _exclusions(world, shapely.Polygon(poly), track))
     altitude = items = floor = None
     if mission.follow_altitude_m > 0 and world.terrain is not None:
