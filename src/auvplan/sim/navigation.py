@@ -111,15 +111,16 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     v = mission.vehicle
     p = np.asarray(route, dtype=float).reshape(-1, 3)
     ratio, d0, flight = None, 0.0, None
-    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed,
-        flown = launch_flight(world, p, v.speed)  # launched from the surface
+    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the speeds it is
+        speeds = _flown_speeds(world, mission, p)  # flown at ([endurance] speeds), launched from the surface
+        flown = launch_flight(world, p, speeds)
         h = np.hypot(*np.diff(p[:, :2], axis=0).T)
         if flown is not None:  # the periodic fixes' timer through the current on the same flight, after the dive
             ratio = np.where(h > 0.0, flown.leg_water_m / np.where(h > 0.0, h, 1.0), 1.0)
             d0 = launch_drift(world, p[0], nav, flown.launch_water_m)
             flight = (flown.node_s, flown.node_t)
         else:
-            tr = traverse(world, p, v.speed)  # the current beats the dive, not the route: no launch counted
+            tr = traverse(world, p, speeds)  # the current beats the dive, not the route: no launch counted
             if tr.ok:
                 flight = (tr.node_s, tr.node_t)
                 ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
@@ -127,7 +128,8 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
         planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
                                   compare=False, launch_m=d0, flight=flight)
-        timed = timed_navigation(world, mission, replace(planned, params=nav))
+        # checked at the speeds the mission with its fixes is flown at ([endurance] speeds), as run times it
+        timed = timed_navigation(world, _with_speeds(world, mission, planned.points), replace(planned, params=nav))
         over = timed.check.budget.max_error_m / nav.max_error_m
         if timed.ok or not planned.fixes.ok or over <= 1.0:
             break
@@ -136,6 +138,22 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
         prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio, launch_m=d0, flight=flight)
         timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
     return timed
+
+
+def _with_speeds(world: World, mission: Mission, points: np.ndarray) -> Mission:
+    """The mission with the leg speeds ``[endurance] speeds`` chooses for ``points`` (``run``'s:
+    :func:`auvplan.sim.pipeline.with_leg_speeds`); itself for ``speeds = "fixed"``."""
+    if mission.endurance.speeds == "fixed" or points.shape[0] < 2:
+        return mission
+    from .pipeline import with_leg_speeds  # (the pipeline imports this module)
+
+    return with_leg_speeds(world, replace(mission, leg_speeds=()), points)
+
+
+def _flown_speeds(world: World, mission: Mission, points: np.ndarray) -> np.ndarray | float:
+    """The speed of each leg of ``points`` as it will be flown (:func:`_with_speeds`), or the cruise speed."""
+    m = _with_speeds(world, mission, points)
+    return np.asarray(m.leg_speeds) if len(m.leg_speeds) == points.shape[0] - 1 else mission.vehicle.speed
 
 
 def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:
