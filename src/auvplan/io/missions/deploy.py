@@ -18,8 +18,8 @@ every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; rea
   above the chart's seabed at each waypoint, flown by the vehicle's altimeter where the format can say so,
   with the planned depth schedule as the bound (never deeper than planned).
 * **Planned times** — the arrival at each waypoint at the planned speed (one, or one per leg) after the waits
-  before it (:func:`planned_times`, :func:`leg_speeds`): the predicted duration here, the stamps of every format
-  (re-exported by :mod:`auvplan.io.missions.formats`).
+  before it, through the World's current (:func:`flown_times`; :func:`planned_times` in still water, the fallback,
+  :func:`leg_speeds`): the stamps of every format (re-exported by :mod:`auvplan.io.missions.formats`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from ...sim import Mission
 from ...world import World
 
 __all__ = ["ROUNDED_RISE_M", "TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels",
-           "payload_events", "planned_times", "leg_speeds", "predicted_duration", "mission_timeout"]
+           "payload_events", "planned_times", "leg_speeds", "predicted_duration", "mission_timeout", "flown_times"]
 
 TIMEOUT_FACTOR = 1.5
 """Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
@@ -117,6 +117,9 @@ class DeployInfo:
         :func:`auvplan.guidance.mission.flycheck.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
         a floor above it would lift the vehicle off the depth ``mission check`` judged wherever the charted seabed
         rises between two waypoints.  None: no bound beyond the waypoints' altitudes.
+    times_s : numpy.ndarray or None
+        ``(N,)`` the planned arrival at each waypoint as flown (:func:`flown_times`; s from the first): the ``.csv``
+        times and the ``.yaml`` stamps.  None: at the planned speeds in still water.
     """
 
     origin: tuple[float, float] | None
@@ -126,6 +129,7 @@ class DeployInfo:
     follow_altitude_m: float = 0.0
     terrain_items: NDArray[np.bool_] | None = None
     leg_floor: NDArray[np.float64] | None = None
+    times_s: NDArray[np.float64] | None = None
 
 
 def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
@@ -198,6 +202,49 @@ def predicted_duration(world: World, waypoints: ArrayLike, speed: float | ArrayL
     if flown is not None:
         return float(flown.dive_s + flown.times_s[-1])
     return float(max(-w[0, 2], 0.0) / LAUNCH_DIVE_MPS + planned_times(w, v, dwell)[-1])
+
+
+def flown_times(world: World, mission: Mission, waypoints: ArrayLike, speed: float | ArrayLike,
+                dwell: ArrayLike | None = None, tail: ArrayLike | None = None) -> NDArray[np.float64] | None:
+    """The arrival at each waypoint as the mission is flown through the World's current at each leg's speed, the waits
+    counted (s from the arrival at the first): with ``[navigation]`` the legs flown once the launch's dive is over
+    (:func:`auvplan.sim.navigation.launch_flight`: the fixes' times, ``fixes.csv``'s), without it from the scenario's
+    start time (the energy budget's flight, ``legs.csv``'s, and the closed loop's).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Its ``navigation``.
+    waypoints : array_like
+        ``(N, 3)`` the mission (m).
+    speed : float or array_like
+        Planned through-water speed, one or one per leg (m/s).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(N,)`` (s); None where the current beats the vehicle.
+    """
+    from ...endurance import traverse
+    from ...sim.navigation import launch_flight
+
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    if len(w) < 2:
+        return None
+    v = leg_speeds(speed, len(w) - 1)
+    back = None if tail is None or np.asarray(tail).size != len(w) - 1 else tail
+    if mission.navigation is not None:
+        flown = launch_flight(world, w, v, back, dwell)
+        if flown is not None:
+            return np.asarray(flown.times_s, dtype=float)
+    tr = traverse(world, w, v, 0.0, tail=back, dwell=dwell)
+    return np.asarray(tr.times - tr.times[0], dtype=float) if tr.ok else None
 
 
 def mission_timeout(predicted_s: float) -> float:
@@ -347,7 +394,8 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
         items = _terrain_items(world, w, mission.vehicle.max_pitch_deg)
         floor = leg_figures(world, w[:-1], w[1:], "held")[0] if len(w) > 1 else np.zeros(0)
     pay = None if payload is None or not np.any(payload) else np.asarray(payload, dtype=bool)
-    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor)
+    times = flown_times(world, mission, w, speed, dwell, tail)
+    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor, times)
 
 
 ROUNDED_RISE_M = 1.5e-3

@@ -400,6 +400,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
     # the times as the mission is flown through the current (fixes.csv's): the .csv's and the .yaml's too
     times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
+    if times is None and deploy.times_s is not None and len(deploy.times_s) == len(waypoints):
+        times = deploy.times_s  # without fixes: the flight through the current all the same (deploy.flown_times)
     if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
         raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
                         "without a flight): `auvplan run` the scenario to export them")
