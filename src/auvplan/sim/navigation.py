@@ -13,14 +13,14 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..endurance import traverse
+from ..endurance import EnergyModel, choose_speeds, traverse
 from ..nav.budget import LAUNCH_DIVE_MPS, launch_drift, launch_point
 from ..nav.fixes import best_period, route_profile
 from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..world import World
 from .mission import Mission
 
-__all__ = ["navigation_plan", "timed_navigation", "launch_flight", "LaunchFlight"]
+__all__ = ["navigation_plan", "timed_navigation", "launch_flight", "LaunchFlight", "with_leg_speeds"]
 
 
 class LaunchFlight(NamedTuple):
@@ -140,13 +140,43 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     return timed
 
 
+def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
+    """The mission with the speed of each leg of ``route`` chosen by ``[endurance] speeds`` (issue 38).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Vehicle, endurance settings and any leg speeds already set.
+    route : array_like
+        ``(N, 3)`` the route to fly (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:func:`auvplan.sim.pipeline.route_tail`).
+
+    Returns
+    -------
+    Mission
+        ``mission`` itself for ``speeds = "fixed"`` or when it has leg speeds; else with ``leg_speeds``
+        from :func:`auvplan.endurance.choose_speeds` from the start time.
+    """
+    e = mission.endurance
+    if e.speeds == "fixed" or mission.leg_speeds:
+        return mission
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m, tail=tail)
+    sim = mission.sim
+    if sim.max_time == 0:  # the loop's default allows 3× the route at the cruise speed: at the slowest leg speed
+        length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
+        sim = replace(sim, max_time=3.0 * length / float(plan.speeds.min()) + 120.0)
+    return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
+
+
 def _with_speeds(world: World, mission: Mission, points: np.ndarray) -> Mission:
     """The mission with the leg speeds ``[endurance] speeds`` chooses for ``points`` (``run``'s:
-    :func:`auvplan.sim.pipeline.with_leg_speeds`); itself for ``speeds = "fixed"``."""
+    :func:`with_leg_speeds`); itself for ``speeds = "fixed"``."""
     if mission.endurance.speeds == "fixed" or points.shape[0] < 2:
         return mission
-    from .pipeline import with_leg_speeds  # (the pipeline imports this module)
-
     return with_leg_speeds(world, replace(mission, leg_speeds=()), points)
 
 
