@@ -91,3 +91,28 @@ def test_the_dives_drift_is_the_budgets_launch_drift():
     expected = np.hypot(*(probe.error + d0 * probe.u))
     assert math.isclose(r.nav_error[k], expected, rel_tol=0.02, abs_tol=0.05)
     assert r.nav_error[0] == pytest.approx(np.hypot(*probe.error), abs=1e-9)
+
+
+def test_the_reports_error_against_time_puts_both_clocks_at_the_first_waypoint():
+    """The report's navigation figure: the flown true error (now from the launch) is drawn on the planned time's
+    origin, the arrival at the first waypoint: the two curves end together (the flight at its arrival radius)."""
+    from auvplan.sim import RunRecord
+    from auvplan.sim.navigation import navigation_plan
+    from auvplan.viz.navview import figure_nav_error, nav_profile
+
+    world = _world()
+    mission = _mission(navigation=NAV, nav_drift=True)
+    nav = navigation_plan(world, mission, ROUTE)
+    assert nav is not None
+    r = simulate(world, mission, route=ROUTE, rng=3)
+    fig = figure_nav_error(nav_profile(world, nav), nav, RunRecord("t", 3, None, ROUTE, ROUTE, r, nav))
+    (planned,) = [t for t in fig.data if t.meta and t.meta["kind"] == "nav_error"]
+    (flown,) = [t for t in fig.data if t.meta and t.meta["kind"] == "nav_error_flown"]
+    end = float(planned.x[-1]) * 3600.0
+    assert end == pytest.approx(_arrival(_dive()) - _dive() + SIM.arrival_radius / (V + _u(end + _dive())), abs=0.5)
+    # the flight arrives where it believes the goal is: within its estimate's error of it
+    late = float(np.max(r.nav_error)) / (V + _u(end + _dive())) + 2.0
+    assert float(flown.x[-1]) * 3600.0 == pytest.approx(end - SIM.arrival_radius / (V + _u(end + _dive())), abs=late)
+    assert late < 60.0  # (the dive's 766 s would be far outside)
+    assert float(flown.x[0]) * 3600.0 == pytest.approx(-_dive(), abs=2.0)  # the dive before the first waypoint
+    # (recorded every 2 s)
