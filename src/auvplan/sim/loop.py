@@ -35,8 +35,17 @@ from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from ..world.obstacles import Shape
 from .drift import NavDrift
-from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
-from .launch import dive_step, launch_depth
+from .events import (
+    FAR,
+    _arrived,
+    _contact_event,
+    _deadlocked,
+    _distance,
+    _dive_step,
+    _launch_depth,
+    _obstacle_shapes,
+    _progressed,
+)
 from .mission import Mission
 from .result import SimResult
 
@@ -135,7 +144,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         if _step_events(run, t, pos, alt, dists, rp):
             break
         if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
-            if run.dive_to == run.dive_to:  # the launch's dive from the surface (sim.launch), before the first leg
+            if run.dive_to == run.dive_to:  # the launch's dive from the surface (sim.events), before the first leg
                 _dive(run, t, alt, cur)
             elif t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
                 _hold(run, cur)
@@ -267,7 +276,7 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
            avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None,
            fix_kinds: Sequence[str] | None = None) -> _Run:
     """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed (with
-    ``[navigation]``, at the surface above it, its dive first: :mod:`auvplan.sim.launch`)."""
+    ``[navigation]``, at the surface above it, its dive first: :mod:`auvplan.sim.events`)."""
     gen = as_rng(mission.seed if rng is None else rng)
     waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
     st, vp = mission.sim, mission.vehicle
@@ -283,7 +292,7 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     fixes, dwell = _fix_waypoints(mission, waypoints, fix_kinds)
     if fixes and not st.max_time:  # the dwells are flown time too
         max_time += sum(dwell)
-    depth = launch_depth(world, mission, waypoints)
+    depth = _launch_depth(world, mission.navigation, waypoints)
     if depth > 0.0:  # launched at the surface above the first waypoint: the dive is flown time too
         s.z = 0.0
         max_time += 0.0 if st.max_time else 3.0 * depth / LAUNCH_DIVE_MPS
@@ -332,11 +341,11 @@ def _fixes_passed(run: _Run, t: float, rp: RoutePoint) -> None:
 
 
 def _dive(run: _Run, t: float, alt: float, cur: NDArray[np.float64]) -> None:
-    """One ``dt`` of the launch's dive (:mod:`auvplan.sim.launch`): held over the first waypoint, sinking at the
+    """One ``dt`` of the launch's dive (:mod:`auvplan.sim.events`): held over the first waypoint, sinking at the
     ground speed straight down; the estimate drifts over the water distance as the budget's launch does; the
     deadlock watch waits (no progress along the route is made or expected)."""
     s, dt = run.state, run.mission.sim.dt
-    z, water = dive_step(s.z, run.dive_to, cur, dt)
+    z, water = _dive_step(s.z, run.dive_to, cur, dt)
     run.vel = (0.0, 0.0, (z - s.z) / dt)
     s.z = z
     if run.drift is not None:

@@ -137,7 +137,7 @@ def figure_nav_error(profile: ErrorProfile, nav: NavPlan, record: RunRecord | No
     sim = record.sim if record is not None else None
     if sim is not None and sim.nav_error is not None and sim.t.size:
         # the planned time counts from the arrival at the first waypoint; a flight launched at the surface above it
-        # dives first (auvplan.sim.launch): its clock is shifted to the same origin, the dive at negative times
+        # dives first (auvplan.sim.events): its clock is shifted to the same origin, the dive at negative times
         below = np.flatnonzero(sim.position[:, 2] <= nav.points[0, 2] + 1e-6)
         t0 = float(sim.t[below[0]]) if below.size else 0.0
         fig.add_trace(go.Scatter(x=(sim.t - t0) / 3600.0, y=sim.nav_error, mode="lines",
