@@ -25,8 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from auvplan.endurance import EnergyModel
-from auvplan.endurance import mission_budget as energy_budget
+from auvplan.io.missions.deploy import predicted_duration
 from auvplan.io.scenario import loader as scenario
 from auvplan.sim import simulate
 from auvplan.sim.navigation import navigation_plan
@@ -101,9 +100,9 @@ def main() -> None:  # noqa: D103
         planned, naive = ([json.loads(x) for x in (out_dir / f"{k}.jsonl").read_text().splitlines()]
                           for k in ("planned", "perfect"))
     m = plan.metrics()
-    model = EnergyModel.from_vehicle(mission.vehicle)
-    t_plan = energy_budget(world, plan.points, model, mission.vehicle.speed, dwell=plan.dwell_s).duration_s
-    t_route = energy_budget(world, route, model, mission.vehicle.speed).duration_s
+    # the planned times as the flights fly them: from the launch's dive at the surface (wave 18), the waits included
+    t_plan = predicted_duration(world, plan.points, mission.vehicle.speed, plan.dwell_s)
+    t_route = predicted_duration(world, route, mission.vehicle.speed)
     out = {"scenario": a.scenario, "seeds": a.seeds, "budget_m": nav.max_error_m, "confidence": nav.confidence,
            "route_km": float(np.hypot(*np.diff(route[:, :2], axis=0).T).sum() / 1000), **m,
            "planned": summary(planned, nav.max_error_m, t_plan),

@@ -117,8 +117,20 @@ def tf(tmp_path_factory):
     deploy = export.deploy_for(world, mission, record, SPEED, payload_from_labels(labels))
     out = tmp_path_factory.mktemp("tf")
     export.write_exports(out, record, world.origin, SPEED, export.EXPORT_FORMATS, deploy=deploy)
-    predicted = float(np.sum(np.linalg.norm(np.diff(w, axis=0), axis=1)) / SPEED)
+    predicted = flown_duration(w, SPEED, sc_io.load("marcus-terrain-follow").currents.uniform)
     return world, mission, w, payload, out, predicted
+
+
+def flown_duration(w: np.ndarray, speed: float, current) -> float:
+    """The mission's duration as flown (written here, closed form in a uniform current ``c``): the launch's vertical
+    dive from the surface at ArduSub's 1.5 m/s, then each leg along its unit direction ``e`` at the ground speed
+    ``c·e + sqrt(V² − |c|² + (c·e)²)`` (the time-out's base since wave 18: the still-water ``L / V`` before)."""
+    c = np.asarray(current, dtype=float)
+    d = np.diff(w, axis=0)
+    n = np.linalg.norm(d, axis=1)
+    ce = (d[n > 0] / n[n > 0, None]) @ c
+    dive = -w[0, 2] / math.sqrt(1.5**2 - c @ c)
+    return float(dive + np.sum(n[n > 0] / (ce + np.sqrt(speed**2 - c @ c + ce * ce))))
 
 
 def _followed_pitch(world, a: np.ndarray, b: np.ndarray) -> float:

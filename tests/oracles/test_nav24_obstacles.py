@@ -1,13 +1,15 @@
 """The fix planner keeps the static obstacles (spheres, ellipsoids) out of reach of the predicted error, as it keeps the
 seabed and the charted zones (one safe radius for every hazard, ``auvplan.nav.clearance.hazard_safe_radius``), and
-as ``mission check`` tests them: a leg under its largest error, on arrival (``docs/navigation.md``, "Clearance under
-the error"; helper nav2, wave 17).
+as ``mission check`` tests them: each piece of a leg under its own error, on arrival at its end
+(``docs/navigation.md``, "Clearance under the error"; helper nav2, wave 17; per piece since wave 18).
 
 Oracle, independent of the planner: one level leg of 8 km at 200 m without bottom lock in still water, from a fix of
-σ = 3 m, 2 % of the distance, 2 σ: a leg's error on arrival is ``2 · hypot(3, 0.02 · h)`` (closed form), ``h`` the
+σ = 3 m, 2 % of the distance, 2 σ: the error is ``2 · hypot(3, 0.02 · h)`` (closed form), ``h`` the
 horizontal distance flown since the last fix; a sphere of radius 50 m (margin 10 m) whose centre lies 260 m off the
-leg, at its depth, mid-way along it.  Every leg of the plan must keep the obstacle's margin plus that error (the
-point-to-segment distance in numpy); the leg alone reaches 320.06 m, so at least one fix is needed.  Before: the
+leg, at its depth, mid-way along it.  Every point of the plan, every metre, must keep the obstacle's margin plus its
+error there (the distance in numpy); the leg alone reaches 320.06 m, so at least one fix is needed.  Since wave 18
+``mission check`` tests each 50 m piece under its own error (not the leg's largest): the one fix at 0.75 km (3.25 km
+before), its 6.7 km leg after it within 170 m of error by the sphere.  Before: the
 planner ignored the obstacle (no fix: 320.1 m is within E = 400 m) and the plan's own check failed the leg
 (``leg 1: within its predicted error 320.1 m a static obstacle comes within its margin 10 m``); with the obstacle in
 its safe radius but each interval judged at its own error (not its leg's on arrival, as the check does), one fix at
@@ -95,13 +97,14 @@ def test_the_fix_planner_keeps_the_error_off_a_sphere(tmp_path):
     p, kinds = plan.points, plan.kinds
     h = np.hypot(*np.diff(p[:, :2], axis=0).T)
     since = 0.0
-    for k in range(p.shape[0] - 1):  # the closed-form error on arrival of each leg against the exact distance
-        since += h[k]
-        err = 2.0 * math.hypot(3.0, 0.02 * since)
+    for k in range(p.shape[0] - 1):  # the closed-form error along each leg against the exact distance, every metre
+        err = 2.0 * math.hypot(3.0, 0.02 * (since + h[k]))
         assert plan.check.budget.leg_error_m[k] == pytest.approx(err, rel=1e-9)
-        assert _segment_distance(CENTRE, p[k], p[k + 1]) - RADIUS - MARGIN >= err, (k, err)
-        if kinds[k + 1]:
-            since = 0.0
+        f = np.linspace(0.0, 1.0, max(int(h[k]), 1) + 1)
+        q = p[k] + f[:, None] * (p[k + 1] - p[k])
+        e = 2.0 * np.hypot(3.0, 0.02 * (since + f * h[k]))  # the error at each point (wave 18: not the leg's largest)
+        assert np.all(np.linalg.norm(q - CENTRE, axis=1) - RADIUS - MARGIN >= e), k
+        since = 0.0 if kinds[k + 1] else since + h[k]
 
 
 @pytest.mark.parametrize("obstacle", [SPHERE, ELLIPSOID], ids=["sphere", "ellipsoid"])

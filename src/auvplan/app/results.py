@@ -225,7 +225,7 @@ def planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np
     record : RunRecord
         The run.
     mission : Mission
-        The mission (its vehicle's speed).
+        The mission (its vehicle's speed; a plan folder's leg speeds, :func:`load_results`).
 
     Returns
     -------
@@ -235,6 +235,8 @@ def planned_speeds(out: Path, record: RunRecord, mission: Mission) -> float | np
     from ..io.missions.energy import read_leg_speeds
 
     speeds = read_leg_speeds(out, max(record.route.shape[0] - 1, 0))
+    if speeds is None and len(mission.leg_speeds) == record.route.shape[0] - 1 > 0:  # a plan folder's (load_results)
+        return np.asarray(mission.leg_speeds, dtype=float)
     return mission.vehicle.speed if speeds is None else speeds
 
 
@@ -266,6 +268,7 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
     from ..io.results.readback import check_scenario
     from ..io.scenario import loader as scenario_io
     from ..sim import mission_route
+    from ..sim.pipeline import with_leg_speeds
 
     out = Path(folder)
     if not out.is_dir():
@@ -286,6 +289,8 @@ def load_results(folder: str | Path, names: list[str], force: bool = False
         # a plan's mission carries its fixes, as run's does: the surfacings (depth 0) and USBL fix waypoints, so that
         # its exports surface, wait surface_s there (.plan param 1, MOOS station keep) and pass their check
         record = replace(record, nav=nav, route=record.route if flown or nav is None else nav.points)
+    if not flown and record.route.shape[0] >= 2:  # the speeds [endurance] chooses for its legs, as run flies them
+        mission = with_leg_speeds(world, mission, record.route)
     return out, record, text, world, mission
 
 

@@ -76,6 +76,10 @@ class NavBudget:
         ``(N,)`` the fix at each waypoint: ``""``, ``"gps"`` or ``"usbl"``.
     max_error_m : float
         The largest error anywhere (m).
+    piece_error_m : numpy.ndarray or None
+        ``(K,)`` confidence × σ at the end of each piece of the legs (before a fix there; m): the pieces of
+        :func:`auvplan.nav.clearance.pieces` at the budget's ``step``, its sampling intervals; σ grows along a piece, so
+        this is its largest.  None where not computed.
     """
 
     error_m: FloatArray
@@ -83,6 +87,7 @@ class NavBudget:
     leg_lock: FloatArray
     kinds: tuple[str, ...]
     max_error_m: float
+    piece_error_m: FloatArray | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -429,7 +434,8 @@ def mission_budget(world: World, points: ArrayLike, kinds: tuple[str, ...], nav:
         np.bincount(leg, weights=ds, minlength=p.shape[0] - 1), 1e-12)
     error = c * after[np.r_[vertex[:-1], vertex[-1] + 1]]  # the last waypoint's after its hold
     worst = float(max(leg_error.max(initial=0.0), error.max()))
-    return NavBudget(error[cut:], leg_error[cut:], share[cut:], tuple(kinds[cut:]), worst)
+    pieces = c * before[vertex[cut] + 1:vertex[-1] + 1]  # each interval's on arrival at its end (the launch's cut)
+    return NavBudget(error[cut:], leg_error[cut:], share[cut:], tuple(kinds[cut:]), worst, pieces)
 
 
 def error_profile(world: World, points: ArrayLike, kinds: tuple[str, ...], nav: NavParams,

@@ -200,7 +200,8 @@ def pieces(points: ArrayLike, step: float) -> tuple[FloatArray, FloatArray, np.n
     return p[leg] + f0 * d[leg], p[leg] + f1 * d[leg], leg
 
 
-def leg_uncertain_altitude(world: World, points: ArrayLike, radius: ArrayLike, step: float) -> FloatArray:
+def leg_uncertain_altitude(world: World, points: ArrayLike, radius: ArrayLike, step: float,
+                           piece_radius: ArrayLike | None = None) -> FloatArray:
     """Least altitude of each leg above the highest seabed within its horizontal uncertainty.
 
     Parameters
@@ -213,6 +214,9 @@ def leg_uncertain_altitude(world: World, points: ArrayLike, radius: ArrayLike, s
         ``(N - 1,)`` the horizontal uncertainty of each leg (confidence × σ, its largest on the leg; m).
     step : float
         Longest piece (m).
+    piece_radius : array_like, optional
+        ``(K,)`` the uncertainty of each piece of :func:`pieces` (its largest, at its end: the budget's
+        ``piece_error_m``); default: its leg's ``radius``.
 
     Returns
     -------
@@ -224,12 +228,13 @@ def leg_uncertain_altitude(world: World, points: ArrayLike, radius: ArrayLike, s
     if world.terrain is None or out.size == 0:
         return out
     a, b, leg = pieces(p, step)
-    np.minimum.at(out, leg, leg_slack(world.terrain, a, b, np.asarray(radius, dtype=float)[leg]))
+    r = np.asarray(radius, dtype=float)[leg] if piece_radius is None else np.asarray(piece_radius, dtype=float)
+    np.minimum.at(out, leg, leg_slack(world.terrain, a, b, r))
     return out
 
 
-def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step: float) -> tuple[FloatArray,
-                                                                                                   BoolArray]:
+def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step: float,
+                        piece_radius: ArrayLike | None = None) -> tuple[FloatArray, BoolArray]:
     """Each leg's least uncertain altitude and whether it is clear of the seabed and the static obstacles.
 
     Parameters
@@ -242,6 +247,9 @@ def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step
         ``(N - 1,)`` horizontal uncertainty per leg (m).
     step : float
         Longest piece of the seabed test (m).
+    piece_radius : array_like, optional
+        ``(K,)`` the uncertainty of each piece of :func:`pieces` (``step`` long at most), its largest: each piece is
+        tested under its own (the seabed, the obstacles and the zones); default: every piece under its leg's ``radius``.
 
     Returns
     -------
@@ -252,15 +260,18 @@ def uncertain_clearance(world: World, points: ArrayLike, radius: ArrayLike, step
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     r = np.asarray(radius, dtype=float)
-    alt = leg_uncertain_altitude(world, p, r, step)
+    alt = leg_uncertain_altitude(world, p, r, step, piece_radius)
     ok = alt >= world.margins.min_altitude
-    seg = np.stack([p[:-1], p[1:]], axis=1)
-    if world.obstacles and ok.any():
-        near = np.flatnonzero(ok)
-        ok[near] = obstacle_within(world, seg[near], r[near]) < 0
-    if world.zones and ok.any():
-        near = np.flatnonzero(ok)
-        ok[near] = zone_within(world, seg[near], r[near]) < 0
+    if piece_radius is None:
+        seg, rr, leg = np.stack([p[:-1], p[1:]], axis=1), r, np.arange(r.size)
+    else:
+        a, b, leg = pieces(p, step)
+        seg, rr = np.stack([a, b], axis=1), np.asarray(piece_radius, dtype=float)
+    for within in ((obstacle_within,) if world.obstacles else ()) + ((zone_within,) if world.zones else ()):
+        near = np.flatnonzero(ok[leg])  # the pieces of the legs still clear
+        if near.size:
+            hit = within(world, seg[near], rr[near]) >= 0
+            ok[leg[near[hit]]] = False
     return alt, ok
 
 

@@ -75,9 +75,13 @@ class RouteProfile:
         A bound of the error along a surfacing's dive (m): confidence × σ after a GPS fix and a dive's longest
         horizontal run without lock at the route's largest water ratio.
     leg : numpy.ndarray or None
-        ``(M - 1,)`` the route leg of each interval (nondecreasing): ``mission check`` tests a leg's whole length
-        under its largest error (on arrival), so an interval must allow the error at its leg's end (or at the
-        stretch's, if earlier); None: each interval its own leg.
+        ``(M - 1,)`` the route leg of each interval (nondecreasing): ``mission check`` tests each piece of a mission
+        leg (at most ``step`` long) under its own largest error, on arrival at its end, and the mission's legs lie
+        within the route's but their pieces need not match the intervals (a surfacing cuts a leg), so an interval must
+        allow the error one ``step`` past its end, within its leg and the stretch (:func:`_clear`); None: each
+        interval at its own error.
+    step : float
+        The longest piece of ``mission check``'s test (m; :data:`~auvplan.nav.budget.DEFAULT_STEP_M`).
     _surfacing : dict
         :func:`~auvplan.nav.surfacing.surfacing_slack`'s answers by sample (a memo; not set by callers).
     _zone_slack : dict
@@ -96,6 +100,7 @@ class RouteProfile:
     reach: float = math.inf
     dive_error: float = 0.0
     leg: IntArray | None = None
+    step: float = DEFAULT_STEP_M
     _surfacing: dict[int, float] = field(default_factory=dict, repr=False)
     _zone_slack: dict[int, float] = field(default_factory=dict, repr=False)
 
@@ -154,7 +159,7 @@ def route_profile(world: World, route: ArrayLike, nav: NavParams, max_pitch_deg:
     run = float(-xyz[:, 2].min()) / tan * float(max(ratio.max(initial=1.0), 1.0))  # a dive's longest water run
     dive = nav.confidence * math.hypot(nav.fix_error_m, run * max(nav.rate(False), nav.rate(True)))
     return RouteProfile(s, xyz, zb, r_safe, t, ratio[leg], tan, world, float(launch_m), float(nav.max_error_m), dive,
-                        leg.astype(np.intp))
+                        leg.astype(np.intp), float(step))
 
 
 @dataclass(frozen=True)
@@ -189,14 +194,19 @@ def _surfacings_allow(prof: RouteProfile, a: _Node, b: _Node) -> float:
 
 def _clear(prof: RouteProfile, k0: int, err: FloatArray) -> bool:
     """Whether the intervals ``k0, k0 + 1, …`` of a stretch, whose errors on arrival are ``err`` (nondecreasing), keep
-    the uncertain clearance as ``mission check`` tests it: each its route leg's largest error within the stretch
-    (at the leg's end, or the stretch's) within its safe radius."""
+    the uncertain clearance as ``mission check`` tests it, piece by piece under each piece's error on arrival at its
+    end: a piece of the mission that meets an interval ends at most ``step`` past the interval's end, within its route
+    leg (the mission's legs lie within the route's), so each interval is judged at the error one ``step`` past its
+    end (the first sample there, capped at its leg's end and the stretch's) within its safe radius."""
     if err.size == 0:
         return True
     if prof.leg is not None:
-        leg = prof.leg[k0:k0 + err.size]
-        err = err[np.searchsorted(leg, leg, side="right") - 1]
-    return bool(np.all(err <= prof.r_safe[k0:k0 + err.size]))
+        n = err.size
+        ends = prof.s[k0 + 1:k0 + n + 1]
+        ahead = np.searchsorted(ends, ends + prof.step - 1e-9, side="left")  # the first sample a step past the end
+        leg = prof.leg[k0:k0 + n]
+        err = err[np.minimum(np.minimum(ahead, n - 1), np.searchsorted(leg, leg, side="right") - 1)]
+    return bool(np.all(err <= prof.r_safe[k0:k0 + n]))
 
 
 def _stretch(prof: RouteProfile, nav: NavParams, a: _Node, b: _Node) -> tuple[bool, float]:

@@ -87,7 +87,8 @@ def check_navigation(world: World, points: ArrayLike, kinds: tuple[str, ...], na
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     budget = mission_budget(world, p, kinds, nav, usbl_xy, step, held_water_m, water_m, launch_water_m)
     # a leg over the budget fails on its error; its clearance is tested at the budget (the scan stays bounded)
-    alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step)
+    pieces = None if budget.piece_error_m is None else np.minimum(budget.piece_error_m, nav.max_error_m)
+    alt, clear = uncertain_clearance(world, p, np.minimum(budget.leg_error_m, nav.max_error_m), step, pieces)
     over = np.flatnonzero(budget.leg_error_m > nav.max_error_m * (1.0 + 1e-9))
     msg = ""
     if over.size:

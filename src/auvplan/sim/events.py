@@ -1,6 +1,17 @@
 """The closed loop's event rules, pure functions of one step: distances to the obstacles, contact
-(collision or unavoidable), arrival, progress and deadlock.  :func:`auvplan.sim.simulate` and
-:mod:`auvplan.sim.formation` apply them."""
+(collision or unavoidable), arrival, progress and deadlock, and the launch's dive.  :func:`auvplan.sim.simulate` and
+:mod:`auvplan.sim.formation` apply them.
+
+The launch's dive (``[navigation]``; ``docs/navigation.md``, "The launch").  A mission with ``[navigation]`` starts at
+the surface above its first waypoint, with its GPS fix there, and dives to it: the vertical leg the navigation budget,
+the fixes' times, the exported time-out and a ``.plan``'s check all count
+(:func:`auvplan.sim.navigation.launch_flight`),
+held over the point at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS` through the water, so that it sinks at the ground
+speed ``c·e + sqrt(V² − |c|² + (c·e)²)`` along ``e`` straight down (:func:`auvplan.endurance.ground_speed`;
+``sqrt(V² − |c_h|²) − w`` for a current ``c = (c_h, w)``) and moves ``|c_h| dt`` through the water each step
+(:func:`_dive_step`).  The closed loop flies it as it holds a surface dwell: a kinematic phase (the torpedo model cannot
+hover), its clock, its drift without bottom lock over the water distance and its energy (propulsion at ``V``) those of
+the flight the budget counts; steering starts at the first waypoint, as before (:func:`_launch_depth`)."""
 
 from __future__ import annotations
 
@@ -12,6 +23,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._types import Status
+from ..endurance import ground_speed, traverse
+from ..nav.budget import LAUNCH_DIVE_MPS, launch_point
+from ..nav.params import NavParams
 from ..world import World
 from ..world.obstacles import Shape
 
@@ -93,3 +107,29 @@ def _deadlocked(t: float, best_time: float, deadlock_time: float, stalled: Calla
     its escapes given up (``stalled()`` is False; it is asked only once the time is up, as it runs them)."""
     return t - best_time > deadlock_time and (stalled is None or not stalled())
 
+
+
+_DOWN = np.array([0.0, 0.0, -1.0])
+"""The launch dive's direction (unit, up positive)."""
+
+
+def _launch_depth(world: World, navigation: NavParams | None, waypoints: NDArray[np.float64]) -> float:
+    """The depth the flight dives to from the surface before its first leg (m below the surface): ``-z`` of the first
+    waypoint for a mission with ``[navigation]`` whose dive the current lets the vehicle hold over the point (the
+    budget's rule); 0 otherwise (the flight starts at the first waypoint, as one without ``[navigation]`` always
+    does)."""
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    if navigation is None or w.shape[0] < 2 or not w[0, 2] < -1e-9:
+        return 0.0
+    return float(-w[0, 2]) if traverse(world, np.vstack([launch_point(w), w[0]]), LAUNCH_DIVE_MPS).ok else 0.0
+
+
+def _dive_step(z: float, target: float, current: NDArray[np.float64], dt: float) -> tuple[float, float]:
+    """One step of the dive held over the point from height ``z`` to ``target`` (m, up positive) in ``current``
+    (m/s): the height after it (never below ``target``; unchanged where the current beats the dive) and the horizontal
+    distance moved through the water over the part of the step spent diving (m)."""
+    g = ground_speed(np.asarray(current, dtype=float), _DOWN, LAUNCH_DIVE_MPS)
+    if not g > 0.0:  # the current beats the dive: no headway
+        return z, 0.0
+    used = min(dt, (z - target) / g)
+    return max(z - g * dt, target), math.hypot(float(current[0]), float(current[1])) * used

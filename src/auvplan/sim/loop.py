@@ -30,11 +30,22 @@ from ..guidance.avoidance.predictive import PredictiveAvoidance
 from ..guidance.following.hybrid import HybridGuidance
 from ..guidance.following.los import LosGuidance
 from ..guidance.following.route import PathFollower, RoutePoint, RouteTracker
+from ..nav.budget import LAUNCH_DIVE_MPS
 from ..vehicles import Vehicle, VehicleState
 from ..world import World
 from ..world.obstacles import Shape
 from .drift import NavDrift
-from .events import FAR, _arrived, _contact_event, _deadlocked, _distance, _obstacle_shapes, _progressed
+from .events import (
+    FAR,
+    _arrived,
+    _contact_event,
+    _deadlocked,
+    _distance,
+    _dive_step,
+    _launch_depth,
+    _obstacle_shapes,
+    _progressed,
+)
 from .mission import Mission
 from .result import SimResult
 
@@ -119,7 +130,7 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
     run = _setup(world, mission, route, guidance, rng, avoidance, keys, tail, fix_kinds)
     st, dt, s = mission.sim, mission.sim.dt, run.state
     every = max(1, int(round(60.0 / dt)))
-    expected = run.tracker.total_length / mission.vehicle.speed + sum(run.dwell)
+    expected = run.tracker.total_length / mission.vehicle.speed + sum(run.dwell) + run.dive_s
     k, last = 0, None
     for k in range(run.n_steps + 1):
         t = k * dt
@@ -133,7 +144,9 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         if _step_events(run, t, pos, alt, dists, rp):
             break
         if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
-            if t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
+            if run.dive_to == run.dive_to:  # the launch's dive from the surface (sim.events), before the first leg
+                _dive(run, t, alt, cur)
+            elif t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
                 _hold(run, cur)
             else:
                 _steer(run, k, psi_d, pitch_cmd, rp, cur)
@@ -204,6 +217,8 @@ class _Run:
     dwell: tuple[float, ...] = ()  # the time held at each waypoint (surface_s at a surface fix; s)
     hold_until: float = -math.inf  # the dwell under way ends at this time (s)
     regain: bool = False  # back from a dwell's drift behind the active leg's start: the way back counts as progress
+    dive_to: float = math.nan  # the launch's dive under way ends at this height (the first waypoint's; nan: none)
+    dive_s: float = 0.0  # its duration in still water (s; the progress bar's)
 
     def nav_error(self) -> float:
         """The estimate's horizontal error now (m; 0 with perfect navigation)."""
@@ -260,7 +275,8 @@ def _check_steps(max_time: float, dt: float, length_m: float, speed: float, give
 def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: str | None, rng: RngLike,
            avoidance: str | None, keys: ArrayLike | None, tail: ArrayLike | None = None,
            fix_kinds: Sequence[str] | None = None) -> _Run:
-    """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed."""
+    """The run's inputs and initial state: on the first waypoint, heading along the first leg, at cruise speed (with
+    ``[navigation]``, at the surface above it, its dive first: :mod:`auvplan.sim.events`)."""
     gen = as_rng(mission.seed if rng is None else rng)
     waypoints = np.asarray(mission.route if route is None else route, dtype=float).reshape(-1, 3)
     st, vp = mission.sim, mission.vehicle
@@ -276,6 +292,10 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
     fixes, dwell = _fix_waypoints(mission, waypoints, fix_kinds)
     if fixes and not st.max_time:  # the dwells are flown time too
         max_time += sum(dwell)
+    depth = _launch_depth(world, mission.navigation, waypoints)
+    if depth > 0.0:  # launched at the surface above the first waypoint: the dive is flown time too
+        s.z = 0.0
+        max_time += 0.0 if st.max_time else 3.0 * depth / LAUNCH_DIVE_MPS
     _check_steps(max_time, st.dt, guide.route.total_length, vp.speed, bool(st.max_time))
     n_steps = int(math.ceil(max_time / st.dt))
     noise = gen.standard_normal((n_steps + 1, 2)) if waves else np.zeros((n_steps + 1, 2))
@@ -287,7 +307,8 @@ def _setup(world: World, mission: Mission, route: ArrayLike | None, guidance: st
                 velocities, [o.shape.bounding_radius for o in world.moving],
                 max(FAR, mission.avoidance.radius + 10.0, mission.hybrid.influence + 10.0),
                 _Recorder(n_steps // st.record_every + 2, len(world.obstacles) + len(world.moving)), waypoints[-1],
-                [_depth_band(o) for o in world.obstacles], drift=drift, fixes=fixes, dwell=dwell)
+                [_depth_band(o) for o in world.obstacles], drift=drift, fixes=fixes, dwell=dwell,
+                dive_to=float(waypoints[0, 2]) if depth > 0.0 else math.nan, dive_s=depth / LAUNCH_DIVE_MPS)
 
 
 def _fix_waypoints(mission: Mission, waypoints: NDArray[np.float64],
@@ -317,6 +338,21 @@ def _fixes_passed(run: _Run, t: float, rp: RoutePoint) -> None:
             run.drift.fix(kind, (s.x, s.y, s.z))
         if run.dwell[run.fixed] > 0.0:
             run.hold_until = t + run.dwell[run.fixed]
+
+
+def _dive(run: _Run, t: float, alt: float, cur: NDArray[np.float64]) -> None:
+    """One ``dt`` of the launch's dive (:mod:`auvplan.sim.events`): held over the first waypoint, sinking at the
+    ground speed straight down; the estimate drifts over the water distance as the budget's launch does; the
+    deadlock watch waits (no progress along the route is made or expected)."""
+    s, dt = run.state, run.mission.sim.dt
+    z, water = _dive_step(s.z, run.dive_to, cur, dt)
+    run.vel = (0.0, 0.0, (z - s.z) / dt)
+    s.z = z
+    if run.drift is not None:
+        run.drift.advance(0.0, alt, water)
+    run.best_time, run.best_progress = t, -math.inf
+    if z <= run.dive_to:
+        run.dive_to = math.nan
 
 
 def _hold(run: _Run, cur: NDArray[np.float64]) -> None:

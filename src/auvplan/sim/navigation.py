@@ -13,14 +13,14 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..endurance import traverse
+from ..endurance import EnergyModel, choose_speeds, traverse
 from ..nav.budget import LAUNCH_DIVE_MPS, launch_drift, launch_point
 from ..nav.fixes import best_period, route_profile
 from ..nav.mission import NavPlan, plan_navigation, through_water
 from ..world import World
 from .mission import Mission
 
-__all__ = ["navigation_plan", "timed_navigation", "launch_flight", "LaunchFlight"]
+__all__ = ["navigation_plan", "timed_navigation", "launch_flight", "LaunchFlight", "with_leg_speeds"]
 
 
 class LaunchFlight(NamedTuple):
@@ -37,6 +37,8 @@ class LaunchFlight(NamedTuple):
     node_s, node_t : numpy.ndarray
         The flight's sub-step nodes after the dive: distance along the mission (3D, m) and time (s), both from the
         first waypoint.
+    dive_s : float
+        The dive's duration (s): the arrival at the first waypoint after the launch.
     """
 
     launch_water_m: float
@@ -44,6 +46,7 @@ class LaunchFlight(NamedTuple):
     times_s: np.ndarray
     node_s: np.ndarray
     node_t: np.ndarray
+    dive_s: float = 0.0
 
 
 def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, tail: ArrayLike | None = None,
@@ -82,7 +85,7 @@ def launch_flight(world: World, points: ArrayLike, speeds: ArrayLike | float, ta
     dive = float(np.linalg.norm(p[0] - launch_point(p)))
     after = tr.node_s >= dive - 1e-9  # the nodes from the first waypoint on
     return LaunchFlight(float(w[0]), w[1:], tr.times[1:] - tr.times[1], tr.node_s[after] - dive,
-                        tr.node_t[after] - tr.times[1])
+                        tr.node_t[after] - tr.times[1], float(tr.times[1] - tr.times[0]))
 
 
 def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan | None:
@@ -108,15 +111,16 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     v = mission.vehicle
     p = np.asarray(route, dtype=float).reshape(-1, 3)
     ratio, d0, flight = None, 0.0, None
-    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the cruise speed,
-        flown = launch_flight(world, p, v.speed)  # launched from the surface
+    if p.shape[0] >= 2:  # the drift without bottom lock over the water distance: the route flown at the speeds it is
+        speeds = _flown_speeds(world, mission, p)  # flown at ([endurance] speeds), launched from the surface
+        flown = launch_flight(world, p, speeds)
         h = np.hypot(*np.diff(p[:, :2], axis=0).T)
         if flown is not None:  # the periodic fixes' timer through the current on the same flight, after the dive
             ratio = np.where(h > 0.0, flown.leg_water_m / np.where(h > 0.0, h, 1.0), 1.0)
             d0 = launch_drift(world, p[0], nav, flown.launch_water_m)
             flight = (flown.node_s, flown.node_t)
         else:
-            tr = traverse(world, p, v.speed)  # the current beats the dive, not the route: no launch counted
+            tr = traverse(world, p, speeds)  # the current beats the dive, not the route: no launch counted
             if tr.ok:
                 flight = (tr.node_s, tr.node_t)
                 ratio = np.where(h > 0.0, tr.leg_water_m() / np.where(h > 0.0, h, 1.0), 1.0)
@@ -124,7 +128,8 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
     for _ in range(4):  # the planner's water distances are its route legs'; the check flies the mission's own legs
         planned = plan_navigation(world, p, budget, v.max_pitch_deg, v.speed, nav.usbl_xy, water_ratio=ratio,
                                   compare=False, launch_m=d0, flight=flight)
-        timed = timed_navigation(world, mission, replace(planned, params=nav))
+        # checked at the speeds the mission with its fixes is flown at ([endurance] speeds), as run times it
+        timed = timed_navigation(world, _with_speeds(world, mission, planned.points), replace(planned, params=nav))
         over = timed.check.budget.max_error_m / nav.max_error_m
         if timed.ok or not planned.fixes.ok or over <= 1.0:
             break
@@ -133,6 +138,52 @@ def navigation_plan(world: World, mission: Mission, route: ArrayLike) -> NavPlan
         prof = route_profile(world, p, nav, v.max_pitch_deg, v.speed, water_ratio=ratio, launch_m=d0, flight=flight)
         timed = replace(timed, fixed_period=best_period(prof, nav, v.speed, planned.fixes.max_error_m))
     return timed
+
+
+def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
+    """The mission with the speed of each leg of ``route`` chosen by ``[endurance] speeds`` (issue 38).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Vehicle, endurance settings and any leg speeds already set.
+    route : array_like
+        ``(N, 3)`` the route to fly (m).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first (:func:`auvplan.sim.pipeline.route_tail`).
+
+    Returns
+    -------
+    Mission
+        ``mission`` itself for ``speeds = "fixed"`` or when it has leg speeds; else with ``leg_speeds``
+        from :func:`auvplan.endurance.choose_speeds` from the start time.
+    """
+    e = mission.endurance
+    if e.speeds == "fixed" or mission.leg_speeds:
+        return mission
+    model = EnergyModel.from_vehicle(mission.vehicle)
+    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m, tail=tail)
+    sim = mission.sim
+    if sim.max_time == 0:  # the loop's default allows 3× the route at the cruise speed: at the slowest leg speed
+        length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
+        sim = replace(sim, max_time=3.0 * length / float(plan.speeds.min()) + 120.0)
+    return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
+
+
+def _with_speeds(world: World, mission: Mission, points: np.ndarray) -> Mission:
+    """The mission with the leg speeds ``[endurance] speeds`` chooses for ``points`` (``run``'s:
+    :func:`with_leg_speeds`); itself for ``speeds = "fixed"``."""
+    if mission.endurance.speeds == "fixed" or points.shape[0] < 2:
+        return mission
+    return with_leg_speeds(world, replace(mission, leg_speeds=()), points)
+
+
+def _flown_speeds(world: World, mission: Mission, points: np.ndarray) -> np.ndarray | float:
+    """The speed of each leg of ``points`` as it will be flown (:func:`_with_speeds`), or the cruise speed."""
+    m = _with_speeds(world, mission, points)
+    return np.asarray(m.leg_speeds) if len(m.leg_speeds) == points.shape[0] - 1 else mission.vehicle.speed
 
 
 def timed_navigation(world: World, mission: Mission, nav: NavPlan, tail: ArrayLike | None = None) -> NavPlan:

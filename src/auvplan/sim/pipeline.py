@@ -10,7 +10,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._types import RngLike, Status
-from ..endurance import EnergyModel, choose_speeds
 from ..guidance.avoidance.local import key_waypoints
 from ..guidance.mission.fit import MissionFit, fit_mission, fit_turns
 from ..guidance.mission.legs import merge_short_legs
@@ -23,7 +22,7 @@ from ..world import World
 from .band import altitude_band_metrics
 from .loop import simulate
 from .mission import Mission
-from .navigation import navigation_plan, timed_navigation
+from .navigation import navigation_plan, timed_navigation, with_leg_speeds  # (with_leg_speeds: re-exported)
 from .problem import planning_problem, vehicle_limits
 from .result import RunRecord
 from .tracking import contract_world, route_bound, route_keeps
@@ -363,38 +362,6 @@ def kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress |
     tried = f"{rounds} plans with a raised margin did not keep it" if rounds else \
         f"the start or the goal lies within {margin + CONTRACT_ROOM:g} m of an obstacle: no room to raise the margin"
     return replace(planned, status=Status.INFEASIBLE, message=f"clearance contract: {why}; {tried}"), None
-
-
-def with_leg_speeds(world: World, mission: Mission, route: ArrayLike, tail: ArrayLike | None = None) -> Mission:
-    """The mission with the speed of each leg of ``route`` chosen by ``[endurance] speeds`` (issue 38).
-
-    Parameters
-    ----------
-    world : World
-        Its currents.
-    mission : Mission
-        Vehicle, endurance settings and any leg speeds already set.
-    route : array_like
-        ``(N, 3)`` the route to fly (m).
-    tail : array_like of bool, optional
-        ``(N - 1,)`` legs flown tail-first (:func:`route_tail`).
-
-    Returns
-    -------
-    Mission
-        ``mission`` itself for ``speeds = "fixed"`` or when it has leg speeds; else with ``leg_speeds``
-        from :func:`auvplan.endurance.choose_speeds` from the start time.
-    """
-    e = mission.endurance
-    if e.speeds == "fixed" or mission.leg_speeds:
-        return mission
-    model = EnergyModel.from_vehicle(mission.vehicle)
-    plan = choose_speeds(world, route, model, mission.vehicle.speed, e.speeds, e.deadline_s, 0.0, e.ds_m, tail=tail)
-    sim = mission.sim
-    if sim.max_time == 0:  # the loop's default allows 3× the route at the cruise speed: at the slowest leg speed
-        length = float(np.linalg.norm(np.diff(np.asarray(route, dtype=float), axis=0), axis=1).sum())
-        sim = replace(sim, max_time=3.0 * length / float(plan.speeds.min()) + 120.0)
-    return replace(mission, leg_speeds=tuple(float(v) for v in plan.speeds), sim=sim)
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,

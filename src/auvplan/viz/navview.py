@@ -101,7 +101,8 @@ def mark_error_band(fig: go.Figure, profile: ErrorProfile, nav: NavPlan) -> None
 
 def figure_nav_error(profile: ErrorProfile, nav: NavPlan, record: RunRecord | None = None) -> go.Figure:
     """Draw the predicted error (confidence × σ) against the planned time, the budget E and the fixes; with a
-    flight flown with drift, its true error against the flown time.
+    flight flown with drift, its true error against the flown time (both from the arrival at the first waypoint: a
+    launch's dive at negative times).
 
     Parameters
     ----------
@@ -135,7 +136,12 @@ def figure_nav_error(profile: ErrorProfile, nav: NavPlan, record: RunRecord | No
                              hovertemplate="%{x:.2f} h: %{y:.1f} m<extra></extra>"))
     sim = record.sim if record is not None else None
     if sim is not None and sim.nav_error is not None and sim.t.size:
-        fig.add_trace(go.Scatter(x=sim.t / 3600.0, y=sim.nav_error, mode="lines", name="true error (flown with drift)",
+        # the planned time counts from the arrival at the first waypoint; a flight launched at the surface above it
+        # dives first (auvplan.sim.events): its clock is shifted to the same origin, the dive at negative times
+        below = np.flatnonzero(sim.position[:, 2] <= nav.points[0, 2] + 1e-6)
+        t0 = float(sim.t[below[0]]) if below.size else 0.0
+        fig.add_trace(go.Scatter(x=(sim.t - t0) / 3600.0, y=sim.nav_error, mode="lines",
+                                 name="true error (flown with drift)",
                                  line=dict(color="gray", width=1), meta=dict(kind="nav_error_flown")))
     if nav.params is not None:
         e = nav.params.max_error_m

@@ -8,15 +8,18 @@ every format that can carry them (:mod:`auvplan.io.missions.deploy_formats`; rea
 * **Envelope** — the operating region: the polygon of the world's ``[bounds]`` (x/y), the deepest depth the
   mission may reach (``[mission] max_depth_m`` clipped to the vehicle's rating), the least altitude above
   the seabed (``[mission] min_altitude_m``), the exclusion polygons of the ``[land]`` inside the bounds, and
-  a time-out: the predicted duration × :data:`TIMEOUT_FACTOR`.
+  a time-out: the predicted duration × :data:`TIMEOUT_FACTOR`, the duration the mission is flown in
+  (:func:`predicted_duration`: its launch's dive from the surface, its legs through the World's current at their
+  speeds, every wait at a surface fix), never the still-water time of the legs alone (:func:`mission_timeout`: the
+  one figure every format's time-out is).
 * **Payload** — one flag per leg: the sensor is on while the vehicle flies a survey line (legs joining two
   vertices of the same line), off on turns and transits; the events are the legs where it switches.
 * **Altitude** — with ``[mission] follow_altitude_m``, every leg is terrain-following: the planned altitude
   above the chart's seabed at each waypoint, flown by the vehicle's altimeter where the format can say so,
   with the planned depth schedule as the bound (never deeper than planned).
 * **Planned times** — the arrival at each waypoint at the planned speed (one, or one per leg) after the waits
-  before it (:func:`planned_times`, :func:`leg_speeds`): the predicted duration here, the stamps of every format
-  (re-exported by :mod:`auvplan.io.missions.formats`).
+  before it, through the World's current (:func:`flown_times`; :func:`planned_times` in still water, the fallback,
+  :func:`leg_speeds`): the stamps of every format (re-exported by :mod:`auvplan.io.missions.formats`).
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from ...sim import Mission
 from ...world import World
 
 __all__ = ["ROUNDED_RISE_M", "TIMEOUT_FACTOR", "Envelope", "DeployInfo", "deploy_info", "payload_from_labels",
-           "payload_events", "planned_times", "leg_speeds"]
+           "payload_events", "planned_times", "leg_speeds", "predicted_duration", "mission_timeout", "flown_times"]
 
 TIMEOUT_FACTOR = 1.5
 """Mission time-out = predicted duration × this factor (the helm's ``max_time``; the envelope's ``max_time_s``)."""
@@ -114,6 +117,9 @@ class DeployInfo:
         :func:`auvplan.guidance.mission.flycheck.leg_figures`), the most a MOOS ``BHV_MinAltitudeX`` may ask for:
         a floor above it would lift the vehicle off the depth ``mission check`` judged wherever the charted seabed
         rises between two waypoints.  None: no bound beyond the waypoints' altitudes.
+    times_s : numpy.ndarray or None
+        ``(N,)`` the planned arrival at each waypoint as flown (:func:`flown_times`; s from the first): the ``.csv``
+        times and the ``.yaml`` stamps.  None: at the planned speeds in still water.
     """
 
     origin: tuple[float, float] | None
@@ -123,6 +129,7 @@ class DeployInfo:
     follow_altitude_m: float = 0.0
     terrain_items: NDArray[np.bool_] | None = None
     leg_floor: NDArray[np.float64] | None = None
+    times_s: NDArray[np.float64] | None = None
 
 
 def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
@@ -154,6 +161,107 @@ def planned_times(waypoints: ArrayLike, speed: float | ArrayLike,
             raise ValueError(f"dwell: one wait per waypoint ({times.size}), got {d.size}")
         times = times + np.r_[0.0, np.cumsum(d[:-1])]
     return times
+
+
+def predicted_duration(world: World, waypoints: ArrayLike, speed: float | ArrayLike, dwell: ArrayLike | None = None,
+                       tail: ArrayLike | None = None) -> float:
+    """The time a mission takes as it is flown (s): launched at the surface above its first waypoint, the dive to it
+    (a vertical leg at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS` held over the point), then each leg through the
+    World's current at its speed, every wait at a waypoint (a surface fix's ``surface_s``) included — the flight the
+    navigation budget and the fixes' times count (:func:`auvplan.sim.navigation.launch_flight`).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    waypoints : array_like
+        ``(N, 3)`` the mission (m).
+    speed : float or array_like
+        Planned through-water speed, one or one per leg (m/s).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s); the last one's is after the mission (it is recovered there).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+
+    Returns
+    -------
+    float
+        The duration from the launch to the arrival at the last waypoint (s).  Where the current beats the vehicle
+        (the energy check refuses the mission) the legs and the dive at their speeds in still water, the waits
+        included.
+    """
+    from ...nav.budget import LAUNCH_DIVE_MPS
+    from ...sim.navigation import launch_flight
+
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    if len(w) < 2:
+        return 0.0
+    v = leg_speeds(speed, len(w) - 1)
+    back = None if tail is None or np.asarray(tail).size != len(w) - 1 else tail
+    flown = launch_flight(world, w, v, back, dwell)
+    if flown is not None:
+        return float(flown.dive_s + flown.times_s[-1])
+    return float(max(-w[0, 2], 0.0) / LAUNCH_DIVE_MPS + planned_times(w, v, dwell)[-1])
+
+
+def flown_times(world: World, mission: Mission, waypoints: ArrayLike, speed: float | ArrayLike,
+                dwell: ArrayLike | None = None, tail: ArrayLike | None = None) -> NDArray[np.float64] | None:
+    """The arrival at each waypoint as the mission is flown through the World's current at each leg's speed, the waits
+    counted (s from the arrival at the first): with ``[navigation]`` the legs flown once the launch's dive is over
+    (:func:`auvplan.sim.navigation.launch_flight`: the fixes' times, ``fixes.csv``'s), without it from the scenario's
+    start time (the energy budget's flight, ``legs.csv``'s, and the closed loop's).
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    mission : Mission
+        Its ``navigation``.
+    waypoints : array_like
+        ``(N, 3)`` the mission (m).
+    speed : float or array_like
+        Planned through-water speed, one or one per leg (m/s).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s).
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(N,)`` (s); None where the current beats the vehicle.
+    """
+    from ...endurance import traverse
+    from ...sim.navigation import launch_flight
+
+    w = np.asarray(waypoints, dtype=float).reshape(-1, 3)
+    if len(w) < 2:
+        return None
+    v = leg_speeds(speed, len(w) - 1)
+    back = None if tail is None or np.asarray(tail).size != len(w) - 1 else tail
+    if mission.navigation is not None:
+        flown = launch_flight(world, w, v, back, dwell)
+        if flown is not None:
+            return np.asarray(flown.times_s, dtype=float)
+    tr = traverse(world, w, v, 0.0, tail=back, dwell=dwell)
+    return np.asarray(tr.times - tr.times[0], dtype=float) if tr.ok else None
+
+
+def mission_timeout(predicted_s: float) -> float:
+    """The time-out every format carries (the MOOS helm's ``max_time``, the envelope's ``max_time_s``): the predicted
+    duration (:func:`predicted_duration`, or a longer simulated flight) × :data:`TIMEOUT_FACTOR`, to 0.1 s.
+
+    Parameters
+    ----------
+    predicted_s : float
+        The mission's predicted duration (s).
+
+    Returns
+    -------
+    float
+        The time-out (s).
+    """
+    return round(float(predicted_s) * TIMEOUT_FACTOR, 1)
 
 
 def leg_speeds(speed: float | ArrayLike, legs: int) -> NDArray[np.float64]:
@@ -239,7 +347,8 @@ def _exclusions(world: World, box: shapely.Polygon,
 
 
 def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: float | ArrayLike,
-                flown_s: float | None = None, payload: ArrayLike | None = None) -> DeployInfo:
+                flown_s: float | None = None, payload: ArrayLike | None = None, dwell: ArrayLike | None = None,
+                tail: ArrayLike | None = None) -> DeployInfo:
     """The datum, envelope, payload and altitudes of a mission (module notes).
 
     Parameters
@@ -253,9 +362,13 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     speed : float or array_like
         Planned speed, or one per leg (m/s).
     flown_s : float, optional
-        Duration of the simulated flight (s): the prediction is the longer of it and the planned time.
+        Duration of the simulated flight (s): the prediction is the longer of it and :func:`predicted_duration`.
     payload : array_like of bool, optional
         ``(N - 1,)`` sensor state per leg (:func:`payload_from_labels`).
+    dwell : array_like, optional
+        ``(N,)`` the wait at each waypoint (s; a surface fix's ``surface_s``): the predicted duration counts it.
+    tail : array_like of bool, optional
+        ``(N - 1,)`` legs flown tail-first.
 
     Returns
     -------
@@ -265,13 +378,13 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
     w = np.asarray(waypoints, dtype=float)
     b = world.bounds
     poly = ((b.xmin, b.ymin), (b.xmax, b.ymin), (b.xmax, b.ymax), (b.xmin, b.ymax))
-    predicted = float(planned_times(w, speed)[-1]) if len(w) > 1 else 0.0
+    predicted = predicted_duration(world, w, speed, dwell, tail)
     if flown_s is not None and np.isfinite(flown_s):
         predicted = max(predicted, float(flown_s))
     depth = world.margins.max_depth if np.isfinite(world.margins.max_depth) else mission.vehicle.max_depth_m
     track = shapely.LineString(w[:, :2]) if len(w) > 1 else shapely.Point(w[0, :2])
     env = Envelope(tuple((float(x), float(y)) for x, y in poly), float(depth), float(world.margins.min_altitude),
-                   round(predicted * TIMEOUT_FACTOR, 1), predicted, TIMEOUT_FACTOR,
+                   mission_timeout(predicted), predicted, TIMEOUT_FACTOR,
                    _exclusions(world, shapely.Polygon(poly), track))
     altitude = items = floor = None
     if mission.follow_altitude_m > 0 and world.terrain is not None:
@@ -281,7 +394,8 @@ def deploy_info(world: World, mission: Mission, waypoints: ArrayLike, speed: flo
         items = _terrain_items(world, w, mission.vehicle.max_pitch_deg)
         floor = leg_figures(world, w[:-1], w[1:], "held")[0] if len(w) > 1 else np.zeros(0)
     pay = None if payload is None or not np.any(payload) else np.asarray(payload, dtype=bool)
-    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor)
+    times = flown_times(world, mission, w, speed, dwell, tail)
+    return DeployInfo(world.origin, env, pay, altitude, float(mission.follow_altitude_m), items, floor, times)
 
 
 ROUNDED_RISE_M = 1.5e-3

@@ -23,9 +23,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._types import Status
-from ...endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget
+from ...endurance import Endurance, EnergyModel, assess, departure_endurance, mission_budget, traverse
 from ...errors import DataError
 from ...nav import surface_kinds
+from ...nav.budget import LAUNCH_DIVE_MPS, launch_point
 from ...sim import Mission, RunRecord, record_tail, with_leg_speeds
 from ...world import World
 from ..data.geo import LocalFrame
@@ -37,7 +38,7 @@ from .readback.speeds import judged_leg_speeds
 from .tail import read_tail
 
 __all__ = ["energy_record", "legs_table", "write_energy", "read_leg_speeds", "mission_endurance",
-           "mission_file_energy", "file_energy_flight", "sweep_energy"]
+           "mission_file_energy", "file_energy_flight", "sweep_energy", "launched_at"]
 
 _Inverse = Callable[[Any, Any], tuple[Any, Any]]
 
@@ -258,6 +259,9 @@ def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
     The wait at a surface fix (``[navigation]``) is the file's where the format carries one (a ``.plan``'s hold, a
     MOOS ``BHV_StationKeep``: :func:`~auvplan.io.missions.readback.dwell.read_dwells`), spent adrift at hotel power
     as the plan budgets it; else the scenario's ``surface_s``.  A ``.plan``'s hold elsewhere is held on station.
+    Under ``[navigation]`` a file that starts at its first waypoint (every format but a ``.plan``, whose home leg is
+    its launch) departs it when the launch's dive from the surface ends (:func:`launched_at`), the navigation
+    budget's clock: in a current that changes in time its legs fly the planned current.
     """
     waypoints = read_mission(path, world.origin, world.seabed if world.terrain is not None else None)[0]
     if waypoints.shape[0] < 2:
@@ -280,7 +284,8 @@ def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
     held = None if waits is None or not np.any(waits * ~surface) else np.where(surface, 0.0, waits)
     station = None if held is None else held > 0  # the last item's hold too: the budget flies it before the end
     # ArduSub holds the item against the current (its position controller): the power of that current's speed
-    b = mission_budget(world, waypoints, model, speeds, 0.0, mission.endurance.ds_m, tail, dwell, station)
+    depart = 0.0 if nav is None or path.suffix.lower() == ".plan" else launched_at(world, waypoints)
+    b = mission_budget(world, waypoints, model, speeds, depart, mission.endurance.ds_m, tail, dwell, station)
     rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
            "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
            "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
@@ -288,6 +293,29 @@ def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
     moved = None if held is None or water.shape[0] != held.size else held * water.mean(axis=1)
     flown = b.traverse.leg_water_m() if b.traverse.ok else None
     return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved, flown
+
+
+def launched_at(world: World, waypoints: NDArray[np.float64]) -> float:
+    """When a mission that starts at its first waypoint reaches it (s after the start time): launched at the surface
+    above it, after the dive at :data:`~auvplan.nav.budget.LAUNCH_DIVE_MPS` held over the point — the flight the
+    navigation budget counts (:func:`auvplan.sim.navigation.launch_flight`), whose legs fly the current of that time.
+
+    Parameters
+    ----------
+    world : World
+        Its currents.
+    waypoints : numpy.ndarray
+        ``(N, 3)`` the mission (m).
+
+    Returns
+    -------
+    float
+        The dive's duration (s); 0 for a first waypoint at the surface or a dive the current beats.
+    """
+    if not waypoints[0, 2] < -1e-9:
+        return 0.0
+    tr = traverse(world, np.vstack([launch_point(waypoints), waypoints[:1]]), LAUNCH_DIVE_MPS)
+    return float(tr.times[-1] - tr.times[0]) if tr.ok else 0.0
 
 
 def sweep_energy(world: World, mission: Mission, plans: list[Any],

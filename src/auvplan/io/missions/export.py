@@ -280,7 +280,8 @@ def deploy_for(world: World, mission: Mission, record: RunRecord, speed: float |
     mission : Mission
         The vehicle's depth rating and ``follow_altitude_m``.
     record : RunRecord
-        The run (its mission and the flight's duration).
+        The run (its mission, its surface fixes' waits, its tail-first legs and the flight's duration: the time-out
+        rests on the longer of that flight and :func:`~auvplan.io.missions.deploy.predicted_duration`).
     speed : float or array_like
         Planned speed, or one per leg (m/s).
     payload : array_like of bool, optional
@@ -292,7 +293,11 @@ def deploy_for(world: World, mission: Mission, record: RunRecord, speed: float |
         What the exports carry.
     """
     flown = float(record.sim.t[-1]) if record.sim is not None and record.sim.t.size else None
-    return deploy_info(world, mission, mission_waypoints(record), speed, flown, payload)
+    waypoints = mission_waypoints(record)
+    nav = record.nav  # the waits at the surface fixes: flown time, as the exports hold them (write_exports)
+    dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
+    tail = record_tail(record) if record.route.size else None
+    return deploy_info(world, mission, waypoints, speed, flown, payload, dwell, tail)
 
 
 def survey_payload(out_dir: Path, record: RunRecord) -> NDArray[np.bool_] | None:
@@ -395,6 +400,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
     # the times as the mission is flown through the current (fixes.csv's): the .csv's and the .yaml's too
     times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
+    if times is None and deploy.times_s is not None and len(deploy.times_s) == len(waypoints):
+        times = deploy.times_s  # without fixes: the flight through the current all the same (deploy.flown_times)
     if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
         raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
                         "without a flight): `auvplan run` the scenario to export them")
