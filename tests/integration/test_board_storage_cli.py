@@ -181,3 +181,16 @@ def test_run_hands_the_board_to_the_writer_of_its_results(tmp_path, monkeypatch)
     scen.write_text(HOLDS)
     assert main(["run", str(scen), "--board-storage", "sd:24"]) == 2
     assert seen["board"].name == "sd:24" and seen["board"].commands == 1638  # (24576 - 4) // 15
+
+
+def test_survey_leaves_out_a_plan_the_board_cannot_hold(tmp_path, capsys):
+    """``survey`` writes its other exports and says why the .plan is not written, as ``run`` does (a refused .plan,
+    over 4 368 commands or a fence across ±180°, stopped it with exit 2 part-way through its exports)."""
+    from test_survey_mission import _write
+
+    out = tmp_path / "out"
+    assert main(["-q", "survey", str(_write(tmp_path)), "--out", str(out), "--json", "--board-storage", "sd:1"]) == 0
+    notes = json.loads(capsys.readouterr().out)["notes"]
+    assert len(notes) == 1 and notes[0].startswith(f"mission.plan left out: {out / 'mission.plan'}: ")
+    assert "commands > the 68 that BRD_SD_MISSION = 1 holds (--board-storage sd:1)" in notes[0]  # (1024 - 4) // 15
+    assert not (out / "mission.plan").exists() and (out / "mission.moos").exists() and (out / "report.html").exists()
