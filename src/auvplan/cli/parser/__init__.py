@@ -63,7 +63,8 @@ _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
     "board_storage": (("--board-storage",), {
         "type": _board_storage, "metavar": "16k|32k|sd:N",
         "help": "the vehicle's mission storage: 16k (655 commands), 32k (FRAM, 1312) or sd:N (BRD_SD_MISSION = N "
-                "KiB, at most 64: 4368); a .plan it cannot hold fails (default: only one no board holds)"}),
+                "KiB, at most 64: 4368); a .plan it cannot hold fails (default: only one over 4368, which no board "
+                "holds)"}),
 }
 """Arguments several commands share, by name (same flag, same meaning, same help everywhere)."""
 

@@ -423,8 +423,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
         elif fmt == "plan":
             assert origin is not None  # _frame(origin) raised otherwise
             doc = mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell)
-            why = board and board_refusal(out / "mission.plan", len(doc["mission"]["items"]) + 1, board)
-            if why:  # the operator's board cannot hold it (the home is command 0): not written
+            commands = len(doc["mission"]["items"]) + 1  # the home is command 0
+            why = board_refusal(out / "mission.plan", commands, board) if board is not None else None
+            if why:  # the operator's board cannot hold it: not written
                 raise DataError(why)
             text = json.dumps(doc, indent=1) + "\n"
         elif fmt == "gpx":
