@@ -139,7 +139,15 @@ def test_export_refuses_a_plan_the_board_cannot_hold_and_writes_nothing(tmp_path
     assert len(json.loads((out / "mission.plan").read_text())["mission"]["items"]) == 655
 
 
-def test_report_leaves_out_a_plan_the_board_cannot_hold(tmp_path, capsys):
+@pytest.fixture
+def no_page(monkeypatch):
+    """The report's page left empty: these tests are about the exports beside it (seconds of plotly saved)."""
+    import auvplan.viz.report
+
+    monkeypatch.setattr(auvplan.viz.report, "build_report", lambda *a, **k: "<html></html>")
+
+
+def test_report_leaves_out_a_plan_the_board_cannot_hold(tmp_path, capsys, no_page):
     """``report`` (as ``run``, through the same writer) keeps every other export and says why the .plan is not."""
     out = _results(tmp_path, 654)
     assert main(["report", str(out), "--board-storage", "16k"]) == 0
@@ -183,7 +191,7 @@ def test_run_hands_the_board_to_the_writer_of_its_results(tmp_path, monkeypatch)
     assert seen["board"].name == "sd:24" and seen["board"].commands == 1638  # (24576 - 4) // 15
 
 
-def test_survey_leaves_out_a_plan_the_board_cannot_hold(tmp_path, capsys):
+def test_survey_leaves_out_a_plan_the_board_cannot_hold(tmp_path, capsys, no_page):
     """``survey`` writes its other exports and says why the .plan is not written, as ``run`` does (a refused .plan,
     over 4 368 commands or a fence across ±180°, stopped it with exit 2 part-way through its exports)."""
     from test_survey_mission import _write
