@@ -13,6 +13,7 @@ import numpy as np
 if TYPE_CHECKING:
     from ..guidance.mission.flycheck import MissionCheck
     from ..guidance.mission.terrain_legs import FlownTrack
+    from ..io.missions.readback.mission_storage import BoardStorage
     from ..io.scenario.specs import Scenario
     from ..nav import NavParams
     from ..path.flyable import LimitReport
@@ -65,7 +66,8 @@ class FileCheck:
     speed_line: str = ""
 
 
-def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scenario, list[FileCheck]]:
+def check_missions(scenario: str, files: list[str], pitch: float,
+                   board: BoardStorage | None = None) -> tuple[Scenario, list[FileCheck]]:
     """Check mission files against a scenario.
 
     Parameters
@@ -76,6 +78,8 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
         Mission files (``.moos``, ``.plan``, ``.gpx``, ``.yaml``, ``.geojson``, ``.kml``, ``.csv``).
     pitch : float
         Pitch (deg) at which a depth-holding executor changes depth.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold fails (``deploy.mission_storage``).
 
     Returns
     -------
@@ -90,10 +94,11 @@ def check_missions(scenario: str, files: list[str], pitch: float) -> tuple[Scena
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
     with parse_once():  # each file's JSON parsed and its items walked once by all the readers below
-        return sc, [_check_file(sc, world, mission, name, pitch) for name in files]
+        return sc, [_check_file(sc, world, mission, name, pitch, board) for name in files]
 
 
-def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) -> FileCheck:
+def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float,
+                board: BoardStorage | None = None) -> FileCheck:
     """One file of :func:`check_missions`."""
     from ..io.missions.energy import file_energy_flight
     from ..io.missions.formats import check_mission_file, read_mission
@@ -118,7 +123,7 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     energy, energy_ok, energy_line, held_water, leg_water = file_energy_flight(world, mission, Path(name))
     # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
     deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
-                                            float(energy.get("duration_s", 0.0)))
+                                            float(energy.get("duration_s", 0.0)), board)
     # the legs flown at a speed the file does not hold (a .plan before its first DO_CHANGE_SPEED: WPNAV_SPEED)
     speed_line = energy.pop("speed_assumed_line", "")
     assumed = energy.pop("speed_assumed_legs", [])

@@ -16,6 +16,7 @@ from ..io.files.safeio import atomic_write, prepare_out, save_figure
 
 if TYPE_CHECKING:
     from ..endurance import Endurance
+    from ..io.missions.readback.mission_storage import BoardStorage
     from ..io.scenario.specs import Scenario
     from ..nav import NavPlan
     from ..planners import PlanResult
@@ -106,7 +107,7 @@ def save_plan(out: Path, sc: Scenario, world: World, result: PlanResult, seed: i
 
 def write_results(out: Path, world: World, mission: Mission, record: RunRecord, text: str, source: str, *,
                   full: bool = False, endurance: Endurance | None = None,
-                  ensemble: dict[str, Any] | None = None) -> list[str]:
+                  ensemble: dict[str, Any] | None = None, board: BoardStorage | None = None) -> list[str]:
     """Write a flown (or planned) mission's results folder: ``ensemble.json`` (when ``ensemble`` is given),
     the run files, ``source.json`` and the terrain, the energy files, every mission export and the report.
 
@@ -128,6 +129,8 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
         The mission's energy assessment; computed here when not given.
     ensemble : dict, optional
         The ensemble fields of the route (:func:`auvplan.app.run.run_scenario`'s scoring in every member).
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold is left out (:func:`write_report`).
 
     Returns
     -------
@@ -151,11 +154,12 @@ def write_results(out: Path, world: World, mission: Mission, record: RunRecord, 
     if endurance is not None:
         frame = LocalFrame(*world.origin) if world.origin is not None else None
         write_energy(out, endurance, frame.inverse if frame else None)
-    return write_report(out, world, mission, record, text, full=full, endurance=endurance)[1]
+    return write_report(out, world, mission, record, text, full=full, endurance=endurance, board=board)[1]
 
 
 def write_report(out: Path, world: World, mission: Mission, record: RunRecord, text: str, figures: bool = False,
-                 full: bool = False, endurance: Endurance | None = None) -> tuple[Path, list[str]]:
+                 full: bool = False, endurance: Endurance | None = None,
+                 board: BoardStorage | None = None) -> tuple[Path, list[str]]:
     """The report, ``report.html`` (and the exports, and with ``figures`` the static PNG/SVG figures) into ``out``.
 
     Parameters
@@ -174,6 +178,8 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
         Full-rate exports.
     endurance : Endurance, optional
         The energy assessment; computed here when not given.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold is left out, said in the notes.
 
     Returns
     -------
@@ -197,8 +203,8 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
     export.write_exports(out, record, world.origin, speeds, [f for f in formats if f != "plan"], full, deploy)
     if "plan" in formats:
         try:
-            export.write_exports(out, record, world.origin, speeds, ["plan"], full, deploy)
-        except DataError as exc:  # ArduPilot cannot hold it (AP_Mission's capacity, a fence across ±180°)
+            export.write_exports(out, record, world.origin, speeds, ["plan"], full, deploy, board)
+        except DataError as exc:  # ArduPilot (or the --board-storage named) cannot hold it, a fence across ±180°
             notes = [*notes, f"mission.plan left out: {exc}"]
     if endurance is None:
         endurance = mission_endurance(world, mission, record)

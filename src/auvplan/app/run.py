@@ -14,6 +14,7 @@ from .results import save_context, scenario_text, write_results
 
 if TYPE_CHECKING:
     from ..endurance import Endurance
+    from ..io.missions.readback.mission_storage import BoardStorage
     from ..io.scenario.specs import Scenario
     from ..sim import Mission, RunRecord
     from ..world import CurrentField, World
@@ -26,7 +27,8 @@ DEMO_SCENARIO = "showcase"
 
 def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance: str | None, seed: int | None,
                  full: bool = False, force: bool = False, planner: str | None = None,
-                 reporter: ReporterFor = silent) -> tuple[Scenario, RunRecord, Endurance | None, list[str]]:
+                 reporter: ReporterFor = silent,
+                 board: BoardStorage | None = None) -> tuple[Scenario, RunRecord, Endurance | None, list[str]]:
     """Plan and fly one scenario (``run``, ``demo``); with ``out``, its results folder, report and exports.
 
     Parameters
@@ -45,6 +47,8 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         Override the scenario's planner.
     reporter : callable
         Builds the progress reporter from the planner's settings and the scenario's name.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``mission.plan`` it cannot hold is left out (a note).
 
     Returns
     -------
@@ -78,7 +82,7 @@ def run_scenario(scenario: str, out: str | None, guidance: str | None, avoidance
         bar.stage(f"writing results, report and exports into {out}")
         ensemble = _route_fields(scenario_members(sc, world), world, mission, record.route)
         notes = write_results(Path(out), world, mission, record, scenario_text(sc), sc.source, full=full,
-                              endurance=endurance, ensemble=ensemble)
+                              endurance=endurance, ensemble=ensemble, board=board)
     return sc, record, endurance, ([note] if note else []) + notes
 
 
@@ -92,7 +96,8 @@ def _formation_names(mission: Mission) -> list[str]:
 
 def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: str | None, seed: int | None,
                            full: bool = False, force: bool = False, planner: str | None = None,
-                           reporter: ReporterFor = silent) -> tuple[Any, dict[str, Any]]:
+                           reporter: ReporterFor = silent,
+                           board: BoardStorage | None = None) -> tuple[Any, dict[str, Any]]:
     """``run`` of a scenario with ``[[vehicles]]``: the formation pipeline, and with ``out`` its files and report.
 
     Parameters
@@ -139,7 +144,7 @@ def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: st
 
         bar.stage(f"writing results, report and exports into {out}")
         folder, text = Path(out), scenario_text(sc)
-        write_formation(folder, world, mission, record, text, full)
+        write_formation(folder, world, mission, record, text, full, board)
         save_context(folder, sc.source, world)
         frame = LocalFrame(*world.origin) if world.origin is not None else None
         page = build_formation_report(world, record, [r for _, r in vehicle_records(world, mission, record)], text,

@@ -9,9 +9,10 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..errors import ScenarioError
+from ..errors import DataError, ScenarioError
 from ..io.files.safeio import RESULT_NAMES, prepare_out, save_figure
 from ..io.missions import export
+from ..io.missions.readback.mission_storage import BoardStorage
 from ..io.results import records
 from ..io.results.survey import SURVEY_NAMES, coverage_record, survey_params, write_survey
 from ..io.scenario import loader as scenario_io
@@ -27,7 +28,7 @@ __all__ = ["survey_scenario"]
 def survey_scenario(scenario: str, out: str | None = None, force: bool = False, seed: int | None = None,
                     guidance: str | None = None, full: bool = False,
                     say: Callable[[str], None] = lambda text: None,
-                    runner: Runner | None = None) -> tuple[Any, dict[str, Any]]:
+                    runner: Runner | None = None, board: BoardStorage | None = None) -> tuple[Any, dict[str, Any]]:
     """Plan, fly and measure the ``[survey]`` of a scenario.
 
     Parameters
@@ -46,6 +47,8 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         Receives a line at each stage.
     runner : Runner, optional
         Where the independent transits are planned (:class:`auvplan.runtime.parallel.Runner`; this process by default).
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold is refused.
 
     Returns
     -------
@@ -85,7 +88,14 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
         deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
                                    payload_from_labels(run.plan.labels))  # issue 51: envelope, payload
-        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, formats, full, deploy)
+        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed,
+                             [f for f in formats if f != "plan"], full, deploy)
+        if "plan" in formats:  # as run's: a .plan no board (or not --board-storage's) holds is left out, said
+            try:
+                export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, ["plan"], full, deploy,
+                                     board)
+            except DataError as exc:
+                rec["notes"] = [*rec.get("notes", []), f"mission.plan left out: {exc}"]
         from ..viz.survey import coverage_map
 
         save_figure(folder / "coverage.png",  # atomically, and into the manifest (a re-run adopts it)

@@ -33,7 +33,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     from ..app.results import write_report
 
     out, record, text, world, mission = _load(args)
-    path, notes = write_report(out, world, mission, record, text, figures=args.figures)
+    path, notes = write_report(out, world, mission, record, text, figures=args.figures, board=args.board_storage)
     finish()  # the live progress line, before the result (issue 56)
     for line in notes:  # a format that would fly a tail-first leg nose-first
         print(f"auvplan: {line}", file=sys.stderr)
@@ -49,7 +49,10 @@ def cmd_export(args: argparse.Namespace) -> int:
     out, record, _, world, mission = _load(args)
     speeds = planned_speeds(out, record, mission)
     deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))  # issue 51
-    paths = export.write_exports(out, record, world.origin, speeds, args.format, args.full, deploy)
+    # the .plan first: refused (its mission storage, a fence across ±180°), nothing is written
+    fmts = sorted(args.format, key=lambda f: f != "plan")
+    paths = export.write_exports(out, record, world.origin, speeds, fmts, args.full, deploy, args.board_storage)
+    paths.sort(key=lambda p: list(args.format).index(p.suffix[1:]))  # printed in the order asked for
     finish()  # the live progress line, before the result (issue 56)
     for p in paths:
         print(p)
@@ -62,6 +65,7 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
 
     from ..app.check import check_missions
     from ..io.missions.glider import is_glider_file
+    from ..io.missions.readback.mission_storage import storage_line
     from ..io.results import records
 
     gliders = [f for f in args.files if is_glider_file(Path(f))]
@@ -75,7 +79,7 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
         from .glider import glider_checks
 
         return glider_checks(args, gliders)
-    sc, checks = check_missions(args.scenario, args.files, args.pitch)
+    sc, checks = check_missions(args.scenario, args.files, args.pitch, args.board_storage)
     for c in checks if not args.json else ():
         name, check, vlimits = c.record["file"], c.check, c.vehicle
         fmt = c.record["format"]
@@ -98,6 +102,8 @@ def cmd_mission_check(args: argparse.Namespace) -> int:
             print(f"{name}: {c.speed_line}")
         print(f"{name}: {c.energy_line}")
         print(f"{name}: {c.deploy_line}")
+        if "mission_storage" in c.record["deploy"]:  # a .plan: the storage it needs, failing on --board-storage's
+            print(f"{name}: {storage_line(c.record['deploy']['mission_storage'])}")
         if c.terrain_following:  # a .plan's terrain-frame legs, flown following the seabed
             print(f"{name} {c.terrain_following}")
         for line in c.navigation:  # issue 52

@@ -98,7 +98,7 @@ def cmd_formation(args: argparse.Namespace, sc: Scenario, world: World, mission:
         raise AuvplanError(f"{sc.source}: --guidance/--avoidance do not apply to a formation (each vehicle flies "
                            "the formation field of [formation])")
     record, rec = run_formation_scenario(sc, world, mission, args.out, args.seed, args.full, args.force,
-                                         args.planner, reporter(args.quiet or args.json))
+                                         args.planner, reporter(args.quiet or args.json), args.board_storage)
     m = rec["metrics"] or {}
     human = f"{sc.name}: {record.status.value}" + (
         f" — {m['arrivals']}/{m['vehicles']} vehicles arrived, {m['collisions']} collisions, least vehicle "
@@ -131,7 +131,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         return cmd_formation(args, sc, world, mission)
     sc, record, endurance, notes = run_scenario(args.scenario, args.out, args.guidance, args.avoidance, args.seed,
                                                 full=args.full, force=args.force, planner=args.planner,
-                                                reporter=reporter(args.quiet or args.json))
+                                                reporter=reporter(args.quiet or args.json),
+                                                board=args.board_storage)
     said = [n for n in notes if n.startswith("currents:")]  # issue 51: the rules the run applied to its inputs
     if not args.json:  # --json: stderr stays empty on success, the notes go into the JSON object
         _notes([n for n in notes if n not in said])

@@ -22,7 +22,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        ``scenario``, ``out``, ``seed``, ``guidance``, ``full``, ``force``, ``json``, ``quiet``.
+        ``scenario``, ``out``, ``seed``, ``guidance``, ``full``, ``force``, ``json``, ``quiet``, ``board_storage``.
 
     Returns
     -------
@@ -33,7 +33,7 @@ def cmd_survey(args: argparse.Namespace) -> int:
     from .output import runner_of
 
     sc, rec = survey_scenario(args.scenario, args.out, args.force, args.seed, getattr(args, "guidance", None),
-                              args.full, lambda text: _say(args, text), runner_of(args))
+                              args.full, lambda text: _say(args, text), runner_of(args), args.board_storage)
     m = rec["lawnmower"]
     gaps = rec["flown"]["gaps"] if rec["flown"] else 0
     human = (f"{sc.name}: {rec['status']} — {rec['lines']} lines at {rec['heading_deg']:.0f}°, "

@@ -30,6 +30,7 @@ from .argtypes import (
     _RETRIES,
     _SEED,
     _WORKERS,
+    _board_storage,
     _Choices,
     _departure,
     _int_at_least,
@@ -59,6 +60,11 @@ _SHARED: dict[str, tuple[tuple[str, ...], dict[str, Any]]] = {
                              "help": "overwrite files in the results folder (--out or DIR) not written by auvplan"}),
     "json": (("--json",), {"action": "store_true", "help": "print one JSON object on stdout"}),
     "dir": (("dir",), {"help": "results directory written by `auvplan run --out` or `demo`"}),
+    "board_storage": (("--board-storage",), {
+        "type": _board_storage, "metavar": "16k|32k|sd:N",
+        "help": "the vehicle's mission storage: 16k (655 commands), 32k (FRAM, 1312) or sd:N (BRD_SD_MISSION = N "
+                "KiB, at most 64: 4368); a .plan it cannot hold fails (default: only one over 4368, which no board "
+                "holds)"}),
 }
 """Arguments several commands share, by name (same flag, same meaning, same help everywhere)."""
 
@@ -144,14 +150,14 @@ def _flight_commands(sub: Any) -> None:
     s = _command(sub, "run", "plan + key waypoints + closed-loop simulation with moving obstacles", "run:cmd_run",
                  "scenario", "planner", "guidance", "avoidance", "seed")
     s.add_argument("--out", type=_out_folder, help="write every result file here")
-    _shared(s, "full", "force", "json")
+    _shared(s, "full", "force", "json", "board_storage")
 
     s = _command(sub, "survey", "plan, fly and measure the [survey] of a scenario: depth-adaptive lines, flyable "
                  "turns, coverage (lines.csv, coverage.json, coverage.png, mission exports)", "survey:cmd_survey",
                  "scenario", "guidance", "seed")
     s.add_argument("--out", type=_out_folder,
                    help="write lines.csv, coverage.json, gaps.geojson, coverage.png and the exports here")
-    _shared(s, "full", "force", "json")
+    _shared(s, "full", "force", "json", "board_storage")
     _cluster(s, None)
 
 
@@ -160,12 +166,12 @@ def _result_commands(sub: Any) -> None:
     s = _command(sub, "report", "write report.html (and the exports) for a results directory of `run --out`",
                  "results:cmd_report", "dir")
     s.add_argument("--figures", action="store_true", help="also write static PNG/SVG figures into DIR/figures")
-    _shared(s, "force")
+    _shared(s, "force", "board_storage")
     s = _command(sub, "export", "write mission exports (GeoJSON, KML, CSV, MOOS-IvP, QGC .plan, GPX, ROS 2 "
                                 "nav_msgs/Path YAML) for a results directory", "results:cmd_export", "dir")
     s.add_argument("--format", nargs="+", default=_FORMATS, choices=_FORMATS, metavar="FORMAT",
                    help="mission formats (default: all): %(choices)s")
-    _shared(s, "full", "force")
+    _shared(s, "full", "force", "board_storage")
     s = sub.add_parser("mission", help="work with exported mission files")
     msub = s.add_subparsers(dest="mission_command", required=True)
     c = _command(msub, "check", "re-fly mission files under their format's depth semantics against the "
@@ -178,6 +184,7 @@ def _result_commands(sub: Any) -> None:
     c.add_argument("--pitch", type=_pitch, default=15.0,
                    help="pitch (deg) at which a depth-holding executor (MOOS) changes depth (default 15)")
     c.add_argument("--json", action="store_true", help="print one JSON object (a list for several files)")
+    _shared(c, "board_storage")
 
 
 def _serve_command(sub: Any) -> None:

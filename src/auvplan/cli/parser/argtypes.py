@@ -10,8 +10,12 @@ import math
 import os
 import re
 from collections.abc import Callable, Collection, Iterator
+from typing import TYPE_CHECKING
 
 from ...errors import AuvplanError
+
+if TYPE_CHECKING:
+    from ...io.missions.readback.mission_storage import BoardStorage
 
 __all__: list[str] = []
 
@@ -156,3 +160,17 @@ def _pitch(text: str) -> float:
 
 
 _pitch.__name__ = "pitch in (0, 90] degrees"
+
+
+def _board_storage(text: str) -> BoardStorage:
+    """An argparse type: the board's mission storage, ``16k``, ``32k`` or ``sd:N`` (``BRD_SD_MISSION``, 1-64 KiB;
+    :func:`auvplan.io.missions.readback.mission_storage.board_storage`)."""
+    from ...io.missions.readback.mission_storage import board_storage
+
+    try:
+        return board_storage(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+_board_storage.__name__ = "board storage"

@@ -22,6 +22,7 @@ from . import antimeridian
 from . import deploy_formats as dfmt
 from . import formats as mfmt
 from .deploy import DeployInfo, deploy_info
+from .readback.mission_storage import BoardStorage, board_refusal
 from .tail import TAIL_FORMATS, any_tail, refusal
 
 __all__ = [
@@ -356,7 +357,7 @@ def exportable(record: RunRecord, formats: Iterable[str]) -> tuple[list[str], li
 
 def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None, speed: float | ArrayLike,
                   formats: Iterable[str] = EXPORT_FORMATS, full: bool = False,
-                  deploy: DeployInfo | None = None) -> list[Path]:
+                  deploy: DeployInfo | None = None, board: BoardStorage | None = None) -> list[Path]:
     """Write the chosen mission exports into ``out_dir`` (``mission.<suffix>``, see
     :mod:`auvplan.io.missions.formats`): each carries the run's executable mission; GeoJSON, KML and GPX
     also the flown track, decimated (:func:`auvplan.sim.decimate`) unless ``full``.
@@ -379,6 +380,9 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     deploy : DeployInfo, optional
         Datum, safety envelope, payload events and terrain-following altitudes (:func:`deploy_for`); without
         it the files carry the datum only.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold is refused
+        (:func:`~auvplan.io.missions.readback.mission_storage.board_refusal`); without it, only one no board holds.
 
     Returns
     -------
@@ -389,7 +393,8 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     ------
     DataError
         For an unknown format, a geographic one without an origin, one that cannot carry the mission's
-        tail-first legs (:func:`exportable`), or a mission with USBL fixes and no ``fixes.csv`` beside it.
+        tail-first legs (:func:`exportable`), a mission with USBL fixes and no ``fixes.csv`` beside it, or a
+        ``.plan`` over the mission storage (``board``'s, else any board's), before its file is written.
     """
     out = Path(out_dir)
     written = []
@@ -424,7 +429,12 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             text = mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
         elif fmt == "plan":
             assert origin is not None  # _frame(origin) raised otherwise
-            text = json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell), indent=1) + "\n"
+            doc = mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell)
+            commands = len(doc["mission"]["items"]) + 1  # the home is command 0
+            why = board_refusal(out / "mission.plan", commands, board) if board is not None else None
+            if why:  # the operator's board cannot hold it: not written
+                raise DataError(why)
+            text = json.dumps(doc, indent=1) + "\n"
         elif fmt == "gpx":
             assert origin is not None  # _frame(origin) raised otherwise
             text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)

@@ -22,6 +22,7 @@ from ...sim.formation import FormationRecord
 from ...world import World
 from ..results import records
 from . import export
+from .readback.mission_storage import BoardStorage
 
 __all__ = ["FORMATION_NAMES", "vehicle_records", "formation_record", "write_formation"]
 
@@ -89,7 +90,7 @@ def formation_record(record: FormationRecord) -> dict[str, Any]:
 
 
 def write_formation(out_dir: Path, world: World, mission: Mission, record: FormationRecord, scenario_text: str = "",
-                    full: bool = False) -> dict[str, Any]:
+                    full: bool = False, board: BoardStorage | None = None) -> dict[str, Any]:
     """Write the fleet's files and one folder per vehicle (run files and every mission export).
 
     Parameters
@@ -106,6 +107,8 @@ def write_formation(out_dir: Path, world: World, mission: Mission, record: Forma
         The scenario's TOML source, copied as ``scenario.toml``.
     full : bool, optional
         Every recorded sample instead of the decimated tracks.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a vehicle's ``.plan`` it cannot hold is refused.
 
     Returns
     -------
@@ -128,5 +131,5 @@ def write_formation(out_dir: Path, world: World, mission: Mission, record: Forma
     for name, vrec in vehicle_records(world, mission, record):
         folder = out / name
         records.write_run(folder, vrec, "", full)
-        export.write_exports(folder, vrec, origin, mission.vehicle.speed, formats, full)
+        export.write_exports(folder, vrec, origin, mission.vehicle.speed, formats, full, board=board)
     return rec

@@ -15,6 +15,9 @@
   fence storage (:func:`auvplan.io.missions.deploy_formats.fence_storage_problem`, the export's own rule: 672
   bytes on a 16 KiB board), else ArduSub refuses the upload; only the export was held to it, and a user's own
   ``.plan`` with a fence of 84 vertices passed.
+* **Mission storage** — a ``.plan``'s commands (the home included) and the smallest of AP_Mission's three
+  capacities that holds them (:mod:`auvplan.io.missions.readback.mission_storage`): said, and a failure only when
+  the operator names the board (``--board-storage``) and it cannot hold them.
 * **Altitude legs** — counted as legs, as the terrain-following check counts them: a ``.plan``'s launch leg (home
   to its first item) is never one, even when that item is in the terrain frame.
 """
@@ -38,6 +41,7 @@ from ...data.geo import LocalFrame
 from .. import parsed
 from ..antimeridian import join_rings
 from ..deploy_formats import FENCE_STORAGE_BYTES, fence_bytes, fence_storage_problem
+from .mission_storage import BoardStorage, mission_storage
 from .qgc_items import plan_items
 from .readers import KML_NS, MISSION_SUFFIXES
 
@@ -73,6 +77,9 @@ class FileDeploy:
     fence_items : tuple of (list of int, int) or None
         A ``.plan`` fence as ArduPilot stores it: each polygon's vertex count (inclusions and exclusions) and the
         number of circles (:func:`auvplan.io.missions.deploy_formats.fence_bytes`); None for other formats.
+    commands : int or None
+        A ``.plan``'s mission commands as AP_Mission stores them, the home included
+        (:func:`auvplan.io.missions.readback.mission_storage.mission_storage`); None for other formats.
     """
 
     datum: tuple[float, float] | None = None
@@ -84,6 +91,7 @@ class FileDeploy:
     altitude_legs: int = 0
     inclusions: list[NDArray[np.float64]] = field(default_factory=list)
     fence_items: tuple[list[int], int] | None = None
+    commands: int | None = None
 
 
 _NUM = r"([-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
@@ -124,14 +132,16 @@ def _qgc(doc: dict[str, Any]) -> FileDeploy:
     exc += [ring for ring, inclusion in circles if not inclusion]
     inc += [ring for ring, inclusion in circles if inclusion]
     events, wp, alt = [], -1, 0
-    for it in plan_items(doc):  # the reader's waypoints (the same walk)
+    items = plan_items(doc)
+    for it in items:  # the reader's waypoints (the same walk)
         if it.moves:
             wp += 1
             alt += it.frame == 10 and wp > 0  # legs, as terrain_legs: the launch leg (to item 0) is not one
         elif it.command == 181:
             events.append((wp, float(it.params[1]) > 0))
     stored = ([len(p["polygon"]) for p in fence.get("polygons", [])], len(fence.get("circles", [])))
-    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:], stored)
+    return FileDeploy(None, inc[0] if inc else None, True, exc, {}, events, alt, inc[1:], stored,
+                      len(items) + 1)  # the home is command 0
 
 
 CIRCLE_SIDES = 64
@@ -294,7 +304,7 @@ def read_deploy(path: str | Path) -> FileDeploy:
 
 
 def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints: NDArray[np.float64],
-                 min_altitude_m: float, duration_s: float) -> dict[str, Any]:
+                 min_altitude_m: float, duration_s: float, board: BoardStorage | None = None) -> dict[str, Any]:
     """Check a file's datum against the scenario and its envelope against its mission (module notes).
 
     Parameters
@@ -309,13 +319,16 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
         The least altitude of the mission re-flown under the file's semantics (m).
     duration_s : float
         The mission's predicted duration (s): through the current, with a ``.plan``'s launch leg and holds.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a ``.plan`` it cannot hold fails.
 
     Returns
     -------
     dict
         ``datum`` (``lat``, ``lon``, ``offset_m``, or None), ``envelope`` (its limits and ``ok``, ``reasons``,
         or None), ``payload_events``, ``altitude_legs``, a ``.plan``'s ``fence_storage`` (``bytes``,
-        ``limit_bytes``, ``ok``, ``reason``) and ``ok``.
+        ``limit_bytes``, ``ok``, ``reason``) and ``mission_storage``
+        (:func:`~auvplan.io.missions.readback.mission_storage.mission_storage`), and ``ok``.
 
     Raises
     ------
@@ -349,7 +362,10 @@ def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints
         why = fence_storage_problem(vertices, circles)
         out["fence_storage"] = {"bytes": fence_bytes(vertices, circles), "limit_bytes": FENCE_STORAGE_BYTES,
                                 "ok": why is None, "reason": why}
-    out["ok"] = (out["envelope"] is None or out["envelope"]["ok"]) and out.get("fence_storage", {}).get("ok", True)
+    if info.commands is not None:  # the mission storage a .plan needs (failing only on the board named)
+        out["mission_storage"] = mission_storage(info.commands, board)
+    out["ok"] = ((out["envelope"] is None or out["envelope"]["ok"]) and out.get("fence_storage", {}).get("ok", True)
+                 and out.get("mission_storage", {}).get("ok", True))
     return out
 
 
@@ -430,7 +446,8 @@ def _planar_latlon(rings: list[Any], pts: NDArray[np.float64], origin: tuple[flo
 
 
 def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, points: NDArray[np.float64], fmt: str,
-                      min_altitude_m: float, duration_s: float) -> tuple[dict[str, Any], str]:
+                      min_altitude_m: float, duration_s: float,
+                      board: BoardStorage | None = None) -> tuple[dict[str, Any], str]:
     """:func:`check_deploy` of a file read by ``mission check`` and the result in one line.
 
     The envelope's time-out is judged against what the mission will really take: ``duration_s``, the energy
@@ -451,15 +468,18 @@ def file_deploy_check(path: str | Path, origin: tuple[float, float] | None, poin
         Its least re-flown altitude (m).
     duration_s : float
         The mission's duration as the energy check predicts it (s).
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``), for a ``.plan``'s ``mission_storage``.
 
     Returns
     -------
     record : dict
         :func:`check_deploy`'s record.
     line : str
-        ``datum …; envelope OK|FAIL|none …; payload …``.
+        ``datum …; envelope OK|FAIL|none …; payload …`` (a ``.plan``'s mission storage has its own line:
+        :func:`~auvplan.io.missions.readback.mission_storage.storage_line`).
     """
-    rec = check_deploy(path, origin, points, min_altitude_m, duration_s)
+    rec = check_deploy(path, origin, points, min_altitude_m, duration_s, board)
     d, e = rec["datum"], rec["envelope"]
     datum = (f"datum lat {d['lat']:.6f}, lon {d['lon']:.6f} = the scenario's ({d['offset_m'] * 1000:.1f} mm)" if d
              else ("geographic coordinates" if fmt in ("qgc", "gpx", "geojson", "kml") else "no datum in the file"))

@@ -34,7 +34,8 @@ from typing import Any
 from ....errors import DataError
 from ..parsed import remembered
 
-__all__ = ["AP_MISSION_CAPACITY", "AP_MISSION_COMMAND_BYTES", "AP_MISSION_MAX_COMMANDS", "NAV_WAYPOINT", "LOITERS",
+__all__ = ["AP_MISSION_CAPACITY", "AP_MISSION_COMMAND_BYTES", "AP_MISSION_HEADER_BYTES", "AP_MISSION_MAX_COMMANDS",
+           "AP_MISSION_STORAGE_BYTES", "NAV_WAYPOINT", "LOITERS",
            "LOITER_UNLIM", "HARMLESS", "REFUSED", "TRANSECT_PATTERNS", "PlanItem",
            "capacity_note", "plan_items"]
 
@@ -135,7 +136,13 @@ def _pattern(item: Mapping[str, Any], where: str) -> list[PlanItem]:
 
 AP_MISSION_COMMAND_BYTES = 15
 """Bytes of one stored mission command (``AP_MISSION_EEPROM_COMMAND_SIZE``, ``AP_Mission.h``)."""
-AP_MISSION_CAPACITY = {"16 KiB": 655, "32 KiB": 1312, "microSD": 4368}
+AP_MISSION_HEADER_BYTES = 4
+"""Bytes of the mission storage before its first command (its version number: ``AP_Mission::num_commands_max``'s
+``− 4``)."""
+AP_MISSION_STORAGE_BYTES = {"16 KiB": 2506 + 2132 + 5204, "32 KiB": 2 * (2506 + 2132 + 5204), "microSD": 0xFFFF}
+"""Bytes of mission storage (:data:`AP_MISSION_CAPACITY`)."""
+AP_MISSION_CAPACITY = {k: (b - AP_MISSION_HEADER_BYTES) // AP_MISSION_COMMAND_BYTES
+                       for k, b in AP_MISSION_STORAGE_BYTES.items()}  # 655, 1312, 4368
 """Commands AP_Mission holds, the home (command 0) included: ``(storage − 4) / 15``
 (``AP_Mission::num_commands_max``) over ``StorageManager.cpp``'s ``StorageMission`` areas for a non-copter
 vehicle (ArduSub): 2 506 + 2 132 + 5 204 = 9 842 bytes on a board with 16 KiB of storage (Pixhawk 1, fmuv3),
