@@ -35,7 +35,7 @@ from ...io.files.manifest import claim
 from ...io.files.outdir import OutputError, check_inside
 from ...io.scenario import loader as scenario_io
 from ...io.scenario.specs import Scenario
-from ...planners import PIPELINES, PlanResult, plan, reference, with_reference
+from ...planners import PIPELINES, PlannerSpec, PlanResult, plan, reference, with_reference
 from ...planners.core.registry import known, names
 from ...planners.grid.planner import on_cost_function
 from ...runtime.parallel import Runner
@@ -299,6 +299,15 @@ def _row(scenario: str, planner: str, guidance: str, seed: int, record: RunRecor
     return out
 
 
+def _cell_planner(pspec: PlannerSpec, planner: str, budget: int) -> PlannerSpec:
+    """The scenario's planner settings as a cell's ``name[/pipeline]`` and the sweep's ``budget`` run them: the
+    seeded pipeline's default budget pinned, so that it is spent exactly by every planner of the cell."""
+    name, _, pipeline = planner.partition("/")
+    pipeline = pipeline or pspec.pipeline
+    budget = budget or (pspec.evaluations if pipeline == "seeded" else pspec.budget)
+    return replace(pspec, name=name, budget=budget, pipeline=pipeline)
+
+
 def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> list[Row]:
     """Run one chunk of seeds of one cell.
 
@@ -321,12 +330,7 @@ def run_chunk(task: tuple[str, str, str, tuple[int, ...]], spec: SweepSpec) -> l
     field = None
     if member is not None:  # one current member as the world's only current
         world, field = member_world(sc, world, member, member_seed)
-    pspec = mission.planner
-    if planner != "route":
-        name, _, pipeline = planner.partition("/")
-        pipeline = pipeline or pspec.pipeline  # the seeded pipeline's default budget pinned: spent exactly by all
-        budget = spec.budget or (pspec.evaluations if pipeline == "seeded" else pspec.budget)
-        pspec = replace(pspec, name=name, budget=budget, pipeline=pipeline)
+    pspec = mission.planner if planner == "route" else _cell_planner(mission.planner, planner, spec.budget)
     guidance, _, avoidance = guidance.partition("+")
     mission = replace(mission, planner=pspec, guidance=guidance)
     if avoidance:

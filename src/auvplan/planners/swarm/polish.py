@@ -122,12 +122,7 @@ def polish_polyline(problem: PlanningProblem, spec: PlannerSpec, result: PlanRes
                                           (second, 2 * spec.polish, _LATTICE)):
             if candidate is None or (candidate is result and out is not result):
                 continue  # the spline's own polish is not run when its lifted path, polished, already won
-            ready = corridor.polished_plan(candidate) if source == _LATTICE and corridor is not None else None
-            if ready is not None:
-                polished = ready  # polished once already, run out, by the swarm's stall test
-            else:
-                target = out.cost if source == _LATTICE else None  # it must beat the best so far to count
-                polished = refine_plan(problem, _band(spec, sweeps), candidate, finest=POLISH_FINEST, target=target)
+            polished = _polished(problem, spec, corridor if source == _LATTICE else None, candidate, sweeps, out.cost)
             found = polished is not candidate and bool(np.isfinite(polished.cost))
             if source == _LATTICE:
                 costs["polish_lattice_cost"] = polished.cost if found else float("inf")
@@ -257,6 +252,17 @@ class LatticeCorridor:
         message = f"{candidate.message}; {done.message}".lstrip("; ")
         return replace(candidate, path=done.path, cost=done.cost, cost_terms=terms, control_points=None,
                        message=message)
+
+
+def _polished(problem: PlanningProblem, spec: PlannerSpec, corridor: LatticeCorridor | None, candidate: PlanResult,
+              sweeps: int, best: float) -> PlanResult:
+    """``candidate`` polished with ``sweeps`` sweeps per level; the lattice's (``corridor`` given) must beat ``best``
+    to count (a target: the band gives up), or is the polish the swarm's stall test made already, run out."""
+    if corridor is None:
+        return refine_plan(problem, _band(spec, sweeps), candidate, finest=POLISH_FINEST)
+    ready = corridor.polished_plan(candidate)
+    return ready if ready is not None else refine_plan(problem, _band(spec, sweeps), candidate, finest=POLISH_FINEST,
+                                                       target=best)
 
 
 def _band(spec: PlannerSpec, sweeps: int) -> PlannerSpec:
