@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import AuvplanError, DataError
+from ..errors import AuvplanError
 from ..io.files.safeio import atomic_write, prepare_out, save_figure
 
 if TYPE_CHECKING:
@@ -200,12 +200,7 @@ def write_report(out: Path, world: World, mission: Mission, record: RunRecord, t
                                                 if frame is not None or f not in export.GEOGRAPHIC])
     speeds = planned_speeds(out, record, mission)
     deploy = export.deploy_for(world, mission, record, speeds, export.survey_payload(out, record))
-    export.write_exports(out, record, world.origin, speeds, [f for f in formats if f != "plan"], full, deploy)
-    if "plan" in formats:
-        try:
-            export.write_exports(out, record, world.origin, speeds, ["plan"], full, deploy, board)
-        except DataError as exc:  # ArduPilot (or the --board-storage named) cannot hold it, a fence across ±180°
-            notes = [*notes, f"mission.plan left out: {exc}"]
+    notes = [*notes, *export.write_mission_files(out, record, world.origin, speeds, formats, full, deploy, board)]
     if endurance is None:
         endurance = mission_endurance(world, mission, record)
     metrics = records.summary_metrics(record)

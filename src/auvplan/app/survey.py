@@ -9,7 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..errors import DataError, ScenarioError
+from ..errors import ScenarioError
 from ..io.files.safeio import RESULT_NAMES, prepare_out, save_figure
 from ..io.missions import export
 from ..io.missions.readback.mission_storage import BoardStorage
@@ -88,14 +88,10 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
         formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
         deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
                                    payload_from_labels(run.plan.labels))  # issue 51: envelope, payload
-        export.write_exports(folder, run.record, world.origin, mission.vehicle.speed,
-                             [f for f in formats if f != "plan"], full, deploy)
-        if "plan" in formats:  # as run's: a .plan no board (or not --board-storage's) holds is left out, said
-            try:
-                export.write_exports(folder, run.record, world.origin, mission.vehicle.speed, ["plan"], full, deploy,
-                                     board)
-            except DataError as exc:
-                rec["notes"] = [*rec.get("notes", []), f"mission.plan left out: {exc}"]
+        left = export.write_mission_files(folder, run.record, world.origin, mission.vehicle.speed, formats, full,
+                                          deploy, board)  # as run's: a .plan no board holds left out, said
+        if left:
+            rec["notes"] = [*rec.get("notes", []), *left]
         from ..viz.survey import coverage_map
 
         save_figure(folder / "coverage.png",  # atomically, and into the manifest (a re-run adopts it)

@@ -14,7 +14,7 @@ import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["MANIFEST", "written", "written_by", "claim"]
+__all__ = ["MANIFEST", "written", "written_by", "claim", "disown"]
 
 MANIFEST = ".auvplan-manifest.json"
 """Name of the manifest file in an output folder."""
@@ -109,3 +109,34 @@ def claim(folder: Path, names: Iterable[str]) -> None:
         File names to record.
     """
     _record(Path(folder), names)
+
+
+def disown(folder: Path, names: Iterable[str]) -> list[str]:
+    """Remove the files of ``names`` that auvplan wrote into ``folder`` (its manifest lists them; regular files,
+    never a symbolic link) and their names from the manifest: an earlier job's results that the job writing the
+    folder now does not write, which would otherwise be taken for its own.  A user's file is left alone.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The output folder.
+    names : iterable of str
+        File names.
+
+    Returns
+    -------
+    list of str
+        The names removed, in the order given.
+    """
+    folder = Path(folder)
+    have = written(folder)
+    gone = [n for n in names if n in have and (folder / n).is_file() and not (folder / n).is_symlink()]
+    for n in gone:
+        (folder / n).unlink()
+    dropped = [n for n in names if n in have and not os.path.lexists(folder / n)]
+    if dropped:
+        doc: dict[str, object] = {"files": sorted(have - set(dropped))}
+        if written_by(folder):
+            doc["job"] = written_by(folder)
+        _replace(folder / MANIFEST, (json.dumps(doc, indent=1) + "\n").encode())
+    return gone

@@ -17,6 +17,7 @@ from ...path import arc_length
 from ...sim import Mission, RunRecord, decimate, record_tail
 from ...world import World
 from ..data.geo import LocalFrame
+from ..files.manifest import disown
 from ..results.records import JsonDict, jsonable, summary_metrics, write_text
 from . import antimeridian
 from . import deploy_formats as dfmt
@@ -33,6 +34,7 @@ __all__ = [
     "mission_waypoints",
     "exportable",
     "write_exports",
+    "write_mission_files",
     "deploy_for",
     "survey_payload",
 ]
@@ -442,3 +444,53 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
             text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell, times=times)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written
+
+
+def write_mission_files(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None,
+                        speed: float | ArrayLike, formats: Iterable[str], full: bool = False,
+                        deploy: DeployInfo | None = None, board: BoardStorage | None = None) -> list[str]:
+    """Every export of a results folder, as ``run``, ``report`` and ``survey`` write them.
+
+    ``formats`` (those the mission can be written in, :func:`exportable`) through :func:`write_exports`, the
+    ``.plan`` last and left out, with a note, when ArduPilot or the operator's board cannot hold it or its fence
+    crosses ±180°.  Then every ``mission.<suffix>`` auvplan wrote into the folder before and did not write now is
+    removed (:func:`auvplan.io.files.manifest.disown`; a note says so): an earlier run's file of another mission,
+    or of one with an ``[origin]`` where this one has none, is never left beside this mission's files to be
+    uploaded in its place.  A user's file is left alone.
+
+    Parameters
+    ----------
+    out_dir : pathlib.Path
+        The results folder.
+    record : RunRecord
+        The run.
+    origin : tuple of float or None
+        ``(lat, lon)`` of the local frame (None: no geographic format).
+    speed : float or array_like
+        Planned speed, or one per leg (m/s).
+    formats : iterable of str
+        The formats to write (``EXPORT_FORMATS`` names).
+    full : bool, optional
+        Write the flown track undecimated.
+    deploy : DeployInfo, optional
+        Datum, envelope, payload and altitudes.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``).
+
+    Returns
+    -------
+    list of str
+        The notes: the ``.plan`` left out and why, the earlier files removed.
+    """
+    fmts, notes = list(formats), []
+    done = write_exports(out_dir, record, origin, speed, [f for f in fmts if f != "plan"], full, deploy)
+    if "plan" in fmts:
+        try:
+            done += write_exports(out_dir, record, origin, speed, ["plan"], full, deploy, board)
+        except DataError as exc:  # ArduPilot (or the --board-storage named) cannot hold it, a fence across ±180°
+            notes.append(f"mission.plan left out: {exc}")
+    now = {p.name for p in done}
+    stale = disown(Path(out_dir), [f"mission.{f}" for f in EXPORT_FORMATS if f"mission.{f}" not in now])
+    if stale:
+        notes.append(f"{', '.join(stale)} of an earlier run removed from {out_dir} (not written for this mission)")
+    return notes
