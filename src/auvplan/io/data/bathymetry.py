@@ -54,6 +54,7 @@ __all__ = [
     "load_terrain",
     "BUILTIN_TERRAINS",
     "builtin_terrain_path",
+    "MAX_ELEVATION_M",
 ]
 
 _F64 = NDArray[np.float64]
@@ -160,7 +161,24 @@ def builtin_terrain_path(name: str) -> Path:
     return Path(str(resources.files("auvplan") / "data" / _BUILTIN_FILES[name]))
 
 
+MAX_ELEVATION_M = 12_000.0
+"""Largest elevation or depth a grid may hold, after its units (m): the Challenger Deep is 10 935 m deep, Everest
+8 849 m high (hostile round 22: a land cell filled with -1e30 that the file did not declare as its fill value was
+read as a seabed 10³⁰ m deep, and flown through)."""
+
+
 # ---------------------------------------------------------------------- grid → Terrain
+def _check_range(z: _F64, src: str, where: Callable[[int, int], str]) -> None:
+    """Refuse values no seabed or land on Earth has (an undeclared fill value, wrong units or scale_factor)."""
+    big = np.abs(np.where(np.isfinite(z), z, 0.0)) > MAX_ELEVATION_M
+    if big.any():
+        j, i = np.argwhere(big)[0]
+        n = int(big.sum())
+        raise DataError(f"{src}: elevation holds {float(z[j, i]):.6g} m (at {where(j, i)}; {n:,} such "
+                        f"value{'s' if n != 1 else ''}): beyond the {MAX_ELEVATION_M:,.0f} m of any seabed or land on "
+                        "Earth; declare a fill value as _FillValue, or check the units and scale_factor")
+
+
 def _fill_nan(z: _F64, policy: str, src: str, where: Callable[[int, int], str]) -> _F64:
     bad = ~np.isfinite(z)
     if not bad.any():
@@ -283,6 +301,7 @@ def terrain_from_grid(
     if grid.kind == "local":
         return terrain_from_xy(grid.cols, grid.rows, z, resample_m=resample_m, nan_policy=nan_policy, name=name,
                                method=method)
+    _check_range(z, name, where)
     z = _fill_nan(z, nan_policy, name, where)
     x, y, zz, fit = model_seabed(grid, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method,
                                  what=name)
@@ -363,6 +382,7 @@ def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resampl
     if x.size > 1 and x[0] > x[-1]:
         x, z = x[::-1], z[:, ::-1]
     xs, ys = x, y  # the axes as arrays, for the message
+    _check_range(z, name, lambda j, i: f"x {xs[i]:.1f}, y {ys[j]:.1f}")
     z = _fill_nan(z, nan_policy, name, lambda j, i: f"x {xs[i]:.1f}, y {ys[j]:.1f}")
     step_x, step_y = np.diff(x), np.diff(y)
     uniform = x.size > 1 and y.size > 1 and np.allclose(step_x, step_x[0]) and np.allclose(step_y, step_y[0])
