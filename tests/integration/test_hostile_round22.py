@@ -121,3 +121,89 @@ def test_the_deepest_and_highest_places_on_earth_are_read():
     z[1, 2] = -MAX_ELEVATION_M * 1.001
     with pytest.raises(DataError, match=r"^deep: elevation holds -12012 m \(at x 500.0, y 266.7; 1 such value\)"):
         terrain_from_xy(x, y, z, name="deep")
+
+
+# ---------------------------------------------------------------- vector files: geometries GEOS chokes on
+_ZONES = """
+name = "t"
+[origin]
+lat = 48.0
+lon = -125.0
+[bounds]
+x = [0.0, 4000.0]
+y = [0.0, 4000.0]
+z = [-300.0, 0.0]
+[terrain.synthetic]
+kind = "flat"
+depth = 200.0
+[mission]
+start = [500.0, 500.0, -20.0]
+goal = [3500.0, 3500.0, -20.0]
+"""
+_SQUARE = [[-124.99, 48.01], [-124.98, 48.01], [-124.98, 48.02], [-124.99, 48.02], [-124.99, 48.01]]
+
+
+def _features(*geometries, crs=None):
+    import json
+
+    doc = {"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": f"f{i}"}, "geometry": g} for i, g in enumerate(geometries)]}
+    if crs:
+        doc["crs"] = {"type": "name", "properties": {"name": crs}}
+    return json.dumps(doc)
+
+
+_EMPTY_PART = {"MultiPolygon": {"type": "MultiPolygon", "coordinates": [[_SQUARE], []]},
+               "MultiLineString": {"type": "MultiLineString", "coordinates": [_SQUARE[:2], []]}}
+
+
+@pytest.mark.parametrize("table", ["zones", "land"])
+def test_a_multipart_feature_with_an_empty_part_does_not_crash_the_process(tmp_path, table):
+    """A MultiPolygon with an empty part (``[[ring], []]``): GEOS's segmentize dereferenced the empty part and the
+    process died of a segmentation fault (exit -11, no message; in ``serve`` the whole server) on ``validate`` of
+    a ``[[zones]]`` or ``[land]`` file.  Run as a separate process so that the fault, planted back, fails the test
+    and not the suite."""
+    import subprocess
+    import sys
+
+    (tmp_path / "z.geojson").write_text(_features(_EMPTY_PART["MultiPolygon"]), encoding="utf-8")
+    ref = '[[zones]]\nname = "z"\nfile = "z.geojson"\n' if table == "zones" else '[land]\nfile = "z.geojson"\n'
+    (tmp_path / "s.toml").write_text(_ZONES + ref, encoding="utf-8")
+    code = "import sys; from auvplan.cli import main; sys.exit(main(['validate', sys.argv[1]]))"
+    p = subprocess.run([sys.executable, "-c", code, str(tmp_path / "s.toml")], capture_output=True, text=True,
+                       timeout=300, env={**__import__("os").environ, "AUVPLAN_CACHE": "0"})
+    assert p.returncode == 0, (p.returncode, p.stderr[-2000:])  # the part that is there is the zone / the land
+    assert "Traceback" not in p.stderr
+
+
+@pytest.mark.parametrize("kind", sorted(_EMPTY_PART))
+def test_the_reader_drops_empty_parts_and_keeps_the_others(tmp_path, kind):
+    from auvplan.io.data.vector.reader import read_vector
+
+    (tmp_path / "z.geojson").write_text(_features(_EMPTY_PART[kind], {"type": "Point", "coordinates": [1, 2]}),
+                                        encoding="utf-8")
+    geoms = read_vector(tmp_path / "z.geojson", "z", DataError).geometries
+    import shapely
+
+    parts = shapely.get_parts(geoms[0])
+    assert geoms[0].geom_type == kind and len(parts) == 1 and not parts[0].is_empty  # the drawn part, whole
+    np.testing.assert_array_equal(shapely.get_coordinates(parts[0]), np.asarray(_EMPTY_PART[kind]["coordinates"][0])
+                                  .reshape(-1, 2))
+    assert geoms[1].equals(shapely.Point(1, 2))  # the other features untouched
+
+
+@pytest.mark.parametrize(("geometry", "crs", "needles"), [
+    ({"type": "Polygon", "coordinates": [_SQUARE[:4]]}, None,  # GDAL warns 'Non closed ring', GEOS then raised
+     ("z.geojson': feature #1: not a geometry GEOS reads", "closed linestring")),
+    ({"type": "Polygon", "coordinates": [_SQUARE[:2]]}, None, ("feature #1: not a geometry GEOS reads",)),
+    ({"type": "Polygon", "coordinates": [[[1e300, 7e5], [1.001e6, 7e5], [1.001e6, 7.01e5], [1e300, 7e5]]]},
+     "EPSG:32610", ("feature 'f0': (1e+300, 700000) in its CRS has no place in the local frame",)),
+])
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # numpy's 'invalid value' lines printed before the error
+def test_a_feature_geos_cannot_build_is_refused_naming_it(tmp_path, capsys, geometry, crs, needles):
+    """Each was a ``shapely.errors.GEOSException`` traceback (exit 1): an unclosed ring, a ring of two points, a
+    projected coordinate of 1e300 m (projected to inf)."""
+    (tmp_path / "z.geojson").write_text(_features(geometry, crs=crs), encoding="utf-8")
+    (tmp_path / "s.toml").write_text(_ZONES + '[[zones]]\nname = "z"\nfile = "z.geojson"\n', encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    _one_error_line(capsys, *needles)

@@ -60,6 +60,31 @@ class VectorLayer:
         return [g for g in self.geometries if g is not None and not g.is_empty]
 
 
+def _geometries(wkb: np.ndarray, src: str, error: type[Exception]) -> np.ndarray:
+    """The features' geometries: one GEOS cannot build (an unclosed ring, GDAL only warns) refused naming the
+    feature, and the empty parts of a multi-part geometry dropped (GEOS's ``segmentize`` of a MultiPolygon with an
+    empty part crashed the process: hostile round 22)."""
+    from shapely.errors import GEOSException
+
+    with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
+        try:
+            geoms = np.asarray(shapely.from_wkb(wkb), dtype=object)
+        except GEOSException:  # the first feature GEOS refuses, by its number in the file
+            for k, one in enumerate(wkb):
+                try:
+                    shapely.from_wkb(one)
+                except GEOSException as exc:
+                    raise error(f"{src}: feature #{k + 1}: not a geometry GEOS reads ({exc})") from None
+            raise
+    for k, g in enumerate(geoms):
+        if g is not None and shapely.get_type_id(g) in (4, 5, 6, 7) and not g.is_empty:
+            parts = shapely.get_parts(g)
+            empty = shapely.is_empty(parts)
+            if empty.any():
+                geoms[k] = type(g)(list(parts[~empty]))
+    return geoms
+
+
 def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = "", where: str = "",
                 fields: bool = False) -> VectorLayer:
     """Read one layer of a vector file.
@@ -112,8 +137,7 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     except Exception as exc:  # pyproj's CRSError
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     check_geojson_crs(path, src, error, crs)  # a GeoJSON crs GDAL could not build is read as WGS 84, silently
-    with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
-        geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    geoms = _geometries(wkb, src, error) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])]
     return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)) if fields else {},
                        bool(meta.get("crs")))
