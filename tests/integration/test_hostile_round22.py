@@ -207,3 +207,59 @@ def test_a_feature_geos_cannot_build_is_refused_naming_it(tmp_path, capsys, geom
     (tmp_path / "s.toml").write_text(_ZONES + '[[zones]]\nname = "z"\nfile = "z.geojson"\n', encoding="utf-8")
     assert main(["validate", str(tmp_path / "s.toml")]) == 2
     _one_error_line(capsys, *needles)
+
+
+# ---------------------------------------------------------------- mission files: the envelope's numbers
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    """A short mission over dynamic-terrain's seamount flank (test_deploy's), exported with its datum and envelope."""
+    from test_deploy import MINI, SPEED
+
+    from auvplan.io.missions import export
+    from auvplan.io.scenario import loader as sc_io
+    from auvplan.sim import RunRecord
+
+    world, mission = sc_io.build(sc_io.load("dynamic-terrain"))
+    record = RunRecord("dynamic-terrain", 1, None, MINI, MINI[[0, -1]], None)
+    out = tmp_path_factory.mktemp("exported")
+    export.write_exports(out, record, world.origin, SPEED, ("yaml", "geojson", "kml", "csv"),
+                         deploy=export.deploy_for(world, mission, record, SPEED))
+    return out
+
+
+def _edited(exported, tmp_path, name, old, new):
+    text = (exported / name).read_text(encoding="utf-8")
+    assert old in text, text[:400]
+    (tmp_path / name).write_text(text.replace(old, new, 1), encoding="utf-8")
+    return tmp_path / name
+
+
+@pytest.mark.parametrize(("name", "old", "new", "needles"), [
+    # a 400-digit integer in the envelope's polygon: 'OverflowError: int too large to convert to float', a traceback
+    ("mission.yaml", "polygon: [[", "polygon: [[" + "9" * 400 + ", 0.0], [", ("the datum, envelope or payload",
+                                                                            "int too large to convert to float")),
+    # NaN / inf limits: 'envelope OK — max_depth_m nan', exit 0 (an executor given a NaN depth limit)
+    ("mission.yaml", "max_depth_m: ", "max_depth_m: .nan, x: ", ("envelope max_depth_m = nan: expected a finite",)),
+    ("mission.yaml", "max_time_s: ", "max_time_s: -.inf, x: ", ("envelope max_time_s = -inf: expected a finite",)),
+    ("mission.geojson", '"max_depth_m": ', '"max_depth_m": NaN, "x": ', ("envelope max_depth_m = nan",)),
+    ("mission.kml", '<Data name="min_altitude_m"><value>', '<Data name="min_altitude_m"><value>inf</value><value>',
+     ("envelope min_altitude_m = inf",)),
+    # a polygon vertex of 1e308 or NaN: numpy's overflow warning, then a verdict on it
+    ("mission.yaml", "polygon: [[", "polygon: [[1e308, .nan], [", ("envelope polygon: vertex 0 = (1e+308, nan)",)),
+    # a CSV latitude of 1e308: numpy's 'invalid value' warning, then 'origin must be a valid latitude/longitude'
+    ("mission.csv", ",15.279495679,", ",1e308,", ("line 2: lat = 1e+308, lon = 158.750026469",)),
+])
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+def test_an_envelope_or_datum_that_is_not_numbers_is_refused_naming_it(exported, tmp_path, capsys, name, old, new,
+                                                                       needles):
+    path = _edited(exported, tmp_path, name, old, new)
+    assert main(["mission", "check", str(path), "--scenario", "dynamic-terrain", "-q"]) == 2
+    _one_error_line(capsys, f"{path}: ", *needles)
+
+
+def test_the_exported_envelopes_are_read_as_written(exported, capsys):
+    """The neighbours: every exported file's envelope is read and holds the mission."""
+    for name in ("mission.yaml", "mission.geojson", "mission.kml", "mission.csv"):
+        assert main(["mission", "check", str(exported / name), "--scenario", "dynamic-terrain", "-q"]) == 0, name
+        out = capsys.readouterr().out
+        assert ("envelope OK" in out) == (name != "mission.csv"), out
