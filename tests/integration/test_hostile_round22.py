@@ -263,3 +263,26 @@ def test_the_exported_envelopes_are_read_as_written(exported, capsys):
         assert main(["mission", "check", str(exported / name), "--scenario", "dynamic-terrain", "-q"]) == 0, name
         out = capsys.readouterr().out
         assert ("envelope OK" in out) == (name != "mission.csv"), out
+
+
+# ---------------------------------------------------------------- how many vortices a current may sum
+def _vortices(n):
+    items = ", ".join(f"{{ x = {100.0 + i}, y = 2000.0, gamma = 1000.0, delta = 300.0 }}" for i in range(n))
+    return _SCENARIO.replace('[terrain]\nfile = "t.nc"\n', f"[currents]\nvortices = [{items}]\n")
+
+
+def test_a_current_of_100000_vortices_is_refused_at_load(tmp_path, capsys):
+    """10⁵ vortices: ``validate`` OK in 5 s, then ``plan`` ran for hours (1 000 took 45 s to plan a 5-iteration
+    swarm: every current sample sums them all; in ``serve`` the page's long work was busy all that time)."""
+    (tmp_path / "s.toml").write_text(_vortices(100_000), encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    _one_error_line(capsys, "s.toml: [currents] vortices: 100,000 vortices, over the 100 a scenario may hold")
+
+
+def test_the_hundredth_vortex_is_accepted():
+    from auvplan.io.scenario import loader
+    from auvplan.io.scenario.specs import MAX_VORTICES
+
+    assert len(loader.loads(_vortices(MAX_VORTICES), "s.toml").currents.vortices) == MAX_VORTICES
+    with pytest.raises(Exception, match=r"^s.toml: \[currents\] vortices: 101 vortices"):
+        loader.loads(_vortices(MAX_VORTICES + 1), "s.toml")
