@@ -286,3 +286,35 @@ def test_the_hundredth_vortex_is_accepted():
     assert len(loader.loads(_vortices(MAX_VORTICES), "s.toml").currents.vortices) == MAX_VORTICES
     with pytest.raises(Exception, match=r"^s.toml: \[currents\] vortices: 101 vortices"):
         loader.loads(_vortices(MAX_VORTICES + 1), "s.toml")
+
+
+# ---------------------------------------------------------------- the page: text JSON allows and UTF-8 does not
+@pytest.fixture(scope="module")
+def page(tmp_path_factory):
+    pytest.importorskip("starlette")
+    from starlette.testclient import TestClient
+
+    from auvplan.cli.serve import make_session
+    from auvplan.serve.app import LOCAL_HOSTS, make_app
+
+    session = make_session("track-single", [str(tmp_path_factory.mktemp("page22"))])
+    return session, TestClient(make_app(session, (*LOCAL_HOSTS, "testserver")), raise_server_exceptions=False)
+
+
+@pytest.mark.parametrize(("path", "body", "needle"), [
+    # the error line held the lone surrogate itself: encoding the answer failed, HTTP 500 and a traceback in the log
+    ("/api/set", '{"table": "\\ud800", "key": "x", "value": 1}', "[\\ud800]: the page edits only vehicle"),
+    # 'UnicodeEncodeError: ... surrogates not allowed', naming neither the key nor the value
+    ("/api/open", '{"scenario": "a\\ud800"}', "'a\\ud800': not a file name"),
+    ("/api/survey", '{"file": "a\\ud800.geojson"}', "'a\\ud800.geojson': not a file name"),
+])
+def test_a_lone_surrogate_is_400_naming_it(page, path, body, needle):
+    """JSON may escape a lone UTF-16 surrogate (``"\\ud800"``), which no file name and no UTF-8 answer can hold."""
+    session, client = page
+    before = session.waypoints.copy()
+    r = client.post(path, content=body.encode("ascii"), headers={"content-type": "application/json"})
+    assert r.status_code == 400, (r.status_code, r.text[:300])
+    error = r.json()["error"]
+    assert error.startswith("auvplan: error: ") and needle in error and "UnicodeEncodeError" not in error, error
+    np.testing.assert_array_equal(session.waypoints, before)
+    assert client.get("/api/state").status_code == 200  # the server answers on

@@ -75,6 +75,8 @@ def one_line(exc: BaseException) -> str:
         text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
     if len(text) > MAX_ERROR_CHARS:  # a 4 MB planner name came back whole in the error (hostile round 20)
         text = f"{text[:MAX_ERROR_CHARS]}… ({len(text):,} characters)"
+    # a lone surrogate quoted (JSON's "\ud800") cannot be encoded: the answer failed, HTTP 500 (hostile round 22)
+    text = text.encode("utf-8", "backslashreplace").decode("utf-8")
     return f"auvplan: error: {text}"
 
 
