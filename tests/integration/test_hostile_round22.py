@@ -318,3 +318,61 @@ def test_a_lone_surrogate_is_400_naming_it(page, path, body, needle):
     assert error.startswith("auvplan: error: ") and needle in error and "UnicodeEncodeError" not in error, error
     np.testing.assert_array_equal(session.waypoints, before)
     assert client.get("/api/state").status_code == 200  # the server answers on
+
+
+# ---------------------------------------------------------------- the page: long work it can stop
+@pytest.mark.parametrize(("path", "body", "what"), [
+    ("/api/fly", {}, "the flight"), ("/api/plan", {"planner": "iabc", "seed": 3}, "the plan with iabc")])
+def test_a_running_plan_or_flight_stops_on_request(tmp_path, monkeypatch, path, body, what):
+    """A flight within the command line's bounds runs up to 2·10⁷ time steps (a slow vehicle over a long survey:
+    tens of minutes), a plan up to 2·10⁹ path samples, and the page sends its requests one at a time: it waited
+    behind them, every other long request 'busy', with no way to stop them but to kill the server (no /api/stop:
+    404).  Now ``POST /api/stop`` makes the running work raise at its next step (a plan's iteration, a flight's
+    simulated minute): its request answers 409 ``stopped`` and nothing of it is kept.
+
+    Deterministic: the work is held at its first step (a gate in the session's stop point) until the stop has
+    been answered, then released; the real planner and simulator run up to there."""
+    import threading
+
+    pytest.importorskip("starlette")
+    from starlette.testclient import TestClient
+
+    from auvplan.cli.serve import make_session
+    from auvplan.serve.app import LOCAL_HOSTS, make_app
+
+    session = make_session("track-single", [str(tmp_path)])
+    client = TestClient(make_app(session, (*LOCAL_HOSTS, "testserver")))
+    reached, release = threading.Event(), threading.Event()
+    real = session.stop_point
+    steps = []
+
+    def gate(label):
+        steps.append(label)
+        if len(steps) == 1:
+            reached.set()
+            assert release.wait(60), "the stop was never answered"  # a safety net, not a wait for time
+        real(label)
+
+    monkeypatch.setattr(session, "stop_point", gate)
+    before = (session.waypoints.copy(), len(session.candidates), session.flight)
+    answers = {}
+    worker = threading.Thread(target=lambda: answers.update(long=client.post(path, json=body)))
+    worker.start()
+    try:
+        assert reached.wait(120), "the long work never reached its first step"
+        assert client.post("/api/plan", json={}).status_code == 503  # still one long job at a time
+        stop = client.post("/api/stop", json={})
+        assert stop.status_code == 200 and stop.json()["result"]["stopping"].startswith(("a flight", "a plan"))
+    finally:
+        release.set()
+        worker.join(120)
+    r = answers["long"]
+    assert r.status_code == 409 and r.json()["stopped"] is True, r.text[:300]
+    assert r.json()["error"].startswith(f"auvplan: error: {what}") and "stopped on request" in r.json()["error"]
+    assert len(steps) == 1  # it stopped at the step after the request, not at the end
+    np.testing.assert_array_equal(session.waypoints, before[0])  # nothing of it kept
+    assert len(session.candidates) == before[1] and session.flight is before[2]
+    # nothing to stop now: said so; the next long work is not stopped by the old request
+    assert client.post("/api/stop", json={}).json()["result"]["stopping"] == ""
+    monkeypatch.setattr(session, "stop_point", real)
+    assert client.post(path, json=body).status_code == 200
