@@ -376,3 +376,21 @@ def test_a_running_plan_or_flight_stops_on_request(tmp_path, monkeypatch, path, 
     assert client.post("/api/stop", json={}).json()["result"]["stopping"] == ""
     monkeypatch.setattr(session, "stop_point", real)
     assert client.post(path, json=body).status_code == 200
+
+
+@pytest.mark.parametrize(("crs", "needle"), [
+    # pyproj.exceptions.ProjError: Error creating Transformer from CRS (a traceback, exit 1)
+    ('LOCAL_CS["site grid",UNIT["metre",1],AXIS["X",EAST],AXIS["Y",NORTH]]', "crs 'site grid' (Engineering CRS)"),
+    ("EPSG:4978", "crs 'WGS 84' (Geocentric CRS)"),  # read as a map: 'no feature reaches the area', validate OK
+    ("EPSG:5703", "crs 'NAVD88 height' (Vertical CRS)"),  # a GEOSException traceback
+])
+def test_a_layer_in_a_crs_that_is_not_a_map_is_refused_naming_it(tmp_path, capsys, crs, needle):
+    import shapely
+    from pyogrio.raw import write
+
+    write(tmp_path / "z.gpkg", np.array([shapely.to_wkb(shapely.box(1000.0, 1000.0, 1200.0, 1200.0))], dtype=object),
+          field_data=[np.array(["f0"], dtype=object)], fields=["name"], geometry_type="Polygon", crs=crs,
+          driver="GPKG")
+    (tmp_path / "s.toml").write_text(_ZONES + '[[zones]]\nname = "z"\nfile = "z.gpkg"\n', encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    _one_error_line(capsys, "z.gpkg': " + needle + " is not longitude/latitude or a map projection")

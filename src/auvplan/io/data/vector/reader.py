@@ -137,6 +137,9 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     except Exception as exc:  # pyproj's CRSError
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     check_geojson_crs(path, src, error, crs)  # a GeoJSON crs GDAL could not build is read as WGS 84, silently
+    if not (crs.is_geographic or crs.is_projected):  # pyproj's traceback (engineering), or read as a map (geocentric)
+        raise error(f"{src}: crs {crs.name!r} ({crs.type_name}) is not longitude/latitude or a map projection: its "
+                    "features have no place on the Earth's surface")
     geoms = _geometries(wkb, src, error) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])]
     return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)) if fields else {},
