@@ -394,3 +394,22 @@ def test_a_layer_in_a_crs_that_is_not_a_map_is_refused_naming_it(tmp_path, capsy
     (tmp_path / "s.toml").write_text(_ZONES + '[[zones]]\nname = "z"\nfile = "z.gpkg"\n', encoding="utf-8")
     assert main(["validate", str(tmp_path / "s.toml")]) == 2
     _one_error_line(capsys, "z.gpkg': " + needle + " is not longitude/latitude or a map projection")
+
+
+# ---------------------------------------------------------------- GeoTIFF grids that are not north-up maps
+@pytest.mark.parametrize(("crs", "transform", "needle"), [
+    # pyproj.exceptions.ProjError: Error creating Transformer from CRS (a traceback, exit 1)
+    ('LOCAL_CS["site grid",UNIT["metre",1],AXIS["X",EAST],AXIS["Y",NORTH]]', (250.0, 0.0, 0.0, 0.0, -250.0, 4000.0),
+     "crs 'site grid' (Engineering CRS) is not longitude/latitude or a map projection"),
+    # rioxarray numbered the pixels: read as lat 0..19, lon 0..19 (near the origin (0, 0): a seabed silently wrong)
+    ("EPSG:4326", (0.01, 0.002, -125.05, 0.001, -0.01, 48.1), "the GeoTIFF's grid is rotated or sheared"),
+])
+def test_a_geotiff_that_is_not_a_north_up_map_is_refused(tmp_path, capsys, crs, transform, needle):
+    rasterio = pytest.importorskip("rasterio")
+
+    with rasterio.open(tmp_path / "t.tif", "w", driver="GTiff", height=20, width=20, count=1, dtype="float64",
+                       crs=crs, transform=rasterio.Affine(*transform)) as out:
+        out.write(np.full((20, 20), -200.0), 1)
+    (tmp_path / "s.toml").write_text(_SCENARIO.replace("t.nc", "t.tif"), encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    _one_error_line(capsys, "t.tif: " + needle)

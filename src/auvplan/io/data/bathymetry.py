@@ -176,7 +176,8 @@ def _check_range(z: _F64, src: str, where: Callable[[int, int], str]) -> None:
         n = int(big.sum())
         raise DataError(f"{src}: elevation holds {float(z[j, i]):.6g} m (at {where(j, i)}; {n:,} such "
                         f"value{'s' if n != 1 else ''}): beyond the {MAX_ELEVATION_M:,.0f} m of any seabed or land on "
-                        "Earth; declare a fill value as _FillValue, or check the units and scale_factor")
+                        "Earth; declare it as the file's fill value (_FillValue, a GeoTIFF's nodata), or check the "
+                        "units and scale_factor")
 
 
 def _fill_nan(z: _F64, policy: str, src: str, where: Callable[[int, int], str]) -> _F64:

@@ -313,6 +313,13 @@ def _read_geotiff(path: Path, positive: str) -> ElevationGrid:
         from pyproj import CRS
 
         pcrs = CRS.from_user_input(crs.to_wkt())
+        if not (pcrs.is_geographic or pcrs.is_projected):  # a pyproj traceback (engineering) or read as a map
+            raise DataError(f"{src}: crs {pcrs.name!r} ({pcrs.type_name}) is not longitude/latitude or a map "
+                            "projection: the grid has no place on the Earth's surface")
+        t = da.rio.transform()
+        if t.b or t.d:  # rioxarray then numbers the pixels 0, 1, 2 … as the coordinates (hostile round 22)
+            raise DataError(f"{src}: the GeoTIFF's grid is rotated or sheared (geotransform {tuple(t)[:6]}); auvplan "
+                            "reads north-up grids: warp it first (gdalwarp)")
         x = np.asarray(da["x"].values, dtype=float)
         y = np.asarray(da["y"].values, dtype=float)
         z = np.asarray(da.isel(band=0).values, dtype=float) if "band" in da.dims else np.asarray(da.values, float)
