@@ -7,6 +7,8 @@ of each bound accepted.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -411,3 +413,27 @@ def test_a_geotiff_that_is_not_a_north_up_map_is_refused(tmp_path, capsys, crs, 
     (tmp_path / "s.toml").write_text(_SCENARIO.replace("t.nc", "t.tif"), encoding="utf-8")
     assert main(["validate", str(tmp_path / "s.toml")]) == 2
     _one_error_line(capsys, "t.tif: " + needle)
+
+
+# ---------------------------------------------------------------- a file of several layers, none named
+_S57 = Path(__file__).resolve().parents[1] / "data" / "US4MD81M_zones.000"
+
+
+def test_a_chart_of_several_layers_without_a_layer_is_refused_naming_them(tmp_path, capsys):
+    """A NOAA S-57 cell given without ``layer``: GDAL's first layer, the DSID record (no geometry), was read alone,
+    'no feature' was a warning and ``validate`` said OK with no zone at all (every cable, wreck and restricted
+    area of the chart left out)."""
+    (tmp_path / "s.toml").write_text(_ZONES + f'[[zones]]\nname = "chart"\nfile = "{_S57}"\nbuffer_m = 20.0\n'
+                                     "radius_m = 50.0\n", encoding="utf-8")
+    assert main(["validate", str(tmp_path / "s.toml")]) == 2
+    _one_error_line(capsys, "US4MD81M_zones.000': the file holds 6 layers (DSID (no geometry), CBLARE (Polygon), "
+                    "OBSTRN (Unknown), PIPSOL (Unknown), RESARE (Polygon), WRECKS (Unknown)); name the one to read "
+                    "with layer = ")
+
+
+def test_a_layer_named_or_a_file_of_one_layer_is_read():
+    from auvplan.io.data.vector.reader import read_vector
+
+    assert len(read_vector(_S57, "c", DataError, layer="RESARE").present()) > 0  # the neighbour: a layer named
+    one = Path(__file__).resolve().parents[2] / "src" / "auvplan" / "data" / "ne_10m_reefs_chagos.geojson"
+    assert len(read_vector(one, "r", DataError).present()) > 0  # one layer: no name needed

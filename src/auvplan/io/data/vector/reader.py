@@ -121,13 +121,19 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         # GDAL kept off the network; its warnings one line each, not Python's two
         with offline(), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
-            # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers test
-            # the filter on the fields asked for, and no field asked for matched no feature
-            meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
-                                                     read_geometry=True, columns=None if fields or where else [])
+            layers = [] if layer else [(str(n), g) for n, g in pyogrio.list_layers(path)]
+            if len(layers) <= 1:
+                # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers
+                # test the filter on the fields asked for, and no field asked for matched no feature
+                meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
+                                                         read_geometry=True, columns=None if fields or where else [])
     except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
         raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
+    if len(layers) > 1:  # the first alone was read: an S-57 chart's DSID record, no feature (hostile round 22)
+        names = ", ".join(f"{n} ({g or 'no geometry'})" for n, g in layers[:12]) + (", …" if len(layers) > 12 else "")
+        raise error(f"{src}: the file holds {len(layers)} layers ({names}); name the one to read with layer = "
+                    "'…' (for an S-57 chart the object class: CBLSUB, WRECKS, OBSTRN …)")
     for w in said:
         log.warning("%s: %s", src, " ".join(str(w.message).split()))
     from pyproj import CRS  # where a file is projected (issue 56)
