@@ -131,8 +131,8 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
     if len(layers) > 1:  # the first alone was read: an S-57 chart's DSID record, no feature (hostile round 22)
-        names = ", ".join(f"{n} ({g or 'no geometry'})" for n, g in layers[:12]) + (", …" if len(layers) > 12 else "")
-        raise error(f"{src}: the file holds {len(layers)} layers ({names}); name the one to read with layer = "
+        listed = ", ".join(f"{n} ({g or 'no geometry'})" for n, g in layers[:12]) + (", …" if len(layers) > 12 else "")
+        raise error(f"{src}: the file holds {len(layers)} layers ({listed}); name the one to read with layer = "
                     "'…' (for an S-57 chart the object class: CBLSUB, WRECKS, OBSTRN …)")
     for w in said:
         log.warning("%s: %s", src, " ".join(str(w.message).split()))
