@@ -437,3 +437,15 @@ def test_a_layer_named_or_a_file_of_one_layer_is_read():
     assert len(read_vector(_S57, "c", DataError, layer="RESARE").present()) > 0  # the neighbour: a layer named
     one = Path(__file__).resolve().parents[2] / "src" / "auvplan" / "data" / "ne_10m_reefs_chagos.geojson"
     assert len(read_vector(one, "r", DataError).present()) > 0  # one layer: no name needed
+
+
+def test_data_inspect_of_a_grid_without_extent_says_so(tmp_path, capsys):
+    """Latitudes 10⁻¹² ° apart: the footprint's centroid was a ``GEOSException`` traceback (``getX called on empty
+    Point``) out of ``data inspect``'s seabed-model costs (``validate`` refused it by the memory estimate)."""
+    z = np.full((_LAT.size, _LON.size), -200.0)
+    ds = xr.Dataset({"elevation": (("lat", "lon"), z)}, coords={"lat": 48.0 + np.arange(_LAT.size) * 1e-12,
+                                                                "lon": _LON})
+    ds.to_netcdf(tmp_path / "t.nc")
+    assert main(["data", "inspect", str(tmp_path / "t.nc")]) == 0
+    out = capsys.readouterr().out
+    assert "seabed model: not measured (t.nc:elevation: empty extent" in out, out
