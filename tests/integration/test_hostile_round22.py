@@ -449,3 +449,23 @@ def test_data_inspect_of_a_grid_without_extent_says_so(tmp_path, capsys):
     assert main(["data", "inspect", str(tmp_path / "t.nc")]) == 0
     out = capsys.readouterr().out
     assert "seabed model: not measured (t.nc:elevation: empty extent" in out, out
+
+
+@pytest.mark.parametrize(("units", "metres"), [("km", 1000.0), ("dbar", 1.0)])
+def test_a_current_file_s_depth_levels_are_read_in_metres(tmp_path, units, metres):
+    """A current file whose depth axis is in km: levels 0, 0.05, 0.2 km read as 0, 0.05, 0.2 m — the whole water
+    column below 20 cm took the deepest level's current (1 m/s where the file says 0.5 m/s at 50 m), silently."""
+    from auvplan.io.data.geo import LocalFrame
+    from auvplan.io.data.ocean.currents import CurrentsFileSpec, read_currents
+
+    levels = np.array([0.0, 50.0, 200.0]) / metres
+    u = np.broadcast_to(np.array([0.1, 0.5, 1.0])[None, :, None, None], (2, 3, _LAT.size, _LON.size))
+    ds = xr.Dataset({"u": (("time", "depth", "lat", "lon"), u), "v": (("time", "depth", "lat", "lon"), 0 * u)},
+                    coords={"time": [0.0, 3600.0], "depth": levels, "lat": _LAT, "lon": _LON})
+    ds["time"].attrs["units"] = "seconds since 2024-01-01"
+    ds["u"].attrs["units"] = ds["v"].attrs["units"] = "m s-1"
+    ds["depth"].attrs.update(units=units, positive="down")
+    ds.to_netcdf(tmp_path / "c.nc")
+    g = read_currents(CurrentsFileSpec(str(tmp_path / "c.nc")), LocalFrame(48.0, -125.0),
+                      extent_m=(0.0, 4000.0, 0.0, 4000.0))
+    np.testing.assert_allclose(g.z, [-200.0, -50.0, 0.0], rtol=1e-4)  # ascending, up: the levels in metres
