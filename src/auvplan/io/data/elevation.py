@@ -160,7 +160,7 @@ _METRES_AND = re.compile(r"^(m|metres?|meters?)[.\s(,;]")
 
 
 def length_factor(units: str, where: str) -> float:
-    """The factor from an elevation variable's ``units`` to metres.
+    """The factor from an elevation variable's (or a current file's depth axis's) ``units`` to metres.
 
     Metres however written, and no units, are 1; a length pint's CF registry reads (``ft``, ``fathoms``, ``km``,
     or such a unit followed by words) is converted (hostile round 22: a depth grid in feet was read as metres,
