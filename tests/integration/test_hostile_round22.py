@@ -469,3 +469,29 @@ def test_a_current_file_s_depth_levels_are_read_in_metres(tmp_path, units, metre
     g = read_currents(CurrentsFileSpec(str(tmp_path / "c.nc")), LocalFrame(48.0, -125.0),
                       extent_m=(0.0, 4000.0, 0.0, 4000.0))
     np.testing.assert_allclose(g.z, [-200.0, -50.0, 0.0], rtol=1e-4)  # ascending, up: the levels in metres
+
+
+# ---------------------------------------------------------------- a scenario file of gigabytes
+def test_a_scenario_file_of_gigabytes_is_refused_unread(tmp_path, capsys, monkeypatch):
+    """A 1.5 GB file given as the scenario (a sparse file, or a data file named .toml): read whole — 3.1 GB
+    resident, over the 2 GiB memory budget, 20 s — before 'invalid TOML'.  Now refused by its size, unread (a read
+    of it fails the test); the page's open is bounded the same way."""
+    big = tmp_path / "s.toml"
+    with big.open("wb") as fh:
+        fh.truncate(1_500_000_000)  # sparse: no disk used
+    monkeypatch.setattr(type(big), "read_bytes", lambda self: pytest.fail("read whole"))
+    assert main(["validate", str(big)]) == 2
+    _one_error_line(capsys, f"{big}: 1,500,000,000 bytes, over the 16,777,216 a scenario file may have")
+
+
+def test_a_scenario_file_at_the_bound_is_read(tmp_path):
+    from auvplan.io.scenario.loader import MAX_SCENARIO_BYTES, loads, scenario_text
+
+    text = _SCENARIO.replace('[terrain]\nfile = "t.nc"\n', "")
+    padded = text + "#" * (MAX_SCENARIO_BYTES - len(text.encode()) - 1) + "\n"
+    p = tmp_path / "s.toml"
+    p.write_text(padded, encoding="utf-8")
+    assert loads(scenario_text(p), str(p)).name == "t"
+    p.write_text(padded + "#", encoding="utf-8")
+    with pytest.raises(Exception, match=r"16,777,217 bytes, over the 16,777,216"):
+        scenario_text(p)
