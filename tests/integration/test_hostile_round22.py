@@ -495,3 +495,17 @@ def test_a_scenario_file_at_the_bound_is_read(tmp_path):
     p.write_text(padded + "#", encoding="utf-8")
     with pytest.raises(Exception, match=r"16,777,217 bytes, over the 16,777,216"):
         scenario_text(p)
+
+
+def test_a_results_folder_s_scenario_of_gigabytes_is_refused_unread(tmp_path, monkeypatch):
+    """``report``/``export`` read a results folder's ``scenario.toml`` whole as well (``read_text``)."""
+    from test_hostile_round20 import _results
+
+    from auvplan.io.results.readback import read_run
+
+    folder = _results(tmp_path / "h")
+    with (folder / "scenario.toml").open("wb") as fh:
+        fh.truncate(1_500_000_000)
+    monkeypatch.setattr(type(folder), "read_text", lambda *a, **k: pytest.fail("read whole"))
+    with pytest.raises(DataError, match=r"scenario.toml: 1,500,000,000 bytes, over the 16,777,216 a scenario file"):
+        read_run(folder)

@@ -31,7 +31,7 @@ import tomllib
 from pathlib import Path
 
 from ...errors import ScenarioError
-from ..files.jsonfile import source_base
+from ..files.jsonfile import MAX_SCENARIO_BYTES, source_base
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .specs import Scenario
@@ -57,10 +57,6 @@ def load(scenario: str | Path) -> Scenario:
     path = resolve(scenario)
     return loads(scenario_text(path), source=str(path), base_dir=source_base(path))
 
-
-MAX_SCENARIO_BYTES = 16 * 1024 * 1024
-"""Largest scenario file (the largest built-in has 6.5 kB; a 100 000-waypoint route ~4 MB): hostile round 22, a
-1.5 GB file was read whole (3.1 GB resident, over the memory budget, 20 s) before 'invalid TOML'."""
 
 
 def scenario_text(path: Path) -> str:
