@@ -248,7 +248,7 @@ def test_long_work_runs_aside_busy_then_superseded_by_an_edit(monkeypatch, tmp_p
     session = make_session("showcase", [str(tmp_path)])
     started, release = threading.Event(), threading.Event()
 
-    def held(world, mission, name, seed):  # a re-plan that finishes when the test says
+    def held(world, mission, name, seed, progress=None):  # a re-plan that finishes when the test says
         started.set()
         assert release.wait(120)
         return None, session.waypoints[::-1].copy()

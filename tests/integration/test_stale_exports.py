@@ -71,7 +71,8 @@ def test_a_mission_without_origin_leaves_no_geographic_file_of_the_last(tmp_path
     _run(out, 7, NO_ORIGIN, origin=None)
     assert main(["report", str(out)]) == 0
     assert not any((out / n).exists() for n in geo) and not set(geo) & written(out)
-    assert "mission.geojson, mission.kml, mission.plan, mission.gpx of an earlier run removed" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "mission.geojson, mission.kml, mission.plan, mission.gpx of an earlier run removed" in err
     assert _rows(out / "mission.csv") == 7
 
 

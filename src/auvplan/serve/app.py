@@ -10,6 +10,7 @@ the command line prints for the same input (status 400), never a traceback.
 * ``POST /api/edit`` ``{op, index, x, y, z}``; ``POST /api/undo``; ``POST /api/check`` ``{semantics, pitch}``;
 * ``POST /api/set`` ``{table, key, value}``; ``POST /api/open`` ``{scenario}``;
 * ``POST /api/survey`` ``{polygon}`` or ``{file}``; ``POST /api/plan`` ``{planner, seed}``; ``POST /api/fly``;
+  ``POST /api/stop`` (the running plan or flight stops at its next step: its request answers 409);
 * ``POST /api/keep`` ``{name}``; ``POST /api/choose`` ``{index}``; ``POST /api/save`` ``{name}``.
 """
 
@@ -35,7 +36,7 @@ from ..errors import AuvplanError
 from ..sim import RunRecord
 from .actions import editing, planning, scenario
 from .delta import Revisions, StaleRevision
-from .session import Busy, Session, Superseded, builtin_names
+from .session import Busy, Session, Stopped, Superseded, builtin_names
 
 __all__ = ["make_app", "page_state", "one_line", "bounded_body", "ClientGone", "MAX_BODY_BYTES", "LOCAL_HOSTS",
            "WRITER_THREADS"]
@@ -75,6 +76,8 @@ def one_line(exc: BaseException) -> str:
         text = f"{type(exc).__name__}: {text}" if text else type(exc).__name__
     if len(text) > MAX_ERROR_CHARS:  # a 4 MB planner name came back whole in the error (hostile round 20)
         text = f"{text[:MAX_ERROR_CHARS]}… ({len(text):,} characters)"
+    # a lone surrogate quoted (JSON's "\ud800") cannot be encoded: the answer failed, HTTP 500 (hostile round 22)
+    text = text.encode("utf-8", "backslashreplace").decode("utf-8")
     return f"auvplan: error: {text}"
 
 
@@ -300,6 +303,8 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
                 return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
             except Superseded as exc:  # long work overtaken by an edit: dropped, the edit stands
                 return JSONResponse({"error": one_line(exc), "superseded": True}, status_code=409)
+            except Stopped as exc:  # long work stopped on the page's request (/api/stop)
+                return JSONResponse({"error": one_line(exc), "stopped": True}, status_code=409)
             except Busy as exc:  # long work already running: refused at once, never queued
                 return JSONResponse({"error": one_line(exc), "busy": True}, status_code=503,
                                     headers={"Retry-After": "1"})
@@ -356,6 +361,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/plan", api(lambda d: planning.replan(session, d.get("planner") or None, d.get("seed"))
                                and None), methods=["POST"]),
         Route("/api/fly", api(lambda d: planning.fly(session)), methods=["POST"]),
+        Route("/api/stop", api(lambda d: planning.stop(session)), methods=["POST"]),
         Route("/api/keep", api(lambda d: editing.keep(session, d.get("name", "")) and None), methods=["POST"]),
         Route("/api/choose", api(lambda d: editing.choose(session, _index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),

@@ -45,7 +45,7 @@ from ..sim import Mission, SimResult, with_leg_speeds
 from ..sim.navigation import launch_flight
 from ..world import World
 
-__all__ = ["Session", "Candidate", "Busy", "Superseded", "EDITABLE_TABLES", "MAX_WAYPOINTS", "SIMPLIFY_M",
+__all__ = ["Session", "Candidate", "Busy", "Superseded", "Stopped", "EDITABLE_TABLES", "MAX_WAYPOINTS", "SIMPLIFY_M",
            "builtin_names", "nav_band"]
 
 _F64 = NDArray[np.float64]
@@ -69,6 +69,10 @@ class Busy(AuvplanError):
 
 class Superseded(AuvplanError):
     """Long work finished after a newer edit of the mission: its result is dropped (the edit wins)."""
+
+
+class Stopped(AuvplanError):
+    """Long work stopped on the page's request (:meth:`Session.stop`): nothing of it is kept."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,6 +117,7 @@ class Session:
         self.lock = threading.RLock()  # the state: held only to read or commit it, never while computing
         self.write_lock = threading.RLock()  # the writers of the mission, one at a time (each bounded)
         self._long = threading.Lock()  # long work, one at a time; a second is refused (Busy), never queued
+        self._stop = threading.Event()  # set by stop(): the running plan or flight raises Stopped at its next step
         self.busy_with = ""
         self.epoch = 0  # bumped on every change of the waypoints: long work started before one is dropped
         self.source = ""
@@ -169,13 +174,43 @@ class Session:
             The mission's epoch when the work started (:meth:`commit_if_current` drops it after a newer edit).
         """
         if not self._long.acquire(blocking=False):
-            raise Busy(f"busy: {self.busy_with or 'other work'} is running; try {what} again when it is done")
+            raise Busy(f"busy: {self.busy_with or 'other work'} is running; try {what} again when it is done, or "
+                       "stop it")
         self.busy_with = what
+        self._stop.clear()
         try:
             yield self.epoch
         finally:
             self.busy_with = ""
             self._long.release()
+
+    def stop(self) -> str:
+        """Ask the running long work to stop (a plan at its next iteration, a flight at its next simulated minute).
+
+        Hostile round 22: a plan or a flight within the command line's bounds may run for many minutes (a slow
+        vehicle over a long survey: 2·10⁷ time steps), and the page sends its requests one at a time: it waited
+        behind it, with no way to stop it but to kill the server.
+
+        Returns
+        -------
+        str
+            What was asked to stop ('' when nothing runs).
+        """
+        what = self.busy_with
+        if what:
+            self._stop.set()
+        return what
+
+    def stop_point(self, what: str) -> None:
+        """Raise :class:`Stopped` when :meth:`stop` was asked since the long work began (a progress callback).
+
+        Parameters
+        ----------
+        what : str
+            The work, for the message.
+        """
+        if self._stop.is_set():
+            raise Stopped(f"{what}: stopped on request; nothing of it was kept")
 
     def require_epoch(self, epoch: int, what: str) -> None:
         """Refuse to commit long work started before the mission's last change (the caller holds ``write_lock``).

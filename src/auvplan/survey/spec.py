@@ -29,8 +29,8 @@ class SurveySpec:
         A GeoJSON, KML, shapefile or GeoPackage (any GDAL vector format, any CRS) with the area's polygon
         instead.
     layer : str
-        The layer of ``file`` or ``centerline_file`` (default: the first); the largest polygon (the longest
-        line) of the layer is used.
+        The layer of ``file`` or ``centerline_file`` (needed when the file holds several; a file of one layer
+        needs none); the largest polygon (the longest line) of the layer is used.
     centerline : tuple of (lat, lon)
         A corridor's centre line (deg, WGS 84), instead of an area; needs ``width_m`` or ``widths_m``.
     centerline_xy : tuple of (x, y)

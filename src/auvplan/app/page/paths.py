@@ -23,6 +23,15 @@ class PathRefused(AuvplanError):
     """A path the page asked for that lies outside the served folders."""
 
 
+def _utf8(text: str) -> bool:
+    """Whether ``text`` is UTF-8 text (a lone surrogate is not)."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 @dataclass(frozen=True)
 class Roots:
     """The folders the server may read and write in.
@@ -141,7 +150,9 @@ class Roots:
         PathRefused
             For ``..`` parts, a path outside the folders (also through a link) or a missing file.
         """
-        if not isinstance(name, str) or not name.strip() or "\x00" in name or len(name) > 4096:
+        if not isinstance(name, str) or not name.strip() or "\x00" in name or len(name) > 4096 \
+                or not name.isprintable() or not _utf8(name):
+            # a lone surrogate (JSON's "\ud800") was 'UnicodeEncodeError: … surrogates not allowed' (hostile round 22)
             raise PathRefused(f"{str(name)[:80]!r}: not a file name")
         if ".." in PurePosixPath(name).parts or ".." in PureWindowsPath(name).parts:
             raise PathRefused(f"{name}: '..' is not allowed; name a file inside the served folders "

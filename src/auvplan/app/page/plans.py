@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -151,7 +152,8 @@ def plan_area(world: World, mission: Mission, doc: dict[str, Any], source: str,
                          f"{len(plan.lines.lines)} lines, {plan.length_m / 1e3:.1f} km")
 
 
-def replanned(world: World, mission: Mission, planner: str, seed: Any) -> tuple[PlanResult | None, _F64]:
+def replanned(world: World, mission: Mission, planner: str, seed: Any,
+              progress: Callable[[int, float], None] | None = None) -> tuple[PlanResult | None, _F64]:
     """Plan the mission from its start to its goal again, and build its executable mission.
 
     Parameters
@@ -162,6 +164,8 @@ def replanned(world: World, mission: Mission, planner: str, seed: Any) -> tuple[
         A registered planner.
     seed : int
         Seed >= 0.
+    progress : callable, optional
+        ``progress(iteration, best)`` of a swarm planner (the page's stop raises from it).
 
     Returns
     -------
@@ -175,14 +179,15 @@ def replanned(world: World, mission: Mission, planner: str, seed: Any) -> tuple[
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise AuvplanError(f"--seed {seed!r}: must be an integer >= 0")
     m = replace(mission, planner=replace(mission.planner, name=planner), route=())
-    plan, route = planned_route(world, m, seed)
+    plan, route = planned_route(world, m, seed, progress)
     if route is None:
         status = plan.status.value if plan is not None else "INFEASIBLE"
         raise AuvplanError(f"plan with {planner} seed {seed}: {status} — {plan.message if plan else ''}")
     return plan, route
 
 
-def flown(world: World, mission: Mission, waypoints: _F64, seed: int) -> SimResult:
+def flown(world: World, mission: Mission, waypoints: _F64, seed: int,
+          progress: Callable[[float, float], object] | None = None) -> SimResult:
     """Fly ``waypoints`` in the closed loop as ``auvplan run`` flies its mission.
 
     Parameters
@@ -193,6 +198,8 @@ def flown(world: World, mission: Mission, waypoints: _F64, seed: int) -> SimResu
         ``(N, 3)`` the mission (m).
     seed : int
         Seed of the simulation.
+    progress : callable, optional
+        ``progress(t, expected)`` every simulated minute (the page's stop raises from it).
 
     Returns
     -------
@@ -203,7 +210,8 @@ def flown(world: World, mission: Mission, waypoints: _F64, seed: int) -> SimResu
     from ...sim import simulate
 
     keys = key_waypoints(waypoints, world, mission.avoidance.collision_check)
-    return simulate(world, with_leg_speeds(world, mission, waypoints), route=waypoints, rng=seed, keys=keys)
+    return simulate(world, with_leg_speeds(world, mission, waypoints), route=waypoints, rng=seed, keys=keys,
+                    progress=progress)
 
 
 def nearest_leg(w: _F64, p: _F64) -> tuple[int, float]:

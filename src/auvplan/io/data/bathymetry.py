@@ -42,7 +42,7 @@ from .elevation import is_geotiff, read_elevation
 from .geo import LocalFrame
 from .grids import HorizontalGrid
 from .seabed_model import METHODS
-from .terrain_grid import terrain_from_grid, terrain_from_lonlat, terrain_from_xy
+from .terrain_grid import MAX_ELEVATION_M, terrain_from_grid, terrain_from_lonlat, terrain_from_xy
 
 __all__ = [
     "TerrainSpec",
@@ -53,6 +53,7 @@ __all__ = [
     "load_terrain",
     "BUILTIN_TERRAINS",
     "builtin_terrain_path",
+    "MAX_ELEVATION_M",
 ]
 
 _F64 = NDArray[np.float64]

@@ -17,6 +17,8 @@ scenario frame, and that ``auvplan data inspect`` prints.
 
 from __future__ import annotations
 
+import logging
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -32,7 +34,9 @@ from .ncfile import check_dims, open_dataset, variable_values
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["ElevationGrid", "read_elevation", "is_geotiff"]
+__all__ = ["ElevationGrid", "read_elevation", "is_geotiff", "length_factor"]
+
+log = logging.getLogger(__name__)
 
 _UP_STANDARD = {
     "height_above_mean_sea_level",
@@ -149,6 +153,55 @@ def _positive(da: xr.DataArray, positive: str) -> tuple[bool, str]:
     return False, "up (default: elevation)"
 
 
+_METRES = re.compile(r"^(m|metres?|meters?)$")
+"""Units that say metres (lower case)."""
+_METRES_AND = re.compile(r"^(m|metres?|meters?)[.\s(,;]")
+"""Metres followed by words (``m above mean sea level``, ``m (MSL)``, ``m.a.s.l.``)."""
+
+
+def length_factor(units: str, where: str) -> float:
+    """The factor from an elevation variable's (or a current file's depth axis's) ``units`` to metres.
+
+    Metres however written, and no units, are 1; a length pint's CF registry reads (``ft``, ``fathoms``, ``km``,
+    or such a unit followed by words) is converted (hostile round 22: a depth grid in feet was read as metres,
+    the seabed 3.28 times too deep); units of another quantity (``m s-1``, ``degC``, ``degrees``) are refused.
+    Text no registry reads is taken as metres, with a warning.
+
+    Parameters
+    ----------
+    units : str
+        The ``units`` attribute.
+    where : str
+        File and variable, for messages.
+
+    Returns
+    -------
+    float
+        Multiply the values by this to get metres.
+    """
+    text = units.strip()
+    low = text.lower()
+    if not text or text == "1" or _METRES.match(low) or (_METRES_AND.match(low) and not low.startswith("m ")):
+        return 1.0
+    from .ocean.currents import _unit_registry
+
+    ureg = _unit_registry()
+    for k, candidate in enumerate((text, low, re.split(r"[\s(]", low)[0])):
+        if k == 2 and _METRES.match(candidate):
+            return 1.0  # 'm above mean sea level': the words are not units
+        try:
+            q = ureg.Quantity(1.0, candidate)
+        except Exception:  # pint raises several types for text it cannot read
+            continue
+        if q.check("[length]"):
+            return float(q.to("m").magnitude)
+        if k < 2:
+            raise DataError(f"{where}: units {units!r} are not a length (dimension {q.dimensionality or 'angle'}); "
+                            "an elevation or depth is in metres, feet, fathoms …")
+    log.warning("%s: units %r are not units auvplan reads; taken as metres", where, units)
+    return 1.0
+
+
 def _open(path: Path, src: str) -> xr.Dataset:
     return open_dataset(path, "bathymetry", mask_and_scale=True, decode_times=False)  # faults diagnosed
 
@@ -194,11 +247,17 @@ def read_elevation(path: str | Path, *, variable: str = "", positive: str = "") 
         da = da.isel({d: 0 for d in extra}).transpose(rdim, cdim)
         z = variable_values(da, src)
         down, why = _positive(da, positive)
-    return _finish(grid, z, flip_r, flip_c, down, why, f"{path.name}:{var}", var, "NetCDF")
+        units = str(da.attrs.get("units", ""))
+    return _finish(grid, z, flip_r, flip_c, down, why, f"{path.name}:{var}", var, "NetCDF", units,
+                   f"{src}: variable {var!r}")
 
 
 def _finish(grid: HorizontalGrid, z: NDArray[np.float64], flip_r: bool, flip_c: bool, down: bool, why: str, name: str,
-            var: str, fmt: str) -> ElevationGrid:
+            var: str, fmt: str, units: str = "", where: str = "") -> ElevationGrid:
+    factor = length_factor(units, where or name)
+    if factor != 1.0:
+        z = z * factor
+        why = f"{why}; units {units.strip()!r}, × {factor:g} to metres"
     if flip_r:
         z = z[::-1]
     if flip_c:
@@ -232,7 +291,8 @@ def _read_gmt3(ds: xr.Dataset, path: Path, positive: str) -> ElevationGrid:
         x = x[0] + np.mod(x - x[0], 360.0)
     grid = HorizontalGrid(kind, y[::-1].copy(), x, None, "GMT 3 native: z(xysize), x_range/y_range/dimension")
     down, why = _positive(ds["z"], positive)
-    return _finish(grid, z.reshape(ny, nx), True, False, down, why, f"{path.name}:z", "z", "GMT 3 native NetCDF")
+    return _finish(grid, z.reshape(ny, nx), True, False, down, why, f"{path.name}:z", "z", "GMT 3 native NetCDF",
+                   str(ds["z"].attrs.get("units", "")), f"{src}: variable 'z'")
 
 
 def _read_geotiff(path: Path, positive: str) -> ElevationGrid:
@@ -253,6 +313,13 @@ def _read_geotiff(path: Path, positive: str) -> ElevationGrid:
         from pyproj import CRS
 
         pcrs = CRS.from_user_input(crs.to_wkt())
+        if not (pcrs.is_geographic or pcrs.is_projected):  # a pyproj traceback (engineering) or read as a map
+            raise DataError(f"{src}: crs {pcrs.name!r} ({pcrs.type_name}) is not longitude/latitude or a map "
+                            "projection: the grid has no place on the Earth's surface")
+        t = da.rio.transform()
+        if t.b or t.d:  # rioxarray then numbers the pixels 0, 1, 2 … as the coordinates (hostile round 22)
+            raise DataError(f"{src}: the GeoTIFF's grid is rotated or sheared (geotransform {tuple(t)[:6]}); auvplan "
+                            "reads north-up grids: warp it first (gdalwarp)")
         x = np.asarray(da["x"].values, dtype=float)
         y = np.asarray(da["y"].values, dtype=float)
         z = np.asarray(da.isel(band=0).values, dtype=float) if "band" in da.dims else np.asarray(da.values, float)

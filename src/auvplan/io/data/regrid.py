@@ -128,6 +128,8 @@ def _inside_ring(px: _F64, py: _F64, rect: tuple[float, float, float, float]) ->
     import shapely
 
     poly = shapely.Polygon(np.column_stack([px, py])).buffer(-1e-3)
+    if poly.is_empty:  # a footprint under a millimetre wide (axes 1e-12° apart): its centroid was a GEOS traceback
+        return rect  # the caller refuses it (an empty extent, or a cell far under the memory budget), naming it
     if rect[0] < rect[1] and rect[2] < rect[3] and poly.contains(shapely.box(rect[0], rect[2], rect[1], rect[3])):
         return rect
     cx, cy = poly.centroid.x, poly.centroid.y

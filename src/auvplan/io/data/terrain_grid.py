@@ -22,13 +22,31 @@ from .grids import HorizontalGrid, horizontal_grid
 from .regrid import data_span
 from .seabed_model import model_seabed
 
-__all__ = ["terrain_from_grid", "terrain_from_lonlat", "terrain_from_xy"]
+__all__ = ["MAX_ELEVATION_M", "terrain_from_grid", "terrain_from_lonlat", "terrain_from_xy"]
 
 _F64 = NDArray[np.float64]
 """Array of float64."""
 
 log = logging.getLogger("auvplan.io.data.bathymetry")
 """The reader's logger (:mod:`.bathymetry`): a clipped crop is its warning, under the name it always had."""
+
+
+MAX_ELEVATION_M = 12_000.0
+"""Largest elevation or depth a grid may hold, after its units (m): the Challenger Deep is 10 935 m deep, Everest
+8 849 m high (hostile round 22: a land cell filled with -1e30 that the file did not declare as its fill value was
+read as a seabed 10³⁰ m deep, and flown through)."""
+
+
+def _check_range(z: _F64, src: str, where: Callable[[int, int], str]) -> None:
+    """Refuse values no seabed or land on Earth has (an undeclared fill value, wrong units or scale_factor)."""
+    big = np.abs(np.where(np.isfinite(z), z, 0.0)) > MAX_ELEVATION_M
+    if big.any():
+        j, i = np.argwhere(big)[0]
+        n = int(big.sum())
+        raise DataError(f"{src}: elevation holds {float(z[j, i]):.6g} m (at {where(j, i)}; {n:,} such "
+                        f"value{'s' if n != 1 else ''}): beyond the {MAX_ELEVATION_M:,.0f} m of any seabed or land on "
+                        "Earth; declare it as the file's fill value (_FillValue, a GeoTIFF's nodata), or check the "
+                        "units and scale_factor")
 
 
 def _fill_nan(z: _F64, policy: str, src: str, where: Callable[[int, int], str]) -> _F64:
@@ -153,6 +171,7 @@ def terrain_from_grid(
     if grid.kind == "local":
         return terrain_from_xy(grid.cols, grid.rows, z, resample_m=resample_m, nan_policy=nan_policy, name=name,
                                method=method)
+    _check_range(z, name, where)
     z = _fill_nan(z, nan_policy, name, where)
     x, y, zz, fit = model_seabed(grid, z, frame, extent_m=extent_m, cell_m=resample_m or None, method=method,
                                  what=name)
@@ -233,6 +252,7 @@ def terrain_from_xy(x: ArrayLike, y: ArrayLike, elevation: ArrayLike, *, resampl
     if x.size > 1 and x[0] > x[-1]:
         x, z = x[::-1], z[:, ::-1]
     xs, ys = x, y  # the axes as arrays, for the message
+    _check_range(z, name, lambda j, i: f"x {xs[i]:.1f}, y {ys[j]:.1f}")
     z = _fill_nan(z, nan_policy, name, lambda j, i: f"x {xs[i]:.1f}, y {ys[j]:.1f}")
     step_x, step_y = np.diff(x), np.diff(y)
     uniform = x.size > 1 and y.size > 1 and np.allclose(step_x, step_x[0]) and np.allclose(step_y, step_y[0])

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..._types import Status
 from ...errors import DataError
-from ..files.jsonfile import read_json
+from ..files.jsonfile import MAX_SCENARIO_BYTES, read_bounded_text, read_json
 from ..files.limits import check_npz
 
 if TYPE_CHECKING:  # imported where a run is read back: a plan's writer needs only SIM_ARRAYS (issue 56)
@@ -65,7 +65,8 @@ def read_run(out_dir: Path) -> tuple[RunRecord, str]:
             from exc
     try:
         scenario_file = out / "scenario.toml"
-        text = scenario_file.read_text(encoding="utf-8") if scenario_file.is_file() else ""
+        text = read_bounded_text(scenario_file, MAX_SCENARIO_BYTES, "a scenario file") \
+            if scenario_file.is_file() else ""  # a 1.5 GB one was read whole (hostile round 22)
         return _record_from(rec, _Arrays(arr, files["run.npz"])), text
     except _ArrayFault as exc:
         raise DataError(f"{files['run.npz']}: {exc}") from exc

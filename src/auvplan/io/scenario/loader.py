@@ -31,13 +31,14 @@ import tomllib
 from pathlib import Path
 
 from ...errors import ScenarioError
-from ..files.jsonfile import source_base
+from ..files.jsonfile import MAX_SCENARIO_BYTES, source_base
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .specs import Scenario
 from .validate import from_dict
 
-__all__ = ["Scenario", "load", "loads", "build", "builtin_scenarios", "resolve", "from_dict"]
+__all__ = ["Scenario", "load", "loads", "scenario_text", "build", "builtin_scenarios", "resolve", "from_dict",
+           "MAX_SCENARIO_BYTES"]
 
 
 def load(scenario: str | Path) -> Scenario:
@@ -54,17 +55,45 @@ def load(scenario: str | Path) -> Scenario:
         The validated scenario.
     """
     path = resolve(scenario)
+    return loads(scenario_text(path), source=str(path), base_dir=source_base(path))
+
+
+
+def scenario_text(path: Path) -> str:
+    """The UTF-8 text of a scenario file, read only when it is at most :data:`MAX_SCENARIO_BYTES`.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+
+    Returns
+    -------
+    str
+        Its text.
+
+    Raises
+    ------
+    ScenarioError
+        Naming the file when it is larger, unreadable or not UTF-8.
+    """
+    data = b""
     try:
-        data = path.read_bytes()
+        size = path.stat().st_size
+        if size <= MAX_SCENARIO_BYTES:
+            with path.open("rb") as fh:
+                data = fh.read(MAX_SCENARIO_BYTES + 1)  # the size said is not trusted: it may grow while read
     except OSError as exc:
         raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from exc
+    if max(size, len(data)) > MAX_SCENARIO_BYTES:
+        raise ScenarioError(f"{path}: {max(size, len(data)):,} bytes, over the {MAX_SCENARIO_BYTES:,} a scenario "
+                            "file may have (the largest built-in has 6,552): is it the scenario?")
     try:
-        text = data.decode("utf-8")
+        return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         raise ScenarioError(f"{path}: line {line}: not UTF-8 text (byte 0x{data[exc.start]:02x} at offset "
                             f"{exc.start}); save the scenario as UTF-8") from exc
-    return loads(text, source=str(path), base_dir=source_base(path))
 
 
 def loads(text: str, source: str = "<string>", base_dir: Path | None = None) -> Scenario:

@@ -35,6 +35,7 @@ __all__ = [
     "BoundsSpec",
     "SyntheticTerrainSpec",
     "CurrentsSpec",
+    "MAX_VORTICES",
     "VortexSpec",
     "MissionSpec",
     "GuidanceSpec",
@@ -163,6 +164,11 @@ class VortexSpec:
             raise ValueError(f"delta = {self.delta}: the core radius must be positive")
 
 
+MAX_VORTICES = 100
+"""Most ``[currents] vortices`` (hostile round 22: 100 000 of them validated in 5 s, then ``plan`` ran for hours —
+every current sample sums them all)."""
+
+
 @dataclass(frozen=True)
 class CurrentsSpec:
     """Current field: uniform, a sum of Lamb–Oseen vortices, a NetCDF file, or tidal stations
@@ -201,6 +207,11 @@ class CurrentsSpec:
         if isinstance(self.file, str):  # file = "x.nc" is short for file = { path = "x.nc" }
             object.__setattr__(self, "file", CurrentsFileSpec(path=self.file))
         kinds = int(any(self.uniform)) + int(bool(self.vortices)) + int(self.file is not None) + int(bool(self.tides))
+        if len(self.vortices) > MAX_VORTICES:  # each is summed at every point asked: 10⁵ planned for hours
+            raise ValueError(f"vortices: {len(self.vortices):,} vortices, over the {MAX_VORTICES} a scenario may hold "
+                             "(each is summed at every point the planners and the flight ask for the current: 1 000 "
+                             "took 45 s to plan a 5-iteration swarm, 100 000 hours); give a richer field as a current "
+                             "file")
         if kinds > 1:
             raise ValueError("give only one of 'uniform', 'vortices', 'file' and 'tides'")
         named = [m.name for m in self.members if m.name]

@@ -2,7 +2,8 @@
 
 Each runs aside (:meth:`~auvplan.serve.session.Session.long_work`: a second one is answered ``busy`` at
 once) with no lock held while it computes; its result is committed only if the mission was not edited
-meanwhile (:meth:`~auvplan.serve.session.Session.require_epoch`: else it is dropped, the edit wins).
+meanwhile (:meth:`~auvplan.serve.session.Session.require_epoch`: else it is dropped, the edit wins).  A plan
+or a flight stops at its next step when the page asks (:func:`stop`, ``POST /api/stop``).
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from ...app.page.plans import flown, plan_area, replanned, survey_table
 from ...io.files import limits as _limits
 from ..session import Session
 
-__all__ = ["survey", "plan_survey", "replan", "fly"]
+__all__ = ["survey", "plan_survey", "replan", "fly", "stop"]
 
 
 def survey(session: Session, polygon_xy: Any = None, file: str | None = None) -> CheckResult:
@@ -99,7 +100,8 @@ def replan(session: Session, planner: str | None = None, seed: int | None = None
             world, mission = session.require()
             name = planner or mission.planner.name
             s = (session.sc.seed if session.sc else 0) if seed is None else seed
-        plan, route = replanned(world, mission, name, s)
+        plan, route = replanned(world, mission, name, s,
+                                lambda *_: session.stop_point(f"the plan with {name} seed {s}"))
         with session.write_lock:
             session.require_epoch(epoch, f"the plan with {name}")
             with session.lock:
@@ -122,7 +124,23 @@ def fly(session: Session) -> None:
             world, mission = session.require()
             w = session.waypoints.copy()
             seed = session.sc.seed if session.sc else 0
-        sim = flown(world, mission, w, seed)
+        sim = flown(world, mission, w, seed, lambda *_: session.stop_point("the flight"))
         with session.lock:
             session.flight, session.flight_of = sim, w
         session.record("fly", f"flew the mission: {sim.status.value}")
+
+
+def stop(session: Session) -> dict[str, str]:
+    """Stop the running plan or flight (:meth:`~auvplan.serve.session.Session.stop`); its request answers 409.
+
+    Parameters
+    ----------
+    session : Session
+        The page's state.
+
+    Returns
+    -------
+    dict
+        ``stopping``: what was asked to stop ('' when nothing ran).
+    """
+    return {"stopping": session.stop()}

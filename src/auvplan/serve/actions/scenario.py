@@ -64,7 +64,7 @@ def open_scenario(session: Session, target: str) -> None:
         else:
             from ...io.files.jsonfile import source_base
 
-            text = path.read_text(encoding="utf-8") if path.is_file() else ""
+            text = scenario_io.scenario_text(path) if path.is_file() else ""  # bounded: not a 1.5 GB read
             # what the loader reads, before it does, against the folder it reads from (a results folder's
             # scenario.toml: the original scenario's folder its source.json names)
             session.roots.confine_text(text, str(path), source_base(path) if path.is_file() else path.parent)

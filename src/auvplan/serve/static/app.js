@@ -339,6 +339,9 @@ $("plan").onclick = () => {
   call("/api/plan", { planner: $("planner").value.trim() || null, seed: seed === "" ? null : Number(seed) });
 };
 $("fly").onclick = () => call("/api/fly", {});
+// not queued: the plan or flight it stops is the request the queue is waiting on (its answer then says "stopped")
+$("stop").onclick = () => fetch("/api/stop", { method: "POST", headers: { "Content-Type": "application/json" },
+                                               body: "{}" });
 $("keep").onclick = () => call("/api/keep", {});
 $("save").onclick = () => call("/api/save", { name: $("save-name").value.trim() });
 

@@ -279,6 +279,11 @@ def _z_axis(ds: xr.Dataset, zdim: str, src: str) -> NDArray[np.float64]:
     if var is None:
         raise DataError(f"{src}: depth dimension {zdim!r} has no coordinate values")
     zv = np.asarray(var.values, dtype=float)
+    units = str(var.attrs.get("units", ""))
+    if not units.strip().lower().startswith(("dbar", "decibar")):  # a pressure axis: 1 dbar ~ 1 m of sea water
+        from ..elevation import length_factor  # levels in km or feet were read as metres (hostile round 22)
+
+        zv = zv * length_factor(units, f"{src}: depth axis {zdim!r}")
     attrs = {k: str(v).lower() for k, v in var.attrs.items()}
     pos = attrs.get("positive", "")
     std = attrs.get("standard_name", "")

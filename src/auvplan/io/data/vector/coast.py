@@ -46,7 +46,7 @@ class LandSpec:
     file : str
         Vector file (relative paths are resolved against the scenario's folder).
     layer : str
-        Layer of a multi-layer file (GeoPackage); the first layer when empty.
+        Layer of a multi-layer file (GeoPackage): needed when the file holds several (one layer: none).
     """
 
     builtin: str = ""

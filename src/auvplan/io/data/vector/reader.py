@@ -60,6 +60,31 @@ class VectorLayer:
         return [g for g in self.geometries if g is not None and not g.is_empty]
 
 
+def _geometries(wkb: np.ndarray, src: str, error: type[Exception]) -> np.ndarray:
+    """The features' geometries: one GEOS cannot build (an unclosed ring, GDAL only warns) refused naming the
+    feature, and the empty parts of a multi-part geometry dropped (GEOS's ``segmentize`` of a MultiPolygon with an
+    empty part crashed the process: hostile round 22)."""
+    from shapely.errors import GEOSException
+
+    with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
+        try:
+            geoms = np.asarray(shapely.from_wkb(wkb), dtype=object)
+        except GEOSException:  # the first feature GEOS refuses, by its number in the file
+            for k, one in enumerate(wkb):
+                try:
+                    shapely.from_wkb(one)
+                except GEOSException as exc:
+                    raise error(f"{src}: feature #{k + 1}: not a geometry GEOS reads ({exc})") from None
+            raise
+    for k, g in enumerate(geoms):
+        if g is not None and shapely.get_type_id(g) in (4, 5, 6, 7) and not g.is_empty:
+            parts = shapely.get_parts(g)
+            empty = shapely.is_empty(parts)
+            if empty.any():
+                geoms[k] = type(g)(list(parts[~empty]))
+    return geoms
+
+
 def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = "", where: str = "",
                 fields: bool = False) -> VectorLayer:
     """Read one layer of a vector file.
@@ -96,13 +121,19 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
         # GDAL kept off the network; its warnings one line each, not Python's two
         with offline(), warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
-            # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers test
-            # the filter on the fields asked for, and no field asked for matched no feature
-            meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
-                                                     read_geometry=True, columns=None if fields or where else [])
+            layers = [] if layer else [(str(n), g) for n, g in pyogrio.list_layers(path)]
+            if len(layers) <= 1:
+                # with an attribute filter the columns are read: GDAL's shapefile, FlatGeobuf and FileGDB drivers
+                # test the filter on the fields asked for, and no field asked for matched no feature
+                meta, _, wkb, columns = pyogrio.raw.read(path, layer=layer or None, where=where or None,
+                                                         read_geometry=True, columns=None if fields or where else [])
     except Exception as exc:  # GDAL raises several types for unreadable files, layers and filters
         raise error(f"{src}: cannot read as a vector file{f' (layer {layer!r})' if layer else ''}"
                     f"{f' where {where!r}' if where else ''} ({str(exc).splitlines()[0]})") from exc
+    if len(layers) > 1:  # the first alone was read: an S-57 chart's DSID record, no feature (hostile round 22)
+        listed = ", ".join(f"{n} ({g or 'no geometry'})" for n, g in layers[:12]) + (", …" if len(layers) > 12 else "")
+        raise error(f"{src}: the file holds {len(layers)} layers ({listed}); name the one to read with layer = "
+                    "'…' (for an S-57 chart the object class: CBLSUB, WRECKS, OBSTRN …)")
     for w in said:
         log.warning("%s: %s", src, " ".join(str(w.message).split()))
     from pyproj import CRS  # where a file is projected (issue 56)
@@ -112,8 +143,10 @@ def read_vector(path: Path, src: str, error: type[Exception], *, layer: str = ""
     except Exception as exc:  # pyproj's CRSError
         raise error(f"{src}: crs {meta.get('crs')!r} is not usable ({exc})") from exc
     check_geojson_crs(path, src, error, crs)  # a GeoJSON crs GDAL could not build is read as WGS 84, silently
-    with np.errstate(invalid="ignore"):  # a NaN coordinate is the caller's to refuse, by feature
-        geoms = shapely.from_wkb(wkb) if wkb is not None else np.empty(0, dtype=object)
+    if not (crs.is_geographic or crs.is_projected):  # pyproj's traceback (engineering), or read as a map (geocentric)
+        raise error(f"{src}: crs {crs.name!r} ({crs.type_name}) is not longitude/latitude or a map projection: its "
+                    "features have no place on the Earth's surface")
+    geoms = _geometries(wkb, src, error) if wkb is not None else np.empty(0, dtype=object)
     names = [str(n) for n in meta.get("fields", [])]
     return VectorLayer(np.asarray(geoms, dtype=object), crs, dict(zip(names, columns, strict=True)) if fields else {},
                        bool(meta.get("crs")))

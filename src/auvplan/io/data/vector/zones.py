@@ -71,9 +71,16 @@ def _read_features(spec: ZoneSpec, frame: LocalFrame | None, path: Path, box: An
     def project(xy: np.ndarray) -> np.ndarray:
         if frame is None:
             return xy
-        lon, lat = to_geo.transform(xy[:, 0], xy[:, 1])
-        x, y = frame.forward(lon, lat)
-        return np.column_stack([x, y])
+        with np.errstate(invalid="ignore", over="ignore"):  # a coordinate with no place: refused below
+            lon, lat = to_geo.transform(xy[:, 0], xy[:, 1])
+            x, y = frame.forward(lon, lat)
+        out = np.column_stack([x, y])
+        bad = ~np.isfinite(out).all(axis=1)
+        if bad.any():  # projected to inf: GEOS then refused the ring (a traceback, hostile round 22)
+            k = int(np.argmax(bad))
+            raise DataError(f"{src}: feature {tag!r}: ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}) in its CRS has no place in "
+                            "the local frame (it projects to no point on the Earth)")
+        return out
 
     window = _lonlat_window(frame, box, spec.buffer_m + spec.radius_m) if crs.is_geographic and frame else None
     out = []

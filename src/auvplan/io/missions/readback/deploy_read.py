@@ -259,7 +259,14 @@ def _csv(text: str) -> FileDeploy:
     def col(k: str) -> NDArray[np.float64]:
         return np.array([float(r[k]) if r.get(k) not in (None, "") else np.nan for r in rows])
 
-    datum = csv_datum(col("lat"), col("lon"), col("x"), col("y")) if "lat" in rows[0] else None
+    datum = None
+    if "lat" in rows[0]:
+        lat, lon = col("lat"), col("lon")
+        far = (np.abs(lat) > 90.0) | (np.abs(lon) > 540.0)  # 1e308 reached the frame: numpy's warnings, then an error
+        if far.any():
+            k = int(np.argmax(far))
+            raise ValueError(f"line {k + 2}: lat = {lat[k]:.6g}, lon = {lon[k]:.12g}: not a latitude/longitude")
+        datum = csv_datum(lat, lon, col("x"), col("y"))
     events = []
     if "payload" in rows[0]:
         p = np.array([r["payload"].strip() == "1" for r in rows])
@@ -285,22 +292,37 @@ def read_deploy(path: str | Path) -> FileDeploy:
     path = Path(path)
     fmt = MISSION_SUFFIXES.get(path.suffix.lower())
     text = path.read_text(encoding="utf-8")
+    readers = {"moos": lambda: _moos(text), "qgc": lambda: _qgc(parsed.loads(text)), "ros": lambda: _yaml(text),
+               "geojson": lambda: _geojson(parsed.loads(text)), "kml": lambda: _kml(text), "csv": lambda: _csv(text)}
     try:
-        if fmt == "moos":
-            return _moos(text)
-        if fmt == "qgc":
-            return _qgc(parsed.loads(text))
-        if fmt == "ros":
-            return _yaml(text)
-        if fmt == "geojson":
-            return _geojson(parsed.loads(text))
-        if fmt == "kml":
-            return _kml(text)
-        if fmt == "csv":
-            return _csv(text)
-    except (ValueError, KeyError, TypeError, AttributeError, IndexError, ET.ParseError) as exc:
+        if fmt in readers:
+            return _numbers(readers[fmt](), path)
+    except (ValueError, KeyError, TypeError, AttributeError, IndexError, OverflowError, ET.ParseError) as exc:
         raise DataError(f"{path}: the datum, envelope or payload events cannot be read ({exc})") from exc
     return FileDeploy()
+
+
+def _numbers(info: FileDeploy, path: Path) -> FileDeploy:
+    """Refuse a datum, envelope polygon or limit that is not a finite number (hostile round 22: a NaN
+    ``max_depth_m`` was 'envelope OK — max_depth_m nan'; a vertex of 1e308 gave numpy's warnings, then a verdict)."""
+    if info.datum is not None and not (all(map(math.isfinite, info.datum)) and abs(info.datum[0]) <= 90.0
+                                       and abs(info.datum[1]) <= 540.0):
+        raise DataError(f"{path}: datum lat {info.datum[0]!r}, lon {info.datum[1]!r}: not a latitude/longitude")
+    for key, value in info.limits.items():
+        if not (math.isfinite(value) and value >= 0.0):
+            raise DataError(f"{path}: envelope {key} = {value!r}: expected a finite number >= 0")
+    for what, rings in (("polygon", [] if info.polygon is None else [info.polygon]),
+                        ("exclusion", info.exclusions), ("inclusion", info.inclusions)):
+        for ring in rings:
+            xy = np.asarray(ring, dtype=float).reshape(-1, 2)
+            far = ~np.isfinite(xy).all(axis=1) | (np.abs(xy) > (1e8 if not info.geographic else 540.0)).any(axis=1)
+            if info.geographic:
+                far |= np.abs(xy[:, 0]) > 90.0
+            if far.any():
+                k = int(np.argmax(far))
+                raise DataError(f"{path}: envelope {what}: vertex {k} = ({xy[k, 0]:.6g}, {xy[k, 1]:.6g}): "
+                                f"not {'a latitude/longitude' if info.geographic else 'a position in metres'}")
+    return info
 
 
 def check_deploy(path: str | Path, origin: tuple[float, float] | None, waypoints: NDArray[np.float64],
