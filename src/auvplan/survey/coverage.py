@@ -327,7 +327,10 @@ def lawnmower(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: fl
     g = grid_m or (max(x1 - x0, y1 - y0) if frame is None else math.sqrt(area.area)) / 100.0
     gx, gy = np.meshgrid(np.arange(x0, x1 + g, g), np.arange(y0, y1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
-    zb = seabed(gx[inside], gy[inside])
+    # the boundary too: a strip narrower than the grid holds no grid node (np.max of nothing: a ValueError out of
+    # `auvplan survey` on a 1.6 km x 12 m strip), and the shallowest water is often on the edge
+    ring = shapely.get_coordinates(shapely.segmentize(area.boundary, g))
+    zb = seabed(np.r_[gx[inside], ring[:, 0]], np.r_[gy[inside], ring[:, 1]])
     top = float(np.max(zb))
     height = sensor.altitude_m if sensor.mounting == "auv" else surface_z - top
     reach = float(sensor.flat_reach(height))
