@@ -248,7 +248,8 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     lim = 0.98 * frame.n_limit
     n_range = (max(float(np.nanmin(lines.area_lo)) - 3.0 * wmax - 100.0, -lim),
                min(float(np.nanmax(lines.area_hi)) + 3.0 * wmax + 100.0, lim))
-    spans = [cut_spans(f, lines.stations, frame, n_range) for f in fps]
+    spans = [cut_spans(f, _inside_ends(lines.stations, ln.first, ln.last), frame, n_range)
+             for f, ln in zip(fps, lines.lines, strict=False)]
     lo, hi = lines.area_lo, lines.area_hi
     side = lines.lines[0].gap_left is not None if lines.lines else False
     overlap = []
@@ -268,6 +269,21 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
         keep = inside & both & np.isfinite(eta)
         overlap.append(eta[keep])
     return Coverage(cover, overlap, gaps, fps, float(area.area), whole - float(area.area))
+
+
+def _inside_ends(s: NDArray[np.float64], first: int, last: int) -> NDArray[np.float64]:
+    """The stations, the line's first and last a thousandth of a station inside it.
+
+    Without a run-in a line's footprint ends on the cut across the track at its end stations, and shapely's cut
+    along that edge returns a part of it (``run_in_m = 0``: a least overlap of 13 % and a greatest of 193 % read
+    for lines placed at 50 % and 10 %); a hair inside, the cut crosses the footprint.
+    """
+    out = np.array(s, dtype=float)
+    if last > first:
+        nudge = 1e-3 * (out[first + 1] - out[first])
+        out[first] += nudge
+        out[last] -= nudge
+    return out
 
 
 @dataclass(frozen=True)
