@@ -119,3 +119,44 @@ def test_overlap_measured_at_the_lines_ends_without_run_ins(heading_deg):
         assert got.size >= want.size - 2
         assert got.min() == pytest.approx(want.min(), abs=0.005) and got.max() == pytest.approx(want.max(), abs=0.005)
     assert cov.coverage_pct >= 99.99  # (without run-ins a corner of a few m² at a slanted edge is left)
+
+
+def test_one_swath_wider_than_a_strip_is_centred_on_it():
+    """A 4 km x 60 m strip over a flat seabed 100 m deep, lines along it: one 120° swath reaches 173 m either side,
+    so one line covers it, and it belongs on the strip's middle (y = 30 m).  The first line was placed 'as far in as
+    it can be with its swath still reaching the area's edge': 173 m north of the strip's south edge, 113 m outside
+    the area the operator drew (over whatever lies there)."""
+    from auvplan.survey.lines.placement import LineParams
+
+    area = shapely.box(0.0, 0.0, 4000.0, 60.0)
+    lines, cov = _lines_measured(_flat(100.0), area, Sensor("multibeam", 120.0), math.radians(90.0),
+                                 LineParams(0.1, 0.2, station_m=50.0, step_m=2.0))
+    assert len(lines.lines) == 1 and lines.complete
+    np.testing.assert_allclose(lines.waypoints(0)[:, 1], 30.0, atol=1e-3)
+    assert cov.coverage_pct == pytest.approx(100.0, abs=1e-6)
+
+
+def test_a_corridor_narrower_than_the_swath_is_surveyed_along_its_centre_line():
+    """A 50 m pipeline corridor bending by 49° and 41° in 100 m of water (a 346 m swath): one line, which belongs on
+    the centre line (within 5 m: a bend's outer wedge moves
+    the corridor's middle out).  It was placed 120-148 m off it (`survey`: 59-204 m with the run-ins), beyond the 59 m where the
+    corridor's frame is one to one, so it looped at the bends (a 155° turn between two stations 25 m apart, a least
+    turn radius of 5 m for a 10 m vehicle, status EXACT) and left a 584 m² gap.  Oracles: shapely's distance to the
+    rounded centre line, ``is_simple``, and the coverage of the corridor by the swath's footprint."""
+    from auvplan.survey.coverage import footprints, measure
+    from auvplan.survey.lines.corridor import build_corridor
+    from auvplan.survey.lines.placement import LineParams, place_lines
+
+    pts = np.array([[0.0, 0.0], [2000.0, 0.0], [3300.0, 1500.0], [4800.0, 1500.0]])
+    corridor = build_corridor(pts, np.array([50.0]), 60.0)
+    sensor, lp = Sensor("multibeam", 120.0), LineParams(0.1, 0.2, station_m=25.0, step_m=2.0)
+    lines = place_lines(_flat(100.0), corridor.area, sensor, corridor.frame.heading, lp, corridor.frame)
+    assert len(lines.lines) == 1 and lines.complete
+    w = lines.waypoints(0)
+    # on the centre line, but at a bend the corridor holds the given line's outer wedge too, so its middle moves out
+    assert shapely.distance(shapely.points(w[:, :2]), corridor.frame.line).max() < 5.0
+    assert shapely.contains_xy(corridor.area, w[1:-1, 0], w[1:-1, 1]).all()
+    assert shapely.LineString(w[:, :2]).is_simple
+    right = corridor.frame.right(corridor.frame.to_sn(w[:, 0], w[:, 1])[0])
+    fps = footprints(_flat(100.0), sensor, w, right, np.zeros(len(w), dtype=np.int64), 1, lp.step_m)
+    assert measure(corridor.area, lines, fps).coverage_pct >= 99.99

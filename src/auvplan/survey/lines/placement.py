@@ -11,7 +11,9 @@ to the right (:func:`auvplan.survey.lines.swath.swath_reach`, fans across ``n``)
 
 Placement (greedy, edge to edge):
 
-1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered);
+1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered); where that
+   swath reaches past ``hi_k`` too (one swath wider than the area), midway between it and the smallest offset
+   whose swath still reaches ``hi_k``;
 2. each next line's largest offset ``c_k^max`` with an overlap ``>= overlap_min`` against the swath in
    front at that station (bisection over ``c``, the seabed re-read under the new swath at each trial);
 3. the line is the largest function under ``c^max`` whose slope stays within ``tan(max_bend_deg)``
@@ -161,14 +163,24 @@ def _cross_sections(area: shapely.Polygon, s: NDArray[np.float64],
     return lo, hi
 
 
-def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64],
+def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64], hi: NDArray[np.float64],
                 step: float) -> NDArray[np.float64]:
-    """Largest offsets of the first line at the stations ``st``."""
+    """Largest offsets of the first line at the stations ``st``; a multibeam's, where its swath reaches across the
+    whole cross-section ``[lo, hi]``, centred between the offsets that reach the two edges."""
     left, _, gl, gr = pl.trial(st, lo)
     if pl.sensor.gap is not None:
         pad = 1.0 + float(np.max(np.abs(gr - gl))) + 10.0 * step
         return _bisect_max(pl.first_bound(st, lo), lo - pad, lo + pad)
-    return _bisect_max(pl.first_bound(st, lo), lo, lo + 1.0 + 2.0 * float(np.max(left)) + 10.0 * step)
+    pad = 1.0 + 2.0 * float(np.max(left)) + 10.0 * step
+    cmax = _bisect_max(pl.first_bound(st, lo), lo, lo + pad)
+    # one swath wider than the area there: its offset as far in as the left edge allows put the line up to a swath
+    # outside the area (a 50 m corridor in 100 m of water: 148 m off the centre line, looping at its bends); the
+    # smallest offset whose right edge still reaches ``hi`` (``cmax`` itself where it does not reach) and the middle
+
+    def reaches(c: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(hi - (c + pl.hold * pl.trial(st, c)[1]))
+
+    return 0.5 * (cmax + _bisect_max(reaches, np.minimum(hi, lo) - pad - (cmax - lo), cmax))
 
 
 def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: float,
@@ -219,7 +231,7 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         st = s[idx]
         cmax = np.full(k, np.inf)
         if not lines:
-            cmax[idx] = _first_line(pl, st, lo[idx], params.step_m)
+            cmax[idx] = _first_line(pl, st, lo[idx], hi[idx], params.step_m)
         else:
             at = {key: v[idx] for key, v in prev.items()}
             span = 3.0 * float(np.nanmax(at["left"] + at["right"])) + 10.0 * params.step_m
