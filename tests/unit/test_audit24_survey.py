@@ -138,10 +138,10 @@ def test_one_swath_wider_than_a_strip_is_centred_on_it():
 
 def test_a_corridor_narrower_than_the_swath_is_surveyed_along_its_centre_line():
     """A 50 m pipeline corridor bending by 49° and 41° in 100 m of water (a 346 m swath): one line, which belongs on
-    the centre line (within 5 m: a bend's outer wedge moves
-    the corridor's middle out).  It was placed 120-148 m off it (`survey`: 59-204 m with the run-ins), beyond the 59 m where the
-    corridor's frame is one to one, so it looped at the bends (a 155° turn between two stations 25 m apart, a least
-    turn radius of 5 m for a 10 m vehicle, status EXACT) and left a 584 m² gap.  Oracles: shapely's distance to the
+    the centre line (within 5 m: a bend's outer wedge moves the corridor's middle out).  It was placed 120-148 m off it
+    (`survey`: 59-204 m with the run-ins), beyond the 59 m where the corridor's frame is one to one, so it looped at
+    the bends (a 155° turn between two stations 25 m apart, a least turn radius of 5 m for a 10 m vehicle, status
+    EXACT) and left a 584 m² gap.  Oracles: shapely's distance to the
     rounded centre line, ``is_simple``, and the coverage of the corridor by the swath's footprint."""
     from auvplan.survey.coverage import footprints, measure
     from auvplan.survey.lines.corridor import build_corridor
