@@ -160,3 +160,44 @@ def test_a_corridor_narrower_than_the_swath_is_surveyed_along_its_centre_line():
     right = corridor.frame.right(corridor.frame.to_sn(w[:, 0], w[:, 1])[0])
     fps = footprints(_flat(100.0), sensor, w, right, np.zeros(len(w), dtype=np.int64), 1, lp.step_m)
     assert measure(corridor.area, lines, fps).coverage_pct >= 99.99
+
+
+def _radii(p):  # noqa: ANN001, ANN202
+    """Radii of the circles through consecutive waypoints (inf on a straight)."""
+    a, b, c = p[:-2, :2], p[1:-1, :2], p[2:, :2]
+    cross = np.abs((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
+    prod = np.linalg.norm(b - a, axis=1) * np.linalg.norm(c - b, axis=1) * np.linalg.norm(a - c, axis=1)
+    return np.where(cross > 1e-12, prod / np.maximum(2.0 * cross, 1e-300), np.inf)
+
+
+@pytest.mark.parametrize(("width", "bend", "sensor"), [
+    (50.0, 60.0, Sensor("sidescan", range_m=150.0, mounting="auv", altitude_m=15.0)),
+    (400.0, 250.0, Sensor("multibeam", 120.0)),  # bend_radius_m given, under the default 410 m
+])
+def test_corridor_lines_stay_where_the_frame_is_one_to_one(width, bend, sensor):
+    """Each next line goes as far out as the overlap allows; past the corridor's far edge that put the last line
+    beyond ``n_limit`` (0.98 of the bend radius), where a parallel of the rounded centre line folds over itself at a
+    bend: a side-scan's second line 108 m off a 50 m corridor's centre line (limit 59 m), a multibeam's last line
+    285 m off a 400 m corridor rounded to 250 m (limit 245 m).  The last line now goes no further out than it must to
+    finish the corridor where the greedy offset is past the limit.  Oracles: ``is_simple``, the radius of the circles
+    through consecutive waypoints (>= the 10 m vehicle's), the coverage of the footprints (side-scan gaps included)."""
+    from auvplan.survey.coverage import footprints, measure
+    from auvplan.survey.lines.corridor import build_corridor
+    from auvplan.survey.lines.placement import LineParams, place_lines
+
+    pts = np.array([[0.0, 0.0], [2000.0, 0.0], [3300.0, 1500.0], [4800.0, 1500.0]])
+    corridor = build_corridor(pts, np.array([width]), bend)
+    lp = LineParams(0.1, 0.2, station_m=25.0, step_m=2.0)
+    lines = place_lines(_flat(100.0), corridor.area, sensor, corridor.frame.heading, lp, corridor.frame)
+    assert lines.complete
+    pts_all, lab = [], []
+    for k in range(len(lines.lines)):
+        w = lines.waypoints(k)
+        assert shapely.LineString(w[:, :2]).is_simple
+        assert _radii(w).min() >= 10.0
+        pts_all.append(w)
+        lab.append(np.full(len(w), k))
+    route = np.vstack(pts_all)
+    right = corridor.frame.right(corridor.frame.to_sn(route[:, 0], route[:, 1])[0])
+    fps = footprints(_flat(100.0), sensor, route, right, np.concatenate(lab), len(pts_all), lp.step_m)
+    assert measure(corridor.area, lines, fps).coverage_pct >= 99.9

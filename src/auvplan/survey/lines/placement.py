@@ -183,6 +183,27 @@ def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64], h
     return 0.5 * (cmax + _bisect_max(reaches, np.minimum(hi, lo) - pad - (cmax - lo), cmax))
 
 
+def _finishing(pl: _Placer, st: NDArray[np.float64], hi: NDArray[np.float64], floor: NDArray[np.float64],
+               cmax: NDArray[np.float64], limit: float) -> NDArray[np.float64]:
+    """``cmax`` with the offsets past ``limit`` brought in to the furthest offset any station needs to finish its
+    cross-section at ``hi`` (a line brought in keeps every overlap: it only grows; one level for all, so the bend
+    limit's envelope cannot pull a station that needs more, a bend's outer wedge, short of finishing)."""
+
+    def done(c: NDArray[np.float64]) -> NDArray[np.bool_]:
+        _, right, gl, gr = pl.trial(st, c)
+        return np.asarray((c + 0.5 * (gr - gl) if pl.sensor.gap is not None else c + pl.hold * right) >= hi)
+
+    a, b = np.minimum(floor, cmax), cmax.copy()
+    ok = done(b)
+    if not ok.any():
+        return cmax
+    for _ in range(40):  # the finishing side of the bracket: a line a hair short of hi would leave the station to do
+        m = 0.5 * (a + b)
+        fin = done(m)
+        a, b = np.where(fin, a, m), np.where(fin, m, b)
+    return np.where(cmax > limit, np.minimum(cmax, float(np.max(b[ok]))), cmax)
+
+
 def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: float,
                 params: LineParams, frame: Frame | None = None) -> SurveyLines:
     """Place the depth-adaptive lines of a survey of ``area`` along ``heading`` (or along a frame).
@@ -240,6 +261,8 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
                 m = nav_margin(fr, s, lines[-1], len(lines) % 2 == 1, params, span)[idx]
                 margin[idx] = np.where(np.isfinite(m), m, np.nanmax(m, initial=0.0))  # (an older line's stations)
             cmax[idx] = _bisect_max(pl.next_bound(st, at, margin[idx]), at["c"], at["c"] + span)
+        if (cmax[idx] > fr.n_limit).any():  # past where a corridor's frame is one to one: its parallel folds at a bend
+            cmax[idx] = _finishing(pl, s[idx], hi[idx], prev["c"][idx] if lines else lo[idx], cmax[idx], fr.n_limit)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
         z = pl.depth_profile(c, first, last)
         left, right, gl, gr = (np.full(k, np.nan) for _ in range(4))
