@@ -357,8 +357,10 @@ def _lines_for_flight(world: World, mission: Mission, params: SurveyParams, seab
     rel, turn = nav_spacing(mission.navigation, params)  # issue 52: adjacent lines' relative error
     speed, hours = mission.vehicle.speed, 12.0
     for _ in range(4):
+        auv = params.sensor.mounting == "auv"  # the current where the sensor flies: at its altitude, or the surface
         margin = crab_margin(world.currents, params.area, surface_z, speed, params.frame, heading,
-                             0.5 * (1.0 - params.lines.overlap_min), hours) if params.hold_overlap else 0.0
+                             0.5 * (1.0 - params.lines.overlap_min), hours, seabed if auv else None,
+                             params.sensor.altitude_m) if params.hold_overlap else 0.0
         line_params = replace(params.lines, surface_z=surface_z, overlap_margin=margin, nav_rel_per_m=rel,
                               nav_turn_m=turn)
         lines = place_lines(seabed, params.area, params.sensor, heading, line_params, params.frame)
