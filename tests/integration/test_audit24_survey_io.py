@@ -1,8 +1,9 @@
-"""Audit 24: ``gaps.geojson`` of a survey across the antimeridian.  The area and its gaps were written with the
-longitudes ``LocalFrame.inverse`` gives, 179.99 beside -179.99: a polygon 359.99° wide, drawn as a band round the
-Earth by every viewer that joins longitudes on a plane (the mission exports cut theirs, RFC 7946 §3.1.9).  Oracles:
-no ring's step longer than 180° of longitude, every longitude in [-180, 180], and the pieces projected back into the
-local frame (pyproj, independently of the writer) making the area the survey measured, to 0.1 %."""
+"""Audit 24, the survey's files and checks.  ``gaps.geojson`` of a survey across the antimeridian: the area and its
+gaps were written with the longitudes ``LocalFrame.inverse`` gives, 179.99 beside -179.99, a polygon 359.99° wide
+drawn as a band round the Earth by every viewer that joins longitudes on a plane (the mission exports cut theirs,
+RFC 7946 §3.1.9).  Oracles: no ring's step longer than 180° of longitude, every longitude in [-180, 180], and the
+pieces projected back into the local frame (pyproj, independently of the writer) making the area the survey
+measured, to 0.1 %."""
 
 from __future__ import annotations
 
@@ -52,3 +53,18 @@ def test_gaps_geojson_is_cut_at_the_antimeridian(tmp_path, lon0):
         pieces.append(shapely.Polygon(np.column_stack(frame.forward(ring[:, 0], ring[:, 1]))))
     assert len(pieces) == (2 if abs(lon0) > 179.0 else 1)
     assert shapely.union_all(pieces).area == pytest.approx(params.area.area, rel=1e-3)
+
+
+def test_an_auv_altitude_under_min_altitude_is_bad_input(tmp_path, capsys):
+    """``[survey] altitude_m = 3`` under ``[mission] min_altitude_m = 5``: every line is flown closer to the seabed
+    than allowed.  `validate` said OK and `survey` planned 108 lines before failing INFEASIBLE on 7 445 segments
+    (exit 1); the contract is exit 2 with one line naming the file, the key and the value."""
+    from auvplan.cli import main
+
+    scen = tmp_path / "alt.toml"
+    scen.write_text(SCENARIO.format(area=AREA, mounting="auv", extra="altitude_m = 3.0"))
+    assert main(["validate", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "alt.toml" in err and "altitude_m = 3" in err and "min_altitude_m" in err
+    scen.write_text(SCENARIO.format(area=AREA, mounting="auv", extra="altitude_m = 5.0"))  # at the limit: fine
+    assert main(["validate", str(scen)]) == 0
