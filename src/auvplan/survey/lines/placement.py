@@ -12,7 +12,7 @@ to the right (:func:`auvplan.survey.lines.swath.swath_reach`, fans across ``n``)
 Placement (greedy, edge to edge):
 
 1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered); where that
-   swath reaches past ``hi_k`` too (one swath wider than the area), midway between it and the smallest offset
+   swath reaches past ``hi_k`` at every station (one swath wider than the whole area), midway between it and the smallest offset
    whose swath still reaches ``hi_k``;
 2. each next line's largest offset ``c_k^max`` with an overlap ``>= overlap_min`` against the swath in
    front at that station (bisection over ``c``, the seabed re-read under the new swath at each trial);
@@ -173,13 +173,16 @@ def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64], h
         return _bisect_max(pl.first_bound(st, lo), lo - pad, lo + pad)
     pad = 1.0 + 2.0 * float(np.max(left)) + 10.0 * step
     cmax = _bisect_max(pl.first_bound(st, lo), lo, lo + pad)
-    # one swath wider than the area there: its offset as far in as the left edge allows put the line up to a swath
-    # outside the area (a 50 m corridor in 100 m of water: 148 m off the centre line, looping at its bends); the
-    # smallest offset whose right edge still reaches ``hi`` (``cmax`` itself where it does not reach) and the middle
+    # one swath wider than the area: its offset as far in as the left edge allows put the line up to a swath outside
+    # the area (a 50 m corridor in 100 m of water: 148 m off the centre line, looping at its bends); then the middle
+    # of that and the smallest offset whose right edge still reaches ``hi``.  Only where this one line is the survey
+    # (its swath across every station): a tip of a wider area keeps the greedy line, the next lines' shortest
 
     def reaches(c: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.asarray(hi - (c + pl.hold * pl.trial(st, c)[1]))
 
+    if not bool(np.all(reaches(cmax) < 0.0)):
+        return cmax
     return 0.5 * (cmax + _bisect_max(reaches, np.minimum(hi, lo) - pad - (cmax - lo), cmax))
 
 
