@@ -12,8 +12,8 @@ to the right (:func:`auvplan.survey.lines.swath.swath_reach`, fans across ``n``)
 Placement (greedy, edge to edge):
 
 1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered); where that
-   swath reaches past ``hi_k`` at every station (one swath wider than the whole area), midway between it and the smallest offset
-   whose swath still reaches ``hi_k``;
+   swath reaches past ``hi_k`` at every station (one swath wider than the whole area), midway between it and the
+   smallest offset whose swath still reaches ``hi_k``;
 2. each next line's largest offset ``c_k^max`` with an overlap ``>= overlap_min`` against the swath in
    front at that station (bisection over ``c``, the seabed re-read under the new swath at each trial);
 3. the line is the largest function under ``c^max`` whose slope stays within ``tan(max_bend_deg)``
