@@ -134,13 +134,13 @@ def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path |
         raise ScenarioError(f"{where} {key}: the area x [{x0:.0f}, {x1:.0f}] y [{y0:.0f}, {y1:.0f}] m is not "
                             f"inside the [bounds] x [{b.xmin:.0f}, {b.xmax:.0f}] y [{b.ymin:.0f}, {b.ymax:.0f}]")
     _check_seabed(area, world, where)
-    if spec.mounting == "auv" and spec.altitude_m < world.margins.min_altitude:  # every line under the limit
-        raise ScenarioError(f"{where} altitude_m = {spec.altitude_m:g}: below [mission] min_altitude_m = "
-                            f"{world.margins.min_altitude:g} (every line would fly closer to the seabed than allowed)")
     params = SurveyParams(area, spec.sensor_model(), spec.line_params(min(world.terrain.dx, world.terrain.dy)),
                           spec.heading_deg, radius, spec.run_in_m,
                           frame=corridor.frame if corridor is not None else None, tie_lines=spec.tie_lines)
-    check_survey_size(params, world, where)
+    check_survey_size(params, world, where)  # (first: an altitude of 1e-6 m is refused for its line count)
+    if spec.mounting == "auv" and spec.altitude_m < world.margins.min_altitude:  # every line under the limit
+        raise ScenarioError(f"{where} altitude_m = {spec.altitude_m:g}: below [mission] min_altitude_m = "
+                            f"{world.margins.min_altitude:g} (every line would fly closer to the seabed than allowed)")
     return params
 
 
