@@ -80,3 +80,32 @@ def test_a_current_after_the_flight_is_not_read(slow):
     margin = _lines_for_flight(dataclasses.replace(world, currents=LateCurrent(0.05, 1000 * 3600.0)), mission,
                                params, world.seabed, 0.0)[0]
     assert margin == 0.0
+
+
+class DeepCurrent(CurrentField):
+    """``(east, 0, 0)`` below ``z_below`` and none above it: an undercurrent (an estuary's inflow at depth)."""
+
+    def __init__(self, east: float, z_below: float) -> None:
+        self.east, self.z_below = east, z_below
+
+    def velocity(self, points, t=0.0):
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        v = np.zeros_like(p)
+        v[:, 0] = np.where(p[:, 2] < self.z_below, self.east, 0.0)
+        return v
+
+
+@pytest.mark.parametrize("mounting", ["auv", "surface"])
+def test_the_crab_margin_reads_the_current_where_the_vehicle_flies(mounting):
+    """Audit 24: the margin read the current at the surface (``-min_depth_m``) whatever the mounting; an AUV-mounted
+    sensor flies at its altitude above the seabed (20 m over 100 m: at 80 m), here in a 0.05 m/s cross-current
+    under 50 m that the surface never feels, and its lines were placed with no margin for it.  Oracle: the margin of
+    the current at the vehicle's depth, ``1 - cos(asin(c / U))`` (AUV) and 0 (surface: the vessel feels none)."""
+    sc = loads(SLOW.replace('mounting = "surface"', f'mounting = "{mounting}"\naltitude_m = 20.0'
+                            if mounting == "auv" else 'mounting = "surface"'), "slow.toml")
+    world, mission = build(sc)
+    params = survey_params(sc.survey, world, mission.vehicle, None, "slow.toml: [survey]")
+    deep = dataclasses.replace(world, currents=DeepCurrent(0.05, -50.0))
+    margin = _lines_for_flight(deep, mission, params, world.seabed, 0.0)[0]
+    want = 1.0 - math.cos(math.asin(0.05 / 0.1)) if mounting == "auv" else 0.0
+    assert margin == pytest.approx(want, rel=1e-9, abs=1e-12)

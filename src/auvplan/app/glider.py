@@ -20,8 +20,9 @@ GLIDER_NAMES = ("glider.json", "surfacings.csv", "track.csv", "slocum/goto_l10.m
                 "slocum/surfac10.ma", "slocum/surfac11.ma", "seaglider/targets")
 
 
-def _pct(a: float, b: float) -> float:
-    return 100.0 * (b - a) / b if math.isfinite(a) and math.isfinite(b) and b > 0 else math.nan
+def _pct(a: float, b: float) -> float | None:
+    # None, not NaN, where undefined: glider.json refuses a NaN (a goal within the capture radius of the start: 0/0)
+    return 100.0 * (b - a) / b if math.isfinite(a) and math.isfinite(b) and b > 0 else None
 
 
 def glider_record(name: str, plan: Any, flown: Any, naive: Any, depart: float) -> dict[str, Any]:

@@ -248,7 +248,8 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
     lim = 0.98 * frame.n_limit
     n_range = (max(float(np.nanmin(lines.area_lo)) - 3.0 * wmax - 100.0, -lim),
                min(float(np.nanmax(lines.area_hi)) + 3.0 * wmax + 100.0, lim))
-    spans = [cut_spans(f, lines.stations, frame, n_range) for f in fps]
+    spans = [cut_spans(f, _inside_ends(lines.stations, ln.first, ln.last), frame, n_range)
+             for f, ln in zip(fps, lines.lines, strict=False)]
     lo, hi = lines.area_lo, lines.area_hi
     side = lines.lines[0].gap_left is not None if lines.lines else False
     overlap = []
@@ -268,6 +269,21 @@ def measure(area: shapely.Polygon, lines: SurveyLines, fps: list[shapely.Geometr
         keep = inside & both & np.isfinite(eta)
         overlap.append(eta[keep])
     return Coverage(cover, overlap, gaps, fps, float(area.area), whole - float(area.area))
+
+
+def _inside_ends(s: NDArray[np.float64], first: int, last: int) -> NDArray[np.float64]:
+    """The stations, the line's first and last a thousandth of a station inside it.
+
+    Without a run-in a line's footprint ends on the cut across the track at its end stations, and shapely's cut
+    along that edge returns a part of it (``run_in_m = 0``: a least overlap of 13 % and a greatest of 193 % read
+    for lines placed at 50 % and 10 %); a hair inside, the cut crosses the footprint.
+    """
+    out = np.array(s, dtype=float)
+    if last > first:
+        nudge = 1e-3 * (out[first + 1] - out[first])
+        out[first] += nudge
+        out[last] -= nudge
+    return out
 
 
 @dataclass(frozen=True)
@@ -327,7 +343,10 @@ def lawnmower(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: fl
     g = grid_m or (max(x1 - x0, y1 - y0) if frame is None else math.sqrt(area.area)) / 100.0
     gx, gy = np.meshgrid(np.arange(x0, x1 + g, g), np.arange(y0, y1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
-    zb = seabed(gx[inside], gy[inside])
+    # the boundary too: a strip narrower than the grid holds no grid node (np.max of nothing: a ValueError out of
+    # `auvplan survey` on a 1.6 km x 12 m strip), and the shallowest water is often on the edge
+    ring = shapely.get_coordinates(shapely.segmentize(area.boundary, g))
+    zb = seabed(np.r_[gx[inside], ring[:, 0]], np.r_[gy[inside], ring[:, 1]])
     top = float(np.max(zb))
     height = sensor.altitude_m if sensor.mounting == "auv" else surface_z - top
     reach = float(sensor.flat_reach(height))

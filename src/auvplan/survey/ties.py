@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from ..world.currents.fields import CurrentField
 from .lines.frame import Frame, StraightFrame
 from .lines.placement import SurveyLines
+from .lines.swath import Seabed
 
 __all__ = ["tie_lines", "tie_stations", "crab_margin"]
 
@@ -103,7 +104,8 @@ def tie_lines(lines: SurveyLines, count: int, run_in: float, from_end: bool, ste
 
 
 def crab_margin(currents: CurrentField, area: shapely.Polygon, z: float, speed: float, frame: Frame | None,
-                heading: float, cap: float, hours: float = 12.0) -> float:
+                heading: float, cap: float, hours: float = 12.0, seabed: Seabed | None = None,
+                altitude: float = 0.0) -> float:
     """The overlap margin ``1 - cos ψ`` of the largest crab angle over the area.
 
     Parameters
@@ -124,6 +126,12 @@ def crab_margin(currents: CurrentField, area: shapely.Polygon, z: float, speed: 
         Largest margin returned.
     hours : float
         The current is read every hour over this many hours (tides).
+    seabed : callable, optional
+        ``zb(x, y)``: with it the current is read at ``altitude`` above the seabed (no higher than ``z``), where
+        an AUV-mounted sensor flies (it was read at ``z``, the surface, whatever the mounting: an undercurrent
+        across the lines left them no margin).
+    altitude : float
+        The altitude held above the seabed (m), with ``seabed``.
 
     Returns
     -------
@@ -136,7 +144,8 @@ def crab_margin(currents: CurrentField, area: shapely.Polygon, z: float, speed: 
     gx, gy = np.meshgrid(np.arange(x0, x1 + g, g), np.arange(y0, y1 + g, g))
     inside = shapely.contains_xy(area, gx, gy)
     px, py = np.r_[gx[inside], area.centroid.x], np.r_[gy[inside], area.centroid.y]
-    pts = np.column_stack([px, py, np.full(px.size, z)])
+    pz = np.full(px.size, z) if seabed is None else np.minimum(np.asarray(seabed(px, py)) + altitude, z)
+    pts = np.column_stack([px, py, pz])
     right = fr.right(fr.to_sn(px, py)[0])
     cross = 0.0
     for t in np.arange(0.0, hours * 3600.0 + 1.0, 3600.0):

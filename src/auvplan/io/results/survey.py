@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 import shapely
+import shapely.affinity
 from numpy.typing import NDArray
 
 from ...errors import ScenarioError
@@ -136,7 +137,10 @@ def survey_params(spec: SurveySpec, world: World, vehicle: Any, base_dir: Path |
     params = SurveyParams(area, spec.sensor_model(), spec.line_params(min(world.terrain.dx, world.terrain.dy)),
                           spec.heading_deg, radius, spec.run_in_m,
                           frame=corridor.frame if corridor is not None else None, tie_lines=spec.tie_lines)
-    check_survey_size(params, world, where)
+    check_survey_size(params, world, where)  # (first: an altitude of 1e-6 m is refused for its line count)
+    if spec.mounting == "auv" and spec.altitude_m < world.margins.min_altitude:  # every line under the limit
+        raise ScenarioError(f"{where} altitude_m = {spec.altitude_m:g}: below [mission] min_altitude_m = "
+                            f"{world.margins.min_altitude:g} (every line would fly closer to the seabed than allowed)")
     return params
 
 
@@ -281,8 +285,33 @@ def _line_length(run: SurveyRun) -> float:
 
 def _feature(geom: shapely.Geometry, frame: LocalFrame | None, props: dict[str, Any]) -> dict[str, Any]:
     if frame is not None:
-        geom = shapely.transform(geom, lambda xy: np.column_stack(frame.inverse(xy[:, 0], xy[:, 1])))
+        geom = _lonlat(geom, frame)
     return {"type": "Feature", "properties": props, "geometry": shapely.geometry.mapping(geom)}
+
+
+def _lonlat(geom: shapely.Geometry, frame: LocalFrame) -> shapely.Geometry:
+    """A polygon of the local frame in lon/lat, cut at the antimeridian (RFC 7946 §3.1.9) where it crosses it.
+
+    ``LocalFrame.inverse`` gives longitudes in [-180, 180]: an area across the antimeridian was written 179.99 beside
+    -179.99, a polygon 359.99° wide that viewers draw round the Earth.  The longitudes are taken continuous about the
+    origin's, the pieces either side of ±180° cut out and moved back by 360°, as the mission exports do.
+    """
+    ref = float(frame.lon0)
+
+    def inverse(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        lon, lat = frame.inverse(xy[:, 0], xy[:, 1])
+        return np.column_stack([ref + (np.asarray(lon) - ref + 180.0) % 360.0 - 180.0, lat])
+
+    un = shapely.transform(geom, inverse)
+    x0, _, x1, _ = un.bounds
+    if -180.0 <= x0 and x1 <= 180.0:
+        return un
+    parts = []
+    for k in (-360.0, 0.0, 360.0):
+        cut = shapely.intersection(un, shapely.box(-180.0 + k, -90.0, 180.0 + k, 90.0))
+        parts += [shapely.affinity.translate(g, -k) for g in shapely.get_parts(cut)
+                  if isinstance(g, shapely.Polygon) and g.area > 0.0]
+    return shapely.MultiPolygon(parts)
 
 
 def write_survey(out: Path, run: SurveyRun, params: SurveyParams, origin: tuple[float, float] | None) -> list[Path]:

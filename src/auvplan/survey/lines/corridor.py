@@ -12,6 +12,7 @@ buffer for a constant width, the band between the two offset curves for widths g
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -120,8 +121,10 @@ def given_band(points: NDArray[np.float64], widths: NDArray[np.float64]) -> shap
     """The corridor about the centre line as given (its corners not rounded), flat at its two ends.
 
     Every point within half the width of the polyline: shapely's flat-capped buffer with round joins for one
-    width; for widths per vertex, each leg's band (the width interpolated along it) and a disc of the
-    vertex's half width at every inner vertex.
+    width; for widths per vertex, each leg's band (the width interpolated along it) and, at every inner vertex,
+    the round join on the outside of its bend: the sector of the vertex's half width between the two legs' normals
+    (a whole disc there poked out past the flat end of a leg shorter than half the width: 240 m past a 60 m last
+    leg of a 600 m corridor, a 'gap' where no line goes).  Repeated vertices count once.
 
     Parameters
     ----------
@@ -139,11 +142,23 @@ def given_band(points: NDArray[np.float64], widths: NDArray[np.float64]) -> shap
     w = np.asarray(widths, dtype=float).reshape(-1)
     if w.size == 1:
         return shapely.LineString(p).buffer(0.5 * float(w[0]), cap_style="flat", join_style="round", quad_segs=45)
+    keep = np.r_[True, np.hypot(*np.diff(p, axis=0).T) > 1e-9]  # a zero-length leg has no direction
+    p, w = p[keep], w[keep]
+    d = np.diff(p, axis=0)
+    d /= np.hypot(d[:, 0], d[:, 1])[:, None]
+    right = np.column_stack([d[:, 1], -d[:, 0]])
     parts = []
     for i in range(p.shape[0] - 1):
-        d = p[i + 1] - p[i]
-        r = np.array([d[1], -d[0]]) / max(float(np.hypot(*d)), 1e-12)
-        a, b = 0.5 * w[i] * r, 0.5 * w[i + 1] * r
+        a, b = 0.5 * w[i] * right[i], 0.5 * w[i + 1] * right[i]
         parts.append(shapely.Polygon([p[i] - a, p[i + 1] - b, p[i + 1] + b, p[i] + a]))
-    parts += [shapely.Point(p[i]).buffer(0.5 * float(w[i]), quad_segs=45) for i in range(1, p.shape[0] - 1)]
+    for i in range(1, p.shape[0] - 1):
+        cross = float(d[i - 1, 0] * d[i, 1] - d[i - 1, 1] * d[i, 0])
+        turn = math.atan2(cross, float(np.dot(d[i - 1], d[i])))  # > 0: a left turn
+        if abs(turn) < 1e-9:
+            continue
+        out = right if turn > 0 else -right  # the outside of the bend
+        a0 = math.atan2(out[i - 1, 1], out[i - 1, 0])
+        phi = a0 + np.linspace(0.0, turn, max(2, int(math.ceil(abs(turn) / (math.pi / 90.0))) + 1))
+        arc = p[i] + 0.5 * w[i] * np.column_stack([np.cos(phi), np.sin(phi)])
+        parts.append(shapely.Polygon(np.vstack([p[i], arc])))
     return shapely.make_valid(shapely.union_all(parts))

@@ -11,7 +11,9 @@ to the right (:func:`auvplan.survey.lines.swath.swath_reach`, fans across ``n``)
 
 Placement (greedy, edge to edge):
 
-1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered);
+1. the first line's largest offset with ``E⁻_k <= lo_k`` at every station (the area's edge covered); where that
+   swath reaches past ``hi_k`` at every station (one swath wider than the whole area), midway between it and the
+   smallest offset whose swath still reaches ``hi_k``;
 2. each next line's largest offset ``c_k^max`` with an overlap ``>= overlap_min`` against the swath in
    front at that station (bisection over ``c``, the seabed re-read under the new swath at each trial);
 3. the line is the largest function under ``c^max`` whose slope stays within ``tan(max_bend_deg)``
@@ -161,14 +163,48 @@ def _cross_sections(area: shapely.Polygon, s: NDArray[np.float64],
     return lo, hi
 
 
-def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64],
+def _first_line(pl: _Placer, st: NDArray[np.float64], lo: NDArray[np.float64], hi: NDArray[np.float64],
                 step: float) -> NDArray[np.float64]:
-    """Largest offsets of the first line at the stations ``st``."""
+    """Largest offsets of the first line at the stations ``st``; a multibeam's, where its swath reaches across the
+    whole cross-section ``[lo, hi]``, centred between the offsets that reach the two edges."""
     left, _, gl, gr = pl.trial(st, lo)
     if pl.sensor.gap is not None:
         pad = 1.0 + float(np.max(np.abs(gr - gl))) + 10.0 * step
         return _bisect_max(pl.first_bound(st, lo), lo - pad, lo + pad)
-    return _bisect_max(pl.first_bound(st, lo), lo, lo + 1.0 + 2.0 * float(np.max(left)) + 10.0 * step)
+    pad = 1.0 + 2.0 * float(np.max(left)) + 10.0 * step
+    cmax = _bisect_max(pl.first_bound(st, lo), lo, lo + pad)
+    # one swath wider than the area: its offset as far in as the left edge allows put the line up to a swath outside
+    # the area (a 50 m corridor in 100 m of water: 148 m off the centre line, looping at its bends); then the middle
+    # of that and the smallest offset whose right edge still reaches ``hi``.  Only where this one line is the survey
+    # (its swath across every station): a tip of a wider area keeps the greedy line, the next lines' shortest
+
+    def reaches(c: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(hi - (c + pl.hold * pl.trial(st, c)[1]))
+
+    if not bool(np.all(reaches(cmax) < 0.0)):
+        return cmax
+    return 0.5 * (cmax + _bisect_max(reaches, np.minimum(hi, lo) - pad - (cmax - lo), cmax))
+
+
+def _finishing(pl: _Placer, st: NDArray[np.float64], hi: NDArray[np.float64], floor: NDArray[np.float64],
+               cmax: NDArray[np.float64], limit: float) -> NDArray[np.float64]:
+    """``cmax`` with the offsets past ``limit`` brought in to the furthest offset any station needs to finish its
+    cross-section at ``hi`` (a line brought in keeps every overlap: it only grows; one level for all, so the bend
+    limit's envelope cannot pull a station that needs more, a bend's outer wedge, short of finishing)."""
+
+    def done(c: NDArray[np.float64]) -> NDArray[np.bool_]:
+        _, right, gl, gr = pl.trial(st, c)
+        return np.asarray((c + 0.5 * (gr - gl) if pl.sensor.gap is not None else c + pl.hold * right) >= hi)
+
+    a, b = np.minimum(floor, cmax), cmax.copy()
+    ok = done(b)
+    if not ok.any():
+        return cmax
+    for _ in range(40):  # the finishing side of the bracket: a line a hair short of hi would leave the station to do
+        m = 0.5 * (a + b)
+        fin = done(m)
+        a, b = np.where(fin, a, m), np.where(fin, m, b)
+    return np.where(cmax > limit, np.minimum(cmax, float(np.max(b[ok]))), cmax)
 
 
 def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: float,
@@ -219,7 +255,7 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
         st = s[idx]
         cmax = np.full(k, np.inf)
         if not lines:
-            cmax[idx] = _first_line(pl, st, lo[idx], params.step_m)
+            cmax[idx] = _first_line(pl, st, lo[idx], hi[idx], params.step_m)
         else:
             at = {key: v[idx] for key, v in prev.items()}
             span = 3.0 * float(np.nanmax(at["left"] + at["right"])) + 10.0 * params.step_m
@@ -228,6 +264,8 @@ def place_lines(seabed: Seabed, area: shapely.Polygon, sensor: Sensor, heading: 
                 m = nav_margin(fr, s, lines[-1], len(lines) % 2 == 1, params, span)[idx]
                 margin[idx] = np.where(np.isfinite(m), m, np.nanmax(m, initial=0.0))  # (an older line's stations)
             cmax[idx] = _bisect_max(pl.next_bound(st, at, margin[idx]), at["c"], at["c"] + span)
+        if (cmax[idx] > fr.n_limit).any():  # past where a corridor's frame is one to one: its parallel folds at a bend
+            cmax[idx] = _finishing(pl, s[idx], hi[idx], prev["c"][idx] if lines else lo[idx], cmax[idx], fr.n_limit)
         c = upper_envelope(s, cmax, bend) if bend > 0 else np.full(k, float(np.min(cmax[idx])))
         z = pl.depth_profile(c, first, last)
         left, right, gl, gr = (np.full(k, np.nan) for _ in range(4))
