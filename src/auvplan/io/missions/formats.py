@@ -112,6 +112,29 @@ def _moos_dwell(name: str, j: int, wait: float) -> list[str]:
             "  inner_radius        = 5", "  outer_radius        = 15", "}"]
 
 
+def _moos_waypoints(p: NDArray[np.float64], v: NDArray[np.float64], name: str, deploy: DeployInfo | None,
+                    paused: list[str]) -> list[str]:
+    """The ``.bhv``'s head (comments, datum, flags, envelope) and its ``BHV_Waypoint``, up to its ``updates``."""
+    x0, y0, z0 = p[0]
+    pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
+    dep = deploy is not None
+    pay = dep and deploy.payload is not None  # type: ignore[union-attr]
+    return [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
+            f"// start: {x0:.3f}, {y0:.3f}, {-z0:.3f}   (deploy point x, y, depth; not a waypoint)",
+            "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
+            *dfmt.moos_datum(deploy.origin if deploy is not None else None),
+            "initialize   DEPLOY = false", "initialize   RETURN = false",
+            *(["initialize   DWELL = false"] if paused else []),
+            *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
+            *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
+            "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
+            "  condition      = DEPLOY = true", "  condition      = RETURN = false",
+            *(["  condition      = ABORT = false"] if dep else []), *paused,
+            "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
+            *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
+            "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
+
+
 def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
             deploy: DeployInfo | None = None, dwell: ArrayLike | None = None) -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
@@ -152,24 +175,8 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
     waits = _dwells(dwell, len(p))
     paused = ["  condition      = DWELL = false"] if waits.any() else []
     per_leg = _varies(v)
-    x0, y0, z0 = p[0]
-    pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
+    lines = _moos_waypoints(p, v, name, deploy, paused)
     dep = deploy is not None
-    pay = dep and deploy.payload is not None  # type: ignore[union-attr]
-    lines = [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
-             f"// start: {x0:.3f}, {y0:.3f}, {-z0:.3f}   (deploy point x, y, depth; not a waypoint)",
-             "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
-             *dfmt.moos_datum(deploy.origin if deploy is not None else None),
-             "initialize   DEPLOY = false", "initialize   RETURN = false",
-             *(["initialize   DWELL = false"] if paused else []),
-             *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
-             *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
-             "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
-             "  condition      = DEPLOY = true", "  condition      = RETURN = false",
-             *(["  condition      = ABORT = false"] if dep else []), *paused,
-             "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
-             *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
-             "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
     lines += ["  updates        = WPT_UPDATE", "}"] if per_leg else ["}"]
     for i, z in enumerate(p[1:, 2]):
         inside, after = dfmt.moos_leg_extras(deploy, i)
