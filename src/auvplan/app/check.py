@@ -14,7 +14,7 @@ if TYPE_CHECKING:
     from ..guidance.mission.flycheck import MissionCheck
     from ..guidance.mission.terrain_legs import FlownTrack
     from ..io.scenario.specs import Scenario
-    from ..nav import NavParams
+    from ..nav import NavCheck, NavParams
     from ..path.flyable import LimitReport
     from ..world import World
     from ..world.zones import ZoneApproach
@@ -385,26 +385,20 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
-    usbl = sum(1 for k in kinds if k == "usbl")
     c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m,
                          water_m=water_m) \
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
                                                                               flown, held_water_m, water_m)
+    return _nav_report(c, kinds, source, points, nav, first, dwell_s)
+
+
+def _nav_report(c: NavCheck, kinds: tuple[str, ...], source: str, points: np.ndarray, nav: NavParams, first: int,
+                dwell_s: np.ndarray | None) -> tuple[dict[str, Any], bool, list[str]]:
+    """:func:`navigation_check`'s record, verdict and lines of the check ``c`` of the fixes ``kinds``."""
+    usbl = sum(1 for k in kinds if k == "usbl")
+    message, ok = _short_waits(kinds, points, dwell_s, nav, c.message, c.ok)
+    legs, lines = _nav_legs(c, first)
     b = c.budget
-    message, ok = c.message, c.ok
-    # the last waypoint's fix is no leg's (the mission is over): its wait is after the mission, written by no export
-    short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1])
-                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
-    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
-        i = short[0]
-        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
-                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
-                       + (f"; {message}" if message else "")), False
-    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
-             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
-            for k in range(len(b.leg_error_m))]
-    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
-             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
     lines.append(f"navigation: {'OK' if ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
                  f"{f' and {usbl} USBL fixes' if usbl else ''} (from {source}), predicted "
                  f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
@@ -413,6 +407,30 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
            "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
     return rec, ok, lines
+
+def _short_waits(kinds: tuple[str, ...], points: np.ndarray, dwell_s: np.ndarray | None, nav: NavParams,
+                 message: str, ok: bool) -> tuple[str, bool]:
+    """The check's message and verdict, failed when the file surfaces for a GPS fix but waits there less than
+    ``surface_s`` (the last waypoint's fix is no leg's: the mission is over, its wait written by no export)."""
+    short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1])
+                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
+    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
+        i = short[0]
+        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
+                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
+                       + (f"; {message}" if message else "")), False
+    return message, ok
+
+
+def _nav_legs(c: NavCheck, first: int) -> tuple[list[dict[str, Any]], list[str]]:
+    """Each leg's predicted error, bottom lock, least altitude within the error and clearance: records and lines."""
+    b = c.budget
+    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
+            for k in range(len(b.leg_error_m))]
+    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
+             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
+    return legs, lines
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],
