@@ -304,10 +304,16 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     seg_alt = np.where(follow[seg_leg], followed_altitude(world.terrain, points, follow)[seg_leg], c.leg_altitude_m)
     c = replace(c, leg_altitude_m=seg_alt, min_altitude_m=float(seg_alt.min()),
                 min_altitude_leg=int(np.argmin(seg_alt)))
+    return _terrain_report(c, track, seg_leg, follow)
+
+
+def _terrain_report(c: MissionCheck, track: np.ndarray, seg_leg: np.ndarray,
+                    follow: np.ndarray) -> tuple[dict[str, Any], bool, str]:
+    """:func:`terrain_following_check`'s record, verdict and line of the check ``c`` of the flown ``track``."""
     lim = c.limits
     assert lim is not None
 
-    def legs_of(vertices: tuple[int, ...]) -> list[int]:
+    def legs_of(vertices: tuple[int, ...]) -> list[int]:  # the legs of the track's vertices
         return sorted({int(seg_leg[v - 1]) for v in vertices if v > 0})
 
     legs = [int(k) for k in np.flatnonzero(follow)]
