@@ -100,21 +100,12 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     from ..io.missions.readback.deploy_read import file_deploy_check
     from ..io.missions.readback.dwell import read_dwells
     from ..io.scenario.defaults import energy_defaults
-    from ..path.legs import helm_check
-    from ..sim.pipeline import vehicle_limits
 
     points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
     follow, track = _terrain_frame(world, Path(name), fmt, points)
     # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
     check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
-    # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-    # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-    # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
-    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
-    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
-                         pitch=flown[0], depth=flown[1])
-    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
-        vlimits = _from_home(vlimits)
+    vlimits = _file_vehicle_limits(world, mission, points, fmt, follow, track)
     energy, energy_ok, energy_line, held_water, leg_water = file_energy_flight(world, mission, Path(name))
     # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
     deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
@@ -156,6 +147,22 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float) ->
     rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
     return FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines), tf_line,
                      speed_line)
+
+
+def _file_vehicle_limits(world: World, mission: Any, points: np.ndarray, fmt: str, follow: np.ndarray | None,
+                         track: FlownTrack | None) -> LimitReport:
+    """A mission file judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short
+    (issue 49); a terrain-frame leg's pitch and depth are its seabed-following track's (where the vehicle climbs
+    and dives); a QGC plan starts from its home on the surface (the launch, not a leg of the mission)."""
+    from ..path.legs import helm_check
+    from ..sim.pipeline import vehicle_limits
+
+    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
+    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                         pitch=flown[0], depth=flown[1])
+    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+        vlimits = _from_home(vlimits)
+    return vlimits
 
 
 def _from_home(report: LimitReport) -> LimitReport:
