@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from ..guidance.mission.terrain_legs import FlownTrack
     from ..io.missions.readback.mission_storage import BoardStorage
     from ..io.scenario.specs import Scenario
-    from ..nav import NavParams
+    from ..nav import NavCheck, NavParams
     from ..path.flyable import LimitReport
     from ..world import World
     from ..world.zones import ZoneApproach
@@ -105,21 +105,12 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float,
     from ..io.missions.readback.deploy_read import file_deploy_check
     from ..io.missions.readback.dwell import read_dwells
     from ..io.scenario.defaults import energy_defaults
-    from ..path.legs import helm_check
-    from ..sim.pipeline import vehicle_limits
 
     points, _, fmt = read_mission(Path(name), world.origin, world.seabed if world.terrain is not None else None)
     follow, track = _terrain_frame(world, Path(name), fmt, points)
     # every leg measured as its executor flies it (a terrain-frame leg on its seabed-following track)
     check, fmt = check_mission_file(Path(name), world, pitch, follow, track)
-    # a QGC plan starts from its home on the surface: the launch, not a leg of the mission
-    # judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short (issue 49)
-    # a terrain-frame leg's pitch and depth are its seabed-following track's: where the vehicle climbs and dives
-    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
-    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
-                         pitch=flown[0], depth=flown[1])
-    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
-        vlimits = _from_home(vlimits)
+    vlimits = _file_vehicle_limits(world, mission, points, fmt, follow, track)
     energy, energy_ok, energy_line, held_water, leg_water = file_energy_flight(world, mission, Path(name))
     # issue 51: datum, envelope, payload; the time-out judged against the energy check's duration (one figure)
     deploy, deploy_line = file_deploy_check(name, world.origin, points, fmt, check.min_altitude_m,
@@ -161,6 +152,22 @@ def _check_file(sc: Any, world: World, mission: Any, name: str, pitch: float,
     rec["ok"], rec["check_ok"] = bool(ok), bool(check.ok)
     return FileCheck(rec, check, vlimits, energy_line, deploy_line, ok, tuple(zones), tuple(nav_lines), tf_line,
                      speed_line)
+
+
+def _file_vehicle_limits(world: World, mission: Any, points: np.ndarray, fmt: str, follow: np.ndarray | None,
+                         track: FlownTrack | None) -> LimitReport:
+    """A mission file judged leg by leg as a helm flies it: every leg's pitch and turns as given, no leg too short
+    (issue 49); a terrain-frame leg's pitch and depth are its seabed-following track's (where the vehicle climbs
+    and dives); a QGC plan starts from its home on the surface (the launch, not a leg of the mission)."""
+    from ..path.legs import helm_check
+    from ..sim.pipeline import vehicle_limits
+
+    flown = (None, None) if follow is None else _flown_pitch_depth(world, points, follow, track)
+    vlimits = helm_check(points[1:] if fmt == "qgc" else points, vehicle_limits(mission.vehicle),
+                         pitch=flown[0], depth=flown[1])
+    if fmt == "qgc":  # its legs named as the seabed check, terrain-following legs, zones and navigation do
+        vlimits = _from_home(vlimits)
+    return vlimits
 
 
 def _from_home(report: LimitReport) -> LimitReport:
@@ -309,10 +316,16 @@ def terrain_following_check(world: World, points: np.ndarray, follow: np.ndarray
     seg_alt = np.where(follow[seg_leg], followed_altitude(world.terrain, points, follow)[seg_leg], c.leg_altitude_m)
     c = replace(c, leg_altitude_m=seg_alt, min_altitude_m=float(seg_alt.min()),
                 min_altitude_leg=int(np.argmin(seg_alt)))
+    return _terrain_report(c, track, seg_leg, follow)
+
+
+def _terrain_report(c: MissionCheck, track: np.ndarray, seg_leg: np.ndarray,
+                    follow: np.ndarray) -> tuple[dict[str, Any], bool, str]:
+    """:func:`terrain_following_check`'s record, verdict and line of the check ``c`` of the flown ``track``."""
     lim = c.limits
     assert lim is not None
 
-    def legs_of(vertices: tuple[int, ...]) -> list[int]:
+    def legs_of(vertices: tuple[int, ...]) -> list[int]:  # the legs of the track's vertices
         return sorted({int(seg_leg[v - 1]) for v in vertices if v > 0})
 
     legs = [int(k) for k in np.flatnonzero(follow)]
@@ -390,26 +403,20 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
 
     kinds, source = (surface_kinds(points), "the surface waypoints") if mission_file is None else \
         fix_kinds(points, mission_file, world.origin)
-    usbl = sum(1 for k in kinds if k == "usbl")
     c = check_navigation(world, points, kinds, nav, nav.usbl_xy, first_leg=first, held_water_m=held_water_m,
                          water_m=water_m) \
         if follow is None or world.terrain is None else _navigation_as_flown(world, nav, points, kinds, follow, first,
                                                                               flown, held_water_m, water_m)
+    return _nav_report(c, kinds, source, points, nav, first, dwell_s)
+
+
+def _nav_report(c: NavCheck, kinds: tuple[str, ...], source: str, points: np.ndarray, nav: NavParams, first: int,
+                dwell_s: np.ndarray | None) -> tuple[dict[str, Any], bool, list[str]]:
+    """:func:`navigation_check`'s record, verdict and lines of the check ``c`` of the fixes ``kinds``."""
+    usbl = sum(1 for k in kinds if k == "usbl")
+    message, ok = _short_waits(kinds, points, dwell_s, nav, c.message, c.ok)
+    legs, lines = _nav_legs(c, first)
     b = c.budget
-    message, ok = c.message, c.ok
-    # the last waypoint's fix is no leg's (the mission is over): its wait is after the mission, written by no export
-    short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1])
-                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
-    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
-        i = short[0]
-        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
-                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
-                       + (f"; {message}" if message else "")), False
-    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
-             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
-            for k in range(len(b.leg_error_m))]
-    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
-             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
     lines.append(f"navigation: {'OK' if ok else 'FAIL'} — {sum(1 for k in kinds if k) - usbl} surface fixes"
                  f"{f' and {usbl} USBL fixes' if usbl else ''} (from {source}), predicted "
                  f"error at most {b.max_error_m:.1f} m (max_error_m {nav.max_error_m:g} m at {nav.confidence:g} σ)"
@@ -418,6 +425,30 @@ def navigation_check(world: World, nav: NavParams, points: np.ndarray, mission_f
            "fixes_from": source,
            "nav_error_max_m": round(b.max_error_m, 3), "max_error_m": nav.max_error_m, "legs": legs}
     return rec, ok, lines
+
+def _short_waits(kinds: tuple[str, ...], points: np.ndarray, dwell_s: np.ndarray | None, nav: NavParams,
+                 message: str, ok: bool) -> tuple[str, bool]:
+    """The check's message and verdict, failed when the file surfaces for a GPS fix but waits there less than
+    ``surface_s`` (the last waypoint's fix is no leg's: the mission is over, its wait written by no export)."""
+    short = [] if dwell_s is None else [i for i, k in enumerate(kinds[:-1])
+                                        if k == "gps" and -points[i, 2] <= 0.5 and dwell_s[i] < nav.surface_s - 0.5]
+    if short and dwell_s is not None:  # the file surfaces but does not wait there for its fix
+        i = short[0]
+        message, ok = (f"waypoint {i}: waits {dwell_s[i]:g} s at the surface, less than surface_s {nav.surface_s:g} s "
+                       f"for its GPS fix ({len(short)} surface fix{'es' if len(short) > 1 else ''} so)"
+                       + (f"; {message}" if message else "")), False
+    return message, ok
+
+
+def _nav_legs(c: NavCheck, first: int) -> tuple[list[dict[str, Any]], list[str]]:
+    """Each leg's predicted error, bottom lock, least altitude within the error and clearance: records and lines."""
+    b = c.budget
+    legs = [{"leg": k + first, "nav_error_m": round(float(b.leg_error_m[k]), 2), "lock": round(float(b.leg_lock[k]), 3),
+             "uncertain_altitude_m": round(float(c.leg_uncertain_altitude_m[k]), 2), "clear": bool(c.leg_clear[k])}
+            for k in range(len(b.leg_error_m))]
+    lines = [f"leg {r['leg']}: predicted error {r['nav_error_m']:.1f} m, bottom lock {100 * r['lock']:.0f} %, least "
+             f"altitude within it {r['uncertain_altitude_m']:.1f} m{'' if r['clear'] else ' — TOUCHES'}" for r in legs]
+    return legs, lines
 
 
 def _navigation_as_flown(world: World, nav: NavParams, points: np.ndarray, kinds: tuple[str, ...],

@@ -12,7 +12,7 @@ from . import ReporterFor, silent
 
 if TYPE_CHECKING:
     from ..io.scenario.specs import Scenario
-    from ..planners import PlanResult
+    from ..planners import PlannerSpec, PlanResult
     from ..runtime.parallel import Runner
     from ..sim import RunRecord
     from ..world import World
@@ -49,7 +49,6 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
     tuple
         The scenario, the plan, the seed, the World and the ensemble fields (empty without members).
     """
-    from ..io.files.limits import check_plan_work
     from ..io.scenario import loader as scenario_io
     from ..io.scenario.inputs.members import scenario_members
     from ..planners import plan
@@ -60,14 +59,7 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
         prepare_out(out, RESULT_NAMES, force=force, job="plan", inputs=(scenario,))
     sc = scenario_io.load(scenario)
     world, mission = scenario_io.build(sc)
-    spec = mission.planner
-    if planner:
-        spec = replace(spec, name=planner)
-    if budget is not None:  # bounded as the [planner] keys are (was: 1e12 ran for hours)
-        spec = replace(spec, budget=budget)
-        check_plan_work("--budget:", spec.population, spec.iterations, budget, spec.samples)
-    if pipeline:
-        spec = replace(spec, pipeline=pipeline)
+    spec = _planner_spec(mission.planner, planner, budget, pipeline)
     seed = sc.seed if seed is None else seed
     members = scenario_members(sc, world)  # issue 39: [currents] members, read (and checked) before planning
     bar = reporter(spec, sc.name)
@@ -88,6 +80,20 @@ def plan_scenario(scenario: str, out: str | None = None, force: bool = False, pl
         result = with_reference(result, problem, spec, plan_reference(problem, spec))
     return sc, result, seed, world, ensemble
 
+
+
+def _planner_spec(spec: PlannerSpec, planner: str | None, budget: int | None, pipeline: str | None) -> PlannerSpec:
+    """The scenario's ``[planner]`` with the command line's planner, budget and pipeline."""
+    from ..io.files.limits import check_plan_work
+
+    if planner:
+        spec = replace(spec, name=planner)
+    if budget is not None:  # bounded as the [planner] keys are (was: 1e12 ran for hours)
+        spec = replace(spec, budget=budget)
+        check_plan_work("--budget:", spec.population, spec.iterations, budget, spec.samples)
+    if pipeline:
+        spec = replace(spec, pipeline=pipeline)
+    return spec
 
 def simulate_scenario(scenario: str, out: str | None = None, force: bool = False, guidance: str | None = None,
                       avoidance: str | None = None, seed: int | None = None, full: bool = False,

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ScenarioError
 from ..io.files.safeio import RESULT_NAMES, prepare_out, save_figure
@@ -21,6 +21,10 @@ from ..sim import Mission
 from ..survey.run import SurveyRun, run_survey
 from ..world import World
 from .results import save_context
+
+if TYPE_CHECKING:
+    from ..io.scenario.specs import Scenario
+    from ..survey.mission import SurveyParams
 
 __all__ = ["survey_scenario"]
 
@@ -74,31 +78,39 @@ def survey_scenario(scenario: str, out: str | None = None, force: bool = False, 
     if note:
         rec["notes"] = [note]
     if out:
-        folder = Path(out)
-        say(f"writing the survey, the run files and the mission exports into {folder}")
-        write_survey(folder, run, params, world.origin)
-        from ..io.missions.deploy import payload_from_labels
-        from ..io.scenario.saved import with_derived_frame
-
-        text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
-        records.write_run(folder, run.record, with_derived_frame(text, world), full)  # issue 51: derived frame
-        # the scenario file's path and the terrain, as `run --out` keeps them: the folder's scenario.toml names its
-        # data files relative to the scenario's own folder (`mission check --scenario DIR/scenario.toml`, `export`)
-        save_context(folder, sc.source, world)
-        formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
-        deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
-                                   payload_from_labels(run.plan.labels))  # issue 51: envelope, payload
-        left = export.write_mission_files(folder, run.record, world.origin, mission.vehicle.speed, formats, full,
-                                          deploy, board)  # as run's: a .plan no board holds left out, said
-        if left:
-            rec["notes"] = [*rec.get("notes", []), *left]
-        from ..viz.survey import coverage_map
-
-        save_figure(folder / "coverage.png",  # atomically, and into the manifest (a re-run adopts it)
-                    coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)),
-                    dpi=110)
-        _report(folder, world, run, rec, text, mission)
+        _write_folder(Path(out), sc, world, mission, run, params, rec, full, say, board)
     return sc, rec
+
+
+
+def _write_folder(folder: Path, sc: Scenario, world: World, mission: Mission, run: SurveyRun, params: SurveyParams,
+                  rec: dict[str, Any], full: bool, say: Callable[[str], None], board: BoardStorage | None) -> None:
+    """The results folder of a survey: its lines and coverage, the run files, the scenario's context, the mission
+    exports (as run's: a ``.plan`` ``board`` cannot hold left out, said in ``rec["notes"]``), the coverage map and
+    the report."""
+    say(f"writing the survey, the run files and the mission exports into {folder}")
+    write_survey(folder, run, params, world.origin)
+    from ..io.missions.deploy import payload_from_labels
+    from ..io.scenario.saved import with_derived_frame
+
+    text = Path(sc.source).read_text(encoding="utf-8") if Path(sc.source).is_file() else ""
+    records.write_run(folder, run.record, with_derived_frame(text, world), full)  # issue 51: derived frame
+    # the scenario file's path and the terrain, as `run --out` keeps them: the folder's scenario.toml names its
+    # data files relative to the scenario's own folder (`mission check --scenario DIR/scenario.toml`, `export`)
+    save_context(folder, sc.source, world)
+    formats = [f for f in export.EXPORT_FORMATS if world.origin is not None or f not in export.GEOGRAPHIC]
+    deploy = export.deploy_for(world, mission, run.record, mission.vehicle.speed,
+                               payload_from_labels(run.plan.labels))  # issue 51: envelope, payload
+    left = export.write_mission_files(folder, run.record, world.origin, mission.vehicle.speed, formats, full, deploy,
+                                      board)
+    if left:
+        rec["notes"] = [*rec.get("notes", []), *left]
+    from ..viz.survey import coverage_map
+
+    save_figure(folder / "coverage.png",  # atomically, and into the manifest (a re-run adopts it)
+                coverage_map(world, run, params.area, (params.lines.overlap_min, params.lines.overlap_max)),
+                dpi=110)
+    _report(folder, world, run, rec, text, mission)
 
 
 def _report(out: Path, world: World, run: SurveyRun, rec: dict[str, Any], text: str, mission: Mission) -> None:

@@ -170,16 +170,7 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
     p = np.ascontiguousarray(p)
     a, b = p[:, :-1], p[:, 1:]
     current = _midpoint_currents(world, a, b)
-    if world.obstacles:
-        other_slack, other_clear = _obstacle_slack(world, a, b)
-    else:
-        other_slack = other_clear = np.empty((0, 0))
-    if world.zones:  # the exact segment-vs-prism test; a violation as deep as the trace inside a zone
-        zone_slack = world.zones.polyline_slack(p)
-        if world.obstacles:
-            other_slack = np.minimum(other_slack, zone_slack)
-        else:
-            other_slack, other_clear = zone_slack, np.full(zone_slack.shape, np.inf)
+    other_slack, other_clear = _static_slack(world, p, a, b)
     m, bd = world.margins, world.bounds
     terrain = world.terrain.kernel_data if world.terrain is not None else _no_terrain()
     cell_max = world.terrain.cell_max if world.terrain is not None else terrain[0][..., 0]
@@ -205,6 +196,22 @@ def evaluate_paths(world: World, points: ArrayLike, model: CostModel, exact: boo
         violations=counts,
         min_clearance=clearance,
     )
+
+
+def _static_slack(world: World, p: FloatArray, a: FloatArray, b: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The static obstacles' slack and clearance per segment, the zones' slack folded in (the exact segment-vs-prism
+    test: a violation as deep as the trace inside a zone); empty without either."""
+    if world.obstacles:
+        other_slack, other_clear = _obstacle_slack(world, a, b)
+    else:
+        other_slack = other_clear = np.empty((0, 0))
+    if world.zones:
+        zone_slack = world.zones.polyline_slack(p)
+        if world.obstacles:
+            other_slack = np.minimum(other_slack, zone_slack)
+        else:
+            other_slack, other_clear = zone_slack, np.full(zone_slack.shape, np.inf)
+    return other_slack, other_clear
 
 
 def _no_terrain() -> TerrainKernelData:

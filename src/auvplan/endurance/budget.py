@@ -213,6 +213,40 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
     Traverse
         Times at the vertices (arrival) and nodes; ``ok`` False where the current beats the vehicle.
     """
+    p, v, back, hold, held_on = _route_arrays(points, speeds, ds, tail, dwell, station)
+    water = np.zeros((p.shape[0] if held_on.any() else 0, _hold_samples(world, hold[held_on])))
+    times = np.full(p.shape[0], math.nan)
+    times[0] = depart
+    track: list[_Node] = [(p[0], 0.0, depart, 0)]  # position, distance along, time, leg
+    t, s_along, ok, message = depart, 0.0, True, ""
+    for i in range(p.shape[0] - 1):
+        if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
+            if held_on[i]:  # against the current: its speed at the midpoints of the hold's parts
+                water[i] = _held_water(world, p[i], t, float(hold[i]), water.shape[1])
+            t += float(hold[i])
+            track.append((p[i].copy(), s_along, t, i))
+        t, s_along, message = _fly_leg(world, p[i], p[i + 1], v[i], back[i], t, s_along, ds, i, track)
+        if message:
+            ok = False
+            break
+        times[i + 1] = t
+    end = float(hold[-1]) if ok and held_on[-1] and hold[-1] > 0.0 else 0.0
+    if end > 0.0:  # held on station at the last vertex before the mission ends: a node at the hold's end
+        water[-1] = _held_water(world, p[-1], t, end, water.shape[1])
+        track.append((p[-1].copy(), s_along, t + end, p.shape[0] - 2))
+    nodes, node_s, node_t, node_leg = zip(*track)
+    return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
+                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water, end)
+
+
+_Node = tuple[F64, float, float, int]
+"""A node of a traverse as it is flown: position, distance along, time and leg."""
+
+
+def _route_arrays(points: ArrayLike, speeds: ArrayLike | float, ds: float, tail: ArrayLike | None,
+                  dwell: ArrayLike | None, station: ArrayLike | None) -> tuple[F64, F64, NDArray[np.bool_], F64,
+                                                                              NDArray[np.bool_]]:
+    """:func:`traverse`'s inputs checked, as arrays: points, leg speeds and tail flags, dwells and holds on station."""
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     if p.shape[0] < 2:
         raise ValueError(f"a route needs at least 2 points, got {p.shape[0]}")
@@ -226,58 +260,33 @@ def traverse(world: World, points: ArrayLike, speeds: ArrayLike | float, depart:
                                                                        (p.shape[0],)).copy()
     held_on = np.zeros(p.shape[0], dtype=bool) if station is None else np.broadcast_to(
         np.asarray(station, dtype=bool), (p.shape[0],))
-    water = np.zeros((p.shape[0] if held_on.any() else 0, _hold_samples(world, hold[held_on])))
-    times = np.full(p.shape[0], math.nan)
-    times[0] = depart
-    nodes, node_s, node_t, node_leg = [p[0]], [0.0], [depart], [0]
-    t, s_along, ok, message = depart, 0.0, True, ""
-    cur = world.currents
-    for i in range(p.shape[0] - 1):
-        a, b = p[i], p[i + 1]
-        if hold[i] > 0.0:  # held at the vertex (a surface fix): a node at the departure
-            if held_on[i]:  # against the current: its speed at the midpoints of the hold's parts
-                water[i] = _held_water(world, a, t, float(hold[i]), water.shape[1])
-            t += float(hold[i])
-            nodes.append(a.copy())
-            node_s.append(s_along)
-            node_t.append(t)
-            node_leg.append(i)
-        length = float(np.linalg.norm(b - a))
-        if length == 0.0:
-            times[i + 1] = t
-            continue
-        e = (b - a) / length
-        n = max(1, math.ceil(length / ds))
-        h = length / n
-        for j in range(n):
-            start = a + (j * h) * e
-            g0 = ground_speed(cur.velocity(start, t), e, v[i], back[i])
-            g = ground_speed(cur.velocity(start + 0.5 * h * e, t + 0.5 * h / g0), e, v[i], back[i]) \
-                if g0 == g0 else math.nan
-            if not g == g:  # nan: the current beats the vehicle (or, tail-first, is too weak to carry it)
-                what = "is too weak to carry the vehicle tail-first" if back[i] else "beats the vehicle"
-                ok, message = False, (f"leg {i}: the current {what} at {np.round(start, 1).tolist()} "
-                                      f"(t = {t:.0f} s, through-water speed {v[i]:g} m/s)")
-                break
-            t += h / g
-            s_along += h
-            nodes.append(a + ((j + 1) * h) * e)
-            node_s.append(s_along)
-            node_t.append(t)
-            node_leg.append(i)
-        if not ok:
-            break
-        times[i + 1] = t
-    end = float(hold[-1]) if ok and held_on[-1] and hold[-1] > 0.0 else 0.0
-    if end > 0.0:  # held on station at the last vertex before the mission ends: a node at the hold's end
-        water[-1] = _held_water(world, p[-1], t, end, water.shape[1])
-        nodes.append(p[-1].copy())
-        node_s.append(s_along)
-        node_t.append(t + end)
-        node_leg.append(p.shape[0] - 2)
-    return Traverse(p, v, times, np.asarray(nodes), np.asarray(node_s), np.asarray(node_t),
-                    np.asarray(node_leg, dtype=np.int64), ok, message, back, hold, water, end)
+    return p, v, back, hold, held_on
 
+
+def _fly_leg(world: World, a: F64, b: F64, speed: float, back: bool, t: float, s_along: float, ds: float, leg: int,
+             track: list[_Node]) -> tuple[float, float, str]:
+    """Fly leg ``leg`` from ``a`` to ``b`` in sub-steps of at most ``ds``, a node at each: the time and distance
+    along at its end, and "" (or where the current stopped it, and the message saying so)."""
+    length = float(np.linalg.norm(b - a))
+    if length == 0.0:
+        return t, s_along, ""
+    cur = world.currents
+    e = (b - a) / length
+    n = max(1, math.ceil(length / ds))
+    h = length / n
+    for j in range(n):
+        start = a + (j * h) * e
+        g0 = ground_speed(cur.velocity(start, t), e, speed, back)
+        g = ground_speed(cur.velocity(start + 0.5 * h * e, t + 0.5 * h / g0), e, speed, back) \
+            if g0 == g0 else math.nan
+        if not g == g:  # nan: the current beats the vehicle (or, tail-first, is too weak to carry it)
+            what = "is too weak to carry the vehicle tail-first" if back else "beats the vehicle"
+            return t, s_along, (f"leg {leg}: the current {what} at {np.round(start, 1).tolist()} "
+                                f"(t = {t:.0f} s, through-water speed {speed:g} m/s)")
+        t += h / g
+        s_along += h
+        track.append((a + ((j + 1) * h) * e, s_along, t, leg))
+    return t, s_along, ""
 
 def _hold_samples(world: World, holds: F64) -> int:
     """The samples of every hold: :data:`HOLD_SAMPLES`, or as many as keep the longest's :data:`HOLD_STEP_S` apart

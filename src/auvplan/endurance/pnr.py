@@ -23,6 +23,7 @@ round trip to distance s costs P s (1/(V + u) + 1/(V − u)), so s* = budget (V�
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -170,32 +171,44 @@ def point_of_no_return(world: World, tr: Traverse, model: EnergyModel, recovery:
         r = _return_energy(world, tr, model, s, home, v, free_from, ds)
         return r[0] + r[1] - budget, r
 
-    def found(s: float, r: tuple[float, float, F64, float, int], whole: bool, msg: str,
-              status: Status = Status.EXACT) -> PointOfNoReturn:
-        e_out, e_ret, pos, t, leg = r
-        return PointOfNoReturn(status, (float(pos[0]), float(pos[1]), float(pos[2])), t, s, leg, e_out, e_ret,
-                               whole, (float(home[0]), float(home[1]), float(home[2])), msg)
-
     grid = np.linspace(0.0, total, max(2, samples) + 1)
     f0, r0 = f(0.0)
     if f0 > 0:
-        return found(0.0, r0, False, f"the vehicle cannot reach {where} with its reserve even from the start",
-                     Status.INFEASIBLE)
+        return _found(home, 0.0, r0, False, f"the vehicle cannot reach {where} with its reserve even from the start",
+                      Status.INFEASIBLE)
     lo, r_lo = 0.0, r0
     for s in grid[1:]:
         fs, rs = f(float(s))
         if fs > 0:
-            hi = float(s)
-            while hi - lo > tol:
-                mid = 0.5 * (lo + hi)
-                fm, rm = f(mid)
-                if fm > 0:
-                    hi = mid
-                else:
-                    lo, r_lo = mid, rm
-            return found(lo, r_lo, False, f"turn back for {where} by {lo / 1000:.2f} km along the route "
-                         f"(t = {r_lo[3] / 3600:.2f} h, leg {r_lo[4]}): {r_lo[0]:.1f} Wh out, {r_lo[1]:.1f} Wh back")
+            lo, r_lo = _bisect(f, lo, r_lo, float(s), tol)
+            return _found(home, lo, r_lo, False, f"turn back for {where} by {lo / 1000:.2f} km along the route (t = "
+                          f"{r_lo[3] / 3600:.2f} h, leg {r_lo[4]}): {r_lo[0]:.1f} Wh out, {r_lo[1]:.1f} Wh back")
         lo, r_lo = float(s), rs
     if not tr.ok:
-        return found(lo, r_lo, False, f"{where} stays within reach up to where the current blocks the mission")
-    return found(lo, r_lo, True, f"{where} stays within reach with the reserve from every point of the mission")
+        return _found(home, lo, r_lo, False, f"{where} stays within reach up to where the current blocks the mission")
+    return _found(home, lo, r_lo, True, f"{where} stays within reach with the reserve from every point of the mission")
+
+
+_Return = tuple[float, float, F64, float, int]
+"""A turn back at a distance along the route: energy out, energy back (Wh), the position, its time (s), its leg."""
+
+
+def _bisect(f: Callable[[float], tuple[float, _Return]], lo: float, r_lo: _Return, hi: float,
+            tol: float) -> tuple[float, _Return]:
+    """The last distance along the route (to ``tol``) in ``[lo, hi]`` from which the return keeps the reserve
+    (``f`` ≤ 0 at ``lo``, > 0 at ``hi``), and its return."""
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        fm, rm = f(mid)
+        if fm > 0:
+            hi = mid
+        else:
+            lo, r_lo = mid, rm
+    return lo, r_lo
+
+
+def _found(home: F64, s: float, r: _Return, whole: bool, msg: str, status: Status = Status.EXACT) -> PointOfNoReturn:
+    """The point of no return at ``s`` along the route (``whole``: the recovery stays within reach throughout)."""
+    e_out, e_ret, pos, t, leg = r
+    return PointOfNoReturn(status, (float(pos[0]), float(pos[1]), float(pos[2])), t, s, leg, e_out, e_ret,
+                           whole, (float(home[0]), float(home[1]), float(home[2])), msg)

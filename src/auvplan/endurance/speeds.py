@@ -20,6 +20,7 @@ water the λ = 0 speed is v* = (P_hotel / (2 k))^(1/3) on every leg (minimum of 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -161,31 +162,48 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
         fastest (``"energy"``) or the least-energy (``"time"``) speeds with a message saying so.
     """
     w = np.asarray(route, dtype=float).reshape(-1, 3)
-    n = w.shape[0] - 1
     if objective == "fixed":
-        tr = traverse(world, w, cruise, depart, ds, tail)
-        dur = tr.duration if tr.ok else math.inf
-        return SpeedPlan("fixed", np.full(n, cruise), 0.0, dur, float(model.power(cruise)) * dur / WH)
+        return _fixed(world, w, model, cruise, depart, ds, tail)
     if objective not in ("energy", "time"):
         raise ValueError(f"objective = {objective!r}: choose 'fixed', 'energy' or 'time'")
 
-    def ok(res: tuple[F64, float, float]) -> bool:
+    def at(price_w: float) -> _Speeds:
+        return leg_speeds(world, w, model, price_w, depart, ds, tail=tail)
+
+    def ok(res: _Speeds) -> bool:
         if objective == "energy":
             return deadline_s <= 0 or depart + res[1] <= deadline_s
         return res[2] <= model.budget_wh
 
-    base = leg_speeds(world, w, model, 0.0, depart, ds, tail=tail)
+    base = at(0.0)
     if objective == "energy" and ok(base):
         return SpeedPlan("energy", base[0], 0.0, base[1], base[2], "least energy" + (
             f", arrives {deadline_s - depart - base[1]:.0f} s before the deadline" if deadline_s > 0 else ""))
-    # λ large enough to fly at the top speed: P'(v) T = ... grows with k v_max³; bracket by doubling
-    lam_hi = max(model.hotel_w, 1.0)
-    fast = leg_speeds(world, w, model, lam_hi, depart, ds, tail=tail)
-    for _ in range(30):
-        if bool(np.all(fast[0] >= model.max_speed - 1e-4)):
-            break
-        lam_hi *= 4.0
-        fast = leg_speeds(world, w, model, lam_hi, depart, ds, tail=tail)
+    lam_hi, fast = _top_speed_price(at, model)
+    at_an_end = _at_an_end(objective, ok, base, fast, lam_hi, depart)
+    if at_an_end is not None:
+        return at_an_end
+    best, best_lam = _bisect_price(at, ok, objective == "energy", base, fast, lam_hi, iterations)
+    what = "least energy by the deadline" if objective == "energy" else "least time within the battery"
+    return SpeedPlan(objective, best[0], best_lam, best[1], best[2], what)
+
+
+_Speeds = tuple[F64, float, float]
+""":func:`leg_speeds`' answer: the speeds, the duration (s) and the energy (Wh)."""
+
+
+def _fixed(world: World, w: F64, model: EnergyModel, cruise: float, depart: float, ds: float,
+           tail: ArrayLike | None) -> SpeedPlan:
+    """Every leg at ``cruise``."""
+    tr = traverse(world, w, cruise, depart, ds, tail)
+    dur = tr.duration if tr.ok else math.inf
+    return SpeedPlan("fixed", np.full(w.shape[0] - 1, cruise), 0.0, dur, float(model.power(cruise)) * dur / WH)
+
+
+def _at_an_end(objective: str, ok: Callable[[_Speeds], bool], base: _Speeds, fast: _Speeds, lam_hi: float,
+               depart: float) -> SpeedPlan | None:
+    """The answer when the fastest speeds miss the deadline or keep the budget, or the least-energy ones break it
+    (no price of time to search for); None otherwise."""
     if objective == "energy" and not ok(fast):
         return SpeedPlan("energy", fast[0], lam_hi, fast[1], fast[2],
                          f"the deadline cannot be met: the fastest arrival is {depart + fast[1]:.0f} s")
@@ -194,14 +212,34 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
     if objective == "time" and not ok(base):
         return SpeedPlan("time", base[0], 0.0, base[1], base[2],
                          "even the least-energy speeds break the reserve")
-    lo, hi, best = 0.0, lam_hi, (fast if objective == "energy" else base)
-    best_lam = hi if objective == "energy" else lo
+    return None
+
+
+def _top_speed_price(at: Callable[[float], _Speeds], model: EnergyModel) -> tuple[float, _Speeds]:
+    """λ large enough to fly at the top speed, and those speeds: P'(v) T = ... grows with k v_max³; bracket by
+    doubling."""
+    lam_hi = max(model.hotel_w, 1.0)
+    fast = at(lam_hi)
+    for _ in range(30):
+        if bool(np.all(fast[0] >= model.max_speed - 1e-4)):
+            break
+        lam_hi *= 4.0
+        fast = at(lam_hi)
+    return lam_hi, fast
+
+
+def _bisect_price(at: Callable[[float], _Speeds], ok: Callable[[_Speeds], bool], energy: bool, base: _Speeds,
+                  fast: _Speeds, lam_hi: float, iterations: int) -> tuple[_Speeds, float]:
+    """Bisect the price of time in ``[0, lam_hi]``: the smallest λ meeting the deadline (``energy``), else the
+    largest keeping the battery's budget; its speeds and λ."""
+    lo, hi, best = 0.0, lam_hi, (fast if energy else base)
+    best_lam = hi if energy else lo
     for _ in range(iterations):
         if hi - lo <= 1e-4 * max(hi, 1.0):  # λ to 0.01 %: the speeds to about 1e-5 of their range
             break
         mid = 0.5 * (lo + hi)
-        res = leg_speeds(world, w, model, mid, depart, ds, tail=tail)
-        if objective == "energy":  # smallest λ meeting the deadline
+        res = at(mid)
+        if energy:  # smallest λ meeting the deadline
             if ok(res):
                 hi, best, best_lam = mid, res, mid
             else:
@@ -210,5 +248,4 @@ def choose_speeds(world: World, route: ArrayLike, model: EnergyModel, cruise: fl
             lo, best, best_lam = mid, res, mid
         else:
             hi = mid
-    what = "least energy by the deadline" if objective == "energy" else "least time within the battery"
-    return SpeedPlan(objective, best[0], best_lam, best[1], best[2], what)
+    return best, best_lam

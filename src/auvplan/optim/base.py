@@ -400,65 +400,75 @@ def minimize(
         The optimiser's best point and the run's record.
     """
     t0 = time.perf_counter()
+    problem = _prepared(problem, optimizer)
+    first, evals = problem.evaluations, 0
+    trace0 = len(problem.trace)
+    history: list[float] = []
+    last_improvement_f = np.inf
+    stall = 0
+    while True:
+        X = optimizer.ask()
+        f, evals = _evaluate(problem, X, termination, first, evals)
+        finished = optimizer.tell(X, f)
+        reason = ""
+        if finished:
+            history.append(optimizer.best_f)
+            if callback is not None:
+                callback(optimizer.iteration, optimizer.best_f)
+            improved = optimizer.best_f < last_improvement_f - termination.stall_tolerance
+            last_improvement_f, stall = (optimizer.best_f, 0) if improved else (last_improvement_f, stall + 1)
+            reason = _iterations_reached(termination, optimizer.iteration, stall)
+            if reason == "stall" and termination.on_stall is not None and not termination.on_stall(optimizer.best_f):
+                reason, stall = "", 0  # asked, the run goes on
+        if not reason and _evaluations_spent(problem, termination, evals):
+            if not finished:
+                history.append(optimizer.best_f)
+            reason = "max_evaluations"
+        if not reason and termination.max_time_s is not None and time.perf_counter() - t0 >= termination.max_time_s:
+            reason = "max_time"
+        if reason:
+            break
+    return OptimizeResult(x=optimizer.best_x.copy(), f=float(optimizer.best_f), evaluations=evals,
+                          iterations=optimizer.iteration, history=np.asarray(history),
+                          wall_time_s=time.perf_counter() - t0, reason=reason,
+                          trace=np.asarray(problem.trace[trace0:], dtype=float).reshape(-1, 2))
+
+
+def _prepared(problem: Problem | Objective, optimizer: Optimizer) -> Problem:
+    """``problem`` as a :class:`Problem` over the optimiser's box; its seeds and repair given to the optimiser."""
     if not isinstance(problem, Problem):
         problem = Problem(problem, optimizer.lower, optimizer.upper)
     if problem.x0.shape[0]:
         optimizer.seed(problem.x0)
     if problem.repair is not None:
         optimizer.repair = problem.repair
-    first, evals = problem.evaluations, 0
-    trace0 = len(problem.trace)
-    history: list[float] = []
-    reason = "max_iterations"
-    last_improvement_f = np.inf
-    stall = 0
-    while True:
-        X = optimizer.ask()
-        f = np.full(X.shape[0], np.inf)
-        take = X.shape[0]
-        if termination.max_evaluations is not None:
-            take = min(take, termination.max_evaluations - evals)
-        if take > 0:
-            f[:take] = problem.evaluate(X[:take])
-            evals = problem.evaluations - first
-        finished = optimizer.tell(X, f)
-        if finished:
-            history.append(optimizer.best_f)
-            if callback is not None:
-                callback(optimizer.iteration, optimizer.best_f)
-            if optimizer.best_f < last_improvement_f - termination.stall_tolerance:
-                last_improvement_f = optimizer.best_f
-                stall = 0
-            else:
-                stall += 1
-            if termination.max_iterations is not None and optimizer.iteration >= termination.max_iterations:
-                reason = "max_iterations"
-                break
-            if termination.stall_iterations is not None and stall >= termination.stall_iterations:
-                if termination.on_stall is None or termination.on_stall(optimizer.best_f):
-                    reason = "stall"
-                    break
-                stall = 0
-        if problem.remaining is not None and problem.remaining <= 0:
-            if not finished:
-                history.append(optimizer.best_f)
-            reason = "max_evaluations"
-            break
-        if termination.max_evaluations is not None and evals >= termination.max_evaluations:
-            if not finished:
-                history.append(optimizer.best_f)
-            reason = "max_evaluations"
-            break
-        if termination.max_time_s is not None and time.perf_counter() - t0 >= termination.max_time_s:
-            reason = "max_time"
-            break
-    return OptimizeResult(
-        x=optimizer.best_x.copy(),
-        f=float(optimizer.best_f),
-        evaluations=evals,
-        iterations=optimizer.iteration,
-        history=np.asarray(history),
-        wall_time_s=time.perf_counter() - t0,
-        reason=reason,
-        trace=np.asarray(problem.trace[trace0:], dtype=float).reshape(-1, 2),
-    )
+    return problem
+
+
+def _evaluate(problem: Problem, X: FloatArray, termination: Termination, first: int,
+              evals: int) -> tuple[FloatArray, int]:
+    """The values of the batch ``X`` (``+inf`` beyond the run's evaluations) and the run's evaluations after it."""
+    f = np.full(X.shape[0], np.inf)
+    take = X.shape[0]
+    if termination.max_evaluations is not None:
+        take = min(take, termination.max_evaluations - evals)
+    if take > 0:
+        f[:take] = problem.evaluate(X[:take])
+        evals = problem.evaluations - first
+    return f, evals
+
+
+def _iterations_reached(termination: Termination, iteration: int, stall: int) -> str:
+    """``"max_iterations"`` or ``"stall"`` when that limit is reached after an iteration, else ``""``."""
+    if termination.max_iterations is not None and iteration >= termination.max_iterations:
+        return "max_iterations"
+    if termination.stall_iterations is not None and stall >= termination.stall_iterations:
+        return "stall"
+    return ""
+
+
+def _evaluations_spent(problem: Problem, termination: Termination, evals: int) -> bool:
+    """Whether the problem's budget or the run's evaluations are spent."""
+    if problem.remaining is not None and problem.remaining <= 0:
+        return True
+    return termination.max_evaluations is not None and evals >= termination.max_evaluations

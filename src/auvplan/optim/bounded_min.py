@@ -76,51 +76,67 @@ def bounded_min(func: Callable[[float], float], lo: float, hi: float, xatol: flo
     tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
     tol2 = 2.0 * tol1
     while abs(xf - xm) > tol2 - 0.5 * (b - a):
-        golden = True
-        if abs(e) > tol1:  # try a parabola through the three best points
-            golden = False
-            r = (xf - nfc) * (fx - ffulc)
-            q = (xf - fulc) * (fx - fnfc)
-            p = (xf - fulc) * q - (xf - nfc) * r
-            q = 2.0 * (q - r)
-            if q > 0.0:
-                p = -p
-            q = abs(q)
-            r, e = e, rat
-            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
-                rat = (p + 0.0) / q
-                x = xf + rat
-                if (x - a) < tol2 or (b - x) < tol2:
-                    rat = tol1 * _sign(xm - xf)
-            else:
-                golden = True
-        if golden:
-            e = (a - xf) if xf >= xm else (b - xf)
-            rat = _GOLDEN * e
+        rat, e = _step(a, b, xf, fx, nfc, fnfc, fulc, ffulc, xm, tol1, tol2, rat, e)
         x = xf + _sign(rat) * max(abs(rat), tol1)
         fu = float(func(x))
         num += 1
-        if fu <= fx:
-            if x >= xf:
-                a = xf
-            else:
-                b = xf
-            fulc, ffulc = nfc, fnfc
-            nfc, fnfc = xf, fx
-            xf, fx = x, fu
-        else:
-            if x < xf:
-                a = x
-            else:
-                b = x
-            if fu <= fnfc or nfc == xf:
-                fulc, ffulc = nfc, fnfc
-                nfc, fnfc = x, fu
-            elif fu <= ffulc or fulc == xf or fulc == nfc:
-                fulc, ffulc = x, fu
+        a, b, xf, fx, nfc, fnfc, fulc, ffulc = _keep(a, b, x, fu, xf, fx, nfc, fnfc, fulc, ffulc)
         xm = 0.5 * (a + b)
         tol1 = _SQRT_EPS * abs(xf) + xatol / 3.0
         tol2 = 2.0 * tol1
         if num >= maxfun:
             break
     return xf, fx, num
+
+
+def _step(a: float, b: float, xf: float, fx: float, nfc: float, fnfc: float, fulc: float, ffulc: float, xm: float,
+          tol1: float, tol2: float, rat: float, e: float) -> tuple[float, float]:
+    """The next step from the best point ``xf`` and the step before last: a parabola through the three best points
+    (``xf``, ``nfc``, ``fulc``) when it is acceptable, else a golden section of the larger part of ``[a, b]``."""
+    golden = True
+    if abs(e) > tol1:  # try a parabola through the three best points
+        golden = False
+        r = (xf - nfc) * (fx - ffulc)
+        q = (xf - fulc) * (fx - fnfc)
+        p = (xf - fulc) * q - (xf - nfc) * r
+        q = 2.0 * (q - r)
+        if q > 0.0:
+            p = -p
+        q = abs(q)
+        r, e = e, rat
+        if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+            rat = (p + 0.0) / q
+            x = xf + rat
+            if (x - a) < tol2 or (b - x) < tol2:
+                rat = tol1 * _sign(xm - xf)
+        else:
+            golden = True
+    if golden:
+        e = (a - xf) if xf >= xm else (b - xf)
+        rat = _GOLDEN * e
+    return rat, e
+
+
+def _keep(a: float, b: float, x: float, fu: float, xf: float, fx: float, nfc: float, fnfc: float, fulc: float,
+          ffulc: float) -> tuple[float, float, float, float, float, float, float, float]:
+    """The interval ``[a, b]`` and the three best points (``xf``, ``nfc``, ``fulc``, with their values) once
+    ``fu = func(x)`` is known."""
+    if fu <= fx:
+        if x >= xf:
+            a = xf
+        else:
+            b = xf
+        fulc, ffulc = nfc, fnfc
+        nfc, fnfc = xf, fx
+        xf, fx = x, fu
+    else:
+        if x < xf:
+            a = x
+        else:
+            b = x
+        if fu <= fnfc or nfc == xf:
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = x, fu
+        elif fu <= ffulc or fulc == xf or fulc == nfc:
+            fulc, ffulc = x, fu
+    return a, b, xf, fx, nfc, fnfc, fulc, ffulc

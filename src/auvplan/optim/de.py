@@ -91,31 +91,18 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
     gen = as_rng(rng)
     t0 = time.perf_counter()
     n = max(int(population), 5)
-    init = problem.lower + gen.random((n, problem.dim)) * (problem.upper - problem.lower)
-    m = min(problem.x0.shape[0], n // 2)
-    init[:m] = problem.x0[:m]
+    init = _initial(problem, n, gen)
     first, trace0 = problem.evaluations, len(problem.trace)
     history: list[float] = []
-
-    def func(xt: FloatArray) -> FloatArray:  # scipy passes (D, S)
-        if problem.left <= 0:
-            raise _Spent
-        f = problem.evaluate(np.atleast_2d(xt.T))
-        if problem.left <= 0:
-            raise _Spent
-        return f
 
     def each_generation(intermediate_result: object) -> None:  # scipy's OptimizeResult, unused
         history.append(problem.best_f)
         if callback is not None:
             callback(len(history), problem.best_f)
 
-    mutation: float | tuple[float, ...] = tuple(p.mutation) if isinstance(p.mutation, list | tuple) else p.mutation
-    if isinstance(mutation, tuple) and len(mutation) == 1:
-        mutation = mutation[0]
     from scipy.optimize import differential_evolution as _scipy_de  # imported when used (#56)
 
-    reason = "max_evaluations"
+    func, mutation = _counted(problem), _scipy_mutation(p)
     while problem.left > 0:  # a restart (best kept) only if the population collapsed early
         try:
             _scipy_de(func, list(zip(problem.lower, problem.upper)), strategy=p.strategy, maxiter=10**9,
@@ -127,13 +114,37 @@ def differential_evolution(problem: Problem, population: int, params: DEParams |
         init[0] = problem.best_x
     if not history or history[-1] != problem.best_f:
         history.append(problem.best_f)
-    return OptimizeResult(
-        x=problem.best_x.copy(),
-        f=float(problem.best_f),
-        evaluations=problem.evaluations - first,
-        iterations=len(history),
-        history=np.asarray(history),
-        wall_time_s=time.perf_counter() - t0,
-        reason=reason,
-        trace=np.asarray(problem.trace[trace0:], dtype=float).reshape(-1, 2),
-    )
+    return OptimizeResult(x=problem.best_x.copy(), f=float(problem.best_f), evaluations=problem.evaluations - first,
+                          iterations=len(history), history=np.asarray(history),
+                          wall_time_s=time.perf_counter() - t0, reason="max_evaluations",
+                          trace=np.asarray(problem.trace[trace0:], dtype=float).reshape(-1, 2))
+
+
+def _initial(problem: Problem, n: int, gen: np.random.Generator) -> FloatArray:
+    """``n`` uniform draws in the problem's box, its seeds first (at most half the population)."""
+    init: FloatArray = problem.lower + gen.random((n, problem.dim)) * (problem.upper - problem.lower)
+    m = min(problem.x0.shape[0], n // 2)
+    init[:m] = problem.x0[:m]
+    return init
+
+
+def _counted(problem: Problem) -> Callable[[FloatArray], FloatArray]:
+    """scipy's vectorised objective ``(D, S) -> (S,)`` over ``problem``, which stops scipy (:class:`_Spent`) once
+    the budget is spent."""
+    def func(xt: FloatArray) -> FloatArray:  # scipy passes (D, S)
+        if problem.left <= 0:
+            raise _Spent
+        f = problem.evaluate(np.atleast_2d(xt.T))
+        if problem.left <= 0:
+            raise _Spent
+        return f
+
+    return func
+
+
+def _scipy_mutation(p: DEParams) -> float | tuple[float, ...]:
+    """``p.mutation`` as scipy takes it: one F, or a dithering range."""
+    mutation: float | tuple[float, ...] = tuple(p.mutation) if isinstance(p.mutation, list | tuple) else p.mutation
+    if isinstance(mutation, tuple) and len(mutation) == 1:
+        mutation = mutation[0]
+    return mutation

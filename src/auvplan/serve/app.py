@@ -228,29 +228,9 @@ async def bounded_body(request: Request, limit: int) -> bytes:
     return b"".join(chunks)
 
 
-def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlette:
-    """The Starlette application of a session.
-
-    Requests whose ``Host`` is not one of ``hosts`` are refused (a web page elsewhere cannot reach the
-    server through a DNS name pointed at 127.0.0.1), and a POST must say it is JSON (``Content-Type:
-    application/json``), which a page of another origin cannot send without the browser asking the
-    server first (it is never allowed): no other site can edit or save through your browser.
-
-    Parameters
-    ----------
-    session : Session
-        The page's state (one per server: the page is for one user on this machine).
-    hosts : tuple of str, optional
-        Host names the page is served under (``--host`` adds its address).
-
-    Returns
-    -------
-    starlette.applications.Starlette
-        The ASGI application.
-    """
+def _page_routes() -> list[Route]:
+    """The page, its assets and the favicon (served from the package)."""
     static = resources.files("auvplan.serve") / "static"
-    revisions = Revisions()
-    writers = anyio.CapacityLimiter(WRITER_THREADS)
 
     async def index(request: Request) -> Response:
         return HTMLResponse((static / "index.html").read_text(encoding="utf-8"),
@@ -267,55 +247,72 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
             return JSONResponse({"error": f"auvplan: error: /static/{name}: no such asset"}, status_code=404)
         return Response((static / name).read_text(encoding="utf-8"), media_type=_STATIC[name])
 
-    async def body(request: Request) -> dict[str, Any]:
-        if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
-            raise AuvplanError("the request must be JSON (Content-Type: application/json)")
-        raw = await bounded_body(request, MAX_BODY_BYTES)
-        if not raw:
-            return {}
+    return [
+        Route("/", index),
+        Route("/static/{name}", asset),
+        Route("/favicon.ico", lambda request: Response(status_code=204)),
+    ]
+
+
+async def _json_body(request: Request) -> dict[str, Any]:
+    """The request's JSON object (``{}`` for an empty body); refused unless it says it is JSON."""
+    if request.headers.get("content-type", "").split(";")[0].strip().lower() != "application/json":
+        raise AuvplanError("the request must be JSON (Content-Type: application/json)")
+    raw = await bounded_body(request, MAX_BODY_BYTES)
+    if not raw:
+        return {}
+    try:
+        data = json.loads(raw)
+    except (ValueError, RecursionError):
+        raise AuvplanError("the request is not JSON") from None
+    if not isinstance(data, dict):
+        raise AuvplanError("the request must be a JSON object")
+    return data
+
+
+def _api(session: Session, revisions: Revisions, writers: anyio.CapacityLimiter,
+         work: Callable[[dict[str, Any]], Any], full: bool = False) -> Handler:
+    """The handler of one API route: ``work`` on the request's data in a worker thread, answered with the state."""
+    def answer(data: dict[str, Any]) -> Any:  # in a worker thread: the event loop never waits on a lock
+        out = work(data)
+        if isinstance(out, Response):
+            return out
+        state = page_state(session, full, revisions, data.get("rev"))
+        if out is not None:
+            state["result"] = _clean(out)
+        return state
+
+    async def handler(request: Request) -> Response:
         try:
-            data = json.loads(raw)
-        except (ValueError, RecursionError):
-            raise AuvplanError("the request is not JSON") from None
-        if not isinstance(data, dict):
-            raise AuvplanError("the request must be a JSON object")
-        return data
+            data = await _json_body(request) if request.method == "POST" else {}
+            # writers queue on their own few threads: the readers (state, chart) always find one free
+            out = await anyio.to_thread.run_sync(answer, data,
+                                                 limiter=writers if request.method == "POST" else None)
+        except ClientGone:
+            return Response(status_code=400)  # nobody reads it; no traceback in the server's log
+        except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
+            return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
+        except Superseded as exc:  # long work overtaken by an edit: dropped, the edit stands
+            return JSONResponse({"error": one_line(exc), "superseded": True}, status_code=409)
+        except Stopped as exc:  # long work stopped on the page's request (/api/stop)
+            return JSONResponse({"error": one_line(exc), "stopped": True}, status_code=409)
+        except Busy as exc:  # long work already running: refused at once, never queued
+            return JSONResponse({"error": one_line(exc), "busy": True}, status_code=503,
+                                headers={"Retry-After": "1"})
+        except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError,
+                OverflowError, IndexError) as exc:
+            return JSONResponse({"error": one_line(exc)}, status_code=400)
+        if isinstance(out, Response):
+            return out
+        return JSONResponse(out)
 
+    return handler
+
+
+def _api_routes(session: Session, revisions: Revisions, writers: anyio.CapacityLimiter) -> list[Route]:
+    """The JSON API's routes over ``session`` (:func:`_api` makes each handler)."""
     def api(work: Callable[[dict[str, Any]], Any], full: bool = False) -> Handler:
-        def answer(data: dict[str, Any]) -> Any:  # in a worker thread: the event loop never waits on a lock
-            out = work(data)
-            if isinstance(out, Response):
-                return out
-            state = page_state(session, full, revisions, data.get("rev"))
-            if out is not None:
-                state["result"] = _clean(out)
-            return state
-
-        async def handler(request: Request) -> Response:
-            try:
-                data = await body(request) if request.method == "POST" else {}
-                # writers queue on their own few threads: the readers (state, chart) always find one free
-                out = await anyio.to_thread.run_sync(answer, data,
-                                                     limiter=writers if request.method == "POST" else None)
-            except ClientGone:
-                return Response(status_code=400)  # nobody reads it; no traceback in the server's log
-            except StaleRevision as exc:  # an edit on an old picture: not applied, the page reloads the state
-                return JSONResponse({"error": one_line(exc), "stale": True}, status_code=409)
-            except Superseded as exc:  # long work overtaken by an edit: dropped, the edit stands
-                return JSONResponse({"error": one_line(exc), "superseded": True}, status_code=409)
-            except Stopped as exc:  # long work stopped on the page's request (/api/stop)
-                return JSONResponse({"error": one_line(exc), "stopped": True}, status_code=409)
-            except Busy as exc:  # long work already running: refused at once, never queued
-                return JSONResponse({"error": one_line(exc), "busy": True}, status_code=503,
-                                    headers={"Retry-After": "1"})
-            except (AuvplanError, ValueError, OSError, KeyError, TypeError, MemoryError, RecursionError,
-                    OverflowError, IndexError) as exc:
-                return JSONResponse({"error": one_line(exc)}, status_code=400)
-            if isinstance(out, Response):
-                return out
-            return JSONResponse(out)
-
-        return handler
+        return _api(session, revisions, writers, work, full)
 
     def current(d: dict[str, Any]) -> None:
         """Refuse an edit made on another revision than the session's (the caller holds the lock)."""
@@ -342,10 +339,7 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
             out = save_results(session, d.get("name", ""))
         return {"saved": str(out)}
 
-    routes = [
-        Route("/", index),
-        Route("/static/{name}", asset),
-        Route("/favicon.ico", lambda request: Response(status_code=204)),
+    return [
         Route("/api/state", api(lambda d: None, full=True)),
         Route("/api/chart", api(chart)),
         Route("/api/edit", api(edit), methods=["POST"]),
@@ -366,4 +360,27 @@ def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlett
         Route("/api/choose", api(lambda d: editing.choose(session, _index(d)) and None), methods=["POST"]),
         Route("/api/save", api(save), methods=["POST"]),
     ]
+
+
+def make_app(session: Session, hosts: tuple[str, ...] = LOCAL_HOSTS) -> Starlette:
+    """The Starlette application of a session.
+
+    Requests whose ``Host`` is not one of ``hosts`` are refused (a web page elsewhere cannot reach the
+    server through a DNS name pointed at 127.0.0.1), and a POST must say it is JSON (``Content-Type:
+    application/json``), which a page of another origin cannot send without the browser asking the
+    server first (it is never allowed): no other site can edit or save through your browser.
+
+    Parameters
+    ----------
+    session : Session
+        The page's state (one per server: the page is for one user on this machine).
+    hosts : tuple of str, optional
+        Host names the page is served under (``--host`` adds its address).
+
+    Returns
+    -------
+    starlette.applications.Starlette
+        The ASGI application.
+    """
+    routes = _page_routes() + _api_routes(session, Revisions(), anyio.CapacityLimiter(WRITER_THREADS))
     return Starlette(routes=routes, middleware=[Middleware(TrustedHostMiddleware, allowed_hosts=list(hosts))])

@@ -220,14 +220,7 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
         if f.phase == _SURFACE and f.surface_left <= 0.0 and f.fix():
             arrive, reason = f.t, "arrived"
             break
-        vel = f.velocity()
-        cur = world.currents.velocity(np.array([[f.pos[0], f.pos[1], min(f.pos[2], -0.5)]]), f.t)[0]
-        f.pos = f.pos + dt * np.array([vel[0] + cur[0], vel[1] + cur[1], vel[2]])
-        if reach == math.inf and math.hypot(f.pos[0] - wps[-1, 0], f.pos[1] - wps[-1, 1]) < g.capture_radius_m:
-            reach = f.t + dt
-        f.dr = f.dr + dt * (vel[:2] + f.dac)
-        f.energy += dt * (g.hotel_w + (g.surface_power_w if f.phase == _SURFACE else 0.0))
-        f.t += dt
+        reach = _drift_step(f, world, wps[-1], dt, reach)
         if f.vertical(world, dt):
             reason = "grounded"
             break
@@ -235,3 +228,18 @@ def fly_glider(world: World, glider: GliderParams, start: ArrayLike, waypoints: 
     return GliderTrack(t_out[:m].copy(), xyz[:m].copy(), phase_out[:m].copy(), np.array(f.fixes).reshape(-1, 3),
                        np.array(f.dacs).reshape(-1, 2), math.isfinite(arrive), arrive, f.energy, f.pump,
                        f.inflections, min(reach, arrive), reason)
+
+
+def _drift_step(f: _Flight, world: World, goal: FloatArray, dt: float, reach: float) -> float:
+    """One step ``dt`` of the flight through the water and the current (sampled at least half a metre deep), its
+    dead reckoning and energy; ``reach`` the time it first comes within the capture radius of ``goal``."""
+    g = f.g
+    vel = f.velocity()
+    cur = world.currents.velocity(np.array([[f.pos[0], f.pos[1], min(f.pos[2], -0.5)]]), f.t)[0]
+    f.pos = f.pos + dt * np.array([vel[0] + cur[0], vel[1] + cur[1], vel[2]])
+    if reach == math.inf and math.hypot(f.pos[0] - goal[0], f.pos[1] - goal[1]) < g.capture_radius_m:
+        reach = f.t + dt
+    f.dr = f.dr + dt * (vel[:2] + f.dac)
+    f.energy += dt * (g.hotel_w + (g.surface_power_w if f.phase == _SURFACE else 0.0))
+    f.t += dt
+    return reach

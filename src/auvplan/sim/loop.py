@@ -136,30 +136,40 @@ def simulate(world: World, mission: Mission, route: ArrayLike | None = None, gui
         t = k * dt
         if progress is not None and k % every == 0:
             progress(t, _eta(t, expected, run.tracker.total_length, last))
-        pos, shapes, dists, alt, cur = _sense(run, k, t)
-        psi_d, pitch_cmd, rp = _command(run, k, t, pos, shapes, dists, cur)
+        ended, rp = _step(run, k, t)
         last = rp
-        if k % st.record_every == 0:
-            run.rec.add(t, pos, s, run.vel, rp, alt, dists, run.nav_error())
-        if _step_events(run, t, pos, alt, dists, rp):
+        if ended:
             break
-        if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
-            if run.dive_to == run.dive_to:  # the launch's dive from the surface (sim.events), before the first leg
-                _dive(run, t, alt, cur)
-            elif t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
-                _hold(run, cur)
-            else:
-                _steer(run, k, psi_d, pitch_cmd, rp, cur)
-                if run.drift is not None:
-                    _drift(run.drift, s, pos, alt, cur, dt)
-            if run.fixes:
-                _fixes_passed(run, (k + 1) * dt, rp)
     else:
         run.events.append((run.n_steps * dt, "timeout", f"not arrived after {run.max_time:.0f} s"))
     if k % st.record_every != 0:  # always keep the final state, sensed as every recorded one
         pos, _, dists, alt, _ = _sense(run, k, k * dt)
         run.rec.add(k * dt, pos, s, run.vel, rp, alt, dists, run.nav_error())
     return _result(run, time.perf_counter() - t_wall)
+
+
+def _step(run: _Run, k: int, t: float) -> tuple[bool, RoutePoint]:
+    """Step ``k`` of the flight (at ``t``): sense, command, record, the run's events (True: it ends here), then
+    the step to the next (none after the last); the step's route point."""
+    st, dt, s = run.mission.sim, run.mission.sim.dt, run.state
+    pos, shapes, dists, alt, cur = _sense(run, k, t)
+    psi_d, pitch_cmd, rp = _command(run, k, t, pos, shapes, dists, cur)
+    if k % st.record_every == 0:
+        run.rec.add(t, pos, s, run.vel, rp, alt, dists, run.nav_error())
+    if _step_events(run, t, pos, alt, dists, rp):
+        return True, rp
+    if k < run.n_steps:  # the last step's state is the run's final state: no step beyond it
+        if run.dive_to == run.dive_to:  # the launch's dive from the surface (sim.events), before the first leg
+            _dive(run, t, alt, cur)
+        elif t < run.hold_until:  # the dwell at a surface fix: drifting with the current, GPS holds the estimate
+            _hold(run, cur)
+        else:
+            _steer(run, k, psi_d, pitch_cmd, rp, cur)
+            if run.drift is not None:
+                _drift(run.drift, s, pos, alt, cur, dt)
+        if run.fixes:
+            _fixes_passed(run, (k + 1) * dt, rp)
+    return False, rp
 
 
 class _Recorder:

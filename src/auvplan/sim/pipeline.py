@@ -25,7 +25,7 @@ from .mission import Mission
 from .navigation import navigation_plan, timed_navigation, with_leg_speeds  # (with_leg_speeds: re-exported)
 from .problem import planning_problem, vehicle_limits
 from .result import RunRecord
-from .tracking import contract_world, route_bound, route_keeps
+from .tracking import TrackingBound, contract_world, route_bound, route_keeps
 
 __all__ = ["kept_fit", "CONTRACT_ROUNDS", "CONTRACT_ROOM",
            "vehicle_limits", "fitted_route", "planning_problem", "run_mission", "route_from_path",
@@ -346,9 +346,7 @@ def kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress |
         leg = route_keeps(world, route, margin + bound.per_leg_m)
         if leg < 0:
             return replace(planned, cost_terms={**planned.cost_terms, "tracking_bound_m": bound.total_m}), fit
-        why = (f"the {name} follower leaves this route's leg {leg} by up to {bound.per_leg_m[leg]:.2f} m (flown "
-               "without obstacles" + (f", + its push bound {bound.push_m:g} m" if bound.push_m else "")
-               + f"), and the leg passes closer than the {margin:g} m margin + that to an obstacle")
+        why = _too_close(name, leg, bound, margin)
         if rounds == CONTRACT_ROUNDS:
             break
         raised = min(max(raised, bound.total_m), room)  # the start and the goal stay outside the raised margin
@@ -362,6 +360,13 @@ def kept_fit(world: World, mission: Mission, seed: RngLike, progress: Progress |
     tried = f"{rounds} plans with a raised margin did not keep it" if rounds else \
         f"the start or the goal lies within {margin + CONTRACT_ROOM:g} m of an obstacle: no room to raise the margin"
     return replace(planned, status=Status.INFEASIBLE, message=f"clearance contract: {why}; {tried}"), None
+
+
+def _too_close(name: str, leg: int, bound: TrackingBound, margin: float) -> str:
+    """Why a route breaks the clearance contract at ``leg``: the follower's bound there and the margin."""
+    return (f"the {name} follower leaves this route's leg {leg} by up to {bound.per_leg_m[leg]:.2f} m (flown "
+            "without obstacles" + (f", + its push bound {bound.push_m:g} m" if bound.push_m else "")
+            + f"), and the leg passes closer than the {margin:g} m margin + that to an obstacle")
 
 
 def run_mission(world: World, mission: Mission, rng: RngLike = None,

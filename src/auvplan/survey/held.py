@@ -96,7 +96,16 @@ def held_safe(world: World, route: NDArray[np.float64], labels: NDArray[np.int64
     route, labels = np.asarray(route, dtype=float), np.asarray(labels, dtype=np.int64)
     if route.shape[0] < 2:
         return route, labels, ""
-    m = world.margins
+    route, labels, bad, alt, length = _split_until_clear(world, route, labels, min_leg)
+    return route, labels, _held_message(world, route, labels, bad, alt, length, pitch_deg, names)
+
+
+def _split_until_clear(world: World, route: NDArray[np.float64], labels: NDArray[np.int64], min_leg: float
+                       ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.bool_], NDArray[np.float64],
+                                  NDArray[np.float64]]:
+    """Split every leg whose held-depth envelope fails (or, changing depth, enters a zone's band) while its halves
+    are no shorter than ``min_leg``: the route, its labels, the legs still failing, their least altitudes and the
+    legs' horizontal lengths."""
     while True:
         bad, alt = held_failures(world, route)
         zoned = _zone_legs(world, route)  # a depth-changing leg's envelope in a zone's band: split, as for the seabed
@@ -104,29 +113,36 @@ def held_safe(world: World, route: NDArray[np.float64], labels: NDArray[np.int64
         fixable = bad | (zoned & (np.abs(np.diff(route[:, 2])) > 1e-6))
         fix = np.flatnonzero(fixable & (0.5 * np.linalg.norm(np.diff(route, axis=0), axis=1) >= max(min_leg, 1e-3)))
         if not fix.size:
-            break
+            return route, labels, bad, alt, length
         route, labels = _split(route, labels, fix)
+
+
+def _held_message(world: World, route: NDArray[np.float64], labels: NDArray[np.int64], bad: NDArray[np.bool_],
+                  alt: NDArray[np.float64], length: NDArray[np.float64], pitch_deg: float,
+                  names: dict[int, str]) -> str:
+    """``''`` when every leg's envelope and the executor's track clear; else which leg fails, and how."""
+    m = world.margins
     if bad.any():
         i = int(np.flatnonzero(bad)[np.argmin(alt[bad])])
         lab = int(labels[i])
         what = f"line {lab}" if lab >= 0 else names.get(lab, "a join")
-        return route, labels, (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
-                               f"{route[i, 2]:.0f})) fails the held-depth check: least altitude {alt[i]:.2f} m < "
-                               f"min_altitude {m.min_altitude:g} m or an obstacle's margin")
+        return (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
+                f"{route[i, 2]:.0f})) fails the held-depth check: least altitude {alt[i]:.2f} m < "
+                f"min_altitude {m.min_altitude:g} m or an obstacle's margin")
     if world.zones:  # every leg's envelope and the executor's track, as `mission check` of the mission.moos
         legs, zi = held_zone_entries(world.zones.exact, route, pitch_deg)
         if legs.size:
             i, lab = int(legs[0]), int(labels[int(legs[0])])
             what = f"line {lab}" if lab >= 0 else names.get(lab, "a join")
-            return route, labels, (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
-                                   f"{route[i, 2]:.0f})) enters no-go zone {world.zones.names[int(zi[0])]!r} when "
-                                   f"flown with depth held at {pitch_deg:g}° pitch (the zone's depth band holds it)")
+            return (f"leg {i} ({what}, {length[i]:.0f} m from ({route[i, 0]:.0f}, {route[i, 1]:.0f}, "
+                    f"{route[i, 2]:.0f})) enters no-go zone {world.zones.names[int(zi[0])]!r} when "
+                    f"flown with depth held at {pitch_deg:g}° pitch (the zone's depth band holds it)")
     trk = held_track(route, pitch_deg)
     seg_alt, seg_hits = segment_figures(world, trk[:-1], trk[1:])
     low = seg_alt < m.min_altitude - 1e-6
     if low.any() or seg_hits.any():
         j = int(np.flatnonzero(low | (seg_hits > 0))[0])
-        return route, labels, (f"flown with depth held at {pitch_deg:g}° pitch, the track near ({trk[j, 0]:.0f}, "
-                               f"{trk[j, 1]:.0f}, {trk[j, 2]:.0f}) breaks min_altitude {m.min_altitude:g} m or an "
-                               f"obstacle's margin (least altitude {float(seg_alt.min()):.2f} m)")
-    return route, labels, ""
+        return (f"flown with depth held at {pitch_deg:g}° pitch, the track near ({trk[j, 0]:.0f}, "
+                f"{trk[j, 1]:.0f}, {trk[j, 2]:.0f}) breaks min_altitude {m.min_altitude:g} m or an "
+                f"obstacle's margin (least altitude {float(seg_alt.min()):.2f} m)")
+    return ""

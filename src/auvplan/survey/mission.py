@@ -412,15 +412,9 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
     if world.terrain is None:
         raise ValueError("a survey needs a seabed ([terrain])")
     seabed = world.seabed
-    if params.frame is not None:
-        heading = params.frame.heading
-    elif params.heading_deg is None:
-        heading = choose_heading(seabed, params)
-    else:
-        heading = math.radians(params.heading_deg)
-    margin, line_params, lines, route, labels, words = _lines_for_flight(world, mission, params, seabed, heading)
-    survey = labels != TRANSIT
-    p = route[survey]
+    margin, line_params, lines, route, labels, words = _lines_for_flight(world, mission, params, seabed,
+                                                                         _heading(seabed, params))
+    p = route[labels != TRANSIT]
     dh = np.hypot(*np.diff(p[:, :2], axis=0).T)
     pitch = float(np.degrees(np.arctan2(np.abs(np.diff(p[:, 2])), np.maximum(dh, 1e-9))).max()) if dh.size else 0.0
     message = "" if lines.complete else f"the area is not covered after {len(lines.lines)} lines (max_lines)"
@@ -430,6 +424,30 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
                                                            params.turn_radius_m)
         route, labels = join_bridges(world, route, labels, TRANSIT, params.turn_radius_m)
     message = message or _check(world, route, labels)
+    route, labels, message = _with_transits(world, mission, params, route, labels, message, seed, progress, runner,
+                                            transits)
+    status = Status.EXACT if not message else Status.INFEASIBLE
+    route, labels, held = _helm_legs(world, mission, params, route, labels)
+    if held and not message:
+        status, message = Status.INFEASIBLE, held
+    return SurveyPlan(status, message, lines, route, labels, words, tuple(transits), _turn_radius(p), pitch, margin)
+
+
+def _heading(seabed: Seabed, params: SurveyParams) -> float:
+    """The lines' heading: the frame's, the one given, or the one :func:`choose_heading` picks (rad)."""
+    if params.frame is not None:
+        return params.frame.heading
+    if params.heading_deg is None:
+        return choose_heading(seabed, params)
+    return math.radians(params.heading_deg)
+
+
+def _with_transits(world: World, mission: Mission, params: SurveyParams, route: NDArray[np.float64],
+                   labels: NDArray[np.int64], message: str, seed: int, progress: Progress | None,
+                   runner: Runner | None, transits: list[PlanResult]) -> tuple[NDArray[np.float64], NDArray[np.int64],
+                                                                             str]:
+    """The survey joined to its transits out (from the launch) and home (to the recovery), each planned
+    (``runner``) and appended to ``transits``; the message of the first that fails."""
     parts, labs = [route], [labels]
     legs = [] if message else [(a, b, where) for a, b, where in ((mission.start, route[0], "out"),
                                                                (route[-1], mission.goal, "home"))
@@ -448,16 +466,17 @@ def plan_survey(world: World, mission: Mission, params: SurveyParams, seed: int 
             path = np.vstack([join_transit(world, route[-2:], path, params.turn_radius_m, home=True), path[1:]])
             parts.append(path)
             labs.append(np.full(path.shape[0], TRANSIT))
-    status = Status.EXACT if not message else Status.INFEASIBLE
-    route, labels = np.vstack(parts), np.concatenate(labs).astype(np.int64)
+    return np.vstack(parts), np.concatenate(labs).astype(np.int64), message
+
+
+def _helm_legs(world: World, mission: Mission, params: SurveyParams, route: NDArray[np.float64],
+               labels: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.int64], str]:
+    """The route without legs the helm refuses, and safe under held depth: failing legs split, or said."""
     # a transit's planned path can begin or end millimetres from the launch point: legs the vehicle's helm
     # refuses (shorter than the shortest leg); the transits lose such an end where safe, the survey keeps all
     lim = vehicle_limits(mission.vehicle)
     keep = merge_short_legs(world, route, shortest_leg(lim), fixed=np.flatnonzero(labels != TRANSIT),
                             max_pitch_deg=lim.max_pitch_deg)
     # survey22: every leg also under held depth (MOOS), as `run`'s exports: failing legs split, or said
-    route, labels, held = held_safe(world, route[keep], labels[keep], params.lines.pitch_max_deg,
-                                    shortest_leg(lim), {TURN: "a turn", TRANSIT: "a transit"})
-    if held and not message:
-        status, message = Status.INFEASIBLE, held
-    return SurveyPlan(status, message, lines, route, labels, words, tuple(transits), _turn_radius(p), pitch, margin)
+    return held_safe(world, route[keep], labels[keep], params.lines.pitch_max_deg,
+                     shortest_leg(lim), {TURN: "a turn", TRANSIT: "a transit"})

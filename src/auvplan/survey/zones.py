@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from ..planners.core.base import PlanResult, Progress
 from ..sim import Mission, planned_route
-from ..world import World, Zones
+from ..world import World, Zone, Zones
 
 __all__ = ["clip_to_zones"]
 
@@ -83,12 +83,7 @@ def clip_to_zones(world: World, mission: Mission, route: NDArray[np.float64], la
     zones = world.zones
     if not zones or route.shape[0] < 2:
         return route, labels, [], ""
-    # a vertex within the turn radius of a zone's convex hull is dropped: a line's end left in a concave
-    # notch would sit inside the hull the detours follow, and the way out of the notch has sharp corners
-    hulls = tuple(replace(z, footprint=shapely.convex_hull(z.footprint)) for z in zones.zones)
-    wide = Zones(hulls, zones.terrain, zones.pad + radius)
-    inside = wide.segments_enter(np.stack([route, route], axis=1))
-    seg_in = zones.segments_enter(np.stack([route[:-1], route[1:]], axis=1))
+    hulls, inside, seg_in = _entries(zones, route, radius)
     if not inside.any() and not seg_in.any():
         return route, labels, [], ""
     keep = np.flatnonzero(~inside)
@@ -97,29 +92,45 @@ def clip_to_zones(world: World, mission: Mission, route: NDArray[np.float64], la
     grown = [shapely.buffer(z.footprint, zones.pad + radius) for z in hulls]
     parts, labs, plans = [route[keep[:1]]], [labels[keep[:1]]], []
     for a, b in zip(keep[:-1], keep[1:], strict=True):
-        if b == a + 1 and not seg_in[a]:
+        if b == a + 1 and not seg_in[a] or world.segments_free(np.stack([route[a], route[b]])[None], moving=False)[0]:
             parts.append(route[b:b + 1])
             labs.append(labels[b:b + 1])
             continue
-        leg = np.stack([route[a], route[b]])[None]
-        if world.segments_free(leg, moving=False)[0]:
-            parts.append(route[b:b + 1])
-            labs.append(labels[b:b + 1])
-            continue
-        detour = _hull_detour(world, route[a], route[b], grown)
-        if detour is not None:
-            parts += [detour[1:-1], route[b:b + 1]]
-            labs += [np.full(detour.shape[0] - 2, transit, dtype=np.int64), labels[b:b + 1]]
-            continue
-        pa, pb = route[a], route[b]
-        ends = replace(mission, start=(float(pa[0]), float(pa[1]), float(pa[2])),
-                       goal=(float(pb[0]), float(pb[1]), float(pb[2])), route=())
-        planned, path = planned_route(world, ends, seed, progress)
-        assert planned is not None
-        plans.append(planned)
+        path, planned = _bridge(world, mission, route[a], route[b], grown, seed, progress)
+        if planned is not None:
+            plans.append(planned)
         if path is None:
+            assert planned is not None
             return route, labels, plans, (f"the transit round a no-go zone from ({route[a, 0]:.0f}, {route[a, 1]:.0f}) "
                                           f"failed ({planned.status.value}): {planned.message}")
         parts += [path[1:-1], route[b:b + 1]]
         labs += [np.full(path.shape[0] - 2, transit, dtype=np.int64), labels[b:b + 1]]
     return np.vstack(parts), np.concatenate(labs).astype(np.int64), plans, ""
+
+
+def _bridge(world: World, mission: Mission, pa: NDArray[np.float64], pb: NDArray[np.float64],
+            grown: list[shapely.Geometry], seed: int, progress: Progress | None
+            ) -> tuple[NDArray[np.float64] | None, PlanResult | None]:
+    """A way from ``pa`` to ``pb`` round the zones: the detour along their grown hulls, else a transit planned by
+    the mission's planner (its plan too; no way when it fails)."""
+    detour = _hull_detour(world, pa, pb, grown)
+    if detour is not None:
+        return detour, None
+    ends = replace(mission, start=(float(pa[0]), float(pa[1]), float(pa[2])),
+                   goal=(float(pb[0]), float(pb[1]), float(pb[2])), route=())
+    planned, path = planned_route(world, ends, seed, progress)
+    assert planned is not None
+    return path, planned
+
+
+def _entries(zones: Zones, route: NDArray[np.float64], radius: float
+             ) -> tuple[tuple[Zone, ...], NDArray[np.bool_], NDArray[np.bool_]]:
+    """The zones' convex hulls, the vertices within ``radius`` of a hull, and the legs that enter a zone.
+
+    A vertex within the turn radius of a zone's convex hull is dropped: a line's end left in a concave notch would
+    sit inside the hull the detours follow, and the way out of the notch has sharp corners."""
+    hulls = tuple(replace(z, footprint=shapely.convex_hull(z.footprint)) for z in zones.zones)
+    wide = Zones(hulls, zones.terrain, zones.pad + radius)
+    inside = wide.segments_enter(np.stack([route, route], axis=1))
+    seg_in = zones.segments_enter(np.stack([route[:-1], route[1:]], axis=1))
+    return hulls, inside, seg_in

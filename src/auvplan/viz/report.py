@@ -181,30 +181,11 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
     if record.sim is not None:
         record = replace(record, sim=decimate(record.sim))
     plan_view = figure_plan_view(world, record, to_lonlat)
-    nav_html = ""
-    if record.nav is not None:  # issue 52: the error band on the chart, the error against time
-        from .navview import figure_nav_error, mark_error_band, nav_profile
-
-        profile = nav_profile(world, record.nav)
-        if profile is not None:
-            mark_error_band(plan_view, profile, record.nav)
-            nav_html = "<h2>Navigation</h2>" + pio.to_html(
-                figure_nav_error(profile, record.nav, record), include_plotlyjs=False, full_html=False,
-                div_id="naverror", config=dict(displaylogo=False))
+    nav_html = _nav_section(world, record, plan_view)
     figs = [("view3d", figure_3d(world, record)), ("planview", plan_view),
             ("profiles", figure_profiles(record, _min_altitude(scenario_text))),
             ("convergence", figure_convergence(record))]
-    if endurance is not None:
-        from .energy import figure_energy, mark_pnr
-
-        mark_pnr(plan_view, endurance)
-        figs.append(("energy", figure_energy(endurance)))
-    spread = ""
-    if ensemble and ensemble.get("members"):
-        from .ensemble_view import ensemble_table, figure_ensemble
-
-        figs.append(("ensemble", figure_ensemble(ensemble)))
-        spread = "<h2>Current ensemble</h2>" + ensemble_table(ensemble)
+    spread = _budget_figures(figs, plan_view, endurance, ensemble)
     parts: list[str] = []
     for i, (div, fig) in enumerate(figs):
         parts.append(pio.to_html(fig, include_plotlyjs=(i == 0), full_html=False, div_id=div,
@@ -219,6 +200,38 @@ def build_report(world: World, record: RunRecord, scenario_text: str, metrics: M
             + "<h2>Optimiser</h2>" + parts[3] + "<h2>Metrics</h2>" + _table(metrics)
             + f"<h2>Scenario</h2><pre id='scenario'>{html.escape(scenario_text)}</pre></body></html>")
 
+
+def _nav_section(world: World, record: RunRecord, plan_view: go.Figure) -> str:
+    """The Navigation section (issue 52: the error against time), its error band drawn on the plan view; "" when
+    the run has no navigation plan or profile."""
+    if record.nav is None:
+        return ""
+    from .navview import figure_nav_error, mark_error_band, nav_profile
+
+    profile = nav_profile(world, record.nav)
+    if profile is None:
+        return ""
+    mark_error_band(plan_view, profile, record.nav)
+    error: str = pio.to_html(figure_nav_error(profile, record.nav, record), include_plotlyjs=False, full_html=False,
+                             div_id="naverror", config=dict(displaylogo=False))
+    return "<h2>Navigation</h2>" + error
+
+
+def _budget_figures(figs: list[tuple[str, go.Figure]], plan_view: go.Figure, endurance: Endurance | None,
+                    ensemble: Mapping[str, Any] | None) -> str:
+    """Append the energy figure (its point of no return on the plan view) and the current ensemble's to ``figs``;
+    the ensemble's table ("" without one)."""
+    if endurance is not None:
+        from .energy import figure_energy, mark_pnr
+
+        mark_pnr(plan_view, endurance)
+        figs.append(("energy", figure_energy(endurance)))
+    if ensemble and ensemble.get("members"):
+        from .ensemble_view import ensemble_table, figure_ensemble
+
+        figs.append(("ensemble", figure_ensemble(ensemble)))
+        return "<h2>Current ensemble</h2>" + ensemble_table(ensemble)
+    return ""
 
 def _num(v: Any) -> float:
     try:

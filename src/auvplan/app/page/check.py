@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +30,10 @@ from ...sim.pipeline import vehicle_limits
 from ...world import World
 from .budget import IncrementalBudget
 from .lru import LruCache as _Cache
+
+if TYPE_CHECKING:
+    from ...endurance.budget import Budget
+    from ...path.flyable import LimitReport
 
 __all__ = ["CheckSettings", "IncrementalCheck", "CheckResult"]
 
@@ -187,58 +191,83 @@ class IncrementalCheck:
         vehicle = self.mission.vehicle
         limits = helm_check(w, vehicle_limits(vehicle))  # leg by leg, as a helm flies it (issue 49)
         budget = self._budget.run(w, vehicle.speed if speeds is None else speeds)[0]  # = mission_budget
-        req = check.required_altitude_m
-        violations: list[dict[str, Any]] = []
-        for leg in np.flatnonzero(check.leg_altitude_m < req - 1e-6):
-            a = float(check.leg_altitude_m[leg])
-            violations.append({"leg": int(leg), "kind": "altitude", "value": a,
-                               "text": f"leg {leg}: altitude {a:.1f} m < min_altitude_m = {req:g}"})
-        for leg in np.flatnonzero(hits):
-            violations.append({"leg": int(leg), "kind": "obstacle", "value": float("nan"),
-                               "text": f"leg {leg}: within obstacle_margin_m = {check.obstacle_margin_m:g} of an "
-                                       "obstacle"})
-        for v in limits.violations:
-            violations.append({"leg": v.leg, "kind": v.limit, "value": v.value, "text": v.text})
-        zones = self.world.zones
-        entered = 0
-        if zones and len(w) > 1:  # the charted zones themselves, leg by leg (as ``mission check``): the straight
-            # legs, and for a held depth each leg's envelope and the executor's track too
-            seg, zi = zones.exact.entries(np.stack([w[:-1], w[1:]], axis=1))
-            if settings.semantics == "held":
-                hl, hz = held_zone_entries(zones.exact, w, settings.pitch_deg)
-                pairs = np.unique(np.column_stack([np.r_[seg, hl], np.r_[zi, hz]]), axis=0).reshape(-1, 2)
-                seg, zi = pairs[:, 0], pairs[:, 1]
-            entered = int(seg.size)
-            for leg, k in zip(seg, zi, strict=True):
-                name = zones.names[int(k)]
-                violations.append({"leg": int(leg), "kind": "zone", "value": float("nan"),
-                                   "text": f"leg {leg}: enters no-go zone {name!r}"})
-        lim = check.limits
-        if lim is not None:
-            for kind, idx in (("above_surface", lim.above_surface), ("outside_depth_band", lim.outside_depth_band),
-                              ("outside_bounds", lim.outside_bounds)):
-                for i in idx:
-                    at = int(i) if int(i) < len(w) - 1 else len(w) - 2
-                    violations.append({"leg": at, "kind": kind, "value": float(-w[i, 2]),
-                                       "text": f"waypoint {i}: {kind.replace('_', ' ')} (depth {-w[i, 2]:.1f} m)"})
+        violations = _leg_violations(check, hits, limits)
+        entered, in_zones = _zone_violations(self.world, w, settings)
+        violations += in_zones + _waypoint_violations(check, w)
         violations.sort(key=lambda v: v["leg"])
-        executor = check.executor_min_altitude_m
-        summary = {
-            "ok": bool(check.ok and limits.ok and budget.status.ok and not entered), "zone_entries": entered,
-            "check_ok": check.ok, "vehicle_ok": limits.ok, "energy_ok": budget.status.ok,
-            "semantics": check.semantics, "pitch_deg": settings.pitch_deg, "waypoints": int(len(w)),
-            "legs": int(len(w) - 1),
-            "min_altitude_m": check.min_altitude_m,
-            "min_altitude_leg": check.min_altitude_leg if check.min_altitude_leg >= 0 else None,
-            "executor_min_altitude_m": executor, "required_altitude_m": req,
-            "min_obstacle_distance_m": check.min_obstacle_distance_m, "obstacle_hits": check.obstacle_hits,
-            "tightest_turn_m": limits.tightest_turn_m,
-            "tightest_turn_leg": limits.tightest_turn_leg if limits.tightest_turn_leg >= 0 else None,
-            "max_pitch_deg": limits.max_pitch_deg, "max_pitch_leg": limits.max_pitch_leg,
-            "deepest_m": limits.max_depth_m,
-            "length_m": float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum()),
-            "duration_s": budget.duration_s, "energy_wh": budget.energy_wh, "margin_wh": budget.margin_wh,
-            "energy_status": budget.status.value, "energy_message": budget.message,
-            "vehicle_summary": limits.summary,
-        }
-        return CheckResult(check, summary, violations, computed)
+        return CheckResult(check, _summary(check, limits, budget, settings, w, entered), violations, computed)
+
+
+def _leg_violations(check: MissionCheck, hits: NDArray[np.bool_], limits: LimitReport) -> list[dict[str, Any]]:
+    """The legs under the required altitude, within an obstacle's margin, and past the vehicle's limits."""
+    req = check.required_altitude_m
+    violations: list[dict[str, Any]] = []
+    for leg in np.flatnonzero(check.leg_altitude_m < req - 1e-6):
+        a = float(check.leg_altitude_m[leg])
+        violations.append({"leg": int(leg), "kind": "altitude", "value": a,
+                           "text": f"leg {leg}: altitude {a:.1f} m < min_altitude_m = {req:g}"})
+    for leg in np.flatnonzero(hits):
+        violations.append({"leg": int(leg), "kind": "obstacle", "value": float("nan"),
+                           "text": f"leg {leg}: within obstacle_margin_m = {check.obstacle_margin_m:g} of an "
+                                   "obstacle"})
+    for v in limits.violations:
+        violations.append({"leg": v.leg, "kind": v.limit, "value": v.value, "text": v.text})
+    return violations
+
+
+def _zone_violations(world: World, w: _F64, settings: CheckSettings) -> tuple[int, list[dict[str, Any]]]:
+    """The charted zones' entries, leg by leg (as ``mission check``): the straight legs, and for a held depth each
+    leg's envelope and the executor's track too; their count and violations."""
+    zones = world.zones
+    violations: list[dict[str, Any]] = []
+    entered = 0
+    if zones and len(w) > 1:
+        seg, zi = zones.exact.entries(np.stack([w[:-1], w[1:]], axis=1))
+        if settings.semantics == "held":
+            hl, hz = held_zone_entries(zones.exact, w, settings.pitch_deg)
+            pairs = np.unique(np.column_stack([np.r_[seg, hl], np.r_[zi, hz]]), axis=0).reshape(-1, 2)
+            seg, zi = pairs[:, 0], pairs[:, 1]
+        entered = int(seg.size)
+        for leg, k in zip(seg, zi, strict=True):
+            name = zones.names[int(k)]
+            violations.append({"leg": int(leg), "kind": "zone", "value": float("nan"),
+                               "text": f"leg {leg}: enters no-go zone {name!r}"})
+    return entered, violations
+
+
+def _waypoint_violations(check: MissionCheck, w: _F64) -> list[dict[str, Any]]:
+    """Waypoints above the surface, outside the depth band or the bounds (on the leg they start, the last on the
+    leg it ends)."""
+    violations: list[dict[str, Any]] = []
+    lim = check.limits
+    if lim is not None:
+        for kind, idx in (("above_surface", lim.above_surface), ("outside_depth_band", lim.outside_depth_band),
+                          ("outside_bounds", lim.outside_bounds)):
+            for i in idx:
+                at = int(i) if int(i) < len(w) - 1 else len(w) - 2
+                violations.append({"leg": at, "kind": kind, "value": float(-w[i, 2]),
+                                   "text": f"waypoint {i}: {kind.replace('_', ' ')} (depth {-w[i, 2]:.1f} m)"})
+    return violations
+
+
+def _summary(check: MissionCheck, limits: LimitReport, budget: Budget, settings: CheckSettings, w: _F64,
+             entered: int) -> dict[str, Any]:
+    """The page's figures of the check, the vehicle's limits and the energy budget."""
+    return {
+        "ok": bool(check.ok and limits.ok and budget.status.ok and not entered), "zone_entries": entered,
+        "check_ok": check.ok, "vehicle_ok": limits.ok, "energy_ok": budget.status.ok,
+        "semantics": check.semantics, "pitch_deg": settings.pitch_deg, "waypoints": int(len(w)),
+        "legs": int(len(w) - 1),
+        "min_altitude_m": check.min_altitude_m,
+        "min_altitude_leg": check.min_altitude_leg if check.min_altitude_leg >= 0 else None,
+        "executor_min_altitude_m": check.executor_min_altitude_m, "required_altitude_m": check.required_altitude_m,
+        "min_obstacle_distance_m": check.min_obstacle_distance_m, "obstacle_hits": check.obstacle_hits,
+        "tightest_turn_m": limits.tightest_turn_m,
+        "tightest_turn_leg": limits.tightest_turn_leg if limits.tightest_turn_leg >= 0 else None,
+        "max_pitch_deg": limits.max_pitch_deg, "max_pitch_leg": limits.max_pitch_leg,
+        "deepest_m": limits.max_depth_m,
+        "length_m": float(np.linalg.norm(np.diff(w, axis=0), axis=1).sum()),
+        "duration_s": budget.duration_s, "energy_wh": budget.energy_wh, "margin_wh": budget.margin_wh,
+        "energy_status": budget.status.value, "energy_message": budget.message,
+        "vehicle_summary": limits.summary,
+    }

@@ -76,8 +76,7 @@ def run_point_model(world: World, start: ArrayLike, goal: ArrayLike, params: Avo
     pts = [p.copy()]
     sub = None
     escapes = minima = 0
-    shapes = world.obstacles
-    centers = np.array([s.center for s in shapes]).reshape(-1, 3)
+    centers = np.array([s.center for s in world.obstacles]).reshape(-1, 3)
     for k in range(max_steps):
         target = sub if sub is not None else g
         if np.linalg.norm(g - p) <= params.arrive:
@@ -94,14 +93,21 @@ def run_point_model(world: World, start: ArrayLike, goal: ArrayLike, params: Avo
             escapes += sub is not None
             det.reset()
             target = sub if sub is not None else g
-        d = np.array([s.distance(p).item() for s in shapes])
-        f = apf_force(p, target, centers, d, params)
-        n = np.linalg.norm(f)
-        nxt = p + step * f / n if n > 0 else p
-        if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
-            nxt = p + step * rng.normal(size=3) * np.array([1, 1, 0.2])  # never step through anything
-            if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
-                nxt = p
-        p = nxt
+        p = _apf_step(world, p, target, centers, params, step, rng)
         pts.append(p.copy())
     return PointModelResult(Status.TIMEOUT, np.asarray(pts), escapes, minima)
+
+
+def _apf_step(world: World, p: np.ndarray, target: np.ndarray, centers: np.ndarray, params: AvoidanceParams,
+              step: float, rng: np.random.Generator) -> np.ndarray:
+    """One step ``l`` along the APF's force from ``p``; a random one where that meets an obstacle or the seabed,
+    none where that does too (never a step through anything)."""
+    d = np.array([s.distance(p).item() for s in world.obstacles])
+    f = apf_force(p, target, centers, d, params)
+    n = np.linalg.norm(f)
+    nxt = p + step * f / n if n > 0 else p
+    if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
+        nxt = p + step * rng.normal(size=3) * np.array([1, 1, 0.2])  # never step through anything
+        if not world.segments_free(np.stack([p, nxt])[None], moving=False)[0]:
+            nxt = p
+    return nxt

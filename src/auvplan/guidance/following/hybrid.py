@@ -196,14 +196,36 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
     lateral bias (``params.bias``) is not the document's.
     """
     s, c = math.sin(course), math.cos(course)
+    nx, ny = c, -s           # right normal
+    fx, fy = _attraction(s, c, cross, params)
+    fx, fy, across = _repulsion(fx, fy, params, x, y, obstacles, goal_factor(target_distance, params), nx, ny,
+                                leg_origin, reach, capped)
+    if across:
+        cap = params.k_route * params.push
+        across = max(-cap, min(cap, across))
+        fx += across * nx
+        fy += across * ny
+    return fx, fy
+
+
+def _attraction(s: float, c: float, cross: float, params: HybridParams) -> tuple[float, float]:
+    """Heading and route attraction (eqs. 3–6) on a leg of course sine ``s``, cosine ``c``."""
     tx, ty = s, c            # along the leg
     nx, ny = c, -s           # right normal
     fa = params.k_heading * params.lookahead
     fh = -params.k_route * cross
     fx = fa * tx + fh * nx
     fy = fa * ty + fh * ny
+    return fx, fy
+
+
+def _repulsion(fx: float, fy: float, params: HybridParams, x: float, y: float,
+               obstacles: Sequence[Sequence[float]], rho: float, nx: float, ny: float,
+               leg_origin: Sequence[float] | NDArray[np.float64], reach: Sequence[float] | None,
+               capped: Sequence[bool] | None) -> tuple[float, float, float]:
+    """``(fx, fy)`` with each obstacle's repulsion (eqs. 7–8, scaled by the goal factor ``rho``, and the lateral
+    bias) added in turn, and the capped obstacles' push across the leg (normal ``(nx, ny)``), summed apart."""
     po = params.influence
-    rho = goal_factor(target_distance, params)
     bias = params.bias
     across = 0.0  # the bounded obstacles' push across the leg
     for i, (cx, cy, d) in enumerate(obstacles):
@@ -225,13 +247,7 @@ def hybrid_force(course: float, cross: float, params: HybridParams, x: float, y:
         else:
             fx += gx
             fy += gy
-    if across:
-        cap = params.k_route * params.push
-        across = max(-cap, min(cap, across))
-        fx += across * nx
-        fy += across * ny
-    return fx, fy
-
+    return fx, fy, across
 
 class HybridGuidance:
     """Document 001's guidance along a route (``reset()`` to restart).

@@ -340,6 +340,22 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     m = world.margins
     floor = _floors(world, p, region, arcs, m.min_altitude + slack)
     floor[[0, -1]] = -np.inf
+    seabed, target = _target(world, p, region, arcs, sf, floor, slope, follow_altitude)
+    z, ok = pitch_profile(sf, target, floor, slope, float(w[0, 2]), float(w[-1, 2]), ceiling=-m.min_depth,
+                          deepest=-min(m.max_depth, limits.max_depth_m))
+    z[[0, -1]] = w[[0, -1], 2]
+    keep, out, tolerance = _within_budget(world, p, sf, z, floor, region, limits, tolerance, min_leg)
+    band = _band(keep, sf, z, seabed + follow_altitude, follow_altitude, tolerance) if follow_altitude > 0.0 \
+        else AltitudeBand()
+    report = helm_check(out, limits)
+    why = _why_not(world, out, limits, ok, report)
+    return MissionFit(out, report, not why, "; ".join(why), band)
+
+
+def _target(world: World, p: FloatArray, region: FloatArray, arcs: FloatArray, sf: FloatArray, floor: FloatArray,
+            slope: float, follow_altitude: float) -> tuple[FloatArray, FloatArray]:
+    """The seabed under the dense points and the depths to hold there: ``follow_altitude`` above the seabed, or the
+    mission's own depths (``follow_altitude`` 0, the seabed then zeros)."""
     if follow_altitude > 0.0:
         # hold at least the altitude: climbs the vehicle cannot follow start early (cone_max)
         # (the seabed under the point, or the highest under its turn's arc: not the conservative floor)
@@ -351,22 +367,28 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     else:
         seabed = np.zeros(len(p))
         target = p[:, 2]
-    z, ok = pitch_profile(sf, target, floor, slope, float(w[0, 2]), float(w[-1, 2]), ceiling=-m.min_depth,
-                          deepest=-min(m.max_depth, limits.max_depth_m))
-    z[[0, -1]] = w[[0, -1], 2]
+    return seabed, target
+
+
+def _within_budget(world: World, p: FloatArray, sf: FloatArray, z: FloatArray, floor: FloatArray, region: FloatArray,
+                   limits: VehicleLimits, tolerance: float, min_leg: float) -> tuple[IntArray, FloatArray, float]:
+    """The dense profile simplified (short legs merged) within the waypoint budget: a coarser tolerance (a wider
+    band) until the mission fits it, up to 64 m; the points kept, the waypoints and the tolerance."""
     corners = np.flatnonzero(region == -2)  # the mission's own vertices (its ends and corners)
-    while True:  # the waypoint budget: a coarser tolerance (a wider band) until the mission fits it
+    while True:
         keep = _simplify(sf, z, floor, region < 0, corners, tolerance, min_leg)
         fixed = np.flatnonzero(np.isin(keep, corners))
         keep = keep[merge_short_legs(world, np.column_stack([p[keep, :2], z[keep]]), min_leg, fixed,
                                      limits.max_pitch_deg)]
         out = np.column_stack([p[keep, :2], z[keep]])
         if len(out) <= waypoint_budget(out) or tolerance >= 64.0:
-            break
+            return keep, out, tolerance
         tolerance *= 2.0
-    band = _band(keep, sf, z, seabed + follow_altitude, follow_altitude, tolerance) if follow_altitude > 0.0 \
-        else AltitudeBand()
-    report = helm_check(out, limits)
+
+
+def _why_not(world: World, out: FloatArray, limits: VehicleLimits, ok: bool, report: LimitReport) -> list[str]:
+    """Why the fitted mission is not flyable: no depth profile, the helm's limits, or a leg's envelope not free."""
+    m = world.margins
     why = []
     if not ok:
         why.append(f"no depth profile within max_pitch_deg = {limits.max_pitch_deg:g} joins the start and the goal "
@@ -377,7 +399,7 @@ def fit_mission(waypoints: FloatArray, world: World, limits: VehicleLimits, foll
     if not free.all():
         why.append(f"leg {int(np.flatnonzero(~free)[0])}: its envelope (depth held at either end) breaks "
                    "min_altitude, the depth band, the bounds or an obstacle's margin")
-    return MissionFit(out, report, not why, "; ".join(why), band)
+    return why
 
 
 def _band(keep: IntArray, sf: FloatArray, z: FloatArray, target: FloatArray, altitude: float,

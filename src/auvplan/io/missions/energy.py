@@ -270,30 +270,38 @@ def file_energy_flight(world: World, mission: Mission, path: Path) -> tuple[
         raise DataError(f"{path}: the mission has a waypoint that is not finite")
     _limits.check_route_endurance(f"{path}: energy at [endurance]", waypoints, mission.endurance.ds_m)
     model = EnergyModel.from_vehicle(mission.vehicle)
-    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed, waypoints)  # the vehicle's
-    # where not carried; a .plan's commanded (horizontal) speed as WPNav flies it along each leg
-    speeds = judged.speeds
+    # the vehicle's speed where not carried; a .plan's commanded (horizontal) speed as WPNav flies it along each leg
+    judged = judged_leg_speeds(path, waypoints.shape[0] - 1, mission.vehicle.speed, waypoints)
     tail = read_tail(path, waypoints.shape[0] - 1)  # legs the file says are flown tail-first
-    nav = mission.navigation  # issue 52: the dwell at each surface fix, adrift at hotel power
+    dwell, held, station = _file_waits(path, waypoints, mission)
+    # ArduSub holds the item against the current (its position controller): the power of that current's speed
+    depart = 0.0 if mission.navigation is None or path.suffix.lower() == ".plan" else launched_at(world, waypoints)
+    b = mission_budget(world, waypoints, model, judged.speeds, depart, mission.endurance.ds_m, tail, dwell, station)
+    water = b.traverse.hold_water
+    moved = None if held is None or water.shape[0] != held.size else held * water.mean(axis=1)
+    flown = b.traverse.leg_water_m() if b.traverse.ok else None
+    rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
+           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
+           "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
+    return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved, flown
+
+
+
+def _file_waits(path: Path, waypoints: NDArray[np.float64],
+                mission: Mission) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None,
+                                           NDArray[np.bool_] | None]:
+    """Each waypoint's wait: the file's own (a .plan's holds, a MOOS station keep) or, under ``[navigation]``, a
+    surface fix's ``surface_s`` (issue 52: adrift at hotel power); the holds away from the surface fixes and where
+    they are held on station (the last item's too: the budget flies it before the end), None without one."""
+    nav = mission.navigation
     surface = np.array([k == "gps" for k in surface_kinds(waypoints)]) if nav is not None \
         else np.zeros(waypoints.shape[0], dtype=bool)
-    waits = read_dwells(path, waypoints.shape[0])  # the file's own waits (a .plan's holds, a MOOS station keep)
+    waits = read_dwells(path, waypoints.shape[0])
     dwell: NDArray[np.float64] | None = None if nav is None else np.where(surface, nav.surface_s, 0.0)
     if waits is not None:
         dwell = waits
     held = None if waits is None or not np.any(waits * ~surface) else np.where(surface, 0.0, waits)
-    station = None if held is None else held > 0  # the last item's hold too: the budget flies it before the end
-    # ArduSub holds the item against the current (its position controller): the power of that current's speed
-    depart = 0.0 if nav is None or path.suffix.lower() == ".plan" else launched_at(world, waypoints)
-    b = mission_budget(world, waypoints, model, speeds, depart, mission.endurance.ds_m, tail, dwell, station)
-    rec = {"energy_status": b.status.value, "energy_wh": b.energy_wh, "margin_wh": b.margin_wh,
-           "duration_s": b.duration_s, "energy_message": b.message, "leg_speeds_mps": b.speed_water.tolist(),
-           "speed_assumed_legs": list(judged.assumed_legs), "speed_assumed_line": judged.line}
-    water = b.traverse.hold_water
-    moved = None if held is None or water.shape[0] != held.size else held * water.mean(axis=1)
-    flown = b.traverse.leg_water_m() if b.traverse.ok else None
-    return rec, b.status.ok, f"energy {b.status.value} — {b.message}", moved, flown
-
+    return dwell, held, None if held is None else held > 0
 
 def launched_at(world: World, waypoints: NDArray[np.float64]) -> float:
     """When a mission that starts at its first waypoint reaches it (s after the start time): launched at the surface

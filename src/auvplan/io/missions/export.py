@@ -403,47 +403,72 @@ def write_exports(out_dir: Path, record: RunRecord, origin: tuple[float, float] 
     waypoints = mission_waypoints(record)
     tail = record_tail(record) if record.route.size else None
     deploy = deploy if deploy is not None else DeployInfo(origin)
-    nav = record.nav  # a surface fix's wait (surface_s): held in .plan and .moos, in the times of .csv and .yaml
-    dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
-    # the times as the mission is flown through the current (fixes.csv's): the .csv's and the .yaml's too
-    times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
+    dwell, times = _fix_stops(out, record, waypoints)
     if times is None and deploy.times_s is not None and len(deploy.times_s) == len(waypoints):
         times = deploy.times_s  # without fixes: the flight through the current all the same (deploy.flown_times)
-    if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():  # no format holds a USBL fix
-        raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
-                        "without a flight): `auvplan run` the scenario to export them")
     for fmt in formats:
-        if fmt not in EXPORT_FORMATS:
-            raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
-        if any_tail(tail) and fmt not in TAIL_FORMATS:
-            assert tail is not None
-            raise DataError(refusal(fmt, tail))
-        if fmt in GEOGRAPHIC:
-            _frame(origin)
-        if fmt == "geojson":
-            text = json.dumps(to_geojson(record, origin, full, deploy)) + "\n"
-        elif fmt == "kml":
-            text = to_kml(record, origin, full, deploy)
-        elif fmt == "csv":
-            text = mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
-                                    if nav is not None and len(nav.points) == len(waypoints) else None, dwell, times)
-        elif fmt == "moos":
-            text = mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
-        elif fmt == "plan":
-            assert origin is not None  # _frame(origin) raised otherwise
-            doc = mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell)
-            commands = len(doc["mission"]["items"]) + 1  # the home is command 0
-            why = board_refusal(out / "mission.plan", commands, board) if board is not None else None
-            if why:  # the operator's board cannot hold it: not written
-                raise DataError(why)
-            text = json.dumps(doc, indent=1) + "\n"
-        elif fmt == "gpx":
-            assert origin is not None  # _frame(origin) raised otherwise
-            text = mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
-        else:
-            text = mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell, times=times)
+        _check_format(fmt, tail, origin)
+        text = _export_text(fmt, record, waypoints, origin, speed, full, deploy, tail, dwell, times)
+        if fmt == "plan" and board is not None:
+            _fits_board(out / "mission.plan", text, board)
         written.append(write_text(out / f"mission.{fmt}", text))
     return written
+
+
+def _fix_stops(out: Path, record: RunRecord,
+               waypoints: NDArray[np.float64]) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None]:
+    """Each waypoint's wait (a surface fix's ``surface_s``: held in .plan and .moos, in the times of .csv and .yaml)
+    and the times as the mission is flown through the current (fixes.csv's), when the navigation plan is the
+    mission's; refused when the mission has USBL fixes and the folder no ``fixes.csv`` (no format holds one)."""
+    nav = record.nav
+    dwell = nav.dwell_s if nav is not None and len(nav.points) == len(waypoints) else None
+    times = nav.vertex_times_s if dwell is not None and nav is not None and nav.vertex_times_s is not None else None
+    if nav is not None and "usbl" in nav.kinds and not (out / "fixes.csv").exists():
+        raise DataError(f"{out}: the mission's USBL fixes are kept only in fixes.csv, which the folder lacks (a plan "
+                        "without a flight): `auvplan run` the scenario to export them")
+    return dwell, times
+
+
+def _fits_board(path: Path, text: str, board: BoardStorage) -> None:
+    """Refuse a ``.plan`` (its ``text``) that the operator's board cannot hold: not written (the home is command 0)."""
+    commands = len(json.loads(text)["mission"]["items"]) + 1
+    why = board_refusal(path, commands, board)
+    if why:
+        raise DataError(why)
+
+
+def _check_format(fmt: str, tail: NDArray[np.bool_] | None, origin: tuple[float, float] | None) -> None:
+    """Refuse an unknown format, one that cannot carry the tail-first legs, or a geographic one without an origin."""
+    if fmt not in EXPORT_FORMATS:
+        raise DataError(f"unknown export format {fmt!r}; choose from {', '.join(EXPORT_FORMATS)}")
+    if any_tail(tail) and fmt not in TAIL_FORMATS:
+        assert tail is not None
+        raise DataError(refusal(fmt, tail))
+    if fmt in GEOGRAPHIC:
+        _frame(origin)
+
+
+def _export_text(fmt: str, record: RunRecord, waypoints: NDArray[np.float64], origin: tuple[float, float] | None,
+                 speed: float | ArrayLike, full: bool, deploy: DeployInfo, tail: NDArray[np.bool_] | None,
+                 dwell: NDArray[np.float64] | None, times: NDArray[np.float64] | None) -> str:
+    """The text of the mission in the format ``fmt`` (checked by :func:`_check_format`)."""
+    nav = record.nav
+    if fmt == "geojson":
+        return json.dumps(to_geojson(record, origin, full, deploy)) + "\n"
+    if fmt == "kml":
+        return to_kml(record, origin, full, deploy)
+    if fmt == "csv":
+        return mfmt.mission_csv(waypoints, origin, speed, tail, deploy, nav.check.budget.error_m
+                                if nav is not None and len(nav.points) == len(waypoints) else None, dwell, times)
+    if fmt == "moos":
+        return mfmt.to_moos(waypoints, speed, deploy=deploy, dwell=dwell)
+    if fmt == "plan":
+        assert origin is not None  # _frame(origin) raised otherwise
+        return json.dumps(mfmt.to_qgc_plan(waypoints, origin, speed, deploy=deploy, dwell=dwell), indent=1) + "\n"
+    if fmt == "gpx":
+        assert origin is not None  # _frame(origin) raised otherwise
+        return mfmt.to_gpx(waypoints, origin, _track(record, full)[0] if record.sim is not None else None)
+    return mfmt.to_ros_path(waypoints, speed, tail=tail, deploy=deploy, dwell=dwell, times=times)
 
 
 def write_mission_files(out_dir: Path, record: RunRecord, origin: tuple[float, float] | None,

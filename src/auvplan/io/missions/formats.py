@@ -112,6 +112,29 @@ def _moos_dwell(name: str, j: int, wait: float) -> list[str]:
             "  inner_radius        = 5", "  outer_radius        = 15", "}"]
 
 
+def _moos_waypoints(p: NDArray[np.float64], v: NDArray[np.float64], name: str, deploy: DeployInfo | None,
+                    paused: list[str]) -> list[str]:
+    """The ``.bhv``'s head (comments, datum, flags, envelope) and its ``BHV_Waypoint``, up to its ``updates``."""
+    x0, y0, z0 = p[0]
+    pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
+    dep = deploy is not None
+    pay = dep and deploy.payload is not None  # type: ignore[union-attr]
+    return [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
+            f"// start: {x0:.3f}, {y0:.3f}, {-z0:.3f}   (deploy point x, y, depth; not a waypoint)",
+            "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
+            *dfmt.moos_datum(deploy.origin if deploy is not None else None),
+            "initialize   DEPLOY = false", "initialize   RETURN = false",
+            *(["initialize   DWELL = false"] if paused else []),
+            *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
+            *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
+            "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
+            "  condition      = DEPLOY = true", "  condition      = RETURN = false",
+            *(["  condition      = ABORT = false"] if dep else []), *paused,
+            "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
+            *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
+            "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
+
+
 def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
             deploy: DeployInfo | None = None, dwell: ArrayLike | None = None) -> str:
     """Write the MOOS-IvP behaviour file of the mission ``points (N, 3)`` (the first is the deploy point).
@@ -152,24 +175,8 @@ def to_moos(points: ArrayLike, speed: float | ArrayLike, name: str = "auvplan",
     waits = _dwells(dwell, len(p))
     paused = ["  condition      = DWELL = false"] if waits.any() else []
     per_leg = _varies(v)
-    x0, y0, z0 = p[0]
-    pts = ":".join(f"{x:.3f},{y:.3f}" for x, y in p[1:, :2])
+    lines = _moos_waypoints(p, v, name, deploy, paused)
     dep = deploy is not None
-    pay = dep and deploy.payload is not None  # type: ignore[union-attr]
-    lines = [f"// auvplan mission {name}: {len(p)} waypoints in the local frame (x east, y north, m)",
-             f"// start: {x0:.3f}, {y0:.3f}, {-z0:.3f}   (deploy point x, y, depth; not a waypoint)",
-             "// depth is held per leg: leg i (WPT_INDEX = i) holds the depth of its end point", "",
-             *dfmt.moos_datum(deploy.origin if deploy is not None else None),
-             "initialize   DEPLOY = false", "initialize   RETURN = false",
-             *(["initialize   DWELL = false"] if paused else []),
-             *(["initialize   ABORT = false"] if dep else []), *(["initialize   PAYLOAD = off"] if pay else []),
-             *dfmt.moos_envelope(deploy.envelope if deploy is not None else None, name), "",
-             "Behavior = BHV_Waypoint", "{", f"  name           = {name}_waypoints", "  pwt            = 100",
-             "  condition      = DEPLOY = true", "  condition      = RETURN = false",
-             *(["  condition      = ABORT = false"] if dep else []), *paused,
-             "  endflag        = RETURN = true", *(["  endflag        = MISSION_COMPLETE = true"] if dep else []),
-             *(["  endflag        = PAYLOAD = off"] if pay else []), f"  speed          = {v[0] if v.size else 0.0:g}",
-             "  capture_radius = 5", "  slip_radius    = 15", "  lead           = 8", f"  points         = {pts}"]
     lines += ["  updates        = WPT_UPDATE", "}"] if per_leg else ["}"]
     for i, z in enumerate(p[1:, 2]):
         inside, after = dfmt.moos_leg_extras(deploy, i)
@@ -250,6 +257,15 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     lon, lat = frame.inverse(p[:, 0], p[:, 1])
     v = leg_speeds(speed, len(p) - 1)
     waits = _dwells(dwell, len(p), "mission.plan", MAX_HOLD_S)
+    items = _qgc_items(p, lat, lon, v, speed, waits, deploy, acceptance_radius)
+    return _qgc_document(items, deploy, frame, (float(lat[0]), float(lon[0])), v)
+
+
+def _qgc_items(p: NDArray[np.float64], lat: NDArray[np.float64], lon: NDArray[np.float64], v: NDArray[np.float64],
+               speed: float | ArrayLike, waits: NDArray[np.float64], deploy: DeployInfo | None,
+               acceptance_radius: float) -> list[dict[str, Any]]:
+    """The ``.plan``'s mission items: the launch's speed command, each waypoint, a speed command after it where the
+    speed flown leaves :data:`SPEED_BAND`, and the payload's relay items."""
     # WPNav's speed is horizontal: a leg at pitch γ is flown at v / cos γ along it, so the command is v cos γ
     factor = along_track_factor(p)
     horizontal = v / factor if v.size else v
@@ -260,25 +276,39 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
     terrain = None if alt is None or deploy is None else deploy.terrain_items
     events = dict(payload_events(deploy.payload)) if deploy is not None and deploy.payload is not None else {}
     for i, (la, lo, z) in enumerate(zip(lat, lon, p[:, 2])):
-        # terrain following: the altitude above the seabed in MAV_FRAME_GLOBAL_TERRAIN_ALT (10, QGC mode 4)
-        # (a leg too steep to follow the seabed within the pitch limit: its straight leg, at the planned depth)
-        if alt is not None and (terrain is None or bool(terrain[i])):
-            h, frame_id, mode = round(float(alt[i]), 3), 10, 4
-        else:
-            # ArduSub reads an altitude under 1 cm as "keep the current altitude": the surface is 1 cm deep
-            h, frame_id, mode = round(float(z), 3), 3, 1
-            h = -ZERO_ALT_M if abs(h) < ZERO_ALT_M else h
-        if max(abs(la), abs(lo)) < ZERO_LATLON_DEG:  # ArduSub reads (0, 0) as "stay where you are": 1.1 cm north
-            la = ZERO_LATLON_DEG
-        items.append({"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": len(items) + 1,
-                      "frame": frame_id, "params": [int(waits[i]), acceptance_radius, 0, None, round(float(la), 9),
-                                                    round(float(lo), 9), h],
-                      "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None})
+        # terrain following (a leg too steep to follow the seabed within the pitch limit: its straight leg, at the
+        # planned depth)
+        above = alt[i] if alt is not None and (terrain is None or bool(terrain[i])) else None
+        items.append(_qgc_waypoint(la, lo, z, above, waits[i], acceptance_radius, len(items) + 1))
         if i < v.size and abs(said * float(factor[i]) - float(v[i])) > SPEED_BAND * float(v[i]):
             said = round(float(horizontal[i]), SPEED_DECIMALS)  # the speed it flies left the band: a new command
             items.append(_change_speed(float(horizontal[i]), len(items) + 1))
         if i in events:
             items.append(dfmt.qgc_relay(events[i], len(items) + 1))
+    return items
+
+def _qgc_waypoint(la: float, lo: float, z: float, above: float | None, wait: float, acceptance_radius: float,
+                  jump_id: int) -> dict[str, Any]:
+    """A ``MAV_CMD_NAV_WAYPOINT`` (16) item at ``(la, lo)``: ``above`` the seabed in MAV_FRAME_GLOBAL_TERRAIN_ALT
+    (10, QGC mode 4) when given, else at ``z`` relative to home (3, mode 1); ``wait`` its hold (param 1)."""
+    if above is not None:
+        h, frame_id, mode = round(float(above), 3), 10, 4
+    else:
+        # ArduSub reads an altitude under 1 cm as "keep the current altitude": the surface is 1 cm deep
+        h, frame_id, mode = round(float(z), 3), 3, 1
+        h = -ZERO_ALT_M if abs(h) < ZERO_ALT_M else h
+    if max(abs(la), abs(lo)) < ZERO_LATLON_DEG:  # ArduSub reads (0, 0) as "stay where you are": 1.1 cm north
+        la = ZERO_LATLON_DEG
+    return {"type": "SimpleItem", "autoContinue": True, "command": 16, "doJumpId": jump_id,
+            "frame": frame_id, "params": [int(wait), acceptance_radius, 0, None, round(float(la), 9),
+                                          round(float(lo), 9), h],
+            "Altitude": h, "AltitudeMode": mode, "AMSLAltAboveTerrain": None}
+
+
+def _qgc_document(items: list[dict[str, Any]], deploy: DeployInfo | None, frame: LocalFrame,
+                  home: tuple[float, float], v: NDArray[np.float64]) -> dict[str, Any]:
+    """The ``.plan`` document of the mission's ``items`` (refused past AP_Mission's capacity), its home at ``home``
+    (lat, lon) on the surface, the geofence of ``deploy``."""
     if len(items) + 1 > AP_MISSION_MAX_COMMANDS:
         raise DataError(f"QGC plan: {len(items)} items + the home = {len(items) + 1} commands > {capacity_note()}: "
                         "no ArduPilot vehicle can hold it (split the mission)")
@@ -288,7 +318,7 @@ def to_qgc_plan(points: ArrayLike, origin: tuple[float, float], speed: float | A
             "rallyPoints": {"points": [], "version": 2},
             "mission": {"version": 2, "firmwareType": 3, "vehicleType": 12, "cruiseSpeed": speed, "hoverSpeed": speed,
                         "globalPlanAltitudeMode": _global_mode(items),
-                        "plannedHomePosition": [round(float(lat[0]), 9), round(float(lon[0]), 9), 0],
+                        "plannedHomePosition": [round(home[0], 9), round(home[1], 9), 0],
                         "items": items}}
 
 

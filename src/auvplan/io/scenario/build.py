@@ -8,6 +8,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -33,6 +34,10 @@ from .inputs.uncertainty import seabed_at_confidence
 from .specs import BoundsSpec, Scenario, SyntheticTerrainSpec
 from .tables import table_error
 from .validate import from_dict
+
+if TYPE_CHECKING:
+    from ...world.land import Land
+    from ...world.zones import Zones
 
 MAX_SUBSTEPS = 1000
 """Most sub-steps of the time-optimal planner's travel-time integration per lattice cell (``substep``)."""
@@ -186,7 +191,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         When the bathymetry or current data are unusable or do not cover the area.
     """
     s = scenario
-    src = s.source
     frame = LocalFrame(s.origin.lat, s.origin.lon) if s.origin else None
     b = s.bounds
     extent = (b.x[0], b.x[1], b.y[0], b.y[1]) if b.x and b.y else None
@@ -195,35 +199,57 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     if extent is not None:  # before any data is read when the bounds say where
         check_plan_sizes(s, (extent[1] - extent[0], extent[3] - extent[2]))
     with _limits.budget(s.limits):  # every data reader estimates against the scenario's budget
-        if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
-            data = terrain if terrain is not None else _terrain(s, frame, None)
-            extent = clip_to_data(s.geo, extent, data.extent, f"{src}: [terrain] {data.name}")  # type: ignore[union-attr]
-            s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
-        if terrain is None:  # (a saved cut-out is the seabed the run used: already at its confidence)
-            terrain = seabed_at_confidence(s, _terrain(s, frame, extent), frame, extent)
-        if s.geo is not None and s.geo.altitudes:
-            s = _place_altitudes(s, terrain)
-        bounds = _bounds(s, terrain)
-        if extent is None:
-            check_plan_sizes(s, (bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin))
-        currents = _currents(s, frame, bounds)
+        s, terrain, bounds, currents = _read_data(s, frame, extent, terrain)
+    land, zones = _vector_layers(s, frame, terrain, bounds)
+    world = _world(s, bounds, terrain, currents, land, zones)
+    _check_places(s, world)
+    _check_current_span(s, world)
+    return world, _mission(s, world)
+
+
+def _read_data(s: Scenario, frame: LocalFrame | None, extent: tuple[float, float, float, float] | None,
+               terrain: Terrain | None) -> tuple[Scenario, Terrain | None, Bounds, CurrentField]:
+    """The seabed (bounds clipped to it when derived, altitudes placed on it), the bounds and the currents."""
+    b = s.bounds
+    if s.geo is not None and s.geo.bounds_derived and extent is not None and (terrain is not None or s.terrain):
+        data = terrain if terrain is not None else _terrain(s, frame, None)
+        extent = clip_to_data(s.geo, extent, data.extent, f"{s.source}: [terrain] {data.name}")  # type: ignore[union-attr]
+        s = replace(s, bounds=replace(b, x=extent[:2], y=extent[2:]))
+    if terrain is None:  # (a saved cut-out is the seabed the run used: already at its confidence)
+        terrain = seabed_at_confidence(s, _terrain(s, frame, extent), frame, extent)
+    if s.geo is not None and s.geo.altitudes:
+        s = _place_altitudes(s, terrain)
+    bounds = _bounds(s, terrain)
+    if extent is None:
+        check_plan_sizes(s, (bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin))
+    return s, terrain, bounds, _currents(s, frame, bounds)
+
+
+def _vector_layers(s: Scenario, frame: LocalFrame | None, terrain: Terrain | None,
+                   bounds: Bounds) -> tuple[Land | None, Zones | None]:
+    """The ``[land]`` polygons and the ``[[zones]]`` within the bounds (their readers imported only when used)."""
     land = None
     if s.land is not None:  # the readers a scenario uses are imported when it does (issue 56)
         from ..data.vector.coast import read_land
 
         if frame is None:
-            raise ScenarioError(f"{src}: [land] needs [origin] lat/lon (the polygons are geographic)")
+            raise ScenarioError(f"{s.source}: [land] needs [origin] lat/lon (the polygons are geographic)")
         try:
             land = read_land(s.land, frame, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax), base_dir=s.base_dir)
         except DataError as exc:
-            raise DataError(f"{src}: [land] {exc}") from exc
+            raise DataError(f"{s.source}: [land] {exc}") from exc
     zones = None
     if s.zones:
         from ..data.vector.zones import read_zones
 
         zones = read_zones(s.zones, frame, terrain, (bounds.xmin, bounds.xmax, bounds.ymin, bounds.ymax),
                            base_dir=s.base_dir)
-    m = s.mission
+    return land, zones
+
+
+def _margins(s: Scenario) -> Margins:
+    """The depth band (clipped by the vehicle's depth rating; a glider's yo must fit in it) and the margins."""
+    src, m = s.source, s.mission
     min_depth = m.min_depth_m if m.surface else -math.inf
     rating = s.vehicle.max_depth_m  # the vehicle's depth rating clips the mission's depth band
     if not rating > max(min_depth, 0.0):
@@ -234,8 +260,15 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
     if dive > margins.max_depth:  # the yo's bottom is not clipped: say so
         raise table_error(f"{src}: [vehicle.glider]", "dive_depth_m", dive, f"deeper than the depth band's "
                           f"{margins.max_depth:g} m ([mission] max_depth_m, [vehicle] max_depth_m)")
+    return margins
+
+
+def _world(s: Scenario, bounds: Bounds, terrain: Terrain | None, currents: CurrentField, land: Land | None,
+           zones: Zones | None) -> World:
+    """The World of the scenario's parts (a data error named by the scenario)."""
+    margins = _margins(s)
     try:
-        world = World(
+        return World(
             bounds=bounds,
             terrain=terrain,
             currents=currents,
@@ -248,7 +281,12 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             zones=zones,
         )
     except DataError as exc:
-        raise DataError(f"{src}: {exc}") from exc
+        raise DataError(f"{s.source}: {exc}") from exc
+
+
+def _check_places(s: Scenario, world: World) -> None:
+    """Start, goal, route, the fleet's slots and rally points inside the world and free (and the record's size)."""
+    src, m = s.source, s.mission
     _check_point(world, m.start, "start", src)
     _check_point(world, m.goal, "goal", src)
     _check_sim_size(s)
@@ -264,11 +302,21 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
             _check_point(world, spec.start, f"[[vehicles]] {spec.name!r} start", src)
     for rally in s.endurance.rally:
         _check_point(world, rally.point, f"[endurance] rally {rally.name!r} point", src)
-    pts = np.asarray([m.start, *m.route, m.goal], dtype=float)  # issue 51: a file too short for any mission
+
+
+def _check_current_span(s: Scenario, world: World) -> None:
+    """The current data cover the mission's time (issue 51: a file too short for any mission)."""
+    m = s.mission
+    pts = np.asarray([m.start, *m.route, m.goal], dtype=float)
     least = sum(lower_bound_s(world, a, b, s.vehicle.max_speed) for a, b in zip(pts[:-1], pts[1:]))
     cruise = float(np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()) / s.vehicle.speed
-    check_span(src, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, False, cruise)
-    mission = Mission(
+    check_span(s.source, s.currents.beyond, file_span(world.currents, s.currents.beyond), least, False, cruise)
+
+
+def _mission(s: Scenario, world: World) -> Mission:
+    """The Mission: end points, route and every component's settings."""
+    m = s.mission
+    return Mission(
         name=s.name,
         start=m.start,
         goal=m.goal,
@@ -286,7 +334,6 @@ def build(scenario: Scenario, terrain: Terrain | None = None) -> tuple[World, Mi
         endurance=s.endurance,
         navigation=_navigation(s, world),
     )
-    return world, mission
 
 
 def _navigation(s: Scenario, world: World) -> NavParams | None:

@@ -309,23 +309,38 @@ def _commented_table(header: str, cls: type, given: dict[str, Any] | None = None
     return lines
 
 
-def template(name: str = "my-mission") -> str:
-    """Write a commented scenario that validates as it is.
+_TEMPLATE_EXAMPLES = (
+    "# [[obstacles]]",
+    '# type = "sphere"',
+    "# center = [1000.0, 1400.0, -50.0]",
+    "# radius = 20.0",
+    "",
+    "# [[moving]]",
+    '# type = "sphere"',
+    "# radius = 5.0",
+    '# motion = "linear"  # or circle, waypoints, random-walk',
+    "# start = [1500.0, 0.0, -40.0]",
+    "# velocity = [0.0, 0.5, 0.0]",
+    "",
+    "# [[zones]]  # a charted no-go zone: polygon, line + buffer_m, point + radius_m, or file (docs/zones.md)",
+    '# name = "wreck"',
+    "# point = [1000.0, 600.0]  # [x, y] m, or [lat, lon] with [origin]",
+    "# radius_m = 50.0",
+    "# above_seabed_m = 20.0  # the band: the 20 m above the seabed; or top_m / bottom_m (depths, positive down)",
+    "",
+    "# Optional tables not written out here (every key: docs/scenario-reference.md): [land] coastlines as no-go,",
+    "# [survey] coverage lines (docs/survey.md), [navigation] dead reckoning and fixes (docs/navigation.md),",
+    "# [[vehicles]] and [formation] several vehicles (docs/guide.md).",
+    "",
+)
+"""The template's commented-out obstacle, moving obstacle and zone, and where the tables not written out are
+documented."""
 
-    A synthetic seabed, a start and a goal, and every other key of every table commented out at
-    its default, with its description.
 
-    Parameters
-    ----------
-    name : str, optional
-        The scenario's name.
-
-    Returns
-    -------
-    str
-        The TOML text.
-    """
-    head = [
+def _template_head(name: str) -> list[str]:
+    """The template's head: name, description and seed, the bounds, a synthetic seabed and the currents, then the
+    commented-out examples (:data:`_TEMPLATE_EXAMPLES`)."""
+    return [
         f"# auvplan scenario (format {SCHEMA_VERSION}). Check it with `auvplan validate FILE`;",
         "# the JSON Schema: `auvplan scenario schema`. Uncomment a key to change it from its default.",
         f'name = "{name}"',
@@ -355,29 +370,27 @@ def template(name: str = "my-mission") -> str:
         "[currents]",
         "uniform = [0.1, 0.0, 0.0]  # or vortices = [{ x = ..., y = ..., gamma = ..., delta = ... }], or file",
         "",
-        "# [[obstacles]]",
-        '# type = "sphere"',
-        "# center = [1000.0, 1400.0, -50.0]",
-        "# radius = 20.0",
-        "",
-        "# [[moving]]",
-        '# type = "sphere"',
-        "# radius = 5.0",
-        '# motion = "linear"  # or circle, waypoints, random-walk',
-        "# start = [1500.0, 0.0, -40.0]",
-        "# velocity = [0.0, 0.5, 0.0]",
-        "",
-        "# [[zones]]  # a charted no-go zone: polygon, line + buffer_m, point + radius_m, or file (docs/zones.md)",
-        '# name = "wreck"',
-        "# point = [1000.0, 600.0]  # [x, y] m, or [lat, lon] with [origin]",
-        "# radius_m = 50.0",
-        "# above_seabed_m = 20.0  # the band: the 20 m above the seabed; or top_m / bottom_m (depths, positive down)",
-        "",
-        "# Optional tables not written out here (every key: docs/scenario-reference.md): [land] coastlines as no-go,",
-        "# [survey] coverage lines (docs/survey.md), [navigation] dead reckoning and fixes (docs/navigation.md),",
-        "# [[vehicles]] and [formation] several vehicles (docs/guide.md).",
-        "",
+        *_TEMPLATE_EXAMPLES,
     ]
+
+
+def template(name: str = "my-mission") -> str:
+    """Write a commented scenario that validates as it is.
+
+    A synthetic seabed, a start and a goal, and every other key of every table commented out at
+    its default, with its description.
+
+    Parameters
+    ----------
+    name : str, optional
+        The scenario's name.
+
+    Returns
+    -------
+    str
+        The TOML text.
+    """
+    head = _template_head(name)
     mission = {"start": (100.0, 1000.0, -40.0), "goal": (1900.0, 1000.0, -40.0), "min_altitude_m": 10.0}
     body = _commented_table("mission", specs.MissionSpec, mission)
     for key in ("vehicle", "planner", "guidance", "avoidance", "sim", "limits", "endurance"):

@@ -12,7 +12,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -39,6 +39,12 @@ from .inputs.geoinput import resolve_positions
 from .names import check_scenario_name, check_vehicle_folders
 from .specs import SECTIONS, BoundsSpec, MissionSpec, Scenario, SyntheticTerrainSpec
 from .tables import build_dataclass, table_error
+
+if TYPE_CHECKING:
+    from ...endurance.params import EnduranceParams
+    from ...vehicles import VehicleParams
+    from ..data.vector.coast import LandSpec
+    from .specs import CurrentsSpec, OriginSpec
 
 __all__ = ["from_dict"]
 
@@ -230,20 +236,8 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     if geo is not None:
         data = geo.metric
     limits = _section(data, "limits", source)
-    origin = _section(data, "origin", source) if "origin" in data else None
-    bounds = _section(data, "bounds", source)
-    terrain, synthetic = _terrain(data, source)
-    if (terrain is not None) and origin is None:
-        raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
-    currents = _section(data, "currents", source)
-    land = _section(data, "land", source) if "land" in data else None
-    if land is not None and (origin is None or terrain is None and synthetic is None):
-        raise ScenarioError(f"{source}: [land] needs [origin] lat/lon and a [terrain] to burn the land into")
-    obstacles = tuple(_shape(t, f"{source}: [[obstacles]] #{i + 1}", moving=False)
-                      for i, t in enumerate(_array(data, "obstacles", source)))
-    bxy = (bounds.x + bounds.y) if bounds.x and bounds.y else None
-    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits)
-                   for i, t in enumerate(_array(data, "moving", source)))
+    origin, bounds, terrain, synthetic, currents, land = _world_sections(data, source)
+    obstacles, moving = _obstacles(data, source, bounds, limits)
     mission = _section(data, "mission", source)
     planner = _planner(data.get("planner", {}), source)
     sim = _section(data, "sim", source)
@@ -254,6 +248,47 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
         _check_geometry(source, mission, sim)
     formation = _formation(data, source, mission)
     zones = parse_zones(data.get("zones", []), source)
+    vehicle, endurance = _vehicle_endurance(data, source)
+    return Scenario(
+        name=name, description=description.strip(), seed=seed, source=source, base_dir=base_dir, origin=origin,
+        bounds=bounds, terrain=terrain, synthetic=synthetic, currents=currents, obstacles=obstacles, moving=moving,
+        mission=mission, vehicle=vehicle, planner=planner, guidance=_section(data, "guidance", source),
+        avoidance=_section(data, "avoidance", source), sim=sim, raw=copy.deepcopy(raw), limits=limits, land=land,
+        formation=formation, geo=geo, endurance=endurance, survey=survey, zones=zones,
+        navigation=_section(data, "navigation", source) if "navigation" in data else None,
+    )
+
+
+def _world_sections(data: dict[str, Any], source: str) -> tuple[OriginSpec | None, BoundsSpec, TerrainSpec | None,
+                                                                 SyntheticTerrainSpec | None, CurrentsSpec,
+                                                                 LandSpec | None]:
+    """``[origin]``, ``[bounds]``, ``[terrain]`` (data or synthetic), ``[currents]`` and ``[land]``, with what a real
+    terrain and land need (an origin; a terrain to burn the land into)."""
+    origin = _section(data, "origin", source) if "origin" in data else None
+    bounds = _section(data, "bounds", source)
+    terrain, synthetic = _terrain(data, source)
+    if (terrain is not None) and origin is None:
+        raise ScenarioError(f"{source}: [origin] lat/lon is required with a real terrain (for its projection)")
+    currents = _section(data, "currents", source)
+    land = _section(data, "land", source) if "land" in data else None
+    if land is not None and (origin is None or terrain is None and synthetic is None):
+        raise ScenarioError(f"{source}: [land] needs [origin] lat/lon and a [terrain] to burn the land into")
+    return origin, bounds, terrain, synthetic, currents, land
+
+
+def _obstacles(data: dict[str, Any], source: str, bounds: Any,
+               limits: Limits) -> tuple[tuple[Any, ...], tuple[MovingObstacle, ...]]:
+    """``[[obstacles]]`` and ``[[moving]]`` (a moving one's random walk kept within the bounds)."""
+    obstacles = tuple(_shape(t, f"{source}: [[obstacles]] #{i + 1}", moving=False)
+                      for i, t in enumerate(_array(data, "obstacles", source)))
+    bxy = (bounds.x + bounds.y) if bounds.x and bounds.y else None
+    moving = tuple(_moving(t, f"{source}: [[moving]] #{i + 1}", bxy, limits)
+                   for i, t in enumerate(_array(data, "moving", source)))
+    return obstacles, moving
+
+
+def _vehicle_endurance(data: dict[str, Any], source: str) -> tuple[VehicleParams, EnduranceParams]:
+    """``[vehicle]`` (its preset applied) and ``[endurance]``, whose return speed must be one the vehicle flies."""
     vehicle = build_dataclass(SECTIONS["vehicle"], apply_preset(data.get("vehicle", {}), f"{source}: [vehicle]"),
                               f"{source}: [vehicle]")
     endurance = _section(data, "endurance", source)
@@ -261,36 +296,7 @@ def from_dict(data: dict[str, Any], source: str = "<string>", base_dir: Path | N
     if ret and not vehicle.min_speed <= ret <= vehicle.max_speed:  # 100 m/s or 1e-300 m/s: a return costed at it
         raise table_error(f"{source}: [endurance]", "return_speed", ret, f"outside the vehicle's speeds [min_speed "
                           f"{vehicle.min_speed:g}, max_speed {vehicle.max_speed:g}] m/s (0: its cruise speed)")
-    return Scenario(
-        name=name,
-        description=description.strip(),
-        seed=seed,
-        source=source,
-        base_dir=base_dir,
-        origin=origin,
-        bounds=bounds,
-        terrain=terrain,
-        synthetic=synthetic,
-        currents=currents,
-        obstacles=obstacles,
-        moving=moving,
-        mission=mission,
-        vehicle=vehicle,
-        planner=planner,
-        guidance=_section(data, "guidance", source),
-        avoidance=_section(data, "avoidance", source),
-        sim=sim,
-        raw=copy.deepcopy(raw),
-        limits=limits,
-        land=land,
-        formation=formation,
-        geo=geo,
-        endurance=endurance,
-        survey=survey,
-        zones=zones,
-        navigation=_section(data, "navigation", source) if "navigation" in data else None,
-    )
-
+    return vehicle, endurance
 
 def _header(data: Any, source: str) -> tuple[str, str, int]:
     """The document's top level: a table of known sections with ``[mission]``; name, description, seed."""

@@ -9,6 +9,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from ..._types import ArrayLike, FloatArray
@@ -167,34 +169,44 @@ def design_line_body(obstacle: Shape, target: ArrayLike, Q: float = 1.0, margin:
             lam = _fit_line(xt, rt, a1, Q, knots, delta, xc)
             return AxialBody(c, basis, a1, Q, knots=knots, density=lam, kind="line")
 
-        lo, hi = 0.0, 0.25 * size
-        good = build(hi)
-        if not _contains(good, x, rho):  # containment is not monotone in δ: the first gap on a grid that works
-            for lo, hi in zip((0.0, 0.03, 0.06, 0.12), (0.03, 0.06, 0.12, 0.25)):
-                good = build(hi * size)
-                if _contains(good, x, rho):
-                    lo, hi = lo * size, hi * size
-                    break
-            else:
-                lo, hi = 0.25 * size, 0.5 * size
-                good = build(hi)
-                while not _contains(good, x, rho) and hi < 2.0 * size:
-                    lo, hi = hi, 2.0 * hi
-                    good = build(hi)
-        if not _contains(good, x, rho):
+        good = _least_delta(build, x, rho, size)
+        if good is None:
             continue
-        for _ in range(12):
-            mid = 0.5 * (lo + hi)
-            trial = build(mid)
-            if _contains(trial, x, rho):
-                hi, good = mid, trial
-            else:
-                lo = mid
         if (best is None or good.volume < best.volume) and _contains(good, x_all, rho_all, outer=True) \
                 and _no_dents(good):
             best = good
     return _smallest(best, T, c)
 
+
+
+def _least_delta(build: Callable[[float], AxialBody], x: FloatArray, rho: FloatArray,
+                 size: float) -> AxialBody | None:
+    """The body ``build(δ)`` of the least smoothing δ found that contains the shadow ``(x, rho)``: a δ that works
+    found first, then 12 bisection steps; None when no δ up to twice the size works."""
+    lo, hi = 0.0, 0.25 * size
+    good = build(hi)
+    if not _contains(good, x, rho):  # containment is not monotone in δ: the first gap on a grid that works
+        for lo, hi in zip((0.0, 0.03, 0.06, 0.12), (0.03, 0.06, 0.12, 0.25)):
+            good = build(hi * size)
+            if _contains(good, x, rho):
+                lo, hi = lo * size, hi * size
+                break
+        else:
+            lo, hi = 0.25 * size, 0.5 * size
+            good = build(hi)
+            while not _contains(good, x, rho) and hi < 2.0 * size:
+                lo, hi = hi, 2.0 * hi
+                good = build(hi)
+    if not _contains(good, x, rho):
+        return None
+    for _ in range(12):
+        mid = 0.5 * (lo + hi)
+        trial = build(mid)
+        if _contains(trial, x, rho):
+            hi, good = mid, trial
+        else:
+            lo = mid
+    return good
 
 def _no_dents(body: AxialBody, depth: float = 0.02) -> bool:
     """Whether the body's dividing surface is its outer profile: F < 0 just inside the profile everywhere but

@@ -14,7 +14,7 @@ from ..core.base import PlanningProblem, PlanResult
 from ..core.common import check_endpoints
 from ..core.params import FlowParams
 from .field import FlowField
-from .stream import integrate_streamlines
+from .stream import Streamlines, integrate_streamlines
 from .turning import flyable_path
 
 __all__ = ["seabed_plane", "plan_flow"]
@@ -92,32 +92,10 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
                "field = 'uniform' has no sink at the goal (document 000 Fig. 5 baseline): use it in benchmarks")
     if bad is not None:
         return PlanResult.failure(bad[0], bad[1], "flow")
-    field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
-    sl = integrate_streamlines(field, problem.start[None], params)
-    plane, why = None, ""
-    if world.terrain is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
-        # the seabed may be in the way: the flow with the seabed as a mirror plane, if it is flat enough
-        sizes = [ob.bounding_radius for ob in world.obstacles]
-        buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
-        plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
-        if plane is not None:
-            field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
-            sl = integrate_streamlines(field, problem.start[None], params)
+    field, sl, plane, why = _streamline(problem, params)
     path = sl.paths[0]
     length = float(polyline_length(path))
-    st = sl.status[0]
-    message = ""
-    status = Status.EXACT
-    if st != "arrived":
-        status, message = Status.INFEASIBLE, f"the streamline ended by {st} after {sl.steps[0]} steps"
-    elif not world.path_free(path):
-        status = Status.INFEASIBLE
-        seg = np.stack([path[:-1], path[1:]], axis=1)
-        bad_seg = int(np.flatnonzero(~world.segments_free(seg, moving=False))[0])
-        message = (f"the streamline arrives but its leg {bad_seg} near {np.round(path[bad_seg], 1).tolist()} meets the "
-                   f"seabed, an obstacle margin or the bounds")
-        message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
-                                             if plane is not None else "")
+    status, message = _checked(world, sl, plane, why)
     clearance = float(sl.min_distance[0] + world.margins.obstacle) if world.obstacles else float("inf")
     radius = problem.limits.turn_radius_m if problem.limits is not None else 0.0
     if status is Status.EXACT and params.path == "flyable" and radius > 0:
@@ -132,12 +110,53 @@ def plan_flow(problem: PlanningProblem, params: FlowParams) -> PlanResult:
             message = (f"the streamline arrives, but a vehicle turning at most 1/{radius:g} m⁻¹ cannot follow it "
                        f"within the margins ({fly.status} near {np.round(fly.path[-1], 1).tolist()}); "
                        f"[planner.flow] path = 'streamline' gives the pure streamline")
+    return PlanResult(status, path, length, _terms(world, path, length, clearance, problem.speed),
+                      int(sl.steps[0]) * 4, int(sl.steps[0]), time.perf_counter() - t0, np.empty(0), "flow", None,
+                      message)
+
+
+def _streamline(problem: PlanningProblem, params: FlowParams) -> tuple[FlowField, Streamlines, float | None, str]:
+    """The flow field and the streamline from the start; again with the seabed as a mirror plane when the seabed
+    may be in the way and is flat enough (the plane's height, or why not)."""
+    world: World = problem.world
+    field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle)
+    sl = integrate_streamlines(field, problem.start[None], params)
+    plane, why = None, ""
+    if world.terrain is not None and not (sl.arrived[0] and world.path_free(sl.paths[0])):
+        # the seabed may be in the way: the flow with the seabed as a mirror plane, if it is flat enough
+        sizes = [ob.bounding_radius for ob in world.obstacles]
+        buffer = max(sizes + [0.05 * float(np.linalg.norm(problem.goal - problem.start))])
+        plane, why = seabed_plane(world, problem.start, problem.goal, buffer)
+        if plane is not None:
+            field = FlowField(world.obstacles, problem.goal, params, world.margins.obstacle, plane=plane)
+            sl = integrate_streamlines(field, problem.start[None], params)
+    return field, sl, plane, why
+
+
+def _checked(world: World, sl: Streamlines, plane: float | None, why: str) -> tuple[Status, str]:
+    """``EXACT``, or ``INFEASIBLE`` and why: the streamline ended before the goal, or a leg of it is not free."""
+    path = sl.paths[0]
+    st = sl.status[0]
+    if st != "arrived":
+        return Status.INFEASIBLE, f"the streamline ended by {st} after {sl.steps[0]} steps"
+    if world.path_free(path):
+        return Status.EXACT, ""
+    seg = np.stack([path[:-1], path[1:]], axis=1)
+    bad_seg = int(np.flatnonzero(~world.segments_free(seg, moving=False))[0])
+    message = (f"the streamline arrives but its leg {bad_seg} near {np.round(path[bad_seg], 1).tolist()} meets the "
+               f"seabed, an obstacle margin or the bounds")
+    message += f" ({why})" if why else (f" (the flow sees the seabed as a plane at z = {plane:.1f} m)"
+                                         if plane is not None else "")
+    return Status.INFEASIBLE, message
+
+
+def _terms(world: World, path: np.ndarray, length: float, clearance: float, speed: float) -> dict[str, float]:
+    """The plan's cost terms: length, duration, least clearance (the seabed's too) and the legs not free."""
     seg = np.stack([path[:-1], path[1:]], axis=1) if len(path) > 1 else np.stack([path, path], axis=1)
     if world.terrain is not None:
         clearance = min(clearance, float(world.terrain.segment_min_altitude(seg).min()))
     terms = {"length": length, "terrain": 0.0, "energy": 0.0, "length_m": length, "energy_j": float("nan"),
-             "duration_s": length / problem.speed, "min_clearance_m": clearance,
+             "duration_s": length / speed, "min_clearance_m": clearance,
              "violations": int(np.count_nonzero(~world.segments_free(seg, moving=False)))}
     terms["collisions"] = terms["violations"]  # deprecated alias (CHANGELOG 0.2.0)
-    return PlanResult(status, path, length, terms, int(sl.steps[0]) * 4, int(sl.steps[0]),
-                      time.perf_counter() - t0, np.empty(0), "flow", None, message)
+    return terms

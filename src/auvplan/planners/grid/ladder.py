@@ -241,11 +241,22 @@ def plan_ladder(problem: PlanningProblem, spec: PlannerSpec, reference: GridRefe
             history[-1] = best.cost
     done = time.perf_counter() - t0
     if best is None:
-        if failed is not None:
-            return replace(failed, evaluations=edges, wall_time_s=done)
-        tried = f"; no path on the coarser lattices either ({', '.join(f'{c:g}' for c in cells[1:])} m)"
-        return replace(_failure(Status.INFEASIBLE, why, t0), message=why + (tried if len(cells) > 1 else ""))
-    kinds = "26 directions" if won[1] == 0 else f"any-angle links of {won[1]} cells"
+        return _no_rung(failed, edges, done, why, cells, t0)
     return replace(best, evaluations=edges, wall_time_s=done, history=np.array(history),
-                   message=f"{best.message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
-                   f"{won[0]:g} m, {kinds} ({screened} lattice paths screened, {refined} refined to convergence)")
+                   message=_ladder_message(best.message, cells, won, screened, refined))
+
+
+def _ladder_message(message: str, cells: list[float], won: tuple[float, int], screened: int, refined: int) -> str:
+    """The winner's message with the rungs, its cell and links, and the paths screened and refined."""
+    kinds = "26 directions" if won[1] == 0 else f"any-angle links of {won[1]} cells"
+    return (f"{message}; best of the lattices at {', '.join(f'{c:g}' for c in cells)} m: "
+            f"{won[0]:g} m, {kinds} ({screened} lattice paths screened, {refined} refined to convergence)")
+
+
+def _no_rung(failed: PlanResult | None, edges: int, done: float, why: str, cells: list[float],
+             t0: float) -> PlanResult:
+    """No rung's plan: the first refined path that failed, else the finest rung's failure with the cells tried."""
+    if failed is not None:
+        return replace(failed, evaluations=edges, wall_time_s=done)
+    tried = f"; no path on the coarser lattices either ({', '.join(f'{c:g}' for c in cells[1:])} m)"
+    return replace(_failure(Status.INFEASIBLE, why, t0), message=why + (tried if len(cells) > 1 else ""))

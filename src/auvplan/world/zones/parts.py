@@ -135,17 +135,10 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
         for every zone), and the slabs (:func:`.bound._slab`: slab ``s`` holds ``z`` with
         ``s <= (z - z0) * zinv < s + 1``, the first and the last open, ``top`` the last).
     """
-    from .bound import FIELD_UNITS, SLABS, field_kernel, slabs_kernel
+    from .bound import FIELD_UNITS, field_kernel
 
     x0, y0, cell, nx, ny, _, _, _, bottom, top = grid[:10]
-    ends = np.concatenate([bottom, top])
-    ends = ends[np.isfinite(ends)]
-    z0, z1 = (float(ends.min()), float(ends.max())) if ends.size else (0.0, 0.0)
-    count = (SLABS if slabs is None else slabs) if z1 > z0 else 1
-    zinv = count / (z1 - z0) if z1 > z0 else 0.0
-    lo, hi = np.empty(bottom.size, dtype=np.intp), np.empty(bottom.size, dtype=np.intp)
-    slabs_kernel(np.asarray(bottom, dtype=float), z0, zinv, count - 1, lo)
-    slabs_kernel(np.asarray(top, dtype=float), z0, zinv, count - 1, hi)
+    z0, zinv, count, lo, hi = _depth_slabs(bottom, top, slabs)
     sub = int(min(max(math.sqrt(cells / (nx * ny)), 1.0), 16.0))
     f = cell / sub
     near = 6.0 * f
@@ -160,6 +153,23 @@ def distance_field(grid: tuple[Any, ...], polygons: tuple[FloatArray, IntArray, 
         bound = np.maximum(np.minimum(d[s], near) - half, far) - slack
         units[s] = np.floor(np.clip(bound * (FIELD_UNITS / f), 0.0, 65535.0))
     return x0, y0, f, nx * sub, ny * sub, units, z0, zinv, count - 1
+
+
+def _depth_slabs(bottom: FloatArray, top: FloatArray, slabs: int | None) -> tuple[float, float, int, IntArray,
+                                                                                   IntArray]:
+    """The depth slabs over the bands' finite ends (one when they are all equal): ``z0``, ``zinv``, their count,
+    and each zone's first and last slab (:func:`.bound.slabs_kernel`)."""
+    from .bound import SLABS, slabs_kernel
+
+    ends = np.concatenate([bottom, top])
+    ends = ends[np.isfinite(ends)]
+    z0, z1 = (float(ends.min()), float(ends.max())) if ends.size else (0.0, 0.0)
+    count = (SLABS if slabs is None else slabs) if z1 > z0 else 1
+    zinv = count / (z1 - z0) if z1 > z0 else 0.0
+    lo, hi = np.empty(bottom.size, dtype=np.intp), np.empty(bottom.size, dtype=np.intp)
+    slabs_kernel(np.asarray(bottom, dtype=float), z0, zinv, count - 1, lo)
+    slabs_kernel(np.asarray(top, dtype=float), z0, zinv, count - 1, hi)
+    return z0, zinv, count, lo, hi
 
 
 def inner_centres(geoms: np.ndarray) -> np.ndarray:

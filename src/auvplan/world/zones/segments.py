@@ -242,20 +242,26 @@ class SegmentQueries(ZoneIndex):
         out[n[within]] = True
         rest = np.flatnonzero(~apart & ~within & ~out[n])
         if rest.size:
-            seg = np.empty((rest.size, 2, 3))
-            seg[:, :, :2] = t[of[n[rest]]]
-            seg[:, 0, 2], seg[:, 1, 2] = za[n[rest]], zb[n[rest]]
-            idx = np.arange(rest.size)
-            hit = np.zeros(rest.size, dtype=bool)
-            f = ~sea[rest]
-            if f.any():
-                got = np.empty(int(f.sum()), dtype=bool)
-                flat_hits_kernel(seg, idx[f], k[rest][f], self._zlo, self._zhi, *self._rings, got)
-                hit[f] = got
-            if (~f).any():
-                hit[~f] = self._seabed_pairs(seg, idx[~f], k[rest][~f])
-            out[n[rest][hit]] = True
+            out[n[rest][self._pairs_enter(t[of[n[rest]]], za[n[rest]], zb[n[rest]], k[rest], sea[rest])]] = True
         return out
+
+    def _pairs_enter(self, trace: FloatArray, za: FloatArray, zb: FloatArray, k: IntArray,
+                     sea: BoolArray) -> BoolArray:
+        """The exact test of segments over ``trace`` (``(M, 2, 2)``, z from ``za`` to ``zb``) against prism ``k``
+        each (``sea``: a band measured from the seabed)."""
+        seg = np.empty((k.size, 2, 3))
+        seg[:, :, :2] = trace
+        seg[:, 0, 2], seg[:, 1, 2] = za, zb
+        idx = np.arange(k.size)
+        hit = np.zeros(k.size, dtype=bool)
+        f = ~sea
+        if f.any():
+            got = np.empty(int(f.sum()), dtype=bool)
+            flat_hits_kernel(seg, idx[f], k[f], self._zlo, self._zhi, *self._rings, got)
+            hit[f] = got
+        if (~f).any():
+            hit[~f] = self._seabed_pairs(seg, idx[~f], k[~f])
+        return hit
 
     def envelopes_enter(self, a: ArrayLike, b: ArrayLike) -> BoolArray:
         """Where the vertical envelope of a leg (its horizontal trace times the depths between its

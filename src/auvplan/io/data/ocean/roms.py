@@ -189,33 +189,14 @@ def read_s_levels(ds: xr.Dataset, u_name: str, v_name: str, src: str,
     comps : dict
         ``{"u", "v"}`` east and north ``(T, K, ny-2, nx-2)`` (m/s; NaN below the seabed and on land).
     """
-    for name in ("lat_rho", "lon_rho"):
-        if name not in ds.variables:
-            raise DataError(f"{src}: ROMS s-level file without {name!r}")
-    lat, lon = np.asarray(ds["lat_rho"].values, dtype=float), np.asarray(ds["lon_rho"].values, dtype=float)
-    lon = lon[0, 0] + np.mod(lon - lon[0, 0] + 180.0, 360.0) - 180.0  # continuous across the antimeridian
+    lat, lon = _rho_points(ds, src)
     ny, nx = lat.shape
-    if ny < 4 or nx < 4:
-        raise DataError(f"{src}: ROMS grid of {ny} x {nx} rho points is too small (needs 4 x 4)")
     units = {n: str(ds[n].attrs.get("units", "m s-1")) for n in (u_name, v_name)}
     u = _destagger(ds, u_name, 3, (ny, nx), factor(units[u_name], f"{src}: variable {u_name!r}"), src)
     v = _destagger(ds, v_name, 2, (ny, nx), factor(units[v_name], f"{src}: variable {v_name!r}"), src)
     inner = (slice(1, ny - 1), slice(1, nx - 1))
     h = np.asarray(ds["h"].values, dtype=float)[inner]
-    s = np.asarray(ds["s_rho"].values, dtype=float)
-    cs = np.asarray(ds["Cs_r"].values, dtype=float)
-    hc = _scalar(ds, "hc", None, src)
-    vt = int(_scalar(ds, "Vtransform", 1.0, src))
-    if vt not in (1, 2):
-        raise DataError(f"{src}: Vtransform = {vt}; ROMS defines 1 and 2")
-    n_t = u.shape[0]
-    if "zeta" in ds.variables:
-        zeta = np.asarray(ds["zeta"].values, dtype=float)
-        zeta = (zeta[None] if zeta.ndim == 2 else zeta)[(slice(None), *inner)]
-        zeta = np.where(np.isfinite(zeta), zeta, 0.0)
-    else:
-        zeta = np.zeros((n_t, *h.shape))
-    z_rho = s_depths(s, cs, h, hc, zeta, vt)
+    s, z_rho, vt = _rho_depths(ds, src, inner, h, u.shape[0])
     order = np.argsort(z_rho[0, :, 0, 0]) if s.size > 1 else np.arange(1)
     z_rho, u, v = z_rho[:, order], u[:, order], v[:, order]
     targets = 0.0 - np.asarray([d for d in LEVELS_M if d <= float(np.nanmax(h))] or [0.0])[::-1]
@@ -230,3 +211,35 @@ def read_s_levels(ds: xr.Dataset, u_name: str, v_name: str, src: str,
     grid = HorizontalGrid("curvilinear", lat[inner], lon[inner], None,
                           f"ROMS rho points (interior), s-levels Vtransform {vt} to {targets.size} depths")
     return grid, t, targets, comps
+
+
+def _rho_points(ds: xr.Dataset, src: str) -> tuple[_F64, _F64]:
+    """The rho points' latitudes and longitudes (continuous across the antimeridian), at least 4 x 4."""
+    for name in ("lat_rho", "lon_rho"):
+        if name not in ds.variables:
+            raise DataError(f"{src}: ROMS s-level file without {name!r}")
+    lat, lon = np.asarray(ds["lat_rho"].values, dtype=float), np.asarray(ds["lon_rho"].values, dtype=float)
+    lon = lon[0, 0] + np.mod(lon - lon[0, 0] + 180.0, 360.0) - 180.0  # continuous across the antimeridian
+    ny, nx = lat.shape
+    if ny < 4 or nx < 4:
+        raise DataError(f"{src}: ROMS grid of {ny} x {nx} rho points is too small (needs 4 x 4)")
+    return lat, lon
+
+
+def _rho_depths(ds: xr.Dataset, src: str, inner: tuple[slice, slice], h: _F64,
+                n_t: int) -> tuple[_F64, _F64, int]:
+    """The s-levels, the elevations of the interior rho points on them at every time (over the free surface
+    ``zeta``, 0 without one) and the Vtransform."""
+    s = np.asarray(ds["s_rho"].values, dtype=float)
+    cs = np.asarray(ds["Cs_r"].values, dtype=float)
+    hc = _scalar(ds, "hc", None, src)
+    vt = int(_scalar(ds, "Vtransform", 1.0, src))
+    if vt not in (1, 2):
+        raise DataError(f"{src}: Vtransform = {vt}; ROMS defines 1 and 2")
+    if "zeta" in ds.variables:
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        zeta = (zeta[None] if zeta.ndim == 2 else zeta)[(slice(None), *inner)]
+        zeta = np.where(np.isfinite(zeta), zeta, 0.0)
+    else:
+        zeta = np.zeros((n_t, *h.shape))
+    return s, s_depths(s, cs, h, hc, zeta, vt), vt

@@ -283,19 +283,26 @@ def resolve_positions(data: dict[str, Any], source: str, base_dir: Path | None =
     bounds_derived = (bounds is None or (isinstance(bounds, dict) and "x" not in bounds and "y" not in bounds)) \
         and len(mission) >= 2
     if bounds_derived:
-        xs, ys = [p[1] for p in mission], [p[2] for p in mission]
-        survey = _survey_points(data, base_dir)
-        if survey:  # the survey area is part of the mission: the derived box holds it too
-            sx, sy = forward_kept(frame, np.array([p[1] for p in survey]), np.array([p[0] for p in survey]))
-            w = _survey_pad(data)
-            xs += [float(np.min(sx)) - w, float(np.max(sx)) + w]
-            ys += [float(np.min(sy)) - w, float(np.max(sy)) + w]
-        pad = bounds_margin(max(max(xs) - min(xs), max(ys) - min(ys)))
-        box = dict(bounds) if isinstance(bounds, dict) else {}
-        box.update(x=[min(xs) - pad, max(xs) + pad], y=[min(ys) - pad, max(ys) + pad])
-        doc["bounds"] = box
+        doc["bounds"] = _derived_bounds(data, bounds, frame, mission, base_dir)
     return GeoInput(origin, derived, bounds_derived, tuple(mission), tuple(altitudes), doc)
 
+
+
+def _derived_bounds(data: dict[str, Any], bounds: Any, frame: LocalFrame, mission: list[tuple[str, float, float]],
+                    base_dir: Path | None) -> dict[str, Any]:
+    """``[bounds]`` with x and y the box of the mission's points and of the ``[survey]`` area, padded
+    (:func:`bounds_margin`); its other keys kept."""
+    xs, ys = [p[1] for p in mission], [p[2] for p in mission]
+    survey = _survey_points(data, base_dir)
+    if survey:  # the survey area is part of the mission: the derived box holds it too
+        sx, sy = forward_kept(frame, np.array([p[1] for p in survey]), np.array([p[0] for p in survey]))
+        w = _survey_pad(data)
+        xs += [float(np.min(sx)) - w, float(np.max(sx)) + w]
+        ys += [float(np.min(sy)) - w, float(np.max(sy)) + w]
+    pad = bounds_margin(max(max(xs) - min(xs), max(ys) - min(ys)))
+    box = dict(bounds) if isinstance(bounds, dict) else {}
+    box.update(x=[min(xs) - pad, max(xs) + pad], y=[min(ys) - pad, max(ys) + pad])
+    return box
 
 
 def _projected(frame: LocalFrame, lonlat: list[tuple[float, float]]) -> np.ndarray:

@@ -170,25 +170,7 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
     for i, m in enumerate(members):
         where = f"{source}: [currents] members[{i}]"
         if m.file is not None:
-            spec = m.file
-            assert isinstance(spec, CurrentsFileSpec)
-            label = m.name or Path(spec.path).stem
-            picks: list[tuple[str, int] | None] = [None]
-            if m.dimension:
-                size = sizes[i]
-                picks = [(m.dimension, j) for j in range(size)]
-            for pick in picks:
-                try:
-                    field: CurrentField = read_currents(spec, frame, base_dir=base_dir, extent_m=box,
-                                                        start_time=start_time, member=pick)
-                except DataError as exc:
-                    raise DataError(f"{where} file = {spec.path!r}: {exc}") from exc
-                if not field.covers(*box):
-                    raise DataError(f"{where} file = {spec.path!r}: does not cover the bounds x [{box[0]:.0f}, "
-                                    f"{box[1]:.0f}] y [{box[2]:.0f}, {box[3]:.0f}] m")
-                out.append((label if pick is None else f"{label}[{pick[1]}]", field))
-                if first_only:
-                    return tuple(out)
+            out += _file_members(m, sizes[i], where, frame, box, base_dir, start_time, first_only)
         elif m.uniform is not None:
             out.append((m.name or f"member{len(out)}", UniformCurrent(m.uniform)))
         else:
@@ -201,6 +183,33 @@ def member_fields(members: tuple[MemberSpec, ...], nominal: CurrentField, frame:
             return tuple(out[:1])
     return tuple(out)
 
+
+
+def _file_members(m: MemberSpec, size: int, where: str, frame: LocalFrame | None,
+                  box: tuple[float, float, float, float], base_dir: Path | None, start_time: str,
+                  first_only: bool) -> list[tuple[str, CurrentField]]:
+    """A file member's field, or one per index of its ``dimension`` (``size``), each checked to cover the bounds
+    (the first only, with ``first_only``)."""
+    spec = m.file
+    assert isinstance(spec, CurrentsFileSpec)
+    label = m.name or Path(spec.path).stem
+    picks: list[tuple[str, int] | None] = [None]
+    if m.dimension:
+        picks = [(m.dimension, j) for j in range(size)]
+    out: list[tuple[str, CurrentField]] = []
+    for pick in picks:
+        try:
+            field: CurrentField = read_currents(spec, frame, base_dir=base_dir, extent_m=box,
+                                                start_time=start_time, member=pick)
+        except DataError as exc:
+            raise DataError(f"{where} file = {spec.path!r}: {exc}") from exc
+        if not field.covers(*box):
+            raise DataError(f"{where} file = {spec.path!r}: does not cover the bounds x [{box[0]:.0f}, "
+                            f"{box[1]:.0f}] y [{box[2]:.0f}, {box[3]:.0f}] m")
+        out.append((label if pick is None else f"{label}[{pick[1]}]", field))
+        if first_only:
+            break
+    return out
 
 def scenario_members(sc: Scenario, world: World, seed: int | None = None) -> tuple[tuple[str, CurrentField], ...]:
     """The scenario's members, its perturbation entries re-drawn with ``seed`` when given.

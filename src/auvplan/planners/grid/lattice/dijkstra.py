@@ -10,6 +10,7 @@ import math
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from ...._types import ArrayLike, FloatArray, IntArray
 from ....cost import energy_kernel
@@ -223,28 +224,46 @@ def search(shape: tuple[int, ...], bits: Any, steps: ArrayLike, origin: ArrayLik
         Nodes settled.
     """
     n = int(np.prod(shape))
-    dist = np.full(n + 1, np.inf)
-    nxt = np.full(n + 1, -1, dtype=np.int32)
-    dist[n] = 0.0
+    dist, nxt = _goal_rooted(n)
     astar = start is not None and start_near is not None and c_min > 0.0
     vec = OFFSETS * np.asarray(steps, dtype=float)
-    sn, ws = start_near if astar and start_near is not None else (np.zeros(0, np.int64), np.zeros(0))
-    box = np.zeros(6, dtype=np.int64)
-    if astar and sn.size:
-        ijk = np.stack(np.unravel_index(sn, shape))
-        box = np.stack([ijk.min(axis=1), ijk.max(axis=1)], axis=1).reshape(-1)
+    sn, ws, box = _astar_target(shape, start_near if astar else None)
     w = cost if cost is not None else (1.0, 0.0, 1.0, 0.0, False)
-    empty3, empty2 = np.zeros((1, 1, 1), np.float32), np.zeros((1, 1), np.float32)
-    link, l_alt, l_obs, l_land, has_t, has_l, lip, min_alt, goal_point = links if links is not None else \
-        (0, empty3, empty3, empty2, False, False, 0.0, 0.0, np.zeros(3))
-    gf = (np.asarray(goal_point, dtype=float) - np.asarray(origin, dtype=float)) / np.asarray(steps, dtype=float)
+    link, l_alt, l_obs, l_land, has_t, has_l, lip, min_alt, gf = _link_fields(links, origin, steps)
     settled = _search(np.array(shape, dtype=np.int64), bits, OFFSETS, vec, current, cost is not None, float(w[0]),
                       float(w[1]), float(w[2]), float(w[3]), int(w[4]), np.asarray(goal_near[0], dtype=np.int64),
                       np.asarray(goal_near[1], dtype=float), n, dist, nxt, np.empty(n), np.asarray(origin, dtype=float),
                       np.asarray(steps, dtype=float), np.zeros(3) if start is None else np.asarray(start, float),
-                      float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64),
-                      np.asarray(ws, dtype=float), box, np.empty(n, dtype=np.int32),
-                      np.full(n, -1, dtype=np.int32),  # heap; pos: -1 never queued, -2 settled
-                      int(link), l_alt, l_obs, l_land, np.array([has_t, has_l]), float(lip), float(min_alt),
-                      gf)
+                      float(c_min) if astar else 0.0, np.asarray(sn, dtype=np.int64), np.asarray(ws, dtype=float), box,
+                      np.empty(n, dtype=np.int32), np.full(n, -1, dtype=np.int32),  # heap; pos: -1 unqueued, -2 settled
+                      int(link), l_alt, l_obs, l_land, np.array([has_t, has_l]), float(lip), float(min_alt), gf)
     return dist, nxt, int(settled)
+
+
+def _goal_rooted(n: int) -> tuple[FloatArray, npt.NDArray[np.int32]]:
+    """The cost-to-go and next node of ``n`` nodes and the goal (node ``n``): only the goal reached, at 0."""
+    dist: FloatArray = np.full(n + 1, np.inf)
+    nxt = np.full(n + 1, -1, dtype=np.int32)
+    dist[n] = 0.0
+    return dist, nxt
+
+
+def _astar_target(shape: tuple[int, ...], start_near: tuple[Any, Any] | None) -> tuple[Any, Any, IntArray]:
+    """A*'s target: the nodes joined to the start, their segments' costs and the box of their indices (none,
+    and a zero box, for plain Dijkstra)."""
+    sn, ws = start_near if start_near is not None else (np.zeros(0, np.int64), np.zeros(0))
+    box = np.zeros(6, dtype=np.int64)
+    if start_near is not None and sn.size:
+        ijk = np.stack(np.unravel_index(sn, shape))
+        box = np.stack([ijk.min(axis=1), ijk.max(axis=1)], axis=1).reshape(-1)
+    return sn, ws, box
+
+
+def _link_fields(links: tuple[int, Any, Any, Any, bool, bool, float, float, Any] | None, origin: ArrayLike,
+                 steps: ArrayLike) -> tuple[int, Any, Any, Any, bool, bool, float, float, FloatArray]:
+    """The any-angle links' fields as the kernel takes them (placeholders without links), the goal in cells."""
+    empty3, empty2 = np.zeros((1, 1, 1), np.float32), np.zeros((1, 1), np.float32)
+    link, l_alt, l_obs, l_land, has_t, has_l, lip, min_alt, goal_point = links if links is not None else \
+        (0, empty3, empty3, empty2, False, False, 0.0, 0.0, np.zeros(3))
+    gf = (np.asarray(goal_point, dtype=float) - np.asarray(origin, dtype=float)) / np.asarray(steps, dtype=float)
+    return link, l_alt, l_obs, l_land, has_t, has_l, lip, min_alt, gf

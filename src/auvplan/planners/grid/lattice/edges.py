@@ -93,24 +93,34 @@ def edge_states(world: World, free: Any, altitude: Any, obstacle: Any, steps: Ar
     unsure = np.flatnonzero(state == 2)
     tests = [(world, unsure)]
     if world.zones and unsure.size:  # the zones first, one clip per column's trace; then the rest without them
-        entered = _zone_entries(world, unsure, delta, free.shape[2], coords)
-        state[unsure[entered]] = 0
-        unsure = unsure[~entered]
-        seabed_state = np.empty_like(state)
-        _offset_states(free, altitude, np.full_like(obstacle, np.inf), *args, seabed_state)
-        sure = seabed_state[unsure] == 1  # the seabed clears these: the static obstacles alone are left
-        rest = replace(world, zones=None)
-        tests = [(rest, unsure[~sure])]
-        if world.obstacles:
-            tests.append((replace(rest, terrain=None, land=None), unsure[sure]))
-        else:
-            state[unsure[sure]] = 1
+        tests = _zones_first(world, unsure, delta, coords, free, altitude, obstacle, args, state)
     for w, ids in tests:
         for c0 in range(0, ids.size, 200_000):
             u = ids[c0:c0 + 200_000]
             seg = np.stack([coords(u), coords(u + delta)], axis=1)
             state[u] = w.segments_free(seg, moving=False, ends_free=True)
     return state
+
+
+def _zones_first(world: World, unsure: Any, delta: int, coords: Callable[[Any], FloatArray], free: Any,
+                 altitude: Any, obstacle: Any, args: tuple[IntArray, float, float, float, Any, float, bool],
+                 state: Any) -> list[tuple[World, Any]]:
+    """The unsure edges that enter a zone set to 0 (one clip per column's trace), those the seabed alone clears set
+    to 1 without obstacles; the exact tests left: each world (without its zones, or its obstacles alone) and its
+    edges."""
+    entered = _zone_entries(world, unsure, delta, free.shape[2], coords)
+    state[unsure[entered]] = 0
+    unsure = unsure[~entered]
+    seabed_state = np.empty_like(state)
+    _offset_states(free, altitude, np.full_like(obstacle, np.inf), *args, seabed_state)
+    sure = seabed_state[unsure] == 1  # the seabed clears these: the static obstacles alone are left
+    rest = replace(world, zones=None)
+    tests = [(rest, unsure[~sure])]
+    if world.obstacles:
+        tests.append((replace(rest, terrain=None, land=None), unsure[sure]))
+    else:
+        state[unsure[sure]] = 1
+    return tests
 
 
 def _zone_entries(world: World, u: Any, delta: int, nz: int, coords: Callable[[Any], FloatArray]) -> Any:
