@@ -116,6 +116,8 @@ def run_formation_scenario(sc: Scenario, world: World, mission: Mission, out: st
         Override the scenario's planner.
     reporter : callable
         Builds the progress reporter.
+    board : BoardStorage, optional
+        The operator's board (``--board-storage``): a vehicle's ``.plan`` it cannot hold is refused (exit 2).
 
     Returns
     -------

@@ -47,7 +47,7 @@ from .events import (
     _progressed,
 )
 from .mission import Mission
-from .result import SimResult
+from .result import SimResult, _Recorder
 
 __all__ = ["make_guidance", "simulate"]
 
@@ -170,28 +170,6 @@ def _step(run: _Run, k: int, t: float) -> tuple[bool, RoutePoint]:
         if run.fixes:
             _fixes_passed(run, (k + 1) * dt, rp)
     return False, rp
-
-
-class _Recorder:
-    """Preallocated time series of the run, one row per recorded step (:class:`~auvplan.sim.result.SimResult`)."""
-
-    def __init__(self, n_rec: int, n_obs: int) -> None:
-        self.n = 0
-        self.t, self.h, self.v, self.d, self.e, self.pr, self.alt, self.ne = (np.empty(n_rec) for _ in range(8))
-        self.p = np.empty((n_rec, 3))
-        self.obs = np.empty((n_rec, n_obs))
-
-    def add(self, t: float, pos: ArrayLike, s: VehicleState, vel: tuple[float, float, float], rp: RoutePoint,
-            alt: float, dists: ArrayLike, nav_error: float = 0.0) -> None:
-        """Record one step: time, position, heading, rudder, speed over ground, route point, altitude, distances
-        and the navigation estimate's error."""
-        n = self.n
-        self.ne[n] = nav_error
-        self.t[n], self.p[n], self.h[n], self.d[n] = t, pos, s.psi, s.delta
-        self.v[n] = math.hypot(vel[0], vel[1])
-        self.e[n], self.pr[n], self.alt[n] = rp.cross, rp.progress, alt
-        self.obs[n] = dists
-        self.n += 1
 
 
 @dataclass(eq=False)

@@ -3,19 +3,22 @@ a mission's :class:`RunRecord` (plan, route, key waypoints, run), and :func:`dec
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._types import Status
 from ..path import arc_length, polyline_length
 from ..planners.core.base import PlanResult
 
 if TYPE_CHECKING:  # a run's navigation plan; the plan of `plan` has none (issue 56)
+    from ..guidance.following.route import RoutePoint
     from ..nav.mission import NavPlan
+    from ..vehicles import VehicleState
 
 __all__ = ["SimResult", "SimMetrics", "RunRecord", "decimate"]
 
@@ -237,3 +240,24 @@ def decimate(result: SimResult, every_m: float = 20.0, every_s: float = 30.0) ->
               "obstacle_distance")
     return replace(result, **{k: getattr(result, k)[keep] for k in arrays})
 
+
+class _Recorder:
+    """Preallocated time series of the run, one row per recorded step (:class:`~auvplan.sim.result.SimResult`)."""
+
+    def __init__(self, n_rec: int, n_obs: int) -> None:
+        self.n = 0
+        self.t, self.h, self.v, self.d, self.e, self.pr, self.alt, self.ne = (np.empty(n_rec) for _ in range(8))
+        self.p = np.empty((n_rec, 3))
+        self.obs = np.empty((n_rec, n_obs))
+
+    def add(self, t: float, pos: ArrayLike, s: VehicleState, vel: tuple[float, float, float], rp: RoutePoint,
+            alt: float, dists: ArrayLike, nav_error: float = 0.0) -> None:
+        """Record one step: time, position, heading, rudder, speed over ground, route point, altitude, distances
+        and the navigation estimate's error."""
+        n = self.n
+        self.ne[n] = nav_error
+        self.t[n], self.p[n], self.h[n], self.d[n] = t, pos, s.psi, s.delta
+        self.v[n] = math.hypot(vel[0], vel[1])
+        self.e[n], self.pr[n], self.alt[n] = rp.cross, rp.progress, alt
+        self.obs[n] = dists
+        self.n += 1
