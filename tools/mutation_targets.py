@@ -1185,7 +1185,7 @@ REASONS.update({
 # and what reads it (waypoints, terrain-frame legs, deploy record), mission check as flown, the export's
 # terrain-frame items and MOOS floor, the CLI's durations, numba's BLAS probe, validate's numpy survey bounds
 QGC_ITEMS, TERRAIN_FRAME = "auvplan.io.missions.readback.qgc_items", "auvplan.io.missions.readback.terrain_frame"
-DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.readback.deploy_read"
+DEPLOY, DEPLOY_READ = "auvplan.io.missions.deploy", "auvplan.io.missions.readback.deploy_files"
 DURATIONS, JIT = "auvplan.app.durations", "auvplan.runtime.jit"
 SURVEY_RESULTS = "auvplan.io.results.survey"
 MODULES.update({

@@ -16,7 +16,7 @@ from auvplan.guidance.mission.flycheck import fly_check
 from auvplan.guidance.mission.terrain_legs import check_as_flown
 from auvplan.io.data.geo import LocalFrame
 from auvplan.io.missions.formats import check_mission_file, read_mission, to_moos
-from auvplan.io.missions.readback import deploy_read
+from auvplan.io.missions.readback import deploy_files
 from auvplan.io.missions.readback.deploy_read import read_deploy
 from auvplan.io.missions.readback.qgc_items import plan_items
 from auvplan.io.missions.readback.readers import parse_qgc_plan
@@ -55,7 +55,7 @@ def test_a_relay_switched_off_is_an_off_event():
     """Relay on after waypoint 0 (the first item), off after waypoint 1: the events (0, on), (1, off)."""
     doc = _plan(ORIGIN, (0.0, 0.0), [_item(FRAME, 3000.0, 6000.0, -100.0), _relay(True),
                                      _item(FRAME, 4000.0, 6000.0, -100.0), _relay(False)])
-    assert deploy_read._qgc(doc).payload_events == [(0, True), (1, False)]
+    assert deploy_files._qgc(doc).payload_events == [(0, True), (1, False)]
 
 
 @pytest.mark.parametrize("fr", [3, 6])
