@@ -11,49 +11,25 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-import shapely
+from benchmarks.zones import scattered_zones
 
 import auvplan.planners.swarm.planner as swarm_planner
 from auvplan.io.scenario.build import build
 from auvplan.io.scenario.loader import load
-from auvplan.planners import PlanningProblem, plan
+from auvplan.planners import plan
 from auvplan.planners.grid.planner import refine_plan
 from auvplan.planners.swarm.convergence import STALL_ITERATIONS
 from auvplan.planners.swarm.polish import LatticeCorridor
 from auvplan.planners.swarm.seeding import coarse_reference
 from auvplan.sim.pipeline import planning_problem
-from auvplan.world import Zone, Zones
-
-
-def _scattered(problem: PlanningProblem, n: int, seed: int) -> Zones:
-    """``n`` seeded zones over the box (wrecks on the seabed, cables, areas with a depth band), none within
-    1 km of the start or the goal: the benchmark's ``cpu`` problem (benchmarks/zones.py)."""
-    rng = np.random.default_rng(seed)
-    b, world = problem.world.bounds, problem.world
-    ends = shapely.multipoints([problem.start[:2], problem.goal[:2]])
-    zones: list[Zone] = []
-    while len(zones) < n:
-        c = rng.uniform([b.xmin, b.ymin], [b.xmax, b.ymax])
-        k = len(zones) % 3
-        if k == 0:
-            z = Zone(f"wreck {len(zones)}", shapely.buffer(shapely.points(c), rng.uniform(50, 300)),
-                     above_seabed=rng.uniform(10, 50))
-        elif k == 1:
-            line = shapely.linestrings([c, c + rng.uniform(-2000, 2000, 2)])
-            z = Zone(f"cable {len(zones)}", shapely.buffer(line, rng.uniform(20, 100)))
-        else:
-            z = Zone(f"area {len(zones)}", shapely.box(*(c - 150), *(c + 150)), top=rng.uniform(0, 100),
-                     bottom=rng.uniform(150, 3000))
-        if shapely.distance(z.footprint, ends) > 1000.0:
-            zones.append(z)
-    return Zones(tuple(zones), world.terrain, pad=1.0)
 
 
 @pytest.fixture(scope="module")
 def zoned():  # type: ignore[no-untyped-def]
     world, mission = build(load("marcus-wake"))
     base = planning_problem(replace(world, zones=None), mission)
-    problem = replace(base, world=replace(base.world, zones=_scattered(base, 1000, 7)))
+    zones = scattered_zones(base.world, base.start, base.goal, 1000, 7)  # the benchmark's `cpu` problem
+    problem = replace(base, world=replace(base.world, zones=zones))
     return problem, mission.planner
 
 
