@@ -8,6 +8,7 @@ antimeridian, cut in two at ±180° as GeoJSON writers do (RFC 7946 §3.1.9), is
 
 from __future__ import annotations
 
+import logging
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -22,6 +23,8 @@ if TYPE_CHECKING:
     from pyproj import CRS
 
 __all__ = ["read_layer", "read_area", "read_area_lonlat", "read_line_lonlat"]
+
+log = logging.getLogger(__name__)
 
 
 def read_layer(path: Path, layer: str, where: str, key: str = "file") -> tuple[list[shapely.Geometry], CRS]:
@@ -92,6 +95,9 @@ def read_area(path: Path, layer: str, where: str, key: str = "file") -> tuple[sh
     if not polys:
         raise ScenarioError(f"{where} {key} = {str(path)!r}: no polygon in "
                             f"{f'layer {layer!r}' if layer else 'its first layer'}")
+    if len(polys) > 1:  # documented (the largest polygon), and said: the others are not surveyed
+        log.warning("%s %s = %r: %d polygons in the layer; the largest is the survey area, the other %d are left out",
+                    where, key, str(path), len(polys), len(polys) - 1)
     return max(polys, key=lambda p: p.area), crs
 
 
@@ -113,8 +119,17 @@ def read_area_lonlat(path: Path, layer: str, where: str, key: str = "file") -> N
     -------
     numpy.ndarray
         ``(M, 2)`` lon/lat of the ring (closed).
+
+    Raises
+    ------
+    ScenarioError
+        When the polygon has holes (a survey area is one ring: what must not be surveyed goes in ``[[zones]]``).
     """
     poly, crs = read_area(path, layer, where, key)
+    if len(poly.interiors):  # its exterior alone would survey the holes too, silently (wave 18)
+        raise ScenarioError(f"{where} {key} = {str(path)!r}: the area has {len(poly.interiors)} hole(s) (interior "
+                            "rings), which a survey area cannot have; put what must not be surveyed in [[zones]] (the "
+                            "lines are clipped to them), or remove the holes from the file")
     return _to_lonlat(np.asarray(poly.exterior.coords)[:, :2], crs)
 
 
