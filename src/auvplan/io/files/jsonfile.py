@@ -15,8 +15,8 @@ from typing import Any
 
 from ...errors import DataError, ScenarioError
 
-__all__ = ["MAX_JSON_BYTES", "MAX_SCENARIO_BYTES", "read_json", "read_bounded_text", "source_base",
-           "scenario_origin"]
+__all__ = ["MAX_JSON_BYTES", "MAX_SCENARIO_BYTES", "read_json", "read_bounded_bytes", "read_bounded_text",
+           "source_base", "scenario_origin"]
 
 MAX_SCENARIO_BYTES = 16 * 1024 * 1024
 """Largest scenario file (the largest built-in has 6.5 kB; a 100 000-waypoint route ~4 MB): hostile round 22, a
@@ -27,8 +27,47 @@ MAX_JSON_BYTES = 64 * 1024 * 1024
 """Largest JSON file read (``run.json`` of a long run is a few MB)."""
 
 
+def read_bounded_bytes(path: Path, limit: int, what: str) -> bytes:
+    """The bytes of a regular file no larger than ``limit``, naming the file on any fault.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    limit : int
+        Most bytes it may have.
+    what : str
+        What it is, for the message (``"a mission file"``).
+
+    Returns
+    -------
+    bytes
+        Its content.
+
+    Raises
+    ------
+    DataError
+        Naming the file when it is larger, unreadable, or not a regular file (a FIFO, a device).
+    """
+    try:
+        st = path.stat()
+        if not stat.S_ISREG(st.st_mode):  # a FIFO blocked for ever, /dev/zero filled the memory
+            kind = "a FIFO" if stat.S_ISFIFO(st.st_mode) else "a folder" if stat.S_ISDIR(st.st_mode) else "a device"
+            raise DataError(f"{path}: is {kind}, not a regular file; {what} is read whole")
+        if st.st_size > limit:
+            raise DataError(f"{path}: {st.st_size:,} bytes, over the {limit:,} {what} may have")
+        with path.open("rb") as fh:
+            data = fh.read(limit + 1)  # the size said is not trusted: it may grow while read
+    except OSError as exc:
+        raise DataError(f"{path}: cannot read ({exc})") from exc
+    if len(data) > limit:
+        raise DataError(f"{path}: over the {limit:,} bytes {what} may have")
+    return data
+
+
 def read_bounded_text(path: Path, limit: int, what: str) -> str:
-    """The UTF-8 text of a file no larger than ``limit`` bytes, naming the file on any fault.
+    """The UTF-8 text of a file no larger than ``limit`` bytes (:func:`read_bounded_bytes`), naming the file on any
+    fault.
 
     Parameters
     ----------
@@ -49,19 +88,10 @@ def read_bounded_text(path: Path, limit: int, what: str) -> str:
     DataError
         Naming the file when it is larger, unreadable, not UTF-8, or not a regular file (a FIFO, a device).
     """
+    data = read_bounded_bytes(path, limit, what)
     try:
-        st = path.stat()
-        if not stat.S_ISREG(st.st_mode):  # a FIFO blocked for ever, /dev/zero filled the memory
-            kind = "a FIFO" if stat.S_ISFIFO(st.st_mode) else "a folder" if stat.S_ISDIR(st.st_mode) else "a device"
-            raise DataError(f"{path}: is {kind}, not a regular file; {what} is read whole")
-        if st.st_size > limit:
-            raise DataError(f"{path}: {st.st_size:,} bytes, over the {limit:,} {what} may have")
-        with path.open("rb") as fh:
-            data = fh.read(limit + 1)  # the size said is not trusted: it may grow while read
-        if len(data) > limit:
-            raise DataError(f"{path}: over the {limit:,} bytes {what} may have")
         return data.decode("utf-8").replace("\r\n", "\n").replace("\r", "\n")  # as read_text: universal newlines
-    except (OSError, UnicodeDecodeError) as exc:
+    except UnicodeDecodeError as exc:
         raise DataError(f"{path}: cannot read ({exc})") from exc
 
 

@@ -30,8 +30,8 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-from ...errors import ScenarioError
-from ..files.jsonfile import MAX_SCENARIO_BYTES, source_base
+from ...errors import DataError, ScenarioError
+from ..files.jsonfile import MAX_SCENARIO_BYTES, read_bounded_bytes, source_base
 from .build import build
 from .builtins import builtin_scenarios, resolve
 from .specs import Scenario
@@ -77,17 +77,10 @@ def scenario_text(path: Path) -> str:
     ScenarioError
         Naming the file when it is larger, unreadable or not UTF-8.
     """
-    data = b""
     try:
-        size = path.stat().st_size
-        if size <= MAX_SCENARIO_BYTES:
-            with path.open("rb") as fh:
-                data = fh.read(MAX_SCENARIO_BYTES + 1)  # the size said is not trusted: it may grow while read
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read ({exc.strerror or exc})") from exc
-    if max(size, len(data)) > MAX_SCENARIO_BYTES:
-        raise ScenarioError(f"{path}: {max(size, len(data)):,} bytes, over the {MAX_SCENARIO_BYTES:,} a scenario "
-                            "file may have (the largest built-in has 6,552): is it the scenario?")
+        data = read_bounded_bytes(path, MAX_SCENARIO_BYTES, "a scenario file")
+    except DataError as exc:
+        raise ScenarioError(str(exc)) from exc
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
