@@ -77,6 +77,17 @@ def _slack(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, ax: flo
     return best - lip * h * _HALF_DIAG
 
 
+@kernel
+def _slacks(coef: FloatArray, x0: float, y0: float, dx: float, dy: float, pa: FloatArray, pb: FloatArray,
+            rr: FloatArray, h: float, lip: float) -> FloatArray:
+    """:func:`_slack` of each segment ``pa[k] → pb[k]`` at radius ``rr[k]``."""
+    out = np.empty(pa.shape[0])
+    for k in range(pa.shape[0]):
+        out[k] = _slack(coef, x0, y0, dx, dy, pa[k, 0], pa[k, 1], pa[k, 2], pb[k, 0], pb[k, 1], pb[k, 2], rr[k], h,
+                        lip)
+    return out
+
+
 def lattice_step(terrain: Terrain) -> float:
     """Default lattice spacing of the stadium test: a fiftieth of the smaller cell side (m).
 
@@ -112,15 +123,12 @@ def leg_slack(terrain: Terrain, a: ArrayLike, b: ArrayLike, r: ArrayLike, h: flo
     numpy.ndarray
         ``(K,)`` (m): never above ``min z(t) − zb(q)`` over the stadium.
     """
-    pa, pb = np.atleast_2d(np.asarray(a, dtype=float)), np.atleast_2d(np.asarray(b, dtype=float))
-    rr = np.broadcast_to(np.asarray(r, dtype=float), (pa.shape[0],))
+    pa = np.ascontiguousarray(np.atleast_2d(np.asarray(a, dtype=float))[:, :3])
+    pb = np.ascontiguousarray(np.atleast_2d(np.asarray(b, dtype=float))[:, :3])
+    rr = np.ascontiguousarray(np.broadcast_to(np.asarray(r, dtype=float), (pa.shape[0],)))
     step = lattice_step(terrain) if h is None else float(h)
     coef, x0, y0, dx, dy, _ = terrain.kernel_data
-    lip = terrain.max_slope
-    out = np.empty(pa.shape[0])
-    for k in range(pa.shape[0]):
-        (ax, ay, az), (bx, by, bz) = pa[k, :3], pb[k, :3]
-        out[k] = _slack(coef, x0, y0, dx, dy, ax, ay, az, bx, by, bz, float(rr[k]), step, lip)
+    out: FloatArray = _slacks(coef, x0, y0, dx, dy, pa, pb, rr, step, float(terrain.max_slope))
     return out
 
 
@@ -314,17 +322,24 @@ def zone_within(world: World, segments: ArrayLike, radius: ArrayLike) -> np.ndar
         return out
     specs = world.zones.exact.zones
     ks, js = world.zones.exact.traces_near(seg, r)  # the broad phase: the footprints within reach
-    for k, j in zip(ks.tolist(), js.tolist(), strict=True):
-        if out[k] >= 0:
-            continue
-        z, a, b = specs[j], seg[k, 0], seg[k, 1]
-        if z.above_seabed is None:
-            part = _band_trace(a, b, -z.bottom, -z.top)
-            hit = part is not None and float(shapely.distance(part, z.footprint)) <= r[k]
-        else:  # the band's top within reach is at most the highest seabed within r of the leg plus its height
-            hit = world.terrain is not None and float(leg_slack(world.terrain, a, b, r[k])[0]) <= z.above_seabed
-        if hit:
-            out[k] = j
+    hit = np.zeros(ks.size, dtype=bool)
+    seabed = np.array([specs[j].above_seabed is not None for j in js.tolist()], dtype=bool)
+    if seabed.any() and world.terrain is not None:  # the band's top within reach: the highest seabed within r + height
+        k = ks[seabed]
+        height = np.array([specs[j].above_seabed for j in js[seabed].tolist()], dtype=float)
+        hit[seabed] = leg_slack(world.terrain, seg[k, 0], seg[k, 1], r[k]) <= height
+    flat = np.flatnonzero(~seabed)
+    if flat.size:  # a band between two depths: the part of the leg in the band within reach of the footprint
+        parts = [_band_trace(seg[ks[i], 0], seg[ks[i], 1], -specs[js[i]].bottom, -specs[js[i]].top) for i in flat]
+        inside = np.array([p is not None for p in parts], dtype=bool)
+        idx = flat[inside]
+        if idx.size:
+            feet = [specs[j].footprint for j in js[idx].tolist()]
+            hit[idx] = shapely.distance(np.array([p for p in parts if p is not None], dtype=object),
+                                        np.array(feet, dtype=object)) <= r[ks[idx]]
+    first = np.flatnonzero(hit)  # each leg's first zone within reach, in the broad phase's order
+    legs, at = np.unique(ks[first], return_index=True)
+    out[legs] = js[first[at]]
     return out
 
 
